@@ -1,0 +1,1 @@
+"""Analyses built on the integrator: steady response, chaos diagnostics, sweeps, periodic orbits."""

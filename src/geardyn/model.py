@@ -1,0 +1,355 @@
+"""The non-dimensional gear-pair model.
+
+The equation of motion (see ``docs/model.md``) is, with ``θ = ω τ``::
+
+    u'' + 2[ξ0 + Σ_k ξ_k cos(kθ + φ_ck)] u' + [1 + Σ_r κ_r cos(rθ + φ_kr)] f(u; D)
+        = f_p + ω² Σ_l l² ε_l cos(lθ + φ_el)
+
+with the dead-zone (backlash) function ``f(u; D) = u - D`` for ``u > D``, ``0`` for ``|u| <= D``
+and ``u + D`` for ``u < -D``.  Every quantity here is non-dimensional: displacements are in units
+of the characteristic length ``b_c``, time in units of ``1/ω_n``.
+
+:class:`GearModel` is frozen and validated on construction.  Sweeps address its parameters by
+name (:data:`PARAMETER_HELP` lists them): ``omega``, ``xi0``, ``xi1``…, ``kappa1``…, ``fp``,
+``eps1``… (alias ``fe`` for ``eps1``), ``D`` (alias ``backlash``), ``phi_c1``…, ``phi_k1``…,
+``phi_e1``….
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from dataclasses import asdict, dataclass, field, fields
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+__all__ = [
+    "GearModel",
+    "IntegrationOptions",
+    "ModelError",
+    "PAPER_DEFAULTS",
+    "PARAMETER_HELP",
+    "canonical_param",
+    "pack_models",
+    "steps_per_period",
+]
+
+#: Default non-dimensional step Δτ (the paper's value).
+DEFAULT_DTAU = 0.01
+#: Default number of forcing periods discarded as transient before recording.
+DEFAULT_TRANSIENT = 300
+#: Default number of forcing periods recorded (Poincaré points).
+DEFAULT_PERIODS = 200
+#: Largest Σ|κ_r| accepted: the mesh stiffness 1 + Σ κ_r cos(...) must stay positive.
+MAX_KAPPA_SUM = 1.0
+#: Largest number of harmonics of any one Fourier series.
+MAX_HARMONICS = 64
+
+
+class ModelError(ValueError):
+    """An invalid model parameter or option; the message names the parameter and what is allowed."""
+
+
+def _check_finite(name: str, value: float) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"{name}: expected a number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ModelError(f"{name}: must be a finite number, got {value!r}")
+    return x
+
+
+def _as_tuple(name: str, values: Any) -> tuple[float, ...]:
+    if values is None:
+        return ()
+    if np.isscalar(values):
+        values = (values,)
+    out = tuple(_check_finite(f"{name}{i + 1}", v) for i, v in enumerate(values))
+    if len(out) > MAX_HARMONICS:
+        raise ModelError(f"{name}: at most {MAX_HARMONICS} harmonics, got {len(out)}")
+    return out
+
+
+@dataclass(frozen=True)
+class GearModel:
+    """Frozen, validated non-dimensional gear-pair model.
+
+    Parameters
+    ----------
+    omega : float
+        Mesh frequency ω = ω_e/ω_n (non-dimensional, > 0).  The forcing period is T = 2π/ω in τ.
+    xi0 : float
+        Mean damping ratio ξ0 (non-dimensional).  Negative values are accepted (they model an
+        energy source and usually diverge; sweeps mark such points ``diverged``).
+    xi : tuple of float
+        Damping harmonics ξ_k, k = 1, 2, …  (``xi[0]`` is ξ1).
+    phi_c : tuple of float
+        Phases φ_ck of the damping harmonics in radians; padded with zeros to ``len(xi)``.
+    kappa : tuple of float
+        Stiffness harmonics κ_r = k_r/k0 (non-dimensional); Σ|κ_r| < 1 keeps the stiffness positive.
+    phi_k : tuple of float
+        Phases φ_kr of the stiffness harmonics (rad).
+    eps : tuple of float
+        Static-transmission-error harmonics ε_l = e_l/b_c (non-dimensional); harmonic l enters the
+        forcing as ω² l² ε_l cos(lθ + φ_el).  The paper's "f_e = 0.5 ω² cos θ" is ``eps=(0.5,)``.
+    phi_e : tuple of float
+        Phases φ_el of the STE harmonics (rad).
+    fp : float
+        Mean load f_p = F_p/(k0 b_c) (non-dimensional).
+    D : float
+        Half backlash b_n/b_c (non-dimensional, >= 0; ``D = 0`` means no backlash, a linear mesh).
+
+    The defaults are the paper's Table 1 values with ω = 1.
+    """
+
+    omega: float = 1.0
+    xi0: float = 0.1
+    xi: tuple[float, ...] = (0.05,)
+    phi_c: tuple[float, ...] = ()
+    kappa: tuple[float, ...] = (0.2,)
+    phi_k: tuple[float, ...] = ()
+    eps: tuple[float, ...] = (0.5,)
+    phi_e: tuple[float, ...] = ()
+    fp: float = 0.2
+    D: float = 1.0
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        for name in ("omega", "xi0", "fp", "D"):
+            set_(self, name, _check_finite(name, getattr(self, name)))
+        if self.omega <= 0:
+            raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got {self.omega!r}")
+        if self.D < 0:
+            raise ModelError(f"D (backlash): must be >= 0 (0 means no backlash), got {self.D!r}")
+        for amp, ph, label in (("xi", "phi_c", "xi"), ("kappa", "phi_k", "kappa"), ("eps", "phi_e", "eps")):
+            a = _as_tuple(label, getattr(self, amp))
+            p = _as_tuple(ph, getattr(self, ph))
+            if len(p) > len(a):
+                raise ModelError(
+                    f"{ph}: {len(p)} phases given for {len(a)} {label} harmonics; give at most one phase per harmonic"
+                )
+            set_(self, amp, a)
+            set_(self, ph, p + (0.0,) * (len(a) - len(p)))
+        if sum(abs(k) for k in self.kappa) >= MAX_KAPPA_SUM:
+            raise ModelError(
+                f"kappa: sum of |kappa_r| must be < {MAX_KAPPA_SUM} so the mesh stiffness stays positive, "
+                f"got {sum(abs(k) for k in self.kappa):g}"
+            )
+
+    # ------------------------------------------------------------------ derived quantities
+    @property
+    def period(self) -> float:
+        """Forcing (mesh) period T = 2π/ω in non-dimensional time τ."""
+        return 2.0 * math.pi / self.omega
+
+    @property
+    def n_harmonics(self) -> int:
+        """Largest number of harmonics among the damping, stiffness and STE series."""
+        return max(len(self.xi), len(self.kappa), len(self.eps), 0)
+
+    def replace(self, **changes: Any) -> "GearModel":
+        """Return a copy with fields changed (validated anew)."""
+        d = {f.name: getattr(self, f.name) for f in fields(self)}
+        d.update(changes)
+        return GearModel(**d)
+
+    # ------------------------------------------------------------------ parameters by name
+    def get(self, name: str) -> float:
+        """Value of the parameter ``name`` (see :data:`PARAMETER_HELP`); missing harmonics are 0."""
+        attr, idx = _param_slot(name)
+        if idx is None:
+            return getattr(self, attr)
+        seq = getattr(self, attr)
+        return seq[idx] if idx < len(seq) else 0.0
+
+    def with_param(self, name: str, value: float) -> "GearModel":
+        """Copy with the parameter ``name`` set to ``value`` (harmonic series extended as needed)."""
+        attr, idx = _param_slot(name)
+        if idx is None:
+            return self.replace(**{attr: value})
+        seq = list(getattr(self, attr))
+        if idx >= len(seq):
+            seq.extend([0.0] * (idx + 1 - len(seq)))
+        seq[idx] = value
+        changes = {attr: tuple(seq)}
+        amp_of_phase = {"phi_c": "xi", "phi_k": "kappa", "phi_e": "eps"}
+        if attr in amp_of_phase:  # a phase for a harmonic not yet present: add that harmonic with amplitude 0
+            amp = list(getattr(self, amp_of_phase[attr]))
+            if len(amp) < len(seq):
+                amp.extend([0.0] * (len(seq) - len(amp)))
+                changes[amp_of_phase[attr]] = tuple(amp)
+        return self.replace(**changes)
+
+    # ------------------------------------------------------------------ evaluation
+    def coefficients(self, n_harmonics: int | None = None) -> np.ndarray:
+        """Fourier coefficients of the three periodic coefficient functions.
+
+        Returns an array ``c`` of shape ``(3, H + 1, 2)`` with
+        ``X(θ) = Σ_j c[i, j, 0] cos(jθ) + c[i, j, 1] sin(jθ)`` for
+        ``X = C`` (i = 0, the full damping term 2ξ(θ)), ``K`` (i = 1, stiffness 1 + Σκ cos) and
+        ``F`` (i = 2, forcing f_p + ω² Σ l² ε_l cos).
+        """
+        H = self.n_harmonics if n_harmonics is None else n_harmonics
+        c = np.zeros((3, H + 1, 2))
+        c[0, 0, 0] = 2.0 * self.xi0
+        c[1, 0, 0] = 1.0
+        c[2, 0, 0] = self.fp
+        w2 = self.omega**2
+        series = (
+            (0, self.xi, self.phi_c, lambda j: 2.0),
+            (1, self.kappa, self.phi_k, lambda j: 1.0),
+            (2, self.eps, self.phi_e, lambda j: w2 * j * j),
+        )
+        for i, amps, phases, scale in series:
+            for j0, (a, ph) in enumerate(zip(amps, phases)):
+                j = j0 + 1
+                c[i, j, 0] = scale(j) * a * math.cos(ph)
+                c[i, j, 1] = -scale(j) * a * math.sin(ph)
+        return c
+
+    def restoring(self, u: np.ndarray | float) -> np.ndarray:
+        """Dead-zone function f(u; D) (non-dimensional)."""
+        u = np.asarray(u, dtype=float)
+        return u - np.clip(u, -self.D, self.D)
+
+    def rhs(self, tau: float, y: Sequence[float]) -> np.ndarray:
+        """Right-hand side of the first-order system y = (u, u') at time τ (plain NumPy, for references)."""
+        th = self.omega * tau
+        cf = self.coefficients()
+        j = np.arange(cf.shape[1])
+        cj, sj = np.cos(j * th), np.sin(j * th)
+        C, K, F = (cf[i, :, 0] @ cj + cf[i, :, 1] @ sj for i in range(3))
+        u, v = y
+        return np.array([v, F - C * v - K * float(self.restoring(u))])
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-dict form (JSON-serialisable)."""
+        d = asdict(self)
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> "GearModel":
+        known = {f.name for f in fields(cls)}
+        unknown = set(d) - known
+        if unknown:
+            raise ModelError(f"unknown model field(s) {sorted(unknown)}; allowed: {sorted(known)}")
+        return cls(**d)
+
+
+#: The paper's Table 1 non-dimensional values (ω not given there).
+PAPER_DEFAULTS = GearModel()
+
+#: Parameter names accepted by :meth:`GearModel.get` / :meth:`GearModel.with_param` and by sweeps.
+PARAMETER_HELP = {
+    "omega": "mesh frequency ω = ω_e/ω_n",
+    "xi0": "mean damping ratio ξ0",
+    "xiK": "damping harmonic ξ_K (K = 1, 2, …)",
+    "kappaR": "stiffness harmonic κ_R (R = 1, 2, …)",
+    "fp": "mean load f_p",
+    "epsL": "STE harmonic ε_L (alias fe = eps1)",
+    "D": "half backlash (alias backlash)",
+    "phi_cK": "phase of damping harmonic K (rad)",
+    "phi_kR": "phase of stiffness harmonic R (rad)",
+    "phi_eL": "phase of STE harmonic L (rad)",
+}
+
+_ALIASES = {"fe": "eps1", "backlash": "D", "b": "D"}
+_SCALAR = {"omega", "xi0", "fp", "D"}
+_SERIES = re.compile(r"^(xi|kappa|eps|phi_c|phi_k|phi_e)([1-9][0-9]*)$")
+
+
+def canonical_param(name: str) -> str:
+    """Canonical spelling of a parameter name; raises :class:`ModelError` for unknown names."""
+    n = _ALIASES.get(name, name)
+    if n in _SCALAR:
+        return n
+    m = _SERIES.match(n)
+    if m and int(m.group(2)) <= MAX_HARMONICS:
+        return n
+    allowed = ", ".join(PARAMETER_HELP)
+    raise ModelError(f"unknown parameter {name!r}; allowed: {allowed} (aliases: fe, backlash)")
+
+
+def _param_slot(name: str) -> tuple[str, int | None]:
+    n = canonical_param(name)
+    if n in _SCALAR:
+        return n, None
+    m = _SERIES.match(n)
+    assert m is not None
+    return m.group(1), int(m.group(2)) - 1
+
+
+def steps_per_period(omega: float | np.ndarray, dtau: float) -> np.ndarray:
+    """Number of RK4 steps per forcing period, N = ceil(T/Δτ) with T = 2π/ω, so h = T/N <= Δτ."""
+    T = 2.0 * np.pi / np.asarray(omega, dtype=float)
+    return np.ceil(T / dtau).astype(np.int64)
+
+
+@dataclass(frozen=True)
+class IntegrationOptions:
+    """How a trajectory is integrated and sampled.
+
+    Parameters
+    ----------
+    dtau : float
+        Target step Δτ (non-dimensional); the step used is h = T/ceil(T/Δτ) so that each forcing
+        period holds a whole number of steps and the Poincaré section is sampled exactly.
+    transient : int
+        Forcing periods integrated and discarded before recording.
+    periods : int
+        Forcing periods recorded (one Poincaré point each).
+    accurate : bool
+        Locate the contact-boundary crossings u = ±D inside each step and split the step there
+        (4th order through contact changes; slower).  The default mode steps straight through the
+        kink of f(u), which lowers the order (see ``docs/model.md``).
+    """
+
+    dtau: float = DEFAULT_DTAU
+    transient: int = DEFAULT_TRANSIENT
+    periods: int = DEFAULT_PERIODS
+    accurate: bool = False
+
+    def __post_init__(self) -> None:
+        dt = _check_finite("dtau", self.dtau)
+        if dt <= 0:
+            raise ModelError(f"dtau: must be > 0 and smaller than the forcing period, got {self.dtau!r}")
+        object.__setattr__(self, "dtau", dt)
+        for name, lo in (("transient", 0), ("periods", 1)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not float(v).is_integer() or v < lo:
+                raise ModelError(f"{name}: must be an integer >= {lo}, got {v!r}")
+            object.__setattr__(self, name, int(v))
+        object.__setattr__(self, "accurate", bool(self.accurate))
+
+    def check_for(self, omega: float) -> None:
+        """Refuse a step that is not smaller than the forcing period 2π/ω."""
+        T = 2.0 * math.pi / omega
+        if self.dtau >= T:
+            raise ModelError(f"dtau: must be smaller than the forcing period T = 2π/ω = {T:.6g}, got {self.dtau!r}")
+
+    def replace(self, **changes: Any) -> "IntegrationOptions":
+        d = asdict(self)
+        d.update(changes)
+        return IntegrationOptions(**d)
+
+
+def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pack models into kernel arrays.
+
+    Returns ``coef`` (P, 3, H+1, 2) as in :meth:`GearModel.coefficients` with H the largest
+    harmonic count (zero-padded), ``D`` (P,) and ``omega`` (P,).
+    """
+    models = list(models)
+    if not models:
+        raise ModelError("empty parameter grid: no model to integrate")
+    H = max(m.n_harmonics for m in models)
+    coef = np.stack([m.coefficients(H) for m in models])
+    D = np.array([m.D for m in models])
+    omega = np.array([m.omega for m in models])
+    return np.ascontiguousarray(coef), D, omega
