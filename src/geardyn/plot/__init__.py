@@ -1,0 +1,1 @@
+"""Matplotlib figures drawn from result Datasets only (no numerics here)."""
