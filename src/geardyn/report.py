@@ -1,0 +1,160 @@
+"""The reproduction report: claims with verdicts, rendered as Markdown and self-contained HTML.
+
+A report is a list of :class:`Section` s, each with explanatory text (the settings chosen and
+why), figures, and the :class:`Claim` s it judges.  :func:`write_report` writes ``report.md``,
+``report.html`` (figures embedded as base64 PNG, so the file opens anywhere on its own) and
+``claims.json`` into the output directory.  No numerics here.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+from .io import atomic_write_bytes
+
+VERDICTS = ("reproduced", "partly reproduced", "not reproduced")
+
+
+@dataclass
+class Claim:
+    """One claim of the paper and what geardyn found.
+
+    ``evidence`` holds paths relative to the report directory (figures and NetCDF data).
+    """
+
+    id: str
+    source: str
+    statement: str
+    computed: str
+    verdict: str
+    evidence: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if self.verdict not in VERDICTS:
+            raise ValueError(f"verdict must be one of {VERDICTS}, got {self.verdict!r}")
+
+
+@dataclass
+class Section:
+    """A study: a title, paragraphs (plain text), figures (relative paths) and its claims."""
+
+    title: str
+    paragraphs: list[str] = field(default_factory=list)
+    figures: list[tuple[str, str]] = field(default_factory=list)  # (relative path, caption)
+    claims: list[Claim] = field(default_factory=list)
+    table: list[list[str]] | None = None  # optional table, first row = header
+
+
+def _md_escape_cell(s: str) -> str:
+    return s.replace("|", "\\|").replace("\n", " ")
+
+
+def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section]) -> str:
+    claims = [c for s in sections for c in s.claims]
+    out = [f"# {title}", ""]
+    out += [p + "\n" for p in intro]
+    out += ["## Claims and verdicts", "", "| id | source | verdict | computed |", "|---|---|---|---|"]
+    for c in claims:
+        out.append(f"| {c.id} | {_md_escape_cell(c.source)} | **{c.verdict}** | {_md_escape_cell(c.computed)} |")
+    counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
+    out += ["", "Totals: " + ", ".join(f"{n} {v}" for v, n in counts.items()), ""]
+    for s in sections:
+        out += [f"## {s.title}", ""]
+        out += [p + "\n" for p in s.paragraphs]
+        if s.table:
+            out.append("| " + " | ".join(_md_escape_cell(h) for h in s.table[0]) + " |")
+            out.append("|" + "---|" * len(s.table[0]))
+            for row in s.table[1:]:
+                out.append("| " + " | ".join(_md_escape_cell(x) for x in row) + " |")
+            out.append("")
+        for c in s.claims:
+            out += [
+                f"**{c.id}** ({c.source}). *Paper:* {c.statement}",
+                "",
+                f"*geardyn:* {c.computed}",
+                "",
+                f"*Verdict:* **{c.verdict}**. Evidence: " + ", ".join(f"`{e}`" for e in c.evidence),
+                "",
+            ]
+        for path, caption in s.figures:
+            out += [f"![{caption}]({path})", "", f"*{caption}*", ""]
+    return "\n".join(out)
+
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;
+padding:0 1em;color:#222;line-height:1.45}
+table{border-collapse:collapse;margin:1em 0;font-size:0.92em}td,th{border:1px solid #ccc;padding:4px 8px;
+vertical-align:top}th{background:#f3f3f3}
+.v-reproduced{background:#d9f2d9}.v-partly{background:#fff2cc}.v-not{background:#f8d7d7}
+figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}figcaption{font-size:0.9em;color:#555}
+.claim{border-left:4px solid #999;padding:0.3em 0.8em;margin:1em 0;background:#fafafa}
+code{background:#f2f2f2;padding:0 3px}
+"""
+
+
+def _vclass(v: str) -> str:
+    return {"reproduced": "v-reproduced", "partly reproduced": "v-partly", "not reproduced": "v-not"}[v]
+
+
+def _img(directory: Path, rel: str) -> str:
+    p = directory / rel
+    if not p.exists():
+        return f"<p>(missing figure {html.escape(rel)})</p>"
+    data = base64.b64encode(p.read_bytes()).decode("ascii")
+    return f'<img alt="{html.escape(rel)}" src="data:image/png;base64,{data}">'
+
+
+def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], directory: Path) -> str:
+    e = html.escape
+    claims = [c for s in sections for c in s.claims]
+    out = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(title)}</title><style>{_CSS}</style></head><body>",
+           f"<h1>{e(title)}</h1>"]
+    out += [f"<p>{e(p)}</p>" for p in intro]
+    out.append("<h2>Claims and verdicts</h2><table><tr><th>id</th><th>source</th><th>verdict</th><th>computed</th></tr>")
+    for c in claims:
+        out.append(f"<tr><td><a href='#{e(c.id)}'>{e(c.id)}</a></td><td>{e(c.source)}</td>"
+                   f"<td class='{_vclass(c.verdict)}'>{e(c.verdict)}</td><td>{e(c.computed)}</td></tr>")
+    out.append("</table>")
+    counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
+    out.append("<p>Totals: " + e(", ".join(f"{n} {v}" for v, n in counts.items())) + "</p>")
+    for s in sections:
+        out.append(f"<h2>{e(s.title)}</h2>")
+        out += [f"<p>{e(p)}</p>" for p in s.paragraphs]
+        if s.table:
+            out.append("<table><tr>" + "".join(f"<th>{e(h)}</th>" for h in s.table[0]) + "</tr>")
+            for row in s.table[1:]:
+                out.append("<tr>" + "".join(f"<td>{e(x)}</td>" for x in row) + "</tr>")
+            out.append("</table>")
+        for c in s.claims:
+            out.append(
+                f"<div class='claim' id='{e(c.id)}'><b>{e(c.id)}</b> ({e(c.source)})<br><i>Paper:</i> {e(c.statement)}"
+                f"<br><i>geardyn:</i> {e(c.computed)}<br><i>Verdict:</i> <span class='{_vclass(c.verdict)}'>"
+                f"<b>{e(c.verdict)}</b></span> &mdash; evidence: {e(', '.join(c.evidence))}</div>"
+            )
+        for path, caption in s.figures:
+            out.append(f"<figure>{_img(directory, path)}<figcaption>{e(caption)}</figcaption></figure>")
+    out.append("</body></html>")
+    return "\n".join(out)
+
+
+def write_report(directory: str | Path, title: str, intro: Sequence[str], sections: Sequence[Section],
+                 meta: dict[str, Any] | None = None) -> dict[str, Path]:
+    """Write report.md, report.html, claims.json (a list, one entry per claim) and, with ``meta``,
+    run.json (settings, timings) into ``directory``; returns their paths."""
+    d = Path(directory)
+    d.mkdir(parents=True, exist_ok=True)
+    claims = [asdict(c) for s in sections for c in s.claims]
+    paths = {"md": d / "report.md", "html": d / "report.html", "claims": d / "claims.json"}
+    atomic_write_bytes(paths["md"], render_markdown(title, intro, sections).encode())
+    atomic_write_bytes(paths["html"], render_html(title, intro, sections, d).encode())
+    atomic_write_bytes(paths["claims"], json.dumps(claims, indent=2, default=str).encode())
+    if meta:
+        paths["meta"] = d / "run.json"
+        atomic_write_bytes(paths["meta"], json.dumps(meta, indent=2, default=str).encode())
+    return paths
