@@ -194,6 +194,36 @@ def _print_simulate(s: dict[str, Any], files: list[str]) -> None:
         console.print(f"wrote {f}")
 
 
+@app.command()
+def geometry(config: ConfigOpt = None, json_out: JsonOpt = False) -> None:
+    """Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed values marked)."""
+    from .config import load_config
+    from .geometry import summary_rows
+
+    try:
+        summary = load_config(config).geometry_summary()
+    except ModelError as e:
+        raise fail(str(e))
+    if json_out:
+        emit_json(summary)
+        return
+    from rich.table import Table
+
+    t = Table(title=f"Gear pair geometry: {summary['title'] or summary['source']}")
+    for col in ("quantity", "value", "unit", "note"):
+        t.add_column(col, overflow="fold")
+    for q, v, u, note in summary_rows(summary):
+        t.add_row(q, v, u, note, style="yellow" if note.startswith("assumed") else None)
+    console.print(t)
+    lines = [f"source: {summary['source']}", f"backlash scale: {summary['backlash_reading']}"]
+    for a in summary["assumptions"]:
+        v = f"{a['value']:.6g}" if isinstance(a["value"], (int, float)) else str(a["value"])
+        lines.append(f"assumed {a['name']} = {v}{' ' + a['unit'] if a['unit'] else ''}: {a['source']}")
+    lines += [f"note: {n}" for n in summary["notes"]]
+    for line in lines:
+        console.print(line, markup=False, highlight=False)
+
+
 def main() -> None:
     """Entry point: run the app, turning model errors into one-line messages with exit code 2."""
     try:

@@ -1,0 +1,243 @@
+"""TOML configurations with units: loading, conversion and refusal of bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+import textwrap
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from geardyn.cli import app
+from geardyn.config import load_config, packaged_config_path
+from geardyn.model import ModelError
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+
+PAIR = """\
+[gear_pair]
+z1 = 23
+z2 = 47
+m_mn = "7.28 mm"
+beta_m = "35 deg"
+alpha_n = "20 deg"
+j_n = "0.1 mm"
+I1 = "1.772 kg*m^2"
+I2 = "1.873 kg*m^2"
+r1 = "125.5 mm"
+r2 = "256 mm"
+face_width = "100 mm"
+"""
+
+
+def write(tmp_path: Path, text: str, name: str = "pair.toml") -> Path:
+    p = tmp_path / name
+    p.write_text(textwrap.dedent(text), encoding="utf-8")
+    return p
+
+
+def test_packaged_copy_is_identical_to_example():
+    assert packaged_config_path().read_text(encoding="utf-8") == (EXAMPLES / "paper_table1.toml").read_text(
+        encoding="utf-8"
+    )
+
+
+def test_paper_config_gives_table1_model():
+    cfg = load_config(None)
+    m = cfg.model
+    assert (m.xi0, m.xi, m.kappa, m.eps, m.fp, m.D) == (0.1, (0.05,), (0.2,), (0.5,), 0.2, 1.0)
+    assert m.phi_c == m.phi_k == m.phi_e == (0.0,)
+    # 3000 rpm with k0 = 100 mm × 20 N/(mm·µm) = 2e9 N/m and m_e = 38.4636 kg
+    assert m.omega == pytest.approx(2 * math.pi * 23 * 3000 / 60 / math.sqrt(2e9 / 38.46360), rel=1e-6)
+    assert cfg.rpm == pytest.approx(3000.0)
+    # torque follows from f_p: T1 = f_p k0 b_n R1
+    assert cfg.torque == pytest.approx(0.2 * 2e9 * 5e-5 * 0.0966038, rel=1e-6)
+    assert {"face_width", "c_gamma", "k0", "hand", "drive_side", "rpm"} <= set(cfg.assumed)
+    s = cfg.geometry_summary()
+    assert s["F_p_N"] == pytest.approx(2.0e4, rel=1e-12)
+    assert s["delta1_deg"] == pytest.approx(26.0754, abs=1e-4)
+
+
+def test_example_file_equals_default_and_realistic_example_loads():
+    assert load_config(EXAMPLES / "paper_table1.toml").model == load_config(None).model
+    auto = load_config(EXAMPLES / "automotive_hypoid_like.toml")
+    assert auto.pair.z1 < auto.pair.z2
+    assert 0 < auto.model.omega < 5
+    assert len(auto.model.eps) >= 1 and all(math.isfinite(e) for e in auto.model.eps)
+    assert auto.assumed  # its assumptions are listed
+
+
+def test_units_are_converted(tmp_path):
+    p = write(
+        tmp_path,
+        PAIR.replace('"7.28 mm"', '"0.00728 m"').replace('"35 deg"', '"0.6108652382 rad"')
+        + '\n[operating]\nrpm = "314.1592653589793 rad/s"\ntorque = "1.5 kN*m"\n',
+    )
+    cfg = load_config(p)
+    assert cfg.pair.m_mn == pytest.approx(7.28e-3)
+    assert math.degrees(cfg.pair.beta_m) == pytest.approx(35.0, rel=1e-9)
+    assert cfg.rpm == pytest.approx(3000.0, rel=1e-12)
+    assert cfg.torque == pytest.approx(1500.0)
+    assert cfg.model.fp == pytest.approx(1500.0 / cfg.pair.R1 / (2e9 * 5e-5), rel=1e-12)
+
+
+def test_dimensional_mesh_and_table3_reading(tmp_path):
+    p = write(
+        tmp_path,
+        PAIR
+        + """
+        [mesh]
+        c0 = "5e4 N*s/m"
+        k = ["400 N/um"]
+        e = ["25 um", "5 um"]
+        phi_e = ["0 deg", "90 deg"]
+        characteristic_length = "1 mm"
+        [operating]
+        rpm = "2000 rpm"
+        torque = "1000 N*m"
+        """,
+    )
+    cfg = load_config(p)
+    m = cfg.model
+    assert m.kappa == pytest.approx((0.2,))
+    assert m.eps == pytest.approx((0.025, 0.005))  # b_c = 1 mm
+    assert m.phi_e == pytest.approx((0.0, math.pi / 2))
+    assert m.D == pytest.approx(0.05)  # b_n = 0.05 mm, Table 3 reading
+    assert m.xi0 == pytest.approx(5e4 / (2 * cfg.pair.m_e * cfg.pair.omega_n))
+    assert "Table 3" in cfg.backlash_reading
+
+
+def test_model_section_overrides_and_operating_point_follows(tmp_path):
+    p = write(tmp_path, PAIR + "\n[mesh]\nfp = 0.2\n[operating]\nrpm = \"3000 rpm\"\n[model]\nomega = 0.5\n")
+    cfg = load_config(p)
+    assert cfg.model.omega == 0.5
+    assert cfg.rpm == pytest.approx(0.5 * cfg.pair.omega_n * 60 / (2 * math.pi * 23))
+    assert any("overrides" in n for n in cfg.notes)
+    moved = cfg.at(rpm=1500.0, torque=966.0)
+    assert moved.model.omega == pytest.approx(cfg.scales.omega_from_rpm(1500.0))
+    assert moved.scales.torque_from_fp(moved.model.fp) == pytest.approx(966.0)
+
+
+def test_assumed_inline_table(tmp_path):
+    p = write(tmp_path, PAIR + '\n[operating]\nrpm = { value = "1000 rpm", assumed = "typical value" }\n')
+    cfg = load_config(p)
+    a = {x.name: x for x in cfg.assumptions}
+    assert a["rpm"].source == "typical value" and a["rpm"].value == 1000.0
+
+
+# ---------------------------------------------------------------------------- refusals
+def test_unknown_key_refused_with_file_line_and_allowed(tmp_path):
+    p = write(tmp_path, PAIR + "face_widht = \"90 mm\"\n")
+    with pytest.raises(ModelError) as ei:
+        load_config(p)
+    msg = str(ei.value)
+    assert str(p) in msg and "face_widht" in msg and "line 13" in msg and "allowed" in msg and "face_width" in msg
+    assert "\n" not in msg
+
+
+def test_unknown_section_refused(tmp_path):
+    p = write(tmp_path, PAIR + "[gearpair]\nz1 = 3\n")
+    with pytest.raises(ModelError, match=r"unknown section or key 'gearpair'"):
+        load_config(p)
+
+
+@pytest.mark.parametrize(
+    "old,new,key,what",
+    [
+        ('"7.28 mm"', '"7.28 kg"', "m_mn", "length"),
+        ('"35 deg"', '"35 mm"', "beta_m", "angle"),
+        ('"35 deg"', "35", "beta_m", "angle"),
+        ('"1.772 kg*m^2"', '"1.772 kg"', "I1", "moment of inertia"),
+        ('"0.1 mm"', '"0.1 furlongs per parsec"', "j_n", "length"),
+        ('"256 mm"', '"inf mm"', "r2", "finite"),
+    ],
+)
+def test_wrong_unit_refused(tmp_path, old, new, key, what):
+    p = write(tmp_path, PAIR.replace(old, new, 1))
+    with pytest.raises(ModelError) as ei:
+        load_config(p)
+    msg = str(ei.value)
+    assert str(p) in msg and f"[gear_pair] {key}" in msg and what in msg
+
+
+def test_speed_in_hz_refused(tmp_path):
+    p = write(tmp_path, PAIR + '\n[operating]\nrpm = "50 Hz"\n')
+    with pytest.raises(ModelError, match=r"line 15: \[operating\] rpm: .*rpm"):
+        load_config(p)
+
+
+@pytest.mark.parametrize(
+    "old,new,key",
+    [
+        ('"35 deg"', '"95 deg"', "beta_m"),
+        ("z1 = 23", "z1 = 0", "z1"),
+        ('"1.873 kg*m^2"', '"-1 kg*m^2"', "I2"),
+    ],
+)
+def test_out_of_range_refused_with_line(tmp_path, old, new, key):
+    text = PAIR.replace(old, new, 1)
+    line = 1 + text.splitlines().index(next(ln for ln in text.splitlines() if ln.startswith(key + " ")))
+    p = write(tmp_path, text)
+    with pytest.raises(ModelError) as ei:
+        load_config(p)
+    msg = str(ei.value)
+    assert f"line {line}:" in msg and key in msg and str(p) in msg
+
+
+def test_mesh_stiffness_out_of_range_refused(tmp_path):
+    p = write(tmp_path, PAIR + "\n[mesh]\nkappa = [0.7, 0.5]\n")
+    with pytest.raises(ModelError, match=r"\[mesh\] kappa: sum of \|kappa_r\| must be < 1"):
+        load_config(p)
+
+
+def test_missing_file_refused(tmp_path):
+    missing = tmp_path / "nope.toml"
+    with pytest.raises(ModelError, match=r"nope\.toml: configuration file not found"):
+        load_config(missing)
+
+
+def test_toml_syntax_error_names_file_and_line(tmp_path):
+    p = write(tmp_path, PAIR + "[operating]\nrpm = = 3\n")
+    with pytest.raises(ModelError) as ei:
+        load_config(p)
+    msg = str(ei.value)
+    assert str(p) in msg and "line 14" in msg and "TOML syntax error" in msg
+
+
+def test_missing_required_key_refused(tmp_path):
+    p = write(tmp_path, PAIR.replace("z2 = 47\n", ""))
+    with pytest.raises(ModelError, match=r"\[gear_pair\] missing key\(s\) z2"):
+        load_config(p)
+
+
+def test_both_nondimensional_and_dimensional_refused(tmp_path):
+    p = write(tmp_path, PAIR + '\n[mesh]\nkappa = [0.2]\nk = ["400 N/um"]\n')
+    with pytest.raises(ModelError, match=r"kappa/k: give the harmonics either"):
+        load_config(p)
+
+
+# ---------------------------------------------------------------------------- the geometry command
+runner = CliRunner()
+
+
+def test_cli_geometry_json_keys():
+    r = runner.invoke(app, ["geometry", "--json"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    for k in ("delta1_deg", "delta2_deg", "R1_m", "R2_m", "m_e_kg", "F_p_N", "omega_n_rad_s", "assumed"):
+        assert k in s
+    assert s["m_e_kg"] == pytest.approx(38.4636, rel=1e-5)
+    assert s["omega_n_rad_s"] == pytest.approx(7210.91, rel=1e-6)
+    assert "k0" in s["assumed"]
+
+
+def test_cli_geometry_table_and_error(tmp_path):
+    r = runner.invoke(app, ["geometry"])
+    assert r.exit_code == 0 and "directional radius R1" in r.stdout and "assumed" in r.stdout
+    bad = write(tmp_path, PAIR + "bogus = 1\n")
+    r = runner.invoke(app, ["geometry", "--config", str(bad)])
+    assert r.exit_code == 2
+    assert "bogus" in r.output and "error:" in r.output
