@@ -214,7 +214,7 @@ class ResolvedInputs:
     assumed: tuple[Assumption, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class MeshVectors:
     """Mesh-point vectors of a spiral bevel pair (frame: origin at the apex, see module docstring).
 
