@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import json
 import sys
 from pathlib import Path
@@ -28,9 +29,14 @@ def _root() -> None:
     """geardyn: simulate and analyse the nonlinear dynamics of a gear pair with backlash."""
 
 
+def say_error(message: str) -> None:
+    """Print ``message`` on stderr as one line (never wrapped, no markup)."""
+    err_console.print(" ".join(str(message).split()), markup=False, highlight=False, soft_wrap=True)
+
+
 def fail(message: str) -> "typer.Exit":
     """Print one line naming the bad input and return the exit (code 2) to raise."""
-    err_console.print(f"error: {message}", markup=False, highlight=False)
+    say_error(f"error: {message}")
     return typer.Exit(code=2)
 
 
@@ -68,6 +74,38 @@ PeriodsOpt = Annotated[int, typer.Option("--periods", help="Forcing periods reco
 AccurateOpt = Annotated[bool, typer.Option("--accurate", help="Split steps at the contact crossings u = ±D (4th order through contact loss).")]
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print a machine-readable summary on stdout.")]
 OutOpt = Annotated[Optional[Path], typer.Option("--out", help="Directory (or .nc file) for NetCDF data and PNG figures.")]
+WorkersOpt = Annotated[int, typer.Option("--workers", help="Local worker processes for a sweep (1: in this process).")]
+SchedulerOpt = Annotated[Optional[str], typer.Option("--scheduler", help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed).")]
+ResumeOpt = Annotated[bool, typer.Option("--resume", help="Complete an interrupted sweep with the same --out: chunks already finished are kept.")]
+
+
+def sweep_engine(workers: int, scheduler: Optional[str], resume: bool, nc: Optional[Path], json_out: bool) -> dict[str, Any]:
+    """Validated keyword arguments of :func:`geardyn.sweep.run_chunks` from the common sweep options.
+
+    With ``--out`` the finished chunks are checkpointed next to the NetCDF file ``nc``
+    (``<nc>.chunks``, see :func:`geardyn.sweep.checkpoint_dir`); call :func:`finish_sweep` once the
+    final file is written.  The progress bar and divergence summary go to stderr unless ``--json``.
+    """
+    from . import validate
+    from .sweep import checkpoint_dir
+
+    if resume and nc is None:
+        raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
+    return {
+        "workers": validate.workers(workers),
+        "scheduler": validate.scheduler(scheduler),
+        "checkpoint": checkpoint_dir(nc) if nc is not None else None,
+        "resume": bool(resume),
+        "progress": not json_out,
+    }
+
+
+def finish_sweep(engine: dict[str, Any]) -> None:
+    """Remove a sweep's checkpoint once its final NetCDF file has been written."""
+    from .sweep import remove_checkpoint
+
+    if engine.get("checkpoint") is not None:
+        remove_checkpoint(engine["checkpoint"])
 
 
 def base_model(config: Optional[Path]) -> GearModel:
@@ -106,10 +144,10 @@ def build_model(
 
 
 def build_options(dtau: float, transient: int, periods: int, accurate: bool, omega: float | None = None) -> IntegrationOptions:
-    opts = IntegrationOptions(dtau=dtau, transient=transient, periods=periods, accurate=accurate)
-    if omega is not None:
-        opts.check_for(omega)
-    return opts
+    """Validated integration options (checked against ``omega`` when given; see :func:`geardyn.validate.options`)."""
+    from . import validate
+
+    return validate.options(dtau, transient, periods, accurate, () if omega is None else (omega,))
 
 
 def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
@@ -224,13 +262,54 @@ def geometry(config: ConfigOpt = None, json_out: JsonOpt = False) -> None:
         console.print(line, markup=False, highlight=False)
 
 
-def main() -> None:
-    """Entry point: run the app, turning model errors into one-line messages with exit code 2."""
+#: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
+EXIT_INTERRUPTED = 130
+
+
+def main(argv: Optional[list[str]] = None) -> None:
+    """Entry point: run the app; every input error becomes one line on stderr, never a traceback.
+
+    Exit codes: 0 success; 2 invalid input (model and option errors, unknown options, values
+    that do not parse, bad configuration files); 130 interrupted by Ctrl-C (a sweep says how to
+    resume); 1 other failures such as an unwritable output.
+    """
+    from .sweep import SweepInterrupted
+
+    # typer's parser exceptions (its own vendored click, or click itself in older versions)
+    cx = sys.modules[typer.BadParameter.__module__]
+    usage_error, click_exception = cx.UsageError, cx.ClickException
+    no_args_is_help = getattr(cx, "NoArgsIsHelpError", ())
     try:
-        app()
-    except ModelError as e:
-        err_console.print(f"error: {e}", markup=False, highlight=False)
+        rv = app(args=argv, prog_name="geardyn", standalone_mode=False)
+    except no_args_is_help as e:  # type: ignore[misc]
+        print(e.ctx.get_help() if e.ctx is not None else e.format_message())
+        raise SystemExit(0) from None
+    except usage_error as e:
+        where = f" (see 'geardyn {e.ctx.info_name} --help')" if e.ctx is not None and e.ctx.parent is not None else ""
+        say_error(f"error: {e.format_message()}{where}")
         raise SystemExit(2) from None
+    except ModelError as e:
+        say_error(f"error: {e}")
+        raise SystemExit(2) from None
+    except SweepInterrupted as e:
+        say_error(str(e))
+        raise SystemExit(EXIT_INTERRUPTED) from None
+    except typer.Abort:
+        say_error("interrupted")
+        raise SystemExit(EXIT_INTERRUPTED) from None
+    except click_exception as e:
+        say_error(f"error: {e.format_message()}")
+        raise SystemExit(e.exit_code) from None
+    except OSError as e:
+        if e.errno == errno.EPIPE:  # output piped into a program that stopped reading
+            raise SystemExit(1) from None
+        name = f" {e.filename}" if getattr(e, "filename", None) else ""
+        say_error(f"error: cannot access{name}: {e.strerror or e}")
+        raise SystemExit(1) from None
+    if rv == EXIT_INTERRUPTED:  # Ctrl-C outside a sweep (typer maps it to exit code 130)
+        say_error("interrupted")
+    if isinstance(rv, int) and not isinstance(rv, bool):
+        raise SystemExit(rv)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,293 @@
+"""Validation of user input (command line, configuration values, Python callers).
+
+Every function here either returns the value in its checked form or raises
+:class:`~geardyn.model.ModelError` with a one-line message that starts with the name of the
+parameter and says what is allowed, e.g. ``"omega: must be > 0 (mesh frequency ω_e/ω_n), got -1.0"``.
+Nothing else is raised, whatever the type of the value (this is tested with random input).
+The CLI turns these errors into one line on stderr and exit code 2.
+
+The model's own invariants (ω > 0, D >= 0, Σ|κ_r| < 1, phases per harmonic) are checked by
+:class:`~geardyn.model.GearModel`; this module adds the checks of the raw values (type,
+finiteness, integer-ness) in front of it and the limits that only make sense for a run (step
+count per period, grid size, workers, scheduler address).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import re
+from pathlib import Path
+from typing import Any, Iterable, Mapping, Sequence
+
+import numpy as np
+
+from .model import (
+    DEFAULT_DTAU,
+    DEFAULT_PERIODS,
+    DEFAULT_TRANSIENT,
+    GearModel,
+    IntegrationOptions,
+    ModelError,
+    canonical_param,
+)
+
+__all__ = [
+    "MAX_GRID_POINTS",
+    "MAX_PERIODS",
+    "MAX_STEPS_PER_PERIOD",
+    "axis",
+    "chunk_points",
+    "config_file",
+    "grid",
+    "initial_state",
+    "integer",
+    "model",
+    "nonnegative",
+    "number",
+    "options",
+    "positive",
+    "scheduler",
+    "workers",
+]
+
+#: Largest number of RK4 steps per forcing period, ceil(T/Δτ): a smaller ω or Δτ is refused
+#: (10⁷ steps per period is already hours per point).
+MAX_STEPS_PER_PERIOD = 10_000_000
+#: Largest number of transient or recorded periods.
+MAX_PERIODS = 100_000_000
+#: Largest number of points of a sweep grid (product over its axes).
+MAX_GRID_POINTS = 100_000_000
+#: Largest number of local worker processes.
+MAX_WORKERS = 4096
+
+_SCHEDULER = re.compile(r"^(?:(tcp|tls|inproc|ucx|ws|wss)://)?(\[[0-9a-fA-F:.]+\]|[A-Za-z0-9_.\-]+)(?::(\d{1,5}))?/?$")
+
+
+def _describe(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def number(name: str, value: Any) -> float:
+    """A finite real number (bool, strings, complex, None and non-finite values refused)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise ModelError(f"{name}: expected a finite number, got {_describe(value)}")
+    try:
+        x = float(value)
+    except (OverflowError, ValueError, TypeError):
+        raise ModelError(f"{name}: must be a finite number, got {_describe(value)}") from None
+    if not math.isfinite(x):
+        raise ModelError(f"{name}: must be a finite number, got {_describe(value)}")
+    return x
+
+
+def positive(name: str, value: Any, what: str = "") -> float:
+    """A finite number > 0."""
+    x = number(name, value)
+    if x <= 0:
+        raise ModelError(f"{name}: must be > 0{what}, got {_describe(value)}")
+    return x
+
+
+def nonnegative(name: str, value: Any, what: str = "") -> float:
+    """A finite number >= 0."""
+    x = number(name, value)
+    if x < 0:
+        raise ModelError(f"{name}: must be >= 0{what}, got {_describe(value)}")
+    return x
+
+
+def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
+    """An integer in [lo, hi] (an integral float such as 3.0 is accepted)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise ModelError(f"{name}: expected an integer >= {lo}, got {_describe(value)}")
+    if isinstance(value, numbers.Integral):
+        n = int(value)
+    else:
+        try:
+            x = float(value)
+        except (OverflowError, ValueError, TypeError):
+            x = math.nan
+        if not (math.isfinite(x) and x.is_integer()):
+            raise ModelError(f"{name}: must be an integer >= {lo}, got {_describe(value)}")
+        n = int(x)
+    if n < lo or (hi is not None and n > hi):
+        allowed = f">= {lo}" if hi is None else f"between {lo} and {hi}"
+        raise ModelError(f"{name}: must be an integer {allowed}, got {_describe(value)}")
+    return n
+
+
+def _series_slot(name: str) -> tuple[str, int | None]:
+    m = re.match(r"^(xi|kappa|eps|phi_c|phi_k|phi_e)(\d+)$", name)
+    if m is None:
+        return name, None
+    return m.group(1), int(m.group(2)) - 1
+
+
+_AMPLITUDE_OF_PHASE = {"phi_c": "xi", "phi_k": "kappa", "phi_e": "eps"}
+
+
+def model(base: GearModel | None = None, **params: Any) -> GearModel:
+    """``base`` (default: the paper's model) with parameters set by name, validated once at the end.
+
+    Parameters
+    ----------
+    base : GearModel, optional
+        The model to start from.
+    **params
+        Values by sweep name (``omega``, ``xi0``, ``xi1``, ``kappa2``, ``fp``, ``eps1`` or ``fe``,
+        ``D`` or ``backlash``, ``phi_c1``, …), all non-dimensional; a phase for a harmonic not
+        yet present adds that harmonic with amplitude 0.
+    """
+    m = base if base is not None else GearModel()
+    if not isinstance(m, GearModel):
+        raise ModelError(f"base: expected a GearModel, got {_describe(m)}")
+    d: dict[str, Any] = {k: (list(v) if isinstance(v, list) else v) for k, v in m.to_dict().items()}
+    for name, value in params.items():
+        canon = canonical_param(str(name))
+        x = number(str(name), value)
+        attr, idx = _series_slot(canon)
+        if idx is None:
+            d[attr] = x
+            continue
+        seq = d[attr]
+        seq.extend([0.0] * (idx + 1 - len(seq)))
+        seq[idx] = x
+        amp = _AMPLITUDE_OF_PHASE.get(attr)
+        if amp is not None and len(d[amp]) < len(seq):
+            d[amp].extend([0.0] * (len(seq) - len(d[amp])))
+    return GearModel(**{k: tuple(v) if isinstance(v, list) else v for k, v in d.items()})
+
+
+def model_params(values: Mapping[str, Any], base: GearModel | None = None) -> GearModel:
+    """:func:`model` from a mapping (e.g. a table of a configuration file)."""
+    if not isinstance(values, Mapping):
+        raise ModelError(f"model parameters: expected a table of name = value, got {_describe(values)}")
+    return model(base, **{str(k): v for k, v in values.items()})
+
+
+def options(
+    dtau: Any = DEFAULT_DTAU,
+    transient: Any = DEFAULT_TRANSIENT,
+    periods: Any = DEFAULT_PERIODS,
+    accurate: Any = False,
+    omegas: Iterable[float] = (),
+) -> IntegrationOptions:
+    """Integration options, checked against every mesh frequency ``omegas`` they will be used with.
+
+    Δτ must be > 0 and smaller than every forcing period T = 2π/ω, with at most
+    :data:`MAX_STEPS_PER_PERIOD` steps per period; ``transient`` >= 0 and ``periods`` >= 1 whole
+    periods, at most :data:`MAX_PERIODS` each.
+    """
+    dt = positive("dtau", dtau, " and smaller than the forcing period 2π/ω")
+    tr = integer("transient", transient, 0, MAX_PERIODS)
+    pe = integer("periods", periods, 1, MAX_PERIODS)
+    if not isinstance(accurate, (bool, np.bool_)):
+        raise ModelError(f"accurate: expected true or false, got {_describe(accurate)}")
+    opts = IntegrationOptions(dtau=dt, transient=tr, periods=pe, accurate=bool(accurate))
+    ws = np.asarray(list(omegas), dtype=float).ravel() if not isinstance(omegas, np.ndarray) else omegas.ravel()
+    if ws.size:
+        w_max, w_min = float(np.max(ws)), float(np.min(ws))
+        if not (math.isfinite(w_min) and w_min > 0):
+            raise ModelError(f"omega: must be a finite number > 0, got {w_min!r}")
+        opts.check_for(w_max)
+        steps = 2.0 * math.pi / w_min / dt
+        if not steps <= MAX_STEPS_PER_PERIOD:
+            raise ModelError(
+                f"dtau: ω = {w_min:.6g} with Δτ = {dt:g} needs {steps:.3g} steps per forcing period; "
+                f"at most {MAX_STEPS_PER_PERIOD:.0e} allowed (increase dtau or omega)"
+            )
+    return opts
+
+
+def initial_state(u0: Any, v0: Any) -> tuple[float, float]:
+    """The initial state (u0, v0) at θ = 0: two finite numbers."""
+    return number("u0", u0), number("v0", v0)
+
+
+def axis(param: Any, start: Any, stop: Any, num: Any) -> tuple[str, np.ndarray]:
+    """One swept parameter: its canonical name and ``num`` evenly spaced values from start to stop."""
+    if not isinstance(param, str) or not param:
+        raise ModelError(f"param: expected a parameter name, got {_describe(param)}")
+    name = canonical_param(param)
+    a = number("start", start)
+    b = number("stop", stop)
+    n = integer("num", num, 1, MAX_GRID_POINTS)
+    values = np.linspace(a, b, n)
+    if not np.all(np.isfinite(values)):
+        raise ModelError(f"start/stop: the values from {a!r} to {b!r} overflow; use a smaller range")
+    return name, values
+
+
+def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
+         opts: IntegrationOptions | None = None) -> list[GearModel]:
+    """The models of the Cartesian grid over ``axes`` (last axis fastest), each validated.
+
+    Refuses an empty grid, one larger than :data:`MAX_GRID_POINTS`, any grid point the model
+    refuses (e.g. ω <= 0 or Σ|κ| >= 1, named with its value) and, with ``opts``, a step Δτ not
+    smaller than the forcing period of every point.
+    """
+    from .sweep import grid_models
+
+    if not axes:
+        raise ModelError("grid: empty parameter grid; give at least one parameter to sweep")
+    names, values = [], []
+    total = 1
+    for i, ax in enumerate(axes):
+        if not (isinstance(ax, (tuple, list)) and len(ax) == 2):
+            raise ModelError(f"grid: axis {i + 1} must be (parameter, values), got {_describe(ax)}")
+        p, v = ax
+        name = canonical_param(p) if isinstance(p, str) else canonical_param(repr(p))
+        try:
+            arr = np.asarray(v, dtype=float).ravel()
+        except (TypeError, ValueError, OverflowError):
+            raise ModelError(f"{name}: grid values must be finite numbers, got {_describe(v)}") from None
+        if arr.size == 0:
+            raise ModelError(f"{name}: empty grid; give at least one value (num >= 1)")
+        if not np.all(np.isfinite(arr)):
+            raise ModelError(f"{name}: grid values must be finite numbers")
+        total *= arr.size
+        if total > MAX_GRID_POINTS:
+            raise ModelError(f"grid: {total} points or more; at most {MAX_GRID_POINTS:.0e} allowed")
+        names.append(name)
+        values.append(arr)
+    models = grid_models(base, names, values)
+    if opts is not None:
+        options(opts.dtau, opts.transient, opts.periods, opts.accurate, [m.omega for m in models])
+    return models
+
+
+def workers(n: Any) -> int:
+    """Number of local worker processes, 1 … :data:`MAX_WORKERS`."""
+    return integer("workers", n, 1, MAX_WORKERS)
+
+
+def chunk_points(n: Any) -> int:
+    """Parameter points per chunk, >= 1."""
+    return integer("chunk size", n, 1, MAX_GRID_POINTS)
+
+
+def scheduler(address: Any) -> str | None:
+    """A Dask scheduler address such as ``tcp://HOST:PORT`` (None: no scheduler)."""
+    if address is None:
+        return None
+    if not isinstance(address, str) or not address.strip():
+        raise ModelError(f"scheduler: expected an address like tcp://HOST:PORT, got {_describe(address)}")
+    a = address.strip()
+    m = _SCHEDULER.match(a)
+    if m is None or (m.group(3) is not None and not 0 < int(m.group(3)) < 65536):
+        raise ModelError(f"scheduler: expected an address like tcp://HOST:PORT, got {_describe(address)}")
+    return a
+
+
+def config_file(path: Any) -> Path:
+    """An existing, readable configuration file."""
+    if not isinstance(path, (str, Path)) or not str(path):
+        raise ModelError(f"config: expected a file name, got {_describe(path)}")
+    p = Path(path)
+    if p.is_dir():
+        raise ModelError(f"{p}: configuration file not found (it is a directory)")
+    if not p.is_file():
+        raise ModelError(f"{p}: configuration file not found")
+    return p

@@ -1,0 +1,117 @@
+"""A small steady-state sweep on the sweep engine, shared by the sweep tests.
+
+Worker processes import this module by name (local pools inherit ``sys.path``; the Dask test
+puts this directory on the workers' ``PYTHONPATH``).  Run as a script it is a resumable sweep
+command, used by the kill -9 and Ctrl-C tests::
+
+    python tests/sweep_fixtures.py --out DIR [--resume] [--workers N] [--scheduler ADDR] ...
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+import xarray as xr
+
+from geardyn.analysis.steady import summarize_batch
+from geardyn.integrate import integrate_batch
+from geardyn.io import result_attrs, write_netcdf
+from geardyn.model import GearModel, IntegrationOptions, ModelError
+from geardyn.sweep import Chunk, SweepInterrupted, checkpoint_dir, chunked, concat_results, grid_models, run_chunks
+
+#: Options of the test sweeps: short, so that a chunk of one point takes a fraction of a second.
+FAST = IntegrationOptions(transient=40, periods=16)
+
+
+def steady_chunk(models: Sequence[GearModel], options: IntegrationOptions,
+                 state0: tuple[float, float] = (0.0, 0.0)) -> dict[str, np.ndarray]:
+    """Steady response of each model from the same initial state (one row per point)."""
+    res = integrate_batch(models, state0, options)
+    out = summarize_batch(res)
+    out["poincare"] = res.poincare
+    return out
+
+
+def crash_once_chunk(marker: str, models: Sequence[GearModel], options: IntegrationOptions) -> dict[str, np.ndarray]:
+    """Like :func:`steady_chunk`, but the first call (per ``marker`` file) kills its own process."""
+    try:
+        fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+    except FileExistsError:
+        return steady_chunk(models, options)
+    os.close(fd)
+    os._exit(13)
+
+
+def interrupt_at_chunk(stop_at: int, index: int, models: Sequence[GearModel],
+                       options: IntegrationOptions) -> dict[str, np.ndarray]:
+    """Like :func:`steady_chunk`, but chunk ``stop_at`` raises KeyboardInterrupt (a Ctrl-C in process)."""
+    if index == stop_at:
+        raise KeyboardInterrupt
+    return steady_chunk(models, options)
+
+
+def make_chunks(param: str, values: Sequence[float], options: IntegrationOptions = FAST, chunk_points: int = 2,
+                base: GearModel = GearModel()) -> list[Chunk]:
+    models = grid_models(base, [param], [values])
+    return [Chunk(i, steady_chunk, (models[s], options)) for i, s in enumerate(chunked(len(models), chunk_points))]
+
+
+def to_dataset(param: str, values: Sequence[float], results: list[dict[str, np.ndarray]],
+               options: IntegrationOptions = FAST, base: GearModel = GearModel()) -> xr.Dataset:
+    r = concat_results(results)
+    data = {k: ((param,), v) for k, v in r.items() if k != "poincare"}
+    data["poincare_u"] = ((param, "section"), r["poincare"][:, :, 0])
+    data["poincare_v"] = ((param, "section"), r["poincare"][:, :, 1])
+    return xr.Dataset(
+        data,
+        coords={param: np.asarray(values, dtype=float), "section": np.arange(r["poincare"].shape[1])},
+        attrs=result_attrs("sweep-test", base, options, param=param),
+    )
+
+
+def sweep(param: str, values: Sequence[float], options: IntegrationOptions = FAST, chunk_points: int = 2,
+          base: GearModel = GearModel(), **run_kw) -> xr.Dataset:
+    """Run the sweep with ``run_chunks(**run_kw)`` and assemble its Dataset."""
+    chunks = make_chunks(param, values, options, chunk_points, base)
+    return to_dataset(param, values, run_chunks(chunks, **run_kw), options, base)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--param", default="omega")
+    ap.add_argument("--start", type=float, default=0.6)
+    ap.add_argument("--stop", type=float, default=1.4)
+    ap.add_argument("--num", type=int, default=12)
+    ap.add_argument("--transient", type=int, default=FAST.transient)
+    ap.add_argument("--periods", type=int, default=FAST.periods)
+    ap.add_argument("--chunk", type=int, default=1)
+    ap.add_argument("--workers", type=int, default=1)
+    ap.add_argument("--scheduler", default=None)
+    ap.add_argument("--out", type=Path, required=True)
+    ap.add_argument("--resume", action="store_true")
+    ap.add_argument("--progress", action="store_true")
+    a = ap.parse_args(argv)
+    opts = IntegrationOptions(transient=a.transient, periods=a.periods)
+    values = np.linspace(a.start, a.stop, a.num)
+    nc = a.out / "sweep.nc"
+    try:
+        ds = sweep(a.param, values, opts, a.chunk, workers=a.workers, scheduler=a.scheduler,
+                   checkpoint=checkpoint_dir(nc), resume=a.resume, progress=a.progress, description="sweep")
+    except SweepInterrupted as e:
+        print(e, file=sys.stderr)
+        return 130
+    except ModelError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    write_netcdf(ds, nc)
+    print(nc)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
