@@ -1,0 +1,483 @@
+"""``geardyn reproduce``: every study of the paper, computed and judged.
+
+Each study runs geardyn's analyses on the paper's Table 1 model, saves its data (NetCDF), and
+judges the paper's claims (:mod:`geardyn.paper`) with a stated rule, returning a
+:class:`~geardyn.report.Section`.  Figures are drawn afterwards from the saved Datasets by
+:func:`draw_figures` (computation never plots), and :func:`run` writes the report.
+
+Settings the paper leaves unstated are chosen here, once, with the reason written into the
+report (:class:`Settings`).  Where a claim does not hold at the stated choice, the study
+searches (over ω) for where the described behaviour does occur and says so; the verdict is then
+at most "partly reproduced".  No setting is tuned silently.
+
+Verdict rule for a claimed motion over a parameter range: the fraction of grid points in the
+range whose motion matches the claim is ≥ :data:`MATCH_REPRODUCED` → reproduced;
+≥ :data:`MATCH_PARTLY` → partly reproduced; else not reproduced.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from concurrent.futures import Executor, ProcessPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+import numpy as np
+import xarray as xr
+
+from .analysis.bifurcation import bifurcation
+from .analysis.classify import (
+    IMPACT_DOUBLE,
+    IMPACT_LABELS,
+    IMPACT_NONE,
+    IMPACT_SINGLE,
+    MOTION_CHAOTIC,
+    MOTION_PERIODIC,
+    MOTION_QUASIPERIODIC,
+)
+from .io import write_netcdf
+from .model import GearModel, IntegrationOptions
+from .paper import CLAIMS, TABLE1, TABLE3
+from .report import Claim, Section
+
+#: Fraction of matching grid points for "reproduced" / "partly reproduced".
+MATCH_REPRODUCED = 0.8
+MATCH_PARTLY = 0.3
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Settings of a reproduction run; ``quick()`` gives a reduced version for tests.
+
+    Attributes
+    ----------
+    omega_damping : float
+        ω of the damping and backlash studies (not stated in the paper).  ω = 1, the mesh frequency
+        at the linear natural frequency, is the reference point of the non-dimensional model and
+        lies inside the range where the paper's defaults respond non-trivially.
+    transient, periods : int
+        Periods discarded and recorded per point (the paper's Δτ = 0.01 is kept).
+    settle : int
+        Further periods with exponents for points not periodic after the transient.
+    xi0_grid, xi1_grid : arrays
+        Damping grids of the bifurcation diagrams.
+    search_omegas : array
+        ω values searched where a claim fails at ``omega_damping``.
+    search_xi0, search_xi1 : arrays
+        Coarser damping grids used in that search.
+    """
+
+    omega_damping: float = 1.0
+    transient: int = 300
+    periods: int = 200
+    settle: int = 400
+    xi0_grid: tuple[float, ...] = tuple(np.round(np.concatenate([np.arange(0.02, 0.2, 0.004),
+                                                                 np.arange(0.2, 0.951, 0.05)]), 4))
+    xi1_grid: tuple[float, ...] = tuple(np.round(np.arange(0.0, 0.1501, 0.005), 4))
+    d_grid: tuple[float, ...] = tuple(np.round(np.arange(0.05, 1.0001, 0.025), 4))
+    search_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.8, 1.601, 0.1), 3))
+    search_xi0: tuple[float, ...] = (0.03, 0.045, 0.055, 0.07, 0.08, 0.09, 0.1, 0.12, 0.15, 0.2, 0.3, 0.5, 0.7, 0.8, 0.9)
+    search_xi1: tuple[float, ...] = (0.0, 0.01, 0.02, 0.025, 0.05, 0.06, 0.08, 0.1)
+    workers: int = 2
+
+    @classmethod
+    def quick(cls) -> "Settings":
+        """A reduced run (coarse grids, short runs) that exercises every study end to end."""
+        return cls(
+            transient=60, periods=40, settle=60,
+            xi0_grid=(0.03, 0.07, 0.09, 0.15, 0.5), xi1_grid=(0.0, 0.02, 0.06), d_grid=(0.1, 0.35, 0.75),
+            search_omegas=(1.0, 1.2), search_xi0=(0.03, 0.08, 0.15), search_xi1=(0.0, 0.06), workers=1,
+        )
+
+    @property
+    def options(self) -> IntegrationOptions:
+        return IntegrationOptions(transient=self.transient, periods=self.periods)
+
+
+@dataclass
+class Context:
+    """What every study needs: the output directory, settings, the executor, and a log."""
+
+    out: Path
+    settings: Settings
+    executor: Executor | None = None
+    log: Callable[[str], None] = lambda s: None
+    datasets: dict[str, str] = field(default_factory=dict)  # name -> relative path of its NetCDF
+
+    @property
+    def base(self) -> GearModel:
+        return GearModel(omega=self.settings.omega_damping, xi0=TABLE1["xi0"], xi=(TABLE1["xi1"],),
+                         kappa=(TABLE1["kappa1"],), eps=(TABLE1["eps1"],), fp=TABLE1["fp"], D=TABLE1["D"])
+
+    def save(self, name: str, ds: xr.Dataset) -> str:
+        rel = f"data/{name}.nc"
+        write_netcdf(ds, self.out / rel)
+        self.datasets[name] = rel
+        return rel
+
+    def bifurcation(self, model: GearModel, param: str, values: Sequence[float], **kw: Any) -> xr.Dataset:
+        s = self.settings
+        return bifurcation(model, param, values, options=kw.pop("options", s.options), settle_periods=s.settle,
+                           executor=self.executor, **kw)
+
+
+# ------------------------------------------------------------------------------------------ helpers
+def verdict_of(fraction: float) -> str:
+    if fraction >= MATCH_REPRODUCED:
+        return "reproduced"
+    if fraction >= MATCH_PARTLY:
+        return "partly reproduced"
+    return "not reproduced"
+
+
+def describe_motion(motion: int, period: int, loops: int) -> str:
+    if motion == MOTION_PERIODIC:
+        return f"period-{period}"
+    if motion == MOTION_QUASIPERIODIC:
+        return f"quasi-periodic ({loops} loop{'s' if loops != 1 else ''})"
+    if motion == MOTION_CHAOTIC:
+        return "chaotic"
+    if motion < 0:
+        return "diverged"
+    return "unresolved"
+
+
+def quasi_n(n: int) -> Callable[[int, int, int], bool]:
+    """The paper's "quasi-n-periodic": n groups of Poincaré points — a period-n orbit, or a
+    quasi-periodic response whose section is n closed loops (a torus born from a period-n orbit)."""
+
+    def match(motion: int, period: int, loops: int) -> bool:
+        return (motion == MOTION_PERIODIC and period == n) or (motion == MOTION_QUASIPERIODIC and loops == n)
+
+    return match
+
+
+def is_chaotic(motion: int, period: int, loops: int) -> bool:
+    return motion == MOTION_CHAOTIC
+
+
+def is_regular(motion: int, period: int, loops: int) -> bool:
+    """The paper's unqualified "quasi-periodic" (Table 2, ξ1 rows): regular, not chaotic motion."""
+    return motion in (MOTION_PERIODIC, MOTION_QUASIPERIODIC)
+
+
+def _fields(ds: xr.Dataset, sweep: str | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    s = ds.isel(sweep=0) if sweep is None else ds.sel(sweep=sweep)
+    return s["motion"].values.astype(int), s["period"].values.astype(int), s["loops"].values.astype(int)
+
+
+def match_fraction(ds: xr.Dataset, param: str, lo: float, hi: float, pred: Callable[[int, int, int], bool],
+                   *, lo_open: bool = False, hi_open: bool = False) -> tuple[float, int]:
+    """Fraction of grid points with lo ≤ p ≤ hi (ends open on request) whose motion satisfies ``pred``."""
+    x = ds[param].values
+    m, n, l = _fields(ds)
+    sel = ((x > lo) if lo_open else (x >= lo - 1e-12)) & ((x < hi) if hi_open else (x <= hi + 1e-12))
+    idx = np.flatnonzero(sel)
+    if idx.size == 0:
+        return float("nan"), 0
+    ok = sum(pred(int(m[i]), int(n[i]), int(l[i])) for i in idx)
+    return ok / idx.size, int(idx.size)
+
+
+def motion_runs(ds: xr.Dataset, param: str) -> list[tuple[float, float, str]]:
+    """Consecutive grid runs with the same motion description: (from, to, description)."""
+    x = ds[param].values
+    m, n, l = _fields(ds)
+    runs: list[tuple[float, float, str]] = []
+    for i in range(x.size):
+        d = describe_motion(int(m[i]), int(n[i]), int(l[i]))
+        if runs and runs[-1][2] == d:
+            runs[-1] = (runs[-1][0], float(x[i]), d)
+        else:
+            runs.append((float(x[i]), float(x[i]), d))
+    return runs
+
+
+def runs_text(runs: Sequence[tuple[float, float, str]], fmt: str = "{:.3g}") -> str:
+    parts = []
+    for a, b, d in runs:
+        rng = fmt.format(a) if a == b else f"{fmt.format(a)}–{fmt.format(b)}"
+        parts.append(f"{rng}: {d}")
+    return "; ".join(parts)
+
+
+def claim(cid: str, computed: str, verdict: str, evidence: Sequence[str]) -> Claim:
+    source, statement = CLAIMS[cid]
+    return Claim(cid, source, statement, computed, verdict, list(evidence))
+
+
+@dataclass
+class RangeClaim:
+    """A claimed motion over a parameter range (a row of Table 2)."""
+
+    cid: str
+    lo: float
+    hi: float
+    pred: Callable[[int, int, int], bool]
+    what: str
+    lo_open: bool = False
+    hi_open: bool = False
+
+    def fraction(self, ds: xr.Dataset, param: str) -> tuple[float, int]:
+        return match_fraction(ds, param, self.lo, self.hi, self.pred, lo_open=self.lo_open, hi_open=self.hi_open)
+
+
+def judge_ranges(ctx: Context, param: str, ds: xr.Dataset, rows: Sequence[RangeClaim], search_grid: Sequence[float],
+                 evidence: list[str], search_name: str) -> tuple[list[Claim], dict[float, list[float]]]:
+    """Judge range claims at the stated ω; where one fails, search ω for where it holds."""
+    w0 = ctx.settings.omega_damping
+    results = {r.cid: r.fraction(ds, param) for r in rows}
+    search: dict[float, list[float]] = {}
+    if any(verdict_of(f) != "reproduced" for f, _ in results.values()):
+        for w in ctx.settings.search_omegas:
+            if abs(w - w0) < 1e-12:
+                continue
+            dsw = ctx.bifurcation(ctx.base.replace(omega=float(w)), param, search_grid)
+            search[float(w)] = [r.fraction(dsw, param)[0] for r in rows]
+        if search:
+            ctx.save(search_name, xr.Dataset(
+                {"match_fraction": (("omega", "claim"), np.array([search[w] for w in sorted(search)]))},
+                coords={"omega": sorted(search), "claim": [r.cid for r in rows]},
+                attrs={"geardyn_kind": "search", "param": param, "grid": list(map(float, search_grid))}))
+            evidence = evidence + [ctx.datasets[search_name]]
+    claims = []
+    for r in rows:
+        f, npts = results[r.cid]
+        v = verdict_of(f)
+        text = f"at ω = {w0:g}: {r.what} at {100 * f:.0f} % of {npts} grid points of the range."
+        if v != "reproduced" and search:
+            ok_w = [w for w in sorted(search) if search[w][rows.index(r)] >= MATCH_REPRODUCED]
+            best_w = max(sorted(search), key=lambda w: search[w][rows.index(r)])
+            if ok_w:
+                text += f" Searching ω: it holds (≥ {100 * MATCH_REPRODUCED:.0f} %) at ω = " + ", ".join(
+                    f"{w:g}" for w in ok_w) + "."
+                v = "partly reproduced"
+            else:
+                text += (f" Searching ω ∈ {{{', '.join(f'{w:g}' for w in sorted(search))}}} (coarser grid): best "
+                         f"{100 * search[best_w][rows.index(r)]:.0f} % at ω = {best_w:g}.")
+        claims.append(claim(r.cid, text, v, evidence))
+    return claims, search
+
+
+# ------------------------------------------------------------------------------------------ studies
+def study_xi0(ctx: Context) -> Section:
+    """Table 2 rows 1–3 and the ξ0 bifurcation points near 0.064 and 0.8."""
+    s = ctx.settings
+    ctx.log("ξ0 bifurcation diagram")
+    ds = ctx.bifurcation(ctx.base, "xi0", s.xi0_grid, lyapunov=True)
+    rel = ctx.save("xi0_bifurcation", ds)
+    ev = [rel, "figures/xi0_bifurcation.png"]
+    rows = [
+        RangeClaim("T2-1", 0.0, 0.064, is_chaotic, "chaotic", hi_open=True),
+        RangeClaim("T2-2", 0.064, 0.1, quasi_n(4), "quasi-4-periodic (period-4 or 4 loops)"),
+        RangeClaim("T2-3", 0.1, 0.8, quasi_n(2), "quasi-2-periodic (period-2 or 2 loops)", lo_open=True, hi_open=True),
+    ]
+    claims, _ = judge_ranges(ctx, "xi0", ds, rows, s.search_xi0, ev, "xi0_search")
+    runs = motion_runs(ds, "xi0")
+    x = ds["xi0"].values
+    m, _, _ = _fields(ds)
+    chaotic = x[m == MOTION_CHAOTIC]
+    last_low_chaos = float(chaotic[chaotic < 0.3].max()) if np.any(chaotic < 0.3) else float("nan")
+    high_chaos = chaotic[chaotic >= 0.5]
+    text = (f"at ω = {s.omega_damping:g}: largest chaotic ξ0 below 0.3 is "
+            f"{last_low_chaos:.3g}" if np.isfinite(last_low_chaos) else f"at ω = {s.omega_damping:g}: no chaos below ξ0 = 0.3")
+    text += ("; chaos returns at ξ0 = " + ", ".join(f"{v:.3g}" for v in high_chaos)) if high_chaos.size else \
+        "; no chaos for ξ0 ≥ 0.5 (the high-damping response is periodic)"
+    first_ok = np.isfinite(last_low_chaos) and abs(last_low_chaos - 0.064) <= 0.02
+    second_ok = bool(np.any(np.abs(high_chaos - 0.8) <= 0.1))
+    v = "reproduced" if first_ok and second_ok else ("partly reproduced" if first_ok or second_ok else "not reproduced")
+    text += f". Motion along ξ0: {runs_text(runs)}."
+    claims.append(claim("XI0-BIF", text, v, ev))
+    return Section(
+        "Mean damping ξ0 (Table 2, rows 1–3)",
+        [f"Bifurcation diagram over ξ0 at ω = {s.omega_damping:g} (the paper does not state ω; see Settings), every "
+         f"point from u = u' = 0, {s.transient} transient and {s.periods} recorded periods, exponents on every point.",
+         "Mapping of the paper's words: 'quasi-n-periodic' = n groups of Poincaré points (a period-n orbit, or a "
+         "quasi-periodic torus section of n loops); 'chaotic' = largest exponent significantly positive."],
+        [("figures/xi0_bifurcation.png", "Bifurcation diagram over ξ0 with the largest Lyapunov exponent")],
+        claims,
+    )
+
+
+def study_xi1(ctx: Context) -> Section:
+    """Table 2 rows 4–5: ξ1 drives quasi-periodic motion into chaos."""
+    s = ctx.settings
+    ctx.log("ξ1 bifurcation diagram")
+    ds = ctx.bifurcation(ctx.base, "xi1", s.xi1_grid, lyapunov=True)
+    rel = ctx.save("xi1_bifurcation", ds)
+    ev = [rel, "figures/xi1_bifurcation.png"]
+    rows = [
+        RangeClaim("T2-4", 0.0, 0.03, is_regular, "regular (periodic or quasi-periodic)", hi_open=True),
+        RangeClaim("T2-5", 0.05, max(s.xi1_grid), is_chaotic, "chaotic"),
+    ]
+    claims, search = judge_ranges(ctx, "xi1", ds, rows, s.search_xi1, ev, "xi1_search")
+    runs = motion_runs(ds, "xi1")
+    both = [claims[0].verdict, claims[1].verdict]
+    v = "reproduced" if all(b == "reproduced" for b in both) else (
+        "partly reproduced" if any(b != "not reproduced" for b in both) else "not reproduced")
+    claims.append(claim("XI1-CHAOS", f"at ω = {s.omega_damping:g}, motion along ξ1: {runs_text(runs)}.", v, ev))
+    return Section(
+        "Harmonic damping ξ1 (Table 2, rows 4–5)",
+        [f"Bifurcation diagram over ξ1 at ω = {s.omega_damping:g}, other values from Table 1. The paper's Table 2 "
+         "puts its default point (ξ0 = 0.1, ξ1 = 0.05) both in the quasi-4-periodic row (ξ0 ≤ 0.1) and in the "
+         "chaotic row (ξ1 ≥ 0.05): the two studies cannot share one ω unless the boundary case decides it."],
+        [("figures/xi1_bifurcation.png", "Bifurcation diagram over ξ1 with the largest Lyapunov exponent")],
+        claims,
+    )
+
+
+def study_backlash(ctx: Context) -> Section:
+    """Table 3 and the backlash text: D = 0.1, 0.35, 0.75 (b = 0.2, 0.7, 1.5 mm with D = b/(2 mm))."""
+    s = ctx.settings
+    ctx.log("backlash study")
+    Ds = [row[1] for row in TABLE3]
+    ds = ctx.bifurcation(ctx.base, "D", s.d_grid, lyapunov=True)
+    rel = ctx.save("backlash_bifurcation", ds)
+    pts = ctx.bifurcation(ctx.base, "D", Ds, lyapunov=True,
+                          options=s.options.replace(periods=max(s.periods, 2 * s.settle)))
+    rel_pts = ctx.save("backlash_table3", pts)
+    ev = [rel_pts, rel, "figures/backlash_bifurcation.png"]
+    m, n, l = _fields(pts)
+    lle = pts["lle"].isel(sweep=0).values
+    err = pts["lle_err"].isel(sweep=0).values
+    amp = pts["amplitude"].isel(sweep=0).values
+    imp = pts["impact"].isel(sweep=0).values.astype(int)
+    preds = [quasi_n(1), quasi_n(2), is_chaotic]
+    signs = ["negative", "near zero", "positive"]
+    claims = []
+    table = [["b (mm)", "D", "paper", "geardyn motion", "λ1 (1/τ)", "amplitude", "impact"]]
+
+    def sign_ok(i: int) -> bool:
+        band = 3 * (err[i] if np.isfinite(err[i]) else 0.0) + 1e-3
+        return {"negative": lle[i] < -band, "near zero": abs(lle[i]) <= max(band, 0.01), "positive": lle[i] > band}[signs[i]]
+
+    for i, (b, D, state, _, _) in enumerate(TABLE3):
+        desc = describe_motion(int(m[i]), int(n[i]), int(l[i]))
+        table.append([f"{b:g}", f"{D:g}", state, desc, f"{lle[i]:+.4f} ± {err[i]:.1e}", f"{amp[i]:.3f}",
+                      IMPACT_LABELS[int(imp[i])]])
+        ok_state = preds[i](int(m[i]), int(n[i]), int(l[i]))
+        ok_sign = sign_ok(i)
+        v = "reproduced" if ok_state and ok_sign else ("partly reproduced" if ok_state or ok_sign else "not reproduced")
+        claims.append(claim(f"T3-{i + 1}", f"at ω = {s.omega_damping:g}: {desc}, λ1 = {lle[i]:+.4f} ± {err[i]:.1e} "
+                                           f"(claimed {signs[i]}).", v, ev))
+    # search ω for the claimed sequence
+    found = []
+    for w in s.search_omegas:
+        if abs(w - s.omega_damping) < 1e-12:
+            continue
+        pw = ctx.bifurcation(ctx.base.replace(omega=float(w)), "D", Ds, lyapunov=True)
+        mw, nw, lw = _fields(pw)
+        if all(preds[i](int(mw[i]), int(nw[i]), int(lw[i])) for i in range(3)):
+            iw = pw["impact"].isel(sweep=0).values.astype(int)
+            found.append((float(w), [IMPACT_LABELS[int(x)] for x in iw]))
+    seq_text = ("the sequence quasi-1 → quasi-2 → chaotic occurs at ω = " + ", ".join(
+        f"{w:g} (impacts: {', '.join(sorted(set(i)))})" for w, i in found)) if found else \
+        "the sequence quasi-1 → quasi-2 → chaotic occurs at none of the searched ω = " + ", ".join(
+            f"{w:g}" for w in s.search_omegas)
+    for c in claims:
+        if c.verdict != "reproduced":
+            c.computed += " Search over ω: " + seq_text + "."
+            if found and c.verdict == "not reproduced":
+                c.verdict = "partly reproduced"
+    single = bool(np.all(imp == IMPACT_SINGLE))
+    all_found_single = [w for w, i in found if all(x == IMPACT_LABELS[IMPACT_SINGLE] for x in i)]
+    claims.append(claim(
+        "BL-IMPACT",
+        f"at ω = {s.omega_damping:g}: impacts " + ", ".join(IMPACT_LABELS[int(x)] for x in imp) +
+        (f"; where the motion sequence holds (ω = {', '.join(f'{w:g}' for w, _ in found)}), single-sided at all three "
+         f"only at ω = {', '.join(f'{w:g}' for w in all_found_single) or 'none'}" if found else ""),
+        "reproduced" if single else ("partly reproduced" if all_found_single else "not reproduced"), ev))
+    grows = bool(np.all(np.diff(amp) > 0))
+    claims.append(claim("BL-AMP", f"at ω = {s.omega_damping:g}: amplitudes " + ", ".join(f"{a:.3f}" for a in amp) +
+                        f" for D = {', '.join(f'{d:g}' for d in Ds)}",
+                        "reproduced" if grows else "not reproduced", ev))
+    return Section(
+        "Backlash (Table 3)",
+        [f"The paper pairs b = 0.2, 0.7, 1.5 mm with D = 0.1, 0.35, 0.75, i.e. D = b/(2 mm) with f_p and ε1 fixed "
+         f"(a fixed length scale b_c = 1 mm, not b_c = b_n); this study uses that reading at ω = {s.omega_damping:g}. "
+         "Amplitude = half peak-to-peak of u over the recorded periods."],
+        [("figures/backlash_bifurcation.png", "Bifurcation diagram over the backlash D")],
+        claims,
+        table,
+    )
+
+
+STUDIES: list[Callable[[Context], Section]] = [study_xi0, study_xi1, study_backlash]
+
+
+def run_studies(ctx: Context) -> list[Section]:
+    return [study(ctx) for study in STUDIES]
+
+
+def settings_section(s: Settings, elapsed: float) -> Section:
+    return Section(
+        "Settings",
+        [
+            f"Model: the paper's Table 1 (ξ0 = {TABLE1['xi0']}, ξ1 = {TABLE1['xi1']}, κ1 = {TABLE1['kappa1']}, "
+            f"f_p = {TABLE1['fp']}, ε1 = {TABLE1['eps1']} i.e. f_e = 0.5 ω² cos θ, D = {TABLE1['D']}, phases 0), "
+            f"RK4 with Δτ = 0.01 (h = T/ceil(T/Δτ)), {s.transient} transient and {s.periods} recorded periods per point.",
+            f"ω of the damping and backlash studies: {s.omega_damping:g} (not stated in the paper). Reason: ω = 1 puts "
+            "the mesh frequency at the linear natural frequency, the reference point of the non-dimensional model, "
+            "inside the band where the paper's defaults respond non-trivially. Where a claim fails there, ω is "
+            f"searched over {', '.join(f'{w:g}' for w in s.search_omegas)} and the report says where it holds.",
+            f"Verdicts for a claimed motion over a range: ≥ {100 * MATCH_REPRODUCED:.0f} % of the grid points match → "
+            f"reproduced, ≥ {100 * MATCH_PARTLY:.0f} % → partly reproduced, else not reproduced; a claim that holds only "
+            "at a searched ω is at most partly reproduced.",
+            f"Computation time: {elapsed:.1f} s.",
+        ],
+    )
+
+
+def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str], None] = lambda s: None,
+        executor: Executor | None = None) -> dict[str, Any]:
+    """Run every study, draw the figures, write the report; returns paths and the claims."""
+    from .report import write_report
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    own = executor is None and settings.workers > 1
+    if own:
+        from .sweep import _init_worker
+
+        executor = ProcessPoolExecutor(max_workers=settings.workers, initializer=_init_worker)
+    try:
+        ctx = Context(out, settings, executor, log)
+        sections = run_studies(ctx)
+    finally:
+        if own and executor is not None:
+            executor.shutdown(wait=True)
+    t_compute = time.perf_counter() - t0
+    log("figures")
+    draw_figures(ctx)
+    sections.insert(0, settings_section(settings, t_compute))
+    intro = [
+        "This report reruns every study of the paper 'Nonlinear Dynamic Response of Spiral Bevel Gear Pairs with "
+        "Time-Varying Backlash' with geardyn and judges each of its claims: reproduced, partly reproduced or not "
+        "reproduced, with the numbers and the figures that show it.",
+    ]
+    paths = write_report(out, "geardyn reproduction of the spiral bevel gear paper", intro, sections,
+                         meta={"settings": _settings_dict(settings), "compute_s": t_compute,
+                               "total_s": time.perf_counter() - t0, "datasets": ctx.datasets})
+    claims = [c for s in sections for c in s.claims]
+    return {"paths": {k: str(v) for k, v in paths.items()}, "claims": claims, "seconds": time.perf_counter() - t0}
+
+
+def _settings_dict(s: Settings) -> dict[str, Any]:
+    from dataclasses import asdict
+
+    return asdict(s)
+
+
+def draw_figures(ctx: Context) -> None:
+    """Figures of every saved Dataset (by its kind) into ``figures/``."""
+    from .io import read_netcdf
+    from .plot import bifurcation as pb
+
+    figs = ctx.out / "figures"
+    for name, rel in ctx.datasets.items():
+        ds = read_netcdf(ctx.out / rel)
+        if ds.attrs.get("geardyn_kind") == "bifurcation":
+            pb.save_figure(ds, figs / f"{name}.png")
