@@ -1,12 +1,34 @@
-"""Classification of a steady response: period of the Poincaré sequence and impact state.
+"""Classification of a steady response: period, impact state and motion class.
 
 Names follow DESIGN §1.3.  Contact states: drive-side contact u > D, separation |u| <= D,
 back-side contact u < −D.  Impact state of a steady response: *no impact* (always in drive-side
 contact), *single-sided impact* (separation occurs, the back side is never touched),
 *double-sided impact* (back-side contact occurs).
+
+Motion classes (:func:`classify_motion`, thresholds below, explained in ``docs/analysis.md``):
+
+- **period-n**: the Poincaré sequence repeats after n <= :data:`MAX_PERIOD` periods to within
+  :data:`PERIOD_TOL` (:func:`detect_period`);
+- **quasi-periodic**: not periodic, and the largest Lyapunov exponent is zero within its
+  uncertainty: |λ1| <= :data:`LLE_SIGMAS`·σ + :data:`LLE_FLOOR`; the Poincaré points then lie on
+  closed curves, whose number :func:`count_loops` reports (the "n" of the paper's
+  "quasi-n-periodic");
+- **chaotic**: not periodic and λ1 > :data:`LLE_SIGMAS`·σ + :data:`LLE_FLOOR`;
+- **diverged**: the trajectory left |u|, |u'| < DIVERGENCE_BOUND or became non-finite;
+- **unresolved**: not periodic within the limits although λ1 is significantly negative (a stable
+  orbit of period > :data:`MAX_PERIOD`, or one still settling); or λ1 zero within its uncertainty
+  but the section is not a set of closed curves (e.g. the accumulation point of a
+  period-doubling cascade); or no exponent available.
+
+A non-periodic point is integrated for :data:`SETTLE_PERIODS` further periods with the tangent
+equations before it is classified (:func:`classify_batch`): slowly settling orbits near a
+bifurcation then show their period, and λ1 gets a small uncertainty; while the sequence is still
+contracting onto a cycle, up to :data:`SETTLE_ROUNDS` such passes run.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 
@@ -75,3 +97,261 @@ def period_label(period: int) -> str:
     if period == 0:
         return "not periodic"
     return "diverged"
+
+
+# ---------------------------------------------------------------------------- motion classes
+#: Motion codes stored in Datasets (variable ``motion``).
+MOTION_DIVERGED, MOTION_UNRESOLVED, MOTION_PERIODIC, MOTION_QUASIPERIODIC, MOTION_CHAOTIC = -1, 0, 1, 2, 3
+MOTION_LABELS = {
+    MOTION_DIVERGED: "diverged",
+    MOTION_UNRESOLVED: "unresolved",
+    MOTION_PERIODIC: "periodic",
+    MOTION_QUASIPERIODIC: "quasi-periodic",
+    MOTION_CHAOTIC: "chaotic",
+}
+#: An exponent counts as different from zero when it exceeds LLE_SIGMAS standard errors …
+LLE_SIGMAS = 3.0
+#: … plus this absolute floor (per unit τ), which absorbs the O(h⁴) integration error and round-off
+#: when the block standard error is tiny (e.g. 1e-15 on an exactly rotating tangent basis).  It is
+#: 0.05 % of the total contraction rate 2ξ0 = 0.2 of the paper's defaults.
+LLE_FLOOR = 1.0e-4
+#: Further periods integrated (with the tangent equations) for a point whose Poincaré sequence is
+#: not periodic after the transient, before it is classified.
+SETTLE_PERIODS = 1000
+#: Poincaré points closer than this fraction of the point set's extent belong to the same loop
+#: (single-linkage), see :func:`count_loops`.
+LOOP_GAP = 0.05
+#: At most this many settling passes of SETTLE_PERIODS each; another pass runs only while the
+#: Poincaré sequence is still contracting onto a cycle (see :func:`is_settling`).
+SETTLE_ROUNDS = 4
+#: The sequence is still settling when its distance to the best cycle shrank by this factor or
+#: more between the first and the last quarter of a pass.
+SETTLING_RATIO = 0.5
+#: Quasi-periodic sections are closed curves: their correlation dimension (:func:`curve_dimension`)
+#: must lie in this interval (a smooth curve gives 1; a period-doubling cascade's Cantor-like set
+#: at its accumulation point about 0.4–0.5; a strange attractor's section above 1).
+CURVE_DIM_RANGE = (0.8, 1.5)
+#: Radii of the correlation-dimension estimate, in units of the median nearest-neighbour distance.
+CURVE_DIM_RADII = (4.0, 32.0)
+
+
+def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_dim: Any = np.nan) -> np.ndarray:
+    """Motion codes from the period, the largest exponent and its uncertainty (element-wise).
+
+    Parameters
+    ----------
+    period : int or array
+        Result of :func:`detect_period` (n > 0 periodic, 0 not periodic, −1 diverged).
+    lle, lle_err : float or array
+        Largest Lyapunov exponent λ1 per unit τ and its standard error σ (NaN: not computed).
+    ok : bool or array
+        False where the trajectory diverged.
+    curve_dim : float or array
+        Correlation dimension of the Poincaré section (:func:`curve_dimension`); NaN skips the
+        closed-curve test.
+
+    Returns
+    -------
+    ndarray of int
+        ``MOTION_*`` codes: periodic when n > 0; else chaotic when λ1 > LLE_SIGMAS·σ + LLE_FLOOR,
+        quasi-periodic when |λ1| <= LLE_SIGMAS·σ + LLE_FLOOR and the section is a closed curve,
+        unresolved otherwise (λ1 significantly negative, zero but not on curves, or not available).
+    """
+    n = np.asarray(period, dtype=np.int64)
+    lam = np.asarray(lle, dtype=float)
+    err = np.asarray(lle_err, dtype=float)
+    good = np.asarray(ok, dtype=bool) & (n >= 0)
+    band = LLE_SIGMAS * np.where(np.isfinite(err), err, 0.0) + LLE_FLOOR
+    with np.errstate(invalid="ignore"):
+        code = np.where(lam > band, MOTION_CHAOTIC,
+                        np.where(np.abs(lam) <= band, MOTION_QUASIPERIODIC, MOTION_UNRESOLVED))
+    dim = np.asarray(curve_dim, dtype=float)
+    lo, hi = CURVE_DIM_RANGE
+    off_curve = np.isfinite(dim) & ((dim < lo) | (dim > hi))
+    code = np.where((code == MOTION_QUASIPERIODIC) & off_curve, MOTION_UNRESOLVED, code)
+    code = np.where(np.isfinite(lam), code, MOTION_UNRESOLVED)
+    code = np.where(n > 0, MOTION_PERIODIC, code)
+    code = np.where(good, code, MOTION_DIVERGED)
+    return code.astype(np.int64)
+
+
+def motion_class(period: int, lle: float, lle_err: float, ok: bool = True, curve_dim: float = np.nan) -> int:
+    """Scalar form of :func:`classify_motion`."""
+    return int(classify_motion(period, lle, lle_err, ok, curve_dim))
+
+
+def motion_label(code: int, period: int | None = None) -> str:
+    """'period-n', 'quasi-periodic', 'chaotic', 'diverged' or 'unresolved'."""
+    code = int(code)
+    if code == MOTION_PERIODIC and period is not None and int(period) > 0:
+        return f"period-{int(period)}"
+    return MOTION_LABELS.get(code, "unresolved")
+
+
+def count_loops(points: np.ndarray, gap: float = LOOP_GAP) -> int:
+    """Number of separate groups (closed curves or cycle points) in a Poincaré point set.
+
+    Points are joined when closer than ``gap`` times the larger side of the set's bounding box;
+    the count is the number of connected groups.  For a quasi-periodic response it is the number
+    of closed curves of the section (a torus born from a period-n orbit shows n curves); for a
+    period-n orbit it is n (when its points are farther apart than the gap).
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pts = np.asarray(points, dtype=float)
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    if pts.shape[0] == 0:
+        return 0
+    extent = float(np.max(np.ptp(pts, axis=0)))
+    if extent == 0.0:
+        return 1
+    pairs = cKDTree(pts).query_pairs(gap * extent, output_type="ndarray")
+    m = pts.shape[0]
+    g = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(m, m)) if len(pairs) else coo_matrix((m, m))
+    return int(connected_components(g, directed=False)[0])
+
+
+
+
+def curve_dimension(points: np.ndarray, radii: tuple[float, float] = CURVE_DIM_RADII) -> float:
+    """Correlation dimension of a Poincaré point set at the scale of its sampling.
+
+    The slope of log C(r) against log r between r1 = radii[0]·δ and r2 = radii[1]·δ (capped at a
+    quarter of the set's extent), where C(r) counts point pairs closer than r and δ is the median
+    nearest-neighbour distance.  About 1 for points filling closed curves (quasi-periodic), 0 for
+    a cycle of repeated points, between 1 and 2 for a strange attractor's section, below 1 for
+    Cantor-like sets.  NaN with fewer than 16 finite points.
+    """
+    from scipy.spatial import cKDTree
+
+    pts = np.asarray(points, dtype=float)
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    if pts.shape[0] < 16:
+        return float("nan")
+    tree = cKDTree(pts)
+    d, _ = tree.query(pts, k=2)
+    delta = float(np.median(d[:, 1]))
+    extent = float(np.max(np.ptp(pts, axis=0)))
+    if delta <= 0.0 or extent <= 0.0:
+        return 0.0
+    r1 = radii[0] * delta
+    r2 = min(radii[1] * delta, 0.25 * extent)
+    if r2 <= r1:
+        return float("nan")
+    c = tree.count_neighbors(tree, np.array([r1, r2])) - pts.shape[0]
+    if c[0] <= 0:
+        return float("nan")
+    return float(np.log(c[1] / c[0]) / np.log(r2 / r1))
+
+
+def is_settling(points: np.ndarray, max_period: int = MAX_PERIOD, ratio: float = SETTLING_RATIO) -> bool:
+    """True when a Poincaré sequence is still contracting onto a cycle of period <= ``max_period``.
+
+    For each n the distances |P_{i+n} − P_i| are compared between the first and the last quarter
+    of the sequence; the sequence is settling when, for the n with the smallest late distances,
+    their median shrank by the factor ``ratio`` or more.
+    """
+    pts = np.asarray(points, dtype=float)
+    m = pts.shape[0]
+    if m < 8 or not np.all(np.isfinite(pts)):
+        return False
+    q = m // 4
+    best_late, best_early = np.inf, np.inf
+    for n in range(1, min(max_period, m - 2 * q) + 1):
+        d = np.max(np.abs(pts[n:] - pts[:-n]), axis=1)
+        late = float(np.median(d[-q:]))
+        if late < best_late:
+            best_late, best_early = late, float(np.median(d[:q]))
+    return bool(best_early > 0.0 and best_late <= ratio * best_early)
+
+
+def classify_batch(
+    res: Any,
+    *,
+    settle_periods: int = SETTLE_PERIODS,
+    blocks: int | None = None,
+) -> dict[str, np.ndarray]:
+    """Full per-point classification of a batch: period, motion, impact, amplitudes, exponents.
+
+    Parameters
+    ----------
+    res : geardyn.integrate.BatchResult
+        A batch integrated with or without ``lyapunov=True``.  With it, every point gets its
+        exponents from the recorded periods.
+    settle_periods : int
+        Points whose Poincaré sequence is not periodic are integrated this many further periods
+        from their end state with the tangent equations (repeated, up to :data:`SETTLE_ROUNDS`
+        passes, while :func:`is_settling`); their period, amplitudes, Poincaré points, end state
+        and exponents are then those of the last pass (0: no such pass; the motion of a
+        non-periodic point without exponents is then 'unresolved').
+    blocks : int, optional
+        Blocks for the exponents' uncertainty (default :data:`geardyn.analysis.lyapunov.DEFAULT_BLOCKS`).
+
+    Returns
+    -------
+    dict of ndarray
+        The keys of :func:`geardyn.analysis.steady.summarize_batch` plus ``motion`` (codes),
+        ``lle``, ``lle_err``, ``lambda2`` (NaN where not computed), ``curve_dim`` (correlation
+        dimension of the section of non-periodic points, else NaN), ``loops`` (closed curves of a
+        quasi-periodic section, else 0), ``settled`` (number of settling passes run),
+        ``poincare`` (P, n, 2) and ``end_state`` (P, 2).
+    """
+    from ..integrate import ST_OK, integrate_batch
+    from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
+    from .steady import summarize_batch
+
+    nb = DEFAULT_BLOCKS if blocks is None else blocks
+    models = list(res.models)
+    P = len(models)
+    T = np.array([m.period for m in models])
+    out = summarize_batch(res)
+    out["poincare"] = res.poincare.copy()
+    out["end_state"] = res.end_state.copy()
+    lam = np.full((P, 2), np.nan)
+    err = np.full((P, 2), np.nan)
+    if res.lyapunov_log is not None and res.lyapunov_log.shape[1] > 0:
+        lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=nb)
+    settled = np.zeros(P, dtype=np.int64)
+    section: dict[int, np.ndarray] = {}
+    need = np.flatnonzero((out["status"] == ST_OK) & (out["period"] == 0))
+    n_rec = res.poincare.shape[1]
+    rounds = 0
+    while settle_periods > 0 and need.size and rounds < SETTLE_ROUNDS:
+        opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
+        r2 = integrate_batch([models[i] for i in need], out["end_state"][need], opts, lyapunov=True)
+        s2 = summarize_batch(r2)
+        for k, v in s2.items():
+            out[k][need] = v
+        if n_rec:
+            out["poincare"][need] = r2.poincare[:, -n_rec:, :]
+        out["end_state"][need] = r2.end_state
+        l2, e2 = spectrum_from_log(r2.lyapunov_log, T[need], blocks=nb)
+        lam[need] = l2
+        err[need] = e2
+        settled[need] += 1
+        rounds += 1
+        again = []
+        for j, i in enumerate(need):
+            section[int(i)] = r2.poincare[j]
+            if s2["status"][j] != ST_OK or s2["period"][j] != 0:
+                continue
+            if l2[j, 0] > LLE_SIGMAS * e2[j, 0] + LLE_FLOOR:  # chaotic: nothing to settle
+                continue
+            if is_settling(r2.poincare[j]):
+                again.append(i)
+        need = np.asarray(again, dtype=np.int64)
+    bad = out["status"] != ST_OK
+    lam[bad] = np.nan
+    err[bad] = np.nan
+    curve_dim = np.full(P, np.nan)
+    for i in np.flatnonzero(~bad & (out["period"] == 0)):
+        curve_dim[i] = curve_dimension(section.get(int(i), out["poincare"][i]))
+    motion = classify_motion(out["period"], lam[:, 0], err[:, 0], ~bad, curve_dim)
+    loops = np.zeros(P, dtype=np.int64)
+    for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):
+        loops[i] = count_loops(section.get(int(i), out["poincare"][i]))
+    out.update(motion=motion, lle=lam[:, 0].copy(), lle_err=err[:, 0].copy(), lambda2=lam[:, 1].copy(),
+               curve_dim=curve_dim, loops=loops, settled=settled)
+    return out

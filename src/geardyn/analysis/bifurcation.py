@@ -1,0 +1,315 @@
+"""Bifurcation diagrams over any model parameter.
+
+Every point of the sweep is integrated through the transient, its Poincaré points recorded and
+classified (:func:`geardyn.analysis.classify.classify_batch`: period, motion, impact state,
+amplitude measures and, on request, the largest Lyapunov exponent).  Two modes:
+
+- ``fixed``: every point starts from the same initial state.  The points are independent, so the
+  grid is cut into many chunks that run in parallel on the sweep engine.
+- ``continue``: each point starts from the end state of the previous one (natural-parameter
+  continuation of the attractor, as on a test rig whose speed is ramped slowly).  A continuation
+  sweep is sequential: one chunk per direction.  ``up`` runs the values in increasing order,
+  ``down`` in decreasing order, ``both`` runs both; where they disagree, attractors coexist.
+
+The result is one :class:`xarray.Dataset` with the swept parameter (canonical name, e.g. ``omega``
+or ``xi0``) as a dimension and a ``sweep`` dimension labelled ``up``/``down`` (``fixed`` in fixed
+mode); see :func:`bifurcation`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+import xarray as xr
+
+from ..integrate import ST_OK, integrate_batch
+from ..io import annotate, result_attrs
+from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
+from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, chunked, run_chunks
+from .classify import (
+    IMPACT_LABELS,
+    MOTION_LABELS,
+    SETTLE_PERIODS,
+    classify_batch,
+    motion_label,
+)
+
+__all__ = [
+    "MODES",
+    "SWEEPS",
+    "bifurcation",
+    "sweep_values",
+    "fixed_chunk",
+    "continuation_chunk",
+    "points_dataset",
+    "bifurcation_json",
+]
+
+MODES = ("fixed", "continue")
+SWEEPS = ("up", "down", "both")
+
+#: Per-point scalar variables of a sweep result, with their dtype.
+_SCALARS = {
+    "period": np.int64, "motion": np.int64, "impact": np.int64, "status": np.int64, "loops": np.int64,
+    "settled": np.int64, "restarted": np.int64,
+    "amplitude": float, "rms": float, "mean": float, "u_min": float, "u_max": float,
+    "fraction_drive": float, "fraction_separation": float, "fraction_back": float,
+    "lle": float, "lle_err": float, "lambda2": float, "curve_dim": float,
+}
+
+_LONG_NAMES = {
+    "motion": ("1", "motion class (-1 diverged, 0 unresolved, 1 periodic, 2 quasi-periodic, 3 chaotic)"),
+    "lle_err": ("1/τ", "standard error of the largest Lyapunov exponent (block statistics)"),
+    "lambda2": ("1/τ", "second Lyapunov exponent"),
+    "loops": ("1", "closed curves of a quasi-periodic Poincaré section (0 otherwise)"),
+    "settled": ("1", "settling passes run for the point before classification (0: periodic after the transient)"),
+    "curve_dim": ("1", "correlation dimension of the Poincaré section of a non-periodic point (1: closed curves)"),
+    "restarted": ("1", "1 where a continuation restarted from the initial state after a diverged point"),
+    "start_u": ("1", "initial displacement u of the point"),
+    "start_v": ("1", "initial velocity u' of the point"),
+    "end_u": ("1", "final displacement u (start of the next continuation point)"),
+    "end_v": ("1", "final velocity u'"),
+    "section": ("1", "index of the recorded Poincaré point"),
+    "sweep": ("1", "sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)"),
+}
+
+
+def sweep_values(start: float, stop: float, num: int) -> np.ndarray:
+    """Evenly spaced values start … stop (num >= 1), validated."""
+    for name, v in (("start", start), ("stop", stop)):
+        if not np.isfinite(v):
+            raise ModelError(f"{name}: must be a finite number, got {v!r}")
+    if isinstance(num, bool) or int(num) != num or num < 1:
+        raise ModelError(f"num: must be an integer >= 1, got {num!r}")
+    return np.linspace(float(start), float(stop), int(num))
+
+
+def _rows(out: dict[str, np.ndarray], start: np.ndarray, restarted: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """Chunk result: one row per point (plain arrays only, for checkpoint files)."""
+    n = out["period"].shape[0]
+    r = {k: np.asarray(out[k], dtype=t) for k, t in _SCALARS.items() if k in out}
+    r["restarted"] = np.zeros(n, np.int64) if restarted is None else restarted.astype(np.int64)
+    r["poincare"] = np.asarray(out["poincare"], dtype=float)
+    r["start"] = np.asarray(start, dtype=float).reshape(n, 2)
+    r["end"] = np.asarray(out["end_state"], dtype=float)
+    return r
+
+
+def fixed_chunk(
+    models: Sequence[GearModel],
+    state0: Sequence[float] | np.ndarray,
+    options: IntegrationOptions,
+    lyapunov: bool = False,
+    settle_periods: int = SETTLE_PERIODS,
+) -> dict[str, np.ndarray]:
+    """Chunk function: independent points (one batch), each from its initial state.
+
+    ``state0`` is one state (2,) for all points or one per point (P, 2).
+    """
+    models = list(models)
+    s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), 2)).copy()
+    res = integrate_batch(models, s0, options, lyapunov=lyapunov)
+    return _rows(classify_batch(res, settle_periods=settle_periods), s0)
+
+
+def continuation_chunk(
+    models: Sequence[GearModel],
+    state0: Sequence[float],
+    options: IntegrationOptions,
+    lyapunov: bool = False,
+    settle_periods: int = SETTLE_PERIODS,
+) -> dict[str, np.ndarray]:
+    """Chunk function: points in the given order, each starting from the previous end state.
+
+    After a diverged point the next one restarts from ``state0`` (flagged in ``restarted``).
+    """
+    models = list(models)
+    s0 = np.asarray(state0, dtype=float).reshape(2)
+    state = s0.copy()
+    rows = []
+    starts = np.zeros((len(models), 2))
+    restarted = np.zeros(len(models), np.int64)
+    for i, m in enumerate(models):
+        if not np.all(np.isfinite(state)):
+            state = s0.copy()
+            restarted[i] = 1
+        starts[i] = state
+        res = integrate_batch([m], state, options, lyapunov=lyapunov)
+        out = classify_batch(res, settle_periods=settle_periods)
+        rows.append(out)
+        state = out["end_state"][0].copy() if out["status"][0] == ST_OK else np.full(2, np.nan)
+    merged = {k: np.concatenate([r[k] for r in rows], axis=0) for k in rows[0]}
+    return _rows(merged, starts, restarted)
+
+
+def _check_options(models: Sequence[GearModel], options: IntegrationOptions) -> None:
+    for m in models:
+        options.check_for(m.omega)
+
+
+def bifurcation(
+    model: GearModel,
+    param: str,
+    values: Sequence[float] | np.ndarray,
+    *,
+    mode: str = "fixed",
+    sweep: str = "up",
+    state0: Sequence[float] = (0.0, 0.0),
+    options: IntegrationOptions = IntegrationOptions(),
+    lyapunov: bool = False,
+    settle_periods: int = SETTLE_PERIODS,
+    workers: int = 1,
+    scheduler: str | None = None,
+    checkpoint: str | Path | None = None,
+    resume: bool = False,
+    progress: bool = False,
+    chunk_points: int = DEFAULT_CHUNK_POINTS,
+    executor: Any = None,
+) -> xr.Dataset:
+    """Bifurcation diagram of ``param`` over ``values``.
+
+    Parameters
+    ----------
+    model : GearModel
+        The base model; ``param`` is set to each value in turn.
+    param : str
+        Any parameter name of :data:`geardyn.model.PARAMETER_HELP` (``omega``, ``xi0``, ``xi1``,
+        ``kappa1``, ``fp``, ``eps1``/``fe``, ``D``/``backlash``, ``phi_c1``, …).
+    values : sequence of float
+        The parameter values (sorted ascending in the result).
+    mode : {'fixed', 'continue'}
+        Every point from ``state0``, or continuation of the previous end state.
+    sweep : {'up', 'down', 'both'}
+        Direction(s) of a continuation sweep (ignored in fixed mode, whose sweep label is 'fixed').
+    state0 : (u0, v0)
+        Initial state (non-dimensional) of every point (fixed) or of the first point of each sweep.
+    options : IntegrationOptions
+        Transient and recorded periods per point (in continuation mode a shorter transient is
+        usually enough, since each point starts near its attractor).
+    lyapunov : bool
+        Compute the largest exponent (and λ2) of every point over its recorded periods.  Without
+        it only non-periodic points get exponents (needed to tell quasi-periodic from chaotic).
+    settle_periods : int
+        Further periods for points not periodic after the transient (see
+        :func:`~geardyn.analysis.classify.classify_batch`).
+    workers, scheduler, checkpoint, resume, progress, executor
+        Passed to :func:`geardyn.sweep.run_chunks`.
+    chunk_points : int
+        Points per chunk in fixed mode.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``sweep``, ``<param>``, ``section`` (recorded Poincaré points); variables
+        ``poincare_u``, ``poincare_v`` (sweep, param, section); ``period``, ``motion``, ``impact``,
+        ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, contact fractions, ``lle``,
+        ``lle_err``, ``lambda2``, ``loops``, ``status``, start and end states (sweep, param).
+    """
+    name = canonical_param(param)
+    if mode not in MODES:
+        raise ModelError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
+    if sweep not in SWEEPS:
+        raise ModelError(f"sweep: must be one of {', '.join(SWEEPS)}, got {sweep!r}")
+    vals = np.unique(np.asarray(values, dtype=float).ravel())
+    if vals.size == 0:
+        raise ModelError(f"{name}: empty grid (num must be >= 1)")
+    if not np.all(np.isfinite(vals)):
+        raise ModelError(f"{name}: values must be finite numbers")
+    models = [model.with_param(name, float(v)) for v in vals]
+    _check_options(models, options)
+    s0 = np.asarray(state0, dtype=float).reshape(2)
+    if not np.all(np.isfinite(s0)):
+        raise ModelError("initial state (u0, v0): must be finite")
+    s0t = (float(s0[0]), float(s0[1]))
+
+    if mode == "fixed":
+        labels = ["fixed"]
+        chunks = [Chunk(i, fixed_chunk, (models[sl], s0t, options, lyapunov, settle_periods))
+                  for i, sl in enumerate(chunked(len(models), chunk_points))]
+    else:
+        labels = ["up", "down"] if sweep == "both" else [sweep]
+        chunks = [Chunk(i, continuation_chunk, (models if lab == "up" else models[::-1], s0t, options, lyapunov,
+                                                settle_periods))
+                  for i, lab in enumerate(labels)]
+    results = run_chunks(chunks, workers=workers, scheduler=scheduler, executor=executor, checkpoint=checkpoint,
+                         resume=resume, progress=progress, description=f"bifurcation {name}")
+    if mode == "fixed":
+        per_sweep = [{k: np.concatenate([r[k] for r in results]) for k in results[0]}]
+    else:
+        per_sweep = [r if lab == "up" else {k: v[::-1] for k, v in r.items()} for lab, r in zip(labels, results)]
+    ds = points_dataset(name, vals, labels, per_sweep)
+    ds.attrs.update(result_attrs("bifurcation", model, options, param=name, mode=mode, sweep=sweep,
+                                 state0=list(s0t), lyapunov=bool(lyapunov), settle_periods=int(settle_periods)))
+    return ds
+
+
+def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_sweep: Sequence[dict[str, np.ndarray]]) -> xr.Dataset:
+    """Assemble per-sweep row dicts (ascending ``values``) into the bifurcation Dataset."""
+    dims = ("sweep", name)
+
+    def stack(k: str) -> np.ndarray:
+        return np.stack([r[k] for r in per_sweep])
+
+    data: dict[str, Any] = {}
+    for k in _SCALARS:
+        if k in per_sweep[0]:
+            data[k] = (dims, stack(k))
+    pc = stack("poincare")
+    data["poincare_u"] = (dims + ("section",), pc[..., 0])
+    data["poincare_v"] = (dims + ("section",), pc[..., 1])
+    st, en = stack("start"), stack("end")
+    data.update(start_u=(dims, st[..., 0]), start_v=(dims, st[..., 1]), end_u=(dims, en[..., 0]),
+                end_v=(dims, en[..., 1]))
+    ds = xr.Dataset(data, coords={"sweep": list(labels), name: np.asarray(values, float),
+                                  "section": np.arange(pc.shape[2])})
+    for k, (u, ln) in _LONG_NAMES.items():
+        if k in ds.variables:
+            ds[k].attrs.update(units=u, long_name=ln)
+    if name not in ("omega", "xi0", "fp", "D"):
+        ds[name].attrs.update(units="rad" if name.startswith("phi") else "1", long_name=f"parameter {name}")
+    ds["motion"].attrs.update(flag_values=list(MOTION_LABELS), flag_meanings=" ".join(
+        v.replace(" ", "_") for v in MOTION_LABELS.values()))
+    ds["impact"].attrs.update(flag_values=list(IMPACT_LABELS), flag_meanings=" ".join(
+        v.replace(" ", "_") for v in IMPACT_LABELS.values()))
+    return annotate(ds)
+
+
+def _num(x: float) -> float | None:
+    return float(x) if np.isfinite(x) else None
+
+
+def point_labels(ds: xr.Dataset, sweep: str) -> dict[str, list[Any]]:
+    """JSON-ready per-point lists (period, motion, impact, lle, amplitude, status) of one sweep."""
+    s = ds.sel(sweep=sweep)
+    per = s["period"].values
+    return {
+        "period": [int(p) if p > 0 else None for p in per],
+        "motion": [motion_label(c, p) for c, p in zip(s["motion"].values, per)],
+        "impact": [IMPACT_LABELS[int(i)] for i in s["impact"].values],
+        "lle": [_num(x) for x in s["lle"].values],
+        "amplitude": [_num(x) for x in s["amplitude"].values],
+        "status": ["ok" if int(x) == ST_OK else "diverged" for x in s["status"].values],
+    }
+
+
+def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
+    """The ``bifurcation --json`` summary (DESIGN §5: ``param``, ``values``, ``period``, ``motion``,
+    ``impact``, ``lle``).
+
+    With one sweep the per-point entries are lists aligned with ``values``; with both sweeps each
+    is a dict ``{"up": [...], "down": [...]}``.
+    """
+    name = str(ds.attrs["param"])
+    labels = [str(x) for x in ds["sweep"].values]
+    per = {lab: point_labels(ds, lab) for lab in labels}
+    out: dict[str, Any] = {
+        "param": name,
+        "values": [float(x) for x in ds[name].values],
+        "mode": ds.attrs.get("mode"),
+        "sweep": labels if len(labels) > 1 else labels[0],
+    }
+    for key in ("period", "motion", "impact", "lle", "amplitude", "status"):
+        out[key] = per[labels[0]][key] if len(labels) == 1 else {lab: per[lab][key] for lab in labels}
+    return out
