@@ -57,6 +57,7 @@ _SCALARS = {
     "amplitude": float, "rms": float, "mean": float, "u_min": float, "u_max": float,
     "fraction_drive": float, "fraction_separation": float, "fraction_back": float,
     "lle": float, "lle_err": float, "lambda2": float, "curve_dim": float,
+    "settle_ratio": float,
 }
 
 _LONG_NAMES = {
@@ -65,6 +66,7 @@ _LONG_NAMES = {
     "lambda2": ("1/τ", "second Lyapunov exponent"),
     "loops": ("1", "closed curves of a quasi-periodic Poincaré section (0 otherwise)"),
     "settled": ("1", "settling passes run for the point before classification (0: periodic after the transient)"),
+    "settle_ratio": ("1", "contraction of the Poincaré sequence onto a cycle over the record (1: stationary)"),
     "curve_dim": ("1", "correlation dimension of the Poincaré section of a non-periodic point (1: closed curves)"),
     "restarted": ("1", "1 where a continuation restarted from the initial state after a diverged point"),
     "start_u": ("1", "initial displacement u of the point"),

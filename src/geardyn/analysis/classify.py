@@ -127,6 +127,10 @@ SETTLE_ROUNDS = 4
 #: The sequence is still settling when its distance to the best cycle shrank by this factor or
 #: more between the first and the last quarter of a pass.
 SETTLING_RATIO = 0.5
+#: Quasi-periodic sections are stationary: the distance to the best cycle (see :func:`settling_ratio`)
+#: must not shrink below this fraction between the first and the last quarter of the sequence.
+#: A sequence creeping onto a cycle at a bifurcation point (critical slowing down) fails this.
+STATIONARY_RATIO = 0.8
 #: Quasi-periodic sections are closed curves: their correlation dimension (:func:`curve_dimension`)
 #: must lie in this interval (a smooth curve gives 1; a period-doubling cascade's Cantor-like set
 #: at its accumulation point about 0.4–0.5; a strange attractor's section above 1).
@@ -135,7 +139,8 @@ CURVE_DIM_RANGE = (0.8, 1.5)
 CURVE_DIM_RADII = (4.0, 32.0)
 
 
-def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_dim: Any = np.nan) -> np.ndarray:
+def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_dim: Any = np.nan,
+                    settle_ratio: Any = np.nan) -> np.ndarray:
     """Motion codes from the period, the largest exponent and its uncertainty (element-wise).
 
     Parameters
@@ -149,13 +154,16 @@ def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_d
     curve_dim : float or array
         Correlation dimension of the Poincaré section (:func:`curve_dimension`); NaN skips the
         closed-curve test.
+    settle_ratio : float or array
+        :func:`settling_ratio` of the Poincaré sequence; NaN skips the stationarity test.
 
     Returns
     -------
     ndarray of int
         ``MOTION_*`` codes: periodic when n > 0; else chaotic when λ1 > LLE_SIGMAS·σ + LLE_FLOOR,
-        quasi-periodic when |λ1| <= LLE_SIGMAS·σ + LLE_FLOOR and the section is a closed curve,
-        unresolved otherwise (λ1 significantly negative, zero but not on curves, or not available).
+        quasi-periodic when |λ1| <= LLE_SIGMAS·σ + LLE_FLOOR and the section is a stationary set of
+        closed curves, unresolved otherwise (λ1 significantly negative; zero but the section not
+        stationary closed curves; or not available).
     """
     n = np.asarray(period, dtype=np.int64)
     lam = np.asarray(lle, dtype=float)
@@ -167,7 +175,8 @@ def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_d
                         np.where(np.abs(lam) <= band, MOTION_QUASIPERIODIC, MOTION_UNRESOLVED))
     dim = np.asarray(curve_dim, dtype=float)
     lo, hi = CURVE_DIM_RANGE
-    off_curve = np.isfinite(dim) & ((dim < lo) | (dim > hi))
+    ratio = np.asarray(settle_ratio, dtype=float)
+    off_curve = (np.isfinite(dim) & ((dim < lo) | (dim > hi))) | (np.isfinite(ratio) & (ratio < STATIONARY_RATIO))
     code = np.where((code == MOTION_QUASIPERIODIC) & off_curve, MOTION_UNRESOLVED, code)
     code = np.where(np.isfinite(lam), code, MOTION_UNRESOLVED)
     code = np.where(n > 0, MOTION_PERIODIC, code)
@@ -175,9 +184,10 @@ def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_d
     return code.astype(np.int64)
 
 
-def motion_class(period: int, lle: float, lle_err: float, ok: bool = True, curve_dim: float = np.nan) -> int:
+def motion_class(period: int, lle: float, lle_err: float, ok: bool = True, curve_dim: float = np.nan,
+                 settle_ratio: float = np.nan) -> int:
     """Scalar form of :func:`classify_motion`."""
-    return int(classify_motion(period, lle, lle_err, ok, curve_dim))
+    return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio))
 
 
 def motion_label(code: int, period: int | None = None) -> str:
@@ -246,25 +256,35 @@ def curve_dimension(points: np.ndarray, radii: tuple[float, float] = CURVE_DIM_R
     return float(np.log(c[1] / c[0]) / np.log(r2 / r1))
 
 
-def is_settling(points: np.ndarray, max_period: int = MAX_PERIOD, ratio: float = SETTLING_RATIO) -> bool:
-    """True when a Poincaré sequence is still contracting onto a cycle of period <= ``max_period``.
+def settling_ratio(points: np.ndarray, max_period: int = MAX_PERIOD) -> float:
+    """How much a Poincaré sequence closed in on a cycle of period <= ``max_period`` during the record.
 
-    For each n the distances |P_{i+n} − P_i| are compared between the first and the last quarter
-    of the sequence; the sequence is settling when, for the n with the smallest late distances,
-    their median shrank by the factor ``ratio`` or more.
+    For each n the distances |P_{i+n} − P_i| are taken; for the n with the smallest median over
+    the last quarter of the sequence, the ratio of that median to the median over the first
+    quarter is returned: about 1 for a stationary sequence (quasi-periodic, chaotic or converged),
+    well below 1 while it still contracts onto a cycle.  NaN for fewer than 8 finite points or an
+    exactly repeating sequence.
     """
     pts = np.asarray(points, dtype=float)
     m = pts.shape[0]
     if m < 8 or not np.all(np.isfinite(pts)):
-        return False
+        return float("nan")
     q = m // 4
-    best_late, best_early = np.inf, np.inf
+    best_late, best_early = np.inf, np.nan
     for n in range(1, min(max_period, m - 2 * q) + 1):
         d = np.max(np.abs(pts[n:] - pts[:-n]), axis=1)
         late = float(np.median(d[-q:]))
         if late < best_late:
             best_late, best_early = late, float(np.median(d[:q]))
-    return bool(best_early > 0.0 and best_late <= ratio * best_early)
+    if not best_early > 0.0:
+        return float("nan")
+    return best_late / best_early
+
+
+def is_settling(points: np.ndarray, max_period: int = MAX_PERIOD, ratio: float = SETTLING_RATIO) -> bool:
+    """True while a Poincaré sequence still contracts onto a cycle (:func:`settling_ratio` <= ``ratio``)."""
+    r = settling_ratio(points, max_period)
+    return bool(np.isfinite(r) and r <= ratio)
 
 
 def classify_batch(
@@ -294,7 +314,8 @@ def classify_batch(
     dict of ndarray
         The keys of :func:`geardyn.analysis.steady.summarize_batch` plus ``motion`` (codes),
         ``lle``, ``lle_err``, ``lambda2`` (NaN where not computed), ``curve_dim`` (correlation
-        dimension of the section of non-periodic points, else NaN), ``loops`` (closed curves of a
+        dimension of the section of non-periodic points, else NaN), ``settle_ratio``
+        (:func:`settling_ratio` of non-periodic points, else NaN), ``loops`` (closed curves of a
         quasi-periodic section, else 0), ``settled`` (number of settling passes run),
         ``poincare`` (P, n, 2) and ``end_state`` (P, 2).
     """
@@ -346,12 +367,15 @@ def classify_batch(
     lam[bad] = np.nan
     err[bad] = np.nan
     curve_dim = np.full(P, np.nan)
+    ratio = np.full(P, np.nan)
     for i in np.flatnonzero(~bad & (out["period"] == 0)):
-        curve_dim[i] = curve_dimension(section.get(int(i), out["poincare"][i]))
-    motion = classify_motion(out["period"], lam[:, 0], err[:, 0], ~bad, curve_dim)
+        sec = section.get(int(i), out["poincare"][i])
+        curve_dim[i] = curve_dimension(sec)
+        ratio[i] = settling_ratio(sec)
+    motion = classify_motion(out["period"], lam[:, 0], err[:, 0], ~bad, curve_dim, ratio)
     loops = np.zeros(P, dtype=np.int64)
     for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):
         loops[i] = count_loops(section.get(int(i), out["poincare"][i]))
     out.update(motion=motion, lle=lam[:, 0].copy(), lle_err=err[:, 0].copy(), lambda2=lam[:, 1].copy(),
-               curve_dim=curve_dim, loops=loops, settled=settled)
+               curve_dim=curve_dim, settle_ratio=ratio, loops=loops, settled=settled)
     return out

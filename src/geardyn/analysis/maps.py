@@ -1,0 +1,158 @@
+"""Two-parameter maps: motion, impact state, amplitude and largest exponent over a grid.
+
+The grid is x values × y values of any two model parameters (e.g. ω × ξ0, ω × D).  Like a
+bifurcation sweep, each point either starts from the same initial state (``fixed``: the points
+are independent and cut into many chunks) or continues the end state of its left neighbour along
+each row (``continue``: one chunk per row, rows in parallel, x increasing).  The result is one
+Dataset with dimensions named after the two parameters, ``(y, x)``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+import xarray as xr
+
+from ..io import annotate, result_attrs
+from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
+from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, chunked, run_chunks
+from .bifurcation import MODES, _LONG_NAMES, continuation_chunk, fixed_chunk
+from .classify import IMPACT_LABELS, MOTION_LABELS, SETTLE_PERIODS, motion_label
+
+__all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
+
+#: Per-point variables kept in a map (Poincaré points are not kept: a map can hold 10⁶ points).
+MAP_VARIABLES = ("period", "motion", "impact", "status", "loops", "amplitude", "rms", "mean", "u_min", "u_max",
+                 "fraction_separation", "fraction_back", "lle", "lle_err", "lambda2")
+
+
+def _map_rows(r: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    return {k: r[k] for k in MAP_VARIABLES if k in r}
+
+
+def map_fixed_chunk(models, state0, options, lyapunov, settle_periods):
+    """Chunk function of a fixed-initial-state map (the map variables only)."""
+    return _map_rows(fixed_chunk(models, state0, options, lyapunov, settle_periods))
+
+
+def map_row_chunk(models, state0, options, lyapunov, settle_periods):
+    """Chunk function of one continuation row of a map (x increasing)."""
+    return _map_rows(continuation_chunk(models, state0, options, lyapunov, settle_periods))
+
+
+def _values(name: str, v: Sequence[float]) -> np.ndarray:
+    a = np.unique(np.asarray(v, dtype=float).ravel())
+    if a.size == 0:
+        raise ModelError(f"{name}: empty grid (num must be >= 1)")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{name}: values must be finite numbers")
+    return a
+
+
+def parameter_map(
+    model: GearModel,
+    x_param: str,
+    x_values: Sequence[float],
+    y_param: str,
+    y_values: Sequence[float],
+    *,
+    mode: str = "fixed",
+    state0: Sequence[float] = (0.0, 0.0),
+    options: IntegrationOptions = IntegrationOptions(),
+    lyapunov: bool = False,
+    settle_periods: int = SETTLE_PERIODS,
+    workers: int = 1,
+    scheduler: str | None = None,
+    checkpoint: str | Path | None = None,
+    resume: bool = False,
+    progress: bool = False,
+    chunk_points: int = DEFAULT_CHUNK_POINTS,
+    executor: Any = None,
+) -> xr.Dataset:
+    """Map of the steady response over a grid of two parameters.
+
+    Parameters
+    ----------
+    model : GearModel
+        Base model; ``x_param`` and ``y_param`` are set at each grid point.
+    x_param, y_param : str
+        Two different parameter names (see :data:`geardyn.model.PARAMETER_HELP`).
+    x_values, y_values : sequence of float
+        Grid values (sorted ascending).
+    mode : {'fixed', 'continue'}
+        Every point from ``state0``, or continuation along x within each row.
+    lyapunov : bool
+        Largest exponent for every point (otherwise only for non-periodic points).
+    Other parameters as for :func:`~geardyn.analysis.bifurcation.bifurcation`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``(y_param, x_param)``; variables :data:`MAP_VARIABLES`.
+    """
+    xn, yn = canonical_param(x_param), canonical_param(y_param)
+    if xn == yn:
+        raise ModelError(f"map: x and y must be different parameters, got {xn!r} twice")
+    if mode not in MODES:
+        raise ModelError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
+    xv, yv = _values(xn, x_values), _values(yn, y_values)
+    rows = [[model.with_param(yn, float(y)).with_param(xn, float(x)) for x in xv] for y in yv]
+    for row in rows:
+        for m in row:
+            options.check_for(m.omega)
+    s0 = np.asarray(state0, dtype=float).reshape(2)
+    if not np.all(np.isfinite(s0)):
+        raise ModelError("initial state (u0, v0): must be finite")
+    s0t = (float(s0[0]), float(s0[1]))
+    if mode == "fixed":
+        flat = [m for row in rows for m in row]
+        chunks = [Chunk(i, map_fixed_chunk, (flat[sl], s0t, options, lyapunov, settle_periods))
+                  for i, sl in enumerate(chunked(len(flat), chunk_points))]
+    else:
+        chunks = [Chunk(i, map_row_chunk, (row, s0t, options, lyapunov, settle_periods)) for i, row in enumerate(rows)]
+    results = run_chunks(chunks, workers=workers, scheduler=scheduler, executor=executor, checkpoint=checkpoint,
+                         resume=resume, progress=progress, description=f"map {yn} × {xn}")
+    cat = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
+    shape = (yv.size, xv.size)
+    ds = xr.Dataset({k: ((yn, xn), v.reshape(shape)) for k, v in cat.items()}, coords={yn: yv, xn: xv})
+    for k, (u, ln) in _LONG_NAMES.items():
+        if k in ds.variables:
+            ds[k].attrs.update(units=u, long_name=ln)
+    for n in (xn, yn):
+        if n not in ("omega", "xi0", "fp", "D"):
+            ds[n].attrs.update(units="rad" if n.startswith("phi") else "1", long_name=f"parameter {n}")
+    ds["motion"].attrs.update(flag_values=list(MOTION_LABELS),
+                              flag_meanings=" ".join(v.replace(" ", "_") for v in MOTION_LABELS.values()))
+    ds["impact"].attrs.update(flag_values=list(IMPACT_LABELS),
+                              flag_meanings=" ".join(v.replace(" ", "_") for v in IMPACT_LABELS.values()))
+    ds.attrs.update(result_attrs("map", model, options, x=xn, y=yn, mode=mode, state0=list(s0t),
+                                 lyapunov=bool(lyapunov), settle_periods=int(settle_periods)))
+    return annotate(ds)
+
+
+def map_json(ds: xr.Dataset) -> dict[str, Any]:
+    """The ``map --json`` summary: parameters, grid values and per-point grids (rows are y values)."""
+    xn, yn = str(ds.attrs["x"]), str(ds.attrs["y"])
+
+    def grid(var: str, f) -> list[list[Any]]:
+        return [[f(v, i, j) for j, v in enumerate(row)] for i, row in enumerate(ds[var].values)]
+
+    per = ds["period"].values
+
+    def num(v, i, j):
+        return float(v) if np.isfinite(v) else None
+
+    codes, counts = np.unique(ds["motion"].values, return_counts=True)
+    return {
+        "x": xn, "y": yn,
+        "x_values": [float(v) for v in ds[xn].values],
+        "y_values": [float(v) for v in ds[yn].values],
+        "motion": grid("motion", lambda v, i, j: motion_label(v, per[i, j])),
+        "impact": grid("impact", lambda v, i, j: IMPACT_LABELS[int(v)]),
+        "period": grid("period", lambda v, i, j: int(v) if v > 0 else None),
+        "amplitude": grid("amplitude", num),
+        "lle": grid("lle", num),
+        "motion_counts": {MOTION_LABELS[int(c)]: int(n) for c, n in zip(codes, counts)},
+    }

@@ -1,0 +1,275 @@
+"""Amplitude-frequency response: up and down sweeps with state continuation, jumps, hysteresis.
+
+The response is a continuation bifurcation sweep over ω in both directions
+(:func:`geardyn.analysis.bifurcation.bifurcation` with ``mode='continue'``, ``sweep='both'``).
+From its Dataset:
+
+- a **jump** is a step between neighbouring ω of one sweep where the amplitude changes abruptly:
+  by at least :data:`JUMP_MIN_FRACTION` of the amplitude range of the whole response and by at
+  least :data:`JUMP_RATIO` times the typical step change next to it (the smaller of the median
+  step changes over :data:`JUMP_WINDOW` steps before and after), so that smooth resonance flanks
+  and the point-to-point scatter of chaotic amplitudes are not taken for jumps.  Each jump is
+  reported at the midpoint ω of its step, with its direction (``up``: the amplitude increases),
+  its size (|ΔA|) and the sweep in which it occurs.
+- a **hysteresis interval** [ω_a, ω_b] is a maximal run of grid points where the up and down
+  sweeps end on different attractors (:func:`same_attractor`): coexisting attractors, whose
+  basins :mod:`geardyn.analysis.basins` can map.
+
+All amplitudes are non-dimensional (units of b_c), frequencies ω = ω_e/ω_n.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+import xarray as xr
+
+from ..model import GearModel, IntegrationOptions, ModelError
+from ..sweep import DEFAULT_CHUNK_POINTS
+from .bifurcation import bifurcation, point_labels, sweep_values
+from .classify import MOTION_PERIODIC, SETTLE_PERIODS
+
+__all__ = [
+    "JUMP_MIN_FRACTION",
+    "JUMP_RATIO",
+    "JUMP_WINDOW",
+    "ATTRACTOR_TOL",
+    "MEASURES",
+    "frequency_response",
+    "detect_jumps",
+    "hysteresis_intervals",
+    "same_attractor",
+    "response_json",
+]
+
+#: A jump changes the amplitude by at least this fraction of the response's amplitude range …
+JUMP_MIN_FRACTION = 0.1
+#: … and by at least this many times the typical neighbouring step change.
+JUMP_RATIO = 5.0
+#: Steps on each side over which the typical step change is taken (median).
+JUMP_WINDOW = 3
+#: Two periodic attractors are the same when each point of one cycle lies within this distance
+#: (relative to max(1, the cycle's largest |coordinate|)) of a point of the other.
+ATTRACTOR_TOL = 1.0e-3
+#: Two non-periodic attractors are taken as the same when their amplitudes and means agree to
+#: this fraction of the response's amplitude range.
+NONPERIODIC_TOL = 0.05
+#: Amplitude measures a response can be built on (variables of the bifurcation Dataset).
+MEASURES = ("amplitude", "rms", "u_max", "u_min", "mean")
+
+
+def frequency_response(
+    model: GearModel,
+    omega_start: float,
+    omega_stop: float,
+    num: int,
+    *,
+    options: IntegrationOptions = IntegrationOptions(),
+    state0: Sequence[float] = (0.0, 0.0),
+    measure: str = "amplitude",
+    lyapunov: bool = False,
+    settle_periods: int = SETTLE_PERIODS,
+    workers: int = 1,
+    scheduler: str | None = None,
+    checkpoint: str | Path | None = None,
+    resume: bool = False,
+    progress: bool = False,
+    executor: Any = None,
+) -> xr.Dataset:
+    """Up and down frequency sweeps with state continuation, with jumps and hysteresis detected.
+
+    Parameters
+    ----------
+    model : GearModel
+        The model; ω is swept.
+    omega_start, omega_stop, num : float, float, int
+        The ω grid (non-dimensional, > 0), ``num`` points; choose the step small enough to
+        resolve the jumps (they are located to within one step).
+    options : IntegrationOptions
+        Transient and recorded periods per point (each point starts from the previous end state,
+        so a moderate transient suffices away from bifurcations).
+    state0 : (u0, v0)
+        Initial state of the first point of each sweep (the lowest ω for up, the highest for down).
+    measure : str
+        Amplitude measure used for jumps: one of :data:`MEASURES` (default: half peak-to-peak).
+    lyapunov, settle_periods, workers, scheduler, checkpoint, resume, progress, executor
+        As for :func:`~geardyn.analysis.bifurcation.bifurcation`.
+
+    Returns
+    -------
+    xarray.Dataset
+        The bifurcation Dataset (dims ``sweep`` = up, down and ``omega``) with the attributes
+        ``jumps`` and ``hysteresis`` (JSON) and ``measure``.
+    """
+    if measure not in MEASURES:
+        raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
+    vals = sweep_values(omega_start, omega_stop, num)
+    if np.any(vals <= 0):
+        raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a grid from {omega_start!r} to {omega_stop!r}")
+    ds = bifurcation(model, "omega", vals, mode="continue", sweep="both", state0=state0, options=options,
+                     lyapunov=lyapunov, settle_periods=settle_periods, workers=workers, scheduler=scheduler,
+                     checkpoint=checkpoint, resume=resume, progress=progress, executor=executor)
+    return annotate_response(ds, measure)
+
+
+def annotate_response(ds: xr.Dataset, measure: str = "amplitude") -> xr.Dataset:
+    """Detect jumps and hysteresis in a two-sweep ω Dataset and store them as attributes."""
+    jumps = detect_jumps(ds, measure)
+    hyst = hysteresis_intervals(ds)
+    ds.attrs.update(geardyn_kind="response", measure=measure, jumps=json.dumps(jumps), hysteresis=json.dumps(hyst))
+    return ds
+
+
+def _param(ds: xr.Dataset) -> str:
+    return str(ds.attrs.get("param", "omega"))
+
+
+def detect_jumps(
+    ds: xr.Dataset,
+    measure: str = "amplitude",
+    *,
+    min_fraction: float = JUMP_MIN_FRACTION,
+    ratio: float = JUMP_RATIO,
+    window: int = JUMP_WINDOW,
+) -> list[dict[str, Any]]:
+    """Jumps of ``measure`` along each sweep of a continuation Dataset (see the module docstring).
+
+    Returns a list of ``{"omega", "direction", "size", "sweep", "omega_from", "omega_to",
+    "amplitude_from", "amplitude_to"}`` in sweep order (up first, then down), where
+    ``omega_from`` → ``omega_to`` is the grid step in the order the sweep runs and ``omega`` its
+    midpoint (the parameter's value if the sweep is not over ω).
+    """
+    name = _param(ds)
+    x = ds[name].values
+    amp_all = ds[measure].values
+    finite = amp_all[np.isfinite(amp_all)]
+    if finite.size == 0:
+        return []
+    scale = float(np.ptp(finite))
+    if scale == 0.0:
+        return []
+    jumps = []
+    for lab in [str(s) for s in ds["sweep"].values]:
+        a = ds[measure].sel(sweep=lab).values
+        order = np.arange(x.size) if lab != "down" else np.arange(x.size)[::-1]
+        xs, As = x[order], a[order]
+        d = np.diff(As)
+        ad = np.abs(d)
+        for i in range(d.size):
+            if not np.isfinite(d[i]) or ad[i] < min_fraction * scale:
+                continue
+            before = ad[max(0, i - window):i]
+            after = ad[i + 1:i + 1 + window]
+            before = before[np.isfinite(before)]
+            after = after[np.isfinite(after)]
+            sides = [float(np.median(s)) for s in (before, after) if s.size]
+            typical = min(sides) if sides else 0.0
+            if ad[i] < ratio * typical:
+                continue
+            jumps.append({
+                name: float(0.5 * (xs[i] + xs[i + 1])),
+                "direction": "up" if d[i] > 0 else "down",
+                "size": float(ad[i]),
+                "sweep": lab,
+                f"{name}_from": float(xs[i]),
+                f"{name}_to": float(xs[i + 1]),
+                "amplitude_from": float(As[i]),
+                "amplitude_to": float(As[i + 1]),
+            })
+    return jumps
+
+
+def _cycle(ds: xr.Dataset, lab: str, k: int) -> np.ndarray:
+    s = ds.isel({_param(ds): k}).sel(sweep=lab)
+    n = int(s["period"].values)
+    u = s["poincare_u"].values[-n:]
+    v = s["poincare_v"].values[-n:]
+    return np.column_stack([u, v])
+
+
+def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, tol: float = ATTRACTOR_TOL,
+                   nonperiodic_tol: float = NONPERIODIC_TOL) -> bool | None:
+    """Whether sweeps ``a`` and ``b`` reached the same attractor at grid index ``k``.
+
+    Periodic attractors are compared by their Poincaré cycles (same period, each point of one
+    cycle within ``tol`` of a point of the other); non-periodic ones by amplitude and mean (to
+    ``nonperiodic_tol`` of the amplitude range); a periodic and a non-periodic one differ.
+    None where either point diverged.
+    """
+    name = _param(ds)
+    sa = ds.isel({name: k}).sel(sweep=a)
+    sb = ds.isel({name: k}).sel(sweep=b)
+    if int(sa["status"]) != 0 or int(sb["status"]) != 0:
+        return None
+    pa, pb = int(sa["period"]), int(sb["period"])
+    per_a = int(sa["motion"]) == MOTION_PERIODIC
+    per_b = int(sb["motion"]) == MOTION_PERIODIC
+    if per_a != per_b:
+        return False
+    if per_a:
+        if pa != pb:
+            return False
+        ca, cb = _cycle(ds, a, k), _cycle(ds, b, k)
+        scale = max(1.0, float(np.max(np.abs(ca))))
+        dist = np.max(np.abs(ca[:, None, :] - cb[None, :, :]), axis=2)
+        return bool(np.all(dist.min(axis=1) <= tol * scale) and np.all(dist.min(axis=0) <= tol * scale))
+    amp = ds["amplitude"].values
+    rng = float(np.ptp(amp[np.isfinite(amp)])) if np.any(np.isfinite(amp)) else 0.0
+    t = nonperiodic_tol * max(rng, 1e-12)
+    return bool(abs(float(sa["amplitude"]) - float(sb["amplitude"])) <= t
+                and abs(float(sa["mean"]) - float(sb["mean"])) <= t)
+
+
+def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list[list[float]]:
+    """Maximal runs [x_a, x_b] of grid points where sweeps ``a`` and ``b`` disagree (coexisting attractors).
+
+    Empty when the Dataset does not hold both sweeps.
+    """
+    labels = [str(s) for s in ds["sweep"].values]
+    if a not in labels or b not in labels:
+        return []
+    name = _param(ds)
+    x = ds[name].values
+    differ = [same_attractor(ds, k, a, b) is False for k in range(x.size)]
+    out: list[list[float]] = []
+    k = 0
+    while k < x.size:
+        if differ[k]:
+            j = k
+            while j + 1 < x.size and differ[j + 1]:
+                j += 1
+            out.append([float(x[k]), float(x[j])])
+            k = j + 1
+        else:
+            k += 1
+    return out
+
+
+def response_json(ds: xr.Dataset) -> dict[str, Any]:
+    """The ``response --json`` summary: ``jumps`` [{omega, direction, size, sweep}], ``hysteresis``
+    [[ω_a, ω_b], …], plus the grid and each sweep's amplitudes, motion and impact."""
+    name = _param(ds)
+    measure = str(ds.attrs.get("measure", "amplitude"))
+    labels = [str(s) for s in ds["sweep"].values]
+
+    def num(x: float) -> float | None:
+        return float(x) if np.isfinite(x) else None
+
+    out: dict[str, Any] = {
+        "jumps": json.loads(ds.attrs.get("jumps", "[]")),
+        "hysteresis": json.loads(ds.attrs.get("hysteresis", "[]")),
+        "measure": measure,
+        name: [float(x) for x in ds[name].values],
+    }
+    for lab in labels:
+        pl = point_labels(ds, lab)
+        out[lab] = {
+            measure: [num(x) for x in ds[measure].sel(sweep=lab).values],
+            "motion": pl["motion"],
+            "impact": pl["impact"],
+            "period": pl["period"],
+        }
+    return out
