@@ -262,6 +262,205 @@ def geometry(config: ConfigOpt = None, json_out: JsonOpt = False) -> None:
         console.print(line, markup=False, highlight=False)
 
 
+# ---------------------------------------------------------------- periodic orbits: shooting and continuation
+PeriodOpt = Annotated[int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
+GuessOpt = Annotated[Optional[str], typer.Option("--guess", help="Shooting guess 'u,v' at θ = 0 (default: the state reached by simulating --transient periods from --u0, --v0).")]
+#: Points of the brute-force up/down sweep drawn under a continuation figure, and its recorded periods.
+CONTINUATION_SWEEP_NUM = 101
+CONTINUATION_SWEEP_PERIODS = 32
+
+
+def _parse_guess(text: Optional[str]) -> Optional[tuple[float, float]]:
+    """'u,v' → (u, v); None when not given."""
+    if text is None:
+        return None
+    try:
+        vals = tuple(float(p) for p in text.split(","))
+    except ValueError:
+        vals = ()
+    if len(vals) != 2 or not all(abs(v) < float("inf") for v in vals):
+        raise ModelError(f"guess: expected two finite numbers 'u,v', got {text!r}")
+    return vals  # type: ignore[return-value]
+
+
+@app.command()
+def orbit(
+    config: ConfigOpt = None,
+    omega: OmegaOpt = None,
+    xi0: Xi0Opt = None,
+    xi1: Xi1Opt = None,
+    kappa1: Kappa1Opt = None,
+    fp: FpOpt = None,
+    fe: FeOpt = None,
+    backlash: BacklashOpt = None,
+    phi_c: PhiCOpt = None,
+    phi_k: PhiKOpt = None,
+    phi_e: PhiEOpt = None,
+    period: PeriodOpt = 1,
+    guess: GuessOpt = None,
+    u0: U0Opt = 0.0,
+    v0: V0Opt = 0.0,
+    dtau: DtauOpt = DEFAULT_DTAU,
+    transient: TransientOpt = DEFAULT_TRANSIENT,
+    accurate: AccurateOpt = False,
+    json_out: JsonOpt = False,
+    out: OutOpt = None,
+) -> None:
+    """Find a period-n orbit by shooting (Newton on the n-period map, Jacobian = monodromy matrix) and report its
+    section points, Floquet multipliers, stability, extremes and impact state."""
+    from . import validate
+    from .analysis.periodic import shoot
+
+    try:
+        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
+                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        opts = build_options(dtau, transient, 1, accurate, model.omega)
+        n = validate.integer("period", period, 1, 1024)
+        g = _parse_guess(guess)
+        state0 = validate.initial_state(u0, v0)
+        res = shoot(model, n, g, dtau=opts.dtau, accurate=opts.accurate, state0=state0, transient=opts.transient)
+    except ModelError as e:
+        raise fail(str(e))
+    files: list[str] = []
+    if out is not None:
+        from .io import write_netcdf
+        from .plot.periodic import save_orbit
+
+        nc, figdir = out_paths(out, "orbit")
+        ds = res.to_dataset()
+        files = [str(write_netcdf(ds, nc))] + ([str(p) for p in save_orbit(ds, figdir)] if res.converged else [])
+    summary = res.to_json()
+    if json_out:
+        summary["files"] = files
+        emit_json(summary)
+        return
+    _print_orbit(summary, files)
+
+
+def _print_orbit(s: dict[str, Any], files: list[str]) -> None:
+    from rich.table import Table
+
+    t = Table(title=f"Period-{s['requested_period']} orbit at ω = {s['omega']:g}", show_header=False)
+    t.add_row("converged", f"{s['converged']} ({s['status']}, {s['iterations']} Newton iterations, residual {s['residual']})")
+    t.add_row("minimal period", str(s["period"]))
+    t.add_row("state (u, u') at θ = 0", f"({s['state'][0]:.10g}, {s['state'][1]:.10g})")
+    t.add_row("section points", "\n".join(f"({p[0]:.8f}, {p[1]:.8f})" for p in s["points"]))
+    t.add_row("Floquet multipliers", "\n".join(f"{m[0]:+.8f} {m[1]:+.8f}i  (|μ| = {abs(complex(*m)):.8f})"
+                                                for m in s["multipliers"]))
+    t.add_row("stable", f"{s['stable']} (instability: {s['instability']})")
+    for k in ("u_min", "u_max", "amplitude"):
+        t.add_row(k, "n/a" if s[k] is None else f"{s[k]:.8g}")
+    t.add_row("impact state", s["impact"])
+    console.print(t)
+    for f in files:
+        console.print(f"wrote {f}")
+
+
+@app.command()
+def continuation(
+    param: Annotated[str, typer.Option("--param", help="Continuation parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL.")],
+    start: Annotated[float, typer.Option("--start", help="Parameter value where the branch starts (the first orbit is found there by shooting).")],
+    stop: Annotated[float, typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")],
+    config: ConfigOpt = None,
+    omega: OmegaOpt = None,
+    xi0: Xi0Opt = None,
+    xi1: Xi1Opt = None,
+    kappa1: Kappa1Opt = None,
+    fp: FpOpt = None,
+    fe: FeOpt = None,
+    backlash: BacklashOpt = None,
+    phi_c: PhiCOpt = None,
+    phi_k: PhiKOpt = None,
+    phi_e: PhiEOpt = None,
+    period: PeriodOpt = 1,
+    guess: GuessOpt = None,
+    u0: U0Opt = 0.0,
+    v0: V0Opt = 0.0,
+    dtau: DtauOpt = DEFAULT_DTAU,
+    transient: TransientOpt = DEFAULT_TRANSIENT,
+    accurate: Annotated[bool, typer.Option("--accurate/--default-mode", help="Accurate mode (steps split at u = ±D; the default here, since its Floquet multipliers vary smoothly along a branch) or the default integration mode (faster; multipliers jump by O(Δτ) where RK4 stages cross ±D).")] = True,
+    switch: Annotated[bool, typer.Option("--switch/--no-switch", help="Switch at period doublings onto the period-2n branch and continue it.")] = True,
+    max_period: Annotated[int, typer.Option("--max-period", help="Largest period reached by branch switching.")] = 4,
+    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (u, u', parameter) (default 1% of |stop - start|).")] = None,
+    sweep_num: Annotated[int, typer.Option("--sweep-num", help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none).")] = CONTINUATION_SWEEP_NUM,
+    json_out: JsonOpt = False,
+    out: OutOpt = None,
+) -> None:
+    """Pseudo-arclength continuation of periodic orbits in any parameter: stable and unstable branches, folds,
+    period doublings (with branch switching), Neimark–Sacker points and grazing; with --out the figure shows the
+    branches over the brute-force up/down sweep."""
+    from . import validate
+    from .analysis.periodic import continuation as run_continuation
+    from .model import canonical_param
+
+    try:
+        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
+                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        name = canonical_param(param)
+        start_v, stop_v = validate.number("start", start), validate.number("stop", stop)
+        m0 = model.with_param(name, start_v)
+        opts = build_options(dtau, transient, 1, accurate, m0.omega)
+        opts.check_for(model.with_param(name, stop_v).omega)
+        n = validate.integer("period", period, 1, 1024)
+        mp = validate.integer("max-period", max_period, 1, 1024)
+        nsw = validate.integer("sweep-num", sweep_num, 0, 100_000)
+        if ds_max is not None:
+            validate.positive("ds-max", ds_max)
+        g = _parse_guess(guess)
+        state0 = validate.initial_state(u0, v0)
+        res = run_continuation(model, name, start_v, stop_v, n, g, dtau=opts.dtau, accurate=opts.accurate,
+                               switch=switch, max_period=mp, ds_max=ds_max, state0=state0)
+        sweep_ds = None
+        if out is not None and nsw > 0:
+            from .analysis.bifurcation import bifurcation, sweep_values
+
+            sweep_ds = bifurcation(model, name, sweep_values(start_v, stop_v, nsw), mode="continue", sweep="both",
+                                   state0=state0, options=IntegrationOptions(dtau=opts.dtau, transient=opts.transient,
+                                                                             periods=CONTINUATION_SWEEP_PERIODS))
+    except ModelError as e:
+        raise fail(str(e))
+    files: list[str] = []
+    if out is not None:
+        from .io import write_netcdf
+        from .plot.periodic import save_continuation
+
+        nc, figdir = out_paths(out, "continuation")
+        ds = res.to_dataset()
+        files = [str(write_netcdf(ds, nc))]
+        if sweep_ds is not None:
+            files.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
+        files += [str(p) for p in save_continuation(ds, figdir, sweep_ds)]
+    summary = res.to_json()
+    if json_out:
+        summary["files"] = files
+        emit_json(summary)
+        return
+    _print_continuation(summary, files)
+
+
+def _print_continuation(s: dict[str, Any], files: list[str]) -> None:
+    from rich.table import Table
+
+    p = s["param"]
+    t = Table(title=f"Branches in {p} from {s['start']:g} to {s['stop']:g}")
+    for col in ("branch", "period", "points", "from", "end"):
+        t.add_column(col)
+    for b in s["branches"]:
+        src = "" if b["from"] is None else f"{b['from']['type']} at {p} = {b['from'][p]:.6g}"
+        t.add_row(str(b["branch"]), str(b["period"]), str(b["points"]), src, b["end"])
+    console.print(t)
+    t = Table(title="Bifurcations")
+    for col in ("type", p, "period", "branch", "amplitude", "multipliers", "detail"):
+        t.add_column(col)
+    for b in s["bifurcations"]:
+        mus = ", ".join(f"{complex(*m):.4f}" for m in b["multipliers"])
+        t.add_row(b["type"], f"{b[p]:.6f}", str(b["period"]), str(b["branch"]), f"{b['amplitude']:.4f}", mus, b["detail"])
+    console.print(t)
+    for note in s.get("notes", []):
+        console.print(f"note: {note}", markup=False, highlight=False)
+    for f in files:
+        console.print(f"wrote {f}")
+
 #: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
 EXIT_INTERRUPTED = 130
 

@@ -25,8 +25,6 @@ Contents
 :func:`paper_stability_damping`, :func:`stability_boundary`, :func:`mathieu_boundary`, :func:`compare_stability_condition`
     The paper's stability condition ξ0 = ½√(1 − κ1²) and the stability boundaries Floquet
     analysis gives, for comparison.
-:func:`brute_force_sweep`
-    The up/down sweep by simulation with continuation of the end state, drawn under a branch.
 
 All quantities are non-dimensional (displacements in units of the characteristic length b_c,
 time τ in units of 1/ω_n).
@@ -70,7 +68,6 @@ __all__ = [
     "stability_boundary",
     "mathieu_boundary",
     "compare_stability_condition",
-    "brute_force_sweep",
     "BIFURCATION_TYPES",
 ]
 
@@ -537,18 +534,13 @@ class PeriodicOrbit:
         return ds
 
 
-def static_state(model: GearModel) -> np.ndarray:
-    """The static equilibrium in drive-side contact, u = D + f_p, u' = 0 (the default start of a guess)."""
-    return np.array([model.D + model.fp, 0.0])
-
-
 def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] | None = None, *,
                           dtau: float = DEFAULT_DTAU, accurate: bool = False,
                           transient: int = GUESS_TRANSIENT) -> np.ndarray | None:
     """A shooting guess: simulate ``transient`` periods, then pick among the next Poincaré points the
     one closest to recurring after n periods.  None if the simulation diverged."""
     rec = max(GUESS_RECORD_PER_PERIOD * n, 16)
-    s0 = static_state(model) if state0 is None else np.asarray(state0, dtype=float)
+    s0 = np.zeros(2) if state0 is None else np.asarray(state0, dtype=float)
     opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=rec, accurate=accurate)
     with _single_thread():
         res = integrate_batch([model], s0, opts)
@@ -606,7 +598,7 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
         Number of forcing periods of the orbit (the map solved is P^n).
     guess : (u, u') at θ = 0, optional
         Newton's starting point.  If omitted the guess comes from a simulation of ``transient``
-        periods from ``state0`` (default: the static equilibrium u = D + f_p, u' = 0), so the orbit
+        periods from ``state0`` (default (0, 0), as for ``geardyn simulate``), so the orbit
         found is the attractor reached from there when it is stable.
     dtau : float
         Target step Δτ (the step is T/ceil(T/Δτ)).
@@ -632,7 +624,8 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
         if guess is None:
             x0 = guess_from_simulation(model, n, state0, dtau=dtau, accurate=accurate, transient=transient)
             if x0 is None:
-                return _failed_orbit(model, n, static_state(model), "diverged", dtau, accurate, N)
+                return _failed_orbit(model, n, np.zeros(2) if state0 is None else np.asarray(state0, float),
+                                     "diverged", dtau, accurate, N)
         else:
             x0 = np.asarray(guess, dtype=float)
             if x0.shape != (2,) or not np.all(np.isfinite(x0)):
@@ -1253,7 +1246,7 @@ class ContinuationResult:
     def to_dataset(self) -> xr.Dataset:
         """One Dataset: dimension ``point`` (all branches concatenated, ``branch`` says which),
         ``section`` (section points, NaN-padded to the longest period), ``bifurcation``."""
-        from ..io import result_attrs
+        from ..io import annotate, result_attrs
 
         nmax = max([b.n for b in self.branches] + [1])
         rows = []
@@ -1336,6 +1329,7 @@ class ContinuationResult:
         }
         for k, (u, lname) in meta.items():
             ds[k].attrs.update(units=u, long_name=lname)
+        annotate(ds)
         if "long_name" not in ds[P].attrs:
             ds[P].attrs.update(units="1", long_name=f"continuation parameter {P}")
         return ds
@@ -1361,7 +1355,7 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
         Period of the first branch (forcing periods).
     guess : (u, u'), optional
         Shooting guess at ``start``; by default the attractor reached by simulation from
-        ``state0`` (default the static equilibrium).
+        ``state0`` (default (0, 0)).
     switch : bool
         Switch at every period doubling onto the period-2n branch (up to ``max_period``) and
         continue it too.
@@ -1594,70 +1588,4 @@ def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dt
     ds.attrs["max_xi0_critical_linear"] = "null" if ml is None else str(ml)
     ds.attrs["max_xi0_critical_linear_at_omega"] = "null" if wml is None else str(wml)
     ds.attrs["geardyn_kind"] = "stability_comparison"
-    return ds
-
-
-# ---------------------------------------------------------------------------------------------
-# Brute-force up/down sweep (for the figure and for checks)
-# ---------------------------------------------------------------------------------------------
-def brute_force_sweep(model: GearModel, param: str, values: Sequence[float], *, transient: int = 300,
-                      periods: int = 32, dtau: float = DEFAULT_DTAU, accurate: bool = False,
-                      state0: Sequence[float] | None = None) -> xr.Dataset:
-    """Up and down sweep by simulation, each point started from the previous point's end state.
-
-    Returns a Dataset with dims ``sweep`` (``up``, ``down``), the parameter (named ``param``) and
-    ``section`` (the recorded Poincaré points), with ``amplitude``, ``u_min``, ``u_max``,
-    ``poincare_u``, ``poincare_v``, ``period`` (0 not periodic, −1 diverged) and ``status``.
-    This is the short loop used under a continuation figure; :mod:`geardyn.analysis.bifurcation`
-    offers the full sweep engine.
-    """
-    from .classify import detect_period
-
-    param = canonical_param(param)
-    vals = np.asarray(values, dtype=float)
-    K = vals.size
-    opts = IntegrationOptions(dtau=dtau, transient=transient, periods=periods, accurate=accurate)
-    shape = (2, K)
-    out = {k: np.full(shape, np.nan) for k in ("amplitude", "u_min", "u_max")}
-    pu = np.full(shape + (periods,), np.nan)
-    pv = np.full(shape + (periods,), np.nan)
-    per = np.full(shape, -1, dtype=np.int64)
-    status = np.ones(shape, dtype=np.int64)
-    with _single_thread():
-        for j, order in enumerate((np.arange(K), np.arange(K)[::-1])):
-            s = None
-            for i in order:
-                m = model.with_param(param, float(vals[i]))
-                s0 = static_state(m) if s is None else s
-                r = integrate_batch([m], s0, opts)
-                if not r.ok[0]:
-                    s = None
-                    continue
-                s = r.end_state[0]
-                out["amplitude"][j, i] = r.amplitude[0]
-                out["u_min"][j, i] = r.u_min[0]
-                out["u_max"][j, i] = r.u_max[0]
-                pu[j, i] = r.poincare[0, :, 0]
-                pv[j, i] = r.poincare[0, :, 1]
-                per[j, i] = detect_period(r.poincare[0], max_period=min(periods // 2, 16))
-                status[j, i] = 0
-    from ..io import result_attrs
-
-    ds = xr.Dataset(
-        {
-            "amplitude": (("sweep", param), out["amplitude"]),
-            "u_min": (("sweep", param), out["u_min"]),
-            "u_max": (("sweep", param), out["u_max"]),
-            "poincare_u": (("sweep", param, "section"), pu),
-            "poincare_v": (("sweep", param, "section"), pv),
-            "period": (("sweep", param), per),
-            "status": (("sweep", param), status),
-        },
-        coords={"sweep": ["up", "down"], param: vals, "section": np.arange(periods)},
-        attrs=result_attrs("sweep", model, opts, param=param),
-    )
-    ds["sweep"].attrs.update(units="1", long_name="sweep direction (state continued from the previous point)")
-    ds["section"].attrs.update(units="1", long_name="index of the recorded forcing period")
-    if "long_name" not in ds[param].attrs:
-        ds[param].attrs.update(units="1", long_name=param)
     return ds

@@ -1,0 +1,224 @@
+"""Figures of periodic-orbit results: an orbit with its multipliers, a continuation diagram over the
+brute-force up/down sweep, and the stability-boundary comparison.  Datasets in, figures out; no
+numerics here."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .common import label, plt, save
+
+#: Colours of branches by period (period-1, 2, 4, 8, others).
+PERIOD_COLOURS = {1: "C0", 2: "C1", 4: "C2", 8: "C4"}
+#: Marker style of each bifurcation type.
+BIFURCATION_STYLE = {
+    "fold": dict(marker="o", color="C3", label="fold"),
+    "period-doubling": dict(marker="s", color="C2", label="period doubling"),
+    "neimark-sacker": dict(marker="D", color="C4", label="Neimark–Sacker"),
+    "grazing": dict(marker="^", color="0.35", label="grazing"),
+    "branch-point": dict(marker="*", color="C5", label="branch point"),
+}
+#: Brute-force Poincaré points drawn per sweep point (the last ones).
+SWEEP_SECTION_SHOWN = 16
+
+
+def _model(ds: xr.Dataset) -> dict:
+    return json.loads(ds.attrs["model"])
+
+
+def _colour(n: int) -> str:
+    return PERIOD_COLOURS.get(int(n), "C5")
+
+
+# ------------------------------------------------------------------------------------- orbit
+def orbit_figure(ds: xr.Dataset):
+    """Phase portrait with the section points, time history over the orbit, and the Floquet
+    multipliers against the unit circle (an ``orbit`` Dataset)."""
+    m = _model(ds)
+    D = float(m["D"])
+    summary = json.loads(ds.attrs.get("summary", "{}"))
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2), gridspec_kw={"width_ratios": [1.2, 1.6, 1.0]})
+    ax = axes[0]
+    if D > 0:
+        ax.axvspan(-D, D, color="0.92", label="separation |u| ≤ D")
+    if ds["u"].size:
+        ax.plot(ds["u"].values, ds["v"].values, lw=0.9, color="C0", label="orbit")
+    ax.plot(ds["poincare_u"].values, ds["poincare_v"].values, "o", color="C3", ms=5, label="section points")
+    ax.set_xlabel(label(ds["u"], "u"))
+    ax.set_ylabel(label(ds["v"], "du/dτ"))
+    ax.legend(fontsize=8)
+    ax.set_title("Phase portrait")
+
+    ax = axes[1]
+    if D > 0:
+        ax.axhspan(-D, D, color="0.92")
+    if ds["u"].size:
+        ax.plot(ds["tau"].values, ds["u"].values, lw=1.0, color="C0")
+        T = 2 * np.pi / float(m["omega"])
+        for k in range(ds.sizes["section"] + 1):
+            ax.axvline(k * T, color="C3", lw=0.5, alpha=0.6)
+    ax.set_xlabel(label(ds["tau"], "τ"))
+    ax.set_ylabel(label(ds["u"], "u"))
+    per = summary.get("period")
+    ax.set_title(f"Period-{per if per else '?'} orbit at ω = {float(m['omega']):g}  ({summary.get('impact', '')})")
+
+    ax = axes[2]
+    th = np.linspace(0, 2 * np.pi, 256)
+    ax.plot(np.cos(th), np.sin(th), color="0.5", lw=0.8)
+    ax.axhline(0, color="0.8", lw=0.6)
+    ax.axvline(0, color="0.8", lw=0.6)
+    ax.plot(ds["multiplier_re"].values, ds["multiplier_im"].values, "x", color="C3", ms=9, mew=2)
+    ax.set_aspect("equal")
+    r = max(1.1, float(np.nanmax(np.hypot(ds["multiplier_re"].values, ds["multiplier_im"].values))) * 1.1
+            if np.any(np.isfinite(ds["multiplier_re"].values)) else 1.1)
+    ax.set_xlim(-r, r)
+    ax.set_ylim(-r, r)
+    ax.set_xlabel("Re μ")
+    ax.set_ylabel("Im μ")
+    stable = summary.get("stable")
+    ax.set_title("Floquet multipliers (" + ("stable" if stable else "unstable") + ")")
+    fig.tight_layout()
+    return fig
+
+
+# ------------------------------------------------------------------------------ continuation
+def _runs(mask: np.ndarray) -> list[tuple[int, int, bool]]:
+    """Contiguous runs (i0, i1 inclusive, value) of a boolean array."""
+    out = []
+    if mask.size == 0:
+        return out
+    i0 = 0
+    for i in range(1, mask.size + 1):
+        if i == mask.size or mask[i] != mask[i0]:
+            out.append((i0, i - 1, bool(mask[i0])))
+            i0 = i
+    return out
+
+
+def _draw_branches(ax, ds: xr.Dataset, param: str, what: str) -> None:
+    """Branches of a continuation Dataset, stable solid and unstable dashed (runs overlap by one point)."""
+    x_all = ds[param].values
+    seen_labels = set()
+    for b in np.unique(ds["branch"].values):
+        sel = np.nonzero(ds["branch"].values == b)[0]
+        n = int(ds["period"].values[sel[0]])
+        x = x_all[sel]
+        stable = ds["stable"].values[sel].astype(bool)
+        if what == "amplitude":
+            ys = [ds["amplitude"].values[sel]]
+        else:
+            ys = [ds["poincare_u"].values[sel, k] for k in range(n)]
+        for i0, i1, st in _runs(stable):
+            j1 = min(i1 + 1, len(sel) - 1)
+            lab = f"period-{n} {'stable' if st else 'unstable'}"
+            for y in ys:
+                ax.plot(x[i0:j1 + 1], y[i0:j1 + 1], ls="-" if st else "--", lw=1.6 if st else 1.1,
+                        color=_colour(n), label=None if lab in seen_labels else lab, zorder=3)
+                seen_labels.add(lab)
+
+
+def _draw_sweep(ax, sweep: xr.Dataset, param: str, what: str) -> None:
+    styles = {"up": dict(marker=".", color="0.45", ms=4), "down": dict(marker="x", color="0.7", ms=3.5)}
+    x = sweep[param].values
+    for lab in sweep["sweep"].values:
+        st = styles.get(str(lab), dict(marker=".", color="0.5", ms=3))
+        s = sweep.sel(sweep=lab)
+        if what == "amplitude":
+            ax.plot(x, s["amplitude"].values, ls="none", label=f"simulation, sweep {lab}", zorder=2, **st)
+        else:
+            pu = s["poincare_u"].values[:, -SWEEP_SECTION_SHOWN:]
+            xx = np.repeat(x[:, None], pu.shape[1], axis=1)
+            ax.plot(xx.ravel(), pu.ravel(), ls="none", label=f"simulation, sweep {lab}", zorder=2, **st)
+
+
+def _draw_bifurcations(ax, ds: xr.Dataset, param: str, what: str) -> None:
+    if ds.sizes.get("bifurcation", 0) == 0:
+        return
+    seen = set()
+    for i in range(ds.sizes["bifurcation"]):
+        typ = str(ds["bifurcation_type"].values[i])
+        st = BIFURCATION_STYLE.get(typ, dict(marker="P", color="k", label=typ))
+        x = float(ds[f"bifurcation_{param}"].values[i])
+        y = float(ds["bifurcation_amplitude"].values[i]) if what == "amplitude" else float(ds["bifurcation_u"].values[i])
+        ax.plot([x], [y], ls="none", marker=st["marker"], color=st["color"], ms=7, mfc="white", mew=1.8, zorder=5,
+                label=None if typ in seen else st["label"])
+        seen.add(typ)
+
+
+def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None):
+    """The branches of a ``continuation`` Dataset (stable solid, unstable dashed, coloured by period)
+    with their bifurcations, over the brute-force up/down sweep ``sweep`` of the same parameter
+    (a Dataset with dims ``sweep`` and the parameter, variables ``amplitude`` and ``poincare_u``, as
+    written by ``geardyn bifurcation --mode continue --sweep both``).  Top: amplitude; bottom:
+    section points u."""
+    param = ds.attrs["param"]
+    fig, axes = plt.subplots(2, 1, figsize=(10, 8.5), sharex=True)
+    for ax, what in zip(axes, ("amplitude", "section")):
+        if sweep is not None:
+            _draw_sweep(ax, sweep, param, what)
+        _draw_branches(ax, ds, param, what)
+        _draw_bifurcations(ax, ds, param, what)
+        ax.grid(alpha=0.3)
+    m = _model(ds)
+    D = float(m["D"])
+    if D > 0:
+        axes[1].axhline(D, color="0.6", lw=0.8)
+        axes[1].axhline(-D, color="0.6", lw=0.8)
+    axes[0].set_ylabel(label(ds["amplitude"]))
+    axes[1].set_ylabel(label(ds["poincare_u"]))
+    axes[1].set_xlabel(label(ds[param], param))
+    axes[0].legend(fontsize=7, ncol=2, loc="best")
+    fixed = ", ".join(f"{k} = {m[k]:g}" for k in ("xi0", "fp", "D") if k != param)
+    axes[0].set_title(f"Continuation in {param} ({fixed}): periodic orbits over the brute-force up/down sweep")
+    fig.tight_layout()
+    return fig
+
+
+# ---------------------------------------------------------------------------- stability boundary
+def stability_figure(ds: xr.Dataset):
+    """Floquet stability boundaries ξ0_c(ω) against the paper's condition ξ0 = ½√(1 − κ1²)
+    (a Dataset from :func:`geardyn.analysis.periodic.compare_stability_condition`)."""
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    om = ds["omega"].values
+    if "xi0_critical_linear" in ds:
+        ax.plot(om, ds["xi0_critical_linear"].values, "-", color="C0",
+                label="linear contact model (D = 0, unforced): Mathieu–Hill boundary")
+    crit = ds["xi0_critical"].values
+    kinds = ds["bifurcation_type"].values.astype(str)
+    for typ in sorted(set(kinds)):
+        if typ not in BIFURCATION_STYLE:
+            continue
+        sel = kinds == typ
+        st = BIFURCATION_STYLE[typ]
+        ax.plot(om[sel], crit[sel], ls="none", marker=st["marker"], color=st["color"], mfc="white",
+                label=f"full model, period-1 response loses stability by {st['label']}")
+    paper = float(ds["xi0_paper"].values) if "xi0_paper" in ds else float(ds.attrs["xi0_paper"])
+    ax.axhline(paper, color="C3", ls="--", label=f"paper's condition ½√(1 − κ1²) = {paper:.4f}")
+    ax.set_xlabel("mesh frequency ω")
+    ax.set_ylabel("critical mean damping ratio ξ0")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title("Stability boundaries from Floquet multipliers vs the paper's condition")
+    fig.tight_layout()
+    return fig
+
+
+# ----------------------------------------------------------------------------------- saving
+def save_orbit(ds: xr.Dataset, directory: str | Path) -> list[Path]:
+    """Write the orbit figure as PNG into ``directory``."""
+    return [save(orbit_figure(ds), Path(directory) / "orbit.png")]
+
+
+def save_continuation(ds: xr.Dataset, directory: str | Path, sweep: xr.Dataset | None = None) -> list[Path]:
+    """Write the continuation figure as PNG into ``directory``."""
+    return [save(continuation_figure(ds, sweep), Path(directory) / "continuation.png")]
+
+
+def save_stability(ds: xr.Dataset, directory: str | Path) -> list[Path]:
+    """Write the stability-boundary figure as PNG into ``directory``."""
+    return [save(stability_figure(ds), Path(directory) / "stability_boundary.png")]
