@@ -1,6 +1,64 @@
-"""geardyn: nonlinear dynamics of gear pairs with backlash."""
+"""geardyn: nonlinear dynamics of gear pairs with backlash.
 
-from .model import GearModel, IntegrationOptions, ModelError, PAPER_DEFAULTS
+The main entry points, importable from here:
+
+* the non-dimensional model: :class:`GearModel`, :class:`IntegrationOptions`, :class:`ModelError`;
+* the gear pair and its units: :class:`SpiralBevelGearPair`, :func:`load_config`,
+  :class:`PhysicalScales`;
+* analyses: :func:`simulate` (steady response), :func:`trajectory`, :func:`integrate_batch`,
+  :func:`period_map`, :func:`lyapunov_spectrum`, :func:`bifurcation`, :func:`shoot`,
+  :func:`continuation`;
+* physical outputs: :func:`add_physical`, :func:`simulate_physical`;
+* results on disk: :func:`read_netcdf`, :func:`write_netcdf`; every result Dataset has the
+  ``ds.geardyn`` accessor (``ds.geardyn.plot()``).
+
+Only the model and the xarray accessor are imported with the package; everything else (the numba
+kernel, pint, matplotlib) is imported on first use.
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
 
 __version__ = "0.1.0"
-__all__ = ["GearModel", "IntegrationOptions", "ModelError", "PAPER_DEFAULTS", "__version__"]
+
+from .model import PAPER_DEFAULTS, GearModel, IntegrationOptions, ModelError  # noqa: E402
+from . import accessor as _accessor  # noqa: E402,F401  (registers ds.geardyn)
+
+#: Public names imported on first access: name -> module.
+_LAZY = {
+    "SpiralBevelGearPair": ".geometry",
+    "MeshHarmonics": ".geometry",
+    "load_config": ".config",
+    "LoadedConfig": ".config",
+    "PhysicalScales": ".units",
+    "simulate": ".analysis.steady",
+    "SteadyState": ".analysis.steady",
+    "trajectory": ".integrate",
+    "integrate_batch": ".integrate",
+    "period_map": ".integrate",
+    "lyapunov_spectrum": ".analysis.lyapunov",
+    "bifurcation": ".analysis.bifurcation",
+    "shoot": ".analysis.periodic",
+    "continuation": ".analysis.periodic",
+    "add_physical": ".analysis.physical",
+    "simulate_physical": ".analysis.physical",
+    "read_netcdf": ".io",
+    "write_netcdf": ".io",
+}
+
+__all__ = ["GearModel", "IntegrationOptions", "ModelError", "PAPER_DEFAULTS", "__version__", *_LAZY]
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'geardyn' has no attribute {name!r}")
+    value = getattr(import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

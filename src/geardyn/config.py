@@ -422,7 +422,10 @@ class LoadedConfig:
             changes["fp"] = sc.fp_from_torque(torque)
             out["torque"] = float(torque)
             out["torque2"] = None
-        return replace(self, model=self.model.replace(**changes), **out)
+        # a speed or torque given here is no longer the configuration's assumed operating point
+        dropped = {k for k in ("rpm", "torque", "torque2") if k in out}
+        assumptions = tuple(a for a in self.assumptions if a.name not in dropped)
+        return replace(self, model=self.model.replace(**changes), assumptions=assumptions, **out)
 
     def geometry_summary(self) -> dict[str, Any]:
         """:func:`~geardyn.geometry.geometry_summary` at this configuration's operating point.

@@ -1,0 +1,84 @@
+"""The ``geardyn`` accessor of :class:`xarray.Dataset`: ``ds.geardyn.plot()`` and friends.
+
+Importing :mod:`geardyn` registers it::
+
+    import geardyn, xarray as xr
+    ds = geardyn.read_netcdf("results/simulate.nc")
+    ds.geardyn.kind            # "simulate"
+    ds.geardyn.model           # the GearModel that produced it
+    ds.geardyn.physical()      # a copy with rpm, µm, N variables (scales of the paper's pair by default)
+    ds.geardyn.plot("figs")    # the figures of ``geardyn plot``, as PNG files
+
+Nothing heavy is imported until a method is called (matplotlib only by :meth:`plot`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import xarray as xr
+
+__all__ = ["GeardynAccessor"]
+
+
+@xr.register_dataset_accessor("geardyn")
+class GeardynAccessor:
+    """geardyn methods on a result Dataset (``ds.geardyn``)."""
+
+    def __init__(self, ds: xr.Dataset):
+        self._ds = ds
+
+    @property
+    def kind(self) -> str | None:
+        """The kind of result (``geardyn_kind`` attribute), e.g. ``"simulate"``; ``None`` if not a geardyn result."""
+        return self._ds.attrs.get("geardyn_kind")
+
+    @property
+    def model(self):
+        """The :class:`~geardyn.model.GearModel` stored with the result."""
+        from .io import model_from_attrs
+
+        return model_from_attrs(self._ds)
+
+    @property
+    def scales(self):
+        """The :class:`~geardyn.units.PhysicalScales` stored with the result, or ``None``."""
+        from .units import PhysicalScales
+
+        return PhysicalScales.from_attrs(self._ds.attrs)
+
+    def physical(self, scales: Any = None) -> xr.Dataset:
+        """A copy with physical coordinates and variables (see :func:`geardyn.analysis.physical.add_physical`).
+
+        Parameters
+        ----------
+        scales : PhysicalScales, LoadedConfig, path of a configuration, or None
+            The gear pair; ``None`` uses the scales stored in the result, else the paper's Table 1
+            pair (k0 assumed).
+        """
+        from .analysis.physical import add_physical
+
+        return add_physical(self._ds, scales)
+
+    def plot(self, directory: str | Path | None = None) -> list[Path]:
+        """Draw the result's figures as PNG files, like ``geardyn plot``; returns their paths.
+
+        Parameters
+        ----------
+        directory : str or Path, optional
+            Where to write them; default the directory of the file the Dataset was read from,
+            else the current directory.
+        """
+        from .plot import save_figures
+
+        if directory is None:
+            src = self._ds.encoding.get("source")
+            directory = Path(src).parent if src else Path.cwd()
+        return save_figures(self._ds, directory)
+
+    def to_netcdf(self, path: str | Path) -> Path:
+        """Write the result atomically with geardyn's conventions (:func:`geardyn.io.write_netcdf`)."""
+        from .io import write_netcdf
+
+        return write_netcdf(self._ds, path)

@@ -1,0 +1,229 @@
+"""Physical outputs of a result: transmission error in µm, mesh force in N, dynamic factor, Hz, rpm.
+
+Everything here post-processes a result Dataset with the scales of a gear pair
+(:class:`~geardyn.units.PhysicalScales`); nothing is integrated again.
+
+Mesh force
+----------
+The normal mesh force is F_n = c_n(t) u_n′ + k_n(t) f(u_n) (``docs/model.md`` §2).  With
+u_n = b_c u, d/dt = ω_n d/dτ, c_n = 2 m_e ω_n ξ(θ), k_n = k0 K(θ) and m_e ω_n² = k0:
+
+    c_n u_n′ = 2 ξ(θ) m_e ω_n · b_c ω_n u′ = k0 b_c · 2 ξ(θ) u′,
+    k_n f(u_n) = k0 K(θ) · b_c f(u; D),
+
+so F_n / (k0 b_c) = 2 ξ(θ) u′ + K(θ) f(u; D) = C(θ) u′ + K(θ) f(u; D), with C and K the first two
+coefficient functions of :meth:`GearModel.coefficients` and θ = ω τ.  The static mesh force is
+F_p = f_p k0 b_c, and the **dynamic factor** is max F_n / F_p over the time history kept.  As in the
+model, the viscous term acts whenever the teeth move relative to each other, also in separation.
+
+Dynamic transmission error
+--------------------------
+The DTE is u_n = b_c u, the mesh deflection along the line of action relative to the rigid-body
+motion with the static transmission error removed (the model's coordinate); ``dte_rms_um`` is its
+RMS about the mean over all recorded periods, ``dte_amplitude_um`` half its peak-to-peak value.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..io import model_from_attrs
+from ..model import GearModel
+from ..units import SCALES_ATTR, PhysicalScales, scales_of
+
+__all__ = [
+    "add_physical",
+    "mesh_force",
+    "simulate_physical",
+    "spectrum_peaks",
+]
+
+#: Number of spectral lines listed by :func:`spectrum_peaks`.
+N_PEAKS = 5
+#: Lines smaller than this fraction of the largest line are not listed as peaks.
+PEAK_REL_THRESHOLD = 1e-3
+
+#: Non-dimensional variables of sweep results that are displacements (converted to µm).
+DISPLACEMENT_VARIABLES = ("amplitude", "rms", "mean", "u_min", "u_max", "poincare_u", "amplitude_up", "amplitude_down")
+
+
+def mesh_force(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Non-dimensional mesh force F_n/(k0 b_c) = C(θ) u′ + K(θ) f(u; D) at θ = ω τ.
+
+    Parameters
+    ----------
+    model : GearModel
+        The model that produced the trajectory.
+    tau : ndarray
+        Non-dimensional time, with θ = ω τ ≡ 0 (mod 2π) at τ = 0 (as in the ``simulate`` Dataset).
+    u, v : ndarray
+        Displacement u and velocity u′ = du/dτ (non-dimensional) at ``tau``.
+
+    Returns
+    -------
+    ndarray
+        The force in units of k0 b_c (multiply by :attr:`PhysicalScales.force_scale_N` for N).
+    """
+    tau, u, v = (np.asarray(x, dtype=float) for x in (tau, u, v))
+    cf = model.coefficients()
+    j = np.arange(cf.shape[1])[:, None]
+    th = model.omega * tau[None, :]
+    cj, sj = np.cos(j * th), np.sin(j * th)
+    C = cf[0, :, 0] @ cj + cf[0, :, 1] @ sj
+    K = cf[1, :, 0] @ cj + cf[1, :, 1] @ sj
+    return C * v + K * model.restoring(u)
+
+
+def spectrum_peaks(order: np.ndarray, amplitude: np.ndarray, scales: PhysicalScales, omega: float,
+                   n: int = N_PEAKS) -> list[dict[str, float]]:
+    """The largest lines of an amplitude spectrum of u (order 0, the mean, excluded).
+
+    Returns a list of ``{"order", "frequency_Hz", "amplitude", "amplitude_um"}``, largest first:
+    the frequency as an order of the mesh frequency and in Hz, the amplitude non-dimensional and in µm.
+    """
+    order = np.asarray(order, dtype=float)
+    amp = np.asarray(amplitude, dtype=float)
+    keep = (order > 0) & np.isfinite(amp)
+    if not np.any(keep):
+        return []
+    o, a = order[keep], amp[keep]
+    top = float(np.max(a))
+    idx = [i for i in np.argsort(-a)[:n] if a[i] > PEAK_REL_THRESHOLD * top]
+    f_mesh = float(scales.hz_from_omega(omega))
+    return [
+        {"order": float(o[i]), "frequency_Hz": float(o[i] * f_mesh), "amplitude": float(a[i]),
+         "amplitude_um": float(scales.um_from_u(a[i]))}
+        for i in idx
+    ]
+
+
+def _num(x: Any) -> float | None:
+    try:
+        x = float(x)
+    except (TypeError, ValueError):
+        return None
+    return x if np.isfinite(x) else None
+
+
+def _set(ds: xr.Dataset, name: str, dims: Any, data: Any, units: str, long_name: str, coord: bool = False) -> None:
+    var = xr.Variable(dims, np.asarray(data, dtype=float), attrs={"units": units, "long_name": long_name})
+    if coord:
+        ds.coords[name] = var
+    else:
+        ds[name] = var
+
+
+def simulate_physical(ds: xr.Dataset, scales: Any = None) -> dict[str, Any]:
+    """Physical summary of a ``simulate`` Dataset (JSON-ready).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``simulate`` result (variables ``u``, ``v`` on ``tau``; ``spectrum`` on ``order``; the
+        model and the non-dimensional summary in its attributes).
+    scales : PhysicalScales, LoadedConfig or None
+        The gear pair's scales; ``None`` uses the scales stored in ``ds`` if any, else the
+        paper's Table 1 pair (k0 assumed).
+
+    Returns
+    -------
+    dict
+        ``omega``, ``rpm``, ``mesh_frequency_Hz``, ``natural_frequency_Hz``, ``fp``,
+        ``torque_N_m``, ``static_force_N``; ``dynamic_factor`` (max mesh force / F_p; ``None`` if
+        F_p <= 0), ``mesh_force_max_N``, ``mesh_force_min_N``, ``mesh_force_mean_N``;
+        ``dte_rms_um``, ``dte_amplitude_um``, ``dte_mean_um``, ``dte_min_um``, ``dte_max_um``,
+        ``backlash_um`` (half backlash D b_c); ``spectrum_peaks``; ``history_periods`` (how many
+        periods the force extremes are taken over); ``pair`` (the statement of the pair and its
+        k0) and ``assumed``.  ``None`` for values of a diverged run.
+    """
+    sc = _resolve_scales(ds, scales)
+    model = model_from_attrs(ds)
+    summ = json.loads(ds.attrs.get("summary", "{}"))
+    force = mesh_force(model, ds["tau"].values, ds["u"].values, ds["v"].values)
+    ok = bool(np.all(np.isfinite(force))) and summ.get("status", "ok") == "ok"
+    fmax = float(np.max(force)) if ok else None
+    out: dict[str, Any] = dict(sc.operating_point(model))
+    out["dynamic_factor"] = (fmax / model.fp) if (ok and model.fp > 0) else None
+    out["mesh_force_max_N"] = float(sc.N_from_force(fmax)) if ok else None
+    out["mesh_force_min_N"] = float(sc.N_from_force(np.min(force))) if ok else None
+    out["mesh_force_mean_N"] = float(sc.N_from_force(np.mean(force[:-1]))) if ok else None
+    for key, nd in (("dte_rms_um", "rms"), ("dte_amplitude_um", "amplitude"), ("dte_mean_um", "mean"),
+                    ("dte_min_um", "u_min"), ("dte_max_um", "u_max")):
+        x = _num(summ.get(nd))
+        out[key] = float(sc.um_from_u(x)) if x is not None else None
+    out["backlash_um"] = float(sc.um_from_u(model.D))
+    out["spectrum_peaks"] = spectrum_peaks(ds["order"].values, ds["spectrum"].values, sc, model.omega) if ok else []
+    out["history_periods"] = int(ds.attrs.get("history_periods", 0)) or None
+    out["pair"] = sc.statement()
+    out["assumed"] = list(sc.assumed)
+    return out
+
+
+def _resolve_scales(ds: xr.Dataset, scales: Any) -> PhysicalScales:
+    if scales is None:
+        stored = PhysicalScales.from_attrs(ds.attrs)
+        if stored is not None:
+            return stored
+    return scales_of(scales)
+
+
+def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
+    """A copy of a result Dataset with physical coordinates and variables added.
+
+    Whatever the kind of result:
+
+    * an ``omega`` coordinate gains ``rpm`` (pinion speed) and ``mesh_frequency_Hz``;
+    * an ``fp`` coordinate gains ``torque_N_m`` (pinion torque, balanced);
+    * displacement variables (:data:`DISPLACEMENT_VARIABLES`) gain ``<name>_um`` copies in µm;
+    * ``lle`` gains ``lle_per_s`` (1/s);
+    * the scales are stored as the JSON attribute ``physical_scales``.
+
+    A ``simulate`` result further gains ``time_s`` (on ``tau``), ``dte_um``, ``mesh_force``
+    (units k0 b_c) and ``mesh_force_N`` (on ``tau``), ``frequency_Hz`` (on ``order``),
+    ``spectrum_um`` and the attribute ``physical_summary`` (:func:`simulate_physical`, JSON).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+    scales : PhysicalScales, LoadedConfig or None
+        The gear pair's scales (``None``: stored ones, else the paper's Table 1 pair).
+    """
+    sc = _resolve_scales(ds, scales)
+    out = ds.copy()
+    out.attrs[SCALES_ATTR] = sc.to_json()
+    if "omega" in out.coords or "omega" in out.dims:
+        w = out["omega"]
+        _set(out, "rpm", w.dims, sc.rpm_from_omega(w.values), "rpm", "pinion speed", coord=True)
+        _set(out, "mesh_frequency_Hz", w.dims, sc.hz_from_omega(w.values), "Hz", "mesh frequency", coord=True)
+    if "fp" in out.coords:
+        f = out["fp"]
+        _set(out, "torque_N_m", f.dims, sc.torque_from_fp(f.values), "N·m", "pinion torque (balanced)", coord=True)
+    for name in DISPLACEMENT_VARIABLES:
+        if name in out.data_vars:
+            da = out[name]
+            base = da.attrs.get("long_name", name)
+            _set(out, f"{name}_um", da.dims, sc.um_from_u(da.values), "µm", f"{base} (dynamic transmission error)")
+    if "lle" in out.data_vars:
+        _set(out, "lle_per_s", out["lle"].dims, sc.per_s_from_per_tau(out["lle"].values), "1/s",
+             "largest Lyapunov exponent per second")
+    if out.attrs.get("geardyn_kind") == "simulate" and {"tau", "u", "v"} <= set(out.variables):
+        model = model_from_attrs(out)
+        tau = out["tau"].values
+        f = mesh_force(model, tau, out["u"].values, out["v"].values)
+        _set(out, "time_s", ("tau",), sc.s_from_tau(tau), "s", "time", coord=True)
+        _set(out, "dte_um", ("tau",), sc.um_from_u(out["u"].values), "µm", "dynamic transmission error u_n")
+        _set(out, "mesh_force", ("tau",), f, "1", "mesh force F_n/(k0 b_c)")
+        _set(out, "mesh_force_N", ("tau",), sc.N_from_force(f), "N", "dynamic mesh force F_n")
+        if "order" in out.coords:
+            _set(out, "frequency_Hz", ("order",), sc.hz_from_omega(model.omega * out["order"].values), "Hz",
+                 "frequency", coord=True)
+        if "spectrum" in out.data_vars:
+            _set(out, "spectrum_um", ("order",), sc.um_from_u(out["spectrum"].values), "µm",
+                 "amplitude spectrum of the dynamic transmission error")
+        out.attrs["physical_summary"] = json.dumps(simulate_physical(out, sc), sort_keys=True)
+    return out

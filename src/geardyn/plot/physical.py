@@ -1,0 +1,113 @@
+"""Figures in physical units (µm, N, Hz, ms, rpm) from results that carry physical variables.
+
+Drawn when a result has been through :func:`geardyn.analysis.physical.add_physical` (the CLI does
+this for every result of a configured gear pair).  Axis labels come from the variables' ``units``
+and ``long_name`` attributes.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .common import label, plt, save
+
+#: Periods of the time history drawn.
+TIME_PERIODS_SHOWN = 8
+#: Variables drawn against pinion speed, in order of preference, for results with an ``rpm`` coordinate.
+RPM_CURVE_VARIABLES = ("amplitude_um", "rms_um", "u_max_um", "poincare_u_um")
+
+
+def _model(ds: xr.Dataset) -> dict:
+    return json.loads(ds.attrs["model"])
+
+
+def time_history(ds: xr.Dataset):
+    """Dynamic transmission error (µm) and dynamic mesh force (N) against time (ms), last periods."""
+    m = _model(ds)
+    T = 2 * np.pi / float(m["omega"])
+    tau = ds["tau"].values
+    keep = tau >= tau[-1] - TIME_PERIODS_SHOWN * T - 1e-12
+    t_ms = ds["time_s"].values[keep] * 1e3
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
+    dte = ds["dte_um"]
+    scale = float(dte.values[1] / ds["u"].values[1]) if ds["u"].values[1] != 0 else None
+    if scale and m["D"] > 0:
+        b = m["D"] * scale
+        a1.axhspan(-b, b, color="0.9", label="separation (inside the backlash)")
+    a1.plot(t_ms, dte.values[keep], lw=1.0, color="C0")
+    a1.set_ylabel(label(dte))
+    a1.legend(loc="upper right", fontsize=8)
+    F = ds["mesh_force_N"]
+    a2.plot(t_ms, F.values[keep] * 1e-3, lw=1.0, color="C1")
+    summ = json.loads(ds.attrs.get("physical_summary", "{}"))
+    if summ.get("static_force_N") is not None:
+        a2.axhline(summ["static_force_N"] * 1e-3, color="k", ls="--", lw=0.8, label="static mesh force F_p")
+        a2.legend(loc="upper right", fontsize=8)
+    a2.set_ylabel(f"{F.attrs.get('long_name', 'mesh force')} [kN]")
+    a2.set_xlabel("time [ms]")
+    title = f"{summ.get('rpm', float('nan')):.6g} rpm"
+    if summ.get("dynamic_factor") is not None:
+        title += f", dynamic factor {summ['dynamic_factor']:.3g}"
+    a1.set_title(title)
+    return fig
+
+
+def spectrum_hz(ds: xr.Dataset):
+    """Amplitude spectrum of the DTE (µm) against frequency (Hz), with mesh orders on the top axis."""
+    f = ds["frequency_Hz"].values
+    amp = ds["spectrum_um"].values
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    ax.vlines(f[1:], 1e-12, np.maximum(amp[1:], 1e-12), color="C0", lw=1.0)
+    ax.set_yscale("log")
+    top = max(float(np.max(amp[1:])) if amp.size > 1 else 1.0, 1e-12)
+    ax.set_ylim(max(top * 1e-6, 1e-12), top * 2)
+    ax.set_xlabel(label(ds["frequency_Hz"]))
+    ax.set_ylabel(label(ds["spectrum_um"]))
+    order = ds["order"].values
+    if order.size > 1 and order[1] > 0:
+        hz_per_order = f[1] / order[1]
+        sec = ax.secondary_xaxis("top", functions=(lambda x: x / hz_per_order, lambda o: o * hz_per_order))
+        sec.set_xlabel("order of the mesh frequency")
+    return fig
+
+
+def rpm_curve(ds: xr.Dataset, name: str):
+    """A result variable (µm) against pinion speed (rpm), one line per extra dimension."""
+    da = ds[name]
+    rpm = ds["rpm"]
+    dim = rpm.dims[0]
+    fig, ax = plt.subplots(figsize=(7.5, 4))
+    others = [d for d in da.dims if d != dim]
+    if not others:
+        ax.plot(rpm.values, da.values, ".-", ms=3, lw=0.8)
+    else:
+        flat = da.stack(_line=others).transpose(dim, "_line")
+        for i in range(flat.sizes["_line"]):
+            lab = ", ".join(f"{k}={v}" for k, v in zip(others, np.atleast_1d(flat["_line"].values[i])))
+            style = ".-" if flat.sizes["_line"] <= 4 else ","
+            ax.plot(rpm.values, flat.values[:, i], style, ms=3, lw=0.8, label=lab if flat.sizes["_line"] <= 4 else None)
+        if flat.sizes["_line"] <= 4:
+            ax.legend(fontsize=8)
+    ax.set_xlabel(label(rpm))
+    ax.set_ylabel(label(da))
+    return fig
+
+
+def save_physical(ds: xr.Dataset, directory: str | Path) -> list[Path]:
+    """Write the physical-unit figures a result supports into ``directory``; ``[]`` if none."""
+    d = Path(directory)
+    paths: list[Path] = []
+    if {"time_s", "dte_um", "mesh_force_N"} <= set(ds.variables):
+        paths.append(save(time_history(ds), d / "physical_time_history.png"))
+    if {"frequency_Hz", "spectrum_um"} <= set(ds.variables):
+        paths.append(save(spectrum_hz(ds), d / "spectrum_hz.png"))
+    if "rpm" in ds.coords and ds["rpm"].ndim == 1 and ds.attrs.get("geardyn_kind") != "simulate":
+        for name in RPM_CURVE_VARIABLES:
+            if name in ds.data_vars and ds["rpm"].dims[0] in ds[name].dims and ds[name].ndim <= 3:
+                paths.append(save(rpm_curve(ds, name), d / f"{name}_vs_rpm.png"))
+                break
+    return paths
