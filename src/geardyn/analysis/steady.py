@@ -16,7 +16,7 @@ import xarray as xr
 from ..integrate import ST_OK, BatchResult, Trajectory, trajectory
 from ..io import result_attrs
 from ..model import GearModel, IntegrationOptions
-from .classify import IMPACT_LABELS, detect_period, impact_state, period_label
+from .classify import IMPACT_LABELS, classify_batch, detect_period, impact_state, motion_label, period_label
 
 #: Periods of time history kept by :func:`simulate` (also the spectrum's length: resolution 1/32 order).
 HISTORY_PERIODS = 32
@@ -88,6 +88,7 @@ class SteadyState:
             "omega": self.model.omega,
             "poincare": self.poincare.tolist(),
             "motion": s["motion"],
+            "lle": s.get("lle"),
             "period": s["period"],
             "impact": s["impact"],
             "amplitude": s["amplitude"],
@@ -150,6 +151,13 @@ def simulate(
     arr = summarize_batch(t.summary)
     period = int(arr["period"][0])
     ok = int(arr["status"][0]) == ST_OK
+    # Full motion classification; the Lyapunov spectrum is computed (by integrating on from the
+    # end state) only when no period was found.
+    cls = classify_batch(t.summary) if ok and period == 0 else None
+    if cls is not None:
+        period = int(cls["period"][0])
+    motion = motion_label(int(cls["motion"][0]), period) if cls is not None else (
+        period_label(period) if ok else "diverged")
 
     def f(key: str) -> float | None:
         x = float(arr[key][0])
@@ -157,7 +165,7 @@ def simulate(
 
     summary = {
         "period": period if period > 0 else None,
-        "motion": period_label(period) if ok else "diverged",
+        "motion": motion,
         "impact": IMPACT_LABELS[int(arr["impact"][0])],
         "amplitude": f("amplitude"),
         "rms": f("rms"),
@@ -168,5 +176,7 @@ def simulate(
             "drive": f("fraction_drive"), "separation": f("fraction_separation"), "back": f("fraction_back"),
         },
         "status": "ok" if ok else "diverged",
+        "lle": float(cls["lle"][0]) if cls is not None and np.isfinite(cls["lle"][0]) else None,
+        "lle_err": float(cls["lle_err"][0]) if cls is not None and np.isfinite(cls["lle_err"][0]) else None,
     }
     return SteadyState(model, options, (float(state0[0]), float(state0[1])), t, summary)
