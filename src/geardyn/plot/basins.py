@@ -1,0 +1,57 @@
+"""Basins of attraction: the grid of initial states coloured by the attractor reached, with the
+attractors' Poincaré points on top.  Drawn from the Dataset only."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch
+
+from .common import label, plt, save
+
+#: Basin colours (attractor 0, 1, …; cycled), diverged in black.
+BASIN_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b", "#bcbddc", "#fc9272", "#fdd0a2", "#c7e9c0", "#dadaeb"]
+#: Marker colours of the attractors' Poincaré points.
+POINT_COLORS = ["#08519c", "#a63603", "#006d2c", "#54278f", "#a50f15", "#7f2704", "#00441b", "#3f007d"]
+
+
+def basin_figure(ds: xr.Dataset):
+    """Basins over (u0, v0) with the attractors' Poincaré points and a legend of period and basin share."""
+    import json
+
+    from ..analysis.classify import motion_label
+
+    lab = ds["attractor"].values
+    A = ds.sizes["attractor_index"]
+    colors = ["#000000"] + [BASIN_COLORS[k % len(BASIN_COLORS)] for k in range(A)]
+    fig, ax = plt.subplots(figsize=(7, 6))
+    ax.pcolormesh(ds["u0"].values, ds["v0"].values, lab + 1, cmap=ListedColormap(colors), vmin=-0.5,
+                  vmax=A + 0.5, shading="nearest")
+    handles = []
+    for k in range(A):
+        u = ds["attractor_u"].values[k]
+        v = ds["attractor_v"].values[k]
+        pc = POINT_COLORS[k % len(POINT_COLORS)]
+        ax.plot(u, v, "o", ms=6, mfc=pc, mec="w", mew=1.0)
+        per = int(ds["attractor_period"].values[k])
+        name = motion_label(int(ds["attractor_motion"].values[k]), per)
+        frac = float(ds["attractor_fraction"].values[k])
+        amp = float(ds["attractor_amplitude"].values[k])
+        handles.append(Patch(color=BASIN_COLORS[k % len(BASIN_COLORS)],
+                             label=f"{k}: {name}, amplitude {amp:.3g}, basin {100 * frac:.1f} %"))
+    if np.any(lab < 0):
+        handles.append(Patch(color="#000000", label=f"diverged {100 * np.mean(lab < 0):.1f} %"))
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=8, frameon=False)
+    ax.set_xlabel(label(ds["u0"], "u0"))
+    ax.set_ylabel(label(ds["v0"], "v0"))
+    omega = json.loads(ds.attrs["model"])["omega"]
+    ax.set_title(f"Basins of attraction at ω = {omega:g} (dots: attractors' Poincaré points)")
+    return fig
+
+
+def save_all(ds: xr.Dataset, directory: str | Path) -> list[Path]:
+    """Write the basin figure as PNG into ``directory``."""
+    return [save(basin_figure(ds), Path(directory) / "basins.png")]
