@@ -461,6 +461,389 @@ def _print_continuation(s: dict[str, Any], files: list[str]) -> None:
     for f in files:
         console.print(f"wrote {f}")
 
+# ---------------------------------------------------------------- chaos diagnostics and sweeps
+ModeOpt = Annotated[str, typer.Option("--mode", help="fixed: every point from (u0, v0); continue: each point from the previous end state.")]
+SweepDirOpt = Annotated[str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")]
+LyapunovFlagOpt = Annotated[bool, typer.Option("--lyapunov", help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).")]
+SettleOpt = Annotated[int, typer.Option("--settle", help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).")]
+ChunkOpt = Annotated[int, typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep.")]
+
+
+def _sweep_files(ds: Any, out: Optional[Path], stem: str, engine: dict[str, Any]) -> list[str]:
+    """Write a sweep's NetCDF file and figures (with --out), then drop its checkpoint."""
+    if out is None:
+        return []
+    from .io import write_netcdf
+    from .plot import save_figures
+
+    nc, figdir = out_paths(out, stem)
+    files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+    finish_sweep(engine)
+    return files
+
+
+def _choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
+    if value not in allowed:
+        raise ModelError(f"{name}: must be one of {', '.join(allowed)}, got {value!r}")
+    return value
+
+
+@app.command()
+def lyapunov(
+    config: ConfigOpt = None,
+    omega: OmegaOpt = None,
+    xi0: Xi0Opt = None,
+    xi1: Xi1Opt = None,
+    kappa1: Kappa1Opt = None,
+    fp: FpOpt = None,
+    fe: FeOpt = None,
+    backlash: BacklashOpt = None,
+    phi_c: PhiCOpt = None,
+    phi_k: PhiKOpt = None,
+    phi_e: PhiEOpt = None,
+    u0: U0Opt = 0.0,
+    v0: V0Opt = 0.0,
+    dtau: DtauOpt = DEFAULT_DTAU,
+    transient: TransientOpt = DEFAULT_TRANSIENT,
+    periods: Annotated[int, typer.Option("--periods", help="Forcing periods over which the exponents are averaged.")] = 2000,
+    accurate: AccurateOpt = False,
+    blocks: Annotated[int, typer.Option("--blocks", help="Blocks of the block-statistics uncertainty (>= 2).")] = 20,
+    json_out: JsonOpt = False,
+    out: OutOpt = None,
+) -> None:
+    """Both Lyapunov exponents (per unit τ) by the Benettin method with Gram–Schmidt each period, with their
+    uncertainty from block statistics, and the motion class."""
+    from . import validate
+    from .analysis.lyapunov import lyapunov_spectrum
+
+    try:
+        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
+                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        opts = build_options(dtau, transient, periods, accurate, model.omega)
+        nb = validate.integer("blocks", blocks, 2, max(2, opts.periods))
+        res = lyapunov_spectrum(model, opts, validate.initial_state(u0, v0), blocks=nb)
+    except ModelError as e:
+        raise fail(str(e))
+    files: list[str] = []
+    if out is not None:
+        from .io import write_netcdf
+        from .plot import save_figures
+
+        nc, figdir = out_paths(out, "lyapunov")
+        ds = res.to_dataset()
+        files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+    s = res.to_json()
+    if json_out:
+        s["files"] = files
+        emit_json(s)
+        return
+
+    def fmt(x: Any) -> str:
+        return "n/a" if x is None else f"{x:+.6f}"
+
+    console.print(f"Lyapunov exponents at ω = {s['omega']:g} over {s['periods']} periods (per unit τ, ± one standard error):")
+    for i in range(2):
+        console.print(f"  λ{i + 1} = {fmt(s['exponents'][i])} ± {s['uncertainty'][i] or float('nan'):.2e}")
+    console.print(f"  λ1 + λ2 = {fmt(s['sum'])}   (−2ξ0 = {s['expected_sum']:+.6f})")
+    console.print(f"  motion: {s['motion']}")
+    for f in files:
+        console.print(f"wrote {f}")
+
+
+@app.command()
+def bifurcation(
+    param: Annotated[str, typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL.")],
+    start: Annotated[float, typer.Option("--start", help="First parameter value.")],
+    stop: Annotated[float, typer.Option("--stop", help="Last parameter value.")],
+    num: Annotated[int, typer.Option("--num", help="Number of parameter values.")] = 101,
+    mode: ModeOpt = "fixed",
+    sweep: SweepDirOpt = "up",
+    lyap: LyapunovFlagOpt = False,
+    settle: SettleOpt = 1000,
+    config: ConfigOpt = None,
+    omega: OmegaOpt = None,
+    xi0: Xi0Opt = None,
+    xi1: Xi1Opt = None,
+    kappa1: Kappa1Opt = None,
+    fp: FpOpt = None,
+    fe: FeOpt = None,
+    backlash: BacklashOpt = None,
+    phi_c: PhiCOpt = None,
+    phi_k: PhiKOpt = None,
+    phi_e: PhiEOpt = None,
+    u0: U0Opt = 0.0,
+    v0: V0Opt = 0.0,
+    dtau: DtauOpt = DEFAULT_DTAU,
+    transient: TransientOpt = DEFAULT_TRANSIENT,
+    periods: PeriodsOpt = DEFAULT_PERIODS,
+    accurate: AccurateOpt = False,
+    workers: WorkersOpt = 1,
+    scheduler: SchedulerOpt = None,
+    resume: ResumeOpt = False,
+    chunk_size: ChunkOpt = 16,
+    json_out: JsonOpt = False,
+    out: OutOpt = None,
+) -> None:
+    """Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and amplitudes
+    per point (and the largest Lyapunov exponent with --lyapunov); fixed initial state or continuation, up/down/both."""
+    from . import validate
+    from .analysis.bifurcation import MODES, SWEEPS, bifurcation as run_bifurcation, bifurcation_json
+
+    try:
+        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
+                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        name, values = validate.axis(param, start, stop, num)
+        models = validate.grid(model, [(name, values)])
+        opts = build_options(dtau, transient, periods, accurate)
+        for m in models:
+            opts.check_for(m.omega)
+        _choice("mode", mode, MODES)
+        _choice("sweep", sweep, SWEEPS)
+        nset = validate.integer("settle", settle, 0)
+        nc = out_paths(out, "bifurcation")[0] if out is not None else None
+        engine = sweep_engine(workers, scheduler, resume, nc, json_out)
+        ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=validate.initial_state(u0, v0),
+                             options=opts, lyapunov=lyap, settle_periods=nset,
+                             chunk_points=validate.chunk_points(chunk_size), **engine)
+    except ModelError as e:
+        raise fail(str(e))
+    files = _sweep_files(ds, out, "bifurcation", engine)
+    s = bifurcation_json(ds)
+    if json_out:
+        s["files"] = files
+        emit_json(s)
+        return
+    _print_intervals(s, files)
+
+
+def _print_intervals(s: dict[str, Any], files: list[str]) -> None:
+    from rich.table import Table
+
+    iv = s["intervals"]
+    groups = iv if isinstance(iv, dict) else {s["sweep"]: iv}
+    for lab, rows in groups.items():
+        t = Table(title=f"Motion over {s['param']} ({lab})")
+        for col in ("from", "to", "points", "motion"):
+            t.add_column(col)
+        for r in rows:
+            t.add_row(f"{r['from']:.6g}", f"{r['to']:.6g}", str(r["points"]), r["motion"])
+        console.print(t)
+    for f in files:
+        console.print(f"wrote {f}")
+
+
+@app.command()
+def response(
+    omega_start: Annotated[float, typer.Option("--omega-start", help="Lowest ω of the sweeps.")],
+    omega_stop: Annotated[float, typer.Option("--omega-stop", help="Highest ω of the sweeps.")],
+    num: Annotated[int, typer.Option("--num", help="Number of ω values (the jumps are located to within one step).")] = 71,
+    measure: Annotated[str, typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean.")] = "amplitude",
+    lyap: LyapunovFlagOpt = False,
+    settle: SettleOpt = 1000,
+    config: ConfigOpt = None,
+    xi0: Xi0Opt = None,
+    xi1: Xi1Opt = None,
+    kappa1: Kappa1Opt = None,
+    fp: FpOpt = None,
+    fe: FeOpt = None,
+    backlash: BacklashOpt = None,
+    phi_c: PhiCOpt = None,
+    phi_k: PhiKOpt = None,
+    phi_e: PhiEOpt = None,
+    u0: U0Opt = 0.0,
+    v0: V0Opt = 0.0,
+    dtau: DtauOpt = DEFAULT_DTAU,
+    transient: TransientOpt = DEFAULT_TRANSIENT,
+    periods: PeriodsOpt = DEFAULT_PERIODS,
+    accurate: AccurateOpt = False,
+    workers: WorkersOpt = 1,
+    scheduler: SchedulerOpt = None,
+    resume: ResumeOpt = False,
+    json_out: JsonOpt = False,
+    out: OutOpt = None,
+) -> None:
+    """Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)
+    and hysteresis intervals where the sweeps end on different attractors."""
+    from . import validate
+    from .analysis.response import MEASURES, frequency_response, response_json
+
+    try:
+        model = build_model(config, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
+                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        _, values = validate.axis("omega", omega_start, omega_stop, num)
+        validate.grid(model, [("omega", values)])
+        opts = build_options(dtau, transient, periods, accurate, float(values.min()))
+        _choice("measure", measure, MEASURES)
+        nset = validate.integer("settle", settle, 0)
+        nc = out_paths(out, "response")[0] if out is not None else None
+        engine = sweep_engine(workers, scheduler, resume, nc, json_out)
+        ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
+                                state0=validate.initial_state(u0, v0), measure=measure, lyapunov=lyap,
+                                settle_periods=nset, **engine)
+    except ModelError as e:
+        raise fail(str(e))
+    files = _sweep_files(ds, out, "response", engine)
+    s = response_json(ds)
+    if json_out:
+        s["files"] = files
+        emit_json(s)
+        return
+    from rich.table import Table
+
+    t = Table(title="Jumps")
+    for col in ("sweep", "ω (midpoint)", "from → to", "direction", "size"):
+        t.add_column(col)
+    for j in s["jumps"]:
+        t.add_row(j["sweep"], f"{j['omega']:.6g}", f"{j['omega_from']:.6g} → {j['omega_to']:.6g}", j["direction"],
+                  f"{j['size']:.4g}")
+    console.print(t)
+    hy = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["hysteresis"]) or "none"
+    console.print(f"hysteresis (coexisting attractors): {hy}")
+    for f in files:
+        console.print(f"wrote {f}")
+
+
+@app.command("map")
+def map_cmd(
+    x: Annotated[str, typer.Option("--x", help="Parameter along the horizontal axis (e.g. omega).")],
+    x_start: Annotated[float, typer.Option("--x-start", help="First x value.")],
+    x_stop: Annotated[float, typer.Option("--x-stop", help="Last x value.")],
+    y: Annotated[str, typer.Option("--y", help="Parameter along the vertical axis (e.g. xi0 or D).")],
+    y_start: Annotated[float, typer.Option("--y-start", help="First y value.")],
+    y_stop: Annotated[float, typer.Option("--y-stop", help="Last y value.")],
+    x_num: Annotated[int, typer.Option("--x-num", help="Number of x values.")] = 41,
+    y_num: Annotated[int, typer.Option("--y-num", help="Number of y values.")] = 21,
+    mode: ModeOpt = "fixed",
+    lyap: LyapunovFlagOpt = False,
+    settle: SettleOpt = 1000,
+    config: ConfigOpt = None,
+    omega: OmegaOpt = None,
+    xi0: Xi0Opt = None,
+    xi1: Xi1Opt = None,
+    kappa1: Kappa1Opt = None,
+    fp: FpOpt = None,
+    fe: FeOpt = None,
+    backlash: BacklashOpt = None,
+    phi_c: PhiCOpt = None,
+    phi_k: PhiKOpt = None,
+    phi_e: PhiEOpt = None,
+    u0: U0Opt = 0.0,
+    v0: V0Opt = 0.0,
+    dtau: DtauOpt = DEFAULT_DTAU,
+    transient: TransientOpt = DEFAULT_TRANSIENT,
+    periods: PeriodsOpt = DEFAULT_PERIODS,
+    accurate: AccurateOpt = False,
+    workers: WorkersOpt = 1,
+    scheduler: SchedulerOpt = None,
+    resume: ResumeOpt = False,
+    chunk_size: ChunkOpt = 16,
+    json_out: JsonOpt = False,
+    out: OutOpt = None,
+) -> None:
+    """2-D parameter map (e.g. ω × ξ0, ω × D) of motion class, impact state, amplitude and largest exponent."""
+    from . import validate
+    from .analysis.bifurcation import MODES
+    from .analysis.maps import map_json, parameter_map
+
+    try:
+        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
+                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        xn, xv = validate.axis(x, x_start, x_stop, x_num)
+        yn, yv = validate.axis(y, y_start, y_stop, y_num)
+        opts = build_options(dtau, transient, periods, accurate)
+        validate.grid(model, [(yn, yv), (xn, xv)], opts)
+        _choice("mode", mode, MODES)
+        nset = validate.integer("settle", settle, 0)
+        nc = out_paths(out, "map")[0] if out is not None else None
+        engine = sweep_engine(workers, scheduler, resume, nc, json_out)
+        ds = parameter_map(model, xn, xv, yn, yv, mode=mode, state0=validate.initial_state(u0, v0), options=opts,
+                           lyapunov=lyap, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
+    except ModelError as e:
+        raise fail(str(e))
+    files = _sweep_files(ds, out, "map", engine)
+    s = map_json(ds)
+    if json_out:
+        s["files"] = files
+        emit_json(s)
+        return
+    counts = ", ".join(f"{k}: {v}" for k, v in s["motion_counts"].items())
+    console.print(f"map of {s['y']} × {s['x']}: {len(s['y_values'])} × {len(s['x_values'])} points; {counts}")
+    for f in files:
+        console.print(f"wrote {f}")
+
+
+@app.command()
+def basins(
+    u_min: Annotated[float, typer.Option("--u-min", help="Smallest initial displacement u0.")] = -3.0,
+    u_max: Annotated[float, typer.Option("--u-max", help="Largest initial displacement u0.")] = 3.0,
+    v_min: Annotated[float, typer.Option("--v-min", help="Smallest initial velocity v0.")] = -3.0,
+    v_max: Annotated[float, typer.Option("--v-max", help="Largest initial velocity v0.")] = 3.0,
+    nu: Annotated[int, typer.Option("--nu", help="Grid points along u0.")] = 41,
+    nv: Annotated[int, typer.Option("--nv", help="Grid points along v0.")] = 41,
+    settle: SettleOpt = 1000,
+    config: ConfigOpt = None,
+    omega: OmegaOpt = None,
+    xi0: Xi0Opt = None,
+    xi1: Xi1Opt = None,
+    kappa1: Kappa1Opt = None,
+    fp: FpOpt = None,
+    fe: FeOpt = None,
+    backlash: BacklashOpt = None,
+    phi_c: PhiCOpt = None,
+    phi_k: PhiKOpt = None,
+    phi_e: PhiEOpt = None,
+    dtau: DtauOpt = DEFAULT_DTAU,
+    transient: TransientOpt = DEFAULT_TRANSIENT,
+    periods: Annotated[int, typer.Option("--periods", help="Forcing periods recorded per initial state (>= 2 × the largest period detected).")] = 64,
+    accurate: AccurateOpt = False,
+    workers: WorkersOpt = 1,
+    scheduler: SchedulerOpt = None,
+    resume: ResumeOpt = False,
+    chunk_size: Annotated[int, typer.Option("--chunk-size", help="Initial states per chunk.")] = 64,
+    json_out: JsonOpt = False,
+    out: OutOpt = None,
+) -> None:
+    """Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it reaches
+    (attractors identified by their Poincaré cycles)."""
+    from . import validate
+    from .analysis.basins import basins as run_basins, basins_json
+
+    try:
+        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
+                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        opts = build_options(dtau, transient, periods, accurate, model.omega)
+        lo_u, hi_u = validate.number("u-min", u_min), validate.number("u-max", u_max)
+        lo_v, hi_v = validate.number("v-min", v_min), validate.number("v-max", v_max)
+        n_u, n_v = validate.integer("nu", nu, 1, 100_000), validate.integer("nv", nv, 1, 100_000)
+        nset = validate.integer("settle", settle, 0)
+        nc = out_paths(out, "basins")[0] if out is not None else None
+        engine = sweep_engine(workers, scheduler, resume, nc, json_out)
+        ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, options=opts, settle_periods=nset,
+                        chunk_points=validate.chunk_points(chunk_size), **engine)
+    except ModelError as e:
+        raise fail(str(e))
+    files = _sweep_files(ds, out, "basins", engine)
+    s = basins_json(ds)
+    if json_out:
+        s["files"] = files
+        emit_json(s)
+        return
+    from rich.table import Table
+
+    t = Table(title=f"Attractors at ω = {s['omega']:g} ({n_u} × {n_v} initial states)")
+    for col in ("label", "motion", "basin share", "amplitude", "Poincaré points (u, u')"):
+        t.add_column(col)
+    for a in s["attractors"]:
+        pts = a["points"][:4]
+        txt = "; ".join(f"({p[0]:.4f}, {p[1]:.4f})" for p in pts) + (" …" if len(a["points"]) > 4 else "")
+        t.add_row(str(a["label"]), a["motion"], f"{100 * a['fraction']:.1f} %", f"{a['amplitude']:.4g}", txt)
+    console.print(t)
+    if s["diverged_fraction"] > 0:
+        console.print(f"diverged: {100 * s['diverged_fraction']:.1f} % of the initial states")
+    for f in files:
+        console.print(f"wrote {f}")
+
+
 #: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
 EXIT_INTERRUPTED = 130
 

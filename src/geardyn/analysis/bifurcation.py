@@ -45,6 +45,7 @@ __all__ = [
     "continuation_chunk",
     "points_dataset",
     "bifurcation_json",
+    "class_intervals",
 ]
 
 MODES = ("fixed", "continue")
@@ -296,6 +297,21 @@ def point_labels(ds: xr.Dataset, sweep: str) -> dict[str, list[Any]]:
     }
 
 
+def class_intervals(ds: xr.Dataset, sweep: str) -> list[dict[str, Any]]:
+    """Runs of consecutive grid points with the same motion label: [{"from", "to", "motion", "points"}]."""
+    name = str(ds.attrs["param"])
+    x = ds[name].values
+    labels = point_labels(ds, sweep)["motion"]
+    out: list[dict[str, Any]] = []
+    for xv, lab in zip(x, labels):
+        if out and out[-1]["motion"] == lab:
+            out[-1]["to"] = float(xv)
+            out[-1]["points"] += 1
+        else:
+            out.append({"from": float(xv), "to": float(xv), "motion": lab, "points": 1})
+    return out
+
+
 def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
     """The ``bifurcation --json`` summary (DESIGN §5: ``param``, ``values``, ``period``, ``motion``,
     ``impact``, ``lle``).
@@ -314,4 +330,6 @@ def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
     }
     for key in ("period", "motion", "impact", "lle", "amplitude", "status"):
         out[key] = per[labels[0]][key] if len(labels) == 1 else {lab: per[lab][key] for lab in labels}
+    iv = {lab: class_intervals(ds, lab) for lab in labels}
+    out["intervals"] = iv[labels[0]] if len(labels) == 1 else iv
     return out
