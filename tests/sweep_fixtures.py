@@ -47,10 +47,11 @@ def crash_once_chunk(marker: str, models: Sequence[GearModel], options: Integrat
     os._exit(13)
 
 
-def interrupt_at_chunk(stop_at: int, index: int, models: Sequence[GearModel],
+def interrupt_at_chunk(flag: str, stop_at: int, index: int, models: Sequence[GearModel],
                        options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Like :func:`steady_chunk`, but chunk ``stop_at`` raises KeyboardInterrupt (a Ctrl-C in process)."""
-    if index == stop_at:
+    """Like :func:`steady_chunk`, but chunk ``stop_at`` raises KeyboardInterrupt (a Ctrl-C in
+    process) while the file ``flag`` exists."""
+    if index == stop_at and os.path.exists(flag):
         raise KeyboardInterrupt
     return steady_chunk(models, options)
 
@@ -114,4 +115,6 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    import sweep_fixtures  # the chunk functions must be named by module, not __main__, for workers and fingerprints
+
+    sys.exit(sweep_fixtures.main())

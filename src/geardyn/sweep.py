@@ -293,8 +293,14 @@ def prepare_checkpoint(directory: Path, chunks: Sequence[Chunk], resume: bool) -
 
 # ------------------------------------------------------------------------------ execution
 def _init_worker() -> None:
-    """Local worker processes ignore Ctrl-C (the parent stops them) and use one kernel thread."""
+    """Local worker processes ignore Ctrl-C (the parent stops them) and use one kernel thread.
+
+    A worker never starts processes itself; its default start method is set to ``spawn`` so that
+    numba does not take a named (resource-tracked) semaphore for its threading-layer start-up,
+    which a worker terminated on Ctrl-C would leave for the resource tracker to report.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    multiprocessing.set_start_method("spawn", force=True)
     from .integrate import set_threads
 
     set_threads(1)
@@ -330,6 +336,22 @@ def _sigint_ignored() -> Iterator[None]:
         signal.signal(signal.SIGINT, old)
 
 
+@contextmanager
+def _sigint_deferred() -> Iterator[None]:
+    """Hold a Ctrl-C back until the block is done, then raise it (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    old = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+    if caught:
+        raise KeyboardInterrupt
+
+
 def run_chunks(
     chunks: Sequence[Chunk],
     *,
@@ -349,7 +371,7 @@ def run_chunks(
         The work; ``Chunk.index`` must be unique (it names the checkpoint file).
     workers : int
         Local worker processes (1: run in this process with every kernel thread).  Worker
-        processes are started with the ``spawn`` method and run one kernel thread each.
+        processes come from a fork server (or ``spawn``) and run one kernel thread each.
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://host:port``); the chunks run on its workers,
         which must have geardyn installed (the ``dask`` extra).
@@ -436,19 +458,48 @@ def _run_on_executor(executor: Executor, todo: Sequence[Chunk], finished: Callab
         raise
 
 
+#: Modules the local worker processes import before they are forked (forkserver start method).
+POOL_PRELOAD = ("geardyn.integrate", "geardyn.sweep", "geardyn.analysis.steady")
+
+
+def _pool_context():
+    """Start method of local worker processes: a fork server, else spawn; never plain fork.
+
+    Forking this process is unsafe once the kernel's OpenMP threads run.  The fork server is a
+    fresh process started once (with SIGINT ignored, see :func:`_sigint_ignored`) that imports
+    :data:`POOL_PRELOAD` and forks the workers from there, so restarting a pool is cheap.
+    """
+    methods = multiprocessing.get_all_start_methods()
+    if "forkserver" in methods:
+        ctx = multiprocessing.get_context("forkserver")
+        ctx.set_forkserver_preload(list(POOL_PRELOAD))
+        return ctx
+    return multiprocessing.get_context("spawn")
+
+
 def _run_on_pool(workers: int, todo: Sequence[Chunk], finished: Callable) -> None:
-    """A local pool of spawned worker processes, restarted if a worker process dies."""
-    ctx = multiprocessing.get_context("spawn")  # fork is unsafe once the kernel's OpenMP threads run
+    """A local pool of worker processes, restarted if a worker process dies."""
+    ctx = _pool_context()
     remaining = {c.index: c for c in todo}
     restarts = 0
     while remaining:
         pool = None
         futs: dict[Future, Chunk] = {}
         try:
-            with _sigint_ignored():
-                pool = ProcessPoolExecutor(max_workers=min(workers, len(remaining)), mp_context=ctx,
-                                           initializer=_init_worker)
-                futs = {pool.submit(_call, c.fn, c.args): c for c in remaining.values()}
+            if ctx.get_start_method() == "forkserver":
+                with _sigint_ignored():  # the server, and so every worker forked from it, ignores SIGINT
+                    from multiprocessing import forkserver
+
+                    forkserver.ensure_running()
+                with _sigint_deferred():  # starting the workers waits for the server: not interruptible
+                    pool = ProcessPoolExecutor(max_workers=min(workers, len(remaining)), mp_context=ctx,
+                                               initializer=_init_worker)
+                    futs = {pool.submit(_call, c.fn, c.args): c for c in remaining.values()}
+            else:
+                with _sigint_ignored():  # spawned workers inherit SIGINT ignored
+                    pool = ProcessPoolExecutor(max_workers=min(workers, len(remaining)), mp_context=ctx,
+                                               initializer=_init_worker)
+                    futs = {pool.submit(_call, c.fn, c.args): c for c in remaining.values()}
             for f in as_completed(futs):
                 c = futs[f]
                 r = f.result()
@@ -464,17 +515,18 @@ def _run_on_pool(workers: int, todo: Sequence[Chunk], finished: Callable) -> Non
 
 
 def _stop_pool(pool: ProcessPoolExecutor, futs: dict[Future, Chunk]) -> None:
-    """Cancel pending chunks, stop the worker processes (in flight chunks are lost) and shut down."""
-    for f in futs:
-        f.cancel()
+    """Shut the pool down; if chunks are still pending (an interrupt or an error), stop its workers first.
+
+    The worker processes are terminated (their chunks in flight are lost) and the pool then fails
+    the pending futures itself; they are not cancelled here, which would race with that.
+    """
     if any(not f.done() for f in futs):
-        procs = list((getattr(pool, "_processes", None) or {}).values())
-        for p in procs:
+        for p in list((getattr(pool, "_processes", None) or {}).values()):
             try:
                 p.terminate()
             except (OSError, AttributeError):
                 pass
-    pool.shutdown(wait=True, cancel_futures=True)
+    pool.shutdown(wait=True)
 
 
 def _run_on_dask(address: str, todo: Sequence[Chunk], finished: Callable) -> None:
@@ -557,7 +609,10 @@ class _Progress:
         self._closed = False
         self._timer = threading.Timer(PROGRESS_DELAY, self._start)
         self._timer.daemon = True
-        self._timer.start()
+        if PROGRESS_DELAY > 0:
+            self._timer.start()
+        else:
+            self._start()
 
     def _start(self) -> None:
         from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
