@@ -80,7 +80,26 @@ class Settings:
     search_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.8, 1.601, 0.1), 3))
     search_xi0: tuple[float, ...] = (0.03, 0.045, 0.055, 0.07, 0.08, 0.09, 0.1, 0.12, 0.15, 0.2, 0.3, 0.5, 0.7, 0.8, 0.9)
     search_xi1: tuple[float, ...] = (0.0, 0.01, 0.02, 0.025, 0.05, 0.06, 0.08, 0.1)
+    response_omega: tuple[float, float] = (0.3, 1.2)
+    response_num: int = 91
+    response_transient: int = 200
+    response_periods: int = 100
+    xi0_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.25), (0.1, 0.05, 0.25), (0.15, 0.05, 0.25))
+    xi1_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.03, 0.25), (0.08, 0.05, 0.25), (0.08, 0.08, 0.25))
+    d_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.1), (0.08, 0.05, 0.25), (0.08, 0.05, 0.35),
+                                                     (0.08, 0.05, 0.75))
+    alt_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.5), (0.15, 0.05, 0.5), (0.08, 0.05, 1.5))
+    stability_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.4, 2.41, 0.1), 3))
     workers: int = 2
+
+    @property
+    def response_sets(self) -> list[tuple[float, float, float]]:
+        """Every (ξ0, ξ1, D) of the jump study, each once."""
+        return list(dict.fromkeys(self.xi0_set + self.xi1_set + self.d_set + self.alt_set))
+
+    @property
+    def response_options(self) -> IntegrationOptions:
+        return IntegrationOptions(transient=self.response_transient, periods=self.response_periods)
 
     @classmethod
     def quick(cls) -> "Settings":
@@ -89,6 +108,7 @@ class Settings:
             transient=60, periods=40, settle=60,
             xi0_grid=(0.03, 0.07, 0.09, 0.15, 0.5), xi1_grid=(0.0, 0.02, 0.06), d_grid=(0.1, 0.35, 0.75),
             search_omegas=(1.0, 1.2), search_xi0=(0.03, 0.08, 0.15), search_xi1=(0.0, 0.06), workers=1,
+            response_num=12, response_transient=40, response_periods=30, stability_omegas=(0.8, 1.6),
         )
 
     @property
@@ -404,11 +424,300 @@ def study_backlash(ctx: Context) -> Section:
     )
 
 
+# ------------------------------------------------------------------------------------------ jumps
+#: A jump "near" a claimed ω: within this distance (about three grid steps of the default response grid).
+JUMP_NEAR = 0.03
+#: Table 4: a jump of the claimed kind counts at a row's ω when within this distance of it.
+TABLE4_NEAR = 0.05
+#: Table 4: a computed amplitude matches the paper's when within this relative difference.
+TABLE4_AMP_REL = 0.25
+#: "Steady below ω = 0.5": no jump and no hysteresis below this ω.
+LOW_OMEGA = 0.5
+
+
+def response_key(xi0: float, xi1: float, D: float) -> str:
+    return f"response_xi0_{xi0:g}_xi1_{xi1:g}_D_{D:g}"
+
+
+def _jumps(ds: xr.Dataset) -> list[dict[str, Any]]:
+    import json
+
+    return json.loads(ds.attrs["jumps"])
+
+
+def _hyst(ds: xr.Dataset) -> list[list[float]]:
+    import json
+
+    return json.loads(ds.attrs["hysteresis"])
+
+
+def first_up_jump(ds: xr.Dataset, above: float = LOW_OMEGA) -> dict[str, Any] | None:
+    """The first upward jump above ``above`` in the up sweep."""
+    js = [j for j in _jumps(ds) if j["sweep"] == "up" and j["direction"] == "up" and j["omega"] > above]
+    return min(js, key=lambda j: j["omega"]) if js else None
+
+
+def fluctuation(ds: xr.Dataset, after: float) -> float:
+    """Mean |A(ω_{i+1}) − A(ω_i)| of the up sweep over the grid above ``after`` (jumps and scatter alike)."""
+    x = ds["omega"].values
+    a = ds["amplitude"].sel(sweep="up").values
+    sel = x > after
+    d = np.abs(np.diff(a[sel]))
+    return float(np.nanmean(d)) if d.size else float("nan")
+
+
+@dataclass
+class JumpData:
+    """The frequency responses of the jump study, keyed by (ξ0, ξ1, D)."""
+
+    responses: dict[tuple[float, float, float], xr.Dataset]
+    evidence: dict[tuple[float, float, float], list[str]]
+
+    def ev(self, *keys: tuple[float, float, float]) -> list[str]:
+        return [e for k in keys for e in self.evidence[k]]
+
+
+def compute_responses(ctx: Context) -> JumpData:
+    from .analysis.response import frequency_response
+
+    s = ctx.settings
+    out: dict[tuple[float, float, float], xr.Dataset] = {}
+    ev: dict[tuple[float, float, float], list[str]] = {}
+    for key in s.response_sets:
+        xi0, xi1, D = key
+        ctx.log(f"frequency response ξ0 = {xi0:g}, ξ1 = {xi1:g}, D = {D:g}")
+        model = ctx.base.replace(xi0=xi0, xi=(xi1,), D=D)
+        ds = frequency_response(model, s.response_omega[0], s.response_omega[1], s.response_num,
+                                options=s.response_options, settle_periods=s.settle, executor=ctx.executor)
+        name = response_key(*key)
+        rel = ctx.save(name, ds)
+        out[key] = ds
+        ev[key] = [rel, f"figures/{name}.png"]
+    return JumpData(out, ev)
+
+
+def _monotone(values: Sequence[float], decreasing: bool) -> bool:
+    v = np.asarray(values, dtype=float)
+    if v.size < 2 or not np.all(np.isfinite(v)):
+        return False
+    d = np.diff(v)
+    return bool(np.all(d < 0) if decreasing else np.all(d > 0))
+
+
+def study_jumps(ctx: Context, jd: JumpData) -> Section:
+    """Jump claims: steady below 0.5, jump size vs ξ0 and ξ1, fluctuations, jumps near 0.57/0.82/0.95."""
+    s = ctx.settings
+    R = jd.responses
+    claims: list[Claim] = []
+    table = [["ξ0", "ξ1", "D", "jumps (ω, direction, size, sweep)", "hysteresis intervals"]]
+    for (xi0, xi1, D), ds in R.items():
+        js = "; ".join(f"{j['omega']:.3f} {j['direction']} {j['size']:.3f} ({j['sweep']})" for j in _jumps(ds)) or "none"
+        hs = ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in _hyst(ds)) or "none"
+        table.append([f"{xi0:g}", f"{xi1:g}", f"{D:g}", js, hs])
+
+    # steady below ω = 0.5
+    low = [(k, j) for k, ds in R.items() for j in _jumps(ds) if j["omega"] < LOW_OMEGA]
+    low_h = [(k, h) for k, ds in R.items() for h in _hyst(ds) if h[0] < LOW_OMEGA]
+    claims.append(claim(
+        "JUMP-LOW",
+        f"over {len(R)} responses (ξ0, ξ1, D varied): {len(low)} jumps and {len(low_h)} hysteresis intervals below "
+        f"ω = {LOW_OMEGA:g}" + (": " + ", ".join(f"{j['omega']:.2f} at {k}" for k, j in low) if low else ""),
+        "reproduced" if not low and not low_h else "not reproduced", jd.ev(*R)))
+
+    def size_series(keys: Sequence[tuple[float, float, float]]) -> list[float]:
+        out = []
+        for k in keys:
+            j = first_up_jump(R[k])
+            out.append(j["size"] if j else float("nan"))
+        return out
+
+    for cid, keys, lab, dec in (("JUMP-XI0", s.xi0_set, "ξ0", True), ("JUMP-XI1", s.xi1_set, "ξ1", False)):
+        sizes = size_series(keys)
+        vals = [k[0] if lab == "ξ0" else k[1] for k in keys]
+        locs = [first_up_jump(R[k]) for k in keys]
+        txt = "first upward jump above ω = 0.5 (up sweep): " + ", ".join(
+            f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none") for v, sz, j in zip(vals, sizes, locs))
+        ok = _monotone(sizes, dec)
+        exists = all(j is not None for j in locs)
+        claims.append(claim(cid, txt + f"; sizes {'decrease' if dec else 'increase'} with {lab}: {'yes' if ok else 'no'}.",
+                            "reproduced" if ok else ("partly reproduced" if exists else "not reproduced"), jd.ev(*keys)))
+
+    fl0 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + 0.02) for k in s.xi0_set]
+    fl1 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + 0.02) for k in s.xi1_set]
+    ok0, ok1 = _monotone(fl0, True), _monotone(fl1, False)
+    claims.append(claim(
+        "JUMP-FLUCT",
+        "fluctuation after the first jump (mean |ΔA| between neighbouring ω of the up sweep): ξ0 = " +
+        ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0)) + f" ({'weakens' if ok0 else 'does not weaken'} "
+        f"with ξ0); ξ1 = " + ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1)) +
+        f" ({'intensifies' if ok1 else 'does not intensify'} with ξ1).",
+        "reproduced" if ok0 and ok1 else ("partly reproduced" if ok0 or ok1 else "not reproduced"),
+        jd.ev(*s.xi0_set, *s.xi1_set)))
+
+    firsts = {k: first_up_jump(R[k]) for k in s.d_set}
+    near = [k for k, j in firsts.items() if j and abs(j["omega"] - 0.57) <= JUMP_NEAR]
+    claims.append(claim(
+        "JUMP-057",
+        "first upward jump (up sweep) for D = " + ", ".join(
+            f"{k[2]:g}: " + (f"ω = {j['omega']:.3f}" if j else "none") for k, j in firsts.items()) +
+        f"; within ±{JUMP_NEAR:g} of 0.57 for {len(near)} of {len(firsts)}.",
+        verdict_of(len(near) / len(firsts)), jd.ev(*s.d_set)))
+
+    def near_jump(keys: Sequence[tuple[float, float, float]], omega: float, direction: str, tol: float) -> str:
+        parts = []
+        found = False
+        for k in keys:
+            js = [j for j in _jumps(R[k]) if j["direction"] == direction]
+            best = min(js, key=lambda j: abs(j["omega"] - omega)) if js else None
+            hit = best is not None and abs(best["omega"] - omega) <= tol
+            found |= hit
+            parts.append(f"D = {k[2]:g}: " + (f"nearest {direction}ward jump at ω = {best['omega']:.3f} "
+                                             f"({best['sweep']} sweep, size {best['size']:.3f})" if best else f"no {direction}ward jump"))
+        return "; ".join(parts), found
+
+    for cid, b, omega, direction in (("JUMP-082", 0.5, 0.82, "down"), ("JUMP-095", 1.5, 0.95, "up")):
+        keys = [k for k in ((0.08, TABLE1["xi1"], b / 2), (0.08, TABLE1["xi1"], b)) if k in R]
+        txt, found_main = near_jump(keys[:1], omega, direction, JUMP_NEAR)
+        txt_alt, found_alt = near_jump(keys[1:], omega, direction, JUMP_NEAR) if len(keys) > 1 else ("", False)
+        v = "reproduced" if found_main else ("partly reproduced" if found_alt else "not reproduced")
+        claims.append(claim(cid, f"b = {b:g} read as D = b/2 (Table 3 reading): {txt}" +
+                            (f". Read as D = b: {txt_alt}" if txt_alt else "") + ".", v, jd.ev(*keys)))
+
+    return Section(
+        "Jumps and fluctuations of the amplitude-frequency response",
+        [f"Up and down sweeps over ω ∈ [{s.response_omega[0]:g}, {s.response_omega[1]:g}] ({s.response_num} points, "
+         f"each starting from the previous end state, {s.response_options.transient} transient and "
+         f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step of the "
+         "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
+         "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm); the reading D = b "
+         "is shown alongside where the claim depends on it. ξ1 = 0.05 and ξ0 = 0.08 unless varied."],
+        [(jd.evidence[k][1], f"Frequency response ξ0 = {k[0]:g}, ξ1 = {k[1]:g}, D = {k[2]:g} (up and down sweeps)")
+         for k in R],
+        claims,
+        table,
+    )
+
+
+def study_table4(ctx: Context, jd: JumpData) -> Section:
+    from .paper import TABLE4
+
+    R = jd.responses
+    claims = []
+    table = [["ω", "ξ0", "b", "paper A", "paper jump", "geardyn A (up / down)", "jumps within ±0.05"]]
+    for i, (omega, xi0, b, A, kind) in enumerate(TABLE4):
+        key = (xi0, TABLE1["xi1"], b / 2)
+        alt = (xi0, TABLE1["xi1"], b)
+        ds = R[key]
+        x = ds["omega"].values
+        k = int(np.argmin(np.abs(x - omega)))
+        a_up = float(ds["amplitude"].sel(sweep="up").values[k])
+        a_dn = float(ds["amplitude"].sel(sweep="down").values[k])
+        js = [j for j in _jumps(ds) if abs(j["omega"] - omega) <= TABLE4_NEAR]
+        kinds = sorted({j["direction"] + "ward" for j in js})
+        kind_ok = (not js) if kind == "none" else (kind in kinds)
+        amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
+        v = "reproduced" if kind_ok and amp_ok else ("partly reproduced" if kind_ok or amp_ok else "not reproduced")
+        txt = (f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
+               f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'}")
+        ev = list(jd.evidence[key])
+        if alt in R:
+            da = R[alt]
+            ka = int(np.argmin(np.abs(da["omega"].values - omega)))
+            ja = sorted({j["direction"] + "ward" for j in _jumps(da) if abs(j["omega"] - omega) <= TABLE4_NEAR})
+            txt += (f". Read as D = b = {b:g}: A = {float(da['amplitude'].sel(sweep='up').values[ka]):.3f} (up), "
+                    f"jumps: {', '.join(ja) or 'none'}")
+            ev += jd.evidence[alt]
+        claims.append(claim(f"T4-{i + 1}", txt + ".", v, ev))
+        table.append([f"{omega:g}", f"{xi0:g}", f"{b:g}", f"{A:g}", kind, f"{a_up:.3f} / {a_dn:.3f}",
+                      ", ".join(kinds) or "none"])
+    return Section(
+        "Table 4: amplitude and jump type at five operating points",
+        [f"Read from the frequency responses of the jump study at the grid ω nearest each row. Amplitude counts as "
+         f"matching within {100 * TABLE4_AMP_REL:.0f} % (either sweep); the jump type when a jump of that direction lies "
+         f"within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."],
+        [], claims, table)
+
+
+def fit_formula(omega: np.ndarray, xi0: np.ndarray, b: np.ndarray, A: np.ndarray) -> dict[str, float]:
+    """Least-squares fit of A = A0 + ΔA sin(πω) e^(−ξ0 ω) + β b² (linear in A0, ΔA, β)."""
+    X = np.column_stack([np.ones_like(omega), np.sin(np.pi * omega) * np.exp(-xi0 * omega), b**2])
+    ok = np.all(np.isfinite(X), axis=1) & np.isfinite(A)
+    coef, *_ = np.linalg.lstsq(X[ok], A[ok], rcond=None)
+    pred = X[ok] @ coef
+    res = A[ok] - pred
+    ss_tot = float(np.sum((A[ok] - A[ok].mean()) ** 2))
+    r2 = 1.0 - float(np.sum(res**2)) / ss_tot if ss_tot > 0 else float("nan")
+    return {"A0": float(coef[0]), "dA": float(coef[1]), "beta": float(coef[2]), "r2": r2,
+            "rmse": float(np.sqrt(np.mean(res**2))), "n": int(ok.sum())}
+
+
+#: Formula fit quality for the verdicts (coefficient of determination R²).
+FORMULA_R2_REPRODUCED = 0.9
+FORMULA_R2_PARTLY = 0.5
+
+
+def study_formula(ctx: Context, jd: JumpData) -> Section:
+    rows = []
+    for (xi0, xi1, D), ds in jd.responses.items():
+        if xi1 != TABLE1["xi1"]:
+            continue
+        x = ds["omega"].values
+        a = ds["amplitude"].sel(sweep="up").values
+        rows.append(np.column_stack([x, np.full_like(x, xi0), np.full_like(x, 2 * D), a]))
+    data = np.vstack(rows)
+    fit = fit_formula(data[:, 0], data[:, 1], data[:, 2], data[:, 3])
+    ds = xr.Dataset(
+        {"amplitude": ("point", data[:, 3]), "omega": ("point", data[:, 0]), "xi0": ("point", data[:, 1]),
+         "b_mm": ("point", data[:, 2])},
+        attrs={"geardyn_kind": "formula_fit", **{k: str(v) for k, v in fit.items()}})
+    rel = ctx.save("formula_fit", ds)
+    r2 = fit["r2"]
+    v = ("reproduced" if r2 >= FORMULA_R2_REPRODUCED else "partly reproduced" if r2 >= FORMULA_R2_PARTLY
+         else "not reproduced")
+    c = claim("FORMULA", f"least-squares fit to {fit['n']} computed amplitudes (up sweeps, ξ1 = 0.05, b = 2D mm): "
+                         f"A0 = {fit['A0']:.3f}, ΔA = {fit['dA']:.3f}, β = {fit['beta']:.3f} per mm²; R² = {r2:.3f}, "
+                         f"RMS error {fit['rmse']:.3f}.", v, [rel, "figures/formula_fit.png"])
+    return Section(
+        "The amplitude formula",
+        [f"The formula is linear in A0, ΔA and β, so they are fitted by linear least squares. Verdict: R² ≥ "
+         f"{FORMULA_R2_REPRODUCED} reproduced, ≥ {FORMULA_R2_PARTLY} partly, else not."],
+        [("figures/formula_fit.png", "Computed amplitudes against the fitted formula")], [c])
+
+
+def study_stability(ctx: Context) -> Section:
+    from .analysis.periodic import compare_stability_condition
+
+    s = ctx.settings
+    ctx.log("stability condition against Floquet analysis")
+    ds = compare_stability_condition(ctx.base, s.stability_omegas)
+    rel = ctx.save("stability_condition", ds)
+    paper = float(ds.attrs["xi0_paper"])
+    mx = ds.attrs.get("max_xi0_critical")
+    ml = ds.attrs.get("max_xi0_critical_linear")
+    mxv = float(mx) if mx not in (None, "null") else float("nan")
+    mlv = float(ml) if ml not in (None, "null") else float("nan")
+    close = any(np.isfinite(m) and abs(m - paper) <= 0.1 * paper for m in (mxv, mlv))
+    c = claim("STABILITY",
+              f"the paper's condition gives ξ0 = {paper:.4f} for κ1 = {TABLE1['kappa1']}; Floquet analysis over ω ∈ "
+              f"[{min(s.stability_omegas):g}, {max(s.stability_omegas):g}] gives critical ξ0 up to {mxv:.4f} "
+              f"(at ω = {ds.attrs.get('max_xi0_critical_at_omega')}) for the period-1 response of the full model and up to "
+              f"{mlv:.4f} (at ω = {ds.attrs.get('max_xi0_critical_linear_at_omega')}) for the linear contact model.",
+              "reproduced" if close else "not reproduced", [rel, "figures/stability_condition.png"])
+    return Section(
+        "The stability condition ξ0 = ½√(1 − κ1²)",
+        ["The critical mean damping above which the period-1 response (full model) and the zero solution of the "
+         "linear contact model (D = 0, unforced) are stable, from Floquet multipliers, against the paper's closed form."],
+        [("figures/stability_condition.png", "Floquet stability boundaries in ξ0 against the paper's condition")], [c])
+
+
 STUDIES: list[Callable[[Context], Section]] = [study_xi0, study_xi1, study_backlash]
 
 
 def run_studies(ctx: Context) -> list[Section]:
-    return [study(ctx) for study in STUDIES]
+    sections = [study(ctx) for study in STUDIES]
+    jd = compute_responses(ctx)
+    sections += [study_jumps(ctx, jd), study_table4(ctx, jd), study_formula(ctx, jd), study_stability(ctx)]
+    return sections
 
 
 def settings_section(s: Settings, elapsed: float) -> Section:
@@ -475,9 +784,21 @@ def draw_figures(ctx: Context) -> None:
     """Figures of every saved Dataset (by its kind) into ``figures/``."""
     from .io import read_netcdf
     from .plot import bifurcation as pb
+    from .plot import periodic as pp
+    from .plot import reproduce as pr
+    from .plot import response as prs
+    from .plot.common import save
 
     figs = ctx.out / "figures"
+    draw = {
+        "bifurcation": pb.diagram,
+        "response": prs.response,
+        "stability_comparison": pp.stability_figure,
+        "formula_fit": pr.formula_fit,
+        "search": pr.search_map,
+    }
     for name, rel in ctx.datasets.items():
         ds = read_netcdf(ctx.out / rel)
-        if ds.attrs.get("geardyn_kind") == "bifurcation":
-            pb.save_figure(ds, figs / f"{name}.png")
+        fn = draw.get(str(ds.attrs.get("geardyn_kind")))
+        if fn is not None:
+            save(fn(ds), figs / f"{name}.png")
