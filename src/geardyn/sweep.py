@@ -547,7 +547,7 @@ def _run_on_dask(address: str, todo: Sequence[Chunk], finished: Callable) -> Non
             return f
 
         resubmits: dict[int, int] = {}
-        ac = dask_as_completed([submit(c) for c in todo])
+        ac = dask_as_completed([submit(c) for c in todo], loop=client.loop)
         for f in ac:
             c = futs.pop(f)
             try:
