@@ -381,7 +381,7 @@ def continuation(
     accurate: Annotated[bool, typer.Option("--accurate/--default-mode", help="Accurate mode (steps split at u = ±D; the default here, since its Floquet multipliers vary smoothly along a branch) or the default integration mode (faster; multipliers jump by O(Δτ) where RK4 stages cross ±D).")] = True,
     switch: Annotated[bool, typer.Option("--switch/--no-switch", help="Switch at period doublings onto the period-2n branch and continue it.")] = True,
     max_period: Annotated[int, typer.Option("--max-period", help="Largest period reached by branch switching.")] = 4,
-    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (u, u', parameter) (default 1% of |stop - start|).")] = None,
+    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the interval).")] = None,
     sweep_num: Annotated[int, typer.Option("--sweep-num", help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none).")] = CONTINUATION_SWEEP_NUM,
     json_out: JsonOpt = False,
     out: OutOpt = None,

@@ -79,7 +79,7 @@ SHOOT_TOL = 1.0e-10
 #: Largest number of Newton iterations in :func:`shoot`.
 SHOOT_MAX_ITER = 40
 #: Smallest damping factor of a backtracking Newton step before the iteration gives up.
-NEWTON_MIN_DAMPING = 2.0**-12
+NEWTON_MIN_DAMPING = 2.0**-16
 #: Forcing periods simulated (and discarded) to build a shooting guess when none is given.
 GUESS_TRANSIENT = 400
 #: Poincaré points recorded after the transient from which the guess is picked (times n, at least 16).
@@ -97,10 +97,13 @@ CORRECTOR_STEP_TOL = 1.0e-7
 CORRECTOR_MAX_ITER = 8
 #: Relative step of the central finite difference for ∂P^n/∂p: δ = FD_REL_STEP·max(1, |p|).
 FD_REL_STEP = 1.0e-6
-#: Continuation step size (arclength in the (u, u', p) space) relative to |stop − start|.
-DS_MAX_REL = 0.01
-DS_INIT_REL = 0.002
-DS_MIN_REL = 1.0e-7
+#: Continuation step sizes: arclength in the space (u, u', p/ps) with the parameter scaled by
+#: ps = |stop − start|, so that the whole parameter interval has length 1 (largest, initial, smallest).
+DS_MAX = 0.01
+DS_INIT = 0.002
+DS_MIN = 1.0e-7
+#: Models kept per branch for repeated evaluations at the same parameter value.
+MODEL_CACHE_SIZE = 16
 #: Step growth and shrink factors, and the corrector iteration counts that trigger them.
 DS_GROW, DS_SHRINK = 1.5, 0.5
 FAST_CORRECTOR_ITERS, SLOW_CORRECTOR_ITERS = 2, 5
@@ -126,6 +129,15 @@ NOISE_PARAM_REL = 1.0e-3
 #: state lie this close (relative to |stop − start| and to 1 + |x|) to that branch's merge point.
 SAME_EVENT_PARAM_REL = 1.0e-3
 SAME_EVENT_STATE_REL = 1.0e-2
+#: A sign change of (P^{n/2}x − x)·w within one step counts as the branch meeting the period-n/2
+#: branch when |P^{n/2}x − x| at both ends is at most this many times the step's change in x
+#: (the separation passes through zero inside the step rather than turning by more than 90°).
+MERGE_STEP_FACTOR = 10.0
+
+#: Stability boundary scans in ξ0 start at XI0_SCAN_HIGH (a heavily damped, stable response) and
+#: stop at XI0_SCAN_LOW (at ξ0 = 0 the mean damping vanishes, det M = 1, and every orbit is neutral).
+XI0_SCAN_HIGH = 0.6
+XI0_SCAN_LOW = 1.0e-3
 
 #: Bifurcation (event) types reported by :func:`continuation`.
 BIFURCATION_TYPES = ("fold", "period-doubling", "neimark-sacker", "grazing", "branch-point")
@@ -191,11 +203,18 @@ class _Problem:
         self.n = int(n)
         self.dtau = float(dtau)
         self.accurate = bool(accurate)
+        self._models: dict[float, GearModel] = {}
 
     def model_at(self, p: float | None) -> GearModel:
         if self.param is None or p is None:
             return self.base
-        return self.base.with_param(self.param, float(p))
+        p = float(p)
+        m = self._models.get(p)
+        if m is None:
+            if len(self._models) >= MODEL_CACHE_SIZE:
+                self._models.clear()
+            m = self._models[p] = self.base.with_param(self.param, p)
+        return m
 
     def steps(self, p: float | None) -> int:
         return _natural_steps(self.model_at(p), self.dtau)
@@ -212,24 +231,29 @@ class _Problem:
         return _Eval(x.copy(), p, N, pts, M, ok)
 
     def dG_dp(self, x: np.ndarray, p: float, N: int) -> np.ndarray | None:
-        """∂P^n/∂p at fixed x and fixed N (central difference; one-sided at a domain edge)."""
+        """∂P^n/∂p at fixed x and fixed N (central difference in one kernel batch; one-sided at a
+        domain edge such as D = 0)."""
         d = FD_REL_STEP * max(1.0, abs(p))
-        try:
-            hi = self.evaluate(x, p + d, N)
-        except ModelError:
-            hi = None
-        try:
-            lo = self.evaluate(x, p - d, N)
-        except ModelError:
-            lo = None
-        if hi is not None and lo is not None and hi.ok and lo.ok:
-            return (hi.points[-1] - lo.points[-1]) / (2.0 * d)
-        mid = self.evaluate(x, p, N)
-        if hi is not None and hi.ok and mid.ok:
-            return (hi.points[-1] - mid.points[-1]) / d
-        if lo is not None and lo.ok and mid.ok:
-            return (mid.points[-1] - lo.points[-1]) / d
-        return None
+        x = np.asarray(x, dtype=float)
+        pts, steps = [], []
+        for q in (p + d, p - d, p):
+            try:
+                pts.append(self.model_at(q))
+                steps.append(q)
+            except ModelError:
+                continue
+        if len(steps) < 2:
+            return None
+        if steps[0] == p + d and steps[1] == p - d:
+            pts, steps = pts[:2], steps[:2]
+        # Δτ giving exactly N steps per period at p gives N at p ± d too (|d/p| << 1/N)
+        opts = IntegrationOptions(dtau=_dtau_for_steps(self.model_at(p), N), transient=0, periods=self.n,
+                                  accurate=self.accurate)
+        res = integrate_batch(pts, x, opts)
+        if not np.all(res.ok) or not np.all(res.nsteps == N):
+            return None
+        ends = res.poincare[:, -1, :]
+        return (ends[0] - ends[1]) / (steps[0] - steps[1])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -402,7 +426,9 @@ class PeriodicOrbit:
         ``converged``, ``not converged`` or ``diverged``.
     iterations : int
     residuals : list of float
-        ||P^n(x) − x|| at each Newton iterate (quadratic decrease in the default mode).
+        ||P^n(x) − x|| at each Newton iterate (quadratic decrease in the default mode; when the
+        default-mode iteration stalls far from the orbit, the accurate-mode iterates that brought it
+        close follow, then the final default-mode ones).
     u_min, u_max : float
         Extremes of u over the orbit (Hermite-refined between steps).
     """
@@ -631,6 +657,17 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
             if x0.shape != (2,) or not np.all(np.isfinite(x0)):
                 raise ModelError(f"guess: expected two finite numbers u,v, got {guess!r}")
         ev, conv, its, res, status = _newton(prob, x0, None, N, tol, max_iter)
+        if not conv and not accurate:
+            # The default-mode map has a kink wherever an RK4 stage crosses ±D, which can stall the
+            # damped iteration far from the orbit.  The accurate-mode map is smooth there and its orbit
+            # lies within the discretisation error of the default-mode one: get close with it, then
+            # finish in the default mode (quadratic convergence).
+            acc = _Problem(model, None, n, dtau, True)
+            ev_a, conv_a, its_a, res_a, _st = _newton(acc, x0, None, N, tol, max_iter)
+            if conv_a:
+                ev2, conv, its2, res2, status = _newton(prob, ev_a.x, None, N, tol, max_iter)
+                if ev2 is not None and ev2.ok:
+                    ev, its, res = ev2, its + its_a + its2, res + res_a + res2
     if ev is None or not ev.ok:
         return _failed_orbit(model, n, x0, "diverged", dtau, accurate, N)
     return _orbit_from_eval(model, prob, ev, conv, status, its, res)
@@ -701,9 +738,9 @@ class Bifurcation:
 
 @dataclass
 class _Point:
-    y: np.ndarray  # (u, u', p)
+    y: np.ndarray  # (u, u', p/ps): the parameter scaled by the continuation's parameter scale ps
     ev: _Eval
-    Gp: np.ndarray
+    Gq: np.ndarray  # ∂P^n/∂(p/ps)
     tangent: np.ndarray
     u_min: float
     u_max: float
@@ -711,7 +748,7 @@ class _Point:
 
     @property
     def p(self) -> float:
-        return float(self.y[2])
+        return float(self.ev.p)
 
     @property
     def M(self) -> np.ndarray:
@@ -774,9 +811,10 @@ class _Continuer:
         self.prob = prob
         self.lo, self.hi = lo, hi
         self.span = span
-        self.ds_max = ds_max if ds_max is not None else DS_MAX_REL * span
-        self.ds = min(ds if ds is not None else DS_INIT_REL * span, self.ds_max)
-        self.ds_min = DS_MIN_REL * span
+        self.ps = span  # parameter scale: the continuation works in (u, u', p/ps)
+        self.ds_max = ds_max if ds_max is not None else DS_MAX
+        self.ds = min(ds if ds is not None else DS_INIT, self.ds_max)
+        self.ds_min = DS_MIN
         self.max_points = max_points
         self.locate = locate
         self.detect = detect
@@ -785,42 +823,52 @@ class _Continuer:
         self._merge_w: np.ndarray | None = None
 
     # -------------------------------------------------------------- building blocks
-    def _finish_point(self, ev: _Eval, Gp: np.ndarray, t_ref: np.ndarray | None, iters: int) -> _Point:
+    def _finish_point(self, ev: _Eval, Gq: np.ndarray, t_ref: np.ndarray | None, iters: int) -> _Point:
         prob = self.prob
-        J = np.hstack([ev.M - np.eye(2), Gp[:, None]])
+        J = np.hstack([ev.M - np.eye(2), Gq[:, None]])
         t = _null_vector(J)
         if t_ref is not None and float(t @ t_ref) < 0:
             t = -t
         m = prob.model_at(ev.p)
         umin, umax = orbit_extrema(m, ev.x, prob.n, dtau=prob.dtau, accurate=prob.accurate, steps=ev.N)
-        y = np.array([ev.x[0], ev.x[1], ev.p])
-        return _Point(y, ev, Gp, t, umin, umax, iters)
+        y = np.array([ev.x[0], ev.x[1], ev.p / self.ps])
+        return _Point(y, ev, Gq, t, umin, umax, iters)
 
     def correct(self, y0: np.ndarray, normal: np.ndarray, t_ref: np.ndarray | None, N: int | None = None
                 ) -> _Point | None:
-        """Newton on [P^n(x; p) − x; normal·(y − y0)] = 0 from y0, with N steps per period held fixed."""
+        """Newton on [P^n(x; p) − x; normal·(y − y0)] = 0 from y0 (y = (u, u', p/ps)), with N steps per
+        period held fixed.  The parameter column of the Jacobian is taken at the first iterate (chord
+        iteration in that column) and recomputed at the converged point for its tangent."""
         prob = self.prob
+        ps = self.ps
         y = np.asarray(y0, dtype=float).copy()
         try:
             if N is None:
-                N = prob.steps(y[2])
+                N = prob.steps(y[2] * ps)
             last_dy = math.inf
+            Gq = None
             for it in range(CORRECTOR_MAX_ITER + 1):
-                ev = prob.evaluate(y[:2], y[2], N)
+                p = float(y[2] * ps)
+                ev = prob.evaluate(y[:2], p, N)
                 if not ev.ok:
-                    return None
-                Gp = prob.dG_dp(y[:2], y[2], N)
-                if Gp is None:
                     return None
                 G = ev.G
                 r = float(np.linalg.norm(G))
                 if r <= CORRECTOR_TOL * (1.0 + float(np.linalg.norm(y[:2]))) and last_dy <= CORRECTOR_STEP_TOL:
-                    return self._finish_point(ev, Gp, t_ref, it)
+                    Gp = prob.dG_dp(y[:2], p, N)
+                    if Gp is None:
+                        return None
+                    return self._finish_point(ev, Gp * ps, t_ref, it)
                 if it == CORRECTOR_MAX_ITER:
                     return None
+                if Gq is None:
+                    Gp = prob.dG_dp(y[:2], p, N)
+                    if Gp is None:
+                        return None
+                    Gq = Gp * ps
                 J = np.zeros((3, 3))
                 J[:2, :2] = ev.M - np.eye(2)
-                J[:2, 2] = Gp
+                J[:2, 2] = Gq
                 J[2, :] = normal
                 F = np.concatenate([G, [float(normal @ (y - y0))]])
                 try:
@@ -845,7 +893,7 @@ class _Continuer:
 
     def at_parameter(self, y_guess: np.ndarray, p: float, t_ref: np.ndarray | None) -> _Point | None:
         """The branch point with the parameter exactly p (natural step count), from a nearby guess."""
-        y0 = np.array([y_guess[0], y_guess[1], p])
+        y0 = np.array([y_guess[0], y_guess[1], p / self.ps])
         return self.correct(y0, np.array([0.0, 0.0, 1.0]), t_ref, self.prob.steps(p))
 
     # -------------------------------------------------------------- test functions
@@ -939,18 +987,24 @@ class _Continuer:
 
         # a period-2m branch meeting the period-m branch (the other end of a period doubling): P^m x − x
         # passes through zero and the branch continues onto its mirror image (x ↔ P^m x); stop there.
+        # The merge point is a branch point of [M − I, ∂G/∂p] (rank 1), where the corrector is
+        # ill-conditioned; it is not located here but interpolated, and :func:`continuation` replaces
+        # it by the period doubling of the period-n/2 branch it belongs to.
         s_merge = math.inf
-        if sign_change("merge"):
-            pt, ok = self.locate_event(a, b, "merge")
-            sep = self._separation(pt)
-            if sep is not None and float(np.linalg.norm(sep)) <= SAME_POINT_TOL * (1.0 + float(np.linalg.norm(pt.y[:2]))):
-                mu = np.linalg.eigvals(pt.M)
-                mu = mu[np.argsort(-np.abs(mu), kind="stable")]
-                s_merge = float(chord @ (pt.y - a.y))
-                events.append((s_merge, Bifurcation(
-                    "merge", self.prob.param, pt.p, pt.y[:2].copy(), self.prob.n, branch_index, mu, pt.u_min,
-                    pt.u_max, "the branch meets the period-n/2 branch at its period doubling", ok, None, None,
-                    "merge"), pt))
+        sep_b = self._separation(b)
+        if sign_change("merge") and sep_a is not None and sep_b is not None and (
+                float(np.linalg.norm(sep_a)) + float(np.linalg.norm(sep_b))
+                <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))):
+            fa, fb = ta["merge"], tb["merge"]
+            sig = fa / (fa - fb)
+            mu = np.linalg.eigvals(a.M + sig * (b.M - a.M))
+            mu = mu[np.argsort(-np.abs(mu), kind="stable")]
+            s_merge = sig * float(np.linalg.norm(d))
+            x_m = a.ev.x + sig * (b.ev.x - a.ev.x)
+            events.append((s_merge, Bifurcation(
+                "merge", self.prob.param, a.p + sig * (b.p - a.p), x_m, self.prob.n, branch_index, mu,
+                a.u_min + sig * (b.u_min - a.u_min), a.u_max + sig * (b.u_max - a.u_max),
+                "the branch meets the period-n/2 branch at its period doubling", False, None, None, "merge"), a))
 
         turn = float(a.tangent[2]) * float(b.tangent[2]) < 0  # both oriented along the travel direction
         checks: list[tuple[str, str, str]] = []
@@ -1037,7 +1091,6 @@ class _Continuer:
                 stop_here = None
                 for s, bif, bpt in evs:
                     if bif.type == "merge":
-                        pts.append(bpt)
                         bifs.append(bif)
                         return pts, bifs, "merged into the period-n/2 branch at its period doubling"
                     bifs.append(bif)
@@ -1099,7 +1152,8 @@ def continue_branch(orbit: PeriodicOrbit, param: str, stop: float, *, start_boun
         direction = 1.0 if stop >= p0 else -1.0
     with _single_thread():
         N = prob.steps(p0)
-        first = cont.correct(np.array([orbit.state[0], orbit.state[1], p0]), np.array([0.0, 0.0, 1.0]), None, N)
+        first = cont.correct(np.array([orbit.state[0], orbit.state[1], p0 / cont.ps]), np.array([0.0, 0.0, 1.0]),
+                             None, N)
         if first is None:
             raise ModelError("continuation: the starting orbit could not be corrected at the start value")
         pts, bifs, end = cont.run(first, direction, index)
@@ -1360,8 +1414,9 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
         Switch at every period doubling onto the period-2n branch (up to ``max_period``) and
         continue it too.
     ds, ds_max : float, optional
-        Initial and largest arclength step in (u, u', p) (defaults: DS_INIT_REL and DS_MAX_REL of
-        |stop − start|).  Smaller steps resolve closely spaced events better.
+        Initial and largest arclength step in (u, u', p/|stop − start|), i.e. with the parameter
+        interval scaled to length 1 (defaults DS_INIT and DS_MAX).  Smaller steps resolve closely
+        spaced events better.
     locate : bool
         Locate events precisely (secant on test functions); otherwise report the nearer end of the
         step that brackets them.
@@ -1428,6 +1483,7 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
                                      ds_max=ds_max, max_points=max_points, locate=locate, origin=b,
                                      direction=away)
                 nb = _prepend_source(nb, b, model, dtau, accurate)
+                nb = _append_merge(nb, br, model, dtau, accurate, span)
                 branches.append(nb)
                 seen.append((2 * br.n, b.value, b.state.copy()))
                 for mb in nb.bifurcations:
@@ -1435,6 +1491,37 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
                         seen.append((nb.n, mb.value, mb.state.copy()))
                 queue.append(nb.index)
     return ContinuationResult(model, param, float(start), float(stop), branches, dtau, accurate, notes)
+
+
+def _append_merge(br: Branch, parent: Branch, model: GearModel, dtau: float, accurate: bool, span: float) -> Branch:
+    """A switched branch that ended by meeting its parent branch: replace the interpolated merge point
+    by the parent's period doubling there (located precisely on the parent) and end the branch on it."""
+    merges = [b for b in br.bifurcations if b.type == "merge"]
+    if not merges:
+        return br
+    mb = merges[-1]
+    pds = [b for b in parent.bifurcations if b.type == "period-doubling"]
+    if not pds:
+        return br
+    pd = min(pds, key=lambda b: abs(b.value - mb.value))
+    if abs(pd.value - mb.value) > SAME_EVENT_PARAM_REL * span + 1e-12:
+        return br
+    mb.value, mb.state, mb.u_min, mb.u_max, mb.located = pd.value, pd.state.copy(), pd.u_min, pd.u_max, pd.located
+    m = model.with_param(br.param, pd.value)
+    with _single_thread():
+        pts, M, _st, ok = period_map(m, pd.state, br.n, dtau=dtau, accurate=accurate)
+    if not ok:
+        return br
+    mb.multipliers = np.sort_complex(np.linalg.eigvals(M))[::-1]
+    sec = np.vstack([pd.state[None, :], pts[:-1]])
+    br.values = np.concatenate([br.values, [pd.value]])
+    br.states = np.vstack([br.states, pd.state[None, :]])
+    br.points = np.concatenate([br.points, sec[None]])
+    br.monodromy = np.concatenate([br.monodromy, M[None]])
+    br.u_min = np.concatenate([br.u_min, [pd.u_min]])
+    br.u_max = np.concatenate([br.u_max, [pd.u_max]])
+    br.steps = np.concatenate([br.steps, [_natural_steps(m, dtau)]])
+    return br
 
 
 def _prepend_source(br: Branch, src: Bifurcation, model: GearModel, dtau: float, accurate: bool) -> Branch:
@@ -1474,8 +1561,8 @@ def paper_stability_condition(model: GearModel) -> dict[str, Any]:
             "above_paper_condition": bool(model.xi0 > crit)}
 
 
-def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: float = 0.6,
-                       xi0_low: float = 0.0, n: int = 1, dtau: float = DEFAULT_DTAU,
+def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: float = XI0_SCAN_HIGH,
+                       xi0_low: float = XI0_SCAN_LOW, n: int = 1, dtau: float = DEFAULT_DTAU,
                        accurate: bool = False) -> xr.Dataset:
     """Floquet stability boundary of the period-n response in ξ0, for each ω.
 
@@ -1523,7 +1610,8 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
                      xi0_max: float = 1.0, tol: float = 1e-8) -> xr.Dataset:
     """Floquet stability boundary of the linear contact model (D = 0, no load, no STE; the damped
     Mathieu–Hill equation u'' + 2ξ(θ)u' + k(θ)u = 0 with the model's ξ_k, κ_r): for each ω the
-    smallest ξ0 above which u = 0 is stable (bisection on max|μ| = 1; 0 if stable for all ξ0 >= 0)."""
+    smallest ξ0 above which u = 0 is stable (bisection on max|μ| = 1; 0 where it is stable already at
+    ξ0 = XI0_SCAN_LOW, i.e. outside the parametric instability tongues)."""
     om = np.asarray(list(omegas), dtype=float)
     crit = np.zeros(om.size)
     lin = model.replace(D=0.0, fp=0.0, eps=(), phi_e=())
@@ -1533,8 +1621,8 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
                 m = lin.replace(omega=float(w), xi0=xi0)
                 _pts, M, _st, ok = period_map(m, (0.0, 0.0), 1, dtau=dtau)
                 return float(np.max(np.abs(np.linalg.eigvals(M)))) if ok else math.inf
-            if rho(0.0) < 1.0:
-                crit[i] = 0.0
+            if rho(XI0_SCAN_LOW) < 1.0:
+                crit[i] = 0.0  # stable for every positive damping in the scan (outside the instability tongues)
                 continue
             lo, hi = 0.0, xi0_max
             if rho(hi) >= 1.0:
@@ -1556,7 +1644,7 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
 
 
 def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dtau: float = DEFAULT_DTAU,
-                                xi0_high: float = 0.6) -> xr.Dataset:
+                                xi0_high: float = XI0_SCAN_HIGH, xi0_low: float = XI0_SCAN_LOW) -> xr.Dataset:
     """The paper's condition ξ0 = ½√(1 − κ1²) against the Floquet stability boundaries.
 
     Returns one Dataset over ``omega`` with ``xi0_critical`` (period-1 response of the full model,
@@ -1565,7 +1653,7 @@ def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dt
     where they occur, so a report can say whether the paper's value is a stability boundary.
     """
     om = np.asarray(list(omegas), dtype=float)
-    nl = stability_boundary(model, om, xi0_high=xi0_high, dtau=dtau)
+    nl = stability_boundary(model, om, xi0_high=xi0_high, xi0_low=xi0_low, dtau=dtau)
     lin = mathieu_boundary(model, om, dtau=dtau)
     paper = paper_stability_damping(model.get("kappa1"))
     ds = nl.rename({"xi0_critical": "xi0_critical", "bifurcation_type": "bifurcation_type"})
