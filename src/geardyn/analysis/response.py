@@ -6,9 +6,10 @@ From its Dataset:
 
 - a **jump** is a step between neighbouring ω of one sweep where the amplitude changes abruptly:
   by at least :data:`JUMP_MIN_FRACTION` of the amplitude range of the whole response and by at
-  least :data:`JUMP_RATIO` times the typical step change next to it (the smaller of the median
+  least :data:`JUMP_RATIO` times the typical step change next to it (the larger of the median
   step changes over :data:`JUMP_WINDOW` steps before and after), so that smooth resonance flanks
-  and the point-to-point scatter of chaotic amplitudes are not taken for jumps.  Each jump is
+  and the point-to-point scatter of chaotic amplitudes (also where such scatter begins) are not
+  taken for jumps.  Each jump is
   reported at the midpoint ω of its step, with its direction (``up``: the amplitude increases),
   its size (|ΔA|) and the sweep in which it occurs.
 - a **hysteresis interval** [ω_a, ω_b] is a maximal run of grid points where the up and down
@@ -166,7 +167,7 @@ def detect_jumps(
             before = before[np.isfinite(before)]
             after = after[np.isfinite(after)]
             sides = [float(np.median(s)) for s in (before, after) if s.size]
-            typical = min(sides) if sides else 0.0
+            typical = max(sides) if sides else 0.0
             if ad[i] < ratio * typical:
                 continue
             jumps.append({
