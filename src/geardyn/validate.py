@@ -113,15 +113,21 @@ def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
             raise ModelError(f"{name}: must be an integer >= {lo}, got {_describe(value)}")
         n = int(x)
     if n < lo or (hi is not None and n > hi):
-        allowed = f">= {lo}" if hi is None else f"between {lo} and {hi}"
+        allowed = f">= {lo}" if hi is None else f">= {lo} and <= {hi}"
         raise ModelError(f"{name}: must be an integer {allowed}, got {_describe(value)}")
     return n
 
 
+_SCALARS = ("omega", "xi0", "fp", "D")
+
+
 def _series_slot(name: str) -> tuple[str, int | None]:
-    m = re.match(r"^(xi|kappa|eps|phi_c|phi_k|phi_e)(\d+)$", name)
-    if m is None:
+    """(field, harmonic index) of a canonical parameter name; index None for the scalar fields."""
+    if name in _SCALARS:
         return name, None
+    m = re.match(r"^(xi|kappa|eps|phi_c|phi_k|phi_e)([1-9][0-9]*)$", name)
+    if m is None:  # pragma: no cover - canonical_param accepts nothing else
+        raise ModelError(f"unknown parameter {name!r}")
     return m.group(1), int(m.group(2)) - 1
 
 
