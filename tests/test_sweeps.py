@@ -113,7 +113,7 @@ def _branch_omega(u0: float, guess: list[float]) -> float:
         return [y[0] - u0, y[1] - z[0]]
 
     z, info, ier, _ = fsolve(G, guess, full_output=True, xtol=1e-13)
-    assert ier == 1 and np.max(np.abs(info["fvec"])) < 1e-10
+    assert np.max(np.abs(info["fvec"])) < 1e-10, (u0, guess, ier)
     guess[:] = list(z)
     return float(z[1])
 
@@ -133,7 +133,7 @@ def reference_folds() -> tuple[float, float]:
 
 
 #: The folds from :func:`reference_folds` (recomputed and checked in the slow test).
-FOLD_HIGH, FOLD_LOW = 0.54065, 0.59497
+FOLD_HIGH, FOLD_LOW = 0.540651, 0.595003
 
 
 def test_piecewise_linear_reference_matches_kernel_map():
@@ -320,8 +320,8 @@ def test_cli_json_keys(tmp_path):
 @pytest.mark.slow
 def test_reference_folds_recomputed():
     high, low = reference_folds()
-    assert high == pytest.approx(FOLD_HIGH, abs=2e-5)
-    assert low == pytest.approx(FOLD_LOW, abs=2e-5)
+    assert high == pytest.approx(FOLD_HIGH, abs=2e-6)
+    assert low == pytest.approx(FOLD_LOW, abs=2e-6)
 
 
 @pytest.mark.slow
