@@ -230,17 +230,21 @@ def lyapunov_spectrum(
     blocks : int
         Blocks of the block-statistics uncertainty.
     classify : bool
-        Also classify the motion (period from the Poincaré points recorded in the same run).
+        Also classify the motion from the same run (period, exponent, and for non-periodic points
+        the closed-curve tests of :func:`~geardyn.analysis.classify.classify_motion`; no settling
+        passes: give a long enough transient).
     """
     out = lyapunov_batch([model], state0, options, blocks=blocks)
     res = out["result"]
     motion: dict[str, Any] = {}
     if classify:
-        from .classify import detect_period, motion_class, motion_label
+        from .classify import curve_dimension, detect_period, motion_class, motion_label, settling_ratio
 
         ok = res.status[0] == ST_OK
-        n = detect_period(res.poincare[0]) if ok else -1
-        code = motion_class(n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok)
+        pc = res.poincare[0]
+        n = detect_period(pc) if ok else -1
+        dim, ratio = (curve_dimension(pc), settling_ratio(pc)) if n == 0 else (np.nan, np.nan)
+        code = motion_class(n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio)
         motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
     return LyapunovResult(
         model, options, (float(state0[0]), float(state0[1])), out["exponents"][0], out["uncertainty"][0],
