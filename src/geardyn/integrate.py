@@ -82,6 +82,12 @@ class BatchResult:
     def _masked(self, x: np.ndarray) -> np.ndarray:
         return np.where(self.ok, x, np.nan)
 
+    def _per_sample(self, x: np.ndarray) -> np.ndarray:
+        """x / number of samples; NaN where no sample was taken (diverged before recording)."""
+        n = self.stats[:, K.S_N]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(n > 0, x / np.where(n > 0, n, 1.0), np.nan)
+
     @property
     def u_min(self) -> np.ndarray:
         return self._masked(self.stats[:, K.S_UMIN])
@@ -105,21 +111,19 @@ class BatchResult:
 
     @property
     def mean(self) -> np.ndarray:
-        return self._masked(self.stats[:, K.S_USUM] / self.stats[:, K.S_N])
+        return self._masked(self._per_sample(self.stats[:, K.S_USUM]))
 
     @property
     def rms(self) -> np.ndarray:
         """RMS of the fluctuation u − mean(u) over the recorded periods."""
-        n = self.stats[:, K.S_N]
-        m = self.stats[:, K.S_USUM] / n
-        var = np.maximum(self.stats[:, K.S_USQ] / n - m * m, 0.0)
+        m = self._per_sample(self.stats[:, K.S_USUM])
+        var = np.maximum(self._per_sample(self.stats[:, K.S_USQ]) - m * m, 0.0)
         return self._masked(np.sqrt(var))
 
     @property
     def contact_fractions(self) -> np.ndarray:
         """(P, 3) time fractions in drive-side contact, separation and back-side contact."""
-        n = self.stats[:, K.S_N][:, None]
-        f = self.stats[:, [K.S_NDRIVE, K.S_NSEP, K.S_NBACK]] / n
+        f = np.stack([self._per_sample(self.stats[:, k]) for k in (K.S_NDRIVE, K.S_NSEP, K.S_NBACK)], axis=1)
         return np.where(self.ok[:, None], f, np.nan)
 
     @property
