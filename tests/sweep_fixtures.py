@@ -1,18 +1,12 @@
 """A small steady-state sweep on the sweep engine, shared by the sweep tests.
 
-Worker processes import this module by name (local pools inherit ``sys.path``; the Dask test
-puts this directory on the workers' ``PYTHONPATH``).  Run as a script it is a resumable sweep
-command, used by the kill -9 and Ctrl-C tests::
-
-    python tests/sweep_fixtures.py --out DIR [--resume] [--workers N] [--scheduler ADDR] ...
+Worker processes import this module by name: local pools inherit ``sys.path``, and the Dask
+test puts this directory on the workers' ``PYTHONPATH``.
 """
 
 from __future__ import annotations
 
-import argparse
 import os
-import sys
-from pathlib import Path
 from typing import Sequence
 
 import numpy as np
@@ -20,9 +14,9 @@ import xarray as xr
 
 from geardyn.analysis.steady import summarize_batch
 from geardyn.integrate import integrate_batch
-from geardyn.io import result_attrs, write_netcdf
-from geardyn.model import GearModel, IntegrationOptions, ModelError
-from geardyn.sweep import Chunk, SweepInterrupted, checkpoint_dir, chunked, concat_results, grid_models, run_chunks
+from geardyn.io import result_attrs
+from geardyn.model import GearModel, IntegrationOptions
+from geardyn.sweep import Chunk, chunked, concat_results, grid_models, run_chunks
 
 #: Options of the test sweeps: short, so that a chunk of one point takes a fraction of a second.
 FAST = IntegrationOptions(transient=40, periods=16)
@@ -80,41 +74,3 @@ def sweep(param: str, values: Sequence[float], options: IntegrationOptions = FAS
     """Run the sweep with ``run_chunks(**run_kw)`` and assemble its Dataset."""
     chunks = make_chunks(param, values, options, chunk_points, base)
     return to_dataset(param, values, run_chunks(chunks, **run_kw), options, base)
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--param", default="omega")
-    ap.add_argument("--start", type=float, default=0.6)
-    ap.add_argument("--stop", type=float, default=1.4)
-    ap.add_argument("--num", type=int, default=12)
-    ap.add_argument("--transient", type=int, default=FAST.transient)
-    ap.add_argument("--periods", type=int, default=FAST.periods)
-    ap.add_argument("--chunk", type=int, default=1)
-    ap.add_argument("--workers", type=int, default=1)
-    ap.add_argument("--scheduler", default=None)
-    ap.add_argument("--out", type=Path, required=True)
-    ap.add_argument("--resume", action="store_true")
-    ap.add_argument("--progress", action="store_true")
-    a = ap.parse_args(argv)
-    opts = IntegrationOptions(transient=a.transient, periods=a.periods)
-    values = np.linspace(a.start, a.stop, a.num)
-    nc = a.out / "sweep.nc"
-    try:
-        ds = sweep(a.param, values, opts, a.chunk, workers=a.workers, scheduler=a.scheduler,
-                   checkpoint=checkpoint_dir(nc), resume=a.resume, progress=a.progress, description="sweep")
-    except SweepInterrupted as e:
-        print(e, file=sys.stderr)
-        return 130
-    except ModelError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    write_netcdf(ds, nc)
-    print(nc)
-    return 0
-
-
-if __name__ == "__main__":
-    import sweep_fixtures  # the chunk functions must be named by module, not __main__, for workers and fingerprints
-
-    sys.exit(sweep_fixtures.main())

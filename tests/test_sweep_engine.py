@@ -15,11 +15,10 @@ import xarray as xr
 
 import sweep_fixtures as F
 from geardyn import sweep as S
-from geardyn.io import read_netcdf, write_netcdf
+from geardyn.io import read_netcdf
 from geardyn.model import GearModel, IntegrationOptions, ModelError
 from geardyn.sweep import Chunk, SweepInterrupted, checkpoint_dir, chunked, grid_models, run_chunks
 
-HERE = Path(__file__).resolve().parent
 OMEGAS = np.linspace(0.6, 1.4, 6)
 #: A chunk of one point under these options takes ~0.1 s: long enough to interrupt a sweep mid-run.
 SLOW = IntegrationOptions(transient=3000, periods=16)
@@ -132,73 +131,12 @@ def test_lost_local_worker_process_does_not_lose_the_sweep(tmp_path, reference):
     xr.testing.assert_identical(reference, F.to_dataset("omega", OMEGAS, out))
 
 
-def _script_args(out: Path, *extra: str) -> list[str]:
-    return ["--out", str(out), "--num", "10", "--chunk", "1", "--transient", str(SLOW.transient),
-            "--periods", str(SLOW.periods), *extra]
-
-
-def _start_sweep(out: Path, *extra: str) -> subprocess.Popen:
-    """The sweep script in its own process group (so that signals reach it and its workers only)."""
-    args = [sys.executable, str(HERE / "sweep_fixtures.py"), *_script_args(out, *extra)]
-    return subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
-
-
 def _wait_for_chunks(proc: subprocess.Popen, d: Path, n: int, timeout: float = 120) -> None:
     t0 = time.monotonic()
     while len(chunk_files(d)) < n:
         assert proc.poll() is None, f"sweep ended early: {proc.communicate()}"
         assert time.monotonic() - t0 < timeout, "no chunks written"
         time.sleep(0.02)
-
-
-@pytest.fixture(scope="module")
-def slow_reference(tmp_path_factory) -> xr.Dataset:
-    """The uninterrupted run of the script's sweep, in process, through a NetCDF file as the script does."""
-    nc = tmp_path_factory.mktemp("uninterrupted") / "sweep.nc"
-    write_netcdf(F.sweep("omega", np.linspace(0.6, 1.4, 10), SLOW, chunk_points=1), nc)
-    return read_netcdf(nc)
-
-
-def test_kill_9_then_resume_equals_uninterrupted(tmp_path, slow_reference):
-    nc = tmp_path / "sweep.nc"
-    ck = checkpoint_dir(nc)
-    proc = _start_sweep(tmp_path)
-    try:
-        _wait_for_chunks(proc, ck, 3)
-        os.killpg(proc.pid, signal.SIGKILL)
-    finally:
-        proc.wait(timeout=30)
-    assert proc.returncode == -signal.SIGKILL
-    done = chunk_files(ck)
-    assert 3 <= len(done) < 10 and not nc.exists()
-    for p in done:  # every chunk on disk is complete
-        with np.load(p) as z:
-            assert z["status"].shape == (1,)
-    mtimes = {p.name: p.stat().st_mtime_ns for p in done}
-    assert F.main(_script_args(tmp_path, "--resume")) == 0
-    assert {p.name: p.stat().st_mtime_ns for p in chunk_files(ck) if p.name in mtimes} == mtimes  # not redone
-    xr.testing.assert_identical(slow_reference, read_netcdf(nc))
-
-
-def test_ctrl_c_with_worker_processes_stops_cleanly_then_resumes(tmp_path, slow_reference):
-    nc = tmp_path / "sweep.nc"
-    ck = checkpoint_dir(nc)
-    proc = _start_sweep(tmp_path, "--workers", "2")
-    try:
-        _wait_for_chunks(proc, ck, 2)
-        os.killpg(proc.pid, signal.SIGINT)  # as a terminal does: the whole process group
-        out, err = proc.communicate(timeout=60)
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
-    assert proc.returncode == 130, err
-    lines = [ln for ln in err.splitlines() if ln.strip()]
-    assert len(lines) == 1 and "Traceback" not in err, err
-    assert lines[0].startswith("interrupted: ") and "--resume" in lines[0]
-    assert 2 <= len(chunk_files(ck)) < 10
-    assert F.main(_script_args(tmp_path, "--resume")) == 0  # resumed in process, on one worker
-    xr.testing.assert_identical(slow_reference, read_netcdf(nc))
 
 
 # ------------------------------------------------------------------------- divergence and progress
@@ -249,3 +187,105 @@ def test_run_chunks_refuses_bad_arguments(tmp_path, monkeypatch):
     (tmp_path / "file").write_text("x")
     with pytest.raises(ModelError, match="^out: "):
         run_chunks(chunks, checkpoint=tmp_path / "file")
+
+
+# ------------------------------------------------------------------------- through the command line
+BIF = ["bifurcation", "--param", "omega", "--start", "0.6", "--stop", "1.4", "--num", "8", "--chunk-size", "1",
+       "--transient", str(SLOW.transient), "--periods", str(SLOW.periods), "--settle", "0"]
+
+
+def run_cli(argv: list[str]) -> tuple[int, str, str]:
+    import contextlib
+    import io
+
+    from geardyn.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            main(argv)
+            code = 0
+        except SystemExit as e:
+            code = e.code if isinstance(e.code, int) else 1
+    return code, out.getvalue(), err.getvalue()
+
+
+def start_cli(*args: str) -> subprocess.Popen:
+    """``geardyn ARGS`` in its own process group (signals reach it and its workers only)."""
+    return subprocess.Popen([sys.executable, "-m", "geardyn.cli", *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+
+
+@pytest.fixture(scope="module")
+def bif_reference(tmp_path_factory) -> xr.Dataset:
+    out = tmp_path_factory.mktemp("bifurcation")
+    code, _, err = run_cli(BIF + ["--out", str(out), "--json"])
+    assert code == 0, err
+    assert not checkpoint_dir(out / "bifurcation.nc").exists()  # dropped once the result is written
+    return read_netcdf(out / "bifurcation.nc")
+
+
+def test_cli_bifurcation_killed_with_sigkill_then_resumed(tmp_path, bif_reference):
+    ck = checkpoint_dir(tmp_path / "bifurcation.nc")
+    proc = start_cli(*BIF, "--out", str(tmp_path), "--json")
+    try:
+        _wait_for_chunks(proc, ck, 3)
+        os.killpg(proc.pid, signal.SIGKILL)
+    finally:
+        proc.wait(timeout=30)
+    done = len(chunk_files(ck))
+    assert 3 <= done < 8 and not (tmp_path / "bifurcation.nc").exists()
+    code, out, err = run_cli(BIF + ["--out", str(tmp_path), "--resume"])
+    assert code == 0, err
+    xr.testing.assert_identical(bif_reference, read_netcdf(tmp_path / "bifurcation.nc"))
+    assert not ck.exists()
+
+
+def test_cli_bifurcation_ctrl_c_says_how_to_resume(tmp_path, bif_reference):
+    ck = checkpoint_dir(tmp_path / "bifurcation.nc")
+    proc = start_cli(*BIF, "--out", str(tmp_path), "--workers", "2", "--json")
+    try:
+        _wait_for_chunks(proc, ck, 2)
+        os.killpg(proc.pid, signal.SIGINT)  # as a terminal does: the whole process group
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 130, err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    assert lines[0].startswith("interrupted: ") and "--resume" in lines[0] and str(ck) in lines[0]
+    assert out == ""
+    code, out, err = run_cli(BIF + ["--out", str(tmp_path), "--resume", "--json"])
+    assert code == 0, err
+    xr.testing.assert_identical(bif_reference, read_netcdf(tmp_path / "bifurcation.nc"))
+
+
+def test_cli_resume_needs_out_and_the_same_sweep(tmp_path):
+    code, _, err = run_cli(BIF + ["--resume"])
+    assert code == 2 and err.startswith("error: resume: needs --out")
+    ck = checkpoint_dir(tmp_path / "bifurcation.nc")
+    ck.mkdir()
+    (ck / S.MANIFEST).write_text('{"fingerprint": "another sweep", "chunks": 3}')
+    code, _, err = run_cli(BIF + ["--out", str(tmp_path), "--resume"])
+    assert code == 2 and "different sweep" in err and len(err.strip().splitlines()) == 1
+
+
+def test_cli_xi0_sweep_marks_negative_damping_diverged():
+    import json
+
+    argv = ["bifurcation", "--param", "xi0", "--start", "-0.3", "--stop", "0.2", "--num", "11", "--transient", "60",
+            "--periods", "16", "--settle", "0"]
+    code, out, err = run_cli(argv + ["--json"])
+    assert code == 0, err
+    assert err == ""  # silent with --json
+    s = json.loads(out)
+    xi0 = np.array(s["values"])
+    status = np.array(s["status"])
+    assert np.all(status[xi0 < -1e-12] == "diverged") and np.all(status[xi0 > 1e-12] == "ok")
+    assert all(m == "diverged" for m, x in zip(s["motion"], xi0) if x < -1e-12)
+    code, out, err = run_cli(argv)
+    assert code == 0, err
+    n_bad = int(np.count_nonzero(status == "diverged"))
+    assert f"{n_bad} of 11 points diverged" in err

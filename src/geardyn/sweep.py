@@ -307,7 +307,10 @@ def _init_worker() -> None:
 
 
 def _call(fn: Callable[..., dict[str, np.ndarray]], args: tuple) -> dict[str, np.ndarray]:
-    return fn(*args)
+    """Run one chunk.  NumPy's divide and invalid warnings are off: diverged points are NaN by
+    design (their ``status`` says so), and a sweep must not print a warning per chunk."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return fn(*args)
 
 
 def _call_single_thread(fn: Callable[..., dict[str, np.ndarray]], args: tuple) -> dict[str, np.ndarray]:
@@ -315,7 +318,7 @@ def _call_single_thread(fn: Callable[..., dict[str, np.ndarray]], args: tuple) -
     from .integrate import set_threads
 
     set_threads(1)
-    return fn(*args)
+    return _call(fn, args)
 
 
 @contextmanager
@@ -432,7 +435,7 @@ def run_chunks(
                 _run_on_dask(scheduler, todo, finished)
             elif workers == 1:
                 for c in todo:
-                    finished(c, c.fn(*c.args))
+                    finished(c, _call(c.fn, c.args))
             else:
                 _run_on_pool(workers, todo, finished)
         finally:
