@@ -102,6 +102,9 @@ FD_REL_STEP = 1.0e-6
 DS_MAX = 0.01
 DS_INIT = 0.002
 DS_MIN = 1.0e-7
+#: A step predicted beyond the end of the interval is corrected directly at the end value when the
+#: parameter component of the (unit) tangent is at least this (far from a fold).
+DIRECT_LANDING_MIN_TP = 0.2
 #: Models kept per branch for repeated evaluations at the same parameter value.
 MODEL_CACHE_SIZE = 16
 #: Step growth and shrink factors, and the corrector iteration counts that trigger them.
@@ -1062,8 +1065,20 @@ class _Continuer:
         while len(pts) < self.max_points:
             a = pts[-1]
             new = None
+            at_bound = False
             while new is None:
                 y_pred = a.y + ds * a.tangent
+                p_pred = float(y_pred[2] * self.ps)
+                if (p_pred < lo or p_pred > hi) and abs(float(a.tangent[2])) >= DIRECT_LANDING_MIN_TP:
+                    # the step would leave the interval (perhaps where the model is not defined, such as
+                    # D < 0) while the branch runs mainly along the parameter: land on the bound directly
+                    bound = self.hi if p_pred > hi else self.lo
+                    frac = (bound - a.p) / (p_pred - a.p) if p_pred != a.p else 1.0
+                    landed = self.at_parameter(a.y + frac * (y_pred - a.y), bound, a.tangent)
+                    if landed is not None and float(landed.tangent @ a.tangent) >= self.cos_max_turn:
+                        new = landed
+                        at_bound = True
+                        break
                 cand = self.correct(y_pred, a.tangent, a.tangent)
                 if cand is not None and float(cand.tangent @ a.tangent) >= self.cos_max_turn:
                     new = cand
@@ -1074,10 +1089,11 @@ class _Continuer:
                 ds *= DS_SHRINK
                 if ds < self.ds_min:
                     return pts, bifs, "step size underflow (no convergence)"
-            new = self.correct_natural(new, a.tangent)
+            if not at_bound:
+                new = self.correct_natural(new, a.tangent)
             p = new.p
-            outside = p < lo or p > hi
-            if outside:
+            outside = at_bound or p < lo or p > hi
+            if outside and not at_bound:
                 bound = self.hi if p > hi else self.lo
                 # interpolate to the bound along the step and land on it exactly
                 frac = (bound - a.p) / (p - a.p) if p != a.p else 1.0
@@ -1085,6 +1101,7 @@ class _Continuer:
                 landed = self.at_parameter(guess, bound, a.tangent)
                 if landed is not None:
                     new = landed
+            if outside:
                 end = "reached the end of the parameter interval"
             if self.detect:
                 evs = self.detect_events(a, new, branch_index)
@@ -1572,7 +1589,7 @@ def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: f
     stable at high damping is no longer stable.  NaN when it stays stable down to ``xi0_low``.
 
     Returns a Dataset over ``omega`` with ``xi0_critical``, ``bifurcation_type`` and ``status``
-    (0 found or stable throughout, 1 the start orbit failed).
+    (0 found, or stable throughout; 1 the start orbit was not found or the scan stopped early).
     """
     om = np.asarray(list(omegas), dtype=float)
     crit = np.full(om.size, np.nan)
@@ -1591,6 +1608,9 @@ def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: f
         if lost:
             crit[i] = lost[0].value
             kinds[i] = lost[0].type
+        elif br.values.min() > xi0_low + 1e-9 * (xi0_high - xi0_low):
+            status[i] = 1
+            kinds[i] = f"scan incomplete ({br.end})"
         else:
             kinds[i] = "stable"
     from ..io import result_attrs
