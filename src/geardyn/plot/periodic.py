@@ -180,24 +180,33 @@ def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None):
 
 # ---------------------------------------------------------------------------- stability boundary
 def stability_figure(ds: xr.Dataset):
-    """Floquet stability boundaries ξ0_c(ω) against the paper's condition ξ0 = ½√(1 − κ1²)
-    (a Dataset from :func:`geardyn.analysis.periodic.compare_stability_condition`)."""
+    """Floquet stability boundaries ξ0_c(ω), with the paper's condition ξ0 = ½√(1 − κ1²) when the
+    Dataset holds it (from :func:`geardyn.analysis.periodic.compare_stability_condition`; the
+    Datasets of ``stability_boundary`` and ``mathieu_boundary`` are drawn too)."""
     fig, ax = plt.subplots(figsize=(8, 4.5))
     om = ds["omega"].values
-    if "xi0_critical_linear" in ds:
-        ax.plot(om, ds["xi0_critical_linear"].values, "-", color="C0",
+    linear = "xi0_critical_linear" if "xi0_critical_linear" in ds else (
+        "xi0_critical" if ds.attrs.get("geardyn_kind") == "mathieu_boundary" else None)
+    if linear is not None:
+        ax.plot(om, ds[linear].values, "-", color="C0",
                 label="linear contact model (D = 0, unforced): Mathieu–Hill boundary")
-    crit = ds["xi0_critical"].values
-    kinds = ds["bifurcation_type"].values.astype(str)
-    for typ in sorted(set(kinds)):
-        if typ not in BIFURCATION_STYLE:
-            continue
-        sel = kinds == typ
-        st = BIFURCATION_STYLE[typ]
-        ax.plot(om[sel], crit[sel], ls="none", marker=st["marker"], color=st["color"], mfc="white",
-                label=f"full model, period-1 response loses stability by {st['label']}")
-    paper = float(ds["xi0_paper"].values) if "xi0_paper" in ds else float(ds.attrs["xi0_paper"])
-    ax.axhline(paper, color="C3", ls="--", label=f"paper's condition ½√(1 − κ1²) = {paper:.4f}")
+    if "bifurcation_type" in ds:
+        crit = ds["xi0_critical"].values
+        kinds = ds["bifurcation_type"].values.astype(str)
+        for typ in sorted(set(kinds)):
+            if typ not in BIFURCATION_STYLE:
+                continue
+            sel = kinds == typ
+            st = BIFURCATION_STYLE[typ]
+            ax.plot(om[sel], crit[sel], ls="none", marker=st["marker"], color=st["color"], mfc="white",
+                    label=f"full model, period-1 response loses stability by {st['label']}")
+    paper = None
+    if "xi0_paper" in ds:
+        paper = float(ds["xi0_paper"].values)
+    elif "xi0_paper" in ds.attrs:
+        paper = float(ds.attrs["xi0_paper"])
+    if paper is not None:
+        ax.axhline(paper, color="C3", ls="--", label=f"paper's condition ½√(1 − κ1²) = {paper:.4f}")
     ax.set_xlabel("mesh frequency ω")
     ax.set_ylabel("critical mean damping ratio ξ0")
     ax.set_ylim(bottom=0)
@@ -222,3 +231,9 @@ def save_continuation(ds: xr.Dataset, directory: str | Path, sweep: xr.Dataset |
 def save_stability(ds: xr.Dataset, directory: str | Path) -> list[Path]:
     """Write the stability-boundary figure as PNG into ``directory``."""
     return [save(stability_figure(ds), Path(directory) / "stability_boundary.png")]
+
+
+#: Drawers by result kind (``geardyn.plot.save_figures`` looks for ``save_<kind>``).
+save_stability_comparison = save_stability
+save_stability_boundary = save_stability
+save_mathieu_boundary = save_stability
