@@ -1216,9 +1216,11 @@ def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel
     """
     param = branch.param
     n2 = 2 * branch.n
-    prob = _Problem(model, param, branch.n, dtau, accurate)
     m_star = model.with_param(param, bif.value)
-    pts, M, _st, ok = period_map(m_star, bif.state, branch.n, dtau=dtau, accurate=accurate)
+    with _single_thread():
+        _pts, M, _st, ok = period_map(m_star, bif.state, branch.n, dtau=dtau, accurate=accurate)
+    if not ok:
+        return None
     w, V = np.linalg.eig(M)
     k = int(np.argmin(np.abs(w + 1.0)))
     e = np.real(V[:, k])
