@@ -3,7 +3,7 @@
 Each study runs geardyn's analyses on the paper's Table 1 model, saves its data (NetCDF), and
 judges the paper's claims (:mod:`geardyn.paper`) with a stated rule, returning a
 :class:`~geardyn.report.Section`.  Figures are drawn afterwards from the saved Datasets by
-:func:`draw_figures` (computation never plots), and :func:`run` writes the report.
+:func:`write_outputs` (the studies never plot), and :func:`run` writes the report.
 
 Settings the paper leaves unstated are chosen here, once, with the reason written into the
 report (:class:`Settings`).  Where a claim does not hold at the stated choice, the study
@@ -125,6 +125,7 @@ class Context:
     executor: Executor | None = None
     log: Callable[[str], None] = lambda s: None
     datasets: dict[str, str] = field(default_factory=dict)  # name -> relative path of its NetCDF
+    pending: dict[str, xr.Dataset] = field(default_factory=dict)  # saved at the end, in parallel
 
     @property
     def base(self) -> GearModel:
@@ -132,8 +133,9 @@ class Context:
                          kappa=(TABLE1["kappa1"],), eps=(TABLE1["eps1"],), fp=TABLE1["fp"], D=TABLE1["D"])
 
     def save(self, name: str, ds: xr.Dataset) -> str:
+        """Register a Dataset for ``data/<name>.nc`` (and its figure); written by :func:`write_outputs`."""
         rel = f"data/{name}.nc"
-        write_netcdf(ds, self.out / rel)
+        self.pending[name] = ds
         self.datasets[name] = rel
         return rel
 
@@ -755,12 +757,12 @@ def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str]
     try:
         ctx = Context(out, settings, executor, log)
         sections = run_studies(ctx)
+        t_compute = time.perf_counter() - t0
+        log("data and figures")
+        write_outputs(ctx)
     finally:
         if own and executor is not None:
             executor.shutdown(wait=True)
-    t_compute = time.perf_counter() - t0
-    log("figures")
-    draw_figures(ctx)
     sections.insert(0, settings_section(settings, t_compute))
     intro = [
         "This report reruns every study of the paper 'Nonlinear Dynamic Response of Spiral Bevel Gear Pairs with "
@@ -780,25 +782,38 @@ def _settings_dict(s: Settings) -> dict[str, Any]:
     return asdict(s)
 
 
-def draw_figures(ctx: Context) -> None:
-    """Figures of every saved Dataset (by its kind) into ``figures/``."""
-    from .io import read_netcdf
+def _figure_function(kind: str) -> Callable[[xr.Dataset], Any] | None:
     from .plot import bifurcation as pb
     from .plot import periodic as pp
     from .plot import reproduce as pr
     from .plot import response as prs
-    from .plot.common import save
 
-    figs = ctx.out / "figures"
-    draw = {
+    return {
         "bifurcation": pb.diagram,
         "response": prs.response,
         "stability_comparison": pp.stability_figure,
         "formula_fit": pr.formula_fit,
         "search": pr.search_map,
-    }
-    for name, rel in ctx.datasets.items():
-        ds = read_netcdf(ctx.out / rel)
-        fn = draw.get(str(ds.attrs.get("geardyn_kind")))
-        if fn is not None:
-            save(fn(ds), figs / f"{name}.png")
+    }.get(kind)
+
+
+def write_output(ds: xr.Dataset, nc: Path, png: Path) -> None:
+    """Write one study's Dataset (NetCDF) and, by its kind, its figure (PNG); both atomically."""
+    from .plot.common import save
+
+    write_netcdf(ds, nc)
+    fn = _figure_function(str(ds.attrs.get("geardyn_kind")))
+    if fn is not None:
+        save(fn(ds), png)
+
+
+def write_outputs(ctx: Context) -> None:
+    """Write every registered Dataset and its figure, in parallel on the run's executor."""
+    jobs = [(ds, ctx.out / ctx.datasets[name], ctx.out / "figures" / f"{name}.png") for name, ds in ctx.pending.items()]
+    if ctx.executor is None:
+        for job in jobs:
+            write_output(*job)
+    else:
+        for f in [ctx.executor.submit(write_output, *job) for job in jobs]:
+            f.result()
+    ctx.pending.clear()
