@@ -77,6 +77,11 @@ OutOpt = Annotated[Optional[Path], typer.Option("--out", help="Directory (or .nc
 WorkersOpt = Annotated[int, typer.Option("--workers", help="Local worker processes for a sweep (1: in this process).")]
 SchedulerOpt = Annotated[Optional[str], typer.Option("--scheduler", help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed).")]
 ResumeOpt = Annotated[bool, typer.Option("--resume", help="Complete an interrupted sweep with the same --out: chunks already finished are kept.")]
+# physical front-end: operating point of the configured gear pair (default: the paper's Table 1 pair, k0 assumed)
+RpmOpt = Annotated[Optional[float], typer.Option("--rpm", help="Pinion speed in rpm (sets ω for the gear pair of --config; default pair: the paper's Table 1, k0 = 2000 N/µm assumed).")]
+TorqueOpt = Annotated[Optional[float], typer.Option("--torque", help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config).")]
+RpmStartOpt = Annotated[Optional[float], typer.Option("--rpm-start", help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop).")]
+RpmStopOpt = Annotated[Optional[float], typer.Option("--rpm-stop", help="End of an ω sweep given as pinion speed in rpm (with --rpm-start).")]
 
 
 def sweep_engine(workers: int, scheduler: Optional[str], resume: bool, nc: Optional[Path], json_out: bool) -> dict[str, Any]:
@@ -117,9 +122,34 @@ def base_model(config: Optional[Path]) -> GearModel:
     return load_config(config).model
 
 
+def pair_scales(config: Optional[Path]):
+    """Physical scales of the gear pair of ``--config`` (default: the paper's Table 1 pair, k0 assumed)."""
+    from .units import PhysicalScales, configured_pair
+
+    return PhysicalScales.from_config(configured_pair(config))
+
+
+def rpm_range(
+    config: Optional[Path],
+    rpm_start: Optional[float],
+    rpm_stop: Optional[float],
+    start: Optional[float] = None,
+    stop: Optional[float] = None,
+    param: str = "omega",
+) -> tuple[Optional[float], Optional[float]]:
+    """(start, stop) of a sweep: ``--rpm-start/--rpm-stop`` converted to ω, else ``start, stop`` as given."""
+    from .units import sweep_range
+
+    if rpm_start is None and rpm_stop is None:
+        return start, stop
+    return sweep_range(pair_scales(config), rpm_start, rpm_stop, start, stop, param=param)
+
+
 def build_model(
     config: Optional[Path] = None,
     *,
+    rpm: Optional[float] = None,
+    torque: Optional[float] = None,
     omega: Optional[float] = None,
     xi0: Optional[float] = None,
     xi1: Optional[float] = None,
@@ -131,8 +161,17 @@ def build_model(
     phi_k: Optional[float] = None,
     phi_e: Optional[float] = None,
 ) -> GearModel:
-    """The config's model with the command-line values applied on top (validated)."""
+    """The config's model with the command-line values applied on top (validated).
+
+    ``rpm`` (pinion speed) and ``torque`` (pinion torque, N·m) set ω and f_p through the scales of
+    the configured gear pair; they cannot be combined with ``omega`` / ``fp``.
+    """
     m = base_model(config)
+    if rpm is not None or torque is not None:
+        from .units import operating_overrides
+
+        phys = operating_overrides(pair_scales(config), rpm=rpm, torque=torque, omega=omega, fp=fp)
+        omega, fp = phys.get("omega", omega), phys.get("fp", fp)
     given = {
         "omega": omega, "xi0": xi0, "xi1": xi1, "kappa1": kappa1, "fp": fp, "eps1": fe, "D": backlash,
         "phi_c1": phi_c, "phi_k1": phi_k, "phi_e1": phi_e,
@@ -161,6 +200,8 @@ def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
 @app.command()
 def simulate(
     config: ConfigOpt = None,
+    rpm: RpmOpt = None,
+    torque: TorqueOpt = None,
     omega: OmegaOpt = None,
     xi0: Xi0Opt = None,
     xi1: Xi1Opt = None,
@@ -180,28 +221,32 @@ def simulate(
     json_out: JsonOpt = False,
     out: OutOpt = None,
 ) -> None:
-    """Integrate one operating point and report its steady response (Poincaré points, period, impact, amplitudes)."""
+    """Integrate one operating point and report its steady response (Poincaré points, period, impact, amplitudes),
+    with physical values for the configured gear pair: pinion speed, dynamic transmission error (µm), dynamic mesh
+    force (N), dynamic factor, spectrum peaks in Hz and mesh orders."""
+    from .analysis.physical import add_physical, simulate_physical
     from .analysis.steady import simulate as run_simulate
 
     try:
-        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
-                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        model = build_model(config, rpm=rpm, torque=torque, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp,
+                            fe=fe, backlash=backlash, phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
         opts = build_options(dtau, transient, periods, accurate, model.omega)
         for name, val in (("u0", u0), ("v0", v0)):
             if not (abs(val) < float("inf")):
                 raise ModelError(f"{name}: must be a finite number, got {val!r}")
         res = run_simulate(model, opts, (u0, v0))
+        ds = add_physical(res.to_dataset(), pair_scales(config))
     except ModelError as e:
         raise fail(str(e))
     files: list[str] = []
     if out is not None:
         from .io import write_netcdf
-        from .plot.simulate import save_all
+        from .plot import save_figures
 
         nc, figdir = out_paths(out, "simulate")
-        ds = res.to_dataset()
-        files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_all(ds, figdir)]
+        files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
     summary = res.to_json()
+    summary.update(simulate_physical(ds))
     if json_out:
         summary["files"] = files
         emit_json(summary)
@@ -227,19 +272,31 @@ def _print_simulate(s: dict[str, Any], files: list[str]) -> None:
     pts = s["poincare"]
     shown = pts[-(s["period"] or 4):]
     t.add_row(f"last {len(shown)} Poincaré points (u, u')", "\n".join(f"({p[0]:.6f}, {p[1]:.6f})" for p in shown))
+    if "rpm" in s:
+        for k, lab in (("rpm", "pinion speed (rpm)"), ("mesh_frequency_Hz", "mesh frequency (Hz)"),
+                       ("torque_N_m", "pinion torque, balanced (N·m)"), ("static_force_N", "static mesh force F_p (N)"),
+                       ("mesh_force_max_N", "max dynamic mesh force (N)"), ("mesh_force_min_N", "min dynamic mesh force (N)"),
+                       ("dynamic_factor", "dynamic factor (max force / F_p)"), ("dte_rms_um", "DTE RMS about mean (µm)"),
+                       ("dte_amplitude_um", "DTE half peak-to-peak (µm)"), ("backlash_um", "half backlash (µm)")):
+            t.add_row(lab, num(s[k]))
+        peaks = s.get("spectrum_peaks") or []
+        t.add_row("largest spectral lines (order, Hz, µm)",
+                  "\n".join(f"{p['order']:g}, {p['frequency_Hz']:.6g}, {p['amplitude_um']:.4g}" for p in peaks))
     console.print(t)
+    if "pair" in s:
+        console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
     for f in files:
         console.print(f"wrote {f}")
 
 
 @app.command()
-def geometry(config: ConfigOpt = None, json_out: JsonOpt = False) -> None:
+def geometry(config: ConfigOpt = None, rpm: RpmOpt = None, torque: TorqueOpt = None, json_out: JsonOpt = False) -> None:
     """Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed values marked)."""
     from .config import load_config
     from .geometry import summary_rows
 
     try:
-        summary = load_config(config).geometry_summary()
+        summary = load_config(config).at(rpm=rpm, torque=torque).geometry_summary()
     except ModelError as e:
         raise fail(str(e))
     if json_out:
@@ -260,6 +317,39 @@ def geometry(config: ConfigOpt = None, json_out: JsonOpt = False) -> None:
     lines += [f"note: {n}" for n in summary["notes"]]
     for line in lines:
         console.print(line, markup=False, highlight=False)
+
+
+@app.command("plot")
+def plot_cmd(
+    file: Annotated[Path, typer.Argument(help="A NetCDF result written by a geardyn command (--out) or by Python.")],
+    out: Annotated[Optional[Path], typer.Option("--out", help="Directory for the PNG figures (default: the file's directory).")] = None,
+    physical: Annotated[bool, typer.Option("--physical", help="Also draw physical-unit figures (rpm, µm, N) with the gear pair of --config (default pair: the paper's Table 1) when the file has no physical variables.")] = False,
+    config: ConfigOpt = None,
+    json_out: JsonOpt = False,
+) -> None:
+    """Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation, response, map, basins, orbit, continuation, ...)."""
+    from .io import read_netcdf
+    from .plot import PlotUnavailable, save_figures
+
+    if not file.is_file():
+        raise fail(f"file: {file} not found")
+    try:
+        ds = read_netcdf(file)
+    except (OSError, ValueError) as e:
+        raise fail(f"file: cannot read {file} as a NetCDF result ({type(e).__name__}: {e})")
+    try:
+        if physical or config is not None:
+            from .analysis.physical import add_physical
+
+            ds = add_physical(ds, None if (config is None and "physical_scales" in ds.attrs) else pair_scales(config))
+        files = [str(p) for p in save_figures(ds, out if out is not None else file.parent)]
+    except (PlotUnavailable, ModelError) as e:
+        raise fail(f"{file}: {e}")
+    if json_out:
+        emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
+        return
+    for f in files:
+        console.print(f"wrote {f}", markup=False, highlight=False)
 
 
 # ---------------------------------------------------------------- periodic orbits: shooting and continuation
@@ -286,6 +376,8 @@ def _parse_guess(text: Optional[str]) -> Optional[tuple[float, float]]:
 @app.command()
 def orbit(
     config: ConfigOpt = None,
+    rpm: RpmOpt = None,
+    torque: TorqueOpt = None,
     omega: OmegaOpt = None,
     xi0: Xi0Opt = None,
     xi1: Xi1Opt = None,
@@ -310,10 +402,12 @@ def orbit(
     section points, Floquet multipliers, stability, extremes and impact state."""
     from . import validate
     from .analysis.periodic import shoot
+    from .analysis.physical import add_physical, physical_json
 
     try:
-        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
-                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        model = build_model(config, rpm=rpm, torque=torque, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp,
+                            fe=fe, backlash=backlash, phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        scales = pair_scales(config)
         opts = build_options(dtau, transient, 1, accurate, model.omega)
         n = validate.integer("period", period, 1, 1024)
         g = _parse_guess(guess)
@@ -327,9 +421,9 @@ def orbit(
         from .plot.periodic import save_orbit
 
         nc, figdir = out_paths(out, "orbit")
-        ds = res.to_dataset()
+        ds = add_physical(res.to_dataset(), scales)
         files = [str(write_netcdf(ds, nc))] + ([str(p) for p in save_orbit(ds, figdir)] if res.converged else [])
-    summary = res.to_json()
+    summary = physical_json(res.to_json(), model, scales)
     if json_out:
         summary["files"] = files
         emit_json(summary)
@@ -358,10 +452,14 @@ def _print_orbit(s: dict[str, Any], files: list[str]) -> None:
 
 @app.command()
 def continuation(
-    param: Annotated[str, typer.Option("--param", help="Continuation parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL.")],
-    start: Annotated[float, typer.Option("--start", help="Parameter value where the branch starts (the first orbit is found there by shooting).")],
-    stop: Annotated[float, typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")],
+    param: Annotated[Optional[str], typer.Option("--param", help="Continuation parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")] = None,
+    start: Annotated[Optional[float], typer.Option("--start", help="Parameter value where the branch starts (the first orbit is found there by shooting).")] = None,
+    stop: Annotated[Optional[float], typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")] = None,
+    rpm_start: RpmStartOpt = None,
+    rpm_stop: RpmStopOpt = None,
     config: ConfigOpt = None,
+    rpm: RpmOpt = None,
+    torque: TorqueOpt = None,
     omega: OmegaOpt = None,
     xi0: Xi0Opt = None,
     xi1: Xi1Opt = None,
@@ -391,12 +489,21 @@ def continuation(
     branches over the brute-force up/down sweep."""
     from . import validate
     from .analysis.periodic import continuation as run_continuation
+    from .analysis.physical import add_physical, physical_json
     from .model import canonical_param
 
     try:
-        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
-                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        model = build_model(config, rpm=rpm, torque=torque, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp,
+                            fe=fe, backlash=backlash, phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        scales = pair_scales(config)
+        if param is None and (rpm_start is not None or rpm_stop is not None):
+            param = "omega"
+        if param is None:
+            raise ModelError("param: give the continuation parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
         name = canonical_param(param)
+        start, stop = rpm_range(config, rpm_start, rpm_stop, start, stop, name)
+        if start is None or stop is None:
+            raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
         start_v, stop_v = validate.number("start", start), validate.number("stop", stop)
         m0 = model.with_param(name, start_v)
         opts = build_options(dtau, transient, 1, accurate, m0.omega)
@@ -425,12 +532,13 @@ def continuation(
         from .plot.periodic import save_continuation
 
         nc, figdir = out_paths(out, "continuation")
-        ds = res.to_dataset()
+        ds = add_physical(res.to_dataset(), scales)
         files = [str(write_netcdf(ds, nc))]
         if sweep_ds is not None:
+            sweep_ds = add_physical(sweep_ds, scales)
             files.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
         files += [str(p) for p in save_continuation(ds, figdir, sweep_ds)]
-    summary = res.to_json()
+    summary = physical_json(res.to_json(), model, scales, param=name)
     if json_out:
         summary["files"] = files
         emit_json(summary)
@@ -491,6 +599,8 @@ def _choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
 @app.command()
 def lyapunov(
     config: ConfigOpt = None,
+    rpm: RpmOpt = None,
+    torque: TorqueOpt = None,
     omega: OmegaOpt = None,
     xi0: Xi0Opt = None,
     xi1: Xi1Opt = None,
@@ -515,10 +625,12 @@ def lyapunov(
     uncertainty from block statistics, and the motion class."""
     from . import validate
     from .analysis.lyapunov import lyapunov_spectrum
+    from .analysis.physical import add_physical, physical_json
 
     try:
-        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
-                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        model = build_model(config, rpm=rpm, torque=torque, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp,
+                            fe=fe, backlash=backlash, phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        scales = pair_scales(config)
         opts = build_options(dtau, transient, periods, accurate, model.omega)
         nb = validate.integer("blocks", blocks, 2, max(2, opts.periods))
         res = lyapunov_spectrum(model, opts, validate.initial_state(u0, v0), blocks=nb)
@@ -530,9 +642,9 @@ def lyapunov(
         from .plot import save_figures
 
         nc, figdir = out_paths(out, "lyapunov")
-        ds = res.to_dataset()
+        ds = add_physical(res.to_dataset(), scales)
         files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
-    s = res.to_json()
+    s = physical_json(res.to_json(), model, scales)
     if json_out:
         s["files"] = files
         emit_json(s)
@@ -552,15 +664,19 @@ def lyapunov(
 
 @app.command()
 def bifurcation(
-    param: Annotated[str, typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL.")],
-    start: Annotated[float, typer.Option("--start", help="First parameter value.")],
-    stop: Annotated[float, typer.Option("--stop", help="Last parameter value.")],
+    param: Annotated[Optional[str], typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")] = None,
+    start: Annotated[Optional[float], typer.Option("--start", help="First parameter value.")] = None,
+    stop: Annotated[Optional[float], typer.Option("--stop", help="Last parameter value.")] = None,
+    rpm_start: RpmStartOpt = None,
+    rpm_stop: RpmStopOpt = None,
     num: Annotated[int, typer.Option("--num", help="Number of parameter values.")] = 101,
     mode: ModeOpt = "fixed",
     sweep: SweepDirOpt = "up",
     lyap: LyapunovFlagOpt = False,
     settle: SettleOpt = 1000,
     config: ConfigOpt = None,
+    rpm: RpmOpt = None,
+    torque: TorqueOpt = None,
     omega: OmegaOpt = None,
     xi0: Xi0Opt = None,
     xi1: Xi1Opt = None,
@@ -588,10 +704,20 @@ def bifurcation(
     per point (and the largest Lyapunov exponent with --lyapunov); fixed initial state or continuation, up/down/both."""
     from . import validate
     from .analysis.bifurcation import MODES, SWEEPS, bifurcation as run_bifurcation, bifurcation_json
+    from .analysis.physical import add_physical, physical_json
+    from .model import canonical_param
 
     try:
-        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
-                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        model = build_model(config, rpm=rpm, torque=torque, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp,
+                            fe=fe, backlash=backlash, phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        scales = pair_scales(config)
+        if param is None and (rpm_start is not None or rpm_stop is not None):
+            param = "omega"
+        if param is None:
+            raise ModelError("param: give the swept parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
+        start, stop = rpm_range(config, rpm_start, rpm_stop, start, stop, canonical_param(param))
+        if start is None or stop is None:
+            raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
         name, values = validate.axis(param, start, stop, num)
         models = validate.grid(model, [(name, values)])
         opts = build_options(dtau, transient, periods, accurate)
@@ -605,10 +731,11 @@ def bifurcation(
         ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=validate.initial_state(u0, v0),
                              options=opts, lyapunov=lyap, settle_periods=nset,
                              chunk_points=validate.chunk_points(chunk_size), **engine)
+        ds = add_physical(ds, scales)
     except ModelError as e:
         raise fail(str(e))
     files = _sweep_files(ds, out, "bifurcation", engine)
-    s = bifurcation_json(ds)
+    s = physical_json(bifurcation_json(ds), model, scales, param=name)
     if json_out:
         s["files"] = files
         emit_json(s)
@@ -634,8 +761,11 @@ def _print_intervals(s: dict[str, Any], files: list[str]) -> None:
 
 @app.command()
 def response(
-    omega_start: Annotated[float, typer.Option("--omega-start", help="Lowest ω of the sweeps.")],
-    omega_stop: Annotated[float, typer.Option("--omega-stop", help="Highest ω of the sweeps.")],
+    omega_start: Annotated[Optional[float], typer.Option("--omega-start", help="Lowest ω of the sweeps.")] = None,
+    omega_stop: Annotated[Optional[float], typer.Option("--omega-stop", help="Highest ω of the sweeps.")] = None,
+    rpm_start: RpmStartOpt = None,
+    rpm_stop: RpmStopOpt = None,
+    torque: TorqueOpt = None,
     num: Annotated[int, typer.Option("--num", help="Number of ω values (the jumps are located to within one step).")] = 71,
     measure: Annotated[str, typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean.")] = "amplitude",
     lyap: LyapunovFlagOpt = False,
@@ -665,11 +795,16 @@ def response(
     """Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)
     and hysteresis intervals where the sweeps end on different attractors."""
     from . import validate
+    from .analysis.physical import add_physical, physical_json
     from .analysis.response import MEASURES, frequency_response, response_json
 
     try:
-        model = build_model(config, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
+        model = build_model(config, torque=torque, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
                             phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        scales = pair_scales(config)
+        omega_start, omega_stop = rpm_range(config, rpm_start, rpm_stop, omega_start, omega_stop)
+        if omega_start is None or omega_stop is None:
+            raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
         _, values = validate.axis("omega", omega_start, omega_stop, num)
         validate.grid(model, [("omega", values)])
         opts = build_options(dtau, transient, periods, accurate, float(values.min()))
@@ -680,10 +815,11 @@ def response(
         ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
                                 state0=validate.initial_state(u0, v0), measure=measure, lyapunov=lyap,
                                 settle_periods=nset, **engine)
+        ds = add_physical(ds, scales)
     except ModelError as e:
         raise fail(str(e))
     files = _sweep_files(ds, out, "response", engine)
-    s = response_json(ds)
+    s = physical_json(response_json(ds), model, scales, param="omega")
     if json_out:
         s["files"] = files
         emit_json(s)
@@ -691,14 +827,16 @@ def response(
     from rich.table import Table
 
     t = Table(title="Jumps")
-    for col in ("sweep", "ω (midpoint)", "from → to", "direction", "size"):
+    for col in ("sweep", "ω (midpoint)", "from → to", "direction", "size", "pinion speed (rpm)", "size (µm)"):
         t.add_column(col)
     for j in s["jumps"]:
         t.add_row(j["sweep"], f"{j['omega']:.6g}", f"{j['omega_from']:.6g} → {j['omega_to']:.6g}", j["direction"],
-                  f"{j['size']:.4g}")
+                  f"{j['size']:.4g}", f"{j['rpm']:.1f} ({j['rpm_from']:.1f} → {j['rpm_to']:.1f})", f"{j['size_um']:.4g}")
     console.print(t)
     hy = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["hysteresis"]) or "none"
-    console.print(f"hysteresis (coexisting attractors): {hy}")
+    hy_rpm = ", ".join(f"[{a:.1f}, {b:.1f}]" for a, b in s.get("hysteresis_rpm", [])) or "none"
+    console.print(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}", markup=False, highlight=False)
+    console.print(f"gear pair: {s['physical']['pair']}", markup=False, highlight=False)
     for f in files:
         console.print(f"wrote {f}")
 
@@ -706,17 +844,21 @@ def response(
 @app.command("map")
 def map_cmd(
     x: Annotated[str, typer.Option("--x", help="Parameter along the horizontal axis (e.g. omega).")],
-    x_start: Annotated[float, typer.Option("--x-start", help="First x value.")],
-    x_stop: Annotated[float, typer.Option("--x-stop", help="Last x value.")],
     y: Annotated[str, typer.Option("--y", help="Parameter along the vertical axis (e.g. xi0 or D).")],
-    y_start: Annotated[float, typer.Option("--y-start", help="First y value.")],
-    y_stop: Annotated[float, typer.Option("--y-stop", help="Last y value.")],
+    x_start: Annotated[Optional[float], typer.Option("--x-start", help="First x value (for x = omega also as --rpm-start).")] = None,
+    x_stop: Annotated[Optional[float], typer.Option("--x-stop", help="Last x value (for x = omega also as --rpm-stop).")] = None,
+    y_start: Annotated[Optional[float], typer.Option("--y-start", help="First y value (for y = omega also as --rpm-start).")] = None,
+    y_stop: Annotated[Optional[float], typer.Option("--y-stop", help="Last y value (for y = omega also as --rpm-stop).")] = None,
+    rpm_start: RpmStartOpt = None,
+    rpm_stop: RpmStopOpt = None,
     x_num: Annotated[int, typer.Option("--x-num", help="Number of x values.")] = 41,
     y_num: Annotated[int, typer.Option("--y-num", help="Number of y values.")] = 21,
     mode: ModeOpt = "fixed",
     lyap: LyapunovFlagOpt = False,
     settle: SettleOpt = 1000,
     config: ConfigOpt = None,
+    rpm: RpmOpt = None,
+    torque: TorqueOpt = None,
     omega: OmegaOpt = None,
     xi0: Xi0Opt = None,
     xi1: Xi1Opt = None,
@@ -744,10 +886,21 @@ def map_cmd(
     from . import validate
     from .analysis.bifurcation import MODES
     from .analysis.maps import map_json, parameter_map
+    from .analysis.physical import add_physical, physical_json
+    from .model import canonical_param
 
     try:
-        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
-                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        model = build_model(config, rpm=rpm, torque=torque, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp,
+                            fe=fe, backlash=backlash, phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        scales = pair_scales(config)
+        if rpm_start is not None or rpm_stop is not None:
+            if canonical_param(y) == "omega":
+                y_start, y_stop = rpm_range(config, rpm_start, rpm_stop, y_start, y_stop, "omega")
+            else:
+                x_start, x_stop = rpm_range(config, rpm_start, rpm_stop, x_start, x_stop, canonical_param(x))
+        for nm, val in (("x_start", x_start), ("x_stop", x_stop), ("y_start", y_start), ("y_stop", y_stop)):
+            if val is None:
+                raise ModelError(f"{nm}: required (for an omega axis a pinion-speed range --rpm-start/--rpm-stop also works)")
         xn, xv = validate.axis(x, x_start, x_stop, x_num)
         yn, yv = validate.axis(y, y_start, y_stop, y_num)
         opts = build_options(dtau, transient, periods, accurate)
@@ -758,10 +911,11 @@ def map_cmd(
         engine = sweep_engine(workers, scheduler, resume, nc, json_out)
         ds = parameter_map(model, xn, xv, yn, yv, mode=mode, state0=validate.initial_state(u0, v0), options=opts,
                            lyapunov=lyap, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
+        ds = add_physical(ds, scales)
     except ModelError as e:
         raise fail(str(e))
     files = _sweep_files(ds, out, "map", engine)
-    s = map_json(ds)
+    s = physical_json(map_json(ds), model, scales)
     if json_out:
         s["files"] = files
         emit_json(s)
@@ -782,6 +936,8 @@ def basins(
     nv: Annotated[int, typer.Option("--nv", help="Grid points along v0.")] = 41,
     settle: SettleOpt = 1000,
     config: ConfigOpt = None,
+    rpm: RpmOpt = None,
+    torque: TorqueOpt = None,
     omega: OmegaOpt = None,
     xi0: Xi0Opt = None,
     xi1: Xi1Opt = None,
@@ -807,10 +963,12 @@ def basins(
     (attractors identified by their Poincaré cycles)."""
     from . import validate
     from .analysis.basins import basins as run_basins, basins_json
+    from .analysis.physical import add_physical, physical_json
 
     try:
-        model = build_model(config, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp, fe=fe, backlash=backlash,
-                            phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        model = build_model(config, rpm=rpm, torque=torque, omega=omega, xi0=xi0, xi1=xi1, kappa1=kappa1, fp=fp,
+                            fe=fe, backlash=backlash, phi_c=phi_c, phi_k=phi_k, phi_e=phi_e)
+        scales = pair_scales(config)
         opts = build_options(dtau, transient, periods, accurate, model.omega)
         lo_u, hi_u = validate.number("u-min", u_min), validate.number("u-max", u_max)
         lo_v, hi_v = validate.number("v-min", v_min), validate.number("v-max", v_max)
@@ -820,10 +978,11 @@ def basins(
         engine = sweep_engine(workers, scheduler, resume, nc, json_out)
         ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, options=opts, settle_periods=nset,
                         chunk_points=validate.chunk_points(chunk_size), **engine)
+        ds = add_physical(ds, scales)
     except ModelError as e:
         raise fail(str(e))
     files = _sweep_files(ds, out, "basins", engine)
-    s = basins_json(ds)
+    s = physical_json(basins_json(ds), model, scales)
     if json_out:
         s["files"] = files
         emit_json(s)
@@ -848,14 +1007,48 @@ def basins(
 EXIT_INTERRUPTED = 130
 
 
+@app.command()
+def reproduce(
+    out: Annotated[Path, typer.Option("--out", help="Directory for report.html, report.md, claims.json, figures and data.")] = Path("results"),
+    quick: Annotated[bool, typer.Option("--quick", help="A reduced run (coarse grids, short runs) that exercises every study.")] = False,
+    workers: Annotated[int, typer.Option("--workers", help="Worker processes for the sweeps.")] = 2,
+    json_out: JsonOpt = False,
+) -> None:
+    """Run every study of the paper on its Table 1 pair and write a report judging each claim."""
+    from dataclasses import replace
+
+    from .reproduce import Settings, run
+
+    if workers < 1:
+        raise fail(f"workers: must be >= 1, got {workers}")
+    settings = replace(Settings.quick() if quick else Settings(), workers=workers)
+    log = (lambda m: None) if json_out else (lambda m: err_console.print(f"… {m}", markup=False, highlight=False))
+    res = run(out, settings, log=log)
+    claims = res["claims"]
+    if json_out:
+        emit_json({"report": res["paths"], "seconds": res["seconds"],
+                   "claims": [{"id": c.id, "verdict": c.verdict, "computed": c.computed} for c in claims]})
+        return
+    from rich.table import Table
+
+    t = Table(title="Claims of the paper")
+    for col in ("id", "verdict", "computed"):
+        t.add_column(col, overflow="fold")
+    style = {"reproduced": "green", "partly reproduced": "yellow", "not reproduced": "red"}
+    for c in claims:
+        t.add_row(c.id, f"[{style[c.verdict]}]{c.verdict}[/]", c.computed)
+    console.print(t)
+    console.print(f"report: {res['paths']['html']} ({res['seconds']:.1f} s)")
+
+
 def main(argv: Optional[list[str]] = None) -> None:
     """Entry point: run the app; every input error becomes one line on stderr, never a traceback.
 
     Exit codes: 0 success; 2 invalid input (model and option errors, unknown options, values
     that do not parse, bad configuration files); 130 interrupted by Ctrl-C (a sweep says how to
-    resume); 1 other failures such as an unwritable output.
+    resume); 1 other failures such as an unwritable output or a lost Dask scheduler.
     """
-    from .sweep import SweepInterrupted
+    from .sweep import SweepFailed, SweepInterrupted
 
     # typer's parser exceptions (its own vendored click, or click itself in older versions)
     cx = sys.modules[typer.BadParameter.__module__]
@@ -876,6 +1069,9 @@ def main(argv: Optional[list[str]] = None) -> None:
     except SweepInterrupted as e:
         say_error(str(e))
         raise SystemExit(EXIT_INTERRUPTED) from None
+    except SweepFailed as e:
+        say_error(f"error: {e}")
+        raise SystemExit(1) from None
     except typer.Abort:
         say_error("interrupted")
         raise SystemExit(EXIT_INTERRUPTED) from None

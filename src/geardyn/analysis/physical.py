@@ -38,6 +38,7 @@ from ..units import SCALES_ATTR, PhysicalScales, scales_of
 __all__ = [
     "add_physical",
     "mesh_force",
+    "physical_json",
     "simulate_physical",
     "spectrum_peaks",
 ]
@@ -46,6 +47,13 @@ __all__ = [
 N_PEAKS = 5
 #: Lines smaller than this fraction of the largest line are not listed as peaks.
 PEAK_REL_THRESHOLD = 1e-3
+
+#: Keys of JSON summaries that hold non-dimensional displacements (a ``<key>_um`` copy is added).
+JSON_DISPLACEMENT_KEYS = ("u_min", "u_max", "amplitude", "rms", "mean", "size", "amplitude_from", "amplitude_to")
+#: Keys of JSON summaries that hold rates per unit τ (a ``<key>_per_s`` copy is added).
+JSON_RATE_KEYS = ("exponents", "lle", "uncertainty")
+#: Keys of JSON summaries that hold a mesh frequency ω (an ``rpm`` copy is added, ``omega_from`` → ``rpm_from``…).
+JSON_OMEGA_KEYS = {"omega": "rpm", "omega_from": "rpm_from", "omega_to": "rpm_to"}
 
 #: Non-dimensional variables of sweep results that are displacements (converted to µm).
 DISPLACEMENT_VARIABLES = ("amplitude", "rms", "mean", "u_min", "u_max", "poincare_u", "amplitude_up", "amplitude_down")
@@ -180,6 +188,9 @@ def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
     * an ``fp`` coordinate gains ``torque_N_m`` (pinion torque, balanced);
     * displacement variables (:data:`DISPLACEMENT_VARIABLES`) gain ``<name>_um`` copies in µm;
     * ``lle`` gains ``lle_per_s`` (1/s);
+    * a frequency response gains the attributes ``jumps_physical`` (its jumps with ``rpm``,
+      ``rpm_from``, ``rpm_to``, ``size_um``, ``amplitude_from_um``, ``amplitude_to_um``) and
+      ``hysteresis_rpm`` (JSON);
     * the scales are stored as the JSON attribute ``physical_scales``.
 
     A ``simulate`` result further gains ``time_s`` (on ``tau``), ``dte_um``, ``mesh_force``
@@ -206,11 +217,17 @@ def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
     for name in DISPLACEMENT_VARIABLES:
         if name in out.data_vars:
             da = out[name]
-            base = da.attrs.get("long_name", name)
-            _set(out, f"{name}_um", da.dims, sc.um_from_u(da.values), "µm", f"{base} (dynamic transmission error)")
+            base = str(da.attrs.get("long_name", name))
+            base = base.replace("displacement", "DTE") if "displacement" in base else f"{base} (DTE)"
+            _set(out, f"{name}_um", da.dims, sc.um_from_u(da.values), "µm", base)
     if "lle" in out.data_vars:
         _set(out, "lle_per_s", out["lle"].dims, sc.per_s_from_per_tau(out["lle"].values), "1/s",
              "largest Lyapunov exponent per second")
+    if "jumps" in out.attrs and str(out.attrs.get("param", "omega")) == "omega":
+        conv = _walk({"jumps": json.loads(out.attrs["jumps"]), "hysteresis": json.loads(out.attrs.get("hysteresis", "[]")),
+                      "values": []}, sc, "omega")
+        out.attrs["jumps_physical"] = json.dumps(conv["jumps"])
+        out.attrs["hysteresis_rpm"] = json.dumps(conv["hysteresis_rpm"])
     if out.attrs.get("geardyn_kind") == "simulate" and {"tau", "u", "v"} <= set(out.variables):
         model = model_from_attrs(out)
         tau = out["tau"].values
@@ -226,4 +243,74 @@ def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
             _set(out, "spectrum_um", ("order",), sc.um_from_u(out["spectrum"].values), "µm",
                  "amplitude spectrum of the dynamic transmission error")
         out.attrs["physical_summary"] = json.dumps(simulate_physical(out, sc), sort_keys=True)
+    return out
+
+
+def _convert(x: Any, fn) -> Any:
+    """Apply ``fn`` to every number of a nested list (None and non-numbers kept as they are)."""
+    if isinstance(x, (list, tuple)):
+        return [_convert(v, fn) for v in x]
+    if isinstance(x, bool) or not isinstance(x, (int, float)):
+        return x
+    y = float(fn(float(x)))
+    return y if np.isfinite(y) else None
+
+
+def _walk(d: dict[str, Any], sc: PhysicalScales, param: str | None) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for k, v in d.items():
+        out[k] = _walk(v, sc, param) if isinstance(v, dict) else (
+            [_walk(e, sc, param) if isinstance(e, dict) else e for e in v] if isinstance(v, list) else v)
+    for k, v in d.items():
+        if isinstance(v, dict):
+            continue
+        if k in JSON_OMEGA_KEYS and JSON_OMEGA_KEYS[k] not in d:
+            out[JSON_OMEGA_KEYS[k]] = _convert(v, sc.rpm_from_omega)
+        elif k in JSON_DISPLACEMENT_KEYS and f"{k}_um" not in d:
+            out[f"{k}_um"] = _convert(v, sc.um_from_u)
+        elif k in JSON_RATE_KEYS and f"{k}_per_s" not in d:
+            out[f"{k}_per_s"] = _convert(v, sc.per_s_from_per_tau)
+    if param == "omega":
+        if isinstance(d.get("values"), list) and "values_rpm" not in d:
+            out["values_rpm"] = _convert(d["values"], sc.rpm_from_omega)
+        for k in ("start", "stop"):
+            if isinstance(d.get(k), (int, float)) and f"rpm_{k}" not in d:
+                out[f"rpm_{k}"] = _convert(d[k], sc.rpm_from_omega)
+        if isinstance(d.get("hysteresis"), list) and "hysteresis_rpm" not in d:
+            out["hysteresis_rpm"] = _convert(d["hysteresis"], sc.rpm_from_omega)
+    return out
+
+
+def physical_json(summary: dict[str, Any], model: GearModel, scales: Any = None, *,
+                  param: str | None = None) -> dict[str, Any]:
+    """A command's JSON summary with physical values added alongside the non-dimensional ones.
+
+    Added, wherever they occur in the (nested) summary: ``rpm`` next to every ``omega`` (and
+    ``rpm_from``/``rpm_to`` next to ``omega_from``/``omega_to``); ``<key>_um`` next to every
+    displacement (:data:`JSON_DISPLACEMENT_KEYS`: u_min, u_max, amplitude, rms, mean, jump sizes);
+    ``<key>_per_s`` next to Lyapunov exponents and their uncertainty.  When the swept parameter
+    ``param`` is ω: ``values_rpm`` next to ``values``, ``rpm_start``/``rpm_stop`` next to ``start``/``stop``
+    and ``hysteresis_rpm`` next to ``hysteresis``.  At the
+    top level: ``physical`` with the operating point of ``model`` (speed, mesh frequency, torque,
+    static force; for a sweep over ω the speed is that of the base model), the pair's statement
+    (``pair``) and its assumed inputs (``assumed``).
+
+    Parameters
+    ----------
+    summary : dict
+        The non-dimensional JSON summary (left unchanged; a new dict is returned).
+    model : GearModel
+        The (base) model of the command.
+    scales : PhysicalScales, LoadedConfig or None
+        The gear pair (``None``: the paper's Table 1 pair, k0 assumed).
+    param : str, optional
+        The swept parameter, if any.
+    """
+    sc = scales_of(scales)
+    out = _walk(summary, sc, param)
+    phys = dict(sc.operating_point(model))
+    phys["pair"] = sc.statement()
+    phys["assumed"] = list(sc.assumed)
+    phys["scales"] = sc.to_dict()
+    out.setdefault("physical", phys)
     return out

@@ -97,6 +97,42 @@ def rpm_curve(ds: xr.Dataset, name: str):
     return fig
 
 
+def response_rpm(ds: xr.Dataset):
+    """Frequency response against pinion speed: up and down sweeps in µm, jumps (arrows, labelled in rpm)
+    and hysteresis intervals (shaded), with ω on the top axis."""
+    measure = str(ds.attrs.get("measure", "amplitude"))
+    name = f"{measure}_um" if f"{measure}_um" in ds.data_vars else "amplitude_um"
+    da = ds[name]
+    w = ds["omega"].values
+    rpm = ds["rpm"].values
+    fig, ax = plt.subplots(figsize=(8.5, 4.8))
+    span = 1e-3 * float(np.ptp(rpm))
+    for a, b in json.loads(ds.attrs.get("hysteresis_rpm", "[]")):
+        ax.axvspan(a, max(b, a + span), color="0.88", lw=0, zorder=0)
+    styles = {"up": ("^", "C0"), "down": ("v", "C3")}
+    for sw in [str(v) for v in ds["sweep"].values]:
+        mk, c = styles.get(sw, ("o", "k"))
+        ax.plot(rpm, da.sel(sweep=sw).values, "-", marker=mk, ms=3.5, lw=0.8, color=c, label=f"sweep {sw}")
+    for j in json.loads(ds.attrs.get("jumps_physical", "[]")):
+        c = styles.get(j["sweep"], ("o", "k"))[1]
+        a0, a1 = j["amplitude_from_um"], j["amplitude_to_um"]
+        ax.annotate("", xy=(j["rpm"], a1), xytext=(j["rpm"], a0), arrowprops=dict(arrowstyle="->", color=c, lw=1.5))
+        ax.text(j["rpm"], 0.5 * (a0 + a1), f" {j['rpm']:.0f} rpm", color=c, fontsize=7, va="center")
+    scale = float(rpm[-1] / w[-1])
+    ax.set_xlabel(label(ds["rpm"]))
+    ax.set_ylabel(label(da))
+    sec = ax.secondary_xaxis("top", functions=(lambda r: r / scale, lambda x: x * scale))
+    sec.set_xlabel("ω = ω_e/ω_n")
+    sc = json.loads(ds.attrs.get("physical_scales", "{}"))
+    k0 = sc.get("k0_N_per_m")
+    hy = json.loads(ds.attrs.get("hysteresis_rpm", "[]"))
+    k0_text = f" (k0 = {k0 * 1e-6:.4g} N/µm{', assumed' if 'k0' in sc.get('assumed', []) else ''})" if k0 else ""
+    ax.set_title("Frequency response against pinion speed" + k0_text + ("; grey: hysteresis" if hy else ""),
+                 fontsize=10)
+    ax.legend(fontsize=8)
+    return fig
+
+
 def save_physical(ds: xr.Dataset, directory: str | Path) -> list[Path]:
     """Write the physical-unit figures a result supports into ``directory``; ``[]`` if none."""
     d = Path(directory)
@@ -105,7 +141,10 @@ def save_physical(ds: xr.Dataset, directory: str | Path) -> list[Path]:
         paths.append(save(time_history(ds), d / "physical_time_history.png"))
     if {"frequency_Hz", "spectrum_um"} <= set(ds.variables):
         paths.append(save(spectrum_hz(ds), d / "spectrum_hz.png"))
-    if "rpm" in ds.coords and ds["rpm"].ndim == 1 and ds.attrs.get("geardyn_kind") != "simulate":
+    kind = ds.attrs.get("geardyn_kind")
+    if kind == "response" and "rpm" in ds.coords and "sweep" in ds.dims and "amplitude_um" in ds.data_vars:
+        paths.append(save(response_rpm(ds), d / "response_rpm.png"))
+    elif "rpm" in ds.coords and ds["rpm"].ndim == 1 and kind != "simulate":
         for name in RPM_CURVE_VARIABLES:
             if name in ds.data_vars and ds["rpm"].dims[0] in ds[name].dims and ds[name].ndim <= 3:
                 paths.append(save(rpm_curve(ds, name), d / f"{name}_vs_rpm.png"))
