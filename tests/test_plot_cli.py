@@ -25,7 +25,7 @@ SIMULATE_FIGURES = {"time_history.png", "phase_portrait.png", "spectrum.png", "p
 def sim_file(tmp_path_factory):
     d = tmp_path_factory.mktemp("sim")
     r = CliRunner().invoke(app, ["simulate", "--rpm", "2400", "--torque", "1500", "--transient", "50",
-                                 "--periods", "16", "--json", "--out", str(d)])
+                                 "--periods", "8", "--json", "--out", str(d)])
     assert r.exit_code == 0, r.output
     return d / "simulate.nc"
 
