@@ -142,3 +142,32 @@ def test_sweep_survives_a_worker_killed_mid_run(cluster, tmp_path):
     assert cluster.procs["victim"].wait(timeout=10) == -signal.SIGKILL
     xr.testing.assert_identical(local, remote)
     assert len(list(ck.glob("chunk-*.npz"))) == KILL_OMEGAS.size
+
+
+def test_lost_scheduler_stops_the_sweep_in_one_line_keeping_finished_chunks(tmp_path, monkeypatch):
+    from geardyn import sweep as S
+
+    monkeypatch.setattr(S, "DASK_CONNECT_TIMEOUT", 2)  # how long the client tries to reconnect
+    c = Cluster(tmp_path)
+    try:
+        c.add_worker("only")
+        c.wait_for_workers(1)
+        ck = tmp_path / "ck"
+
+        def kill_scheduler() -> None:
+            t0 = time.monotonic()
+            while not list(ck.glob("chunk-*.npz")) and time.monotonic() - t0 < START_TIMEOUT:
+                time.sleep(0.01)
+            c.procs["scheduler"].send_signal(signal.SIGKILL)
+
+        th = threading.Thread(target=kill_scheduler)
+        th.start()
+        with pytest.raises(S.SweepFailed) as ei:
+            F.sweep("omega", KILL_OMEGAS, SLOW, chunk_points=1, scheduler=c.address, checkpoint=ck)
+        th.join()
+    finally:
+        c.close()
+    e = ei.value
+    assert str(e).startswith(f"sweep stopped: lost the Dask scheduler {c.address}") and "\n" not in str(e)
+    assert "--resume" in str(e) and 1 <= e.finished < e.total == KILL_OMEGAS.size
+    assert len(list(ck.glob("chunk-*.npz"))) == e.finished

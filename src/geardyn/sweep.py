@@ -23,7 +23,8 @@ Faults
   the unfinished chunks resubmitted (at most :data:`MAX_POOL_RESTARTS` times).  On Dask, a chunk
   whose worker is lost is rescheduled by the scheduler; a chunk that raises is retried
   :data:`DASK_RETRIES` times and one that keeps killing workers is resubmitted at most
-  :data:`MAX_RESUBMITS` times.
+  :data:`MAX_RESUBMITS` times.  A lost scheduler stops the sweep with :class:`SweepFailed`
+  (one line; the finished chunks are kept for ``--resume``).
 - **Divergence** is not a fault: chunk functions mark diverged points in their ``status`` array
   (:data:`ST_DIVERGED`) and the sweep goes on; :func:`divergence_summary` counts them and the
   progress output ends with "N of M points diverged".
@@ -34,13 +35,14 @@ from __future__ import annotations
 import hashlib
 import io as _io
 import json
+import logging
 import multiprocessing
 import os
 import pickle
 import signal
 import threading
 import zipfile
-from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import CancelledError, Executor, Future, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -54,6 +56,7 @@ from .model import GearModel, ModelError
 
 __all__ = [
     "Chunk",
+    "SweepFailed",
     "SweepInterrupted",
     "checkpoint_dir",
     "chunked",
@@ -109,6 +112,29 @@ class SweepInterrupted(Exception):
                 "give --out to make a sweep resumable"
             )
         super().__init__(msg)
+
+
+class SweepFailed(RuntimeError):
+    """A sweep stopped by a fault outside it (e.g. the Dask scheduler was lost); finished chunks are kept.
+
+    Attributes as :class:`SweepInterrupted`, plus ``reason``.
+    """
+
+    def __init__(self, reason: str, finished: int, total: int, checkpoint: Path | None) -> None:
+        self.reason = reason
+        self.finished = finished
+        self.total = total
+        self.checkpoint = checkpoint
+        if checkpoint is not None:
+            tail = (f"{finished} of {total} chunks finished and saved in {checkpoint}; "
+                    "run the same command again with --resume to complete the sweep")
+        else:
+            tail = f"{finished} of {total} chunks finished, none saved (no --out)"
+        super().__init__(f"sweep stopped: {reason}; {tail}")
+
+
+class _SchedulerLost(Exception):
+    """Internal: the connection to the Dask scheduler was lost."""
 
 
 @dataclass(frozen=True)
@@ -443,6 +469,8 @@ def run_chunks(
                 bar.close()
     except KeyboardInterrupt:
         raise SweepInterrupted(len(results), len(chunks), ckdir) from None
+    except _SchedulerLost as e:
+        raise SweepFailed(str(e), len(results), len(chunks), ckdir) from None
     out = [results[c.index] for c in chunks]
     if progress:
         _print_summary(description, len(chunks), out)
@@ -543,6 +571,10 @@ def _run_on_dask(address: str, todo: Sequence[Chunk], finished: Callable) -> Non
 
     client = _dask_client(address)
     futs: dict[Any, Chunk] = {}
+    # the client logs a lost scheduler as errors with tracebacks; the sweep reports it in one line
+    log = logging.getLogger("distributed.client")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
     try:
         def submit(c: Chunk):
             f = client.submit(_call_single_thread, c.fn, c.args, pure=False, retries=DASK_RETRIES)
@@ -562,6 +594,9 @@ def _run_on_dask(address: str, todo: Sequence[Chunk], finished: Callable) -> Non
                 resubmits[c.index] = n
                 ac.add(submit(c))
                 continue
+            except (CancelledError, OSError) as e:  # the scheduler went away (or cancelled our work)
+                futs.clear()
+                raise _SchedulerLost(f"lost the Dask scheduler {address} ({type(e).__name__})") from None
             finished(c, r)
             f.release()
     finally:
@@ -570,6 +605,7 @@ def _run_on_dask(address: str, todo: Sequence[Chunk], finished: Callable) -> Non
                 client.cancel(list(futs))
         finally:
             client.close()
+            log.setLevel(level)
 
 
 def _dask_client(address: str):
