@@ -270,6 +270,9 @@ def _walk(d: dict[str, Any], sc: PhysicalScales, param: str | None) -> dict[str,
             out[f"{k}_um"] = _convert(v, sc.um_from_u)
         elif k in JSON_RATE_KEYS and f"{k}_per_s" not in d:
             out[f"{k}_per_s"] = _convert(v, sc.per_s_from_per_tau)
+    for axis in ("x", "y"):  # 2-D maps: an ω axis gains its speeds
+        if d.get(axis) == "omega" and isinstance(d.get(f"{axis}_values"), list) and f"{axis}_values_rpm" not in d:
+            out[f"{axis}_values_rpm"] = _convert(d[f"{axis}_values"], sc.rpm_from_omega)
     if param == "omega":
         if isinstance(d.get("values"), list) and "values_rpm" not in d:
             out["values_rpm"] = _convert(d["values"], sc.rpm_from_omega)
@@ -290,7 +293,8 @@ def physical_json(summary: dict[str, Any], model: GearModel, scales: Any = None,
     displacement (:data:`JSON_DISPLACEMENT_KEYS`: u_min, u_max, amplitude, rms, mean, jump sizes);
     ``<key>_per_s`` next to Lyapunov exponents and their uncertainty.  When the swept parameter
     ``param`` is ω: ``values_rpm`` next to ``values``, ``rpm_start``/``rpm_stop`` next to ``start``/``stop``
-    and ``hysteresis_rpm`` next to ``hysteresis``.  At the
+    and ``hysteresis_rpm`` next to ``hysteresis``; a map whose ``x`` (``y``) is ω gains ``x_values_rpm``
+    (``y_values_rpm``).  At the
     top level: ``physical`` with the operating point of ``model`` (speed, mesh frequency, torque,
     static force; for a sweep over ω the speed is that of the base model), the pair's statement
     (``pair``) and its assumed inputs (``assumed``).
