@@ -18,7 +18,8 @@ Faults
 - **Ctrl-C.**  A :class:`KeyboardInterrupt` cancels the pending chunks, stops the local worker
   processes (which ignore SIGINT themselves, so they print nothing), keeps every finished chunk
   and raises :class:`SweepInterrupted`, whose one-line message says how to resume; the CLI prints
-  it and exits with code 130.
+  it and exits with code 130.  In process (``workers=1``) a kernel call cannot be interrupted:
+  the Ctrl-C takes effect when the running kernel call returns.
 - **Lost workers.**  A local worker process that dies breaks the pool: the pool is restarted and
   the unfinished chunks resubmitted (at most :data:`MAX_POOL_RESTARTS` times).  On Dask, a chunk
   whose worker is lost is rescheduled by the scheduler; a chunk that raises is retried
@@ -306,7 +307,7 @@ def prepare_checkpoint(directory: Path, chunks: Sequence[Chunk], resume: bool) -
             old = {}
     if resume and old and old.get("fingerprint") != fp:
         raise ModelError(
-            f"resume: checkpoint {directory} holds a different sweep (parameters or options differ); "
+            f"resume: checkpoint {directory} holds a different sweep (parameters, options or chunk size differ); "
             "run without --resume to start over, or use another --out"
         )
     if not resume or not old:
