@@ -288,6 +288,7 @@ def configs(tmp_path_factory) -> dict[str, Path]:
 
 
 SIM = ["simulate", "--transient", "5", "--periods", "2"]
+BIF = ["bifurcation", "--num", "3", "--transient", "5", "--periods", "2", "--settle", "0", "--json"]
 
 # (argv, words the one line must contain)
 CLI_CASES = {
@@ -312,6 +313,18 @@ CLI_CASES = {
     "unknown_option": (SIM + ["--omgea", "1"], ["--omgea"]),
     "missing_value": (SIM + ["--omega"], ["--omega", "argument"]),
     "unknown_command": (["simulat"], ["simulat"]),
+    "unknown_parameter": (BIF + ["--param", "omegaa", "--start", "0.5", "--stop", "1"], ["omegaa", "allowed"]),
+    "unknown_map_axis": (["map", "--x", "omega", "--x-start", "0.5", "--x-stop", "1", "--y", "zeta", "--y-start", "0",
+                          "--y-stop", "1"], ["zeta", "unknown parameter"]),
+    "empty_grid": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--num", "0"], ["num", ">= 1"]),
+    "grid_crosses_omega_zero": (BIF + ["--param", "omega", "--start", "-0.5", "--stop", "1"], ["omega", "> 0"]),
+    "grid_start_nan": (BIF + ["--param", "xi0", "--start", "nan", "--stop", "1"], ["start", "finite"]),
+    "workers_zero": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--workers", "0"], ["workers", ">= 1"]),
+    "chunk_size_zero": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--chunk-size", "0"],
+                        ["chunk size", ">= 1"]),
+    "scheduler_garbage": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--scheduler", "not an address"],
+                          ["scheduler", "tcp://HOST:PORT"]),
+    "resume_without_out": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--resume"], ["resume", "--out"]),
 }
 
 
