@@ -34,16 +34,15 @@ def time_history(ds: xr.Dataset):
     t_ms = ds["time_s"].values[keep] * 1e3
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5.5), sharex=True)
     dte = ds["dte_um"]
-    scale = float(dte.values[1] / ds["u"].values[1]) if ds["u"].values[1] != 0 else None
-    if scale and m["D"] > 0:
-        b = m["D"] * scale
+    summ = json.loads(ds.attrs.get("physical_summary", "{}"))
+    b = summ.get("backlash_um")
+    if b:
         a1.axhspan(-b, b, color="0.9", label="separation (inside the backlash)")
     a1.plot(t_ms, dte.values[keep], lw=1.0, color="C0")
     a1.set_ylabel(label(dte))
     a1.legend(loc="upper right", fontsize=8)
     F = ds["mesh_force_N"]
     a2.plot(t_ms, F.values[keep] * 1e-3, lw=1.0, color="C1")
-    summ = json.loads(ds.attrs.get("physical_summary", "{}"))
     if summ.get("static_force_N") is not None:
         a2.axhline(summ["static_force_N"] * 1e-3, color="k", ls="--", lw=0.8, label="static mesh force F_p")
         a2.legend(loc="upper right", fontsize=8)
