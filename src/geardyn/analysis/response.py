@@ -183,12 +183,37 @@ def detect_jumps(
     return jumps
 
 
-def _cycle(ds: xr.Dataset, lab: str, k: int) -> np.ndarray:
-    s = ds.isel({_param(ds): k}).sel(sweep=lab)
-    n = int(s["period"].values)
-    u = s["poincare_u"].values[-n:]
-    v = s["poincare_v"].values[-n:]
-    return np.column_stack([u, v])
+def _sweep_arrays(ds: xr.Dataset, lab: str) -> dict[str, np.ndarray]:
+    """The per-point arrays of one sweep that the attractor comparison needs (extracted once)."""
+    s = ds.sel(sweep=lab)
+    return {k: s[k].values for k in ("status", "period", "motion", "amplitude", "mean", "poincare_u", "poincare_v")}
+
+
+def _amplitude_range(ds: xr.Dataset) -> float:
+    amp = ds["amplitude"].values
+    return float(np.ptp(amp[np.isfinite(amp)])) if np.any(np.isfinite(amp)) else 0.0
+
+
+def _same(sa: dict[str, np.ndarray], sb: dict[str, np.ndarray], k: int, amp_range: float, tol: float,
+          nonperiodic_tol: float) -> bool | None:
+    if int(sa["status"][k]) != 0 or int(sb["status"][k]) != 0:
+        return None
+    per_a = int(sa["motion"][k]) == MOTION_PERIODIC
+    per_b = int(sb["motion"][k]) == MOTION_PERIODIC
+    if per_a != per_b:
+        return False
+    if per_a:
+        n = int(sa["period"][k])
+        if n != int(sb["period"][k]):
+            return False
+        ca = np.column_stack([sa["poincare_u"][k, -n:], sa["poincare_v"][k, -n:]])
+        cb = np.column_stack([sb["poincare_u"][k, -n:], sb["poincare_v"][k, -n:]])
+        scale = max(1.0, float(np.max(np.abs(ca))))
+        dist = np.max(np.abs(ca[:, None, :] - cb[None, :, :]), axis=2)
+        return bool(np.all(dist.min(axis=1) <= tol * scale) and np.all(dist.min(axis=0) <= tol * scale))
+    t = nonperiodic_tol * max(amp_range, 1e-12)
+    return bool(abs(float(sa["amplitude"][k]) - float(sb["amplitude"][k])) <= t
+                and abs(float(sa["mean"][k]) - float(sb["mean"][k])) <= t)
 
 
 def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, tol: float = ATTRACTOR_TOL,
@@ -200,28 +225,7 @@ def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, to
     ``nonperiodic_tol`` of the amplitude range); a periodic and a non-periodic one differ.
     None where either point diverged.
     """
-    name = _param(ds)
-    sa = ds.isel({name: k}).sel(sweep=a)
-    sb = ds.isel({name: k}).sel(sweep=b)
-    if int(sa["status"]) != 0 or int(sb["status"]) != 0:
-        return None
-    pa, pb = int(sa["period"]), int(sb["period"])
-    per_a = int(sa["motion"]) == MOTION_PERIODIC
-    per_b = int(sb["motion"]) == MOTION_PERIODIC
-    if per_a != per_b:
-        return False
-    if per_a:
-        if pa != pb:
-            return False
-        ca, cb = _cycle(ds, a, k), _cycle(ds, b, k)
-        scale = max(1.0, float(np.max(np.abs(ca))))
-        dist = np.max(np.abs(ca[:, None, :] - cb[None, :, :]), axis=2)
-        return bool(np.all(dist.min(axis=1) <= tol * scale) and np.all(dist.min(axis=0) <= tol * scale))
-    amp = ds["amplitude"].values
-    rng = float(np.ptp(amp[np.isfinite(amp)])) if np.any(np.isfinite(amp)) else 0.0
-    t = nonperiodic_tol * max(rng, 1e-12)
-    return bool(abs(float(sa["amplitude"]) - float(sb["amplitude"])) <= t
-                and abs(float(sa["mean"]) - float(sb["mean"])) <= t)
+    return _same(_sweep_arrays(ds, a), _sweep_arrays(ds, b), k, _amplitude_range(ds), tol, nonperiodic_tol)
 
 
 def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list[list[float]]:
@@ -234,7 +238,8 @@ def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list
         return []
     name = _param(ds)
     x = ds[name].values
-    differ = [same_attractor(ds, k, a, b) is False for k in range(x.size)]
+    sa, sb, rng = _sweep_arrays(ds, a), _sweep_arrays(ds, b), _amplitude_range(ds)
+    differ = [_same(sa, sb, k, rng, ATTRACTOR_TOL, NONPERIODIC_TOL) is False for k in range(x.size)]
     out: list[list[float]] = []
     k = 0
     while k < x.size:
