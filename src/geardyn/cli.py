@@ -1041,6 +1041,37 @@ def reproduce(
     console.print(f"report: {res['paths']['html']} ({res['seconds']:.1f} s)")
 
 
+@app.command()
+def bench(
+    workload: Annotated[str, typer.Option("--workload", help="W1 (bifurcation), W2 (trajectory), W3 (Lyapunov) or all.")] = "all",
+    threads: Annotated[Optional[int], typer.Option("--threads", help="Kernel threads (default: all cores).")] = None,
+    repeats: Annotated[int, typer.Option("--repeats", help="Timed runs per workload; the minimum is reported.")] = 5,
+    json_out: JsonOpt = False,
+) -> None:
+    """Time the integrator on the standard workloads (in-process, after JIT warm-up, minimum of the runs)."""
+    from .bench import WORKLOADS, run_benchmarks
+
+    names = list(WORKLOADS) if workload.lower() == "all" else [workload]
+    if threads is not None and threads < 1:
+        raise fail(f"threads: must be >= 1, got {threads}")
+    if repeats < 1:
+        raise fail(f"repeats: must be >= 1, got {repeats}")
+    res = run_benchmarks(names, threads=threads, repeats=repeats)
+    if json_out:
+        emit_json(res)
+        return
+    from rich.table import Table
+
+    t = Table(title=f"geardyn bench ({res['threads']} thread(s), minimum of {res['repeats']} runs)")
+    for col in ("workload", "wall (s)", "RK4 steps", "ns/step"):
+        t.add_column(col, justify="right" if col != "workload" else "left")
+    for name, r in res["workloads"].items():
+        t.add_row(name, f"{r['wall_s']:.4f}", f"{r['steps']:,}", f"{r['ns_per_step']:.2f}")
+    console.print(t)
+    m = res["machine"]
+    console.print(f"{m['cpu']}, {m['cores']} cores, load average {m.get('load_average', 'n/a')}", markup=False, highlight=False)
+
+
 def main(argv: Optional[list[str]] = None) -> None:
     """Entry point: run the app; every input error becomes one line on stderr, never a traceback.
 

@@ -1,0 +1,173 @@
+"""Timing of the integrator kernel on the three standard workloads.
+
+The workloads (paper defaults ξ0 = 0.1, ξ1 = 0.05, κ1 = 0.2, f_p = 0.2, ε1 = 0.5, D = 1, phases 0,
+start u = u' = 0; classic RK4 with h = T/ceil(T/0.01)):
+
+- **W1 bifurcation**: ω = numpy.linspace(0.5, 1.5, 200); per ω 300 transient + 200 recorded
+  periods, the 200 Poincaré points kept (69,152,500 RK4 steps).
+- **W2 trajectory**: ω = 1.2, 10,000 periods, Poincaré points kept (5,240,000 steps).
+- **W3 Lyapunov**: ω = numpy.linspace(0.5, 1.5, 50); 300 transient + 2000 periods with both
+  tangent vectors and Gram–Schmidt each period; both exponents (79,782,400 steps).
+
+Each workload is timed in-process after a warm-up run (JIT compilation or cache load excluded);
+the reported wall time is the minimum over ``repeats`` runs.  These are the workloads of the C
+reference in ``benchmarks/``; compare the two only within one run (see ``docs/performance.md``).
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import time
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import numpy as np
+
+from .model import GearModel, IntegrationOptions, ModelError, steps_per_period
+
+__all__ = ["WORKLOADS", "DEFAULT_REPEATS", "Workload", "workload", "time_workload", "run_benchmarks", "machine_info"]
+
+#: Runs timed per workload; the minimum is reported.
+DEFAULT_REPEATS = 5
+#: The step Δτ of every workload.
+BENCH_DTAU = 0.01
+
+
+@dataclass(frozen=True)
+class Workload:
+    """One standard workload: its parameter points, options and what is computed."""
+
+    name: str
+    description: str
+    omegas: tuple[float, ...]
+    options: IntegrationOptions
+    lyapunov: bool = False
+    record_poincare: bool = True
+
+    def models(self) -> list[GearModel]:
+        return [GearModel(omega=float(w)) for w in self.omegas]
+
+    @property
+    def steps(self) -> int:
+        """RK4 steps of one run (transient included)."""
+        n = steps_per_period(np.asarray(self.omegas), self.options.dtau)
+        return int(np.sum(n)) * (self.options.transient + self.options.periods)
+
+    def run(self) -> dict[str, np.ndarray]:
+        """Integrate the workload once; returns its result arrays (the exponents for W3)."""
+        from .integrate import integrate_batch
+
+        res = integrate_batch(self.models(), options=self.options, lyapunov=self.lyapunov,
+                              record_poincare=self.record_poincare)
+        out = {"poincare": res.poincare, "status": res.status}
+        if self.lyapunov:
+            T = 2.0 * np.pi / np.asarray(self.omegas)
+            out["exponents"] = res.lyapunov_log.sum(axis=1) / (self.options.periods * T)[:, None]
+        return out
+
+
+def _w1() -> Workload:
+    return Workload("W1", "bifurcation: 200 ω in [0.5, 1.5], 300 + 200 periods, Poincaré points",
+                    tuple(np.linspace(0.5, 1.5, 200)), IntegrationOptions(dtau=BENCH_DTAU, transient=300, periods=200))
+
+
+def _w2() -> Workload:
+    return Workload("W2", "trajectory: ω = 1.2, 10,000 periods, Poincaré points",
+                    (1.2,), IntegrationOptions(dtau=BENCH_DTAU, transient=0, periods=10_000))
+
+
+def _w3() -> Workload:
+    return Workload("W3", "Lyapunov: 50 ω in [0.5, 1.5], 300 + 2000 periods, tangent vectors, both exponents",
+                    tuple(np.linspace(0.5, 1.5, 50)), IntegrationOptions(dtau=BENCH_DTAU, transient=300, periods=2000),
+                    lyapunov=True, record_poincare=False)
+
+
+#: The standard workloads by name.
+WORKLOADS: dict[str, Callable[[], Workload]] = {"W1": _w1, "W2": _w2, "W3": _w3}
+
+
+def workload(name: str) -> Workload:
+    """The workload ``name`` (W1, W2 or W3, case-insensitive)."""
+    key = str(name).upper()
+    if key not in WORKLOADS:
+        raise ModelError(f"workload: unknown {name!r}; allowed: {', '.join(WORKLOADS)} or all")
+    return WORKLOADS[key]()
+
+
+def time_workload(w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = True) -> dict[str, float | int]:
+    """Time one workload: ``{"wall_s", "steps", "ns_per_step", "median_s", "repeats"}`` (minimum wall time)."""
+    if repeats < 1:
+        raise ModelError(f"repeats: must be >= 1, got {repeats}")
+    if warmup:
+        w.run()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        w.run()
+        times.append(time.perf_counter() - t0)
+    wall = min(times)
+    steps = w.steps
+    return {"wall_s": wall, "steps": steps, "ns_per_step": 1e9 * wall / steps,
+            "median_s": float(np.median(times)), "repeats": repeats}
+
+
+def machine_info() -> dict[str, object]:
+    """CPU, core count, load and library versions, for the record of a benchmark."""
+    import numba
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    info: dict[str, object] = {
+        "cpu": cpu,
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": numba.__version__,
+        "llvm_cpu": _llvm_cpu(),
+    }
+    try:
+        info["load_average"] = [round(x, 2) for x in os.getloadavg()]
+    except OSError:
+        pass
+    return info
+
+
+def _llvm_cpu() -> str:
+    try:
+        import llvmlite.binding as llvm
+
+        return str(llvm.get_host_cpu_name())
+    except Exception:  # pragma: no cover - informational only
+        return "unknown"
+
+
+def run_benchmarks(names: Sequence[str] = ("W1", "W2", "W3"), threads: int | None = None,
+                   repeats: int = DEFAULT_REPEATS) -> dict[str, object]:
+    """Time the named workloads with ``threads`` kernel threads (None: the current setting).
+
+    Returns ``{"workloads": {name: {"wall_s", "steps", "ns_per_step", ...}}, "threads", "repeats",
+    "machine"}``.
+    """
+    import numba
+
+    from .integrate import set_threads
+
+    if threads is not None and threads < 1:
+        raise ModelError(f"threads: must be >= 1, got {threads}")
+    ws = [workload(n) for n in names]
+    old = numba.get_num_threads()
+    try:
+        set_threads(threads)
+        used = numba.get_num_threads()
+        results = {w.name: time_workload(w, repeats) for w in ws}
+    finally:
+        numba.set_num_threads(old)
+    return {"workloads": results, "threads": used, "repeats": repeats, "machine": machine_info()}
