@@ -25,6 +25,9 @@ How the default mode is made fast
   the same floating-point operations in the same order on the terms they share, and a zero
   coefficient contributes exactly nothing, so a point gets bit-identical results whichever
   variant, lane, batch or thread runs it.
+* **Packing the tail.**  Once a worker's queue is empty, the lanes still running are moved into
+  the first groups of ``GROUP`` lanes and the chunks run over those groups only, so the last
+  points of a batch do not pay for idle lanes.
 * **Scalar path** for workers with fewer than ``LANE_MIN_POINTS`` points (e.g. a single long
   trajectory or a shooting iteration): the same arithmetic, state and statistics in registers.
 * **Threads balanced by cost.**  :func:`run_batch` sorts the points by cost (steps per period)
@@ -72,7 +75,9 @@ HERMITE_SAMPLES = 8
 NEWTON_ITERS = 6
 CROSSING_TOL = 1.0e-14
 
-#: Parameter points advanced in lock-step by one worker (a multiple of the SIMD width).
+#: Parameter points advanced in lock-step by one worker, in groups of GROUP lanes (one SIMD
+#: vector of doubles); when the queue is empty the remaining lanes are packed into the first groups.
+GROUP = 4
 LANES = 16
 #: A worker with fewer points than this integrates them one at a time (scalar path).
 LANE_MIN_POINTS = 3
@@ -695,156 +700,162 @@ def _make_chunk(kind, mode):
     with_tan = mode == MODE_TAN
 
     @njit(nogil=True)
-    def chunk(S, CF, m, H1):
+    def chunk(S, CF, m, H1, ng):
         for _it in range(m):
             if general:
                 # cos/sin at the three angles, then the series term by term (lanes innermost)
-                for l in range(L):
-                    c0 = S[F_C * L + l]
-                    s0 = S[F_S * L + l]
-                    c1, s1 = _rot_small(c0, s0, S[F_CM1 * L + l], S[F_SA * L + l])
-                    c2, s2 = _rot_small(c1, s1, S[F_CM1 * L + l], S[F_SA * L + l])
-                    S[F_R1C * L + l] = c1
-                    S[F_R1S * L + l] = s1
-                    S[F_R2C * L + l] = c2
-                    S[F_R2S * L + l] = s2
-                    S[F_P0C * L + l] = c0
-                    S[F_P0S * L + l] = s0
-                    S[F_P1C * L + l] = c1
-                    S[F_P1S * L + l] = s1
-                    S[F_P2C * L + l] = c2
-                    S[F_P2S * L + l] = s2
-                    S[F_XC0 * L + l] = CF[0 * L + l]
-                    S[F_XK0 * L + l] = CF[(2 * H1) * L + l]
-                    S[F_XF0 * L + l] = CF[(4 * H1) * L + l]
-                    S[F_XC1 * L + l] = CF[0 * L + l]
-                    S[F_XK1 * L + l] = CF[(2 * H1) * L + l]
-                    S[F_XF1 * L + l] = CF[(4 * H1) * L + l]
-                    S[F_XC2 * L + l] = CF[0 * L + l]
-                    S[F_XK2 * L + l] = CF[(2 * H1) * L + l]
-                    S[F_XF2 * L + l] = CF[(4 * H1) * L + l]
+                for g in range(ng):
+                    for k in range(GROUP):
+                        l = g * GROUP + k
+                        c0 = S[F_C * L + l]
+                        s0 = S[F_S * L + l]
+                        c1, s1 = _rot_small(c0, s0, S[F_CM1 * L + l], S[F_SA * L + l])
+                        c2, s2 = _rot_small(c1, s1, S[F_CM1 * L + l], S[F_SA * L + l])
+                        S[F_R1C * L + l] = c1
+                        S[F_R1S * L + l] = s1
+                        S[F_R2C * L + l] = c2
+                        S[F_R2S * L + l] = s2
+                        S[F_P0C * L + l] = c0
+                        S[F_P0S * L + l] = s0
+                        S[F_P1C * L + l] = c1
+                        S[F_P1S * L + l] = s1
+                        S[F_P2C * L + l] = c2
+                        S[F_P2S * L + l] = s2
+                        S[F_XC0 * L + l] = CF[0 * L + l]
+                        S[F_XK0 * L + l] = CF[(2 * H1) * L + l]
+                        S[F_XF0 * L + l] = CF[(4 * H1) * L + l]
+                        S[F_XC1 * L + l] = CF[0 * L + l]
+                        S[F_XK1 * L + l] = CF[(2 * H1) * L + l]
+                        S[F_XF1 * L + l] = CF[(4 * H1) * L + l]
+                        S[F_XC2 * L + l] = CF[0 * L + l]
+                        S[F_XK2 * L + l] = CF[(2 * H1) * L + l]
+                        S[F_XF2 * L + l] = CF[(4 * H1) * L + l]
                 for j in range(1, H1):
                     oc = (2 * j) * L
                     ok = (2 * (H1 + j)) * L
                     of = (2 * (2 * H1 + j)) * L
-                    for l in range(L):
-                        ac = CF[oc + l]
-                        bc = CF[oc + L + l]
-                        ak = CF[ok + l]
-                        bk = CF[ok + L + l]
-                        af = CF[of + l]
-                        bf = CF[of + L + l]
-                        # angle 0
-                        ck = S[F_P0C * L + l]
-                        sk = S[F_P0S * L + l]
-                        S[F_XC0 * L + l] = _series_acc(S[F_XC0 * L + l], ac, bc, ck, sk)
-                        S[F_XK0 * L + l] = _series_acc(S[F_XK0 * L + l], ak, bk, ck, sk)
-                        S[F_XF0 * L + l] = _series_acc(S[F_XF0 * L + l], af, bf, ck, sk)
-                        ck, sk = _rot(ck, sk, S[F_C * L + l], S[F_S * L + l])
-                        S[F_P0C * L + l] = ck
-                        S[F_P0S * L + l] = sk
-                        # angle 1 (midpoint)
-                        ck = S[F_P1C * L + l]
-                        sk = S[F_P1S * L + l]
-                        S[F_XC1 * L + l] = _series_acc(S[F_XC1 * L + l], ac, bc, ck, sk)
-                        S[F_XK1 * L + l] = _series_acc(S[F_XK1 * L + l], ak, bk, ck, sk)
-                        S[F_XF1 * L + l] = _series_acc(S[F_XF1 * L + l], af, bf, ck, sk)
-                        ck, sk = _rot(ck, sk, S[F_R1C * L + l], S[F_R1S * L + l])
-                        S[F_P1C * L + l] = ck
-                        S[F_P1S * L + l] = sk
-                        # angle 2 (step end)
-                        ck = S[F_P2C * L + l]
-                        sk = S[F_P2S * L + l]
-                        S[F_XC2 * L + l] = _series_acc(S[F_XC2 * L + l], ac, bc, ck, sk)
-                        S[F_XK2 * L + l] = _series_acc(S[F_XK2 * L + l], ak, bk, ck, sk)
-                        S[F_XF2 * L + l] = _series_acc(S[F_XF2 * L + l], af, bf, ck, sk)
-                        ck, sk = _rot(ck, sk, S[F_R2C * L + l], S[F_R2S * L + l])
-                        S[F_P2C * L + l] = ck
-                        S[F_P2S * L + l] = sk
-            for l in range(L):
-                if general:
-                    C0 = S[F_XC0 * L + l]
-                    K0 = S[F_XK0 * L + l]
-                    F0 = S[F_XF0 * L + l]
-                    C1 = S[F_XC1 * L + l]
-                    K1 = S[F_XK1 * L + l]
-                    F1 = S[F_XF1 * L + l]
-                    C2 = S[F_XC2 * L + l]
-                    K2 = S[F_XK2 * L + l]
-                    F2 = S[F_XF2 * L + l]
-                    c2 = S[F_R2C * L + l]
-                    s2 = S[F_R2S * L + l]
-                else:
-                    cm1 = S[F_CM1 * L + l]
-                    sa = S[F_SA * L + l]
-                    c0 = S[F_C * L + l]
-                    s0 = S[F_S * L + l]
-                    c1, s1 = _rot_small(c0, s0, cm1, sa)
-                    c2, s2 = _rot_small(c1, s1, cm1, sa)
-                    a0 = S[F_CA0 * L + l]
-                    a1 = S[F_CA1 * L + l]
-                    k0 = S[F_KA0 * L + l]
-                    k1 = S[F_KA1 * L + l]
-                    f0 = S[F_FA0 * L + l]
-                    f1 = S[F_FA1 * L + l]
-                    if with_sin:
-                        b1 = S[F_CB1 * L + l]
-                        kb = S[F_KB1 * L + l]
-                        fb = S[F_FB1 * L + l]
-                        C0 = _series1(a0, a1, b1, c0, s0)
-                        K0 = _series1(k0, k1, kb, c0, s0)
-                        F0 = _series1(f0, f1, fb, c0, s0)
-                        C1 = _series1(a0, a1, b1, c1, s1)
-                        K1 = _series1(k0, k1, kb, c1, s1)
-                        F1 = _series1(f0, f1, fb, c1, s1)
-                        C2 = _series1(a0, a1, b1, c2, s2)
-                        K2 = _series1(k0, k1, kb, c2, s2)
-                        F2 = _series1(f0, f1, fb, c2, s2)
+                    for g in range(ng):
+                        for k in range(GROUP):
+                            l = g * GROUP + k
+                            ac = CF[oc + l]
+                            bc = CF[oc + L + l]
+                            ak = CF[ok + l]
+                            bk = CF[ok + L + l]
+                            af = CF[of + l]
+                            bf = CF[of + L + l]
+                            # angle 0
+                            ck = S[F_P0C * L + l]
+                            sk = S[F_P0S * L + l]
+                            S[F_XC0 * L + l] = _series_acc(S[F_XC0 * L + l], ac, bc, ck, sk)
+                            S[F_XK0 * L + l] = _series_acc(S[F_XK0 * L + l], ak, bk, ck, sk)
+                            S[F_XF0 * L + l] = _series_acc(S[F_XF0 * L + l], af, bf, ck, sk)
+                            ck, sk = _rot(ck, sk, S[F_C * L + l], S[F_S * L + l])
+                            S[F_P0C * L + l] = ck
+                            S[F_P0S * L + l] = sk
+                            # angle 1 (midpoint)
+                            ck = S[F_P1C * L + l]
+                            sk = S[F_P1S * L + l]
+                            S[F_XC1 * L + l] = _series_acc(S[F_XC1 * L + l], ac, bc, ck, sk)
+                            S[F_XK1 * L + l] = _series_acc(S[F_XK1 * L + l], ak, bk, ck, sk)
+                            S[F_XF1 * L + l] = _series_acc(S[F_XF1 * L + l], af, bf, ck, sk)
+                            ck, sk = _rot(ck, sk, S[F_R1C * L + l], S[F_R1S * L + l])
+                            S[F_P1C * L + l] = ck
+                            S[F_P1S * L + l] = sk
+                            # angle 2 (step end)
+                            ck = S[F_P2C * L + l]
+                            sk = S[F_P2S * L + l]
+                            S[F_XC2 * L + l] = _series_acc(S[F_XC2 * L + l], ac, bc, ck, sk)
+                            S[F_XK2 * L + l] = _series_acc(S[F_XK2 * L + l], ak, bk, ck, sk)
+                            S[F_XF2 * L + l] = _series_acc(S[F_XF2 * L + l], af, bf, ck, sk)
+                            ck, sk = _rot(ck, sk, S[F_R2C * L + l], S[F_R2S * L + l])
+                            S[F_P2C * L + l] = ck
+                            S[F_P2S * L + l] = sk
+            for g in range(ng):
+                for k in range(GROUP):
+                    l = g * GROUP + k
+                    if general:
+                        C0 = S[F_XC0 * L + l]
+                        K0 = S[F_XK0 * L + l]
+                        F0 = S[F_XF0 * L + l]
+                        C1 = S[F_XC1 * L + l]
+                        K1 = S[F_XK1 * L + l]
+                        F1 = S[F_XF1 * L + l]
+                        C2 = S[F_XC2 * L + l]
+                        K2 = S[F_XK2 * L + l]
+                        F2 = S[F_XF2 * L + l]
+                        c2 = S[F_R2C * L + l]
+                        s2 = S[F_R2S * L + l]
                     else:
-                        # the sine coefficients are exactly zero: fma(0, s, x) == x
-                        C0 = _fma(a1, c0, a0)
-                        K0 = _fma(k1, c0, k0)
-                        F0 = _fma(f1, c0, f0)
-                        C1 = _fma(a1, c1, a0)
-                        K1 = _fma(k1, c1, k0)
-                        F1 = _fma(f1, c1, f0)
-                        C2 = _fma(a1, c2, a0)
-                        K2 = _fma(k1, c2, k0)
-                        F2 = _fma(f1, c2, f0)
-                h = S[F_H * L + l]
-                hh = S[F_HH * L + l]
-                h6 = S[F_H6 * L + l]
-                D = S[F_D * L + l]
-                u = S[F_U * L + l]
-                v = S[F_V * L + l]
-                un, vn, u2, u3, u4 = _rk4(u, v, h, hh, h6, C0, K0, F0, C1, K1, F1, C2, K2, F2, D)
-                if with_tan:
-                    dtan = S[F_DTAN * L + l]
-                    g1 = _slope(K0, u, dtan)
-                    g2 = _slope(K1, u2, dtan)
-                    g3 = _slope(K1, u3, dtan)
-                    g4 = _slope(K2, u4, dtan)
-                    y00, y10 = _rk4_tan(S[F_Y00 * L + l], S[F_Y10 * L + l], h, hh, h6,
-                                        C0, C1, C2, g1, g2, g3, g4)
-                    y01, y11 = _rk4_tan(S[F_Y01 * L + l], S[F_Y11 * L + l], h, hh, h6,
-                                        C0, C1, C2, g1, g2, g3, g4)
-                    S[F_Y00 * L + l] = y00
-                    S[F_Y10 * L + l] = y10
-                    S[F_Y01 * L + l] = y01
-                    S[F_Y11 * L + l] = y11
-                if with_stats:
-                    S[F_UMIN * L + l] = min(S[F_UMIN * L + l], un)
-                    S[F_UMAX * L + l] = max(S[F_UMAX * L + l], un)
-                    S[F_VMIN * L + l] = min(S[F_VMIN * L + l], vn)
-                    S[F_VMAX * L + l] = max(S[F_VMAX * L + l], vn)
-                    S[F_USUM * L + l] = S[F_USUM * L + l] + un
-                    S[F_USQ * L + l] = _fma(un, un, S[F_USQ * L + l])
-                    S[F_NDRV * L + l] = S[F_NDRV * L + l] + (1.0 if un > S[F_DRV * L + l] else 0.0)
-                    S[F_NBCK * L + l] = S[F_NBCK * L + l] + (1.0 if un < S[F_BCK * L + l] else 0.0)
-                S[F_U * L + l] = un
-                S[F_V * L + l] = vn
-                S[F_C * L + l] = c2
-                S[F_S * L + l] = s2
+                        cm1 = S[F_CM1 * L + l]
+                        sa = S[F_SA * L + l]
+                        c0 = S[F_C * L + l]
+                        s0 = S[F_S * L + l]
+                        c1, s1 = _rot_small(c0, s0, cm1, sa)
+                        c2, s2 = _rot_small(c1, s1, cm1, sa)
+                        a0 = S[F_CA0 * L + l]
+                        a1 = S[F_CA1 * L + l]
+                        k0 = S[F_KA0 * L + l]
+                        k1 = S[F_KA1 * L + l]
+                        f0 = S[F_FA0 * L + l]
+                        f1 = S[F_FA1 * L + l]
+                        if with_sin:
+                            b1 = S[F_CB1 * L + l]
+                            kb = S[F_KB1 * L + l]
+                            fb = S[F_FB1 * L + l]
+                            C0 = _series1(a0, a1, b1, c0, s0)
+                            K0 = _series1(k0, k1, kb, c0, s0)
+                            F0 = _series1(f0, f1, fb, c0, s0)
+                            C1 = _series1(a0, a1, b1, c1, s1)
+                            K1 = _series1(k0, k1, kb, c1, s1)
+                            F1 = _series1(f0, f1, fb, c1, s1)
+                            C2 = _series1(a0, a1, b1, c2, s2)
+                            K2 = _series1(k0, k1, kb, c2, s2)
+                            F2 = _series1(f0, f1, fb, c2, s2)
+                        else:
+                            # the sine coefficients are exactly zero: fma(0, s, x) == x
+                            C0 = _fma(a1, c0, a0)
+                            K0 = _fma(k1, c0, k0)
+                            F0 = _fma(f1, c0, f0)
+                            C1 = _fma(a1, c1, a0)
+                            K1 = _fma(k1, c1, k0)
+                            F1 = _fma(f1, c1, f0)
+                            C2 = _fma(a1, c2, a0)
+                            K2 = _fma(k1, c2, k0)
+                            F2 = _fma(f1, c2, f0)
+                    h = S[F_H * L + l]
+                    hh = S[F_HH * L + l]
+                    h6 = S[F_H6 * L + l]
+                    D = S[F_D * L + l]
+                    u = S[F_U * L + l]
+                    v = S[F_V * L + l]
+                    un, vn, u2, u3, u4 = _rk4(u, v, h, hh, h6, C0, K0, F0, C1, K1, F1, C2, K2, F2, D)
+                    if with_tan:
+                        dtan = S[F_DTAN * L + l]
+                        g1 = _slope(K0, u, dtan)
+                        g2 = _slope(K1, u2, dtan)
+                        g3 = _slope(K1, u3, dtan)
+                        g4 = _slope(K2, u4, dtan)
+                        y00, y10 = _rk4_tan(S[F_Y00 * L + l], S[F_Y10 * L + l], h, hh, h6,
+                                            C0, C1, C2, g1, g2, g3, g4)
+                        y01, y11 = _rk4_tan(S[F_Y01 * L + l], S[F_Y11 * L + l], h, hh, h6,
+                                            C0, C1, C2, g1, g2, g3, g4)
+                        S[F_Y00 * L + l] = y00
+                        S[F_Y10 * L + l] = y10
+                        S[F_Y01 * L + l] = y01
+                        S[F_Y11 * L + l] = y11
+                    if with_stats:
+                        S[F_UMIN * L + l] = min(S[F_UMIN * L + l], un)
+                        S[F_UMAX * L + l] = max(S[F_UMAX * L + l], un)
+                        S[F_VMIN * L + l] = min(S[F_VMIN * L + l], vn)
+                        S[F_VMAX * L + l] = max(S[F_VMAX * L + l], vn)
+                        S[F_USUM * L + l] = S[F_USUM * L + l] + un
+                        S[F_USQ * L + l] = _fma(un, un, S[F_USQ * L + l])
+                        S[F_NDRV * L + l] = S[F_NDRV * L + l] + (1.0 if un > S[F_DRV * L + l] else 0.0)
+                        S[F_NBCK * L + l] = S[F_NBCK * L + l] + (1.0 if un < S[F_BCK * L + l] else 0.0)
+                    S[F_U * L + l] = un
+                    S[F_V * L + l] = vn
+                    S[F_C * L + l] = c2
+                    S[F_S * L + l] = s2
 
     return chunk
 
@@ -861,28 +872,28 @@ _chunk_g2 = _make_chunk(KIND_GEN, MODE_TAN)
 
 
 @njit(nogil=True)
-def _chunk(kind, mode, S, CF, m, H1):
+def _chunk(kind, mode, S, CF, m, H1, ng):
     if kind == KIND_COS:
         if mode == MODE_PLAIN:
-            _chunk_c0(S, CF, m, H1)
+            _chunk_c0(S, CF, m, H1, ng)
         elif mode == MODE_STATS:
-            _chunk_c1(S, CF, m, H1)
+            _chunk_c1(S, CF, m, H1, ng)
         else:
-            _chunk_c2(S, CF, m, H1)
+            _chunk_c2(S, CF, m, H1, ng)
     elif kind == KIND_SIN:
         if mode == MODE_PLAIN:
-            _chunk_s0(S, CF, m, H1)
+            _chunk_s0(S, CF, m, H1, ng)
         elif mode == MODE_STATS:
-            _chunk_s1(S, CF, m, H1)
+            _chunk_s1(S, CF, m, H1, ng)
         else:
-            _chunk_s2(S, CF, m, H1)
+            _chunk_s2(S, CF, m, H1, ng)
     else:
         if mode == MODE_PLAIN:
-            _chunk_g0(S, CF, m, H1)
+            _chunk_g0(S, CF, m, H1, ng)
         elif mode == MODE_STATS:
-            _chunk_g1(S, CF, m, H1)
+            _chunk_g1(S, CF, m, H1, ng)
         else:
-            _chunk_g2(S, CF, m, H1)
+            _chunk_g2(S, CF, m, H1, ng)
 
 
 # ----------------------------------------------------------------------------- lane scheduler
@@ -918,6 +929,16 @@ def _lane_idle(S, CF, l):
     for i in range(CF.shape[0] // L):
         CF[i * L + l] = 0.0
     _lane_reset_tangent(S, l)
+
+
+@njit(nogil=True)
+def _lane_move(S, CF, src, dst):
+    """Copy every field of lane src to lane dst."""
+    L = LANES
+    for f in range(NFIELDS):
+        S[f * L + dst] = S[f * L + src]
+    for i in range(CF.shape[0] // L):
+        CF[i * L + dst] = CF[i * L + src]
 
 
 @njit(nogil=True)
@@ -1027,6 +1048,24 @@ def _lanes_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, 
                 active += 1
         if active == 0:
             break
+        ng = L // GROUP
+        if nxt >= P:
+            # queue empty: pack the remaining lanes into the first groups, run only those
+            dst = 0
+            for l in range(L):
+                if pid[l] >= 0:
+                    if l != dst:
+                        _lane_move(S, CF, l, dst)
+                        pid[dst] = pid[l]
+                        kstep[dst] = kstep[l]
+                        nst[dst] = nst[l]
+                        per[dst] = per[l]
+                        pid[l] = -1
+                        kstep[l] = 0
+                        nst[l] = _BIG
+                        _lane_idle(S, CF, l)
+                    dst += 1
+            ng = (active + GROUP - 1) // GROUP
         m = nst[0] - kstep[0]  # (not the literal _BIG: keeps the chunk kernels' m an int64)
         rec = False
         for l in range(L):
@@ -1037,7 +1076,7 @@ def _lanes_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, 
         mode = MODE_PLAIN
         if rec:
             mode = MODE_TAN if tangent != TAN_NONE else MODE_STATS
-        _chunk(kind, mode, S, CF, m, H1)
+        _chunk(kind, mode, S, CF, m, H1, ng)
         # period ends
         for l in range(L):
             p = pid[l]
