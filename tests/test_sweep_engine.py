@@ -225,16 +225,42 @@ def bif_reference(tmp_path_factory) -> xr.Dataset:
     return read_netcdf(out / "bifurcation.nc")
 
 
+def live_processes_in_group(pgid: int) -> list[int]:
+    """Processes of a process group that have not ended (Linux /proc)."""
+    pids = []
+    for d in Path("/proc").iterdir():
+        if d.name.isdigit():
+            try:
+                fields = (d / "stat").read_bytes().rsplit(b")", 1)[1].split()
+            except (OSError, IndexError):
+                continue
+            if int(fields[2]) == pgid and fields[0] != b"Z":
+                pids.append(int(d.name))
+    return pids
+
+
 def test_cli_bifurcation_killed_with_sigkill_then_resumed(tmp_path, bif_reference):
     ck = checkpoint_dir(tmp_path / "bifurcation.nc")
-    proc = start_cli(*BIF, "--out", str(tmp_path), "--json")
+    proc = start_cli(*BIF, "--out", str(tmp_path), "--workers", "2", "--json")
     try:
         _wait_for_chunks(proc, ck, 3)
-        os.killpg(proc.pid, signal.SIGKILL)
-    finally:
+        proc.send_signal(signal.SIGKILL)  # the main process only, as `kill -9 PID` does
         proc.wait(timeout=30)
+        if Path("/proc/self/stat").exists():  # its worker processes notice and end too
+            t0 = time.monotonic()
+            while live_processes_in_group(proc.pid) and time.monotonic() - t0 < 20:
+                time.sleep(0.1)
+            assert not live_processes_in_group(proc.pid)
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
     done = len(chunk_files(ck))
     assert 3 <= done < 8 and not (tmp_path / "bifurcation.nc").exists()
+    for p in chunk_files(ck):  # every chunk on disk is complete
+        with np.load(p) as z:
+            assert z["status"].shape == (1,)
     code, out, err = run_cli(BIF + ["--out", str(tmp_path), "--resume"])
     assert code == 0, err
     xr.testing.assert_identical(bif_reference, read_netcdf(tmp_path / "bifurcation.nc"))

@@ -42,6 +42,7 @@ import os
 import pickle
 import signal
 import threading
+import time
 import zipfile
 from concurrent.futures import CancelledError, Executor, Future, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
@@ -83,6 +84,8 @@ MAX_RESUBMITS = 3
 MAX_POOL_RESTARTS = 3
 #: Seconds a sweep must run before its progress bar appears (short sweeps stay quiet).
 PROGRESS_DELAY = 0.5
+#: Seconds between checks of a local worker process that the sweep's main process still exists.
+PARENT_CHECK_INTERVAL = 1.0
 #: Seconds to wait for a Dask scheduler to answer.
 DASK_CONNECT_TIMEOUT = 10
 
@@ -319,18 +322,45 @@ def prepare_checkpoint(directory: Path, chunks: Sequence[Chunk], resume: bool) -
 
 
 # ------------------------------------------------------------------------------ execution
-def _init_worker() -> None:
+def _init_worker(main_pid: int | None = None) -> None:
     """Local worker processes ignore Ctrl-C (the parent stops them) and use one kernel thread.
 
     A worker never starts processes itself; its default start method is set to ``spawn`` so that
     numba does not take a named (resource-tracked) semaphore for its threading-layer start-up,
-    which a worker terminated on Ctrl-C would leave for the resource tracker to report.
+    which a worker terminated on Ctrl-C would leave for the resource tracker to report.  With
+    ``main_pid`` a watchdog thread ends the worker once that process is gone (killed with
+    SIGKILL, say), which the worker would otherwise never notice.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     multiprocessing.set_start_method("spawn", force=True)
+    if main_pid is not None:
+        threading.Thread(target=_exit_with, args=(main_pid,), daemon=True, name="geardyn-watchdog").start()
     from .integrate import set_threads
 
     set_threads(1)
+
+
+def _exit_with(pid: int) -> None:
+    """End this process once the process ``pid`` has ended."""
+    while True:
+        time.sleep(PARENT_CHECK_INTERVAL)
+        if not _alive(pid):
+            os._exit(1)
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` exists and has not ended (a zombie waiting to be reaped has ended)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # exists, but not ours to signal
+        return True
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:
+            return f.read().rsplit(b")", 1)[1].split()[0] != b"Z"
+    except (OSError, IndexError):  # no /proc: trust kill(pid, 0)
+        return True
 
 
 def _call(fn: Callable[..., dict[str, np.ndarray]], args: tuple) -> dict[str, np.ndarray]:
@@ -525,12 +555,12 @@ def _run_on_pool(workers: int, todo: Sequence[Chunk], finished: Callable) -> Non
                     forkserver.ensure_running()
                 with _sigint_deferred():  # starting the workers waits for the server: not interruptible
                     pool = ProcessPoolExecutor(max_workers=min(workers, len(remaining)), mp_context=ctx,
-                                               initializer=_init_worker)
+                                               initializer=_init_worker, initargs=(os.getpid(),))
                     futs = {pool.submit(_call, c.fn, c.args): c for c in remaining.values()}
             else:
                 with _sigint_ignored():  # spawned workers inherit SIGINT ignored
                     pool = ProcessPoolExecutor(max_workers=min(workers, len(remaining)), mp_context=ctx,
-                                               initializer=_init_worker)
+                                               initializer=_init_worker, initargs=(os.getpid(),))
                     futs = {pool.submit(_call, c.fn, c.args): c for c in remaining.values()}
             for f in as_completed(futs):
                 c = futs[f]
