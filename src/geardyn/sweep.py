@@ -456,6 +456,8 @@ def run_chunks(
     ------
     SweepInterrupted
         On Ctrl-C; the chunks finished so far are kept in ``checkpoint``.
+    SweepFailed
+        When the Dask scheduler is lost; the chunks finished so far are kept in ``checkpoint``.
     ModelError
         For invalid arguments, a checkpoint of another sweep, or an unreachable scheduler.
     """
@@ -626,6 +628,8 @@ def _run_on_dask(address: str, todo: Sequence[Chunk], finished: Callable) -> Non
                 ac.add(submit(c))
                 continue
             except (CancelledError, OSError) as e:  # the scheduler went away (or cancelled our work)
+                if isinstance(e, OSError) and client.status == "running":
+                    raise  # an error of the chunk function itself
                 futs.clear()
                 raise _SchedulerLost(f"lost the Dask scheduler {address} ({type(e).__name__})") from None
             finished(c, r)
