@@ -213,6 +213,9 @@ def test_divergence_is_flagged_not_raised():
         ({"kappa": (0.7, 0.4)}, "kappa"),
         ({"xi": (0.1,), "phi_c": (0.0, 1.0)}, "phi_c"),
         ({"fp": "abc"}, "fp"),
+        ({"omega": 10**400}, "omega"),
+        ({"omega": 1e-320}, "omega"),
+        ({"xi0": True}, "xi0"),
     ],
 )
 def test_bad_model_values_refused_naming_the_parameter(kwargs, name):
@@ -223,7 +226,8 @@ def test_bad_model_values_refused_naming_the_parameter(kwargs, name):
 @pytest.mark.parametrize(
     "kwargs, name",
     [({"dtau": 0.0}, "dtau"), ({"dtau": -1e-3}, "dtau"), ({"periods": 0}, "periods"), ({"transient": -1}, "transient"),
-     ({"transient": 2.5}, "transient")],
+     ({"transient": 2.5}, "transient"), ({"transient": "abc"}, "transient"), ({"periods": None}, "periods"),
+     ({"transient": 10**400}, "transient")],
 )
 def test_bad_options_refused(kwargs, name):
     with pytest.raises(ModelError, match=name):

@@ -53,10 +53,12 @@ class ModelError(ValueError):
 
 
 def _check_finite(name: str, value: float) -> float:
+    if isinstance(value, bool):
+        raise ModelError(f"{name}: expected a number, got {value!r}")
     try:
         x = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{name}: expected a number, got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ModelError(f"{name}: expected a finite number, got {value!r}") from None
     if not math.isfinite(x):
         raise ModelError(f"{name}: must be a finite number, got {value!r}")
     return x
@@ -122,6 +124,8 @@ class GearModel:
             set_(self, name, _check_finite(name, getattr(self, name)))
         if self.omega <= 0:
             raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got {self.omega!r}")
+        if not math.isfinite(2.0 * math.pi / self.omega):
+            raise ModelError(f"omega: too small, the forcing period 2π/ω is not finite (got {self.omega!r})")
         if self.D < 0:
             raise ModelError(f"D (backlash): must be >= 0 (0 means no backlash), got {self.D!r}")
         for amp, ph, label in (("xi", "phi_c", "xi"), ("kappa", "phi_k", "kappa"), ("eps", "phi_e", "eps")):
@@ -322,7 +326,11 @@ class IntegrationOptions:
         object.__setattr__(self, "dtau", dt)
         for name, lo in (("transient", 0), ("periods", 1)):
             v = getattr(self, name)
-            if isinstance(v, bool) or not float(v).is_integer() or v < lo:
+            try:
+                ok = not isinstance(v, bool) and float(v).is_integer() and v >= lo
+            except (TypeError, ValueError, OverflowError):
+                ok = False
+            if not ok:
                 raise ModelError(f"{name}: must be an integer >= {lo}, got {v!r}")
             object.__setattr__(self, name, int(v))
         object.__setattr__(self, "accurate", bool(self.accurate))
