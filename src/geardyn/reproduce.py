@@ -17,7 +17,6 @@ range whose motion matches the claim is ≥ :data:`MATCH_REPRODUCED` → reprodu
 
 from __future__ import annotations
 
-import math
 import time
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -29,9 +28,7 @@ import xarray as xr
 
 from .analysis.bifurcation import bifurcation
 from .analysis.classify import (
-    IMPACT_DOUBLE,
     IMPACT_LABELS,
-    IMPACT_NONE,
     IMPACT_SINGLE,
     MOTION_CHAOTIC,
     MOTION_PERIODIC,

@@ -237,30 +237,10 @@ def _chunk_path(directory: Path, index: int) -> Path:
     return directory / f"chunk-{index:06d}.npz"
 
 
-def _fsync_dir(directory: Path) -> None:
-    """Make a rename in ``directory`` durable (POSIX; a no-op where directories cannot be opened)."""
-    try:
-        fd = os.open(directory, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
-
-
-def _durable_write(path: Path, data: bytes) -> None:
-    """Atomic write (temporary file, fsync, rename) followed by an fsync of the directory."""
-    atomic_write_bytes(path, data)
-    _fsync_dir(path.parent)
-
-
 def _save_chunk(directory: Path, index: int, result: dict[str, np.ndarray]) -> None:
     buf = _io.BytesIO()
     np.savez(buf, **result)
-    _durable_write(_chunk_path(directory, index), buf.getvalue())
+    atomic_write_bytes(_chunk_path(directory, index), buf.getvalue())
 
 
 def _load_chunk(directory: Path, index: int) -> dict[str, np.ndarray] | None:
@@ -315,7 +295,7 @@ def prepare_checkpoint(directory: Path, chunks: Sequence[Chunk], resume: bool) -
         )
     if not resume or not old:
         _clear_chunks(directory)  # a fresh start, or chunks without a manifest: not trusted
-        _durable_write(man, json.dumps({"fingerprint": fp, "chunks": len(chunks)}).encode())
+        atomic_write_bytes(man, json.dumps({"fingerprint": fp, "chunks": len(chunks)}).encode())
         return set()
     _clear_temporaries(directory)
     return {c.index for c in chunks if _chunk_path(directory, c.index).exists()}
