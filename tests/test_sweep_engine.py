@@ -89,9 +89,11 @@ def test_resume_refuses_a_checkpoint_of_another_sweep(tmp_path):
 
 
 def test_chunk_writes_are_durable(tmp_path, monkeypatch):
+    import geardyn.io as gio
+
     synced: list[Path] = []
-    real = S._fsync_dir
-    monkeypatch.setattr(S, "_fsync_dir", lambda d: (synced.append(Path(d)), real(d)))
+    real = gio._fsync_dir
+    monkeypatch.setattr(gio, "_fsync_dir", lambda d: (synced.append(Path(d)), real(d)))
     F.sweep("omega", OMEGAS[:2], checkpoint=tmp_path / "ck")
     assert synced.count(tmp_path / "ck") >= 2  # manifest and the chunk, each followed by a directory fsync
 
