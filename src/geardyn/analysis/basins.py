@@ -14,7 +14,7 @@ The grid points are independent, so they are cut into chunks for the sweep engin
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -24,7 +24,7 @@ from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, chunked, run_chunks
 from .bifurcation import fixed_chunk
-from .classify import IMPACT_LABELS, MAX_PERIOD, MOTION_PERIODIC, SETTLE_PERIODS, motion_label
+from .classify import MAX_PERIOD, MOTION_PERIODIC, SETTLE_PERIODS, motion_label
 
 __all__ = ["basins", "basins_json", "identify_attractors", "CYCLE_TOL", "NONPERIODIC_TOL", "BASIN_OPTIONS"]
 

@@ -29,7 +29,6 @@ import numpy as np
 import xarray as xr
 
 from ..model import GearModel, IntegrationOptions, ModelError
-from ..sweep import DEFAULT_CHUNK_POINTS
 from .bifurcation import bifurcation, point_labels, sweep_values
 from .classify import MOTION_PERIODIC, SETTLE_PERIODS
 
