@@ -1,0 +1,258 @@
+"""geardyn's kernel side by side with the C reference and the Python peers, in one run.
+
+Usage (from the project root)::
+
+    python benchmarks/compare.py                 # everything: C reference, geardyn 1 and 2 threads, peers
+    python benchmarks/compare.py --no-peers      # C reference and geardyn only
+    python benchmarks/compare.py --json benchmarks/results.json --wait-idle 600
+
+What it does, in this order, in one process:
+
+1. warms geardyn up (JIT compilation or cache load) on every workload;
+2. for each of ``--rounds`` rounds: runs the C reference (``bash ../shared/bench/run-ref.sh``,
+   one thread, minimum of ``--repeats`` runs per workload; skipped without gcc), then geardyn on
+   one thread and on two threads (``geardyn.bench.time_workload``: minimum of ``--repeats``);
+   the rounds interleave the implementations so that a change of machine load hits both;
+3. reports, per workload, the minimum over all rounds of each implementation and the ratios;
+4. runs pynamicalsys (same fixed RK4 step) and SciPy ``solve_ivp`` RK45 on reduced grids and
+   extrapolates them to the full workloads (see ``benchmarks/peers.py``);
+5. prints a Markdown table and, with ``--json``, writes every number.
+
+Peak RSS is the process's ``ru_maxrss`` after the geardyn timings (before the peers run).
+Targets (issue 6): one thread, W1 <= 1.5x C batch, W2 <= 1.3x C scalar, W3 <= 1.5x C batch;
+two threads >= 1.8x faster than one on W1 (idle machine); >= 100x faster than pynamicalsys on W1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import resource
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+REF_SCRIPT = ROOT.parent / "shared" / "bench" / "run-ref.sh"
+sys.path.insert(0, str(HERE))
+
+from geardyn import bench as B  # noqa: E402
+from geardyn.integrate import set_threads  # noqa: E402
+
+#: The C reference variant each workload is compared with (issue 6).
+C_VARIANT = {"W1": "batch", "W2": "scalar", "W3": "batch"}
+TARGETS = {"W1": 1.5, "W2": 1.3, "W3": 1.5}
+
+
+def cpu_busy_fraction(interval: float = 1.0) -> float:
+    """Fraction of all CPUs busy over ``interval`` seconds (from /proc/stat); NaN if unavailable."""
+    def snap():
+        with open("/proc/stat") as f:
+            v = [int(x) for x in f.readline().split()[1:]]
+        idle = v[3] + (v[4] if len(v) > 4 else 0)
+        return sum(v), idle
+
+    try:
+        t0, i0 = snap()
+        time.sleep(interval)
+        t1, i1 = snap()
+    except OSError:
+        return float("nan")
+    return 1.0 - (i1 - i0) / max(t1 - t0, 1)
+
+
+def wait_idle(timeout: float, threshold: float = 0.1) -> float:
+    """Wait (at most ``timeout`` s) until other processes use less than ``threshold`` of the CPUs."""
+    t_end = time.time() + timeout
+    busy = cpu_busy_fraction()
+    while busy > threshold and time.time() < t_end:
+        busy = cpu_busy_fraction(2.0)
+    return busy
+
+
+def run_c_reference(repeats: int) -> dict[str, dict[str, float]] | None:
+    """RESULT lines of the C reference: {workload: {variant, steps, min_s, median_s, ns_per_step}}."""
+    if shutil.which("gcc") is None or not REF_SCRIPT.exists():
+        return None
+    out = subprocess.run(["bash", str(REF_SCRIPT), str(repeats)], capture_output=True, text=True, check=True).stdout
+    res = {}
+    for line in out.splitlines():
+        m = re.match(r"RESULT (\w+) (\w+) (\d+) (\d+) ([\d.]+) ([\d.]+) ([\d.]+)", line)
+        if m:
+            res[m.group(1).upper()] = {"variant": m.group(2), "steps": int(m.group(4)), "min_s": float(m.group(5)),
+                                       "median_s": float(m.group(6)), "ns_per_step": float(m.group(7))}
+    return res
+
+
+def geardyn_round(threads: int, repeats: int, names=("W1", "W2", "W3")) -> dict[str, dict]:
+    set_threads(threads)
+    return {n: B.time_workload(B.workload(n), repeats, warmup=False) for n in names}
+
+
+def peers(verbose: bool = True) -> dict[str, dict]:
+    """pynamicalsys and SciPy on reduced grids, extrapolated to the full workloads."""
+    import peers as P
+
+    w1, w3 = B.workload("W1"), B.workload("W3")
+    full_w1_steps, full_w3_steps, full_w2_steps = w1.steps, w3.steps, B.workload("W2").steps
+    tau = lambda ws, n: float(np.sum(2 * np.pi / np.asarray(ws))) * n  # noqa: E731
+    out: dict[str, dict] = {}
+
+    def note(msg):
+        if verbose:
+            print(msg, file=sys.stderr, flush=True)
+
+    # pynamicalsys
+    try:
+        import pynamicalsys  # noqa: F401
+
+        ws = np.asarray(w1.omegas)[::10]
+        s, n, pts = P.pynamicalsys_poincare(ws, 300, 200)
+        note(f"pynamicalsys W1: {len(ws)} of 200 ω, {s:.2f} s")
+        out.setdefault("pynamicalsys", {})["W1"] = {
+            "measured_s": s, "measured_steps": n, "wall_s": P.extrapolate(s, n, full_w1_steps),
+            "grid": f"every 10th ω of W1 ({len(ws)} ω), full 300 + 200 periods; extrapolated by RK4 steps",
+            "max_poincare_diff_vs_geardyn_periodic": _poincare_check(ws, pts, 300, 200)}
+        s, n, _ = P.pynamicalsys_poincare([1.2], 0, 10_000)
+        note(f"pynamicalsys W2: {s:.2f} s")
+        out["pynamicalsys"]["W2"] = {"measured_s": s, "measured_steps": n, "wall_s": s, "grid": "full workload"}
+        ws = np.asarray(w3.omegas)[::10]
+        s, n, lam = P.pynamicalsys_lyapunov(ws, 300, 400)
+        note(f"pynamicalsys W3: {len(ws)} of 50 ω, {s:.2f} s")
+        out["pynamicalsys"]["W3"] = {
+            "measured_s": s, "measured_steps": n, "wall_s": P.extrapolate(s, n, full_w3_steps),
+            "grid": f"every 10th ω of W3 ({len(ws)} ω), 300 + 400 periods; extrapolated by RK4 steps",
+            "max_abs_l1_plus_l2_plus_2xi0": float(np.max(np.abs(lam.sum(axis=1) + 2 * P.XI0)))}
+    except ImportError:
+        note("pynamicalsys not installed: skipped")
+
+    # SciPy RK45
+    ws = np.asarray(w1.omegas)[::40]
+    s, t, pts = P.scipy_poincare(ws, 30, 20)
+    note(f"scipy W1: {len(ws)} ω, {s:.2f} s")
+    out.setdefault("scipy_rk45", {})["W1"] = {
+        "measured_s": s, "measured_tau": t, "wall_s": P.extrapolate(s, t, tau(w1.omegas, 500)),
+        "grid": f"every 40th ω of W1 ({len(ws)} ω), 30 + 20 periods; extrapolated by integrated time τ",
+        "tolerances": [P.SCIPY_RTOL, P.SCIPY_ATOL]}
+    s, t, _ = P.scipy_poincare([1.2], 0, 200)
+    note(f"scipy W2: {s:.2f} s")
+    out["scipy_rk45"]["W2"] = {"measured_s": s, "measured_tau": t, "wall_s": P.extrapolate(s, t, tau([1.2], 10_000)),
+                               "grid": "200 of 10,000 periods; extrapolated by τ"}
+    ws = np.asarray(w3.omegas)[::25]
+    s, t, lam = P.scipy_lyapunov(ws, 10, 20)
+    note(f"scipy W3: {len(ws)} ω, {s:.2f} s")
+    out["scipy_rk45"]["W3"] = {"measured_s": s, "measured_tau": t, "wall_s": P.extrapolate(s, t, tau(w3.omegas, 2300)),
+                               "grid": f"every 25th ω of W3 ({len(ws)} ω), 10 + 20 periods; extrapolated by τ"}
+    for impl in out.values():
+        for name, r in impl.items():
+            r["ns_per_step"] = 1e9 * r["wall_s"] / {"W1": full_w1_steps, "W2": full_w2_steps, "W3": full_w3_steps}[name]
+    return out
+
+
+def _poincare_check(ws, pts, transient, periods) -> float:
+    """Largest difference of a peer's Poincaré points from geardyn's, over the periodic ω of the subset."""
+    from geardyn.integrate import integrate_batch
+    from geardyn.model import GearModel, IntegrationOptions
+
+    res = integrate_batch([GearModel(omega=float(w)) for w in ws],
+                          options=IntegrationOptions(transient=transient, periods=periods))
+    diffs = []
+    for i, p in enumerate(pts):
+        q = res.poincare[i]
+        if np.max(np.abs(q[-1] - q[-3])) < 1e-9 or np.max(np.abs(q[-1] - q[-2])) < 1e-9:  # period 1 or 2
+            diffs.append(float(np.max(np.abs(p[-20:] - q[-20:]))))
+    return max(diffs) if diffs else float("nan")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (C, geardyn 1 thread, 2 threads)")
+    ap.add_argument("--repeats", type=int, default=5, help="runs per workload per round; the minimum is kept")
+    ap.add_argument("--no-peers", action="store_true", help="skip pynamicalsys and SciPy")
+    ap.add_argument("--wait-idle", type=float, default=0.0, metavar="SECONDS",
+                    help="before each round, wait up to this long for the CPUs to be idle")
+    ap.add_argument("--json", type=Path, help="write all numbers to this file")
+    a = ap.parse_args(argv)
+
+    info = B.machine_info()
+    print(f"machine: {info['cpu']}, {info['cores']} cores, LLVM target {info['llvm_cpu']}; "
+          f"python {info['python']}, numpy {info['numpy']}, numba {info['numba']}", file=sys.stderr)
+    t0 = time.perf_counter()
+    set_threads(1)
+    for n in ("W1", "W2", "W3"):
+        B.workload(n).run()  # JIT warm-up (or cache load)
+    set_threads(2)
+    B.workload("W1").run()
+    print(f"warm-up {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+
+    rounds = []
+    for r in range(a.rounds):
+        busy = wait_idle(a.wait_idle) if a.wait_idle > 0 else cpu_busy_fraction(0.5)
+        rd = {"cpu_busy_before": busy, "load_average": list(os.getloadavg())}
+        rd["c"] = run_c_reference(a.repeats)
+        rd["geardyn_1"] = geardyn_round(1, a.repeats)
+        rd["geardyn_2"] = geardyn_round(2, a.repeats, names=("W1", "W3"))
+        rounds.append(rd)
+        print(f"round {r + 1}: busy {busy:.0%} " + " ".join(
+            f"{n} {rd['geardyn_1'][n]['ns_per_step']:.2f}" + (f"/C {rd['c'][n]['ns_per_step']:.2f}" if rd["c"] else "")
+            for n in ("W1", "W2", "W3")) + " ns/step", file=sys.stderr, flush=True)
+    rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+    best = {}
+    for key in ("geardyn_1", "geardyn_2"):
+        best[key] = {n: min(rd[key][n]["wall_s"] for rd in rounds) for n in rounds[0][key]}
+    have_c = rounds[0]["c"] is not None
+    if have_c:
+        best["c"] = {n: min(rd["c"][n]["min_s"] for rd in rounds) for n in ("W1", "W2", "W3")}
+    steps = {n: B.workload(n).steps for n in ("W1", "W2", "W3")}
+    peer = {} if a.no_peers else peers()
+    set_threads(None)
+
+    # ---------------------------------------------------------------- report
+    lines = ["| workload | C reference (1 thread) | geardyn 1 thread | ratio to C (target) | geardyn 2 threads | "
+             "2-thread speed-up | pynamicalsys | SciPy RK45 |", "|---|---|---|---|---|---|---|---|"]
+    summary = {"machine": info, "rounds": rounds, "best_wall_s": best, "steps": steps, "peak_rss_mb": rss_mb,
+               "peers": peer, "ratios": {}}
+    for n in ("W1", "W2", "W3"):
+        g1 = best["geardyn_1"][n]
+        g2 = best["geardyn_2"].get(n)
+        ns = lambda s: 1e9 * s / steps[n]  # noqa: E731
+        c = best["c"][n] if have_c else None
+        ratio = g1 / c if c else None
+        sp = g1 / g2 if g2 else None
+        pn = peer.get("pynamicalsys", {}).get(n)
+        sc = peer.get("scipy_rk45", {}).get(n)
+        summary["ratios"][n] = {"geardyn_over_c": ratio, "c_variant": C_VARIANT[n], "speedup_2_threads": sp,
+                                "pynamicalsys_over_geardyn": pn["wall_s"] / g1 if pn else None,
+                                "scipy_over_geardyn": sc["wall_s"] / g1 if sc else None}
+        cell = lambda t: f"{t:.3f} s ({ns(t):.2f} ns/step)"  # noqa: E731
+        lines.append(" | ".join([
+            f"| {n}",
+            f"{cell(c)} {C_VARIANT[n]}" if c else "n/a (no gcc)",
+            cell(g1),
+            f"{ratio:.2f}x (<= {TARGETS[n]}x)" if ratio else "n/a",
+            cell(g2) if g2 else "(one point)",
+            f"{sp:.2f}x" if sp else "-",
+            f"{pn['wall_s']:.1f} s = {pn['wall_s'] / g1:.0f}x slower" if pn else "-",
+            f"{sc['wall_s']:.0f} s = {sc['wall_s'] / g1:.0f}x slower" if sc else "-",
+        ]) + " |")
+    print("\n".join(lines))
+    print(f"\npeak RSS of the benchmark process after the geardyn runs: {rss_mb:.0f} MB")
+    for impl, d in peer.items():
+        for n, r in d.items():
+            print(f"{impl} {n}: measured {r['measured_s']:.2f} s on {r['grid']}")
+    if a.json:
+        a.json.write_text(json.dumps(summary, indent=2, default=float) + "\n")
+        print(f"wrote {a.json}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
