@@ -18,7 +18,7 @@ range whose motion matches the claim is ≥ :data:`MATCH_REPRODUCED` → reprodu
 from __future__ import annotations
 
 import time
-from concurrent.futures import Executor, ProcessPoolExecutor
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -806,9 +806,9 @@ def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str]
     t0 = time.perf_counter()
     own = executor is None and settings.workers > 1
     if own:
-        from .sweep import _init_worker
+        from .sweep import local_pool
 
-        executor = ProcessPoolExecutor(max_workers=settings.workers, initializer=_init_worker)
+        executor = local_pool(settings.workers)
     try:
         ctx = Context(out, settings, executor, log)
         sections = run_studies(ctx)

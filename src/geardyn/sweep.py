@@ -521,6 +521,28 @@ def _pool_context():
     return multiprocessing.get_context("spawn")
 
 
+def _start_forkserver() -> None:
+    with _sigint_ignored():  # the server, and so every worker forked from it, ignores SIGINT
+        from multiprocessing import forkserver
+
+        forkserver.ensure_running()
+
+
+def _new_pool(ctx, workers: int) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker, initargs=(os.getpid(),))
+
+
+def local_pool(workers: int) -> ProcessPoolExecutor:
+    """A pool of local worker processes (fork server, one kernel thread each) for callers that
+    submit their own work, e.g. several sweeps sharing one pool (``executor=`` of the analyses)."""
+    ctx = _pool_context()
+    if ctx.get_start_method() == "forkserver":
+        _start_forkserver()
+        return _new_pool(ctx, workers)
+    with _sigint_ignored():
+        return _new_pool(ctx, workers)
+
+
 def _run_on_pool(workers: int, todo: Sequence[Chunk], finished: Callable) -> None:
     """A local pool of worker processes, restarted if a worker process dies."""
     ctx = _pool_context()
@@ -531,18 +553,13 @@ def _run_on_pool(workers: int, todo: Sequence[Chunk], finished: Callable) -> Non
         futs: dict[Future, Chunk] = {}
         try:
             if ctx.get_start_method() == "forkserver":
-                with _sigint_ignored():  # the server, and so every worker forked from it, ignores SIGINT
-                    from multiprocessing import forkserver
-
-                    forkserver.ensure_running()
+                _start_forkserver()
                 with _sigint_deferred():  # starting the workers waits for the server: not interruptible
-                    pool = ProcessPoolExecutor(max_workers=min(workers, len(remaining)), mp_context=ctx,
-                                               initializer=_init_worker, initargs=(os.getpid(),))
+                    pool = _new_pool(ctx, min(workers, len(remaining)))
                     futs = {pool.submit(_call, c.fn, c.args): c for c in remaining.values()}
             else:
                 with _sigint_ignored():  # spawned workers inherit SIGINT ignored
-                    pool = ProcessPoolExecutor(max_workers=min(workers, len(remaining)), mp_context=ctx,
-                                               initializer=_init_worker, initargs=(os.getpid(),))
+                    pool = _new_pool(ctx, min(workers, len(remaining)))
                     futs = {pool.submit(_call, c.fn, c.args): c for c in remaining.values()}
             for f in as_completed(futs):
                 c = futs[f]
