@@ -24,7 +24,8 @@ How the default mode is made fast
   transient), with statistics, with statistics and tangent propagation.  All variants perform
   the same floating-point operations in the same order on the terms they share, and a zero
   coefficient contributes exactly nothing, so a point gets bit-identical results whichever
-  variant, lane, batch or thread runs it.
+  variant, lane, batch or thread runs it.  The lanes worker is compiled (and cached) per kind,
+  selected by the type of a token argument, so a program compiles only the kinds it uses.
 * **Packing the tail.**  Once a worker's queue is empty, the lanes still running are moved into
   the first groups of ``GROUP`` lanes and the chunks run over those groups only, so the last
   points of a batch do not pay for idle lanes.
@@ -52,7 +53,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from numba import njit
 from numba.core import types
-from numba.extending import intrinsic
+from numba.extending import intrinsic, overload
 
 # Layout of the per-point statistics array (accumulated over the recorded periods, sampled at
 # every step end).
@@ -871,29 +872,36 @@ _chunk_g1 = _make_chunk(KIND_GEN, MODE_STATS)
 _chunk_g2 = _make_chunk(KIND_GEN, MODE_TAN)
 
 
-@njit(nogil=True)
-def _chunk(kind, mode, S, CF, m, H1, ng):
-    if kind == KIND_COS:
+def _chunk(token, mode, S, CF, m, H1, ng):
+    """Run the chunk kernel of the kind selected by ``token``'s type and of ``mode``."""
+
+
+@overload(_chunk, jit_options={"nogil": True})
+def _chunk_impl(token, mode, S, CF, m, H1, ng):
+    kernels = {types.int8: (_chunk_c0, _chunk_c1, _chunk_c2),
+               types.int16: (_chunk_s0, _chunk_s1, _chunk_s2),
+               types.int32: (_chunk_g0, _chunk_g1, _chunk_g2)}[token.dtype]
+    k_plain, k_stats, k_tan = kernels
+
+    def impl(token, mode, S, CF, m, H1, ng):
         if mode == MODE_PLAIN:
-            _chunk_c0(S, CF, m, H1, ng)
+            k_plain(S, CF, m, H1, ng)
         elif mode == MODE_STATS:
-            _chunk_c1(S, CF, m, H1, ng)
+            k_stats(S, CF, m, H1, ng)
         else:
-            _chunk_c2(S, CF, m, H1, ng)
-    elif kind == KIND_SIN:
-        if mode == MODE_PLAIN:
-            _chunk_s0(S, CF, m, H1, ng)
-        elif mode == MODE_STATS:
-            _chunk_s1(S, CF, m, H1, ng)
-        else:
-            _chunk_s2(S, CF, m, H1, ng)
-    else:
-        if mode == MODE_PLAIN:
-            _chunk_g0(S, CF, m, H1, ng)
-        elif mode == MODE_STATS:
-            _chunk_g1(S, CF, m, H1, ng)
-        else:
-            _chunk_g2(S, CF, m, H1, ng)
+            k_tan(S, CF, m, H1, ng)
+
+    return impl
+
+
+def _is_general(token):
+    """True for the token of the general (any number of harmonics) kind."""
+
+
+@overload(_is_general)
+def _is_general_impl(token):
+    general = token.dtype == types.int32
+    return lambda token: general
 
 
 # ----------------------------------------------------------------------------- lane scheduler
@@ -997,24 +1005,19 @@ def _lane_stats_out(S, l, stats, p, n):
 
 
 @njit(nogil=True, cache=True)
-def _lanes_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+def _lanes_worker(token, order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
                   poincare, end_state, stats, tan_log, tan_out, status):
-    """Integrate the points ``order`` (default mode) in lock-step lanes with a refilling queue."""
+    """Integrate the points ``order`` (default mode) in lock-step lanes with a refilling queue.
+
+    ``token`` (an empty array from ``_KIND_TOKENS``) selects the chunk kind by its type.
+    """
+    general = _is_general(token)
     L = LANES
     P = order.shape[0]
     H1 = coef.shape[2]
     n_total = n_transient + n_record
-    # chunk kind: the general kernel for more than one harmonic, else with/without sine terms
-    kind = KIND_COS
-    if H1 > 2:
-        kind = KIND_GEN
-    else:
-        for i in range(P):
-            p = order[i]
-            if H1 > 1 and (coef[p, 0, 1, 1] != 0.0 or coef[p, 1, 1, 1] != 0.0 or coef[p, 2, 1, 1] != 0.0):
-                kind = KIND_SIN
     S = np.zeros(NFIELDS * L)
-    CF = np.zeros(3 * H1 * 2 * L if kind == KIND_GEN else 0)
+    CF = np.zeros(3 * H1 * 2 * L if general else 0)
     pid = np.full(L, -1, dtype=np.int64)
     kstep = np.zeros(L, dtype=np.int64)
     nst = np.full(L, _BIG, dtype=np.int64)
@@ -1076,7 +1079,7 @@ def _lanes_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, 
         mode = MODE_PLAIN
         if rec:
             mode = MODE_TAN if tangent != TAN_NONE else MODE_STATS
-        _chunk(kind, mode, S, CF, m, H1, ng)
+        _chunk(token, mode, S, CF, m, H1, ng)
         # period ends
         for l in range(L):
             p = pid[l]
@@ -1136,6 +1139,24 @@ def _lanes_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, 
                 nst[l] = _BIG
                 _lane_idle(S, CF, l)
                 active -= 1
+
+
+
+
+def _lanes_kind(coef: np.ndarray, order: np.ndarray) -> int:
+    """The chunk kind a worker needs: general for more than one harmonic, else with or without
+    sine terms (the kinds give the same bits on the points they share, so this choice only
+    decides speed and what is compiled)."""
+    if coef.shape[2] > 2:
+        return KIND_GEN
+    if coef.shape[2] == 2 and np.any(coef[order, :, 1, 1] != 0.0):
+        return KIND_SIN
+    return KIND_COS
+
+
+#: Type tokens selecting the chunk kind at compile time: the lanes worker is compiled (and cached)
+#: separately per kind, and only for the kinds a program uses.
+_KIND_TOKENS = {KIND_COS: np.empty(0, np.int8), KIND_SIN: np.empty(0, np.int16), KIND_GEN: np.empty(0, np.int32)}
 
 
 # ----------------------------------------------------------------------------- entry point
@@ -1245,8 +1266,8 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
             _scalar_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
                            poincare, end_state, stats, tan_log, tan_out, status, hist)
         else:
-            _lanes_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                          poincare, end_state, stats, tan_log, tan_out, status)
+            _lanes_worker(_KIND_TOKENS[_lanes_kind(coef, order)], order, coef, D, omega, nsteps, state0,
+                          n_transient, n_record, tangent, poincare, end_state, stats, tan_log, tan_out, status)
 
     if len(queues) == 1:
         work(queues[0])
