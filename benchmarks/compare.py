@@ -8,12 +8,14 @@ Usage (from the project root)::
 
 What it does, in this order, in one process:
 
-1. warms geardyn up (JIT compilation or cache load) on every workload;
-2. for each of ``--rounds`` rounds: runs the C reference (``bash ../shared/bench/run-ref.sh``,
-   one thread, minimum of ``--repeats`` runs per workload; skipped without gcc), then geardyn on
-   one thread and on two threads (``geardyn.bench.time_workload``: minimum of ``--repeats``);
-   the rounds interleave the implementations so that a change of machine load hits both;
-3. reports, per workload, the minimum over all rounds of each implementation and the ratios;
+1. builds the C reference with ``bash ../shared/bench/run-ref.sh`` (skipped without gcc) and
+   warms geardyn up (JIT compilation or cache load) on every workload;
+2. runs ``--rounds`` rounds; each round runs every workload once with each implementation, one
+   right after the other: the C reference binary (one thread; ``batch`` for W1 and W3, ``scalar``
+   for W2), geardyn on one thread, geardyn on two threads.  Interleaving run by run makes the
+   machine's load (other processes, a shared host) hit every implementation alike;
+3. reports, per workload, the minimum over the rounds of each implementation, the ratio of the
+   minima and the median of the per-round ratios;
 4. runs pynamicalsys (same fixed RK4 step) and SciPy ``solve_ivp`` RK45 on reduced grids and
    extrapolates them to the full workloads (see ``benchmarks/peers.py``);
 5. prints a Markdown table and, with ``--json``, writes every number.
@@ -77,23 +79,26 @@ def wait_idle(timeout: float, threshold: float = 0.1) -> float:
     return busy
 
 
-def run_c_reference(repeats: int) -> dict[str, dict[str, float]] | None:
-    """RESULT lines of the C reference: {workload: {variant, steps, min_s, median_s, ns_per_step}}."""
+def build_c_reference() -> Path | None:
+    """Build (if needed) and run the C reference once with run-ref.sh; returns its binary's path."""
     if shutil.which("gcc") is None or not REF_SCRIPT.exists():
         return None
-    out = subprocess.run(["bash", str(REF_SCRIPT), str(repeats)], capture_output=True, text=True, check=True).stdout
-    res = {}
-    for line in out.splitlines():
-        m = re.match(r"RESULT (\w+) (\w+) (\d+) (\d+) ([\d.]+) ([\d.]+) ([\d.]+)", line)
-        if m:
-            res[m.group(1).upper()] = {"variant": m.group(2), "steps": int(m.group(4)), "min_s": float(m.group(5)),
-                                       "median_s": float(m.group(6)), "ns_per_step": float(m.group(7))}
-    return res
+    subprocess.run(["bash", str(REF_SCRIPT), "1"], capture_output=True, text=True, check=True)
+    binary = Path(os.environ.get("TMPDIR", "/tmp")) / "geardyn-cref" / "ref"
+    return binary if binary.exists() else None
 
 
-def geardyn_round(threads: int, repeats: int, names=("W1", "W2", "W3")) -> dict[str, dict]:
+def run_c(binary: Path, name: str) -> dict[str, float]:
+    """One run of the C reference on one workload: {variant, steps, wall_s, ns_per_step}."""
+    out = subprocess.run([str(binary), name.lower(), C_VARIANT[name], "1", "1"], capture_output=True, text=True,
+                         check=True).stdout
+    m = re.search(r"RESULT (\w+) (\w+) (\d+) (\d+) ([\d.]+) ([\d.]+) ([\d.]+)", out)
+    return {"variant": m.group(2), "steps": int(m.group(4)), "wall_s": float(m.group(5)), "ns_per_step": float(m.group(7))}
+
+
+def run_geardyn(name: str, threads: int) -> dict[str, float]:
     set_threads(threads)
-    return {n: B.time_workload(B.workload(n), repeats, warmup=False) for n in names}
+    return B.time_workload(B.workload(name), repeats=1, warmup=False)
 
 
 def peers(verbose: bool = True) -> dict[str, dict]:
@@ -173,8 +178,8 @@ def _poincare_check(ws, pts, transient, periods) -> float:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (C, geardyn 1 thread, 2 threads)")
-    ap.add_argument("--repeats", type=int, default=5, help="runs per workload per round; the minimum is kept")
+    ap.add_argument("--rounds", type=int, default=15,
+                    help="rounds; each runs every workload once with every implementation (default 15)")
     ap.add_argument("--no-peers", action="store_true", help="skip pynamicalsys and SciPy")
     ap.add_argument("--wait-idle", type=float, default=0.0, metavar="SECONDS",
                     help="before each round, wait up to this long for the CPUs to be idle")
@@ -185,32 +190,33 @@ def main(argv=None) -> int:
     print(f"machine: {info['cpu']}, {info['cores']} cores, LLVM target {info['llvm_cpu']}; "
           f"python {info['python']}, numpy {info['numpy']}, numba {info['numba']}", file=sys.stderr)
     t0 = time.perf_counter()
+    binary = build_c_reference()
+    if binary is None:
+        print("no gcc or no C reference: C columns skipped", file=sys.stderr)
     set_threads(1)
     for n in ("W1", "W2", "W3"):
         B.workload(n).run()  # JIT warm-up (or cache load)
     set_threads(2)
     B.workload("W1").run()
-    print(f"warm-up {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+    print(f"build and warm-up {time.perf_counter() - t0:.1f} s", file=sys.stderr)
 
-    rounds = []
+    impls = (["c"] if binary else []) + ["geardyn_1", "geardyn_2"]
+    runs: dict[str, dict[str, list[float]]] = {k: {n: [] for n in ("W1", "W2", "W3")} for k in impls}
+    busy = []
     for r in range(a.rounds):
-        busy = wait_idle(a.wait_idle) if a.wait_idle > 0 else cpu_busy_fraction(0.5)
-        rd = {"cpu_busy_before": busy, "load_average": list(os.getloadavg())}
-        rd["c"] = run_c_reference(a.repeats)
-        rd["geardyn_1"] = geardyn_round(1, a.repeats)
-        rd["geardyn_2"] = geardyn_round(2, a.repeats, names=("W1", "W3"))
-        rounds.append(rd)
-        print(f"round {r + 1}: busy {busy:.0%} " + " ".join(
-            f"{n} {rd['geardyn_1'][n]['ns_per_step']:.2f}" + (f"/C {rd['c'][n]['ns_per_step']:.2f}" if rd["c"] else "")
-            for n in ("W1", "W2", "W3")) + " ns/step", file=sys.stderr, flush=True)
+        busy.append(wait_idle(a.wait_idle) if a.wait_idle > 0 else cpu_busy_fraction(0.2))
+        for n in ("W1", "W2", "W3"):
+            if binary:
+                runs["c"][n].append(run_c(binary, n)["wall_s"])
+            runs["geardyn_1"][n].append(run_geardyn(n, 1)["wall_s"])
+            if n != "W2":
+                runs["geardyn_2"][n].append(run_geardyn(n, 2)["wall_s"])
+        print(f"round {r + 1}/{a.rounds} (busy {busy[-1]:.0%}): " + " ".join(
+            f"{k} {n} {1e9 * runs[k][n][-1] / B.workload(n).steps:.2f}" for k in impls for n in ("W1", "W2", "W3")
+            if runs[k][n]) + " ns/step", file=sys.stderr, flush=True)
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-
-    best = {}
-    for key in ("geardyn_1", "geardyn_2"):
-        best[key] = {n: min(rd[key][n]["wall_s"] for rd in rounds) for n in rounds[0][key]}
-    have_c = rounds[0]["c"] is not None
-    if have_c:
-        best["c"] = {n: min(rd["c"][n]["min_s"] for rd in rounds) for n in ("W1", "W2", "W3")}
+    best = {k: {n: min(v) for n, v in runs[k].items() if v} for k in impls}
+    have_c = binary is not None
     steps = {n: B.workload(n).steps for n in ("W1", "W2", "W3")}
     peer = {} if a.no_peers else peers()
     set_threads(None)
@@ -218,8 +224,9 @@ def main(argv=None) -> int:
     # ---------------------------------------------------------------- report
     lines = ["| workload | C reference (1 thread) | geardyn 1 thread | ratio to C (target) | geardyn 2 threads | "
              "2-thread speed-up | pynamicalsys | SciPy RK45 |", "|---|---|---|---|---|---|---|---|"]
-    summary = {"machine": info, "rounds": rounds, "best_wall_s": best, "steps": steps, "peak_rss_mb": rss_mb,
-               "peers": peer, "ratios": {}}
+    summary = {"machine": info, "runs_wall_s": runs, "cpu_busy_before_round": busy, "best_wall_s": best,
+               "steps": steps, "peak_rss_mb": rss_mb, "peers": peer, "ratios": {}, "rounds": a.rounds,
+               "load_average_end": list(os.getloadavg())}
     for n in ("W1", "W2", "W3"):
         g1 = best["geardyn_1"][n]
         g2 = best["geardyn_2"].get(n)
@@ -229,7 +236,10 @@ def main(argv=None) -> int:
         sp = g1 / g2 if g2 else None
         pn = peer.get("pynamicalsys", {}).get(n)
         sc = peer.get("scipy_rk45", {}).get(n)
-        summary["ratios"][n] = {"geardyn_over_c": ratio, "c_variant": C_VARIANT[n], "speedup_2_threads": sp,
+        med = (float(np.median(np.array(runs["geardyn_1"][n]) / np.array(runs["c"][n]))) if c else None)
+        med_sp = float(np.median(np.array(runs["geardyn_1"][n]) / np.array(runs["geardyn_2"][n]))) if g2 else None
+        summary["ratios"][n] = {"geardyn_over_c": ratio, "median_round_ratio": med, "c_variant": C_VARIANT[n],
+                                "speedup_2_threads": sp, "median_round_speedup": med_sp,
                                 "pynamicalsys_over_geardyn": pn["wall_s"] / g1 if pn else None,
                                 "scipy_over_geardyn": sc["wall_s"] / g1 if sc else None}
         cell = lambda t: f"{t:.3f} s ({ns(t):.2f} ns/step)"  # noqa: E731
@@ -237,9 +247,9 @@ def main(argv=None) -> int:
             f"| {n}",
             f"{cell(c)} {C_VARIANT[n]}" if c else "n/a (no gcc)",
             cell(g1),
-            f"{ratio:.2f}x (<= {TARGETS[n]}x)" if ratio else "n/a",
+            f"{ratio:.2f}x, median {med:.2f}x (<= {TARGETS[n]}x)" if ratio else "n/a",
             cell(g2) if g2 else "(one point)",
-            f"{sp:.2f}x" if sp else "-",
+            f"{sp:.2f}x, median {med_sp:.2f}x" if sp else "-",
             f"{pn['wall_s']:.1f} s = {pn['wall_s'] / g1:.0f}x slower" if pn else "-",
             f"{sc['wall_s']:.0f} s = {sc['wall_s'] / g1:.0f}x slower" if sc else "-",
         ]) + " |")

@@ -905,6 +905,19 @@ def _is_general_impl(token):
 
 
 # ----------------------------------------------------------------------------- lane scheduler
+#: Byte alignment of the lane arrays (a cache line: no SIMD load or store straddles two lines).
+ALIGN_BYTES = 64
+
+
+@njit(nogil=True)
+def _aligned_zeros(n):
+    """A zeroed float64 array of length n whose data start on an ALIGN_BYTES boundary."""
+    pad = ALIGN_BYTES // 8
+    raw = np.zeros(n + pad)
+    off = ((ALIGN_BYTES - raw.ctypes.data % ALIGN_BYTES) % ALIGN_BYTES) // 8
+    return raw[off:off + n]
+
+
 @njit(nogil=True)
 def _lane_reset_stats(S, l):
     L = LANES
@@ -1016,8 +1029,8 @@ def _lanes_worker(token, order, coef, D, omega, nsteps, state0, n_transient, n_r
     P = order.shape[0]
     H1 = coef.shape[2]
     n_total = n_transient + n_record
-    S = np.zeros(NFIELDS * L)
-    CF = np.zeros(3 * H1 * 2 * L if general else 0)
+    S = _aligned_zeros(NFIELDS * L)
+    CF = _aligned_zeros(3 * H1 * 2 * L if general else 0)
     pid = np.full(L, -1, dtype=np.int64)
     kstep = np.zeros(L, dtype=np.int64)
     nst = np.full(L, _BIG, dtype=np.int64)
