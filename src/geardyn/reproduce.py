@@ -575,7 +575,8 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         "first upward jump (up sweep) for D = " + ", ".join(
             f"{k[2]:g}: " + (f"ω = {j['omega']:.3f}" if j else "none") for k, j in firsts.items()) +
         f"; within ±{JUMP_NEAR:g} of 0.57 for {len(near)} of {len(firsts)}" +
-        (f"; the jumps found share one location, ω = {locs.min():.3f}–{locs.max():.3f}" if common else "") + ".",
+        (f"; the jumps found share one location, ω = " + (f"{locs.min():.3f}" if np.ptp(locs) == 0 else
+                                                          f"{locs.min():.3f}–{locs.max():.3f}") if common else "") + ".",
         v, jd.ev(*s.d_set)))
 
     def near_jump(keys: Sequence[tuple[float, float, float]], omega: float, direction: str, tol: float) -> str:
