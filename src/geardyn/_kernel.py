@@ -47,6 +47,7 @@ RK4 fourth order through contact changes; it runs one point at a time (scalar).
 from __future__ import annotations
 
 import math
+import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
@@ -1174,19 +1175,32 @@ _KIND_TOKENS = {KIND_COS: np.empty(0, np.int8), KIND_SIN: np.empty(0, np.int16),
 
 # ----------------------------------------------------------------------------- entry point
 _pool: ThreadPoolExecutor | None = None
-_pool_size = 0
 _pool_lock = threading.Lock()
 
 
-def _executor(n: int) -> ThreadPoolExecutor:
-    global _pool, _pool_size
+def _executor() -> ThreadPoolExecutor:
+    """The kernel's thread pool, created once (its threads start on demand, up to numba's
+    thread limit, which bounds every thread setting) and never resized, so concurrent callers can
+    share it."""
+    global _pool
     with _pool_lock:
-        if _pool is None or _pool_size < n:
-            if _pool is not None:
-                _pool.shutdown(wait=True)
-            _pool = ThreadPoolExecutor(max_workers=n, thread_name_prefix="geardyn-kernel")
-            _pool_size = n
+        if _pool is None:
+            import numba
+
+            _pool = ThreadPoolExecutor(max_workers=max(1, int(numba.config.NUMBA_NUM_THREADS)),
+                                       thread_name_prefix="geardyn-kernel")
         return _pool
+
+
+def _forget_pool() -> None:
+    """In a forked child the parent's pool threads do not exist: start a new pool when needed."""
+    global _pool, _pool_lock
+    _pool = None
+    _pool_lock = threading.Lock()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
 
 
 def n_threads() -> int:
@@ -1285,6 +1299,6 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     if len(queues) == 1:
         work(queues[0])
         return
-    pool = _executor(len(queues))
+    pool = _executor()
     for f in [pool.submit(work, q) for q in queues]:
         f.result()
