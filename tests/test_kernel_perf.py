@@ -273,3 +273,31 @@ def test_no_backlash_and_accurate_mode_still_served():
     assert np.all(res.contact_fractions[:, 0] == 1.0)
     acc = I.integrate_batch(lin, options=opts.replace(accurate=True))
     np.testing.assert_allclose(acc.poincare, res.poincare, rtol=0, atol=1e-9)
+
+
+# --------------------------------------------------------------------------- geardyn bench
+def test_bench_json_structure():
+    """``geardyn bench --workload W2 --json`` reports wall time, steps and ns per step (no timing asserted)."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    r = CliRunner().invoke(app, ["bench", "--workload", "W2", "--repeats", "1", "--threads", "1", "--json"])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.output)
+    w2 = out["workloads"]["W2"]
+    assert w2["steps"] == 5_240_000
+    assert w2["wall_s"] > 0 and w2["ns_per_step"] == pytest.approx(1e9 * w2["wall_s"] / w2["steps"])
+    assert out["threads"] == 1
+
+
+def test_bench_workload_sizes_and_bad_name():
+    from geardyn import bench
+    from geardyn.model import ModelError
+
+    assert bench.workload("W1").steps == 69_152_500
+    assert bench.workload("w3").steps == 79_782_400  # as counted by the C reference
+    with pytest.raises(ModelError, match="W1, W2, W3"):
+        bench.workload("W4")
