@@ -29,12 +29,13 @@ How the default mode is made fast
 * **Packing the tail.**  Once a worker's queue is empty, the lanes still running are moved into
   the first groups of ``GROUP`` lanes and the chunks run over those groups only, so the last
   points of a batch do not pay for idle lanes.
-* **Scalar path** for workers with fewer than ``LANE_MIN_POINTS`` points (e.g. a single long
-  trajectory or a shooting iteration): the same arithmetic, state and statistics in registers.
-* **Threads balanced by cost.**  :func:`run_batch` sorts the points by cost (steps per period)
-  and deals them greedily to the least-loaded of T workers (longest first), then runs the
-  workers on T Python threads over ``nogil`` compiled functions.  T is numba's thread setting
-  (``geardyn.integrate.set_threads``).  No result depends on T.
+* **Scalar path** for batches with fewer than ``LANE_MIN_POINTS`` points per worker (e.g. a
+  single long trajectory or a shooting iteration): the same arithmetic, state and statistics in registers.
+* **Threads balanced dynamically.**  :func:`run_batch` queues the points by decreasing cost
+  (steps per period) and runs T workers on T Python threads over ``nogil`` compiled functions;
+  each worker takes the next point of the shared queue (an atomic counter) whenever one of its
+  lanes is free, so a faster or less loaded core takes more points.  T is numba's thread setting
+  (``geardyn.integrate.set_threads``).  No result depends on T or on which worker ran a point.
 * Fused multiply-adds are written explicitly (``_fma``) and no fast-math flag is used: the
   compiler neither contracts nor reassociates on its own, so the scalar and the vectorised code
   round identically, and results differ from a plain RK4 loop only by rounding.
@@ -81,7 +82,7 @@ CROSSING_TOL = 1.0e-14
 #: vector of doubles); when the queue is empty the remaining lanes are packed into the first groups.
 GROUP = 4
 LANES = 16
-#: A worker with fewer points than this integrates them one at a time (scalar path).
+#: Batches with fewer points per worker than this are integrated one point at a time (scalar path).
 LANE_MIN_POINTS = 3
 #: Batches with fewer RK4 steps than this run on the calling thread only.
 THREAD_MIN_STEPS = 200_000
@@ -107,6 +108,27 @@ _BIG = 1 << 62
 
 
 # ----------------------------------------------------------------------------- shared helpers
+@intrinsic
+def _fetch_add(typingctx, counter, value):
+    """Atomically add ``value`` to ``counter[0]`` (an int64 array) and return the old value.
+
+    The workers of one batch share a counter: each takes the next point of the batch's queue
+    with it, so faster threads take more points (dynamic load balance).
+    """
+    if not (isinstance(counter, types.Array) and counter.dtype == types.int64 and counter.ndim == 1):
+        return None
+    sig = types.int64(counter, value)
+
+    def codegen(context, builder, signature, args):
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        ptr = builder.bitcast(ary.data, ary.data.type)
+        val = context.cast(builder, args[1], signature.args[1], types.int64)
+        return builder.atomic_rmw("add", ptr, val, "seq_cst")
+
+    return sig, codegen
+
+
 @intrinsic
 def _fma(typingctx, a, b, c):
     """a * b + c with a single rounding (``llvm.fma``; one instruction on FMA hardware).
@@ -671,10 +693,13 @@ def _write_stats(stats, p, n, umin, umax, vmin, vmax, usum, usq, ndrv, nbck):
 
 
 @njit(nogil=True, cache=True)
-def _scalar_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+def _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
                    poincare, end_state, stats, tan_log, tan_out, status, hist):
-    """Integrate the points ``order`` one at a time (histories, small batches)."""
-    for i in range(order.shape[0]):
+    """Integrate points of the queue ``order`` one at a time (histories, small batches)."""
+    while True:
+        i = _fetch_add(counter, 1)
+        if i >= order.shape[0]:
+            break
         p = order[i]
         _point_scalar(p, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1],
                       n_transient, n_record, tangent,
@@ -682,10 +707,13 @@ def _scalar_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record,
 
 
 @njit(nogil=True, cache=True)
-def _accurate_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+def _accurate_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
                      poincare, end_state, stats, tan_log, tan_out, status, hist):
-    """Integrate the points ``order`` one at a time in accurate mode."""
-    for i in range(order.shape[0]):
+    """Integrate points of the queue ``order`` one at a time in accurate mode."""
+    while True:
+        i = _fetch_add(counter, 1)
+        if i >= order.shape[0]:
+            break
         p = order[i]
         _point_accurate(p, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1],
                         n_transient, n_record, tangent,
@@ -1019,9 +1047,11 @@ def _lane_stats_out(S, l, stats, p, n):
 
 
 @njit(nogil=True, cache=True)
-def _lanes_worker(token, order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
                   poincare, end_state, stats, tan_log, tan_out, status):
-    """Integrate the points ``order`` (default mode) in lock-step lanes with a refilling queue.
+    """Integrate points of the queue ``order`` (default mode) in lock-step lanes, refilling each
+    finished lane with the next point of the queue (shared through ``counter`` with the other
+    workers of the batch).
 
     ``token`` (an empty array from ``_KIND_TOKENS``) selects the chunk kind by its type.
     """
@@ -1036,16 +1066,19 @@ def _lanes_worker(token, order, coef, D, omega, nsteps, state0, n_transient, n_r
     kstep = np.zeros(L, dtype=np.int64)
     nst = np.full(L, _BIG, dtype=np.int64)
     per = np.zeros(L, dtype=np.int64)
-    nxt = 0
+    exhausted = False
     active = 0
     for l in range(L):
         _lane_idle(S, CF, l)
     while True:
         # fill idle lanes from the queue
         for l in range(L):
-            while pid[l] < 0 and nxt < P:
-                p = order[nxt]
-                nxt += 1
+            while pid[l] < 0 and not exhausted:
+                i = _fetch_add(counter, 1)
+                if i >= P:
+                    exhausted = True
+                    break
+                p = order[i]
                 if n_total == 0:
                     end_state[p, 0] = state0[p, 0]
                     end_state[p, 1] = state0[p, 1]
@@ -1066,7 +1099,7 @@ def _lanes_worker(token, order, coef, D, omega, nsteps, state0, n_transient, n_r
         if active == 0:
             break
         ng = L // GROUP
-        if nxt >= P:
+        if exhausted:
             # queue empty: pack the remaining lanes into the first groups, run only those
             dst = 0
             for l in range(L):
@@ -1210,21 +1243,10 @@ def n_threads() -> int:
     return max(1, int(numba.get_num_threads()))
 
 
-def _assign(nsteps: np.ndarray, n_workers: int) -> list[np.ndarray]:
-    """Deal the points to workers balanced by cost (steps per period), longest first.
-
-    Each worker's queue is in decreasing cost order, so the lanes' tails are the cheapest points.
-    """
-    order = np.argsort(-np.asarray(nsteps, dtype=np.int64), kind="stable")
-    if n_workers == 1:
-        return [order.astype(np.int64)]
-    load = np.zeros(n_workers)
-    queues: list[list[int]] = [[] for _ in range(n_workers)]
-    for p in order:
-        w = int(np.argmin(load))
-        queues[w].append(int(p))
-        load[w] += nsteps[p]
-    return [np.asarray(q, dtype=np.int64) for q in queues if q]
+def _queue_order(nsteps: np.ndarray) -> np.ndarray:
+    """The batch's queue: points by decreasing cost (steps per period), so that the last points
+    taken, which the lanes and threads finish unevenly, are the cheapest."""
+    return np.argsort(-np.asarray(nsteps, dtype=np.int64), kind="stable").astype(np.int64)
 
 
 def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
@@ -1269,9 +1291,10 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
 
     Notes
     -----
-    Points are dealt to ``n_threads()`` workers balanced by cost; a worker with at least
-    ``LANE_MIN_POINTS`` points runs them in lock-step lanes (default mode, no history), otherwise
-    one at a time.  Each point's results are the same bits whichever way it is run.
+    ``n_threads()`` workers take the points from a queue ordered by decreasing cost; with at
+    least ``LANE_MIN_POINTS`` points per worker they run them in lock-step lanes (default mode, no
+    history), otherwise one at a time.  Each point's results are the same bits whichever way and
+    wherever it is run.
     """
     P = coef.shape[0]
     if P == 0:
@@ -1283,22 +1306,25 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     scalar_only = accurate or hist.shape[1] > 0
     total = int(np.sum(nsteps)) * (n_transient + n_record)
     nw = min(n_threads(), P) if total >= THREAD_MIN_STEPS else 1
-    queues = _assign(nsteps, nw)
+    order = _queue_order(nsteps)
+    counter = np.zeros(1, dtype=np.int64)
+    lanes = not scalar_only and P >= LANE_MIN_POINTS * nw
+    token = _KIND_TOKENS[_lanes_kind(coef, order)] if lanes else None
 
-    def work(order):
+    def work():
         if accurate:
-            _accurate_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+            _accurate_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
                              poincare, end_state, stats, tan_log, tan_out, status, hist)
-        elif scalar_only or order.shape[0] < LANE_MIN_POINTS:
-            _scalar_worker(order, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                           poincare, end_state, stats, tan_log, tan_out, status, hist)
+        elif lanes:
+            _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+                          poincare, end_state, stats, tan_log, tan_out, status)
         else:
-            _lanes_worker(_KIND_TOKENS[_lanes_kind(coef, order)], order, coef, D, omega, nsteps, state0,
-                          n_transient, n_record, tangent, poincare, end_state, stats, tan_log, tan_out, status)
+            _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+                           poincare, end_state, stats, tan_log, tan_out, status, hist)
 
-    if len(queues) == 1:
-        work(queues[0])
+    if nw == 1:
+        work()
         return
     pool = _executor()
-    for f in [pool.submit(work, q) for q in queues]:
+    for f in [pool.submit(work) for _ in range(nw)]:
         f.result()
