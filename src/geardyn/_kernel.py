@@ -104,6 +104,7 @@ KIND_COS, KIND_SIN, KIND_GEN = 0, 1, 2
 #: Chunk modes: no statistics, statistics, statistics and tangent propagation.
 MODE_PLAIN, MODE_STATS, MODE_TAN = 0, 1, 2
 
+#: Steps-per-period of an idle lane: never the nearest period end.
 _BIG = 1 << 62
 
 
@@ -122,9 +123,8 @@ def _fetch_add(typingctx, counter, value):
     def codegen(context, builder, signature, args):
         aryty = signature.args[0]
         ary = context.make_array(aryty)(context, builder, args[0])
-        ptr = builder.bitcast(ary.data, ary.data.type)
         val = context.cast(builder, args[1], signature.args[1], types.int64)
-        return builder.atomic_rmw("add", ptr, val, "seq_cst")
+        return builder.atomic_rmw("add", ary.data, val, "seq_cst")
 
     return sig, codegen
 
@@ -150,12 +150,6 @@ def _fz(u, D):
     """Dead zone f(u; D) = u - clamp(u, -D, D) (branch-free)."""
     c = min(max(u, -D), D)
     return u - c
-
-
-@njit(inline="always")
-def _dfz(u, D):
-    """Derivative of the dead zone: 1 in contact, 0 in separation (1 everywhere when D = 0)."""
-    return 1.0 if (abs(u) > D or D == 0.0) else 0.0
 
 
 @njit(inline="always")
