@@ -32,14 +32,20 @@ def _map_rows(r: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     return {k: r[k] for k in MAP_VARIABLES if k in r}
 
 
-def map_fixed_chunk(models, state0, options, lyapunov, settle_periods):
+def _grid_models(model: GearModel, xn: str, xs: np.ndarray, yn: str, ys: np.ndarray) -> list[GearModel]:
+    """The models of grid points (xs[i], ys[i]); built inside a chunk so a map never holds them all."""
+    return [model.with_param(yn, float(y)).with_param(xn, float(x)) for x, y in zip(xs, ys)]
+
+
+def map_fixed_chunk(model, xn, xs, yn, ys, state0, options, lyapunov, settle_periods):
     """Chunk function of a fixed-initial-state map (the map variables only)."""
-    return _map_rows(fixed_chunk(models, state0, options, lyapunov, settle_periods))
+    return _map_rows(fixed_chunk(_grid_models(model, xn, xs, yn, ys), state0, options, lyapunov, settle_periods))
 
 
-def map_row_chunk(models, state0, options, lyapunov, settle_periods):
+def map_row_chunk(model, xn, xs, yn, ys, state0, options, lyapunov, settle_periods):
     """Chunk function of one continuation row of a map (x increasing)."""
-    return _map_rows(continuation_chunk(models, state0, options, lyapunov, settle_periods))
+    return _map_rows(continuation_chunk(_grid_models(model, xn, xs, yn, ys), state0, options, lyapunov,
+                                        settle_periods))
 
 
 def _values(name: str, v: Sequence[float]) -> np.ndarray:
@@ -98,20 +104,28 @@ def parameter_map(
     if mode not in MODES:
         raise ModelError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
     xv, yv = _values(xn, x_values), _values(yn, y_values)
-    rows = [[model.with_param(yn, float(y)).with_param(xn, float(x)) for x in xv] for y in yv]
-    for row in rows:
-        for m in row:
-            options.check_for(m.omega)
+    # validate without building the whole grid: every value of each axis, and the four corners (the only
+    # constraint that couples two parameters, Σ|κ_r| < 1, is largest at a corner); the step must be
+    # smaller than the shortest forcing period, i.e. that of the largest ω
+    for v in xv:
+        model.with_param(xn, float(v))
+    for v in yv:
+        model.with_param(yn, float(v))
+    corners = _grid_models(model, xn, np.array([xv[0], xv[-1], xv[0], xv[-1]]), yn,
+                           np.array([yv[0], yv[0], yv[-1], yv[-1]]))
+    options.check_for(max(m.omega for m in corners))
     s0 = np.asarray(state0, dtype=float).reshape(2)
     if not np.all(np.isfinite(s0)):
         raise ModelError("initial state (u0, v0): must be finite")
     s0t = (float(s0[0]), float(s0[1]))
     if mode == "fixed":
-        flat = [m for row in rows for m in row]
-        chunks = [Chunk(i, map_fixed_chunk, (flat[sl], s0t, options, lyapunov, settle_periods))
-                  for i, sl in enumerate(chunked(len(flat), chunk_points))]
+        ygrid, xgrid = (a.ravel() for a in np.meshgrid(yv, xv, indexing="ij"))  # row-major: y rows, x fastest
+        chunks = [Chunk(i, map_fixed_chunk, (model, xn, xgrid[sl], yn, ygrid[sl], s0t, options, lyapunov,
+                                             settle_periods))
+                  for i, sl in enumerate(chunked(xgrid.size, chunk_points))]
     else:
-        chunks = [Chunk(i, map_row_chunk, (row, s0t, options, lyapunov, settle_periods)) for i, row in enumerate(rows)]
+        chunks = [Chunk(i, map_row_chunk, (model, xn, xv, yn, np.full(xv.size, y), s0t, options, lyapunov,
+                                           settle_periods)) for i, y in enumerate(yv)]
     results = run_chunks(chunks, workers=workers, scheduler=scheduler, executor=executor, checkpoint=checkpoint,
                          resume=resume, progress=progress, description=f"map {yn} × {xn}")
     cat = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
