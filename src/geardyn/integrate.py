@@ -219,10 +219,6 @@ class Trajectory:
     history_periods: int = field(default=0)
 
     @property
-    def theta(self) -> np.ndarray:
-        return self.model.omega * self.tau
-
-    @property
     def poincare(self) -> np.ndarray:
         return self.summary.poincare[0]
 
@@ -273,10 +269,3 @@ def period_map(
     pc, end, stats, _, tout, status, _ = _run(coef, D, omega, nsteps, s0, 0, int(n), K.TAN_MONODROMY, accurate)
     return pc[0], tout[0], stats[0], bool(status[0] == ST_OK)
 
-
-def stats_index() -> dict[str, int]:
-    """Names of the columns of ``BatchResult.stats``."""
-    return {
-        "u_min": K.S_UMIN, "u_max": K.S_UMAX, "u_sum": K.S_USUM, "u_sq": K.S_USQ, "v_min": K.S_VMIN,
-        "v_max": K.S_VMAX, "n_drive": K.S_NDRIVE, "n_sep": K.S_NSEP, "n_back": K.S_NBACK, "n": K.S_N,
-    }

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import time
 from concurrent.futures import Executor
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -567,6 +567,8 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     near = [k for k, j in firsts.items() if j and abs(j["omega"] - 0.57) <= JUMP_NEAR]
     locs = np.array([j["omega"] for j in firsts.values() if j])
     common = locs.size >= 2 and float(np.ptp(locs)) <= 2 * JUMP_NEAR
+    if common:
+        shared = f"{locs.min():.3f}" if np.ptp(locs) == 0 else f"{locs.min():.3f}–{locs.max():.3f}"
     v = verdict_of(len(near) / len(firsts))
     if v == "not reproduced" and common:
         v = "partly reproduced"  # one jump location shared by the backlash values, but not at 0.57
@@ -575,8 +577,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         "first upward jump (up sweep) for D = " + ", ".join(
             f"{k[2]:g}: " + (f"ω = {j['omega']:.3f}" if j else "none") for k, j in firsts.items()) +
         f"; within ±{JUMP_NEAR:g} of 0.57 for {len(near)} of {len(firsts)}" +
-        (f"; the jumps found share one location, ω = " + (f"{locs.min():.3f}" if np.ptp(locs) == 0 else
-                                                          f"{locs.min():.3f}–{locs.max():.3f}") if common else "") + ".",
+        (f"; the jumps found share one location, ω = {shared}" if common else "") + ".",
         v, jd.ev(*s.d_set)))
 
     def near_jump(keys: Sequence[tuple[float, float, float]], omega: float, direction: str, tol: float) -> str:
@@ -826,16 +827,10 @@ def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str]
         "reproduced, with the numbers and the figures that show it.",
     ]
     paths = write_report(out, "geardyn reproduction of the spiral bevel gear paper", intro, sections,
-                         meta={"settings": _settings_dict(settings), "compute_s": t_compute,
+                         meta={"settings": asdict(settings), "compute_s": t_compute,
                                "total_s": time.perf_counter() - t0, "datasets": ctx.datasets})
     claims = [c for s in sections for c in s.claims]
     return {"paths": {k: str(v) for k, v in paths.items()}, "claims": claims, "seconds": time.perf_counter() - t0}
-
-
-def _settings_dict(s: Settings) -> dict[str, Any]:
-    from dataclasses import asdict
-
-    return asdict(s)
 
 
 def _figure_function(kind: str) -> Callable[[xr.Dataset], Any] | None:

@@ -486,7 +486,7 @@ def run_chunks(
         raise SweepFailed(str(e), len(results), len(chunks), ckdir) from None
     out = [results[c.index] for c in chunks]
     if progress:
-        _print_summary(description, len(chunks), out)
+        _print_summary(description, out)
     return out
 
 
@@ -658,7 +658,7 @@ def _stderr_console():
     return Console(stderr=True, soft_wrap=True)
 
 
-def _print_summary(description: str, n_chunks: int, results: Sequence[dict[str, np.ndarray]]) -> None:
+def _print_summary(description: str, results: Sequence[dict[str, np.ndarray]]) -> None:
     s = divergence_summary(results) if results else None
     if s is None:
         return
