@@ -25,6 +25,8 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from .errors import ModelError
+
 __all__ = [
     "GearModel",
     "IntegrationOptions",
@@ -46,10 +48,6 @@ DEFAULT_PERIODS = 200
 MAX_KAPPA_SUM = 1.0
 #: Largest number of harmonics of any one Fourier series.
 MAX_HARMONICS = 64
-
-
-class ModelError(ValueError):
-    """An invalid model parameter or option; the message names the parameter and what is allowed."""
 
 
 def _check_finite(name: str, value: float) -> float:
