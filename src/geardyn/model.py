@@ -19,15 +19,16 @@ from __future__ import annotations
 
 import json
 import math
-import re
 from dataclasses import asdict, dataclass, fields
-from typing import Any, Iterable, Sequence
+from typing import Any, ClassVar, Iterable, Sequence
 
 import numpy as np
 
 from .errors import ModelError
+from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
 
 __all__ = [
+    "Boundary",
     "GearModel",
     "IntegrationOptions",
     "ModelError",
@@ -46,8 +47,6 @@ DEFAULT_TRANSIENT = 300
 DEFAULT_PERIODS = 200
 #: Largest Σ|κ_r| accepted: the mesh stiffness 1 + Σ κ_r cos(...) must stay positive.
 MAX_KAPPA_SUM = 1.0
-#: Largest number of harmonics of any one Fourier series.
-MAX_HARMONICS = 64
 
 
 def _check_finite(name: str, value: float) -> float:
@@ -71,6 +70,25 @@ def _as_tuple(name: str, values: Any) -> tuple[float, ...]:
     if len(out) > MAX_HARMONICS:
         raise ModelError(f"{name}: at most {MAX_HARMONICS} harmonics, got {len(out)}")
     return out
+
+
+@dataclass(frozen=True)
+class Boundary:
+    """A contact boundary of a non-smooth element: the surfaces ``vector · x = ±gap`` in the state space.
+
+    Attributes
+    ----------
+    element : str
+        The element's name (``"mesh"`` for the 1-DOF model).
+    vector : tuple of float
+        The row vector (length ``state_dim``) giving the element's relative displacement from the state.
+    gap : float
+        Half clearance (non-dimensional); contact is ``|vector · x| > gap``.
+    """
+
+    element: str
+    vector: tuple[float, ...]
+    gap: float
 
 
 @dataclass(frozen=True)
@@ -105,16 +123,19 @@ class GearModel:
     The defaults are the paper's Table 1 values with ω = 1.
     """
 
-    omega: float = 1.0
-    xi0: float = 0.1
-    xi: tuple[float, ...] = (0.05,)
-    phi_c: tuple[float, ...] = ()
-    kappa: tuple[float, ...] = (0.2,)
-    phi_k: tuple[float, ...] = ()
-    eps: tuple[float, ...] = (0.5,)
-    phi_e: tuple[float, ...] = ()
-    fp: float = 0.2
-    D: float = 1.0
+    omega: float = FAMILIES["omega"].default
+    xi0: float = FAMILIES["xi0"].default
+    xi: tuple[float, ...] = FAMILIES["xi"].default
+    phi_c: tuple[float, ...] = FAMILIES["phi_c"].default
+    kappa: tuple[float, ...] = FAMILIES["kappa"].default
+    phi_k: tuple[float, ...] = FAMILIES["phi_k"].default
+    eps: tuple[float, ...] = FAMILIES["eps"].default
+    phi_e: tuple[float, ...] = FAMILIES["phi_e"].default
+    fp: float = FAMILIES["fp"].default
+    D: float = FAMILIES["D"].default
+
+    #: Dimension of the state (u, u') — the 1-DOF model's physics: one relative coordinate.
+    state_dim: ClassVar[int] = 2
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -152,6 +173,27 @@ class GearModel:
         """Largest number of harmonics among the damping, stiffness and STE series."""
         return max(len(self.xi), len(self.kappa), len(self.eps), 0)
 
+    # ------------------------------------------------------------------ the system protocol
+    def parameters(self) -> dict[str, float]:
+        """Every parameter by its canonical name (scalars, and each harmonic and phase present)."""
+        out: dict[str, float] = {}
+        for name, fam in FAMILIES.items():
+            value = getattr(self, name)
+            if fam.series:
+                out.update({f"{name}{k + 1}": v for k, v in enumerate(value)})
+            else:
+                out[name] = value
+        return out
+
+    def contact_boundaries(self) -> tuple[Boundary, ...]:
+        """The switching surfaces of the non-smooth element: the mesh's dead zone at u = ±D."""
+        return (Boundary("mesh", (1.0, 0.0), self.D),)
+
+    @staticmethod
+    def pack(models: Iterable["GearModel"]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Kernel arrays of a batch of models (see :func:`pack_models`)."""
+        return pack_models(models)
+
     def replace(self, **changes: Any) -> "GearModel":
         """Return a copy with fields changed (validated anew)."""
         d = {f.name: getattr(self, f.name) for f in fields(self)}
@@ -161,7 +203,7 @@ class GearModel:
     # ------------------------------------------------------------------ parameters by name
     def get(self, name: str) -> float:
         """Value of the parameter ``name`` (see :data:`PARAMETER_HELP`); missing harmonics are 0."""
-        attr, idx = _param_slot(name)
+        attr, idx = slot(name)
         if idx is None:
             return getattr(self, attr)
         seq = getattr(self, attr)
@@ -169,7 +211,7 @@ class GearModel:
 
     def with_param(self, name: str, value: float) -> "GearModel":
         """Copy with the parameter ``name`` set to ``value`` (harmonic series extended as needed)."""
-        attr, idx = _param_slot(name)
+        attr, idx = slot(name)
         if idx is None:
             return self.replace(**{attr: value})
         seq = list(getattr(self, attr))
@@ -177,12 +219,12 @@ class GearModel:
             seq.extend([0.0] * (idx + 1 - len(seq)))
         seq[idx] = value
         changes = {attr: tuple(seq)}
-        amp_of_phase = {"phi_c": "xi", "phi_k": "kappa", "phi_e": "eps"}
-        if attr in amp_of_phase:  # a phase for a harmonic not yet present: add that harmonic with amplitude 0
-            amp = list(getattr(self, amp_of_phase[attr]))
+        amp_name = FAMILIES[attr].amplitude
+        if amp_name is not None:  # a phase for a harmonic not yet present: add that harmonic with amplitude 0
+            amp = list(getattr(self, amp_name))
             if len(amp) < len(seq):
                 amp.extend([0.0] * (len(seq) - len(amp)))
-                changes[amp_of_phase[attr]] = tuple(amp)
+                changes[amp_name] = tuple(amp)
         return self.replace(**changes)
 
     # ------------------------------------------------------------------ evaluation
@@ -246,46 +288,6 @@ class GearModel:
 
 #: The paper's Table 1 non-dimensional values (ω not given there).
 PAPER_DEFAULTS = GearModel()
-
-#: Parameter names accepted by :meth:`GearModel.get` / :meth:`GearModel.with_param` and by sweeps.
-PARAMETER_HELP = {
-    "omega": "mesh frequency ω = ω_e/ω_n",
-    "xi0": "mean damping ratio ξ0",
-    "xiK": "damping harmonic ξ_K (K = 1, 2, …)",
-    "kappaR": "stiffness harmonic κ_R (R = 1, 2, …)",
-    "fp": "mean load f_p",
-    "epsL": "STE harmonic ε_L (alias fe = eps1)",
-    "D": "half backlash (alias backlash)",
-    "phi_cK": "phase of damping harmonic K (rad)",
-    "phi_kR": "phase of stiffness harmonic R (rad)",
-    "phi_eL": "phase of STE harmonic L (rad)",
-}
-
-_ALIASES = {"fe": "eps1", "backlash": "D", "b": "D"}
-_SCALAR = {"omega", "xi0", "fp", "D"}
-_SERIES = re.compile(r"^(xi|kappa|eps|phi_c|phi_k|phi_e)([1-9][0-9]*)$")
-
-
-def canonical_param(name: str) -> str:
-    """Canonical spelling of a parameter name; raises :class:`ModelError` for unknown names."""
-    n = _ALIASES.get(name, name)
-    if n in _SCALAR:
-        return n
-    m = _SERIES.match(n)
-    if m and int(m.group(2)) <= MAX_HARMONICS:
-        return n
-    allowed = ", ".join(PARAMETER_HELP)
-    raise ModelError(f"unknown parameter {name!r}; allowed: {allowed} (aliases: fe, backlash)")
-
-
-def _param_slot(name: str) -> tuple[str, int | None]:
-    n = canonical_param(name)
-    if n in _SCALAR:
-        return n, None
-    m = _SERIES.match(n)
-    assert m is not None
-    return m.group(1), int(m.group(2)) - 1
-
 
 def steps_per_period(omega: float | np.ndarray, dtau: float) -> np.ndarray:
     """Number of RK4 steps per forcing period, N = ceil(T/Δτ) with T = 2π/ω, so h = T/N <= Δτ."""

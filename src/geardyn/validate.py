@@ -31,6 +31,7 @@ from .model import (
     ModelError,
     canonical_param,
 )
+from .params import FAMILIES, slot
 
 __all__ = [
     "MAX_GRID_POINTS",
@@ -118,22 +119,6 @@ def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
     return n
 
 
-_SCALARS = ("omega", "xi0", "fp", "D")
-
-
-def _series_slot(name: str) -> tuple[str, int | None]:
-    """(field, harmonic index) of a canonical parameter name; index None for the scalar fields."""
-    if name in _SCALARS:
-        return name, None
-    m = re.match(r"^(xi|kappa|eps|phi_c|phi_k|phi_e)([1-9][0-9]*)$", name)
-    if m is None:  # pragma: no cover - canonical_param accepts nothing else
-        raise ModelError(f"unknown parameter {name!r}")
-    return m.group(1), int(m.group(2)) - 1
-
-
-_AMPLITUDE_OF_PHASE = {"phi_c": "xi", "phi_k": "kappa", "phi_e": "eps"}
-
-
 def model(base: GearModel | None = None, **params: Any) -> GearModel:
     """``base`` (default: the paper's model) with parameters set by name, validated once at the end.
 
@@ -151,16 +136,15 @@ def model(base: GearModel | None = None, **params: Any) -> GearModel:
         raise ModelError(f"base: expected a GearModel, got {_describe(m)}")
     d: dict[str, Any] = {k: (list(v) if isinstance(v, list) else v) for k, v in m.to_dict().items()}
     for name, value in params.items():
-        canon = canonical_param(str(name))
+        attr, idx = slot(str(name))  # refuses an unknown name before its value is looked at
         x = number(str(name), value)
-        attr, idx = _series_slot(canon)
         if idx is None:
             d[attr] = x
             continue
         seq = d[attr]
         seq.extend([0.0] * (idx + 1 - len(seq)))
         seq[idx] = x
-        amp = _AMPLITUDE_OF_PHASE.get(attr)
+        amp = FAMILIES[attr].amplitude
         if amp is not None and len(d[amp]) < len(seq):
             d[amp].extend([0.0] * (len(seq) - len(d[amp])))
     return GearModel(**{k: tuple(v) if isinstance(v, list) else v for k, v in d.items()})
