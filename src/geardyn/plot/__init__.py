@@ -12,6 +12,8 @@ import importlib
 from pathlib import Path
 from typing import Any
 
+from ..errors import PlotError
+
 __all__ = ["KIND_MODULES", "PlotUnavailable", "plot_module", "save_figures"]
 
 #: Plot module (``geardyn.plot.<module>``) of each kind of result.  Kinds not listed use the
@@ -31,7 +33,7 @@ KIND_MODULES: dict[str, str] = {
 }
 
 
-class PlotUnavailable(ValueError):
+class PlotUnavailable(PlotError):
     """A Dataset that geardyn cannot draw (not a geardyn result, or no plot module for its kind)."""
 
 

@@ -1,0 +1,125 @@
+"""The typer application, its consoles, and the entry point that turns every input error into one line."""
+
+from __future__ import annotations
+
+import errno
+import json
+import sys
+from typing import Any, Optional
+
+import typer
+from rich.console import Console
+
+from .. import __version__
+from ..errors import GeardynError
+
+__all__ = ["EXIT_INTERRUPTED", "app", "console", "emit_json", "err_console", "fail", "main", "say_error"]
+
+#: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
+EXIT_INTERRUPTED = 130
+
+app = typer.Typer(
+    name="geardyn",
+    help="Nonlinear dynamics of gear pairs with backlash.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+console = Console()
+err_console = Console(stderr=True)
+
+
+def _version(value: bool) -> None:
+    if value:
+        console.print(f"geardyn {__version__}", markup=False, highlight=False)
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(False, "--version", help="Print the version and exit.", callback=_version,
+                                 is_eager=True),
+) -> None:
+    """geardyn: simulate and analyse the nonlinear dynamics of a gear pair with backlash."""
+
+
+def say_error(message: str) -> None:
+    """Print ``message`` on stderr as one line (never wrapped, no markup)."""
+    err_console.print(" ".join(str(message).split()), markup=False, highlight=False, soft_wrap=True)
+
+
+def fail(message: str) -> "typer.Exit":
+    """Print one line naming the bad input and return the exit (code 2) to raise."""
+    say_error(f"error: {message}")
+    return typer.Exit(code=2)
+
+
+def emit_json(obj: Any) -> None:
+    """Write ``obj`` as indented JSON on stdout (NumPy scalars and arrays as plain numbers and lists)."""
+    sys.stdout.write(json.dumps(obj, indent=2, allow_nan=True, default=_json_default) + "\n")
+
+
+def _json_default(o: Any) -> Any:
+    import numpy as np
+
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
+
+
+def is_stop(e: BaseException) -> bool:
+    """A sweep stopped from outside (Ctrl-C, a lost scheduler): not an input error, :func:`main` reports it."""
+    from ..sweep import SweepFailed, SweepInterrupted
+
+    return isinstance(e, (SweepInterrupted, SweepFailed))
+
+
+def main(argv: Optional[list[str]] = None) -> None:
+    """Entry point: run the app; every input error becomes one line on stderr, never a traceback.
+
+    Exit codes: 0 success; 2 invalid input (model and option errors, unknown options, values
+    that do not parse, bad configuration files); 130 interrupted by Ctrl-C (a sweep says how to
+    resume); 1 other failures such as an unwritable output or a lost Dask scheduler.
+    """
+    from ..sweep import SweepFailed, SweepInterrupted
+
+    # typer's parser exceptions (its own vendored click, or click itself in older versions)
+    cx = sys.modules[typer.BadParameter.__module__]
+    usage_error, click_exception = cx.UsageError, cx.ClickException
+    no_args_is_help = getattr(cx, "NoArgsIsHelpError", ())
+    try:
+        rv = app(args=argv, prog_name="geardyn", standalone_mode=False)
+    except no_args_is_help as e:  # type: ignore[misc]
+        print(e.ctx.get_help() if e.ctx is not None else e.format_message())
+        raise SystemExit(0) from None
+    except usage_error as e:
+        where = f" (see 'geardyn {e.ctx.info_name} --help')" if e.ctx is not None and e.ctx.parent is not None else ""
+        say_error(f"error: {e.format_message()}{where}")
+        raise SystemExit(2) from None
+    except SweepInterrupted as e:
+        say_error(str(e))
+        raise SystemExit(EXIT_INTERRUPTED) from None
+    except SweepFailed as e:
+        say_error(f"error: {e}")
+        raise SystemExit(1) from None
+    except GeardynError as e:
+        say_error(f"error: {e}")
+        raise SystemExit(2) from None
+    except typer.Abort:
+        say_error("interrupted")
+        raise SystemExit(EXIT_INTERRUPTED) from None
+    except click_exception as e:
+        say_error(f"error: {e.format_message()}")
+        raise SystemExit(e.exit_code) from None
+    except OSError as e:
+        if e.errno == errno.EPIPE:  # output piped into a program that stopped reading
+            raise SystemExit(1) from None
+        name = f" {e.filename}" if getattr(e, "filename", None) else ""
+        say_error(f"error: cannot access{name}: {e.strerror or e}")
+        raise SystemExit(1) from None
+    if rv == EXIT_INTERRUPTED:  # Ctrl-C outside a sweep (typer maps it to exit code 130)
+        say_error("interrupted")
+    if isinstance(rv, int) and not isinstance(rv, bool):
+        raise SystemExit(rv)

@@ -1,0 +1,288 @@
+"""The options the commands share, generated once: model options from the parameter registry, the operating
+point, the initial state, integration, the sweep engine and the output.
+
+A command declares only its own options and names the groups it takes::
+
+    @command("simulate", MODEL, STATE, integration(), OUTPUT)
+    def simulate(inp: Inputs) -> None:
+        model = inp.model()
+        ...
+
+:func:`command` adds the groups' options to the command's signature (so ``--help`` and ``docs/cli.md`` list
+them), collects their values into one :class:`Inputs`, and turns every :class:`~geardyn.errors.GeardynError`
+into one line on stderr and exit code 2.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import typing
+from pathlib import Path
+from typing import Annotated, Any, Callable, Optional
+
+import typer
+
+from .. import params
+from ..errors import GeardynError, ModelError
+from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
+from .app import app, fail, is_stop
+
+__all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "command", "integration",
+           "model_group", "option", "out_paths", "pair_scales"]
+
+_P = inspect.Parameter
+MODEL_PANEL = "Model (non-dimensional)"
+PHYSICAL_PANEL = "Gear pair and operating point"
+RUN_PANEL = "Integration"
+ENGINE_PANEL = "Sweep engine"
+OUTPUT_PANEL = "Output"
+
+
+def option(dest: str, kind: Any, default: Any, *flags: str, help: str, panel: str | None = None) -> inspect.Parameter:
+    """One keyword-only typer option as a signature parameter."""
+    return _P(dest, _P.KEYWORD_ONLY, default=default,
+              annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel)])
+
+
+CONFIG = [option("config", Optional[Path], None, "--config", panel=PHYSICAL_PANEL,
+                 help="TOML file with the gear pair, mesh and operating point (default: the paper's Table 1).")]
+RPM = option("rpm", Optional[float], None, "--rpm", panel=PHYSICAL_PANEL,
+             help="Pinion speed in rpm (sets ω for the gear pair of --config; default pair: the paper's Table 1, "
+                  "k0 = 2000 N/µm assumed).")
+TORQUE = option("torque", Optional[float], None, "--torque", panel=PHYSICAL_PANEL,
+                help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config).")
+RPM_RANGE = [
+    option("rpm_start", Optional[float], None, "--rpm-start", panel=PHYSICAL_PANEL,
+           help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop)."),
+    option("rpm_stop", Optional[float], None, "--rpm-stop", panel=PHYSICAL_PANEL,
+           help="End of an ω sweep given as pinion speed in rpm (with --rpm-start)."),
+]
+
+
+def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Parameter]:
+    """``--config``, the operating point and one option per registry family (see :func:`geardyn.params.cli_options`).
+
+    ``omega=False`` leaves out ``--omega`` (and ``rpm=False`` ``--rpm``) for commands that sweep ω themselves.
+    """
+    group = list(CONFIG) + ([RPM] if rpm else []) + [TORQUE]
+    for o in params.cli_options():
+        if o.param == "omega" and not omega:
+            continue
+        group.append(option(o.dest, Optional[float], None, o.flag, help=o.help, panel=MODEL_PANEL))
+    return group
+
+
+MODEL = model_group()
+STATE = [
+    option("u0", float, 0.0, "--u0", help="Initial displacement u at θ = 0.", panel=RUN_PANEL),
+    option("v0", float, 0.0, "--v0", help="Initial velocity u' at θ = 0.", panel=RUN_PANEL),
+]
+ACCURATE_HELP = "Split steps at the contact crossings u = ±D (4th order through contact loss)."
+
+
+def integration(*, periods: int | None = DEFAULT_PERIODS,
+                periods_help: str = "Forcing periods recorded (Poincaré points).",
+                accurate: inspect.Parameter | None = None) -> list[inspect.Parameter]:
+    """``--dtau --transient [--periods] --accurate``; ``periods=None`` leaves ``--periods`` out."""
+    group = [
+        option("dtau", float, DEFAULT_DTAU, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).",
+               panel=RUN_PANEL),
+        option("transient", int, DEFAULT_TRANSIENT, "--transient", help="Forcing periods discarded before recording.",
+               panel=RUN_PANEL),
+    ]
+    if periods is not None:
+        group.append(option("periods", int, periods, "--periods", help=periods_help, panel=RUN_PANEL))
+    group.append(accurate if accurate is not None else
+                 option("accurate", bool, False, "--accurate", help=ACCURATE_HELP, panel=RUN_PANEL))
+    return group
+
+
+ENGINE = [
+    option("workers", int, 1, "--workers", help="Local worker processes for a sweep (1: in this process).",
+           panel=ENGINE_PANEL),
+    option("scheduler", Optional[str], None, "--scheduler", panel=ENGINE_PANEL,
+           help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed)."),
+    option("resume", bool, False, "--resume", panel=ENGINE_PANEL,
+           help="Complete an interrupted sweep with the same --out: chunks already finished are kept."),
+]
+OUTPUT = [
+    option("json_out", bool, False, "--json", help="Print a machine-readable summary on stdout.", panel=OUTPUT_PANEL),
+    option("out", Optional[Path], None, "--out", help="Directory (or .nc file) for NetCDF data and PNG figures.",
+           panel=OUTPUT_PANEL),
+]
+
+
+# ---------------------------------------------------------------- the physical front end
+def base_model(config: Optional[Path]) -> GearModel:
+    """The model of ``--config`` (or the paper's defaults)."""
+    if config is None:
+        return GearModel()
+    from ..config import load_config
+
+    return load_config(config).model
+
+
+def pair_scales(config: Optional[Path]):
+    """Physical scales of the gear pair of ``--config`` (default: the paper's Table 1 pair, k0 assumed)."""
+    from ..units import PhysicalScales, configured_pair
+
+    return PhysicalScales.from_config(configured_pair(config))
+
+
+def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, torque: Optional[float] = None,
+                **values: Optional[float]) -> GearModel:
+    """The config's model with the command-line values applied on top (validated).
+
+    Parameters
+    ----------
+    config : Path, optional
+        Configuration file (default: the paper's Table 1).
+    rpm, torque : float, optional
+        Pinion speed and pinion torque (N·m, balanced): they set ω and f_p through the scales of the
+        configured gear pair and cannot be combined with ``omega`` / ``fp``.
+    **values
+        The registry's model options by their keyword (``omega``, ``xi0``, ``xi1``, ``kappa1``, ``fp``, ``fe``,
+        ``backlash``, ``phi_c``, ``phi_k``, ``phi_e``); ``None`` leaves a value as the config gives it.
+
+    Raises
+    ------
+    ModelError
+        For an unknown keyword or an invalid value.
+    """
+    by_dest = {o.dest: o.param for o in params.cli_options()}
+    unknown = set(values) - set(by_dest)
+    if unknown:
+        raise ModelError(f"model options: unknown {sorted(unknown)}; allowed: {sorted(by_dest)}")
+    m = base_model(config)
+    if rpm is not None or torque is not None:
+        from ..units import operating_overrides
+
+        phys = operating_overrides(pair_scales(config), rpm=rpm, torque=torque, omega=values.get("omega"),
+                                   fp=values.get("fp"))
+        values = {**values, "omega": phys.get("omega", values.get("omega")), "fp": phys.get("fp", values.get("fp"))}
+    for dest, param in by_dest.items():
+        if values.get(dest) is not None:
+            m = m.with_param(param, values[dest])
+    return m
+
+
+def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
+    """(NetCDF file, figure directory) for ``--out``: a directory, or a file name ending in .nc."""
+    if out.suffix == ".nc":
+        return out, out.parent
+    return out / f"{stem}.nc", out
+
+
+class Inputs:
+    """The values of a command's shared option groups, with the checked objects built from them."""
+
+    def __init__(self, values: dict[str, Any]) -> None:
+        self.values = values
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self.__dict__["values"][name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def model(self, **fixed: Optional[float]) -> GearModel:
+        """The model of ``--config`` with the model options and the operating point applied."""
+        v = self.values
+        dests = {o.dest for o in params.cli_options()}
+        given = {k: v.get(k) for k in dests}
+        given.update(fixed)
+        return build_model(v.get("config"), rpm=v.get("rpm"), torque=v.get("torque"), **given)
+
+    def scales(self):
+        """The physical scales of the configured gear pair."""
+        return pair_scales(self.values.get("config"))
+
+    def options(self, omega: float | None = None, *, periods: int | None = None) -> IntegrationOptions:
+        """Validated integration options (checked against ``omega`` when given)."""
+        from .. import validate
+
+        v = self.values
+        n = periods if periods is not None else v.get("periods", 1)
+        return validate.options(v["dtau"], v["transient"], n, v["accurate"], () if omega is None else (omega,))
+
+    def state0(self) -> tuple[float, float]:
+        """The initial state (u0, v0)."""
+        from .. import validate
+
+        return validate.initial_state(self.values["u0"], self.values["v0"])
+
+    def nc(self, stem: str) -> Optional[Path]:
+        """The NetCDF file of ``--out`` (None without it)."""
+        out = self.values.get("out")
+        return out_paths(out, stem)[0] if out is not None else None
+
+    def engine(self, stem: str) -> dict[str, Any]:
+        """Validated keyword arguments of :func:`geardyn.sweep.run_chunks` from the sweep-engine options.
+
+        With ``--out`` the finished chunks are checkpointed next to the NetCDF file (``<nc>.chunks``); call
+        :meth:`write` with the engine once the result is complete.  The progress bar goes to stderr unless
+        ``--json``.
+        """
+        from .. import validate
+        from ..sweep import checkpoint_dir
+
+        v = self.values
+        nc = self.nc(stem)
+        if v["resume"] and nc is None:
+            raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
+        return {
+            "workers": validate.workers(v["workers"]),
+            "scheduler": validate.scheduler(v["scheduler"]),
+            "checkpoint": checkpoint_dir(nc) if nc is not None else None,
+            "resume": bool(v["resume"]),
+            "progress": not v["json_out"],
+        }
+
+    def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None, figures: bool = True) -> list[str]:
+        """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint."""
+        out = self.values.get("out")
+        if out is None:
+            return []
+        from ..io import write_netcdf
+        from ..plot import save_figures
+
+        nc, figdir = out_paths(out, stem)
+        files = [str(write_netcdf(ds, nc))]
+        if figures:
+            files += [str(p) for p in save_figures(ds, figdir)]
+        if engine is not None and engine.get("checkpoint") is not None:
+            from ..sweep import remove_checkpoint
+
+            remove_checkpoint(engine["checkpoint"])
+        return files
+
+
+def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Register ``fn(inp, **own_options)`` as a command that also takes the options of ``groups``."""
+
+    def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
+        hints = typing.get_type_hints(fn, include_extras=True)
+        own = [p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)
+               for p in list(inspect.signature(fn).parameters.values())[1:]]
+        shared = [p for g in groups for p in g]
+        names = [p.name for p in shared]
+
+        @functools.wraps(fn)
+        def wrapper(**kw: Any) -> Any:
+            inp = Inputs({n: kw.pop(n) for n in names})
+            try:
+                return fn(inp, **kw)
+            except GeardynError as e:
+                if is_stop(e):
+                    raise
+                raise fail(str(e)) from None
+
+        every = own + shared
+        wrapper.__signature__ = inspect.Signature(every)  # type: ignore[attr-defined]
+        wrapper.__annotations__ = {p.name: p.annotation for p in every}
+        del wrapper.__wrapped__
+        app.command(name)(wrapper)
+        return fn
+
+    return deco

@@ -1,0 +1,175 @@
+"""Commands on one operating point: ``simulate``, ``lyapunov``, ``orbit``, ``continuation``."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Optional
+
+import typer
+
+from ..errors import ModelError
+from ..model import IntegrationOptions
+from . import render
+from .app import emit_json
+from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, integration, option
+
+PeriodOpt = Annotated[int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
+GuessOpt = Annotated[Optional[str], typer.Option("--guess", help="Shooting guess 'u,v' at θ = 0 (default: the state reached by simulating --transient periods from --u0, --v0).")]
+#: Points of the brute-force up/down sweep drawn under a continuation figure, and its recorded periods.
+CONTINUATION_SWEEP_NUM = 101
+CONTINUATION_SWEEP_PERIODS = 32
+
+
+def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *extra: Any) -> None:
+    """Print the summary as JSON (with the files written) or as tables for people."""
+    if inp.json_out:
+        summary["files"] = paths
+        emit_json(summary)
+        return
+    show(summary, paths, *extra)
+
+
+def parse_guess(text: Optional[str]) -> Optional[tuple[float, float]]:
+    """'u,v' → (u, v); None when not given."""
+    if text is None:
+        return None
+    try:
+        vals = tuple(float(p) for p in text.split(","))
+    except ValueError:
+        vals = ()
+    if len(vals) != 2 or not all(abs(v) < float("inf") for v in vals):
+        raise ModelError(f"guess: expected two finite numbers 'u,v', got {text!r}")
+    return vals  # type: ignore[return-value]
+
+
+@command("simulate", MODEL, STATE, integration(), OUTPUT)
+def simulate(inp: Inputs) -> None:
+    """Integrate one operating point and report its steady response (Poincaré points, period, impact, amplitudes),
+    with physical values for the configured gear pair: pinion speed, dynamic transmission error (µm), dynamic mesh
+    force (N), dynamic factor, spectrum peaks in Hz and mesh orders."""
+    from ..analysis.physical import add_physical, simulate_physical
+    from ..analysis.steady import simulate as run_simulate
+
+    model = inp.model()
+    opts = inp.options(model.omega)
+    res = run_simulate(model, opts, inp.state0())
+    ds = add_physical(res.to_dataset(), inp.scales())
+    paths = inp.write(ds, "simulate")
+    summary = res.to_json()
+    summary.update(simulate_physical(ds))
+    finish(summary, paths, inp, render.simulate)
+
+
+LYAPUNOV_RUN = integration(periods=2000, periods_help="Forcing periods over which the exponents are averaged.")
+
+
+@command("lyapunov", MODEL, STATE, LYAPUNOV_RUN, OUTPUT)
+def lyapunov(
+    inp: Inputs,
+    blocks: Annotated[int, typer.Option("--blocks", help="Blocks of the block-statistics uncertainty (>= 2).")] = 20,
+) -> None:
+    """Both Lyapunov exponents (per unit τ) by the Benettin method with Gram–Schmidt each period, with their
+    uncertainty from block statistics, and the motion class."""
+    from .. import validate
+    from ..analysis.lyapunov import lyapunov_spectrum
+    from ..analysis.physical import add_physical, physical_json
+
+    model = inp.model()
+    scales = inp.scales()
+    opts = inp.options(model.omega)
+    nb = validate.integer("blocks", blocks, 2, max(2, opts.periods))
+    res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb)
+    paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []
+    finish(physical_json(res.to_json(), model, scales), paths, inp, render.lyapunov)
+
+
+@command("orbit", MODEL, STATE, integration(periods=None), OUTPUT)
+def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
+    """Find a period-n orbit by shooting (Newton on the n-period map, Jacobian = monodromy matrix) and report its
+    section points, Floquet multipliers, stability, extremes and impact state."""
+    from .. import validate
+    from ..analysis.periodic import shoot
+    from ..analysis.physical import add_physical, physical_json
+
+    model = inp.model()
+    scales = inp.scales()
+    opts = inp.options(model.omega, periods=1)
+    n = validate.integer("period", period, 1, 1024)
+    g = parse_guess(guess)
+    res = shoot(model, n, g, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0(), transient=opts.transient)
+    paths: list[str] = []
+    if inp.out is not None:
+        paths = inp.write(add_physical(res.to_dataset(), scales), "orbit", figures=res.converged)
+    finish(physical_json(res.to_json(), model, scales), paths, inp, render.orbit)
+
+
+CONTINUATION_RUN = integration(periods=None, accurate=option(
+    "accurate", bool, True, "--accurate/--default-mode", panel="Integration",
+    help="Accurate mode (steps split at u = ±D; the default here, since its Floquet multipliers vary smoothly along "
+         "a branch) or the default integration mode (faster; multipliers jump by O(Δτ) where RK4 stages cross ±D)."))
+
+
+@command("continuation", RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT)
+def continuation(
+    inp: Inputs,
+    param: Annotated[Optional[str], typer.Option("--param", help="Continuation parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")] = None,
+    start: Annotated[Optional[float], typer.Option("--start", help="Parameter value where the branch starts (the first orbit is found there by shooting).")] = None,
+    stop: Annotated[Optional[float], typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")] = None,
+    period: PeriodOpt = 1,
+    guess: GuessOpt = None,
+    switch: Annotated[bool, typer.Option("--switch/--no-switch", help="Switch at period doublings onto the period-2n branch and continue it.")] = True,
+    max_period: Annotated[int, typer.Option("--max-period", help="Largest period reached by branch switching.")] = 4,
+    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the interval).")] = None,
+    sweep_num: Annotated[int, typer.Option("--sweep-num", help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none).")] = CONTINUATION_SWEEP_NUM,
+) -> None:
+    """Pseudo-arclength continuation of periodic orbits in any parameter: stable and unstable branches, folds,
+    period doublings (with branch switching), Neimark–Sacker points and grazing; with --out the figure shows the
+    branches over the brute-force up/down sweep."""
+    from .. import validate
+    from ..analysis.periodic import continuation as run_continuation
+    from ..analysis.physical import add_physical, physical_json
+    from ..io import write_netcdf
+    from ..model import canonical_param
+    from .options import out_paths
+    from .sweeps import sweep_range
+
+    model = inp.model()
+    scales = inp.scales()
+    if param is None and (inp.rpm_start is not None or inp.rpm_stop is not None):
+        param = "omega"
+    if param is None:
+        raise ModelError("param: give the continuation parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
+    name = canonical_param(param)
+    start, stop = sweep_range(inp, start, stop, name)
+    if start is None or stop is None:
+        raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
+    start_v, stop_v = validate.number("start", start), validate.number("stop", stop)
+    opts = inp.options(model.with_param(name, start_v).omega, periods=1)
+    opts.check_for(model.with_param(name, stop_v).omega)
+    n = validate.integer("period", period, 1, 1024)
+    mp = validate.integer("max-period", max_period, 1, 1024)
+    nsw = validate.integer("sweep-num", sweep_num, 0, 100_000)
+    if ds_max is not None:
+        validate.positive("ds-max", ds_max)
+    g = parse_guess(guess)
+    state0 = inp.state0()
+    res = run_continuation(model, name, start_v, stop_v, n, g, dtau=opts.dtau, accurate=opts.accurate,
+                           switch=switch, max_period=mp, ds_max=ds_max, state0=state0)
+    sweep_ds = None
+    if inp.out is not None and nsw > 0:
+        from ..analysis.bifurcation import bifurcation, sweep_values
+
+        sweep_ds = bifurcation(model, name, sweep_values(start_v, stop_v, nsw), mode="continue", sweep="both",
+                               state0=state0, options=IntegrationOptions(dtau=opts.dtau, transient=opts.transient,
+                                                                         periods=CONTINUATION_SWEEP_PERIODS))
+    paths: list[str] = []
+    if inp.out is not None:
+        from ..plot.periodic import save_continuation
+
+        nc, figdir = out_paths(inp.out, "continuation")
+        ds = add_physical(res.to_dataset(), scales)
+        paths = [str(write_netcdf(ds, nc))]
+        if sweep_ds is not None:
+            sweep_ds = add_physical(sweep_ds, scales)
+            paths.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
+        paths += [str(p) for p in save_continuation(ds, figdir, sweep_ds)]
+    finish(physical_json(res.to_json(), model, scales, param=name), paths, inp, render.continuation)

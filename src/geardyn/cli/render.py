@@ -1,0 +1,196 @@
+"""Tables and lines printed for people (``--json`` prints the summaries themselves)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from rich.table import Table
+
+from .app import console
+
+__all__ = ["continuation", "files", "intervals", "orbit", "simulate"]
+
+
+def _num(x: Any) -> str:
+    return "n/a" if x is None else f"{x:.6g}"
+
+
+def files(paths: list[str]) -> None:
+    """One ``wrote FILE`` line per file written."""
+    for f in paths:
+        console.print(f"wrote {f}")
+
+
+def simulate(s: dict[str, Any], paths: list[str]) -> None:
+    """The steady response of ``geardyn simulate``."""
+    t = Table(title=f"Steady response at ω = {s['omega']:g}", show_header=False)
+    t.add_row("motion", s["motion"])
+    t.add_row("impact state", s["impact"])
+    for k, lab in (("amplitude", "amplitude (half peak-to-peak)"), ("rms", "RMS about mean"), ("mean", "mean"),
+                   ("u_min", "u_min"), ("u_max", "u_max")):
+        t.add_row(lab, _num(s[k]))
+    cf = s["contact_fractions"]
+    t.add_row("time in drive / separation / back contact", " / ".join(_num(cf[k]) for k in ("drive", "separation", "back")))
+    pts = s["poincare"]
+    shown = pts[-(s["period"] or 4):]
+    t.add_row(f"last {len(shown)} Poincaré points (u, u')", "\n".join(f"({p[0]:.6f}, {p[1]:.6f})" for p in shown))
+    if "rpm" in s:
+        for k, lab in (("rpm", "pinion speed (rpm)"), ("mesh_frequency_Hz", "mesh frequency (Hz)"),
+                       ("torque_N_m", "pinion torque, balanced (N·m)"), ("static_force_N", "static mesh force F_p (N)"),
+                       ("mesh_force_max_N", "max dynamic mesh force (N)"), ("mesh_force_min_N", "min dynamic mesh force (N)"),
+                       ("dynamic_factor", "dynamic factor (max force / F_p)"), ("dte_rms_um", "DTE RMS about mean (µm)"),
+                       ("dte_amplitude_um", "DTE half peak-to-peak (µm)"), ("backlash_um", "half backlash (µm)")):
+            t.add_row(lab, _num(s[k]))
+        peaks = s.get("spectrum_peaks") or []
+        t.add_row("largest spectral lines (order, Hz, µm)",
+                  "\n".join(f"{p['order']:g}, {p['frequency_Hz']:.6g}, {p['amplitude_um']:.4g}" for p in peaks))
+    console.print(t)
+    if "pair" in s:
+        console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
+    files(paths)
+
+
+def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> None:
+    """The gear pair table of ``geardyn geometry`` with its assumed inputs and notes."""
+    t = Table(title=f"Gear pair geometry: {summary['title'] or summary['source']}")
+    for col in ("quantity", "value", "unit", "note"):
+        t.add_column(col, overflow="fold")
+    for q, v, u, note in rows:
+        t.add_row(q, v, u, note, style="yellow" if note.startswith("assumed") else None)
+    console.print(t)
+    lines = [f"source: {summary['source']}", f"backlash scale: {summary['backlash_reading']}"]
+    for a in summary["assumptions"]:
+        v = f"{a['value']:.6g}" if isinstance(a["value"], (int, float)) else str(a["value"])
+        lines.append(f"assumed {a['name']} = {v}{' ' + a['unit'] if a['unit'] else ''}: {a['source']}")
+    lines += [f"note: {n}" for n in summary["notes"]]
+    for line in lines:
+        console.print(line, markup=False, highlight=False)
+
+
+def orbit(s: dict[str, Any], paths: list[str]) -> None:
+    """A shot periodic orbit with its Floquet multipliers."""
+    t = Table(title=f"Period-{s['requested_period']} orbit at ω = {s['omega']:g}", show_header=False)
+    t.add_row("converged", f"{s['converged']} ({s['status']}, {s['iterations']} Newton iterations, residual {s['residual']})")
+    t.add_row("minimal period", str(s["period"]))
+    t.add_row("state (u, u') at θ = 0", f"({s['state'][0]:.10g}, {s['state'][1]:.10g})")
+    t.add_row("section points", "\n".join(f"({p[0]:.8f}, {p[1]:.8f})" for p in s["points"]))
+    t.add_row("Floquet multipliers", "\n".join(f"{m[0]:+.8f} {m[1]:+.8f}i  (|μ| = {abs(complex(*m)):.8f})"
+                                                for m in s["multipliers"]))
+    t.add_row("stable", f"{s['stable']} (instability: {s['instability']})")
+    for k in ("u_min", "u_max", "amplitude"):
+        t.add_row(k, "n/a" if s[k] is None else f"{s[k]:.8g}")
+    t.add_row("impact state", s["impact"])
+    console.print(t)
+    files(paths)
+
+
+def continuation(s: dict[str, Any], paths: list[str]) -> None:
+    """Branches and bifurcations of a continuation."""
+    p = s["param"]
+    t = Table(title=f"Branches in {p} from {s['start']:g} to {s['stop']:g}")
+    for col in ("branch", "period", "points", "from", "end"):
+        t.add_column(col)
+    for b in s["branches"]:
+        src = "" if b["from"] is None else f"{b['from']['type']} at {p} = {b['from'][p]:.6g}"
+        t.add_row(str(b["branch"]), str(b["period"]), str(b["points"]), src, b["end"])
+    console.print(t)
+    t = Table(title="Bifurcations")
+    for col in ("type", p, "period", "branch", "amplitude", "multipliers", "detail"):
+        t.add_column(col)
+    for b in s["bifurcations"]:
+        mus = ", ".join(f"{complex(*m):.4f}" for m in b["multipliers"])
+        t.add_row(b["type"], f"{b[p]:.6f}", str(b["period"]), str(b["branch"]), f"{b['amplitude']:.4f}", mus, b["detail"])
+    console.print(t)
+    for note in s.get("notes", []):
+        console.print(f"note: {note}", markup=False, highlight=False)
+    files(paths)
+
+
+def lyapunov(s: dict[str, Any], paths: list[str]) -> None:
+    """Both exponents with their uncertainty and the Liouville check."""
+    def fmt(x: Any) -> str:
+        return "n/a" if x is None else f"{x:+.6f}"
+
+    console.print(f"Lyapunov exponents at ω = {s['omega']:g} over {s['periods']} periods (per unit τ, ± one standard error):")
+    for i in range(2):
+        console.print(f"  λ{i + 1} = {fmt(s['exponents'][i])} ± {s['uncertainty'][i] or float('nan'):.2e}")
+    console.print(f"  λ1 + λ2 = {fmt(s['sum'])}   (−2ξ0 = {s['expected_sum']:+.6f})")
+    console.print(f"  motion: {s['motion']}")
+    files(paths)
+
+
+def intervals(s: dict[str, Any], paths: list[str]) -> None:
+    """Motion intervals of a bifurcation diagram, per sweep."""
+    iv = s["intervals"]
+    groups = iv if isinstance(iv, dict) else {s["sweep"]: iv}
+    for lab, rows in groups.items():
+        t = Table(title=f"Motion over {s['param']} ({lab})")
+        for col in ("from", "to", "points", "motion"):
+            t.add_column(col)
+        for r in rows:
+            t.add_row(f"{r['from']:.6g}", f"{r['to']:.6g}", str(r["points"]), r["motion"])
+        console.print(t)
+    files(paths)
+
+
+def response(s: dict[str, Any], paths: list[str]) -> None:
+    """Jumps and hysteresis intervals of a frequency response."""
+    t = Table(title="Jumps")
+    for col in ("sweep", "ω (midpoint)", "from → to", "direction", "size", "pinion speed (rpm)", "size (µm)"):
+        t.add_column(col)
+    for j in s["jumps"]:
+        t.add_row(j["sweep"], f"{j['omega']:.6g}", f"{j['omega_from']:.6g} → {j['omega_to']:.6g}", j["direction"],
+                  f"{j['size']:.4g}", f"{j['rpm']:.1f} ({j['rpm_from']:.1f} → {j['rpm_to']:.1f})", f"{j['size_um']:.4g}")
+    console.print(t)
+    hy = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["hysteresis"]) or "none"
+    hy_rpm = ", ".join(f"[{a:.1f}, {b:.1f}]" for a, b in s.get("hysteresis_rpm", [])) or "none"
+    console.print(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}", markup=False, highlight=False)
+    console.print(f"gear pair: {s['physical']['pair']}", markup=False, highlight=False)
+    files(paths)
+
+
+def parameter_map(s: dict[str, Any], paths: list[str]) -> None:
+    """Counts of a 2-D parameter map."""
+    counts = ", ".join(f"{k}: {v}" for k, v in s["motion_counts"].items())
+    console.print(f"map of {s['y']} × {s['x']}: {len(s['y_values'])} × {len(s['x_values'])} points; {counts}")
+    files(paths)
+
+
+def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
+    """The attractors of a basin computation and their basin shares."""
+    t = Table(title=f"Attractors at ω = {s['omega']:g} ({n_u} × {n_v} initial states)")
+    for col in ("label", "motion", "basin share", "amplitude", "Poincaré points (u, u')"):
+        t.add_column(col)
+    for a in s["attractors"]:
+        pts = a["points"][:4]
+        txt = "; ".join(f"({p[0]:.4f}, {p[1]:.4f})" for p in pts) + (" …" if len(a["points"]) > 4 else "")
+        t.add_row(str(a["label"]), a["motion"], f"{100 * a['fraction']:.1f} %", f"{a['amplitude']:.4g}", txt)
+    console.print(t)
+    if s["diverged_fraction"] > 0:
+        console.print(f"diverged: {100 * s['diverged_fraction']:.1f} % of the initial states")
+    files(paths)
+
+
+def claims(res: dict[str, Any]) -> None:
+    """The verdicts of ``geardyn reproduce``."""
+    t = Table(title="Claims of the paper")
+    for col in ("id", "verdict", "computed"):
+        t.add_column(col, overflow="fold")
+    style = {"reproduced": "green", "partly reproduced": "yellow", "not reproduced": "red"}
+    for c in res["claims"]:
+        t.add_row(c.id, f"[{style[c.verdict]}]{c.verdict}[/]", c.computed)
+    console.print(t)
+    console.print(f"report: {res['paths']['html']} ({res['seconds']:.1f} s)")
+
+
+def bench(res: dict[str, Any]) -> None:
+    """Timings of ``geardyn bench``."""
+    t = Table(title=f"geardyn bench ({res['threads']} thread(s), minimum of {res['repeats']} runs)")
+    for col in ("workload", "wall (s)", "RK4 steps", "ns/step"):
+        t.add_column(col, justify="right" if col != "workload" else "left")
+    for name, r in res["workloads"].items():
+        t.add_row(name, f"{r['wall_s']:.4f}", f"{r['steps']:,}", f"{r['ns_per_step']:.2f}")
+    console.print(t)
+    m = res["machine"]
+    console.print(f"{m['cpu']}, {m['cores']} cores, load average {m.get('load_average', 'n/a')}", markup=False,
+                  highlight=False)

@@ -1,0 +1,215 @@
+"""Sweep commands: ``bifurcation``, ``response``, ``map``, ``basins`` (on the sweep engine: workers, Dask, resume)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Optional
+
+import typer
+
+from ..errors import ModelError
+from . import render
+from .options import (ENGINE, MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, integration, model_group,
+                      option)
+from .point import finish
+
+ModeOpt = Annotated[str, typer.Option("--mode", help="fixed: every point from (u0, v0); continue: each point from the previous end state.")]
+SweepDirOpt = Annotated[str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")]
+LyapunovFlagOpt = Annotated[bool, typer.Option("--lyapunov", help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).")]
+SettleOpt = Annotated[int, typer.Option("--settle", help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).")]
+ChunkOpt = Annotated[int, typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep.")]
+ParamOpt = Annotated[Optional[str], typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")]
+
+
+def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
+    """``value`` if it is one of ``allowed``, else a one-line refusal."""
+    if value not in allowed:
+        raise ModelError(f"{name}: must be one of {', '.join(allowed)}, got {value!r}")
+    return value
+
+
+def sweep_range(inp: Inputs, start: Optional[float], stop: Optional[float],
+                param: str = "omega") -> tuple[Optional[float], Optional[float]]:
+    """(start, stop) of a sweep: ``--rpm-start/--rpm-stop`` converted to ω, else ``start, stop`` as given."""
+    from ..units import sweep_range as convert
+
+    if inp.rpm_start is None and inp.rpm_stop is None:
+        return start, stop
+    return convert(inp.scales(), inp.rpm_start, inp.rpm_stop, start, stop, param=param)
+
+
+def _sweep_json(inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine: dict[str, Any], show: Any,
+                *extra: Any) -> None:
+    finish(summary, inp.write(ds, stem, engine), inp, show, *extra)
+
+
+@command("bifurcation", RPM_RANGE, MODEL, STATE, integration(), ENGINE, OUTPUT)
+def bifurcation(
+    inp: Inputs,
+    param: ParamOpt = None,
+    start: Annotated[Optional[float], typer.Option("--start", help="First parameter value.")] = None,
+    stop: Annotated[Optional[float], typer.Option("--stop", help="Last parameter value.")] = None,
+    num: Annotated[int, typer.Option("--num", help="Number of parameter values.")] = 101,
+    mode: ModeOpt = "fixed",
+    sweep: SweepDirOpt = "up",
+    lyap: LyapunovFlagOpt = False,
+    settle: SettleOpt = 1000,
+    chunk_size: ChunkOpt = 16,
+) -> None:
+    """Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and amplitudes
+    per point (and the largest Lyapunov exponent with --lyapunov); fixed initial state or continuation, up/down/both."""
+    from .. import validate
+    from ..analysis.bifurcation import MODES, SWEEPS, bifurcation as run_bifurcation, bifurcation_json
+    from ..analysis.physical import add_physical, physical_json
+    from ..model import canonical_param
+
+    model = inp.model()
+    scales = inp.scales()
+    if param is None and (inp.rpm_start is not None or inp.rpm_stop is not None):
+        param = "omega"
+    if param is None:
+        raise ModelError("param: give the swept parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
+    start, stop = sweep_range(inp, start, stop, canonical_param(param))
+    if start is None or stop is None:
+        raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
+    name, values = validate.axis(param, start, stop, num)
+    models = validate.grid(model, [(name, values)])
+    opts = inp.options()
+    for m in models:
+        opts.check_for(m.omega)
+    choice("mode", mode, MODES)
+    choice("sweep", sweep, SWEEPS)
+    nset = validate.integer("settle", settle, 0)
+    engine = inp.engine("bifurcation")
+    ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=inp.state0(), options=opts,
+                         lyapunov=lyap, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
+    ds = add_physical(ds, scales)
+    _sweep_json(inp, physical_json(bifurcation_json(ds), model, scales, param=name), ds, "bifurcation", engine,
+                render.intervals)
+
+
+RESPONSE_RANGE = [
+    option("omega_start", Optional[float], None, "--omega-start", help="Lowest ω of the sweeps."),
+    option("omega_stop", Optional[float], None, "--omega-stop", help="Highest ω of the sweeps."),
+    *RPM_RANGE,
+]
+
+
+@command("response", RESPONSE_RANGE, model_group(omega=False, rpm=False), STATE, integration(), ENGINE, OUTPUT)
+def response(
+    inp: Inputs,
+    num: Annotated[int, typer.Option("--num", help="Number of ω values (the jumps are located to within one step).")] = 71,
+    measure: Annotated[str, typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean.")] = "amplitude",
+    lyap: LyapunovFlagOpt = False,
+    settle: SettleOpt = 1000,
+) -> None:
+    """Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)
+    and hysteresis intervals where the sweeps end on different attractors."""
+    from .. import validate
+    from ..analysis.physical import add_physical, physical_json
+    from ..analysis.response import MEASURES, frequency_response, response_json
+
+    model = inp.model()
+    scales = inp.scales()
+    omega_start, omega_stop = sweep_range(inp, inp.omega_start, inp.omega_stop)
+    if omega_start is None or omega_stop is None:
+        raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
+    _, values = validate.axis("omega", omega_start, omega_stop, num)
+    validate.grid(model, [("omega", values)])
+    opts = inp.options(float(values.min()))
+    choice("measure", measure, MEASURES)
+    nset = validate.integer("settle", settle, 0)
+    engine = inp.engine("response")
+    ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
+                            state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)
+    ds = add_physical(ds, scales)
+    _sweep_json(inp, physical_json(response_json(ds), model, scales, param="omega"), ds, "response", engine,
+                render.response)
+
+
+MAP_AXES = [
+    option("x", str, ..., "--x", help="Parameter along the horizontal axis (e.g. omega)."),
+    option("y", str, ..., "--y", help="Parameter along the vertical axis (e.g. xi0 or D)."),
+    option("x_start", Optional[float], None, "--x-start", help="First x value (for x = omega also as --rpm-start)."),
+    option("x_stop", Optional[float], None, "--x-stop", help="Last x value (for x = omega also as --rpm-stop)."),
+    option("y_start", Optional[float], None, "--y-start", help="First y value (for y = omega also as --rpm-start)."),
+    option("y_stop", Optional[float], None, "--y-stop", help="Last y value (for y = omega also as --rpm-stop)."),
+    *RPM_RANGE,
+    option("x_num", int, 41, "--x-num", help="Number of x values."),
+    option("y_num", int, 21, "--y-num", help="Number of y values."),
+]
+
+
+@command("map", MAP_AXES, MODEL, STATE, integration(), ENGINE, OUTPUT)
+def parameter_map(
+    inp: Inputs,
+    mode: ModeOpt = "fixed",
+    lyap: LyapunovFlagOpt = False,
+    settle: SettleOpt = 1000,
+    chunk_size: ChunkOpt = 16,
+) -> None:
+    """2-D parameter map (e.g. ω × ξ0, ω × D) of motion class, impact state, amplitude and largest exponent."""
+    from .. import validate
+    from ..analysis.bifurcation import MODES
+    from ..analysis.maps import map_json, parameter_map as run_map
+    from ..analysis.physical import add_physical, physical_json
+    from ..model import canonical_param
+
+    model = inp.model()
+    scales = inp.scales()
+    x, y = inp.x, inp.y
+    x_start, x_stop, y_start, y_stop = inp.x_start, inp.x_stop, inp.y_start, inp.y_stop
+    if inp.rpm_start is not None or inp.rpm_stop is not None:
+        if canonical_param(y) == "omega":
+            y_start, y_stop = sweep_range(inp, y_start, y_stop, "omega")
+        else:
+            x_start, x_stop = sweep_range(inp, x_start, x_stop, canonical_param(x))
+    for nm, val in (("x_start", x_start), ("x_stop", x_stop), ("y_start", y_start), ("y_stop", y_stop)):
+        if val is None:
+            raise ModelError(f"{nm}: required (for an omega axis a pinion-speed range --rpm-start/--rpm-stop also works)")
+    xn, xv = validate.axis(x, x_start, x_stop, inp.x_num)
+    yn, yv = validate.axis(y, y_start, y_stop, inp.y_num)
+    opts = inp.options()
+    validate.grid(model, [(yn, yv), (xn, xv)], opts)
+    choice("mode", mode, MODES)
+    nset = validate.integer("settle", settle, 0)
+    engine = inp.engine("map")
+    ds = run_map(model, xn, xv, yn, yv, mode=mode, state0=inp.state0(), options=opts, lyapunov=lyap,
+                 settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
+    ds = add_physical(ds, scales)
+    _sweep_json(inp, physical_json(map_json(ds), model, scales), ds, "map", engine, render.parameter_map)
+
+
+BASIN_RUN = integration(periods=64, periods_help="Forcing periods recorded per initial state (>= 2 × the largest "
+                                                 "period detected).")
+
+
+@command("basins", MODEL, BASIN_RUN, ENGINE, OUTPUT)
+def basins(
+    inp: Inputs,
+    u_min: Annotated[float, typer.Option("--u-min", help="Smallest initial displacement u0.")] = -3.0,
+    u_max: Annotated[float, typer.Option("--u-max", help="Largest initial displacement u0.")] = 3.0,
+    v_min: Annotated[float, typer.Option("--v-min", help="Smallest initial velocity v0.")] = -3.0,
+    v_max: Annotated[float, typer.Option("--v-max", help="Largest initial velocity v0.")] = 3.0,
+    nu: Annotated[int, typer.Option("--nu", help="Grid points along u0.")] = 41,
+    nv: Annotated[int, typer.Option("--nv", help="Grid points along v0.")] = 41,
+    settle: SettleOpt = 1000,
+    chunk_size: Annotated[int, typer.Option("--chunk-size", help="Initial states per chunk.")] = 64,
+) -> None:
+    """Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it reaches
+    (attractors identified by their Poincaré cycles)."""
+    from .. import validate
+    from ..analysis.basins import basins as run_basins, basins_json
+    from ..analysis.physical import add_physical, physical_json
+
+    model = inp.model()
+    scales = inp.scales()
+    opts = inp.options(model.omega)
+    lo_u, hi_u = validate.number("u-min", u_min), validate.number("u-max", u_max)
+    lo_v, hi_v = validate.number("v-min", v_min), validate.number("v-max", v_max)
+    n_u, n_v = validate.integer("nu", nu, 1, 100_000), validate.integer("nv", nv, 1, 100_000)
+    nset = validate.integer("settle", settle, 0)
+    engine = inp.engine("basins")
+    ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, options=opts, settle_periods=nset,
+                    chunk_points=validate.chunk_points(chunk_size), **engine)
+    ds = add_physical(ds, scales)
+    _sweep_json(inp, physical_json(basins_json(ds), model, scales), ds, "basins", engine, render.basins, n_u, n_v)

@@ -1,0 +1,113 @@
+"""Commands around the analyses: ``geometry``, ``plot``, ``reproduce``, ``bench``."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from ..errors import GeardynError
+from . import render
+from .app import console, emit_json, err_console, fail
+from .options import CONFIG, OUTPUT, RPM, TORQUE, Inputs, command, option
+
+JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
+
+
+@command("geometry", CONFIG, [RPM, TORQUE], JSON_ONLY)
+def geometry(inp: Inputs) -> None:
+    """Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed values marked)."""
+    from ..config import load_config
+    from ..geometry import summary_rows
+
+    summary = load_config(inp.config).at(rpm=inp.rpm, torque=inp.torque).geometry_summary()
+    if inp.json_out:
+        emit_json(summary)
+        return
+    render.geometry(summary, summary_rows(summary))
+
+
+PLOT_OPTIONS = [
+    option("out", Optional[Path], None, "--out", help="Directory for the PNG figures (default: the file's directory)."),
+    option("physical", bool, False, "--physical",
+           help="Also draw physical-unit figures (rpm, µm, N) with the gear pair of --config (default pair: the "
+                "paper's Table 1) when the file has no physical variables."),
+    *CONFIG,
+    *JSON_ONLY,
+]
+
+
+@command("plot", PLOT_OPTIONS)
+def plot_cmd(
+    inp: Inputs,
+    file: Annotated[Path, typer.Argument(help="A NetCDF result written by a geardyn command (--out) or by Python.")],
+) -> None:
+    """Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation, response, map, basins, orbit, continuation, ...)."""
+    from ..io import read_netcdf
+    from ..plot import save_figures
+
+    if not file.is_file():
+        raise fail(f"file: {file} not found")
+    try:
+        ds = read_netcdf(file)
+    except (OSError, ValueError) as e:
+        raise fail(f"file: cannot read {file} as a NetCDF result ({type(e).__name__}: {e})")
+    try:
+        if inp.physical or inp.config is not None:
+            from ..analysis.physical import add_physical
+
+            ds = add_physical(ds, None if (inp.config is None and "physical_scales" in ds.attrs) else inp.scales())
+        files = [str(p) for p in save_figures(ds, inp.out if inp.out is not None else file.parent)]
+    except GeardynError as e:
+        raise fail(f"{file}: {e}")
+    if inp.json_out:
+        emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
+        return
+    for f in files:
+        console.print(f"wrote {f}", markup=False, highlight=False)
+
+
+@command("reproduce", JSON_ONLY)
+def reproduce(
+    inp: Inputs,
+    out: Annotated[Path, typer.Option("--out", help="Directory for report.html, report.md, claims.json, figures and data.")] = Path("results"),
+    quick: Annotated[bool, typer.Option("--quick", help="A reduced run (coarse grids, short runs) that exercises every study.")] = False,
+    workers: Annotated[int, typer.Option("--workers", help="Worker processes for the sweeps.")] = 2,
+) -> None:
+    """Run every study of the paper on its Table 1 pair and write a report judging each claim."""
+    from ..reproduce import Settings, run
+
+    if workers < 1:
+        raise fail(f"workers: must be >= 1, got {workers}")
+    settings = replace(Settings.quick() if quick else Settings(), workers=workers)
+    log = (lambda m: None) if inp.json_out else (lambda m: err_console.print(f"… {m}", markup=False, highlight=False))
+    res = run(out, settings, log=log)
+    if inp.json_out:
+        emit_json({"report": res["paths"], "seconds": res["seconds"],
+                   "claims": [{"id": c.id, "verdict": c.verdict, "computed": c.computed} for c in res["claims"]]})
+        return
+    render.claims(res)
+
+
+@command("bench", JSON_ONLY)
+def bench(
+    inp: Inputs,
+    workload: Annotated[str, typer.Option("--workload", help="W1 (bifurcation), W2 (trajectory), W3 (Lyapunov) or all.")] = "all",
+    threads: Annotated[Optional[int], typer.Option("--threads", help="Kernel threads (default: all cores).")] = None,
+    repeats: Annotated[int, typer.Option("--repeats", help="Timed runs per workload; the minimum is reported.")] = 5,
+) -> None:
+    """Time the integrator on the standard workloads (in-process, after JIT warm-up, minimum of the runs)."""
+    from ..bench import WORKLOADS, run_benchmarks
+
+    names = list(WORKLOADS) if workload.lower() == "all" else [workload]
+    if threads is not None and threads < 1:
+        raise fail(f"threads: must be >= 1, got {threads}")
+    if repeats < 1:
+        raise fail(f"repeats: must be >= 1, got {repeats}")
+    res = run_benchmarks(names, threads=threads, repeats=repeats)
+    if inp.json_out:
+        emit_json(res)
+        return
+    render.bench(res)
