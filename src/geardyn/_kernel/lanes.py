@@ -1,0 +1,536 @@
+"""The lock-step lanes path: ``LANES`` points per worker advanced together, SIMD across points.
+
+The lane state is a structure of arrays (one aligned float64 array ``S``, field ``f`` of lane
+``l`` at ``S[f * LANES + l]``; the general kind keeps all Fourier coefficients in a second array
+``CF``).  :func:`_make_chunk` builds, from one template, the chunk kernels advancing all lanes by
+``m`` steps: per kind (first harmonic with cosine terms only, with sine terms, any number of
+harmonics) and per mode (no statistics, statistics, statistics and tangents).  The
+:func:`_lanes_worker` schedules the lanes: it refills a finished lane from the batch's shared
+queue, runs the chunk up to the nearest period end, does the period-end work of each lane in
+scalar code, and packs the remaining lanes into the first groups once the queue is empty.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from numba.core import types
+from numba.extending import overload
+
+from .core import (
+    DIVERGENCE_BOUND, ST_OK, TAN_LYAPUNOV, TAN_NONE,
+    _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot, _rot_small,
+    _series1, _series_acc, _slope, _thresholds, _write_stats,
+)
+
+
+#: Parameter points advanced in lock-step by one worker, in groups of GROUP lanes (one SIMD
+#: vector of doubles); when the queue is empty the remaining lanes are packed into the first groups.
+GROUP = 4
+LANES = 16
+
+# Lane state: field f of lane l is S[f * LANES + l].
+(F_U, F_V, F_C, F_S, F_CM1, F_SA, F_H, F_HH, F_H6,
+ F_CA0, F_CA1, F_CB1, F_KA0, F_KA1, F_KB1, F_FA0, F_FA1, F_FB1,
+ F_D, F_DRV, F_BCK, F_DTAN,
+ F_UMIN, F_UMAX, F_VMIN, F_VMAX, F_USUM, F_USQ, F_NDRV, F_NBCK,
+ F_Y00, F_Y10, F_Y01, F_Y11,
+ # scratch of the general (any number of harmonics) chunk
+ F_XC0, F_XK0, F_XF0, F_XC1, F_XK1, F_XF1, F_XC2, F_XK2, F_XF2,
+ F_P0C, F_P0S, F_P1C, F_P1S, F_P2C, F_P2S,
+ F_R1C, F_R1S, F_R2C, F_R2S,
+ NFIELDS) = range(54)
+
+#: Chunk kinds: first harmonic with cosine terms only, first harmonic with sine terms, general.
+KIND_COS, KIND_SIN, KIND_GEN = 0, 1, 2
+#: Chunk modes: no statistics, statistics, statistics and tangent propagation.
+MODE_PLAIN, MODE_STATS, MODE_TAN = 0, 1, 2
+
+#: Steps-per-period of an idle lane: never the nearest period end.
+_BIG = 1 << 62
+
+
+# ----------------------------------------------------------------------------- lane chunk kernels
+def _make_chunk(kind, mode):
+    """Build the chunk kernel advancing all lanes by m steps for one (kind, mode)."""
+    L = LANES
+    general = kind == KIND_GEN
+    with_sin = kind != KIND_COS
+    with_stats = mode != MODE_PLAIN
+    with_tan = mode == MODE_TAN
+
+    @njit(nogil=True)
+    def chunk(S, CF, m, H1, ng):
+        for _it in range(m):
+            if general:
+                # cos/sin at the three angles, then the series term by term (lanes innermost)
+                for g in range(ng):
+                    for k in range(GROUP):
+                        l = g * GROUP + k
+                        c0 = S[F_C * L + l]
+                        s0 = S[F_S * L + l]
+                        c1, s1 = _rot_small(c0, s0, S[F_CM1 * L + l], S[F_SA * L + l])
+                        c2, s2 = _rot_small(c1, s1, S[F_CM1 * L + l], S[F_SA * L + l])
+                        S[F_R1C * L + l] = c1
+                        S[F_R1S * L + l] = s1
+                        S[F_R2C * L + l] = c2
+                        S[F_R2S * L + l] = s2
+                        S[F_P0C * L + l] = c0
+                        S[F_P0S * L + l] = s0
+                        S[F_P1C * L + l] = c1
+                        S[F_P1S * L + l] = s1
+                        S[F_P2C * L + l] = c2
+                        S[F_P2S * L + l] = s2
+                        S[F_XC0 * L + l] = CF[0 * L + l]
+                        S[F_XK0 * L + l] = CF[(2 * H1) * L + l]
+                        S[F_XF0 * L + l] = CF[(4 * H1) * L + l]
+                        S[F_XC1 * L + l] = CF[0 * L + l]
+                        S[F_XK1 * L + l] = CF[(2 * H1) * L + l]
+                        S[F_XF1 * L + l] = CF[(4 * H1) * L + l]
+                        S[F_XC2 * L + l] = CF[0 * L + l]
+                        S[F_XK2 * L + l] = CF[(2 * H1) * L + l]
+                        S[F_XF2 * L + l] = CF[(4 * H1) * L + l]
+                for j in range(1, H1):
+                    oc = (2 * j) * L
+                    ok = (2 * (H1 + j)) * L
+                    of = (2 * (2 * H1 + j)) * L
+                    for g in range(ng):
+                        for k in range(GROUP):
+                            l = g * GROUP + k
+                            ac = CF[oc + l]
+                            bc = CF[oc + L + l]
+                            ak = CF[ok + l]
+                            bk = CF[ok + L + l]
+                            af = CF[of + l]
+                            bf = CF[of + L + l]
+                            # angle 0
+                            ck = S[F_P0C * L + l]
+                            sk = S[F_P0S * L + l]
+                            S[F_XC0 * L + l] = _series_acc(S[F_XC0 * L + l], ac, bc, ck, sk)
+                            S[F_XK0 * L + l] = _series_acc(S[F_XK0 * L + l], ak, bk, ck, sk)
+                            S[F_XF0 * L + l] = _series_acc(S[F_XF0 * L + l], af, bf, ck, sk)
+                            ck, sk = _rot(ck, sk, S[F_C * L + l], S[F_S * L + l])
+                            S[F_P0C * L + l] = ck
+                            S[F_P0S * L + l] = sk
+                            # angle 1 (midpoint)
+                            ck = S[F_P1C * L + l]
+                            sk = S[F_P1S * L + l]
+                            S[F_XC1 * L + l] = _series_acc(S[F_XC1 * L + l], ac, bc, ck, sk)
+                            S[F_XK1 * L + l] = _series_acc(S[F_XK1 * L + l], ak, bk, ck, sk)
+                            S[F_XF1 * L + l] = _series_acc(S[F_XF1 * L + l], af, bf, ck, sk)
+                            ck, sk = _rot(ck, sk, S[F_R1C * L + l], S[F_R1S * L + l])
+                            S[F_P1C * L + l] = ck
+                            S[F_P1S * L + l] = sk
+                            # angle 2 (step end)
+                            ck = S[F_P2C * L + l]
+                            sk = S[F_P2S * L + l]
+                            S[F_XC2 * L + l] = _series_acc(S[F_XC2 * L + l], ac, bc, ck, sk)
+                            S[F_XK2 * L + l] = _series_acc(S[F_XK2 * L + l], ak, bk, ck, sk)
+                            S[F_XF2 * L + l] = _series_acc(S[F_XF2 * L + l], af, bf, ck, sk)
+                            ck, sk = _rot(ck, sk, S[F_R2C * L + l], S[F_R2S * L + l])
+                            S[F_P2C * L + l] = ck
+                            S[F_P2S * L + l] = sk
+            for g in range(ng):
+                for k in range(GROUP):
+                    l = g * GROUP + k
+                    if general:
+                        C0 = S[F_XC0 * L + l]
+                        K0 = S[F_XK0 * L + l]
+                        F0 = S[F_XF0 * L + l]
+                        C1 = S[F_XC1 * L + l]
+                        K1 = S[F_XK1 * L + l]
+                        F1 = S[F_XF1 * L + l]
+                        C2 = S[F_XC2 * L + l]
+                        K2 = S[F_XK2 * L + l]
+                        F2 = S[F_XF2 * L + l]
+                        c2 = S[F_R2C * L + l]
+                        s2 = S[F_R2S * L + l]
+                    else:
+                        cm1 = S[F_CM1 * L + l]
+                        sa = S[F_SA * L + l]
+                        c0 = S[F_C * L + l]
+                        s0 = S[F_S * L + l]
+                        c1, s1 = _rot_small(c0, s0, cm1, sa)
+                        c2, s2 = _rot_small(c1, s1, cm1, sa)
+                        a0 = S[F_CA0 * L + l]
+                        a1 = S[F_CA1 * L + l]
+                        k0 = S[F_KA0 * L + l]
+                        k1 = S[F_KA1 * L + l]
+                        f0 = S[F_FA0 * L + l]
+                        f1 = S[F_FA1 * L + l]
+                        if with_sin:
+                            b1 = S[F_CB1 * L + l]
+                            kb = S[F_KB1 * L + l]
+                            fb = S[F_FB1 * L + l]
+                            C0 = _series1(a0, a1, b1, c0, s0)
+                            K0 = _series1(k0, k1, kb, c0, s0)
+                            F0 = _series1(f0, f1, fb, c0, s0)
+                            C1 = _series1(a0, a1, b1, c1, s1)
+                            K1 = _series1(k0, k1, kb, c1, s1)
+                            F1 = _series1(f0, f1, fb, c1, s1)
+                            C2 = _series1(a0, a1, b1, c2, s2)
+                            K2 = _series1(k0, k1, kb, c2, s2)
+                            F2 = _series1(f0, f1, fb, c2, s2)
+                        else:
+                            # the sine coefficients are exactly zero: fma(0, s, x) == x
+                            C0 = _fma(a1, c0, a0)
+                            K0 = _fma(k1, c0, k0)
+                            F0 = _fma(f1, c0, f0)
+                            C1 = _fma(a1, c1, a0)
+                            K1 = _fma(k1, c1, k0)
+                            F1 = _fma(f1, c1, f0)
+                            C2 = _fma(a1, c2, a0)
+                            K2 = _fma(k1, c2, k0)
+                            F2 = _fma(f1, c2, f0)
+                    h = S[F_H * L + l]
+                    hh = S[F_HH * L + l]
+                    h6 = S[F_H6 * L + l]
+                    D = S[F_D * L + l]
+                    u = S[F_U * L + l]
+                    v = S[F_V * L + l]
+                    un, vn, u2, u3, u4 = _rk4(u, v, h, hh, h6, C0, K0, F0, C1, K1, F1, C2, K2, F2, D)
+                    if with_tan:
+                        dtan = S[F_DTAN * L + l]
+                        g1 = _slope(K0, u, dtan)
+                        g2 = _slope(K1, u2, dtan)
+                        g3 = _slope(K1, u3, dtan)
+                        g4 = _slope(K2, u4, dtan)
+                        y00, y10 = _rk4_tan(S[F_Y00 * L + l], S[F_Y10 * L + l], h, hh, h6,
+                                            C0, C1, C2, g1, g2, g3, g4)
+                        y01, y11 = _rk4_tan(S[F_Y01 * L + l], S[F_Y11 * L + l], h, hh, h6,
+                                            C0, C1, C2, g1, g2, g3, g4)
+                        S[F_Y00 * L + l] = y00
+                        S[F_Y10 * L + l] = y10
+                        S[F_Y01 * L + l] = y01
+                        S[F_Y11 * L + l] = y11
+                    if with_stats:
+                        S[F_UMIN * L + l] = min(S[F_UMIN * L + l], un)
+                        S[F_UMAX * L + l] = max(S[F_UMAX * L + l], un)
+                        S[F_VMIN * L + l] = min(S[F_VMIN * L + l], vn)
+                        S[F_VMAX * L + l] = max(S[F_VMAX * L + l], vn)
+                        S[F_USUM * L + l] = S[F_USUM * L + l] + un
+                        S[F_USQ * L + l] = _fma(un, un, S[F_USQ * L + l])
+                        S[F_NDRV * L + l] = S[F_NDRV * L + l] + (1.0 if un > S[F_DRV * L + l] else 0.0)
+                        S[F_NBCK * L + l] = S[F_NBCK * L + l] + (1.0 if un < S[F_BCK * L + l] else 0.0)
+                    S[F_U * L + l] = un
+                    S[F_V * L + l] = vn
+                    S[F_C * L + l] = c2
+                    S[F_S * L + l] = s2
+
+    return chunk
+
+
+_chunk_c0 = _make_chunk(KIND_COS, MODE_PLAIN)
+_chunk_c1 = _make_chunk(KIND_COS, MODE_STATS)
+_chunk_c2 = _make_chunk(KIND_COS, MODE_TAN)
+_chunk_s0 = _make_chunk(KIND_SIN, MODE_PLAIN)
+_chunk_s1 = _make_chunk(KIND_SIN, MODE_STATS)
+_chunk_s2 = _make_chunk(KIND_SIN, MODE_TAN)
+_chunk_g0 = _make_chunk(KIND_GEN, MODE_PLAIN)
+_chunk_g1 = _make_chunk(KIND_GEN, MODE_STATS)
+_chunk_g2 = _make_chunk(KIND_GEN, MODE_TAN)
+
+
+def _chunk(token, mode, S, CF, m, H1, ng):
+    """Run the chunk kernel of the kind selected by ``token``'s type and of ``mode``."""
+
+
+@overload(_chunk, jit_options={"nogil": True})
+def _chunk_impl(token, mode, S, CF, m, H1, ng):
+    kernels = {types.int8: (_chunk_c0, _chunk_c1, _chunk_c2),
+               types.int16: (_chunk_s0, _chunk_s1, _chunk_s2),
+               types.int32: (_chunk_g0, _chunk_g1, _chunk_g2)}[token.dtype]
+    k_plain, k_stats, k_tan = kernels
+
+    def impl(token, mode, S, CF, m, H1, ng):
+        if mode == MODE_PLAIN:
+            k_plain(S, CF, m, H1, ng)
+        elif mode == MODE_STATS:
+            k_stats(S, CF, m, H1, ng)
+        else:
+            k_tan(S, CF, m, H1, ng)
+
+    return impl
+
+
+def _is_general(token):
+    """True for the token of the general (any number of harmonics) kind."""
+
+
+@overload(_is_general)
+def _is_general_impl(token):
+    general = token.dtype == types.int32
+    return lambda token: general
+
+
+# ----------------------------------------------------------------------------- lane scheduler
+#: Byte alignment of the lane arrays (a cache line: no SIMD load or store straddles two lines).
+ALIGN_BYTES = 64
+
+
+@njit(nogil=True)
+def _aligned_zeros(n):
+    """A zeroed float64 array of length n whose data start on an ALIGN_BYTES boundary."""
+    pad = ALIGN_BYTES // 8
+    raw = np.zeros(n + pad)
+    off = ((ALIGN_BYTES - raw.ctypes.data % ALIGN_BYTES) % ALIGN_BYTES) // 8
+    return raw[off:off + n]
+
+
+@njit(nogil=True)
+def _lane_reset_stats(S, l):
+    L = LANES
+    S[F_UMIN * L + l] = np.inf
+    S[F_UMAX * L + l] = -np.inf
+    S[F_VMIN * L + l] = np.inf
+    S[F_VMAX * L + l] = -np.inf
+    S[F_USUM * L + l] = 0.0
+    S[F_USQ * L + l] = 0.0
+    S[F_NDRV * L + l] = 0.0
+    S[F_NBCK * L + l] = 0.0
+
+
+@njit(nogil=True)
+def _lane_reset_tangent(S, l):
+    L = LANES
+    S[F_Y00 * L + l] = 1.0
+    S[F_Y10 * L + l] = 0.0
+    S[F_Y01 * L + l] = 0.0
+    S[F_Y11 * L + l] = 1.0
+
+
+@njit(nogil=True)
+def _lane_idle(S, CF, l):
+    """An idle lane: all zeros, no rotation: it computes zeros and never ends a period."""
+    L = LANES
+    for f in range(NFIELDS):
+        S[f * L + l] = 0.0
+    S[F_C * L + l] = 1.0
+    for i in range(CF.shape[0] // L):
+        CF[i * L + l] = 0.0
+    _lane_reset_tangent(S, l)
+
+
+@njit(nogil=True)
+def _lane_move(S, CF, src, dst):
+    """Copy every field of lane src to lane dst."""
+    L = LANES
+    for f in range(NFIELDS):
+        S[f * L + dst] = S[f * L + src]
+    for i in range(CF.shape[0] // L):
+        CF[i * L + dst] = CF[i * L + src]
+
+
+@njit(nogil=True)
+def _lane_load(S, CF, l, cf, D, omega, N, u, v):
+    L = LANES
+    T = 2.0 * math.pi / omega
+    h = T / N
+    cm1, sa = _half_step_rotation(N)
+    S[F_U * L + l] = u
+    S[F_V * L + l] = v
+    S[F_C * L + l] = 1.0
+    S[F_S * L + l] = 0.0
+    S[F_CM1 * L + l] = cm1
+    S[F_SA * L + l] = sa
+    S[F_H * L + l] = h
+    S[F_HH * L + l] = 0.5 * h
+    S[F_H6 * L + l] = h / 6.0
+    H1 = cf.shape[1]
+    S[F_CA0 * L + l] = cf[0, 0, 0]
+    S[F_KA0 * L + l] = cf[1, 0, 0]
+    S[F_FA0 * L + l] = cf[2, 0, 0]
+    if H1 > 1:
+        S[F_CA1 * L + l] = cf[0, 1, 0]
+        S[F_CB1 * L + l] = cf[0, 1, 1]
+        S[F_KA1 * L + l] = cf[1, 1, 0]
+        S[F_KB1 * L + l] = cf[1, 1, 1]
+        S[F_FA1 * L + l] = cf[2, 1, 0]
+        S[F_FB1 * L + l] = cf[2, 1, 1]
+    else:
+        S[F_CA1 * L + l] = 0.0
+        S[F_CB1 * L + l] = 0.0
+        S[F_KA1 * L + l] = 0.0
+        S[F_KB1 * L + l] = 0.0
+        S[F_FA1 * L + l] = 0.0
+        S[F_FB1 * L + l] = 0.0
+    if CF.shape[0] > 0:
+        for i in range(3):
+            for j in range(H1):
+                for q in range(2):
+                    CF[((i * H1 + j) * 2 + q) * L + l] = cf[i, j, q]
+    t1, t2, t3 = _thresholds(D)
+    S[F_D * L + l] = D
+    S[F_DRV * L + l] = t1
+    S[F_BCK * L + l] = t2
+    S[F_DTAN * L + l] = t3
+    _lane_reset_stats(S, l)
+    _lane_reset_tangent(S, l)
+
+
+@njit(nogil=True)
+def _lane_stats_out(S, l, stats, p, n):
+    L = LANES
+    _write_stats(stats, p, n, S[F_UMIN * L + l], S[F_UMAX * L + l], S[F_VMIN * L + l],
+                 S[F_VMAX * L + l], S[F_USUM * L + l], S[F_USQ * L + l],
+                 S[F_NDRV * L + l], S[F_NBCK * L + l])
+
+
+@njit(nogil=True, cache=True)
+def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+                  poincare, end_state, stats, tan_log, tan_out, status):
+    """Integrate points of the queue ``order`` (default mode) in lock-step lanes, refilling each
+    finished lane with the next point of the queue (shared through ``counter`` with the other
+    workers of the batch).
+
+    ``token`` (an empty array from ``_KIND_TOKENS``) selects the chunk kind by its type.
+    """
+    general = _is_general(token)
+    L = LANES
+    P = order.shape[0]
+    H1 = coef.shape[2]
+    n_total = n_transient + n_record
+    S = _aligned_zeros(NFIELDS * L)
+    CF = _aligned_zeros(3 * H1 * 2 * L if general else 0)
+    pid = np.full(L, -1, dtype=np.int64)
+    kstep = np.zeros(L, dtype=np.int64)
+    nst = np.full(L, _BIG, dtype=np.int64)
+    per = np.zeros(L, dtype=np.int64)
+    exhausted = False
+    active = 0
+    for l in range(L):
+        _lane_idle(S, CF, l)
+    while True:
+        # fill idle lanes from the queue
+        for l in range(L):
+            while pid[l] < 0 and not exhausted:
+                i = _fetch_add(counter, 1)
+                if i >= P:
+                    exhausted = True
+                    break
+                p = order[i]
+                if n_total == 0:
+                    end_state[p, 0] = state0[p, 0]
+                    end_state[p, 1] = state0[p, 1]
+                    _write_stats(stats, p, 0, np.inf, -np.inf, np.inf, -np.inf, 0.0, 0.0, 0.0, 0.0)
+                    if tangent != TAN_NONE:
+                        tan_out[p, 0, 0] = 1.0
+                        tan_out[p, 1, 0] = 0.0
+                        tan_out[p, 0, 1] = 0.0
+                        tan_out[p, 1, 1] = 1.0
+                    status[p] = ST_OK
+                    continue
+                _lane_load(S, CF, l, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1])
+                pid[l] = p
+                kstep[l] = 0
+                nst[l] = nsteps[p]
+                per[l] = 0
+                active += 1
+        if active == 0:
+            break
+        ng = L // GROUP
+        if exhausted:
+            # queue empty: pack the remaining lanes into the first groups, run only those
+            dst = 0
+            for l in range(L):
+                if pid[l] >= 0:
+                    if l != dst:
+                        _lane_move(S, CF, l, dst)
+                        pid[dst] = pid[l]
+                        kstep[dst] = kstep[l]
+                        nst[dst] = nst[l]
+                        per[dst] = per[l]
+                        pid[l] = -1
+                        kstep[l] = 0
+                        nst[l] = _BIG
+                        _lane_idle(S, CF, l)
+                    dst += 1
+            ng = (active + GROUP - 1) // GROUP
+        m = nst[0] - kstep[0]  # (not the literal _BIG: keeps the chunk kernels' m an int64)
+        rec = False
+        for l in range(L):
+            if pid[l] >= 0:
+                m = min(m, nst[l] - kstep[l])
+                if per[l] >= n_transient:
+                    rec = True
+        mode = MODE_PLAIN
+        if rec:
+            mode = MODE_TAN if tangent != TAN_NONE else MODE_STATS
+        _chunk(token, mode, S, CF, m, H1, ng)
+        # period ends
+        for l in range(L):
+            p = pid[l]
+            if p < 0:
+                continue
+            kstep[l] += m
+            if kstep[l] < nst[l]:
+                continue
+            kstep[l] = 0
+            S[F_C * L + l] = 1.0  # exact re-seed of the rotation at the period start
+            S[F_S * L + l] = 0.0
+            per[l] += 1
+            done = per[l]
+            u = S[F_U * L + l]
+            v = S[F_V * L + l]
+            N = nst[l]
+            if not (abs(u) < DIVERGENCE_BOUND and abs(v) < DIVERGENCE_BOUND):
+                _diverged(p, poincare, end_state, status)
+                if done > n_transient:
+                    _lane_stats_out(S, l, stats, p, N * (done - n_transient))
+                else:
+                    _write_stats(stats, p, 0, np.inf, -np.inf, np.inf, -np.inf, 0.0, 0.0, 0.0, 0.0)
+                pid[l] = -1
+                nst[l] = _BIG
+                _lane_idle(S, CF, l)
+                active -= 1
+                continue
+            if done > n_transient:
+                j = done - 1 - n_transient
+                if poincare.shape[1] > 0:
+                    poincare[p, j, 0] = u
+                    poincare[p, j, 1] = v
+                if tangent == TAN_LYAPUNOV:
+                    a1, b1, a2, b2, l1, l2 = _gs(S[F_Y00 * L + l], S[F_Y10 * L + l],
+                                                 S[F_Y01 * L + l], S[F_Y11 * L + l])
+                    S[F_Y00 * L + l] = a1
+                    S[F_Y10 * L + l] = b1
+                    S[F_Y01 * L + l] = a2
+                    S[F_Y11 * L + l] = b2
+                    tan_log[p, j, 0] = l1
+                    tan_log[p, j, 1] = l2
+            else:
+                # a transient period ended: discard what the chunks accumulated for this lane
+                _lane_reset_stats(S, l)
+                _lane_reset_tangent(S, l)
+            if done == n_total:
+                end_state[p, 0] = u
+                end_state[p, 1] = v
+                _lane_stats_out(S, l, stats, p, N * n_record)
+                if tangent != TAN_NONE:
+                    tan_out[p, 0, 0] = S[F_Y00 * L + l]
+                    tan_out[p, 1, 0] = S[F_Y10 * L + l]
+                    tan_out[p, 0, 1] = S[F_Y01 * L + l]
+                    tan_out[p, 1, 1] = S[F_Y11 * L + l]
+                status[p] = ST_OK
+                pid[l] = -1
+                nst[l] = _BIG
+                _lane_idle(S, CF, l)
+                active -= 1
+
+
+def _lanes_kind(coef: np.ndarray, order: np.ndarray) -> int:
+    """The chunk kind a worker needs: general for more than one harmonic, else with or without
+    sine terms (the kinds give the same bits on the points they share, so this choice only
+    decides speed and what is compiled)."""
+    if coef.shape[2] > 2:
+        return KIND_GEN
+    if coef.shape[2] == 2 and np.any(coef[order, :, 1, 1] != 0.0):
+        return KIND_SIN
+    return KIND_COS
+
+
+#: Type tokens selecting the chunk kind at compile time: the lanes worker is compiled (and cached)
+#: separately per kind, and only for the kinds a program uses.
+_KIND_TOKENS = {KIND_COS: np.empty(0, np.int8), KIND_SIN: np.empty(0, np.int16), KIND_GEN: np.empty(0, np.int32)}

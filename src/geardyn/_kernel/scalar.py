@@ -1,0 +1,154 @@
+"""The scalar default-mode path: one point at a time, state and statistics in registers.
+
+Used for batches with few points per worker (a single long trajectory, a shooting iteration)
+and for every batch that records a time history.  The arithmetic is that of the lane kernels
+(:mod:`.lanes`): the same operations in the same order, so a point gives the same bits on
+either path.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .core import (
+    DIVERGENCE_BOUND, ST_OK, TAN_LYAPUNOV, TAN_NONE,
+    _coef_seq, _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot_small,
+    _series1, _slope, _thresholds, _write_stats,
+)
+
+
+@njit(nogil=True)
+def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
+                  poincare, end_state, stats, tan_log, tan_out, status, hist):
+    """One point in the default mode, state and statistics in registers.
+
+    The arithmetic is that of the lane kernels (same operations, same order), so a point gives
+    the same bits on either path.
+    """
+    T = 2.0 * math.pi / omega
+    h = T / N
+    hh = 0.5 * h
+    h6 = h / 6.0
+    cm1, sa = _half_step_rotation(N)
+    H1 = cf.shape[1]
+    fast = H1 <= 2
+    ca0 = cf[0, 0, 0]
+    ka0 = cf[1, 0, 0]
+    fa0 = cf[2, 0, 0]
+    ca1 = cb1 = ka1 = kb1 = fa1 = fb1 = 0.0
+    if H1 > 1:
+        ca1 = cf[0, 1, 0]
+        cb1 = cf[0, 1, 1]
+        ka1 = cf[1, 1, 0]
+        kb1 = cf[1, 1, 1]
+        fa1 = cf[2, 1, 0]
+        fb1 = cf[2, 1, 1]
+    tdrv, tbck, dtan = _thresholds(D)
+    y00 = 1.0
+    y10 = 0.0
+    y01 = 0.0
+    y11 = 1.0
+    umin = np.inf
+    umax = -np.inf
+    vmin = np.inf
+    vmax = -np.inf
+    usum = 0.0
+    usq = 0.0
+    ndrv = 0.0
+    nbck = 0.0
+    n_hist = hist.shape[1]
+    hist_periods = (n_hist - 1) // N if n_hist > 0 else 0
+    hist_first = n_transient + n_record - hist_periods
+    hi = 0
+    n_total = n_transient + n_record
+    for per in range(n_total):
+        rec = per >= n_transient
+        tan_on = tangent != TAN_NONE and rec
+        if n_hist > 0 and per == hist_first:
+            hist[p, 0, 0] = u
+            hist[p, 0, 1] = v
+            hi = 1
+        c = 1.0
+        s = 0.0
+        for k in range(N):
+            c1, s1 = _rot_small(c, s, cm1, sa)
+            c2, s2 = _rot_small(c1, s1, cm1, sa)
+            if fast:
+                C0 = _series1(ca0, ca1, cb1, c, s)
+                K0 = _series1(ka0, ka1, kb1, c, s)
+                F0 = _series1(fa0, fa1, fb1, c, s)
+                C1 = _series1(ca0, ca1, cb1, c1, s1)
+                K1 = _series1(ka0, ka1, kb1, c1, s1)
+                F1 = _series1(fa0, fa1, fb1, c1, s1)
+                C2 = _series1(ca0, ca1, cb1, c2, s2)
+                K2 = _series1(ka0, ka1, kb1, c2, s2)
+                F2 = _series1(fa0, fa1, fb1, c2, s2)
+            else:
+                C0, K0, F0 = _coef_seq(cf, c, s)
+                C1, K1, F1 = _coef_seq(cf, c1, s1)
+                C2, K2, F2 = _coef_seq(cf, c2, s2)
+            un, vn, u2, u3, u4 = _rk4(u, v, h, hh, h6, C0, K0, F0, C1, K1, F1, C2, K2, F2, D)
+            if tan_on:
+                g1 = _slope(K0, u, dtan)
+                g2 = _slope(K1, u2, dtan)
+                g3 = _slope(K1, u3, dtan)
+                g4 = _slope(K2, u4, dtan)
+                y00, y10 = _rk4_tan(y00, y10, h, hh, h6, C0, C1, C2, g1, g2, g3, g4)
+                y01, y11 = _rk4_tan(y01, y11, h, hh, h6, C0, C1, C2, g1, g2, g3, g4)
+            u = un
+            v = vn
+            c = c2
+            s = s2
+            if rec:
+                umin = min(umin, u)
+                umax = max(umax, u)
+                vmin = min(vmin, v)
+                vmax = max(vmax, v)
+                usum = usum + u
+                usq = _fma(u, u, usq)
+                ndrv = ndrv + (1.0 if u > tdrv else 0.0)
+                nbck = nbck + (1.0 if u < tbck else 0.0)
+            if hi > 0:
+                hist[p, hi, 0] = u
+                hist[p, hi, 1] = v
+                hi += 1
+        if not (abs(u) < DIVERGENCE_BOUND and abs(v) < DIVERGENCE_BOUND):
+            _diverged(p, poincare, end_state, status)
+            nrec = N * (per + 1 - n_transient) if rec else 0
+            _write_stats(stats, p, nrec, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+            return
+        if rec:
+            j = per - n_transient
+            if poincare.shape[1] > 0:
+                poincare[p, j, 0] = u
+                poincare[p, j, 1] = v
+            if tangent == TAN_LYAPUNOV:
+                y00, y10, y01, y11, l1, l2 = _gs(y00, y10, y01, y11)
+                tan_log[p, j, 0] = l1
+                tan_log[p, j, 1] = l2
+    end_state[p, 0] = u
+    end_state[p, 1] = v
+    _write_stats(stats, p, N * n_record, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+    if tangent != TAN_NONE:
+        tan_out[p, 0, 0] = y00
+        tan_out[p, 1, 0] = y10
+        tan_out[p, 0, 1] = y01
+        tan_out[p, 1, 1] = y11
+    status[p] = ST_OK
+
+
+@njit(nogil=True, cache=True)
+def _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
+                   poincare, end_state, stats, tan_log, tan_out, status, hist):
+    """Integrate points of the queue ``order`` one at a time (histories, small batches)."""
+    while True:
+        i = _fetch_add(counter, 1)
+        if i >= order.shape[0]:
+            break
+        p = order[i]
+        _point_scalar(p, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1],
+                      n_transient, n_record, tangent,
+                      poincare, end_state, stats, tan_log, tan_out, status, hist)
