@@ -38,7 +38,7 @@ def _version(value: bool) -> None:
 @app.callback()
 def _root(
     version: bool = typer.Option(False, "--version", help="Print the version and exit.", callback=_version,
-                                 is_eager=True),
+                                 is_eager=True, metavar=""),
 ) -> None:
     """geardyn: simulate and analyse the nonlinear dynamics of a gear pair with backlash."""
 

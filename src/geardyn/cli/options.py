@@ -45,6 +45,16 @@ def option(dest: str, kind: Any, default: Any, *flags: str, help: str, panel: st
               annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel)])
 
 
+def _flags_take_no_value(p: inspect.Parameter) -> inspect.Parameter:
+    """An on/off flag is shown without a value placeholder (it takes none)."""
+    meta = getattr(p.annotation, "__metadata__", ())
+    if typing.get_origin(p.annotation) is Annotated and p.annotation.__origin__ is bool:
+        for info in meta:
+            if getattr(info, "metavar", "unset") is None:
+                info.metavar = ""
+    return p
+
+
 CONFIG = [option("config", Optional[Path], None, "--config", panel=PHYSICAL_PANEL,
                  help="TOML file with the gear pair, mesh and operating point (default: the paper's Table 1).")]
 RPM = option("rpm", Optional[float], None, "--rpm", panel=PHYSICAL_PANEL,
@@ -278,7 +288,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
                     raise
                 raise fail(str(e)) from None
 
-        every = own + shared
+        every = [_flags_take_no_value(p) for p in own + shared]
         wrapper.__signature__ = inspect.Signature(every)  # type: ignore[attr-defined]
         wrapper.__annotations__ = {p.name: p.annotation for p in every}
         del wrapper.__wrapped__
