@@ -48,6 +48,7 @@ __all__ = [
     "number",
     "options",
     "positive",
+    "recorded",
     "scheduler",
     "workers",
 ]
@@ -61,6 +62,12 @@ MAX_PERIODS = 100_000_000
 MAX_GRID_POINTS = 100_000_000
 #: Largest number of local worker processes.
 MAX_WORKERS = 4096
+#: Largest number of RK4 steps of one point, steps per period × (transient + recorded periods):
+#: 10¹² steps is about an hour of one core per point.
+MAX_TOTAL_STEPS = 10**12
+#: Largest number of recorded values of a result (Poincaré points × 2 coordinates over all points):
+#: 5·10⁸ float64 values are 4 GB, a sixth of a 24 GB machine.
+MAX_RECORDED_VALUES = 500_000_000
 
 _SCHEDULER = re.compile(r"^(?:(tcp|tls|inproc|ucx|ws|wss)://)?(\[[0-9a-fA-F:.]+\]|[A-Za-z0-9_.\-]+)(?::(\d{1,5}))?/?$")
 
@@ -188,7 +195,23 @@ def options(
                 f"dtau: ω = {w_min:.6g} with Δτ = {dt:g} needs {steps:.3g} steps per forcing period; "
                 f"at most {MAX_STEPS_PER_PERIOD:.0e} allowed (increase dtau or omega)"
             )
+        total = math.ceil(steps) * (tr + pe)
+        if total > MAX_TOTAL_STEPS:
+            raise ModelError(
+                f"transient/periods: {tr} + {pe} periods of {math.ceil(steps)} steps are {total:.3g} RK4 steps per "
+                f"point; at most {MAX_TOTAL_STEPS:.0e} allowed (fewer periods or a larger dtau)"
+            )
     return opts
+
+
+def recorded(points: int, periods: int) -> None:
+    """Refuse a result whose recorded Poincaré points would not fit in memory (:data:`MAX_RECORDED_VALUES`)."""
+    n = int(points) * int(periods) * 2
+    if n > MAX_RECORDED_VALUES:
+        raise ModelError(
+            f"periods: {points} points × {periods} recorded periods × 2 coordinates = {n:.3g} values; at most "
+            f"{MAX_RECORDED_VALUES:.0e} fit in memory (fewer points or recorded periods)"
+        )
 
 
 def initial_state(u0: Any, v0: Any) -> tuple[float, float]:

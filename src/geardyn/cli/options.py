@@ -208,13 +208,32 @@ class Inputs:
         """The physical scales of the configured gear pair."""
         return pair_scales(self.values.get("config"))
 
-    def options(self, omega: float | None = None, *, periods: int | None = None) -> IntegrationOptions:
-        """Validated integration options (checked against ``omega`` when given)."""
+    def options(self, omega: float | None = None, *, periods: int | None = None, omegas: Any = (),
+                points: int = 1) -> IntegrationOptions:
+        """Validated integration options, checked against ``omega`` (or every one of ``omegas``) and against the
+        memory the recorded periods of ``points`` points take."""
         from .. import validate
 
         v = self.values
         n = periods if periods is not None else v.get("periods", 1)
-        return validate.options(v["dtau"], v["transient"], n, v["accurate"], () if omega is None else (omega,))
+        ws = list(omegas) + ([] if omega is None else [omega])
+        opts = validate.options(v["dtau"], v["transient"], n, v["accurate"], ws)
+        validate.recorded(points, opts.periods)
+        return opts
+
+    def not_swept(self, *names: str) -> None:
+        """Refuse a model option given for a parameter the command sweeps (it would be silently overridden)."""
+        flags = {o.param: o for o in params.cli_options()}
+        physical = {"omega": ("rpm", "--rpm"), "fp": ("torque", "--torque")}
+        for name in names:
+            o = flags.get(name)
+            if o is not None and self.values.get(o.dest) is not None:
+                raise ModelError(f"{o.flag.lstrip('-')}: {o.flag} {self.values[o.dest]:g} conflicts with the swept "
+                                 f"parameter {name}; give its range instead")
+            if name in physical and self.values.get(physical[name][0]) is not None:
+                dest, flag = physical[name]
+                raise ModelError(f"{dest}: {flag} {self.values[dest]:g} conflicts with the swept parameter {name}; "
+                                 f"give its range instead")
 
     def state0(self) -> tuple[float, float]:
         """The initial state (u0, v0)."""

@@ -56,6 +56,7 @@ def simulate(inp: Inputs) -> None:
     paths = inp.write(ds, "simulate")
     summary = res.to_json()
     summary.update(simulate_physical(ds))
+    summary["poincare"] = summary.pop("poincare")  # the long list last, after the summary keys
     finish(summary, paths, inp, render.simulate)
 
 
@@ -139,6 +140,7 @@ def continuation(
     if param is None:
         raise ModelError("param: give the continuation parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
     name = canonical_param(param)
+    inp.not_swept(name)
     start, stop = sweep_range(inp, start, stop, name)
     if start is None or stop is None:
         raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")

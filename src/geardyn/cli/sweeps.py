@@ -72,13 +72,12 @@ def bifurcation(
     if start is None or stop is None:
         raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
     name, values = validate.axis(param, start, stop, num)
+    inp.not_swept(name)
     models = validate.grid(model, [(name, values)])
-    opts = inp.options()
-    for m in models:
-        opts.check_for(m.omega)
+    opts = inp.options(omegas=[m.omega for m in models], points=len(models) * (2 if sweep == "both" else 1))
     choice("mode", mode, MODES)
     choice("sweep", sweep, SWEEPS)
-    nset = validate.integer("settle", settle, 0)
+    nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("bifurcation")
     ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=inp.state0(), options=opts,
                          lyapunov=lyap, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
@@ -115,9 +114,9 @@ def response(
         raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
     _, values = validate.axis("omega", omega_start, omega_stop, num)
     validate.grid(model, [("omega", values)])
-    opts = inp.options(float(values.min()))
+    opts = inp.options(omegas=values, points=2 * values.size)
     choice("measure", measure, MEASURES)
-    nset = validate.integer("settle", settle, 0)
+    nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("response")
     ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
                             state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)
@@ -168,10 +167,11 @@ def parameter_map(
             raise ModelError(f"{nm}: required (for an omega axis a pinion-speed range --rpm-start/--rpm-stop also works)")
     xn, xv = validate.axis(x, x_start, x_stop, inp.x_num)
     yn, yv = validate.axis(y, y_start, y_stop, inp.y_num)
-    opts = inp.options()
+    inp.not_swept(xn, yn)
+    opts = inp.options(points=xv.size * yv.size)
     validate.grid(model, [(yn, yv), (xn, xv)], opts)
     choice("mode", mode, MODES)
-    nset = validate.integer("settle", settle, 0)
+    nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("map")
     ds = run_map(model, xn, xv, yn, yv, mode=mode, state0=inp.state0(), options=opts, lyapunov=lyap,
                  settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
@@ -203,11 +203,11 @@ def basins(
 
     model = inp.model()
     scales = inp.scales()
-    opts = inp.options(model.omega)
     lo_u, hi_u = validate.number("u-min", u_min), validate.number("u-max", u_max)
     lo_v, hi_v = validate.number("v-min", v_min), validate.number("v-max", v_max)
     n_u, n_v = validate.integer("nu", nu, 1, 100_000), validate.integer("nv", nv, 1, 100_000)
-    nset = validate.integer("settle", settle, 0)
+    opts = inp.options(model.omega, points=n_u * n_v)
+    nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("basins")
     ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, options=opts, settle_periods=nset,
                     chunk_points=validate.chunk_points(chunk_size), **engine)
