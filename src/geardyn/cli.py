@@ -11,6 +11,7 @@ from typing import Annotated, Any, Optional
 import typer
 from rich.console import Console
 
+from .errors import GeardynError
 from .model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions, ModelError
 
 app = typer.Typer(
@@ -236,7 +237,7 @@ def simulate(
                 raise ModelError(f"{name}: must be a finite number, got {val!r}")
         res = run_simulate(model, opts, (u0, v0))
         ds = add_physical(res.to_dataset(), pair_scales(config))
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     files: list[str] = []
     if out is not None:
@@ -297,7 +298,7 @@ def geometry(config: ConfigOpt = None, rpm: RpmOpt = None, torque: TorqueOpt = N
 
     try:
         summary = load_config(config).at(rpm=rpm, torque=torque).geometry_summary()
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     if json_out:
         emit_json(summary)
@@ -343,7 +344,7 @@ def plot_cmd(
 
             ds = add_physical(ds, None if (config is None and "physical_scales" in ds.attrs) else pair_scales(config))
         files = [str(p) for p in save_figures(ds, out if out is not None else file.parent)]
-    except (PlotUnavailable, ModelError) as e:
+    except (PlotUnavailable, GeardynError) as e:
         raise fail(f"{file}: {e}")
     if json_out:
         emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
@@ -413,7 +414,7 @@ def orbit(
         g = _parse_guess(guess)
         state0 = validate.initial_state(u0, v0)
         res = shoot(model, n, g, dtau=opts.dtau, accurate=opts.accurate, state0=state0, transient=opts.transient)
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     files: list[str] = []
     if out is not None:
@@ -524,7 +525,7 @@ def continuation(
             sweep_ds = bifurcation(model, name, sweep_values(start_v, stop_v, nsw), mode="continue", sweep="both",
                                    state0=state0, options=IntegrationOptions(dtau=opts.dtau, transient=opts.transient,
                                                                              periods=CONTINUATION_SWEEP_PERIODS))
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     files: list[str] = []
     if out is not None:
@@ -634,7 +635,7 @@ def lyapunov(
         opts = build_options(dtau, transient, periods, accurate, model.omega)
         nb = validate.integer("blocks", blocks, 2, max(2, opts.periods))
         res = lyapunov_spectrum(model, opts, validate.initial_state(u0, v0), blocks=nb)
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     files: list[str] = []
     if out is not None:
@@ -732,7 +733,7 @@ def bifurcation(
                              options=opts, lyapunov=lyap, settle_periods=nset,
                              chunk_points=validate.chunk_points(chunk_size), **engine)
         ds = add_physical(ds, scales)
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     files = _sweep_files(ds, out, "bifurcation", engine)
     s = physical_json(bifurcation_json(ds), model, scales, param=name)
@@ -816,7 +817,7 @@ def response(
                                 state0=validate.initial_state(u0, v0), measure=measure, lyapunov=lyap,
                                 settle_periods=nset, **engine)
         ds = add_physical(ds, scales)
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     files = _sweep_files(ds, out, "response", engine)
     s = physical_json(response_json(ds), model, scales, param="omega")
@@ -912,7 +913,7 @@ def map_cmd(
         ds = parameter_map(model, xn, xv, yn, yv, mode=mode, state0=validate.initial_state(u0, v0), options=opts,
                            lyapunov=lyap, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
         ds = add_physical(ds, scales)
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     files = _sweep_files(ds, out, "map", engine)
     s = physical_json(map_json(ds), model, scales)
@@ -979,7 +980,7 @@ def basins(
         ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, options=opts, settle_periods=nset,
                         chunk_points=validate.chunk_points(chunk_size), **engine)
         ds = add_physical(ds, scales)
-    except ModelError as e:
+    except GeardynError as e:
         raise fail(str(e))
     files = _sweep_files(ds, out, "basins", engine)
     s = physical_json(basins_json(ds), model, scales)
@@ -1094,15 +1095,15 @@ def main(argv: Optional[list[str]] = None) -> None:
         where = f" (see 'geardyn {e.ctx.info_name} --help')" if e.ctx is not None and e.ctx.parent is not None else ""
         say_error(f"error: {e.format_message()}{where}")
         raise SystemExit(2) from None
-    except ModelError as e:
-        say_error(f"error: {e}")
-        raise SystemExit(2) from None
     except SweepInterrupted as e:
         say_error(str(e))
         raise SystemExit(EXIT_INTERRUPTED) from None
     except SweepFailed as e:
         say_error(f"error: {e}")
         raise SystemExit(1) from None
+    except GeardynError as e:
+        say_error(f"error: {e}")
+        raise SystemExit(2) from None
     except typer.Abort:
         say_error("interrupted")
         raise SystemExit(EXIT_INTERRUPTED) from None
