@@ -19,10 +19,10 @@ f_p = F_p/(k0 b_c) and, for balanced torques, F_p = T1/R1 (``docs/model.md`` §3
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any
 
+from .geometry.inputs import _finite
 from .geometry.scales import SCALES_ATTR, PhysicalScales
 from .model import GearModel, ModelError
 
@@ -38,18 +38,8 @@ __all__ = [
 ]
 
 
-def _number(name: str, value: Any, unit: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{name}: expected a number in {unit}, got {value!r}") from None
-    if not math.isfinite(x):
-        raise ModelError(f"{name}: must be a finite number of {unit}, got {value!r}")
-    return x
-
-
 def _speed(name: str, value: Any) -> float:
-    x = _number(name, value, "rpm")
+    x = _finite(name, value, "rpm", of_unit=True)
     if x <= 0:
         raise ModelError(f"{name}: pinion speed must be > 0 rpm, got {x:g} rpm")
     return x
@@ -140,7 +130,7 @@ def operating_overrides(
     if torque is not None:
         if fp is not None:
             raise ModelError("torque: give the load either as --torque (pinion torque) or as --fp, not both")
-        out["fp"] = float(scales.fp_from_torque(_number("torque", torque, "N*m")))
+        out["fp"] = float(scales.fp_from_torque(_finite("torque", torque, "N*m", of_unit=True)))
     return out
 
 

@@ -48,45 +48,14 @@ pointing from the pinion flank into the gear flank (the direction of the force o
 
 from __future__ import annotations
 
-from .bevel import SpiralBevelGearPair
-from .harmonics import MeshHarmonics
-from .inputs import (
-    CONE_DISTANCE_NOTE_TOL,
-    DEFAULT_C_GAMMA,
-    DEFAULT_DRIVE_SIDE,
-    DEFAULT_HAND,
-    DEFAULT_XI0,
-    FACE_WIDTH_TO_OUTER_CONE_DISTANCE,
-    HANDS,
-    ROTATIONS,
-    SIDES,
-    Assumption,
-    ResolvedInputs,
-    drive_side_from_rotation,
-)
-from .scales import SCALES_ATTR, PhysicalScales
-from .summary import geometry_summary, summary_rows
-from .vectors import MeshVectors, mesh_vectors
+from . import bevel, harmonics, inputs, scales, summary, vectors
+from .bevel import *  # noqa: F403  (each module's __all__ is the list of what it makes public)
+from .harmonics import *  # noqa: F403
+from .inputs import *  # noqa: F403
+from .scales import *  # noqa: F403
+from .summary import *  # noqa: F403
+from .vectors import *  # noqa: F403
 
-__all__ = [
-    "Assumption",
-    "CONE_DISTANCE_NOTE_TOL",
-    "DEFAULT_C_GAMMA",
-    "DEFAULT_DRIVE_SIDE",
-    "DEFAULT_HAND",
-    "DEFAULT_XI0",
-    "FACE_WIDTH_TO_OUTER_CONE_DISTANCE",
-    "HANDS",
-    "MeshHarmonics",
-    "MeshVectors",
-    "PhysicalScales",
-    "ROTATIONS",
-    "ResolvedInputs",
-    "SCALES_ATTR",
-    "SIDES",
-    "SpiralBevelGearPair",
-    "drive_side_from_rotation",
-    "geometry_summary",
-    "mesh_vectors",
-    "summary_rows",
-]
+__all__ = sorted(
+    {*bevel.__all__, *harmonics.__all__, *inputs.__all__, *scales.__all__, *summary.__all__, *vectors.__all__}
+)

@@ -68,13 +68,14 @@ def _deg(x: float) -> float:
     return math.degrees(x)
 
 
-def _finite(name: str, value: Any, unit: str = "") -> float:
+def _finite(name: str, value: Any, unit: str = "", of_unit: bool = False) -> float:
+    """``value`` as a finite float, else a ModelError naming ``name`` (and ``unit`` if ``of_unit``)."""
     try:
         x = float(value)
     except (TypeError, ValueError):
         raise ModelError(f"{name}: expected a number{(' in ' + unit) if unit else ''}, got {value!r}") from None
     if not math.isfinite(x):
-        raise ModelError(f"{name}: must be a finite number, got {value!r}")
+        raise ModelError(f"{name}: must be a finite number{(' of ' + unit) if of_unit else ''}, got {value!r}")
     return x
 
 
