@@ -23,6 +23,7 @@ from hypothesis import strategies as st
 from geardyn import validate
 from geardyn.cli import main
 from geardyn.config import LoadedConfig, load_config, packaged_config_path
+from geardyn.errors import ConfigError
 from geardyn.model import GearModel, IntegrationOptions, ModelError, canonical_param
 
 SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -214,7 +215,7 @@ def test_random_configs_accepted_or_refused_naming_the_file(tmp_path, changes):
     path.write_text(toml_text(mutate(PAPER, changes)), encoding="utf-8")
     try:
         cfg = load_config(path)
-    except ModelError as e:
+    except (ConfigError, ModelError) as e:
         assert refused_with_file_and_one_line(str(e), path), str(e)
         return
     assert isinstance(cfg, LoadedConfig) and isinstance(cfg.model, GearModel)
@@ -227,7 +228,7 @@ def test_random_text_as_config_is_refused_naming_the_file(tmp_path, text):
     path.write_text(text, encoding="utf-8")
     try:
         load_config(path)
-    except ModelError as e:
+    except (ConfigError, ModelError) as e:
         assert refused_with_file_and_one_line(str(e), path), str(e)
 
 

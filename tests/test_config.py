@@ -12,6 +12,7 @@ from typer.testing import CliRunner
 
 from geardyn.cli import app
 from geardyn.config import load_config, packaged_config_path
+from geardyn.errors import ConfigError
 from geardyn.model import ModelError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -131,7 +132,7 @@ def test_assumed_inline_table(tmp_path):
 # ---------------------------------------------------------------------------- refusals
 def test_unknown_key_refused_with_file_line_and_allowed(tmp_path):
     p = write(tmp_path, PAIR + "face_widht = \"90 mm\"\n")
-    with pytest.raises(ModelError) as ei:
+    with pytest.raises(ConfigError) as ei:
         load_config(p)
     msg = str(ei.value)
     assert str(p) in msg and "face_widht" in msg and "line 13" in msg and "allowed" in msg and "face_width" in msg
@@ -140,7 +141,7 @@ def test_unknown_key_refused_with_file_line_and_allowed(tmp_path):
 
 def test_unknown_section_refused(tmp_path):
     p = write(tmp_path, PAIR + "[gearpair]\nz1 = 3\n")
-    with pytest.raises(ModelError, match=r"unknown section or key 'gearpair'"):
+    with pytest.raises(ConfigError, match=r"unknown section or key 'gearpair'"):
         load_config(p)
 
 
@@ -157,7 +158,7 @@ def test_unknown_section_refused(tmp_path):
 )
 def test_wrong_unit_refused(tmp_path, old, new, key, what):
     p = write(tmp_path, PAIR.replace(old, new, 1))
-    with pytest.raises(ModelError) as ei:
+    with pytest.raises(ConfigError) as ei:
         load_config(p)
     msg = str(ei.value)
     assert str(p) in msg and f"[gear_pair] {key}" in msg and what in msg
@@ -165,7 +166,7 @@ def test_wrong_unit_refused(tmp_path, old, new, key, what):
 
 def test_speed_in_hz_refused(tmp_path):
     p = write(tmp_path, PAIR + '\n[operating]\nrpm = "50 Hz"\n')
-    with pytest.raises(ModelError, match=r"line 15: \[operating\] rpm: .*rpm"):
+    with pytest.raises(ConfigError, match=r"line 15: \[operating\] rpm: .*rpm"):
         load_config(p)
 
 
@@ -195,13 +196,13 @@ def test_mesh_stiffness_out_of_range_refused(tmp_path):
 
 def test_missing_file_refused(tmp_path):
     missing = tmp_path / "nope.toml"
-    with pytest.raises(ModelError, match=r"nope\.toml: configuration file not found"):
+    with pytest.raises(ConfigError, match=r"nope\.toml: configuration file not found"):
         load_config(missing)
 
 
 def test_toml_syntax_error_names_file_and_line(tmp_path):
     p = write(tmp_path, PAIR + "[operating]\nrpm = = 3\n")
-    with pytest.raises(ModelError) as ei:
+    with pytest.raises(ConfigError) as ei:
         load_config(p)
     msg = str(ei.value)
     assert str(p) in msg and "line 14" in msg and "TOML syntax error" in msg
@@ -209,7 +210,7 @@ def test_toml_syntax_error_names_file_and_line(tmp_path):
 
 def test_missing_required_key_refused(tmp_path):
     p = write(tmp_path, PAIR.replace("z2 = 47\n", ""))
-    with pytest.raises(ModelError, match=r"\[gear_pair\] missing key\(s\) z2"):
+    with pytest.raises(ConfigError, match=r"\[gear_pair\] missing key\(s\) z2"):
         load_config(p)
 
 

@@ -260,7 +260,7 @@ def test_table3_backlash_reading():
     p = table1(j_n=0.7e-3)
     m = p.gear_model(3000.0, 1000.0, b_c=1e-3)
     assert m.D == pytest.approx(0.35)  # Table 3: 0.7 mm ↔ 0.35
-    assert p.scales(1e-3).force_scale == pytest.approx(2.0e6)
+    assert p.scales(1e-3).force_scale_N == pytest.approx(2.0e6)
 
 
 def test_summary_keys_and_values():

@@ -34,9 +34,11 @@ A configuration describes a gear pair, its mesh and an operating point::
 Every dimensional value is a string "number unit" parsed with pint; plain numbers are accepted
 only for non-dimensional values and for phases (radians).  Any value may instead be written
 ``{ value = ..., assumed = "source or reason" }`` to mark it as an assumption; it is then listed
-in the ``assumed`` output.  Unknown sections or keys, wrong units, non-finite or out-of-range
-values, a missing file and TOML syntax errors raise :class:`~geardyn.model.ModelError` with a
-one-line message naming the file, the line when known, the section and the key.
+in the ``assumed`` output.  A missing or unreadable file, TOML syntax errors, unknown or missing
+sections and keys, and values of the wrong kind or unit (or not finite) raise
+:class:`~geardyn.errors.ConfigError`; values out of range for the gear pair or the model raise
+:class:`~geardyn.model.ModelError`.  Both carry a one-line message naming the file, the line when
+known, the section and the key.
 
 Precedence of the non-dimensional model values: ``[model]`` overrides ``[mesh]``, which overrides
 values derived from ``[operating]`` (ω from ``rpm``, f_p from ``torque``).  The reported speed and
@@ -55,13 +57,14 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Mapping, NamedTuple
 
+from .errors import ConfigError, GeardynError
 from .geometry import (
     HANDS,
     ROTATIONS,
     SIDES,
     Assumption,
     MeshHarmonics,
-    Scales,
+    PhysicalScales,
     SpiralBevelGearPair,
     drive_side_from_rotation,
     geometry_summary,
@@ -224,16 +227,19 @@ class _Ctx:
                 return i
         return None
 
-    def error(self, section: str | None, key: str, problem: str) -> ModelError:
+    def error(
+        self, section: str | None, key: str, problem: str, cls: type[GeardynError] = ConfigError
+    ) -> GeardynError:
+        """The error ``cls`` (a file problem by default) with the file, line, section and key in its message."""
         line = self.line_of(section, key)
         where = f"{self.source}: " + (f"line {line}: " if line else "")
         what = (f"[{section}] " if section else "") + (f"{key}: " if key else "")
-        return ModelError(f"{where}{what}{problem}")
+        return cls(f"{where}{what}{problem}")
 
 
 # ---------------------------------------------------------------------------- value parsing
 def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, index: int | None = None) -> Any:
-    def bad(problem: str) -> ModelError:
+    def bad(problem: str) -> GeardynError:
         return ctx.error(section, key, (f"element {index}: " if index is not None else "") + problem)
 
     if kind is _TEXT:
@@ -392,9 +398,9 @@ class LoadedConfig:
     backlash_reading: str
 
     @property
-    def scales(self) -> Scales:
-        """Conversions between physical and non-dimensional quantities."""
-        return self.pair.scales(self.b_c)
+    def scales(self) -> PhysicalScales:
+        """Conversions between physical and non-dimensional quantities (:meth:`PhysicalScales.from_config`)."""
+        return PhysicalScales.from_config(self)
 
     @property
     def assumed(self) -> list[str]:
@@ -419,7 +425,7 @@ class LoadedConfig:
             changes["omega"] = float(sc.omega_from_rpm(rpm))
             out["rpm"] = float(rpm)
         if torque is not None:
-            changes["fp"] = sc.fp_from_torque(torque)
+            changes["fp"] = self.pair.fp_from_torques(torque, None, self.b_c)
             out["torque"] = float(torque)
             out["torque2"] = None
         # a speed or torque given here is no longer the configuration's assumed operating point
@@ -463,10 +469,12 @@ def load_config(path: str | Path | None = None) -> LoadedConfig:
 
     Raises
     ------
+    ConfigError
+        For a missing or unreadable file, a TOML syntax error (with its line), an unknown or
+        missing section or key, a value of the wrong kind or unit; the one-line message names the
+        file, the line when known and the key.
     ModelError
-        For a missing or unreadable file, a TOML syntax error (with its line), an unknown section
-        or key, a value of the wrong unit or out of range; the one-line message names the file,
-        the line when known and the key.
+        For a value out of range for the gear pair or the model, with the same kind of message.
     """
     if path is None:
         res = packaged_config_path()
@@ -476,11 +484,11 @@ def load_config(path: str | Path | None = None) -> LoadedConfig:
         p = Path(path)
         source = str(path)
         if not p.is_file():
-            raise ModelError(f"{source}: configuration file not found" + (" (it is a directory)" if p.is_dir() else ""))
+            raise ConfigError(f"{source}: configuration file not found" + (" (it is a directory)" if p.is_dir() else ""))
         try:
             text = p.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as e:
-            raise ModelError(f"{source}: cannot read configuration file ({e})") from None
+            raise ConfigError(f"{source}: cannot read configuration file ({e})") from None
     return _load_text(text, source)
 
 
@@ -493,8 +501,8 @@ def _load_text(text: str, source: str) -> LoadedConfig:
         m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
         if m:
             msg = msg[: m.start()].strip()
-            raise ModelError(f"{source}: line {m.group(1)}: TOML syntax error: {msg} (column {m.group(2)})") from None
-        raise ModelError(f"{source}: TOML syntax error: {msg}") from None
+            raise ConfigError(f"{source}: line {m.group(1)}: TOML syntax error: {msg} (column {m.group(2)})") from None
+        raise ConfigError(f"{source}: TOML syntax error: {msg}") from None
 
     for key, val in data.items():
         if key in _SCHEMA:
@@ -504,9 +512,9 @@ def _load_text(text: str, source: str) -> LoadedConfig:
                 raise ctx.error(None, key, f"expected a string, got {val!r}")
             continue
         allowed = ", ".join([f"[{s}]" for s in _SCHEMA] + list(_TOP_LEVEL_TEXT))
-        raise ModelError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
+        raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
     if "gear_pair" not in data:
-        raise ModelError(f"{source}: missing section [gear_pair]; it must give {', '.join(_REQUIRED_PAIR)}")
+        raise ConfigError(f"{source}: missing section [gear_pair]; it must give {', '.join(_REQUIRED_PAIR)}")
 
     gp, gp_assumed = _read_section(ctx, data, "gear_pair")
     mesh, mesh_assumed = _read_section(ctx, data, "mesh")
@@ -518,7 +526,7 @@ def _load_text(text: str, source: str) -> LoadedConfig:
     missing = [k for k in _REQUIRED_PAIR if k not in gp]
     if missing:
         line = ctx.line_of("gear_pair", "")
-        raise ModelError(
+        raise ConfigError(
             f"{source}: " + (f"line {line}: " if line else "") + f"[gear_pair] missing key(s) {', '.join(missing)}"
         )
 
@@ -526,9 +534,9 @@ def _load_text(text: str, source: str) -> LoadedConfig:
     rotation = gp.pop("pinion_rotation", None)
     if rotation is not None:
         if "drive_side" in gp:
-            raise ctx.error("gear_pair", "pinion_rotation", "give drive_side or pinion_rotation, not both")
+            raise ctx.error("gear_pair", "pinion_rotation", "give drive_side or pinion_rotation, not both", ModelError)
         if "hand" not in gp:
-            raise ctx.error("gear_pair", "pinion_rotation", "needs the pinion hand of spiral (key 'hand')")
+            raise ctx.error("gear_pair", "pinion_rotation", "needs the pinion hand of spiral (key 'hand')", ModelError)
         gp["drive_side"] = drive_side_from_rotation(gp["hand"], rotation)
         if "pinion_rotation" in gp_assumed:
             gp_assumed["drive_side"] = gp_assumed.pop("pinion_rotation")
@@ -549,10 +557,13 @@ def _load_text(text: str, source: str) -> LoadedConfig:
     # ---- characteristic length
     b_c = mesh.pop("characteristic_length", None)
     if b_c is not None and b_c <= 0:
-        raise ctx.error("mesh", "characteristic_length", f"must be > 0 m, got {b_c:g} m")
+        raise ctx.error("mesh", "characteristic_length", f"must be > 0 m, got {b_c:g} m", ModelError)
     if b_c is None and pair.b_n <= 0:
         raise ctx.error(
-            "gear_pair", "j_n", "is 0 (no backlash): give [mesh] characteristic_length (e.g. \"1 um\") to scale lengths"
+            "gear_pair",
+            "j_n",
+            "is 0 (no backlash): give [mesh] characteristic_length (e.g. \"1 um\") to scale lengths",
+            ModelError,
         )
     b_c_used = pair.b_n if b_c is None else b_c
     sc = pair.scales(b_c_used)
@@ -576,15 +587,15 @@ def _load_text(text: str, source: str) -> LoadedConfig:
     torque = op.get("torque")
     torque2 = op.get("torque2")
     if rpm is not None and rpm <= 0:
-        raise ctx.error("operating", "rpm", f"must be > 0 rpm, got {rpm:g} rpm")
+        raise ctx.error("operating", "rpm", f"must be > 0 rpm, got {rpm:g} rpm", ModelError)
     if torque2 is not None and torque is None:
-        raise ctx.error("operating", "torque2", "needs the pinion torque (key 'torque') too")
+        raise ctx.error("operating", "torque2", "needs the pinion torque (key 'torque') too", ModelError)
     if rpm is not None:
         omega = float(sc.omega_from_rpm(rpm))
     else:
         omega = GearModel().omega
         notes.append(f"no [operating] rpm: ω = {omega:g} (GearModel default)")
-    fp_torque = sc.fp_from_torque(torque, torque2) if torque is not None else None
+    fp_torque = pair.fp_from_torques(torque, torque2, b_c_used) if torque is not None else None
     if fp_mesh is not None:
         fp = fp_mesh
         if fp_torque is not None and not math.isclose(fp_torque, fp_mesh, rel_tol=NOTE_RTOL):

@@ -1,0 +1,307 @@
+"""The scales between the non-dimensional model and one gear pair, and every conversion between them.
+
+The scales (``docs/model.md`` §3): length b_c, time 1/ω_n, force k0 b_c, frequency ω_n, with
+ω = ω_e/ω_n, ω_e = 2π z1 n1/60 for a pinion speed n1 in rpm, f_p = F_p/(k0 b_c) and, for
+balanced torques, F_p = T1/R1.  :class:`PhysicalScales` holds them as plain numbers so that they
+can be stored with a result (the ``physical_scales`` attribute of a Dataset) and used again when
+the result is read back, without the gear pair or its configuration file.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..model import GearModel
+
+__all__ = ["PhysicalScales", "SCALES_ATTR"]
+
+#: Name of the Dataset attribute that stores :class:`PhysicalScales` as JSON.
+SCALES_ATTR = "physical_scales"
+#: Assumptions of a configuration that concern its operating point, not the scales.
+_OPERATING_KEYS = ("rpm", "torque", "torque2")
+
+
+@dataclass(frozen=True)
+class PhysicalScales:
+    """The scales between the non-dimensional model and one gear pair, as plain numbers.
+
+    Build it from a pair (:meth:`SpiralBevelGearPair.scales <geardyn.geometry.SpiralBevelGearPair.scales>`,
+    :meth:`from_pair`) or a loaded configuration (:meth:`from_config`); store it with :meth:`to_json`
+    and read it back with :meth:`from_json` (results keep it in their ``physical_scales``
+    attribute).  Every conversion accepts floats or NumPy arrays.
+
+    Attributes
+    ----------
+    title : str
+        Name of the gear pair (configuration title).
+    source : str
+        Configuration it came from ("" for a pair built in Python).
+    z1 : int
+        Teeth of the pinion (the mesh frequency is z1 times the pinion speed).
+    b_c_m : float
+        Characteristic length b_c (m): u = u_n / b_c.
+    k0_N_per_m : float
+        Mean mesh stiffness k0 (N/m).
+    m_e_kg : float
+        Equivalent mass m_e (kg).
+    omega_n_rad_s : float
+        ω_n = √(k0/m_e) (rad/s): τ = ω_n t, ω = ω_e/ω_n.
+    R1_m, R2_m : float
+        Directional radii of pinion and gear (m); with balanced torques F_p = T1/R1.
+    D : float
+        Non-dimensional half backlash b_n/b_c of the pair.
+    assumed : tuple of str
+        Names of the inputs of the pair that are assumptions (e.g. ``k0``).
+    k0_source : str
+        Where k0 comes from (given, or face width × c_γ, and whether that is assumed).
+    """
+
+    title: str
+    source: str
+    z1: int
+    b_c_m: float
+    k0_N_per_m: float
+    m_e_kg: float
+    omega_n_rad_s: float
+    R1_m: float
+    R2_m: float
+    D: float
+    assumed: tuple[str, ...] = field(default=())
+    k0_source: str = ""
+
+    # ------------------------------------------------------------------ construction, storage
+    @classmethod
+    def from_pair(
+        cls, pair: Any, b_c: float, *, title: str | None = None, source: str = "", assumptions: Any = None
+    ) -> "PhysicalScales":
+        """Scales of a gear pair with the characteristic length ``b_c``.
+
+        Parameters
+        ----------
+        pair : SpiralBevelGearPair
+            The gear pair (gives z1, k0, m_e, ω_n, R1, R2, b_n and its assumptions).
+        b_c : float
+            Characteristic length (m), > 0 (not checked here; :meth:`SpiralBevelGearPair.scales` checks it).
+        title : str, optional
+            Name of the pair; default ``pair.name``.
+        source : str
+            Where the pair came from (a configuration file).
+        assumptions : sequence of Assumption, optional
+            The assumed inputs; default ``pair.assumptions``.  Those of the operating point
+            (rpm, torque, torque2) are left out of :attr:`assumed`.
+
+        Returns
+        -------
+        PhysicalScales
+        """
+        assumptions = tuple(pair.assumptions if assumptions is None else assumptions)
+        k0_src = "given"
+        for a in assumptions:
+            if a.name == "k0":
+                k0_src = f"assumed: {a.source}"
+                rv = pair.resolved
+                if not math.isnan(rv.c_gamma):
+                    k0_src += f" = {rv.face_width * 1e3:.6g} mm × {rv.c_gamma * 1e-9:.6g} N/(mm·µm)"
+        return cls(
+            title=pair.name if title is None else title,
+            source=source,
+            z1=int(pair.z1),
+            b_c_m=float(b_c),
+            k0_N_per_m=float(pair.k0_mean),
+            m_e_kg=float(pair.m_e),
+            omega_n_rad_s=float(pair.omega_n),
+            R1_m=float(pair.R1),
+            R2_m=float(pair.R2),
+            D=float(pair.b_n / b_c),
+            assumed=tuple(a.name for a in assumptions if a.name not in _OPERATING_KEYS),
+            k0_source=k0_src,
+        )
+
+    @classmethod
+    def from_config(cls, cfg: Any) -> "PhysicalScales":
+        """Scales of a loaded configuration (its pair, characteristic length, title and source).
+
+        Parameters
+        ----------
+        cfg : LoadedConfig
+            A configuration from :func:`geardyn.config.load_config`.
+
+        Returns
+        -------
+        PhysicalScales
+        """
+        return cls.from_pair(
+            cfg.pair, cfg.b_c, title=cfg.title or cfg.pair.name, source=cfg.source, assumptions=cfg.assumptions
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scales as a JSON-ready dict (the field names as keys)."""
+        d = asdict(self)
+        d["assumed"] = list(self.assumed)
+        return d
+
+    def to_json(self) -> str:
+        """The scales as a JSON string (read back with :meth:`from_json`)."""
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    @classmethod
+    def from_json(cls, text: str) -> "PhysicalScales":
+        """Scales from the JSON of :meth:`to_json`.
+
+        Parameters
+        ----------
+        text : str
+            The JSON text.
+
+        Returns
+        -------
+        PhysicalScales
+        """
+        d = json.loads(text)
+        d["assumed"] = tuple(d.get("assumed", ()))
+        return cls(**d)
+
+    @classmethod
+    def from_attrs(cls, attrs: dict[str, Any]) -> "PhysicalScales | None":
+        """The scales stored in a Dataset's attributes (:data:`SCALES_ATTR`), or ``None`` when there are none.
+
+        Parameters
+        ----------
+        attrs : dict
+            The attributes of a result Dataset.
+
+        Returns
+        -------
+        PhysicalScales or None
+        """
+        text = attrs.get(SCALES_ATTR)
+        return cls.from_json(text) if text else None
+
+    # ------------------------------------------------------------------ derived scales
+    @property
+    def force_scale_N(self) -> float:
+        """Force scale k0 b_c (N): F = f · k0 b_c."""
+        return self.k0_N_per_m * self.b_c_m
+
+    @property
+    def natural_frequency_Hz(self) -> float:
+        """f_n = ω_n / 2π (Hz)."""
+        return self.omega_n_rad_s / (2.0 * math.pi)
+
+    def statement(self) -> str:
+        """One line naming the pair and its k0 (and that it is assumed, when it is)."""
+        return (
+            f"{self.title} ({self.source}): k0 = {self.k0_N_per_m * 1e-6:.6g} N/µm ({self.k0_source}), "
+            f"b_c = {self.b_c_m * 1e6:.6g} µm, f_n = {self.natural_frequency_Hz:.6g} Hz"
+        )
+
+    # ------------------------------------------------------------------ speed and frequency
+    def omega_from_rpm(self, rpm: Any) -> Any:
+        """ω = 2π z1 n1 / (60 ω_n) (non-dimensional) from the pinion speed n1 (rpm)."""
+        return 2.0 * np.pi * self.z1 * np.asarray(rpm, dtype=float) / 60.0 / self.omega_n_rad_s
+
+    def rpm_from_omega(self, omega: Any) -> Any:
+        """Pinion speed (rpm) from ω."""
+        return np.asarray(omega, dtype=float) * self.omega_n_rad_s * 60.0 / (2.0 * np.pi * self.z1)
+
+    def hz_from_omega(self, omega: Any) -> Any:
+        """Frequency (Hz) of a non-dimensional angular frequency (in units of ω_n), e.g. the mesh frequency ω."""
+        return np.asarray(omega, dtype=float) * self.omega_n_rad_s / (2.0 * np.pi)
+
+    # ------------------------------------------------------------------ time
+    def tau_from_s(self, t: Any) -> Any:
+        """Non-dimensional time τ = ω_n t from seconds."""
+        return np.asarray(t, dtype=float) * self.omega_n_rad_s
+
+    def s_from_tau(self, tau: Any) -> Any:
+        """Seconds from non-dimensional time τ = ω_n t."""
+        return np.asarray(tau, dtype=float) / self.omega_n_rad_s
+
+    def per_s_from_per_tau(self, rate: Any) -> Any:
+        """A rate per second (e.g. a Lyapunov exponent in 1/s) from a rate per unit τ."""
+        return np.asarray(rate, dtype=float) * self.omega_n_rad_s
+
+    # ------------------------------------------------------------------ length
+    def u_from_m(self, x: Any) -> Any:
+        """Non-dimensional displacement from metres."""
+        return np.asarray(x, dtype=float) / self.b_c_m
+
+    def m_from_u(self, u: Any) -> Any:
+        """Metres from a non-dimensional displacement u (u_n = u b_c)."""
+        return np.asarray(u, dtype=float) * self.b_c_m
+
+    def u_from_um(self, x: Any) -> Any:
+        """Non-dimensional displacement from micrometres."""
+        return np.asarray(x, dtype=float) * 1e-6 / self.b_c_m
+
+    def um_from_u(self, u: Any) -> Any:
+        """Micrometres from a non-dimensional displacement u (u_n = u b_c)."""
+        return np.asarray(u, dtype=float) * self.b_c_m * 1e6
+
+    # ------------------------------------------------------------------ force and load
+    def force_from_N(self, F: Any) -> Any:
+        """Non-dimensional force F/(k0 b_c) from newtons (e.g. f_p from the static force F_p)."""
+        return np.asarray(F, dtype=float) / self.force_scale_N
+
+    def N_from_force(self, f: Any) -> Any:
+        """Newtons from a non-dimensional force (F = f k0 b_c), e.g. the mesh force."""
+        return np.asarray(f, dtype=float) * self.force_scale_N
+
+    def fp_from_torque(self, torque: Any) -> Any:
+        """f_p = T1/(R1 k0 b_c) from the pinion torque T1 (N·m), balanced torques (F_p = T1/R1).
+
+        For unbalanced torques use :meth:`SpiralBevelGearPair.fp_from_torques
+        <geardyn.geometry.SpiralBevelGearPair.fp_from_torques>`, which needs the inertias.
+        """
+        return np.asarray(torque, dtype=float) / self.R1_m / self.force_scale_N
+
+    def torque_from_fp(self, fp: Any) -> Any:
+        """Pinion torque T1 (N·m) giving f_p with balanced torques: T1 = f_p k0 b_c R1."""
+        return np.asarray(fp, dtype=float) * self.force_scale_N * self.R1_m
+
+    # ------------------------------------------------------------------ mesh coefficients
+    def xi_from_c(self, c: Any) -> Any:
+        """Damping ratio ξ = c/(2 m_e ω_n) from a damping coefficient (N·s/m)."""
+        return np.asarray(c, dtype=float) / (2.0 * self.m_e_kg * self.omega_n_rad_s)
+
+    def c_from_xi(self, xi: Any) -> Any:
+        """Damping coefficient (N·s/m) from a damping ratio."""
+        return np.asarray(xi, dtype=float) * 2.0 * self.m_e_kg * self.omega_n_rad_s
+
+    def kappa_from_k(self, k: Any) -> Any:
+        """Stiffness ratio κ = k/k0 from a stiffness (N/m)."""
+        return np.asarray(k, dtype=float) / self.k0_N_per_m
+
+    def k_from_kappa(self, kappa: Any) -> Any:
+        """Stiffness (N/m) from a stiffness ratio."""
+        return np.asarray(kappa, dtype=float) * self.k0_N_per_m
+
+    # ------------------------------------------------------------------ a model's operating point
+    def operating_point(self, model: GearModel) -> dict[str, float]:
+        """Speed, frequencies, torque and static force of a model (JSON-ready).
+
+        Parameters
+        ----------
+        model : GearModel
+            The non-dimensional model.
+
+        Returns
+        -------
+        dict
+            ``omega``, ``rpm``, ``mesh_frequency_Hz``, ``natural_frequency_Hz``, ``fp``,
+            ``torque_N_m`` (pinion, balanced), ``static_force_N`` (F_p = f_p k0 b_c).
+        """
+        return {
+            "omega": float(model.omega),
+            "rpm": float(self.rpm_from_omega(model.omega)),
+            "mesh_frequency_Hz": float(self.hz_from_omega(model.omega)),
+            "natural_frequency_Hz": self.natural_frequency_Hz,
+            "fp": float(model.fp),
+            "torque_N_m": float(self.torque_from_fp(model.fp)),
+            "static_force_N": float(self.N_from_force(model.fp)),
+        }
