@@ -1,7 +1,8 @@
 """The reproduction report: claims with verdicts, rendered as Markdown and self-contained HTML.
 
 A report is a list of :class:`Section` s, each with explanatory text (the settings chosen and
-why), figures, and the :class:`Claim` s it judges.  :func:`write_report` writes ``report.md``,
+why), figures, and the :class:`Finding` s it holds (a claim of :mod:`geardyn.paper.claims` with
+what geardyn computed and the verdict).  :func:`write_report` writes ``report.md``,
 ``report.html`` (figures embedded as base64 PNG, so the file opens anywhere on its own) and
 ``claims.json`` into the output directory.  No numerics here.
 """
@@ -15,16 +16,30 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
-from .io import atomic_write_bytes
+from ..io import atomic_write_bytes
 
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced")
 
 
 @dataclass
-class Claim:
-    """One claim of the paper and what geardyn found.
+class Finding:
+    """One claim of the paper and what geardyn found (made by :meth:`geardyn.paper.claims.Claim.judge`).
 
-    ``evidence`` holds paths relative to the report directory (figures and NetCDF data).
+    Parameters
+    ----------
+    id, source, statement : str
+        The claim's id, where the paper makes it and its statement.
+    computed : str
+        What geardyn finds.
+    verdict : str
+        One of :data:`VERDICTS`.
+    evidence : list of str
+        Paths relative to the report directory (figures and NetCDF data).
+
+    Raises
+    ------
+    ValueError
+        If ``verdict`` is not one of :data:`VERDICTS`.
     """
 
     id: str
@@ -46,7 +61,7 @@ class Section:
     title: str
     paragraphs: list[str] = field(default_factory=list)
     figures: list[tuple[str, str]] = field(default_factory=list)  # (relative path, caption)
-    claims: list[Claim] = field(default_factory=list)
+    claims: list[Finding] = field(default_factory=list)
     table: list[list[str]] | None = None  # optional table, first row = header
 
 
