@@ -56,7 +56,19 @@ class Finding:
 
 @dataclass
 class Section:
-    """A study: a title, paragraphs (plain text), figures (relative paths) and its claims."""
+    """A study: a title, paragraphs (plain text), figures (relative paths) and its claims.
+
+    Parameters
+    ----------
+    title : str
+    paragraphs : list of str
+        Plain text: what was computed, the settings chosen and why.
+    figures : list of (str, str)
+        (path relative to the report directory, caption).
+    claims : list of Finding
+    table : list of list of str, optional
+        A table, first row the header.
+    """
 
     title: str
     paragraphs: list[str] = field(default_factory=list)
@@ -70,6 +82,19 @@ def _md_escape_cell(s: str) -> str:
 
 
 def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section]) -> str:
+    """The report as Markdown: the table of claims and verdicts, then every section.
+
+    Parameters
+    ----------
+    title : str
+    intro : sequence of str
+        Paragraphs before the claims.
+    sections : sequence of Section
+
+    Returns
+    -------
+    str
+    """
     claims = [c for s in sections for c in s.claims]
     out = [f"# {title}", ""]
     out += [p + "\n" for p in intro]
@@ -126,6 +151,20 @@ def _img(directory: Path, rel: str) -> str:
 
 
 def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], directory: Path) -> str:
+    """The report as one self-contained HTML page (figures embedded as base64 PNG).
+
+    Parameters
+    ----------
+    title : str
+    intro : sequence of str
+    sections : sequence of Section
+    directory : Path
+        The report directory the figure paths are relative to.
+
+    Returns
+    -------
+    str
+    """
     e = html.escape
     claims = [c for s in sections for c in s.claims]
     out = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(title)}</title><style>{_CSS}</style></head><body>",
@@ -161,7 +200,23 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
 def write_report(directory: str | Path, title: str, intro: Sequence[str], sections: Sequence[Section],
                  meta: dict[str, Any] | None = None) -> dict[str, Path]:
     """Write report.md, report.html, claims.json (a list, one entry per claim) and, with ``meta``,
-    run.json (settings, timings) into ``directory``; returns their paths."""
+    run.json (settings, timings) into ``directory``.
+
+    Parameters
+    ----------
+    directory : str or Path
+        Created if needed; every file is written atomically.
+    title : str
+    intro : sequence of str
+    sections : sequence of Section
+    meta : dict, optional
+        Written as run.json.
+
+    Returns
+    -------
+    dict
+        ``md``, ``html``, ``claims`` (and ``meta``) → path.
+    """
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
     claims = [asdict(c) for s in sections for c in s.claims]
