@@ -10,8 +10,12 @@ import pytest
 from typer.testing import CliRunner
 
 from geardyn.cli import app
-from geardyn.paper import CLAIMS, TABLE3, TABLE4
-from geardyn.reproduce import fit_formula, quasi_n, verdict_of
+from geardyn.paper import CLAIMS, TABLE1, TABLE1_MODEL, TABLE3, TABLE4
+from geardyn.paper.claims import claim_ids
+from geardyn.paper.report import Finding, Section
+from geardyn.paper.run import link_figures
+from geardyn.paper.studies.formula import fit_formula
+from geardyn.paper.verdicts import is_chaotic, is_regular, motion_rule, quasi_n, verdict_of
 from geardyn.analysis.classify import MOTION_PERIODIC, MOTION_QUASIPERIODIC, MOTION_CHAOTIC
 
 
@@ -38,7 +42,7 @@ def test_report_files_and_claims(report_dir):
     for c in claims:
         assert set(c) == {"id", "source", "statement", "computed", "verdict", "evidence"}
         assert c["verdict"] in ("reproduced", "partly reproduced", "not reproduced")
-        assert c["computed"] and c["statement"] == CLAIMS[c["id"]][1]
+        assert c["computed"] and c["statement"] == CLAIMS[c["id"]].statement
         assert c["evidence"], c["id"]
         for rel in c["evidence"]:
             assert not rel.startswith("/")
@@ -83,3 +87,53 @@ def test_verdict_rule_and_quasi_n_mapping():
     q4 = quasi_n(4)
     assert q4(MOTION_PERIODIC, 4, 0) and q4(MOTION_QUASIPERIODIC, 0, 4)
     assert not q4(MOTION_PERIODIC, 2, 0) and not q4(MOTION_CHAOTIC, 0, 0)
+
+
+def test_every_claim_carries_the_numbers_of_its_statement():
+    for cid, claim in CLAIMS.items():
+        assert claim.id == cid and claim.source and claim.statement
+        for key, value in claim.numbers.items():
+            for v in value if isinstance(value, tuple) else (value,):
+                if isinstance(v, float):  # every number the claim is judged by is one the paper states
+                    assert f"{v:g}" in claim.statement, (cid, key, v)
+        if "motion" in claim.numbers:
+            motion_rule(claim.numbers["motion"])  # every motion word has a reading
+    assert claim_ids("T3-") == ["T3-1", "T3-2", "T3-3"] and len(TABLE4) == len(claim_ids("T4-")) == 5
+    assert TABLE3[1] == (0.7, 0.35, "quasi-2-periodic", "moderate", "near zero")
+    with pytest.raises(TypeError):
+        CLAIMS["T2-1"].numbers["hi"] = 0.5  # read-only
+
+
+def test_table1_is_the_model_defaults_and_the_packaged_pair():
+    from geardyn.config import load_config
+
+    m = load_config(None).model
+    assert TABLE1_MODEL.omega == 1.0
+    assert dict(TABLE1) == {"xi0": m.xi0, "xi1": m.xi[0], "kappa1": m.kappa[0], "fp": m.fp, "eps1": m.eps[0], "D": m.D}
+
+
+def test_motion_words():
+    assert motion_rule("chaotic") == (is_chaotic, "chaotic")
+    assert motion_rule("quasi-periodic") == (is_regular, "regular (periodic or quasi-periodic)")
+    q3, what = motion_rule("quasi-3-periodic")
+    assert what == "quasi-3-periodic (period-3 or 3 loops)" and q3(MOTION_PERIODIC, 3, 0) and not q3(MOTION_PERIODIC, 2, 0)
+    with pytest.raises(ValueError):
+        motion_rule("periodic-ish")
+
+
+def test_figure_references_become_the_drawn_files():
+    f = CLAIMS["FORMULA"].judge("fit", "reproduced", ["data/formula_fit.nc", "figure:formula_fit"])
+    assert isinstance(f, Finding) and f.statement == CLAIMS["FORMULA"].statement
+    s = Section("t", figures=[("figure:formula_fit", "caption")], claims=[f])
+    link_figures([s], {"formula_fit": ["figures/formula_fit/formula_fit.png"]})
+    assert s.figures == [("figures/formula_fit/formula_fit.png", "caption")]
+    assert f.evidence == ["data/formula_fit.nc", "figures/formula_fit/formula_fit.png"]
+    with pytest.raises(ValueError, match="no figure was drawn for 'search'"):
+        link_figures([Section("t", figures=[("figure:search", "c")])], {})
+
+
+def test_reproduce_module_keeps_its_names():
+    from geardyn import reproduce
+
+    assert reproduce.fit_formula is fit_formula and reproduce.verdict_of is verdict_of
+    assert callable(reproduce.run) and reproduce.Settings.quick().workers == 1

@@ -30,6 +30,8 @@ KIND_MODULES: dict[str, str] = {
     "stability_boundary": "periodic",
     "mathieu_boundary": "periodic",
     "stability_comparison": "periodic",
+    "formula_fit": "reproduce",
+    "search": "reproduce",
 }
 
 

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import xarray as xr
 
-from .common import plt
+from .common import plt, save
 
 
 def formula_fit(ds: xr.Dataset):
@@ -45,3 +47,13 @@ def search_map(ds: xr.Dataset):
     fig.colorbar(im, ax=ax, label="fraction of grid points matching the claim")
     ax.set_title(f"Where the claims over {ds.attrs.get('param')} hold")
     return fig
+
+
+def save_formula_fit(ds: xr.Dataset, directory: str | Path) -> list[Path]:
+    """Write the formula-fit figure as PNG into ``directory``."""
+    return [save(formula_fit(ds), Path(directory) / "formula_fit.png")]
+
+
+def save_search(ds: xr.Dataset, directory: str | Path) -> list[Path]:
+    """Write the ω-search map as PNG into ``directory``."""
+    return [save(search_map(ds), Path(directory) / "search.png")]

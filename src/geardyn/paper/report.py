@@ -1,7 +1,8 @@
 """The reproduction report: claims with verdicts, rendered as Markdown and self-contained HTML.
 
 A report is a list of :class:`Section` s, each with explanatory text (the settings chosen and
-why), figures, and the :class:`Claim` s it judges.  :func:`write_report` writes ``report.md``,
+why), figures, and the :class:`Finding` s it holds (a claim of :mod:`geardyn.paper.claims` with
+what geardyn computed and the verdict).  :func:`write_report` writes ``report.md``,
 ``report.html`` (figures embedded as base64 PNG, so the file opens anywhere on its own) and
 ``claims.json`` into the output directory.  No numerics here.
 """
@@ -15,16 +16,30 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
-from .io import atomic_write_bytes
+from ..io import atomic_write_bytes
 
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced")
 
 
 @dataclass
-class Claim:
-    """One claim of the paper and what geardyn found.
+class Finding:
+    """One claim of the paper and what geardyn found (made by :meth:`geardyn.paper.claims.Claim.judge`).
 
-    ``evidence`` holds paths relative to the report directory (figures and NetCDF data).
+    Parameters
+    ----------
+    id, source, statement : str
+        The claim's id, where the paper makes it and its statement.
+    computed : str
+        What geardyn finds.
+    verdict : str
+        One of :data:`VERDICTS`.
+    evidence : list of str
+        Paths relative to the report directory (figures and NetCDF data).
+
+    Raises
+    ------
+    ValueError
+        If ``verdict`` is not one of :data:`VERDICTS`.
     """
 
     id: str
@@ -41,12 +56,24 @@ class Claim:
 
 @dataclass
 class Section:
-    """A study: a title, paragraphs (plain text), figures (relative paths) and its claims."""
+    """A study: a title, paragraphs (plain text), figures (relative paths) and its claims.
+
+    Parameters
+    ----------
+    title : str
+    paragraphs : list of str
+        Plain text: what was computed, the settings chosen and why.
+    figures : list of (str, str)
+        (path relative to the report directory, caption).
+    claims : list of Finding
+    table : list of list of str, optional
+        A table, first row the header.
+    """
 
     title: str
     paragraphs: list[str] = field(default_factory=list)
     figures: list[tuple[str, str]] = field(default_factory=list)  # (relative path, caption)
-    claims: list[Claim] = field(default_factory=list)
+    claims: list[Finding] = field(default_factory=list)
     table: list[list[str]] | None = None  # optional table, first row = header
 
 
@@ -55,6 +82,19 @@ def _md_escape_cell(s: str) -> str:
 
 
 def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section]) -> str:
+    """The report as Markdown: the table of claims and verdicts, then every section.
+
+    Parameters
+    ----------
+    title : str
+    intro : sequence of str
+        Paragraphs before the claims.
+    sections : sequence of Section
+
+    Returns
+    -------
+    str
+    """
     claims = [c for s in sections for c in s.claims]
     out = [f"# {title}", ""]
     out += [p + "\n" for p in intro]
@@ -111,6 +151,20 @@ def _img(directory: Path, rel: str) -> str:
 
 
 def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], directory: Path) -> str:
+    """The report as one self-contained HTML page (figures embedded as base64 PNG).
+
+    Parameters
+    ----------
+    title : str
+    intro : sequence of str
+    sections : sequence of Section
+    directory : Path
+        The report directory the figure paths are relative to.
+
+    Returns
+    -------
+    str
+    """
     e = html.escape
     claims = [c for s in sections for c in s.claims]
     out = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(title)}</title><style>{_CSS}</style></head><body>",
@@ -146,7 +200,23 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
 def write_report(directory: str | Path, title: str, intro: Sequence[str], sections: Sequence[Section],
                  meta: dict[str, Any] | None = None) -> dict[str, Path]:
     """Write report.md, report.html, claims.json (a list, one entry per claim) and, with ``meta``,
-    run.json (settings, timings) into ``directory``; returns their paths."""
+    run.json (settings, timings) into ``directory``.
+
+    Parameters
+    ----------
+    directory : str or Path
+        Created if needed; every file is written atomically.
+    title : str
+    intro : sequence of str
+    sections : sequence of Section
+    meta : dict, optional
+        Written as run.json.
+
+    Returns
+    -------
+    dict
+        ``md``, ``html``, ``claims`` (and ``meta``) → path.
+    """
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
     claims = [asdict(c) for s in sections for c in s.claims]

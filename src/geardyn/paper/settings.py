@@ -1,0 +1,205 @@
+"""The settings of a reproduction run, and the context every study runs in.
+
+Settings the paper leaves unstated are chosen here, once, with the reason written into the report
+(:class:`Settings`); the paper's own numbers are in :mod:`geardyn.paper.claims` and
+:mod:`geardyn.paper.table1`.
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import Executor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+import numpy as np
+import xarray as xr
+
+from ..analysis.bifurcation import bifurcation
+from ..model import GearModel, IntegrationOptions
+from .table1 import TABLE1_MODEL
+
+__all__ = ["FIGURE_REF", "Context", "Settings"]
+
+#: Prefix of a figure reference (:meth:`Context.figure`) until the figure is drawn.
+FIGURE_REF = "figure:"
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Settings of a reproduction run; ``quick()`` gives a reduced version for tests.
+
+    Attributes
+    ----------
+    omega_damping : float
+        ω of the damping and backlash studies (not stated in the paper).  ω = 1, the mesh frequency
+        at the linear natural frequency, is the reference point of the non-dimensional model and
+        lies inside the range where the paper's defaults respond non-trivially.
+    transient, periods : int
+        Periods discarded and recorded per point (the paper's Δτ = 0.01 is kept).
+    settle : int
+        Further periods with exponents for points not periodic after the transient.
+    xi0_grid, xi1_grid : arrays
+        Damping grids of the bifurcation diagrams.
+    search_omegas : array
+        ω values searched where a claim fails at ``omega_damping``.
+    search_xi0, search_xi1 : arrays
+        Coarser damping grids used in that search.
+    d_grid : array
+        Backlash grid of the backlash bifurcation diagram.
+    response_omega, response_num : (float, float), int
+        ω range and number of points of the frequency responses.
+    response_transient, response_periods : int
+        Periods discarded and recorded per point of a frequency response.
+    xi0_set, xi1_set, d_set, alt_set : tuples of (ξ0, ξ1, D)
+        Frequency responses of the jump study: ξ0 varied, ξ1 varied, D varied, and the reading
+        D = b of the backlash the paper gives in mm.
+    stability_omegas : array
+        ω grid of the stability-condition study.
+    continuation_omega : (float, float)
+        ω interval of the continuation through the first jump.
+    workers : int
+        Worker processes when :func:`geardyn.paper.run.run` makes its own pool.
+    """
+
+    omega_damping: float = 1.0
+    transient: int = 300
+    periods: int = 200
+    settle: int = 400
+    xi0_grid: tuple[float, ...] = tuple(np.round(np.concatenate([np.arange(0.02, 0.2, 0.004),
+                                                                 np.arange(0.2, 0.951, 0.05)]), 4))
+    xi1_grid: tuple[float, ...] = tuple(np.round(np.arange(0.0, 0.1501, 0.005), 4))
+    d_grid: tuple[float, ...] = tuple(np.round(np.arange(0.05, 1.0001, 0.025), 4))
+    search_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.8, 1.601, 0.1), 3))
+    search_xi0: tuple[float, ...] = (0.03, 0.045, 0.055, 0.07, 0.08, 0.09, 0.1, 0.12, 0.15, 0.2, 0.3, 0.5, 0.7, 0.8, 0.9)
+    search_xi1: tuple[float, ...] = (0.0, 0.01, 0.02, 0.025, 0.05, 0.06, 0.08, 0.1)
+    response_omega: tuple[float, float] = (0.3, 1.2)
+    response_num: int = 91
+    response_transient: int = 200
+    response_periods: int = 100
+    xi0_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.25), (0.1, 0.05, 0.25), (0.15, 0.05, 0.25))
+    xi1_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.03, 0.25), (0.08, 0.05, 0.25), (0.08, 0.08, 0.25))
+    d_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.1), (0.08, 0.05, 0.25), (0.08, 0.05, 0.35),
+                                                     (0.08, 0.05, 0.75))
+    alt_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.5), (0.15, 0.05, 0.5), (0.08, 0.05, 1.5))
+    stability_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.4, 2.41, 0.1), 3))
+    continuation_omega: tuple[float, float] = (0.5, 0.7)
+    workers: int = 2
+
+    @property
+    def response_sets(self) -> list[tuple[float, float, float]]:
+        """Every (ξ0, ξ1, D) of the jump study, each once, in the order of the sets."""
+        return list(dict.fromkeys(self.xi0_set + self.xi1_set + self.d_set + self.alt_set))
+
+    @property
+    def response_options(self) -> IntegrationOptions:
+        """Transient and recorded periods of the frequency responses."""
+        return IntegrationOptions(transient=self.response_transient, periods=self.response_periods)
+
+    @classmethod
+    def quick(cls) -> "Settings":
+        """A reduced run (coarse grids, short runs) that exercises every study end to end."""
+        return cls(
+            transient=60, periods=40, settle=60,
+            xi0_grid=(0.03, 0.07, 0.09, 0.15, 0.5), xi1_grid=(0.0, 0.02, 0.06), d_grid=(0.1, 0.35, 0.75),
+            search_omegas=(1.0, 1.2), search_xi0=(0.03, 0.08, 0.15), search_xi1=(0.0, 0.06), workers=1,
+            response_num=12, response_transient=40, response_periods=30, stability_omegas=(0.8, 1.6),
+            continuation_omega=(0.61, 0.63),
+        )
+
+    @property
+    def options(self) -> IntegrationOptions:
+        """Transient and recorded periods of the bifurcation diagrams."""
+        return IntegrationOptions(transient=self.transient, periods=self.periods)
+
+
+@dataclass
+class Context:
+    """What every study needs: the output directory, settings, the executor, and a log.
+
+    Parameters
+    ----------
+    out : Path
+        The report directory.
+    settings : Settings
+    executor : concurrent.futures.Executor, optional
+        Where the sweeps run (``None``: in this process).
+    log : callable, optional
+        Receives one progress line per step.
+    datasets : dict
+        Name → data path (relative) of every saved Dataset.
+    pending : dict
+        Name → Dataset not yet written.
+    """
+
+    out: Path
+    settings: Settings
+    executor: Executor | None = None
+    log: Callable[[str], None] = lambda s: None
+    datasets: dict[str, str] = field(default_factory=dict)  # name -> relative path of its NetCDF
+    pending: dict[str, xr.Dataset] = field(default_factory=dict)  # saved at the end, in parallel
+
+    @property
+    def base(self) -> GearModel:
+        """The Table 1 model at the ω of the damping and backlash studies."""
+        return TABLE1_MODEL.replace(omega=self.settings.omega_damping)
+
+    def save(self, name: str, ds: xr.Dataset) -> str:
+        """Register a Dataset for ``data/<name>.nc`` and its figures; written by :func:`geardyn.paper.run.write_outputs`.
+
+        Parameters
+        ----------
+        name : str
+            File stem of the data; its figures go to ``figures/<name>/``.
+        ds : xarray.Dataset
+            A geardyn result (its ``geardyn_kind`` selects the figures).
+
+        Returns
+        -------
+        str
+            The data path relative to the report directory.
+        """
+        rel = f"data/{name}.nc"
+        self.pending[name] = ds
+        self.datasets[name] = rel
+        return rel
+
+    @staticmethod
+    def figure(name: str) -> str:
+        """A reference to the main figure of the Dataset saved as ``name``, for evidence and sections.
+
+        The figure's file is known only once it is drawn (:func:`geardyn.plot.save_figures` names
+        it); :func:`geardyn.paper.run.link_figures` replaces the reference by its path.
+
+        Parameters
+        ----------
+        name : str
+            The name given to :meth:`save`.
+
+        Returns
+        -------
+        str
+        """
+        return FIGURE_REF + name
+
+    def bifurcation(self, model: GearModel, param: str, values: Sequence[float], **kw: Any) -> xr.Dataset:
+        """A bifurcation diagram with the run's integration settings and executor.
+
+        Parameters
+        ----------
+        model : GearModel
+        param : str
+            The swept parameter.
+        values : sequence of float
+            Its grid.
+        **kw
+            Passed on to :func:`geardyn.analysis.bifurcation.bifurcation` (``options`` replaces the
+            run's integration options).
+
+        Returns
+        -------
+        xarray.Dataset
+        """
+        s = self.settings
+        return bifurcation(model, param, values, options=kw.pop("options", s.options), settle_periods=s.settle,
+                           executor=self.executor, **kw)

@@ -1,0 +1,330 @@
+"""The jump study: up and down frequency responses, the jump claims of the text, and Table 4.
+
+The paper's 'b' (mm) is read as in its Table 3, D = b/2; the reading D = b is computed alongside
+where a claim depends on it (:attr:`Settings.alt_set`).  Jumps and hysteresis come from
+:func:`geardyn.analysis.response.frequency_response`.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+import xarray as xr
+
+from ...analysis.response import frequency_response
+from ..claims import CLAIMS, claim_ids
+from ..report import Finding, Section
+from ..settings import Context
+from ..table1 import TABLE1
+from ..verdicts import combine, verdict_of
+
+__all__ = [
+    "JUMP_NEAR",
+    "JumpData",
+    "LOW_OMEGA",
+    "TABLE4_AMP_REL",
+    "TABLE4_NEAR",
+    "compute_responses",
+    "first_up_jump",
+    "fluctuation",
+    "hysteresis_of",
+    "jumps_of",
+    "response_key",
+    "study_jumps",
+    "study_table4",
+]
+
+#: A jump "near" a claimed ω: within this distance (about three grid steps of the default response grid).
+JUMP_NEAR = 0.03
+#: Table 4: a jump of the claimed kind counts at a row's ω when within this distance of it.
+TABLE4_NEAR = 0.05
+#: Table 4: a computed amplitude matches the paper's when within this relative difference.
+TABLE4_AMP_REL = 0.25
+#: "Steady below ω = 0.5" (JUMP-LOW): no jump and no hysteresis below this ω; the first jump is sought above it.
+LOW_OMEGA: float = CLAIMS["JUMP-LOW"].numbers["omega"]
+#: The fluctuation "after the first jump" is measured from this far (in ω) above the jump.
+FLUCT_AFTER = 0.02
+
+
+def response_key(xi0: float, xi1: float, D: float) -> str:
+    """The name of the saved frequency response at (ξ0, ξ1, D)."""
+    return f"response_xi0_{xi0:g}_xi1_{xi1:g}_D_{D:g}"
+
+
+def jumps_of(ds: xr.Dataset) -> list[dict[str, Any]]:
+    """The jumps a frequency response found (``omega``, ``direction``, ``size``, ``sweep`` each)."""
+    return json.loads(ds.attrs["jumps"])
+
+
+def hysteresis_of(ds: xr.Dataset) -> list[list[float]]:
+    """The ω intervals where the up and down sweeps of a frequency response disagree."""
+    return json.loads(ds.attrs["hysteresis"])
+
+
+def first_up_jump(ds: xr.Dataset, above: float = LOW_OMEGA) -> dict[str, Any] | None:
+    """The first upward jump above ``above`` in the up sweep, or ``None``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A frequency response.
+    above : float
+        The ω above which to look.
+
+    Returns
+    -------
+    dict or None
+    """
+    js = [j for j in jumps_of(ds) if j["sweep"] == "up" and j["direction"] == "up" and j["omega"] > above]
+    return min(js, key=lambda j: j["omega"]) if js else None
+
+
+def fluctuation(ds: xr.Dataset, after: float) -> float:
+    """Mean |A(ω_{i+1}) − A(ω_i)| of the up sweep over the grid above ``after`` (jumps and scatter alike).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A frequency response.
+    after : float
+        The ω above which to measure.
+
+    Returns
+    -------
+    float
+        NaN if fewer than two grid points lie above ``after``.
+    """
+    x = ds["omega"].values
+    a = ds["amplitude"].sel(sweep="up").values
+    sel = x > after
+    d = np.abs(np.diff(a[sel]))
+    return float(np.nanmean(d)) if d.size else float("nan")
+
+
+@dataclass
+class JumpData:
+    """The frequency responses of the jump study, keyed by (ξ0, ξ1, D).
+
+    Parameters
+    ----------
+    responses : dict
+        (ξ0, ξ1, D) → frequency response Dataset.
+    evidence : dict
+        (ξ0, ξ1, D) → its data path and figure reference.
+    """
+
+    responses: dict[tuple[float, float, float], xr.Dataset]
+    evidence: dict[tuple[float, float, float], list[str]]
+
+    def ev(self, *keys: tuple[float, float, float]) -> list[str]:
+        """The evidence of the responses at ``keys``, in order."""
+        return [e for k in keys for e in self.evidence[k]]
+
+
+def compute_responses(ctx: Context) -> JumpData:
+    """Up and down frequency responses at every (ξ0, ξ1, D) of :attr:`Settings.response_sets`.
+
+    Parameters
+    ----------
+    ctx : Context
+        The run: the responses use its ω range, number of points and periods.
+
+    Returns
+    -------
+    JumpData
+        Every response with its evidence.
+    """
+    s = ctx.settings
+    out: dict[tuple[float, float, float], xr.Dataset] = {}
+    ev: dict[tuple[float, float, float], list[str]] = {}
+    for key in s.response_sets:
+        xi0, xi1, D = key
+        ctx.log(f"frequency response ξ0 = {xi0:g}, ξ1 = {xi1:g}, D = {D:g}")
+        model = ctx.base.replace(xi0=xi0, xi=(xi1,), D=D)
+        ds = frequency_response(model, s.response_omega[0], s.response_omega[1], s.response_num,
+                                options=s.response_options, settle_periods=s.settle, executor=ctx.executor)
+        name = response_key(*key)
+        rel = ctx.save(name, ds)
+        out[key] = ds
+        ev[key] = [rel, ctx.figure(name)]
+    return JumpData(out, ev)
+
+
+def _monotone(values: Sequence[float], decreasing: bool) -> bool:
+    v = np.asarray(values, dtype=float)
+    if v.size < 2 or not np.all(np.isfinite(v)):
+        return False
+    d = np.diff(v)
+    return bool(np.all(d < 0) if decreasing else np.all(d > 0))
+
+
+def study_jumps(ctx: Context, jd: JumpData) -> Section:
+    """The jump claims: steady below ω = 0.5, jump size against ξ0 and ξ1, fluctuations, jumps near
+    0.57, 0.82 and 0.95 (JUMP-LOW … JUMP-095).
+
+    Parameters
+    ----------
+    ctx : Context
+    jd : JumpData
+        The frequency responses (:func:`compute_responses`).
+
+    Returns
+    -------
+    Section
+    """
+    s = ctx.settings
+    R = jd.responses
+    claims: list[Finding] = []
+    table = [["ξ0", "ξ1", "D", "jumps (ω, direction, size, sweep)", "hysteresis intervals"]]
+    for (xi0, xi1, D), ds in R.items():
+        js = "; ".join(f"{j['omega']:.3f} {j['direction']} {j['size']:.3f} ({j['sweep']})" for j in jumps_of(ds)) or "none"
+        hs = ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in hysteresis_of(ds)) or "none"
+        table.append([f"{xi0:g}", f"{xi1:g}", f"{D:g}", js, hs])
+
+    # steady below ω = 0.5
+    low = [(k, j) for k, ds in R.items() for j in jumps_of(ds) if j["omega"] < LOW_OMEGA]
+    low_h = [(k, h) for k, ds in R.items() for h in hysteresis_of(ds) if h[0] < LOW_OMEGA]
+    claims.append(CLAIMS["JUMP-LOW"].judge(
+        f"over {len(R)} responses (ξ0, ξ1, D varied): {len(low)} jumps and {len(low_h)} hysteresis intervals below "
+        f"ω = {LOW_OMEGA:g}" + (": " + ", ".join(f"{j['omega']:.2f} at {k}" for k, j in low) if low else ""),
+        "reproduced" if not low and not low_h else "not reproduced", jd.ev(*R)))
+
+    def size_series(keys: Sequence[tuple[float, float, float]]) -> list[float]:
+        out = []
+        for k in keys:
+            j = first_up_jump(R[k])
+            out.append(j["size"] if j else float("nan"))
+        return out
+
+    above = CLAIMS["JUMP-XI0"].numbers["omega"]
+    for cid, keys, lab, dec in (("JUMP-XI0", s.xi0_set, "ξ0", True), ("JUMP-XI1", s.xi1_set, "ξ1", False)):
+        sizes = size_series(keys)
+        vals = [k[0] if lab == "ξ0" else k[1] for k in keys]
+        locs = [first_up_jump(R[k]) for k in keys]
+        txt = f"first upward jump above ω = {above:g} (up sweep): " + ", ".join(
+            f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none") for v, sz, j in zip(vals, sizes, locs))
+        ok = _monotone(sizes, dec)
+        exists = all(j is not None for j in locs)
+        claims.append(CLAIMS[cid].judge(
+            txt + f"; sizes {'decrease' if dec else 'increase'} with {lab}: {'yes' if ok else 'no'}.",
+            combine(ok, exists), jd.ev(*keys)))
+
+    fl0 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi0_set]
+    fl1 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi1_set]
+    ok0, ok1 = _monotone(fl0, True), _monotone(fl1, False)
+    claims.append(CLAIMS["JUMP-FLUCT"].judge(
+        "fluctuation after the first jump (mean |ΔA| between neighbouring ω of the up sweep): ξ0 = " +
+        ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0)) + f" ({'weakens' if ok0 else 'does not weaken'} "
+        f"with ξ0); ξ1 = " + ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1)) +
+        f" ({'intensifies' if ok1 else 'does not intensify'} with ξ1).",
+        combine(ok0 and ok1, ok0 or ok1), jd.ev(*s.xi0_set, *s.xi1_set)))
+
+    firsts = {k: first_up_jump(R[k]) for k in s.d_set}
+    at = CLAIMS["JUMP-057"].numbers["omega"]
+    near = [k for k, j in firsts.items() if j and abs(j["omega"] - at) <= JUMP_NEAR]
+    locs = np.array([j["omega"] for j in firsts.values() if j])
+    common = locs.size >= 2 and float(np.ptp(locs)) <= 2 * JUMP_NEAR
+    if common:
+        shared = f"{locs.min():.3f}" if np.ptp(locs) == 0 else f"{locs.min():.3f}–{locs.max():.3f}"
+    v = verdict_of(len(near) / len(firsts))
+    if v == "not reproduced" and common:
+        v = "partly reproduced"  # one jump location shared by the backlash values, but not at the paper's
+    claims.append(CLAIMS["JUMP-057"].judge(
+        "first upward jump (up sweep) for D = " + ", ".join(
+            f"{k[2]:g}: " + (f"ω = {j['omega']:.3f}" if j else "none") for k, j in firsts.items()) +
+        f"; within ±{JUMP_NEAR:g} of {at:g} for {len(near)} of {len(firsts)}" +
+        (f"; the jumps found share one location, ω = {shared}" if common else "") + ".",
+        v, jd.ev(*s.d_set)))
+
+    def near_jump(keys: Sequence[tuple[float, float, float]], omega: float, direction: str,
+                  tol: float) -> tuple[str, bool]:
+        parts = []
+        found = False
+        for k in keys:
+            js = [j for j in jumps_of(R[k]) if j["direction"] == direction]
+            best = min(js, key=lambda j: abs(j["omega"] - omega)) if js else None
+            hit = best is not None and abs(best["omega"] - omega) <= tol
+            found |= hit
+            parts.append(f"D = {k[2]:g}: " + (f"nearest {direction}ward jump at ω = {best['omega']:.3f} "
+                                             f"({best['sweep']} sweep, size {best['size']:.3f})" if best else f"no {direction}ward jump"))
+        return "; ".join(parts), found
+
+    base_xi0 = s.d_set[0][0]  # the ξ0 of the backlash responses
+    for cid in ("JUMP-082", "JUMP-095"):
+        b, omega, direction = (CLAIMS[cid].numbers[k] for k in ("b", "omega", "direction"))
+        keys = [k for k in ((base_xi0, TABLE1["xi1"], b / 2), (base_xi0, TABLE1["xi1"], b)) if k in R]
+        txt, found_main = near_jump(keys[:1], omega, direction, JUMP_NEAR)
+        txt_alt, found_alt = near_jump(keys[1:], omega, direction, JUMP_NEAR) if len(keys) > 1 else ("", False)
+        v = "reproduced" if found_main else ("partly reproduced" if found_alt else "not reproduced")
+        claims.append(CLAIMS[cid].judge(f"b = {b:g} read as D = b/2 (Table 3 reading): {txt}" +
+                                        (f". Read as D = b: {txt_alt}" if txt_alt else "") + ".", v, jd.ev(*keys)))
+
+    return Section(
+        "Jumps and fluctuations of the amplitude-frequency response",
+        [f"Up and down sweeps over ω ∈ [{s.response_omega[0]:g}, {s.response_omega[1]:g}] ({s.response_num} points, "
+         f"each starting from the previous end state, {s.response_options.transient} transient and "
+         f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step of the "
+         "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
+         "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm); the reading D = b "
+         f"is shown alongside where the claim depends on it. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."],
+        [(jd.evidence[k][1], f"Frequency response ξ0 = {k[0]:g}, ξ1 = {k[1]:g}, D = {k[2]:g} (up and down sweeps)")
+         for k in R],
+        claims,
+        table,
+    )
+
+
+def study_table4(ctx: Context, jd: JumpData) -> Section:
+    """Table 4: amplitude and jump type at five operating points, read from the jump study's responses.
+
+    Parameters
+    ----------
+    ctx : Context
+        Unused (the common signature of the jump studies).
+    jd : JumpData
+        Must hold the D = b/2 response of every row (and the D = b one where computed).
+
+    Returns
+    -------
+    Section
+        T4-1 to T4-5 and Table 4 computed beside the paper's.
+    """
+    R = jd.responses
+    claims = []
+    table = [["ω", "ξ0", "b", "paper A", "paper jump", "geardyn A (up / down)", f"jumps within ±{TABLE4_NEAR:g}"]]
+    for cid in claim_ids("T4-"):
+        omega, xi0, b, A, kind = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A", "jump"))
+        key = (xi0, TABLE1["xi1"], b / 2)
+        alt = (xi0, TABLE1["xi1"], b)
+        ds = R[key]
+        x = ds["omega"].values
+        k = int(np.argmin(np.abs(x - omega)))
+        a_up = float(ds["amplitude"].sel(sweep="up").values[k])
+        a_dn = float(ds["amplitude"].sel(sweep="down").values[k])
+        js = [j for j in jumps_of(ds) if abs(j["omega"] - omega) <= TABLE4_NEAR]
+        kinds = sorted({j["direction"] + "ward" for j in js})
+        kind_ok = (not js) if kind == "none" else (kind in kinds)
+        amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
+        v = combine(kind_ok and amp_ok, kind_ok or amp_ok)
+        txt = (f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
+               f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'}")
+        ev = list(jd.evidence[key])
+        if alt in R:
+            da = R[alt]
+            ka = int(np.argmin(np.abs(da["omega"].values - omega)))
+            ja = sorted({j["direction"] + "ward" for j in jumps_of(da) if abs(j["omega"] - omega) <= TABLE4_NEAR})
+            txt += (f". Read as D = b = {b:g}: A = {float(da['amplitude'].sel(sweep='up').values[ka]):.3f} (up), "
+                    f"jumps: {', '.join(ja) or 'none'}")
+            ev += jd.evidence[alt]
+        claims.append(CLAIMS[cid].judge(txt + ".", v, ev))
+        table.append([f"{omega:g}", f"{xi0:g}", f"{b:g}", f"{A:g}", kind, f"{a_up:.3f} / {a_dn:.3f}",
+                      ", ".join(kinds) or "none"])
+    return Section(
+        "Table 4: amplitude and jump type at five operating points",
+        [f"Read from the frequency responses of the jump study at the grid ω nearest each row. Amplitude counts as "
+         f"matching within {100 * TABLE4_AMP_REL:.0f} % (either sweep); the jump type when a jump of that direction lies "
+         f"within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."],
+        [], claims, table)
