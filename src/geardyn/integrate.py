@@ -88,8 +88,14 @@ def natural_steps(model: GearModel, dtau: float) -> int:
 def _thread_count(n: int) -> int:
     import numba
 
-    if isinstance(n, bool) or int(n) != n or n < 1:
+    try:
+        whole = not isinstance(n, bool) and float(n).is_integer()
+    except (TypeError, ValueError, OverflowError):
+        whole = False
+    if not whole:
         raise ModelError(f"threads: must be an integer >= 1, got {n!r}")
+    if n < 1:
+        raise ModelError(f"threads: must be >= 1, got {n}")
     return min(int(n), numba.config.NUMBA_NUM_THREADS)
 
 

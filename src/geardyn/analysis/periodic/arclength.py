@@ -17,10 +17,10 @@ taken with N fixed.
 
 References
 ----------
-E. L. Allgower and K. Georg, *Introduction to Numerical Continuation Methods*, SIAM, 2003, ch. 2
-and 9 (pseudo-arclength continuation, detection of bifurcation points); R. Seydel, *Practical
-Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010, ch. 4 and 7; Yu. A. Kuznetsov,
-*Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004, ch. 10.
+E. L. Allgower and K. Georg, *Introduction to Numerical Continuation Methods*, SIAM, 2003
+(pseudo-arclength continuation, detection of bifurcation points); R. Seydel, *Practical
+Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010; Yu. A. Kuznetsov,
+*Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004 (numerical analysis of bifurcations).
 """
 
 
@@ -569,7 +569,7 @@ def continue_branch(orbit: PeriodicOrbit, param: str, stop: float, *, start_boun
 
     References
     ----------
-    E. L. Allgower and K. Georg, *Introduction to Numerical Continuation Methods*, SIAM, 2003, ch. 2.
+    E. L. Allgower and K. Georg, *Introduction to Numerical Continuation Methods*, SIAM, 2003.
     """
     param = canonical_param(param)
     if not orbit.converged:

@@ -68,7 +68,7 @@ def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel
 
     References
     ----------
-    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004, §10.3
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
     (branch switching at a flip point).
     """
     param = branch.param
@@ -323,7 +323,8 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
     References
     ----------
     R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
-    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004, ch. 10.
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
+    (numerical analysis of bifurcations).
     """
     param = canonical_param(param)
     for name, val in (("start", start), ("stop", stop)):

@@ -43,7 +43,7 @@ class Floquet:
 
     References
     ----------
-    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004, §1.5
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
     (multipliers of a fixed point of a map and the codimension-one crossings).
     """
 
@@ -90,7 +90,8 @@ def floquet(monodromy: np.ndarray, n: int, period: float) -> Floquet:
 
     References
     ----------
-    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004, §1.5.
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
+    (multipliers of periodic orbits and fixed points of maps).
     """
     M = np.asarray(monodromy, dtype=float)
     if not np.all(np.isfinite(M)):

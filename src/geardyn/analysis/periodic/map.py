@@ -36,6 +36,14 @@ FD_REL_STEP = 1.0e-6
 MAP_THREADS = 1
 
 
+def _is_count(v: object) -> bool:
+    """v is an integer >= 1 (an int or an integral float, not a bool)."""
+    try:
+        return not isinstance(v, bool) and float(v).is_integer() and v >= 1
+    except (TypeError, ValueError, OverflowError):
+        return False
+
+
 @dataclass(frozen=True)
 class MapEvaluation:
     """One evaluation of P^n at a state (non-dimensional).
@@ -95,12 +103,12 @@ class PeriodMap:
 
     Notes
     -----
-    The map is immutable: :meth:`with_param` and :meth:`with_steps` return new maps.
+    Treat a map as immutable: :meth:`with_param` and :meth:`with_steps` return new maps.
 
     References
     ----------
     T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer,
-    1989, ch. 5 (the Poincaré map of a periodically forced system and its Jacobian by variational
+    1989 (the Poincaré map of a periodically forced system and its Jacobian by variational
     equations).
     """
 
@@ -108,9 +116,9 @@ class PeriodMap:
 
     def __init__(self, model: GearModel, n: int = 1, *, dtau: float = DEFAULT_DTAU, accurate: bool = False,
                  steps: int | None = None):
-        if isinstance(n, bool) or int(n) != n or n < 1:
+        if not _is_count(n):
             raise ModelError(f"period: must be an integer >= 1, got {n!r}")
-        if steps is not None and (isinstance(steps, bool) or int(steps) != steps or steps < 1):
+        if steps is not None and not _is_count(steps):
             raise ModelError(f"steps: RK4 steps per period must be an integer >= 1, got {steps!r}")
         self.model = model
         self.n = int(n)

@@ -443,7 +443,7 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
     References
     ----------
     T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer,
-    1989, §5.3 (shooting for periodic solutions of forced systems).
+    1989 (shooting for periodic solutions of forced systems).
     """
     n = int(n)
     if n < 1:

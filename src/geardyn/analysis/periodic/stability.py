@@ -172,7 +172,7 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
 
     References
     ----------
-    A. H. Nayfeh and D. T. Mook, *Nonlinear Oscillations*, Wiley, 1979, §5.2 (the damped Mathieu
+    A. H. Nayfeh and D. T. Mook, *Nonlinear Oscillations*, Wiley, 1979 (the damped Mathieu
     equation and its instability tongues).
     """
     om = np.asarray(list(omegas), dtype=float)
