@@ -6,8 +6,8 @@ The main entry points, importable from here:
 * the gear pair and its units: :class:`SpiralBevelGearPair`, :func:`load_config`,
   :class:`PhysicalScales`;
 * analyses: :func:`simulate` (steady response), :func:`trajectory`, :func:`integrate_batch`,
-  :func:`period_map`, :func:`lyapunov_spectrum`, :func:`bifurcation`, :func:`shoot`,
-  :func:`continuation`;
+  :func:`period_map`, :class:`PeriodMap`, :func:`lyapunov_spectrum`, :func:`bifurcation`,
+  :func:`shoot`, :func:`continuation`;
 * physical outputs: :func:`add_physical`, :func:`simulate_physical`;
 * results on disk: :func:`read_netcdf`, :func:`write_netcdf`; every result Dataset has the
   ``ds.geardyn`` accessor (``ds.geardyn.plot()``).
@@ -42,6 +42,7 @@ _LAZY = {
     "bifurcation": ".analysis.bifurcation",
     "shoot": ".analysis.periodic",
     "continuation": ".analysis.periodic",
+    "PeriodMap": ".analysis.periodic",
     "add_physical": ".analysis.physical",
     "simulate_physical": ".analysis.physical",
     "read_netcdf": ".io",

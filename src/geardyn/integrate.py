@@ -3,12 +3,25 @@
 This is the only module that talks to the numba kernel (:mod:`geardyn._kernel`).  Every analysis
 (simulation, sweeps, Lyapunov spectra, shooting) goes through :func:`integrate_batch`,
 :func:`trajectory` or :func:`period_map`.
+
+Two integration settings are arguments of these functions rather than fields of
+:class:`~geardyn.model.IntegrationOptions`:
+
+``steps``
+    RK4 steps per forcing period.  By default N = ceil(T/Δτ); an analysis that must hold N fixed
+    while a parameter moves (the corrector of a continuation) passes it directly, and the step is
+    then h = T/N exactly.
+``threads``
+    Threads the kernel may use for this call (None: numba's current setting).  The setting of the
+    calling thread is restored when the call returns, so no analysis changes the thread count its
+    caller sees (:func:`using_threads`).  Only :func:`set_threads` changes it for good.
 """
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import Iterator, Sequence
 
 import numpy as np
 
@@ -22,6 +35,10 @@ __all__ = [
     "trajectory",
     "period_map",
     "set_threads",
+    "using_threads",
+    "state_dim",
+    "natural_steps",
+    "STATE_DIM",
     "ST_OK",
     "ST_DIVERGED",
     "DIVERGENCE_BOUND",
@@ -30,17 +47,110 @@ __all__ = [
 ST_OK = K.ST_OK
 ST_DIVERGED = K.ST_DIVERGED
 DIVERGENCE_BOUND = K.DIVERGENCE_BOUND
+#: Dimension of the state the kernel integrates: (u, u') of the 1-DOF model.
+STATE_DIM = 2
+
+
+def state_dim(model: GearModel) -> int:
+    """Dimension of the state of ``model`` as the kernel integrates it (the length of ``state0``).
+
+    Parameters
+    ----------
+    model : GearModel
+        The system.
+
+    Returns
+    -------
+    int
+        :data:`STATE_DIM` (2: (u, u')) for the 1-DOF model, the only system the kernel integrates.
+    """
+    return STATE_DIM
+
+
+def natural_steps(model: GearModel, dtau: float) -> int:
+    """The RK4 steps per forcing period the kernel takes for ``model`` when none are given.
+
+    Parameters
+    ----------
+    model : GearModel
+        The model.
+    dtau : float
+        Target step Δτ.
+
+    Returns
+    -------
+    int
+        N = ceil(T/Δτ), so that h = T/N <= Δτ (:func:`geardyn.model.steps_per_period`).
+    """
+    return int(steps_per_period(model.omega, dtau))
+
+
+def _thread_count(n: int) -> int:
+    import numba
+
+    try:
+        whole = not isinstance(n, bool) and float(n).is_integer()
+    except (TypeError, ValueError, OverflowError):
+        whole = False
+    if not whole:
+        raise ModelError(f"threads: must be an integer >= 1, got {n!r}")
+    if n < 1:
+        raise ModelError(f"threads: must be >= 1, got {n}")
+    return min(int(n), numba.config.NUMBA_NUM_THREADS)
 
 
 def set_threads(n: int | None) -> None:
-    """Set the number of threads the kernel uses (None: leave numba's default, all cores)."""
+    """Set the number of threads the kernel uses from now on (for a command or a worker process).
+
+    Parameters
+    ----------
+    n : int or None
+        Threads (at most numba's thread limit); None leaves numba's setting (default: all cores).
+
+    Raises
+    ------
+    ModelError
+        If ``n`` is not an integer >= 1.
+    """
     if n is None:
         return
     import numba
 
-    if n < 1:
-        raise ModelError(f"threads: must be >= 1, got {n}")
-    numba.set_num_threads(min(int(n), numba.config.NUMBA_NUM_THREADS))
+    numba.set_num_threads(_thread_count(n))
+
+
+@contextmanager
+def using_threads(n: int | None) -> Iterator[None]:
+    """Let the kernel use ``n`` threads inside the ``with`` block, then restore the previous setting.
+
+    numba's thread setting belongs to the calling thread; it is restored even when the block
+    raises, so a caller sees the same ``numba.get_num_threads()`` before and after.
+
+    Parameters
+    ----------
+    n : int or None
+        Threads for the block; None changes nothing.
+
+    Raises
+    ------
+    ModelError
+        If ``n`` is not an integer >= 1.
+    """
+    if n is None:
+        yield
+        return
+    import numba
+
+    want = _thread_count(n)
+    old = numba.get_num_threads()
+    if want == old:
+        yield
+        return
+    numba.set_num_threads(want)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(old)
 
 
 @dataclass
@@ -145,17 +255,34 @@ def _state_array(state0: Sequence[float] | np.ndarray | None, P: int) -> np.ndar
     return np.ascontiguousarray(s, dtype=float)
 
 
-def _prepare(models: Sequence[GearModel], options: IntegrationOptions):
+def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
+    """Validated steps per period for P points from an integer or a (P,) sequence."""
+    arr = np.asarray(steps)
+    if arr.ndim == 0:
+        arr = np.full(P, arr)
+    if arr.shape != (P,):
+        raise ModelError(f"steps: expected an integer or {P} integers, got shape {arr.shape}")
+    if arr.dtype.kind not in "iuf" or arr.dtype == bool or not np.all(np.isfinite(arr)) \
+            or not np.all(arr == np.round(arr)) or np.any(arr < 1):
+        raise ModelError(f"steps: RK4 steps per period must be integers >= 1, got {steps!r}")
+    return np.ascontiguousarray(arr, dtype=np.int64)
+
+
+def _prepare(models: Sequence[GearModel], options: IntegrationOptions,
+             steps: int | Sequence[int] | np.ndarray | None = None):
     models = list(models)
     coef, D, omega = pack_models(models)
-    for m in models:
-        options.check_for(m.omega)
-    nsteps = steps_per_period(omega, options.dtau)
+    if steps is None:
+        for m in models:
+            options.check_for(m.omega)
+        nsteps = steps_per_period(omega, options.dtau)
+    else:
+        nsteps = _steps_array(steps, len(models))
     return models, coef, D, omega, nsteps
 
 
 def _run(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
-         record_poincare=True, hist_len=0, lyapunov=False):
+         record_poincare=True, hist_len=0, lyapunov=False, threads=None):
     P = coef.shape[0]
     poincare = np.zeros((P, n_record if record_poincare else 0, 2))
     end_state = np.zeros((P, 2))
@@ -164,8 +291,10 @@ def _run(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurat
     tan_out = np.zeros((P, 2, 2))
     status = np.zeros(P, dtype=np.int64)
     hist = np.zeros((P, hist_len, 2))
-    K.run_batch(coef, D, omega, nsteps, state0, int(n_transient), int(n_record), int(tangent),
-                bool(accurate), poincare, end_state, stats, tan_log, tan_out, status, hist)
+    # one point runs on one worker whatever the setting: leave numba's state alone then
+    with using_threads(threads if P > 1 else None):
+        K.run_batch(coef, D, omega, nsteps, state0, int(n_transient), int(n_record), int(tangent),
+                    bool(accurate), poincare, end_state, stats, tan_log, tan_out, status, hist)
     return poincare, end_state, stats, tan_log, tan_out, status, hist
 
 
@@ -176,6 +305,8 @@ def integrate_batch(
     *,
     lyapunov: bool = False,
     record_poincare: bool = True,
+    steps: int | Sequence[int] | np.ndarray | None = None,
+    threads: int | None = None,
 ) -> BatchResult:
     """Integrate P parameter points through ``options.transient + options.periods`` periods.
 
@@ -192,12 +323,30 @@ def integrate_batch(
         return the per-period logs (``lyapunov_log``) for :mod:`geardyn.analysis.lyapunov`.
     record_poincare : bool
         Keep the Poincaré points (False saves memory in large sweeps).
+    steps : int or (P,) ints, optional
+        RK4 steps per forcing period N, the step being h = T/N; by default N = ceil(T/Δτ) from
+        ``options.dtau`` (which is then not used).
+    threads : int, optional
+        Threads the kernel may use for this batch (default: numba's current setting, which is
+        left as it was).
+
+    Returns
+    -------
+    BatchResult
+        Section points, end states, statuses and statistics per point.
+
+    Raises
+    ------
+    ModelError
+        For an empty grid, a step not below a forcing period, a bad initial state, ``steps`` or
+        ``threads``.
     """
-    models, coef, D, omega, nsteps = _prepare(models, options)
+    models, coef, D, omega, nsteps = _prepare(models, options, steps)
     s0 = _state_array(state0, len(models))
     tangent = K.TAN_LYAPUNOV if lyapunov else K.TAN_NONE
     pc, end, stats, tl, tout, status, _ = _run(coef, D, omega, nsteps, s0, options.transient, options.periods,
-                                               tangent, options.accurate, record_poincare, 0, lyapunov)
+                                               tangent, options.accurate, record_poincare, 0, lyapunov,
+                                               threads)
     return BatchResult(models, options, pc, end, status, stats, nsteps,
                        lyapunov_log=tl if lyapunov else None, tangent=tout if lyapunov else None)
 
@@ -229,14 +378,42 @@ def trajectory(
     options: IntegrationOptions = IntegrationOptions(),
     *,
     history_periods: int = 32,
+    steps: int | None = None,
+    threads: int | None = None,
 ) -> Trajectory:
-    """Integrate one point and keep the state at every step of its last ``history_periods`` periods."""
-    models, coef, D, omega, nsteps = _prepare([model], options)
+    """Integrate one point and keep the state at every step of its last ``history_periods`` periods.
+
+    Parameters
+    ----------
+    model : GearModel
+        The model.
+    state0 : (2,)
+        Initial (u, u') at θ = 0.
+    options : IntegrationOptions
+        Step, transient, recorded periods, accurate mode.
+    history_periods : int
+        Periods kept at every step (at most ``options.periods``).
+    steps : int, optional
+        RK4 steps per forcing period (default ceil(T/Δτ)).
+    threads : int, optional
+        Threads for this call (numba's setting is left as it was).
+
+    Returns
+    -------
+    Trajectory
+        The history and the batch summary.
+
+    Raises
+    ------
+    ModelError
+        For a step not below the forcing period, a bad initial state or ``steps``.
+    """
+    models, coef, D, omega, nsteps = _prepare([model], options, steps)
     hp = int(min(max(history_periods, 1), options.periods))
     N = int(nsteps[0])
     s0 = _state_array(state0, 1)
     pc, end, stats, _, _, status, hist = _run(coef, D, omega, nsteps, s0, options.transient, options.periods,
-                                              K.TAN_NONE, options.accurate, True, hp * N + 1)
+                                              K.TAN_NONE, options.accurate, True, hp * N + 1, False, threads)
     summary = BatchResult(models, options, pc, end, status, stats, nsteps)
     h = model.period / N
     tau = np.arange(hp * N + 1) * h
@@ -254,18 +431,48 @@ def period_map(
     *,
     dtau: float = IntegrationOptions().dtau,
     accurate: bool = False,
+    steps: int | None = None,
+    threads: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
     """The n-period stroboscopic map and its Jacobian.
 
-    Returns ``(points, monodromy, stats, ok)``: ``points`` (n, 2) the state after each of the n
-    periods (the last is P^n(state)), ``monodromy`` (2, 2) the derivative of P^n at ``state``
-    (tangent propagation of the same kernel: the exact Jacobian of the discrete map in the
-    default mode), ``stats`` the streaming statistics over the n periods, ``ok`` False if the
-    trajectory diverged.
+    Parameters
+    ----------
+    model : GearModel
+        The model.
+    state : (2,)
+        (u, u') at θ = 0.
+    n : int
+        Forcing periods of the map P^n.
+    dtau : float
+        Target step Δτ; N = ceil(T/Δτ) steps per period unless ``steps`` is given.
+    accurate : bool
+        Split steps at the contact boundaries.
+    steps : int, optional
+        RK4 steps per forcing period N (the step is h = T/N; ``dtau`` is then not used).
+    threads : int, optional
+        Threads for this call (numba's setting is left as it was).
+
+    Returns
+    -------
+    points : ndarray (n, 2)
+        The state after each of the n periods (the last is P^n(state)).
+    monodromy : ndarray (2, 2)
+        The derivative of P^n at ``state`` (tangent propagation of the same kernel: the exact
+        Jacobian of the discrete map in the default mode).
+    stats : ndarray (NSTAT,)
+        The streaming statistics over the n periods.
+    ok : bool
+        False if the trajectory diverged.
+
+    Raises
+    ------
+    ModelError
+        For a step not below the forcing period, a bad state or ``steps``.
     """
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=int(n), accurate=accurate)
-    models, coef, D, omega, nsteps = _prepare([model], opts)
+    models, coef, D, omega, nsteps = _prepare([model], opts, steps)
     s0 = _state_array(state, 1)
-    pc, end, stats, _, tout, status, _ = _run(coef, D, omega, nsteps, s0, 0, int(n), K.TAN_MONODROMY, accurate)
+    pc, end, stats, _, tout, status, _ = _run(coef, D, omega, nsteps, s0, 0, int(n), K.TAN_MONODROMY, accurate,
+                                              threads=threads)
     return pc[0], tout[0], stats[0], bool(status[0] == ST_OK)
-

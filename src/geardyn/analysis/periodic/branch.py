@@ -1,0 +1,104 @@
+"""A branch of periodic orbits and the events located on it (results of a continuation)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Bifurcation", "Branch", "BIFURCATION_TYPES"]
+
+#: Bifurcation (event) types reported by :func:`~geardyn.analysis.periodic.continuation`.
+BIFURCATION_TYPES = ("fold", "period-doubling", "neimark-sacker", "grazing", "branch-point")
+
+
+@dataclass
+class Bifurcation:
+    """A located event on a branch (non-dimensional).
+
+    ``type`` is one of :data:`BIFURCATION_TYPES`; ``value`` the parameter value; ``state`` the orbit's
+    (u, u') at θ = 0; ``n`` the period of the branch it lies on; ``detail`` says which multiplier or
+    which boundary (e.g. ``u_min = +D``); ``located`` is False when the location did not converge
+    (the value is then the better end of the bracketing step).
+    """
+
+    type: str
+    param: str
+    value: float
+    state: np.ndarray
+    n: int
+    branch: int
+    multipliers: np.ndarray
+    u_min: float
+    u_max: float
+    detail: str = ""
+    located: bool = True
+    stable_before: bool | None = None
+    stable_after: bool | None = None
+    test: str = ""
+
+    @property
+    def amplitude(self) -> float:
+        """Half peak-to-peak displacement of the orbit there."""
+        return 0.5 * (self.u_max - self.u_min)
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON form (an element of ``bifurcations`` in ``continuation --json``)."""
+        return {
+            "type": self.type,
+            self.param: float(self.value),
+            "period": int(self.n),
+            "branch": int(self.branch),
+            "state": [float(s) for s in self.state],
+            "amplitude": float(self.amplitude),
+            "u_min": float(self.u_min),
+            "u_max": float(self.u_max),
+            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
+            "detail": self.detail,
+            "located": bool(self.located),
+        }
+
+
+@dataclass
+class Branch:
+    """A continued branch of period-n orbits (arrays over its K points, non-dimensional).
+
+    ``values`` the parameter, ``states`` (K, 2) the orbit at θ = 0, ``points`` (K, n, 2) all section
+    points, ``multipliers`` (K, 2) complex, ``u_min``/``u_max`` (K,), ``stable`` (K,).  ``origin`` is
+    the bifurcation it was switched from (None for a primary branch); ``end`` says why it stopped.
+    """
+
+    index: int
+    param: str
+    n: int
+    values: np.ndarray
+    states: np.ndarray
+    points: np.ndarray
+    monodromy: np.ndarray
+    u_min: np.ndarray
+    u_max: np.ndarray
+    steps: np.ndarray
+    end: str
+    origin: Bifurcation | None = None
+    bifurcations: list[Bifurcation] = field(default_factory=list)
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        """(K, d) complex multipliers per point, largest modulus first."""
+        mu = np.linalg.eigvals(self.monodromy)
+        order = np.argsort(-np.abs(mu), axis=1, kind="stable")
+        return np.take_along_axis(mu, order, axis=1)
+
+    @property
+    def stable(self) -> np.ndarray:
+        """(K,) all multipliers inside the unit circle."""
+        return np.max(np.abs(self.multipliers), axis=1) < 1.0
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """(K,) half peak-to-peak displacement."""
+        return 0.5 * (self.u_max - self.u_min)
+
+    def __len__(self) -> int:
+        return len(self.values)

@@ -1,0 +1,439 @@
+"""Continuation of periodic orbits over a parameter interval, with branch switching.
+
+:func:`continuation` shoots the first orbit, continues its branch (:mod:`.branch`) and, at every
+period doubling, switches onto the period-2n branch (:func:`switch_at_period_doubling`) and
+continues that too, up to a largest period.  :class:`ContinuationResult` holds the branches and
+events and writes the ``continuation --json`` summary and the NetCDF Dataset.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+import xarray as xr
+
+from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
+from ...status import Status
+from .arclength import MAX_BRANCH_POINTS, continue_branch
+from .branch import Bifurcation, Branch
+from .map import PeriodMap
+from .orbit import SHOOT_MAX_ITER, SHOOT_TOL, PeriodicOrbit, _minimal_period, _newton, _orbit_from_eval, shoot
+
+__all__ = ["ContinuationResult", "continuation", "switch_at_period_doubling", "DEFAULT_MAX_PERIOD"]
+
+#: Branch switching at a period doubling: parameter offset (relative to |stop − start|) at which the
+#: period-2n orbit is sought, and the trial offsets along the critical eigenvector (times 1 + |x|).
+SWITCH_PARAM_REL = 2.0e-3
+SWITCH_AMPLITUDES = (3e-3, 1e-2, 3e-2, 1e-1, 3e-1)
+#: Largest period reached by branch switching by default.
+DEFAULT_MAX_PERIOD = 4
+#: A period doubling counts as the end of an already traced period-2n branch when its parameter and
+#: state lie this close (relative to |stop − start| and to 1 + |x|) to that branch's merge point.
+SAME_EVENT_PARAM_REL = 1.0e-3
+SAME_EVENT_STATE_REL = 1.0e-2
+
+
+def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel, *, stop: float,
+                              start: float, dtau: float, accurate: bool) -> PeriodicOrbit | None:
+    """A period-2n orbit next to a period doubling of a period-n branch (branch switching).
+
+    At the flip point x* the eigenvector e of the multiplier −1 gives the direction in which the
+    period-2n orbit emanates (a pitchfork of P^{2n}).  Period-2n orbits are sought by shooting at
+    the parameter p* ± δ from x* + a·e for a few offsets a, first on the side where the period-n
+    orbit is unstable (supercritical case), then on the other; the first solution whose minimal
+    period is 2n is returned (None if there is none).
+
+    Parameters
+    ----------
+    branch : Branch
+        The period-n branch.
+    bif : Bifurcation
+        Its period doubling.
+    model : GearModel
+        The model of the continuation (the parameter is set from ``bif``).
+    stop, start : float
+        The continuation interval (the period-2n orbit is sought inside it).
+    dtau : float
+        Target step Δτ.
+    accurate : bool
+        Accurate integration mode.
+
+    Returns
+    -------
+    PeriodicOrbit or None
+        A converged orbit of minimal period 2n.
+
+    References
+    ----------
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
+    (branch switching at a flip point).
+    """
+    param = branch.param
+    n2 = 2 * branch.n
+    ev_star = PeriodMap(model.with_param(param, bif.value), branch.n, dtau=dtau, accurate=accurate
+                        ).evaluate(bif.state)
+    if not ev_star.ok:
+        return None
+    w, V = np.linalg.eig(ev_star.monodromy)
+    k = int(np.argmin(np.abs(w + 1.0)))
+    e = np.real(V[:, k])
+    e = e / np.linalg.norm(e)
+    delta = SWITCH_PARAM_REL * abs(stop - start)
+    lo, hi = min(start, stop), max(start, stop)
+    sides = []
+    if bif.stable_before is not None and bif.stable_after is not None and bif.stable_before != bif.stable_after:
+        # the side where the period-n orbit is unstable first
+        direction = 1.0 if stop >= start else -1.0
+        unstable_dir = direction if bif.stable_before else -direction
+        sides = [unstable_dir, -unstable_dir]
+    else:
+        sides = [1.0, -1.0]
+    scale = 1.0 + float(np.linalg.norm(bif.state))
+    for sgn in sides:
+        p = bif.value + sgn * delta
+        if not (lo - 1e-12 <= p <= hi + 1e-12):
+            continue
+        try:
+            pmap = PeriodMap(model.with_param(param, p), n2, dtau=dtau, accurate=accurate)
+        except ModelError:
+            continue
+        for a in SWITCH_AMPLITUDES:
+            for s_e in (1.0, -1.0):
+                x0 = bif.state + s_e * a * scale * e
+                ev, conv, its, res, _status = _newton(pmap, x0, SHOOT_TOL, SHOOT_MAX_ITER)
+                if not conv:
+                    continue
+                if _minimal_period(ev.points, n2) == n2:
+                    return _orbit_from_eval(pmap, ev, True, Status.OK, its, res)
+    return None
+
+
+@dataclass
+class ContinuationResult:
+    """Branches and bifurcations of a continuation run (see :func:`continuation`)."""
+
+    model: GearModel
+    param: str
+    start: float
+    stop: float
+    branches: list[Branch]
+    dtau: float
+    accurate: bool
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def bifurcations(self) -> list[Bifurcation]:
+        """All events, excluding a period-2n branch's return to the period-n branch (already listed as
+        that branch's period doubling), sorted by branch then parameter."""
+        out = []
+        for b in self.branches:
+            out.extend(x for x in b.bifurcations if x.type != "merge")
+        return out
+
+    def of_type(self, typ: str, n: int | None = None) -> list[Bifurcation]:
+        """The events of type ``typ`` (on branches of period ``n`` if given)."""
+        return [b for b in self.bifurcations if b.type == typ and (n is None or b.n == n)]
+
+    def to_json(self) -> dict[str, Any]:
+        """The ``continuation --json`` summary (DESIGN §5): ``branch`` points and ``bifurcations``."""
+        pts = []
+        for br in self.branches:
+            mu = br.multipliers
+            st = br.stable
+            for i in range(len(br)):
+                pts.append({
+                    self.param: float(br.values[i]),
+                    "amplitude": float(br.amplitude[i]),
+                    "stable": bool(st[i]),
+                    "multipliers": [[float(m.real), float(m.imag)] for m in mu[i]],
+                    "period": int(br.n),
+                    "branch": int(br.index),
+                    "state": [float(s) for s in br.states[i]],
+                    "u_min": float(br.u_min[i]),
+                    "u_max": float(br.u_max[i]),
+                })
+        return {
+            "param": self.param,
+            "start": self.start,
+            "stop": self.stop,
+            "branch": pts,
+            "bifurcations": [b.to_json() for b in self.bifurcations],
+            "branches": [
+                {"branch": b.index, "period": b.n, "points": len(b), "end": b.end,
+                 "from": None if b.origin is None else {"type": b.origin.type, self.param: b.origin.value,
+                                                        "branch": b.origin.branch}}
+                for b in self.branches
+            ],
+            "notes": self.notes,
+        }
+
+    def to_dataset(self) -> xr.Dataset:
+        """One Dataset: dimension ``point`` (all branches concatenated, ``branch`` says which),
+        ``section`` (section points, NaN-padded to the longest period), ``bifurcation``."""
+        from ...io import annotate, result_attrs
+
+        nmax = max([b.n for b in self.branches] + [1])
+        rows = []
+        for b in self.branches:
+            K = len(b)
+            pu = np.full((K, nmax), np.nan)
+            pv = np.full((K, nmax), np.nan)
+            pu[:, : b.n] = b.points[:, :, 0]
+            pv[:, : b.n] = b.points[:, :, 1]
+            mu = b.multipliers
+            rows.append(dict(
+                value=b.values, branch=np.full(K, b.index), period=np.full(K, b.n), u0=b.states[:, 0],
+                v0=b.states[:, 1], amplitude=b.amplitude, u_min=b.u_min, u_max=b.u_max,
+                stable=b.stable.astype(np.int8), mre=mu.real, mim=mu.imag, pu=pu, pv=pv,
+            ))
+
+        def cat(k: str) -> np.ndarray:
+            return np.concatenate([r[k] for r in rows]) if rows else np.zeros(0)
+
+        P = self.param
+        bifs = self.bifurcations
+        ds = xr.Dataset(
+            {
+                P: ("point", cat("value")),
+                "branch": ("point", cat("branch").astype(np.int64)),
+                "period": ("point", cat("period").astype(np.int64)),
+                "u": ("point", cat("u0")),
+                "v": ("point", cat("v0")),
+                "amplitude": ("point", cat("amplitude")),
+                "u_min": ("point", cat("u_min")),
+                "u_max": ("point", cat("u_max")),
+                "stable": ("point", cat("stable").astype(np.int8)),
+                "multiplier_re": (("point", "multiplier"), cat("mre").reshape(-1, 2)),
+                "multiplier_im": (("point", "multiplier"), cat("mim").reshape(-1, 2)),
+                "poincare_u": (("point", "section"), cat("pu").reshape(-1, nmax)),
+                "poincare_v": (("point", "section"), cat("pv").reshape(-1, nmax)),
+                "status": ("point", np.zeros(sum(len(b) for b in self.branches), dtype=np.int64)),
+                "bifurcation_type": ("bifurcation", np.array([b.type for b in bifs], dtype=object)),
+                f"bifurcation_{P}": ("bifurcation", np.array([b.value for b in bifs], dtype=float)),
+                "bifurcation_period": ("bifurcation", np.array([b.n for b in bifs], dtype=np.int64)),
+                "bifurcation_branch": ("bifurcation", np.array([b.branch for b in bifs], dtype=np.int64)),
+                "bifurcation_u": ("bifurcation", np.array([b.state[0] for b in bifs], dtype=float)),
+                "bifurcation_v": ("bifurcation", np.array([b.state[1] for b in bifs], dtype=float)),
+                "bifurcation_amplitude": ("bifurcation", np.array([b.amplitude for b in bifs], dtype=float)),
+                "bifurcation_detail": ("bifurcation", np.array([b.detail for b in bifs], dtype=object)),
+            },
+            coords={"point": np.arange(sum(len(b) for b in self.branches)), "multiplier": np.arange(2),
+                    "section": np.arange(nmax), "bifurcation": np.arange(len(bifs))},
+            attrs=result_attrs(
+                "continuation", self.model, {"dtau": self.dtau, "accurate": self.accurate},
+                param=P, start=str(self.start), stop=str(self.stop),
+                branches=[{"branch": b.index, "period": b.n, "end": b.end} for b in self.branches],
+                notes=self.notes,
+            ),
+        )
+        meta = {
+            "branch": ("1", "branch index"),
+            "period": ("1", "period of the orbit (forcing periods)"),
+            "u": ("1", "orbit displacement u at θ = 0"),
+            "v": ("1", "orbit velocity du/dτ at θ = 0"),
+            "amplitude": ("1", "half peak-to-peak displacement of the orbit"),
+            "stable": ("1", "orbit stable (1) or unstable (0)"),
+            "multiplier_re": ("1", "Floquet multiplier, real part"),
+            "multiplier_im": ("1", "Floquet multiplier, imaginary part"),
+            "poincare_u": ("1", "section points u of the orbit (θ ≡ 0)"),
+            "poincare_v": ("1", "section points du/dτ of the orbit (θ ≡ 0)"),
+            "status": ("1", "point status (0 ok)"),
+            "point": ("1", "index of the branch point"),
+            "multiplier": ("1", "multiplier index (largest modulus first)"),
+            "section": ("1", "index of the section point along the orbit"),
+            "bifurcation": ("1", "index of the bifurcation"),
+            "bifurcation_type": ("1", "bifurcation type"),
+            f"bifurcation_{P}": ("1", f"parameter {P} at the bifurcation"),
+            "bifurcation_period": ("1", "period of the branch the bifurcation lies on"),
+            "bifurcation_branch": ("1", "branch index of the bifurcation"),
+            "bifurcation_u": ("1", "orbit u at θ = 0 at the bifurcation"),
+            "bifurcation_v": ("1", "orbit du/dτ at θ = 0 at the bifurcation"),
+            "bifurcation_amplitude": ("1", "orbit amplitude at the bifurcation"),
+            "bifurcation_detail": ("1", "which multiplier or boundary"),
+        }
+        for k, (u, lname) in meta.items():
+            ds[k].attrs.update(units=u, long_name=lname)
+        annotate(ds)
+        if "long_name" not in ds[P].attrs:
+            ds[P].attrs.update(units="1", long_name=f"continuation parameter {P}")
+        return ds
+
+
+def continuation(model: GearModel, param: str, start: float, stop: float, n: int = 1,
+                 guess: Sequence[float] | None = None, *, dtau: float = DEFAULT_DTAU, accurate: bool = True,
+                 switch: bool = True, max_period: int = DEFAULT_MAX_PERIOD, ds: float | None = None,
+                 ds_max: float | None = None, max_points: int = MAX_BRANCH_POINTS, locate: bool = True,
+                 state0: Sequence[float] | None = None) -> ContinuationResult:
+    """Pseudo-arclength continuation of period-n orbits in ``param`` from ``start`` to ``stop``.
+
+    Parameters
+    ----------
+    model : GearModel
+        The model; ``param`` is set to ``start`` for the first orbit.
+    param : str
+        Any model parameter name (``omega``, ``xi0``, ``xi1``, ``kappa1``, ``fp``, ``eps1``/``fe``,
+        ``D``/``backlash``, phases ``phi_c1``…).
+    start, stop : float
+        The interval; ``stop`` may lie below ``start``.
+    n : int
+        Period of the first branch (forcing periods).
+    guess : (u, u'), optional
+        Shooting guess at ``start``; by default the attractor reached by simulation from
+        ``state0`` (default (0, 0)).
+    switch : bool
+        Switch at every period doubling onto the period-2n branch (up to ``max_period``) and
+        continue it too.
+    ds, ds_max : float, optional
+        Initial and largest arclength step in (u, u', p/|stop − start|), i.e. with the parameter
+        interval scaled to length 1 (defaults DS_INIT and DS_MAX).  Smaller steps resolve closely
+        spaced events better.
+    locate : bool
+        Locate events precisely (secant on test functions); otherwise report the nearer end of the
+        step that brackets them.
+    dtau : float
+        Target step Δτ.
+    accurate : bool
+        Accurate integration mode (the default here: its multipliers vary smoothly along a branch).
+    max_period : int
+        Largest period reached by switching.
+    max_points : int
+        Largest number of points per branch.
+    state0 : (u, u'), optional
+        Start of the simulation that gives the first guess.
+
+    Returns
+    -------
+    ContinuationResult
+        Branches (stable and unstable parts; ``Branch.stable``) and bifurcations: ``fold`` (a
+        real multiplier through +1 at a turning point of the branch; the jump points of a
+        hysteresis loop), ``period-doubling`` (a real multiplier through −1), ``neimark-sacker``
+        (a complex pair through the unit circle; impossible here for ξ0 > 0 since
+        |μ1 μ2| = det M = exp(−2ξ0 nT) < 1), ``grazing`` (u_min or u_max of the orbit crossing ±D:
+        contact loss or back-side contact begins, the map changes form) and ``branch-point``
+        (a multiplier through +1 without a turn; not generic here).
+
+    Raises
+    ------
+    ModelError
+        For a bad parameter name or interval, or when the first orbit cannot be found.
+
+    References
+    ----------
+    R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
+    (numerical analysis of bifurcations).
+    """
+    param = canonical_param(param)
+    for name, val in (("start", start), ("stop", stop)):
+        if not math.isfinite(float(val)):
+            raise ModelError(f"{name}: must be a finite number, got {val!r}")
+    if start == stop:
+        raise ModelError("stop: must differ from start")
+    if max_period < n:
+        max_period = n
+    m0 = model.with_param(param, start)
+    model.with_param(param, stop)  # validates the far end too
+    IntegrationOptions(dtau=dtau).check_for(m0.omega)
+    if param == "omega":
+        IntegrationOptions(dtau=dtau).check_for(max(start, stop))
+    orbit = shoot(m0, n, guess, dtau=dtau, accurate=accurate, state0=state0)
+    notes: list[str] = []
+    if not orbit.converged:
+        raise ModelError(f"guess: shooting for the period-{n} orbit at {param} = {start:g} did not converge "
+                         f"(status {orbit.status_label}); give a better --guess u,v")
+    if orbit.minimal_period < n:
+        notes.append(f"the starting orbit has minimal period {orbit.minimal_period} < {n}")
+    branches = [continue_branch(orbit, param, stop, start_bound=start, index=0, ds=ds, ds_max=ds_max,
+                                max_points=max_points, locate=locate)]
+    span = abs(stop - start)
+    if switch:
+        queue = [0]
+        seen: list[tuple[int, float, np.ndarray]] = []  # (period, value, state) of merge points / sources
+        while queue:
+            bi = queue.pop(0)
+            br = branches[bi]
+            if 2 * br.n > max_period:
+                continue
+            for b in br.bifurcations:
+                if b.type != "period-doubling":
+                    continue
+                if any(nn == 2 * br.n and abs(v - b.value) <= SAME_EVENT_PARAM_REL * span
+                       and np.linalg.norm(s - b.state) <= SAME_EVENT_STATE_REL * (1 + np.linalg.norm(s))
+                       for nn, v, s in seen):
+                    continue  # the period-2n branch through this point is already traced
+                new = switch_at_period_doubling(br, b, model, stop=stop, start=start, dtau=dtau,
+                                                accurate=accurate)
+                if new is None:
+                    notes.append(f"no period-{2 * br.n} orbit found next to the period doubling at "
+                                 f"{param} = {b.value:.6g}")
+                    continue
+                p_new = new.model.get(param)
+                away = 1.0 if p_new >= b.value else -1.0
+                far, near = (max(start, stop), min(start, stop)) if away > 0 else (min(start, stop), max(start, stop))
+                nb = continue_branch(new, param, far, start_bound=near, index=len(branches), ds=ds,
+                                     ds_max=ds_max, max_points=max_points, locate=locate, origin=b,
+                                     direction=away)
+                nb = _prepend_source(nb, b, model, dtau, accurate)
+                nb = _append_merge(nb, br, model, dtau, accurate, span)
+                branches.append(nb)
+                seen.append((2 * br.n, b.value, b.state.copy()))
+                for mb in nb.bifurcations:
+                    if mb.type == "merge":
+                        seen.append((nb.n, mb.value, mb.state.copy()))
+                queue.append(nb.index)
+    return ContinuationResult(model, param, float(start), float(stop), branches, dtau, accurate, notes)
+
+
+def _append_merge(br: Branch, parent: Branch, model: GearModel, dtau: float, accurate: bool, span: float) -> Branch:
+    """A switched branch that ended by meeting its parent branch: replace the interpolated merge point
+    by the parent's period doubling there (located precisely on the parent) and end the branch on it."""
+    merges = [b for b in br.bifurcations if b.type == "merge"]
+    if not merges:
+        return br
+    mb = merges[-1]
+    pds = [b for b in parent.bifurcations if b.type == "period-doubling"]
+    if not pds:
+        return br
+    pd = min(pds, key=lambda b: abs(b.value - mb.value))
+    if abs(pd.value - mb.value) > SAME_EVENT_PARAM_REL * span + 1e-12:
+        return br
+    mb.value, mb.state, mb.u_min, mb.u_max, mb.located = pd.value, pd.state.copy(), pd.u_min, pd.u_max, pd.located
+    pmap = PeriodMap(model.with_param(br.param, pd.value), br.n, dtau=dtau, accurate=accurate)
+    ev = pmap.evaluate(pd.state)
+    if not ev.ok:
+        return br
+    pts, M = ev.points, ev.monodromy
+    mb.multipliers = np.sort_complex(np.linalg.eigvals(M))[::-1]
+    sec = np.vstack([pd.state[None, :], pts[:-1]])
+    br.values = np.concatenate([br.values, [pd.value]])
+    br.states = np.vstack([br.states, pd.state[None, :]])
+    br.points = np.concatenate([br.points, sec[None]])
+    br.monodromy = np.concatenate([br.monodromy, M[None]])
+    br.u_min = np.concatenate([br.u_min, [pd.u_min]])
+    br.u_max = np.concatenate([br.u_max, [pd.u_max]])
+    br.steps = np.concatenate([br.steps, [pmap.steps]])
+    return br
+
+
+def _prepend_source(br: Branch, src: Bifurcation, model: GearModel, dtau: float, accurate: bool) -> Branch:
+    """Put the period-doubling point (the period-n orbit traversed twice) at the head of a switched branch,
+    so that the period-2n branch is drawn from where it is born."""
+    pmap = PeriodMap(model.with_param(br.param, src.value), br.n, dtau=dtau, accurate=accurate)
+    ev = pmap.evaluate(src.state)
+    if not ev.ok:
+        return br
+    pts, M = ev.points, ev.monodromy
+    sec = np.vstack([src.state[None, :], pts[:-1]])
+    br.values = np.concatenate([[src.value], br.values])
+    br.states = np.vstack([src.state[None, :], br.states])
+    br.points = np.concatenate([sec[None], br.points])
+    br.monodromy = np.concatenate([M[None], br.monodromy])
+    br.u_min = np.concatenate([[src.u_min], br.u_min])
+    br.u_max = np.concatenate([[src.u_max], br.u_max])
+    br.steps = np.concatenate([[pmap.steps], br.steps])
+    return br
+
+

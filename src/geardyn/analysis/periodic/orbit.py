@@ -1,0 +1,494 @@
+"""Periodic orbits by shooting: Newton on P^n(x) − x = 0 for the n-period map.
+
+:func:`shoot` finds a period-n orbit (damped Newton, with a guess from simulation when none is
+given) and returns a :class:`PeriodicOrbit`: its section points, monodromy matrix, Floquet
+analysis, extremes and status.  :func:`orbit_extrema` gives the extremes of u over an orbit,
+refined between the RK4 steps.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+import xarray as xr
+
+from ...integrate import integrate_batch, state_dim
+from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError
+from ...status import Status
+from .floquet import Floquet, floquet
+from .map import MAP_THREADS, MapEvaluation, PeriodMap
+
+__all__ = [
+    "PeriodicOrbit",
+    "shoot",
+    "guess_from_simulation",
+    "orbit_extrema",
+    "orbit_status_label",
+    "SHOOT_TOL",
+    "SHOOT_MAX_ITER",
+    "NEWTON_MIN_DAMPING",
+    "GUESS_TRANSIENT",
+    "GUESS_RECORD_PER_PERIOD",
+    "SAME_POINT_TOL",
+]
+
+#: Newton (shooting) converges when ||P^n(x) − x|| <= SHOOT_TOL·(1 + ||x||).
+SHOOT_TOL = 1.0e-10
+#: Largest number of Newton iterations in :func:`shoot`.
+SHOOT_MAX_ITER = 40
+#: Smallest damping factor of a backtracking Newton step before the iteration gives up.
+NEWTON_MIN_DAMPING = 2.0**-16
+#: Forcing periods simulated (and discarded) to build a shooting guess when none is given.
+GUESS_TRANSIENT = 400
+#: Poincaré points recorded after the transient from which the guess is picked (times n, at least 16).
+GUESS_RECORD_PER_PERIOD = 8
+#: Two section points of an orbit count as the same point when closer than this (relative to 1 + |x|);
+#: used for the minimal period of an orbit and to detect a period-2n branch merging into the period-n one.
+SAME_POINT_TOL = 1.0e-5
+
+
+def orbit_status_label(status: Status) -> str:
+    """The word an orbit's status is written as in JSON and NetCDF (``converged`` for OK).
+
+    Parameters
+    ----------
+    status : Status
+        ``OK``, ``NOT_CONVERGED`` or ``DIVERGED``.
+
+    Returns
+    -------
+    str
+        ``converged``, ``not converged`` or ``diverged`` (the contract of ``geardyn orbit --json``).
+    """
+    status = Status.parse(status)
+    return "converged" if status is Status.OK else status.label
+
+
+def _hermite_extrema(u: np.ndarray, v: np.ndarray, h: float) -> tuple[float, float]:
+    """Min and max of the piecewise cubic Hermite interpolant through (u_k, u'_k) sampled every h."""
+    u0, u1, v0, v1 = u[:-1], u[1:], v[:-1], v[1:]
+    cand_min = [float(np.min(u))]
+    cand_max = [float(np.max(u))]
+    idx = np.nonzero(v0 * v1 <= 0.0)[0]
+    if idx.size:
+        a0, a1, b0, b1 = u0[idx], u1[idx], h * v0[idx], h * v1[idx]
+        # u(x) = (2x³−3x²+1)a0 + (x³−2x²+x)b0 + (−2x³+3x²)a1 + (x³−x²)b1; u'(x) = A x² + B x + C
+        A = 6 * a0 + 3 * b0 - 6 * a1 + 3 * b1
+        B = -6 * a0 - 4 * b0 + 6 * a1 - 2 * b1
+        C = b0
+        xs = []
+        with np.errstate(divide="ignore", invalid="ignore"):
+            disc = np.sqrt(np.maximum(B * B - 4 * A * C, 0.0))
+            quad = np.abs(A) > 1e-14 * (np.abs(B) + np.abs(C) + 1e-300)
+            r1 = np.where(quad, (-B + disc) / (2 * A), -C / B)
+            r2 = np.where(quad, (-B - disc) / (2 * A), -C / B)
+        for r in (r1, r2):
+            xs.append(r)
+        for r in xs:
+            ok = np.isfinite(r) & (r >= 0.0) & (r <= 1.0)
+            if not np.any(ok):
+                continue
+            x = r[ok]
+            x2, x3 = x * x, x * x * x
+            val = ((2 * x3 - 3 * x2 + 1) * a0[ok] + (x3 - 2 * x2 + x) * b0[ok] + (-2 * x3 + 3 * x2) * a1[ok]
+                   + (x3 - x2) * b1[ok])
+            cand_min.append(float(np.min(val)))
+            cand_max.append(float(np.max(val)))
+    return min(cand_min), max(cand_max)
+
+
+def _map_extrema(pmap: PeriodMap, state: np.ndarray) -> tuple[float, float]:
+    """Extremes of u over one iteration of ``pmap`` from ``state`` (Hermite-refined)."""
+    _tau, u, v = pmap.history(state)
+    if not np.all(np.isfinite(u)):
+        return math.nan, math.nan
+    return _hermite_extrema(u, v, pmap.step)
+
+
+def orbit_extrema(model: GearModel, state: Sequence[float], n: int = 1, *, dtau: float = DEFAULT_DTAU,
+                  accurate: bool = False, steps: int | None = None) -> tuple[float, float]:
+    """Smallest and largest u over n periods from ``state`` (non-dimensional).
+
+    The step-end samples are refined by the cubic Hermite interpolant of (u, u') (error O(h⁴)
+    instead of O(h²)).
+
+    Parameters
+    ----------
+    model : GearModel
+        The model.
+    state : (u, u')
+        State at θ = 0.
+    n : int
+        Forcing periods.
+    dtau : float
+        Target step Δτ.
+    accurate : bool
+        Accurate integration mode.
+    steps : int, optional
+        RK4 steps per period (default ceil(T/Δτ)).
+
+    Returns
+    -------
+    (u_min, u_max) : tuple of float
+        NaN if the trajectory diverged.
+    """
+    return _map_extrema(PeriodMap(model, n, dtau=dtau, accurate=accurate, steps=steps), state)
+
+
+def _impact_label(u_min: float, D: float) -> str:
+    from ..classify import IMPACT_LABELS, impact_state
+
+    return IMPACT_LABELS[impact_state(u_min, D)]
+
+
+def _minimal_period(points: np.ndarray, n: int) -> int:
+    """Smallest d dividing n with P^d(x) = x within SAME_POINT_TOL (points[k] = P^{k+1}(x))."""
+    x = points[-1]
+    scale = 1.0 + float(np.linalg.norm(x))
+    for d in range(1, n):
+        if n % d == 0 and float(np.linalg.norm(points[d - 1] - x)) <= SAME_POINT_TOL * scale:
+            return d
+    return n
+
+
+@dataclass
+class PeriodicOrbit:
+    """A period-n orbit found by shooting (all quantities non-dimensional).
+
+    Attributes
+    ----------
+    model : GearModel
+        The model the orbit belongs to.
+    n : int
+        Forcing periods of the map P^n that was solved (``--period``).
+    state : ndarray (2,)
+        (u, u') at θ = 0 on the orbit.
+    points : ndarray (n, 2)
+        The n section points x, P(x), ..., P^{n−1}(x) (first is ``state``).
+    monodromy : ndarray (2, 2)
+        Jacobian of P^n at ``state``.
+    converged : bool
+        Newton met the tolerance.
+    status : Status
+        ``Status.OK`` (converged), ``Status.NOT_CONVERGED`` or ``Status.DIVERGED``; written as
+        :attr:`status_label` (``converged``, ``not converged``, ``diverged``) in JSON and NetCDF.
+    iterations : int
+        Newton iterations taken.
+    residuals : list of float
+        ||P^n(x) − x|| at each Newton iterate (quadratic decrease in the default mode; when the
+        default-mode iteration stalls far from the orbit, the accurate-mode iterates that brought it
+        close follow, then the final default-mode ones).
+    u_min, u_max : float
+        Extremes of u over the orbit (Hermite-refined between steps).
+    dtau, accurate, steps : float, bool, int
+        The integration settings: target step, mode and RK4 steps per period (0: ceil(T/Δτ)).
+    """
+
+    model: GearModel
+    n: int
+    state: np.ndarray
+    points: np.ndarray
+    monodromy: np.ndarray
+    converged: bool
+    status: Status
+    iterations: int
+    residuals: list[float]
+    u_min: float
+    u_max: float
+    dtau: float = DEFAULT_DTAU
+    accurate: bool = False
+    steps: int = 0
+
+    @property
+    def status_label(self) -> str:
+        """``converged``, ``not converged`` or ``diverged`` (see :func:`orbit_status_label`)."""
+        return orbit_status_label(self.status)
+
+    @property
+    def period_map(self) -> PeriodMap:
+        """The map P^n whose fixed point this orbit is (same step count and mode)."""
+        return PeriodMap(self.model, self.n, dtau=self.dtau, accurate=self.accurate, steps=self.steps or None)
+
+    @property
+    def residual(self) -> float:
+        """||P^n(x) − x|| at the last iterate."""
+        return self.residuals[-1] if self.residuals else math.nan
+
+    @property
+    def floquet(self) -> Floquet:
+        """Floquet analysis of the monodromy matrix."""
+        return floquet(self.monodromy, self.n, self.model.period)
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        """Floquet multipliers, largest modulus first."""
+        return self.floquet.multipliers
+
+    @property
+    def stable(self) -> bool:
+        """Converged and all multipliers inside the unit circle."""
+        return self.converged and self.floquet.stable
+
+    @property
+    def minimal_period(self) -> int:
+        """Smallest number of forcing periods after which the orbit repeats (divides n)."""
+        if not self.converged:
+            return 0
+        cyc = np.vstack([self.points[1:], self.points[:1]])  # P^1(x), ..., P^n(x) = x
+        return _minimal_period(cyc, self.n)
+
+    @property
+    def amplitude(self) -> float:
+        """Half peak-to-peak displacement (u_max − u_min)/2."""
+        return 0.5 * (self.u_max - self.u_min)
+
+    @property
+    def impact(self) -> str:
+        """Impact state from u_min (``no impact``, ``single-sided``, ``double-sided``, ...)."""
+        return _impact_label(self.u_min, self.model.D)
+
+    def history(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(τ, u, u') at every step over the n periods of the orbit, starting at ``state``."""
+        return self.period_map.history(self.state)
+
+    def to_json(self) -> dict[str, Any]:
+        """The ``orbit --json`` summary (DESIGN §5 keys plus a few more)."""
+        fl = self.floquet
+
+        def num(x: float) -> float | None:
+            return float(x) if np.isfinite(x) else None
+
+        return {
+            "omega": self.model.omega,
+            "state": [float(s) for s in self.state],
+            "points": self.points.tolist(),
+            "period": self.minimal_period if self.converged else None,
+            "requested_period": self.n,
+            "multipliers": fl.pairs(),
+            "multiplier_moduli": [float(abs(m)) for m in fl.multipliers],
+            "floquet_exponents": [num(e) for e in fl.exponents],
+            "stable": bool(self.stable),
+            "instability": fl.instability,
+            "converged": bool(self.converged),
+            "status": self.status_label,
+            "iterations": self.iterations,
+            "residual": num(self.residual),
+            "u_min": num(self.u_min),
+            "u_max": num(self.u_max),
+            "amplitude": num(self.amplitude),
+            "impact": self.impact,
+            "determinant": num(fl.determinant),
+            "accurate": self.accurate,
+        }
+
+    def to_dataset(self) -> xr.Dataset:
+        """Section points, multipliers, monodromy and the time history over the orbit's n periods."""
+        from ...io import result_attrs
+
+        tau, u, v = self.history() if self.converged else (np.zeros(0), np.zeros(0), np.zeros(0))
+        fl = self.floquet
+        d = len(self.state)
+        ds = xr.Dataset(
+            {
+                "poincare_u": ("section", self.points[:, 0]),
+                "poincare_v": ("section", self.points[:, 1]),
+                "multiplier_re": ("multiplier", fl.multipliers.real),
+                "multiplier_im": ("multiplier", fl.multipliers.imag),
+                "floquet_exponent": ("multiplier", fl.exponents),
+                "monodromy": (("row", "col"), self.monodromy),
+                "u": ("tau", u),
+                "v": ("tau", v),
+            },
+            coords={"tau": tau, "section": np.arange(self.n), "multiplier": np.arange(d),
+                    "row": list(range(d)), "col": list(range(d))},
+            attrs=result_attrs(
+                "orbit", self.model,
+                {"dtau": self.dtau, "accurate": self.accurate, "steps_per_period": self.steps},
+                summary=self.to_json(),
+            ),
+        )
+        for name, (units, long) in {
+            "multiplier_re": ("1", "Floquet multiplier, real part"),
+            "multiplier_im": ("1", "Floquet multiplier, imaginary part"),
+            "floquet_exponent": ("1/τ", "Floquet exponent ln|μ|/(nT)"),
+            "monodromy": ("1", "monodromy matrix (Jacobian of the n-period map)"),
+            "section": ("1", "index of the section point along the orbit"),
+            "multiplier": ("1", "multiplier index (largest modulus first)"),
+            "row": ("1", "row of the monodromy matrix"),
+            "col": ("1", "column of the monodromy matrix"),
+        }.items():
+            ds[name].attrs.update(units=units, long_name=long)
+        ds.attrs["status"] = self.status_label
+        return ds
+
+
+def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] | None = None, *,
+                          dtau: float = DEFAULT_DTAU, accurate: bool = False,
+                          transient: int = GUESS_TRANSIENT) -> np.ndarray | None:
+    """A shooting guess from a simulation.
+
+    Simulate ``transient`` periods, then pick among the next Poincaré points the one closest to
+    recurring after n periods.
+
+    Parameters
+    ----------
+    model : GearModel
+        The model.
+    n : int
+        Period of the orbit sought.
+    state0 : (u, u'), optional
+        Initial state (default zeros).
+    dtau : float
+        Target step Δτ.
+    accurate : bool
+        Accurate integration mode.
+    transient : int
+        Forcing periods discarded first.
+
+    Returns
+    -------
+    ndarray (2,) or None
+        The guess; None if the simulation diverged.
+    """
+    rec = max(GUESS_RECORD_PER_PERIOD * n, 16)
+    s0 = np.zeros(state_dim(model)) if state0 is None else np.asarray(state0, dtype=float)
+    opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=rec, accurate=accurate)
+    res = integrate_batch([model], s0, opts, threads=MAP_THREADS)
+    if not res.ok[0]:
+        return None
+    pts = res.poincare[0]
+    d = np.linalg.norm(pts[n:] - pts[:-n], axis=1)
+    k = int(np.argmin(d[::-1]))  # latest among the closest
+    return pts[len(d) - 1 - k].copy()
+
+
+def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int
+            ) -> tuple[MapEvaluation, bool, int, list[float], Status]:
+    """Damped Newton on P^n(x) − x = 0 for one map (fixed parameters and steps per period).
+
+    Returns (last evaluation, converged, iterations, residuals, status)."""
+    ev = pmap.evaluate(x0)
+    if not ev.ok:
+        return ev, False, 0, [math.inf], Status.DIVERGED
+    eye = np.eye(ev.x.size)
+    res = [float(np.linalg.norm(ev.residual))]
+    for it in range(max_iter + 1):
+        r = res[-1]
+        if r <= tol * (1.0 + float(np.linalg.norm(ev.x))):
+            return ev, True, it, res, Status.OK
+        if it == max_iter:
+            break
+        A = ev.monodromy - eye
+        G = ev.residual
+        try:
+            dx = np.linalg.solve(A, -G)
+        except np.linalg.LinAlgError:
+            dx = np.linalg.lstsq(A, -G, rcond=None)[0]
+        lam = 1.0
+        new = None
+        while lam >= NEWTON_MIN_DAMPING:
+            trial = pmap.evaluate(ev.x + lam * dx)
+            if trial.ok and float(np.linalg.norm(trial.residual)) < (1.0 - 1e-4 * lam) * r:
+                new = trial
+                break
+            lam *= 0.5
+        if new is None:
+            return ev, False, it + 1, res, Status.NOT_CONVERGED
+        ev = new
+        res.append(float(np.linalg.norm(ev.residual)))
+    return ev, False, max_iter, res, Status.NOT_CONVERGED
+
+
+def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *, dtau: float = DEFAULT_DTAU,
+          accurate: bool = False, tol: float = SHOOT_TOL, max_iter: int = SHOOT_MAX_ITER,
+          state0: Sequence[float] | None = None, transient: int = GUESS_TRANSIENT) -> PeriodicOrbit:
+    """Find a period-n orbit by Newton's method on the n-period stroboscopic map.
+
+    Parameters
+    ----------
+    model : GearModel
+        Non-dimensional model.
+    n : int
+        Number of forcing periods of the orbit (the map solved is P^n).
+    guess : (u, u') at θ = 0, optional
+        Newton's starting point.  If omitted the guess comes from a simulation of ``transient``
+        periods from ``state0`` (default (0, 0), as for ``geardyn simulate``), so the orbit
+        found is the attractor reached from there when it is stable.
+    dtau : float
+        Target step Δτ (the step is T/ceil(T/Δτ)).
+    accurate : bool
+        Integrate in the accurate mode (steps split at u = ±D).
+    tol : float
+        Convergence: ||P^n(x) − x|| <= tol·(1 + ||x||).
+    max_iter : int
+        Newton iterations allowed.
+    state0 : (u, u'), optional
+        Start of the simulation that gives the guess when ``guess`` is None.
+    transient : int
+        Forcing periods of that simulation.
+
+    Returns
+    -------
+    PeriodicOrbit
+        Check ``converged``/``status``; its Floquet analysis is ``orbit.floquet``.
+
+    Raises
+    ------
+    ModelError
+        For a period below 1, a step not below the forcing period or a malformed guess.
+
+    References
+    ----------
+    T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer,
+    1989 (shooting for periodic solutions of forced systems).
+    """
+    n = int(n)
+    if n < 1:
+        raise ModelError(f"period: must be an integer >= 1, got {n}")
+    IntegrationOptions(dtau=dtau).check_for(model.omega)
+    pmap = PeriodMap(model, n, dtau=dtau, accurate=accurate)
+    N = pmap.steps
+    if guess is None:
+        x0 = guess_from_simulation(model, n, state0, dtau=dtau, accurate=accurate, transient=transient)
+        if x0 is None:
+            return _failed_orbit(model, n, np.zeros(pmap.dim) if state0 is None else np.asarray(state0, float),
+                                 Status.DIVERGED, dtau, accurate, N)
+    else:
+        x0 = np.asarray(guess, dtype=float)
+        if x0.shape != (pmap.dim,) or not np.all(np.isfinite(x0)):
+            raise ModelError(f"guess: expected two finite numbers u,v, got {guess!r}")
+    ev, conv, its, res, status = _newton(pmap, x0, tol, max_iter)
+    if not conv and not accurate:
+        # The default-mode map has a kink wherever an RK4 stage crosses ±D, which can stall the
+        # damped iteration far from the orbit.  The accurate-mode map is smooth there and its orbit
+        # lies within the discretisation error of the default-mode one: get close with it, then
+        # finish in the default mode (quadratic convergence).
+        acc = PeriodMap(model, n, dtau=dtau, accurate=True, steps=N)
+        ev_a, conv_a, its_a, res_a, _st = _newton(acc, x0, tol, max_iter)
+        if conv_a:
+            ev2, conv, its2, res2, status = _newton(pmap, ev_a.x, tol, max_iter)
+            if ev2.ok:
+                ev, its, res = ev2, its + its_a + its2, res + res_a + res2
+    if not ev.ok:
+        return _failed_orbit(model, n, x0, Status.DIVERGED, dtau, accurate, N)
+    return _orbit_from_eval(pmap, ev, conv, status, its, res)
+
+
+def _orbit_from_eval(pmap: PeriodMap, ev: MapEvaluation, conv: bool, status: Status, its: int,
+                     res: list[float]) -> PeriodicOrbit:
+    """The orbit through a converged evaluation of ``pmap`` (which has the evaluation's steps)."""
+    pts = np.vstack([ev.x[None, :], ev.points[:-1]])
+    umin, umax = _map_extrema(pmap, ev.x)
+    return PeriodicOrbit(pmap.model, pmap.n, ev.x.copy(), pts, ev.monodromy.copy(), conv, status, its, res,
+                         umin, umax, pmap.dtau, pmap.accurate, ev.steps)
+
+
+def _failed_orbit(model: GearModel, n: int, x: np.ndarray, status: Status, dtau: float, accurate: bool,
+                  N: int) -> PeriodicOrbit:
+    x = np.asarray(x, float)
+    d = x.size
+    return PeriodicOrbit(model, n, x, np.full((n, d), np.nan), np.full((d, d), np.nan), False, status, 0,
+                         [math.inf], math.nan, math.nan, dtau, accurate, N)
