@@ -117,3 +117,77 @@ def test_meissner_multipliers(omega, kappa, zeta):
     res = hill_floquet(c, s, omega, H)
     assert res.status is Status.OK
     assert _match(res.multipliers, _meissner_exact(omega, kappa, zeta)) <= 1e-6
+
+
+# ------------------------------------------------------------------ against shooting
+# Events of geardyn's own shooting continuation (geardyn.analysis.periodic.continuation, period 1,
+# ω from 0.5 to 1.0, switch=False) in the accurate mode (steps split at u = ±D) with Δτ = 0.0005;
+# Δτ = 0.001 gives the same values to ~1e-14, so the RK4 error is negligible.  Recomputed live by
+# the slow test below.
+SHOOTING_EVENTS = {
+    "defaults": [("grazing", 0.5653637910409205), ("fold", 0.6196583031679641), ("fold", 0.5549281687177483),
+                 ("period-doubling", 0.7840304635925194)],
+    "piecewise-linear": [("grazing", 0.5366682782768969), ("fold", 0.5950030552494947),
+                         ("fold", 0.5406506774697525), ("period-doubling", 0.7904529595603209)],
+}
+CASES = {"defaults": GearModel(), "piecewise-linear": GearModel(kappa=(0.0,), xi=(0.0,))}
+
+
+def _check_events(res, ref, tol):
+    got = [(b.type, b.value) for b in res.bifurcations]
+    assert len(got) == len(ref), got
+    for (t, v), (tr, vr) in zip(got, ref):
+        assert t == tr
+        assert abs(v - vr) <= tol, (t, v, vr)
+
+
+def test_events_match_shooting_defaults():
+    from geardyn.analysis.hb import hb_continuation
+
+    res = hb_continuation(CASES["defaults"], "omega", 0.5, 1.0)  # default H = 16
+    assert res.end == "reached the end of the interval"
+    assert np.all(res.status == int(Status.OK))
+    _check_events(res, SHOOTING_EVENTS["defaults"], 1e-3)
+    # stable, unstable between the folds, stable again, unstable after the period doubling
+    folds = sorted(b.value for b in res.of_type("fold"))
+    pd = res.of_type("period-doubling")[0].value
+    st = res.stable
+    w = res.values
+    assert np.all(st[(w < folds[0] - 1e-3)])
+    assert np.all(st[(w > folds[1] + 1e-3) & (w < pd - 1e-3)] | (res.amplitude[(w > folds[1] + 1e-3) & (w < pd - 1e-3)] < 0.5))
+    assert not np.any(st[w > pd + 1e-3])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", list(CASES))
+def test_events_match_live_shooting(case):
+    from geardyn.analysis.hb import hb_continuation
+    from geardyn.analysis.periodic import continuation
+
+    m = CASES[case]
+    ref = continuation(m, "omega", 0.5, 1.0, 1, switch=False, accurate=True, dtau=0.001)
+    refev = [(b.type, b.value) for b in ref.bifurcations]
+    _check_events(hb_continuation(m, "omega", 0.5, 1.0), refev, 1e-3)
+    _check_events(hb_continuation(m, "omega", 0.5, 1.0), SHOOTING_EVENTS[case], 1e-3)
+
+
+def test_hill_multipliers_match_shooting_floquet():
+    from geardyn.analysis.periodic import shoot
+
+    for w in (0.58, 0.7, 0.9):
+        m = GearModel(omega=w)
+        sol = hb_solve(m)
+        orb = shoot(m, 1, dtau=0.002, accurate=True)
+        assert sol.status is Status.OK and sol.hill.status is Status.OK
+        assert _match(sol.multipliers, orb.multipliers) <= 1e-4
+        assert abs(sol.u_min - orb.u_min) <= 1e-4 and abs(sol.u_max - orb.u_max) <= 1e-4  # H = 16
+
+
+def test_statuses_are_honest():
+    # too few harmonics for the contact-loss orbit: Hill's multipliers flagged, not silently wrong
+    sol = hb_solve(GearModel(omega=0.7), 2)
+    assert sol.status is Status.OK
+    assert sol.hill.status is Status.UNRESOLVED and sol.stable is None
+    # Newton refused: no iterations allowed from a poor guess
+    bad = hb_solve(GearModel(omega=0.7), 16, guess="linear", max_iter=1)
+    assert bad.status is Status.NOT_CONVERGED and not bad.converged

@@ -31,7 +31,7 @@ from .hill import HillResult, hill_floquet
 __all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
 
 #: Default harmonics of ν = ω/n (see ``docs/hb.md`` for the convergence study behind it).
-DEFAULT_HARMONICS = 32
+DEFAULT_HARMONICS = 16
 #: Newton converges when ||R|| <= NEWTON_TOL·(1 + ||a||) (real coefficients, Euclidean norm).
 NEWTON_TOL = 1e-11
 NEWTON_MAX_ITER = 40
