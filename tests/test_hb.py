@@ -179,7 +179,7 @@ def test_hill_multipliers_match_shooting_floquet():
         sol = hb_solve(m)
         orb = shoot(m, 1, dtau=0.002, accurate=True)
         assert sol.status is Status.OK and sol.hill.status is Status.OK
-        assert _match(sol.multipliers, orb.multipliers) <= 1e-4
+        assert _match(sol.multipliers, orb.multipliers) <= 1e-3  # H = 16 (1e-6 at H = 32)
         assert abs(sol.u_min - orb.u_min) <= 1e-4 and abs(sol.u_max - orb.u_max) <= 1e-4  # H = 16
 
 
