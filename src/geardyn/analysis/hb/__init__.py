@@ -1,0 +1,21 @@
+"""Harmonic balance with alternating frequency/time evaluation and Hill stability (``docs/hb.md``).
+
+Entry points
+------------
+:func:`hb_solve`
+    One parameter point: Newton on the HB equations with the analytic Jacobian; an
+    :class:`HBSolution` with a :class:`~geardyn.status.Status` and Hill's multipliers.
+:func:`hb_continuation`
+    Pseudo-arclength continuation in any model parameter with folds, period doublings,
+    Neimark–Sacker points and grazing located; an :class:`HBContinuation` (``to_dataset()``,
+    ``to_json()``).
+:func:`hill_floquet`
+    Hill's method for y'' + c(τ)y' + s(τ)y = 0 from the Fourier coefficients of c and s.
+"""
+
+from .continuation import HBBifurcation, HBContinuation, hb_continuation
+from .hill import HillResult, hill_floquet, hill_matrix
+from .solve import DEFAULT_HARMONICS, HBSolution, HBSystem, hb_solve
+
+__all__ = ["DEFAULT_HARMONICS", "HBBifurcation", "HBContinuation", "HBSolution", "HBSystem", "HillResult",
+           "hb_continuation", "hb_solve", "hill_floquet", "hill_matrix"]

@@ -1,0 +1,72 @@
+"""Run small dense linear algebra on one BLAS thread.
+
+Harmonic balance factorises and diagonalises matrices of a few hundred rows thousands of times; a
+multi-threaded BLAS spends more time waking its threads than computing (and on a loaded machine
+much more).  :func:`single_thread_blas` limits the BLAS loaded by NumPy to one thread for the
+duration of a block, through ``threadpoolctl`` when it is installed, else through OpenBLAS's own
+``*_set_num_threads`` entry point found among the loaded libraries; it does nothing when neither
+is available.
+"""
+
+from __future__ import annotations
+
+import ctypes
+from contextlib import contextmanager
+from typing import Callable, Iterator
+
+__all__ = ["single_thread_blas"]
+
+_SETTERS = ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads", "openblas_set_num_threads64_",
+            "openblas_set_num_threads")
+_GETTERS = ("scipy_openblas_get_num_threads64_", "scipy_openblas_get_num_threads", "openblas_get_num_threads64_",
+            "openblas_get_num_threads")
+_found: tuple[Callable[[], int], Callable[[int], None]] | None | bool = False
+
+
+def _openblas() -> tuple[Callable[[], int], Callable[[int], None]] | None:
+    global _found
+    if _found is not False:
+        return _found  # type: ignore[return-value]
+    _found = None
+    try:
+        with open("/proc/self/maps") as fh:
+            paths = {ln.split()[-1] for ln in fh if "openblas" in ln.lower() and ln.split()[-1].startswith("/")}
+    except OSError:
+        return None
+    for path in sorted(paths):
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:
+            continue
+        get = next((getattr(lib, g) for g in _GETTERS if hasattr(lib, g)), None)
+        put = next((getattr(lib, s) for s in _SETTERS if hasattr(lib, s)), None)
+        if get is not None and put is not None:
+            get.restype = ctypes.c_int
+            put.argtypes = [ctypes.c_int]
+            _found = (lambda: int(get()), lambda k: put(int(k)))
+            break
+    return _found  # type: ignore[return-value]
+
+
+@contextmanager
+def single_thread_blas() -> Iterator[None]:
+    """Limit NumPy's BLAS to one thread inside the block (restored afterwards)."""
+    try:
+        from threadpoolctl import threadpool_limits  # type: ignore[import-not-found]
+    except ImportError:
+        threadpool_limits = None
+    if threadpool_limits is not None:
+        with threadpool_limits(limits=1, user_api="blas"):
+            yield
+        return
+    ob = _openblas()
+    if ob is None:
+        yield
+        return
+    get, put = ob
+    old = get()
+    put(1)
+    try:
+        yield
+    finally:
+        put(old)

@@ -1,0 +1,393 @@
+"""Alternating frequency/time (AFT) evaluation of the gear equation's terms for harmonic balance.
+
+The unknown is the truncated Fourier series of a period-n response in the slow angle φ = θ/n
+(θ = ω τ the mesh angle), i.e. H harmonics of the frequency ν = ω/n::
+
+    u(φ) = a_0 + Σ_{k=1..H} a_k cos(kφ) + b_k sin(kφ)     (real coefficients, vector of length 2H + 1)
+
+stored as ``[a_0, a_1 … a_H, b_1 … b_H]``.  Internally the complex coefficients c_k (k = −H … H,
+u = Σ c_k e^{ikφ}) are used: c_0 = a_0, c_{±k} = (a_k ∓ i b_k)/2.
+
+How each term is evaluated
+--------------------------
+* The damping, stiffness and forcing series C(θ), K(θ), F(θ) of :meth:`GearModel.coefficients` are
+  trigonometric polynomials; in φ their harmonic j becomes harmonic n·j.  Their products with the
+  truncated u are evaluated exactly by convolution of coefficients (equivalently, by an alias-free
+  AFT with more than 2H + n·H_model samples).
+* The dead zone f(u; D) is where the time grid is needed.  The trigonometric polynomial u is sampled
+  at N equispaced angles φ_j = 2πj/N (see :func:`time_samples`); a change of contact state between
+  two samples (u > D drive-side contact, |u| <= D gap, u < −D back-side contact) brackets a contact
+  switch, which is then located to machine precision by a safeguarded Newton iteration on u(φ) = ±D.
+  On each contact interval the integrand K(θ)(u ∓ D) is again a trigonometric polynomial, so its
+  Fourier coefficients over the interval are integrated in closed form.  The Galerkin projection of
+  K f(u) is therefore exact for the truncated u: there is no aliasing and no quadrature error from
+  the kink of f, and the residual is continuously differentiable in the coefficients (the integrand
+  vanishes at the switches, so moving a switch adds nothing to the derivative).  Its Jacobian is the
+  multiplication (Toeplitz) operator of K(θ)·χ(φ), χ the indicator of contact — the same operator
+  that enters Hill's matrix, so a fold of the HB branch is exactly a Hill exponent at zero.
+
+Number of time samples
+----------------------
+:func:`time_samples` uses N = the smallest power of two with N >= 8(2H + 1) and N >= 64 (FFT-friendly,
+and at least 16 samples per period of the highest retained harmonic).  The samples only serve to
+bracket the switches, so what N must resolve is the shortest contact or gap interval: a switch pair
+closer than the spacing 2π/N is missed only when u just grazes ±D between two samples, i.e. with a
+penetration depth δ <= max|u_φφ| (2π/N)²/8; such a contact lasts O(√δ) and contributes O(δ^{3/2}) =
+O(N^{-3}) to the projection, below the truncation error of the series at that H (see ``docs/hb.md``).
+The grazing events of a continuation are located from the extrema of u (refined by Newton on u_φ = 0),
+not from the samples, so they do not depend on N.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...model import GearModel
+
+__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "model_series", "dead_zone_terms",
+           "signal_extrema"]
+
+#: Samples per retained Fourier coefficient (N >= OVERSAMPLE·(2H + 1)) and the smallest N.
+OVERSAMPLE = 8
+MIN_SAMPLES = 64
+#: Newton iterations (safeguarded by the bracket) when locating a switch u(φ) = ±D or an extremum.
+ROOT_MAX_ITER = 60
+ROOT_TOL = 1e-13
+
+
+def time_samples(H: int, n: int = 1, model_harmonics: int = 0) -> int:
+    """Number N of equispaced samples per response period used to bracket the contact switches.
+
+    Parameters
+    ----------
+    H : int
+        Harmonics of ν = ω/n retained.
+    n : int
+        Period of the response in forcing periods.
+    model_harmonics : int
+        Largest harmonic of the model's C, K, F series (in θ).
+
+    Returns
+    -------
+    int
+        The smallest power of two with N >= 8(2H + 1), N > 2(H + n·model_harmonics) and N >= 64.
+    """
+    need = max(OVERSAMPLE * (2 * H + 1), 2 * (H + n * model_harmonics) + 1, MIN_SAMPLES)
+    return 1 << int(math.ceil(math.log2(need)))
+
+
+def model_series(model: GearModel, n: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Complex Fourier coefficients in φ = θ/n of the damping C, stiffness K and forcing F.
+
+    Parameters
+    ----------
+    model : GearModel
+    n : int
+        Response period in forcing periods.
+
+    Returns
+    -------
+    (C, K, F) : three complex arrays of length 2L + 1, L = n·model.n_harmonics, index m + L holding
+        the coefficient of e^{imφ} (nonzero only for m a multiple of n).
+    """
+    cf = model.coefficients()
+    Hm = cf.shape[1] - 1
+    L = n * Hm
+    out = []
+    for i in range(3):
+        z = np.zeros(2 * L + 1, dtype=complex)
+        z[L] = cf[i, 0, 0]
+        for j in range(1, Hm + 1):
+            z[L + n * j] = 0.5 * (cf[i, j, 0] - 1j * cf[i, j, 1])
+            z[L - n * j] = 0.5 * (cf[i, j, 0] + 1j * cf[i, j, 1])
+        out.append(z)
+    return out[0], out[1], out[2]
+
+
+@dataclass
+class HarmonicBasis:
+    """Real ↔ complex coefficient maps, samples and operators for H harmonics of period 2π in φ.
+
+    Parameters
+    ----------
+    H : int
+        Harmonics retained (the unknown has 2H + 1 real components).
+    N : int
+        Time samples per period in φ (default :func:`time_samples`).
+    """
+
+    H: int
+    N: int = 0
+
+    def __post_init__(self) -> None:
+        H = int(self.H)
+        if H < 1:
+            raise ValueError(f"harmonics: must be >= 1, got {self.H!r}")
+        self.H = H
+        if not self.N:
+            self.N = time_samples(H)
+        if self.N < 2 * H + 2:
+            raise ValueError(f"samples: need N > 2H + 1 = {2 * H + 1}, got {self.N}")
+        self.k = np.arange(-H, H + 1)
+        self.phi = 2.0 * np.pi * np.arange(self.N) / self.N
+        M = 2 * H + 1
+        W = np.zeros((M, M), dtype=complex)  # c = W a
+        W[H, 0] = 1.0
+        for k in range(1, H + 1):
+            W[H + k, k], W[H + k, H + k] = 0.5, -0.5j
+            W[H - k, k], W[H - k, H + k] = 0.5, 0.5j
+        self.W = W
+        Wi = np.zeros((M, M), dtype=complex)  # a = Wi c (real part)
+        Wi[0, H] = 1.0
+        for k in range(1, H + 1):
+            Wi[k, H + k], Wi[k, H - k] = 1.0, 1.0
+            Wi[H + k, H + k], Wi[H + k, H - k] = 1.0j, -1.0j
+        self.Wi = Wi
+
+    @property
+    def size(self) -> int:
+        return 2 * self.H + 1
+
+    def to_complex(self, a: np.ndarray) -> np.ndarray:
+        """Complex coefficients c_k, k = −H … H, of the real coefficient vector ``a``."""
+        a = np.asarray(a, dtype=float)
+        H = self.H
+        c = np.empty(2 * H + 1, dtype=complex)
+        c[H] = a[0]
+        z = 0.5 * (a[1:H + 1] - 1j * a[H + 1:])
+        c[H + 1:] = z
+        c[:H] = np.conj(z[::-1])
+        return c
+
+    def to_real(self, c: np.ndarray) -> np.ndarray:
+        """Real coefficient vector of the complex coefficients ``c`` (imaginary residue dropped)."""
+        H = self.H
+        pos, neg = c[H + 1:], c[H - 1::-1]
+        return np.concatenate([[c[H].real], (pos + neg).real, (1j * (pos - neg)).real])
+
+    def real_operator(self, A: np.ndarray) -> np.ndarray:
+        """The real (2H+1)² matrix of a complex operator acting on the c_k of real signals
+        (``Wi @ A @ W`` written out, without a matrix product)."""
+        H = self.H
+        AW = np.empty_like(A)
+        AW[:, 0] = A[:, H]
+        P, Nn = A[:, H + 1:], A[:, H - 1::-1]
+        AW[:, 1:H + 1] = 0.5 * (P + Nn)
+        AW[:, H + 1:] = 0.5j * (Nn - P)
+        out = np.empty(A.shape, dtype=float)
+        out[0] = AW[H].real
+        Pr, Nr = AW[H + 1:], AW[H - 1::-1]
+        out[1:H + 1] = (Pr + Nr).real
+        out[H + 1:] = (1j * (Pr - Nr)).real
+        return out
+
+    def samples(self, a: np.ndarray) -> np.ndarray:
+        """u(φ_j) at the N time samples (inverse real FFT)."""
+        a = np.asarray(a, dtype=float)
+        H, N = self.H, self.N
+        X = np.zeros(N // 2 + 1, dtype=complex)
+        X[0] = a[0] * N
+        X[1:H + 1] = 0.5 * N * (a[1:H + 1] - 1j * a[H + 1:])
+        return np.fft.irfft(X, N)
+
+    def evaluate(self, a: np.ndarray, phi: np.ndarray, derivative: int = 0) -> np.ndarray:
+        """u or its φ-derivative of order 0, 1 or 2 at arbitrary angles ``phi``."""
+        a = np.asarray(a, dtype=float)
+        H = self.H
+        kk = np.arange(1, H + 1)
+        arg = np.multiply.outer(np.asarray(phi, dtype=float), kk)
+        c, s = np.cos(arg), np.sin(arg)
+        A, B = a[1:H + 1], a[H + 1:]
+        if derivative == 0:
+            return a[0] + c @ A + s @ B
+        if derivative == 1:
+            return -s @ (kk * A) + c @ (kk * B)
+        return -c @ (kk**2 * A) - s @ (kk**2 * B)
+
+
+def toeplitz(coef: np.ndarray, H: int) -> np.ndarray:
+    """Multiplication operator on c_k (|k| <= H) of a function with complex coefficients ``coef``
+    (odd length 2L + 1, centred); entry (k, l) = coef_{k−l}, zero where |k − l| > L."""
+    L = (len(coef) - 1) // 2
+    k = np.arange(-H, H + 1)
+    d = k[:, None] - k[None, :]
+    out = np.zeros((2 * H + 1, 2 * H + 1), dtype=complex)
+    ok = np.abs(d) <= L
+    out[ok] = coef[d[ok] + L]
+    return out
+
+
+def convolve(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Coefficients of the product of two trigonometric polynomials (centred arrays)."""
+    return np.convolve(x, y)
+
+
+def _crossings(basis: HarmonicBasis, a: np.ndarray, level: float, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Roots of u(φ) = level in the brackets [lo, hi] (sign change assumed): Newton kept in the bracket."""
+    lo, hi = lo.astype(float).copy(), hi.astype(float).copy()
+    flo = basis.evaluate(a, lo) - level
+    fhi = basis.evaluate(a, hi) - level
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = lo - flo * (hi - lo) / (fhi - flo)  # linear interpolation of the samples
+    x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
+    for _ in range(ROOT_MAX_ITER):
+        f = basis.evaluate(a, x) - level
+        same = np.sign(f) == np.sign(flo)
+        lo = np.where(same, x, lo)
+        flo = np.where(same, f, flo)
+        hi = np.where(same, hi, x)
+        d = basis.evaluate(a, x, 1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xn = x - f / d
+        bad = ~np.isfinite(xn) | (xn <= lo) | (xn >= hi)
+        xn = np.where(bad, 0.5 * (lo + hi), xn)
+        if np.all(np.abs(xn - x) <= ROOT_TOL * (1.0 + np.abs(x))):
+            x = xn
+            break
+        x = xn
+    return x
+
+
+@dataclass
+class DeadZoneTerms:
+    """The dead-zone term K(θ) f(u; D) projected on the harmonics, and its derivative.
+
+    Attributes
+    ----------
+    G : complex array (2H + 1,)
+        Coefficients c_k (k = −H … H) of K f(u).
+    S : complex array (4H + 1,)
+        Coefficients (index m + 2H, m = −2H … 2H) of K(θ)·χ(φ), χ = 1 in contact (|u| > D); the
+        Jacobian of G is ``toeplitz(S, H)`` and it is the stiffness of the linearised equation.
+    switches : ndarray
+        Angles φ of the contact switches found in [0, 2π).
+    """
+
+    G: np.ndarray
+    S: np.ndarray
+    switches: np.ndarray
+
+
+def _indicator(intervals: list[tuple[float, float, float]], Q: int) -> tuple[np.ndarray, np.ndarray]:
+    """Coefficients (index q + Q, |q| <= Q) of χ (1 on every interval) and σ (its sign on each)."""
+    q = np.arange(-Q, Q + 1)
+    chi = np.zeros(2 * Q + 1, dtype=complex)
+    sig = np.zeros(2 * Q + 1, dtype=complex)
+    nz = q != 0
+    for alpha, beta, s in intervals:
+        v = np.empty(2 * Q + 1, dtype=complex)
+        v[~nz] = (beta - alpha) / (2.0 * np.pi)
+        qq = q[nz]
+        v[nz] = (np.exp(-1j * qq * beta) - np.exp(-1j * qq * alpha)) / (-2j * np.pi * qq)
+        chi += v
+        sig += s * v
+    return chi, sig
+
+
+def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float) -> DeadZoneTerms:
+    """Exact Galerkin projection of K(θ) f(u; D) with the contact switches located on the time grid.
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    a : ndarray (2H + 1,)
+        Real coefficients of u.
+    K : complex ndarray
+        Centred coefficients of the stiffness in φ (from :func:`model_series`).
+    D : float
+        Half backlash (>= 0).
+
+    Returns
+    -------
+    DeadZoneTerms
+    """
+    H, N = basis.H, basis.N
+    L = (len(K) - 1) // 2
+    c = basis.to_complex(a)
+    u = basis.samples(a)
+    state = np.where(u > D, 1, np.where(u < -D, -1, 0))
+    # events: (angle, new state); a jump of two levels inside one step has two switches
+    j = np.nonzero(state != np.roll(state, -1))[0] if D > 0.0 else np.zeros(0, dtype=int)
+    ev_phi: list[np.ndarray] = []
+    ev_new: list[np.ndarray] = []
+    if j.size:
+        lo = basis.phi[j]
+        hi = lo + 2.0 * np.pi / N
+        s0, s1 = state[j], state[(j + 1) % N]
+        for level, here in ((D, (s0 == 1) | (s1 == 1)), (-D, (s0 == -1) | (s1 == -1))):
+            if np.any(here):
+                x = _crossings(basis, a, level, lo[here], hi[here])
+                up = basis.evaluate(a, x, 1) > 0  # the state just after the switch
+                ev_phi.append(x)
+                ev_new.append(np.where(up, 1 if level > 0 else 0, 0 if level > 0 else -1))
+    Q = 2 * H + L
+    if ev_phi:
+        phis = np.concatenate(ev_phi)
+        news = np.concatenate(ev_new)
+        order = np.argsort(phis)
+        phis, news = phis[order], news[order]
+        intervals = []
+        prev_state = int(news[-1])  # the state at φ = 0⁻ continues from the last switch
+        start = 0.0
+        for p_, s_ in zip(phis, news):
+            if prev_state != 0:
+                intervals.append((start, float(p_), float(prev_state)))
+            start, prev_state = float(p_), int(s_)
+        if prev_state != 0:
+            intervals.append((start, 2.0 * np.pi, float(prev_state)))
+        chi, sig = _indicator(intervals, Q)
+    else:
+        phis = np.zeros(0)
+        s = 1 if D == 0.0 else int(state[0])  # D = 0: f(u) = u, always in contact
+        chi = np.zeros(2 * Q + 1, dtype=complex)
+        sig = np.zeros(2 * Q + 1, dtype=complex)
+        if s != 0:
+            chi[Q] = 1.0
+            sig[Q] = float(s)
+    S_full = convolve(K, chi)  # centred at L + Q
+    mid = L + Q
+    S = S_full[mid - 2 * H: mid + 2 * H + 1]
+    G = toeplitz(S, H) @ c
+    if D > 0.0:
+        Ks = convolve(K, sig)
+        G = G - D * Ks[mid - H: mid + H + 1]
+    return DeadZoneTerms(G, S, phis)
+
+
+def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:
+    """Smallest and largest u over the period and where (φ_min, φ_max), refined by Newton on u_φ = 0.
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    a : ndarray
+        Real coefficients of u.
+
+    Returns
+    -------
+    (u_min, u_max, phi_min, phi_max) : floats
+    """
+    u = basis.samples(a)
+    h = 2.0 * np.pi / basis.N
+    out = []
+    for j in (int(np.argmin(u)), int(np.argmax(u))):
+        x = basis.phi[j]
+        lo, hi = x - h, x + h
+        for _ in range(ROOT_MAX_ITER):
+            d1 = float(basis.evaluate(a, np.array([x]), 1)[0])
+            d2 = float(basis.evaluate(a, np.array([x]), 2)[0])
+            xn = x - d1 / d2 if d2 != 0.0 else x
+            if not (lo <= xn <= hi):
+                break
+            if abs(xn - x) <= 1e-14:
+                x = xn
+                break
+            x = xn
+        out.append((float(basis.evaluate(a, np.array([x]))[0]), x))
+    (umin, pmin), (umax, pmax) = out
+    umin = min(umin, float(u.min()))
+    umax = max(umax, float(u.max()))
+    return umin, umax, pmin, pmax

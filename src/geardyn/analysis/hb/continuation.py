@@ -1,0 +1,405 @@
+"""Pseudo-arclength continuation of harmonic-balance solutions, with bifurcation detection.
+
+The branch is traced in y = (a, p/p_s): the 2H + 1 real coefficients and the parameter scaled by
+p_s = |stop − start| (so that the interval has length 1).  Predictor: a step ds along the unit
+tangent (null vector of [∂R/∂a, ∂R/∂p], oriented by the previous one); corrector: Newton on
+R(a, p) = 0 in the hyperplane normal to the tangent through the predicted point.  The step grows
+after fast corrections and shrinks after slow or failed ones and after large turns of the tangent.
+
+Events between consecutive points are detected by sign changes of test functions and located by a
+safeguarded secant along the chord (each trial corrected onto the branch):
+
+* ``fold`` — the parameter component of the tangent changes sign (a Hill exponent through 0,
+  μ through +1; the Jacobian is singular there);
+* ``period-doubling`` — (μ₁ + 1)(μ₂ + 1) from Hill's multipliers changes sign (μ through −1);
+* ``neimark-sacker`` — |μ₁μ₂| − 1 changes sign while the pair is complex (impossible for ξ0 > 0
+  by Liouville, |μ₁μ₂| = exp(−2ξ0 nT), but reported when the damping is continued through zero);
+* ``grazing`` — u_min or u_max of the reconstructed time signal crosses +D or −D.
+
+Points where Hill's multipliers are unresolved carry ``Status.UNRESOLVED`` and take no part in
+the multiplier tests.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ...model import GearModel, ModelError, canonical_param
+from ...status import Status, flag_attrs
+from ._blas import single_thread_blas
+from .aft import signal_extrema
+from .hill import HillResult
+from .solve import DEFAULT_HARMONICS, HBSystem, hb_solve
+
+__all__ = ["HBBifurcation", "HBContinuation", "hb_continuation"]
+
+#: Arclength steps in (a, p/p_s): initial, largest, smallest.
+DS_INIT, DS_MAX, DS_MIN = 0.005, 0.02, 1e-7
+CORRECTOR_TOL = 1e-10
+CORRECTOR_MAX_ITER = 10
+MAX_TURN_DEG = 20.0
+MAX_POINTS = 3000
+#: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER.
+LOCATE_REL_TOL = 1e-9
+LOCATE_MAX_ITER = 40
+
+
+@dataclass
+class _Pt:
+    y: np.ndarray
+    t: np.ndarray
+    u_min: float
+    u_max: float
+    hill: HillResult
+    iters: int = 0
+
+
+@dataclass
+class HBBifurcation:
+    """A located event on an HB branch.
+
+    Attributes
+    ----------
+    type : str
+        ``fold``, ``period-doubling``, ``neimark-sacker`` or ``grazing``.
+    value : float
+        Parameter value.
+    u_min, u_max : float
+        Extremes of u there.
+    multipliers : complex ndarray (2,)
+    detail : str
+    located : bool
+        The location iteration met its tolerance.
+    """
+
+    type: str
+    value: float
+    u_min: float
+    u_max: float
+    multipliers: np.ndarray
+    detail: str
+    located: bool
+    coefficients: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": self.type, "value": self.value, "u_min": self.u_min, "u_max": self.u_max,
+                "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
+                "detail": self.detail, "located": self.located}
+
+
+@dataclass
+class HBContinuation:
+    """A continued harmonic-balance branch.
+
+    Attributes
+    ----------
+    model : GearModel
+        Base model (``param`` varies along the branch).
+    param : str
+    harmonics, period, samples : int
+        H, n and the time samples N per response period.
+    values : ndarray (P,)
+        Parameter values along the branch.
+    coefficients : ndarray (P, 2H + 1)
+    u_min, u_max : ndarray (P,)
+    multipliers : complex ndarray (P, 2)
+    status : ndarray of int (P,)
+        :class:`~geardyn.status.Status` per point (``OK`` or ``UNRESOLVED`` for points whose
+        multipliers Hill's method could not resolve; a start that failed is one ``NOT_CONVERGED``/
+        ``DIVERGED`` point with NaN values).
+    bifurcations : list of HBBifurcation
+    end : str
+        Why the continuation stopped.
+    """
+
+    model: GearModel
+    param: str
+    harmonics: int
+    period: int
+    samples: int
+    values: np.ndarray
+    coefficients: np.ndarray
+    u_min: np.ndarray
+    u_max: np.ndarray
+    multipliers: np.ndarray
+    status: np.ndarray
+    bifurcations: list[HBBifurcation]
+    end: str
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        return 0.5 * (self.u_max - self.u_min)
+
+    @property
+    def stable(self) -> np.ndarray:
+        """True where the point is resolved and all |μ| < 1."""
+        return (self.status == int(Status.OK)) & np.all(np.abs(self.multipliers) < 1.0, axis=1)
+
+    @property
+    def converged(self) -> bool:
+        return bool(self.values.size) and bool(np.all(self.status != int(Status.NOT_CONVERGED))
+                                                 and np.all(self.status != int(Status.DIVERGED)))
+
+    def of_type(self, typ: str) -> list[HBBifurcation]:
+        return [b for b in self.bifurcations if b.type == typ]
+
+    def to_json(self) -> dict[str, Any]:
+        """Plain-dict summary: ``branch`` points, ``bifurcations``, ``harmonics``, ``converged``."""
+        def num(x: float) -> float | None:
+            return float(x) if np.isfinite(x) else None
+
+        pts = [{self.param: float(v), "amplitude": num(0.5 * (hi - lo)), "u_min": num(lo), "u_max": num(hi),
+                "stable": bool(st), "status": Status(int(s)).label,
+                "multipliers": [[num(m.real), num(m.imag)] for m in mu]}
+               for v, lo, hi, st, s, mu in zip(self.values, self.u_min, self.u_max, self.stable, self.status,
+                                               self.multipliers)]
+        return {"param": self.param, "branch": pts, "bifurcations": [b.to_json() for b in self.bifurcations],
+                "harmonics": self.harmonics, "period": self.period, "samples": self.samples,
+                "converged": self.converged, "end": self.end}
+
+    def to_dataset(self):
+        """The branch as an :class:`xarray.Dataset` over ``point`` (bifurcations in the attributes)."""
+        import json
+
+        import xarray as xr
+
+        ds = xr.Dataset(
+            {self.param: ("point", self.values), "u_min": ("point", self.u_min), "u_max": ("point", self.u_max),
+             "amplitude": ("point", self.amplitude), "stable": ("point", self.stable),
+             "multiplier_re": (("point", "multiplier"), self.multipliers.real),
+             "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
+             "coefficients": (("point", "coefficient"), self.coefficients),
+             "status": ("point", self.status.astype(np.int64))},
+            coords={"point": np.arange(self.values.size), "multiplier": [0, 1],
+                    "coefficient": np.arange(2 * self.harmonics + 1)},
+            attrs={"geardyn_kind": "hb_continuation", "model": self.model.to_json(), "param": self.param,
+                   "harmonics": self.harmonics, "period": self.period, "samples": self.samples,
+                   "end": self.end, "bifurcations": json.dumps([b.to_json() for b in self.bifurcations])},
+        )
+        ds["status"].attrs.update(flag_attrs())
+        ds["coefficients"].attrs.update(long_name="[a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n")
+        return ds
+
+
+class _Tracer:
+    def __init__(self, sysm: HBSystem, lo: float, hi: float, ps: float):
+        self.s, self.lo, self.hi, self.ps = sysm, lo, hi, ps
+        self.M = sysm.basis.size
+
+    def p(self, y: np.ndarray) -> float:
+        return float(y[-1] * self.ps)
+
+    def _aug(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        a, p = y[:-1], self.p(y)
+        R, J = self.s.residual(a, p)
+        Rp = self.s.dR_dp(a, p) * self.ps
+        return R, J, Rp
+
+    def tangent(self, y: np.ndarray, ref: np.ndarray) -> np.ndarray:
+        _R, J, Rp = self._aug(y)
+        A = np.vstack([np.hstack([J, Rp[:, None]]), ref[None, :]])
+        rhs = np.zeros(self.M + 1)
+        rhs[-1] = 1.0
+        t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else np.linalg.solve(A, rhs)
+        t /= np.linalg.norm(t)
+        return t if t @ ref >= 0 else -t
+
+    def correct(self, y0: np.ndarray, normal: np.ndarray, ref_t: np.ndarray) -> _Pt | None:
+        y = y0.copy()
+        for it in range(CORRECTOR_MAX_ITER):
+            try:
+                p = self.p(y)
+                self.s.model_at(p)
+            except ModelError:
+                return None
+            R, J, Rp = self._aug(y)
+            g = float(normal @ (y - y0))
+            F = np.concatenate([R, [g]])
+            if np.linalg.norm(R) <= CORRECTOR_TOL * (1 + np.linalg.norm(y)) and abs(g) <= 1e-12:
+                return self._finish(y, ref_t, it)
+            A = np.vstack([np.hstack([J, Rp[:, None]]), normal[None, :]])
+            try:
+                dy = np.linalg.solve(A, -F)
+            except np.linalg.LinAlgError:
+                return None
+            y = y + dy
+            if not np.all(np.isfinite(y)):
+                return None
+            if np.linalg.norm(dy) <= 1e-13 * (1 + np.linalg.norm(y)):
+                return self._finish(y, ref_t, it + 1)
+        return None
+
+    def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int) -> _Pt:
+        t = self.tangent(y, ref_t)
+        a, p = y[:-1], self.p(y)
+        umin, umax, _, _ = signal_extrema(self.s.basis, a)
+        return _Pt(y, t, umin, umax, self.s.stability(a, p), iters)
+
+    # ---------------------------------------------------------------- tests and events
+    def tests(self, pt: _Pt, chord: np.ndarray | None = None) -> dict[str, float]:
+        D = self.s.model_at(self.p(pt.y)).D
+        t = pt.t if chord is None or pt.t @ chord >= 0 else -pt.t
+        out = {"turn": float(t[-1])}
+        h = pt.hill
+        if h.status is Status.OK:
+            mu = h.multipliers
+            out["pd"] = float(np.real((mu[0] + 1) * (mu[1] + 1)))
+            if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
+                out["ns"] = float(abs(mu[0] * mu[1]) - 1.0)
+        if D > 0:
+            out.update(graze_min_plus=pt.u_min - D, graze_min_minus=pt.u_min + D,
+                       graze_max_plus=pt.u_max - D, graze_max_minus=pt.u_max + D)
+        return out
+
+    def locate(self, a: _Pt, b: _Pt, key: str) -> tuple[_Pt, bool]:
+        d = b.y - a.y
+        L = float(np.linalg.norm(d))
+        e = d / L
+        fa, fb = self.tests(a, d)[key], self.tests(b, d)[key]
+        lo, hi, flo, fhi = 0.0, 1.0, fa, fb
+        best, side = (a if abs(fa) <= abs(fb) else b), 0
+        for _ in range(LOCATE_MAX_ITER):
+            if hi - lo <= LOCATE_REL_TOL:
+                return best, True
+            s = (lo * fhi - hi * flo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+            if not (lo < s < hi):
+                s = 0.5 * (lo + hi)
+            pt = self.correct(a.y + s * d, e, a.t)
+            if pt is None:
+                return best, False
+            f = self.tests(pt, d).get(key, math.nan)
+            if not math.isfinite(f):
+                return best, False
+            best = pt
+            if f == 0.0:
+                return pt, True
+            if (f > 0) == (flo > 0):
+                lo, flo = s, f
+                if side == -1:
+                    fhi *= 0.5
+                side = -1
+            else:
+                hi, fhi = s, f
+                if side == 1:
+                    flo *= 0.5
+                side = 1
+        return best, hi - lo <= 1e3 * LOCATE_REL_TOL
+
+    def events(self, a: _Pt, b: _Pt) -> list[HBBifurcation]:
+        d = b.y - a.y
+        ta, tb = self.tests(a, d), self.tests(b, d)
+        labels = {"turn": ("fold", "turning point: a Hill exponent through 0 (μ through +1)"),
+                  "pd": ("period-doubling", "real multiplier through −1"),
+                  "ns": ("neimark-sacker", "complex pair through the unit circle"),
+                  "graze_min_plus": ("grazing", "u_min = +D (drive-side contact loss)"),
+                  "graze_min_minus": ("grazing", "u_min = −D (back-side contact)"),
+                  "graze_max_plus": ("grazing", "u_max = +D (drive-side contact)"),
+                  "graze_max_minus": ("grazing", "u_max = −D")}
+        out = []
+        for key, (typ, detail) in labels.items():
+            if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
+                pt, ok = self.locate(a, b, key)
+                out.append((float((pt.y - a.y) @ d), HBBifurcation(
+                    typ, self.p(pt.y), pt.u_min, pt.u_max, pt.hill.multipliers.copy(), detail, ok,
+                    pt.y[:-1].copy())))
+        out.sort(key=lambda e: e[0])
+        return [b for _s, b in out]
+
+
+def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
+                    harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
+                    samples: int | None = None, ds: float = DS_INIT, ds_max: float = DS_MAX,
+                    max_points: int = MAX_POINTS) -> HBContinuation:
+    """Continue the period-n harmonic-balance solution of ``model`` in ``param`` from ``start`` to ``stop``.
+
+    Parameters
+    ----------
+    model : GearModel
+        Base model (its value of ``param`` is replaced).
+    param : str
+        Any model parameter name (``omega``, ``xi0``, ``kappa1``, ``fp``, ``D``, ``eps1`` …).
+    start, stop : float
+        The branch starts at ``start`` and is followed (through folds) until the parameter leaves the
+        interval between ``start`` and ``stop``.
+    harmonics : int
+        H, harmonics of ω/n (default :data:`~geardyn.analysis.hb.solve.DEFAULT_HARMONICS`).
+    period : int
+        n, the response period in forcing periods.
+    guess : coefficients, "simulate" or "linear", optional
+        Start guess at ``start`` (default: the attractor reached by simulation from rest).
+    samples : int, optional
+        Time samples per response period (default from H, see :mod:`.aft`).
+    ds, ds_max : float
+        Initial and largest arclength step in (a, p/|stop − start|).
+    max_points : int
+        Largest number of branch points.
+
+    Returns
+    -------
+    HBContinuation
+        The branch with per-point status and the located bifurcations.
+
+    Raises
+    ------
+    ModelError
+        Unknown parameter, or start/stop outside the parameter's valid range.
+    """
+    param = canonical_param(param)
+    start, stop = float(start), float(stop)
+    if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
+        raise ModelError("start, stop: must be finite and different")
+    m0 = model.with_param(param, start)
+    model.with_param(param, stop)
+    sysm = HBSystem(model, harmonics, period, param=param, samples=samples)
+    H = sysm.H
+    sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N)
+    nanmu = np.full((1, 2), complex(math.nan, math.nan))
+    if not sol.converged:
+        return HBContinuation(model, param, H, sysm.n, sysm.basis.N, np.array([start]),
+                              sol.coefficients[None, :], np.array([math.nan]), np.array([math.nan]), nanmu,
+                              np.array([int(sol.status)]), [], f"start: {sol.status.label}")
+    ps = abs(stop - start)
+    direction = 1.0 if stop > start else -1.0
+    lo, hi = min(start, stop), max(start, stop)
+    tr = _Tracer(sysm, lo, hi, ps)
+    with single_thread_blas():
+        y = np.concatenate([sol.coefficients, [start / ps]])
+        ref = np.zeros(sysm.basis.size + 1)
+        ref[-1] = direction
+        first = tr._finish(y, ref, 0)
+        pts = [first]
+        bifs: list[HBBifurcation] = []
+        h = float(ds)
+        end = "max points"
+        while len(pts) < max_points:
+            cur = pts[-1]
+            nxt = None
+            while h >= DS_MIN:
+                yp = cur.y + h * cur.t
+                nxt = tr.correct(yp, cur.t, cur.t)
+                if nxt is not None:
+                    cosang = float(np.clip(nxt.t @ cur.t, -1, 1))
+                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG:
+                        break
+                nxt = None
+                h *= 0.5
+            if nxt is None:
+                end = "corrector failed (step below DS_MIN)"
+                break
+            bifs.extend(tr.events(cur, nxt))
+            pts.append(nxt)
+            h = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
+            p = tr.p(nxt.y)
+            if p > hi or p < lo:
+                end = "reached the end of the interval"
+                bifs = [b for b in bifs if lo <= b.value <= hi]
+                break
+    vals = np.array([tr.p(q.y) for q in pts])
+    return HBContinuation(
+        model, param, H, sysm.n, sysm.basis.N, vals, np.array([q.y[:-1] for q in pts]),
+        np.array([q.u_min for q in pts]), np.array([q.u_max for q in pts]),
+        np.array([q.hill.multipliers for q in pts]), np.array([int(q.hill.status) for q in pts]), bifs, end)

@@ -1,0 +1,186 @@
+"""Stability of a harmonic-balance solution by Hill's method.
+
+The variational equation of u'' + C(θ) u' + K(θ) f(u; D) = F(θ) about a period-n solution is the
+Hill equation y'' + c(τ) y' + s(τ) y = 0 with c = C(θ) and s = K(θ) f'(u(τ)), both periodic with
+period T_n = 2π/ν, ν = ω/n.  Floquet's ansatz y = e^{λτ} Σ_{k=−H..H} y_k e^{ikντ} turns it into the
+quadratic eigenvalue problem
+
+    [λ² I + λ (2Ω + T_c) + (Ω² + T_c Ω + T_s)] y = 0,        Ω = diag(ikν),
+
+with T_c, T_s the Toeplitz (multiplication) matrices of the Fourier coefficients of c and s; it is
+solved as the linear eigenvalue problem of the 2(2H + 1) companion ("Hill") matrix.  At λ = 0 the
+matrix polynomial is the complex form of the harmonic-balance Jacobian, so a fold of the branch is
+exactly a zero exponent.
+
+Which eigenvalues are the Floquet exponents
+-------------------------------------------
+The exact problem has every exponent λ repeated as λ + imν (m ∈ ℤ), each copy with its eigenvector
+shifted by m harmonics; truncation keeps 2(2H + 1) eigenvalues of which only the copies whose
+eigenvectors sit in the middle of the retained band are accurate.  The rule used here ("sorting by
+centrality", cf. Lazarus & Thomas 2010; Peletan et al. 2013): for each eigenvector take the
+y-part and its energy centroid ⟨|k|⟩ = Σ|k||y_k|² / Σ|y_k|².  The first exponent λ₁ is the most
+central eigenvalue.  The second is not simply the next most central one: in the flip case
+(μ real < 0, Im λ = ν/2) λ₁ and its copy λ₁ − iν are mirror images, equally central, and the next
+most central eigenvalue may be that copy.  So λ₂ is, among the :data:`PARTNER_CANDIDATES` next
+most central eigenvalues, the one whose multiplier exp(λT_n) is closest to Liouville's partner
+exp(−∫c dτ)/μ₁ (for a complex pair this is the conjugate, for a real pair the other real
+multiplier).  The multipliers μ = exp(λ T_n) do not depend on which copy is chosen.
+
+Resolution is checked two ways and a failure gives :attr:`~geardyn.status.Status.UNRESOLVED`:
+the centroids of the chosen eigenvectors must lie in the inner quarter of the band (≤ H/4), and
+Liouville's formula μ₁μ₂ = exp(−∫c dτ) must hold to :data:`LIOUVILLE_TOL` (relative).
+
+References
+----------
+.. [1] G. W. Hill, "On the part of the motion of the lunar perigee which is a function of the mean
+   motions of the sun and moon", Acta Math. 8 (1886) 1–36.
+.. [2] A. Lazarus, O. Thomas, "A harmonic-based method for computing the stability of periodic
+   solutions of dynamical systems", C. R. Mécanique 338 (2010) 510–517.
+.. [3] L. Peletan, S. Baguet, M. Torkhani, G. Jacquet-Richardet, "A comparison of stability
+   computational methods for periodic solution of nonlinear problems with application to
+   rotordynamics", Nonlinear Dyn. 72 (2013) 671–682.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...status import Status
+from ._blas import single_thread_blas
+from .aft import toeplitz
+
+__all__ = ["HillResult", "hill_matrix", "hill_floquet", "LIOUVILLE_TOL", "CENTROID_FRACTION"]
+
+#: Relative tolerance of Liouville's check |μ₁μ₂ / exp(−∫c dτ) − 1|.
+LIOUVILLE_TOL = 1e-4
+#: The chosen eigenvectors' energy centroid must be at most this fraction of H.
+CENTROID_FRACTION = 0.25
+#: The second exponent is sought among this many next most central eigenvalues.
+PARTNER_CANDIDATES = 8
+
+
+def hill_matrix(c_hat: np.ndarray, s_hat: np.ndarray, nu: float, H: int) -> np.ndarray:
+    """The companion (Hill) matrix of y'' + c(τ)y' + s(τ)y = 0 truncated to harmonics |k| <= H.
+
+    Parameters
+    ----------
+    c_hat, s_hat : complex ndarray
+        Centred Fourier coefficients (odd length 2L + 1, index m + L holds the coefficient of
+        e^{imντ}) of the damping c(τ) and the stiffness s(τ).
+    nu : float
+        Fundamental frequency ν of the periodic coefficients (period 2π/ν).
+    H : int
+        Harmonics retained.
+
+    Returns
+    -------
+    complex ndarray (2(2H + 1), 2(2H + 1))
+        A with eigenvalues λ (approximate Floquet exponents and their copies) and eigenvectors (y, λy).
+    """
+    M = 2 * H + 1
+    Om = np.diag(1j * nu * np.arange(-H, H + 1))
+    Tc = toeplitz(np.asarray(c_hat, dtype=complex), H)
+    Ts = toeplitz(np.asarray(s_hat, dtype=complex), H)
+    K0 = Om @ Om + Tc @ Om + Ts
+    K1 = 2.0 * Om + Tc
+    A = np.zeros((2 * M, 2 * M), dtype=complex)
+    A[:M, M:] = np.eye(M)
+    A[M:, :M] = -K0
+    A[M:, M:] = -K1
+    return A
+
+
+@dataclass(frozen=True)
+class HillResult:
+    """Floquet exponents and multipliers of a periodic orbit from Hill's method.
+
+    Attributes
+    ----------
+    exponents : complex ndarray (2,)
+        Selected Floquet exponents λ (per unit τ), largest Re first.
+    multipliers : complex ndarray (2,)
+        μ = exp(λ T_n), largest modulus first.
+    centrality : ndarray (2,)
+        Energy centroids ⟨|k|⟩ of the chosen eigenvectors.
+    liouville_error : float
+        |μ₁μ₂ / exp(−∫c dτ) − 1|.
+    status : Status
+        ``OK`` or ``UNRESOLVED`` (see the module notes); ``DIVERGED`` if the matrix was not finite.
+    """
+
+    exponents: np.ndarray
+    multipliers: np.ndarray
+    centrality: np.ndarray
+    liouville_error: float
+    status: Status
+
+    @property
+    def stable(self) -> bool:
+        """All multipliers strictly inside the unit circle."""
+        return bool(np.all(np.abs(self.multipliers) < 1.0))
+
+    @property
+    def max_modulus(self) -> float:
+        return float(np.max(np.abs(self.multipliers)))
+
+
+def _nan_result(status: Status) -> HillResult:
+    nan = np.full(2, complex(math.nan, math.nan))
+    return HillResult(nan, nan, np.full(2, math.nan), math.nan, status)
+
+
+def hill_floquet(c_hat: np.ndarray, s_hat: np.ndarray, nu: float, H: int) -> HillResult:
+    """Floquet exponents and multipliers of y'' + c(τ)y' + s(τ)y = 0 by Hill's method.
+
+    Parameters
+    ----------
+    c_hat, s_hat : complex ndarray
+        Centred Fourier coefficients of c and s in e^{imντ} (see :func:`hill_matrix`).
+    nu : float
+        Fundamental frequency (the orbit's period is T_n = 2π/ν).
+    H : int
+        Harmonics retained in the Floquet eigenvector.
+
+    Returns
+    -------
+    HillResult
+        The two selected exponents (sorting by centrality, one per multiplier) and their checks.
+
+    References
+    ----------
+    .. [1] A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517.
+    """
+    A = hill_matrix(c_hat, s_hat, nu, H)
+    if not np.all(np.isfinite(A)):
+        return _nan_result(Status.DIVERGED)
+    with single_thread_blas():
+        lam, V = np.linalg.eig(A)
+    M = 2 * H + 1
+    y = V[:M, :]
+    w = np.abs(y) ** 2
+    tot = w.sum(axis=0)
+    kabs = np.abs(np.arange(-H, H + 1))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cent = (kabs @ w) / tot
+    cent = np.where(np.isfinite(cent), cent, np.inf)
+    order = np.argsort(cent, kind="stable")
+    Tn = 2.0 * math.pi / nu
+    mu_all = np.exp(lam * Tn)
+    L = (len(c_hat) - 1) // 2
+    ref = math.exp(-float(np.real(c_hat[L])) * Tn)  # Liouville: μ₁μ₂ = exp(−∫c dτ)
+    i1 = int(order[0])
+    partner = ref / mu_all[i1] if mu_all[i1] != 0 else complex(math.inf)
+    cand = order[1:1 + PARTNER_CANDIDATES]
+    i2 = int(cand[int(np.argmin(np.abs(mu_all[cand] - partner)))])
+    idx = np.array([i1, i2])
+    ex = lam[idx]
+    mu = mu_all[idx]
+    cc = cent[idx]
+    srt = np.argsort(-np.abs(mu), kind="stable")
+    ex, mu, cc = ex[srt], mu[srt], cc[srt]
+    liou = float(abs(mu[0] * mu[1] / ref - 1.0))
+    ok = np.all(cc <= CENTROID_FRACTION * H) and liou <= LIOUVILLE_TOL
+    return HillResult(ex, mu, cc, liou, Status.OK if ok else Status.UNRESOLVED)

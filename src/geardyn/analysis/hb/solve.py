@@ -1,0 +1,379 @@
+"""Harmonic balance for one parameter value: the residual, its analytic Jacobian, Newton's method.
+
+For a period-n response u(φ), φ = θ/n = ντ with ν = ω/n, the equation of motion
+u'' + C(θ)u' + K(θ)f(u; D) = F(θ) becomes, in the complex coefficients c_k (k = −H … H),
+
+    R_k(c) = −ν²k² c_k + ν Σ_l Ĉ_{k−l} (il) c_l + [K f(u)]^_k − F̂_k = 0,
+
+with the products of trigonometric polynomials exact and the dead-zone term from
+:func:`~geardyn.analysis.hb.aft.dead_zone_terms` (contact switches located on a time grid of N
+samples, then exact integration).  Its Jacobian is analytic:
+
+    ∂R/∂c = −ν² diag(k²) + ν T(Ĉ) diag(ik) + T(Ŝ),        Ŝ = coefficients of K(θ)·χ_contact(φ),
+
+and Newton is run on the real coefficient vector ``[a_0, a_1 … a_H, b_1 … b_H]``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from ...model import GearModel, IntegrationOptions, ModelError, canonical_param
+from ...status import Status
+from ._blas import single_thread_blas
+from .aft import HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples, toeplitz
+from .hill import HillResult, hill_floquet
+
+__all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
+
+#: Default harmonics of ν = ω/n (see ``docs/hb.md`` for the convergence study behind it).
+DEFAULT_HARMONICS = 16
+#: Newton converges when ||R|| <= NEWTON_TOL·(1 + ||a||) (real coefficients, Euclidean norm).
+NEWTON_TOL = 1e-11
+NEWTON_MAX_ITER = 40
+NEWTON_MIN_DAMPING = 2.0**-12
+#: Coefficient vectors larger than this count as diverged.
+DIVERGED_NORM = 1e8
+#: Relative step of the central difference for the derivative of R in a parameter other than ω.
+FD_REL_STEP = 1e-6
+#: Simulation used for a starting guess: forcing periods discarded and the step.
+GUESS_TRANSIENT = 400
+GUESS_DTAU = 0.005
+
+
+class HBSystem:
+    """The harmonic-balance equations of one model (optionally as a function of one parameter).
+
+    Parameters
+    ----------
+    model : GearModel
+        Base model; ``param`` values replace one of its parameters.
+    harmonics : int
+        H, harmonics of ν = ω/n retained.
+    period : int
+        n, the response period in forcing periods.
+    param : str, optional
+        Parameter name (as :meth:`GearModel.with_param`) used by :meth:`residual` and :meth:`dR_dp`.
+    samples : int, optional
+        Time samples N per response period (default :func:`~geardyn.analysis.hb.aft.time_samples`).
+    """
+
+    def __init__(self, model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int = 1,
+                 param: str | None = None, samples: int | None = None):
+        if int(period) < 1:
+            raise ModelError(f"period: must be an integer >= 1, got {period!r}")
+        if int(harmonics) < 1:
+            raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
+        self.base = model
+        self.n = int(period)
+        self.H = int(harmonics)
+        self.param = canonical_param(param) if param is not None else None
+        N = samples or time_samples(self.H, self.n, model.n_harmonics + 2)
+        self.basis = HarmonicBasis(self.H, N)
+        self._cache: dict[float | None, tuple[GearModel, tuple[np.ndarray, ...]]] = {}
+
+    def model_at(self, p: float | None = None) -> GearModel:
+        """The model at parameter value ``p`` (the base model when ``p`` is None)."""
+        return self._entry(p)[0]
+
+    def _entry(self, p: float | None) -> tuple[GearModel, tuple[np.ndarray, ...]]:
+        key = None if (p is None or self.param is None) else float(p)
+        e = self._cache.get(key)
+        if e is None:
+            if len(self._cache) > 32:
+                self._cache.clear()
+            m = self.base if key is None else self.base.with_param(self.param, key)
+            C, K, F = model_series(m, self.n)
+            e = self._cache[key] = (m, (C, K, F))
+        return e
+
+    def nu(self, p: float | None = None) -> float:
+        return self.model_at(p).omega / self.n
+
+    def _centred(self, z: np.ndarray, L: int) -> np.ndarray:
+        """Centred coefficient array z padded or cut to half-length L."""
+        Lz = (len(z) - 1) // 2
+        out = np.zeros(2 * L + 1, dtype=complex)
+        m = min(L, Lz)
+        out[L - m:L + m + 1] = z[Lz - m:Lz + m + 1]
+        return out
+
+    def residual(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
+                 ) -> tuple[np.ndarray, np.ndarray | None]:
+        """Residual R(a) (real, length 2H + 1) and, if asked, its analytic Jacobian ∂R/∂a.
+
+        Parameters
+        ----------
+        a : ndarray
+            Real coefficients of u.
+        p : float, optional
+            Parameter value (``param`` of the system).
+        jacobian : bool
+            Also return the Jacobian.
+
+        Returns
+        -------
+        (R, J) : ndarray, ndarray or None
+        """
+        m, (C, K, F) = self._entry(p)
+        H, b = self.H, self.basis
+        nu = m.omega / self.n
+        k = b.k
+        c = b.to_complex(a)
+        dz = dead_zone_terms(b, a, K, m.D)
+        TcOm = toeplitz(C, H) * (1j * k)[None, :]
+        Rc = -(nu * k) ** 2 * c + nu * (TcOm @ c) + dz.G - self._centred(F, H)
+        R = b.to_real(Rc)
+        if not jacobian:
+            return R, None
+        Jc = np.diag(-(nu * k) ** 2).astype(complex) + nu * TcOm + toeplitz(dz.S, H)
+        return R, b.real_operator(Jc)
+
+    def dR_dp(self, a: np.ndarray, p: float) -> np.ndarray:
+        """Derivative of R in the system's parameter at fixed coefficients (analytic for ω, else a
+        central difference of the residual, which is exact to rounding for parameters entering it
+        linearly: ξ_k, κ_r, ε_l, f_p)."""
+        if self.param is None:
+            raise ModelError("dR_dp: the system has no continuation parameter")
+        if self.param == "omega":
+            m, (C, K, F) = self._entry(p)
+            b, H = self.basis, self.H
+            nu = m.omega / self.n
+            k = b.k
+            c = b.to_complex(a)
+            Fh = self._centred(F, H)
+            Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
+            dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / self.n - 2.0 / m.omega * Fh
+            return b.to_real(dRc)
+        d = FD_REL_STEP * max(1.0, abs(p))
+        vals = []
+        for q in (p + d, p - d):
+            try:
+                vals.append((q, self.residual(a, q, jacobian=False)[0]))
+            except ModelError:
+                vals.append((p, self.residual(a, p, jacobian=False)[0]))
+        (q1, r1), (q2, r2) = vals
+        return (r1 - r2) / (q1 - q2)
+
+    def stability(self, a: np.ndarray, p: float | None = None) -> HillResult:
+        """Hill's Floquet exponents and multipliers of the solution ``a`` (see :mod:`.hill`)."""
+        m, (C, K, F) = self._entry(p)
+        dz = dead_zone_terms(self.basis, a, K, m.D)
+        return hill_floquet(self._centred(C, 2 * self.H), dz.S, m.omega / self.n, self.H)
+
+    def newton(self, a0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL,
+               max_iter: int = NEWTON_MAX_ITER) -> tuple[np.ndarray, Status, int, float]:
+        """Damped Newton on R(a) = 0 at fixed parameter.
+
+        Returns
+        -------
+        (a, status, iterations, residual norm)
+        """
+        a = np.asarray(a0, dtype=float).copy()
+        if a.shape != (self.basis.size,) or not np.all(np.isfinite(a)):
+            return a, Status.DIVERGED, 0, math.inf
+        R, J = self.residual(a, p)
+        r = float(np.linalg.norm(R))
+        for it in range(max_iter + 1):
+            if r <= tol * (1.0 + float(np.linalg.norm(a))):
+                return a, Status.OK, it, r
+            if it == max_iter:
+                break
+            try:
+                da = np.linalg.solve(J, -R)
+            except np.linalg.LinAlgError:
+                da = np.linalg.lstsq(J, -R, rcond=None)[0]
+            lam = 1.0
+            while lam >= NEWTON_MIN_DAMPING:
+                trial = a + lam * da
+                if not np.all(np.isfinite(trial)) or np.linalg.norm(trial) > DIVERGED_NORM:
+                    lam *= 0.5
+                    continue
+                Rt, Jt = self.residual(trial, p)
+                rt = float(np.linalg.norm(Rt))
+                if rt < (1.0 - 1e-4 * lam) * r:
+                    a, R, J, r = trial, Rt, Jt, rt
+                    break
+                lam *= 0.5
+            else:
+                return a, Status.NOT_CONVERGED, it + 1, r
+        return a, Status.NOT_CONVERGED, max_iter, r
+
+
+@dataclass
+class HBSolution:
+    """A harmonic-balance solution at one parameter value (non-dimensional).
+
+    Attributes
+    ----------
+    model : GearModel
+    harmonics, period, samples : int
+        H, n and the number N of time samples per response period.
+    coefficients : ndarray (2H + 1,)
+        ``[a_0, a_1 … a_H, b_1 … b_H]`` of u(φ), φ = ωτ/n.
+    status : Status
+        Newton's outcome (``OK``, ``NOT_CONVERGED``, ``DIVERGED``).
+    iterations : int
+    residual : float
+        ||R|| at the last iterate.
+    u_min, u_max : float
+        Extremes of the reconstructed u over the period (NaN unless converged).
+    hill : HillResult or None
+        Stability (None unless converged); ``hill.status`` is ``UNRESOLVED`` when the multipliers
+        cannot be trusted at this H.
+    """
+
+    model: GearModel
+    harmonics: int
+    period: int
+    samples: int
+    coefficients: np.ndarray
+    status: Status
+    iterations: int
+    residual: float
+    u_min: float = math.nan
+    u_max: float = math.nan
+    hill: HillResult | None = field(default=None, repr=False)
+
+    @property
+    def converged(self) -> bool:
+        return self.status is Status.OK
+
+    @property
+    def amplitude(self) -> float:
+        """Half peak-to-peak displacement (u_max − u_min)/2."""
+        return 0.5 * (self.u_max - self.u_min)
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        return self.hill.multipliers if self.hill is not None else np.full(2, complex(math.nan, math.nan))
+
+    @property
+    def stable(self) -> bool | None:
+        """True/False when converged and resolved, None otherwise."""
+        if not self.converged or self.hill is None or self.hill.status is not Status.OK:
+            return None
+        return self.hill.stable
+
+    def signal(self, samples: int = 512) -> tuple[np.ndarray, np.ndarray]:
+        """(τ, u) at ``samples`` equispaced instants over the n forcing periods, from τ = 0 (θ = 0)."""
+        b = HarmonicBasis(self.harmonics, max(samples, 2 * self.harmonics + 2))
+        phi = 2.0 * np.pi * np.arange(samples) / samples
+        nu = self.model.omega / self.period
+        return phi / nu, b.evaluate(self.coefficients, phi)
+
+    def state(self) -> np.ndarray:
+        """(u, u') at τ = 0 (θ = 0), comparable with a shooting orbit's ``state``."""
+        a, H = self.coefficients, self.harmonics
+        k = np.arange(1, H + 1)
+        nu = self.model.omega / self.period
+        return np.array([a[0] + a[1:H + 1].sum(), nu * float(k @ a[H + 1:])])
+
+
+def guess_from_simulation(model: GearModel, harmonics: int, period: int = 1,
+                          state0: Sequence[float] = (0.0, 0.0), *, transient: int = GUESS_TRANSIENT,
+                          dtau: float = GUESS_DTAU) -> np.ndarray | None:
+    """Fourier coefficients of the attractor reached by simulation from ``state0`` (n periods after
+    ``transient`` forcing periods), truncated to H harmonics of ω/n; None if the simulation diverged.
+
+    Parameters
+    ----------
+    model : GearModel
+    harmonics, period : int
+        H and n.
+    state0 : (u, u')
+    transient : int
+    dtau : float
+
+    Returns
+    -------
+    ndarray or None
+    """
+    from ...integrate import trajectory
+
+    n, H = int(period), int(harmonics)
+    opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=n)
+    tr = trajectory(model, state0, opts, history_periods=n)
+    u = tr.u[:-1]
+    if not np.all(np.isfinite(u)):
+        return None
+    X = np.fft.rfft(u) / u.size
+    a = np.zeros(2 * H + 1)
+    a[0] = X[0].real
+    m = min(H, X.size - 1)
+    a[1:m + 1] = 2.0 * X[1:m + 1].real
+    a[H + 1:H + 1 + m] = -2.0 * X[1:m + 1].imag
+    return a
+
+
+def linear_guess(model: GearModel, harmonics: int, period: int = 1) -> np.ndarray:
+    """Coefficients of the response of the linearised, permanently meshing model (u > D), a guess
+    for small-amplitude responses: u = f_p + D + Σ_l ω²l²ε_l cos(lθ + φ_el)/(1 − (lω)² + 2iξ0 lω)."""
+    H, n = int(harmonics), int(period)
+    a = np.zeros(2 * H + 1)
+    a[0] = model.fp + model.D
+    w = model.omega
+    for j, (e, ph) in enumerate(zip(model.eps, model.phi_e), start=1):
+        kk = n * j
+        if kk > H:
+            break
+        z = w * w * j * j * e * np.exp(1j * ph) / (1.0 - (j * w) ** 2 + 2j * model.xi0 * j * w)
+        a[kk] += z.real
+        a[H + kk] += -z.imag
+    return a
+
+
+def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int = 1,
+             guess: np.ndarray | str | None = None, *, samples: int | None = None, tol: float = NEWTON_TOL,
+             max_iter: int = NEWTON_MAX_ITER, stability: bool = True) -> HBSolution:
+    """Solve the harmonic-balance equations of ``model`` at one parameter point.
+
+    Parameters
+    ----------
+    model : GearModel
+        Non-dimensional model.
+    harmonics : int
+        H, harmonics of ω/n (default :data:`DEFAULT_HARMONICS`).
+    period : int
+        n: the response repeats after n forcing periods (n = 1 harmonic, n > 1 subharmonic).
+    guess : ndarray, "simulate", "linear" or None
+        Starting coefficients (length 2H + 1), ``"linear"`` (the permanently meshing linear response) or
+        ``"simulate"`` (the attractor reached by simulation from rest).  Default: ``"simulate"``.
+    samples : int, optional
+        Time samples per response period (default :func:`~geardyn.analysis.hb.aft.time_samples`).
+    tol, max_iter :
+        Newton tolerance (||R|| <= tol·(1 + ||a||)) and iteration limit.
+    stability : bool
+        Compute Hill's multipliers of a converged solution.
+
+    Returns
+    -------
+    HBSolution
+        Check ``status`` (a :class:`~geardyn.status.Status`); values are NaN unless it is ``OK``.
+    """
+    sysm = HBSystem(model, harmonics, period, samples=samples)
+    H = sysm.H
+    if guess is None or (isinstance(guess, str) and guess == "simulate"):
+        a0 = guess_from_simulation(model, H, period)
+        if a0 is None:
+            a0 = linear_guess(model, H, period)
+    elif isinstance(guess, str) and guess == "linear":
+        a0 = linear_guess(model, H, period)
+    elif isinstance(guess, str):
+        raise ModelError(f"guess: expected coefficients, 'simulate' or 'linear', got {guess!r}")
+    else:
+        a0 = np.asarray(guess, dtype=float)
+        if a0.shape != (2 * H + 1,):
+            raise ModelError(f"guess: expected {2 * H + 1} coefficients for H = {H}, got shape {a0.shape}")
+    with single_thread_blas():
+        a, status, its, r = sysm.newton(a0, None, tol=tol, max_iter=max_iter)
+        sol = HBSolution(model, H, sysm.n, sysm.basis.N, a, status, its, r)
+        if status is Status.OK:
+            sol.u_min, sol.u_max, _, _ = signal_extrema(sysm.basis, a)
+            if stability:
+                sol.hill = sysm.stability(a)
+    return sol
