@@ -147,7 +147,7 @@ def test_sweep_survives_a_worker_killed_mid_run(cluster, tmp_path):
 def test_lost_scheduler_stops_the_sweep_in_one_line_keeping_finished_chunks(tmp_path, monkeypatch):
     from geardyn import sweep as S
 
-    monkeypatch.setattr(S, "DASK_CONNECT_TIMEOUT", 2)  # how long the client tries to reconnect
+    monkeypatch.setattr(S.executors, "DASK_CONNECT_TIMEOUT", 2)  # how long the client tries to reconnect
     c = Cluster(tmp_path)
     try:
         c.add_worker("only")

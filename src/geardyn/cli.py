@@ -1079,6 +1079,7 @@ def main(argv: Optional[list[str]] = None) -> None:
     that do not parse, bad configuration files); 130 interrupted by Ctrl-C (a sweep says how to
     resume); 1 other failures such as an unwritable output or a lost Dask scheduler.
     """
+    from .errors import GeardynError
     from .sweep import SweepFailed, SweepInterrupted
 
     # typer's parser exceptions (its own vendored click, or click itself in older versions)
@@ -1094,15 +1095,15 @@ def main(argv: Optional[list[str]] = None) -> None:
         where = f" (see 'geardyn {e.ctx.info_name} --help')" if e.ctx is not None and e.ctx.parent is not None else ""
         say_error(f"error: {e.format_message()}{where}")
         raise SystemExit(2) from None
-    except ModelError as e:
-        say_error(f"error: {e}")
-        raise SystemExit(2) from None
     except SweepInterrupted as e:
         say_error(str(e))
         raise SystemExit(EXIT_INTERRUPTED) from None
     except SweepFailed as e:
         say_error(f"error: {e}")
         raise SystemExit(1) from None
+    except GeardynError as e:
+        say_error(f"error: {e}")
+        raise SystemExit(2) from None
     except typer.Abort:
         say_error("interrupted")
         raise SystemExit(EXIT_INTERRUPTED) from None
