@@ -23,7 +23,7 @@ import numpy as np
 
 from .model import GearModel, ModelError, canonical_param
 
-__all__ = ["GRID_KINDS", "Grid", "build_models", "grid_models", "linspace_values"]
+__all__ = ["GRID_KINDS", "Grid", "build_models", "chunked", "grid_models", "linspace_values"]
 
 #: The kinds of grid.
 GRID_KINDS = ("range", "product", "curve", "states")
@@ -59,6 +59,30 @@ def linspace_values(start: float, stop: float, num: int, label: str = "") -> np.
     if isinstance(num, bool) or int(num) != num or num < 1:
         raise ModelError(f"{pre}num: must be an integer >= 1, got {num!r}")
     return np.linspace(float(start), float(stop), int(num))
+
+
+def chunked(n: int, size: int) -> list[slice]:
+    """Slices cutting range(n) into consecutive chunks of at most ``size`` points.
+
+    Parameters
+    ----------
+    n : int
+        Number of points.
+    size : int
+        Points per chunk (>= 1).
+
+    Returns
+    -------
+    list of slice
+
+    Raises
+    ------
+    ModelError
+        For ``size`` < 1.
+    """
+    if size < 1:
+        raise ModelError(f"chunk size: must be >= 1, got {size}")
+    return [slice(i, min(i + size, n)) for i in range(0, n, size)]
 
 
 def _axis_values(name: str, values: Sequence[float] | np.ndarray, unique: bool) -> np.ndarray:
@@ -146,6 +170,7 @@ class Grid:
         Returns
         -------
         Grid
+            Of kind ``'range'``, one axis.
 
         Raises
         ------
@@ -171,6 +196,7 @@ class Grid:
         Returns
         -------
         Grid
+            Of kind ``'range'``, values evenly spaced.
 
         Raises
         ------
@@ -193,6 +219,7 @@ class Grid:
         Returns
         -------
         Grid
+            Of kind ``'product'``, shape (len(values) of each axis).
 
         Raises
         ------
@@ -218,6 +245,7 @@ class Grid:
         Returns
         -------
         Grid
+            Of kind ``'curve'``, shape (points,).
 
         Raises
         ------
@@ -241,6 +269,7 @@ class Grid:
         Returns
         -------
         Grid
+            Of kind ``'states'``, shape (len(v0), len(u0)).
 
         Raises
         ------
@@ -336,10 +365,7 @@ class Grid:
         ModelError
             For ``chunk_points`` < 1.
         """
-        if chunk_points < 1:
-            raise ModelError(f"chunk size: must be >= 1, got {chunk_points}")
-        n = self.size
-        return [slice(i, min(i + chunk_points, n)) for i in range(0, n, chunk_points)]
+        return chunked(self.size, chunk_points)
 
 
 def grid_models(base: GearModel, params: Sequence[str], values: Sequence[Sequence[float]]) -> list[GearModel]:
@@ -357,6 +383,7 @@ def grid_models(base: GearModel, params: Sequence[str], values: Sequence[Sequenc
     Returns
     -------
     list of GearModel
+        One per grid point, in row-major order.
 
     Raises
     ------

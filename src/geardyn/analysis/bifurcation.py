@@ -75,26 +75,8 @@ _LONG_NAMES = {
 }
 
 
-def sweep_values(start: float, stop: float, num: int) -> np.ndarray:
-    """Evenly spaced values start … stop (num >= 1), validated (:func:`geardyn.grid.linspace_values`).
-
-    Parameters
-    ----------
-    start, stop : float
-        Ends of the range.
-    num : int
-        Number of values.
-
-    Returns
-    -------
-    ndarray
-
-    Raises
-    ------
-    ModelError
-        For a non-finite end or ``num`` not an integer >= 1.
-    """
-    return linspace_values(start, stop, num)
+#: Evenly spaced values start … stop (num >= 1), validated: :func:`geardyn.grid.linspace_values`.
+sweep_values = linspace_values
 
 
 def _rows(out: dict[str, np.ndarray], start: np.ndarray, restarted: np.ndarray | None = None) -> dict[str, np.ndarray]:

@@ -9,6 +9,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..errors import SweepError
+from ..grid import chunked as _chunked
 from ..model import ModelError
 from .checkpoints import CheckpointStore
 from .executors import SchedulerLost, run_in_process, run_on_dask, run_on_executor, run_on_pool
@@ -99,27 +100,8 @@ class Chunk:
 
 
 def chunked(n: int, size: int = DEFAULT_CHUNK_POINTS) -> list[slice]:
-    """Slices cutting range(n) into consecutive chunks of at most ``size`` points.
-
-    Parameters
-    ----------
-    n : int
-        Number of points.
-    size : int
-        Points per chunk (>= 1).
-
-    Returns
-    -------
-    list of slice
-
-    Raises
-    ------
-    ModelError
-        For ``size`` < 1.
-    """
-    if size < 1:
-        raise ModelError(f"chunk size: must be >= 1, got {size}")
-    return [slice(i, min(i + size, n)) for i in range(0, n, size)]
+    """Slices cutting range(n) into consecutive chunks of at most ``size`` points (:func:`geardyn.grid.chunked`)."""
+    return _chunked(n, size)
 
 
 def concat_results(results: Sequence[dict[str, np.ndarray]]) -> dict[str, np.ndarray]:

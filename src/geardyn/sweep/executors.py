@@ -61,7 +61,7 @@ PARENT_CHECK_INTERVAL = 1.0
 #: Seconds to wait for a Dask scheduler to answer.
 DASK_CONNECT_TIMEOUT = 10
 #: Modules the local worker processes import before they are forked (forkserver start method).
-POOL_PRELOAD = ("geardyn.integrate", "geardyn.sweep", "geardyn.analysis.steady")
+POOL_PRELOAD = ("geardyn.integrate", "geardyn.sweep", "geardyn.analysis.steady", "geardyn.analysis.bifurcation")
 
 Finished = Callable[[object, dict], None]
 
