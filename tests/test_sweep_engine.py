@@ -318,3 +318,11 @@ def test_cli_xi0_sweep_marks_negative_damping_diverged():
     assert code == 0, err
     n_bad = int(np.count_nonzero(status == "diverged"))
     assert f"{n_bad} of 11 points diverged" in err
+
+
+def test_fingerprint_depends_on_values_not_object_identity():
+    name = "".join(["ome", "ga"])  # equal to the interned "omega", another object (as from the command line)
+    assert name == "omega" and name is not sys.intern("omega")
+    a = [Chunk(0, F.steady_chunk, (GearModel(), ("omega",), F.FAST))]
+    b = [Chunk(0, F.steady_chunk, (GearModel(), (name,), F.FAST))]
+    assert S.fingerprint(a) == S.fingerprint(b)

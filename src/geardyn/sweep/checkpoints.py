@@ -85,8 +85,22 @@ def fingerprint(chunks: Sequence[Any]) -> str:
     h = hashlib.sha256()
     for c in chunks:
         h.update(f"{c.index}:{c.fn.__module__}.{c.fn.__qualname__}:".encode())
-        h.update(pickle.dumps(c.args, protocol=4))
+        h.update(_value_bytes(c.args))
     return h.hexdigest()
+
+
+def _value_bytes(obj: Any) -> bytes:
+    """A pickle of ``obj`` that depends on its value only.
+
+    The pickle memo is off: with it, an object met twice is written once and then referenced, so
+    equal arguments would pickle differently depending on whether two of their strings happen to
+    be the same object (an interned ``"omega"`` from code, or an equal one from the command line).
+    """
+    buf = _io.BytesIO()
+    p = pickle.Pickler(buf, protocol=4)
+    p.fast = True
+    p.dump(obj)
+    return buf.getvalue()
 
 
 def _chunk_path(directory: Path, index: int) -> Path:
