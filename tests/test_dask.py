@@ -107,6 +107,16 @@ def test_dask_cluster_gives_the_local_result(cluster, tmp_path):
         assert len(c.scheduler_info(n_workers=-1)["workers"]) == 2
 
 
+def test_client_executor_gives_the_local_result(cluster):
+    """``Client.get_executor()`` handed to the engine as any concurrent.futures executor."""
+    from geardyn.sweep import SweepOptions
+
+    local = F.sweep("omega", OMEGAS, workers=1)
+    with cluster.client() as c:
+        remote = F.sweep("omega", OMEGAS, engine=SweepOptions(executor=c.get_executor()))
+    xr.testing.assert_identical(local, remote)
+
+
 def test_sweep_survives_a_worker_killed_mid_run(cluster, tmp_path):
     local = F.sweep("omega", KILL_OMEGAS, SLOW, chunk_points=1, workers=1)
     cluster.add_worker("victim")
@@ -147,7 +157,7 @@ def test_sweep_survives_a_worker_killed_mid_run(cluster, tmp_path):
 def test_lost_scheduler_stops_the_sweep_in_one_line_keeping_finished_chunks(tmp_path, monkeypatch):
     from geardyn import sweep as S
 
-    monkeypatch.setattr(S, "DASK_CONNECT_TIMEOUT", 2)  # how long the client tries to reconnect
+    monkeypatch.setattr(S.executors, "DASK_CONNECT_TIMEOUT", 2)  # how long the client tries to reconnect
     c = Cluster(tmp_path)
     try:
         c.add_worker("only")

@@ -17,7 +17,6 @@ from geardyn.analysis.classify import (
     MOTION_PERIODIC,
     MOTION_QUASIPERIODIC,
     MOTION_UNRESOLVED,
-    classify_batch,
     classify_motion,
     count_loops,
     curve_dimension,
@@ -25,6 +24,7 @@ from geardyn.analysis.classify import (
     motion_label,
     settling_ratio,
 )
+from geardyn.analysis.steady import classify_batch
 from geardyn.analysis.lyapunov import lyapunov_batch, lyapunov_spectrum, spectrum_from_log
 from geardyn.integrate import integrate_batch, period_map
 from geardyn.model import GearModel, IntegrationOptions

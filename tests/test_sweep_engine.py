@@ -15,6 +15,7 @@ import xarray as xr
 
 import sweep_fixtures as F
 from geardyn import sweep as S
+from geardyn.errors import SweepError
 from geardyn.io import read_netcdf
 from geardyn.model import GearModel, IntegrationOptions, ModelError
 from geardyn.sweep import Chunk, SweepInterrupted, checkpoint_dir, chunked, grid_models, run_chunks
@@ -62,8 +63,8 @@ def test_checkpoint_resume_runs_only_missing_chunks(tmp_path, reference, monkeyp
     files[1].unlink()
     kept = {p.name: p.stat().st_mtime_ns for p in chunk_files(ck)}
     saved: list[int] = []
-    real = S._save_chunk
-    monkeypatch.setattr(S, "_save_chunk", lambda d, i, r: (saved.append(i), real(d, i, r)))
+    real = S.checkpoints._save_chunk
+    monkeypatch.setattr(S.checkpoints, "_save_chunk", lambda d, i, r: (saved.append(i), real(d, i, r)))
     xr.testing.assert_identical(reference, F.sweep("omega", OMEGAS, checkpoint=ck, resume=True))
     assert saved == [1]  # only the missing chunk ran
     assert {p.name: p.stat().st_mtime_ns for p in chunk_files(ck) if p.name in kept} == kept
@@ -81,7 +82,7 @@ def test_corrupt_or_partial_chunk_files_are_recomputed(tmp_path, reference):
 def test_resume_refuses_a_checkpoint_of_another_sweep(tmp_path):
     ck = tmp_path / "ck"
     F.sweep("omega", OMEGAS, checkpoint=ck)
-    with pytest.raises(ModelError, match=r"^resume: .*different sweep"):
+    with pytest.raises(SweepError, match=r"^resume: .*different sweep"):
         F.sweep("omega", OMEGAS[:-1], checkpoint=ck, resume=True)
     # without --resume the old checkpoint is replaced
     F.sweep("omega", OMEGAS[:-1], checkpoint=ck)
@@ -168,7 +169,7 @@ def test_divergence_summary_counts_status_entries():
 def test_progress_bar_only_when_asked(capsys, monkeypatch):
     F.sweep("omega", OMEGAS[:2])
     assert capsys.readouterr().err == ""
-    monkeypatch.setattr(S, "PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr(S.progress, "PROGRESS_DELAY", 0.0)
     F.sweep("omega", OMEGAS[:4], progress=True, description="demo")
     err = capsys.readouterr().err
     assert "demo" in err and "chunks" in err and "0 of 4 points diverged" in err
@@ -181,13 +182,13 @@ def test_run_chunks_refuses_bad_arguments(tmp_path, monkeypatch):
             run_chunks(chunks, workers=w)
     with pytest.raises(ModelError, match="indices must be unique"):
         run_chunks(chunks + chunks)
-    monkeypatch.setattr(S, "DASK_CONNECT_TIMEOUT", 1)
-    with pytest.raises(ModelError, match="^scheduler: cannot connect"):
+    monkeypatch.setattr(S.executors, "DASK_CONNECT_TIMEOUT", 1)
+    with pytest.raises(SweepError, match="^scheduler: cannot connect"):
         run_chunks(chunks, scheduler="tcp://127.0.0.1:9")
     with pytest.raises(ModelError, match="empty"):
         S.concat_results([])
     (tmp_path / "file").write_text("x")
-    with pytest.raises(ModelError, match="^out: "):
+    with pytest.raises(SweepError, match="^out: "):
         run_chunks(chunks, checkpoint=tmp_path / "file")
 
 
@@ -317,3 +318,11 @@ def test_cli_xi0_sweep_marks_negative_damping_diverged():
     assert code == 0, err
     n_bad = int(np.count_nonzero(status == "diverged"))
     assert f"{n_bad} of 11 points diverged" in err
+
+
+def test_fingerprint_depends_on_values_not_object_identity():
+    name = "".join(["ome", "ga"])  # equal to the interned "omega", another object (as from the command line)
+    assert name == "omega" and name is not sys.intern("omega")
+    a = [Chunk(0, F.steady_chunk, (GearModel(), ("omega",), F.FAST))]
+    b = [Chunk(0, F.steady_chunk, (GearModel(), (name,), F.FAST))]
+    assert S.fingerprint(a) == S.fingerprint(b)

@@ -3,41 +3,36 @@
 At one parameter set (typically inside a hysteresis interval found by
 :func:`geardyn.analysis.response.frequency_response`), every initial state (u0, v0) of a grid at
 θ = 0 is integrated through the transient and classified.  Attractors are identified by their
-Poincaré cycles: two periodic end states belong to the same attractor when they have the same
-period and each point of one cycle lies within :data:`CYCLE_TOL` of a point of the other (the
-cycle's phase does not matter).  Non-periodic attractors (quasi-periodic, chaotic, unresolved)
-are told apart by motion class, amplitude, mean and extremes (to :data:`NONPERIODIC_TOL` of the
-largest amplitude).  Labels are numbered by basin size (0 the largest); −1 marks diverged states.
-The grid points are independent, so they are cut into chunks for the sweep engine.
+Poincaré cycles (:mod:`geardyn.analysis.attractors`, the test the frequency response uses too):
+two periodic end states belong to the same attractor when they have the same period and each
+point of one cycle lies within :data:`CYCLE_TOL` of a point of the other (the cycle's phase does
+not matter).  Non-periodic attractors (quasi-periodic, chaotic, unresolved) are told apart by
+motion class, amplitude, mean and extremes (to :data:`NONPERIODIC_TOL` of the largest amplitude).
+Labels are numbered by basin size (0 the largest); −1 marks diverged states.
+The grid of initial states (:meth:`geardyn.grid.Grid.states`) has independent points, so they
+are cut into chunks for the sweep engine.
 """
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from ..integrate import ST_OK
+from ..grid import Grid, linspace_values
 from ..io import annotate, result_attrs
-from ..model import GearModel, IntegrationOptions, ModelError
-from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, chunked, run_chunks
+from ..model import GearModel, IntegrationOptions
+from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, SweepOptions, run_chunks
+from .attractors import CLOUD_POINTS, CYCLE_TOL, NONPERIODIC_TOL, identify_attractors
 from .bifurcation import fixed_chunk
-from .classify import MAX_PERIOD, MOTION_PERIODIC, SETTLE_PERIODS, motion_label
+from .classify import MAX_PERIOD, SETTLE_PERIODS, motion_label
 
 __all__ = ["basins", "basins_json", "identify_attractors", "CYCLE_TOL", "NONPERIODIC_TOL", "BASIN_OPTIONS"]
 
-#: Cycle points closer than this (relative to max(1, largest |coordinate|)) are the same point.
-CYCLE_TOL = 1.0e-3
-#: Non-periodic attractors are the same when amplitude, mean and extremes agree to this fraction
-#: of the largest amplitude among them.
-NONPERIODIC_TOL = 0.05
 #: Default integration options of a basin map: the usual transient, and just enough recorded
 #: periods to detect periods up to MAX_PERIOD.
 BASIN_OPTIONS = IntegrationOptions(periods=2 * MAX_PERIOD)
-#: Non-periodic attractors are drawn with this many of their Poincaré points.
-CLOUD_POINTS = MAX_PERIOD
 
 
 def basin_chunk(model, states, options, settle_periods):
@@ -46,87 +41,6 @@ def basin_chunk(model, states, options, settle_periods):
     keep = min(r["poincare"].shape[1], max(MAX_PERIOD, CLOUD_POINTS))
     return {k: r[k] for k in ("period", "motion", "impact", "status", "amplitude", "mean", "u_min", "u_max", "lle")} | {
         "poincare": r["poincare"][:, -keep:, :]}
-
-
-def _grid(name: str, lo: float, hi: float, num: int) -> np.ndarray:
-    for n, v in ((f"{name} start", lo), (f"{name} stop", hi)):
-        if not np.isfinite(v):
-            raise ModelError(f"{n}: must be a finite number, got {v!r}")
-    if isinstance(num, bool) or int(num) != num or num < 1:
-        raise ModelError(f"{name} num: must be an integer >= 1, got {num!r}")
-    return np.linspace(float(lo), float(hi), int(num))
-
-
-def identify_attractors(rows: dict[str, np.ndarray], *, tol: float = CYCLE_TOL,
-                        nonperiodic_tol: float = NONPERIODIC_TOL) -> tuple[np.ndarray, list[dict[str, Any]]]:
-    """Label each point by its attractor.
-
-    Parameters
-    ----------
-    rows : dict of arrays
-        Per-point ``period``, ``motion``, ``status``, ``amplitude``, ``mean``, ``u_min``,
-        ``u_max`` and ``poincare`` (P, m, 2).
-
-    Returns
-    -------
-    labels : ndarray (P,)
-        Attractor index per point (0 = largest basin), −1 where diverged.
-    attractors : list of dict
-        Per attractor: ``period`` (0 if not periodic), ``motion`` code, ``points`` (the cycle, or
-        a sample of the section), ``amplitude``, ``mean``, ``count`` (points in its basin).
-    """
-    P = rows["period"].shape[0]
-    raw = np.full(P, -1, dtype=np.int64)
-    atts: list[dict[str, Any]] = []
-    amps = rows["amplitude"][np.isfinite(rows["amplitude"])]
-    amp_scale = max(float(np.max(amps)) if amps.size else 0.0, 1e-12)
-    for i in range(P):
-        if rows["status"][i] != ST_OK:
-            continue
-        code = int(rows["motion"][i])
-        n = int(rows["period"][i])
-        found = -1
-        if code == MOTION_PERIODIC and n > 0:
-            cyc = rows["poincare"][i][-n:]
-            scale = max(1.0, float(np.max(np.abs(cyc))))
-            for a, att in enumerate(atts):
-                if att["motion"] != MOTION_PERIODIC or att["period"] != n:
-                    continue
-                d = np.max(np.abs(cyc[:, None, :] - att["points"][None, :, :]), axis=2)
-                if np.all(d.min(axis=1) <= tol * scale) and np.all(d.min(axis=0) <= tol * scale):
-                    found = a
-                    break
-            if found < 0:
-                order = np.lexsort((cyc[:, 1], cyc[:, 0]))
-                atts.append({"period": n, "motion": code, "points": cyc[order].copy(),
-                             "amplitude": float(rows["amplitude"][i]), "mean": float(rows["mean"][i]), "count": 0})
-                found = len(atts) - 1
-        else:
-            sig = np.array([rows["amplitude"][i], rows["mean"][i], rows["u_min"][i], rows["u_max"][i]])
-            for a, att in enumerate(atts):
-                if att["motion"] != code or att["period"] != 0:
-                    continue
-                if np.all(np.abs(sig - att["signature"]) <= nonperiodic_tol * amp_scale):
-                    found = a
-                    break
-            if found < 0:
-                atts.append({"period": 0, "motion": code, "points": rows["poincare"][i][-CLOUD_POINTS:].copy(),
-                             "amplitude": float(rows["amplitude"][i]), "mean": float(rows["mean"][i]),
-                             "signature": sig, "count": 0})
-                found = len(atts) - 1
-        raw[i] = found
-        atts[found]["count"] += 1
-    # number by basin size (ties: periodic first, then by period and first cycle point)
-    key = sorted(range(len(atts)), key=lambda a: (-atts[a]["count"], atts[a]["period"] == 0, atts[a]["period"],
-                                                  float(atts[a]["points"][0, 0])))
-    new = {old: k for k, old in enumerate(key)}
-    labels = np.array([new[r] if r >= 0 else -1 for r in raw], dtype=np.int64)
-    out = []
-    for old in key:
-        a = dict(atts[old])
-        a.pop("signature", None)
-        out.append(a)
-    return labels, out
 
 
 def basins(
@@ -138,13 +52,8 @@ def basins(
     *,
     options: IntegrationOptions = BASIN_OPTIONS,
     settle_periods: int = SETTLE_PERIODS,
-    workers: int = 1,
-    scheduler: str | None = None,
-    checkpoint: str | Path | None = None,
-    resume: bool = False,
-    progress: bool = False,
-    chunk_points: int = 4 * DEFAULT_CHUNK_POINTS,
-    executor: Any = None,
+    engine: SweepOptions | None = None,
+    **engine_kw: Any,
 ) -> xr.Dataset:
     """Basins of attraction over a grid of initial states (u0, v0) at θ = 0.
 
@@ -159,6 +68,11 @@ def basins(
     options : IntegrationOptions
         Transient (long enough for every start to settle) and recorded periods (at least
         2·MAX_PERIOD to detect periods up to MAX_PERIOD).
+    engine : SweepOptions, optional
+        Where and how the sweep runs; ``chunk_points`` is the number of initial states per chunk
+        (default 4 × :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
+    **engine_kw
+        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
     Other parameters as for :func:`~geardyn.analysis.bifurcation.bifurcation`.
 
     Returns
@@ -168,20 +82,29 @@ def basins(
         ``amplitude``, ``status``; and dimensions ``attractor``, ``cycle_point`` with
         ``attractor_period``, ``attractor_motion``, ``attractor_fraction``, ``attractor_amplitude``,
         ``attractor_u``, ``attractor_v`` (the cycle points, NaN-padded).
+
+    Raises
+    ------
+    ModelError
+        For a non-finite range end, a count not an integer >= 1, options the model refuses or
+        invalid engine options.
+    SweepError
+        When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
+    TypeError
+        For a keyword that is not an engine option.
     """
+    eng = SweepOptions.merge(engine, "basins", **engine_kw)
     options.check_for(model.omega)
-    u0 = _grid("u0", *u_range, nu)
-    v0 = _grid("v0", *v_range, nv)
-    V, U = np.meshgrid(v0, u0, indexing="ij")
-    states = np.column_stack([U.ravel(), V.ravel()])
-    chunks = [Chunk(i, basin_chunk, (model, states[sl], options, settle_periods))
-              for i, sl in enumerate(chunked(states.shape[0], chunk_points))]
-    results = run_chunks(chunks, workers=workers, scheduler=scheduler, executor=executor, checkpoint=checkpoint,
-                         resume=resume, progress=progress, description="basins")
+    u0 = linspace_values(*u_range, nu, label="u0")
+    v0 = linspace_values(*v_range, nv, label="v0")
+    grid = Grid.states(u0, v0)
+    chunks = [Chunk(i, basin_chunk, (model, grid.state_points(sl), options, settle_periods))
+              for i, sl in enumerate(grid.slices(eng.points_per_chunk(4 * DEFAULT_CHUNK_POINTS)))]
+    results = run_chunks(chunks, eng, description="basins")
     rows = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
     labels, atts = identify_attractors(rows)
-    shape = (v0.size, u0.size)
-    dims = ("v0", "u0")
+    shape = grid.shape
+    dims = grid.names
     A = len(atts)
     width = max([a["points"].shape[0] for a in atts], default=1)
     au = np.full((A, width), np.nan)

@@ -1,7 +1,7 @@
 """Bifurcation diagrams over any model parameter.
 
 Every point of the sweep is integrated through the transient, its Poincaré points recorded and
-classified (:func:`geardyn.analysis.classify.classify_batch`: period, motion, impact state,
+classified (:func:`geardyn.analysis.steady.classify_batch`: period, motion, impact state,
 amplitude measures and, on request, the largest Lyapunov exponent).  Two modes:
 
 - ``fixed``: every point starts from the same initial state.  The points are independent, so the
@@ -18,23 +18,18 @@ mode); see :func:`bifurcation`.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
 import xarray as xr
 
+from ..grid import Grid, build_models, linspace_values
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
-from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, chunked, run_chunks
-from .classify import (
-    IMPACT_LABELS,
-    MOTION_LABELS,
-    SETTLE_PERIODS,
-    classify_batch,
-    motion_label,
-)
+from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, SweepOptions, run_chunks
+from .classify import IMPACT_LABELS, MOTION_LABELS, SETTLE_PERIODS, motion_label
+from .steady import classify_batch
 
 __all__ = [
     "MODES",
@@ -43,6 +38,7 @@ __all__ = [
     "sweep_values",
     "fixed_chunk",
     "continuation_chunk",
+    "grid_chunk",
     "points_dataset",
     "bifurcation_json",
     "class_intervals",
@@ -79,14 +75,8 @@ _LONG_NAMES = {
 }
 
 
-def sweep_values(start: float, stop: float, num: int) -> np.ndarray:
-    """Evenly spaced values start … stop (num >= 1), validated."""
-    for name, v in (("start", start), ("stop", stop)):
-        if not np.isfinite(v):
-            raise ModelError(f"{name}: must be a finite number, got {v!r}")
-    if isinstance(num, bool) or int(num) != num or num < 1:
-        raise ModelError(f"num: must be an integer >= 1, got {num!r}")
-    return np.linspace(float(start), float(stop), int(num))
+#: Evenly spaced values start … stop (num >= 1), validated: :func:`geardyn.grid.linspace_values`.
+sweep_values = linspace_values
 
 
 def _rows(out: dict[str, np.ndarray], start: np.ndarray, restarted: np.ndarray | None = None) -> dict[str, np.ndarray]:
@@ -147,6 +137,45 @@ def continuation_chunk(
     return _rows(merged, starts, restarted)
 
 
+def grid_chunk(
+    model: GearModel,
+    names: Sequence[str],
+    points: np.ndarray,
+    state0: Sequence[float],
+    options: IntegrationOptions,
+    lyapunov: bool = False,
+    settle_periods: int = SETTLE_PERIODS,
+    continuation: bool = False,
+    keep: Sequence[str] | None = None,
+) -> dict[str, np.ndarray]:
+    """Chunk function on compact parameter points: the models are built here, in the worker.
+
+    Parameters
+    ----------
+    model : GearModel
+        The base model.
+    names : sequence of str
+        Parameter names (columns of ``points``, set in this order).
+    points : ndarray (n, len(names))
+        The chunk's parameter points (:meth:`geardyn.grid.Grid.points`), in sweep order.
+    state0, options, lyapunov, settle_periods
+        As for :func:`fixed_chunk`.
+    continuation : bool
+        Run the points as :func:`continuation_chunk` (each from the previous end state) instead
+        of :func:`fixed_chunk`.
+    keep : sequence of str, optional
+        Keep only these result variables.
+
+    Returns
+    -------
+    dict of ndarray
+        One row per point.
+    """
+    run = continuation_chunk if continuation else fixed_chunk
+    r = run(build_models(model, names, points), state0, options, lyapunov, settle_periods)
+    return r if keep is None else {k: r[k] for k in keep if k in r}
+
+
 def _check_options(models: Sequence[GearModel], options: IntegrationOptions) -> None:
     for m in models:
         options.check_for(m.omega)
@@ -163,13 +192,8 @@ def bifurcation(
     options: IntegrationOptions = IntegrationOptions(),
     lyapunov: bool = False,
     settle_periods: int = SETTLE_PERIODS,
-    workers: int = 1,
-    scheduler: str | None = None,
-    checkpoint: str | Path | None = None,
-    resume: bool = False,
-    progress: bool = False,
-    chunk_points: int = DEFAULT_CHUNK_POINTS,
-    executor: Any = None,
+    engine: SweepOptions | None = None,
+    **engine_kw: Any,
 ) -> xr.Dataset:
     """Bifurcation diagram of ``param`` over ``values``.
 
@@ -181,7 +205,7 @@ def bifurcation(
         Any parameter name of :data:`geardyn.model.PARAMETER_HELP` (``omega``, ``xi0``, ``xi1``,
         ``kappa1``, ``fp``, ``eps1``/``fe``, ``D``/``backlash``, ``phi_c1``, …).
     values : sequence of float
-        The parameter values (sorted ascending in the result).
+        The parameter values (sorted ascending in the result; the sweep's :meth:`geardyn.grid.Grid.range`).
     mode : {'fixed', 'continue'}
         Every point from ``state0``, or continuation of the previous end state.
     sweep : {'up', 'down', 'both'}
@@ -196,11 +220,13 @@ def bifurcation(
         it only non-periodic points get exponents (needed to tell quasi-periodic from chaotic).
     settle_periods : int
         Further periods for points not periodic after the transient (see
-        :func:`~geardyn.analysis.classify.classify_batch`).
-    workers, scheduler, checkpoint, resume, progress, executor
-        Passed to :func:`geardyn.sweep.run_chunks`.
-    chunk_points : int
-        Points per chunk in fixed mode.
+        :func:`~geardyn.analysis.steady.classify_batch`).
+    engine : SweepOptions, optional
+        Where and how the sweep runs (:class:`geardyn.sweep.SweepOptions`); ``chunk_points`` is
+        the number of points per chunk in fixed mode (default :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
+    **engine_kw
+        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one (``workers``,
+        ``scheduler``, ``executor``, ``checkpoint``, ``resume``, ``progress``, ``chunk_points``).
 
     Returns
     -------
@@ -209,35 +235,43 @@ def bifurcation(
         ``poincare_u``, ``poincare_v`` (sweep, param, section); ``period``, ``motion``, ``impact``,
         ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, contact fractions, ``lle``,
         ``lle_err``, ``lambda2``, ``loops``, ``status``, start and end states (sweep, param).
+
+    Raises
+    ------
+    ModelError
+        For an unknown parameter, mode or sweep, an empty or non-finite grid, a value the model
+        refuses, a non-finite initial state or invalid engine options.
+    SweepError
+        When the sweep cannot run (checkpoint, resume, scheduler; see :func:`geardyn.sweep.run_chunks`).
+    TypeError
+        For a keyword that is not an engine option.
     """
+    eng = SweepOptions.merge(engine, "bifurcation", **engine_kw)
     name = canonical_param(param)
     if mode not in MODES:
         raise ModelError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
     if sweep not in SWEEPS:
         raise ModelError(f"sweep: must be one of {', '.join(SWEEPS)}, got {sweep!r}")
-    vals = np.unique(np.asarray(values, dtype=float).ravel())
-    if vals.size == 0:
-        raise ModelError(f"{name}: empty grid (num must be >= 1)")
-    if not np.all(np.isfinite(vals)):
-        raise ModelError(f"{name}: values must be finite numbers")
-    models = [model.with_param(name, float(v)) for v in vals]
+    grid = Grid.range(name, values)
+    vals = grid.values(name)
+    models = grid.models(model)
     _check_options(models, options)
     s0 = np.asarray(state0, dtype=float).reshape(2)
     if not np.all(np.isfinite(s0)):
         raise ModelError("initial state (u0, v0): must be finite")
     s0t = (float(s0[0]), float(s0[1]))
 
+    common = (s0t, options, lyapunov, settle_periods)
     if mode == "fixed":
         labels = ["fixed"]
-        chunks = [Chunk(i, fixed_chunk, (models[sl], s0t, options, lyapunov, settle_periods))
-                  for i, sl in enumerate(chunked(len(models), chunk_points))]
+        chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(sl)) + common)
+                  for i, sl in enumerate(grid.slices(eng.points_per_chunk(DEFAULT_CHUNK_POINTS)))]
     else:
         labels = ["up", "down"] if sweep == "both" else [sweep]
-        chunks = [Chunk(i, continuation_chunk, (models if lab == "up" else models[::-1], s0t, options, lyapunov,
-                                                settle_periods))
+        pts = grid.points()
+        chunks = [Chunk(i, grid_chunk, (model, grid.names, pts if lab == "up" else pts[::-1].copy()) + common + (True,))
                   for i, lab in enumerate(labels)]
-    results = run_chunks(chunks, workers=workers, scheduler=scheduler, executor=executor, checkpoint=checkpoint,
-                         resume=resume, progress=progress, description=f"bifurcation {name}")
+    results = run_chunks(chunks, eng, description=f"bifurcation {name}")
     if mode == "fixed":
         per_sweep = [{k: np.concatenate([r[k] for r in results]) for k in results[0]}]
     else:

@@ -20,15 +20,16 @@ Motion classes (:func:`classify_motion`, thresholds below, explained in ``docs/a
   but the section is not a set of closed curves (e.g. the accumulation point of a
   period-doubling cascade); or no exponent available.
 
-A non-periodic point is integrated for :data:`SETTLE_PERIODS` further periods with the tangent
-equations before it is classified (:func:`classify_batch`): slowly settling orbits near a
-bifurcation then show their period, and λ1 gets a small uncertainty; while the sequence is still
-contracting onto a cycle, up to :data:`SETTLE_ROUNDS` such passes run.
+This module only classifies what has been integrated; it never integrates.  A non-periodic
+point is integrated for :data:`SETTLE_PERIODS` further periods with the tangent equations
+before it is classified (:func:`geardyn.analysis.steady.classify_batch`): slowly settling orbits
+near a bifurcation then show their period, and λ1 gets a small uncertainty; while the sequence is
+still contracting onto a cycle (:func:`is_settling`), up to :data:`SETTLE_ROUNDS` such passes run.
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -287,95 +288,46 @@ def is_settling(points: np.ndarray, max_period: int = MAX_PERIOD, ratio: float =
     return bool(np.isfinite(r) and r <= ratio)
 
 
-def classify_batch(
-    res: Any,
-    *,
-    settle_periods: int = SETTLE_PERIODS,
-    blocks: int | None = None,
+def classify_points(
+    period: np.ndarray,
+    lle: np.ndarray,
+    lle_err: np.ndarray,
+    ok: np.ndarray,
+    sections: Sequence[np.ndarray],
 ) -> dict[str, np.ndarray]:
-    """Full per-point classification of a batch: period, motion, impact, amplitudes, exponents.
+    """Motion class, section dimension, settling ratio and loop count of a batch of points.
+
+    Pure classification: the points are integrated (and settled) before, by
+    :func:`geardyn.analysis.steady.classify_batch`.
 
     Parameters
     ----------
-    res : geardyn.integrate.BatchResult
-        A batch integrated with or without ``lyapunov=True``.  With it, every point gets its
-        exponents from the recorded periods.
-    settle_periods : int
-        Points whose Poincaré sequence is not periodic are integrated this many further periods
-        from their end state with the tangent equations (repeated, up to :data:`SETTLE_ROUNDS`
-        passes, while :func:`is_settling`); their period, amplitudes, Poincaré points, end state
-        and exponents are then those of the last pass (0: no such pass; the motion of a
-        non-periodic point without exponents is then 'unresolved').
-    blocks : int, optional
-        Blocks for the exponents' uncertainty (default :data:`geardyn.analysis.lyapunov.DEFAULT_BLOCKS`).
+    period : ndarray of int (P,)
+        :func:`detect_period` of each point.
+    lle, lle_err : ndarray (P,)
+        Largest Lyapunov exponent and its standard error (NaN where not computed).
+    ok : ndarray of bool (P,)
+        False where the trajectory diverged.
+    sections : sequence of ndarray (m, 2)
+        The Poincaré section of each point (for a settled point, that of its last settling pass).
 
     Returns
     -------
     dict of ndarray
-        The keys of :func:`geardyn.analysis.steady.summarize_batch` plus ``motion`` (codes),
-        ``lle``, ``lle_err``, ``lambda2`` (NaN where not computed), ``curve_dim`` (correlation
-        dimension of the section of non-periodic points, else NaN), ``settle_ratio``
-        (:func:`settling_ratio` of non-periodic points, else NaN), ``loops`` (closed curves of a
-        quasi-periodic section, else 0), ``settled`` (number of settling passes run),
-        ``poincare`` (P, n, 2) and ``end_state`` (P, 2).
+        ``motion`` (codes of :func:`classify_motion`), ``curve_dim`` (:func:`curve_dimension` of
+        non-periodic points, else NaN), ``settle_ratio`` (:func:`settling_ratio` of non-periodic
+        points, else NaN) and ``loops`` (:func:`count_loops` of quasi-periodic points, else 0).
     """
-    from ..integrate import ST_OK, integrate_batch
-    from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
-    from .steady import summarize_batch
-
-    nb = DEFAULT_BLOCKS if blocks is None else blocks
-    models = list(res.models)
-    P = len(models)
-    T = np.array([m.period for m in models])
-    out = summarize_batch(res)
-    out["poincare"] = res.poincare.copy()
-    out["end_state"] = res.end_state.copy()
-    lam = np.full((P, 2), np.nan)
-    err = np.full((P, 2), np.nan)
-    if res.lyapunov_log is not None and res.lyapunov_log.shape[1] > 0:
-        lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=nb)
-    settled = np.zeros(P, dtype=np.int64)
-    section: dict[int, np.ndarray] = {}
-    need = np.flatnonzero((out["status"] == ST_OK) & (out["period"] == 0))
-    n_rec = res.poincare.shape[1]
-    rounds = 0
-    while settle_periods > 0 and need.size and rounds < SETTLE_ROUNDS:
-        opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
-        r2 = integrate_batch([models[i] for i in need], out["end_state"][need], opts, lyapunov=True)
-        s2 = summarize_batch(r2)
-        for k, v in s2.items():
-            out[k][need] = v
-        if n_rec:
-            out["poincare"][need] = r2.poincare[:, -n_rec:, :]
-        out["end_state"][need] = r2.end_state
-        l2, e2 = spectrum_from_log(r2.lyapunov_log, T[need], blocks=nb)
-        lam[need] = l2
-        err[need] = e2
-        settled[need] += 1
-        rounds += 1
-        again = []
-        for j, i in enumerate(need):
-            section[int(i)] = r2.poincare[j]
-            if s2["status"][j] != ST_OK or s2["period"][j] != 0:
-                continue
-            if l2[j, 0] > LLE_SIGMAS * e2[j, 0] + LLE_FLOOR:  # chaotic: nothing to settle
-                continue
-            if is_settling(r2.poincare[j]):
-                again.append(i)
-        need = np.asarray(again, dtype=np.int64)
-    bad = out["status"] != ST_OK
-    lam[bad] = np.nan
-    err[bad] = np.nan
+    period = np.asarray(period)
+    ok = np.asarray(ok, dtype=bool)
+    P = period.shape[0]
     curve_dim = np.full(P, np.nan)
     ratio = np.full(P, np.nan)
-    for i in np.flatnonzero(~bad & (out["period"] == 0)):
-        sec = section.get(int(i), out["poincare"][i])
-        curve_dim[i] = curve_dimension(sec)
-        ratio[i] = settling_ratio(sec)
-    motion = classify_motion(out["period"], lam[:, 0], err[:, 0], ~bad, curve_dim, ratio)
+    for i in np.flatnonzero(ok & (period == 0)):
+        curve_dim[i] = curve_dimension(sections[i])
+        ratio[i] = settling_ratio(sections[i])
+    motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio)
     loops = np.zeros(P, dtype=np.int64)
     for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):
-        loops[i] = count_loops(section.get(int(i), out["poincare"][i]))
-    out.update(motion=motion, lle=lam[:, 0].copy(), lle_err=err[:, 0].copy(), lambda2=lam[:, 1].copy(),
-               curve_dim=curve_dim, settle_ratio=ratio, loops=loops, settled=settled)
-    return out
+        loops[i] = count_loops(sections[i])
+    return {"motion": motion, "curve_dim": curve_dim, "settle_ratio": ratio, "loops": loops}

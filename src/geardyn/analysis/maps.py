@@ -9,16 +9,16 @@ Dataset with dimensions named after the two parameters, ``(y, x)``.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
 import xarray as xr
 
+from ..grid import Grid, build_models
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
-from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, chunked, run_chunks
-from .bifurcation import MODES, _LONG_NAMES, continuation_chunk, fixed_chunk
+from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, SweepOptions, run_chunks
+from .bifurcation import MODES, _LONG_NAMES, grid_chunk
 from .classify import IMPACT_LABELS, MOTION_LABELS, SETTLE_PERIODS, motion_label
 
 __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
@@ -26,35 +26,6 @@ __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
 #: Per-point variables kept in a map (Poincaré points are not kept: a map can hold 10⁶ points).
 MAP_VARIABLES = ("period", "motion", "impact", "status", "loops", "amplitude", "rms", "mean", "u_min", "u_max",
                  "fraction_separation", "fraction_back", "lle", "lle_err", "lambda2")
-
-
-def _map_rows(r: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    return {k: r[k] for k in MAP_VARIABLES if k in r}
-
-
-def _grid_models(model: GearModel, xn: str, xs: np.ndarray, yn: str, ys: np.ndarray) -> list[GearModel]:
-    """The models of grid points (xs[i], ys[i]); built inside a chunk so a map never holds them all."""
-    return [model.with_param(yn, float(y)).with_param(xn, float(x)) for x, y in zip(xs, ys)]
-
-
-def map_fixed_chunk(model, xn, xs, yn, ys, state0, options, lyapunov, settle_periods):
-    """Chunk function of a fixed-initial-state map (the map variables only)."""
-    return _map_rows(fixed_chunk(_grid_models(model, xn, xs, yn, ys), state0, options, lyapunov, settle_periods))
-
-
-def map_row_chunk(model, xn, xs, yn, ys, state0, options, lyapunov, settle_periods):
-    """Chunk function of one continuation row of a map (x increasing)."""
-    return _map_rows(continuation_chunk(_grid_models(model, xn, xs, yn, ys), state0, options, lyapunov,
-                                        settle_periods))
-
-
-def _values(name: str, v: Sequence[float]) -> np.ndarray:
-    a = np.unique(np.asarray(v, dtype=float).ravel())
-    if a.size == 0:
-        raise ModelError(f"{name}: empty grid (num must be >= 1)")
-    if not np.all(np.isfinite(a)):
-        raise ModelError(f"{name}: values must be finite numbers")
-    return a
 
 
 def parameter_map(
@@ -69,13 +40,8 @@ def parameter_map(
     options: IntegrationOptions = IntegrationOptions(),
     lyapunov: bool = False,
     settle_periods: int = SETTLE_PERIODS,
-    workers: int = 1,
-    scheduler: str | None = None,
-    checkpoint: str | Path | None = None,
-    resume: bool = False,
-    progress: bool = False,
-    chunk_points: int = DEFAULT_CHUNK_POINTS,
-    executor: Any = None,
+    engine: SweepOptions | None = None,
+    **engine_kw: Any,
 ) -> xr.Dataset:
     """Map of the steady response over a grid of two parameters.
 
@@ -91,19 +57,36 @@ def parameter_map(
         Every point from ``state0``, or continuation along x within each row.
     lyapunov : bool
         Largest exponent for every point (otherwise only for non-periodic points).
+    engine : SweepOptions, optional
+        Where and how the sweep runs; ``chunk_points`` is the number of grid points per chunk in
+        fixed mode (default :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
+    **engine_kw
+        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
     Other parameters as for :func:`~geardyn.analysis.bifurcation.bifurcation`.
 
     Returns
     -------
     xarray.Dataset
         Dimensions ``(y_param, x_param)``; variables :data:`MAP_VARIABLES`.
+
+    Raises
+    ------
+    ModelError
+        For unknown or equal parameters, an unknown mode, an empty or non-finite axis, a grid
+        value the model refuses, a non-finite initial state or invalid engine options.
+    SweepError
+        When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
+    TypeError
+        For a keyword that is not an engine option.
     """
+    eng = SweepOptions.merge(engine, "parameter_map", **engine_kw)
     xn, yn = canonical_param(x_param), canonical_param(y_param)
     if xn == yn:
         raise ModelError(f"map: x and y must be different parameters, got {xn!r} twice")
     if mode not in MODES:
         raise ModelError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
-    xv, yv = _values(xn, x_values), _values(yn, y_values)
+    xv, yv = Grid.range(xn, x_values).values(xn), Grid.range(yn, y_values).values(yn)
+    grid = Grid("product", [yn, xn], [yv, xv])  # row-major: y rows, x fastest
     # validate without building the whole grid: every value of each axis, and the four corners (the only
     # constraint that couples two parameters, Σ|κ_r| < 1, is largest at a corner); the step must be
     # smaller than the shortest forcing period, i.e. that of the largest ω
@@ -111,23 +94,22 @@ def parameter_map(
         model.with_param(xn, float(v))
     for v in yv:
         model.with_param(yn, float(v))
-    corners = _grid_models(model, xn, np.array([xv[0], xv[-1], xv[0], xv[-1]]), yn,
-                           np.array([yv[0], yv[0], yv[-1], yv[-1]]))
+    corners = build_models(model, grid.names, np.array([[yv[0], xv[0]], [yv[0], xv[-1]], [yv[-1], xv[0]],
+                                                        [yv[-1], xv[-1]]]))
     options.check_for(max(m.omega for m in corners))
     s0 = np.asarray(state0, dtype=float).reshape(2)
     if not np.all(np.isfinite(s0)):
         raise ModelError("initial state (u0, v0): must be finite")
     s0t = (float(s0[0]), float(s0[1]))
+    common = (s0t, options, lyapunov, settle_periods)
     if mode == "fixed":
-        ygrid, xgrid = (a.ravel() for a in np.meshgrid(yv, xv, indexing="ij"))  # row-major: y rows, x fastest
-        chunks = [Chunk(i, map_fixed_chunk, (model, xn, xgrid[sl], yn, ygrid[sl], s0t, options, lyapunov,
-                                             settle_periods))
-                  for i, sl in enumerate(chunked(xgrid.size, chunk_points))]
-    else:
-        chunks = [Chunk(i, map_row_chunk, (model, xn, xv, yn, np.full(xv.size, y), s0t, options, lyapunov,
-                                           settle_periods)) for i, y in enumerate(yv)]
-    results = run_chunks(chunks, workers=workers, scheduler=scheduler, executor=executor, checkpoint=checkpoint,
-                         resume=resume, progress=progress, description=f"map {yn} × {xn}")
+        chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(sl)) + common + (False, MAP_VARIABLES))
+                  for i, sl in enumerate(grid.slices(eng.points_per_chunk(DEFAULT_CHUNK_POINTS)))]
+    else:  # one continuation row per chunk, x increasing
+        nx = xv.size
+        chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(slice(i * nx, (i + 1) * nx))) + common
+                        + (True, MAP_VARIABLES)) for i in range(yv.size)]
+    results = run_chunks(chunks, eng, description=f"map {yn} × {xn}")
     cat = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
     shape = (yv.size, xv.size)
     ds = xr.Dataset({k: ((yn, xn), v.reshape(shape)) for k, v in cat.items()}, coords={yn: yv, xn: xv})

@@ -13,7 +13,8 @@ From its Dataset:
   reported at the midpoint ω of its step, with its direction (``up``: the amplitude increases),
   its size (|ΔA|) and the sweep in which it occurs.
 - a **hysteresis interval** [ω_a, ω_b] is a maximal run of grid points where the up and down
-  sweeps end on different attractors (:func:`same_attractor`): coexisting attractors, whose
+  sweeps end on different attractors (:func:`same_attractor`, the test of
+  :mod:`geardyn.analysis.attractors` that the basins use too): coexisting attractors, whose
   basins :mod:`geardyn.analysis.basins` can map.
 
 All amplitudes are non-dimensional (units of b_c), frequencies ω = ω_e/ω_n.
@@ -22,13 +23,14 @@ All amplitudes are non-dimensional (units of b_c), frequencies ω = ω_e/ω_n.
 from __future__ import annotations
 
 import json
-from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from ..model import GearModel, IntegrationOptions, ModelError
+from ..sweep import SweepOptions
+from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor, same_attractor as _same_attractor
 from .bifurcation import bifurcation, point_labels, sweep_values
 from .classify import MOTION_PERIODIC, SETTLE_PERIODS
 
@@ -37,6 +39,7 @@ __all__ = [
     "JUMP_RATIO",
     "JUMP_WINDOW",
     "ATTRACTOR_TOL",
+    "NONPERIODIC_TOL",
     "MEASURES",
     "frequency_response",
     "detect_jumps",
@@ -52,11 +55,10 @@ JUMP_RATIO = 5.0
 #: Steps on each side over which the typical step change is taken (median).
 JUMP_WINDOW = 3
 #: Two periodic attractors are the same when each point of one cycle lies within this distance
-#: (relative to max(1, the cycle's largest |coordinate|)) of a point of the other.
-ATTRACTOR_TOL = 1.0e-3
-#: Two non-periodic attractors are taken as the same when their amplitudes and means agree to
-#: this fraction of the response's amplitude range.
-NONPERIODIC_TOL = 0.05
+#: (relative to max(1, the cycle's largest |coordinate|)) of a point of the other
+#: (:data:`geardyn.analysis.attractors.CYCLE_TOL`).  Two non-periodic attractors are taken as the
+#: same when their amplitudes and means agree to NONPERIODIC_TOL of the response's amplitude range.
+ATTRACTOR_TOL = CYCLE_TOL
 #: Amplitude measures a response can be built on (variables of the bifurcation Dataset).
 MEASURES = ("amplitude", "rms", "u_max", "u_min", "mean")
 
@@ -68,16 +70,12 @@ def frequency_response(
     num: int,
     *,
     options: IntegrationOptions = IntegrationOptions(),
-    state0: Sequence[float] = (0.0, 0.0),
+    state0: tuple[float, float] = (0.0, 0.0),
     measure: str = "amplitude",
     lyapunov: bool = False,
     settle_periods: int = SETTLE_PERIODS,
-    workers: int = 1,
-    scheduler: str | None = None,
-    checkpoint: str | Path | None = None,
-    resume: bool = False,
-    progress: bool = False,
-    executor: Any = None,
+    engine: SweepOptions | None = None,
+    **engine_kw: Any,
 ) -> xr.Dataset:
     """Up and down frequency sweeps with state continuation, with jumps and hysteresis detected.
 
@@ -95,23 +93,35 @@ def frequency_response(
         Initial state of the first point of each sweep (the lowest ω for up, the highest for down).
     measure : str
         Amplitude measure used for jumps: one of :data:`MEASURES` (default: half peak-to-peak).
-    lyapunov, settle_periods, workers, scheduler, checkpoint, resume, progress, executor
+    lyapunov, settle_periods
         As for :func:`~geardyn.analysis.bifurcation.bifurcation`.
+    engine : SweepOptions, optional
+        Where and how the sweep runs (one chunk per sweep direction: ``chunk_points`` is not used).
+    **engine_kw
+        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
 
     Returns
     -------
     xarray.Dataset
         The bifurcation Dataset (dims ``sweep`` = up, down and ``omega``) with the attributes
         ``jumps`` and ``hysteresis`` (JSON) and ``measure``.
+
+    Raises
+    ------
+    ModelError
+        For an unknown measure, an invalid or non-positive ω grid, or as
+        :func:`~geardyn.analysis.bifurcation.bifurcation`.
+    SweepError
+        When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
     """
+    eng = SweepOptions.merge(engine, "frequency_response", **engine_kw)
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
     vals = sweep_values(omega_start, omega_stop, num)
     if np.any(vals <= 0):
         raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a grid from {omega_start!r} to {omega_stop!r}")
     ds = bifurcation(model, "omega", vals, mode="continue", sweep="both", state0=state0, options=options,
-                     lyapunov=lyapunov, settle_periods=settle_periods, workers=workers, scheduler=scheduler,
-                     checkpoint=checkpoint, resume=resume, progress=progress, executor=executor)
+                     lyapunov=lyapunov, settle_periods=settle_periods, engine=eng)
     return annotate_response(ds, measure)
 
 
@@ -193,26 +203,19 @@ def _amplitude_range(ds: xr.Dataset) -> float:
     return float(np.ptp(amp[np.isfinite(amp)])) if np.any(np.isfinite(amp)) else 0.0
 
 
+def _attractor(s: dict[str, np.ndarray], k: int) -> Attractor:
+    """The attractor reached at grid index ``k`` of one sweep (its cycle, or its amplitude and mean)."""
+    n = int(s["period"][k]) if int(s["motion"][k]) == MOTION_PERIODIC else 0
+    cycle = np.column_stack([s["poincare_u"][k, -n:], s["poincare_v"][k, -n:]]) if n > 0 else np.empty((0, 2))
+    return Attractor(n, int(s["motion"][k]), cycle, np.array([s["amplitude"][k], s["mean"][k]]))
+
+
 def _same(sa: dict[str, np.ndarray], sb: dict[str, np.ndarray], k: int, amp_range: float, tol: float,
           nonperiodic_tol: float) -> bool | None:
     if int(sa["status"][k]) != 0 or int(sb["status"][k]) != 0:
         return None
-    per_a = int(sa["motion"][k]) == MOTION_PERIODIC
-    per_b = int(sb["motion"][k]) == MOTION_PERIODIC
-    if per_a != per_b:
-        return False
-    if per_a:
-        n = int(sa["period"][k])
-        if n != int(sb["period"][k]):
-            return False
-        ca = np.column_stack([sa["poincare_u"][k, -n:], sa["poincare_v"][k, -n:]])
-        cb = np.column_stack([sb["poincare_u"][k, -n:], sb["poincare_v"][k, -n:]])
-        scale = max(1.0, float(np.max(np.abs(ca))))
-        dist = np.max(np.abs(ca[:, None, :] - cb[None, :, :]), axis=2)
-        return bool(np.all(dist.min(axis=1) <= tol * scale) and np.all(dist.min(axis=0) <= tol * scale))
-    t = nonperiodic_tol * max(amp_range, 1e-12)
-    return bool(abs(float(sa["amplitude"][k]) - float(sb["amplitude"][k])) <= t
-                and abs(float(sa["mean"][k]) - float(sb["mean"][k])) <= t)
+    return _same_attractor(_attractor(sa, k), _attractor(sb, k), tol=tol,
+                           signature_tol=nonperiodic_tol * max(amp_range, 1e-12), match_motion=False)
 
 
 def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, tol: float = ATTRACTOR_TOL,

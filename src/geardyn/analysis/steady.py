@@ -1,7 +1,8 @@
 """Steady response of one parameter point: Poincaré points, period, amplitudes, contact and impact.
 
 :func:`summarize_batch` turns a :class:`~geardyn.integrate.BatchResult` into per-point arrays (used
-by every sweep); :func:`simulate` runs one point with its time history and returns a
+by every sweep); :func:`classify_batch` settles the points that are not yet periodic (further
+integration with the tangent equations) and classifies them (:mod:`geardyn.analysis.classify`); :func:`simulate` runs one point with its time history and returns a
 :class:`SteadyState` whose :meth:`~SteadyState.to_dataset` is the ``simulate`` result.
 """
 
@@ -13,10 +14,23 @@ from typing import Any, Sequence
 import numpy as np
 import xarray as xr
 
-from ..integrate import ST_OK, BatchResult, Trajectory, trajectory
+from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, trajectory
 from ..io import result_attrs
 from ..model import GearModel, IntegrationOptions
-from .classify import IMPACT_LABELS, classify_batch, detect_period, impact_state, motion_label, period_label
+from .classify import (
+    IMPACT_LABELS,
+    LLE_FLOOR,
+    LLE_SIGMAS,
+    SETTLE_PERIODS,
+    SETTLE_ROUNDS,
+    classify_points,
+    detect_period,
+    impact_state,
+    is_settling,
+    motion_label,
+    period_label,
+)
+from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
 
 #: Periods of time history kept by :func:`simulate` (also the spectrum's length: resolution 1/32 order).
 HISTORY_PERIODS = 32
@@ -46,6 +60,88 @@ def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
         "fraction_back": fr[:, 2],
         "status": res.status.astype(np.int64),
     }
+
+
+def classify_batch(
+    res: Any,
+    *,
+    settle_periods: int = SETTLE_PERIODS,
+    blocks: int | None = None,
+) -> dict[str, np.ndarray]:
+    """Full per-point classification of a batch: period, motion, impact, amplitudes, exponents.
+
+    Parameters
+    ----------
+    res : geardyn.integrate.BatchResult
+        A batch integrated with or without ``lyapunov=True``.  With it, every point gets its
+        exponents from the recorded periods.
+    settle_periods : int
+        Points whose Poincaré sequence is not periodic are integrated this many further periods
+        from their end state with the tangent equations (repeated, up to :data:`~geardyn.analysis.classify.SETTLE_ROUNDS`
+        passes, while :func:`~geardyn.analysis.classify.is_settling`); their period, amplitudes, Poincaré points, end state
+        and exponents are then those of the last pass (0: no such pass; the motion of a
+        non-periodic point without exponents is then 'unresolved').
+    blocks : int, optional
+        Blocks for the exponents' uncertainty (default :data:`geardyn.analysis.lyapunov.DEFAULT_BLOCKS`).
+
+    Returns
+    -------
+    dict of ndarray
+        The keys of :func:`summarize_batch` plus ``motion`` (codes),
+        ``lle``, ``lle_err``, ``lambda2`` (NaN where not computed), ``curve_dim`` (correlation
+        dimension of the section of non-periodic points, else NaN), ``settle_ratio``
+        (:func:`~geardyn.analysis.classify.settling_ratio` of non-periodic points, else NaN), ``loops`` (closed curves of a
+        quasi-periodic section, else 0), ``settled`` (number of settling passes run),
+        ``poincare`` (P, n, 2) and ``end_state`` (P, 2).
+    """
+    nb = DEFAULT_BLOCKS if blocks is None else blocks
+    models = list(res.models)
+    P = len(models)
+    T = np.array([m.period for m in models])
+    out = summarize_batch(res)
+    out["poincare"] = res.poincare.copy()
+    out["end_state"] = res.end_state.copy()
+    lam = np.full((P, 2), np.nan)
+    err = np.full((P, 2), np.nan)
+    if res.lyapunov_log is not None and res.lyapunov_log.shape[1] > 0:
+        lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=nb)
+    settled = np.zeros(P, dtype=np.int64)
+    section: dict[int, np.ndarray] = {}
+    need = np.flatnonzero((out["status"] == ST_OK) & (out["period"] == 0))
+    n_rec = res.poincare.shape[1]
+    rounds = 0
+    while settle_periods > 0 and need.size and rounds < SETTLE_ROUNDS:
+        opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
+        r2 = integrate_batch([models[i] for i in need], out["end_state"][need], opts, lyapunov=True)
+        s2 = summarize_batch(r2)
+        for k, v in s2.items():
+            out[k][need] = v
+        if n_rec:
+            out["poincare"][need] = r2.poincare[:, -n_rec:, :]
+        out["end_state"][need] = r2.end_state
+        l2, e2 = spectrum_from_log(r2.lyapunov_log, T[need], blocks=nb)
+        lam[need] = l2
+        err[need] = e2
+        settled[need] += 1
+        rounds += 1
+        again = []
+        for j, i in enumerate(need):
+            section[int(i)] = r2.poincare[j]
+            if s2["status"][j] != ST_OK or s2["period"][j] != 0:
+                continue
+            if l2[j, 0] > LLE_SIGMAS * e2[j, 0] + LLE_FLOOR:  # chaotic: nothing to settle
+                continue
+            if is_settling(r2.poincare[j]):
+                again.append(i)
+        need = np.asarray(again, dtype=np.int64)
+    bad = out["status"] != ST_OK
+    lam[bad] = np.nan
+    err[bad] = np.nan
+    sections = [section.get(i, out["poincare"][i]) for i in range(P)]
+    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections)
+    out.update(motion=cls["motion"], lle=lam[:, 0].copy(), lle_err=err[:, 0].copy(), lambda2=lam[:, 1].copy(),
+               curve_dim=cls["curve_dim"], settle_ratio=cls["settle_ratio"], loops=cls["loops"], settled=settled)
+    return out
 
 
 def amplitude_spectrum(u: np.ndarray, periods: int) -> tuple[np.ndarray, np.ndarray]:

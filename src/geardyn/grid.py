@@ -1,0 +1,404 @@
+"""Grids of a sweep: the parameter points (or initial states) a sweep runs over.
+
+One concept for every sweep (after Attractors.jl, where a sweep is a curve or a product of
+parameter points):
+
+- a **range**: one parameter, its values sorted (:meth:`Grid.range`, :meth:`Grid.linspace`);
+- a **product** of axes: every combination, the last axis fastest (:meth:`Grid.product`);
+- a **curve**: parameter points listed together, one value of each parameter per point
+  (:meth:`Grid.curve`);
+- a grid of **initial states** (u0, v0) at θ = 0 (:meth:`Grid.states`).
+
+A grid knows its axes (canonical parameter names, :func:`geardyn.model.canonical_param`, and
+values), its shape and size, yields the compact parameter array of a slice of its points
+(:meth:`Grid.points`: what a sweep's workers receive instead of lists of model objects) and
+builds the models of a slice (:meth:`Grid.models`), inside the worker.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from .model import GearModel, ModelError, canonical_param
+
+__all__ = ["GRID_KINDS", "Grid", "build_models", "chunked", "grid_models", "linspace_values"]
+
+#: The kinds of grid.
+GRID_KINDS = ("range", "product", "curve", "states")
+#: Names of the axes of an initial-state grid, in the order of the state vector.
+STATE_NAMES = ("u0", "v0")
+
+
+def linspace_values(start: float, stop: float, num: int, label: str = "") -> np.ndarray:
+    """Evenly spaced values ``start`` … ``stop`` (``num`` >= 1), validated.
+
+    Parameters
+    ----------
+    start, stop : float
+        Ends of the range (finite).
+    num : int
+        Number of values (>= 1).
+    label : str
+        Prefix of the names in the messages (``"u0"`` → ``"u0 start: …"``).
+
+    Returns
+    -------
+    ndarray
+
+    Raises
+    ------
+    ModelError
+        For a non-finite end or ``num`` not an integer >= 1.
+    """
+    pre = f"{label} " if label else ""
+    for name, v in (("start", start), ("stop", stop)):
+        if not np.isfinite(v):
+            raise ModelError(f"{pre}{name}: must be a finite number, got {v!r}")
+    if isinstance(num, bool) or int(num) != num or num < 1:
+        raise ModelError(f"{pre}num: must be an integer >= 1, got {num!r}")
+    return np.linspace(float(start), float(stop), int(num))
+
+
+def chunked(n: int, size: int) -> list[slice]:
+    """Slices cutting range(n) into consecutive chunks of at most ``size`` points.
+
+    Parameters
+    ----------
+    n : int
+        Number of points.
+    size : int
+        Points per chunk (>= 1).
+
+    Returns
+    -------
+    list of slice
+
+    Raises
+    ------
+    ModelError
+        For ``size`` < 1.
+    """
+    if size < 1:
+        raise ModelError(f"chunk size: must be >= 1, got {size}")
+    return [slice(i, min(i + size, n)) for i in range(0, n, size)]
+
+
+def _axis_values(name: str, values: Sequence[float] | np.ndarray, unique: bool) -> np.ndarray:
+    a = np.asarray(values, dtype=float).ravel()
+    if unique:
+        a = np.unique(a)
+    if a.size == 0:
+        raise ModelError(f"{name}: empty grid (num must be >= 1)")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{name}: values must be finite numbers")
+    return a
+
+
+def build_models(base: GearModel, names: Sequence[str], points: np.ndarray) -> list[GearModel]:
+    """The models of parameter points: ``base`` with ``names[j]`` set to ``points[i, j]`` in that order.
+
+    Parameters
+    ----------
+    base : GearModel
+        The model every point starts from.
+    names : sequence of str
+        Parameter names, one per column of ``points``.
+    points : ndarray (n, len(names))
+        The parameter values of each point.
+
+    Returns
+    -------
+    list of GearModel
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, len(names))
+    out = []
+    for row in pts:
+        m = base
+        for p, v in zip(names, row):
+            m = m.with_param(p, float(v))
+        out.append(m)
+    return out
+
+
+class Grid:
+    """The points of a sweep: a range, a product of axes, a curve, or a grid of initial states.
+
+    Build one with :meth:`range`, :meth:`linspace`, :meth:`product`, :meth:`curve` or
+    :meth:`states`; the constructor takes already validated axes.
+
+    Parameters
+    ----------
+    kind : {'range', 'product', 'curve', 'states'}
+        The kind of grid.
+    names : sequence of str
+        Axis names: canonical parameter names, or ``v0``, ``u0`` for a state grid.
+    axes : sequence of ndarray
+        Values of each axis (a curve: the value of each parameter at each point, equal lengths).
+
+    Attributes
+    ----------
+    kind : str
+    names : tuple of str
+    axes : tuple of ndarray
+    """
+
+    def __init__(self, kind: str, names: Sequence[str], axes: Sequence[np.ndarray]) -> None:
+        if kind not in GRID_KINDS:
+            raise ModelError(f"grid: kind must be one of {', '.join(GRID_KINDS)}, got {kind!r}")
+        if len(names) != len(axes) or not names:
+            raise ModelError(f"grid: {len(names)} names but {len(axes)} axes")
+        self.kind = kind
+        self.names = tuple(str(n) for n in names)
+        self.axes = tuple(np.asarray(a, dtype=float) for a in axes)
+        if kind == "curve" and len({a.size for a in self.axes}) != 1:
+            raise ModelError("curve: every parameter needs one value per point")
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def range(cls, param: str, values: Sequence[float] | np.ndarray) -> "Grid":
+        """One parameter over ``values`` (sorted, duplicates dropped).
+
+        Parameters
+        ----------
+        param : str
+            Any parameter name (:func:`geardyn.model.canonical_param`).
+        values : sequence of float
+            Its values (finite, at least one).
+
+        Returns
+        -------
+        Grid
+            Of kind ``'range'``, one axis.
+
+        Raises
+        ------
+        ModelError
+            For an unknown parameter, no values or a non-finite value.
+        """
+        name = canonical_param(param)
+        return cls("range", [name], [_axis_values(name, values, True)])
+
+    @classmethod
+    def linspace(cls, param: str, start: float, stop: float, num: int) -> "Grid":
+        """One parameter over ``num`` evenly spaced values ``start`` … ``stop``.
+
+        Parameters
+        ----------
+        param : str
+            Any parameter name.
+        start, stop : float
+            Ends of the range.
+        num : int
+            Number of values (>= 1).
+
+        Returns
+        -------
+        Grid
+            Of kind ``'range'``, values evenly spaced.
+
+        Raises
+        ------
+        ModelError
+            See :func:`linspace_values` and :meth:`range`.
+        """
+        return cls.range(param, linspace_values(start, stop, num))
+
+    @classmethod
+    def product(cls, *axes: tuple[str, Sequence[float]], unique: bool = True) -> "Grid":
+        """Every combination of the axes' values, the last axis fastest.
+
+        Parameters
+        ----------
+        *axes : (str, sequence of float)
+            Parameter name and values of each axis (different parameters).
+        unique : bool
+            Sort each axis and drop duplicate values (as every sweep does); False keeps them as given.
+
+        Returns
+        -------
+        Grid
+            Of kind ``'product'``, shape (len(values) of each axis).
+
+        Raises
+        ------
+        ModelError
+            For no axis, a parameter given twice, an unknown name, or an empty or non-finite axis.
+        """
+        if not axes:
+            raise ModelError("empty parameter grid: give at least one parameter")
+        names = [canonical_param(p) for p, _ in axes]
+        if len(set(names)) != len(names):
+            raise ModelError(f"grid: each parameter at most once, got {', '.join(names)}")
+        return cls("product", names, [_axis_values(n, v, unique) for n, (_, v) in zip(names, axes)])
+
+    @classmethod
+    def curve(cls, points: dict[str, Sequence[float]]) -> "Grid":
+        """Parameter points listed together: point i sets every parameter to its i-th value.
+
+        Parameters
+        ----------
+        points : dict of str to sequence of float
+            Parameter name → its value at each point (equal lengths, in the order of the sweep).
+
+        Returns
+        -------
+        Grid
+            Of kind ``'curve'``, shape (points,).
+
+        Raises
+        ------
+        ModelError
+            For no parameter, unequal lengths, an unknown name or a non-finite value.
+        """
+        if not points:
+            raise ModelError("empty parameter grid: give at least one parameter")
+        names = [canonical_param(p) for p in points]
+        return cls("curve", names, [_axis_values(n, v, False) for n, v in zip(names, points.values())])
+
+    @classmethod
+    def states(cls, u0: Sequence[float] | np.ndarray, v0: Sequence[float] | np.ndarray) -> "Grid":
+        """Initial states (u0, v0) at θ = 0: rows of v0, u0 fastest (dimensions ``v0``, ``u0``).
+
+        Parameters
+        ----------
+        u0, v0 : sequence of float
+            Initial displacements and velocities (non-dimensional), kept as given.
+
+        Returns
+        -------
+        Grid
+            Of kind ``'states'``, shape (len(v0), len(u0)).
+
+        Raises
+        ------
+        ModelError
+            For an empty or non-finite axis.
+        """
+        return cls("states", ["v0", "u0"], [_axis_values("v0", v0, False), _axis_values("u0", u0, False)])
+
+    # ------------------------------------------------------------------ shape
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Shape of the grid's result arrays (one entry per axis; a range or curve: (n,))."""
+        if self.kind == "curve":
+            return (int(self.axes[0].size),)
+        return tuple(int(a.size) for a in self.axes)
+
+    @property
+    def size(self) -> int:
+        """Number of points."""
+        return int(np.prod(self.shape))
+
+    def __len__(self) -> int:
+        return self.size
+
+    def __repr__(self) -> str:
+        axes = ", ".join(f"{n}[{a.size}]" for n, a in zip(self.names, self.axes))
+        return f"Grid.{self.kind}({axes})"
+
+    def values(self, name: str) -> np.ndarray:
+        """The values of one axis (the coordinate of the result's dimension ``name``)."""
+        return self.axes[self.names.index(name)]
+
+    # ------------------------------------------------------------------ points
+    def points(self, sl: slice = slice(None)) -> np.ndarray:
+        """Parameter values of the points in ``sl`` (flat, row-major order): array (n, len(names)).
+
+        Parameters
+        ----------
+        sl : slice
+            A slice of the flat point index (see :meth:`slices`).
+
+        Returns
+        -------
+        ndarray (n, len(names))
+            Column j holds ``names[j]``.
+        """
+        if self.kind == "curve":
+            return np.column_stack(self.axes)[sl]
+        idx = np.unravel_index(np.arange(self.size)[sl], self.shape)
+        return np.column_stack([a[i] for a, i in zip(self.axes, idx)])
+
+    def state_points(self, sl: slice = slice(None)) -> np.ndarray:
+        """Initial states (u0, v0) of the points in ``sl`` of a state grid: array (n, 2).
+
+        Raises
+        ------
+        ModelError
+            For a grid that is not a grid of initial states.
+        """
+        if self.kind != "states":
+            raise ModelError(f"grid: a {self.kind} grid holds parameter points, not initial states")
+        p = self.points(sl)
+        return np.column_stack([p[:, 1], p[:, 0]])
+
+    def models(self, base: GearModel, sl: slice = slice(None)) -> list[GearModel]:
+        """The models of the points in ``sl``: ``base`` with each axis parameter set, in axis order.
+
+        Parameters
+        ----------
+        base : GearModel
+            The model every point starts from.
+        sl : slice
+            A slice of the flat point index.
+
+        Returns
+        -------
+        list of GearModel
+
+        Raises
+        ------
+        ModelError
+            For a state grid, or a point the model refuses.
+        """
+        if self.kind == "states":
+            raise ModelError("grid: a grid of initial states has no parameter points")
+        return build_models(base, self.names, self.points(sl))
+
+    def slices(self, chunk_points: int) -> list[slice]:
+        """Consecutive slices of at most ``chunk_points`` points covering the grid.
+
+        Raises
+        ------
+        ModelError
+            For ``chunk_points`` < 1.
+        """
+        return chunked(self.size, chunk_points)
+
+
+def grid_models(base: GearModel, params: Sequence[str], values: Sequence[Sequence[float]]) -> list[GearModel]:
+    """Models for the Cartesian grid of ``values`` over ``params`` (last parameter fastest, values as given).
+
+    Parameters
+    ----------
+    base : GearModel
+        The model every point starts from.
+    params : sequence of str
+        Parameter names (as the model accepts them).
+    values : sequence of sequence of float
+        The values of each parameter.
+
+    Returns
+    -------
+    list of GearModel
+        One per grid point, in row-major order.
+
+    Raises
+    ------
+    ModelError
+        For no parameter, a count mismatch, an empty or non-finite axis.
+    """
+    if not params:
+        raise ModelError("empty parameter grid: give at least one parameter")
+    if len(params) != len(values):
+        raise ModelError(f"parameter grid: {len(params)} parameters but {len(values)} value lists")
+    arrays = [np.asarray(v, dtype=float).ravel() for v in values]
+    for p, a in zip(params, arrays):
+        if a.size == 0:
+            raise ModelError(f"{p}: empty grid (num must be >= 1)")
+        if not np.all(np.isfinite(a)):
+            raise ModelError(f"{p}: grid values must be finite numbers")
+    g = Grid("product", list(params), arrays)
+    return build_models(base, g.names, g.points())

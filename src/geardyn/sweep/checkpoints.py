@@ -1,0 +1,254 @@
+"""Checkpoints of a sweep: each finished chunk written durably next to a manifest of the sweep.
+
+A :class:`CheckpointStore` is a directory holding ``manifest.json`` (a fingerprint of the sweep
+and its number of chunks) and one ``chunk-NNNNNN.npz`` per finished chunk.  Every file is written
+through a temporary file, fsync, rename and an fsync of the directory
+(:func:`geardyn.io.atomic_write_bytes`), so a process killed at any moment (even ``kill -9``)
+leaves only complete chunk files, and a resumed sweep returns exactly the arrays of an
+uninterrupted one.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io as _io
+import json
+import pickle
+import zipfile
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..errors import SweepError
+from ..io import atomic_write_bytes
+
+__all__ = ["MANIFEST", "CheckpointStore", "checkpoint_dir", "fingerprint", "prepare_checkpoint", "remove_checkpoint"]
+
+#: File name of the checkpoint manifest (fingerprint of the sweep and its number of chunks).
+MANIFEST = "manifest.json"
+
+
+def checkpoint_dir(out_file: str | Path) -> Path:
+    """The checkpoint directory used for the sweep whose final result goes to ``out_file``.
+
+    ``results/bifurcation.nc`` → ``results/bifurcation.nc.chunks``: next to the output, so that
+    ``--out`` alone decides where a resumable sweep keeps its finished chunks.
+
+    Parameters
+    ----------
+    out_file : path
+        The final NetCDF file of the sweep.
+
+    Returns
+    -------
+    Path
+    """
+    p = Path(out_file)
+    return p.with_name(p.name + ".chunks")
+
+
+def remove_checkpoint(directory: str | Path) -> None:
+    """Delete a checkpoint directory (after the final result has been written).
+
+    Only the files a checkpoint consists of are removed; a directory holding anything else is left.
+
+    Parameters
+    ----------
+    directory : path
+        The checkpoint directory (missing: nothing to do).
+    """
+    d = Path(directory)
+    if not d.is_dir():
+        return
+    for p in d.iterdir():
+        if p.name == MANIFEST or p.name.startswith(("chunk-", ".chunk-", f".{MANIFEST}")):
+            p.unlink(missing_ok=True)
+    try:
+        d.rmdir()
+    except OSError:  # something else lives there: leave it
+        pass
+
+
+def fingerprint(chunks: Sequence[Any]) -> str:
+    """A hash identifying the work of a sweep (functions and arguments of all chunks).
+
+    Parameters
+    ----------
+    chunks : sequence of Chunk
+
+    Returns
+    -------
+    str
+        SHA-256 hex digest.
+    """
+    h = hashlib.sha256()
+    for c in chunks:
+        h.update(f"{c.index}:{c.fn.__module__}.{c.fn.__qualname__}:".encode())
+        h.update(_value_bytes(c.args))
+    return h.hexdigest()
+
+
+def _value_bytes(obj: Any) -> bytes:
+    """A pickle of ``obj`` that depends on its value only.
+
+    The pickle memo is off: with it, an object met twice is written once and then referenced, so
+    equal arguments would pickle differently depending on whether two of their strings happen to
+    be the same object (an interned ``"omega"`` from code, or an equal one from the command line).
+    """
+    buf = _io.BytesIO()
+    p = pickle.Pickler(buf, protocol=4)
+    p.fast = True
+    p.dump(obj)
+    return buf.getvalue()
+
+
+def _chunk_path(directory: Path, index: int) -> Path:
+    return directory / f"chunk-{index:06d}.npz"
+
+
+def _save_chunk(directory: Path, index: int, result: dict[str, np.ndarray]) -> None:
+    buf = _io.BytesIO()
+    np.savez(buf, **result)
+    atomic_write_bytes(_chunk_path(directory, index), buf.getvalue())
+
+
+def _load_chunk(directory: Path, index: int) -> dict[str, np.ndarray] | None:
+    """A finished chunk, or None if it is missing or unreadable (it is then run again)."""
+    p = _chunk_path(directory, index)
+    if not p.exists():
+        return None
+    try:
+        with np.load(p, allow_pickle=False) as z:
+            return {k: z[k] for k in z.files}
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+        p.unlink(missing_ok=True)
+        return None
+
+
+def _clear_chunks(directory: Path) -> None:
+    for p in directory.glob("chunk-*.npz"):
+        p.unlink(missing_ok=True)
+    _clear_temporaries(directory)
+
+
+def _clear_temporaries(directory: Path) -> None:
+    """Remove temporary files left by a process killed in the middle of a write."""
+    for p in directory.glob(".*.tmp"):
+        p.unlink(missing_ok=True)
+
+
+def prepare_checkpoint(directory: Path, chunks: Sequence[Any], resume: bool) -> set[int]:
+    """Create or check the checkpoint directory; returns the indices of chunks already finished.
+
+    Without ``resume`` any previous content is discarded.  With ``resume`` the manifest must
+    hold the fingerprint of the same sweep (same chunk functions and arguments).
+
+    Parameters
+    ----------
+    directory : Path
+        The checkpoint directory (created if missing).
+    chunks : sequence of Chunk
+        The whole sweep.
+    resume : bool
+        Keep the chunks of a previous run of the same sweep.
+
+    Returns
+    -------
+    set of int
+        Indices of the chunks whose files exist (they may still be unreadable; see
+        :meth:`CheckpointStore.open`).
+
+    Raises
+    ------
+    SweepError
+        When the directory cannot be created, the path is not a directory, or (with ``resume``)
+        the checkpoint holds a different sweep.
+    """
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise SweepError(f"out: cannot create checkpoint directory {directory} ({e.strerror or e})") from None
+    if not directory.is_dir():
+        raise SweepError(f"out: checkpoint path {directory} exists and is not a directory")
+    fp = fingerprint(chunks)
+    man = directory / MANIFEST
+    old: dict[str, Any] = {}
+    if man.exists():
+        try:
+            old = json.loads(man.read_text())
+        except (OSError, ValueError):
+            old = {}
+    if resume and old and old.get("fingerprint") != fp:
+        raise SweepError(
+            f"resume: checkpoint {directory} holds a different sweep (parameters, options or chunk size differ); "
+            "run without --resume to start over, or use another --out"
+        )
+    if not resume or not old:
+        _clear_chunks(directory)  # a fresh start, or chunks without a manifest: not trusted
+        atomic_write_bytes(man, json.dumps({"fingerprint": fp, "chunks": len(chunks)}).encode())
+        return set()
+    _clear_temporaries(directory)
+    return {c.index for c in chunks if _chunk_path(directory, c.index).exists()}
+
+
+class CheckpointStore:
+    """A checkpoint directory: finished chunks saved durably as they complete, loaded on resume.
+
+    Parameters
+    ----------
+    directory : path
+        Where the manifest and the chunk files live (see :func:`checkpoint_dir`).
+    resume : bool
+        Keep (and load) the chunks of a previous run of the same sweep; without it any previous
+        content is discarded when the sweep opens the store.
+    """
+
+    def __init__(self, directory: str | Path, *, resume: bool = False) -> None:
+        self.directory = Path(directory)
+        self.resume = bool(resume)
+
+    def __repr__(self) -> str:
+        return f"CheckpointStore({str(self.directory)!r}, resume={self.resume})"
+
+    def open(self, chunks: Sequence[Any]) -> dict[int, dict[str, np.ndarray]]:
+        """Prepare the directory for ``chunks`` and return the finished chunks it holds.
+
+        Parameters
+        ----------
+        chunks : sequence of Chunk
+            The whole sweep.
+
+        Returns
+        -------
+        dict
+            Chunk index → result of every readable finished chunk (empty without ``resume``).
+
+        Raises
+        ------
+        SweepError
+            See :func:`prepare_checkpoint`.
+        """
+        done = prepare_checkpoint(self.directory, chunks, self.resume)
+        out: dict[int, dict[str, np.ndarray]] = {}
+        for i in sorted(done):
+            r = _load_chunk(self.directory, i)
+            if r is not None:
+                out[i] = r
+        return out
+
+    def save(self, index: int, result: dict[str, np.ndarray]) -> None:
+        """Write one finished chunk durably.
+
+        Parameters
+        ----------
+        index : int
+            The chunk's index.
+        result : dict of ndarray
+            Its result (plain arrays).
+        """
+        _save_chunk(self.directory, index, result)
+
+    def remove(self) -> None:
+        """Delete the checkpoint (see :func:`remove_checkpoint`)."""
+        remove_checkpoint(self.directory)
