@@ -418,11 +418,11 @@ def orbit(
     files: list[str] = []
     if out is not None:
         from .io import write_netcdf
-        from .plot.periodic import save_orbit
+        from .plot import save_figures
 
         nc, figdir = out_paths(out, "orbit")
         ds = add_physical(res.to_dataset(), scales)
-        files = [str(write_netcdf(ds, nc))] + ([str(p) for p in save_orbit(ds, figdir)] if res.converged else [])
+        files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
     summary = physical_json(res.to_json(), model, scales)
     if json_out:
         summary["files"] = files
@@ -528,16 +528,19 @@ def continuation(
         raise fail(str(e))
     files: list[str] = []
     if out is not None:
-        from .io import write_netcdf
-        from .plot.periodic import save_continuation
+        from .io import attach, write_netcdf
+        from .plot import save_figures
+        from .plot.periodic import SWEEP_CONTEXT
 
         nc, figdir = out_paths(out, "continuation")
         ds = add_physical(res.to_dataset(), scales)
-        files = [str(write_netcdf(ds, nc))]
         if sweep_ds is not None:
             sweep_ds = add_physical(sweep_ds, scales)
+            ds = attach(ds, SWEEP_CONTEXT, sweep_ds)  # the file redraws the figure with its sweep
+        files = [str(write_netcdf(ds, nc))]
+        if sweep_ds is not None:
             files.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
-        files += [str(p) for p in save_continuation(ds, figdir, sweep_ds)]
+        files += [str(p) for p in save_figures(ds, figdir)]
     summary = physical_json(res.to_json(), model, scales, param=name)
     if json_out:
         summary["files"] = files
