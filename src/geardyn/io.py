@@ -173,6 +173,8 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
 
 #: Long name of a swept or continued model parameter without an entry of its own, by kind.
 PARAMETER_LONG_NAMES: dict[str, str] = {"continuation": "continuation parameter {name}"}
+#: Suffix of the copy of a displacement variable in µm (``amplitude_um``; see :func:`physical_long_name`).
+PHYSICAL_SUFFIX = "_um"
 #: Name of the global attribute listing the Datasets attached to a result (see :func:`attach`).
 CONTEXT_ATTR = "geardyn_context"
 #: Separator between an attached Dataset's name and its variables' names.
@@ -191,7 +193,8 @@ def variable(name: str, kind: str | None = None) -> Variable | None:
 
     Looks in :data:`KIND_VARIABLES` for ``kind``, then :data:`VARIABLES`; a model parameter
     without an entry (``xi1``, ``kappa2``, ``phi_e1`` …) is "parameter <name>" (radians for phases);
-    ``bifurcation_<parameter>`` is the parameter at a bifurcation.
+    ``bifurcation_<parameter>`` is the parameter at a bifurcation; ``<name>_um`` is the copy in µm of
+    a non-dimensional displacement variable.
 
     Parameters
     ----------
@@ -212,7 +215,16 @@ def variable(name: str, kind: str | None = None) -> Variable | None:
         return _v(template.format(name=name), "rad" if name.startswith("phi") else _ONE)
     if name.startswith("bifurcation_") and _is_parameter(name[len("bifurcation_"):]):
         return _v(f"parameter {name[len('bifurcation_'):]} at the bifurcation")
+    if name.endswith(PHYSICAL_SUFFIX):
+        base = variable(name[: -len(PHYSICAL_SUFFIX)], kind)
+        if base is not None and base.units == _ONE:
+            return _v(physical_long_name(base.long_name), "µm")
     return None
+
+
+def physical_long_name(long_name: str) -> str:
+    """Long name of the µm copy of a displacement variable: "displacement" read as "DTE", else "(DTE)" added."""
+    return long_name.replace("displacement", "DTE") if "displacement" in long_name else f"{long_name} (DTE)"
 
 
 def json_attr(obj: Any) -> str:
