@@ -34,6 +34,19 @@ def _param(ds: xr.Dataset) -> str:
 def category_band(ax, x: np.ndarray, codes: np.ndarray, colors: dict[int, str], names: dict[int, str], title: str):
     """A one-row categorical strip of ``codes`` against ``x`` with a legend of the codes present.
 
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    x : ndarray
+        Grid values (the strip's cells are centred on them).
+    codes : ndarray
+        Integer code per grid value.
+    colors, names : dict
+        Colour and legend name of each code.
+    title : str
+        Label left of the strip.
+
     Returns
     -------
     list of Artist
