@@ -8,6 +8,8 @@ Importing :mod:`geardyn` registers it::
     ds.geardyn.model           # the GearModel that produced it
     ds.geardyn.physical()      # a copy with rpm, µm, N variables (scales of the paper's pair by default)
     ds.geardyn.plot("figs")    # the figures of ``geardyn plot``, as PNG files
+    ds.geardyn.figures         # their names, e.g. ["time_history", "phase_portrait", ...]
+    ds.geardyn.figure("phase_portrait", ax=ax)   # one of them, into your own Axes
 
 Nothing heavy is imported until a method is called (matplotlib only by :meth:`plot`).
 """
@@ -69,6 +71,15 @@ class GeardynAccessor:
         directory : str or Path, optional
             Where to write them; default the directory of the file the Dataset was read from,
             else the current directory.
+
+        Returns
+        -------
+        list of Path
+
+        Raises
+        ------
+        geardyn.errors.PlotError
+            If the Dataset is not a geardyn result or its kind has no figures.
         """
         from .plot import save_figures
 
@@ -76,6 +87,37 @@ class GeardynAccessor:
             src = self._ds.encoding.get("source")
             directory = Path(src).parent if src else Path.cwd()
         return save_figures(self._ds, directory)
+
+    @property
+    def figures(self) -> list[str]:
+        """Names (file stems) of the figures this result has (see :func:`geardyn.plot.figures_for`)."""
+        from .plot import figures_for
+
+        return [f.stem for f in figures_for(self._ds)]
+
+    def figure(self, name: str, ax: Any = None):
+        """Draw one figure of the result, into ``ax`` if given, else into a new figure.
+
+        Parameters
+        ----------
+        name : str
+            One of :attr:`figures`.
+        ax : matplotlib.axes.Axes or sequence of Axes, optional
+            Where to draw (one Axes: the figure's main panel).
+
+        Returns
+        -------
+        geardyn.plot.PlotArtists
+            The figure, its Axes and the artists drawn.
+
+        Raises
+        ------
+        geardyn.errors.PlotError
+            If the result has no figure of that name.
+        """
+        from .plot import draw
+
+        return draw(self._ds, name, ax=ax)
 
     def to_netcdf(self, path: str | Path) -> Path:
         """Write the result atomically with geardyn's conventions (:func:`geardyn.io.write_netcdf`)."""

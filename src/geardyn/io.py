@@ -14,39 +14,217 @@ import os
 import tempfile
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping, NamedTuple
 
 import numpy as np
 import xarray as xr
 
-from .model import GearModel
+from .analysis.classify import IMPACT_LABELS, MOTION_LABELS, motion_label
+from .errors import ModelError
+from .model import GearModel, canonical_param
+from .status import Status
 
-#: Units and long names of the variables and coordinates geardyn writes ("1" = non-dimensional).
-VARIABLES: dict[str, tuple[str, str]] = {
-    "tau": ("1", "non-dimensional time τ = ω_n t"),
-    "u": ("1", "dynamic transmission error u (non-dimensional)"),
-    "v": ("1", "velocity du/dτ (non-dimensional)"),
-    "poincare_u": ("1", "Poincaré section u at θ ≡ 0"),
-    "poincare_v": ("1", "Poincaré section du/dτ at θ ≡ 0"),
-    "order": ("1", "order of the mesh frequency"),
-    "spectrum": ("1", "single-sided amplitude spectrum of u"),
-    "amplitude": ("1", "half peak-to-peak displacement"),
-    "rms": ("1", "RMS of u about its mean"),
-    "mean": ("1", "mean displacement"),
-    "u_min": ("1", "smallest displacement"),
-    "u_max": ("1", "largest displacement"),
-    "period": ("1", "period of the Poincaré sequence (0 not periodic, -1 diverged)"),
-    "impact": ("1", "impact state (0 none, 1 single-sided, 2 double-sided, -1 unknown)"),
-    "fraction_drive": ("1", "time fraction in drive-side contact"),
-    "fraction_separation": ("1", "time fraction in separation"),
-    "fraction_back": ("1", "time fraction in back-side contact"),
-    "status": ("1", "point status (0 ok, 1 diverged)"),
-    "lle": ("1/τ", "largest Lyapunov exponent"),
-    "omega": ("1", "mesh frequency ω = ω_e/ω_n"),
-    "xi0": ("1", "mean damping ratio ξ0"),
-    "fp": ("1", "mean load f_p"),
-    "D": ("1", "half backlash D"),
+class Variable(NamedTuple):
+    """Metadata of one variable: ``units`` ("1" = non-dimensional), ``long_name`` and, for coded
+    variables, ``flags`` (code → meaning, written as CF ``flag_values``/``flag_meanings``)."""
+
+    units: str
+    long_name: str
+    flags: Mapping[int, str] | None = None
+
+    def attrs(self) -> dict[str, Any]:
+        """The variable's attributes as geardyn writes them."""
+        out: dict[str, Any] = {"units": self.units, "long_name": self.long_name}
+        if self.flags:
+            out["flag_values"] = list(self.flags)
+            out["flag_meanings"] = " ".join(v.replace(" ", "_") for v in self.flags.values())
+        return out
+
+
+_STATUS_FLAGS = {int(s): s.label for s in Status}
+_ONE = "1"
+
+
+def _v(long_name: str, units: str = _ONE, flags: Mapping[int, str] | None = None) -> Variable:
+    return Variable(units, long_name, flags)
+
+
+#: Every variable and coordinate geardyn writes, by name (kinds that mean something else by a name
+#: override it in :data:`KIND_VARIABLES`).  :func:`annotate` writes their attributes.
+VARIABLES: dict[str, Variable] = {
+    # time histories and spectra
+    "tau": _v("non-dimensional time τ = ω_n t"),
+    "u": _v("dynamic transmission error u (non-dimensional)"),
+    "v": _v("velocity du/dτ (non-dimensional)"),
+    "poincare_u": _v("Poincaré section u at θ ≡ 0"),
+    "poincare_v": _v("Poincaré section du/dτ at θ ≡ 0"),
+    "order": _v("order of the mesh frequency"),
+    "spectrum": _v("single-sided amplitude spectrum of u"),
+    "section": _v("index of the recorded Poincaré point"),
+    # steady-response measures and classes
+    "amplitude": _v("half peak-to-peak displacement"),
+    "rms": _v("RMS of u about its mean"),
+    "mean": _v("mean displacement"),
+    "u_min": _v("smallest displacement"),
+    "u_max": _v("largest displacement"),
+    "period": _v("period of the Poincaré sequence (0 not periodic, -1 diverged)"),
+    "impact": _v("impact state (0 none, 1 single-sided, 2 double-sided, -1 unknown)", flags=IMPACT_LABELS),
+    "motion": _v("motion class (-1 diverged, 0 unresolved, 1 periodic, 2 quasi-periodic, 3 chaotic)",
+                 flags=MOTION_LABELS),
+    "fraction_drive": _v("time fraction in drive-side contact"),
+    "fraction_separation": _v("time fraction in separation"),
+    "fraction_back": _v("time fraction in back-side contact"),
+    "status": _v("point status (0 ok, 1 diverged)", flags=_STATUS_FLAGS),
+    "lle": _v("largest Lyapunov exponent", "1/τ"),
+    "lle_err": _v("standard error of the largest Lyapunov exponent (block statistics)", "1/τ"),
+    "lambda2": _v("second Lyapunov exponent", "1/τ"),
+    "loops": _v("closed curves of a quasi-periodic Poincaré section (0 otherwise)"),
+    "settled": _v("settling passes run for the point before classification (0: periodic after the transient)"),
+    "settle_ratio": _v("contraction of the Poincaré sequence onto a cycle over the record (1: stationary)"),
+    "curve_dim": _v("correlation dimension of the Poincaré section of a non-periodic point (1: closed curves)"),
+    # sweeps
+    "restarted": _v("1 where a continuation restarted from the initial state after a diverged point"),
+    "start_u": _v("initial displacement u of the point"),
+    "start_v": _v("initial velocity u' of the point"),
+    "end_u": _v("final displacement u (start of the next continuation point)"),
+    "end_v": _v("final velocity u'"),
+    "sweep": _v("sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)"),
+    # model parameters with a name of their own (others: "parameter <name>", see variable())
+    "omega": _v("mesh frequency ω = ω_e/ω_n"),
+    "xi0": _v("mean damping ratio ξ0"),
+    "fp": _v("mean load f_p"),
+    "D": _v("half backlash D"),
+    # Lyapunov spectrum
+    "log_r": _v("log of the Gram–Schmidt diagonal per forcing period"),
+    "running": _v("running Lyapunov exponent estimate", "1/τ"),
+    "exponents": _v("Lyapunov exponents", "1/τ"),
+    "uncertainty": _v("standard error of the exponents (block statistics)", "1/τ"),
+    "exponent": _v("exponent index (1 largest)"),
+    # basins
+    "u0": _v("initial displacement u0 at θ = 0"),
+    "v0": _v("initial velocity u0' at θ = 0"),
+    "attractor": _v("attractor reached (index into attractor_index; -1 diverged)"),
+    "attractor_period": _v("period of the attractor (0 not periodic)"),
+    "attractor_motion": _v("motion class of the attractor"),
+    "attractor_fraction": _v("fraction of the grid in the attractor's basin"),
+    "attractor_amplitude": _v("half peak-to-peak displacement on the attractor"),
+    "attractor_u": _v("Poincaré points u of the attractor (its cycle)"),
+    "attractor_v": _v("Poincaré points u' of the attractor (its cycle)"),
+    "attractor_index": _v("attractor number (0: largest basin)"),
+    "cycle_point": _v("index of a Poincaré point of the attractor"),
+    # periodic orbits and continuation
+    "multiplier_re": _v("Floquet multiplier, real part"),
+    "multiplier_im": _v("Floquet multiplier, imaginary part"),
+    "floquet_exponent": _v("Floquet exponent ln|μ|/(nT)", "1/τ"),
+    "monodromy": _v("monodromy matrix (Jacobian of the n-period map)"),
+    "multiplier": _v("multiplier index (largest modulus first)"),
+    "row": _v("row of the monodromy matrix"),
+    "col": _v("column of the monodromy matrix"),
+    "branch": _v("branch index"),
+    "stable": _v("orbit stable (1) or unstable (0)"),
+    "point": _v("index of the branch point"),
+    "bifurcation": _v("index of the bifurcation"),
+    "bifurcation_type": _v("bifurcation type"),
+    "bifurcation_period": _v("period of the branch the bifurcation lies on"),
+    "bifurcation_branch": _v("branch index of the bifurcation"),
+    "bifurcation_u": _v("orbit u at θ = 0 at the bifurcation"),
+    "bifurcation_v": _v("orbit du/dτ at θ = 0 at the bifurcation"),
+    "bifurcation_amplitude": _v("orbit amplitude at the bifurcation"),
+    "bifurcation_detail": _v("which multiplier or boundary"),
+    # stability boundaries
+    "xi0_critical": _v("ξ0 below which the period-n response loses stability"),
+    "xi0_critical_linear": _v("ξ0 above which the linear contact model (D = 0, unforced) is stable"),
+    "xi0_paper": _v("paper's condition ½√(1 − κ1²)"),
+    # physical units (geardyn.analysis.physical.add_physical)
+    "rpm": _v("pinion speed", "rpm"),
+    "mesh_frequency_Hz": _v("mesh frequency", "Hz"),
+    "torque_N_m": _v("pinion torque (balanced)", "N·m"),
+    "lle_per_s": _v("largest Lyapunov exponent per second", "1/s"),
+    "time_s": _v("time", "s"),
+    "dte_um": _v("dynamic transmission error u_n", "µm"),
+    "mesh_force": _v("mesh force F_n/(k0 b_c)"),
+    "mesh_force_N": _v("dynamic mesh force F_n", "N"),
+    "frequency_Hz": _v("frequency", "Hz"),
+    "spectrum_um": _v("amplitude spectrum of the dynamic transmission error", "µm"),
 }
+
+_ORBIT_SECTION = _v("index of the section point along the orbit")
+_FORCING_PERIOD = _v("index of the recorded forcing period")
+
+#: What a name means in one kind of result where it differs from :data:`VARIABLES`.
+KIND_VARIABLES: dict[str, dict[str, Variable]] = {
+    "simulate": {"section": _FORCING_PERIOD},
+    "lyapunov": {"section": _FORCING_PERIOD},
+    "orbit": {"section": _ORBIT_SECTION},
+    "continuation": {
+        "section": _ORBIT_SECTION,
+        "amplitude": _v("half peak-to-peak displacement of the orbit"),
+        "period": _v("period of the orbit (forcing periods)"),
+        "u": _v("orbit displacement u at θ = 0"),
+        "v": _v("orbit velocity du/dτ at θ = 0"),
+        "poincare_u": _v("section points u of the orbit (θ ≡ 0)"),
+        "poincare_v": _v("section points du/dτ of the orbit (θ ≡ 0)"),
+        "status": _v("point status (0 ok)", flags=_STATUS_FLAGS),
+    },
+    "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary")},
+    "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary")},
+    "mathieu_boundary": {"xi0_critical": _v("ξ0 above which the linear contact model is stable")},
+}
+
+#: Long name of a swept or continued model parameter without an entry of its own, by kind.
+PARAMETER_LONG_NAMES: dict[str, str] = {"continuation": "continuation parameter {name}"}
+#: Suffix of the copy of a displacement variable in µm (``amplitude_um``; see :func:`physical_long_name`).
+PHYSICAL_SUFFIX = "_um"
+#: Name of the global attribute listing the Datasets attached to a result (see :func:`attach`).
+CONTEXT_ATTR = "geardyn_context"
+#: Separator between an attached Dataset's name and its variables' names.
+CONTEXT_SEPARATOR = "__"
+
+
+def _is_parameter(name: str) -> bool:
+    try:
+        return canonical_param(name) == name
+    except ModelError:
+        return False
+
+
+def variable(name: str, kind: str | None = None) -> Variable | None:
+    """The metadata of variable ``name`` in a result of ``kind``, or ``None`` if geardyn does not know it.
+
+    Looks in :data:`KIND_VARIABLES` for ``kind``, then :data:`VARIABLES`; a model parameter
+    without an entry (``xi1``, ``kappa2``, ``phi_e1`` …) is "parameter <name>" (radians for phases);
+    ``bifurcation_<parameter>`` is the parameter at a bifurcation; ``<name>_um`` is the copy in µm of
+    a non-dimensional displacement variable.
+
+    Parameters
+    ----------
+    name : str
+        Variable or coordinate name.
+    kind : str, optional
+        The result's ``geardyn_kind``.
+
+    Returns
+    -------
+    Variable or None
+    """
+    meta = KIND_VARIABLES.get(kind or "", {}).get(name) or VARIABLES.get(name)
+    if meta is not None:
+        return meta
+    if _is_parameter(name):
+        template = PARAMETER_LONG_NAMES.get(kind or "", "parameter {name}")
+        return _v(template.format(name=name), "rad" if name.startswith("phi") else _ONE)
+    if name.startswith("bifurcation_") and _is_parameter(name[len("bifurcation_"):]):
+        return _v(f"parameter {name[len('bifurcation_'):]} at the bifurcation")
+    if name.endswith(PHYSICAL_SUFFIX):
+        base = variable(name[: -len(PHYSICAL_SUFFIX)], kind)
+        if base is not None and base.units == _ONE:
+            return _v(physical_long_name(base.long_name), "µm")
+    return None
+
+
+def physical_long_name(long_name: str) -> str:
+    """Long name of the µm copy of a displacement variable: "displacement" read as "DTE", else "(DTE)" added."""
+    return long_name.replace("displacement", "DTE") if "displacement" in long_name else f"{long_name} (DTE)"
 
 
 def json_attr(obj: Any) -> str:
@@ -68,17 +246,212 @@ def _default(o: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(o).__name__}")
 
 
-def annotate(ds: xr.Dataset) -> xr.Dataset:
-    """Fill in ``units`` and ``long_name`` for every known variable and coordinate lacking them."""
+def annotate(ds: xr.Dataset, kind: str | None = None) -> xr.Dataset:
+    """Fill in the registry's attributes (:func:`variable`) for every known variable lacking them.
+
+    ``units``, ``long_name`` and, for coded variables, ``flag_values``/``flag_meanings`` are set
+    where missing (attributes already present are kept).  Variables of an attached Dataset
+    (:func:`attach`) are looked up under their own name and that Dataset's kind.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A result, annotated in place.
+    kind : str, optional
+        Its kind; default the ``geardyn_kind`` attribute.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds``.
+    """
+    kind = kind or ds.attrs.get("geardyn_kind")
+    ctx = _contexts(ds)
     for name in list(ds.variables):
-        base = str(name)
-        meta = VARIABLES.get(base)
+        base, k = str(name), kind
+        head, sep, tail = base.partition(CONTEXT_SEPARATOR)
+        if sep and head in ctx:
+            base, k = tail, ctx[head].get("geardyn_kind")
+        meta = variable(base, k)
         if meta is None:
             continue
         attrs = ds[name].attrs
-        attrs.setdefault("units", meta[0])
-        attrs.setdefault("long_name", meta[1])
+        for key, val in meta.attrs().items():
+            attrs.setdefault(key, val)
     return ds
+
+
+def _contexts(ds: xr.Dataset) -> dict[str, dict[str, Any]]:
+    raw = ds.attrs.get(CONTEXT_ATTR)
+    return json.loads(raw) if raw else {}
+
+
+def attach(ds: xr.Dataset, name: str, other: xr.Dataset) -> xr.Dataset:
+    """A copy of ``ds`` carrying ``other`` (e.g. the brute-force sweep drawn under a continuation).
+
+    ``other``'s variables, coordinates and dimensions are added as ``<name>__<their name>`` and
+    its global attributes are kept in the JSON attribute :data:`CONTEXT_ATTR`, so that one NetCDF
+    file holds everything its figures need; :func:`attached` gives ``other`` back.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The main result.
+    name : str
+        Name of the attached Dataset (no ``__`` in it).
+    other : xarray.Dataset
+        The Dataset to attach.
+
+    Returns
+    -------
+    xarray.Dataset
+
+    Raises
+    ------
+    ValueError
+        If ``name`` contains the separator.
+    """
+    if CONTEXT_SEPARATOR in name or not name:
+        raise ValueError(f"attach: name must be non-empty without {CONTEXT_SEPARATOR!r}, got {name!r}")
+    ren = {str(k): f"{name}{CONTEXT_SEPARATOR}{k}" for k in list(other.variables) + list(other.dims)}
+    prefixed = other.rename(ren)
+    prefixed.attrs = {}
+    out = xr.merge([ds, prefixed], combine_attrs="override")
+    out.attrs = dict(ds.attrs)
+    ctx = _contexts(ds)
+    ctx[name] = {str(k): (v if isinstance(v, str) else json_attr(v)) for k, v in other.attrs.items()}
+    out.attrs[CONTEXT_ATTR] = json.dumps(ctx, sort_keys=True)
+    return out
+
+
+def attached(ds: xr.Dataset, name: str) -> xr.Dataset | None:
+    """The Dataset attached to ``ds`` under ``name`` by :func:`attach`, or ``None``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A result, e.g. read from a NetCDF file.
+    name : str
+        Name given to :func:`attach`.
+
+    Returns
+    -------
+    xarray.Dataset or None
+    """
+    ctx = _contexts(ds)
+    if name not in ctx:
+        return None
+    pre = f"{name}{CONTEXT_SEPARATOR}"
+    names = [k for k in ds.variables if str(k).startswith(pre)]
+    sub = ds[names] if names else xr.Dataset()
+    sub = sub.drop_vars([c for c in sub.coords if not str(c).startswith(pre)])
+    ren = {str(k): str(k)[len(pre):] for k in list(sub.variables) + list(sub.dims) if str(k).startswith(pre)}
+    out = sub.rename(ren)
+    out.attrs = dict(ctx[name])
+    return out
+
+
+def detach(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` without the Datasets attached by :func:`attach`."""
+    ctx = _contexts(ds)
+    if not ctx:
+        return ds
+    pre = tuple(f"{n}{CONTEXT_SEPARATOR}" for n in ctx)
+    out = ds.drop_vars([k for k in ds.variables if str(k).startswith(pre)])
+    out = out.drop_dims([d for d in out.dims if str(d).startswith(pre)])
+    out.attrs = {k: v for k, v in ds.attrs.items() if k != CONTEXT_ATTR}
+    return out
+
+
+def json_number(x: Any) -> float | None:
+    """A finite number as float, else ``None`` (JSON has no NaN)."""
+    x = float(x)
+    return x if np.isfinite(x) else None
+
+
+def json_values(da: xr.DataArray | np.ndarray, kind: str | None = None, *, name: str | None = None,
+                period: Any = None) -> Any:
+    """JSON-ready nested lists of a per-point variable, converted as geardyn's ``--json`` outputs do.
+
+    Coded variables (with flags in the registry) become their labels; ``motion`` of a periodic point
+    becomes "period-n" when ``period`` is given; ``period`` and ``attractor_period`` become the
+    period or ``None`` (not periodic, diverged); other numbers become floats or ``None`` (not finite).
+
+    Parameters
+    ----------
+    da : xarray.DataArray or ndarray
+        The values (any shape).
+    kind : str, optional
+        The result's kind (for :func:`variable`).
+    name : str, optional
+        The variable's name; default ``da.name``.
+    period : array_like, optional
+        Periods of the same shape, for ``motion``.
+
+    Returns
+    -------
+    list (nested as the array) or a scalar for a 0-d array
+    """
+    name = str(name if name is not None else getattr(da, "name", ""))
+    vals = np.asarray(getattr(da, "values", da))
+    meta = variable(name, kind)
+    if name == "motion":
+        per = np.broadcast_to(np.asarray(period), vals.shape) if period is not None else np.full(vals.shape, None)
+        out = np.array([motion_label(int(c), None if p is None else int(p)) for c, p in zip(vals.ravel(), per.ravel())],
+                       dtype=object).reshape(vals.shape)
+    elif meta is not None and meta.flags:
+        out = np.array([meta.flags.get(int(c), "unknown") for c in vals.ravel()], dtype=object).reshape(vals.shape)
+    elif name in ("period", "attractor_period"):
+        out = np.array([int(p) if p > 0 else None for p in vals.ravel()], dtype=object).reshape(vals.shape)
+    else:
+        out = np.array([json_number(x) for x in vals.ravel()], dtype=object).reshape(vals.shape)
+    return out.tolist()
+
+
+def status_counts(ds: xr.Dataset) -> dict[str, int]:
+    """Number of points of each status label (``{"ok": n, "diverged": m, …}``, labels present only)."""
+    if "status" not in ds.variables:
+        return {}
+    codes, counts = np.unique(np.asarray(ds["status"].values).astype(int), return_counts=True)
+    return {Status(int(c)).label: int(n) for c, n in zip(codes, counts)}
+
+
+def summary_json(ds: xr.Dataset, variables: Any = None) -> dict[str, Any]:
+    """The part every ``--json`` summary of a Dataset shares: kind, model, options, status counts,
+    coordinates and per-point arrays.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+    variables : sequence of str, optional
+        The per-point variables to include (converted by :func:`json_values`; ``motion`` with the
+        Dataset's ``period``); default every data variable with the ``status`` dimensions.
+
+    Returns
+    -------
+    dict
+        ``kind``, ``model`` and ``options`` (dicts, ``None`` if absent), ``status`` (counts by
+        label), ``coords`` (each dimension coordinate of the per-point grid as a list) and
+        ``points`` (name → nested lists over the grid).
+    """
+    kind = ds.attrs.get("geardyn_kind")
+    dims = ds["status"].dims if "status" in ds.variables else ()
+    if variables is None:
+        variables = [str(k) for k, v in ds.data_vars.items() if v.dims == dims and dims]
+    period = ds["period"].values if "period" in ds.variables else None
+    points = {}
+    for k in variables:
+        per = period if k == "motion" and period is not None and ds["period"].shape == ds[k].shape else None
+        points[str(k)] = json_values(ds[k], kind, period=per)
+    return {
+        "kind": kind,
+        "model": json.loads(ds.attrs["model"]) if "model" in ds.attrs else None,
+        "options": json.loads(ds.attrs["options"]) if "options" in ds.attrs else None,
+        "status": status_counts(ds),
+        "coords": {str(d): json_values(ds[d], kind) for d in dims if d in ds.coords and ds[d].dtype.kind in "fiu"},
+        "points": points,
+    }
 
 
 def result_attrs(kind: str, model: GearModel, options: Any = None, **extra: Any) -> dict[str, str]:

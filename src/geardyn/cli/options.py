@@ -268,7 +268,7 @@ class Inputs:
             "progress": not v["json_out"],
         }
 
-    def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None, figures: bool = True) -> list[str]:
+    def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None) -> list[str]:
         """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint."""
         out = self.values.get("out")
         if out is None:
@@ -277,9 +277,7 @@ class Inputs:
         from ..plot import save_figures
 
         nc, figdir = out_paths(out, stem)
-        files = [str(write_netcdf(ds, nc))]
-        if figures:
-            files += [str(p) for p in save_figures(ds, figdir)]
+        files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
         if engine is not None and engine.get("checkpoint") is not None:
             from ..sweep import remove_checkpoint
 

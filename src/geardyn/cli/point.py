@@ -99,7 +99,7 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
     res = shoot(model, n, g, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0(), transient=opts.transient)
     paths: list[str] = []
     if inp.out is not None:
-        paths = inp.write(add_physical(res.to_dataset(), scales), "orbit", figures=res.converged)
+        paths = inp.write(add_physical(res.to_dataset(), scales), "orbit")
     finish(physical_json(res.to_json(), model, scales), paths, inp, render.orbit)
 
 
@@ -165,13 +165,17 @@ def continuation(
                                                                          periods=CONTINUATION_SWEEP_PERIODS))
     paths: list[str] = []
     if inp.out is not None:
-        from ..plot.periodic import save_continuation
+        from ..io import attach
+        from ..plot import save_figures
+        from ..plot.periodic import SWEEP_CONTEXT
 
         nc, figdir = out_paths(inp.out, "continuation")
         ds = add_physical(res.to_dataset(), scales)
-        paths = [str(write_netcdf(ds, nc))]
         if sweep_ds is not None:
             sweep_ds = add_physical(sweep_ds, scales)
+            ds = attach(ds, SWEEP_CONTEXT, sweep_ds)  # the file redraws the figure with its sweep
+        paths = [str(write_netcdf(ds, nc))]
+        if sweep_ds is not None:
             paths.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
-        paths += [str(p) for p in save_continuation(ds, figdir, sweep_ds)]
+        paths += [str(p) for p in save_figures(ds, figdir)]
     finish(physical_json(res.to_json(), model, scales, param=name), paths, inp, render.continuation)

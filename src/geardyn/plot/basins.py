@@ -3,14 +3,18 @@ attractors' Poincaré points on top.  Drawn from the Dataset only."""
 
 from __future__ import annotations
 
-from pathlib import Path
+import json
+from typing import Any
 
 import numpy as np
 import xarray as xr
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from .common import label, plt, save
+from ..analysis.classify import motion_label
+from .common import PlotArtists, label, one_axes, result, snapshot
+
+__all__ = ["BASIN_COLORS", "POINT_COLORS", "basin_figure"]
 
 #: Basin colours (attractor 0, 1, …; cycled), diverged in black.
 BASIN_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b", "#bcbddc", "#fc9272", "#fdd0a2", "#c7e9c0", "#dadaeb"]
@@ -18,16 +22,26 @@ BASIN_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b", "#bcbddc", "#fc9272", "#fdd0a2"
 POINT_COLORS = ["#08519c", "#a63603", "#006d2c", "#54278f", "#a50f15", "#7f2704", "#00441b", "#3f007d"]
 
 
-def basin_figure(ds: xr.Dataset):
-    """Basins over (u0, v0) with the attractors' Poincaré points and a legend of period and basin share."""
-    import json
+def basin_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Basins over (u0, v0) with the attractors' Poincaré points and a legend of motion and basin share.
 
-    from ..analysis.classify import motion_label
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``basins`` result.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if omitted.
 
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, ax, _ = one_axes(ax, (7, 6))
+    before = snapshot([ax])
     lab = ds["attractor"].values
     A = ds.sizes["attractor_index"]
     colors = ["#000000"] + [BASIN_COLORS[k % len(BASIN_COLORS)] for k in range(A)]
-    fig, ax = plt.subplots(figsize=(7, 6))
     ax.pcolormesh(ds["u0"].values, ds["v0"].values, lab + 1, cmap=ListedColormap(colors), vmin=-0.5,
                   vmax=A + 0.5, shading="nearest")
     handles = []
@@ -49,9 +63,4 @@ def basin_figure(ds: xr.Dataset):
     ax.set_ylabel(label(ds["v0"], "v0"))
     omega = json.loads(ds.attrs["model"])["omega"]
     ax.set_title(f"Basins of attraction at ω = {omega:g} (dots: attractors' Poincaré points)")
-    return fig
-
-
-def save_all(ds: xr.Dataset, directory: str | Path) -> list[Path]:
-    """Write the basin figure as PNG into ``directory``."""
-    return [save(basin_figure(ds), Path(directory) / "basins.png")]
+    return result(fig, [ax], before)

@@ -5,12 +5,16 @@ numerics here."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from .common import label, plt, save
+from ..io import attached
+from .common import PlotArtists, label, one_axes, panels, result, snapshot
+
+__all__ = ["BIFURCATION_STYLE", "PERIOD_COLOURS", "SWEEP_CONTEXT", "continuation_figure", "orbit_figure",
+           "stability_figure"]
 
 #: Colours of branches by period (period-1, 2, 4, 8, others).
 PERIOD_COLOURS = {1: "C0", 2: "C1", 4: "C2", 8: "C4"}
@@ -24,6 +28,9 @@ BIFURCATION_STYLE = {
 }
 #: Brute-force Poincaré points drawn per sweep point (the last ones).
 SWEEP_SECTION_SHOWN = 16
+#: Name under which a continuation Dataset carries the brute-force sweep drawn beneath its branches
+#: (see :func:`geardyn.io.attach`).
+SWEEP_CONTEXT = "sweep"
 
 
 def _model(ds: xr.Dataset) -> dict:
@@ -35,13 +42,28 @@ def _colour(n: int) -> str:
 
 
 # ------------------------------------------------------------------------------------- orbit
-def orbit_figure(ds: xr.Dataset):
+def orbit_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     """Phase portrait with the section points, time history over the orbit, and the Floquet
-    multipliers against the unit circle (an ``orbit`` Dataset)."""
+    multipliers against the unit circle.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An ``orbit`` result.
+    ax : matplotlib.axes.Axes or sequence of three Axes, optional
+        One Axes: the phase portrait only; three: phase portrait, time history, multipliers;
+        omitted: a new figure.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
     m = _model(ds)
     D = float(m["D"])
     summary = json.loads(ds.attrs.get("summary", "{}"))
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2), gridspec_kw={"width_ratios": [1.2, 1.6, 1.0]})
+    fig, axes, new = panels(ax, 3, (14, 4.2), nrows=1, ncols=3, gridspec_kw={"width_ratios": [1.2, 1.6, 1.0]})
+    before = snapshot(axes)
     ax = axes[0]
     if D > 0:
         ax.axvspan(-D, D, color="0.92", label="separation |u| ≤ D")
@@ -52,8 +74,16 @@ def orbit_figure(ds: xr.Dataset):
     ax.set_ylabel(label(ds["v"], "du/dτ"))
     ax.legend(fontsize=8)
     ax.set_title("Phase portrait")
+    if axes[1] is not None:
+        _orbit_history(axes[1], ds, m, D, summary)
+    if axes[2] is not None:
+        _multipliers(axes[2], ds, summary)
+    if new:
+        fig.tight_layout()
+    return result(fig, axes, before)
 
-    ax = axes[1]
+
+def _orbit_history(ax, ds: xr.Dataset, m: dict, D: float, summary: dict) -> None:
     if D > 0:
         ax.axhspan(-D, D, color="0.92")
     if ds["u"].size:
@@ -66,7 +96,8 @@ def orbit_figure(ds: xr.Dataset):
     per = summary.get("period")
     ax.set_title(f"Period-{per if per else '?'} orbit at ω = {float(m['omega']):g}  ({summary.get('impact', '')})")
 
-    ax = axes[2]
+
+def _multipliers(ax, ds: xr.Dataset, summary: dict) -> None:
     th = np.linspace(0, 2 * np.pi, 256)
     ax.plot(np.cos(th), np.sin(th), color="0.5", lw=0.8)
     ax.axhline(0, color="0.8", lw=0.6)
@@ -81,8 +112,6 @@ def orbit_figure(ds: xr.Dataset):
     ax.set_ylabel("Im μ")
     stable = summary.get("stable")
     ax.set_title("Floquet multipliers (" + ("stable" if stable else "unstable") + ")")
-    fig.tight_layout()
-    return fig
 
 
 # ------------------------------------------------------------------------------ continuation
@@ -149,15 +178,35 @@ def _draw_bifurcations(ax, ds: xr.Dataset, param: str, what: str) -> None:
         seen.add(typ)
 
 
-def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None):
-    """The branches of a ``continuation`` Dataset (stable solid, unstable dashed, coloured by period)
-    with their bifurcations, over the brute-force up/down sweep ``sweep`` of the same parameter
-    (a Dataset with dims ``sweep`` and the parameter, variables ``amplitude`` and ``poincare_u``, as
-    written by ``geardyn bifurcation --mode continue --sweep both``).  Top: amplitude; bottom:
-    section points u."""
+def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any = None) -> PlotArtists:
+    """The branches of a continuation (stable solid, unstable dashed, coloured by period) with their
+    bifurcations, over the brute-force up/down sweep of the same parameter.  Top: amplitude;
+    bottom: section points u.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``continuation`` result.
+    sweep : xarray.Dataset, optional
+        The brute-force sweep (dims ``sweep`` and the parameter, variables ``amplitude`` and
+        ``poincare_u``, as written by ``geardyn bifurcation --mode continue --sweep both``);
+        default the one attached to ``ds`` under :data:`SWEEP_CONTEXT`, if any.
+    ax : matplotlib.axes.Axes or sequence of two Axes, optional
+        One Axes: the amplitude panel only; two: amplitude and section points; omitted: a new figure.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    if sweep is None:
+        sweep = attached(ds, SWEEP_CONTEXT)
     param = ds.attrs["param"]
-    fig, axes = plt.subplots(2, 1, figsize=(10, 8.5), sharex=True)
+    fig, axes, new = panels(ax, 2, (10, 8.5), sharex=True)
+    before = snapshot(axes)
     for ax, what in zip(axes, ("amplitude", "section")):
+        if ax is None:
+            continue
         if sweep is not None:
             _draw_sweep(ax, sweep, param, what)
         _draw_branches(ax, ds, param, what)
@@ -165,25 +214,43 @@ def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None):
         ax.grid(alpha=0.3)
     m = _model(ds)
     D = float(m["D"])
-    if D > 0:
-        axes[1].axhline(D, color="0.6", lw=0.8)
-        axes[1].axhline(-D, color="0.6", lw=0.8)
+    if axes[1] is not None:
+        if D > 0:
+            axes[1].axhline(D, color="0.6", lw=0.8)
+            axes[1].axhline(-D, color="0.6", lw=0.8)
+        axes[1].set_ylabel(label(ds["poincare_u"]))
     axes[0].set_ylabel(label(ds["amplitude"]))
-    axes[1].set_ylabel(label(ds["poincare_u"]))
-    axes[1].set_xlabel(label(ds[param], param))
+    [a for a in axes if a is not None][-1].set_xlabel(label(ds[param], param))
     axes[0].legend(fontsize=7, ncol=2, loc="best")
     fixed = ", ".join(f"{k} = {m[k]:g}" for k in ("xi0", "fp", "D") if k != param)
-    axes[0].set_title(f"Continuation in {param} ({fixed}): periodic orbits over the brute-force up/down sweep")
-    fig.tight_layout()
-    return fig
+    over = " over the brute-force up/down sweep" if sweep is not None else ""
+    axes[0].set_title(f"Continuation in {param} ({fixed}): periodic orbits{over}")
+    if new:
+        fig.tight_layout()
+    return result(fig, axes, before)
 
 
 # ---------------------------------------------------------------------------- stability boundary
-def stability_figure(ds: xr.Dataset):
+def stability_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     """Floquet stability boundaries ξ0_c(ω), with the paper's condition ξ0 = ½√(1 − κ1²) when the
-    Dataset holds it (from :func:`geardyn.analysis.periodic.compare_stability_condition`; the
-    Datasets of ``stability_boundary`` and ``mathieu_boundary`` are drawn too)."""
-    fig, ax = plt.subplots(figsize=(8, 4.5))
+    Dataset holds it.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``stability_comparison`` result (from
+        :func:`geardyn.analysis.periodic.compare_stability_condition`), or a ``stability_boundary``
+        or ``mathieu_boundary`` one.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, ax, new = one_axes(ax, (8, 4.5))
+    before = snapshot([ax])
     om = ds["omega"].values
     linear = "xi0_critical_linear" if "xi0_critical_linear" in ds else (
         "xi0_critical" if ds.attrs.get("geardyn_kind") == "mathieu_boundary" else None)
@@ -213,27 +280,6 @@ def stability_figure(ds: xr.Dataset):
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     ax.set_title("Stability boundaries from Floquet multipliers vs the paper's condition")
-    fig.tight_layout()
-    return fig
-
-
-# ----------------------------------------------------------------------------------- saving
-def save_orbit(ds: xr.Dataset, directory: str | Path) -> list[Path]:
-    """Write the orbit figure as PNG into ``directory``."""
-    return [save(orbit_figure(ds), Path(directory) / "orbit.png")]
-
-
-def save_continuation(ds: xr.Dataset, directory: str | Path, sweep: xr.Dataset | None = None) -> list[Path]:
-    """Write the continuation figure as PNG into ``directory``."""
-    return [save(continuation_figure(ds, sweep), Path(directory) / "continuation.png")]
-
-
-def save_stability(ds: xr.Dataset, directory: str | Path) -> list[Path]:
-    """Write the stability-boundary figure as PNG into ``directory``."""
-    return [save(stability_figure(ds), Path(directory) / "stability_boundary.png")]
-
-
-#: Drawers by result kind (``geardyn.plot.save_figures`` looks for ``save_<kind>``).
-save_stability_comparison = save_stability
-save_stability_boundary = save_stability
-save_mathieu_boundary = save_stability
+    if new:
+        fig.tight_layout()
+    return result(fig, [ax], before)

@@ -2,18 +2,34 @@
 
 from __future__ import annotations
 
-from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from .common import plt, save
+from .common import PlotArtists, one_axes, result, snapshot
+
+__all__ = ["formula_fit", "search_map"]
 
 
-def formula_fit(ds: xr.Dataset):
-    """Computed amplitudes against ω with the fitted A0 + ΔA sin(πω) e^(−ξ0 ω) + β b², per (ξ0, b)."""
+def formula_fit(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Computed amplitudes against ω with the fitted A0 + ΔA sin(πω) e^(−ξ0 ω) + β b², per (ξ0, b).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``formula_fit`` result of the reproduction report.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, ax, _ = one_axes(ax, (8.5, 4.8))
+    before = snapshot([ax])
     A0, dA, beta = (float(ds.attrs[k]) for k in ("A0", "dA", "beta"))
-    fig, ax = plt.subplots(figsize=(8.5, 4.8))
     w, xi0, b, a = (ds[k].values for k in ("omega", "xi0", "b_mm", "amplitude"))
     groups = sorted({(x, y) for x, y in zip(xi0, b)})
     for i, (x0, bb) in enumerate(groups):
@@ -27,13 +43,27 @@ def formula_fit(ds: xr.Dataset):
     ax.set_ylabel("amplitude (half peak-to-peak of u)")
     ax.set_title(f"Amplitude formula fit: R² = {float(ds.attrs['r2']):.3f} (dots: computed, lines: fit)")
     ax.legend(fontsize=7, ncol=2)
-    return fig
+    return result(fig, [ax], before)
 
 
-def search_map(ds: xr.Dataset):
-    """Fraction of grid points matching each claim, for each searched ω."""
+def search_map(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Fraction of grid points matching each claim, for each searched ω.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``search`` result of the reproduction report.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if omitted (the colour bar is added beside it).
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
     frac = ds["match_fraction"].values
-    fig, ax = plt.subplots(figsize=(7, 0.6 + 0.45 * frac.shape[1] + 1.5))
+    fig, ax, _ = one_axes(ax, (7, 0.6 + 0.45 * frac.shape[1] + 1.5))
+    before = snapshot([ax])
     im = ax.imshow(frac.T, aspect="auto", origin="lower", vmin=0, vmax=1, cmap="viridis",
                    extent=(-0.5, frac.shape[0] - 0.5, -0.5, frac.shape[1] - 0.5))
     ax.set_xticks(range(frac.shape[0]), [f"{w:g}" for w in ds["omega"].values])
@@ -46,14 +76,4 @@ def search_map(ds: xr.Dataset):
                         color="w" if frac[i, j] < 0.6 else "k")
     fig.colorbar(im, ax=ax, label="fraction of grid points matching the claim")
     ax.set_title(f"Where the claims over {ds.attrs.get('param')} hold")
-    return fig
-
-
-def save_formula_fit(ds: xr.Dataset, directory: str | Path) -> list[Path]:
-    """Write the formula-fit figure as PNG into ``directory``."""
-    return [save(formula_fit(ds), Path(directory) / "formula_fit.png")]
-
-
-def save_search(ds: xr.Dataset, directory: str | Path) -> list[Path]:
-    """Write the ω-search map as PNG into ``directory``."""
-    return [save(search_map(ds), Path(directory) / "search.png")]
+    return result(fig, [ax], before)

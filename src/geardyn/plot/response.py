@@ -4,24 +4,40 @@ hysteresis intervals shaded.  Drawn from the Dataset only (jumps and intervals a
 from __future__ import annotations
 
 import json
-from pathlib import Path
+from typing import Any
 
 import xarray as xr
 
-from .bifurcation import diagram
-from .common import label, plt, save
+from .common import PlotArtists, label, one_axes, result, snapshot
+
+__all__ = ["SWEEP_STYLE", "response"]
 
 #: Marker and colour per sweep.
 SWEEP_STYLE = {"up": ("^", "C0"), "down": ("v", "C3")}
 
 
-def response(ds: xr.Dataset):
-    """Amplitude against ω for both sweeps with jumps and hysteresis intervals."""
+def response(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """The response measure against the swept parameter for both sweeps, with jumps and hysteresis intervals.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``response`` result.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, ax, _ = one_axes(ax, (8.5, 4.8))
+    before = snapshot([ax])
     name = str(ds.attrs.get("param", "omega"))
     measure = str(ds.attrs.get("measure", "amplitude"))
     x = ds[name].values
-    fig, ax = plt.subplots(figsize=(8.5, 4.8))
-    for a, b in json.loads(ds.attrs.get("hysteresis", "[]")):
+    hy = json.loads(ds.attrs.get("hysteresis", "[]"))
+    for a, b in hy:
         ax.axvspan(a, b, color="0.88", lw=0, zorder=0)
     for s in [str(v) for v in ds["sweep"].values]:
         mk, c = SWEEP_STYLE.get(s, ("o", "k"))
@@ -35,14 +51,6 @@ def response(ds: xr.Dataset):
                 va="center")
     ax.set_xlabel(label(ds[name], name))
     ax.set_ylabel(label(ds[measure], measure))
-    hy = json.loads(ds.attrs.get("hysteresis", "[]"))
-    ax.set_title("Frequency response (up/down sweeps with continuation)"
-                 + ("; grey: hysteresis" if hy else ""))
+    ax.set_title("Frequency response (up/down sweeps with continuation)" + ("; grey: hysteresis" if hy else ""))
     ax.legend(fontsize=8)
-    return fig
-
-
-def save_all(ds: xr.Dataset, directory: str | Path) -> list[Path]:
-    """Write the response figure and the bifurcation diagram of both sweeps as PNG into ``directory``."""
-    d = Path(directory)
-    return [save(response(ds), d / "response.png"), save(diagram(ds), d / "response_bifurcation.png")]
+    return result(fig, [ax], before)

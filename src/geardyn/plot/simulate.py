@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from .common import label, plt, save
+from .common import PlotArtists, label, one_axes, result, snapshot
+
+__all__ = ["TIME_PERIODS_SHOWN", "phase_portrait", "spectrum", "time_history"]
 
 #: Periods of the time history drawn (the Dataset may hold more, for the spectrum).
 TIME_PERIODS_SHOWN = 8
@@ -22,12 +24,26 @@ def _omega(ds: xr.Dataset) -> float:
     return float(json.loads(ds.attrs["model"])["omega"])
 
 
-def time_history(ds: xr.Dataset):
-    """u(τ) over the last periods with the backlash band |u| <= D shaded."""
+def time_history(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """u(τ) over the last :data:`TIME_PERIODS_SHOWN` periods with the backlash band |u| <= D shaded.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``simulate`` result.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, ax, _ = one_axes(ax, (8, 3.2))
+    before = snapshot([ax])
     T = 2 * np.pi / _omega(ds)
     tau = ds["tau"].values
     keep = tau >= tau[-1] - TIME_PERIODS_SHOWN * T - 1e-12
-    fig, ax = plt.subplots(figsize=(8, 3.2))
     D = _D(ds)
     if D > 0:
         ax.axhspan(-D, D, color="0.9", label="separation |u| ≤ D")
@@ -40,12 +56,26 @@ def time_history(ds: xr.Dataset):
     ax.set_ylabel(label(ds["u"]))
     ax.set_title(f"Time history, ω = {_omega(ds):g}  (red lines: Poincaré section θ ≡ 0)")
     ax.legend(loc="upper right", fontsize=8)
-    return fig
+    return result(fig, [ax], before)
 
 
-def phase_portrait(ds: xr.Dataset):
-    """Phase portrait (u, u') of the last periods with the Poincaré points."""
-    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+def phase_portrait(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Phase portrait (u, u') with the Poincaré points.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``simulate`` result.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, ax, _ = one_axes(ax, (5.5, 4.5))
+    before = snapshot([ax])
     D = _D(ds)
     if D > 0:
         ax.axvspan(-D, D, color="0.92", label="separation")
@@ -55,12 +85,26 @@ def phase_portrait(ds: xr.Dataset):
     ax.set_ylabel(label(ds["v"]))
     ax.set_title(f"Phase portrait, ω = {_omega(ds):g}")
     ax.legend(fontsize=8)
-    return fig
+    return result(fig, [ax], before)
 
 
-def spectrum(ds: xr.Dataset):
-    """Amplitude spectrum of u in orders of the mesh frequency (log scale)."""
-    fig, ax = plt.subplots(figsize=(7, 3.2))
+def spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Amplitude spectrum of u in orders of the mesh frequency (log scale).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``simulate`` result.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, ax, _ = one_axes(ax, (7, 3.2))
+    before = snapshot([ax])
     order = ds["order"].values
     amp = ds["spectrum"].values
     ax.vlines(order[1:], 1e-12, np.maximum(amp[1:], 1e-12), color="C0", lw=1.0)
@@ -70,14 +114,4 @@ def spectrum(ds: xr.Dataset):
     ax.set_xlabel("order of the mesh frequency")
     ax.set_ylabel(label(ds["spectrum"]))
     ax.set_title("Amplitude spectrum of u")
-    return fig
-
-
-def save_all(ds: xr.Dataset, directory: str | Path) -> list[Path]:
-    """Write the three simulate figures as PNG into ``directory``."""
-    d = Path(directory)
-    return [
-        save(time_history(ds), d / "time_history.png"),
-        save(phase_portrait(ds), d / "phase_portrait.png"),
-        save(spectrum(ds), d / "spectrum.png"),
-    ]
+    return result(fig, [ax], before)

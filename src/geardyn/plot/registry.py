@@ -1,0 +1,183 @@
+"""The figure registry: which figures each kind of result has, and one function that draws them.
+
+Every way geardyn draws a result — the commands with ``--out``, ``geardyn plot FILE.nc``, the
+``ds.geardyn.plot()`` accessor and the reproduction report — goes through :func:`save_figures`, so a
+saved file redraws exactly the figures its command drew.  A figure is a :class:`FigureSpec`: a
+file stem, a plot function ``fn(ds, ax=None, **kwargs) -> PlotArtists`` and a condition on the
+Dataset.  :data:`FIGURES` lists them by ``geardyn_kind``; :data:`PHYSICAL_FIGURES` apply to any kind
+that carries physical variables.  Context a figure needs beyond the main result (the brute-force
+sweep under a continuation) is attached to the Dataset (:func:`geardyn.io.attach`).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+import numpy as np
+import xarray as xr
+
+from ..errors import PlotError
+from . import basins, bifurcation, lyapunov, maps, periodic, physical, reproduce, response, simulate
+from .common import DPI, save
+
+__all__ = ["FIGURES", "PHYSICAL_FIGURES", "FigureSpec", "draw", "figures_for", "register", "save_figures"]
+
+
+def _always(ds: xr.Dataset) -> bool:
+    return True
+
+
+@dataclass(frozen=True)
+class FigureSpec:
+    """One figure of a kind of result.
+
+    Attributes
+    ----------
+    stem : str
+        File name without suffix (``"time_history"`` → ``time_history.png``).
+    draw : callable
+        ``draw(ds, ax=None, **kwargs) -> PlotArtists``.
+    when : callable
+        ``when(ds) -> bool``: whether the Dataset has this figure (default: always).
+    kwargs : mapping
+        Further keyword arguments of ``draw``.
+    """
+
+    stem: str
+    draw: Callable[..., Any]
+    when: Callable[[xr.Dataset], bool] = _always
+    kwargs: Mapping[str, Any] = field(default_factory=dict)
+
+    def __call__(self, ds: xr.Dataset, ax: Any = None) -> Any:
+        """Draw the figure of ``ds`` (into ``ax`` if given); returns the plot function's artists."""
+        return self.draw(ds, ax=ax, **dict(self.kwargs))
+
+
+def _lle_computed(ds: xr.Dataset) -> bool:
+    return "lle" in ds and bool(np.any(np.isfinite(ds["lle"].values)))
+
+
+def _orbit_converged(ds: xr.Dataset) -> bool:
+    return bool(json.loads(ds.attrs.get("summary", "{}")).get("converged", True))
+
+
+_STABILITY = (FigureSpec("stability_boundary", periodic.stability_figure),)
+
+#: The figures of each kind of result, in the order they are drawn.
+FIGURES: dict[str, tuple[FigureSpec, ...]] = {
+    "simulate": (FigureSpec("time_history", simulate.time_history),
+                 FigureSpec("phase_portrait", simulate.phase_portrait),
+                 FigureSpec("spectrum", simulate.spectrum)),
+    "lyapunov": (FigureSpec("lyapunov", lyapunov.convergence),),
+    "bifurcation": (FigureSpec("bifurcation", bifurcation.diagram),),
+    "response": (FigureSpec("response", response.response),
+                 FigureSpec("response_bifurcation", bifurcation.diagram)),
+    "map": (FigureSpec("map_motion", maps.motion_map),
+            FigureSpec("map_impact", maps.impact_map),
+            FigureSpec("map_amplitude", maps.continuous_map, kwargs={"var": "amplitude"}),
+            FigureSpec("map_lle", maps.continuous_map, when=_lle_computed, kwargs={"var": "lle"})),
+    "basins": (FigureSpec("basins", basins.basin_figure),),
+    "orbit": (FigureSpec("orbit", periodic.orbit_figure, when=_orbit_converged),),
+    "continuation": (FigureSpec("continuation", periodic.continuation_figure),),
+    "stability_boundary": _STABILITY,
+    "mathieu_boundary": _STABILITY,
+    "stability_comparison": _STABILITY,
+    "formula_fit": (FigureSpec("formula_fit", reproduce.formula_fit),),
+    "search": (FigureSpec("search", reproduce.search_map),),
+}
+
+
+def _has(*names: str) -> Callable[[xr.Dataset], bool]:
+    return lambda ds: set(names) <= set(ds.variables)
+
+
+def _rpm_curve_of(name: str) -> Callable[[xr.Dataset], bool]:
+    return lambda ds: physical.rpm_curve_variable(ds) == name
+
+
+#: Figures in physical units, drawn for a result of any kind that carries the variables they need.
+PHYSICAL_FIGURES: tuple[FigureSpec, ...] = (
+    FigureSpec("physical_time_history", physical.time_history, when=_has("time_s", "dte_um", "mesh_force_N")),
+    FigureSpec("spectrum_hz", physical.spectrum_hz, when=_has("frequency_Hz", "spectrum_um")),
+    FigureSpec("response_rpm", physical.response_rpm, when=physical._has_response_rpm),
+    *(FigureSpec(f"{name}_vs_rpm", physical.rpm_curve, when=_rpm_curve_of(name), kwargs={"name": name})
+      for name in physical.RPM_CURVE_VARIABLES),
+)
+
+
+def register(kind: str, *specs: FigureSpec) -> None:
+    """Add figures for results of ``kind`` (a new kind, or more figures for a known one).
+
+    Parameters
+    ----------
+    kind : str
+        The ``geardyn_kind`` of the results.
+    *specs : FigureSpec
+        The figures, drawn after those already registered.
+    """
+    FIGURES[kind] = FIGURES.get(kind, ()) + tuple(specs)
+
+
+def _kind(ds: Any) -> str:
+    kind = ds.attrs.get("geardyn_kind") if hasattr(ds, "attrs") else None
+    if not kind:
+        raise PlotError("not a geardyn result: the Dataset has no 'geardyn_kind' attribute")
+    if str(kind) not in FIGURES:
+        raise PlotError(f"no figures for results of kind {kind!r}: known kinds are {', '.join(sorted(FIGURES))}")
+    return str(kind)
+
+
+def figures_for(ds: xr.Dataset) -> list[FigureSpec]:
+    """The figures a result has: those of its kind, then the physical ones, each where its condition holds.
+
+    Raises
+    ------
+    PlotError
+        If ``ds`` is not a geardyn result or its kind has no figures.
+    """
+    kind = _kind(ds)
+    return [f for f in FIGURES[kind] + PHYSICAL_FIGURES if f.when(ds)]
+
+
+def draw(ds: xr.Dataset, stem: str, ax: Any = None) -> Any:
+    """Draw the figure ``stem`` of a result (into ``ax`` if given); returns its :class:`~.common.PlotArtists`.
+
+    Raises
+    ------
+    PlotError
+        If the result has no figure of that name.
+    """
+    specs = {f.stem: f for f in figures_for(ds)}
+    if stem not in specs:
+        raise PlotError(f"figure: {stem!r} is not a figure of this {_kind(ds)} result; it has {', '.join(specs)}")
+    return specs[stem](ds, ax=ax)
+
+
+def save_figures(ds: xr.Dataset, directory: str | Path, *, fmt: str = "png", dpi: int = DPI) -> list[Path]:
+    """Draw every figure of a result into ``directory`` and return their paths.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result (its ``geardyn_kind`` selects the figures, see :func:`figures_for`).
+    directory : str or Path
+        Where the files go (created if needed), named ``<stem>.<fmt>``.
+    fmt : str
+        File format (``png``, ``svg``, ``pdf``); saving needs no display and switches no backend.
+    dpi : int
+        Resolution of raster formats.
+
+    Returns
+    -------
+    list of Path
+
+    Raises
+    ------
+    PlotError
+        If ``ds`` is not a geardyn result or its kind has no figures.
+    """
+    d = Path(directory)
+    return [save(spec(ds), d / f"{spec.stem}.{fmt}", dpi=dpi) for spec in figures_for(ds)]
