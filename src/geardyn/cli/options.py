@@ -26,9 +26,10 @@ import typer
 from .. import params
 from ..errors import GeardynError, ModelError
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
-from .app import app, fail, is_stop
+from .app import app, emit_json, fail, is_stop
 
-__all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "command", "integration",
+__all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
+           "integration", "sweep_range",
            "model_group", "option", "out_paths", "pair_scales"]
 
 _P = inspect.Parameter
@@ -283,6 +284,32 @@ class Inputs:
 
             remove_checkpoint(engine["checkpoint"])
         return files
+
+
+def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *extra: Any) -> None:
+    """Print the summary as JSON (with the files written) or as tables for people."""
+    if inp.json_out:
+        summary["files"] = paths
+        emit_json(summary)
+        return
+    show(summary, paths, *extra)
+
+
+def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
+    """``value`` if it is one of ``allowed``, else a one-line refusal."""
+    if value not in allowed:
+        raise ModelError(f"{name}: must be one of {', '.join(allowed)}, got {value!r}")
+    return value
+
+
+def sweep_range(inp: Inputs, start: Optional[float], stop: Optional[float],
+                param: str = "omega") -> tuple[Optional[float], Optional[float]]:
+    """(start, stop) of a sweep: ``--rpm-start/--rpm-stop`` converted to ω, else ``start, stop`` as given."""
+    from ..units import sweep_range as convert
+
+    if inp.rpm_start is None and inp.rpm_stop is None:
+        return start, stop
+    return convert(inp.scales(), inp.rpm_start, inp.rpm_stop, start, stop, param=param)
 
 
 def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:

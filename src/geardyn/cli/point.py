@@ -9,23 +9,13 @@ import typer
 from ..errors import ModelError
 from ..model import IntegrationOptions
 from . import render
-from .app import emit_json
-from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, integration, option
+from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, integration, option, sweep_range
 
 PeriodOpt = Annotated[int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
 GuessOpt = Annotated[Optional[str], typer.Option("--guess", help="Shooting guess 'u,v' at θ = 0 (default: the state reached by simulating --transient periods from --u0, --v0).")]
 #: Points of the brute-force up/down sweep drawn under a continuation figure, and its recorded periods.
 CONTINUATION_SWEEP_NUM = 101
 CONTINUATION_SWEEP_PERIODS = 32
-
-
-def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *extra: Any) -> None:
-    """Print the summary as JSON (with the files written) or as tables for people."""
-    if inp.json_out:
-        summary["files"] = paths
-        emit_json(summary)
-        return
-    show(summary, paths, *extra)
 
 
 def parse_guess(text: Optional[str]) -> Optional[tuple[float, float]]:
@@ -131,7 +121,6 @@ def continuation(
     from ..io import write_netcdf
     from ..model import canonical_param
     from .options import out_paths
-    from .sweeps import sweep_range
 
     model = inp.model()
     scales = inp.scales()

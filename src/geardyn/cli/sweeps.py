@@ -8,9 +8,8 @@ import typer
 
 from ..errors import ModelError
 from . import render
-from .options import (ENGINE, MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, integration, model_group,
-                      option)
-from .point import finish
+from .options import (ENGINE, MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, choice, command, finish, integration,
+                      model_group, option, sweep_range)
 
 ModeOpt = Annotated[str, typer.Option("--mode", help="fixed: every point from (u0, v0); continue: each point from the previous end state.")]
 SweepDirOpt = Annotated[str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")]
@@ -18,23 +17,6 @@ LyapunovFlagOpt = Annotated[bool, typer.Option("--lyapunov", help="Largest Lyapu
 SettleOpt = Annotated[int, typer.Option("--settle", help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).")]
 ChunkOpt = Annotated[int, typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep.")]
 ParamOpt = Annotated[Optional[str], typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")]
-
-
-def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
-    """``value`` if it is one of ``allowed``, else a one-line refusal."""
-    if value not in allowed:
-        raise ModelError(f"{name}: must be one of {', '.join(allowed)}, got {value!r}")
-    return value
-
-
-def sweep_range(inp: Inputs, start: Optional[float], stop: Optional[float],
-                param: str = "omega") -> tuple[Optional[float], Optional[float]]:
-    """(start, stop) of a sweep: ``--rpm-start/--rpm-stop`` converted to ω, else ``start, stop`` as given."""
-    from ..units import sweep_range as convert
-
-    if inp.rpm_start is None and inp.rpm_stop is None:
-        return start, stop
-    return convert(inp.scales(), inp.rpm_start, inp.rpm_stop, start, stop, param=param)
 
 
 def _sweep_json(inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine: dict[str, Any], show: Any,
