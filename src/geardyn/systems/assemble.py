@@ -8,7 +8,8 @@ Physical model (SI, :class:`~geardyn.systems.description.SystemDescription`)::
 
 with the dead zone ``f(δ; b) = δ − b (δ > b), 0 (|δ| <= b), δ + b (δ < −b)``.
 
-Scales (one reference mesh, default the first): ``m_ref = 1/(v_refᵀ M⁻¹ v_ref)``, ``k_ref`` its mean
+Scales (one reference mesh, default the first): ``m_ref = 1/(v_refᵀ M⁻¹ v_ref)`` (by default with only
+the rotation entries of v_ref: the torsional m_e, see ``SystemDescription.equivalent_mass``), ``k_ref`` its mean
 stiffness, ``ω_n = √(k_ref/m_ref)``, ``b_c`` (default half its backlash), ``τ = ω_n t``,
 ``θ = ω τ`` with ``ω = ω_e/ω_n`` the base frequency, mesh m running at ``θ_m = r_m θ``.
 Coordinates ``q = S q̃`` with ``S = diag(s_i)``: ``s_i = b_c`` on a translation and ``s_i = b_c/ρ_i`` on a
@@ -23,7 +24,7 @@ Multiplying by ``S/(k_ref b_c²)`` gives the non-dimensional system the kernel i
 
 and the reference mesh, alone between two rotating bodies, is exactly ``geardyn.model.GearModel``:
 ``C = 2ξ(θ)``, ``K = 1 + Σκ cos``, the relative coordinate's forcing ``−E'' = ω² Σ l² ε_l cos(lθ + φ)``
-and ``V Mi F = f_p`` (``V Mi Vᵀ = 1`` for the reference mesh by construction).
+and ``V Mi F = f_p`` (``V Mi Vᵀ = 1`` for a reference mesh between rotations only).
 
 Array contract (:meth:`SystemModel.arrays`, one system; :meth:`SystemModel.pack` stacks a batch of
 systems of one structure along a new leading axis P), all C-contiguous float64:
@@ -484,7 +485,7 @@ def _mesh_nd(desc: SystemDescription, m: Mesh, k_ref: float, m_ref: float, b_c: 
         xi0 = (m.c0 or 0.0) / unit_c
         xi = tuple(c / unit_c for c in (m.c or ()))
     else:
-        own = 2.0 * math.sqrt(m.stiffness * desc.equivalent_mass(m)) / unit_c
+        own = 2.0 * math.sqrt(m.stiffness * desc.mesh_mass(m)) / unit_c
         xi0 = (m.xi0 or 0.0) * own
         xi = tuple(x * own for x in (m.xi or ()))
     return MeshND(
@@ -527,7 +528,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     except np.linalg.LinAlgError:
         raise ModelError("mass matrix: singular or not positive definite") from None
     ref = desc.reference_mesh
-    m_ref = desc.equivalent_mass(ref)
+    m_ref = desc.mesh_mass(ref)
     k_ref = ref.stiffness
     omega_n = math.sqrt(k_ref / m_ref)
     b_c = desc.b_c

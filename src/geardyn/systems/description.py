@@ -375,6 +375,12 @@ class SystemDescription:
         Pinion speed (rpm) of the operating point: ω_e = 2π z rpm/60 with z the reference mesh's ``teeth``.
     omega : float, optional
         The non-dimensional base frequency ω directly (overrides ``rpm``).
+    equivalent_mass : {"rotational", "full"}
+        How a mesh's equivalent mass m_e = 1/(vᵀ M⁻¹ v) is taken (for the scales and for damping
+        ratios): ``"rotational"`` (default) uses only the rotation entries of v, the torsional m_e
+        of the 1-DOF model, so that ω and ξ mean the same as there and the rigid-bearing limit
+        is the 1-DOF model; ``"full"`` uses the whole vector (translations too).  A mesh without
+        rotation entries always uses the full vector.
     title, source : str
         For reports.
     assumptions : tuple of Assumption
@@ -396,6 +402,7 @@ class SystemDescription:
     characteristic_length: float | None = None
     rpm: float | None = None
     omega: float | None = None
+    equivalent_mass: str = "rotational"
     title: str = ""
     source: str = ""
     assumptions: tuple[Assumption, ...] = field(default=())
@@ -475,6 +482,8 @@ class SystemDescription:
             raise ModelError(
                 f"mesh {self.reference_mesh.name!r}: backlash is 0: give characteristic_length to scale lengths"
             )
+        if self.equivalent_mass not in ("rotational", "full"):
+            raise ModelError(f"equivalent_mass: must be 'rotational' or 'full', got {self.equivalent_mass!r}")
         for name in ("rpm", "omega"):
             v = getattr(self, name)
             if v is not None and not (math.isfinite(v) and v > 0):
@@ -528,9 +537,13 @@ class SystemDescription:
             F[idx[(ld.body, ld.dof)]] += ld.value
         return F
 
-    def equivalent_mass(self, mesh: Mesh) -> float:
-        """m_e = 1/(vᵀ M⁻¹ v) of a mesh (kg)."""
+    def mesh_mass(self, mesh: Mesh, how: str | None = None) -> float:
+        """Equivalent mass m_e = 1/(vᵀ M⁻¹ v) of a mesh (kg); ``how`` as :attr:`equivalent_mass`."""
         v = self.vector(mesh)
+        if (how or self.equivalent_mass) == "rotational":
+            rot = np.array([d == "theta" for _, d in self.dof_list])
+            if np.any(v[rot] != 0):
+                v = np.where(rot, v, 0.0)
         return 1.0 / float(v @ np.linalg.solve(self.mass_matrix(), v))
 
     @property

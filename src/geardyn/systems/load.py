@@ -5,6 +5,7 @@ A file has the top-level strings ``title`` and ``description`` and these tables 
     [system]                      # optional
     reference = "mesh"            # the mesh that sets the scales (default: the first)
     characteristic_length = "0.05 mm"   # b_c (default: half the reference mesh's backlash)
+    equivalent_mass = "rotational"      # m_e of a mesh from its rotation entries (default) or "full"
 
     [operating]                   # optional: a pinion speed (needs the reference mesh's teeth) or ω
     rpm = "3000 rpm"              # or: omega = 0.8
@@ -126,7 +127,7 @@ _MESH_BEVEL = {
 }
 _LOAD_KEYS = {"body": "text", "dof": "text", "force": "force", "torque": "torque", "mesh": "text", "fp": "number"}
 _SECTIONS = {
-    "system": {"reference": "text", "characteristic_length": "length"},
+    "system": {"reference": "text", "characteristic_length": "length", "equivalent_mass": "text"},
     "operating": {"rpm": "speed", "omega": "number"},
 }
 _ARRAYS = ("body", "connection", "mesh", "load")
@@ -611,7 +612,8 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
         return SystemDescription(
             bodies=tuple(bodies), meshes=tuple(meshes), connections=tuple(conns), clearances=tuple(clears),
             loads=tuple(loads), reference=ref, characteristic_length=sysb.get("characteristic_length"), rpm=rpm,
-            omega=omega, title=str(data.get("title", "")), source=ctx.source, assumptions=tuple(ctx.assumptions),
+            omega=omega, equivalent_mass=sysb.get("equivalent_mass", default="rotational"),
+            title=str(data.get("title", "")), source=ctx.source, assumptions=tuple(ctx.assumptions),
         )
     except ModelError as e:
         raise _element_line(ctx, data, e) from None
