@@ -473,7 +473,10 @@ class SystemDescription:
         for b in self.bodies:
             ev = np.linalg.eigvalsh(b.matrix())
             if ev.min() <= 1e-12 * max(abs(ev.max()), 1e-300):
-                raise ModelError(f"body {b.name!r}: mass matrix is singular or not positive definite (eigenvalues {ev.tolist()})")
+                key = "mass_matrix" if b.mass_matrix is not None else "mass"
+                raise ModelError(
+                    f"body {b.name!r}: {key}: the mass matrix is singular or not positive definite (eigenvalues {ev.tolist()})"
+                )
         if self.reference is not None and self.reference not in {m.name for m in self.meshes}:
             raise ModelError(f"reference: unknown mesh {self.reference!r}; meshes: {', '.join(m.name for m in self.meshes)}")
         if self.characteristic_length is not None and not self.characteristic_length > 0:

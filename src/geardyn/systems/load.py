@@ -553,6 +553,9 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
                         ln = ctx.line_containing(sec, i, um.group(1))
                         if ln:
                             return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
+                    if key is None and "name" in tbl:  # point at the element's name
+                        ln = ctx.line(sec, i, "name")
+                        return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
                     return ctx.model(sec, i, key, name, problem if key else rest)
     m = re.match(r"^(reference|characteristic_length): (.*)$", msg)
     if m:
