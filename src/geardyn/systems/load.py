@@ -328,7 +328,7 @@ class _Block:
         if kind == "speed" and not any(w in units for w in ("revolution", "radian", "turn", "rpm")):
             raise self.cerr(key, f"{el}expected a rotational speed (e.g. {example}), got {raw!r}")
         if not q.is_compatible_with(unit) or (q.unitless and kind not in ("angle", "phase")):
-            raise self.cerr(key, f"{el}wrong unit: expected a {kind} in {unit} (e.g. {example}), got {raw!r}")
+            raise self.cerr(key, f"{el}wrong unit: expected {kind} in {unit} (e.g. {example}), got {raw!r}")
         x = float(q.to(unit).magnitude)
         if not math.isfinite(x):
             raise self.cerr(key, f"{el}must be finite, got {raw!r}")
@@ -594,7 +594,9 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
         if ref is not None and ref not in names:
             raise ctx.model("system", None, "reference", None, f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}")
         j = names.index(ref) if ref is not None else 0
-        rb = _Block(ctx, "mesh", j, mesh_data[j], _MESH_COMMON | _MESH_SPUR | _MESH_BEVEL, names[j])
+        typ = mesh_data[j].get("type") if isinstance(mesh_data[j], dict) else None
+        rb = _Block(ctx, "mesh", j, mesh_data[j], _MESH_COMMON | {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {}),
+                    names[j])
         jn = rb._parse("backlash", "length", rb.data["backlash"]["value"] if isinstance(rb.data.get("backlash"), dict)
                        else rb.data["backlash"]) if rb.has("backlash") else 0.0
         if not jn > 0:
