@@ -236,3 +236,23 @@ def test_python_description_validates():
         Body("p", ("x",), mass=-2.0)
     with pytest.raises(ModelError, match="no gear mesh"):
         SystemDescription(bodies=b, meshes=())
+
+
+def test_clearance_element_in_the_arrays_and_boundaries(tmp_path):
+    p = tmp_path / "clear.toml"
+    p.write_text(
+        _MIN.replace('dofs = ["theta"]\ninertia = "2 kg*m^2"', 'dofs = ["x", "theta"]\ninertia = "2 kg*m^2"\nmass = "4 kg"')
+        + '[[connection]]\nname = "gap"\nvector = { g = { x = 1 } }\nstiffness = "1e8 N/m"\n'
+        'damping = "10 N*s/m"\nclearance = "0.02 mm"\n'
+    )
+    s = load_system(p)
+    a = s.arrays()
+    assert s.clearance_names == ("gap",) and a.Vc.shape == (1, 3)
+    assert a.Dc[0] == pytest.approx(0.02e-3 / 0.05e-3)
+    assert a.kc[0] == pytest.approx(1.0)  # k / k_ref
+    assert [b.element for b in s.contact_boundaries()] == ["mesh", "gap"]
+    assert s.with_param("gap.D", 0.5).Dc == (0.5,)
+    assert np.all(a.Kb == 0.0)  # a clearance is not a linear connection
+    d = s.description
+    assert modal_analysis(d, clearances="open").rigid.sum() == 2
+    assert modal_analysis(d, clearances="contact").rigid.sum() == 1
