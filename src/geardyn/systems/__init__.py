@@ -1,0 +1,41 @@
+"""Multi-DOF gear systems: bodies, bearings, couplings and meshes; their non-dimensional form and modes.
+
+* :mod:`~geardyn.systems.description` — the physical description (SI): :class:`Body`,
+  :class:`Connection`, :class:`Clearance`, :class:`Mesh`, :class:`Load`, :class:`SystemDescription`.
+* :mod:`~geardyn.systems.load` — system files in TOML with units (:func:`load_description`,
+  :func:`load_system`).
+* :mod:`~geardyn.systems.assemble` — :func:`assemble` → :class:`SystemModel`, the frozen
+  non-dimensional system (the :class:`geardyn.system.System` protocol) and its kernel arrays
+  (the contract is in that module's docstring).
+* :mod:`~geardyn.systems.modes` — natural frequencies, mode shapes, modal strain-energy fractions and
+  Campbell diagrams (:func:`modal_analysis`, :func:`campbell`, :func:`modes_report`).
+"""
+
+from .assemble import MeshND, Scaling, SystemArrays, SystemModel, assemble
+from .description import DOFS, Body, Clearance, Connection, Load, Mesh, SystemDescription
+from .load import load_description, load_system
+from .modes import ModalResult, campbell, modal_analysis, modes_report
+from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
+
+__all__ = [
+    "DOFS",
+    "Body",
+    "Clearance",
+    "Connection",
+    "Load",
+    "Mesh",
+    "MeshND",
+    "ModalResult",
+    "Scaling",
+    "SystemArrays",
+    "SystemDescription",
+    "SystemModel",
+    "assemble",
+    "bevel_mesh_vector",
+    "campbell",
+    "cylindrical_mesh_vector",
+    "load_description",
+    "load_system",
+    "modal_analysis",
+    "modes_report",
+]

@@ -1,0 +1,576 @@
+"""The assembled, non-dimensional multi-DOF system and its kernel arrays.
+
+Physical model (SI, :class:`~geardyn.systems.description.SystemDescription`)::
+
+    M q'' + C_b q' + K_b q + Σ_m v_m [c_m(t) δ_m' + k_m(t) f(δ_m; b_m)]
+                           + Σ_c w_c [c_c δ_c' + k_c f(δ_c; g_c)] = F,
+    δ_m = v_mᵀ q − e_m(t)    (mesh deflection, STE included),     δ_c = w_cᵀ q   (clearance element),
+
+with the dead zone ``f(δ; b) = δ − b (δ > b), 0 (|δ| <= b), δ + b (δ < −b)``.
+
+Scales (one reference mesh, default the first): ``m_ref = 1/(v_refᵀ M⁻¹ v_ref)`` (by default with only
+the rotation entries of v_ref: the torsional m_e, see ``SystemDescription.equivalent_mass``), ``k_ref`` its mean
+stiffness, ``ω_n = √(k_ref/m_ref)``, ``b_c`` (default half its backlash), ``τ = ω_n t``,
+``θ = ω τ`` with ``ω = ω_e/ω_n`` the base frequency, mesh m running at ``θ_m = r_m θ``.
+Coordinates ``q = S q̃`` with ``S = diag(s_i)``: ``s_i = b_c`` on a translation and ``s_i = b_c/ρ_i`` on a
+rotation, ρ_i the largest |v_m,i| of the meshes on that DOF (a directional radius; 1 m if none), so
+that a two-gear torsional pair has ``Ṽ = (1, −1)`` and ``u = q̃1 − q̃2`` is the 1-DOF coordinate.
+Multiplying by ``S/(k_ref b_c²)`` gives the non-dimensional system the kernel integrates::
+
+    q̃'' = Mi [ F − Cb q̃' − Kb q̃ − Σ_m V[m] (C_m(θ) δ_m' + K_m(θ) f(δ_m; D[m]))
+                                   − Σ_c Vc[c] (cc[c] δ_c' + kc[c] f(δ_c; Dc[c])) ]
+    δ_m  = V[m]·q̃ − E_m(θ),        δ_m' = V[m]·q̃' − ω E_m'(θ)      (E_m' = dE_m/dθ)
+    δ_c  = Vc[c]·q̃,                δ_c' = Vc[c]·q̃'
+
+and the reference mesh, alone between two rotating bodies, is exactly ``geardyn.model.GearModel``:
+``C = 2ξ(θ)``, ``K = 1 + Σκ cos``, the relative coordinate's forcing ``−E'' = ω² Σ l² ε_l cos(lθ + φ)``
+and ``V Mi F = f_p`` (``V Mi Vᵀ = 1`` for a reference mesh between rotations only).
+
+Array contract (:meth:`SystemModel.arrays`, one system; :meth:`SystemModel.pack` stacks a batch of
+systems of one structure along a new leading axis P), all C-contiguous float64:
+
+========  ====================  ===========================================================
+name      shape                 meaning
+========  ====================  ===========================================================
+Mi        (n, n)                M̃⁻¹, symmetric positive definite
+Kb        (n, n)                K̃_b, linear connections (symmetric)
+Cb        (n, n)                C̃_b, linear connections (symmetric)
+V         (meshes, n)           mesh vectors Ṽ_m (rows)
+coef      (meshes, 3, H+1, 2)   X_m(θ) = Σ_j coef[m,i,j,0] cos(j r_m θ) + coef[m,i,j,1] sin(j r_m θ)
+                                for i = 0: C_m (the full damping coefficient, 2ξ for the
+                                reference mesh), i = 1: K_m (stiffness, mean k_m0/k_ref),
+                                i = 2: E_m (STE displacement / b_c, mean 0).  Note: slot 2 is
+                                the STE itself, not the 1-DOF model's forcing f_p + ω² Σ l² ε cos.
+D         (meshes,)             half backlash / b_c
+ratio     (meshes,)             r_m, mesh frequency / base frequency
+F         (n,)                  mean loads F̃ = S F/(k_ref b_c²): forces/(k_ref b_c),
+                                torques/(ρ_i k_ref b_c)
+Vc        (clearances, n)       clearance vectors (rows), scaled like V
+kc, cc    (clearances,)         clearance stiffness and damping (non-dimensional)
+Dc        (clearances,)         half gaps / b_c (SI magnitudes: f is homogeneous)
+omega     ()                    base frequency ω; the stroboscopic section is θ ≡ 0 mod 2π
+========  ====================  ===========================================================
+
+The state is ``x = (q̃, q̃')`` (length 2n).  With several meshes the forcing is periodic in the base
+period T = 2π/ω only if every r_m is an integer; :meth:`SystemModel.period_multiple` gives the
+smallest p with p·r_m integer for all m (the forcing period is p·T), or ``None`` when the ratios
+are incommensurate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+from typing import Any, Iterable, NamedTuple
+
+import numpy as np
+
+from ..errors import ModelError
+from ..model import Boundary
+from ..params import MAX_HARMONICS, canonical_param, slot
+from .description import Mesh, SystemDescription
+
+__all__ = ["MeshND", "Scaling", "SystemArrays", "SystemModel", "assemble"]
+
+#: Largest denominator tried when reading a mesh-frequency ratio as a fraction.
+MAX_RATIO_DENOMINATOR = 1000
+#: Relative tolerance for a ratio to count as that fraction.
+RATIO_RTOL = 1e-12
+
+
+@dataclass(frozen=True)
+class MeshND:
+    """One mesh in the non-dimensional system.
+
+    Attributes
+    ----------
+    name : str
+        Mesh name.
+    k : float
+        Mean stiffness k_m0/k_ref.
+    xi0 : float
+        Mean damping c_m0/(2 m_ref ω_n) (the 1-DOF model's ξ0 for the reference mesh).
+    xi, phi_c, kappa, phi_k, eps, phi_e : tuple of float
+        Harmonics: damping c_k/(2 m_ref ω_n), stiffness κ_r (relative to the mesh's own k0),
+        STE ε_l = e_l/b_c, and their phases (rad).
+    D : float
+        Half backlash / b_c.
+    ratio : float
+        Mesh frequency / base frequency.
+    """
+
+    name: str
+    k: float
+    xi0: float
+    xi: tuple[float, ...]
+    phi_c: tuple[float, ...]
+    kappa: tuple[float, ...]
+    phi_k: tuple[float, ...]
+    eps: tuple[float, ...]
+    phi_e: tuple[float, ...]
+    D: float
+    ratio: float
+
+    def __post_init__(self) -> None:
+        who = f"{self.name}"
+        for amp, ph in (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e")):
+            a, p = tuple(map(float, getattr(self, amp))), tuple(map(float, getattr(self, ph)))
+            if len(a) > MAX_HARMONICS:
+                raise ModelError(f"{who}.{amp}: at most {MAX_HARMONICS} harmonics")
+            if len(p) > len(a):
+                raise ModelError(f"{who}.{ph}: {len(p)} phases for {len(a)} harmonics")
+            object.__setattr__(self, amp, a)
+            object.__setattr__(self, ph, p + (0.0,) * (len(a) - len(p)))
+        for name in ("k", "xi0", "D", "ratio"):
+            x = float(getattr(self, name))
+            if not math.isfinite(x):
+                raise ModelError(f"{who}.{name}: must be finite, got {x!r}")
+            object.__setattr__(self, name, x)
+        if self.k <= 0 or self.ratio <= 0:
+            raise ModelError(f"{who}: stiffness and ratio must be > 0")
+        if self.D < 0:
+            raise ModelError(f"{who}.D: must be >= 0, got {self.D!r}")
+        if sum(abs(x) for x in self.kappa) >= 1.0:
+            raise ModelError(f"{who}.kappa: sum of |kappa_r| must be < 1 so the mesh stiffness stays positive")
+
+    @property
+    def n_harmonics(self) -> int:
+        return max(len(self.xi), len(self.kappa), len(self.eps), 0)
+
+    def coefficients(self, n_harmonics: int | None = None) -> np.ndarray:
+        """(3, H+1, 2): damping C, stiffness K, STE E in the harmonics of θ_m (see the module docstring)."""
+        H = self.n_harmonics if n_harmonics is None else n_harmonics
+        c = np.zeros((3, H + 1, 2))
+        c[0, 0, 0] = 2.0 * self.xi0
+        c[1, 0, 0] = self.k
+        for i, amps, phases, scale in (
+            (0, self.xi, self.phi_c, 2.0),
+            (1, self.kappa, self.phi_k, self.k),
+            (2, self.eps, self.phi_e, 1.0),
+        ):
+            for j0, (a, ph) in enumerate(zip(amps, phases)):
+                c[i, j0 + 1, 0] = scale * a * math.cos(ph)
+                c[i, j0 + 1, 1] = -scale * a * math.sin(ph)
+        return c
+
+
+@dataclass(frozen=True)
+class Scaling:
+    """The scales between the physical and the non-dimensional system.
+
+    Attributes
+    ----------
+    reference : str
+        Reference mesh.
+    k_ref, m_ref, omega_n, b_c : float
+        Its mean stiffness (N/m), equivalent mass (kg), ω_n (rad/s), and the characteristic length (m).
+    s : tuple of float
+        Per-DOF scale: q_i = s_i q̃_i (m, or rad).
+    teeth : int or None
+        Teeth of the reference mesh's pinion (rpm ↔ ω).
+    """
+
+    reference: str
+    k_ref: float
+    m_ref: float
+    omega_n: float
+    b_c: float
+    s: tuple[float, ...]
+    teeth: int | None
+
+    @property
+    def force_scale(self) -> float:
+        """k_ref b_c (N)."""
+        return self.k_ref * self.b_c
+
+    def omega_from_rpm(self, rpm: float) -> float:
+        """ω = 2π z rpm / (60 ω_n) with z the reference pinion's teeth."""
+        if self.teeth is None:
+            raise ModelError(f"mesh {self.reference!r}: teeth: needed to convert a speed in rpm to ω")
+        return 2.0 * math.pi * self.teeth * rpm / 60.0 / self.omega_n
+
+    def rpm_from_omega(self, omega: float) -> float:
+        if self.teeth is None:
+            raise ModelError(f"mesh {self.reference!r}: teeth: needed to convert ω to a speed in rpm")
+        return omega * self.omega_n * 60.0 / (2.0 * math.pi * self.teeth)
+
+
+class SystemArrays(NamedTuple):
+    """Kernel arrays of one system (or, from :meth:`SystemModel.pack`, a batch with a leading P axis)."""
+
+    Mi: np.ndarray
+    Kb: np.ndarray
+    Cb: np.ndarray
+    V: np.ndarray
+    coef: np.ndarray
+    D: np.ndarray
+    ratio: np.ndarray
+    F: np.ndarray
+    Vc: np.ndarray
+    kc: np.ndarray
+    cc: np.ndarray
+    Dc: np.ndarray
+    omega: np.ndarray
+
+
+def _ro(a) -> np.ndarray:
+    a = np.array(a, dtype=np.float64, order="C")
+    a.setflags(write=False)
+    return a
+
+
+_MESH_PARAMS = ("k", "xi0", "D", "ratio")
+
+
+@dataclass(frozen=True, eq=False)
+class SystemModel:
+    """A frozen non-dimensional multi-DOF system (implements :class:`geardyn.system.System`).
+
+    Build it with :func:`assemble` (or :func:`geardyn.systems.load_system`).  Parameters by name:
+    ``omega``; per mesh ``<mesh>.<p>`` with p one of ``k``, ``xi0``, ``xiK``, ``kappaK``, ``epsK``,
+    ``phi_cK``, ``phi_kK``, ``phi_eK``, ``D`` (alias ``backlash``, ``fe`` = ``eps1``), ``ratio``; per
+    clearance ``<name>.D``.  An unqualified mesh parameter (``kappa1``) means the reference mesh's.
+    """
+
+    labels: tuple[str, ...]
+    Mi: np.ndarray
+    Kb: np.ndarray
+    Cb: np.ndarray
+    V: np.ndarray
+    meshes: tuple[MeshND, ...]
+    F: np.ndarray
+    omega: float
+    scaling: Scaling
+    clearance_names: tuple[str, ...] = ()
+    Vc: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    kc: tuple[float, ...] = ()
+    cc: tuple[float, ...] = ()
+    Dc: tuple[float, ...] = ()
+    description: SystemDescription | None = None
+
+    def __post_init__(self) -> None:
+        n = len(self.labels)
+        for name, shape in (("Mi", (n, n)), ("Kb", (n, n)), ("Cb", (n, n)), ("V", (len(self.meshes), n)), ("F", (n,))):
+            a = _ro(getattr(self, name))
+            if a.shape != shape:
+                raise ModelError(f"{name}: expected shape {shape}, got {a.shape}")
+            object.__setattr__(self, name, a)
+        nc = len(self.clearance_names)
+        object.__setattr__(self, "Vc", _ro(np.reshape(self.Vc, (nc, n))))
+        for name in ("kc", "cc", "Dc"):
+            v = tuple(float(x) for x in getattr(self, name))
+            if len(v) != nc:
+                raise ModelError(f"{name}: expected {nc} values, got {len(v)}")
+            object.__setattr__(self, name, v)
+        om = float(self.omega)
+        if not (math.isfinite(om) and om > 0 and math.isfinite(2 * math.pi / om)):
+            raise ModelError(f"omega: must be > 0 (base frequency ω_e/ω_n), got {self.omega!r}")
+        object.__setattr__(self, "omega", om)
+        if any(d < 0 for d in self.Dc):
+            raise ModelError("clearance D: must be >= 0")
+
+    # ------------------------------------------------------------------ the system protocol
+    @property
+    def n(self) -> int:
+        """Number of degrees of freedom."""
+        return len(self.labels)
+
+    @property
+    def state_dim(self) -> int:  # type: ignore[override]
+        """2n: the state is (q̃, q̃')."""
+        return 2 * self.n
+
+    @property
+    def period(self) -> float:
+        """Base period T = 2π/ω (the stroboscopic sampling time); see :meth:`period_multiple`."""
+        return 2.0 * math.pi / self.omega
+
+    def period_multiple(self) -> int | None:
+        """Smallest p >= 1 with p·r_m an integer for every mesh (forcing period p·T), or ``None``.
+
+        ``None`` means the mesh frequencies are incommensurate (no ratio is a fraction with a
+        denominator up to :data:`MAX_RATIO_DENOMINATOR`): the forcing is quasi-periodic, and the
+        periodic tools (shooting, continuation) cannot be used.
+        """
+        p = 1
+        for m in self.meshes:
+            f = Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR)
+            if abs(float(f) - m.ratio) > RATIO_RTOL * m.ratio:
+                return None
+            p = p * f.denominator // math.gcd(p, f.denominator)
+        return p
+
+    def is_periodic(self) -> bool:
+        """Whether the forcing is periodic (commensurate mesh frequencies)."""
+        return self.period_multiple() is not None
+
+    @property
+    def forcing_period(self) -> float:
+        """The forcing period p·T; raises :class:`ModelError` for incommensurate mesh frequencies."""
+        p = self.period_multiple()
+        if p is None:
+            ratios = ", ".join(f"{m.name}: {m.ratio:.12g}" for m in self.meshes)
+            raise ModelError(f"the mesh frequencies are incommensurate (ratios {ratios}): the forcing is not periodic")
+        return p * self.period
+
+    def mesh(self, name: str) -> MeshND:
+        for m in self.meshes:
+            if m.name == name:
+                return m
+        raise ModelError(f"unknown mesh {name!r}; meshes: {', '.join(m.name for m in self.meshes)}")
+
+    def _split(self, name: str) -> tuple[str, str]:
+        if not isinstance(name, str):
+            raise ModelError(f"unknown parameter {name!r}")
+        if "." in name:
+            elem, p = name.rsplit(".", 1)
+        else:
+            elem, p = self.scaling.reference, name
+        return elem, p
+
+    def _mesh_slot(self, p: str) -> tuple[str, int | None]:
+        if p in _MESH_PARAMS:
+            return p, None
+        attr, idx = slot(canonical_param(p))
+        if attr in ("omega", "fp"):
+            raise ModelError(f"{attr}: not a mesh parameter")
+        return attr, idx
+
+    def get(self, name: str) -> float:
+        """Value of a parameter by name (see the class docstring); missing harmonics are 0."""
+        if name == "omega":
+            return self.omega
+        elem, p = self._split(name)
+        if elem in self.clearance_names:
+            if p != "D":
+                raise ModelError(f"{name}: a clearance has only the parameter D")
+            return self.Dc[self.clearance_names.index(elem)]
+        m = self.mesh(elem)
+        attr, idx = self._mesh_slot(p)
+        if idx is None:
+            return getattr(m, attr)
+        seq = getattr(m, attr)
+        return seq[idx] if idx < len(seq) else 0.0
+
+    def with_param(self, name: str, value: float) -> "SystemModel":
+        """Copy with one parameter changed (validated anew)."""
+        if name == "omega":
+            return replace(self, omega=value)
+        elem, p = self._split(name)
+        if elem in self.clearance_names:
+            if p != "D":
+                raise ModelError(f"{name}: a clearance has only the parameter D")
+            Dc = list(self.Dc)
+            Dc[self.clearance_names.index(elem)] = value
+            return replace(self, Dc=tuple(Dc))
+        m = self.mesh(elem)
+        attr, idx = self._mesh_slot(p)
+        if idx is None:
+            new = replace(m, **{attr: value})
+        else:
+            seq = list(getattr(m, attr))
+            seq.extend([0.0] * (idx + 1 - len(seq)))
+            seq[idx] = value
+            changes: dict[str, Any] = {attr: tuple(seq)}
+            amp = {"phi_c": "xi", "phi_k": "kappa", "phi_e": "eps"}.get(attr)
+            if amp is not None and len(getattr(m, amp)) < len(seq):
+                a = list(getattr(m, amp))
+                changes[amp] = tuple(a + [0.0] * (len(seq) - len(a)))
+            new = replace(m, **changes)
+        meshes = tuple(new if x.name == m.name else x for x in self.meshes)
+        return replace(self, meshes=meshes)
+
+    def parameters(self) -> dict[str, float]:
+        """Every parameter by its qualified name."""
+        out: dict[str, float] = {"omega": self.omega}
+        for m in self.meshes:
+            for p in _MESH_PARAMS:
+                out[f"{m.name}.{p}"] = getattr(m, p)
+            for series in ("xi", "kappa", "eps", "phi_c", "phi_k", "phi_e"):
+                for k, v in enumerate(getattr(m, series)):
+                    out[f"{m.name}.{series}{k + 1}"] = v
+        for name, D in zip(self.clearance_names, self.Dc):
+            out[f"{name}.D"] = D
+        return out
+
+    def contact_boundaries(self) -> tuple[Boundary, ...]:
+        """One boundary per mesh and per clearance: ``vector·x = ±gap`` with vector = (V[m], 0…0).
+
+        A mesh's switching surface is ``V[m]·q̃ − E_m(θ) = ±D[m]``; with a static transmission error
+        it moves with θ (the ``vector`` gives the state part, E_m is in the coefficients).
+        """
+        zero = (0.0,) * self.n
+        out = [Boundary(m.name, tuple(self.V[i]) + zero, m.D) for i, m in enumerate(self.meshes)]
+        out += [Boundary(nm, tuple(self.Vc[i]) + zero, d) for i, (nm, d) in enumerate(zip(self.clearance_names, self.Dc))]
+        return tuple(out)
+
+    @property
+    def n_harmonics(self) -> int:
+        return max(m.n_harmonics for m in self.meshes)
+
+    def arrays(self, n_harmonics: int | None = None) -> SystemArrays:
+        """The kernel arrays of this system (see the module docstring for the contract)."""
+        H = self.n_harmonics if n_harmonics is None else n_harmonics
+        c = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+        return SystemArrays(
+            Mi=c(self.Mi),
+            Kb=c(self.Kb),
+            Cb=c(self.Cb),
+            V=c(self.V),
+            coef=c(np.stack([m.coefficients(H) for m in self.meshes])),
+            D=c([m.D for m in self.meshes]),
+            ratio=c([m.ratio for m in self.meshes]),
+            F=c(self.F),
+            Vc=c(self.Vc),
+            kc=c(self.kc),
+            cc=c(self.cc),
+            Dc=c(self.Dc),
+            omega=np.float64(self.omega),
+        )
+
+    @staticmethod
+    def pack(systems: Iterable["SystemModel"]) -> SystemArrays:
+        """Arrays of a batch of systems of one structure, stacked along a leading axis P.
+
+        Raises
+        ------
+        ModelError
+            For an empty batch or systems of different structure (DOFs, meshes, clearances).
+        """
+        systems = list(systems)
+        if not systems:
+            raise ModelError("empty parameter grid: no system to integrate")
+        s0 = systems[0]
+        key = (s0.labels, tuple(m.name for m in s0.meshes), s0.clearance_names)
+        for s in systems[1:]:
+            if (s.labels, tuple(m.name for m in s.meshes), s.clearance_names) != key:
+                raise ModelError("pack: every system of a batch must have the same DOFs, meshes and clearances")
+        H = max(s.n_harmonics for s in systems)
+        each = [s.arrays(H) for s in systems]
+        return SystemArrays(*(np.ascontiguousarray(np.stack([getattr(a, f) for a in each])) for f in SystemArrays._fields))
+
+    # ------------------------------------------------------------------ checks and helpers
+    def relative_coefficients(self, mesh: str | None = None) -> dict[str, float]:
+        """Coefficients of a mesh's relative coordinate u = V[m]·q̃ − E_m when the system is that mesh alone.
+
+        Valid when the mesh's deflection decouples (no bearings on its DOFs, one mesh): then
+        ``u'' + a C_m(θ) u' + a K_m(θ) f(u) = V Mi F − E_m''`` with ``a = V Mi Vᵀ``.  Returns the
+        1-DOF model's values ``xi0, xi1…, kappa1…, eps1…, fp, D`` and ``a``.
+        """
+        m = self.mesh(mesh or self.scaling.reference)
+        i = self.meshes.index(m)
+        v = self.V[i]
+        a = float(v @ self.Mi @ v)
+        out = {"a": a, "xi0": a * m.xi0, "fp": float(v @ self.Mi @ self.F), "D": m.D, "k": a * m.k}
+        out.update({f"xi{k + 1}": a * x for k, x in enumerate(m.xi)})
+        out.update({f"kappa{k + 1}": x for k, x in enumerate(m.kappa)})
+        out.update({f"eps{k + 1}": x for k, x in enumerate(m.eps)})
+        return out
+
+
+# ---------------------------------------------------------------------------- assembly
+def _dof_scales(desc: SystemDescription, b_c: float) -> np.ndarray:
+    s = np.full(desc.n, b_c)
+    for i, (_, d) in enumerate(desc.dof_list):
+        if d == "theta":
+            rho = max((abs(desc.vector(m)[i]) for m in desc.meshes), default=0.0)
+            s[i] = b_c / (rho if rho > 0 else 1.0)
+    return s
+
+
+def _mesh_nd(desc: SystemDescription, m: Mesh, k_ref: float, m_ref: float, b_c: float) -> MeshND:
+    unit_c = 2.0 * math.sqrt(k_ref * m_ref)  # c / unit_c = the non-dimensional ξ
+    if m.c0 is not None or m.c is not None:
+        xi0 = (m.c0 or 0.0) / unit_c
+        xi = tuple(c / unit_c for c in (m.c or ()))
+    else:
+        own = 2.0 * math.sqrt(m.stiffness * desc.mesh_mass(m)) / unit_c
+        xi0 = (m.xi0 or 0.0) * own
+        xi = tuple(x * own for x in (m.xi or ()))
+    return MeshND(
+        name=m.name,
+        k=m.stiffness / k_ref,
+        xi0=xi0,
+        xi=xi,
+        phi_c=m.phi_c,
+        kappa=m.kappa,
+        phi_k=m.phi_k,
+        eps=tuple(e / b_c for e in m.e),
+        phi_e=m.phi_e,
+        D=m.backlash / 2.0 / b_c,
+        ratio=m.ratio,
+    )
+
+
+def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel:
+    """Assemble and scale a system description (see the module docstring).
+
+    Parameters
+    ----------
+    desc : SystemDescription
+        The physical system.
+    omega : float, optional
+        Base frequency ω; default ``desc.omega``, else from ``desc.rpm``, else 1.
+
+    Returns
+    -------
+    SystemModel
+
+    Raises
+    ------
+    ModelError
+        When the assembled mass matrix is singular, or a speed in rpm cannot be converted.
+    """
+    M = desc.mass_matrix()
+    try:
+        np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        raise ModelError("mass matrix: singular or not positive definite") from None
+    ref = desc.reference_mesh
+    m_ref = desc.mesh_mass(ref)
+    k_ref = ref.stiffness
+    omega_n = math.sqrt(k_ref / m_ref)
+    b_c = desc.b_c
+    s = _dof_scales(desc, b_c)
+    scaling = Scaling(ref.name, k_ref, m_ref, omega_n, b_c, tuple(float(x) for x in s), ref.teeth)
+    S = np.diag(s)
+    Kb, Cb = desc.bearing_matrices()
+    den = k_ref * b_c**2
+    Mt = S @ M @ S / (m_ref * b_c**2)
+    Mi = np.linalg.inv(Mt)
+    Mi = 0.5 * (Mi + Mi.T)
+    Kbt = S @ Kb @ S / den
+    Cbt = S @ Cb @ S * omega_n / den
+    V = np.array([s * desc.vector(m) / b_c for m in desc.meshes])
+    F = s * desc.load_vector() / den
+    meshes = tuple(_mesh_nd(desc, m, k_ref, m_ref, b_c) for m in desc.meshes)
+    cl = desc.clearances
+    Vc = np.array([s * desc.vector(c) / b_c for c in cl]).reshape(len(cl), desc.n)
+    kc = tuple(c.stiffness / k_ref for c in cl)
+    cc = tuple(c.damping * omega_n / k_ref for c in cl)
+    Dc = tuple(c.gap / b_c for c in cl)
+    if omega is None:
+        if desc.omega is not None:
+            omega = desc.omega
+        elif desc.rpm is not None:
+            omega = scaling.omega_from_rpm(desc.rpm)
+        else:
+            omega = 1.0
+    return SystemModel(
+        labels=desc.labels,
+        Mi=Mi,
+        Kb=Kbt,
+        Cb=Cbt,
+        V=V,
+        meshes=meshes,
+        F=F,
+        omega=omega,
+        scaling=scaling,
+        clearance_names=tuple(c.name for c in cl),
+        Vc=Vc,
+        kc=kc,
+        cc=cc,
+        Dc=Dc,
+        description=desc,
+    )

@@ -1,0 +1,557 @@
+"""A multi-DOF gear system described in physical (SI) units.
+
+The description is what a system file (:mod:`geardyn.systems.load`) or a Python script gives; it is
+frozen and checked on construction (:meth:`SystemDescription.validate`).  Its pieces:
+
+* :class:`Body` — a rigid body with some of the degrees of freedom ``x, y, z`` (translations in the
+  global frame, m) and ``theta`` (the rotation about the body's own axis, rad, positive in its running
+  direction), with a mass and a moment of inertia, or a full mass matrix over its DOFs.
+* :class:`Connection` — a linear spring-damper: a bearing to ground or a coupling between bodies,
+  given as a stiffness and damping *matrix* over a list of DOFs (a spring along a coupling vector ``w``
+  is the matrix ``k w wᵀ``).
+* :class:`Clearance` — a spring-damper along a coupling vector with a dead zone ``|w·q| <= gap``.
+* :class:`Mesh` — a gear mesh: its mesh vector ``v`` (the deflection along the line of action is
+  ``v·q − e(t)``: direction cosines on translations, directional radii n·(j × r) on rotations),
+  half backlash, mean stiffness, and the Fourier series of stiffness, damping and static
+  transmission error with phases, and its frequency as a multiple (``ratio``) of the base frequency.
+* :class:`Load` — a mean force (N) or torque (N·m) on one DOF.
+
+Units: forces N, lengths m, angles rad, masses kg, inertias kg·m², translational stiffness N/m,
+torsional N·m/rad (mixed entries of a matrix in N/rad), damping likewise with an extra s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Iterable
+
+import numpy as np
+
+from ..errors import ModelError
+from ..geometry import Assumption
+
+__all__ = [
+    "DOFS",
+    "Body",
+    "Clearance",
+    "Connection",
+    "Load",
+    "Mesh",
+    "SystemDescription",
+    "Dof",
+]
+
+#: The degrees of freedom a body may have, in their canonical order.
+DOFS = ("x", "y", "z", "theta")
+#: A degree of freedom: (body name, DOF name).
+Dof = tuple[str, str]
+
+
+def _finite(what: str, value, unit: str = "") -> float:
+    if isinstance(value, bool):
+        raise ModelError(f"{what}: expected a number, got {value!r}")
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what}: expected a number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ModelError(f"{what}: must be finite, got {value!r}" + (f" {unit}" if unit else ""))
+    return x
+
+
+def _series(what: str, values: Iterable) -> tuple[float, ...]:
+    return tuple(_finite(f"{what}{i + 1}", v) for i, v in enumerate(values or ()))
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body.
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    dofs : tuple of str
+        Its degrees of freedom, a subset of :data:`DOFS` (stored in canonical order).
+    mass : float, optional
+        Mass (kg, > 0); needed when the body has a translation and no ``mass_matrix``.
+    inertia : float, optional
+        Moment of inertia about its rotation axis (kg·m², > 0); needed with ``theta``.
+    mass_matrix : tuple of tuple of float, optional
+        A full symmetric mass matrix over ``dofs`` (SI), instead of ``mass``/``inertia``.
+    """
+
+    name: str
+    dofs: tuple[str, ...]
+    mass: float | None = None
+    inertia: float | None = None
+    mass_matrix: tuple[tuple[float, ...], ...] | None = None
+
+    def __post_init__(self) -> None:
+        who = f"body {self.name!r}"
+        dofs = tuple(self.dofs)
+        bad = [d for d in dofs if d not in DOFS]
+        if bad:
+            raise ModelError(f"{who}: dofs: unknown DOF(s) {bad}; allowed: {', '.join(DOFS)}")
+        if len(set(dofs)) != len(dofs):
+            raise ModelError(f"{who}: dofs: a DOF is listed twice: {list(dofs)}")
+        if not dofs:
+            raise ModelError(f"{who}: dofs: a body needs at least one DOF (x, y, z, theta)")
+        object.__setattr__(self, "dofs", tuple(d for d in DOFS if d in dofs))
+        if self.mass_matrix is not None:
+            if self.mass is not None or self.inertia is not None:
+                raise ModelError(f"{who}: give mass and inertia, or mass_matrix, not both")
+            mm = np.array(self.mass_matrix, dtype=float)
+            n = len(self.dofs)
+            if mm.shape != (n, n):
+                raise ModelError(f"{who}: mass_matrix: must be {n}x{n} (one row per DOF), got shape {mm.shape}")
+            if not np.all(np.isfinite(mm)) or not np.allclose(mm, mm.T, rtol=1e-12, atol=0.0):
+                raise ModelError(f"{who}: mass_matrix: must be finite and symmetric")
+            # reorder to canonical order
+            order = [list(dofs).index(d) for d in self.dofs]
+            mm = mm[np.ix_(order, order)]
+            object.__setattr__(self, "mass_matrix", tuple(tuple(float(v) for v in row) for row in mm))
+            return
+        has_t = any(d != "theta" for d in self.dofs)
+        for attr, needed, unit in (("mass", has_t, "kg"), ("inertia", "theta" in self.dofs, "kg*m^2")):
+            v = getattr(self, attr)
+            if v is None:
+                if needed:
+                    raise ModelError(f"{who}: {attr}: missing (needed for its {'translations' if attr == 'mass' else 'rotation'})")
+                continue
+            v = _finite(f"{who}: {attr}", v, unit)
+            if v <= 0:
+                raise ModelError(f"{who}: {attr}: must be > 0 {unit}, got {v:g} {unit}")
+            object.__setattr__(self, attr, v)
+
+    def matrix(self) -> np.ndarray:
+        """The body's mass matrix over its DOFs (SI)."""
+        if self.mass_matrix is not None:
+            return np.array(self.mass_matrix, dtype=float)
+        return np.diag([self.inertia if d == "theta" else self.mass for d in self.dofs]).astype(float)
+
+
+def _matrix(who: str, what: str, values, n: int) -> tuple[tuple[float, ...], ...]:
+    a = np.array(values, dtype=float)
+    if a.shape != (n, n):
+        raise ModelError(f"{who}: {what}: must be {n}x{n} (one row per DOF), got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(f"{who}: {what}: must be finite")
+    if not np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * max(1.0, float(np.abs(a).max()))):
+        raise ModelError(f"{who}: {what}: must be symmetric")
+    return tuple(tuple(float(v) for v in row) for row in a)
+
+
+@dataclass(frozen=True)
+class Connection:
+    """A linear spring-damper over some DOFs: a bearing (to ground) or a coupling between bodies.
+
+    Parameters
+    ----------
+    name : str
+        Unique element name (used in the strain-energy fractions).
+    dofs : tuple of (str, str)
+        The DOFs it acts on, ``(body, dof)``.
+    stiffness : matrix
+        Symmetric stiffness matrix over ``dofs`` (SI).
+    damping : matrix, optional
+        Symmetric damping matrix over ``dofs`` (SI); default zero.
+    """
+
+    name: str
+    dofs: tuple[Dof, ...]
+    stiffness: tuple[tuple[float, ...], ...]
+    damping: tuple[tuple[float, ...], ...] | None = None
+
+    def __post_init__(self) -> None:
+        who = f"connection {self.name!r}"
+        dofs = tuple((str(b), str(d)) for b, d in self.dofs)
+        if not dofs or len(set(dofs)) != len(dofs):
+            raise ModelError(f"{who}: dofs: must list distinct (body, dof) pairs, got {list(self.dofs)}")
+        object.__setattr__(self, "dofs", dofs)
+        n = len(dofs)
+        object.__setattr__(self, "stiffness", _matrix(who, "stiffness", self.stiffness, n))
+        c = np.zeros((n, n)) if self.damping is None else self.damping
+        object.__setattr__(self, "damping", _matrix(who, "damping", c, n))
+
+    @classmethod
+    def along(cls, name: str, vector: dict[Dof, float], stiffness: float, damping: float = 0.0) -> "Connection":
+        """A spring-damper along the coupling vector ``w``: stiffness matrix ``k w wᵀ``, damping ``c w wᵀ``."""
+        dofs = tuple(vector)
+        w = np.array([vector[d] for d in dofs], dtype=float)
+        return cls(name, dofs, np.outer(w, w) * float(stiffness), np.outer(w, w) * float(damping))
+
+    @classmethod
+    def diagonal(cls, name: str, body: str, stiffness: dict[str, float], damping: dict[str, float] | None = None):
+        """A bearing to ground with independent springs on some of one body's DOFs."""
+        damping = damping or {}
+        dofs = tuple(d for d in DOFS if d in stiffness or d in damping)
+        return cls(
+            name,
+            tuple((body, d) for d in dofs),
+            np.diag([float(stiffness.get(d, 0.0)) for d in dofs]),
+            np.diag([float(damping.get(d, 0.0)) for d in dofs]),
+        )
+
+
+@dataclass(frozen=True)
+class Clearance:
+    """A spring-damper along a coupling vector with a dead zone (e.g. a bearing clearance).
+
+    The deflection is ``δ = w·q``; the force along ``w`` is ``c δ' + k f(δ; gap)`` with the dead zone
+    ``f(δ; g) = δ − g (δ > g), 0 (|δ| <= g), δ + g (δ < −g)`` (the damper acts throughout, as the mesh's).
+
+    Parameters
+    ----------
+    name : str
+        Unique element name.
+    vector : tuple of ((str, str), float)
+        The coupling vector as ((body, dof), coefficient) pairs (SI: numbers on translations,
+        lengths on rotations for a translational element).
+    stiffness : float
+        Contact stiffness k (N/m, or N·m/rad for a torsional element), > 0.
+    gap : float
+        Half clearance g (m or rad), >= 0.
+    damping : float
+        Damping coefficient c (>= 0).
+    """
+
+    name: str
+    vector: tuple[tuple[Dof, float], ...]
+    stiffness: float
+    gap: float
+    damping: float = 0.0
+
+    def __post_init__(self) -> None:
+        who = f"clearance {self.name!r}"
+        vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
+        if not vec:
+            raise ModelError(f"{who}: vector: must act on at least one DOF")
+        object.__setattr__(self, "vector", vec)
+        k = _finite(f"{who}: stiffness", self.stiffness)
+        g = _finite(f"{who}: clearance", self.gap)
+        c = _finite(f"{who}: damping", self.damping)
+        if k <= 0:
+            raise ModelError(f"{who}: stiffness: must be > 0, got {k:g}")
+        if g < 0:
+            raise ModelError(f"{who}: clearance: must be >= 0, got {g:g}")
+        if c < 0:
+            raise ModelError(f"{who}: damping: must be >= 0, got {c:g}")
+        for a, v in (("stiffness", k), ("gap", g), ("damping", c)):
+            object.__setattr__(self, a, v)
+
+    @property
+    def dofs(self) -> tuple[Dof, ...]:
+        return tuple(d for d, _ in self.vector)
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """A gear mesh (SI).
+
+    Parameters
+    ----------
+    name : str
+        Unique name (parameters are addressed as ``<name>.kappa1`` etc.).
+    vector : tuple of ((str, str), float)
+        The mesh vector v: the deflection along the line of action is ``v·q − e(t)``, positive when
+        the teeth are pressed together (pinion into gear).
+    stiffness : float
+        Mean mesh stiffness k0 (N/m), > 0.
+    backlash : float
+        Normal backlash j (m), >= 0; the dead zone is ``|δ| <= j/2``.
+    kappa, phi_k : tuple of float
+        Stiffness harmonics k_r/k0 and their phases (rad): k(t) = k0 [1 + Σ κ_r cos(r θ_m + φ_kr)].
+    xi0, xi : float, tuple of float
+        Damping as ratios, c = 2 ξ √(k0 m_e) with the mesh's own equivalent mass
+        m_e = 1/(vᵀ M⁻¹ v) (for a two-gear torsional pair the 1-DOF model's ξ).  Give these or
+        ``c0``/``c``, not both.
+    c0, c : float, tuple of float
+        Damping coefficients (N·s/m).
+    phi_c : tuple of float
+        Phases of the damping harmonics (rad).
+    e, phi_e : tuple of float
+        Static-transmission-error harmonics (m) and phases: e(t) = Σ e_l cos(l θ_m + φ_el).
+    ratio : float
+        Mesh frequency / base frequency (> 0): θ_m = ratio · θ.
+    teeth : int, optional
+        Teeth of the body whose speed is the pinion speed, to convert rpm to the mesh frequency.
+    """
+
+    name: str
+    vector: tuple[tuple[Dof, float], ...]
+    stiffness: float
+    backlash: float = 0.0
+    kappa: tuple[float, ...] = ()
+    phi_k: tuple[float, ...] = ()
+    xi0: float | None = None
+    xi: tuple[float, ...] | None = None
+    c0: float | None = None
+    c: tuple[float, ...] | None = None
+    phi_c: tuple[float, ...] = ()
+    e: tuple[float, ...] = ()
+    phi_e: tuple[float, ...] = ()
+    ratio: float = 1.0
+    teeth: int | None = None
+
+    def __post_init__(self) -> None:
+        who = f"mesh {self.name!r}"
+        set_ = object.__setattr__
+        vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
+        if not any(c != 0 for _, c in vec):
+            raise ModelError(f"{who}: vector: the mesh vector must not be zero")
+        set_(self, "vector", vec)
+        k = _finite(f"{who}: stiffness", self.stiffness, "N/m")
+        if k <= 0:
+            raise ModelError(f"{who}: stiffness: must be > 0 N/m, got {k:g} N/m")
+        set_(self, "stiffness", k)
+        b = _finite(f"{who}: backlash", self.backlash, "m")
+        if b < 0:
+            raise ModelError(f"{who}: backlash: must be >= 0 m, got {b:g} m")
+        set_(self, "backlash", b)
+        r = _finite(f"{who}: ratio", self.ratio)
+        if r <= 0:
+            raise ModelError(f"{who}: ratio: the mesh-frequency ratio must be > 0, got {r:g}")
+        set_(self, "ratio", r)
+        if (self.xi0 is not None or self.xi is not None) and (self.c0 is not None or self.c is not None):
+            raise ModelError(f"{who}: damping: give ratios (xi0, xi) or coefficients (c0, c), not both")
+        for name in ("kappa", "phi_k", "phi_c", "e", "phi_e"):
+            set_(self, name, _series(f"{who}: {name}", getattr(self, name)))
+        for name in ("xi", "c"):
+            if getattr(self, name) is not None:
+                set_(self, name, _series(f"{who}: {name}", getattr(self, name)))
+        for name in ("xi0", "c0"):
+            if getattr(self, name) is not None:
+                v = _finite(f"{who}: {name}", getattr(self, name))
+                set_(self, name, v)
+        for amp, ph in (("kappa", "phi_k"), ("e", "phi_e")):
+            a, p = getattr(self, amp), getattr(self, ph)
+            if len(p) > len(a):
+                raise ModelError(f"{who}: {ph}: {len(p)} phases for {len(a)} {amp} harmonics")
+            set_(self, ph, p + (0.0,) * (len(a) - len(p)))
+        n_damp = len(self.xi if self.xi is not None else (self.c or ()))
+        if len(self.phi_c) > n_damp:
+            raise ModelError(f"{who}: phi_c: {len(self.phi_c)} phases for {n_damp} damping harmonics")
+        set_(self, "phi_c", self.phi_c + (0.0,) * (n_damp - len(self.phi_c)))
+        if sum(abs(x) for x in self.kappa) >= 1.0:
+            raise ModelError(f"{who}: kappa: sum of |kappa_r| must be < 1 so the mesh stiffness stays positive")
+        if self.teeth is not None:
+            t = self.teeth
+            if isinstance(t, bool) or not float(t).is_integer() or t < 1:
+                raise ModelError(f"{who}: teeth: must be an integer >= 1, got {t!r}")
+            set_(self, "teeth", int(t))
+
+    @property
+    def dofs(self) -> tuple[Dof, ...]:
+        return tuple(d for d, _ in self.vector)
+
+
+@dataclass(frozen=True)
+class Load:
+    """A mean force (N, on a translation) or torque (N·m, on ``theta``) on one DOF."""
+
+    body: str
+    dof: str
+    value: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "value", _finite(f"load on {self.body}.{self.dof}", self.value))
+
+
+@dataclass(frozen=True)
+class SystemDescription:
+    """A multi-DOF gear system in SI units, validated on construction.
+
+    Parameters
+    ----------
+    bodies, connections, clearances, meshes, loads : tuples of the element classes
+        The elements; names are unique across connections, clearances and meshes.
+    reference : str, optional
+        The mesh whose ω_n = √(k0/m_e) and backlash set the scales; default the first mesh.
+    characteristic_length : float, optional
+        b_c (m); default half the reference mesh's backlash (then its D = 1).
+    rpm : float, optional
+        Pinion speed (rpm) of the operating point: ω_e = 2π z rpm/60 with z the reference mesh's ``teeth``.
+    omega : float, optional
+        The non-dimensional base frequency ω directly (overrides ``rpm``).
+    equivalent_mass : {"rotational", "full"}
+        How a mesh's equivalent mass m_e = 1/(vᵀ M⁻¹ v) is taken (for the scales and for damping
+        ratios): ``"rotational"`` (default) uses only the rotation entries of v, the torsional m_e
+        of the 1-DOF model, so that ω and ξ mean the same as there and the rigid-bearing limit
+        is the 1-DOF model; ``"full"`` uses the whole vector (translations too).  A mesh without
+        rotation entries always uses the full vector.
+    title, source : str
+        For reports.
+    assumptions : tuple of Assumption
+        Every value the description assumes, with its source.
+
+    Raises
+    ------
+    ModelError
+        Unknown bodies or DOFs, duplicate names, a body with no connection, a singular mass matrix,
+        a missing mesh, a non-positive speed.
+    """
+
+    bodies: tuple[Body, ...]
+    meshes: tuple[Mesh, ...]
+    connections: tuple[Connection, ...] = ()
+    clearances: tuple[Clearance, ...] = ()
+    loads: tuple[Load, ...] = ()
+    reference: str | None = None
+    characteristic_length: float | None = None
+    rpm: float | None = None
+    omega: float | None = None
+    equivalent_mass: str = "rotational"
+    title: str = ""
+    source: str = ""
+    assumptions: tuple[Assumption, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        for name in ("bodies", "meshes", "connections", "clearances", "loads", "assumptions"):
+            object.__setattr__(self, name, tuple(getattr(self, name)))
+        self.validate()
+
+    # ------------------------------------------------------------------ structure
+    @property
+    def dof_list(self) -> tuple[Dof, ...]:
+        """Every DOF of the system in order: bodies in their order, each body's DOFs in canonical order."""
+        return tuple((b.name, d) for b in self.bodies for d in b.dofs)
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        """``"body.dof"`` label of every DOF."""
+        return tuple(f"{b}.{d}" for b, d in self.dof_list)
+
+    @property
+    def n(self) -> int:
+        return len(self.dof_list)
+
+    def index(self) -> dict[Dof, int]:
+        return {d: i for i, d in enumerate(self.dof_list)}
+
+    @property
+    def reference_mesh(self) -> Mesh:
+        name = self.reference or self.meshes[0].name
+        return next(m for m in self.meshes if m.name == name)
+
+    def validate(self) -> None:
+        """Check the structure (see the class docstring); raises :class:`ModelError`."""
+        names = [b.name for b in self.bodies]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise ModelError(f"body {dup[0]!r}: the name is used twice")
+        if not self.bodies:
+            raise ModelError("system: no bodies")
+        if not self.meshes:
+            raise ModelError("system: no gear mesh; a system needs at least one [[mesh]]")
+        elems = [e.name for e in (*self.connections, *self.clearances, *self.meshes)]
+        dup = sorted({n for n in elems if elems.count(n) > 1})
+        if dup:
+            raise ModelError(f"element {dup[0]!r}: the name is used twice (connections, clearances and meshes share names)")
+        idx = self.index()
+        bodies = {b.name: b for b in self.bodies}
+        used: set[str] = set()
+        kinds = (("connection", self.connections), ("clearance", self.clearances), ("mesh", self.meshes))
+        for kind, items in kinds:
+            for e in items:
+                for b, d in e.dofs:
+                    if b not in bodies:
+                        raise ModelError(f"{kind} {e.name!r}: unknown body {b!r}; bodies: {', '.join(names)}")
+                    if (b, d) not in idx:
+                        raise ModelError(
+                            f"{kind} {e.name!r}: body {b!r} has no DOF {d!r} (its DOFs: {', '.join(bodies[b].dofs)})"
+                        )
+                    used.add(b)
+        for ld in self.loads:
+            if (ld.body, ld.dof) not in idx:
+                what = f"unknown body {ld.body!r}" if ld.body not in bodies else f"body {ld.body!r} has no DOF {ld.dof!r}"
+                raise ModelError(f"load on {ld.body}.{ld.dof}: {what}")
+        for b in self.bodies:
+            if b.name not in used:
+                raise ModelError(f"body {b.name!r}: has no connection or mesh; every body must be connected")
+        for b in self.bodies:
+            ev = np.linalg.eigvalsh(b.matrix())
+            if ev.min() <= 1e-12 * max(abs(ev.max()), 1e-300):
+                key = "mass_matrix" if b.mass_matrix is not None else "mass"
+                raise ModelError(
+                    f"body {b.name!r}: {key}: the mass matrix is singular or not positive definite (eigenvalues {ev.tolist()})"
+                )
+        if self.reference is not None and self.reference not in {m.name for m in self.meshes}:
+            raise ModelError(f"reference: unknown mesh {self.reference!r}; meshes: {', '.join(m.name for m in self.meshes)}")
+        if self.characteristic_length is not None and not self.characteristic_length > 0:
+            raise ModelError(f"characteristic_length: must be > 0 m, got {self.characteristic_length!r}")
+        if self.characteristic_length is None and self.reference_mesh.backlash <= 0:
+            raise ModelError(
+                f"mesh {self.reference_mesh.name!r}: backlash is 0: give characteristic_length to scale lengths"
+            )
+        if self.equivalent_mass not in ("rotational", "full"):
+            raise ModelError(f"equivalent_mass: must be 'rotational' or 'full', got {self.equivalent_mass!r}")
+        for name in ("rpm", "omega"):
+            v = getattr(self, name)
+            if v is not None and not (math.isfinite(v) and v > 0):
+                raise ModelError(f"{name}: must be > 0, got {v!r}")
+
+    # ------------------------------------------------------------------ physical matrices
+    def mass_matrix(self) -> np.ndarray:
+        """M (n × n, SI), block diagonal over the bodies."""
+        M = np.zeros((self.n, self.n))
+        i = 0
+        for b in self.bodies:
+            k = len(b.dofs)
+            M[i : i + k, i : i + k] = b.matrix()
+            i += k
+        return M
+
+    def _scatter(self, dofs, mat) -> np.ndarray:
+        idx = self.index()
+        out = np.zeros((self.n, self.n))
+        ii = [idx[d] for d in dofs]
+        out[np.ix_(ii, ii)] += np.asarray(mat, dtype=float)
+        return out
+
+    def connection_matrices(self, conn: Connection) -> tuple[np.ndarray, np.ndarray]:
+        """(K, C) of one linear connection, n × n (SI)."""
+        return self._scatter(conn.dofs, conn.stiffness), self._scatter(conn.dofs, conn.damping)
+
+    def vector(self, element: Mesh | Clearance) -> np.ndarray:
+        """The element's vector over all DOFs (n,)."""
+        idx = self.index()
+        v = np.zeros(self.n)
+        for d, c in element.vector:
+            v[idx[d]] += c
+        return v
+
+    def bearing_matrices(self) -> tuple[np.ndarray, np.ndarray]:
+        """K_b, C_b: the sum over the linear connections (n × n, SI)."""
+        K = np.zeros((self.n, self.n))
+        C = np.zeros((self.n, self.n))
+        for c in self.connections:
+            k, d = self.connection_matrices(c)
+            K += k
+            C += d
+        return K, C
+
+    def load_vector(self) -> np.ndarray:
+        """F (n,): the mean loads (SI)."""
+        idx = self.index()
+        F = np.zeros(self.n)
+        for ld in self.loads:
+            F[idx[(ld.body, ld.dof)]] += ld.value
+        return F
+
+    def mesh_mass(self, mesh: Mesh, how: str | None = None) -> float:
+        """Equivalent mass m_e = 1/(vᵀ M⁻¹ v) of a mesh (kg); ``how`` as :attr:`equivalent_mass`."""
+        v = self.vector(mesh)
+        if (how or self.equivalent_mass) == "rotational":
+            rot = np.array([d == "theta" for _, d in self.dof_list])
+            if np.any(v[rot] != 0):
+                v = np.where(rot, v, 0.0)
+        return 1.0 / float(v @ np.linalg.solve(self.mass_matrix(), v))
+
+    @property
+    def b_c(self) -> float:
+        """Characteristic length b_c (m)."""
+        if self.characteristic_length is not None:
+            return self.characteristic_length
+        return self.reference_mesh.backlash / 2.0

@@ -1,0 +1,691 @@
+"""System files: a multi-DOF gear system in TOML, with units written out.
+
+A file has the top-level strings ``title`` and ``description`` and these tables (``[[x]]`` may repeat)::
+
+    [system]                      # optional
+    reference = "mesh"            # the mesh that sets the scales (default: the first)
+    characteristic_length = "0.05 mm"   # b_c (default: half the reference mesh's backlash)
+    equivalent_mass = "rotational"      # m_e of a mesh from its rotation entries (default) or "full"
+
+    [operating]                   # optional: a pinion speed (needs the reference mesh's teeth) or ω
+    rpm = "3000 rpm"              # or: omega = 0.8
+
+    [[body]]
+    name = "pinion"
+    dofs = ["x", "y", "z", "theta"]   # translations (global frame) and the rotation about its axis
+    mass = "225 kg"
+    inertia = "1.772 kg*m^2"          # about its axis; or mass_matrix = [[...]] (SI, over dofs)
+
+    [[connection]]                # a bearing to ground with springs on some DOFs of one body
+    name = "pinion_bearing"
+    body = "pinion"
+    kx = "1e9 N/m"                # kx, ky, kz (N/m), ktheta (N*m/rad); cx, cy, cz, ctheta dampers
+    [[connection]]                # or a spring along a coupling vector (one body: to ground)
+    name = "shaft"
+    kind = "torsional"            # "translational" (default: k in N/m, rotation entries lengths)
+    vector = { motor = { theta = 1 }, pinion = { theta = -1 } }
+    stiffness = "330 N*m/rad"
+    damping = "23.1 N*m*s/rad"
+    clearance = "1e-3 rad"        # optional: a dead zone |w·q| <= clearance (a nonlinear element)
+    [[connection]]                # or a full matrix (SI) over listed DOFs
+    dofs = ["a.x", "b.x"]
+    stiffness_matrix = [[1e8, -1e8], [-1e8, 1e8]]
+
+    [[mesh]]
+    name = "mesh"
+    pinion = "pinion"             # driver and driven body
+    gear = "gear"
+    type = "bevel"                # "bevel" (keys z1, z2, m_mn, beta_m, alpha_n, Sigma, r1, r2, hand,
+                                  # drive_side: geardyn.geometry), "spur" (pressure_angle, base_radius1,
+                                  # base_radius2, helix_angle, center_angle, pinion_rotation, hand) or
+                                  # "vector" (vector = { pinion = { x = 0.34, theta = "96.6 mm" }, ... })
+    stiffness = "2000 N/um"       # mean mesh stiffness k0
+    backlash = "0.1 mm"           # normal backlash j (the dead zone is half of it)
+    xi0 = 0.1                     # damping ratios (c = 2 ξ √(k0 m_e)); or c0 = "..N*s/m", c = [..]
+    xi = [0.05]
+    kappa = [0.2]                 # or k = ["400 N/um"]; phases phi_k = ["0 deg"]
+    eps = [0.5]                   # STE / b_c; or e = ["25 um"]; phases phi_e
+    ratio = 1                     # mesh frequency / base frequency
+    teeth = 23                    # pinion teeth (rpm → mesh frequency); bevel: z1
+
+    [[load]]
+    body = "pinion"
+    torque = "1932 N*m"           # on theta; or dof = "x" and force = "100 N"
+    [[load]]
+    mesh = "mesh"                 # or: f_p in units of k_ref b_c, applied as the balanced
+    fp = 0.2                      # torques ±F_p R_l on the mesh's rotations
+
+Any value may be written ``{ value = ..., assumed = "source" }``; every value geardyn assumes is listed
+with its source in :attr:`SystemDescription.assumptions`.  A problem with the file (missing, TOML
+syntax, unknown section or key, wrong type or unit) raises :class:`~geardyn.errors.ConfigError`; a
+bad value (zero or negative mass, an unknown body, a singular mass matrix, a body with no connection)
+raises :class:`~geardyn.errors.ModelError`.  Both messages are one line naming the file, the line and
+the element.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ConfigError, GeardynError, ModelError
+from ..geometry import Assumption, SpiralBevelGearPair
+from .assemble import SystemModel, assemble
+from .description import DOFS, Body, Clearance, Connection, Load, Mesh, SystemDescription
+from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
+
+__all__ = ["load_description", "load_system"]
+
+_ANGLE_UNITS = frozenset({"degree", "radian", "arcminute", "arcsecond", "turn", "revolution", "gradian"})
+
+# kind: (target unit or None for a plain number, example)
+_K = {
+    "number": (None, "0.1"),
+    "int": (None, "23"),
+    "text": (None, '"pinion"'),
+    "mass": ("kg", '"225 kg"'),
+    "inertia": ("kg*m^2", '"1.772 kg*m^2"'),
+    "length": ("m", '"0.1 mm"'),
+    "angle": ("radian", '"20 deg"'),
+    "phase": ("radian", '"30 deg" or 0.5'),
+    "stiffness": ("N/m", '"1e9 N/m"'),
+    "tstiffness": ("N*m/radian", '"330 N*m/rad"'),
+    "damping": ("N*s/m", '"2e4 N*s/m"'),
+    "tdamping": ("N*m*s/radian", '"23 N*m*s/rad"'),
+    "force": ("N", '"100 N"'),
+    "torque": ("N*m", '"1500 N*m"'),
+    "speed": ("rpm", '"3000 rpm"'),
+}
+
+_BODY_KEYS = {"name": "text", "dofs": "list", "mass": "mass", "inertia": "inertia", "mass_matrix": "matrix"}
+_BEARING_KEYS = {f"k{d}": ("tstiffness" if d == "theta" else "stiffness") for d in DOFS} | {
+    f"c{d}": ("tdamping" if d == "theta" else "damping") for d in DOFS
+}
+_CONN_KEYS = {
+    "name": "text", "body": "text", "kind": "text", "vector": "table", "stiffness": "any", "damping": "any",
+    "clearance": "any", "dofs": "list", "stiffness_matrix": "matrix", "damping_matrix": "matrix",
+} | _BEARING_KEYS
+_MESH_COMMON = {
+    "name": "text", "pinion": "text", "gear": "text", "type": "text", "stiffness": "stiffness",
+    "backlash": "length", "kappa": "number*", "k": "stiffness*", "phi_k": "phase*", "xi0": "number",
+    "xi": "number*", "c0": "damping", "c": "damping*", "phi_c": "phase*", "eps": "number*", "e": "length*",
+    "phi_e": "phase*", "ratio": "number", "teeth": "int", "vector": "table",
+}
+_MESH_SPUR = {
+    "pressure_angle": "angle", "helix_angle": "angle", "base_radius1": "length", "base_radius2": "length",
+    "center_angle": "angle", "pinion_rotation": "text", "hand": "text",
+}
+_MESH_BEVEL = {
+    "z1": "int", "z2": "int", "m_mn": "length", "beta_m": "angle", "alpha_n": "angle", "Sigma": "angle",
+    "r1": "length", "r2": "length", "hand": "text", "drive_side": "text",
+}
+_LOAD_KEYS = {"body": "text", "dof": "text", "force": "force", "torque": "torque", "mesh": "text", "fp": "number"}
+_SECTIONS = {
+    "system": {"reference": "text", "characteristic_length": "length", "equivalent_mass": "text"},
+    "operating": {"rpm": "speed", "omega": "number"},
+}
+_ARRAYS = ("body", "connection", "mesh", "load")
+_TOP_TEXT = ("title", "description")
+
+
+@lru_cache(maxsize=1)
+def _ureg():
+    import pint
+
+    ureg = pint.UnitRegistry()
+    ureg.define("rev = revolution")
+    return ureg
+
+
+class _Ctx:
+    """Where a value comes from: file, section, block index; builds one-line messages."""
+
+    def __init__(self, source: str, text: str):
+        self.source = source
+        self.lines = text.splitlines()
+        self.assumptions: list[Assumption] = []
+
+    def assume(self, a: Assumption) -> None:
+        if all(x.name != a.name for x in self.assumptions):
+            self.assumptions.append(a)
+
+    def line(self, section: str | None, index: int | None, key: str | None) -> int | None:
+        header = re.compile(r"^\s*(\[\[?)\s*([^\[\]]+?)\s*\]\]?\s*(#.*)?$")
+        key_re = re.compile(rf"^\s*[\"']?{re.escape(key)}[\"']?\s*(=|\.)") if key else None
+        count, inside, start = -1, section is None, None
+        for i, text in enumerate(self.lines, start=1):
+            m = header.match(text)
+            if m:
+                if inside and start is not None and section is not None:
+                    break
+                name = m.group(2)
+                if name == section:
+                    count += 1
+                    if index is None or count == index:
+                        inside, start = True, i
+                        if key is None:
+                            return i
+                        continue
+                inside = False
+                continue
+            if inside and key_re is not None and key_re.match(text):
+                return i
+        return start
+
+    def line_containing(self, section: str, index: int, text: str) -> int | None:
+        """First line of block ``index`` of ``[[section]]`` that contains ``text`` (quoted)."""
+        start = self.line(section, index, None)
+        if start is None:
+            return None
+        for i in range(start, len(self.lines)):
+            line = self.lines[i]
+            if line.lstrip().startswith("["):
+                break
+            if f'"{text}"' in line or f"'{text}'" in line or re.search(rf"\b{re.escape(text)}\s*=", line):
+                return i + 1
+        return None
+
+    def where(self, section: str | None, index: int | None, key: str | None, element: str | None) -> str:
+        ln = self.line(section, index, key)
+        head = f"{self.source}: " + (f"line {ln}: " if ln else "")
+        if section is None:
+            return head
+        sec = f"[[{section}]]" if section in _ARRAYS else f"[{section}]"
+        return head + sec + (f" {element!r}" if element else "") + ": " + (f"{key}: " if key else "")
+
+    def config(self, section, index, key, element, problem) -> ConfigError:
+        return ConfigError(self.where(section, index, key, element) + problem)
+
+    def model(self, section, index, key, element, problem) -> ModelError:
+        return ModelError(self.where(section, index, key, element) + problem)
+
+
+def _strip(msg: str, element: str | None) -> tuple[str | None, str]:
+    """Split a ModelError message "kind 'name': key: problem" into (key, problem)."""
+    m = re.match(r"^(?:body|connection|clearance|mesh|load on \S+) ?(?:'[^']*')?: (.*)$", msg)
+    rest = m.group(1) if m else msg
+    km = re.match(r"^([A-Za-z_][\w]*): (.*)$", rest)
+    if km:
+        return km.group(1), km.group(2)
+    return None, rest
+
+
+class _Block:
+    """One table of the file, with its place, for reading values."""
+
+    def __init__(self, ctx: _Ctx, section: str, index: int | None, data: dict, schema: dict, element: str | None):
+        self.ctx, self.section, self.index, self.data, self.schema = ctx, section, index, data, schema
+        self.element = element
+        if not isinstance(data, dict):
+            raise ConfigError(f"{ctx.source}: [{section}] must be a table")
+        for key in data:
+            if key not in schema:
+                raise self.cerr(key, f"unknown key; allowed: {', '.join(schema)}")
+
+    @property
+    def label(self) -> str:
+        return self.element or self.section
+
+    def cerr(self, key, problem) -> ConfigError:
+        return self.ctx.config(self.section, self.index, key, self.element, problem)
+
+    def merr(self, key, problem) -> ModelError:
+        return self.ctx.model(self.section, self.index, key, self.element, problem)
+
+    def wrap(self, err: ModelError) -> ModelError:
+        key, problem = _strip(str(err), self.element)
+        key = key if key in self.data else None
+        return self.merr(key, problem)
+
+    def has(self, key: str) -> bool:
+        return key in self.data
+
+    def get(self, key: str, kind: str | None = None, default: Any = None, assumed: str | None = None) -> Any:
+        """The value of ``key`` in SI (``default`` marked assumed with ``assumed`` when missing)."""
+        kind = kind or self.schema[key]
+        if key not in self.data:
+            if assumed is not None:
+                self.ctx.assume(
+                    Assumption(f"{self.label}.{key}", default if not isinstance(default, tuple) else list(default),
+                               _K.get(kind.rstrip("*"), (None,))[0] or "", assumed)
+                )
+            return default
+        raw = self.data[key]
+        if isinstance(raw, dict) and kind != "table":
+            extra = set(raw) - {"value", "assumed"}
+            if "value" not in raw or extra:
+                raise self.cerr(key, "an inline table must have the keys 'value' and optionally 'assumed'")
+            src = raw.get("assumed")
+            if src is not None and (not isinstance(src, str) or not src.strip()):
+                raise self.cerr(key, "'assumed' must be a non-empty string giving the source")
+            value = self._parse(key, kind, raw["value"])
+            if src:
+                unit = _K.get(kind.rstrip("*"), (None,))[0] or ""
+                shown = list(value) if isinstance(value, tuple) else value
+                self.ctx.assume(Assumption(f"{self.label}.{key}", shown, unit, src))
+            return value
+        return self._parse(key, kind, raw)
+
+    def _parse(self, key: str, kind: str, raw: Any) -> Any:
+        if kind.endswith("*"):
+            items = raw if isinstance(raw, list) else [raw]
+            return tuple(self._scalar(key, kind[:-1], r, i + 1) for i, r in enumerate(items))
+        if kind == "list":
+            if not isinstance(raw, list) or not all(isinstance(x, str) for x in raw):
+                raise self.cerr(key, f"expected a list of strings, got {raw!r}")
+            return list(raw)
+        if kind == "matrix":
+            try:
+                a = np.array(raw, dtype=float)
+            except (TypeError, ValueError):
+                a = None
+            if a is None or a.ndim != 2 or isinstance(raw, str):
+                raise self.cerr(key, "expected a matrix of plain numbers in SI units, e.g. [[1e8, -1e8], [-1e8, 1e8]]")
+            return a
+        if kind == "table":
+            if not isinstance(raw, dict):
+                raise self.cerr(key, f"expected a table, got {raw!r}")
+            return raw
+        return self._scalar(key, kind, raw)
+
+    def _scalar(self, key: str, kind: str, raw: Any, index: int | None = None) -> Any:
+        el = f"element {index}: " if index is not None else ""
+        unit, example = _K[kind]
+        if kind == "text":
+            if not isinstance(raw, str):
+                raise self.cerr(key, f"{el}expected a string, got {raw!r}")
+            return raw
+        if isinstance(raw, (bool, list, dict)):
+            raise self.cerr(key, f"{el}expected a {kind} (e.g. {example}), got {raw!r}")
+        if kind == "int":
+            if isinstance(raw, float) and raw.is_integer():
+                raw = int(raw)
+            if not isinstance(raw, int):
+                raise self.cerr(key, f"{el}expected an integer, got {raw!r}")
+            return raw
+        if unit is None or (kind == "phase" and isinstance(raw, (int, float))):
+            if not isinstance(raw, (int, float)):
+                raise self.cerr(key, f"{el}expected a plain number (e.g. {example}), got {raw!r}")
+            x = float(raw)
+            if not math.isfinite(x):
+                raise self.cerr(key, f"{el}must be a finite number, got {raw!r}")
+            return x
+        if not isinstance(raw, str):
+            raise self.cerr(key, f"{el}expected a {kind} with its unit, as a string (e.g. {example}), got {raw!r}")
+        try:
+            q = _ureg().Quantity(raw)
+        except Exception as e:  # pint raises several types for a bad unit string
+            raise self.cerr(key, f"{el}cannot read {raw!r} ({type(e).__name__}); write e.g. {example}") from None
+        units = str(q.units)
+        if kind in ("angle", "phase") and units not in _ANGLE_UNITS:
+            raise self.cerr(key, f"{el}expected an angle with its unit (e.g. {example}), got {raw!r}")
+        if kind == "speed" and not any(w in units for w in ("revolution", "radian", "turn", "rpm")):
+            raise self.cerr(key, f"{el}expected a rotational speed (e.g. {example}), got {raw!r}")
+        if not q.is_compatible_with(unit) or (q.unitless and kind not in ("angle", "phase")):
+            raise self.cerr(key, f"{el}wrong unit: expected {kind} in {unit} (e.g. {example}), got {raw!r}")
+        x = float(q.to(unit).magnitude)
+        if not math.isfinite(x):
+            raise self.cerr(key, f"{el}must be finite, got {raw!r}")
+        return x
+
+
+# ---------------------------------------------------------------------------- elements
+def _body(ctx: _Ctx, i: int, data: dict) -> Body:
+    name = data.get("name") if isinstance(data.get("name"), str) else f"body{i + 1}"
+    blk = _Block(ctx, "body", i, data, _BODY_KEYS, name)
+    if not blk.has("dofs"):
+        raise blk.cerr(None, f"missing key 'dofs' (a list from {', '.join(DOFS)})")
+    try:
+        return Body(name, tuple(blk.get("dofs")), blk.get("mass"), blk.get("inertia"), blk.get("mass_matrix"))
+    except ModelError as e:
+        raise blk.wrap(e) from None
+
+
+def _dof_ref(blk: _Block, key: str, text: str) -> tuple[str, str]:
+    if not isinstance(text, str) or text.count(".") != 1:
+        raise blk.cerr(key, f"a DOF is written 'body.dof' (e.g. 'pinion.x'), got {text!r}")
+    b, d = text.split(".")
+    return b, d
+
+
+def _vector(blk: _Block, table: dict, translational: bool) -> dict[tuple[str, str], float]:
+    out: dict[tuple[str, str], float] = {}
+    for body, comps in table.items():
+        if not isinstance(comps, dict):
+            raise blk.cerr("vector", f"body {body!r}: expected a table of DOF = coefficient, e.g. {{ x = 1 }}")
+        for d, raw in comps.items():
+            if d not in DOFS:
+                raise blk.cerr("vector", f"body {body!r}: unknown DOF {d!r}; allowed: {', '.join(DOFS)}")
+            if d == "theta" and translational:
+                out[(body, d)] = blk._scalar("vector", "length", raw)
+            elif d != "theta" and not translational:
+                raise blk.cerr("vector", f"body {body!r}: a torsional element has rotation entries only")
+            else:
+                out[(body, d)] = blk._scalar("vector", "number", raw)
+    return out
+
+
+def _connection(ctx: _Ctx, i: int, data: dict):
+    name = data.get("name") if isinstance(data.get("name"), str) else f"connection{i + 1}"
+    blk = _Block(ctx, "connection", i, data, _CONN_KEYS, name)
+    forms = [f for f in ("body", "vector", "stiffness_matrix") if blk.has(f)]
+    if len(forms) != 1:
+        raise blk.cerr(None, "give one of: body (a bearing with kx, ky, kz, ktheta), vector, or dofs + stiffness_matrix")
+    try:
+        if forms[0] == "body":
+            bad = [k for k in data if k not in _BEARING_KEYS and k not in ("name", "body")]
+            if bad:
+                raise blk.cerr(bad[0], "not allowed in a bearing given by body (use kx, ky, kz, ktheta, cx, ...)")
+            body = blk.get("body")
+            k = {d: blk.get(f"k{d}") for d in DOFS if blk.has(f"k{d}")}
+            c = {d: blk.get(f"c{d}") for d in DOFS if blk.has(f"c{d}")}
+            if not k:
+                raise blk.cerr(None, "a bearing needs at least one stiffness (kx, ky, kz or ktheta)")
+            return Connection.diagonal(name, body, k, c)
+        if forms[0] == "stiffness_matrix":
+            if not blk.has("dofs"):
+                raise blk.cerr("stiffness_matrix", "needs dofs = ['body.dof', ...] (its rows)")
+            dofs = tuple(_dof_ref(blk, "dofs", t) for t in blk.get("dofs"))
+            return Connection(name, dofs, blk.get("stiffness_matrix"), blk.get("damping_matrix"))
+        kind = blk.get("kind", default="translational")
+        if kind not in ("translational", "torsional"):
+            raise blk.cerr("kind", f"must be 'translational' or 'torsional', got {kind!r}")
+        tr = kind == "translational"
+        vec = _vector(blk, blk.get("vector"), tr)
+        if not blk.has("stiffness"):
+            raise blk.cerr(None, "missing key 'stiffness'")
+        k = blk.get("stiffness", "stiffness" if tr else "tstiffness")
+        c = blk.get("damping", "damping" if tr else "tdamping", default=0.0, assumed="no damping given: 0")
+        if blk.has("clearance"):
+            gap = blk.get("clearance", "length" if tr else "angle")
+            return Clearance(name, tuple(vec.items()), k, gap, c)
+        return Connection.along(name, vec, k, c)
+    except ModelError as e:
+        raise blk.wrap(e) from None
+
+
+def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | None) -> Mesh:
+    name = data.get("name") if isinstance(data.get("name"), str) else f"mesh{i + 1}"
+    typ = data.get("type", "vector")
+    extra = {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {})
+    blk = _Block(ctx, "mesh", i, data, _MESH_COMMON | extra, name)
+    if typ not in ("vector", "spur", "bevel"):
+        raise blk.cerr("type", f"must be 'vector', 'spur' or 'bevel', got {typ!r}")
+    if not blk.has("stiffness"):
+        raise blk.cerr(None, "missing key 'stiffness' (the mean mesh stiffness, e.g. \"2000 N/um\")")
+    try:
+        backlash = blk.get("backlash", default=0.0, assumed="no backlash given: 0 (a linear mesh)")
+        teeth = blk.get("teeth")
+        if typ == "vector":
+            if not blk.has("vector"):
+                raise blk.cerr(None, "a mesh of type 'vector' needs vector = { body = { dof = ... } }")
+            vector = tuple(_vector(blk, blk.get("vector"), True).items())
+        else:
+            if blk.has("vector"):
+                raise blk.cerr("vector", f"not allowed with type = {typ!r} (the vector comes from the geometry)")
+            p, g = blk.get("pinion"), blk.get("gear")
+            if p is None or g is None:
+                raise blk.cerr(None, "needs the bodies: pinion = \"...\" and gear = \"...\"")
+            for key, b in (("pinion", p), ("gear", g)):
+                if b not in bodies:
+                    raise blk.merr(key, f"unknown body {b!r}; bodies: {', '.join(bodies)}")
+            d1, d2 = bodies[p].dofs, bodies[g].dofs
+            if typ == "spur":
+                for key in ("pressure_angle", "base_radius1", "base_radius2"):
+                    if not blk.has(key):
+                        raise blk.cerr(None, f"missing key {key!r}")
+                helix = blk.get("helix_angle", default=0.0)
+                vector = cylindrical_mesh_vector(
+                    p, g, d1, d2,
+                    pressure_angle=blk.get("pressure_angle"),
+                    base_radius1=blk.get("base_radius1"),
+                    base_radius2=blk.get("base_radius2"),
+                    helix_angle=helix,
+                    center_angle=blk.get("center_angle", default=0.0,
+                                         assumed="not given: the line of centres from pinion to gear along +x"),
+                    pinion_rotation=blk.get("pinion_rotation", default="counterclockwise",
+                                            assumed="not given: the pinion runs counterclockwise seen from +z"),
+                    hand=blk.get("hand", default="right",
+                                 assumed="not given: right-hand pinion helix" if helix > 0 else None),
+                )
+            else:
+                missing = [k for k in ("z1", "z2", "m_mn", "beta_m", "alpha_n") if not blk.has(k)]
+                if missing:
+                    raise blk.cerr(None, f"missing key(s) {', '.join(missing)}")
+                I1 = bodies[p].inertia or 1.0
+                I2 = bodies[g].inertia or 1.0
+                kw = {k: blk.get(k) for k in ("Sigma", "r1", "r2", "hand", "drive_side") if blk.has(k)}
+                pair = SpiralBevelGearPair(
+                    z1=blk.get("z1"), z2=blk.get("z2"), m_mn=blk.get("m_mn"), beta_m=blk.get("beta_m"),
+                    alpha_n=blk.get("alpha_n"), j_n=backlash, I1=I1, I2=I2, k0=blk.get("stiffness"), **kw,
+                )
+                for a in pair.assumptions:
+                    if a.name in ("r1", "r2", "hand", "drive_side"):
+                        ctx.assume(Assumption(f"{name}.{a.name}", a.value, a.unit, a.source))
+                vector = bevel_mesh_vector(pair, p, g, d1, d2)
+                teeth = pair.z1 if teeth is None else teeth
+        kappa = blk.get("kappa", default=())
+        k0 = blk.get("stiffness")
+        if blk.has("k"):
+            if blk.has("kappa"):
+                raise blk.cerr("k", "give kappa (relative) or k (N/m), not both")
+            kappa = tuple(x / k0 for x in blk.get("k"))
+        e = blk.get("e", default=())
+        if blk.has("eps"):
+            if blk.has("e"):
+                raise blk.cerr("eps", "give eps (relative to b_c) or e (a length), not both")
+            e = tuple(x * b_c for x in blk.get("eps"))  # b_c is known: see _build
+        damping: dict[str, Any] = {}
+        if any(blk.has(k) for k in ("c0", "c")):
+            damping = {"c0": blk.get("c0", default=0.0), "c": blk.get("c", default=())}
+        else:
+            damping = {
+                "xi0": blk.get("xi0", default=0.1, assumed="not given: geardyn's default mean mesh damping ratio 0.1"),
+                "xi": blk.get("xi", default=()),
+            }
+        return Mesh(
+            name=name, vector=vector, stiffness=k0, backlash=backlash, kappa=kappa,
+            phi_k=blk.get("phi_k", default=()), phi_c=blk.get("phi_c", default=()), e=e,
+            phi_e=blk.get("phi_e", default=()), ratio=blk.get("ratio", default=1.0), teeth=teeth, **damping,
+        )
+    except ModelError as err:
+        raise blk.wrap(err) from None
+
+
+def _loads(ctx: _Ctx, i: int, data: dict, meshes: dict[str, Mesh], k_ref: float, b_c: float) -> list[Load]:
+    where = data.get("body") or data.get("mesh")
+    blk = _Block(ctx, "load", i, data, _LOAD_KEYS, where if isinstance(where, str) else None)
+    if blk.has("mesh"):
+        if not blk.has("fp") or any(blk.has(k) for k in ("body", "dof", "force", "torque")):
+            raise blk.cerr(None, "a load on a mesh is given as mesh = \"...\" and fp = <number> only")
+        mname = blk.get("mesh")
+        if mname not in meshes:
+            raise blk.merr("mesh", f"unknown mesh {mname!r}; meshes: {', '.join(meshes)}")
+        Fp = blk.get("fp") * k_ref * b_c
+        # the balanced torques: T_l = ±F_p R_l on the rotations of the mesh's bodies
+        return [Load(b, d, Fp * v) for (b, d), v in meshes[mname].vector if d == "theta"]
+    if not blk.has("body") or blk.has("fp"):
+        raise blk.cerr(None, "a load needs body = \"...\" and torque = \"... N*m\" (or dof and force)")
+    if blk.has("torque") == blk.has("force"):
+        raise blk.cerr(None, "give torque (on theta) or force (with dof = \"x\", \"y\" or \"z\")")
+    if blk.has("torque"):
+        if blk.get("dof", default="theta") != "theta":
+            raise blk.cerr("dof", "a torque acts on theta")
+        return [Load(blk.get("body"), "theta", blk.get("torque"))]
+    dof = blk.get("dof")
+    if dof not in ("x", "y", "z"):
+        raise blk.cerr("dof", f"a force acts on x, y or z, got {dof!r}")
+    return [Load(blk.get("body"), dof, blk.get("force"))]
+
+
+# ---------------------------------------------------------------------------- the file
+def _read(path: str | Path) -> tuple[str, str]:
+    p = Path(path)
+    source = str(path)
+    if not p.is_file():
+        raise ConfigError(f"{source}: system file not found" + (" (it is a directory)" if p.is_dir() else ""))
+    try:
+        return source, p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise ConfigError(f"{source}: cannot read system file ({e})") from None
+
+
+def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
+    """Place a system-level ModelError ("kind 'name': ...") on its element's block."""
+    msg = str(err)
+    m = re.match(r"^(body|connection|clearance|mesh|element) '([^']*)': (.*)$", msg)
+    if m:
+        kind, name, rest = m.groups()
+        sections = {"clearance": "connection", "element": None}.get(kind, kind)
+        for sec in ([sections] if sections else ["connection", "mesh"]):
+            for i, tbl in enumerate(data.get(sec, []) or []):
+                if isinstance(tbl, dict) and tbl.get("name", f"{sec}{i + 1}") == name:
+                    key, problem = _strip(rest, None)
+                    key = key if key in tbl else None
+                    um = re.search(r"unknown body '([^']*)'", rest)
+                    if um and key is None:
+                        ln = ctx.line_containing(sec, i, um.group(1))
+                        if ln:
+                            return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
+                    if key is None and "name" in tbl:  # point at the element's name
+                        ln = ctx.line(sec, i, "name")
+                        return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
+                    return ctx.model(sec, i, key, name, problem if key else rest)
+    m = re.match(r"^(reference|characteristic_length): (.*)$", msg)
+    if m:
+        return ctx.model("system", None, m.group(1), None, m.group(2))
+    return ModelError(f"{ctx.source}: {msg}")
+
+
+def _build(ctx: _Ctx, data: dict) -> SystemDescription:
+    for key, val in data.items():
+        if key in _TOP_TEXT:
+            if not isinstance(val, str):
+                raise ctx.config(None, None, None, None, f"{key}: expected a string")
+        elif key in _ARRAYS:
+            if not isinstance(val, list):
+                raise ConfigError(f"{ctx.source}: line {ctx.line(key, None, None) or '?'}: {key}: write [[{key}]] tables")
+        elif key not in _SECTIONS:
+            allowed = ", ".join([f"[{s}]" for s in _SECTIONS] + [f"[[{s}]]" for s in _ARRAYS] + list(_TOP_TEXT))
+            raise ConfigError(f"{ctx.source}: line {_top_line(ctx, key) or '?'}: unknown section or key {key!r}; allowed: {allowed}")
+    sysb = _Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
+    opb = _Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
+    bodies = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []))]
+    if not bodies:
+        raise ConfigError(f"{ctx.source}: no [[body]]: a system needs bodies")
+    bmap = {b.name: b for b in bodies}
+    conns, clears = [], []
+    for i, t in enumerate(data.get("connection", [])):
+        c = _connection(ctx, i, t)
+        (clears if isinstance(c, Clearance) else conns).append(c)
+    mesh_data = data.get("mesh", [])
+    if not mesh_data:
+        raise ConfigError(f"{ctx.source}: no [[mesh]]: a system needs at least one gear mesh")
+    ref = sysb.get("reference")
+    b_c = sysb.get("characteristic_length")
+    if b_c is None:  # half the reference mesh's backlash, read first so that eps can be converted
+        names = [t.get("name", f"mesh{i + 1}") if isinstance(t, dict) else None for i, t in enumerate(mesh_data)]
+        if ref is not None and ref not in names:
+            raise ctx.model("system", None, "reference", None, f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}")
+        j = names.index(ref) if ref is not None else 0
+        typ = mesh_data[j].get("type") if isinstance(mesh_data[j], dict) else None
+        rb = _Block(ctx, "mesh", j, mesh_data[j], _MESH_COMMON | {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {}),
+                    names[j])
+        jn = rb._parse("backlash", "length", rb.data["backlash"]["value"] if isinstance(rb.data.get("backlash"), dict)
+                       else rb.data["backlash"]) if rb.has("backlash") else 0.0
+        if not jn > 0:
+            raise rb.merr("backlash", "is 0: give [system] characteristic_length (e.g. \"1 um\") to scale lengths")
+        b_c = jn / 2.0
+    meshes = [_mesh(ctx, i, t, bmap, b_c) for i, t in enumerate(mesh_data)]
+    mmap = {m.name: m for m in meshes}
+    k_ref = mmap[ref].stiffness if ref in mmap else meshes[0].stiffness
+    loads = [ld for i, t in enumerate(data.get("load", [])) for ld in _loads(ctx, i, t, mmap, k_ref, b_c)]
+    rpm = opb.get("rpm")
+    omega = opb.get("omega")
+    if rpm is None and omega is None:
+        ctx.assume(Assumption("operating.omega", 1.0, "", "no operating point given: ω = 1"))
+    for key, v in (("rpm", rpm), ("omega", omega)):
+        if v is not None and not v > 0:
+            raise opb.merr(key, f"must be > 0, got {v:g}")
+    try:
+        return SystemDescription(
+            bodies=tuple(bodies), meshes=tuple(meshes), connections=tuple(conns), clearances=tuple(clears),
+            loads=tuple(loads), reference=ref, characteristic_length=sysb.get("characteristic_length"), rpm=rpm,
+            omega=omega, equivalent_mass=sysb.get("equivalent_mass", default="rotational"),
+            title=str(data.get("title", "")), source=ctx.source, assumptions=tuple(ctx.assumptions),
+        )
+    except ModelError as e:
+        raise _element_line(ctx, data, e) from None
+
+
+def _top_line(ctx: _Ctx, key: str) -> int | None:
+    pat = re.compile(rf"^\s*(\[\[?\s*{re.escape(key)}[\s.\]]|{re.escape(key)}\s*=)")
+    for i, line in enumerate(ctx.lines, start=1):
+        if pat.match(line):
+            return i
+    return None
+
+
+def load_description(path: str | Path) -> SystemDescription:
+    """Read and check a system file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file (format: the module docstring).
+
+    Returns
+    -------
+    SystemDescription
+
+    Raises
+    ------
+    ConfigError
+        Missing or unreadable file, TOML syntax, unknown sections or keys, wrong types or units.
+    ModelError
+        Bad values: non-positive masses, unknown bodies, singular mass matrices, unconnected bodies.
+    """
+    source, text = _read(path)
+    ctx = _Ctx(source, text)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        msg = str(e)
+        m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
+        if m:
+            raise ConfigError(f"{source}: line {m.group(1)}: TOML syntax error: {msg[: m.start()].strip()}") from None
+        raise ConfigError(f"{source}: TOML syntax error: {msg}") from None
+    try:
+        return _build(ctx, data)
+    except GeardynError:
+        raise
+    except (TypeError, KeyError, AttributeError, IndexError) as e:  # malformed structure the checks missed
+        raise ConfigError(f"{source}: malformed system file ({type(e).__name__}: {e})") from None
+
+
+def load_system(path: str | Path, omega: float | None = None) -> SystemModel:
+    """Read a system file and assemble its non-dimensional :class:`SystemModel`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file.
+    omega : float, optional
+        Base frequency ω (default: the file's operating point, else 1).
+
+    Raises
+    ------
+    ConfigError, ModelError
+        As :func:`load_description`.
+    """
+    desc = load_description(path)
+    try:
+        return assemble(desc, omega)
+    except ModelError as e:
+        raise ModelError(f"{desc.source}: {e}") from None
