@@ -324,13 +324,21 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
         @functools.wraps(fn)
         def wrapper(**kw: Any) -> Any:
+            import warnings
+
+            import numpy as np
+
             inp = Inputs({n: kw.pop(n) for n in names})
-            try:
-                return fn(inp, **kw)
-            except GeardynError as e:
-                if is_stop(e):
-                    raise
-                raise fail(str(e)) from None
+            # No floating-point warning reaches the user: an overflowing input is refused by the checks that
+            # follow (a value that is not finite), a diverging point carries its status.
+            with np.errstate(all="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                try:
+                    return fn(inp, **kw)
+                except GeardynError as e:
+                    if is_stop(e):
+                        raise
+                    raise fail(str(e)) from None
 
         every = [_flags_take_no_value(p) for p in own + shared]
         wrapper.__signature__ = inspect.Signature(every)  # type: ignore[attr-defined]
