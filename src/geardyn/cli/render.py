@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 from rich.table import Table
 
 from .app import console
@@ -29,6 +30,7 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
     for k, lab in (("amplitude", "amplitude (half peak-to-peak)"), ("rms", "RMS about mean"), ("mean", "mean"),
                    ("u_min", "u_min"), ("u_max", "u_max")):
         t.add_row(lab, _num(s[k]))
+    t.add_row("largest Lyapunov exponent λ1 (per unit τ)", _num(s.get("lle")))
     cf = s["contact_fractions"]
     t.add_row("time in drive / separation / back contact", " / ".join(_num(cf[k]) for k in ("drive", "separation", "back")))
     pts = s["poincare"]
@@ -80,6 +82,10 @@ def orbit(s: dict[str, Any], paths: list[str]) -> None:
     for k in ("u_min", "u_max", "amplitude"):
         t.add_row(k, "n/a" if s[k] is None else f"{s[k]:.8g}")
     t.add_row("impact state", s["impact"])
+    if "rpm" in s:
+        t.add_row("pinion speed (rpm)", _num(s["rpm"]))
+        for k in ("u_min", "u_max", "amplitude"):
+            t.add_row(f"{k} (µm)", _num(s.get(f"{k}_um")))
     console.print(t)
     files(paths)
 
@@ -123,12 +129,18 @@ def intervals(s: dict[str, Any], paths: list[str]) -> None:
     """Motion intervals of a bifurcation diagram, per sweep."""
     iv = s["intervals"]
     groups = iv if isinstance(iv, dict) else {s["sweep"]: iv}
+    rpm = s.get("values_rpm") if s["param"] == "omega" else None
+
+    def speed(w: float) -> str:  # the pinion speed of an ω of the sweep (rpm is linear in ω)
+        return f"{float(np.interp(w, s['values'], rpm)):.1f}"
+
     for lab, rows in groups.items():
         t = Table(title=f"Motion over {s['param']} ({lab})")
-        for col in ("from", "to", "points", "motion"):
+        for col in ("from", "to") + (("from (rpm)", "to (rpm)") if rpm else ()) + ("points", "motion"):
             t.add_column(col)
         for r in rows:
-            t.add_row(f"{r['from']:.6g}", f"{r['to']:.6g}", str(r["points"]), r["motion"])
+            cells = [f"{r['from']:.6g}", f"{r['to']:.6g}"] + ([speed(r["from"]), speed(r["to"])] if rpm else [])
+            t.add_row(*cells, str(r["points"]), r["motion"])
         console.print(t)
     files(paths)
 
@@ -158,13 +170,16 @@ def parameter_map(s: dict[str, Any], paths: list[str]) -> None:
 
 def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
     """The attractors of a basin computation and their basin shares."""
-    t = Table(title=f"Attractors at ω = {s['omega']:g} ({n_u} × {n_v} initial states)")
-    for col in ("label", "motion", "basin share", "amplitude", "Poincaré points (u, u')"):
+    speed = f", {s['rpm']:.1f} rpm" if "rpm" in s else ""
+    t = Table(title=f"Attractors at ω = {s['omega']:g}{speed} ({n_u} × {n_v} initial states)")
+    for col in ("label", "motion", "basin share", "amplitude") + (("amplitude (µm)",) if speed else ()) + \
+            ("Poincaré points (u, u')",):
         t.add_column(col)
     for a in s["attractors"]:
         pts = a["points"][:4]
         txt = "; ".join(f"({p[0]:.4f}, {p[1]:.4f})" for p in pts) + (" …" if len(a["points"]) > 4 else "")
-        t.add_row(str(a["label"]), a["motion"], f"{100 * a['fraction']:.1f} %", f"{a['amplitude']:.4g}", txt)
+        um = (f"{a['amplitude_um']:.4g}",) if speed and "amplitude_um" in a else (("n/a",) if speed else ())
+        t.add_row(str(a["label"]), a["motion"], f"{100 * a['fraction']:.1f} %", f"{a['amplitude']:.4g}", *um, txt)
     console.print(t)
     if s["diverged_fraction"] > 0:
         console.print(f"diverged: {100 * s['diverged_fraction']:.1f} % of the initial states")

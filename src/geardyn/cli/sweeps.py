@@ -108,8 +108,9 @@ def response(
 
 
 MAP_AXES = [
-    option("x", str, ..., "--x", help="Parameter along the horizontal axis (e.g. omega)."),
-    option("y", str, ..., "--y", help="Parameter along the vertical axis (e.g. xi0 or D)."),
+    option("x", str, ..., "--x", help="Parameter along the horizontal axis (e.g. omega), or rpm / torque for a range "
+                                      "in pinion speed (rpm) / pinion torque (N·m) of the configured pair."),
+    option("y", str, ..., "--y", help="Parameter along the vertical axis (e.g. xi0 or D), or rpm / torque."),
     option("x_start", Optional[float], None, "--x-start", help="First x value (for x = omega also as --rpm-start)."),
     option("x_stop", Optional[float], None, "--x-stop", help="Last x value (for x = omega also as --rpm-stop)."),
     option("y_start", Optional[float], None, "--y-start", help="First y value (for y = omega also as --rpm-start)."),
@@ -139,6 +140,17 @@ def parameter_map(
     scales = inp.scales()
     x, y = inp.x, inp.y
     x_start, x_stop, y_start, y_stop = inp.x_start, inp.x_stop, inp.y_start, inp.y_stop
+    # an axis in physical units: pinion speed (rpm) for ω, pinion torque (N·m, balanced) for f_p
+    physical = {"rpm": ("omega", scales.omega_from_rpm), "torque": ("fp", scales.fp_from_torque)}
+
+    def in_model_units(name: str, a: Optional[float], b: Optional[float]) -> tuple[str, Optional[float], Optional[float]]:
+        if name not in physical or a is None or b is None:
+            return name, a, b
+        param, convert = physical[name]
+        return param, float(convert(validate.number(f"{name} start", a))), float(convert(validate.number(f"{name} stop", b)))
+
+    x, x_start, x_stop = in_model_units(x, x_start, x_stop)
+    y, y_start, y_stop = in_model_units(y, y_start, y_stop)
     if inp.rpm_start is not None or inp.rpm_stop is not None:
         if canonical_param(y) == "omega":
             y_start, y_stop = sweep_range(inp, y_start, y_stop, "omega")
