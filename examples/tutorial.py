@@ -106,7 +106,7 @@ def main(out_dir: Path) -> dict:
     path = geardyn.write_netcdf(sweep, out_dir / "sweep.nc")
     again = geardyn.read_netcdf(path)
     figures = again.geardyn.plot(out_dir)  # the same figures as `geardyn plot sweep.nc`
-    print(f"   wrote {path.name} and {', '.join(f.name for f in figures)}")
+    print(f"   wrote {path.name} and {', '.join(f.name for f in figures)} into {out_dir}")
     results["figures"] = [str(f) for f in figures]
     return results
 
@@ -116,6 +116,8 @@ if __name__ == "__main__":
         target = Path(sys.argv[1])
         target.mkdir(parents=True, exist_ok=True)
         main(target)
-    else:
+    else:  # without a directory the files go to a temporary one, removed at the end (say so)
         with tempfile.TemporaryDirectory() as tmp:
             main(Path(tmp))
+            print(f"(the files were written into a temporary directory, removed now; give a directory to keep them: "
+                  f"python examples/tutorial.py OUT)")

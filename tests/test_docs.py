@@ -80,3 +80,28 @@ def test_docs_link_each_other_and_name_real_commands():
     blocks = "\n".join(re.findall(r"```bash\n(.*?)```", quick, re.S))
     used = set(re.findall(r"^\s*geardyn (\w+)", blocks, re.M))
     assert used and used <= commands, f"quickstart.md uses unknown commands: {used - commands}"
+
+
+def test_quickstart_plots_only_files_an_earlier_command_writes():
+    quick = (DOCS / "quickstart.md").read_text(encoding="utf-8")
+    lines = [ln.split("#")[0].strip() for block in re.findall(r"```bash\n(.*?)```", quick, re.S)
+             for ln in block.splitlines()]
+    written: set[str] = set()
+    for ln in lines:
+        m = re.match(r"geardyn (\w+) .*--out (\S+)", ln)
+        plotted = re.match(r"geardyn plot (\S+)", ln)
+        if plotted:
+            target = Path(plotted.group(1))
+            assert str(target.parent) in written, f"quickstart plots {target}, which no earlier command writes"
+            assert target.stem in {"simulate", "response", "bifurcation", "map", "basins", "orbit", "continuation",
+                                   "lyapunov"}, target
+        if m and m.group(1) != "plot":
+            written.add(m.group(2))
+
+
+def test_docs_agree_on_the_install_commands():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    quick = (DOCS / "quickstart.md").read_text(encoding="utf-8")
+    extras = set(re.findall(r'pip install (?:-e )?"\.\[([^\]]+)\]"', readme + quick))
+    assert extras == {"test,dask"}, extras
+    assert "Python ≥ 3.11" in readme
