@@ -97,8 +97,7 @@ def test_campbell_crossings_by_hand():
 
 def test_planetary_structure_lin_parker():
     """Lin & Parker (1999): N = 3 equally spaced planets give rotational modes and degenerate
-    translational pairs, no planet modes.  (Their published frequencies could not be consulted:
-    the values are not compared.)"""
+    translational pairs, no planet modes (the published frequencies: the tests below)."""
     d = load_description(EXAMPLES / "planetary_lin_parker_1999.toml")
     r = modal_analysis(d)
     assert d.n == 18
@@ -121,6 +120,173 @@ def test_planetary_structure_lin_parker():
         phi = r.shapes[:, i]
         for b in central:
             assert abs(phi[lab.index(f"{b}.theta")]) < 1e-9 * np.abs(phi).max()
+
+
+# ---------------------------------------------------------------------------------------------
+# Lin & Parker (1999): the published example.
+#
+# J. Lin, R. G. Parker, "Analytical characterization of the unique properties of planetary gear free
+# vibration", J. Vib. Acoust. 121 (1999) 316-321.  Table 1 (parameters, also J. Lin's thesis, Ohio
+# State University 2000, Table C.1): masses sun 0.4, ring 2.35, carrier 5.43, planet 0.66 kg;
+# I/r^2 0.39, 3.00, 6.29, 0.61 kg; base diameters 77.4, 275.0, 176.8 (carrier: planet centres),
+# 100.3 mm; bearings k_s = k_r = k_c = k_p = 1e8 N/m; torsional k_su = k_cu = 0, k_ru = 1e9 N/m;
+# meshes k_sp = k_rp = 5e8 N/m; pressure angle 24.6 deg.  Table 2 (the thesis's Table 3.1): the
+# natural frequencies (Hz) by mode type for N = 3, 4, 5 equally spaced planets.  The values were read
+# from the reproductions of this example in the Drivetrain codes (gfsReboucas/Drivetrain,
+# Lin_Parker_99.test_01; gfsReboucas/Drivetrain-python, tests/test_lin_parker_1999.py).
+
+_LP_MASS = {"sun": 0.4, "ring": 2.35, "carrier": 5.43, "planet": 0.66}
+_LP_I_R2 = {"sun": 0.39, "ring": 3.00, "carrier": 6.29, "planet": 0.61}
+_LP_RADIUS = {"sun": 77.4e-3 / 2, "ring": 275.0e-3 / 2, "carrier": 176.8e-3 / 2, "planet": 100.3e-3 / 2}
+_LP_K_BEARING = 1e8  # k_s = k_r = k_c = k_p
+_LP_K_RU = 1e9  # ring torsional (on u_r = r_r theta_r); k_su = k_cu = 0
+_LP_K_MESH = 5e8  # k_sp = k_rp
+_LP_ALPHA = math.radians(24.6)
+
+#: Lin & Parker (1999), Table 2: natural frequencies (Hz) by mode type.  Rotational modes are simple
+#: (the first is the rigid-body rotation), translational modes are degenerate pairs, and planet modes
+#: (N >= 4) have multiplicity N - 3.
+_LP_TABLE2 = {
+    3: {
+        "rotational": (0.0, 1475.7, 1930.3, 2658.3, 7462.8, 11775.3),
+        "translational": (743.2, 1102.4, 1896.0, 2276.4, 6986.3, 9647.9),
+        "planet": (),
+    },
+    4: {
+        "rotational": (0.0, 1536.6, 1970.6, 2625.7, 7773.6, 13071.1),
+        "translational": (727.0, 1091.0, 1892.8, 2342.5, 7189.9, 10437.6),
+        "planet": (1808.2, 5963.8, 6981.7),
+    },
+    5: {
+        "rotational": (0.0, 1567.4, 2006.1, 2614.8, 8065.4, 14253.1),
+        "translational": (710.0, 1072.0, 1888.1, 2425.3, 7382.4, 11172.3),
+        "planet": (1808.2, 5963.8, 6981.7),
+    },
+}
+_CENTRAL = ("carrier", "ring", "sun")
+
+
+def _lin_parker_system(n_planets: int) -> SystemDescription:
+    """Lin & Parker's Table 1 system with ``n_planets`` equally spaced planets, built from the table.
+
+    Rotations θ with I = (I/r²) r² and the radii in the vectors (Lin & Parker's u = r θ); planet
+    translations in the global frame.  Mesh deflections along the lines of action
+    n_s = (−sin(ψ_n − α), cos(ψ_n − α)) and n_r = (−sin(ψ_n + α), cos(ψ_n + α)).
+    """
+    r = _LP_RADIUS
+    planets = [f"planet{i + 1}" for i in range(n_planets)]
+    bodies = tuple(
+        Body(b, ("x", "y", "theta"), mass=_LP_MASS[kind], inertia=_LP_I_R2[kind] * r[kind] ** 2)
+        for b, kind in [(c, c) for c in _CENTRAL] + [(p, "planet") for p in planets]
+    )
+    conns = [Connection.diagonal(f"{b}_bearing", b, {"x": _LP_K_BEARING, "y": _LP_K_BEARING}) for b in _CENTRAL]
+    conns.append(Connection.along("ring_torsion", {("ring", "theta"): r["ring"]}, _LP_K_RU))
+    meshes = []
+    for i, p in enumerate(planets):
+        psi = 2 * math.pi * i / n_planets
+        er = (math.cos(psi), math.sin(psi))
+        et = (-math.sin(psi), math.cos(psi))
+        conns.append(Connection.along(f"{p}_radial", {
+            ("carrier", "x"): er[0], ("carrier", "y"): er[1], (p, "x"): -er[0], (p, "y"): -er[1]}, _LP_K_BEARING))
+        conns.append(Connection.along(f"{p}_tangential", {
+            ("carrier", "x"): et[0], ("carrier", "y"): et[1], ("carrier", "theta"): r["carrier"],
+            (p, "x"): -et[0], (p, "y"): -et[1]}, _LP_K_BEARING))
+        for gear, ang, rp in (("sun", psi - _LP_ALPHA, r["planet"]), ("ring", psi + _LP_ALPHA, -r["planet"])):
+            n = (-math.sin(ang), math.cos(ang))
+            vec = (((gear, "x"), n[0]), ((gear, "y"), n[1]), ((gear, "theta"), r[gear]),
+                   ((p, "x"), -n[0]), ((p, "y"), -n[1]), ((p, "theta"), rp))
+            meshes.append(Mesh(f"{gear}_{p}", vec, _LP_K_MESH, xi0=0.0))
+    return SystemDescription(bodies=bodies, meshes=tuple(meshes), connections=tuple(conns),
+                             characteristic_length=1e-6)
+
+
+def _lin_parker_mode_types(d: SystemDescription, r) -> list[str]:
+    """Lin & Parker's mode types: planet (central members at rest), rotational (central members
+    rotate only), translational (central members translate only)."""
+    lab = list(r.labels)
+    rot = [lab.index(f"{b}.theta") for b in _CENTRAL]
+    tra = [lab.index(f"{b}.{x}") for b in _CENTRAL for x in ("x", "y")]
+    out = []
+    for i in range(d.n):
+        phi = r.shapes[:, i] / np.abs(r.shapes[:, i]).max()
+        still_rot, still_tra = np.abs(phi[rot]).max() < 1e-8, np.abs(phi[tra]).max() < 1e-8
+        out.append("planet" if still_rot and still_tra else "rotational" if still_tra
+                   else "translational" if still_rot else "mixed")
+    return out
+
+
+def _lin_parker(n_planets: int) -> SystemDescription:
+    if n_planets == 3:
+        return load_description(EXAMPLES / "planetary_lin_parker_1999.toml")
+    return _lin_parker_system(n_planets)
+
+
+def test_lin_parker_example_file_is_table_1():
+    """The example file is Lin & Parker's Table 1 system: the same matrices as built from the table."""
+    d = load_description(EXAMPLES / "planetary_lin_parker_1999.toml")
+    ref = _lin_parker_system(3)
+    assert d.labels == ref.labels
+    np.testing.assert_allclose(d.mass_matrix(), ref.mass_matrix(), rtol=1e-12, atol=0)
+    kb, kb_ref = d.bearing_matrices()[0], ref.bearing_matrices()[0]
+    np.testing.assert_allclose(kb, kb_ref, rtol=0, atol=1e-12 * np.abs(kb_ref).max())
+    assert sorted(m.name for m in d.meshes) == sorted(m.name for m in ref.meshes)
+    for m in ref.meshes:
+        mine = next(x for x in d.meshes if x.name == m.name)
+        assert mine.stiffness == m.stiffness == 5e8
+        np.testing.assert_allclose(d.vector(mine), ref.vector(m), rtol=0, atol=1e-14)
+    # nothing of the model is assumed; only the length scale (no backlash) and the operating point
+    assert {a.name for a in d.assumptions} <= {"system.characteristic_length", "operating.omega"}
+
+
+@pytest.mark.parametrize("n_planets", [3, 4, 5])
+def test_lin_parker_published_natural_frequencies(n_planets):
+    """Lin & Parker (1999), Table 2: every natural frequency within 0.1 %, by mode type, with the
+    multiplicities they prove: simple rotational modes, translational pairs, planet modes of
+    multiplicity N - 3."""
+    d = _lin_parker(n_planets)
+    r = modal_analysis(d)
+    n = 3 * n_planets + 9
+    assert d.n == n
+    np.testing.assert_allclose(r.shapes.T @ d.mass_matrix() @ r.shapes, np.eye(n), atol=1e-10)
+    table = _LP_TABLE2[n_planets]
+    types = _lin_parker_mode_types(d, r)
+    assert "mixed" not in types
+    f = r.frequencies_hz
+    got = {t: np.array([f[i] for i in range(n) if types[i] == t]) for t in ("rotational", "translational", "planet")}
+    expected = {
+        "rotational": np.array(table["rotational"]),
+        "translational": np.repeat(table["translational"], 2),
+        "planet": np.repeat(table["planet"], n_planets - 3),
+    }
+    for t in expected:
+        assert got[t].shape == expected[t].shape, t
+        np.testing.assert_allclose(got[t], expected[t], rtol=1e-3, atol=0, err_msg=t)
+    # the whole spectrum, sorted, against the published table
+    allf = np.sort(np.concatenate(list(expected.values())))
+    np.testing.assert_allclose(f, allf, rtol=1e-3, atol=0)
+    # multiplicities: one rigid-body rotation, simple rotational modes, degenerate pairs, N - 3 planet modes
+    assert r.rigid.sum() == 1 and types[int(np.flatnonzero(r.rigid)[0])] == "rotational"
+    groups = {tuple(g) for g in r.degenerate_groups()}
+    multiplicity = {i: len(g) for g in groups for i in g}
+    for i, t in enumerate(types):
+        want = {"rotational": 1, "translational": 2, "planet": n_planets - 3}[t]
+        assert multiplicity.get(i, 1) == want, (i, t, f[i])
+
+
+def test_lin_parker_planet_modes_do_not_depend_on_the_number_of_planets():
+    """Lin & Parker (1999): planet-mode frequencies depend on the planet parameters only (N >= 4)."""
+    fp = []
+    for n_planets in (4, 5, 6):
+        d = _lin_parker_system(n_planets)
+        r = modal_analysis(d)
+        types = _lin_parker_mode_types(d, r)
+        f = np.array([r.frequencies_hz[i] for i in range(d.n) if types[i] == "planet"])
+        assert len(f) == 3 * (n_planets - 3)
+        groups = np.sort(f).reshape(3, n_planets - 3)  # three frequencies, each N - 3 times
+        np.testing.assert_allclose(groups, groups[:, :1].repeat(n_planets - 3, axis=1), rtol=1e-9)
+        fp.append(groups[:, 0])
+    for other in fp[1:]:
+        np.testing.assert_allclose(other, fp[0], rtol=1e-10)
 
 
 def test_bevel_8dof_tends_to_the_torsional_mode_as_bearings_stiffen():
