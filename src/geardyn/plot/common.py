@@ -203,7 +203,7 @@ def parameter_text(ds: xr.Dataset, exclude: Iterable[str] = ()) -> str:
 def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), **kwargs: Any) -> Any:
     """Title ``text`` with the result's parameters (:func:`parameter_text`) on a second line."""
     params = parameter_text(ds, exclude)
-    return ax.set_title(f"{text}\n{params}" if params else text, **{"fontsize": 10, **kwargs})
+    return ax.set_title(f"{text}\n{params}" if params else text, **kwargs)
 
 
 # ------------------------------------------------------------------------------------ drawing

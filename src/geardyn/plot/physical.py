@@ -157,4 +157,4 @@ def response_rpm(ds: xr.Dataset, ax: Axes = None) -> None:
     k0 = sc.get("k0_N_per_m")
     k0_text = f" (k0 = {k0 * 1e-6:.4g} N/µm{', assumed' if 'k0' in sc.get('assumed', []) else ''})" if k0 else ""
     set_title(ax, "Frequency response against pinion speed" + k0_text + ("; grey: hysteresis" if hy else ""), ds,
-              exclude=["omega"])
+              exclude=["omega"], fontsize=10)
