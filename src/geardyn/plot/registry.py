@@ -38,7 +38,7 @@ class FigureSpec:
     Attributes
     ----------
     stem : str
-        File name without suffix (``"time_history"`` → ``time_history.png``).
+        File name without suffix: ``"time_history"`` gives ``time_history.png``.
     draw : callable
         ``draw(ds, ax=None, **kwargs) -> PlotArtists``.
     when : callable

@@ -47,7 +47,7 @@ def draw_response(ax: Axes, x: np.ndarray, da: xr.DataArray, hysteresis: Sequenc
                           arrowprops=dict(arrowstyle="->", color=SWEEP_STYLE.get(s, ("o", "k"))[1], lw=1.5))
               for xj, a0, a1, s, _ in jumps]
     place_labels(ax, [(xj, 0.5 * (a0 + a1), text, SWEEP_STYLE.get(s, ("o", "k"))[1]) for xj, a0, a1, s, text in jumps],
-                 avoid=[a.arrow_patch for a in arrows])
+                 avoid=arrows)
     ax.legend(fontsize=8, loc="best")
 
 
