@@ -3,8 +3,6 @@ attractors' Poincaré points on top.  Drawn from the Dataset only."""
 
 from __future__ import annotations
 
-import json
-from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -12,7 +10,9 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from ..analysis.classify import motion_label
-from .common import PlotArtists, label, one_axes, result, snapshot
+from matplotlib.axes import Axes
+
+from .common import label, plot_function, set_title
 
 __all__ = ["BASIN_COLORS", "POINT_COLORS", "basin_figure"]
 
@@ -22,23 +22,9 @@ BASIN_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b", "#bcbddc", "#fc9272", "#fdd0a2"
 POINT_COLORS = ["#08519c", "#a63603", "#006d2c", "#54278f", "#a50f15", "#7f2704", "#00441b", "#3f007d"]
 
 
-def basin_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Basins over (u0, v0) with the attractors' Poincaré points and a legend of motion and basin share.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``basins`` result.
-    ax : matplotlib.axes.Axes, optional
-        Where to draw; a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, ax, _ = one_axes(ax, (7, 6))
-    before = snapshot([ax])
+@plot_function("basins", (7, 6))
+def basin_figure(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Basins over (u0, v0) with the attractors' Poincaré points and a legend of motion and basin share."""
     lab = ds["attractor"].values
     A = ds.sizes["attractor_index"]
     colors = ["#000000"] + [BASIN_COLORS[k % len(BASIN_COLORS)] for k in range(A)]
@@ -61,6 +47,4 @@ def basin_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=8, frameon=False)
     ax.set_xlabel(label(ds["u0"], "u0"))
     ax.set_ylabel(label(ds["v0"], "v0"))
-    omega = json.loads(ds.attrs["model"])["omega"]
-    ax.set_title(f"Basins of attraction at ω = {omega:g} (dots: attractors' Poincaré points)")
-    return result(fig, [ax], before)
+    set_title(ax, "Basins of attraction (dots: attractors' Poincaré points)", ds)

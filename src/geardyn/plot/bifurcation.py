@@ -3,7 +3,6 @@ beneath, and bands of the motion class and impact state.  Drawn from the Dataset
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
@@ -12,7 +11,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from ..analysis.classify import IMPACT_LABELS, MOTION_LABELS
-from .common import PlotArtists, label, panels, result, snapshot
+from .common import contact_lines, label, plot_function, set_title, symbol
 
 __all__ = ["IMPACT_COLORS", "MOTION_COLORS", "POINT_SIZE", "SWEEP_COLORS", "category_band", "diagram",
            "diagram_panels"]
@@ -78,31 +77,27 @@ def diagram_panels(ds: xr.Dataset) -> int:
     return 1 + int(_has_lle(ds)) + 2 * ds.sizes["sweep"]
 
 
-def diagram(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """The bifurcation figure of a ``bifurcation`` (or ``response``) Dataset.
+def _diagram_size(ds: xr.Dataset) -> tuple[float, float]:
+    return 9, 5.5 + (1.6 if _has_lle(ds) else 0) + 0.5 * ds.sizes["sweep"]
 
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``bifurcation`` or ``response`` result.
-    ax : matplotlib.axes.Axes or sequence of Axes, optional
-        One Axes: the Poincaré points only; :func:`diagram_panels` Axes: every panel (points, λ1
-        when computed, motion and impact bands of each sweep); omitted: a new figure.
 
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
+def _diagram_layout(ds: xr.Dataset) -> dict:
+    ratios = [5] + ([2] if _has_lle(ds) else []) + [0.35] * (2 * ds.sizes["sweep"])
+    return {"sharex": True, "gridspec_kw": {"height_ratios": ratios, "hspace": 0.08}}
+
+
+@plot_function("bifurcation`` or ``response", _diagram_size, n=diagram_panels, subplots=_diagram_layout,
+               ax_doc="""
+               ax : matplotlib.axes.Axes or sequence of Axes, optional
+                   One Axes: the Poincaré points only; :func:`diagram_panels` Axes: every panel (points, λ1
+                   when computed, motion and impact bands of each sweep); omitted: a new figure.""")
+def diagram(ds: xr.Dataset, ax: Any = None) -> None:
+    """The bifurcation figure of a ``bifurcation`` (or ``response``) Dataset, with the contact boundaries
+    u = ±D (following D when D is the swept parameter)."""
     name = _param(ds)
     x = ds[name].values
     sweeps = [str(s) for s in ds["sweep"].values]
-    has_lle = _has_lle(ds)
-    nb = 2 * len(sweeps)
-    ratios = [5] + ([2] if has_lle else []) + [0.35] * nb
-    fig, axes, _ = panels(ax, len(ratios), (9, 5.5 + (1.6 if has_lle else 0) + 0.25 * nb), sharex=True,
-                          gridspec_kw={"height_ratios": ratios, "hspace": 0.08})
-    before = snapshot(axes)
+    axes = ax if isinstance(ax, list) else [ax]
     ax = axes[0]
     for s in sweeps:
         pu = ds["poincare_u"].sel(sweep=s).values
@@ -110,16 +105,16 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         ax.plot(xx.ravel(), pu.ravel(), ",", color=SWEEP_COLORS.get(s, "k"), alpha=0.8)
         ax.scatter(xx.ravel(), pu.ravel(), s=POINT_SIZE, color=SWEEP_COLORS.get(s, "k"), lw=0,
                    label=f"sweep {s}" if len(sweeps) > 1 or s != "fixed" else "Poincaré points")
-    D = _backlash(ds)
-    if D is not None and D > 0:
-        ax.axhline(D, color="0.6", lw=0.7, ls="--")
-        ax.axhline(-D, color="0.6", lw=0.7, ls="--")
+    lines = contact_lines(ax, ds, name, x, lw=0.7, ls="--")
+    if lines:
+        lines[0].set_label("contact u = ±D")
     ax.set_ylabel("Poincaré section u (θ ≡ 0)")
     ax.legend(loc="upper left", fontsize=8, markerscale=8)
     mode = ds.attrs.get("mode", "")
-    ax.set_title(f"Bifurcation diagram over {name}" + (f" ({mode} mode)" if mode else ""))
+    set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds,
+              exclude=[name])
     k = 1
-    if has_lle:
+    if _has_lle(ds):
         ax2 = axes[1]
         if ax2 is not None:
             for s in sweeps:
@@ -139,13 +134,4 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
             category_band(axes[k + 1], x, ds["impact"].sel(sweep=s).values, IMPACT_COLORS, IMPACT_LABELS,
                           f"impact ({s})" if len(sweeps) > 1 else "impact")
         k += 2
-    bottom = [a for a in axes if a is not None][-1]
-    bottom.set_xlabel(label(ds[name], name))
-    return result(fig, axes, before)
-
-
-def _backlash(ds: xr.Dataset) -> float | None:
-    try:
-        return float(json.loads(ds.attrs["model"])["D"])
-    except (KeyError, ValueError, TypeError):
-        return None
+    [a for a in axes if a is not None][-1].set_xlabel(label(ds[name], name))

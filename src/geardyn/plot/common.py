@@ -9,11 +9,15 @@ machine without switching the backend (no ``matplotlib.use`` anywhere in geardyn
 
 from __future__ import annotations
 
+import functools
+import inspect
 import io as _io
+import json
 import sys
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 import xarray as xr
@@ -22,12 +26,20 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from ..errors import PlotError
+from ..errors import GeardynError, PlotError
+from ..params import FAMILIES, LISTING_ORDER, canonical_param, slot
 
-__all__ = ["DPI", "PlotArtists", "label", "new_figure", "panels", "save"]
+__all__ = ["DPI", "NAN_COLOR", "PlotArtists", "contact_lines", "label", "log_stems", "model_of", "new_figure",
+           "panels", "parameter_text", "place_labels", "plot_function", "save", "set_title", "symbol"]
 
 #: Resolution of saved PNG figures.
 DPI = 120
+#: Colour (with a hatch) of the cells of a map without a value (NaN), distinct from every colour scale.
+NAN_COLOR = "#8c8c8c"
+#: Hatch of those cells.
+NAN_HATCH = "///"
+#: Offsets (points) tried in turn for a label beside its anchor, the first free of other labels is taken.
+LABEL_OFFSETS = tuple((dx, dy) for dy in (0, 11, -11, 22, -22, 33, -33, 44, -44) for dx in (5, -5))
 
 
 @dataclass
@@ -141,3 +153,192 @@ def save(fig: Any, path: str | Path, *, close: bool = True, dpi: int = DPI) -> P
     if close and getattr(figure.canvas, "manager", None) is not None and "matplotlib.pyplot" in sys.modules:
         sys.modules["matplotlib.pyplot"].close(figure)
     return path
+
+
+# ------------------------------------------------------------------------------------ parameters
+def model_of(ds: xr.Dataset) -> dict:
+    """The model parameters stored with a result (its ``model`` attribute), empty if it has none."""
+    try:
+        return dict(json.loads(ds.attrs["model"]))
+    except (KeyError, ValueError, TypeError):
+        return {}
+
+
+def symbol(name: str) -> str:
+    """The symbol of a parameter for labels (``"xi0"`` → ``"ξ0"``, ``"kappa2"`` → ``"κ2"``); other names unchanged."""
+    try:
+        fam, idx = slot(name)
+    except GeardynError:
+        return str(name)
+    sym = FAMILIES[fam].symbol
+    return sym.replace("_{k}", "{k}").replace("{k}", str(idx + 1)) if idx is not None else sym
+
+
+def _canonical(name: str) -> str:
+    try:
+        return canonical_param(name)
+    except GeardynError:
+        return str(name)
+
+
+def parameter_text(ds: xr.Dataset, exclude: Iterable[str] = ()) -> str:
+    """The model parameters of a result as ``"ω = 1.2, ξ0 = 0.1, ξ1 = 0.05, κ1 = 0.2, …"`` (phases only when
+    nonzero), leaving out the parameters in ``exclude`` (swept or drawn on an axis); ``""`` without a model."""
+    m = model_of(ds)
+    skip = {_canonical(n) for n in exclude}
+    parts = []
+    for fam in LISTING_ORDER:
+        value = m.get(fam)
+        if value is None:
+            continue
+        f = FAMILIES[fam]
+        if f.series:
+            items = [(f"{fam}{k + 1}", v) for k, v in enumerate(value) if f.amplitude is None or v != 0]
+        else:
+            items = [(fam, value)]
+        parts += [f"{symbol(n)} = {float(v):.4g}" for n, v in items if n not in skip]
+    return ", ".join(parts)
+
+
+def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), **kwargs: Any) -> Any:
+    """Title ``text`` with the result's parameters (:func:`parameter_text`) on a second line."""
+    params = parameter_text(ds, exclude)
+    return ax.set_title(f"{text}\n{params}" if params else text, **kwargs)
+
+
+# ------------------------------------------------------------------------------------ drawing
+def contact_lines(ax: Axes, ds: xr.Dataset, param: str | None = None, x: np.ndarray | None = None,
+                  **style: Any) -> list[Artist]:
+    """The contact boundaries u = ±D of a figure over ``x``: horizontal lines at the model's D, or, when the
+    swept parameter ``param`` is D itself, the lines u = ±D following the plotted D (nothing where D = 0).
+
+    Returns
+    -------
+    list of Artist
+        The lines drawn (``gid`` ``"contact"``).
+    """
+    style = {"color": "0.6", "lw": 0.8, **style}
+    if param is not None and x is not None and _canonical(param) == "D":
+        d = np.sort(np.asarray(x, dtype=float))
+        return [ax.plot(d, s * d, gid="contact", **style)[0] for s in (1, -1)]
+    D = model_of(ds).get("D")
+    if D is None or not float(D) > 0:
+        return []
+    return [ax.axhline(s * float(D), gid="contact", **style) for s in (1, -1)]
+
+
+def log_stems(ax: Axes, x: np.ndarray, amp: np.ndarray) -> None:
+    """An amplitude spectrum as stems on a log scale, six decades below its peak (the mean term left out)."""
+    ax.vlines(x[1:], 1e-12, np.maximum(amp[1:], 1e-12), color="C0", lw=1.0)
+    ax.set_yscale("log")
+    top = max(float(np.max(amp[1:])) if amp.size > 1 else 1.0, 1e-12)
+    ax.set_ylim(max(top * 1e-6, 1e-12), top * 2)
+
+
+def _renderer(fig: Figure) -> Any:
+    get = getattr(fig.canvas, "get_renderer", None)
+    return get() if get is not None else fig._get_renderer()
+
+
+def place_labels(ax: Axes, labels: Sequence[tuple[float, float, str, str]], avoid: Sequence[Artist] = (),
+                 **text: Any) -> list[Artist]:
+    """Labels beside anchor points, each at the first of :data:`LABEL_OFFSETS` where its box overlaps
+    neither an earlier label nor an artist of ``avoid`` (arrows, say).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw (its data limits should be final).
+    labels : sequence of (x, y, text, colour)
+        Anchor in data coordinates, text and colour of each label.
+    avoid : sequence of Artist
+        Artists the labels must not cover.
+    **text
+        Further keywords of :meth:`~matplotlib.axes.Axes.annotate` (default font size 7).
+
+    Returns
+    -------
+    list of Artist
+        The labels.
+    """
+    ax.get_xlim(), ax.get_ylim()  # settle the autoscaled limits before measuring
+    renderer = _renderer(ax.figure)
+    taken = [a.get_window_extent(renderer) for a in avoid]
+    out = []
+    for x, y, s, colour in labels:
+        for dx, dy in LABEL_OFFSETS:
+            t = ax.annotate(s, (x, y), xytext=(dx, dy), textcoords="offset points", color=colour,
+                            ha="left" if dx > 0 else "right", va="center", **{"fontsize": 7, **text})
+            box = t.get_window_extent(renderer)
+            if not any(box.overlaps(b) for b in taken) or (dx, dy) == LABEL_OFFSETS[-1]:
+                break
+            t.remove()
+        taken.append(box)
+        out.append(t)
+    return out
+
+
+# ------------------------------------------------------------------------------- plot functions
+_RETURNS = "Returns\n-------\nPlotArtists\n    The figure, its Axes and the artists drawn.\n"
+#: Documentation of ``ax`` for a one-panel figure.
+ONE_AXES = "ax : matplotlib.axes.Axes, optional\n    Where to draw; a new figure if omitted."
+
+
+def _doc(text: str) -> str:
+    return textwrap.dedent(text).strip("\n")
+
+
+def plot_function(kind: str, figsize: Any, *, n: Any = 1, subplots: Any = None, ax_doc: str = ONE_AXES,
+                  params: str = "", tight: bool = False) -> Callable[[Callable[..., Any]], Callable[..., PlotArtists]]:
+    """Make ``fn(ds, ..., ax)`` drawing into given Axes a plot function ``fn(ds, ..., ax=None) -> PlotArtists``.
+
+    The wrapper finds or creates the Axes (:func:`panels`), records what ``fn`` adds and completes the
+    docstring of ``fn`` (its summary) with the sections every plot function shares.
+
+    Parameters
+    ----------
+    kind : str
+        The kind of result drawn (for the docstring).
+    figsize : (float, float) or callable
+        Size of a new figure, or ``figsize(ds)``.
+    n : int or callable
+        Number of panels, or ``n(ds)``; ``fn`` receives one Axes when 1, else the list of panels
+        (``None`` where not drawn).
+    subplots : dict or callable, optional
+        Keywords of :meth:`~matplotlib.figure.Figure.subplots` for a new figure, or ``subplots(ds)``.
+    ax_doc : str
+        Documentation of ``ax`` (numpydoc, dedented; default :data:`ONE_AXES`).
+    params : str
+        Documentation of the parameters between ``ds`` and ``ax`` (numpydoc, dedented).
+    tight : bool
+        Apply :meth:`~matplotlib.figure.Figure.tight_layout` to a new figure.
+
+    Returns
+    -------
+    callable
+        The decorator.
+    """
+    def wrap(fn: Callable[..., Any]) -> Callable[..., PlotArtists]:
+        sig = inspect.signature(fn)
+
+        @functools.wraps(fn)
+        def plot(ds: xr.Dataset, *args: Any, **kwargs: Any) -> PlotArtists:
+            bound = sig.bind(ds, *args, **kwargs)
+            bound.apply_defaults()
+            count = n(ds) if callable(n) else n
+            size = figsize(ds) if callable(figsize) else figsize
+            fig, axes, new = panels(bound.arguments["ax"], count, size,
+                                    **((subplots(ds) if callable(subplots) else subplots) or {}))
+            before = snapshot(axes)
+            bound.arguments["ax"] = axes[0] if count == 1 else axes
+            fn(*bound.args, **bound.kwargs)
+            if new and tight:
+                fig.tight_layout()
+            return result(fig, axes, before)
+
+        sections = ["Parameters", "----------", "ds : xarray.Dataset", f"    A ``{kind}`` result."]
+        sections += [_doc(t) for t in (params, ax_doc) if t]
+        plot.__doc__ = inspect.cleandoc(fn.__doc__ or "") + "\n\n" + "\n".join(sections) + "\n\n" + _RETURNS
+        return plot
+
+    return wrap

@@ -3,34 +3,22 @@ the final values and their uncertainty.  Drawn from the Dataset only."""
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from .common import PlotArtists, panels, result, snapshot
+from .common import model_of, plot_function, set_title
 
 __all__ = ["convergence"]
 
 
-def convergence(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Running λ1, λ2 estimates with the final values ±3σ; the dashed line is −2ξ0 − λ1 for comparison with λ2.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``lyapunov`` result.
-    ax : matplotlib.axes.Axes or sequence of two Axes, optional
-        One Axes: λ1 only; two: λ1 and λ2; omitted: a new figure.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, axes, _ = panels(ax, 2, (8, 5.5), sharex=True)
-    before = snapshot(axes)
+@plot_function("lyapunov", (8, 5.5), n=2, subplots={"sharex": True}, ax_doc="""
+               ax : matplotlib.axes.Axes or sequence of two Axes, optional
+                   One Axes: λ1 only; two: λ1 and λ2; omitted: a new figure.""")
+def convergence(ds: xr.Dataset, ax: Any = None) -> None:
+    """Running λ1, λ2 estimates with the final values ±3σ; the dashed line is −2ξ0 − λ1 for comparison with λ2."""
+    axes = ax
     run = ds["running"].values
     k = np.arange(1, run.shape[0] + 1)
     lam = ds["exponents"].values
@@ -45,11 +33,10 @@ def convergence(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
             a.axhspan(lam[i] - 3 * e, lam[i] + 3 * e, color="0.85", lw=0)
         a.set_ylabel(f"λ{i + 1} [1/τ]")
         a.set_xscale("log")
-    m = json.loads(ds.attrs["model"])
+    m = model_of(ds)
     if np.isfinite(lam[0]) and axes[1] is not None:
         axes[1].axhline(-2 * m["xi0"] - lam[0], color="C3", lw=0.7, ls="--", label="−2ξ0 − λ1")
         axes[1].legend(fontsize=8)
     [a for a in axes if a is not None][-1].set_xlabel("recorded forcing periods")
-    axes[0].set_title(f"Lyapunov exponents at ω = {m['omega']:g}: λ1 = {lam[0]:.5g} ± {err[0]:.2g}, "
-                      f"λ2 = {lam[1]:.5g} ± {err[1]:.2g}  (band: ±3σ)")
-    return result(fig, axes, before)
+    set_title(axes[0], f"Lyapunov exponents: λ1 = {lam[0]:.5g} ± {err[0]:.2g}, λ2 = {lam[1]:.5g} ± {err[1]:.2g}"
+              "  (band: ±3σ)", ds)

@@ -21,7 +21,9 @@ from ..analysis.classify import (
     motion_label,
 )
 from .bifurcation import IMPACT_COLORS
-from .common import PlotArtists, label, one_axes, result, snapshot
+from matplotlib.axes import Axes
+
+from .common import NAN_COLOR, NAN_HATCH, label, plot_function, set_title
 
 __all__ = ["MOTION_CATEGORIES", "continuous_map", "impact_map", "motion_map"]
 
@@ -54,90 +56,62 @@ def _axes_names(ds: xr.Dataset) -> tuple[str, str]:
     return str(ds.attrs["x"]), str(ds.attrs["y"])
 
 
-def _categorical(ds, idx, cats, title, ax) -> PlotArtists:
-    fig, ax, _ = one_axes(ax, (8, 5))
-    before = snapshot([ax])
+def _labels(ax: Axes, ds: xr.Dataset, title: str) -> None:
+    xn, yn = _axes_names(ds)
+    ax.set_xlabel(label(ds[xn], xn))
+    ax.set_ylabel(label(ds[yn], yn))
+    set_title(ax, title, ds, exclude=[xn, yn])
+
+
+def _categorical(ds: xr.Dataset, idx: np.ndarray, cats: list, title: str, ax: Axes) -> None:
     xn, yn = _axes_names(ds)
     cmap = ListedColormap([c for _, c in cats])
     ax.pcolormesh(ds[xn].values, ds[yn].values, idx, cmap=cmap, vmin=-0.5, vmax=len(cats) - 0.5, shading="nearest")
     present = sorted(set(np.unique(idx).tolist()))
     ax.legend(handles=[Patch(color=cats[k][1], label=cats[k][0]) for k in present], loc="center left",
               bbox_to_anchor=(1.01, 0.5), fontsize=8, frameon=False)
-    ax.set_xlabel(label(ds[xn], xn))
-    ax.set_ylabel(label(ds[yn], yn))
-    ax.set_title(title)
-    return result(fig, [ax], before)
+    _labels(ax, ds, title)
 
 
-def motion_map(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Motion class over the grid, periodic points split by period (:data:`MOTION_CATEGORIES`).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``map`` result.
-    ax : matplotlib.axes.Axes, optional
-        Where to draw; a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    return _categorical(ds, _motion_index(ds["motion"].values, ds["period"].values), MOTION_CATEGORIES, "Motion", ax)
+@plot_function("map", (8, 5))
+def motion_map(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Motion class over the grid, periodic points split by period (:data:`MOTION_CATEGORIES`)."""
+    _categorical(ds, _motion_index(ds["motion"].values, ds["period"].values), MOTION_CATEGORIES, "Motion", ax)
 
 
-def impact_map(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Impact state over the grid.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``map`` result.
-    ax : matplotlib.axes.Axes, optional
-        Where to draw; a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
+@plot_function("map", (8, 5))
+def impact_map(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Impact state over the grid."""
     keys = sorted(IMPACT_COLORS)
     cats = [(IMPACT_LABELS[k], IMPACT_COLORS[k]) for k in keys]
     idx = np.vectorize(lambda c: keys.index(int(c)) if int(c) in keys else 0)(ds["impact"].values)
-    return _categorical(ds, idx, cats, "Impact state", ax)
+    _categorical(ds, idx, cats, "Impact state", ax)
 
 
-def continuous_map(ds: xr.Dataset, var: str = "amplitude", ax: Any = None) -> PlotArtists:
-    """A continuous variable over the grid (the largest exponent on a scale centred at zero).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``map`` result.
-    var : str
-        The variable drawn (``amplitude``, ``lle``, ``rms``, …).
-    ax : matplotlib.axes.Axes, optional
-        Where to draw; a new figure if omitted (the colour bar is added beside it).
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, ax, _ = one_axes(ax, (7.5, 5))
-    before = snapshot([ax])
+@plot_function("map", (7.5, 5.5), params="""
+               var : str
+                   The variable drawn (``amplitude``, ``lle``, ``rms``, …).""",
+               ax_doc="""
+               ax : matplotlib.axes.Axes, optional
+                   Where to draw; a new figure if omitted (the colour bar is added beside it).""")
+def continuous_map(ds: xr.Dataset, var: str = "amplitude", ax: Axes = None) -> None:
+    """A continuous variable over the grid (the largest exponent on a scale centred at zero); points
+    without a value (NaN) are drawn hatched in :data:`~geardyn.plot.common.NAN_COLOR`, named in a legend."""
     xn, yn = _axes_names(ds)
-    z = ds[var].values
+    x, y, z = ds[xn].values, ds[yn].values, ds[var].values
     if var == "lle":
         finite = z[np.isfinite(z)]
         lim = max(float(np.max(np.abs(finite))) if finite.size else 1.0, 1e-6)
-        im = ax.pcolormesh(ds[xn].values, ds[yn].values, z, cmap="RdBu_r",
-                           norm=TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim), shading="nearest")
+        im = ax.pcolormesh(x, y, z, cmap="RdBu_r", norm=TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim),
+                           shading="nearest")
     else:
-        im = ax.pcolormesh(ds[xn].values, ds[yn].values, z, cmap="viridis", shading="nearest")
-    fig.colorbar(im, ax=ax, label=label(ds[var], var))
-    ax.set_xlabel(label(ds[xn], xn))
-    ax.set_ylabel(label(ds[yn], yn))
-    ax.set_title(ds[var].attrs.get("long_name", var))
-    return result(fig, [ax], before)
+        im = ax.pcolormesh(x, y, z, cmap="viridis", shading="nearest")
+    missing = ~np.isfinite(z)
+    if missing.any():
+        ax.pcolor(x, y, np.ma.masked_array(np.zeros(z.shape), ~missing), cmap=ListedColormap([NAN_COLOR]),
+                  shading="nearest", hatch=NAN_HATCH, edgecolor="0.35", lw=0, gid="nan")
+        what = "no exponent" if var == "lle" else "no value"
+        ax.legend(handles=[Patch(facecolor=NAN_COLOR, edgecolor="0.35", hatch=NAN_HATCH, label=f"{what} (NaN)")],
+                  loc="upper left", bbox_to_anchor=(0.0, -0.13), fontsize=8, frameon=False)
+    ax.figure.colorbar(im, ax=ax, label=label(ds[var], var))
+    _labels(ax, ds, ds[var].attrs.get("long_name", var))

@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import PlotArtists, label, one_axes, panels, result, snapshot
+from .common import contact_lines, label, model_of, plot_function, set_title, symbol
 
 __all__ = ["BIFURCATION_STYLE", "PERIOD_COLOURS", "SWEEP_CONTEXT", "continuation_figure", "orbit_figure",
            "stability_figure"]
@@ -33,37 +33,23 @@ SWEEP_SECTION_SHOWN = 16
 SWEEP_CONTEXT = "sweep"
 
 
-def _model(ds: xr.Dataset) -> dict:
-    return json.loads(ds.attrs["model"])
-
-
 def _colour(n: int) -> str:
     return PERIOD_COLOURS.get(int(n), "C5")
 
 
 # ------------------------------------------------------------------------------------- orbit
-def orbit_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+@plot_function("orbit", (14, 4.2), n=3, tight=True,
+               subplots={"nrows": 1, "ncols": 3, "gridspec_kw": {"width_ratios": [1.2, 1.6, 1.0]}}, ax_doc="""
+               ax : matplotlib.axes.Axes or sequence of three Axes, optional
+                   One Axes: the phase portrait only; three: phase portrait, time history, multipliers;
+                   omitted: a new figure.""")
+def orbit_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Phase portrait with the section points, time history over the orbit, and the Floquet
-    multipliers against the unit circle.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        An ``orbit`` result.
-    ax : matplotlib.axes.Axes or sequence of three Axes, optional
-        One Axes: the phase portrait only; three: phase portrait, time history, multipliers;
-        omitted: a new figure.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    m = _model(ds)
+    multipliers against the unit circle."""
+    m = model_of(ds)
     D = float(m["D"])
     summary = json.loads(ds.attrs.get("summary", "{}"))
-    fig, axes, new = panels(ax, 3, (14, 4.2), nrows=1, ncols=3, gridspec_kw={"width_ratios": [1.2, 1.6, 1.0]})
-    before = snapshot(axes)
+    axes = ax
     ax = axes[0]
     if D > 0:
         ax.axvspan(-D, D, color="0.92", label="separation |u| ≤ D")
@@ -76,11 +62,10 @@ def orbit_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     ax.set_title("Phase portrait")
     if axes[1] is not None:
         _orbit_history(axes[1], ds, m, D, summary)
+    else:
+        set_title(ax, "Phase portrait", ds, fontsize=9)
     if axes[2] is not None:
         _multipliers(axes[2], ds, summary)
-    if new:
-        fig.tight_layout()
-    return result(fig, axes, before)
 
 
 def _orbit_history(ax, ds: xr.Dataset, m: dict, D: float, summary: dict) -> None:
@@ -94,7 +79,7 @@ def _orbit_history(ax, ds: xr.Dataset, m: dict, D: float, summary: dict) -> None
     ax.set_xlabel(label(ds["tau"], "τ"))
     ax.set_ylabel(label(ds["u"], "u"))
     per = summary.get("period")
-    ax.set_title(f"Period-{per if per else '?'} orbit at ω = {float(m['omega']):g}  ({summary.get('impact', '')})")
+    set_title(ax, f"Period-{per if per else '?'} orbit ({summary.get('impact', '')})", ds, fontsize=10)
 
 
 def _multipliers(ax, ds: xr.Dataset, summary: dict) -> None:
@@ -178,32 +163,21 @@ def _draw_bifurcations(ax, ds: xr.Dataset, param: str, what: str) -> None:
         seen.add(typ)
 
 
-def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any = None) -> PlotArtists:
+@plot_function("continuation", (10, 8.5), n=2, subplots={"sharex": True}, tight=True, params="""
+               sweep : xarray.Dataset, optional
+                   The brute-force sweep (dims ``sweep`` and the parameter, variables ``amplitude`` and
+                   ``poincare_u``, as written by ``geardyn bifurcation --mode continue --sweep both``);
+                   default the one attached to ``ds`` under :data:`SWEEP_CONTEXT`, if any.""", ax_doc="""
+               ax : matplotlib.axes.Axes or sequence of two Axes, optional
+                   One Axes: the amplitude panel only; two: amplitude and section points; omitted: a new figure.""")
+def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any = None) -> None:
     """The branches of a continuation (stable solid, unstable dashed, coloured by period) with their
     bifurcations, over the brute-force up/down sweep of the same parameter.  Top: amplitude;
-    bottom: section points u.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``continuation`` result.
-    sweep : xarray.Dataset, optional
-        The brute-force sweep (dims ``sweep`` and the parameter, variables ``amplitude`` and
-        ``poincare_u``, as written by ``geardyn bifurcation --mode continue --sweep both``);
-        default the one attached to ``ds`` under :data:`SWEEP_CONTEXT`, if any.
-    ax : matplotlib.axes.Axes or sequence of two Axes, optional
-        One Axes: the amplitude panel only; two: amplitude and section points; omitted: a new figure.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
+    bottom: section points u, with the contact boundaries u = ±D."""
     if sweep is None:
         sweep = attached(ds, SWEEP_CONTEXT)
     param = ds.attrs["param"]
-    fig, axes, new = panels(ax, 2, (10, 8.5), sharex=True)
-    before = snapshot(axes)
+    axes = ax
     for ax, what in zip(axes, ("amplitude", "section")):
         if ax is None:
             continue
@@ -212,45 +186,24 @@ def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any
         _draw_branches(ax, ds, param, what)
         _draw_bifurcations(ax, ds, param, what)
         ax.grid(alpha=0.3)
-    m = _model(ds)
-    D = float(m["D"])
     if axes[1] is not None:
-        if D > 0:
-            axes[1].axhline(D, color="0.6", lw=0.8)
-            axes[1].axhline(-D, color="0.6", lw=0.8)
+        x = ds[param].values if sweep is None else np.concatenate([ds[param].values, sweep[param].values])
+        contact_lines(axes[1], ds, param, x)
         axes[1].set_ylabel(label(ds["poincare_u"]))
     axes[0].set_ylabel(label(ds["amplitude"]))
     [a for a in axes if a is not None][-1].set_xlabel(label(ds[param], param))
     axes[0].legend(fontsize=7, ncol=2, loc="best")
-    fixed = ", ".join(f"{k} = {m[k]:g}" for k in ("xi0", "fp", "D") if k != param)
     over = " over the brute-force up/down sweep" if sweep is not None else ""
-    axes[0].set_title(f"Continuation in {param} ({fixed}): periodic orbits{over}")
-    if new:
-        fig.tight_layout()
-    return result(fig, axes, before)
+    set_title(axes[0], f"Continuation in {symbol(param)}: periodic orbits{over}", ds, exclude=[param])
 
 
 # ---------------------------------------------------------------------------- stability boundary
-def stability_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+@plot_function("stability_comparison", (8, 5.5), tight=True)
+def stability_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Floquet stability boundaries ξ0_c(ω), with the paper's condition ξ0 = ½√(1 − κ1²) when the
-    Dataset holds it.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``stability_comparison`` result (from
-        :func:`geardyn.analysis.periodic.compare_stability_condition`), or a ``stability_boundary``
-        or ``mathieu_boundary`` one.
-    ax : matplotlib.axes.Axes, optional
-        Where to draw; a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, ax, new = one_axes(ax, (8, 4.5))
-    before = snapshot([ax])
+    Dataset holds it (a ``stability_comparison`` result from
+    :func:`geardyn.analysis.periodic.compare_stability_condition`, or a ``stability_boundary`` or
+    ``mathieu_boundary`` one); the legend sits below the axes, clear of the data."""
     om = ds["omega"].values
     linear = "xi0_critical_linear" if "xi0_critical_linear" in ds else (
         "xi0_critical" if ds.attrs.get("geardyn_kind") == "mathieu_boundary" else None)
@@ -278,8 +231,5 @@ def stability_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     ax.set_ylabel("critical mean damping ratio ξ0")
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    ax.set_title("Stability boundaries from Floquet multipliers vs the paper's condition")
-    if new:
-        fig.tight_layout()
-    return result(fig, [ax], before)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
+    set_title(ax, "Stability boundaries from Floquet multipliers vs the paper's condition", ds, exclude=["omega", "xi0"])

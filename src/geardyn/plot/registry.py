@@ -27,17 +27,18 @@ __all__ = ["FIGURES", "PHYSICAL_FIGURES", "FigureSpec", "draw", "figures_for", "
 
 
 def _always(ds: xr.Dataset) -> bool:
+    """Every result has the figure (the default condition of a :class:`FigureSpec`)."""
     return True
 
 
 @dataclass(frozen=True)
 class FigureSpec:
-    """One figure of a kind of result.
+    """One figure of a kind of result: what to call its file, how to draw it and when a result has it.
 
     Attributes
     ----------
     stem : str
-        File name without suffix (``"time_history"`` → ``time_history.png``).
+        File name without suffix: ``"time_history"`` gives ``time_history.png``.
     draw : callable
         ``draw(ds, ax=None, **kwargs) -> PlotArtists``.
     when : callable

@@ -4,53 +4,63 @@ hysteresis intervals shaded.  Drawn from the Dataset only (jumps and intervals a
 from __future__ import annotations
 
 import json
-from typing import Any
+from typing import Sequence
 
+import numpy as np
 import xarray as xr
+from matplotlib.axes import Axes
 
-from .common import PlotArtists, label, one_axes, result, snapshot
+from .common import label, place_labels, plot_function, set_title, symbol
 
-__all__ = ["SWEEP_STYLE", "response"]
+__all__ = ["SWEEP_STYLE", "draw_response", "response"]
 
 #: Marker and colour per sweep.
 SWEEP_STYLE = {"up": ("^", "C0"), "down": ("v", "C3")}
 
 
-def response(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """The response measure against the swept parameter for both sweeps, with jumps and hysteresis intervals.
+def draw_response(ax: Axes, x: np.ndarray, da: xr.DataArray, hysteresis: Sequence[Sequence[float]],
+                  jumps: Sequence[tuple[float, float, float, str, str]], min_width: float = 0.0) -> None:
+    """The sweeps of ``da`` (dimension ``sweep``) against ``x`` with shaded hysteresis intervals and jump arrows,
+    each jump labelled beside its arrow where the label covers no other label or arrow.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A ``response`` result.
-    ax : matplotlib.axes.Axes, optional
-        Where to draw; a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    x : ndarray
+        The abscissa of the sweeps.
+    da : xarray.DataArray
+        The response measure over (``sweep``, x).
+    hysteresis : sequence of (float, float)
+        Intervals of ``x`` shaded grey (at least ``min_width`` wide).
+    jumps : sequence of (x, from, to, sweep, text)
+        Where each jump is, the measure before and after it, its sweep and its label.
+    min_width : float
+        Smallest width drawn of a hysteresis interval.
     """
-    fig, ax, _ = one_axes(ax, (8.5, 4.8))
-    before = snapshot([ax])
+    for a, b in hysteresis:
+        ax.axvspan(a, max(b, a + min_width), color="0.88", lw=0, zorder=0)
+    for s in [str(v) for v in da["sweep"].values]:
+        mk, c = SWEEP_STYLE.get(s, ("o", "k"))
+        ax.plot(x, da.sel(sweep=s).values, "-", marker=mk, ms=3.5, lw=0.8, color=c, label=f"sweep {s}")
+    arrows = [ax.annotate("", xy=(xj, a1), xytext=(xj, a0),
+                          arrowprops=dict(arrowstyle="->", color=SWEEP_STYLE.get(s, ("o", "k"))[1], lw=1.5))
+              for xj, a0, a1, s, _ in jumps]
+    place_labels(ax, [(xj, 0.5 * (a0 + a1), text, SWEEP_STYLE.get(s, ("o", "k"))[1]) for xj, a0, a1, s, text in jumps],
+                 avoid=arrows)
+    ax.legend(fontsize=8, loc="best")
+
+
+@plot_function("response", (8.5, 4.8))
+def response(ds: xr.Dataset, ax: Axes = None) -> None:
+    """The response measure against the swept parameter for both sweeps, with jumps and hysteresis intervals."""
     name = str(ds.attrs.get("param", "omega"))
     measure = str(ds.attrs.get("measure", "amplitude"))
-    x = ds[name].values
     hy = json.loads(ds.attrs.get("hysteresis", "[]"))
-    for a, b in hy:
-        ax.axvspan(a, b, color="0.88", lw=0, zorder=0)
-    for s in [str(v) for v in ds["sweep"].values]:
-        mk, c = SWEEP_STYLE.get(s, ("o", "k"))
-        ax.plot(x, ds[measure].sel(sweep=s).values, "-", marker=mk, ms=3.5, lw=0.8, color=c, label=f"sweep {s}")
-    for j in json.loads(ds.attrs.get("jumps", "[]")):
-        c = SWEEP_STYLE.get(j["sweep"], ("o", "k"))[1]
-        xj = j[name]
-        ax.annotate("", xy=(xj, j["amplitude_to"]), xytext=(xj, j["amplitude_from"]),
-                    arrowprops=dict(arrowstyle="->", color=c, lw=1.5))
-        ax.text(xj, 0.5 * (j["amplitude_from"] + j["amplitude_to"]), f" {name}={xj:.4g}", color=c, fontsize=7,
-                va="center")
+    jumps = [(j[name], j["amplitude_from"], j["amplitude_to"], j["sweep"], f"{symbol(name)} = {j[name]:.4g}")
+             for j in json.loads(ds.attrs.get("jumps", "[]"))]
+    draw_response(ax, ds[name].values, ds[measure], hy, jumps)
     ax.set_xlabel(label(ds[name], name))
     ax.set_ylabel(label(ds[measure], measure))
-    ax.set_title("Frequency response (up/down sweeps with continuation)" + ("; grey: hysteresis" if hy else ""))
-    ax.legend(fontsize=8)
-    return result(fig, [ax], before)
+    set_title(ax, "Frequency response (up/down sweeps with continuation)" + ("; grey: hysteresis" if hy else ""), ds,
+              exclude=[name])
