@@ -235,7 +235,7 @@ def run_chunks(
 
     def finished(c: Chunk, r: dict[str, np.ndarray]) -> None:
         if store is not None:
-            store.save(c.index, r)
+            store.save_later(c.index, r)
         results[c.index] = r
         if bar:
             bar.advance()
@@ -256,6 +256,8 @@ def run_chunks(
         finally:
             if bar:
                 bar.close()
+            if store is not None:
+                store.flush()  # every finished chunk is on disk before the sweep returns or raises
     except KeyboardInterrupt:
         raise SweepInterrupted(len(results), len(chunks), where) from None
     except SchedulerLost as e:
