@@ -326,3 +326,21 @@ def test_fingerprint_depends_on_values_not_object_identity():
     a = [Chunk(0, F.steady_chunk, (GearModel(), ("omega",), F.FAST))]
     b = [Chunk(0, F.steady_chunk, (GearModel(), (name,), F.FAST))]
     assert S.fingerprint(a) == S.fingerprint(b)
+
+
+# ------------------------------------------------------------------------- chunks sized by cost
+def test_chunks_sized_by_cost_cover_the_grid_whatever_the_workers():
+    from geardyn.grid import Grid
+
+    opts = IntegrationOptions(transient=20, periods=10)
+    small = Grid.linspace("omega", 0.5, 1.5, 200)
+    sl = S.chunk_slices(small, GearModel(), opts, S.SweepOptions(workers=2))
+    assert sl == S.chunk_slices(small, GearModel(), opts, S.SweepOptions(workers=1))
+    assert len(sl) == S.MIN_CHUNKS and sl[0].start == 0 and sl[-1].stop == 200
+    assert all(a.stop == b.start for a, b in zip(sl, sl[1:]))
+    big = Grid.product(("xi0", np.linspace(0.05, 0.3, 500)), ("omega", np.linspace(0.5, 0.75, 500)))
+    sl = S.chunk_slices(big, GearModel(), opts, S.SweepOptions())
+    steps = big.steps_per_period(GearModel(), opts.dtau) * 30
+    per_chunk = [steps[s].sum() * S.STEP_SECONDS for s in sl]
+    assert 0.5 * S.CHUNK_SECONDS < min(per_chunk) and max(per_chunk) < 1.5 * S.CHUNK_SECONDS
+    assert S.chunk_slices(big, GearModel(), opts, S.SweepOptions(chunk_points=1000)) == big.slices(1000)

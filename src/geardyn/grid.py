@@ -357,6 +357,67 @@ class Grid:
             raise ModelError("grid: a grid of initial states has no parameter points")
         return build_models(base, self.names, self.points(sl))
 
+    def steps_per_period(self, base: GearModel, dtau: float) -> np.ndarray:
+        """RK4 steps per forcing period of every point (flat order): N = ceil(T/Δτ) of its ω.
+
+        Parameters
+        ----------
+        base : GearModel
+            The model every point starts from (its ω where ω is not an axis).
+        dtau : float
+            Target step Δτ.
+
+        Returns
+        -------
+        ndarray of int64 (size,)
+        """
+        from .model import steps_per_period
+
+        if "omega" in self.names and self.kind != "states":
+            j = self.names.index("omega")
+            if self.kind == "curve":
+                w = self.axes[j]
+            else:
+                shape = [1] * len(self.axes)
+                shape[j] = self.axes[j].size
+                w = np.broadcast_to(self.axes[j].reshape(shape), self.shape).ravel()
+        else:
+            w = np.full(self.size, float(base.omega))
+        return np.asarray(steps_per_period(np.asarray(w, dtype=float), dtau), dtype=np.int64)
+
+    def cost_slices(self, costs: np.ndarray, target: float, min_points: int = 1, min_chunks: int = 1) -> list[slice]:
+        """Consecutive slices whose summed ``costs`` are about ``target`` each.
+
+        A chunk ends at the first point where the running cost reaches the next multiple of
+        ``target``; chunks hold at least ``min_points`` points, and the grid is cut into at least
+        ``min_chunks`` chunks when it has enough points.  The cut depends only on the costs (not on
+        the worker count), so a sweep resumed with other workers finds its chunks again.
+
+        Parameters
+        ----------
+        costs : ndarray (size,)
+            Estimated cost of every point (flat order), e.g. its RK4 steps.
+        target : float
+            Cost of one chunk (> 0).
+        min_points, min_chunks : int
+            Lower bounds on the points per chunk and on the number of chunks.
+
+        Returns
+        -------
+        list of slice
+        """
+        n = self.size
+        c = np.asarray(costs, dtype=float).ravel()
+        total = float(np.sum(c))
+        chunks = max(1, int(np.ceil(total / max(float(target), 1e-300))), min(int(min_chunks), n))
+        chunks = min(chunks, max(1, n // max(int(min_points), 1)))
+        if chunks <= 1:
+            return [slice(0, n)]
+        cum = np.cumsum(c)
+        cuts = np.searchsorted(cum, total * np.arange(1, chunks) / chunks, side="left") + 1
+        edges = np.unique(np.concatenate([[0], np.clip(cuts, 1, n), [n]]))
+        return [slice(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
+
     def slices(self, chunk_points: int) -> list[slice]:
         """Consecutive slices of at most ``chunk_points`` points covering the grid.
 

@@ -282,7 +282,7 @@ def _prepare(models: Sequence[GearModel], options: IntegrationOptions,
 
 
 def _run(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
-         record_poincare=True, hist_len=0, lyapunov=False, threads=None):
+         record_poincare=True, hist_len=0, lyapunov=False, threads=None, adaptive=False):
     P = coef.shape[0]
     poincare = np.zeros((P, n_record if record_poincare else 0, 2))
     end_state = np.zeros((P, 2))
@@ -293,8 +293,15 @@ def _run(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurat
     hist = np.zeros((P, hist_len, 2))
     # one point runs on one worker whatever the setting: leave numba's state alone then
     with using_threads(threads if P > 1 else None):
-        K.run_batch(coef, D, omega, nsteps, state0, int(n_transient), int(n_record), int(tangent),
-                    bool(accurate), poincare, end_state, stats, tan_log, tan_out, status, hist)
+        if adaptive:
+            from .analysis.classify import MAX_PERIOD
+
+            K.run_batch(coef, D, omega, nsteps, state0, int(n_transient), int(n_record), int(tangent),
+                        bool(accurate), poincare, end_state, stats, tan_log, tan_out, status, hist,
+                        IntegrationOptions.ADAPTIVE_TOL, MAX_PERIOD)
+        else:
+            K.run_batch(coef, D, omega, nsteps, state0, int(n_transient), int(n_record), int(tangent),
+                        bool(accurate), poincare, end_state, stats, tan_log, tan_out, status, hist)
     return poincare, end_state, stats, tan_log, tan_out, status, hist
 
 
@@ -346,7 +353,7 @@ def integrate_batch(
     tangent = K.TAN_LYAPUNOV if lyapunov else K.TAN_NONE
     pc, end, stats, tl, tout, status, _ = _run(coef, D, omega, nsteps, s0, options.transient, options.periods,
                                                tangent, options.accurate, record_poincare, 0, lyapunov,
-                                               threads)
+                                               threads, options.adaptive)
     return BatchResult(models, options, pc, end, status, stats, nsteps,
                        lyapunov_log=tl if lyapunov else None, tangent=tout if lyapunov else None)
 

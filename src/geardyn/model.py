@@ -312,12 +312,31 @@ class IntegrationOptions:
         Locate the contact-boundary crossings u = ±D inside each step and split the step there
         (4th order through contact changes; slower).  The default mode steps straight through the
         kink of f(u), which lowers the order (see ``docs/model.md``).
+    adaptive : bool
+        Adaptive transient: ``transient`` becomes a maximum.  Each point stops its transient as
+        soon as its Poincaré sequence has converged onto a period-n cycle (n up to
+        ``geardyn.analysis.classify.MAX_PERIOD``) to within :attr:`ADAPTIVE_TOL`, at a period
+        count congruent to ``transient`` modulo n, so that its recorded periods are those of the
+        fixed-transient run; a converged point records one cycle and repeats it over ``periods``
+        (without exponents).  Points that do not converge run the full transient
+        (``docs/performance.md``).
+
+    Attributes
+    ----------
+    ADAPTIVE_TOL : float
+        Tolerance of the adaptive transient: the estimated distance of a Poincaré point to its
+        cycle (the Aitken estimate d²/(e − d) of two successive n-period differences e, d), relative
+        to max(1, |u|, |u'|).
     """
+
+    #: Tolerance of the adaptive transient (estimated distance to the cycle, relative to max(1, |point|)).
+    ADAPTIVE_TOL: ClassVar[float] = 1.0e-10
 
     dtau: float = DEFAULT_DTAU
     transient: int = DEFAULT_TRANSIENT
     periods: int = DEFAULT_PERIODS
     accurate: bool = False
+    adaptive: bool = False
 
     def __post_init__(self) -> None:
         dt = _check_finite("dtau", self.dtau)
@@ -334,6 +353,10 @@ class IntegrationOptions:
                 raise ModelError(f"{name}: must be an integer >= {lo}, got {v!r}")
             object.__setattr__(self, name, int(v))
         object.__setattr__(self, "accurate", bool(self.accurate))
+        object.__setattr__(self, "adaptive", bool(self.adaptive))
+        if self.adaptive and self.accurate:
+            raise ModelError("adaptive: the adaptive transient runs in the default mode only; drop --accurate or "
+                             "--adaptive")
 
     def check_for(self, omega: float) -> None:
         """Refuse a step that is not smaller than the forcing period 2π/ω."""

@@ -151,7 +151,7 @@ def _queue_order(nsteps: np.ndarray) -> np.ndarray:
 
 
 def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
-              poincare, end_state, stats, tan_log, tan_out, status, hist):
+              poincare, end_state, stats, tan_log, tan_out, status, hist, adapt_tol=0.0, max_period=0):
     """Advance a batch of P parameter points; results are written into the output arrays.
 
     Parameters
@@ -189,6 +189,14 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     hist : float64[P, K, 2]
         Out: if K > 0, the state at every step of the last (K - 1)/nsteps periods (all points of a
         batch with a history must share nsteps).
+    adapt_tol : float
+        > 0: adaptive transient (default mode, no history): ``n_transient`` becomes a maximum, each
+        point stops its transient once its Poincaré sequence has converged onto a period-n cycle
+        (n <= ``max_period``) to within ``adapt_tol`` (``core._adapt_check``), at a period count
+        congruent to ``n_transient`` mod n; without tangents it then records one cycle, repeated
+        over the ``n_record`` periods (``core._adapt_finish``).  0 (default): the fixed transient.
+    max_period : int
+        Longest cycle the adaptive transient looks for.
 
     Notes
     -----
@@ -205,6 +213,8 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     tangent = int(tangent)
     accurate = bool(accurate)
     scalar_only = accurate or hist.shape[1] > 0
+    adapt_tol = float(adapt_tol) if not scalar_only and n_record > 0 else 0.0
+    max_period = int(max_period) if adapt_tol > 0.0 else 0
     total = int(np.sum(nsteps)) * (n_transient + n_record)
     nw = min(n_threads(), P) if total >= THREAD_MIN_STEPS else 1
     order = _queue_order(nsteps)
@@ -218,10 +228,10 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
                              poincare, end_state, stats, tan_log, tan_out, status, hist)
         elif lanes:
             _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                          poincare, end_state, stats, tan_log, tan_out, status)
+                          poincare, end_state, stats, tan_log, tan_out, status, adapt_tol, max_period)
         else:
             _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                           poincare, end_state, stats, tan_log, tan_out, status, hist)
+                           poincare, end_state, stats, tan_log, tan_out, status, hist, adapt_tol, max_period)
 
     if nw == 1:
         work()

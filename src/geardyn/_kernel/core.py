@@ -228,3 +228,92 @@ def _write_stats(stats, p, n, umin, umax, vmin, vmax, usum, usq, ndrv, nbck):
     stats[p, S_NBACK] = nbck
     stats[p, S_NSEP] = n - ndrv - nbck
     stats[p, S_N] = n
+
+
+# ----------------------------------------------------------------------------- adaptive transient
+#: Fields of a statistics snapshot (adaptive transient): u min, u max, u' min, u' max, Σu, Σu², drive and
+#: back-side counts.
+NSNAP = 8
+
+
+@njit(nogil=True)
+def _adapt_reset(ring, streak, l, u, v):
+    """Start the convergence test of slot ``l`` at the initial state P_0 = (u, v)."""
+    ring[l, 0, 0] = u
+    ring[l, 0, 1] = v
+    for n in range(streak.shape[1]):
+        streak[l, n] = 0
+
+
+@njit(nogil=True)
+def _adapt_check(ring, streak, l, k, u, v, tol):
+    """Push the Poincaré point P_k = (u, v) of slot ``l`` and test convergence onto a period-n cycle.
+
+    For every n (1 … ``streak.shape[1] - 1``) with P_{k-2n} known: d = |P_k - P_{k-n}|, e =
+    |P_{k-n} - P_{k-2n}| (max norm).  Under geometric convergence with ratio r = d/e < 1 the
+    distance of P_k to its cycle is about d r/(1 - r) = d²/(e - d); the test passes when that
+    estimate and d itself are at most ``tol`` · max(1, |u|, |u'|) (d = 0 passes).  A period n is
+    converged once the test has passed at n + 1 consecutive period ends (each point of the cycle
+    at least once).  Returns the smallest converged n, 0 if none.
+    """
+    R = ring.shape[1]
+    ring[l, k % R, 0] = u
+    ring[l, k % R, 1] = v
+    lim = tol * max(1.0, max(abs(u), abs(v)))
+    found = 0
+    for n in range(1, streak.shape[1]):
+        if 2 * n > k:
+            break
+        a = (k - n) % R
+        b = (k - 2 * n) % R
+        d = max(abs(u - ring[l, a, 0]), abs(v - ring[l, a, 1]))
+        e = max(abs(ring[l, a, 0] - ring[l, b, 0]), abs(ring[l, a, 1] - ring[l, b, 1]))
+        ok = d == 0.0 or (d <= lim and d < e and d * d <= lim * (e - d))
+        if ok:
+            streak[l, n] += 1
+        else:
+            streak[l, n] = 0
+        if found == 0 and streak[l, n] >= n + 1:
+            found = n
+    return found
+
+
+@njit(nogil=True)
+def _adapt_snapshot(snap, l, umin, umax, vmin, vmax, usum, usq, ndrv, nbck):
+    snap[l, 0] = umin
+    snap[l, 1] = umax
+    snap[l, 2] = vmin
+    snap[l, 3] = vmax
+    snap[l, 4] = usum
+    snap[l, 5] = usq
+    snap[l, 6] = ndrv
+    snap[l, 7] = nbck
+
+
+@njit(nogil=True)
+def _adapt_finish(p, l, n, n_record, N, cbuf, snap, poincare, end_state, stats):
+    """Results of a point that recorded one cycle of n periods in place of ``n_record`` periods.
+
+    The recorded Poincaré points repeat the cycle ``cbuf[l, :n]``; the end state is the cycle's
+    point of the last recorded period; the statistics already written (one cycle) become those of
+    ``n_record`` periods: q = n_record // n whole cycles plus the snapshot taken after the first
+    n_record % n recorded periods (extremes: those of the cycle).
+    """
+    for j in range(poincare.shape[1]):
+        poincare[p, j, 0] = cbuf[l, j % n, 0]
+        poincare[p, j, 1] = cbuf[l, j % n, 1]
+    end_state[p, 0] = cbuf[l, (n_record - 1) % n, 0]
+    end_state[p, 1] = cbuf[l, (n_record - 1) % n, 1]
+    q = float(n_record // n)
+    r = n_record % n
+    usum = q * stats[p, S_USUM]
+    usq = q * stats[p, S_USQ]
+    ndrv = q * stats[p, S_NDRIVE]
+    nbck = q * stats[p, S_NBACK]
+    if r > 0:
+        usum += snap[l, 4]
+        usq += snap[l, 5]
+        ndrv += snap[l, 6]
+        nbck += snap[l, 7]
+    _write_stats(stats, p, N * n_record, stats[p, S_UMIN], stats[p, S_UMAX], stats[p, S_VMIN],
+                 stats[p, S_VMAX], usum, usq, ndrv, nbck)

@@ -20,8 +20,8 @@ from numba.core import types
 from numba.extending import overload
 
 from .core import (
-    DIVERGENCE_BOUND, ST_OK, TAN_LYAPUNOV, TAN_NONE,
-    _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot, _rot_small,
+    DIVERGENCE_BOUND, NSNAP, ST_OK, TAN_LYAPUNOV, TAN_NONE,
+    _adapt_check, _adapt_finish, _adapt_reset, _adapt_snapshot, _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot, _rot_small,
     _series1, _series_acc, _slope, _thresholds, _write_stats,
 )
 
@@ -380,12 +380,15 @@ def _lane_stats_out(S, l, stats, p, n):
 
 @njit(nogil=True, cache=True)
 def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                  poincare, end_state, stats, tan_log, tan_out, status):
+                  poincare, end_state, stats, tan_log, tan_out, status, adapt_tol, max_period):
     """Integrate points of the queue ``order`` (default mode) in lock-step lanes, refilling each
     finished lane with the next point of the queue (shared through ``counter`` with the other
     workers of the batch).
 
-    ``token`` (an empty array from ``_KIND_TOKENS``) selects the chunk kind by its type.
+    ``token`` (an empty array from ``_KIND_TOKENS``) selects the chunk kind by its type.  With
+    ``adapt_tol`` > 0 the transient is adaptive (``core._adapt_check``, periods up to
+    ``max_period``): each lane has its own transient length ``tend`` and recorded length ``rlen``,
+    and a converged lane is freed (and refilled) as soon as it has recorded its cycle.
     """
     general = _is_general(token)
     L = LANES
@@ -398,6 +401,15 @@ def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_trans
     kstep = np.zeros(L, dtype=np.int64)
     nst = np.full(L, _BIG, dtype=np.int64)
     per = np.zeros(L, dtype=np.int64)
+    adaptive = adapt_tol > 0.0 and max_period > 0
+    mp = max_period if adaptive else 0
+    tend = np.full(L, n_transient, dtype=np.int64)
+    rlen = np.full(L, n_record, dtype=np.int64)
+    cyc = np.zeros(L, dtype=np.int64)
+    ring = np.zeros((L, 2 * mp + 1, 2))
+    streak = np.zeros((L, mp + 1), dtype=np.int64)
+    cbuf = np.zeros((L, max(mp, 1), 2))
+    snap = np.zeros((L, NSNAP))
     exhausted = False
     active = 0
     for l in range(L):
@@ -427,6 +439,11 @@ def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_trans
                 kstep[l] = 0
                 nst[l] = nsteps[p]
                 per[l] = 0
+                tend[l] = n_transient
+                rlen[l] = n_record
+                cyc[l] = 0
+                if adaptive:
+                    _adapt_reset(ring, streak, l, state0[p, 0], state0[p, 1])
                 active += 1
         if active == 0:
             break
@@ -442,6 +459,14 @@ def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_trans
                         kstep[dst] = kstep[l]
                         nst[dst] = nst[l]
                         per[dst] = per[l]
+                        tend[dst] = tend[l]
+                        rlen[dst] = rlen[l]
+                        cyc[dst] = cyc[l]
+                        if adaptive:
+                            ring[dst] = ring[l]
+                            streak[dst] = streak[l]
+                            cbuf[dst] = cbuf[l]
+                            snap[dst] = snap[l]
                         pid[l] = -1
                         kstep[l] = 0
                         nst[l] = _BIG
@@ -453,7 +478,7 @@ def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_trans
         for l in range(L):
             if pid[l] >= 0:
                 m = min(m, nst[l] - kstep[l])
-                if per[l] >= n_transient:
+                if per[l] >= tend[l]:
                     rec = True
         mode = MODE_PLAIN
         if rec:
@@ -477,8 +502,8 @@ def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_trans
             N = nst[l]
             if not (abs(u) < DIVERGENCE_BOUND and abs(v) < DIVERGENCE_BOUND):
                 _diverged(p, poincare, end_state, status)
-                if done > n_transient:
-                    _lane_stats_out(S, l, stats, p, N * (done - n_transient))
+                if done > tend[l]:
+                    _lane_stats_out(S, l, stats, p, N * (done - tend[l]))
                 else:
                     _write_stats(stats, p, 0, np.inf, -np.inf, np.inf, -np.inf, 0.0, 0.0, 0.0, 0.0)
                 pid[l] = -1
@@ -486,11 +511,28 @@ def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_trans
                 _lane_idle(S, CF, l)
                 active -= 1
                 continue
-            if done > n_transient:
-                j = done - 1 - n_transient
+            if adaptive and cyc[l] == 0 and done < tend[l]:
+                nc = _adapt_check(ring, streak, l, done, u, v, adapt_tol)
+                if nc > 0:
+                    # stop at a period count congruent to n_transient mod nc: the record then starts
+                    # at the same phase of the cycle as the fixed-transient run's
+                    cyc[l] = nc
+                    tend[l] = min(tend[l], done + (n_transient - done) % nc)
+                    if tangent == TAN_NONE and nc < n_record:
+                        rlen[l] = nc
+            te = tend[l]
+            if done > te:
+                j = done - 1 - te
                 if poincare.shape[1] > 0:
                     poincare[p, j, 0] = u
                     poincare[p, j, 1] = v
+                if rlen[l] < n_record:
+                    cbuf[l, j, 0] = u
+                    cbuf[l, j, 1] = v
+                    if j + 1 == n_record % rlen[l]:
+                        _adapt_snapshot(snap, l, S[F_UMIN * L + l], S[F_UMAX * L + l], S[F_VMIN * L + l],
+                                        S[F_VMAX * L + l], S[F_USUM * L + l], S[F_USQ * L + l],
+                                        S[F_NDRV * L + l], S[F_NBCK * L + l])
                 if tangent == TAN_LYAPUNOV:
                     a1, b1, a2, b2, l1, l2 = _gs(S[F_Y00 * L + l], S[F_Y10 * L + l],
                                                  S[F_Y01 * L + l], S[F_Y11 * L + l])
@@ -504,10 +546,12 @@ def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_trans
                 # a transient period ended: discard what the chunks accumulated for this lane
                 _lane_reset_stats(S, l)
                 _lane_reset_tangent(S, l)
-            if done == n_total:
+            if done == te + rlen[l]:
                 end_state[p, 0] = u
                 end_state[p, 1] = v
                 _lane_stats_out(S, l, stats, p, N * n_record)
+                if rlen[l] < n_record:
+                    _adapt_finish(p, l, rlen[l], n_record, N, cbuf, snap, poincare, end_state, stats)
                 if tangent != TAN_NONE:
                     tan_out[p, 0, 0] = S[F_Y00 * L + l]
                     tan_out[p, 1, 0] = S[F_Y10 * L + l]

@@ -14,19 +14,21 @@ import numpy as np
 from numba import njit
 
 from .core import (
-    DIVERGENCE_BOUND, ST_OK, TAN_LYAPUNOV, TAN_NONE,
-    _coef_seq, _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot_small,
+    DIVERGENCE_BOUND, NSNAP, ST_OK, TAN_LYAPUNOV, TAN_NONE,
+    _adapt_check, _adapt_finish, _adapt_reset, _adapt_snapshot, _coef_seq, _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot_small,
     _series1, _slope, _thresholds, _write_stats,
 )
 
 
 @njit(nogil=True)
 def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
-                  poincare, end_state, stats, tan_log, tan_out, status, hist):
+                  poincare, end_state, stats, tan_log, tan_out, status, hist,
+                  adapt_tol, ring, streak, cbuf, snap):
     """One point in the default mode, state and statistics in registers.
 
     The arithmetic is that of the lane kernels (same operations, same order), so a point gives
-    the same bits on either path.
+    the same bits on either path.  With ``adapt_tol`` > 0 the transient is adaptive, as in the
+    lanes worker (``ring``, ``streak``, ``cbuf``, ``snap``: its slot-0 work arrays).
     """
     T = 2.0 * math.pi / omega
     h = T / N
@@ -63,9 +65,16 @@ def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
     hist_periods = (n_hist - 1) // N if n_hist > 0 else 0
     hist_first = n_transient + n_record - hist_periods
     hi = 0
-    n_total = n_transient + n_record
-    for per in range(n_total):
-        rec = per >= n_transient
+    adaptive = adapt_tol > 0.0 and streak.shape[1] > 1
+    tend = n_transient
+    rlen = n_record
+    cyc = 0
+    if adaptive:
+        _adapt_reset(ring, streak, 0, u, v)
+    per = -1
+    while per + 1 < tend + rlen:
+        per += 1
+        rec = per >= tend
         tan_on = tangent != TAN_NONE and rec
         if n_hist > 0 and per == hist_first:
             hist[p, 0, 0] = u
@@ -117,14 +126,26 @@ def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
                 hi += 1
         if not (abs(u) < DIVERGENCE_BOUND and abs(v) < DIVERGENCE_BOUND):
             _diverged(p, poincare, end_state, status)
-            nrec = N * (per + 1 - n_transient) if rec else 0
+            nrec = N * (per + 1 - tend) if rec else 0
             _write_stats(stats, p, nrec, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
             return
+        if adaptive and cyc == 0 and per + 1 < tend:
+            nc = _adapt_check(ring, streak, 0, per + 1, u, v, adapt_tol)
+            if nc > 0:
+                cyc = nc
+                tend = min(tend, per + 1 + (n_transient - per - 1) % nc)
+                if tangent == TAN_NONE and nc < n_record:
+                    rlen = nc
         if rec:
-            j = per - n_transient
+            j = per - tend
             if poincare.shape[1] > 0:
                 poincare[p, j, 0] = u
                 poincare[p, j, 1] = v
+            if rlen < n_record:
+                cbuf[0, j, 0] = u
+                cbuf[0, j, 1] = v
+                if j + 1 == n_record % rlen:
+                    _adapt_snapshot(snap, 0, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
             if tangent == TAN_LYAPUNOV:
                 y00, y10, y01, y11, l1, l2 = _gs(y00, y10, y01, y11)
                 tan_log[p, j, 0] = l1
@@ -132,6 +153,8 @@ def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
     end_state[p, 0] = u
     end_state[p, 1] = v
     _write_stats(stats, p, N * n_record, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+    if rlen < n_record:
+        _adapt_finish(p, 0, rlen, n_record, N, cbuf, snap, poincare, end_state, stats)
     if tangent != TAN_NONE:
         tan_out[p, 0, 0] = y00
         tan_out[p, 1, 0] = y10
@@ -142,8 +165,14 @@ def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
 
 @njit(nogil=True, cache=True)
 def _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                   poincare, end_state, stats, tan_log, tan_out, status, hist):
-    """Integrate points of the queue ``order`` one at a time (histories, small batches)."""
+                   poincare, end_state, stats, tan_log, tan_out, status, hist, adapt_tol, max_period):
+    """Integrate points of the queue ``order`` one at a time (histories, small batches); adaptive
+    transient with ``adapt_tol`` > 0 (periods up to ``max_period``)."""
+    mp = max_period if adapt_tol > 0.0 else 0
+    ring = np.zeros((1, 2 * mp + 1, 2))
+    streak = np.zeros((1, mp + 1), dtype=np.int64)
+    cbuf = np.zeros((1, max(mp, 1), 2))
+    snap = np.zeros((1, NSNAP))
     while True:
         i = _fetch_add(counter, 1)
         if i >= order.shape[0]:
@@ -151,4 +180,5 @@ def _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, 
         p = order[i]
         _point_scalar(p, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1],
                       n_transient, n_record, tangent,
-                      poincare, end_state, stats, tan_log, tan_out, status, hist)
+                      poincare, end_state, stats, tan_log, tan_out, status, hist,
+                      adapt_tol, ring, streak, cbuf, snap)

@@ -27,7 +27,7 @@ from ..grid import Grid, build_models, linspace_values
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
-from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, SweepOptions, run_chunks
+from ..sweep import Chunk, SweepOptions, chunk_slices, run_chunks
 from .classify import IMPACT_LABELS, MOTION_LABELS, SETTLE_PERIODS, motion_label
 from .steady import classify_batch
 
@@ -223,7 +223,7 @@ def bifurcation(
         :func:`~geardyn.analysis.steady.classify_batch`).
     engine : SweepOptions, optional
         Where and how the sweep runs (:class:`geardyn.sweep.SweepOptions`); ``chunk_points`` is
-        the number of points per chunk in fixed mode (default :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
+        the number of points per chunk in fixed mode (default: sized by cost, :func:`geardyn.sweep.chunk_slices`).
     **engine_kw
         Fields of :class:`~geardyn.sweep.SweepOptions` given one by one (``workers``,
         ``scheduler``, ``executor``, ``checkpoint``, ``resume``, ``progress``, ``chunk_points``).
@@ -265,7 +265,7 @@ def bifurcation(
     if mode == "fixed":
         labels = ["fixed"]
         chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(sl)) + common)
-                  for i, sl in enumerate(grid.slices(eng.points_per_chunk(DEFAULT_CHUNK_POINTS)))]
+                  for i, sl in enumerate(chunk_slices(grid, model, options, eng, lyapunov=lyapunov))]
     else:
         labels = ["up", "down"] if sweep == "both" else [sweep]
         pts = grid.points()

@@ -17,7 +17,7 @@ import xarray as xr
 from ..grid import Grid, build_models
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
-from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, SweepOptions, run_chunks
+from ..sweep import Chunk, SweepOptions, chunk_slices, run_chunks
 from .bifurcation import MODES, _LONG_NAMES, grid_chunk
 from .classify import IMPACT_LABELS, MOTION_LABELS, SETTLE_PERIODS, motion_label
 
@@ -59,7 +59,7 @@ def parameter_map(
         Largest exponent for every point (otherwise only for non-periodic points).
     engine : SweepOptions, optional
         Where and how the sweep runs; ``chunk_points`` is the number of grid points per chunk in
-        fixed mode (default :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
+        fixed mode (default: sized by cost, :func:`geardyn.sweep.chunk_slices`).
     **engine_kw
         Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
     Other parameters as for :func:`~geardyn.analysis.bifurcation.bifurcation`.
@@ -104,7 +104,7 @@ def parameter_map(
     common = (s0t, options, lyapunov, settle_periods)
     if mode == "fixed":
         chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(sl)) + common + (False, MAP_VARIABLES))
-                  for i, sl in enumerate(grid.slices(eng.points_per_chunk(DEFAULT_CHUNK_POINTS)))]
+                  for i, sl in enumerate(chunk_slices(grid, model, options, eng, lyapunov=lyapunov))]
     else:  # one continuation row per chunk, x increasing
         nx = xv.size
         chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(slice(i * nx, (i + 1) * nx))) + common

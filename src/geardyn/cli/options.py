@@ -92,10 +92,16 @@ STATE = [
 ACCURATE_HELP = "Split steps at the contact crossings u = ±D (4th order through contact loss)."
 
 
+ADAPTIVE_HELP = ("Adaptive transient: --transient becomes a maximum; each point stops its transient once its "
+                 "Poincaré points have converged onto a period-n cycle (n <= 32, estimated distance 1e-10) and "
+                 "records that cycle; other points run the full transient.")
+
+
 def integration(*, periods: int | None = DEFAULT_PERIODS,
                 periods_help: str = "Forcing periods recorded (Poincaré points).",
-                accurate: inspect.Parameter | None = None) -> list[inspect.Parameter]:
-    """``--dtau --transient [--periods] --accurate``; ``periods=None`` leaves ``--periods`` out."""
+                accurate: inspect.Parameter | None = None, adaptive: bool = False) -> list[inspect.Parameter]:
+    """``--dtau --transient [--periods] --accurate [--adaptive]``; ``periods=None`` leaves ``--periods`` out,
+    ``adaptive=True`` (the sweep commands) adds ``--adaptive``."""
     group = [
         option("dtau", float, DEFAULT_DTAU, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).",
                panel=RUN_PANEL),
@@ -106,6 +112,8 @@ def integration(*, periods: int | None = DEFAULT_PERIODS,
         group.append(option("periods", int, periods, "--periods", help=periods_help, panel=RUN_PANEL))
     group.append(accurate if accurate is not None else
                  option("accurate", bool, False, "--accurate", help=ACCURATE_HELP, panel=RUN_PANEL))
+    if adaptive:
+        group.append(option("adaptive", bool, False, "--adaptive", help=ADAPTIVE_HELP, panel=RUN_PANEL))
     return group
 
 
@@ -220,7 +228,7 @@ class Inputs:
         ws = list(omegas) + ([] if omega is None else [omega])
         opts = validate.options(v["dtau"], v["transient"], n, v["accurate"], ws)
         validate.recorded(points, opts.periods)
-        return opts
+        return opts.replace(adaptive=True) if v.get("adaptive") else opts
 
     def not_swept(self, *names: str) -> None:
         """Refuse a model option given for a parameter the command sweeps (it would be silently overridden)."""

@@ -15,7 +15,7 @@ ModeOpt = Annotated[str, typer.Option("--mode", help="fixed: every point from (u
 SweepDirOpt = Annotated[str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")]
 LyapunovFlagOpt = Annotated[bool, typer.Option("--lyapunov", help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).")]
 SettleOpt = Annotated[int, typer.Option("--settle", help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).")]
-ChunkOpt = Annotated[int, typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep.")]
+ChunkOpt = Annotated[Optional[int], typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 2 s of work each).")]
 ParamOpt = Annotated[Optional[str], typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")]
 
 
@@ -24,7 +24,7 @@ def _sweep_json(inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine
     finish(summary, inp.write(ds, stem, engine), inp, show, *extra)
 
 
-@command("bifurcation", RPM_RANGE, MODEL, STATE, integration(), ENGINE, OUTPUT)
+@command("bifurcation", RPM_RANGE, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
 def bifurcation(
     inp: Inputs,
     param: ParamOpt = None,
@@ -35,7 +35,7 @@ def bifurcation(
     sweep: SweepDirOpt = "up",
     lyap: LyapunovFlagOpt = False,
     settle: SettleOpt = 1000,
-    chunk_size: ChunkOpt = 16,
+    chunk_size: ChunkOpt = None,
 ) -> None:
     """Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and amplitudes
     per point (and the largest Lyapunov exponent with --lyapunov); fixed initial state or continuation, up/down/both."""
@@ -62,7 +62,7 @@ def bifurcation(
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("bifurcation")
     ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=inp.state0(), options=opts,
-                         lyapunov=lyap, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
+                         lyapunov=lyap, settle_periods=nset, chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size), **engine)
     ds = add_physical(ds, scales)
     _sweep_json(inp, physical_json(bifurcation_json(ds), model, scales, param=name), ds, "bifurcation", engine,
                 render.intervals)
@@ -75,7 +75,7 @@ RESPONSE_RANGE = [
 ]
 
 
-@command("response", RESPONSE_RANGE, model_group(omega=False, rpm=False), STATE, integration(), ENGINE, OUTPUT)
+@command("response", RESPONSE_RANGE, model_group(omega=False, rpm=False), STATE, integration(adaptive=True), ENGINE, OUTPUT)
 def response(
     inp: Inputs,
     num: Annotated[int, typer.Option("--num", help="Number of ω values (the jumps are located to within one step).")] = 71,
@@ -121,13 +121,13 @@ MAP_AXES = [
 ]
 
 
-@command("map", MAP_AXES, MODEL, STATE, integration(), ENGINE, OUTPUT)
+@command("map", MAP_AXES, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
 def parameter_map(
     inp: Inputs,
     mode: ModeOpt = "fixed",
     lyap: LyapunovFlagOpt = False,
     settle: SettleOpt = 1000,
-    chunk_size: ChunkOpt = 16,
+    chunk_size: ChunkOpt = None,
 ) -> None:
     """2-D parameter map (e.g. ω × ξ0, ω × D) of motion class, impact state, amplitude and largest exponent."""
     from .. import validate
@@ -168,13 +168,14 @@ def parameter_map(
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("map")
     ds = run_map(model, xn, xv, yn, yv, mode=mode, state0=inp.state0(), options=opts, lyapunov=lyap,
-                 settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
+                 settle_periods=nset, chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
+                 **engine)
     ds = add_physical(ds, scales)
     _sweep_json(inp, physical_json(map_json(ds), model, scales), ds, "map", engine, render.parameter_map)
 
 
 BASIN_RUN = integration(periods=64, periods_help="Forcing periods recorded per initial state (>= 2 × the largest "
-                                                 "period detected).")
+                                                 "period detected).", adaptive=True)
 
 
 @command("basins", MODEL, BASIN_RUN, ENGINE, OUTPUT)

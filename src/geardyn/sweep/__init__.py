@@ -45,13 +45,19 @@ from __future__ import annotations
 from ..errors import SweepError
 from ..grid import Grid, grid_models
 from .checkpoints import MANIFEST, CheckpointStore, checkpoint_dir, fingerprint, prepare_checkpoint, remove_checkpoint
-from .engine import DEFAULT_CHUNK_POINTS, Chunk, SweepFailed, SweepInterrupted, chunked, concat_results, run_chunks
+from .engine import (CHUNK_SECONDS, DEFAULT_CHUNK_POINTS, MIN_CHUNK_POINTS, MIN_CHUNKS, STEP_SECONDS, Chunk, SweepFailed,
+                     SweepInterrupted, chunk_slices, chunked, concat_results, run_chunks)
 from .executors import (DASK_CONNECT_TIMEOUT, DASK_RETRIES, MAX_POOL_RESTARTS, MAX_RESUBMITS, POOL_PRELOAD,
                         dask_executor, local_pool)
 from .options import ENGINE_KEYWORDS, SweepOptions
 from .progress import PROGRESS_DELAY, ST_DIVERGED, divergence_summary
 
 __all__ = [
+    "CHUNK_SECONDS",
+    "MIN_CHUNKS",
+    "MIN_CHUNK_POINTS",
+    "STEP_SECONDS",
+    "chunk_slices",
     "DASK_CONNECT_TIMEOUT",
     "DASK_RETRIES",
     "DEFAULT_CHUNK_POINTS",

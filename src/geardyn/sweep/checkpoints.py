@@ -14,6 +14,8 @@ import hashlib
 import io as _io
 import json
 import pickle
+import queue
+import threading
 import zipfile
 from pathlib import Path
 from typing import Any, Sequence
@@ -207,6 +209,9 @@ class CheckpointStore:
     def __init__(self, directory: str | Path, *, resume: bool = False) -> None:
         self.directory = Path(directory)
         self.resume = bool(resume)
+        self._queue: queue.Queue | None = None
+        self._thread: threading.Thread | None = None
+        self._error: BaseException | None = None
 
     def __repr__(self) -> str:
         return f"CheckpointStore({str(self.directory)!r}, resume={self.resume})"
@@ -248,6 +253,57 @@ class CheckpointStore:
             Its result (plain arrays).
         """
         _save_chunk(self.directory, index, result)
+
+    def save_later(self, index: int, result: dict[str, np.ndarray]) -> None:
+        """Queue one finished chunk for a durable write by the store's writer thread.
+
+        The write (and its two fsyncs, which can take longer than a short chunk's integration on
+        a slow disk) then overlaps the next chunks; :meth:`flush` waits for every queued write.  A
+        process killed meanwhile loses the queued chunks, as it loses the chunks in flight.
+
+        Parameters
+        ----------
+        index : int
+            The chunk's index.
+        result : dict of ndarray
+            Its result (plain arrays; not modified afterwards).
+        """
+        if self._thread is None:
+            self._queue = queue.Queue()
+            self._thread = threading.Thread(target=self._write_queued, name="geardyn-checkpoint", daemon=True)
+            self._thread.start()
+        self._queue.put((index, result))
+
+    def _write_queued(self) -> None:
+        while True:
+            item = self._queue.get()
+            try:
+                if item is None:
+                    return
+                if self._error is None:
+                    self.save(*item)
+            except BaseException as e:  # reported by flush()
+                self._error = e
+            finally:
+                self._queue.task_done()
+
+    def flush(self) -> None:
+        """Wait until every chunk queued by :meth:`save_later` is written; stop the writer thread.
+
+        Raises
+        ------
+        OSError
+            The first error of a queued write.
+        """
+        if self._thread is None:
+            return
+        self._queue.put(None)
+        self._thread.join()
+        self._thread = None
+        self._queue = None
+        err, self._error = self._error, None
+        if err is not None:
+            raise err
 
     def remove(self) -> None:
         """Delete the checkpoint (see :func:`remove_checkpoint`)."""

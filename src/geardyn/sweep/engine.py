@@ -9,18 +9,31 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..errors import SweepError
-from ..grid import chunked as _chunked
-from ..model import ModelError
+from ..grid import Grid, chunked as _chunked
+from ..model import GearModel, IntegrationOptions, ModelError
 from .checkpoints import CheckpointStore
 from .executors import SchedulerLost, run_in_process, run_on_dask, run_on_executor, run_on_pool
 from .options import SweepOptions
 from .progress import Progress, print_summary
 
-__all__ = ["DEFAULT_CHUNK_POINTS", "Chunk", "SweepFailed", "SweepInterrupted", "chunked", "concat_results",
-           "run_chunks"]
+__all__ = ["CHUNK_SECONDS", "DEFAULT_CHUNK_POINTS", "MIN_CHUNKS", "MIN_CHUNK_POINTS", "STEP_SECONDS", "Chunk",
+           "SweepFailed", "SweepInterrupted", "chunk_slices", "chunked", "concat_results", "run_chunks"]
 
-#: Default number of parameter points per chunk.
+#: Points per chunk of a sweep cut by count (``chunk_points``), the former default.
 DEFAULT_CHUNK_POINTS = 16
+#: Wall time aimed at per chunk when the chunks are sized by cost (s).  Long enough that what a chunk
+#: costs besides its integration (pickling its arguments and result, a process round trip, building
+#: its models, the durable checkpoint write with two fsyncs: a few ms) stays well under 1 % of it;
+#: short enough that a kill -9 loses at most a few seconds per worker and the progress bar moves.
+CHUNK_SECONDS = 2.0
+#: Nominal kernel time of one RK4 step on one thread (s), to turn estimated steps into seconds: the
+#: default mode with statistics runs at about 3 ns per step (``docs/performance.md``, W1).
+STEP_SECONDS = 3.0e-9
+#: Fewest points in a cost-sized chunk: one set of SIMD lanes (``geardyn._kernel.LANES``).
+MIN_CHUNK_POINTS = 16
+#: Fewest chunks of a cost-sized sweep (when it has points enough), so that a small grid still keeps
+#: up to 12 workers busy (12 divides evenly among 1, 2, 3, 4 and 6).
+MIN_CHUNKS = 12
 
 
 class SweepInterrupted(SweepError):
@@ -104,6 +117,43 @@ def chunked(n: int, size: int = DEFAULT_CHUNK_POINTS) -> list[slice]:
     return _chunked(n, size)
 
 
+def chunk_slices(grid: Grid, base: GearModel, options: IntegrationOptions, engine: SweepOptions, *,
+                 lyapunov: bool = False, default: int | None = None) -> list[slice]:
+    """How a sweep over ``grid`` is cut into chunks.
+
+    ``engine.chunk_points`` (or ``default``) given: slices of that many points.  Otherwise the
+    chunks are sized by estimated cost: a point costs N(ω) · (transient + periods) RK4 steps (twice
+    that with tangents for exponents), and each chunk holds about :data:`CHUNK_SECONDS` of work at
+    :data:`STEP_SECONDS` per step, with at least :data:`MIN_CHUNK_POINTS` points and at least
+    :data:`MIN_CHUNKS` chunks (:meth:`geardyn.grid.Grid.cost_slices`).  The cut depends on the grid
+    and the options only, never on the worker count, and the results never depend on the cut.
+
+    Parameters
+    ----------
+    grid : Grid
+        The sweep's points.
+    base : GearModel
+        The base model (its ω where ω is not swept).
+    options : IntegrationOptions
+        Step and periods per point.
+    engine : SweepOptions
+        Its ``chunk_points`` (None: by cost).
+    lyapunov : bool
+        Exponents for every point (tangent propagation over the recorded periods).
+    default : int, optional
+        Points per chunk when ``engine.chunk_points`` is None (None: by cost).
+
+    Returns
+    -------
+    list of slice
+    """
+    if engine.chunk_points is not None or default is not None:
+        return grid.slices(engine.points_per_chunk(default if default is not None else DEFAULT_CHUNK_POINTS))
+    n = grid.steps_per_period(base, options.dtau).astype(float)
+    costs = n * (options.transient + options.periods * (2.0 if lyapunov else 1.0))
+    return grid.cost_slices(costs, CHUNK_SECONDS / STEP_SECONDS, MIN_CHUNK_POINTS, MIN_CHUNKS)
+
+
 def concat_results(results: Sequence[dict[str, np.ndarray]]) -> dict[str, np.ndarray]:
     """Concatenate chunk results along their first axis.
 
@@ -185,7 +235,7 @@ def run_chunks(
 
     def finished(c: Chunk, r: dict[str, np.ndarray]) -> None:
         if store is not None:
-            store.save(c.index, r)
+            store.save_later(c.index, r)
         results[c.index] = r
         if bar:
             bar.advance()
@@ -206,6 +256,8 @@ def run_chunks(
         finally:
             if bar:
                 bar.close()
+            if store is not None:
+                store.flush()  # every finished chunk is on disk before the sweep returns or raises
     except KeyboardInterrupt:
         raise SweepInterrupted(len(results), len(chunks), where) from None
     except SchedulerLost as e:

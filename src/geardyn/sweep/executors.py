@@ -26,7 +26,7 @@ import os
 import signal
 import threading
 import time
-from concurrent.futures import CancelledError, Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import CancelledError, Executor, Future, InvalidStateError, ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from typing import Callable, Iterator, Sequence
@@ -301,13 +301,49 @@ def _stop_pool(pool: ProcessPoolExecutor, futs: dict[Future, object]) -> None:
     The worker processes are terminated (their chunks in flight are lost) and the pool then fails
     the pending futures itself.
     """
-    if any(not f.done() for f in futs):
+    if not any(not f.done() for f in futs):
+        pool.shutdown(wait=True)
+        return
+    with _pool_thread_quiet():
         for p in list((getattr(pool, "_processes", None) or {}).values()):
             try:
                 p.terminate()
             except (OSError, AttributeError):
                 pass
-    pool.shutdown(wait=True)
+        pool.shutdown(wait=True, cancel_futures=True)  # joins the pool's management thread
+
+
+def _from_pool_thread(args) -> bool:
+    """Whether an uncaught thread exception is the pool's management thread failing a cancelled future.
+
+    When its workers are terminated, the management thread of a ``ProcessPoolExecutor`` (Python < 3.12)
+    marks every pending future as failed, and raises ``InvalidStateError`` for a future the sweep has
+    already cancelled; nothing is lost (the sweep is stopping), so the traceback is not printed.
+    """
+    if not isinstance(args.exc_value, InvalidStateError):
+        return False
+    tb = args.exc_traceback
+    while tb is not None:
+        if tb.tb_frame.f_code.co_filename.endswith(os.path.join("concurrent", "futures", "process.py")):
+            return True
+        tb = tb.tb_next
+    return False
+
+
+@contextmanager
+def _pool_thread_quiet() -> Iterator[None]:
+    """Swallow the management thread's ``InvalidStateError`` while a pool is stopped (see :func:`_from_pool_thread`)."""
+    old = threading.excepthook
+
+    def hook(args) -> None:
+        if not _from_pool_thread(args):
+            old(args)
+
+    threading.excepthook = hook
+    try:
+        yield
+    finally:
+        threading.excepthook = old
 
 
 # ------------------------------------------------------------------------------ Dask

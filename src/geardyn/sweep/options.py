@@ -42,7 +42,7 @@ class SweepOptions:
     progress : bool
         Show a progress bar with ETA on stderr and end with a line "N of M points diverged".
     chunk_points : int, optional
-        Points per chunk; None takes the default of the analysis.
+        Points per chunk; None: chunks sized by estimated cost (:func:`geardyn.sweep.chunk_slices`).
 
     Raises
     ------
