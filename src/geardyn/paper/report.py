@@ -130,7 +130,7 @@ def is_figure(path: str) -> bool:
 def _evidence_groups(evidence: Sequence[str], labels: Mapping[str, str]) -> list[tuple[str, list[tuple[str, str]]]]:
     """Evidence grouped by Dataset: (label, [(kind, path)]) in first-cited order."""
     groups: dict[str, list[tuple[str, str]]] = {}
-    for p in evidence:
+    for p in dict.fromkeys(evidence):
         groups.setdefault(dataset_of(p), []).append(("figure" if is_figure(p) else "data", p))
     return [(labels.get(n, n), items) for n, items in groups.items()]
 

@@ -51,7 +51,7 @@ def study_backlash(ctx: Context) -> Section:
     pts = ctx.bifurcation(ctx.base, "D", Ds, lyapunov=True,
                           options=s.options.replace(periods=max(s.periods, 2 * s.settle)))
     rel_pts = ctx.save("backlash_table3", pts, f"the Table 3 points D = {', '.join(f'{d:g}' for d in Ds)} ({where})")
-    ev = [rel_pts, rel, ctx.figure("backlash_bifurcation")]
+    ev = [rel_pts, rel, ctx.figure("backlash_bifurcation"), ctx.figure("backlash_table3")]
     m, n, l = motion_fields(pts)
     lle = pts["lle"].isel(sweep=0).values
     err = pts["lle_err"].isel(sweep=0).values
@@ -118,7 +118,9 @@ def study_backlash(ctx: Context) -> Section:
         [f"The paper pairs b = {', '.join(f'{b:g}' for b in bs)} mm with D = {', '.join(f'{d:g}' for d in Ds)}, "
          f"i.e. D = b/(2 mm) with f_p and ε1 fixed (a fixed length scale b_c = 1 mm, not b_c = b_n); this study uses "
          f"that reading at ω = {s.omega_damping:g}. Amplitude = half peak-to-peak of u over the recorded periods."],
-        [(ev[2], f"Bifurcation diagram over the backlash D with the largest Lyapunov exponent, {where}")],
+        [(ev[2], f"Bifurcation diagram over the backlash D with the largest Lyapunov exponent, {where}"),
+         (ev[3], f"The Table 3 points D = {', '.join(f'{d:g}' for d in Ds)} with their Lyapunov exponents "
+                 f"({max(s.periods, 2 * s.settle)} recorded periods), {where}")],
         claims,
         table,
     )

@@ -121,7 +121,7 @@ class JumpData:
 
     def ev(self, *keys: tuple[float, float, float]) -> list[str]:
         """The evidence of the responses at ``keys``, in order."""
-        return [e for k in keys for e in self.evidence[k]]
+        return list(dict.fromkeys(e for k in keys for e in self.evidence[k]))
 
 
 def compute_responses(ctx: Context) -> JumpData:
