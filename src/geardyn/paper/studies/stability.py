@@ -8,7 +8,7 @@ import xarray as xr
 
 from ...analysis.bifurcation import bifurcation, sweep_values
 from ...analysis.periodic import compare_stability_condition, continuation
-from ...io import attach
+from ...io import attach, attached
 from ...model import GearModel, IntegrationOptions
 from ...plot.periodic import SWEEP_CONTEXT
 from ..claims import CLAIMS
@@ -117,11 +117,13 @@ def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
     first = [h for h in hyst if h[1] >= s.continuation_omega[0] and h[0] <= s.continuation_omega[1]]
     events = (", ".join(f"{b['type']} at ω = {b['omega']:.4f}" for b in bifs) + ".") if bifs else \
         "no fold, period doubling or other event on this interval."
+    sweep = attached(branch, SWEEP_CONTEXT)
+    over = (f", drawn over the brute-force up/down sweep of the same interval ({sweep['omega'].size} points, each "
+            f"continuing from the previous end state, {s.response_transient} transient and "
+            f"{s.continuation_sweep_periods} recorded periods)") if sweep is not None else ""
     text = [f"Pseudo-arclength continuation of the period-1 orbit (shooting, Floquet multipliers, accurate mode) over "
             f"ω ∈ [{s.continuation_omega[0]:g}, {s.continuation_omega[1]:g}] for ξ0 = {key[0]:g}, ξ1 = {key[1]:g}, "
-            f"D = {key[2]:g}, drawn over the brute-force up/down sweep of the same interval ({s.continuation_sweep_num} "
-            f"points, each continuing from the previous end state, {s.response_transient} transient and "
-            f"{s.continuation_sweep_periods} recorded periods). Events: " + events]
+            f"D = {key[2]:g}{over}. Events: " + events]
     if len(folds) >= 2 and first:
         a, b = first[0]
         text.append(f"The folds at ω = {folds[0]:.4f} and {folds[-1]:.4f} bound the unstable middle branch; the up/down "
@@ -133,5 +135,5 @@ def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
                 "describes are period doublings, folds and the crises that end chaotic bands.")
     return Section("Periodic orbits behind the first jump", text,
                    [(ctx.figure("jump_continuation"), "Continuation over ω at " + model_text(ctx.model_at(key), skip=("omega",))
-                     + ": stable (solid) and unstable (dashed) period-1 branch with its bifurcations, over the "
-                     "brute-force up (and down) sweep")], [])
+                     + ": stable (solid) and unstable (dashed) period-1 branch with its bifurcations"
+                     + (", over the brute-force up/down sweep" if sweep is not None else ""))], [])
