@@ -137,3 +137,119 @@ def test_reproduce_module_keeps_its_names():
 
     assert reproduce.fit_formula is fit_formula and reproduce.verdict_of is verdict_of
     assert callable(reproduce.run) and reproduce.Settings.quick().workers == 1
+
+
+# --- the report as a reader sees it (issue: summary, totals, figures, titles, wording) ----------------------------
+def _findings(out):
+    return [Finding(**c) for c in json.loads((out / "claims.json").read_text())]
+
+
+def test_summary_table_says_what_the_paper_claims_and_the_totals_come_first(report_dir):
+    from geardyn.paper.report import SUMMARY_COLUMNS
+
+    out, _ = report_dir
+    page = (out / "report.html").read_text()
+    header = "<tr>" + "".join(f"<th>{h}</th>" for h in SUMMARY_COLUMNS) + "</tr>"
+    assert "paper says" in SUMMARY_COLUMNS and page.count(header) == 1
+    totals = page.index("Totals (")
+    assert totals < page.index(header)
+    claims = _findings(out)
+    counts = {v: sum(c.verdict == v for c in claims) for v in ("reproduced", "partly reproduced", "not reproduced")}
+    assert f"{counts['reproduced']} reproduced, {counts['partly reproduced']} partly reproduced" in page[totals:totals + 200]
+    summary = page[page.index(header):page.index("</table>", page.index(header))]
+    for c in claims:
+        row = re.search(rf"<tr><td><a href='#{re.escape(c.id)}'>.*?</tr>", summary).group(0)
+        assert html_escape(c.statement) in row and html_escape(c.computed) in row and c.verdict in row
+    md = (out / "report.md").read_text()
+    assert md.index("Totals (") < md.index("| id | source | paper says | we find | verdict |")
+
+
+def html_escape(s):
+    import html
+
+    return html.escape(s)
+
+
+def test_every_figure_shown_exists_and_every_cited_figure_is_shown(report_dir):
+    out, _ = report_dir
+    page = (out / "report.html").read_text()
+    shown = re.findall(r"<img alt=\"([^\"]+)\"", page)
+    assert shown and len(shown) == len(set(shown))
+    for rel in shown:
+        assert (out / rel).is_file(), rel
+    drawn = json.loads((out / "run.json").read_text())["figures"]
+    for c in _findings(out):
+        for rel in c.evidence:
+            if rel.endswith(".png"):
+                assert rel in shown, f"{c.id} cites {rel}, which the report does not show"
+            elif rel.startswith("data/"):  # cited data: its main figure is shown too (the ω-search heat maps)
+                name = rel[len("data/"):-len(".nc")]
+                assert drawn[name][0] in shown, f"{c.id} cites {rel}; its figure is not shown"
+    assert {"figures/xi0_search/search.png", "figures/xi1_search/search.png"} <= set(shown)
+
+
+def test_every_figure_is_titled_with_its_parameters(report_dir):
+    out, _ = report_dir
+    page = (out / "report.html").read_text()
+    captions = re.findall(r"<figcaption>(.*?)</figcaption>", page)
+    assert len(captions) == len(re.findall(r"<img ", page))
+    for cap in captions:
+        assert re.search(r"(ω|ξ0|ξ1|D) = \d", cap), cap
+    response = [c for c in captions if c.startswith("Frequency response")]
+    from geardyn.reproduce import Settings
+
+    n = len(Settings.quick().response_sets)  # eleven responses, eleven different titles
+    assert n == 11 and len(response) == len(set(response)) == n
+    for name in json.loads((out / "run.json").read_text())["datasets"]:
+        ds = __import__("xarray").open_dataset(out / "data" / f"{name}.nc")
+        assert "model" in ds.attrs, f"{name}: figures title from the model, which the Dataset must carry"
+        ds.close()
+
+
+def test_report_text_uses_symbols_and_consistent_verdict_words(report_dir):
+    from test_report import check_report_text, check_verdict_wording, markdown_text, visible_text
+
+    out, _ = report_dir
+    check_report_text(visible_text((out / "report.html").read_text()))
+    check_report_text(markdown_text((out / "report.md").read_text()))
+    claims = _findings(out)
+    check_verdict_wording(claims)
+    by_id = {c.id: c for c in claims}
+    m = re.search(r"for (\d+) of (\d+) backlash values", by_id["JUMP-057"].computed)
+    assert m and (int(m.group(1)) > 0 or by_id["JUMP-057"].verdict == "not reproduced")
+    assert "= none" not in by_id["BL-IMPACT"].computed
+
+
+def test_continuation_figure_draws_its_up_down_sweep(report_dir):
+    import xarray as xr
+
+    from geardyn.io import attached
+    from geardyn.plot.periodic import SWEEP_CONTEXT, continuation_figure
+    from geardyn.reproduce import Settings
+
+    out, _ = report_dir
+    ds = xr.load_dataset(out / "data" / "jump_continuation.nc")
+    sweep = attached(ds, SWEEP_CONTEXT)
+    s = Settings.quick()
+    assert sweep is not None and list(sweep["sweep"].values) == ["up", "down"]
+    assert sweep["omega"].size == s.continuation_sweep_num
+    assert float(sweep["omega"].min()) == s.continuation_omega[0] and float(sweep["omega"].max()) == s.continuation_omega[1]
+    art = continuation_figure(ds)
+    labels = [h.get_label() for a in art.axes if a is not None for h in a.get_lines() + a.collections]
+    assert any("sweep up" in lab for lab in labels) and any("sweep down" in lab for lab in labels)
+    assert "up/down sweep" in art.axes[0].get_title()
+
+
+def test_xi0_diagram_is_also_shown_over_its_structure(report_dir):
+    import xarray as xr
+
+    from geardyn.reproduce import Settings
+
+    out, _ = report_dir
+    lo, hi = Settings.quick().xi0_zoom
+    full = xr.load_dataset(out / "data" / "xi0_bifurcation.nc")
+    zoom = xr.load_dataset(out / "data" / "xi0_bifurcation_zoom.nc")
+    x = full["xi0"].values
+    assert list(zoom["xi0"].values) == [v for v in x if lo <= v <= hi] and zoom["xi0"].size < x.size
+    assert zoom.attrs["geardyn_kind"] == "bifurcation"
+    assert "figures/xi0_bifurcation_zoom/bifurcation.png" in (out / "report.html").read_text()

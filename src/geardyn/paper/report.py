@@ -14,10 +14,11 @@ import html
 import json
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 from ..io import atomic_write_bytes
 
+#: The three verdicts, strongest first (the rules that give them: :mod:`geardyn.paper.verdicts`).
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced")
 
 
@@ -81,8 +82,67 @@ def _md_escape_cell(s: str) -> str:
     return s.replace("|", "\\|").replace("\n", " ")
 
 
-def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section]) -> str:
-    """The report as Markdown: the table of claims and verdicts, then every section.
+def totals_text(claims: Sequence[Finding]) -> str:
+    """``"Totals (26 claims): 4 reproduced, 7 partly reproduced, 15 not reproduced."``
+
+    Parameters
+    ----------
+    claims : sequence of Finding
+
+    Returns
+    -------
+    str
+    """
+    counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
+    return f"Totals ({len(claims)} claims): " + ", ".join(f"{n} {v}" for v, n in counts.items()) + "."
+
+
+#: Column headers of the summary table.
+SUMMARY_COLUMNS = ("id", "source", "paper says", "we find", "verdict")
+
+
+def dataset_of(path: str) -> str:
+    """The name of the saved Dataset a report path belongs to (``data/<name>.nc``, ``figures/<name>/…``).
+
+    Parameters
+    ----------
+    path : str
+        A path relative to the report directory.
+
+    Returns
+    -------
+    str
+        The name, or ``path`` itself for any other path.
+    """
+    parts = path.split("/")
+    if len(parts) == 2 and parts[0] == "data":
+        return parts[1].rsplit(".", 1)[0]
+    if len(parts) >= 3 and parts[0] == "figures":
+        return parts[1]
+    return path
+
+
+def is_figure(path: str) -> bool:
+    """Whether a report path is a drawn figure (a PNG under ``figures/``)."""
+    return path.startswith("figures/") and path.endswith(".png")
+
+
+def _evidence_groups(evidence: Sequence[str], labels: Mapping[str, str]) -> list[tuple[str, list[tuple[str, str]]]]:
+    """Evidence grouped by Dataset: (label, [(kind, path)]) in first-cited order."""
+    groups: dict[str, list[tuple[str, str]]] = {}
+    for p in dict.fromkeys(evidence):
+        groups.setdefault(dataset_of(p), []).append(("figure" if is_figure(p) else "data", p))
+    return [(labels.get(n, n), items) for n, items in groups.items()]
+
+
+def _anchor(path: str) -> str:
+    return "fig-" + "".join(ch if ch.isalnum() else "-" for ch in path)
+
+
+def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section],
+                    labels: Mapping[str, str] | None = None) -> str:
+    """The report as Markdown: the totals, the table of claims (what the paper says, what geardyn
+    finds, the verdict), then every section.
 
     Parameters
     ----------
@@ -90,19 +150,23 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
     intro : sequence of str
         Paragraphs before the claims.
     sections : sequence of Section
+    labels : mapping, optional
+        Dataset name → what it is (with its parameters): the text of the evidence links.
 
     Returns
     -------
     str
     """
+    labels = labels or {}
     claims = [c for s in sections for c in s.claims]
     out = [f"# {title}", ""]
     out += [p + "\n" for p in intro]
-    out += ["## Claims and verdicts", "", "| id | source | verdict | computed |", "|---|---|---|---|"]
+    out += ["## Claims and verdicts", "", totals_text(claims), "",
+            "| " + " | ".join(SUMMARY_COLUMNS) + " |", "|" + "---|" * len(SUMMARY_COLUMNS)]
     for c in claims:
-        out.append(f"| {c.id} | {_md_escape_cell(c.source)} | **{c.verdict}** | {_md_escape_cell(c.computed)} |")
-    counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
-    out += ["", "Totals: " + ", ".join(f"{n} {v}" for v, n in counts.items()), ""]
+        out.append(f"| {c.id} | {_md_escape_cell(c.source)} | {_md_escape_cell(c.statement)} | "
+                   f"{_md_escape_cell(c.computed)} | **{c.verdict}** |")
+    out.append("")
     for s in sections:
         out += [f"## {s.title}", ""]
         out += [p + "\n" for p in s.paragraphs]
@@ -113,12 +177,14 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
                 out.append("| " + " | ".join(_md_escape_cell(x) for x in row) + " |")
             out.append("")
         for c in s.claims:
+            ev = "; ".join(f"{lab} (" + ", ".join(f"[{k}]({p})" for k, p in items) + ")"
+                           for lab, items in _evidence_groups(c.evidence, labels))
             out += [
                 f"**{c.id}** ({c.source}). *Paper:* {c.statement}",
                 "",
                 f"*geardyn:* {c.computed}",
                 "",
-                f"*Verdict:* **{c.verdict}**. Evidence: " + ", ".join(f"`{e}`" for e in c.evidence),
+                f"*Verdict:* **{c.verdict}**. Evidence: {ev}",
                 "",
             ]
         for path, caption in s.figures:
@@ -127,11 +193,13 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
 
 
 _CSS = """
-body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1200px;margin:2em auto;
 padding:0 1em;color:#222;line-height:1.45}
 table{border-collapse:collapse;margin:1em 0;font-size:0.92em}td,th{border:1px solid #ccc;padding:4px 8px;
-vertical-align:top}th{background:#f3f3f3}
+vertical-align:top;text-align:left}th{background:#f3f3f3}
+table.summary td:nth-child(3){min-width:14em}table.summary td:nth-child(5){white-space:nowrap}
 .v-reproduced{background:#d9f2d9}.v-partly{background:#fff2cc}.v-not{background:#f8d7d7}
+.totals{font-size:1.05em}
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}figcaption{font-size:0.9em;color:#555}
 .claim{border-left:4px solid #999;padding:0.3em 0.8em;margin:1em 0;background:#fafafa}
 code{background:#f2f2f2;padding:0 3px}
@@ -150,8 +218,13 @@ def _img(directory: Path, rel: str) -> str:
     return f'<img alt="{html.escape(rel)}" src="data:image/png;base64,{data}">'
 
 
-def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], directory: Path) -> str:
+def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], directory: Path,
+                labels: Mapping[str, str] | None = None) -> str:
     """The report as one self-contained HTML page (figures embedded as base64 PNG).
+
+    The totals come first, then the table of claims (what the paper says, what geardyn finds, the
+    verdict), then every section; evidence is linked by what it is (``labels``), a figure shown in
+    the page to its place there.
 
     Parameters
     ----------
@@ -160,23 +233,32 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
     sections : sequence of Section
     directory : Path
         The report directory the figure paths are relative to.
+    labels : mapping, optional
+        Dataset name → what it is (with its parameters): the text of the evidence links.
 
     Returns
     -------
     str
     """
     e = html.escape
+    labels = labels or {}
     claims = [c for s in sections for c in s.claims]
+    shown = {p for s in sections for p, _ in s.figures}
     out = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(title)}</title><style>{_CSS}</style></head><body>",
            f"<h1>{e(title)}</h1>"]
     out += [f"<p>{e(p)}</p>" for p in intro]
-    out.append("<h2>Claims and verdicts</h2><table><tr><th>id</th><th>source</th><th>verdict</th><th>computed</th></tr>")
+    out.append("<h2>Claims and verdicts</h2>")
+    out.append(f"<p class='totals'><b>{e(totals_text(claims))}</b></p>")
+    out.append("<table class='summary'><tr>" + "".join(f"<th>{e(h)}</th>" for h in SUMMARY_COLUMNS) + "</tr>")
     for c in claims:
-        out.append(f"<tr><td><a href='#{e(c.id)}'>{e(c.id)}</a></td><td>{e(c.source)}</td>"
-                   f"<td class='{_vclass(c.verdict)}'>{e(c.verdict)}</td><td>{e(c.computed)}</td></tr>")
+        out.append(f"<tr><td><a href='#{e(c.id)}'>{e(c.id)}</a></td><td>{e(c.source)}</td><td>{e(c.statement)}</td>"
+                   f"<td>{e(c.computed)}</td><td class='{_vclass(c.verdict)}'>{e(c.verdict)}</td></tr>")
     out.append("</table>")
-    counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
-    out.append("<p>Totals: " + e(", ".join(f"{n} {v}" for v, n in counts.items())) + "</p>")
+
+    def link(kind: str, path: str) -> str:
+        href = "#" + _anchor(path) if path in shown else path
+        return f"<a href='{e(href)}'>{e(kind)}</a>"
+
     for s in sections:
         out.append(f"<h2>{e(s.title)}</h2>")
         out += [f"<p>{e(p)}</p>" for p in s.paragraphs]
@@ -186,19 +268,21 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
                 out.append("<tr>" + "".join(f"<td>{e(x)}</td>" for x in row) + "</tr>")
             out.append("</table>")
         for c in s.claims:
+            ev = "; ".join(f"{e(lab)} (" + ", ".join(link(k, p) for k, p in items) + ")"
+                           for lab, items in _evidence_groups(c.evidence, labels))
             out.append(
                 f"<div class='claim' id='{e(c.id)}'><b>{e(c.id)}</b> ({e(c.source)})<br><i>Paper:</i> {e(c.statement)}"
                 f"<br><i>geardyn:</i> {e(c.computed)}<br><i>Verdict:</i> <span class='{_vclass(c.verdict)}'>"
-                f"<b>{e(c.verdict)}</b></span> &mdash; evidence: {e(', '.join(c.evidence))}</div>"
+                f"<b>{e(c.verdict)}</b></span> &mdash; evidence: {ev}</div>"
             )
         for path, caption in s.figures:
-            out.append(f"<figure>{_img(directory, path)}<figcaption>{e(caption)}</figcaption></figure>")
+            out.append(f"<figure id='{_anchor(path)}'>{_img(directory, path)}<figcaption>{e(caption)}</figcaption></figure>")
     out.append("</body></html>")
     return "\n".join(out)
 
 
 def write_report(directory: str | Path, title: str, intro: Sequence[str], sections: Sequence[Section],
-                 meta: dict[str, Any] | None = None) -> dict[str, Path]:
+                 meta: dict[str, Any] | None = None, labels: Mapping[str, str] | None = None) -> dict[str, Path]:
     """Write report.md, report.html, claims.json (a list, one entry per claim) and, with ``meta``,
     run.json (settings, timings) into ``directory``.
 
@@ -211,6 +295,8 @@ def write_report(directory: str | Path, title: str, intro: Sequence[str], sectio
     sections : sequence of Section
     meta : dict, optional
         Written as run.json.
+    labels : mapping, optional
+        Dataset name → what it is, with its parameters (the text of the evidence links).
 
     Returns
     -------
@@ -221,8 +307,8 @@ def write_report(directory: str | Path, title: str, intro: Sequence[str], sectio
     d.mkdir(parents=True, exist_ok=True)
     claims = [asdict(c) for s in sections for c in s.claims]
     paths = {"md": d / "report.md", "html": d / "report.html", "claims": d / "claims.json"}
-    atomic_write_bytes(paths["md"], render_markdown(title, intro, sections).encode())
-    atomic_write_bytes(paths["html"], render_html(title, intro, sections, d).encode())
+    atomic_write_bytes(paths["md"], render_markdown(title, intro, sections, labels).encode())
+    atomic_write_bytes(paths["html"], render_html(title, intro, sections, d, labels).encode())
     atomic_write_bytes(paths["claims"], json.dumps(claims, indent=2, default=str).encode())
     if meta:
         paths["meta"] = d / "run.json"

@@ -10,7 +10,8 @@ into ``figures/<name>/``, and :func:`link_figures` puts the drawn files into the
 Settings the paper leaves unstated are chosen once (:class:`~geardyn.paper.settings.Settings`),
 with the reason written into the report.  Where a claim does not hold at the stated choice, the
 study searches (over ω) for where the described behaviour does occur and says so; the verdict is
-then at most "partly reproduced".  No setting is tuned silently.
+then at most "partly reproduced" (:data:`geardyn.paper.verdicts.VERDICT_RULES`, stated once in the
+report).  No setting is tuned silently.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ from .studies.formula import study_formula
 from .studies.jumps import compute_responses, study_jumps, study_table4
 from .studies.stability import jump_continuation, study_orbits, study_stability
 from .table1 import TABLE1
-from .verdicts import MATCH_PARTLY, MATCH_REPRODUCED
+from .verdicts import VERDICT_RULES
 
 __all__ = ["STUDIES", "Settings", "link_figures", "run", "run_studies", "settings_section", "write_output",
            "write_outputs"]
@@ -65,20 +66,22 @@ def run_studies(ctx: Context) -> list[Section]:
     """
     s = ctx.settings
     key = s.xi0_set[0]
-    args = (ctx.base.replace(xi0=key[0], xi=(key[1],), D=key[2]), *s.continuation_omega)
-    # the continuation is long and sequential: start it first, on a worker if there is a pool
-    branch_future = ctx.executor.submit(jump_continuation, *args) if ctx.executor is not None else None
+    args = (ctx.model_at(key), *s.continuation_omega)
+    kw = {"sweep_num": s.continuation_sweep_num,
+          "sweep_options": s.response_options.replace(periods=s.continuation_sweep_periods)}
+    # the continuation (and its brute-force sweep) is long and sequential: start it first, on a worker if any
+    branch_future = ctx.executor.submit(jump_continuation, *args, **kw) if ctx.executor is not None else None
     sections = [study(ctx) for study in STUDIES]
     jd = compute_responses(ctx)
     sections += [study_jumps(ctx, jd), study_table4(ctx, jd), study_formula(ctx, jd), study_stability(ctx)]
     ctx.log("periodic orbits through the first jump")
-    branch = branch_future.result() if branch_future is not None else jump_continuation(*args)
+    branch = branch_future.result() if branch_future is not None else jump_continuation(*args, **kw)
     sections.insert(-3, study_orbits(ctx, branch, jd))
     return sections
 
 
 def settings_section(s: Settings, elapsed: float) -> Section:
-    """The report's first section: the model, the choices the paper leaves open, the verdict rule.
+    """The report's first section: the model, the choices the paper leaves open, the verdict rules.
 
     Parameters
     ----------
@@ -94,16 +97,16 @@ def settings_section(s: Settings, elapsed: float) -> Section:
         "Settings",
         [
             f"Model: the paper's Table 1 (ξ0 = {TABLE1['xi0']}, ξ1 = {TABLE1['xi1']}, κ1 = {TABLE1['kappa1']}, "
-            f"f_p = {TABLE1['fp']}, ε1 = {TABLE1['eps1']} i.e. f_e = {TABLE1['eps1']:g} ω² cos θ, D = {TABLE1['D']}, "
+            f"f_p = {TABLE1['fp']}, ε1 = {TABLE1['eps1']} i.e. f_e = {TABLE1['eps1']:g} ω² cos θ, D = {TABLE1['D']:g}, "
             f"phases 0), RK4 with Δτ = {DEFAULT_DTAU:g} (h = T/ceil(T/Δτ)), {s.transient} transient and {s.periods} "
             "recorded periods per point.",
             f"ω of the damping and backlash studies: {s.omega_damping:g} (not stated in the paper). Reason: ω = 1 puts "
             "the mesh frequency at the linear natural frequency, the reference point of the non-dimensional model, "
             "inside the band where the paper's defaults respond non-trivially. Where a claim fails there, ω is "
-            f"searched over {', '.join(f'{w:g}' for w in s.search_omegas)} and the report says where it holds.",
-            f"Verdicts for a claimed motion over a range: ≥ {100 * MATCH_REPRODUCED:.0f} % of the grid points match → "
-            f"reproduced, ≥ {100 * MATCH_PARTLY:.0f} % → partly reproduced, else not reproduced; a claim that holds only "
-            "at a searched ω is at most partly reproduced.",
+            f"searched over {', '.join(f'{w:g}' for w in s.search_omegas if abs(w - s.omega_damping) >= 1e-12)} (on coarser "
+            "grids) and the report says where it holds.",
+            "Verdict rules, applied by every study below:",
+            *VERDICT_RULES,
             f"Computation time: {elapsed:.1f} s.",
         ],
     )
@@ -223,6 +226,7 @@ def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str]
     sections.insert(0, settings_section(settings, t_compute))
     paths = write_report(out, TITLE, INTRO, sections,
                          meta={"settings": asdict(settings), "compute_s": t_compute,
-                               "total_s": time.perf_counter() - t0, "datasets": ctx.datasets, "figures": figures})
+                               "total_s": time.perf_counter() - t0, "datasets": ctx.datasets, "figures": figures},
+                         labels=ctx.labels)
     claims = [c for s in sections for c in s.claims]
     return {"paths": {k: str(v) for k, v in paths.items()}, "claims": claims, "seconds": time.perf_counter() - t0}

@@ -19,7 +19,7 @@ from ..analysis.bifurcation import bifurcation
 from ..model import GearModel, IntegrationOptions
 from .table1 import TABLE1_MODEL
 
-__all__ = ["FIGURE_REF", "Context", "Settings"]
+__all__ = ["FIGURE_REF", "Context", "Settings", "model_text"]
 
 #: Prefix of a figure reference (:meth:`Context.figure`) until the figure is drawn.
 FIGURE_REF = "figure:"
@@ -58,6 +58,12 @@ class Settings:
         ω grid of the stability-condition study.
     continuation_omega : (float, float)
         ω interval of the continuation through the first jump.
+    continuation_sweep_num, continuation_sweep_periods : int
+        Points and recorded periods of the brute-force up/down sweep drawn under the continuation
+        (the sweep's transient is ``response_transient``), as ``geardyn continuation`` draws it.
+    xi0_zoom : (float, float)
+        ξ0 interval of the zoomed ξ0 bifurcation diagram: the fine part of ``xi0_grid``, where the
+        paper's first bifurcation point and the Table 2 rows lie.
     workers : int
         Worker processes when :func:`geardyn.paper.run.run` makes its own pool.
     """
@@ -84,6 +90,9 @@ class Settings:
     alt_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.5), (0.15, 0.05, 0.5), (0.08, 0.05, 1.5))
     stability_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.4, 2.41, 0.1), 3))
     continuation_omega: tuple[float, float] = (0.5, 0.7)
+    continuation_sweep_num: int = 101
+    continuation_sweep_periods: int = 32
+    xi0_zoom: tuple[float, float] = (0.02, 0.2)
     workers: int = 2
 
     @property
@@ -104,13 +113,39 @@ class Settings:
             xi0_grid=(0.03, 0.07, 0.09, 0.15, 0.5), xi1_grid=(0.0, 0.02, 0.06), d_grid=(0.1, 0.35, 0.75),
             search_omegas=(1.0, 1.2), search_xi0=(0.03, 0.08, 0.15), search_xi1=(0.0, 0.06), workers=1,
             response_num=12, response_transient=40, response_periods=30, stability_omegas=(0.8, 1.6),
-            continuation_omega=(0.61, 0.63),
+            continuation_omega=(0.61, 0.63), continuation_sweep_num=11, continuation_sweep_periods=16,
         )
 
     @property
     def options(self) -> IntegrationOptions:
         """Transient and recorded periods of the bifurcation diagrams."""
         return IntegrationOptions(transient=self.transient, periods=self.periods)
+
+
+#: The model's parameters as the report names them, in the order it gives them.
+_SYMBOLS = (("omega", "ω"), ("xi0", "ξ0"), ("xi1", "ξ1"), ("D", "D"), ("fp", "f_p"), ("kappa1", "κ1"), ("eps1", "ε1"))
+
+
+def model_text(model: GearModel, *, skip: Sequence[str] = (), only: Sequence[str] | None = None) -> str:
+    """A model's parameters as the report writes them: ``"ω = 1, ξ0 = 0.08, ξ1 = 0.05, D = 0.25"``.
+
+    Parameters
+    ----------
+    model : GearModel
+    skip : sequence of str
+        Parameters left out (the swept one), by canonical name (``"xi0"``, ``"omega"``…).
+    only : sequence of str, optional
+        The parameters given (default ω, ξ0, ξ1, D).
+
+    Returns
+    -------
+    str
+    """
+    values = {"omega": model.omega, "xi0": model.xi0, "xi1": model.xi[0] if model.xi else 0.0, "D": model.D,
+              "fp": model.fp, "kappa1": model.kappa[0] if model.kappa else 0.0,
+              "eps1": model.eps[0] if model.eps else 0.0}
+    names = ("omega", "xi0", "xi1", "D") if only is None else tuple(only)
+    return ", ".join(f"{sym} = {values[k]:g}" for k, sym in _SYMBOLS if k in names and k not in skip)
 
 
 @dataclass
@@ -130,6 +165,8 @@ class Context:
         Name → data path (relative) of every saved Dataset.
     pending : dict
         Name → Dataset not yet written.
+    labels : dict
+        Name → what the Dataset is, with its parameters, as the report shows its evidence.
     """
 
     out: Path
@@ -138,13 +175,28 @@ class Context:
     log: Callable[[str], None] = lambda s: None
     datasets: dict[str, str] = field(default_factory=dict)  # name -> relative path of its NetCDF
     pending: dict[str, xr.Dataset] = field(default_factory=dict)  # saved at the end, in parallel
+    labels: dict[str, str] = field(default_factory=dict)  # name -> what it is, with its parameters
 
     @property
     def base(self) -> GearModel:
         """The Table 1 model at the ω of the damping and backlash studies."""
         return TABLE1_MODEL.replace(omega=self.settings.omega_damping)
 
-    def save(self, name: str, ds: xr.Dataset) -> str:
+    def model_at(self, key: tuple[float, float, float]) -> GearModel:
+        """The base model (:attr:`base`) at one (ξ0, ξ1, D) of the jump study's sets.
+
+        Parameters
+        ----------
+        key : (float, float, float)
+            ξ0, ξ1 and D.
+
+        Returns
+        -------
+        GearModel
+        """
+        return self.base.replace(xi0=key[0], xi=(key[1],), D=key[2])
+
+    def save(self, name: str, ds: xr.Dataset, label: str | None = None) -> str:
         """Register a Dataset for ``data/<name>.nc`` and its figures; written by :func:`geardyn.paper.run.write_outputs`.
 
         Parameters
@@ -153,6 +205,9 @@ class Context:
             File stem of the data; its figures go to ``figures/<name>/``.
         ds : xarray.Dataset
             A geardyn result (its ``geardyn_kind`` selects the figures).
+        label : str, optional
+            What the Dataset is, with its parameters (``"frequency response at ξ0 = 0.08, …"``): the
+            report's name for its data and figures (default ``name``).
 
         Returns
         -------
@@ -162,6 +217,7 @@ class Context:
         rel = f"data/{name}.nc"
         self.pending[name] = ds
         self.datasets[name] = rel
+        self.labels[name] = label or name
         return rel
 
     @staticmethod

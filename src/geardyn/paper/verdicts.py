@@ -1,9 +1,20 @@
-"""How the studies read the paper's words and turn computed motions into verdicts.
+"""How the studies read the paper's words and turn computed results into verdicts.
 
-The verdict rule for a claimed motion over a parameter range: the fraction of grid points in the
-range whose motion matches the claim is ≥ :data:`MATCH_REPRODUCED` → reproduced;
-≥ :data:`MATCH_PARTLY` → partly reproduced; else not reproduced.  :func:`motion_rule` maps the
-paper's words for motions onto geardyn's classification, once for every study.
+The verdict rules are stated once, here (:data:`VERDICT_RULES`, which the report quotes), and
+every study applies them through the functions of this module:
+
+- a claim checked on N cases (grid points of a range, responses, values, or the parts of a claim
+  with several parts) with k of them holding: :func:`verdict_of` (k/N ≥ :data:`MATCH_REPRODUCED`
+  → reproduced; ≥ :data:`MATCH_PARTLY` → partly reproduced; else not reproduced; 0 of N is
+  therefore never "partly");
+- a claim that fails at the study's chosen setting but holds at a searched one (another ω, the
+  other reading of the paper's b): :func:`elsewhere` (at most partly reproduced);
+- a claim made of other claims: :func:`of_claims`;
+- single-number claims: the formula fit (:data:`FORMULA_R2_REPRODUCED`, :data:`FORMULA_R2_PARTLY`)
+  and the stability condition (:data:`STABILITY_REL`).
+
+:func:`motion_rule` maps the paper's words for motions onto geardyn's classification, once for
+every study.
 """
 
 from __future__ import annotations
@@ -15,11 +26,21 @@ import numpy as np
 import xarray as xr
 
 from ..analysis.classify import MOTION_CHAOTIC, MOTION_PERIODIC, MOTION_QUASIPERIODIC
+from .report import VERDICTS
 
 __all__ = [
+    "FORMULA_R2_PARTLY",
+    "FORMULA_R2_REPRODUCED",
     "MATCH_PARTLY",
     "MATCH_REPRODUCED",
+    "STABILITY_REL",
+    "VERDICTS",
+    "VERDICT_RULES",
     "combine",
+    "count_text",
+    "elsewhere",
+    "of_claims",
+    "parts",
     "describe_motion",
     "is_chaotic",
     "is_regular",
@@ -33,21 +54,43 @@ __all__ = [
     "verdict_of",
 ]
 
-#: Fraction of matching grid points for "reproduced" / "partly reproduced".
+#: Fraction of matching cases for "reproduced" / "partly reproduced" (MATCH_PARTLY > 0: 0 of N is "not").
 MATCH_REPRODUCED = 0.8
 MATCH_PARTLY = 0.3
+#: The amplitude formula: coefficient of determination R² of the fit for "reproduced" / "partly reproduced".
+FORMULA_R2_REPRODUCED = 0.9
+FORMULA_R2_PARTLY = 0.5
+#: The stability condition is reproduced when a computed critical ξ0 lies within this relative distance of it.
+STABILITY_REL = 0.1
+
+#: The verdict rules as the report states them (once, in its Settings section).
+VERDICT_RULES: tuple[str, ...] = (
+    f"Counted claims. A claim is checked on N cases: the grid points of a parameter range, the responses or "
+    f"values it speaks of, or the parts of a claim that says several things. With k of the N holding, it is "
+    f"reproduced if k/N ≥ {100 * MATCH_REPRODUCED:.0f} %, partly reproduced if k/N ≥ {100 * MATCH_PARTLY:.0f} %, "
+    f"and not reproduced otherwise; 0 of N is never partly reproduced. The report gives k and N.",
+    "Elsewhere only. A claim that is not reproduced at the setting its study chose (the ω of the damping and "
+    "backlash studies, the reading D = b/2 of the paper's b in mm) but holds in full at a searched ω or under the "
+    "reading D = b is partly reproduced, and the report names where it holds. A claim is never upgraded further.",
+    "Claims made of other claims (the sequence of motions along ξ1, whose ends are Table 2 rows 4 and 5) are "
+    "reproduced when all of those are, not reproduced when none of them holds even partly, and partly reproduced "
+    "otherwise.",
+    f"Single numbers. The amplitude formula is reproduced when its least-squares fit reaches R² ≥ "
+    f"{FORMULA_R2_REPRODUCED:g}, partly reproduced for R² ≥ {FORMULA_R2_PARTLY:g}; the stability condition is "
+    f"reproduced when a critical ξ0 from Floquet multipliers lies within {100 * STABILITY_REL:.0f} % of it.",
+)
 
 #: A predicate on (motion, period, loops) of one grid point.
 MotionTest = Callable[[int, int, int], bool]
 
 
 def verdict_of(fraction: float) -> str:
-    """The verdict for the fraction of grid points that match a claim.
+    """The verdict for the fraction k/N of the cases of a claim that hold (the counted-claims rule).
 
     Parameters
     ----------
     fraction : float
-        Matching fraction in [0, 1] (NaN: no grid point in the range).
+        Matching fraction in [0, 1] (NaN: no case, not reproduced).
 
     Returns
     -------
@@ -61,8 +104,25 @@ def verdict_of(fraction: float) -> str:
     return "not reproduced"
 
 
+def parts(*holds: bool) -> str:
+    """The verdict of a claim that says several things, by how many of them hold (the counted-claims rule).
+
+    Parameters
+    ----------
+    *holds : bool
+        Whether each part holds (at least one).
+
+    Returns
+    -------
+    str
+    """
+    return verdict_of(sum(map(bool, holds)) / len(holds))
+
+
 def combine(both_ok: bool, either_ok: bool) -> str:
     """The verdict of a claim with two parts: both hold → reproduced, one → partly, none → not.
+
+    The counted-claims rule with N = 2 (:func:`parts`).
 
     Parameters
     ----------
@@ -74,6 +134,57 @@ def combine(both_ok: bool, either_ok: bool) -> str:
     str
     """
     return "reproduced" if both_ok else ("partly reproduced" if either_ok else "not reproduced")
+
+
+def elsewhere(verdict: str, holds_elsewhere: bool) -> str:
+    """The elsewhere-only rule: a claim not reproduced at its study's setting that holds in full at a
+    searched one is partly reproduced; any other verdict stands.
+
+    Parameters
+    ----------
+    verdict : str
+        The verdict at the study's setting.
+    holds_elsewhere : bool
+        Whether the claim holds in full at a searched ω or under the other reading of b.
+
+    Returns
+    -------
+    str
+    """
+    return "partly reproduced" if verdict == "not reproduced" and holds_elsewhere else verdict
+
+
+def of_claims(verdicts: Sequence[str]) -> str:
+    """The verdict of a claim made of other claims: all reproduced → reproduced, none holding even
+    partly → not reproduced, else partly reproduced.
+
+    Parameters
+    ----------
+    verdicts : sequence of str
+        The verdicts of the claims it is made of.
+
+    Returns
+    -------
+    str
+    """
+    return combine(all(v == "reproduced" for v in verdicts), any(v != "not reproduced" for v in verdicts))
+
+
+def count_text(k: int, n: int, what: str) -> str:
+    """``"2 of 3 grid points (67 %)"``: the k and N of the counted-claims rule, as the report gives them.
+
+    Parameters
+    ----------
+    k, n : int
+        Cases holding and cases checked.
+    what : str
+        The cases, plural (``"grid points"``); empty for ``"2 of 3 (67 %)"``.
+
+    Returns
+    -------
+    str
+    """
+    return f"{k} of {n}" + (f" {what}" if what else "") + (f" ({100 * k / n:.0f} %)" if n else "")
 
 
 def describe_motion(motion: int, period: int, loops: int) -> str:

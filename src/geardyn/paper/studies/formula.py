@@ -9,7 +9,8 @@ from ..claims import CLAIMS
 from ..report import Section
 from ..settings import Context
 from ..table1 import TABLE1
-from ..verdicts import combine
+from ...io import json_attr
+from ..verdicts import FORMULA_R2_PARTLY, FORMULA_R2_REPRODUCED, combine
 from .jumps import JumpData
 
 __all__ = ["FORMULA_R2_PARTLY", "FORMULA_R2_REPRODUCED", "fit_formula", "study_formula"]
@@ -41,11 +42,6 @@ def fit_formula(omega: np.ndarray, xi0: np.ndarray, b: np.ndarray, A: np.ndarray
             "rmse": float(np.sqrt(np.mean(res**2))), "n": int(ok.sum())}
 
 
-#: Formula fit quality for the verdicts (coefficient of determination R²).
-FORMULA_R2_REPRODUCED = 0.9
-FORMULA_R2_PARTLY = 0.5
-
-
 def study_formula(ctx: Context, jd: JumpData) -> Section:
     """The amplitude formula (FORMULA), fitted to the up sweeps of the jump study at the Table 1 ξ1.
 
@@ -73,17 +69,22 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
     ds = xr.Dataset(
         {"amplitude": ("point", data[:, 3]), "omega": ("point", data[:, 0]), "xi0": ("point", data[:, 1]),
          "b_mm": ("point", data[:, 2])},
-        attrs={"geardyn_kind": "formula_fit", **{k: str(v) for k, v in fit.items()}})
-    rel = ctx.save("formula_fit", ds)
+        attrs={"geardyn_kind": "formula_fit", "model": json_attr(ctx.base.replace(xi=(TABLE1["xi1"],))),
+               **{k: str(v) for k, v in fit.items()}})
+    groups = sorted({(float(x), float(b)) for x, b in zip(data[:, 1], data[:, 2])})
+    where = f"ξ1 = {TABLE1['xi1']:g}; (ξ0, b in mm) = " + ", ".join(f"({x:g}, {b:g})" for x, b in groups)
+    rel = ctx.save("formula_fit", ds, f"formula fit to the up sweeps ({where})")
     r2 = fit["r2"]
     v = combine(r2 >= FORMULA_R2_REPRODUCED, r2 >= FORMULA_R2_PARTLY)
     ev = [rel, ctx.figure("formula_fit")]
     c = CLAIMS["FORMULA"].judge(
         f"least-squares fit to {fit['n']} computed amplitudes (up sweeps, ξ1 = {TABLE1['xi1']:g}, b = 2D mm): "
         f"A0 = {fit['A0']:.3f}, ΔA = {fit['dA']:.3f}, β = {fit['beta']:.3f} per mm²; R² = {r2:.3f}, "
-        f"RMS error {fit['rmse']:.3f}.", v, ev)
+        f"RMS error {fit['rmse']:.3f} (reproduced from R² ≥ {FORMULA_R2_REPRODUCED:g}, partly from R² ≥ "
+        f"{FORMULA_R2_PARTLY:g}).", v, ev)
     return Section(
         "The amplitude formula",
-        [f"The formula is linear in A0, ΔA and β, so they are fitted by linear least squares. Verdict: R² ≥ "
-         f"{FORMULA_R2_REPRODUCED} reproduced, ≥ {FORMULA_R2_PARTLY} partly, else not."],
-        [(ev[1], "Computed amplitudes against the fitted formula")], [c])
+        ["The formula is linear in A0, ΔA and β, so they are fitted by linear least squares to the amplitudes of "
+         "the up sweeps of the jump study (b = 2D mm); the verdict follows the R² rule of the Settings."],
+        [(ev[1], f"Computed amplitudes against the fitted formula over ω ∈ [{ctx.settings.response_omega[0]:g}, "
+                 f"{ctx.settings.response_omega[1]:g}], {where}")], [c])

@@ -17,9 +17,9 @@ import xarray as xr
 from ...analysis.response import frequency_response
 from ..claims import CLAIMS, claim_ids
 from ..report import Finding, Section
-from ..settings import Context
+from ..settings import Context, model_text
 from ..table1 import TABLE1
-from ..verdicts import combine, verdict_of
+from ..verdicts import count_text, elsewhere, parts, verdict_of
 
 __all__ = [
     "JUMP_NEAR",
@@ -121,7 +121,7 @@ class JumpData:
 
     def ev(self, *keys: tuple[float, float, float]) -> list[str]:
         """The evidence of the responses at ``keys``, in order."""
-        return [e for k in keys for e in self.evidence[k]]
+        return list(dict.fromkeys(e for k in keys for e in self.evidence[k]))
 
 
 def compute_responses(ctx: Context) -> JumpData:
@@ -143,14 +143,18 @@ def compute_responses(ctx: Context) -> JumpData:
     for key in s.response_sets:
         xi0, xi1, D = key
         ctx.log(f"frequency response ξ0 = {xi0:g}, ξ1 = {xi1:g}, D = {D:g}")
-        model = ctx.base.replace(xi0=xi0, xi=(xi1,), D=D)
+        model = ctx.model_at(key)
         ds = frequency_response(model, s.response_omega[0], s.response_omega[1], s.response_num,
                                 options=s.response_options, settle_periods=s.settle, executor=ctx.executor)
         name = response_key(*key)
-        rel = ctx.save(name, ds)
+        rel = ctx.save(name, ds, f"frequency response at {model_text(model, skip=('omega',))}")
         out[key] = ds
         ev[key] = [rel, ctx.figure(name)]
     return JumpData(out, ev)
+
+
+def _key_text(key: tuple[float, float, float]) -> str:
+    return f"ξ0 = {key[0]:g}, ξ1 = {key[1]:g}, D = {key[2]:g}"
 
 
 def _monotone(values: Sequence[float], decreasing: bool) -> bool:
@@ -187,10 +191,13 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     # steady below ω = 0.5
     low = [(k, j) for k, ds in R.items() for j in jumps_of(ds) if j["omega"] < LOW_OMEGA]
     low_h = [(k, h) for k, ds in R.items() for h in hysteresis_of(ds) if h[0] < LOW_OMEGA]
+    unsteady = {k for k, _ in low} | {k for k, _ in low_h}
+    n_steady = len(R) - len(unsteady)
     claims.append(CLAIMS["JUMP-LOW"].judge(
         f"over {len(R)} responses (ξ0, ξ1, D varied): {len(low)} jumps and {len(low_h)} hysteresis intervals below "
-        f"ω = {LOW_OMEGA:g}" + (": " + ", ".join(f"{j['omega']:.2f} at {k}" for k, j in low) if low else ""),
-        "reproduced" if not low and not low_h else "not reproduced", jd.ev(*R)))
+        f"ω = {LOW_OMEGA:g}" + (": " + ", ".join(f"ω = {j['omega']:.2f} at {_key_text(k)}" for k, j in low) if low else "")
+        + f"; steady below ω = {LOW_OMEGA:g} in {count_text(n_steady, len(R), 'responses')}.",
+        verdict_of(n_steady / len(R)), jd.ev(*R)))
 
     def size_series(keys: Sequence[tuple[float, float, float]]) -> list[float]:
         out = []
@@ -207,10 +214,12 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         txt = f"first upward jump above ω = {above:g} (up sweep): " + ", ".join(
             f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none") for v, sz, j in zip(vals, sizes, locs))
         ok = _monotone(sizes, dec)
-        exists = all(j is not None for j in locs)
+        n_found = sum(j is not None for j in locs)
+        exists = n_found == len(locs)
         claims.append(CLAIMS[cid].judge(
-            txt + f"; sizes {'decrease' if dec else 'increase'} with {lab}: {'yes' if ok else 'no'}.",
-            combine(ok, exists), jd.ev(*keys)))
+            txt + f"; parts holding: {count_text(exists + ok, 2, '')}; an upward jump in each response: "
+            f"{'yes' if exists else 'no'} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} with "
+            f"{lab}: {'yes' if ok else 'no'}.", parts(exists, ok), jd.ev(*keys)))
 
     fl0 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi0_set]
     fl1 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi1_set]
@@ -219,25 +228,22 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         "fluctuation after the first jump (mean |ΔA| between neighbouring ω of the up sweep): ξ0 = " +
         ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0)) + f" ({'weakens' if ok0 else 'does not weaken'} "
         f"with ξ0); ξ1 = " + ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1)) +
-        f" ({'intensifies' if ok1 else 'does not intensify'} with ξ1).",
-        combine(ok0 and ok1, ok0 or ok1), jd.ev(*s.xi0_set, *s.xi1_set)))
+        f" ({'intensifies' if ok1 else 'does not intensify'} with ξ1); parts holding: {count_text(ok0 + ok1, 2, '')}.",
+        parts(ok0, ok1), jd.ev(*s.xi0_set, *s.xi1_set)))
 
     firsts = {k: first_up_jump(R[k]) for k in s.d_set}
     at = CLAIMS["JUMP-057"].numbers["omega"]
     near = [k for k, j in firsts.items() if j and abs(j["omega"] - at) <= JUMP_NEAR]
     locs = np.array([j["omega"] for j in firsts.values() if j])
-    common = locs.size >= 2 and float(np.ptp(locs)) <= 2 * JUMP_NEAR
-    if common:
+    common = ""
+    if locs.size >= 2 and float(np.ptp(locs)) <= 2 * JUMP_NEAR:
         shared = f"{locs.min():.3f}" if np.ptp(locs) == 0 else f"{locs.min():.3f}–{locs.max():.3f}"
-    v = verdict_of(len(near) / len(firsts))
-    if v == "not reproduced" and common:
-        v = "partly reproduced"  # one jump location shared by the backlash values, but not at the paper's
+        common = f"; the {locs.size} jumps found share one location, ω = {shared}"
     claims.append(CLAIMS["JUMP-057"].judge(
         "first upward jump (up sweep) for D = " + ", ".join(
             f"{k[2]:g}: " + (f"ω = {j['omega']:.3f}" if j else "none") for k, j in firsts.items()) +
-        f"; within ±{JUMP_NEAR:g} of {at:g} for {len(near)} of {len(firsts)}" +
-        (f"; the jumps found share one location, ω = {shared}" if common else "") + ".",
-        v, jd.ev(*s.d_set)))
+        f"; within ±{JUMP_NEAR:g} of ω = {at:g} for {count_text(len(near), len(firsts), 'backlash values')}" + common + ".",
+        verdict_of(len(near) / len(firsts)), jd.ev(*s.d_set)))
 
     def near_jump(keys: Sequence[tuple[float, float, float]], omega: float, direction: str,
                   tol: float) -> tuple[str, bool]:
@@ -258,9 +264,12 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         keys = [k for k in ((base_xi0, TABLE1["xi1"], b / 2), (base_xi0, TABLE1["xi1"], b)) if k in R]
         txt, found_main = near_jump(keys[:1], omega, direction, JUMP_NEAR)
         txt_alt, found_alt = near_jump(keys[1:], omega, direction, JUMP_NEAR) if len(keys) > 1 else ("", False)
-        v = "reproduced" if found_main else ("partly reproduced" if found_alt else "not reproduced")
+        v = elsewhere("reproduced" if found_main else "not reproduced", found_alt)
+        tail = "" if found_main else (f"; within ±{JUMP_NEAR:g} of ω = {omega:g} under the reading D = b only" if found_alt
+                                      else f"; no {direction}ward jump within ±{JUMP_NEAR:g} of ω = {omega:g} under "
+                                           "either reading")
         claims.append(CLAIMS[cid].judge(f"b = {b:g} read as D = b/2 (Table 3 reading): {txt}" +
-                                        (f". Read as D = b: {txt_alt}" if txt_alt else "") + ".", v, jd.ev(*keys)))
+                                        (f". Read as D = b: {txt_alt}" if txt_alt else "") + tail + ".", v, jd.ev(*keys)))
 
     return Section(
         "Jumps and fluctuations of the amplitude-frequency response",
@@ -270,8 +279,8 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
          "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
          "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm); the reading D = b "
          f"is shown alongside where the claim depends on it. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."],
-        [(jd.evidence[k][1], f"Frequency response ξ0 = {k[0]:g}, ξ1 = {k[1]:g}, D = {k[2]:g} (up and down sweeps)")
-         for k in R],
+        [(jd.evidence[k][1], f"Frequency response at {_key_text(k)}: up and down sweeps over ω ∈ "
+                             f"[{s.response_omega[0]:g}, {s.response_omega[1]:g}]") for k in R],
         claims,
         table,
     )
@@ -308,9 +317,11 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         kinds = sorted({j["direction"] + "ward" for j in js})
         kind_ok = (not js) if kind == "none" else (kind in kinds)
         amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
-        v = combine(kind_ok and amp_ok, kind_ok or amp_ok)
+        v = parts(amp_ok, kind_ok)
         txt = (f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
-               f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'}")
+               f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'}; parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
+               f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {'yes' if amp_ok else 'no'}, jump type "
+               f"'{kind}': {'yes' if kind_ok else 'no'}")
         ev = list(jd.evidence[key])
         if alt in R:
             da = R[alt]

@@ -6,18 +6,19 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ...analysis.bifurcation import bifurcation, sweep_values
 from ...analysis.periodic import compare_stability_condition, continuation
-from ...model import GearModel
+from ...io import attach, attached
+from ...model import GearModel, IntegrationOptions
+from ...plot.periodic import SWEEP_CONTEXT
 from ..claims import CLAIMS
 from ..report import Section
-from ..settings import Context
+from ..settings import Context, model_text
 from ..table1 import TABLE1
+from ..verdicts import STABILITY_REL
 from .jumps import JumpData, hysteresis_of
 
 __all__ = ["STABILITY_REL", "jump_continuation", "study_orbits", "study_stability"]
-
-#: The condition counts as reproduced when a computed critical ξ0 lies within this relative distance of it.
-STABILITY_REL = 0.1
 
 
 def study_stability(ctx: Context) -> Section:
@@ -36,7 +37,7 @@ def study_stability(ctx: Context) -> Section:
     s = ctx.settings
     ctx.log("stability condition against Floquet analysis")
     ds = compare_stability_condition(ctx.base, s.stability_omegas)
-    rel = ctx.save("stability_condition", ds)
+    rel = ctx.save("stability_condition", ds, f"Floquet stability boundaries over ω ({model_text(ctx.base, skip=('omega', 'xi0'))})")
     paper = float(ds.attrs["xi0_paper"])
     mx = ds.attrs.get("max_xi0_critical")
     ml = ds.attrs.get("max_xi0_critical_linear")
@@ -54,11 +55,15 @@ def study_stability(ctx: Context) -> Section:
         "The stability condition ξ0 = ½√(1 − κ1²)",
         ["The critical mean damping above which the period-1 response (full model) and the zero solution of the "
          "linear contact model (D = 0, unforced) are stable, from Floquet multipliers, against the paper's closed form."],
-        [(ev[1], "Floquet stability boundaries in ξ0 against the paper's condition")], [c])
+        [(ev[1], f"Floquet stability boundaries in ξ0 against the paper's condition, ω ∈ [{min(s.stability_omegas):g}, "
+                 f"{max(s.stability_omegas):g}], {model_text(ctx.base, skip=('omega', 'xi0'), only=('xi1', 'D', 'fp', 'kappa1'))}")],
+        [c])
 
 
-def jump_continuation(model: GearModel, lo: float, hi: float) -> xr.Dataset:
-    """Period-1 branch through the first jump by pseudo-arclength continuation (run on a worker).
+def jump_continuation(model: GearModel, lo: float, hi: float, *, sweep_num: int = 0,
+                      sweep_options: IntegrationOptions | None = None) -> xr.Dataset:
+    """Period-1 branch through the first jump by pseudo-arclength continuation, with the brute-force
+    up/down sweep over the same interval attached for its figure (run on a worker).
 
     Parameters
     ----------
@@ -66,13 +71,24 @@ def jump_continuation(model: GearModel, lo: float, hi: float) -> xr.Dataset:
         The model of the first response of the ξ0 set.
     lo, hi : float
         The ω interval.
+    sweep_num : int, optional
+        Points of the up/down sweep (each point continuing from the previous end state), as
+        ``geardyn continuation`` draws under its branches; 0: no sweep.
+    sweep_options : IntegrationOptions, optional
+        Transient and recorded periods of the sweep.
 
     Returns
     -------
     xarray.Dataset
-        A ``continuation`` result.
+        A ``continuation`` result; with a sweep, the sweep is attached under
+        :data:`geardyn.plot.periodic.SWEEP_CONTEXT` (:func:`geardyn.io.attach`).
     """
-    return continuation(model, "omega", lo, hi, switch=False).to_dataset()
+    ds = continuation(model, "omega", lo, hi, switch=False).to_dataset()
+    if sweep_num > 0:
+        sweep = bifurcation(model, "omega", sweep_values(lo, hi, sweep_num), mode="continue", sweep="both",
+                            options=sweep_options or IntegrationOptions())
+        ds = attach(ds, SWEEP_CONTEXT, sweep)
+    return ds
 
 
 def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
@@ -92,15 +108,22 @@ def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
     """
     s = ctx.settings
     key = s.xi0_set[0]
-    ctx.save("jump_continuation", branch)
+    ctx.save("jump_continuation", branch, f"continuation of the period-1 orbit over ω ∈ [{s.continuation_omega[0]:g}, "
+                                          f"{s.continuation_omega[1]:g}] ({model_text(ctx.model_at(key), skip=('omega',))})")
     bifs = [{"type": str(t), "omega": float(w)} for t, w in
             zip(branch["bifurcation_type"].values, branch["bifurcation_omega"].values)] if "bifurcation" in branch.dims else []
     folds = sorted(b["omega"] for b in bifs if b["type"] == "fold")
     hyst = hysteresis_of(jd.responses[key])
     first = [h for h in hyst if h[1] >= s.continuation_omega[0] and h[0] <= s.continuation_omega[1]]
+    events = (", ".join(f"{b['type']} at ω = {b['omega']:.4f}" for b in bifs) + ".") if bifs else \
+        "no fold, period doubling or other event on this interval."
+    sweep = attached(branch, SWEEP_CONTEXT)
+    over = (f", drawn over the brute-force up/down sweep of the same interval ({sweep['omega'].size} points, each "
+            f"continuing from the previous end state, {s.response_transient} transient and "
+            f"{s.continuation_sweep_periods} recorded periods)") if sweep is not None else ""
     text = [f"Pseudo-arclength continuation of the period-1 orbit (shooting, Floquet multipliers, accurate mode) over "
             f"ω ∈ [{s.continuation_omega[0]:g}, {s.continuation_omega[1]:g}] for ξ0 = {key[0]:g}, ξ1 = {key[1]:g}, "
-            f"D = {key[2]:g}. Events: " + ", ".join(f"{b['type']} at ω = {b['omega']:.4f}" for b in bifs) + "."]
+            f"D = {key[2]:g}{over}. Events: " + events]
     if len(folds) >= 2 and first:
         a, b = first[0]
         text.append(f"The folds at ω = {folds[0]:.4f} and {folds[-1]:.4f} bound the unstable middle branch; the up/down "
@@ -111,5 +134,6 @@ def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
                 "paper's 'Hopf bifurcation' cannot be a torus bifurcation of a periodic orbit here; the transitions it "
                 "describes are period doublings, folds and the crises that end chaotic bands.")
     return Section("Periodic orbits behind the first jump", text,
-                   [(ctx.figure("jump_continuation"), "Continuation: stable (solid) and unstable (dashed) period-1 "
-                                                       "branch with its bifurcations")], [])
+                   [(ctx.figure("jump_continuation"), "Continuation over ω at " + model_text(ctx.model_at(key), skip=("omega",))
+                     + ": stable (solid) and unstable (dashed) period-1 branch with its bifurcations"
+                     + (", over the brute-force up/down sweep" if sweep is not None else ""))], [])

@@ -1,0 +1,168 @@
+"""The reproduction report's rendering and its verdict rules, on hand-made sections (no computation)."""
+
+from __future__ import annotations
+
+import re
+from html.parser import HTMLParser
+
+import pytest
+
+from geardyn.paper import CLAIMS
+from geardyn.paper.report import SUMMARY_COLUMNS, Section, dataset_of, render_html, render_markdown, write_report
+from geardyn.paper.settings import model_text
+from geardyn.paper.table1 import TABLE1_MODEL
+from geardyn.paper.verdicts import (
+    MATCH_PARTLY,
+    VERDICT_RULES,
+    count_text,
+    elsewhere,
+    of_claims,
+    parts,
+    verdict_of,
+)
+
+#: ASCII spellings of the model's parameters that the report's text must write as symbols.
+ASCII_NAMES = re.compile(r"\b(xi\d|xi_\d|omega|kappa\d?|eps\d|fp)\b|omega\s*=")
+#: "k of N" counts in a claim's text.
+COUNTS = re.compile(r"(?<![\d.])(\d+) of (\d+)(?!\.?\d)")
+
+
+class _Text(HTMLParser):
+    """The visible text of a page (no tags, attributes, styles or embedded images)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.parts: list[str] = []
+        self._skip = 0
+
+    def handle_starttag(self, tag, attrs):
+        self._skip += tag in ("style", "script")
+
+    def handle_endtag(self, tag):
+        self._skip -= tag in ("style", "script")
+
+    def handle_data(self, data):
+        if not self._skip:
+            self.parts.append(data)
+
+
+def visible_text(page: str) -> str:
+    p = _Text()
+    p.feed(page)
+    return re.sub(r"\s+", " ", "".join(p.parts))
+
+
+def markdown_text(md: str) -> str:
+    """Markdown without link and image targets (what a reader sees)."""
+    return re.sub(r"\]\([^)]*\)", "]", md)
+
+
+def check_report_text(text: str) -> None:
+    """The wording checks every rendered report must pass."""
+    assert not re.search(r"=\s*none\b", text), "a value written as '= none'"
+    m = ASCII_NAMES.search(text)
+    assert m is None, f"ASCII parameter name {m.group(0)!r} in the report text"
+
+
+def check_verdict_wording(claims) -> None:
+    """No claim's words contradict its verdict: 0 of N is never 'partly', N of N alone is never 'not'."""
+    for c in claims:
+        counts = [(int(k), int(n)) for k, n in COUNTS.findall(c.computed)]
+        if c.verdict == "partly reproduced" and counts:
+            assert any(k > 0 for k, _ in counts), f"{c.id}: partly reproduced with only zero counts: {c.computed}"
+        if c.verdict == "reproduced" and counts:
+            assert all(k / n >= 0.8 for k, n in counts if n), f"{c.id}: reproduced with a failing count: {c.computed}"
+
+
+def _sections():
+    f1 = CLAIMS["T2-1"].judge("at ω = 1: chaotic at 3 of 4 grid points of the range (75 %).", "partly reproduced",
+                              ["data/xi0_bifurcation.nc", "figures/xi0_bifurcation/bifurcation.png",
+                               "figures/xi0_bifurcation/bifurcation.png"])
+    f2 = CLAIMS["JUMP-057"].judge("within ±0.03 of ω = 0.57 for 0 of 4 backlash values (0 %).", "not reproduced",
+                                  ["data/response_xi0_0.08_xi1_0.05_D_0.1.nc"])
+    return [
+        Section("A", ["text"], [("figures/xi0_bifurcation/bifurcation.png", "Bifurcation diagram over ξ0, ω = 1")], [f1]),
+        Section("B", [], [], [f2], [["ξ0", "D"], ["0.08", "0.1"]]),
+    ]
+
+
+LABELS = {"xi0_bifurcation": "bifurcation diagram over ξ0 (ω = 1, ξ1 = 0.05, D = 1)",
+          "response_xi0_0.08_xi1_0.05_D_0.1": "frequency response at ξ0 = 0.08, ξ1 = 0.05, D = 0.1"}
+
+
+def test_summary_has_paper_says_beside_we_find_and_the_verdict_and_totals_come_first(tmp_path):
+    page = render_html("T", ["intro"], _sections(), tmp_path, LABELS)
+    assert SUMMARY_COLUMNS == ("id", "source", "paper says", "we find", "verdict")
+    header = "<tr>" + "".join(f"<th>{h}</th>" for h in SUMMARY_COLUMNS) + "</tr>"
+    assert header in page
+    assert page.index("Totals (2 claims): 0 reproduced, 1 partly reproduced, 1 not reproduced.") < page.index(header)
+    row = re.search(r"<tr><td><a href='#T2-1'>.*?</tr>", page).group(0)
+    assert "ξ0 &lt; 0.064: chaotic motion" in row and "3 of 4 grid points" in row and "partly reproduced" in row
+    md = render_markdown("T", ["intro"], _sections(), LABELS)
+    assert "| id | source | paper says | we find | verdict |" in md
+    assert md.index("Totals (2 claims)") < md.index("| id | source | paper says")
+    assert f"| T2-1 | Table 2, row 1 | {CLAIMS['T2-1'].statement} |" in md
+
+
+def test_evidence_is_named_by_what_it_is_and_shown_figures_link_to_their_place(tmp_path):
+    (tmp_path / "figures" / "xi0_bifurcation").mkdir(parents=True)
+    (tmp_path / "figures" / "xi0_bifurcation" / "bifurcation.png").write_bytes(b"\x89PNG")
+    page = render_html("T", [], _sections(), tmp_path, LABELS)
+    text = visible_text(page)
+    assert "bifurcation diagram over ξ0 (ω = 1, ξ1 = 0.05, D = 1) (data, figure)" in text  # each path once
+    assert "href='#fig-figures-xi0-bifurcation-bifurcation-png'" in page
+    assert "<figure id='fig-figures-xi0-bifurcation-bifurcation-png'>" in page
+    assert "href='data/response_xi0_0.08_xi1_0.05_D_0.1.nc'" in page  # data are linked, not shown
+    check_report_text(text)
+    check_report_text(markdown_text(render_markdown("T", [], _sections(), LABELS)))
+    assert dataset_of("figures/a_b/x.png") == "a_b" and dataset_of("data/a_b.nc") == "a_b"
+
+
+def test_the_text_checks_catch_what_they_are_for():
+    with pytest.raises(AssertionError, match="= none"):
+        check_report_text("single-sided at all three only at ω = none")
+    for bad in ("Bifurcation diagram over xi0", "omega=0.525", "at xi1 = 0.05", "kappa1 = 0.2"):
+        with pytest.raises(AssertionError, match="ASCII"):
+            check_report_text(bad)
+    check_report_text("ξ0 = 0.08, ξ1 = 0.05, ω = 0.6, κ1 = 0.2, f_p = 0.2; jumps within ±0.05: none")
+    bad = CLAIMS["JUMP-057"].judge("within ±0.03 of 0.57 for 0 of 4.", "partly reproduced", ["x"])
+    with pytest.raises(AssertionError, match="zero counts"):
+        check_verdict_wording([bad])
+
+
+def test_verdict_rules_zero_of_n_is_never_partly():
+    assert MATCH_PARTLY > 0
+    for n in range(1, 12):
+        assert verdict_of(0 / n) == "not reproduced"
+        assert verdict_of(n / n) == "reproduced"
+    assert verdict_of(float("nan")) == "not reproduced"
+    assert parts(False, False) == "not reproduced" and parts(True, False) == "partly reproduced"
+    assert parts(True, True) == "reproduced" and parts(True, True, False, False, False) == "partly reproduced"
+    assert elsewhere("not reproduced", True) == "partly reproduced"
+    assert elsewhere("not reproduced", False) == "not reproduced"
+    assert elsewhere("partly reproduced", True) == "partly reproduced"  # never upgraded further
+    assert of_claims(["reproduced", "reproduced"]) == "reproduced"
+    assert of_claims(["reproduced", "not reproduced"]) == "partly reproduced"
+    assert of_claims(["not reproduced", "not reproduced"]) == "not reproduced"
+    assert count_text(0, 4, "backlash values") == "0 of 4 backlash values (0 %)"
+    assert count_text(1, 2, "") == "1 of 2 (50 %)"
+
+
+def test_verdict_rules_are_stated_once_in_the_report(tmp_path):
+    from geardyn.paper.run import settings_section
+    from geardyn.paper.settings import Settings
+
+    sections = [settings_section(Settings.quick(), 1.0), *_sections()]
+    paths = write_report(tmp_path, "T", [], sections, labels=LABELS)
+    text = visible_text(paths["html"].read_text())
+    for rule in VERDICT_RULES:
+        assert text.count(rule) == 1
+    assert "0 of N is never partly reproduced" in text
+    check_report_text(text)
+
+
+def test_model_text_names_the_parameters_with_their_symbols():
+    m = TABLE1_MODEL.replace(xi0=0.08, D=0.25)
+    assert model_text(m) == "ω = 1, ξ0 = 0.08, ξ1 = 0.05, D = 0.25"
+    assert model_text(m, skip=("omega",)) == "ξ0 = 0.08, ξ1 = 0.05, D = 0.25"
+    assert model_text(m, only=("fp", "kappa1")) == "f_p = 0.2, κ1 = 0.2"
