@@ -14,7 +14,7 @@ import os
 import tempfile
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
-from typing import Any, Mapping, NamedTuple
+from typing import Any, Iterable, Mapping, NamedTuple
 
 import numpy as np
 import xarray as xr
@@ -246,7 +246,7 @@ def _default(o: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(o).__name__}")
 
 
-def annotate(ds: xr.Dataset, kind: str | None = None) -> xr.Dataset:
+def annotate(ds: xr.Dataset, kind: str | None = None, *, names: Iterable[str] | None = None) -> xr.Dataset:
     """Fill in the registry's attributes (:func:`variable`) for every known variable lacking them.
 
     ``units``, ``long_name`` and, for coded variables, ``flag_values``/``flag_meanings`` are set
@@ -259,6 +259,8 @@ def annotate(ds: xr.Dataset, kind: str | None = None) -> xr.Dataset:
         A result, annotated in place.
     kind : str, optional
         Its kind; default the ``geardyn_kind`` attribute.
+    names : iterable of str, optional
+        Annotate only these variables (default: all).
 
     Returns
     -------
@@ -267,7 +269,7 @@ def annotate(ds: xr.Dataset, kind: str | None = None) -> xr.Dataset:
     """
     kind = kind or ds.attrs.get("geardyn_kind")
     ctx = _contexts(ds)
-    for name in list(ds.variables):
+    for name in (list(ds.variables) if names is None else list(names)):
         base, k = str(name), kind
         head, sep, tail = base.partition(CONTEXT_SEPARATOR)
         if sep and head in ctx:

@@ -29,7 +29,7 @@ import numpy as np
 import xarray as xr
 
 from ..integrate import ST_OK, integrate_batch
-from ..io import result_attrs
+from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 
 __all__ = [
@@ -198,13 +198,7 @@ class LyapunovResult:
             attrs=result_attrs("lyapunov", self.model, self.options, state0=list(self.state0),
                                summary=self.to_json()),
         )
-        ds["log_r"].attrs.update(units="1", long_name="log of the Gram–Schmidt diagonal per forcing period")
-        ds["running"].attrs.update(units="1/τ", long_name="running Lyapunov exponent estimate")
-        ds["exponents"].attrs.update(units="1/τ", long_name="Lyapunov exponents")
-        ds["uncertainty"].attrs.update(units="1/τ", long_name="standard error of the exponents (block statistics)")
-        ds["section"].attrs.update(units="1", long_name="index of the recorded forcing period")
-        ds["exponent"].attrs.update(units="1", long_name="exponent index (1 largest)")
-        return ds
+        return annotate(ds)
 
 
 def lyapunov_spectrum(

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..io import json_values
 from ..model import GearModel, IntegrationOptions, ModelError
 from ..sweep import SweepOptions
 from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor, same_attractor as _same_attractor
@@ -262,20 +263,16 @@ def response_json(ds: xr.Dataset) -> dict[str, Any]:
     name = _param(ds)
     measure = str(ds.attrs.get("measure", "amplitude"))
     labels = [str(s) for s in ds["sweep"].values]
-
-    def num(x: float) -> float | None:
-        return float(x) if np.isfinite(x) else None
-
     out: dict[str, Any] = {
         "jumps": json.loads(ds.attrs.get("jumps", "[]")),
         "hysteresis": json.loads(ds.attrs.get("hysteresis", "[]")),
         "measure": measure,
-        name: [float(x) for x in ds[name].values],
+        name: json_values(ds[name]),
     }
     for lab in labels:
         pl = point_labels(ds, lab)
         out[lab] = {
-            measure: [num(x) for x in ds[measure].sel(sweep=lab).values],
+            measure: json_values(ds[measure].sel(sweep=lab)),
             "motion": pl["motion"],
             "impact": pl["impact"],
             "period": pl["period"],

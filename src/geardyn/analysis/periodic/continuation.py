@@ -229,37 +229,7 @@ class ContinuationResult:
                 notes=self.notes,
             ),
         )
-        meta = {
-            "branch": ("1", "branch index"),
-            "period": ("1", "period of the orbit (forcing periods)"),
-            "u": ("1", "orbit displacement u at θ = 0"),
-            "v": ("1", "orbit velocity du/dτ at θ = 0"),
-            "amplitude": ("1", "half peak-to-peak displacement of the orbit"),
-            "stable": ("1", "orbit stable (1) or unstable (0)"),
-            "multiplier_re": ("1", "Floquet multiplier, real part"),
-            "multiplier_im": ("1", "Floquet multiplier, imaginary part"),
-            "poincare_u": ("1", "section points u of the orbit (θ ≡ 0)"),
-            "poincare_v": ("1", "section points du/dτ of the orbit (θ ≡ 0)"),
-            "status": ("1", "point status (0 ok)"),
-            "point": ("1", "index of the branch point"),
-            "multiplier": ("1", "multiplier index (largest modulus first)"),
-            "section": ("1", "index of the section point along the orbit"),
-            "bifurcation": ("1", "index of the bifurcation"),
-            "bifurcation_type": ("1", "bifurcation type"),
-            f"bifurcation_{P}": ("1", f"parameter {P} at the bifurcation"),
-            "bifurcation_period": ("1", "period of the branch the bifurcation lies on"),
-            "bifurcation_branch": ("1", "branch index of the bifurcation"),
-            "bifurcation_u": ("1", "orbit u at θ = 0 at the bifurcation"),
-            "bifurcation_v": ("1", "orbit du/dτ at θ = 0 at the bifurcation"),
-            "bifurcation_amplitude": ("1", "orbit amplitude at the bifurcation"),
-            "bifurcation_detail": ("1", "which multiplier or boundary"),
-        }
-        for k, (u, lname) in meta.items():
-            ds[k].attrs.update(units=u, long_name=lname)
-        annotate(ds)
-        if "long_name" not in ds[P].attrs:
-            ds[P].attrs.update(units="1", long_name=f"continuation parameter {P}")
-        return ds
+        return annotate(ds)
 
 
 def continuation(model: GearModel, param: str, start: float, stop: float, n: int = 1,
