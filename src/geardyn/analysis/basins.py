@@ -24,11 +24,11 @@ import xarray as xr
 from ..grid import Grid, linspace_values
 from ..io import json_values
 from ..model import GearModel, IntegrationOptions
-from ..sweep import DEFAULT_CHUNK_POINTS, SweepOptions
+from ..sweep import DEFAULT_CHUNK_POINTS
 from .attractors import CLOUD_POINTS, CYCLE_TOL, NONPERIODIC_TOL, identify_attractors
 from .bifurcation import fixed_chunk
-from .classify import MAX_PERIOD, SETTLE_PERIODS
-from .points import result_dataset, run_slices
+from .classify import MAX_PERIOD
+from .points import result_dataset, run_slices, sweep_function
 
 __all__ = ["basins", "basins_json", "identify_attractors", "CYCLE_TOL", "NONPERIODIC_TOL", "BASIN_OPTIONS"]
 
@@ -45,6 +45,7 @@ def basin_chunk(model, states, options, settle_periods):
         "poincare": r["poincare"][:, -keep:, :]}
 
 
+@sweep_function("basins", options=BASIN_OPTIONS)
 def basins(
     model: GearModel,
     u_range: tuple[float, float],
@@ -52,10 +53,7 @@ def basins(
     nu: int,
     nv: int,
     *,
-    options: IntegrationOptions = BASIN_OPTIONS,
-    settle_periods: int = SETTLE_PERIODS,
-    engine: SweepOptions | None = None,
-    **engine_kw: Any,
+    options, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Basins of attraction over a grid of initial states (u0, v0) at θ = 0.
 
@@ -69,13 +67,10 @@ def basins(
         Grid points along u0 and v0.
     options : IntegrationOptions
         Transient (long enough for every start to settle) and recorded periods (at least
-        2·MAX_PERIOD to detect periods up to MAX_PERIOD).
+        2·MAX_PERIOD to detect periods up to MAX_PERIOD); default :data:`BASIN_OPTIONS`.
     engine : SweepOptions, optional
         Where and how the sweep runs; ``chunk_points`` is the number of initial states per chunk
         (default 4 × :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
-    **engine_kw
-        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
-    Other parameters as for :func:`~geardyn.analysis.bifurcation.bifurcation`.
 
     Returns
     -------
@@ -95,12 +90,11 @@ def basins(
     TypeError
         For a keyword that is not an engine option.
     """
-    eng = SweepOptions.merge(engine, "basins", **engine_kw)
     options.check_for(model.omega)
     u0 = linspace_values(*u_range, nu, label="u0")
     v0 = linspace_values(*v_range, nv, label="v0")
     grid = Grid.states(u0, v0)
-    rows = run_slices(basin_chunk, lambda sl: (model, grid.state_points(sl), options, settle_periods), grid, eng,
+    rows = run_slices(basin_chunk, lambda sl: (model, grid.state_points(sl), options, settle_periods), grid, engine,
                       4 * DEFAULT_CHUNK_POINTS, "basins")
     labels, atts = identify_attractors(rows)
     shape = grid.shape

@@ -27,9 +27,9 @@ from ..grid import Grid, build_models, linspace_values
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, json_values, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
-from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, SweepOptions, run_chunks
+from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, run_chunks
 from .classify import SETTLE_PERIODS
-from .points import initial_state, run_slices
+from .points import initial_state, run_slices, sweep_function
 from .steady import classify_batch
 
 __all__ = [
@@ -165,6 +165,7 @@ def _check_options(models: Sequence[GearModel], options: IntegrationOptions) -> 
         options.check_for(m.omega)
 
 
+@sweep_function("bifurcation")
 def bifurcation(
     model: GearModel,
     param: str,
@@ -172,12 +173,7 @@ def bifurcation(
     *,
     mode: str = "fixed",
     sweep: str = "up",
-    state0: Sequence[float] = (0.0, 0.0),
-    options: IntegrationOptions = IntegrationOptions(),
-    lyapunov: bool = False,
-    settle_periods: int = SETTLE_PERIODS,
-    engine: SweepOptions | None = None,
-    **engine_kw: Any,
+    state0, options, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Bifurcation diagram of ``param`` over ``values``.
 
@@ -194,23 +190,6 @@ def bifurcation(
         Every point from ``state0``, or continuation of the previous end state.
     sweep : {'up', 'down', 'both'}
         Direction(s) of a continuation sweep (ignored in fixed mode, whose sweep label is 'fixed').
-    state0 : (u0, v0)
-        Initial state (non-dimensional) of every point (fixed) or of the first point of each sweep.
-    options : IntegrationOptions
-        Transient and recorded periods per point (in continuation mode a shorter transient is
-        usually enough, since each point starts near its attractor).
-    lyapunov : bool
-        Compute the largest exponent (and λ2) of every point over its recorded periods.  Without
-        it only non-periodic points get exponents (needed to tell quasi-periodic from chaotic).
-    settle_periods : int
-        Further periods for points not periodic after the transient (see
-        :func:`~geardyn.analysis.steady.classify_batch`).
-    engine : SweepOptions, optional
-        Where and how the sweep runs (:class:`geardyn.sweep.SweepOptions`); ``chunk_points`` is
-        the number of points per chunk in fixed mode (default :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
-    **engine_kw
-        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one (``workers``,
-        ``scheduler``, ``executor``, ``checkpoint``, ``resume``, ``progress``, ``chunk_points``).
 
     Returns
     -------
@@ -229,8 +208,12 @@ def bifurcation(
         When the sweep cannot run (checkpoint, resume, scheduler; see :func:`geardyn.sweep.run_chunks`).
     TypeError
         For a keyword that is not an engine option.
+
+    References
+    ----------
+    R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010 (brute-force
+    bifurcation diagrams and natural-parameter continuation of attractors).
     """
-    eng = SweepOptions.merge(engine, "bifurcation", **engine_kw)
     name = canonical_param(param)
     if mode not in MODES:
         raise ModelError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
@@ -245,14 +228,14 @@ def bifurcation(
     common = (s0t, options, lyapunov, settle_periods)
     if mode == "fixed":
         labels = ["fixed"]
-        per_sweep = [run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common, grid, eng,
+        per_sweep = [run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common, grid, engine,
                                 DEFAULT_CHUNK_POINTS, f"bifurcation {name}")]
     else:
         labels = ["up", "down"] if sweep == "both" else [sweep]
         pts = grid.points()
         chunks = [Chunk(i, grid_chunk, (model, grid.names, pts if lab == "up" else pts[::-1].copy()) + common + (True,))
                   for i, lab in enumerate(labels)]
-        results = run_chunks(chunks, eng, description=f"bifurcation {name}")
+        results = run_chunks(chunks, engine, description=f"bifurcation {name}")
         per_sweep = [r if lab == "up" else {k: v[::-1] for k, v in r.items()} for lab, r in zip(labels, results)]
     ds = points_dataset(name, vals, labels, per_sweep)
     ds.attrs.update(result_attrs("bifurcation", model, options, param=name, mode=mode, sweep=sweep,

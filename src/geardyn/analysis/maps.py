@@ -16,11 +16,11 @@ import xarray as xr
 
 from ..grid import Grid, build_models
 from ..io import json_values
-from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
-from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, SweepOptions, run_chunks
+from ..model import GearModel, ModelError, canonical_param
+from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, run_chunks
 from .bifurcation import MODES, grid_chunk
-from .classify import MOTION_LABELS, SETTLE_PERIODS
-from .points import concat_rows, initial_state, result_dataset, run_slices
+from .classify import MOTION_LABELS
+from .points import concat_rows, initial_state, result_dataset, run_slices, sweep_function
 
 __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
 
@@ -29,6 +29,7 @@ MAP_VARIABLES = ("period", "motion", "impact", "status", "loops", "amplitude", "
                  "fraction_separation", "fraction_back", "lle", "lle_err", "lambda2")
 
 
+@sweep_function("parameter_map")
 def parameter_map(
     model: GearModel,
     x_param: str,
@@ -37,12 +38,7 @@ def parameter_map(
     y_values: Sequence[float],
     *,
     mode: str = "fixed",
-    state0: Sequence[float] = (0.0, 0.0),
-    options: IntegrationOptions = IntegrationOptions(),
-    lyapunov: bool = False,
-    settle_periods: int = SETTLE_PERIODS,
-    engine: SweepOptions | None = None,
-    **engine_kw: Any,
+    state0, options, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Map of the steady response over a grid of two parameters.
 
@@ -55,15 +51,7 @@ def parameter_map(
     x_values, y_values : sequence of float
         Grid values (sorted ascending).
     mode : {'fixed', 'continue'}
-        Every point from ``state0``, or continuation along x within each row.
-    lyapunov : bool
-        Largest exponent for every point (otherwise only for non-periodic points).
-    engine : SweepOptions, optional
-        Where and how the sweep runs; ``chunk_points`` is the number of grid points per chunk in
-        fixed mode (default :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
-    **engine_kw
-        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
-    Other parameters as for :func:`~geardyn.analysis.bifurcation.bifurcation`.
+        Every point from ``state0``, or continuation along x within each row (one chunk per row).
 
     Returns
     -------
@@ -80,7 +68,6 @@ def parameter_map(
     TypeError
         For a keyword that is not an engine option.
     """
-    eng = SweepOptions.merge(engine, "parameter_map", **engine_kw)
     xn, yn = canonical_param(x_param), canonical_param(y_param)
     if xn == yn:
         raise ModelError(f"map: x and y must be different parameters, got {xn!r} twice")
@@ -103,12 +90,12 @@ def parameter_map(
     description = f"map {yn} × {xn}"
     if mode == "fixed":
         cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (False, MAP_VARIABLES),
-                         grid, eng, DEFAULT_CHUNK_POINTS, description)
+                         grid, engine, DEFAULT_CHUNK_POINTS, description)
     else:  # one continuation row per chunk, x increasing
         nx = xv.size
         chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(slice(i * nx, (i + 1) * nx))) + common
                         + (True, MAP_VARIABLES)) for i in range(yv.size)]
-        cat = concat_rows(run_chunks(chunks, eng, description=description))
+        cat = concat_rows(run_chunks(chunks, engine, description=description))
     shape = (yv.size, xv.size)
     return result_dataset({k: ((yn, xn), v.reshape(shape)) for k, v in cat.items()}, {yn: yv, xn: xv}, "map",
                           model, options, x=xn, y=yn, mode=mode, state0=list(s0t), lyapunov=bool(lyapunov),

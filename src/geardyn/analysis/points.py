@@ -8,6 +8,9 @@ here do that once for all of them.
 
 from __future__ import annotations
 
+import functools
+import inspect
+from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
@@ -15,10 +18,137 @@ import xarray as xr
 
 from ..grid import Grid
 from ..io import annotate, result_attrs
-from ..model import GearModel, ModelError
+from ..model import GearModel, IntegrationOptions, ModelError
 from ..sweep import Chunk, SweepOptions, run_chunks
+from .classify import SETTLE_PERIODS
 
-__all__ = ["initial_state", "concat_rows", "run_slices", "result_dataset"]
+__all__ = ["SweepKeyword", "SWEEP_KEYWORDS", "sweep_function", "initial_state", "concat_rows", "run_slices",
+           "result_dataset"]
+
+
+@dataclass(frozen=True)
+class SweepKeyword:
+    """A keyword parameter that several sweeps share: its annotation, default and documentation.
+
+    Parameters
+    ----------
+    name : str
+        The keyword.
+    annotation : str
+        Its type, as written in the signature.
+    default : object
+        Its default value.
+    doc : str
+        Its entry in a numpydoc Parameters section (type line, then the description indented).
+    """
+
+    name: str
+    annotation: str
+    default: Any
+    doc: str
+
+
+#: The keyword parameters the sweeps over points share (declared once: :func:`sweep_function`).
+SWEEP_KEYWORDS: dict[str, SweepKeyword] = {k.name: k for k in (
+    SweepKeyword("state0", "Sequence[float]", (0.0, 0.0), """state0 : sequence of float
+    Initial state (non-dimensional) at θ = 0 of every point (``fixed`` mode) or of the first point
+    of each continuation run; one entry per state component (``model.state_dim``)."""),
+    SweepKeyword("options", "IntegrationOptions", IntegrationOptions(), """options : IntegrationOptions
+    Transient and recorded periods per point (in continuation runs a shorter transient is usually
+    enough, since each point starts near its attractor); default ``IntegrationOptions()``."""),
+    SweepKeyword("lyapunov", "bool", False, """lyapunov : bool
+    Compute the largest exponent (and λ2) of every point over its recorded periods.  Without it
+    only non-periodic points get exponents (needed to tell quasi-periodic from chaotic)."""),
+    SweepKeyword("settle_periods", "int", SETTLE_PERIODS, """settle_periods : int
+    Further periods for points not periodic after the transient (see
+    :func:`~geardyn.analysis.steady.classify_batch`); default
+    :data:`~geardyn.analysis.classify.SETTLE_PERIODS`."""),
+    SweepKeyword("engine", "SweepOptions | None", None, """engine : SweepOptions, optional
+    Where and how the sweep runs (:class:`geardyn.sweep.SweepOptions`); where the points are
+    independent, its ``chunk_points`` is the number of points per chunk (default
+    :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`)."""),
+    SweepKeyword("engine_kw", "Any", inspect.Parameter.empty, """**engine_kw
+    Fields of :class:`~geardyn.sweep.SweepOptions` given one by one (``workers``, ``scheduler``,
+    ``executor``, ``checkpoint``, ``resume``, ``progress``, ``chunk_points``); any other keyword
+    is refused with :class:`TypeError`."""),
+)}
+
+
+def _indent(text: str, prefix: str) -> str:
+    return "\n".join(prefix + line if line else line for line in text.splitlines())
+
+
+def _document(doc: str, entries: Sequence[SweepKeyword]) -> str:
+    """``doc`` with the entries of the shared keywords it does not document inserted before ``Returns``."""
+    marker = "\n    Returns\n"
+    missing = [k for k in entries if f"\n    {k.name} :" not in doc and f"\n    **{k.name}" not in doc]
+    if not missing or marker not in doc:
+        return doc
+    head, tail = doc.split(marker, 1)
+    block = "\n".join(_indent(k.doc, "    ") for k in missing)
+    return f"{head.rstrip()}\n{block}\n{marker}{tail}"
+
+
+def sweep_function(caller: str, **defaults: Any) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Decorator: a sweep whose shared keywords are declared by :data:`SWEEP_KEYWORDS`.
+
+    The decorated function lists the shared keywords it takes (``state0``, ``options``,
+    ``lyapunov``, ``settle_periods``, ``engine``) as keyword-only parameters without default; the
+    decorator gives them their annotation, default and documentation, adds ``**engine_kw`` (the
+    engine options given one by one) and passes the function one merged
+    :class:`~geardyn.sweep.SweepOptions` as ``engine``.
+
+    Parameters
+    ----------
+    caller : str
+        The function's name, for the message of an unknown keyword.
+    **defaults
+        Defaults that differ from those of :data:`SWEEP_KEYWORDS` (e.g. ``options=BASIN_OPTIONS``);
+        only shared keywords.
+
+    Returns
+    -------
+    callable
+        The decorator.
+
+    Raises
+    ------
+    TypeError
+        For a default of a keyword that is not shared.
+    """
+    unknown = set(defaults) - set(SWEEP_KEYWORDS)
+    if unknown:
+        raise TypeError(f"sweep_function: not a shared keyword: {sorted(unknown)}")
+
+    def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
+        sig = inspect.signature(fn)
+        params, shared = [], []
+        for p in sig.parameters.values():
+            k = SWEEP_KEYWORDS.get(p.name)
+            if k is not None and p.default is p.empty:
+                p = p.replace(annotation=k.annotation, default=defaults.get(p.name, k.default))
+                shared.append(k)
+            params.append(p)
+        params.append(inspect.Parameter("engine_kw", inspect.Parameter.VAR_KEYWORD, annotation="Any"))
+        shared.append(SWEEP_KEYWORDS["engine_kw"])
+        public = sig.replace(parameters=params)
+        own = set(sig.parameters)
+
+        @functools.wraps(fn)
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            engine_kw = {k: kwargs.pop(k) for k in list(kwargs) if k not in own}
+            bound = public.bind(*args, **kwargs)
+            bound.apply_defaults()
+            call = dict(bound.arguments)
+            call.pop("engine_kw", None)
+            call["engine"] = SweepOptions.merge(call["engine"], caller, **engine_kw)
+            return fn(**call)
+
+        wrapper.__signature__ = public  # type: ignore[attr-defined]
+        wrapper.__doc__ = _document(fn.__doc__ or "", shared)
+        return wrapper
+
+    return decorate
 
 
 def initial_state(model: GearModel, state0: Sequence[float] | np.ndarray) -> tuple[float, ...]:

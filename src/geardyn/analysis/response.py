@@ -29,11 +29,11 @@ import numpy as np
 import xarray as xr
 
 from ..io import json_values
-from ..model import GearModel, IntegrationOptions, ModelError
-from ..sweep import SweepOptions
+from ..model import GearModel, ModelError
 from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor, same_attractor as _same_attractor
 from .bifurcation import bifurcation, point_labels, sweep_values
-from .classify import MOTION_PERIODIC, SETTLE_PERIODS
+from .classify import MOTION_PERIODIC
+from .points import sweep_function
 
 __all__ = [
     "JUMP_MIN_FRACTION",
@@ -64,19 +64,15 @@ ATTRACTOR_TOL = CYCLE_TOL
 MEASURES = ("amplitude", "rms", "u_max", "u_min", "mean")
 
 
+@sweep_function("frequency_response")
 def frequency_response(
     model: GearModel,
     omega_start: float,
     omega_stop: float,
     num: int,
     *,
-    options: IntegrationOptions = IntegrationOptions(),
-    state0: tuple[float, float] = (0.0, 0.0),
     measure: str = "amplitude",
-    lyapunov: bool = False,
-    settle_periods: int = SETTLE_PERIODS,
-    engine: SweepOptions | None = None,
-    **engine_kw: Any,
+    options, state0, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Up and down frequency sweeps with state continuation, with jumps and hysteresis detected.
 
@@ -84,22 +80,20 @@ def frequency_response(
     ----------
     model : GearModel
         The model; ω is swept.
-    omega_start, omega_stop, num : float, float, int
-        The ω grid (non-dimensional, > 0), ``num`` points; choose the step small enough to
-        resolve the jumps (they are located to within one step).
+    omega_start, omega_stop : float
+        Ends of the ω grid (non-dimensional, > 0).
+    num : int
+        Points of the grid; choose the step small enough to resolve the jumps (they are located to
+        within one step).
+    measure : str
+        Amplitude measure used for jumps: one of :data:`MEASURES` (default: half peak-to-peak).
     options : IntegrationOptions
         Transient and recorded periods per point (each point starts from the previous end state,
         so a moderate transient suffices away from bifurcations).
-    state0 : (u0, v0)
+    state0 : sequence of float
         Initial state of the first point of each sweep (the lowest ω for up, the highest for down).
-    measure : str
-        Amplitude measure used for jumps: one of :data:`MEASURES` (default: half peak-to-peak).
-    lyapunov, settle_periods
-        As for :func:`~geardyn.analysis.bifurcation.bifurcation`.
     engine : SweepOptions, optional
         Where and how the sweep runs (one chunk per sweep direction: ``chunk_points`` is not used).
-    **engine_kw
-        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
 
     Returns
     -------
@@ -114,15 +108,16 @@ def frequency_response(
         :func:`~geardyn.analysis.bifurcation.bifurcation`.
     SweepError
         When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
+    TypeError
+        For a keyword that is not an engine option.
     """
-    eng = SweepOptions.merge(engine, "frequency_response", **engine_kw)
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
     vals = sweep_values(omega_start, omega_stop, num)
     if np.any(vals <= 0):
         raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a grid from {omega_start!r} to {omega_stop!r}")
     ds = bifurcation(model, "omega", vals, mode="continue", sweep="both", state0=state0, options=options,
-                     lyapunov=lyapunov, settle_periods=settle_periods, engine=eng)
+                     lyapunov=lyapunov, settle_periods=settle_periods, engine=engine)
     return annotate_response(ds, measure)
 
 
