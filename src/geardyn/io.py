@@ -497,30 +497,13 @@ def _fsync_dir(directory: Path) -> None:
         os.close(fd)
 
 
-def atomic_write_bytes(path: str | Path, data: bytes) -> None:
-    """Write bytes to ``path`` atomically (temporary file in the same directory, fsync, rename)."""
+def _atomic(path: str | Path, write: Any) -> Path:
+    """Run ``write(tmp)`` on a temporary file beside ``path``, make it durable and rename it to ``path``."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = _temp_beside(path)
     try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-        _fsync_dir(path.parent)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
-def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` to NetCDF (h5netcdf) atomically; returns the path."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _temp_beside(path)
-    try:
-        annotate(ds).to_netcdf(tmp, engine="h5netcdf")
+        write(tmp)
         with open(tmp, "rb") as f:
             os.fsync(f.fileno())
         os.replace(tmp, path)
@@ -529,6 +512,37 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def atomic_write_bytes(path: str | Path, data: bytes) -> None:
+    """Write bytes to ``path`` atomically (temporary file in the same directory, fsync, rename).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file (its directory is created if missing).
+    data : bytes
+        The content.
+    """
+    _atomic(path, lambda tmp: Path(tmp).write_bytes(data))
+
+
+def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write ``ds`` to NetCDF (h5netcdf) atomically, its variables annotated (:func:`annotate`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result.
+    path : str or Path
+        The file (its directory is created if missing).
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    return _atomic(path, lambda tmp: annotate(ds).to_netcdf(tmp, engine="h5netcdf"))
 
 
 def read_netcdf(path: str | Path) -> xr.Dataset:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 from dataclasses import asdict, dataclass, fields
 from typing import Any, ClassVar, Iterable, Sequence
 
@@ -49,15 +50,41 @@ DEFAULT_PERIODS = 200
 MAX_KAPPA_SUM = 1.0
 
 
-def _check_finite(name: str, value: float) -> float:
-    if isinstance(value, bool):
-        raise ModelError(f"{name}: expected a number, got {value!r}")
+def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: Any = repr) -> float:
+    """``value`` as a finite float, else :class:`ModelError` naming ``name`` (the one finite-number check).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the message.
+    value : object
+        The raw value; bool is refused, and with ``real_only`` anything that is not a real number
+        (strings, NumPy bools, complex, None) too.
+    real_only : bool
+        Refuse values that are not :class:`numbers.Real` instead of trying ``float(value)``
+        (the stricter check of :func:`geardyn.validate.number`).
+    describe : callable
+        How the value is shown in the message (default ``repr``).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ModelError
+        "expected a (finite) number" for the wrong type, "must be a finite number" for NaN or ±inf.
+    """
+    refused = (bool, np.bool_) if real_only else bool
+    if isinstance(value, refused) or (real_only and not isinstance(value, numbers.Real)):
+        raise ModelError(f"{name}: expected {'a finite' if real_only else 'a'} number, got {describe(value)}")
     try:
         x = float(value)
     except (TypeError, ValueError, OverflowError):
-        raise ModelError(f"{name}: expected a finite number, got {value!r}") from None
+        what = "must be" if real_only else "expected"
+        raise ModelError(f"{name}: {what} a finite number, got {describe(value)}") from None
     if not math.isfinite(x):
-        raise ModelError(f"{name}: must be a finite number, got {value!r}")
+        raise ModelError(f"{name}: must be a finite number, got {describe(value)}")
     return x
 
 

@@ -29,8 +29,10 @@ from .model import (
     GearModel,
     IntegrationOptions,
     ModelError,
+    _check_finite,
     canonical_param,
 )
+from .grid import Grid
 from .params import FAMILIES, slot
 
 __all__ = [
@@ -78,16 +80,25 @@ def _describe(value: Any) -> str:
 
 
 def number(name: str, value: Any) -> float:
-    """A finite real number (bool, strings, complex, None and non-finite values refused)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise ModelError(f"{name}: expected a finite number, got {_describe(value)}")
-    try:
-        x = float(value)
-    except (OverflowError, ValueError, TypeError):
-        raise ModelError(f"{name}: must be a finite number, got {_describe(value)}") from None
-    if not math.isfinite(x):
-        raise ModelError(f"{name}: must be a finite number, got {_describe(value)}")
-    return x
+    """A finite real number (bool, strings, complex, None and non-finite values refused).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the message.
+    value : object
+        The raw value.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ModelError
+        For anything but a finite real number.
+    """
+    return _check_finite(name, value, real_only=True, describe=_describe)
 
 
 def positive(name: str, value: Any, what: str = "") -> float:
@@ -241,8 +252,6 @@ def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
     refuses (e.g. ω <= 0 or Σ|κ| >= 1, named with its value) and, with ``opts``, a step Δτ not
     smaller than the forcing period of every point.
     """
-    from .sweep import grid_models
-
     if not axes:
         raise ModelError("grid: empty parameter grid; give at least one parameter to sweep")
     names, values = [], []
@@ -265,7 +274,7 @@ def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
             raise ModelError(f"grid: {total} points or more; at most {MAX_GRID_POINTS:.0e} allowed")
         names.append(name)
         values.append(arr)
-    models = grid_models(base, names, values)
+    models = Grid("product", names, values).models(base)
     if opts is not None:
         options(opts.dtau, opts.transient, opts.periods, opts.accurate, [m.omega for m in models])
     return models
