@@ -82,28 +82,29 @@ def spectrum_from_log(
     single = a.ndim == 2
     if single:
         a = a[None]
-    if a.ndim != 3 or a.shape[2] != 2:
-        raise ModelError(f"lyapunov log: expected shape (m, 2) or (P, m, 2), got {np.shape(log)}")
-    P, m, _ = a.shape
+    if a.ndim != 3:
+        raise ModelError(f"lyapunov log: expected shape (m, d) or (P, m, d), got {np.shape(log)}")
+    P, m, d = a.shape
     T = np.broadcast_to(np.asarray(period, dtype=float), (P,))
     skip = min(max(1, int(np.ceil(align_fraction * m))), max(m - 2, 0))
     kept = a[:, skip:, :]
     mk = kept.shape[1]
     if mk == 0:
-        nan = np.full((P, 2), np.nan)
+        nan = np.full((P, d), np.nan)
         return (nan[0], nan[0]) if single else (nan, nan.copy())
     lam = kept.mean(axis=1) / T[:, None]
     B = int(min(max(blocks, 2), mk))
     if B >= 2:
         L = mk // B
-        blk = kept[:, mk - B * L:, :].reshape(P, B, L, 2).mean(axis=2) / T[:, None, None]
+        blk = kept[:, mk - B * L:, :].reshape(P, B, L, d).mean(axis=2) / T[:, None, None]
         err = blk.std(axis=1, ddof=1) / np.sqrt(B)
     else:
-        err = np.full((P, 2), np.nan)
-    # Gram–Schmidt orders the exponents on average; sort each pair so that λ1 >= λ2 exactly.
-    swap = lam[:, 1] > lam[:, 0]
-    lam[swap] = lam[swap][:, ::-1]
-    err[swap] = err[swap][:, ::-1]
+        err = np.full((P, d), np.nan)
+    # Gram–Schmidt orders the exponents on average; sort them so that λ1 >= λ2 >= … exactly
+    # (a stable sort: equal exponents keep their order).
+    order = np.argsort(-lam, axis=1, kind="stable")
+    lam = np.take_along_axis(lam, order, axis=1)
+    err = np.take_along_axis(err, order, axis=1)
     bad = ~np.all(np.isfinite(kept), axis=(1, 2))
     lam[bad] = np.nan
     err[bad] = np.nan
@@ -186,7 +187,7 @@ class LyapunovResult:
         """Per-period logs and running estimates, with the final exponents as attributes."""
         T = self.model.period
         m = self.log.shape[0]
-        run = running_estimate(self.log, T) if m else np.zeros((0, 2))
+        run = running_estimate(self.log, T) if m else np.zeros((0, len(self.exponents)))
         ds = xr.Dataset(
             {
                 "log_r": (("section", "exponent"), self.log),
@@ -194,7 +195,7 @@ class LyapunovResult:
                 "exponents": ("exponent", self.exponents),
                 "uncertainty": ("exponent", self.uncertainty),
             },
-            coords={"section": np.arange(m), "exponent": np.array([1, 2])},
+            coords={"section": np.arange(m), "exponent": np.arange(1, len(self.exponents) + 1)},
             attrs=result_attrs("lyapunov", self.model, self.options, state0=list(self.state0),
                                summary=self.to_json()),
         )
@@ -241,6 +242,6 @@ def lyapunov_spectrum(
         code = motion_class(n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio)
         motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
     return LyapunovResult(
-        model, options, (float(state0[0]), float(state0[1])), out["exponents"][0], out["uncertainty"][0],
+        model, options, tuple(float(x) for x in state0), out["exponents"][0], out["uncertainty"][0],
         res.lyapunov_log[0], int(res.status[0]), blocks, motion,
     )

@@ -274,4 +274,4 @@ def simulate(
         "lle": float(cls["lle"][0]) if cls is not None and np.isfinite(cls["lle"][0]) else None,
         "lle_err": float(cls["lle_err"][0]) if cls is not None and np.isfinite(cls["lle_err"][0]) else None,
     }
-    return SteadyState(model, options, (float(state0[0]), float(state0[1])), t, summary)
+    return SteadyState(model, options, tuple(float(x) for x in state0), t, summary)

@@ -56,10 +56,8 @@ def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel
         The model of the continuation (the parameter is set from ``bif``).
     stop, start : float
         The continuation interval (the period-2n orbit is sought inside it).
-    dtau : float
-        Target step Δτ.
-    accurate : bool
-        Accurate integration mode.
+    dtau, accurate : float, bool
+        The step Δτ and integration mode of the branch's period maps.
 
     Returns
     -------
@@ -184,6 +182,7 @@ class ContinuationResult:
             pu[:, : b.n] = b.points[:, :, 0]
             pv[:, : b.n] = b.points[:, :, 1]
             mu = b.multipliers
+            # the state (u, u') of the 1-DOF model is written as the variables u and v
             rows.append(dict(
                 value=b.values, branch=np.full(K, b.index), period=np.full(K, b.n), u0=b.states[:, 0],
                 v0=b.states[:, 1], amplitude=b.amplitude, u_min=b.u_min, u_max=b.u_max,
@@ -195,6 +194,7 @@ class ContinuationResult:
 
         P = self.param
         bifs = self.bifurcations
+        dim = self.model.state_dim
         ds = xr.Dataset(
             {
                 P: ("point", cat("value")),
@@ -206,8 +206,8 @@ class ContinuationResult:
                 "u_min": ("point", cat("u_min")),
                 "u_max": ("point", cat("u_max")),
                 "stable": ("point", cat("stable").astype(np.int8)),
-                "multiplier_re": (("point", "multiplier"), cat("mre").reshape(-1, 2)),
-                "multiplier_im": (("point", "multiplier"), cat("mim").reshape(-1, 2)),
+                "multiplier_re": (("point", "multiplier"), cat("mre").reshape(-1, dim)),
+                "multiplier_im": (("point", "multiplier"), cat("mim").reshape(-1, dim)),
                 "poincare_u": (("point", "section"), cat("pu").reshape(-1, nmax)),
                 "poincare_v": (("point", "section"), cat("pv").reshape(-1, nmax)),
                 "status": ("point", np.zeros(sum(len(b) for b in self.branches), dtype=np.int64)),
@@ -220,7 +220,7 @@ class ContinuationResult:
                 "bifurcation_amplitude": ("bifurcation", np.array([b.amplitude for b in bifs], dtype=float)),
                 "bifurcation_detail": ("bifurcation", np.array([b.detail for b in bifs], dtype=object)),
             },
-            coords={"point": np.arange(sum(len(b) for b in self.branches)), "multiplier": np.arange(2),
+            coords={"point": np.arange(sum(len(b) for b in self.branches)), "multiplier": np.arange(dim),
                     "section": np.arange(nmax), "bifurcation": np.arange(len(bifs))},
             attrs=result_attrs(
                 "continuation", self.model, {"dtau": self.dtau, "accurate": self.accurate},
@@ -264,7 +264,7 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
         Locate events precisely (secant on test functions); otherwise report the nearer end of the
         step that brackets them.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     accurate : bool
         Accurate integration mode (the default here: its multipliers vary smoothly along a branch).
     max_period : int

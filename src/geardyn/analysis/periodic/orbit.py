@@ -124,9 +124,9 @@ def orbit_extrema(model: GearModel, state: Sequence[float], n: int = 1, *, dtau:
     n : int
         Forcing periods.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     accurate : bool
-        Accurate integration mode.
+        Split the steps at the contact boundaries u = ±D (``IntegrationOptions.accurate``); default False.
     steps : int, optional
         RK4 steps per period (default ceil(T/Δτ)).
 
@@ -333,9 +333,9 @@ def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] 
     state0 : (u, u'), optional
         Initial state (default zeros).
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     accurate : bool
-        Accurate integration mode.
+        Split the steps at the contact boundaries u = ±D (``IntegrationOptions.accurate``); default False.
     transient : int
         Forcing periods discarded first.
 

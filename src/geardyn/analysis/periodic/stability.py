@@ -101,9 +101,9 @@ def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: f
     n : int
         Period of the response.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     accurate : bool
-        Accurate integration mode.
+        Split the steps at the contact boundaries u = ±D (``IntegrationOptions.accurate``); default False.
 
     Returns
     -------
@@ -157,7 +157,7 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
     omegas : iterable of float
         Mesh frequencies.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     xi0_max : float
         Upper end of the bisection in ξ0 (NaN where it is still unstable there).
     tol : float
@@ -217,7 +217,7 @@ def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dt
     omegas : iterable of float
         Mesh frequencies.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     xi0_high, xi0_low : float
         The ξ0 scan of :func:`stability_boundary`.
 
