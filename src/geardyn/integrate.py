@@ -159,9 +159,13 @@ class BatchResult:
 
     Attributes
     ----------
-    poincare : ndarray (P, n, 2)
-        (u, u') at θ ≡ 0 mod 2π at the end of each recorded period; NaN where diverged.
-    end_state : ndarray (P, 2)
+    models : list of GearModel
+        The points, in batch order.
+    options : IntegrationOptions
+        The options they were integrated with.
+    poincare : ndarray (P, n, d)
+        The state at θ ≡ 0 mod 2π at the end of each recorded period; NaN where diverged.
+    end_state : ndarray (P, d)
         Final state (the start state for a continuation sweep).
     status : ndarray (P,)
         ``ST_OK`` or ``ST_DIVERGED``.
@@ -359,6 +363,19 @@ class Trajectory:
 
     ``tau`` is non-dimensional time measured from the start of the history window (which
     starts at a period boundary, θ ≡ 0), ``u`` and ``v`` = u' are non-dimensional.
+
+    Attributes
+    ----------
+    model : GearModel
+        The point.
+    options : IntegrationOptions
+        The options it was integrated with.
+    tau, u, v : ndarray
+        The time history of the last ``history_periods`` periods (every step).
+    summary : BatchResult
+        The batch result of the run (Poincaré points, statistics, status).
+    history_periods : int
+        Periods of history kept.
     """
 
     model: GearModel

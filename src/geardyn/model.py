@@ -317,7 +317,20 @@ class GearModel:
 PAPER_DEFAULTS = GearModel()
 
 def steps_per_period(omega: float | np.ndarray, dtau: float) -> np.ndarray:
-    """Number of RK4 steps per forcing period, N = ceil(T/Δτ) with T = 2π/ω, so h = T/N <= Δτ."""
+    """Number of RK4 steps per forcing period, N = ceil(T/Δτ) with T = 2π/ω, so h = T/N <= Δτ.
+
+    Parameters
+    ----------
+    omega : float or ndarray
+        Mesh frequencies ω.
+    dtau : float
+        Target step Δτ.
+
+    Returns
+    -------
+    ndarray of int64
+        N per frequency (0-d for a scalar ω).
+    """
     T = 2.0 * np.pi / np.asarray(omega, dtype=float)
     return np.ceil(T / dtau).astype(np.int64)
 
@@ -377,8 +390,24 @@ class IntegrationOptions:
 def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pack models into kernel arrays.
 
-    Returns ``coef`` (P, 3, H+1, 2) as in :meth:`GearModel.coefficients` with H the largest
-    harmonic count (zero-padded), ``D`` (P,) and ``omega`` (P,).
+    Parameters
+    ----------
+    models : iterable of GearModel
+        The points of a batch.
+
+    Returns
+    -------
+    coef : ndarray (P, 3, H+1, 2)
+        As in :meth:`GearModel.coefficients`, H the largest harmonic count (zero-padded).
+    D : ndarray (P,)
+        Half backlashes.
+    omega : ndarray (P,)
+        Mesh frequencies.
+
+    Raises
+    ------
+    ModelError
+        For no model.
     """
     models = list(models)
     if not models:

@@ -82,7 +82,24 @@ def fixed_chunk(
 ) -> dict[str, np.ndarray]:
     """Chunk function: independent points (one batch), each from its initial state.
 
-    ``state0`` is one state (d,) for all points or one per point (P, d), d = ``state_dim``.
+    Parameters
+    ----------
+    models : sequence of GearModel
+        The points.
+    state0 : ndarray (d,) or (P, d)
+        One initial state for all points or one per point, d = ``state_dim``.
+    options : IntegrationOptions
+        Transient and recorded periods.
+    lyapunov : bool
+        Exponents for every point.
+    settle_periods : int
+        Settling periods of :func:`~geardyn.analysis.steady.classify_batch`.
+
+    Returns
+    -------
+    dict of ndarray
+        One row per point: the scalars of :func:`~geardyn.analysis.steady.classify_batch`,
+        ``restarted``, ``poincare``, ``start`` and ``end`` states.
     """
     models = list(models)
     s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), models[0].state_dim)).copy()
@@ -100,6 +117,20 @@ def continuation_chunk(
     """Chunk function: points in the given order, each starting from the previous end state.
 
     After a diverged point the next one restarts from ``state0`` (flagged in ``restarted``).
+
+    Parameters
+    ----------
+    models : sequence of GearModel
+        The points, in continuation order.
+    state0 : sequence of float
+        Initial state of the first point.
+    options, lyapunov, settle_periods
+        As for :func:`fixed_chunk`.
+
+    Returns
+    -------
+    dict of ndarray
+        As :func:`fixed_chunk`.
     """
     models = list(models)
     d = models[0].state_dim
@@ -244,7 +275,24 @@ def bifurcation(
 
 
 def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_sweep: Sequence[dict[str, np.ndarray]]) -> xr.Dataset:
-    """Assemble per-sweep row dicts (ascending ``values``) into the bifurcation Dataset."""
+    """Assemble per-sweep row dicts (ascending ``values``) into the bifurcation Dataset.
+
+    Parameters
+    ----------
+    name : str
+        The swept parameter (the name of the dimension).
+    values : ndarray
+        Its values, ascending.
+    labels : sequence of str
+        The sweep labels (``fixed``, or ``up``/``down``).
+    per_sweep : sequence of dict of ndarray
+        The rows of each sweep (chunk results joined), in the order of ``values``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Annotated from the variable registry; without global attributes.
+    """
     dims = ("sweep", name)
 
     def stack(k: str) -> np.ndarray:
@@ -288,7 +336,20 @@ def point_labels(ds: xr.Dataset, sweep: str) -> dict[str, list[Any]]:
 
 
 def class_intervals(ds: xr.Dataset, sweep: str) -> list[dict[str, Any]]:
-    """Runs of consecutive grid points with the same motion label: [{"from", "to", "motion", "points"}]."""
+    """Runs of consecutive grid points with the same motion label.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A bifurcation Dataset.
+    sweep : str
+        The sweep label.
+
+    Returns
+    -------
+    list of dict
+        ``{"from", "to", "motion", "points"}`` per run, in grid order.
+    """
     name = str(ds.attrs["param"])
     x = ds[name].values
     labels = point_labels(ds, sweep)["motion"]
@@ -308,6 +369,17 @@ def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
 
     With one sweep the per-point entries are lists aligned with ``values``; with both sweeps each
     is a dict ``{"up": [...], "down": [...]}``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`bifurcation` result.
+
+    Returns
+    -------
+    dict
+        ``param``, ``values``, ``mode``, ``sweep``, the per-point entries and ``intervals``
+        (:func:`class_intervals`).
     """
     name = str(ds.attrs["param"])
     labels = [str(x) for x in ds["sweep"].values]

@@ -127,10 +127,35 @@ def lyapunov_batch(
     *,
     blocks: int = DEFAULT_BLOCKS,
 ) -> dict[str, np.ndarray]:
-    """Lyapunov spectra of many parameter points in one kernel batch.
+    """Lyapunov spectra of many parameter points in one kernel batch (Benettin's method).
 
-    Returns a dict with ``exponents`` (P, 2), ``uncertainty`` (P, 2), ``status`` (P,) and the
-    :class:`~geardyn.integrate.BatchResult` under ``result`` (NaN exponents where diverged).
+    Parameters
+    ----------
+    models : sequence of GearModel
+        The points.
+    state0 : ndarray (d,) or (P, d), optional
+        Initial state(s) at θ = 0 (default the origin).
+    options : IntegrationOptions
+        Transient and recorded periods (default :data:`LYAPUNOV_PERIODS` recorded).
+    blocks : int
+        Blocks of the uncertainty; default :data:`DEFAULT_BLOCKS`.
+
+    Returns
+    -------
+    dict
+        ``exponents`` (P, d), ``uncertainty`` (P, d), ``status`` (P,) and the
+        :class:`~geardyn.integrate.BatchResult` under ``result`` (NaN exponents where diverged).
+
+    Raises
+    ------
+    ModelError
+        As :func:`geardyn.integrate.integrate_batch`.
+
+    References
+    ----------
+    G. Benettin, L. Galgani, A. Giorgilli and J.-M. Strelcyn, "Lyapunov characteristic exponents
+    for smooth dynamical systems and for Hamiltonian systems; a method for computing all of them",
+    *Meccanica* 15 (1980) 9–20 and 21–30.
     """
     res = integrate_batch(models, state0, options, lyapunov=True)
     T = np.array([m.period for m in res.models])
@@ -143,7 +168,27 @@ def lyapunov_batch(
 
 @dataclass
 class LyapunovResult:
-    """Lyapunov spectrum of one point (non-dimensional rates per unit τ); see :func:`lyapunov_spectrum`."""
+    """Lyapunov spectrum of one point (non-dimensional rates per unit τ); see :func:`lyapunov_spectrum`.
+
+    Parameters
+    ----------
+    model : GearModel
+        The point.
+    options : IntegrationOptions
+        The integration options used.
+    state0 : tuple of float
+        The initial state.
+    exponents, uncertainty : ndarray (d,)
+        λ1 >= λ2 >= … per unit τ and their standard errors.
+    log : ndarray (m, d)
+        The per-period Gram–Schmidt logs.
+    status : int
+        :class:`~geardyn.status.Status` code of the run.
+    blocks : int
+        Blocks of the uncertainty.
+    motion : dict
+        ``motion`` and ``period`` labels when classified (else empty).
+    """
 
     model: GearModel
     options: IntegrationOptions
@@ -228,6 +273,20 @@ def lyapunov_spectrum(
         Also classify the motion from the same run (period, exponent, and for non-periodic points
         the closed-curve tests of :func:`~geardyn.analysis.classify.classify_motion`; no settling
         passes: give a long enough transient).
+
+    Returns
+    -------
+    LyapunovResult
+
+    Raises
+    ------
+    ModelError
+        As :func:`geardyn.integrate.integrate_batch`.
+
+    References
+    ----------
+    G. Benettin, L. Galgani, A. Giorgilli and J.-M. Strelcyn, *Meccanica* 15 (1980) 9–20 and 21–30
+    (the method: tangent vectors re-orthonormalised by Gram–Schmidt).
     """
     out = lyapunov_batch([model], state0, options, blocks=blocks)
     res = out["result"]

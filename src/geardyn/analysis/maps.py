@@ -103,7 +103,19 @@ def parameter_map(
 
 
 def map_json(ds: xr.Dataset) -> dict[str, Any]:
-    """The ``map --json`` summary: parameters, grid values and per-point grids (rows are y values)."""
+    """The ``map --json`` summary: parameters, grid values and per-point grids (rows are y values).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`parameter_map` result.
+
+    Returns
+    -------
+    dict
+        ``x``, ``y``, ``x_values``, ``y_values``; grids ``motion``, ``impact``, ``period``,
+        ``amplitude``, ``lle`` (converted by :func:`geardyn.io.json_values`); ``motion_counts``.
+    """
     xn, yn = str(ds.attrs["x"]), str(ds.attrs["y"])
     per = ds["period"].values
     codes, counts = np.unique(ds["motion"].values, return_counts=True)

@@ -90,8 +90,25 @@ def spectrum_peaks(order: np.ndarray, amplitude: np.ndarray, scales: PhysicalSca
                    n: int = N_PEAKS) -> list[dict[str, float]]:
     """The largest lines of an amplitude spectrum of u (order 0, the mean, excluded).
 
-    Returns a list of ``{"order", "frequency_Hz", "amplitude", "amplitude_um"}``, largest first:
-    the frequency as an order of the mesh frequency and in Hz, the amplitude non-dimensional and in µm.
+    Parameters
+    ----------
+    order : ndarray
+        Frequencies as orders of the mesh frequency.
+    amplitude : ndarray
+        Amplitudes of u (non-dimensional).
+    scales : PhysicalScales
+        The pair's scales.
+    omega : float
+        Mesh frequency ω of the run.
+    n : int
+        Largest number of lines; default :data:`N_PEAKS` (lines below :data:`PEAK_REL_THRESHOLD`
+        of the largest are left out).
+
+    Returns
+    -------
+    list of dict
+        ``{"order", "frequency_Hz", "amplitude", "amplitude_um"}``, largest first: the frequency
+        as an order of the mesh frequency and in Hz, the amplitude non-dimensional and in µm.
     """
     order = np.asarray(order, dtype=float)
     amp = np.asarray(amplitude, dtype=float)

@@ -147,6 +147,23 @@ def detect_jumps(
     "amplitude_from", "amplitude_to"}`` in sweep order (up first, then down), where
     ``omega_from`` → ``omega_to`` is the grid step in the order the sweep runs and ``omega`` its
     midpoint (the parameter's value if the sweep is not over ω).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A continuation bifurcation Dataset (one or two sweeps).
+    measure : str
+        Amplitude measure, one of :data:`MEASURES`.
+    min_fraction : float
+        Smallest jump as a fraction of the amplitude range; default :data:`JUMP_MIN_FRACTION`.
+    ratio : float
+        Smallest jump relative to the typical neighbouring step; default :data:`JUMP_RATIO`.
+    window : int
+        Steps on each side for the typical step; default :data:`JUMP_WINDOW`.
+
+    Returns
+    -------
+    list of dict
     """
     name = _param(ds)
     x = ds[name].values
@@ -221,7 +238,25 @@ def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, to
     Periodic attractors are compared by their Poincaré cycles (same period, each point of one
     cycle within ``tol`` of a point of the other); non-periodic ones by amplitude and mean (to
     ``nonperiodic_tol`` of the amplitude range); a periodic and a non-periodic one differ.
-    None where either point diverged.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A two-sweep continuation Dataset.
+    k : int
+        Grid index.
+    a, b : str
+        The sweep labels compared.
+    tol : float
+        Cycle tolerance; default :data:`ATTRACTOR_TOL`.
+    nonperiodic_tol : float
+        Tolerance of non-periodic attractors (fraction of the amplitude range); default
+        :data:`NONPERIODIC_TOL`.
+
+    Returns
+    -------
+    bool or None
+        None where either point diverged.
     """
     return _same(_sweep_arrays(ds, a), _sweep_arrays(ds, b), k, _amplitude_range(ds), tol, nonperiodic_tol)
 
@@ -229,7 +264,17 @@ def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, to
 def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list[list[float]]:
     """Maximal runs [x_a, x_b] of grid points where sweeps ``a`` and ``b`` disagree (coexisting attractors).
 
-    Empty when the Dataset does not hold both sweeps.
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A continuation Dataset.
+    a, b : str
+        The sweep labels compared.
+
+    Returns
+    -------
+    list of [float, float]
+        Empty when the Dataset does not hold both sweeps.
     """
     labels = [str(s) for s in ds["sweep"].values]
     if a not in labels or b not in labels:
@@ -253,8 +298,20 @@ def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list
 
 
 def response_json(ds: xr.Dataset) -> dict[str, Any]:
-    """The ``response --json`` summary: ``jumps`` [{omega, direction, size, sweep}], ``hysteresis``
-    [[ω_a, ω_b], …], plus the grid and each sweep's amplitudes, motion and impact."""
+    """The ``response --json`` summary: jumps, hysteresis, the grid and each sweep's labels.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`frequency_response` result.
+
+    Returns
+    -------
+    dict
+        ``jumps`` [{omega, direction, size, sweep, …}], ``hysteresis`` [[ω_a, ω_b], …],
+        ``measure``, the grid under the parameter's name and, per sweep, its amplitudes,
+        ``motion``, ``impact`` and ``period``.
+    """
     name = _param(ds)
     measure = str(ds.attrs.get("measure", "amplitude"))
     labels = [str(s) for s in ds["sweep"].values]

@@ -111,7 +111,25 @@ def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel
 
 @dataclass
 class ContinuationResult:
-    """Branches and bifurcations of a continuation run (see :func:`continuation`)."""
+    """Branches and bifurcations of a continuation run (see :func:`continuation`).
+
+    Parameters
+    ----------
+    model : GearModel
+        The model of the run.
+    param : str
+        The continued parameter.
+    start, stop : float
+        The interval.
+    branches : list of Branch
+        The traced branches (0: the primary one).
+    dtau : float
+        Target step Δτ of the period maps.
+    accurate : bool
+        Integration mode of the period maps.
+    notes : list of str
+        Remarks of the run (orbits not found, minimal periods).
+    """
 
     model: GearModel
     param: str
