@@ -69,6 +69,7 @@ def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: A
     Returns
     -------
     float
+        The value converted.
 
     Raises
     ------

@@ -192,16 +192,12 @@ def family_of(name: str) -> Family:
     Parameters
     ----------
     name : str
-        A parameter name or alias.
+        Any name :func:`canonical_param` accepts (a series member gives its series).
 
     Returns
     -------
     Family
-
-    Raises
-    ------
-    ModelError
-        For a name outside the grammar.
+        The registry row (:data:`FAMILIES`); a name outside the grammar raises :class:`ModelError`.
     """
     return FAMILIES[slot(name)[0]]
 
@@ -212,16 +208,13 @@ def describe(name: str) -> tuple[str, str]:
     Parameters
     ----------
     name : str
-        A parameter name or alias.
+        Parameter name (``kappa2``) or alias (``fe``).
 
     Returns
     -------
     long_name, units : str
-
-    Raises
-    ------
-    ModelError
-        For a name outside the grammar.
+        For the Dataset metadata of the parameter (:mod:`geardyn.io`); an unknown name raises
+        :class:`ModelError`.
     """
     fam, idx = slot(name)
     f = FAMILIES[fam]

@@ -84,19 +84,13 @@ def number(name: str, value: Any) -> float:
 
     Parameters
     ----------
-    name : str
-        The parameter's name, for the message.
-    value : object
-        The raw value.
+    name, value
+        The parameter's name (it starts the message) and what was given for it.
 
     Returns
     -------
     float
-
-    Raises
-    ------
-    ModelError
-        For anything but a finite real number.
+        The number; anything else raises :class:`ModelError`.
     """
     return _check_finite(name, value, real_only=True, describe=_describe)
 
@@ -116,6 +110,7 @@ def positive(name: str, value: Any, what: str = "") -> float:
     Returns
     -------
     float
+        The number, > 0.
 
     Raises
     ------
@@ -133,21 +128,13 @@ def nonnegative(name: str, value: Any, what: str = "") -> float:
 
     Parameters
     ----------
-    name : str
-        The parameter's name, for the message.
-    value : object
-        The raw value.
-    what : str
-        Appended to "must be >= 0" in the message.
+    name, value, what
+        As for :func:`positive` (``what`` is appended to "must be >= 0").
 
     Returns
     -------
     float
-
-    Raises
-    ------
-    ModelError
-        For anything but a finite number >= 0.
+        The number; a negative or non-finite value raises :class:`ModelError`.
     """
     x = number(name, value)
     if x < 0:
@@ -211,6 +198,7 @@ def model(base: GearModel | None = None, **params: Any) -> GearModel:
     Returns
     -------
     GearModel
+        The new model (``base`` is unchanged).
 
     Raises
     ------
@@ -463,36 +451,33 @@ def workers(n: Any) -> int:
     Parameters
     ----------
     n : int
-        The raw value.
+        The requested count (``--workers``).
 
     Returns
     -------
     int
+        The count, checked.
 
     Raises
     ------
     ModelError
-        For anything but an integer in range.
+        Unless ``n`` is an integer from 1 to :data:`MAX_WORKERS`.
     """
     return integer("workers", n, 1, MAX_WORKERS)
 
 
 def chunk_points(n: Any) -> int:
-    """Parameter points per chunk, >= 1.
+    """Parameter points per chunk, >= 1 (the engine's ``chunk_points``).
 
     Parameters
     ----------
     n : int
-        The raw value.
+        Points per chunk as given (``--chunk-points``); at most :data:`MAX_GRID_POINTS`.
 
     Returns
     -------
     int
-
-    Raises
-    ------
-    ModelError
-        For anything but an integer >= 1.
+        The size, checked; it raises :class:`ModelError` for anything else.
     """
     return integer("chunk size", n, 1, MAX_GRID_POINTS)
 

@@ -277,16 +277,13 @@ def lyapunov_spectrum(
     Returns
     -------
     LyapunovResult
-
-    Raises
-    ------
-    ModelError
-        As :func:`geardyn.integrate.integrate_batch`.
+        Exponents, uncertainties, the per-period logs and, with ``classify``, the motion; a bad
+        model, state or option raises :class:`ModelError` (:func:`geardyn.integrate.integrate_batch`).
 
     References
     ----------
-    G. Benettin, L. Galgani, A. Giorgilli and J.-M. Strelcyn, *Meccanica* 15 (1980) 9–20 and 21–30
-    (the method: tangent vectors re-orthonormalised by Gram–Schmidt).
+    Benettin et al. (1980), as for :func:`lyapunov_batch`: tangent vectors re-orthonormalised by
+    Gram–Schmidt once per forcing period.
     """
     out = lyapunov_batch([model], state0, options, blocks=blocks)
     res = out["result"]
