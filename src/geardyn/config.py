@@ -451,7 +451,17 @@ class LoadedConfig:
 
 
 def packaged_config_path(name: str = PAPER_CONFIG):
-    """A traversable for a configuration shipped with geardyn (``geardyn/data/<name>``)."""
+    """A traversable for a configuration shipped with geardyn (``geardyn/data/<name>``).
+
+    Parameters
+    ----------
+    name : str
+        File name in the package's data directory; default :data:`PAPER_CONFIG`.
+
+    Returns
+    -------
+    importlib.resources.abc.Traversable
+    """
     return resources.files("geardyn").joinpath("data", name)
 
 

@@ -461,5 +461,4 @@ def grid_models(base: GearModel, params: Sequence[str], values: Sequence[Sequenc
             raise ModelError(f"{p}: empty grid (num must be >= 1)")
         if not np.all(np.isfinite(a)):
             raise ModelError(f"{p}: grid values must be finite numbers")
-    g = Grid("product", list(params), arrays)
-    return build_models(base, g.names, g.points())
+    return Grid("product", list(params), arrays).models(base)

@@ -62,9 +62,9 @@ def state_dim(model: GearModel) -> int:
     Returns
     -------
     int
-        :data:`STATE_DIM` (2: (u, u')) for the 1-DOF model, the only system the kernel integrates.
+        ``model.state_dim`` (:data:`STATE_DIM` = 2, (u, u'), for the 1-DOF model).
     """
-    return STATE_DIM
+    return int(model.state_dim)
 
 
 def natural_steps(model: GearModel, dtau: float) -> int:
@@ -159,9 +159,13 @@ class BatchResult:
 
     Attributes
     ----------
-    poincare : ndarray (P, n, 2)
-        (u, u') at θ ≡ 0 mod 2π at the end of each recorded period; NaN where diverged.
-    end_state : ndarray (P, 2)
+    models : list of GearModel
+        The points, in batch order.
+    options : IntegrationOptions
+        The options they were integrated with.
+    poincare : ndarray (P, n, d)
+        The state at θ ≡ 0 mod 2π at the end of each recorded period; NaN where diverged.
+    end_state : ndarray (P, d)
         Final state (the start state for a continuation sweep).
     status : ndarray (P,)
         ``ST_OK`` or ``ST_DIVERGED``.
@@ -242,14 +246,15 @@ class BatchResult:
         return int(np.sum(self.nsteps) * (o.transient + o.periods))
 
 
-def _state_array(state0: Sequence[float] | np.ndarray | None, P: int) -> np.ndarray:
+def _state_array(state0: Sequence[float] | np.ndarray | None, P: int, d: int = STATE_DIM) -> np.ndarray:
+    """The (P, d) initial states of a batch from one state (d,) or one per point (P, d), checked."""
     if state0 is None:
-        return np.zeros((P, 2))
+        return np.zeros((P, d))
     s = np.asarray(state0, dtype=float)
-    if s.shape == (2,):
-        s = np.broadcast_to(s, (P, 2))
-    if s.shape != (P, 2):
-        raise ModelError(f"initial state: expected shape (2,) or ({P}, 2), got {s.shape}")
+    if s.shape == (d,):
+        s = np.broadcast_to(s, (P, d))
+    if s.shape != (P, d):
+        raise ModelError(f"initial state: expected shape ({d},) or ({P}, {d}), got {s.shape}")
     if not np.all(np.isfinite(s)):
         raise ModelError("initial state (u0, v0): must be finite")
     return np.ascontiguousarray(s, dtype=float)
@@ -284,13 +289,14 @@ def _prepare(models: Sequence[GearModel], options: IntegrationOptions,
 def _run(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
          record_poincare=True, hist_len=0, lyapunov=False, threads=None, adaptive=False):
     P = coef.shape[0]
-    poincare = np.zeros((P, n_record if record_poincare else 0, 2))
-    end_state = np.zeros((P, 2))
+    d = STATE_DIM  # the kernel's buffers: it integrates the 1-DOF mesh, state (u, u')
+    poincare = np.zeros((P, n_record if record_poincare else 0, d))
+    end_state = np.zeros((P, d))
     stats = np.zeros((P, K.NSTAT))
-    tan_log = np.zeros((P, n_record if lyapunov else 0, 2))
-    tan_out = np.zeros((P, 2, 2))
+    tan_log = np.zeros((P, n_record if lyapunov else 0, d))
+    tan_out = np.zeros((P, d, d))
     status = np.zeros(P, dtype=np.int64)
-    hist = np.zeros((P, hist_len, 2))
+    hist = np.zeros((P, hist_len, d))
     # one point runs on one worker whatever the setting: leave numba's state alone then
     with using_threads(threads if P > 1 else None):
         if adaptive:
@@ -349,7 +355,7 @@ def integrate_batch(
         ``threads``.
     """
     models, coef, D, omega, nsteps = _prepare(models, options, steps)
-    s0 = _state_array(state0, len(models))
+    s0 = _state_array(state0, len(models), state_dim(models[0]))
     tangent = K.TAN_LYAPUNOV if lyapunov else K.TAN_NONE
     pc, end, stats, tl, tout, status, _ = _run(coef, D, omega, nsteps, s0, options.transient, options.periods,
                                                tangent, options.accurate, record_poincare, 0, lyapunov,
@@ -364,6 +370,19 @@ class Trajectory:
 
     ``tau`` is non-dimensional time measured from the start of the history window (which
     starts at a period boundary, θ ≡ 0), ``u`` and ``v`` = u' are non-dimensional.
+
+    Attributes
+    ----------
+    model : GearModel
+        The point.
+    options : IntegrationOptions
+        The options it was integrated with.
+    tau, u, v : ndarray
+        The time history of the last ``history_periods`` periods (every step).
+    summary : BatchResult
+        The batch result of the run (Poincaré points, statistics, status).
+    history_periods : int
+        Periods of history kept.
     """
 
     model: GearModel
@@ -418,7 +437,7 @@ def trajectory(
     models, coef, D, omega, nsteps = _prepare([model], options, steps)
     hp = int(min(max(history_periods, 1), options.periods))
     N = int(nsteps[0])
-    s0 = _state_array(state0, 1)
+    s0 = _state_array(state0, 1, state_dim(model))
     pc, end, stats, _, _, status, hist = _run(coef, D, omega, nsteps, s0, options.transient, options.periods,
                                               K.TAN_NONE, options.accurate, True, hp * N + 1, False, threads)
     summary = BatchResult(models, options, pc, end, status, stats, nsteps)
@@ -479,7 +498,7 @@ def period_map(
     """
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=int(n), accurate=accurate)
     models, coef, D, omega, nsteps = _prepare([model], opts, steps)
-    s0 = _state_array(state, 1)
+    s0 = _state_array(state, 1, state_dim(model))
     pc, end, stats, _, tout, status, _ = _run(coef, D, omega, nsteps, s0, 0, int(n), K.TAN_MONODROMY, accurate,
                                               threads=threads)
     return pc[0], tout[0], stats[0], bool(status[0] == ST_OK)

@@ -14,7 +14,7 @@ import os
 import tempfile
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
-from typing import Any, Mapping, NamedTuple
+from typing import Any, Iterable, Mapping, NamedTuple
 
 import numpy as np
 import xarray as xr
@@ -246,7 +246,7 @@ def _default(o: Any) -> Any:
     raise TypeError(f"not JSON serialisable: {type(o).__name__}")
 
 
-def annotate(ds: xr.Dataset, kind: str | None = None) -> xr.Dataset:
+def annotate(ds: xr.Dataset, kind: str | None = None, *, names: Iterable[str] | None = None) -> xr.Dataset:
     """Fill in the registry's attributes (:func:`variable`) for every known variable lacking them.
 
     ``units``, ``long_name`` and, for coded variables, ``flag_values``/``flag_meanings`` are set
@@ -259,6 +259,8 @@ def annotate(ds: xr.Dataset, kind: str | None = None) -> xr.Dataset:
         A result, annotated in place.
     kind : str, optional
         Its kind; default the ``geardyn_kind`` attribute.
+    names : iterable of str, optional
+        Annotate only these variables (default: all).
 
     Returns
     -------
@@ -267,7 +269,7 @@ def annotate(ds: xr.Dataset, kind: str | None = None) -> xr.Dataset:
     """
     kind = kind or ds.attrs.get("geardyn_kind")
     ctx = _contexts(ds)
-    for name in list(ds.variables):
+    for name in (list(ds.variables) if names is None else list(names)):
         base, k = str(name), kind
         head, sep, tail = base.partition(CONTEXT_SEPARATOR)
         if sep and head in ctx:
@@ -495,30 +497,13 @@ def _fsync_dir(directory: Path) -> None:
         os.close(fd)
 
 
-def atomic_write_bytes(path: str | Path, data: bytes) -> None:
-    """Write bytes to ``path`` atomically (temporary file in the same directory, fsync, rename)."""
+def _atomic(path: str | Path, write: Any) -> Path:
+    """Run ``write(tmp)`` on a temporary file beside ``path``, make it durable and rename it to ``path``."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = _temp_beside(path)
     try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-        _fsync_dir(path.parent)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
-def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` to NetCDF (h5netcdf) atomically; returns the path."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _temp_beside(path)
-    try:
-        annotate(ds).to_netcdf(tmp, engine="h5netcdf")
+        write(tmp)
         with open(tmp, "rb") as f:
             os.fsync(f.fileno())
         os.replace(tmp, path)
@@ -527,6 +512,37 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def atomic_write_bytes(path: str | Path, data: bytes) -> None:
+    """Write bytes to ``path`` atomically (temporary file in the same directory, fsync, rename).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file (its directory is created if missing).
+    data : bytes
+        The content.
+    """
+    _atomic(path, lambda tmp: Path(tmp).write_bytes(data))
+
+
+def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write ``ds`` to NetCDF (h5netcdf) atomically, its variables annotated (:func:`annotate`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result.
+    path : str or Path
+        The file (its directory is created if missing).
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    return _atomic(path, lambda tmp: annotate(ds).to_netcdf(tmp, engine="h5netcdf"))
 
 
 def read_netcdf(path: str | Path) -> xr.Dataset:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 from dataclasses import asdict, dataclass, fields
 from typing import Any, ClassVar, Iterable, Sequence
 
@@ -49,15 +50,42 @@ DEFAULT_PERIODS = 200
 MAX_KAPPA_SUM = 1.0
 
 
-def _check_finite(name: str, value: float) -> float:
-    if isinstance(value, bool):
-        raise ModelError(f"{name}: expected a number, got {value!r}")
+def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: Any = repr) -> float:
+    """``value`` as a finite float, else :class:`ModelError` naming ``name`` (the one finite-number check).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the message.
+    value : object
+        The raw value; bool is refused, and with ``real_only`` anything that is not a real number
+        (strings, NumPy bools, complex, None) too.
+    real_only : bool
+        Refuse values that are not :class:`numbers.Real` instead of trying ``float(value)``
+        (the stricter check of :func:`geardyn.validate.number`).
+    describe : callable
+        How the value is shown in the message (default ``repr``).
+
+    Returns
+    -------
+    float
+        The value converted.
+
+    Raises
+    ------
+    ModelError
+        "expected a (finite) number" for the wrong type, "must be a finite number" for NaN or ±inf.
+    """
+    refused = (bool, np.bool_) if real_only else bool
+    if isinstance(value, refused) or (real_only and not isinstance(value, numbers.Real)):
+        raise ModelError(f"{name}: expected {'a finite' if real_only else 'a'} number, got {describe(value)}")
     try:
         x = float(value)
     except (TypeError, ValueError, OverflowError):
-        raise ModelError(f"{name}: expected a finite number, got {value!r}") from None
+        what = "must be" if real_only else "expected"
+        raise ModelError(f"{name}: {what} a finite number, got {describe(value)}") from None
     if not math.isfinite(x):
-        raise ModelError(f"{name}: must be a finite number, got {value!r}")
+        raise ModelError(f"{name}: must be a finite number, got {describe(value)}")
     return x
 
 
@@ -290,7 +318,20 @@ class GearModel:
 PAPER_DEFAULTS = GearModel()
 
 def steps_per_period(omega: float | np.ndarray, dtau: float) -> np.ndarray:
-    """Number of RK4 steps per forcing period, N = ceil(T/Δτ) with T = 2π/ω, so h = T/N <= Δτ."""
+    """Number of RK4 steps per forcing period, N = ceil(T/Δτ) with T = 2π/ω, so h = T/N <= Δτ.
+
+    Parameters
+    ----------
+    omega : float or ndarray
+        Mesh frequencies ω.
+    dtau : float
+        Target step Δτ.
+
+    Returns
+    -------
+    ndarray of int64
+        N per frequency (0-d for a scalar ω).
+    """
     T = 2.0 * np.pi / np.asarray(omega, dtype=float)
     return np.ceil(T / dtau).astype(np.int64)
 
@@ -373,8 +414,24 @@ class IntegrationOptions:
 def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pack models into kernel arrays.
 
-    Returns ``coef`` (P, 3, H+1, 2) as in :meth:`GearModel.coefficients` with H the largest
-    harmonic count (zero-padded), ``D`` (P,) and ``omega`` (P,).
+    Parameters
+    ----------
+    models : iterable of GearModel
+        The points of a batch.
+
+    Returns
+    -------
+    coef : ndarray (P, 3, H+1, 2)
+        As in :meth:`GearModel.coefficients`, H the largest harmonic count (zero-padded).
+    D : ndarray (P,)
+        Half backlashes.
+    omega : ndarray (P,)
+        Mesh frequencies.
+
+    Raises
+    ------
+    ModelError
+        For no model.
     """
     models = list(models)
     if not models:

@@ -161,7 +161,23 @@ def canonical_param(name: str) -> str:
 
 
 def slot(name: str) -> tuple[str, int | None]:
-    """(family name, harmonic index from 0) of a parameter name; index ``None`` for a scalar."""
+    """(family name, harmonic index from 0) of a parameter name; index ``None`` for a scalar.
+
+    Parameters
+    ----------
+    name : str
+        A parameter name or alias (``kappa2``, ``fe``, ``backlash`` …).
+
+    Returns
+    -------
+    family : str
+    index : int or None
+
+    Raises
+    ------
+    ModelError
+        For a name outside the grammar.
+    """
     n = canonical_param(name)
     if n in FAMILIES:  # canonical_param returns a family name only for a scalar
         return n, None
@@ -171,12 +187,35 @@ def slot(name: str) -> tuple[str, int | None]:
 
 
 def family_of(name: str) -> Family:
-    """The :class:`Family` of a parameter name."""
+    """The :class:`Family` of a parameter name.
+
+    Parameters
+    ----------
+    name : str
+        Any name :func:`canonical_param` accepts (a series member gives its series).
+
+    Returns
+    -------
+    Family
+        The registry row (:data:`FAMILIES`); a name outside the grammar raises :class:`ModelError`.
+    """
     return FAMILIES[slot(name)[0]]
 
 
 def describe(name: str) -> tuple[str, str]:
-    """(``long_name``, ``units``) of a parameter, e.g. ``("stiffness harmonic κ_2", "1")`` for ``kappa2``."""
+    """(``long_name``, ``units``) of a parameter, e.g. ``("stiffness harmonic κ_2", "1")`` for ``kappa2``.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name (``kappa2``) or alias (``fe``).
+
+    Returns
+    -------
+    long_name, units : str
+        For the Dataset metadata of the parameter (:mod:`geardyn.io`); an unknown name raises
+        :class:`ModelError`.
+    """
     fam, idx = slot(name)
     f = FAMILIES[fam]
     return f.long_name.replace("{k}", str(idx + 1) if idx is not None else ""), f.units
@@ -184,7 +223,17 @@ def describe(name: str) -> tuple[str, str]:
 
 @dataclass(frozen=True)
 class CliOption:
-    """A common model option of the command line: its flag, the parameter it sets and its help."""
+    """A common model option of the command line: its flag, the parameter it sets and its help.
+
+    Parameters
+    ----------
+    flag : str
+        The option (``--xi0``).
+    param : str
+        The canonical parameter it sets.
+    help : str
+        Its help text.
+    """
 
     flag: str
     param: str

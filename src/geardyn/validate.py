@@ -29,8 +29,10 @@ from .model import (
     GearModel,
     IntegrationOptions,
     ModelError,
+    _check_finite,
     canonical_param,
 )
+from .grid import Grid
 from .params import FAMILIES, slot
 
 __all__ = [
@@ -78,20 +80,43 @@ def _describe(value: Any) -> str:
 
 
 def number(name: str, value: Any) -> float:
-    """A finite real number (bool, strings, complex, None and non-finite values refused)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise ModelError(f"{name}: expected a finite number, got {_describe(value)}")
-    try:
-        x = float(value)
-    except (OverflowError, ValueError, TypeError):
-        raise ModelError(f"{name}: must be a finite number, got {_describe(value)}") from None
-    if not math.isfinite(x):
-        raise ModelError(f"{name}: must be a finite number, got {_describe(value)}")
-    return x
+    """A finite real number (bool, strings, complex, None and non-finite values refused).
+
+    Parameters
+    ----------
+    name, value
+        The parameter's name (it starts the message) and what was given for it.
+
+    Returns
+    -------
+    float
+        The number; anything else raises :class:`ModelError`.
+    """
+    return _check_finite(name, value, real_only=True, describe=_describe)
 
 
 def positive(name: str, value: Any, what: str = "") -> float:
-    """A finite number > 0."""
+    """A finite number > 0.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the message.
+    value : object
+        The raw value.
+    what : str
+        Appended to "must be > 0" in the message (e.g. " (mesh frequency ω_e/ω_n)").
+
+    Returns
+    -------
+    float
+        The number, > 0.
+
+    Raises
+    ------
+    ModelError
+        For anything but a finite number > 0.
+    """
     x = number(name, value)
     if x <= 0:
         raise ModelError(f"{name}: must be > 0{what}, got {_describe(value)}")
@@ -99,7 +124,18 @@ def positive(name: str, value: Any, what: str = "") -> float:
 
 
 def nonnegative(name: str, value: Any, what: str = "") -> float:
-    """A finite number >= 0."""
+    """A finite number >= 0.
+
+    Parameters
+    ----------
+    name, value, what
+        As for :func:`positive` (``what`` is appended to "must be >= 0").
+
+    Returns
+    -------
+    float
+        The number; a negative or non-finite value raises :class:`ModelError`.
+    """
     x = number(name, value)
     if x < 0:
         raise ModelError(f"{name}: must be >= 0{what}, got {_describe(value)}")
@@ -107,7 +143,28 @@ def nonnegative(name: str, value: Any, what: str = "") -> float:
 
 
 def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
-    """An integer in [lo, hi] (an integral float such as 3.0 is accepted)."""
+    """An integer in [lo, hi] (an integral float such as 3.0 is accepted).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the message.
+    value : object
+        The raw value (bool refused).
+    lo : int
+        Smallest value allowed.
+    hi : int, optional
+        Largest value allowed (no limit by default).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ModelError
+        For a value that is not an integer in range.
+    """
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise ModelError(f"{name}: expected an integer >= {lo}, got {_describe(value)}")
     if isinstance(value, numbers.Integral):
@@ -137,6 +194,17 @@ def model(base: GearModel | None = None, **params: Any) -> GearModel:
         Values by sweep name (``omega``, ``xi0``, ``xi1``, ``kappa2``, ``fp``, ``eps1`` or ``fe``,
         ``D`` or ``backlash``, ``phi_c1``, …), all non-dimensional; a phase for a harmonic not
         yet present adds that harmonic with amplitude 0.
+
+    Returns
+    -------
+    GearModel
+        The new model (``base`` is unchanged).
+
+    Raises
+    ------
+    ModelError
+        For an unknown parameter name, a value that is not a finite number or a model the
+        parameters make invalid.
     """
     m = base if base is not None else GearModel()
     if not isinstance(m, GearModel):
@@ -158,7 +226,24 @@ def model(base: GearModel | None = None, **params: Any) -> GearModel:
 
 
 def model_params(values: Mapping[str, Any], base: GearModel | None = None) -> GearModel:
-    """:func:`model` from a mapping (e.g. a table of a configuration file)."""
+    """:func:`model` from a mapping (e.g. a table of a configuration file).
+
+    Parameters
+    ----------
+    values : mapping
+        Parameter values by name.
+    base : GearModel, optional
+        The model to start from (default: the paper's model).
+
+    Returns
+    -------
+    GearModel
+
+    Raises
+    ------
+    ModelError
+        For a value that is not a mapping, or as :func:`model`.
+    """
     if not isinstance(values, Mapping):
         raise ModelError(f"model parameters: expected a table of name = value, got {_describe(values)}")
     return model(base, **{str(k): v for k, v in values.items()})
@@ -176,6 +261,29 @@ def options(
     Δτ must be > 0 and smaller than every forcing period T = 2π/ω, with at most
     :data:`MAX_STEPS_PER_PERIOD` steps per period; ``transient`` >= 0 and ``periods`` >= 1 whole
     periods, at most :data:`MAX_PERIODS` each.
+
+    Parameters
+    ----------
+    dtau : float
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
+    transient : int
+        Periods discarded; default :data:`~geardyn.model.DEFAULT_TRANSIENT`.
+    periods : int
+        Periods recorded; default :data:`~geardyn.model.DEFAULT_PERIODS`.
+    accurate : bool
+        Split the steps at the contact boundaries (``IntegrationOptions.accurate``).
+    omegas : iterable of float
+        The mesh frequencies of the run (none: no check against the forcing period).
+
+    Returns
+    -------
+    IntegrationOptions
+
+    Raises
+    ------
+    ModelError
+        For a value out of range, a step not below a forcing period, too many steps per period or
+        too many steps per point (:data:`MAX_TOTAL_STEPS`).
     """
     dt = positive("dtau", dtau, " and smaller than the forcing period 2π/ω")
     tr = integer("transient", transient, 0, MAX_PERIODS)
@@ -205,7 +313,20 @@ def options(
 
 
 def recorded(points: int, periods: int) -> None:
-    """Refuse a result whose recorded Poincaré points would not fit in memory (:data:`MAX_RECORDED_VALUES`)."""
+    """Refuse a result whose recorded Poincaré points would not fit in memory (:data:`MAX_RECORDED_VALUES`).
+
+    Parameters
+    ----------
+    points : int
+        Points of the sweep.
+    periods : int
+        Recorded periods per point.
+
+    Raises
+    ------
+    ModelError
+        If points × periods × 2 exceeds :data:`MAX_RECORDED_VALUES`.
+    """
     n = int(points) * int(periods) * 2
     if n > MAX_RECORDED_VALUES:
         raise ModelError(
@@ -215,12 +336,47 @@ def recorded(points: int, periods: int) -> None:
 
 
 def initial_state(u0: Any, v0: Any) -> tuple[float, float]:
-    """The initial state (u0, v0) at θ = 0: two finite numbers."""
+    """The initial state (u0, v0) at θ = 0 of the 1-DOF model: two finite numbers.
+
+    Parameters
+    ----------
+    u0, v0 : float
+        Initial displacement and velocity (non-dimensional).
+
+    Returns
+    -------
+    tuple of float
+
+    Raises
+    ------
+    ModelError
+        If either is not a finite number.
+    """
     return number("u0", u0), number("v0", v0)
 
 
 def axis(param: Any, start: Any, stop: Any, num: Any) -> tuple[str, np.ndarray]:
-    """One swept parameter: its canonical name and ``num`` evenly spaced values from start to stop."""
+    """One swept parameter: its canonical name and ``num`` evenly spaced values from start to stop.
+
+    Parameters
+    ----------
+    param : str
+        Parameter name or alias.
+    start, stop : float
+        Ends of the range.
+    num : int
+        Number of values, 1 … :data:`MAX_GRID_POINTS`.
+
+    Returns
+    -------
+    name : str
+    values : ndarray
+
+    Raises
+    ------
+    ModelError
+        For an unknown name, a non-finite end, a bad count or values that overflow.
+    """
     if not isinstance(param, str) or not param:
         raise ModelError(f"param: expected a parameter name, got {_describe(param)}")
     name = canonical_param(param)
@@ -240,9 +396,27 @@ def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
     Refuses an empty grid, one larger than :data:`MAX_GRID_POINTS`, any grid point the model
     refuses (e.g. ω <= 0 or Σ|κ| >= 1, named with its value) and, with ``opts``, a step Δτ not
     smaller than the forcing period of every point.
-    """
-    from .sweep import grid_models
 
+    Parameters
+    ----------
+    base : GearModel
+        The model every point starts from.
+    axes : sequence of (str, sequence of float)
+        The swept parameters and their values.
+    opts : IntegrationOptions, optional
+        Options to check against every point (:func:`options`).
+
+    Returns
+    -------
+    list of GearModel
+        One per grid point, in row-major order (:meth:`geardyn.grid.Grid.models` of a product grid).
+
+    Raises
+    ------
+    ModelError
+        For a malformed axis, an empty or too large grid, a point the model refuses or options
+        that do not fit.
+    """
     if not axes:
         raise ModelError("grid: empty parameter grid; give at least one parameter to sweep")
     names, values = [], []
@@ -265,24 +439,67 @@ def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
             raise ModelError(f"grid: {total} points or more; at most {MAX_GRID_POINTS:.0e} allowed")
         names.append(name)
         values.append(arr)
-    models = grid_models(base, names, values)
+    models = Grid("product", names, values).models(base)
     if opts is not None:
         options(opts.dtau, opts.transient, opts.periods, opts.accurate, [m.omega for m in models])
     return models
 
 
 def workers(n: Any) -> int:
-    """Number of local worker processes, 1 … :data:`MAX_WORKERS`."""
+    """Number of local worker processes, 1 … :data:`MAX_WORKERS`.
+
+    Parameters
+    ----------
+    n : int
+        The requested count (``--workers``).
+
+    Returns
+    -------
+    int
+        The count, checked.
+
+    Raises
+    ------
+    ModelError
+        Unless ``n`` is an integer from 1 to :data:`MAX_WORKERS`.
+    """
     return integer("workers", n, 1, MAX_WORKERS)
 
 
 def chunk_points(n: Any) -> int:
-    """Parameter points per chunk, >= 1."""
+    """Parameter points per chunk, >= 1 (the engine's ``chunk_points``).
+
+    Parameters
+    ----------
+    n : int
+        Points per chunk as given (``--chunk-points``); at most :data:`MAX_GRID_POINTS`.
+
+    Returns
+    -------
+    int
+        The size, checked; it raises :class:`ModelError` for anything else.
+    """
     return integer("chunk size", n, 1, MAX_GRID_POINTS)
 
 
 def scheduler(address: Any) -> str | None:
-    """A Dask scheduler address such as ``tcp://HOST:PORT`` (None: no scheduler)."""
+    """A Dask scheduler address such as ``tcp://HOST:PORT`` (None: no scheduler).
+
+    Parameters
+    ----------
+    address : str or None
+        The raw address.
+
+    Returns
+    -------
+    str or None
+        The address, stripped.
+
+    Raises
+    ------
+    ModelError
+        For anything that is not an address (scheme, host, optional port 1 … 65535).
+    """
     if address is None:
         return None
     if not isinstance(address, str) or not address.strip():
@@ -295,7 +512,22 @@ def scheduler(address: Any) -> str | None:
 
 
 def config_file(path: Any) -> Path:
-    """An existing, readable configuration file."""
+    """An existing, readable configuration file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file name.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ModelError
+        For a missing file or a directory.
+    """
     if not isinstance(path, (str, Path)) or not str(path):
         raise ModelError(f"config: expected a file name, got {_describe(path)}")
     p = Path(path)

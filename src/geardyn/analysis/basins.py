@@ -15,18 +15,20 @@ are cut into chunks for the sweep engine.
 
 from __future__ import annotations
 
+import json
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from ..grid import Grid, linspace_values
-from ..io import annotate, result_attrs
+from ..io import json_values
 from ..model import GearModel, IntegrationOptions
-from ..sweep import DEFAULT_CHUNK_POINTS, Chunk, SweepOptions, run_chunks
+from ..sweep import DEFAULT_CHUNK_POINTS
 from .attractors import CLOUD_POINTS, CYCLE_TOL, NONPERIODIC_TOL, identify_attractors
 from .bifurcation import fixed_chunk
-from .classify import MAX_PERIOD, SETTLE_PERIODS, motion_label
+from .classify import MAX_PERIOD
+from .points import result_dataset, run_slices, sweep_function
 
 __all__ = ["basins", "basins_json", "identify_attractors", "CYCLE_TOL", "NONPERIODIC_TOL", "BASIN_OPTIONS"]
 
@@ -43,6 +45,7 @@ def basin_chunk(model, states, options, settle_periods):
         "poincare": r["poincare"][:, -keep:, :]}
 
 
+@sweep_function("basins", options=BASIN_OPTIONS)
 def basins(
     model: GearModel,
     u_range: tuple[float, float],
@@ -50,10 +53,7 @@ def basins(
     nu: int,
     nv: int,
     *,
-    options: IntegrationOptions = BASIN_OPTIONS,
-    settle_periods: int = SETTLE_PERIODS,
-    engine: SweepOptions | None = None,
-    **engine_kw: Any,
+    options, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Basins of attraction over a grid of initial states (u0, v0) at θ = 0.
 
@@ -67,13 +67,10 @@ def basins(
         Grid points along u0 and v0.
     options : IntegrationOptions
         Transient (long enough for every start to settle) and recorded periods (at least
-        2·MAX_PERIOD to detect periods up to MAX_PERIOD).
+        2·MAX_PERIOD to detect periods up to MAX_PERIOD); default :data:`BASIN_OPTIONS`.
     engine : SweepOptions, optional
         Where and how the sweep runs; ``chunk_points`` is the number of initial states per chunk
         (default 4 × :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).
-    **engine_kw
-        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
-    Other parameters as for :func:`~geardyn.analysis.bifurcation.bifurcation`.
 
     Returns
     -------
@@ -93,15 +90,12 @@ def basins(
     TypeError
         For a keyword that is not an engine option.
     """
-    eng = SweepOptions.merge(engine, "basins", **engine_kw)
     options.check_for(model.omega)
     u0 = linspace_values(*u_range, nu, label="u0")
     v0 = linspace_values(*v_range, nv, label="v0")
     grid = Grid.states(u0, v0)
-    chunks = [Chunk(i, basin_chunk, (model, grid.state_points(sl), options, settle_periods))
-              for i, sl in enumerate(grid.slices(eng.points_per_chunk(4 * DEFAULT_CHUNK_POINTS)))]
-    results = run_chunks(chunks, eng, description="basins")
-    rows = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
+    rows = run_slices(basin_chunk, lambda sl: (model, grid.state_points(sl), options, settle_periods),
+                      grid.slices(engine.points_per_chunk(4 * DEFAULT_CHUNK_POINTS)), engine, "basins")
     labels, atts = identify_attractors(rows)
     shape = grid.shape
     dims = grid.names
@@ -113,67 +107,56 @@ def basins(
         au[k, : a["points"].shape[0]] = a["points"][:, 0]
         av[k, : a["points"].shape[0]] = a["points"][:, 1]
     total = float(labels.size)
-    ds = xr.Dataset(
-        {
-            "attractor": (dims, labels.reshape(shape)),
-            "period": (dims, rows["period"].reshape(shape)),
-            "motion": (dims, rows["motion"].reshape(shape)),
-            "impact": (dims, rows["impact"].reshape(shape)),
-            "amplitude": (dims, rows["amplitude"].reshape(shape)),
-            "status": (dims, rows["status"].reshape(shape)),
-            "attractor_period": ("attractor_index", np.array([a["period"] for a in atts], dtype=np.int64)),
-            "attractor_motion": ("attractor_index", np.array([a["motion"] for a in atts], dtype=np.int64)),
-            "attractor_fraction": ("attractor_index", np.array([a["count"] / total for a in atts])),
-            "attractor_amplitude": ("attractor_index", np.array([a["amplitude"] for a in atts])),
-            "attractor_u": (("attractor_index", "cycle_point"), au),
-            "attractor_v": (("attractor_index", "cycle_point"), av),
-        },
-        coords={"v0": v0, "u0": u0, "attractor_index": np.arange(A), "cycle_point": np.arange(width)},
-        attrs=result_attrs("basins", model, options, settle_periods=int(settle_periods),
-                           diverged=int(np.count_nonzero(labels < 0))),
-    )
-    meta = {
-        "u0": ("1", "initial displacement u0 at θ = 0"),
-        "v0": ("1", "initial velocity u0' at θ = 0"),
-        "attractor": ("1", "attractor reached (index into attractor_index; -1 diverged)"),
-        "motion": ("1", "motion class (-1 diverged, 0 unresolved, 1 periodic, 2 quasi-periodic, 3 chaotic)"),
-        "attractor_period": ("1", "period of the attractor (0 not periodic)"),
-        "attractor_motion": ("1", "motion class of the attractor"),
-        "attractor_fraction": ("1", "fraction of the grid in the attractor's basin"),
-        "attractor_amplitude": ("1", "half peak-to-peak displacement on the attractor"),
-        "attractor_u": ("1", "Poincaré points u of the attractor (its cycle)"),
-        "attractor_v": ("1", "Poincaré points u' of the attractor (its cycle)"),
-        "attractor_index": ("1", "attractor number (0: largest basin)"),
-        "cycle_point": ("1", "index of a Poincaré point of the attractor"),
-    }
-    for k, (u, ln) in meta.items():
-        ds[k].attrs.update(units=u, long_name=ln)
-    return annotate(ds)
+    data = {"attractor": (dims, labels.reshape(shape))}
+    data.update({k: (dims, rows[k].reshape(shape)) for k in ("period", "motion", "impact", "amplitude", "status")})
+    data.update({
+        "attractor_period": ("attractor_index", np.array([a["period"] for a in atts], dtype=np.int64)),
+        "attractor_motion": ("attractor_index", np.array([a["motion"] for a in atts], dtype=np.int64)),
+        "attractor_fraction": ("attractor_index", np.array([a["count"] / total for a in atts])),
+        "attractor_amplitude": ("attractor_index", np.array([a["amplitude"] for a in atts])),
+        "attractor_u": (("attractor_index", "cycle_point"), au),
+        "attractor_v": (("attractor_index", "cycle_point"), av),
+    })
+    coords = {"v0": v0, "u0": u0, "attractor_index": np.arange(A), "cycle_point": np.arange(width)}
+    return result_dataset(data, coords, "basins", model, options, settle_periods=int(settle_periods),
+                          diverged=int(np.count_nonzero(labels < 0)))
 
 
 def basins_json(ds: xr.Dataset) -> dict[str, Any]:
-    """The ``basins --json`` summary: the attractors (period, motion, basin fraction, cycle points)
-    and the label grid (rows are v0 values)."""
+    """The ``basins --json`` summary: the attractors and the label grid.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`basins` result.
+
+    Returns
+    -------
+    dict
+        ``omega``; ``attractors`` (``label``, ``period``, ``motion``, ``fraction`` of the grid,
+        ``amplitude``, cycle ``points``); ``diverged_fraction``; the axes ``u0``, ``v0``; ``labels``
+        (rows are v0 values).
+    """
+    per = ds["attractor_period"].values
     atts = []
     for k in range(ds.sizes["attractor_index"]):
         u = ds["attractor_u"].values[k]
         v = ds["attractor_v"].values[k]
         ok = np.isfinite(u)
-        per = int(ds["attractor_period"].values[k])
         atts.append({
             "label": k,
-            "period": per if per > 0 else None,
-            "motion": motion_label(int(ds["attractor_motion"].values[k]), per),
+            "period": json_values(per[k], name="attractor_period"),
+            "motion": json_values(ds["attractor_motion"].values[k], name="motion", period=per[k]),
             "fraction": float(ds["attractor_fraction"].values[k]),
             "amplitude": float(ds["attractor_amplitude"].values[k]),
             "points": np.column_stack([u[ok], v[ok]]).tolist(),
         })
     lab = ds["attractor"].values
     return {
-        "omega": float(__import__("json").loads(ds.attrs["model"])["omega"]),
+        "omega": float(json.loads(ds.attrs["model"])["omega"]),
         "attractors": atts,
         "diverged_fraction": float(np.count_nonzero(lab < 0) / lab.size),
-        "u0": [float(x) for x in ds["u0"].values],
-        "v0": [float(x) for x in ds["v0"].values],
+        "u0": json_values(ds["u0"]),
+        "v0": json_values(ds["v0"]),
         "labels": lab.tolist(),
     }

@@ -25,10 +25,11 @@ import xarray as xr
 
 from ..grid import Grid, build_models, linspace_values
 from ..integrate import ST_OK, integrate_batch
-from ..io import annotate, result_attrs
+from ..io import annotate, json_values, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
-from ..sweep import Chunk, SweepOptions, chunk_slices, run_chunks
-from .classify import IMPACT_LABELS, MOTION_LABELS, SETTLE_PERIODS, motion_label
+from ..sweep import Chunk, chunk_slices, run_chunks
+from .classify import SETTLE_PERIODS
+from .points import initial_state, run_slices, sweep_function
 from .steady import classify_batch
 
 __all__ = [
@@ -57,24 +58,6 @@ _SCALARS = {
     "settle_ratio": float,
 }
 
-_LONG_NAMES = {
-    "motion": ("1", "motion class (-1 diverged, 0 unresolved, 1 periodic, 2 quasi-periodic, 3 chaotic)"),
-    "lle_err": ("1/τ", "standard error of the largest Lyapunov exponent (block statistics)"),
-    "lambda2": ("1/τ", "second Lyapunov exponent"),
-    "loops": ("1", "closed curves of a quasi-periodic Poincaré section (0 otherwise)"),
-    "settled": ("1", "settling passes run for the point before classification (0: periodic after the transient)"),
-    "settle_ratio": ("1", "contraction of the Poincaré sequence onto a cycle over the record (1: stationary)"),
-    "curve_dim": ("1", "correlation dimension of the Poincaré section of a non-periodic point (1: closed curves)"),
-    "restarted": ("1", "1 where a continuation restarted from the initial state after a diverged point"),
-    "start_u": ("1", "initial displacement u of the point"),
-    "start_v": ("1", "initial velocity u' of the point"),
-    "end_u": ("1", "final displacement u (start of the next continuation point)"),
-    "end_v": ("1", "final velocity u'"),
-    "section": ("1", "index of the recorded Poincaré point"),
-    "sweep": ("1", "sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)"),
-}
-
-
 #: Evenly spaced values start … stop (num >= 1), validated: :func:`geardyn.grid.linspace_values`.
 sweep_values = linspace_values
 
@@ -85,7 +68,7 @@ def _rows(out: dict[str, np.ndarray], start: np.ndarray, restarted: np.ndarray |
     r = {k: np.asarray(out[k], dtype=t) for k, t in _SCALARS.items() if k in out}
     r["restarted"] = np.zeros(n, np.int64) if restarted is None else restarted.astype(np.int64)
     r["poincare"] = np.asarray(out["poincare"], dtype=float)
-    r["start"] = np.asarray(start, dtype=float).reshape(n, 2)
+    r["start"] = np.asarray(start, dtype=float).reshape(n, -1)
     r["end"] = np.asarray(out["end_state"], dtype=float)
     return r
 
@@ -99,10 +82,27 @@ def fixed_chunk(
 ) -> dict[str, np.ndarray]:
     """Chunk function: independent points (one batch), each from its initial state.
 
-    ``state0`` is one state (2,) for all points or one per point (P, 2).
+    Parameters
+    ----------
+    models : sequence of GearModel
+        The points.
+    state0 : ndarray (d,) or (P, d)
+        One initial state for all points or one per point, d = ``state_dim``.
+    options : IntegrationOptions
+        Transient and recorded periods.
+    lyapunov : bool
+        Exponents for every point.
+    settle_periods : int
+        Settling periods of :func:`~geardyn.analysis.steady.classify_batch`.
+
+    Returns
+    -------
+    dict of ndarray
+        One row per point: the scalars of :func:`~geardyn.analysis.steady.classify_batch`,
+        ``restarted``, ``poincare``, ``start`` and ``end`` states.
     """
     models = list(models)
-    s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), 2)).copy()
+    s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), models[0].state_dim)).copy()
     res = integrate_batch(models, s0, options, lyapunov=lyapunov)
     return _rows(classify_batch(res, settle_periods=settle_periods), s0)
 
@@ -117,12 +117,27 @@ def continuation_chunk(
     """Chunk function: points in the given order, each starting from the previous end state.
 
     After a diverged point the next one restarts from ``state0`` (flagged in ``restarted``).
+
+    Parameters
+    ----------
+    models : sequence of GearModel
+        The points, in continuation order.
+    state0 : sequence of float
+        Initial state of the first point.
+    options, lyapunov, settle_periods
+        As for :func:`fixed_chunk`.
+
+    Returns
+    -------
+    dict of ndarray
+        As :func:`fixed_chunk`.
     """
     models = list(models)
-    s0 = np.asarray(state0, dtype=float).reshape(2)
+    d = models[0].state_dim
+    s0 = np.asarray(state0, dtype=float).reshape(d)
     state = s0.copy()
     rows = []
-    starts = np.zeros((len(models), 2))
+    starts = np.zeros((len(models), d))
     restarted = np.zeros(len(models), np.int64)
     for i, m in enumerate(models):
         if not np.all(np.isfinite(state)):
@@ -132,7 +147,7 @@ def continuation_chunk(
         res = integrate_batch([m], state, options, lyapunov=lyapunov)
         out = classify_batch(res, settle_periods=settle_periods)
         rows.append(out)
-        state = out["end_state"][0].copy() if out["status"][0] == ST_OK else np.full(2, np.nan)
+        state = out["end_state"][0].copy() if out["status"][0] == ST_OK else np.full(d, np.nan)
     merged = {k: np.concatenate([r[k] for r in rows], axis=0) for k in rows[0]}
     return _rows(merged, starts, restarted)
 
@@ -181,6 +196,7 @@ def _check_options(models: Sequence[GearModel], options: IntegrationOptions) -> 
         options.check_for(m.omega)
 
 
+@sweep_function("bifurcation")
 def bifurcation(
     model: GearModel,
     param: str,
@@ -188,12 +204,7 @@ def bifurcation(
     *,
     mode: str = "fixed",
     sweep: str = "up",
-    state0: Sequence[float] = (0.0, 0.0),
-    options: IntegrationOptions = IntegrationOptions(),
-    lyapunov: bool = False,
-    settle_periods: int = SETTLE_PERIODS,
-    engine: SweepOptions | None = None,
-    **engine_kw: Any,
+    state0, options, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Bifurcation diagram of ``param`` over ``values``.
 
@@ -210,23 +221,6 @@ def bifurcation(
         Every point from ``state0``, or continuation of the previous end state.
     sweep : {'up', 'down', 'both'}
         Direction(s) of a continuation sweep (ignored in fixed mode, whose sweep label is 'fixed').
-    state0 : (u0, v0)
-        Initial state (non-dimensional) of every point (fixed) or of the first point of each sweep.
-    options : IntegrationOptions
-        Transient and recorded periods per point (in continuation mode a shorter transient is
-        usually enough, since each point starts near its attractor).
-    lyapunov : bool
-        Compute the largest exponent (and λ2) of every point over its recorded periods.  Without
-        it only non-periodic points get exponents (needed to tell quasi-periodic from chaotic).
-    settle_periods : int
-        Further periods for points not periodic after the transient (see
-        :func:`~geardyn.analysis.steady.classify_batch`).
-    engine : SweepOptions, optional
-        Where and how the sweep runs (:class:`geardyn.sweep.SweepOptions`); ``chunk_points`` is
-        the number of points per chunk in fixed mode (default: sized by cost, :func:`geardyn.sweep.chunk_slices`).
-    **engine_kw
-        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one (``workers``,
-        ``scheduler``, ``executor``, ``checkpoint``, ``resume``, ``progress``, ``chunk_points``).
 
     Returns
     -------
@@ -245,8 +239,12 @@ def bifurcation(
         When the sweep cannot run (checkpoint, resume, scheduler; see :func:`geardyn.sweep.run_chunks`).
     TypeError
         For a keyword that is not an engine option.
+
+    References
+    ----------
+    R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010 (brute-force
+    bifurcation diagrams and natural-parameter continuation of attractors).
     """
-    eng = SweepOptions.merge(engine, "bifurcation", **engine_kw)
     name = canonical_param(param)
     if mode not in MODES:
         raise ModelError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
@@ -256,25 +254,20 @@ def bifurcation(
     vals = grid.values(name)
     models = grid.models(model)
     _check_options(models, options)
-    s0 = np.asarray(state0, dtype=float).reshape(2)
-    if not np.all(np.isfinite(s0)):
-        raise ModelError("initial state (u0, v0): must be finite")
-    s0t = (float(s0[0]), float(s0[1]))
+    s0t = initial_state(model, state0)
 
     common = (s0t, options, lyapunov, settle_periods)
     if mode == "fixed":
         labels = ["fixed"]
-        chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(sl)) + common)
-                  for i, sl in enumerate(chunk_slices(grid, model, options, eng, lyapunov=lyapunov))]
+        per_sweep = [run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common,
+                                chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine,
+                                f"bifurcation {name}")]
     else:
         labels = ["up", "down"] if sweep == "both" else [sweep]
         pts = grid.points()
         chunks = [Chunk(i, grid_chunk, (model, grid.names, pts if lab == "up" else pts[::-1].copy()) + common + (True,))
                   for i, lab in enumerate(labels)]
-    results = run_chunks(chunks, eng, description=f"bifurcation {name}")
-    if mode == "fixed":
-        per_sweep = [{k: np.concatenate([r[k] for r in results]) for k in results[0]}]
-    else:
+        results = run_chunks(chunks, engine, description=f"bifurcation {name}")
         per_sweep = [r if lab == "up" else {k: v[::-1] for k, v in r.items()} for lab, r in zip(labels, results)]
     ds = points_dataset(name, vals, labels, per_sweep)
     ds.attrs.update(result_attrs("bifurcation", model, options, param=name, mode=mode, sweep=sweep,
@@ -283,7 +276,24 @@ def bifurcation(
 
 
 def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_sweep: Sequence[dict[str, np.ndarray]]) -> xr.Dataset:
-    """Assemble per-sweep row dicts (ascending ``values``) into the bifurcation Dataset."""
+    """Assemble per-sweep row dicts (ascending ``values``) into the bifurcation Dataset.
+
+    Parameters
+    ----------
+    name : str
+        The swept parameter (the name of the dimension).
+    values : ndarray
+        Its values, ascending.
+    labels : sequence of str
+        The sweep labels (``fixed``, or ``up``/``down``).
+    per_sweep : sequence of dict of ndarray
+        The rows of each sweep (chunk results joined), in the order of ``values``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Annotated from the variable registry; without global attributes.
+    """
     dims = ("sweep", name)
 
     def stack(k: str) -> np.ndarray:
@@ -301,38 +311,46 @@ def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_swe
                 end_v=(dims, en[..., 1]))
     ds = xr.Dataset(data, coords={"sweep": list(labels), name: np.asarray(values, float),
                                   "section": np.arange(pc.shape[2])})
-    for k, (u, ln) in _LONG_NAMES.items():
-        if k in ds.variables:
-            ds[k].attrs.update(units=u, long_name=ln)
-    if name not in ("omega", "xi0", "fp", "D"):
-        ds[name].attrs.update(units="rad" if name.startswith("phi") else "1", long_name=f"parameter {name}")
-    ds["motion"].attrs.update(flag_values=list(MOTION_LABELS), flag_meanings=" ".join(
-        v.replace(" ", "_") for v in MOTION_LABELS.values()))
-    ds["impact"].attrs.update(flag_values=list(IMPACT_LABELS), flag_meanings=" ".join(
-        v.replace(" ", "_") for v in IMPACT_LABELS.values()))
     return annotate(ds)
 
 
-def _num(x: float) -> float | None:
-    return float(x) if np.isfinite(x) else None
-
-
 def point_labels(ds: xr.Dataset, sweep: str) -> dict[str, list[Any]]:
-    """JSON-ready per-point lists (period, motion, impact, lle, amplitude, status) of one sweep."""
+    """JSON-ready per-point lists of one sweep (converted by :func:`geardyn.io.json_values`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A bifurcation (or frequency-response) Dataset.
+    sweep : str
+        The sweep label (``up``, ``down`` or ``fixed``).
+
+    Returns
+    -------
+    dict of list
+        ``period`` (None where not periodic), ``motion`` and ``impact`` (labels), ``lle`` and
+        ``amplitude`` (None where not finite), ``status`` (labels).
+    """
     s = ds.sel(sweep=sweep)
     per = s["period"].values
-    return {
-        "period": [int(p) if p > 0 else None for p in per],
-        "motion": [motion_label(c, p) for c, p in zip(s["motion"].values, per)],
-        "impact": [IMPACT_LABELS[int(i)] for i in s["impact"].values],
-        "lle": [_num(x) for x in s["lle"].values],
-        "amplitude": [_num(x) for x in s["amplitude"].values],
-        "status": ["ok" if int(x) == ST_OK else "diverged" for x in s["status"].values],
-    }
+    return {k: json_values(s[k], period=per if k == "motion" else None)
+            for k in ("period", "motion", "impact", "lle", "amplitude", "status")}
 
 
 def class_intervals(ds: xr.Dataset, sweep: str) -> list[dict[str, Any]]:
-    """Runs of consecutive grid points with the same motion label: [{"from", "to", "motion", "points"}]."""
+    """Runs of consecutive grid points with the same motion label.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A bifurcation Dataset.
+    sweep : str
+        The sweep label.
+
+    Returns
+    -------
+    list of dict
+        ``{"from", "to", "motion", "points"}`` per run, in grid order.
+    """
     name = str(ds.attrs["param"])
     x = ds[name].values
     labels = point_labels(ds, sweep)["motion"]
@@ -352,6 +370,17 @@ def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
 
     With one sweep the per-point entries are lists aligned with ``values``; with both sweeps each
     is a dict ``{"up": [...], "down": [...]}``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`bifurcation` result.
+
+    Returns
+    -------
+    dict
+        ``param``, ``values``, ``mode``, ``sweep``, the per-point entries and ``intervals``
+        (:func:`class_intervals`).
     """
     name = str(ds.attrs["param"])
     labels = [str(x) for x in ds["sweep"].values]

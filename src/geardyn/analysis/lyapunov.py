@@ -29,7 +29,7 @@ import numpy as np
 import xarray as xr
 
 from ..integrate import ST_OK, integrate_batch
-from ..io import result_attrs
+from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 
 __all__ = [
@@ -82,28 +82,29 @@ def spectrum_from_log(
     single = a.ndim == 2
     if single:
         a = a[None]
-    if a.ndim != 3 or a.shape[2] != 2:
-        raise ModelError(f"lyapunov log: expected shape (m, 2) or (P, m, 2), got {np.shape(log)}")
-    P, m, _ = a.shape
+    if a.ndim != 3:
+        raise ModelError(f"lyapunov log: expected shape (m, d) or (P, m, d), got {np.shape(log)}")
+    P, m, d = a.shape
     T = np.broadcast_to(np.asarray(period, dtype=float), (P,))
     skip = min(max(1, int(np.ceil(align_fraction * m))), max(m - 2, 0))
     kept = a[:, skip:, :]
     mk = kept.shape[1]
     if mk == 0:
-        nan = np.full((P, 2), np.nan)
+        nan = np.full((P, d), np.nan)
         return (nan[0], nan[0]) if single else (nan, nan.copy())
     lam = kept.mean(axis=1) / T[:, None]
     B = int(min(max(blocks, 2), mk))
     if B >= 2:
         L = mk // B
-        blk = kept[:, mk - B * L:, :].reshape(P, B, L, 2).mean(axis=2) / T[:, None, None]
+        blk = kept[:, mk - B * L:, :].reshape(P, B, L, d).mean(axis=2) / T[:, None, None]
         err = blk.std(axis=1, ddof=1) / np.sqrt(B)
     else:
-        err = np.full((P, 2), np.nan)
-    # Gram–Schmidt orders the exponents on average; sort each pair so that λ1 >= λ2 exactly.
-    swap = lam[:, 1] > lam[:, 0]
-    lam[swap] = lam[swap][:, ::-1]
-    err[swap] = err[swap][:, ::-1]
+        err = np.full((P, d), np.nan)
+    # Gram–Schmidt orders the exponents on average; sort them so that λ1 >= λ2 >= … exactly
+    # (a stable sort: equal exponents keep their order).
+    order = np.argsort(-lam, axis=1, kind="stable")
+    lam = np.take_along_axis(lam, order, axis=1)
+    err = np.take_along_axis(err, order, axis=1)
     bad = ~np.all(np.isfinite(kept), axis=(1, 2))
     lam[bad] = np.nan
     err[bad] = np.nan
@@ -126,10 +127,35 @@ def lyapunov_batch(
     *,
     blocks: int = DEFAULT_BLOCKS,
 ) -> dict[str, np.ndarray]:
-    """Lyapunov spectra of many parameter points in one kernel batch.
+    """Lyapunov spectra of many parameter points in one kernel batch (Benettin's method).
 
-    Returns a dict with ``exponents`` (P, 2), ``uncertainty`` (P, 2), ``status`` (P,) and the
-    :class:`~geardyn.integrate.BatchResult` under ``result`` (NaN exponents where diverged).
+    Parameters
+    ----------
+    models : sequence of GearModel
+        The points.
+    state0 : ndarray (d,) or (P, d), optional
+        Initial state(s) at θ = 0 (default the origin).
+    options : IntegrationOptions
+        Transient and recorded periods (default :data:`LYAPUNOV_PERIODS` recorded).
+    blocks : int
+        Blocks of the uncertainty; default :data:`DEFAULT_BLOCKS`.
+
+    Returns
+    -------
+    dict
+        ``exponents`` (P, d), ``uncertainty`` (P, d), ``status`` (P,) and the
+        :class:`~geardyn.integrate.BatchResult` under ``result`` (NaN exponents where diverged).
+
+    Raises
+    ------
+    ModelError
+        As :func:`geardyn.integrate.integrate_batch`.
+
+    References
+    ----------
+    G. Benettin, L. Galgani, A. Giorgilli and J.-M. Strelcyn, "Lyapunov characteristic exponents
+    for smooth dynamical systems and for Hamiltonian systems; a method for computing all of them",
+    *Meccanica* 15 (1980) 9–20 and 21–30.
     """
     res = integrate_batch(models, state0, options, lyapunov=True)
     T = np.array([m.period for m in res.models])
@@ -142,7 +168,27 @@ def lyapunov_batch(
 
 @dataclass
 class LyapunovResult:
-    """Lyapunov spectrum of one point (non-dimensional rates per unit τ); see :func:`lyapunov_spectrum`."""
+    """Lyapunov spectrum of one point (non-dimensional rates per unit τ); see :func:`lyapunov_spectrum`.
+
+    Parameters
+    ----------
+    model : GearModel
+        The point.
+    options : IntegrationOptions
+        The integration options used.
+    state0 : tuple of float
+        The initial state.
+    exponents, uncertainty : ndarray (d,)
+        λ1 >= λ2 >= … per unit τ and their standard errors.
+    log : ndarray (m, d)
+        The per-period Gram–Schmidt logs.
+    status : int
+        :class:`~geardyn.status.Status` code of the run.
+    blocks : int
+        Blocks of the uncertainty.
+    motion : dict
+        ``motion`` and ``period`` labels when classified (else empty).
+    """
 
     model: GearModel
     options: IntegrationOptions
@@ -186,7 +232,7 @@ class LyapunovResult:
         """Per-period logs and running estimates, with the final exponents as attributes."""
         T = self.model.period
         m = self.log.shape[0]
-        run = running_estimate(self.log, T) if m else np.zeros((0, 2))
+        run = running_estimate(self.log, T) if m else np.zeros((0, len(self.exponents)))
         ds = xr.Dataset(
             {
                 "log_r": (("section", "exponent"), self.log),
@@ -194,17 +240,11 @@ class LyapunovResult:
                 "exponents": ("exponent", self.exponents),
                 "uncertainty": ("exponent", self.uncertainty),
             },
-            coords={"section": np.arange(m), "exponent": np.array([1, 2])},
+            coords={"section": np.arange(m), "exponent": np.arange(1, len(self.exponents) + 1)},
             attrs=result_attrs("lyapunov", self.model, self.options, state0=list(self.state0),
                                summary=self.to_json()),
         )
-        ds["log_r"].attrs.update(units="1", long_name="log of the Gram–Schmidt diagonal per forcing period")
-        ds["running"].attrs.update(units="1/τ", long_name="running Lyapunov exponent estimate")
-        ds["exponents"].attrs.update(units="1/τ", long_name="Lyapunov exponents")
-        ds["uncertainty"].attrs.update(units="1/τ", long_name="standard error of the exponents (block statistics)")
-        ds["section"].attrs.update(units="1", long_name="index of the recorded forcing period")
-        ds["exponent"].attrs.update(units="1", long_name="exponent index (1 largest)")
-        return ds
+        return annotate(ds)
 
 
 def lyapunov_spectrum(
@@ -233,6 +273,17 @@ def lyapunov_spectrum(
         Also classify the motion from the same run (period, exponent, and for non-periodic points
         the closed-curve tests of :func:`~geardyn.analysis.classify.classify_motion`; no settling
         passes: give a long enough transient).
+
+    Returns
+    -------
+    LyapunovResult
+        Exponents, uncertainties, the per-period logs and, with ``classify``, the motion; a bad
+        model, state or option raises :class:`ModelError` (:func:`geardyn.integrate.integrate_batch`).
+
+    References
+    ----------
+    Benettin et al. (1980), as for :func:`lyapunov_batch`: tangent vectors re-orthonormalised by
+    Gram–Schmidt once per forcing period.
     """
     out = lyapunov_batch([model], state0, options, blocks=blocks)
     res = out["result"]
@@ -247,6 +298,6 @@ def lyapunov_spectrum(
         code = motion_class(n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio)
         motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
     return LyapunovResult(
-        model, options, (float(state0[0]), float(state0[1])), out["exponents"][0], out["uncertainty"][0],
+        model, options, tuple(float(x) for x in state0), out["exponents"][0], out["uncertainty"][0],
         res.lyapunov_log[0], int(res.status[0]), blocks, motion,
     )

@@ -15,11 +15,12 @@ import numpy as np
 import xarray as xr
 
 from ..grid import Grid, build_models
-from ..io import annotate, result_attrs
-from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
-from ..sweep import Chunk, SweepOptions, chunk_slices, run_chunks
-from .bifurcation import MODES, _LONG_NAMES, grid_chunk
-from .classify import IMPACT_LABELS, MOTION_LABELS, SETTLE_PERIODS, motion_label
+from ..io import json_values
+from ..model import GearModel, ModelError, canonical_param
+from ..sweep import Chunk, chunk_slices, run_chunks
+from .bifurcation import MODES, grid_chunk
+from .classify import MOTION_LABELS
+from .points import concat_rows, initial_state, result_dataset, run_slices, sweep_function
 
 __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
 
@@ -28,6 +29,7 @@ MAP_VARIABLES = ("period", "motion", "impact", "status", "loops", "amplitude", "
                  "fraction_separation", "fraction_back", "lle", "lle_err", "lambda2")
 
 
+@sweep_function("parameter_map")
 def parameter_map(
     model: GearModel,
     x_param: str,
@@ -36,12 +38,7 @@ def parameter_map(
     y_values: Sequence[float],
     *,
     mode: str = "fixed",
-    state0: Sequence[float] = (0.0, 0.0),
-    options: IntegrationOptions = IntegrationOptions(),
-    lyapunov: bool = False,
-    settle_periods: int = SETTLE_PERIODS,
-    engine: SweepOptions | None = None,
-    **engine_kw: Any,
+    state0, options, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Map of the steady response over a grid of two parameters.
 
@@ -54,15 +51,7 @@ def parameter_map(
     x_values, y_values : sequence of float
         Grid values (sorted ascending).
     mode : {'fixed', 'continue'}
-        Every point from ``state0``, or continuation along x within each row.
-    lyapunov : bool
-        Largest exponent for every point (otherwise only for non-periodic points).
-    engine : SweepOptions, optional
-        Where and how the sweep runs; ``chunk_points`` is the number of grid points per chunk in
-        fixed mode (default: sized by cost, :func:`geardyn.sweep.chunk_slices`).
-    **engine_kw
-        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
-    Other parameters as for :func:`~geardyn.analysis.bifurcation.bifurcation`.
+        Every point from ``state0``, or continuation along x within each row (one chunk per row).
 
     Returns
     -------
@@ -79,7 +68,6 @@ def parameter_map(
     TypeError
         For a keyword that is not an engine option.
     """
-    eng = SweepOptions.merge(engine, "parameter_map", **engine_kw)
     xn, yn = canonical_param(x_param), canonical_param(y_param)
     if xn == yn:
         raise ModelError(f"map: x and y must be different parameters, got {xn!r} twice")
@@ -97,58 +85,42 @@ def parameter_map(
     corners = build_models(model, grid.names, np.array([[yv[0], xv[0]], [yv[0], xv[-1]], [yv[-1], xv[0]],
                                                         [yv[-1], xv[-1]]]))
     options.check_for(max(m.omega for m in corners))
-    s0 = np.asarray(state0, dtype=float).reshape(2)
-    if not np.all(np.isfinite(s0)):
-        raise ModelError("initial state (u0, v0): must be finite")
-    s0t = (float(s0[0]), float(s0[1]))
+    s0t = initial_state(model, state0)
     common = (s0t, options, lyapunov, settle_periods)
+    description = f"map {yn} × {xn}"
     if mode == "fixed":
-        chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(sl)) + common + (False, MAP_VARIABLES))
-                  for i, sl in enumerate(chunk_slices(grid, model, options, eng, lyapunov=lyapunov))]
+        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (False, MAP_VARIABLES),
+                         chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine, description)
     else:  # one continuation row per chunk, x increasing
         nx = xv.size
         chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(slice(i * nx, (i + 1) * nx))) + common
                         + (True, MAP_VARIABLES)) for i in range(yv.size)]
-    results = run_chunks(chunks, eng, description=f"map {yn} × {xn}")
-    cat = {k: np.concatenate([r[k] for r in results]) for k in results[0]}
+        cat = concat_rows(run_chunks(chunks, engine, description=description))
     shape = (yv.size, xv.size)
-    ds = xr.Dataset({k: ((yn, xn), v.reshape(shape)) for k, v in cat.items()}, coords={yn: yv, xn: xv})
-    for k, (u, ln) in _LONG_NAMES.items():
-        if k in ds.variables:
-            ds[k].attrs.update(units=u, long_name=ln)
-    for n in (xn, yn):
-        if n not in ("omega", "xi0", "fp", "D"):
-            ds[n].attrs.update(units="rad" if n.startswith("phi") else "1", long_name=f"parameter {n}")
-    ds["motion"].attrs.update(flag_values=list(MOTION_LABELS),
-                              flag_meanings=" ".join(v.replace(" ", "_") for v in MOTION_LABELS.values()))
-    ds["impact"].attrs.update(flag_values=list(IMPACT_LABELS),
-                              flag_meanings=" ".join(v.replace(" ", "_") for v in IMPACT_LABELS.values()))
-    ds.attrs.update(result_attrs("map", model, options, x=xn, y=yn, mode=mode, state0=list(s0t),
-                                 lyapunov=bool(lyapunov), settle_periods=int(settle_periods)))
-    return annotate(ds)
+    return result_dataset({k: ((yn, xn), v.reshape(shape)) for k, v in cat.items()}, {yn: yv, xn: xv}, "map",
+                          model, options, x=xn, y=yn, mode=mode, state0=list(s0t), lyapunov=bool(lyapunov),
+                          settle_periods=int(settle_periods))
 
 
 def map_json(ds: xr.Dataset) -> dict[str, Any]:
-    """The ``map --json`` summary: parameters, grid values and per-point grids (rows are y values)."""
+    """The ``map --json`` summary: parameters, grid values and per-point grids (rows are y values).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`parameter_map` result.
+
+    Returns
+    -------
+    dict
+        ``x``, ``y``, ``x_values``, ``y_values``; grids ``motion``, ``impact``, ``period``,
+        ``amplitude``, ``lle`` (converted by :func:`geardyn.io.json_values`); ``motion_counts``.
+    """
     xn, yn = str(ds.attrs["x"]), str(ds.attrs["y"])
-
-    def grid(var: str, f) -> list[list[Any]]:
-        return [[f(v, i, j) for j, v in enumerate(row)] for i, row in enumerate(ds[var].values)]
-
     per = ds["period"].values
-
-    def num(v, i, j):
-        return float(v) if np.isfinite(v) else None
-
     codes, counts = np.unique(ds["motion"].values, return_counts=True)
-    return {
-        "x": xn, "y": yn,
-        "x_values": [float(v) for v in ds[xn].values],
-        "y_values": [float(v) for v in ds[yn].values],
-        "motion": grid("motion", lambda v, i, j: motion_label(v, per[i, j])),
-        "impact": grid("impact", lambda v, i, j: IMPACT_LABELS[int(v)]),
-        "period": grid("period", lambda v, i, j: int(v) if v > 0 else None),
-        "amplitude": grid("amplitude", num),
-        "lle": grid("lle", num),
-        "motion_counts": {MOTION_LABELS[int(c)]: int(n) for c, n in zip(codes, counts)},
-    }
+    out: dict[str, Any] = {"x": xn, "y": yn, "x_values": json_values(ds[xn]), "y_values": json_values(ds[yn])}
+    for k in ("motion", "impact", "period", "amplitude", "lle"):
+        out[k] = json_values(ds[k], period=per if k == "motion" else None)
+    out["motion_counts"] = {MOTION_LABELS[int(c)]: int(n) for c, n in zip(codes, counts)}
+    return out

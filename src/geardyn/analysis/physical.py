@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..io import model_from_attrs
+from ..io import PHYSICAL_SUFFIX, VARIABLES, Variable, model_from_attrs, physical_long_name
 from ..model import GearModel
 from ..units import SCALES_ATTR, PhysicalScales, scales_of
 
@@ -90,8 +90,25 @@ def spectrum_peaks(order: np.ndarray, amplitude: np.ndarray, scales: PhysicalSca
                    n: int = N_PEAKS) -> list[dict[str, float]]:
     """The largest lines of an amplitude spectrum of u (order 0, the mean, excluded).
 
-    Returns a list of ``{"order", "frequency_Hz", "amplitude", "amplitude_um"}``, largest first:
-    the frequency as an order of the mesh frequency and in Hz, the amplitude non-dimensional and in µm.
+    Parameters
+    ----------
+    order : ndarray
+        Frequencies as orders of the mesh frequency.
+    amplitude : ndarray
+        Amplitudes of u (non-dimensional).
+    scales : PhysicalScales
+        The pair's scales.
+    omega : float
+        Mesh frequency ω of the run.
+    n : int
+        Largest number of lines; default :data:`N_PEAKS` (lines below :data:`PEAK_REL_THRESHOLD`
+        of the largest are left out).
+
+    Returns
+    -------
+    list of dict
+        ``{"order", "frequency_Hz", "amplitude", "amplitude_um"}``, largest first: the frequency
+        as an order of the mesh frequency and in Hz, the amplitude non-dimensional and in µm.
     """
     order = np.asarray(order, dtype=float)
     amp = np.asarray(amplitude, dtype=float)
@@ -117,8 +134,9 @@ def _num(x: Any) -> float | None:
     return x if np.isfinite(x) else None
 
 
-def _set(ds: xr.Dataset, name: str, dims: Any, data: Any, units: str, long_name: str, coord: bool = False) -> None:
-    var = xr.Variable(dims, np.asarray(data, dtype=float), attrs={"units": units, "long_name": long_name})
+def _set(ds: xr.Dataset, name: str, dims: Any, data: Any, coord: bool = False, meta: Variable | None = None) -> None:
+    """Add a float variable (or coordinate) with its registry attributes (or those of ``meta``)."""
+    var = xr.Variable(dims, np.asarray(data, dtype=float), attrs=(meta or VARIABLES[name]).attrs())
     if coord:
         ds.coords[name] = var
     else:
@@ -209,20 +227,18 @@ def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
     out.attrs[SCALES_ATTR] = sc.to_json()
     if "omega" in out.coords or "omega" in out.dims:
         w = out["omega"]
-        _set(out, "rpm", w.dims, sc.rpm_from_omega(w.values), "rpm", "pinion speed", coord=True)
-        _set(out, "mesh_frequency_Hz", w.dims, sc.hz_from_omega(w.values), "Hz", "mesh frequency", coord=True)
+        _set(out, "rpm", w.dims, sc.rpm_from_omega(w.values), coord=True)
+        _set(out, "mesh_frequency_Hz", w.dims, sc.hz_from_omega(w.values), coord=True)
     if "fp" in out.coords:
         f = out["fp"]
-        _set(out, "torque_N_m", f.dims, sc.torque_from_fp(f.values), "N·m", "pinion torque (balanced)", coord=True)
+        _set(out, "torque_N_m", f.dims, sc.torque_from_fp(f.values), coord=True)
     for name in DISPLACEMENT_VARIABLES:
         if name in out.data_vars:
             da = out[name]
-            base = str(da.attrs.get("long_name", name))
-            base = base.replace("displacement", "DTE") if "displacement" in base else f"{base} (DTE)"
-            _set(out, f"{name}_um", da.dims, sc.um_from_u(da.values), "µm", base)
+            long_name = physical_long_name(str(da.attrs.get("long_name", name)))
+            _set(out, f"{name}{PHYSICAL_SUFFIX}", da.dims, sc.um_from_u(da.values), meta=Variable("µm", long_name))
     if "lle" in out.data_vars:
-        _set(out, "lle_per_s", out["lle"].dims, sc.per_s_from_per_tau(out["lle"].values), "1/s",
-             "largest Lyapunov exponent per second")
+        _set(out, "lle_per_s", out["lle"].dims, sc.per_s_from_per_tau(out["lle"].values))
     if "jumps" in out.attrs and str(out.attrs.get("param", "omega")) == "omega":
         conv = _walk({"jumps": json.loads(out.attrs["jumps"]), "hysteresis": json.loads(out.attrs.get("hysteresis", "[]")),
                       "values": []}, sc, "omega")
@@ -232,16 +248,14 @@ def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
         model = model_from_attrs(out)
         tau = out["tau"].values
         f = mesh_force(model, tau, out["u"].values, out["v"].values)
-        _set(out, "time_s", ("tau",), sc.s_from_tau(tau), "s", "time", coord=True)
-        _set(out, "dte_um", ("tau",), sc.um_from_u(out["u"].values), "µm", "dynamic transmission error u_n")
-        _set(out, "mesh_force", ("tau",), f, "1", "mesh force F_n/(k0 b_c)")
-        _set(out, "mesh_force_N", ("tau",), sc.N_from_force(f), "N", "dynamic mesh force F_n")
+        _set(out, "time_s", ("tau",), sc.s_from_tau(tau), coord=True)
+        _set(out, "dte_um", ("tau",), sc.um_from_u(out["u"].values))
+        _set(out, "mesh_force", ("tau",), f)
+        _set(out, "mesh_force_N", ("tau",), sc.N_from_force(f))
         if "order" in out.coords:
-            _set(out, "frequency_Hz", ("order",), sc.hz_from_omega(model.omega * out["order"].values), "Hz",
-                 "frequency", coord=True)
+            _set(out, "frequency_Hz", ("order",), sc.hz_from_omega(model.omega * out["order"].values), coord=True)
         if "spectrum" in out.data_vars:
-            _set(out, "spectrum_um", ("order",), sc.um_from_u(out["spectrum"].values), "µm",
-                 "amplitude spectrum of the dynamic transmission error")
+            _set(out, "spectrum_um", ("order",), sc.um_from_u(out["spectrum"].values))
         out.attrs["physical_summary"] = json.dumps(simulate_physical(out, sc), sort_keys=True)
     return out
 

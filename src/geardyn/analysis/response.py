@@ -28,11 +28,12 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..model import GearModel, IntegrationOptions, ModelError
-from ..sweep import SweepOptions
+from ..io import json_values
+from ..model import GearModel, ModelError
 from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor, same_attractor as _same_attractor
 from .bifurcation import bifurcation, point_labels, sweep_values
-from .classify import MOTION_PERIODIC, SETTLE_PERIODS
+from .classify import MOTION_PERIODIC
+from .points import sweep_function
 
 __all__ = [
     "JUMP_MIN_FRACTION",
@@ -63,19 +64,15 @@ ATTRACTOR_TOL = CYCLE_TOL
 MEASURES = ("amplitude", "rms", "u_max", "u_min", "mean")
 
 
+@sweep_function("frequency_response")
 def frequency_response(
     model: GearModel,
     omega_start: float,
     omega_stop: float,
     num: int,
     *,
-    options: IntegrationOptions = IntegrationOptions(),
-    state0: tuple[float, float] = (0.0, 0.0),
     measure: str = "amplitude",
-    lyapunov: bool = False,
-    settle_periods: int = SETTLE_PERIODS,
-    engine: SweepOptions | None = None,
-    **engine_kw: Any,
+    options, state0, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Up and down frequency sweeps with state continuation, with jumps and hysteresis detected.
 
@@ -83,22 +80,20 @@ def frequency_response(
     ----------
     model : GearModel
         The model; ω is swept.
-    omega_start, omega_stop, num : float, float, int
-        The ω grid (non-dimensional, > 0), ``num`` points; choose the step small enough to
-        resolve the jumps (they are located to within one step).
+    omega_start, omega_stop : float
+        Ends of the ω grid (non-dimensional, > 0).
+    num : int
+        Points of the grid; choose the step small enough to resolve the jumps (they are located to
+        within one step).
+    measure : str
+        Amplitude measure used for jumps: one of :data:`MEASURES` (default: half peak-to-peak).
     options : IntegrationOptions
         Transient and recorded periods per point (each point starts from the previous end state,
         so a moderate transient suffices away from bifurcations).
-    state0 : (u0, v0)
+    state0 : sequence of float
         Initial state of the first point of each sweep (the lowest ω for up, the highest for down).
-    measure : str
-        Amplitude measure used for jumps: one of :data:`MEASURES` (default: half peak-to-peak).
-    lyapunov, settle_periods
-        As for :func:`~geardyn.analysis.bifurcation.bifurcation`.
     engine : SweepOptions, optional
         Where and how the sweep runs (one chunk per sweep direction: ``chunk_points`` is not used).
-    **engine_kw
-        Fields of :class:`~geardyn.sweep.SweepOptions` given one by one.
 
     Returns
     -------
@@ -113,15 +108,16 @@ def frequency_response(
         :func:`~geardyn.analysis.bifurcation.bifurcation`.
     SweepError
         When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
+    TypeError
+        For a keyword that is not an engine option.
     """
-    eng = SweepOptions.merge(engine, "frequency_response", **engine_kw)
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
     vals = sweep_values(omega_start, omega_stop, num)
     if np.any(vals <= 0):
         raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a grid from {omega_start!r} to {omega_stop!r}")
     ds = bifurcation(model, "omega", vals, mode="continue", sweep="both", state0=state0, options=options,
-                     lyapunov=lyapunov, settle_periods=settle_periods, engine=eng)
+                     lyapunov=lyapunov, settle_periods=settle_periods, engine=engine)
     return annotate_response(ds, measure)
 
 
@@ -151,6 +147,23 @@ def detect_jumps(
     "amplitude_from", "amplitude_to"}`` in sweep order (up first, then down), where
     ``omega_from`` → ``omega_to`` is the grid step in the order the sweep runs and ``omega`` its
     midpoint (the parameter's value if the sweep is not over ω).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A continuation bifurcation Dataset (one or two sweeps).
+    measure : str
+        Amplitude measure, one of :data:`MEASURES`.
+    min_fraction : float
+        Smallest jump as a fraction of the amplitude range; default :data:`JUMP_MIN_FRACTION`.
+    ratio : float
+        Smallest jump relative to the typical neighbouring step; default :data:`JUMP_RATIO`.
+    window : int
+        Steps on each side for the typical step; default :data:`JUMP_WINDOW`.
+
+    Returns
+    -------
+    list of dict
     """
     name = _param(ds)
     x = ds[name].values
@@ -225,7 +238,25 @@ def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, to
     Periodic attractors are compared by their Poincaré cycles (same period, each point of one
     cycle within ``tol`` of a point of the other); non-periodic ones by amplitude and mean (to
     ``nonperiodic_tol`` of the amplitude range); a periodic and a non-periodic one differ.
-    None where either point diverged.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A two-sweep continuation Dataset.
+    k : int
+        Grid index.
+    a, b : str
+        The sweep labels compared.
+    tol : float
+        Cycle tolerance; default :data:`ATTRACTOR_TOL`.
+    nonperiodic_tol : float
+        Tolerance of non-periodic attractors (fraction of the amplitude range); default
+        :data:`NONPERIODIC_TOL`.
+
+    Returns
+    -------
+    bool or None
+        None where either point diverged.
     """
     return _same(_sweep_arrays(ds, a), _sweep_arrays(ds, b), k, _amplitude_range(ds), tol, nonperiodic_tol)
 
@@ -233,7 +264,17 @@ def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, to
 def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list[list[float]]:
     """Maximal runs [x_a, x_b] of grid points where sweeps ``a`` and ``b`` disagree (coexisting attractors).
 
-    Empty when the Dataset does not hold both sweeps.
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A continuation Dataset.
+    a, b : str
+        The sweep labels compared.
+
+    Returns
+    -------
+    list of [float, float]
+        Empty when the Dataset does not hold both sweeps.
     """
     labels = [str(s) for s in ds["sweep"].values]
     if a not in labels or b not in labels:
@@ -257,25 +298,33 @@ def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list
 
 
 def response_json(ds: xr.Dataset) -> dict[str, Any]:
-    """The ``response --json`` summary: ``jumps`` [{omega, direction, size, sweep}], ``hysteresis``
-    [[ω_a, ω_b], …], plus the grid and each sweep's amplitudes, motion and impact."""
+    """The ``response --json`` summary: jumps, hysteresis, the grid and each sweep's labels.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`frequency_response` result.
+
+    Returns
+    -------
+    dict
+        ``jumps`` [{omega, direction, size, sweep, …}], ``hysteresis`` [[ω_a, ω_b], …],
+        ``measure``, the grid under the parameter's name and, per sweep, its amplitudes,
+        ``motion``, ``impact`` and ``period``.
+    """
     name = _param(ds)
     measure = str(ds.attrs.get("measure", "amplitude"))
     labels = [str(s) for s in ds["sweep"].values]
-
-    def num(x: float) -> float | None:
-        return float(x) if np.isfinite(x) else None
-
     out: dict[str, Any] = {
         "jumps": json.loads(ds.attrs.get("jumps", "[]")),
         "hysteresis": json.loads(ds.attrs.get("hysteresis", "[]")),
         "measure": measure,
-        name: [float(x) for x in ds[name].values],
+        name: json_values(ds[name]),
     }
     for lab in labels:
         pl = point_labels(ds, lab)
         out[lab] = {
-            measure: [num(x) for x in ds[measure].sel(sweep=lab).values],
+            measure: json_values(ds[measure].sel(sweep=lab)),
             "motion": pl["motion"],
             "impact": pl["impact"],
             "period": pl["period"],

@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, trajectory
-from ..io import result_attrs
+from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions
 from .classify import (
     IMPACT_LABELS,
@@ -215,8 +215,7 @@ class SteadyState:
                 history_periods=str(t.history_periods),
             ),
         )
-        ds["section"].attrs.update(units="1", long_name="index of the recorded forcing period")
-        return ds
+        return annotate(ds, names=["section"])
 
 
 def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
@@ -275,4 +274,4 @@ def simulate(
         "lle": float(cls["lle"][0]) if cls is not None and np.isfinite(cls["lle"][0]) else None,
         "lle_err": float(cls["lle_err"][0]) if cls is not None and np.isfinite(cls["lle_err"][0]) else None,
     }
-    return SteadyState(model, options, (float(state0[0]), float(state0[1])), t, summary)
+    return SteadyState(model, options, tuple(float(x) for x in state0), t, summary)

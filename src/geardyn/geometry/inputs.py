@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..model import ModelError
+from ..standards._common import AssumedInput
 
 __all__ = [
     "Assumption",
@@ -126,9 +127,12 @@ def drive_side_from_rotation(hand: str, rotation: str) -> str:
     return "convex" if s > 0 else "concave"
 
 
-@dataclass(frozen=True)
-class Assumption:
+class Assumption(AssumedInput):
     """An input value the paper (or the configuration) does not give, with its source.
+
+    The same record as the standards' :class:`~geardyn.standards.AssumedInput` (fields ``name``,
+    ``value``, ``unit``, ``source``; :meth:`to_dict`), named for the gear-pair geometry: ``name``
+    is a parameter of :class:`SpiralBevelGearPair` or a key of the configuration file.
 
     Parameters
     ----------
@@ -141,15 +145,6 @@ class Assumption:
     source : str
         Where the value comes from, or why it was chosen.
     """
-
-    name: str
-    value: float | str
-    unit: str
-    source: str
-
-    def to_dict(self) -> dict[str, Any]:
-        """The assumption as a JSON-ready dict with the keys ``name``, ``value``, ``unit``, ``source``."""
-        return {"name": self.name, "value": self.value, "unit": self.unit, "source": self.source}
 
 
 @dataclass(frozen=True)

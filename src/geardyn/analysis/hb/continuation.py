@@ -30,6 +30,7 @@ import numpy as np
 
 from ...model import GearModel, ModelError, canonical_param
 from ...status import Status, flag_attrs
+from ..secant import illinois_on_chord
 from ._blas import single_thread_blas
 from .aft import signal_extrema
 from .hill import HillResult
@@ -260,34 +261,15 @@ class _Tracer:
         L = float(np.linalg.norm(d))
         e = d / L
         fa, fb = self.tests(a, d)[key], self.tests(b, d)[key]
-        lo, hi, flo, fhi = 0.0, 1.0, fa, fb
-        best, side = (a if abs(fa) <= abs(fb) else b), 0
-        for _ in range(LOCATE_MAX_ITER):
-            if hi - lo <= LOCATE_REL_TOL:
-                return best, True
-            s = (lo * fhi - hi * flo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-            if not (lo < s < hi):
-                s = 0.5 * (lo + hi)
+
+        def trial(s: float, lo: float, hi: float) -> tuple[float, _Pt, float] | None:
             pt = self.correct(a.y + s * d, e, a.t)
             if pt is None:
-                return best, False
+                return None
             f = self.tests(pt, d).get(key, math.nan)
-            if not math.isfinite(f):
-                return best, False
-            best = pt
-            if f == 0.0:
-                return pt, True
-            if (f > 0) == (flo > 0):
-                lo, flo = s, f
-                if side == -1:
-                    fhi *= 0.5
-                side = -1
-            else:
-                hi, fhi = s, f
-                if side == 1:
-                    flo *= 0.5
-                side = 1
-        return best, hi - lo <= 1e3 * LOCATE_REL_TOL
+            return (s, pt, f) if math.isfinite(f) else None
+
+        return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, LOCATE_REL_TOL, LOCATE_MAX_ITER)
 
     def events(self, a: _Pt, b: _Pt) -> list[HBBifurcation]:
         d = b.y - a.y

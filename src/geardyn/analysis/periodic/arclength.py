@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...model import ModelError, canonical_param
+from ..secant import illinois_on_chord
 from .branch import Bifurcation, Branch
 from .floquet import REAL_MULTIPLIER_TOL
 from .map import MapEvaluation, PeriodMap
@@ -315,36 +316,17 @@ class _Continuer:
         L = float(np.linalg.norm(d))
         e = d / L
         fa, fb = self._test_at(name, a, d), self._test_at(name, b, d)
-        lo, hi, flo, fhi = 0.0, 1.0, fa, fb
-        best = a if abs(fa) <= abs(fb) else b
-        side = 0
-        for _ in range(LOCATE_MAX_ITER):
-            if (hi - lo) * L <= LOCATE_TOL:
-                return best, True
-            s = (lo * fhi - hi * flo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-            if not (lo < s < hi):
-                s = 0.5 * (lo + hi)
+
+        def trial(s: float, lo: float, hi: float) -> tuple[float, _Point, float] | None:
             pt = self.correct(a.y + s * d, e, a.tangent, a.ev.N)
             if pt is None:  # fall back to bisection
                 s = 0.5 * (lo + hi)
                 pt = self.correct(a.y + s * d, e, a.tangent, a.ev.N)
                 if pt is None:
-                    return best, False
-            f = self._test_at(name, pt, d)
-            best = pt
-            if f == 0.0:
-                return pt, True
-            if (f > 0) == (flo > 0):
-                lo, flo = s, f
-                if side == -1:
-                    fhi *= 0.5
-                side = -1
-            else:
-                hi, fhi = s, f
-                if side == 1:
-                    flo *= 0.5
-                side = 1
-        return best, (hi - lo) * L <= 1e3 * LOCATE_TOL
+                    return None
+            return s, pt, self._test_at(name, pt, d)
+
+        return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, LOCATE_TOL, LOCATE_MAX_ITER, length=L)
 
     def detect_events(self, a: _Point, b: _Point, branch_index: int) -> list[tuple[float, Bifurcation, _Point]]:
         """Events between consecutive branch points a and b, located; sorted along the branch."""

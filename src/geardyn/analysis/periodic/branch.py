@@ -21,6 +21,38 @@ class Bifurcation:
     (u, u') at θ = 0; ``n`` the period of the branch it lies on; ``detail`` says which multiplier or
     which boundary (e.g. ``u_min = +D``); ``located`` is False when the location did not converge
     (the value is then the better end of the bracketing step).
+
+    Parameters
+    ----------
+    type : str
+        One of :data:`BIFURCATION_TYPES` (or ``merge``: a switched branch meeting its parent).
+    param : str
+        The continued parameter.
+    value : float
+        Its value at the event.
+    state : ndarray (d,)
+        The orbit's state at θ = 0 there.
+    n : int
+        Period of the branch.
+    branch : int
+        Index of the branch.
+    multipliers : ndarray (d,) complex
+        Floquet multipliers at the event.
+    u_min, u_max : float
+        Extremes of u over the orbit.
+    detail : str
+        Which multiplier or boundary.
+    located : bool
+        Whether the location converged.
+    stable_before, stable_after : bool or None
+        Stability of the branch on either side (None where unknown).
+    test : str
+        Name of the test function that changed sign.
+
+    References
+    ----------
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004 (test
+    functions of codimension-one bifurcations of maps).
     """
 
     type: str
@@ -67,6 +99,33 @@ class Branch:
     ``values`` the parameter, ``states`` (K, 2) the orbit at θ = 0, ``points`` (K, n, 2) all section
     points, ``multipliers`` (K, 2) complex, ``u_min``/``u_max`` (K,), ``stable`` (K,).  ``origin`` is
     the bifurcation it was switched from (None for a primary branch); ``end`` says why it stopped.
+
+    Parameters
+    ----------
+    index : int
+        Branch number in its continuation.
+    param : str
+        The continued parameter.
+    n : int
+        Period of the orbits (forcing periods).
+    values : ndarray (K,)
+        Parameter values.
+    states : ndarray (K, d)
+        Orbits at θ = 0.
+    points : ndarray (K, n, d)
+        Section points of each orbit.
+    monodromy : ndarray (K, d, d)
+        Monodromy matrices.
+    u_min, u_max : ndarray (K,)
+        Extremes of u over each orbit.
+    steps : ndarray (K,)
+        RK4 steps per period of each point's map.
+    end : str
+        Why the branch stopped.
+    origin : Bifurcation, optional
+        The event it was switched from.
+    bifurcations : list of Bifurcation
+        Events located on it.
     """
 
     index: int

@@ -56,10 +56,8 @@ def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel
         The model of the continuation (the parameter is set from ``bif``).
     stop, start : float
         The continuation interval (the period-2n orbit is sought inside it).
-    dtau : float
-        Target step Δτ.
-    accurate : bool
-        Accurate integration mode.
+    dtau, accurate : float, bool
+        The step Δτ and integration mode of the branch's period maps.
 
     Returns
     -------
@@ -113,7 +111,25 @@ def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel
 
 @dataclass
 class ContinuationResult:
-    """Branches and bifurcations of a continuation run (see :func:`continuation`)."""
+    """Branches and bifurcations of a continuation run (see :func:`continuation`).
+
+    Parameters
+    ----------
+    model : GearModel
+        The model of the run.
+    param : str
+        The continued parameter.
+    start, stop : float
+        The interval.
+    branches : list of Branch
+        The traced branches (0: the primary one).
+    dtau : float
+        Target step Δτ of the period maps.
+    accurate : bool
+        Integration mode of the period maps.
+    notes : list of str
+        Remarks of the run (orbits not found, minimal periods).
+    """
 
     model: GearModel
     param: str
@@ -184,6 +200,7 @@ class ContinuationResult:
             pu[:, : b.n] = b.points[:, :, 0]
             pv[:, : b.n] = b.points[:, :, 1]
             mu = b.multipliers
+            # the state (u, u') of the 1-DOF model is written as the variables u and v
             rows.append(dict(
                 value=b.values, branch=np.full(K, b.index), period=np.full(K, b.n), u0=b.states[:, 0],
                 v0=b.states[:, 1], amplitude=b.amplitude, u_min=b.u_min, u_max=b.u_max,
@@ -195,6 +212,7 @@ class ContinuationResult:
 
         P = self.param
         bifs = self.bifurcations
+        dim = self.model.state_dim
         ds = xr.Dataset(
             {
                 P: ("point", cat("value")),
@@ -206,8 +224,8 @@ class ContinuationResult:
                 "u_min": ("point", cat("u_min")),
                 "u_max": ("point", cat("u_max")),
                 "stable": ("point", cat("stable").astype(np.int8)),
-                "multiplier_re": (("point", "multiplier"), cat("mre").reshape(-1, 2)),
-                "multiplier_im": (("point", "multiplier"), cat("mim").reshape(-1, 2)),
+                "multiplier_re": (("point", "multiplier"), cat("mre").reshape(-1, dim)),
+                "multiplier_im": (("point", "multiplier"), cat("mim").reshape(-1, dim)),
                 "poincare_u": (("point", "section"), cat("pu").reshape(-1, nmax)),
                 "poincare_v": (("point", "section"), cat("pv").reshape(-1, nmax)),
                 "status": ("point", np.zeros(sum(len(b) for b in self.branches), dtype=np.int64)),
@@ -220,7 +238,7 @@ class ContinuationResult:
                 "bifurcation_amplitude": ("bifurcation", np.array([b.amplitude for b in bifs], dtype=float)),
                 "bifurcation_detail": ("bifurcation", np.array([b.detail for b in bifs], dtype=object)),
             },
-            coords={"point": np.arange(sum(len(b) for b in self.branches)), "multiplier": np.arange(2),
+            coords={"point": np.arange(sum(len(b) for b in self.branches)), "multiplier": np.arange(dim),
                     "section": np.arange(nmax), "bifurcation": np.arange(len(bifs))},
             attrs=result_attrs(
                 "continuation", self.model, {"dtau": self.dtau, "accurate": self.accurate},
@@ -229,37 +247,7 @@ class ContinuationResult:
                 notes=self.notes,
             ),
         )
-        meta = {
-            "branch": ("1", "branch index"),
-            "period": ("1", "period of the orbit (forcing periods)"),
-            "u": ("1", "orbit displacement u at θ = 0"),
-            "v": ("1", "orbit velocity du/dτ at θ = 0"),
-            "amplitude": ("1", "half peak-to-peak displacement of the orbit"),
-            "stable": ("1", "orbit stable (1) or unstable (0)"),
-            "multiplier_re": ("1", "Floquet multiplier, real part"),
-            "multiplier_im": ("1", "Floquet multiplier, imaginary part"),
-            "poincare_u": ("1", "section points u of the orbit (θ ≡ 0)"),
-            "poincare_v": ("1", "section points du/dτ of the orbit (θ ≡ 0)"),
-            "status": ("1", "point status (0 ok)"),
-            "point": ("1", "index of the branch point"),
-            "multiplier": ("1", "multiplier index (largest modulus first)"),
-            "section": ("1", "index of the section point along the orbit"),
-            "bifurcation": ("1", "index of the bifurcation"),
-            "bifurcation_type": ("1", "bifurcation type"),
-            f"bifurcation_{P}": ("1", f"parameter {P} at the bifurcation"),
-            "bifurcation_period": ("1", "period of the branch the bifurcation lies on"),
-            "bifurcation_branch": ("1", "branch index of the bifurcation"),
-            "bifurcation_u": ("1", "orbit u at θ = 0 at the bifurcation"),
-            "bifurcation_v": ("1", "orbit du/dτ at θ = 0 at the bifurcation"),
-            "bifurcation_amplitude": ("1", "orbit amplitude at the bifurcation"),
-            "bifurcation_detail": ("1", "which multiplier or boundary"),
-        }
-        for k, (u, lname) in meta.items():
-            ds[k].attrs.update(units=u, long_name=lname)
-        annotate(ds)
-        if "long_name" not in ds[P].attrs:
-            ds[P].attrs.update(units="1", long_name=f"continuation parameter {P}")
-        return ds
+        return annotate(ds)
 
 
 def continuation(model: GearModel, param: str, start: float, stop: float, n: int = 1,
@@ -294,7 +282,7 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
         Locate events precisely (secant on test functions); otherwise report the nearer end of the
         step that brackets them.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     accurate : bool
         Accurate integration mode (the default here: its multipliers vary smoothly along a branch).
     max_period : int

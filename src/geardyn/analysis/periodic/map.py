@@ -244,12 +244,12 @@ class PeriodMap:
         Parameters
         ----------
         x : (d,) array
-            State at θ = 0.
+            The point of the section θ ≡ 0 where the derivative is taken.
 
         Returns
         -------
         ndarray (d, d)
-            NaN if the trajectory diverged.
+            ∂P^n/∂x (:attr:`MapEvaluation.monodromy`); NaN if the trajectory diverged.
         """
         return self.evaluate(x).monodromy
 

@@ -124,9 +124,9 @@ def orbit_extrema(model: GearModel, state: Sequence[float], n: int = 1, *, dtau:
     n : int
         Forcing periods.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     accurate : bool
-        Accurate integration mode.
+        Split the steps at the contact boundaries u = ±D (``IntegrationOptions.accurate``); default False.
     steps : int, optional
         RK4 steps per period (default ceil(T/Δτ)).
 
@@ -286,7 +286,7 @@ class PeriodicOrbit:
 
     def to_dataset(self) -> xr.Dataset:
         """Section points, multipliers, monodromy and the time history over the orbit's n periods."""
-        from ...io import result_attrs
+        from ...io import annotate, result_attrs
 
         tau, u, v = self.history() if self.converged else (np.zeros(0), np.zeros(0), np.zeros(0))
         fl = self.floquet
@@ -310,17 +310,8 @@ class PeriodicOrbit:
                 summary=self.to_json(),
             ),
         )
-        for name, (units, long) in {
-            "multiplier_re": ("1", "Floquet multiplier, real part"),
-            "multiplier_im": ("1", "Floquet multiplier, imaginary part"),
-            "floquet_exponent": ("1/τ", "Floquet exponent ln|μ|/(nT)"),
-            "monodromy": ("1", "monodromy matrix (Jacobian of the n-period map)"),
-            "section": ("1", "index of the section point along the orbit"),
-            "multiplier": ("1", "multiplier index (largest modulus first)"),
-            "row": ("1", "row of the monodromy matrix"),
-            "col": ("1", "column of the monodromy matrix"),
-        }.items():
-            ds[name].attrs.update(units=units, long_name=long)
+        annotate(ds, names=["multiplier_re", "multiplier_im", "floquet_exponent", "monodromy", "section", "multiplier",
+                            "row", "col"])
         ds.attrs["status"] = self.status_label
         return ds
 
@@ -342,9 +333,9 @@ def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] 
     state0 : (u, u'), optional
         Initial state (default zeros).
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     accurate : bool
-        Accurate integration mode.
+        Split the steps at the contact boundaries u = ±D (``IntegrationOptions.accurate``); default False.
     transient : int
         Forcing periods discarded first.
 

@@ -16,6 +16,7 @@ from typing import Any, Iterable
 import numpy as np
 import xarray as xr
 
+from ...io import annotate, result_attrs
 from ...model import DEFAULT_DTAU, GearModel, ModelError
 from .arclength import continue_branch
 from .map import PeriodMap
@@ -100,9 +101,9 @@ def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: f
     n : int
         Period of the response.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     accurate : bool
-        Accurate integration mode.
+        Split the steps at the contact boundaries u = ±D (``IntegrationOptions.accurate``); default False.
 
     Returns
     -------
@@ -132,7 +133,6 @@ def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: f
             kinds[i] = f"scan incomplete ({br.end})"
         else:
             kinds[i] = "stable"
-    from ...io import result_attrs
 
     ds = xr.Dataset(
         {"xi0_critical": ("omega", crit), "bifurcation_type": ("omega", kinds), "status": ("omega", status)},
@@ -140,9 +140,7 @@ def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: f
         attrs=result_attrs("stability_boundary", model, {"dtau": dtau, "accurate": accurate, "n": n},
                            xi0_high=str(xi0_high), xi0_low=str(xi0_low)),
     )
-    ds["xi0_critical"].attrs.update(units="1", long_name="ξ0 below which the period-n response loses stability")
-    ds["bifurcation_type"].attrs.update(units="1", long_name="bifurcation at the stability boundary")
-    return ds
+    return annotate(ds, names=["xi0_critical", "bifurcation_type"])
 
 
 def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float = DEFAULT_DTAU,
@@ -159,7 +157,7 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
     omegas : iterable of float
         Mesh frequencies.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     xi0_max : float
         Upper end of the bisection in ξ0 (NaN where it is still unstable there).
     tol : float
@@ -197,12 +195,10 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
             else:
                 hi = mid
         crit[i] = 0.5 * (lo + hi)
-    from ...io import result_attrs
 
     ds = xr.Dataset({"xi0_critical": ("omega", crit)}, coords={"omega": om},
                     attrs=result_attrs("mathieu_boundary", lin, {"dtau": dtau}))
-    ds["xi0_critical"].attrs.update(units="1", long_name="ξ0 above which the linear contact model is stable")
-    return ds
+    return annotate(ds, names=["xi0_critical"])
 
 
 def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dtau: float = DEFAULT_DTAU,
@@ -221,7 +217,7 @@ def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dt
     omegas : iterable of float
         Mesh frequencies.
     dtau : float
-        Target step Δτ.
+        Target step Δτ; default :data:`~geardyn.model.DEFAULT_DTAU`.
     xi0_high, xi0_low : float
         The ξ0 scan of :func:`stability_boundary`.
 
@@ -235,10 +231,8 @@ def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dt
     lin = mathieu_boundary(model, om, dtau=dtau)
     paper = paper_stability_damping(model.get("kappa1"))
     ds = nl.rename({"xi0_critical": "xi0_critical", "bifurcation_type": "bifurcation_type"})
-    ds["xi0_critical_linear"] = lin["xi0_critical"]
-    ds["xi0_critical_linear"].attrs.update(units="1", long_name="ξ0 above which the linear contact model "
-                                                                 "(D = 0, unforced) is stable")
-    ds["xi0_paper"] = xr.DataArray(paper, attrs={"units": "1", "long_name": "paper's condition ½√(1 − κ1²)"})
+    ds["xi0_critical_linear"] = ("omega", lin["xi0_critical"].values)
+    ds["xi0_paper"] = xr.DataArray(paper)
 
     def argmax(a: np.ndarray) -> tuple[float | None, float | None]:
         if not np.any(np.isfinite(a)):
@@ -254,4 +248,4 @@ def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dt
     ds.attrs["max_xi0_critical_linear"] = "null" if ml is None else str(ml)
     ds.attrs["max_xi0_critical_linear_at_omega"] = "null" if wml is None else str(wml)
     ds.attrs["geardyn_kind"] = "stability_comparison"
-    return ds
+    return annotate(ds, names=["xi0_critical_linear", "xi0_paper"])
