@@ -93,3 +93,27 @@ def _show_te(s: dict[str, Any], files: list[str]) -> None:
     console.print(s["mesh_section"], markup=False, highlight=False, soft_wrap=True)
     for f in files:
         console.print(f"wrote {f}", markup=False, highlight=False)
+
+
+def attach_iso_kv(config: Optional[Path], model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+    """Add the ISO K_v-B curve (JSON ``iso_kv``, Dataset attribute ``iso_kv``) to a frequency response over ω.
+
+    Only when the configured pair has the ISO inputs K_v needs (``f_pt`` among its ``[gear_pair]`` keys); the
+    response is returned unchanged otherwise.
+    """
+    import json
+
+    from ..config import load_config
+    from ..geometry.iso import iso_kv_block
+
+    cfg = load_config(config)
+    if cfg.pair is None or "f_pt" not in cfg.iso_inputs or "rpm" not in ds.coords:
+        return ds, summary
+    sc = cfg.scales
+    u_max = {str(s): ds["u_max"].sel(sweep=s).values for s in ds["sweep"].values}
+    block = iso_kv_block(cfg.pair, cfg.iso_inputs, torque=float(sc.torque_from_fp(model.fp)),
+                         rpm=ds["rpm"].values, u_max=u_max, D=model.D, fp=model.fp,
+                         model_resonance_rpm=float(sc.rpm_from_omega(1.0)))
+    ds = ds.copy()
+    ds.attrs["iso_kv"] = json.dumps(block)
+    return ds, {**summary, "iso_kv": block}

@@ -32,7 +32,8 @@ from typing import Any, Mapping
 from ..model import ModelError
 from ..standards import BevelMesh, bevel_mesh
 
-__all__ = ["ISO_KEYS", "ISO_ONLY_KEYS", "K0_METHODS", "iso_k0", "iso_rows", "iso_summary", "pair_iso_mesh"]
+__all__ = ["ISO_KEYS", "ISO_ONLY_KEYS", "K0_METHODS", "SIMULATED_KV", "iso_k0", "iso_kv_block", "iso_rows", "iso_summary",
+           "pair_iso_mesh"]
 
 #: The extra ``[gear_pair]`` keys read by :func:`pair_iso_mesh` (names of :func:`bevel_mesh` arguments).
 ISO_KEYS = ("beta_m2", "alpha_lim", "d_m1", "d_m2", "delta1", "delta2", "h_am1", "h_am2", "x_hm1", "offset",
@@ -148,3 +149,56 @@ def iso_rows(s: Mapping[str, Any]) -> list[tuple[str, str, str, str]]:
         ("resonance ratio N = n1/n_E1", f(s["resonance_ratio"], ".4f"), "", ""),
         ("dynamic factor K_v (Method B)", f(s["K_v"], ".4f"), "", s["K_v_sector"] or kv_need),
     ]
+
+
+#: What the simulated dynamic factor of :func:`iso_kv_block` is.
+SIMULATED_KV = ("(u_max − D)/f_p: the mesh force at the largest compression with the mean stiffness, over the "
+                "static force (the simulated counterpart of K_v = F_max/F_static)")
+
+
+def iso_kv_block(pair: Any, inputs: Mapping[str, float], *, torque: float, rpm: Any,
+                 u_max: Mapping[str, Any], D: float, fp: float, model_resonance_rpm: float) -> dict[str, Any]:
+    """The ISO K_v-B curve over a speed grid next to the simulated dynamic factor (JSON-ready).
+
+    Parameters
+    ----------
+    pair : SpiralBevelGearPair
+        The pair.
+    inputs : mapping
+        Its ISO inputs (:data:`ISO_KEYS`); ``f_pt`` is needed for K_v.
+    torque : float
+        Pinion torque T1 (N·m) of the sweep.
+    rpm : array_like
+        Pinion speeds of the sweep (rpm).
+    u_max : mapping of str to array_like
+        Largest non-dimensional displacement per sweep direction (``"up"``, ``"down"``).
+    D, fp : float
+        The model's backlash and static load.
+    model_resonance_rpm : float
+        The speed at which the model's mesh frequency equals its natural frequency (ω = 1).
+
+    Returns
+    -------
+    dict
+        ``rpm``, ``K_v``, ``N``, ``sector`` (per speed), ``resonance_speed_rpm`` (n_E1),
+        ``sector_bounds_rpm`` (N = 0.75, 1.25, 1.5), ``model_resonance_rpm``, ``simulated`` (per
+        sweep, :data:`SIMULATED_KV`), ``simulated_definition``, ``torque_N_m``, ``standard``.
+    """
+    rows = [pair_iso_mesh(pair, inputs, rpm=float(r), torque=torque) for r in rpm]
+    n_e1 = rows[0].resonance_speed_rpm if rows else float("nan")
+    sim = {k: [None if not math.isfinite(float(u)) else max(float(u) - D, 0.0) / fp for u in v]
+           for k, v in u_max.items()}
+    return {
+        "standard": "ISO 10300-1:2014 clause 6.3 (ISO 6336-1 Method B sectors)",
+        "torque_N_m": float(torque),
+        "rpm": [float(r) for r in rpm],
+        "K_v": [m.K_v for m in rows],
+        "N": [m.N for m in rows],
+        "sector": [m.sector for m in rows],
+        "resonance_speed_rpm": n_e1,
+        "sector_bounds_rpm": {"subcritical_end": 0.75 * n_e1, "main_resonance_end": 1.25 * n_e1,
+                              "supercritical_start": 1.5 * n_e1},
+        "model_resonance_rpm": float(model_resonance_rpm),
+        "simulated": sim,
+        "simulated_definition": SIMULATED_KV,
+    }
