@@ -280,21 +280,41 @@ def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: 
     return out
 
 
-def block_error(result: RunupResult, reference: RunupResult) -> float:
-    """Largest difference of the mesh-order amplitude between a run-up and a finer reference, over its range.
+def _jump(r: RunupResult) -> tuple[float, float]:
+    """Speed and size of the largest change of the mesh-order amplitude between two blocks."""
+    d = np.abs(np.diff(r.order_amplitude[:, 0]))
+    if d.size == 0 or not np.any(np.isfinite(d)):
+        return float("nan"), 0.0
+    i = int(np.nanargmax(d))
+    return float(0.5 * (r.omega[i] + r.omega[i + 1])), float(d[i])
+
+
+def block_error(result: RunupResult, reference: RunupResult) -> dict[str, float]:
+    """Differences between a run-up and the same ramp with shorter blocks (e.g. one mesh cycle per block).
 
     Parameters
     ----------
     result, reference : RunupResult
-        The same ramp with longer and shorter blocks (e.g. ``cycles_per_block = 1`` for the reference).
+        The same ramp with longer and shorter blocks.
 
     Returns
     -------
-    float
-        max |A_1 − A_1,ref| / max A_1,ref, the reference interpolated at the result's block speeds.
+    dict
+        ``amplitude``: max |A_1 − A_1,ref| / max A_1,ref of the mesh-order amplitude, the reference
+        interpolated at the result's block speeds, leaving out the speeds within five blocks of the
+        largest jump of either (there a shift of the jump dominates); ``jump_shift_omega``: the
+        difference of the speeds of their largest jumps (0 when neither jumps).
     """
     ref_w, ref_a = reference.omega, reference.order_amplitude[:, 0]
     order = np.argsort(ref_w)
     a_ref = np.interp(result.omega, ref_w[order], ref_a[order])
     ok = np.isfinite(result.order_amplitude[:, 0]) & np.isfinite(a_ref)
-    return float(np.max(np.abs(result.order_amplitude[ok, 0] - a_ref[ok])) / np.nanmax(ref_a))
+    (wj, dj), (wr, dr) = _jump(result), _jump(reference)
+    scale = float(np.nanmax(ref_a))
+    jumps = dj > 0.2 * scale or dr > 0.2 * scale
+    if jumps:
+        width = 5.0 * float(np.max(np.abs(np.diff(result.omega)))) if result.omega.size > 1 else 0.0
+        for w in (wj, wr):
+            ok &= np.abs(result.omega - w) > width
+    err = float(np.max(np.abs(result.order_amplitude[ok, 0] - a_ref[ok])) / scale) if np.any(ok) else float("nan")
+    return {"amplitude": err, "jump_shift_omega": float(wj - wr) if jumps else 0.0}
