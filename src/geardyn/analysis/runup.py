@@ -27,6 +27,7 @@ the block's speed; faster ramps delay the jumps of a run-up past those of the st
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -93,22 +94,18 @@ class RunupResult:
     def to_dataset(self) -> xr.Dataset:
         """The result as a Dataset of kind ``runup`` (dims ``block`` and ``order``)."""
         orders = np.arange(1, self.order_amplitude.shape[1] + 1)
+        from ..io import annotate
+
         ds = xr.Dataset(
-            {
-                "order_amplitude": (("block", "order"), self.order_amplitude,
-                                    {"long_name": "order-tracked DTE amplitude |u_l|", "units": "1"}),
-                "amplitude": (("block",), self.amplitude, {"long_name": "DTE half peak-to-peak", "units": "1"}),
-                "dynamic_factor": (("block",), self.dynamic_factor,
-                                   {"long_name": "dynamic factor max F_n / F_p", "units": "1"}),
-            },
-            coords={"omega": (("block",), self.omega, {"long_name": "ω", "units": "1"}),
-                    "tau": (("block",), self.tau, {"long_name": "time τ", "units": "1"}),
-                    "order": (("order",), orders, {"long_name": "mesh order", "units": "1"})},
+            {"order_amplitude": (("block", "order"), self.order_amplitude), "amplitude": (("block",), self.amplitude),
+             "dynamic_factor": (("block",), self.dynamic_factor)},
+            coords={"omega": (("block",), self.omega), "tau": (("block",), self.tau), "order": (("order",), orders)},
             attrs={"geardyn_kind": "runup", "cycles_per_block": int(self.cycles),
                    "omega_start": self.omega_start, "omega_stop": self.omega_stop, "duration_tau": self.duration,
                    "ramp_rate_per_tau": self.ramp_rate, "diverged": int(self.diverged),
-                   "model": str(self.model.to_dict())},
+                   "model": json.dumps(self.model.to_dict())},
         )
+        annotate(ds)
         return ds
 
     def to_json(self) -> dict[str, Any]:

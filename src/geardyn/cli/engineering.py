@@ -186,12 +186,13 @@ def runup_cmd(inp: Inputs) -> None:
     ds = res.to_dataset()
     summary = res.to_json()
     um = float(sc.b_c_m) * 1e6
-    ds = ds.assign_coords(rpm=("block", sc.rpm_from_omega(ds["omega"].values), {"long_name": "pinion speed", "units": "rpm"}),
-                          time_s=("block", sc.s_from_tau(ds["tau"].values), {"long_name": "time", "units": "s"}))
-    ds["order_amplitude_um"] = ds["order_amplitude"] * um
-    ds["order_amplitude_um"].attrs = {"long_name": "order-tracked DTE amplitude", "units": "µm"}
-    ds["amplitude_um"] = ds["amplitude"] * um
-    ds["amplitude_um"].attrs = {"long_name": "DTE half peak-to-peak", "units": "µm"}
+    from ..io import annotate
+
+    ds = ds.assign_coords(rpm=("block", sc.rpm_from_omega(ds["omega"].values)),
+                          time_s=("block", sc.s_from_tau(ds["tau"].values)))
+    for v in ("order_amplitude", "amplitude"):
+        ds[f"{v}_um"] = (ds[v].dims, ds[v].values * um)
+    annotate(ds)
     rate = float(sc.rpm_from_omega(res.ramp_rate) * sc.omega_n_rad_s)
     ds.attrs["ramp_rate_rpm_per_s"] = rate
     ds.attrs["physical_scales"] = sc.to_json()
