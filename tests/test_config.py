@@ -242,3 +242,147 @@ def test_cli_geometry_table_and_error(tmp_path):
     r = runner.invoke(app, ["geometry", "--config", str(bad)])
     assert r.exit_code == 2
     assert "bogus" in r.output and "error:" in r.output
+
+
+# ---------------------------------------------------------------- ISO 10300-1 keys, k0 methods, κ from geometry
+def _geometry_json(*args):
+    r = runner.invoke(app, ["geometry", *args, "--json"])
+    assert r.exit_code == 0, r.output
+    return json.loads(r.stdout)
+
+
+def _digits(value, printed, units=0.5):
+    decimals = len(printed.split(".")[1]) if "." in printed else 0
+    assert abs(value - float(printed)) <= units * 10.0**-decimals + 1e-12, (value, printed)
+
+
+def test_cli_geometry_iso_sample1_matches_printed_values():
+    s = _geometry_json("--config", str(EXAMPLES / "iso10300_sample1.toml"))
+    _digits(s["contact_ratio_alpha"], "1.165")
+    _digits(s["contact_ratio_beta"], "1.227")
+    _digits(s["contact_ratio_total"], "2.392")
+    _digits(s["b_v_eff_mm"], "21.590")
+    _digits(s["c_gamma_N_per_mm_um"], "20.0")
+    _digits(s["K_v"], "1.020")
+    assert s["resonance_ratio"] == pytest.approx(1200 / s["resonance_speed_rpm"], rel=1e-12)
+    assert isinstance(s["kappa_from_geometry"], list) and len(s["kappa_from_geometry"]) == 3
+    # the ISO inputs make k0 = c_gamma b_v,eff the default
+    assert s["k0_method"] == "iso"
+    assert s["k0_N_per_m"] == pytest.approx(20e9 * 21.59e-3, rel=1e-12) == s["k0_iso_N_per_m"]
+    names = {a["name"] for a in s["assumptions"]}
+    assert {"k0", "offset", "zeta_mp", "I1", "I2", "j_n"} <= names
+    assert all(a["source"] for a in s["assumptions"])
+
+
+def test_cli_geometry_iso_hypoid_sample2_matches_printed_values():
+    s = _geometry_json("--config", str(EXAMPLES / "iso10300_sample2_hypoid.toml"))
+    _digits(s["contact_ratio_alpha"], "1.010")
+    _digits(s["contact_ratio_beta"], "2.096", units=1.0)  # m_mn printed rounded (see test_iso10300)
+    _digits(s["contact_ratio_total"], "3.106")
+    _digits(s["b_v_eff_mm"], "24.880")
+    _digits(s["K_v"], "1.016")
+    assert s["k0_method"] == "iso" and s["r2_m"] == pytest.approx(141.877e-3 / 2)
+    assert any("hypoid" in n for n in s["notes"])
+
+
+def test_paper_pair_keeps_its_k0_and_reports_iso_next_to_it():
+    s = _geometry_json()
+    assert s["k0_method"] == "face_width" and s["k0_N_per_m"] == pytest.approx(2e9, rel=1e-12)
+    # ISO: b_v,eff = 0.85 x 100 mm, c_gamma = 20 N/(mm um) at the line load of T1 = 1932 N m (C_F = 1)
+    assert s["k0_iso_N_per_m"] == pytest.approx(1.7e9, rel=1e-12)
+    assert 1.2 < s["contact_ratio_alpha"] < 1.4 and 2.0 < s["contact_ratio_beta"] < 2.3
+    assert s["kappa_from_geometry"][0] < 0.05
+    assert any("κ1 = 0.2 is" in n for n in s["notes"])
+    r = runner.invoke(app, ["geometry"])
+    text = " ".join(r.stdout.split())
+    assert "ε_vα" in text and "κ1 from" in text and "the model uses k0 = 2000 N/µm (face_width)" in text
+    assert "c_γ b_v,eff = 20 N/(mm·µm) × 85 mm = 1700 N/µm" in text
+
+
+def test_k0_method_options(tmp_path):
+    iso = (EXAMPLES / "iso10300_sample1.toml").read_text(encoding="utf-8")
+    p = write(tmp_path, iso.replace('face_width = "25.4 mm"', 'face_width = "25.4 mm"\nk0_method = "face_width"'))
+    cfg = load_config(p)
+    assert cfg.k0_method == "face_width" and cfg.pair.k0_mean == pytest.approx(20e9 * 25.4e-3)
+    p = write(tmp_path, PAIR + 'k0_method = "iso"\n', "iso.toml")
+    cfg = load_config(p)
+    assert cfg.k0_method == "iso" and cfg.pair.k0_mean == pytest.approx(20e9 * 85e-3)
+    assert any(a.name == "k0" and "ISO 10300-1" in a.source for a in cfg.assumptions)
+    p = write(tmp_path, PAIR + 'k0 = "2000 N/um"\nk0_method = "iso"\n', "both.toml")
+    with pytest.raises(ModelError, match=r"line 14: \[gear_pair\] k0_method: give k0 or k0_method"):
+        load_config(p)
+    # a configuration without ISO inputs keeps c_gamma x face width
+    assert load_config(write(tmp_path, PAIR, "plain.toml")).pair.k0_mean == pytest.approx(2e9)
+    assert load_config(EXAMPLES / "automotive_hypoid_like.toml").k0_method == "face_width"
+
+
+def test_kappa_from_geometry(tmp_path):
+    p = write(tmp_path, PAIR + '[mesh]\nkappa = "geometry"\neps = [0.5]\n')
+    cfg = load_config(p)
+    s = cfg.geometry_summary()
+    assert list(cfg.model.kappa) == pytest.approx(s["kappa_from_geometry"])
+    assert [math.degrees(x) for x in cfg.model.phi_k] == pytest.approx(s["phi_k_from_geometry_deg"])
+    assert any('kappa = "geometry"' in n for n in cfg.notes)
+    with pytest.raises(ConfigError, match=r"\[mesh\] phi_k: not with kappa"):
+        load_config(write(tmp_path, PAIR + '[mesh]\nkappa = "geometry"\nphi_k = [0.1]\n', "b.toml"))
+    with pytest.raises(ConfigError, match=r"\[mesh\] kappa: expected numbers or the word"):
+        load_config(write(tmp_path, PAIR + '[mesh]\nkappa = "geometric"\n', "c.toml"))
+
+
+def test_geometry_footer_follows_the_given_torque_and_speed():
+    r = runner.invoke(app, ["geometry", "--rpm", "2400", "--torque", "1500"])
+    assert r.exit_code == 0
+    assert "1932" not in r.stdout and "follows from f_p" not in r.stdout
+    assert "T1 = 1500 N·m given for this run" in r.stdout
+    assert "3000" not in r.stdout.split("assumed")[-1] or "rpm = 3000" not in r.stdout
+
+
+# ---------------------------------------------------------------- non-dimensional configurations
+NONDIM = """\
+title = "non-dimensional study"
+[mesh]
+xi0 = 0.08
+xi = [0.05]
+kappa = [0.2, 0.05]
+phi_k = [0, 0.3]
+eps = [0.5]
+fp = 0.2
+[operating]
+omega = 0.9
+"""
+
+
+def test_nondimensional_config_runs_every_command(tmp_path):
+    p = write(tmp_path, NONDIM)
+    cfg = load_config(p)
+    assert cfg.pair is None
+    m = cfg.model
+    assert (m.omega, m.xi0, m.xi, m.kappa, m.phi_k, m.eps, m.fp) == (0.9, 0.08, (0.05,), (0.2, 0.05), (0.0, 0.3),
+                                                                      (0.5,), 0.2)
+    for args in (["simulate", "--periods", "8", "--transient", "20"],
+                 ["orbit", "--period", "1"],
+                 ["lyapunov", "--periods", "20", "--transient", "20"],
+                 ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.0", "--num", "3",
+                  "--transient", "20", "--periods", "4", "--settle", "0"],
+                 ["response", "--omega-start", "0.8", "--omega-stop", "1.0", "--num", "3", "--transient", "20",
+                  "--settle", "0"]):
+        r = runner.invoke(app, [*args, "--config", str(p), "--json"])
+        assert r.exit_code == 0, (args, r.output)
+        out = json.loads(r.stdout)
+        assert "non-dimensional" in out.get("physical", {"pair": "non-dimensional"})["pair"], args
+    r = runner.invoke(app, ["simulate", "--config", str(p), "--rpm", "3000"])
+    assert r.exit_code == 2 and "no [gear_pair]" in r.output
+    r = runner.invoke(app, ["geometry", "--config", str(p)])
+    assert r.exit_code == 2 and "no [gear_pair]" in r.output
+
+
+def test_nondimensional_config_refuses_physical_keys_and_unknown_sections(tmp_path):
+    with pytest.raises(ConfigError, match=r"line 4: \[operating\] rpm: needs a gear pair"):
+        load_config(write(tmp_path, '[mesh]\nxi0 = 0.1\n[operating]\nrpm = "3000 rpm"\n'))
+    with pytest.raises(ConfigError, match=r"\[mesh\] e: needs a gear pair"):
+        load_config(write(tmp_path, '[mesh]\ne = ["1 um"]\n', "e.toml"))
+    p = write(tmp_path, NONDIM + "[solver]\nsteps = 3\n", "u.toml")
+    with pytest.raises(ConfigError, match=r"u.toml: line 11: unknown section or key 'solver' \(a section \[solver\]\)"):
+        load_config(p)
+    r = runner.invoke(app, ["simulate", "--config", str(p)])
+    assert r.exit_code == 2 and "[solver]" in r.output and len(r.output.strip().splitlines()) == 1

@@ -35,6 +35,7 @@ COMMANDS = {
             "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20", "--periods", "8",
             "--settle", "0"],
     "basins": ["basins", "--omega", "1.2", "--nu", "3", "--nv", "3", "--transient", "20", "--periods", "16"],
+    "runup": ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "300", "--num", "2"],
 }
 
 
@@ -110,6 +111,12 @@ def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):
     assert set(FIGURES) <= set(datasets), "a registered kind without a test Dataset"
     mp, bif = datasets["map"], datasets["bifurcation"]
     variants = [mp.assign(lle=mp["amplitude"] * 0 + 0.01)]  # a map with exponents computed
+    rpm = [float(x) for x in datasets["response"]["rpm"].values]
+    iso_kv = {"rpm": rpm, "K_v": [1.1] * len(rpm), "resonance_speed_rpm": rpm[1], "torque_N_m": 1000.0,
+              "sector_bounds_rpm": {"subcritical_end": 0.75 * rpm[1], "main_resonance_end": 1.25 * rpm[1],
+                                    "supercritical_start": 1.5 * rpm[1]},
+              "model_resonance_rpm": rpm[1], "simulated": {"up": [1.2] * len(rpm), "down": [1.3] * len(rpm)}}
+    variants.append(datasets["response"].assign_attrs(iso_kv=json.dumps(iso_kv)))  # a pair with ISO inputs
     for drop in (["amplitude_um"], ["amplitude_um", "rms_um"], ["amplitude_um", "rms_um", "u_max_um"]):
         variants.append(bif.drop_vars(drop))  # the next variable drawn against rpm
     checked = set()

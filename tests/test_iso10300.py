@@ -202,3 +202,32 @@ def test_helical_face_contact_ratio_and_iso6336_stiffness():
     # profile shift raises the working pressure angle and keeps a_w = a cos(alpha_t)/cos(alpha_wt)
     p = cylindrical_mesh(17, 53, 4e-3, math.radians(20), 0.0, 0.05, x1=0.3, x2=0.1)
     assert p.alpha_wt > math.radians(20) and p.a_w > 0.5 * (p.d1 + p.d2)
+
+
+def test_response_carries_the_iso_kv_curve(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    r = CliRunner().invoke(app, ["response", "--config", str(EXAMPLES / "iso10300_sample1.toml"), "--rpm-start", "5000",
+                                 "--rpm-stop", "30000", "--num", "6", "--transient", "60", "--settle", "0", "--json",
+                                 "--out", str(tmp_path)])
+    assert r.exit_code == 0, r.output
+    b = json.loads(r.stdout)["iso_kv"]
+    assert len(b["K_v"]) == len(b["rpm"]) == 6 and set(b["simulated"]) == {"up", "down"}
+    assert b["resonance_speed_rpm"] == pytest.approx(b["sector_bounds_rpm"]["subcritical_end"] / 0.75)
+    # K_v at 1200 rpm (the sample's speed) is the printed one; here the grid's own speeds
+    one = bevel_mesh(14, 39, 3.2133e-3, math.radians(35), math.radians(20), math.radians(90), 25.4e-3,
+                     d_m1=54.918e-3, d_m2=152.987e-3, delta1=math.radians(19.747), delta2=math.radians(70.253),
+                     h_am1=4.837e-3, h_am2=1.590e-3, b2_eff=21.59e-3, K_A=1.1, f_pt=26e-6,
+                     torque1=b["torque_N_m"], speed1=5000 * math.pi / 30)
+    assert b["K_v"][0] == pytest.approx(one.K_v, rel=1e-12)
+    assert b["sector"][0] == "subcritical" and "main resonance" in b["sector"]
+    assert all(v is None or v >= 0 for v in b["simulated"]["up"])
+    assert (tmp_path / "response_iso_kv.png").is_file()
+    # a pair without the ISO inputs K_v needs (the paper's) has no iso_kv block
+    r = CliRunner().invoke(app, ["response", "--rpm-start", "2000", "--rpm-stop", "3000", "--num", "3",
+                                 "--transient", "30", "--settle", "0", "--json"])
+    assert r.exit_code == 0 and "iso_kv" not in json.loads(r.stdout)

@@ -50,14 +50,33 @@ from __future__ import annotations
 import math
 import re
 import tomllib
-from dataclasses import dataclass, replace
-from functools import lru_cache
+from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Mapping, NamedTuple
+from typing import Any, Mapping
 
-from .errors import ConfigError, GeardynError
+from ._config_values import (
+    _ANGLE,
+    _DAMP,
+    _DENSITY,
+    _INERTIA,
+    _INT,
+    _LENGTH,
+    _NUMBER,
+    _PHASE,
+    _SPEED,
+    _STIFF,
+    _STIFF_W,
+    _TEXT,
+    _TORQUE,
+    _choice,
+    _Ctx,
+    _Key,
+    _parse_value,
+    parse_quantity,
+)
+from .errors import ConfigError
 from .geometry import (
     HANDS,
     ROTATIONS,
@@ -69,6 +88,7 @@ from .geometry import (
     drive_side_from_rotation,
     geometry_summary,
 )
+from .geometry.iso import ISO_KEYS, ISO_ONLY_KEYS, K0_METHODS, iso_k0, iso_summary, pair_iso_mesh
 from .model import GearModel, ModelError
 
 __all__ = ["LoadedConfig", "PAPER_CONFIG", "load_config", "packaged_config_path", "parse_quantity"]
@@ -80,38 +100,8 @@ TABLE3_LENGTH = 1e-3
 #: Relative difference above which two values are reported as different in the notes.
 NOTE_RTOL = 1e-9
 
-_ANGLE_UNITS = frozenset({"degree", "radian", "arcminute", "arcsecond", "turn", "revolution", "gradian"})
-_SPEED_UNIT_WORDS = ("revolution", "radian", "turn", "degree", "rpm")
-
-
-class _Kind(NamedTuple):
-    label: str  # what is expected, for messages
-    unit: str | None  # SI (or rpm) target unit; None for plain numbers
-    example: str
-
-
-_NUMBER = _Kind("non-dimensional number", None, "0.1")
-_INT = _Kind("integer", None, "23")
-_TEXT = _Kind("string", None, '"paper pair"')
-_LENGTH = _Kind("length", "m", '"7.28 mm"')
-_ANGLE = _Kind("angle", "radian", '"20 deg"')
-_PHASE = _Kind("phase (angle, or a number in rad)", "radian", '"30 deg" or 0.5')
-_INERTIA = _Kind("moment of inertia", "kg*m^2", '"1.772 kg*m^2"')
-_STIFF = _Kind("stiffness", "N/m", '"2000 N/um"')
-_STIFF_W = _Kind("stiffness per unit face width", "N/m^2", '"20 N/(mm*um)"')
-_DAMP = _Kind("damping coefficient", "N*s/m", '"5e4 N*s/m"')
-_SPEED = _Kind("rotational speed", "rpm", '"3000 rpm" or "314 rad/s"')
-_TORQUE = _Kind("torque", "N*m", '"1500 N*m"')
-
-
-def _choice(options: tuple[str, ...]) -> _Kind:
-    return _Kind("one of " + ", ".join(repr(o) for o in options), None, repr(options[0]))
-
-
-class _Key(NamedTuple):
-    kind: _Kind
-    series: bool = False
-
+#: ``[mesh] kappa`` written as this word takes κ_r and φ_k from the contact ratios (ISO 10300-1).
+KAPPA_FROM_GEOMETRY = "geometry"
 
 _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
     {
@@ -135,6 +125,24 @@ _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
                 "face_width": _Key(_LENGTH),
                 "c_gamma": _Key(_STIFF_W),
                 "k0": _Key(_STIFF),
+                "k0_method": _Key(_choice(K0_METHODS)),
+                # ISO 23509 mean-point data and rating inputs read by geardyn.geometry.iso (ISO 10300-1)
+                "beta_m2": _Key(_ANGLE),
+                "alpha_lim": _Key(_ANGLE),
+                "d_m1": _Key(_LENGTH),
+                "d_m2": _Key(_LENGTH),
+                "delta1": _Key(_ANGLE),
+                "delta2": _Key(_ANGLE),
+                "h_am1": _Key(_LENGTH),
+                "h_am2": _Key(_LENGTH),
+                "x_hm1": _Key(_NUMBER),
+                "offset": _Key(_LENGTH),
+                "zeta_mp": _Key(_ANGLE),
+                "zeta_m": _Key(_ANGLE),
+                "b2_eff": _Key(_LENGTH),
+                "K_A": _Key(_NUMBER),
+                "f_pt": _Key(_LENGTH),
+                "density": _Key(_DENSITY),
             }
         ),
         "mesh": MappingProxyType(
@@ -159,6 +167,7 @@ _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
                 "rpm": _Key(_SPEED),
                 "torque": _Key(_TORQUE),
                 "torque2": _Key(_TORQUE),
+                "omega": _Key(_NUMBER),
             }
         ),
         "model": MappingProxyType(
@@ -179,146 +188,8 @@ _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
 )
 _TOP_LEVEL_TEXT = ("title", "description")
 _REQUIRED_PAIR = ("z1", "z2", "m_mn", "beta_m", "alpha_n", "j_n", "I1", "I2")
-
-
-@lru_cache(maxsize=1)
-def _ureg():
-    import pint
-
-    ureg = pint.UnitRegistry()
-    ureg.define("rev = revolution")
-    return ureg
-
-
-def parse_quantity(text: str, unit: str) -> float:
-    """Parse ``"number unit"`` and return its magnitude in ``unit`` (raises ``ValueError``).
-
-    Parameters
-    ----------
-    text : str
-        A quantity such as ``"7.28 mm"``.
-    unit : str
-        Target unit understood by pint, e.g. ``"m"``.
-    """
-    q = _ureg().Quantity(text)
-    return float(q.to(unit).magnitude)
-
-
-# ---------------------------------------------------------------------------- error context
-class _Ctx:
-    """Where a value comes from, to build one-line error messages."""
-
-    def __init__(self, source: str, text: str):
-        self.source = source
-        self.lines = text.splitlines()
-
-    def line_of(self, section: str | None, key: str) -> int | None:
-        current: str | None = None
-        key_re = re.compile(rf"^\s*(?:{re.escape(key)}|\"{re.escape(key)}\"|'{re.escape(key)}')\s*=")
-        header = re.compile(r"^\s*\[\s*([^\[\]]+?)\s*\]\s*(#.*)?$")
-        for i, line in enumerate(self.lines, start=1):
-            m = header.match(line)
-            if m:
-                current = m.group(1)
-                if section is not None and key == "" and current == section:
-                    return i
-                continue
-            if current == section and key and key_re.match(line):
-                return i
-        return None
-
-    def error(
-        self, section: str | None, key: str, problem: str, cls: type[GeardynError] = ConfigError
-    ) -> GeardynError:
-        """The error ``cls`` (a file problem by default) with the file, line, section and key in its message."""
-        line = self.line_of(section, key)
-        where = f"{self.source}: " + (f"line {line}: " if line else "")
-        what = (f"[{section}] " if section else "") + (f"{key}: " if key else "")
-        return cls(f"{where}{what}{problem}")
-
-
-# ---------------------------------------------------------------------------- value parsing
-def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, index: int | None = None) -> Any:
-    def bad(problem: str) -> GeardynError:
-        return ctx.error(section, key, (f"element {index}: " if index is not None else "") + problem)
-
-    if kind is _TEXT:
-        if not isinstance(raw, str):
-            raise bad(f"expected a string, got {raw!r}")
-        return raw
-    if kind.label.startswith("one of"):
-        if not isinstance(raw, str) or kind.label.find(repr(raw)) < 0:
-            raise bad(f"expected {kind.label}, got {raw!r}")
-        return raw
-    if isinstance(raw, bool) or isinstance(raw, (dict, list)):
-        raise bad(f"expected a {kind.label} (e.g. {kind.example}), got {raw!r}")
-    if kind is _INT:
-        if isinstance(raw, float) and raw.is_integer():
-            raw = int(raw)
-        if not isinstance(raw, int):
-            raise bad(f"expected an integer, got {raw!r}")
-        return raw
-    if kind.unit is None or (kind is _PHASE and isinstance(raw, (int, float))):
-        # plain (non-dimensional) number; phases may be plain numbers in radians
-        if isinstance(raw, str):
-            try:
-                q = _ureg().Quantity(raw)
-            except Exception:
-                raise bad(f"expected a {kind.label} (e.g. {kind.example}), got {raw!r}") from None
-            if not q.unitless:
-                raise bad(f"expected a {kind.label} without unit (e.g. {kind.example}), got {raw!r}")
-            raw = float(q.to("").magnitude)
-        x = float(raw)
-        if not math.isfinite(x):
-            raise bad(f"must be a finite number, got {raw!r}")
-        return x
-    if not isinstance(raw, str):
-        raise bad(f"expected a {kind.label} with its unit, as a string (e.g. {kind.example}), got {raw!r}")
-    try:
-        q = _ureg().Quantity(raw)
-    except Exception as e:  # pint raises several error types for bad unit strings
-        raise bad(f"cannot read {raw!r} as a {kind.label} ({type(e).__name__}); write e.g. {kind.example}") from None
-    units = str(q.units)
-    if kind in (_ANGLE, _PHASE):
-        if units not in _ANGLE_UNITS:
-            raise bad(f"expected an angle with its unit (deg or rad; e.g. {kind.example}), got {raw!r}")
-    elif kind is _SPEED:
-        if not any(w in units for w in _SPEED_UNIT_WORDS):
-            raise bad(f"expected a rotational speed in rpm, rev/s or rad/s (e.g. {kind.example}), got {raw!r}")
-    if not q.is_compatible_with(kind.unit):
-        raise bad(
-            f"expected a {kind.label} (unit compatible with {kind.unit}, e.g. {kind.example}), "
-            f"got {raw!r} with dimension {q.dimensionality}"
-        )
-    x = float(q.to(kind.unit).magnitude)
-    if not math.isfinite(x):
-        raise bad(f"must be finite, got {raw!r}")
-    return x
-
-
-def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any) -> tuple[Any, str | None]:
-    """Return (value in SI, assumed-source or None)."""
-    assumed = None
-    if isinstance(raw, dict):
-        extra = set(raw) - {"value", "assumed"}
-        if "value" not in raw or extra:
-            raise ctx.error(
-                section,
-                key,
-                "an inline table must have the keys 'value' and optionally 'assumed' "
-                f"(e.g. {{ value = {spec.kind.example}, assumed = \"typical value\" }}), got keys {sorted(raw)}",
-            )
-        assumed = raw.get("assumed")
-        if assumed is not None and (not isinstance(assumed, str) or not assumed.strip()):
-            raise ctx.error(section, key, "'assumed' must be a non-empty string giving the source or reason")
-        raw = raw["value"]
-    if spec.series:
-        if not isinstance(raw, list):
-            raw = [raw]
-        if not raw:
-            return (), assumed
-        return tuple(_parse_scalar(ctx, section, key, spec.kind, r, i + 1) for i, r in enumerate(raw)), assumed
-    return _parse_scalar(ctx, section, key, spec.kind, raw), assumed
+#: Keys that need a gear pair: refused in a non-dimensional configuration (no ``[gear_pair]``).
+_PHYSICAL_KEYS = {"mesh": ("c0", "c", "k", "e", "characteristic_length"), "operating": ("rpm", "torque", "torque2")}
 
 
 def _read_section(ctx: _Ctx, data: Mapping[str, Any], section: str) -> tuple[dict[str, Any], dict[str, str]]:
@@ -361,8 +232,8 @@ class LoadedConfig:
         The file the configuration came from.
     title : str
         The file's ``title`` (or the pair's name).
-    pair : SpiralBevelGearPair
-        The gear pair (SI units).
+    pair : SpiralBevelGearPair or None
+        The gear pair (SI units); ``None`` for a non-dimensional configuration (no ``[gear_pair]``).
     mesh : MeshHarmonics
         Mesh harmonics as given (dimensional or non-dimensional).
     b_c : float
@@ -382,6 +253,10 @@ class LoadedConfig:
         Where values were derived or overridden.
     backlash_reading : str
         Which characteristic length was used (b_c = b_n, or the Table 3 reading b_c = 1 mm).
+    iso_inputs : mapping
+        The ISO 10300-1 inputs of ``[gear_pair]`` (:data:`~geardyn.geometry.iso.ISO_KEYS`, SI units).
+    k0_method : str
+        How k0 was obtained: ``"given"``, ``"iso"`` (c_γ b_v,eff) or ``"face_width"`` (c_γ × b).
     """
 
     source: str
@@ -396,6 +271,8 @@ class LoadedConfig:
     assumptions: tuple[Assumption, ...]
     notes: tuple[str, ...]
     backlash_reading: str
+    iso_inputs: Mapping[str, float] = field(default_factory=dict)
+    k0_method: str = "face_width"
 
     @property
     def scales(self) -> PhysicalScales:
@@ -419,6 +296,9 @@ class LoadedConfig:
         """
         changes: dict[str, Any] = {}
         out: dict[str, Any] = {}
+        if self.pair is None and (rpm is not None or torque is not None):
+            raise ConfigError(f"{self.source}: no [gear_pair], so a pinion speed or torque has no meaning; "
+                              "give ω and f_p instead")
         sc = self.scales
         if rpm is not None:
             self.pair.mesh_frequency(rpm)  # validates rpm > 0
@@ -431,7 +311,16 @@ class LoadedConfig:
         # a speed or torque given here is no longer the configuration's assumed operating point
         dropped = {k for k in ("rpm", "torque", "torque2") if k in out}
         assumptions = tuple(a for a in self.assumptions if a.name not in dropped)
-        return replace(self, model=self.model.replace(**changes), assumptions=assumptions, **out)
+        # notes on how the configuration's own speed or torque came about no longer hold
+        stale = (("pinion speed", "no [operating] rpm") if rpm is not None else ()) + (
+            ("pinion torque T1", "no [operating] torque", "[mesh] fp =") if torque is not None else ())
+        notes = [n for n in self.notes if not n.startswith(stale)] if stale else list(self.notes)
+        if rpm is not None:
+            notes.append(f"pinion speed {float(rpm):.6g} rpm given for this run sets ω = {changes['omega']:.6g}")
+        if torque is not None:
+            notes.append(f"pinion torque T1 = {float(torque):.6g} N·m given for this run sets f_p = {changes['fp']:.6g}"
+                         " (balanced torques)")
+        return replace(self, model=self.model.replace(**changes), assumptions=assumptions, notes=tuple(notes), **out)
 
     def geometry_summary(self) -> dict[str, Any]:
         """:func:`~geardyn.geometry.geometry_summary` at this configuration's operating point.
@@ -439,13 +328,31 @@ class LoadedConfig:
         Adds ``source``, ``title``, ``backlash_reading``, ``model`` (the non-dimensional model) and
         the operating-point assumptions to ``assumed``/``assumptions``.
         """
+        if self.pair is None:
+            raise ConfigError(f"{self.source}: no [gear_pair]: a non-dimensional configuration has no geometry")
         s = geometry_summary(self.pair, rpm=self.rpm, torque=self.torque, torque2=self.torque2, b_c=self.b_c)
+        iso_notes: list[str] = []
+        try:
+            mesh = pair_iso_mesh(self.pair, self.iso_inputs, rpm=self.rpm, torque=self.torque)
+        except ModelError as e:
+            s["iso10300"] = None
+            iso_notes.append(f"ISO 10300-1 mesh data not computed: {e}")
+        else:
+            block = iso_summary(mesh, k0_method=self.k0_method, k0_used=self.pair.k0_mean,
+                                c_gamma_given=self.pair.c_gamma, hypoid=bool(self.iso_inputs.get("offset")))
+            iso_notes = block.pop("iso_notes")
+            s.update(block)
+            s["iso10300"] = "ISO 10300-1:2014 Annex A (Method B1 virtual cylindrical gears), clause 6"
+            k_geo, k_model = mesh.kappa.kappa[0], (self.model.kappa or (0.0,))[0]
+            if k_model > 0 and k_geo > 0 and abs(k_model / k_geo - 1.0) > 0.1:
+                iso_notes.append(f"the model's κ1 = {k_model:.4g} is {k_model / k_geo:.3g} × the κ1 = {k_geo:.4g} "
+                                 "the contact ratios imply")
         s["source"] = self.source
         s["title"] = self.title
         s["backlash_reading"] = self.backlash_reading
         s["assumed"] = self.assumed
         s["assumptions"] = [a.to_dict() for a in self.assumptions]
-        s["notes"] = list(s.get("notes", [])) + list(self.notes)
+        s["notes"] = list(s.get("notes", [])) + list(self.notes) + iso_notes
         s["model"] = self.model.to_dict()
         return s
 
@@ -522,9 +429,16 @@ def _load_text(text: str, source: str) -> LoadedConfig:
                 raise ctx.error(None, key, f"expected a string, got {val!r}")
             continue
         allowed = ", ".join([f"[{s}]" for s in _SCHEMA] + list(_TOP_LEVEL_TEXT))
+        if isinstance(val, dict):
+            line = ctx.line_of(key, "")
+            raise ConfigError(f"{source}: " + (f"line {line}: " if line else "")
+                              + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}")
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
+    data, kappa_geometry = _kappa_word(ctx, data)
     if "gear_pair" not in data:
-        raise ConfigError(f"{source}: missing section [gear_pair]; it must give {', '.join(_REQUIRED_PAIR)}")
+        if kappa_geometry:
+            raise ctx.error("mesh", "kappa", f'"{KAPPA_FROM_GEOMETRY}" needs the gear pair ([gear_pair])')
+        return _load_nondimensional(ctx, data)
 
     gp, gp_assumed = _read_section(ctx, data, "gear_pair")
     mesh, mesh_assumed = _read_section(ctx, data, "mesh")
@@ -539,6 +453,18 @@ def _load_text(text: str, source: str) -> LoadedConfig:
         raise ConfigError(
             f"{source}: " + (f"line {line}: " if line else "") + f"[gear_pair] missing key(s) {', '.join(missing)}"
         )
+
+    # ---- the ISO 10300-1 inputs and the way to k0
+    k0_method = gp.pop("k0_method", None)
+    iso_in = {k: gp.pop(k) for k in ISO_KEYS if k in gp}
+    iso_declared = {k: gp_assumed.pop(k) for k in list(gp_assumed) if k in ISO_KEYS or k == "k0_method"}
+    if "k0" in gp and k0_method is not None:
+        raise ctx.error("gear_pair", "k0_method", "give k0 or k0_method, not both", ModelError)
+    method = "given" if "k0" in gp else k0_method or ("iso" if set(iso_in) & set(ISO_ONLY_KEYS) else "face_width")
+    for i in ("1", "2"):
+        if f"r{i}" not in gp and f"d_m{i}" in iso_in:
+            gp[f"r{i}"] = 0.5 * iso_in[f"d_m{i}"]
+            gp_assumed.setdefault(f"r{i}", f"not given; mesh point at the mean pitch point, r{i} = d_m{i}/2")
 
     # ---- the pair
     rotation = gp.pop("pinion_rotation", None)
@@ -563,6 +489,26 @@ def _load_text(text: str, source: str) -> LoadedConfig:
     except ModelError as e:
         section = "mesh" if _key_of_message(str(e)) in ("xi0", "c0", "xi0/c0") else "gear_pair"
         raise _wrap(ctx, section, e) from None
+    iso_assumptions: list[Assumption] = []
+    if method == "iso" or kappa_geometry:
+        try:
+            iso_mesh = pair_iso_mesh(pair, iso_in, rpm=op.get("rpm"), torque=op.get("torque"))
+        except ModelError as e:
+            raise _wrap(ctx, "gear_pair", e) from None
+        iso_assumptions = [Assumption(a.name, a.value, a.unit, a.source) for a in iso_mesh.assumed
+                           if a.name != "K_v"]
+    if method == "iso":
+        cg = pair.c_gamma
+        k0 = iso_k0(iso_mesh, cg)
+        src = (f"ISO 10300-1: k0 = c_γ b_v,eff = {(iso_mesh.c_gamma if cg is None else cg) * 1e-9:.4g} N/(mm·µm)"
+               f"{' (given)' if cg is not None else f' (C_F = {iso_mesh.C_F:.4g})'} × {iso_mesh.b_v_eff * 1e3:.5g} mm")
+        pair = replace(pair, k0=k0, assumed=pair.assumed + (("k0", src),))
+        notes.append(f"k0 = {k0 * 1e-6:.6g} N/µm by ISO 10300-1 (k0_method = \"iso\"; \"face_width\" gives c_γ × b)")
+    if kappa_geometry:
+        mesh["kappa"], mesh["phi_k"] = iso_mesh.kappa.kappa, iso_mesh.kappa.phi
+        notes.append(f"[mesh] kappa = \"{KAPPA_FROM_GEOMETRY}\": κ_r = "
+                     + ", ".join(f"{k:.4g}" for k in iso_mesh.kappa.kappa)
+                     + f" from ε_vα = {iso_mesh.eps_valpha:.4g}, ε_vβ = {iso_mesh.eps_vbeta:.4g}")
 
     # ---- characteristic length
     b_c = mesh.pop("characteristic_length", None)
@@ -639,7 +585,10 @@ def _load_text(text: str, source: str) -> LoadedConfig:
     if rpm is None or not math.isclose(rpm_final, rpm, rel_tol=NOTE_RTOL):
         notes.append(f"pinion speed {rpm_final:.6g} rpm follows from ω = {model.omega:g}")
 
-    assumptions = list(pair.assumptions)
+    assumptions = list(pair.assumptions) + iso_assumptions
+    for key, src in iso_declared.items():
+        v = iso_in.get(key, k0_method)
+        assumptions.append(Assumption(key, v, _SCHEMA["gear_pair"][key].kind.unit or "", src))
     units = {"rpm": "rpm", "torque": "N*m", "torque2": "N*m"}
     for key, src in op_assumed.items():
         assumptions.append(Assumption(key, op[key], units[key], src))
@@ -663,4 +612,57 @@ def _load_text(text: str, source: str) -> LoadedConfig:
         assumptions=tuple(assumptions),
         notes=tuple(notes),
         backlash_reading=reading,
+        iso_inputs=iso_in,
+        k0_method=method,
     )
+
+
+def _kappa_word(ctx: _Ctx, data: dict[str, Any]) -> tuple[dict[str, Any], bool]:
+    """``data`` without ``[mesh] kappa = "geometry"`` and whether it was there (κ_r from the contact ratios)."""
+    mesh = data.get("mesh")
+    if not isinstance(mesh, dict) or "kappa" not in mesh:
+        return data, False
+    raw = mesh["kappa"]
+    word = raw.get("value") if isinstance(raw, dict) else raw
+    if not isinstance(word, str):
+        return data, False
+    if word != KAPPA_FROM_GEOMETRY:
+        raise ctx.error("mesh", "kappa", f'expected numbers or the word "{KAPPA_FROM_GEOMETRY}", got {word!r}')
+    for other in ("phi_k", "k"):
+        if other in mesh:
+            raise ctx.error("mesh", other, f'not with kappa = "{KAPPA_FROM_GEOMETRY}" (it gives κ_r and φ_k)')
+    return {**data, "mesh": {k: v for k, v in mesh.items() if k != "kappa"}}, True
+
+
+def _load_nondimensional(ctx: _Ctx, data: Mapping[str, Any]) -> LoadedConfig:
+    """A configuration without ``[gear_pair]``: the non-dimensional model of ``[mesh]``, ``[operating]`` and ``[model]``."""
+    mesh, mesh_assumed = _read_section(ctx, data, "mesh")
+    op, op_assumed = _read_section(ctx, data, "operating")
+    mo, mo_assumed = _read_section(ctx, data, "model")
+    for section, values in (("mesh", mesh), ("operating", op)):
+        for key in _PHYSICAL_KEYS[section]:
+            if key in values:
+                raise ctx.error(section, key, "needs a gear pair: add [gear_pair], or give the non-dimensional "
+                                "values (xi0, xi, kappa, eps, fp in [mesh]; omega in [operating])")
+    notes: list[str] = ["no [gear_pair]: a non-dimensional model (speeds and torques cannot be given)"]
+    default = GearModel()
+    kw: dict[str, Any] = {"omega": op.get("omega", default.omega), "xi0": mesh.pop("xi0", default.xi0),
+                          "fp": mesh.pop("fp", default.fp)}
+    for name, key, section in (("ω", "omega", op), ("ξ0", "xi0", None), ("f_p", "fp", None)):
+        if section is not None and key not in section:
+            notes.append(f"no [operating] omega: ω = {kw[key]:g} (GearModel default)")
+    try:
+        harmonics = MeshHarmonics(**mesh)
+        model = GearModel(**kw, **harmonics.nondimensional(1.0, 1.0, 1.0, 1.0))
+        if mo:
+            model = model.replace(**mo)
+            notes.append("[model] overrides: " + ", ".join(f"{k} = {v}" for k, v in mo.items()))
+    except ModelError as e:
+        raise _wrap(ctx, "model" if mo and _key_of_message(str(e)) in mo else "mesh", e) from None
+    assumptions = [Assumption(k, list(v) if isinstance(v, tuple) else v, "", src)
+                   for declared, values in ((mesh_assumed, {**mesh, **kw}), (op_assumed, op), (mo_assumed, mo))
+                   for k, src in declared.items() for v in [values.get(k, "")]]
+    return LoadedConfig(source=ctx.source, title=str(data.get("title") or ""), pair=None, mesh=harmonics,
+                        b_c=float("nan"), model=model, rpm=float("nan"), torque=float("nan"), torque2=None,
+                        assumptions=tuple(assumptions), notes=tuple(notes),
+                        backlash_reading="no [gear_pair]: D is the model's non-dimensional backlash", k0_method="")

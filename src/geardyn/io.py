@@ -169,6 +169,16 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
     "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary")},
     "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary")},
     "mathieu_boundary": {"xi0_critical": _v("ξ0 above which the linear contact model is stable")},
+    "runup": {
+        "order_amplitude": _v("order-tracked DTE amplitude |u_l| over a speed block"),
+        "order_amplitude_um": _v("order-tracked DTE amplitude over a speed block", "µm"),
+        "amplitude": _v("half peak-to-peak displacement over a speed block"),
+        "amplitude_um": _v("half peak-to-peak DTE over a speed block", "µm"),
+        "dynamic_factor": _v("dynamic factor max F_n / F_p over a speed block"),
+        "omega": _v("mesh frequency ω = ω_e/ω_n of a speed block"),
+        "tau": _v("non-dimensional time τ = ω_n t at the middle of a speed block"),
+        "time_s": _v("time at the middle of a speed block", "s"),
+    },
 }
 
 #: Long name of a swept or continued model parameter without an entry of its own, by kind.

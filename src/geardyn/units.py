@@ -45,6 +45,13 @@ def _speed(name: str, value: Any) -> float:
     return x
 
 
+def _physical_needed(scales: Any, name: str | None) -> None:
+    """Refuse a speed or torque for the unit scales of a configuration without a gear pair."""
+    if name is not None and getattr(scales, "nondimensional", False):
+        raise ModelError(f"{name}: the configuration {scales.source} has no [gear_pair], so a pinion speed or torque "
+                         "has no meaning; give ω (--omega) and f_p (--fp) instead")
+
+
 def configured_pair(config: str | Path | None = None) -> Any:
     """The gear pair of a configuration file; ``None`` gives the paper's Table 1 pair (k0 assumed).
 
@@ -123,6 +130,7 @@ def operating_overrides(
         ``{"omega": ...}`` and/or ``{"fp": ...}`` (non-dimensional), only for what was given.
     """
     out: dict[str, float] = {}
+    _physical_needed(scales, "rpm" if rpm is not None else "torque" if torque is not None else None)
     if rpm is not None:
         if omega is not None:
             raise ModelError("rpm: give the speed either as --rpm (pinion speed) or as --omega, not both")
@@ -217,4 +225,5 @@ def sweep_range(
         raise ModelError("rpm_start: give the range either in rpm (--rpm-start/--rpm-stop) or as ω, not both")
     if scales is None:
         raise ModelError("rpm_start: a pinion-speed range needs a gear pair (--config)")
+    _physical_needed(scales, "rpm_start")
     return omega_range(scales, rpm_start, rpm_stop)

@@ -103,8 +103,10 @@ def response(
     ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
                             state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)
     ds = add_physical(ds, scales)
-    _sweep_json(inp, physical_json(response_json(ds), model, scales, param="omega"), ds, "response", engine,
-                render.response)
+    from .engineering import attach_iso_kv  # the ISO K_v-B curve beside the response, when the pair has its inputs
+
+    ds, summary = attach_iso_kv(inp.config, model, ds, physical_json(response_json(ds), model, scales, param="omega"))
+    _sweep_json(inp, summary, ds, "response", engine, render.response)
 
 
 MAP_AXES = [

@@ -59,6 +59,9 @@ class PhysicalScales:
         Names of the inputs of the pair that are assumptions (e.g. ``k0``).
     k0_source : str
         Where k0 comes from (given, or face width × c_γ, and whether that is assumed).
+    nondimensional : bool
+        ``True`` for the unit scales of a configuration without ``[gear_pair]`` (:meth:`unit`): every
+        "physical" value then repeats its non-dimensional one, and a speed or torque cannot be given.
     """
 
     title: str
@@ -73,6 +76,7 @@ class PhysicalScales:
     D: float
     assumed: tuple[str, ...] = field(default=())
     k0_source: str = ""
+    nondimensional: bool = False
 
     # ------------------------------------------------------------------ construction, storage
     @classmethod
@@ -123,6 +127,32 @@ class PhysicalScales:
         )
 
     @classmethod
+    def unit(cls, *, title: str = "", source: str = "", D: float = 1.0) -> "PhysicalScales":
+        """Unit scales of a non-dimensional configuration (no ``[gear_pair]``).
+
+        With ω_n = 2π rad/s, z1 = 60, b_c = 1 µm, k0 = 1 N/µm and R1 = R2 = 1 m, a "speed in rpm"
+        equals ω, a "frequency in Hz" equals ω, "µm" equal u and "N" and "N·m" equal the
+        non-dimensional force, so the physical columns the commands add repeat the non-dimensional
+        values; :attr:`nondimensional` is set and :meth:`statement` says so.
+
+        Parameters
+        ----------
+        title, source : str
+            The configuration's title and file.
+        D : float
+            The model's non-dimensional backlash.
+
+        Returns
+        -------
+        PhysicalScales
+        """
+        w = 2.0 * math.pi
+        return cls(title=title or "non-dimensional model", source=source, z1=60, b_c_m=1e-6, k0_N_per_m=1e6,
+                   m_e_kg=1e6 / w**2, omega_n_rad_s=w, R1_m=1.0, R2_m=1.0, D=float(D), assumed=(),
+                   k0_source="no [gear_pair]: unit scales, the physical values repeat the non-dimensional ones",
+                   nondimensional=True)
+
+    @classmethod
     def from_config(cls, cfg: Any) -> "PhysicalScales":
         """Scales of a loaded configuration (its pair, characteristic length, title and source).
 
@@ -134,7 +164,10 @@ class PhysicalScales:
         Returns
         -------
         PhysicalScales
+            :meth:`unit` scales for a configuration without a gear pair.
         """
+        if cfg.pair is None:
+            return cls.unit(title=cfg.title, source=cfg.source, D=cfg.model.D)
         return cls.from_pair(
             cfg.pair, cfg.b_c, title=cfg.title or cfg.pair.name, source=cfg.source, assumptions=cfg.assumptions
         )
@@ -195,6 +228,8 @@ class PhysicalScales:
 
     def statement(self) -> str:
         """One line naming the pair and its k0 (and that it is assumed, when it is)."""
+        if self.nondimensional:
+            return f"{self.title} ({self.source}): non-dimensional, no [gear_pair] (the physical values repeat ω, u, f)"
         return (
             f"{self.title} ({self.source}): k0 = {self.k0_N_per_m * 1e-6:.6g} N/µm ({self.k0_source}), "
             f"b_c = {self.b_c_m * 1e6:.6g} µm, f_n = {self.natural_frequency_Hz:.6g} Hz"

@@ -7,6 +7,7 @@ from typing import Any
 
 from .bevel import SpiralBevelGearPair
 from .inputs import CONE_DISTANCE_NOTE_TOL, _deg
+from .iso import iso_rows
 
 __all__ = ["geometry_summary", "summary_rows"]
 
@@ -186,4 +187,6 @@ def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str, str, str]]:
                     "> 0: away from apex / towards axis",
                 )
             )
+    if summary.get("contact_ratio_alpha") is not None:
+        rows += iso_rows(summary)
     return rows

@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import PlotError
-from . import basins, bifurcation, lyapunov, maps, periodic, physical, reproduce, response, simulate
+from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
 from .common import DPI, save
 
 __all__ = ["FIGURES", "PHYSICAL_FIGURES", "FigureSpec", "draw", "figures_for", "register", "save_figures"]
@@ -120,6 +120,10 @@ def register(kind: str, *specs: FigureSpec) -> None:
         The figures, drawn after those already registered.
     """
     FIGURES[kind] = FIGURES.get(kind, ()) + tuple(specs)
+
+
+register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=engineering.has_iso_kv))
+register("runup", FigureSpec("runup", runup.runup_figure))
 
 
 def _kind(ds: Any) -> str:

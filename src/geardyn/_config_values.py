@@ -1,0 +1,188 @@
+"""Values of a TOML configuration: kinds with their units, pint parsing, and one-line errors naming file and line.
+
+Private to :mod:`geardyn.config`, which holds the schema (the sections and keys) and builds the models.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from functools import lru_cache
+from typing import Any, NamedTuple
+
+from .errors import ConfigError, GeardynError
+
+_ANGLE_UNITS = frozenset({"degree", "radian", "arcminute", "arcsecond", "turn", "revolution", "gradian"})
+_SPEED_UNIT_WORDS = ("revolution", "radian", "turn", "degree", "rpm")
+
+
+class _Kind(NamedTuple):
+    label: str  # what is expected, for messages
+    unit: str | None  # SI (or rpm) target unit; None for plain numbers
+    example: str
+
+
+_NUMBER = _Kind("non-dimensional number", None, "0.1")
+_INT = _Kind("integer", None, "23")
+_TEXT = _Kind("string", None, '"paper pair"')
+_LENGTH = _Kind("length", "m", '"7.28 mm"')
+_ANGLE = _Kind("angle", "radian", '"20 deg"')
+_PHASE = _Kind("phase (angle, or a number in rad)", "radian", '"30 deg" or 0.5')
+_INERTIA = _Kind("moment of inertia", "kg*m^2", '"1.772 kg*m^2"')
+_STIFF = _Kind("stiffness", "N/m", '"2000 N/um"')
+_STIFF_W = _Kind("stiffness per unit face width", "N/m^2", '"20 N/(mm*um)"')
+_DAMP = _Kind("damping coefficient", "N*s/m", '"5e4 N*s/m"')
+_SPEED = _Kind("rotational speed", "rpm", '"3000 rpm" or "314 rad/s"')
+_TORQUE = _Kind("torque", "N*m", '"1500 N*m"')
+_DENSITY = _Kind("density", "kg/m^3", '"7860 kg/m^3"')
+
+
+def _choice(options: tuple[str, ...]) -> _Kind:
+    return _Kind("one of " + ", ".join(repr(o) for o in options), None, repr(options[0]))
+
+
+class _Key(NamedTuple):
+    kind: _Kind
+    series: bool = False
+
+
+
+
+@lru_cache(maxsize=1)
+def _ureg():
+    import pint
+
+    ureg = pint.UnitRegistry()
+    ureg.define("rev = revolution")
+    return ureg
+
+
+def parse_quantity(text: str, unit: str) -> float:
+    """Parse ``"number unit"`` and return its magnitude in ``unit`` (raises ``ValueError``).
+
+    Parameters
+    ----------
+    text : str
+        A quantity such as ``"7.28 mm"``.
+    unit : str
+        Target unit understood by pint, e.g. ``"m"``.
+    """
+    q = _ureg().Quantity(text)
+    return float(q.to(unit).magnitude)
+
+
+# ---------------------------------------------------------------------------- error context
+class _Ctx:
+    """Where a value comes from, to build one-line error messages."""
+
+    def __init__(self, source: str, text: str):
+        self.source = source
+        self.lines = text.splitlines()
+
+    def line_of(self, section: str | None, key: str) -> int | None:
+        current: str | None = None
+        key_re = re.compile(rf"^\s*(?:{re.escape(key)}|\"{re.escape(key)}\"|'{re.escape(key)}')\s*=")
+        header = re.compile(r"^\s*\[\s*([^\[\]]+?)\s*\]\s*(#.*)?$")
+        for i, line in enumerate(self.lines, start=1):
+            m = header.match(line)
+            if m:
+                current = m.group(1)
+                if section is not None and key == "" and current == section:
+                    return i
+                continue
+            if current == section and key and key_re.match(line):
+                return i
+        return None
+
+    def error(
+        self, section: str | None, key: str, problem: str, cls: type[GeardynError] = ConfigError
+    ) -> GeardynError:
+        """The error ``cls`` (a file problem by default) with the file, line, section and key in its message."""
+        line = self.line_of(section, key)
+        where = f"{self.source}: " + (f"line {line}: " if line else "")
+        what = (f"[{section}] " if section else "") + (f"{key}: " if key else "")
+        return cls(f"{where}{what}{problem}")
+
+
+# ---------------------------------------------------------------------------- value parsing
+def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, index: int | None = None) -> Any:
+    def bad(problem: str) -> GeardynError:
+        return ctx.error(section, key, (f"element {index}: " if index is not None else "") + problem)
+
+    if kind is _TEXT:
+        if not isinstance(raw, str):
+            raise bad(f"expected a string, got {raw!r}")
+        return raw
+    if kind.label.startswith("one of"):
+        if not isinstance(raw, str) or kind.label.find(repr(raw)) < 0:
+            raise bad(f"expected {kind.label}, got {raw!r}")
+        return raw
+    if isinstance(raw, bool) or isinstance(raw, (dict, list)):
+        raise bad(f"expected a {kind.label} (e.g. {kind.example}), got {raw!r}")
+    if kind is _INT:
+        if isinstance(raw, float) and raw.is_integer():
+            raw = int(raw)
+        if not isinstance(raw, int):
+            raise bad(f"expected an integer, got {raw!r}")
+        return raw
+    if kind.unit is None or (kind is _PHASE and isinstance(raw, (int, float))):
+        # plain (non-dimensional) number; phases may be plain numbers in radians
+        if isinstance(raw, str):
+            try:
+                q = _ureg().Quantity(raw)
+            except Exception:
+                raise bad(f"expected a {kind.label} (e.g. {kind.example}), got {raw!r}") from None
+            if not q.unitless:
+                raise bad(f"expected a {kind.label} without unit (e.g. {kind.example}), got {raw!r}")
+            raw = float(q.to("").magnitude)
+        x = float(raw)
+        if not math.isfinite(x):
+            raise bad(f"must be a finite number, got {raw!r}")
+        return x
+    if not isinstance(raw, str):
+        raise bad(f"expected a {kind.label} with its unit, as a string (e.g. {kind.example}), got {raw!r}")
+    try:
+        q = _ureg().Quantity(raw)
+    except Exception as e:  # pint raises several error types for bad unit strings
+        raise bad(f"cannot read {raw!r} as a {kind.label} ({type(e).__name__}); write e.g. {kind.example}") from None
+    units = str(q.units)
+    if kind in (_ANGLE, _PHASE):
+        if units not in _ANGLE_UNITS:
+            raise bad(f"expected an angle with its unit (deg or rad; e.g. {kind.example}), got {raw!r}")
+    elif kind is _SPEED:
+        if not any(w in units for w in _SPEED_UNIT_WORDS):
+            raise bad(f"expected a rotational speed in rpm, rev/s or rad/s (e.g. {kind.example}), got {raw!r}")
+    if not q.is_compatible_with(kind.unit):
+        raise bad(
+            f"expected a {kind.label} (unit compatible with {kind.unit}, e.g. {kind.example}), "
+            f"got {raw!r} with dimension {q.dimensionality}"
+        )
+    x = float(q.to(kind.unit).magnitude)
+    if not math.isfinite(x):
+        raise bad(f"must be finite, got {raw!r}")
+    return x
+
+
+def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any) -> tuple[Any, str | None]:
+    """Return (value in SI, assumed-source or None)."""
+    assumed = None
+    if isinstance(raw, dict):
+        extra = set(raw) - {"value", "assumed"}
+        if "value" not in raw or extra:
+            raise ctx.error(
+                section,
+                key,
+                "an inline table must have the keys 'value' and optionally 'assumed' "
+                f"(e.g. {{ value = {spec.kind.example}, assumed = \"typical value\" }}), got keys {sorted(raw)}",
+            )
+        assumed = raw.get("assumed")
+        if assumed is not None and (not isinstance(assumed, str) or not assumed.strip()):
+            raise ctx.error(section, key, "'assumed' must be a non-empty string giving the source or reason")
+        raw = raw["value"]
+    if spec.series:
+        if not isinstance(raw, list):
+            raw = [raw]
+        if not raw:
+            return (), assumed
+        return tuple(_parse_scalar(ctx, section, key, spec.kind, r, i + 1) for i, r in enumerate(raw)), assumed
+    return _parse_scalar(ctx, section, key, spec.kind, raw), assumed

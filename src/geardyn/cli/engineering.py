@@ -1,0 +1,234 @@
+"""Commands for the engineer's front end: ``te`` (measured transmission error) and ``runup`` (speed ramps)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+from rich.table import Table
+
+from ..errors import ModelError
+from .app import console, emit_json
+from .options import OUTPUT, Inputs, command, finish, model_group, option
+
+JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
+
+TE_OPTIONS = [
+    option("teeth", str, ..., "--teeth", help="Teeth of pinion and gear, z1,z2 (e.g. 14,39)."),
+    option("harmonics", int, 3, "--harmonics", help="Mesh harmonics fitted (orders l z1, l = 1 … L)."),
+    option("shaft_orders", int, 2, "--shaft-orders",
+           help="Shaft orders j fitted for each shaft, alone and as sidebands l z1 ± j (pinion), l z1 ± j z1/z2 (gear)."),
+    option("x_unit", Optional[str], None, "--x-unit",
+           help="Unit of the first column when the header does not state it: deg, rad, rev (angle) or s, ms, us (time)."),
+    option("te_unit", Optional[str], None, "--te-unit", help="Unit of the TE column when the header does not state it: um, mm, nm, m."),
+    option("te_rpm", Optional[float], None, "--rpm", help="Pinion speed (rpm) of a time record."),
+    option("te_out", Optional[Path], None, "--out", help="Write the [mesh] section (TOML) to this file."),
+    *JSON_ONLY,
+]
+
+
+def _teeth(text: str) -> tuple[int, int]:
+    try:
+        z1, z2 = (int(t) for t in text.replace(";", ",").split(","))
+    except ValueError:
+        raise ModelError(f"teeth: expected z1,z2 (two whole numbers, e.g. 14,39), got {text!r}") from None
+    if z1 < 1 or z2 < 1:
+        raise ModelError(f"teeth: numbers of teeth must be >= 1, got {text!r}")
+    return z1, z2
+
+
+@command("te", TE_OPTIONS)
+def te(
+    inp: Inputs,
+    file: Annotated[Path, typer.Argument(help="Measured TE record: two columns (angle or time, TE), header with units optional.")],
+) -> None:
+    """Measured transmission error: mesh-order harmonics with phases, shaft-order sidebands, hunting period, and a
+    [mesh] section (mesh orders only) the other commands accept."""
+    from ..te import analyse_te, mesh_section, read_te
+
+    z1, z2 = _teeth(inp.teeth)
+    sig = read_te(file, x_unit=inp.x_unit, te_unit=inp.te_unit, rpm=inp.te_rpm)
+    res = analyse_te(sig, z1, z2, harmonics=inp.harmonics, shaft_orders=inp.shaft_orders)
+    section = mesh_section(res)
+    summary = res.to_json()
+    summary["abscissa"] = sig.abscissa
+    summary["mesh_section"] = section
+    files = []
+    if inp.te_out is not None:
+        inp.te_out.write_text(section, encoding="utf-8")
+        files.append(str(inp.te_out))
+    if inp.json_out:
+        summary["files"] = files
+        emit_json(summary)
+        return
+    _show_te(summary, files)
+
+
+def _show_te(s: dict[str, Any], files: list[str]) -> None:
+    t = Table(title=f"Mesh harmonics of {s['source']} (z1 = {s['z1']}, z2 = {s['z2']})")
+    for col in ("l", "pinion order", "amplitude (µm)", "phase (deg)"):
+        t.add_column(col, justify="right")
+    for r in s["mesh_harmonics"]:
+        t.add_row(str(r["mesh_harmonic"]), f"{r['order']:.6g}", f"{r['amplitude_um']:.5g}", f"{r['phase_deg']:.4g}")
+    console.print(t)
+    side = sorted(s["sidebands"], key=lambda r: -r["amplitude_um"])[:8]
+    t = Table(title="Largest shaft orders and sidebands")
+    for col in ("kind", "shaft", "pinion order", "amplitude (µm)", "phase (deg)"):
+        t.add_column(col)
+    for r in side:
+        t.add_row(r["kind"], r.get("shaft", ""), f"{r['order']:.6g}", f"{r['amplitude_um']:.5g}", f"{r['phase_deg']:.4g}")
+    console.print(t)
+    lines = [
+        f"hunting period: {s['hunting_period_mesh_cycles']} mesh cycles ({s['hunting_period_pinion_revolutions']:.6g} "
+        f"pinion revolutions); the record covers {s['record_pinion_revolutions']:.4g} pinion revolutions",
+        f"sidebands: {100 * s['sideband_share']:.3g} % of the fitted orders' RMS; the forcing is "
+        + ("periodic over one mesh cycle to that share" if s["periodic_over_mesh_cycle"]
+           else "NOT periodic over one mesh cycle (the model keeps the mesh orders only)"),
+        f"residual: {100 * s['residual_share']:.3g} % of the signal's RMS",
+        *[f"left out: {x}" for x in s["left_out"]],
+    ]
+    for line in lines:
+        console.print(line, markup=False, highlight=False)
+    console.print(s["mesh_section"], markup=False, highlight=False, soft_wrap=True)
+    for f in files:
+        console.print(f"wrote {f}", markup=False, highlight=False)
+
+
+def attach_iso_kv(config: Optional[Path], model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+    """Add the ISO K_v-B curve (JSON ``iso_kv``, Dataset attribute ``iso_kv``) to a frequency response over ω.
+
+    Only when the configured pair has the ISO inputs K_v needs (``f_pt`` among its ``[gear_pair]`` keys); the
+    response is returned unchanged otherwise.
+    """
+    import json
+
+    from ..config import load_config
+    from ..geometry.iso import iso_kv_block
+
+    cfg = load_config(config)
+    if cfg.pair is None or "f_pt" not in cfg.iso_inputs or "rpm" not in ds.coords:
+        return ds, summary
+    sc = cfg.scales
+    u_max = {str(s): ds["u_max"].sel(sweep=s).values for s in ds["sweep"].values}
+    block = iso_kv_block(cfg.pair, cfg.iso_inputs, torque=float(sc.torque_from_fp(model.fp)),
+                         rpm=ds["rpm"].values, u_max=u_max, D=model.D, fp=model.fp,
+                         model_resonance_rpm=float(sc.rpm_from_omega(1.0)))
+    ds = ds.copy()
+    ds.attrs["iso_kv"] = json.dumps(block)
+    return ds, {**summary, "iso_kv": block}
+
+
+RUNUP_OPTIONS = [
+    option("ru_rpm_start", Optional[float], None, "--rpm-start", help="Pinion speed at the start of the ramp (rpm)."),
+    option("ru_rpm_stop", Optional[float], None, "--rpm-stop", help="Pinion speed at the end of the ramp (rpm; below "
+                                                                     "--rpm-start for a run-down)."),
+    option("duration", Optional[float], None, "--duration", help="Duration of the ramp (s)."),
+    option("omega_start", Optional[float], None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."),
+    option("omega_stop", Optional[float], None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
+    option("tau_duration", Optional[float], None, "--tau-duration", help="Duration of the ramp in τ (instead of --duration)."),
+    option("cycles_per_block", Optional[int], None, "--cycles-per-block",
+           help="Mesh cycles per constant-speed block (default: about 400 blocks)."),
+    option("orders", int, 3, "--orders", help="Mesh orders tracked."),
+    option("qs_num", int, 21, "--num", help="Speeds of the quasi-static (steady) response beside the ramp (0: none)."),
+    option("dtau", float, 0.05, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ) in every block."),
+    option("accurate", bool, False, "--accurate", help="Split steps at the contact crossings u = ±D."),
+    option("settle", int, 200, "--settle", help="Periods at the start speed before the ramp (from --u0, --v0 = 0)."),
+]
+
+
+def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
+    scales = inp.scales()
+    given_rpm = inp.ru_rpm_start is not None or inp.ru_rpm_stop is not None
+    given_w = inp.omega_start is not None or inp.omega_stop is not None
+    if given_rpm == given_w:
+        raise ModelError("rpm_start: give the ramp either as --rpm-start/--rpm-stop or as --omega-start/--omega-stop")
+    if given_rpm:
+        from ..units import omega_range
+
+        if inp.ru_rpm_start is None or inp.ru_rpm_stop is None:
+            raise ModelError("rpm_start: give both --rpm-start and --rpm-stop")
+        w0, w1 = omega_range(scales, inp.ru_rpm_start, inp.ru_rpm_stop)
+    else:
+        if inp.omega_start is None or inp.omega_stop is None:
+            raise ModelError("omega_start: give both --omega-start and --omega-stop")
+        w0, w1 = inp.omega_start, inp.omega_stop
+    if (inp.duration is None) == (inp.tau_duration is None):
+        raise ModelError("duration: give the ramp's duration as --duration (s) or --tau-duration (τ), one of them")
+    if inp.duration is not None:
+        if getattr(scales, "nondimensional", False):
+            raise ModelError("duration: the configuration has no [gear_pair]; give --tau-duration")
+        if not inp.duration > 0:
+            raise ModelError(f"duration: must be > 0 s, got {inp.duration:g}")
+        T = float(scales.tau_from_s(inp.duration))
+    else:
+        T = float(inp.tau_duration)
+    return float(w0), float(w1), T, scales
+
+
+@command("runup", RUNUP_OPTIONS, model_group(omega=False, rpm=False), OUTPUT)
+def runup_cmd(inp: Inputs) -> None:
+    """Run-up / run-down through a linear speed ramp: order-tracked DTE, amplitude and dynamic factor against
+    speed, beside the quasi-static (steady) response swept up and down."""
+    import json
+
+    import numpy as np
+
+    from .. import validate
+    from ..analysis.runup import runup, steady_response
+
+    model = inp.model()
+    w0, w1, T, sc = _ramp(inp)
+    nq = validate.integer("num", inp.qs_num, 0, 2001)
+    orders = validate.integer("orders", inp.orders, 1, 50)
+    res = runup(model, w0, w1, T, cycles_per_block=inp.cycles_per_block, orders=orders, dtau=inp.dtau,
+                accurate=inp.accurate, settle=validate.integer("settle", inp.settle, 0, validate.MAX_PERIODS))
+    ds = res.to_dataset()
+    summary = res.to_json()
+    um = float(sc.b_c_m) * 1e6
+    from ..io import annotate
+
+    ds = ds.assign_coords(rpm=("block", sc.rpm_from_omega(ds["omega"].values)),
+                          time_s=("block", sc.s_from_tau(ds["tau"].values)))
+    for v in ("order_amplitude", "amplitude"):
+        ds[f"{v}_um"] = (ds[v].dims, ds[v].values * um)
+    annotate(ds)
+    rate = float(sc.rpm_from_omega(res.ramp_rate) * sc.omega_n_rad_s)
+    ds.attrs["ramp_rate_rpm_per_s"] = rate
+    ds.attrs["physical_scales"] = sc.to_json()
+    summary.update({"rpm": [float(x) for x in ds["rpm"].values], "ramp_rate_rpm_per_s": rate,
+                    "duration_s": float(sc.s_from_tau(T)), "amplitude_um": [None if not np.isfinite(x) else float(x)
+                                                                             for x in ds["amplitude_um"].values],
+                    "pair": sc.statement(), "model": model.to_dict()})
+    if nq >= 2:
+        lo, hi = sorted((w0, w1))
+        qs = steady_response(model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate)
+        x_rpm = [float(v) for v in sc.rpm_from_omega(np.array(qs["x"]))]
+        for lab in ("up", "down"):
+            qs[lab]["amplitude_um"] = [None if v is None else v * um for v in qs[lab]["amplitude"]]
+        summary["quasi_static"] = {**qs, "rpm": x_rpm}
+        plot_qs = {"x": x_rpm, **{lab: {"amplitude": qs[lab]["amplitude_um"], "dynamic_factor": qs[lab]["dynamic_factor"]}
+                                  for lab in ("up", "down")}}
+        ds.attrs["quasi_static"] = json.dumps(plot_qs)
+    finish(summary, inp.write(ds, "runup"), inp, _show_runup)
+
+
+def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
+    what = "run-up" if s["omega_stop"] > s["omega_start"] else "run-down"
+    console.print(f"{what}: {s['rpm'][0]:.6g} → {s['rpm'][-1]:.6g} rpm in {s['duration_s']:.4g} s "
+                  f"({s['ramp_rate_rpm_per_s']:.4g} rpm/s), {s['blocks']} blocks of {s['cycles_per_block']} mesh cycles"
+                  + ("; DIVERGED" if s["diverged"] else ""), markup=False, highlight=False)
+    t = Table(title="Order-tracked DTE (every tenth block)")
+    for col in ("rpm", "ω", "mesh order 1 (µm)", "half p-p (µm)", "dynamic factor"):
+        t.add_column(col, justify="right")
+    um = [None if a is None or b is None else b / a for a, b in zip(s["amplitude"], s["amplitude_um"])]
+    scale = next((x for x in um if x), 1.0)
+    for i in range(0, s["blocks"], max(1, s["blocks"] // 10)):
+        a1 = s["order_amplitude"][0][i]
+        t.add_row(f"{s['rpm'][i]:.6g}", f"{s['omega'][i]:.5g}", "n/a" if a1 is None else f"{a1 * scale:.4g}",
+                  "n/a" if s["amplitude_um"][i] is None else f"{s['amplitude_um'][i]:.4g}",
+                  "n/a" if s["dynamic_factor"][i] is None else f"{s['dynamic_factor'][i]:.4g}")
+    console.print(t)
+    console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
+    for f in paths:
+        console.print(f"wrote {f}", markup=False, highlight=False)
