@@ -241,3 +241,36 @@ def accumulate(st, ev, gaps):
         else:
             st[e, S_NSEP] += 1.0
         st[e, S_N] += 1.0
+
+
+@njit(nogil=True, inline="always")
+def field_tab(x, tab, r, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, out):
+    """:func:`field` in the default mode with the coefficients of row r of a table (T, meshes, 4)."""
+    n = g.shape[0]
+    M = V.shape[0]
+    for i in range(n):
+        out[i] = x[n + i]
+        acc = g[i]
+        for j in range(n):
+            acc -= A[i, j] * x[j] + B[i, j] * x[n + j]
+        out[n + i] = acc
+    for m in range(M):
+        d = 0.0
+        dv = 0.0
+        for j in range(n):
+            d += V[m, j] * x[j]
+            dv += V[m, j] * x[n + j]
+        d -= tab[r, m, 2]
+        dv -= omega * tab[r, m, 3]
+        s = tab[r, m, 0] * dv + tab[r, m, 1] * _fz(d, D[m])
+        for i in range(n):
+            out[n + i] -= W[m, i] * s
+    for c in range(Vc.shape[0]):
+        d = 0.0
+        dv = 0.0
+        for j in range(n):
+            d += Vc[c, j] * x[j]
+            dv += Vc[c, j] * x[n + j]
+        s = cc[c] * dv + kc[c] * _fz(d, Dc[c])
+        for i in range(n):
+            out[n + i] -= Wc[c, i] * s

@@ -16,7 +16,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .core import LOCK_FREE, coef_at, element_values, field, jac_blocks, tan_field
+from .core import LOCK_FREE, coef_at, element_values, field, field_tab, jac_blocks, tan_field
 
 #: Largest number of sub-steps one step is split into (accurate mode).
 MAX_SPLITS = 64
@@ -226,3 +226,23 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
             tangent, Y)
     for i in range(d):
         x[i] = xo[i]
+
+
+@njit(nogil=True)
+def rk4_plain(x, h, tab, j, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k1, k2, k3, k4, xs):
+    """One default-mode RK4 step without tangents (the hot loop), coefficients from the table rows 2j..2j+2."""
+    d = x.shape[0]
+    hh = 0.5 * h
+    h6 = h / 6.0
+    field_tab(x, tab, 2 * j, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k1)
+    for i in range(d):
+        xs[i] = x[i] + hh * k1[i]
+    field_tab(xs, tab, 2 * j + 1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k2)
+    for i in range(d):
+        xs[i] = x[i] + hh * k2[i]
+    field_tab(xs, tab, 2 * j + 1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k3)
+    for i in range(d):
+        xs[i] = x[i] + h * k3[i]
+    field_tab(xs, tab, 2 * j + 2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k4)
+    for i in range(d):
+        x[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])

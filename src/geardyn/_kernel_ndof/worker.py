@@ -19,7 +19,7 @@ from .core import (
     LOCK_FREE, NSTAT, ST_DIVERGED, ST_OK, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE, accumulate, coef_at,
     diverged_state, element_values, gram_schmidt,
 )
-from .step import accurate_step, rk4
+from .step import accurate_step, rk4, rk4_plain
 
 
 @njit(nogil=True, cache=True)
@@ -47,6 +47,11 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
     logs = np.empty(max(ktan, 1))
     st = np.zeros((E, NSTAT))
     hl = hist.shape[1]
+    k1 = np.empty(d)
+    k2 = np.empty(d)
+    k3 = np.empty(d)
+    k4 = np.empty(d)
+    xs = np.empty(d)
     while True:
         k = _fetch_add(counter, 1)
         if k >= P:
@@ -56,6 +61,8 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
         Tf = tperiod[p]
         h = Tf / N
         om = omega[p]
+        Ap, Bp, Wp, Vp, Dp, Wcp, Vcp, kcp, ccp, Dcp, gp = A[p], B[p], W[p], V[p], D[p], Wc[p], Vc[p], kc[p], cc[p], \
+            Dc[p], g[p]
         gaps = np.empty(E)
         for m in range(M):
             gaps[m] = D[p, m]
@@ -86,6 +93,8 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
                     accurate_step(x, j * h, h, coef[p], ratio[p], om, A[p], B[p], W[p], V[p], D[p], Wc[p], Vc[p],
                                   kc[p], cc[p], Dc[p], g[p], gaps, mode, xo, cfa, wk, wt, Gq, Gv, tan_on, Y, Ysave,
                                   ev)
+                elif not tan_on:
+                    rk4_plain(x, h, tab, j, Ap, Bp, Wp, Vp, Dp, Wcp, Vcp, kcp, ccp, Dcp, gp, om, k1, k2, k3, k4, xs)
                 else:
                     rk4(x, h, tab[2 * j], tab[2 * j + 1], tab[2 * j + 2], A[p], B[p], W[p], V[p], D[p], Wc[p],
                         Vc[p], kc[p], cc[p], Dc[p], g[p], om, mode, tan_on, Y, wk, wt, Gq, Gv)
@@ -94,7 +103,7 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
                         coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
                         element_values(x, cfa[3], V[p], Vc[p], om, ev)
                     else:
-                        element_values(x, tab[2 * j + 2], V[p], Vc[p], om, ev)
+                        element_values(x, tab[2 * j + 2], Vp, Vcp, om, ev)
                     accumulate(st, ev, gaps)
                 if hl > 0:
                     s = per * N + j + 1 - hstart
