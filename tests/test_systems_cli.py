@@ -60,7 +60,17 @@ def test_modes_json_and_figure(tmp_path):
 
 
 def test_unavailable_and_bad_combinations_one_line():
-    p = run("bifurcation", "--system", TORS, "--json", code=2)
+    p = run("map", "--system", TORS, "--json", code=2)
     assert len(p.stderr.strip().splitlines()) == 1
     p = run("simulate", "--system", TORS, "--fp", "0.3", code=2)
     assert "system" in p.stderr and len(p.stderr.strip().splitlines()) == 1
+
+
+def test_bifurcation_and_response_on_a_system():
+    b = json.loads(run("bifurcation", "--system", TORS, "--start", "0.6", "--stop", "1.0", "--num", "5",
+                       "--transient", "50", "--periods", "32", "--json").stdout)
+    assert b["values"] == pytest.approx([0.6, 0.7, 0.8, 0.9, 1.0]) and len(b["period"]) == 5
+    assert b["meshes"][0]["name"] == "mesh" and len(b["meshes"][0]["amplitude"]) == 5
+    r = json.loads(run("response", "--system", TORS, "--omega-start", "0.6", "--omega-stop", "1.0", "--num", "5",
+                       "--transient", "50", "--periods", "32", "--json").stdout)
+    assert set(r["amplitude"]) == {"up", "down"} and "jumps" in r

@@ -118,11 +118,43 @@ def _periodic_refusal(name: str):
         s = load_cli_system(values)
         if name in ("continuation",):
             require_periodic(s, name)
-        raise ModelError(f"system: {name} --system is not available yet; simulate, lyapunov and orbit are")
+        raise ModelError(f"system: {name} --system is not available yet; simulate, lyapunov, orbit, bifurcation "
+                         f"and response are")
     return run
 
 
-_HANDLERS = {"simulate": _simulate, "lyapunov": _lyapunov, "orbit": _orbit}
+def _bifurcation(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
+    from .. import validate
+    from ..analysis.systems_sweep import system_sweep
+
+    s = load_cli_system(values)
+    param = kw.get("param") or "omega"
+    if kw.get("start") is None or kw.get("stop") is None:
+        raise ModelError("start: give the parameter range (--start and --stop) with --system")
+    name, vals = validate.axis(param, kw["start"], kw["stop"], kw.get("num", 101))
+    return system_sweep(s, name, list(vals), mode={"fixed": "fixed"}.get(kw.get("mode", "fixed"), "continue"),
+                        sweep=kw.get("sweep", "up"), options=_opts(values))
+
+
+def _response(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
+    import numpy as np
+
+    from ..analysis.systems_sweep import system_response_jumps, system_sweep
+
+    s = load_cli_system(values)
+    lo, hi = values.get("omega_start"), values.get("omega_stop")
+    if lo is None or hi is None:
+        raise ModelError("omega-start: give the ω range (--omega-start and --omega-stop) with --system")
+    sw = system_sweep(s, "omega", list(np.linspace(float(lo), float(hi), int(kw.get("num", 71)))), mode="continue",
+                      sweep="both", options=_opts(values))
+    measure = kw.get("measure", "amplitude")
+    sw["measure"] = measure
+    sw["jumps"] = system_response_jumps(sw, measure if measure in ("amplitude", "u_min", "u_max") else "amplitude")
+    return sw
+
+
+_HANDLERS = {"simulate": _simulate, "lyapunov": _lyapunov, "orbit": _orbit, "bifurcation": _bifurcation,
+             "response": _response}
 
 
 def run_system(name: str, values: dict[str, Any], kw: dict[str, Any]) -> None:
