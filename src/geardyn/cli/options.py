@@ -325,9 +325,11 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         hints = typing.get_type_hints(fn, include_extras=True)
+        from .system_option import SYSTEM, SYSTEM_COMMANDS
+        groups_ = groups + ((SYSTEM,) if name in SYSTEM_COMMANDS else ())
         own = [p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)
                for p in list(inspect.signature(fn).parameters.values())[1:]]
-        shared = [p for g in groups for p in g]
+        shared = [p for g in groups_ for p in g]
         names = [p.name for p in shared]
 
         @functools.wraps(fn)
@@ -342,6 +344,10 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
             with np.errstate(all="ignore"), warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
                 try:
+                    if inp.values.get("system") is not None:
+                        from .system_option import run_system
+
+                        return run_system(name, inp.values, kw)
                     return fn(inp, **kw)
                 except GeardynError as e:
                     if is_stop(e):

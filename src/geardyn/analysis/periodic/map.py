@@ -25,7 +25,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ...integrate import integrate_batch, natural_steps, period_map, state_dim, trajectory
+from ...integrate_ndof import forcing_period, integrate_batch, natural_steps, period_map, state_dim, trajectory
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 
 __all__ = ["PeriodMap", "MapEvaluation", "FD_REL_STEP", "MAP_THREADS"]
@@ -146,12 +146,12 @@ class PeriodMap:
     @property
     def period(self) -> float:
         """Forcing period T of the system (non-dimensional time); one map iteration spans n·T."""
-        return self.model.period
+        return forcing_period(self.model)
 
     @property
     def step(self) -> float:
         """The RK4 step h = T/N."""
-        return self.model.period / self._steps
+        return forcing_period(self.model) / self._steps
 
     def get(self, name: str) -> float:
         """Value of the system parameter ``name``."""

@@ -1,0 +1,248 @@
+"""One RK4 step of the state (and of the tangent columns), and the accurate mode's split steps.
+
+A step uses the coefficients at its start, midpoint and end (``cf0, cf1, cf2``, each (meshes, 4));
+the tangent columns are advanced with the Jacobian at each stage's state (so that in the default
+mode they are the exact derivative of the discrete map).  The accurate mode locks every element
+to the branch of its dead zone at the sub-step start, takes the step, and where an element's
+contact boundary (δ = ±D, E_m(θ) included for meshes) is crossed inside it, finds the crossing
+length by a safeguarded secant (Illinois) iteration on the locked step and splits the step there;
+the vector field is continuous, so the split keeps RK4 fourth order and no saltation is needed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .core import LOCK_FREE, coef_at, element_values, field, field_tab, jac_blocks, tan_field
+
+#: Largest number of sub-steps one step is split into (accurate mode).
+MAX_SPLITS = 64
+#: Hermite samples inside a sub-step checked for a double crossing (grazing).
+HERMITE_SAMPLES = 4
+#: Iterations of the crossing search.
+ROOT_ITERS = 60
+#: Crossings are located to this fraction of the step.
+CROSSING_TOL = 1e-13
+
+
+@njit(nogil=True)
+def rk4(x, h, cf0, cf1, cf2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, tangent, Y, wk, wt, Gq, Gv):
+    """Advance x (and the columns Y when ``tangent``) by one RK4 step of length h, in place.
+
+    wk : (6, 2n) workspace (k1..k4, stage state, start state); wt : (5, 2n, k) tangent workspace.
+    """
+    d = x.shape[0]
+    hh = 0.5 * h
+    h6 = h / 6.0
+    k1 = wk[0]
+    k2 = wk[1]
+    k3 = wk[2]
+    k4 = wk[3]
+    xs = wk[4]
+    field(x, cf0, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, k1)
+    if tangent:
+        jac_blocks(x, cf0, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv)
+        tan_field(Y, Gq, Gv, wt[0])
+    for i in range(d):
+        xs[i] = x[i] + hh * k1[i]
+    field(xs, cf1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, k2)
+    if tangent:
+        jac_blocks(xs, cf1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + hh * wt[0][i, c]
+        tan_field(Ys, Gq, Gv, wt[1])
+    for i in range(d):
+        xs[i] = x[i] + hh * k2[i]
+    field(xs, cf1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, k3)
+    if tangent:
+        jac_blocks(xs, cf1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + hh * wt[1][i, c]
+        tan_field(Ys, Gq, Gv, wt[2])
+    for i in range(d):
+        xs[i] = x[i] + h * k3[i]
+    field(xs, cf2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, k4)
+    if tangent:
+        jac_blocks(xs, cf2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + h * wt[2][i, c]
+        tan_field(Ys, Gq, Gv, wt[3])
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Y[i, c] += h6 * (wt[0][i, c] + 2.0 * wt[1][i, c] + 2.0 * wt[2][i, c] + wt[3][i, c])
+    for i in range(d):
+        x[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+
+
+# ----------------------------------------------------------------------------- accurate mode
+@njit(nogil=True)
+def _regions(ev, gaps, mode):
+    """Branch of every element from its (δ, δ'); on a boundary the side δ' moves into."""
+    for e in range(ev.shape[0]):
+        d = ev[e, 0]
+        D = gaps[e]
+        if D == 0.0:
+            mode[e] = 1
+        elif d > D or (d == D and ev[e, 1] > 0.0):
+            mode[e] = 1
+        elif d < -D or (d == -D and ev[e, 1] < 0.0):
+            mode[e] = -1
+        else:
+            mode[e] = 0
+
+
+@njit(nogil=True)
+def _gfun(d, D, m):
+    """Distance inside the locked branch m (negative once δ has left it)."""
+    if D == 0.0:
+        return 1.0
+    if m == 1:
+        return d - D
+    if m == -1:
+        return -D - d
+    return min(D - d, d + D)
+
+
+@njit(nogil=True)
+def _locked(x0, t, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
+            tangent, Y):
+    """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``)."""
+    for i in range(x0.shape[0]):
+        xo[i] = x0[i]
+    coef_at(coef, ratio, omega * t, cfa[0])
+    coef_at(coef, ratio, omega * (t + 0.5 * s), cfa[1])
+    coef_at(coef, ratio, omega * (t + s), cfa[2])
+    rk4(xo, s, cfa[0], cfa[1], cfa[2], A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, tangent, Y, wk, wt, Gq, Gv)
+
+
+@njit(nogil=True)
+def _worst(x, t, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev):
+    """Smallest locked-branch distance over the elements at state x, time t, and its element."""
+    coef_at(coef, ratio, omega * t, cfa[3])
+    element_values(x, cfa[3], V, Vc, omega, ev)
+    best = np.inf
+    who = -1
+    for e in range(ev.shape[0]):
+        gv = _gfun(ev[e, 0], gaps[e], mode[e])
+        if gv < best:
+            best = gv
+            who = e
+    return best, who
+
+
+@njit(nogil=True)
+def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, gaps, mode, xo, cfa, wk, wt,
+                  Gq, Gv, tangent, Y, Ysave, ev):
+    """Advance x (and Y) by one step of length h split at every contact-boundary crossing."""
+    d = x.shape[0]
+    rem = h
+    tt = t
+    for _split in range(MAX_SPLITS):
+        coef_at(coef, ratio, omega * tt, cfa[3])
+        element_values(x, cfa[3], V, Vc, omega, ev)
+        _regions(ev, gaps, mode)
+        if tangent:
+            for i in range(d):
+                for c in range(Y.shape[1]):
+                    Ysave[i, c] = Y[i, c]
+        _locked(x, tt, rem, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
+                tangent, Y)
+        gend, _w = _worst(xo, tt + rem, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
+        hi = rem
+        ghi = gend
+        if gend >= 0.0:
+            # a crossing out and back inside the sub-step: check a few locked sub-lengths
+            for k in range(1, HERMITE_SAMPLES + 1):
+                sk = rem * k / (HERMITE_SAMPLES + 1)
+                _locked(x, tt, sk, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, wk[5], cfa, wk,
+                        wt, Gq, Gv, False, Y)
+                gk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
+                if gk < 0.0:
+                    hi = sk
+                    ghi = gk
+                    break
+        if ghi >= 0.0:
+            for i in range(d):
+                x[i] = xo[i]
+            return
+        # bracket [lo, hi] with g(lo) >= 0 > g(hi): Illinois
+        lo = 0.0
+        glo, _w = _worst(x, tt, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
+        if glo < 0.0:
+            glo = 0.0
+        side = 0
+        for _it in range(ROOT_ITERS):
+            if hi - lo <= CROSSING_TOL * h:
+                break
+            s = hi - ghi * (hi - lo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
+            if not (s > lo and s < hi):
+                s = 0.5 * (lo + hi)
+            _locked(x, tt, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, wk[5], cfa, wk, wt,
+                    Gq, Gv, False, Y)
+            gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
+            if gs == 0.0:
+                lo = s
+                hi = s
+                break
+            if gs > 0.0:
+                lo = s
+                glo = gs
+                if side == 1:
+                    ghi *= 0.5
+                side = 1
+            else:
+                hi = s
+                ghi = gs
+                if side == -1:
+                    glo *= 0.5
+                side = -1
+        s = hi
+        if tangent:
+            for i in range(d):
+                for c in range(Y.shape[1]):
+                    Y[i, c] = Ysave[i, c]
+        _locked(x, tt, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
+                tangent, Y)
+        for i in range(d):
+            x[i] = xo[i]
+        tt += s
+        rem -= s
+        if rem <= 0.0:
+            return
+    # split limit reached: finish the step unsplit
+    coef_at(coef, ratio, omega * tt, cfa[3])
+    element_values(x, cfa[3], V, Vc, omega, ev)
+    _regions(ev, gaps, mode)
+    _locked(x, tt, rem, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
+            tangent, Y)
+    for i in range(d):
+        x[i] = xo[i]
+
+
+@njit(nogil=True)
+def rk4_plain(x, h, tab, j, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k1, k2, k3, k4, xs):
+    """One default-mode RK4 step without tangents (the hot loop), coefficients from the table rows 2j..2j+2."""
+    d = x.shape[0]
+    hh = 0.5 * h
+    h6 = h / 6.0
+    field_tab(x, tab, 2 * j, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k1)
+    for i in range(d):
+        xs[i] = x[i] + hh * k1[i]
+    field_tab(xs, tab, 2 * j + 1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k2)
+    for i in range(d):
+        xs[i] = x[i] + hh * k2[i]
+    field_tab(xs, tab, 2 * j + 1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k3)
+    for i in range(d):
+        xs[i] = x[i] + h * k3[i]
+    field_tab(xs, tab, 2 * j + 2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k4)
+    for i in range(d):
+        x[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])

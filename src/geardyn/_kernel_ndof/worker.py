@@ -1,0 +1,142 @@
+"""The N-DOF worker: one parameter point at a time from a shared queue (nogil, compiled once, cached).
+
+Per point: the derived matrices are given by the caller; in the default mode the coefficients of
+one forcing period are tabulated at the 2N + 1 half-step angles (the forcing is periodic in that
+period, so the table serves every period: no trigonometric call in the step loop); the accurate
+mode evaluates them where its split sub-steps need them.  The stroboscopic samples are exact:
+h = T_f/N with T_f the forcing period.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .._kernel.core import _fetch_add
+from .core import (
+    LOCK_FREE, NSTAT, ST_DIVERGED, ST_OK, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE, accumulate, coef_at,
+    diverged_state, element_values, gram_schmidt,
+)
+from .step import accurate_step, rk4, rk4_plain
+
+
+@njit(nogil=True, cache=True)
+def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, Dc, omega, tperiod, nsteps,
+                state0, n_transient, n_record, tangent, accurate, poincare, end_state, stats, tan_log, tan_out,
+                status, hist):
+    P = order.shape[0]
+    d = state0.shape[1]
+    n = d // 2
+    M = V.shape[1]
+    C = Vc.shape[1]
+    E = M + C
+    ktan = d if tangent != TAN_NONE else 0
+    x = np.empty(d)
+    xo = np.empty(d)
+    wk = np.empty((6, d))
+    wt = np.empty((5, d, max(ktan, 1)))
+    Y = np.zeros((d, max(ktan, 1)))
+    Ysave = np.zeros((d, max(ktan, 1)))
+    Gq = np.empty((n, n))
+    Gv = np.empty((n, n))
+    ev = np.empty((E, 2))
+    cfa = np.empty((4, M, 4))
+    mode = np.full(E, LOCK_FREE, dtype=np.int64)
+    logs = np.empty(max(ktan, 1))
+    st = np.zeros((E, NSTAT))
+    hl = hist.shape[1]
+    k1 = np.empty(d)
+    k2 = np.empty(d)
+    k3 = np.empty(d)
+    k4 = np.empty(d)
+    xs = np.empty(d)
+    while True:
+        k = _fetch_add(counter, 1)
+        if k >= P:
+            break
+        p = order[k]
+        N = nsteps[p]
+        Tf = tperiod[p]
+        h = Tf / N
+        om = omega[p]
+        Ap, Bp, Wp, Vp, Dp, Wcp, Vcp, kcp, ccp, Dcp, gp = A[p], B[p], W[p], V[p], D[p], Wc[p], Vc[p], kc[p], cc[p], \
+            Dc[p], g[p]
+        gaps = np.empty(E)
+        for m in range(M):
+            gaps[m] = D[p, m]
+        for c in range(C):
+            gaps[M + c] = Dc[p, c]
+        tab = np.empty((0, M, 4))
+        if not accurate:
+            tab = np.empty((2 * N + 1, M, 4))
+            for i in range(2 * N + 1):
+                coef_at(coef[p], ratio[p], om * (0.5 * h * i), tab[i])
+        for i in range(d):
+            x[i] = state0[p, i]
+        st[:, :] = 0.0
+        Y[:, :] = 0.0
+        for i in range(ktan):
+            Y[i, i] = 1.0
+        bad = False
+        total = n_transient + n_record
+        hstart = total * N - (hl - 1)
+        if hl > 0:
+            for i in range(d):
+                hist[p, 0, i] = x[i] if hstart == 0 else 0.0
+        for per in range(total):
+            rec = per >= n_transient
+            tan_on = rec and ktan > 0
+            for j in range(N):
+                if accurate:
+                    accurate_step(x, j * h, h, coef[p], ratio[p], om, A[p], B[p], W[p], V[p], D[p], Wc[p], Vc[p],
+                                  kc[p], cc[p], Dc[p], g[p], gaps, mode, xo, cfa, wk, wt, Gq, Gv, tan_on, Y, Ysave,
+                                  ev)
+                elif not tan_on:
+                    rk4_plain(x, h, tab, j, Ap, Bp, Wp, Vp, Dp, Wcp, Vcp, kcp, ccp, Dcp, gp, om, k1, k2, k3, k4, xs)
+                else:
+                    rk4(x, h, tab[2 * j], tab[2 * j + 1], tab[2 * j + 2], A[p], B[p], W[p], V[p], D[p], Wc[p],
+                        Vc[p], kc[p], cc[p], Dc[p], g[p], om, mode, tan_on, Y, wk, wt, Gq, Gv)
+                if rec:
+                    if accurate:
+                        coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
+                        element_values(x, cfa[3], V[p], Vc[p], om, ev)
+                    else:
+                        element_values(x, tab[2 * j + 2], Vp, Vcp, om, ev)
+                    accumulate(st, ev, gaps)
+                if hl > 0:
+                    s = per * N + j + 1 - hstart
+                    if s >= 0:
+                        for i in range(d):
+                            hist[p, s, i] = x[i]
+            if diverged_state(x):
+                bad = True
+                break
+            if rec:
+                r = per - n_transient
+                if poincare.shape[1] > 0:
+                    for i in range(d):
+                        poincare[p, r, i] = x[i]
+                if tangent == TAN_LYAPUNOV:
+                    gram_schmidt(Y, logs)
+                    for i in range(ktan):
+                        tan_log[p, r, i] = logs[i]
+        for e in range(E):
+            for s in range(NSTAT):
+                stats[p, e, s] = st[e, s]
+        if bad:
+            status[p] = ST_DIVERGED
+            for r in range(poincare.shape[1]):
+                for i in range(d):
+                    poincare[p, r, i] = np.nan
+            for i in range(d):
+                end_state[p, i] = np.nan
+        else:
+            status[p] = ST_OK
+            for i in range(d):
+                end_state[p, i] = x[i]
+        if tangent != TAN_NONE:
+            for i in range(d):
+                for c in range(ktan):
+                    tan_out[p, i, c] = Y[i, c]
