@@ -158,9 +158,14 @@ def test_continuation_sweeps_reproduce_the_hysteresis_interval(soft_response):
     ds = soft_response
     assert list(ds["sweep"].values) == ["up", "down"]
     hy = json.loads(ds.attrs["hysteresis"])
-    a = GRID[GRID > FOLD_HIGH].min()
-    b = GRID[GRID < FOLD_LOW].max()
-    assert hy == [[pytest.approx(a), pytest.approx(b)]]
+    # the interval runs between the midpoints of the grid steps that hold the two folds (where the jumps are
+    # reported), so each bound lies within half a grid step of its exact fold
+    a_in, a_out = GRID[GRID > FOLD_HIGH].min(), GRID[GRID < FOLD_HIGH].max()
+    b_in, b_out = GRID[GRID < FOLD_LOW].max(), GRID[GRID > FOLD_LOW].min()
+    assert hy == [[pytest.approx(0.5 * (a_out + a_in)), pytest.approx(0.5 * (b_in + b_out))]]
+    half = 0.5 * float(np.diff(GRID).max())
+    assert abs(hy[0][0] - FOLD_HIGH) <= half and abs(hy[0][1] - FOLD_LOW) <= half
+    assert json.loads(ds.attrs["coexistence"]) == []
     # inside: two different period-1 attractors; the high one impacts, the low one barely separates
     w = float(GRID[(GRID > FOLD_HIGH) & (GRID < FOLD_LOW)][2])
     up, down = ds.sel(omega=w, sweep="up"), ds.sel(omega=w, sweep="down")
@@ -329,4 +334,36 @@ def test_fine_response_brackets_the_folds():
     grid = np.round(np.arange(0.5305, 0.6, 0.002), 6)
     ds = frequency_response(SOFT, float(grid[0]), float(grid[-1]), grid.size, options=IntegrationOptions(transient=600, periods=64))
     hy = hysteresis_intervals(ds)
-    assert hy == [[pytest.approx(grid[grid > FOLD_HIGH].min()), pytest.approx(grid[grid < FOLD_LOW].max())]]
+    lo = 0.5 * (grid[grid > FOLD_HIGH].min() + grid[grid < FOLD_HIGH].max())
+    hi = 0.5 * (grid[grid < FOLD_LOW].max() + grid[grid > FOLD_LOW].min())
+    assert hy == [[pytest.approx(lo), pytest.approx(hi)]]
+
+
+def test_hysteresis_is_never_zero_width_and_always_has_its_jump():
+    """A single grid point of coexisting attractors gives an interval one grid step wide around it, bounded
+    by the jumps; attractors that differ with no jump at either bound are listed as coexistence instead."""
+    from geardyn.analysis.response import coexistence_intervals
+
+    x = np.round(np.linspace(0.70, 0.80, 11), 6)
+    n = x.size
+    amp_up = np.where(x < 0.765, 0.3, 1.2)      # the up sweep jumps between 0.76 and 0.77
+    amp_down = np.where(x < 0.755, 0.3, 1.2)    # the down sweep jumps between 0.76 and 0.75
+    period = np.ones((2, n), np.int64)
+    motion = np.full((2, n), MOTION_PERIODIC, np.int64)
+    pu = np.stack([amp_up, amp_down])[..., None] * np.ones((1, 1, 4))
+    ds = xr.Dataset(
+        {"amplitude": (("sweep", "omega"), np.stack([amp_up, amp_down])),
+         "mean": (("sweep", "omega"), np.zeros((2, n))),
+         "status": (("sweep", "omega"), np.zeros((2, n), np.int64)),
+         "period": (("sweep", "omega"), period), "motion": (("sweep", "omega"), motion),
+         "poincare_u": (("sweep", "omega", "section"), pu), "poincare_v": (("sweep", "omega", "section"), 0 * pu)},
+        coords={"sweep": ["up", "down"], "omega": x}, attrs={"param": "omega", "measure": "amplitude"})
+    hy, co = coexistence_intervals(ds)
+    assert hy == [[pytest.approx(0.755), pytest.approx(0.765)]] and co == []
+    assert hy[0][1] - hy[0][0] == pytest.approx(0.01)
+    # the same disagreement at one point with equal amplitudes (no jump in the measure): coexistence only
+    same = ds.copy(deep=True)
+    same["amplitude"][:] = 0.5
+    same["poincare_u"][1, 6] = 2.0  # a different orbit of the same amplitude at ω = 0.76
+    hy, co = coexistence_intervals(same)
+    assert hy == [] and co == [[pytest.approx(0.755), pytest.approx(0.765)]]

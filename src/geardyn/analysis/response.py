@@ -12,10 +12,13 @@ From its Dataset:
   taken for jumps.  Each jump is
   reported at the midpoint ω of its step, with its direction (``up``: the amplitude increases),
   its size (|ΔA|) and the sweep in which it occurs.
-- a **hysteresis interval** [ω_a, ω_b] is a maximal run of grid points where the up and down
+- a **hysteresis interval** [ω_a, ω_b] covers a maximal run of grid points where the up and down
   sweeps end on different attractors (:func:`same_attractor`, the test of
-  :mod:`geardyn.analysis.attractors` that the basins use too): coexisting attractors, whose
-  basins :mod:`geardyn.analysis.basins` can map.
+  :mod:`geardyn.analysis.attractors` that the basins use too) and a jump bounds it: coexisting
+  attractors, whose basins :mod:`geardyn.analysis.basins` can map.  Its bounds are the midpoints of
+  the grid steps around the run, where the jumps are reported too (so it is never zero-width);
+  runs of differing attractors that no jump bounds are listed apart as **coexistence**
+  (:func:`coexistence_intervals`).
 
 All amplitudes are non-dimensional (units of b_c), frequencies ω = ω_e/ω_n.
 """
@@ -44,6 +47,7 @@ __all__ = [
     "MEASURES",
     "frequency_response",
     "detect_jumps",
+    "coexistence_intervals",
     "hysteresis_intervals",
     "same_attractor",
     "response_json",
@@ -124,8 +128,9 @@ def frequency_response(
 def annotate_response(ds: xr.Dataset, measure: str = "amplitude") -> xr.Dataset:
     """Detect jumps and hysteresis in a two-sweep ω Dataset and store them as attributes."""
     jumps = detect_jumps(ds, measure)
-    hyst = hysteresis_intervals(ds)
-    ds.attrs.update(geardyn_kind="response", measure=measure, jumps=json.dumps(jumps), hysteresis=json.dumps(hyst))
+    hyst, coexist = coexistence_intervals(ds, jumps=jumps)
+    ds.attrs.update(geardyn_kind="response", measure=measure, jumps=json.dumps(jumps), hysteresis=json.dumps(hyst),
+                    coexistence=json.dumps(coexist))
     return ds
 
 
@@ -261,8 +266,74 @@ def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, to
     return _same(_sweep_arrays(ds, a), _sweep_arrays(ds, b), k, _amplitude_range(ds), tol, nonperiodic_tol)
 
 
+def _disagreeing_runs(ds: xr.Dataset, a: str, b: str) -> list[tuple[int, int]]:
+    """Maximal runs (first, last grid index) where sweeps ``a`` and ``b`` end on different attractors."""
+    x = ds[_param(ds)].values
+    sa, sb, rng = _sweep_arrays(ds, a), _sweep_arrays(ds, b), _amplitude_range(ds)
+    differ = [_same(sa, sb, k, rng, ATTRACTOR_TOL, NONPERIODIC_TOL) is False for k in range(x.size)]
+    runs: list[tuple[int, int]] = []
+    k = 0
+    while k < x.size:
+        if differ[k]:
+            j = k
+            while j + 1 < x.size and differ[j + 1]:
+                j += 1
+            runs.append((k, j))
+            k = j + 1
+        else:
+            k += 1
+    return runs
+
+
+def coexistence_intervals(ds: xr.Dataset, a: str = "up", b: str = "down",
+                          jumps: list[dict[str, Any]] | None = None) -> tuple[list[list[float]], list[list[float]]]:
+    """The intervals where sweeps ``a`` and ``b`` end on different attractors, split by whether a jump bounds them.
+
+    A maximal run of grid points x_k … x_j where the sweeps disagree is bounded by the grid steps
+    (x_{k−1}, x_k) and (x_j, x_{j+1}); the folds where one attractor is born and the other dies lie
+    inside those steps.  Its interval is reported from the midpoint of the first step to the midpoint
+    of the last — the same midpoints at which :func:`detect_jumps` reports the jumps, so an interval
+    and its jumps agree, and a run of one grid point gives an interval one grid step wide (not a
+    zero-width one); at an end of the grid the interval ends at that grid point.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A continuation Dataset with both sweeps.
+    a, b : str
+        The sweep labels compared.
+    jumps : list of dict, optional
+        The jumps of the Dataset (default: :func:`detect_jumps` on its ``measure``).
+
+    Returns
+    -------
+    (hysteresis, coexistence) : two lists of [float, float]
+        ``hysteresis``: the intervals with a listed jump at one of their bounds (an amplitude jump
+        where a sweep leaves its attractor).  ``coexistence``: attractors that differ with no jump
+        in the measure at either bound (for example two period-n orbits of equal amplitude, or a
+        point still settling); they are coexisting attractors, but no jump shows them.
+    """
+    labels = [str(s) for s in ds["sweep"].values]
+    if a not in labels or b not in labels:
+        return [], []
+    name = _param(ds)
+    x = ds[name].values
+    if jumps is None:
+        jumps = detect_jumps(ds, str(ds.attrs.get("measure", "amplitude")))
+    steps = {frozenset((j[f"{name}_from"], j[f"{name}_to"])) for j in jumps}
+    hysteresis: list[list[float]] = []
+    coexistence: list[list[float]] = []
+    for k, j in _disagreeing_runs(ds, a, b):
+        lo = float(0.5 * (x[k - 1] + x[k])) if k > 0 else float(x[k])
+        hi = float(0.5 * (x[j] + x[j + 1])) if j + 1 < x.size else float(x[j])
+        jumped = (k > 0 and frozenset((float(x[k - 1]), float(x[k]))) in steps) or \
+                 (j + 1 < x.size and frozenset((float(x[j]), float(x[j + 1]))) in steps)
+        (hysteresis if jumped else coexistence).append([lo, hi])
+    return hysteresis, coexistence
+
+
 def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list[list[float]]:
-    """Maximal runs [x_a, x_b] of grid points where sweeps ``a`` and ``b`` disagree (coexisting attractors).
+    """Intervals [ω_a, ω_b] of coexisting attractors bounded by a jump (see :func:`coexistence_intervals`).
 
     Parameters
     ----------
@@ -276,25 +347,7 @@ def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list
     list of [float, float]
         Empty when the Dataset does not hold both sweeps.
     """
-    labels = [str(s) for s in ds["sweep"].values]
-    if a not in labels or b not in labels:
-        return []
-    name = _param(ds)
-    x = ds[name].values
-    sa, sb, rng = _sweep_arrays(ds, a), _sweep_arrays(ds, b), _amplitude_range(ds)
-    differ = [_same(sa, sb, k, rng, ATTRACTOR_TOL, NONPERIODIC_TOL) is False for k in range(x.size)]
-    out: list[list[float]] = []
-    k = 0
-    while k < x.size:
-        if differ[k]:
-            j = k
-            while j + 1 < x.size and differ[j + 1]:
-                j += 1
-            out.append([float(x[k]), float(x[j])])
-            k = j + 1
-        else:
-            k += 1
-    return out
+    return coexistence_intervals(ds, a, b)[0]
 
 
 def response_json(ds: xr.Dataset) -> dict[str, Any]:
@@ -318,6 +371,7 @@ def response_json(ds: xr.Dataset) -> dict[str, Any]:
     out: dict[str, Any] = {
         "jumps": json.loads(ds.attrs.get("jumps", "[]")),
         "hysteresis": json.loads(ds.attrs.get("hysteresis", "[]")),
+        "coexistence": json.loads(ds.attrs.get("coexistence", "[]")),
         "measure": measure,
         name: json_values(ds[name]),
     }
