@@ -35,7 +35,10 @@ from .aft import signal_extrema
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS, HBSystem, hb_solve
 
-__all__ = ["HBBifurcation", "HBContinuation", "hb_continuation"]
+__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation"]
+
+#: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
+KIND = "hb"
 
 #: Arclength steps in (a, p/p_s): initial, largest, smallest.
 DS_INIT, DS_MAX, DS_MIN = 0.005, 0.02, 1e-7
@@ -153,36 +156,42 @@ class HBContinuation:
             return float(x) if np.isfinite(x) else None
 
         pts = [{self.param: float(v), "amplitude": num(0.5 * (hi - lo)), "u_min": num(lo), "u_max": num(hi),
-                "stable": bool(st), "status": Status(int(s)).label,
+                "stable": bool(st) if int(s) == int(Status.OK) else None, "status": Status(int(s)).label,
                 "multipliers": [[num(m.real), num(m.imag)] for m in mu]}
                for v, lo, hi, st, s, mu in zip(self.values, self.u_min, self.u_max, self.stable, self.status,
                                                self.multipliers)]
-        return {"param": self.param, "branch": pts, "bifurcations": [b.to_json() for b in self.bifurcations],
+        bifs = [{"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
+                for b in self.bifurcations]
+        return {"param": self.param, "branch": pts, "bifurcations": bifs,
                 "harmonics": self.harmonics, "period": self.period, "samples": self.samples,
                 "converged": self.converged, "end": self.end}
 
     def to_dataset(self):
-        """The branch as an :class:`xarray.Dataset` over ``point`` (bifurcations in the attributes)."""
+        """The branch as an :class:`xarray.Dataset` over ``point`` (kind ``hb``; the bifurcations as the JSON
+        attribute ``bifurcations``, keyed like ``to_json()``)."""
         import json
 
         import xarray as xr
 
+        from ...io import annotate, result_attrs
+
         ds = xr.Dataset(
             {self.param: ("point", self.values), "u_min": ("point", self.u_min), "u_max": ("point", self.u_max),
-             "amplitude": ("point", self.amplitude), "stable": ("point", self.stable),
+             "amplitude": ("point", self.amplitude), "stable": ("point", self.stable.astype(np.int8)),
              "multiplier_re": (("point", "multiplier"), self.multipliers.real),
              "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
              "coefficients": (("point", "coefficient"), self.coefficients),
              "status": ("point", self.status.astype(np.int64))},
             coords={"point": np.arange(self.values.size), "multiplier": [0, 1],
                     "coefficient": np.arange(2 * self.harmonics + 1)},
-            attrs={"geardyn_kind": "hb_continuation", "model": self.model.to_json(), "param": self.param,
-                   "harmonics": self.harmonics, "period": self.period, "samples": self.samples,
-                   "end": self.end, "bifurcations": json.dumps([b.to_json() for b in self.bifurcations])},
+            attrs=result_attrs(KIND, self.model, param=self.param, harmonics=self.harmonics, period=self.period,
+                               samples=self.samples, end=self.end,
+                               coefficient_layout="[a0, a1..aH, b1..bH] of u(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
+                                                  "φ = ωτ/n",
+                               bifurcations=json.dumps(self.to_json()["bifurcations"])),
         )
         ds["status"].attrs.update(flag_attrs())
-        ds["coefficients"].attrs.update(long_name="[a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n")
-        return ds
+        return annotate(ds)
 
 
 class _Tracer:
