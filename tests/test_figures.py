@@ -35,6 +35,7 @@ COMMANDS = {
             "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20", "--periods", "8",
             "--settle", "0"],
     "basins": ["basins", "--omega", "1.2", "--nu", "3", "--nv", "3", "--transient", "20", "--periods", "16"],
+    "hb": ["hb", "--param", "omega", "--start", "1.2", "--stop", "1.3", "--harmonics", "4"],
 }
 
 

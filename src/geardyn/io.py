@@ -169,6 +169,9 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
     "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary")},
     "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary")},
     "mathieu_boundary": {"xi0_critical": _v("ξ0 above which the linear contact model is stable")},
+    "hb": {"coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
+           "coefficient": _v("index of the Fourier coefficient"),
+           "stable": _v("solution stable (1) or unstable (0) by Hill's multipliers")},
 }
 
 #: Long name of a swept or continued model parameter without an entry of its own, by kind.
