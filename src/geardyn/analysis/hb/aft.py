@@ -225,29 +225,48 @@ def convolve(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.convolve(x, y)
 
 
+def _value_slope(basis: HarmonicBasis, a: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """u and u_φ at ``phi`` from one evaluation of the harmonics."""
+    H = basis.H
+    kk = np.arange(1, H + 1)
+    arg = np.multiply.outer(phi, kk)
+    c, s = np.cos(arg), np.sin(arg)
+    A, B = a[1:H + 1], a[H + 1:]
+    return a[0] + c @ A + s @ B, c @ (kk * B) - s @ (kk * A)
+
+
 def _crossings(basis: HarmonicBasis, a: np.ndarray, level: float, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Roots of u(φ) = level in the brackets [lo, hi] (sign change assumed): Newton kept in the bracket."""
+    """Roots of u(φ) = level in the brackets [lo, hi] (sign change assumed): Newton kept in the bracket.
+
+    A root is converged when its Newton step is below ROOT_TOL·(1 + |φ|); steps that would leave the
+    bracket are replaced by bisection."""
+    a = np.asarray(a, dtype=float)
     lo, hi = lo.astype(float).copy(), hi.astype(float).copy()
     flo = basis.evaluate(a, lo) - level
     fhi = basis.evaluate(a, hi) - level
     with np.errstate(divide="ignore", invalid="ignore"):
         x = lo - flo * (hi - lo) / (fhi - flo)  # linear interpolation of the samples
     x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
+    todo = np.arange(x.size)
     for _ in range(ROOT_MAX_ITER):
-        f = basis.evaluate(a, x) - level
-        same = np.sign(f) == np.sign(flo)
-        lo = np.where(same, x, lo)
-        flo = np.where(same, f, flo)
-        hi = np.where(same, hi, x)
-        d = basis.evaluate(a, x, 1)
+        xs = x[todo]
+        f, d = _value_slope(basis, a, xs)
+        f = f - level
         with np.errstate(divide="ignore", invalid="ignore"):
-            xn = x - f / d
-        bad = ~np.isfinite(xn) | (xn <= lo) | (xn >= hi)
-        xn = np.where(bad, 0.5 * (lo + hi), xn)
-        if np.all(np.abs(xn - x) <= ROOT_TOL * (1.0 + np.abs(x))):
-            x = xn
+            step = f / d
+        done = (f == 0.0) | (np.isfinite(step) & (np.abs(step) <= ROOT_TOL * (1.0 + np.abs(xs))))
+        x[todo[done]] = np.where(f[done] == 0.0, xs[done], xs[done] - step[done])
+        keep = ~done
+        todo, xs, f, step = todo[keep], xs[keep], f[keep], step[keep]
+        if todo.size == 0:
             break
-        x = xn
+        same = np.sign(f) == np.sign(flo[todo])
+        lo[todo] = np.where(same, xs, lo[todo])
+        flo[todo] = np.where(same, f, flo[todo])
+        hi[todo] = np.where(same, hi[todo], xs)
+        xn = xs - step
+        bad = ~np.isfinite(xn) | (xn <= lo[todo]) | (xn >= hi[todo])
+        x[todo] = np.where(bad, 0.5 * (lo[todo] + hi[todo]), xn)
     return x
 
 
