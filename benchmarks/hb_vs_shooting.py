@@ -10,7 +10,8 @@ switching), so one run gives the up and the down response.
 * timed settings (each run in this process, the two methods alternated, ``--repeats`` rounds, the
   minimum wall time of each kept): HB at its defaults (H = 16, ds_max = 0.02) and at fewer harmonics
   with larger steps; shooting at its defaults (default mode, Δτ = 0.01, ds_max = 0.01) and cheaper ones;
-* for each method the fastest setting whose two folds are within 1e-3 of the reference is compared.
+* for each method the fastest setting that finds every reference event (both folds, the grazing and the
+  period doublings) within 1e-3 of the reference is compared.
 
 Run: ``python benchmarks/hb_vs_shooting.py [--repeats 2]``.  Prints a Markdown table, the load
 average before and after, and writes ``benchmarks/results/hb_vs_shooting.json``.
@@ -34,9 +35,10 @@ from geardyn.model import GearModel  # noqa: E402
 MODEL = GearModel(xi0=0.08)
 LO, HI = 0.3, 1.0
 FOLD_ACCURACY = 1e-3
-HB_SETTINGS = [dict(harmonics=16, ds_max=0.02), dict(harmonics=8, ds_max=0.05), dict(harmonics=4, ds_max=0.1)]
+HB_SETTINGS = [dict(harmonics=16, ds_max=0.02), dict(harmonics=8, ds_max=0.05), dict(harmonics=8, ds_max=0.1),
+               dict(harmonics=4, ds_max=0.1)]
 SHOOTING_SETTINGS = [dict(accurate=False, dtau=0.01), dict(accurate=False, dtau=0.02, ds_max=0.05),
-                     dict(accurate=True, dtau=0.02, ds_max=0.05)]
+                     dict(accurate=False, dtau=0.05, ds_max=0.05), dict(accurate=True, dtau=0.02, ds_max=0.05)]
 
 
 def _hb(kw):
@@ -70,7 +72,8 @@ def main() -> None:
     t_ref = time.perf_counter() - t0
     ref = [(t, v) for t, v in ref if t in ("fold", "grazing", "period-doubling")]
     runs = [("HB", kw, _hb) for kw in HB_SETTINGS] + [("shooting", kw, _shooting) for kw in SHOOTING_SETTINGS]
-    order = [r for pair in zip(runs[:3], runs[3:]) for r in pair]  # HB, shooting, HB, shooting, ...
+    nh = len(HB_SETTINGS)
+    order = [r for pair in zip(runs[:nh], runs[nh:]) for r in pair]  # HB, shooting, HB, shooting, ...
     best: dict[int, float] = {}
     found: dict[int, tuple] = {}
     for _ in range(args.repeats):
@@ -87,7 +90,7 @@ def main() -> None:
         ev, pts = found[i]
         err = _errors(ev, ref)
         rows.append({"method": method, "settings": kw, "seconds": best[i], "points": pts, "errors": err,
-                     "events": ev, "meets": err["fold"] <= FOLD_ACCURACY})
+                     "events": ev, "meets": max(err.values()) <= FOLD_ACCURACY})
     print(f"reference (shooting, accurate, Δτ = 0.001, {t_ref:.1f} s): "
           + ", ".join(f"{t} {v:.8f}" for t, v in ref))
     print("\n| method | settings | points | wall (s), min of "
@@ -102,7 +105,7 @@ def main() -> None:
             for m in ("HB", "shooting")}
     if fast["HB"] and fast["shooting"]:
         ratio = fast["HB"]["seconds"] / fast["shooting"]["seconds"]
-        print(f"\nfastest at fold accuracy {FOLD_ACCURACY:g}: HB {fast['HB']['seconds']:.2f} s "
+        print(f"\nfastest with every event within {FOLD_ACCURACY:g}: HB {fast['HB']['seconds']:.2f} s "
               f"({fast['HB']['settings']}), shooting {fast['shooting']['seconds']:.2f} s "
               f"({fast['shooting']['settings']}); HB/shooting = {ratio:.2f} (goal <= 0.5)")
     print(f"load average before {load0[0]:.2f} {load0[1]:.2f} {load0[2]:.2f}, after {load1[0]:.2f} {load1[1]:.2f} "

@@ -40,6 +40,7 @@ not from the samples, so they do not depend on N.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -212,12 +213,19 @@ def toeplitz(coef: np.ndarray, H: int) -> np.ndarray:
     """Multiplication operator on c_k (|k| <= H) of a function with complex coefficients ``coef``
     (odd length 2L + 1, centred); entry (k, l) = coef_{k−l}, zero where |k − l| > L."""
     L = (len(coef) - 1) // 2
+    ok, idx = _toeplitz_index(L, H)
+    out = np.zeros((2 * H + 1, 2 * H + 1), dtype=complex)
+    out[ok] = coef[idx]
+    return out
+
+
+@functools.lru_cache(maxsize=64)
+def _toeplitz_index(L: int, H: int) -> tuple[np.ndarray, np.ndarray]:
+    """Mask of the entries (k, l) with |k − l| <= L and the coefficient index k − l + L of each."""
     k = np.arange(-H, H + 1)
     d = k[:, None] - k[None, :]
-    out = np.zeros((2 * H + 1, 2 * H + 1), dtype=complex)
     ok = np.abs(d) <= L
-    out[ok] = coef[d[ok] + L]
-    return out
+    return ok, d[ok] + L
 
 
 def convolve(x: np.ndarray, y: np.ndarray) -> np.ndarray:

@@ -49,6 +49,11 @@ MAX_POINTS = 3000
 #: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER.
 LOCATE_REL_TOL = 1e-9
 LOCATE_MAX_ITER = 40
+#: While a multiplier is within NEAR_CRITICAL of +1 or −1 (or a complex pair of the unit circle), the
+#: step is at most NEAR_CRITICAL_DS·ds_max, so that two events close together (a period-doubling
+#: interval a few thousandths wide) are not stepped over with no net sign change of their test.
+NEAR_CRITICAL = 0.1
+NEAR_CRITICAL_DS = 0.1
 
 
 @dataclass
@@ -319,6 +324,16 @@ class _Tracer:
         return [b for _s, b in out]
 
 
+def _near_critical(h: HillResult) -> bool:
+    """A resolved multiplier close to +1 or −1, or a complex pair close to the unit circle."""
+    if h.status is not Status.OK:
+        return False
+    mu = h.multipliers
+    if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
+        return bool(abs(abs(mu[0]) - 1.0) < NEAR_CRITICAL)
+    return bool(np.any(np.abs(np.abs(mu.real) - 1.0) < NEAR_CRITICAL))
+
+
 def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
                     harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
                     samples: int | None = None, ds: float = DS_INIT, ds_max: float = DS_MAX,
@@ -402,6 +417,8 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
             bifs.extend(tr.events(cur, nxt))
             pts.append(nxt)
             h = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
+            if _near_critical(nxt.hill):
+                h = min(h, NEAR_CRITICAL_DS * ds_max)
             p = tr.p(nxt.y)
             if p > hi or p < lo:
                 end = "reached the end of the interval"
