@@ -9,15 +9,18 @@ from the lowest to the highest ω):
   Hill stability), each extended to the located fold, period doubling or Neimark–Sacker point that
   ends it, and each monotone in ω;
 * the **up sweep** starts on the stable segment that the branch starts on (the attractor reached
-  by simulation from rest at the lowest ω), follows it to its end, and there **jumps** to the stable
-  segment that continues beyond that ω with the nearest amplitude; the **down sweep** does the same
+  by simulation from rest at the lowest ω), follows it to its end; at a fold it **jumps** to the
+  stable segment that continues beyond that ω with the nearest amplitude; at a period doubling or
+  Neimark–Sacker point it leaves the period-n solutions (the attractor goes on nearby: a period-2n or
+  quasi-periodic response) until the next stable segment begins; the **down sweep** does the same
   from the highest ω downwards, starting on the segment nearest the branch's end;
 * where no stable segment covers an ω the sweep has no stable period-n solution: its points carry
   ``Status.UNRESOLVED`` (motion "unresolved", NaN values) — a period doubling, a quasi-periodic or a
   chaotic response, which harmonic balance of period n cannot tell apart;
 * the **jumps** are at the exact fold values (``omega``; ``omega_from``/``omega_to`` is the grid step
   that contains it), the **hysteresis** intervals are the exact ω intervals where the two sweeps are on
-  different stable segments (between the folds).
+  different stable segments, or where one is on a stable segment and the other on none (between the
+  folds; a period-doubling interval inside the loop does not interrupt it).
 
 On the grid every point is solved by Newton from the segment's interpolated coefficients, so the
 values are those of harmonic balance at that ω, not an interpolation.  Which attractor a jump lands
@@ -188,14 +191,18 @@ def sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list
                 e = (min(nxt) if d > 0 else max(nxt)) if nxt else stop
                 pieces.append((x, e, None))
                 x = e
-                cands = ahead(x)
-                cur = min(cands, key=lambda s: s.index if d > 0 else -s.index) if cands else None
+                cands = [s for s in ahead(x) if (s.lo if d > 0 else s.hi) == x]  # the segment that starts here
+                cur = cands[0] if cands else None
                 continue
             e = min(cur.hi, stop) if d > 0 else max(cur.lo, stop)
             pieces.append((x, e, cur.index))
             x = e
             if x == stop:
                 break
+            end = cur.ends[1] if d > 0 else cur.ends[0]
+            if end is not None and end.type != "fold":
+                cur = None  # a period doubling or torus: the attractor goes on nearby, not period-n
+                continue
             amp = cur.amplitude_at(x)
             cands = ahead(x, cur.index)
             cur = min(cands, key=lambda s: abs(s.amplitude_at(x) - amp)) if cands else None
@@ -343,13 +350,14 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
 
 
 def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list[list[float]]:
-    """Maximal ω intervals where both sweeps are on stable segments and not on the same one."""
+    """Maximal ω intervals where the sweeps are on different stable segments, or one on a stable segment and
+    the other on none (then its attractor is not that period-n solution either)."""
     cuts = sorted({float(v) for lab in paths for a, b, _s in paths[lab] for v in (a, b)})
     out: list[list[float]] = []
     for a, b in zip(cuts, cuts[1:]):
         m = 0.5 * (a + b)
         su, sd = _on(paths["up"], m), _on(paths["down"], m)
-        if su is not None and sd is not None and su != sd:
+        if su != sd:  # on different stable solutions, or on one and not on any period-n solution
             if out and out[-1][1] == a:
                 out[-1][1] = b
             else:
