@@ -35,8 +35,8 @@ from geardyn.model import GearModel  # noqa: E402
 MODEL = GearModel(xi0=0.08)
 LO, HI = 0.3, 1.0
 FOLD_ACCURACY = 1e-3
-HB_SETTINGS = [dict(harmonics=16, ds_max=0.02), dict(harmonics=8, ds_max=0.05), dict(harmonics=8, ds_max=0.1),
-               dict(harmonics=4, ds_max=0.1)]
+HB_SETTINGS = [dict(harmonics=16, ds_max=0.02), dict(harmonics=16, ds_max=0.05), dict(harmonics=12, ds_max=0.05),
+               dict(harmonics=8, ds_max=0.05)]
 SHOOTING_SETTINGS = [dict(accurate=False, dtau=0.01), dict(accurate=False, dtau=0.02, ds_max=0.05),
                      dict(accurate=False, dtau=0.05, ds_max=0.05), dict(accurate=True, dtau=0.02, ds_max=0.05)]
 

@@ -49,11 +49,13 @@ MAX_POINTS = 3000
 #: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER.
 LOCATE_REL_TOL = 1e-9
 LOCATE_MAX_ITER = 40
-#: While a multiplier is within NEAR_CRITICAL of +1 or −1 (or a complex pair of the unit circle), the
+#: While a real multiplier is within NEAR_CRITICAL of −1 (or a complex pair of the unit circle), the
 #: step is at most NEAR_CRITICAL_DS·ds_max, so that two events close together (a period-doubling
 #: interval a few thousandths wide) are not stepped over with no net sign change of their test.
 NEAR_CRITICAL = 0.1
 NEAR_CRITICAL_DS = 0.1
+#: A step is refused (and halved) when a resolved multiplier moves farther than this in the complex plane.
+MAX_MULTIPLIER_STEP = 0.1
 
 
 @dataclass
@@ -324,14 +326,24 @@ class _Tracer:
         return [b for _s, b in out]
 
 
+def _multiplier_step(a: HillResult, b: HillResult) -> float:
+    """Largest move of a multiplier between two resolved points (the pairing that moves least; 0 if either
+    point is unresolved)."""
+    if a.status is not Status.OK or b.status is not Status.OK:
+        return 0.0
+    ma, mb = a.multipliers, b.multipliers
+    return float(min(np.max(np.abs(ma - mb)), np.max(np.abs(ma - mb[::-1]))))
+
+
 def _near_critical(h: HillResult) -> bool:
-    """A resolved multiplier close to +1 or −1, or a complex pair close to the unit circle."""
+    """A resolved real multiplier close to −1, or a complex pair close to the unit circle (folds, where a
+    multiplier passes +1, are found from the tangent, whose turn limits the step already)."""
     if h.status is not Status.OK:
         return False
     mu = h.multipliers
     if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
         return bool(abs(abs(mu[0]) - 1.0) < NEAR_CRITICAL)
-    return bool(np.any(np.abs(np.abs(mu.real) - 1.0) < NEAR_CRITICAL))
+    return bool(np.any(np.abs(mu.real + 1.0) < NEAR_CRITICAL))
 
 
 def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
@@ -407,7 +419,8 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
                 nxt = tr.correct(yp, cur.t, cur.t)
                 if nxt is not None:
                     cosang = float(np.clip(nxt.t @ cur.t, -1, 1))
-                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG:
+                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG and \
+                            _multiplier_step(cur.hill, nxt.hill) <= MAX_MULTIPLIER_STEP:
                         break
                 nxt = None
                 h *= 0.5
