@@ -9,7 +9,8 @@ For the paper's defaults (GearModel()) and the piecewise-linear case (κ1 = ξ1 
   (u_max − u_min)/2 of HB solved at the reference's ω = 0.70 and 0.90 (on the branch that exists
   there: the large-amplitude one, which is in contact-loss), against the shooting orbit there.
 
-Run: ``python benchmarks/hb_convergence.py [--quick]`` (``--quick`` stops at H = 32).  Prints a
+Run: ``python benchmarks/hb_convergence.py [--quick] [--harmonics H ...]`` (``--quick`` stops at H = 32;
+``--harmonics`` runs only the rows given).  Prints a
 Markdown table and the wall times.
 """
 
@@ -37,8 +38,9 @@ def _key(b) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--harmonics", type=int, nargs="*", help="only these H (e.g. --harmonics 128)")
     args = ap.parse_args()
-    Hs = (8, 16, 32) if args.quick else (8, 16, 32, 64, 128)
+    Hs = tuple(args.harmonics) if args.harmonics else (8, 16, 32) if args.quick else (8, 16, 32, 64, 128)
     for name, m in CASES.items():
         t0 = time.perf_counter()
         ref = continuation(m, "omega", 0.5, 1.0, 1, switch=False, accurate=True, dtau=DTAU_REF)

@@ -36,6 +36,7 @@ COMMANDS = {
             "--settle", "0"],
     "basins": ["basins", "--omega", "1.2", "--nu", "3", "--nv", "3", "--transient", "20", "--periods", "16"],
     "runup": ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "300", "--num", "2"],
+    "hb": ["hb", "--param", "omega", "--start", "1.2", "--stop", "1.3", "--harmonics", "4"],
 }
 
 

@@ -179,6 +179,9 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
         "tau": _v("non-dimensional time τ = ω_n t at the middle of a speed block"),
         "time_s": _v("time at the middle of a speed block", "s"),
     },
+    "hb": {"coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
+           "coefficient": _v("index of the Fourier coefficient"),
+           "stable": _v("solution stable (1) or unstable (0) by Hill's multipliers")},
 }
 
 #: Long name of a swept or continued model parameter without an entry of its own, by kind.

@@ -82,9 +82,11 @@ def response(
     measure: Annotated[str, typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean.")] = "amplitude",
     lyap: LyapunovFlagOpt = False,
     settle: SettleOpt = 1000,
+    method: Annotated[str, typer.Option("--method", help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16) with Hill stability, jumps at the exact folds (integration and engine options unused).")] = "sweep",
 ) -> None:
     """Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)
-    and hysteresis intervals where the sweeps end on different attractors."""
+    and hysteresis intervals where the sweeps end on different attractors (or, with --method hb, from one
+    harmonic-balance branch: jumps at its folds)."""
     from .. import validate
     from ..analysis.physical import add_physical, physical_json
     from ..analysis.response import MEASURES, frequency_response, response_json
@@ -100,8 +102,13 @@ def response(
     choice("measure", measure, MEASURES)
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("response")
-    ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
-                            state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)
+    if choice("method", method, ("sweep", "hb")) == "hb":
+        from ..analysis.hb import hb_response
+
+        ds = hb_response(model, float(values[0]), float(values[-1]), values.size, measure=measure)
+    else:
+        ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
+                                state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)
     ds = add_physical(ds, scales)
     from .engineering import attach_iso_kv  # the ISO K_v-B curve beside the response, when the pair has its inputs
 

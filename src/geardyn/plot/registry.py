@@ -22,6 +22,7 @@ import xarray as xr
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
 from .common import DPI, save
+from .hb import hb_figure
 
 __all__ = ["FIGURES", "PHYSICAL_FIGURES", "FigureSpec", "draw", "figures_for", "register", "save_figures"]
 
@@ -83,6 +84,7 @@ FIGURES: dict[str, tuple[FigureSpec, ...]] = {
     "basins": (FigureSpec("basins", basins.basin_figure),),
     "orbit": (FigureSpec("orbit", periodic.orbit_figure, when=_orbit_converged),),
     "continuation": (FigureSpec("continuation", periodic.continuation_figure),),
+    "hb": (FigureSpec("hb", hb_figure),),
     "stability_boundary": _STABILITY,
     "mathieu_boundary": _STABILITY,
     "stability_comparison": _STABILITY,

@@ -9,13 +9,17 @@ Entry points
     Pseudo-arclength continuation in any model parameter with folds, period doublings,
     Neimark–Sacker points and grazing located; an :class:`HBContinuation` (``to_dataset()``,
     ``to_json()``).
+:func:`hb_response`
+    The up/down frequency response read off one branch in the format of ``geardyn response``
+    (jumps at the folds, hysteresis between them).
 :func:`hill_floquet`
     Hill's method for y'' + c(τ)y' + s(τ)y = 0 from the Fourier coefficients of c and s.
 """
 
 from .continuation import HBBifurcation, HBContinuation, hb_continuation
 from .hill import HillResult, hill_floquet, hill_matrix
+from .response import hb_response, response_from_branch
 from .solve import DEFAULT_HARMONICS, HBSolution, HBSystem, hb_solve
 
 __all__ = ["DEFAULT_HARMONICS", "HBBifurcation", "HBContinuation", "HBSolution", "HBSystem", "HillResult",
-           "hb_continuation", "hb_solve", "hill_floquet", "hill_matrix"]
+           "hb_continuation", "hb_response", "hb_solve", "hill_floquet", "hill_matrix", "response_from_branch"]

@@ -48,13 +48,25 @@ def _openblas() -> tuple[Callable[[], int], Callable[[int], None]] | None:
     return _found  # type: ignore[return-value]
 
 
+_limits: Callable[..., object] | None | bool = False
+
+
+def _threadpoolctl() -> Callable[..., object] | None:
+    """``threadpoolctl.threadpool_limits`` if installed (looked up once)."""
+    global _limits
+    if _limits is False:
+        try:
+            from threadpoolctl import threadpool_limits  # type: ignore[import-not-found]
+        except ImportError:
+            threadpool_limits = None
+        _limits = threadpool_limits
+    return _limits  # type: ignore[return-value]
+
+
 @contextmanager
 def single_thread_blas() -> Iterator[None]:
     """Limit NumPy's BLAS to one thread inside the block (restored afterwards)."""
-    try:
-        from threadpoolctl import threadpool_limits  # type: ignore[import-not-found]
-    except ImportError:
-        threadpool_limits = None
+    threadpool_limits = _threadpoolctl()
     if threadpool_limits is not None:
         with threadpool_limits(limits=1, user_api="blas"):
             yield

@@ -40,6 +40,7 @@ not from the samples, so they do not depend on N.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -212,12 +213,19 @@ def toeplitz(coef: np.ndarray, H: int) -> np.ndarray:
     """Multiplication operator on c_k (|k| <= H) of a function with complex coefficients ``coef``
     (odd length 2L + 1, centred); entry (k, l) = coef_{k−l}, zero where |k − l| > L."""
     L = (len(coef) - 1) // 2
+    ok, idx = _toeplitz_index(L, H)
+    out = np.zeros((2 * H + 1, 2 * H + 1), dtype=complex)
+    out[ok] = coef[idx]
+    return out
+
+
+@functools.lru_cache(maxsize=64)
+def _toeplitz_index(L: int, H: int) -> tuple[np.ndarray, np.ndarray]:
+    """Mask of the entries (k, l) with |k − l| <= L and the coefficient index k − l + L of each."""
     k = np.arange(-H, H + 1)
     d = k[:, None] - k[None, :]
-    out = np.zeros((2 * H + 1, 2 * H + 1), dtype=complex)
     ok = np.abs(d) <= L
-    out[ok] = coef[d[ok] + L]
-    return out
+    return ok, d[ok] + L
 
 
 def convolve(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -225,29 +233,48 @@ def convolve(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.convolve(x, y)
 
 
+def _value_slope(basis: HarmonicBasis, a: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """u and u_φ at ``phi`` from one evaluation of the harmonics."""
+    H = basis.H
+    kk = np.arange(1, H + 1)
+    arg = np.multiply.outer(phi, kk)
+    c, s = np.cos(arg), np.sin(arg)
+    A, B = a[1:H + 1], a[H + 1:]
+    return a[0] + c @ A + s @ B, c @ (kk * B) - s @ (kk * A)
+
+
 def _crossings(basis: HarmonicBasis, a: np.ndarray, level: float, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Roots of u(φ) = level in the brackets [lo, hi] (sign change assumed): Newton kept in the bracket."""
+    """Roots of u(φ) = level in the brackets [lo, hi] (sign change assumed): Newton kept in the bracket.
+
+    A root is converged when its Newton step is below ROOT_TOL·(1 + |φ|); steps that would leave the
+    bracket are replaced by bisection."""
+    a = np.asarray(a, dtype=float)
     lo, hi = lo.astype(float).copy(), hi.astype(float).copy()
     flo = basis.evaluate(a, lo) - level
     fhi = basis.evaluate(a, hi) - level
     with np.errstate(divide="ignore", invalid="ignore"):
         x = lo - flo * (hi - lo) / (fhi - flo)  # linear interpolation of the samples
     x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
+    todo = np.arange(x.size)
     for _ in range(ROOT_MAX_ITER):
-        f = basis.evaluate(a, x) - level
-        same = np.sign(f) == np.sign(flo)
-        lo = np.where(same, x, lo)
-        flo = np.where(same, f, flo)
-        hi = np.where(same, hi, x)
-        d = basis.evaluate(a, x, 1)
+        xs = x[todo]
+        f, d = _value_slope(basis, a, xs)
+        f = f - level
         with np.errstate(divide="ignore", invalid="ignore"):
-            xn = x - f / d
-        bad = ~np.isfinite(xn) | (xn <= lo) | (xn >= hi)
-        xn = np.where(bad, 0.5 * (lo + hi), xn)
-        if np.all(np.abs(xn - x) <= ROOT_TOL * (1.0 + np.abs(x))):
-            x = xn
+            step = f / d
+        done = (f == 0.0) | (np.isfinite(step) & (np.abs(step) <= ROOT_TOL * (1.0 + np.abs(xs))))
+        x[todo[done]] = np.where(f[done] == 0.0, xs[done], xs[done] - step[done])
+        keep = ~done
+        todo, xs, f, step = todo[keep], xs[keep], f[keep], step[keep]
+        if todo.size == 0:
             break
-        x = xn
+        same = np.sign(f) == np.sign(flo[todo])
+        lo[todo] = np.where(same, xs, lo[todo])
+        flo[todo] = np.where(same, f, flo[todo])
+        hi[todo] = np.where(same, hi[todo], xs)
+        xn = xs - step
+        bad = ~np.isfinite(xn) | (xn <= lo[todo]) | (xn >= hi[todo])
+        x[todo] = np.where(bad, 0.5 * (lo[todo] + hi[todo]), xn)
     return x
 
 

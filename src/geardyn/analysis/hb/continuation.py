@@ -36,7 +36,10 @@ from .aft import signal_extrema
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS, HBSystem, hb_solve
 
-__all__ = ["HBBifurcation", "HBContinuation", "hb_continuation"]
+__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation"]
+
+#: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
+KIND = "hb"
 
 #: Arclength steps in (a, p/p_s): initial, largest, smallest.
 DS_INIT, DS_MAX, DS_MIN = 0.005, 0.02, 1e-7
@@ -47,6 +50,13 @@ MAX_POINTS = 3000
 #: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER.
 LOCATE_REL_TOL = 1e-9
 LOCATE_MAX_ITER = 40
+#: While a real multiplier is within NEAR_CRITICAL of −1 (or a complex pair of the unit circle), the
+#: step is at most NEAR_CRITICAL_DS·ds_max, so that two events close together (a period-doubling
+#: interval a few thousandths wide) are not stepped over with no net sign change of their test.
+NEAR_CRITICAL = 0.1
+NEAR_CRITICAL_DS = 0.1
+#: A step is refused (and halved) when a resolved multiplier moves farther than this in the complex plane.
+MAX_MULTIPLIER_STEP = 0.1
 
 
 @dataclass
@@ -154,36 +164,42 @@ class HBContinuation:
             return float(x) if np.isfinite(x) else None
 
         pts = [{self.param: float(v), "amplitude": num(0.5 * (hi - lo)), "u_min": num(lo), "u_max": num(hi),
-                "stable": bool(st), "status": Status(int(s)).label,
+                "stable": bool(st) if int(s) == int(Status.OK) else None, "status": Status(int(s)).label,
                 "multipliers": [[num(m.real), num(m.imag)] for m in mu]}
                for v, lo, hi, st, s, mu in zip(self.values, self.u_min, self.u_max, self.stable, self.status,
                                                self.multipliers)]
-        return {"param": self.param, "branch": pts, "bifurcations": [b.to_json() for b in self.bifurcations],
+        bifs = [{"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
+                for b in self.bifurcations]
+        return {"param": self.param, "branch": pts, "bifurcations": bifs,
                 "harmonics": self.harmonics, "period": self.period, "samples": self.samples,
                 "converged": self.converged, "end": self.end}
 
     def to_dataset(self):
-        """The branch as an :class:`xarray.Dataset` over ``point`` (bifurcations in the attributes)."""
+        """The branch as an :class:`xarray.Dataset` over ``point`` (kind ``hb``; the bifurcations as the JSON
+        attribute ``bifurcations``, keyed like ``to_json()``)."""
         import json
 
         import xarray as xr
 
+        from ...io import annotate, result_attrs
+
         ds = xr.Dataset(
             {self.param: ("point", self.values), "u_min": ("point", self.u_min), "u_max": ("point", self.u_max),
-             "amplitude": ("point", self.amplitude), "stable": ("point", self.stable),
+             "amplitude": ("point", self.amplitude), "stable": ("point", self.stable.astype(np.int8)),
              "multiplier_re": (("point", "multiplier"), self.multipliers.real),
              "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
              "coefficients": (("point", "coefficient"), self.coefficients),
              "status": ("point", self.status.astype(np.int64))},
             coords={"point": np.arange(self.values.size), "multiplier": [0, 1],
                     "coefficient": np.arange(2 * self.harmonics + 1)},
-            attrs={"geardyn_kind": "hb_continuation", "model": self.model.to_json(), "param": self.param,
-                   "harmonics": self.harmonics, "period": self.period, "samples": self.samples,
-                   "end": self.end, "bifurcations": json.dumps([b.to_json() for b in self.bifurcations])},
+            attrs=result_attrs(KIND, self.model, param=self.param, harmonics=self.harmonics, period=self.period,
+                               samples=self.samples, end=self.end,
+                               coefficient_layout="[a0, a1..aH, b1..bH] of u(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
+                                                  "φ = ωτ/n",
+                               bifurcations=json.dumps(self.to_json()["bifurcations"])),
         )
         ds["status"].attrs.update(flag_attrs())
-        ds["coefficients"].attrs.update(long_name="[a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n")
-        return ds
+        return annotate(ds)
 
 
 class _Tracer:
@@ -292,6 +308,26 @@ class _Tracer:
         return [b for _s, b in out]
 
 
+def _multiplier_step(a: HillResult, b: HillResult) -> float:
+    """Largest move of a multiplier between two resolved points (the pairing that moves least; 0 if either
+    point is unresolved)."""
+    if a.status is not Status.OK or b.status is not Status.OK:
+        return 0.0
+    ma, mb = a.multipliers, b.multipliers
+    return float(min(np.max(np.abs(ma - mb)), np.max(np.abs(ma - mb[::-1]))))
+
+
+def _near_critical(h: HillResult) -> bool:
+    """A resolved real multiplier close to −1, or a complex pair close to the unit circle (folds, where a
+    multiplier passes +1, are found from the tangent, whose turn limits the step already)."""
+    if h.status is not Status.OK:
+        return False
+    mu = h.multipliers
+    if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
+        return bool(abs(abs(mu[0]) - 1.0) < NEAR_CRITICAL)
+    return bool(np.any(np.abs(mu.real + 1.0) < NEAR_CRITICAL))
+
+
 def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
                     harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
                     samples: int | None = None, ds: float = DS_INIT, ds_max: float = DS_MAX,
@@ -365,7 +401,8 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
                 nxt = tr.correct(yp, cur.t, cur.t)
                 if nxt is not None:
                     cosang = float(np.clip(nxt.t @ cur.t, -1, 1))
-                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG:
+                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG and \
+                            _multiplier_step(cur.hill, nxt.hill) <= MAX_MULTIPLIER_STEP:
                         break
                 nxt = None
                 h *= 0.5
@@ -375,6 +412,8 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
             bifs.extend(tr.events(cur, nxt))
             pts.append(nxt)
             h = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
+            if _near_critical(nxt.hill):
+                h = min(h, NEAR_CRITICAL_DS * ds_max)
             p = tr.p(nxt.y)
             if p > hi or p < lo:
                 end = "reached the end of the interval"

@@ -1,0 +1,408 @@
+"""The frequency response of an HB branch in the format of ``geardyn response``: up and down sweeps, jumps at
+the folds, hysteresis between them.
+
+A brute-force response follows the attractor a simulation reaches from the previous point.  Here the
+same paths are read off one continued branch (:func:`~geardyn.analysis.hb.continuation.hb_continuation`
+from the lowest to the highest ω):
+
+* the branch is cut into its **stable segments** (runs of points with every |μ| < 1 and a resolved
+  Hill stability), each extended to the located fold, period doubling or Neimark–Sacker point that
+  ends it, and each monotone in ω;
+* the **up sweep** starts on the stable segment that the branch starts on (the attractor reached
+  by simulation from rest at the lowest ω), follows it to its end; at a fold it **jumps** to the
+  stable segment that continues beyond that ω with the nearest amplitude; at a period doubling or
+  Neimark–Sacker point it leaves the period-n solutions (the attractor goes on nearby: a period-2n or
+  quasi-periodic response) until the next stable segment begins; the **down sweep** does the same
+  from the highest ω downwards, starting on the segment nearest the branch's end;
+* where no stable segment covers an ω the sweep has no stable period-n solution: its points carry
+  ``Status.UNRESOLVED`` (motion "unresolved", NaN values) — a period doubling, a quasi-periodic or a
+  chaotic response, which harmonic balance of period n cannot tell apart;
+* the **jumps** are at the exact fold values (``omega``; ``omega_from``/``omega_to`` is the grid step
+  that contains it), the **hysteresis** intervals are the exact ω intervals where the two sweeps are on
+  different stable segments, or where one is on a stable segment and the other on none (between the
+  folds; a period-doubling interval inside the loop does not interrupt it).
+
+On the grid every point is solved by Newton from the segment's interpolated coefficients, so the
+values are those of harmonic balance at that ω, not an interpolation.  Which attractor a jump lands
+on is the nearest stable segment in amplitude; with more than two coexisting stable solutions the
+simulated sweep may land on another one.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ...model import GearModel, ModelError
+from ...status import Status
+from ._blas import single_thread_blas
+from .aft import signal_extrema
+from .continuation import HBBifurcation, HBContinuation, hb_continuation
+from .solve import DEFAULT_HARMONICS, HBSystem
+
+__all__ = ["MEASURES", "STABILITY_EVENTS", "hb_response", "response_from_branch", "stable_segments", "sweep_paths"]
+
+#: Response measures (as :data:`geardyn.analysis.response.MEASURES`).
+MEASURES = ("amplitude", "rms", "u_max", "u_min", "mean")
+#: Events at which a branch changes stability (the ends of its stable segments).
+STABILITY_EVENTS = ("fold", "period-doubling", "neimark-sacker")
+
+
+@dataclass
+class Segment:
+    """A stable part of an HB branch, monotone in ω (increasing), with its end events."""
+
+    index: int
+    omega: np.ndarray
+    coefficients: np.ndarray
+    amplitude: np.ndarray
+    ends: tuple[HBBifurcation | None, HBBifurcation | None]
+
+    @property
+    def lo(self) -> float:
+        return float(self.omega[0])
+
+    @property
+    def hi(self) -> float:
+        return float(self.omega[-1])
+
+    def guess(self, w: float) -> np.ndarray:
+        """Coefficients interpolated linearly in ω."""
+        j = int(np.clip(np.searchsorted(self.omega, w) - 1, 0, self.omega.size - 2)) if self.omega.size > 1 else 0
+        if self.omega.size == 1:
+            return self.coefficients[0].copy()
+        w0, w1 = self.omega[j], self.omega[j + 1]
+        t = 0.0 if w1 == w0 else (w - w0) / (w1 - w0)
+        return (1 - t) * self.coefficients[j] + t * self.coefficients[j + 1]
+
+    def amplitude_at(self, w: float) -> float:
+        return float(np.interp(w, self.omega, self.amplitude))
+
+
+def _event_between(res: HBContinuation, i: int, j: int) -> HBBifurcation | None:
+    """The located stability event on the branch between points i and j (nearest in coefficients)."""
+    ai, aj = res.coefficients[i], res.coefficients[j]
+    chord = float(np.linalg.norm(aj - ai))
+    best, dbest = None, math.inf
+    for b in res.bifurcations:
+        if b.type not in STABILITY_EVENTS or b.coefficients.shape != ai.shape:
+            continue
+        d = float(np.linalg.norm(b.coefficients - ai) + np.linalg.norm(b.coefficients - aj))
+        if d < dbest:
+            best, dbest = b, d
+    return best if best is not None and dbest <= 1.5 * chord + 1e-12 else None
+
+
+def stable_segments(res: HBContinuation) -> list[Segment]:
+    """The stable segments of a branch in ω (see the module docstring), in branch order.
+
+    Parameters
+    ----------
+    res : HBContinuation
+        A branch continued in ω.
+
+    Returns
+    -------
+    list of Segment
+    """
+    if res.param != "omega":
+        raise ModelError(f"param: a frequency response needs a branch in omega, got {res.param}")
+    st = res.stable
+    P = res.values.size
+    runs, i = [], 0
+    while i < P:
+        if not st[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < P and st[j + 1]:
+            j += 1
+        k0 = i  # split where the branch turns in ω (a stable segment does not, generically)
+        for k in range(i + 1, j):
+            if (res.values[k] - res.values[k - 1]) * (res.values[k + 1] - res.values[k]) < 0:
+                runs.append((k0, k))
+                k0 = k
+        runs.append((k0, j))
+        i = j + 1
+    out = []
+    for i0, i1 in runs:
+        w = list(res.values[i0:i1 + 1])
+        a = list(res.coefficients[i0:i1 + 1])
+        amp = list(res.amplitude[i0:i1 + 1])
+        first = _event_between(res, i0 - 1, i0) if i0 > 0 and not st[i0 - 1] else None
+        last = _event_between(res, i1, i1 + 1) if i1 + 1 < P and not st[i1 + 1] else None
+        rising = w[-1] >= w[0] if len(w) > 1 else True
+        for b, at_start in ((first, True), (last, False)):
+            if b is None:
+                continue
+            edge = w[0] if at_start else w[-1]
+            beyond = (b.value <= edge) if (at_start == rising) else (b.value >= edge)
+            if not beyond:
+                continue
+            amp_b = 0.5 * (b.u_max - b.u_min)
+            if at_start:
+                w.insert(0, b.value), a.insert(0, b.coefficients), amp.insert(0, amp_b)
+            else:
+                w.append(b.value), a.append(b.coefficients), amp.append(amp_b)
+        W, A, M = np.array(w), np.array(a), np.array(amp)
+        ends = (first, last)
+        if W.size > 1 and W[-1] < W[0]:
+            W, A, M, ends = W[::-1], A[::-1], M[::-1], (last, first)
+        out.append(Segment(len(out), W, A, M, ends))
+    return out
+
+
+def sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list[tuple[float, float, int | None]]]:
+    """The pieces (ω_a, ω_b, segment index or None) the up and down sweeps follow, in sweep order.
+
+    Parameters
+    ----------
+    segments : list of Segment
+    lo, hi : float
+        The ω interval.
+
+    Returns
+    -------
+    dict
+        ``{"up": [...], "down": [...]}``; consecutive pieces on two segments are a jump at their
+        common end, a piece with None has no stable solution.
+    """
+    out = {}
+    for lab, d in (("up", 1.0), ("down", -1.0)):
+        start, stop = (lo, hi) if d > 0 else (hi, lo)
+
+        def ahead(x: float, exclude: int | None = None) -> list[Segment]:
+            """Segments that continue from x in the sweep direction."""
+            return [s for s in segments if s.index != exclude
+                    and ((s.lo <= x < s.hi) if d > 0 else (s.lo < x <= s.hi))]
+
+        pieces: list[tuple[float, float, int | None]] = []
+        x = start
+        cands = ahead(x)
+        cur = (min if d > 0 else max)(cands, key=lambda s: s.index) if cands else None
+        while (x < stop) if d > 0 else (x > stop):
+            if cur is None:
+                starts = [s.lo if d > 0 else s.hi for s in segments]
+                nxt = [v for v in starts if (v > x if d > 0 else v < x) and (v < stop if d > 0 else v > stop)]
+                e = (min(nxt) if d > 0 else max(nxt)) if nxt else stop
+                pieces.append((x, e, None))
+                x = e
+                cands = [s for s in ahead(x) if (s.lo if d > 0 else s.hi) == x]  # the segment that starts here
+                cur = cands[0] if cands else None
+                continue
+            e = min(cur.hi, stop) if d > 0 else max(cur.lo, stop)
+            pieces.append((x, e, cur.index))
+            x = e
+            if x == stop:
+                break
+            end = cur.ends[1] if d > 0 else cur.ends[0]
+            if end is not None and end.type != "fold":
+                cur = None  # a period doubling or torus: the attractor goes on nearby, not period-n
+                continue
+            amp = cur.amplitude_at(x)
+            cands = ahead(x, cur.index)
+            cur = min(cands, key=lambda s: abs(s.amplitude_at(x) - amp)) if cands else None
+        out[lab] = pieces
+    return out
+
+
+def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
+    """The segment a sweep is on at ω = w (the first piece containing it, in sweep order)."""
+    for a, b, s in pieces:
+        if min(a, b) <= w <= max(a, b):
+            return s
+    return None
+
+
+def _measures(sysm: HBSystem, a: np.ndarray) -> dict[str, float]:
+    H = sysm.H
+    umin, umax, _, _ = signal_extrema(sysm.basis, a)
+    rms = math.sqrt(0.5 * float(np.sum(a[1:H + 1] ** 2 + a[H + 1:] ** 2)))
+    return {"amplitude": 0.5 * (umax - umin), "rms": rms, "mean": float(a[0]), "u_min": umin, "u_max": umax}
+
+
+def _minimal_period(pu: np.ndarray, pv: np.ndarray, n: int) -> int:
+    scale = 1.0 + float(np.max(np.abs(np.concatenate([pu, pv]))))
+    for d in range(1, n + 1):
+        if n % d == 0 and np.all(np.abs(np.roll(pu, -d) - pu) <= 1e-8 * scale) \
+                and np.all(np.abs(np.roll(pv, -d) - pv) <= 1e-8 * scale):
+            return d
+    return n
+
+
+def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "amplitude"):
+    """The response Dataset (``geardyn_kind`` ``response``) of an HB branch in ω on the grid ``omegas``.
+
+    Parameters
+    ----------
+    res : HBContinuation
+        A branch continued in ω over (at least) the grid's interval.
+    omegas : array_like
+        Increasing ω grid.
+    measure : str
+        Amplitude measure of the jumps: one of :data:`MEASURES`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``sweep`` (up, down), ``omega`` and ``section`` (the n section points); the variables of a
+        brute-force response that HB determines (``period``, ``motion``, ``impact``, ``status``,
+        ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, ``poincare_u``, ``poincare_v``; ``lle``
+        NaN) and the attributes ``jumps``, ``hysteresis`` (JSON, exact fold values), ``measure``,
+        ``method`` = ``hb`` and ``bifurcations`` (the branch's, JSON).
+
+    Raises
+    ------
+    ModelError
+        For an unknown measure or a branch not in ω.
+    """
+    import xarray as xr
+
+    from ...io import annotate, result_attrs
+    from ..classify import MOTION_PERIODIC, MOTION_UNRESOLVED, impact_state
+
+    if measure not in MEASURES:
+        raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
+    w = np.asarray(omegas, dtype=float)
+    segs = stable_segments(res)
+    lo, hi = float(w[0]), float(w[-1])
+    paths = sweep_paths(segs, lo, hi)
+    n, H = res.period, res.harmonics
+    sysm = HBSystem(res.model, H, n, param="omega", samples=res.samples)
+    D = res.model.D
+    phis = 2.0 * np.pi * np.arange(n) / n
+    shape = (2, w.size)
+    f = {k: np.full(shape, np.nan) for k in MEASURES}
+    pu, pv = np.full(shape + (n,), np.nan), np.full(shape + (n,), np.nan)
+    period = np.zeros(shape, dtype=np.int64)
+    motion = np.full(shape, MOTION_UNRESOLVED, dtype=np.int64)
+    impact = np.full(shape, -1, dtype=np.int64)
+    status = np.full(shape, int(Status.UNRESOLVED), dtype=np.int64)
+    solved: dict[tuple[int, float], tuple[np.ndarray, Status]] = {}
+
+    def solve(seg: Segment, x: float) -> tuple[np.ndarray, Status]:
+        key = (seg.index, float(x))
+        if key not in solved:
+            a, st, _its, _r = sysm.newton(seg.guess(x), x)
+            solved[key] = (a, st)
+        return solved[key]
+
+    with single_thread_blas():
+        for r, lab in enumerate(("up", "down")):
+            for k, x in enumerate(w):
+                s = _on(paths[lab], float(x))
+                if s is None:
+                    continue
+                a, st = solve(segs[s], float(x))
+                status[r, k] = int(st)
+                if st is not Status.OK:
+                    continue
+                vals = _measures(sysm, a)
+                for key, v in vals.items():
+                    f[key][r, k] = v
+                pu[r, k] = sysm.basis.evaluate(a, phis)
+                pv[r, k] = (x / n) * sysm.basis.evaluate(a, phis, 1)
+                period[r, k] = _minimal_period(pu[r, k], pv[r, k], n)
+                motion[r, k] = MOTION_PERIODIC
+                impact[r, k] = impact_state(vals["u_min"], D)
+        jumps = []
+        for lab in ("up", "down"):
+            pieces = paths[lab]
+            for (a0, b0, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
+                if s0 is None or s1 is None:
+                    continue
+                x = float(b0)
+                end = segs[s0].coefficients[-1] if lab == "up" else segs[s0].coefficients[0]
+                a_to, st = solve(segs[s1], x)
+                if st is not Status.OK:
+                    continue
+                m_from, m_to = _measures(sysm, end)[measure], _measures(sysm, a_to)[measure]
+                if lab == "up":
+                    before, after = w[w <= x], w[w > x]
+                    g_from = float(before[-1]) if before.size else x
+                    g_to = float(after[0]) if after.size else x
+                else:
+                    before, after = w[w >= x], w[w < x]
+                    g_from = float(before[0]) if before.size else x
+                    g_to = float(after[-1]) if after.size else x
+                jumps.append({"omega": x, "direction": "up" if m_to > m_from else "down",
+                              "size": abs(m_to - m_from), "sweep": lab, "omega_from": g_from, "omega_to": g_to,
+                              "amplitude_from": m_from, "amplitude_to": m_to})
+    hyst = _hysteresis(paths)
+    ds = xr.Dataset(
+        {"period": (("sweep", "omega"), period), "motion": (("sweep", "omega"), motion),
+         "impact": (("sweep", "omega"), impact), "status": (("sweep", "omega"), status),
+         **{k: (("sweep", "omega"), f[k]) for k in MEASURES},
+         "lle": (("sweep", "omega"), np.full(shape, np.nan)),
+         "poincare_u": (("sweep", "omega", "section"), pu), "poincare_v": (("sweep", "omega", "section"), pv)},
+        coords={"sweep": ["up", "down"], "omega": w, "section": np.arange(n)},
+        attrs=result_attrs("response", res.model, {"method": "hb", "harmonics": H, "period": n,
+                                                    "samples": res.samples},
+                           param="omega", mode="harmonic balance", sweep="both", method="hb", measure=measure,
+                           jumps=json.dumps(jumps), hysteresis=json.dumps(hyst),
+                           bifurcations=json.dumps(res.to_json()["bifurcations"])),
+    )
+    return annotate(ds)
+
+
+def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list[list[float]]:
+    """Maximal ω intervals where the sweeps are on different stable segments, or one on a stable segment and
+    the other on none (then its attractor is not that period-n solution either)."""
+    cuts = sorted({float(v) for lab in paths for a, b, _s in paths[lab] for v in (a, b)})
+    out: list[list[float]] = []
+    for a, b in zip(cuts, cuts[1:]):
+        m = 0.5 * (a + b)
+        su, sd = _on(paths["up"], m), _on(paths["down"], m)
+        if su != sd:  # on different stable solutions, or on one and not on any period-n solution
+            if out and out[-1][1] == a:
+                out[-1][1] = b
+            else:
+                out.append([a, b])
+    return out
+
+
+def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: int, *,
+                harmonics: int = DEFAULT_HARMONICS, period: int = 1, measure: str = "amplitude",
+                guess: Any = None) -> Any:
+    """Up and down frequency response by harmonic balance, in the format of
+    :func:`geardyn.analysis.response.frequency_response`.
+
+    Parameters
+    ----------
+    model : GearModel
+        The model; ω is varied.
+    omega_start, omega_stop : float
+        The ω interval (> 0); the branch is continued from the lower end.
+    num : int
+        Grid points of the sweeps (the jumps and hysteresis bounds are exact, not on the grid).
+    harmonics, period : int
+        H and n of the HB solutions.
+    measure : str
+        Amplitude measure: one of :data:`MEASURES`.
+    guess : optional
+        Start guess at the lower end (as :func:`~geardyn.analysis.hb.continuation.hb_continuation`).
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`response_from_branch`.
+
+    Raises
+    ------
+    ModelError
+        For invalid input, or when HB does not converge at the lower end of the interval.
+    """
+    lo, hi = sorted((float(omega_start), float(omega_stop)))
+    if not lo > 0:
+        raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a range from {omega_start!r} to "
+                         f"{omega_stop!r}")
+    if measure not in MEASURES:
+        raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
+    res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess)
+    if not res.converged:
+        raise ModelError(f"omega_start: harmonic balance at omega = {lo:g} did not converge ({res.end})")
+    return response_from_branch(res, np.linspace(lo, hi, int(num)), measure)

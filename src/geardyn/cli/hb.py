@@ -1,0 +1,134 @@
+"""Harmonic balance: ``geardyn hb`` (a branch of periodic responses by HB continuation, with Hill stability)."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+
+from ..errors import ModelError
+from ..model import DEFAULT_DTAU
+from . import render
+from .app import console
+from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, option, out_paths, sweep_range
+
+__all__ = ["MAX_HARMONICS", "MAX_PERIOD", "hb", "system_model"]
+
+#: Largest H and n accepted (the Hill matrix has 2(2H + 1) rows; n·H harmonics of ω are resolved).
+MAX_HARMONICS = 512
+MAX_PERIOD = 64
+
+SHOOTING_RUN = [
+    option("dtau", float, DEFAULT_DTAU, "--dtau", panel="Integration",
+           help="RK4 step Δτ of the shooting of --compare-shooting (T/ceil(T/Δτ)); HB does not integrate."),
+    option("accurate", bool, True, "--accurate/--default-mode", panel="Integration",
+           help="Shooting of --compare-shooting in the accurate mode (steps split at u = ±D; the default) or in the "
+                "default integration mode."),
+]
+
+
+def system_model(path: Optional[Path], inp: Inputs) -> Any:
+    """The model HB runs on: the 1-DOF model of the common options, or the multi-DOF system of ``--system``.
+
+    Raises
+    ------
+    ModelError
+        For ``--system`` while geardyn has no multi-DOF systems, or while HB does not take them.
+    """
+    if path is None:
+        return inp.model()
+    if importlib.util.find_spec(f"{__package__.rpartition('.')[0]}.systems") is None:
+        raise ModelError(f"system: {path}: multi-DOF systems are not available in this geardyn; harmonic balance "
+                         "runs on the 1-DOF model (leave out --system)")
+    raise ModelError(f"system: {path}: harmonic balance of multi-DOF systems is not available yet; it runs on the "
+                     "1-DOF model (leave out --system)")
+
+
+def show(s: dict[str, Any], paths: list[str]) -> None:
+    """The branch and its bifurcations for people."""
+    from rich.table import Table
+
+    p = s["param"]
+    vals = [b[p] for b in s["branch"]]
+    n_st = sum(1 for b in s["branch"] if b["stable"])
+    console.print(f"HB branch in {p}: {len(vals)} points from {min(vals):.6g} to {max(vals):.6g} "
+                  f"(H = {s['harmonics']}, period {s['period']}, N = {s['samples']}; {n_st} stable); "
+                  f"converged: {s['converged']}; end: {s['end']}", markup=False, highlight=False)
+    t = Table(title="Bifurcations")
+    for col in ("type", p, "u_min", "u_max", "multipliers", "detail"):
+        t.add_column(col)
+    for b in s["bifurcations"]:
+        mus = ", ".join("n/a" if m[0] is None else f"{complex(*m):.4f}" for m in b["multipliers"])
+        t.add_row(b["type"], f"{b[p]:.6f}", f"{b['u_min']:.4f}", f"{b['u_max']:.4f}", mus, b["detail"])
+    console.print(t)
+    sh = s.get("shooting")
+    if sh:
+        console.print("shooting: " + ", ".join(f"{b['type']} {b[p]:.6f}" for b in sh["bifurcations"]),
+                      markup=False, highlight=False)
+    render.files(paths)
+
+
+@command("hb", RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
+def hb(
+    inp: Inputs,
+    param: Annotated[Optional[str], typer.Option("--param", help="Continuation parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")] = None,
+    start: Annotated[Optional[float], typer.Option("--start", help="Parameter value where the branch starts (the first solution from the attractor reached by simulation from rest there).")] = None,
+    stop: Annotated[Optional[float], typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")] = None,
+    harmonics: Annotated[int, typer.Option("--harmonics", help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H).")] = 16,
+    period: Annotated[int, typer.Option("--period", help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n).")] = 1,
+    system: Annotated[Optional[Path], typer.Option("--system", help="A multi-DOF system file instead of the 1-DOF model (not available yet).")] = None,
+    compare_shooting: Annotated[bool, typer.Option("--compare-shooting", help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.")] = False,
+    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02).")] = None,
+) -> None:
+    """Harmonic balance (AFT, exact dead-zone switches) with Hill stability: a branch of period-n responses
+    continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and
+    grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch
+    with --compare-shooting)."""
+    from .. import validate
+    from ..analysis.hb import hb_continuation
+    from ..analysis.hb.continuation import DS_MAX
+    from ..analysis.physical import add_physical, physical_json
+    from ..model import canonical_param
+
+    H = validate.integer("harmonics", harmonics, 1, MAX_HARMONICS)
+    n = validate.integer("period", period, 1, MAX_PERIOD)
+    model = system_model(system, inp)
+    scales = inp.scales()
+    if param is None and (inp.rpm_start is not None or inp.rpm_stop is not None):
+        param = "omega"
+    if param is None:
+        raise ModelError("param: give the continuation parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
+    name = canonical_param(param)
+    inp.not_swept(name)
+    start, stop = sweep_range(inp, start, stop, name)
+    if start is None or stop is None:
+        raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
+    start_v, stop_v = validate.number("start", start), validate.number("stop", stop)
+    dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
+    res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm)
+    summary = physical_json(res.to_json(), model, scales, param=name)
+    shoot_ds = None
+    if compare_shooting:
+        from ..analysis.periodic import continuation as shooting
+
+        ws = [model.with_param(name, v).omega for v in (start_v, stop_v)]
+        opts = validate.options(inp.dtau, 0, 1, inp.accurate, ws)
+        sres = shooting(model, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate, switch=False,
+                        state0=inp.state0())
+        shoot_ds = sres.to_dataset()
+        summary["shooting"] = {"bifurcations": [b.to_json() for b in sres.bifurcations], "dtau": opts.dtau,
+                               "accurate": opts.accurate}
+    paths: list[str] = []
+    if inp.out is not None:
+        from ..io import attach, write_netcdf
+        from ..plot import save_figures
+        from ..plot.hb import SHOOTING_CONTEXT
+
+        nc, figdir = out_paths(inp.out, "hb")
+        ds = add_physical(res.to_dataset(), scales)
+        if shoot_ds is not None:
+            ds = attach(ds, SHOOTING_CONTEXT, shoot_ds)  # the file redraws the figure with the shooting branch
+        paths = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+    finish(summary, paths, inp, show)

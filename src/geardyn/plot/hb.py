@@ -1,0 +1,127 @@
+"""Figure of a harmonic-balance branch (``geardyn hb``): amplitude and extremes of u against the continued
+parameter, stable solid and unstable dashed, with the located bifurcations and, when the Dataset carries it,
+the shooting branch of the same parameter overlaid.  Datasets in, figures out; no numerics here."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..io import attached
+from .common import PlotArtists, label, panels, result, snapshot
+
+__all__ = ["HB_STYLE", "SHOOTING_CONTEXT", "SHOOTING_STYLE", "hb_figure"]
+
+#: Name under which an ``hb`` Dataset carries the shooting branch (see :func:`geardyn.io.attach`).
+SHOOTING_CONTEXT = "shooting"
+#: Line colour of the HB branch and of the shooting branch drawn under it.
+HB_STYLE = dict(color="C0")
+SHOOTING_STYLE = dict(color="0.55", lw=3.5, alpha=0.45)
+#: Marker of each bifurcation type.
+EVENT_MARKERS = {"fold": ("o", "C3"), "period-doubling": ("s", "C2"), "neimark-sacker": ("D", "C4"),
+                 "grazing": ("^", "0.3")}
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int, bool]]:
+    """Contiguous runs (first, last index, value) of a boolean array."""
+    out, i0 = [], 0
+    for i in range(1, mask.size + 1):
+        if i == mask.size or mask[i] != mask[i0]:
+            out.append((i0, i - 1, bool(mask[i0])))
+            i0 = i
+    return out
+
+
+def _branch(ax, x: np.ndarray, ys: list[np.ndarray], stable: np.ndarray, name: str, style: dict,
+            seen: set[str]) -> None:
+    """One branch: stable runs solid, unstable dashed (runs overlap by one point so the line is unbroken)."""
+    for i0, i1, st in _runs(stable):
+        j1 = min(i1 + 1, x.size - 1)
+        lab = f"{name}, {'stable' if st else 'unstable'}"
+        for y in ys:
+            kw = dict(style)
+            kw.setdefault("lw", 1.7 if st else 1.2)
+            ax.plot(x[i0:j1 + 1], y[i0:j1 + 1], ls="-" if st else "--", label=None if lab in seen else lab,
+                    zorder=3 if name.startswith("HB") else 2, **kw)
+            seen.add(lab)
+
+
+def _events(ax, bifs: list[dict], param: str, what: str, seen: set[str]) -> None:
+    for b in bifs:
+        mk, c = EVENT_MARKERS.get(b["type"], ("P", "k"))
+        ys = [0.5 * (b["u_max"] - b["u_min"])] if what == "amplitude" else [b["u_min"], b["u_max"]]
+        for y in ys:
+            ax.plot([b[param]], [y], ls="none", marker=mk, color=c, mfc="white", mew=1.8, ms=7, zorder=5,
+                    label=None if b["type"] in seen else b["type"])
+            seen.add(b["type"])
+
+
+def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None) -> PlotArtists:
+    """An HB branch (stable solid, unstable dashed) with its bifurcations, over the shooting branch when given.
+    Top: amplitude (u_max − u_min)/2; bottom: u_min and u_max with ±D.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An ``hb`` result (:meth:`geardyn.analysis.hb.HBContinuation.to_dataset`).
+    shooting : xarray.Dataset, optional
+        A ``continuation`` result of the same parameter (shooting); default the one attached to ``ds``
+        under :data:`SHOOTING_CONTEXT`, if any.
+    ax : matplotlib.axes.Axes or sequence of two Axes, optional
+        One Axes: the amplitude panel only; two: amplitude and extremes; omitted: a new figure.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    if shooting is None:
+        shooting = attached(ds, SHOOTING_CONTEXT)
+    param = str(ds.attrs["param"])
+    model = json.loads(ds.attrs["model"])
+    D = float(model.get("D", 0.0))
+    fig, axes, new = panels(ax, 2, (10, 8), sharex=True)
+    before = snapshot(axes)
+    x = ds[param].values
+    ok = ds["status"].values == 0
+    stable = ds["stable"].values.astype(bool) & ok
+    bifs = json.loads(ds.attrs.get("bifurcations", "[]"))
+    H, n = int(ds.attrs.get("harmonics", 0)), int(ds.attrs.get("period", 1))
+    for a, what in zip(axes, ("amplitude", "extremes")):
+        if a is None:
+            continue
+        seen: set[str] = set()
+        if shooting is not None and shooting.sizes.get("point", 0):
+            sx = shooting[param].values
+            sst = shooting["stable"].values.astype(bool)
+            for b in np.unique(shooting["branch"].values):
+                sel = shooting["branch"].values == b
+                ys = ([shooting["amplitude"].values[sel]] if what == "amplitude"
+                      else [shooting["u_min"].values[sel], shooting["u_max"].values[sel]])
+                _branch(a, sx[sel], ys, sst[sel], "shooting", SHOOTING_STYLE, seen)
+        ys = [ds["amplitude"].values] if what == "amplitude" else [ds["u_min"].values, ds["u_max"].values]
+        _branch(a, x, ys, stable, f"HB (H = {H})", HB_STYLE, seen)
+        if np.any(~ok):
+            for y in ys:
+                a.plot(x[~ok], y[~ok], ls="none", marker="x", color="C1", ms=4, zorder=4,
+                       label=None if "unresolved" in seen else "stability unresolved")
+                seen.add("unresolved")
+        _events(a, bifs, param, what, seen)
+        a.grid(alpha=0.3)
+    axes[0].set_ylabel(label(ds["amplitude"]))
+    if axes[1] is not None:
+        if D > 0:
+            for s in (D, -D):
+                axes[1].axhline(s, color="0.5", lw=0.8, ls=":")
+        axes[1].set_ylabel("u_min, u_max (dotted: ±D)")
+    [a for a in axes if a is not None][-1].set_xlabel(label(ds[param], param))
+    axes[0].legend(fontsize=7, ncol=2, loc="best")
+    fixed = ", ".join(f"{k} = {model[k]:g}" for k in ("xi0", "fp", "D") if k != param and k in model)
+    over = " over the shooting branch" if shooting is not None else ""
+    axes[0].set_title(f"Harmonic balance in {param}, period {n} ({fixed}){over}")
+    if new:
+        fig.tight_layout()
+    return result(fig, axes, before)
