@@ -67,12 +67,16 @@ The package is split by execution path; imports flow one way, from this door dow
 
 Each worker (``_lanes_worker``, ``_scalar_worker``, ``_accurate_worker``) is compiled with
 ``cache=True`` and stays a top-level function of its module.  numba keys a cache entry on the
-source file of the cached function only, not on the files it calls into: after editing
-:mod:`.core`, clear the ``__pycache__`` of this package (or touch the worker modules) so that
-the workers are compiled again.
+source file of the cached function only, not on the files it calls into, so this package calls
+:func:`geardyn._cache_guard.refresh` first: when any of its sources changed, the cached workers are
+removed and compiled again.
 """
 
 from __future__ import annotations
+
+from .._cache_guard import refresh as _refresh_cache
+
+_refresh_cache(__file__)  # before the cached workers are imported (see geardyn._cache_guard)
 
 import os
 import threading

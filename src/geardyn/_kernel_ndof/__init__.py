@@ -11,11 +11,15 @@ The accurate mode splits every step at each element's contact boundary (δ = ±D
 Layout: :mod:`.core` (vector field, Jacobian, statistics), :mod:`.step` (RK4 step, split steps),
 :mod:`.worker` (one point at a time from a shared queue; ``nogil``, ``cache=True``).  Threads: the
 1-DOF kernel's pool (:func:`geardyn._kernel._executor`), as many workers as numba's thread setting.
-numba keys a cache entry on the worker's source file only: after editing :mod:`.core` or
-:mod:`.step`, clear this package's ``__pycache__``.
+numba keys a cache entry on the worker's source file only, so this package calls
+:func:`geardyn._cache_guard.refresh` first: a change to any of its sources recompiles the workers.
 """
 
 from __future__ import annotations
+
+from .._cache_guard import refresh as _refresh_cache
+
+_refresh_cache(__file__)  # before the cached workers are imported (see geardyn._cache_guard)
 
 import numpy as np
 

@@ -11,7 +11,6 @@ from __future__ import annotations
 from .app import EXIT_INTERRUPTED, app, main
 from .options import build_model
 from . import point, sweeps, tools  # noqa: F401  (register the commands, in this order)
-from . import engineering, systems  # noqa: F401,E402  (te, runup; modes)
-from . import hb  # noqa: F401,E402
+from . import engineering, hb, systems  # noqa: F401,E402  (te, runup; hb; modes)
 
 __all__ = ["EXIT_INTERRUPTED", "app", "build_model", "main"]
