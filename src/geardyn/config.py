@@ -76,6 +76,7 @@ from ._config_values import (
     _parse_value,
     parse_quantity,
 )
+from .params import FAMILIES
 from .errors import ConfigError
 from .geometry import (
     HANDS,
@@ -170,19 +171,9 @@ _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
                 "omega": _Key(_NUMBER),
             }
         ),
+        # the non-dimensional model's parameters, one key per family of the registry (geardyn.params)
         "model": MappingProxyType(
-            {
-                "omega": _Key(_NUMBER),
-                "xi0": _Key(_NUMBER),
-                "xi": _Key(_NUMBER, True),
-                "phi_c": _Key(_PHASE, True),
-                "kappa": _Key(_NUMBER, True),
-                "phi_k": _Key(_PHASE, True),
-                "eps": _Key(_NUMBER, True),
-                "phi_e": _Key(_PHASE, True),
-                "fp": _Key(_NUMBER),
-                "D": _Key(_NUMBER),
-            }
+            {f.name: _Key(_PHASE if f.units == "rad" else _NUMBER, f.series) for f in FAMILIES.values()}
         ),
     }
 )
