@@ -190,9 +190,9 @@ def test_variable_registry_gives_every_variable_its_metadata(runs, name):
 
 
 def test_parameters_without_an_entry_are_named_by_rule():
-    assert variable("phi_e1") == ("rad", "parameter phi_e1", None)
-    assert variable("kappa1").long_name == "parameter kappa1"
-    assert variable("xi1", "continuation").long_name == "continuation parameter xi1"
+    assert variable("phi_e1") == ("rad", "phase of STE harmonic 1", None)  # names from the parameter registry
+    assert variable("kappa1").long_name == "stiffness harmonic κ_1"
+    assert variable("xi1", "continuation").long_name == "damping harmonic ξ_1"
     assert variable("bifurcation_xi0", "continuation").long_name == "parameter xi0 at the bifurcation"
     assert variable("status").flags == {0: "ok", 1: "diverged", 2: "not converged", 3: "unresolved"}
     assert variable("no_such_variable") is None

@@ -13,9 +13,9 @@ from geardyn.model import GearModel, IntegrationOptions
 
 def test_registry_names_units_and_flags() -> None:
     assert io.variable("lle").units == "1/τ"
-    assert io.variable("kappa2").long_name == "parameter kappa2"
+    assert io.variable("kappa2").long_name == "stiffness harmonic κ_2"  # from the parameter registry
     assert io.variable("phi_e1").units == "rad"
-    assert io.variable("kappa2", "continuation").long_name == "continuation parameter kappa2"
+    assert io.variable("kappa2", "continuation").long_name == "stiffness harmonic κ_2"
     assert io.variable("section", "orbit").long_name != io.variable("section").long_name
     assert io.variable("amplitude_um").units == "µm"
     assert io.variable("no_such_variable") is None

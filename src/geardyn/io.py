@@ -22,6 +22,7 @@ import xarray as xr
 from .analysis.classify import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .errors import ModelError
 from .model import GearModel, canonical_param
+from .params import describe
 from .status import Status
 
 class Variable(NamedTuple):
@@ -89,11 +90,7 @@ VARIABLES: dict[str, Variable] = {
     "end_u": _v("final displacement u (start of the next continuation point)"),
     "end_v": _v("final velocity u'"),
     "sweep": _v("sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)"),
-    # model parameters with a name of their own (others: "parameter <name>", see variable())
-    "omega": _v("mesh frequency ω = ω_e/ω_n"),
-    "xi0": _v("mean damping ratio ξ0"),
-    "fp": _v("mean load f_p"),
-    "D": _v("half backlash D"),
+    # model parameters: their long names and units come from the registry (geardyn.params, see variable())
     # Lyapunov spectrum
     "log_r": _v("log of the Gram–Schmidt diagonal per forcing period"),
     "running": _v("running Lyapunov exponent estimate", "1/τ"),
@@ -184,8 +181,6 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
            "stable": _v("solution stable (1) or unstable (0) by Hill's multipliers")},
 }
 
-#: Long name of a swept or continued model parameter without an entry of its own, by kind.
-PARAMETER_LONG_NAMES: dict[str, str] = {"continuation": "continuation parameter {name}"}
 #: Suffix of the copy of a displacement variable in µm (``amplitude_um``; see :func:`physical_long_name`).
 PHYSICAL_SUFFIX = "_um"
 #: Name of the global attribute listing the Datasets attached to a result (see :func:`attach`).
@@ -224,8 +219,7 @@ def variable(name: str, kind: str | None = None) -> Variable | None:
     if meta is not None:
         return meta
     if _is_parameter(name):
-        template = PARAMETER_LONG_NAMES.get(kind or "", "parameter {name}")
-        return _v(template.format(name=name), "rad" if name.startswith("phi") else _ONE)
+        return _v(*describe(name))
     if name.startswith("bifurcation_") and _is_parameter(name[len("bifurcation_"):]):
         return _v(f"parameter {name[len('bifurcation_'):]} at the bifurcation")
     if name.endswith(PHYSICAL_SUFFIX):
