@@ -12,7 +12,7 @@ from ..errors import ModelError
 from ..model import DEFAULT_DTAU
 from . import render
 from .app import console
-from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, option, out_paths, sweep_range
+from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, option, out_paths
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD", "hb", "system_model"]
 
@@ -90,22 +90,12 @@ def hb(
     from ..analysis.hb import hb_continuation
     from ..analysis.hb.continuation import DS_MAX
     from ..analysis.physical import add_physical, physical_json
-    from ..model import canonical_param
 
     H = validate.integer("harmonics", harmonics, 1, MAX_HARMONICS)
     n = validate.integer("period", period, 1, MAX_PERIOD)
     model = system_model(system, inp)
     scales = inp.scales()
-    if param is None and (inp.rpm_start is not None or inp.rpm_stop is not None):
-        param = "omega"
-    if param is None:
-        raise ModelError("param: give the continuation parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
-    name = canonical_param(param)
-    inp.not_swept(name)
-    start, stop = sweep_range(inp, start, stop, name)
-    if start is None or stop is None:
-        raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
-    start_v, stop_v = validate.number("start", start), validate.number("stop", stop)
+    name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
     dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm)
     summary = physical_json(res.to_json(), model, scales, param=name)

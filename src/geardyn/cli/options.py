@@ -230,6 +230,29 @@ class Inputs:
         validate.recorded(points, opts.periods)
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
 
+    def param_range(self, param: Optional[str], start: Optional[float], stop: Optional[float], *,
+                    what: str = "swept") -> tuple[str, float, float]:
+        """The canonical name and the finite range of a swept (or continued) parameter.
+
+        ``--rpm-start/--rpm-stop`` give ω's range in pinion speed (and make ω the default parameter); a
+        model option given for the same parameter is refused (:meth:`not_swept`).
+        """
+        from .. import validate
+        from ..model import canonical_param
+
+        if param is None and (self.values.get("rpm_start") is not None or self.values.get("rpm_stop") is not None):
+            param = "omega"
+        if param is None:
+            raise ModelError(f"param: give the {what} parameter (--param), or a pinion-speed range "
+                             f"(--rpm-start/--rpm-stop)")
+        name = canonical_param(param)
+        self.not_swept(name)
+        start, stop = sweep_range(self, start, stop, name)
+        if start is None or stop is None:
+            raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop "
+                             "for omega")
+        return name, validate.number("start", start), validate.number("stop", stop)
+
     def not_swept(self, *names: str) -> None:
         """Refuse a model option given for a parameter the command sweeps (it would be silently overridden)."""
         flags = {o.param: o for o in params.cli_options()}

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Optional
+from typing import Annotated, Optional
 
 import typer
 
 from ..errors import ModelError
 from ..model import IntegrationOptions
 from . import render
-from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, integration, option, sweep_range
+from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, integration, option
 
 PeriodOpt = Annotated[int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
 GuessOpt = Annotated[Optional[str], typer.Option("--guess", help="Shooting guess 'u,v' at θ = 0 (default: the state reached by simulating --transient periods from --u0, --v0).")]
@@ -119,21 +119,11 @@ def continuation(
     from ..analysis.periodic import continuation as run_continuation
     from ..analysis.physical import add_physical, physical_json
     from ..io import write_netcdf
-    from ..model import canonical_param
     from .options import out_paths
 
     model = inp.model()
     scales = inp.scales()
-    if param is None and (inp.rpm_start is not None or inp.rpm_stop is not None):
-        param = "omega"
-    if param is None:
-        raise ModelError("param: give the continuation parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
-    name = canonical_param(param)
-    inp.not_swept(name)
-    start, stop = sweep_range(inp, start, stop, name)
-    if start is None or stop is None:
-        raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
-    start_v, stop_v = validate.number("start", start), validate.number("stop", stop)
+    name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
     opts = inp.options(model.with_param(name, start_v).omega, periods=1)
     opts.check_for(model.with_param(name, stop_v).omega)
     n = validate.integer("period", period, 1, 1024)

@@ -42,19 +42,11 @@ def bifurcation(
     from .. import validate
     from ..analysis.bifurcation import MODES, SWEEPS, bifurcation as run_bifurcation, bifurcation_json
     from ..analysis.physical import add_physical, physical_json
-    from ..model import canonical_param
 
     model = inp.model()
     scales = inp.scales()
-    if param is None and (inp.rpm_start is not None or inp.rpm_stop is not None):
-        param = "omega"
-    if param is None:
-        raise ModelError("param: give the swept parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)")
-    start, stop = sweep_range(inp, start, stop, canonical_param(param))
-    if start is None or stop is None:
-        raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega")
-    name, values = validate.axis(param, start, stop, num)
-    inp.not_swept(name)
+    name, start, stop = inp.param_range(param, start, stop)
+    name, values = validate.axis(name, start, stop, num)
     models = validate.grid(model, [(name, values)])
     opts = inp.options(omegas=[m.omega for m in models], points=len(models) * (2 if sweep == "both" else 1))
     choice("mode", mode, MODES)
