@@ -75,6 +75,8 @@ class HBBifurcation:
     detail : str
     located : bool
         The location iteration met its tolerance.
+    coefficients : ndarray
+        Harmonic coefficients of the solution at the event (empty when not recorded).
     """
 
     type: str

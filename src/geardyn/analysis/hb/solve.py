@@ -345,8 +345,9 @@ def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int =
         ``"simulate"`` (the attractor reached by simulation from rest).  Default: ``"simulate"``.
     samples : int, optional
         Time samples per response period (default :func:`~geardyn.analysis.hb.aft.time_samples`).
-    tol, max_iter :
-        Newton tolerance (||R|| <= tol·(1 + ||a||)) and iteration limit.
+    tol, max_iter : float, int
+        Newton tolerance (||R|| <= tol·(1 + ||a||)) and iteration limit (defaults
+        :data:`NEWTON_TOL` and :data:`NEWTON_MAX_ITER`).
     stability : bool
         Compute Hill's multipliers of a converged solution.
 
