@@ -29,7 +29,7 @@ KNOWN_GAPS = (
 )
 
 # Public callables that take **kwargs, each with the function that receives them (and refuses an
-# unknown keyword with TypeError).
+# unknown keyword: TypeError, or AttributeError from matplotlib's property setters).
 FORWARDING = {
     "geardyn.analysis.bifurcation.bifurcation": "geardyn.sweep.SweepOptions.merge",
     "geardyn.analysis.maps.parameter_map": "geardyn.sweep.SweepOptions.merge",

@@ -26,7 +26,7 @@ from .classify import detect_period, period_label
 from .lyapunov import ALIGN_FRACTION, DEFAULT_BLOCKS, LYAPUNOV_PERIODS
 from .systems_steady import mesh_entries, system_state0
 
-__all__ = ["SystemLyapunovResult", "system_lyapunov", "expected_sum", "spectrum_from_log_n"]
+__all__ = ["SystemLyapunovResult", "system_lyapunov", "expected_sum"]
 
 
 def spectrum_from_log_n(log: np.ndarray, period: float, *, blocks: int = DEFAULT_BLOCKS,

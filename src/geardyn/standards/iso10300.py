@@ -315,7 +315,7 @@ def bevel_mesh(
     zeta_mp, zeta_m : float, optional
         Offset angles in the pitch plane and in the axial plane (rad); required for hypoids.
     b2_eff : float, optional
-        Effective face width of the wheel (m, default 0.85 b).
+        Effective face width of the wheel (m, default :data:`DEFAULT_EFFECTIVE_FACE_WIDTH_RATIO` × b).
     torque1 : float, optional
         Pinion torque T1 (N·m); needed for C_F and K_v.
     speed1 : float, optional
@@ -325,7 +325,7 @@ def bevel_mesh(
     f_pt : float, optional
         Single pitch deviation used for K_v (m), the larger of pinion and wheel; needed for K_v.
     density : float, optional
-        Density of the gear material (kg/m³, default 7860).
+        Density of the gear material (kg/m³, default :data:`DEFAULT_DENSITY`).
     n_harmonics : int, optional
         Number of stiffness harmonics κ_r (default 3).
 
