@@ -206,7 +206,7 @@ def _test_names(module: str) -> list[str]:
     parts = module.split(".")[1:]
     if parts and parts[-1] == "__init__":
         parts = parts[:-1]
-    names = [f"test_{parts[-1]}.py"] if parts else []
+    names = [f"test_{parts[-1]}.py", f"test_{parts[-1].lstrip('_')}.py"] if parts else []  # _x: test_x.py
     if len(parts) >= 2:
         names.append(f"test_{parts[-2]}.py")  # its package
     for i in range(len(parts), 0, -1):  # the module, then each package above it
