@@ -26,7 +26,14 @@ __all__ = ["GeardynAccessor"]
 
 @xr.register_dataset_accessor("geardyn")
 class GeardynAccessor:
-    """geardyn methods on a result Dataset (``ds.geardyn``)."""
+    """geardyn methods on a result Dataset (``ds.geardyn``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A result written by geardyn (its ``geardyn_kind`` attribute names the kind); xarray
+        passes it when ``ds.geardyn`` is first accessed.
+    """
 
     def __init__(self, ds: xr.Dataset):
         self._ds = ds

@@ -37,7 +37,23 @@ BENCH_DTAU = 0.01
 
 @dataclass(frozen=True)
 class Workload:
-    """One standard workload: its parameter points, options and what is computed."""
+    """One standard workload: its parameter points, options and what is computed.
+
+    Attributes
+    ----------
+    name : str
+        ``W1``, ``W2`` or ``W3`` (a key of :data:`WORKLOADS`).
+    description : str
+        One line saying what is integrated.
+    omegas : tuple of float
+        The forcing frequencies ω of the batch (the other parameters are the paper's defaults).
+    options : IntegrationOptions
+        Step, transient and recorded periods.
+    lyapunov : bool
+        Propagate the tangent vectors and compute both Lyapunov exponents.
+    record_poincare : bool
+        Keep the Poincaré points.
+    """
 
     name: str
     description: str
@@ -47,6 +63,7 @@ class Workload:
     record_poincare: bool = True
 
     def models(self) -> list[GearModel]:
+        """One :class:`~geardyn.model.GearModel` per ω of the workload."""
         return [GearModel(omega=float(w)) for w in self.omegas]
 
     @property
@@ -58,8 +75,16 @@ class Workload:
     def run(self, models: Sequence[GearModel] | None = None) -> dict[str, np.ndarray]:
         """Integrate the workload once; returns its result arrays (the exponents for W3).
 
-        ``models`` (from :meth:`models`) may be built once beforehand: the timing then covers the
-        integration call only, as a user who builds a grid once and integrates it would see.
+        Parameters
+        ----------
+        models : sequence of GearModel, optional
+            The points from :meth:`models`, built once beforehand: the timing then covers the
+            integration call only, as a user who builds a grid once and integrates it would see.
+
+        Returns
+        -------
+        dict
+            ``poincare`` and ``status`` arrays, plus ``exponents`` for a Lyapunov workload.
         """
         from .integrate import integrate_batch
 
@@ -93,7 +118,22 @@ WORKLOADS: dict[str, Callable[[], Workload]] = {"W1": _w1, "W2": _w2, "W3": _w3}
 
 
 def workload(name: str) -> Workload:
-    """The workload ``name`` (W1, W2 or W3, case-insensitive)."""
+    """The workload ``name`` (W1, W2 or W3, case-insensitive).
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`WORKLOADS`, in any case.
+
+    Returns
+    -------
+    Workload
+
+    Raises
+    ------
+    ModelError
+        For an unknown name.
+    """
     key = str(name).upper()
     if key not in WORKLOADS:
         raise ModelError(f"workload: unknown {name!r}; allowed: {', '.join(WORKLOADS)} or all")
@@ -101,7 +141,28 @@ def workload(name: str) -> Workload:
 
 
 def time_workload(w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = True) -> dict[str, float | int]:
-    """Time one workload: ``{"wall_s", "steps", "ns_per_step", "median_s", "repeats"}`` (minimum wall time)."""
+    """Time one workload in-process (minimum wall time over the repeats).
+
+    Parameters
+    ----------
+    w : Workload
+        The workload.
+    repeats : int
+        Timed runs (default :data:`DEFAULT_REPEATS`); the minimum is reported.
+    warmup : bool
+        Run once untimed first (JIT compilation or cache load excluded).
+
+    Returns
+    -------
+    dict
+        ``wall_s`` (minimum), ``steps`` (RK4 steps of one run), ``ns_per_step``, ``median_s`` and
+        ``repeats``.
+
+    Raises
+    ------
+    ModelError
+        If ``repeats`` < 1.
+    """
     if repeats < 1:
         raise ModelError(f"repeats: must be >= 1, got {repeats}")
     models = w.models()
@@ -157,10 +218,30 @@ def _llvm_cpu() -> str:
 
 def run_benchmarks(names: Sequence[str] = ("W1", "W2", "W3"), threads: int | None = None,
                    repeats: int = DEFAULT_REPEATS) -> dict[str, object]:
-    """Time the named workloads with ``threads`` kernel threads (None: the current setting).
+    """Time the named workloads with ``threads`` kernel threads.
 
-    Returns ``{"workloads": {name: {"wall_s", "steps", "ns_per_step", ...}}, "threads", "repeats",
-    "machine"}``.
+    numba's thread count is restored afterwards.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Workload names (keys of :data:`WORKLOADS`); default all three.
+    threads : int, optional
+        Kernel threads; None keeps the current setting.
+    repeats : int
+        Timed runs per workload (default :data:`DEFAULT_REPEATS`).
+
+    Returns
+    -------
+    dict
+        ``{"workloads": {name: {"wall_s", "steps", "ns_per_step", ...}}, "threads", "repeats",
+        "machine"}`` (the per-workload entries of :func:`time_workload`, ``machine`` from
+        :func:`machine_info`).
+
+    Raises
+    ------
+    ModelError
+        For an unknown workload name or ``threads`` < 1.
     """
     import numba
 

@@ -33,13 +33,23 @@ from .integrate import using_threads
 from .model import IntegrationOptions
 
 __all__ = [
-    "SystemBatchResult", "SystemTrajectory", "is_system", "forcing_period", "natural_steps", "state_dim",
+    "SystemBatchResult", "SystemTrajectory", "forcing_period", "natural_steps", "state_dim",
     "element_names", "initial_state", "element_series", "integrate_batch", "trajectory", "period_map",
 ]
 
 
 def is_system(model: Any) -> bool:
-    """Whether ``model`` is a multi-DOF system (integrated by this module's kernel)."""
+    """Whether ``model`` is a multi-DOF system (integrated by this module's kernel).
+
+    Parameters
+    ----------
+    model : SystemModel or GearModel
+        The model.
+
+    Returns
+    -------
+    bool
+    """
     from .systems.assemble import SystemModel
 
     return isinstance(model, SystemModel)
@@ -63,19 +73,52 @@ def forcing_period(model: Any) -> float:
 
 
 def state_dim(model: Any) -> int:
-    """Length of the state the kernel integrates: 2n for a system, 2 for the 1-DOF model."""
+    """Length of the state the kernel integrates: 2n for a system, 2 for the 1-DOF model.
+
+    Parameters
+    ----------
+    model : SystemModel or GearModel
+        The model.
+
+    Returns
+    -------
+    int
+    """
     return int(model.state_dim) if is_system(model) else _one.state_dim(model)
 
 
 def natural_steps(model: Any, dtau: float) -> int:
-    """RK4 steps per forcing period, N = ceil(T_f/Δτ)."""
+    """RK4 steps per forcing period, N = ceil(T_f/Δτ).
+
+    Parameters
+    ----------
+    model : SystemModel or GearModel
+        The model (a GearModel is passed to :func:`geardyn.integrate.natural_steps`).
+    dtau : float
+        Target step Δτ.
+
+    Returns
+    -------
+    int
+    """
     if not is_system(model):
         return _one.natural_steps(model, dtau)
     return int(math.ceil(forcing_period(model) / dtau))
 
 
 def element_names(model: Any) -> tuple[str, ...]:
-    """The elements of the statistics: the meshes, then the clearances."""
+    """The elements of the statistics: the meshes, then the clearances.
+
+    Parameters
+    ----------
+    model : SystemModel
+        The system.
+
+    Returns
+    -------
+    tuple of str
+        Mesh names, then clearance names.
+    """
     return tuple(m.name for m in model.meshes) + tuple(model.clearance_names)
 
 
@@ -85,7 +128,24 @@ def _ref_index(model: Any) -> int:
 
 
 def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.ndarray:
-    """δ and δ' of every element for states x (…, 2n) at times τ (broadcast): shape (…, elements, 2)."""
+    """δ and δ' of every element for states x at times τ.
+
+    A mesh's δ is V_m·q̃ minus its transmission error e_m(θ); a clearance's is Vc·q̃.
+
+    Parameters
+    ----------
+    model : SystemModel
+        The system.
+    x : ndarray (..., 2n)
+        States (q̃, q̃').
+    tau : ndarray or float
+        Times τ, broadcast against the leading axes of ``x``.
+
+    Returns
+    -------
+    ndarray (..., elements, 2)
+        δ and δ' of the meshes, then the clearances.
+    """
     x = np.asarray(x, dtype=float)
     n = model.n
     q, v = x[..., :n], x[..., n:]
@@ -143,12 +203,25 @@ class SystemBatchResult:
     poincare : ndarray (P, periods, 2n)
         Full state at the end of each recorded forcing period; NaN where diverged.
     end_state : ndarray (P, 2n)
+        State at the end of the integration.
     status : ndarray (P,)
+        Kernel status per point (:data:`~geardyn._kernel_ndof.ST_OK` or ``ST_DIVERGED``).
     stats : ndarray (P, elements, NSTAT)
         Statistics of every element's δ (meshes, then clearances), sampled at every step.
     nsteps : ndarray (P,)
+        RK4 steps per forcing period of each point.
     lyapunov_log : ndarray (P, periods, 2n) or None
+        Logs of the Gram–Schmidt stretch factors per recorded period (Lyapunov runs only).
     tangent : ndarray (P, 2n, 2n) or None
+        Tangent matrix at the end (monodromy runs only).
+    models : list of SystemModel
+        The P points.
+    options : IntegrationOptions
+        The integration options used.
+    elements : tuple of str
+        Names of the elements of ``stats``: the meshes, then the clearances.
+    reference : int
+        Index of the reference mesh (whose δ is the 1-DOF model's u).
     """
 
     models: list[Any]
@@ -165,6 +238,7 @@ class SystemBatchResult:
 
     @property
     def ok(self) -> np.ndarray:
+        """Whether each point finished without diverging (P,)."""
         return self.status == K.ST_OK
 
     def _el(self, k: int, e: int | None) -> np.ndarray:
@@ -233,6 +307,23 @@ class SystemTrajectory:
     """One trajectory of a system: the full state at every step of its last periods and its batch summary.
 
     ``u``, ``v`` are the reference mesh's δ and δ'; ``x`` the full state (K, 2n); ``deltas`` (K, elements, 2).
+
+    Attributes
+    ----------
+    model : SystemModel
+        The system point.
+    options : IntegrationOptions
+        The integration options used.
+    tau : ndarray (K,)
+        Times τ of the kept history.
+    x : ndarray (K, 2n)
+        Full state (q̃, q̃') at those times.
+    deltas : ndarray (K, elements, 2)
+        δ and δ' of every element (:func:`element_series`).
+    summary : SystemBatchResult
+        The batch result of the point (Poincaré points and statistics over all recorded periods).
+    history_periods : int
+        Forcing periods of history kept.
     """
 
     model: Any
@@ -245,14 +336,17 @@ class SystemTrajectory:
 
     @property
     def u(self) -> np.ndarray:
+        """δ of the reference mesh (K,)."""
         return self.deltas[:, self.summary.reference, 0]
 
     @property
     def v(self) -> np.ndarray:
+        """δ' of the reference mesh (K,)."""
         return self.deltas[:, self.summary.reference, 1]
 
     @property
     def poincare(self) -> np.ndarray:
+        """Poincaré points (periods, 2n)."""
         return self.summary.poincare[0]
 
 
@@ -386,6 +480,24 @@ def trajectory(model: Any, state0: Any = None, options: IntegrationOptions = Int
 def period_map(model: Any, state: Sequence[float], n: int = 1, *, dtau: float = IntegrationOptions().dtau,
                accurate: bool = False, steps: int | None = None, threads: int | None = None):
     """The n-forcing-period stroboscopic map and its Jacobian (as :func:`geardyn.integrate.period_map`).
+
+    Parameters
+    ----------
+    model : SystemModel or GearModel
+        The model (a GearModel is passed to :func:`geardyn.integrate.period_map`).
+    state : (2n,)
+        State (q̃, q̃') at θ = 0.
+    n : int
+        Forcing periods of the map P^n.
+    dtau : float
+        Target step Δτ (default :data:`~geardyn.model.DEFAULT_DTAU`); N = ceil(T_f/Δτ) steps per
+        period unless ``steps`` is given.
+    accurate : bool
+        Split steps at the contact boundaries.
+    steps : int, optional
+        RK4 steps per forcing period (``dtau`` is then not used).
+    threads : int, optional
+        Threads for this call (numba's setting is left as it was).
 
     Returns
     -------

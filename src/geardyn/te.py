@@ -237,6 +237,8 @@ class TEAnalysis:
         lcm(z1, z2): mesh cycles after which the pattern of tooth pairs repeats.
     revolutions : float
         Pinion revolutions in the record.
+    source : str
+        Where the record came from (file name), for the summary.
     left_out : list of str
         Orders not fitted (gear orders in a record shorter than one gear revolution).
     """

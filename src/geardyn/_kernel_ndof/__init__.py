@@ -32,7 +32,7 @@ from .step import CROSSING_TOL, HERMITE_SAMPLES, MAX_SPLITS
 from .worker import ndof_worker
 
 __all__ = [
-    "run_batch", "derived", "n_threads",
+    "run_batch", "n_threads",
     "S_UMIN", "S_UMAX", "S_USUM", "S_USQ", "S_VMIN", "S_VMAX", "S_NDRIVE", "S_NSEP", "S_NBACK", "S_N", "NSTAT",
     "TAN_NONE", "TAN_LYAPUNOV", "TAN_MONODROMY", "ST_OK", "ST_DIVERGED", "DIVERGENCE_BOUND",
     "MAX_SPLITS", "HERMITE_SAMPLES", "CROSSING_TOL", "THREAD_MIN_WORK",

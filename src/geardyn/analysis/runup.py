@@ -71,6 +71,8 @@ class RunupResult:
         The ramp (τ units).
     diverged : bool
         Whether the integration diverged (the blocks after it are NaN).
+    options : IntegrationOptions
+        The integration options the ramp used.
     """
 
     model: GearModel

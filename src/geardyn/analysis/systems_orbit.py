@@ -35,7 +35,25 @@ __all__ = ["SystemOrbit", "shoot_system", "require_periodic", "elastic_multiplie
 
 
 def require_periodic(model: Any, what: str = "the periodic tools") -> int:
-    """The forcing-period multiple p, or a one-line :class:`ModelError` for incommensurate meshes."""
+    """The forcing-period multiple p of a system, refusing incommensurate mesh frequencies.
+
+    Parameters
+    ----------
+    model : SystemModel
+        The system.
+    what : str
+        The tools named in the error message.
+
+    Returns
+    -------
+    int
+        p = :meth:`SystemModel.period_multiple`: the forcing repeats after p reference mesh periods.
+
+    Raises
+    ------
+    ModelError
+        If the mesh-frequency ratios are incommensurate (no common period).
+    """
     p = model.period_multiple()
     if p is None:
         ratios = ", ".join(f"{m.name} {m.ratio:.12g}" for m in model.meshes)
@@ -46,6 +64,17 @@ def require_periodic(model: Any, what: str = "the periodic tools") -> int:
 
 def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, int]:
     """Eigenvalues of the monodromy on the quotient by the rigid-body subspace, and the rigid-mode count r.
+
+    The rigid-body modes (:func:`~geardyn.analysis.systems_steady.rigid_modes`) span, with their
+    velocities, an invariant subspace whose 2r multipliers are exactly 1; the remaining 2n − 2r
+    decide stability.
+
+    Parameters
+    ----------
+    model : SystemModel
+        The system.
+    monodromy : ndarray (2n, 2n)
+        Monodromy matrix of a periodic orbit.
 
     Returns
     -------
@@ -69,7 +98,43 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
 
 @dataclass
 class SystemOrbit:
-    """A period-n orbit of a system (non-dimensional)."""
+    """A period-n orbit of a system (non-dimensional); see :func:`shoot_system`.
+
+    Attributes
+    ----------
+    model : SystemModel
+        The system point.
+    n : int
+        Forcing periods of the orbit.
+    state : ndarray (2n,)
+        State (q̃, q̃') on the orbit at θ = 0.
+    points : ndarray (n, 2n)
+        The orbit's Poincaré points.
+    monodromy : ndarray (2n, 2n)
+        Jacobian of the n-period map at ``state``.
+    converged : bool
+        Newton met its tolerance.
+    status : Status
+        ``OK``, ``NOT_CONVERGED`` or ``DIVERGED``.
+    iterations : int
+        Newton iterations.
+    residuals : list of float
+        ||P^n(x) − x|| after each iteration.
+    meshes : list of dict
+        Per-mesh extremes, impact state, DTE, mesh force and dynamic factor on the orbit.
+    dtau : float
+        Nominal step Δτ (default :data:`~geardyn.model.DEFAULT_DTAU`).
+    accurate : bool
+        Contact events located exactly.
+    steps : int
+        RK4 steps per forcing period of the map.
+
+    References
+    ----------
+    A. H. Nayfeh and D. T. Mook, *Nonlinear Oscillations*, Wiley, 1979 (Floquet theory);
+    T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer,
+    1989 (shooting).
+    """
 
     model: Any
     n: int
@@ -92,10 +157,12 @@ class SystemOrbit:
 
     @property
     def elastic(self) -> tuple[np.ndarray, int]:
+        """The elastic multipliers and the rigid-mode count (:func:`elastic_multipliers`)."""
         return elastic_multipliers(self.model, self.monodromy)
 
     @property
     def multipliers(self) -> np.ndarray:
+        """All 2n Floquet multipliers, rigid-body ones included."""
         return self.floquet.multipliers
 
     @property
@@ -204,6 +271,7 @@ def shoot_system(model: Any, n: int = 1, guess: Sequence[float] | None = None, *
     Parameters
     ----------
     model : SystemModel
+        The system point (its forcing must be periodic).
     n : int
         Forcing periods of the orbit.
     guess : (2n,) state at θ = 0, optional
@@ -211,7 +279,10 @@ def shoot_system(model: Any, n: int = 1, guess: Sequence[float] | None = None, *
         closest to recurring after n periods).
     dtau, accurate, tol, max_iter : as :func:`geardyn.analysis.periodic.shoot`
     state0 : (u0, v0) of the reference mesh or (2n,), optional
+        Start of the simulation that provides the default guess.
     transient : int
+        Forcing periods of that simulation (default
+        :data:`~geardyn.analysis.periodic.orbit.GUESS_TRANSIENT`).
 
     Returns
     -------
@@ -221,6 +292,12 @@ def shoot_system(model: Any, n: int = 1, guess: Sequence[float] | None = None, *
     ------
     ModelError
         For incommensurate mesh frequencies, a bad period or guess.
+
+    References
+    ----------
+    T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer,
+    1989 (shooting); A. H. Nayfeh and D. T. Mook, *Nonlinear Oscillations*, Wiley, 1979 (Floquet
+    multipliers).
     """
     require_periodic(model, "shooting and Floquet multipliers")
     n = int(n)

@@ -25,8 +25,7 @@ from ..integrate_ndof import (
 from ..model import IntegrationOptions
 from .classify import IMPACT_LABELS, detect_period, impact_state, period_label
 
-__all__ = ["SystemSteadyState", "simulate_system", "static_mesh_forces", "mesh_forces", "mesh_entries",
-           "rigid_modes", "system_state0"]
+__all__ = ["SystemSteadyState", "simulate_system", "static_mesh_forces", "mesh_forces", "rigid_modes"]
 
 
 def _num(x: Any) -> float | None:
@@ -39,6 +38,18 @@ def rigid_modes(model: Any, rtol: float = 1e-9) -> np.ndarray:
 
     Directions φ with K̄ φ = 0 (mean stiffness of bearings, meshes and clearances), C̃_b φ = 0 and
     φ·F̃ = 0: along them the system drifts freely and their Floquet multipliers are exactly 1.
+
+    Parameters
+    ----------
+    model : SystemModel
+        The system.
+    rtol : float
+        Eigenvalues of K̄ below ``rtol`` times its largest (at least 1) count as zero.
+
+    Returns
+    -------
+    ndarray (n, r)
+        Orthonormal columns; r = 0 when no zero-stiffness direction is also free of damping and load.
     """
     Kt = np.array(model.Kb, dtype=float)
     for i, m in enumerate(model.meshes):
@@ -54,7 +65,18 @@ def rigid_modes(model: Any, rtol: float = 1e-9) -> np.ndarray:
 
 
 def static_mesh_forces(model: Any) -> np.ndarray:
-    """Static mesh force of every mesh (units k_ref b_c), see the module docstring."""
+    """Static mesh force of every mesh (units k_ref b_c), see the module docstring.
+
+    Parameters
+    ----------
+    model : SystemModel
+        The system.
+
+    Returns
+    -------
+    ndarray (meshes,)
+        k_m (V_m·q̃ − D_m) at the static equilibrium K̄ q̃ = F̃ + Σ k_m D_m V_m (least-norm solution).
+    """
     Kt = np.array(model.Kb, dtype=float)
     rhs = np.array(model.F, dtype=float)
     for i, m in enumerate(model.meshes):
@@ -65,7 +87,22 @@ def static_mesh_forces(model: Any) -> np.ndarray:
 
 
 def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
-    """Mesh forces (K, meshes) from the element deflections (K, elements, 2) at times τ."""
+    """Mesh forces s_m = C_m(θ) δ_m' + K_m(θ) f(δ_m; D_m) from the element deflections.
+
+    Parameters
+    ----------
+    model : SystemModel
+        The system.
+    tau : ndarray (K,)
+        Times τ.
+    deltas : ndarray (K, elements, 2)
+        Deflection δ and its rate δ' of every element (meshes first) at those times.
+
+    Returns
+    -------
+    ndarray (K, meshes)
+        Mesh forces in units k_ref b_c.
+    """
     tau = np.asarray(tau, dtype=float)
     th = model.omega * tau
     out = []
@@ -142,7 +179,21 @@ def system_state0(model: Any, state0: Sequence[float] | None) -> np.ndarray:
 
 @dataclass
 class SystemSteadyState:
-    """Steady response of one system point (non-dimensional); see :func:`simulate_system`."""
+    """Steady response of one system point (non-dimensional); see :func:`simulate_system`.
+
+    Attributes
+    ----------
+    model : SystemModel
+        The system point.
+    options : IntegrationOptions
+        The integration options used.
+    state0 : ndarray (2n,)
+        The initial state.
+    traj : SystemTrajectory
+        The integrated trajectory with its time history.
+    summary : dict
+        The keys of ``simulate --json`` (reference mesh) plus ``meshes``, ``clearances`` and ``labels``.
+    """
 
     model: Any
     options: IntegrationOptions
@@ -152,6 +203,7 @@ class SystemSteadyState:
 
     @property
     def poincare(self) -> np.ndarray:
+        """Poincaré points (periods, 2n) of the trajectory."""
         return self.traj.poincare
 
     def to_json(self) -> dict[str, Any]:
@@ -166,8 +218,11 @@ def simulate_system(model: Any, options: IntegrationOptions = IntegrationOptions
     Parameters
     ----------
     model : SystemModel
+        The system point.
     options : IntegrationOptions
+        Transient and recorded periods, step and accuracy.
     state0 : (u0, v0) of the reference mesh, or a full (2n,) state, optional
+        Default: the model's default initial state.
     history_periods : int
         Forcing periods of history kept (mesh forces and the dynamic factor are taken over them).
 

@@ -51,19 +51,24 @@ def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str =
     Parameters
     ----------
     model : SystemModel
+        The system at its base point.
     param : str
         Parameter name (``omega``, ``<mesh>.kappa1``, ...).
     values : sequence of float
+        The parameter values, in sweep order.
     mode : {"fixed", "continue"}
         Every point from ``state0`` (default :func:`~geardyn.integrate_ndof.initial_state`), or each
         from the previous point's end state.
     sweep : {"up", "down", "both"}
         Directions of a continuation sweep.
     options : IntegrationOptions
+        Transient and recorded periods of every point.
     state0 : (2n,) state, optional
+        Initial state of every point (``fixed``) or of the first point (``continue``).
     coordinate : int, optional
         A state coordinate whose Poincaré points are kept as well.
     threads : int, optional
+        Kernel threads (default: the integrator's thread policy).
 
     Returns
     -------
@@ -111,7 +116,23 @@ def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str =
 
 
 def system_response_jumps(sw: dict[str, Any], measure: str = "amplitude", rel: float = 0.25) -> list[dict[str, Any]]:
-    """Jumps of a continuation sweep: neighbouring ω where the measure changes by more than ``rel`` of its range."""
+    """Jumps of a continuation sweep: neighbouring ω where the measure changes by more than ``rel`` of its range.
+
+    Parameters
+    ----------
+    sw : dict
+        A :func:`system_sweep` result (``values`` and the per-direction series of ``measure``).
+    measure : {"amplitude", "u_min", "u_max"}
+        The reference-mesh quantity compared between neighbours.
+    rel : float
+        Threshold as a fraction of the measure's range over the sweep (per direction).
+
+    Returns
+    -------
+    list of dict
+        One entry per jump, in sweep order: ``omega`` (midpoint of the two values), ``direction``
+        (``up`` or ``down``) and ``size`` (signed change of the measure).
+    """
     vals = sw["values"]
     out = []
     series = sw[measure] if isinstance(sw[measure], dict) else {sw["sweep"]: sw[measure]}

@@ -13,7 +13,7 @@ from rich.console import Console
 from .. import __version__
 from ..errors import GeardynError
 
-__all__ = ["EXIT_INTERRUPTED", "app", "console", "emit_json", "err_console", "fail", "main", "say_error"]
+__all__ = ["EXIT_INTERRUPTED", "app", "console", "emit_json", "err_console", "fail", "main"]
 
 #: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
 EXIT_INTERRUPTED = 130
@@ -44,18 +44,46 @@ def _root(
 
 
 def say_error(message: str) -> None:
-    """Print ``message`` on stderr as one line (never wrapped, no markup)."""
+    """Print ``message`` on stderr as one line (never wrapped, no markup).
+
+    Parameters
+    ----------
+    message : str
+        The text; runs of whitespace (newlines included) become single spaces.
+    """
     err_console.print(" ".join(str(message).split()), markup=False, highlight=False, soft_wrap=True)
 
 
 def fail(message: str) -> "typer.Exit":
-    """Print one line naming the bad input and return the exit (code 2) to raise."""
+    """Print one line naming the bad input and return the exit (code 2) to raise.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong, printed after ``error:`` on stderr.
+
+    Returns
+    -------
+    typer.Exit
+        The exit with code 2, for the caller to ``raise``.
+    """
     say_error(f"error: {message}")
     return typer.Exit(code=2)
 
 
 def emit_json(obj: Any) -> None:
-    """Write ``obj`` as indented JSON on stdout (NumPy scalars and arrays as plain numbers and lists)."""
+    """Write ``obj`` as indented JSON on stdout (NumPy scalars and arrays as plain numbers and lists).
+
+    Parameters
+    ----------
+    obj : object
+        A JSON-serialisable value; NaN and infinities are written as ``NaN`` and ``Infinity``.
+
+    Raises
+    ------
+    TypeError
+        For a value that is neither JSON-serialisable nor a NumPy scalar or array.
+    """
     sys.stdout.write(json.dumps(obj, indent=2, allow_nan=True, default=_json_default) + "\n")
 
 
@@ -82,6 +110,16 @@ def main(argv: Optional[list[str]] = None) -> None:
     Exit codes: 0 success; 2 invalid input (model and option errors, unknown options, values
     that do not parse, bad configuration files); 130 interrupted by Ctrl-C (a sweep says how to
     resume); 1 other failures such as an unwritable output or a lost Dask scheduler.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; default ``sys.argv[1:]``.
+
+    Raises
+    ------
+    SystemExit
+        With the exit code above (also on success when a command returns a code).
     """
     from ..sweep import SweepFailed, SweepInterrupted
 

@@ -29,8 +29,7 @@ from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel,
 from .app import app, emit_json, fail, is_stop
 
 __all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
-           "integration", "sweep_range",
-           "model_group", "option", "out_paths", "pair_scales"]
+           "integration", "sweep_range", "model_group", "option", "out_paths"]
 
 _P = inspect.Parameter
 MODEL_PANEL = "Model (non-dimensional)"
@@ -41,7 +40,28 @@ OUTPUT_PANEL = "Output"
 
 
 def option(dest: str, kind: Any, default: Any, *flags: str, help: str, panel: str | None = None) -> inspect.Parameter:
-    """One keyword-only typer option as a signature parameter."""
+    """One keyword-only typer option as a signature parameter.
+
+    Parameters
+    ----------
+    dest : str
+        The keyword the command function receives.
+    kind : type
+        The option's type annotation (``float``, ``Optional[Path]``, ``bool`` for a flag ...).
+    default : object
+        The value when the option is not given.
+    *flags : str
+        The option's flags, e.g. ``"--dtau"``.
+    help : str
+        The help text.
+    panel : str, optional
+        The ``--help`` panel it is listed in.
+
+    Returns
+    -------
+    inspect.Parameter
+        A keyword-only parameter annotated with its ``typer.Option``.
+    """
     return _P(dest, _P.KEYWORD_ONLY, default=default,
               annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel)])
 
@@ -74,7 +94,16 @@ RPM_RANGE = [
 def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Parameter]:
     """``--config``, the operating point and one option per registry family (see :func:`geardyn.params.cli_options`).
 
-    ``omega=False`` leaves out ``--omega`` (and ``rpm=False`` ``--rpm``) for commands that sweep ω themselves.
+    Parameters
+    ----------
+    omega : bool
+        Include ``--omega``; ``False`` for commands that sweep ω themselves.
+    rpm : bool
+        Include ``--rpm``; likewise.
+
+    Returns
+    -------
+    list of inspect.Parameter
     """
     group = list(CONFIG) + ([RPM] if rpm else []) + [TORQUE]
     for o in params.cli_options():
@@ -100,8 +129,27 @@ ADAPTIVE_HELP = ("Adaptive transient: --transient becomes a maximum; each point 
 def integration(*, periods: int | None = DEFAULT_PERIODS,
                 periods_help: str = "Forcing periods recorded (Poincaré points).",
                 accurate: inspect.Parameter | None = None, adaptive: bool = False) -> list[inspect.Parameter]:
-    """``--dtau --transient [--periods] --accurate [--adaptive]``; ``periods=None`` leaves ``--periods`` out,
-    ``adaptive=True`` (the sweep commands) adds ``--adaptive``."""
+    """The integration options ``--dtau --transient [--periods] --accurate [--adaptive]``.
+
+    ``--dtau`` and ``--transient`` default to :data:`~geardyn.model.DEFAULT_DTAU` and
+    :data:`~geardyn.model.DEFAULT_TRANSIENT`.
+
+    Parameters
+    ----------
+    periods : int or None
+        Default of ``--periods`` (default :data:`~geardyn.model.DEFAULT_PERIODS`); ``None`` leaves
+        ``--periods`` out.
+    periods_help : str
+        Help text of ``--periods``.
+    accurate : inspect.Parameter, optional
+        A command's own ``--accurate`` option in place of the standard one.
+    adaptive : bool
+        Add ``--adaptive`` (the sweep commands).
+
+    Returns
+    -------
+    list of inspect.Parameter
+    """
     group = [
         option("dtau", float, DEFAULT_DTAU, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).",
                panel=RUN_PANEL),
@@ -143,7 +191,17 @@ def base_model(config: Optional[Path]) -> GearModel:
 
 
 def pair_scales(config: Optional[Path]):
-    """Physical scales of the gear pair of ``--config`` (default: the paper's Table 1 pair, k0 assumed)."""
+    """Physical scales of the gear pair of ``--config`` (default: the paper's Table 1 pair, k0 assumed).
+
+    Parameters
+    ----------
+    config : Path, optional
+        Configuration file.
+
+    Returns
+    -------
+    PhysicalScales
+    """
     from ..units import PhysicalScales, configured_pair
 
     return PhysicalScales.from_config(configured_pair(config))
@@ -187,14 +245,35 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
 
 
 def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
-    """(NetCDF file, figure directory) for ``--out``: a directory, or a file name ending in .nc."""
+    """(NetCDF file, figure directory) for ``--out``: a directory, or a file name ending in .nc.
+
+    Parameters
+    ----------
+    out : Path
+        The value of ``--out``.
+    stem : str
+        File stem of the NetCDF file inside a directory (``<out>/<stem>.nc``).
+
+    Returns
+    -------
+    nc, figures : Path
+        The NetCDF file and the directory the figures go to.
+    """
     if out.suffix == ".nc":
         return out, out.parent
     return out / f"{stem}.nc", out
 
 
 class Inputs:
-    """The values of a command's shared option groups, with the checked objects built from them."""
+    """The values of a command's shared option groups, with the checked objects built from them.
+
+    Every value is also an attribute (``inp.json_out``, ``inp.rpm_start``, ...).
+
+    Parameters
+    ----------
+    values : dict
+        The shared options' values by keyword, as the command received them.
+    """
 
     def __init__(self, values: dict[str, Any]) -> None:
         self.values = values
@@ -206,7 +285,22 @@ class Inputs:
             raise AttributeError(name) from None
 
     def model(self, **fixed: Optional[float]) -> GearModel:
-        """The model of ``--config`` with the model options and the operating point applied."""
+        """The model of ``--config`` with the model options and the operating point applied.
+
+        Parameters
+        ----------
+        **fixed : float or None
+            Model options set by the command itself (keywords of :func:`build_model`), over the given ones.
+
+        Returns
+        -------
+        GearModel
+
+        Raises
+        ------
+        ModelError
+            For an invalid value or a conflicting ``--rpm`` / ``--torque``.
+        """
         v = self.values
         dests = {o.dest for o in params.cli_options()}
         given = {k: v.get(k) for k in dests}
@@ -220,7 +314,28 @@ class Inputs:
     def options(self, omega: float | None = None, *, periods: int | None = None, omegas: Any = (),
                 points: int = 1) -> IntegrationOptions:
         """Validated integration options, checked against ``omega`` (or every one of ``omegas``) and against the
-        memory the recorded periods of ``points`` points take."""
+        memory the recorded periods of ``points`` points take.
+
+        Parameters
+        ----------
+        omega : float, optional
+            The forcing frequency the step is checked against.
+        periods : int, optional
+            Recorded periods in place of ``--periods`` (1 for commands without it).
+        omegas : sequence of float
+            Every frequency of a sweep, checked likewise.
+        points : int
+            Parameter points whose recorded periods are held in memory at once.
+
+        Returns
+        -------
+        IntegrationOptions
+
+        Raises
+        ------
+        ModelError
+            For an invalid step, transient or period count, or too much memory.
+        """
         from .. import validate
 
         v = self.values
@@ -254,7 +369,18 @@ class Inputs:
         return name, validate.number("start", start), validate.number("stop", stop)
 
     def not_swept(self, *names: str) -> None:
-        """Refuse a model option given for a parameter the command sweeps (it would be silently overridden)."""
+        """Refuse a model option given for a parameter the command sweeps (it would be silently overridden).
+
+        Parameters
+        ----------
+        *names : str
+            The swept parameters.
+
+        Raises
+        ------
+        ModelError
+            If the option of one of them (or ``--rpm`` / ``--torque`` for ω / f_p) was given.
+        """
         flags = {o.param: o for o in params.cli_options()}
         physical = {"omega": ("rpm", "--rpm"), "fp": ("torque", "--torque")}
         for name in names:
@@ -274,7 +400,13 @@ class Inputs:
         return validate.initial_state(self.values["u0"], self.values["v0"])
 
     def nc(self, stem: str) -> Optional[Path]:
-        """The NetCDF file of ``--out`` (None without it)."""
+        """The NetCDF file of ``--out`` (None without it).
+
+        Parameters
+        ----------
+        stem : str
+            File stem inside an ``--out`` directory.
+        """
         out = self.values.get("out")
         return out_paths(out, stem)[0] if out is not None else None
 
@@ -284,6 +416,21 @@ class Inputs:
         With ``--out`` the finished chunks are checkpointed next to the NetCDF file (``<nc>.chunks``); call
         :meth:`write` with the engine once the result is complete.  The progress bar goes to stderr unless
         ``--json``.
+
+        Parameters
+        ----------
+        stem : str
+            File stem of the NetCDF file (its checkpoint directory is named after it).
+
+        Returns
+        -------
+        dict
+            ``workers``, ``scheduler``, ``checkpoint``, ``resume`` and ``progress``.
+
+        Raises
+        ------
+        ModelError
+            For an invalid engine option, or ``--resume`` without ``--out``.
         """
         from .. import validate
         from ..sweep import checkpoint_dir
@@ -301,7 +448,22 @@ class Inputs:
         }
 
     def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None) -> list[str]:
-        """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint."""
+        """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint.
+
+        Parameters
+        ----------
+        ds : xarray.Dataset
+            The result.
+        stem : str
+            File stem of the NetCDF file inside an ``--out`` directory.
+        engine : dict, optional
+            The :meth:`engine` keywords of a sweep (its checkpoint is removed).
+
+        Returns
+        -------
+        list of str
+            The files written (none without ``--out``).
+        """
         out = self.values.get("out")
         if out is None:
             return []
@@ -318,7 +480,21 @@ class Inputs:
 
 
 def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *extra: Any) -> None:
-    """Print the summary as JSON (with the files written) or as tables for people."""
+    """Print the summary as JSON (with the files written) or as tables for people.
+
+    Parameters
+    ----------
+    summary : dict
+        The command's JSON summary (``files`` is added for ``--json``).
+    paths : list of str
+        The files written.
+    inp : Inputs
+        The command's inputs (``--json`` decides the form).
+    show : callable
+        ``show(summary, paths, *extra)``, the table renderer (:mod:`geardyn.cli.render`).
+    *extra : object
+        Further arguments of ``show``.
+    """
     if inp.json_out:
         summary["files"] = paths
         emit_json(summary)
@@ -327,7 +503,27 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
 
 
 def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
-    """``value`` if it is one of ``allowed``, else a one-line refusal."""
+    """``value`` if it is one of ``allowed``, else a one-line refusal.
+
+    Parameters
+    ----------
+    name : str
+        The option, named in the message.
+    value : str
+        The given value.
+    allowed : tuple of str
+        The accepted values.
+
+    Returns
+    -------
+    str
+        ``value``.
+
+    Raises
+    ------
+    ModelError
+        If ``value`` is not allowed.
+    """
     if value not in allowed:
         raise ModelError(f"{name}: must be one of {', '.join(allowed)}, got {value!r}")
     return value
@@ -335,7 +531,27 @@ def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
 
 def sweep_range(inp: Inputs, start: Optional[float], stop: Optional[float],
                 param: str = "omega") -> tuple[Optional[float], Optional[float]]:
-    """(start, stop) of a sweep: ``--rpm-start/--rpm-stop`` converted to ω, else ``start, stop`` as given."""
+    """(start, stop) of a sweep: ``--rpm-start/--rpm-stop`` converted to ω, else ``start, stop`` as given.
+
+    Parameters
+    ----------
+    inp : Inputs
+        The command's inputs (``rpm_start``, ``rpm_stop`` and the configured pair).
+    start, stop : float, optional
+        The range as given in non-dimensional units.
+    param : str
+        The swept parameter (an rpm range sweeps ω only, see :func:`geardyn.units.sweep_range`).
+
+    Returns
+    -------
+    start, stop : float or None
+
+    Raises
+    ------
+    ModelError
+        If an rpm range is incomplete, combined with a non-dimensional one, given for another
+        parameter than ω, or given without a gear pair.
+    """
     from ..units import sweep_range as convert
 
     if inp.rpm_start is None and inp.rpm_stop is None:
@@ -344,7 +560,23 @@ def sweep_range(inp: Inputs, start: Optional[float], stop: Optional[float],
 
 
 def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
-    """Register ``fn(inp, **own_options)`` as a command that also takes the options of ``groups``."""
+    """Register ``fn(inp, **own_options)`` as a command that also takes the options of ``groups``.
+
+    The command receives an :class:`Inputs` of the groups' values and its own options as keywords;
+    a :class:`~geardyn.errors.GeardynError` it raises becomes one line on stderr and exit code 2.
+
+    Parameters
+    ----------
+    name : str or None
+        The command's name (None: the function's name).
+    *groups : list of inspect.Parameter
+        Shared option groups (:data:`MODEL`, :data:`ENGINE`, :func:`integration` ...).
+
+    Returns
+    -------
+    callable
+        A decorator that registers ``fn`` on the app and returns it unchanged.
+    """
 
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         hints = typing.get_type_hints(fn, include_extras=True)

@@ -17,13 +17,27 @@ def _num(x: Any) -> str:
 
 
 def files(paths: list[str]) -> None:
-    """One ``wrote FILE`` line per file written."""
+    """One ``wrote FILE`` line per file written.
+
+    Parameters
+    ----------
+    paths : list of str
+        The files written.
+    """
     for f in paths:
         console.print(f"wrote {f}")
 
 
 def simulate(s: dict[str, Any], paths: list[str]) -> None:
-    """The steady response of ``geardyn simulate``."""
+    """The steady response of ``geardyn simulate``.
+
+    Parameters
+    ----------
+    s : dict
+        The command's JSON summary.
+    paths : list of str
+        The files written (listed after the table).
+    """
     t = Table(title=f"Steady response at ω = {s['omega']:g}", show_header=False)
     t.add_row("motion", s["motion"])
     t.add_row("impact state", s["impact"])
@@ -70,7 +84,15 @@ def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> 
 
 
 def orbit(s: dict[str, Any], paths: list[str]) -> None:
-    """A shot periodic orbit with its Floquet multipliers."""
+    """A shot periodic orbit with its Floquet multipliers.
+
+    Parameters
+    ----------
+    s : dict
+        The command's JSON summary.
+    paths : list of str
+        The files written (listed after the table).
+    """
     t = Table(title=f"Period-{s['requested_period']} orbit at ω = {s['omega']:g}", show_header=False)
     t.add_row("converged", f"{s['converged']} ({s['status']}, {s['iterations']} Newton iterations, residual {s['residual']})")
     t.add_row("minimal period", str(s["period"]))
@@ -91,7 +113,15 @@ def orbit(s: dict[str, Any], paths: list[str]) -> None:
 
 
 def continuation(s: dict[str, Any], paths: list[str]) -> None:
-    """Branches and bifurcations of a continuation."""
+    """Branches and bifurcations of a continuation.
+
+    Parameters
+    ----------
+    s : dict
+        The command's JSON summary.
+    paths : list of str
+        The files written (listed after the table).
+    """
     p = s["param"]
     t = Table(title=f"Branches in {p} from {s['start']:g} to {s['stop']:g}")
     for col in ("branch", "period", "points", "from", "end"):
@@ -126,7 +156,15 @@ def lyapunov(s: dict[str, Any], paths: list[str]) -> None:
 
 
 def intervals(s: dict[str, Any], paths: list[str]) -> None:
-    """Motion intervals of a bifurcation diagram, per sweep."""
+    """Motion intervals of a bifurcation diagram, per sweep.
+
+    Parameters
+    ----------
+    s : dict
+        The command's JSON summary.
+    paths : list of str
+        The files written (listed after the table).
+    """
     iv = s["intervals"]
     groups = iv if isinstance(iv, dict) else {s["sweep"]: iv}
     rpm = s.get("values_rpm") if s["param"] == "omega" else None

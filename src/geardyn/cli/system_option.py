@@ -19,7 +19,7 @@ import typer
 from ..errors import ModelError
 from .app import emit_json
 
-__all__ = ["SYSTEM", "SYSTEM_COMMANDS", "run_system", "load_cli_system"]
+__all__ = ["SYSTEM", "SYSTEM_COMMANDS", "run_system"]
 
 SYSTEM_PANEL = "Multi-DOF system"
 SYSTEM = [inspect.Parameter(
@@ -35,7 +35,23 @@ _NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
 
 
 def load_cli_system(values: dict[str, Any]):
-    """The system of ``--system`` with ``--omega``/``--rpm`` and the mesh options applied."""
+    """The system of ``--system`` with ``--omega``/``--rpm`` and the mesh options applied.
+
+    Parameters
+    ----------
+    values : dict
+        The command's shared option values (``system``, ``omega``, ``rpm``, model options ...).
+
+    Returns
+    -------
+    SystemModel
+
+    Raises
+    ------
+    ModelError
+        For a bad system file, or options that do not apply to a system (``--config``,
+        ``--torque``, ``--fp``, ``--rpm`` with ``--omega``).
+    """
     from .. import params
     from ..systems import load_system
 
@@ -159,6 +175,15 @@ _HANDLERS = {"simulate": _simulate, "lyapunov": _lyapunov, "orbit": _orbit, "bif
 
 def run_system(name: str, values: dict[str, Any], kw: dict[str, Any]) -> None:
     """Run command ``name`` on the system of ``--system`` and print its summary.
+
+    Parameters
+    ----------
+    name : str
+        The command (one of :data:`SYSTEM_COMMANDS`).
+    values : dict
+        The command's shared option values (``system`` among them).
+    kw : dict
+        The command's own options by keyword.
 
     Raises
     ------

@@ -82,7 +82,25 @@ def pair_iso_mesh(pair: Any, inputs: Mapping[str, float] | None = None, *, rpm: 
 
 
 def iso_k0(mesh: BevelMesh, c_gamma: float | None = None) -> float:
-    """k0 by ISO 10300-1: ``c_γ · b_v,eff`` (N/m), with the given ``c_gamma`` (N/m²) instead of ISO's when given."""
+    """k0 by ISO 10300-1: ``c_γ · b_v,eff`` (N/m), with the given ``c_gamma`` (N/m²) instead of ISO's when given.
+
+    Parameters
+    ----------
+    mesh : BevelMesh
+        The virtual cylindrical gears of the pair (:class:`geardyn.standards.iso10300.BevelMesh`).
+    c_gamma : float, optional
+        Mesh stiffness c_γ in N/m² (per unit face width); default the ISO value ``mesh.c_gamma``.
+
+    Returns
+    -------
+    float
+        Mesh stiffness k0 in N/m.
+
+    References
+    ----------
+    ISO 10300-1:2014, *Calculation of load capacity of bevel gears — Part 1: Introduction and
+    general influence factors*.
+    """
     return (mesh.c_gamma if c_gamma is None else float(c_gamma)) * mesh.b_v_eff
 
 
@@ -128,7 +146,18 @@ def iso_summary(mesh: BevelMesh, *, k0_method: str, k0_used: float, c_gamma_give
 
 
 def iso_rows(s: Mapping[str, Any]) -> list[tuple[str, str, str, str]]:
-    """Rows (quantity, value, unit, note) of the ISO block of a geometry summary (:func:`iso_summary`)."""
+    """Rows (quantity, value, unit, note) of the ISO block of a geometry summary (:func:`iso_summary`).
+
+    Parameters
+    ----------
+    s : mapping
+        A geometry summary holding the :func:`iso_summary` keys.
+
+    Returns
+    -------
+    list of (str, str, str, str)
+        The table rows, values formatted (``—`` for a missing one).
+    """
     def f(x: Any, spec: str = ".5g") -> str:
         return "—" if x is None else format(x, spec)
 

@@ -234,12 +234,40 @@ def quasi_n(n: int) -> MotionTest:
 
 
 def is_chaotic(motion: int, period: int, loops: int) -> bool:
-    """The paper's "chaotic": geardyn classifies the point as chaotic (largest exponent positive)."""
+    """The paper's "chaotic": geardyn classifies the point as chaotic (largest exponent positive).
+
+    Parameters
+    ----------
+    motion : int
+        Motion code of the point (``MOTION_*`` of :mod:`geardyn.analysis.classify`).
+    period : int
+        Detected period (not used by this test; the signature is that of every motion test).
+    loops : int
+        Loops of a quasi-periodic orbit (not used by this test).
+
+    Returns
+    -------
+    bool
+    """
     return motion == MOTION_CHAOTIC
 
 
 def is_regular(motion: int, period: int, loops: int) -> bool:
-    """The paper's unqualified "quasi-periodic" (Table 2, ξ1 rows): regular, not chaotic motion."""
+    """The paper's unqualified "quasi-periodic" (Table 2, ξ1 rows): regular, not chaotic motion.
+
+    Parameters
+    ----------
+    motion : int
+        Motion code of the point (``MOTION_*`` of :mod:`geardyn.analysis.classify`).
+    period : int
+        Detected period (not used by this test; the signature is that of every motion test).
+    loops : int
+        Loops of a quasi-periodic orbit (not used by this test).
+
+    Returns
+    -------
+    bool
+    """
     return motion in (MOTION_PERIODIC, MOTION_QUASIPERIODIC)
 
 

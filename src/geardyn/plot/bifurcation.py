@@ -73,7 +73,18 @@ def _has_lle(ds: xr.Dataset) -> bool:
 
 
 def diagram_panels(ds: xr.Dataset) -> int:
-    """Number of panels of :func:`diagram` for ``ds``: points, λ1 (if computed), two bands per sweep."""
+    """Number of panels of :func:`diagram` for ``ds``: points, λ1 (if computed), two bands per sweep.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``bifurcation`` or ``response`` result.
+
+    Returns
+    -------
+    int
+        The number of Axes to give :func:`diagram` for the full figure.
+    """
     return 1 + int(_has_lle(ds)) + 2 * ds.sizes["sweep"]
 
 

@@ -61,7 +61,19 @@ class PlotArtists:
     artists: list[Artist] = field(default_factory=list)
 
     def savefig(self, path: str | Path, **kwargs: Any) -> Path:
-        """Save the figure (see :func:`save`; the figure stays open)."""
+        """Save the figure (see :func:`save`; the figure stays open).
+
+        Parameters
+        ----------
+        path : str or Path
+            Output file; the format follows its suffix.
+        **kwargs
+            Keywords of :func:`save` (``dpi``).
+
+        Returns
+        -------
+        Path
+        """
         return save(self, path, close=False, **kwargs)
 
     def _repr_png_(self) -> bytes:  # shown inline by Jupyter
@@ -71,7 +83,18 @@ class PlotArtists:
 
 
 def new_figure(**kwargs: Any) -> Figure:
-    """A figure outside pyplot with an Agg canvas (``kwargs`` as for :class:`~matplotlib.figure.Figure`)."""
+    """A figure outside pyplot with an Agg canvas.
+
+    Parameters
+    ----------
+    **kwargs
+        Keywords of :class:`matplotlib.figure.Figure` (``figsize``, ``dpi``, ...), which refuses
+        unknown ones.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig = Figure(**kwargs)
     FigureCanvasAgg(fig)
     return fig
@@ -90,6 +113,9 @@ def panels(ax: Any, n: int, figsize: tuple[float, float], **subplots: Any) -> tu
         Number of panels of the full figure.
     figsize : (float, float)
         Size of a new figure in inches.
+    **subplots
+        Keywords of :meth:`matplotlib.figure.Figure.subplots` for a new figure (``nrows``,
+        ``ncols``, ``sharex``, ...; default ``n`` rows in one column); not used when ``ax`` is given.
 
     Returns
     -------
@@ -134,7 +160,19 @@ def result(fig: Figure, axes: Sequence[Axes | None], before: dict[int, set[Artis
 
 
 def label(da: xr.DataArray, fallback: str | None = None) -> str:
-    """Axis label '<long_name> [units]' from a DataArray's attributes (no unit shown for "1")."""
+    """Axis label '<long_name> [units]' from a DataArray's attributes (no unit shown for "1").
+
+    Parameters
+    ----------
+    da : xarray.DataArray
+        The variable or coordinate on the axis.
+    fallback : str, optional
+        The name shown when it has no ``long_name`` (default its own name).
+
+    Returns
+    -------
+    str
+    """
     name = da.attrs.get("long_name", fallback or str(da.name))
     units = da.attrs.get("units")
     return f"{name} [{units}]" if units and units != "1" else name
@@ -145,6 +183,22 @@ def save(fig: Any, path: str | Path, *, close: bool = True, dpi: int = DPI) -> P
 
     The format follows the suffix of ``path`` (PNG for ``.png``).  A figure managed by pyplot is
     closed there when ``close`` is true; geardyn's own figures need no closing.
+
+    Parameters
+    ----------
+    fig : Figure or PlotArtists
+        What to save.
+    path : str or Path
+        Output file (its directory is created if missing).
+    close : bool
+        Close a pyplot-managed figure after saving.
+    dpi : int
+        Resolution (default :data:`DPI`).
+
+    Returns
+    -------
+    Path
+        ``path``.
     """
     figure = fig.figure if isinstance(fig, PlotArtists) else fig
     path = Path(path)
@@ -157,7 +211,18 @@ def save(fig: Any, path: str | Path, *, close: bool = True, dpi: int = DPI) -> P
 
 # ------------------------------------------------------------------------------------ parameters
 def model_of(ds: xr.Dataset) -> dict:
-    """The model parameters stored with a result (its ``model`` attribute), empty if it has none."""
+    """The model parameters stored with a result (its ``model`` attribute), empty if it has none.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+
+    Returns
+    -------
+    dict
+        ``GearModel.to_dict()`` of the result's model, or ``{}``.
+    """
     try:
         return dict(json.loads(ds.attrs["model"]))
     except (KeyError, ValueError, TypeError):
@@ -165,7 +230,17 @@ def model_of(ds: xr.Dataset) -> dict:
 
 
 def symbol(name: str) -> str:
-    """The symbol of a parameter for labels (``"xi0"`` → ``"ξ0"``, ``"kappa2"`` → ``"κ2"``); other names unchanged."""
+    """The symbol of a parameter for labels (``"xi0"`` → ``"ξ0"``, ``"kappa2"`` → ``"κ2"``); other names unchanged.
+
+    Parameters
+    ----------
+    name : str
+        A parameter name of the registry (:mod:`geardyn.params`), or any other name.
+
+    Returns
+    -------
+    str
+    """
     try:
         fam, idx = slot(name)
     except GeardynError:
@@ -183,7 +258,19 @@ def _canonical(name: str) -> str:
 
 def parameter_text(ds: xr.Dataset, exclude: Iterable[str] = ()) -> str:
     """The model parameters of a result as ``"ω = 1.2, ξ0 = 0.1, ξ1 = 0.05, κ1 = 0.2, …"`` (phases only when
-    nonzero), leaving out the parameters in ``exclude`` (swept or drawn on an axis); ``""`` without a model."""
+    nonzero), leaving out the parameters in ``exclude`` (swept or drawn on an axis); ``""`` without a model.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+    exclude : iterable of str
+        Parameter names (any alias) left out.
+
+    Returns
+    -------
+    str
+    """
     m = model_of(ds)
     skip = {_canonical(n) for n in exclude}
     parts = []
@@ -200,24 +287,64 @@ def parameter_text(ds: xr.Dataset, exclude: Iterable[str] = ()) -> str:
     return ", ".join(parts)
 
 
-def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), **kwargs: Any) -> Any:
-    """Title ``text`` with the result's parameters (:func:`parameter_text`) on a second line."""
+def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), *,
+              fontsize: float | str | None = None) -> Any:
+    """Title ``text`` with the result's parameters (:func:`parameter_text`) on a second line.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The Axes titled.
+    text : str
+        The first line.
+    ds : xarray.Dataset
+        The result whose parameters form the second line.
+    exclude : iterable of str
+        Parameters left out of the second line (swept or drawn on an axis).
+    fontsize : float or str, optional
+        Font size of the title; default matplotlib's ``axes.titlesize``.
+
+    Returns
+    -------
+    matplotlib.text.Text
+        The title.
+    """
     params = parameter_text(ds, exclude)
-    return ax.set_title(f"{text}\n{params}" if params else text, **kwargs)
+    size = {} if fontsize is None else {"fontsize": fontsize}
+    return ax.set_title(f"{text}\n{params}" if params else text, **size)
 
 
 # ------------------------------------------------------------------------------------ drawing
-def contact_lines(ax: Axes, ds: xr.Dataset, param: str | None = None, x: np.ndarray | None = None,
-                  **style: Any) -> list[Artist]:
+def contact_lines(ax: Axes, ds: xr.Dataset, param: str | None = None, x: np.ndarray | None = None, *,
+                  color: str = "0.6", lw: float = 0.8, ls: str | None = None) -> list[Artist]:
     """The contact boundaries u = ±D of a figure over ``x``: horizontal lines at the model's D, or, when the
     swept parameter ``param`` is D itself, the lines u = ±D following the plotted D (nothing where D = 0).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    ds : xarray.Dataset
+        The result (its model gives D).
+    param : str, optional
+        The parameter on the horizontal axis.
+    x : ndarray, optional
+        Its plotted values (used when ``param`` is D).
+    color : str
+        Line colour.
+    lw : float
+        Line width.
+    ls : str, optional
+        Line style; default matplotlib's ``lines.linestyle``.
 
     Returns
     -------
     list of Artist
         The lines drawn (``gid`` ``"contact"``).
     """
-    style = {"color": "0.6", "lw": 0.8, **style}
+    style: dict[str, Any] = {"color": color, "lw": lw}
+    if ls is not None:
+        style["ls"] = ls
     if param is not None and x is not None and _canonical(param) == "D":
         d = np.sort(np.asarray(x, dtype=float))
         return [ax.plot(d, s * d, gid="contact", **style)[0] for s in (1, -1)]
@@ -228,7 +355,17 @@ def contact_lines(ax: Axes, ds: xr.Dataset, param: str | None = None, x: np.ndar
 
 
 def log_stems(ax: Axes, x: np.ndarray, amp: np.ndarray) -> None:
-    """An amplitude spectrum as stems on a log scale, six decades below its peak (the mean term left out)."""
+    """An amplitude spectrum as stems on a log scale, six decades below its peak (the mean term left out).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    x : ndarray
+        Frequencies, the mean term first.
+    amp : ndarray
+        Amplitudes at ``x``.
+    """
     ax.vlines(x[1:], 1e-12, np.maximum(amp[1:], 1e-12), color="C0", lw=1.0)
     ax.set_yscale("log")
     top = max(float(np.max(amp[1:])) if amp.size > 1 else 1.0, 1e-12)
@@ -240,8 +377,8 @@ def _renderer(fig: Figure) -> Any:
     return get() if get is not None else fig._get_renderer()
 
 
-def place_labels(ax: Axes, labels: Sequence[tuple[float, float, str, str]], avoid: Sequence[Artist] = (),
-                 **text: Any) -> list[Artist]:
+def place_labels(ax: Axes, labels: Sequence[tuple[float, float, str, str]], avoid: Sequence[Artist] = (), *,
+                 fontsize: float | str = 7) -> list[Artist]:
     """Labels beside anchor points, each at the first of :data:`LABEL_OFFSETS` where its box overlaps
     neither an earlier label nor an artist of ``avoid`` (arrows, say).
 
@@ -253,8 +390,8 @@ def place_labels(ax: Axes, labels: Sequence[tuple[float, float, str, str]], avoi
         Anchor in data coordinates, text and colour of each label.
     avoid : sequence of Artist
         Artists the labels must not cover.
-    **text
-        Further keywords of :meth:`~matplotlib.axes.Axes.annotate` (default font size 7).
+    fontsize : float or str
+        Font size of the labels.
 
     Returns
     -------
@@ -268,7 +405,7 @@ def place_labels(ax: Axes, labels: Sequence[tuple[float, float, str, str]], avoi
     for x, y, s, colour in labels:
         for dx, dy in LABEL_OFFSETS:
             t = ax.annotate(s, (x, y), xytext=(dx, dy), textcoords="offset points", color=colour,
-                            ha="left" if dx > 0 else "right", va="center", **{"fontsize": 7, **text})
+                            ha="left" if dx > 0 else "right", va="center", fontsize=fontsize)
             box = t.get_window_extent(renderer)
             if not any(box.overlaps(b) for b in taken) or (dx, dy) == LABEL_OFFSETS[-1]:
                 break

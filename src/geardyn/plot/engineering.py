@@ -16,7 +16,17 @@ _SWEEP_STYLE = {"up": ("^", "C0"), "down": ("v", "C3")}
 
 
 def has_iso_kv(ds: xr.Dataset) -> bool:
-    """Whether a response carries the ISO K_v curve (attribute ``iso_kv``)."""
+    """Whether a response carries the ISO K_v curve (attribute ``iso_kv``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``response`` result.
+
+    Returns
+    -------
+    bool
+    """
     return bool(ds.attrs.get("iso_kv"))
 
 

@@ -81,7 +81,17 @@ def spectrum_hz(ds: xr.Dataset, ax: Axes = None) -> None:
 def rpm_curve_variable(ds: xr.Dataset) -> str | None:
     """The variable :func:`rpm_curve` draws for ``ds`` (first of :data:`RPM_CURVE_VARIABLES` present on the
     ``rpm`` dimension), or ``None`` when the result has no such curve (no ``rpm`` coordinate, a
-    ``simulate`` or a ``response`` result, which has :func:`response_rpm`)."""
+    ``simulate`` or a ``response`` result, which has :func:`response_rpm`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result with physical coordinates.
+
+    Returns
+    -------
+    str or None
+    """
     kind = ds.attrs.get("geardyn_kind")
     if kind == "simulate" or "rpm" not in ds.coords or ds["rpm"].ndim != 1 or _has_response_rpm(ds):
         return None

@@ -140,6 +140,15 @@ def _kind(ds: Any) -> str:
 def figures_for(ds: xr.Dataset) -> list[FigureSpec]:
     """The figures a result has: those of its kind, then the physical ones, each where its condition holds.
 
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+
+    Returns
+    -------
+    list of FigureSpec
+
     Raises
     ------
     PlotError
@@ -151,6 +160,19 @@ def figures_for(ds: xr.Dataset) -> list[FigureSpec]:
 
 def draw(ds: xr.Dataset, stem: str, ax: Any = None) -> Any:
     """Draw the figure ``stem`` of a result (into ``ax`` if given); returns its :class:`~.common.PlotArtists`.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+    stem : str
+        The figure's file stem (one of :func:`figures_for`).
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as the figure's plot function takes it); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
 
     Raises
     ------

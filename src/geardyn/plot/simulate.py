@@ -17,7 +17,20 @@ OUTSIDE_RIGHT = dict(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
 
 
 def last_periods(ds: xr.Dataset) -> tuple[np.ndarray, float]:
-    """(mask of the samples in the last :data:`TIME_PERIODS_SHOWN` forcing periods, the period T)."""
+    """(mask of the samples in the last :data:`TIME_PERIODS_SHOWN` forcing periods, the period T).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``simulate`` result (its ``tau`` coordinate and model).
+
+    Returns
+    -------
+    keep : ndarray of bool
+        The samples shown.
+    T : float
+        The forcing period 2π/ω.
+    """
     T = 2 * np.pi / float(model_of(ds)["omega"])
     tau = ds["tau"].values
     return tau >= tau[-1] - TIME_PERIODS_SHOWN * T - 1e-12, T

@@ -8,7 +8,7 @@ from typing import Any
 
 from ..errors import ModelError
 
-__all__ = ["AssumedInput", "check_angle", "check_positive"]
+__all__ = ["AssumedInput"]
 
 
 @dataclass(frozen=True)
@@ -38,7 +38,17 @@ class AssumedInput:
 
 
 def check_positive(name: str, value: Any, unit: str = "") -> float:
-    """Return ``value`` as a float, or raise :class:`ModelError` unless it is finite and > 0."""
+    """Return ``value`` as a float, or raise :class:`ModelError` unless it is finite and > 0.
+
+    Parameters
+    ----------
+    name : str
+        Input name for the message.
+    value : object
+        The given value.
+    unit : str
+        Its unit, shown in the message.
+    """
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -49,7 +59,17 @@ def check_positive(name: str, value: Any, unit: str = "") -> float:
 
 
 def check_angle(name: str, value: Any, lo_deg: float, hi_deg: float) -> float:
-    """Return an angle in radians, or raise :class:`ModelError` unless lo_deg <= angle < hi_deg."""
+    """Return an angle in radians, or raise :class:`ModelError` unless lo_deg <= angle < hi_deg.
+
+    Parameters
+    ----------
+    name : str
+        Input name for the message.
+    value : object
+        The given angle in rad.
+    lo_deg, hi_deg : float
+        The allowed range in degrees (upper bound excluded).
+    """
     try:
         x = float(value)
     except (TypeError, ValueError):

@@ -86,6 +86,69 @@ class BevelMesh:
     Lengths in m, angles in rad, forces in N, stiffness per face width in N/m², mass per face width
     in kg/m, speeds in rad/s; ``None`` where the operating point (torque, speed, pitch deviation)
     needed for a value was not given.  :meth:`to_json` gives the engineering units of the CLI.
+    The formulas are those of the module docstring.
+
+    Attributes
+    ----------
+    u : float
+        Gear ratio z2/z1.
+    delta1, delta2 : float
+        Pitch angles of pinion and wheel.
+    d_m1, d_m2 : float
+        Mean pitch diameters.
+    alpha_nD, alpha_nC, alpha_e : float
+        Generated pressure angles of the drive and coast flanks, effective pressure angle.
+    d_v1, d_v2 : float
+        Reference diameters of the virtual cylindrical gears.
+    a_v : float
+        Centre distance of the virtual pair.
+    d_va1, d_va2, d_vb1, d_vb2 : float
+        Tip and base diameters of the virtual gears.
+    beta_v, beta_vb : float
+        Helix angle and base helix angle of the virtual gears.
+    alpha_vet : float
+        Transverse pressure angle of the virtual gears.
+    m_vt : float
+        Transverse module of the virtual gears.
+    z_v1, z_v2 : float
+        Numbers of teeth of the virtual gears.
+    p_vet : float
+        Transverse base pitch.
+    g_valpha : float
+        Length of path of contact.
+    eps_valpha, eps_vbeta, eps_vgamma : float
+        Transverse, face and total contact ratios ε_vα, ε_vβ, ε_vγ.
+    b2_eff : float
+        Effective face width of the wheel.
+    b_v_eff, b_v : float
+        Effective and total face widths of the virtual pair.
+    C_F : float
+        Low-load factor (1 without a torque).
+    c_prime, c_gamma : float
+        Single stiffness c′ and mesh stiffness c_γ (N/m²).
+    m_red : float
+        Reduced mass per unit face width of the virtual pair (kg/m).
+    omega_E1 : float
+        Resonance speed of the pinion (rad/s).
+    F_mt1, F_vmt : float or None
+        Nominal tangential force at the mean diameter and its virtual-pair value (need ``torque1``).
+    N : float or None
+        Resonance ratio n1/n_E1 (needs ``speed1``).
+    K : float or None
+        Constant K of the subcritical formula K_v = N K + 1.
+    K_v : float or None
+        Dynamic factor by Method B (needs torque, speed and pitch deviation).
+    sector : str or None
+        Speed sector of Method B (one of :data:`~geardyn.standards.iso6336.SECTORS`).
+    kappa : StiffnessHarmonics
+        Stiffness harmonics implied by the contact ratios (:mod:`geardyn.standards.stiffness`).
+    assumed : tuple of AssumedInput
+        The inputs that were defaulted, with their sources.
+
+    References
+    ----------
+    ISO 10300-1:2014, clause 6 and Annex A; ISO 23509:2016; ISO/TR 10300-30:2017 (sample
+    calculations); ISO 6336-1:2006, 6.5.9 (K_v by Method B).
     """
 
     u: float
@@ -252,7 +315,7 @@ def bevel_mesh(
     zeta_mp, zeta_m : float, optional
         Offset angles in the pitch plane and in the axial plane (rad); required for hypoids.
     b2_eff : float, optional
-        Effective face width of the wheel (m, default 0.85 b).
+        Effective face width of the wheel (m, default :data:`DEFAULT_EFFECTIVE_FACE_WIDTH_RATIO` × b).
     torque1 : float, optional
         Pinion torque T1 (N·m); needed for C_F and K_v.
     speed1 : float, optional
@@ -262,7 +325,7 @@ def bevel_mesh(
     f_pt : float, optional
         Single pitch deviation used for K_v (m), the larger of pinion and wheel; needed for K_v.
     density : float, optional
-        Density of the gear material (kg/m³, default 7860).
+        Density of the gear material (kg/m³, default :data:`DEFAULT_DENSITY`).
     n_harmonics : int, optional
         Number of stiffness harmonics κ_r (default 3).
 

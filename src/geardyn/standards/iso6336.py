@@ -64,7 +64,17 @@ _TO_SI_STIFFNESS = 1.0e9  # 1 N/(mm·µm) in N/m²
 
 
 def involute(alpha: float) -> float:
-    """Involute function ``inv α = tan α − α`` (α in rad)."""
+    """Involute function ``inv α = tan α − α`` (α in rad).
+
+    Parameters
+    ----------
+    alpha : float
+        Pressure angle α in rad.
+
+    Returns
+    -------
+    float
+    """
     return math.tan(alpha) - alpha
 
 

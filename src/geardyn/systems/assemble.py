@@ -197,7 +197,36 @@ class Scaling:
 
 
 class SystemArrays(NamedTuple):
-    """Kernel arrays of one system (or, from :meth:`SystemModel.pack`, a batch with a leading P axis)."""
+    """Kernel arrays of one system (or, from :meth:`SystemModel.pack`, a batch with a leading P axis).
+
+    Shapes and meanings are the array contract of the module docstring (one system; a batch adds
+    the leading axis P).
+
+    Attributes
+    ----------
+    Mi : ndarray (n, n)
+        M̃⁻¹.
+    Kb, Cb : ndarray (n, n)
+        Stiffness and damping of the linear connections.
+    V : ndarray (meshes, n)
+        Mesh vectors.
+    coef : ndarray (meshes, 3, H+1, 2)
+        Fourier coefficients of C_m, K_m and E_m.
+    D : ndarray (meshes,)
+        Half backlash / b_c.
+    ratio : ndarray (meshes,)
+        Mesh frequency / base frequency.
+    F : ndarray (n,)
+        Mean loads.
+    Vc : ndarray (clearances, n)
+        Clearance vectors.
+    kc, cc : ndarray (clearances,)
+        Clearance stiffness and damping.
+    Dc : ndarray (clearances,)
+        Half gaps / b_c.
+    omega : ndarray ()
+        Base frequency ω.
+    """
 
     Mi: np.ndarray
     Kb: np.ndarray
@@ -231,6 +260,36 @@ class SystemModel:
     ``omega``; per mesh ``<mesh>.<p>`` with p one of ``k``, ``xi0``, ``xiK``, ``kappaK``, ``epsK``,
     ``phi_cK``, ``phi_kK``, ``phi_eK``, ``D`` (alias ``backlash``, ``fe`` = ``eps1``), ``ratio``; per
     clearance ``<name>.D``.  An unqualified mesh parameter (``kappa1``) means the reference mesh's.
+
+    Attributes
+    ----------
+    labels : tuple of str
+        DOF names (``<body>.<dof>``), n of them.
+    Mi, Kb, Cb : ndarray (n, n)
+        M̃⁻¹ and the linear connections' stiffness and damping (non-dimensional, read-only).
+    V : ndarray (meshes, n)
+        Mesh vectors (rows).
+    meshes : tuple of MeshND
+        The meshes with their non-dimensional coefficients (the reference mesh among them).
+    F : ndarray (n,)
+        Mean loads.
+    omega : float
+        Base frequency ω = ω_e/ω_n (> 0).
+    scaling : Scaling
+        The scales (m_ref, k_ref, ω_n, b_c, reference mesh) linking to SI units.
+    clearance_names : tuple of str
+        Names of the clearance elements.
+    Vc : ndarray (clearances, n)
+        Clearance vectors (rows).
+    kc, cc, Dc : tuple of float
+        Clearance stiffness, damping and half gaps (non-dimensional).
+    description : SystemDescription or None
+        The physical description it was assembled from.
+
+    Raises
+    ------
+    ModelError
+        If an array has the wrong shape, ω is not positive, or a clearance gap is negative.
     """
 
     labels: tuple[str, ...]

@@ -349,7 +349,22 @@ class Mesh:
 
 @dataclass(frozen=True)
 class Load:
-    """A mean force (N, on a translation) or torque (N·m, on ``theta``) on one DOF."""
+    """A mean force (N, on a translation) or torque (N·m, on ``theta``) on one DOF.
+
+    Attributes
+    ----------
+    body : str
+        Name of the body loaded.
+    dof : str
+        Its DOF (``theta`` or a translation).
+    value : float
+        The force in N or torque in N·m.
+
+    Raises
+    ------
+    ModelError
+        If ``value`` is not finite.
+    """
 
     body: str
     dof: str

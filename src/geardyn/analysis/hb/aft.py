@@ -36,6 +36,11 @@ penetration depth δ <= max|u_φφ| (2π/N)²/8; such a contact lasts O(√δ) a
 O(N^{-3}) to the projection, below the truncation error of the series at that H (see ``docs/hb.md``).
 The grazing events of a continuation are located from the extrema of u (refined by Newton on u_φ = 0),
 not from the samples, so they do not depend on N.
+
+References
+----------
+T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
+steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
 """
 
 from __future__ import annotations

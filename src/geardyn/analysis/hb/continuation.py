@@ -18,6 +18,14 @@ safeguarded secant along the chord (each trial corrected onto the branch):
 
 Points where Hill's multipliers are unresolved carry ``Status.UNRESOLVED`` and take no part in
 the multiplier tests.
+
+References
+----------
+R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
+Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
+(pseudo-arclength continuation, test functions of folds, period doublings and Neimark–Sacker points).
+T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
+steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
 """
 
 from __future__ import annotations
@@ -85,6 +93,8 @@ class HBBifurcation:
     detail : str
     located : bool
         The location iteration met its tolerance.
+    coefficients : ndarray
+        Harmonic coefficients of the solution at the event (empty when not recorded).
     """
 
     type: str
@@ -365,6 +375,12 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     ------
     ModelError
         Unknown parameter, or start/stop outside the parameter's valid range.
+
+    References
+    ----------
+    R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
+    (pseudo-arclength continuation, test functions of folds, period doublings and Neimark–Sacker points).
     """
     param = canonical_param(param)
     start, stop = float(start), float(stop)

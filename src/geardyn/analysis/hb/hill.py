@@ -152,6 +152,8 @@ def hill_floquet(c_hat: np.ndarray, s_hat: np.ndarray, nu: float, H: int) -> Hil
     References
     ----------
     .. [1] A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517.
+    .. [2] A. H. Nayfeh and D. T. Mook, *Nonlinear Oscillations*, Wiley, 1979 (Floquet theory and
+       Hill's determinant).
     """
     A = hill_matrix(c_hat, s_hat, nu, H)
     if not np.all(np.isfinite(A)):

@@ -12,6 +12,12 @@ samples, then exact integration).  Its Jacobian is analytic:
     ∂R/∂c = −ν² diag(k²) + ν T(Ĉ) diag(ik) + T(Ŝ),        Ŝ = coefficients of K(θ)·χ_contact(φ),
 
 and Newton is run on the real coefficient vector ``[a_0, a_1 … a_H, b_1 … b_H]``.
+
+References
+----------
+T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
+steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
+G. W. Hill, Acta Math. 8 (1886) 1–36 (Hill's method for the stability, :mod:`.hill`).
 """
 
 from __future__ import annotations
@@ -345,8 +351,9 @@ def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int =
         ``"simulate"`` (the attractor reached by simulation from rest).  Default: ``"simulate"``.
     samples : int, optional
         Time samples per response period (default :func:`~geardyn.analysis.hb.aft.time_samples`).
-    tol, max_iter :
-        Newton tolerance (||R|| <= tol·(1 + ||a||)) and iteration limit.
+    tol, max_iter : float, int
+        Newton tolerance (||R|| <= tol·(1 + ||a||)) and iteration limit (defaults
+        :data:`NEWTON_TOL` and :data:`NEWTON_MAX_ITER`).
     stability : bool
         Compute Hill's multipliers of a converged solution.
 
@@ -354,6 +361,18 @@ def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int =
     -------
     HBSolution
         Check ``status`` (a :class:`~geardyn.status.Status`); values are NaN unless it is ``OK``.
+
+    Raises
+    ------
+    ModelError
+        For a bad ``harmonics``, ``period`` or ``guess`` (not coefficients of length 2H + 1,
+        ``"simulate"`` or ``"linear"``).
+
+    References
+    ----------
+    T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
+    steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
+    A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517 (Hill's multipliers).
     """
     sysm = HBSystem(model, harmonics, period, samples=samples)
     H = sysm.H

@@ -31,8 +31,6 @@ __all__ = [
     "first_up_jump",
     "fluctuation",
     "hysteresis_of",
-    "jumps_of",
-    "response_key",
     "study_jumps",
     "study_table4",
 ]
@@ -50,17 +48,40 @@ FLUCT_AFTER = 0.02
 
 
 def response_key(xi0: float, xi1: float, D: float) -> str:
-    """The name of the saved frequency response at (ξ0, ξ1, D)."""
+    """The name of the saved frequency response at (ξ0, ξ1, D).
+
+    Parameters
+    ----------
+    xi0, xi1, D : float
+        Mean damping, damping modulation and backlash of the response.
+    """
     return f"response_xi0_{xi0:g}_xi1_{xi1:g}_D_{D:g}"
 
 
 def jumps_of(ds: xr.Dataset) -> list[dict[str, Any]]:
-    """The jumps a frequency response found (``omega``, ``direction``, ``size``, ``sweep`` each)."""
+    """The jumps a frequency response found (``omega``, ``direction``, ``size``, ``sweep`` each).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A frequency response with its ``jumps`` attribute.
+    """
     return json.loads(ds.attrs["jumps"])
 
 
 def hysteresis_of(ds: xr.Dataset) -> list[list[float]]:
-    """The ω intervals where the up and down sweeps of a frequency response disagree."""
+    """The ω intervals where the up and down sweeps of a frequency response disagree.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A frequency response (kind ``response``) with its ``hysteresis`` attribute.
+
+    Returns
+    -------
+    list of [float, float]
+        The (ω_low, ω_high) intervals.
+    """
     return json.loads(ds.attrs["hysteresis"])
 
 
