@@ -14,7 +14,7 @@ from . import render
 from .app import console
 from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, option, out_paths
 
-__all__ = ["MAX_HARMONICS", "MAX_PERIOD", "hb", "system_model"]
+__all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 
 #: Largest H and n accepted (the Hill matrix has 2(2H + 1) rows; n·H harmonics of ω are resolved).
 MAX_HARMONICS = 512
