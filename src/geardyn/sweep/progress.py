@@ -18,6 +18,7 @@ how many points they hold are counted as chunks.  Single computations report thr
 from __future__ import annotations
 
 import threading
+import time
 from contextlib import contextmanager
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
@@ -193,6 +194,7 @@ class _DelayedBar:
         self._t = None
         self._closed = False
         self._stop = threading.Event()
+        self._t0 = time.monotonic()
         self._timer = threading.Timer(PROGRESS_DELAY, self._start)
         self._timer.daemon = True
 
@@ -204,6 +206,22 @@ class _DelayedBar:
 
     def _columns(self) -> list:
         raise NotImplementedError
+
+    def _elapsed(self) -> Any:
+        """A column with the time since the computation began (the bar itself appears later)."""
+        from rich.progress import ProgressColumn
+        from rich.text import Text
+
+        t0 = self._t0
+
+        class Elapsed(ProgressColumn):
+            def render(self, task: Any) -> Text:
+                end = time.monotonic() if task.finished_time is None or task.start_time is None else (
+                    task.start_time + task.finished_time)
+                sec = max(0, int(end - t0))
+                return Text(f"{sec // 3600}:{sec // 60 % 60:02d}:{sec % 60:02d}", style="progress.elapsed")
+
+        return Elapsed()
 
     def _current(self) -> tuple[float, float | None]:
         raise NotImplementedError
@@ -329,10 +347,10 @@ class Progress(_DelayedBar):
                 _SINK = self._sink_before
 
     def _columns(self) -> list:
-        from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+        from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeRemainingColumn
 
         return [TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TextColumn(self._unit),
-                TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn()]
+                self._elapsed(), TextColumn("ETA"), TimeRemainingColumn()]
 
     def _current(self) -> tuple[int, int]:
         live = self._ticks + sum(int(c.get_obj().value) for c in self._counters) if self.counts_points else 0
@@ -377,14 +395,13 @@ class _TaskBar(_DelayedBar):
         self._begin()
 
     def _columns(self) -> list:
-        from rich.progress import (BarColumn, SpinnerColumn, TaskProgressColumn, TextColumn, TimeElapsedColumn,
-                                   TimeRemainingColumn)
+        from rich.progress import BarColumn, SpinnerColumn, TaskProgressColumn, TextColumn, TimeRemainingColumn
 
         if self._indeterminate:
-            return [SpinnerColumn(), TextColumn("{task.description}"), TextColumn("{task.fields[requested]}"),
-                    TimeElapsedColumn()]
+            return [SpinnerColumn(finished_text="✓"), TextColumn("{task.description}"), TextColumn("{task.fields[requested]}"),
+                    self._elapsed()]
         return [TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(),
-                TextColumn("{task.fields[numbers]}"), TimeElapsedColumn(),
+                TextColumn("{task.fields[numbers]}"), self._elapsed(),
                 TextColumn("ETA"), TimeRemainingColumn()]
 
     def _fields(self) -> dict[str, Any]:
@@ -394,8 +411,8 @@ class _TaskBar(_DelayedBar):
         return {"requested": f"{t:{f}} {self._unit} requested", "numbers": f"{self._done:{f}}/{t:{f}} {self._unit}"}
 
     def _current(self) -> tuple[float, float | None]:
-        if self._indeterminate:
-            return 0.0, None
+        if self._indeterminate:  # a spinner until the end, then a finished task
+            return (1.0, 1.0) if self._total is not None and self._done >= self._total else (0.0, None)
         return self._done, self._total
 
     def update(self, done: float, total: float) -> None:
