@@ -150,7 +150,7 @@ def continuation(
     from ..sweep.progress import task_progress
 
     sym = param_symbol(name)
-    with task_progress(f"continuation {sym}", unit=f"Δ{sym}", enabled=not inp.json_out) as bar:
+    with task_progress(f"continuation {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out) as bar:
         res = run_continuation(model, name, start_v, stop_v, n, g, dtau=opts.dtau, accurate=opts.accurate,
                                switch=switch, max_period=mp, ds_max=ds_max, state0=state0, progress=bar)
     sweep_ds = None
