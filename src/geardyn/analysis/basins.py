@@ -25,6 +25,7 @@ from ..grid import Grid, linspace_values
 from ..io import json_values
 from ..model import GearModel, IntegrationOptions
 from ..sweep import DEFAULT_CHUNK_POINTS
+from ..sweep.progress import counts_points
 from .attractors import CLOUD_POINTS, CYCLE_TOL, NONPERIODIC_TOL, identify_attractors
 from .bifurcation import fixed_chunk
 from .classify import MAX_PERIOD
@@ -37,8 +38,10 @@ __all__ = ["basins", "basins_json", "identify_attractors", "CYCLE_TOL", "NONPERI
 BASIN_OPTIONS = IntegrationOptions(periods=2 * MAX_PERIOD)
 
 
+@counts_points(lambda args: len(args[1]))
 def basin_chunk(model, states, options, settle_periods):
-    """Chunk function: one model, many initial states (one row per state)."""
+    """Chunk function: one model, many initial states (one row per state; the points are reported to the
+    sweep's progress bar by :func:`~geardyn.analysis.bifurcation.fixed_chunk`)."""
     r = fixed_chunk([model] * len(states), np.asarray(states, dtype=float), options, False, settle_periods)
     keep = min(r["poincare"].shape[1], max(MAX_PERIOD, CLOUD_POINTS))
     return {k: r[k] for k in ("period", "motion", "impact", "status", "amplitude", "mean", "u_min", "u_max", "lle")} | {

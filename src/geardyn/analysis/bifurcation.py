@@ -27,7 +27,9 @@ from ..grid import Grid, build_models, linspace_values
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, json_values, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
+from ..params import FAMILIES, slot
 from ..sweep import Chunk, chunk_slices, run_chunks
+from ..sweep.progress import counts_points, tick
 from .classify import SETTLE_PERIODS
 from .points import initial_state, run_slices, sweep_function
 from .steady import classify_batch
@@ -73,6 +75,7 @@ def _rows(out: dict[str, np.ndarray], start: np.ndarray, restarted: np.ndarray |
     return r
 
 
+@counts_points(lambda args: len(args[0]))
 def fixed_chunk(
     models: Sequence[GearModel],
     state0: Sequence[float] | np.ndarray,
@@ -104,9 +107,12 @@ def fixed_chunk(
     models = list(models)
     s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), models[0].state_dim)).copy()
     res = integrate_batch(models, s0, options, lyapunov=lyapunov)
-    return _rows(classify_batch(res, settle_periods=settle_periods), s0)
+    out = _rows(classify_batch(res, settle_periods=settle_periods), s0)
+    tick(len(models))
+    return out
 
 
+@counts_points(lambda args: len(args[0]))
 def continuation_chunk(
     models: Sequence[GearModel],
     state0: Sequence[float],
@@ -116,7 +122,8 @@ def continuation_chunk(
 ) -> dict[str, np.ndarray]:
     """Chunk function: points in the given order, each starting from the previous end state.
 
-    After a diverged point the next one restarts from ``state0`` (flagged in ``restarted``).
+    After a diverged point the next one restarts from ``state0`` (flagged in ``restarted``).  Each
+    finished point is reported to the sweep's progress bar (:func:`geardyn.sweep.progress.tick`).
 
     Parameters
     ----------
@@ -148,10 +155,12 @@ def continuation_chunk(
         out = classify_batch(res, settle_periods=settle_periods)
         rows.append(out)
         state = out["end_state"][0].copy() if out["status"][0] == ST_OK else np.full(d, np.nan)
+        tick(1)
     merged = {k: np.concatenate([r[k] for r in rows], axis=0) for k in rows[0]}
     return _rows(merged, starts, restarted)
 
 
+@counts_points(lambda args: len(args[2]))
 def grid_chunk(
     model: GearModel,
     names: Sequence[str],
@@ -191,6 +200,13 @@ def grid_chunk(
     return r if keep is None else {k: r[k] for k in keep if k in r}
 
 
+def param_symbol(name: str) -> str:
+    """The symbol of a canonical parameter name for labels (``"omega"`` → ``"ω"``, ``"kappa2"`` → ``"κ2"``)."""
+    fam, idx = slot(name)
+    sym = FAMILIES[fam].symbol
+    return sym.replace("_{k}", "{k}").replace("{k}", str(idx + 1)) if idx is not None else sym
+
+
 def _check_options(models: Sequence[GearModel], options: IntegrationOptions) -> None:
     for m in models:
         options.check_for(m.omega)
@@ -204,6 +220,7 @@ def bifurcation(
     *,
     mode: str = "fixed",
     sweep: str = "up",
+    description: str | None = None,
     state0, options, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Bifurcation diagram of ``param`` over ``values``.
@@ -221,6 +238,9 @@ def bifurcation(
         Every point from ``state0``, or continuation of the previous end state.
     sweep : {'up', 'down', 'both'}
         Direction(s) of a continuation sweep (ignored in fixed mode, whose sweep label is 'fixed').
+    description : str, optional
+        Label of the progress bar and of the divergence summary on stderr (with ``progress=True``);
+        default ``"bifurcation <symbol>"``, e.g. ``"bifurcation ω"``.
 
     Returns
     -------
@@ -255,19 +275,19 @@ def bifurcation(
     models = grid.models(model)
     _check_options(models, options)
     s0t = initial_state(model, state0)
+    label = description if description is not None else f"bifurcation {param_symbol(name)}"
 
     common = (s0t, options, lyapunov, settle_periods)
     if mode == "fixed":
         labels = ["fixed"]
         per_sweep = [run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common,
-                                chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine,
-                                f"bifurcation {name}")]
+                                chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine, label)]
     else:
         labels = ["up", "down"] if sweep == "both" else [sweep]
         pts = grid.points()
         chunks = [Chunk(i, grid_chunk, (model, grid.names, pts if lab == "up" else pts[::-1].copy()) + common + (True,))
                   for i, lab in enumerate(labels)]
-        results = run_chunks(chunks, engine, description=f"bifurcation {name}")
+        results = run_chunks(chunks, engine, description=label)
         per_sweep = [r if lab == "up" else {k: v[::-1] for k, v in r.items()} for lab, r in zip(labels, results)]
     ds = points_dataset(name, vals, labels, per_sweep)
     ds.attrs.update(result_attrs("bifurcation", model, options, param=name, mode=mode, sweep=sweep,

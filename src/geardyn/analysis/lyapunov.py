@@ -23,7 +23,7 @@ All exponents are non-dimensional rates per unit τ = ω_n t; multiply by ω_n f
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import xarray as xr
@@ -254,6 +254,7 @@ def lyapunov_spectrum(
     *,
     blocks: int = DEFAULT_BLOCKS,
     classify: bool = True,
+    progress: Callable[[int, int], None] | None = None,
 ) -> LyapunovResult:
     """Both Lyapunov exponents of one point with their uncertainty.
 
@@ -273,6 +274,12 @@ def lyapunov_spectrum(
         Also classify the motion from the same run (period, exponent, and for non-periodic points
         the closed-curve tests of :func:`~geardyn.analysis.classify.classify_motion`; no settling
         passes: give a long enough transient).
+    progress : callable, optional
+        Called as ``progress(done, total)`` in forcing periods, ``total`` = transient + recorded
+        periods: with ``done`` 0 before the run and ``done`` = ``total`` after it.  The kernel runs
+        all periods in one call and starts the tangent basis from the identity at each call, so the
+        run is not split into blocks (that would change the exponents); a display shows a
+        spinner with the elapsed time meanwhile (:func:`geardyn.sweep.progress.task_progress`).
 
     Returns
     -------
@@ -285,7 +292,12 @@ def lyapunov_spectrum(
     Benettin et al. (1980), as for :func:`lyapunov_batch`: tangent vectors re-orthonormalised by
     Gram–Schmidt once per forcing period.
     """
+    total = int(options.transient) + int(options.periods)
+    if progress is not None:
+        progress(0, total)
     out = lyapunov_batch([model], state0, options, blocks=blocks)
+    if progress is not None:
+        progress(total, total)
     res = out["result"]
     motion: dict[str, Any] = {}
     if classify:

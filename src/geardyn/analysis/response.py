@@ -121,7 +121,7 @@ def frequency_response(
     if np.any(vals <= 0):
         raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a grid from {omega_start!r} to {omega_stop!r}")
     ds = bifurcation(model, "omega", vals, mode="continue", sweep="both", state0=state0, options=options,
-                     lyapunov=lyapunov, settle_periods=settle_periods, engine=engine)
+                     lyapunov=lyapunov, settle_periods=settle_periods, engine=engine, description="response ω")
     return annotate_response(ds, measure)
 
 

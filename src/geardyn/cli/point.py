@@ -68,7 +68,10 @@ def lyapunov(
     scales = inp.scales()
     opts = inp.options(model.omega)
     nb = validate.integer("blocks", blocks, 2, max(2, opts.periods))
-    res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb)
+    from ..sweep.progress import task_progress
+
+    with task_progress("lyapunov", unit="periods", fmt=".0f", indeterminate=True, enabled=not inp.json_out) as bar:
+        res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar)
     paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []
     finish(physical_json(res.to_json(), model, scales), paths, inp, render.lyapunov)
 
@@ -133,15 +136,21 @@ def continuation(
         validate.positive("ds-max", ds_max)
     g = parse_guess(guess)
     state0 = inp.state0()
-    res = run_continuation(model, name, start_v, stop_v, n, g, dtau=opts.dtau, accurate=opts.accurate,
-                           switch=switch, max_period=mp, ds_max=ds_max, state0=state0)
+    from ..analysis.bifurcation import param_symbol
+    from ..sweep.progress import task_progress
+
+    sym = param_symbol(name)
+    with task_progress(f"continuation {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out) as bar:
+        res = run_continuation(model, name, start_v, stop_v, n, g, dtau=opts.dtau, accurate=opts.accurate,
+                               switch=switch, max_period=mp, ds_max=ds_max, state0=state0, progress=bar)
     sweep_ds = None
     if inp.out is not None and nsw > 0:
         from ..analysis.bifurcation import bifurcation, sweep_values
 
         sweep_ds = bifurcation(model, name, sweep_values(start_v, stop_v, nsw), mode="continue", sweep="both",
                                state0=state0, options=IntegrationOptions(dtau=opts.dtau, transient=opts.transient,
-                                                                         periods=CONTINUATION_SWEEP_PERIODS))
+                                                                         periods=CONTINUATION_SWEEP_PERIODS),
+                               progress=not inp.json_out, description=f"up/down sweep {sym}")
     paths: list[str] = []
     if inp.out is not None:
         from ..io import attach

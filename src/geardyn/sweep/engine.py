@@ -231,14 +231,14 @@ def run_chunks(
         store = CheckpointStore(opts.checkpoint, resume=opts.resume)
     results: dict[int, dict[str, np.ndarray]] = store.open(chunks) if store is not None else {}
     todo = [c for c in chunks if c.index not in results]
-    bar = Progress(len(chunks), len(results), description) if opts.progress else None
+    bar = Progress.for_chunks(chunks, results, description) if opts.progress else None
 
     def finished(c: Chunk, r: dict[str, np.ndarray]) -> None:
         if store is not None:
             store.save_later(c.index, r)
         results[c.index] = r
         if bar:
-            bar.advance()
+            bar.advance(c)
 
     where = store.directory if store is not None else None
     try:

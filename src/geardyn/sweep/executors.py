@@ -34,6 +34,7 @@ from typing import Callable, Iterator, Sequence
 import numpy as np
 
 from ..errors import SweepError
+from .progress import count_into, pool_counter
 
 __all__ = [
     "DASK_CONNECT_TIMEOUT",
@@ -138,16 +139,19 @@ def run_on_executor(executor: Executor, todo: Sequence, finished: Finished) -> N
 
 
 # ------------------------------------------------------------------------------ local pool
-def _init_worker(main_pid: int | None = None) -> None:
+def _init_worker(main_pid: int | None = None, counter=None) -> None:
     """Local worker processes ignore Ctrl-C (the parent stops them) and use one kernel thread.
 
     A worker never starts processes itself; its default start method is set to ``spawn`` so that
     numba does not take a named (resource-tracked) semaphore for its threading-layer start-up,
     which a worker terminated on Ctrl-C would leave for the resource tracker to report.  With
     ``main_pid`` a watchdog thread ends the worker once that process is gone (killed with
-    SIGKILL, say), which the worker would otherwise never notice.
+    SIGKILL, say), which the worker would otherwise never notice.  With ``counter`` (a shared
+    value from :func:`geardyn.sweep.progress.pool_counter`) the points the chunk functions report
+    (:func:`geardyn.sweep.progress.tick`) are added to it for the parent's progress bar.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    count_into(counter)
     multiprocessing.set_start_method("spawn", force=True)
     if main_pid is not None:
         threading.Thread(target=_exit_with, args=(main_pid,), daemon=True, name="geardyn-watchdog").start()
@@ -235,8 +239,9 @@ def _start_forkserver() -> None:
         forkserver.ensure_running()
 
 
-def _new_pool(ctx, workers: int) -> ProcessPoolExecutor:
-    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker, initargs=(os.getpid(),))
+def _new_pool(ctx, workers: int, counter=None) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                               initargs=(os.getpid(), counter))
 
 
 def local_pool(workers: int) -> ProcessPoolExecutor:
@@ -283,7 +288,8 @@ def run_on_pool(workers: int, todo: Sequence, finished: Finished) -> None:
             else:
                 guard = _sigint_ignored()
             with guard:
-                pool = _new_pool(ctx, min(workers, len(remaining)))
+                # a fresh point counter per pool: a worker killed while holding its lock cannot stall the next
+                pool = _new_pool(ctx, min(workers, len(remaining)), pool_counter(ctx))
                 futs = submit_all(pool, list(remaining.values()))
             drain(pool, futs, done)
         except BrokenProcessPool:

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
@@ -198,6 +199,7 @@ class _Continuer:
         self.stop_on_instability = stop_on_instability
         self.cos_max_turn = math.cos(math.radians(MAX_TANGENT_TURN_DEG))
         self._merge_w: np.ndarray | None = None
+        self.on_point: Callable[[float], None] | None = None  # told the parameter of every new branch point
 
     # -------------------------------------------------------------- building blocks
     def _finish_point(self, ev: _Eval, Gq: np.ndarray, t_ref: np.ndarray | None, iters: int) -> _Point:
@@ -406,6 +408,10 @@ class _Continuer:
         return events
 
     # -------------------------------------------------------------- the loop
+    def _report(self, pt: _Point) -> None:
+        if self.on_point is not None:
+            self.on_point(pt.p)
+
     def run(self, first: _Point, direction: float, branch_index: int, prefix: list[_Point] | None = None
             ) -> tuple[list[_Point], list[Bifurcation], str]:
         """Continue from ``first`` with the parameter initially moving in ``direction`` (+1/−1)."""
@@ -472,8 +478,10 @@ class _Continuer:
                         break
                 if stop_here is not None:
                     pts.append(stop_here)
+                    self._report(stop_here)
                     return pts, bifs, "stopped at the first loss of stability"
             pts.append(new)
+            self._report(new)
             if outside:
                 return pts, bifs, end
             if new.iters <= FAST_CORRECTOR_ITERS:
@@ -503,7 +511,8 @@ def continue_branch(orbit: PeriodicOrbit, param: str, stop: float, *, start_boun
                     index: int = 0, ds: float | None = None, ds_max: float | None = None,
                     max_points: int = MAX_BRANCH_POINTS, locate: bool = True, detect: bool = True,
                     stop_on_instability: bool = False, origin: Bifurcation | None = None,
-                    direction: float | None = None) -> Branch:
+                    direction: float | None = None,
+                    progress: Callable[[float, float], None] | None = None) -> Branch:
     """Continue the branch through a converged orbit in ``param`` towards ``stop``.
 
     The branch is followed by pseudo-arclength continuation (so it passes around folds) until the
@@ -538,6 +547,11 @@ def continue_branch(orbit: PeriodicOrbit, param: str, stop: float, *, start_boun
         The event the branch was switched from.
     direction : float, optional
         Initial direction of the parameter (+1 or −1; default towards ``stop``).
+    progress : callable, optional
+        Called as ``progress(done, total)`` with the parameter distance covered towards ``stop``
+        (the farthest point reached so far, never decreasing, also past folds) and ``total`` =
+        |stop − p0|: once at the start with ``done`` 0, at every branch point that gets farther,
+        and with ``done`` = ``total`` when the branch ends (whatever ended it).
 
     Returns
     -------
@@ -568,10 +582,31 @@ def continue_branch(orbit: PeriodicOrbit, param: str, stop: float, *, start_boun
     first = cont.correct(np.append(orbit.state, p0 / cont.ps), _axis(prob.dim), None, N)
     if first is None:
         raise ModelError("continuation: the starting orbit could not be corrected at the start value")
+    total = abs(float(stop) - float(p0))
+    if progress is not None:
+        cont.on_point = _span_reporter(progress, float(p0), float(stop))
+        progress(0.0, total)
     pts, bifs, end = cont.run(first, direction, index)
+    if progress is not None:
+        progress(total, total)
     if not prob.accurate:
         bifs = _drop_discretization_noise(bifs, span)
     return _make_branch(index, prob, pts, end, origin, bifs)
+
+
+def _span_reporter(progress: Callable[[float, float], None], p0: float, stop: float) -> Callable[[float], None]:
+    """A branch point's parameter → ``progress(farthest distance from p0 towards stop, |stop − p0|)`` when it grows."""
+    total = abs(stop - p0)
+    sign = 1.0 if stop >= p0 else -1.0
+    farthest = [0.0]
+
+    def on_point(p: float) -> None:
+        d = min(max(sign * (p - p0), 0.0), total)
+        if d > farthest[0]:
+            farthest[0] = d
+            progress(d, total)
+
+    return on_point
 
 
 def _drop_discretization_noise(bifs: list[Bifurcation], span: float) -> list[Bifurcation]:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import xarray as xr
@@ -254,7 +254,8 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
                  guess: Sequence[float] | None = None, *, dtau: float = DEFAULT_DTAU, accurate: bool = True,
                  switch: bool = True, max_period: int = DEFAULT_MAX_PERIOD, ds: float | None = None,
                  ds_max: float | None = None, max_points: int = MAX_BRANCH_POINTS, locate: bool = True,
-                 state0: Sequence[float] | None = None) -> ContinuationResult:
+                 state0: Sequence[float] | None = None,
+                 progress: Callable[[float, float], None] | None = None) -> ContinuationResult:
     """Pseudo-arclength continuation of period-n orbits in ``param`` from ``start`` to ``stop``.
 
     Parameters
@@ -291,6 +292,12 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
         Largest number of points per branch.
     state0 : (u, u'), optional
         Start of the simulation that gives the first guess.
+    progress : callable, optional
+        Called as ``progress(done, total)`` in parameter units while the branches are traced:
+        ``total`` is the parameter distance the branches traced so far have to cover (|stop − start|
+        for the primary branch, plus, for each switched branch, the distance from its start to its
+        end of the interval) and ``done`` the distance covered (never decreasing; see
+        :func:`~geardyn.analysis.periodic.continue_branch`).  The last call has ``done`` = ``total``.
 
     Returns
     -------
@@ -334,8 +341,9 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
                          f"(status {orbit.status_label}); give a better --guess u,v")
     if orbit.minimal_period < n:
         notes.append(f"the starting orbit has minimal period {orbit.minimal_period} < {n}")
+    span_done = _SpanProgress(progress)
     branches = [continue_branch(orbit, param, stop, start_bound=start, index=0, ds=ds, ds_max=ds_max,
-                                max_points=max_points, locate=locate)]
+                                max_points=max_points, locate=locate, progress=span_done.branch())]
     span = abs(stop - start)
     if switch:
         queue = [0]
@@ -363,7 +371,7 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
                 far, near = (max(start, stop), min(start, stop)) if away > 0 else (min(start, stop), max(start, stop))
                 nb = continue_branch(new, param, far, start_bound=near, index=len(branches), ds=ds,
                                      ds_max=ds_max, max_points=max_points, locate=locate, origin=b,
-                                     direction=away)
+                                     direction=away, progress=span_done.branch())
                 nb = _prepend_source(nb, b, model, dtau, accurate)
                 nb = _append_merge(nb, br, model, dtau, accurate, span)
                 branches.append(nb)
@@ -373,6 +381,31 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
                         seen.append((nb.n, mb.value, mb.state.copy()))
                 queue.append(nb.index)
     return ContinuationResult(model, param, float(start), float(stop), branches, dtau, accurate, notes)
+
+
+class _SpanProgress:
+    """Adds up the (done, total) reports of the branches of one run for one ``progress(done, total)``."""
+
+    def __init__(self, progress: Callable[[float, float], None] | None) -> None:
+        self.progress = progress
+        self.done = 0.0
+        self.total = 0.0
+
+    def branch(self) -> Callable[[float, float], None] | None:
+        """The callback of the next branch (None without ``progress``)."""
+        if self.progress is None:
+            return None
+        base = self.done
+        started = [False]
+
+        def report(done: float, total: float) -> None:
+            if not started[0]:
+                started[0] = True
+                self.total += total
+            self.done = max(self.done, base + done)
+            self.progress(self.done, self.total)
+
+        return report
 
 
 def _append_merge(br: Branch, parent: Branch, model: GearModel, dtau: float, accurate: bool, span: float) -> Branch:
