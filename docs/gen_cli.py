@@ -38,6 +38,10 @@ Conventions shared by the commands:
 * `--json` prints a machine-readable summary on stdout; `--out PATH` writes the NetCDF result and
   its figures (a directory, or a file name ending in `.nc`). `geardyn plot FILE.nc` redraws the
   figures of a saved result.
+* Commands running longer than half a second draw their progress on stderr (sweeps in points,
+  continuation by the parameter span traced, `lyapunov` as a spinner); `--json` keeps stderr quiet.
+* Input errors are one line on stderr and exit code 2; every count has an upper bound stated in
+  its message; `geardyn --version` prints the version.
 * Invalid input is refused with one line on stderr naming the parameter and exit code 2.
 """
 
