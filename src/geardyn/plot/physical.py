@@ -8,7 +8,6 @@ and ``long_name`` attributes.
 from __future__ import annotations
 
 import json
-from typing import Any
 
 import numpy as np
 import xarray as xr
