@@ -234,3 +234,29 @@ def test_every_figure_of_the_runs_has_no_overlapping_text(results):
     for name, ds in results.items():
         for spec in figures_for(ds):
             _assert_no_overlap(spec(ds).figure, f"{name}/{spec.stem}")
+
+
+def test_figures_over_omega_of_a_physical_pair_read_in_rpm_too(tmp_path):
+    """Issue: `bifurcation`, `continuation` and `basins` given --rpm plotted in ω only."""
+    from geardyn.cli import main
+    from geardyn.io import read_netcdf
+    from geardyn.plot import draw
+
+    def run(*argv):
+        try:
+            main(list(argv))
+        except SystemExit as e:
+            assert e.code in (0, None)
+
+    run("bifurcation", "--rpm-start", "1500", "--rpm-stop", "3000", "--num", "6", "--transient", "20", "--periods",
+        "8", "--out", str(tmp_path / "b"), "--json")
+    run("basins", "--rpm", "2400", "--nu", "3", "--nv", "3", "--transient", "20", "--periods", "8",
+        "--out", str(tmp_path / "s"), "--json")
+    art = draw(read_netcdf(tmp_path / "b" / "bifurcation.nc"), "bifurcation")
+    tops = [a for ax in art.figure.axes for a in ax.child_axes]
+    assert any(t.get_xlabel() == "pinion speed [rpm]" for t in tops)
+    art.figure.canvas.draw()
+    ticks = [float(t.get_text().replace("−", "-")) for t in tops[0].get_xticklabels() if t.get_text()]
+    assert ticks and 1400 <= min(ticks) and max(ticks) <= 3100  # the top axis reads the swept 1500…3000 rpm
+    art = draw(read_netcdf(tmp_path / "s" / "basins.nc"), "basins")
+    assert "2400 rpm" in art.axes[0].get_title()

@@ -12,7 +12,7 @@ from matplotlib.patches import Patch
 from ..analysis.classify import motion_label
 from matplotlib.axes import Axes
 
-from .common import label, plot_function, set_title
+from .common import label, plot_function, set_title, speed_text
 
 __all__ = ["BASIN_COLORS", "POINT_COLORS", "basin_figure"]
 
@@ -47,4 +47,4 @@ def basin_figure(ds: xr.Dataset, ax: Axes = None) -> None:
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=8, frameon=False)
     ax.set_xlabel(label(ds["u0"], "u0"))
     ax.set_ylabel(label(ds["v0"], "v0"))
-    set_title(ax, "Basins of attraction (dots: attractors' Poincaré points)", ds)
+    set_title(ax, f"Basins of attraction{speed_text(ds)} (dots: attractors' Poincaré points)", ds)

@@ -11,7 +11,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from ..analysis.classify import IMPACT_LABELS, MOTION_LABELS
-from .common import contact_lines, label, plot_function, set_title, symbol
+from .common import contact_lines, label, plot_function, rpm_axis, set_title, symbol
 
 __all__ = ["IMPACT_COLORS", "MOTION_COLORS", "POINT_SIZE", "SWEEP_COLORS", "category_band", "diagram",
            "diagram_panels"]
@@ -124,6 +124,7 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     mode = ds.attrs.get("mode", "")
     set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds,
               exclude=[name])
+    rpm_axis(ax, ds, name)
     k = 1
     if _has_lle(ds):
         ax2 = axes[1]

@@ -314,6 +314,58 @@ def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), 
     return ax.set_title(f"{text}\n{params}" if params else text, **size)
 
 
+def rpm_per_omega(ds: xr.Dataset) -> float | None:
+    """Pinion speed (rpm) per unit ω of the gear pair stored with a result, or ``None`` without a physical pair."""
+    from ..geometry.scales import PhysicalScales
+
+    try:
+        sc = PhysicalScales.from_attrs(ds.attrs)
+    except (GeardynError, ValueError, KeyError, TypeError):
+        return None
+    if sc is None or getattr(sc, "nondimensional", False):
+        return None
+    return float(sc.rpm_from_omega(1.0))
+
+
+def rpm_axis(ax: Axes, ds: xr.Dataset, param: str) -> Any:
+    """A top axis in pinion speed (rpm) over an ω axis, for a result with a physical gear pair.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The Axes whose x axis is ``param``.
+    ds : xarray.Dataset
+        The result (its ``physical_scales`` attribute gives rpm per unit ω).
+    param : str
+        The parameter on the x axis; nothing is drawn unless it is ``omega``.
+
+    Returns
+    -------
+    matplotlib.axes.Axes or None
+        The secondary axis, or ``None`` when none is drawn.
+    """
+    scale = rpm_per_omega(ds) if param == "omega" else None
+    if not scale:
+        return None
+    sec = ax.secondary_xaxis("top", functions=(lambda w: w * scale, lambda r: r / scale))
+    sec.set_xlabel("pinion speed [rpm]", fontsize=8)
+    sec.tick_params(labelsize=8)
+    return sec
+
+
+def speed_text(ds: xr.Dataset) -> str:
+    """``" (2400 rpm)"`` for a result at one ω with a physical gear pair, else ``""``."""
+    scale = rpm_per_omega(ds)
+    model = ds.attrs.get("model")
+    if not scale or not model:
+        return ""
+    try:
+        omega = float(json.loads(model)["omega"])
+    except (ValueError, KeyError, TypeError):
+        return ""
+    return f" ({omega * scale:.0f} rpm)"
+
+
 # ------------------------------------------------------------------------------------ drawing
 def contact_lines(ax: Axes, ds: xr.Dataset, param: str | None = None, x: np.ndarray | None = None, *,
                   color: str = "0.6", lw: float = 0.8, ls: str | None = None) -> list[Artist]:

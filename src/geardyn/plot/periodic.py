@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import contact_lines, label, model_of, plot_function, set_title, symbol
+from .common import contact_lines, label, model_of, plot_function, rpm_axis, set_title, symbol
 
 __all__ = ["BIFURCATION_STYLE", "PERIOD_COLOURS", "SWEEP_CONTEXT", "continuation_figure", "orbit_figure",
            "stability_figure"]
@@ -195,6 +195,7 @@ def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any
     axes[0].legend(fontsize=7, ncol=2, loc="best")
     over = " over the brute-force up/down sweep" if sweep is not None else ""
     set_title(axes[0], f"Continuation in {symbol(param)}: periodic orbits{over}", ds, exclude=[param])
+    rpm_axis(axes[0], ds, param)
 
 
 # ---------------------------------------------------------------------------- stability boundary
