@@ -17,13 +17,16 @@ builds the models of a slice (:meth:`Grid.models`), inside the worker.
 
 from __future__ import annotations
 
-from typing import Sequence
+import math
+from collections import abc
+from typing import Any, Sequence
 
 import numpy as np
 
-from .model import GearModel, ModelError, canonical_param
+from .model import GearModel, IntegrationOptions, ModelError, canonical_param, pack_points
 
-__all__ = ["GRID_KINDS", "Grid", "build_models", "chunked", "grid_models", "linspace_values"]
+__all__ = ["GRID_KINDS", "Grid", "PointModels", "build_models", "chunked", "grid_models", "integrate_points",
+           "linspace_values"]
 
 #: The kinds of grid.
 GRID_KINDS = ("range", "product", "curve", "states")
@@ -120,6 +123,110 @@ def build_models(base: GearModel, names: Sequence[str], points: np.ndarray) -> l
             m = m.with_param(p, float(v))
         out.append(m)
     return out
+
+
+class PointModels(abc.Sequence):
+    """The models of a chunk's parameter points, packed for the kernel without a model object per point.
+
+    A sequence of :class:`GearModel` (``base`` with ``names[j]`` set to ``points[i, j]``, as
+    :func:`build_models`) that holds the kernel arrays of :func:`geardyn.model.pack_points` and
+    builds a model only when one is indexed; a slice or an index array gives the
+    :class:`PointModels` of those points.  :func:`integrate_points` integrates it straight from
+    its arrays.
+
+    Parameters
+    ----------
+    base : GearModel
+        The model every point starts from.
+    names : sequence of str
+        Parameter names, one per column of ``points``.
+    points : ndarray (P, len(names))
+        The parameter values of each point.
+
+    Attributes
+    ----------
+    base, names, points
+        As given (``points`` as a float array).
+    coef, D, omega : ndarray
+        The kernel arrays (:func:`geardyn.model.pack_models` of the models).
+
+    Raises
+    ------
+    ModelError
+        For no point or a point the model refuses.
+    """
+
+    state_dim = GearModel.state_dim
+
+    def __init__(self, base: GearModel, names: Sequence[str], points: np.ndarray,
+                 _packed: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> None:
+        self.base = base
+        self.names = tuple(str(n) for n in names)
+        self.points = np.asarray(points, dtype=float).reshape(-1, len(self.names))
+        self.coef, self.D, self.omega = _packed if _packed is not None else pack_points(base, self.names, self.points)
+
+    def __len__(self) -> int:
+        return int(self.points.shape[0])
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, (int, np.integer)):
+            return build_models(self.base, self.names, self.points[[int(i)]])[0]
+        idx = np.arange(len(self))[i]
+        return PointModels(self.base, self.names, self.points[idx], (self.coef[idx], self.D[idx], self.omega[idx]))
+
+    def __repr__(self) -> str:
+        return f"PointModels({len(self)} points of {', '.join(self.names)})"
+
+    @property
+    def period(self) -> np.ndarray:
+        """Forcing periods T = 2π/ω of the points."""
+        return 2.0 * math.pi / self.omega
+
+    def packed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The kernel arrays ``(coef, D, omega)``."""
+        return self.coef, self.D, self.omega
+
+
+def integrate_points(models: Sequence[GearModel], state0: Sequence[float] | np.ndarray | None = None,
+                     options: IntegrationOptions = IntegrationOptions(), *, lyapunov: bool = False,
+                     record_poincare: bool = True, threads: int | None = None) -> Any:
+    """:func:`geardyn.integrate.integrate_batch` of ``models``, straight from the arrays of a :class:`PointModels`.
+
+    Parameters
+    ----------
+    models : PointModels or sequence of GearModel
+        The points (any other sequence goes to ``integrate_batch`` as it is).
+    state0, options, lyapunov, record_poincare, threads
+        As for :func:`geardyn.integrate.integrate_batch`.
+
+    Returns
+    -------
+    geardyn.integrate.BatchResult
+        Bit for bit that of ``integrate_batch`` on the same models; its ``models`` is ``models``.
+
+    Raises
+    ------
+    ModelError
+        As ``integrate_batch``.
+    """
+    from . import integrate as itg
+    from .model import steps_per_period
+
+    if not isinstance(models, PointModels):
+        return itg.integrate_batch(models, state0, options, lyapunov=lyapunov, record_poincare=record_poincare,
+                                   threads=threads)
+    coef, D, omega = models.packed()
+    too_long = options.dtau >= 2.0 * math.pi / omega
+    if np.any(too_long):
+        options.check_for(float(omega[int(np.argmax(too_long))]))
+    nsteps = steps_per_period(omega, options.dtau)
+    s0 = itg._state_array(state0, len(models), models.state_dim)
+    tangent = itg.K.TAN_LYAPUNOV if lyapunov else itg.K.TAN_NONE
+    pc, end, stats, tl, tout, status, _ = itg._run(coef, D, omega, nsteps, s0, options.transient, options.periods,
+                                                   tangent, options.accurate, record_poincare, 0, lyapunov,
+                                                   threads, options.adaptive)
+    return itg.BatchResult(models, options, pc, end, status, stats, nsteps,
+                           lyapunov_log=tl if lyapunov else None, tangent=tout if lyapunov else None)
 
 
 class Grid:
