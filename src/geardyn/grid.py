@@ -25,7 +25,7 @@ import numpy as np
 
 from .model import GearModel, IntegrationOptions, ModelError, canonical_param, pack_points
 
-__all__ = ["GRID_KINDS", "Grid", "PointModels", "build_models", "chunked", "grid_models", "integrate_points",
+__all__ = ["GRID_KINDS", "Grid", "GridModels", "PointModels", "build_models", "chunked", "grid_models", "integrate_points",
            "linspace_values"]
 
 #: The kinds of grid.
@@ -158,12 +158,11 @@ class PointModels(abc.Sequence):
 
     state_dim = GearModel.state_dim
 
-    def __init__(self, base: GearModel, names: Sequence[str], points: np.ndarray,
-                 _packed: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> None:
+    def __init__(self, base: GearModel, names: Sequence[str], points: np.ndarray) -> None:
         self.base = base
         self.names = tuple(str(n) for n in names)
         self.points = np.asarray(points, dtype=float).reshape(-1, len(self.names))
-        self.coef, self.D, self.omega = _packed if _packed is not None else pack_points(base, self.names, self.points)
+        self.coef, self.D, self.omega = pack_points(base, self.names, self.points)
 
     def __len__(self) -> int:
         return int(self.points.shape[0])
@@ -172,7 +171,10 @@ class PointModels(abc.Sequence):
         if isinstance(i, (int, np.integer)):
             return build_models(self.base, self.names, self.points[[int(i)]])[0]
         idx = np.arange(len(self))[i]
-        return PointModels(self.base, self.names, self.points[idx], (self.coef[idx], self.D[idx], self.omega[idx]))
+        sub = object.__new__(PointModels)  # the rows of arrays already packed and validated
+        sub.base, sub.names, sub.points = self.base, self.names, self.points[idx]
+        sub.coef, sub.D, sub.omega = self.coef[idx], self.D[idx], self.omega[idx]
+        return sub
 
     def __repr__(self) -> str:
         return f"PointModels({len(self)} points of {', '.join(self.names)})"
@@ -425,7 +427,7 @@ class Grid:
         """
         if self.kind == "curve":
             return np.column_stack(self.axes)[sl]
-        idx = np.unravel_index(np.arange(self.size)[sl], self.shape)
+        idx = np.unravel_index(np.arange(*sl.indices(self.size)), self.shape)
         return np.column_stack([a[i] for a, i in zip(self.axes, idx)])
 
     def state_points(self, sl: slice = slice(None)) -> np.ndarray:
@@ -464,6 +466,68 @@ class Grid:
             raise ModelError("grid: a grid of initial states has no parameter points")
         return build_models(base, self.names, self.points(sl))
 
+    def check(self, base: GearModel, block: int = 1 << 16) -> None:
+        """Validate every point as its model would be validated, without keeping a model.
+
+        Parameters
+        ----------
+        base : GearModel
+            The model every point starts from.
+        block : int
+            Points packed at a time (:func:`geardyn.model.pack_points`).
+
+        Raises
+        ------
+        ModelError
+            For a state grid, or the model's error for the first point it refuses.
+        """
+        if self.kind == "states":
+            raise ModelError("grid: a grid of initial states has no parameter points")
+        for sl in chunked(self.size, block):
+            pack_points(base, self.names, self.points(sl))
+
+    def lazy_models(self, base: GearModel) -> "GridModels":
+        """The models of every point, validated now (:meth:`check`) and each built only when it is used.
+
+        Parameters
+        ----------
+        base : GearModel
+            The model every point starts from.
+
+        Returns
+        -------
+        GridModels
+            A sequence of :class:`GearModel` in flat order (equal to :meth:`models`).
+
+        Raises
+        ------
+        ModelError
+            As :meth:`check`.
+        """
+        self.check(base)
+        return GridModels(self, base)
+
+    def omegas(self, base: GearModel) -> np.ndarray:
+        """The mesh frequency ω of every point (flat order): its ω axis, else ``base.omega``.
+
+        Parameters
+        ----------
+        base : GearModel
+            The model every point starts from.
+
+        Returns
+        -------
+        ndarray (size,)
+        """
+        if "omega" in self.names and self.kind != "states":
+            j = self.names.index("omega")
+            if self.kind == "curve":
+                return np.asarray(self.axes[j], dtype=float)
+            shape = [1] * len(self.axes)
+            shape[j] = self.axes[j].size
+            return np.broadcast_to(self.axes[j].reshape(shape), self.shape).ravel()
+        return np.full(self.size, float(base.omega))
+
     def steps_per_period(self, base: GearModel, dtau: float) -> np.ndarray:
         """RK4 steps per forcing period of every point (flat order): N = ceil(T/Δτ) of its ω.
 
@@ -480,17 +544,7 @@ class Grid:
         """
         from .model import steps_per_period
 
-        if "omega" in self.names and self.kind != "states":
-            j = self.names.index("omega")
-            if self.kind == "curve":
-                w = self.axes[j]
-            else:
-                shape = [1] * len(self.axes)
-                shape[j] = self.axes[j].size
-                w = np.broadcast_to(self.axes[j].reshape(shape), self.shape).ravel()
-        else:
-            w = np.full(self.size, float(base.omega))
-        return np.asarray(steps_per_period(np.asarray(w, dtype=float), dtau), dtype=np.int64)
+        return np.asarray(steps_per_period(self.omegas(base), dtau), dtype=np.int64)
 
     def cost_slices(self, costs: np.ndarray, target: float, min_points: int = 1, min_chunks: int = 1) -> list[slice]:
         """Consecutive slices whose summed ``costs`` are about ``target`` each.
@@ -534,6 +588,35 @@ class Grid:
             For ``chunk_points`` < 1.
         """
         return chunked(self.size, chunk_points)
+
+
+class GridModels(abc.Sequence):
+    """The models of a grid's points in flat order, each built when it is indexed (:meth:`Grid.lazy_models`).
+
+    Parameters
+    ----------
+    grid : Grid
+        The grid (parameter points).
+    base : GearModel
+        The model every point starts from.
+    """
+
+    def __init__(self, grid: Grid, base: GearModel) -> None:
+        self.grid, self.base = grid, base
+
+    def __len__(self) -> int:
+        return self.grid.size
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return self.grid.models(self.base, i)
+        k = int(i) + (self.grid.size if int(i) < 0 else 0)
+        if not 0 <= k < self.grid.size:
+            raise IndexError("grid model index out of range")
+        return self.grid.models(self.base, slice(k, k + 1))[0]
+
+    def __repr__(self) -> str:
+        return f"GridModels({self.grid!r})"
 
 
 def grid_models(base: GearModel, params: Sequence[str], values: Sequence[Sequence[float]]) -> list[GearModel]:

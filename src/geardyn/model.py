@@ -491,23 +491,26 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
     for p, v in zip(names, pts[0]):
         proto = proto.with_param(p, float(v))
     H = proto.n_harmonics
-    val = {k: np.full(P, float(getattr(proto, k))) for k in ("omega", "xi0", "fp", "D")}
+    # the fields of every point, in the structure of the first (series zero-padded as with_param pads them)
+    val = {k: np.full(P, float(getattr(base, k))) for k in ("omega", "xi0", "fp", "D")}
     for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
-        row = np.asarray(getattr(proto, k), dtype=float)
+        row = np.zeros(len(getattr(proto, k)))
+        row[:len(getattr(base, k))] = getattr(base, k)
         val[k] = np.tile(row, (P, 1)).reshape(P, row.size)
-    for j, p in enumerate(names):
-        attr, idx = slot(p)
-        if idx is None:
-            val[attr][:] = pts[:, j]
-        else:
-            val[attr][:, idx] = pts[:, j]
+    ok = np.ones(P, dtype=bool)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-        ok = np.all(np.isfinite(pts), axis=1) & (val["omega"] > 0) & np.isfinite(2.0 * math.pi / val["omega"])
-        ok &= ~(val["D"] < 0)
-        ksum = np.zeros(P)
-        for r in range(val["kappa"].shape[1]):
-            ksum = ksum + np.abs(val["kappa"][:, r])
-        ok &= ksum < MAX_KAPPA_SUM
+        for j, p in enumerate(names):  # validated after every assignment, as each with_param validates its model
+            attr, idx = slot(p)
+            if idx is None:
+                val[attr][:] = pts[:, j]
+            else:
+                val[attr][:, idx] = pts[:, j]
+            ok &= np.isfinite(pts[:, j]) & (val["omega"] > 0) & np.isfinite(2.0 * math.pi / val["omega"])
+            ok &= ~(val["D"] < 0)
+            ksum = np.zeros(P)
+            for r in range(val["kappa"].shape[1]):
+                ksum = ksum + np.abs(val["kappa"][:, r])
+            ok &= ksum < MAX_KAPPA_SUM
     if not np.all(ok):
         bad = int(np.argmin(ok))
         m = base
