@@ -142,3 +142,16 @@ def test_map_streamed_equals_map_in_one_chunk_and_two_workers():
     assert one.identical(small)
     two = parameter_map(*args, chunk_points=7, workers=2, **kw)
     assert one.identical(two)
+
+
+@pytest.mark.parametrize("m", [0, 5, 8, 10, 17, 40, 200])
+def test_batch_settling_ratio_equals_the_scalar_one(m):
+    from geardyn.analysis.classify import settling_ratio, settling_ratios
+
+    rng = np.random.default_rng(m)
+    pts = rng.normal(size=(30, m, 2))
+    pts[::4] *= (0.5 ** np.arange(m))[None, :, None]  # contracting sequences
+    if m:
+        pts[3, 1, 0] = np.nan
+        pts[5] = 1.0  # repeating exactly: NaN
+    _same(settling_ratios(pts), np.array([settling_ratio(p) for p in pts]))

@@ -348,6 +348,41 @@ def settling_ratio(points: np.ndarray, max_period: int = MAX_PERIOD) -> float:
     return best_late / best_early
 
 
+def settling_ratios(points: np.ndarray, max_period: int = MAX_PERIOD) -> np.ndarray:
+    """:func:`settling_ratio` of every sequence of a batch of equal length at once (the same bits).
+
+    Parameters
+    ----------
+    points : ndarray (B, m, d)
+        B Poincaré sequences of m points.
+    max_period : int
+        Longest cycle considered.
+
+    Returns
+    -------
+    ndarray (B,)
+        The ratios (NaN where :func:`settling_ratio` gives NaN).
+    """
+    pts = np.asarray(points, dtype=float)
+    B, m = int(pts.shape[0]), int(pts.shape[1])
+    out = np.full(B, np.nan)
+    if B == 0 or m < 8:
+        return out
+    good = np.all(np.isfinite(pts.reshape(B, -1)), axis=1)
+    q = m // 4
+    best_late = np.full(B, np.inf)
+    best_early = np.full(B, np.nan)
+    for n in range(1, min(max_period, m - 2 * q) + 1):
+        d = np.max(np.abs(pts[:, n:] - pts[:, :-n]), axis=2)
+        late = np.median(d[:, -q:], axis=1)
+        better = late < best_late
+        best_late = np.where(better, late, best_late)
+        best_early = np.where(better, np.median(d[:, :q], axis=1), best_early)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = best_late / best_early
+    return np.where(good & (best_early > 0.0), ratio, np.nan)
+
+
 def is_settling(points: np.ndarray, max_period: int = MAX_PERIOD, ratio: float = SETTLING_RATIO) -> bool:
     """True while a Poincaré sequence still contracts onto a cycle (:func:`settling_ratio` <= ``ratio``)."""
     r = settling_ratio(points, max_period)
@@ -389,9 +424,18 @@ def classify_points(
     P = period.shape[0]
     curve_dim = np.full(P, np.nan)
     ratio = np.full(P, np.nan)
-    for i in np.flatnonzero(ok & (period == 0)):
-        curve_dim[i] = curve_dimension(sections[i])
-        ratio[i] = settling_ratio(sections[i])
+    todo = np.flatnonzero(ok & (period == 0))
+    by_length: dict[tuple[int, ...], list[int]] = {}
+    for i in todo:
+        sec = np.asarray(sections[i])
+        by_length.setdefault(sec.shape, []).append(int(i))
+        if sec.shape[0] >= 16:  # fewer points: NaN (see curve_dimension)
+            curve_dim[i] = curve_dimension(sec)
+    for shape, idx in by_length.items():  # the settling ratio of sequences of one length at once
+        if len(shape) == 2:
+            ratio[idx] = settling_ratios(np.stack([np.asarray(sections[i]) for i in idx]))
+        else:
+            ratio[idx] = [settling_ratio(sections[i]) for i in idx]
     motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio)
     loops = np.zeros(P, dtype=np.int64)
     for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):
