@@ -17,13 +17,16 @@ builds the models of a slice (:meth:`Grid.models`), inside the worker.
 
 from __future__ import annotations
 
-from typing import Sequence
+import math
+from collections import abc
+from typing import Any, Sequence
 
 import numpy as np
 
-from .model import GearModel, ModelError, canonical_param
+from .model import GearModel, IntegrationOptions, ModelError, canonical_param, pack_points
 
-__all__ = ["GRID_KINDS", "Grid", "build_models", "chunked", "grid_models", "linspace_values"]
+__all__ = ["GRID_KINDS", "Grid", "GridModels", "PointModels", "build_models", "chunked", "grid_models", "integrate_points",
+           "linspace_values"]
 
 #: The kinds of grid.
 GRID_KINDS = ("range", "product", "curve", "states")
@@ -120,6 +123,112 @@ def build_models(base: GearModel, names: Sequence[str], points: np.ndarray) -> l
             m = m.with_param(p, float(v))
         out.append(m)
     return out
+
+
+class PointModels(abc.Sequence):
+    """The models of a chunk's parameter points, packed for the kernel without a model object per point.
+
+    A sequence of :class:`GearModel` (``base`` with ``names[j]`` set to ``points[i, j]``, as
+    :func:`build_models`) that holds the kernel arrays of :func:`geardyn.model.pack_points` and
+    builds a model only when one is indexed; a slice or an index array gives the
+    :class:`PointModels` of those points.  :func:`integrate_points` integrates it straight from
+    its arrays.
+
+    Parameters
+    ----------
+    base : GearModel
+        The model every point starts from.
+    names : sequence of str
+        Parameter names, one per column of ``points``.
+    points : ndarray (P, len(names))
+        The parameter values of each point.
+
+    Attributes
+    ----------
+    base, names, points
+        As given (``points`` as a float array).
+    coef, D, omega : ndarray
+        The kernel arrays (:func:`geardyn.model.pack_models` of the models).
+
+    Raises
+    ------
+    ModelError
+        For no point or a point the model refuses.
+    """
+
+    state_dim = GearModel.state_dim
+
+    def __init__(self, base: GearModel, names: Sequence[str], points: np.ndarray) -> None:
+        self.base = base
+        self.names = tuple(str(n) for n in names)
+        self.points = np.asarray(points, dtype=float).reshape(-1, len(self.names))
+        self.coef, self.D, self.omega = pack_points(base, self.names, self.points)
+
+    def __len__(self) -> int:
+        return int(self.points.shape[0])
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, (int, np.integer)):
+            return build_models(self.base, self.names, self.points[[int(i)]])[0]
+        idx = np.arange(len(self))[i]
+        sub = object.__new__(PointModels)  # the rows of arrays already packed and validated
+        sub.base, sub.names, sub.points = self.base, self.names, self.points[idx]
+        sub.coef, sub.D, sub.omega = self.coef[idx], self.D[idx], self.omega[idx]
+        return sub
+
+    def __repr__(self) -> str:
+        return f"PointModels({len(self)} points of {', '.join(self.names)})"
+
+    @property
+    def period(self) -> np.ndarray:
+        """Forcing periods T = 2π/ω of the points."""
+        return 2.0 * math.pi / self.omega
+
+    def packed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The kernel arrays ``(coef, D, omega)``."""
+        return self.coef, self.D, self.omega
+
+
+def integrate_points(models: Sequence[GearModel], state0: Sequence[float] | np.ndarray | None = None,
+                     options: IntegrationOptions = IntegrationOptions(), *, lyapunov: bool = False,
+                     record_poincare: bool = True, threads: int | None = None) -> Any:
+    """:func:`geardyn.integrate.integrate_batch` of ``models``, straight from the arrays of a :class:`PointModels`.
+
+    Parameters
+    ----------
+    models : PointModels or sequence of GearModel
+        The points (any other sequence goes to ``integrate_batch`` as it is).
+    state0, options, lyapunov, record_poincare, threads
+        As for :func:`geardyn.integrate.integrate_batch`.
+
+    Returns
+    -------
+    geardyn.integrate.BatchResult
+        Bit for bit that of ``integrate_batch`` on the same models; its ``models`` is ``models``.
+
+    Raises
+    ------
+    ModelError
+        As ``integrate_batch``.
+    """
+    from . import integrate as itg
+    from .model import steps_per_period
+
+    if not isinstance(models, PointModels):
+        return itg.integrate_batch(models, state0, options, lyapunov=lyapunov, record_poincare=record_poincare,
+                                   threads=threads)
+    coef, D, omega = models.packed()
+    too_long = options.dtau >= 2.0 * math.pi / omega
+    if np.any(too_long):
+        options.check_for(float(omega[int(np.argmax(too_long))]))
+    nsteps = steps_per_period(omega, options.dtau)
+    s0 = itg._state_array(state0, len(models), models.state_dim)
+    tangent = itg.K.TAN_LYAPUNOV if lyapunov else itg.K.TAN_NONE
+    pc, end, stats, tl, tout, status, _ = itg._run(coef, D, omega, nsteps, s0, options.transient, options.periods,
+                                                   tangent, options.accurate, record_poincare, 0, lyapunov,
+                                                   threads, options.adaptive)
+    return itg.BatchResult(models, options, pc, end, status, stats, nsteps,
+                           lyapunov_log=tl if lyapunov else None, tangent=tout if lyapunov else None)
 
 
 class Grid:
@@ -318,7 +427,7 @@ class Grid:
         """
         if self.kind == "curve":
             return np.column_stack(self.axes)[sl]
-        idx = np.unravel_index(np.arange(self.size)[sl], self.shape)
+        idx = np.unravel_index(np.arange(*sl.indices(self.size)), self.shape)
         return np.column_stack([a[i] for a, i in zip(self.axes, idx)])
 
     def state_points(self, sl: slice = slice(None)) -> np.ndarray:
@@ -357,6 +466,68 @@ class Grid:
             raise ModelError("grid: a grid of initial states has no parameter points")
         return build_models(base, self.names, self.points(sl))
 
+    def check(self, base: GearModel, block: int = 1 << 16) -> None:
+        """Validate every point as its model would be validated, without keeping a model.
+
+        Parameters
+        ----------
+        base : GearModel
+            The model every point starts from.
+        block : int
+            Points packed at a time (:func:`geardyn.model.pack_points`).
+
+        Raises
+        ------
+        ModelError
+            For a state grid, or the model's error for the first point it refuses.
+        """
+        if self.kind == "states":
+            raise ModelError("grid: a grid of initial states has no parameter points")
+        for sl in chunked(self.size, block):
+            pack_points(base, self.names, self.points(sl))
+
+    def lazy_models(self, base: GearModel) -> "GridModels":
+        """The models of every point, validated now (:meth:`check`) and each built only when it is used.
+
+        Parameters
+        ----------
+        base : GearModel
+            The model every point starts from.
+
+        Returns
+        -------
+        GridModels
+            A sequence of :class:`GearModel` in flat order (equal to :meth:`models`).
+
+        Raises
+        ------
+        ModelError
+            As :meth:`check`.
+        """
+        self.check(base)
+        return GridModels(self, base)
+
+    def omegas(self, base: GearModel) -> np.ndarray:
+        """The mesh frequency ω of every point (flat order): its ω axis, else ``base.omega``.
+
+        Parameters
+        ----------
+        base : GearModel
+            The model every point starts from.
+
+        Returns
+        -------
+        ndarray (size,)
+        """
+        if "omega" in self.names and self.kind != "states":
+            j = self.names.index("omega")
+            if self.kind == "curve":
+                return np.asarray(self.axes[j], dtype=float)
+            shape = [1] * len(self.axes)
+            shape[j] = self.axes[j].size
+            return np.broadcast_to(self.axes[j].reshape(shape), self.shape).ravel()
+        return np.full(self.size, float(base.omega))
+
     def steps_per_period(self, base: GearModel, dtau: float) -> np.ndarray:
         """RK4 steps per forcing period of every point (flat order): N = ceil(T/Δτ) of its ω.
 
@@ -373,17 +544,7 @@ class Grid:
         """
         from .model import steps_per_period
 
-        if "omega" in self.names and self.kind != "states":
-            j = self.names.index("omega")
-            if self.kind == "curve":
-                w = self.axes[j]
-            else:
-                shape = [1] * len(self.axes)
-                shape[j] = self.axes[j].size
-                w = np.broadcast_to(self.axes[j].reshape(shape), self.shape).ravel()
-        else:
-            w = np.full(self.size, float(base.omega))
-        return np.asarray(steps_per_period(np.asarray(w, dtype=float), dtau), dtype=np.int64)
+        return np.asarray(steps_per_period(self.omegas(base), dtau), dtype=np.int64)
 
     def cost_slices(self, costs: np.ndarray, target: float, min_points: int = 1, min_chunks: int = 1) -> list[slice]:
         """Consecutive slices whose summed ``costs`` are about ``target`` each.
@@ -427,6 +588,35 @@ class Grid:
             For ``chunk_points`` < 1.
         """
         return chunked(self.size, chunk_points)
+
+
+class GridModels(abc.Sequence):
+    """The models of a grid's points in flat order, each built when it is indexed (:meth:`Grid.lazy_models`).
+
+    Parameters
+    ----------
+    grid : Grid
+        The grid (parameter points).
+    base : GearModel
+        The model every point starts from.
+    """
+
+    def __init__(self, grid: Grid, base: GearModel) -> None:
+        self.grid, self.base = grid, base
+
+    def __len__(self) -> int:
+        return self.grid.size
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return self.grid.models(self.base, i)
+        k = int(i) + (self.grid.size if int(i) < 0 else 0)
+        if not 0 <= k < self.grid.size:
+            raise IndexError("grid model index out of range")
+        return self.grid.models(self.base, slice(k, k + 1))[0]
+
+    def __repr__(self) -> str:
+        return f"GridModels({self.grid!r})"
 
 
 def grid_models(base: GearModel, params: Sequence[str], values: Sequence[Sequence[float]]) -> list[GearModel]:

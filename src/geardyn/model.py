@@ -37,6 +37,7 @@ __all__ = [
     "PARAMETER_HELP",
     "canonical_param",
     "pack_models",
+    "pack_points",
     "steps_per_period",
 ]
 
@@ -441,3 +442,92 @@ def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np
     D = np.array([m.D for m in models])
     omega = np.array([m.omega for m in models])
     return np.ascontiguousarray(coef), D, omega
+
+
+def _per_value(fn, x: np.ndarray) -> np.ndarray:
+    """``fn`` (a ``math`` function) of every entry of ``x``, evaluated once per distinct value.
+
+    The kernel arrays must hold the bits :meth:`GearModel.coefficients` computes with ``math``
+    (libm), which NumPy's vectorised ``cos``/``sin`` do not promise; a swept column holds few
+    distinct values.  A signed zero keeps its sign (``np.unique`` merges -0.0 and 0.0).
+    """
+    u, inv = np.unique(x, return_inverse=True)
+    out = np.array([fn(float(v)) for v in u], dtype=float)[inv.ravel()]
+    return np.where(x == 0.0, fn(0.0) if fn is not math.sin else x, out)
+
+
+def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Kernel arrays of parameter points without a :class:`GearModel` per point.
+
+    Bit for bit ``pack_models(build_models(base, names, points))`` (:func:`geardyn.grid.build_models`):
+    ``base`` with ``names[j]`` set to ``points[i, j]`` in that order, validated as the model
+    validates (a refused point raises the model's own error, for the first such point).
+
+    Parameters
+    ----------
+    base : GearModel
+        The model every point starts from.
+    names : sequence of str
+        Parameter names (any alias), one per column of ``points``.
+    points : ndarray (P, len(names))
+        The parameter values of each point.
+
+    Returns
+    -------
+    coef, D, omega : ndarray
+        As :func:`pack_models`.
+
+    Raises
+    ------
+    ModelError
+        For no point, or a point the model refuses (ω <= 0, D < 0, Σ|κ_r| >= 1, a non-finite value).
+    """
+    names = list(names)
+    pts = np.asarray(points, dtype=float).reshape(-1, len(names))
+    P = pts.shape[0]
+    if P == 0:
+        raise ModelError("empty parameter grid: no model to integrate")
+    proto = base  # the first point's model: validates it and fixes which harmonics exist (the same for all)
+    for p, v in zip(names, pts[0]):
+        proto = proto.with_param(p, float(v))
+    H = proto.n_harmonics
+    # the fields of every point, in the structure of the first (series zero-padded as with_param pads them)
+    val = {k: np.full(P, float(getattr(base, k))) for k in ("omega", "xi0", "fp", "D")}
+    for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
+        row = np.zeros(len(getattr(proto, k)))
+        row[:len(getattr(base, k))] = getattr(base, k)
+        val[k] = np.tile(row, (P, 1)).reshape(P, row.size)
+    ok = np.ones(P, dtype=bool)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        for j, p in enumerate(names):  # validated after every assignment, as each with_param validates its model
+            attr, idx = slot(p)
+            if idx is None:
+                val[attr][:] = pts[:, j]
+            else:
+                val[attr][:, idx] = pts[:, j]
+            ok &= np.isfinite(pts[:, j]) & (val["omega"] > 0) & np.isfinite(2.0 * math.pi / val["omega"])
+            ok &= ~(val["D"] < 0)
+            ksum = np.zeros(P)
+            for r in range(val["kappa"].shape[1]):
+                ksum = ksum + np.abs(val["kappa"][:, r])
+            ok &= ksum < MAX_KAPPA_SUM
+    if not np.all(ok):
+        bad = int(np.argmin(ok))
+        m = base
+        for p, v in zip(names, pts[bad]):
+            m = m.with_param(p, float(v))  # raises the model's own error
+        raise ModelError(f"point {bad}: refused by the model")  # pragma: no cover - the checks above are the model's
+    coef = np.zeros((P, 3, H + 1, 2))
+    coef[:, 0, 0, 0] = 2.0 * val["xi0"]
+    coef[:, 1, 0, 0] = 1.0
+    coef[:, 2, 0, 0] = val["fp"]
+    w2 = _per_value(lambda w: w**2, val["omega"])
+    for i, amp, ph in ((0, "xi", "phi_c"), (1, "kappa", "phi_k"), (2, "eps", "phi_e")):
+        for j0 in range(val[amp].shape[1]):
+            j = j0 + 1
+            scale = 2.0 if i == 0 else (1.0 if i == 1 else w2 * j * j)
+            a = val[amp][:, j0]
+            phase = val[ph][:, j0]
+            coef[:, i, j, 0] = scale * a * _per_value(math.cos, phase)
+            coef[:, i, j, 1] = -scale * a * _per_value(math.sin, phase)
+    return np.ascontiguousarray(coef), val["D"].copy(), val["omega"].copy()

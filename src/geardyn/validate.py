@@ -390,7 +390,7 @@ def axis(param: Any, start: Any, stop: Any, num: Any) -> tuple[str, np.ndarray]:
 
 
 def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
-         opts: IntegrationOptions | None = None) -> list[GearModel]:
+         opts: IntegrationOptions | None = None) -> Sequence[GearModel]:
     """The models of the Cartesian grid over ``axes`` (last axis fastest), each validated.
 
     Refuses an empty grid, one larger than :data:`MAX_GRID_POINTS`, any grid point the model
@@ -408,8 +408,9 @@ def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
 
     Returns
     -------
-    list of GearModel
-        One per grid point, in row-major order (:meth:`geardyn.grid.Grid.models` of a product grid).
+    sequence of GearModel
+        One per grid point, in row-major order (:meth:`geardyn.grid.Grid.lazy_models` of a product
+        grid: each model is built when it is used).
 
     Raises
     ------
@@ -439,9 +440,10 @@ def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
             raise ModelError(f"grid: {total} points or more; at most {MAX_GRID_POINTS:.0e} allowed")
         names.append(name)
         values.append(arr)
-    models = Grid("product", names, values).models(base)
+    g = Grid("product", names, values)
+    models = g.lazy_models(base)  # every point validated; a model is built only where one is used
     if opts is not None:
-        options(opts.dtau, opts.transient, opts.periods, opts.accurate, [m.omega for m in models])
+        options(opts.dtau, opts.transient, opts.periods, opts.accurate, g.omegas(base))
     return models
 
 

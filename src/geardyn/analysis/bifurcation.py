@@ -23,7 +23,7 @@ from typing import Any, Sequence
 import numpy as np
 import xarray as xr
 
-from ..grid import Grid, build_models, linspace_values
+from ..grid import Grid, PointModels, build_models, integrate_points, linspace_values
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, json_values, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
@@ -104,9 +104,9 @@ def fixed_chunk(
         One row per point: the scalars of :func:`~geardyn.analysis.steady.classify_batch`,
         ``restarted``, ``poincare``, ``start`` and ``end`` states.
     """
-    models = list(models)
+    models = models if isinstance(models, PointModels) else list(models)
     s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), models[0].state_dim)).copy()
-    res = integrate_batch(models, s0, options, lyapunov=lyapunov)
+    res = integrate_points(models, s0, options, lyapunov=lyapunov)
     out = _rows(classify_batch(res, settle_periods=settle_periods), s0)
     tick(len(models))
     return out
@@ -195,8 +195,10 @@ def grid_chunk(
     dict of ndarray
         One row per point.
     """
-    run = continuation_chunk if continuation else fixed_chunk
-    r = run(build_models(model, names, points), state0, options, lyapunov, settle_periods)
+    if continuation:
+        r = continuation_chunk(build_models(model, names, points), state0, options, lyapunov, settle_periods)
+    else:  # the kernel arrays straight from the points (no model object per point)
+        r = fixed_chunk(PointModels(model, names, points), state0, options, lyapunov, settle_periods)
     return r if keep is None else {k: r[k] for k in keep if k in r}
 
 

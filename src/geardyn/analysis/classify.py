@@ -80,6 +80,72 @@ def detect_period(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float =
     return 0
 
 
+def detect_periods(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float = PERIOD_TOL) -> np.ndarray:
+    """:func:`detect_period` of every point of a batch at once (the same codes, bit for bit).
+
+    Parameters
+    ----------
+    points : ndarray (P, m, d)
+        The Poincaré points of each of P points.
+    max_period : int
+        Largest period reported.
+    tol : float
+        Relative tolerance (see :data:`PERIOD_TOL`).
+
+    Returns
+    -------
+    ndarray of int64 (P,)
+        n > 0 periodic, 0 not periodic (or too short to tell), -1 non-finite (diverged).
+    """
+    pts = np.asarray(points, dtype=float)
+    P, m = int(pts.shape[0]), int(pts.shape[1])
+    out = np.zeros(P, dtype=np.int64)
+    if P == 0:
+        return out
+    if m == 0:
+        out[:] = -1
+        return out
+    flat = pts.reshape(P, -1)
+    finite = np.all(np.isfinite(flat), axis=1)
+    out[~finite] = -1
+    window = max(int(np.ceil(PERIOD_WINDOW * m)), 2)
+    scale = np.maximum(1.0, np.max(np.abs(pts[:, -window:]).reshape(P, -1), axis=1))
+    todo = np.flatnonzero(finite)
+    for n in range(1, max_period + 1):
+        w = min(window, m - n)
+        if w < max(2, n) or todo.size == 0:  # need every point of the cycle compared at least once
+            break
+        sub = pts[todo]
+        d = np.max(np.abs(sub[:, m - w:] - sub[:, m - w - n: m - n]).reshape(todo.size, -1), axis=1)
+        hit = d <= tol * scale[todo]
+        out[todo[hit]] = n
+        todo = todo[~hit]
+    return out
+
+
+def impact_states(u_min: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """:func:`impact_state` element-wise (the same codes).
+
+    Parameters
+    ----------
+    u_min : ndarray
+        Smallest displacement of each steady response (NaN: unknown).
+    D : ndarray or float
+        Half backlash of each point.
+
+    Returns
+    -------
+    ndarray of int64
+        ``IMPACT_*`` codes.
+    """
+    u = np.asarray(u_min, dtype=float)
+    d = np.broadcast_to(np.asarray(D, dtype=float), u.shape)
+    with np.errstate(invalid="ignore"):
+        code = np.where(u >= -d, IMPACT_SINGLE, IMPACT_DOUBLE)
+        code = np.where((d == 0.0) | (u > d), IMPACT_NONE, code)
+    return np.where(np.isfinite(u), code, IMPACT_UNKNOWN).astype(np.int64)
+
+
 def impact_state(u_min: float, D: float) -> int:
     """Impact state code from the smallest displacement of a steady response."""
     if not np.isfinite(u_min):
@@ -282,6 +348,41 @@ def settling_ratio(points: np.ndarray, max_period: int = MAX_PERIOD) -> float:
     return best_late / best_early
 
 
+def settling_ratios(points: np.ndarray, max_period: int = MAX_PERIOD) -> np.ndarray:
+    """:func:`settling_ratio` of every sequence of a batch of equal length at once (the same bits).
+
+    Parameters
+    ----------
+    points : ndarray (B, m, d)
+        B Poincaré sequences of m points.
+    max_period : int
+        Longest cycle considered.
+
+    Returns
+    -------
+    ndarray (B,)
+        The ratios (NaN where :func:`settling_ratio` gives NaN).
+    """
+    pts = np.asarray(points, dtype=float)
+    B, m = int(pts.shape[0]), int(pts.shape[1])
+    out = np.full(B, np.nan)
+    if B == 0 or m < 8:
+        return out
+    good = np.all(np.isfinite(pts.reshape(B, -1)), axis=1)
+    q = m // 4
+    best_late = np.full(B, np.inf)
+    best_early = np.full(B, np.nan)
+    for n in range(1, min(max_period, m - 2 * q) + 1):
+        d = np.max(np.abs(pts[:, n:] - pts[:, :-n]), axis=2)
+        late = np.median(d[:, -q:], axis=1)
+        better = late < best_late
+        best_late = np.where(better, late, best_late)
+        best_early = np.where(better, np.median(d[:, :q], axis=1), best_early)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = best_late / best_early
+    return np.where(good & (best_early > 0.0), ratio, np.nan)
+
+
 def is_settling(points: np.ndarray, max_period: int = MAX_PERIOD, ratio: float = SETTLING_RATIO) -> bool:
     """True while a Poincaré sequence still contracts onto a cycle (:func:`settling_ratio` <= ``ratio``)."""
     r = settling_ratio(points, max_period)
@@ -323,9 +424,18 @@ def classify_points(
     P = period.shape[0]
     curve_dim = np.full(P, np.nan)
     ratio = np.full(P, np.nan)
-    for i in np.flatnonzero(ok & (period == 0)):
-        curve_dim[i] = curve_dimension(sections[i])
-        ratio[i] = settling_ratio(sections[i])
+    todo = np.flatnonzero(ok & (period == 0))
+    by_length: dict[tuple[int, ...], list[int]] = {}
+    for i in todo:
+        sec = np.asarray(sections[i])
+        by_length.setdefault(sec.shape, []).append(int(i))
+        if sec.shape[0] >= 16:  # fewer points: NaN (see curve_dimension)
+            curve_dim[i] = curve_dimension(sec)
+    for shape, idx in by_length.items():  # the settling ratio of sequences of one length at once
+        if len(shape) == 2:
+            ratio[idx] = settling_ratios(np.stack([np.asarray(sections[i]) for i in idx]))
+        else:
+            ratio[idx] = [settling_ratio(sections[i]) for i in idx]
     motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio)
     loops = np.zeros(P, dtype=np.int64)
     for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):

@@ -17,10 +17,10 @@ import xarray as xr
 from ..grid import Grid, build_models
 from ..io import json_values
 from ..model import GearModel, ModelError, canonical_param
-from ..sweep import Chunk, chunk_slices, run_chunks
+from ..sweep import chunk_slices
 from .bifurcation import MODES, grid_chunk
 from .classify import MOTION_LABELS
-from .points import concat_rows, initial_state, result_dataset, run_slices, sweep_function
+from .points import initial_state, result_dataset, run_slices, sweep_function
 
 __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
 
@@ -92,10 +92,8 @@ def parameter_map(
         cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (False, MAP_VARIABLES),
                          chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine, description)
     else:  # one continuation row per chunk, x increasing
-        nx = xv.size
-        chunks = [Chunk(i, grid_chunk, (model, grid.names, grid.points(slice(i * nx, (i + 1) * nx))) + common
-                        + (True, MAP_VARIABLES)) for i in range(yv.size)]
-        cat = concat_rows(run_chunks(chunks, engine, description=description))
+        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (True, MAP_VARIABLES),
+                         grid.slices(xv.size), engine, description)
     shape = (yv.size, xv.size)
     return result_dataset({k: ((yn, xn), v.reshape(shape)) for k, v in cat.items()}, {yn: yv, xn: xv}, "map",
                           model, options, x=xn, y=yn, mode=mode, state0=list(s0t), lyapunov=bool(lyapunov),

@@ -22,8 +22,8 @@ from ..model import GearModel, IntegrationOptions, ModelError
 from ..sweep import Chunk, SweepOptions, run_chunks
 from .classify import SETTLE_PERIODS
 
-__all__ = ["SweepKeyword", "SWEEP_KEYWORDS", "sweep_function", "initial_state", "concat_rows", "run_slices",
-           "result_dataset"]
+__all__ = ["SweepKeyword", "SWEEP_KEYWORDS", "sweep_function", "initial_state", "concat_rows", "RowSink",
+           "run_slices", "result_dataset"]
 
 
 @dataclass(frozen=True)
@@ -194,6 +194,61 @@ def concat_rows(results: Sequence[Mapping[str, np.ndarray]]) -> dict[str, np.nda
     return {k: np.concatenate([r[k] for r in results]) for k in results[0]}
 
 
+class RowSink:
+    """The rows of consecutive chunks written into preallocated arrays as the chunks finish.
+
+    The sink of :func:`geardyn.sweep.run_chunks`: chunk ``k`` holds the rows ``offsets[k]`` …
+    ``offsets[k] + len``; each variable's array (``total`` rows, the dtype and trailing shape of
+    the first chunk that has it) is allocated when a chunk first brings it, and the chunk's rows
+    are copied in, so that only the chunks in flight are ever held besides the output.  The
+    arrays equal :func:`concat_rows` of the results in chunk order.
+
+    Parameters
+    ----------
+    offsets : sequence of int
+        First row of each chunk, in chunk order.
+    total : int
+        Rows of the whole sweep.
+
+    Attributes
+    ----------
+    arrays : dict of ndarray
+        The output, one array per variable.
+    """
+
+    def __init__(self, offsets: Sequence[int], total: int) -> None:
+        self.offsets = [int(o) for o in offsets]
+        self.total = int(total)
+        self.arrays: dict[str, np.ndarray] = {}
+        self._rows = 0
+
+    def __call__(self, position: int, result: Mapping[str, np.ndarray]) -> None:
+        start = self.offsets[position]
+        n = None
+        for k, v in result.items():
+            v = np.asarray(v)
+            a = self.arrays.get(k)
+            if a is None:
+                a = self.arrays[k] = np.empty((self.total,) + v.shape[1:], dtype=v.dtype)
+            a[start:start + v.shape[0]] = v
+            n = v.shape[0]
+        self._rows += int(n or 0)
+
+    def result(self) -> dict[str, np.ndarray]:
+        """The output arrays, once every chunk has arrived.
+
+        Raises
+        ------
+        SweepError
+            If the chunks delivered do not add up to ``total`` rows.
+        """
+        if self._rows != self.total:
+            from ..errors import SweepError
+
+            raise SweepError(f"sweep: {self._rows} rows delivered for {self.total} points")
+        return self.arrays
+
+
 def run_slices(
     function: Callable[..., dict[str, np.ndarray]],
     args_of: Callable[[slice], tuple[Any, ...]],
@@ -220,7 +275,8 @@ def run_slices(
     Returns
     -------
     dict of ndarray
-        One row per grid point, in the grid's flat order.
+        One row per grid point, in the grid's flat order: each chunk's rows are written there as
+        the chunk finishes (:class:`RowSink`), so the sweep holds no per-chunk copies.
 
     Raises
     ------
@@ -228,7 +284,10 @@ def run_slices(
         When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
     """
     chunks = [Chunk(i, function, args_of(sl)) for i, sl in enumerate(slices)]
-    return concat_rows(run_chunks(chunks, engine, description=description))
+    sizes = [len(range(sl.start or 0, sl.stop)) for sl in slices]
+    sink = RowSink(np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int) if sizes else [], int(sum(sizes)))
+    run_chunks(chunks, engine, description=description, sink=sink)
+    return sink.result()
 
 
 def result_dataset(data: Mapping[str, Any], coords: Mapping[str, Any], kind: str, model: GearModel,

@@ -8,13 +8,15 @@ integration with the tangent equations) and classifies them (:mod:`geardyn.analy
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
 import xarray as xr
 
-from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, trajectory
+from ..grid import PointModels, integrate_points
+from ..integrate import ST_OK, BatchResult, Trajectory, trajectory
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions
 from .classify import (
@@ -24,8 +26,8 @@ from .classify import (
     SETTLE_PERIODS,
     SETTLE_ROUNDS,
     classify_points,
-    detect_period,
-    impact_state,
+    detect_periods,
+    impact_states,
     is_settling,
     motion_label,
     period_label,
@@ -38,14 +40,30 @@ HISTORY_PERIODS = 32
 SPECTRUM_MAX_ORDER = 10.0
 
 
+def _omega_D(models: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Mesh frequencies and half backlashes of a batch's models (from the arrays of a PointModels)."""
+    if isinstance(models, PointModels):
+        return models.omega, models.D
+    return np.array([m.omega for m in models], dtype=float), np.array([m.D for m in models], dtype=float)
+
+
 def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
-    """Per-point summary arrays of a batch: period, impact, amplitude measures, contact fractions, status."""
-    P = res.poincare.shape[0]
-    period = np.array(
-        [detect_period(res.poincare[i]) if res.status[i] == ST_OK else -1 for i in range(P)], dtype=np.int64
-    )
+    """Per-point summary arrays of a batch: period, impact, amplitude measures, contact fractions, status.
+
+    Parameters
+    ----------
+    res : geardyn.integrate.BatchResult
+        The batch.
+
+    Returns
+    -------
+    dict of ndarray
+        ``period`` (:func:`~geardyn.analysis.classify.detect_period`, -1 where not ok), ``impact``,
+        ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, the three contact fractions, ``status``.
+    """
+    period = np.where(res.status == ST_OK, detect_periods(res.poincare), -1).astype(np.int64)
     u_min = res.u_min
-    impact = np.array([impact_state(u_min[i], res.models[i].D) for i in range(P)], dtype=np.int64)
+    impact = impact_states(u_min, _omega_D(res.models)[1])
     fr = res.contact_fractions
     return {
         "period": period,
@@ -95,9 +113,9 @@ def classify_batch(
         ``poincare`` (P, n, 2) and ``end_state`` (P, 2).
     """
     nb = DEFAULT_BLOCKS if blocks is None else blocks
-    models = list(res.models)
+    models = res.models if isinstance(res.models, PointModels) else list(res.models)
     P = len(models)
-    T = np.array([m.period for m in models])
+    T = 2.0 * math.pi / _omega_D(models)[0]
     out = summarize_batch(res)
     out["poincare"] = res.poincare.copy()
     out["end_state"] = res.end_state.copy()
@@ -112,7 +130,8 @@ def classify_batch(
     rounds = 0
     while settle_periods > 0 and need.size and rounds < SETTLE_ROUNDS:
         opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
-        r2 = integrate_batch([models[i] for i in need], out["end_state"][need], opts, lyapunov=True)
+        sub = models[need] if isinstance(models, PointModels) else [models[i] for i in need]
+        r2 = integrate_points(sub, out["end_state"][need], opts, lyapunov=True)
         s2 = summarize_batch(r2)
         for k, v in s2.items():
             out[k][need] = v
@@ -137,11 +156,24 @@ def classify_batch(
     bad = out["status"] != ST_OK
     lam[bad] = np.nan
     err[bad] = np.nan
-    sections = [section.get(i, out["poincare"][i]) for i in range(P)]
+    sections = _Sections(section, out["poincare"])
     cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections)
     out.update(motion=cls["motion"], lle=lam[:, 0].copy(), lle_err=err[:, 0].copy(), lambda2=lam[:, 1].copy(),
                curve_dim=cls["curve_dim"], settle_ratio=cls["settle_ratio"], loops=cls["loops"], settled=settled)
     return out
+
+
+class _Sections:
+    """The Poincaré section of point i: that of its last settling pass, else its recorded points."""
+
+    def __init__(self, settled: dict[int, np.ndarray], recorded: np.ndarray) -> None:
+        self.settled, self.recorded = settled, recorded
+
+    def __len__(self) -> int:
+        return int(self.recorded.shape[0])
+
+    def __getitem__(self, i: int) -> np.ndarray:
+        return self.settled.get(int(i), self.recorded[i])
 
 
 def amplitude_spectrum(u: np.ndarray, periods: int) -> tuple[np.ndarray, np.ndarray]:

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
 from ..errors import SweepError
 from ..grid import Grid, chunked as _chunked
 from ..model import GearModel, IntegrationOptions, ModelError
-from .checkpoints import CheckpointStore
+from .checkpoints import CheckpointStore, _load_chunk, prepare_checkpoint
 from .executors import SchedulerLost, run_in_process, run_on_dask, run_on_executor, run_on_pool
 from .options import SweepOptions
 from .progress import Progress, print_summary
@@ -177,18 +177,31 @@ def concat_results(results: Sequence[dict[str, np.ndarray]]) -> dict[str, np.nda
     return {k: np.concatenate([r[k] for r in results], axis=0) for k in keys}
 
 
+def _finished_chunks(store: CheckpointStore, chunks: Sequence[Chunk]) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+    """Prepare the checkpoint of ``chunks``; yield (index, result) of each readable finished chunk, one at a time."""
+    for i in sorted(prepare_checkpoint(store.directory, chunks, store.resume)):
+        r = _load_chunk(store.directory, i)
+        if r is not None:
+            yield i, r
+
+
 def run_chunks(
     chunks: Sequence[Chunk],
     engine: SweepOptions | None = None,
     *,
     store: CheckpointStore | None = None,
     description: str = "sweep",
+    sink: Callable[[int, dict[str, np.ndarray]], None] | None = None,
     **engine_kw: Any,
-) -> list[dict[str, np.ndarray]]:
-    """Run ``chunks`` and return their results in chunk order.
+) -> list[dict[str, np.ndarray]] | None:
+    """Run ``chunks`` and return their results in chunk order (or hand each to ``sink`` as it finishes).
 
     The results are the same whatever the executor, worker count or resumption: each chunk is a
-    pure function of its arguments, and the results are put back in chunk order.
+    pure function of its arguments, and the results are put back in chunk order.  With ``sink``
+    nothing is kept: each result, computed or loaded from the checkpoint on resume, is handed to
+    ``sink(position, result)`` (``position``: its place in ``chunks``) in the order they finish,
+    so that the caller can write it where it belongs (:class:`geardyn.analysis.points.RowSink`)
+    and the sweep never holds more than the chunks in flight.
 
     Parameters
     ----------
@@ -202,14 +215,17 @@ def run_chunks(
         Where finished chunks are saved (overrides ``engine.checkpoint`` and ``engine.resume``).
     description : str
         Label of the progress bar and of the summary line.
+    sink : callable, optional
+        ``sink(position, result)``, called once per chunk in the calling thread; the results are
+        then not returned.
     **engine_kw
         Fields of :class:`SweepOptions` given one by one (``workers=2``, ``checkpoint=path``, …),
         applied on top of ``engine``.
 
     Returns
     -------
-    list of dict
-        One result per chunk, in the order of ``chunks``.
+    list of dict or None
+        One result per chunk, in the order of ``chunks``; None with ``sink``.
 
     Raises
     ------
@@ -229,14 +245,30 @@ def run_chunks(
         raise ModelError("chunks: indices must be unique")
     if store is None and opts.checkpoint is not None:
         store = CheckpointStore(opts.checkpoint, resume=opts.resume)
-    results: dict[int, dict[str, np.ndarray]] = store.open(chunks) if store is not None else {}
-    todo = [c for c in chunks if c.index not in results]
-    bar = Progress.for_chunks(chunks, results, description) if opts.progress else None
+    position = {c.index: k for k, c in enumerate(chunks)}
+    results: dict[int, dict[str, np.ndarray]] = {}
+    done: set[int] = set()
+    statuses: list[dict[str, np.ndarray]] = []  # with a sink: what the summary line counts
+
+    def accept(index: int, r: dict[str, np.ndarray]) -> None:
+        done.add(index)
+        if sink is None:
+            results[index] = r
+            return
+        sink(position[index], r)
+        if opts.progress and "status" in r:
+            statuses.append({"status": np.array(r["status"])})
+
+    if store is not None:
+        for i, r in _finished_chunks(store, chunks):
+            accept(i, r)
+    todo = [c for c in chunks if c.index not in done]
+    bar = Progress.for_chunks(chunks, done, description) if opts.progress else None
 
     def finished(c: Chunk, r: dict[str, np.ndarray]) -> None:
         if store is not None:
             store.save_later(c.index, r)
-        results[c.index] = r
+        accept(c.index, r)
         if bar:
             bar.advance(c)
 
@@ -259,9 +291,13 @@ def run_chunks(
             if store is not None:
                 store.flush()  # every finished chunk is on disk before the sweep returns or raises
     except KeyboardInterrupt:
-        raise SweepInterrupted(len(results), len(chunks), where) from None
+        raise SweepInterrupted(len(done), len(chunks), where) from None
     except SchedulerLost as e:
-        raise SweepFailed(str(e), len(results), len(chunks), where) from None
+        raise SweepFailed(str(e), len(done), len(chunks), where) from None
+    if sink is not None:
+        if opts.progress:
+            print_summary(description, statuses)
+        return None
     out = [results[c.index] for c in chunks]
     if opts.progress:
         print_summary(description, out)
