@@ -21,6 +21,7 @@ import xarray as xr
 
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
+from . import systems
 from .common import DPI, save
 
 __all__ = ["FIGURES", "PHYSICAL_FIGURES", "FigureSpec", "draw", "figures_for", "register", "save_figures"]
@@ -124,6 +125,7 @@ def register(kind: str, *specs: FigureSpec) -> None:
 
 register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=engineering.has_iso_kv))
 register("runup", FigureSpec("runup", runup.runup_figure))
+systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
 
 
 def _kind(ds: Any) -> str:
