@@ -139,9 +139,10 @@ class SystemContinuation:
                    "coordinate": [f"{lab}" for lab in self.model.labels] + [f"{lab}'" for lab in self.model.labels],
                    "bifurcation": np.arange(len(bt))},
             attrs=system_attrs(self.model, "system_continuation", None, param=self.param))
-        ds["value"].attrs.update(units="1", long_name=f"continuation parameter {self.param}")
         ds.attrs["summary"] = json.dumps(self.to_json())
-        return ds
+        from ..io import annotate
+
+        return annotate(ds)
 
 
 def _impact(lo: float, D: float) -> str:
@@ -220,7 +221,8 @@ def _tests(pt: _Pt, D: list[float]) -> dict[str, float]:
     from ..integrate_ndof import K
 
     mu = pt.mu
-    out = {"pd": float(np.sum((np.abs(mu.imag) < 1e-9) & (mu.real < -1.0))),
+    real = mu.real[np.abs(mu.imag) < 1e-9]
+    out = {"pd": float(np.sum(real < -1.0)), "pdv": float(real.min() + 1.0) if real.size else math.nan,
            "ns": float(np.sum((np.abs(mu.imag) > 1e-9) & (np.abs(mu) > 1.0)))}
     for e, d in enumerate(D):
         if d > 0:
@@ -331,7 +333,9 @@ def _events(a: _Pt, b: _Pt, prob: _Problem, out: list, param: str, span: float, 
         s = abs(a.t[-1]) / (abs(a.t[-1]) + abs(b.t[-1]))
         add("fold", s, "real multiplier through +1 at a turning point")
     if ta["pd"] != tb["pd"]:
-        add("period-doubling", 0.5, "real multiplier through −1")
+        fa, fb = ta["pdv"], tb["pdv"]
+        s = fa / (fa - fb) if np.isfinite(fa) and np.isfinite(fb) and fa * fb < 0 else 0.5
+        add("period-doubling", s, "real multiplier through −1")
     if ta["ns"] != tb["ns"]:
         add("neimark-sacker", 0.5, "complex pair through the unit circle")
     names = list(element_names(prob.model))

@@ -29,9 +29,7 @@ def _states(model: Any) -> list[str]:
 def _finish(ds: xr.Dataset, summary: dict[str, Any], units: dict[str, tuple[str, str]]) -> xr.Dataset:
     from ..io import annotate
 
-    for k, (u, ln) in units.items():
-        if k in ds.variables:
-            ds[k].attrs.update(units=u, long_name=ln)
+    del units  # the metadata come from the registry (SYSTEM_VARIABLES)
     ds.attrs["summary"] = json.dumps(summary, default=lambda o: None)
     return annotate(ds)
 

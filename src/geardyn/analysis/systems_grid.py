@@ -117,8 +117,6 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
                     coords={yname: yv, xname: xv, "mesh": [m.name for m in model.meshes]},
                     attrs=system_attrs(model, "system_map", options, x=xname, y=yname, mode="fixed"))
     ds["lle"] = (dims, np.full((yv.size, xv.size), np.nan))
-    for k, ln in _MESH_LONG.items():
-        ds[k].attrs.update(units="1", long_name=ln)
     return annotate(ds)
 
 
@@ -204,10 +202,6 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
                                   "attractor_index": np.arange(A), "cycle_point": np.arange(width)},
                     attrs=system_attrs(model, "system_basins", options, coordinates=[st[i], st[j]],
                                        diverged=int(np.count_nonzero(labels < 0))))
-    ds["u0"].attrs.update(units="1", long_name=f"initial {st[i]} at θ = 0")
-    ds["v0"].attrs.update(units="1", long_name=f"initial {st[j]} at θ = 0")
-    for k, ln in _MESH_LONG.items():
-        ds[k].attrs.update(units="1", long_name=ln)
     return annotate(ds)
 
 

@@ -126,10 +126,24 @@ def _orbit(values: dict[str, Any], kw: dict[str, Any]):
     return o.to_json(), (lambda: orbit_dataset(o))
 
 
-def _engine(values: dict[str, Any], stem: str) -> dict[str, Any]:
-    from .options import Inputs
+def _out_paths(out: Path, stem: str) -> tuple[Path, Path]:
+    """(NetCDF file, figure directory) of ``--out`` (as :func:`geardyn.cli.options.out_paths`)."""
+    return (out, out.parent) if out.suffix == ".nc" else (out / f"{stem}.nc", out)
 
-    return Inputs(values).engine(stem)
+
+def _engine(values: dict[str, Any], stem: str) -> dict[str, Any]:
+    """Keywords of :func:`geardyn.sweep.run_chunks` from the sweep-engine options (those the command has)."""
+    from .. import validate
+    from ..sweep import checkpoint_dir
+
+    out = values.get("out")
+    nc = _out_paths(Path(out), stem)[0] if out is not None else None
+    if values.get("resume") and nc is None:
+        raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
+    return {"workers": validate.workers(values.get("workers", 1)),
+            "scheduler": validate.scheduler(values.get("scheduler")),
+            "checkpoint": checkpoint_dir(nc) if nc is not None else None,
+            "resume": bool(values.get("resume", False)), "progress": not values.get("json_out")}
 
 
 def _coords(s: Any, values: dict[str, Any], n: int) -> list[int] | None:
@@ -243,10 +257,8 @@ _HANDLERS = {"simulate": _simulate, "lyapunov": _lyapunov, "orbit": _orbit, "bif
 def _write(values: dict[str, Any], ds: Any) -> list[str]:
     from ..io import write_netcdf
     from ..plot import save_figures
-    from .options import out_paths
-
     stem = ds.attrs["geardyn_kind"]
-    nc, figdir = out_paths(Path(values["out"]), stem)
+    nc, figdir = _out_paths(Path(values["out"]), stem)
     files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
     if values.get("resume") is not None:
         from ..sweep import checkpoint_dir, remove_checkpoint
