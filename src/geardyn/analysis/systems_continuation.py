@@ -69,7 +69,27 @@ class _Pt:
 
 @dataclass
 class SystemContinuation:
-    """A continued branch of period-n orbits of a system and its bifurcations (non-dimensional)."""
+    """A continued branch of period-n orbits of a system and its bifurcations (non-dimensional).
+
+    Parameters
+    ----------
+    model : SystemModel
+    param : str
+    start, stop : float
+    n : int
+    values : ndarray (K,)
+    states : ndarray (K, 2n)
+    multipliers : list of ndarray
+        Elastic multipliers per point.
+    u_min, u_max : ndarray (K, elements)
+    bifurcations : list of dict
+    end : str
+        Why the branch ended.
+    rigid : int
+        Rigid-body modes left out.
+    reference : int
+        Index of the reference mesh.
+    """
 
     model: Any
     param: str
@@ -138,7 +158,7 @@ class SystemContinuation:
         }, coords={"point": np.arange(self.values.size), "element": names,
                    "coordinate": [f"{lab}" for lab in self.model.labels] + [f"{lab}'" for lab in self.model.labels],
                    "bifurcation": np.arange(len(bt))},
-            attrs=system_attrs(self.model, "system_continuation", None, param=self.param))
+            attrs=system_attrs(self.model, "system_continuation", None, {"param": self.param}))
         ds.attrs["summary"] = json.dumps(self.to_json())
         from ..io import annotate
 

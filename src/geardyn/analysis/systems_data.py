@@ -35,7 +35,17 @@ def _finish(ds: xr.Dataset, summary: dict[str, Any], units: dict[str, tuple[str,
 
 
 def simulate_dataset(res: Any) -> xr.Dataset:
-    """The Dataset of a :class:`~geardyn.analysis.systems_steady.SystemSteadyState`."""
+    """The Dataset of a :class:`~geardyn.analysis.systems_steady.SystemSteadyState`.
+
+    Parameters
+    ----------
+    res : SystemSteadyState
+
+    Returns
+    -------
+    xarray.Dataset
+        Kind ``system_simulate``.
+    """
     m, t = res.model, res.traj
     els = list(element_names(m))
     M = len(m.meshes)
@@ -61,7 +71,17 @@ def simulate_dataset(res: Any) -> xr.Dataset:
 
 
 def lyapunov_dataset(res: Any) -> xr.Dataset:
-    """The Dataset of a :class:`~geardyn.analysis.systems_lyapunov.SystemLyapunovResult`."""
+    """The Dataset of a :class:`~geardyn.analysis.systems_lyapunov.SystemLyapunovResult`.
+
+    Parameters
+    ----------
+    res : SystemLyapunovResult
+
+    Returns
+    -------
+    xarray.Dataset
+        Kind ``system_lyapunov``.
+    """
     m = res.model
     d = res.exponents.size
     ds = xr.Dataset({"exponents": ("exponent", res.exponents), "uncertainty": ("exponent", res.uncertainty),
@@ -72,7 +92,17 @@ def lyapunov_dataset(res: Any) -> xr.Dataset:
 
 
 def orbit_dataset(orbit: Any) -> xr.Dataset:
-    """The Dataset of a :class:`~geardyn.analysis.systems_orbit.SystemOrbit`."""
+    """The Dataset of a :class:`~geardyn.analysis.systems_orbit.SystemOrbit`.
+
+    Parameters
+    ----------
+    orbit : SystemOrbit
+
+    Returns
+    -------
+    xarray.Dataset
+        Kind ``system_orbit``.
+    """
     m = orbit.model
     mu = np.asarray(orbit.multipliers, complex) if orbit.converged else np.full(m.state_dim, np.nan + 0j)
     el, _ = orbit.elastic if orbit.converged else (np.zeros(0, complex), 0)

@@ -26,7 +26,22 @@ __all__ = ["system_map", "system_basins", "map_chunk", "basin_chunk", "coordinat
 
 
 def coordinate_index(model: Any, name: str) -> int:
-    """Index in the state (q̃, q̃') of a coordinate: a DOF label (q̃), ``label'`` (its rate) or an integer."""
+    """Index in the state (q̃, q̃') of a coordinate: a DOF label (q̃), ``label'`` (its rate) or an integer.
+
+    Parameters
+    ----------
+    model : SystemModel
+    name : str
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ModelError
+        For an unknown coordinate.
+    """
     labels = list(model.labels)
     s = str(name).strip()
     if s in labels:
@@ -45,7 +60,21 @@ def coordinate_index(model: Any, name: str) -> int:
 
 def map_chunk(model: Any, xname: str, yname: str, xy: np.ndarray, state0: np.ndarray | None,
               options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Chunk function: points (x, y) of a parameter map, each from ``state0``."""
+    """Chunk function: points (x, y) of a parameter map, each from ``state0``.
+
+    Parameters
+    ----------
+    model : SystemModel
+    xname, yname : str
+    xy : ndarray (P, 2)
+    state0 : ndarray (2n,) or None
+    options : IntegrationOptions
+
+    Returns
+    -------
+    dict of ndarray
+        :func:`~geardyn.analysis.systems_sweep.point_rows`.
+    """
     from ..integrate_ndof import integrate_batch
 
     models = [model.with_param(xname, float(a)).with_param(yname, float(b)) for a, b in xy]
@@ -53,7 +82,19 @@ def map_chunk(model: Any, xname: str, yname: str, xy: np.ndarray, state0: np.nda
 
 
 def basin_chunk(model: Any, states: np.ndarray, options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Chunk function: one system point, many initial states."""
+    """Chunk function: one system point, many initial states.
+
+    Parameters
+    ----------
+    model : SystemModel
+    states : ndarray (P, 2n)
+    options : IntegrationOptions
+
+    Returns
+    -------
+    dict of ndarray
+        :func:`~geardyn.analysis.systems_sweep.point_rows`.
+    """
     from ..integrate_ndof import integrate_batch
 
     return point_rows([model] * len(states), integrate_batch([model] * len(states), states, options, threads=1))
@@ -115,7 +156,7 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
     dims = (yname, xname)
     ds = xr.Dataset(_mesh_vars(per, dims, (yv.size, xv.size), _ref(model)),
                     coords={yname: yv, xname: xv, "mesh": [m.name for m in model.meshes]},
-                    attrs=system_attrs(model, "system_map", options, x=xname, y=yname, mode="fixed"))
+                    attrs=system_attrs(model, "system_map", options, {"x": xname, "y": yname, "mode": "fixed"}))
     ds["lle"] = (dims, np.full((yv.size, xv.size), np.nan))
     return annotate(ds)
 
@@ -200,13 +241,23 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
         st, i, j = st + ["δ (reference mesh)", "δ' (reference mesh)"], len(st), len(st) + 1
     ds = xr.Dataset(data, coords={"v0": b, "u0": a, "mesh": [m.name for m in model.meshes],
                                   "attractor_index": np.arange(A), "cycle_point": np.arange(width)},
-                    attrs=system_attrs(model, "system_basins", options, coordinates=[st[i], st[j]],
-                                       diverged=int(np.count_nonzero(labels < 0))))
+                    attrs=system_attrs(model, "system_basins", options, {"coordinates": [st[i], st[j]],
+                                       "diverged": int(np.count_nonzero(labels < 0))}))
     return annotate(ds)
 
 
 def grid_json(ds: xr.Dataset) -> dict[str, Any]:
-    """JSON summary of a system map or basin map: the grid, per-point labels (reference mesh) and ``meshes``."""
+    """JSON summary of a system map or basin map: the grid, per-point labels (reference mesh) and ``meshes``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``system_map`` or ``system_basins`` result.
+
+    Returns
+    -------
+    dict
+    """
     from ..io import json_values
 
     kind = ds.attrs["geardyn_kind"]

@@ -76,7 +76,18 @@ SYSTEM_CHUNK_POINTS = 16
 
 
 def point_rows(models: list[Any], res: Any) -> dict[str, np.ndarray]:
-    """The compact per-point arrays of a kernel batch (what a chunk returns)."""
+    """The compact per-point arrays of a kernel batch (what a chunk returns).
+
+    Parameters
+    ----------
+    models : list of SystemModel
+    res : SystemBatchResult
+
+    Returns
+    -------
+    dict of ndarray
+        ``status``, ``poincare``, ``end_state``, ``u_min``, ``u_max``, ``mean``, ``rms``, ``fractions``.
+    """
     return {"status": np.asarray(res.status, dtype=np.int64), "poincare": res.poincare,
             "end_state": res.end_state, "u_min": res.element_u_min(), "u_max": res.element_u_max(),
             "mean": res.element_mean(), "rms": res.element_rms(), "fractions": res.element_fractions()}
@@ -84,7 +95,21 @@ def point_rows(models: list[Any], res: Any) -> dict[str, np.ndarray]:
 
 def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
                 options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Chunk function: the points ``values`` of ``param``, each from ``state0`` (default per point)."""
+    """Chunk function: the points ``values`` of ``param``, each from ``state0`` (default per point).
+
+    Parameters
+    ----------
+    model : SystemModel
+    param : str
+    values : ndarray
+    state0 : ndarray (2n,) or None
+    options : IntegrationOptions
+
+    Returns
+    -------
+    dict of ndarray
+        :func:`point_rows`.
+    """
     models = [model.with_param(param, float(v)) for v in values]
     res = integrate_batch(models, state0, options, threads=1)
     return point_rows(models, res)
@@ -92,7 +117,22 @@ def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray |
 
 def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
                    options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Chunk function: the points ``values`` in their order, each from the previous point's end state."""
+    """Chunk function: the points ``values`` in their order, each from the previous point's end state.
+
+    Parameters
+    ----------
+    model : SystemModel
+    param : str
+    values : ndarray
+    state0 : ndarray (2n,) or None
+        Start of the first point (default :func:`~geardyn.integrate_ndof.initial_state`).
+    options : IntegrationOptions
+
+    Returns
+    -------
+    dict of ndarray
+        :func:`point_rows`.
+    """
     x = None if state0 is None else np.asarray(state0, float)
     rows: list[dict[str, np.ndarray]] = []
     for v in values:
@@ -111,8 +151,24 @@ def _engine(engine: dict[str, Any] | None) -> dict[str, Any]:
     return e
 
 
-def system_attrs(model: Any, kind: str, options: IntegrationOptions | None = None, **extra: Any) -> dict[str, str]:
-    """Global attributes of a system result: kind, the system (file, labels, meshes) and options as JSON."""
+def system_attrs(model: Any, kind: str, options: IntegrationOptions | None = None,
+                 extra: dict[str, Any] | None = None) -> dict[str, str]:
+    """Global attributes of a system result: kind, the system (file, labels, meshes) and options as JSON.
+
+    Parameters
+    ----------
+    model : SystemModel
+    kind : str
+        ``geardyn_kind``.
+    options : IntegrationOptions, optional
+    extra : dict, optional
+        Further attributes (strings kept, other values as JSON).
+
+    Returns
+    -------
+    dict of str
+    """
+    extra = dict(extra or {})
     from dataclasses import asdict
 
     from .. import __version__
@@ -167,7 +223,24 @@ _MESH_LONG = {"mesh_u_min": "smallest deflection δ of the mesh", "mesh_u_max": 
 def system_sweep_dataset(model: Any, param: str, values: Sequence[float], runs: dict[str, dict[str, np.ndarray]],
                          *, mode: str, options: IntegrationOptions, kind: str = "system_bifurcation",
                          coordinate: int | None = None) -> xr.Dataset:
-    """The Dataset of a system sweep from the stacked chunk rows of each direction (in grid order)."""
+    """The Dataset of a system sweep from the stacked chunk rows of each direction (in grid order).
+
+    Parameters
+    ----------
+    model : SystemModel
+    param : str
+    values : sequence of float
+    runs : dict
+        Direction label → :func:`point_rows` arrays over the grid.
+    mode : str
+    options : IntegrationOptions
+    kind : str
+    coordinate : int, optional
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     from ..io import annotate
 
     ref = [m.name for m in model.meshes].index(model.scaling.reference) \
@@ -198,7 +271,7 @@ def system_sweep_dataset(model: Any, param: str, values: Sequence[float], runs: 
     ds = xr.Dataset(dv, coords={"sweep": dirs, param: np.asarray(values, float), "mesh": meshes,
                                 "state": [f"{lab}" for lab in model.labels] + [f"{lab}'" for lab in model.labels],
                                 "section": np.arange(st("poincare_u").shape[-1])},
-                    attrs=system_attrs(model, kind, options, param=param, mode=mode))
+                    attrs=system_attrs(model, kind, options, {"param": param, "mode": mode}))
     return annotate(ds)
 
 
@@ -269,7 +342,17 @@ def sweep_json(ds: xr.Dataset) -> dict[str, Any]:
     """The JSON summary of a system sweep: ``param``, ``values``, per point (per direction for two)
     ``period``, ``motion``, ``impact``, ``amplitude``, ``u_min``, ``u_max``, ``status`` of the
     reference mesh, ``meshes`` (per mesh ``name``, ``u_min``, ``u_max``, ``amplitude``, ``impact``,
-    ``dynamic_factor`` None: the sweeps keep no histories) and ``poincare_u``."""
+    ``dynamic_factor`` None: the sweeps keep no histories) and ``poincare_u``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`system_sweep` result.
+
+    Returns
+    -------
+    dict
+    """
     num = lambda a: [float(x) if np.isfinite(x) else None for x in np.asarray(a, float)]  # noqa: E731
     param = ds.attrs["param"]
     dirs = [str(s) for s in ds["sweep"].values]
@@ -301,6 +384,12 @@ def sweep_json(ds: xr.Dataset) -> dict[str, Any]:
 
 def system_response_jumps(ds: xr.Dataset, measure: str = "amplitude") -> tuple[list[dict[str, Any]], list[list[float]]]:
     """Jumps and hysteresis intervals of an up/down system sweep (the 1-DOF response's tests on the reference mesh).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A two-direction :func:`system_sweep` result.
+    measure : str
 
     Returns
     -------
