@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import inspect
 import json
+from pathlib import Path
 import os
 import subprocess
 import sys
@@ -38,6 +39,14 @@ COMMANDS = {
     "runup": ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "300", "--num", "2"],
     "hb": ["hb", "--param", "omega", "--start", "1.2", "--stop", "1.3", "--harmonics", "4"],
 }
+_SYSTEM = str(Path(__file__).resolve().parents[1] / "examples" / "systems" / "paper_torsional.toml")
+#: The same commands on a multi-DOF system (kinds system_<command>, figures of geardyn.plot.systems).
+COMMANDS.update({f"system_{k}": v[:1] + ["--system", _SYSTEM] + v[1:] for k, v in COMMANDS.items()
+                 if k not in ("runup",)})
+COMMANDS["system_basins"] = ["basins", "--system", _SYSTEM, "--omega", "1.2", "--nu", "2", "--nv", "2",
+                             "--transient", "20", "--periods", "8"]
+COMMANDS["system_continuation"] = ["continuation", "--system", _SYSTEM, "--param", "omega", "--start", "1.3",
+                                   "--stop", "1.35"]
 
 
 @pytest.fixture(scope="module")

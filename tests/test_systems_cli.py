@@ -60,7 +60,8 @@ def test_modes_json_and_figure(tmp_path):
 
 
 def test_unavailable_and_bad_combinations_one_line():
-    p = run("map", "--system", TORS, "--json", code=2)
+    p = run("map", "--system", TORS, "--x", "omega", "--y", "xi0", "--x-start", "0.7", "--x-stop", "0.9", "--y-start",
+            "0.05", "--y-stop", "0.1", "--mode", "continue", "--json", code=2)
     assert len(p.stderr.strip().splitlines()) == 1
     p = run("simulate", "--system", TORS, "--fp", "0.3", code=2)
     assert "system" in p.stderr and len(p.stderr.strip().splitlines()) == 1
@@ -74,3 +75,77 @@ def test_bifurcation_and_response_on_a_system():
     r = json.loads(run("response", "--system", TORS, "--omega-start", "0.6", "--omega-stop", "1.0", "--num", "5",
                        "--transient", "50", "--periods", "32", "--json").stdout)
     assert set(r["amplitude"]) == {"up", "down"} and "jumps" in r
+
+
+OUT_RUNS = {
+    "system_simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "30", "--periods", "8"],
+    "system_lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
+    "system_orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
+    "system_bifurcation": ["bifurcation", "--system", TORS, "--start", "0.7", "--stop", "0.9", "--num", "3",
+                           "--transient", "20", "--periods", "8"],
+    "system_response": ["response", "--system", TORS, "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3",
+                        "--transient", "20", "--periods", "8"],
+    "system_map": ["map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
+                   "--x-num", "2", "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20",
+                   "--periods", "8"],
+    "system_basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
+                      "--periods", "8"],
+    "system_continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35"],
+}
+
+
+@pytest.mark.parametrize("kind", list(OUT_RUNS))
+def test_out_with_system_and_plot_redraws_the_same_figures(kind, tmp_path):
+    s = json.loads(run(*OUT_RUNS[kind], "--json", "--out", str(tmp_path / "a")).stdout)
+    drawn = sorted(p.rsplit("/", 1)[-1] for p in s["files"] if p.endswith(".png"))
+    assert drawn and str(tmp_path / "a" / f"{kind}.nc") in s["files"]
+    assert "meshes" in s and all({"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} <= set(m)
+                                 for m in s["meshes"])
+    r = json.loads(run("plot", str(tmp_path / "a" / f"{kind}.nc"), "--out", str(tmp_path / "b"), "--json").stdout)
+    assert sorted(p.rsplit("/", 1)[-1] for p in r["files"]) == drawn
+    assert sorted(p.name for p in (tmp_path / "b").iterdir()) == drawn
+
+
+def test_continuation_on_a_system_finds_the_1dof_period_doubling():
+    a = json.loads(run("continuation", "--system", TORS, "--param", "omega", "--start", "0.6", "--stop", "1.0",
+                       "--json").stdout)
+    b = json.loads(run("continuation", "--param", "omega", "--start", "0.6", "--stop", "1.0", "--no-switch",
+                       "--json").stdout)
+    pa = [x["omega"] for x in a["bifurcations"] if x["type"] == "period-doubling"]
+    pb = [x["omega"] for x in b["bifurcations"] if x["type"] == "period-doubling"]
+    assert len(pa) == len(pb) == 1 and pa[0] == pytest.approx(pb[0], abs=5e-3)
+    assert a["rigid_body_modes"] == 1 and len(a["branch"][0]["multipliers"]) == 2
+
+
+def test_response_hysteresis_on_a_system_matches_1dof():
+    args = ["--omega-start", "0.6", "--omega-stop", "1.0", "--num", "9", "--transient", "300", "--periods", "32",
+            "--json"]
+    a = json.loads(run("response", "--system", TORS, *args).stdout)
+    b = json.loads(run("response", *args).stdout)
+    assert a["hysteresis"] == b["hysteresis"]
+    assert [j["omega"] for j in a["jumps"]] == [j["omega"] for j in b["jumps"]]
+
+
+def test_incommensurate_meshes_refuse_continuation_in_one_line():
+    import math
+    from dataclasses import replace
+
+    from geardyn.analysis.systems_continuation import system_continuation
+    from geardyn.errors import ModelError
+    from geardyn.systems import load_system
+
+    s = load_system(TORS)
+    two = replace(s, meshes=(replace(s.meshes[0], ratio=math.sqrt(2.0)),))
+    with pytest.raises(ModelError, match="incommensurate") as e:
+        system_continuation(two, "omega", 0.8, 0.9)
+    assert "\n" not in str(e.value)
+
+
+def test_basins_on_a_slice_of_two_coordinates(tmp_path):
+    from geardyn.systems import load_system
+
+    lab = load_system(BEVEL).labels
+    s = json.loads(run("basins", "--system", BEVEL, "--omega", "0.8", "--coords", f"{lab[0]},{lab[0]}'",
+                       "--u-min", "-0.1", "--u-max", "0.1", "--v-min", "-0.1", "--v-max", "0.1", "--nu", "2",
+                       "--nv", "2", "--transient", "20", "--periods", "8", "--json").stdout)
+    assert s["coordinates"] == [lab[0], lab[0] + "'"] and len(s["period"]) == 2 and s["attractors"]

@@ -1,147 +1,404 @@
 """Parameter sweeps of multi-DOF systems: the bifurcation diagram and the up/down frequency response.
 
-Every point runs on the N-DOF kernel: a fixed-initial-state sweep is one kernel batch (threads over
-the points); a continuation sweep (``mode="continue"``) integrates each point from the previous
-one's end state, up, down or both, so the response follows a branch and the jumps between the two
-directions show the hysteresis.  Per point and per mesh: period, impact state, δ extremes and
-amplitude; the Poincaré points of the reference mesh's (δ, δ') and, with ``coordinate``, of any
-state coordinate.  The periodic forcing is needed only for the period count (incommensurate
-meshes give ``period`` None: the samples are then in the base period).
+Every point runs on the N-DOF kernel through the sweep engine (:func:`geardyn.sweep.run_chunks`:
+local workers, a Dask scheduler, checkpoints and resume).  A fixed-initial-state sweep is cut into
+chunks of points (each chunk one kernel batch); a continuation sweep (``mode="continue"``)
+integrates each point from the previous one's end state, so each direction (up, down) is one
+chunk and the two directions run side by side on two workers.  The chunk functions are
+module-level and return compact arrays (per point: status, the full-state Poincaré points, the
+element statistics and the end state).
+
+The result is an :class:`xarray.Dataset` of kind ``system_bifurcation`` (or ``system_response``)
+with the layout of the 1-DOF bifurcation Dataset along the reference mesh — dimensions ``sweep``,
+the parameter and ``section``; ``poincare_u``/``poincare_v`` (the reference mesh's δ, δ'),
+``period``, ``motion``, ``impact``, ``amplitude``, ``mean``, ``u_min``, ``u_max``, ``status`` —
+plus per-mesh variables over a ``mesh`` dimension (``mesh_u_min``, ``mesh_u_max``,
+``mesh_amplitude``, ``mesh_impact``), so the jumps and the hysteresis intervals are found by the
+1-DOF response's functions (:func:`geardyn.analysis.response.detect_jumps`,
+:func:`~geardyn.analysis.response.hysteresis_intervals`, which compare attractors through
+:mod:`geardyn.analysis.attractors`).  Incommensurate meshes give ``period`` 0 (not periodic: the
+samples are then in the base period only).
 """
 
 from __future__ import annotations
 
+import json
 from typing import Any, Sequence
 
 import numpy as np
+import xarray as xr
 
-from ..integrate_ndof import element_series, integrate_batch, initial_state
+from ..io import KIND_VARIABLES, Variable
+from ..integrate_ndof import element_series, initial_state, integrate_batch
 from ..model import IntegrationOptions
-from .classify import IMPACT_LABELS, detect_period, impact_state, period_label
+from .classify import IMPACT_LABELS, MOTION_DIVERGED, MOTION_PERIODIC, MOTION_UNRESOLVED, detect_period, \
+    impact_state, period_label
 
-__all__ = ["system_sweep", "system_response_jumps"]
+__all__ = ["system_sweep", "system_sweep_dataset", "sweep_json", "system_response_jumps", "sweep_chunk",
+           "continue_chunk", "point_rows", "system_attrs"]
+
+_V = lambda ln, u="1": Variable(u, ln)  # noqa: E731
+#: Metadata of the variables of the system results (entered in :data:`geardyn.io.KIND_VARIABLES` for
+#: every ``system_*`` kind, so that :func:`geardyn.io.annotate` fills them in).
+SYSTEM_VARIABLES: dict[str, Variable] = {
+    "element": _V("element (meshes, then clearances)"), "mesh": _V("gear mesh"),
+    "coordinate": _V("state coordinate (q̃, then q̃')"), "state": _V("state coordinate (q̃, then q̃')"),
+    "delta": _V("deflection δ of the element (DTE over b_c for a mesh)"),
+    "delta_rate": _V("rate dδ/dτ of the element"),
+    "u": _V("deflection δ of the reference mesh"), "v": _V("rate dδ/dτ of the reference mesh"),
+    "mesh_force": _V("mesh force over k_ref b_c"), "mesh_force_N": _V("dynamic mesh force", "N"),
+    "poincare": _V("Poincaré points of the full state at θ ≡ 0"),
+    "points": _V("section points of the orbit (full state)"),
+    "elastic": _V("elastic multiplier index (largest modulus first)"),
+    "elastic_re": _V("elastic Floquet multiplier, real part"),
+    "elastic_im": _V("elastic Floquet multiplier, imaginary part"),
+    "end_state": _V("final state (q̃, q̃') of the point"),
+    "poincare_u": _V("Poincaré section δ of the reference mesh at θ ≡ 0"),
+    "poincare_v": _V("Poincaré section dδ/dτ of the reference mesh at θ ≡ 0"),
+    "poincare_coordinate": _V("Poincaré section of the chosen state coordinate"),
+    "mesh_u_min": _V("smallest deflection δ of the mesh"), "mesh_u_max": _V("largest deflection δ of the mesh"),
+    "mesh_amplitude": _V("half peak-to-peak deflection δ of the mesh"),
+    "mesh_impact": _V("impact state of the mesh (0 none, 1 single-sided, 2 double-sided)"),
+    "mesh_mean": _V("mean deflection δ of the mesh"), "mesh_rms": _V("RMS of δ of the mesh about its mean"),
+    "u0": _V("initial value of the first slice coordinate at θ = 0"),
+    "v0": _V("initial value of the second slice coordinate at θ = 0"),
+    "value": _V("continuation parameter value"), "element_u_min": _V("smallest deflection δ of the element"),
+    "element_u_max": _V("largest deflection δ of the element"),
+    "bifurcation_value": _V("continuation parameter at the bifurcation"),
+}
+SYSTEM_KINDS = ("system_simulate", "system_lyapunov", "system_orbit", "system_bifurcation", "system_response",
+                "system_map", "system_basins", "system_continuation")
+for _k in SYSTEM_KINDS:
+    KIND_VARIABLES.setdefault(_k, {}).update(SYSTEM_VARIABLES)
+
+#: Points per chunk of a fixed-initial-state system sweep.
+SYSTEM_CHUNK_POINTS = 16
 
 
-def _point(model: Any, res: Any, i: int, coordinate: int | None) -> dict[str, Any]:
-    ok = bool(res.ok[i])
-    pc = res.poincare[i]
-    n = detect_period(pc) if ok else -1
-    p = model.period_multiple()
-    num = lambda x: float(x) if np.isfinite(x) else None  # noqa: E731
-    meshes = []
-    for e, m in enumerate(model.meshes):
-        lo, hi = float(res.element_u_min(e)[i]), float(res.element_u_max(e)[i])
-        meshes.append({"name": m.name, "u_min": num(lo), "u_max": num(hi), "amplitude": num(0.5 * (hi - lo)),
-                       "impact": IMPACT_LABELS[impact_state(lo, m.D)]})
-    ref = meshes[res.reference]
-    sec = element_series(model, pc, 0.0)[:, res.reference, 0] if ok else np.zeros(0)
-    out = {"period": (n * (p or 1)) if (n > 0 and p) else None, "motion": period_label(n) if ok else "diverged",
-           "impact": ref["impact"], "amplitude": ref["amplitude"], "u_min": ref["u_min"], "u_max": ref["u_max"],
-           "status": "ok" if ok else "diverged", "meshes": meshes, "poincare_u": [float(x) for x in sec]}
-    if coordinate is not None:
-        out["poincare_coordinate"] = [float(x) for x in pc[:, coordinate]] if ok else []
-    return out
+def point_rows(models: list[Any], res: Any) -> dict[str, np.ndarray]:
+    """The compact per-point arrays of a kernel batch (what a chunk returns).
+
+    Parameters
+    ----------
+    models : list of SystemModel
+    res : SystemBatchResult
+
+    Returns
+    -------
+    dict of ndarray
+        ``status``, ``poincare``, ``end_state``, ``u_min``, ``u_max``, ``mean``, ``rms``, ``fractions``.
+    """
+    return {"status": np.asarray(res.status, dtype=np.int64), "poincare": res.poincare,
+            "end_state": res.end_state, "u_min": res.element_u_min(), "u_max": res.element_u_max(),
+            "mean": res.element_mean(), "rms": res.element_rms(), "fractions": res.element_fractions()}
 
 
-def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str = "fixed", sweep: str = "up",
-                 options: IntegrationOptions = IntegrationOptions(), state0: Sequence[float] | None = None,
-                 coordinate: int | None = None, threads: int | None = None) -> dict[str, Any]:
-    """A sweep of a system parameter (bifurcation diagram / frequency response).
+def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
+                options: IntegrationOptions) -> dict[str, np.ndarray]:
+    """Chunk function: the points ``values`` of ``param``, each from ``state0`` (default per point).
 
     Parameters
     ----------
     model : SystemModel
-        The system at its base point.
+    param : str
+    values : ndarray
+    state0 : ndarray (2n,) or None
+    options : IntegrationOptions
+
+    Returns
+    -------
+    dict of ndarray
+        :func:`point_rows`.
+    """
+    models = [model.with_param(param, float(v)) for v in values]
+    res = integrate_batch(models, state0, options, threads=1)
+    return point_rows(models, res)
+
+
+def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
+                   options: IntegrationOptions) -> dict[str, np.ndarray]:
+    """Chunk function: the points ``values`` in their order, each from the previous point's end state.
+
+    Parameters
+    ----------
+    model : SystemModel
+    param : str
+    values : ndarray
+    state0 : ndarray (2n,) or None
+        Start of the first point (default :func:`~geardyn.integrate_ndof.initial_state`).
+    options : IntegrationOptions
+
+    Returns
+    -------
+    dict of ndarray
+        :func:`point_rows`.
+    """
+    x = None if state0 is None else np.asarray(state0, float)
+    rows: list[dict[str, np.ndarray]] = []
+    for v in values:
+        m = model.with_param(param, float(v))
+        s = initial_state(m) if x is None else x
+        res = integrate_batch([m], s, options, threads=1)
+        rows.append(point_rows([m], res))
+        if res.ok[0]:
+            x = res.end_state[0]
+    return {k: np.concatenate([r[k] for r in rows]) for k in rows[0]}
+
+
+def _engine(engine: dict[str, Any] | None) -> dict[str, Any]:
+    e = dict(engine or {})
+    e.setdefault("progress", False)
+    return e
+
+
+def system_attrs(model: Any, kind: str, options: IntegrationOptions | None = None,
+                 extra: dict[str, Any] | None = None) -> dict[str, str]:
+    """Global attributes of a system result: kind, the system (file, labels, meshes) and options as JSON.
+
+    Parameters
+    ----------
+    model : SystemModel
+    kind : str
+        ``geardyn_kind``.
+    options : IntegrationOptions, optional
+    extra : dict, optional
+        Further attributes (strings kept, other values as JSON).
+
+    Returns
+    -------
+    dict of str
+    """
+    extra = dict(extra or {})
+    from dataclasses import asdict
+
+    from .. import __version__
+
+    desc = model.description
+    sysinfo = {"labels": list(model.labels), "meshes": [m.name for m in model.meshes],
+               "clearances": list(model.clearance_names), "reference_mesh": model.scaling.reference,
+               "omega": model.omega, "title": getattr(desc, "title", None),
+               "source": str(getattr(desc, "source", "") or "") or None}
+    attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "system": json.dumps(sysinfo),
+             "model": json.dumps({"omega": model.omega})}
+    if options is not None:
+        attrs["options"] = json.dumps(asdict(options))
+    for k, v in extra.items():
+        attrs[k] = v if isinstance(v, str) else json.dumps(v)
+    return attrs
+
+
+def _per_point(model: Any, rows: dict[str, np.ndarray], ref: int) -> dict[str, np.ndarray]:
+    """Reference-mesh and per-mesh variables of stacked chunk rows (P points)."""
+    P = rows["status"].shape[0]
+    M = len(model.meshes)
+    ok = rows["status"] == 0
+    p = model.period_multiple()
+    period = np.zeros(P, np.int64)
+    motion = np.full(P, MOTION_UNRESOLVED, np.int64)
+    pu = np.full((P, rows["poincare"].shape[1]), np.nan)
+    pv = np.full_like(pu, np.nan)
+    for i in range(P):
+        if not ok[i]:
+            period[i], motion[i] = -1, MOTION_DIVERGED
+            continue
+        d = element_series(model, rows["poincare"][i], 0.0)[:, ref]
+        pu[i], pv[i] = d[:, 0], d[:, 1]
+        n = detect_period(rows["poincare"][i]) if p else 0
+        if n > 0:
+            period[i], motion[i] = n * p, MOTION_PERIODIC
+    lo, hi = rows["u_min"][:, :M], rows["u_max"][:, :M]
+    imp = np.array([[impact_state(lo[i, e], model.meshes[e].D) if ok[i] else -1 for e in range(M)]
+                    for i in range(P)], np.int64).reshape(P, M)
+    return {"period": period, "motion": motion, "poincare_u": pu, "poincare_v": pv, "status": rows["status"],
+            "mesh_u_min": lo, "mesh_u_max": hi, "mesh_amplitude": 0.5 * (hi - lo), "mesh_impact": imp,
+            "mesh_mean": rows["mean"][:, :M], "mesh_rms": rows["rms"][:, :M], "end_state": rows["end_state"]}
+
+
+_MESH_LONG = {"mesh_u_min": "smallest deflection δ of the mesh", "mesh_u_max": "largest deflection δ of the mesh",
+              "mesh_amplitude": "half peak-to-peak deflection δ of the mesh",
+              "mesh_impact": "impact state of the mesh (0 none, 1 single-sided, 2 double-sided)",
+              "mesh_mean": "mean deflection δ of the mesh", "mesh_rms": "RMS of δ of the mesh about its mean"}
+
+
+def system_sweep_dataset(model: Any, param: str, values: Sequence[float], runs: dict[str, dict[str, np.ndarray]],
+                         *, mode: str, options: IntegrationOptions, kind: str = "system_bifurcation",
+                         coordinate: int | None = None) -> xr.Dataset:
+    """The Dataset of a system sweep from the stacked chunk rows of each direction (in grid order).
+
+    Parameters
+    ----------
+    model : SystemModel
+    param : str
+    values : sequence of float
+    runs : dict
+        Direction label → :func:`point_rows` arrays over the grid.
+    mode : str
+    options : IntegrationOptions
+    kind : str
+    coordinate : int, optional
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    from ..io import annotate
+
+    ref = [m.name for m in model.meshes].index(model.scaling.reference) \
+        if model.scaling.reference in [m.name for m in model.meshes] else 0
+    dirs = list(runs)
+    per = {d: _per_point(model, runs[d], ref) for d in dirs}
+    st = lambda k: np.stack([per[d][k] for d in dirs])  # noqa: E731
+    meshes = [m.name for m in model.meshes]
+    dv: dict[str, Any] = {
+        "poincare_u": (("sweep", param, "section"), st("poincare_u")),
+        "poincare_v": (("sweep", param, "section"), st("poincare_v")),
+        "period": (("sweep", param), st("period")),
+        "motion": (("sweep", param), st("motion")),
+        "status": (("sweep", param), st("status")),
+        "impact": (("sweep", param), st("mesh_impact")[:, :, ref]),
+        "u_min": (("sweep", param), st("mesh_u_min")[:, :, ref]),
+        "u_max": (("sweep", param), st("mesh_u_max")[:, :, ref]),
+        "amplitude": (("sweep", param), st("mesh_amplitude")[:, :, ref]),
+        "mean": (("sweep", param), st("mesh_mean")[:, :, ref]),
+        "rms": (("sweep", param), st("mesh_rms")[:, :, ref]),
+        "end_state": (("sweep", param, "state"), st("end_state")),
+    }
+    for k in _MESH_LONG:
+        dv[k] = (("sweep", param, "mesh"), st(k))
+    if coordinate is not None:
+        dv["poincare_coordinate"] = (("sweep", param, "section"),
+                                     np.stack([runs[d]["poincare"][:, :, coordinate] for d in dirs]))
+    ds = xr.Dataset(dv, coords={"sweep": dirs, param: np.asarray(values, float), "mesh": meshes,
+                                "state": [f"{lab}" for lab in model.labels] + [f"{lab}'" for lab in model.labels],
+                                "section": np.arange(st("poincare_u").shape[-1])},
+                    attrs=system_attrs(model, kind, options, {"param": param, "mode": mode}))
+    return annotate(ds)
+
+
+def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str = "fixed", sweep: str = "up",
+                 options: IntegrationOptions = IntegrationOptions(), state0: Sequence[float] | None = None,
+                 coordinate: int | None = None, engine: dict[str, Any] | None = None,
+                 kind: str = "system_bifurcation") -> xr.Dataset:
+    """A sweep of a system parameter (bifurcation diagram / frequency response) on the sweep engine.
+
+    Parameters
+    ----------
+    model : SystemModel
     param : str
         Parameter name (``omega``, ``<mesh>.kappa1``, ...).
     values : sequence of float
-        The parameter values, in sweep order.
     mode : {"fixed", "continue"}
-        Every point from ``state0`` (default :func:`~geardyn.integrate_ndof.initial_state`), or each
-        from the previous point's end state.
+        Every point from ``state0`` (default :func:`~geardyn.integrate_ndof.initial_state` of each
+        point), or each from the previous point's end state.
     sweep : {"up", "down", "both"}
         Directions of a continuation sweep.
     options : IntegrationOptions
-        Transient and recorded periods of every point.
     state0 : (2n,) state, optional
-        Initial state of every point (``fixed``) or of the first point (``continue``).
     coordinate : int, optional
-        A state coordinate whose Poincaré points are kept as well.
-    threads : int, optional
-        Kernel threads (default: the integrator's thread policy).
+        A state coordinate whose Poincaré points are kept as well (``poincare_coordinate``).
+    engine : dict, optional
+        Keywords of :func:`geardyn.sweep.run_chunks` (``workers``, ``scheduler``, ``checkpoint``,
+        ``resume``, ``progress``).
+    kind : str
+        ``geardyn_kind`` of the Dataset.
+
+    Returns
+    -------
+    xarray.Dataset
+        See the module docstring.
+    """
+    from ..sweep import Chunk, run_chunks
+
+    vals = np.asarray([float(v) for v in values])
+    s0 = None if state0 is None else np.asarray(state0, float)
+    if mode == "fixed":
+        dirs = ["fixed"]
+        sl = [slice(a, min(a + SYSTEM_CHUNK_POINTS, vals.size)) for a in range(0, vals.size, SYSTEM_CHUNK_POINTS)]
+        chunks = [Chunk(i, sweep_chunk, (model, param, vals[s], s0, options)) for i, s in enumerate(sl)]
+        res = run_chunks(chunks, description=f"system {param}", **_engine(engine))
+        runs = {"fixed": {k: np.concatenate([r[k] for r in res]) for k in res[0]}}
+    else:
+        dirs = {"up": ["up"], "down": ["down"], "both": ["up", "down"]}[sweep]
+        chunks = [Chunk(i, continue_chunk, (model, param, vals if d == "up" else vals[::-1], s0, options))
+                  for i, d in enumerate(dirs)]
+        res = run_chunks(chunks, description=f"system {param}", **_engine(engine))
+        runs = {}
+        for d, r in zip(dirs, res):
+            runs[d] = r if d == "up" else {k: v[::-1] for k, v in r.items()}
+    return system_sweep_dataset(model, param, vals, runs, mode=mode, options=options, kind=kind, coordinate=coordinate)
+
+
+def _labels(ds: xr.Dataset, d: str) -> dict[str, list[Any]]:
+    per = ds["period"].sel(sweep=d).values
+    mot = ds["motion"].sel(sweep=d).values
+    motion = [period_label(int(p)) if m == MOTION_PERIODIC else ("diverged" if m == MOTION_DIVERGED else "unresolved")
+              for p, m in zip(per, mot)]
+    return {"period": [int(p) if p > 0 else None for p in per], "motion": motion,
+            "impact": [IMPACT_LABELS[int(c)] for c in ds["impact"].sel(sweep=d).values],
+            "status": ["ok" if s == 0 else "diverged" for s in ds["status"].sel(sweep=d).values]}
+
+
+def sweep_json(ds: xr.Dataset) -> dict[str, Any]:
+    """The JSON summary of a system sweep: ``param``, ``values``, per point (per direction for two)
+    ``period``, ``motion``, ``impact``, ``amplitude``, ``u_min``, ``u_max``, ``status`` of the
+    reference mesh, ``meshes`` (per mesh ``name``, ``u_min``, ``u_max``, ``amplitude``, ``impact``,
+    ``dynamic_factor`` None: the sweeps keep no histories) and ``poincare_u``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A :func:`system_sweep` result.
 
     Returns
     -------
     dict
-        ``param``, ``values``, ``mode``, ``sweep`` and per direction the per-point lists ``period``,
-        ``motion``, ``impact``, ``amplitude``, ``status`` (of the reference mesh) and ``meshes``
-        (per mesh the per-point ``u_min``, ``u_max``, ``amplitude``, ``impact``).
     """
-    vals = [float(v) for v in values]
-    models = [model.with_param(param, v) for v in vals]
-    dirs = {"up": ["up"], "down": ["down"], "both": ["up", "down"]}[sweep] if mode == "continue" else ["up"]
-    runs: dict[str, list[dict[str, Any]]] = {}
-    for d in dirs:
-        order = list(range(len(vals))) if d == "up" else list(range(len(vals)))[::-1]
-        pts: list[dict[str, Any] | None] = [None] * len(vals)
-        if mode == "fixed":
-            s0 = None if state0 is None else np.asarray(state0, float)
-            res = integrate_batch(models, s0, options, threads=threads)
-            for i in range(len(vals)):
-                pts[i] = _point(models[i], res, i, coordinate)
-        else:
-            x = initial_state(models[order[0]]) if state0 is None else np.asarray(state0, float)
-            for i in order:
-                res = integrate_batch([models[i]], x, options, threads=threads)
-                pts[i] = _point(models[i], res, 0, coordinate)
-                if res.ok[0]:
-                    x = res.end_state[0]
-        runs[d] = pts  # type: ignore[assignment]
-    out: dict[str, Any] = {"param": param, "values": vals, "mode": mode, "sweep": dirs[0] if len(dirs) == 1 else dirs}
-    for key in ("period", "motion", "impact", "amplitude", "status", "u_min", "u_max"):
-        per = {d: [p[key] for p in runs[d]] for d in dirs}
-        out[key] = per[dirs[0]] if len(dirs) == 1 else per
+    num = lambda a: [float(x) if np.isfinite(x) else None for x in np.asarray(a, float)]  # noqa: E731
+    param = ds.attrs["param"]
+    dirs = [str(s) for s in ds["sweep"].values]
+    one = len(dirs) == 1
+    pick = lambda f: f(dirs[0]) if one else {d: f(d) for d in dirs}  # noqa: E731
+    out: dict[str, Any] = {"param": param, "values": num(ds[param].values), "mode": ds.attrs.get("mode"),
+                           "sweep": dirs[0] if one else dirs}
+    lab = {d: _labels(ds, d) for d in dirs}
+    for k in ("period", "motion", "impact", "status"):
+        out[k] = pick(lambda d: lab[d][k])
+    for k in ("amplitude", "u_min", "u_max"):
+        out[k] = pick(lambda d: num(ds[k].sel(sweep=d).values))
     meshes = []
-    for e, m in enumerate(model.meshes):
-        entry: dict[str, Any] = {"name": m.name}
-        for key in ("u_min", "u_max", "amplitude", "impact"):
-            per = {d: [p["meshes"][e][key] for p in runs[d]] for d in dirs}
-            entry[key] = per[dirs[0]] if len(dirs) == 1 else per
+    for e, name in enumerate(ds["mesh"].values):
+        entry: dict[str, Any] = {"name": str(name)}
+        for k in ("u_min", "u_max", "amplitude"):
+            entry[k] = pick(lambda d: num(ds[f"mesh_{k}"].sel(sweep=d).values[:, e]))
+        entry["impact"] = pick(lambda d: [IMPACT_LABELS[int(c)] for c in ds["mesh_impact"].sel(sweep=d).values[:, e]])
+        entry["dynamic_factor"] = None
         meshes.append(entry)
     out["meshes"] = meshes
-    out["poincare_u"] = {d: [p["poincare_u"] for p in runs[d]] for d in dirs}
-    if coordinate is not None:
-        out["poincare_coordinate"] = {d: [p["poincare_coordinate"] for p in runs[d]] for d in dirs}
+    out["poincare_u"] = {d: [[float(x) for x in row if np.isfinite(x)] for row in ds["poincare_u"].sel(sweep=d).values]
+                         for d in dirs}
+    if "poincare_coordinate" in ds:
+        out["poincare_coordinate"] = {d: [[float(x) for x in row if np.isfinite(x)]
+                                          for row in ds["poincare_coordinate"].sel(sweep=d).values] for d in dirs}
     return out
 
 
-def system_response_jumps(sw: dict[str, Any], measure: str = "amplitude", rel: float = 0.25) -> list[dict[str, Any]]:
-    """Jumps of a continuation sweep: neighbouring ω where the measure changes by more than ``rel`` of its range.
+def system_response_jumps(ds: xr.Dataset, measure: str = "amplitude") -> tuple[list[dict[str, Any]], list[list[float]]]:
+    """Jumps and hysteresis intervals of an up/down system sweep (the 1-DOF response's tests on the reference mesh).
 
     Parameters
     ----------
-    sw : dict
-        A :func:`system_sweep` result (``values`` and the per-direction series of ``measure``).
-    measure : {"amplitude", "u_min", "u_max"}
-        The reference-mesh quantity compared between neighbours.
-    rel : float
-        Threshold as a fraction of the measure's range over the sweep (per direction).
+    ds : xarray.Dataset
+        A two-direction :func:`system_sweep` result.
+    measure : str
 
     Returns
     -------
-    list of dict
-        One entry per jump, in sweep order: ``omega`` (midpoint of the two values), ``direction``
-        (``up`` or ``down``) and ``size`` (signed change of the measure).
+    jumps : list of dict
+        As :func:`geardyn.analysis.response.detect_jumps`.
+    hysteresis : list of [float, float]
+        As :func:`geardyn.analysis.response.hysteresis_intervals` (attractors compared by their
+        Poincaré cycles, :mod:`geardyn.analysis.attractors`).
     """
-    vals = sw["values"]
-    out = []
-    series = sw[measure] if isinstance(sw[measure], dict) else {sw["sweep"]: sw[measure]}
-    for d, ys in series.items():
-        y = np.array([np.nan if v is None else v for v in ys], float)
-        span = np.nanmax(y) - np.nanmin(y) if np.any(np.isfinite(y)) else 0.0
-        idx = range(len(y) - 1) if d == "up" else range(len(y) - 1, 0, -1)
-        for i in idx:
-            j = i + 1 if d == "up" else i - 1
-            if np.isfinite(y[i]) and np.isfinite(y[j]) and abs(y[j] - y[i]) > rel * max(span, 1e-300):
-                out.append({"omega": 0.5 * (vals[i] + vals[j]), "direction": d, "size": float(y[j] - y[i])})
-    return out
+    from .response import detect_jumps, hysteresis_intervals
+
+    return detect_jumps(ds, measure), hysteresis_intervals(ds)

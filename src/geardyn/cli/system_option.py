@@ -11,6 +11,7 @@ yet available on systems refuse with one line.
 from __future__ import annotations
 
 import inspect
+import json
 from pathlib import Path
 from typing import Annotated, Any, Optional
 
@@ -27,7 +28,14 @@ SYSTEM = [inspect.Parameter(
     annotation=Annotated[Optional[Path], typer.Option(
         "--system", rich_help_panel=SYSTEM_PANEL,
         help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis runs "
-             "on it, and the JSON summary adds one entry per mesh under 'meshes'.")])]
+             "on it, and the JSON summary adds one entry per mesh under 'meshes'.")]),
+    inspect.Parameter(
+    "coords", inspect.Parameter.KEYWORD_ONLY, default=None,
+    annotation=Annotated[Optional[str], typer.Option(
+        "--coords", rich_help_panel=SYSTEM_PANEL,
+        help="With --system: state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the two axes "
+             "of the basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's DOF), or the "
+             "coordinate whose Poincaré points a bifurcation keeps.")])]
 
 #: Commands that take ``--system``.
 SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins")
@@ -35,23 +43,7 @@ _NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
 
 
 def load_cli_system(values: dict[str, Any]):
-    """The system of ``--system`` with ``--omega``/``--rpm`` and the mesh options applied.
-
-    Parameters
-    ----------
-    values : dict
-        The command's shared option values (``system``, ``omega``, ``rpm``, model options ...).
-
-    Returns
-    -------
-    SystemModel
-
-    Raises
-    ------
-    ModelError
-        For a bad system file, or options that do not apply to a system (``--config``,
-        ``--torque``, ``--fp``, ``--rpm`` with ``--omega``).
-    """
+    """The system of ``--system`` with ``--omega``/``--rpm`` and the mesh options applied."""
     from .. import params
     from ..systems import load_system
 
@@ -85,11 +77,13 @@ def _state(values: dict[str, Any]) -> tuple[float, float]:
     return (float(values.get("u0", 0.0)), float(values.get("v0", 0.0)))
 
 
-def _simulate(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
+def _simulate(values: dict[str, Any], kw: dict[str, Any]):
+    from ..analysis.systems_data import simulate_dataset
     from ..analysis.systems_steady import simulate_system
 
     s = load_cli_system(values)
-    out = simulate_system(s, _opts(values), _state(values)).to_json()
+    res = simulate_system(s, _opts(values), _state(values))
+    out = res.to_json()
     ref = next(m for m in out["meshes"] if m["name"] == out["reference_mesh"])
     for k in ("dynamic_factor", "dte_min_um", "dte_max_um", "dte_amplitude_um", "mesh_force_max_N",
               "mesh_force_min_N", "static_force_N"):
@@ -99,82 +93,186 @@ def _simulate(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
     out["mesh_frequency_Hz"] = s.omega * sc.omega_n / (2.0 * 3.141592653589793)
     out["rpm"] = sc.rpm_from_omega(s.omega) if sc.teeth is not None else None
     out["poincare"] = out.pop("poincare")
-    return out
+    return out, (lambda: simulate_dataset(res))
 
 
-def _lyapunov(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
+def _lyapunov(values: dict[str, Any], kw: dict[str, Any]):
+    from ..analysis.systems_data import lyapunov_dataset
     from ..analysis.systems_lyapunov import system_lyapunov
 
     s = load_cli_system(values)
     blocks = int(kw.get("blocks", 20))
-    return system_lyapunov(s, _opts(values), _state(values), blocks=max(blocks, 2)).to_json()
+    res = system_lyapunov(s, _opts(values), _state(values), blocks=max(blocks, 2))
+    return res.to_json(), (lambda: lyapunov_dataset(res))
 
 
-def _orbit(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
+def _guess(s: Any, g: Any):
+    if g is None:
+        return None
+    try:
+        return [float(p) for p in str(g).split(",")]
+    except ValueError:
+        raise ModelError(f"guess: expected {s.state_dim} numbers (q̃, q̃') separated by commas, got {g!r}") from None
+
+
+def _orbit(values: dict[str, Any], kw: dict[str, Any]):
+    from ..analysis.systems_data import orbit_dataset
     from ..analysis.systems_orbit import shoot_system
 
     s = load_cli_system(values)
     opts = _opts(values, periods=1)
-    g = kw.get("guess")
-    guess = None
-    if g is not None:
-        try:
-            guess = [float(p) for p in str(g).split(",")]
-        except ValueError:
-            raise ModelError(f"guess: expected {s.state_dim} numbers (q̃, q̃') separated by commas, got {g!r}") from None
-    o = shoot_system(s, int(kw.get("period", 1)), guess, dtau=opts.dtau, accurate=opts.accurate,
-                     state0=_state(values), transient=opts.transient)
-    return o.to_json()
+    o = shoot_system(s, int(kw.get("period", 1)), _guess(s, kw.get("guess")), dtau=opts.dtau,
+                     accurate=opts.accurate, state0=_state(values), transient=opts.transient)
+    return o.to_json(), (lambda: orbit_dataset(o))
 
 
-def _periodic_refusal(name: str):
-    def run(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
-        from ..analysis.systems_orbit import require_periodic
-
-        s = load_cli_system(values)
-        if name in ("continuation",):
-            require_periodic(s, name)
-        raise ModelError(f"system: {name} --system is not available yet; simulate, lyapunov, orbit, bifurcation "
-                         f"and response are")
-    return run
+def _out_paths(out: Path, stem: str) -> tuple[Path, Path]:
+    """(NetCDF file, figure directory) of ``--out`` (as :func:`geardyn.cli.options.out_paths`)."""
+    return (out, out.parent) if out.suffix == ".nc" else (out / f"{stem}.nc", out)
 
 
-def _bifurcation(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
+def _engine(values: dict[str, Any], stem: str) -> dict[str, Any]:
+    """Keywords of :func:`geardyn.sweep.run_chunks` from the sweep-engine options (those the command has)."""
     from .. import validate
-    from ..analysis.systems_sweep import system_sweep
+    from ..sweep import checkpoint_dir
+
+    out = values.get("out")
+    nc = _out_paths(Path(out), stem)[0] if out is not None else None
+    if values.get("resume") and nc is None:
+        raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
+    return {"workers": validate.workers(values.get("workers", 1)),
+            "scheduler": validate.scheduler(values.get("scheduler")),
+            "checkpoint": checkpoint_dir(nc) if nc is not None else None,
+            "resume": bool(values.get("resume", False)), "progress": not values.get("json_out")}
+
+
+def _coords(s: Any, values: dict[str, Any], n: int) -> list[int] | None:
+    from ..analysis.systems_grid import coordinate_index
+
+    text = values.get("coords")
+    if text is None:
+        return None
+    idx = [coordinate_index(s, p) for p in str(text).split(",") if p.strip()]
+    if len(idx) < n:
+        raise ModelError(f"coords: give {n} coordinate(s) separated by commas, got {text!r}")
+    return idx
+
+
+def _bifurcation(values: dict[str, Any], kw: dict[str, Any]):
+    from .. import validate
+    from ..analysis.systems_sweep import sweep_json, system_sweep
 
     s = load_cli_system(values)
     param = kw.get("param") or "omega"
     if kw.get("start") is None or kw.get("stop") is None:
         raise ModelError("start: give the parameter range (--start and --stop) with --system")
-    name, vals = validate.axis(param, kw["start"], kw["stop"], kw.get("num", 101))
-    return system_sweep(s, name, list(vals), mode={"fixed": "fixed"}.get(kw.get("mode", "fixed"), "continue"),
-                        sweep=kw.get("sweep", "up"), options=_opts(values))
+    s.with_param(param, float(kw["start"]))
+    _, vals = validate.axis("omega", kw["start"], kw["stop"], kw.get("num", 101)) if param == "omega" else \
+        (param, __import__("numpy").linspace(float(kw["start"]), float(kw["stop"]), int(kw.get("num", 101))))
+    c = _coords(s, values, 1)
+    mode = kw.get("mode", "fixed")
+    if mode not in ("fixed", "continue"):
+        raise ModelError(f"mode: must be one of fixed, continue, got {mode!r}")
+    ds = system_sweep(s, param, list(vals), mode=mode, sweep=kw.get("sweep", "up"), options=_opts(values),
+                      coordinate=None if c is None else c[0], engine=_engine(values, "system_bifurcation"))
+    return sweep_json(ds), ds
 
 
-def _response(values: dict[str, Any], kw: dict[str, Any]) -> dict[str, Any]:
+def _response(values: dict[str, Any], kw: dict[str, Any]):
     import numpy as np
 
-    from ..analysis.systems_sweep import system_response_jumps, system_sweep
+    from ..analysis.systems_sweep import sweep_json, system_response_jumps, system_sweep
 
     s = load_cli_system(values)
     lo, hi = values.get("omega_start"), values.get("omega_stop")
     if lo is None or hi is None:
         raise ModelError("omega-start: give the ω range (--omega-start and --omega-stop) with --system")
-    sw = system_sweep(s, "omega", list(np.linspace(float(lo), float(hi), int(kw.get("num", 71)))), mode="continue",
-                      sweep="both", options=_opts(values))
     measure = kw.get("measure", "amplitude")
+    if measure not in ("amplitude", "u_min", "u_max", "rms", "mean"):
+        raise ModelError(f"measure: must be one of amplitude, rms, u_max, u_min, mean, got {measure!r}")
+    ds = system_sweep(s, "omega", list(np.linspace(float(lo), float(hi), int(kw.get("num", 71)))), mode="continue",
+                      sweep="both", options=_opts(values), engine=_engine(values, "system_response"),
+                      kind="system_response")
+    jumps, hyst = system_response_jumps(ds, measure)
+    ds.attrs.update(measure=measure, jumps=json.dumps(jumps), hysteresis=json.dumps(hyst))
+    sw = sweep_json(ds)
     sw["measure"] = measure
-    sw["jumps"] = system_response_jumps(sw, measure if measure in ("amplitude", "u_min", "u_max") else "amplitude")
-    return sw
+    sw["jumps"] = jumps
+    sw["hysteresis"] = hyst
+    return sw, ds
+
+
+def _map(values: dict[str, Any], kw: dict[str, Any]):
+    from .. import validate
+    from ..analysis.systems_grid import grid_json, system_map
+
+    s = load_cli_system(values)
+    ax = {}
+    for a in ("x", "y"):
+        name = values.get(a)
+        lo, hi = values.get(f"{a}_start"), values.get(f"{a}_stop")
+        if lo is None or hi is None:
+            raise ModelError(f"{a}_start: give --{a}-start and --{a}-stop with --system")
+        s.with_param(name, float(lo))
+        n = validate.integer(f"{a}-num", values.get(f"{a}_num"), 1, 100_000)
+        ax[a] = (name, __import__("numpy").linspace(float(lo), float(hi), n))
+    if kw.get("mode", "fixed") != "fixed":
+        raise ModelError("mode: a system map runs every point from the same initial state (--mode fixed)")
+    ds = system_map(s, ax["x"][0], ax["x"][1], ax["y"][0], ax["y"][1], options=_opts(values),
+                    engine=_engine(values, "system_map"))
+    return grid_json(ds), ds
+
+
+def _basins(values: dict[str, Any], kw: dict[str, Any]):
+    from .. import validate
+    from ..analysis.systems_grid import grid_json, system_basins
+    s = load_cli_system(values)
+    c = _coords(s, values, 2)  # None: the reference mesh's (δ, δ'), as the 1-DOF basins' (u0, v0)
+    nu = validate.integer("nu", kw.get("nu", 41), 1, 100_000)
+    nv = validate.integer("nv", kw.get("nv", 41), 1, 100_000)
+    ds = system_basins(s, None if c is None else (c[0], c[1]), (float(kw.get("u_min", -3.0)), float(kw.get("u_max", 3.0))),
+                       (float(kw.get("v_min", -3.0)), float(kw.get("v_max", 3.0))), nu, nv,
+                       options=_opts(values), engine=_engine(values, "system_basins"))
+    return grid_json(ds), ds
+
+
+def _continuation(values: dict[str, Any], kw: dict[str, Any]):
+    from ..analysis.systems_continuation import system_continuation
+
+    s = load_cli_system(values)
+    param = kw.get("param") or "omega"
+    if kw.get("start") is None or kw.get("stop") is None:
+        raise ModelError("start: give the parameter range (--start and --stop) with --system")
+    opts = _opts(values, periods=1)
+    res = system_continuation(s, param, float(kw["start"]), float(kw["stop"]), int(kw.get("period", 1)),
+                              _guess(s, kw.get("guess")), dtau=opts.dtau, accurate=opts.accurate,
+                              ds_max=kw.get("ds_max"), state0=_state(values))
+    return res.to_json(), (lambda: res.to_dataset())
 
 
 _HANDLERS = {"simulate": _simulate, "lyapunov": _lyapunov, "orbit": _orbit, "bifurcation": _bifurcation,
-             "response": _response}
+             "response": _response, "map": _map, "basins": _basins, "continuation": _continuation}
+
+
+def _write(values: dict[str, Any], ds: Any) -> list[str]:
+    from ..io import write_netcdf
+    from ..plot import save_figures
+    stem = ds.attrs["geardyn_kind"]
+    nc, figdir = _out_paths(Path(values["out"]), stem)
+    files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+    if values.get("resume") is not None:
+        from ..sweep import checkpoint_dir, remove_checkpoint
+
+        if checkpoint_dir(nc).exists():
+            remove_checkpoint(checkpoint_dir(nc))
+    return files
 
 
 def run_system(name: str, values: dict[str, Any], kw: dict[str, Any]) -> None:
     """Run command ``name`` on the system of ``--system`` and print its summary.
+
+    With ``--out`` the result's NetCDF file (kind ``system_<command>``) and its figures (the figure
+    registry, :mod:`geardyn.plot.systems`) are written; ``geardyn plot`` on the file redraws them.
 
     Parameters
     ----------
@@ -190,15 +288,17 @@ def run_system(name: str, values: dict[str, Any], kw: dict[str, Any]) -> None:
     GeardynError
         For a bad system file or option (the decorator prints one line).
     """
-    handler = _HANDLERS.get(name) or _periodic_refusal(name)
-    summary = handler(values, kw)
+    summary, ds = _HANDLERS[name](values, kw)
+    files: list[str] = []
     if values.get("out") is not None:
-        raise ModelError("out: --out with --system is not available yet (use --json)")
+        files = _write(values, ds() if callable(ds) else ds)
     if values.get("json_out"):
-        summary["files"] = []
+        summary["files"] = files
         emit_json(summary)
         return
     _print(name, summary)
+    for f in files:
+        print(f"wrote {f}")
 
 
 def _print(name: str, s: dict[str, Any]) -> None:

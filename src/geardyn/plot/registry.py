@@ -21,6 +21,7 @@ import xarray as xr
 
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
+from . import systems
 from .common import DPI, save
 from .hb import hb_figure
 
@@ -126,6 +127,7 @@ def register(kind: str, *specs: FigureSpec) -> None:
 
 register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=engineering.has_iso_kv))
 register("runup", FigureSpec("runup", runup.runup_figure))
+systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
 
 
 def _kind(ds: Any) -> str:

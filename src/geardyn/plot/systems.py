@@ -1,0 +1,147 @@
+"""Figures of multi-DOF system results (kinds ``system_*``, written by the commands with ``--system``).
+
+The sweep, map and basin Datasets of systems have the 1-DOF layouts along the reference mesh, so
+their main figures are the 1-DOF ones (:mod:`.bifurcation`, :mod:`.response`, :mod:`.maps`,
+:mod:`.basins`); this module adds what only systems have — every element's deflection, all 2n
+Lyapunov exponents, all Floquet multipliers, the amplitude of each mesh along a sweep and the
+branches of a continuation with their bifurcations — and :func:`register_all` enters them in the
+figure registry (:mod:`.registry`).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import xarray as xr
+from matplotlib.axes import Axes
+
+from ..analysis import systems_sweep as _variables  # noqa: F401  (enters the system variables in geardyn.io)
+from .common import plot_function
+
+__all__ = ["element_deflections", "reference_phase", "lyapunov_spectrum", "multipliers", "mesh_amplitudes",
+           "continuation_branches", "register_all"]
+
+
+def _sysinfo(ds: xr.Dataset) -> dict:
+    try:
+        return json.loads(ds.attrs.get("system", "{}"))
+    except ValueError:
+        return {}
+
+
+def _title(ax: Axes, text: str, ds: xr.Dataset) -> None:
+    s = _sysinfo(ds)
+    sub = s.get("title") or ""
+    ax.set_title(f"{text}\n{sub}" if sub else text, fontsize=9)
+
+
+@plot_function("system_simulate", (8, 3.6))
+def element_deflections(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Deflection δ of every element (meshes, then clearances) over the recorded history."""
+    tau = ds["tau"].values
+    for e in ds["element"].values:
+        ax.plot(tau, ds["delta"].sel(element=e).values, lw=0.8, label=str(e))
+    ax.set_xlabel("τ")
+    ax.set_ylabel("deflection δ (over b_c)")
+    ax.legend(fontsize=7, loc="upper right")
+    _title(ax, "Element deflections", ds)
+
+
+@plot_function("system_simulate", (5.5, 4.5))
+def reference_phase(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Phase portrait of the reference mesh (δ, δ') with its Poincaré points."""
+    ax.plot(ds["u"].values, ds["v"].values, lw=0.6, color="C0")
+    ax.set_xlabel("δ (reference mesh)")
+    ax.set_ylabel("dδ/dτ")
+    _title(ax, "Phase portrait of the reference mesh", ds)
+
+
+@plot_function("system_lyapunov", (6, 3.8))
+def lyapunov_spectrum(ds: xr.Dataset, ax: Axes = None) -> None:
+    """All 2n Lyapunov exponents with their block-statistics uncertainty."""
+    k = ds["exponent"].values
+    lam = ds["exponents"].values
+    err = np.nan_to_num(ds["uncertainty"].values)
+    ax.bar(k, lam, yerr=err, color=["C3" if v > 0 else "C0" for v in lam])
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.set_xlabel("exponent index")
+    ax.set_ylabel("λ [1/τ]")
+    _title(ax, "Lyapunov spectrum", ds)
+
+
+@plot_function("system_orbit", (5, 5))
+def multipliers(ds: xr.Dataset, ax: Axes = None) -> None:
+    """All Floquet multipliers in the complex plane with the unit circle (elastic ones filled)."""
+    t = np.linspace(0.0, 2 * np.pi, 361)
+    ax.plot(np.cos(t), np.sin(t), color="0.5", lw=0.8)
+    ax.plot(ds["multiplier_re"].values, ds["multiplier_im"].values, "o", mfc="none", color="k", label="all")
+    ax.plot(ds["elastic_re"].values, ds["elastic_im"].values, ".", color="C3", label="elastic")
+    ax.set_aspect("equal")
+    ax.set_xlabel("Re μ")
+    ax.set_ylabel("Im μ")
+    ax.legend(fontsize=8)
+    _title(ax, "Floquet multipliers", ds)
+
+
+@plot_function("system_bifurcation", (7, 4))
+def mesh_amplitudes(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Amplitude (half peak-to-peak δ) of every mesh along the sweep, per direction."""
+    param = str(ds.attrs.get("param", "omega"))
+    x = ds[param].values
+    for e, name in enumerate(ds["mesh"].values):
+        for s, style in zip([str(v) for v in ds["sweep"].values], ("-", "--")):
+            ax.plot(x, ds["mesh_amplitude"].sel(sweep=s).values[:, e], style, color=f"C{e}", lw=1.0,
+                    label=f"{name} ({s})")
+    ax.set_xlabel(param)
+    ax.set_ylabel("amplitude of δ")
+    ax.legend(fontsize=7)
+    _title(ax, "Mesh amplitudes", ds)
+
+
+@plot_function("system_continuation", (7, 4.5))
+def continuation_branches(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Branches of periodic orbits (reference mesh amplitude; solid stable, dotted unstable) and bifurcations."""
+    param = str(ds.attrs.get("param", "omega"))
+    x, a, st, br = (ds[k].values for k in ("value", "amplitude", "stable", "branch"))
+    for b in np.unique(br):
+        sel = br == b
+        xs, ys, ss = x[sel], a[sel], st[sel].astype(bool)
+        ax.plot(xs, np.where(ss, ys, np.nan), "-", color=f"C{int(b)}", lw=1.4, label=f"branch {int(b)} stable")
+        ax.plot(xs, np.where(ss, np.nan, ys), ":", color=f"C{int(b)}", lw=1.2)
+    if ds.sizes.get("bifurcation", 0):
+        marks = {"fold": "s", "period-doubling": "D", "neimark-sacker": "*", "grazing": "v"}
+        for t in np.unique(ds["bifurcation_type"].values):
+            sel = ds["bifurcation_type"].values == t
+            ax.plot(ds["bifurcation_value"].values[sel], ds["bifurcation_amplitude"].values[sel],
+                    marks.get(str(t), "o"), color="k", ms=5, mfc="none", label=str(t))
+    ax.set_xlabel(param)
+    ax.set_ylabel("amplitude of δ (reference mesh)")
+    ax.legend(fontsize=7)
+    _title(ax, "Continuation of periodic orbits", ds)
+
+
+def register_all(register, FigureSpec, bifurcation, response, maps, basins) -> None:
+    """Enter the system kinds and their figures in the registry (called once by :mod:`.registry`).
+
+    Parameters
+    ----------
+    register : callable
+        :func:`geardyn.plot.registry.register`.
+    FigureSpec : type
+        :class:`geardyn.plot.registry.FigureSpec`.
+    bifurcation, response, maps, basins : module
+        The 1-DOF plot modules whose figures draw the system sweeps (laid out along the reference mesh).
+    """
+    register("system_simulate", FigureSpec("element_deflections", element_deflections),
+             FigureSpec("phase_portrait", reference_phase))
+    register("system_lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum))
+    register("system_orbit", FigureSpec("multipliers", multipliers))
+    register("system_bifurcation", FigureSpec("bifurcation", bifurcation.diagram),
+             FigureSpec("mesh_amplitudes", mesh_amplitudes))
+    register("system_response", FigureSpec("response", response.response),
+             FigureSpec("mesh_amplitudes", mesh_amplitudes))
+    register("system_map", FigureSpec("map_motion", maps.motion_map), FigureSpec("map_impact", maps.impact_map),
+             FigureSpec("map_amplitude", maps.continuous_map, kwargs={"var": "amplitude"}))
+    register("system_basins", FigureSpec("basins", basins.basin_figure))
+    register("system_continuation", FigureSpec("continuation", continuation_branches))
