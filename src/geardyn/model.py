@@ -456,6 +456,14 @@ def _per_value(fn, x: np.ndarray) -> np.ndarray:
     return np.where(x == 0.0, fn(0.0) if fn is not math.sin else x, out)
 
 
+def _square(w: float) -> float:
+    """ω² as :meth:`GearModel.coefficients` computes it (``w**2``), infinite where it overflows."""
+    try:
+        return w**2
+    except OverflowError:
+        return math.inf
+
+
 def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Kernel arrays of parameter points without a :class:`GearModel` per point.
 
@@ -521,13 +529,14 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
     coef[:, 0, 0, 0] = 2.0 * val["xi0"]
     coef[:, 1, 0, 0] = 1.0
     coef[:, 2, 0, 0] = val["fp"]
-    w2 = _per_value(lambda w: w**2, val["omega"])
-    for i, amp, ph in ((0, "xi", "phi_c"), (1, "kappa", "phi_k"), (2, "eps", "phi_e")):
-        for j0 in range(val[amp].shape[1]):
-            j = j0 + 1
-            scale = 2.0 if i == 0 else (1.0 if i == 1 else w2 * j * j)
-            a = val[amp][:, j0]
-            phase = val[ph][:, j0]
-            coef[:, i, j, 0] = scale * a * _per_value(math.cos, phase)
-            coef[:, i, j, 1] = -scale * a * _per_value(math.sin, phase)
+    w2 = _per_value(_square, val["omega"])
+    with np.errstate(over="ignore", invalid="ignore"):  # an ω so large that ω² overflows: the point diverges
+        for i, amp, ph in ((0, "xi", "phi_c"), (1, "kappa", "phi_k"), (2, "eps", "phi_e")):
+            for j0 in range(val[amp].shape[1]):
+                j = j0 + 1
+                scale = 2.0 if i == 0 else (1.0 if i == 1 else w2 * j * j)
+                a = val[amp][:, j0]
+                phase = val[ph][:, j0]
+                coef[:, i, j, 0] = scale * a * _per_value(math.cos, phase)
+                coef[:, i, j, 1] = -scale * a * _per_value(math.sin, phase)
     return np.ascontiguousarray(coef), val["D"].copy(), val["omega"].copy()
