@@ -100,8 +100,13 @@ class _Ctx:
         """The error ``cls`` (a file problem by default) with the file, line, section and key in its message."""
         line = self.line_of(section, key)
         where = f"{self.source}: " + (f"line {line}: " if line else "")
-        what = (f"[{section}] " if section else "") + (f"{key}: " if key else "")
+        what = (f"[{_shown(section)}] " if section else "") + (f"{_shown(key)}: " if key else "")
         return cls(f"{where}{what}{problem}")
+
+
+def _shown(name: str) -> str:
+    """A section or key as written, quoted where it holds whitespace or unprintable characters (one-line messages)."""
+    return name if name.isprintable() and not any(c.isspace() for c in name) else repr(name)
 
 
 # ---------------------------------------------------------------------------- value parsing
