@@ -113,7 +113,19 @@ class Chunk:
 
 
 def chunked(n: int, size: int = DEFAULT_CHUNK_POINTS) -> list[slice]:
-    """Slices cutting range(n) into consecutive chunks of at most ``size`` points (:func:`geardyn.grid.chunked`)."""
+    """Slices cutting range(n) into consecutive chunks of at most ``size`` points (:func:`geardyn.grid.chunked`).
+
+    Parameters
+    ----------
+    n : int
+        Number of points.
+    size : int
+        Points per chunk, default :data:`DEFAULT_CHUNK_POINTS`.
+
+    Returns
+    -------
+    list of slice
+    """
     return _chunked(n, size)
 
 

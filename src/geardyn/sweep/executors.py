@@ -97,6 +97,19 @@ def drain(executor: Executor, futs: dict[Future, object], finished: Finished, *,
           resubmit: Callable[[BaseException, object], bool] | None = None) -> None:
     """Hand each result of ``futs`` to ``finished`` as it completes.
 
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor
+        Where a failed chunk is submitted again.
+    futs : dict
+        The submitted futures and their chunks.
+    finished : callable
+        ``finished(chunk, result)`` for each result.
+    call : callable
+        What a resubmission runs (default :func:`call_chunk`).
+    resubmit : callable, optional
+        ``resubmit(error, chunk) -> bool``: whether a chunk that raised runs again.
+
     A chunk whose future raises is submitted again when ``resubmit(error, chunk)`` returns True
     (the policy may also raise an error of its own); otherwise the error propagates.  On any
     error (a Ctrl-C included) the pending futures are cancelled.
@@ -125,13 +138,31 @@ def drain(executor: Executor, futs: dict[Future, object], finished: Finished, *,
 
 
 def run_in_process(todo: Sequence, finished: Finished) -> None:
-    """Run the chunks one after the other in the calling thread."""
+    """Run the chunks one after the other in the calling thread.
+
+    Parameters
+    ----------
+    todo : sequence of Chunk
+        The chunks.
+    finished : callable
+        ``finished(chunk, result)`` for each result.
+    """
     for c in todo:
         finished(c, call_chunk(c.fn, c.args))
 
 
 def run_on_executor(executor: Executor, todo: Sequence, finished: Finished) -> None:
-    """Any concurrent.futures executor (not shut down here); a Dask ClientExecutor gets the Dask policy."""
+    """Any concurrent.futures executor (not shut down here); a Dask ClientExecutor gets the Dask policy.
+
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor
+        The caller's executor.
+    todo : sequence of Chunk
+        The chunks.
+    finished : callable
+        ``finished(chunk, result)`` for each result.
+    """
     if _is_dask_executor(executor):
         _run_dask_policy(executor, todo, finished, address=None)
         return
@@ -268,7 +299,22 @@ def local_pool(workers: int) -> ProcessPoolExecutor:
 
 
 def run_on_pool(workers: int, todo: Sequence, finished: Finished) -> None:
-    """A local pool of worker processes owned by the sweep, restarted if a worker process dies."""
+    """A local pool of worker processes owned by the sweep, restarted if a worker process dies.
+
+    Parameters
+    ----------
+    workers : int
+        Worker processes.
+    todo : sequence of Chunk
+        The chunks.
+    finished : callable
+        ``finished(chunk, result)`` for each result.
+
+    Raises
+    ------
+    concurrent.futures.process.BrokenProcessPool
+        When the pool broke more than :data:`MAX_POOL_RESTARTS` times.
+    """
     ctx = _pool_context()
     remaining = {c.index: c for c in todo}
     restarts = 0
