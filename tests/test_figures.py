@@ -42,7 +42,7 @@ COMMANDS = {
 _SYSTEM = str(Path(__file__).resolve().parents[1] / "examples" / "systems" / "paper_torsional.toml")
 #: The same commands on a multi-DOF system (kinds system_<command>, figures of geardyn.plot.systems).
 COMMANDS.update({f"system_{k}": v[:1] + ["--system", _SYSTEM] + v[1:] for k, v in COMMANDS.items()
-                 if k not in ("runup",)})
+                 if k not in ("runup", "hb")})  # hb refuses --system for now
 COMMANDS["system_basins"] = ["basins", "--system", _SYSTEM, "--omega", "1.2", "--nu", "2", "--nv", "2",
                              "--transient", "20", "--periods", "8"]
 COMMANDS["system_continuation"] = ["continuation", "--system", _SYSTEM, "--param", "omega", "--start", "1.3",

@@ -120,7 +120,7 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     if lines:
         lines[0].set_label("contact u = ±D")
     ax.set_ylabel("Poincaré section u (θ ≡ 0)")
-    ax.legend(loc="upper left", fontsize=8, markerscale=8)
+    ax.legend(loc="best", fontsize=8, markerscale=8)  # where it covers the fewest Poincaré points
     mode = ds.attrs.get("mode", "")
     set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds,
               exclude=[name])
