@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import threading
 import time
+from abc import ABC, abstractmethod
 from contextlib import contextmanager
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
@@ -179,7 +180,7 @@ def print_summary(description: str, results: Sequence[dict[str, np.ndarray]]) ->
 
 
 # ------------------------------------------------------------------------------ bars
-class _DelayedBar:
+class _DelayedBar(ABC):
     """One rich task on stderr, started :data:`PROGRESS_DELAY` s after creation (never for a shorter run).
 
     ``columns`` builds the rich columns; ``_current()`` gives (completed, total) when drawn; with
@@ -204,8 +205,9 @@ class _DelayedBar:
         else:
             self._start()
 
+    @abstractmethod
     def _columns(self) -> list:
-        raise NotImplementedError
+        """The rich columns of the bar."""
 
     def _elapsed(self) -> Any:
         """A column with the time since the computation began (the bar itself appears later)."""
@@ -223,8 +225,9 @@ class _DelayedBar:
 
         return Elapsed()
 
+    @abstractmethod
     def _current(self) -> tuple[float, float | None]:
-        raise NotImplementedError
+        """(done, total) now; total ``None`` for a spinner."""
 
     def _fields(self) -> dict[str, Any]:
         return {}
