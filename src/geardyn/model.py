@@ -526,11 +526,11 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
             m = m.with_param(p, float(v))  # raises the model's own error
         raise ModelError(f"point {bad}: refused by the model")  # pragma: no cover - the checks above are the model's
     coef = np.zeros((P, 3, H + 1, 2))
-    coef[:, 0, 0, 0] = 2.0 * val["xi0"]
-    coef[:, 1, 0, 0] = 1.0
-    coef[:, 2, 0, 0] = val["fp"]
     w2 = _per_value(_square, val["omega"])
-    with np.errstate(over="ignore", invalid="ignore"):  # an ω so large that ω² overflows: the point diverges
+    with np.errstate(over="ignore", invalid="ignore"):  # a value so large that it overflows: the point diverges
+        coef[:, 0, 0, 0] = 2.0 * val["xi0"]
+        coef[:, 1, 0, 0] = 1.0
+        coef[:, 2, 0, 0] = val["fp"]
         for i, amp, ph in ((0, "xi", "phi_c"), (1, "kappa", "phi_k"), (2, "eps", "phi_e")):
             for j0 in range(val[amp].shape[1]):
                 j = j0 + 1
