@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 # Layout of the per-element statistics (sampled at every step end of the recorded periods).

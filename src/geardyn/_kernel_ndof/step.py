@@ -11,12 +11,11 @@ the vector field is continuous, so the split keeps RK4 fourth order and no salta
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from numba import njit
 
-from .core import LOCK_FREE, coef_at, element_values, field, field_tab, jac_blocks, tan_field
+from .core import coef_at, element_values, field, field_tab, jac_blocks, tan_field
 
 #: Largest number of sub-steps one step is split into (accurate mode).
 MAX_SPLITS = 64

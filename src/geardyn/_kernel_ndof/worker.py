@@ -9,14 +9,12 @@ h = T_f/N with T_f the forcing period.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
 from .._kernel.core import _fetch_add
 from .core import (
-    LOCK_FREE, NSTAT, ST_DIVERGED, ST_OK, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE, accumulate, coef_at,
+    LOCK_FREE, NSTAT, ST_DIVERGED, ST_OK, TAN_LYAPUNOV, TAN_NONE, accumulate, coef_at,
     diverged_state, element_values, gram_schmidt,
 )
 from .step import accurate_step, rk4, rk4_plain

@@ -16,7 +16,6 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import xarray as xr
 
-from ..grid import Grid
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 from ..sweep import Chunk, SweepOptions, run_chunks

@@ -27,7 +27,7 @@ from ..integrate_ndof import forcing_period, integrate_batch
 from ..model import DEFAULT_DTAU, IntegrationOptions
 from ..status import Status
 from .periodic.floquet import Floquet, floquet
-from .periodic.map import MAP_THREADS, MapEvaluation, PeriodMap
+from .periodic.map import MAP_THREADS, PeriodMap
 from .periodic.orbit import _hermite_extrema, GUESS_RECORD_PER_PERIOD, GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL
 from .systems_steady import IMPACT_LABELS, mesh_forces, rigid_modes, static_mesh_forces, system_state0
 
@@ -179,7 +179,6 @@ class SystemOrbit:
         ref = next((m for m in self.meshes if m["name"] == self.model.scaling.reference), self.meshes[0])
         ok = self.converged
         p = self.model.period_multiple() or 1
-        from ..status import Status as _S  # noqa: F401
 
         elastic_fl = floquet(np.diag(mu) if mu.size else np.zeros((0, 0)), self.n, forcing_period(self.model)) \
             if mu.size else None

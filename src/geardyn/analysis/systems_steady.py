@@ -20,7 +20,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..integrate_ndof import (
-    SystemBatchResult, SystemTrajectory, element_names, forcing_period, initial_state, trajectory,
+    SystemBatchResult, SystemTrajectory, initial_state, trajectory,
 )
 from ..model import IntegrationOptions
 from .classify import IMPACT_LABELS, detect_period, impact_state, period_label
