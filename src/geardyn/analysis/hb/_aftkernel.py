@@ -214,3 +214,65 @@ def extrema_kernel(a, H, cos_t, sin_t, max_iter):
     out[0] = min(out[0], u[jmin])
     out[1] = max(out[1], u[jmax])
     return out
+
+
+@njit(cache=True)
+def real_operator_kernel(A, H):
+    """The real matrix ``Wi @ A @ W`` of a complex operator on the c_k of real signals."""
+    M = 2 * H + 1
+    AW = np.empty((M, M), dtype=np.complex128)
+    for r in range(M):
+        AW[r, 0] = A[r, H]
+        for k in range(1, H + 1):
+            P, Nn = A[r, H + k], A[r, H - k]
+            AW[r, k] = 0.5 * (P + Nn)
+            AW[r, H + k] = 0.5j * (Nn - P)
+    out = np.empty((M, M))
+    for col in range(M):
+        out[0, col] = AW[H, col].real
+        for k in range(1, H + 1):
+            Pr, Nr = AW[H + k, col], AW[H - k, col]
+            out[k, col] = (Pr + Nr).real
+            out[H + k, col] = (1j * (Pr - Nr)).real
+    return out
+
+
+@njit(cache=True)
+def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
+    """Real residual R (2H + 1) of the HB equations and, when ``jac``, its Jacobian (else a 0×0 array)."""
+    M = 2 * H + 1
+    G, S, _phis = dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol)
+    c = np.empty(M, dtype=np.complex128)
+    c[H] = a[0]
+    for k in range(1, H + 1):
+        z = 0.5 * (a[k] - 1j * a[H + k])
+        c[H + k] = z
+        c[H - k] = z.conjugate()
+    Lc = (C.shape[0] - 1) // 2
+    TcOm = np.zeros((M, M), dtype=np.complex128)
+    for r in range(M):
+        for l in range(M):
+            d = r - l
+            if -Lc <= d <= Lc:
+                TcOm[r, l] = C[d + Lc] * (1j * (l - H))
+    Rc = np.empty(M, dtype=np.complex128)
+    for r in range(M):
+        k = r - H
+        acc = 0.0 + 0.0j
+        for l in range(M):
+            acc += TcOm[r, l] * c[l]
+        Rc[r] = -(nu * k) ** 2 * c[r] + nu * acc + G[r] - Fh[r]
+    R = np.empty(M)
+    R[0] = Rc[H].real
+    for k in range(1, H + 1):
+        pos, neg = Rc[H + k], Rc[H - k]
+        R[k] = (pos + neg).real
+        R[H + k] = (1j * (pos - neg)).real
+    if not jac:
+        return R, np.empty((0, 0))
+    Jc = np.empty((M, M), dtype=np.complex128)
+    for r in range(M):
+        for l in range(M):
+            Jc[r, l] = nu * TcOm[r, l] + S[r - l + 2 * H]
+        Jc[r, r] += -(nu * (r - H)) ** 2
+    return R, real_operator_kernel(Jc, H)

@@ -31,7 +31,9 @@ import numpy as np
 from ...model import GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
 from ._blas import single_thread_blas
-from .aft import HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples, toeplitz
+from ._aftkernel import residual_kernel
+from .aft import (ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, _dead_zone_terms_numpy, dead_zone_terms, model_series,
+                  signal_extrema, time_samples, toeplitz)
 from .hill import HillResult, hill_floquet
 
 __all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
@@ -81,6 +83,7 @@ class HBSystem:
         N = samples or time_samples(self.H, self.n, model.n_harmonics + 2)
         self.basis = HarmonicBasis(self.H, N)
         self._cache: dict[float | None, tuple[GearModel, tuple[np.ndarray, ...]]] = {}
+        self._fh: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
     def model_at(self, p: float | None = None) -> GearModel:
         """The model at parameter value ``p`` (the base model when ``p`` is None)."""
@@ -126,11 +129,25 @@ class HBSystem:
         (R, J) : ndarray, ndarray or None
         """
         m, (C, K, F) = self._entry(p)
+        b = self.basis
+        Fh = self._fh.get(id(F))
+        if Fh is None or Fh[0] is not F:
+            if len(self._fh) > 64:
+                self._fh.clear()
+            Fh = self._fh[id(F)] = (F, self._centred(F, self.H))
+        R, J = residual_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, C, K, Fh[1], float(m.D),
+                               b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, bool(jacobian))
+        return R, (J if jacobian else None)
+
+    def _residual_numpy(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
+                        ) -> tuple[np.ndarray, np.ndarray | None]:
+        """:meth:`residual` in NumPy (the compiled version's reference)."""
+        m, (C, K, F) = self._entry(p)
         H, b = self.H, self.basis
         nu = m.omega / self.n
         k = b.k
         c = b.to_complex(a)
-        dz = dead_zone_terms(b, a, K, m.D)
+        dz = _dead_zone_terms_numpy(b, a, K, m.D)
         TcOm = toeplitz(C, H) * (1j * k)[None, :]
         Rc = -(nu * k) ** 2 * c + nu * (TcOm @ c) + dz.G - self._centred(F, H)
         R = b.to_real(Rc)
