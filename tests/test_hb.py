@@ -215,3 +215,6 @@ def test_compiled_aft_matches_numpy():
             R2, J2 = s._residual_numpy(a)
             np.testing.assert_allclose(R, R2, rtol=0, atol=1e-12 * (1 + np.abs(R2).max()))
             np.testing.assert_allclose(J, J2, rtol=0, atol=1e-12 * np.abs(J2).max())
+    s = HBSystem(m, 12, param="omega")
+    a = hb_solve(m, 12, stability=False).coefficients
+    np.testing.assert_allclose(s.dR_dp(a, 0.7), s._dR_domega_numpy(a, 0.7), rtol=0, atol=1e-13)

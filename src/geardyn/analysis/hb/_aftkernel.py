@@ -276,3 +276,33 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
             Jc[r, l] = nu * TcOm[r, l] + S[r - l + 2 * H]
         Jc[r, r] += -(nu * (r - H)) ** 2
     return R, real_operator_kernel(Jc, H)
+
+
+@njit(cache=True)
+def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
+    """∂R/∂ω at fixed coefficients (f_p does not depend on ω; the STE harmonics go as ω²)."""
+    M = 2 * H + 1
+    c = np.empty(M, dtype=np.complex128)
+    c[H] = a[0]
+    for k in range(1, H + 1):
+        z = 0.5 * (a[k] - 1j * a[H + k])
+        c[H + k] = z
+        c[H - k] = z.conjugate()
+    Lc = (C.shape[0] - 1) // 2
+    dRc = np.empty(M, dtype=np.complex128)
+    for r in range(M):
+        k = r - H
+        acc = 0.0 + 0.0j
+        for l in range(M):
+            d = r - l
+            if -Lc <= d <= Lc:
+                acc += C[d + Lc] * (1j * (l - H) * c[l])
+        f = Fh[r] if r != H else 0.0
+        dRc[r] = (-2.0 * nu * k**2 * c[r] + acc) / n - 2.0 / omega * f
+    R = np.empty(M)
+    R[0] = dRc[H].real
+    for k in range(1, H + 1):
+        pos, neg = dRc[H + k], dRc[H - k]
+        R[k] = (pos + neg).real
+        R[H + k] = (1j * (pos - neg)).real
+    return R

@@ -31,7 +31,7 @@ import numpy as np
 from ...model import GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
 from ._blas import single_thread_blas
-from ._aftkernel import residual_kernel
+from ._aftkernel import dR_domega_kernel, residual_kernel
 from .aft import (ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, _dead_zone_terms_numpy, dead_zone_terms, model_series,
                   signal_extrema, time_samples, toeplitz)
 from .hill import HillResult, hill_floquet
@@ -111,6 +111,15 @@ class HBSystem:
         out[L - m:L + m + 1] = z[Lz - m:Lz + m + 1]
         return out
 
+    def _f_centred(self, F: np.ndarray) -> np.ndarray:
+        """F cut or padded to the harmonics |k| <= H (kept per F array)."""
+        Fh = self._fh.get(id(F))
+        if Fh is None or Fh[0] is not F:
+            if len(self._fh) > 64:
+                self._fh.clear()
+            Fh = self._fh[id(F)] = (F, self._centred(F, self.H))
+        return Fh[1]
+
     def residual(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
                  ) -> tuple[np.ndarray, np.ndarray | None]:
         """Residual R(a) (real, length 2H + 1) and, if asked, its analytic Jacobian ∂R/∂a.
@@ -130,12 +139,8 @@ class HBSystem:
         """
         m, (C, K, F) = self._entry(p)
         b = self.basis
-        Fh = self._fh.get(id(F))
-        if Fh is None or Fh[0] is not F:
-            if len(self._fh) > 64:
-                self._fh.clear()
-            Fh = self._fh[id(F)] = (F, self._centred(F, self.H))
-        R, J = residual_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, C, K, Fh[1], float(m.D),
+        R, J = residual_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, C, K, self._f_centred(F),
+                               float(m.D),
                                b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, bool(jacobian))
         return R, (J if jacobian else None)
 
@@ -164,14 +169,24 @@ class HBSystem:
             raise ModelError("dR_dp: the system has no continuation parameter")
         if self.param == "omega":
             m, (C, K, F) = self._entry(p)
-            b, H = self.basis, self.H
-            nu = m.omega / self.n
-            k = b.k
-            c = b.to_complex(a)
-            Fh = self._centred(F, H)
-            Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
-            dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / self.n - 2.0 / m.omega * Fh
-            return b.to_real(dRc)
+            return dR_domega_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, m.omega, self.n, C,
+                                    self._f_centred(F), self.H)
+        return self._dR_dp_fd(a, p)
+
+    def _dR_domega_numpy(self, a: np.ndarray, p: float) -> np.ndarray:
+        """∂R/∂ω in NumPy (the compiled version's reference)."""
+        m, (C, K, F) = self._entry(p)
+        b, H = self.basis, self.H
+        nu = m.omega / self.n
+        k = b.k
+        c = b.to_complex(a)
+        Fh = self._centred(F, H)
+        Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
+        dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / self.n - 2.0 / m.omega * Fh
+        return b.to_real(dRc)
+
+    def _dR_dp_fd(self, a: np.ndarray, p: float) -> np.ndarray:
+        """Central difference of the residual in the parameter."""
         d = FD_REL_STEP * max(1.0, abs(p))
         vals = []
         for q in (p + d, p - d):
