@@ -218,3 +218,10 @@ def test_compiled_aft_matches_numpy():
     s = HBSystem(m, 12, param="omega")
     a = hb_solve(m, 12, stability=False).coefficients
     np.testing.assert_allclose(s.dR_dp(a, 0.7), s._dR_domega_numpy(a, 0.7), rtol=0, atol=1e-13)
+    for w in (0.3, 0.7123456789, 1.9):
+        for n in (1, 2):
+            sn = HBSystem(m, 8, n, param="omega")
+            ref = aft.model_series(m.with_param("omega", w), n)
+            got = sn._entry(w)[1]
+            assert all(np.array_equal(g, r) for g, r in zip(got, ref))
+            assert sn.model_at(w) == m.with_param("omega", w)

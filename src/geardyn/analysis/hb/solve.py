@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import numpy as np
 
@@ -51,6 +51,13 @@ FD_REL_STEP = 1e-6
 #: Simulation used for a starting guess: forcing periods discarded and the step.
 GUESS_TRANSIENT = 400
 GUESS_DTAU = 0.005
+
+
+class _AtOmega(NamedTuple):
+    """What the residual needs of the model at one value of ω (param ``omega``)."""
+
+    omega: float
+    D: float
 
 
 class HBSystem:
@@ -84,24 +91,58 @@ class HBSystem:
         self.basis = HarmonicBasis(self.H, N)
         self._cache: dict[float | None, tuple[GearModel, tuple[np.ndarray, ...]]] = {}
         self._fh: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._series: tuple[np.ndarray, ...] | None = None
 
     def model_at(self, p: float | None = None) -> GearModel:
         """The model at parameter value ``p`` (the base model when ``p`` is None)."""
-        return self._entry(p)[0]
+        m = self._entry(p)[0]
+        return m if isinstance(m, GearModel) else self.base.with_param("omega", m.omega)
 
-    def _entry(self, p: float | None) -> tuple[GearModel, tuple[np.ndarray, ...]]:
+    def check(self, p: float) -> None:
+        """Raise :class:`ModelError` when ``p`` is not a valid value of the system's parameter."""
+        self._entry(p)
+
+    def _entry(self, p: float | None) -> tuple[GearModel | _AtOmega, tuple[np.ndarray, ...]]:
         key = None if (p is None or self.param is None) else float(p)
         e = self._cache.get(key)
         if e is None:
             if len(self._cache) > 32:
                 self._cache.clear()
+            if key is not None and self.param == "omega" and key > 0 and math.isfinite(2.0 * math.pi / key):
+                # only the forcing depends on ω: skip building and validating a model per value
+                C, K, _F = self._base_series()
+                e = self._cache[key] = (_AtOmega(key, self.base.D), (C, K, self._forcing(key)))
+                return e
             m = self.base if key is None else self.base.with_param(self.param, key)
             C, K, F = model_series(m, self.n)
             e = self._cache[key] = (m, (C, K, F))
         return e
 
+    def _base_series(self) -> tuple[np.ndarray, ...]:
+        if self._series is None:
+            self._series = model_series(self.base, self.n)
+        return self._series
+
+    def _forcing(self, omega: float) -> np.ndarray:
+        """The F series of :func:`model_series` at ω = ``omega`` (the same operations, so the same values)."""
+        b, n = self.base, self.n
+        H = b.n_harmonics
+        L = n * H
+        z = np.zeros(2 * L + 1, dtype=complex)
+        z[L] = b.fp
+        w2 = omega**2
+        cf = np.zeros((H + 1, 2))
+        for j0, (a, ph) in enumerate(zip(b.eps, b.phi_e)):
+            j = j0 + 1
+            cf[j, 0] = w2 * j * j * a * math.cos(ph)
+            cf[j, 1] = -(w2 * j * j) * a * math.sin(ph)
+        for j in range(1, H + 1):
+            z[L + n * j] = 0.5 * (cf[j, 0] - 1j * cf[j, 1])
+            z[L - n * j] = 0.5 * (cf[j, 0] + 1j * cf[j, 1])
+        return z
+
     def nu(self, p: float | None = None) -> float:
-        return self.model_at(p).omega / self.n
+        return self._entry(p)[0].omega / self.n
 
     def _centred(self, z: np.ndarray, L: int) -> np.ndarray:
         """Centred coefficient array z padded or cut to half-length L."""
