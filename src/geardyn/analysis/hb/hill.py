@@ -51,6 +51,7 @@ import numpy as np
 
 from ...status import Status
 from ._blas import single_thread_blas
+from ._aftkernel import real_operator_kernel
 from .aft import HarmonicBasis, toeplitz
 
 __all__ = ["HillResult", "hill_matrix", "hill_floquet", "LIOUVILLE_TOL", "CENTROID_FRACTION"]
@@ -163,18 +164,24 @@ def hill_floquet(c_hat: np.ndarray, s_hat: np.ndarray, nu: float, H: int) -> Hil
     .. [2] A. H. Nayfeh and D. T. Mook, *Nonlinear Oscillations*, Wiley, 1979 (Floquet theory and
        Hill's determinant).
     """
-    A = hill_matrix(c_hat, s_hat, nu, H)
-    if not np.all(np.isfinite(A)):
-        return _nan_result(Status.DIVERGED)
     M = 2 * H + 1
+    Om = 1j * nu * np.arange(-H, H + 1)
+    Tc = toeplitz(np.asarray(c_hat, dtype=complex), H)
+    K0 = Tc * Om[None, :] + toeplitz(np.asarray(s_hat, dtype=complex), H)
+    K0[np.diag_indices(M)] += Om * Om
+    K1 = Tc.copy()
+    K1[np.diag_indices(M)] += 2.0 * Om
+    if not (np.all(np.isfinite(K0)) and np.all(np.isfinite(K1))):
+        return _nan_result(Status.DIVERGED)
     # c and s are real, so A maps the coefficients of real signals to those of real signals: in the
     # real coefficients [a_0, a_k, b_k] it is a real matrix with the same eigenvalues (real LAPACK,
     # about three times cheaper); the eigenvectors are mapped back to the complex coefficients.
-    W, Wi = _real_maps(H)
-    Ar = np.empty((2 * M, 2 * M))
-    for r in range(2):
-        for q in range(2):
-            Ar[r * M:(r + 1) * M, q * M:(q + 1) * M] = (Wi @ A[r * M:(r + 1) * M, q * M:(q + 1) * M] @ W).real
+    # (the blocks of the companion matrix of hill_matrix: 0, I; −K0, −K1)
+    W, _Wi = _real_maps(H)
+    Ar = np.zeros((2 * M, 2 * M))
+    Ar[:M, M:] = np.eye(M)
+    Ar[M:, :M] = -real_operator_kernel(K0, H)
+    Ar[M:, M:] = -real_operator_kernel(K1, H)
     with single_thread_blas():
         lam, Vr = np.linalg.eig(Ar)
     y = W @ Vr[:M, :]
