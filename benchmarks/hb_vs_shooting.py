@@ -20,6 +20,7 @@ average before and after, and writes ``benchmarks/results/hb_vs_shooting.json``.
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import os
 import platform
@@ -36,7 +37,7 @@ MODEL = GearModel(xi0=0.08)
 LO, HI = 0.3, 1.0
 FOLD_ACCURACY = 1e-3
 HB_SETTINGS = [dict(harmonics=16, ds_max=0.02), dict(harmonics=16, ds_max=0.05), dict(harmonics=12, ds_max=0.05),
-               dict(harmonics=8, ds_max=0.05)]
+               dict(harmonics=10, ds_max=0.05), dict(harmonics=8, ds_max=0.05)]
 SHOOTING_SETTINGS = [dict(accurate=False, dtau=0.01), dict(accurate=False, dtau=0.02, ds_max=0.05),
                      dict(accurate=False, dtau=0.05, ds_max=0.05), dict(accurate=True, dtau=0.02, ds_max=0.05)]
 
@@ -73,7 +74,8 @@ def main() -> None:
     ref = [(t, v) for t, v in ref if t in ("fold", "grazing", "period-doubling")]
     runs = [("HB", kw, _hb) for kw in HB_SETTINGS] + [("shooting", kw, _shooting) for kw in SHOOTING_SETTINGS]
     nh = len(HB_SETTINGS)
-    order = [r for pair in zip(runs[:nh], runs[nh:]) for r in pair]  # HB, shooting, HB, shooting, ...
+    order = [r for pair in itertools.zip_longest(runs[:nh], runs[nh:]) for r in pair if r is not None]
+    # HB, shooting, HB, shooting, ...
     best: dict[int, float] = {}
     found: dict[int, tuple] = {}
     for _ in range(args.repeats):

@@ -52,6 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...model import GearModel
+from ._aftkernel import dead_zone_kernel, extrema_kernel
 
 __all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "model_series", "dead_zone_terms",
            "signal_extrema"]
@@ -152,6 +153,9 @@ class HarmonicBasis:
             Wi[k, H + k], Wi[k, H - k] = 1.0, 1.0
             Wi[H + k, H + k], Wi[H + k, H - k] = 1.0j, -1.0j
         self.Wi = Wi
+        arg = np.multiply.outer(self.phi, np.arange(1, H + 1))
+        self.cos_table = np.ascontiguousarray(np.cos(arg))  # cos(kφ_j), k = 1 … H
+        self.sin_table = np.ascontiguousarray(np.sin(arg))
 
     @property
     def size(self) -> int:
@@ -336,6 +340,28 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
     -------
     DeadZoneTerms
     """
+    G, S, phis = dead_zone_kernel(np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(K, dtype=complex),
+                                  float(D), basis.cos_table, basis.sin_table, basis.H, ROOT_MAX_ITER, ROOT_TOL)
+    return DeadZoneTerms(G, S, phis)
+
+
+def _dead_zone_terms_numpy(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float) -> DeadZoneTerms:
+    """Exact Galerkin projection of K(θ) f(u; D) with the contact switches located on the time grid.
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    a : ndarray (2H + 1,)
+        Real coefficients of u.
+    K : complex ndarray
+        Centred coefficients of the stiffness in φ (from :func:`model_series`).
+    D : float
+        Half backlash (>= 0).
+
+    Returns
+    -------
+    DeadZoneTerms
+    """
     H, N = basis.H, basis.N
     L = (len(K) - 1) // 2
     c = basis.to_complex(a)
@@ -390,6 +416,24 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
 
 
 def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:
+    """Smallest and largest u over the period and where (φ_min, φ_max), refined by Newton on u_φ = 0.
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    a : ndarray
+        Real coefficients of u.
+
+    Returns
+    -------
+    (u_min, u_max, phi_min, phi_max) : floats
+    """
+    r = extrema_kernel(np.ascontiguousarray(a, dtype=float), basis.H, basis.cos_table, basis.sin_table,
+                       ROOT_MAX_ITER)
+    return float(r[0]), float(r[1]), float(r[2]), float(r[3])
+
+
+def _signal_extrema_numpy(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:
     """Smallest and largest u over the period and where (φ_min, φ_max), refined by Newton on u_φ = 0.
 
     Parameters

@@ -240,7 +240,7 @@ class _Tracer:
         for it in range(CORRECTOR_MAX_ITER):
             try:
                 p = self.p(y)
-                self.s.model_at(p)
+                self.s.check(p)
             except ModelError:
                 return None
             R, J, Rp = self._aug(y)
@@ -268,7 +268,7 @@ class _Tracer:
 
     # ---------------------------------------------------------------- tests and events
     def tests(self, pt: _Pt, chord: np.ndarray | None = None) -> dict[str, float]:
-        D = self.s.model_at(self.p(pt.y)).D
+        D = self.s._entry(self.p(pt.y))[0].D
         t = pt.t if chord is None or pt.t @ chord >= 0 else -pt.t
         out = {"turn": float(t[-1])}
         h = pt.hill

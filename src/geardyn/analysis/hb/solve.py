@@ -24,14 +24,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import numpy as np
 
 from ...model import GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
 from ._blas import single_thread_blas
-from .aft import HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples, toeplitz
+from ._aftkernel import dR_domega_kernel, residual_kernel
+from .aft import (ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, _dead_zone_terms_numpy, dead_zone_terms, model_series,
+                  signal_extrema, time_samples, toeplitz)
 from .hill import HillResult, hill_floquet
 
 __all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
@@ -49,6 +51,13 @@ FD_REL_STEP = 1e-6
 #: Simulation used for a starting guess: forcing periods discarded and the step.
 GUESS_TRANSIENT = 400
 GUESS_DTAU = 0.005
+
+
+class _AtOmega(NamedTuple):
+    """What the residual needs of the model at one value of ω (param ``omega``)."""
+
+    omega: float
+    D: float
 
 
 class HBSystem:
@@ -81,24 +90,59 @@ class HBSystem:
         N = samples or time_samples(self.H, self.n, model.n_harmonics + 2)
         self.basis = HarmonicBasis(self.H, N)
         self._cache: dict[float | None, tuple[GearModel, tuple[np.ndarray, ...]]] = {}
+        self._fh: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._series: tuple[np.ndarray, ...] | None = None
 
     def model_at(self, p: float | None = None) -> GearModel:
         """The model at parameter value ``p`` (the base model when ``p`` is None)."""
-        return self._entry(p)[0]
+        m = self._entry(p)[0]
+        return m if isinstance(m, GearModel) else self.base.with_param("omega", m.omega)
 
-    def _entry(self, p: float | None) -> tuple[GearModel, tuple[np.ndarray, ...]]:
+    def check(self, p: float) -> None:
+        """Raise :class:`ModelError` when ``p`` is not a valid value of the system's parameter."""
+        self._entry(p)
+
+    def _entry(self, p: float | None) -> tuple[GearModel | _AtOmega, tuple[np.ndarray, ...]]:
         key = None if (p is None or self.param is None) else float(p)
         e = self._cache.get(key)
         if e is None:
             if len(self._cache) > 32:
                 self._cache.clear()
+            if key is not None and self.param == "omega" and key > 0 and math.isfinite(2.0 * math.pi / key):
+                # only the forcing depends on ω: skip building and validating a model per value
+                C, K, _F = self._base_series()
+                e = self._cache[key] = (_AtOmega(key, self.base.D), (C, K, self._forcing(key)))
+                return e
             m = self.base if key is None else self.base.with_param(self.param, key)
             C, K, F = model_series(m, self.n)
             e = self._cache[key] = (m, (C, K, F))
         return e
 
+    def _base_series(self) -> tuple[np.ndarray, ...]:
+        if self._series is None:
+            self._series = model_series(self.base, self.n)
+        return self._series
+
+    def _forcing(self, omega: float) -> np.ndarray:
+        """The F series of :func:`model_series` at ω = ``omega`` (the same operations, so the same values)."""
+        b, n = self.base, self.n
+        H = b.n_harmonics
+        L = n * H
+        z = np.zeros(2 * L + 1, dtype=complex)
+        z[L] = b.fp
+        w2 = omega**2
+        cf = np.zeros((H + 1, 2))
+        for j0, (a, ph) in enumerate(zip(b.eps, b.phi_e)):
+            j = j0 + 1
+            cf[j, 0] = w2 * j * j * a * math.cos(ph)
+            cf[j, 1] = -(w2 * j * j) * a * math.sin(ph)
+        for j in range(1, H + 1):
+            z[L + n * j] = 0.5 * (cf[j, 0] - 1j * cf[j, 1])
+            z[L - n * j] = 0.5 * (cf[j, 0] + 1j * cf[j, 1])
+        return z
+
     def nu(self, p: float | None = None) -> float:
-        return self.model_at(p).omega / self.n
+        return self._entry(p)[0].omega / self.n
 
     def _centred(self, z: np.ndarray, L: int) -> np.ndarray:
         """Centred coefficient array z padded or cut to half-length L."""
@@ -107,6 +151,15 @@ class HBSystem:
         m = min(L, Lz)
         out[L - m:L + m + 1] = z[Lz - m:Lz + m + 1]
         return out
+
+    def _f_centred(self, F: np.ndarray) -> np.ndarray:
+        """F cut or padded to the harmonics |k| <= H (kept per F array)."""
+        Fh = self._fh.get(id(F))
+        if Fh is None or Fh[0] is not F:
+            if len(self._fh) > 64:
+                self._fh.clear()
+            Fh = self._fh[id(F)] = (F, self._centred(F, self.H))
+        return Fh[1]
 
     def residual(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
                  ) -> tuple[np.ndarray, np.ndarray | None]:
@@ -126,11 +179,21 @@ class HBSystem:
         (R, J) : ndarray, ndarray or None
         """
         m, (C, K, F) = self._entry(p)
+        b = self.basis
+        R, J = residual_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, C, K, self._f_centred(F),
+                               float(m.D),
+                               b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, bool(jacobian))
+        return R, (J if jacobian else None)
+
+    def _residual_numpy(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
+                        ) -> tuple[np.ndarray, np.ndarray | None]:
+        """:meth:`residual` in NumPy (the compiled version's reference)."""
+        m, (C, K, F) = self._entry(p)
         H, b = self.H, self.basis
         nu = m.omega / self.n
         k = b.k
         c = b.to_complex(a)
-        dz = dead_zone_terms(b, a, K, m.D)
+        dz = _dead_zone_terms_numpy(b, a, K, m.D)
         TcOm = toeplitz(C, H) * (1j * k)[None, :]
         Rc = -(nu * k) ** 2 * c + nu * (TcOm @ c) + dz.G - self._centred(F, H)
         R = b.to_real(Rc)
@@ -147,14 +210,24 @@ class HBSystem:
             raise ModelError("dR_dp: the system has no continuation parameter")
         if self.param == "omega":
             m, (C, K, F) = self._entry(p)
-            b, H = self.basis, self.H
-            nu = m.omega / self.n
-            k = b.k
-            c = b.to_complex(a)
-            Fh = self._centred(F, H)
-            Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
-            dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / self.n - 2.0 / m.omega * Fh
-            return b.to_real(dRc)
+            return dR_domega_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, m.omega, self.n, C,
+                                    self._f_centred(F), self.H)
+        return self._dR_dp_fd(a, p)
+
+    def _dR_domega_numpy(self, a: np.ndarray, p: float) -> np.ndarray:
+        """∂R/∂ω in NumPy (the compiled version's reference)."""
+        m, (C, K, F) = self._entry(p)
+        b, H = self.basis, self.H
+        nu = m.omega / self.n
+        k = b.k
+        c = b.to_complex(a)
+        Fh = self._centred(F, H)
+        Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
+        dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / self.n - 2.0 / m.omega * Fh
+        return b.to_real(dRc)
+
+    def _dR_dp_fd(self, a: np.ndarray, p: float) -> np.ndarray:
+        """Central difference of the residual in the parameter."""
         d = FD_REL_STEP * max(1.0, abs(p))
         vals = []
         for q in (p + d, p - d):

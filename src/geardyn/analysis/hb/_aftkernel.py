@@ -1,0 +1,308 @@
+"""Compiled loops of the AFT dead-zone evaluation (see :mod:`.aft` for the method).
+
+The functions here are the scalar loops behind :func:`~geardyn.analysis.hb.aft.dead_zone_terms` and
+:func:`~geardyn.analysis.hb.aft.signal_extrema`: sampling u on the time grid, locating the contact
+switches by safeguarded Newton, the closed-form interval integrals of the contact indicator and
+the convolutions with the stiffness series.  They perform the same operations as the vectorised
+NumPy formulation, so results agree with it to rounding.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["dead_zone_kernel", "extrema_kernel"]
+
+
+@njit(cache=True)
+def _value(a, H, x):
+    s = a[0]
+    for k in range(1, H + 1):
+        s += a[k] * math.cos(k * x) + a[H + k] * math.sin(k * x)
+    return s
+
+
+@njit(cache=True)
+def _value_slope(a, H, x):
+    u = a[0]
+    d = 0.0
+    for k in range(1, H + 1):
+        c, s = math.cos(k * x), math.sin(k * x)
+        u += a[k] * c + a[H + k] * s
+        d += k * (a[H + k] * c - a[k] * s)
+    return u, d
+
+
+@njit(cache=True)
+def _slope_curv(a, H, x):
+    d1 = 0.0
+    d2 = 0.0
+    for k in range(1, H + 1):
+        c, s = math.cos(k * x), math.sin(k * x)
+        d1 += k * (a[H + k] * c - a[k] * s)
+        d2 -= k * k * (a[k] * c + a[H + k] * s)
+    return d1, d2
+
+
+@njit(cache=True)
+def _samples(a, H, cos_t, sin_t):
+    N = cos_t.shape[0]
+    u = np.empty(N)
+    for j in range(N):
+        s = a[0]
+        for k in range(H):
+            s += a[k + 1] * cos_t[j, k] + a[H + 1 + k] * sin_t[j, k]
+        u[j] = s
+    return u
+
+
+@njit(cache=True)
+def _crossing(a, H, level, lo, hi, max_iter, tol):
+    """Root of u = level in [lo, hi] (sign change assumed): Newton kept in the bracket, else bisection."""
+    flo = _value(a, H, lo) - level
+    fhi = _value(a, H, hi) - level
+    den = fhi - flo
+    x = 0.5 * (lo + hi)
+    if den != 0.0:
+        xi = lo - flo * (hi - lo) / den
+        if math.isfinite(xi) and xi > lo and xi < hi:
+            x = xi
+    for _ in range(max_iter):
+        f, d = _value_slope(a, H, x)
+        f -= level
+        if f == 0.0:
+            return x
+        step = f / d if d != 0.0 else (math.inf if f > 0 else -math.inf) * (1.0 if d >= 0 else -1.0)
+        if math.isfinite(step) and abs(step) <= tol * (1.0 + abs(x)):
+            return x - step
+        if np.sign(f) == np.sign(flo):
+            lo, flo = x, f
+        else:
+            hi = x
+        xn = x - step
+        if (not math.isfinite(xn)) or xn <= lo or xn >= hi:
+            x = 0.5 * (lo + hi)
+        else:
+            x = xn
+    return x
+
+
+@njit(cache=True)
+def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
+    """G (2H + 1), S (4H + 1) and the switch angles of K(θ) f(u; D) for real coefficients ``a``."""
+    N = cos_t.shape[0]
+    L = (K.shape[0] - 1) // 2
+    M = 2 * H + 1
+    c = np.empty(M, dtype=np.complex128)
+    c[H] = a[0]
+    for k in range(1, H + 1):
+        z = 0.5 * (a[k] - 1j * a[H + k])
+        c[H + k] = z
+        c[H - k] = z.conjugate()
+    u = _samples(a, H, cos_t, sin_t)
+    state = np.empty(N, dtype=np.int64)
+    for j in range(N):
+        state[j] = 1 if u[j] > D else (-1 if u[j] < -D else 0)
+    h = 2.0 * math.pi / N
+    nev = 0
+    ev_phi = np.empty(2 * N)
+    ev_new = np.empty(2 * N, dtype=np.int64)
+    if D > 0.0:
+        for lev in range(2):
+            level = D if lev == 0 else -D
+            side = 1 if lev == 0 else -1
+            for j in range(N):
+                s0, s1 = state[j], state[(j + 1) % N]
+                if s0 == s1 or not (s0 == side or s1 == side):
+                    continue
+                lo = 2.0 * math.pi * j / N
+                x = _crossing(a, H, level, lo, lo + h, max_iter, tol)
+                _u, d = _value_slope(a, H, x)
+                up = d > 0
+                ev_phi[nev] = x
+                if level > 0:
+                    ev_new[nev] = 1 if up else 0
+                else:
+                    ev_new[nev] = 0 if up else -1
+                nev += 1
+    Q = 2 * H + L
+    chi = np.zeros(2 * Q + 1, dtype=np.complex128)
+    sig = np.zeros(2 * Q + 1, dtype=np.complex128)
+    phis = np.empty(nev)
+    if nev > 0:
+        order = np.argsort(ev_phi[:nev])
+        news = np.empty(nev, dtype=np.int64)
+        for i in range(nev):
+            phis[i] = ev_phi[order[i]]
+            news[i] = ev_new[order[i]]
+        prev = news[nev - 1]
+        start = 0.0
+        for i in range(nev + 1):
+            end = phis[i] if i < nev else 2.0 * math.pi
+            if prev != 0:
+                sv = float(prev)
+                v0 = (end - start) / (2.0 * math.pi)
+                chi[Q] += v0
+                sig[Q] += sv * v0
+                for qi in range(2 * Q + 1):
+                    q = qi - Q
+                    if q == 0:
+                        continue
+                    v = (np.exp(-1j * q * end) - np.exp(-1j * q * start)) / (-2j * math.pi * q)
+                    chi[qi] += v
+                    sig[qi] += sv * v
+            if i < nev:
+                start = phis[i]
+                prev = news[i]
+    else:
+        s = 1 if D == 0.0 else state[0]
+        if s != 0:
+            chi[Q] = 1.0
+            sig[Q] = float(s)
+    mid = L + Q
+    # S_m = (K * chi)[mid + m], |m| <= 2H; full convolution index i + j with K index i, chi index j
+    S = np.zeros(4 * H + 1, dtype=np.complex128)
+    for mi in range(4 * H + 1):
+        t = mid - 2 * H + mi
+        acc = 0.0 + 0.0j
+        for i in range(max(0, t - 2 * Q), min(2 * L, t) + 1):
+            acc += K[i] * chi[t - i]
+        S[mi] = acc
+    G = np.zeros(M, dtype=np.complex128)
+    for k in range(M):
+        acc = 0.0 + 0.0j
+        for l in range(M):
+            acc += S[k - l + 2 * H] * c[l]
+        G[k] = acc
+    if D > 0.0:
+        for k in range(M):
+            t = mid - H + k
+            acc = 0.0 + 0.0j
+            for i in range(max(0, t - 2 * Q), min(2 * L, t) + 1):
+                acc += K[i] * sig[t - i]
+            G[k] -= D * acc
+    return G, S, phis
+
+
+@njit(cache=True)
+def extrema_kernel(a, H, cos_t, sin_t, max_iter):
+    """(u_min, u_max, φ_min, φ_max) with Newton on u_φ = 0 from the extreme samples."""
+    u = _samples(a, H, cos_t, sin_t)
+    N = u.shape[0]
+    h = 2.0 * math.pi / N
+    jmin = np.argmin(u)
+    jmax = np.argmax(u)
+    out = np.empty(4)
+    for w in range(2):
+        j = jmin if w == 0 else jmax
+        x = 2.0 * math.pi * j / N
+        lo, hi = x - h, x + h
+        for _ in range(max_iter):
+            d1, d2 = _slope_curv(a, H, x)
+            xn = x - d1 / d2 if d2 != 0.0 else x
+            if not (lo <= xn <= hi):
+                break
+            if abs(xn - x) <= 1e-14:
+                x = xn
+                break
+            x = xn
+        out[w] = _value(a, H, x)
+        out[2 + w] = x
+    out[0] = min(out[0], u[jmin])
+    out[1] = max(out[1], u[jmax])
+    return out
+
+
+@njit(cache=True)
+def real_operator_kernel(A, H):
+    """The real matrix ``Wi @ A @ W`` of a complex operator on the c_k of real signals."""
+    M = 2 * H + 1
+    AW = np.empty((M, M), dtype=np.complex128)
+    for r in range(M):
+        AW[r, 0] = A[r, H]
+        for k in range(1, H + 1):
+            P, Nn = A[r, H + k], A[r, H - k]
+            AW[r, k] = 0.5 * (P + Nn)
+            AW[r, H + k] = 0.5j * (Nn - P)
+    out = np.empty((M, M))
+    for col in range(M):
+        out[0, col] = AW[H, col].real
+        for k in range(1, H + 1):
+            Pr, Nr = AW[H + k, col], AW[H - k, col]
+            out[k, col] = (Pr + Nr).real
+            out[H + k, col] = (1j * (Pr - Nr)).real
+    return out
+
+
+@njit(cache=True)
+def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
+    """Real residual R (2H + 1) of the HB equations and, when ``jac``, its Jacobian (else a 0×0 array)."""
+    M = 2 * H + 1
+    G, S, _phis = dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol)
+    c = np.empty(M, dtype=np.complex128)
+    c[H] = a[0]
+    for k in range(1, H + 1):
+        z = 0.5 * (a[k] - 1j * a[H + k])
+        c[H + k] = z
+        c[H - k] = z.conjugate()
+    Lc = (C.shape[0] - 1) // 2
+    TcOm = np.zeros((M, M), dtype=np.complex128)
+    for r in range(M):
+        for l in range(M):
+            d = r - l
+            if -Lc <= d <= Lc:
+                TcOm[r, l] = C[d + Lc] * (1j * (l - H))
+    Rc = np.empty(M, dtype=np.complex128)
+    for r in range(M):
+        k = r - H
+        acc = 0.0 + 0.0j
+        for l in range(M):
+            acc += TcOm[r, l] * c[l]
+        Rc[r] = -(nu * k) ** 2 * c[r] + nu * acc + G[r] - Fh[r]
+    R = np.empty(M)
+    R[0] = Rc[H].real
+    for k in range(1, H + 1):
+        pos, neg = Rc[H + k], Rc[H - k]
+        R[k] = (pos + neg).real
+        R[H + k] = (1j * (pos - neg)).real
+    if not jac:
+        return R, np.empty((0, 0))
+    Jc = np.empty((M, M), dtype=np.complex128)
+    for r in range(M):
+        for l in range(M):
+            Jc[r, l] = nu * TcOm[r, l] + S[r - l + 2 * H]
+        Jc[r, r] += -(nu * (r - H)) ** 2
+    return R, real_operator_kernel(Jc, H)
+
+
+@njit(cache=True)
+def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
+    """∂R/∂ω at fixed coefficients (f_p does not depend on ω; the STE harmonics go as ω²)."""
+    M = 2 * H + 1
+    c = np.empty(M, dtype=np.complex128)
+    c[H] = a[0]
+    for k in range(1, H + 1):
+        z = 0.5 * (a[k] - 1j * a[H + k])
+        c[H + k] = z
+        c[H - k] = z.conjugate()
+    Lc = (C.shape[0] - 1) // 2
+    dRc = np.empty(M, dtype=np.complex128)
+    for r in range(M):
+        k = r - H
+        acc = 0.0 + 0.0j
+        for l in range(M):
+            d = r - l
+            if -Lc <= d <= Lc:
+                acc += C[d + Lc] * (1j * (l - H) * c[l])
+        f = Fh[r] if r != H else 0.0
+        dRc[r] = (-2.0 * nu * k**2 * c[r] + acc) / n - 2.0 / omega * f
+    R = np.empty(M)
+    R[0] = dRc[H].real
+    for k in range(1, H + 1):
+        pos, neg = dRc[H + k], dRc[H - k]
+        R[k] = (pos + neg).real
+        R[H + k] = (1j * (pos - neg)).real
+    return R
