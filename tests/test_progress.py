@@ -151,14 +151,22 @@ def test_continuation_with_switching_adds_the_switched_branches():
         assert calls[-1][1] > span
 
 
-def test_lyapunov_reports_periods():
+@pytest.mark.parametrize("accurate", [False, True])
+@pytest.mark.parametrize("omega", [1.2, 0.8])  # chaotic, periodic
+def test_lyapunov_reports_periods(accurate, omega):
+    """With a progress report the run goes in blocks of periods, each continuing the state and the
+    orthonormal tangent basis of the previous one: the numbers are those of one run, bit for bit."""
     calls, cb = _calls()
-    opts = IntegrationOptions(transient=50, periods=200)
-    res = lyapunov_spectrum(GearModel(), opts, progress=cb)
-    assert calls == [(0, 250), (250, 250)]
-    plain = lyapunov_spectrum(GearModel(), opts)
+    opts = IntegrationOptions(transient=50, periods=237, accurate=accurate)
+    res = lyapunov_spectrum(GearModel(omega=omega), opts, progress=cb)
+    done = [d for d, _ in calls]
+    assert calls[0] == (0, 287) and calls[-1] == (287, 287) and all(t == 287 for _, t in calls)
+    assert len(calls) > 10 and done == sorted(done) and len(set(done)) == len(done)
+    plain = lyapunov_spectrum(GearModel(omega=omega), opts)
     np.testing.assert_array_equal(res.exponents, plain.exponents)
+    np.testing.assert_array_equal(res.uncertainty, plain.uncertainty)
     np.testing.assert_array_equal(res.log, plain.log)
+    assert res.motion == plain.motion
 
 
 def test_task_progress_draws_on_stderr_and_is_silent_when_disabled(monkeypatch, capsys):

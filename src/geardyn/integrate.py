@@ -287,7 +287,7 @@ def _prepare(models: Sequence[GearModel], options: IntegrationOptions,
 
 
 def _run(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
-         record_poincare=True, hist_len=0, lyapunov=False, threads=None, adaptive=False):
+         record_poincare=True, hist_len=0, lyapunov=False, threads=None, adaptive=False, tangent0=None):
     P = coef.shape[0]
     d = STATE_DIM  # the kernel's buffers: it integrates the 1-DOF mesh, state (u, u')
     poincare = np.zeros((P, n_record if record_poincare else 0, d))
@@ -295,6 +295,8 @@ def _run(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurat
     stats = np.zeros((P, K.NSTAT))
     tan_log = np.zeros((P, n_record if lyapunov else 0, d))
     tan_out = np.zeros((P, d, d))
+    if tangent0 is not None:  # K.TAN_CONTINUE: the kernel starts the tangent basis from these
+        tan_out[:] = tangent0
     status = np.zeros(P, dtype=np.int64)
     hist = np.zeros((P, hist_len, d))
     # one point runs on one worker whatever the setting: leave numba's state alone then
@@ -320,6 +322,7 @@ def integrate_batch(
     record_poincare: bool = True,
     steps: int | Sequence[int] | np.ndarray | None = None,
     threads: int | None = None,
+    tangent0: np.ndarray | None = None,
 ) -> BatchResult:
     """Integrate P parameter points through ``options.transient + options.periods`` periods.
 
@@ -342,6 +345,10 @@ def integrate_batch(
     threads : int, optional
         Threads the kernel may use for this batch (default: numba's current setting, which is
         left as it was).
+    tangent0 : (P, 2, 2) array, optional
+        With ``lyapunov``: the tangent basis to start the recorded periods from (the ``tangent`` a
+        previous run ended with), instead of the identity, so that a run continued in blocks of
+        periods gives the same numbers as one run.
 
     Returns
     -------
@@ -357,9 +364,14 @@ def integrate_batch(
     models, coef, D, omega, nsteps = _prepare(models, options, steps)
     s0 = _state_array(state0, len(models), state_dim(models[0]))
     tangent = K.TAN_LYAPUNOV if lyapunov else K.TAN_NONE
+    if tangent0 is not None:
+        if not lyapunov:
+            raise ModelError("tangent0: a starting tangent basis needs lyapunov=True")
+        tangent0 = np.asarray(tangent0, dtype=float).reshape(len(models), 2, 2)
+        tangent = K.TAN_CONTINUE
     pc, end, stats, tl, tout, status, _ = _run(coef, D, omega, nsteps, s0, options.transient, options.periods,
                                                tangent, options.accurate, record_poincare, 0, lyapunov,
-                                               threads, options.adaptive)
+                                               threads, options.adaptive, tangent0)
     return BatchResult(models, options, pc, end, status, stats, nsteps,
                        lyapunov_log=tl if lyapunov else None, tangent=tout if lyapunov else None)
 

@@ -87,7 +87,7 @@ import numpy as np
 from .accurate import CROSSING_TOL, HERMITE_SAMPLES, MAX_SPLITS, NEWTON_ITERS, _accurate_worker
 from .core import (
     DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX,
-    S_VMIN, ST_DIVERGED, ST_OK, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE,
+    S_VMIN, ST_DIVERGED, ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE,
 )
 from .lanes import (
     ALIGN_BYTES, GROUP, KIND_COS, KIND_GEN, KIND_SIN, LANES, MODE_PLAIN, MODE_STATS, MODE_TAN,
@@ -98,7 +98,7 @@ from .scalar import _scalar_worker
 __all__ = [
     "run_batch", "n_threads",
     "S_UMIN", "S_UMAX", "S_USUM", "S_USQ", "S_VMIN", "S_VMAX", "S_NDRIVE", "S_NSEP", "S_NBACK", "S_N",
-    "NSTAT", "TAN_NONE", "TAN_LYAPUNOV", "TAN_MONODROMY", "ST_OK", "ST_DIVERGED", "DIVERGENCE_BOUND",
+    "NSTAT", "TAN_NONE", "TAN_LYAPUNOV", "TAN_MONODROMY", "TAN_CONTINUE", "ST_OK", "ST_DIVERGED", "DIVERGENCE_BOUND",
     "MAX_SPLITS", "HERMITE_SAMPLES", "NEWTON_ITERS", "CROSSING_TOL",
     "GROUP", "LANES", "LANE_MIN_POINTS", "THREAD_MIN_STEPS", "ALIGN_BYTES",
     "KIND_COS", "KIND_SIN", "KIND_GEN", "MODE_PLAIN", "MODE_STATS", "MODE_TAN",
@@ -223,7 +223,7 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     nw = min(n_threads(), P) if total >= THREAD_MIN_STEPS else 1
     order = _queue_order(nsteps)
     counter = np.zeros(1, dtype=np.int64)
-    lanes = not scalar_only and P >= LANE_MIN_POINTS * nw
+    lanes = not scalar_only and tangent != TAN_CONTINUE and P >= LANE_MIN_POINTS * nw
     token = _KIND_TOKENS[_lanes_kind(coef, order)] if lanes else None
 
     def work():

@@ -17,7 +17,7 @@ from numba import njit
 
 from .core import (
     DIVERGENCE_BOUND, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX, S_VMIN,
-    ST_OK, TAN_LYAPUNOV, TAN_NONE, _diverged, _fetch_add, _gs,
+    ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_NONE, _diverged, _fetch_add, _gs,
 )
 
 
@@ -237,6 +237,9 @@ def _point_accurate(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
     T = 2.0 * math.pi / omega
     h = T / N
     Y = np.eye(2)
+    if tangent == TAN_CONTINUE:  # the orthonormal basis a previous block ended with
+        Y[:, :] = tan_out[p]
+        tangent = TAN_LYAPUNOV
     n_hist = hist.shape[1]
     hist_periods = (n_hist - 1) // N if n_hist > 0 else 0
     hist_first = n_transient + n_record - hist_periods

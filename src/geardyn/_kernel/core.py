@@ -23,8 +23,9 @@ from numba.extending import intrinsic
 S_UMIN, S_UMAX, S_USUM, S_USQ, S_VMIN, S_VMAX, S_NDRIVE, S_NSEP, S_NBACK, S_N = range(10)
 NSTAT = 10
 
-#: Tangent modes.
-TAN_NONE, TAN_LYAPUNOV, TAN_MONODROMY = 0, 1, 2
+#: Tangent modes.  ``TAN_CONTINUE`` is ``TAN_LYAPUNOV`` starting from the basis given in ``tan_out`` (a run
+#: continued in blocks of periods; one point at a time).
+TAN_NONE, TAN_LYAPUNOV, TAN_MONODROMY, TAN_CONTINUE = 0, 1, 2, 3
 
 #: Status codes per point.
 ST_OK, ST_DIVERGED = 0, 1

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from .core import (
-    DIVERGENCE_BOUND, NSNAP, ST_OK, TAN_LYAPUNOV, TAN_NONE,
+    DIVERGENCE_BOUND, NSNAP, ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_NONE,
     _adapt_check, _adapt_finish, _adapt_reset, _adapt_snapshot, _coef_seq, _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot_small,
     _series1, _slope, _thresholds, _write_stats,
 )
@@ -53,6 +53,12 @@ def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
     y10 = 0.0
     y01 = 0.0
     y11 = 1.0
+    if tangent == TAN_CONTINUE:  # the orthonormal basis a previous block ended with
+        y00 = tan_out[p, 0, 0]
+        y10 = tan_out[p, 1, 0]
+        y01 = tan_out[p, 0, 1]
+        y11 = tan_out[p, 1, 1]
+        tangent = TAN_LYAPUNOV
     umin = np.inf
     umax = -np.inf
     vmin = np.inf

@@ -28,7 +28,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import xarray as xr
 
-from ..integrate import ST_OK, integrate_batch
+from ..integrate import ST_OK, BatchResult, integrate_batch
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 
@@ -166,6 +166,46 @@ def lyapunov_batch(
     return {"exponents": lam, "uncertainty": err, "status": res.status.copy(), "result": res}
 
 
+#: Blocks of periods a Lyapunov run with a progress report is split into (each continues the state and
+#: the orthonormal tangent basis of the previous one exactly, so the numbers are those of one run).
+PROGRESS_BLOCKS = 50
+
+
+def _in_blocks(model: GearModel, state0: Sequence[float], options: IntegrationOptions, blocks: int,
+               progress: Callable[[int, int], None]) -> dict[str, Any]:
+    """:func:`lyapunov_batch` of one point, run in :data:`PROGRESS_BLOCKS` blocks of periods with ``progress``."""
+    total = int(options.transient) + int(options.periods)
+    size = max(1, -(-int(options.periods) // PROGRESS_BLOCKS))
+    progress(0, total)
+    parts: list[BatchResult] = []
+    state, basis, done = state0, None, 0
+    while done < options.periods:
+        n = min(size, options.periods - done)
+        opts = options.replace(transient=options.transient if not parts else 0, periods=n)
+        part = integrate_batch([model], state, opts, lyapunov=True, tangent0=basis)
+        parts.append(part)
+        done += n
+        progress(int(options.transient) + done, total)
+        if part.status[0] != ST_OK:
+            break
+        state, basis = part.end_state[0], part.tangent
+    first, last = parts[0], parts[-1]
+    log = np.concatenate([p.lyapunov_log for p in parts], axis=1)
+    pc = np.concatenate([p.poincare for p in parts], axis=1)
+    if log.shape[1] < options.periods:  # diverged: the rest of the run is not defined
+        fill = ((0, 0), (0, options.periods - log.shape[1]), (0, 0))
+        log = np.pad(log, fill)
+        pc = np.pad(pc, fill, constant_values=np.nan)
+    res = BatchResult(first.models, options, pc, last.end_state, last.status, last.stats, first.nsteps,
+                      lyapunov_log=log, tangent=last.tangent)
+    T = np.array([m.period for m in res.models])
+    lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=blocks)
+    bad = res.status != ST_OK
+    lam[bad] = np.nan
+    err[bad] = np.nan
+    return {"exponents": lam, "uncertainty": err, "status": res.status.copy(), "result": res}
+
+
 @dataclass
 class LyapunovResult:
     """Lyapunov spectrum of one point (non-dimensional rates per unit τ); see :func:`lyapunov_spectrum`.
@@ -276,10 +316,9 @@ def lyapunov_spectrum(
         passes: give a long enough transient).
     progress : callable, optional
         Called as ``progress(done, total)`` in forcing periods, ``total`` = transient + recorded
-        periods: with ``done`` 0 before the run and ``done`` = ``total`` after it.  The kernel runs
-        all periods in one call and starts the tangent basis from the identity at each call, so the
-        run is not split into blocks (that would change the exponents); a display shows a
-        spinner with the elapsed time meanwhile (:func:`geardyn.sweep.progress.task_progress`).
+        periods.  With it the run goes in :data:`PROGRESS_BLOCKS` blocks of periods, each continuing
+        the state and the orthonormal tangent basis the previous block ended with
+        (``integrate_batch(..., tangent0=...)``), so the results are those of one run, bit for bit.
 
     Returns
     -------
@@ -292,12 +331,10 @@ def lyapunov_spectrum(
     Benettin et al. (1980), as for :func:`lyapunov_batch`: tangent vectors re-orthonormalised by
     Gram–Schmidt once per forcing period.
     """
-    total = int(options.transient) + int(options.periods)
-    if progress is not None:
-        progress(0, total)
-    out = lyapunov_batch([model], state0, options, blocks=blocks)
-    if progress is not None:
-        progress(total, total)
+    if progress is None:
+        out = lyapunov_batch([model], state0, options, blocks=blocks)
+    else:
+        out = _in_blocks(model, state0, options, blocks, progress)
     res = out["result"]
     motion: dict[str, Any] = {}
     if classify:

@@ -70,7 +70,7 @@ def lyapunov(
     nb = validate.integer("blocks", blocks, 2, max(2, opts.periods))
     from ..sweep.progress import task_progress
 
-    with task_progress("lyapunov", unit="periods", fmt=".0f", indeterminate=True, enabled=not inp.json_out) as bar:
+    with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
         res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar)
     paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []
     finish(physical_json(res.to_json(), model, scales), paths, inp, render.lyapunov)
