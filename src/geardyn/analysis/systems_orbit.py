@@ -28,7 +28,7 @@ from ..model import DEFAULT_DTAU, IntegrationOptions
 from ..status import Status
 from .periodic.floquet import Floquet, floquet
 from .periodic.map import MAP_THREADS, PeriodMap
-from .periodic.orbit import _hermite_extrema, GUESS_RECORD_PER_PERIOD, GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL
+from .periodic.orbit import _hermite_extrema, _newton as _periodic_newton, GUESS_RECORD_PER_PERIOD, GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL
 from .systems_steady import IMPACT_LABELS, mesh_forces, rigid_modes, static_mesh_forces, system_state0
 
 __all__ = ["SystemOrbit", "shoot_system", "require_periodic", "elastic_multipliers"]
@@ -210,31 +210,14 @@ class SystemOrbit:
         }
 
 
+def _least_squares_step(A: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """The Newton step in least squares: a free rigid-body mode makes monodromy − I singular."""
+    return np.linalg.lstsq(A, -G, rcond=1e-10)[0]
+
+
 def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int):
-    ev = pmap.evaluate(x0)
-    if not ev.ok:
-        return ev, False, 0, [math.inf], Status.DIVERGED
-    eye = np.eye(ev.x.size)
-    res = [float(np.linalg.norm(ev.residual))]
-    for it in range(max_iter + 1):
-        r = res[-1]
-        if r <= tol * (1.0 + float(np.linalg.norm(ev.x))):
-            return ev, True, it, res, Status.OK
-        if it == max_iter:
-            break
-        dx = np.linalg.lstsq(ev.monodromy - eye, -ev.residual, rcond=1e-10)[0]
-        lam, new = 1.0, None
-        while lam >= 2.0**-16:
-            trial = pmap.evaluate(ev.x + lam * dx)
-            if trial.ok and float(np.linalg.norm(trial.residual)) < (1.0 - 1e-4 * lam) * r:
-                new = trial
-                break
-            lam *= 0.5
-        if new is None:
-            return ev, False, it + 1, res, Status.NOT_CONVERGED
-        ev = new
-        res.append(float(np.linalg.norm(ev.residual)))
-    return ev, False, max_iter, res, Status.NOT_CONVERGED
+    """The damped Newton of :mod:`geardyn.analysis.periodic.orbit` with least-squares steps."""
+    return _periodic_newton(pmap, x0, tol, max_iter, step=_least_squares_step)
 
 
 def _orbit_meshes(model: Any, pmap: PeriodMap, x: np.ndarray) -> list[dict[str, Any]]:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import xarray as xr
@@ -356,10 +356,20 @@ def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] 
     return pts[len(d) - 1 - k].copy()
 
 
-def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int
+def newton_step(A: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """The Newton step dx of A dx = −G (least squares where A is singular)."""
+    try:
+        return np.linalg.solve(A, -G)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(A, -G, rcond=None)[0]
+
+
+def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int,
+            step: Callable[[np.ndarray, np.ndarray], np.ndarray] = newton_step,
             ) -> tuple[MapEvaluation, bool, int, list[float], Status]:
     """Damped Newton on P^n(x) − x = 0 for one map (fixed parameters and steps per period).
 
+    ``step(A, G)`` solves A dx = −G for the step (A = monodromy − I, G the residual).
     Returns (last evaluation, converged, iterations, residuals, status)."""
     ev = pmap.evaluate(x0)
     if not ev.ok:
@@ -372,12 +382,7 @@ def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int
             return ev, True, it, res, Status.OK
         if it == max_iter:
             break
-        A = ev.monodromy - eye
-        G = ev.residual
-        try:
-            dx = np.linalg.solve(A, -G)
-        except np.linalg.LinAlgError:
-            dx = np.linalg.lstsq(A, -G, rcond=None)[0]
+        dx = step(ev.monodromy - eye, ev.residual)
         lam = 1.0
         new = None
         while lam >= NEWTON_MIN_DAMPING:
