@@ -22,6 +22,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .._docfill import POINT, SYSTEM, fill
 from ..errors import ModelError
 from ..integrate_ndof import forcing_period, integrate_batch
 from ..model import DEFAULT_DTAU, IntegrationOptions
@@ -34,13 +35,13 @@ from .systems_steady import IMPACT_LABELS, mesh_forces, rigid_modes, static_mesh
 __all__ = ["SystemOrbit", "shoot_system", "require_periodic", "elastic_multipliers"]
 
 
+@fill(SYSTEM)
 def require_periodic(model: Any, what: str = "the periodic tools") -> int:
     """The forcing-period multiple p of a system, refusing incommensurate mesh frequencies.
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
     what : str
         The tools named in the error message.
 
@@ -62,6 +63,7 @@ def require_periodic(model: Any, what: str = "the periodic tools") -> int:
     return p
 
 
+@fill(SYSTEM)
 def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, int]:
     """Eigenvalues of the monodromy on the quotient by the rigid-body subspace, and the rigid-mode count r.
 
@@ -71,8 +73,7 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
     monodromy : ndarray (2n, 2n)
         Monodromy matrix of a periodic orbit.
 
@@ -97,13 +98,13 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
 
 
 @dataclass
+@fill(POINT)
 class SystemOrbit:
     """A period-n orbit of a system (non-dimensional); see :func:`shoot_system`.
 
     Attributes
     ----------
-    model : SystemModel
-        The system point.
+    {{model}}
     n : int
         Forcing periods of the orbit.
     state : ndarray (2n,)

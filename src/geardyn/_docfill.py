@@ -1,0 +1,116 @@
+"""Shared docstring entries: a parameter documented the same way in many places is written once.
+
+An entry is numpydoc text as it stands in a ``Parameters``, ``Attributes`` or ``Returns`` section:
+``name : type``, then its description indented by four spaces.  A docstring names shared entries by
+a line holding only ``{{name}}`` (or ``{{name, other}}`` for several in a row); the decorator
+:func:`fill` replaces that line by the entries, indented like the line, when the function or class
+is defined, so ``help()``, :func:`inspect.getdoc` and the documentation tests read the finished
+docstring.  A placeholder with no entry, or an entry given to :func:`fill` and not used, is an
+error at import, never a silent gap.  Where the shared entries are all of a function's parameters,
+:func:`parameters` appends the whole ``Parameters`` section instead.
+
+The entries used across modules are the constants below; a module keeps its own as constants next to
+the functions that share them.
+"""
+
+from __future__ import annotations
+
+import inspect
+import re
+from typing import Callable, TypeVar
+
+__all__ = ["fill", "parameters", "MODEL", "SYSTEM", "POINT", "OPTIONS", "SUMMARY", "PATHS"]
+
+T = TypeVar("T")
+
+_PLACEHOLDER = re.compile(r"^(?P<indent>[ \t]*)\{\{(?P<names>\w+(?:, *\w+)*)\}\}[ \t]*$", re.M)
+
+#: ``model`` of a function that takes either kind of model.
+MODEL = """model : SystemModel or GearModel
+    The model."""
+#: ``model`` of a function of a multi-DOF system.
+SYSTEM = """model : SystemModel
+    The system."""
+#: ``model`` of the result of one system point.
+POINT = """model : SystemModel
+    The system point."""
+#: ``options`` of a result: the integration options it was computed with.
+OPTIONS = """options : IntegrationOptions
+    The integration options used."""
+#: ``s`` of a function printing or writing a command's summary.
+SUMMARY = """s : dict
+    The command's JSON summary."""
+#: ``paths`` of a function that lists the files a command wrote.
+PATHS = """paths : list of str
+    The files written (listed after the table)."""
+
+
+def fill(*entries: str) -> Callable[[T], T]:
+    """Decorator: replace every ``{{name}}`` line of the docstring by the entry of parameter ``name``.
+
+    Parameters
+    ----------
+    *entries : str
+        The entries, each numpydoc text without indentation: its first line ``name : type``, the
+        following lines indented by four spaces.
+
+    Returns
+    -------
+    callable
+        The decorator; it returns the function or class it decorates with its docstring filled in.
+
+    Raises
+    ------
+    KeyError
+        If the docstring names a parameter that no entry documents.
+    ValueError
+        If an entry is not used by the docstring.
+    """
+    by_name = {entry.split(" : ", 1)[0].strip(): entry for entry in entries}
+
+    def deco(obj: T) -> T:
+        used: set[str] = set()
+
+        def expand(match: re.Match) -> str:
+            names = [n.strip() for n in match["names"].split(",")]
+            used.update(names)
+            text = "\n".join(by_name[n] for n in names)
+            return "\n".join(match["indent"] + line if line else line for line in text.splitlines())
+
+        obj.__doc__ = _PLACEHOLDER.sub(expand, obj.__doc__ or "")
+        unused = set(by_name) - used
+        if unused:
+            raise ValueError(f"{obj.__qualname__}: entries not used by the docstring: {sorted(unused)}")
+        return obj
+
+    return deco
+
+
+def parameters(*entries: str) -> Callable[[T], T]:
+    """Decorator: append a ``Parameters`` section made of ``entries`` to a docstring that has none.
+
+    Parameters
+    ----------
+    *entries : str
+        The entries in the order of the signature, each as for :func:`fill`.
+
+    Returns
+    -------
+    callable
+        The decorator; it returns the function it decorates with the section appended.
+
+    Raises
+    ------
+    ValueError
+        If the docstring already has a ``Parameters`` section.
+    """
+    section = "\n".join(("Parameters", "----------") + entries)
+
+    def deco(obj: T) -> T:
+        doc = inspect.cleandoc(obj.__doc__ or "")
+        if re.search(r"^Parameters\n-{3,}$", doc, re.M):
+            raise ValueError(f"{obj.__qualname__}: the docstring has its own Parameters section")
+        obj.__doc__ = f"{doc}\n\n{section}\n"
+        return obj
+
+    return deco

@@ -1,0 +1,49 @@
+"""The shared docstring entries of geardyn._docfill."""
+
+from __future__ import annotations
+
+import inspect
+
+import pytest
+
+from geardyn._docfill import fill, parameters
+
+X = "x : float\n    The abscissa."
+Y = "y : float\n    The ordinate."
+
+
+def test_fill_replaces_a_placeholder_line_with_the_entries_indented_like_it():
+    @fill(X, Y)
+    def f(x, y, z):
+        """Do.
+
+        Parameters
+        ----------
+        {{x, y}}
+        z : int
+            Other.
+        """
+
+    assert inspect.getdoc(f) == ("Do.\n\nParameters\n----------\nx : float\n    The abscissa.\n"
+                                 "y : float\n    The ordinate.\nz : int\n    Other.")
+
+
+def test_fill_refuses_a_placeholder_without_entry_and_an_unused_entry():
+    with pytest.raises(KeyError):
+        @fill()
+        def f():
+            """{{missing}}"""
+    with pytest.raises(ValueError, match="not used"):
+        @fill(X, Y)
+        def g():
+            """{{x}}"""
+
+
+def test_parameters_appends_the_section_and_refuses_a_second_one():
+    @parameters("a : int\n    One.", "b : int\n    Two.")
+    def g(a, b):
+        """Sum."""
+
+    assert inspect.getdoc(g) == "Sum.\n\nParameters\n----------\na : int\n    One.\nb : int\n    Two."
+    with pytest.raises(ValueError):
+        parameters("a : int")(g)
