@@ -47,3 +47,16 @@ def test_parameters_appends_the_section_and_refuses_a_second_one():
     assert inspect.getdoc(g) == "Sum.\n\nParameters\n----------\na : int\n    One.\nb : int\n    Two."
     with pytest.raises(ValueError):
         parameters("a : int")(g)
+
+
+def test_parameters_goes_before_the_first_section():
+    @parameters("a : int\n    One.")
+    def h(a):
+        """Twice.
+
+        Returns
+        -------
+        int
+        """
+
+    assert inspect.getdoc(h) == "Twice.\n\nParameters\n----------\na : int\n    One.\n\nReturns\n-------\nint"

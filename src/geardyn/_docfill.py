@@ -19,9 +19,11 @@ import inspect
 import re
 from typing import Callable, TypeVar
 
-__all__ = ["fill", "parameters", "MODEL", "SYSTEM", "POINT", "OPTIONS", "SUMMARY", "PATHS"]
+__all__ = ["fill", "parameters", "result_of", "MODEL", "SYSTEM", "POINT", "OPTIONS", "SUMMARY", "PATHS"]
 
 T = TypeVar("T")
+
+_SECTION = re.compile(r"^(Returns|Yields|Raises|Warns|Attributes|See Also|Notes|References|Examples)\n-{3,}$", re.M)
 
 _PLACEHOLDER = re.compile(r"^(?P<indent>[ \t]*)\{\{(?P<names>\w+(?:, *\w+)*)\}\}[ \t]*$", re.M)
 
@@ -87,7 +89,10 @@ def fill(*entries: str) -> Callable[[T], T]:
 
 
 def parameters(*entries: str) -> Callable[[T], T]:
-    """Decorator: append a ``Parameters`` section made of ``entries`` to a docstring that has none.
+    """Decorator: give a docstring that has none a ``Parameters`` section made of ``entries``.
+
+    The section goes before the docstring's first section (``Returns``, ``Raises``, …), or at its
+    end if it has none.
 
     Parameters
     ----------
@@ -97,7 +102,7 @@ def parameters(*entries: str) -> Callable[[T], T]:
     Returns
     -------
     callable
-        The decorator; it returns the function it decorates with the section appended.
+        The decorator; it returns the function it decorates with the section added.
 
     Raises
     ------
@@ -110,7 +115,26 @@ def parameters(*entries: str) -> Callable[[T], T]:
         doc = inspect.cleandoc(obj.__doc__ or "")
         if re.search(r"^Parameters\n-{3,}$", doc, re.M):
             raise ValueError(f"{obj.__qualname__}: the docstring has its own Parameters section")
-        obj.__doc__ = f"{doc}\n\n{section}\n"
+        first = _SECTION.search(doc)
+        at = first.start() if first else len(doc)
+        head, tail = doc[:at].rstrip(), doc[at:]
+        obj.__doc__ = f"{head}\n\n{section}\n" + (f"\n{tail}\n" if tail else "")
         return obj
 
     return deco
+
+
+def result_of(producer: str) -> str:
+    """The entry of a ``ds`` parameter holding the Dataset that the function ``producer`` returns.
+
+    Parameters
+    ----------
+    producer : str
+        The function's name, as the reference ``:func:`producer``` renders it.
+
+    Returns
+    -------
+    str
+        ``ds : xarray.Dataset``, described as ``A :func:`producer` result.``
+    """
+    return f"ds : xarray.Dataset\n    A :func:`{producer}` result."

@@ -28,9 +28,11 @@ from typing import Any, Sequence
 import numpy as np
 import xarray as xr
 
+from .._docfill import parameters, result_of
 from ..io import KIND_VARIABLES, Variable
 from ..integrate_ndof import element_series, initial_state, integrate_batch
 from ..model import IntegrationOptions
+from .bifurcation import sweep_summary
 from .classify import IMPACT_LABELS, MOTION_DIVERGED, MOTION_PERIODIC, MOTION_UNRESOLVED, detect_period, \
     impact_state, period_label
 
@@ -338,28 +340,20 @@ def _labels(ds: xr.Dataset, d: str) -> dict[str, list[Any]]:
             "status": ["ok" if s == 0 else "diverged" for s in ds["status"].sel(sweep=d).values]}
 
 
+@parameters(result_of("system_sweep"))
 def sweep_json(ds: xr.Dataset) -> dict[str, Any]:
     """The JSON summary of a system sweep: ``param``, ``values``, per point (per direction for two)
     ``period``, ``motion``, ``impact``, ``amplitude``, ``u_min``, ``u_max``, ``status`` of the
     reference mesh, ``meshes`` (per mesh ``name``, ``u_min``, ``u_max``, ``amplitude``, ``impact``,
     ``dynamic_factor`` None: the sweeps keep no histories) and ``poincare_u``.
 
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A :func:`system_sweep` result.
-
     Returns
     -------
     dict
     """
     num = lambda a: [float(x) if np.isfinite(x) else None for x in np.asarray(a, float)]  # noqa: E731
-    param = ds.attrs["param"]
+    out, pick = sweep_summary(ds, num)
     dirs = [str(s) for s in ds["sweep"].values]
-    one = len(dirs) == 1
-    pick = lambda f: f(dirs[0]) if one else {d: f(d) for d in dirs}  # noqa: E731
-    out: dict[str, Any] = {"param": param, "values": num(ds[param].values), "mode": ds.attrs.get("mode"),
-                           "sweep": dirs[0] if one else dirs}
     lab = {d: _labels(ds, d) for d in dirs}
     for k in ("period", "motion", "impact", "status"):
         out[k] = pick(lambda d: lab[d][k])
