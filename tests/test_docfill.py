@@ -60,3 +60,35 @@ def test_parameters_goes_before_the_first_section():
         """
 
     assert inspect.getdoc(h) == "Twice.\n\nParameters\n----------\na : int\n    One.\n\nReturns\n-------\nint"
+
+
+def test_attributes_documents_the_fields_from_their_comments():
+    from dataclasses import dataclass
+
+    from geardyn._docfill import attributes
+
+    @dataclass(frozen=True)
+    @attributes
+    class C:
+        """A point.
+
+        Notes
+        -----
+        None.
+        """
+
+        #: The name.
+        name: str
+        #: The coordinates (m),
+        #: east then north.
+        x: float
+        y: float
+
+        z: int = 0  # not documented
+
+        def f(self) -> None:
+            w: int = 1  # noqa: F841
+
+    assert inspect.getdoc(C) == ("A point.\n\nAttributes\n----------\nname : str\n    The name.\n"
+                                 "x, y : float\n    The coordinates (m),\n    east then north.\n\n"
+                                 "Notes\n-----\nNone.")

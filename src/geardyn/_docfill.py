@@ -19,7 +19,7 @@ import inspect
 import re
 from typing import Callable, TypeVar
 
-__all__ = ["fill", "parameters", "result_of", "MODEL", "SYSTEM", "POINT", "OPTIONS", "SUMMARY", "PATHS"]
+__all__ = ["attributes", "fill", "parameters", "result_of", "MODEL", "SYSTEM", "POINT", "OPTIONS", "SUMMARY", "PATHS"]
 
 T = TypeVar("T")
 
@@ -88,6 +88,19 @@ def fill(*entries: str) -> Callable[[T], T]:
     return deco
 
 
+def _add_section(obj: T, title: str, entries: tuple[str, ...] | list[str]) -> T:
+    """Give ``obj``'s docstring the section ``title`` before its first section (or at its end)."""
+    doc = inspect.cleandoc(obj.__doc__ or "")
+    if re.search(rf"^{title}\n-{{3,}}$", doc, re.M):
+        raise ValueError(f"{obj.__qualname__}: the docstring has its own {title} section")
+    section = "\n".join([title, "-" * len(title), *entries])
+    first = _SECTION.search(doc)
+    at = first.start() if first else len(doc)
+    head, tail = doc[:at].rstrip(), doc[at:]
+    obj.__doc__ = f"{head}\n\n{section}\n" + (f"\n{tail}\n" if tail else "")
+    return obj
+
+
 def parameters(*entries: str) -> Callable[[T], T]:
     """Decorator: give a docstring that has none a ``Parameters`` section made of ``entries``.
 
@@ -109,19 +122,67 @@ def parameters(*entries: str) -> Callable[[T], T]:
     ValueError
         If the docstring already has a ``Parameters`` section.
     """
-    section = "\n".join(("Parameters", "----------") + entries)
+    return lambda obj: _add_section(obj, "Parameters", entries)
 
-    def deco(obj: T) -> T:
-        doc = inspect.cleandoc(obj.__doc__ or "")
-        if re.search(r"^Parameters\n-{3,}$", doc, re.M):
-            raise ValueError(f"{obj.__qualname__}: the docstring has its own Parameters section")
-        first = _SECTION.search(doc)
-        at = first.start() if first else len(doc)
-        head, tail = doc[:at].rstrip(), doc[at:]
-        obj.__doc__ = f"{head}\n\n{section}\n" + (f"\n{tail}\n" if tail else "")
-        return obj
 
-    return deco
+_FIELD = re.compile(r"^(?P<name>[A-Za-z_]\w*)\s*:\s*(?P<type>[^=]+?)\s*(=.*)?$")
+
+
+def attributes(cls: T) -> T:
+    """Class decorator: the ``Attributes`` section of a data class from the ``#:`` comments of its fields.
+
+    A field is documented by the ``#:`` lines right above it; the fields that follow it with no
+    blank line, comment or other statement between share its entry (``a, b : type``).  The type of
+    an entry is the fields' annotation as written (their annotations in order where they differ).
+    Decorate the class before :func:`dataclasses.dataclass` sees it (``@attributes`` below
+    ``@dataclass``).
+
+    Parameters
+    ----------
+    cls : type
+        The class; its source must be readable (:func:`inspect.getsourcelines`).
+
+    Returns
+    -------
+    type
+        ``cls`` with the section added to its docstring.
+
+    Raises
+    ------
+    ValueError
+        If the docstring already has an ``Attributes`` section.
+    """
+    lines = inspect.getsourcelines(cls)[0]
+    start = next(i for i, line in enumerate(lines) if line.lstrip().startswith("class "))
+    body = [line.rstrip("\n") for line in lines[start + 1:]]
+    indent = min(len(line) - len(line.lstrip()) for line in body if line.strip())
+    entries: list[list] = []  # [names, type, comment lines]
+    comment: list[str] = []
+    grouping = False
+    for line in body:
+        if not line.strip():
+            grouping = False
+            continue
+        if len(line) - len(line.lstrip()) != indent:
+            continue  # inside the docstring or a method
+        text = line.strip()
+        if text.startswith("#:"):
+            comment.append(text[2:].strip())
+            continue
+        field = _FIELD.match(text)
+        if field and comment:
+            entries.append([[field["name"]], [field["type"]], comment])
+            comment, grouping = [], True
+        elif field and grouping:
+            entries[-1][0].append(field["name"])
+            entries[-1][1].append(field["type"])
+        elif text.startswith(("def ", "@", "async def ")):
+            break
+        else:
+            grouping = False
+    docs = [f"{', '.join(names)} : {kinds[0] if len(set(kinds)) == 1 else ', '.join(kinds)}\n"
+            + "\n".join("    " + c for c in text) for names, kinds, text in entries]
+    return _add_section(cls, "Attributes", docs)
 
 
 def result_of(producer: str) -> str:

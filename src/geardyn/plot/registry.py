@@ -19,6 +19,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 import xarray as xr
 
+from .._docfill import attributes
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
 from . import systems
@@ -34,24 +35,17 @@ def _always(ds: xr.Dataset) -> bool:
 
 
 @dataclass(frozen=True)
+@attributes
 class FigureSpec:
-    """One figure of a kind of result: what to call its file, how to draw it and when a result has it.
+    """One figure of a kind of result: what to call its file, how to draw it and when a result has it."""
 
-    Attributes
-    ----------
-    stem : str
-        File name without suffix: ``"time_history"`` gives ``time_history.png``.
-    draw : callable
-        ``draw(ds, ax=None, **kwargs) -> PlotArtists``.
-    when : callable
-        ``when(ds) -> bool``: whether the Dataset has this figure (default: always).
-    kwargs : mapping
-        Further keyword arguments of ``draw``.
-    """
-
+    #: File name without suffix: ``"time_history"`` gives ``time_history.png``.
     stem: str
+    #: ``draw(ds, ax=None, **kwargs) -> PlotArtists``.
     draw: Callable[..., Any]
+    #: ``when(ds) -> bool``: whether the Dataset has this figure (default: always).
     when: Callable[[xr.Dataset], bool] = _always
+    #: Further keyword arguments of ``draw``.
     kwargs: Mapping[str, Any] = field(default_factory=dict)
 
     def __call__(self, ds: xr.Dataset, ax: Any = None) -> Any:
