@@ -29,7 +29,7 @@ from ..model import DEFAULT_DTAU, IntegrationOptions
 from ..status import Status
 from .periodic.floquet import Floquet, floquet
 from .periodic.map import MAP_THREADS, PeriodMap
-from .periodic.orbit import _hermite_extrema, _newton as _periodic_newton, GUESS_RECORD_PER_PERIOD, GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL
+from .periodic.orbit import _ShotOrbit, _hermite_extrema, _newton as _periodic_newton, GUESS_RECORD_PER_PERIOD, GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL
 from .systems_steady import IMPACT_LABELS, mesh_forces, rigid_modes, static_mesh_forces, system_state0
 
 __all__ = ["SystemOrbit", "shoot_system", "require_periodic", "elastic_multipliers"]
@@ -99,7 +99,7 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
 
 @dataclass
 @fill(POINT)
-class SystemOrbit:
+class SystemOrbit(_ShotOrbit):
     """A period-n orbit of a system (non-dimensional); see :func:`shoot_system`.
 
     Attributes
@@ -137,15 +137,6 @@ class SystemOrbit:
     1989 (shooting).
     """
 
-    model: Any
-    n: int
-    state: np.ndarray
-    points: np.ndarray
-    monodromy: np.ndarray
-    converged: bool
-    status: Status
-    iterations: int
-    residuals: list[float]
     meshes: list[dict[str, Any]]
     dtau: float = DEFAULT_DTAU
     accurate: bool = False
@@ -160,11 +151,6 @@ class SystemOrbit:
     def elastic(self) -> tuple[np.ndarray, int]:
         """The elastic multipliers and the rigid-mode count (:func:`elastic_multipliers`)."""
         return elastic_multipliers(self.model, self.monodromy)
-
-    @property
-    def multipliers(self) -> np.ndarray:
-        """All 2n Floquet multipliers, rigid-body ones included."""
-        return self.floquet.multipliers
 
     @property
     def stable(self) -> bool:

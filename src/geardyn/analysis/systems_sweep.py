@@ -28,7 +28,7 @@ from typing import Any, Sequence
 import numpy as np
 import xarray as xr
 
-from .._docfill import parameters, result_of
+from .._docfill import SYSTEM, fill, parameters, result_of
 from ..io import KIND_VARIABLES, Variable
 from ..integrate_ndof import element_series, initial_state, integrate_batch
 from ..model import IntegrationOptions
@@ -95,17 +95,23 @@ def point_rows(models: list[Any], res: Any) -> dict[str, np.ndarray]:
             "mean": res.element_mean(), "rms": res.element_rms(), "fractions": res.element_fractions()}
 
 
+#: Docstring entries of the chunk functions.
+_CHUNK = (SYSTEM, "param : str\n    The swept parameter.",
+          "values : ndarray\n    Its values at the chunk's points.",
+          "options : IntegrationOptions\n    Integration settings of every point.")
+
+
+@fill(*_CHUNK)
 def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
                 options: IntegrationOptions) -> dict[str, np.ndarray]:
     """Chunk function: the points ``values`` of ``param``, each from ``state0`` (default per point).
 
     Parameters
     ----------
-    model : SystemModel
-    param : str
-    values : ndarray
+    {{model, param, values}}
     state0 : ndarray (2n,) or None
-    options : IntegrationOptions
+        Start of every point (default :func:`~geardyn.integrate_ndof.initial_state` of each).
+    {{options}}
 
     Returns
     -------
@@ -117,18 +123,17 @@ def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray |
     return point_rows(models, res)
 
 
+@fill(*_CHUNK)
 def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
                    options: IntegrationOptions) -> dict[str, np.ndarray]:
     """Chunk function: the points ``values`` in their order, each from the previous point's end state.
 
     Parameters
     ----------
-    model : SystemModel
-    param : str
-    values : ndarray
+    {{model, param, values}}
     state0 : ndarray (2n,) or None
         Start of the first point (default :func:`~geardyn.integrate_ndof.initial_state`).
-    options : IntegrationOptions
+    {{options}}
 
     Returns
     -------
