@@ -19,7 +19,7 @@ import inspect
 import re
 from typing import Callable, TypeVar
 
-__all__ = ["attributes", "fill", "parameters", "result_of", "MODEL", "SYSTEM", "POINT", "OPTIONS", "SUMMARY", "PATHS"]
+__all__ = ["attributes", "fill", "parameters", "result_of", "MODEL", "SYSTEM", "POINT", "OPTIONS", "RESULT", "SUMMARY", "PATHS"]
 
 T = TypeVar("T")
 
@@ -39,6 +39,9 @@ POINT = """model : SystemModel
 #: ``options`` of a result: the integration options it was computed with.
 OPTIONS = """options : IntegrationOptions
     The integration options used."""
+#: ``ds`` of a function of any geardyn result.
+RESULT = """ds : xarray.Dataset
+    A geardyn result."""
 #: ``s`` of a function printing or writing a command's summary.
 SUMMARY = """s : dict
     The command's JSON summary."""

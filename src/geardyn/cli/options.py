@@ -295,6 +295,7 @@ class Inputs:
         Returns
         -------
         GearModel
+            The configured model with the command's options over it.
 
         Raises
         ------

@@ -19,7 +19,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 import xarray as xr
 
-from .._docfill import attributes
+from .._docfill import RESULT, attributes, parameters
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
 from . import systems
@@ -133,13 +133,9 @@ def _kind(ds: Any) -> str:
     return str(kind)
 
 
+@parameters(RESULT)
 def figures_for(ds: xr.Dataset) -> list[FigureSpec]:
     """The figures a result has: those of its kind, then the physical ones, each where its condition holds.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A geardyn result.
 
     Returns
     -------
@@ -202,7 +198,7 @@ def save_figures(ds: xr.Dataset, directory: str | Path, *, fmt: str = "png", dpi
     Raises
     ------
     PlotError
-        If ``ds`` is not a geardyn result or its kind has no figures.
+        As :func:`figures_for`.
     """
     d = Path(directory)
     return [save(spec(ds), d / f"{spec.stem}.{fmt}", dpi=dpi) for spec in figures_for(ds)]
