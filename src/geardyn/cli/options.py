@@ -331,6 +331,8 @@ class Inputs:
         Returns
         -------
         IntegrationOptions
+            The options of the command line (``--dtau``, ``--transient``, ``--periods``, ``--accurate``,
+            ``--adaptive``).
 
         Raises
         ------
