@@ -27,7 +27,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _kernel_ndof as K
-from ._docfill import MODEL, OPTIONS, POINT, SYSTEM, fill
+from ._docfill import MODEL, OPTIONS, POINT, SYSTEM, fill, parameters
 from . import integrate as _one
 from .integrate import using_threads
 from .model import IntegrationOptions
@@ -38,33 +38,28 @@ __all__ = [
 ]
 
 
-@fill(MODEL)
+@parameters(MODEL)
 def is_system(model: Any) -> bool:
     """Whether ``model`` is a multi-DOF system (integrated by this module's kernel).
-
-    Parameters
-    ----------
-    {{model}}
 
     Returns
     -------
     bool
+        True for a :class:`~geardyn.systems.SystemModel`, False for a :class:`~geardyn.model.GearModel`.
     """
     from .systems.assemble import SystemModel
 
     return isinstance(model, SystemModel)
 
 
+@parameters(MODEL)
 def forcing_period(model: Any) -> float:
     """The sampling period T_f: p·2π/ω (commensurate meshes) or 2π/ω (incommensurate).
-
-    Parameters
-    ----------
-    model : SystemModel or GearModel
 
     Returns
     -------
     float
+        T_f in units of τ (the forcing period 2π/ω of a GearModel).
     """
     if not is_system(model):
         return float(model.period)
@@ -72,17 +67,14 @@ def forcing_period(model: Any) -> float:
     return (p or 1) * model.period
 
 
-@fill(MODEL)
+@parameters(MODEL)
 def state_dim(model: Any) -> int:
     """Length of the state the kernel integrates: 2n for a system, 2 for the 1-DOF model.
-
-    Parameters
-    ----------
-    {{model}}
 
     Returns
     -------
     int
+        The length of ``state0`` for this model.
     """
     return int(model.state_dim) if is_system(model) else _one.state_dim(model)
 

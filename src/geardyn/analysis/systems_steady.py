@@ -20,11 +20,10 @@ from typing import Any, Sequence
 import numpy as np
 
 from .._docfill import OPTIONS, POINT, SYSTEM, fill
-from ..integrate_ndof import (
-    SystemBatchResult, SystemTrajectory, initial_state, trajectory,
-)
+from ..integrate_ndof import SystemBatchResult, initial_state, trajectory
 from ..model import IntegrationOptions
 from .classify import IMPACT_LABELS, detect_period, impact_state, period_label
+from .steady import SteadyState
 
 __all__ = ["SystemSteadyState", "simulate_system", "static_mesh_forces", "mesh_forces", "rigid_modes"]
 
@@ -180,7 +179,7 @@ def system_state0(model: Any, state0: Sequence[float] | None) -> np.ndarray:
 
 @dataclass
 @fill(POINT, OPTIONS)
-class SystemSteadyState:
+class SystemSteadyState(SteadyState):
     """Steady response of one system point (non-dimensional); see :func:`simulate_system`.
 
     Attributes
@@ -193,17 +192,6 @@ class SystemSteadyState:
     summary : dict
         The keys of ``simulate --json`` (reference mesh) plus ``meshes``, ``clearances`` and ``labels``.
     """
-
-    model: Any
-    options: IntegrationOptions
-    state0: np.ndarray
-    traj: SystemTrajectory
-    summary: dict[str, Any]
-
-    @property
-    def poincare(self) -> np.ndarray:
-        """Poincaré points (periods, 2n) of the trajectory."""
-        return self.traj.poincare
 
     def to_json(self) -> dict[str, Any]:
         """Keys of ``simulate --json`` (reference mesh) plus ``meshes``, ``clearances``, ``labels``."""
