@@ -49,7 +49,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
@@ -75,6 +74,8 @@ from ._config_values import (
     _Key,
     _parse_value,
     parse_quantity,
+    parse_toml,
+    read_toml,
 )
 from .params import FAMILIES
 from .errors import ConfigError
@@ -92,8 +93,7 @@ from .geometry import (
 from .geometry.iso import ISO_KEYS, ISO_ONLY_KEYS, K0_METHODS, iso_k0, iso_summary, pair_iso_mesh
 from .model import GearModel, ModelError
 
-__all__ = ["LoadedConfig", "PAPER_CONFIG", "load_config", "packaged_config_path", "parse_quantity", "parse_toml",
-           "read_toml"]
+__all__ = ["LoadedConfig", "PAPER_CONFIG", "load_config", "packaged_config_path", "parse_quantity"]
 
 #: File name of the packaged configuration of the paper's Table 1 pair (used when no file is given).
 PAPER_CONFIG = "paper_table1.toml"
@@ -392,69 +392,6 @@ def load_config(path: str | Path | None = None) -> LoadedConfig:
     else:
         source, text = read_toml(path, "configuration file")
     return _load_text(text, source)
-
-
-def read_toml(path: str | Path, what: str) -> tuple[str, str]:
-    """The text of a TOML file, with the name its messages give it.
-
-    Parameters
-    ----------
-    path : str or Path
-        The file.
-    what : str
-        What the file is, for the messages (``"configuration file"``, ``"system file"``).
-
-    Returns
-    -------
-    source : str
-        ``str(path)``, the prefix of every message about the file.
-    text : str
-        Its contents.
-
-    Raises
-    ------
-    ConfigError
-        If the file is missing, a directory, or unreadable as UTF-8 text.
-    """
-    p = Path(path)
-    source = str(path)
-    if not p.is_file():
-        raise ConfigError(f"{source}: {what} not found" + (" (it is a directory)" if p.is_dir() else ""))
-    try:
-        return source, p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise ConfigError(f"{source}: cannot read {what} ({e})") from None
-
-
-def parse_toml(text: str, source: str) -> dict[str, Any]:
-    """Parse TOML text, a syntax error reported as a one-line :class:`ConfigError` with its line.
-
-    Parameters
-    ----------
-    text : str
-        The TOML text.
-    source : str
-        Where it comes from (the message prefix).
-
-    Returns
-    -------
-    dict
-        The parsed document.
-
-    Raises
-    ------
-    ConfigError
-        ``SOURCE: line N: TOML syntax error: … (column C)`` for a syntax error.
-    """
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        msg = str(e)
-        m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
-        if m:
-            msg = msg[: m.start()].strip()
-            raise ConfigError(f"{source}: line {m.group(1)}: TOML syntax error: {msg} (column {m.group(2)})") from None
-        raise ConfigError(f"{source}: TOML syntax error: {msg}") from None
 
 
 def _load_text(text: str, source: str) -> LoadedConfig:

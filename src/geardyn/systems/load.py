@@ -73,7 +73,7 @@ from typing import Any
 
 import numpy as np
 
-from ..config import parse_toml, read_toml
+from .._config_values import parse_toml, read_toml
 from ..errors import ConfigError, GeardynError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
 from .assemble import SystemModel, assemble
