@@ -143,7 +143,7 @@ def attributes(cls: T) -> T:
     Parameters
     ----------
     cls : type
-        The class; its source must be readable (:func:`inspect.getsourcelines`).
+        The class; without readable source (:func:`inspect.getsourcelines`) it is returned unchanged.
 
     Returns
     -------
@@ -155,7 +155,10 @@ def attributes(cls: T) -> T:
     ValueError
         If the docstring already has an ``Attributes`` section.
     """
-    lines = inspect.getsourcelines(cls)[0]
+    try:
+        lines = inspect.getsourcelines(cls)[0]
+    except (OSError, TypeError):  # no source (a frozen build): the class keeps the docstring it has
+        return cls
     start = next(i for i, line in enumerate(lines) if line.lstrip().startswith("class "))
     body = [line.rstrip("\n") for line in lines[start + 1:]]
     indent = min(len(line) - len(line.lstrip()) for line in body if line.strip())

@@ -403,7 +403,7 @@ def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
         (:func:`class_intervals`).
     """
     out, per_sweep = sweep_summary(ds, lambda x: [float(v) for v in x])
-    per = {lab: point_labels(ds, lab) for lab in ds["sweep"].values}
+    per = {str(lab): point_labels(ds, str(lab)) for lab in ds["sweep"].values}
     for key in ("period", "motion", "impact", "lle", "amplitude", "status"):
         out[key] = per_sweep(lambda lab: per[lab][key])
     out["intervals"] = per_sweep(lambda lab: class_intervals(ds, lab))
