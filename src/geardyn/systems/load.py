@@ -67,13 +67,12 @@ from __future__ import annotations
 
 import math
 import re
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._config_values import parse_toml, read_toml
+from .._config_values import _ANGLE_UNITS, _ureg, parse_toml, read_toml
 from ..errors import ConfigError, GeardynError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
 from .assemble import SystemModel, assemble
@@ -81,8 +80,6 @@ from .description import DOFS, Body, Clearance, Connection, Load, Mesh, SystemDe
 from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
 
 __all__ = ["load_description", "load_system"]
-
-_ANGLE_UNITS = frozenset({"degree", "radian", "arcminute", "arcsecond", "turn", "revolution", "gradian"})
 
 # kind: (target unit or None for a plain number, example)
 _K = {
@@ -132,15 +129,6 @@ _SECTIONS = {
 }
 _ARRAYS = ("body", "connection", "mesh", "load")
 _TOP_TEXT = ("title", "description")
-
-
-@lru_cache(maxsize=1)
-def _ureg():
-    import pint
-
-    ureg = pint.UnitRegistry()
-    ureg.define("rev = revolution")
-    return ureg
 
 
 class _Ctx:
