@@ -134,7 +134,7 @@ def using_threads(n: int | None) -> Iterator[None]:
     Raises
     ------
     ModelError
-        If ``n`` is not an integer >= 1.
+        As :func:`set_threads`.
     """
     if n is None:
         yield
