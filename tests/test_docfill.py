@@ -86,8 +86,9 @@ def test_attributes_documents_the_fields_from_their_comments():
 
         z: int = 0  # not documented
 
-        def f(self) -> None:
-            w: int = 1  # noqa: F841
+        def f(self) -> int:
+            w: int = 1  # a local, not a field
+            return w
 
     assert inspect.getdoc(C) == ("A point.\n\nAttributes\n----------\nname : str\n    The name.\n"
                                  "x, y : float\n    The coordinates (m),\n    east then north.\n\n"
