@@ -48,6 +48,30 @@ def _slope_curv(a, H, x):
 
 
 @njit(cache=True)
+def _to_complex(a, H):
+    """Complex coefficients c_k (k = −H … H) of the real coefficient vector ``a``."""
+    c = np.empty(2 * H + 1, dtype=np.complex128)
+    c[H] = a[0]
+    for k in range(1, H + 1):
+        z = 0.5 * (a[k] - 1j * a[H + k])
+        c[H + k] = z
+        c[H - k] = z.conjugate()
+    return c
+
+
+@njit(cache=True)
+def _to_real(z, H):
+    """Real coefficient vector of the complex coefficients ``z`` of a real signal (imaginary residue dropped)."""
+    out = np.empty(2 * H + 1)
+    out[0] = z[H].real
+    for k in range(1, H + 1):
+        pos, neg = z[H + k], z[H - k]
+        out[k] = (pos + neg).real
+        out[H + k] = (1j * (pos - neg)).real
+    return out
+
+
+@njit(cache=True)
 def _samples(a, H, cos_t, sin_t):
     N = cos_t.shape[0]
     u = np.empty(N)
@@ -96,12 +120,7 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
     N = cos_t.shape[0]
     L = (K.shape[0] - 1) // 2
     M = 2 * H + 1
-    c = np.empty(M, dtype=np.complex128)
-    c[H] = a[0]
-    for k in range(1, H + 1):
-        z = 0.5 * (a[k] - 1j * a[H + k])
-        c[H + k] = z
-        c[H - k] = z.conjugate()
+    c = _to_complex(a, H)
     u = _samples(a, H, cos_t, sin_t)
     state = np.empty(N, dtype=np.int64)
     for j in range(N):
@@ -242,12 +261,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
     """Real residual R (2H + 1) of the HB equations and, when ``jac``, its Jacobian (else a 0×0 array)."""
     M = 2 * H + 1
     G, S, _phis = dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol)
-    c = np.empty(M, dtype=np.complex128)
-    c[H] = a[0]
-    for k in range(1, H + 1):
-        z = 0.5 * (a[k] - 1j * a[H + k])
-        c[H + k] = z
-        c[H - k] = z.conjugate()
+    c = _to_complex(a, H)
     Lc = (C.shape[0] - 1) // 2
     TcOm = np.zeros((M, M), dtype=np.complex128)
     for r in range(M):
@@ -262,12 +276,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
         for l in range(M):
             acc += TcOm[r, l] * c[l]
         Rc[r] = -(nu * k) ** 2 * c[r] + nu * acc + G[r] - Fh[r]
-    R = np.empty(M)
-    R[0] = Rc[H].real
-    for k in range(1, H + 1):
-        pos, neg = Rc[H + k], Rc[H - k]
-        R[k] = (pos + neg).real
-        R[H + k] = (1j * (pos - neg)).real
+    R = _to_real(Rc, H)
     if not jac:
         return R, np.empty((0, 0))
     Jc = np.empty((M, M), dtype=np.complex128)
@@ -282,12 +291,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
 def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
     """∂R/∂ω at fixed coefficients (f_p does not depend on ω; the STE harmonics go as ω²)."""
     M = 2 * H + 1
-    c = np.empty(M, dtype=np.complex128)
-    c[H] = a[0]
-    for k in range(1, H + 1):
-        z = 0.5 * (a[k] - 1j * a[H + k])
-        c[H + k] = z
-        c[H - k] = z.conjugate()
+    c = _to_complex(a, H)
     Lc = (C.shape[0] - 1) // 2
     dRc = np.empty(M, dtype=np.complex128)
     for r in range(M):
@@ -299,10 +303,5 @@ def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
                 acc += C[d + Lc] * (1j * (l - H) * c[l])
         f = Fh[r] if r != H else 0.0
         dRc[r] = (-2.0 * nu * k**2 * c[r] + acc) / n - 2.0 / omega * f
-    R = np.empty(M)
-    R[0] = dRc[H].real
-    for k in range(1, H + 1):
-        pos, neg = dRc[H + k], dRc[H - k]
-        R[k] = (pos + neg).real
-        R[H + k] = (1j * (pos - neg)).real
+    R = _to_real(dRc, H)
     return R

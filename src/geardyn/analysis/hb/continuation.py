@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -67,14 +67,23 @@ NEAR_CRITICAL_DS = 0.1
 MAX_MULTIPLIER_STEP = 0.1
 
 
-@dataclass
 class _Pt:
-    y: np.ndarray
-    t: np.ndarray
-    u_min: float
-    u_max: float
-    hill: HillResult
-    iters: int = 0
+    """A corrected branch point; its Hill stability is computed when first asked for (a point whose
+    step is refused by the turn of the tangent, or a trial of a fold or grazing location, needs none)."""
+
+    __slots__ = ("y", "t", "u_min", "u_max", "iters", "_stability", "_hill")
+
+    def __init__(self, y: np.ndarray, t: np.ndarray, u_min: float, u_max: float,
+                 stability: Callable[[], HillResult], iters: int = 0):
+        self.y, self.t, self.u_min, self.u_max, self.iters = y, t, u_min, u_max, iters
+        self._stability = stability
+        self._hill: HillResult | None = None
+
+    @property
+    def hill(self) -> HillResult:
+        if self._hill is None:
+            self._hill = self._stability()
+        return self._hill
 
 
 @dataclass
@@ -226,9 +235,21 @@ class _Tracer:
         Rp = self.s.dR_dp(a, p) * self.ps
         return R, J, Rp
 
-    def tangent(self, y: np.ndarray, ref: np.ndarray) -> np.ndarray:
-        _R, J, Rp = self._aug(y)
-        A = np.vstack([np.hstack([J, Rp[:, None]]), ref[None, :]])
+    def _bordered(self, J: np.ndarray, Rp: np.ndarray, row: np.ndarray) -> np.ndarray:
+        """[[J, Rp], [row]]."""
+        M = self.M
+        A = np.empty((M + 1, M + 1))
+        A[:M, :M] = J
+        A[:M, M] = Rp
+        A[M] = row
+        return A
+
+    def tangent(self, y: np.ndarray, ref: np.ndarray,
+                aug: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+        """Unit null vector of [∂R/∂a, ∂R/∂p] at ``y`` oriented like ``ref`` (``aug``: R, J, Rp already
+        evaluated at ``y``)."""
+        _R, J, Rp = self._aug(y) if aug is None else aug
+        A = self._bordered(J, Rp, ref)
         rhs = np.zeros(self.M + 1)
         rhs[-1] = 1.0
         t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else np.linalg.solve(A, rhs)
@@ -243,41 +264,46 @@ class _Tracer:
                 self.s.check(p)
             except ModelError:
                 return None
-            R, J, Rp = self._aug(y)
+            aug = R, J, Rp = self._aug(y)
             g = float(normal @ (y - y0))
-            F = np.concatenate([R, [g]])
-            if np.linalg.norm(R) <= CORRECTOR_TOL * (1 + np.linalg.norm(y)) and abs(g) <= 1e-12:
-                return self._finish(y, ref_t, it)
-            A = np.vstack([np.hstack([J, Rp[:, None]]), normal[None, :]])
+            if math.sqrt(R @ R) <= CORRECTOR_TOL * (1 + math.sqrt(y @ y)) and abs(g) <= 1e-12:
+                return self._finish(y, ref_t, it, aug)
+            F = np.empty(self.M + 1)
+            F[:-1] = R
+            F[-1] = g
             try:
-                dy = np.linalg.solve(A, -F)
+                dy = np.linalg.solve(self._bordered(J, Rp, normal), -F)
             except np.linalg.LinAlgError:
                 return None
             y = y + dy
             if not np.all(np.isfinite(y)):
                 return None
-            if np.linalg.norm(dy) <= 1e-13 * (1 + np.linalg.norm(y)):
+            if math.sqrt(dy @ dy) <= 1e-13 * (1 + math.sqrt(y @ y)):
                 return self._finish(y, ref_t, it + 1)
         return None
 
-    def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int) -> _Pt:
-        t = self.tangent(y, ref_t)
+    def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int,
+                aug: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> _Pt:
+        t = self.tangent(y, ref_t, aug)
         a, p = y[:-1], self.p(y)
         umin, umax, _, _ = signal_extrema(self.s.basis, a)
-        return _Pt(y, t, umin, umax, self.s.stability(a, p), iters)
+        return _Pt(y, t, umin, umax, lambda: self.s.stability(a, p), iters)
 
     # ---------------------------------------------------------------- tests and events
-    def tests(self, pt: _Pt, chord: np.ndarray | None = None) -> dict[str, float]:
+    def tests(self, pt: _Pt, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
+        """Test functions at ``pt`` (the tangent oriented along ``chord``): all of them, or only ``key``'s
+        kind (then Hill's multipliers are computed only for the multiplier tests)."""
         D = self.s._entry(self.p(pt.y))[0].D
         t = pt.t if chord is None or pt.t @ chord >= 0 else -pt.t
         out = {"turn": float(t[-1])}
-        h = pt.hill
-        if h.status is Status.OK:
-            mu = h.multipliers
-            out["pd"] = float(np.real((mu[0] + 1) * (mu[1] + 1)))
-            if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
-                out["ns"] = float(abs(mu[0] * mu[1]) - 1.0)
-        if D > 0:
+        if key is None or key in ("pd", "ns"):
+            h = pt.hill
+            if h.status is Status.OK:
+                mu = h.multipliers
+                out["pd"] = float(np.real((mu[0] + 1) * (mu[1] + 1)))
+                if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
+                    out["ns"] = float(abs(mu[0] * mu[1]) - 1.0)
+        if D > 0 and (key is None or key.startswith("graze")):
             out.update(graze_min_plus=pt.u_min - D, graze_min_minus=pt.u_min + D,
                        graze_max_plus=pt.u_max - D, graze_max_minus=pt.u_max + D)
         return out
@@ -292,7 +318,7 @@ class _Tracer:
             pt = self.correct(a.y + s * d, e, a.t)
             if pt is None:
                 return None
-            f = self.tests(pt, d).get(key, math.nan)
+            f = self.tests(pt, d, key).get(key, math.nan)
             return (s, pt, f) if math.isfinite(f) else None
 
         return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, LOCATE_REL_TOL, LOCATE_MAX_ITER)

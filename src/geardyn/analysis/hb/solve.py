@@ -32,8 +32,7 @@ from ...model import GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
 from ._blas import single_thread_blas
 from ._aftkernel import dR_domega_kernel, residual_kernel
-from .aft import (ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, _dead_zone_terms_numpy, dead_zone_terms, model_series,
-                  signal_extrema, time_samples, toeplitz)
+from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples
 from .hill import HillResult, hill_floquet
 
 __all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
@@ -185,23 +184,6 @@ class HBSystem:
                                b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, bool(jacobian))
         return R, (J if jacobian else None)
 
-    def _residual_numpy(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
-                        ) -> tuple[np.ndarray, np.ndarray | None]:
-        """:meth:`residual` in NumPy (the compiled version's reference)."""
-        m, (C, K, F) = self._entry(p)
-        H, b = self.H, self.basis
-        nu = m.omega / self.n
-        k = b.k
-        c = b.to_complex(a)
-        dz = _dead_zone_terms_numpy(b, a, K, m.D)
-        TcOm = toeplitz(C, H) * (1j * k)[None, :]
-        Rc = -(nu * k) ** 2 * c + nu * (TcOm @ c) + dz.G - self._centred(F, H)
-        R = b.to_real(Rc)
-        if not jacobian:
-            return R, None
-        Jc = np.diag(-(nu * k) ** 2).astype(complex) + nu * TcOm + toeplitz(dz.S, H)
-        return R, b.real_operator(Jc)
-
     def dR_dp(self, a: np.ndarray, p: float) -> np.ndarray:
         """Derivative of R in the system's parameter at fixed coefficients (analytic for ω, else a
         central difference of the residual, which is exact to rounding for parameters entering it
@@ -213,18 +195,6 @@ class HBSystem:
             return dR_domega_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, m.omega, self.n, C,
                                     self._f_centred(F), self.H)
         return self._dR_dp_fd(a, p)
-
-    def _dR_domega_numpy(self, a: np.ndarray, p: float) -> np.ndarray:
-        """∂R/∂ω in NumPy (the compiled version's reference)."""
-        m, (C, K, F) = self._entry(p)
-        b, H = self.basis, self.H
-        nu = m.omega / self.n
-        k = b.k
-        c = b.to_complex(a)
-        Fh = self._centred(F, H)
-        Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
-        dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / self.n - 2.0 / m.omega * Fh
-        return b.to_real(dRc)
 
     def _dR_dp_fd(self, a: np.ndarray, p: float) -> np.ndarray:
         """Central difference of the residual in the parameter."""
