@@ -305,3 +305,17 @@ def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
         dRc[r] = (-2.0 * nu * k**2 * c[r] + acc) / n - 2.0 / omega * f
     R = _to_real(dRc, H)
     return R
+
+
+@njit(cache=True)
+def bordered_omega_kernel(a, nu, omega, n, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, scale):
+    """R and the bordered matrix [[∂R/∂a, scale·∂R/∂ω], [0 … 0]] (the last row left for the caller)."""
+    M = 2 * H + 1
+    R, J = residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, True)
+    Rw = dR_domega_kernel(a, nu, omega, n, C, Fh, H)
+    A = np.zeros((M + 1, M + 1))
+    for r in range(M):
+        for col in range(M):
+            A[r, col] = J[r, col]
+        A[r, M] = Rw[r] * scale
+    return R, A

@@ -65,6 +65,9 @@ NEAR_CRITICAL = 0.1
 NEAR_CRITICAL_DS = 0.1
 #: A step is refused (and halved) when a resolved multiplier moves farther than this in the complex plane.
 MAX_MULTIPLIER_STEP = 0.1
+#: The next step is at most the last one times MULTIPLIER_STEP_TARGET / (its largest multiplier move), so that
+#: steps are seldom refused for a multiplier move above MAX_MULTIPLIER_STEP.
+MULTIPLIER_STEP_TARGET = 0.09
 
 
 class _Pt:
@@ -229,27 +232,15 @@ class _Tracer:
     def p(self, y: np.ndarray) -> float:
         return float(y[-1] * self.ps)
 
-    def _aug(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        a, p = y[:-1], self.p(y)
-        R, J = self.s.residual(a, p)
-        Rp = self.s.dR_dp(a, p) * self.ps
-        return R, J, Rp
+    def _aug(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """R and [[∂R/∂a, ∂R/∂(p/p_s)], [0]] at ``y``."""
+        return self.s.bordered(y[:-1], self.p(y), self.ps)
 
-    def _bordered(self, J: np.ndarray, Rp: np.ndarray, row: np.ndarray) -> np.ndarray:
-        """[[J, Rp], [row]]."""
-        M = self.M
-        A = np.empty((M + 1, M + 1))
-        A[:M, :M] = J
-        A[:M, M] = Rp
-        A[M] = row
-        return A
-
-    def tangent(self, y: np.ndarray, ref: np.ndarray,
-                aug: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
-        """Unit null vector of [∂R/∂a, ∂R/∂p] at ``y`` oriented like ``ref`` (``aug``: R, J, Rp already
-        evaluated at ``y``)."""
-        _R, J, Rp = self._aug(y) if aug is None else aug
-        A = self._bordered(J, Rp, ref)
+    def tangent(self, y: np.ndarray, ref: np.ndarray, aug: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+        """Unit null vector of [∂R/∂a, ∂R/∂p] at ``y`` oriented like ``ref`` (``aug``: :meth:`_aug` at ``y``,
+        if already evaluated; its matrix is overwritten)."""
+        _R, A = self._aug(y) if aug is None else aug
+        A[-1] = ref
         rhs = np.zeros(self.M + 1)
         rhs[-1] = 1.0
         t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else np.linalg.solve(A, rhs)
@@ -258,21 +249,21 @@ class _Tracer:
 
     def correct(self, y0: np.ndarray, normal: np.ndarray, ref_t: np.ndarray) -> _Pt | None:
         y = y0.copy()
+        F = np.empty(self.M + 1)
         for it in range(CORRECTOR_MAX_ITER):
             try:
-                p = self.p(y)
-                self.s.check(p)
+                self.s.check(self.p(y))
             except ModelError:
                 return None
-            aug = R, J, Rp = self._aug(y)
+            aug = R, A = self._aug(y)
             g = float(normal @ (y - y0))
             if math.sqrt(R @ R) <= CORRECTOR_TOL * (1 + math.sqrt(y @ y)) and abs(g) <= 1e-12:
                 return self._finish(y, ref_t, it, aug)
-            F = np.empty(self.M + 1)
             F[:-1] = R
             F[-1] = g
+            A[-1] = normal
             try:
-                dy = np.linalg.solve(self._bordered(J, Rp, normal), -F)
+                dy = np.linalg.solve(A, -F)
             except np.linalg.LinAlgError:
                 return None
             y = y + dy
@@ -283,7 +274,7 @@ class _Tracer:
         return None
 
     def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int,
-                aug: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> _Pt:
+                aug: tuple[np.ndarray, np.ndarray] | None = None) -> _Pt:
         t = self.tangent(y, ref_t, aug)
         a, p = y[:-1], self.p(y)
         umin, umax, _, _ = signal_extrema(self.s.basis, a)
@@ -438,14 +429,17 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
         while len(pts) < max_points:
             cur = pts[-1]
             nxt = None
+            dmu = 0.0
             while h >= DS_MIN:
                 yp = cur.y + h * cur.t
                 nxt = tr.correct(yp, cur.t, cur.t)
                 if nxt is not None:
                     cosang = float(np.clip(nxt.t @ cur.t, -1, 1))
-                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG and \
-                            _multiplier_step(cur.hill, nxt.hill) <= MAX_MULTIPLIER_STEP:
-                        break
+                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG:
+                        dmu = _multiplier_step(cur.hill, nxt.hill)
+                        if dmu <= MAX_MULTIPLIER_STEP and (h <= NEAR_CRITICAL_DS * ds_max
+                                                           or not _near_critical(nxt.hill)):
+                            break
                 nxt = None
                 h *= 0.5
             if nxt is None:
@@ -453,7 +447,10 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
                 break
             bifs.extend(tr.events(cur, nxt))
             pts.append(nxt)
-            h = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
+            h_next = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
+            if dmu > 0.0:  # the multipliers move about linearly in the step: aim below the refusal limit
+                h_next = min(h_next, h * MULTIPLIER_STEP_TARGET / dmu)
+            h = h_next
             if _near_critical(nxt.hill):
                 h = min(h, NEAR_CRITICAL_DS * ds_max)
             p = tr.p(nxt.y)

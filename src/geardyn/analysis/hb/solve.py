@@ -28,10 +28,10 @@ from typing import NamedTuple, Sequence
 
 import numpy as np
 
-from ...model import GearModel, IntegrationOptions, ModelError, canonical_param
+from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
 from ._blas import single_thread_blas
-from ._aftkernel import dR_domega_kernel, residual_kernel
+from ._aftkernel import bordered_omega_kernel, dR_domega_kernel, residual_kernel
 from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples
 from .hill import HillResult, hill_floquet
 
@@ -47,9 +47,10 @@ NEWTON_MIN_DAMPING = 2.0**-12
 DIVERGED_NORM = 1e8
 #: Relative step of the central difference for the derivative of R in a parameter other than ω.
 FD_REL_STEP = 1e-6
-#: Simulation used for a starting guess: forcing periods discarded and the step.
+#: Simulation used for a starting guess: forcing periods discarded and the step (the model's default step,
+#: as in the guess of shooting).
 GUESS_TRANSIENT = 400
-GUESS_DTAU = 0.005
+GUESS_DTAU = DEFAULT_DTAU
 
 
 class _AtOmega(NamedTuple):
@@ -195,6 +196,43 @@ class HBSystem:
             return dR_domega_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, m.omega, self.n, C,
                                     self._f_centred(F), self.H)
         return self._dR_dp_fd(a, p)
+
+    def bordered(self, a: np.ndarray, p: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+        """R and the bordered Jacobian of a continuation in the system's parameter.
+
+        Parameters
+        ----------
+        a : ndarray
+            Real coefficients of u.
+        p : float
+            Parameter value.
+        scale : float
+            Factor of the parameter column (the parameter's scaling in the continuation).
+
+        Returns
+        -------
+        (R, A) : ndarray (2H + 1,), ndarray (2H + 2, 2H + 2)
+            The residual and [[∂R/∂a, scale·∂R/∂p], [0 … 0]]: the last row is left zero for the
+            caller's border (the arclength condition's normal).
+
+        Raises
+        ------
+        ModelError
+            When the system has no continuation parameter.
+        """
+        if self.param == "omega":
+            m, (C, K, F) = self._entry(p)
+            b = self.basis
+            return bordered_omega_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, m.omega, self.n,
+                                         C, K, self._f_centred(F), float(m.D), b.cos_table, b.sin_table, self.H,
+                                         ROOT_MAX_ITER, ROOT_TOL, float(scale))
+        R, J = self.residual(a, p)
+        Rp = self.dR_dp(a, p)
+        M = self.basis.size
+        A = np.zeros((M + 1, M + 1))
+        A[:M, :M] = J
+        A[:M, M] = Rp * scale
+        return R, A
 
     def _dR_dp_fd(self, a: np.ndarray, p: float) -> np.ndarray:
         """Central difference of the residual in the parameter."""
