@@ -308,9 +308,33 @@ def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
 
 
 @njit(cache=True)
-def bordered_omega_kernel(a, nu, omega, n, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, scale):
-    """R and the bordered matrix [[∂R/∂a, scale·∂R/∂ω], [0 … 0]] (the last row left for the caller)."""
+def forcing_kernel(omega, fp, eps, phi_e, n, Hm):
+    """Centred coefficients in φ = θ/n (length 2n·Hm + 1) of F = f_p + ω² Σ l² ε_l cos(lθ + φ_el), with the
+    operations of ``GearModel.coefficients`` and ``model_series`` (so the same values)."""
+    L = n * Hm
+    z = np.zeros(2 * L + 1, dtype=np.complex128)
+    z[L] = fp
+    w2 = omega**2
+    for j0 in range(eps.shape[0]):
+        j = j0 + 1
+        sc = w2 * j * j
+        c0 = sc * eps[j0] * math.cos(phi_e[j0])
+        c1 = -sc * eps[j0] * math.sin(phi_e[j0])
+        z[L + n * j] = complex(0.5 * c0, 0.5 * (0.0 - c1))
+        z[L - n * j] = complex(0.5 * c0, 0.5 * (0.0 + c1))
+    return z
+
+
+@njit(cache=True)
+def bordered_omega_kernel(a, omega, n, C, K, fp, eps, phi_e, Hm, D, cos_t, sin_t, H, max_iter, tol, scale):
+    """R and the bordered matrix [[∂R/∂a, scale·∂R/∂ω], [0 … 0]] at ω (the last row left for the caller)."""
     M = 2 * H + 1
+    F = forcing_kernel(omega, fp, eps, phi_e, n, Hm)
+    Lf = (F.shape[0] - 1) // 2
+    Fh = np.zeros(M, dtype=np.complex128)
+    for m in range(-min(H, Lf), min(H, Lf) + 1):
+        Fh[H + m] = F[Lf + m]
+    nu = omega / n
     R, J = residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, True)
     Rw = dR_domega_kernel(a, nu, omega, n, C, Fh, H)
     A = np.zeros((M + 1, M + 1))

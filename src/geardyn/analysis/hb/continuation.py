@@ -284,7 +284,7 @@ class _Tracer:
     def tests(self, pt: _Pt, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
         """Test functions at ``pt`` (the tangent oriented along ``chord``): all of them, or only ``key``'s
         kind (then Hill's multipliers are computed only for the multiplier tests)."""
-        D = self.s._entry(self.p(pt.y))[0].D
+        D = self.s._at(self.p(pt.y))[1]
         t = pt.t if chord is None or pt.t @ chord >= 0 else -pt.t
         out = {"turn": float(t[-1])}
         if key is None or key in ("pd", "ns"):

@@ -31,7 +31,7 @@ import numpy as np
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
 from ._blas import single_thread_blas
-from ._aftkernel import bordered_omega_kernel, dR_domega_kernel, residual_kernel
+from ._aftkernel import bordered_omega_kernel, dR_domega_kernel, forcing_kernel, residual_kernel
 from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples
 from .hill import HillResult, hill_floquet
 
@@ -92,6 +92,7 @@ class HBSystem:
         self._cache: dict[float | None, tuple[GearModel, tuple[np.ndarray, ...]]] = {}
         self._fh: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._series: tuple[np.ndarray, ...] | None = None
+        self._fargs: tuple[float, np.ndarray, np.ndarray, int, int] | None = None
 
     def model_at(self, p: float | None = None) -> GearModel:
         """The model at parameter value ``p`` (the base model when ``p`` is None)."""
@@ -100,7 +101,7 @@ class HBSystem:
 
     def check(self, p: float) -> None:
         """Raise :class:`ModelError` when ``p`` is not a valid value of the system's parameter."""
-        self._entry(p)
+        self._at(p)
 
     def _entry(self, p: float | None) -> tuple[GearModel | _AtOmega, tuple[np.ndarray, ...]]:
         key = None if (p is None or self.param is None) else float(p)
@@ -125,21 +126,31 @@ class HBSystem:
 
     def _forcing(self, omega: float) -> np.ndarray:
         """The F series of :func:`model_series` at ω = ``omega`` (the same operations, so the same values)."""
-        b, n = self.base, self.n
-        H = b.n_harmonics
-        L = n * H
-        z = np.zeros(2 * L + 1, dtype=complex)
-        z[L] = b.fp
-        w2 = omega**2
-        cf = np.zeros((H + 1, 2))
-        for j0, (a, ph) in enumerate(zip(b.eps, b.phi_e)):
-            j = j0 + 1
-            cf[j, 0] = w2 * j * j * a * math.cos(ph)
-            cf[j, 1] = -(w2 * j * j) * a * math.sin(ph)
-        for j in range(1, H + 1):
-            z[L + n * j] = 0.5 * (cf[j, 0] - 1j * cf[j, 1])
-            z[L - n * j] = 0.5 * (cf[j, 0] + 1j * cf[j, 1])
-        return z
+        return forcing_kernel(float(omega), *self._forcing_args())
+
+    def _forcing_args(self) -> tuple[float, np.ndarray, np.ndarray, int, int]:
+        """(f_p, ε_l, φ_el, n, harmonics of the model's series) of the base model for :func:`forcing_kernel`."""
+        if self._fargs is None:
+            b = self.base
+            self._fargs = (float(b.fp), np.array(b.eps, dtype=float).reshape(-1),
+                           np.array(b.phi_e, dtype=float).reshape(-1), self.n, int(b.n_harmonics))
+        return self._fargs
+
+    def _at(self, p: float | None) -> tuple[float, float, np.ndarray, np.ndarray]:
+        """ω, D and the C, K series at ``p`` (without building the forcing when only it depends on ω).
+
+        Raises
+        ------
+        ModelError
+            When ``p`` is not a valid value of the parameter.
+        """
+        if p is not None and self.param == "omega":
+            w = float(p)
+            if w > 0 and math.isfinite(2.0 * math.pi / w):
+                C, K, _F = self._base_series()
+                return w, float(self.base.D), C, K
+        m, (C, K, _F) = self._entry(p)
+        return m.omega, float(m.D), C, K
 
     def nu(self, p: float | None = None) -> float:
         return self._entry(p)[0].omega / self.n
@@ -221,11 +232,11 @@ class HBSystem:
             When the system has no continuation parameter.
         """
         if self.param == "omega":
-            m, (C, K, F) = self._entry(p)
+            w, D, C, K = self._at(p)
             b = self.basis
-            return bordered_omega_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, m.omega, self.n,
-                                         C, K, self._f_centred(F), float(m.D), b.cos_table, b.sin_table, self.H,
-                                         ROOT_MAX_ITER, ROOT_TOL, float(scale))
+            fp, eps, phi_e, n, Hm = self._forcing_args()
+            return bordered_omega_kernel(np.ascontiguousarray(a, dtype=float), w, n, C, K, fp, eps, phi_e, Hm, D,
+                                         b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, float(scale))
         R, J = self.residual(a, p)
         Rp = self.dR_dp(a, p)
         M = self.basis.size
@@ -248,9 +259,9 @@ class HBSystem:
 
     def stability(self, a: np.ndarray, p: float | None = None) -> HillResult:
         """Hill's Floquet exponents and multipliers of the solution ``a`` (see :mod:`.hill`)."""
-        m, (C, K, F) = self._entry(p)
-        dz = dead_zone_terms(self.basis, a, K, m.D)
-        return hill_floquet(self._centred(C, 2 * self.H), dz.S, m.omega / self.n, self.H)
+        w, D, C, K = self._at(p)
+        dz = dead_zone_terms(self.basis, a, K, D)
+        return hill_floquet(self._centred(C, 2 * self.H), dz.S, w / self.n, self.H)
 
     def newton(self, a0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL,
                max_iter: int = NEWTON_MAX_ITER) -> tuple[np.ndarray, Status, int, float]:
