@@ -9,7 +9,8 @@ switching), so one run gives the up and the down response.
   Δτ = 0.0005 to about 1e-14, see ``hb_convergence.py``);
 * timed settings (each run in this process, the two methods alternated, ``--repeats`` rounds, the
   minimum wall time of each kept): HB at its defaults (H = 16, ds_max = 0.02) and at fewer harmonics
-  with larger steps; shooting at its defaults (default mode, Δτ = 0.01, ds_max = 0.01) and cheaper ones;
+  with larger steps; shooting at its defaults (default mode, Δτ = 0.01, ds_max = 0.01) and cheaper ones
+  (larger Δτ, larger steps: the same ds_max = 0.05 and 0.1 as HB);
 * for each method the fastest setting that finds every reference event (both folds, the grazing and the
   period doublings) within 1e-3 of the reference is compared.
 
@@ -37,9 +38,10 @@ MODEL = GearModel(xi0=0.08)
 LO, HI = 0.3, 1.0
 FOLD_ACCURACY = 1e-3
 HB_SETTINGS = [dict(harmonics=16, ds_max=0.02), dict(harmonics=16, ds_max=0.05), dict(harmonics=12, ds_max=0.05),
-               dict(harmonics=10, ds_max=0.05), dict(harmonics=8, ds_max=0.05)]
+               dict(harmonics=10, ds_max=0.05), dict(harmonics=8, ds_max=0.05), dict(harmonics=8, ds_max=0.1)]
 SHOOTING_SETTINGS = [dict(accurate=False, dtau=0.01), dict(accurate=False, dtau=0.02, ds_max=0.05),
-                     dict(accurate=False, dtau=0.05, ds_max=0.05), dict(accurate=True, dtau=0.02, ds_max=0.05)]
+                     dict(accurate=False, dtau=0.02, ds_max=0.1), dict(accurate=False, dtau=0.05, ds_max=0.05),
+                     dict(accurate=True, dtau=0.02, ds_max=0.05)]
 
 
 def _hb(kw):

@@ -2,7 +2,9 @@
 
 Harmonic balance factorises and diagonalises matrices of a few hundred rows thousands of times; a
 multi-threaded BLAS spends more time waking its threads than computing (and on a loaded machine
-much more).  :func:`single_thread_blas` limits the BLAS loaded by NumPy and SciPy to one thread for
+much more).  :func:`solve` calls LAPACK's ``dgesv`` directly: for the matrices of a continuation
+(a few dozen rows, between other compiled work) ``numpy.linalg.solve`` spends ten times as long in
+its generic machinery as in the factorisation.  :func:`single_thread_blas` limits the BLAS loaded by NumPy and SciPy to one thread for
 the duration of a block, through ``threadpoolctl`` when it is installed, else through the
 ``*_set_num_threads`` entry points of every OpenBLAS loaded; it does nothing when neither is
 available.
@@ -14,7 +16,10 @@ import ctypes
 from contextlib import contextmanager
 from typing import Callable, Iterator
 
-__all__ = ["single_thread_blas"]
+import numpy as np
+from scipy.linalg.lapack import dgesv
+
+__all__ = ["single_thread_blas", "solve"]
 
 _SETTERS = ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads", "openblas_set_num_threads64_",
             "openblas_set_num_threads")
@@ -80,3 +85,28 @@ def single_thread_blas() -> Iterator[None]:
     finally:
         for (_get, put), k in zip(libs, old):
             put(k)
+
+
+def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x with A x = b (real square A, vector b) by LAPACK ``dgesv``.
+
+    Parameters
+    ----------
+    A : ndarray (m, m)
+    b : ndarray (m,)
+
+    Returns
+    -------
+    ndarray (m,)
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        When A is exactly singular (as ``numpy.linalg.solve``).
+    """
+    _lu, _piv, x, info = dgesv(A, b)
+    if info > 0:
+        raise np.linalg.LinAlgError("Singular matrix")
+    if info < 0:
+        raise ValueError(f"dgesv: illegal argument {-info}")
+    return x

@@ -39,7 +39,7 @@ import numpy as np
 from ...model import GearModel, ModelError, canonical_param
 from ...status import Status, flag_attrs
 from ..secant import illinois_on_chord
-from ._blas import single_thread_blas
+from ._blas import single_thread_blas, solve
 from .aft import signal_extrema
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS, HBSystem, hb_solve
@@ -243,7 +243,7 @@ class _Tracer:
         A[-1] = ref
         rhs = np.zeros(self.M + 1)
         rhs[-1] = 1.0
-        t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else np.linalg.solve(A, rhs)
+        t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else solve(A, rhs)
         t /= np.linalg.norm(t)
         return t if t @ ref >= 0 else -t
 
@@ -263,7 +263,7 @@ class _Tracer:
             F[-1] = g
             A[-1] = normal
             try:
-                dy = np.linalg.solve(A, -F)
+                dy = solve(A, -F)
             except np.linalg.LinAlgError:
                 return None
             y = y + dy

@@ -30,7 +30,7 @@ import numpy as np
 
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
-from ._blas import single_thread_blas
+from ._blas import single_thread_blas, solve
 from ._aftkernel import bordered_omega_kernel, dR_domega_kernel, forcing_kernel, residual_kernel
 from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples
 from .hill import HillResult, hill_floquet
@@ -282,7 +282,7 @@ class HBSystem:
             if it == max_iter:
                 break
             try:
-                da = np.linalg.solve(J, -R)
+                da = solve(J, -R)
             except np.linalg.LinAlgError:
                 da = np.linalg.lstsq(J, -R, rcond=None)[0]
             lam = 1.0
