@@ -57,8 +57,9 @@ def hill_real_matrix(c_hat, s_hat, nu, H):
 def hill_select(wr, wi, vr, Tn, ref, H, candidates):
     """The rule of :mod:`.hill` on a real eigen-decomposition of the Hill matrix.
 
-    Returns (λ of the two selected eigenvalues, their energy centroids) in the order (most central,
-    Liouville partner among the ``candidates`` next most central)."""
+    Returns the two selected exponents λ (the most central eigenvalue and its Liouville partner among
+    the ``candidates`` next most central), their multipliers exp(λ T_n), their energy centroids, all
+    three with the larger multiplier first, and Liouville's error |μ₁μ₂/ref − 1|."""
     n = wr.shape[0]
     M = 2 * H + 1
     cent = np.empty(n)
@@ -101,6 +102,15 @@ def hill_select(wr, wi, vr, Tn, ref, H, candidates):
             i2 = order[q]
     ex = np.empty(2, dtype=np.complex128)
     cc = np.empty(2)
-    ex[0], ex[1] = lam[i1], lam[i2]
-    cc[0], cc[1] = cent[i1], cent[i2]
-    return ex, cc
+    first = 0
+    mu_a, mu_b = np.exp(lam[i1] * Tn), np.exp(lam[i2] * Tn)
+    if abs(mu_b) > abs(mu_a):  # largest modulus first (a stable sort of the two)
+        first = 1
+    sel = (i1, i2) if first == 0 else (i2, i1)
+    mu = np.empty(2, dtype=np.complex128)
+    for q in range(2):
+        ex[q] = lam[sel[q]]
+        mu[q] = np.exp(ex[q] * Tn)
+        cc[q] = cent[sel[q]]
+    liou = abs(mu[0] * mu[1] / ref - 1.0)
+    return ex, mu, cc, liou

@@ -173,10 +173,6 @@ def hill_floquet(c_hat: np.ndarray, s_hat: np.ndarray, nu: float, H: int) -> Hil
     Tn = 2.0 * math.pi / nu
     L = (len(c_hat) - 1) // 2
     ref = math.exp(-float(np.real(c_hat[L])) * Tn)  # Liouville: μ₁μ₂ = exp(−∫c dτ)
-    ex, cc = hill_select(wr, wi, vr, Tn, ref, int(H), PARTNER_CANDIDATES)
-    mu = np.exp(ex * Tn)
-    srt = np.argsort(-np.abs(mu), kind="stable")
-    ex, mu, cc = ex[srt], mu[srt], cc[srt]
-    liou = float(abs(mu[0] * mu[1] / ref - 1.0))
-    ok = np.all(cc <= CENTROID_FRACTION * H) and liou <= LIOUVILLE_TOL
-    return HillResult(ex, mu, cc, liou, Status.OK if ok else Status.UNRESOLVED)
+    ex, mu, cc, liou = hill_select(wr, wi, vr, Tn, ref, int(H), PARTNER_CANDIDATES)
+    ok = cc[0] <= CENTROID_FRACTION * H and cc[1] <= CENTROID_FRACTION * H and liou <= LIOUVILLE_TOL
+    return HillResult(ex, mu, cc, float(liou), Status.OK if ok else Status.UNRESOLVED)

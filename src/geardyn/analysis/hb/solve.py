@@ -90,7 +90,7 @@ class HBSystem:
         N = samples or time_samples(self.H, self.n, model.n_harmonics + 2)
         self.basis = HarmonicBasis(self.H, N)
         self._cache: dict[float | None, tuple[GearModel, tuple[np.ndarray, ...]]] = {}
-        self._fh: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._cuts: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
         self._series: tuple[np.ndarray, ...] | None = None
         self._fargs: tuple[float, np.ndarray, np.ndarray, int, int] | None = None
 
@@ -163,14 +163,19 @@ class HBSystem:
         out[L - m:L + m + 1] = z[Lz - m:Lz + m + 1]
         return out
 
+    def _cut(self, z: np.ndarray, L: int) -> np.ndarray:
+        """:meth:`_centred` of ``z``, kept per array and L (the series of one parameter value are reused)."""
+        key = (id(z), L)
+        e = self._cuts.get(key)
+        if e is None or e[0] is not z:
+            if len(self._cuts) > 64:
+                self._cuts.clear()
+            e = self._cuts[key] = (z, self._centred(z, L))
+        return e[1]
+
     def _f_centred(self, F: np.ndarray) -> np.ndarray:
         """F cut or padded to the harmonics |k| <= H (kept per F array)."""
-        Fh = self._fh.get(id(F))
-        if Fh is None or Fh[0] is not F:
-            if len(self._fh) > 64:
-                self._fh.clear()
-            Fh = self._fh[id(F)] = (F, self._centred(F, self.H))
-        return Fh[1]
+        return self._cut(F, self.H)
 
     def residual(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
                  ) -> tuple[np.ndarray, np.ndarray | None]:
@@ -261,7 +266,7 @@ class HBSystem:
         """Hill's Floquet exponents and multipliers of the solution ``a`` (see :mod:`.hill`)."""
         w, D, C, K = self._at(p)
         dz = dead_zone_terms(self.basis, a, K, D)
-        return hill_floquet(self._centred(C, 2 * self.H), dz.S, w / self.n, self.H)
+        return hill_floquet(self._cut(C, 2 * self.H), dz.S, w / self.n, self.H)
 
     def newton(self, a0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL,
                max_iter: int = NEWTON_MAX_ITER) -> tuple[np.ndarray, Status, int, float]:
