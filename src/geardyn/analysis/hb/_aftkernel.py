@@ -3,8 +3,9 @@
 The functions here are the scalar loops behind :func:`~geardyn.analysis.hb.aft.dead_zone_terms` and
 :func:`~geardyn.analysis.hb.aft.signal_extrema`: sampling u on the time grid, locating the contact
 switches by safeguarded Newton, the closed-form interval integrals of the contact indicator and
-the convolutions with the stiffness series.  They perform the same operations as the vectorised
-NumPy formulation, so results agree with it to rounding.
+the convolutions with the stiffness series, the residual with its Jacobian, ∂R/∂ω and the forcing
+series.  ``tests/test_hb_aft_reference.py`` holds the same method in vectorised NumPy and checks
+that the two agree to rounding.
 """
 
 from __future__ import annotations
