@@ -407,7 +407,7 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     model.with_param(param, stop)
     sysm = HBSystem(model, harmonics, period, param=param, samples=samples)
     H = sysm.H
-    sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N)
+    sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N, stability=False)  # Hill: at the first point
     nanmu = np.full((1, 2), complex(math.nan, math.nan))
     if not sol.converged:
         return HBContinuation(model, param, H, sysm.n, sysm.basis.N, np.array([start]),
