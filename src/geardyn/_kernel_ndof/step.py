@@ -254,38 +254,27 @@ def pad_point(A, B, g, W, Wc, AT, BT, gP, WT):
             WT[M + c, i] = Wc[c, i]
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def rk4_plain(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega):
     """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
 
     X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace.
-
     Coefficients from the table rows 2j..2j+2; the arithmetic is :func:`rk4` with :func:`field`'s,
     operation by operation (see :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows.
     """
     hh = 0.5 * h
     h6 = h / 6.0
-    nb = X.shape[1] // LANE_BLOCK
-    q = X[XQ]
-    v = X[XV]
-    k1 = X[XK1]
-    k2 = X[XK2]
-    k3 = X[XK3]
-    q2 = X[XQ2]
-    v2 = X[XV2]
-    q3 = X[XQ3]
-    v3 = X[XV3]
-    q4 = X[XQ4]
-    v4 = X[XV4]
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = X[XQ], X[XV], X[XK1], X[XK2], X[XK3], X[XQ2], X[XV2], X[XQ3], \
+        X[XV3], X[XQ4], X[XV4]
     forces_tab(q, v, tab, 2 * j, V, D, Vc, kc, cc, Dc, omega, s)
-    for b in range(nb):
-        stage_block(AT, BT, gP, WT, s, q, v, q, v, hh, k1, q2, v2, b * LANE_BLOCK)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        stage_block(AT, BT, gP, WT, s, q, v, q, v, hh, k1, q2, v2, b)
     forces_tab(q2, v2, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
-    for b in range(nb):
-        stage_block(AT, BT, gP, WT, s, q2, v2, q, v, hh, k2, q3, v3, b * LANE_BLOCK)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        stage_block(AT, BT, gP, WT, s, q2, v2, q, v, hh, k2, q3, v3, b)
     forces_tab(q3, v3, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
-    for b in range(nb):
-        stage_block(AT, BT, gP, WT, s, q3, v3, q, v, h, k3, q4, v4, b * LANE_BLOCK)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        stage_block(AT, BT, gP, WT, s, q3, v3, q, v, h, k3, q4, v4, b)
     forces_tab(q4, v4, tab, 2 * j + 2, V, D, Vc, kc, cc, Dc, omega, s)
-    for b in range(nb):
-        final_block(AT, BT, gP, WT, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3, b * LANE_BLOCK)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        final_block(AT, BT, gP, WT, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3, b)
