@@ -7,6 +7,8 @@ to the branch of its dead zone at the sub-step start, takes the step, and where 
 contact boundary (δ = ±D, E_m(θ) included for meshes) is crossed inside it, finds the crossing
 length by a safeguarded secant (Illinois) iteration on the locked step and splits the step there;
 the vector field is continuous, so the split keeps RK4 fourth order and no saltation is needed.
+:func:`rk4_plain` is the default mode's step without tangents on the padded layout of
+:mod:`geardyn._kernel_ndof.simd` (:func:`pad_point` prepares a point's matrices).
 """
 
 from __future__ import annotations

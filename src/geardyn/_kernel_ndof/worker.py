@@ -3,7 +3,9 @@
 Per point: the derived matrices are given by the caller; in the default mode the coefficients of
 one forcing period are tabulated at the 2N + 1 half-step angles (the forcing is periodic in that
 period, so the table serves every period: no trigonometric call in the step loop); the accurate
-mode evaluates them where its split sub-steps need them.  The stroboscopic samples are exact:
+mode evaluates them where its split sub-steps need them.  Periods without tangents in the default
+mode run the plain step (:func:`geardyn._kernel_ndof.step.rk4_plain`) on the padded state, copied
+from and back to the state at the period's start and end.  The stroboscopic samples are exact:
 h = T_f/N with T_f the forcing period.
 """
 
@@ -19,6 +21,20 @@ from .core import (
 )
 from .simd import LANE_BLOCK
 from .step import XQ, XROWS, XV, accurate_step, pad_point, rk4, rk4_plain
+
+
+@njit(nogil=True, inline="always")
+def _sample(q, v, vo, cf, V, Vc, omega, ev, st, gaps, rec, hist, p, s):
+    """After a step at (q̃, q̃') = (q[0:n], v[vo:vo+n]): statistics (recorded periods; coefficients cf
+    at the step end) and, for s >= 0, history sample s."""
+    if rec:
+        element_values(q, v, vo, cf, V, Vc, omega, ev)
+        accumulate(st, ev, gaps)
+    if s >= 0 and hist.shape[1] > 0:
+        n = V.shape[1]
+        for i in range(n):
+            hist[p, s, i] = q[i]
+            hist[p, s, n + i] = v[vo + i]
 
 
 @njit(nogil=True, cache=True)
@@ -99,15 +115,7 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
                     v[i] = x[n + i]
                 for j in range(N):
                     rk4_plain(X, sf, h, tab, j, AT, BT, gP, WT, Vp, Dp, Vcp, kcp, ccp, Dcp, om)
-                    if rec:
-                        element_values(q, v, 0, tab[2 * j + 2], Vp, Vcp, om, ev)
-                        accumulate(st, ev, gaps)
-                    if hl > 0:
-                        s = per * N + j + 1 - hstart
-                        if s >= 0:
-                            for i in range(n):
-                                hist[p, s, i] = q[i]
-                                hist[p, s, n + i] = v[i]
+                    _sample(q, v, 0, tab[2 * j + 2], Vp, Vcp, om, ev, st, gaps, rec, hist, p, per * N + j + 1 - hstart)
                 for i in range(n):
                     x[i] = q[i]
                     x[n + i] = v[i]
@@ -120,18 +128,13 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
                     else:
                         rk4(x, h, tab[2 * j], tab[2 * j + 1], tab[2 * j + 2], A[p], B[p], W[p], V[p], D[p], Wc[p],
                             Vc[p], kc[p], cc[p], Dc[p], g[p], om, mode, tan_on, Y, wk, wt, Gq, Gv)
-                    if rec:
-                        if accurate:
+                    if accurate:
+                        if rec:
                             coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
-                            element_values(x, x, n, cfa[3], V[p], Vc[p], om, ev)
-                        else:
-                            element_values(x, x, n, tab[2 * j + 2], Vp, Vcp, om, ev)
-                        accumulate(st, ev, gaps)
-                    if hl > 0:
-                        s = per * N + j + 1 - hstart
-                        if s >= 0:
-                            for i in range(d):
-                                hist[p, s, i] = x[i]
+                        _sample(x, x, n, cfa[3], Vp, Vcp, om, ev, st, gaps, rec, hist, p, per * N + j + 1 - hstart)
+                    else:
+                        _sample(x, x, n, tab[2 * j + 2], Vp, Vcp, om, ev, st, gaps, rec, hist, p,
+                                per * N + j + 1 - hstart)
             if diverged_state(x):
                 bad = True
                 break
