@@ -9,7 +9,8 @@ work done when other jobs share the cores: on a loaded machine the wall-time spe
 says more about the scheduler than about the kernel, and ``cpu_2threads / cpu_1thread`` near 1
 shows that the second thread adds no work.
 
-    python benchmarks/w4.py [--points 100] [--transient 300] [--periods 200]
+    python benchmarks/w4.py [--points 100] [--transient 300] [--periods 200] [--no-scipy]
+                            [--json benchmarks/results/w4.json]
 """
 
 from __future__ import annotations
@@ -112,6 +113,7 @@ def main() -> None:
     ap.add_argument("--transient", type=int, default=300)
     ap.add_argument("--periods", type=int, default=200)
     ap.add_argument("--no-scipy", action="store_true")
+    ap.add_argument("--json", type=Path, default=None, help="also write the result to this file")
     a = ap.parse_args()
     models = _models(a.points)
     with tempfile.TemporaryDirectory() as tmp:
@@ -140,7 +142,10 @@ def main() -> None:
         "checksum_c": sum_c, "checksum_geardyn": sum1, "checksum_geardyn_2threads": sum2,
         "loadavg_before": load0, "loadavg_after": load1,
     }
-    print(json.dumps(res, indent=2))
+    text = json.dumps(res, indent=2)
+    print(text)
+    if a.json is not None:
+        a.json.write_text(text + "\n")
 
 
 if __name__ == "__main__":
