@@ -236,6 +236,19 @@ XQ, XV, XK1, XK2, XK3, XQ2, XV2, XQ3, XV3, XQ4, XV4 = range(11)
 XROWS = 11
 
 
+#: Byte alignment of the padded arrays: a block (LANE_BLOCK float64) is one cache line, and no SIMD
+#: load or store straddles two lines.
+ALIGN_BYTES = 64
+
+
+@njit(nogil=True)
+def aligned_zeros(rows, cols):
+    """A zeroed float64 (rows, cols) array whose data start on an ALIGN_BYTES boundary."""
+    raw = np.zeros(rows * cols + ALIGN_BYTES // 8)
+    off = ((ALIGN_BYTES - raw.ctypes.data % ALIGN_BYTES) % ALIGN_BYTES) // 8
+    return raw[off:off + rows * cols].reshape((rows, cols))
+
+
 @njit(nogil=True)
 def pad_point(A, B, g, W, Wc, AT, BT, gP, WT):
     """The plain step's padded transposed matrices of one point (AT, BT (n, NP), gP (NP,), WT (E, NP))."""

@@ -20,18 +20,14 @@ from .core import (
     diverged_state, element_values, gram_schmidt,
 )
 from .simd import LANE_BLOCK
-from .step import XQ, XROWS, XV, accurate_step, pad_point, rk4, rk4_plain
+from .step import XQ, XROWS, XV, accurate_step, aligned_zeros, pad_point, rk4, rk4_plain
 
 
-@njit(nogil=True, inline="always")
-def _sample(q, v, vo, cf, V, Vc, omega, ev, st, gaps, rec, hist, p, s):
-    """After a step at (q̃, q̃') = (q[0:n], v[vo:vo+n]): statistics (recorded periods; coefficients cf
-    at the step end) and, for s >= 0, history sample s."""
-    if rec:
-        element_values(q, v, vo, cf, V, Vc, omega, ev)
-        accumulate(st, ev, gaps)
-    if s >= 0 and hist.shape[1] > 0:
-        n = V.shape[1]
+@njit(nogil=True)
+def _store_hist(hist, p, s, q, v, vo):
+    """History sample s (if s >= 0) of point p: (q̃, q̃') = (q[0:n], v[vo:vo+n])."""
+    if s >= 0:
+        n = hist.shape[2] // 2
         for i in range(n):
             hist[p, s, i] = q[i]
             hist[p, s, n + i] = v[vo + i]
@@ -63,11 +59,11 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
     st = np.zeros((E, NSTAT))
     hl = hist.shape[1]
     NP = ((n + LANE_BLOCK - 1) // LANE_BLOCK) * LANE_BLOCK
-    X = np.zeros((XROWS, NP))
-    AT = np.zeros((n, NP))
-    BT = np.zeros((n, NP))
-    gP = np.zeros(NP)
-    WT = np.zeros((E, NP))
+    X = aligned_zeros(XROWS, NP)
+    AT = aligned_zeros(n, NP)
+    BT = aligned_zeros(n, NP)
+    gP = aligned_zeros(1, NP)[0]
+    WT = aligned_zeros(E, NP)
     sf = np.zeros(E)
     while True:
         k = _fetch_add(counter, 1)
@@ -115,7 +111,11 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
                     v[i] = x[n + i]
                 for j in range(N):
                     rk4_plain(X, sf, h, tab, j, AT, BT, gP, WT, Vp, Dp, Vcp, kcp, ccp, Dcp, om)
-                    _sample(q, v, 0, tab[2 * j + 2], Vp, Vcp, om, ev, st, gaps, rec, hist, p, per * N + j + 1 - hstart)
+                    if rec:
+                        element_values(q, v, 0, tab[2 * j + 2], Vp, Vcp, om, ev)
+                        accumulate(st, ev, gaps)
+                    if hl > 0:
+                        _store_hist(hist, p, per * N + j + 1 - hstart, q, v, 0)
                 for i in range(n):
                     x[i] = q[i]
                     x[n + i] = v[i]
@@ -128,13 +128,15 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
                     else:
                         rk4(x, h, tab[2 * j], tab[2 * j + 1], tab[2 * j + 2], A[p], B[p], W[p], V[p], D[p], Wc[p],
                             Vc[p], kc[p], cc[p], Dc[p], g[p], om, mode, tan_on, Y, wk, wt, Gq, Gv)
-                    if accurate:
-                        if rec:
+                    if rec:
+                        if accurate:
                             coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
-                        _sample(x, x, n, cfa[3], Vp, Vcp, om, ev, st, gaps, rec, hist, p, per * N + j + 1 - hstart)
-                    else:
-                        _sample(x, x, n, tab[2 * j + 2], Vp, Vcp, om, ev, st, gaps, rec, hist, p,
-                                per * N + j + 1 - hstart)
+                            element_values(x, x, n, cfa[3], V[p], Vc[p], om, ev)
+                        else:
+                            element_values(x, x, n, tab[2 * j + 2], Vp, Vcp, om, ev)
+                        accumulate(st, ev, gaps)
+                    if hl > 0:
+                        _store_hist(hist, p, per * N + j + 1 - hstart, x, x, n)
             if diverged_state(x):
                 bad = True
                 break
