@@ -189,7 +189,7 @@ def diverged_state(x):
     return False
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def element_values(q, v, vo, cf, V, Vc, omega, out):
     """δ, δ' of every element (meshes then clearances) into out[e, 0:2]; q̃ = q[0:n], q̃' = v[vo:vo+n]."""
     n = V.shape[1]
@@ -212,7 +212,7 @@ def element_values(q, v, vo, cf, V, Vc, omega, out):
         out[M + c, 1] = dv
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def accumulate(st, ev, gaps):
     """Add one sample of every element's (δ, δ') to its statistics row st[e]."""
     for e in range(ev.shape[0]):
