@@ -3,9 +3,14 @@
 Measured in one run: geardyn's N-DOF kernel on one and on two threads, a plain C reference of the same
 RK4 (benchmarks/ref_ndof.c, built here with ``gcc -O3 -march=native``), and SciPy ``solve_ivp`` (RK45,
 rtol 1e-8, on a few points, scaled to the workload).  Prints a JSON line with the times, the ratios
-and the load average (the machine may be shared).
+and the load average (the machine may be shared).  The CPU times (``*_cpu_s``: the process's, over
+all its threads; the C program's from the children's usage, its input parsing included) show the
+work done when other jobs share the cores: on a loaded machine the wall-time speed-up of two threads
+says more about the scheduler than about the kernel, and ``cpu_2threads / cpu_1thread`` near 1
+shows that the second thread adds no work.
 
-    python benchmarks/w4.py [--points 100] [--transient 300] [--periods 200]
+    python benchmarks/w4.py [--points 100] [--transient 300] [--periods 200] [--no-scipy]
+                            [--json benchmarks/results/w4.json]
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import subprocess
 import tempfile
 import time
@@ -54,10 +60,16 @@ def _geardyn(models, transient, periods, threads):
     from geardyn.model import IntegrationOptions
 
     opts = IntegrationOptions(transient=transient, periods=periods)
+    c = time.process_time()
     t = time.perf_counter()
     r = integrate_batch(models, None, opts, record_poincare=False, threads=threads)
     dt = time.perf_counter() - t
-    return dt, float(np.sum(r.element_u_min(0) + r.element_u_max(0)))
+    return dt, time.process_time() - c, float(np.sum(r.element_u_min(0) + r.element_u_max(0)))
+
+
+def _children_cpu():
+    u = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return u.ru_utime + u.ru_stime
 
 
 def _scipy(models, transient, periods, sample=2):
@@ -101,6 +113,7 @@ def main() -> None:
     ap.add_argument("--transient", type=int, default=300)
     ap.add_argument("--periods", type=int, default=200)
     ap.add_argument("--no-scipy", action="store_true")
+    ap.add_argument("--json", type=Path, default=None, help="also write the result to this file")
     a = ap.parse_args()
     models = _models(a.points)
     with tempfile.TemporaryDirectory() as tmp:
@@ -110,22 +123,29 @@ def main() -> None:
         _write_batch(models, batch)
         _geardyn(models[:2], 1, 1, 1)  # compile / load the cache
         load0 = os.getloadavg()
+        c0 = _children_cpu()
         out = subprocess.run([str(exe), str(batch), str(a.transient), str(a.periods)], check=True,
                              capture_output=True, text=True).stdout.split()
+        cpu_c = _children_cpu() - c0
         t_c, sum_c = float(out[0]), float(out[1])
-        t1, sum1 = _geardyn(models, a.transient, a.periods, 1)
-        t2, sum2 = _geardyn(models, a.transient, a.periods, 2)
+        t1, cpu1, sum1 = _geardyn(models, a.transient, a.periods, 1)
+        t2, cpu2, sum2 = _geardyn(models, a.transient, a.periods, 2)
         t_sp = None if a.no_scipy else _scipy(models, a.transient, a.periods)
         load1 = os.getloadavg()
     res = {
         "workload": f"W4: 8-DOF bevel, {a.points} omega, {a.transient} + {a.periods} periods",
         "c_reference_s": t_c, "geardyn_1thread_s": t1, "geardyn_2threads_s": t2,
         "ratio_1thread_vs_c": t1 / t_c, "speedup_2threads": t1 / t2,
+        "c_reference_cpu_s": cpu_c, "geardyn_1thread_cpu_s": cpu1, "geardyn_2threads_cpu_s": cpu2,
+        "ratio_1thread_vs_c_cpu": cpu1 / cpu_c, "cpu_2threads_over_1thread": cpu2 / cpu1,
         "scipy_rk45_estimated_s": t_sp,
         "checksum_c": sum_c, "checksum_geardyn": sum1, "checksum_geardyn_2threads": sum2,
         "loadavg_before": load0, "loadavg_after": load1,
     }
-    print(json.dumps(res, indent=2))
+    text = json.dumps(res, indent=2)
+    print(text)
+    if a.json is not None:
+        a.json.write_text(text + "\n")
 
 
 if __name__ == "__main__":

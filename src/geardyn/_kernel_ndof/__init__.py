@@ -8,7 +8,12 @@ and serves every analysis: Poincaré points of the full state, streaming statist
 spectra (all 2n tangent vectors, Gram–Schmidt each recorded period) and monodromy matrices.
 The accurate mode splits every step at each element's contact boundary (δ = ±D) inside it.
 
-Layout: :mod:`.core` (vector field, Jacobian, statistics), :mod:`.step` (RK4 step, split steps),
+The default mode's plain step (no tangents) keeps the state in a padded layout with the
+matrices transposed once per point and advances blocks of rows as SIMD vectors, column by column:
+the same operations in the same order as the row-by-row :func:`.core.field`, so bit-identical.
+
+Layout: :mod:`.core` (vector field, Jacobian, statistics), :mod:`.step` (RK4 step, split steps,
+the plain step), :mod:`.simd` (one stage of the plain step on a block of rows, as LLVM vectors),
 :mod:`.worker` (one point at a time from a shared queue; ``nogil``, ``cache=True``).  Threads: the
 1-DOF kernel's pool (:func:`geardyn._kernel._executor`), as many workers as numba's thread setting.
 numba keys a cache entry on the worker's source file only, so this package calls

@@ -189,30 +189,30 @@ def diverged_state(x):
     return False
 
 
-@njit(nogil=True)
-def element_values(x, cf, V, Vc, omega, out):
-    """δ, δ' of every element (meshes then clearances) into out[e, 0:2]."""
+@njit(nogil=True, inline="always")
+def element_values(q, v, vo, cf, V, Vc, omega, out):
+    """δ, δ' of every element (meshes then clearances) into out[e, 0:2]; q̃ = q[0:n], q̃' = v[vo:vo+n]."""
     n = V.shape[1]
     M = V.shape[0]
     for m in range(M):
         d = -cf[m, 2]
         dv = -omega * cf[m, 3]
         for j in range(n):
-            d += V[m, j] * x[j]
-            dv += V[m, j] * x[n + j]
+            d += V[m, j] * q[j]
+            dv += V[m, j] * v[vo + j]
         out[m, 0] = d
         out[m, 1] = dv
     for c in range(Vc.shape[0]):
         d = 0.0
         dv = 0.0
         for j in range(n):
-            d += Vc[c, j] * x[j]
-            dv += Vc[c, j] * x[n + j]
+            d += Vc[c, j] * q[j]
+            dv += Vc[c, j] * v[vo + j]
         out[M + c, 0] = d
         out[M + c, 1] = dv
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def accumulate(st, ev, gaps):
     """Add one sample of every element's (δ, δ') to its statistics row st[e]."""
     for e in range(ev.shape[0]):
@@ -243,33 +243,24 @@ def accumulate(st, ev, gaps):
 
 
 @njit(nogil=True, inline="always")
-def field_tab(x, tab, r, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, out):
-    """:func:`field` in the default mode with the coefficients of row r of a table (T, meshes, 4)."""
-    n = g.shape[0]
+def forces_tab(q, v, tab, r, V, D, Vc, kc, cc, Dc, omega, s):
+    """Element forces s[e] of :func:`field` (default mode) at (q̃, q̃') = (q[0:n], v[0:n]), coefficients
+    from row r of a table (T, meshes, 4); meshes, then clearances, in :func:`field`'s arithmetic."""
+    n = V.shape[1]
     M = V.shape[0]
-    for i in range(n):
-        out[i] = x[n + i]
-        acc = g[i]
-        for j in range(n):
-            acc -= A[i, j] * x[j] + B[i, j] * x[n + j]
-        out[n + i] = acc
     for m in range(M):
         d = 0.0
         dv = 0.0
         for j in range(n):
-            d += V[m, j] * x[j]
-            dv += V[m, j] * x[n + j]
+            d += V[m, j] * q[j]
+            dv += V[m, j] * v[j]
         d -= tab[r, m, 2]
         dv -= omega * tab[r, m, 3]
-        s = tab[r, m, 0] * dv + tab[r, m, 1] * _fz(d, D[m])
-        for i in range(n):
-            out[n + i] -= W[m, i] * s
+        s[m] = tab[r, m, 0] * dv + tab[r, m, 1] * _fz(d, D[m])
     for c in range(Vc.shape[0]):
         d = 0.0
         dv = 0.0
         for j in range(n):
-            d += Vc[c, j] * x[j]
-            dv += Vc[c, j] * x[n + j]
-        s = cc[c] * dv + kc[c] * _fz(d, Dc[c])
-        for i in range(n):
-            out[n + i] -= Wc[c, i] * s
+            d += Vc[c, j] * q[j]
+            dv += Vc[c, j] * v[j]
+        s[M + c] = cc[c] * dv + kc[c] * _fz(d, Dc[c])

@@ -7,6 +7,8 @@ to the branch of its dead zone at the sub-step start, takes the step, and where 
 contact boundary (δ = ±D, E_m(θ) included for meshes) is crossed inside it, finds the crossing
 length by a safeguarded secant (Illinois) iteration on the locked step and splits the step there;
 the vector field is continuous, so the split keeps RK4 fourth order and no saltation is needed.
+:func:`rk4_plain` is the default mode's step without tangents on the padded layout of
+:mod:`geardyn._kernel_ndof.simd` (:func:`pad_point` prepares a point's matrices).
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .core import coef_at, element_values, field, field_tab, jac_blocks, tan_field
+from .core import coef_at, element_values, field, forces_tab, jac_blocks, tan_field
+from .simd import LANE_BLOCK, final_block, stage_block
 
 #: Largest number of sub-steps one step is split into (accurate mode).
 MAX_SPLITS = 64
@@ -127,7 +130,7 @@ def _locked(x0, t, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, 
 def _worst(x, t, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev):
     """Smallest locked-branch distance over the elements at state x, time t, and its element."""
     coef_at(coef, ratio, omega * t, cfa[3])
-    element_values(x, cfa[3], V, Vc, omega, ev)
+    element_values(x, x, V.shape[1], cfa[3], V, Vc, omega, ev)
     best = np.inf
     who = -1
     for e in range(ev.shape[0]):
@@ -147,7 +150,7 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
     tt = t
     for _split in range(MAX_SPLITS):
         coef_at(coef, ratio, omega * tt, cfa[3])
-        element_values(x, cfa[3], V, Vc, omega, ev)
+        element_values(x, x, V.shape[1], cfa[3], V, Vc, omega, ev)
         _regions(ev, gaps, mode)
         if tangent:
             for i in range(d):
@@ -219,7 +222,7 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
             return
     # split limit reached: finish the step unsplit
     coef_at(coef, ratio, omega * tt, cfa[3])
-    element_values(x, cfa[3], V, Vc, omega, ev)
+    element_values(x, x, V.shape[1], cfa[3], V, Vc, omega, ev)
     _regions(ev, gaps, mode)
     _locked(x, tt, rem, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
             tangent, Y)
@@ -227,21 +230,66 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
         x[i] = xo[i]
 
 
+# ----------------------------------------------------------------------------- plain step (padded layout)
+#: Rows of the plain step's workspace X (XROWS, NP): the state (q̃, q̃'), stage accelerations, stage states.
+XQ, XV, XK1, XK2, XK3, XQ2, XV2, XQ3, XV3, XQ4, XV4 = range(11)
+XROWS = 11
+
+
+#: Byte alignment of the padded arrays: a block (LANE_BLOCK float64) is one cache line, and no SIMD
+#: load or store straddles two lines.
+ALIGN_BYTES = 64
+
+
 @njit(nogil=True)
-def rk4_plain(x, h, tab, j, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k1, k2, k3, k4, xs):
-    """One default-mode RK4 step without tangents (the hot loop), coefficients from the table rows 2j..2j+2."""
-    d = x.shape[0]
+def aligned_zeros(rows, cols):
+    """A zeroed float64 (rows, cols) array whose data start on an ALIGN_BYTES boundary."""
+    raw = np.zeros(rows * cols + ALIGN_BYTES // 8)
+    off = ((ALIGN_BYTES - raw.ctypes.data % ALIGN_BYTES) % ALIGN_BYTES) // 8
+    return raw[off:off + rows * cols].reshape((rows, cols))
+
+
+@njit(nogil=True)
+def pad_point(A, B, g, W, Wc, AT, BT, gP, WT):
+    """The plain step's padded transposed matrices of one point (AT, BT (n, NP), gP (NP,), WT (E, NP))."""
+    n = A.shape[0]
+    M = W.shape[0]
+    AT[:, :] = 0.0
+    BT[:, :] = 0.0
+    gP[:] = 0.0
+    WT[:, :] = 0.0
+    for i in range(n):
+        gP[i] = g[i]
+        for j in range(n):
+            AT[j, i] = A[i, j]
+            BT[j, i] = B[i, j]
+        for m in range(M):
+            WT[m, i] = W[m, i]
+        for c in range(Wc.shape[0]):
+            WT[M + c, i] = Wc[c, i]
+
+
+@njit(nogil=True, inline="always")
+def rk4_plain(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega):
+    """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
+
+    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace.
+    Coefficients from the table rows 2j..2j+2; the arithmetic is :func:`rk4` with :func:`field`'s,
+    operation by operation (see :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows.
+    """
     hh = 0.5 * h
     h6 = h / 6.0
-    field_tab(x, tab, 2 * j, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k1)
-    for i in range(d):
-        xs[i] = x[i] + hh * k1[i]
-    field_tab(xs, tab, 2 * j + 1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k2)
-    for i in range(d):
-        xs[i] = x[i] + hh * k2[i]
-    field_tab(xs, tab, 2 * j + 1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k3)
-    for i in range(d):
-        xs[i] = x[i] + h * k3[i]
-    field_tab(xs, tab, 2 * j + 2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, k4)
-    for i in range(d):
-        x[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = X[XQ], X[XV], X[XK1], X[XK2], X[XK3], X[XQ2], X[XV2], X[XQ3], \
+        X[XV3], X[XQ4], X[XV4]
+    forces_tab(q, v, tab, 2 * j, V, D, Vc, kc, cc, Dc, omega, s)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        stage_block(AT, BT, gP, WT, s, q, v, q, v, hh, k1, q2, v2, b)
+    forces_tab(q2, v2, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        stage_block(AT, BT, gP, WT, s, q2, v2, q, v, hh, k2, q3, v3, b)
+    forces_tab(q3, v3, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        stage_block(AT, BT, gP, WT, s, q3, v3, q, v, h, k3, q4, v4, b)
+    forces_tab(q4, v4, tab, 2 * j + 2, V, D, Vc, kc, cc, Dc, omega, s)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        final_block(AT, BT, gP, WT, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3, b)

@@ -3,7 +3,9 @@
 Per point: the derived matrices are given by the caller; in the default mode the coefficients of
 one forcing period are tabulated at the 2N + 1 half-step angles (the forcing is periodic in that
 period, so the table serves every period: no trigonometric call in the step loop); the accurate
-mode evaluates them where its split sub-steps need them.  The stroboscopic samples are exact:
+mode evaluates them where its split sub-steps need them.  Periods without tangents in the default
+mode run the plain step (:func:`geardyn._kernel_ndof.step.rk4_plain`) on the padded state, copied
+from and back to the state at the period's start and end.  The stroboscopic samples are exact:
 h = T_f/N with T_f the forcing period.
 """
 
@@ -17,7 +19,18 @@ from .core import (
     LOCK_FREE, NSTAT, ST_DIVERGED, ST_OK, TAN_LYAPUNOV, TAN_NONE, accumulate, coef_at,
     diverged_state, element_values, gram_schmidt,
 )
-from .step import accurate_step, rk4, rk4_plain
+from .simd import LANE_BLOCK
+from .step import XQ, XROWS, XV, accurate_step, aligned_zeros, pad_point, rk4, rk4_plain
+
+
+@njit(nogil=True)
+def _store_hist(hist, p, s, q, v, vo):
+    """History sample s (if s >= 0) of point p: (q̃, q̃') = (q[0:n], v[vo:vo+n])."""
+    if s >= 0:
+        n = hist.shape[2] // 2
+        for i in range(n):
+            hist[p, s, i] = q[i]
+            hist[p, s, n + i] = v[vo + i]
 
 
 @njit(nogil=True, cache=True)
@@ -45,11 +58,13 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
     logs = np.empty(max(ktan, 1))
     st = np.zeros((E, NSTAT))
     hl = hist.shape[1]
-    k1 = np.empty(d)
-    k2 = np.empty(d)
-    k3 = np.empty(d)
-    k4 = np.empty(d)
-    xs = np.empty(d)
+    NP = ((n + LANE_BLOCK - 1) // LANE_BLOCK) * LANE_BLOCK
+    X = aligned_zeros(XROWS, NP)
+    AT = aligned_zeros(n, NP)
+    BT = aligned_zeros(n, NP)
+    gP = aligned_zeros(1, NP)[0]
+    WT = aligned_zeros(E, NP)
+    sf = np.zeros(E)
     while True:
         k = _fetch_add(counter, 1)
         if k >= P:
@@ -59,8 +74,8 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
         Tf = tperiod[p]
         h = Tf / N
         om = omega[p]
-        Ap, Bp, Wp, Vp, Dp, Wcp, Vcp, kcp, ccp, Dcp, gp = A[p], B[p], W[p], V[p], D[p], Wc[p], Vc[p], kc[p], cc[p], \
-            Dc[p], g[p]
+        Vp, Dp, Vcp, kcp, ccp, Dcp = V[p], D[p], Vc[p], kc[p], cc[p], Dc[p]
+        pad_point(A[p], B[p], g[p], W[p], Wc[p], AT, BT, gP, WT)
         gaps = np.empty(E)
         for m in range(M):
             gaps[m] = D[p, m]
@@ -86,28 +101,42 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
         for per in range(total):
             rec = per >= n_transient
             tan_on = rec and ktan > 0
-            for j in range(N):
-                if accurate:
-                    accurate_step(x, j * h, h, coef[p], ratio[p], om, A[p], B[p], W[p], V[p], D[p], Wc[p], Vc[p],
-                                  kc[p], cc[p], Dc[p], g[p], gaps, mode, xo, cfa, wk, wt, Gq, Gv, tan_on, Y, Ysave,
-                                  ev)
-                elif not tan_on:
-                    rk4_plain(x, h, tab, j, Ap, Bp, Wp, Vp, Dp, Wcp, Vcp, kcp, ccp, Dcp, gp, om, k1, k2, k3, k4, xs)
-                else:
-                    rk4(x, h, tab[2 * j], tab[2 * j + 1], tab[2 * j + 2], A[p], B[p], W[p], V[p], D[p], Wc[p],
-                        Vc[p], kc[p], cc[p], Dc[p], g[p], om, mode, tan_on, Y, wk, wt, Gq, Gv)
-                if rec:
+            if not accurate and not tan_on:
+                # the plain step on the padded state (padding zero)
+                X[:, :] = 0.0
+                q = X[XQ]
+                v = X[XV]
+                for i in range(n):
+                    q[i] = x[i]
+                    v[i] = x[n + i]
+                for j in range(N):
+                    rk4_plain(X, sf, h, tab, j, AT, BT, gP, WT, Vp, Dp, Vcp, kcp, ccp, Dcp, om)
+                    if rec:
+                        element_values(q, v, 0, tab[2 * j + 2], Vp, Vcp, om, ev)
+                        accumulate(st, ev, gaps)
+                    if hl > 0:
+                        _store_hist(hist, p, per * N + j + 1 - hstart, q, v, 0)
+                for i in range(n):
+                    x[i] = q[i]
+                    x[n + i] = v[i]
+            else:
+                for j in range(N):
                     if accurate:
-                        coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
-                        element_values(x, cfa[3], V[p], Vc[p], om, ev)
+                        accurate_step(x, j * h, h, coef[p], ratio[p], om, A[p], B[p], W[p], V[p], D[p], Wc[p], Vc[p],
+                                      kc[p], cc[p], Dc[p], g[p], gaps, mode, xo, cfa, wk, wt, Gq, Gv, tan_on, Y, Ysave,
+                                      ev)
                     else:
-                        element_values(x, tab[2 * j + 2], Vp, Vcp, om, ev)
-                    accumulate(st, ev, gaps)
-                if hl > 0:
-                    s = per * N + j + 1 - hstart
-                    if s >= 0:
-                        for i in range(d):
-                            hist[p, s, i] = x[i]
+                        rk4(x, h, tab[2 * j], tab[2 * j + 1], tab[2 * j + 2], A[p], B[p], W[p], V[p], D[p], Wc[p],
+                            Vc[p], kc[p], cc[p], Dc[p], g[p], om, mode, tan_on, Y, wk, wt, Gq, Gv)
+                    if rec:
+                        if accurate:
+                            coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
+                            element_values(x, x, n, cfa[3], V[p], Vc[p], om, ev)
+                        else:
+                            element_values(x, x, n, tab[2 * j + 2], Vp, Vcp, om, ev)
+                        accumulate(st, ev, gaps)
+                    if hl > 0:
+                        _store_hist(hist, p, per * N + j + 1 - hstart, x, x, n)
             if diverged_state(x):
                 bad = True
                 break
