@@ -120,6 +120,14 @@ def _phi_series(row: np.ndarray, ratio: float, periods: int) -> np.ndarray:
     return z
 
 
+def _samples(z: np.ndarray, Ns: int) -> np.ndarray:
+    """Values at φ_j = 2πj/Ns of the real trigonometric polynomial with centred coefficients z (L < Ns/2)."""
+    L = (len(z) - 1) // 2
+    arr = np.zeros(Ns, dtype=complex)
+    arr[np.arange(-L, L + 1) % Ns] = z
+    return (np.fft.ifft(arr) * Ns).real
+
+
 def _centred(z: np.ndarray, L: int) -> np.ndarray:
     """Centred coefficients cut or zero-padded to half-length L."""
     Lz = (len(z) - 1) // 2
@@ -399,18 +407,12 @@ class HBSystemEquations:
         pt = self._entry(p)
         nu = pt.omega / self.periods
         Ns = FORCE_OVERSAMPLE * self.N
-        phi = 2.0 * np.pi * np.arange(Ns) / Ns
         out = []
-        for e, mesh in enumerate(pt.model.meshes):
+        for e in range(len(pt.model.meshes)):
             el = pt.elements[e]
-            d = self.deflection(a, e, p)
-            u = self.dbasis.evaluate(d, phi)
-            v = nu * self.dbasis.evaluate(d, phi, 1)
-            ex = np.exp(1j * np.multiply.outer(phi, np.arange(-(len(el.C) // 2), len(el.C) // 2 + 1)))
-            Cv = (ex @ el.C).real
-            ex = np.exp(1j * np.multiply.outer(phi, np.arange(-(len(el.K) // 2), len(el.K) // 2 + 1)))
-            Kv = (ex @ el.K).real
-            out.append(float(np.max(Cv * v + Kv * (u - np.clip(u, -el.D, el.D)))))
+            c = self.dbasis.to_complex(self.deflection(a, e, p))
+            u, v = _samples(c, Ns), _samples(nu * self._ikd * c, Ns)
+            out.append(float(np.max(_samples(el.C, Ns) * v + _samples(el.K, Ns) * (u - np.clip(u, -el.D, el.D)))))
         return np.array(out)
 
     def state(self, a: np.ndarray, p: float | None = None) -> np.ndarray:

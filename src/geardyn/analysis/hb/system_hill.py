@@ -29,7 +29,10 @@ is that exponent's shifted by m harmonics (normalised overlap >= :data:`COPY_OVE
 case (μ real < 0) an exponent and its copy λ − iν are mirror images with equal centroids.  The last
 exponent is chosen as :mod:`.hill` chooses its second: among the PARTNER_CANDIDATES next most central
 eigenvalues, the one whose multiplier is closest to Liouville's partner exp(−∫ tr 𝒞 dτ)/Π μ of those
-accepted.  For one elastic DOF this is exactly the rule of :mod:`.hill`.
+accepted; copies of the accepted ones are left out of that window, and when it holds nothing else (a
+system has many copies as central as a flip exponent) the next eigenvalue that is not a copy is taken.
+For one elastic DOF this is the rule of :mod:`.hill` (it differs only where that would take a copy of
+λ₁, i.e. μ₂ = μ₁ to within Hill's truncation error).
 Resolution is checked as in :mod:`.hill`: every chosen centroid <= CENTROID_FRACTION·H and Liouville's
 formula Π μ = exp(−∫ tr 𝒞 dτ) to LIOUVILLE_TOL; otherwise ``Status.UNRESOLVED``.
 
@@ -75,6 +78,16 @@ def _overlap(ya: np.ndarray, yc: np.ndarray, m: int) -> float:
         sh[:, -m:] = ya[:, :M + m]
     den = np.linalg.norm(ya) * np.linalg.norm(yc)
     return float(abs(np.vdot(sh, yc)) / den) if den > 0 else 0.0
+
+
+def _is_copy(c: int, chosen: list[int], lam: np.ndarray, mu: np.ndarray, y: np.ndarray, nu: float) -> bool:
+    """Whether eigenvalue c is a copy λ_a + imν (m ≠ 0) of an accepted exponent a (see the module docstring)."""
+    for a in chosen:
+        m = int(round(float((lam[c] - lam[a]).imag) / nu))
+        if m != 0 and abs(mu[c] - mu[a]) <= COPY_TOL * max(1.0, abs(mu[a])) \
+                and _overlap(y[:, :, a], y[:, :, c], m) >= COPY_OVERLAP:
+            return True
+    return False
 
 
 def _nan_result(count: int, status: Status) -> HillResult:
@@ -134,22 +147,23 @@ def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float
     mu_all = np.exp(lam * T)
     ref = math.exp(-trace * T)
     chosen: list[int] = []
-    for c in order:
+    pos = 0
+    for pos, c in enumerate(order):
         if len(chosen) == count - 1:
             break
-        for a in chosen:
-            m = int(round(float((lam[c] - lam[a]).imag) / nu))
-            if m != 0 and abs(mu_all[c] - mu_all[a]) <= COPY_TOL * max(1.0, abs(mu_all[a])) \
-                    and _overlap(y[:, :, a], y[:, :, c], m) >= COPY_OVERLAP:
-                break
-        else:
+        if not _is_copy(int(c), chosen, lam, mu_all, y, nu):
             chosen.append(int(c))
-    # the last exponent as hill.py's second: among the next most central, the one closest to Liouville's
-    # partner exp(−∫ tr 𝒞 dτ) / Π μ (for one DOF exactly the rule of hill.py)
-    rest = np.array([int(c) for c in order if int(c) not in chosen][:PARTNER_CANDIDATES])
+    # the last exponent as hill.py's second: among the next PARTNER_CANDIDATES most central eigenvalues (copies
+    # of those accepted left out; if all are copies, the next one that is not), the one closest to Liouville's
+    # partner exp(−∫ tr 𝒞 dτ) / Π μ of those accepted — for one DOF the rule of hill.py
+    after = [int(c) for c in order[pos:] if int(c) not in chosen]
+    rest = [c for c in after[:PARTNER_CANDIDATES] if not _is_copy(c, chosen, lam, mu_all, y, nu)]
+    if not rest:
+        rest = [c for c in after if not _is_copy(c, chosen, lam, mu_all, y, nu)][:1] or after[:1]
     prod = complex(np.prod(mu_all[chosen])) if chosen else 1.0
     partner = ref / prod if prod != 0 else complex(math.inf)
-    chosen.append(int(rest[int(np.argmin(np.abs(mu_all[rest] - partner)))]))
+    rest_a = np.array(rest)
+    chosen.append(int(rest_a[int(np.argmin(np.abs(mu_all[rest_a] - partner)))]))
     idx = np.array(chosen)
     ex, mu, cc = lam[idx], mu_all[idx], cent[idx]
     srt = np.argsort(-np.abs(mu), kind="stable")
