@@ -138,16 +138,16 @@ def _centred(z: np.ndarray, L: int) -> np.ndarray:
 
 
 class HBSystemEquations:
-    """The harmonic-balance equations of a multi-DOF system (optionally as a function of one parameter).
+    """Residual, Jacobian, Newton and Hill's matrix of a system's HB equations (see the module docstring).
 
     Parameters
     ----------
     model : SystemModel
-        Base system; ``param`` values replace one of its parameters.
+        The system at its base point (a value of ``param`` given to a method replaces that parameter).
     harmonics : int
-        H, harmonics of ν = ω/(n p) per DOF (default :data:`~geardyn.analysis.hb.solve.DEFAULT_HARMONICS`).
+        H per DOF: harmonics of ν = ω/(n p) (default :data:`~geardyn.analysis.hb.solve.DEFAULT_HARMONICS`).
     period : int
-        n, the response period in forcing periods.
+        n forcing periods per response period.
     param : str, optional
         A system parameter (``omega``, ``<mesh>.xi0``, ``<clearance>.D`` ...) for :meth:`residual` and
         :meth:`dR_dp`.
