@@ -521,19 +521,32 @@ def system_guess_from_simulation(eq: HBSystemEquations, state0: Sequence[float] 
 
 @dataclass
 class HBSystemSolution(HBSolution):
-    """A harmonic-balance solution of a system at one parameter value (non-dimensional).
-
-    As :class:`~geardyn.analysis.hb.solve.HBSolution` (``u_min``, ``u_max``, ``amplitude`` of the reference
-    mesh's δ; ``hill`` with the elastic multipliers only), with ``coefficients`` of shape (n_dof, 2H + 1) and
+    """A harmonic-balance solution of a system at one parameter value (non-dimensional); the fields of
+    :class:`~geardyn.analysis.hb.solve.HBSolution`, for the system.
 
     Attributes
     ----------
+    model : SystemModel
+        The system point.
+    harmonics, period, samples : int
+        H per DOF, n and the time samples N per response period.
+    coefficients : ndarray (n_dof, 2H + 1)
+        ``[a_0, a_1 … a_H, b_1 … b_H]`` of every DOF q̃_i(φ), φ = θ/(n p).
+    status : Status
+        Newton's outcome.
+    iterations : int
+    residual : float
+        Norm of the residual at the last iterate.
+    u_min, u_max : float
+        Extremes of the reference mesh's δ (NaN unless converged).
+    hill : HillResult or None
+        The elastic multipliers (rigid-body modes left out; None unless converged).
     equations : HBSystemEquations
         The equations solved (for :meth:`state`, deflections and mesh forces).
     unknowns : ndarray
         The full unknown vector (coefficients, then the gauge multipliers).
     element_extremes : ndarray (elements, 2)
-        δ_min, δ_max of every element.
+        δ_min, δ_max of every element (meshes, then clearances).
     rigid : int
         Rigid-body modes (their 2 multipliers each, exactly 1, are left out).
     """
@@ -618,7 +631,21 @@ def hb_system_solve(model: Any, harmonics: int = DEFAULT_HARMONICS, period: int 
 
 
 def dynamic_factors(eq: HBSystemEquations, a: np.ndarray, p: float | None = None) -> list[float | None]:
-    """Largest mesh force over the period divided by the static mesh force, per mesh (None where that is 0)."""
+    """Largest mesh force over the period divided by the static mesh force, per mesh.
+
+    Parameters
+    ----------
+    eq : HBSystemEquations
+    a : ndarray
+        The unknown vector of a solution.
+    p : float, optional
+        Parameter value.
+
+    Returns
+    -------
+    list of float or None
+        One per mesh; None where the static mesh force is 0.
+    """
     fs = static_mesh_forces(eq.model_at(p))
     fm = eq.mesh_force_max(a, p)
     return [float(f / s) if s > 0 and math.isfinite(f) else None for f, s in zip(fm, fs)]

@@ -109,12 +109,29 @@ class _SystemTracer(_Tracer):
 
 @dataclass
 class HBSystemContinuation(HBContinuation):
-    """A continued HB branch of a system: :class:`~geardyn.analysis.hb.continuation.HBContinuation` with
-    ``u_min``/``u_max`` those of the reference mesh, ``multipliers`` (P, 2(n − r)) the elastic ones,
-    ``coefficients`` (P, n_dof(2H + 1)) DOF by DOF, and
+    """A continued HB branch of a system (the fields of :class:`~geardyn.analysis.hb.continuation.HBContinuation`,
+    for the system).
 
     Attributes
     ----------
+    model : SystemModel
+        Base system (``param`` varies along the branch).
+    param : str
+    harmonics, period, samples : int
+        H per DOF, n and the time samples N per response period.
+    values : ndarray (P,)
+        Parameter values along the branch.
+    coefficients : ndarray (P, n_dof(2H + 1))
+        Every DOF's coefficients, DOF by DOF.
+    u_min, u_max : ndarray (P,)
+        Extremes of the reference mesh's δ.
+    multipliers : complex ndarray (P, 2(n − r))
+        The elastic multipliers.
+    status : ndarray of int (P,)
+        :class:`~geardyn.status.Status` per point.
+    bifurcations : list of HBBifurcation
+    end : str
+        Why the continuation stopped.
     elements : tuple of str
         Element names (meshes, then clearances).
     element_u_min, element_u_max : ndarray (P, elements)
