@@ -191,37 +191,3 @@ def test_statuses_are_honest():
     # Newton refused: no iterations allowed from a poor guess
     bad = hb_solve(GearModel(omega=0.7), 16, guess="linear", max_iter=1)
     assert bad.status is Status.NOT_CONVERGED and not bad.converged
-
-
-def test_compiled_aft_matches_numpy():
-    # the compiled dead-zone projection, extrema, residual and Jacobian against the NumPy formulation
-    from geardyn.analysis.hb import aft
-
-    m = GearModel(omega=0.7, xi0=0.08)
-    for H, D in ((12, m.D), (7, 0.0), (16, 0.3)):
-        s = HBSystem(m.with_param("D", D), H)
-        sol = hb_solve(s.base, H, stability=False)
-        assert sol.converged
-        _mm, (_C, K, _F) = s._entry(None)
-        for a in (sol.coefficients, sol.coefficients * 1.3 + 0.05):
-            x, y = aft.dead_zone_terms(s.basis, a, K, D), aft._dead_zone_terms_numpy(s.basis, a, K, D)
-            assert x.switches.size == y.switches.size
-            np.testing.assert_allclose(np.sort(x.switches), np.sort(y.switches), rtol=0, atol=1e-12)
-            np.testing.assert_allclose(x.G, y.G, rtol=0, atol=1e-12)
-            np.testing.assert_allclose(x.S, y.S, rtol=0, atol=1e-12)
-            np.testing.assert_allclose(aft.signal_extrema(s.basis, a), aft._signal_extrema_numpy(s.basis, a),
-                                       rtol=0, atol=1e-12)
-            R, J = s.residual(a)
-            R2, J2 = s._residual_numpy(a)
-            np.testing.assert_allclose(R, R2, rtol=0, atol=1e-12 * (1 + np.abs(R2).max()))
-            np.testing.assert_allclose(J, J2, rtol=0, atol=1e-12 * np.abs(J2).max())
-    s = HBSystem(m, 12, param="omega")
-    a = hb_solve(m, 12, stability=False).coefficients
-    np.testing.assert_allclose(s.dR_dp(a, 0.7), s._dR_domega_numpy(a, 0.7), rtol=0, atol=1e-13)
-    for w in (0.3, 0.7123456789, 1.9):
-        for n in (1, 2):
-            sn = HBSystem(m, 8, n, param="omega")
-            ref = aft.model_series(m.with_param("omega", w), n)
-            got = sn._entry(w)[1]
-            assert all(np.array_equal(g, r) for g, r in zip(got, ref))
-            assert sn.model_at(w) == m.with_param("omega", w)

@@ -1,13 +1,17 @@
 """Values of a TOML configuration: kinds with their units, pint parsing, and one-line errors naming file and line.
 
-Private to :mod:`geardyn.config`, which holds the schema (the sections and keys) and builds the models.
+Private to :mod:`geardyn.config`, which holds the schema (the sections and keys) and builds the models;
+:mod:`geardyn.systems.load` reads and parses its files with the same :func:`read_toml` and
+:func:`parse_toml`.
 """
 
 from __future__ import annotations
 
 import math
 import re
+import tomllib
 from functools import lru_cache
+from pathlib import Path
 from typing import Any, NamedTuple
 
 from .errors import ConfigError, GeardynError
@@ -191,3 +195,66 @@ def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any) -> tup
             return (), assumed
         return tuple(_parse_scalar(ctx, section, key, spec.kind, r, i + 1) for i, r in enumerate(raw)), assumed
     return _parse_scalar(ctx, section, key, spec.kind, raw), assumed
+
+
+def read_toml(path: str | Path, what: str) -> tuple[str, str]:
+    """The text of a TOML file, with the name its messages give it.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    what : str
+        What the file is, for the messages (``"configuration file"``, ``"system file"``).
+
+    Returns
+    -------
+    source : str
+        ``str(path)``, the prefix of every message about the file.
+    text : str
+        Its contents.
+
+    Raises
+    ------
+    ConfigError
+        If the file is missing, a directory, or unreadable as UTF-8 text.
+    """
+    p = Path(path)
+    source = str(path)
+    if not p.is_file():
+        raise ConfigError(f"{source}: {what} not found" + (" (it is a directory)" if p.is_dir() else ""))
+    try:
+        return source, p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise ConfigError(f"{source}: cannot read {what} ({e})") from None
+
+
+def parse_toml(text: str, source: str) -> dict[str, Any]:
+    """Parse TOML text, a syntax error reported as a one-line :class:`ConfigError` with its line.
+
+    Parameters
+    ----------
+    text : str
+        The TOML text.
+    source : str
+        Where it comes from (the message prefix).
+
+    Returns
+    -------
+    dict
+        The parsed document.
+
+    Raises
+    ------
+    ConfigError
+        ``SOURCE: line N: TOML syntax error: … (column C)`` for a syntax error.
+    """
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        msg = str(e)
+        m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
+        if m:
+            msg = msg[: m.start()].strip()
+            raise ConfigError(f"{source}: line {m.group(1)}: TOML syntax error: {msg} (column {m.group(2)})") from None
+        raise ConfigError(f"{source}: TOML syntax error: {msg}") from None

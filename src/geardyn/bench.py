@@ -25,6 +25,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from ._docfill import attributes
 from .model import GearModel, IntegrationOptions, ModelError, steps_per_period
 
 __all__ = ["WORKLOADS", "DEFAULT_REPEATS", "Workload", "workload", "time_workload", "run_benchmarks", "machine_info"]
@@ -36,30 +37,21 @@ BENCH_DTAU = 0.01
 
 
 @dataclass(frozen=True)
+@attributes
 class Workload:
-    """One standard workload: its parameter points, options and what is computed.
+    """One standard workload: its parameter points, options and what is computed."""
 
-    Attributes
-    ----------
-    name : str
-        ``W1``, ``W2`` or ``W3`` (a key of :data:`WORKLOADS`).
-    description : str
-        One line saying what is integrated.
-    omegas : tuple of float
-        The forcing frequencies ω of the batch (the other parameters are the paper's defaults).
-    options : IntegrationOptions
-        Step, transient and recorded periods.
-    lyapunov : bool
-        Propagate the tangent vectors and compute both Lyapunov exponents.
-    record_poincare : bool
-        Keep the Poincaré points.
-    """
-
+    #: ``W1``, ``W2`` or ``W3`` (a key of :data:`WORKLOADS`).
     name: str
+    #: One line saying what is integrated.
     description: str
+    #: The forcing frequencies ω of the batch (the other parameters are the paper's defaults).
     omegas: tuple[float, ...]
+    #: Step, transient and recorded periods.
     options: IntegrationOptions
+    #: Propagate the tangent vectors and compute both Lyapunov exponents.
     lyapunov: bool = False
+    #: Keep the Poincaré points.
     record_poincare: bool = True
 
     def models(self) -> list[GearModel]:

@@ -49,7 +49,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
@@ -75,6 +74,8 @@ from ._config_values import (
     _Key,
     _parse_value,
     parse_quantity,
+    parse_toml,
+    read_toml,
 )
 from .params import FAMILIES
 from .errors import ConfigError
@@ -389,28 +390,13 @@ def load_config(path: str | Path | None = None) -> LoadedConfig:
         source = f"{PAPER_CONFIG} (packaged)"
         text = res.read_text(encoding="utf-8")
     else:
-        p = Path(path)
-        source = str(path)
-        if not p.is_file():
-            raise ConfigError(f"{source}: configuration file not found" + (" (it is a directory)" if p.is_dir() else ""))
-        try:
-            text = p.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as e:
-            raise ConfigError(f"{source}: cannot read configuration file ({e})") from None
+        source, text = read_toml(path, "configuration file")
     return _load_text(text, source)
 
 
 def _load_text(text: str, source: str) -> LoadedConfig:
     ctx = _Ctx(source, text)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        msg = str(e)
-        m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
-        if m:
-            msg = msg[: m.start()].strip()
-            raise ConfigError(f"{source}: line {m.group(1)}: TOML syntax error: {msg} (column {m.group(2)})") from None
-        raise ConfigError(f"{source}: TOML syntax error: {msg}") from None
+    data = parse_toml(text, source)
 
     for key, val in data.items():
         if key in _SCHEMA:

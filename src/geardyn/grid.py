@@ -23,10 +23,19 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from ._docfill import fill
 from .model import GearModel, IntegrationOptions, ModelError, canonical_param, pack_points
 
 __all__ = ["GRID_KINDS", "Grid", "GridModels", "PointModels", "build_models", "chunked", "grid_models", "integrate_points",
            "linspace_values"]
+
+#: Docstring entries of the functions and classes that build the models of parameter points.
+_BASE = """base : GearModel
+    The model every point starts from."""
+_NAMES = """names : sequence of str
+    Parameter names, one per column of ``points``."""
+_POINTS = """points : ndarray (P, len(names))
+    The parameter values of each point."""
 
 #: The kinds of grid.
 GRID_KINDS = ("range", "product", "curve", "states")
@@ -99,17 +108,13 @@ def _axis_values(name: str, values: Sequence[float] | np.ndarray, unique: bool) 
     return a
 
 
+@fill(_BASE, _NAMES, _POINTS)
 def build_models(base: GearModel, names: Sequence[str], points: np.ndarray) -> list[GearModel]:
     """The models of parameter points: ``base`` with ``names[j]`` set to ``points[i, j]`` in that order.
 
     Parameters
     ----------
-    base : GearModel
-        The model every point starts from.
-    names : sequence of str
-        Parameter names, one per column of ``points``.
-    points : ndarray (n, len(names))
-        The parameter values of each point.
+    {{base, names, points}}
 
     Returns
     -------
@@ -125,6 +130,7 @@ def build_models(base: GearModel, names: Sequence[str], points: np.ndarray) -> l
     return out
 
 
+@fill(_BASE, _NAMES, _POINTS)
 class PointModels(abc.Sequence):
     """The models of a chunk's parameter points, packed for the kernel without a model object per point.
 
@@ -136,12 +142,7 @@ class PointModels(abc.Sequence):
 
     Parameters
     ----------
-    base : GearModel
-        The model every point starts from.
-    names : sequence of str
-        Parameter names, one per column of ``points``.
-    points : ndarray (P, len(names))
-        The parameter values of each point.
+    {{base, names, points}}
 
     Attributes
     ----------
@@ -443,13 +444,13 @@ class Grid:
         p = self.points(sl)
         return np.column_stack([p[:, 1], p[:, 0]])
 
+    @fill(_BASE)
     def models(self, base: GearModel, sl: slice = slice(None)) -> list[GearModel]:
         """The models of the points in ``sl``: ``base`` with each axis parameter set, in axis order.
 
         Parameters
         ----------
-        base : GearModel
-            The model every point starts from.
+        {{base}}
         sl : slice
             A slice of the flat point index.
 
@@ -466,13 +467,13 @@ class Grid:
             raise ModelError("grid: a grid of initial states has no parameter points")
         return build_models(base, self.names, self.points(sl))
 
+    @fill(_BASE)
     def check(self, base: GearModel, block: int = 1 << 16) -> None:
         """Validate every point as its model would be validated, without keeping a model.
 
         Parameters
         ----------
-        base : GearModel
-            The model every point starts from.
+        {{base}}
         block : int
             Points packed at a time (:func:`geardyn.model.pack_points`).
 
@@ -486,13 +487,13 @@ class Grid:
         for sl in chunked(self.size, block):
             pack_points(base, self.names, self.points(sl))
 
+    @fill(_BASE)
     def lazy_models(self, base: GearModel) -> "GridModels":
         """The models of every point, validated now (:meth:`check`) and each built only when it is used.
 
         Parameters
         ----------
-        base : GearModel
-            The model every point starts from.
+        {{base}}
 
         Returns
         -------
@@ -507,13 +508,13 @@ class Grid:
         self.check(base)
         return GridModels(self, base)
 
+    @fill(_BASE)
     def omegas(self, base: GearModel) -> np.ndarray:
         """The mesh frequency ω of every point (flat order): its ω axis, else ``base.omega``.
 
         Parameters
         ----------
-        base : GearModel
-            The model every point starts from.
+        {{base}}
 
         Returns
         -------
@@ -590,6 +591,7 @@ class Grid:
         return chunked(self.size, chunk_points)
 
 
+@fill(_BASE)
 class GridModels(abc.Sequence):
     """The models of a grid's points in flat order, each built when it is indexed (:meth:`Grid.lazy_models`).
 
@@ -597,8 +599,7 @@ class GridModels(abc.Sequence):
     ----------
     grid : Grid
         The grid (parameter points).
-    base : GearModel
-        The model every point starts from.
+    {{base}}
     """
 
     def __init__(self, grid: Grid, base: GearModel) -> None:
@@ -619,13 +620,13 @@ class GridModels(abc.Sequence):
         return f"GridModels({self.grid!r})"
 
 
+@fill(_BASE)
 def grid_models(base: GearModel, params: Sequence[str], values: Sequence[Sequence[float]]) -> list[GearModel]:
     """Models for the Cartesian grid of ``values`` over ``params`` (last parameter fastest, values as given).
 
     Parameters
     ----------
-    base : GearModel
-        The model every point starts from.
+    {{base}}
     params : sequence of str
         Parameter names (as the model accepts them).
     values : sequence of sequence of float

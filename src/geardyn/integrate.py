@@ -134,7 +134,7 @@ def using_threads(n: int | None) -> Iterator[None]:
     Raises
     ------
     ModelError
-        If ``n`` is not an integer >= 1.
+        As :func:`set_threads`.
     """
     if n is None:
         yield
@@ -154,7 +154,44 @@ def using_threads(n: int | None) -> Iterator[None]:
 
 
 @dataclass
-class BatchResult:
+class _Batch:
+    """The fields and totals of a batch result, the same for :class:`BatchResult` and
+    :class:`geardyn.integrate_ndof.SystemBatchResult` (the shapes along the state axis differ)."""
+
+    models: list
+    options: IntegrationOptions
+    poincare: np.ndarray
+    end_state: np.ndarray
+    status: np.ndarray
+    stats: np.ndarray
+    nsteps: np.ndarray
+    lyapunov_log: np.ndarray | None = None
+    tangent: np.ndarray | None = None
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Whether each point finished without diverging (P,)."""
+        return self.status == ST_OK
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """Half peak-to-peak displacement (u_max − u_min)/2 over the recorded periods."""
+        return 0.5 * (self.u_max - self.u_min)
+
+    @property
+    def total_steps(self) -> int:
+        """RK4 steps the batch took, transient included."""
+        o = self.options
+        return int(np.sum(self.nsteps) * (o.transient + o.periods))
+
+
+def _statistic(k: int, doc: str) -> property:
+    """The read-only property of the streaming statistic ``stats[:, k]``, NaN where diverged."""
+    return property(lambda self: self._masked(self.stats[:, k]), doc=doc)
+
+
+@dataclass
+class BatchResult(_Batch):
     """Results for P parameter points integrated together (all non-dimensional).
 
     Attributes
@@ -179,20 +216,6 @@ class BatchResult:
         RK4 steps per forcing period.
     """
 
-    models: list[GearModel]
-    options: IntegrationOptions
-    poincare: np.ndarray
-    end_state: np.ndarray
-    status: np.ndarray
-    stats: np.ndarray
-    nsteps: np.ndarray
-    lyapunov_log: np.ndarray | None = None
-    tangent: np.ndarray | None = None
-
-    @property
-    def ok(self) -> np.ndarray:
-        return self.status == ST_OK
-
     def _masked(self, x: np.ndarray) -> np.ndarray:
         return np.where(self.ok, x, np.nan)
 
@@ -202,26 +225,10 @@ class BatchResult:
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(n > 0, x / np.where(n > 0, n, 1.0), np.nan)
 
-    @property
-    def u_min(self) -> np.ndarray:
-        return self._masked(self.stats[:, K.S_UMIN])
-
-    @property
-    def u_max(self) -> np.ndarray:
-        return self._masked(self.stats[:, K.S_UMAX])
-
-    @property
-    def v_min(self) -> np.ndarray:
-        return self._masked(self.stats[:, K.S_VMIN])
-
-    @property
-    def v_max(self) -> np.ndarray:
-        return self._masked(self.stats[:, K.S_VMAX])
-
-    @property
-    def amplitude(self) -> np.ndarray:
-        """Half peak-to-peak displacement (u_max − u_min)/2 over the recorded periods."""
-        return 0.5 * (self.u_max - self.u_min)
+    u_min = _statistic(K.S_UMIN, "Smallest u over the recorded periods (P,); NaN where diverged.")
+    u_max = _statistic(K.S_UMAX, "Largest u over the recorded periods (P,); NaN where diverged.")
+    v_min = _statistic(K.S_VMIN, "Smallest u' over the recorded periods (P,); NaN where diverged.")
+    v_max = _statistic(K.S_VMAX, "Largest u' over the recorded periods (P,); NaN where diverged.")
 
     @property
     def mean(self) -> np.ndarray:
@@ -240,23 +247,20 @@ class BatchResult:
         f = np.stack([self._per_sample(self.stats[:, k]) for k in (K.S_NDRIVE, K.S_NSEP, K.S_NBACK)], axis=1)
         return np.where(self.ok[:, None], f, np.nan)
 
-    @property
-    def total_steps(self) -> int:
-        o = self.options
-        return int(np.sum(self.nsteps) * (o.transient + o.periods))
 
-
-def _state_array(state0: Sequence[float] | np.ndarray | None, P: int, d: int = STATE_DIM) -> np.ndarray:
-    """The (P, d) initial states of a batch from one state (d,) or one per point (P, d), checked."""
+def _state_array(state0: Sequence[float] | np.ndarray | None, P: int, d: int = STATE_DIM,
+                 coords: str = "(u0, v0)") -> np.ndarray:
+    """The (P, d) initial states of a batch from one state (d,) or one per point (P, d), checked;
+    ``coords`` names the state's coordinates in the messages."""
     if state0 is None:
         return np.zeros((P, d))
     s = np.asarray(state0, dtype=float)
     if s.shape == (d,):
         s = np.broadcast_to(s, (P, d))
     if s.shape != (P, d):
-        raise ModelError(f"initial state: expected shape ({d},) or ({P}, {d}), got {s.shape}")
+        raise ModelError(f"initial state {coords}: expected shape ({d},) or ({P}, {d}), got {s.shape}")
     if not np.all(np.isfinite(s)):
-        raise ModelError("initial state (u0, v0): must be finite")
+        raise ModelError(f"initial state {coords}: must be finite")
     return np.ascontiguousarray(s, dtype=float)
 
 

@@ -27,8 +27,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _kernel_ndof as K
+from ._docfill import MODEL, OPTIONS, POINT, SYSTEM, fill, parameters
 from . import integrate as _one
-from .errors import ModelError
 from .integrate import using_threads
 from .model import IntegrationOptions
 
@@ -38,33 +38,28 @@ __all__ = [
 ]
 
 
+@parameters(MODEL)
 def is_system(model: Any) -> bool:
     """Whether ``model`` is a multi-DOF system (integrated by this module's kernel).
-
-    Parameters
-    ----------
-    model : SystemModel or GearModel
-        The model.
 
     Returns
     -------
     bool
+        True for a :class:`~geardyn.systems.SystemModel`, False for a :class:`~geardyn.model.GearModel`.
     """
     from .systems.assemble import SystemModel
 
     return isinstance(model, SystemModel)
 
 
+@parameters(MODEL)
 def forcing_period(model: Any) -> float:
     """The sampling period T_f: p·2π/ω (commensurate meshes) or 2π/ω (incommensurate).
-
-    Parameters
-    ----------
-    model : SystemModel or GearModel
 
     Returns
     -------
     float
+        T_f in units of τ (the forcing period 2π/ω of a GearModel).
     """
     if not is_system(model):
         return float(model.period)
@@ -72,17 +67,14 @@ def forcing_period(model: Any) -> float:
     return (p or 1) * model.period
 
 
+@parameters(MODEL)
 def state_dim(model: Any) -> int:
     """Length of the state the kernel integrates: 2n for a system, 2 for the 1-DOF model.
-
-    Parameters
-    ----------
-    model : SystemModel or GearModel
-        The model.
 
     Returns
     -------
     int
+        The length of ``state0`` for this model.
     """
     return int(model.state_dim) if is_system(model) else _one.state_dim(model)
 
@@ -106,13 +98,13 @@ def natural_steps(model: Any, dtau: float) -> int:
     return int(math.ceil(forcing_period(model) / dtau))
 
 
+@fill(SYSTEM)
 def element_names(model: Any) -> tuple[str, ...]:
     """The elements of the statistics: the meshes, then the clearances.
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
 
     Returns
     -------
@@ -127,6 +119,7 @@ def _ref_index(model: Any) -> int:
     return names.index(model.scaling.reference) if model.scaling.reference in names else 0
 
 
+@fill(SYSTEM)
 def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.ndarray:
     """δ and δ' of every element for states x at times τ.
 
@@ -134,8 +127,7 @@ def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.nda
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
     x : ndarray (..., 2n)
         States (q̃, q̃').
     tau : ndarray or float
@@ -194,8 +186,15 @@ def initial_state(model: Any, u0: float = 0.0, v0: float = 0.0) -> np.ndarray:
     return np.concatenate([pinv @ tq, pinv @ tv])
 
 
+def _of_reference(per_element: Any) -> property:
+    """The read-only property of the reference mesh's value of the per-element method ``per_element``."""
+    return property(lambda self: per_element(self, self.reference),
+                    doc=f"``{per_element.__name__}`` of the reference mesh (the 1-DOF model's u).")
+
+
 @dataclass
-class SystemBatchResult:
+@fill(OPTIONS)
+class SystemBatchResult(_one._Batch):
     """Results for P points of one system structure (non-dimensional); shapes as :class:`geardyn.integrate.BatchResult`.
 
     Attributes
@@ -216,30 +215,15 @@ class SystemBatchResult:
         Tangent matrix at the end (monodromy runs only).
     models : list of SystemModel
         The P points.
-    options : IntegrationOptions
-        The integration options used.
+    {{options}}
     elements : tuple of str
         Names of the elements of ``stats``: the meshes, then the clearances.
     reference : int
         Index of the reference mesh (whose δ is the 1-DOF model's u).
     """
 
-    models: list[Any]
-    options: IntegrationOptions
-    poincare: np.ndarray
-    end_state: np.ndarray
-    status: np.ndarray
-    stats: np.ndarray
-    nsteps: np.ndarray
-    lyapunov_log: np.ndarray | None = None
-    tangent: np.ndarray | None = None
     elements: tuple[str, ...] = field(default=())
     reference: int = 0
-
-    @property
-    def ok(self) -> np.ndarray:
-        """Whether each point finished without diverging (P,)."""
-        return self.status == K.ST_OK
 
     def _el(self, k: int, e: int | None) -> np.ndarray:
         x = self.stats[:, :, k]
@@ -272,37 +256,15 @@ class SystemBatchResult:
         f = np.stack([self._per_sample(k, None) for k in (K.S_NDRIVE, K.S_NSEP, K.S_NBACK)], axis=-1)
         return f if e is None else f[:, e]
 
-    @property
-    def u_min(self) -> np.ndarray:
-        return self.element_u_min(self.reference)
-
-    @property
-    def u_max(self) -> np.ndarray:
-        return self.element_u_max(self.reference)
-
-    @property
-    def amplitude(self) -> np.ndarray:
-        return 0.5 * (self.u_max - self.u_min)
-
-    @property
-    def mean(self) -> np.ndarray:
-        return self.element_mean(self.reference)
-
-    @property
-    def rms(self) -> np.ndarray:
-        return self.element_rms(self.reference)
-
-    @property
-    def contact_fractions(self) -> np.ndarray:
-        return self.element_fractions(self.reference)
-
-    @property
-    def total_steps(self) -> int:
-        o = self.options
-        return int(np.sum(self.nsteps) * (o.transient + o.periods))
+    u_min = _of_reference(element_u_min)
+    u_max = _of_reference(element_u_max)
+    mean = _of_reference(element_mean)
+    rms = _of_reference(element_rms)
+    contact_fractions = _of_reference(element_fractions)
 
 
 @dataclass
+@fill(POINT, OPTIONS)
 class SystemTrajectory:
     """One trajectory of a system: the full state at every step of its last periods and its batch summary.
 
@@ -310,10 +272,7 @@ class SystemTrajectory:
 
     Attributes
     ----------
-    model : SystemModel
-        The system point.
-    options : IntegrationOptions
-        The integration options used.
+    {{model, options}}
     tau : ndarray (K,)
         Times τ of the kept history.
     x : ndarray (K, 2n)
@@ -351,17 +310,9 @@ class SystemTrajectory:
 
 
 def _state_array(models: list[Any], state0: Any) -> np.ndarray:
-    P, d = len(models), models[0].state_dim
     if state0 is None:
         return np.ascontiguousarray(np.stack([initial_state(m) for m in models]))
-    s = np.asarray(state0, dtype=float)
-    if s.shape == (d,):
-        s = np.broadcast_to(s, (P, d))
-    if s.shape != (P, d):
-        raise ModelError(f"initial state: expected shape ({d},) or ({P}, {d}) (q̃, q̃'), got {s.shape}")
-    if not np.all(np.isfinite(s)):
-        raise ModelError("initial state: must be finite")
-    return np.ascontiguousarray(s, dtype=float)
+    return _one._state_array(state0, len(models), models[0].state_dim, "(q̃, q̃')")
 
 
 def _prepare(models: Sequence[Any], options: IntegrationOptions, steps: Any):

@@ -25,6 +25,7 @@ from typing import Any, ClassVar, Iterable, Sequence
 
 import numpy as np
 
+from ._docfill import attributes
 from .errors import ModelError
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
 
@@ -102,21 +103,15 @@ def _as_tuple(name: str, values: Any) -> tuple[float, ...]:
 
 
 @dataclass(frozen=True)
+@attributes
 class Boundary:
-    """A contact boundary of a non-smooth element: the surfaces ``vector · x = ±gap`` in the state space.
+    """A contact boundary of a non-smooth element: the surfaces ``vector · x = ±gap`` in the state space."""
 
-    Attributes
-    ----------
-    element : str
-        The element's name (``"mesh"`` for the 1-DOF model).
-    vector : tuple of float
-        The row vector (length ``state_dim``) giving the element's relative displacement from the state.
-    gap : float
-        Half clearance (non-dimensional); contact is ``|vector · x| > gap``.
-    """
-
+    #: The element's name (``"mesh"`` for the 1-DOF model).
     element: str
+    #: The row vector (length ``state_dim``) giving the element's relative displacement from the state.
     vector: tuple[float, ...]
+    #: Half clearance (non-dimensional); contact is ``|vector · x| > gap``.
     gap: float
 
 

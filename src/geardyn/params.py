@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Mapping
 
+from ._docfill import attributes
 from .errors import ModelError
 
 __all__ = [
@@ -40,41 +41,29 @@ MAX_HARMONICS = 64
 
 
 @dataclass(frozen=True)
+@attributes
 class Family:
-    """One parameter family of the non-dimensional model.
+    """One parameter family of the non-dimensional model."""
 
-    Attributes
-    ----------
-    name : str
-        The field of :class:`~geardyn.model.GearModel` it lives in (``"omega"``, ``"xi"``, ``"phi_c"``…).
-    series : bool
-        ``True`` for a Fourier series: its members are named ``<name><k>``, k = 1 … :data:`MAX_HARMONICS`
-        (``xi`` is the exception: its mean is the separate scalar ``xi0``).
-    symbol : str
-        Mathematical symbol (``"ω"``, ``"ξ_k"``…) for labels.
-    long_name : str
-        What it is (used as the ``long_name`` of a swept coordinate; ``{k}`` is replaced by the harmonic).
-    units : str
-        ``"1"`` (non-dimensional) or ``"rad"``.
-    default : float or tuple of float
-        The paper's Table 1 value (ω is not given there: 1).
-    flag : str or None
-        The common CLI option that sets it (for a series, its first harmonic), e.g. ``"--kappa1"``.
-    flag_help : str
-        Help text of that option.
-    amplitude : str or None
-        For a phase family, the amplitude family it belongs to (a phase for a harmonic not yet present
-        adds that harmonic with amplitude 0).
-    """
-
+    #: The field of :class:`~geardyn.model.GearModel` it lives in (``"omega"``, ``"xi"``, ``"phi_c"``…).
     name: str
+    #: ``True`` for a Fourier series: its members are named ``<name><k>``, k = 1 … :data:`MAX_HARMONICS`
+    #: (``xi`` is the exception: its mean is the separate scalar ``xi0``).
     series: bool
+    #: Mathematical symbol (``"ω"``, ``"ξ_k"``…) for labels.
     symbol: str
+    #: What it is (used as the ``long_name`` of a swept coordinate; ``{k}`` is replaced by the harmonic).
     long_name: str
+    #: ``"1"`` (non-dimensional) or ``"rad"``.
     units: str
+    #: The paper's Table 1 value (ω is not given there: 1).
     default: float | tuple[float, ...]
+    #: The common CLI option that sets it (for a series, its first harmonic), e.g. ``"--kappa1"``.
     flag: str | None
+    #: Help text of that option.
     flag_help: str
+    #: For a phase family, the amplitude family it belongs to (a phase for a harmonic not yet present
+    #: adds that harmonic with amplitude 0).
     amplitude: str | None = None
 
     @property

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from ._docfill import attributes
 from .errors import ConfigError
 
 __all__ = [
@@ -61,27 +62,19 @@ _UNIT_IN_NAME = re.compile(r"[\[(]\s*([^\])]+?)\s*[\])]|[_/ ]([A-Za-zµ]+)\s*$")
 
 
 @dataclass(frozen=True)
+@attributes
 class TESignal:
-    """A measured TE record: the pinion angle of every sample and the TE there.
+    """A measured TE record: the pinion angle of every sample and the TE there."""
 
-    Attributes
-    ----------
-    source : str
-        The file.
-    angle : numpy.ndarray
-        Pinion angle φ1 of every sample (rad), strictly increasing.
-    te_um : numpy.ndarray
-        Transmission error (µm).
-    abscissa : str
-        ``"angle"`` or ``"time"`` (converted to angle with ``rpm``).
-    rpm : float or None
-        The pinion speed used for a time record.
-    """
-
+    #: The file.
     source: str
+    #: Pinion angle φ1 of every sample (rad), strictly increasing.
     angle: np.ndarray
+    #: Transmission error (µm).
     te_um: np.ndarray
+    #: ``"angle"`` or ``"time"`` (converted to angle with ``rpm``).
     abscissa: str
+    #: The pinion speed used for a time record.
     rpm: float | None = None
 
 

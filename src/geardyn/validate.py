@@ -159,6 +159,7 @@ def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
     Returns
     -------
     int
+        The value as an ``int``.
 
     Raises
     ------
@@ -238,6 +239,7 @@ def model_params(values: Mapping[str, Any], base: GearModel | None = None) -> Ge
     Returns
     -------
     GearModel
+        ``base`` with the values set.
 
     Raises
     ------

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from .._docfill import parameters, result_of
 from ..grid import Grid, linspace_values
 from ..io import json_values
 from ..model import GearModel, IntegrationOptions
@@ -125,13 +126,9 @@ def basins(
                           diverged=int(np.count_nonzero(labels < 0)))
 
 
+@parameters(result_of("basins"))
 def basins_json(ds: xr.Dataset) -> dict[str, Any]:
     """The ``basins --json`` summary: the attractors and the label grid.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A :func:`basins` result.
 
     Returns
     -------

@@ -18,11 +18,12 @@ mode); see :func:`bifurcation`.
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import xarray as xr
 
+from .._docfill import parameters, result_of
 from ..grid import Grid, PointModels, build_models, integrate_points, linspace_values
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, json_values, result_attrs
@@ -39,6 +40,7 @@ __all__ = [
     "SWEEPS",
     "bifurcation",
     "sweep_values",
+    "sweep_summary",
     "fixed_chunk",
     "continuation_chunk",
     "grid_chunk",
@@ -386,6 +388,7 @@ def class_intervals(ds: xr.Dataset, sweep: str) -> list[dict[str, Any]]:
     return out
 
 
+@parameters(result_of("bifurcation"))
 def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
     """The ``bifurcation --json`` summary (DESIGN §5: ``param``, ``values``, ``period``, ``motion``,
     ``impact``, ``lle``).
@@ -393,28 +396,45 @@ def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
     With one sweep the per-point entries are lists aligned with ``values``; with both sweeps each
     is a dict ``{"up": [...], "down": [...]}``.
 
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A :func:`bifurcation` result.
-
     Returns
     -------
     dict
         ``param``, ``values``, ``mode``, ``sweep``, the per-point entries and ``intervals``
         (:func:`class_intervals`).
     """
-    name = str(ds.attrs["param"])
-    labels = [str(x) for x in ds["sweep"].values]
-    per = {lab: point_labels(ds, lab) for lab in labels}
-    out: dict[str, Any] = {
-        "param": name,
-        "values": [float(x) for x in ds[name].values],
-        "mode": ds.attrs.get("mode"),
-        "sweep": labels if len(labels) > 1 else labels[0],
-    }
+    out, per_sweep = sweep_summary(ds, lambda x: [float(v) for v in x])
+    per = {str(lab): point_labels(ds, str(lab)) for lab in ds["sweep"].values}
     for key in ("period", "motion", "impact", "lle", "amplitude", "status"):
-        out[key] = per[labels[0]][key] if len(labels) == 1 else {lab: per[lab][key] for lab in labels}
-    iv = {lab: class_intervals(ds, lab) for lab in labels}
-    out["intervals"] = iv[labels[0]] if len(labels) == 1 else iv
+        out[key] = per_sweep(lambda lab: per[lab][key])
+    out["intervals"] = per_sweep(lambda lab: class_intervals(ds, lab))
     return out
+
+
+def sweep_summary(ds: xr.Dataset, values: Callable[[np.ndarray], list[Any]]
+                  ) -> tuple[dict[str, Any], Callable[[Callable[[str], Any]], Any]]:
+    """The head of a one-parameter sweep's JSON summary and the way its per-point entries go in.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep over ``ds.attrs["param"]`` with a ``sweep`` axis (a bifurcation or system sweep).
+    values : callable
+        Turns the grid values into their JSON list.
+
+    Returns
+    -------
+    head : dict
+        ``param``, ``values``, ``mode`` and ``sweep`` (the one label, or the list of labels).
+    per_sweep : callable
+        ``per_sweep(f)`` is ``f(label)`` with one sweep, else the dict ``{label: f(label)}``.
+    """
+    param = str(ds.attrs["param"])
+    labels = [str(x) for x in ds["sweep"].values]
+    one = len(labels) == 1
+    head = {"param": param, "values": values(ds[param].values), "mode": ds.attrs.get("mode"),
+            "sweep": labels[0] if one else labels}
+
+    def per_sweep(f: Callable[[str], Any]) -> Any:
+        return f(labels[0]) if one else {lab: f(lab) for lab in labels}
+
+    return head, per_sweep

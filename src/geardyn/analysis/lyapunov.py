@@ -157,7 +157,11 @@ def lyapunov_batch(
     for smooth dynamical systems and for Hamiltonian systems; a method for computing all of them",
     *Meccanica* 15 (1980) 9–20 and 21–30.
     """
-    res = integrate_batch(models, state0, options, lyapunov=True)
+    return _spectra(integrate_batch(models, state0, options, lyapunov=True), blocks)
+
+
+def _spectra(res: BatchResult, blocks: int) -> dict[str, Any]:
+    """The dict of :func:`lyapunov_batch` from a Lyapunov-mode batch result."""
     T = np.array([m.period for m in res.models])
     lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=blocks)
     bad = res.status != ST_OK
@@ -198,12 +202,7 @@ def _in_blocks(model: GearModel, state0: Sequence[float], options: IntegrationOp
         pc = np.pad(pc, fill, constant_values=np.nan)
     res = BatchResult(first.models, options, pc, last.end_state, last.status, last.stats, first.nsteps,
                       lyapunov_log=log, tangent=last.tangent)
-    T = np.array([m.period for m in res.models])
-    lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=blocks)
-    bad = res.status != ST_OK
-    lam[bad] = np.nan
-    err[bad] = np.nan
-    return {"exponents": lam, "uncertainty": err, "status": res.status.copy(), "result": res}
+    return _spectra(res, blocks)
 
 
 @dataclass

@@ -14,6 +14,7 @@ from typing import Any, Sequence
 import numpy as np
 import xarray as xr
 
+from .._docfill import parameters, result_of
 from ..grid import Grid, build_models
 from ..io import json_values
 from ..model import GearModel, ModelError, canonical_param
@@ -100,13 +101,9 @@ def parameter_map(
                           settle_periods=int(settle_periods))
 
 
+@parameters(result_of("parameter_map"))
 def map_json(ds: xr.Dataset) -> dict[str, Any]:
     """The ``map --json`` summary: parameters, grid values and per-point grids (rows are y values).
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A :func:`parameter_map` result.
 
     Returns
     -------

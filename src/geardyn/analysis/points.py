@@ -16,6 +16,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import xarray as xr
 
+from .._docfill import attributes
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 from ..sweep import Chunk, SweepOptions, run_chunks
@@ -26,24 +27,17 @@ __all__ = ["SweepKeyword", "SWEEP_KEYWORDS", "sweep_function", "initial_state", 
 
 
 @dataclass(frozen=True)
+@attributes
 class SweepKeyword:
-    """A keyword parameter that several sweeps share: its annotation, default and documentation.
+    """A keyword parameter that several sweeps share: its annotation, default and documentation."""
 
-    Parameters
-    ----------
-    name : str
-        The keyword.
-    annotation : str
-        Its type, as written in the signature.
-    default : object
-        Its default value.
-    doc : str
-        Its entry in a numpydoc Parameters section (type line, then the description indented).
-    """
-
+    #: The keyword.
     name: str
+    #: Its type, as written in the signature.
     annotation: str
+    #: Its default value.
     default: Any
+    #: Its entry in a numpydoc Parameters section (type line, then the description indented).
     doc: str
 
 

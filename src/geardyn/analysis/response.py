@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from .._docfill import parameters, result_of
 from ..io import json_values
 from ..model import GearModel, ModelError
 from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor, same_attractor as _same_attractor
@@ -350,13 +351,9 @@ def hysteresis_intervals(ds: xr.Dataset, a: str = "up", b: str = "down") -> list
     return coexistence_intervals(ds, a, b)[0]
 
 
+@parameters(result_of("frequency_response"))
 def response_json(ds: xr.Dataset) -> dict[str, Any]:
     """The ``response --json`` summary: jumps, hysteresis, the grid and each sweep's labels.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A :func:`frequency_response` result.
 
     Returns
     -------

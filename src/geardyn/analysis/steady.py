@@ -207,6 +207,7 @@ class SteadyState:
 
     @property
     def poincare(self) -> np.ndarray:
+        """Poincaré points of the trajectory (periods, state dimension)."""
         return self.traj.poincare
 
     def to_json(self) -> dict[str, Any]:

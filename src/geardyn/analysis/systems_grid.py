@@ -31,11 +31,14 @@ def coordinate_index(model: Any, name: str) -> int:
     Parameters
     ----------
     model : SystemModel
+        The system whose state is indexed.
     name : str
+        The coordinate: ``x``, ``x'`` for a DOF label x, or an index into the state.
 
     Returns
     -------
     int
+        Its index in the state vector (the rate of DOF i is at n + i).
 
     Raises
     ------

@@ -20,6 +20,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .._docfill import OPTIONS, POINT, fill
 from ..integrate_ndof import forcing_period, integrate_batch
 from ..model import IntegrationOptions
 from .classify import detect_period, period_label
@@ -67,6 +68,7 @@ def spectrum_from_log_n(log: np.ndarray, period: float, *, blocks: int = DEFAULT
     return lam[order], err[order]
 
 
+@fill(POINT)
 def expected_sum(model: Any) -> float:
     """The sum the Lyapunov spectrum must have: −mean over a forcing period of trace(M̃⁻¹C̃(θ)).
 
@@ -75,8 +77,7 @@ def expected_sum(model: Any) -> float:
 
     Parameters
     ----------
-    model : SystemModel
-        The system point.
+    {{model}}
 
     Returns
     -------
@@ -93,15 +94,13 @@ def expected_sum(model: Any) -> float:
 
 
 @dataclass
+@fill(POINT, OPTIONS)
 class SystemLyapunovResult:
     """All 2n exponents (per unit τ) of one system point; see :func:`system_lyapunov`.
 
     Attributes
     ----------
-    model : SystemModel
-        The system point.
-    options : IntegrationOptions
-        The integration options used.
+    {{model, options}}
     exponents : ndarray (2n,)
         Exponents in descending order (NaN if the integration diverged).
     uncertainty : ndarray (2n,)
@@ -146,6 +145,7 @@ class SystemLyapunovResult:
         }
 
 
+@fill(POINT)
 def system_lyapunov(model: Any, options: IntegrationOptions = IntegrationOptions(periods=LYAPUNOV_PERIODS),
                     state0: Sequence[float] | None = None, *, blocks: int = DEFAULT_BLOCKS) -> SystemLyapunovResult:
     """The full Lyapunov spectrum of a system point.
@@ -156,8 +156,7 @@ def system_lyapunov(model: Any, options: IntegrationOptions = IntegrationOptions
 
     Parameters
     ----------
-    model : SystemModel
-        The system point.
+    {{model}}
     options : IntegrationOptions
         ``transient`` periods discarded, then ``periods`` averaged (default ``periods``
         :data:`~geardyn.analysis.lyapunov.LYAPUNOV_PERIODS`).

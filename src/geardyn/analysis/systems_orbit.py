@@ -22,25 +22,26 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .._docfill import POINT, SYSTEM, fill
 from ..errors import ModelError
 from ..integrate_ndof import forcing_period, integrate_batch
 from ..model import DEFAULT_DTAU, IntegrationOptions
 from ..status import Status
 from .periodic.floquet import Floquet, floquet
 from .periodic.map import MAP_THREADS, PeriodMap
-from .periodic.orbit import _hermite_extrema, _newton as _periodic_newton, GUESS_RECORD_PER_PERIOD, GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL
+from .periodic.orbit import _ShotOrbit, _hermite_extrema, _newton as _periodic_newton, GUESS_RECORD_PER_PERIOD, GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL
 from .systems_steady import IMPACT_LABELS, mesh_forces, rigid_modes, static_mesh_forces, system_state0
 
 __all__ = ["SystemOrbit", "shoot_system", "require_periodic", "elastic_multipliers"]
 
 
+@fill(SYSTEM)
 def require_periodic(model: Any, what: str = "the periodic tools") -> int:
     """The forcing-period multiple p of a system, refusing incommensurate mesh frequencies.
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
     what : str
         The tools named in the error message.
 
@@ -62,6 +63,7 @@ def require_periodic(model: Any, what: str = "the periodic tools") -> int:
     return p
 
 
+@fill(SYSTEM)
 def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, int]:
     """Eigenvalues of the monodromy on the quotient by the rigid-body subspace, and the rigid-mode count r.
 
@@ -71,8 +73,7 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
     monodromy : ndarray (2n, 2n)
         Monodromy matrix of a periodic orbit.
 
@@ -97,13 +98,13 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
 
 
 @dataclass
-class SystemOrbit:
+@fill(POINT)
+class SystemOrbit(_ShotOrbit):
     """A period-n orbit of a system (non-dimensional); see :func:`shoot_system`.
 
     Attributes
     ----------
-    model : SystemModel
-        The system point.
+    {{model}}
     n : int
         Forcing periods of the orbit.
     state : ndarray (2n,)
@@ -136,15 +137,6 @@ class SystemOrbit:
     1989 (shooting).
     """
 
-    model: Any
-    n: int
-    state: np.ndarray
-    points: np.ndarray
-    monodromy: np.ndarray
-    converged: bool
-    status: Status
-    iterations: int
-    residuals: list[float]
     meshes: list[dict[str, Any]]
     dtau: float = DEFAULT_DTAU
     accurate: bool = False
@@ -159,11 +151,6 @@ class SystemOrbit:
     def elastic(self) -> tuple[np.ndarray, int]:
         """The elastic multipliers and the rigid-mode count (:func:`elastic_multipliers`)."""
         return elastic_multipliers(self.model, self.monodromy)
-
-    @property
-    def multipliers(self) -> np.ndarray:
-        """All 2n Floquet multipliers, rigid-body ones included."""
-        return self.floquet.multipliers
 
     @property
     def stable(self) -> bool:

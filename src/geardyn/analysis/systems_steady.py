@@ -19,11 +19,11 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..integrate_ndof import (
-    SystemBatchResult, SystemTrajectory, initial_state, trajectory,
-)
+from .._docfill import OPTIONS, POINT, SYSTEM, fill
+from ..integrate_ndof import SystemBatchResult, initial_state, trajectory
 from ..model import IntegrationOptions
 from .classify import IMPACT_LABELS, detect_period, impact_state, period_label
+from .steady import SteadyState
 
 __all__ = ["SystemSteadyState", "simulate_system", "static_mesh_forces", "mesh_forces", "rigid_modes"]
 
@@ -33,6 +33,7 @@ def _num(x: Any) -> float | None:
     return x if np.isfinite(x) else None
 
 
+@fill(SYSTEM)
 def rigid_modes(model: Any, rtol: float = 1e-9) -> np.ndarray:
     """Orthonormal basis (n, r) of the rigid-body modes that decouple from the dynamics.
 
@@ -41,8 +42,7 @@ def rigid_modes(model: Any, rtol: float = 1e-9) -> np.ndarray:
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
     rtol : float
         Eigenvalues of K̄ below ``rtol`` times its largest (at least 1) count as zero.
 
@@ -64,13 +64,13 @@ def rigid_modes(model: Any, rtol: float = 1e-9) -> np.ndarray:
     return R
 
 
+@fill(SYSTEM)
 def static_mesh_forces(model: Any) -> np.ndarray:
     """Static mesh force of every mesh (units k_ref b_c), see the module docstring.
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
 
     Returns
     -------
@@ -86,13 +86,13 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     return np.array([m.k * (model.V[i] @ q - m.D) for i, m in enumerate(model.meshes)])
 
 
+@fill(SYSTEM)
 def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
     """Mesh forces s_m = C_m(θ) δ_m' + K_m(θ) f(δ_m; D_m) from the element deflections.
 
     Parameters
     ----------
-    model : SystemModel
-        The system.
+    {{model}}
     tau : ndarray (K,)
         Times τ.
     deltas : ndarray (K, elements, 2)
@@ -178,15 +178,13 @@ def system_state0(model: Any, state0: Sequence[float] | None) -> np.ndarray:
 
 
 @dataclass
-class SystemSteadyState:
+@fill(POINT, OPTIONS)
+class SystemSteadyState(SteadyState):
     """Steady response of one system point (non-dimensional); see :func:`simulate_system`.
 
     Attributes
     ----------
-    model : SystemModel
-        The system point.
-    options : IntegrationOptions
-        The integration options used.
+    {{model, options}}
     state0 : ndarray (2n,)
         The initial state.
     traj : SystemTrajectory
@@ -195,30 +193,19 @@ class SystemSteadyState:
         The keys of ``simulate --json`` (reference mesh) plus ``meshes``, ``clearances`` and ``labels``.
     """
 
-    model: Any
-    options: IntegrationOptions
-    state0: np.ndarray
-    traj: SystemTrajectory
-    summary: dict[str, Any]
-
-    @property
-    def poincare(self) -> np.ndarray:
-        """Poincaré points (periods, 2n) of the trajectory."""
-        return self.traj.poincare
-
     def to_json(self) -> dict[str, Any]:
         """Keys of ``simulate --json`` (reference mesh) plus ``meshes``, ``clearances``, ``labels``."""
         return dict(self.summary, poincare=self.poincare.tolist())
 
 
+@fill(POINT)
 def simulate_system(model: Any, options: IntegrationOptions = IntegrationOptions(),
                     state0: Sequence[float] | None = None, *, history_periods: int = 32) -> SystemSteadyState:
     """Integrate one system point and summarise its steady response.
 
     Parameters
     ----------
-    model : SystemModel
-        The system point.
+    {{model}}
     options : IntegrationOptions
         Transient and recorded periods, step and accuracy.
     state0 : (u0, v0) of the reference mesh, or a full (2n,) state, optional

@@ -28,9 +28,11 @@ from typing import Any, Sequence
 import numpy as np
 import xarray as xr
 
+from .._docfill import SYSTEM, fill, parameters, result_of
 from ..io import KIND_VARIABLES, Variable
 from ..integrate_ndof import element_series, initial_state, integrate_batch
 from ..model import IntegrationOptions
+from .bifurcation import sweep_summary
 from .classify import IMPACT_LABELS, MOTION_DIVERGED, MOTION_PERIODIC, MOTION_UNRESOLVED, detect_period, \
     impact_state, period_label
 
@@ -93,17 +95,23 @@ def point_rows(models: list[Any], res: Any) -> dict[str, np.ndarray]:
             "mean": res.element_mean(), "rms": res.element_rms(), "fractions": res.element_fractions()}
 
 
+#: Docstring entries of the chunk functions.
+_CHUNK = (SYSTEM, "param : str\n    The swept parameter.",
+          "values : ndarray\n    Its values at the chunk's points.",
+          "options : IntegrationOptions\n    Integration settings of every point.")
+
+
+@fill(*_CHUNK)
 def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
                 options: IntegrationOptions) -> dict[str, np.ndarray]:
     """Chunk function: the points ``values`` of ``param``, each from ``state0`` (default per point).
 
     Parameters
     ----------
-    model : SystemModel
-    param : str
-    values : ndarray
+    {{model, param, values}}
     state0 : ndarray (2n,) or None
-    options : IntegrationOptions
+        Start of every point (default :func:`~geardyn.integrate_ndof.initial_state` of each).
+    {{options}}
 
     Returns
     -------
@@ -115,18 +123,17 @@ def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray |
     return point_rows(models, res)
 
 
+@fill(*_CHUNK)
 def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
                    options: IntegrationOptions) -> dict[str, np.ndarray]:
     """Chunk function: the points ``values`` in their order, each from the previous point's end state.
 
     Parameters
     ----------
-    model : SystemModel
-    param : str
-    values : ndarray
+    {{model, param, values}}
     state0 : ndarray (2n,) or None
         Start of the first point (default :func:`~geardyn.integrate_ndof.initial_state`).
-    options : IntegrationOptions
+    {{options}}
 
     Returns
     -------
@@ -338,28 +345,20 @@ def _labels(ds: xr.Dataset, d: str) -> dict[str, list[Any]]:
             "status": ["ok" if s == 0 else "diverged" for s in ds["status"].sel(sweep=d).values]}
 
 
+@parameters(result_of("system_sweep"))
 def sweep_json(ds: xr.Dataset) -> dict[str, Any]:
     """The JSON summary of a system sweep: ``param``, ``values``, per point (per direction for two)
     ``period``, ``motion``, ``impact``, ``amplitude``, ``u_min``, ``u_max``, ``status`` of the
     reference mesh, ``meshes`` (per mesh ``name``, ``u_min``, ``u_max``, ``amplitude``, ``impact``,
     ``dynamic_factor`` None: the sweeps keep no histories) and ``poincare_u``.
 
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A :func:`system_sweep` result.
-
     Returns
     -------
     dict
     """
     num = lambda a: [float(x) if np.isfinite(x) else None for x in np.asarray(a, float)]  # noqa: E731
-    param = ds.attrs["param"]
+    out, pick = sweep_summary(ds, num)
     dirs = [str(s) for s in ds["sweep"].values]
-    one = len(dirs) == 1
-    pick = lambda f: f(dirs[0]) if one else {d: f(d) for d in dirs}  # noqa: E731
-    out: dict[str, Any] = {"param": param, "values": num(ds[param].values), "mode": ds.attrs.get("mode"),
-                           "sweep": dirs[0] if one else dirs}
     lab = {d: _labels(ds, d) for d in dirs}
     for k in ("period", "motion", "impact", "status"):
         out[k] = pick(lambda d: lab[d][k])

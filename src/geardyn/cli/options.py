@@ -295,6 +295,7 @@ class Inputs:
         Returns
         -------
         GearModel
+            The configured model with the command's options over it.
 
         Raises
         ------
@@ -330,6 +331,8 @@ class Inputs:
         Returns
         -------
         IntegrationOptions
+            The options of the command line (``--dtau``, ``--transient``, ``--periods``, ``--accurate``,
+            ``--adaptive``).
 
         Raises
         ------

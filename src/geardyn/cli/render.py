@@ -7,9 +7,13 @@ from typing import Any
 import numpy as np
 from rich.table import Table
 
+from .._docfill import PATHS, SUMMARY, parameters
 from .app import console
 
 __all__ = ["continuation", "files", "intervals", "orbit", "simulate"]
+
+
+_summary_doc = parameters(SUMMARY, PATHS)
 
 
 def _num(x: Any) -> str:
@@ -28,16 +32,9 @@ def files(paths: list[str]) -> None:
         console.print(f"wrote {f}")
 
 
+@_summary_doc
 def simulate(s: dict[str, Any], paths: list[str]) -> None:
-    """The steady response of ``geardyn simulate``.
-
-    Parameters
-    ----------
-    s : dict
-        The command's JSON summary.
-    paths : list of str
-        The files written (listed after the table).
-    """
+    """The steady response of ``geardyn simulate``."""
     t = Table(title=f"Steady response at ω = {s['omega']:g}", show_header=False)
     t.add_row("motion", s["motion"])
     t.add_row("impact state", s["impact"])
@@ -83,16 +80,9 @@ def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> 
         console.print(line, markup=False, highlight=False)
 
 
+@_summary_doc
 def orbit(s: dict[str, Any], paths: list[str]) -> None:
-    """A shot periodic orbit with its Floquet multipliers.
-
-    Parameters
-    ----------
-    s : dict
-        The command's JSON summary.
-    paths : list of str
-        The files written (listed after the table).
-    """
+    """A shot periodic orbit with its Floquet multipliers."""
     t = Table(title=f"Period-{s['requested_period']} orbit at ω = {s['omega']:g}", show_header=False)
     t.add_row("converged", f"{s['converged']} ({s['status']}, {s['iterations']} Newton iterations, residual {s['residual']})")
     t.add_row("minimal period", str(s["period"]))
@@ -112,16 +102,9 @@ def orbit(s: dict[str, Any], paths: list[str]) -> None:
     files(paths)
 
 
+@_summary_doc
 def continuation(s: dict[str, Any], paths: list[str]) -> None:
-    """Branches and bifurcations of a continuation.
-
-    Parameters
-    ----------
-    s : dict
-        The command's JSON summary.
-    paths : list of str
-        The files written (listed after the table).
-    """
+    """Branches and bifurcations of a continuation."""
     p = s["param"]
     t = Table(title=f"Branches in {p} from {s['start']:g} to {s['stop']:g}")
     for col in ("branch", "period", "points", "from", "end"):
@@ -155,16 +138,9 @@ def lyapunov(s: dict[str, Any], paths: list[str]) -> None:
     files(paths)
 
 
+@_summary_doc
 def intervals(s: dict[str, Any], paths: list[str]) -> None:
-    """Motion intervals of a bifurcation diagram, per sweep.
-
-    Parameters
-    ----------
-    s : dict
-        The command's JSON summary.
-    paths : list of str
-        The files written (listed after the table).
-    """
+    """Motion intervals of a bifurcation diagram, per sweep."""
     iv = s["intervals"]
     groups = iv if isinstance(iv, dict) else {s["sweep"]: iv}
     rpm = s.get("values_rpm") if s["param"] == "omega" else None

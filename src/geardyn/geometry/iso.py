@@ -66,6 +66,7 @@ def pair_iso_mesh(pair: Any, inputs: Mapping[str, float] | None = None, *, rpm: 
     Returns
     -------
     BevelMesh
+        The result of :func:`~geardyn.standards.bevel_mesh` for the pair and these inputs.
 
     Raises
     ------

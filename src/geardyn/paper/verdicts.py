@@ -25,6 +25,7 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 import xarray as xr
 
+from .._docfill import parameters
 from ..analysis.classify import MOTION_CHAOTIC, MOTION_PERIODIC, MOTION_QUASIPERIODIC
 from .report import VERDICTS
 
@@ -233,17 +234,17 @@ def quasi_n(n: int) -> MotionTest:
     return match
 
 
+#: The parameters of a motion test: the signature is that of every test, not all use them all.
+_motion_test = parameters(
+    "motion : int\n    Motion code of the point (``MOTION_*`` of :mod:`geardyn.analysis.classify`).",
+    "period : int\n    Detected period (not used by this test; the signature is that of every motion test).",
+    "loops : int\n    Loops of a quasi-periodic orbit (not used by this test).",
+)
+
+
+@_motion_test
 def is_chaotic(motion: int, period: int, loops: int) -> bool:
     """The paper's "chaotic": geardyn classifies the point as chaotic (largest exponent positive).
-
-    Parameters
-    ----------
-    motion : int
-        Motion code of the point (``MOTION_*`` of :mod:`geardyn.analysis.classify`).
-    period : int
-        Detected period (not used by this test; the signature is that of every motion test).
-    loops : int
-        Loops of a quasi-periodic orbit (not used by this test).
 
     Returns
     -------
@@ -252,17 +253,9 @@ def is_chaotic(motion: int, period: int, loops: int) -> bool:
     return motion == MOTION_CHAOTIC
 
 
+@_motion_test
 def is_regular(motion: int, period: int, loops: int) -> bool:
     """The paper's unqualified "quasi-periodic" (Table 2, ξ1 rows): regular, not chaotic motion.
-
-    Parameters
-    ----------
-    motion : int
-        Motion code of the point (``MOTION_*`` of :mod:`geardyn.analysis.classify`).
-    period : int
-        Detected period (not used by this test; the signature is that of every motion test).
-    loops : int
-        Loops of a quasi-periodic orbit (not used by this test).
 
     Returns
     -------

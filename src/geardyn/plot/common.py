@@ -26,6 +26,7 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from .._docfill import RESULT, parameters
 from ..errors import GeardynError, PlotError
 from ..params import FAMILIES, LISTING_ORDER, canonical_param, slot
 
@@ -210,13 +211,9 @@ def save(fig: Any, path: str | Path, *, close: bool = True, dpi: int = DPI) -> P
 
 
 # ------------------------------------------------------------------------------------ parameters
+@parameters(RESULT)
 def model_of(ds: xr.Dataset) -> dict:
     """The model parameters stored with a result (its ``model`` attribute), empty if it has none.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A geardyn result.
 
     Returns
     -------

@@ -19,6 +19,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 import xarray as xr
 
+from .._docfill import RESULT, attributes, parameters
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
 from . import systems
@@ -34,24 +35,17 @@ def _always(ds: xr.Dataset) -> bool:
 
 
 @dataclass(frozen=True)
+@attributes
 class FigureSpec:
-    """One figure of a kind of result: what to call its file, how to draw it and when a result has it.
+    """One figure of a kind of result: what to call its file, how to draw it and when a result has it."""
 
-    Attributes
-    ----------
-    stem : str
-        File name without suffix: ``"time_history"`` gives ``time_history.png``.
-    draw : callable
-        ``draw(ds, ax=None, **kwargs) -> PlotArtists``.
-    when : callable
-        ``when(ds) -> bool``: whether the Dataset has this figure (default: always).
-    kwargs : mapping
-        Further keyword arguments of ``draw``.
-    """
-
+    #: File name without suffix: ``"time_history"`` gives ``time_history.png``.
     stem: str
+    #: ``draw(ds, ax=None, **kwargs) -> PlotArtists``.
     draw: Callable[..., Any]
+    #: ``when(ds) -> bool``: whether the Dataset has this figure (default: always).
     when: Callable[[xr.Dataset], bool] = _always
+    #: Further keyword arguments of ``draw``.
     kwargs: Mapping[str, Any] = field(default_factory=dict)
 
     def __call__(self, ds: xr.Dataset, ax: Any = None) -> Any:
@@ -139,13 +133,9 @@ def _kind(ds: Any) -> str:
     return str(kind)
 
 
+@parameters(RESULT)
 def figures_for(ds: xr.Dataset) -> list[FigureSpec]:
     """The figures a result has: those of its kind, then the physical ones, each where its condition holds.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A geardyn result.
 
     Returns
     -------
@@ -208,7 +198,7 @@ def save_figures(ds: xr.Dataset, directory: str | Path, *, fmt: str = "png", dpi
     Raises
     ------
     PlotError
-        If ``ds`` is not a geardyn result or its kind has no figures.
+        As :func:`figures_for`.
     """
     d = Path(directory)
     return [save(spec(ds), d / f"{spec.stem}.{fmt}", dpi=dpi) for spec in figures_for(ds)]

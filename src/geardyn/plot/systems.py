@@ -30,9 +30,13 @@ def _sysinfo(ds: xr.Dataset) -> dict:
         return {}
 
 
-def _title(ax: Axes, text: str, ds: xr.Dataset) -> None:
-    s = _sysinfo(ds)
-    sub = s.get("title") or ""
+def _finish(ax: Axes, ds: xr.Dataset, text: str, xlabel: str, ylabel: str, legend: dict | None = None) -> None:
+    """Axis labels, the legend (with these options, if any) and the title ``text`` over the system's title."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if legend is not None:
+        ax.legend(**legend)
+    sub = _sysinfo(ds).get("title") or ""
     ax.set_title(f"{text}\n{sub}" if sub else text, fontsize=9)
 
 
@@ -42,19 +46,14 @@ def element_deflections(ds: xr.Dataset, ax: Axes = None) -> None:
     tau = ds["tau"].values
     for e in ds["element"].values:
         ax.plot(tau, ds["delta"].sel(element=e).values, lw=0.8, label=str(e))
-    ax.set_xlabel("τ")
-    ax.set_ylabel("deflection δ (over b_c)")
-    ax.legend(fontsize=7, loc="upper right")
-    _title(ax, "Element deflections", ds)
+    _finish(ax, ds, "Element deflections", "τ", "deflection δ (over b_c)", legend=dict(fontsize=7, loc="upper right"))
 
 
 @plot_function("system_simulate", (5.5, 4.5))
 def reference_phase(ds: xr.Dataset, ax: Axes = None) -> None:
     """Phase portrait of the reference mesh (δ, δ') with its Poincaré points."""
     ax.plot(ds["u"].values, ds["v"].values, lw=0.6, color="C0")
-    ax.set_xlabel("δ (reference mesh)")
-    ax.set_ylabel("dδ/dτ")
-    _title(ax, "Phase portrait of the reference mesh", ds)
+    _finish(ax, ds, "Phase portrait of the reference mesh", "δ (reference mesh)", "dδ/dτ")
 
 
 @plot_function("system_lyapunov", (6, 3.8))
@@ -65,9 +64,7 @@ def lyapunov_spectrum(ds: xr.Dataset, ax: Axes = None) -> None:
     err = np.nan_to_num(ds["uncertainty"].values)
     ax.bar(k, lam, yerr=err, color=["C3" if v > 0 else "C0" for v in lam])
     ax.axhline(0.0, color="k", lw=0.6)
-    ax.set_xlabel("exponent index")
-    ax.set_ylabel("λ [1/τ]")
-    _title(ax, "Lyapunov spectrum", ds)
+    _finish(ax, ds, "Lyapunov spectrum", "exponent index", "λ [1/τ]")
 
 
 @plot_function("system_orbit", (5, 5))
@@ -78,10 +75,7 @@ def multipliers(ds: xr.Dataset, ax: Axes = None) -> None:
     ax.plot(ds["multiplier_re"].values, ds["multiplier_im"].values, "o", mfc="none", color="k", label="all")
     ax.plot(ds["elastic_re"].values, ds["elastic_im"].values, ".", color="C3", label="elastic")
     ax.set_aspect("equal")
-    ax.set_xlabel("Re μ")
-    ax.set_ylabel("Im μ")
-    ax.legend(fontsize=8)
-    _title(ax, "Floquet multipliers", ds)
+    _finish(ax, ds, "Floquet multipliers", "Re μ", "Im μ", legend=dict(fontsize=8))
 
 
 @plot_function("system_bifurcation", (7, 4))
@@ -93,10 +87,7 @@ def mesh_amplitudes(ds: xr.Dataset, ax: Axes = None) -> None:
         for s, style in zip([str(v) for v in ds["sweep"].values], ("-", "--")):
             ax.plot(x, ds["mesh_amplitude"].sel(sweep=s).values[:, e], style, color=f"C{e}", lw=1.0,
                     label=f"{name} ({s})")
-    ax.set_xlabel(param)
-    ax.set_ylabel("amplitude of δ")
-    ax.legend(fontsize=7)
-    _title(ax, "Mesh amplitudes", ds)
+    _finish(ax, ds, "Mesh amplitudes", param, "amplitude of δ", legend=dict(fontsize=7))
 
 
 @plot_function("system_continuation", (7, 4.5))
@@ -115,10 +106,8 @@ def continuation_branches(ds: xr.Dataset, ax: Axes = None) -> None:
             sel = ds["bifurcation_type"].values == t
             ax.plot(ds["bifurcation_value"].values[sel], ds["bifurcation_amplitude"].values[sel],
                     marks.get(str(t), "o"), color="k", ms=5, mfc="none", label=str(t))
-    ax.set_xlabel(param)
-    ax.set_ylabel("amplitude of δ (reference mesh)")
-    ax.legend(fontsize=7)
-    _title(ax, "Continuation of periodic orbits", ds)
+    _finish(ax, ds, "Continuation of periodic orbits", param, "amplitude of δ (reference mesh)",
+            legend=dict(fontsize=7))
 
 
 def register_all(register, FigureSpec, bifurcation, response, maps, basins) -> None:

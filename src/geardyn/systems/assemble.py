@@ -66,6 +66,7 @@ from typing import Any, Iterable, NamedTuple
 
 import numpy as np
 
+from .._docfill import attributes
 from ..errors import ModelError
 from ..model import Boundary
 from ..params import MAX_HARMONICS, canonical_param, slot
@@ -80,36 +81,27 @@ RATIO_RTOL = 1e-12
 
 
 @dataclass(frozen=True)
+@attributes
 class MeshND:
-    """One mesh in the non-dimensional system.
+    """One mesh in the non-dimensional system."""
 
-    Attributes
-    ----------
-    name : str
-        Mesh name.
-    k : float
-        Mean stiffness k_m0/k_ref.
-    xi0 : float
-        Mean damping c_m0/(2 m_ref ω_n) (the 1-DOF model's ξ0 for the reference mesh).
-    xi, phi_c, kappa, phi_k, eps, phi_e : tuple of float
-        Harmonics: damping c_k/(2 m_ref ω_n), stiffness κ_r (relative to the mesh's own k0),
-        STE ε_l = e_l/b_c, and their phases (rad).
-    D : float
-        Half backlash / b_c.
-    ratio : float
-        Mesh frequency / base frequency.
-    """
-
+    #: Mesh name.
     name: str
+    #: Mean stiffness k_m0/k_ref.
     k: float
+    #: Mean damping c_m0/(2 m_ref ω_n) (the 1-DOF model's ξ0 for the reference mesh).
     xi0: float
+    #: Harmonics: damping c_k/(2 m_ref ω_n), stiffness κ_r (relative to the mesh's own k0),
+    #: STE ε_l = e_l/b_c, and their phases (rad).
     xi: tuple[float, ...]
     phi_c: tuple[float, ...]
     kappa: tuple[float, ...]
     phi_k: tuple[float, ...]
     eps: tuple[float, ...]
     phi_e: tuple[float, ...]
+    #: Half backlash / b_c.
     D: float
+    #: Mesh frequency / base frequency.
     ratio: float
 
     def __post_init__(self) -> None:
@@ -156,27 +148,20 @@ class MeshND:
 
 
 @dataclass(frozen=True)
+@attributes
 class Scaling:
-    """The scales between the physical and the non-dimensional system.
+    """The scales between the physical and the non-dimensional system."""
 
-    Attributes
-    ----------
-    reference : str
-        Reference mesh.
-    k_ref, m_ref, omega_n, b_c : float
-        Its mean stiffness (N/m), equivalent mass (kg), ω_n (rad/s), and the characteristic length (m).
-    s : tuple of float
-        Per-DOF scale: q_i = s_i q̃_i (m, or rad).
-    teeth : int or None
-        Teeth of the reference mesh's pinion (rpm ↔ ω).
-    """
-
+    #: Reference mesh.
     reference: str
+    #: Its mean stiffness (N/m), equivalent mass (kg), ω_n (rad/s), and the characteristic length (m).
     k_ref: float
     m_ref: float
     omega_n: float
     b_c: float
+    #: Per-DOF scale: q_i = s_i q̃_i (m, or rad).
     s: tuple[float, ...]
+    #: Teeth of the reference mesh's pinion (rpm ↔ ω).
     teeth: int | None
 
     @property

@@ -28,6 +28,7 @@ from typing import Iterable
 
 import numpy as np
 
+from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry import Assumption
 
@@ -65,27 +66,19 @@ def _series(what: str, values: Iterable) -> tuple[float, ...]:
 
 
 @dataclass(frozen=True)
+@attributes
 class Body:
-    """A rigid body.
+    """A rigid body."""
 
-    Parameters
-    ----------
-    name : str
-        Unique name.
-    dofs : tuple of str
-        Its degrees of freedom, a subset of :data:`DOFS` (stored in canonical order).
-    mass : float, optional
-        Mass (kg, > 0); needed when the body has a translation and no ``mass_matrix``.
-    inertia : float, optional
-        Moment of inertia about its rotation axis (kg·m², > 0); needed with ``theta``.
-    mass_matrix : tuple of tuple of float, optional
-        A full symmetric mass matrix over ``dofs`` (SI), instead of ``mass``/``inertia``.
-    """
-
+    #: Unique name.
     name: str
+    #: Its degrees of freedom, a subset of :data:`DOFS` (stored in canonical order).
     dofs: tuple[str, ...]
+    #: Mass (kg, > 0); needed when the body has a translation and no ``mass_matrix``.
     mass: float | None = None
+    #: Moment of inertia about its rotation axis (kg·m², > 0); needed with ``theta``.
     inertia: float | None = None
+    #: A full symmetric mass matrix over ``dofs`` (SI), instead of ``mass``/``inertia``.
     mass_matrix: tuple[tuple[float, ...], ...] | None = None
 
     def __post_init__(self) -> None:
@@ -144,24 +137,17 @@ def _matrix(who: str, what: str, values, n: int) -> tuple[tuple[float, ...], ...
 
 
 @dataclass(frozen=True)
+@attributes
 class Connection:
-    """A linear spring-damper over some DOFs: a bearing (to ground) or a coupling between bodies.
+    """A linear spring-damper over some DOFs: a bearing (to ground) or a coupling between bodies."""
 
-    Parameters
-    ----------
-    name : str
-        Unique element name (used in the strain-energy fractions).
-    dofs : tuple of (str, str)
-        The DOFs it acts on, ``(body, dof)``.
-    stiffness : matrix
-        Symmetric stiffness matrix over ``dofs`` (SI).
-    damping : matrix, optional
-        Symmetric damping matrix over ``dofs`` (SI); default zero.
-    """
-
+    #: Unique element name (used in the strain-energy fractions).
     name: str
+    #: The DOFs it acts on, ``(body, dof)``.
     dofs: tuple[Dof, ...]
+    #: Symmetric stiffness matrix over ``dofs`` (SI).
     stiffness: tuple[tuple[float, ...], ...]
+    #: Symmetric damping matrix over ``dofs`` (SI); default zero.
     damping: tuple[tuple[float, ...], ...] | None = None
 
     def __post_init__(self) -> None:
@@ -195,32 +181,34 @@ class Connection:
         )
 
 
+class _AlongVector:
+    """An element acting along a vector of ``((body, dof), coefficient)`` pairs."""
+
+    @property
+    def dofs(self) -> tuple[Dof, ...]:
+        """The DOFs of the vector, in its order."""
+        return tuple(d for d, _ in self.vector)
+
+
 @dataclass(frozen=True)
-class Clearance:
+@attributes
+class Clearance(_AlongVector):
     """A spring-damper along a coupling vector with a dead zone (e.g. a bearing clearance).
 
     The deflection is ``δ = w·q``; the force along ``w`` is ``c δ' + k f(δ; gap)`` with the dead zone
     ``f(δ; g) = δ − g (δ > g), 0 (|δ| <= g), δ + g (δ < −g)`` (the damper acts throughout, as the mesh's).
-
-    Parameters
-    ----------
-    name : str
-        Unique element name.
-    vector : tuple of ((str, str), float)
-        The coupling vector as ((body, dof), coefficient) pairs (SI: numbers on translations,
-        lengths on rotations for a translational element).
-    stiffness : float
-        Contact stiffness k (N/m, or N·m/rad for a torsional element), > 0.
-    gap : float
-        Half clearance g (m or rad), >= 0.
-    damping : float
-        Damping coefficient c (>= 0).
     """
 
+    #: Unique element name.
     name: str
+    #: The coupling vector as ((body, dof), coefficient) pairs (SI: numbers on translations,
+    #: lengths on rotations for a translational element).
     vector: tuple[tuple[Dof, float], ...]
+    #: Contact stiffness k (N/m, or N·m/rad for a torsional element), > 0.
     stiffness: float
+    #: Half clearance g (m or rad), >= 0.
     gap: float
+    #: Damping coefficient c (>= 0).
     damping: float = 0.0
 
     def __post_init__(self) -> None:
@@ -241,58 +229,40 @@ class Clearance:
         for a, v in (("stiffness", k), ("gap", g), ("damping", c)):
             object.__setattr__(self, a, v)
 
-    @property
-    def dofs(self) -> tuple[Dof, ...]:
-        return tuple(d for d, _ in self.vector)
-
 
 @dataclass(frozen=True)
-class Mesh:
-    """A gear mesh (SI).
+@attributes
+class Mesh(_AlongVector):
+    """A gear mesh (SI)."""
 
-    Parameters
-    ----------
-    name : str
-        Unique name (parameters are addressed as ``<name>.kappa1`` etc.).
-    vector : tuple of ((str, str), float)
-        The mesh vector v: the deflection along the line of action is ``v·q − e(t)``, positive when
-        the teeth are pressed together (pinion into gear).
-    stiffness : float
-        Mean mesh stiffness k0 (N/m), > 0.
-    backlash : float
-        Normal backlash j (m), >= 0; the dead zone is ``|δ| <= j/2``.
-    kappa, phi_k : tuple of float
-        Stiffness harmonics k_r/k0 and their phases (rad): k(t) = k0 [1 + Σ κ_r cos(r θ_m + φ_kr)].
-    xi0, xi : float, tuple of float
-        Damping as ratios, c = 2 ξ √(k0 m_e) with the mesh's own equivalent mass
-        m_e = 1/(vᵀ M⁻¹ v) (for a two-gear torsional pair the 1-DOF model's ξ).  Give these or
-        ``c0``/``c``, not both.
-    c0, c : float, tuple of float
-        Damping coefficients (N·s/m).
-    phi_c : tuple of float
-        Phases of the damping harmonics (rad).
-    e, phi_e : tuple of float
-        Static-transmission-error harmonics (m) and phases: e(t) = Σ e_l cos(l θ_m + φ_el).
-    ratio : float
-        Mesh frequency / base frequency (> 0): θ_m = ratio · θ.
-    teeth : int, optional
-        Teeth of the body whose speed is the pinion speed, to convert rpm to the mesh frequency.
-    """
-
+    #: Unique name (parameters are addressed as ``<name>.kappa1`` etc.).
     name: str
+    #: The mesh vector v: the deflection along the line of action is ``v·q − e(t)``, positive when
+    #: the teeth are pressed together (pinion into gear).
     vector: tuple[tuple[Dof, float], ...]
+    #: Mean mesh stiffness k0 (N/m), > 0.
     stiffness: float
+    #: Normal backlash j (m), >= 0; the dead zone is ``|δ| <= j/2``.
     backlash: float = 0.0
+    #: Stiffness harmonics k_r/k0 and their phases (rad): k(t) = k0 [1 + Σ κ_r cos(r θ_m + φ_kr)].
     kappa: tuple[float, ...] = ()
     phi_k: tuple[float, ...] = ()
+    #: Damping as ratios, c = 2 ξ √(k0 m_e) with the mesh's own equivalent mass
+    #: m_e = 1/(vᵀ M⁻¹ v) (for a two-gear torsional pair the 1-DOF model's ξ).  Give these or
+    #: ``c0``/``c``, not both.
     xi0: float | None = None
     xi: tuple[float, ...] | None = None
+    #: Damping coefficients (N·s/m).
     c0: float | None = None
     c: tuple[float, ...] | None = None
+    #: Phases of the damping harmonics (rad).
     phi_c: tuple[float, ...] = ()
+    #: Static-transmission-error harmonics (m) and phases: e(t) = Σ e_l cos(l θ_m + φ_el).
     e: tuple[float, ...] = ()
     phi_e: tuple[float, ...] = ()
+    #: Mesh frequency / base frequency (> 0): θ_m = ratio · θ.
     ratio: float = 1.0
+    #: Teeth of the body whose speed is the pinion speed, to convert rpm to the mesh frequency.
     teeth: int | None = None
 
     def __post_init__(self) -> None:
@@ -342,23 +312,11 @@ class Mesh:
                 raise ModelError(f"{who}: teeth: must be an integer >= 1, got {t!r}")
             set_(self, "teeth", int(t))
 
-    @property
-    def dofs(self) -> tuple[Dof, ...]:
-        return tuple(d for d, _ in self.vector)
-
 
 @dataclass(frozen=True)
+@attributes
 class Load:
     """A mean force (N, on a translation) or torque (N·m, on ``theta``) on one DOF.
-
-    Attributes
-    ----------
-    body : str
-        Name of the body loaded.
-    dof : str
-        Its DOF (``theta`` or a translation).
-    value : float
-        The force in N or torque in N·m.
 
     Raises
     ------
@@ -366,8 +324,11 @@ class Load:
         If ``value`` is not finite.
     """
 
+    #: Name of the body loaded.
     body: str
+    #: Its DOF (``theta`` or a translation).
     dof: str
+    #: The force in N or torque in N·m.
     value: float
 
     def __post_init__(self) -> None:

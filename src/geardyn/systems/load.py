@@ -67,13 +67,12 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .._config_values import _ANGLE_UNITS, _ureg, parse_toml, read_toml
 from ..errors import ConfigError, GeardynError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
 from .assemble import SystemModel, assemble
@@ -81,8 +80,6 @@ from .description import DOFS, Body, Clearance, Connection, Load, Mesh, SystemDe
 from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
 
 __all__ = ["load_description", "load_system"]
-
-_ANGLE_UNITS = frozenset({"degree", "radian", "arcminute", "arcsecond", "turn", "revolution", "gradian"})
 
 # kind: (target unit or None for a plain number, example)
 _K = {
@@ -132,15 +129,6 @@ _SECTIONS = {
 }
 _ARRAYS = ("body", "connection", "mesh", "load")
 _TOP_TEXT = ("title", "description")
-
-
-@lru_cache(maxsize=1)
-def _ureg():
-    import pint
-
-    ureg = pint.UnitRegistry()
-    ureg.define("rev = revolution")
-    return ureg
 
 
 class _Ctx:
@@ -525,17 +513,6 @@ def _loads(ctx: _Ctx, i: int, data: dict, meshes: dict[str, Mesh], k_ref: float,
 
 
 # ---------------------------------------------------------------------------- the file
-def _read(path: str | Path) -> tuple[str, str]:
-    p = Path(path)
-    source = str(path)
-    if not p.is_file():
-        raise ConfigError(f"{source}: system file not found" + (" (it is a directory)" if p.is_dir() else ""))
-    try:
-        return source, p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise ConfigError(f"{source}: cannot read system file ({e})") from None
-
-
 def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
     """Place a system-level ModelError ("kind 'name': ...") on its element's block."""
     msg = str(err)
@@ -651,16 +628,9 @@ def load_description(path: str | Path) -> SystemDescription:
     ModelError
         Bad values: non-positive masses, unknown bodies, singular mass matrices, unconnected bodies.
     """
-    source, text = _read(path)
+    source, text = read_toml(path, "system file")
     ctx = _Ctx(source, text)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        msg = str(e)
-        m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
-        if m:
-            raise ConfigError(f"{source}: line {m.group(1)}: TOML syntax error: {msg[: m.start()].strip()}") from None
-        raise ConfigError(f"{source}: TOML syntax error: {msg}") from None
+    data = parse_toml(text, source)
     try:
         return _build(ctx, data)
     except GeardynError:

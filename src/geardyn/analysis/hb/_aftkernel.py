@@ -3,8 +3,9 @@
 The functions here are the scalar loops behind :func:`~geardyn.analysis.hb.aft.dead_zone_terms` and
 :func:`~geardyn.analysis.hb.aft.signal_extrema`: sampling u on the time grid, locating the contact
 switches by safeguarded Newton, the closed-form interval integrals of the contact indicator and
-the convolutions with the stiffness series.  They perform the same operations as the vectorised
-NumPy formulation, so results agree with it to rounding.
+the convolutions with the stiffness series, the residual with its Jacobian, ∂R/∂ω and the forcing
+series.  ``tests/test_hb_aft_reference.py`` holds the same method in vectorised NumPy and checks
+that the two agree to rounding.
 """
 
 from __future__ import annotations
@@ -45,6 +46,30 @@ def _slope_curv(a, H, x):
         d1 += k * (a[H + k] * c - a[k] * s)
         d2 -= k * k * (a[k] * c + a[H + k] * s)
     return d1, d2
+
+
+@njit(cache=True)
+def _to_complex(a, H):
+    """Complex coefficients c_k (k = −H … H) of the real coefficient vector ``a``."""
+    c = np.empty(2 * H + 1, dtype=np.complex128)
+    c[H] = a[0]
+    for k in range(1, H + 1):
+        z = 0.5 * (a[k] - 1j * a[H + k])
+        c[H + k] = z
+        c[H - k] = z.conjugate()
+    return c
+
+
+@njit(cache=True)
+def _to_real(z, H):
+    """Real coefficient vector of the complex coefficients ``z`` of a real signal (imaginary residue dropped)."""
+    out = np.empty(2 * H + 1)
+    out[0] = z[H].real
+    for k in range(1, H + 1):
+        pos, neg = z[H + k], z[H - k]
+        out[k] = (pos + neg).real
+        out[H + k] = (1j * (pos - neg)).real
+    return out
 
 
 @njit(cache=True)
@@ -96,12 +121,7 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
     N = cos_t.shape[0]
     L = (K.shape[0] - 1) // 2
     M = 2 * H + 1
-    c = np.empty(M, dtype=np.complex128)
-    c[H] = a[0]
-    for k in range(1, H + 1):
-        z = 0.5 * (a[k] - 1j * a[H + k])
-        c[H + k] = z
-        c[H - k] = z.conjugate()
+    c = _to_complex(a, H)
     u = _samples(a, H, cos_t, sin_t)
     state = np.empty(N, dtype=np.int64)
     for j in range(N):
@@ -242,12 +262,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
     """Real residual R (2H + 1) of the HB equations and, when ``jac``, its Jacobian (else a 0×0 array)."""
     M = 2 * H + 1
     G, S, _phis = dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol)
-    c = np.empty(M, dtype=np.complex128)
-    c[H] = a[0]
-    for k in range(1, H + 1):
-        z = 0.5 * (a[k] - 1j * a[H + k])
-        c[H + k] = z
-        c[H - k] = z.conjugate()
+    c = _to_complex(a, H)
     Lc = (C.shape[0] - 1) // 2
     TcOm = np.zeros((M, M), dtype=np.complex128)
     for r in range(M):
@@ -262,12 +277,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
         for l in range(M):
             acc += TcOm[r, l] * c[l]
         Rc[r] = -(nu * k) ** 2 * c[r] + nu * acc + G[r] - Fh[r]
-    R = np.empty(M)
-    R[0] = Rc[H].real
-    for k in range(1, H + 1):
-        pos, neg = Rc[H + k], Rc[H - k]
-        R[k] = (pos + neg).real
-        R[H + k] = (1j * (pos - neg)).real
+    R = _to_real(Rc, H)
     if not jac:
         return R, np.empty((0, 0))
     Jc = np.empty((M, M), dtype=np.complex128)
@@ -282,12 +292,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
 def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
     """∂R/∂ω at fixed coefficients (f_p does not depend on ω; the STE harmonics go as ω²)."""
     M = 2 * H + 1
-    c = np.empty(M, dtype=np.complex128)
-    c[H] = a[0]
-    for k in range(1, H + 1):
-        z = 0.5 * (a[k] - 1j * a[H + k])
-        c[H + k] = z
-        c[H - k] = z.conjugate()
+    c = _to_complex(a, H)
     Lc = (C.shape[0] - 1) // 2
     dRc = np.empty(M, dtype=np.complex128)
     for r in range(M):
@@ -299,10 +304,43 @@ def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
                 acc += C[d + Lc] * (1j * (l - H) * c[l])
         f = Fh[r] if r != H else 0.0
         dRc[r] = (-2.0 * nu * k**2 * c[r] + acc) / n - 2.0 / omega * f
-    R = np.empty(M)
-    R[0] = dRc[H].real
-    for k in range(1, H + 1):
-        pos, neg = dRc[H + k], dRc[H - k]
-        R[k] = (pos + neg).real
-        R[H + k] = (1j * (pos - neg)).real
+    R = _to_real(dRc, H)
     return R
+
+
+@njit(cache=True)
+def forcing_kernel(omega, fp, eps, phi_e, n, Hm):
+    """Centred coefficients in φ = θ/n (length 2n·Hm + 1) of F = f_p + ω² Σ l² ε_l cos(lθ + φ_el), with the
+    operations of ``GearModel.coefficients`` and ``model_series`` (so the same values)."""
+    L = n * Hm
+    z = np.zeros(2 * L + 1, dtype=np.complex128)
+    z[L] = fp
+    w2 = omega**2
+    for j0 in range(eps.shape[0]):
+        j = j0 + 1
+        sc = w2 * j * j
+        c0 = sc * eps[j0] * math.cos(phi_e[j0])
+        c1 = -sc * eps[j0] * math.sin(phi_e[j0])
+        z[L + n * j] = complex(0.5 * c0, 0.5 * (0.0 - c1))
+        z[L - n * j] = complex(0.5 * c0, 0.5 * (0.0 + c1))
+    return z
+
+
+@njit(cache=True)
+def bordered_omega_kernel(a, omega, n, C, K, fp, eps, phi_e, Hm, D, cos_t, sin_t, H, max_iter, tol, scale):
+    """R and the bordered matrix [[∂R/∂a, scale·∂R/∂ω], [0 … 0]] at ω (the last row left for the caller)."""
+    M = 2 * H + 1
+    F = forcing_kernel(omega, fp, eps, phi_e, n, Hm)
+    Lf = (F.shape[0] - 1) // 2
+    Fh = np.zeros(M, dtype=np.complex128)
+    for m in range(-min(H, Lf), min(H, Lf) + 1):
+        Fh[H + m] = F[Lf + m]
+    nu = omega / n
+    R, J = residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, True)
+    Rw = dR_domega_kernel(a, nu, omega, n, C, Fh, H)
+    A = np.zeros((M + 1, M + 1))
+    for r in range(M):
+        for col in range(M):
+            A[r, col] = J[r, col]
+        A[r, M] = Rw[r] * scale
+    return R, A

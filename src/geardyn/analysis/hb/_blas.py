@@ -2,10 +2,12 @@
 
 Harmonic balance factorises and diagonalises matrices of a few hundred rows thousands of times; a
 multi-threaded BLAS spends more time waking its threads than computing (and on a loaded machine
-much more).  :func:`single_thread_blas` limits the BLAS loaded by NumPy to one thread for the
-duration of a block, through ``threadpoolctl`` when it is installed, else through OpenBLAS's own
-``*_set_num_threads`` entry point found among the loaded libraries; it does nothing when neither
-is available.
+much more).  :func:`solve` calls LAPACK's ``dgesv`` directly: for the matrices of a continuation
+(a few dozen rows, between other compiled work) ``numpy.linalg.solve`` spends ten times as long in
+its generic machinery as in the factorisation.  :func:`single_thread_blas` limits the BLAS loaded by NumPy and SciPy to one thread for
+the duration of a block, through ``threadpoolctl`` when it is installed, else through the
+``*_set_num_threads`` entry points of every OpenBLAS loaded; it does nothing when neither is
+available.
 """
 
 from __future__ import annotations
@@ -14,25 +16,29 @@ import ctypes
 from contextlib import contextmanager
 from typing import Callable, Iterator
 
-__all__ = ["single_thread_blas"]
+import numpy as np
+from scipy.linalg.lapack import dgesv
+
+__all__ = ["single_thread_blas", "solve"]
 
 _SETTERS = ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads", "openblas_set_num_threads64_",
             "openblas_set_num_threads")
 _GETTERS = ("scipy_openblas_get_num_threads64_", "scipy_openblas_get_num_threads", "openblas_get_num_threads64_",
             "openblas_get_num_threads")
-_found: tuple[Callable[[], int], Callable[[int], None]] | None | bool = False
+_found: list[tuple[Callable[[], int], Callable[[int], None]]] | None = None
 
 
-def _openblas() -> tuple[Callable[[], int], Callable[[int], None]] | None:
+def _openblas() -> list[tuple[Callable[[], int], Callable[[int], None]]]:
+    """(get, set) thread-count entry points of every OpenBLAS loaded (NumPy's and SciPy's may differ)."""
     global _found
-    if _found is not False:
-        return _found  # type: ignore[return-value]
-    _found = None
+    if _found is not None:
+        return _found
+    _found = []
     try:
         with open("/proc/self/maps") as fh:
             paths = {ln.split()[-1] for ln in fh if "openblas" in ln.lower() and ln.split()[-1].startswith("/")}
     except OSError:
-        return None
+        return _found
     for path in sorted(paths):
         try:
             lib = ctypes.CDLL(path)
@@ -43,9 +49,8 @@ def _openblas() -> tuple[Callable[[], int], Callable[[int], None]] | None:
         if get is not None and put is not None:
             get.restype = ctypes.c_int
             put.argtypes = [ctypes.c_int]
-            _found = (lambda: int(get()), lambda k: put(int(k)))
-            break
-    return _found  # type: ignore[return-value]
+            _found.append((lambda g=get: int(g()), lambda k, p=put: p(int(k))))
+    return _found
 
 
 _limits: Callable[..., object] | None | bool = False
@@ -71,14 +76,37 @@ def single_thread_blas() -> Iterator[None]:
         with threadpool_limits(limits=1, user_api="blas"):
             yield
         return
-    ob = _openblas()
-    if ob is None:
-        yield
-        return
-    get, put = ob
-    old = get()
-    put(1)
+    libs = _openblas()
+    old = [get() for get, _put in libs]
+    for _get, put in libs:
+        put(1)
     try:
         yield
     finally:
-        put(old)
+        for (_get, put), k in zip(libs, old):
+            put(k)
+
+
+def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x with A x = b (real square A, vector b) by LAPACK ``dgesv``.
+
+    Parameters
+    ----------
+    A : ndarray (m, m)
+    b : ndarray (m,)
+
+    Returns
+    -------
+    ndarray (m,)
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        When A is exactly singular (as ``numpy.linalg.solve``).
+    """
+    _lu, _piv, x, info = dgesv(A, b)
+    if info > 0:
+        raise np.linalg.LinAlgError("Singular matrix")
+    if info < 0:
+        raise ValueError(f"dgesv: illegal argument {-info}")
+    return x

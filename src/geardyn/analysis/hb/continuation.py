@@ -32,14 +32,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from ...model import GearModel, ModelError, canonical_param
 from ...status import Status, flag_attrs
 from ..secant import illinois_on_chord
-from ._blas import single_thread_blas
+from ._blas import single_thread_blas, solve
 from .aft import signal_extrema
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS, HBSystem, hb_solve
@@ -65,16 +65,28 @@ NEAR_CRITICAL = 0.1
 NEAR_CRITICAL_DS = 0.1
 #: A step is refused (and halved) when a resolved multiplier moves farther than this in the complex plane.
 MAX_MULTIPLIER_STEP = 0.1
+#: The next step is at most the last one times MULTIPLIER_STEP_TARGET / (its largest multiplier move), so that
+#: steps are seldom refused for a multiplier move above MAX_MULTIPLIER_STEP.
+MULTIPLIER_STEP_TARGET = 0.09
 
 
-@dataclass
 class _Pt:
-    y: np.ndarray
-    t: np.ndarray
-    u_min: float
-    u_max: float
-    hill: HillResult
-    iters: int = 0
+    """A corrected branch point; its Hill stability is computed when first asked for (a point whose
+    step is refused by the turn of the tangent, or a trial of a fold or grazing location, needs none)."""
+
+    __slots__ = ("y", "t", "u_min", "u_max", "iters", "_stability", "_hill")
+
+    def __init__(self, y: np.ndarray, t: np.ndarray, u_min: float, u_max: float,
+                 stability: Callable[[], HillResult], iters: int = 0):
+        self.y, self.t, self.u_min, self.u_max, self.iters = y, t, u_min, u_max, iters
+        self._stability = stability
+        self._hill: HillResult | None = None
+
+    @property
+    def hill(self) -> HillResult:
+        if self._hill is None:
+            self._hill = self._stability()
+        return self._hill
 
 
 @dataclass
@@ -229,51 +241,53 @@ class _Tracer:
     def p(self, y: np.ndarray) -> float:
         return float(y[-1] * self.ps)
 
-    def _aug(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        a, p = y[:-1], self.p(y)
-        R, J = self.s.residual(a, p)
-        Rp = self.s.dR_dp(a, p) * self.ps
-        return R, J, Rp
+    def _aug(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """R and [[∂R/∂a, ∂R/∂(p/p_s)], [0]] at ``y``."""
+        return self.s.bordered(y[:-1], self.p(y), self.ps)
 
-    def tangent(self, y: np.ndarray, ref: np.ndarray) -> np.ndarray:
-        _R, J, Rp = self._aug(y)
-        A = np.vstack([np.hstack([J, Rp[:, None]]), ref[None, :]])
+    def tangent(self, y: np.ndarray, ref: np.ndarray, aug: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+        """Unit null vector of [∂R/∂a, ∂R/∂p] at ``y`` oriented like ``ref`` (``aug``: :meth:`_aug` at ``y``,
+        if already evaluated; its matrix is overwritten)."""
+        _R, A = self._aug(y) if aug is None else aug
+        A[-1] = ref
         rhs = np.zeros(self.M + 1)
         rhs[-1] = 1.0
-        t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else np.linalg.solve(A, rhs)
+        t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else solve(A, rhs)
         t /= np.linalg.norm(t)
         return t if t @ ref >= 0 else -t
 
     def correct(self, y0: np.ndarray, normal: np.ndarray, ref_t: np.ndarray) -> _Pt | None:
         y = y0.copy()
+        F = np.empty(self.M + 1)
         for it in range(CORRECTOR_MAX_ITER):
             try:
-                p = self.p(y)
-                self.s.check(p)
+                self.s.check(self.p(y))
             except ModelError:
                 return None
-            R, J, Rp = self._aug(y)
+            aug = R, A = self._aug(y)
             g = float(normal @ (y - y0))
-            F = np.concatenate([R, [g]])
-            if np.linalg.norm(R) <= CORRECTOR_TOL * (1 + np.linalg.norm(y)) and abs(g) <= 1e-12:
-                return self._finish(y, ref_t, it)
-            A = np.vstack([np.hstack([J, Rp[:, None]]), normal[None, :]])
+            if math.sqrt(R @ R) <= CORRECTOR_TOL * (1 + math.sqrt(y @ y)) and abs(g) <= 1e-12:
+                return self._finish(y, ref_t, it, aug)
+            F[:-1] = R
+            F[-1] = g
+            A[-1] = normal
             try:
-                dy = np.linalg.solve(A, -F)
+                dy = solve(A, -F)
             except np.linalg.LinAlgError:
                 return None
             y = y + dy
             if not np.all(np.isfinite(y)):
                 return None
-            if np.linalg.norm(dy) <= 1e-13 * (1 + np.linalg.norm(y)):
+            if math.sqrt(dy @ dy) <= 1e-13 * (1 + math.sqrt(y @ y)):
                 return self._finish(y, ref_t, it + 1)
         return None
 
-    def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int) -> _Pt:
-        t = self.tangent(y, ref_t)
+    def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int,
+                aug: tuple[np.ndarray, np.ndarray] | None = None) -> _Pt:
+        t = self.tangent(y, ref_t, aug)
         a, p = y[:-1], self.p(y)
         umin, umax = self.extremes(a, p)
-        return _Pt(y, t, umin, umax, self.s.stability(a, p), iters)
+        return _Pt(y, t, umin, umax, lambda: self.s.stability(a, p), iters)
 
     def extremes(self, a: np.ndarray, p: float) -> tuple[float, float]:
         """(u_min, u_max) of the solution ``a`` at parameter ``p``."""
@@ -289,17 +303,20 @@ class _Tracer:
         return _near_critical(h)
 
     # ---------------------------------------------------------------- tests and events
-    def tests(self, pt: _Pt, chord: np.ndarray | None = None) -> dict[str, float]:
-        D = self.s._entry(self.p(pt.y))[0].D
+    def tests(self, pt: _Pt, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
+        """Test functions at ``pt`` (the tangent oriented along ``chord``): all of them, or only ``key``'s
+        kind (then Hill's multipliers are computed only for the multiplier tests)."""
+        D = self.s._at(self.p(pt.y))[1]
         t = pt.t if chord is None or pt.t @ chord >= 0 else -pt.t
         out = {"turn": float(t[-1])}
-        h = pt.hill
-        if h.status is Status.OK:
-            mu = h.multipliers
-            out["pd"] = float(np.real((mu[0] + 1) * (mu[1] + 1)))
-            if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
-                out["ns"] = float(abs(mu[0] * mu[1]) - 1.0)
-        if D > 0:
+        if key is None or key in ("pd", "ns"):
+            h = pt.hill
+            if h.status is Status.OK:
+                mu = h.multipliers
+                out["pd"] = float(np.real((mu[0] + 1) * (mu[1] + 1)))
+                if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
+                    out["ns"] = float(abs(mu[0] * mu[1]) - 1.0)
+        if D > 0 and (key is None or key.startswith("graze")):
             out.update(graze_min_plus=pt.u_min - D, graze_min_minus=pt.u_min + D,
                        graze_max_plus=pt.u_max - D, graze_max_minus=pt.u_max + D)
         return out
@@ -314,7 +331,7 @@ class _Tracer:
             pt = self.correct(a.y + s * d, e, a.t)
             if pt is None:
                 return None
-            f = self.tests(pt, d).get(key, math.nan)
+            f = self.tests(pt, d, key).get(key, math.nan)
             return (s, pt, f) if math.isfinite(f) else None
 
         return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, LOCATE_REL_TOL, LOCATE_MAX_ITER)
@@ -405,7 +422,7 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     model.with_param(param, stop)
     sysm = HBSystem(model, harmonics, period, param=param, samples=samples)
     H = sysm.H
-    sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N)
+    sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N, stability=False)  # Hill: at the first point
     nanmu = np.full((1, 2), complex(math.nan, math.nan))
     if not sol.converged:
         return HBContinuation(model, param, H, sysm.n, sysm.basis.N, np.array([start]),
@@ -457,14 +474,17 @@ def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max:
         while len(pts) < max_points:
             cur = pts[-1]
             nxt = None
+            dmu = 0.0
             while h >= DS_MIN:
                 yp = cur.y + h * cur.t
                 nxt = tr.correct(yp, cur.t, cur.t)
                 if nxt is not None:
                     cosang = float(np.clip(nxt.t @ cur.t, -1, 1))
-                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG and \
-                            tr.multiplier_step(cur.hill, nxt.hill) <= MAX_MULTIPLIER_STEP:
-                        break
+                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG:
+                        dmu = tr.multiplier_step(cur.hill, nxt.hill)
+                        if dmu <= MAX_MULTIPLIER_STEP and (h <= NEAR_CRITICAL_DS * ds_max
+                                                           or not tr.near_critical(nxt.hill)):
+                            break
                 nxt = None
                 h *= 0.5
             if nxt is None:
@@ -472,7 +492,10 @@ def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max:
                 break
             bifs.extend(tr.events(cur, nxt))
             pts.append(nxt)
-            h = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
+            h_next = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
+            if dmu > 0.0:  # the multipliers move about linearly in the step: aim below the refusal limit
+                h_next = min(h_next, h * MULTIPLIER_STEP_TARGET / dmu)
+            h = h_next
             if tr.near_critical(nxt.hill):
                 h = min(h, NEAR_CRITICAL_DS * ds_max)
             p = tr.p(nxt.y)

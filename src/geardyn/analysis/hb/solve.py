@@ -28,12 +28,11 @@ from typing import NamedTuple, Sequence
 
 import numpy as np
 
-from ...model import GearModel, IntegrationOptions, ModelError, canonical_param
+from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
-from ._blas import single_thread_blas
-from ._aftkernel import dR_domega_kernel, residual_kernel
-from .aft import (ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, _dead_zone_terms_numpy, dead_zone_terms, model_series,
-                  signal_extrema, time_samples, toeplitz)
+from ._blas import single_thread_blas, solve
+from ._aftkernel import bordered_omega_kernel, dR_domega_kernel, forcing_kernel, residual_kernel
+from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples
 from .hill import HillResult, hill_floquet
 
 __all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
@@ -48,9 +47,10 @@ NEWTON_MIN_DAMPING = 2.0**-12
 DIVERGED_NORM = 1e8
 #: Relative step of the central difference for the derivative of R in a parameter other than ω.
 FD_REL_STEP = 1e-6
-#: Simulation used for a starting guess: forcing periods discarded and the step.
+#: Simulation used for a starting guess: forcing periods discarded and the step (the model's default step,
+#: as in the guess of shooting).
 GUESS_TRANSIENT = 400
-GUESS_DTAU = 0.005
+GUESS_DTAU = DEFAULT_DTAU
 
 
 class _AtOmega(NamedTuple):
@@ -90,8 +90,9 @@ class HBSystem:
         N = samples or time_samples(self.H, self.n, model.n_harmonics + 2)
         self.basis = HarmonicBasis(self.H, N)
         self._cache: dict[float | None, tuple[GearModel, tuple[np.ndarray, ...]]] = {}
-        self._fh: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._cuts: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
         self._series: tuple[np.ndarray, ...] | None = None
+        self._fargs: tuple[float, np.ndarray, np.ndarray, int, int] | None = None
 
     def model_at(self, p: float | None = None) -> GearModel:
         """The model at parameter value ``p`` (the base model when ``p`` is None)."""
@@ -100,7 +101,7 @@ class HBSystem:
 
     def check(self, p: float) -> None:
         """Raise :class:`ModelError` when ``p`` is not a valid value of the system's parameter."""
-        self._entry(p)
+        self._at(p)
 
     def _entry(self, p: float | None) -> tuple[GearModel | _AtOmega, tuple[np.ndarray, ...]]:
         key = None if (p is None or self.param is None) else float(p)
@@ -125,21 +126,31 @@ class HBSystem:
 
     def _forcing(self, omega: float) -> np.ndarray:
         """The F series of :func:`model_series` at ω = ``omega`` (the same operations, so the same values)."""
-        b, n = self.base, self.n
-        H = b.n_harmonics
-        L = n * H
-        z = np.zeros(2 * L + 1, dtype=complex)
-        z[L] = b.fp
-        w2 = omega**2
-        cf = np.zeros((H + 1, 2))
-        for j0, (a, ph) in enumerate(zip(b.eps, b.phi_e)):
-            j = j0 + 1
-            cf[j, 0] = w2 * j * j * a * math.cos(ph)
-            cf[j, 1] = -(w2 * j * j) * a * math.sin(ph)
-        for j in range(1, H + 1):
-            z[L + n * j] = 0.5 * (cf[j, 0] - 1j * cf[j, 1])
-            z[L - n * j] = 0.5 * (cf[j, 0] + 1j * cf[j, 1])
-        return z
+        return forcing_kernel(float(omega), *self._forcing_args())
+
+    def _forcing_args(self) -> tuple[float, np.ndarray, np.ndarray, int, int]:
+        """(f_p, ε_l, φ_el, n, harmonics of the model's series) of the base model for :func:`forcing_kernel`."""
+        if self._fargs is None:
+            b = self.base
+            self._fargs = (float(b.fp), np.array(b.eps, dtype=float).reshape(-1),
+                           np.array(b.phi_e, dtype=float).reshape(-1), self.n, int(b.n_harmonics))
+        return self._fargs
+
+    def _at(self, p: float | None) -> tuple[float, float, np.ndarray, np.ndarray]:
+        """ω, D and the C, K series at ``p`` (without building the forcing when only it depends on ω).
+
+        Raises
+        ------
+        ModelError
+            When ``p`` is not a valid value of the parameter.
+        """
+        if p is not None and self.param == "omega":
+            w = float(p)
+            if w > 0 and math.isfinite(2.0 * math.pi / w):
+                C, K, _F = self._base_series()
+                return w, float(self.base.D), C, K
+        m, (C, K, _F) = self._entry(p)
+        return m.omega, float(m.D), C, K
 
     def nu(self, p: float | None = None) -> float:
         return self._entry(p)[0].omega / self.n
@@ -152,14 +163,19 @@ class HBSystem:
         out[L - m:L + m + 1] = z[Lz - m:Lz + m + 1]
         return out
 
+    def _cut(self, z: np.ndarray, L: int) -> np.ndarray:
+        """:meth:`_centred` of ``z``, kept per array and L (the series of one parameter value are reused)."""
+        key = (id(z), L)
+        e = self._cuts.get(key)
+        if e is None or e[0] is not z:
+            if len(self._cuts) > 64:
+                self._cuts.clear()
+            e = self._cuts[key] = (z, self._centred(z, L))
+        return e[1]
+
     def _f_centred(self, F: np.ndarray) -> np.ndarray:
         """F cut or padded to the harmonics |k| <= H (kept per F array)."""
-        Fh = self._fh.get(id(F))
-        if Fh is None or Fh[0] is not F:
-            if len(self._fh) > 64:
-                self._fh.clear()
-            Fh = self._fh[id(F)] = (F, self._centred(F, self.H))
-        return Fh[1]
+        return self._cut(F, self.H)
 
     def residual(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
                  ) -> tuple[np.ndarray, np.ndarray | None]:
@@ -185,23 +201,6 @@ class HBSystem:
                                b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, bool(jacobian))
         return R, (J if jacobian else None)
 
-    def _residual_numpy(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
-                        ) -> tuple[np.ndarray, np.ndarray | None]:
-        """:meth:`residual` in NumPy (the compiled version's reference)."""
-        m, (C, K, F) = self._entry(p)
-        H, b = self.H, self.basis
-        nu = m.omega / self.n
-        k = b.k
-        c = b.to_complex(a)
-        dz = _dead_zone_terms_numpy(b, a, K, m.D)
-        TcOm = toeplitz(C, H) * (1j * k)[None, :]
-        Rc = -(nu * k) ** 2 * c + nu * (TcOm @ c) + dz.G - self._centred(F, H)
-        R = b.to_real(Rc)
-        if not jacobian:
-            return R, None
-        Jc = np.diag(-(nu * k) ** 2).astype(complex) + nu * TcOm + toeplitz(dz.S, H)
-        return R, b.real_operator(Jc)
-
     def dR_dp(self, a: np.ndarray, p: float) -> np.ndarray:
         """Derivative of R in the system's parameter at fixed coefficients (analytic for ω, else a
         central difference of the residual, which is exact to rounding for parameters entering it
@@ -214,17 +213,42 @@ class HBSystem:
                                     self._f_centred(F), self.H)
         return self._dR_dp_fd(a, p)
 
-    def _dR_domega_numpy(self, a: np.ndarray, p: float) -> np.ndarray:
-        """∂R/∂ω in NumPy (the compiled version's reference)."""
-        m, (C, K, F) = self._entry(p)
-        b, H = self.basis, self.H
-        nu = m.omega / self.n
-        k = b.k
-        c = b.to_complex(a)
-        Fh = self._centred(F, H)
-        Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
-        dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / self.n - 2.0 / m.omega * Fh
-        return b.to_real(dRc)
+    def bordered(self, a: np.ndarray, p: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+        """R and the bordered Jacobian of a continuation in the system's parameter.
+
+        Parameters
+        ----------
+        a : ndarray
+            Real coefficients of u.
+        p : float
+            Parameter value.
+        scale : float
+            Factor of the parameter column (the parameter's scaling in the continuation).
+
+        Returns
+        -------
+        (R, A) : ndarray (2H + 1,), ndarray (2H + 2, 2H + 2)
+            The residual and [[∂R/∂a, scale·∂R/∂p], [0 … 0]]: the last row is left zero for the
+            caller's border (the arclength condition's normal).
+
+        Raises
+        ------
+        ModelError
+            When the system has no continuation parameter.
+        """
+        if self.param == "omega":
+            w, D, C, K = self._at(p)
+            b = self.basis
+            fp, eps, phi_e, n, Hm = self._forcing_args()
+            return bordered_omega_kernel(np.ascontiguousarray(a, dtype=float), w, n, C, K, fp, eps, phi_e, Hm, D,
+                                         b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, float(scale))
+        R, J = self.residual(a, p)
+        Rp = self.dR_dp(a, p)
+        M = self.basis.size
+        A = np.zeros((M + 1, M + 1))
+        A[:M, :M] = J
+        A[:M, M] = Rp * scale
+        return R, A
 
     def _dR_dp_fd(self, a: np.ndarray, p: float) -> np.ndarray:
         """Central difference of the residual in the parameter."""
@@ -240,9 +264,9 @@ class HBSystem:
 
     def stability(self, a: np.ndarray, p: float | None = None) -> HillResult:
         """Hill's Floquet exponents and multipliers of the solution ``a`` (see :mod:`.hill`)."""
-        m, (C, K, F) = self._entry(p)
-        dz = dead_zone_terms(self.basis, a, K, m.D)
-        return hill_floquet(self._centred(C, 2 * self.H), dz.S, m.omega / self.n, self.H)
+        w, D, C, K = self._at(p)
+        dz = dead_zone_terms(self.basis, a, K, D)
+        return hill_floquet(self._cut(C, 2 * self.H), dz.S, w / self.n, self.H)
 
     def newton(self, a0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL,
                max_iter: int = NEWTON_MAX_ITER) -> tuple[np.ndarray, Status, int, float]:
@@ -263,7 +287,7 @@ class HBSystem:
             if it == max_iter:
                 break
             try:
-                da = np.linalg.solve(J, -R)
+                da = solve(J, -R)
             except np.linalg.LinAlgError:
                 da = np.linalg.lstsq(J, -R, rcond=None)[0]
             lam = 1.0

@@ -370,6 +370,28 @@ class HBSystemEquations:
     _dR_dp_fd = HBSystem._dR_dp_fd
     newton = HBSystem.newton
 
+    def bordered(self, a: np.ndarray, p: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+        """R and [[∂R/∂a, scale·∂R/∂p], [0 … 0]] for the continuation (as :meth:`HBSystem.bordered`).
+
+        Parameters
+        ----------
+        a : ndarray
+            The unknown vector.
+        p : float
+            Parameter value.
+        scale : float
+            Factor of the parameter column.
+
+        Returns
+        -------
+        (R, A) : ndarray, ndarray
+            The residual and the bordered matrix, its last row zero for the caller's border.
+        """
+        R, J = self.residual(a, p)
+        A = np.pad(J, ((0, 1), (0, 1)))
+        A[:-1, -1] = scale * self.dR_dp(a, p)
+        return R, A
+
     def hill_operators(self, a: np.ndarray, p: float | None = None) -> tuple[np.ndarray, np.ndarray, float, float]:
         """K0 (the HB Jacobian), K1 (= 2ν I⊗D₁ + damping operator), ν and the mean trace of the damping.
 

@@ -73,15 +73,23 @@ class _SystemTracer(_Tracer):
     def extremes(self, a: np.ndarray, p: float) -> tuple[float, float]:
         return self.s.extremes(a, p)
 
-    def tests(self, pt: Any, chord: np.ndarray | None = None) -> dict[str, float]:
+    def tests(self, pt: Any, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
         flip = chord is not None and pt.t @ chord < 0
         out = {"turn": float(-pt.t[-1] if flip else pt.t[-1])}
+        if key is not None and key.startswith("graze"):
+            return self._grazing(pt, out)
+        if key is not None and not key.startswith(("pd", "ns")):
+            return out
         h = pt.hill
         if h.status is Status.OK and h.multipliers.size:
             mu = h.multipliers
             out["pd"] = float(np.real(np.prod(mu + 1.0)))
             for k, v in enumerate(np.sort(np.abs(_pairs(mu)))[::-1]):  # the k-th largest |μ_i μ_j| − 1
                 out["ns" if k == 0 else f"ns{k + 1}"] = float(v) - 1.0
+        return out if key is not None else self._grazing(pt, out)
+
+    def _grazing(self, pt: Any, out: dict[str, float]) -> dict[str, float]:
+        """``out`` with the grazing tests of every element with a gap."""
         p = self.p(pt.y)
         ext = self.s.element_extremes(pt.y[:-1], p)
         for e, el in enumerate(self.s._entry(p).elements):
@@ -261,7 +269,8 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
     if not (ps > 0 and math.isfinite(ps)):
         raise ModelError("start, stop: must be finite and different")
     sysm = HBSystemEquations(model.with_param(param, stop), harmonics, period, param=param, samples=samples)
-    sol = hb_system_solve(model.with_param(param, start), sysm.H, period, guess, samples=sysm.N, state0=state0)
+    sol = hb_system_solve(model.with_param(param, start), sysm.H, period, guess, samples=sysm.N, state0=state0,
+                          stability=False)  # Hill: at the first point of the branch
     names = sysm.elements
     if not sol.converged:
         nan = np.full((1, len(names)), math.nan)

@@ -45,13 +45,15 @@ dynamical systems", C. R. Mécanique 338 (2010) 510–517; L. Peletan et al., No
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
 from ...status import Status
 from ._blas import single_thread_blas
-from .hill import CENTROID_FRACTION, LIOUVILLE_TOL, PARTNER_CANDIDATES, HillResult, _real_maps
+from .aft import HarmonicBasis
+from .hill import CENTROID_FRACTION, LIOUVILLE_TOL, PARTNER_CANDIDATES, HillResult
 
 __all__ = ["system_hill_floquet", "COPY_TOL", "COPY_OVERLAP"]
 
@@ -59,6 +61,12 @@ __all__ = ["system_hill_floquet", "COPY_TOL", "COPY_OVERLAP"]
 COPY_TOL = 1e-3
 #: ... and its eigenvector overlaps the accepted one's, shifted by m harmonics, by at least this.
 COPY_OVERLAP = 0.9
+
+
+@functools.lru_cache(maxsize=16)
+def _to_complex(H: int) -> np.ndarray:
+    """W with c = W a: real coefficients [a_0, a_k, b_k] to the complex c_k, k = −H … H."""
+    return HarmonicBasis(H, 2 * H + 2).W
 
 
 def _restrict(K: np.ndarray, P: np.ndarray, M: int) -> np.ndarray:
@@ -135,14 +143,18 @@ def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float
     A[size:, size:] = -K1
     with single_thread_blas():
         lam, Vr = np.linalg.eig(A)
-    W, _Wi = _real_maps(H)
+    W = _to_complex(H)
     y = np.einsum("km,imc->ikc", W, Vr[:size].reshape(ne, M, -1))  # complex harmonics (DOF, k, vector)
-    w = (np.abs(y) ** 2).sum(axis=0)
-    kabs = np.abs(np.arange(-H, H + 1))
+    # the centroid from the real coefficients, as hill.py does: |c_k|² + |c_−k|² = (|a_k|² + |b_k|²)/2, so that a
+    # conjugate pair (conjugate eigenvectors) has exactly one centroid and keeps LAPACK's order
+    w = (np.abs(Vr[:size]) ** 2).reshape(ne, M, -1).sum(axis=0)
+    kk = np.concatenate([np.arange(H + 1), np.arange(1, H + 1)]).astype(float)
+    half = np.full(M, 0.5)
+    half[0] = 1.0
     with np.errstate(invalid="ignore", divide="ignore"):
-        cent = (kabs @ w) / w.sum(axis=0)
+        cent = ((half * kk) @ w) / (half @ w)
     cent = np.where(np.isfinite(cent), cent, np.inf)
-    order = np.argsort(cent, kind="stable")
+    order = np.argsort(cent, kind="mergesort")
     T = 2.0 * math.pi / nu
     mu_all = np.exp(lam * T)
     ref = math.exp(-trace * T)

@@ -155,7 +155,28 @@ def _minimal_period(points: np.ndarray, n: int) -> int:
 
 
 @dataclass
-class PeriodicOrbit:
+class _ShotOrbit:
+    """The fields a shot orbit has whatever its model (:class:`PeriodicOrbit`,
+    :class:`geardyn.analysis.systems_orbit.SystemOrbit`), in their constructors' order."""
+
+    model: Any
+    n: int
+    state: np.ndarray
+    points: np.ndarray
+    monodromy: np.ndarray
+    converged: bool
+    status: Status
+    iterations: int
+    residuals: list[float]
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        """Floquet multipliers of :attr:`floquet`, largest modulus first."""
+        return self.floquet.multipliers
+
+
+@dataclass
+class PeriodicOrbit(_ShotOrbit):
     """A period-n orbit found by shooting (all quantities non-dimensional).
 
     Attributes
@@ -187,15 +208,6 @@ class PeriodicOrbit:
         The integration settings: target step, mode and RK4 steps per period (0: ceil(T/Δτ)).
     """
 
-    model: GearModel
-    n: int
-    state: np.ndarray
-    points: np.ndarray
-    monodromy: np.ndarray
-    converged: bool
-    status: Status
-    iterations: int
-    residuals: list[float]
     u_min: float
     u_max: float
     dtau: float = DEFAULT_DTAU
@@ -221,11 +233,6 @@ class PeriodicOrbit:
     def floquet(self) -> Floquet:
         """Floquet analysis of the monodromy matrix."""
         return floquet(self.monodromy, self.n, self.model.period)
-
-    @property
-    def multipliers(self) -> np.ndarray:
-        """Floquet multipliers, largest modulus first."""
-        return self.floquet.multipliers
 
     @property
     def stable(self) -> bool:

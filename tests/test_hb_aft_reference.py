@@ -1,0 +1,249 @@
+"""The AFT evaluation in NumPy, the reference the compiled kernels of ``geardyn.analysis.hb`` are checked against.
+
+The same method as :mod:`geardyn.analysis.hb.aft` (switches bracketed on the time grid, located by
+Newton kept in the bracket, exact interval integrals of the contact indicator, exact convolutions),
+written with vectorised NumPy instead of compiled scalar loops: the dead-zone projection, the
+extrema of u, the residual with its Jacobian and ∂R/∂ω.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from geardyn.analysis.hb import aft
+from geardyn.analysis.hb.aft import ROOT_MAX_ITER, ROOT_TOL, DeadZoneTerms, HarmonicBasis, convolve, toeplitz
+from geardyn.analysis.hb.solve import HBSystem, hb_solve
+from geardyn.model import GearModel
+
+
+def _value_slope(basis: HarmonicBasis, a: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """u and u_φ at ``phi`` from one evaluation of the harmonics."""
+    H = basis.H
+    kk = np.arange(1, H + 1)
+    arg = np.multiply.outer(phi, kk)
+    c, s = np.cos(arg), np.sin(arg)
+    A, B = a[1:H + 1], a[H + 1:]
+    return a[0] + c @ A + s @ B, c @ (kk * B) - s @ (kk * A)
+
+
+def _crossings(basis: HarmonicBasis, a: np.ndarray, level: float, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Roots of u(φ) = level in the brackets [lo, hi] (sign change assumed): Newton kept in the bracket.
+
+    A root is converged when its Newton step is below ROOT_TOL·(1 + |φ|); steps that would leave the
+    bracket are replaced by bisection."""
+    a = np.asarray(a, dtype=float)
+    lo, hi = lo.astype(float).copy(), hi.astype(float).copy()
+    flo = basis.evaluate(a, lo) - level
+    fhi = basis.evaluate(a, hi) - level
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = lo - flo * (hi - lo) / (fhi - flo)  # linear interpolation of the samples
+    x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
+    todo = np.arange(x.size)
+    for _ in range(ROOT_MAX_ITER):
+        xs = x[todo]
+        f, d = _value_slope(basis, a, xs)
+        f = f - level
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = f / d
+        done = (f == 0.0) | (np.isfinite(step) & (np.abs(step) <= ROOT_TOL * (1.0 + np.abs(xs))))
+        x[todo[done]] = np.where(f[done] == 0.0, xs[done], xs[done] - step[done])
+        keep = ~done
+        todo, xs, f, step = todo[keep], xs[keep], f[keep], step[keep]
+        if todo.size == 0:
+            break
+        same = np.sign(f) == np.sign(flo[todo])
+        lo[todo] = np.where(same, xs, lo[todo])
+        flo[todo] = np.where(same, f, flo[todo])
+        hi[todo] = np.where(same, hi[todo], xs)
+        xn = xs - step
+        bad = ~np.isfinite(xn) | (xn <= lo[todo]) | (xn >= hi[todo])
+        x[todo] = np.where(bad, 0.5 * (lo[todo] + hi[todo]), xn)
+    return x
+
+
+
+def _indicator(intervals: list[tuple[float, float, float]], Q: int) -> tuple[np.ndarray, np.ndarray]:
+    """Coefficients (index q + Q, |q| <= Q) of χ (1 on every interval) and σ (its sign on each)."""
+    q = np.arange(-Q, Q + 1)
+    chi = np.zeros(2 * Q + 1, dtype=complex)
+    sig = np.zeros(2 * Q + 1, dtype=complex)
+    nz = q != 0
+    for alpha, beta, s in intervals:
+        v = np.empty(2 * Q + 1, dtype=complex)
+        v[~nz] = (beta - alpha) / (2.0 * np.pi)
+        qq = q[nz]
+        v[nz] = (np.exp(-1j * qq * beta) - np.exp(-1j * qq * alpha)) / (-2j * np.pi * qq)
+        chi += v
+        sig += s * v
+    return chi, sig
+
+
+
+def dead_zone_terms_numpy(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float) -> DeadZoneTerms:
+    """Exact Galerkin projection of K(θ) f(u; D) with the contact switches located on the time grid.
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    a : ndarray (2H + 1,)
+        Real coefficients of u.
+    K : complex ndarray
+        Centred coefficients of the stiffness in φ (from :func:`model_series`).
+    D : float
+        Half backlash (>= 0).
+
+    Returns
+    -------
+    DeadZoneTerms
+    """
+    H, N = basis.H, basis.N
+    L = (len(K) - 1) // 2
+    c = basis.to_complex(a)
+    u = basis.samples(a)
+    state = np.where(u > D, 1, np.where(u < -D, -1, 0))
+    # events: (angle, new state); a jump of two levels inside one step has two switches
+    j = np.nonzero(state != np.roll(state, -1))[0] if D > 0.0 else np.zeros(0, dtype=int)
+    ev_phi: list[np.ndarray] = []
+    ev_new: list[np.ndarray] = []
+    if j.size:
+        lo = basis.phi[j]
+        hi = lo + 2.0 * np.pi / N
+        s0, s1 = state[j], state[(j + 1) % N]
+        for level, here in ((D, (s0 == 1) | (s1 == 1)), (-D, (s0 == -1) | (s1 == -1))):
+            if np.any(here):
+                x = _crossings(basis, a, level, lo[here], hi[here])
+                up = basis.evaluate(a, x, 1) > 0  # the state just after the switch
+                ev_phi.append(x)
+                ev_new.append(np.where(up, 1 if level > 0 else 0, 0 if level > 0 else -1))
+    Q = 2 * H + L
+    if ev_phi:
+        phis = np.concatenate(ev_phi)
+        news = np.concatenate(ev_new)
+        order = np.argsort(phis)
+        phis, news = phis[order], news[order]
+        intervals = []
+        prev_state = int(news[-1])  # the state at φ = 0⁻ continues from the last switch
+        start = 0.0
+        for p_, s_ in zip(phis, news):
+            if prev_state != 0:
+                intervals.append((start, float(p_), float(prev_state)))
+            start, prev_state = float(p_), int(s_)
+        if prev_state != 0:
+            intervals.append((start, 2.0 * np.pi, float(prev_state)))
+        chi, sig = _indicator(intervals, Q)
+    else:
+        phis = np.zeros(0)
+        s = 1 if D == 0.0 else int(state[0])  # D = 0: f(u) = u, always in contact
+        chi = np.zeros(2 * Q + 1, dtype=complex)
+        sig = np.zeros(2 * Q + 1, dtype=complex)
+        if s != 0:
+            chi[Q] = 1.0
+            sig[Q] = float(s)
+    S_full = convolve(K, chi)  # centred at L + Q
+    mid = L + Q
+    S = S_full[mid - 2 * H: mid + 2 * H + 1]
+    G = toeplitz(S, H) @ c
+    if D > 0.0:
+        Ks = convolve(K, sig)
+        G = G - D * Ks[mid - H: mid + H + 1]
+    return DeadZoneTerms(G, S, phis)
+
+
+
+def signal_extrema_numpy(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:
+    """Smallest and largest u over the period and where (φ_min, φ_max), refined by Newton on u_φ = 0.
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    a : ndarray
+        Real coefficients of u.
+
+    Returns
+    -------
+    (u_min, u_max, phi_min, phi_max) : floats
+    """
+    u = basis.samples(a)
+    h = 2.0 * np.pi / basis.N
+    out = []
+    for j in (int(np.argmin(u)), int(np.argmax(u))):
+        x = basis.phi[j]
+        lo, hi = x - h, x + h
+        for _ in range(ROOT_MAX_ITER):
+            d1 = float(basis.evaluate(a, np.array([x]), 1)[0])
+            d2 = float(basis.evaluate(a, np.array([x]), 2)[0])
+            xn = x - d1 / d2 if d2 != 0.0 else x
+            if not (lo <= xn <= hi):
+                break
+            if abs(xn - x) <= 1e-14:
+                x = xn
+                break
+            x = xn
+        out.append((float(basis.evaluate(a, np.array([x]))[0]), x))
+    (umin, pmin), (umax, pmax) = out
+    umin = min(umin, float(u.min()))
+    umax = max(umax, float(u.max()))
+    return umin, umax, pmin, pmax
+
+
+def residual_numpy(sysm: HBSystem, a: np.ndarray, p: float | None = None, jacobian: bool = True
+                   ) -> tuple[np.ndarray, np.ndarray | None]:
+    """``HBSystem.residual`` in NumPy."""
+    m, (C, K, F) = sysm._entry(p)
+    H, b = sysm.H, sysm.basis
+    nu = m.omega / sysm.n
+    k = b.k
+    c = b.to_complex(a)
+    dz = dead_zone_terms_numpy(b, a, K, m.D)
+    TcOm = toeplitz(C, H) * (1j * k)[None, :]
+    Rc = -(nu * k) ** 2 * c + nu * (TcOm @ c) + dz.G - sysm._centred(F, H)
+    R = b.to_real(Rc)
+    if not jacobian:
+        return R, None
+    Jc = np.diag(-(nu * k) ** 2).astype(complex) + nu * TcOm + toeplitz(dz.S, H)
+    return R, b.real_operator(Jc)
+
+
+def dR_domega_numpy(sysm: HBSystem, a: np.ndarray, p: float) -> np.ndarray:
+    """``HBSystem.dR_dp`` for ω in NumPy."""
+    m, (C, K, F) = sysm._entry(p)
+    b, H = sysm.basis, sysm.H
+    nu = m.omega / sysm.n
+    k = b.k
+    c = b.to_complex(a)
+    Fh = sysm._centred(F, H)
+    Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
+    dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / sysm.n - 2.0 / m.omega * Fh
+    return b.to_real(dRc)
+
+
+def test_compiled_aft_matches_numpy():
+    # the compiled dead-zone projection, extrema, residual and Jacobian against the NumPy formulation
+    m = GearModel(omega=0.7, xi0=0.08)
+    for H, D in ((12, m.D), (7, 0.0), (16, 0.3)):
+        s = HBSystem(m.with_param("D", D), H)
+        sol = hb_solve(s.base, H, stability=False)
+        assert sol.converged
+        _mm, (_C, K, _F) = s._entry(None)
+        for a in (sol.coefficients, sol.coefficients * 1.3 + 0.05):
+            x, y = aft.dead_zone_terms(s.basis, a, K, D), dead_zone_terms_numpy(s.basis, a, K, D)
+            assert x.switches.size == y.switches.size
+            np.testing.assert_allclose(np.sort(x.switches), np.sort(y.switches), rtol=0, atol=1e-12)
+            np.testing.assert_allclose(x.G, y.G, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(x.S, y.S, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(aft.signal_extrema(s.basis, a), signal_extrema_numpy(s.basis, a),
+                                       rtol=0, atol=1e-12)
+            R, J = s.residual(a)
+            R2, J2 = residual_numpy(s, a)
+            np.testing.assert_allclose(R, R2, rtol=0, atol=1e-12 * (1 + np.abs(R2).max()))
+            np.testing.assert_allclose(J, J2, rtol=0, atol=1e-12 * np.abs(J2).max())
+    s = HBSystem(m, 12, param="omega")
+    a = hb_solve(m, 12, stability=False).coefficients
+    np.testing.assert_allclose(s.dR_dp(a, 0.7), dR_domega_numpy(s, a, 0.7), rtol=0, atol=1e-13)
+    for w in (0.3, 0.7123456789, 1.9):
+        for n in (1, 2):
+            sn = HBSystem(m, 8, n, param="omega")
+            ref = aft.model_series(m.with_param("omega", w), n)
+            got = sn._entry(w)[1]
+            assert all(np.array_equal(g, r) for g, r in zip(got, ref))
+            assert sn.model_at(w) == m.with_param("omega", w)
