@@ -122,13 +122,14 @@ class HBSystemContinuation(HBContinuation):
 
     Attributes
     ----------
-    model : SystemModel
-        Base system (``param`` varies along the branch).
     param : str
+        The continued system parameter.
+    model : SystemModel
+        The system at its base point; ``param`` takes the values along the branch.
+    values : ndarray (P,)
+        Those values.
     harmonics, period, samples : int
         H per DOF, n and the time samples N per response period.
-    values : ndarray (P,)
-        Parameter values along the branch.
     coefficients : ndarray (P, n_dof(2H + 1))
         Every DOF's coefficients, DOF by DOF.
     u_min, u_max : ndarray (P,)
