@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 from typing import Annotated, Any, Optional
 
@@ -30,20 +29,47 @@ SHOOTING_RUN = [
 
 
 def system_model(path: Optional[Path], inp: Inputs) -> Any:
-    """The model HB runs on: the 1-DOF model of the common options, or the multi-DOF system of ``--system``.
+    """The model HB runs on: the 1-DOF model of the common options, or the multi-DOF system of ``--system``
+    (with ``--omega``/``--rpm`` and the mesh options applied to its reference mesh).
 
     Raises
     ------
     ModelError
-        For ``--system`` while geardyn has no multi-DOF systems, or while HB does not take them.
+        For a bad system file, or options that do not apply to a system (``--config``, ``--torque``, ``--fp``).
     """
     if path is None:
         return inp.model()
-    if importlib.util.find_spec(f"{__package__.rpartition('.')[0]}.systems") is None:
-        raise ModelError(f"system: {path}: multi-DOF systems are not available in this geardyn; harmonic balance "
-                         "runs on the 1-DOF model (leave out --system)")
-    raise ModelError(f"system: {path}: harmonic balance of multi-DOF systems is not available yet; it runs on the "
-                     "1-DOF model (leave out --system)")
+    from .system_option import load_cli_system
+
+    return load_cli_system(dict(inp.values, system=path))
+
+
+def system_range(s: Any, inp: Inputs, param: Optional[str], start: Optional[float],
+                 stop: Optional[float]) -> tuple[str, float, float]:
+    """The continued parameter of a system (a system parameter name, ω by default with an rpm range) and its range
+    (``--rpm-start/--rpm-stop`` converted with the system's reference mesh).
+
+    Raises
+    ------
+    ModelError
+        For a missing or incomplete range, an unknown parameter or an rpm range for another parameter.
+    """
+    from .. import validate
+
+    rpm = (inp.values.get("rpm_start"), inp.values.get("rpm_stop"))
+    if any(v is not None for v in rpm):
+        if None in rpm or start is not None or stop is not None or (param or "omega") != "omega":
+            raise ModelError("rpm-start: give both --rpm-start and --rpm-stop, for omega, instead of --start/--stop")
+        param, (start, stop) = "omega", (s.scaling.omega_from_rpm(validate.number("rpm-start", rpm[0])),
+                                         s.scaling.omega_from_rpm(validate.number("rpm-stop", rpm[1])))
+    if param is None:
+        raise ModelError("param: give the continuation parameter (--param), or a pinion-speed range "
+                         "(--rpm-start/--rpm-stop)")
+    if start is None or stop is None:
+        raise ModelError("start: give the parameter range (--start and --stop)")
+    start, stop = validate.number("start", start), validate.number("stop", stop)
+    s.with_param(param, start)
+    return param, start, stop
 
 
 def show(s: dict[str, Any], paths: list[str]) -> None:
@@ -78,7 +104,7 @@ def hb(
     stop: Annotated[Optional[float], typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")] = None,
     harmonics: Annotated[int, typer.Option("--harmonics", help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H).")] = 16,
     period: Annotated[int, typer.Option("--period", help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n).")] = 1,
-    system: Annotated[Optional[Path], typer.Option("--system", help="A multi-DOF system file instead of the 1-DOF model (not available yet).")] = None,
+    system: Annotated[Optional[Path], typer.Option("--system", help="A multi-DOF system file (examples/systems/*.toml) instead of the 1-DOF model: every DOF's harmonics, the elastic multipliers (rigid-body modes left out); --param takes the system's parameter names (omega, mesh.xi0, ...); the JSON adds 'meshes'.")] = None,
     compare_shooting: Annotated[bool, typer.Option("--compare-shooting", help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.")] = False,
     ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02).")] = None,
 ) -> None:
@@ -93,10 +119,12 @@ def hb(
 
     H = validate.integer("harmonics", harmonics, 1, MAX_HARMONICS)
     n = validate.integer("period", period, 1, MAX_PERIOD)
+    dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     model = system_model(system, inp)
+    if system is not None:
+        return _hb_system(inp, model, system_range(model, inp, param, start, stop), H, n, dsm, compare_shooting)
     scales = inp.scales()
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
-    dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm)
     summary = physical_json(res.to_json(), model, scales, param=name)
     shoot_ds = None
@@ -120,5 +148,35 @@ def hb(
         ds = add_physical(res.to_dataset(), scales)
         if shoot_ds is not None:
             ds = attach(ds, SHOOTING_CONTEXT, shoot_ds)  # the file redraws the figure with the shooting branch
+        paths = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+    finish(summary, paths, inp, show)
+
+
+def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: int, dsm: float,
+               compare_shooting: bool) -> None:
+    """``geardyn hb --system``: the branch of the system (per-point values of the reference mesh, ``meshes`` per
+    mesh); with ``--compare-shooting`` the shooting continuation's bifurcations in the JSON."""
+    from .. import validate
+    from ..analysis.hb.system_continuation import hb_system_continuation
+
+    name, start_v, stop_v = rng
+    res = hb_system_continuation(s, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm,
+                                 state0=inp.state0())
+    summary = res.to_json()
+    if compare_shooting:
+        from ..analysis.systems_continuation import system_continuation
+
+        opts = validate.options(inp.dtau, 0, 1, inp.accurate, [])
+        sres = system_continuation(s, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate,
+                                   state0=inp.state0())
+        summary["shooting"] = {"bifurcations": sres.to_json()["bifurcations"], "dtau": opts.dtau,
+                               "accurate": opts.accurate}
+    paths: list[str] = []
+    if inp.out is not None:
+        from ..io import write_netcdf
+        from ..plot import save_figures
+
+        nc, figdir = out_paths(inp.out, "hb")
+        ds = res.to_dataset()
         paths = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
     finish(summary, paths, inp, show)

@@ -44,7 +44,7 @@ from .aft import signal_extrema
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS, HBSystem, hb_solve
 
-__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation"]
+__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation", "trace_branch"]
 
 #: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
 KIND = "hb"
@@ -225,6 +225,15 @@ class HBContinuation:
 
 
 class _Tracer:
+    #: Test function → (event type, detail) of :meth:`events`.
+    labels = {"turn": ("fold", "turning point: a Hill exponent through 0 (μ through +1)"),
+              "pd": ("period-doubling", "real multiplier through −1"),
+              "ns": ("neimark-sacker", "complex pair through the unit circle"),
+              "graze_min_plus": ("grazing", "u_min = +D (drive-side contact loss)"),
+              "graze_min_minus": ("grazing", "u_min = −D (back-side contact)"),
+              "graze_max_plus": ("grazing", "u_max = +D (drive-side contact)"),
+              "graze_max_minus": ("grazing", "u_max = −D")}
+
     def __init__(self, sysm: HBSystem, lo: float, hi: float, ps: float):
         self.s, self.lo, self.hi, self.ps = sysm, lo, hi, ps
         self.M = sysm.basis.size
@@ -277,8 +286,21 @@ class _Tracer:
                 aug: tuple[np.ndarray, np.ndarray] | None = None) -> _Pt:
         t = self.tangent(y, ref_t, aug)
         a, p = y[:-1], self.p(y)
-        umin, umax, _, _ = signal_extrema(self.s.basis, a)
+        umin, umax = self.extremes(a, p)
         return _Pt(y, t, umin, umax, lambda: self.s.stability(a, p), iters)
+
+    def extremes(self, a: np.ndarray, p: float) -> tuple[float, float]:
+        """(u_min, u_max) of the solution ``a`` at parameter ``p``."""
+        umin, umax, _, _ = signal_extrema(self.s.basis, a)
+        return umin, umax
+
+    def multiplier_step(self, a: HillResult, b: HillResult) -> float:
+        """How far the multipliers moved between two points (:func:`_multiplier_step`)."""
+        return _multiplier_step(a, b)
+
+    def near_critical(self, h: HillResult) -> bool:
+        """Whether the step is to be capped near a critical multiplier (:func:`_near_critical`)."""
+        return _near_critical(h)
 
     # ---------------------------------------------------------------- tests and events
     def tests(self, pt: _Pt, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
@@ -317,15 +339,8 @@ class _Tracer:
     def events(self, a: _Pt, b: _Pt) -> list[HBBifurcation]:
         d = b.y - a.y
         ta, tb = self.tests(a, d), self.tests(b, d)
-        labels = {"turn": ("fold", "turning point: a Hill exponent through 0 (μ through +1)"),
-                  "pd": ("period-doubling", "real multiplier through −1"),
-                  "ns": ("neimark-sacker", "complex pair through the unit circle"),
-                  "graze_min_plus": ("grazing", "u_min = +D (drive-side contact loss)"),
-                  "graze_min_minus": ("grazing", "u_min = −D (back-side contact)"),
-                  "graze_max_plus": ("grazing", "u_max = +D (drive-side contact)"),
-                  "graze_max_minus": ("grazing", "u_max = −D")}
         out = []
-        for key, (typ, detail) in labels.items():
+        for key, (typ, detail) in self.labels.items():
             if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
                 pt, ok = self.locate(a, b, key)
                 out.append((float((pt.y - a.y) @ d), HBBifurcation(
@@ -417,10 +432,40 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     direction = 1.0 if stop > start else -1.0
     lo, hi = min(start, stop), max(start, stop)
     tr = _Tracer(sysm, lo, hi, ps)
+    y = np.concatenate([sol.coefficients, [start / ps]])
+    ref = np.zeros(sysm.basis.size + 1)
+    ref[-1] = direction
+    pts, bifs, end = trace_branch(tr, y, ref, ds, ds_max, max_points)
+    vals = np.array([tr.p(q.y) for q in pts])
+    return HBContinuation(
+        model, param, H, sysm.n, sysm.basis.N, vals, np.array([q.y[:-1] for q in pts]),
+        np.array([q.u_min for q in pts]), np.array([q.u_max for q in pts]),
+        np.array([q.hill.multipliers for q in pts]), np.array([int(q.hill.status) for q in pts]), bifs, end)
+
+
+def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float,
+                 max_points: int) -> tuple[list[_Pt], list[HBBifurcation], str]:
+    """The pseudo-arclength loop of :func:`hb_continuation` on any tracer (the 1-DOF one or a subclass).
+
+    Parameters
+    ----------
+    tr : _Tracer
+        The equations with their tests; its ``lo``, ``hi`` bound the parameter.
+    y : ndarray
+        The first solution (unknowns, then p/p_s).
+    ref : ndarray
+        Direction the first tangent is oriented by.
+    ds, ds_max : float
+        Initial and largest arclength step.
+    max_points : int
+        Largest number of points.
+
+    Returns
+    -------
+    (points, bifurcations, end)
+    """
+    lo, hi = tr.lo, tr.hi
     with single_thread_blas():
-        y = np.concatenate([sol.coefficients, [start / ps]])
-        ref = np.zeros(sysm.basis.size + 1)
-        ref[-1] = direction
         first = tr._finish(y, ref, 0)
         pts = [first]
         bifs: list[HBBifurcation] = []
@@ -436,9 +481,9 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
                 if nxt is not None:
                     cosang = float(np.clip(nxt.t @ cur.t, -1, 1))
                     if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG:
-                        dmu = _multiplier_step(cur.hill, nxt.hill)
+                        dmu = tr.multiplier_step(cur.hill, nxt.hill)
                         if dmu <= MAX_MULTIPLIER_STEP and (h <= NEAR_CRITICAL_DS * ds_max
-                                                           or not _near_critical(nxt.hill)):
+                                                           or not tr.near_critical(nxt.hill)):
                             break
                 nxt = None
                 h *= 0.5
@@ -451,15 +496,11 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
             if dmu > 0.0:  # the multipliers move about linearly in the step: aim below the refusal limit
                 h_next = min(h_next, h * MULTIPLIER_STEP_TARGET / dmu)
             h = h_next
-            if _near_critical(nxt.hill):
+            if tr.near_critical(nxt.hill):
                 h = min(h, NEAR_CRITICAL_DS * ds_max)
             p = tr.p(nxt.y)
             if p > hi or p < lo:
                 end = "reached the end of the interval"
                 bifs = [b for b in bifs if lo <= b.value <= hi]
                 break
-    vals = np.array([tr.p(q.y) for q in pts])
-    return HBContinuation(
-        model, param, H, sysm.n, sysm.basis.N, vals, np.array([q.y[:-1] for q in pts]),
-        np.array([q.u_min for q in pts]), np.array([q.u_max for q in pts]),
-        np.array([q.hill.multipliers for q in pts]), np.array([int(q.hill.status) for q in pts]), bifs, end)
+    return pts, bifs, end
