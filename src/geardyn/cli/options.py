@@ -166,8 +166,12 @@ def integration(*, periods: int | None = DEFAULT_PERIODS,
 
 
 ENGINE = [
-    option("workers", int, 1, "--workers", help="Local worker processes for a sweep (1: in this process).",
-           panel=ENGINE_PANEL),
+    option("workers", int, 1, "--workers", panel=ENGINE_PANEL,
+           help="Chunks of a sweep integrated at once, on threads of this process (1: one at a time on every "
+                "kernel thread; N: N at a time on 1/N of them each)."),
+    option("processes", bool, False, "--processes", panel=ENGINE_PANEL,
+           help="Run the --workers in local worker processes instead of threads (a worker process that dies "
+                "is replaced; each process costs 140-190 MB of memory)."),
     option("scheduler", Optional[str], None, "--scheduler", panel=ENGINE_PANEL,
            help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed)."),
     option("resume", bool, False, "--resume", panel=ENGINE_PANEL,
@@ -425,7 +429,7 @@ class Inputs:
         Returns
         -------
         dict
-            ``workers``, ``scheduler``, ``checkpoint``, ``resume`` and ``progress``.
+            ``workers``, ``processes``, ``scheduler``, ``checkpoint``, ``resume`` and ``progress``.
 
         Raises
         ------
@@ -441,13 +445,14 @@ class Inputs:
             raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
         return {
             "workers": validate.workers(v["workers"]),
+            "processes": bool(v["processes"]),
             "scheduler": validate.scheduler(v["scheduler"]),
             "checkpoint": checkpoint_dir(nc) if nc is not None else None,
             "resume": bool(v["resume"]),
             "progress": not v["json_out"],
         }
 
-    def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None) -> list[str]:
+    def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None, *, release: bool = False) -> list[str]:
         """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint.
 
         Parameters
@@ -458,6 +463,10 @@ class Inputs:
             File stem of the NetCDF file inside an ``--out`` directory.
         engine : dict, optional
             The :meth:`engine` keywords of a sweep (its checkpoint is removed).
+        release : bool
+            Once the NetCDF file is written, drop the variables of ``ds`` (in place) and draw the
+            figures from the file, each loading only what it draws: for results too large to hold
+            next to their figures.
 
         Returns
         -------
@@ -471,7 +480,16 @@ class Inputs:
         from ..plot import save_figures
 
         nc, figdir = out_paths(out, stem)
-        files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+        files = [str(write_netcdf(ds, nc))]
+        if release:
+            import xarray as xr
+
+            for name in list(ds.variables):
+                del ds[name]
+            with xr.open_dataset(nc, engine="h5netcdf") as ds:
+                files += [str(p) for p in save_figures(ds, figdir)]
+        else:
+            files += [str(p) for p in save_figures(ds, figdir)]
         if engine is not None and engine.get("checkpoint") is not None:
             from ..sweep import remove_checkpoint
 

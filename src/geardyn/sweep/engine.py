@@ -12,7 +12,7 @@ from ..errors import SweepError
 from ..grid import Grid, chunked as _chunked
 from ..model import GearModel, IntegrationOptions, ModelError
 from .checkpoints import CheckpointStore, _load_chunk, prepare_checkpoint
-from .executors import SchedulerLost, run_in_process, run_on_dask, run_on_executor, run_on_pool
+from .executors import SchedulerLost, run_on_dask, run_on_executor, run_on_pool, run_on_threads
 from .options import SweepOptions
 from .progress import Progress, print_summary
 
@@ -220,8 +220,9 @@ def run_chunks(
     chunks : sequence of Chunk
         The work; ``Chunk.index`` must be unique (it names the checkpoint file).
     engine : SweepOptions, optional
-        Executor (``executor``, else a Dask ``scheduler``, else ``workers`` local processes, 1: in
-        this process), checkpoint, resume and progress.  ``chunk_points`` is not used here (the
+        Executor (``executor``, else a Dask ``scheduler``, else ``workers`` chunks at a time on
+        threads of this process, or in ``workers`` local processes with ``processes``),
+        checkpoint, resume and progress.  ``chunk_points`` is not used here (the
         chunks are already cut).
     store : CheckpointStore, optional
         Where finished chunks are saved (overrides ``engine.checkpoint`` and ``engine.resume``).
@@ -293,10 +294,10 @@ def run_chunks(
                 run_on_executor(opts.executor, todo, finished)
             elif opts.scheduler is not None:
                 run_on_dask(opts.scheduler, todo, finished)
-            elif opts.workers == 1:
-                run_in_process(todo, finished)
-            else:
+            elif opts.processes:
                 run_on_pool(int(opts.workers), todo, finished)
+            else:
+                run_on_threads(int(opts.workers), todo, finished)
         finally:
             if bar:
                 bar.close()
