@@ -480,21 +480,60 @@ class Inputs:
         from ..plot import save_figures
 
         nc, figdir = out_paths(out, stem)
-        files = [str(write_netcdf(ds, nc))]
         if release:
-            import xarray as xr
-
-            for name in list(ds.variables):
-                del ds[name]
-            with xr.open_dataset(nc, engine="h5netcdf") as ds:
-                files += [str(p) for p in save_figures(ds, figdir)]
+            files = [str(_write_releasing(ds, nc)), *_figures_from_file(nc, figdir)]
         else:
-            files += [str(p) for p in save_figures(ds, figdir)]
+            files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
         if engine is not None and engine.get("checkpoint") is not None:
             from ..sweep import remove_checkpoint
 
             remove_checkpoint(engine["checkpoint"])
         return files
+
+
+def _write_releasing(ds: Any, nc: Path) -> Path:
+    """:func:`geardyn.io.write_netcdf` one variable at a time, each dropped from ``ds`` once written.
+
+    The coordinates and attributes go first, then each data variable is appended (variables
+    computed when read, e.g. :func:`geardyn.analysis.physical.add_physical` with ``lazy``, are
+    computed then), so that the file is written without holding a copy of the result; it reads
+    back as the Dataset ``write_netcdf`` writes.  Atomic as ``write_netcdf``.
+    """
+    from ..io import _atomic, annotate
+
+    annotate(ds)
+    names = list(ds.data_vars)
+
+    def write(tmp: Path) -> None:
+        ds.drop_vars(names).to_netcdf(tmp, engine="h5netcdf")
+        for name in names:
+            ds[[name]].drop_vars(list(ds.coords)).to_netcdf(tmp, mode="a", engine="h5netcdf")
+            del ds[name]
+
+    return _atomic(nc, write)
+
+
+def _figures_from_file(nc: Path, figdir: Path) -> list[str]:
+    """The figures of the result in ``nc``, drawn from the file opened lazily (each loads what it draws).
+
+    Memory a figure held is given back before the next one is drawn (its reference cycles
+    collected; free heap pages returned to the system where glibc is used).
+    """
+    import gc
+
+    import xarray as xr
+
+    from ..plot import figures_for
+    from ..plot.common import save
+    from ..sweep.executors import release_free_memory
+
+    files = []
+    with xr.open_dataset(nc, engine="h5netcdf") as ds:
+        for spec in figures_for(ds):
+            files.append(str(save(spec(ds), figdir / f"{spec.stem}.png")))
+            gc.collect()
+            release_free_memory()
+    return files
 
 
 def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *extra: Any) -> None:

@@ -16,7 +16,7 @@ ModeOpt = Annotated[str, typer.Option("--mode", help="fixed: every point from (u
 SweepDirOpt = Annotated[str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")]
 LyapunovFlagOpt = Annotated[bool, typer.Option("--lyapunov", help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).")]
 SettleOpt = Annotated[int, typer.Option("--settle", help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).")]
-ChunkOpt = Annotated[Optional[int], typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 2 s of work each).")]
+ChunkOpt = Annotated[Optional[int], typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 1 s of work each).")]
 ParamOpt = Annotated[Optional[str], typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")]
 
 

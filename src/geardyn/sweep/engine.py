@@ -22,10 +22,12 @@ __all__ = ["CHUNK_SECONDS", "DEFAULT_CHUNK_POINTS", "MIN_CHUNKS", "MIN_CHUNK_POI
 #: Points per chunk of a sweep cut by count (``chunk_points``), the former default.
 DEFAULT_CHUNK_POINTS = 16
 #: Wall time aimed at per chunk when the chunks are sized by cost (s).  Long enough that what a chunk
-#: costs besides its integration (pickling its arguments and result, a process round trip, building
-#: its models, the durable checkpoint write with two fsyncs: a few ms) stays well under 1 % of it;
-#: short enough that a kill -9 loses at most a few seconds per worker and the progress bar moves.
-CHUNK_SECONDS = 2.0
+#: costs besides its integration (building its models, classifying its points, the durable
+#: checkpoint write with two fsyncs: a few ms) stays around 1 % of it; short enough that a kill -9
+#: loses at most a second or so per worker, the progress bar moves, and the temporaries of the
+#: chunks in flight stay small next to the result (about 11 000 points a chunk on a 10⁶-point map
+#: of 30 periods).
+CHUNK_SECONDS = 1.0
 #: Nominal kernel time of one RK4 step on one thread (s), to turn estimated steps into seconds: the
 #: default mode with statistics runs at about 3 ns per step (``docs/performance.md``, W1).
 STEP_SECONDS = 3.0e-9
@@ -270,7 +272,7 @@ def run_chunks(
             return
         sink(position[index], r)
         if opts.progress and "status" in r:
-            statuses.append({"status": np.array(r["status"])})
+            statuses.append({"status": np.asarray(r["status"], dtype=np.int8)})  # small codes, 1 byte a point
 
     if store is not None:
         for i, r in _finished_chunks(store, chunks):

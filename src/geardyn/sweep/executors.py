@@ -24,6 +24,7 @@ chunk when the executor's fault policy says so.  What differs is the executor an
 
 from __future__ import annotations
 
+import functools
 import logging
 import multiprocessing
 import os
@@ -52,6 +53,7 @@ __all__ = [
     "dask_executor",
     "drain",
     "local_pool",
+    "release_free_memory",
     "run_on_executor",
     "run_on_pool",
     "run_on_threads",
@@ -179,9 +181,13 @@ def run_on_threads(workers: int, todo: Sequence, finished: Finished) -> None:
     at_once = min(PIPELINE if workers == 1 else workers, len(todo))
     pool = ThreadPoolExecutor(max_workers=max(1, at_once), thread_name_prefix="geardyn-chunk",
                               initializer=set_threads, initargs=(per_chunk,))
+    def done(c, r) -> None:
+        finished(c, r)
+        release_free_memory()
+
     futs = submit_all(pool, todo)
     try:
-        drain(pool, futs, finished)
+        drain(pool, futs, done)
     except BaseException:
         try:
             _finish_running(futs, finished)
@@ -191,16 +197,34 @@ def run_on_threads(workers: int, todo: Sequence, finished: Finished) -> None:
     pool.shutdown(wait=True)
 
 
-def _return_large_blocks() -> None:
-    """Have glibc map every block of :data:`MMAP_THRESHOLD` bytes or more on its own (no-op elsewhere)."""
+@functools.lru_cache(maxsize=1)
+def _libc():
+    """The C library when it is glibc (``mallopt``, ``malloc_trim``), else None."""
     import ctypes
-    import ctypes.util
 
     try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        libc = ctypes.CDLL("libc.so.6")
+    except OSError:
+        return None
+    return libc if hasattr(libc, "malloc_trim") and hasattr(libc, "mallopt") else None
+
+
+def _return_large_blocks() -> None:
+    """Have glibc map every block of :data:`MMAP_THRESHOLD` bytes or more on its own (no-op elsewhere)."""
+    libc = _libc()
+    if libc is not None:
         libc.mallopt(-3, MMAP_THRESHOLD)  # M_MMAP_THRESHOLD
-    except (OSError, AttributeError):
-        pass
+
+
+def release_free_memory() -> None:
+    """Give the free pages of the heaps back to the system (glibc ``malloc_trim``; no-op elsewhere).
+
+    Between the chunks of a sweep on threads, and between large figures, so that memory freed
+    in one step is not counted in the process's resident size through the next.
+    """
+    libc = _libc()
+    if libc is not None:
+        libc.malloc_trim(0)
 
 
 def _finish_running(futs: dict[Future, object], finished: Finished) -> None:
