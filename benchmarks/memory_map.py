@@ -144,7 +144,8 @@ def main(argv=None) -> int:
         return proc.returncode
     files = {p.name: p.stat().st_size for p in out.iterdir() if p.is_file()}
     res = {
-        "engine": "map", "points": a.num * a.num, "workers": a.workers, "processes": a.processes, "transient": a.transient, "periods": a.periods,
+        "engine": "map", "points": a.num * a.num, "workers": a.workers, "worker_processes": a.processes,
+        "transient": a.transient, "periods": a.periods,
         "wall_s": wall, "peak_rss_tree_mb": peak_total, "peak_rss_single_process_mb": peak_single,
         "processes": peak_procs, "limit_mb": LIMIT_MB, "under_limit": peak_total < LIMIT_MB,
         "output_bytes": files, "load_average": list(os.getloadavg()),

@@ -516,8 +516,8 @@ def _write_releasing(ds: Any, nc: Path) -> Path:
 def _figures_from_file(nc: Path, figdir: Path) -> list[str]:
     """The figures of the result in ``nc``, drawn from the file opened lazily (each loads what it draws).
 
-    Memory a figure held is given back before the next one is drawn (its reference cycles
-    collected; free heap pages returned to the system where glibc is used).
+    Memory freed before a figure is given back first (reference cycles collected; free heap pages
+    returned to the system where glibc is used), so that each figure starts from what is held.
     """
     import gc
 
@@ -530,9 +530,10 @@ def _figures_from_file(nc: Path, figdir: Path) -> list[str]:
     files = []
     with xr.open_dataset(nc, engine="h5netcdf") as ds:
         for spec in figures_for(ds):
-            files.append(str(save(spec(ds), figdir / f"{spec.stem}.png")))
             gc.collect()
             release_free_memory()
+            files.append(str(save(spec(ds), figdir / f"{spec.stem}.png")))
+    gc.collect()
     return files
 
 

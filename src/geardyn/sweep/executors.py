@@ -75,7 +75,7 @@ PIPELINE = 2
 #: In process: arrays at least this large (bytes) are given back to the system when freed (glibc's
 #: ``M_MMAP_THRESHOLD``, fixed instead of growing with the largest block freed), so that the
 #: temporaries of chunks run on several threads do not stay resident in per-thread heaps.
-MMAP_THRESHOLD = 256 * 1024
+MMAP_THRESHOLD = 64 * 1024
 #: Modules the local worker processes import before they are forked (forkserver start method).
 POOL_PRELOAD = ("geardyn.integrate", "geardyn.sweep", "geardyn.analysis.steady", "geardyn.analysis.bifurcation")
 
