@@ -528,7 +528,7 @@ def _figures_from_file(nc: Path, figdir: Path) -> list[str]:
     from ..sweep.executors import release_free_memory
 
     files = []
-    with xr.open_dataset(nc, engine="h5netcdf") as ds:
+    with xr.open_dataset(nc, engine="h5netcdf", cache=False) as ds:  # nothing kept once drawn
         for spec in figures_for(ds):
             gc.collect()
             release_free_memory()
