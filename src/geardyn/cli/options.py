@@ -499,10 +499,15 @@ def _write_releasing(ds: Any, nc: Path) -> Path:
     computed then), so that the file is written without holding a copy of the result; it reads
     back as the Dataset ``write_netcdf`` writes.  Atomic as ``write_netcdf``.
     """
+    import gc
+
     from ..io import _atomic, annotate
+    from ..sweep.executors import release_free_memory
 
     annotate(ds)
     names = list(ds.data_vars)
+    gc.collect()  # what the sweep left is given back before the writer's own buffers come in
+    release_free_memory()
 
     def write(tmp: Path) -> None:
         ds.drop_vars(names).to_netcdf(tmp, engine="h5netcdf")
