@@ -48,11 +48,12 @@ def run_tree(cmd: list[str]) -> dict:
             "stdout": out}
 
 
-def map_cmd(num: int, workers: int, out: Path, transient: int = 20, periods: int = 10) -> list[str]:
+def map_cmd(num: int, workers: int, out: Path, transient: int = 20, periods: int = 10,
+            processes: bool = False) -> list[str]:
     return GEARDYN + ["map", "--x", "omega", "--x-start", "0.5", "--x-stop", "0.75", "--x-num", str(num),
                       "--y", "xi0", "--y-start", "0.05", "--y-stop", "0.3", "--y-num", str(num), "--settle", "0",
                       "--transient", str(transient), "--periods", str(periods), "--workers", str(workers),
-                      "--out", str(out)]
+                      "--out", str(out)] + (["--processes"] if processes else [])
 
 
 def lean_cmd(num: int, out: Path) -> list[str]:
@@ -73,14 +74,15 @@ def bench_map(a) -> dict:
     for r in range(a.rounds):
         for which in ("map", "lean"):
             with tempfile.TemporaryDirectory(prefix="geardyn-cmd-") as d:
-                cmd = map_cmd(a.num, a.workers, Path(d)) if which == "map" else lean_cmd(a.num, Path(d))
+                cmd = map_cmd(a.num, a.workers, Path(d), processes=a.processes) if which == "map" \
+                    else lean_cmd(a.num, Path(d))
                 m = run_tree(cmd)
             m.pop("stdout")
             rows.append({"round": r, "run": which, **m})
             print(f"[map {a.num}^2] {which}: {m['wall_s']:.1f} s, {m['peak_rss_tree_mb']:.0f} MB "
                   f"(load {m['load_before']:.1f})", file=sys.stderr)
     best = {w: min(x["wall_s"] for x in rows if x["run"] == w) for w in ("map", "lean")}
-    return {"points": a.num ** 2, "workers": a.workers, "rows": rows, "wall_ratio": best["map"] / best["lean"],
+    return {"points": a.num ** 2, "workers": a.workers, "processes": a.processes, "rows": rows, "wall_ratio": best["map"] / best["lean"],
             "peak_rss_map_mb": max(x["peak_rss_tree_mb"] for x in rows if x["run"] == "map")}
 
 
@@ -148,7 +150,9 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("what", choices=("map", "steps", "adaptive", "all"))
     ap.add_argument("--num", type=int, help="grid values per axis (map: 1000, steps: 500)")
-    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--workers", type=int, default=2, help="map: --workers of the command (threads; default 2)")
+    ap.add_argument("--processes", action="store_true",
+                    help="map: run the command's workers as local worker processes (--processes)")
     ap.add_argument("--threads", type=int, default=2, help="kernel threads of the steps comparison")
     ap.add_argument("--rounds", type=int, default=2)
     ap.add_argument("--json", type=Path)

@@ -8,9 +8,10 @@ Usage (from the project root)::
 Runs the user-facing command ``geardyn map`` (ω × ξ0, fixed initial state, no settling passes,
 short integration: the point is memory, not physics) with ``--out``: the sweep engine checkpoints
 every finished chunk to disk as it completes and writes the NetCDF file at the end; no
-trajectory or Poincaré sequence is kept beyond its chunk.  The resident memory of the whole
-process tree (the command and its worker processes) is sampled every 0.1 s; the peak of the sum
-must stay under 2 GB (issue 6).
+trajectory or Poincaré sequence is kept beyond its chunk.  The chunks run on ``--workers``
+threads of the command (or, with ``--processes``, in as many worker processes).  The resident
+memory of the whole process tree (the command and any worker processes) is sampled every 0.1 s;
+the peak of the sum must stay under 2 GB (issue 6).
 
 ``--engine lean`` measures the kernel's own footprint instead: this process integrates the grid
 in chunks with ``integrate_batch(..., record_poincare=False)`` on all kernel threads and appends
@@ -101,8 +102,9 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, help="output directory (default: a temporary one, removed)")
     ap.add_argument("--json", type=Path, help="write the measurements to this file")
     ap.add_argument("--engine", choices=("map", "lean"), default="map",
-                    help="map: the geardyn map command (sweep engine, worker processes); "
+                    help="map: the geardyn map command (sweep engine); "
                          "lean: integrate_batch in chunks in this process")
+    ap.add_argument("--processes", action="store_true", help="map: run the workers as local worker processes")
     a = ap.parse_args(argv)
 
     out = a.out or Path(tempfile.mkdtemp(prefix="geardyn-map-bench-"))
@@ -119,10 +121,10 @@ def main(argv=None) -> int:
         if a.out is None:
             shutil.rmtree(out, ignore_errors=True)
         return 0 if res["under_limit"] else 1
-    cmd = ["geardyn", "map", "--x", "omega", "--x-start", "0.5", "--x-stop", "0.75", "--x-num", str(a.num),
+    cmd = [sys.executable, "-m", "geardyn.cli", "map", "--x", "omega", "--x-start", "0.5", "--x-stop", "0.75", "--x-num", str(a.num),
            "--y", "xi0", "--y-start", "0.05", "--y-stop", "0.3", "--y-num", str(a.num), "--settle", "0",
            "--transient", str(a.transient), "--periods", str(a.periods), "--workers", str(a.workers),
-           "--out", str(out)]
+           "--out", str(out)] + (["--processes"] if a.processes else [])
     print(" ".join(cmd), file=sys.stderr)
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
@@ -142,7 +144,8 @@ def main(argv=None) -> int:
         return proc.returncode
     files = {p.name: p.stat().st_size for p in out.iterdir() if p.is_file()}
     res = {
-        "engine": "map", "points": a.num * a.num, "workers": a.workers, "transient": a.transient, "periods": a.periods,
+        "engine": "map", "points": a.num * a.num, "workers": a.workers, "worker_processes": a.processes,
+        "transient": a.transient, "periods": a.periods,
         "wall_s": wall, "peak_rss_tree_mb": peak_total, "peak_rss_single_process_mb": peak_single,
         "processes": peak_procs, "limit_mb": LIMIT_MB, "under_limit": peak_total < LIMIT_MB,
         "output_bytes": files, "load_average": list(os.getloadavg()),

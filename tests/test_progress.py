@@ -65,12 +65,13 @@ def test_pool_workers_report_points_through_the_shared_counter(drawn, monkeypatc
 
     monkeypatch.setattr(P.Progress, "watch", spy)
     bifurcation(GearModel(), "omega", OMEGAS, mode="continue", sweep="both", options=FAST, progress=True,
-                workers=2)
+                workers=2, processes=True)
     assert len(counters) == 1 and counters[0].value == 10  # every point ticked in a worker
     assert drawn[-1][:3] == (10, 10, "points")
     # without a bar the pool gets no counter
     counters.clear()
-    bifurcation(GearModel(), "omega", OMEGAS[:2], mode="continue", sweep="both", options=FAST, workers=2)
+    bifurcation(GearModel(), "omega", OMEGAS[:2], mode="continue", sweep="both", options=FAST, workers=2,
+                processes=True)
     assert counters == []
 
 

@@ -42,6 +42,13 @@ def test_workers_1_and_2_give_identical_datasets(reference):
     assert set(np.unique(reference["period"].values)) - {0} , "the grid should hold periodic points"
 
 
+def test_threads_and_processes_give_identical_datasets(reference):
+    xr.testing.assert_identical(reference, F.sweep("omega", OMEGAS, workers=3))
+    xr.testing.assert_identical(reference, F.sweep("omega", OMEGAS, workers=2, processes=True))
+    with pytest.raises(ModelError, match="^processes: "):
+        run_chunks(F.make_chunks("omega", OMEGAS[:2]), processes="yes")
+
+
 def test_any_executor_gives_identical_dataset(reference):
     from concurrent.futures import ThreadPoolExecutor
 
@@ -129,7 +136,7 @@ def test_lost_local_worker_process_does_not_lose_the_sweep(tmp_path, reference):
     models = grid_models(GearModel(), ["omega"], [OMEGAS])
     marker = str(tmp_path / "crashed")
     chunks = [Chunk(i, F.crash_once_chunk, (marker, models[s], F.FAST)) for i, s in enumerate(chunked(len(models), 2))]
-    out = run_chunks(chunks, workers=2)
+    out = run_chunks(chunks, workers=2, processes=True)
     assert os.path.exists(marker)  # one worker process did die
     xr.testing.assert_identical(reference, F.to_dataset("omega", OMEGAS, out))
 

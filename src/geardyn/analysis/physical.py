@@ -30,6 +30,8 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
+from xarray.backends import BackendArray
+from xarray.core import indexing
 
 from ..io import PHYSICAL_SUFFIX, VARIABLES, Variable, model_from_attrs, physical_long_name
 from ..model import GearModel
@@ -134,9 +136,32 @@ def _num(x: Any) -> float | None:
     return x if np.isfinite(x) else None
 
 
+class _Converted(BackendArray):
+    """A physical copy of an array, computed when read: ``fn(source[key])`` for any key.
+
+    ``fn`` is one of the elementwise scale conversions, so a slice of the copy has the bits of the
+    same slice of ``fn(source)``.  Written to NetCDF, such a variable is computed while it is
+    written and not held besides its source.
+    """
+
+    def __init__(self, source: np.ndarray, fn: Any) -> None:
+        self.source, self.fn = source, fn
+        self.shape, self.dtype = source.shape, np.dtype(float)
+
+    def __getitem__(self, key: Any) -> np.ndarray:
+        return indexing.explicit_indexing_adapter(key, self.shape, indexing.IndexingSupport.BASIC, self._get)
+
+    def _get(self, key: Any) -> np.ndarray:
+        return np.asarray(self.fn(self.source[key]), dtype=float)
+
+
 def _set(ds: xr.Dataset, name: str, dims: Any, data: Any, coord: bool = False, meta: Variable | None = None) -> None:
     """Add a float variable (or coordinate) with its registry attributes (or those of ``meta``)."""
-    var = xr.Variable(dims, np.asarray(data, dtype=float), attrs=(meta or VARIABLES[name]).attrs())
+    if isinstance(data, _Converted):
+        data = indexing.LazilyIndexedArray(data)
+    else:
+        data = np.asarray(data, dtype=float)
+    var = xr.Variable(dims, data, attrs=(meta or VARIABLES[name]).attrs())
     if coord:
         ds.coords[name] = var
     else:
@@ -197,7 +222,7 @@ def _resolve_scales(ds: xr.Dataset, scales: Any) -> PhysicalScales:
     return scales_of(scales)
 
 
-def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
+def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> xr.Dataset:
     """A copy of a result Dataset with physical coordinates and variables added.
 
     Whatever the kind of result:
@@ -221,8 +246,21 @@ def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
         A geardyn result.
     scales : PhysicalScales, LoadedConfig or None
         The gear pair's scales (``None``: stored ones, else the paper's Table 1 pair).
+    lazy : bool
+        The physical copies of the per-point variables (``<name>_um``, ``lle_per_s``) computed
+        when they are read (loaded, or written to NetCDF one at a time) rather than held: for
+        sweeps too large to hold twice.  The values are the same.
+
+    Returns
+    -------
+    xarray.Dataset
+        The copy (the data of ``ds`` shared, not copied).
     """
     sc = _resolve_scales(ds, scales)
+
+    def per_point(values: np.ndarray, fn: Any) -> Any:
+        return _Converted(values, fn) if lazy else fn(values)
+
     out = ds.copy()
     out.attrs[SCALES_ATTR] = sc.to_json()
     if "omega" in out.coords or "omega" in out.dims:
@@ -236,9 +274,10 @@ def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
         if name in out.data_vars:
             da = out[name]
             long_name = physical_long_name(str(da.attrs.get("long_name", name)))
-            _set(out, f"{name}{PHYSICAL_SUFFIX}", da.dims, sc.um_from_u(da.values), meta=Variable("µm", long_name))
+            _set(out, f"{name}{PHYSICAL_SUFFIX}", da.dims, per_point(da.values, sc.um_from_u),
+                 meta=Variable("µm", long_name))
     if "lle" in out.data_vars:
-        _set(out, "lle_per_s", out["lle"].dims, sc.per_s_from_per_tau(out["lle"].values))
+        _set(out, "lle_per_s", out["lle"].dims, per_point(out["lle"].values, sc.per_s_from_per_tau))
     if "jumps" in out.attrs and str(out.attrs.get("param", "omega")) == "omega":
         conv = _walk({"jumps": json.loads(out.attrs["jumps"]), "hysteresis": json.loads(out.attrs.get("hysteresis", "[]")),
                       "values": []}, sc, "omega")
@@ -260,14 +299,41 @@ def add_physical(ds: xr.Dataset, scales: Any = None) -> xr.Dataset:
     return out
 
 
+#: Element types of a nested list that :func:`_convert` converts as one array (None: a missing value).
+_ARRAY_TYPES = frozenset((float, int, type(None)))
+
+
 def _convert(x: Any, fn) -> Any:
-    """Apply ``fn`` to every number of a nested list (None and non-numbers kept as they are)."""
+    """Apply ``fn`` to every number of a nested list (None and non-numbers kept as they are).
+
+    A nested list of numbers and None with the shape of an array is converted at once
+    (:func:`_convert_array`), anything else element by element; the values are the same.
+    """
     if isinstance(x, (list, tuple)):
-        return [_convert(v, fn) for v in x]
+        out = _convert_array(x, fn)
+        return out if out is not None else [_convert(v, fn) for v in x]
     if isinstance(x, bool) or not isinstance(x, (int, float)):
         return x
     y = float(fn(float(x)))
     return y if np.isfinite(y) else None
+
+
+def _convert_array(x: list | tuple, fn) -> list | None:
+    """:func:`_convert` of a rectangular nested list of floats, ints and None, as one array; None otherwise.
+
+    ``fn`` is one of the scale conversions (products and quotients by constants), which give the
+    same bits on an array as on each number; None becomes NaN on the way in and every non-finite
+    result None on the way out, as element by element.
+    """
+    a = np.array(x, dtype=object)
+    if a.size == 0 or not set(map(type, a.ravel().tolist())) <= _ARRAY_TYPES:
+        return None
+    none = np.equal(a, None)
+    vals = np.where(none, np.nan, a).astype(float)
+    y = np.asarray(fn(vals), dtype=float)
+    out = y.astype(object)
+    out[~np.isfinite(y)] = None
+    return out.tolist()
 
 
 def _walk(d: dict[str, Any], sc: PhysicalScales, param: str | None) -> dict[str, Any]:

@@ -166,8 +166,12 @@ def integration(*, periods: int | None = DEFAULT_PERIODS,
 
 
 ENGINE = [
-    option("workers", int, 1, "--workers", help="Local worker processes for a sweep (1: in this process).",
-           panel=ENGINE_PANEL),
+    option("workers", int, 1, "--workers", panel=ENGINE_PANEL,
+           help="Chunks of a sweep integrated at once, on threads of this process (1: one at a time on every "
+                "kernel thread; N: N at a time on 1/N of them each)."),
+    option("processes", bool, False, "--processes", panel=ENGINE_PANEL,
+           help="Run the --workers in local worker processes instead of threads (a worker process that dies "
+                "is replaced; each process costs 140-190 MB of memory)."),
     option("scheduler", Optional[str], None, "--scheduler", panel=ENGINE_PANEL,
            help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed)."),
     option("resume", bool, False, "--resume", panel=ENGINE_PANEL,
@@ -428,7 +432,7 @@ class Inputs:
         Returns
         -------
         dict
-            ``workers``, ``scheduler``, ``checkpoint``, ``resume`` and ``progress``.
+            ``workers``, ``processes``, ``scheduler``, ``checkpoint``, ``resume`` and ``progress``.
 
         Raises
         ------
@@ -444,13 +448,14 @@ class Inputs:
             raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
         return {
             "workers": validate.workers(v["workers"]),
+            "processes": bool(v["processes"]),
             "scheduler": validate.scheduler(v["scheduler"]),
             "checkpoint": checkpoint_dir(nc) if nc is not None else None,
             "resume": bool(v["resume"]),
             "progress": not v["json_out"],
         }
 
-    def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None) -> list[str]:
+    def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None, *, release: bool = False) -> list[str]:
         """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint.
 
         Parameters
@@ -461,6 +466,10 @@ class Inputs:
             File stem of the NetCDF file inside an ``--out`` directory.
         engine : dict, optional
             The :meth:`engine` keywords of a sweep (its checkpoint is removed).
+        release : bool
+            Once the NetCDF file is written, drop the variables of ``ds`` (in place) and draw the
+            figures from the file, each loading only what it draws: for results too large to hold
+            next to their figures.
 
         Returns
         -------
@@ -474,12 +483,66 @@ class Inputs:
         from ..plot import save_figures
 
         nc, figdir = out_paths(out, stem)
-        files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+        if release:
+            files = [str(_write_releasing(ds, nc)), *_figures_from_file(nc, figdir)]
+        else:
+            files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
         if engine is not None and engine.get("checkpoint") is not None:
             from ..sweep import remove_checkpoint
 
             remove_checkpoint(engine["checkpoint"])
         return files
+
+
+def _write_releasing(ds: Any, nc: Path) -> Path:
+    """:func:`geardyn.io.write_netcdf` one variable at a time, each dropped from ``ds`` once written.
+
+    The coordinates and attributes go first, then each data variable is appended (variables
+    computed when read, e.g. :func:`geardyn.analysis.physical.add_physical` with ``lazy``, are
+    computed then), so that the file is written without holding a copy of the result; it reads
+    back as the Dataset ``write_netcdf`` writes.  Atomic as ``write_netcdf``.
+    """
+    import gc
+
+    from ..io import _atomic, annotate
+    from ..sweep.executors import release_free_memory
+
+    annotate(ds)
+    names = list(ds.data_vars)
+    gc.collect()  # what the sweep left is given back before the writer's own buffers come in
+    release_free_memory()
+
+    def write(tmp: Path) -> None:
+        ds.drop_vars(names).to_netcdf(tmp, engine="h5netcdf")
+        for name in names:
+            ds[[name]].drop_vars(list(ds.coords)).to_netcdf(tmp, mode="a", engine="h5netcdf")
+            del ds[name]
+
+    return _atomic(nc, write)
+
+
+def _figures_from_file(nc: Path, figdir: Path) -> list[str]:
+    """The figures of the result in ``nc``, drawn from the file opened lazily (each loads what it draws).
+
+    Memory freed before a figure is given back first (reference cycles collected; free heap pages
+    returned to the system where glibc is used), so that each figure starts from what is held.
+    """
+    import gc
+
+    import xarray as xr
+
+    from ..plot import figures_for
+    from ..plot.common import save
+    from ..sweep.executors import release_free_memory
+
+    files = []
+    with xr.open_dataset(nc, engine="h5netcdf", cache=False) as ds:  # nothing kept once drawn
+        for spec in figures_for(ds):
+            gc.collect()
+            release_free_memory()
+            files.append(str(save(spec(ds), figdir / f"{spec.stem}.png")))
+    gc.collect()
+    return files
 
 
 def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *extra: Any) -> None:

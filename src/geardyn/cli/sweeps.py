@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Optional
 
+import numpy as np
 import typer
 
 from ..errors import ModelError
@@ -15,7 +16,7 @@ ModeOpt = Annotated[str, typer.Option("--mode", help="fixed: every point from (u
 SweepDirOpt = Annotated[str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")]
 LyapunovFlagOpt = Annotated[bool, typer.Option("--lyapunov", help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).")]
 SettleOpt = Annotated[int, typer.Option("--settle", help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).")]
-ChunkOpt = Annotated[Optional[int], typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 2 s of work each).")]
+ChunkOpt = Annotated[Optional[int], typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 1 s of work each).")]
 ParamOpt = Annotated[Optional[str], typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")]
 
 
@@ -171,8 +172,21 @@ def parameter_map(
     ds = run_map(model, xn, xv, yn, yv, mode=mode, state0=inp.state0(), options=opts, lyapunov=lyap,
                  settle_periods=nset, chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
                  **engine)
-    ds = add_physical(ds, scales)
-    _sweep_json(inp, physical_json(map_json(ds), model, scales), ds, "map", engine, render.parameter_map)
+    ds = add_physical(ds, scales, lazy=True)
+    summary = physical_json(map_json(ds), model, scales) if inp.json_out else _map_counts(ds)
+    finish(summary, inp.write(ds, "map", engine, release=True), inp, render.parameter_map)
+
+
+def _map_counts(ds: Any) -> dict[str, Any]:
+    """What the table of a map shows (its axes and the points of each motion class), without the per-point
+    grids of the ``--json`` summary (10⁶ entries each for a 1000 × 1000 map)."""
+    from ..analysis.classify import MOTION_LABELS
+
+    xn, yn = str(ds.attrs["x"]), str(ds.attrs["y"])
+    motion = ds["motion"].values.ravel()
+    present = [c for c in sorted(MOTION_LABELS) if np.any(motion == c)]
+    return {"x": xn, "y": yn, "x_values": ds[xn].values.tolist(), "y_values": ds[yn].values.tolist(),
+            "motion_counts": {MOTION_LABELS[c]: int(np.count_nonzero(motion == c)) for c in present}}
 
 
 BASIN_RUN = integration(periods=64, periods_help="Forcing periods recorded per initial state (>= 2 × the largest "

@@ -140,7 +140,7 @@ def _engine(values: dict[str, Any], stem: str) -> dict[str, Any]:
     nc = _out_paths(Path(out), stem)[0] if out is not None else None
     if values.get("resume") and nc is None:
         raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
-    return {"workers": validate.workers(values.get("workers", 1)),
+    return {"workers": validate.workers(values.get("workers", 1)), "processes": bool(values.get("processes", False)),
             "scheduler": validate.scheduler(values.get("scheduler")),
             "checkpoint": checkpoint_dir(nc) if nc is not None else None,
             "resume": bool(values.get("resume", False)), "progress": not values.get("json_out")}

@@ -2,8 +2,9 @@
 
 A sweep is a list of :class:`Chunk` s, each a picklable module-level function and its arguments
 returning a dict of NumPy arrays (one row per point of the chunk).  :func:`run_chunks` runs them
-on a :class:`concurrent.futures.Executor` — in process (``workers=1``), a local process pool
-(``workers=N``), a running Dask cluster (``scheduler="tcp://host:port"``, through
+on a :class:`concurrent.futures.Executor` — on threads of this process (the default: ``workers``
+chunks at a time over the kernel, which releases the GIL), a local process pool
+(``processes=True``), a running Dask cluster (``scheduler="tcp://host:port"``, through
 ``Client.get_executor()``) or any executor given — with an optional :class:`CheckpointStore`,
 and returns the results in chunk order, so the assembled result is bit-identical whatever the
 engine or worker count.  The analyses take these choices as one :class:`SweepOptions`.
@@ -24,8 +25,8 @@ Faults
 - **Ctrl-C.**  A :class:`KeyboardInterrupt` cancels the pending chunks, stops the local worker
   processes (which ignore SIGINT themselves, so they print nothing), keeps every finished chunk
   and raises :class:`SweepInterrupted`, whose one-line message says how to resume; the CLI prints
-  it and exits with code 130.  In process (``workers=1``) a kernel call cannot be interrupted:
-  the Ctrl-C takes effect when the running kernel call returns.
+  it and exits with code 130.  In process a kernel call cannot be interrupted: the Ctrl-C takes
+  effect once the chunks running have finished (they are kept too).
 - **Lost workers.**  A local worker process that dies breaks the pool: the pool is restarted and
   the unfinished chunks resubmitted (at most :data:`MAX_POOL_RESTARTS` times).  On Dask, a chunk
   whose worker is lost is rescheduled by the scheduler; a chunk that raises is retried
@@ -47,7 +48,7 @@ from ..grid import Grid, grid_models
 from .checkpoints import MANIFEST, CheckpointStore, checkpoint_dir, fingerprint, prepare_checkpoint, remove_checkpoint
 from .engine import (CHUNK_SECONDS, DEFAULT_CHUNK_POINTS, MIN_CHUNK_POINTS, MIN_CHUNKS, STEP_SECONDS, Chunk, SweepFailed,
                      SweepInterrupted, chunk_slices, chunked, concat_results, run_chunks)
-from .executors import (DASK_CONNECT_TIMEOUT, DASK_RETRIES, MAX_POOL_RESTARTS, MAX_RESUBMITS, POOL_PRELOAD,
+from .executors import (DASK_CONNECT_TIMEOUT, DASK_RETRIES, MAX_POOL_RESTARTS, MAX_RESUBMITS, PIPELINE, POOL_PRELOAD,
                         dask_executor, local_pool)
 from .options import ENGINE_KEYWORDS, SweepOptions
 from .progress import PROGRESS_DELAY, ST_DIVERGED, divergence_summary
@@ -65,6 +66,7 @@ __all__ = [
     "MANIFEST",
     "MAX_POOL_RESTARTS",
     "MAX_RESUBMITS",
+    "PIPELINE",
     "POOL_PRELOAD",
     "PROGRESS_DELAY",
     "ST_DIVERGED",

@@ -12,7 +12,7 @@ from ..errors import SweepError
 from ..grid import Grid, chunked as _chunked
 from ..model import GearModel, IntegrationOptions, ModelError
 from .checkpoints import CheckpointStore, _load_chunk, prepare_checkpoint
-from .executors import SchedulerLost, run_in_process, run_on_dask, run_on_executor, run_on_pool
+from .executors import SchedulerLost, run_on_dask, run_on_executor, run_on_pool, run_on_threads
 from .options import SweepOptions
 from .progress import Progress, print_summary
 
@@ -22,10 +22,12 @@ __all__ = ["CHUNK_SECONDS", "DEFAULT_CHUNK_POINTS", "MIN_CHUNKS", "MIN_CHUNK_POI
 #: Points per chunk of a sweep cut by count (``chunk_points``), the former default.
 DEFAULT_CHUNK_POINTS = 16
 #: Wall time aimed at per chunk when the chunks are sized by cost (s).  Long enough that what a chunk
-#: costs besides its integration (pickling its arguments and result, a process round trip, building
-#: its models, the durable checkpoint write with two fsyncs: a few ms) stays well under 1 % of it;
-#: short enough that a kill -9 loses at most a few seconds per worker and the progress bar moves.
-CHUNK_SECONDS = 2.0
+#: costs besides its integration (building its models, classifying its points, the durable
+#: checkpoint write with two fsyncs: a few ms) stays around 1 % of it; short enough that a kill -9
+#: loses at most a second or so per worker, the progress bar moves, and the temporaries of the
+#: chunks in flight stay small next to the result (about 11 000 points a chunk on a 10⁶-point map
+#: of 30 periods).
+CHUNK_SECONDS = 1.0
 #: Nominal kernel time of one RK4 step on one thread (s), to turn estimated steps into seconds: the
 #: default mode with statistics runs at about 3 ns per step (``docs/performance.md``, W1).
 STEP_SECONDS = 3.0e-9
@@ -220,8 +222,9 @@ def run_chunks(
     chunks : sequence of Chunk
         The work; ``Chunk.index`` must be unique (it names the checkpoint file).
     engine : SweepOptions, optional
-        Executor (``executor``, else a Dask ``scheduler``, else ``workers`` local processes, 1: in
-        this process), checkpoint, resume and progress.  ``chunk_points`` is not used here (the
+        Executor (``executor``, else a Dask ``scheduler``, else ``workers`` chunks at a time on
+        threads of this process, or in ``workers`` local processes with ``processes``),
+        checkpoint, resume and progress.  ``chunk_points`` is not used here (the
         chunks are already cut).
     store : CheckpointStore, optional
         Where finished chunks are saved (overrides ``engine.checkpoint`` and ``engine.resume``).
@@ -269,7 +272,7 @@ def run_chunks(
             return
         sink(position[index], r)
         if opts.progress and "status" in r:
-            statuses.append({"status": np.array(r["status"])})
+            statuses.append({"status": np.asarray(r["status"], dtype=np.int8)})  # small codes, 1 byte a point
 
     if store is not None:
         for i, r in _finished_chunks(store, chunks):
@@ -293,10 +296,10 @@ def run_chunks(
                 run_on_executor(opts.executor, todo, finished)
             elif opts.scheduler is not None:
                 run_on_dask(opts.scheduler, todo, finished)
-            elif opts.workers == 1:
-                run_in_process(todo, finished)
-            else:
+            elif opts.processes:
                 run_on_pool(int(opts.workers), todo, finished)
+            else:
+                run_on_threads(int(opts.workers), todo, finished)
         finally:
             if bar:
                 bar.close()

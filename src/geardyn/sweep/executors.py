@@ -4,12 +4,16 @@ Every way of running goes through one loop, :func:`drain`: submit every chunk to
 :class:`concurrent.futures.Executor`, hand each result to the engine as it completes, resubmit a
 chunk when the executor's fault policy says so.  What differs is the executor and its policy:
 
-- **in process** (``workers=1``): the chunks run one after the other in the calling thread with
-  every kernel thread; a Ctrl-C takes effect when the running kernel call returns.
-- **local pool** (``workers=N``): worker processes from a fork server (never plain fork: the
-  kernel's OpenMP threads make forking unsafe), one kernel thread each, ignoring SIGINT (the
-  parent stops them).  A worker that dies breaks the pool: it is restarted and the unfinished
-  chunks resubmitted, at most :data:`MAX_POOL_RESTARTS` times.
+- **in process** (the default): the chunks run on threads of this process, whose kernel releases
+  the GIL while it integrates.  ``workers=1``: :data:`PIPELINE` chunks at a time, each on every
+  kernel thread of the caller (the kernel's thread pool integrates one chunk while the next is
+  built or the last classified); ``workers=N``: N chunks at a time, each on 1/N of the caller's
+  kernel threads (at least one).  No process is started and nothing is pickled.  A Ctrl-C stops
+  the sweep once the chunks running are finished (their results are kept).
+- **local pool** (``processes=True``, ``workers=N``): worker processes from a fork server (never
+  plain fork: the kernel's OpenMP threads make forking unsafe), one kernel thread each, ignoring
+  SIGINT (the parent stops them).  A worker that dies breaks the pool: it is restarted and the
+  unfinished chunks resubmitted, at most :data:`MAX_POOL_RESTARTS` times.
 - **Dask** (``scheduler="tcp://host:port"``): ``Client.get_executor()`` of a client of that
   scheduler.  A chunk whose worker is lost is rescheduled by the scheduler, one that raises is
   retried :data:`DASK_RETRIES` times, one that keeps killing workers is resubmitted at most
@@ -20,13 +24,15 @@ chunk when the executor's fault policy says so.  What differs is the executor an
 
 from __future__ import annotations
 
+import functools
 import logging
 import multiprocessing
 import os
 import signal
 import threading
 import time
-from concurrent.futures import CancelledError, Executor, Future, InvalidStateError, ProcessPoolExecutor, as_completed
+from concurrent.futures import (CancelledError, Executor, Future, InvalidStateError, ProcessPoolExecutor,
+                                ThreadPoolExecutor, as_completed, wait)
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from typing import Callable, Iterator, Sequence
@@ -41,14 +47,16 @@ __all__ = [
     "DASK_RETRIES",
     "MAX_POOL_RESTARTS",
     "MAX_RESUBMITS",
+    "PIPELINE",
     "POOL_PRELOAD",
     "SchedulerLost",
     "dask_executor",
     "drain",
     "local_pool",
-    "run_in_process",
+    "release_free_memory",
     "run_on_executor",
     "run_on_pool",
+    "run_on_threads",
 ]
 
 #: Dask: times a chunk that raised an exception is retried by the scheduler.
@@ -61,6 +69,13 @@ MAX_POOL_RESTARTS = 3
 PARENT_CHECK_INTERVAL = 1.0
 #: Seconds to wait for a Dask scheduler to answer.
 DASK_CONNECT_TIMEOUT = 10
+#: In process with ``workers=1``: chunks at a time, each on every kernel thread (one integrating
+#: while another is prepared or classified in Python).
+PIPELINE = 2
+#: In process: arrays at least this large (bytes) are given back to the system when freed (glibc's
+#: ``M_MMAP_THRESHOLD``, fixed instead of growing with the largest block freed), so that the
+#: temporaries of chunks run on several threads do not stay resident in per-thread heaps.
+MMAP_THRESHOLD = 64 * 1024
 #: Modules the local worker processes import before they are forked (forkserver start method).
 POOL_PRELOAD = ("geardyn.integrate", "geardyn.sweep", "geardyn.analysis.steady", "geardyn.analysis.bifurcation")
 
@@ -102,7 +117,9 @@ def drain(executor: Executor, futs: dict[Future, object], finished: Finished, *,
     executor : concurrent.futures.Executor
         Where a failed chunk is submitted again.
     futs : dict
-        The submitted futures and their chunks.
+        The submitted futures and their chunks.  Consumed: a future leaves it once its result has
+        been handed on (so that the result is not held any longer), a resubmission enters it; what
+        is left when this returns or raises is what did not finish.
     finished : callable
         ``finished(chunk, result)`` for each result.
     call : callable
@@ -114,41 +131,111 @@ def drain(executor: Executor, futs: dict[Future, object], finished: Finished, *,
     (the policy may also raise an error of its own); otherwise the error propagates.  On any
     error (a Ctrl-C included) the pending futures are cancelled.
     """
-    pending = dict(futs)
-    batch: dict[Future, object] = {}
     try:
-        while pending:
-            batch, pending = pending, {}
-            for f in as_completed(batch):
-                c = batch[f]
+        while futs:
+            for f in as_completed(list(futs)):
+                c = futs.pop(f)
                 try:
                     r = f.result()
                 except BaseException as e:
                     if resubmit is None or not resubmit(e, c):
                         raise
-                    pending[executor.submit(call, c.fn, c.args)] = c
+                    futs[executor.submit(call, c.fn, c.args)] = c
                     continue
                 finished(c, r)
+                del f, r
     except SchedulerLost:
         raise  # nothing left to cancel on a lost scheduler
     except BaseException:
-        for f in list(batch) + list(pending):
+        for f in list(futs):
             f.cancel()
         raise
 
 
-def run_in_process(todo: Sequence, finished: Finished) -> None:
-    """Run the chunks one after the other in the calling thread.
+def run_on_threads(workers: int, todo: Sequence, finished: Finished) -> None:
+    """Run the chunks on threads of this process (the kernel releases the GIL while it integrates).
+
+    ``workers=1``: :data:`PIPELINE` chunks at a time, each on every kernel thread of the calling
+    thread (``geardyn.integrate.set_threads``); ``workers=N``: N chunks at a time, each on 1/N of
+    them (at least one).  On a Ctrl-C (or a chunk that raises) the chunks not started are
+    cancelled and those running are waited for: their results are handed to ``finished`` (a
+    kernel call cannot be interrupted), then the error propagates.
 
     Parameters
     ----------
+    workers : int
+        Chunks integrated at once (1: one at a time on every kernel thread, the next one prepared
+        meanwhile).
     todo : sequence of Chunk
         The chunks.
     finished : callable
-        ``finished(chunk, result)`` for each result.
+        ``finished(chunk, result)`` for each result, called in the calling thread.
     """
-    for c in todo:
-        finished(c, call_chunk(c.fn, c.args))
+    import numba
+
+    from ..integrate import set_threads
+
+    _return_large_blocks()
+    threads = max(1, int(numba.get_num_threads()))
+    per_chunk = threads if workers == 1 else max(1, threads // workers)
+    at_once = min(PIPELINE if workers == 1 else workers, len(todo))
+    pool = ThreadPoolExecutor(max_workers=max(1, at_once), thread_name_prefix="geardyn-chunk",
+                              initializer=set_threads, initargs=(per_chunk,))
+    def done(c, r) -> None:
+        finished(c, r)
+        release_free_memory()
+
+    futs = submit_all(pool, todo)
+    try:
+        drain(pool, futs, done)
+    except BaseException:
+        try:
+            _finish_running(futs, finished)
+        finally:
+            pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
+
+
+@functools.lru_cache(maxsize=1)
+def _libc():
+    """The C library when it is glibc (``mallopt``, ``malloc_trim``), else None."""
+    import ctypes
+
+    try:
+        libc = ctypes.CDLL("libc.so.6")
+    except OSError:
+        return None
+    return libc if hasattr(libc, "malloc_trim") and hasattr(libc, "mallopt") else None
+
+
+def _return_large_blocks() -> None:
+    """Have glibc map every block of :data:`MMAP_THRESHOLD` bytes or more on its own (no-op elsewhere)."""
+    libc = _libc()
+    if libc is not None:
+        libc.mallopt(-3, MMAP_THRESHOLD)  # M_MMAP_THRESHOLD
+
+
+def release_free_memory() -> None:
+    """Give the free pages of the heaps back to the system (glibc ``malloc_trim``; no-op elsewhere).
+
+    Between the chunks of a sweep on threads, and between large figures, so that memory freed
+    in one step is not counted in the process's resident size through the next.
+    """
+    libc = _libc()
+    if libc is not None:
+        libc.malloc_trim(0)
+
+
+def _finish_running(futs: dict[Future, object], finished: Finished) -> None:
+    """Wait for the chunks still running (not cancelled) and hand on those that succeed.
+
+    A second Ctrl-C while waiting stops the wait (the threads finish their chunks unobserved).
+    """
+    running = [f for f in futs if not f.cancelled()]
+    for f in wait(running).done:
+        if not f.cancelled() and f.exception() is None:
+            finished(futs[f], f.result())
 
 
 def run_on_executor(executor: Executor, todo: Sequence, finished: Finished) -> None:

@@ -15,7 +15,8 @@ from ..model import ModelError
 __all__ = ["ENGINE_KEYWORDS", "SweepOptions"]
 
 #: The keyword arguments of :class:`SweepOptions`, also accepted one by one by the analyses.
-ENGINE_KEYWORDS = ("workers", "scheduler", "executor", "checkpoint", "resume", "progress", "chunk_points")
+ENGINE_KEYWORDS = ("workers", "scheduler", "executor", "checkpoint", "resume", "progress", "chunk_points",
+                   "processes")
 
 
 @dataclass(frozen=True)
@@ -25,8 +26,10 @@ class SweepOptions:
     Parameters
     ----------
     workers : int
-        Local worker processes (1: run in this process with every kernel thread).  Worker
-        processes come from a fork server (or ``spawn``) and run one kernel thread each.
+        Chunks integrated at once.  In this process (the default) they run on threads, the
+        kernel releasing the GIL: 1 runs one chunk at a time on every kernel thread (the next one
+        prepared meanwhile), N runs N chunks at a time on 1/N of the kernel threads each
+        (:func:`geardyn.sweep.executors.run_on_threads`).
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://host:port``); the chunks run on its workers,
         which must have geardyn installed (the ``dask`` extra).
@@ -43,11 +46,16 @@ class SweepOptions:
         Show a progress bar with ETA on stderr and end with a line "N of M points diverged".
     chunk_points : int, optional
         Points per chunk; None: chunks sized by estimated cost (:func:`geardyn.sweep.chunk_slices`).
+    processes : bool
+        Run the ``workers`` chunks in local worker processes instead (a process pool from a fork
+        server, or ``spawn``, one kernel thread each; a worker process that dies is replaced).
+        Each process holds its own copy of NumPy and the compiled kernel (140–190 MB).
 
     Raises
     ------
     ModelError
-        For ``workers`` not an integer >= 1, or ``chunk_points`` not an integer >= 1.
+        For ``workers`` not an integer >= 1, ``chunk_points`` not an integer >= 1, or
+        ``processes`` not a bool.
     """
 
     workers: int = 1
@@ -57,11 +65,14 @@ class SweepOptions:
     resume: bool = False
     progress: bool = False
     chunk_points: int | None = None
+    processes: bool = False
 
     def __post_init__(self) -> None:
         w = self.workers
         if isinstance(w, bool) or not isinstance(w, (int, np.integer)) or w < 1:
             raise ModelError(f"workers: must be an integer >= 1, got {w!r}")
+        if not isinstance(self.processes, (bool, np.bool_)):
+            raise ModelError(f"processes: must be True or False, got {self.processes!r}")
         c = self.chunk_points
         if c is not None and (isinstance(c, bool) or not isinstance(c, (int, np.integer)) or c < 1):
             raise ModelError(f"chunk size: must be >= 1, got {c!r}")
