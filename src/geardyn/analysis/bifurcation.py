@@ -52,9 +52,11 @@ __all__ = [
 MODES = ("fixed", "continue")
 SWEEPS = ("up", "down", "both")
 
-#: Per-point scalar variables of a sweep result, with their dtype.
+#: Per-point scalar variables of a sweep result, with their dtype: the class codes and the status
+#: in one byte, periods and loop counts (at most a few hundred) in two, so that a 10⁶-point map
+#: holds 8 MB of codes instead of 40 MB (the values are the same).
 _SCALARS = {
-    "period": np.int64, "motion": np.int64, "impact": np.int64, "status": np.int64, "loops": np.int64,
+    "period": np.int16, "motion": np.int8, "impact": np.int8, "status": np.int8, "loops": np.int16,
     "settled": np.int64, "restarted": np.int64,
     "amplitude": float, "rms": float, "mean": float, "u_min": float, "u_max": float,
     "fraction_drive": float, "fraction_separation": float, "fraction_back": float,
