@@ -32,16 +32,7 @@ from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry import Assumption
 
-__all__ = [
-    "DOFS",
-    "Body",
-    "Clearance",
-    "Connection",
-    "Load",
-    "Mesh",
-    "SystemDescription",
-    "Dof",
-]
+__all__ = ["DOFS", "Dof", "Body", "Clearance", "Connection", "Load", "Mesh", "SystemDescription"]
 
 #: The degrees of freedom a body may have, in their canonical order.
 DOFS = ("x", "y", "z", "theta")
