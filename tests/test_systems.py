@@ -256,3 +256,33 @@ def test_clearance_element_in_the_arrays_and_boundaries(tmp_path):
     d = s.description
     assert modal_analysis(d, clearances="open").rigid.sum() == 2
     assert modal_analysis(d, clearances="contact").rigid.sum() == 1
+
+
+def test_system_map_continued_rows_follow_the_1dof_map_and_its_coexisting_branch():
+    """``mode="continue"``: each row continues along x from its left neighbour.  On the torsional pair
+    (which reduces exactly to the 1-DOF model) the continued map equals the 1-DOF continued map
+    (accurate mode, to 1e-9), stays on the upper branch of the hysteresis at ξ0 = 0.05 where the
+    fixed-start map drops to the lower one, and each row equals the system's continuation sweep."""
+    from geardyn.analysis.maps import parameter_map
+    from geardyn.analysis.systems_grid import system_map
+    from geardyn.analysis.systems_sweep import system_sweep
+    from geardyn.model import GearModel, IntegrationOptions
+
+    s = load_system(TORSIONAL)
+    xv, yv = np.linspace(0.5, 0.7, 6), np.array([0.05, 0.08])
+    o = IntegrationOptions(transient=100, periods=32, accurate=True)
+    cont = system_map(s, "omega", xv, "mesh.xi0", yv, mode="continue", options=o)
+    fixed = system_map(s, "omega", xv, "mesh.xi0", yv, mode="fixed", options=o)
+    one = parameter_map(GearModel(), "omega", xv, "xi0", yv, mode="continue", options=o, settle_periods=0)
+    assert cont.attrs["mode"] == "continue"
+    for k in ("u_min", "u_max", "amplitude"):
+        np.testing.assert_allclose(cont[k].values, one[k].values, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(cont["period"].values, one["period"].values)
+    # at ξ0 = 0.05 and ω = 0.64 the continued row is still on the upper branch (u_max ≈ 2.38), the
+    # points started from rest are on the lower one (≈ 1.99)
+    assert cont["u_max"].values[0, 3] > fixed["u_max"].values[0, 3] + 0.3
+    for j, y in enumerate(yv):
+        row = system_sweep(s.with_param("mesh.xi0", float(y)), "omega", list(xv), mode="continue", options=o)
+        np.testing.assert_array_equal(row["u_max"].values.ravel(), cont["u_max"].values[j])
+    with pytest.raises(ModelError, match="mode"):
+        system_map(s, "omega", xv, "mesh.xi0", yv, mode="sideways", options=o)

@@ -60,9 +60,9 @@ def test_modes_json_and_figure(tmp_path):
 
 
 def test_unavailable_and_bad_combinations_one_line():
-    p = run("map", "--system", TORS, "--x", "omega", "--y", "xi0", "--x-start", "0.7", "--x-stop", "0.9", "--y-start",
-            "0.05", "--y-stop", "0.1", "--mode", "continue", "--json", code=2)
-    assert len(p.stderr.strip().splitlines()) == 1
+    p = run("map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
+            "--y-start", "0.05", "--y-stop", "0.1", "--mode", "sideways", "--json", code=2)
+    assert "mode" in p.stderr and len(p.stderr.strip().splitlines()) == 1
     p = run("simulate", "--system", TORS, "--fp", "0.3", code=2)
     assert "system" in p.stderr and len(p.stderr.strip().splitlines()) == 1
 

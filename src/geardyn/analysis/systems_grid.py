@@ -20,7 +20,7 @@ import xarray as xr
 from ..errors import ModelError
 from ..integrate_ndof import initial_state
 from ..model import IntegrationOptions
-from .systems_sweep import SYSTEM_CHUNK_POINTS, _MESH_LONG, _engine, _per_point, point_rows, system_attrs
+from .systems_sweep import SYSTEM_CHUNK_POINTS, _MESH_LONG, _engine, _per_point, continue_chunk, point_rows, system_attrs
 
 __all__ = ["system_map", "system_basins", "map_chunk", "basin_chunk", "coordinate_index", "grid_json"]
 
@@ -128,8 +128,8 @@ def _mesh_vars(per: dict[str, np.ndarray], dims: tuple[str, ...], shape: tuple[i
 
 
 def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yvalues: Sequence[float], *,
-               options: IntegrationOptions = IntegrationOptions(), state0: Sequence[float] | None = None,
-               engine: dict[str, Any] | None = None) -> xr.Dataset:
+               mode: str = "fixed", options: IntegrationOptions = IntegrationOptions(),
+               state0: Sequence[float] | None = None, engine: dict[str, Any] | None = None) -> xr.Dataset:
     """A 2-D parameter map of a system: period, motion, impact and amplitudes per (y, x) point.
 
     Parameters
@@ -138,9 +138,14 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
     xname, yname : str
         System parameter names (``omega``, ``<mesh>.xi0``, ...).
     xvalues, yvalues : sequence of float
+    mode : {"fixed", "continue"}
+        ``fixed``: every point from ``state0``; ``continue``: along each row (x increasing) every
+        point from the end state of its left neighbour, the first from ``state0`` (one chunk per
+        row, rows in parallel), as the 1-DOF map's ``continue`` mode.
     options : IntegrationOptions
     state0 : (2n,), optional
-        Initial state of every point (default :func:`~geardyn.integrate_ndof.initial_state` of each).
+        Initial state of every point, or of every row's first point (default
+        :func:`~geardyn.integrate_ndof.initial_state` of each).
     engine : dict, optional
         Keywords of :func:`geardyn.sweep.run_chunks`.
 
@@ -151,15 +156,24 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
     """
     from ..io import annotate
 
+    from ..sweep import Chunk, run_chunks
+
+    if mode not in ("fixed", "continue"):
+        raise ModelError(f"mode: must be one of fixed, continue, got {mode!r}")
     xv, yv = np.asarray(xvalues, float), np.asarray(yvalues, float)
-    xy = np.array([(a, b) for b in yv for a in xv])
     s0 = None if state0 is None else np.asarray(state0, float)
-    rows = _run(map_chunk, lambda s: (model, xname, yname, xy[s], s0, options), len(xy), engine, "system map")
+    if mode == "fixed":
+        xy = np.array([(a, b) for b in yv for a in xv])
+        rows = _run(map_chunk, lambda s: (model, xname, yname, xy[s], s0, options), len(xy), engine, "system map")
+    else:
+        res = run_chunks([Chunk(i, continue_chunk, (model.with_param(yname, float(b)), xname, xv, s0, options))
+                          for i, b in enumerate(yv)], description="system map (continued rows)", **_engine(engine))
+        rows = {k: np.concatenate([r[k] for r in res]) for k in res[0]}
     per = _per_point(model, rows, _ref(model))
     dims = (yname, xname)
     ds = xr.Dataset(_mesh_vars(per, dims, (yv.size, xv.size), _ref(model)),
                     coords={yname: yv, xname: xv, "mesh": [m.name for m in model.meshes]},
-                    attrs=system_attrs(model, "system_map", options, {"x": xname, "y": yname, "mode": "fixed"}))
+                    attrs=system_attrs(model, "system_map", options, {"x": xname, "y": yname, "mode": mode}))
     ds["lle"] = (dims, np.full((yv.size, xv.size), np.nan))
     return annotate(ds)
 

@@ -216,9 +216,7 @@ def _map(values: dict[str, Any], kw: dict[str, Any]):
         s.with_param(name, float(lo))
         n = validate.integer(f"{a}-num", values.get(f"{a}_num"), 1, 100_000)
         ax[a] = (name, __import__("numpy").linspace(float(lo), float(hi), n))
-    if kw.get("mode", "fixed") != "fixed":
-        raise ModelError("mode: a system map runs every point from the same initial state (--mode fixed)")
-    ds = system_map(s, ax["x"][0], ax["x"][1], ax["y"][0], ax["y"][1], options=_opts(values),
+    ds = system_map(s, ax["x"][0], ax["x"][1], ax["y"][0], ax["y"][1], mode=kw.get("mode", "fixed"), options=_opts(values),
                     engine=_engine(values, "system_map"))
     return grid_json(ds), ds
 
