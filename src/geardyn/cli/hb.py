@@ -106,7 +106,7 @@ def hb(
     period: Annotated[int, typer.Option("--period", help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n).")] = 1,
     system: Annotated[Optional[Path], typer.Option("--system", help="A multi-DOF system file (examples/systems/*.toml) instead of the 1-DOF model: every DOF's harmonics, the elastic multipliers (rigid-body modes left out); --param takes the system's parameter names (omega, mesh.xi0, ...); the JSON adds 'meshes'.")] = None,
     compare_shooting: Annotated[bool, typer.Option("--compare-shooting", help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.")] = False,
-    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02).")] = None,
+    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02; 0.2 with --system).")] = None,
 ) -> None:
     """Harmonic balance (AFT, exact dead-zone switches) with Hill stability: a branch of period-n responses
     continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and
@@ -119,10 +119,13 @@ def hb(
 
     H = validate.integer("harmonics", harmonics, 1, MAX_HARMONICS)
     n = validate.integer("period", period, 1, MAX_PERIOD)
-    dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     model = system_model(system, inp)
     if system is not None:
+        from ..analysis.hb.system_continuation import SYSTEM_DS_MAX
+
+        dsm = SYSTEM_DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
         return _hb_system(inp, model, system_range(model, inp, param, start, stop), H, n, dsm, compare_shooting)
+    dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     scales = inp.scales()
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
     res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm)
