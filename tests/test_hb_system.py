@@ -217,3 +217,40 @@ def test_cli_system_refuses_one_line():
     r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), "--param", "mesh.zeta", "--start", "0.1",
                                  "--stop", "0.2"])
     assert r.exit_code == 2 and "zeta" in r.output
+
+
+def test_cli_system_compare_shooting_overlay_is_stored_and_redrawn(tmp_path):
+    """--compare-shooting --system: the shooting branch (an independent method: the period map) is stored in hb.nc
+    under ``shooting``, drawn at the reference mesh under the HB branch, and ``geardyn plot hb.nc`` redraws it."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from geardyn.io import attached, read_netcdf
+    from geardyn.plot.hb import SHOOTING_STYLE, hb_figure
+
+    out = tmp_path / "run"
+    r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), *SMALL, "--compare-shooting", "--json",
+                                 "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    ds = read_netcdf(out / "hb.nc")
+    sh = attached(ds, "shooting")
+    assert sh is not None and sh.attrs["geardyn_kind"] == "system_continuation" and sh.sizes["point"] > 10
+    # the two methods agree on the folds (shooting brackets them to one step of its branch: within 1e-3)
+    hb_f = sorted(b["omega"] for b in s["bifurcations"] if b["type"] == "fold")
+    sh_f = sorted(b["omega"] for b in s["shooting"]["bifurcations"] if b["type"] == "fold")
+    assert len(hb_f) == len(sh_f) == 2 and np.allclose(hb_f, sh_f, atol=1e-3)
+    # the grey branch is shooting's reference-mesh extremes against its ω
+    art = hb_figure(ds)
+    e = [str(v) for v in sh["element"].values].index(s["reference_mesh"])
+    drawn = [ln for ln in art.axes[1].get_lines() if ln.get_color() == SHOOTING_STYLE["color"]]
+    x = np.concatenate([ln.get_xdata() for ln in drawn])
+    y = np.concatenate([ln.get_ydata() for ln in drawn])
+    assert set(np.round(x, 12)) == set(np.round(sh["value"].values, 12))
+    want = np.concatenate([sh["element_u_min"].values[:, e], sh["element_u_max"].values[:, e]])
+    assert set(np.round(y, 12)) == set(np.round(want, 12))
+    assert "over the shooting branch" in art.axes[0].get_title()
+    re = tmp_path / "re"
+    r = CliRunner().invoke(app, ["plot", str(out / "hb.nc"), "--out", str(re), "--json"])
+    assert r.exit_code == 0, r.output
+    assert {p.name for p in re.iterdir() if p.suffix == ".png"} == {"hb.png"}

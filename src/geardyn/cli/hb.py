@@ -158,7 +158,8 @@ def hb(
 def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: int, dsm: float,
                compare_shooting: bool) -> None:
     """``geardyn hb --system``: the branch of the system (per-point values of the reference mesh, ``meshes`` per
-    mesh); with ``--compare-shooting`` the shooting continuation's bifurcations in the JSON."""
+    mesh); with ``--compare-shooting`` the shooting continuation's bifurcations in the JSON and its branch in
+    ``hb.nc`` and on the figure."""
     from .. import validate
     from ..analysis.hb.system_continuation import hb_system_continuation
 
@@ -176,10 +177,13 @@ def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: in
                                "accurate": opts.accurate}
     paths: list[str] = []
     if inp.out is not None:
-        from ..io import write_netcdf
+        from ..io import attach, write_netcdf
         from ..plot import save_figures
+        from ..plot.hb import SHOOTING_CONTEXT
 
         nc, figdir = out_paths(inp.out, "hb")
         ds = res.to_dataset()
+        if compare_shooting:
+            ds = attach(ds, SHOOTING_CONTEXT, sres.to_dataset())  # the file redraws the figure with shooting
         paths = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
     finish(summary, paths, inp, show)
