@@ -254,3 +254,33 @@ def test_cli_system_compare_shooting_overlay_is_stored_and_redrawn(tmp_path):
     r = CliRunner().invoke(app, ["plot", str(out / "hb.nc"), "--out", str(re), "--json"])
     assert r.exit_code == 0, r.output
     assert {p.name for p in re.iterdir() if p.suffix == ".png"} == {"hb.png"}
+
+
+def test_response_method_hb_of_the_torsional_system_is_the_1dof_response():
+    """``geardyn response --method hb --system``: the torsional pair is exactly the 1-DOF model, so its response (the
+    reference mesh's δ) is the 1-DOF HB response — same grid values, motion, jumps at the same folds, same
+    hysteresis (to the continuation's corrector tolerance)."""
+    from geardyn.analysis.hb import hb_response
+
+    args = (0.5, 0.65, 31)
+    sysr = hb_response(load_system(TORSIONAL), *args)
+    one = hb_response(GearModel(), *args)
+    assert sysr.attrs["geardyn_kind"] == "response" and sysr.attrs["method"] == "hb"
+    for k in ("amplitude", "rms", "mean", "u_min", "u_max", "poincare_u", "poincare_v"):
+        a, b = sysr[k].values, one[k].values
+        assert np.array_equal(np.isnan(a), np.isnan(b)), k
+        np.testing.assert_allclose(a[~np.isnan(a)], b[~np.isnan(b)], atol=1e-7, err_msg=k)
+    for k in ("motion", "impact", "period", "status"):
+        assert np.array_equal(sysr[k].values, one[k].values), k
+    js, jo = json.loads(sysr.attrs["jumps"]), json.loads(one.attrs["jumps"])
+    assert len(js) == len(jo) == 2
+    for a, b in zip(js, jo):
+        assert (a["sweep"], a["direction"]) == (b["sweep"], b["direction"])
+        assert a["omega"] == pytest.approx(b["omega"], abs=1e-7) and a["size"] == pytest.approx(b["size"], abs=1e-7)
+    np.testing.assert_allclose(json.loads(sysr.attrs["hysteresis"]), json.loads(one.attrs["hysteresis"]), atol=1e-7)
+    r = CliRunner().invoke(app, ["response", "--system", str(TORSIONAL), "--method", "hb", "--omega-start", "0.5",
+                                 "--omega-stop", "0.65", "--num", "31", "--json"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    assert s["method"] == "hb" and s["jumps"] == js and s["up"]["amplitude"] == [
+        None if np.isnan(v) else v for v in sysr["amplitude"].sel(sweep="up").values]
