@@ -49,7 +49,6 @@ import functools
 import math
 
 import numpy as np
-import scipy.linalg
 
 from ...status import Status
 from ._blas import single_thread_blas
@@ -142,8 +141,8 @@ def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float
     A[:size, size:] = np.eye(size)
     A[size:, :size] = -K0
     A[size:, size:] = -K1
-    with single_thread_blas():  # SciPy's dgeev, A overwritten (about 10 % faster than numpy.linalg.eig here)
-        lam, Vr = scipy.linalg.eig(A, overwrite_a=True, check_finite=False)
+    with single_thread_blas():
+        lam, Vr = np.linalg.eig(A)
     W = _to_complex(H)
     y = np.einsum("km,imc->ikc", W, Vr[:size].reshape(ne, M, -1))  # complex harmonics (DOF, k, vector)
     # the centroid from the real coefficients, as hill.py does: |c_k|² + |c_−k|² = (|a_k|² + |b_k|²)/2, so that a
