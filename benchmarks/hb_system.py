@@ -5,7 +5,7 @@ on bearings; one rigid-body mode, the rotation of the pair), period-1 branch con
 1.2 through its folds (pseudo-arclength both ways, so one run gives the up and the down response):
 
 * HB: :func:`geardyn.analysis.hb.system_continuation.hb_system_continuation` at ``--harmonics`` (each DOF),
-  with the default largest step ds_max = 0.02 and with ds_max = 0.05;
+  with the systems' default largest step ds_max = SYSTEM_DS_MAX (0.2) and with the 1-DOF default DS_MAX (0.02);
 * shooting: :func:`geardyn.analysis.systems_continuation.system_continuation` at its defaults (accurate mode,
   Δτ = 0.01, ds_max = 0.02; events bracketed to one step, not located);
 
@@ -13,7 +13,7 @@ both in this process, one after the other, with the wall time of each, the load 
 and each method's events (type, ω).  The events are matched by type and order; their difference is what
 the two methods disagree by (shooting's events are linear interpolations inside one step).
 
-Run: ``python benchmarks/hb_system.py [--harmonics 12]`` (about five minutes on a loaded 2-core machine).  Writes ``benchmarks/results/hb_system.json``.
+Run: ``python benchmarks/hb_system.py [--harmonics 12]`` (about two minutes on a loaded 2-core machine).  Writes ``benchmarks/results/hb_system.json``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from geardyn.analysis.hb.continuation import DS_MAX  # noqa: E402
-from geardyn.analysis.hb.system_continuation import hb_system_continuation  # noqa: E402
+from geardyn.analysis.hb.system_continuation import SYSTEM_DS_MAX, hb_system_continuation  # noqa: E402
 from geardyn.analysis.systems_continuation import system_continuation  # noqa: E402
 from geardyn.systems import load_system  # noqa: E402
 
@@ -78,7 +78,7 @@ def main() -> None:
     model = load_system(SYSTEM)
     hb_system_continuation(model, "omega", LO, LO + 0.01, harmonics=4)  # compile the kernels outside the timing
     load0 = os.getloadavg()
-    hbs = [_hb(model, args.harmonics, d) for d in (DS_MAX, 0.05)]
+    hbs = [_hb(model, args.harmonics, d) for d in (SYSTEM_DS_MAX, DS_MAX)]
     sh = _shooting(model)
     load1 = os.getloadavg()
     res = {"case": str(SYSTEM.relative_to(ROOT)), "param": "omega", "interval": [LO, HI],

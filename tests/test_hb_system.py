@@ -217,3 +217,70 @@ def test_cli_system_refuses_one_line():
     r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), "--param", "mesh.zeta", "--start", "0.1",
                                  "--stop", "0.2"])
     assert r.exit_code == 2 and "zeta" in r.output
+
+
+def test_cli_system_compare_shooting_overlay_is_stored_and_redrawn(tmp_path):
+    """--compare-shooting --system: the shooting branch (an independent method: the period map) is stored in hb.nc
+    under ``shooting``, drawn at the reference mesh under the HB branch, and ``geardyn plot hb.nc`` redraws it."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from geardyn.io import attached, read_netcdf
+    from geardyn.plot.hb import SHOOTING_STYLE, hb_figure
+
+    out = tmp_path / "run"
+    r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), *SMALL, "--compare-shooting", "--json",
+                                 "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    ds = read_netcdf(out / "hb.nc")
+    sh = attached(ds, "shooting")
+    assert sh is not None and sh.attrs["geardyn_kind"] == "system_continuation" and sh.sizes["point"] > 10
+    # the two methods agree on the folds (shooting brackets them to one step of its branch: within 1e-3)
+    hb_f = sorted(b["omega"] for b in s["bifurcations"] if b["type"] == "fold")
+    sh_f = sorted(b["omega"] for b in s["shooting"]["bifurcations"] if b["type"] == "fold")
+    assert len(hb_f) == len(sh_f) == 2 and np.allclose(hb_f, sh_f, atol=1e-3)
+    # the grey branch is shooting's reference-mesh extremes against its ω
+    art = hb_figure(ds)
+    e = [str(v) for v in sh["element"].values].index(s["reference_mesh"])
+    drawn = [ln for ln in art.axes[1].get_lines() if ln.get_color() == SHOOTING_STYLE["color"]]
+    x = np.concatenate([ln.get_xdata() for ln in drawn])
+    y = np.concatenate([ln.get_ydata() for ln in drawn])
+    assert set(np.round(x, 12)) == set(np.round(sh["value"].values, 12))
+    want = np.concatenate([sh["element_u_min"].values[:, e], sh["element_u_max"].values[:, e]])
+    assert set(np.round(y, 12)) == set(np.round(want, 12))
+    assert "over the shooting branch" in art.axes[0].get_title()
+    re = tmp_path / "re"
+    r = CliRunner().invoke(app, ["plot", str(out / "hb.nc"), "--out", str(re), "--json"])
+    assert r.exit_code == 0, r.output
+    assert {p.name for p in re.iterdir() if p.suffix == ".png"} == {"hb.png"}
+
+
+def test_response_method_hb_of_the_torsional_system_is_the_1dof_response():
+    """``geardyn response --method hb --system``: the torsional pair is exactly the 1-DOF model, so its response (the
+    reference mesh's δ) is the 1-DOF HB response — same grid values, motion, jumps at the same folds, same
+    hysteresis (to the continuation's corrector tolerance)."""
+    from geardyn.analysis.hb import hb_response
+
+    args = (0.5, 0.65, 31)
+    sysr = hb_response(load_system(TORSIONAL), *args)
+    one = hb_response(GearModel(), *args)
+    assert sysr.attrs["geardyn_kind"] == "response" and sysr.attrs["method"] == "hb"
+    for k in ("amplitude", "rms", "mean", "u_min", "u_max", "poincare_u", "poincare_v"):
+        a, b = sysr[k].values, one[k].values
+        assert np.array_equal(np.isnan(a), np.isnan(b)), k
+        np.testing.assert_allclose(a[~np.isnan(a)], b[~np.isnan(b)], atol=1e-7, err_msg=k)
+    for k in ("motion", "impact", "period", "status"):
+        assert np.array_equal(sysr[k].values, one[k].values), k
+    js, jo = json.loads(sysr.attrs["jumps"]), json.loads(one.attrs["jumps"])
+    assert len(js) == len(jo) == 2
+    for a, b in zip(js, jo):
+        assert (a["sweep"], a["direction"]) == (b["sweep"], b["direction"])
+        assert a["omega"] == pytest.approx(b["omega"], abs=1e-7) and a["size"] == pytest.approx(b["size"], abs=1e-7)
+    np.testing.assert_allclose(json.loads(sysr.attrs["hysteresis"]), json.loads(one.attrs["hysteresis"]), atol=1e-7)
+    r = CliRunner().invoke(app, ["response", "--system", str(TORSIONAL), "--method", "hb", "--omega-start", "0.5",
+                                 "--omega-stop", "0.65", "--num", "31", "--json"])
+    assert r.exit_code == 0, r.output
+    s = json.loads(r.stdout)
+    assert s["method"] == "hb" and s["jumps"] == js and s["up"]["amplitude"] == [
+        None if np.isnan(v) else v for v in sysr["amplitude"].sel(sweep="up").values]

@@ -106,7 +106,7 @@ def hb(
     period: Annotated[int, typer.Option("--period", help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n).")] = 1,
     system: Annotated[Optional[Path], typer.Option("--system", help="A multi-DOF system file (examples/systems/*.toml) instead of the 1-DOF model: every DOF's harmonics, the elastic multipliers (rigid-body modes left out); --param takes the system's parameter names (omega, mesh.xi0, ...); the JSON adds 'meshes'.")] = None,
     compare_shooting: Annotated[bool, typer.Option("--compare-shooting", help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.")] = False,
-    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02).")] = None,
+    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02; 0.2 with --system).")] = None,
 ) -> None:
     """Harmonic balance (AFT, exact dead-zone switches) with Hill stability: a branch of period-n responses
     continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and
@@ -119,10 +119,13 @@ def hb(
 
     H = validate.integer("harmonics", harmonics, 1, MAX_HARMONICS)
     n = validate.integer("period", period, 1, MAX_PERIOD)
-    dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     model = system_model(system, inp)
     if system is not None:
+        from ..analysis.hb.system_continuation import SYSTEM_DS_MAX
+
+        dsm = SYSTEM_DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
         return _hb_system(inp, model, system_range(model, inp, param, start, stop), H, n, dsm, compare_shooting)
+    dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     scales = inp.scales()
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
     res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm)
@@ -155,7 +158,8 @@ def hb(
 def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: int, dsm: float,
                compare_shooting: bool) -> None:
     """``geardyn hb --system``: the branch of the system (per-point values of the reference mesh, ``meshes`` per
-    mesh); with ``--compare-shooting`` the shooting continuation's bifurcations in the JSON."""
+    mesh); with ``--compare-shooting`` the shooting continuation's bifurcations in the JSON and its branch in
+    ``hb.nc`` and on the figure."""
     from .. import validate
     from ..analysis.hb.system_continuation import hb_system_continuation
 
@@ -173,10 +177,13 @@ def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: in
                                "accurate": opts.accurate}
     paths: list[str] = []
     if inp.out is not None:
-        from ..io import write_netcdf
+        from ..io import attach, write_netcdf
         from ..plot import save_figures
+        from ..plot.hb import SHOOTING_CONTEXT
 
         nc, figdir = out_paths(inp.out, "hb")
         ds = res.to_dataset()
+        if compare_shooting:
+            ds = attach(ds, SHOOTING_CONTEXT, sres.to_dataset())  # the file redraws the figure with shooting
         paths = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
     finish(summary, paths, inp, show)

@@ -190,6 +190,15 @@ def _response(values: dict[str, Any], kw: dict[str, Any]):
     measure = kw.get("measure", "amplitude")
     if measure not in ("amplitude", "u_min", "u_max", "rms", "mean"):
         raise ModelError(f"measure: must be one of amplitude, rms, u_max, u_min, mean, got {measure!r}")
+    method = kw.get("method", "sweep")
+    if method not in ("sweep", "hb"):
+        raise ModelError(f"method: must be one of sweep, hb, got {method!r}")
+    if method == "hb":  # one harmonic-balance branch of the system (its reference mesh)
+        from ..analysis.hb import hb_response
+        from ..analysis.response import response_json
+
+        ds = hb_response(s, float(lo), float(hi), int(kw.get("num", 71)), measure=measure, state0=_state(values))
+        return {**response_json(ds), "method": "hb"}, ds
     ds = system_sweep(s, "omega", list(np.linspace(float(lo), float(hi), int(kw.get("num", 71)))), mode="continue",
                       sweep="both", options=_opts(values), engine=_engine(values, "system_response"),
                       kind="system_response")

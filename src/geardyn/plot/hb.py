@@ -59,6 +59,20 @@ def _events(ax, bifs: list[dict], param: str, what: str, seen: set[str]) -> None
             seen.add(b["type"])
 
 
+def _shooting_curves(shooting: xr.Dataset, ds: xr.Dataset, param: str) -> dict[str, np.ndarray]:
+    """The shooting branch's parameter, stability, branch index, amplitude and extremes: a 1-DOF ``continuation``
+    Dataset as it is, a ``system_continuation`` one (``value``, per-element extremes) at the HB branch's
+    reference mesh."""
+    keys = ("stable", "branch", "amplitude")
+    if param in shooting:
+        return {"x": shooting[param].values, **{k: shooting[k].values for k in keys + ("u_min", "u_max")}}
+    ref = json.loads(ds.attrs.get("summary", "{}")).get("reference_mesh")
+    names = [str(v) for v in shooting["element"].values]
+    e = names.index(ref) if ref in names else 0
+    return {"x": shooting["value"].values, **{k: shooting[k].values for k in keys},
+            "u_min": shooting["element_u_min"].values[:, e], "u_max": shooting["element_u_max"].values[:, e]}
+
+
 def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None) -> PlotArtists:
     """An HB branch (stable solid, unstable dashed) with its bifurcations, over the shooting branch when given.
     Top: amplitude (u_max − u_min)/2; bottom: u_min and u_max with ±D.
@@ -68,8 +82,9 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
     ds : xarray.Dataset
         An ``hb`` result (:meth:`geardyn.analysis.hb.HBContinuation.to_dataset`).
     shooting : xarray.Dataset, optional
-        A ``continuation`` result of the same parameter (shooting); default the one attached to ``ds``
-        under :data:`SHOOTING_CONTEXT`, if any.
+        A ``continuation`` result of the same parameter (shooting), or a ``system_continuation`` one for a
+        system's branch (drawn at its reference mesh); default the one attached to ``ds`` under
+        :data:`SHOOTING_CONTEXT`, if any.
     ax : matplotlib.axes.Axes or sequence of two Axes, optional
         One Axes: the amplitude panel only; two: amplitude and extremes; omitted: a new figure.
 
@@ -95,13 +110,12 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
             continue
         seen: set[str] = set()
         if shooting is not None and shooting.sizes.get("point", 0):
-            sx = shooting[param].values
-            sst = shooting["stable"].values.astype(bool)
-            for b in np.unique(shooting["branch"].values):
-                sel = shooting["branch"].values == b
-                ys = ([shooting["amplitude"].values[sel]] if what == "amplitude"
-                      else [shooting["u_min"].values[sel], shooting["u_max"].values[sel]])
-                _branch(a, sx[sel], ys, sst[sel], "shooting", SHOOTING_STYLE, seen)
+            sc = _shooting_curves(shooting, ds, param)
+            sst = sc["stable"].astype(bool)
+            for b in np.unique(sc["branch"]):
+                sel = sc["branch"] == b
+                ys = [sc["amplitude"][sel]] if what == "amplitude" else [sc["u_min"][sel], sc["u_max"][sel]]
+                _branch(a, sc["x"][sel], ys, sst[sel], "shooting", SHOOTING_STYLE, seen)
         ys = [ds["amplitude"].values] if what == "amplitude" else [ds["u_min"].values, ds["u_max"].values]
         _branch(a, x, ys, stable, f"HB (H = {H})", HB_STYLE, seen)
         if np.any(~ok):

@@ -89,9 +89,10 @@ def _event_between(res: HBContinuation, i: int, j: int) -> HBBifurcation | None:
     chord = float(np.linalg.norm(aj - ai))
     best, dbest = None, math.inf
     for b in res.bifurcations:
-        if b.type not in STABILITY_EVENTS or b.coefficients.shape != ai.shape:
+        if b.type not in STABILITY_EVENTS or b.coefficients.size < ai.size:
             continue
-        d = float(np.linalg.norm(b.coefficients - ai) + np.linalg.norm(b.coefficients - aj))
+        bc = b.coefficients[:ai.size]  # a system's event also carries the gauge multipliers
+        d = float(np.linalg.norm(bc - ai) + np.linalg.norm(bc - aj))
         if d < dbest:
             best, dbest = b, d
     return best if best is not None and dbest <= 1.5 * chord + 1e-12 else None
@@ -144,10 +145,11 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
             if not beyond:
                 continue
             amp_b = 0.5 * (b.u_max - b.u_min)
+            bc = b.coefficients[:res.coefficients.shape[1]]
             if at_start:
-                w.insert(0, b.value), a.insert(0, b.coefficients), amp.insert(0, amp_b)
+                w.insert(0, b.value), a.insert(0, bc), amp.insert(0, amp_b)
             else:
-                w.append(b.value), a.append(b.coefficients), amp.append(amp_b)
+                w.append(b.value), a.append(bc), amp.append(amp_b)
         W, A, M = np.array(w), np.array(a), np.array(amp)
         ends = (first, last)
         if W.size > 1 and W[-1] < W[0]:
@@ -218,9 +220,50 @@ def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
     return None
 
 
-def _measures(sysm: HBSystem, a: np.ndarray) -> dict[str, float]:
-    H = sysm.H
-    umin, umax, _, _ = signal_extrema(sysm.basis, a)
+def _is_system(res: HBContinuation) -> bool:
+    from .system_continuation import HBSystemContinuation
+
+    return isinstance(res, HBSystemContinuation)
+
+
+class _Reader:
+    """What the response reads off a branch's solutions: Newton at ω from a segment's coefficients, and the
+    signal u (the 1-DOF model's u; a system's reference-mesh deflection δ) as real coefficients on ``basis``."""
+
+    def __init__(self, res: HBContinuation):
+        n, H = res.period, res.harmonics
+        self.system = _is_system(res)
+        if self.system:
+            from .system import HBSystemEquations
+
+            self.eq = HBSystemEquations(res.model, H, n, param="omega", samples=res.samples)
+            self.basis, self.D = self.eq.dbasis, float(res.model.meshes[res.reference].D)
+            self.gauge = np.zeros(self.eq.basis.rigid)
+        else:
+            self.eq = HBSystem(res.model, H, n, param="omega", samples=res.samples)
+            self.basis, self.D = self.eq.basis, float(res.model.D)
+        self.reference = res.reference if self.system else 0
+
+    def newton(self, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
+        x0 = np.concatenate([guess, self.gauge]) if self.system else guess
+        a, st, _its, _r = self.eq.newton(x0, w)
+        return a, st
+
+    def signal(self, a: np.ndarray, w: float) -> np.ndarray:
+        """Coefficients of u (of the reference mesh's δ for a system) of the unknowns ``a``; ``a`` itself for one
+        DOF, or a segment's coefficients (then the gauge multipliers are appended)."""
+        if not self.system:
+            return a
+        x = a if a.size == self.eq.basis.size else np.concatenate([a, self.gauge])
+        return self.eq.deflection(x, self.reference, w)
+
+    def nu(self, w: float, n: int) -> float:
+        return self.eq.nu(w) if self.system else w / n
+
+
+def _measures(basis: Any, a: np.ndarray) -> dict[str, float]:
+    H = basis.H
+    umin, umax, _, _ = signal_extrema(basis, a)
     rms = math.sqrt(0.5 * float(np.sum(a[1:H + 1] ** 2 + a[H + 1:] ** 2)))
     return {"amplitude": 0.5 * (umax - umin), "rms": rms, "mean": float(a[0]), "u_min": umin, "u_max": umax}
 
@@ -239,8 +282,8 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
 
     Parameters
     ----------
-    res : HBContinuation
-        A branch continued in ω over (at least) the grid's interval.
+    res : HBContinuation or HBSystemContinuation
+        A branch continued in ω over (at least) the grid's interval (a system's: the reference mesh's δ).
     omegas : array_like
         Increasing ω grid.
     measure : str
@@ -262,7 +305,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     """
     import xarray as xr
 
-    from ...io import annotate, result_attrs
+    from ...io import annotate
     from ..classify import MOTION_PERIODIC, MOTION_UNRESOLVED, impact_state
 
     if measure not in MEASURES:
@@ -272,8 +315,8 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     lo, hi = float(w[0]), float(w[-1])
     paths = sweep_paths(segs, lo, hi)
     n, H = res.period, res.harmonics
-    sysm = HBSystem(res.model, H, n, param="omega", samples=res.samples)
-    D = res.model.D
+    rd = _Reader(res)
+    D, basis = rd.D, rd.basis
     phis = 2.0 * np.pi * np.arange(n) / n
     shape = (2, w.size)
     f = {k: np.full(shape, np.nan) for k in MEASURES}
@@ -287,8 +330,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     def solve(seg: Segment, x: float) -> tuple[np.ndarray, Status]:
         key = (seg.index, float(x))
         if key not in solved:
-            a, st, _its, _r = sysm.newton(seg.guess(x), x)
-            solved[key] = (a, st)
+            solved[key] = rd.newton(seg.guess(x), x)
         return solved[key]
 
     with single_thread_blas():
@@ -301,11 +343,12 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 status[r, k] = int(st)
                 if st is not Status.OK:
                     continue
-                vals = _measures(sysm, a)
+                u = rd.signal(a, float(x))
+                vals = _measures(basis, u)
                 for key, v in vals.items():
                     f[key][r, k] = v
-                pu[r, k] = sysm.basis.evaluate(a, phis)
-                pv[r, k] = (x / n) * sysm.basis.evaluate(a, phis, 1)
+                pu[r, k] = basis.evaluate(u, phis)
+                pv[r, k] = rd.nu(float(x), n) * basis.evaluate(u, phis, 1)
                 period[r, k] = _minimal_period(pu[r, k], pv[r, k], n)
                 motion[r, k] = MOTION_PERIODIC
                 impact[r, k] = impact_state(vals["u_min"], D)
@@ -320,7 +363,8 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 a_to, st = solve(segs[s1], x)
                 if st is not Status.OK:
                     continue
-                m_from, m_to = _measures(sysm, end)[measure], _measures(sysm, a_to)[measure]
+                m_from = _measures(basis, rd.signal(end, x))[measure]
+                m_to = _measures(basis, rd.signal(a_to, x))[measure]
                 if lab == "up":
                     before, after = w[w <= x], w[w > x]
                     g_from = float(before[-1]) if before.size else x
@@ -340,13 +384,28 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
          "lle": (("sweep", "omega"), np.full(shape, np.nan)),
          "poincare_u": (("sweep", "omega", "section"), pu), "poincare_v": (("sweep", "omega", "section"), pv)},
         coords={"sweep": ["up", "down"], "omega": w, "section": np.arange(n)},
-        attrs=result_attrs("response", res.model, {"method": "hb", "harmonics": H, "period": n,
-                                                    "samples": res.samples},
-                           param="omega", mode="harmonic balance", sweep="both", method="hb", measure=measure,
-                           jumps=json.dumps(jumps), hysteresis=json.dumps(hyst),
-                           bifurcations=json.dumps(res.to_json()["bifurcations"])),
+        attrs=_attrs(res, {"method": "hb", "harmonics": H, "period": n, "samples": res.samples},
+                     dict(param="omega", mode="harmonic balance", sweep="both", method="hb", measure=measure,
+                          jumps=json.dumps(jumps), hysteresis=json.dumps(hyst),
+                          bifurcations=json.dumps(res.to_json()["bifurcations"]))),
     )
     return annotate(ds)
+
+
+def _attrs(res: HBContinuation, options: dict[str, Any], extra: dict[str, Any]) -> dict[str, str]:
+    """A response's attributes: the 1-DOF model's, or a system's (:func:`~geardyn.analysis.systems_sweep.system_attrs`
+    with ``model`` its reference mesh's ω, D and ξ0, as the system's ``hb`` Dataset has)."""
+    from ...io import json_attr, result_attrs
+
+    if not _is_system(res):
+        return result_attrs("response", res.model, options, **extra)
+    from ..systems_sweep import system_attrs
+
+    attrs = system_attrs(res.model, "response", None, {**extra, "options": json_attr(options),
+                                                       "reference_mesh": res.elements[res.reference]})
+    ref = res.model.meshes[res.reference]
+    attrs["model"] = json.dumps({"omega": res.model.omega, "D": ref.D, "xi0": ref.xi0})
+    return attrs
 
 
 def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list[list[float]]:
@@ -367,14 +426,15 @@ def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list
 
 def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: int, *,
                 harmonics: int = DEFAULT_HARMONICS, period: int = 1, measure: str = "amplitude",
-                guess: Any = None) -> Any:
+                guess: Any = None, state0: Any = None) -> Any:
     """Up and down frequency response by harmonic balance, in the format of
     :func:`geardyn.analysis.response.frequency_response`.
 
     Parameters
     ----------
-    model : GearModel
-        The model; ω is varied.
+    model : GearModel or SystemModel
+        The model, or a multi-DOF system (then the response is its reference mesh's, from
+        :func:`~geardyn.analysis.hb.system_continuation.hb_system_continuation`); ω is varied.
     omega_start, omega_stop : float
         The ω interval (> 0); the branch is continued from the lower end.
     num : int
@@ -385,6 +445,9 @@ def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: in
         Amplitude measure: one of :data:`MEASURES`.
     guess : optional
         Start guess at the lower end (as :func:`~geardyn.analysis.hb.continuation.hb_continuation`).
+    state0 : optional
+        A system's start of the simulation of the default guess (as
+        :func:`~geardyn.analysis.hb.system_continuation.hb_system_continuation`; unused for the 1-DOF model).
 
     Returns
     -------
@@ -402,7 +465,13 @@ def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: in
                          f"{omega_stop!r}")
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
-    res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess)
+    if isinstance(model, GearModel):
+        res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess)
+    else:
+        from .system_continuation import hb_system_continuation
+
+        res = hb_system_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess,
+                                     state0=state0)
     if not res.converged:
         raise ModelError(f"omega_start: harmonic balance at omega = {lo:g} did not converge ({res.end})")
     return response_from_branch(res, np.linspace(lo, hi, int(num)), measure)

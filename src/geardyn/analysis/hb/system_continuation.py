@@ -12,8 +12,10 @@ What differs is taken by a subclass of its tracer:
   |μ_i μ_j| − 1 of the complex-conjugate pairs (the k-th pair through the unit circle; for one DOF the
   1-DOF test), the fold from the tangent as before;
 * grazing is watched on every element (meshes and clearances): δ_min or δ_max through ±D;
-* the step control compares multiplier *sets* (Hausdorff distance), and caps the step while any real
-  multiplier is near −1 or a complex pair within :data:`NEAR_CRITICAL_PAIR` of the unit circle.
+* the step control compares multiplier *sets* (Hausdorff distance) of their moduli and real values
+  (:func:`_radial`: the turn of a pair's argument, which no test sees, does not limit the step), and caps the
+  step while any real multiplier is near −1 or a complex pair within :data:`NEAR_CRITICAL_PAIR` of the unit
+  circle.
 """
 
 from __future__ import annotations
@@ -27,19 +29,29 @@ import numpy as np
 
 from ...errors import ModelError
 from ...status import Status, flag_attrs
-from .continuation import (DS_INIT, DS_MAX, KIND, MAX_POINTS, NEAR_CRITICAL, HBContinuation, _Tracer,
+from .continuation import (DS_INIT, KIND, MAX_POINTS, NEAR_CRITICAL, HBContinuation, _Tracer,
                            trace_branch)
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS
 from .system import HBSystemEquations, dynamic_factors, hb_system_solve
 
-__all__ = ["HBSystemContinuation", "hb_system_continuation"]
+__all__ = ["HBSystemContinuation", "hb_system_continuation", "NEAR_CRITICAL_PAIR", "SYSTEM_DS_MAX"]
 
 #: The step is capped (as in :mod:`.continuation`) while a complex pair is within this of the unit circle.  The
 #: 1-DOF value (NEAR_CRITICAL = 0.1) would cap every step of a system with lightly damped elastic modes: on the
-#: 8-DOF bevel pair the bearing modes keep |μ| ≈ 0.97 over the whole response (measured: 929 points and 139 s
-#: against 0.6 ≤ ω ≤ 1.2 at H = 12).  Real multipliers near −1 keep the 1-DOF cap.
-NEAR_CRITICAL_PAIR = 0.02
+#: 8-DOF bevel pair the bearing modes keep 0.968 <= |μ| <= 0.984 over the whole response 0.6 <= ω <= 1.2 (at
+#: H = 12; a band of 0.1 gave 929 points and 139 s, a band of 0.02 capped three steps in four), while the pairs
+#: that cross the circle (three Neimark–Sacker points) are within 0.01 of it only near their crossings.
+#: Real multipliers near −1 keep the 1-DOF cap.
+NEAR_CRITICAL_PAIR = 0.01
+#: Default largest arclength step of a system's branch.  The arclength is over every DOF's 2H + 1 coefficients
+#: (n(2H + 1) + 1 components against shooting's 2n + 1), so a step of the 1-DOF default DS_MAX covers a few
+#: times less of ω than shooting's step of the same size; the step is also bounded by the multiplier motion
+#: (MAX_MULTIPLIER_STEP), the tangent's turn and the corrector's iterations, and near a critical multiplier it
+#: is NEAR_CRITICAL_DS·SYSTEM_DS_MAX = 0.02 (shooting's largest step).  Every event is located (not bracketed),
+#: so its value does not depend on the step: on the bevel pair the events at ds_max = 0.02 and 0.2 agree to
+#: 1e-9 (``benchmarks/hb_system.py``).
+SYSTEM_DS_MAX = 0.2
 #: Side of a grazing test → its description.
 _SIDES = {"min_plus": "δ_min = +D (drive-side contact loss)", "min_minus": "δ_min = −D (back-side contact)",
           "max_plus": "δ_max = +D (drive-side contact)", "max_minus": "δ_max = −D"}
@@ -56,6 +68,17 @@ def _pairs(mu: np.ndarray) -> np.ndarray:
         if d[j] < mu[i].imag:
             out.append(mu[i] * mu[j])
     return np.array(out)
+
+
+def _radial(mu: np.ndarray) -> np.ndarray:
+    """What the tests see of the multipliers: a complex one's modulus |μ|, a real one's (signed) value.
+
+    The argument of a lightly damped mode's pair turns by ω_d ΔT when the period T = 2π/ν changes: on the 8-DOF
+    bevel pair the bearing modes' pairs turn several times round the circle between ω = 0.6 and 1.2, at
+    |μ| ≈ 0.98.  No test depends on that turn (``ns`` is a product of moduli, ``pd`` = Π(μ + 1) changes sign only
+    on the real axis), so the step control measures only the moduli and the real multipliers."""
+    cplx = np.abs(mu.imag) > 1e-9 * np.abs(mu)
+    return np.where(cplx, np.abs(mu), mu.real)
 
 
 class _SystemTracer(_Tracer):
@@ -101,10 +124,11 @@ class _SystemTracer(_Tracer):
         return out
 
     def multiplier_step(self, a: HillResult, b: HillResult) -> float:
-        """Hausdorff distance between the multiplier sets of two resolved points (0 if either is not)."""
+        """Hausdorff distance between the :func:`_radial` multiplier sets of two resolved points (0 if either
+        is not)."""
         if a.status is not Status.OK or b.status is not Status.OK or not a.multipliers.size:
             return 0.0
-        d = np.abs(a.multipliers[:, None] - b.multipliers[None, :])
+        d = np.abs(_radial(a.multipliers)[:, None] - _radial(b.multipliers)[None, :])
         return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
 
     def near_critical(self, h: HillResult) -> bool:
@@ -228,7 +252,7 @@ class HBSystemContinuation(HBContinuation):
 
 def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
                            harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
-                           samples: int | None = None, ds: float = DS_INIT, ds_max: float = DS_MAX,
+                           samples: int | None = None, ds: float = DS_INIT, ds_max: float = SYSTEM_DS_MAX,
                            max_points: int = MAX_POINTS, state0: Any = None) -> HBSystemContinuation:
     """Continue the period-n HB solution of a system in ``param`` from ``start`` to ``stop``.
 
@@ -249,7 +273,8 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
     samples : int, optional
         Time samples per response period.
     ds, ds_max : float
-        Initial and largest arclength step (defaults those of :mod:`.continuation`).
+        Initial and largest arclength step (defaults :data:`~geardyn.analysis.hb.continuation.DS_INIT` and
+        :data:`SYSTEM_DS_MAX`).
     max_points : int
         Largest number of points.
     state0 : (u0, v0) or (2n,), optional
