@@ -80,22 +80,7 @@ def _indicator(intervals: list[tuple[float, float, float]], Q: int) -> tuple[np.
 
 
 def dead_zone_terms_numpy(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float) -> DeadZoneTerms:
-    """Exact Galerkin projection of K(θ) f(u; D) with the contact switches located on the time grid.
-
-    Parameters
-    ----------
-    basis : HarmonicBasis
-    a : ndarray (2H + 1,)
-        Real coefficients of u.
-    K : complex ndarray
-        Centred coefficients of the stiffness in φ (from :func:`model_series`).
-    D : float
-        Half backlash (>= 0).
-
-    Returns
-    -------
-    DeadZoneTerms
-    """
+    """:func:`geardyn.analysis.hb.aft.dead_zone_terms` (same arguments and result) in NumPy."""
     H, N = basis.H, basis.N
     L = (len(K) - 1) // 2
     c = basis.to_complex(a)

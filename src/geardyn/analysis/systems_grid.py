@@ -103,11 +103,16 @@ def basin_chunk(model: Any, states: np.ndarray, options: IntegrationOptions) -> 
     return point_rows([model] * len(states), integrate_batch([model] * len(states), states, options, threads=1))
 
 
-def _run(fn, args_of, n: int, engine: dict[str, Any] | None, what: str) -> dict[str, np.ndarray]:
+def _slices(n: int) -> list[slice]:
+    """The chunks of ``n`` independent points."""
+    return [slice(a, min(a + SYSTEM_CHUNK_POINTS, n)) for a in range(0, n, SYSTEM_CHUNK_POINTS)]
+
+
+def _run(fn, args: list[tuple], engine: dict[str, Any] | None, what: str) -> dict[str, np.ndarray]:
+    """The rows of the chunks ``fn(*a)`` for ``a`` in ``args``, run on the sweep engine, in chunk order."""
     from ..sweep import Chunk, run_chunks
 
-    sl = [slice(a, min(a + SYSTEM_CHUNK_POINTS, n)) for a in range(0, n, SYSTEM_CHUNK_POINTS)]
-    res = run_chunks([Chunk(i, fn, args_of(s)) for i, s in enumerate(sl)], description=what, **_engine(engine))
+    res = run_chunks([Chunk(i, fn, a) for i, a in enumerate(args)], description=what, **_engine(engine))
     return {k: np.concatenate([r[k] for r in res]) for k in res[0]}
 
 
@@ -156,19 +161,17 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
     """
     from ..io import annotate
 
-    from ..sweep import Chunk, run_chunks
-
     if mode not in ("fixed", "continue"):
         raise ModelError(f"mode: must be one of fixed, continue, got {mode!r}")
     xv, yv = np.asarray(xvalues, float), np.asarray(yvalues, float)
     s0 = None if state0 is None else np.asarray(state0, float)
     if mode == "fixed":
         xy = np.array([(a, b) for b in yv for a in xv])
-        rows = _run(map_chunk, lambda s: (model, xname, yname, xy[s], s0, options), len(xy), engine, "system map")
+        rows = _run(map_chunk, [(model, xname, yname, xy[s], s0, options) for s in _slices(len(xy))], engine,
+                    "system map")
     else:
-        res = run_chunks([Chunk(i, continue_chunk, (model.with_param(yname, float(b)), xname, xv, s0, options))
-                          for i, b in enumerate(yv)], description="system map (continued rows)", **_engine(engine))
-        rows = {k: np.concatenate([r[k] for r in res]) for k in res[0]}
+        rows = _run(continue_chunk, [(model.with_param(yname, float(b)), xname, xv, s0, options) for b in yv], engine,
+                    "system map (continued rows)")
     per = _per_point(model, rows, _ref(model))
     dims = (yname, xname)
     ds = xr.Dataset(_mesh_vars(per, dims, (yv.size, xv.size), _ref(model)),
@@ -224,7 +227,7 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
         states = np.tile(base, (a.size * b.size, 1))
         states[:, i] = np.tile(a, b.size)
         states[:, j] = np.repeat(b, a.size)
-    rows = _run(basin_chunk, lambda s: (model, states[s], options), len(states), engine, "system basins")
+    rows = _run(basin_chunk, [(model, states[s], options) for s in _slices(len(states))], engine, "system basins")
     ref = _ref(model)
     per = _per_point(model, rows, ref)
     ok = per["status"] == 0
