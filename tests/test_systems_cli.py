@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -92,6 +93,20 @@ OUT_RUNS = {
                       "--periods", "8"],
     "system_continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35"],
 }
+
+
+@pytest.mark.parametrize("kind", ["system_bifurcation", "system_map", "system_basins", "system_continuation",
+                                  "system_orbit"])
+def test_tables_of_a_system_run_without_json(kind, tmp_path):
+    """Without --json every system command prints its table: for a sweep the range of each mesh value
+    over the points and the count of each label, under a title with the swept ranges."""
+    p = run(*OUT_RUNS[kind], "--out", str(tmp_path))
+    title = {"system_bifurcation": "omega = 0.7 … 0.9 (3 points)", "system_map": "omega = 0.7 … 0.9",
+             "system_basins": "u0 = -3 … 3", "system_continuation": "omega from 1.3 to 1.35",
+             "system_orbit": "omega = 0.8"}[kind]
+    assert title in p.stdout and "mesh(es)" in p.stdout and "wrote " in p.stdout
+    if kind in ("system_bifurcation", "system_map", "system_basins"):
+        assert re.search(r"status: ok ×\d+", p.stdout), p.stdout
 
 
 @pytest.mark.parametrize("kind", list(OUT_RUNS))

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import inspect
 import json
+import math
+from collections import Counter
 from pathlib import Path
 from typing import Annotated, Any, Optional
 
@@ -308,19 +310,54 @@ def run_system(name: str, values: dict[str, Any], kw: dict[str, Any]) -> None:
         print(f"wrote {f}")
 
 
+def _flat(x: Any) -> list[Any]:
+    """The scalars of a summary entry: a value, or the values of its (nested) lists and dicts."""
+    if isinstance(x, dict):
+        return [v for y in x.values() for v in _flat(y)]
+    if isinstance(x, (list, tuple)):
+        return [v for y in x for v in _flat(y)]
+    return [x]
+
+
+def _cell(x: Any) -> str:
+    """One table cell: a number, the range of a sweep's numbers, or the count of each of its labels."""
+    vals = [v for v in _flat(x) if v is not None]
+    if not vals:
+        return "—"
+    if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in vals):
+        finite = [float(v) for v in vals if math.isfinite(v)]
+        if not finite:
+            return "—"
+        lo, hi = min(finite), max(finite)
+        return f"{lo:.6g}" if lo == hi else f"{lo:.6g} … {hi:.6g}"
+    if len(vals) == 1:
+        return str(vals[0])
+    counts = Counter(str(v) for v in vals)
+    return ", ".join(f"{k} ×{n}" for k, n in counts.most_common())
+
+
 def _print(name: str, s: dict[str, Any]) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    t = Table(title=f"{name} — {len(s.get('meshes', []))} mesh(es), omega = {s.get('omega'):.6g}")
+    if "param" in s and isinstance(s.get("values"), list) and s["values"]:
+        where = f"{s['param']} = {_cell(s['values'])} ({len(s['values'])} points)"
+    elif isinstance(s.get("omega"), (int, float)):
+        where = f"omega = {s['omega']:.6g}"
+    elif "start" in s and "stop" in s:
+        where = f"{s['param']} from {s['start']:.6g} to {s['stop']:.6g}"
+    else:  # a map or basins: the ranges of its coordinates
+        where = ", ".join(f"{k} = {_cell(v)}" for k, v in s.get("coords", {}).items())
+    t = Table(title=f"{name} — {len(s.get('meshes', []))} mesh(es), {where}")
     for col in ("mesh", "u_min", "u_max", "amplitude", "impact", "dynamic factor"):
         t.add_column(col)
-    f = lambda x: "—" if x is None else (f"{x:.6g}" if isinstance(x, float) else str(x))  # noqa: E731
     for m in s.get("meshes", []):
-        t.add_row(m["name"], f(m.get("u_min")), f(m.get("u_max")), f(m.get("amplitude")), str(m.get("impact")),
-                  f(m.get("dynamic_factor")))
+        t.add_row(m["name"], *(_cell(m.get(k)) for k in ("u_min", "u_max", "amplitude", "impact", "dynamic_factor")))
     c = Console()
     c.print(t)
-    for k in ("motion", "period", "exponents", "elastic_multipliers", "stable", "rigid_body_note", "status"):
-        if k in s and s[k] is not None:
+    for k in ("exponents", "elastic_multipliers"):  # every value of a point's spectrum
+        if s.get(k) is not None:
             c.print(f"{k}: {s[k]}")
+    for k in ("motion", "period", "stable", "rigid_body_note", "status"):
+        if s.get(k) is not None:
+            c.print(f"{k}: {_cell(s[k])}")
