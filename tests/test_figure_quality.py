@@ -230,6 +230,25 @@ def test_amplitude_against_rpm_of_a_map_has_markers_a_colour_bar_and_a_title(res
         [f"D = {v:.4g}" for v in few["D"].values]
 
 
+def test_amplitude_against_rpm_of_a_large_map_draws_evenly_spaced_rows_and_says_so(results):
+    """Of more rows than MAX_CURVES, evenly spaced ones are drawn, the first and the last among them."""
+    from geardyn.plot.physical import MAX_CURVES
+
+    ds = results["map"]
+    n = 3 * MAX_CURVES + 5
+    d = np.linspace(0.1, 1.0, n)
+    amp = ds["amplitude_um"].isel(D=0).values[None, :] * (1.0 + d[:, None])  # row k scaled by 1 + D_k
+    big = xr.Dataset({"amplitude_um": (("D", "omega"), amp, ds["amplitude_um"].attrs)},
+                     coords={"D": ("D", d, ds["D"].attrs), "omega": ds["omega"], "rpm": ds["rpm"]}, attrs=ds.attrs)
+    ax = draw(big, "amplitude_um_vs_rpm").axes[0]
+    lines = ax.get_lines()
+    assert len(lines) == MAX_CURVES
+    rows = [int(np.argmin(np.abs(amp[:, 0] - line.get_ydata()[0]))) for line in lines]
+    assert rows[0] == 0 and rows[-1] == n - 1 and np.ptp(np.diff(rows)) <= 1  # evenly spaced
+    assert all(np.array_equal(line.get_ydata(), amp[k]) for line, k in zip(lines, rows))
+    assert f"({MAX_CURVES} of {n} D values, evenly spaced)" in ax.get_title()
+
+
 def test_every_figure_of_the_runs_has_no_overlapping_text(results):
     for name, ds in results.items():
         for spec in figures_for(ds):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import errno
+import gc
 import json
 import sys
 from typing import Any, Optional
@@ -104,6 +105,17 @@ def is_stop(e: BaseException) -> bool:
     return isinstance(e, (SweepInterrupted, SweepFailed))
 
 
+def _run(argv: Optional[list[str]]) -> Any:
+    """Run the app; once it has returned or raised, the objects the command made are frozen out of the
+    garbage collector, so that the interpreter's exit does not walk the whole heap again (the
+    collections at exit took about 0.5 s after a sweep; nothing the command made is still to be
+    closed or flushed: files are closed where they are written)."""
+    try:
+        return app(args=argv, prog_name="geardyn", standalone_mode=False)
+    finally:
+        gc.freeze()
+
+
 def main(argv: Optional[list[str]] = None) -> None:
     """Entry point: run the app; every input error becomes one line on stderr, never a traceback.
 
@@ -128,7 +140,7 @@ def main(argv: Optional[list[str]] = None) -> None:
     usage_error, click_exception = cx.UsageError, cx.ClickException
     no_args_is_help = getattr(cx, "NoArgsIsHelpError", ())
     try:
-        rv = app(args=argv, prog_name="geardyn", standalone_mode=False)
+        rv = _run(argv)
     except no_args_is_help as e:  # type: ignore[misc]
         print(e.ctx.get_help() if e.ctx is not None else e.format_message())
         raise SystemExit(0) from None

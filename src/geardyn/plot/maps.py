@@ -83,7 +83,8 @@ def impact_map(ds: xr.Dataset, ax: Axes = None) -> None:
     """Impact state over the grid."""
     keys = sorted(IMPACT_COLORS)
     cats = [(IMPACT_LABELS[k], IMPACT_COLORS[k]) for k in keys]
-    idx = np.vectorize(lambda c: keys.index(int(c)) if int(c) in keys else 0)(ds["impact"].values)
+    codes = ds["impact"].values
+    idx = np.select([codes == k for k in keys], list(range(len(keys))), 0)
     _categorical(ds, idx, cats, "Impact state", ax)
 
 

@@ -27,6 +27,9 @@ __all__ = ["RPM_CURVE_VARIABLES", "TIME_PERIODS_SHOWN", "response_rpm", "rpm_cur
 RPM_CURVE_VARIABLES = ("amplitude_um", "rms_um", "u_max_um", "poincare_u_um")
 #: Most curves of :func:`rpm_curve` named in a legend; more are coloured by a colour bar of their parameter.
 LEGEND_CURVES = 4
+#: Most curves :func:`rpm_curve` draws: of more rows, every k-th is drawn (the first and the last among
+#: them; the title says so), since hundreds of overlapping marked lines show no more than a few dozen.
+MAX_CURVES = 32
 
 
 @plot_function("simulate", (8, 6.5), n=2, subplots={"sharex": True},
@@ -111,7 +114,7 @@ def _has_response_rpm(ds: xr.Dataset) -> bool:
 def rpm_curve(ds: xr.Dataset, name: str | None = None, ax: Axes = None) -> None:
     """A result variable (µm) against pinion speed (rpm), one line per value of its other dimensions: named
     in a legend up to :data:`LEGEND_CURVES` lines, else coloured by the value of a colour bar (a result with
-    an ``rpm`` coordinate)."""
+    an ``rpm`` coordinate); of more than :data:`MAX_CURVES` rows, evenly spaced ones."""
     name = name or rpm_curve_variable(ds)
     da = ds[name]
     rpm = ds["rpm"]
@@ -120,23 +123,30 @@ def rpm_curve(ds: xr.Dataset, name: str | None = None, ax: Axes = None) -> None:
     ax.set_xlabel(label(rpm))
     ax.set_ylabel(label(da))
     what = da.attrs.get("long_name", name)
-    set_title(ax, f"{what[:1].upper()}{what[1:]} against pinion speed", ds, exclude=[dim, "omega", *others])
+    title = f"{what[:1].upper()}{what[1:]} against pinion speed"
     if not others:
+        set_title(ax, title, ds, exclude=[dim, "omega"])
         ax.plot(rpm.values, da.values, ".-", ms=4, lw=0.8)
         return
     flat = da.stack(_line=others).transpose(dim, "_line")
     count = flat.sizes["_line"]
+    drawn = np.unique(np.linspace(0, count - 1, min(count, MAX_CURVES)).round().astype(int))
+    if drawn.size < count:
+        rows = f"{symbol(others[0])} values" if len(others) == 1 else "curves"
+        title += f" ({drawn.size} of {count} {rows}, evenly spaced)"
+    set_title(ax, title, ds, exclude=[dim, "omega", *others])
+    x, lines = rpm.values, flat.values  # read once (a lazily opened file is read again at every access)
     values = [np.atleast_1d(v) for v in flat["_line"].values]
     colour_by = len(others) == 1 and count > LEGEND_CURVES and np.issubdtype(np.asarray(flat[others[0]]).dtype,
                                                                               np.number)
     if colour_by:
         z = np.asarray(flat[others[0]].values, dtype=float)
         mappable = ScalarMappable(Normalize(np.nanmin(z), np.nanmax(z)), "viridis")
-    for i in range(count):
+    for i in drawn:
         lab = ", ".join(f"{symbol(k)} = {v:.4g}" if isinstance(v, (int, float, np.number)) else f"{k} = {v}"
                         for k, v in zip(others, values[i]))
         colour = mappable.to_rgba(z[i]) if colour_by else f"C{i % 10}"
-        ax.plot(rpm.values, flat.values[:, i], ".-", ms=4, lw=0.8, color=colour,
+        ax.plot(x, lines[:, i], ".-", ms=4, lw=0.8, color=colour,
                 label=lab if count <= LEGEND_CURVES else None)
     if colour_by:
         ax.figure.colorbar(mappable, ax=ax, label=label(ds[others[0]], others[0]))
