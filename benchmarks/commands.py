@@ -4,6 +4,7 @@ Usage (from the project root)::
 
     python benchmarks/commands.py map --num 1000        # geardyn map on 10^6 points vs the lean kernel path
     python benchmarks/commands.py steps --num 500       # 250 000-point map per RK4 step vs geardyn bench W1
+    python benchmarks/commands.py steps --before ../old/src   # ... and an earlier checkout's map beside it
     python benchmarks/commands.py adaptive              # bifurcation --adaptive vs the fixed transient (W1 grid)
     python benchmarks/commands.py all --rounds 2 --json benchmarks/results/commands.json
 
@@ -31,11 +32,11 @@ from memory_map import _rss_mb, _tree  # noqa: E402
 GEARDYN = [sys.executable, "-m", "geardyn.cli"]
 
 
-def run_tree(cmd: list[str]) -> dict:
+def run_tree(cmd: list[str], env: dict | None = None) -> dict:
     """Run ``cmd``; wall time, peak RSS of its process tree, load average before and after."""
     load0 = os.getloadavg()[0]
     t0 = time.perf_counter()
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     peak = 0.0
     while proc.poll() is None:
         peak = max(peak, sum(_rss_mb(p) for p in _tree(proc.pid)))
@@ -87,24 +88,33 @@ def bench_map(a) -> dict:
 
 
 def bench_steps(a) -> dict:
-    """ns per RK4 step of a num² map (in process, the kernel threads) vs geardyn bench W1, same threads."""
+    """ns per RK4 step of a num² map (in process, the kernel threads) vs geardyn bench W1, same threads.
+
+    With ``a.before`` (the ``src`` directory of another checkout), that checkout's map runs too,
+    alternating with this one's in every round, against the same W1 runs.
+    """
     rows = []
     steps = map_steps(a.num)
+    trees = [("map", None)] + ([("before", str(Path(a.before).resolve()))] if a.before else [])
     for r in range(a.rounds):
-        with tempfile.TemporaryDirectory(prefix="geardyn-cmd-") as d:
-            m = run_tree(map_cmd(a.num, 1, Path(d)))
-        b = run_tree(GEARDYN + ["bench", "--workload", "W1", "--threads", str(a.threads), "--json"])
-        w1 = json.loads(b.pop("stdout"))
-        w1_ns = _w1_ns_per_step(w1)
-        m.pop("stdout")
-        rows.append({"round": r, "map_ns_per_step": m["wall_s"] / steps * 1e9, "map": m, "w1_ns_per_step": w1_ns,
-                     "w1_load": b["load_before"]})
-        print(f"[steps {a.num}^2] map {rows[-1]['map_ns_per_step']:.2f} ns/step, W1 {w1_ns:.2f} ns/step "
-              f"(load {m['load_before']:.1f})", file=sys.stderr)
-    best_map = min(x["map_ns_per_step"] for x in rows)
+        for which, src in trees:
+            env = None if src is None else {**os.environ, "PYTHONPATH": src}
+            with tempfile.TemporaryDirectory(prefix="geardyn-cmd-") as d:
+                m = run_tree(map_cmd(a.num, 1, Path(d)), env)
+            b = run_tree(GEARDYN + ["bench", "--workload", "W1", "--threads", str(a.threads), "--json"])
+            w1 = json.loads(b.pop("stdout"))
+            w1_ns = _w1_ns_per_step(w1)
+            m.pop("stdout")
+            rows.append({"round": r, "run": which, "map_ns_per_step": m["wall_s"] / steps * 1e9, "map": m,
+                         "w1_ns_per_step": w1_ns, "w1_load": b["load_before"]})
+            print(f"[steps {a.num}^2] {which}: map {rows[-1]['map_ns_per_step']:.2f} ns/step ({m['wall_s']:.1f} s), "
+                  f"W1 {w1_ns:.2f} ns/step (load {m['load_before']:.1f})", file=sys.stderr)
     best_w1 = min(x["w1_ns_per_step"] for x in rows)
-    return {"points": a.num ** 2, "threads": a.threads, "rk4_steps": steps, "rows": rows,
-            "ratio": best_map / best_w1}
+    out = {"points": a.num ** 2, "threads": a.threads, "rk4_steps": steps, "rows": rows,
+           "ratio": min(x["map_ns_per_step"] for x in rows if x["run"] == "map") / best_w1}
+    if a.before:
+        out["ratio_before"] = min(x["map_ns_per_step"] for x in rows if x["run"] == "before") / best_w1
+    return out
 
 
 def _w1_ns_per_step(js) -> float:
@@ -155,6 +165,8 @@ def main(argv=None) -> int:
                     help="map: run the command's workers as local worker processes (--processes)")
     ap.add_argument("--threads", type=int, default=2, help="kernel threads of the steps comparison")
     ap.add_argument("--rounds", type=int, default=2)
+    ap.add_argument("--before", type=Path, help="steps: the src directory of another checkout, whose map runs "
+                                                "alternating with this one's (e.g. a git worktree of an earlier commit)")
     ap.add_argument("--json", type=Path)
     a = ap.parse_args(argv)
     res: dict = {"machine_load_start": list(os.getloadavg())}

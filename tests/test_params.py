@@ -40,3 +40,21 @@ def test_messages_are_one_line() -> None:
     with pytest.raises(ModelError) as err:
         canonical_param("kappa65")
     assert "\n" not in str(err.value)
+
+
+def test_parameter_names_of_the_help_texts_come_from_the_registry_and_all_parse():
+    import re
+
+    from geardyn.cli import app
+    from geardyn.params import ALIASES, FAMILIES, LISTING_ORDER, canonical_param, parameter_names
+    from typer.testing import CliRunner
+
+    text = parameter_names()
+    assert re.sub(r" \([^)]*\)", "", text).split(", ") == [FAMILIES[n].pattern for n in LISTING_ORDER]
+    for alias, target in ALIASES.items():
+        assert alias in text and canonical_param(alias) == canonical_param(target)
+    for pattern in (FAMILIES[n].pattern for n in LISTING_ORDER):
+        canonical_param(pattern.replace("K", "1").replace("R", "1").replace("L", "1"))  # every listed family parses
+    for cmd in ("bifurcation", "continuation", "hb"):
+        r = CliRunner().invoke(app, [cmd, "--help"], env={"COLUMNS": "400"})
+        assert " ".join(text.split()) in " ".join(r.output.split()), cmd

@@ -33,6 +33,7 @@ __all__ = [
     "cli_options",
     "describe",
     "family_of",
+    "parameter_names",
     "slot",
 ]
 
@@ -121,6 +122,16 @@ LISTING_ORDER = ("omega", "xi0", "xi", "kappa", "fp", "eps", "D", "phi_c", "phi_
 #: Parameter names accepted by sweeps, :meth:`~geardyn.model.GearModel.get` and ``with_param``.
 PARAMETER_HELP: Mapping[str, str] = MappingProxyType(
     {FAMILIES[n].pattern: _help_entry(FAMILIES[n]) for n in LISTING_ORDER})
+
+
+def parameter_names() -> str:
+    """The parameter names a sweep or a continuation takes, for a help text: each family's pattern in
+    :data:`LISTING_ORDER`, its :data:`ALIASES` in parentheses (``"omega, xi0, xiK, …, epsL (fe), D (backlash, b), …"``)."""
+    def aliases(f: Family) -> str:
+        names = [a for a, target in ALIASES.items() if family_of(target) is f]
+        return f" ({', '.join(names)})" if names else ""
+
+    return ", ".join(FAMILIES[n].pattern + aliases(FAMILIES[n]) for n in LISTING_ORDER)
 
 
 def canonical_param(name: str) -> str:

@@ -11,7 +11,8 @@ from ..errors import ModelError
 from ..model import DEFAULT_DTAU
 from . import render
 from .app import console
-from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, option, out_paths
+from .options import (MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option,
+                      out_paths)
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 
@@ -99,9 +100,9 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
 @command("hb", RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
 def hb(
     inp: Inputs,
-    param: Annotated[Optional[str], typer.Option("--param", help="Continuation parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")] = None,
+    param: ContinuationParamOpt = None,
     start: Annotated[Optional[float], typer.Option("--start", help="Parameter value where the branch starts (the first solution from the attractor reached by simulation from rest there).")] = None,
-    stop: Annotated[Optional[float], typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")] = None,
+    stop: StopOpt = None,
     harmonics: Annotated[int, typer.Option("--harmonics", help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H).")] = 16,
     period: Annotated[int, typer.Option("--period", help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n).")] = 1,
     system: Annotated[Optional[Path], typer.Option("--system", help="A multi-DOF system file (examples/systems/*.toml) instead of the 1-DOF model: every DOF's harmonics, the elastic multipliers (rigid-body modes left out); --param takes the system's parameter names (omega, mesh.xi0, ...); the JSON adds 'meshes'.")] = None,

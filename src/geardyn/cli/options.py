@@ -649,6 +649,31 @@ def sweep_range(inp: Inputs, start: Optional[float], stop: Optional[float],
     return convert(inp.scales(), inp.rpm_start, inp.rpm_stop, start, stop, param=param)
 
 
+def param_option(what: str) -> Any:
+    """The ``--param`` option type of a command that varies one model parameter, the names it takes listed
+    from the parameter registry (:func:`geardyn.params.parameter_names`).
+
+    Parameters
+    ----------
+    what : str
+        What the parameter is to the command (``"Swept parameter"``, ``"Continuation parameter"``).
+
+    Returns
+    -------
+    typing.Annotated
+        ``Optional[str]`` with its ``typer.Option``.
+    """
+    return Annotated[Optional[str], typer.Option(
+        "--param", help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop).")]
+
+
+#: ``--param`` of a continuation (HB or shooting).
+ContinuationParamOpt = param_option("Continuation parameter")
+#: ``--stop`` of a continuation (HB or shooting).
+StopOpt = Annotated[Optional[float], typer.Option(
+    "--stop", help="Parameter value where the continuation ends (may lie below --start).")]
+
+
 def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register ``fn(inp, **own_options)`` as a command that also takes the options of ``groups``.
 

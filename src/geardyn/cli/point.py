@@ -9,7 +9,8 @@ import typer
 from ..errors import ModelError
 from ..model import IntegrationOptions
 from . import render
-from .options import MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, command, finish, integration, option
+from .options import (MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, integration,
+                      option)
 
 PeriodOpt = Annotated[int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
 GuessOpt = Annotated[Optional[str], typer.Option("--guess", help="Shooting guess 'u,v' at θ = 0 (default: the state reached by simulating --transient periods from --u0, --v0).")]
@@ -105,9 +106,9 @@ CONTINUATION_RUN = integration(periods=None, accurate=option(
 @command("continuation", RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT)
 def continuation(
     inp: Inputs,
-    param: Annotated[Optional[str], typer.Option("--param", help="Continuation parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")] = None,
+    param: ContinuationParamOpt = None,
     start: Annotated[Optional[float], typer.Option("--start", help="Parameter value where the branch starts (the first orbit is found there by shooting).")] = None,
-    stop: Annotated[Optional[float], typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")] = None,
+    stop: StopOpt = None,
     period: PeriodOpt = 1,
     guess: GuessOpt = None,
     switch: Annotated[bool, typer.Option("--switch/--no-switch", help="Switch at period doublings onto the period-2n branch and continue it.")] = True,

@@ -10,14 +10,14 @@ import typer
 from ..errors import ModelError
 from . import render
 from .options import (ENGINE, MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, choice, command, finish, integration,
-                      model_group, option, sweep_range)
+                      model_group, option, param_option, sweep_range)
 
 ModeOpt = Annotated[str, typer.Option("--mode", help="fixed: every point from (u0, v0); continue: each point from the previous end state.")]
 SweepDirOpt = Annotated[str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")]
 LyapunovFlagOpt = Annotated[bool, typer.Option("--lyapunov", help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).")]
 SettleOpt = Annotated[int, typer.Option("--settle", help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).")]
 ChunkOpt = Annotated[Optional[int], typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 1 s of work each).")]
-ParamOpt = Annotated[Optional[str], typer.Option("--param", help="Swept parameter: omega, xi0, xiK, kappaR, fp, epsL (fe), D (backlash), phi_cK, phi_kR, phi_eL (default omega with --rpm-start/--rpm-stop).")]
+ParamOpt = param_option("Swept parameter")
 
 
 def _sweep_json(inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine: dict[str, Any], show: Any,
