@@ -120,3 +120,28 @@ def test_map_takes_pinion_speed_and_torque_axes():
     assert s["x_values"][0] == pytest.approx(sc.omega_from_rpm(1500.0), rel=1e-12)
     assert s["x_values_rpm"][-1] == pytest.approx(3000.0, rel=1e-12)
     assert s["y_values"][-1] == pytest.approx(sc.fp_from_torque(2000.0), rel=1e-12)
+
+
+def test_a_released_output_reads_back_as_write_netcdf_and_draws_the_figures_of_the_registry(tmp_path):
+    """``cli.output.write_released`` (the map's output): the file equals ``write_netcdf``'s, the result's
+    variables are dropped once written, the figures are those of the registry, the collector is left as found."""
+    import gc
+
+    import numpy as np
+
+    from geardyn import GearModel, IntegrationOptions
+    from geardyn.analysis.maps import parameter_map
+    from geardyn.cli.output import write_released
+    from geardyn.io import read_netcdf, write_netcdf
+    from geardyn.plot import figures_for
+
+    ds = parameter_map(GearModel(), "omega", np.array([0.8, 1.2]), "xi0", np.array([0.05, 0.1, 0.2]),
+                       options=IntegrationOptions(transient=10, periods=4), settle_periods=0, progress=False)
+    ref = read_netcdf(write_netcdf(ds.copy(deep=True), tmp_path / "ref.nc"))
+    frozen = gc.get_freeze_count()
+    files = write_released(ds, tmp_path / "out" / "map.nc", tmp_path / "out")
+    assert gc.get_freeze_count() == frozen
+    assert not ds.data_vars
+    back = read_netcdf(files[0])
+    assert back.identical(ref)
+    assert [f.rsplit("/", 1)[-1] for f in files[1:]] == [f"{spec.stem}.png" for spec in figures_for(ref)]

@@ -11,8 +11,8 @@ from ..errors import ModelError
 from ..model import DEFAULT_DTAU
 from . import render
 from .app import console
-from .options import (MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option,
-                      out_paths)
+from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option
+from .output import out_paths
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 

@@ -27,9 +27,10 @@ from .. import params
 from ..errors import GeardynError, ModelError
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
 from .app import app, emit_json, fail, is_stop
+from .output import out_paths
 
 __all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
-           "integration", "sweep_range", "model_group", "option", "out_paths"]
+           "integration", "sweep_range", "model_group", "option", "param_option", "ContinuationParamOpt", "StopOpt"]
 
 _P = inspect.Parameter
 MODEL_PANEL = "Model (non-dimensional)"
@@ -248,26 +249,6 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
     return m
 
 
-def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
-    """(NetCDF file, figure directory) for ``--out``: a directory, or a file name ending in .nc.
-
-    Parameters
-    ----------
-    out : Path
-        The value of ``--out``.
-    stem : str
-        File stem of the NetCDF file inside a directory (``<out>/<stem>.nc``).
-
-    Returns
-    -------
-    nc, figures : Path
-        The NetCDF file and the directory the figures go to.
-    """
-    if out.suffix == ".nc":
-        return out, out.parent
-    return out / f"{stem}.nc", out
-
-
 class Inputs:
     """The values of a command's shared option groups, with the checked objects built from them.
 
@@ -479,9 +460,11 @@ class Inputs:
         out = self.values.get("out")
         if out is None:
             return []
+        from .output import write_released
+
         nc, figdir = out_paths(out, stem)
         if release:
-            files = _write_released(ds, nc, figdir)
+            files = write_released(ds, nc, figdir)
         else:
             from ..io import write_netcdf
             from ..plot import save_figures
@@ -492,81 +475,6 @@ class Inputs:
 
             remove_checkpoint(engine["checkpoint"])
         return files
-
-
-def _write_released(ds: Any, nc: Path, figdir: Path) -> list[str]:
-    """The NetCDF file of ``ds`` written releasing its variables (:func:`_write_releasing`), then its
-    figures drawn from the file (:func:`_figures_from_file`); the files written.
-
-    What the computation left is collected and given back first.  What is held then is frozen out of
-    the garbage collector meanwhile, so that the collections before each figure walk only what the
-    output made (a full collection after a sweep walks about 170 000 objects: 0.1 s each).
-    """
-    import gc
-
-    from ..sweep.executors import release_free_memory
-
-    gc.collect()  # what the sweep left is given back before the writer's own buffers come in
-    release_free_memory()
-    gc.freeze()
-    try:
-        return [str(_write_releasing(ds, nc)), *_figures_from_file(nc, figdir)]
-    finally:
-        gc.unfreeze()
-
-
-def _write_releasing(ds: Any, nc: Path) -> Path:
-    """:func:`geardyn.io.write_netcdf` one variable at a time, each dropped from ``ds`` once written.
-
-    The coordinates and attributes go first, then each data variable is added (variables
-    computed when read, e.g. :func:`geardyn.analysis.physical.add_physical` with ``lazy``, are
-    computed then), so that the file is written without holding a copy of the result; it reads
-    back as the Dataset ``write_netcdf`` writes.  Atomic as ``write_netcdf``.
-    """
-    from ..io import _atomic, annotate
-
-    annotate(ds)
-    names = list(ds.data_vars)
-
-    def write(tmp: Path) -> None:
-        from xarray.backends import H5NetCDFStore
-
-        # One open file.  Written from this thread alone, so without xarray's write lock, whose look-up of
-        # a Dask scheduler imports Dask (where installed) for nothing.
-        store = H5NetCDFStore.open(tmp, mode="w", lock=False)
-        try:
-            ds.drop_vars(names).dump_to_store(store)
-            for name in names:
-                ds[[name]].drop_vars(list(ds.coords)).dump_to_store(store)
-                del ds[name]
-        finally:
-            store.close()
-
-    return _atomic(nc, write)
-
-
-def _figures_from_file(nc: Path, figdir: Path) -> list[str]:
-    """The figures of the result in ``nc``, drawn from the file opened lazily (each loads what it draws).
-
-    Memory freed before a figure is given back first (reference cycles collected; free heap pages
-    returned to the system where glibc is used), so that each figure starts from what is held.
-    """
-    import gc
-
-    import xarray as xr
-
-    from ..plot import figures_for
-    from ..plot.common import save
-    from ..sweep.executors import release_free_memory
-
-    files = []
-    with xr.open_dataset(nc, engine="h5netcdf", cache=False) as ds:  # nothing kept once drawn
-        for spec in figures_for(ds):
-            gc.collect()
-            release_free_memory()
-            files.append(str(save(spec(ds), figdir / f"{spec.stem}.png")))
-    gc.collect()
-    return files
 
 
 def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *extra: Any) -> None:

@@ -123,7 +123,7 @@ def continuation(
     from ..analysis.periodic import continuation as run_continuation
     from ..analysis.physical import add_physical, physical_json
     from ..io import write_netcdf
-    from .options import out_paths
+    from .output import out_paths
 
     model = inp.model()
     scales = inp.scales()

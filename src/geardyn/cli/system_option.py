@@ -21,6 +21,7 @@ import typer
 
 from ..errors import ModelError
 from .app import emit_json
+from .output import out_paths
 
 __all__ = ["SYSTEM", "SYSTEM_COMMANDS", "run_system"]
 
@@ -128,18 +129,13 @@ def _orbit(values: dict[str, Any], kw: dict[str, Any]):
     return o.to_json(), (lambda: orbit_dataset(o))
 
 
-def _out_paths(out: Path, stem: str) -> tuple[Path, Path]:
-    """(NetCDF file, figure directory) of ``--out`` (as :func:`geardyn.cli.options.out_paths`)."""
-    return (out, out.parent) if out.suffix == ".nc" else (out / f"{stem}.nc", out)
-
-
 def _engine(values: dict[str, Any], stem: str) -> dict[str, Any]:
     """Keywords of :func:`geardyn.sweep.run_chunks` from the sweep-engine options (those the command has)."""
     from .. import validate
     from ..sweep import checkpoint_dir
 
     out = values.get("out")
-    nc = _out_paths(Path(out), stem)[0] if out is not None else None
+    nc = out_paths(Path(out), stem)[0] if out is not None else None
     if values.get("resume") and nc is None:
         raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
     return {"workers": validate.workers(values.get("workers", 1)), "processes": bool(values.get("processes", False)),
@@ -267,7 +263,7 @@ def _write(values: dict[str, Any], ds: Any) -> list[str]:
     from ..io import write_netcdf
     from ..plot import save_figures
     stem = ds.attrs["geardyn_kind"]
-    nc, figdir = _out_paths(Path(values["out"]), stem)
+    nc, figdir = out_paths(Path(values["out"]), stem)
     files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
     if values.get("resume") is not None:
         from ..sweep import checkpoint_dir, remove_checkpoint
