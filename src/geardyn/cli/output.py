@@ -29,7 +29,6 @@ def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
     return out / f"{stem}.nc", out
 
 
-
 def write_released(ds: Any, nc: Path, figdir: Path) -> list[str]:
     """The NetCDF file of ``ds`` written releasing its variables (:func:`_write_releasing`), then its
     figures drawn from the file (:func:`_figures_from_file`); the files written.
