@@ -282,3 +282,28 @@ def test_figures_over_omega_of_a_physical_pair_read_in_rpm_too(tmp_path):
     assert rpm_per_omega(ds) * w[-1] == pytest.approx(3000.0, rel=1e-9)
     art = draw(read_netcdf(tmp_path / "s" / "basins.nc"), "basins")
     assert "2400 rpm" in art.axes[0].get_title()
+
+
+def test_cells_of_a_large_even_grid_are_an_image_of_the_same_cells():
+    """plot.common.cells: at IMAGE_CELLS cells on evenly spaced axes, an image spanning the cell edges and
+    holding the values in place; a mesh of quadrilaterals on uneven axes or fewer cells."""
+    from matplotlib.collections import QuadMesh
+    from matplotlib.figure import Figure
+    from matplotlib.image import AxesImage
+
+    from geardyn.plot.common import IMAGE_CELLS, cells
+
+    n = int(np.ceil(np.sqrt(IMAGE_CELLS)))
+    x, y = np.linspace(0.5, 0.75, n), np.linspace(0.05, 0.3, n + 1)
+    z = np.add.outer(np.arange(y.size), 10.0 * np.arange(x.size))
+    ax = Figure().add_subplot()
+    im = cells(ax, x, y, z, cmap="viridis")
+    assert isinstance(im, AxesImage) and np.array_equal(im.get_array(), z)
+    dx, dy = x[1] - x[0], y[1] - y[0]
+    assert np.allclose(im.get_extent(), [x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2], rtol=0, atol=1e-12)
+    edges = Figure().add_subplot().pcolormesh(x, y, z, shading="nearest").get_coordinates()  # the mesh's cells
+    assert np.allclose(im.get_extent(), [edges[0, 0, 0], edges[0, -1, 0], edges[0, 0, 1], edges[-1, 0, 1]],
+                       rtol=0, atol=1e-12)
+    uneven = np.r_[x[:-1], x[-1] + 0.5]
+    assert isinstance(cells(Figure().add_subplot(), uneven, y, z), QuadMesh)
+    assert isinstance(cells(Figure().add_subplot(), x[:3], y[:3], z[:3, :3]), QuadMesh)

@@ -30,11 +30,14 @@ from .._docfill import RESULT, parameters
 from ..errors import GeardynError, PlotError
 from ..params import FAMILIES, LISTING_ORDER, canonical_param, slot
 
-__all__ = ["DPI", "NAN_COLOR", "PlotArtists", "contact_lines", "label", "log_stems", "model_of", "new_figure",
-           "panels", "parameter_text", "place_labels", "plot_function", "save", "set_title", "symbol"]
+__all__ = ["DPI", "IMAGE_CELLS", "NAN_COLOR", "PlotArtists", "cells", "contact_lines", "label", "log_stems", "model_of",
+           "new_figure", "panels", "parameter_text", "place_labels", "plot_function", "save", "set_title", "symbol"]
 
 #: Resolution of saved PNG figures.
 DPI = 120
+#: Cells of a grid from which :func:`cells` draws an image instead of a mesh of quadrilaterals (when
+#: both axes are evenly spaced): the same cells, in a third of the time and memory at 10⁶ cells.
+IMAGE_CELLS = 40_000
 #: Colour (with a hatch) of the cells of a map without a value (NaN), distinct from every colour scale.
 NAN_COLOR = "#8c8c8c"
 #: Hatch of those cells.
@@ -282,6 +285,43 @@ def parameter_text(ds: xr.Dataset, exclude: Iterable[str] = ()) -> str:
             items = [(fam, value)]
         parts += [f"{symbol(n)} = {float(v):.4g}" for n, v in items if n not in skip]
     return ", ".join(parts)
+
+
+def cells(ax: Axes, x: np.ndarray, y: np.ndarray, z: np.ndarray, *, cmap: Any = None, norm: Any = None,
+          vmin: float | None = None, vmax: float | None = None) -> Any:
+    """Draw ``z[j, i]`` as cells centred on ``(x[i], y[j])`` (``pcolormesh(..., shading="nearest")``).
+
+    A grid of at least :data:`IMAGE_CELLS` cells on evenly spaced axes is drawn as an image of the same
+    cells (``imshow``, nearest neighbour, the same extent); a mesh of quadrilaterals otherwise.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    x, y : ndarray
+        Cell centres along the columns and the rows.
+    z : ndarray (y.size, x.size)
+        The values.
+    cmap, norm, vmin, vmax
+        The colour scale, as for ``imshow`` and ``pcolormesh``.
+
+    Returns
+    -------
+    matplotlib.image.AxesImage or matplotlib.collections.QuadMesh
+    """
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    kw = {"cmap": cmap, "norm": norm, "vmin": vmin, "vmax": vmax}
+
+    def even(v: np.ndarray) -> bool:
+        d = np.diff(v)
+        return v.size >= 2 and bool(np.all(d > 0)) and bool(np.allclose(d, d[0], rtol=1e-6, atol=0.0))
+
+    if z.size >= IMAGE_CELLS and even(x) and even(y):
+        dx, dy = (x[-1] - x[0]) / (x.size - 1), (y[-1] - y[0]) / (y.size - 1)
+        im = ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest",
+                       extent=(x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2), **kw)
+        return im
+    return ax.pcolormesh(x, y, z, shading="nearest", **kw)
 
 
 def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), *,

@@ -22,7 +22,7 @@ from ..analysis.classify import (
 from .bifurcation import IMPACT_COLORS
 from matplotlib.axes import Axes
 
-from .common import NAN_COLOR, NAN_HATCH, label, plot_function, set_title
+from .common import NAN_COLOR, NAN_HATCH, cells, label, plot_function, set_title
 
 __all__ = ["MOTION_CATEGORIES", "continuous_map", "impact_map", "motion_map"]
 
@@ -65,7 +65,7 @@ def _labels(ax: Axes, ds: xr.Dataset, title: str) -> None:
 def _categorical(ds: xr.Dataset, idx: np.ndarray, cats: list, title: str, ax: Axes) -> None:
     xn, yn = _axes_names(ds)
     cmap = ListedColormap([c for _, c in cats])
-    ax.pcolormesh(ds[xn].values, ds[yn].values, idx, cmap=cmap, vmin=-0.5, vmax=len(cats) - 0.5, shading="nearest")
+    cells(ax, ds[xn].values, ds[yn].values, idx, cmap=cmap, vmin=-0.5, vmax=len(cats) - 0.5)
     present = sorted(set(np.unique(idx).tolist()))
     ax.legend(handles=[Patch(color=cats[k][1], label=cats[k][0]) for k in present], loc="center left",
               bbox_to_anchor=(1.01, 0.5), fontsize=8, frameon=False)
@@ -102,10 +102,9 @@ def continuous_map(ds: xr.Dataset, var: str = "amplitude", ax: Axes = None) -> N
     if var == "lle":
         finite = z[np.isfinite(z)]
         lim = max(float(np.max(np.abs(finite))) if finite.size else 1.0, 1e-6)
-        im = ax.pcolormesh(x, y, z, cmap="RdBu_r", norm=TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim),
-                           shading="nearest")
+        im = cells(ax, x, y, z, cmap="RdBu_r", norm=TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim))
     else:
-        im = ax.pcolormesh(x, y, z, cmap="viridis", shading="nearest")
+        im = cells(ax, x, y, z, cmap="viridis")
     missing = ~np.isfinite(z)
     if missing.any():
         ax.pcolor(x, y, np.ma.masked_array(np.zeros(z.shape), ~missing), cmap=ListedColormap([NAN_COLOR]),
