@@ -27,8 +27,8 @@ __all__ = ["RPM_CURVE_VARIABLES", "TIME_PERIODS_SHOWN", "response_rpm", "rpm_cur
 RPM_CURVE_VARIABLES = ("amplitude_um", "rms_um", "u_max_um", "poincare_u_um")
 #: Most curves of :func:`rpm_curve` named in a legend; more are coloured by a colour bar of their parameter.
 LEGEND_CURVES = 4
-#: Most curves :func:`rpm_curve` draws: of more rows, every k-th is drawn (the first and the last among
-#: them; the title says so), since hundreds of overlapping marked lines show no more than a few dozen.
+#: Most curves :func:`rpm_curve` draws: of more rows, this many evenly spaced ones are drawn (the first
+#: and the last among them; the title says so), since hundreds of overlapping marked lines show no more.
 MAX_CURVES = 32
 
 
