@@ -27,7 +27,7 @@ from .. import params
 from ..errors import GeardynError, ModelError
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
 from .app import app, emit_json, fail, is_stop
-from .output import out_paths
+from .output import engine_keywords, out_paths
 
 __all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
            "integration", "sweep_range", "model_group", "option", "param_option", "ContinuationParamOpt", "StopOpt"]
@@ -399,11 +399,8 @@ class Inputs:
         return out_paths(out, stem)[0] if out is not None else None
 
     def engine(self, stem: str) -> dict[str, Any]:
-        """Validated keyword arguments of :func:`geardyn.sweep.run_chunks` from the sweep-engine options.
-
-        With ``--out`` the finished chunks are checkpointed next to the NetCDF file (``<nc>.chunks``); call
-        :meth:`write` with the engine once the result is complete.  The progress bar goes to stderr unless
-        ``--json``.
+        """Validated keyword arguments of :func:`geardyn.sweep.run_chunks` from the sweep-engine options
+        (:func:`geardyn.cli.output.engine_keywords`); call :meth:`write` with them once the result is complete.
 
         Parameters
         ----------
@@ -420,21 +417,7 @@ class Inputs:
         ModelError
             For an invalid engine option, or ``--resume`` without ``--out``.
         """
-        from .. import validate
-        from ..sweep import checkpoint_dir
-
-        v = self.values
-        nc = self.nc(stem)
-        if v["resume"] and nc is None:
-            raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
-        return {
-            "workers": validate.workers(v["workers"]),
-            "processes": bool(v["processes"]),
-            "scheduler": validate.scheduler(v["scheduler"]),
-            "checkpoint": checkpoint_dir(nc) if nc is not None else None,
-            "resume": bool(v["resume"]),
-            "progress": not v["json_out"],
-        }
+        return engine_keywords(self.values, stem)
 
     def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None, *, release: bool = False) -> list[str]:
         """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint.

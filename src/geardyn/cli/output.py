@@ -1,12 +1,13 @@
-"""Where a command's ``--out`` goes, and the output of a result too large to hold twice: its NetCDF file
-written releasing its variables, then its figures drawn from the file."""
+"""Where a command's ``--out`` goes (its NetCDF file, figures and a sweep's checkpoint), and the output of
+a result too large to hold twice: its NetCDF file written releasing its variables, then its figures
+drawn from the file."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
 
-__all__ = ["out_paths", "write_released"]
+__all__ = ["engine_keywords", "out_paths", "write_released"]
 
 
 def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
@@ -27,6 +28,49 @@ def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
     if out.suffix == ".nc":
         return out, out.parent
     return out / f"{stem}.nc", out
+
+
+def engine_keywords(values: dict[str, Any], stem: str) -> dict[str, Any]:
+    """Validated keyword arguments of :func:`geardyn.sweep.run_chunks` from a command's sweep-engine options.
+
+    With ``--out`` the finished chunks are checkpointed next to the NetCDF file (``<nc>.chunks``).  The
+    progress bar goes to stderr unless ``--json``.  An engine option the command does not have takes
+    its default.
+
+    Parameters
+    ----------
+    values : dict
+        The command's option values (``out``, ``workers``, ``processes``, ``scheduler``, ``resume``,
+        ``json_out``).
+    stem : str
+        File stem of the NetCDF file (its checkpoint directory is named after it).
+
+    Returns
+    -------
+    dict
+        ``workers``, ``processes``, ``scheduler``, ``checkpoint``, ``resume`` and ``progress``.
+
+    Raises
+    ------
+    ModelError
+        For an invalid engine option, or ``--resume`` without ``--out``.
+    """
+    from .. import validate
+    from ..errors import ModelError
+    from ..sweep import checkpoint_dir
+
+    out = values.get("out")
+    nc = out_paths(Path(out), stem)[0] if out is not None else None
+    if values.get("resume") and nc is None:
+        raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
+    return {
+        "workers": validate.workers(values.get("workers", 1)),
+        "processes": bool(values.get("processes", False)),
+        "scheduler": validate.scheduler(values.get("scheduler")),
+        "checkpoint": checkpoint_dir(nc) if nc is not None else None,
+        "resume": bool(values.get("resume", False)),
+        "progress": not values.get("json_out"),
+    }
 
 
 def write_released(ds: Any, nc: Path, figdir: Path) -> list[str]:

@@ -21,7 +21,7 @@ import typer
 
 from ..errors import ModelError
 from .app import emit_json
-from .output import out_paths
+from .output import engine_keywords, out_paths
 
 __all__ = ["SYSTEM", "SYSTEM_COMMANDS", "run_system"]
 
@@ -129,21 +129,6 @@ def _orbit(values: dict[str, Any], kw: dict[str, Any]):
     return o.to_json(), (lambda: orbit_dataset(o))
 
 
-def _engine(values: dict[str, Any], stem: str) -> dict[str, Any]:
-    """Keywords of :func:`geardyn.sweep.run_chunks` from the sweep-engine options (those the command has)."""
-    from .. import validate
-    from ..sweep import checkpoint_dir
-
-    out = values.get("out")
-    nc = out_paths(Path(out), stem)[0] if out is not None else None
-    if values.get("resume") and nc is None:
-        raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
-    return {"workers": validate.workers(values.get("workers", 1)), "processes": bool(values.get("processes", False)),
-            "scheduler": validate.scheduler(values.get("scheduler")),
-            "checkpoint": checkpoint_dir(nc) if nc is not None else None,
-            "resume": bool(values.get("resume", False)), "progress": not values.get("json_out")}
-
-
 def _coords(s: Any, values: dict[str, Any], n: int) -> list[int] | None:
     from ..analysis.systems_grid import coordinate_index
 
@@ -172,7 +157,7 @@ def _bifurcation(values: dict[str, Any], kw: dict[str, Any]):
     if mode not in ("fixed", "continue"):
         raise ModelError(f"mode: must be one of fixed, continue, got {mode!r}")
     ds = system_sweep(s, param, list(vals), mode=mode, sweep=kw.get("sweep", "up"), options=_opts(values),
-                      coordinate=None if c is None else c[0], engine=_engine(values, "system_bifurcation"))
+                      coordinate=None if c is None else c[0], engine=engine_keywords(values, "system_bifurcation"))
     return sweep_json(ds), ds
 
 
@@ -198,7 +183,7 @@ def _response(values: dict[str, Any], kw: dict[str, Any]):
         ds = hb_response(s, float(lo), float(hi), int(kw.get("num", 71)), measure=measure, state0=_state(values))
         return {**response_json(ds), "method": "hb"}, ds
     ds = system_sweep(s, "omega", list(np.linspace(float(lo), float(hi), int(kw.get("num", 71)))), mode="continue",
-                      sweep="both", options=_opts(values), engine=_engine(values, "system_response"),
+                      sweep="both", options=_opts(values), engine=engine_keywords(values, "system_response"),
                       kind="system_response")
     jumps, hyst = system_response_jumps(ds, measure)
     ds.attrs.update(measure=measure, jumps=json.dumps(jumps), hysteresis=json.dumps(hyst))
@@ -224,7 +209,7 @@ def _map(values: dict[str, Any], kw: dict[str, Any]):
         n = validate.integer(f"{a}-num", values.get(f"{a}_num"), 1, 100_000)
         ax[a] = (name, __import__("numpy").linspace(float(lo), float(hi), n))
     ds = system_map(s, ax["x"][0], ax["x"][1], ax["y"][0], ax["y"][1], mode=kw.get("mode", "fixed"), options=_opts(values),
-                    engine=_engine(values, "system_map"))
+                    engine=engine_keywords(values, "system_map"))
     return grid_json(ds), ds
 
 
@@ -237,7 +222,7 @@ def _basins(values: dict[str, Any], kw: dict[str, Any]):
     nv = validate.integer("nv", kw.get("nv", 41), 1, 100_000)
     ds = system_basins(s, None if c is None else (c[0], c[1]), (float(kw.get("u_min", -3.0)), float(kw.get("u_max", 3.0))),
                        (float(kw.get("v_min", -3.0)), float(kw.get("v_max", 3.0))), nu, nv,
-                       options=_opts(values), engine=_engine(values, "system_basins"))
+                       options=_opts(values), engine=engine_keywords(values, "system_basins"))
     return grid_json(ds), ds
 
 
