@@ -318,9 +318,8 @@ def cells(ax: Axes, x: np.ndarray, y: np.ndarray, z: np.ndarray, *, cmap: Any = 
 
     if z.size >= IMAGE_CELLS and even(x) and even(y):
         dx, dy = (x[-1] - x[0]) / (x.size - 1), (y[-1] - y[0]) / (y.size - 1)
-        im = ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest",
-                       extent=(x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2), **kw)
-        return im
+        return ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest",
+                         extent=(x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2), **kw)
     return ax.pcolormesh(x, y, z, shading="nearest", **kw)
 
 

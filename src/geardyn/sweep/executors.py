@@ -181,6 +181,7 @@ def run_on_threads(workers: int, todo: Sequence, finished: Finished) -> None:
     at_once = min(PIPELINE if workers == 1 else workers, len(todo))
     pool = ThreadPoolExecutor(max_workers=max(1, at_once), thread_name_prefix="geardyn-chunk",
                               initializer=set_threads, initargs=(per_chunk,))
+
     def done(c, r) -> None:
         finished(c, r)
         release_free_memory()
