@@ -91,7 +91,7 @@ from .core import (
 )
 from .lanes import (
     ALIGN_BYTES, GROUP, KIND_COS, KIND_GEN, KIND_SIN, LANES, MODE_PLAIN, MODE_STATS, MODE_TAN,
-    _KIND_TOKENS, _lanes_kind, _lanes_worker,
+    _KIND_TOKENS, _kind_token, _lanes_kind, _lanes_worker, native_simd_width, simd_width,
 )
 from .scalar import _scalar_worker
 
@@ -224,7 +224,7 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     order = _queue_order(nsteps)
     counter = np.zeros(1, dtype=np.int64)
     lanes = not scalar_only and tangent != TAN_CONTINUE and P >= LANE_MIN_POINTS * nw
-    token = _KIND_TOKENS[_lanes_kind(coef, order)] if lanes else None
+    token = _kind_token(_lanes_kind(coef, order)) if lanes else None
 
     def work():
         if accurate:
