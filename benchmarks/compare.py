@@ -5,15 +5,21 @@ Usage (from the project root)::
     python benchmarks/compare.py                 # everything: C reference, geardyn 1 and 2 threads, peers
     python benchmarks/compare.py --no-peers      # C reference and geardyn only
     python benchmarks/compare.py --json benchmarks/results.json --wait-idle 600
+    python benchmarks/compare.py --no-peers --widths 256,0   # also the forced 256-bit lanes and the
+                                                             # compiler-vectorised ones (the kernel before
+                                                             # its explicit SIMD vectors), same rounds
 
 What it does, in this order, in one process:
 
-1. builds the C reference with ``bash ../shared/bench/run-ref.sh`` (skipped without gcc) and
-   warms geardyn up (JIT compilation or cache load) on every workload;
+1. builds the C reference with ``bash ../shared/bench/run-ref.sh`` (``--ref-dir`` or
+   ``GEARDYN_CREF_DIR`` name another directory; skipped without gcc) and warms geardyn up (JIT
+   compilation or cache load) on every workload;
 2. runs ``--rounds`` rounds; each round runs every workload once with each implementation, one
    right after the other: the C reference binary (one thread; ``batch`` for W1 and W3, ``scalar``
-   for W2), geardyn on one thread, geardyn on two threads.  Interleaving run by run makes the
-   machine's load (other processes, a shared host) hit every implementation alike;
+   for W2), geardyn on one thread, geardyn on two threads, and geardyn on one thread with the
+   lanes' SIMD width forced to each of ``--widths`` (``GEARDYN_SIMD_WIDTH``; W1 and W3, the
+   workloads that run the lanes).  Interleaving run by run makes the machine's load (other
+   processes, a shared host) hit every implementation alike; the load average is recorded per round;
 3. reports, per workload, the minimum over the rounds of each implementation, the ratio of the
    minima and the median of the per-round ratios;
 4. runs pynamicalsys (same fixed RK4 step) and SciPy ``solve_ivp`` RK45 on reduced grids and
@@ -21,8 +27,10 @@ What it does, in this order, in one process:
 5. prints a Markdown table and, with ``--json``, writes every number.
 
 Peak RSS is the process's ``ru_maxrss`` after the geardyn timings (before the peers run).
-Targets (issue 6): one thread, W1 <= 1.5x C batch, W2 <= 1.3x C scalar, W3 <= 1.5x C batch;
-two threads >= 1.8x faster than one on W1 (idle machine); >= 100x faster than pynamicalsys on W1.
+Targets (issue 25): one thread, W1, W2 and W3 <= 1.0x the C reference (batch, scalar, batch);
+two threads >= 1.9x faster than one on W1 and W3 (idle machine); the forced 256-bit lanes no slower
+than the kernel before its explicit vectors (width 0).  Earlier (issue 6): >= 100x faster than
+pynamicalsys on W1.
 """
 
 from __future__ import annotations
@@ -42,15 +50,28 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-REF_SCRIPT = ROOT.parent / "shared" / "bench" / "run-ref.sh"
 sys.path.insert(0, str(HERE))
 
 from geardyn import bench as B  # noqa: E402
+from geardyn._kernel import lanes as _lanes  # noqa: E402
 from geardyn.integrate import set_threads  # noqa: E402
 
 #: The C reference variant each workload is compared with (issue 6).
 C_VARIANT = {"W1": "batch", "W2": "scalar", "W3": "batch"}
-TARGETS = {"W1": 1.5, "W2": 1.3, "W3": 1.5}
+TARGETS = {"W1": 1.0, "W2": 1.0, "W3": 1.0}
+#: Workloads that run the lanes (W2 is one point: the scalar path), timed at the forced widths.
+LANE_WORKLOADS = ("W1", "W3")
+
+
+def ref_script(ref_dir: str | None = None) -> Path:
+    """run-ref.sh of the C reference: ``ref_dir``, ``GEARDYN_CREF_DIR``, or ``shared/bench`` beside
+    the checkout (or beside its parent directory, for a worktree one level down)."""
+    if ref_dir or os.environ.get("GEARDYN_CREF_DIR"):
+        return Path(ref_dir or os.environ["GEARDYN_CREF_DIR"]) / "run-ref.sh"
+    for base in (ROOT.parent, ROOT.parent.parent):
+        if (base / "shared" / "bench" / "run-ref.sh").exists():
+            return base / "shared" / "bench" / "run-ref.sh"
+    return ROOT.parent / "shared" / "bench" / "run-ref.sh"
 
 
 def cpu_busy_fraction(interval: float = 1.0) -> float:
@@ -79,11 +100,11 @@ def wait_idle(timeout: float, threshold: float = 0.1) -> float:
     return busy
 
 
-def build_c_reference() -> Path | None:
+def build_c_reference(script: Path) -> Path | None:
     """Build (if needed) and run the C reference once with run-ref.sh; returns its binary's path."""
-    if shutil.which("gcc") is None or not REF_SCRIPT.exists():
+    if shutil.which("gcc") is None or not script.exists():
         return None
-    subprocess.run(["bash", str(REF_SCRIPT), "1"], capture_output=True, text=True, check=True)
+    subprocess.run(["bash", str(script), "1"], capture_output=True, text=True, check=True)
     binary = Path(os.environ.get("TMPDIR", "/tmp")) / "geardyn-cref" / "ref"
     return binary if binary.exists() else None
 
@@ -96,9 +117,14 @@ def run_c(binary: Path, name: str) -> dict[str, float]:
     return {"variant": m.group(2), "steps": int(m.group(4)), "wall_s": float(m.group(5)), "ns_per_step": float(m.group(7))}
 
 
-def run_geardyn(name: str, threads: int) -> dict[str, float]:
+def run_geardyn(name: str, threads: int, width: int | None = None) -> dict[str, float]:
+    """One timed run of a workload; ``width``: the lanes' SIMD width for this run (None: native)."""
     set_threads(threads)
-    return B.time_workload(B.workload(name), repeats=1, warmup=False)
+    old = _lanes._set_simd_width(_lanes.native_simd_width() if width is None else width)
+    try:
+        return B.time_workload(B.workload(name), repeats=1, warmup=False)
+    finally:
+        _lanes._set_simd_width(old)
 
 
 def peers(verbose: bool = True) -> dict[str, dict]:
@@ -184,34 +210,50 @@ def main(argv=None) -> int:
     ap.add_argument("--wait-idle", type=float, default=0.0, metavar="SECONDS",
                     help="before each round, wait up to this long for the CPUs to be idle")
     ap.add_argument("--json", type=Path, help="write all numbers to this file")
+    ap.add_argument("--widths", default="",
+                    help="comma-separated SIMD widths (256, 0) also timed on one thread on W1 and W3 "
+                         "(default: none; 0 = the compiler-vectorised lanes)")
+    ap.add_argument("--ref-dir", help="directory of the C reference's run-ref.sh (default: shared/bench "
+                                      "beside the checkout, or GEARDYN_CREF_DIR)")
     a = ap.parse_args(argv)
+    widths = [int(w) for w in a.widths.split(",") if w.strip()]
 
     info = B.machine_info()
+    info["simd_width_native"] = _lanes.native_simd_width()
     print(f"machine: {info['cpu']}, {info['cores']} cores, LLVM target {info['llvm_cpu']}; "
-          f"python {info['python']}, numpy {info['numpy']}, numba {info['numba']}", file=sys.stderr)
+          f"python {info['python']}, numpy {info['numpy']}, numba {info['numba']}; "
+          f"lanes: {info['simd_width_native']}-bit SIMD", file=sys.stderr)
     t0 = time.perf_counter()
-    binary = build_c_reference()
+    binary = build_c_reference(ref_script(a.ref_dir))
     if binary is None:
         print("no gcc or no C reference: C columns skipped", file=sys.stderr)
     set_threads(1)
     for n in ("W1", "W2", "W3"):
         B.workload(n).run()  # JIT warm-up (or cache load)
+    for w in widths:
+        for n in LANE_WORKLOADS:
+            run_geardyn(n, 1, w)  # compile (or load) the lanes at this width
     set_threads(2)
     B.workload("W1").run()
     print(f"build and warm-up {time.perf_counter() - t0:.1f} s", file=sys.stderr)
 
-    impls = (["c"] if binary else []) + ["geardyn_1", "geardyn_2"]
+    impls = (["c"] if binary else []) + ["geardyn_1", "geardyn_2"] + [f"geardyn_1_w{w}" for w in widths]
     runs: dict[str, dict[str, list[float]]] = {k: {n: [] for n in ("W1", "W2", "W3")} for k in impls}
     busy = []
+    loads = []
     for r in range(a.rounds):
         busy.append(wait_idle(a.wait_idle) if a.wait_idle > 0 else cpu_busy_fraction(0.2))
+        loads.append(os.getloadavg()[0])
         for n in ("W1", "W2", "W3"):
             if binary:
                 runs["c"][n].append(run_c(binary, n)["wall_s"])
             runs["geardyn_1"][n].append(run_geardyn(n, 1)["wall_s"])
             if n != "W2":
                 runs["geardyn_2"][n].append(run_geardyn(n, 2)["wall_s"])
-        print(f"round {r + 1}/{a.rounds} (busy {busy[-1]:.0%}): " + " ".join(
+            if n in LANE_WORKLOADS:
+                for w in widths:
+                    runs[f"geardyn_1_w{w}"][n].append(run_geardyn(n, 1, w)["wall_s"])
+        print(f"round {r + 1}/{a.rounds} (busy {busy[-1]:.0%}, load {loads[-1]:.2f}): " + " ".join(
             f"{k} {n} {1e9 * runs[k][n][-1] / B.workload(n).steps:.2f}" for k in impls for n in ("W1", "W2", "W3")
             if runs[k][n]) + " ns/step", file=sys.stderr, flush=True)
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
@@ -224,7 +266,8 @@ def main(argv=None) -> int:
     # ---------------------------------------------------------------- report
     lines = ["| workload | C reference (1 thread) | geardyn 1 thread | ratio to C (target) | geardyn 2 threads | "
              "2-thread speed-up | pynamicalsys | SciPy RK45 |", "|---|---|---|---|---|---|---|---|"]
-    summary = {"machine": info, "runs_wall_s": runs, "cpu_busy_before_round": busy, "best_wall_s": best,
+    summary = {"machine": info, "runs_wall_s": runs, "cpu_busy_before_round": busy, "load_average_1min": loads,
+               "simd_widths_forced": widths, "best_wall_s": best,
                "steps": steps, "peak_rss_mb": rss_mb, "peers": peer, "ratios": {}, "rounds": a.rounds,
                "load_average_end": list(os.getloadavg())}
     for n in ("W1", "W2", "W3"):
@@ -253,7 +296,24 @@ def main(argv=None) -> int:
             f"{pn['wall_s']:.1f} s = {pn['wall_s'] / g1:.0f}x slower" if pn else "-",
             f"{sc['wall_s']:.0f} s = {sc['wall_s'] / g1:.0f}x slower" if sc else "-",
         ]) + " |")
+    if widths:
+        lines += ["", "| workload | geardyn 1 thread, native width | " + " | ".join(
+            f"width {w} (ratio to native, to C)" for w in widths) + " |", "|---|---|" + "---|" * len(widths)]
+        for n in LANE_WORKLOADS:
+            g1 = best["geardyn_1"][n]
+            c = best["c"][n] if have_c else None
+            cells = []
+            for w in widths:
+                t = best[f"geardyn_1_w{w}"][n]
+                med = float(np.median(np.array(runs[f"geardyn_1_w{w}"][n]) / np.array(runs["geardyn_1"][n])))
+                summary["ratios"][n][f"w{w}_over_native"] = t / g1
+                summary["ratios"][n][f"w{w}_over_native_median"] = med
+                if c:
+                    summary["ratios"][n][f"w{w}_over_c"] = t / c
+                cells.append(f"{t:.3f} s ({t / g1:.2f}x, median {med:.2f}x" + (f"; {t / c:.2f}x C)" if c else ")"))
+            lines.append(f"| {n} | {g1:.3f} s | " + " | ".join(cells) + " |")
     print("\n".join(lines))
+    print(f"\nload average (1 min) before the rounds: {min(loads):.2f}-{max(loads):.2f}")
     print(f"\npeak RSS of the benchmark process after the geardyn runs: {rss_mb:.0f} MB")
     for impl, d in peer.items():
         for n, r in d.items():

@@ -4,8 +4,11 @@ The lane state is a structure of arrays (one aligned float64 array ``S``, field 
 ``l`` at ``S[f * LANES + l]``; the general kind keeps all Fourier coefficients in a second array
 ``CF``).  :func:`_make_chunk` builds, from one template, the chunk kernels advancing all lanes by
 ``m`` steps: per kind (first harmonic with cosine terms only, with sine terms, any number of
-harmonics) and per mode (no statistics, statistics, statistics and tangents).  The
-:func:`_lanes_worker` schedules the lanes: it refills a finished lane from the batch's shared
+harmonics) and per mode (no statistics, statistics, statistics and tangents); for the
+first-harmonic kinds :mod:`.simd` builds the same kernels as explicit vectors of 512 or 256 bits,
+and the width that runs (:func:`simd_width`) is chosen at import from the CPU or from
+``GEARDYN_SIMD_WIDTH``.  The lanes worker is compiled per kind and width, selected by the type of
+its token argument (dtype: kind; number of dimensions: width).  The :func:`_lanes_worker` schedules the lanes: it refills a finished lane from the batch's shared
 queue, runs the chunk up to the nearest period end, does the period-end work of each lane in
 scalar code, and packs the remaining lanes into the first groups once the queue is empty.
 """
