@@ -5,9 +5,9 @@ Usage (from the project root)::
     python benchmarks/compare.py                 # everything: C reference, geardyn 1 and 2 threads, peers
     python benchmarks/compare.py --no-peers      # C reference and geardyn only
     python benchmarks/compare.py --json benchmarks/results.json --wait-idle 600
-    python benchmarks/compare.py --no-peers --widths 256,0   # also the forced 256-bit lanes and the
-                                                             # compiler-vectorised ones (the kernel before
-                                                             # its explicit SIMD vectors), same rounds
+    python benchmarks/compare.py --no-peers --widths 256,0 --before OLD/src
+        # also the forced 256-bit lanes, the compiler-vectorised ones (width 0) and an earlier
+        # checkout (``git archive COMMIT src | tar -x -C OLD``), in the same rounds
 
 What it does, in this order, in one process:
 
@@ -18,7 +18,8 @@ What it does, in this order, in one process:
    right after the other: the C reference binary (one thread; ``batch`` for W1 and W3, ``scalar``
    for W2), geardyn on one thread, geardyn on two threads, and geardyn on one thread with the
    lanes' SIMD width forced to each of ``--widths`` (``GEARDYN_SIMD_WIDTH``; W1 and W3, the
-   workloads that run the lanes).  Interleaving run by run makes the machine's load (other
+   workloads that run the lanes) and, with ``--before``, an earlier checkout's ``geardyn bench``
+   (one thread, a fresh process per run).  Interleaving run by run makes the machine's load (other
    processes, a shared host) hit every implementation alike; the load average is recorded per round;
 3. reports, per workload, the minimum over the rounds of each implementation, the ratio of the
    minima and the median of the per-round ratios;
@@ -127,6 +128,16 @@ def run_geardyn(name: str, threads: int, width: int | None = None) -> dict[str, 
         _lanes._set_simd_width(old)
 
 
+def run_before(src: Path, name: str) -> float:
+    """One-thread wall time of a workload in another checkout (``src``: its ``src`` directory), from
+    ``geardyn bench --repeats 1`` in a fresh process (its JIT warm-up run is not timed)."""
+    env = {k: v for k, v in os.environ.items() if k != _lanes.SIMD_ENV}
+    env["PYTHONPATH"] = str(src)
+    out = subprocess.run([sys.executable, "-m", "geardyn.cli", "bench", "--workload", name, "--threads", "1",
+                          "--repeats", "1", "--json"], capture_output=True, text=True, check=True, env=env).stdout
+    return float(json.loads(out)["workloads"][name]["wall_s"])
+
+
 def peers(verbose: bool = True) -> dict[str, dict]:
     """pynamicalsys and SciPy on reduced grids, extrapolated to the full workloads."""
     import peers as P
@@ -215,6 +226,9 @@ def main(argv=None) -> int:
                          "(default: none; 0 = the compiler-vectorised lanes)")
     ap.add_argument("--ref-dir", help="directory of the C reference's run-ref.sh (default: shared/bench "
                                       "beside the checkout, or GEARDYN_CREF_DIR)")
+    ap.add_argument("--before", type=Path, metavar="SRC",
+                    help="the src directory of an earlier checkout: its W1 and W3 on one thread are timed in the "
+                         "same rounds (geardyn bench in a fresh process)")
     a = ap.parse_args(argv)
     widths = [int(w) for w in a.widths.split(",") if w.strip()]
 
@@ -237,7 +251,11 @@ def main(argv=None) -> int:
     B.workload("W1").run()
     print(f"build and warm-up {time.perf_counter() - t0:.1f} s", file=sys.stderr)
 
-    impls = (["c"] if binary else []) + ["geardyn_1", "geardyn_2"] + [f"geardyn_1_w{w}" for w in widths]
+    if a.before:
+        for n in LANE_WORKLOADS:
+            run_before(a.before, n)  # compile or load the earlier checkout's kernel
+    impls = ((["c"] if binary else []) + ["geardyn_1", "geardyn_2"] + [f"geardyn_1_w{w}" for w in widths]
+             + (["before_1"] if a.before else []))
     runs: dict[str, dict[str, list[float]]] = {k: {n: [] for n in ("W1", "W2", "W3")} for k in impls}
     busy = []
     loads = []
@@ -253,6 +271,8 @@ def main(argv=None) -> int:
             if n in LANE_WORKLOADS:
                 for w in widths:
                     runs[f"geardyn_1_w{w}"][n].append(run_geardyn(n, 1, w)["wall_s"])
+                if a.before:
+                    runs["before_1"][n].append(run_before(a.before, n))
         print(f"round {r + 1}/{a.rounds} (busy {busy[-1]:.0%}, load {loads[-1]:.2f}): " + " ".join(
             f"{k} {n} {1e9 * runs[k][n][-1] / B.workload(n).steps:.2f}" for k in impls for n in ("W1", "W2", "W3")
             if runs[k][n]) + " ns/step", file=sys.stderr, flush=True)
@@ -296,20 +316,24 @@ def main(argv=None) -> int:
             f"{pn['wall_s']:.1f} s = {pn['wall_s'] / g1:.0f}x slower" if pn else "-",
             f"{sc['wall_s']:.0f} s = {sc['wall_s'] / g1:.0f}x slower" if sc else "-",
         ]) + " |")
-    if widths:
-        lines += ["", "| workload | geardyn 1 thread, native width | " + " | ".join(
-            f"width {w} (ratio to native, to C)" for w in widths) + " |", "|---|---|" + "---|" * len(widths)]
+    others = [f"geardyn_1_w{w}" for w in widths] + (["before_1"] if a.before else [])
+    if others:
+        heads = [f"width {w} (ratio to native; to C)" for w in widths] + (["earlier checkout (ratio to native; to C)"]
+                                                                          if a.before else [])
+        lines += ["", "| workload | geardyn 1 thread, native width | " + " | ".join(heads) + " |",
+                  "|---|---|" + "---|" * len(heads)]
         for n in LANE_WORKLOADS:
             g1 = best["geardyn_1"][n]
             c = best["c"][n] if have_c else None
             cells = []
-            for w in widths:
-                t = best[f"geardyn_1_w{w}"][n]
-                med = float(np.median(np.array(runs[f"geardyn_1_w{w}"][n]) / np.array(runs["geardyn_1"][n])))
-                summary["ratios"][n][f"w{w}_over_native"] = t / g1
-                summary["ratios"][n][f"w{w}_over_native_median"] = med
+            for k in others:
+                key = k.replace("geardyn_1_", "")
+                t = best[k][n]
+                med = float(np.median(np.array(runs[k][n]) / np.array(runs["geardyn_1"][n])))
+                summary["ratios"][n][f"{key}_over_native"] = t / g1
+                summary["ratios"][n][f"{key}_over_native_median"] = med
                 if c:
-                    summary["ratios"][n][f"w{w}_over_c"] = t / c
+                    summary["ratios"][n][f"{key}_over_c"] = t / c
                 cells.append(f"{t:.3f} s ({t / g1:.2f}x, median {med:.2f}x" + (f"; {t / c:.2f}x C)" if c else ")"))
             lines.append(f"| {n} | {g1:.3f} s | " + " | ".join(cells) + " |")
     print("\n".join(lines))

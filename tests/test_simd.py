@@ -87,6 +87,11 @@ def _run_scalar(batch, n_transient, n_record, tangent):
     return out
 
 
+def _bits(out):
+    """Every output value as an integer: the bit pattern of the floats, the status codes."""
+    return [int(x) for a in out.values() for x in (a.ravel().view(np.uint64) if a.dtype == np.float64 else a.ravel())]
+
+
 def _assert_same_bits(a, b, what):
     for name in a:
         x, y = a[name], b[name]
@@ -178,3 +183,22 @@ def test_width_from_the_environment():
     env[lanes.SIMD_ENV] = "128"
     r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert r.returncode != 0 and lanes.SIMD_ENV in r.stderr
+
+
+def test_avx2_machine_code_gives_the_same_bits():
+    """The kernel compiled for a CPU without AVX-512 (``NUMBA_CPU_NAME=haswell``: 256-bit lanes
+    chosen as the native width) gives the bits of this process's lanes, statistics and tangents."""
+    arrays = _batch("sin", P=21)
+    ref = _run(0, arrays, 3, 4, K.TAN_LYAPUNOV)
+    code = (
+        "import sys, numpy as np\n"
+        f"sys.path.insert(0, {os.path.dirname(__file__)!r})\n"
+        "import test_simd as T\n"
+        "from geardyn._kernel import simd_width\n"
+        "assert simd_width() == 256, simd_width()\n"
+        "out = T._run(256, T._batch('sin', P=21), 3, 4, T.K.TAN_LYAPUNOV)\n"
+        "sys.stdout.write(' '.join(str(x) for x in T._bits(out)))\n")
+    env = {k: v for k, v in os.environ.items() if k != lanes.SIMD_ENV}
+    env.update(NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES="+avx,+avx2,+fma,+sse4.2,+popcnt")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout
+    assert [int(x) for x in out.split()] == _bits(ref)

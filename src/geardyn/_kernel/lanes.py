@@ -610,14 +610,20 @@ _TOKENS = {(kind, width): np.empty((0,) * _NDIM_OF_WIDTH[width], dt)
 
 
 def native_simd_width() -> int:
-    """512 where the CPU has AVX-512 (F, DQ and VL, as LLVM sees the host), else 256."""
+    """512 where the CPU numba compiles for has AVX-512 (F, DQ and VL: the host as LLVM sees it, or
+    ``NUMBA_CPU_FEATURES`` when set), else 256."""
+    import numba
     from llvmlite import binding as llvm
 
+    want = ("avx512f", "avx512dq", "avx512vl")
+    if numba.config.CPU_FEATURES:
+        given = set(numba.config.CPU_FEATURES.replace(" ", "").split(","))
+        return 512 if all(f"+{f}" in given for f in want) else 256
     try:
         feats = llvm.get_host_cpu_features()
     except RuntimeError:
         return 256
-    return 512 if all(feats.get(f, False) for f in ("avx512f", "avx512dq", "avx512vl")) else 256
+    return 512 if all(feats.get(f, False) for f in want) else 256
 
 
 #: Environment variable forcing the register width of the lanes: ``512``, ``256`` or ``0`` (no
