@@ -128,21 +128,10 @@ def _vector_chunk(kind_sin, mode, V, width, L, fields):
             bn = fma(h6, builder.fadd(fma(TWO, kb3, fma(TWO, kb2, kb1)), kb4), b)
             return an, bn
 
-        written = {"U", "V", "C", "S"}
-        if with_stats:
-            written |= {"UMIN", "UMAX", "VMIN", "VMAX", "USUM", "USQ", "NDRV", "NBCK"}
-        if with_tan:
-            written |= {"Y00", "Y10", "Y01", "Y11"}
-        invariant = module.add_metadata([])
-
         def step(l0):
             """One RK4 step of the block at lane l0: fields loaded from S, results stored to S."""
             def ld(f):
-                x = builder.load(ptr(f, l0), align=8)
-                if f not in written:
-                    # not stored by this kernel: LLVM may reload it where it would spill it
-                    x.set_metadata("invariant.load", invariant)
-                return x
+                return builder.load(ptr(f, l0), align=8)
 
             def st(f, x):
                 builder.store(x, ptr(f, l0), align=8)
