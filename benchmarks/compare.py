@@ -110,12 +110,21 @@ def build_c_reference(script: Path) -> Path | None:
     return binary if binary.exists() else None
 
 
+def _children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def run_c(binary: Path, name: str) -> dict[str, float]:
-    """One run of the C reference on one workload: {variant, steps, wall_s, ns_per_step}."""
+    """One run of the C reference on one workload: {variant, steps, wall_s, cpu_s, ns_per_step}
+    (``cpu_s``: the CPU time of the whole process, its few milliseconds of set-up included)."""
+    c0 = _children_cpu()
     out = subprocess.run([str(binary), name.lower(), C_VARIANT[name], "1", "1"], capture_output=True, text=True,
                          check=True).stdout
+    cpu = _children_cpu() - c0
     m = re.search(r"RESULT (\w+) (\w+) (\d+) (\d+) ([\d.]+) ([\d.]+) ([\d.]+)", out)
-    return {"variant": m.group(2), "steps": int(m.group(4)), "wall_s": float(m.group(5)), "ns_per_step": float(m.group(7))}
+    return {"variant": m.group(2), "steps": int(m.group(4)), "wall_s": float(m.group(5)), "cpu_s": cpu,
+            "ns_per_step": float(m.group(7))}
 
 
 def run_geardyn(name: str, threads: int, width: int | None = None) -> dict[str, float]:
@@ -123,19 +132,37 @@ def run_geardyn(name: str, threads: int, width: int | None = None) -> dict[str, 
     set_threads(threads)
     old = _lanes._set_simd_width(_lanes.native_simd_width() if width is None else width)
     try:
-        return B.time_workload(B.workload(name), repeats=1, warmup=False)
+        w = B.workload(name)
+        models = w.models()
+        t0, c0 = time.perf_counter(), time.process_time()
+        w.run(models)
+        return {"wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0}
     finally:
         _lanes._set_simd_width(old)
 
 
-def run_before(src: Path, name: str) -> float:
-    """One-thread wall time of a workload in another checkout (``src``: its ``src`` directory), from
-    ``geardyn bench --repeats 1`` in a fresh process (its JIT warm-up run is not timed)."""
+_BEFORE = """
+import json, sys, time
+from geardyn import bench as B
+from geardyn.integrate import set_threads
+set_threads(1)
+w = B.workload(sys.argv[1])
+models = w.models()
+w.run(models)
+t0, c0 = time.perf_counter(), time.process_time()
+w.run(models)
+print(json.dumps({"wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0}))
+"""
+
+
+def run_before(src: Path, name: str) -> dict[str, float]:
+    """One run of a workload on one thread in another checkout (``src``: its ``src`` directory), in a
+    fresh process after an untimed warm-up run: {wall_s, cpu_s}."""
     env = {k: v for k, v in os.environ.items() if k != _lanes.SIMD_ENV}
     env["PYTHONPATH"] = str(src)
-    out = subprocess.run([sys.executable, "-m", "geardyn.cli", "bench", "--workload", name, "--threads", "1",
-                          "--repeats", "1", "--json"], capture_output=True, text=True, check=True, env=env).stdout
-    return float(json.loads(out)["workloads"][name]["wall_s"])
+    out = subprocess.run([sys.executable, "-c", _BEFORE, name], capture_output=True, text=True, check=True,
+                         env=env).stdout
+    return json.loads(out.strip().splitlines()[-1])
 
 
 def peers(verbose: bool = True) -> dict[str, dict]:
@@ -229,7 +256,11 @@ def main(argv=None) -> int:
     ap.add_argument("--before", type=Path, metavar="SRC",
                     help="the src directory of an earlier checkout: its W1 and W3 on one thread are timed in the "
                          "same rounds (geardyn bench in a fresh process)")
+    ap.add_argument("--cpu-time", action="store_true",
+                    help="compare the one-thread runs by CPU time (geardyn: the process's; C: the child "
+                         "process's) instead of wall time, for a loaded machine; two threads stay wall time")
     a = ap.parse_args(argv)
+    one = "cpu_s" if a.cpu_time else "wall_s"
     widths = [int(w) for w in a.widths.split(",") if w.strip()]
 
     info = B.machine_info()
@@ -259,20 +290,23 @@ def main(argv=None) -> int:
     runs: dict[str, dict[str, list[float]]] = {k: {n: [] for n in ("W1", "W2", "W3")} for k in impls}
     busy = []
     loads = []
+    wall_1: dict[str, list[float]] = {n: [] for n in ("W1", "W2", "W3")}  # one thread, wall time (speed-up)
     for r in range(a.rounds):
         busy.append(wait_idle(a.wait_idle) if a.wait_idle > 0 else cpu_busy_fraction(0.2))
         loads.append(os.getloadavg()[0])
         for n in ("W1", "W2", "W3"):
             if binary:
-                runs["c"][n].append(run_c(binary, n)["wall_s"])
-            runs["geardyn_1"][n].append(run_geardyn(n, 1)["wall_s"])
+                runs["c"][n].append(run_c(binary, n)[one])
+            r1 = run_geardyn(n, 1)
+            runs["geardyn_1"][n].append(r1[one])
+            wall_1[n].append(r1["wall_s"])
             if n != "W2":
                 runs["geardyn_2"][n].append(run_geardyn(n, 2)["wall_s"])
             if n in LANE_WORKLOADS:
                 for w in widths:
-                    runs[f"geardyn_1_w{w}"][n].append(run_geardyn(n, 1, w)["wall_s"])
+                    runs[f"geardyn_1_w{w}"][n].append(run_geardyn(n, 1, w)[one])
                 if a.before:
-                    runs["before_1"][n].append(run_before(a.before, n))
+                    runs["before_1"][n].append(run_before(a.before, n)[one])
         print(f"round {r + 1}/{a.rounds} (busy {busy[-1]:.0%}, load {loads[-1]:.2f}): " + " ".join(
             f"{k} {n} {1e9 * runs[k][n][-1] / B.workload(n).steps:.2f}" for k in impls for n in ("W1", "W2", "W3")
             if runs[k][n]) + " ns/step", file=sys.stderr, flush=True)
@@ -284,10 +318,12 @@ def main(argv=None) -> int:
     set_threads(None)
 
     # ---------------------------------------------------------------- report
+    if a.cpu_time:
+        print("one-thread columns and ratios: CPU time; two threads and the speed-up: wall time")
     lines = ["| workload | C reference (1 thread) | geardyn 1 thread | ratio to C (target) | geardyn 2 threads | "
              "2-thread speed-up | pynamicalsys | SciPy RK45 |", "|---|---|---|---|---|---|---|---|"]
-    summary = {"machine": info, "runs_wall_s": runs, "cpu_busy_before_round": busy, "load_average_1min": loads,
-               "simd_widths_forced": widths, "best_wall_s": best,
+    summary = {"machine": info, "runs_wall_s": runs, "geardyn_1_wall_s": wall_1, "cpu_busy_before_round": busy, "load_average_1min": loads,
+               "simd_widths_forced": widths, "one_thread_time": one, "best_wall_s": best,
                "steps": steps, "peak_rss_mb": rss_mb, "peers": peer, "ratios": {}, "rounds": a.rounds,
                "load_average_end": list(os.getloadavg())}
     for n in ("W1", "W2", "W3"):
@@ -296,11 +332,11 @@ def main(argv=None) -> int:
         ns = lambda s: 1e9 * s / steps[n]  # noqa: E731
         c = best["c"][n] if have_c else None
         ratio = g1 / c if c else None
-        sp = g1 / g2 if g2 else None
+        sp = min(wall_1[n]) / g2 if g2 else None
         pn = peer.get("pynamicalsys", {}).get(n)
         sc = peer.get("scipy_rk45", {}).get(n)
         med = (float(np.median(np.array(runs["geardyn_1"][n]) / np.array(runs["c"][n]))) if c else None)
-        med_sp = float(np.median(np.array(runs["geardyn_1"][n]) / np.array(runs["geardyn_2"][n]))) if g2 else None
+        med_sp = float(np.median(np.array(wall_1[n]) / np.array(runs["geardyn_2"][n]))) if g2 else None
         summary["ratios"][n] = {"geardyn_over_c": ratio, "median_round_ratio": med, "c_variant": C_VARIANT[n],
                                 "speedup_2_threads": sp, "median_round_speedup": med_sp,
                                 "pynamicalsys_over_geardyn": pn["wall_s"] / g1 if pn else None,
