@@ -322,7 +322,8 @@ def main(argv=None) -> int:
         print("one-thread columns and ratios: CPU time; two threads and the speed-up: wall time")
     lines = ["| workload | C reference (1 thread) | geardyn 1 thread | ratio to C (target) | geardyn 2 threads | "
              "2-thread speed-up | pynamicalsys | SciPy RK45 |", "|---|---|---|---|---|---|---|---|"]
-    summary = {"machine": info, "runs_wall_s": runs, "geardyn_1_wall_s": wall_1, "cpu_busy_before_round": busy, "load_average_1min": loads,
+    summary = {"machine": info, "runs_wall_s": runs, "geardyn_1_wall_s": wall_1, "cpu_busy_before_round": busy,
+               "load_average_1min": loads,
                "simd_widths_forced": widths, "one_thread_time": one, "best_wall_s": best,
                "steps": steps, "peak_rss_mb": rss_mb, "peers": peer, "ratios": {}, "rounds": a.rounds,
                "load_average_end": list(os.getloadavg())}

@@ -98,7 +98,8 @@ def _assert_same_bits(a, b, what):
         assert x.shape == y.shape
         same = x.view(np.uint64) == y.view(np.uint64) if x.dtype == np.float64 else x == y
         bad = np.argwhere(~same)
-        assert bad.size == 0, f"{what}: {name} differs at {bad[:5].tolist()} ({x[tuple(bad[0])]!r} vs {y[tuple(bad[0])]!r})"
+        first = tuple(bad[0]) if bad.size else ()
+        assert bad.size == 0, f"{what}: {name} differs at {bad[:5].tolist()} ({x[first]!r} vs {y[first]!r})"
 
 
 MODES = {  # (n_transient, n_record, tangent, adaptive)

@@ -8,9 +8,10 @@ harmonics) and per mode (no statistics, statistics, statistics and tangents); fo
 first-harmonic kinds :mod:`.simd` builds the same kernels as explicit vectors of 512 or 256 bits,
 and the width that runs (:func:`simd_width`) is chosen at import from the CPU or from
 ``GEARDYN_SIMD_WIDTH``.  The lanes worker is compiled per kind and width, selected by the type of
-its token argument (dtype: kind; number of dimensions: width).  The :func:`_lanes_worker` schedules the lanes: it refills a finished lane from the batch's shared
-queue, runs the chunk up to the nearest period end, does the period-end work of each lane in
-scalar code, and packs the remaining lanes into the first groups once the queue is empty.
+its token argument (dtype: kind; number of dimensions: width).  The :func:`_lanes_worker`
+schedules the lanes: it refills a finished lane from the batch's shared queue, runs the chunk up
+to the nearest period end, does the period-end work of each lane in scalar code, and packs the
+remaining lanes into the first groups once the queue is empty.
 """
 
 from __future__ import annotations
