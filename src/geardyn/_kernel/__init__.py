@@ -11,9 +11,12 @@ How the default mode is made fast
 * **Lock-step lanes.**  A worker keeps ``LANES`` parameter points in a structure of arrays (one
   flat float64 array, each field ``LANES`` consecutive values) and advances all lanes together in
   chunks of ``m`` steps, ``m`` being the distance to the nearest period end among the active
-  lanes.  The lanes are the innermost loop, so LLVM vectorises the RK4 step across points
-  (SIMD).  At a period end the lane's Poincaré point, divergence check and Gram–Schmidt are done
-  in scalar code; a finished lane is refilled from the worker's queue of points.
+  lanes.  The RK4 step runs across points in SIMD vectors: explicit LLVM vectors of the machine's
+  register width for the first-harmonic kinds (:mod:`.simd`: 512-bit where the CPU has AVX-512,
+  else 256-bit; ``GEARDYN_SIMD_WIDTH`` forces 512, 256 or 0), loops over the lanes that LLVM
+  vectorises (256-bit) for the general kind and with ``GEARDYN_SIMD_WIDTH=0``; every width gives
+  the same bits.  At a period end the lane's Poincaré point, divergence check and Gram–Schmidt are
+  done in scalar code; a finished lane is refilled from the worker's queue of points.
 * **Coefficients without trigonometric calls.**  cos θ, sin θ at the step start, midpoint and end
   come from a rotation recurrence by the half-step angle π/N (in increment form, see
   ``_rot_small``: error ~1e-15 over a period), re-seeded exactly (cos 0 = 1, sin 0 = 0) at every
@@ -55,7 +58,10 @@ The package is split by execution path; imports flow one way, from this door dow
     callers read, re-exported from the modules below.
 :mod:`.lanes`
     The lock-step lanes (default mode, enough points per worker): the chunk kernels built from
-    one template, the lane state layout and the lanes worker.
+    one template, the lane state layout, the choice of SIMD width and the lanes worker.
+:mod:`.simd`
+    The explicit-SIMD chunk kernels of the first-harmonic kinds (LLVM vector IR), used by
+    :mod:`.lanes`.
 :mod:`.scalar`
     The default mode one point at a time (histories, small batches) and its worker.
 :mod:`.accurate`
@@ -91,7 +97,7 @@ from .core import (
 )
 from .lanes import (
     ALIGN_BYTES, GROUP, KIND_COS, KIND_GEN, KIND_SIN, LANES, MODE_PLAIN, MODE_STATS, MODE_TAN,
-    _KIND_TOKENS, _lanes_kind, _lanes_worker,
+    _KIND_TOKENS, _kind_token, _lanes_kind, _lanes_worker, native_simd_width, simd_width,
 )
 from .scalar import _scalar_worker
 
@@ -101,7 +107,7 @@ __all__ = [
     "NSTAT", "TAN_NONE", "TAN_LYAPUNOV", "TAN_MONODROMY", "TAN_CONTINUE", "ST_OK", "ST_DIVERGED", "DIVERGENCE_BOUND",
     "MAX_SPLITS", "HERMITE_SAMPLES", "NEWTON_ITERS", "CROSSING_TOL",
     "GROUP", "LANES", "LANE_MIN_POINTS", "THREAD_MIN_STEPS", "ALIGN_BYTES",
-    "KIND_COS", "KIND_SIN", "KIND_GEN", "MODE_PLAIN", "MODE_STATS", "MODE_TAN",
+    "KIND_COS", "KIND_SIN", "KIND_GEN", "MODE_PLAIN", "MODE_STATS", "MODE_TAN", "simd_width", "native_simd_width",
 ]
 
 
@@ -224,7 +230,7 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     order = _queue_order(nsteps)
     counter = np.zeros(1, dtype=np.int64)
     lanes = not scalar_only and tangent != TAN_CONTINUE and P >= LANE_MIN_POINTS * nw
-    token = _KIND_TOKENS[_lanes_kind(coef, order)] if lanes else None
+    token = _kind_token(_lanes_kind(coef, order)) if lanes else None
 
     def work():
         if accurate:

@@ -4,15 +4,20 @@ The lane state is a structure of arrays (one aligned float64 array ``S``, field 
 ``l`` at ``S[f * LANES + l]``; the general kind keeps all Fourier coefficients in a second array
 ``CF``).  :func:`_make_chunk` builds, from one template, the chunk kernels advancing all lanes by
 ``m`` steps: per kind (first harmonic with cosine terms only, with sine terms, any number of
-harmonics) and per mode (no statistics, statistics, statistics and tangents).  The
-:func:`_lanes_worker` schedules the lanes: it refills a finished lane from the batch's shared
-queue, runs the chunk up to the nearest period end, does the period-end work of each lane in
-scalar code, and packs the remaining lanes into the first groups once the queue is empty.
+harmonics) and per mode (no statistics, statistics, statistics and tangents); for the
+first-harmonic kinds :mod:`.simd` builds the same kernels as explicit vectors of 512 or 256 bits,
+and the width that runs (:func:`simd_width`) is chosen at import from the CPU or from
+``GEARDYN_SIMD_WIDTH``.  The lanes worker is compiled per kind and width, selected by the type of
+its token argument (dtype: kind; number of dimensions: width).  The :func:`_lanes_worker`
+schedules the lanes: it refills a finished lane from the batch's shared queue, runs the chunk up
+to the nearest period end, does the period-end work of each lane in scalar code, and packs the
+remaining lanes into the first groups once the queue is empty.
 """
 
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 from numba import njit
@@ -24,6 +29,7 @@ from .core import (
     _adapt_check, _adapt_finish, _adapt_reset, _adapt_snapshot, _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot, _rot_small,
     _series1, _series_acc, _slope, _thresholds, _write_stats,
 )
+from .simd import make_vector_chunks
 
 
 #: Parameter points advanced in lock-step by one worker, in groups of GROUP lanes (one SIMD
@@ -232,17 +238,38 @@ _chunk_g0 = _make_chunk(KIND_GEN, MODE_PLAIN)
 _chunk_g1 = _make_chunk(KIND_GEN, MODE_STATS)
 _chunk_g2 = _make_chunk(KIND_GEN, MODE_TAN)
 
+_FIELDS = {name[2:]: value for name, value in globals().items() if name.startswith("F_") and name != "F_"}
+
+
+def _vector_kernels(width):
+    """The explicit-SIMD chunk kernels (:mod:`.simd`) of the first-harmonic kinds at one width."""
+    return {kind: tuple(make_vector_chunks(kind == KIND_SIN, mode, width, LANES, _FIELDS)
+                        for mode in (MODE_PLAIN, MODE_STATS, MODE_TAN))
+            for kind in (KIND_COS, KIND_SIN)}
+
+
+_TEMPLATE_KERNELS = {KIND_COS: (_chunk_c0, _chunk_c1, _chunk_c2),
+                     KIND_SIN: (_chunk_s0, _chunk_s1, _chunk_s2),
+                     KIND_GEN: (_chunk_g0, _chunk_g1, _chunk_g2)}
+#: Chunk kernels per register width (0: the template's compiler-vectorised loops) and kind.  The
+#: general kind always runs the template.
+_KERNELS = {0: _TEMPLATE_KERNELS}
+for _w in (256, 512):
+    _KERNELS[_w] = {**_vector_kernels(_w), KIND_GEN: _TEMPLATE_KERNELS[KIND_GEN]}
+
+#: Widths a lanes worker can be compiled for, by the number of dimensions of its token.
+_WIDTH_OF_NDIM = {1: 0, 2: 256, 3: 512}
+_NDIM_OF_WIDTH = {w: n for n, w in _WIDTH_OF_NDIM.items()}
+_KIND_OF_DTYPE = {types.int8: KIND_COS, types.int16: KIND_SIN, types.int32: KIND_GEN}
+
 
 def _chunk(token, mode, S, CF, m, H1, ng):
-    """Run the chunk kernel of the kind selected by ``token``'s type and of ``mode``."""
+    """Run the chunk kernel of the kind and width selected by ``token``'s type, and of ``mode``."""
 
 
 @overload(_chunk, jit_options={"nogil": True})
 def _chunk_impl(token, mode, S, CF, m, H1, ng):
-    kernels = {types.int8: (_chunk_c0, _chunk_c1, _chunk_c2),
-               types.int16: (_chunk_s0, _chunk_s1, _chunk_s2),
-               types.int32: (_chunk_g0, _chunk_g1, _chunk_g2)}[token.dtype]
-    k_plain, k_stats, k_tan = kernels
+    k_plain, k_stats, k_tan = _KERNELS[_WIDTH_OF_NDIM[token.ndim]][_KIND_OF_DTYPE[token.dtype]]
 
     def impl(token, mode, S, CF, m, H1, ng):
         if mode == MODE_PLAIN:
@@ -575,6 +602,67 @@ def _lanes_kind(coef: np.ndarray, order: np.ndarray) -> int:
     return KIND_COS
 
 
-#: Type tokens selecting the chunk kind at compile time: the lanes worker is compiled (and cached)
-#: separately per kind, and only for the kinds a program uses.
-_KIND_TOKENS = {KIND_COS: np.empty(0, np.int8), KIND_SIN: np.empty(0, np.int16), KIND_GEN: np.empty(0, np.int32)}
+_KIND_DTYPES = {KIND_COS: np.int8, KIND_SIN: np.int16, KIND_GEN: np.int32}
+#: Type tokens selecting the chunk kind (dtype) and register width (number of dimensions) at compile
+#: time: the lanes worker is compiled (and cached) separately per kind and width, and only for those
+#: a program uses.
+_TOKENS = {(kind, width): np.empty((0,) * _NDIM_OF_WIDTH[width], dt)
+           for kind, dt in _KIND_DTYPES.items() for width in _NDIM_OF_WIDTH}
+
+
+def native_simd_width() -> int:
+    """512 where the CPU numba compiles for has AVX-512 (F, DQ and VL: the host as LLVM sees it, or
+    ``NUMBA_CPU_FEATURES`` when set), else 256."""
+    import numba
+    from llvmlite import binding as llvm
+
+    want = ("avx512f", "avx512dq", "avx512vl")
+    if numba.config.CPU_FEATURES:
+        given = set(numba.config.CPU_FEATURES.replace(" ", "").split(","))
+        return 512 if all(f"+{f}" in given for f in want) else 256
+    try:
+        feats = llvm.get_host_cpu_features()
+    except RuntimeError:
+        return 256
+    return 512 if all(feats.get(f, False) for f in want) else 256
+
+
+#: Environment variable forcing the register width of the lanes: ``512``, ``256`` or ``0`` (no
+#: explicit vectors: the compiler-vectorised loops).  Unset: :func:`native_simd_width`.
+SIMD_ENV = "GEARDYN_SIMD_WIDTH"
+
+
+def _width_from_env() -> int:
+    v = os.environ.get(SIMD_ENV, "").strip()
+    if not v:
+        return native_simd_width()
+    if v not in ("0", "256", "512"):
+        raise ValueError(f"{SIMD_ENV}={v!r}: expected 512, 256 or 0")
+    return int(v)
+
+
+_simd_width = _width_from_env()
+
+
+def simd_width() -> int:
+    """Register width of the lanes' explicit vectors in this process (0: compiler-vectorised loops)."""
+    return _simd_width
+
+
+def _set_simd_width(width: int) -> int:
+    """Set the register width of the lanes (512, 256 or 0); returns the previous one.  Every width
+    gives the same bits; this only selects the code that runs (and is compiled)."""
+    global _simd_width
+    if width not in _NDIM_OF_WIDTH:
+        raise ValueError(f"SIMD width {width!r}: expected 512, 256 or 0")
+    old, _simd_width = _simd_width, int(width)
+    return old
+
+
+def _kind_token(kind: int) -> np.ndarray:
+    """The type token of the lanes worker for ``kind`` at the current width."""
+    return _TOKENS[(kind, _simd_width)]
+
+
+#: Type tokens of the kinds at the width chosen at import (kept for callers that index by kind).
+_KIND_TOKENS = {kind: _TOKENS[(kind, _simd_width)] for kind in _KIND_DTYPES}
