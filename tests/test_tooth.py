@@ -121,3 +121,17 @@ def test_faults_enter_as_data_on_any_tooth():
         assert np.any(ms.stiffness[near] < 0.95 * k_h[near])
     with pytest.raises(ModelError):
         mesh_stiffness(geo, 100.0, faults=[Crack(0, 25, 0.5)])
+
+
+def test_bevel_pair_through_its_virtual_cylindrical_gears_matches_iso_10300():
+    from geardyn.standards.iso10300 import bevel_mesh
+
+    bm = bevel_mesh(23, 47, 7.28e-3, math.radians(35.0), math.radians(20.0), math.radians(90.0), 0.1)
+    geo = pair_geometry(bm.z_v1, bm.z_v2, 7.28e-3, beta=bm.beta_v, face_width=bm.b_v_eff, teeth=(23, 47))
+    # the path of contact of the virtual gears by this module's geometry against ISO 10300-1's g_va formula
+    assert geo.eps_alpha == pytest.approx(bm.eps_valpha, rel=1e-10)
+    assert geo.eps_beta == pytest.approx(bm.eps_vbeta, rel=1e-10)
+    ms = mesh_stiffness(geo, 1932.0, faults=[Crack(0, 22, 0.5)], points=8)
+    assert ms.cycles == 23  # the real pinion's teeth index the faults
+    with pytest.raises(ModelError):
+        mesh_stiffness(geo, 1932.0, faults=[Crack(0, 23, 0.5)])

@@ -91,7 +91,8 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
             ("ratio to c_γ", iso["mesh_mean_over_c_gamma"]), ("max single pair / b", iso["single_pair_max"]),
             ("ISO 6336-1 c′ (N/(mm·µm))", iso["c_prime_iso"])]
     for k, v in rows:
-        t.add_row(k, f"{v:.5g}" if isinstance(v, float) else str(v))
+        t.add_row(k, "— (virtual gears: ISO 10300, geardyn geometry)" if v is None else
+                  f"{v:.5g}" if isinstance(v, float) else str(v))
     console.print(t)
     h = Table(title=f"Fourier harmonics (orders of the mesh frequency; Σ|κ| over all = {s['kappa_abs_sum_all']:.4g})")
     for col in ("mesh order", "κ", "φ_k (rad)", "STE e_eq (µm)", "φ_e (rad)"):
@@ -143,7 +144,7 @@ def signature_cmd(
     for key in ("backlash", "b_c", "xi0"):
         if key in first:
             kw[key] = float(first[key])
-    z1, z2 = cases[0].geometry.gears[0].z, cases[0].geometry.gears[1].z
+    z1, z2 = cases[0].geometry.gears[0].teeth, cases[0].geometry.gears[1].teeth
     # every run over the same period so that healthy and faulty compare on equal terms
     period = max(1, *[c.mesh.get("cycles", 0) or 0 for c in cases])
     from ..tooth.mesh import default_cycles

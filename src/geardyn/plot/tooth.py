@@ -25,7 +25,9 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         a0.plot(ph, ds["mesh_stiffness_unmodified"], "C0--", lw=1.0, label="pairs in geometric contact")
     iso = s["iso6336"]
     bw = s["face_width_mm"]
-    a0.axhline(iso["c_gamma_iso"] * bw, color="C3", lw=1.0, ls=":", label=f"ISO 6336-1 c_γ·b = {iso['c_gamma_iso'] * bw:.4g} N/µm")
+    if iso["c_gamma_iso"] is not None:
+        a0.axhline(iso["c_gamma_iso"] * bw, color="C3", lw=1.0, ls=":",
+                   label=f"ISO 6336-1 c_γ·b = {iso['c_gamma_iso'] * bw:.4g} N/µm")
     a0.axhline(s["k_mean_N_per_um"], color="C2", lw=1.0, ls="-.", label=f"mean {s['k_mean_N_per_um']:.4g} N/µm")
     a0.set_ylabel("mesh stiffness [N/µm]")
     a0.legend(fontsize=8, loc="lower right")

@@ -71,7 +71,7 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
         shaft in the ``summary`` attribute.
     """
     geo = ms.geometry
-    z1, z2 = geo.gears[0].z, geo.gears[1].z
+    z1, z2 = geo.gears[0].teeth, geo.gears[1].teeth
     H = harmonics
     if H is None:
         H = min(64, (ms.stiffness.size) // 2)

@@ -152,9 +152,9 @@ def pair_model(ms, rpm: float, *, b_c: float = 10e-6, backlash: float = 100e-6, 
     s = exc.series(harmonics, b_c)
     k0 = float(s["k0"])
     omega_n = math.sqrt(k0 / m_e)
-    w_mesh = rpm * 2.0 * math.pi / 60.0 * geo.gears[0].z / omega_n
+    w_mesh = rpm * 2.0 * math.pi / 60.0 * geo.gears[0].teeth / omega_n
     base = GearModel(omega=w_mesh, xi0=xi0, xi=(), phi_c=(), kappa=(), phi_k=(), eps=(), phi_e=(),
                      fp=ms.force / (k0 * b_c), D=0.5 * backlash / b_c)
     model = excitation_model(base, exc, harmonics=harmonics, b_c=b_c)
     return model, {"k0": k0, "m_e": m_e, "omega_n": omega_n, "b_c": b_c, "mesh_omega": w_mesh,
-                   "cycles": ms.cycles, "z1": geo.gears[0].z, "z2": geo.gears[1].z, "rpm": float(rpm)}
+                   "cycles": ms.cycles, "z1": geo.gears[0].teeth, "z2": geo.gears[1].teeth, "rpm": float(rpm)}

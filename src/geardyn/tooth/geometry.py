@@ -40,8 +40,8 @@ class GearBlank:
 
     Attributes
     ----------
-    z : int
-        Number of teeth.
+    z : float
+        Number of teeth of the tooth shape (the virtual number z_v of a bevel gear's virtual cylindrical gear).
     x : float
         Profile shift coefficient.
     bore_radius : float
@@ -50,11 +50,17 @@ class GearBlank:
         Young's modulus (Pa) and Poisson's ratio.
     """
 
-    z: int
+    z: float
     x: float = 0.0
     bore_radius: float | None = None
     E: float = 206.0e9
     nu: float = 0.3
+    #: Number of teeth of the gear itself (tooth indices, shaft orders); ``z`` unless a virtual gear.
+    teeth: int = 0
+
+    def __post_init__(self) -> None:
+        if not self.teeth:
+            object.__setattr__(self, "teeth", int(round(self.z)))
 
 
 @dataclass(frozen=True)
@@ -144,7 +150,7 @@ class PairGeometry:
         return self.r_b[0] * math.tan(self.alpha_wt)
 
 
-def _section(z: int, x: float, m_t: float, alpha_t: float, r_f: float, r_a: float) -> Section:
+def _section(z: float, x: float, m_t: float, alpha_t: float, r_f: float, r_a: float) -> Section:
     r = 0.5 * z * m_t
     r_b = r * math.cos(alpha_t)
     psi0 = math.pi / (2 * z) + 2.0 * x * math.tan(alpha_t) / z + involute(alpha_t)
@@ -152,7 +158,7 @@ def _section(z: int, x: float, m_t: float, alpha_t: float, r_f: float, r_a: floa
     a = np.arccos(np.clip(r_b / np.maximum(rho, r_b), -1.0, 1.0))
     psi = psi0 - (np.tan(a) - a)
     if psi[-1] <= 0:
-        raise ModelError(f"tooth of z = {z}: pointed (zero thickness below the tip circle); reduce x or h_a")
+        raise ModelError(f"tooth of z = {z:g}: pointed (zero thickness below the tip circle); reduce x or h_a")
     y, h = rho * np.cos(psi), rho * np.sin(psi)
     theta_f = float(psi[0])
     return Section(y=y, h=h, r_f=r_f, r_b=r_b, r_a=r_a, theta_f=theta_f, psi0=psi0)
@@ -161,7 +167,7 @@ def _section(z: int, x: float, m_t: float, alpha_t: float, r_f: float, r_a: floa
 def pair_geometry(z1: int, z2: int, m_n: float, *, alpha_n: float = math.radians(20.0), beta: float = 0.0,
                   face_width: float = 0.02, x1: float = 0.0, x2: float = 0.0, h_a: float = 1.0, h_f: float = 1.25,
                   bore1: float | None = None, bore2: float | None = None, E: float = 206.0e9,
-                  nu: float = 0.3) -> PairGeometry:
+                  nu: float = 0.3, teeth: tuple[int, int] | None = None) -> PairGeometry:
     """The geometry of an external spur (β = 0) or helical pair.
 
     Parameters
@@ -182,6 +188,10 @@ def pair_geometry(z1: int, z2: int, m_n: float, *, alpha_n: float = math.radians
         Bore radii (m); default 0.5 r_f (h_f = 2, inside the range Sainsot et al. fitted).
     E, nu : float
         Young's modulus and Poisson's ratio of both gears.
+    teeth : (int, int), optional
+        The gears' own numbers of teeth when z1, z2 are the virtual numbers z_v = d_v/m_vt of a bevel pair's
+        virtual cylindrical gears (ISO 10300-1 Annex A, :mod:`geardyn.standards.iso10300`): the tooth shape and
+        the path of contact come from the virtual gears, the tooth indices and shaft orders from ``teeth``.
 
     Returns
     -------
@@ -192,8 +202,12 @@ def pair_geometry(z1: int, z2: int, m_n: float, *, alpha_n: float = math.radians
     ModelError
         For non-physical inputs, a pointed tooth or a transverse contact ratio below 1.
     """
-    if int(z1) != z1 or int(z2) != z2 or z1 < 8 or z2 < 8:
-        raise ModelError(f"z1, z2: whole numbers of teeth >= 8, got {z1!r}, {z2!r}")
+    if teeth is None and (int(z1) != z1 or int(z2) != z2):
+        raise ModelError(f"z1, z2: whole numbers of teeth, got {z1!r}, {z2!r} (virtual numbers need teeth=)")
+    if z1 < 8 or z2 < 8:
+        raise ModelError(f"z1, z2: at least 8 teeth, got {z1!r}, {z2!r}")
+    if teeth is not None and (len(teeth) != 2 or any(int(n) != n or n < 5 for n in teeth)):
+        raise ModelError(f"teeth: two whole numbers >= 5, got {teeth!r}")
     for name, v in (("m_n", m_n), ("face_width", face_width), ("E", E)):
         if not (math.isfinite(v) and v > 0):
             raise ModelError(f"{name}: must be > 0, got {v!r}")
@@ -203,7 +217,8 @@ def pair_geometry(z1: int, z2: int, m_n: float, *, alpha_n: float = math.radians
         raise ModelError(f"alpha_n: between 10 and 35 deg, got {math.degrees(alpha_n):g} deg")
     if not 0.0 <= beta < math.radians(45.0):
         raise ModelError(f"beta: between 0 and 45 deg, got {math.degrees(beta):g} deg")
-    z1, z2 = int(z1), int(z2)
+    z1, z2 = float(z1), float(z2)
+    n1, n2 = (int(round(z1)), int(round(z2))) if teeth is None else (int(teeth[0]), int(teeth[1]))
     alpha_t = math.atan(math.tan(alpha_n) / math.cos(beta))
     beta_b = math.asin(math.sin(beta) * math.cos(alpha_n))
     m_t = m_n / math.cos(beta)
@@ -224,11 +239,11 @@ def pair_geometry(z1: int, z2: int, m_n: float, *, alpha_n: float = math.radians
     if eps_alpha < 1.0:
         raise ModelError(f"geometry: transverse contact ratio {eps_alpha:.3f} < 1")
     eps_beta = face_width * math.sin(beta) / (math.pi * m_n)
-    gears = (GearBlank(z1, x1, bore1 if bore1 is not None else 0.5 * r_f[0], E, nu),
-             GearBlank(z2, x2, bore2 if bore2 is not None else 0.5 * r_f[1], E, nu))
+    gears = (GearBlank(z1, x1, bore1 if bore1 is not None else 0.5 * r_f[0], E, nu, n1),
+             GearBlank(z2, x2, bore2 if bore2 is not None else 0.5 * r_f[1], E, nu, n2))
     for g, rf in zip(gears, r_f):
         if not 0 < g.bore_radius < rf:
-            raise ModelError(f"bore radius of z = {g.z}: must lie between 0 and the root radius {rf:g} m")
+            raise ModelError(f"bore radius of z = {g.z:g}: must lie between 0 and the root radius {rf:g} m")
     sections = (_section(z1, x1, m_t, alpha_t, r_f[0], r_a[0]), _section(z2, x2, m_t, alpha_t, r_f[1], r_a[1]))
     return PairGeometry(gears=gears, m_n=m_n, alpha_n=alpha_n, beta=beta, face_width=face_width, h_a=h_a,
                         h_f=h_f, m_t=m_t, alpha_t=alpha_t, alpha_wt=alpha_wt, beta_b=beta_b, a_w=a_w, r=r,

@@ -164,7 +164,7 @@ def mesh_stiffness(geo: PairGeometry, torque1: float, *, faults: Sequence[Any] =
     MeshStiffness
     """
     mods = modifications or Modifications()
-    z1, z2 = geo.gears[0].z, geo.gears[1].z
+    z1, z2 = geo.gears[0].teeth, geo.gears[1].teeth
     for f in faults:
         z = (z1, z2)[f.gear]
         if getattr(f, "tooth", None) is not None and f.tooth >= z:

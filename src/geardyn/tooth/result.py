@@ -21,11 +21,15 @@ def iso_beside(ms: MeshStiffness, torque1: float | None = None) -> dict[str, flo
     """ISO 6336-1 Method B c′ and c_γα (C_M = 0.8, C_R = 1, C_B; C_F from the torque) beside the computed
     single-pair maximum and mean mesh stiffness per unit face width, all in N/(mm·µm)."""
     geo = ms.geometry
-    iso = cylindrical_mesh(geo.gears[0].z, geo.gears[1].z, geo.m_n, geo.alpha_n, geo.beta, geo.face_width,
-                           x1=geo.gears[0].x, x2=geo.gears[1].x, h_aP=geo.h_a, h_fP=geo.h_f, torque1=torque1)
     b = geo.face_width
     mean = float(np.mean(ms.stiffness_unmodified)) / b / 1e9
     c_single = float(np.max(ms.components["pair"])) / b / 1e9
+    if any(g.z != g.teeth for g in geo.gears):  # virtual cylindrical gears of a bevel pair: ISO 10300 applies
+        return {"c_prime_iso": None, "c_gamma_iso": None, "C_F": None, "single_pair_max": c_single,
+                "mesh_mean": mean, "mesh_mean_over_c_gamma": None, "single_max_over_c_prime": None,
+                "eps_alpha_iso": None, "note": "virtual cylindrical gears: compare with geardyn geometry (ISO 10300-1)"}
+    iso = cylindrical_mesh(geo.gears[0].teeth, geo.gears[1].teeth, geo.m_n, geo.alpha_n, geo.beta, geo.face_width,
+                           x1=geo.gears[0].x, x2=geo.gears[1].x, h_aP=geo.h_a, h_fP=geo.h_f, torque1=torque1)
     cg = iso.c_gamma_alpha if geo.beta == 0 else iso.c_gamma_beta
     return {"c_prime_iso": iso.c_prime / 1e9, "c_gamma_iso": cg / 1e9, "C_F": iso.C_F,
             "single_pair_max": c_single, "mesh_mean": mean, "mesh_mean_over_c_gamma": mean / (cg / 1e9),
@@ -39,7 +43,7 @@ def stiffness_summary(ms: MeshStiffness, harmonics: int = 8, torque1: float | No
     _, ea, ep = fourier_series(ms.ste_equivalent)
     H = min(harmonics, len(ka))
     return {
-        "z1": geo.gears[0].z, "z2": geo.gears[1].z, "m_n_mm": geo.m_n * 1e3, "alpha_n_deg": math.degrees(geo.alpha_n),
+        "z1": geo.gears[0].teeth, "z2": geo.gears[1].teeth, "z_shape": [geo.gears[0].z, geo.gears[1].z], "m_n_mm": geo.m_n * 1e3, "alpha_n_deg": math.degrees(geo.alpha_n),
         "beta_deg": math.degrees(geo.beta), "face_width_mm": geo.face_width * 1e3,
         "x1": geo.gears[0].x, "x2": geo.gears[1].x, "eps_alpha": geo.eps_alpha, "eps_beta": geo.eps_beta,
         "force_N": ms.force, "cycles": ms.cycles, "points": int(ms.phase.size), "slices": ms.slices,
