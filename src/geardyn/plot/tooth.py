@@ -14,7 +14,20 @@ __all__ = ["compliance_figure", "indicator_sweep", "order_spectrum", "signature_
 
 
 def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Mesh stiffness, STE and load shares over the mesh phase of a ``stiffness`` result."""
+    """Mesh stiffness, STE and load shares over the mesh phase of a ``stiffness`` result.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``stiffness`` result (``geardyn stiffness``).
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
     fig, axes, _ = panels(ax, 3, (8.5, 8.0), sharex=True)
     before = snapshot(axes)
     s = json.loads(ds.attrs["summary"])
@@ -48,7 +61,20 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
 
 
 def compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """A healthy pair's compliances by term (per unit face width) along the path of contact."""
+    """A healthy pair's compliances by term (per unit face width) along the path of contact.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``stiffness`` result.
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
     fig, a, _ = one_axes(ax, (7.5, 4.5))
     before = snapshot([a])
     x = ds["path"].values
@@ -69,7 +95,20 @@ def _runs(ds: xr.Dataset) -> list[tuple[str, dict]]:
 
 
 def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Order spectrum of each run with the mesh orders and their pinion and wheel shaft-order sidebands labelled."""
+    """Order spectrum of each run with the mesh orders and their pinion and wheel shaft-order sidebands labelled.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``signature`` result (one or more runs).
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
     runs = _runs(ds)
     fig, axes, _ = panels(ax, len(runs), (9.0, 3.2 * len(runs) + 0.8), sharex=True)
     before = snapshot(axes)
@@ -106,7 +145,20 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
 
 
 def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Record with tachometer, pinion TSA, residual and difference signals of each run."""
+    """Record with tachometer, pinion TSA, residual and difference signals of each run.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``signature`` result.
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
     fig, axes, new = panels(ax, 4, (9.0, 10.5))
     if new:
         fig.subplots_adjust(hspace=0.4)
@@ -138,7 +190,20 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
 
 
 def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Condition indicators of pinion and wheel against the fault size."""
+    """Condition indicators of pinion and wheel against the fault size.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``signature_sweep`` result.
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
     names = ("kurtosis", "fm4", "na4", "m6a", "fm0", "energy_ratio", "sideband_level", "crest_factor")
     fig, axes, _ = panels(ax, len(names), (9.0, 10.0), nrows=4, ncols=2, sharex=True)
     before = snapshot(axes)

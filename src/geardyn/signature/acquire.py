@@ -29,7 +29,23 @@ __all__ = ["Acquisition", "acquire", "acceleration"]
 
 @dataclass(frozen=True)
 class Acquisition:
-    """A sampled record: time (s), acceleration (m/s²), tachometer (V), rate (Hz), speed (rpm), teeth."""
+    """A sampled record: time (s), acceleration (m/s²), tachometer (V), rate (Hz), speed (rpm), teeth.
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times (s).
+    accel : ndarray
+        Acceleration along the line of action (m/s²).
+    tach : ndarray
+        Tachometer voltage (V).
+    fs : float
+        Sampling rate (Hz).
+    rpm : float
+        Pinion speed.
+    z1, z2 : int
+        Teeth of pinion and wheel.
+    """
 
     time: np.ndarray
     accel: np.ndarray
@@ -41,7 +57,20 @@ class Acquisition:
 
 
 def acceleration(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Non-dimensional x'' = f_p − C(θ) u' − K(θ) f(u) along a history (θ = ω τ)."""
+    """Non-dimensional x'' = f_p − C(θ) u' − K(θ) f(u) along a history (θ = ω τ).
+
+    Parameters
+    ----------
+    model : GearModel
+        The model.
+    tau, u, v : ndarray
+        Its history: τ, u and u'.
+
+    Returns
+    -------
+    ndarray
+        x'' at each instant.
+    """
     cf = model.coefficients()
     j = np.arange(cf.shape[1])
     th = np.outer(model.omega * np.asarray(tau), j)

@@ -23,7 +23,22 @@ INDICATORS = ("rms", "crest_factor", "kurtosis", "fm0", "fm4", "na4", "m6a", "m8
 
 
 def indicators(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, float]:
-    """Every indicator of :data:`INDICATORS` from the TSA of a shaft with ``z`` teeth."""
+    """Every indicator of :data:`INDICATORS` from the TSA of a shaft with ``z`` teeth.
+
+    Parameters
+    ----------
+    avg : ndarray
+        The TSA of a shaft.
+    z : int
+        Its teeth.
+    shaft_orders : int
+        As :func:`~geardyn.signature.signals.split_tsa`.
+
+    Returns
+    -------
+    dict
+        Indicator name → value.
+    """
     p = split_tsa(avg, z, shaft_orders)
     x = avg - avg.mean()
     return {"rms": rms(x), "crest_factor": crest_factor(x), "kurtosis": kurtosis(x),
@@ -115,7 +130,17 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
 
 
 def combine(runs: Sequence[xr.Dataset]) -> xr.Dataset:
-    """Runs of :func:`signature` side by side along ``run`` (healthy beside faulty)."""
+    """Runs of :func:`signature` side by side along ``run`` (healthy beside faulty).
+
+    Parameters
+    ----------
+    runs : sequence of xarray.Dataset
+        Results of :func:`signature`.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     ds = xr.concat(list(runs), dim="run", join="outer")
     ds.attrs.update(geardyn_kind="signature",
                     summary=json.dumps({"runs": [json.loads(r.attrs["summary"])["runs"][0] for r in runs]}))
@@ -129,7 +154,9 @@ def _fault(f: Any) -> dict[str, Any]:
 
 
 def signature_sweep(make: Callable[[float], MeshStiffness], sizes: Sequence[float], rpm: float, *,
-                    name: str = "crack depth", **kwargs: Any) -> xr.Dataset:
+                    name: str = "crack depth", revolutions: int | None = None, fs: float | None = None,
+                    noise: float = 0.02, seed: int = 0, harmonics: int | None = None, b_c: float = 10e-6,
+                    backlash: float = 100e-6, xi0: float = 0.05, dtau: float = 0.01) -> xr.Dataset:
     """Indicators of the pinion and the wheel against a fault size.
 
     Parameters
@@ -142,8 +169,8 @@ def signature_sweep(make: Callable[[float], MeshStiffness], sizes: Sequence[floa
         Pinion speed.
     name : str
         What the size is.
-    **kwargs
-        Passed to :func:`signature`.
+    revolutions, fs, noise, seed, harmonics, b_c, backlash, xi0, dtau
+        As :func:`signature`.
 
     Returns
     -------
@@ -153,7 +180,9 @@ def signature_sweep(make: Callable[[float], MeshStiffness], sizes: Sequence[floa
     rows = []
     for s in sizes:
         ms = make(float(s))
-        ind = json.loads(signature(ms, rpm, **kwargs).attrs["summary"])["runs"][0]["indicators"]
+        ds = signature(ms, rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, harmonics=harmonics, b_c=b_c,
+                       backlash=backlash, xi0=xi0, dtau=dtau)
+        ind = json.loads(ds.attrs["summary"])["runs"][0]["indicators"]
         rows.append([[ind[sh][k] for k in INDICATORS] for sh in ("pinion", "wheel")])
     a = np.array(rows)  # (size, shaft, indicator)
     ds = xr.Dataset({k: (("size", "shaft"), a[:, :, i]) for i, k in enumerate(INDICATORS)},

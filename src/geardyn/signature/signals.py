@@ -27,7 +27,20 @@ __all__ = ["angle_resample", "order_spectrum", "pulse_times", "split_tsa", "tsa"
 
 
 def pulse_times(tach: np.ndarray, fs: float) -> np.ndarray:
-    """Times (s) of the tachometer pulses (centroids of the samples above half the peak), whole pulses only."""
+    """Times (s) of the tachometer pulses (centroids of the samples above half the peak), whole pulses only.
+
+    Parameters
+    ----------
+    tach : ndarray
+        Tachometer samples.
+    fs : float
+        Sampling rate (Hz).
+
+    Returns
+    -------
+    ndarray
+        Pulse times (s).
+    """
     v = np.asarray(tach, dtype=float)
     on = v > 0.5 * v.max()
     edges = np.diff(on.astype(np.int8))
@@ -41,7 +54,21 @@ def pulse_times(tach: np.ndarray, fs: float) -> np.ndarray:
 
 def angle_resample(acq: Acquisition, per_rev: int, ratio: float = 1.0) -> np.ndarray:
     """The signal at ``per_rev`` equal angles per revolution of a shaft turning ``ratio`` times the pinion,
-    over its whole revolutions between the first and last pulse; shape (revolutions, per_rev)."""
+    over its whole revolutions between the first and last pulse; shape (revolutions, per_rev).
+
+    Parameters
+    ----------
+    acq : Acquisition
+        The record.
+    per_rev : int
+        Samples per revolution.
+    ratio : float
+        Speed of the shaft over the pinion's (z1/z2 for the wheel).
+
+    Returns
+    -------
+    ndarray (revolutions, per_rev)
+    """
     tp = pulse_times(acq.tach, acq.fs)
     if tp.size < 2:
         raise ModelError("order tracking: fewer than two tachometer pulses in the record")
@@ -56,7 +83,20 @@ def angle_resample(acq: Acquisition, per_rev: int, ratio: float = 1.0) -> np.nda
 
 
 def order_spectrum(acq: Acquisition, per_rev: int) -> tuple[np.ndarray, np.ndarray]:
-    """(orders of the pinion, amplitude) of the whole angle-domain record (whole pinion revolutions)."""
+    """(orders of the pinion, amplitude) of the whole angle-domain record (whole pinion revolutions).
+
+    Parameters
+    ----------
+    acq : Acquisition
+        The record.
+    per_rev : int
+        Samples per pinion revolution.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        Orders and amplitudes.
+    """
     x = angle_resample(acq, per_rev).ravel()
     revs = x.size // per_rev
     X = np.fft.rfft(x - x.mean())
@@ -65,12 +105,35 @@ def order_spectrum(acq: Acquisition, per_rev: int) -> tuple[np.ndarray, np.ndarr
 
 
 def tsa(acq: Acquisition, per_rev: int, ratio: float = 1.0) -> np.ndarray:
-    """Time-synchronous average over the whole revolutions of the shaft (``ratio`` = its speed / pinion's)."""
+    """Time-synchronous average over the whole revolutions of the shaft (``ratio`` = its speed / pinion's).
+
+    Parameters
+    ----------
+    acq : Acquisition
+        The record.
+    per_rev : int
+        Samples per revolution.
+    ratio : float
+        Speed of the shaft over the pinion's.
+
+    Returns
+    -------
+    ndarray (per_rev,)
+    """
     return angle_resample(acq, per_rev, ratio).mean(axis=0)
 
 
 def split_tsa(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, np.ndarray]:
     """Regular, residual and difference signals of a shaft's TSA, and its mesh and sideband amplitudes.
+
+    Parameters
+    ----------
+    avg : ndarray
+        The TSA of a shaft.
+    z : int
+        Its teeth.
+    shaft_orders : int
+        Shaft orders 1 … S kept in the regular signal and removed from the residual.
 
     Returns
     -------

@@ -33,7 +33,25 @@ _SCALE = {"_mm": 1e-3, "_um": 1e-6}
 
 @dataclass
 class ToothCase:
-    """Everything a ``geardyn stiffness`` / ``geardyn signature`` run of one file needs."""
+    """Everything a ``geardyn stiffness`` / ``geardyn signature`` run of one file needs.
+
+    Attributes
+    ----------
+    name : str
+        Name of the case.
+    geometry : PairGeometry
+        The pair.
+    torque : float
+        Pinion torque (N·m).
+    modifications : Modifications
+        Profile and lead modifications.
+    faults : list
+        Tooth faults.
+    mesh : dict
+        ``[mesh]`` options (cycles, points, slices).
+    signature : dict
+        ``[signature]`` options in SI units.
+    """
 
     name: str
     geometry: PairGeometry
@@ -57,6 +75,15 @@ def _si(d: dict[str, Any]) -> dict[str, Any]:
 
 def load_case(path: str | Path) -> ToothCase:
     """Read a tooth-pair file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file.
+
+    Returns
+    -------
+    ToothCase
 
     Raises
     ------

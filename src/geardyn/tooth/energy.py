@@ -54,7 +54,13 @@ SAINSOT = np.array([
 
 @dataclass(frozen=True)
 class ToothCompliance:
-    """Compliances per unit face width (m·m/N … as 1/(N/m²)) at each contact point of one tooth."""
+    """Compliances per unit face width (m·m/N … as 1/(N/m²)) at each contact point of one tooth.
+
+    Attributes
+    ----------
+    bending, shear, axial, fillet : ndarray
+        The four compliances per unit width at each contact point.
+    """
 
     bending: np.ndarray
     shear: np.ndarray
@@ -108,13 +114,47 @@ def cantilever_compliance(y: np.ndarray, w: np.ndarray, d: np.ndarray, h_l: np.n
 
 
 def hertz_compliance(E1: float, nu1: float, E2: float, nu2: float) -> float:
-    """Hertzian compliance per unit width, 1/k_h = (2/π)[(1 − ν1²)/E1 + (1 − ν2²)/E2] (Yang & Sun 1985)."""
+    """Hertzian compliance per unit width, 1/k_h = (2/π)[(1 − ν1²)/E1 + (1 − ν2²)/E2] (Yang & Sun 1985).
+
+    Parameters
+    ----------
+    E1, nu1 : float
+        Young's modulus and Poisson's ratio of the pinion.
+    E2, nu2 : float
+        Those of the wheel.
+
+    Returns
+    -------
+    float
+        Compliance per unit width (m²/N).
+    """
     return 2.0 / math.pi * ((1.0 - nu1**2) / E1 + (1.0 - nu2**2) / E2)
 
 
 def fillet_compliance(alpha1: np.ndarray, u_f: np.ndarray, r_f: float, theta_f: float, r_int: float,
                       E: float) -> np.ndarray:
-    """Fillet-foundation compliance per unit width (Sainsot, Velex & Duverger 2004, eq. 9)."""
+    """Fillet-foundation compliance per unit width (Sainsot, Velex & Duverger 2004, eq. 9).
+
+    Parameters
+    ----------
+    alpha1 : ndarray
+        Angle of the force to the perpendicular of the centre line (rad).
+    u_f : ndarray
+        Distance from the root circle to where the force line crosses the centre line (m).
+    r_f : float
+        Root radius (m).
+    theta_f : float
+        Half angle of the tooth at the root circle (rad).
+    r_int : float
+        Bore radius (m).
+    E : float
+        Young's modulus (Pa).
+
+    Returns
+    -------
+    ndarray
+        Compliance per unit width (m²/N).
+    """
     h = r_f / r_int
     terms = np.array([1.0 / theta_f**2, h * h, h / theta_f, 1.0 / theta_f, h, 1.0])
     L, M, P, Q = SAINSOT @ terms

@@ -63,7 +63,21 @@ def fourier_series(values: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 def series_table(mean: float, amplitude: np.ndarray, phase: np.ndarray, n: int) -> np.ndarray:
-    """The table of ``n`` equally spaced values over one period of ``mean + Σ A_j cos(jθ + φ_j)``."""
+    """The table of ``n`` equally spaced values over one period of ``mean + Σ A_j cos(jθ + φ_j)``.
+
+    Parameters
+    ----------
+    mean : float
+        Constant term.
+    amplitude, phase : ndarray
+        A_j and φ_j, j = 1 …
+    n : int
+        Number of values.
+
+    Returns
+    -------
+    ndarray
+    """
     th = 2.0 * np.pi * np.arange(n) / n
     j = np.arange(1, len(amplitude) + 1)
     return mean + (np.asarray(amplitude)[None, :] * np.cos(np.outer(th, j) + np.asarray(phase)[None, :])).sum(axis=1)
@@ -71,7 +85,17 @@ def series_table(mean: float, amplitude: np.ndarray, phase: np.ndarray, n: int) 
 
 @dataclass(frozen=True)
 class Excitation:
-    """A mesh excitation over ``cycles`` mesh cycles: stiffness table (N/m) and STE table (m)."""
+    """A mesh excitation over ``cycles`` mesh cycles: stiffness table (N/m) and STE table (m).
+
+    Attributes
+    ----------
+    stiffness : ndarray
+        Mesh stiffness over the period (N/m), equally spaced from phase 0.
+    ste : ndarray or None
+        STE over the same phases (m).
+    cycles : int
+        Mesh cycles the tables span.
+    """
 
     stiffness: np.ndarray
     ste: np.ndarray | None = None
@@ -136,6 +160,23 @@ def pair_model(ms, rpm: float, *, b_c: float = 10e-6, backlash: float = 100e-6, 
     m_e = I1 I2 / (I1 r_b2² + I2 r_b1²) of solid disks (I = ½ ρ π b r⁴ at the reference radii);
     ω_n = √(k0/m_e); ω = (rpm · 2π/60 · z1)/ω_n; f_p = F/(k0 b_c); D = (backlash/2)/b_c (backlash along
     the line of action); the STE is ``ms.ste_equivalent``.
+
+    Parameters
+    ----------
+    ms : MeshStiffness
+        The mesh (:func:`geardyn.tooth.mesh.mesh_stiffness`).
+    rpm : float
+        Pinion speed.
+    b_c : float
+        Characteristic length (m).
+    backlash : float
+        Backlash along the line of action (m).
+    xi0 : float
+        Mean damping ratio.
+    density : float
+        Density of the gear bodies (kg/m³).
+    harmonics : int, optional
+        Harmonics of the excitation's period kept (default all of the table's).
 
     Returns
     -------

@@ -115,6 +115,17 @@ class Spall:
 class Wear:
     """Flank wear: ``depth`` (m) removed, ``"uniform"`` or ``"sliding"`` (∝ sliding distance).
 
+    Attributes
+    ----------
+    gear : int
+        0 pinion, 1 wheel.
+    depth : float
+        Largest depth removed (m).
+    kind : str
+        ``uniform`` or ``sliding``.
+    tooth : int or None
+        The tooth; None: every tooth of the gear.
+
     ``tooth = None`` wears every tooth of the gear.
     """
 
@@ -133,7 +144,15 @@ class Wear:
 
 @dataclass(frozen=True)
 class Broken:
-    """A tooth broken off above ``remaining`` of its active profile (0: the tooth is missing)."""
+    """A tooth broken off above ``remaining`` of its active profile (0: the tooth is missing).
+
+    Attributes
+    ----------
+    gear, tooth : int
+        Where it is.
+    remaining : float
+        Share of the active profile left (0: the tooth is missing).
+    """
 
     gear: int
     tooth: int
@@ -149,7 +168,17 @@ FAULT_KINDS = {"crack": Crack, "spall": Spall, "wear": Wear, "broken": Broken}
 
 
 def fault_from_dict(d: dict[str, Any]) -> Any:
-    """A fault from ``{"kind": "crack", "gear": 0, "tooth": 3, "depth": 0.5, ...}`` (TOML/JSON form)."""
+    """A fault from ``{"kind": "crack", "gear": 0, "tooth": 3, "depth": 0.5, ...}`` (TOML/JSON form).
+
+    Parameters
+    ----------
+    d : dict
+        ``kind`` and the fault's fields.
+
+    Returns
+    -------
+    Crack, Spall, Wear or Broken
+    """
     d = dict(d)
     kind = d.pop("kind", None)
     if kind not in FAULT_KINDS:

@@ -48,6 +48,8 @@ class GearBlank:
         Radius of the bore (m), for the fillet foundation (h_f = r_f / r_int of Sainsot et al.).
     E, nu : float
         Young's modulus (Pa) and Poisson's ratio.
+    teeth : int
+        Number of teeth of the gear itself (tooth indices, shaft orders); ``round(z)`` when not given.
     """
 
     z: float
@@ -65,7 +67,19 @@ class GearBlank:
 
 @dataclass(frozen=True)
 class Section:
-    """The tooth of one gear as a cantilever: centre-line coordinate ``y`` and half thickness ``h``."""
+    """The tooth of one gear as a cantilever: centre-line coordinate ``y`` and half thickness ``h``.
+
+    Attributes
+    ----------
+    y, h : ndarray
+        Centre-line coordinate (m) and half thickness (m), root to tip.
+    r_f, r_b, r_a : float
+        Root, base and tip radii (m).
+    theta_f : float
+        Half angle at the root circle (rad).
+    psi0 : float
+        π/(2z) + 2 x tan α_t / z + inv α_t.
+    """
 
     #: Centre-line coordinate from the gear centre (m), increasing from the root to the tip.
     y: np.ndarray

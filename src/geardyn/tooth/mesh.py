@@ -76,7 +76,19 @@ def share_load(k: np.ndarray, e: np.ndarray, F: float) -> np.ndarray:
 
 def default_cycles(z1: int, z2: int, faults: Sequence[Any]) -> int:
     """Mesh cycles of the excitation's period: 1 healthy, z1 (z2) with faults on the pinion (wheel)
-    only, lcm(z1, z2) — the hunting period — with faults on both."""
+    only, lcm(z1, z2) — the hunting period — with faults on both.
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Teeth of pinion and wheel.
+    faults : sequence
+        The faults.
+
+    Returns
+    -------
+    int
+    """
     gears = {f.gear for f in faults if not (isinstance(f, Wear) and f.tooth is None)}
     if not gears:
         return 1
@@ -89,7 +101,35 @@ def default_cycles(z1: int, z2: int, faults: Sequence[Any]) -> int:
 
 @dataclass
 class MeshStiffness:
-    """The mesh of a pair over ``cycles`` mesh cycles (SI units: N/m, m, N)."""
+    """The mesh of a pair over ``cycles`` mesh cycles (SI units: N/m, m, N).
+
+    Attributes
+    ----------
+    geometry : PairGeometry
+        The pair.
+    force : float
+        Force along the transverse line of action (N).
+    phase : ndarray
+        Mesh phases (mesh cycles).
+    stiffness : ndarray
+        Tangent mesh stiffness k_m (N/m).
+    stiffness_unmodified : ndarray
+        Σ k_i of the pairs in geometric contact (N/m).
+    ste, ste_noload, ste_equivalent : ndarray
+        Loaded STE δ, no-load TE min e_i and e_eq = δ − F/k_m (m).
+    share : ndarray (M, P)
+        Load share of the pairs m = ⌊θ⌋ − j.
+    pairs_in_contact : ndarray
+        Pairs carrying load.
+    cycles, slices : int
+        Mesh cycles computed, slices across the face.
+    faults : tuple
+        The faults.
+    modifications : Modifications
+        The modifications.
+    components : dict
+        A healthy single pair's compliances by term along the path (``s``, ``hertz``, ``bending``, ``shear``, ``axial``, ``fillet``, ``pair``).
+    """
 
     geometry: PairGeometry
     force: float

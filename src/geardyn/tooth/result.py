@@ -19,7 +19,19 @@ __all__ = ["iso_beside", "stiffness_dataset", "stiffness_summary"]
 
 def iso_beside(ms: MeshStiffness, torque1: float | None = None) -> dict[str, float]:
     """ISO 6336-1 Method B c′ and c_γα (C_M = 0.8, C_R = 1, C_B; C_F from the torque) beside the computed
-    single-pair maximum and mean mesh stiffness per unit face width, all in N/(mm·µm)."""
+    single-pair maximum and mean mesh stiffness per unit face width, all in N/(mm·µm).
+
+    Parameters
+    ----------
+    ms : MeshStiffness
+        The mesh.
+    torque1 : float, optional
+        Pinion torque for ISO's C_F (default C_F = 1).
+
+    Returns
+    -------
+    dict
+    """
     geo = ms.geometry
     b = geo.face_width
     mean = float(np.mean(ms.stiffness_unmodified)) / b / 1e9
@@ -37,7 +49,21 @@ def iso_beside(ms: MeshStiffness, torque1: float | None = None) -> dict[str, flo
 
 
 def stiffness_summary(ms: MeshStiffness, harmonics: int = 8, torque1: float | None = None) -> dict[str, Any]:
-    """Geometry, mean/min/max stiffness, STE, the first harmonics (of the excitation's period) and ISO."""
+    """Geometry, mean/min/max stiffness, STE, the first harmonics (of the excitation's period) and ISO.
+
+    Parameters
+    ----------
+    ms : MeshStiffness
+        The mesh.
+    harmonics : int
+        Harmonics listed.
+    torque1 : float, optional
+        As :func:`iso_beside`.
+
+    Returns
+    -------
+    dict
+    """
     geo = ms.geometry
     k0, ka, kp = fourier_series(ms.stiffness)
     _, ea, ep = fourier_series(ms.ste_equivalent)
@@ -60,7 +86,19 @@ def stiffness_summary(ms: MeshStiffness, harmonics: int = 8, torque1: float | No
 
 def stiffness_dataset(ms: MeshStiffness, summary: dict[str, Any]) -> xr.Dataset:
     """``geardyn_kind = "stiffness"``: stiffness, STE and load shares over the mesh phase, and a healthy
-    single pair's compliances by term along the path of contact."""
+    single pair's compliances by term along the path of contact.
+
+    Parameters
+    ----------
+    ms : MeshStiffness
+        The mesh.
+    summary : dict
+        Its :func:`stiffness_summary`.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     c = ms.components
     J = ms.share.shape[1]
     ds = xr.Dataset(
