@@ -47,16 +47,18 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     faults = ", ".join(f"{f['kind']} g{f['gear']}t{f.get('tooth')}" for f in s["faults"]) or "healthy"
     a0.set_title(f"z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, b = {bw:g} mm, ε_α = {s['eps_alpha']:.3f}, "
                  f"F = {s['force_N']:.4g} N — {faults}", fontsize=9)
-    a1.plot(ph, ds["ste"], "k-", lw=1.2, label="loaded STE δ")
-    if np.nanmax(np.abs(ds["ste_noload"].values)) > 0:
-        a1.plot(ph, ds["ste_noload"], "C1--", lw=1.0, label="no-load TE (modifications, faults)")
-    a1.set_ylabel("STE [µm]")
-    a1.legend(fontsize=8)
-    for j in range(ds.sizes["pair"]):
-        a2.plot(ph, ds["load_share"].isel(pair=j), lw=1.0, label=f"pair m = ⌊θ⌋ − {j}")
-    a2.set_ylabel("load share [1]")
-    a2.set_xlabel("mesh phase θ [mesh cycles]")
-    a2.legend(fontsize=8, loc="upper right")
+    if a1 is not None:
+        a1.plot(ph, ds["ste"], "k-", lw=1.2, label="loaded STE δ")
+        if np.nanmax(np.abs(ds["ste_noload"].values)) > 0:
+            a1.plot(ph, ds["ste_noload"], "C1--", lw=1.0, label="no-load TE (modifications, faults)")
+        a1.set_ylabel("STE [µm]")
+        a1.legend(fontsize=8)
+    if a2 is not None:
+        for j in range(ds.sizes["pair"]):
+            a2.plot(ph, ds["load_share"].isel(pair=j), lw=1.0, label=f"pair m = ⌊θ⌋ − {j}")
+        a2.set_ylabel("load share [1]")
+        a2.legend(fontsize=8, loc="upper right")
+    (a2 or a0).set_xlabel("mesh phase θ [mesh cycles]")
     return result(fig, axes, before)
 
 
@@ -114,6 +116,8 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     before = snapshot(axes)
     order = ds["order"].values
     for a, (name, s) in zip(axes, runs):
+        if a is None:
+            continue
         amp = ds["order_amplitude"].sel(run=name).values
         a.semilogy(order, np.maximum(amp, 1e-12), "k-", lw=0.7)
         z1, z2 = s["z1"], s["z2"]
@@ -140,7 +144,7 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
                     f"FM4 {ind['fm4']:.3g}, kurtosis {ind['kurtosis']:.3g}", fontsize=9)
         a.set_ylabel("amplitude [m/s²]")
         a.set_ylim(top * 1e-5, top * 5)
-    axes[-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
+    [a for a in axes if a is not None][-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
     return result(fig, axes, before)
 
 
@@ -173,19 +177,23 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
             scale = float(np.nanmax(np.abs(ds["accel"].values))) / 5.0
             a0.plot(t, tach * scale, color="0.5", lw=0.8, label="tachometer (scaled)")
         ang = ds["angle_pinion"].values
+        ind = s["indicators"]["pinion"]
+        if a1 is None:
+            continue
         a1.plot(ang, ds["tsa_pinion"].sel(run=name), color=c, lw=0.9, label=name)
         a2.plot(ang, ds["residual"].sel(run=name), color=c, lw=0.9, label=name)
-        ind = s["indicators"]["pinion"]
         a3.plot(ang, ds["difference"].sel(run=name), color=c, lw=0.9,
                 label=f"{name}: FM4 {ind['fm4']:.3g}, NA4 {ind['na4']:.3g}, M6A {ind['m6a']:.3g}")
     a0.set_xlabel("time [ms]")
     a0.set_ylabel("accel. [m/s²]")
     a0.set_title("acceleration along the line of action, sampled with a once-per-revolution tachometer", fontsize=9)
     for a, what in ((a1, "TSA (pinion)"), (a2, "residual"), (a3, "difference")):
-        a.set_ylabel(f"{what} [m/s²]")
-        a.legend(fontsize=7, loc="upper right")
+        if a is not None:
+            a.set_ylabel(f"{what} [m/s²]")
+            a.legend(fontsize=7, loc="upper right")
     a0.legend(fontsize=7, loc="upper right")
-    a3.set_xlabel("pinion angle [deg]")
+    if a3 is not None:
+        a3.set_xlabel("pinion angle [deg]")
     return result(fig, axes, before)
 
 
@@ -209,10 +217,12 @@ def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     before = snapshot(axes)
     x = ds["size"].values
     for a, n in zip(axes, names):
+        if a is None:
+            continue
         for sh, mk in (("pinion", "o-"), ("wheel", "s--")):
             a.plot(x, ds[n].sel(shaft=sh), mk, ms=4, label=sh)
         a.set_ylabel(n)
         a.legend(fontsize=7)
-    for a in axes[-2:]:
+    for a in [a for a in axes if a is not None][-2:]:
         a.set_xlabel(ds["size"].attrs.get("long_name", "fault size"))
     return result(fig, axes, before)
