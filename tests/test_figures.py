@@ -113,7 +113,30 @@ def _synthetic():
     search = xr.Dataset({"match_fraction": (("omega", "claim"), [[0.2, 1.0], [0.5, np.nan], [0.9, 0.0]])},
                         coords={"omega": om, "claim": ["T2-1", "T2-2"]}, attrs={"geardyn_kind": "search", "param": "xi1"})
     return {"stability_comparison": comp, "mathieu_boundary": mathieu, "stability_boundary": boundary,
-            "formula_fit": fit, "search": search}
+            "formula_fit": fit, "search": search, **_tooth_synthetic()}
+
+
+def _tooth_synthetic():
+    """A small ``stiffness`` result and synthetic ``signature`` / ``signature_sweep`` results."""
+    from geardyn.signature.run import INDICATORS
+    from geardyn.tooth import Crack, mesh_stiffness, pair_geometry
+    from geardyn.tooth.result import stiffness_dataset, stiffness_summary
+
+    ms = mesh_stiffness(pair_geometry(20, 40, 0.003), 100.0, faults=[Crack(0, 0, 0.5)], points=8)
+    stiff = stiffness_dataset(ms, stiffness_summary(ms))
+    n, order = np.arange(64), np.arange(100) / 2.0
+    ind = {k: 1.0 + i for i, k in enumerate(INDICATORS)}
+    run = {"z1": 20, "z2": 40, "indicators": {"pinion": ind, "wheel": ind}}
+    sig = xr.Dataset({"accel": (("run", "time"), np.sin(n)[None]), "tach": (("run", "time"), (n % 16 == 0)[None] * 5.0),
+                      "order_amplitude": (("run", "order"), (1e-3 + (order % 20 == 0))[None]),
+                      **{v: (("run", "angle_pinion"), np.cos(n)[None]) for v in ("tsa_pinion", "regular", "residual",
+                                                                                  "difference")}},
+                     coords={"run": ["a"], "time": n / 1e3, "order": order, "angle_pinion": n * 360 / 64},
+                     attrs={"geardyn_kind": "signature", "summary": json.dumps({"runs": [run]})})
+    sweep = xr.Dataset({k: (("size", "shaft"), [[1.0, 1.0], [2.0, 1.5]]) for k in INDICATORS},
+                       coords={"size": [0.0, 0.5], "shaft": ["pinion", "wheel"]},
+                       attrs={"geardyn_kind": "signature_sweep"})
+    return {"stiffness": stiff, "signature": sig, "signature_sweep": sweep}
 
 
 def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):

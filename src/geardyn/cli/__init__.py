@@ -12,5 +12,6 @@ from .app import EXIT_INTERRUPTED, app, main
 from .options import build_model
 from . import point, sweeps, tools  # noqa: F401  (register the commands, in this order)
 from . import engineering, hb, systems  # noqa: F401,E402  (te, runup; hb; modes)
+from . import diagnostics  # noqa: F401,E402  (stiffness, signature)
 
 __all__ = ["EXIT_INTERRUPTED", "app", "build_model", "main"]

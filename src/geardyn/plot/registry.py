@@ -22,7 +22,7 @@ import xarray as xr
 from .._docfill import RESULT, attributes, parameters
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
-from . import systems
+from . import systems, tooth
 from .common import DPI, save
 from .hb import hb_figure
 
@@ -122,6 +122,10 @@ def register(kind: str, *specs: FigureSpec) -> None:
 register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=engineering.has_iso_kv))
 register("runup", FigureSpec("runup", runup.runup_figure))
 systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
+register("stiffness", FigureSpec("stiffness", tooth.stiffness_figure), FigureSpec("compliance", tooth.compliance_figure))
+register("signature", FigureSpec("order_spectrum", tooth.order_spectrum),
+         FigureSpec("signature", tooth.signature_signals))
+register("signature_sweep", FigureSpec("indicators", tooth.indicator_sweep))
 
 
 def _kind(ds: Any) -> str:

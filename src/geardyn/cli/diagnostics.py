@@ -1,0 +1,215 @@
+"""Commands from tooth geometry to vibration signature: ``stiffness`` and ``signature``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+from rich.table import Table
+
+from ..errors import ModelError
+from .app import console
+from .options import OUTPUT, Inputs, command, finish, option
+
+STIFFNESS_OPTIONS = [
+    option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
+    option("fault", Optional[list[str]], None, "--fault",
+           help="Add a fault: KIND:key=value,... e.g. crack:gear=0,tooth=0,depth=0.5 (repeatable; lengths in m)."),
+    option("cycles", Optional[int], None, "--cycles",
+           help="Mesh cycles computed (default: 1 healthy, z1 or z2 with faults on one gear, the hunting period "
+                "lcm(z1, z2) with faults on both)."),
+    option("points", int, 64, "--points", help="Mesh phases per mesh cycle."),
+    option("slices", Optional[int], None, "--slices", help="Slices across the face width (default 1 spur, 40 helical, "
+                                                           "crowned or with partial faults)."),
+    option("harmonics", int, 8, "--harmonics", help="Fourier harmonics of the excitation's period listed."),
+    *OUTPUT,
+]
+
+
+def _fault(text: str) -> Any:
+    from ..tooth.faults import fault_from_dict
+
+    kind, _, rest = text.partition(":")
+    d: dict[str, Any] = {"kind": kind.strip()}
+    for item in filter(None, (s.strip() for s in rest.split(","))):
+        k, sep, v = item.partition("=")
+        if not sep:
+            raise ModelError(f"fault: expected key=value in {text!r}, got {item!r}")
+        try:
+            d[k.strip()] = int(v) if v.strip().lstrip("-").isdigit() else float(v)
+        except ValueError:
+            d[k.strip()] = v.strip()
+    return fault_from_dict(d)
+
+
+def _case(file: Path, inp: Inputs):
+    from ..tooth.config import load_case
+
+    case = load_case(file)
+    case.faults = case.faults + [_fault(f) for f in (inp.fault or [])]
+    if inp.torque is not None:
+        case.torque = float(inp.torque)
+    return case
+
+
+@command("stiffness", STIFFNESS_OPTIONS)
+def stiffness_cmd(
+    inp: Inputs,
+    file: Annotated[Path, typer.Argument(help="Tooth-pair file (TOML: [tooth_pair], [modifications], [[fault]]).")],
+) -> None:
+    """Mesh stiffness and static transmission error of a spur or helical pair by the potential-energy method,
+    healthy or with tooth faults, over the mesh cycle or the hunting period: table, Fourier harmonics, and
+    ISO 6336-1 c′ and c_γ beside it."""
+    from ..tooth.mesh import mesh_stiffness
+    from ..tooth.result import stiffness_dataset, stiffness_summary
+
+    case = _case(file, inp)
+    cycles = inp.cycles if inp.cycles is not None else case.mesh.get("cycles")
+    ms = mesh_stiffness(case.geometry, case.torque, faults=case.faults, modifications=case.modifications,
+                        cycles=cycles, points=int(case.mesh.get("points", inp.points)),
+                        slices=inp.slices if inp.slices is not None else case.mesh.get("slices"))
+    summary = stiffness_summary(ms, harmonics=inp.harmonics)
+    summary["name"] = case.name
+    ds = stiffness_dataset(ms, summary)
+    finish(summary, inp.write(ds, "stiffness"), inp, _show_stiffness)
+
+
+def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
+    iso = s["iso6336"]
+    console.print(f"{s['name']}: z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, β = {s['beta_deg']:g}°, "
+                  f"b = {s['face_width_mm']:g} mm, ε_α = {s['eps_alpha']:.4f}, ε_β = {s['eps_beta']:.4f}, "
+                  f"F = {s['force_N']:.5g} N, {s['cycles']} mesh cycle(s), {len(s['faults'])} fault(s)",
+                  markup=False, highlight=False)
+    t = Table(title="Mesh stiffness and STE")
+    for col in ("quantity", "value"):
+        t.add_column(col)
+    rows = [("mean k_m (N/µm)", s["k_mean_N_per_um"]), ("min / max k_m (N/µm)",
+                                                        f"{s['k_min_N_per_um']:.5g} / {s['k_max_N_per_um']:.5g}"),
+            ("loaded STE mean, p-p (µm)", f"{s['ste_mean_um']:.4g}, {s['ste_peak_to_peak_um']:.4g}"),
+            ("mean k_m / b (N/(mm·µm))", iso["mesh_mean"]), ("ISO 6336-1 c_γ (N/(mm·µm))", iso["c_gamma_iso"]),
+            ("ratio to c_γ", iso["mesh_mean_over_c_gamma"]), ("max single pair / b", iso["single_pair_max"]),
+            ("ISO 6336-1 c′ (N/(mm·µm))", iso["c_prime_iso"])]
+    for k, v in rows:
+        t.add_row(k, "— (virtual gears: ISO 10300, geardyn geometry)" if v is None else
+                  f"{v:.5g}" if isinstance(v, float) else str(v))
+    console.print(t)
+    h = Table(title=f"Fourier harmonics (orders of the mesh frequency; Σ|κ| over all = {s['kappa_abs_sum_all']:.4g})")
+    for col in ("mesh order", "κ", "φ_k (rad)", "STE e_eq (µm)", "φ_e (rad)"):
+        h.add_column(col, justify="right")
+    for o, k, pk, e, pe in zip(s["harmonic_order_of_mesh"], s["kappa"], s["phi_k"], s["ste_harmonics_um"], s["phi_e"]):
+        h.add_row(f"{o:.4g}", f"{k:.5g}", f"{pk:.4g}", f"{e:.4g}", f"{pe:.4g}")
+    console.print(h)
+    for f in paths:
+        console.print(f"wrote {f}", markup=False, highlight=False)
+
+
+SIGNATURE_OPTIONS = [
+    option("rpm", Optional[float], None, "--rpm", help="Pinion speed (rpm; default the file's [signature] rpm, else 3000)."),
+    option("revolutions", Optional[int], None, "--revolutions", help="Pinion revolutions recorded."),
+    option("fs", Optional[float], None, "--fs", help="Sampling rate (Hz; default about 20 samples per mesh period)."),
+    option("noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02)."),
+    option("sweep", Optional[str], None, "--sweep-depths",
+           help="Crack depths d1,d2,... : indicators against the depth of the file's first crack (or a crack on "
+                "pinion tooth 0)."),
+    option("fault", Optional[list[str]], None, "--fault", help="Add a fault (as for stiffness)."),
+    option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's."),
+    option("points", int, 32, "--points", help="Mesh phases per mesh cycle of the excitation table."),
+    *OUTPUT,
+]
+
+
+@command("signature", SIGNATURE_OPTIONS)
+def signature_cmd(
+    inp: Inputs,
+    files: Annotated[list[Path], typer.Argument(help="One tooth-pair file, or two (healthy beside faulty).")],
+) -> None:
+    """Vibration signature of a pair: the acceleration along the line of action sampled with a once-per-revolution
+    tachometer, order spectrum, TSA per shaft, regular/residual/difference signals and the condition indicators;
+    healthy beside faulty with two files; indicators against crack depth with --sweep-depths."""
+    import dataclasses
+
+    from ..signature.run import combine, signature, signature_sweep
+    from ..tooth.faults import Crack
+    from ..tooth.mesh import mesh_stiffness
+
+    if not 1 <= len(files) <= 2:
+        raise ModelError(f"files: one or two tooth-pair files, got {len(files)}")
+    cases = [_case(f, inp) for f in files]
+    first = cases[0].signature
+    rpm = inp.rpm if inp.rpm is not None else float(first.get("rpm", 3000.0))
+    kw = {"revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
+          "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
+          "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02))}
+    for key in ("backlash", "b_c", "xi0"):
+        if key in first:
+            kw[key] = float(first[key])
+    z1, z2 = cases[0].geometry.gears[0].teeth, cases[0].geometry.gears[1].teeth
+    # every run over the same period so that healthy and faulty compare on equal terms
+    period = max(1, *[c.mesh.get("cycles", 0) or 0 for c in cases])
+    from ..tooth.mesh import default_cycles
+
+    period = max(period, *[default_cycles(z1, z2, c.faults) for c in cases])
+
+    def mesh_of(case, faults=None):
+        return mesh_stiffness(case.geometry, case.torque, faults=case.faults if faults is None else faults,
+                              modifications=case.modifications, cycles=period, points=inp.points)
+
+    if inp.sweep:
+        try:
+            depths = [float(x) for x in inp.sweep.split(",")]
+        except ValueError:
+            raise ModelError(f"sweep-depths: comma-separated numbers, got {inp.sweep!r}") from None
+        case = cases[-1]
+        crack = next((f for f in case.faults if isinstance(f, Crack)), Crack(0, 0, 0.0))
+        others = [f for f in case.faults if f is not crack]
+        period = max(period, z1 if crack.gear == 0 else z2)
+
+        def make(d):
+            return mesh_of(case, others + ([dataclasses.replace(crack, depth=d)] if d > 0 else []))
+
+        ds = signature_sweep(make, depths, rpm, **kw)
+        import json
+
+        summary = json.loads(ds.attrs["summary"])
+        summary["indicators"] = {k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values] for sh in ("pinion", "wheel")}
+                                 for k in ds.data_vars}
+        finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
+        return
+    runs = [signature(mesh_of(c), rpm, label=c.name, **kw) for c in cases]
+    ds = combine(runs) if len(runs) > 1 else runs[0]
+    import json
+
+    summary = json.loads(ds.attrs["summary"])
+    finish(summary, inp.write(ds, "signature"), inp, _show_signature)
+
+
+def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
+    from ..signature.run import INDICATORS
+
+    r0 = s["runs"][0]
+    console.print(f"z = {r0['z1']}/{r0['z2']} at {r0['rpm']:g} rpm (mesh {r0['mesh_frequency_Hz']:.5g} Hz), "
+                  f"fs = {r0['fs_Hz']:g} Hz, {r0['revolutions']} pinion revolutions, excitation period "
+                  f"{r0['excitation_cycles']} mesh cycles ({r0['harmonics']} harmonics)", markup=False, highlight=False)
+    t = Table(title="Condition indicators (TSA of the pinion | of the wheel)")
+    t.add_column("indicator")
+    for r in s["runs"]:
+        t.add_column(r["label"], justify="right")
+    for k in INDICATORS:
+        t.add_row(k, *[f"{r['indicators']['pinion'][k]:.4g} | {r['indicators']['wheel'][k]:.4g}" for r in s["runs"]])
+    console.print(t)
+    for f in paths:
+        console.print(f"wrote {f}", markup=False, highlight=False)
+
+
+def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
+    t = Table(title=f"Indicators of the pinion's TSA against {s['size_name']} at {s['rpm']:g} rpm")
+    t.add_column(s["size_name"], justify="right")
+    names = ("kurtosis", "fm4", "na4", "m6a", "fm0", "energy_ratio")
+    for n in names:
+        t.add_column(n, justify="right")
+    for i, d in enumerate(s["sizes"]):
+        t.add_row(f"{d:g}", *[f"{s['indicators'][n]['pinion'][i]:.4g}" for n in names])
+    console.print(t)
+    for f in paths:
+        console.print(f"wrote {f}", markup=False, highlight=False)

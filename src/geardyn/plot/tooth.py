@@ -1,0 +1,228 @@
+"""Figures of the mesh stiffness (``geardyn stiffness``) and of vibration signatures (``geardyn signature``)."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .common import PlotArtists, one_axes, panels, result, snapshot
+
+__all__ = ["compliance_figure", "indicator_sweep", "order_spectrum", "signature_signals", "stiffness_figure"]
+
+
+def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Mesh stiffness, STE and load shares over the mesh phase of a ``stiffness`` result.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``stiffness`` result (``geardyn stiffness``).
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, axes, _ = panels(ax, 3, (8.5, 8.0), sharex=True)
+    before = snapshot(axes)
+    s = json.loads(ds.attrs["summary"])
+    ph = ds["phase"].values
+    a0, a1, a2 = axes
+    a0.plot(ph, ds["mesh_stiffness"], "k-", lw=1.2, label="k_m (loaded pairs)")
+    if not np.allclose(ds["mesh_stiffness"], ds["mesh_stiffness_unmodified"]):
+        a0.plot(ph, ds["mesh_stiffness_unmodified"], "C0--", lw=1.0, label="pairs in geometric contact")
+    iso = s["iso6336"]
+    bw = s["face_width_mm"]
+    if iso["c_gamma_iso"] is not None:
+        a0.axhline(iso["c_gamma_iso"] * bw, color="C3", lw=1.0, ls=":",
+                   label=f"ISO 6336-1 c_γ·b = {iso['c_gamma_iso'] * bw:.4g} N/µm")
+    a0.axhline(s["k_mean_N_per_um"], color="C2", lw=1.0, ls="-.", label=f"mean {s['k_mean_N_per_um']:.4g} N/µm")
+    a0.set_ylabel("mesh stiffness [N/µm]")
+    a0.legend(fontsize=8, loc="lower right")
+    faults = ", ".join(f"{f['kind']} g{f['gear']}t{f.get('tooth')}" for f in s["faults"]) or "healthy"
+    a0.set_title(f"z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, b = {bw:g} mm, ε_α = {s['eps_alpha']:.3f}, "
+                 f"F = {s['force_N']:.4g} N — {faults}", fontsize=9)
+    if a1 is not None:
+        a1.plot(ph, ds["ste"], "k-", lw=1.2, label="loaded STE δ")
+        if np.nanmax(np.abs(ds["ste_noload"].values)) > 0:
+            a1.plot(ph, ds["ste_noload"], "C1--", lw=1.0, label="no-load TE (modifications, faults)")
+        a1.set_ylabel("STE [µm]")
+        a1.legend(fontsize=8)
+    if a2 is not None:
+        for j in range(ds.sizes["pair"]):
+            a2.plot(ph, ds["load_share"].isel(pair=j), lw=1.0, label=f"pair m = ⌊θ⌋ − {j}")
+        a2.set_ylabel("load share [1]")
+        a2.legend(fontsize=8, loc="upper right")
+    (a2 or a0).set_xlabel("mesh phase θ [mesh cycles]")
+    return result(fig, axes, before)
+
+
+def compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """A healthy pair's compliances by term (per unit face width) along the path of contact.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``stiffness`` result.
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, a, _ = one_axes(ax, (7.5, 4.5))
+    before = snapshot([a])
+    x = ds["path"].values
+    for k, c in (("hertz", "C0"), ("bending", "C1"), ("shear", "C2"), ("axial", "C4"), ("fillet", "C3")):
+        a.plot(x, ds[f"compliance_{k}"], color=c, lw=1.2, label=k)
+    total = sum(ds[f"compliance_{k}"].values for k in ("hertz", "bending", "shear", "axial", "fillet"))
+    a.plot(x, total, "k-", lw=1.8, label="total (1/single-pair stiffness per width)")
+    a.set_xlabel("contact position from A [base pitches]")
+    a.set_ylabel("compliance per unit width [mm·µm/N]")
+    a.set_title("one tooth pair: potential-energy terms (pinion + wheel)", fontsize=10)
+    a.legend(fontsize=8)
+    return result(fig, [a], before)
+
+
+def _runs(ds: xr.Dataset) -> list[tuple[str, dict]]:
+    s = json.loads(ds.attrs["summary"])["runs"]
+    return [(str(r), s[i]) for i, r in enumerate(ds["run"].values)]
+
+
+def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Order spectrum of each run with the mesh orders and their pinion and wheel shaft-order sidebands labelled.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``signature`` result (one or more runs).
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    runs = _runs(ds)
+    fig, axes, _ = panels(ax, len(runs), (9.0, 3.2 * len(runs) + 0.8), sharex=True)
+    before = snapshot(axes)
+    order = ds["order"].values
+    for a, (name, s) in zip(axes, runs):
+        if a is None:
+            continue
+        amp = ds["order_amplitude"].sel(run=name).values
+        a.semilogy(order, np.maximum(amp, 1e-12), "k-", lw=0.7)
+        z1, z2 = s["z1"], s["z2"]
+        top = float(np.nanmax(amp))
+        for k in range(1, int(order.max() // z1) + 1):
+            m = k * z1
+            a.axvline(m, color="C3", lw=0.8, alpha=0.6)
+            a.text(m, top * 1.5, f"{k}× mesh", color="C3", fontsize=7, ha="center")
+            for j in (1, 2):
+                for sgn in (-1, 1):
+                    o = m + sgn * j
+                    i = int(np.argmin(np.abs(order - o)))
+                    a.plot(order[i], max(amp[i], 1e-12), "v", color="C0", ms=4)
+                if k == 1:
+                    a.text(m + j, amp[int(np.argmin(np.abs(order - m - j)))] * 1.8, f"+{j}", color="C0", fontsize=7)
+                    a.text(m - j, amp[int(np.argmin(np.abs(order - m + j)))] * 1.8, f"−{j}", color="C0", fontsize=7)
+            for j in (1,):
+                for sgn in (-1, 1):
+                    o = m + sgn * j * z1 / z2
+                    i = int(np.argmin(np.abs(order - o)))
+                    a.plot(order[i], max(amp[i], 1e-12), "^", color="C2", ms=4)
+        ind = s["indicators"]["pinion"]
+        a.set_title(f"{name}: order spectrum (▼ pinion shaft-order sidebands ±1, ±2; ▲ wheel ±{z1}/{z2}); "
+                    f"FM4 {ind['fm4']:.3g}, kurtosis {ind['kurtosis']:.3g}", fontsize=9)
+        a.set_ylabel("amplitude [m/s²]")
+        a.set_ylim(top * 1e-5, top * 5)
+    [a for a in axes if a is not None][-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
+    return result(fig, axes, before)
+
+
+def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Record with tachometer, pinion TSA, residual and difference signals of each run.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``signature`` result.
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, axes, new = panels(ax, 4, (9.0, 10.5))
+    if new:
+        fig.subplots_adjust(hspace=0.4)
+    before = snapshot(axes)
+    a0, a1, a2, a3 = axes
+    for i, (name, s) in enumerate(_runs(ds)):
+        c = f"C{i}"
+        t = ds["time"].values * 1e3
+        a0.plot(t, ds["accel"].sel(run=name), color=c, lw=0.6, label=name)
+        if i == 0:
+            tach = ds["tach"].sel(run=name).values
+            scale = float(np.nanmax(np.abs(ds["accel"].values))) / 5.0
+            a0.plot(t, tach * scale, color="0.5", lw=0.8, label="tachometer (scaled)")
+        ang = ds["angle_pinion"].values
+        ind = s["indicators"]["pinion"]
+        if a1 is None:
+            continue
+        a1.plot(ang, ds["tsa_pinion"].sel(run=name), color=c, lw=0.9, label=name)
+        a2.plot(ang, ds["residual"].sel(run=name), color=c, lw=0.9, label=name)
+        a3.plot(ang, ds["difference"].sel(run=name), color=c, lw=0.9,
+                label=f"{name}: FM4 {ind['fm4']:.3g}, NA4 {ind['na4']:.3g}, M6A {ind['m6a']:.3g}")
+    a0.set_xlabel("time [ms]")
+    a0.set_ylabel("accel. [m/s²]")
+    a0.set_title("acceleration along the line of action, sampled with a once-per-revolution tachometer", fontsize=9)
+    for a, what in ((a1, "TSA (pinion)"), (a2, "residual"), (a3, "difference")):
+        if a is not None:
+            a.set_ylabel(f"{what} [m/s²]")
+            a.legend(fontsize=7, loc="upper right")
+    a0.legend(fontsize=7, loc="upper right")
+    if a3 is not None:
+        a3.set_xlabel("pinion angle [deg]")
+    return result(fig, axes, before)
+
+
+def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Condition indicators of pinion and wheel against the fault size.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``signature_sweep`` result.
+    ax : Axes or sequence of Axes, optional
+        Where to draw (as many Axes as panels); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    names = ("kurtosis", "fm4", "na4", "m6a", "fm0", "energy_ratio", "sideband_level", "crest_factor")
+    fig, axes, _ = panels(ax, len(names), (9.0, 10.0), nrows=4, ncols=2, sharex=True)
+    before = snapshot(axes)
+    x = ds["size"].values
+    for a, n in zip(axes, names):
+        if a is None:
+            continue
+        for sh, mk in (("pinion", "o-"), ("wheel", "s--")):
+            a.plot(x, ds[n].sel(shaft=sh), mk, ms=4, label=sh)
+        a.set_ylabel(n)
+        a.legend(fontsize=7)
+    for a in [a for a in axes if a is not None][-2:]:
+        a.set_xlabel(ds["size"].attrs.get("long_name", "fault size"))
+    return result(fig, axes, before)

@@ -1,0 +1,265 @@
+"""Involute-and-fillet geometry of a cylindrical gear pair for the potential-energy stiffness.
+
+Everything is in SI units (m, rad, Pa).  The tooth is described in the transverse plane of each gear
+as a cantilever along its centre line (coordinate ``y`` measured from the gear centre) with the half
+thickness ``h(y)`` of its profile:
+
+* above the base circle (radius ρ ≥ r_b) the involute, at the half angle
+  ``ψ(ρ) = π/(2z) + 2 x tan α_t / z + inv α_t − inv α_ρ`` with ``cos α_ρ = r_b/ρ``, so
+  ``y = ρ cos ψ``, ``h = ρ sin ψ`` (e.g. Litvin & Fuentes, *Gear Geometry and Applied Theory*, 2004);
+* below the base circle, down to the root circle r_f, a radial straight line at the base-circle half
+  angle ψ_b (the model of Liang, Zuo & Pandey 2014 and Ma et al. 2015 for z < 42 at α = 20°, where the
+  root circle lies inside the base circle);
+* the body under the root circle is the fillet foundation of Sainsot, Velex & Duverger (2004).
+
+The pair (:class:`PairGeometry`) adds the working centre distance and pressure angle (ISO 21771 /
+ISO 6336-1, from the profile shifts), the line of action T1T2, the start A and end E of the active
+contact and the transverse base pitch.  A helical pair uses its transverse profile (m_t, α_t) in
+every slice of the face width.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ModelError
+from ..standards.iso6336 import _inverse_involute, involute
+
+__all__ = ["GearBlank", "PairGeometry", "Section", "pair_geometry"]
+
+#: Points of the tabulated tooth section (from the root circle to the tip).
+SECTION_POINTS = 801
+
+
+@dataclass(frozen=True)
+class GearBlank:
+    """The data of one gear of the pair.
+
+    Attributes
+    ----------
+    z : float
+        Number of teeth of the tooth shape (the virtual number z_v of a bevel gear's virtual cylindrical gear).
+    x : float
+        Profile shift coefficient.
+    bore_radius : float
+        Radius of the bore (m), for the fillet foundation (h_f = r_f / r_int of Sainsot et al.).
+    E, nu : float
+        Young's modulus (Pa) and Poisson's ratio.
+    teeth : int
+        Number of teeth of the gear itself (tooth indices, shaft orders); ``round(z)`` when not given.
+    """
+
+    z: float
+    x: float = 0.0
+    bore_radius: float | None = None
+    E: float = 206.0e9
+    nu: float = 0.3
+    #: Number of teeth of the gear itself (tooth indices, shaft orders); ``z`` unless a virtual gear.
+    teeth: int = 0
+
+    def __post_init__(self) -> None:
+        if not self.teeth:
+            object.__setattr__(self, "teeth", int(round(self.z)))
+
+
+@dataclass(frozen=True)
+class Section:
+    """The tooth of one gear as a cantilever: centre-line coordinate ``y`` and half thickness ``h``.
+
+    Attributes
+    ----------
+    y, h : ndarray
+        Centre-line coordinate (m) and half thickness (m), root to tip.
+    r_f, r_b, r_a : float
+        Root, base and tip radii (m).
+    theta_f : float
+        Half angle at the root circle (rad).
+    psi0 : float
+        π/(2z) + 2 x tan α_t / z + inv α_t.
+    """
+
+    #: Centre-line coordinate from the gear centre (m), increasing from the root to the tip.
+    y: np.ndarray
+    #: Half thickness (m).
+    h: np.ndarray
+    #: Root radius r_f, base radius r_b, tip radius r_a (m).
+    r_f: float
+    r_b: float
+    r_a: float
+    #: Half angle of the tooth at the root circle (rad), θ_f of Sainsot et al.
+    theta_f: float
+    #: Half angle at the reference circle parameters: π/(2z) + 2 x tan α_t / z + inv α_t.
+    psi0: float
+
+    def half_angle(self, rho: np.ndarray) -> np.ndarray:
+        """Half angle ψ(ρ) of the tooth at radius ρ (≥ r_b: involute; below: constant ψ_b)."""
+        rho = np.maximum(np.asarray(rho, dtype=float), self.r_b)
+        a = np.arccos(np.clip(self.r_b / rho, -1.0, 1.0))
+        return self.psi0 - (np.tan(a) - a)
+
+
+@dataclass(frozen=True)
+class PairGeometry:
+    """A spur or helical pair in the transverse plane (SI units).
+
+    Attributes
+    ----------
+    gears : tuple of GearBlank
+        Pinion and wheel.
+    m_n, alpha_n, beta, face_width : float
+        Normal module, normal pressure angle, helix angle, face width.
+    h_a, h_f : float
+        Addendum and dedendum coefficients of the basic rack (in m_n).
+    m_t, alpha_t, alpha_wt, beta_b, a_w : float
+        Transverse module, transverse and working pressure angles, base helix angle, centre distance.
+    r, r_b, r_a, r_f : tuple of float
+        Reference, base, tip and root radii of pinion and wheel.
+    p_bt : float
+        Transverse base pitch.
+    T1T2, s_A, s_E : float
+        Length of the line of action between the tangent points, and the start A and end E of the
+        active contact as distances from T1 (pinion's tangent point).
+    eps_alpha, eps_beta : float
+        Transverse and overlap contact ratios.
+    sections : tuple of Section
+        The tooth of each gear.
+    """
+
+    gears: tuple[GearBlank, GearBlank]
+    m_n: float
+    alpha_n: float
+    beta: float
+    face_width: float
+    h_a: float
+    h_f: float
+    m_t: float
+    alpha_t: float
+    alpha_wt: float
+    beta_b: float
+    a_w: float
+    r: tuple[float, float]
+    r_b: tuple[float, float]
+    r_a: tuple[float, float]
+    r_f: tuple[float, float]
+    p_bt: float
+    T1T2: float
+    s_A: float
+    s_E: float
+    eps_alpha: float
+    eps_beta: float
+    sections: tuple[Section, Section] = field(repr=False)
+
+    def contact_radius(self, gear: int, s: np.ndarray) -> np.ndarray:
+        """Radius of the contact point on ``gear`` (0 pinion, 1 wheel) at the distance ``s`` from T1."""
+        s = np.asarray(s, dtype=float)
+        t = s if gear == 0 else self.T1T2 - s
+        return np.sqrt(self.r_b[gear] ** 2 + t * t)
+
+    @property
+    def s_pitch(self) -> float:
+        """Distance of the pitch point C from T1 (pure rolling there)."""
+        return self.r_b[0] * math.tan(self.alpha_wt)
+
+
+def _section(z: float, x: float, m_t: float, alpha_t: float, r_f: float, r_a: float) -> Section:
+    r = 0.5 * z * m_t
+    r_b = r * math.cos(alpha_t)
+    psi0 = math.pi / (2 * z) + 2.0 * x * math.tan(alpha_t) / z + involute(alpha_t)
+    rho = np.linspace(r_f, r_a, SECTION_POINTS)
+    a = np.arccos(np.clip(r_b / np.maximum(rho, r_b), -1.0, 1.0))
+    psi = psi0 - (np.tan(a) - a)
+    if psi[-1] <= 0:
+        raise ModelError(f"tooth of z = {z:g}: pointed (zero thickness below the tip circle); reduce x or h_a")
+    y, h = rho * np.cos(psi), rho * np.sin(psi)
+    theta_f = float(psi[0])
+    return Section(y=y, h=h, r_f=r_f, r_b=r_b, r_a=r_a, theta_f=theta_f, psi0=psi0)
+
+
+def pair_geometry(z1: int, z2: int, m_n: float, *, alpha_n: float = math.radians(20.0), beta: float = 0.0,
+                  face_width: float = 0.02, x1: float = 0.0, x2: float = 0.0, h_a: float = 1.0, h_f: float = 1.25,
+                  bore1: float | None = None, bore2: float | None = None, E: float = 206.0e9,
+                  nu: float = 0.3, teeth: tuple[int, int] | None = None) -> PairGeometry:
+    """The geometry of an external spur (β = 0) or helical pair.
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Numbers of teeth (≥ 8).
+    m_n : float
+        Normal module (m).
+    alpha_n, beta : float
+        Normal pressure angle and helix angle (rad).
+    face_width : float
+        Face width b (m).
+    x1, x2 : float
+        Profile shift coefficients.
+    h_a, h_f : float
+        Addendum and dedendum coefficients (ISO 53 profile A: 1 and 1.25).
+    bore1, bore2 : float, optional
+        Bore radii (m); default 0.5 r_f (h_f = 2, inside the range Sainsot et al. fitted).
+    E, nu : float
+        Young's modulus and Poisson's ratio of both gears.
+    teeth : (int, int), optional
+        The gears' own numbers of teeth when z1, z2 are the virtual numbers z_v = d_v/m_vt of a bevel pair's
+        virtual cylindrical gears (ISO 10300-1 Annex A, :mod:`geardyn.standards.iso10300`): the tooth shape and
+        the path of contact come from the virtual gears, the tooth indices and shaft orders from ``teeth``.
+
+    Returns
+    -------
+    PairGeometry
+
+    Raises
+    ------
+    ModelError
+        For non-physical inputs, a pointed tooth or a transverse contact ratio below 1.
+    """
+    if teeth is None and (int(z1) != z1 or int(z2) != z2):
+        raise ModelError(f"z1, z2: whole numbers of teeth, got {z1!r}, {z2!r} (virtual numbers need teeth=)")
+    if z1 < 8 or z2 < 8:
+        raise ModelError(f"z1, z2: at least 8 teeth, got {z1!r}, {z2!r}")
+    if teeth is not None and (len(teeth) != 2 or any(int(n) != n or n < 5 for n in teeth)):
+        raise ModelError(f"teeth: two whole numbers >= 5, got {teeth!r}")
+    for name, v in (("m_n", m_n), ("face_width", face_width), ("E", E)):
+        if not (math.isfinite(v) and v > 0):
+            raise ModelError(f"{name}: must be > 0, got {v!r}")
+    if not 0.0 <= nu < 0.5:
+        raise ModelError(f"nu: Poisson's ratio in [0, 0.5), got {nu!r}")
+    if not math.radians(10.0) <= alpha_n <= math.radians(35.0):
+        raise ModelError(f"alpha_n: between 10 and 35 deg, got {math.degrees(alpha_n):g} deg")
+    if not 0.0 <= beta < math.radians(45.0):
+        raise ModelError(f"beta: between 0 and 45 deg, got {math.degrees(beta):g} deg")
+    z1, z2 = float(z1), float(z2)
+    n1, n2 = (int(round(z1)), int(round(z2))) if teeth is None else (int(teeth[0]), int(teeth[1]))
+    alpha_t = math.atan(math.tan(alpha_n) / math.cos(beta))
+    beta_b = math.asin(math.sin(beta) * math.cos(alpha_n))
+    m_t = m_n / math.cos(beta)
+    r = (0.5 * z1 * m_t, 0.5 * z2 * m_t)
+    r_b = (r[0] * math.cos(alpha_t), r[1] * math.cos(alpha_t))
+    r_a = (r[0] + m_n * (h_a + x1), r[1] + m_n * (h_a + x2))
+    r_f = (r[0] - m_n * (h_f - x1), r[1] - m_n * (h_f - x2))
+    inv_wt = involute(alpha_t) + 2.0 * math.tan(alpha_n) * (x1 + x2) / (z1 + z2)
+    alpha_wt = _inverse_involute(inv_wt)
+    a_w = (r[0] + r[1]) * math.cos(alpha_t) / math.cos(alpha_wt)
+    T1T2 = a_w * math.sin(alpha_wt)
+    s_E = math.sqrt(r_a[0] ** 2 - r_b[0] ** 2)
+    s_A = T1T2 - math.sqrt(r_a[1] ** 2 - r_b[1] ** 2)
+    p_bt = math.pi * m_t * math.cos(alpha_t)
+    if s_A < 0:
+        raise ModelError("geometry: the wheel's tip reaches past the pinion's base circle (interference)")
+    eps_alpha = (s_E - s_A) / p_bt
+    if eps_alpha < 1.0:
+        raise ModelError(f"geometry: transverse contact ratio {eps_alpha:.3f} < 1")
+    eps_beta = face_width * math.sin(beta) / (math.pi * m_n)
+    gears = (GearBlank(z1, x1, bore1 if bore1 is not None else 0.5 * r_f[0], E, nu, n1),
+             GearBlank(z2, x2, bore2 if bore2 is not None else 0.5 * r_f[1], E, nu, n2))
+    for g, rf in zip(gears, r_f):
+        if not 0 < g.bore_radius < rf:
+            raise ModelError(f"bore radius of z = {g.z:g}: must lie between 0 and the root radius {rf:g} m")
+    sections = (_section(z1, x1, m_t, alpha_t, r_f[0], r_a[0]), _section(z2, x2, m_t, alpha_t, r_f[1], r_a[1]))
+    return PairGeometry(gears=gears, m_n=m_n, alpha_n=alpha_n, beta=beta, face_width=face_width, h_a=h_a,
+                        h_f=h_f, m_t=m_t, alpha_t=alpha_t, alpha_wt=alpha_wt, beta_b=beta_b, a_w=a_w, r=r,
+                        r_b=r_b, r_a=r_a, r_f=r_f, p_bt=p_bt, T1T2=T1T2, s_A=s_A, s_E=s_E,
+                        eps_alpha=eps_alpha, eps_beta=eps_beta, sections=sections)

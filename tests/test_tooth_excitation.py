@@ -1,0 +1,84 @@
+"""The excitation as a table over one or several mesh cycles through the model's Fourier inputs."""
+
+import math
+
+import numpy as np
+import pytest
+
+from geardyn.errors import ModelError
+from geardyn.integrate import trajectory
+from geardyn.model import GearModel, IntegrationOptions
+from geardyn.tooth.excitation import Excitation, excitation_model, fourier_series, pair_model, series_table
+from geardyn.tooth.faults import Crack
+from geardyn.tooth.geometry import pair_geometry
+from geardyn.tooth.mesh import mesh_stiffness
+
+OPT = IntegrationOptions(dtau=0.02, transient=20, periods=5)
+BASE = GearModel(omega=0.8, xi0=0.05, xi=(), phi_c=(), kappa=(), phi_k=(), eps=(), phi_e=(), fp=1.0, D=0.2)
+
+
+def _run(model, periods=5, steps=None, transient=20):
+    return trajectory(model, (0.1, 0.0), IntegrationOptions(dtau=0.02, transient=transient, periods=periods),
+                      history_periods=periods, steps=steps)
+
+
+def test_constant_stiffness_table_equals_the_series_to_rounding():
+    exc = Excitation(np.full(64, 3.2e8), np.full(64, 1e-6))
+    m_table = excitation_model(BASE, exc)
+    assert max(abs(k) for k in m_table.kappa) < 1e-15 and max(abs(e) for e in m_table.eps) < 1e-15
+    a, b = _run(m_table), _run(BASE)
+    np.testing.assert_allclose(a.u, b.u, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(a.v, b.v, rtol=0, atol=1e-13)
+
+
+def test_harmonics_given_both_ways_agree_to_1e_10():
+    kappa, phi_k = (0.2, 0.07, 0.03, 0.01), (0.3, -1.1, 2.0, 0.5)
+    eps, phi_e = (0.4, 0.1, 0.02), (0.0, 1.2, -0.7)
+    series_model = BASE.replace(kappa=kappa, phi_k=phi_k, eps=eps, phi_e=phi_e)
+    N = 32
+    k_tab = series_table(2.0e8, 2.0e8 * np.array(kappa), np.array(phi_k), N)
+    e_tab = series_table(0.0, 5e-6 * np.array(eps), np.array(phi_e), N)
+    mean, amp, ph = fourier_series(k_tab)
+    assert mean == pytest.approx(2.0e8, rel=1e-14)
+    np.testing.assert_allclose(amp[:4] / mean, kappa, atol=1e-12)
+    np.testing.assert_allclose(ph[:4], phi_k, atol=1e-10)
+    assert np.max(amp[4:]) / mean < 1e-14
+    table_model = excitation_model(BASE, Excitation(k_tab, e_tab), b_c=5e-6)
+    a, b = _run(table_model), _run(series_model)
+    np.testing.assert_allclose(a.u, b.u, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(a.v, b.v, rtol=0, atol=1e-10)
+
+
+def test_table_is_its_full_fourier_series_at_the_nodes():
+    x = np.random.default_rng(1).normal(size=48)
+    mean, amp, ph = fourier_series(x)
+    np.testing.assert_allclose(series_table(mean, amp, ph, 48), x, atol=1e-13)
+
+
+def test_multi_cycle_excitation_by_reparametrisation_is_the_same_equation():
+    # a one-cycle series repeated over P = 3 cycles: as a 3-cycle table the model runs at omega/3 with
+    # harmonics 3, 6, 9 ...; its trajectory equals the one-cycle model's at the same steps
+    kappa, phi_k, eps, phi_e = (0.2, 0.05), (0.4, 1.0), (0.3, 0.05), (0.2, -0.3)
+    one = BASE.replace(kappa=kappa, phi_k=phi_k, eps=eps, phi_e=phi_e)
+    N, P = 16, 3
+    k1 = series_table(1.0, np.array(kappa), np.array(phi_k), N)
+    e1 = series_table(0.0, np.array(eps), np.array(phi_e), N)
+    exc = Excitation(np.tile(k1, P), np.tile(e1, P), cycles=P)
+    three = excitation_model(BASE, exc)
+    assert three.omega == pytest.approx(BASE.omega / P, rel=1e-15)
+    assert three.period == pytest.approx(P * one.period, rel=1e-15)
+    a = _run(three, periods=2, steps=3 * 400)
+    b = _run(one, periods=6, steps=400, transient=60)
+    np.testing.assert_allclose(a.u, b.u, rtol=0, atol=1e-10)
+
+
+def test_hunting_excitation_of_a_cracked_pinion_tooth_runs():
+    geo = pair_geometry(20, 40, 0.003, face_width=0.02)
+    ms = mesh_stiffness(geo, 100.0, faults=[Crack(0, 0, 0.5)], points=32)
+    assert ms.cycles == 20
+    with pytest.raises(ModelError):  # 320 harmonics of omega/20: more than the model takes
+        pair_model(ms, 3000.0)
+    model, sc = pair_model(ms, 3000.0, harmonics=64)
+    assert model.omega == pytest.approx(sc["mesh_omega"] / 20, rel=1e-15)
+    tr = trajectory(model, (model.fp, 0.0), IntegrationOptions(dtau=0.05, transient=5, periods=2), history_periods=1)
+    assert np.all(np.isfinite(tr.u))
