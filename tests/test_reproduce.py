@@ -40,8 +40,15 @@ def test_report_files_and_claims(report_dir):
     assert {f"T3-{i}" for i in range(1, len(TABLE3) + 1)} <= set(ids)
     assert {f"T4-{i}" for i in range(1, len(TABLE4) + 1)} <= set(ids)
     for c in claims:
-        assert set(c) == {"id", "source", "statement", "computed", "verdict", "evidence"}
-        assert c["verdict"] in ("reproduced", "partly reproduced", "not reproduced")
+        assert set(c) == {"id", "source", "statement", "computed", "verdict", "evidence", "readings", "deciding",
+                          "reading", "found"}
+        assert c["verdict"] in ("reproduced", "reproduced under a reading", "contradicted", "not testable")
+        # every claim shows the readings it was judged under, with its result under each, and why the verdict
+        assert c["readings"][0] == ["reading", "result", "holds"] and len(c["readings"]) >= 2, c["id"]
+        assert c["deciding"], c["id"]
+        assert (c["verdict"] == "reproduced under a reading") == bool(c["reading"]), c["id"]
+        if c["reading"]:
+            assert any(row[2] in ("yes", "confirmed") for row in c["readings"][1:]), c["id"]
         assert c["computed"] and c["statement"] == CLAIMS[c["id"]].statement
         assert c["evidence"], c["id"]
         for rel in c["evidence"]:
@@ -65,7 +72,8 @@ def test_markdown_lists_every_claim_with_its_verdict(report_dir):
     md = (out / "report.md").read_text()
     claims = json.loads((out / "claims.json").read_text())
     for c in claims:
-        assert f"| {c['id']} |" in md and f"**{c['verdict']}**" in md
+        shown = c["verdict"] + (f": {c['reading']}" if c["reading"] else "")
+        assert f"| {c['id']} |" in md and f"**{shown}**" in md
 
 
 def test_formula_fit_recovers_known_coefficients():
@@ -82,10 +90,12 @@ def test_formula_fit_recovers_known_coefficients():
 
 
 def test_verdict_rule_and_quasi_n_mapping():
-    assert verdict_of(0.8) == "reproduced" and verdict_of(0.5) == "partly reproduced"
-    assert verdict_of(0.1) == "not reproduced"
+    assert verdict_of(0.8) == "reproduced" and verdict_of(0.5) == "contradicted"
+    assert verdict_of(0.1) == "contradicted"
     q4 = quasi_n(4)
-    assert q4(MOTION_PERIODIC, 4, 0) and q4(MOTION_QUASIPERIODIC, 0, 4)
+    assert q4(MOTION_PERIODIC, 4, 0)
+    # F1: no invariant closed curves for ξ0 > 0, so "quasi-4-periodic" is period-4 only, never 4 loops
+    assert not q4(MOTION_QUASIPERIODIC, 0, 4)
     assert not q4(MOTION_PERIODIC, 2, 0) and not q4(MOTION_CHAOTIC, 0, 0)
 
 
@@ -116,7 +126,7 @@ def test_motion_words():
     assert motion_rule("chaotic") == (is_chaotic, "chaotic")
     assert motion_rule("quasi-periodic") == (is_regular, "regular (periodic or quasi-periodic)")
     q3, what = motion_rule("quasi-3-periodic")
-    assert what == "quasi-3-periodic (period-3 or 3 loops)" and q3(MOTION_PERIODIC, 3, 0) and not q3(MOTION_PERIODIC, 2, 0)
+    assert what == "quasi-3-periodic (read as period-3, by F1)" and q3(MOTION_PERIODIC, 3, 0) and not q3(MOTION_PERIODIC, 2, 0)
     with pytest.raises(ValueError):
         motion_rule("periodic-ish")
 
@@ -154,14 +164,17 @@ def test_summary_table_says_what_the_paper_claims_and_the_totals_come_first(repo
     totals = page.index("Totals (")
     assert totals < page.index(header)
     claims = _findings(out)
-    counts = {v: sum(c.verdict == v for c in claims) for v in ("reproduced", "partly reproduced", "not reproduced")}
-    assert f"{counts['reproduced']} reproduced, {counts['partly reproduced']} partly reproduced" in page[totals:totals + 200]
+    kinds = ("reproduced", "reproduced under a reading", "contradicted", "not testable")
+    counts = {v: sum(c.verdict == v for c in claims) for v in kinds}
+    assert (f"{counts['reproduced']} reproduced, {counts['reproduced under a reading']} reproduced under a reading, "
+            f"{counts['contradicted']} contradicted, {counts['not testable']} not testable") in page[totals:totals + 300]
     summary = page[page.index(header):page.index("</table>", page.index(header))]
     for c in claims:
         row = re.search(rf"<tr><td><a href='#{re.escape(c.id)}'>.*?</tr>", summary).group(0)
         assert html_escape(c.statement) in row and html_escape(c.computed) in row and c.verdict in row
+        assert html_escape(c.deciding) in row
     md = (out / "report.md").read_text()
-    assert md.index("Totals (") < md.index("| id | source | paper says | we find | verdict |")
+    assert md.index("Totals (") < md.index("| id | source | paper says | we find | verdict | deciding evidence |")
 
 
 def html_escape(s):
@@ -185,7 +198,6 @@ def test_every_figure_shown_exists_and_every_cited_figure_is_shown(report_dir):
             elif rel.startswith("data/"):  # cited data: its main figure is shown too (the ω-search heat maps)
                 name = rel[len("data/"):-len(".nc")]
                 assert drawn[name][0] in shown, f"{c.id} cites {rel}; its figure is not shown"
-    assert {"figures/xi0_search/search.png", "figures/xi1_search/search.png"} <= set(shown)
 
 
 def test_every_figure_is_titled_with_its_parameters(report_dir):
@@ -216,7 +228,7 @@ def test_report_text_uses_symbols_and_consistent_verdict_words(report_dir):
     check_verdict_wording(claims)
     by_id = {c.id: c for c in claims}
     m = re.search(r"for (\d+) of (\d+) backlash values", by_id["JUMP-057"].computed)
-    assert m and (int(m.group(1)) > 0 or by_id["JUMP-057"].verdict == "not reproduced")
+    assert m and (int(m.group(1)) == int(m.group(2)) or by_id["JUMP-057"].verdict != "reproduced")
     assert "= none" not in by_id["BL-IMPACT"].computed
 
 
