@@ -171,7 +171,10 @@ def test_summary_table_says_what_the_paper_claims_and_the_totals_come_first(repo
     summary = page[page.index(header):page.index("</table>", page.index(header))]
     for c in claims:
         row = re.search(rf"<tr><td><a href='#{re.escape(c.id)}'>.*?</tr>", summary).group(0)
-        assert html_escape(c.statement) in row and html_escape(c.computed) in row and c.verdict in row
+        from geardyn.paper.report import found_text
+
+        assert html_escape(c.statement) in row and html_escape(found_text(c)) in row and c.verdict in row
+        assert c.computed.startswith(found_text(c).rstrip("…"))
         assert html_escape(c.deciding) in row
     md = (out / "report.md").read_text()
     assert md.index("Totals (") < md.index("| id | source | paper says | we find | verdict | deciding evidence |")
@@ -265,3 +268,28 @@ def test_xi0_diagram_is_also_shown_over_its_structure(report_dir):
     assert list(zoom["xi0"].values) == [v for v in x if lo <= v <= hi] and zoom["xi0"].size < x.size
     assert zoom.attrs["geardyn_kind"] == "bifurcation"
     assert "figures/xi0_bifurcation_zoom/bifurcation.png" in (out / "report.html").read_text()
+
+
+def test_report_shows_the_readings_of_every_claim_f1_f2_and_the_three_tables(report_dir):
+    import xarray as xr
+
+    out, _ = report_dir
+    page = (out / "report.html").read_text()
+    for title in ("F1: the period map contracts every area",
+                  "F2: without back-flank contact the response does not depend on D",
+                  "Table 2 recomputed", "Table 3 recomputed", "Table 4 recomputed", "Readings"):
+        assert f"<h2>{title}</h2>" in page, title
+    for cid in CLAIMS:  # every claim block holds its readings table
+        block = page[page.index(f"<div class='claim' id='{cid}'>"):]
+        block = block[:block.index("</div>")]
+        assert "<table class='readings'><tr><th>reading</th><th>result</th><th>holds</th></tr>" in block, cid
+    for cid in claim_ids("T2-") + claim_ids("T3-") + claim_ids("T4-"):  # the paper's rows beside geardyn's
+        word = CLAIMS[cid].numbers.get("motion") or CLAIMS[cid].numbers["jump"]
+        assert f"<td>{word}</td>" in page, cid
+    f1 = xr.load_dataset(out / "data" / "facts_f1.nc")
+    assert float(f1["rel"].max()) < 1e-8  # det of the period map = exp(−4πξ0/ω)
+    f2 = xr.load_dataset(out / "data" / "facts_f2.nc")
+    free = f2["back"].values == 0
+    assert free.any() and (~free).any() and float(np.ptp(f2["amplitude"].values[free])) < 1e-9
+    run = json.loads((out / "run.json").read_text())
+    assert {"readings_screen", "readings_responses"} <= set(run["datasets"])

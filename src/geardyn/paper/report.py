@@ -100,6 +100,20 @@ def _md_table(rows: Sequence[Sequence[str]]) -> list[str]:
     return out + [""]
 
 
+#: The summary's "we find" is cut at the first sentence end after this many characters at most.
+FOUND_CHARS = 240
+
+
+def found_text(c: "Finding") -> str:
+    """What geardyn finds, in one line for the summary: ``found``, else the first sentence of ``computed``."""
+    if c.found:
+        return c.found
+    t = c.computed
+    end = t.find(". ")
+    t = t if end < 0 else t[: end + 1]
+    return t if len(t) <= FOUND_CHARS else t[: FOUND_CHARS - 1].rstrip() + "…"
+
+
 def _verdict_text(c: "Finding") -> str:
     """The verdict as the report writes it: the kind, with the reading where it is one."""
     return f"{c.verdict}: {c.reading}" if c.reading and c.verdict == "reproduced under a reading" else c.verdict
@@ -188,7 +202,7 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
             "| " + " | ".join(SUMMARY_COLUMNS) + " |", "|" + "---|" * len(SUMMARY_COLUMNS)]
     for c in claims:
         out.append(f"| {c.id} | {_md_escape_cell(c.source)} | {_md_escape_cell(c.statement)} | "
-                   f"{_md_escape_cell(c.found or c.computed)} | **{_verdict_text(c)}** | {_md_escape_cell(c.deciding)} |")
+                   f"{_md_escape_cell(found_text(c))} | **{_verdict_text(c)}** | {_md_escape_cell(c.deciding)} |")
     out.append("")
     for s in sections:
         out += [f"## {s.title}", ""]
@@ -218,7 +232,8 @@ body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max
 padding:0 1em;color:#222;line-height:1.45}
 table{border-collapse:collapse;margin:1em 0;font-size:0.92em}td,th{border:1px solid #ccc;padding:4px 8px;
 vertical-align:top;text-align:left}th{background:#f3f3f3}
-table.summary td:nth-child(3){min-width:14em}table.summary td:nth-child(5){white-space:nowrap}
+table.summary td:nth-child(3){min-width:14em}table.summary td:nth-child(4){min-width:18em}
+table.summary td:nth-child(5){min-width:9em;max-width:16em}table.summary td:nth-child(6){min-width:16em}
 .v-reproduced{background:#d9f2d9}.v-reading{background:#e3ecfa}.v-contradicted{background:#f8d7d7}
 .v-untestable{background:#eeeeee}table.readings{font-size:0.85em;margin:0.4em 0}
 .totals{font-size:1.05em}
@@ -282,7 +297,7 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
     out.append("<table class='summary'><tr>" + "".join(f"<th>{e(h)}</th>" for h in SUMMARY_COLUMNS) + "</tr>")
     for c in claims:
         out.append(f"<tr><td><a href='#{e(c.id)}'>{e(c.id)}</a></td><td>{e(c.source)}</td><td>{e(c.statement)}</td>"
-                   f"<td>{e(c.found or c.computed)}</td><td class='{_vclass(c.verdict)}'>{e(_verdict_text(c))}</td>"
+                   f"<td>{e(found_text(c))}</td><td class='{_vclass(c.verdict)}'>{e(_verdict_text(c))}</td>"
                    f"<td>{e(c.deciding)}</td></tr>")
     out.append("</table>")
 

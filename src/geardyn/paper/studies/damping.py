@@ -47,8 +47,9 @@ HIGH_CHAOS_FROM = 0.5
 #: XI0-BIF: largest distances (in ξ0) of the computed points from the paper's first and second point.
 BIF_NEAR = (0.02, 0.1)
 
-_WORDS = ("'quasi-n-periodic' = n groups of Poincaré points (a period-n orbit, or a quasi-periodic torus "
-          "section of n loops); 'chaotic' = largest exponent significantly positive.")
+_WORDS = ("'quasi-n-periodic' = a period-n orbit (by F1 no quasi-periodic torus exists for ξ0 > 0); 'chaotic' = "
+          "largest exponent significantly positive; labels of closed curves, λ1 ≈ 0 or period-2n are re-examined by a "
+          "longer exponent run or shooting.")
 
 
 @dataclass(frozen=True)

@@ -44,7 +44,7 @@ TABLE3_B: tuple[float, ...] = tuple(CLAIMS[c].numbers["b"] for c in claim_ids("T
 #: XI0-BIF: the return to chaos is sought from this ξ0 on.
 HIGH_CHAOS_FROM = 0.5
 #: Candidates confirmed per claim.
-VERIFY_PER_CLAIM = 1
+VERIFY_PER_CLAIM = 2
 #: |λ1| "near zero" (Table 3): within max(3σ + LLE_BAND_FLOOR, LLE_NEAR) …
 LLE_NEAR = 0.01
 LLE_BAND_FLOOR = 1e-3
@@ -93,7 +93,7 @@ class ReadingRow:
 
     reading: str
     result: str
-    holds: str  # "yes", "no", "—" (screen only), "confirmed", "not confirmed"
+    holds: str  # "yes", "no", "screen" (candidates only), "confirmed", "not confirmed"
 
 
 @dataclass
@@ -179,10 +179,27 @@ class Verification:
     start: int = 0
 
 
-def _range_judge(cid: str, param: str, values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def claim_range(cid: str) -> tuple[float, float, bool, bool]:
+    """A range claim's interval (Table 2, row 3 ends at the text's second bifurcation point)."""
     lo, hi, lo_open, hi_open = range_of(CLAIMS[cid].numbers)
     if cid == "T2-3":
         hi, hi_open = CLAIMS["XI0-BIF"].numbers["points"][1], True
+    return lo, hi, lo_open, hi_open
+
+
+def in_range(cid: str, grid: Sequence[float]) -> list[float]:
+    """The grid values in a range claim's interval, with one neighbour beyond each end (whose cell is cut to it)."""
+    lo, hi, _, _ = claim_range(cid)
+    x = np.asarray(grid, dtype=float)
+    idx = np.flatnonzero((x >= lo) & (x <= hi))
+    if idx.size == 0:
+        return [float(v) for v in x]
+    a, b = max(int(idx[0]) - 1, 0), min(int(idx[-1]) + 1, x.size - 1)
+    return [float(v) for v in x[a:b + 1]]
+
+
+def _range_judge(cid: str, param: str, values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+    lo, hi, lo_open, hi_open = claim_range(cid)
     pred = _pred(cid)
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
@@ -258,7 +275,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                     ok &= np.array([word(m, n) for m, n in zip(var["motion"][i, j], var["period"][i, j])])
                 ws = W[ok]
                 rows[cid].append(ReadingRow(f"φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}",
-                                            f"probes hold {at_omegas(ws)}", "—"))
+                                            f"probes hold {at_omegas(ws)}", "screen"))
                 cands[cid] += [(float(w), pair, "") for w in ws]
     # Table 3: per backlash reading and phase pair, the ω where the row's motion holds on the screen
     for k, cid in enumerate(claim_ids("T3-")):
@@ -275,7 +292,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                     ok &= edge
                 ws = W[ok]
                 rows[cid].append(ReadingRow(f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {_pt(pair[0])}, "
-                                            f"φ_k1 = {_pt(pair[1])}", f"motion holds {at_omegas(ws)}", "—"))
+                                            f"φ_k1 = {_pt(pair[1])}", f"motion holds {at_omegas(ws)}", "screen"))
                 cands[cid] += [(float(w), pair, key) for w in ws]
     # BL-IMPACT, BL-AMP and their joint test with the Table 3 sequence (F2)
     joint = _backlash_rows(data, rows, cands)
@@ -291,17 +308,19 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 ver.append(Verification(cid, rd, "D", [rd.D(b)], _t3_judge(cid)))
             elif cid.startswith("BL-"):
                 ver.append(Verification(cid, rd, "D", [rd.D(b) for b in TABLE3_B], _bl_judge(cid)))
-            elif cid in ("T2-4", "T2-5", "XI1-CHAOS"):
-                judge = _range_judge(cid, "xi1", xi1_grid) if cid != "XI1-CHAOS" else _xi1_chaos_judge(xi1_grid)
-                ver.append(Verification(cid, rd, "xi1", xi1_grid, judge))
-            else:
-                judge = _range_judge(cid, "xi0", xi0_grid) if cid != "XI0-BIF" else _xi0_bif_judge(xi0_grid)
-                ver.append(Verification(cid, rd, "xi0", xi0_grid, judge))
+            elif cid == "XI1-CHAOS":
+                ver.append(Verification(cid, rd, "xi1", xi1_grid, _xi1_chaos_judge(xi1_grid)))
+            elif cid == "XI0-BIF":
+                ver.append(Verification(cid, rd, "xi0", xi0_grid, _xi0_bif_judge(xi0_grid)))
+            else:  # a range claim: the grid over its interval
+                param = str(CLAIMS[cid].numbers["param"])
+                grid = in_range(cid, xi0_grid if param == "xi0" else xi1_grid)
+                ver.append(Verification(cid, rd, param, grid, _range_judge(cid, param, grid)))
     # the readings that agree best with Tables 2 and 3 on the screen, computed in full for the tables
     best2, best3 = _best_t2(data), _best_t3(data)
     for cid in claim_ids("T2-"):
         param = str(CLAIMS[cid].numbers["param"])
-        grid = xi0_grid if param == "xi0" else xi1_grid
+        grid = in_range(cid, xi0_grid if param == "xi0" else xi1_grid)
         ver.append(Verification("TAB:" + cid, best2, param, grid, _range_judge(cid, param, grid)))
     for cid in claim_ids("T3-"):
         ver.append(Verification("TAB:" + cid, best3, "D", [best3.D(CLAIMS[cid].numbers["b"])], _t3_judge(cid)))
@@ -324,7 +343,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 f.deciding = f"holds under {ok[0].reading.text} ({ok[0].reading.changes() or 'default'}), confirmed by a " \
                              f"full computation; fails at the default reading"
             else:
-                tried = sum(1 for r in rs if r.holds == "—")
+                tried = sum(1 for r in rs if r.holds == "screen")
                 f.deciding = (f"fails at the default reading; no candidate among {tried} screened reading families "
                               f"({W.size} ω each) was confirmed" + joint.get(cid, ""))
         else:
