@@ -46,7 +46,17 @@ DEFAULT_BACKLASH = "b/2"
 
 
 def phase_text(x: float) -> str:
-    """A phase as the report writes it (``0``, ``π/2``, ``π``, ``3π/2``)."""
+    """A phase as the report writes it (``0``, ``π/2``, ``π``, ``3π/2``).
+
+    Parameters
+    ----------
+    x : float
+        The phase (rad).
+
+    Returns
+    -------
+    str
+    """
     k = round(2 * x / math.pi)
     if abs(x - k * math.pi / 2) > 1e-9:
         return f"{x:.3g}"

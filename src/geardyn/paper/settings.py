@@ -187,6 +187,8 @@ class Context:
         Name → Dataset not yet written.
     labels : dict
         Name → what the Dataset is, with its parameters, as the report shows its evidence.
+    data_only : set
+        Names of the Datasets saved without figures (kinds that have none).
     """
 
     out: Path

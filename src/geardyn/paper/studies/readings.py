@@ -74,7 +74,19 @@ def at_omegas(ws: Sequence[float]) -> str:
 
 
 def intervals_text(ws: Sequence[float], step: float = 0.01) -> str:
-    """Grid values as runs: ``"0.62–0.71, 1.20"`` (``"none"`` when empty)."""
+    """Grid values as runs: ``"0.62–0.71, 1.20"`` (``"none"`` when empty).
+
+    Parameters
+    ----------
+    ws : sequence of float
+        The values.
+    step : float
+        The grid step (values closer than 1.5 steps are one run).
+
+    Returns
+    -------
+    str
+    """
     w = sorted(float(x) for x in ws)
     if not w:
         return "none"
@@ -89,7 +101,18 @@ def intervals_text(ws: Sequence[float], step: float = 0.01) -> str:
 
 @dataclass
 class ReadingRow:
-    """One row of a claim's readings table: a reading (or a family of them) and the result."""
+    """One row of a claim's readings table: a reading (or a family of them) and the result.
+
+    Parameters
+    ----------
+    reading : str
+        The reading, or the family of readings (a phase pair over the ω grid).
+    result : str
+        The claim's result under it.
+    holds : str
+        ``"yes"``, ``"no"``, ``"screen"`` (where the screen shows candidates only), ``"confirmed"`` or
+        ``"not confirmed"`` (a full computation at a candidate).
+    """
 
     reading: str
     result: str
@@ -98,7 +121,19 @@ class ReadingRow:
 
 @dataclass
 class ScreenData:
-    """The screened readings of the damping and backlash claims (arrays by group)."""
+    """The screened readings of the damping and backlash claims (arrays by group).
+
+    Parameters
+    ----------
+    omegas : ndarray
+        The ω grid.
+    pairs_full, pairs_one : list of (float, float)
+        The 16 phase pairs, and the 7 with one phase varied.
+    xi0, xi1 : dict of ndarray
+        Per variable, (probe, phase pair, ω) for the ξ0 and ξ1 probes.
+    bl : dict of ndarray
+        Per variable, (backlash reading, b, phase pair, ω) for Table 3's backlash values.
+    """
 
     omegas: np.ndarray
     pairs_full: list[tuple[float, float]]
@@ -261,6 +296,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     xi1_grid = [float(v) for v in s.xi1_grid]
     rows: dict[str, list[ReadingRow]] = {}
     cands: dict[str, list[tuple[float, tuple[float, float], str]]] = {}
+    okmap: dict[str, list[np.ndarray]] = {}  # claim -> per reading family, where the screen holds over ω
     # Table 2, XI0-BIF, XI1-CHAOS: per phase pair, the ω where every probe of the claim holds
     for group, probes, var in (("xi0", XI0_PROBES, data.xi0), ("xi1", XI1_PROBES, data.xi1)):
         cids = sorted({c for _, cs in probes for c in cs}, key=list(CLAIMS).index)
@@ -274,6 +310,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                     word = _probe_word(cid, i, probes)
                     ok &= np.array([word(m, n) for m, n in zip(var["motion"][i, j], var["period"][i, j])])
                 ws = W[ok]
+                okmap.setdefault(cid, []).append(ok)
                 rows[cid].append(ReadingRow(f"φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}",
                                             f"probes hold {at_omegas(ws)}", "screen"))
                 cands[cid] += [(float(w), pair, "") for w in ws]
@@ -291,11 +328,21 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                     edge[:-1] |= n[1:] != n[:-1]
                     ok &= edge
                 ws = W[ok]
+                okmap.setdefault(cid, []).append(ok)
                 rows[cid].append(ReadingRow(f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {_pt(pair[0])}, "
                                             f"φ_k1 = {_pt(pair[1])}", f"motion holds {at_omegas(ws)}", "screen"))
                 cands[cid] += [(float(w), pair, key) for w in ws]
     # BL-IMPACT, BL-AMP and their joint test with the Table 3 sequence (F2)
-    joint = _backlash_rows(data, rows, cands)
+    joint = _backlash_rows(data, rows, cands, okmap)
+    ids = [c for c in CLAIMS if c in okmap]
+    ctx.save("readings_damping", xr.Dataset(
+        {"hold_fraction": (("claim", "omega"), np.array([np.mean(okmap[c], axis=0) for c in ids]))},
+        coords={"claim": ids, "omega": W},
+        attrs={"geardyn_kind": "readings_map", "model": json_attr(ctx.base), "default_omega": s.omega_damping}),
+        f"fraction of the readings (phase pairs; with b, backlash readings) where each claim's screen holds, over "
+        f"ω ∈ [{W[0]:.2f}, {W[-1]:.2f}] (ξ0 = {TABLE1['xi0']:g}, ξ1 = {TABLE1['xi1']:g} unless probed)")
+    for cid in ids:
+        findings[cid].evidence += [ctx.datasets["readings_damping"], ctx.figure("readings_damping")]
     # confirm the candidates nearest the default of every claim that fails at the default reading
     ver: list[Verification] = []
     for cid, cs in cands.items():
@@ -344,8 +391,13 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                              f"full computation; fails at the default reading"
             else:
                 tried = sum(1 for r in rs if r.holds == "screen")
-                f.deciding = (f"fails at the default reading; no candidate among {tried} screened reading families "
-                              f"({W.size} ω each) was confirmed" + joint.get(cid, ""))
+                n_c = len(cands.get(cid, []))
+                n_v = sum(v.cid == cid for v in ver)
+                f.deciding = (f"fails at the default reading; the screen of {tried} reading families × {W.size} ω gives "
+                              f"{n_c} candidate readings" + (f", and the {n_v} nearest the default fail in a full "
+                                                             "computation" if n_v else "") + joint.get(cid, ""))
+                if "quasi" in str(CLAIMS[cid].numbers.get("motion", "")):
+                    f.deciding += "; by F1 its 'quasi-n-periodic' can only be period-n, which is what was tested"
         else:
             f.deciding = "holds at the default reading (full computation)"
     return {"rows": rows, "tables": tables, "best2": best2, "best3": best3}
@@ -417,7 +469,8 @@ def _xi1_chaos_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]
 
 
 def _backlash_rows(data: ScreenData, rows: dict[str, list[ReadingRow]],
-                   cands: dict[str, list[tuple[float, tuple[float, float], str]]]) -> dict[str, str]:
+                   cands: dict[str, list[tuple[float, tuple[float, float], str]]],
+                   okmap: dict[str, list[np.ndarray]]) -> dict[str, str]:
     """BL-IMPACT and BL-AMP rows, and the joint test with the Table 3 sequence (by F2 it cannot hold)."""
     W = data.omegas
     single = [k for k, v in IMPACT_LABELS.items() if v == CLAIMS["BL-IMPACT"].numbers["impact"]][0]
@@ -436,6 +489,8 @@ def _backlash_rows(data: ScreenData, rows: dict[str, list[ReadingRow]],
             n_joint += int(np.sum(seq & ok_imp))
             n_seq += int(np.sum(seq))
             lab = f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}"
+            okmap.setdefault("BL-IMPACT", []).append(ok_imp)
+            okmap.setdefault("BL-AMP", []).append(ok_amp)
             cands["BL-IMPACT"] += [(float(w), pair, key) for w in W[ok_imp]]
             cands["BL-AMP"] += [(float(w), pair, key) for w in W[ok_amp]]
             rows["BL-IMPACT"].append(ReadingRow(lab, f"single-sided at all three b {at_omegas(W[ok_imp])}",

@@ -41,7 +41,19 @@ LOW_DISAGREE = 0.1
 
 @dataclass
 class JumpReadings:
-    """The lockstep responses: readings, and per reading and key the amplitudes, spreads and jumps."""
+    """The lockstep responses: readings, and per reading and key the amplitudes, spreads and jumps.
+
+    Parameters
+    ----------
+    omega : ndarray (n,)
+        The ω grid.
+    readings : list of Reading
+        The readings, the default among them.
+    amplitude, spread : ndarray (reading, key, 2, n)
+        Half peak-to-peak amplitude and spread of the Poincaré points, up and down sweeps.
+    jumps : list
+        Per reading and key (:data:`JUMP_KEYS`), the jumps of the response.
+    """
 
     omega: np.ndarray
     readings: list[Reading]
