@@ -89,7 +89,7 @@ def run_studies(ctx: Context) -> list[Section]:
     dres = damping_readings(ctx, run_screen(ctx), findings)
     ctx.log("readings: lockstep responses of the jump claims")
     jr = run_lockstep(ctx)
-    jres = jump_readings(jr, findings)
+    jres = jump_readings(ctx, jr, findings)
     fixed_readings(findings)
     return [*study_facts(ctx), *sections, *study_tables(ctx, dres, jr, jres, default_holds),
             readings_section(ctx, findings)]

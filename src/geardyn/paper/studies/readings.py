@@ -342,7 +342,8 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
         f"fraction of the readings (phase pairs; with b, backlash readings) where each claim's screen holds, over "
         f"ω ∈ [{W[0]:.2f}, {W[-1]:.2f}] (ξ0 = {TABLE1['xi0']:g}, ξ1 = {TABLE1['xi1']:g} unless probed)")
     for cid in ids:
-        findings[cid].evidence += [ctx.datasets["readings_damping"], ctx.figure("readings_damping")]
+        findings[cid].evidence += [ctx.datasets["readings_screen"], ctx.datasets["readings_damping"],
+                                   ctx.figure("readings_damping")]
     # confirm the candidates nearest the default of every claim that fails at the default reading
     ver: list[Verification] = []
     for cid, cs in cands.items():
