@@ -213,8 +213,8 @@ def test_every_figure_is_titled_with_its_parameters(report_dir):
     response = [c for c in captions if c.startswith("Frequency response")]
     from geardyn.reproduce import Settings
 
-    n = len(Settings.quick().response_sets)  # eleven responses, eleven different titles
-    assert n == 11 and len(response) == len(set(response)) == n
+    n = len(Settings.quick().response_sets)  # eight responses, eight different titles
+    assert n == 8 and len(response) == len(set(response)) == n
     for name in json.loads((out / "run.json").read_text())["datasets"]:
         ds = __import__("xarray").open_dataset(out / "data" / f"{name}.nc")
         assert "model" in ds.attrs, f"{name}: figures title from the model, which the Dataset must carry"

@@ -221,7 +221,7 @@ def lockstep_chunk(base: GearModel, names: Sequence[str], points: np.ndarray, om
 
 
 def lockstep_responses(base: GearModel, names: Sequence[str], points: np.ndarray, omegas: Sequence[float],
-                       options: IntegrationOptions, executor: Any = None, chunk: int = 16) -> dict[str, np.ndarray]:
+                       options: IntegrationOptions, executor: Any = None, chunk: int | None = None) -> dict[str, np.ndarray]:
     """:func:`lockstep_chunk` over many readings, cut into chunks of ``chunk`` readings for the sweep engine.
 
     Parameters
@@ -231,8 +231,8 @@ def lockstep_responses(base: GearModel, names: Sequence[str], points: np.ndarray
     omegas : sequence of float
         The ω grid (sorted here).
     executor : concurrent.futures.Executor, optional
-    chunk : int
-        Readings per chunk.
+    chunk : int, optional
+        Readings per chunk (default: the readings in four chunks, for large kernel batches).
 
     Returns
     -------
@@ -241,6 +241,7 @@ def lockstep_responses(base: GearModel, names: Sequence[str], points: np.ndarray
     """
     pts = np.asarray(points, dtype=float).reshape(-1, len(names))
     w = np.sort(np.asarray(omegas, dtype=float))
+    chunk = max(1, -(-pts.shape[0] // 4)) if chunk is None else int(chunk)
     chunks = [Chunk(i, lockstep_chunk, (base, tuple(names), pts[a:a + chunk], w, options))
               for i, a in enumerate(range(0, pts.shape[0], chunk))]
     res = run_chunks(chunks, SweepOptions(executor=executor), description="readings responses")

@@ -91,7 +91,7 @@ def run_studies(ctx: Context) -> list[Section]:
     jr = run_lockstep(ctx)
     jres = jump_readings(ctx, jr, findings)
     fixed_readings(findings)
-    return [*study_facts(ctx), *sections, *study_tables(ctx, dres, jr, jres, default_holds),
+    return [*study_facts(ctx), *sections, *study_tables(ctx, dres, jr, jres, default_holds, findings),
             readings_section(ctx, findings)]
 
 

@@ -57,8 +57,8 @@ class Settings:
     response_transient, response_periods : int
         Periods discarded and recorded per point of a frequency response.
     xi0_set, xi1_set, d_set, alt_set : tuples of (ξ0, ξ1, D)
-        Frequency responses of the jump study: ξ0 varied, ξ1 varied, D varied, and the reading
-        D = b of the backlash the paper gives in mm.
+        Frequency responses of the jump study: ξ0 varied, ξ1 varied, D varied, and any further
+        ones (none by default: the other backlash readings are judged by the readings study).
     stability_omegas : array
         ω grid of the stability-condition study.
     continuation_omega : (float, float)
@@ -82,9 +82,9 @@ class Settings:
     xi1_grid: tuple[float, ...] = tuple(np.round(np.arange(0.0, 0.1501, 0.005), 4))
     d_grid: tuple[float, ...] = tuple(np.round(np.arange(0.05, 1.0001, 0.025), 4))
     readings_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.5, 1.6001, 0.01), 2))
-    readings_transient: int = 100
-    readings_periods: int = 32
-    readings_settle: int = 60
+    readings_transient: int = 80
+    readings_periods: int = 24
+    readings_settle: int = 40
     readings_response_transient: int = 40
     readings_response_periods: int = 24
     confirm_periods: int = 3000
@@ -96,7 +96,7 @@ class Settings:
     xi1_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.03, 0.25), (0.08, 0.05, 0.25), (0.08, 0.08, 0.25))
     d_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.1), (0.08, 0.05, 0.25), (0.08, 0.05, 0.35),
                                                      (0.08, 0.05, 0.75))
-    alt_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.5), (0.15, 0.05, 0.5), (0.08, 0.05, 1.5))
+    alt_set: tuple[tuple[float, float, float], ...] = ()
     stability_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.4, 2.41, 0.1), 3))
     continuation_omega: tuple[float, float] = (0.5, 0.7)
     continuation_sweep_num: int = 101

@@ -1,7 +1,7 @@
 """The jump study: up and down frequency responses, the jump claims of the text, and Table 4.
 
-The paper's 'b' (mm) is read as in its Table 3, D = b/2; the reading D = b is computed alongside
-where a claim depends on it (:attr:`Settings.alt_set`).  Jumps and hysteresis come from
+The paper's 'b' (mm) is read as in its Table 3, D = b/2 (the default reading); the other readings
+are judged by :mod:`geardyn.paper.studies.readings_jumps`.  Jumps and hysteresis come from
 :func:`geardyn.analysis.response.frequency_response`.
 """
 
@@ -287,8 +287,8 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
          f"each starting from the previous end state, {s.response_options.transient} transient and "
          f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step of the "
          "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
-         "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm); the reading D = b "
-         f"is shown alongside where the claim depends on it. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."],
+         "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm), the default "
+         f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."],
         [(jd.evidence[k][1], f"Frequency response at {_key_text(k)}: up and down sweeps over ω ∈ "
                              f"[{s.response_omega[0]:g}, {s.response_omega[1]:g}]") for k in R],
         claims,

@@ -43,8 +43,10 @@ XI1_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = ((0.01, ("T2-4", "XI1-CH
 TABLE3_B: tuple[float, ...] = tuple(CLAIMS[c].numbers["b"] for c in claim_ids("T3-"))
 #: XI0-BIF: the return to chaos is sought from this ξ0 on.
 HIGH_CHAOS_FROM = 0.5
-#: Candidates confirmed per claim.
-VERIFY_PER_CLAIM = 2
+#: Candidates confirmed per claim: as many as fit in this many points (a point of Table 3 is one, a range
+#: claim its interval's grid), at least one and at most VERIFY_MAX.
+VERIFY_POINTS = 60
+VERIFY_MAX = 6
 #: |λ1| "near zero" (Table 3): within max(3σ + LLE_BAND_FLOOR, LLE_NEAR) …
 LLE_NEAR = 0.01
 LLE_BAND_FLOOR = 1e-3
@@ -349,7 +351,16 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     for cid, cs in cands.items():
         if findings[cid].verdict == "reproduced":
             continue
-        for w, pair, key in _order(cs)[:VERIFY_PER_CLAIM]:
+        if cid.startswith("T3-"):
+            n_pts = 1
+        elif cid.startswith("BL-"):
+            n_pts = len(TABLE3_B)
+        elif cid in ("XI0-BIF", "XI1-CHAOS"):
+            n_pts = len(xi0_grid if cid == "XI0-BIF" else xi1_grid)
+        else:
+            param = str(CLAIMS[cid].numbers["param"])
+            n_pts = len(in_range(cid, xi0_grid if param == "xi0" else xi1_grid))
+        for w, pair, key in _order(cs)[:max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]:
             rd = Reading(pair[0], pair[1], key, w)
             if cid.startswith("T3-"):
                 b = CLAIMS[cid].numbers["b"]

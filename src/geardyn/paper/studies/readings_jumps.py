@@ -35,6 +35,24 @@ JUMP_KEYS: tuple[tuple[float, float, float], ...] = (
 XI0_KEYS = ((0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5))
 XI1_KEYS = ((0.08, 0.03, 0.5), (0.08, 0.05, 0.5), (0.08, 0.08, 0.5))
 B_KEYS = ((0.08, 0.05, 0.2), (0.08, 0.05, 0.5), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
+def _claim_keys() -> dict[str, set[int]]:
+    ix = JUMP_KEYS.index
+    xi1 = TABLE1["xi1"]
+    out = {"JUMP-LOW": set(range(len(JUMP_KEYS))), "JUMP-XI0": {ix(k) for k in XI0_KEYS},
+           "JUMP-XI1": {ix(k) for k in XI1_KEYS}, "JUMP-FLUCT": {ix(k) for k in XI0_KEYS + XI1_KEYS},
+           "JUMP-057": {ix(k) for k in B_KEYS}, "FORMULA": {i for i, k in enumerate(JUMP_KEYS) if k[1] == xi1}}
+    for cid in ("JUMP-082", "JUMP-095"):
+        out[cid] = {ix((0.08, xi1, CLAIMS[cid].numbers["b"]))}
+    for cid in claim_ids("T4-"):
+        n = CLAIMS[cid].numbers
+        out[cid] = {ix((n["xi0"], xi1, n["b"]))}
+    return out
+
+
+#: Candidate readings confirmed for a claim judged on one or two responses (one for the others).
+CONFIRM_SINGLE = 2
+#: The responses each claim is judged on (indices of JUMP_KEYS).
+CLAIM_KEYS: dict[str, set[int]] = _claim_keys()
 #: A hysteresis below ω = 0.5 (JUMP-LOW): up and down amplitudes differing by this fraction of the response's range.
 LOW_DISAGREE = 0.1
 
@@ -66,7 +84,7 @@ class JumpReadings:
 
 
 def run_lockstep(ctx: Context, readings: list[Reading] | None = None, options: Any = None,
-                 name: str = "readings_responses") -> JumpReadings:
+                 name: str = "readings_responses", keys: list[set[int]] | None = None) -> JumpReadings:
     """Every reading's responses, in one call of the sweep engine.
 
     Parameters
@@ -78,6 +96,8 @@ def run_lockstep(ctx: Context, readings: list[Reading] | None = None, options: A
         Periods per point (default the settings' ``readings_response_options``).
     name : str
         Name of the saved Dataset.
+    keys : list of set of int, optional
+        Per reading, the indices of :data:`JUMP_KEYS` to compute (default all); the others are NaN.
 
     Returns
     -------
@@ -87,14 +107,19 @@ def run_lockstep(ctx: Context, readings: list[Reading] | None = None, options: A
     if readings is None:
         readings = [Reading(a, b, key) for key in BACKLASH_READINGS for (a, b) in phase_pairs(False)]
     options = s.readings_response_options if options is None else options
-    pts = np.array([[r.phi_c, r.phi_k, x0, x1, r.D(b)] for r in readings for (x0, x1, b) in JUMP_KEYS])
+    nR, nK = len(readings), len(JUMP_KEYS)
+    pairs = [(i, k) for i in range(nR) for k in range(nK) if keys is None or k in keys[i]]
+    pts = np.array([[readings[i].phi_c, readings[i].phi_k, *JUMP_KEYS[k][:2], readings[i].D(JUMP_KEYS[k][2])]
+                    for i, k in pairs])
     W = np.round(np.linspace(s.response_omega[0], s.response_omega[1], s.response_num), 6)
     ctx.log(f"readings responses: {pts.shape[0]} up/down sweeps of {W.size} ω each")
     r = lockstep_responses(ctx.base, ("phi_c1", "phi_k1", "xi0", "xi1", "D"), pts, W, options, ctx.executor)
-    nR, nK = len(readings), len(JUMP_KEYS)
-    amp = r["amplitude"].reshape(nR, nK, 2, W.size)
-    spread = r["spread"].reshape(nR, nK, 2, W.size)
-    jumps = [[response_jumps(W, amp[i, k]) for k in range(nK)] for i in range(nR)]
+    amp = np.full((nR, nK, 2, W.size), np.nan)
+    spread = np.full((nR, nK, 2, W.size), np.nan)
+    for j, (i, k) in enumerate(pairs):
+        amp[i, k], spread[i, k] = r["amplitude"][j], r["spread"][j]
+    jumps = [[response_jumps(W, amp[i, k]) if np.isfinite(amp[i, k]).any() else [] for k in range(nK)]
+             for i in range(nR)]
     ctx.save(name, xr.Dataset(
         {"amplitude": (("reading", "key", "sweep", "omega"), amp), "spread": (("reading", "key", "sweep", "omega"), spread)},
         coords={"reading": [rd.text for rd in readings], "key": [f"ξ0 = {a:g}, ξ1 = {b:g}, b = {c:g} mm" for a, b, c in JUMP_KEYS],
@@ -221,7 +246,7 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
         Claim id → (holds, result) per reading (in the order of ``jr.readings``, default first).
     """
     out = {}
-    need: dict[str, int] = {}
+    need: dict[str, list[int]] = {}
     for cid, test in _tests(jr).items():
         res = [test(i) for i in range(len(jr.readings))]
         out[cid] = res
@@ -237,7 +262,7 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
         if full_default:
             f.verdict, f.deciding = "reproduced", f"holds at the default reading (full responses); lockstep: {res[i_def][1]}"
         elif holding:
-            need[cid] = holding[0]
+            need[cid] = holding[:CONFIRM_SINGLE if len(CLAIM_KEYS[cid]) <= 2 else 1]
             f.deciding = f"{len(holding)} of {len(res) - 1} other readings hold in the lockstep responses"
         else:
             f.verdict = "contradicted"
@@ -248,24 +273,30 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
     return out
 
 
-def _confirm(ctx: Context, jr: JumpReadings, need: dict[str, int], findings: dict[str, Finding]) -> None:
+def _confirm(ctx: Context, jr: JumpReadings, need: dict[str, list[int]], findings: dict[str, Finding]) -> None:
     """Recompute the responses under the candidate readings with the study's periods; set the verdicts."""
     s = ctx.settings
-    uniq = sorted(set(need.values()))
+    uniq = sorted({i for c in need.values() for i in c})
     opts = s.response_options
-    sub = run_lockstep(ctx, [jr.readings[i] for i in uniq], opts, name="readings_responses_confirmed")
+    keys = [set().union(*(CLAIM_KEYS[c] for c, idx in need.items() if u in idx)) for u in uniq]
+    sub = run_lockstep(ctx, [jr.readings[i] for i in uniq], opts, name="readings_responses_confirmed", keys=keys)
     tests = _tests(sub)
-    for cid, i in need.items():
-        ok, txt = tests[cid](uniq.index(i))
-        f, rd = findings[cid], jr.readings[i]
-        f.readings.append([rd.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed"])
-        longer = f"{opts.transient} transient and {opts.periods} recorded periods per point"
-        if ok:
-            f.verdict, f.reading = "reproduced under a reading", rd.text
-            f.deciding = (f"fails at the default reading; holds under {rd.text} ({rd.changes()}), confirmed with "
-                          f"{longer}: {txt}; {f.deciding}")
+    longer = f"{opts.transient} transient and {opts.periods} recorded periods per point"
+    for cid, idx in need.items():
+        f = findings[cid]
+        tried = []
+        for i in idx:
+            ok, txt = tests[cid](uniq.index(i))
+            rd = jr.readings[i]
+            f.readings.append([rd.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed"])
+            tried.append(f"{rd.text}: {txt}")
+            if ok:
+                f.verdict, f.reading = "reproduced under a reading", rd.text
+                f.deciding = (f"fails at the default reading; holds under {rd.text} ({rd.changes()}), confirmed with "
+                              f"{longer}: {txt}; {f.deciding}")
+                break
         else:
             f.verdict = "contradicted"
-            f.deciding = (f"fails at the default reading; the reading nearest the default where the lockstep responses "
-                          f"show it ({rd.text}) fails with {longer}: {txt}; {f.deciding}")
+            f.deciding = (f"fails at the default reading; the {len(idx)} reading(s) nearest the default where the lockstep "
+                          f"responses show it fail with {longer} ({'; '.join(tried)}); {f.deciding}")
         f.evidence.append(ctx.datasets["readings_responses_confirmed"])

@@ -46,7 +46,7 @@ def _default_t2(ctx: Context, cid: str) -> str:
 
 
 def study_tables(ctx: Context, dres: dict[str, Any], jr: JumpReadings, jres: dict[str, list[tuple[bool, str]]],
-                 default_holds: dict[str, bool]) -> list[Section]:
+                 default_holds: dict[str, bool], findings: dict[str, Any] | None = None) -> list[Section]:
     """Tables 2, 3 and 4 of the paper beside geardyn's under the default and the best-agreeing reading.
 
     Parameters
@@ -60,6 +60,8 @@ def study_tables(ctx: Context, dres: dict[str, Any], jr: JumpReadings, jres: dic
         :func:`geardyn.paper.studies.readings_jumps.jump_readings`'s result.
     default_holds : dict
         Claim id → whether it holds at the default reading.
+    findings : dict, optional
+        By claim id: each table row's deciding line gets how the table fares under one reading.
 
     Returns
     -------
@@ -99,6 +101,14 @@ def study_tables(ctx: Context, dres: dict[str, Any], jr: JumpReadings, jres: dic
         (okd, td), (okb, tb) = jres[cid][i_def], jres[cid][i_best]
         t4.append([f"{nb['omega']:g}", f"{nb['xi0']:g}", f"{nb['b']:g}", f"{nb['A']:g}", nb["jump"], td, tb,
                    f"{'yes' if okd else 'no'} / {'yes' if okb else 'no'}"])
+    if findings is not None:
+        for ids, best, holds in ((claim_ids("T2-"), best2, [r[-1].endswith("yes") for r in t2[1:]]),
+                                 (claim_ids("T3-"), best3, [r[-1] == "yes" for r in t3[1:]]),
+                                 (t4ids, best4, [r[-1].endswith("yes") for r in t4[1:]])):
+            for cid in ids:
+                if cid in findings:
+                    findings[cid].deciding += (f"; under one reading for the whole table, the best ({best.text}) holds "
+                                               f"{sum(holds)} of {len(holds)} rows")
     return [
         Section("Table 2 recomputed", [
             "The paper's Table 2 beside geardyn's diagrams over ξ0 and ξ1: at the default reading (the study's full "
