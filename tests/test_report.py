@@ -11,9 +11,10 @@ from geardyn.paper import CLAIMS
 from geardyn.paper.report import SUMMARY_COLUMNS, Section, dataset_of, render_html, render_markdown, write_report
 from geardyn.paper.settings import model_text
 from geardyn.paper.table1 import TABLE1_MODEL
+from geardyn.paper.report import VERDICTS
 from geardyn.paper.verdicts import (
-    MATCH_PARTLY,
     VERDICT_RULES,
+    combine,
     count_text,
     elsewhere,
     of_claims,
@@ -65,20 +66,21 @@ def check_report_text(text: str) -> None:
 
 
 def check_verdict_wording(claims) -> None:
-    """No claim's words contradict its verdict: 0 of N is never 'partly', N of N alone is never 'not'."""
+    """No claim's words contradict its verdict: a reproduction under a reading names a reading that holds; a
+    claim reproduced at the default reading has no failing count."""
     for c in claims:
         counts = [(int(k), int(n)) for k, n in COUNTS.findall(c.computed)]
-        if c.verdict == "partly reproduced" and counts:
-            assert any(k > 0 for k, _ in counts), f"{c.id}: partly reproduced with only zero counts: {c.computed}"
+        if c.verdict == "reproduced under a reading":
+            assert c.reading and c.reading in c.deciding, f"{c.id}: reproduced under a reading it does not name"
         if c.verdict == "reproduced" and counts:
             assert all(k / n >= 0.8 for k, n in counts if n), f"{c.id}: reproduced with a failing count: {c.computed}"
 
 
 def _sections():
-    f1 = CLAIMS["T2-1"].judge("at ω = 1: chaotic at 3 of 4 grid points of the range (75 %).", "partly reproduced",
+    f1 = CLAIMS["T2-1"].judge("at ω = 1: chaotic over 75 % of the interval's length.", "contradicted",
                               ["data/xi0_bifurcation.nc", "figures/xi0_bifurcation/bifurcation.png",
                                "figures/xi0_bifurcation/bifurcation.png"])
-    f2 = CLAIMS["JUMP-057"].judge("within ±0.03 of ω = 0.57 for 0 of 4 backlash values (0 %).", "not reproduced",
+    f2 = CLAIMS["JUMP-057"].judge("within ±0.03 of ω = 0.57 for 0 of 4 backlash values (0 %).", "contradicted",
                                   ["data/response_xi0_0.08_xi1_0.05_D_0.1.nc"])
     return [
         Section("A", ["text"], [("figures/xi0_bifurcation/bifurcation.png", "Bifurcation diagram over ξ0, ω = 1")], [f1]),
@@ -92,14 +94,15 @@ LABELS = {"xi0_bifurcation": "bifurcation diagram over ξ0 (ω = 1, ξ1 = 0.05, 
 
 def test_summary_has_paper_says_beside_we_find_and_the_verdict_and_totals_come_first(tmp_path):
     page = render_html("T", ["intro"], _sections(), tmp_path, LABELS)
-    assert SUMMARY_COLUMNS == ("id", "source", "paper says", "we find", "verdict")
+    assert SUMMARY_COLUMNS == ("id", "source", "paper says", "we find", "verdict", "deciding evidence")
     header = "<tr>" + "".join(f"<th>{h}</th>" for h in SUMMARY_COLUMNS) + "</tr>"
     assert header in page
-    assert page.index("Totals (2 claims): 0 reproduced, 1 partly reproduced, 1 not reproduced.") < page.index(header)
+    totals = "Totals (2 claims): 0 reproduced, 0 reproduced under a reading, 2 contradicted, 0 not testable."
+    assert page.index(totals) < page.index(header)
     row = re.search(r"<tr><td><a href='#T2-1'>.*?</tr>", page).group(0)
-    assert "ξ0 &lt; 0.064: chaotic motion" in row and "3 of 4 grid points" in row and "partly reproduced" in row
+    assert "ξ0 &lt; 0.064: chaotic motion" in row and "75 % of the interval" in row and "contradicted" in row
     md = render_markdown("T", ["intro"], _sections(), LABELS)
-    assert "| id | source | paper says | we find | verdict |" in md
+    assert "| id | source | paper says | we find | verdict | deciding evidence |" in md
     assert md.index("Totals (2 claims)") < md.index("| id | source | paper says")
     assert f"| T2-1 | Table 2, row 1 | {CLAIMS['T2-1'].statement} |" in md
 
@@ -125,27 +128,32 @@ def test_the_text_checks_catch_what_they_are_for():
         with pytest.raises(AssertionError, match="ASCII"):
             check_report_text(bad)
     check_report_text("ξ0 = 0.08, ξ1 = 0.05, ω = 0.6, κ1 = 0.2, f_p = 0.2; jumps within ±0.05: none")
-    bad = CLAIMS["JUMP-057"].judge("within ±0.03 of 0.57 for 0 of 4.", "partly reproduced", ["x"])
-    with pytest.raises(AssertionError, match="zero counts"):
+    bad = CLAIMS["JUMP-057"].judge("within ±0.03 of 0.57 for 0 of 4.", "reproduced under a reading", ["x"])
+    with pytest.raises(AssertionError, match="does not name"):
         check_verdict_wording([bad])
+    bad.reading, bad.deciding = "φ_c1 = π", "holds under φ_c1 = π"
+    check_verdict_wording([bad])
 
 
-def test_verdict_rules_zero_of_n_is_never_partly():
-    assert MATCH_PARTLY > 0
+def test_verdict_kinds_and_the_combining_rules():
+    assert VERDICTS == ("reproduced", "reproduced under a reading", "contradicted", "not testable")
     for n in range(1, 12):
-        assert verdict_of(0 / n) == "not reproduced"
+        assert verdict_of(0 / n) == "contradicted"
         assert verdict_of(n / n) == "reproduced"
-    assert verdict_of(float("nan")) == "not reproduced"
-    assert parts(False, False) == "not reproduced" and parts(True, False) == "partly reproduced"
-    assert parts(True, True) == "reproduced" and parts(True, True, False, False, False) == "partly reproduced"
-    assert elsewhere("not reproduced", True) == "partly reproduced"
-    assert elsewhere("not reproduced", False) == "not reproduced"
-    assert elsewhere("partly reproduced", True) == "partly reproduced"  # never upgraded further
+    assert verdict_of(float("nan")) == "contradicted"
+    # every part of a claim is required: one part holding is not enough
+    assert parts(False, False) == "contradicted" and parts(True, False) == "contradicted"
+    assert parts(True, True) == "reproduced" and parts(True, True, False, False, False) == "contradicted"
+    assert combine(False, True) == "contradicted" and combine(True, True) == "reproduced"
+    assert elsewhere("contradicted", True) == "reproduced under a reading"
+    assert elsewhere("contradicted", False) == "contradicted"
+    assert elsewhere("reproduced", True) == "reproduced"
     assert of_claims(["reproduced", "reproduced"]) == "reproduced"
-    assert of_claims(["reproduced", "not reproduced"]) == "partly reproduced"
-    assert of_claims(["not reproduced", "not reproduced"]) == "not reproduced"
+    assert of_claims(["reproduced", "contradicted"]) == "contradicted"
     assert count_text(0, 4, "backlash values") == "0 of 4 backlash values (0 %)"
     assert count_text(1, 2, "") == "1 of 2 (50 %)"
+    with pytest.raises(ValueError):
+        CLAIMS["T2-1"].judge("x", "partly reproduced", [])
 
 
 def test_verdict_rules_are_stated_once_in_the_report(tmp_path):
@@ -157,7 +165,7 @@ def test_verdict_rules_are_stated_once_in_the_report(tmp_path):
     text = visible_text(paths["html"].read_text())
     for rule in VERDICT_RULES:
         assert text.count(rule) == 1
-    assert "0 of N is never partly reproduced" in text
+    assert "Four kinds of verdict." in text and "Ranges are judged by length." in text
     check_report_text(text)
 
 

@@ -40,8 +40,15 @@ def test_report_files_and_claims(report_dir):
     assert {f"T3-{i}" for i in range(1, len(TABLE3) + 1)} <= set(ids)
     assert {f"T4-{i}" for i in range(1, len(TABLE4) + 1)} <= set(ids)
     for c in claims:
-        assert set(c) == {"id", "source", "statement", "computed", "verdict", "evidence"}
-        assert c["verdict"] in ("reproduced", "partly reproduced", "not reproduced")
+        assert set(c) == {"id", "source", "statement", "computed", "verdict", "evidence", "readings", "deciding",
+                          "reading", "found"}
+        assert c["verdict"] in ("reproduced", "reproduced under a reading", "contradicted", "not testable")
+        # every claim shows the readings it was judged under, with its result under each, and why the verdict
+        assert c["readings"][0] == ["reading", "result", "holds"] and len(c["readings"]) >= 2, c["id"]
+        assert c["deciding"], c["id"]
+        assert (c["verdict"] == "reproduced under a reading") == bool(c["reading"]), c["id"]
+        if c["reading"]:
+            assert any(row[2] in ("yes", "confirmed") for row in c["readings"][1:]), c["id"]
         assert c["computed"] and c["statement"] == CLAIMS[c["id"]].statement
         assert c["evidence"], c["id"]
         for rel in c["evidence"]:
@@ -65,7 +72,8 @@ def test_markdown_lists_every_claim_with_its_verdict(report_dir):
     md = (out / "report.md").read_text()
     claims = json.loads((out / "claims.json").read_text())
     for c in claims:
-        assert f"| {c['id']} |" in md and f"**{c['verdict']}**" in md
+        shown = c["verdict"] + (f": {c['reading']}" if c["reading"] else "")
+        assert f"| {c['id']} |" in md and f"**{shown}**" in md
 
 
 def test_formula_fit_recovers_known_coefficients():
@@ -82,10 +90,12 @@ def test_formula_fit_recovers_known_coefficients():
 
 
 def test_verdict_rule_and_quasi_n_mapping():
-    assert verdict_of(0.8) == "reproduced" and verdict_of(0.5) == "partly reproduced"
-    assert verdict_of(0.1) == "not reproduced"
+    assert verdict_of(0.8) == "reproduced" and verdict_of(0.5) == "contradicted"
+    assert verdict_of(0.1) == "contradicted"
     q4 = quasi_n(4)
-    assert q4(MOTION_PERIODIC, 4, 0) and q4(MOTION_QUASIPERIODIC, 0, 4)
+    assert q4(MOTION_PERIODIC, 4, 0)
+    # F1: no invariant closed curves for ξ0 > 0, so "quasi-4-periodic" is period-4 only, never 4 loops
+    assert not q4(MOTION_QUASIPERIODIC, 0, 4)
     assert not q4(MOTION_PERIODIC, 2, 0) and not q4(MOTION_CHAOTIC, 0, 0)
 
 
@@ -116,7 +126,7 @@ def test_motion_words():
     assert motion_rule("chaotic") == (is_chaotic, "chaotic")
     assert motion_rule("quasi-periodic") == (is_regular, "regular (periodic or quasi-periodic)")
     q3, what = motion_rule("quasi-3-periodic")
-    assert what == "quasi-3-periodic (period-3 or 3 loops)" and q3(MOTION_PERIODIC, 3, 0) and not q3(MOTION_PERIODIC, 2, 0)
+    assert what == "quasi-3-periodic (read as period-3, by F1)" and q3(MOTION_PERIODIC, 3, 0) and not q3(MOTION_PERIODIC, 2, 0)
     with pytest.raises(ValueError):
         motion_rule("periodic-ish")
 
@@ -154,14 +164,20 @@ def test_summary_table_says_what_the_paper_claims_and_the_totals_come_first(repo
     totals = page.index("Totals (")
     assert totals < page.index(header)
     claims = _findings(out)
-    counts = {v: sum(c.verdict == v for c in claims) for v in ("reproduced", "partly reproduced", "not reproduced")}
-    assert f"{counts['reproduced']} reproduced, {counts['partly reproduced']} partly reproduced" in page[totals:totals + 200]
+    kinds = ("reproduced", "reproduced under a reading", "contradicted", "not testable")
+    counts = {v: sum(c.verdict == v for c in claims) for v in kinds}
+    assert (f"{counts['reproduced']} reproduced, {counts['reproduced under a reading']} reproduced under a reading, "
+            f"{counts['contradicted']} contradicted, {counts['not testable']} not testable") in page[totals:totals + 300]
     summary = page[page.index(header):page.index("</table>", page.index(header))]
     for c in claims:
         row = re.search(rf"<tr><td><a href='#{re.escape(c.id)}'>.*?</tr>", summary).group(0)
-        assert html_escape(c.statement) in row and html_escape(c.computed) in row and c.verdict in row
+        from geardyn.paper.report import found_text
+
+        assert html_escape(c.statement) in row and html_escape(found_text(c)) in row and c.verdict in row
+        assert c.computed.startswith(found_text(c).rstrip("…"))
+        assert html_escape(c.deciding) in row
     md = (out / "report.md").read_text()
-    assert md.index("Totals (") < md.index("| id | source | paper says | we find | verdict |")
+    assert md.index("Totals (") < md.index("| id | source | paper says | we find | verdict | deciding evidence |")
 
 
 def html_escape(s):
@@ -184,8 +200,7 @@ def test_every_figure_shown_exists_and_every_cited_figure_is_shown(report_dir):
                 assert rel in shown, f"{c.id} cites {rel}, which the report does not show"
             elif rel.startswith("data/"):  # cited data: its main figure is shown too (the ω-search heat maps)
                 name = rel[len("data/"):-len(".nc")]
-                assert drawn[name][0] in shown, f"{c.id} cites {rel}; its figure is not shown"
-    assert {"figures/xi0_search/search.png", "figures/xi1_search/search.png"} <= set(shown)
+                assert not drawn[name] or drawn[name][0] in shown, f"{c.id} cites {rel}; its figure is not shown"
 
 
 def test_every_figure_is_titled_with_its_parameters(report_dir):
@@ -198,8 +213,8 @@ def test_every_figure_is_titled_with_its_parameters(report_dir):
     response = [c for c in captions if c.startswith("Frequency response")]
     from geardyn.reproduce import Settings
 
-    n = len(Settings.quick().response_sets)  # eleven responses, eleven different titles
-    assert n == 11 and len(response) == len(set(response)) == n
+    n = len(Settings.quick().response_sets)  # eight responses, eight different titles
+    assert n == 8 and len(response) == len(set(response)) == n
     for name in json.loads((out / "run.json").read_text())["datasets"]:
         ds = __import__("xarray").open_dataset(out / "data" / f"{name}.nc")
         assert "model" in ds.attrs, f"{name}: figures title from the model, which the Dataset must carry"
@@ -216,7 +231,7 @@ def test_report_text_uses_symbols_and_consistent_verdict_words(report_dir):
     check_verdict_wording(claims)
     by_id = {c.id: c for c in claims}
     m = re.search(r"for (\d+) of (\d+) backlash values", by_id["JUMP-057"].computed)
-    assert m and (int(m.group(1)) > 0 or by_id["JUMP-057"].verdict == "not reproduced")
+    assert m and (int(m.group(1)) == int(m.group(2)) or by_id["JUMP-057"].verdict != "reproduced")
     assert "= none" not in by_id["BL-IMPACT"].computed
 
 
@@ -253,3 +268,28 @@ def test_xi0_diagram_is_also_shown_over_its_structure(report_dir):
     assert list(zoom["xi0"].values) == [v for v in x if lo <= v <= hi] and zoom["xi0"].size < x.size
     assert zoom.attrs["geardyn_kind"] == "bifurcation"
     assert "figures/xi0_bifurcation_zoom/bifurcation.png" in (out / "report.html").read_text()
+
+
+def test_report_shows_the_readings_of_every_claim_f1_f2_and_the_three_tables(report_dir):
+    import xarray as xr
+
+    out, _ = report_dir
+    page = (out / "report.html").read_text()
+    for title in ("F1: the period map contracts every area",
+                  "F2: without back-flank contact the response does not depend on D",
+                  "Table 2 recomputed", "Table 3 recomputed", "Table 4 recomputed", "Readings"):
+        assert f"<h2>{title}</h2>" in page, title
+    for cid in CLAIMS:  # every claim block holds its readings table
+        block = page[page.index(f"<div class='claim' id='{cid}'>"):]
+        block = block[:block.index("</div>")]
+        assert "<table class='readings'><tr><th>reading</th><th>result</th><th>holds</th></tr>" in block, cid
+    for cid in claim_ids("T2-") + claim_ids("T3-") + claim_ids("T4-"):  # the paper's rows beside geardyn's
+        word = CLAIMS[cid].numbers.get("motion") or CLAIMS[cid].numbers["jump"]
+        assert f"<td>{word}</td>" in page, cid
+    f1 = xr.load_dataset(out / "data" / "facts_f1.nc")
+    assert float(f1["rel"].max()) < 1e-8  # det of the period map = exp(−4πξ0/ω)
+    f2 = xr.load_dataset(out / "data" / "facts_f2.nc")
+    free = f2["back"].values == 0
+    assert free.any() and (~free).any() and float(np.ptp(f2["amplitude"].values[free])) < 1e-9
+    run = json.loads((out / "run.json").read_text())
+    assert {"readings_screen", "readings_responses"} <= set(run["datasets"])

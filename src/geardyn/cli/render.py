@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from rich.markup import escape
 from rich.table import Table
 
 from .._docfill import PATHS, SUMMARY, parameters
@@ -201,13 +202,16 @@ def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
 
 
 def claims(res: dict[str, Any]) -> None:
-    """The verdicts of ``geardyn reproduce``."""
-    t = Table(title="Claims of the paper")
-    for col in ("id", "verdict", "computed"):
+    """The verdicts of ``geardyn reproduce``: counts per kind, then per claim what the paper says, the verdict and why."""
+    style = {"reproduced": "green", "reproduced under a reading": "cyan", "contradicted": "red", "not testable": "dim"}
+    counts = {k: sum(c.verdict == k for c in res["claims"]) for k in style}
+    t = Table(title="Claims of the paper: " + ", ".join(f"{n} {k}" for k, n in counts.items()))
+    for col in ("id", "paper says", "verdict", "deciding evidence"):
         t.add_column(col, overflow="fold")
-    style = {"reproduced": "green", "partly reproduced": "yellow", "not reproduced": "red"}
     for c in res["claims"]:
-        t.add_row(c.id, f"[{style[c.verdict]}]{c.verdict}[/]", c.computed)
+        verdict = c.verdict + (f" ({c.reading})" if getattr(c, "reading", "") else "")
+        t.add_row(c.id, c.statement, f"[{style.get(c.verdict, 'white')}]{escape(verdict)}[/]",
+                  escape(getattr(c, "deciding", "") or c.computed))
     console.print(t)
     console.print(f"report: {res['paths']['html']} ({res['seconds']:.1f} s)")
 

@@ -18,8 +18,8 @@ from typing import Any, Mapping, Sequence
 
 from ..io import atomic_write_bytes
 
-#: The three verdicts, strongest first (the rules that give them: :mod:`geardyn.paper.verdicts`).
-VERDICTS = ("reproduced", "partly reproduced", "not reproduced")
+#: The four verdict kinds, strongest first (the rules that give them: :mod:`geardyn.paper.verdicts`).
+VERDICTS = ("reproduced", "reproduced under a reading", "contradicted", "not testable")
 
 
 @dataclass
@@ -36,6 +36,14 @@ class Finding:
         One of :data:`VERDICTS`.
     evidence : list of str
         Paths relative to the report directory (figures and NetCDF data).
+    readings : list of list of str
+        The readings tried and the claim's result under each: a small table, first row the header.
+    deciding : str
+        The evidence that decides the verdict, in one line.
+    reading : str
+        The reading that reproduces it (verdict "reproduced under a reading"), else empty.
+    found : str
+        What geardyn finds, in one line for the summary (default: the start of ``computed``).
 
     Raises
     ------
@@ -49,6 +57,10 @@ class Finding:
     computed: str
     verdict: str
     evidence: list[str] = field(default_factory=list)
+    readings: list[list[str]] = field(default_factory=list)
+    deciding: str = ""
+    reading: str = ""
+    found: str = ""
 
     def __post_init__(self) -> None:
         if self.verdict not in VERDICTS:
@@ -82,8 +94,33 @@ def _md_escape_cell(s: str) -> str:
     return s.replace("|", "\\|").replace("\n", " ")
 
 
+def _md_table(rows: Sequence[Sequence[str]]) -> list[str]:
+    out = ["| " + " | ".join(_md_escape_cell(h) for h in rows[0]) + " |", "|" + "---|" * len(rows[0])]
+    out += ["| " + " | ".join(_md_escape_cell(x) for x in row) + " |" for row in rows[1:]]
+    return out + [""]
+
+
+#: The summary's "we find" is cut at the first sentence end after this many characters at most.
+FOUND_CHARS = 240
+
+
+def found_text(c: "Finding") -> str:
+    """What geardyn finds, in one line for the summary: ``found``, else the first sentence of ``computed``."""
+    if c.found:
+        return c.found
+    t = c.computed
+    end = t.find(". ")
+    t = t if end < 0 else t[: end + 1]
+    return t if len(t) <= FOUND_CHARS else t[: FOUND_CHARS - 1].rstrip() + "…"
+
+
+def _verdict_text(c: "Finding") -> str:
+    """The verdict as the report writes it: the kind, with the reading where it is one."""
+    return f"{c.verdict}: {c.reading}" if c.reading and c.verdict == "reproduced under a reading" else c.verdict
+
+
 def totals_text(claims: Sequence[Finding]) -> str:
-    """``"Totals (26 claims): 4 reproduced, 7 partly reproduced, 15 not reproduced."``
+    """``"Totals (26 claims): 4 reproduced, 7 reproduced under a reading, 15 contradicted, 0 not testable."``
 
     Parameters
     ----------
@@ -98,7 +135,7 @@ def totals_text(claims: Sequence[Finding]) -> str:
 
 
 #: Column headers of the summary table.
-SUMMARY_COLUMNS = ("id", "source", "paper says", "we find", "verdict")
+SUMMARY_COLUMNS = ("id", "source", "paper says", "we find", "verdict", "deciding evidence")
 
 
 def dataset_of(path: str) -> str:
@@ -165,17 +202,13 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
             "| " + " | ".join(SUMMARY_COLUMNS) + " |", "|" + "---|" * len(SUMMARY_COLUMNS)]
     for c in claims:
         out.append(f"| {c.id} | {_md_escape_cell(c.source)} | {_md_escape_cell(c.statement)} | "
-                   f"{_md_escape_cell(c.computed)} | **{c.verdict}** |")
+                   f"{_md_escape_cell(found_text(c))} | **{_verdict_text(c)}** | {_md_escape_cell(c.deciding)} |")
     out.append("")
     for s in sections:
         out += [f"## {s.title}", ""]
         out += [p + "\n" for p in s.paragraphs]
         if s.table:
-            out.append("| " + " | ".join(_md_escape_cell(h) for h in s.table[0]) + " |")
-            out.append("|" + "---|" * len(s.table[0]))
-            for row in s.table[1:]:
-                out.append("| " + " | ".join(_md_escape_cell(x) for x in row) + " |")
-            out.append("")
+            out += _md_table(s.table)
         for c in s.claims:
             ev = "; ".join(f"{lab} (" + ", ".join(f"[{k}]({p})" for k, p in items) + ")"
                            for lab, items in _evidence_groups(c.evidence, labels))
@@ -184,9 +217,11 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
                 "",
                 f"*geardyn:* {c.computed}",
                 "",
-                f"*Verdict:* **{c.verdict}**. Evidence: {ev}",
+                f"*Verdict:* **{_verdict_text(c)}**. Deciding: {c.deciding}. Evidence: {ev}",
                 "",
             ]
+            if c.readings:
+                out += _md_table(c.readings)
         for path, caption in s.figures:
             out += [f"![{caption}]({path})", "", f"*{caption}*", ""]
     return "\n".join(out)
@@ -197,8 +232,10 @@ body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max
 padding:0 1em;color:#222;line-height:1.45}
 table{border-collapse:collapse;margin:1em 0;font-size:0.92em}td,th{border:1px solid #ccc;padding:4px 8px;
 vertical-align:top;text-align:left}th{background:#f3f3f3}
-table.summary td:nth-child(3){min-width:14em}table.summary td:nth-child(5){white-space:nowrap}
-.v-reproduced{background:#d9f2d9}.v-partly{background:#fff2cc}.v-not{background:#f8d7d7}
+table.summary td:nth-child(3){min-width:14em}table.summary td:nth-child(4){min-width:18em}
+table.summary td:nth-child(5){min-width:9em;max-width:16em}table.summary td:nth-child(6){min-width:16em}
+.v-reproduced{background:#d9f2d9}.v-reading{background:#e3ecfa}.v-contradicted{background:#f8d7d7}
+.v-untestable{background:#eeeeee}table.readings{font-size:0.85em;margin:0.4em 0}
 .totals{font-size:1.05em}
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}figcaption{font-size:0.9em;color:#555}
 .claim{border-left:4px solid #999;padding:0.3em 0.8em;margin:1em 0;background:#fafafa}
@@ -207,7 +244,15 @@ code{background:#f2f2f2;padding:0 3px}
 
 
 def _vclass(v: str) -> str:
-    return {"reproduced": "v-reproduced", "partly reproduced": "v-partly", "not reproduced": "v-not"}[v]
+    return {"reproduced": "v-reproduced", "reproduced under a reading": "v-reading", "contradicted": "v-contradicted",
+            "not testable": "v-untestable"}[v]
+
+
+def _html_table(rows: Sequence[Sequence[str]], cls: str = "") -> str:
+    e = html.escape
+    head = f"<table class='{cls}'>" if cls else "<table>"
+    body = "".join("<tr>" + "".join(f"<td>{e(x)}</td>" for x in row) + "</tr>" for row in rows[1:])
+    return head + "<tr>" + "".join(f"<th>{e(h)}</th>" for h in rows[0]) + "</tr>" + body + "</table>"
 
 
 def _img(directory: Path, rel: str) -> str:
@@ -252,7 +297,8 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
     out.append("<table class='summary'><tr>" + "".join(f"<th>{e(h)}</th>" for h in SUMMARY_COLUMNS) + "</tr>")
     for c in claims:
         out.append(f"<tr><td><a href='#{e(c.id)}'>{e(c.id)}</a></td><td>{e(c.source)}</td><td>{e(c.statement)}</td>"
-                   f"<td>{e(c.computed)}</td><td class='{_vclass(c.verdict)}'>{e(c.verdict)}</td></tr>")
+                   f"<td>{e(found_text(c))}</td><td class='{_vclass(c.verdict)}'>{e(_verdict_text(c))}</td>"
+                   f"<td>{e(c.deciding)}</td></tr>")
     out.append("</table>")
 
     def link(kind: str, path: str) -> str:
@@ -263,17 +309,15 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
         out.append(f"<h2>{e(s.title)}</h2>")
         out += [f"<p>{e(p)}</p>" for p in s.paragraphs]
         if s.table:
-            out.append("<table><tr>" + "".join(f"<th>{e(h)}</th>" for h in s.table[0]) + "</tr>")
-            for row in s.table[1:]:
-                out.append("<tr>" + "".join(f"<td>{e(x)}</td>" for x in row) + "</tr>")
-            out.append("</table>")
+            out.append(_html_table(s.table))
         for c in s.claims:
             ev = "; ".join(f"{e(lab)} (" + ", ".join(link(k, p) for k, p in items) + ")"
                            for lab, items in _evidence_groups(c.evidence, labels))
             out.append(
                 f"<div class='claim' id='{e(c.id)}'><b>{e(c.id)}</b> ({e(c.source)})<br><i>Paper:</i> {e(c.statement)}"
                 f"<br><i>geardyn:</i> {e(c.computed)}<br><i>Verdict:</i> <span class='{_vclass(c.verdict)}'>"
-                f"<b>{e(c.verdict)}</b></span> &mdash; evidence: {ev}</div>"
+                f"<b>{e(_verdict_text(c))}</b></span> &mdash; deciding: {e(c.deciding)} &mdash; evidence: {ev}"
+                + (_html_table(c.readings, "readings") if c.readings else "") + "</div>"
             )
         for path, caption in s.figures:
             out.append(f"<figure id='{_anchor(path)}'>{_img(directory, path)}<figcaption>{e(caption)}</figcaption></figure>")

@@ -32,19 +32,24 @@ class Settings:
     Attributes
     ----------
     omega_damping : float
-        ω of the damping and backlash studies (not stated in the paper).  ω = 1, the mesh frequency
-        at the linear natural frequency, is the reference point of the non-dimensional model and
-        lies inside the range where the paper's defaults respond non-trivially.
+        ω of the damping and backlash studies at the default reading (not stated in the paper).
+        ω = 1, the mesh frequency at the linear natural frequency, is the reference point of the
+        non-dimensional model; the readings study tries every ω of ``readings_omegas``.
     transient, periods : int
         Periods discarded and recorded per point (the paper's Δτ = 0.01 is kept).
     settle : int
         Further periods with exponents for points not periodic after the transient.
     xi0_grid, xi1_grid : arrays
         Damping grids of the bifurcation diagrams.
-    search_omegas : array
-        ω values searched where a claim fails at ``omega_damping``.
-    search_xi0, search_xi1 : arrays
-        Coarser damping grids used in that search.
+    readings_omegas : array
+        The ω grid (step 0.01) of the readings of the damping and backlash claims.
+    readings_transient, readings_periods, readings_settle : int
+        Periods of each screened reading (transient, recorded, settling of non-periodic points).
+    readings_response_transient, readings_response_periods : int
+        Periods per point of the lockstep frequency responses of the readings (each point continues
+        from the previous end state, so a short transient suffices).
+    confirm_periods : int
+        Periods of the longer exponent run that re-examines doubtful labels (:mod:`geardyn.analysis.confirm`).
     d_grid : array
         Backlash grid of the backlash bifurcation diagram.
     response_omega, response_num : (float, float), int
@@ -52,8 +57,8 @@ class Settings:
     response_transient, response_periods : int
         Periods discarded and recorded per point of a frequency response.
     xi0_set, xi1_set, d_set, alt_set : tuples of (ξ0, ξ1, D)
-        Frequency responses of the jump study: ξ0 varied, ξ1 varied, D varied, and the reading
-        D = b of the backlash the paper gives in mm.
+        Frequency responses of the jump study: ξ0 varied, ξ1 varied, D varied, and any further
+        ones (none by default: the other backlash readings are judged by the readings study).
     stability_omegas : array
         ω grid of the stability-condition study.
     continuation_omega : (float, float)
@@ -76,18 +81,22 @@ class Settings:
                                                                  np.arange(0.2, 0.951, 0.05)]), 4))
     xi1_grid: tuple[float, ...] = tuple(np.round(np.arange(0.0, 0.1501, 0.005), 4))
     d_grid: tuple[float, ...] = tuple(np.round(np.arange(0.05, 1.0001, 0.025), 4))
-    search_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.8, 1.601, 0.1), 3))
-    search_xi0: tuple[float, ...] = (0.03, 0.045, 0.055, 0.07, 0.08, 0.09, 0.1, 0.12, 0.15, 0.2, 0.3, 0.5, 0.7, 0.8, 0.9)
-    search_xi1: tuple[float, ...] = (0.0, 0.01, 0.02, 0.025, 0.05, 0.06, 0.08, 0.1)
+    readings_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.5, 1.6001, 0.01), 2))
+    readings_transient: int = 80
+    readings_periods: int = 24
+    readings_settle: int = 40
+    readings_response_transient: int = 40
+    readings_response_periods: int = 24
+    confirm_periods: int = 3000
     response_omega: tuple[float, float] = (0.3, 1.2)
     response_num: int = 91
-    response_transient: int = 200
+    response_transient: int = 120
     response_periods: int = 100
     xi0_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.25), (0.1, 0.05, 0.25), (0.15, 0.05, 0.25))
     xi1_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.03, 0.25), (0.08, 0.05, 0.25), (0.08, 0.08, 0.25))
     d_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.1), (0.08, 0.05, 0.25), (0.08, 0.05, 0.35),
                                                      (0.08, 0.05, 0.75))
-    alt_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.5), (0.15, 0.05, 0.5), (0.08, 0.05, 1.5))
+    alt_set: tuple[tuple[float, float, float], ...] = ()
     stability_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.4, 2.41, 0.1), 3))
     continuation_omega: tuple[float, float] = (0.5, 0.7)
     continuation_sweep_num: int = 101
@@ -111,10 +120,21 @@ class Settings:
         return cls(
             transient=60, periods=40, settle=60,
             xi0_grid=(0.03, 0.07, 0.09, 0.15, 0.5), xi1_grid=(0.0, 0.02, 0.06), d_grid=(0.1, 0.35, 0.75),
-            search_omegas=(1.0, 1.2), search_xi0=(0.03, 0.08, 0.15), search_xi1=(0.0, 0.06), workers=1,
+            readings_omegas=(0.9, 1.0, 1.3), readings_transient=30, readings_periods=16, readings_settle=20,
+            readings_response_transient=20, readings_response_periods=16, confirm_periods=200, workers=1,
             response_num=12, response_transient=40, response_periods=30, stability_omegas=(0.8, 1.6),
             continuation_omega=(0.61, 0.63), continuation_sweep_num=11, continuation_sweep_periods=16,
         )
+
+    @property
+    def readings_options(self) -> IntegrationOptions:
+        """Transient and recorded periods of each screened reading."""
+        return IntegrationOptions(transient=self.readings_transient, periods=self.readings_periods)
+
+    @property
+    def readings_response_options(self) -> IntegrationOptions:
+        """Transient and recorded periods per point of the lockstep responses of the readings."""
+        return IntegrationOptions(transient=self.readings_response_transient, periods=self.readings_response_periods)
 
     @property
     def options(self) -> IntegrationOptions:
@@ -167,6 +187,8 @@ class Context:
         Name → Dataset not yet written.
     labels : dict
         Name → what the Dataset is, with its parameters, as the report shows its evidence.
+    data_only : set
+        Names of the Datasets saved without figures (kinds that have none).
     """
 
     out: Path
@@ -176,6 +198,7 @@ class Context:
     datasets: dict[str, str] = field(default_factory=dict)  # name -> relative path of its NetCDF
     pending: dict[str, xr.Dataset] = field(default_factory=dict)  # saved at the end, in parallel
     labels: dict[str, str] = field(default_factory=dict)  # name -> what it is, with its parameters
+    data_only: set[str] = field(default_factory=set)  # names saved without figures
 
     @property
     def base(self) -> GearModel:
@@ -196,7 +219,7 @@ class Context:
         """
         return self.base.replace(xi0=key[0], xi=(key[1],), D=key[2])
 
-    def save(self, name: str, ds: xr.Dataset, label: str | None = None) -> str:
+    def save(self, name: str, ds: xr.Dataset, label: str | None = None, *, figures: bool = True) -> str:
         """Register a Dataset for ``data/<name>.nc`` and its figures; written by :func:`geardyn.paper.run.write_outputs`.
 
         Parameters
@@ -208,6 +231,8 @@ class Context:
         label : str, optional
             What the Dataset is, with its parameters (``"frequency response at ξ0 = 0.08, …"``): the
             report's name for its data and figures (default ``name``).
+        figures : bool
+            Draw its figures (False: data only, for kinds that have none).
 
         Returns
         -------
@@ -218,6 +243,8 @@ class Context:
         self.pending[name] = ds
         self.datasets[name] = rel
         self.labels[name] = label or name
+        if not figures:
+            self.data_only.add(name)
         return rel
 
     @staticmethod

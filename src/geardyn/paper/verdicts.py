@@ -3,15 +3,17 @@
 The verdict rules are stated once, here (:data:`VERDICT_RULES`, which the report quotes), and
 every study applies them through the functions of this module:
 
-- a claim checked on N cases (grid points of a range, responses, values, or the parts of a claim
-  with several parts) with k of them holding: :func:`verdict_of` (k/N ≥ :data:`MATCH_REPRODUCED`
-  → reproduced; ≥ :data:`MATCH_PARTLY` → partly reproduced; else not reproduced; 0 of N is
-  therefore never "partly");
-- a claim that fails at the study's chosen setting but holds at a searched one (another ω, the
-  other reading of the paper's b): :func:`elsewhere` (at most partly reproduced);
-- a claim made of other claims: :func:`of_claims`;
-- single-number claims: the formula fit (:data:`FORMULA_R2_REPRODUCED`, :data:`FORMULA_R2_PARTLY`)
-  and the stability condition (:data:`STABILITY_REL`).
+- a claim of a motion over a parameter interval: the fraction of the interval's *length* where it
+  holds (:func:`length_fraction`, :func:`match_fraction`), reproduced from :data:`MATCH_REPRODUCED`;
+- a claim with several parts: every part required (:func:`parts`, :func:`combine`, :func:`of_claims`);
+- fluctuation trends measured as fluctuation (:func:`section_spread`, :func:`fluctuation_trend`);
+- jumps by direction and location, the opposite jump failing (:func:`jump_type_at`, :func:`jump_holds`);
+- a claim that fails at the default reading but holds under another: :func:`elsewhere`;
+- single-number claims: the formula fit (:data:`FORMULA_R2_REPRODUCED`) and the stability
+  condition (:data:`STABILITY_REL`).
+
+The verdict kinds are :data:`KINDS`; the readings tried for each claim come from
+:mod:`geardyn.paper.readings`.
 
 :func:`motion_rule` maps the paper's words for motions onto geardyn's classification, once for
 every study.
@@ -28,6 +30,9 @@ import xarray as xr
 from .._docfill import parameters
 from ..analysis.classify import MOTION_CHAOTIC, MOTION_PERIODIC, MOTION_QUASIPERIODIC
 from .report import VERDICTS
+
+#: The four verdict kinds, strongest first (the same as :data:`VERDICTS`).
+KINDS = VERDICTS
 
 __all__ = [
     "FORMULA_R2_PARTLY",
@@ -53,32 +58,50 @@ __all__ = [
     "range_of",
     "runs_text",
     "verdict_of",
+    "FLUCT_MIN",
+    "KINDS",
+    "fluctuation_trend",
+    "jump_holds",
+    "jump_type_at",
+    "length_fraction",
+    "section_spread",
 ]
 
-#: Fraction of matching cases for "reproduced" / "partly reproduced" (MATCH_PARTLY > 0: 0 of N is "not").
+#: Fraction of a claim's parameter interval (by length) where it must hold to hold.
 MATCH_REPRODUCED = 0.8
+#: Kept for callers of the former three-verdict scale: a fraction below this never counts as holding in part.
 MATCH_PARTLY = 0.3
-#: The amplitude formula: coefficient of determination R² of the fit for "reproduced" / "partly reproduced".
+#: The amplitude formula holds when its least-squares fit reaches this R² …
 FORMULA_R2_REPRODUCED = 0.9
+#: … (and, for the record, fits worse than this explain less than half of the variance).
 FORMULA_R2_PARTLY = 0.5
-#: The stability condition is reproduced when a computed critical ξ0 lies within this relative distance of it.
+#: The stability condition holds when a computed critical ξ0 lies within this relative distance of it.
 STABILITY_REL = 0.1
+#: Fluctuation (spread of the Poincaré points, in units of b_c) below this counts as none.
+FLUCT_MIN = 1e-3
 
 #: The verdict rules as the report states them (once, in its Settings section).
 VERDICT_RULES: tuple[str, ...] = (
-    f"Counted claims. A claim is checked on N cases: the grid points of a parameter range, the responses or "
-    f"values it speaks of, or the parts of a claim that says several things. With k of the N holding, it is "
-    f"reproduced if k/N ≥ {100 * MATCH_REPRODUCED:.0f} %, partly reproduced if k/N ≥ {100 * MATCH_PARTLY:.0f} %, "
-    f"and not reproduced otherwise; 0 of N is never partly reproduced. The report gives k and N.",
-    "Elsewhere only. A claim that is not reproduced at the setting its study chose (the ω of the damping and "
-    "backlash studies, the reading D = b/2 of the paper's b in mm) but holds in full at a searched ω or under the "
-    "reading D = b is partly reproduced, and the report names where it holds. A claim is never upgraded further.",
-    "Claims made of other claims (the sequence of motions along ξ1, whose ends are Table 2 rows 4 and 5) are "
-    "reproduced when all of those are, not reproduced when none of them holds even partly, and partly reproduced "
-    "otherwise.",
-    f"Single numbers. The amplitude formula is reproduced when its least-squares fit reaches R² ≥ "
-    f"{FORMULA_R2_REPRODUCED:g}, partly reproduced for R² ≥ {FORMULA_R2_PARTLY:g}; the stability condition is "
-    f"reproduced when a critical ξ0 from Floquet multipliers lies within {100 * STABILITY_REL:.0f} % of it.",
+    "Four kinds of verdict. Reproduced: the claim holds under the paper's stated values and geardyn's declared "
+    "defaults (phases 0, D = b/(2 mm), ω = 1 where the paper states none). Reproduced under a named reading: it "
+    "fails there but holds under another reading of what the paper leaves open (the stiffness and damping phases, "
+    "the backlash reading, the ω of a study), named with what it changes, and confirmed by a full computation at "
+    "that reading. Contradicted: no reading tried reproduces it (where a structural fact, F1 or F2 below, decides "
+    "it, the fact is checked numerically). Not testable: the paper lacks what a test needs.",
+    f"Ranges are judged by length. A claim of a motion over a parameter interval holds when the grid points "
+    f"showing it cover at least {100 * MATCH_REPRODUCED:.0f} % of the interval's length (each point stands for the "
+    "interval between the midpoints to its neighbours), so an uneven grid cannot decide it.",
+    "Every part is required. A claim that says two things (a motion and the sign or vanishing of λ1; a jump and "
+    "its size trend; a motion at low and at high ξ1) holds only when all its parts hold.",
+    f"Fluctuation is measured as fluctuation: the spread of the Poincaré points (RMS distance from their "
+    f"centroid, zero for period-1 motion) averaged over the ω after the first jump. A trend of fluctuation holds "
+    f"only where some exists (largest mean spread ≥ {FLUCT_MIN:g}) and the trend is strict.",
+    "Jumps are tested by direction and location: the jump nearest the claimed ω (either sweep, within the stated "
+    "tolerance) must have the claimed direction, and a jump of the opposite direction at least as close makes the "
+    "claim fail; 'no jump' holds only when no jump lies within the tolerance.",
+    f"Single numbers. The amplitude formula holds when its least-squares fit reaches R² ≥ "
+    f"{FORMULA_R2_REPRODUCED:g}; the stability condition when a critical ξ0 from Floquet multipliers lies within "
+    f"{100 * STABILITY_REL:.0f} % of it.",
 )
 
 #: A predicate on (motion, period, loops) of one grid point.
@@ -86,27 +109,24 @@ MotionTest = Callable[[int, int, int], bool]
 
 
 def verdict_of(fraction: float) -> str:
-    """The verdict for the fraction k/N of the cases of a claim that hold (the counted-claims rule).
+    """The verdict at the default reading for the fraction (by length) of a claim's interval where it holds.
 
     Parameters
     ----------
     fraction : float
-        Matching fraction in [0, 1] (NaN: no case, not reproduced).
+        Matching fraction in [0, 1] (NaN: no case, the claim does not hold).
 
     Returns
     -------
     str
-        ``"reproduced"``, ``"partly reproduced"`` or ``"not reproduced"``.
+        ``"reproduced"`` from :data:`MATCH_REPRODUCED` on, else ``"contradicted"`` (a reading may
+        still reproduce it: :func:`elsewhere`).
     """
-    if fraction >= MATCH_REPRODUCED:
-        return "reproduced"
-    if fraction >= MATCH_PARTLY:
-        return "partly reproduced"
-    return "not reproduced"
+    return "reproduced" if fraction >= MATCH_REPRODUCED else "contradicted"
 
 
 def parts(*holds: bool) -> str:
-    """The verdict of a claim that says several things, by how many of them hold (the counted-claims rule).
+    """The verdict of a claim that says several things: reproduced only when every part holds.
 
     Parameters
     ----------
@@ -117,47 +137,44 @@ def parts(*holds: bool) -> str:
     -------
     str
     """
-    return verdict_of(sum(map(bool, holds)) / len(holds))
+    return "reproduced" if holds and all(map(bool, holds)) else "contradicted"
 
 
 def combine(both_ok: bool, either_ok: bool) -> str:
-    """The verdict of a claim with two parts: both hold → reproduced, one → partly, none → not.
-
-    The counted-claims rule with N = 2 (:func:`parts`).
+    """The verdict of a claim with two parts: reproduced only when both hold (``either_ok`` is not enough).
 
     Parameters
     ----------
     both_ok, either_ok : bool
-        Whether all parts hold, and whether at least one does.
+        Whether all parts hold, and whether at least one does (kept for the callers' signature).
 
     Returns
     -------
     str
     """
-    return "reproduced" if both_ok else ("partly reproduced" if either_ok else "not reproduced")
+    return "reproduced" if both_ok else "contradicted"
 
 
 def elsewhere(verdict: str, holds_elsewhere: bool) -> str:
-    """The elsewhere-only rule: a claim not reproduced at its study's setting that holds in full at a
-    searched one is partly reproduced; any other verdict stands.
+    """A claim that fails at the default reading but holds in full under another one is reproduced under
+    that reading; any other verdict stands.
 
     Parameters
     ----------
     verdict : str
-        The verdict at the study's setting.
+        The verdict at the default reading.
     holds_elsewhere : bool
-        Whether the claim holds in full at a searched ω or under the other reading of b.
+        Whether the claim holds in full under another reading (confirmed there).
 
     Returns
     -------
     str
     """
-    return "partly reproduced" if verdict == "not reproduced" and holds_elsewhere else verdict
+    return "reproduced under a reading" if verdict == "contradicted" and holds_elsewhere else verdict
 
 
 def of_claims(verdicts: Sequence[str]) -> str:
-    """The verdict of a claim made of other claims: all reproduced → reproduced, none holding even
-    partly → not reproduced, else partly reproduced.
+    """The verdict of a claim made of other claims: reproduced when all are, contradicted otherwise.
 
     Parameters
     ----------
@@ -168,7 +185,154 @@ def of_claims(verdicts: Sequence[str]) -> str:
     -------
     str
     """
-    return combine(all(v == "reproduced" for v in verdicts), any(v != "not reproduced" for v in verdicts))
+    return "reproduced" if verdicts and all(v == "reproduced" for v in verdicts) else "contradicted"
+
+
+def length_fraction(x: Sequence[float], ok: Sequence[bool], lo: float, hi: float, *, lo_open: bool = False,
+                    hi_open: bool = False) -> tuple[float, float]:
+    """Fraction of the length of [lo, hi] (within the grid's reach) where a claim holds.
+
+    Each grid point stands for the interval between the midpoints to its neighbours (the first and
+    last points for half a step beyond them), cut to [lo, hi]; the fraction is the length of the
+    intervals of the points where the claim holds over the length of all of them.  Grid spacing
+    therefore cannot decide it: ten points crowded into a small matching corner weigh what that
+    corner is long.  Open ends only exclude a point lying exactly on them.
+
+    Parameters
+    ----------
+    x : sequence of float
+        The grid (any order, distinct values).
+    ok : sequence of bool
+        Whether the claim holds at each point.
+    lo, hi : float
+        The claimed interval (±inf for an open-ended claim: cut to the grid).
+    lo_open, hi_open : bool
+        Exclude points exactly on an end.
+
+    Returns
+    -------
+    (float, float)
+        The fraction (NaN when the interval meets no grid cell) and the length judged.
+    """
+    x = np.asarray(x, dtype=float)
+    ok = np.asarray(ok, dtype=bool)
+    order = np.argsort(x)
+    x, ok = x[order], ok[order]
+    if x.size == 0:
+        return float("nan"), 0.0
+    if x.size == 1:
+        inside = (x[0] > lo if lo_open else x[0] >= lo) and (x[0] < hi if hi_open else x[0] <= hi)
+        return (float(ok[0]) if inside else float("nan")), 0.0
+    mid = 0.5 * (x[1:] + x[:-1])
+    left = np.concatenate([[x[0] - (x[1] - x[0]) / 2], mid])
+    right = np.concatenate([mid, [x[-1] + (x[-1] - x[-2]) / 2]])
+    length = np.clip(np.minimum(right, hi) - np.maximum(left, lo), 0.0, None)
+    if lo_open:
+        length[x == lo] = 0.0
+    if hi_open:
+        length[x == hi] = 0.0
+    total = float(length.sum())
+    if total <= 0:
+        return float("nan"), 0.0
+    return float(length[ok].sum()) / total, total
+
+
+def section_spread(points: np.ndarray) -> float:
+    """The spread of a set of Poincaré points: RMS distance from their centroid (0 for period-1).
+
+    Parameters
+    ----------
+    points : ndarray (m, 2)
+        Section points (u, u') of one steady response; non-finite rows are ignored.
+
+    Returns
+    -------
+    float
+        NaN when no point is finite.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 2)
+    p = p[np.all(np.isfinite(p), axis=1)]
+    if p.shape[0] == 0:
+        return float("nan")
+    return float(np.sqrt(np.mean(np.sum((p - p.mean(axis=0)) ** 2, axis=1))))
+
+
+def fluctuation_trend(values: Sequence[float], decreasing: bool) -> tuple[bool, str]:
+    """Whether fluctuation measures follow a claimed trend, with the reason when they do not.
+
+    The trend must be strict along the given order, and some fluctuation must exist (largest value
+    ≥ :data:`FLUCT_MIN`): a trend of nothing cannot hold.
+
+    Parameters
+    ----------
+    values : sequence of float
+        The fluctuation measure at each setting, in the order of the varied parameter.
+    decreasing : bool
+        The claimed trend.
+
+    Returns
+    -------
+    (bool, str)
+    """
+    v = np.asarray(values, dtype=float)
+    if v.size < 2 or not np.all(np.isfinite(v)):
+        return False, "not measured at every setting"
+    if float(v.max()) < FLUCT_MIN:
+        return False, f"no fluctuation at these settings (largest {float(v.max()):.1e} < {FLUCT_MIN:g})"
+    d = np.diff(v)
+    ok = bool(np.all(d < 0) if decreasing else np.all(d > 0))
+    return ok, ("strictly " + ("decreasing" if decreasing else "increasing")) if ok else \
+        ("not strictly " + ("decreasing" if decreasing else "increasing"))
+
+
+def jump_type_at(jumps: Sequence[Mapping[str, object]], omega: float, tol: float) -> str:
+    """The type of jump a response shows at ``omega``: the direction of the nearest jump within ``tol``.
+
+    Parameters
+    ----------
+    jumps : sequence of mapping
+        Jumps with ``omega`` and ``direction`` (``"up"``/``"down"``), from either sweep.
+    omega : float
+        The claimed location.
+    tol : float
+        Largest distance in ω.
+
+    Returns
+    -------
+    str
+        ``"upward"`` or ``"downward"``; ``"none"`` when no jump lies within ``tol``; ``"both"``
+        when jumps of both directions are equally near (neither direction is then shown).
+    """
+    near = [(abs(float(j["omega"]) - omega), str(j["direction"])) for j in jumps  # type: ignore[arg-type]
+            if abs(float(j["omega"]) - omega) <= tol + 1e-12]  # type: ignore[arg-type]
+    if not near:
+        return "none"
+    dmin = min(d for d, _ in near)
+    dirs = {k for d, k in near if d <= dmin + 1e-12}
+    if len(dirs) > 1:
+        return "both"
+    return dirs.pop() + "ward"
+
+
+def jump_holds(jumps: Sequence[Mapping[str, object]], omega: float, claimed: str, tol: float) -> bool:
+    """Whether a response shows the claimed jump type (``upward``, ``downward``, ``none``) at ``omega``.
+
+    The opposite jump fails: see :func:`jump_type_at`.
+
+    Parameters
+    ----------
+    jumps : sequence of mapping
+    omega : float
+    claimed : str
+        ``"upward"``, ``"downward"`` or ``"none"`` (``"up"``/``"down"`` accepted).
+    tol : float
+
+    Returns
+    -------
+    bool
+    """
+    want = {"up": "upward", "down": "downward"}.get(claimed, claimed)
+    return jump_type_at(jumps, omega, tol) == want
 
 
 def count_text(k: int, n: int, what: str) -> str:
@@ -212,10 +376,10 @@ def describe_motion(motion: int, period: int, loops: int) -> str:
 
 
 def quasi_n(n: int) -> MotionTest:
-    """The paper's "quasi-n-periodic": n groups of Poincaré points.
+    """The paper's "quasi-n-periodic": a period-n orbit.
 
-    A period-n orbit, or a quasi-periodic response whose section is n closed loops (a torus born
-    from a period-n orbit).
+    By F1 (the period map contracts every area by exp(−4πξ0/ω) < 1) no invariant closed curve, and
+    so no quasi-periodic attractor of n loops, exists for ξ0 > 0: the words can only mean period-n.
 
     Parameters
     ----------
@@ -229,7 +393,7 @@ def quasi_n(n: int) -> MotionTest:
     """
 
     def match(motion: int, period: int, loops: int) -> bool:
-        return (motion == MOTION_PERIODIC and period == n) or (motion == MOTION_QUASIPERIODIC and loops == n)
+        return motion == MOTION_PERIODIC and period == n
 
     return match
 
@@ -293,7 +457,7 @@ def motion_rule(word: str) -> tuple[MotionTest, str]:
     if m is None:
         raise ValueError(f"unknown motion word {word!r}: expected 'chaotic', 'quasi-periodic' or 'quasi-n-periodic'")
     n = int(m.group(1))
-    return quasi_n(n), f"quasi-{n}-periodic (period-{n} or {n} loops)"
+    return quasi_n(n), f"quasi-{n}-periodic (read as period-{n}, by F1)"
 
 
 def range_of(numbers: Mapping[str, object]) -> tuple[float, float, bool, bool]:
@@ -332,7 +496,7 @@ def motion_fields(ds: xr.Dataset, sweep: str | None = None) -> tuple[np.ndarray,
 
 def match_fraction(ds: xr.Dataset, param: str, lo: float, hi: float, pred: MotionTest,
                    *, lo_open: bool = False, hi_open: bool = False) -> tuple[float, int]:
-    """Fraction of grid points with lo ≤ p ≤ hi (ends open on request) whose motion satisfies ``pred``.
+    """Fraction, by length (:func:`length_fraction`), of [lo, hi] where the motion satisfies ``pred``.
 
     Parameters
     ----------
@@ -341,25 +505,23 @@ def match_fraction(ds: xr.Dataset, param: str, lo: float, hi: float, pred: Motio
     param : str
         Its parameter (the grid's coordinate).
     lo, hi : float
-        The range (closed within 1e-12 unless open).
+        The range.
     pred : callable
         The claimed motion (:func:`motion_rule`).
     lo_open, hi_open : bool
-        Exclude the ends.
+        Exclude grid points exactly on the ends.
 
     Returns
     -------
     (float, int)
-        The fraction (NaN if no grid point is in the range) and the number of points in the range.
+        The fraction (NaN if no grid cell meets the range) and the number of grid points in the range.
     """
     x = ds[param].values
     m, n, l = motion_fields(ds)
+    ok = np.array([pred(int(m[i]), int(n[i]), int(l[i])) for i in range(x.size)], dtype=bool)
+    frac, _ = length_fraction(x, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
     sel = ((x > lo) if lo_open else (x >= lo - 1e-12)) & ((x < hi) if hi_open else (x <= hi + 1e-12))
-    idx = np.flatnonzero(sel)
-    if idx.size == 0:
-        return float("nan"), 0
-    ok = sum(pred(int(m[i]), int(n[i]), int(l[i])) for i in idx)
-    return ok / idx.size, int(idx.size)
+    return frac, int(sel.sum())
 
 
 def motion_runs(ds: xr.Dataset, param: str) -> list[tuple[float, float, str]]:

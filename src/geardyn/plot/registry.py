@@ -85,6 +85,7 @@ FIGURES: dict[str, tuple[FigureSpec, ...]] = {
     "stability_comparison": _STABILITY,
     "formula_fit": (FigureSpec("formula_fit", reproduce.formula_fit),),
     "search": (FigureSpec("search", reproduce.search_map),),
+    "readings_map": (FigureSpec("readings", reproduce.readings_map),),
 }
 
 

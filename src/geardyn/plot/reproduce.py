@@ -10,7 +10,7 @@ from matplotlib.axes import Axes
 
 from .common import plot_function, set_title, symbol
 
-__all__ = ["formula_fit", "search_map"]
+__all__ = ["formula_fit", "readings_map", "search_map"]
 
 
 @plot_function("formula_fit", (8.5, 4.8))
@@ -57,3 +57,26 @@ def search_map(ds: xr.Dataset, ax: Axes = None) -> None:
     ax.figure.colorbar(im, ax=ax, label="fraction of grid points matching the claim")
     param = str(ds.attrs.get("param"))
     set_title(ax, f"Where the claims over {symbol(param)} hold", ds, exclude=["omega", param])
+
+
+def _readings_size(ds: xr.Dataset) -> tuple[float, float]:
+    return 9, 1.6 + 0.32 * ds["hold_fraction"].shape[0]
+
+
+@plot_function("readings_map", _readings_size, ax_doc="""
+               ax : matplotlib.axes.Axes, optional
+                   Where to draw; a new figure if omitted (the colour bar is added beside it).""")
+def readings_map(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Fraction of the readings (phase pairs, backlash readings) under which each claim's screen holds, against ω
+    (a result of the reproduction report); the default ω dashed."""
+    f = ds["hold_fraction"].values
+    w = ds["omega"].values
+    mid = 0.5 * (w[1:] + w[:-1])
+    half = float(w[1] - w[0]) / 2 if w.size > 1 else 0.005
+    edges = np.concatenate([[w[0] - half], mid, [w[-1] + (float(w[-1] - w[-2]) / 2 if w.size > 1 else half)]])
+    im = ax.pcolormesh(edges, np.arange(f.shape[0] + 1) - 0.5, f, vmin=0, vmax=1, cmap="viridis")
+    ax.set_yticks(range(f.shape[0]), [str(c) for c in ds["claim"].values])
+    ax.axvline(float(ds.attrs.get("default_omega", 1.0)), color="w", ls="--", lw=0.8)
+    ax.set_xlabel("mesh frequency ω = ω_e/ω_n (dashed: the default reading)")
+    ax.figure.colorbar(im, ax=ax, label="fraction of the readings holding")
+    set_title(ax, "Where each claim holds on the screen of readings", ds, exclude=["omega", "xi0", "xi1", "D"])

@@ -1,10 +1,10 @@
 """The damping study: Table 2 and the text on ξ0 and ξ1 (bifurcation diagrams over each).
 
-A claimed motion over a range of ξ0 or ξ1 is judged by the fraction of grid points in the range
-whose motion matches (:mod:`geardyn.paper.verdicts`); where that fails at the stated ω, ω is
-searched (on coarser grids) for where the claim does hold, and the verdict is then at most
-"partly reproduced" (the rules of :mod:`geardyn.paper.verdicts`).  The ω search is shown as a heat
-map, and the ξ0 diagram also over :attr:`Settings.xi0_zoom`, where its structure lies.
+A claimed motion over a range of ξ0 or ξ1 is judged at the default reading (ω = 1, phases 0) by
+the fraction of the range's length where the motion matches (:mod:`geardyn.paper.verdicts`), on
+diagrams whose doubtful labels are re-examined (:func:`geardyn.analysis.confirm.confirm_sweep`,
+F1).  The other readings are tried by :mod:`geardyn.paper.studies.readings`.  The ξ0 diagram is
+also shown over :attr:`Settings.xi0_zoom`, where its structure lies.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...analysis.classify import MOTION_CHAOTIC
+from ...analysis.confirm import confirm_sweep
 from ..claims import CLAIMS, Claim
 from ...io import json_attr
 from ..report import Finding, Section
@@ -46,8 +47,9 @@ HIGH_CHAOS_FROM = 0.5
 #: XI0-BIF: largest distances (in ξ0) of the computed points from the paper's first and second point.
 BIF_NEAR = (0.02, 0.1)
 
-_WORDS = ("'quasi-n-periodic' = n groups of Poincaré points (a period-n orbit, or a quasi-periodic torus "
-          "section of n loops); 'chaotic' = largest exponent significantly positive.")
+_WORDS = ("'quasi-n-periodic' = a period-n orbit (by F1 no quasi-periodic torus exists for ξ0 > 0); 'chaotic' = "
+          "largest exponent significantly positive; labels of closed curves, λ1 ≈ 0 or period-2n are re-examined by a "
+          "longer exponent run or shooting.")
 
 
 @dataclass(frozen=True)
@@ -104,66 +106,34 @@ class RangeTest:
                               hi_open=self.hi_open)
 
 
-def judge_ranges(ctx: Context, ds: xr.Dataset, rows: Sequence[RangeTest], search_grid: Sequence[float],
-                 evidence: list[str], search_name: str) -> tuple[list[Finding], dict[float, list[float]]]:
-    """Judge range claims at the stated ω; where one fails, search ω for where it holds.
+def judge_ranges(ctx: Context, ds: xr.Dataset, rows: Sequence[RangeTest], evidence: list[str]) -> list[Finding]:
+    """Judge range claims at the default reading by the fraction of each interval's length where they hold.
+
+    The other readings (ω, phases) are tried by the readings study (:mod:`geardyn.paper.studies.readings`).
 
     Parameters
     ----------
     ctx : Context
     ds : xarray.Dataset
-        The bifurcation diagram at the stated ω.
+        The bifurcation diagram at the default ω (labels re-examined by :func:`geardyn.analysis.confirm.confirm_sweep`).
     rows : sequence of RangeTest
         The claims, all over the same parameter.
-    search_grid : sequence of float
-        The parameter grid of the ω search.
     evidence : list of str
-        Evidence of every claim (the search data is added when there is a search).
-    search_name : str
-        Name of the saved search Dataset.
+        Evidence of every claim.
 
     Returns
     -------
-    (list of Finding, dict)
-        The judged claims, and the matching fractions of each claim by searched ω.
+    list of Finding
     """
     w0 = ctx.settings.omega_damping
-    param = rows[0].param
-    sym = SYMBOL[param]
-    results = {r.claim.id: r.fraction(ds) for r in rows}
-    search: dict[float, list[tuple[float, int]]] = {}
-    if any(verdict_of(f) != "reproduced" for f, _ in results.values()):
-        for w in ctx.settings.search_omegas:
-            if abs(w - w0) < 1e-12:
-                continue
-            dsw = ctx.bifurcation(ctx.base.replace(omega=float(w)), param, search_grid)
-            search[float(w)] = [r.fraction(dsw) for r in rows]
-        if search:
-            attrs = {"geardyn_kind": "search", "model": json_attr(ctx.base), "param": param,
-                     "grid": list(map(float, search_grid))}
-            ctx.save(search_name, xr.Dataset(
-                {"match_fraction": (("omega", "claim"), np.array([[f for f, _ in search[w]] for w in sorted(search)]))},
-                coords={"omega": sorted(search), "claim": [r.claim.id for r in rows]}, attrs=attrs),
-                f"ω search of the claims over {sym} ({model_text(ctx.base, skip=('omega', param))})")
-            evidence = evidence + [ctx.datasets[search_name], ctx.figure(search_name)]
     claims = []
-    for i, r in enumerate(rows):
-        f, npts = results[r.claim.id]
-        v = verdict_of(f)
-        text = f"at ω = {w0:g}: {r.what} at {count_text(_count(f, npts), npts, 'grid points of the range')}."
-        if v != "reproduced" and search:
-            ok_w = [w for w in sorted(search) if search[w][i][0] >= MATCH_REPRODUCED]
-            best_w = max(sorted(search), key=lambda w: search[w][i][0])
-            if ok_w:
-                text += " Searching ω (coarser grid): it holds at " + "; ".join(
-                    f"ω = {w:g} with {count_text(_count(*search[w][i]), search[w][i][1], 'grid points')}" for w in ok_w) + "."
-            else:
-                bf, bn = search[best_w][i]
-                text += (f" Searching ω ∈ {{{', '.join(f'{w:g}' for w in sorted(search))}}} (coarser grid): at best "
-                         f"{count_text(_count(bf, bn), bn, 'grid points')} at ω = {best_w:g}.")
-            v = elsewhere(v, bool(ok_w))
-        claims.append(r.claim.judge(text, v, evidence))
-    return claims, {w: [f for f, _ in fs] for w, fs in search.items()}
+    for r in rows:
+        f, npts = r.fraction(ds)
+        text = (f"at ω = {w0:g}: {r.what} over {100 * f:.0f} % of the interval's length ({npts} grid points in it; "
+                f"holds from {100 * MATCH_REPRODUCED:.0f} %)." if np.isfinite(f) else f"at ω = {w0:g}: no grid point "
+                "in the interval.")
+        claims.append(r.claim.judge(text, verdict_of(f), evidence))
+    return claims
 
 
 def _count(fraction: float, n: int) -> int:
@@ -176,7 +146,8 @@ SYMBOL = {"xi0": "ξ0", "xi1": "ξ1", "D": "D", "omega": "ω"}
 
 
 def _diagram(ctx: Context, param: str, grid: Sequence[float]) -> tuple[xr.Dataset, list[str]]:
-    ds = ctx.bifurcation(ctx.base, param, grid, lyapunov=True)
+    ds = confirm_sweep(ctx.bifurcation(ctx.base, param, grid, lyapunov=True), ctx.base, param,
+                       long_periods=ctx.settings.confirm_periods)
     name = f"{param}_bifurcation"
     label = f"bifurcation diagram over {SYMBOL[param]} ({model_text(ctx.base, skip=(param,))})"
     return ds, [ctx.save(name, ds, label), ctx.figure(name)]
@@ -202,7 +173,7 @@ def study_xi0(ctx: Context) -> Section:
     # Table 2 leaves ξ0 > 0.1 open above; the text ends that motion at the second bifurcation point
     rows = [RangeTest.of(CLAIMS["T2-1"]), RangeTest.of(CLAIMS["T2-2"]),
             RangeTest.of(CLAIMS["T2-3"], hi=second, hi_open=True)]
-    claims, _ = judge_ranges(ctx, ds, rows, s.search_xi0, ev, "xi0_search")
+    claims = judge_ranges(ctx, ds, rows, ev)
     x = ds["xi0"].values
     m, _, _ = motion_fields(ds)
     chaotic = x[m == MOTION_CHAOTIC]
@@ -233,7 +204,6 @@ def study_xi0(ctx: Context) -> Section:
                         f"bifurcation point ξ0 = {first:g} and the Table 2 rows), {model_text(ctx.base, skip=('xi0',))}"))
         for c in claims:
             c.evidence.append(ctx.figure("xi0_bifurcation_zoom"))
-    figures += _search_figure(ctx, "xi0_search", "xi0")
     return Section(
         "Mean damping ξ0 (Table 2, rows 1–3)",
         [f"Bifurcation diagram over ξ0 at ω = {s.omega_damping:g} (the paper does not state ω; see Settings), every "
@@ -248,14 +218,6 @@ def study_xi0(ctx: Context) -> Section:
 
 def _yes(ok: bool) -> str:
     return "yes" if ok else "no"
-
-
-def _search_figure(ctx: Context, name: str, param: str) -> list[tuple[str, str]]:
-    """The heat map of the ω search saved as ``name``, if the search ran."""
-    if name not in ctx.datasets:
-        return []
-    return [(ctx.figure(name), f"ω search: fraction of the grid points over {SYMBOL[param]} (coarser grid) that match "
-                               f"each claim, at each searched ω ({model_text(ctx.base, skip=('omega', param))})")]
 
 
 def study_xi1(ctx: Context) -> Section:
@@ -275,7 +237,7 @@ def study_xi1(ctx: Context) -> Section:
     ctx.log("ξ1 bifurcation diagram")
     ds, ev = _diagram(ctx, "xi1", s.xi1_grid)
     rows = [RangeTest.of(CLAIMS["T2-4"]), RangeTest.of(CLAIMS["T2-5"])]
-    claims, _ = judge_ranges(ctx, ds, rows, s.search_xi1, ev, "xi1_search")
+    claims = judge_ranges(ctx, ds, rows, ev)
     ends = [c.verdict for c in claims]
     claims.append(CLAIMS["XI1-CHAOS"].judge(
         f"at ω = {s.omega_damping:g}, motion along ξ1: {runs_text(motion_runs(ds, 'xi1'))}. The sequence's ends are "
@@ -288,6 +250,6 @@ def study_xi1(ctx: Context) -> Section:
          f"(ξ0 ≤ {CLAIMS['T2-2'].numbers['hi']:g}) and in the chaotic row (ξ1 ≥ {CLAIMS['T2-5'].numbers['lo']:g}): "
          "the two studies cannot share one ω unless the boundary case decides it."],
         [(ev[1], f"Bifurcation diagram over ξ1 with the largest Lyapunov exponent, {model_text(ctx.base, skip=('xi1',))}"),
-         *_search_figure(ctx, "xi1_search", "xi1")],
+         ],
         claims,
     )

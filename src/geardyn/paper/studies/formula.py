@@ -80,8 +80,7 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
     c = CLAIMS["FORMULA"].judge(
         f"least-squares fit to {fit['n']} computed amplitudes (up sweeps, ξ1 = {TABLE1['xi1']:g}, b = 2D mm): "
         f"A0 = {fit['A0']:.3f}, ΔA = {fit['dA']:.3f}, β = {fit['beta']:.3f} per mm²; R² = {r2:.3f}, "
-        f"RMS error {fit['rmse']:.3f} (reproduced from R² ≥ {FORMULA_R2_REPRODUCED:g}, partly from R² ≥ "
-        f"{FORMULA_R2_PARTLY:g}).", v, ev)
+        f"RMS error {fit['rmse']:.3f} (holds from R² ≥ {FORMULA_R2_REPRODUCED:g}).", v, ev)
     return Section(
         "The amplitude formula",
         ["The formula is linear in A0, ΔA and β, so they are fitted by linear least squares to the amplitudes of "

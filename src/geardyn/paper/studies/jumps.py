@@ -1,7 +1,7 @@
 """The jump study: up and down frequency responses, the jump claims of the text, and Table 4.
 
-The paper's 'b' (mm) is read as in its Table 3, D = b/2; the reading D = b is computed alongside
-where a claim depends on it (:attr:`Settings.alt_set`).  Jumps and hysteresis come from
+The paper's 'b' (mm) is read as in its Table 3, D = b/2 (the default reading); the other readings
+are judged by :mod:`geardyn.paper.studies.readings_jumps`.  Jumps and hysteresis come from
 :func:`geardyn.analysis.response.frequency_response`.
 """
 
@@ -19,7 +19,7 @@ from ..claims import CLAIMS, claim_ids
 from ..report import Finding, Section
 from ..settings import Context, model_text
 from ..table1 import TABLE1
-from ..verdicts import count_text, elsewhere, parts, verdict_of
+from ..verdicts import count_text, fluctuation_trend, jump_holds, jump_type_at, parts, section_spread
 
 __all__ = [
     "JUMP_NEAR",
@@ -104,25 +104,30 @@ def first_up_jump(ds: xr.Dataset, above: float = LOW_OMEGA) -> dict[str, Any] | 
 
 
 def fluctuation(ds: xr.Dataset, after: float) -> float:
-    """Mean |A(ω_{i+1}) − A(ω_i)| of the up sweep over the grid above ``after`` (jumps and scatter alike).
+    """Mean spread of the Poincaré points (:func:`geardyn.paper.verdicts.section_spread`) over the up sweep above ``after``.
+
+    Zero where every point is period-1; it measures fluctuation (multi-periodic or irregular motion),
+    not the height of the resonance peak.
 
     Parameters
     ----------
     ds : xarray.Dataset
-        A frequency response.
+        A frequency response (with its Poincaré points).
     after : float
         The ω above which to measure.
 
     Returns
     -------
     float
-        NaN if fewer than two grid points lie above ``after``.
+        NaN if no grid point lies above ``after``.
     """
     x = ds["omega"].values
-    a = ds["amplitude"].sel(sweep="up").values
-    sel = x > after
-    d = np.abs(np.diff(a[sel]))
-    return float(np.nanmean(d)) if d.size else float("nan")
+    up = ds.sel(sweep="up")
+    pu, pv = up["poincare_u"].values, up["poincare_v"].values
+    sel = np.flatnonzero(x > after)
+    if sel.size == 0:
+        return float("nan")
+    return float(np.nanmean([section_spread(np.column_stack([pu[i], pv[i]])) for i in sel]))
 
 
 @dataclass
@@ -218,7 +223,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         f"over {len(R)} responses (ξ0, ξ1, D varied): {len(low)} jumps and {len(low_h)} hysteresis intervals below "
         f"ω = {LOW_OMEGA:g}" + (": " + ", ".join(f"ω = {j['omega']:.2f} at {_key_text(k)}" for k, j in low) if low else "")
         + f"; steady below ω = {LOW_OMEGA:g} in {count_text(n_steady, len(R), 'responses')}.",
-        verdict_of(n_steady / len(R)), jd.ev(*R)))
+        parts(n_steady == len(R)), jd.ev(*R)))
 
     def size_series(keys: Sequence[tuple[float, float, float]]) -> list[float]:
         out = []
@@ -244,12 +249,11 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
 
     fl0 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi0_set]
     fl1 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi1_set]
-    ok0, ok1 = _monotone(fl0, True), _monotone(fl1, False)
+    (ok0, why0), (ok1, why1) = fluctuation_trend(fl0, True), fluctuation_trend(fl1, False)
     claims.append(CLAIMS["JUMP-FLUCT"].judge(
-        "fluctuation after the first jump (mean |ΔA| between neighbouring ω of the up sweep): ξ0 = " +
-        ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0)) + f" ({'weakens' if ok0 else 'does not weaken'} "
-        f"with ξ0); ξ1 = " + ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1)) +
-        f" ({'intensifies' if ok1 else 'does not intensify'} with ξ1); parts holding: {count_text(ok0 + ok1, 2, '')}.",
+        "fluctuation after the first jump (mean spread of the Poincaré points over the up sweep): ξ0 = " +
+        ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0)) + f" ({why0}); ξ1 = " +
+        ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1)) + f" ({why1}); both parts required.",
         parts(ok0, ok1), jd.ev(*s.xi0_set, *s.xi1_set)))
 
     firsts = {k: first_up_jump(R[k]) for k in s.d_set}
@@ -264,33 +268,18 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         "first upward jump (up sweep) for D = " + ", ".join(
             f"{k[2]:g}: " + (f"ω = {j['omega']:.3f}" if j else "none") for k, j in firsts.items()) +
         f"; within ±{JUMP_NEAR:g} of ω = {at:g} for {count_text(len(near), len(firsts), 'backlash values')}" + common + ".",
-        verdict_of(len(near) / len(firsts)), jd.ev(*s.d_set)))
-
-    def near_jump(keys: Sequence[tuple[float, float, float]], omega: float, direction: str,
-                  tol: float) -> tuple[str, bool]:
-        parts = []
-        found = False
-        for k in keys:
-            js = [j for j in jumps_of(R[k]) if j["direction"] == direction]
-            best = min(js, key=lambda j: abs(j["omega"] - omega)) if js else None
-            hit = best is not None and abs(best["omega"] - omega) <= tol
-            found |= hit
-            parts.append(f"D = {k[2]:g}: " + (f"nearest {direction}ward jump at ω = {best['omega']:.3f} "
-                                             f"({best['sweep']} sweep, size {best['size']:.3f})" if best else f"no {direction}ward jump"))
-        return "; ".join(parts), found
+        parts(len(near) == len(firsts)), jd.ev(*s.d_set)))
 
     base_xi0 = s.d_set[0][0]  # the ξ0 of the backlash responses
     for cid in ("JUMP-082", "JUMP-095"):
         b, omega, direction = (CLAIMS[cid].numbers[k] for k in ("b", "omega", "direction"))
         keys = [k for k in ((base_xi0, TABLE1["xi1"], b / 2), (base_xi0, TABLE1["xi1"], b)) if k in R]
-        txt, found_main = near_jump(keys[:1], omega, direction, JUMP_NEAR)
-        txt_alt, found_alt = near_jump(keys[1:], omega, direction, JUMP_NEAR) if len(keys) > 1 else ("", False)
-        v = elsewhere("reproduced" if found_main else "not reproduced", found_alt)
-        tail = "" if found_main else (f"; within ±{JUMP_NEAR:g} of ω = {omega:g} under the reading D = b only" if found_alt
-                                      else f"; no {direction}ward jump within ±{JUMP_NEAR:g} of ω = {omega:g} under "
-                                           "either reading")
-        claims.append(CLAIMS[cid].judge(f"b = {b:g} read as D = b/2 (Table 3 reading): {txt}" +
-                                        (f". Read as D = b: {txt_alt}" if txt_alt else "") + tail + ".", v, jd.ev(*keys)))
+        txt = "; ".join(f"D = {k[2]:g}: jump at ω = {omega:g} ± {JUMP_NEAR:g}: "
+                        f"{jump_type_at(jumps_of(R[k]), omega, JUMP_NEAR)}" for k in keys)
+        ok = jump_holds(jumps_of(R[keys[0]]), omega, direction, JUMP_NEAR)
+        claims.append(CLAIMS[cid].judge(f"b = {b:g} read as D = b/2 (default) and D = b: {txt} (the nearest jump must be "
+                                        f"{direction}ward; the opposite jump fails).", "reproduced" if ok else "contradicted",
+                                        jd.ev(*keys)))
 
     return Section(
         "Jumps and fluctuations of the amplitude-frequency response",
@@ -298,8 +287,8 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
          f"each starting from the previous end state, {s.response_options.transient} transient and "
          f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step of the "
          "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
-         "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm); the reading D = b "
-         f"is shown alongside where the claim depends on it. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."],
+         "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm), the default "
+         f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."],
         [(jd.evidence[k][1], f"Frequency response at {_key_text(k)}: up and down sweeps over ω ∈ "
                              f"[{s.response_omega[0]:g}, {s.response_omega[1]:g}]") for k in R],
         claims,
@@ -336,11 +325,11 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         a_dn = float(ds["amplitude"].sel(sweep="down").values[k])
         js = [j for j in jumps_of(ds) if abs(j["omega"] - omega) <= TABLE4_NEAR]
         kinds = sorted({j["direction"] + "ward" for j in js})
-        kind_ok = (not js) if kind == "none" else (kind in kinds)
+        kind_ok = jump_holds(jumps_of(ds), omega, kind, TABLE4_NEAR)
         amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
         v = parts(amp_ok, kind_ok)
         txt = (f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
-               f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'}; parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
+               f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: {jump_type_at(jumps_of(ds), omega, TABLE4_NEAR)}); parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
                f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {'yes' if amp_ok else 'no'}, jump type "
                f"'{kind}': {'yes' if kind_ok else 'no'}")
         ev = list(jd.evidence[key])

@@ -50,7 +50,7 @@ def study_stability(ctx: Context) -> Section:
         f"[{min(s.stability_omegas):g}, {max(s.stability_omegas):g}] gives critical ξ0 up to {mxv:.4f} "
         f"(at ω = {ds.attrs.get('max_xi0_critical_at_omega')}) for the period-1 response of the full model and up to "
         f"{mlv:.4f} (at ω = {ds.attrs.get('max_xi0_critical_linear_at_omega')}) for the linear contact model.",
-        "reproduced" if close else "not reproduced", ev)
+        "reproduced" if close else "contradicted", ev)
     return Section(
         "The stability condition ξ0 = ½√(1 − κ1²)",
         ["The critical mean damping above which the period-1 response (full model) and the zero solution of the "

@@ -1,0 +1,302 @@
+"""The readings of the jump claims and Table 4: lockstep frequency responses under every reading.
+
+Every reading (phases varied one at a time over {0, π/2, π, 3π/2} × the three backlash readings)
+gets the responses its claims speak of: ξ0 ∈ {0.08, 0.1, 0.15} and ξ1 ∈ {0.03, 0.05, 0.08} at
+b = 0.5 mm, and b ∈ {0.2, 0.7, 1.5} mm at ξ0 = 0.08; up and down sweeps over the ω grid of the jump
+study (step 0.01), all in one call of the sweep engine (:func:`geardyn.paper.readings.lockstep_responses`).
+Each claim is judged under each reading by the rules of :mod:`geardyn.paper.verdicts`, the default
+reading (phases 0, D = b/(2 mm)) first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+import xarray as xr
+
+from ...io import json_attr
+from ..claims import CLAIMS, claim_ids
+from ..readings import BACKLASH_READINGS, Reading, lockstep_responses, phase_pairs, response_jumps
+from ..report import Finding
+from ..settings import Context
+from ..table1 import TABLE1
+from ..verdicts import FORMULA_R2_REPRODUCED, fluctuation_trend, jump_holds, jump_type_at
+from .formula import fit_formula
+from .jumps import FLUCT_AFTER, JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR
+
+__all__ = ["JUMP_KEYS", "JumpReadings", "jump_readings", "run_lockstep"]
+
+#: The responses of each reading: (ξ0, ξ1, b in mm).
+JUMP_KEYS: tuple[tuple[float, float, float], ...] = (
+    (0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5), (0.08, 0.03, 0.5), (0.08, 0.08, 0.5),
+    (0.08, 0.05, 0.2), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
+XI0_KEYS = ((0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5))
+XI1_KEYS = ((0.08, 0.03, 0.5), (0.08, 0.05, 0.5), (0.08, 0.08, 0.5))
+B_KEYS = ((0.08, 0.05, 0.2), (0.08, 0.05, 0.5), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
+def _claim_keys() -> dict[str, set[int]]:
+    ix = JUMP_KEYS.index
+    xi1 = TABLE1["xi1"]
+    out = {"JUMP-LOW": set(range(len(JUMP_KEYS))), "JUMP-XI0": {ix(k) for k in XI0_KEYS},
+           "JUMP-XI1": {ix(k) for k in XI1_KEYS}, "JUMP-FLUCT": {ix(k) for k in XI0_KEYS + XI1_KEYS},
+           "JUMP-057": {ix(k) for k in B_KEYS}, "FORMULA": {i for i, k in enumerate(JUMP_KEYS) if k[1] == xi1}}
+    for cid in ("JUMP-082", "JUMP-095"):
+        out[cid] = {ix((0.08, xi1, CLAIMS[cid].numbers["b"]))}
+    for cid in claim_ids("T4-"):
+        n = CLAIMS[cid].numbers
+        out[cid] = {ix((n["xi0"], xi1, n["b"]))}
+    return out
+
+
+#: Candidate readings confirmed for a claim judged on one or two responses (one for the others).
+CONFIRM_SINGLE = 2
+#: The responses each claim is judged on (indices of JUMP_KEYS).
+CLAIM_KEYS: dict[str, set[int]] = _claim_keys()
+#: A hysteresis below ω = 0.5 (JUMP-LOW): up and down amplitudes differing by this fraction of the response's range.
+LOW_DISAGREE = 0.1
+
+
+@dataclass
+class JumpReadings:
+    """The lockstep responses: readings, and per reading and key the amplitudes, spreads and jumps.
+
+    Parameters
+    ----------
+    omega : ndarray (n,)
+        The ω grid.
+    readings : list of Reading
+        The readings, the default among them.
+    amplitude, spread : ndarray (reading, key, 2, n)
+        Half peak-to-peak amplitude and spread of the Poincaré points, up and down sweeps.
+    jumps : list
+        Per reading and key (:data:`JUMP_KEYS`), the jumps of the response.
+    """
+
+    omega: np.ndarray
+    readings: list[Reading]
+    amplitude: np.ndarray  # (reading, key, 2, ω)
+    spread: np.ndarray
+    jumps: list[list[list[dict[str, Any]]]]  # [reading][key] -> jumps
+
+    def key(self, k: tuple[float, float, float]) -> int:
+        return JUMP_KEYS.index(k)
+
+
+def run_lockstep(ctx: Context, readings: list[Reading] | None = None, options: Any = None,
+                 name: str = "readings_responses", keys: list[set[int]] | None = None) -> JumpReadings:
+    """Every reading's responses, in one call of the sweep engine.
+
+    Parameters
+    ----------
+    ctx : Context
+    readings : list of Reading, optional
+        Default: every phase pair (one phase varied) under every backlash reading, the default first.
+    options : IntegrationOptions, optional
+        Periods per point (default the settings' ``readings_response_options``).
+    name : str
+        Name of the saved Dataset.
+    keys : list of set of int, optional
+        Per reading, the indices of :data:`JUMP_KEYS` to compute (default all); the others are NaN.
+
+    Returns
+    -------
+    JumpReadings
+    """
+    s = ctx.settings
+    if readings is None:
+        readings = [Reading(a, b, key) for key in BACKLASH_READINGS for (a, b) in phase_pairs(False)]
+    options = s.readings_response_options if options is None else options
+    nR, nK = len(readings), len(JUMP_KEYS)
+    pairs = [(i, k) for i in range(nR) for k in range(nK) if keys is None or k in keys[i]]
+    pts = np.array([[readings[i].phi_c, readings[i].phi_k, *JUMP_KEYS[k][:2], readings[i].D(JUMP_KEYS[k][2])]
+                    for i, k in pairs])
+    W = np.round(np.linspace(s.response_omega[0], s.response_omega[1], s.response_num), 6)
+    ctx.log(f"readings responses: {pts.shape[0]} up/down sweeps of {W.size} ω each")
+    r = lockstep_responses(ctx.base, ("phi_c1", "phi_k1", "xi0", "xi1", "D"), pts, W, options, ctx.executor)
+    amp = np.full((nR, nK, 2, W.size), np.nan)
+    spread = np.full((nR, nK, 2, W.size), np.nan)
+    for j, (i, k) in enumerate(pairs):
+        amp[i, k], spread[i, k] = r["amplitude"][j], r["spread"][j]
+    jumps = [[response_jumps(W, amp[i, k]) if np.isfinite(amp[i, k]).any() else [] for k in range(nK)]
+             for i in range(nR)]
+    ctx.save(name, xr.Dataset(
+        {"amplitude": (("reading", "key", "sweep", "omega"), amp), "spread": (("reading", "key", "sweep", "omega"), spread)},
+        coords={"reading": [rd.text for rd in readings], "key": [f"ξ0 = {a:g}, ξ1 = {b:g}, b = {c:g} mm" for a, b, c in JUMP_KEYS],
+                "sweep": ["up", "down"], "omega": W},
+        attrs={"geardyn_kind": "readings_responses", "model": json_attr(ctx.base)}),
+        f"frequency responses under {nR} readings ({nR * nK} up/down sweeps, ω step {W[1] - W[0]:.2f}, "
+        f"{options.transient} transient and {options.periods} recorded periods per point)", figures=False)
+    return JumpReadings(W, readings, amp, spread, jumps)
+
+
+def _first_up(js: list[dict[str, Any]]) -> dict[str, Any] | None:
+    c = [j for j in js if j["sweep"] == "up" and j["direction"] == "up" and j["omega"] > LOW_OMEGA]
+    return min(c, key=lambda j: j["omega"]) if c else None
+
+
+def _fluct(jr: JumpReadings, i: int, k: int) -> float:
+    j = _first_up(jr.jumps[i][k])
+    after = (j["omega"] if j else LOW_OMEGA) + FLUCT_AFTER
+    sel = jr.omega > after
+    v = jr.spread[i, k, 0, sel]
+    return float(np.nanmean(v)) if v.size else float("nan")
+
+
+def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
+    """Claim id → the test of the claim under reading i: (holds, result)."""
+    K = jr.key
+    W = jr.omega
+
+    def low(i: int) -> tuple[bool, str]:
+        bad = []
+        for k in range(len(JUMP_KEYS)):
+            js = [j for j in jr.jumps[i][k] if j["omega"] < LOW_OMEGA]
+            a = jr.amplitude[i, k]
+            rng = float(np.nanmax(a) - np.nanmin(a)) or 1.0
+            sel = W < LOW_OMEGA
+            dis = bool(np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * rng))
+            if js or dis:
+                bad.append(k)
+        return not bad, f"steady below ω = {LOW_OMEGA:g} in {len(JUMP_KEYS) - len(bad)} of {len(JUMP_KEYS)} responses"
+
+    def sizes(keys, decreasing: bool, lab: str, pos: int) -> Callable[[int], tuple[bool, str]]:
+        def t(i: int) -> tuple[bool, str]:
+            js = [_first_up(jr.jumps[i][K(k)]) for k in keys]
+            if not all(js):
+                return False, f"an upward jump above ω = {LOW_OMEGA:g} in {sum(map(bool, js))} of {len(js)} responses"
+            sz = [j["size"] for j in js]  # type: ignore[index]
+            ok = bool(np.all(np.diff(sz) < 0) if decreasing else np.all(np.diff(sz) > 0))
+            return ok, "sizes " + ", ".join(f"{lab} = {k[pos]:g}: {v:.3f}" for k, v in zip(keys, sz))
+        return t
+
+    def fluct(i: int) -> tuple[bool, str]:
+        f0 = [_fluct(jr, i, K(k)) for k in XI0_KEYS]
+        f1 = [_fluct(jr, i, K(k)) for k in XI1_KEYS]
+        ok0, why0 = fluctuation_trend(f0, True)
+        ok1, why1 = fluctuation_trend(f1, False)
+        return ok0 and ok1, ("spread over ξ0 " + ", ".join(f"{v:.3f}" for v in f0) + f" ({why0}); over ξ1 "
+                             + ", ".join(f"{v:.3f}" for v in f1) + f" ({why1})")
+
+    def at057(i: int) -> tuple[bool, str]:
+        at = CLAIMS["JUMP-057"].numbers["omega"]
+        js = [_first_up(jr.jumps[i][K(k)]) for k in B_KEYS]
+        ok = all(j is not None and abs(j["omega"] - at) <= JUMP_NEAR for j in js)
+        return ok, "first upward jumps at ω = " + ", ".join(f"{j['omega']:.3f}" if j else "–" for j in js)
+
+    def located(cid: str) -> Callable[[int], tuple[bool, str]]:
+        b, w, d = (CLAIMS[cid].numbers[k] for k in ("b", "omega", "direction"))
+        k = K((0.08, TABLE1["xi1"], b))
+
+        def t(i: int) -> tuple[bool, str]:
+            js = jr.jumps[i][k]
+            return jump_holds(js, w, d, JUMP_NEAR), f"jump at ω = {w:g} ± {JUMP_NEAR:g}: {jump_type_at(js, w, JUMP_NEAR)}"
+        return t
+
+    def table4(cid: str) -> Callable[[int], tuple[bool, str]]:
+        w, x0, b, A, kind = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A", "jump"))
+        k = K((x0, TABLE1["xi1"], b))
+        g = int(np.argmin(np.abs(W - w)))
+
+        def t(i: int) -> tuple[bool, str]:
+            a = jr.amplitude[i, k, :, g]
+            ok_a = bool(np.any(np.abs(a - A) <= TABLE4_AMP_REL * A))
+            typ = jump_type_at(jr.jumps[i][k], w, TABLE4_NEAR)
+            ok_j = jump_holds(jr.jumps[i][k], w, kind, TABLE4_NEAR)
+            return ok_a and ok_j, f"A = {a[0]:.3f} / {a[1]:.3f} (up / down), jump: {typ}"
+        return t
+
+    def formula(i: int) -> tuple[bool, str]:
+        rows = []
+        rd = jr.readings[i]
+        for k, (x0, x1, b) in enumerate(JUMP_KEYS):
+            if x1 != TABLE1["xi1"]:
+                continue
+            rows.append(np.column_stack([W, np.full_like(W, x0), np.full_like(W, b), jr.amplitude[i, k, 0]]))
+        d = np.vstack(rows)
+        fit = fit_formula(d[:, 0], d[:, 1], d[:, 2], d[:, 3])
+        return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({rd.backlash})"
+
+    tests = {"JUMP-LOW": low, "JUMP-XI0": sizes(XI0_KEYS, True, "ξ0", 0), "JUMP-XI1": sizes(XI1_KEYS, False, "ξ1", 1),
+             "JUMP-FLUCT": fluct, "JUMP-057": at057, "JUMP-082": located("JUMP-082"), "JUMP-095": located("JUMP-095"),
+             "FORMULA": formula}
+    for cid in claim_ids("T4-"):
+        tests[cid] = table4(cid)
+    return tests
+
+
+def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) -> dict[str, list[tuple[bool, str]]]:
+    """Every jump claim, Table 4 row and the formula under every reading; verdicts set in ``findings``.
+
+    A claim failing at the default reading (the study's full responses) is reproduced under the
+    reading nearest the default where the lockstep responses show it, once the responses under that
+    reading, recomputed with the study's transient and recorded periods, show it too.
+
+    Parameters
+    ----------
+    ctx : Context
+        Where the confirmations run.
+    jr : JumpReadings
+    findings : dict
+        By claim id; changed in place (readings, verdict, reading, deciding).
+
+    Returns
+    -------
+    dict
+        Claim id → (holds, result) per reading (in the order of ``jr.readings``, default first).
+    """
+    out = {}
+    need: dict[str, list[int]] = {}
+    for cid, test in _tests(jr).items():
+        res = [test(i) for i in range(len(jr.readings))]
+        out[cid] = res
+        f = findings[cid]
+        f.evidence.append(ctx.datasets["readings_responses"])
+        f.readings = [["reading", "result", "holds"]] + [
+            [rd.text + (" (default)" if rd.is_default else ""), txt, "yes" if ok else "no"]
+            for rd, (ok, txt) in zip(jr.readings, res)]
+        i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
+        # at the default reading the study's full responses decide; the lockstep rows are the other readings
+        full_default = f.verdict == "reproduced"
+        holding = [i for i, (ok, _) in enumerate(res) if ok and i != i_def]
+        if full_default:
+            f.verdict, f.deciding = "reproduced", f"holds at the default reading (full responses); lockstep: {res[i_def][1]}"
+        elif holding:
+            need[cid] = holding[:CONFIRM_SINGLE if len(CLAIM_KEYS[cid]) <= 2 else 1]
+            f.deciding = f"{len(holding)} of {len(res) - 1} other readings hold in the lockstep responses"
+        else:
+            f.verdict = "contradicted"
+            f.deciding = f"fails at the default reading and under all {len(res) - 1} other readings; lockstep default: " \
+                         f"{res[i_def][1]}"
+    if need:
+        _confirm(ctx, jr, need, findings)
+    return out
+
+
+def _confirm(ctx: Context, jr: JumpReadings, need: dict[str, list[int]], findings: dict[str, Finding]) -> None:
+    """Recompute the responses under the candidate readings with the study's periods; set the verdicts."""
+    s = ctx.settings
+    uniq = sorted({i for c in need.values() for i in c})
+    opts = s.response_options
+    keys = [set().union(*(CLAIM_KEYS[c] for c, idx in need.items() if u in idx)) for u in uniq]
+    sub = run_lockstep(ctx, [jr.readings[i] for i in uniq], opts, name="readings_responses_confirmed", keys=keys)
+    tests = _tests(sub)
+    longer = f"{opts.transient} transient and {opts.periods} recorded periods per point"
+    for cid, idx in need.items():
+        f = findings[cid]
+        tried = []
+        for i in idx:
+            ok, txt = tests[cid](uniq.index(i))
+            rd = jr.readings[i]
+            f.readings.append([rd.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed"])
+            tried.append(f"{rd.text}: {txt}")
+            if ok:
+                f.verdict, f.reading = "reproduced under a reading", rd.text
+                f.deciding = (f"fails at the default reading; holds under {rd.text} ({rd.changes()}), confirmed with "
+                              f"{longer}: {txt}; {f.deciding}")
+                break
+        else:
+            f.verdict = "contradicted"
+            f.deciding = (f"fails at the default reading; the {len(idx)} reading(s) nearest the default where the lockstep "
+                          f"responses show it fail with {longer} ({'; '.join(tried)}); {f.deciding}")
+        f.evidence.append(ctx.datasets["readings_responses_confirmed"])
