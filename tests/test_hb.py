@@ -166,6 +166,20 @@ def test_events_match_shooting_defaults():
     assert not np.any(st[w > pd + 1e-3])
 
 
+def test_events_with_hill_and_monodromy():
+    """Both Floquet methods find the same events on the defaults' branch; the monodromy's period doubling is
+    shooting's to its RK4 error (measured 1e-10; Hill's 3.3e-6 at H = 16, its truncation)."""
+    from geardyn.analysis.hb import hb_continuation
+
+    ref = SHOOTING_EVENTS["defaults"]
+    hill = hb_continuation(CASES["defaults"], "omega", 0.5, 1.0, floquet="hill")
+    mono = hb_continuation(CASES["defaults"], "omega", 0.5, 1.0, floquet="monodromy")
+    _check_events(hill, ref, 1e-3)
+    _check_events(mono, ref, 1e-3)
+    pd = mono.of_type("period-doubling")[0].value
+    assert abs(pd - ref[-1][1]) <= 1e-6
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("case", list(CASES))
 def test_events_match_live_shooting(case):
@@ -188,20 +202,21 @@ def test_hb_multipliers_match_shooting_floquet(floquet):
         sol = hb_solve(m, floquet=floquet)
         orb = shoot(m, 1, dtau=0.002, accurate=True)
         assert sol.status is Status.OK and sol.hill.status is Status.OK
-        # H = 16; measured: Hill 2e-4 (1e-6 at H = 32), monodromy 2.5e-4 (5e-5 at H = 32)
+        # H = 16; measured: Hill 2e-4 (2e-6 at H = 32), monodromy 3e-9 (at any H from 8)
         assert _match(sol.multipliers, orb.multipliers) <= 1e-3
         assert abs(sol.u_min - orb.u_min) <= 1e-4 and abs(sol.u_max - orb.u_max) <= 1e-4  # H = 16
 
 
 def test_monodromy_beats_hill_at_few_harmonics():
-    """At H = 8 the monodromy of the period started on the HB solution is closer to shooting's multipliers than
-    Hill's (measured 2e-4 against 3.6e-3 at ω = 0.7): the trajectory switches where the equation says."""
+    """At H = 8 the monodromy of the period started on the (Newton-corrected) HB state is closer to shooting's
+    multipliers than Hill's (measured 2e-9 against 3.6e-3 at ω = 0.7): the trajectory switches where the
+    equation says, while Hill's eigenvectors are truncated at H."""
     from geardyn.analysis.periodic import shoot
 
     m = GearModel(omega=0.7)
     orb = shoot(m, 1, dtau=0.002, accurate=True)
     mono, hill = (hb_solve(m, 8, floquet=f) for f in ("monodromy", "hill"))
-    assert _match(mono.multipliers, orb.multipliers) <= 1e-3 < _match(hill.multipliers, orb.multipliers)
+    assert _match(mono.multipliers, orb.multipliers) <= 1e-6 and _match(hill.multipliers, orb.multipliers) > 1e-3
 
 
 @pytest.mark.parametrize("floquet", ["hill", "monodromy"])
