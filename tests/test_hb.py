@@ -202,14 +202,14 @@ def test_hb_multipliers_match_shooting_floquet(floquet):
         sol = hb_solve(m, floquet=floquet)
         orb = shoot(m, 1, dtau=0.002, accurate=True)
         assert sol.status is Status.OK and sol.hill.status is Status.OK
-        # H = 16; measured: Hill 2e-4 (2e-6 at H = 32), monodromy 3e-9 (at any H from 8)
+        # H = 16; measured: Hill 2e-4 (2e-6 at H = 32), monodromy 7e-8 (at any H from 8)
         assert _match(sol.multipliers, orb.multipliers) <= 1e-3
         assert abs(sol.u_min - orb.u_min) <= 1e-4 and abs(sol.u_max - orb.u_max) <= 1e-4  # H = 16
 
 
 def test_monodromy_beats_hill_at_few_harmonics():
     """At H = 8 the monodromy of the period started on the (Newton-corrected) HB state is closer to shooting's
-    multipliers than Hill's (measured 2e-9 against 3.6e-3 at ω = 0.7): the trajectory switches where the
+    multipliers than Hill's (measured 7e-8 against 3.6e-3 at ω = 0.7): the trajectory switches where the
     equation says, while Hill's eigenvectors are truncated at H."""
     from geardyn.analysis.periodic import shoot
 

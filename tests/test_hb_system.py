@@ -167,8 +167,8 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
     Shooting's own error is far below the tolerances: halving Δτ from 0.002 to 0.001 changes its extremes
     by 4e-13 and its multipliers by 3e-12 (measured).  HB's error is the truncation of the series, algebraic
     because of the kink of the dead zone (docs/hb.md: about H⁻³): measured 2.6e-6 (H = 16) and 8.7e-8
-    (H = 32) in δ_min, 1.8e-5 and 2.0e-6 in the multipliers.  Asserted: 1e-6 and 1e-5 at H = 32, and that
-    both errors fall from H = 16 to H = 32.
+    (H = 32) in δ_min, 1.8e-5 and 2.0e-6 in Hill's multipliers.  Asserted: 1e-6 and 1e-5 at H = 32, and that
+    both errors fall from H = 16 to H = 32; the monodromy's multipliers within 1e-6 at both H.
     """
     model = _four_dof(0.9)
     orb = shoot_system(model, 1, accurate=True, dtau=0.002)
@@ -177,16 +177,22 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
     assert r == 0
     ref = orb.meshes[0]
     assert ref["u_min"] < model.meshes[0].D < ref["u_max"]  # the mesh loses contact: a nonlinear orbit
-    errs = []
+    errs, mono = [], []
     for H in (16, 32):
-        sol = hb_system_solve(model, H)
+        sol = hb_system_solve(model, H, floquet="hill")
         assert sol.converged and sol.hill.status is Status.OK
         np.testing.assert_allclose(sol.state()[:4] - orb.state[:4], 0.0, atol=1e-3)
         errs.append((max(abs(sol.u_min - ref["u_min"]), abs(sol.u_max - ref["u_max"]),
                          abs(sol.amplitude - ref["amplitude"])), _conj_close(sol.multipliers, mu_ref)))
+        m = hb_system_solve(model, H, guess=sol.coefficients)  # the monodromy (default)
+        assert m.hill.status is Status.OK
+        mono.append(_conj_close(m.multipliers, mu_ref))
     (u16, m16), (u32, m32) = errs
     assert u32 < 1e-6 and m32 < 1e-5, errs
     assert u32 < u16 and m32 < m16, errs
+    # the monodromy of the period started on the Newton-corrected HB state: RK4's error at either H (measured
+    # 1.0e-7 at H = 16 and 32), not the series' truncation
+    assert max(mono) < 1e-6, mono
 
 
 # ---------------------------------------------------------------------------- the analytic derivatives

@@ -1,4 +1,4 @@
-"""Harmonic balance: ``geardyn hb`` (a branch of periodic responses by HB continuation, with Hill stability)."""
+"""Harmonic balance: ``geardyn hb`` (a branch of periodic responses by HB continuation, with Floquet stability)."""
 
 from __future__ import annotations
 
