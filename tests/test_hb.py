@@ -168,7 +168,7 @@ def test_events_match_shooting_defaults():
 
 def test_events_with_hill_and_monodromy():
     """Both Floquet methods find the same events on the defaults' branch; the monodromy's period doubling is
-    shooting's to its RK4 error (measured 1e-10; Hill's 3.3e-6 at H = 16, its truncation)."""
+    shooting's to its RK4 error (measured 1.3e-9; Hill's 3.3e-6 at H = 16, its truncation)."""
     from geardyn.analysis.hb import hb_continuation
 
     ref = SHOOTING_EVENTS["defaults"]
