@@ -13,7 +13,9 @@ both in this process, one after the other, with the wall time of each, the load 
 and each method's events (type, ω).  The events are matched by type and order; their difference is what
 the two methods disagree by (shooting's events are linear interpolations inside one step).
 
-Run: ``python benchmarks/hb_system.py [--harmonics 12]`` (about two minutes on a loaded 2-core machine).  Writes ``benchmarks/results/hb_system.json``.
+HB runs with the Floquet multipliers from the monodromy matrix (the default) and from Hill's method.
+Run: ``python benchmarks/hb_system.py [--harmonics 12] [--small-step]`` (about a minute on a loaded 2-core
+machine).  Writes ``benchmarks/results/hb_system.json``.
 """
 
 from __future__ import annotations
@@ -37,21 +39,23 @@ SYSTEM = ROOT / "examples" / "systems" / "paper_bevel_8dof.toml"
 LO, HI = 0.6, 1.2
 
 
-def _hb(model, H: int, ds_max: float) -> dict:
-    t = time.perf_counter()
-    r = hb_system_continuation(model, "omega", LO, HI, harmonics=H, ds_max=ds_max)
-    wall = time.perf_counter() - t
-    return {"method": "hb", "harmonics": H, "ds_max": ds_max, "wall_s": wall, "points": int(r.values.size), "end": r.end,
+def _hb(model, H: int, ds_max: float, floquet: str) -> dict:
+    t, c = time.perf_counter(), time.process_time()
+    r = hb_system_continuation(model, "omega", LO, HI, harmonics=H, ds_max=ds_max, floquet=floquet)
+    wall, cpu = time.perf_counter() - t, time.process_time() - c
+    return {"method": "hb", "floquet": floquet, "harmonics": H, "ds_max": ds_max, "wall_s": wall, "cpu_s": cpu,
+            "points": int(r.values.size), "end": r.end,
             "unresolved_points": int((r.status != 0).sum()),
             "events": [{"type": b.type, "omega": b.value, "located": b.located, "detail": b.detail}
                        for b in r.bifurcations]}
 
 
 def _shooting(model) -> dict:
-    t = time.perf_counter()
+    t, c = time.perf_counter(), time.process_time()
     r = system_continuation(model, "omega", LO, HI, 1)
-    wall = time.perf_counter() - t
-    return {"method": "shooting", "accurate": True, "wall_s": wall, "points": int(r.values.size), "end": r.end,
+    wall, cpu = time.perf_counter() - t, time.process_time() - c
+    return {"method": "shooting", "accurate": True, "wall_s": wall, "cpu_s": cpu, "points": int(r.values.size),
+            "end": r.end,
             "events": [{"type": b["type"], "omega": b["omega"], "located": b["located"], "detail": b["detail"]}
                        for b in r.bifurcations]}
 
@@ -73,28 +77,36 @@ def _match(a: list[dict], b: list[dict]) -> list[dict]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--harmonics", type=int, default=12)
+    ap.add_argument("--small-step", action="store_true",
+                    help="also run HB (monodromy) at the 1-DOF default step DS_MAX (several times longer)")
     ap.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "hb_system.json")
     args = ap.parse_args()
     model = load_system(SYSTEM)
-    hb_system_continuation(model, "omega", LO, LO + 0.01, harmonics=4)  # compile the kernels outside the timing
+    for floquet in ("monodromy", "hill"):  # compile the kernels outside the timing
+        hb_system_continuation(model, "omega", LO, LO + 0.01, harmonics=4, floquet=floquet)
+    runs = [("monodromy", SYSTEM_DS_MAX), ("hill", SYSTEM_DS_MAX)] + ([("monodromy", DS_MAX)] if args.small_step else [])
     load0 = os.getloadavg()
-    hbs = [_hb(model, args.harmonics, d) for d in (SYSTEM_DS_MAX, DS_MAX)]
+    hbs = [_hb(model, args.harmonics, d, f) for f, d in runs]
     sh = _shooting(model)
     load1 = os.getloadavg()
     res = {"case": str(SYSTEM.relative_to(ROOT)), "param": "omega", "interval": [LO, HI],
            "load_average_before": load0, "load_average_after": load1, "cpus": os.cpu_count(),
            "platform": platform.platform(), "hb": hbs, "shooting": sh,
            "hb_over_shooting_time": [h["wall_s"] / sh["wall_s"] for h in hbs],
+           "hb_over_shooting_cpu": [h["cpu_s"] / sh["cpu_s"] for h in hbs],
            "events": [_match(h["events"], sh["events"]) for h in hbs]}
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(res, indent=2) + "\n")
-    print("| method | points | wall (s) | time / shooting |\n|---|---|---|---|")
-    for h, ratio in zip(hbs, res["hb_over_shooting_time"]):
-        print(f"| HB (H = {h['harmonics']}, ds_max = {h['ds_max']}) | {h['points']} | {h['wall_s']:.1f} | {ratio:.2f} |")
-    print(f"| shooting (accurate, Δτ = 0.01) | {sh['points']} | {sh['wall_s']:.1f} | 1 |")
+    print("| method | points | wall (s) | CPU (s) | time / shooting (wall, CPU) |\n|---|---|---|---|---|")
+    for h, ratio, rc in zip(hbs, res["hb_over_shooting_time"], res["hb_over_shooting_cpu"]):
+        print(f"| HB, {h['floquet']} (H = {h['harmonics']}, ds_max = {h['ds_max']}) | {h['points']} | {h['wall_s']:.1f} "
+              f"| {h['cpu_s']:.1f} | {ratio:.2f}, {rc:.2f} |")
+    print(f"| shooting (accurate, Δτ = 0.01) | {sh['points']} | {sh['wall_s']:.1f} | {sh['cpu_s']:.1f} | 1 |")
     print(f"load average {load0[0]:.2f} before, {load1[0]:.2f} after")
-    for e in res["events"][0]:
-        print(f"{e['type']:16s} hb {e['hb']}  shooting {e['shooting']}  difference {e['difference']}")
+    for h, evs in zip(hbs, res["events"]):
+        print(f"events, HB with {h['floquet']} (ds_max = {h['ds_max']}):")
+        for e in evs:
+            print(f"  {e['type']:16s} hb {e['hb']}  shooting {e['shooting']}  difference {e['difference']}")
     print(f"wrote {args.out}")
 
 

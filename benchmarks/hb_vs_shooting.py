@@ -12,6 +12,8 @@ switching), so one run gives the up and the down response.
   load on the machine): HB at its defaults (H = 16, ds_max = 0.02) and at fewer harmonics
   with larger steps; shooting at its defaults (default mode, Δτ = 0.01, ds_max = 0.01) and cheaper ones
   (larger Δτ, larger steps: the same ds_max = 0.05 and 0.1 as HB);
+* HB's multipliers from the monodromy matrix of one period started on the solution (the default) and, for
+  comparison, from Hill's method (``floquet = hill``);
 * for each method the fastest setting that finds every reference event (both folds, the grazing and the
   period doublings) within 1e-3 of the reference is compared.
 
@@ -39,7 +41,9 @@ MODEL = GearModel(xi0=0.08)
 LO, HI = 0.3, 1.0
 FOLD_ACCURACY = 1e-3
 HB_SETTINGS = [dict(harmonics=16, ds_max=0.02), dict(harmonics=16, ds_max=0.05), dict(harmonics=12, ds_max=0.05),
-               dict(harmonics=10, ds_max=0.05), dict(harmonics=8, ds_max=0.05), dict(harmonics=8, ds_max=0.1)]
+               dict(harmonics=10, ds_max=0.05), dict(harmonics=8, ds_max=0.05), dict(harmonics=8, ds_max=0.1),
+               dict(harmonics=6, ds_max=0.1), dict(harmonics=8, ds_max=0.1, floquet="hill"),
+               dict(harmonics=16, ds_max=0.02, floquet="hill")]
 SHOOTING_SETTINGS = [dict(accurate=False, dtau=0.01), dict(accurate=False, dtau=0.02, ds_max=0.05),
                      dict(accurate=False, dtau=0.02, ds_max=0.1), dict(accurate=False, dtau=0.05, ds_max=0.05),
                      dict(accurate=True, dtau=0.02, ds_max=0.05)]

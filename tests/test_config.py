@@ -386,3 +386,20 @@ def test_nondimensional_config_refuses_physical_keys_and_unknown_sections(tmp_pa
         load_config(p)
     r = runner.invoke(app, ["simulate", "--config", str(p)])
     assert r.exit_code == 2 and "[solver]" in r.output and len(r.output.strip().splitlines()) == 1
+
+
+def test_packaged_quantities_hold_pint_values_and_cover_the_packaged_file():
+    """The packaged pair is read without pint; each value it uses instead is pint's, bit for bit."""
+    import subprocess
+    import sys
+
+    from geardyn import _config_values as cv
+    from geardyn._packaged_quantities import PACKAGED_QUANTITIES
+
+    kinds = {k.label: k for k in vars(cv).values() if isinstance(k, cv._Kind)}
+    for (label, text), value in PACKAGED_QUANTITIES.items():
+        assert value.hex() == float(cv._ureg().Quantity(text).to(kinds[label].unit).magnitude).hex(), text
+    code = ("import sys; from geardyn.config import load_config; c = load_config(None); "
+            "print('pint' in sys.modules, c.pair is not None)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "True"]

@@ -57,7 +57,7 @@ def torsional():
 # ---------------------------------------------------------------------------- the 1-DOF reduction
 @pytest.fixture(scope="module")
 def torsional_branch(torsional):
-    return hb_system_continuation(torsional, "omega", 0.5, 0.8, harmonics=16)
+    return hb_system_continuation(torsional, "omega", 0.5, 0.8, harmonics=16, floquet="hill")
 
 
 def test_torsional_branch_reproduces_the_1dof_hb(torsional_branch, torsional):
@@ -74,9 +74,11 @@ def test_torsional_branch_reproduces_the_1dof_hb(torsional_branch, torsional):
     assert eq.N == res.samples
     worst = {"u": 0.0, "mu": 0.0}
     for w, x, lo, hi, st in zip(res.values, res.coefficients, res.u_min, res.u_max, res.status):
-        sysw = hb_system_solve(torsional.with_param("omega", w), res.harmonics, guess=x.reshape(2, -1), tol=1e-13)
+        sysw = hb_system_solve(torsional.with_param("omega", w), res.harmonics, guess=x.reshape(2, -1), tol=1e-13,
+                               floquet="hill")
         d = eq.deflection(sysw.unknowns, eq.reference, w)  # the mesh's u, a guess for the 1-DOF HB
-        one = hb_solve(GearModel().with_param("omega", w), res.harmonics, guess=d, samples=res.samples, tol=1e-13)
+        one = hb_solve(GearModel().with_param("omega", w), res.harmonics, guess=d, samples=res.samples, tol=1e-13,
+                       floquet="hill")
         assert one.converged and sysw.converged
         worst["u"] = max(worst["u"], abs(one.u_min - lo), abs(one.u_max - hi),
                          abs(one.amplitude - 0.5 * (hi - lo)))
@@ -85,12 +87,27 @@ def test_torsional_branch_reproduces_the_1dof_hb(torsional_branch, torsional):
         # copies (they differ by the truncation error, about 1e-6 at H = 16): compared up to conjugation
         worst["mu"] = max(worst["mu"], _conj_close(sysw.multipliers, one.multipliers))
     assert worst["u"] < 1e-8 and worst["mu"] < 1e-8, worst
-    ref = hb_continuation(GearModel(), "omega", 0.5, 0.8, harmonics=16)
+    ref = hb_continuation(GearModel(), "omega", 0.5, 0.8, harmonics=16, floquet="hill")
     got = sorted((b.type, b.value) for b in res.bifurcations)
     want = sorted((b.type, b.value) for b in ref.bifurcations)
     assert [t for t, _ in got] == [t for t, _ in want] == ["fold", "fold", "grazing", "period-doubling"]
     for (_, a), (_, b) in zip(got, want):
         assert a == pytest.approx(b, abs=1e-8)
+
+
+def test_torsional_monodromy_multipliers_are_the_1dof_ones(torsional):
+    """The monodromy of the system (its rigid mode left out) against the 1-DOF monodromy at the same solution:
+    the same equation integrated with different steps (the rates differ), so equal to RK4's error, below 1e-7
+    each (docs/hb.md); and both within Hill's truncation (1e-3 at H = 16) of Hill's multipliers."""
+    for w in (0.55, 0.7, 0.9):
+        sysw = hb_system_solve(torsional.with_param("omega", w), 16)
+        eq = sysw.equations
+        one = hb_solve(GearModel().with_param("omega", w), 16, guess=eq.deflection(sysw.unknowns, eq.reference),
+                       samples=eq.N, tol=1e-13)
+        assert sysw.hill.status is Status.OK and one.hill.status is Status.OK
+        assert _conj_close(sysw.multipliers, one.multipliers) < 1e-6
+        hill = hb_solve(GearModel().with_param("omega", w), 16, guess=one.coefficients, floquet="hill")
+        assert _conj_close(one.multipliers, hill.multipliers) < 1e-3
 
 
 def test_rigid_mode_gauge_and_note(torsional_branch, torsional):
@@ -117,8 +134,9 @@ def _frequency_domain(model, omega):
     return q0, Q, mu
 
 
+@pytest.mark.parametrize("floquet, mu_tol", [("hill", 1e-10), ("monodromy", 1e-7)])  # monodromy: RK4's error
 @pytest.mark.parametrize("case", ["4dof", "4dof_preloaded", "torsional_rigid"])
-def test_in_contact_constant_stiffness_h1_is_the_frequency_domain_solution(case, torsional):
+def test_in_contact_constant_stiffness_h1_is_the_frequency_domain_solution(case, torsional, floquet, mu_tol):
     omega = 1.3
     if case == "torsional_rigid":
         model = torsional.with_param("omega", omega).with_param("mesh.kappa1", 0.0).with_param("mesh.xi1", 0.0)
@@ -126,7 +144,7 @@ def test_in_contact_constant_stiffness_h1_is_the_frequency_domain_solution(case,
     else:
         D, fp = (0.0, (0.0, 0.15, 0.0, -0.1)) if case == "4dof" else (0.5, (0.0, 3.0, 0.0, -2.0))
         model = _four_dof(omega, D=D, kappa=(), xi=(), clearance=False, fp=fp)
-    sol = hb_system_solve(model, 1, guess="linear")
+    sol = hb_system_solve(model, 1, guess="linear", floquet=floquet)
     assert sol.converged
     q0, Q, mu = _frequency_domain(model, omega)
     if case == "4dof_preloaded":
@@ -139,7 +157,7 @@ def test_in_contact_constant_stiffness_h1_is_the_frequency_domain_solution(case,
     assert r == (1 if case == "torsional_rigid" else 0)
     exact = mu if r == 0 else mu[np.argsort(np.abs(mu - 1.0))[2 * r:]]  # the rigid mode's two multipliers 1 out
     assert sol.hill.status is Status.OK and sol.multipliers.size == exact.size
-    assert _conj_close(sol.multipliers, exact) < 1e-10
+    assert _conj_close(sol.multipliers, exact) < mu_tol
 
 
 # ---------------------------------------------------------------------------- nonlinear: against shooting
@@ -149,8 +167,8 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
     Shooting's own error is far below the tolerances: halving Δτ from 0.002 to 0.001 changes its extremes
     by 4e-13 and its multipliers by 3e-12 (measured).  HB's error is the truncation of the series, algebraic
     because of the kink of the dead zone (docs/hb.md: about H⁻³): measured 2.6e-6 (H = 16) and 8.7e-8
-    (H = 32) in δ_min, 1.8e-5 and 2.0e-6 in the multipliers.  Asserted: 1e-6 and 1e-5 at H = 32, and that
-    both errors fall from H = 16 to H = 32.
+    (H = 32) in δ_min, 1.8e-5 and 2.0e-6 in Hill's multipliers.  Asserted: 1e-6 and 1e-5 at H = 32, and that
+    both errors fall from H = 16 to H = 32; the monodromy's multipliers within 1e-6 at both H.
     """
     model = _four_dof(0.9)
     orb = shoot_system(model, 1, accurate=True, dtau=0.002)
@@ -159,16 +177,22 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
     assert r == 0
     ref = orb.meshes[0]
     assert ref["u_min"] < model.meshes[0].D < ref["u_max"]  # the mesh loses contact: a nonlinear orbit
-    errs = []
+    errs, mono = [], []
     for H in (16, 32):
-        sol = hb_system_solve(model, H)
+        sol = hb_system_solve(model, H, floquet="hill")
         assert sol.converged and sol.hill.status is Status.OK
         np.testing.assert_allclose(sol.state()[:4] - orb.state[:4], 0.0, atol=1e-3)
         errs.append((max(abs(sol.u_min - ref["u_min"]), abs(sol.u_max - ref["u_max"]),
                          abs(sol.amplitude - ref["amplitude"])), _conj_close(sol.multipliers, mu_ref)))
+        m = hb_system_solve(model, H, guess=sol.coefficients)  # the monodromy (default)
+        assert m.hill.status is Status.OK
+        mono.append(_conj_close(m.multipliers, mu_ref))
     (u16, m16), (u32, m32) = errs
     assert u32 < 1e-6 and m32 < 1e-5, errs
     assert u32 < u16 and m32 < m16, errs
+    # the monodromy of the period started on the Newton-corrected HB state: RK4's error at either H (measured
+    # 1.0e-7 at H = 16 and 32), not the series' truncation
+    assert max(mono) < 1e-6, mono
 
 
 # ---------------------------------------------------------------------------- the analytic derivatives

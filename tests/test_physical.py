@@ -228,3 +228,19 @@ def test_dimensional_config_drives_the_physical_front_end():
     s2 = run_json(["simulate", "--config", str(cfg_path), "--rpm", "4000", "--torque", "150", "--transient", "100",
                    "--periods", "16", "--json"])
     assert s2["rpm"] == pytest.approx(4000.0) and s2["torque_N_m"] == pytest.approx(150.0)
+
+
+def test_lazy_physical_copies_are_computed_when_read_with_the_same_bits():
+    import xarray as xr
+
+    from geardyn.analysis.physical import add_physical
+
+    u = np.array([0.1, 0.5, 1.2, np.nan])
+    ds = xr.Dataset({"amplitude": ("omega", u), "lle": ("omega", [-0.1, 0.0, 0.02, np.nan])},
+                    coords={"omega": [0.5, 0.8, 1.1, 1.4]})
+    sc = scales_of(None)
+    lazy = add_physical(ds, sc, lazy=True)
+    assert not isinstance(lazy["amplitude_um"].variable._data, np.ndarray)  # held as a lazily indexed array
+    np.testing.assert_array_equal(lazy["amplitude_um"].values, u * sc.b_c_m * 1e6)
+    np.testing.assert_array_equal(lazy["amplitude_um"][1:3].values, lazy["amplitude_um"].values[1:3])
+    np.testing.assert_array_equal(lazy["lle_per_s"].values, add_physical(ds, sc)["lle_per_s"].values)

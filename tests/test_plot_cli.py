@@ -150,3 +150,20 @@ def test_import_geardyn_stays_light():
     from geardyn import GearModel as G, IntegrationOptions, SpiralBevelGearPair, load_config, simulate  # noqa: F401
 
     assert G is GearModel
+
+
+def test_simulate_json_builds_no_dataset_and_says_the_same_as_with_out(tmp_path):
+    """Without --out, ``simulate --json`` imports none of the Dataset's or figures' libraries nor pint, and its
+    summary is the one computed from the written Dataset (every key, every value)."""
+    args = ["simulate", "--omega", "0.8", "--transient", "40", "--periods", "8", "--json"]
+    code = ("import sys; from geardyn.cli import main; main(%r); "
+            "print(sorted(m for m in ('xarray', 'pandas', 'dask', 'matplotlib', 'pint') if m in sys.modules), "
+            "file=sys.stderr)" % (args,))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert r.stderr.strip().splitlines()[-1] == "[]"
+    bare = json.loads(r.stdout)
+    with_out = CliRunner().invoke(app, [*args, "--out", str(tmp_path)])
+    assert with_out.exit_code == 0, with_out.output
+    full = json.loads(with_out.stdout)
+    assert bare.pop("files") == [] and full.pop("files")
+    assert list(bare) == list(full) and json.dumps(bare) == json.dumps(full)

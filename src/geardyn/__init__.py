@@ -12,8 +12,9 @@ The main entry points, importable from here:
 * results on disk: :func:`read_netcdf`, :func:`write_netcdf`; every result Dataset has the
   ``ds.geardyn`` accessor (``ds.geardyn.plot()``).
 
-Only the model and the xarray accessor are imported with the package; everything else (the numba
-kernel, pint, matplotlib) is imported on first use.
+Only the model is imported with the package; everything else (xarray, the numba kernel, pint,
+matplotlib) is imported on first use.  The ``ds.geardyn`` accessor is registered when xarray is
+imported, by whoever imports it.
 """
 
 from __future__ import annotations
@@ -24,7 +25,9 @@ from typing import Any
 __version__ = "0.1.0"
 
 from .model import PAPER_DEFAULTS, GearModel, IntegrationOptions, ModelError  # noqa: E402
-from . import accessor as _accessor  # noqa: E402,F401  (registers ds.geardyn)
+from ._accessor_hook import register_accessor as _register_accessor  # noqa: E402
+
+_register_accessor()  # ds.geardyn: now if xarray is imported, else as soon as it is
 
 #: Public names imported on first access: name -> module.
 _LAZY = {

@@ -14,6 +14,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, NamedTuple
 
+from ._packaged_quantities import PACKAGED_QUANTITIES
 from .errors import ConfigError, GeardynError
 
 _ANGLE_UNITS = frozenset({"degree", "radian", "arcminute", "arcsecond", "turn", "revolution", "gradian"})
@@ -150,6 +151,8 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
         return x
     if not isinstance(raw, str):
         raise bad(f"expected a {kind.label} with its unit, as a string (e.g. {kind.example}), got {raw!r}")
+    if (kind.label, raw) in PACKAGED_QUANTITIES:  # the packaged pair, read without importing pint
+        return PACKAGED_QUANTITIES[kind.label, raw]
     try:
         q = _ureg().Quantity(raw)
     except Exception as e:  # pint raises several error types for bad unit strings

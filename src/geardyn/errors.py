@@ -16,7 +16,9 @@ Catch :class:`GeardynError` to handle all of them; a bug in geardyn surfaces as 
 
 from __future__ import annotations
 
-__all__ = ["ConfigError", "GeardynError", "ModelError", "PlotError", "SweepError"]
+from pathlib import Path
+
+__all__ = ["ConfigError", "GeardynError", "ModelError", "PlotError", "SweepError"]  # the sweep stops: from geardyn.sweep
 
 
 class GeardynError(Exception):
@@ -33,6 +35,63 @@ class ConfigError(GeardynError, ValueError):
 
 class SweepError(GeardynError):
     """A sweep that cannot start or go on (checkpoint directory, resume mismatch, scheduler address)."""
+
+
+class SweepInterrupted(SweepError):
+    """A sweep stopped by Ctrl-C; the finished chunks are kept in the checkpoint (if any).
+
+    Parameters
+    ----------
+    finished, total : int
+        Chunks finished (including those loaded on resume) and chunks in the sweep.
+    checkpoint : Path or None
+        The checkpoint directory holding the finished chunks.
+
+    Attributes
+    ----------
+    finished, total, checkpoint
+        As given.
+    """
+
+    def __init__(self, finished: int, total: int, checkpoint: Path | None) -> None:
+        self.finished = finished
+        self.total = total
+        self.checkpoint = checkpoint
+        if checkpoint is not None:
+            msg = (
+                f"interrupted: {finished} of {total} chunks finished and saved in {checkpoint}; "
+                "run the same command again with --resume to complete the sweep"
+            )
+        else:
+            msg = (
+                f"interrupted: {finished} of {total} chunks finished, none saved (no --out); "
+                "give --out to make a sweep resumable"
+            )
+        super().__init__(msg)
+
+
+class SweepFailed(SweepError, RuntimeError):
+    """A sweep stopped by a fault outside it (e.g. the Dask scheduler was lost); finished chunks are kept.
+
+    Parameters
+    ----------
+    reason : str
+        What stopped the sweep.
+    finished, total, checkpoint
+        As for :class:`SweepInterrupted`.
+    """
+
+    def __init__(self, reason: str, finished: int, total: int, checkpoint: Path | None) -> None:
+        self.reason = reason
+        self.finished = finished
+        self.total = total
+        self.checkpoint = checkpoint
+        if checkpoint is not None:
+            tail = (f"{finished} of {total} chunks finished and saved in {checkpoint}; "
+                    "run the same command again with --resume to complete the sweep")
+        else:
+            tail = f"{finished} of {total} chunks finished, none saved (no --out)"
+        super().__init__(f"sweep stopped: {reason}; {tail}")
 
 
 class PlotError(GeardynError, ValueError):

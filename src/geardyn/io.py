@@ -17,13 +17,16 @@ from pathlib import Path
 from typing import Any, Iterable, Mapping, NamedTuple
 
 import numpy as np
-import xarray as xr
 
+from ._lazy import lazy_module
 from .analysis.classify import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .errors import ModelError
 from .model import GearModel, canonical_param
 from .params import describe
 from .status import Status
+
+xr = lazy_module("xarray")
+
 
 class Variable(NamedTuple):
     """Metadata of one variable: ``units`` ("1" = non-dimensional), ``long_name`` and, for coded

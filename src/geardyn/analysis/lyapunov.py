@@ -26,11 +26,13 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
 import numpy as np
-import xarray as xr
 
+from .._lazy import lazy_module
 from ..integrate import ST_OK, BatchResult, integrate_batch
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
+
+xr = lazy_module("xarray")
 
 __all__ = [
     "DEFAULT_BLOCKS",

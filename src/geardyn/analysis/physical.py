@@ -29,13 +29,13 @@ import json
 from typing import Any
 
 import numpy as np
-import xarray as xr
-from xarray.backends import BackendArray
-from xarray.core import indexing
 
+from .._lazy import lazy_module
 from ..io import PHYSICAL_SUFFIX, VARIABLES, Variable, model_from_attrs, physical_long_name
 from ..model import GearModel
 from ..units import SCALES_ATTR, PhysicalScales, scales_of
+
+xr = lazy_module("xarray")
 
 __all__ = [
     "add_physical",
@@ -43,6 +43,7 @@ __all__ = [
     "physical_json",
     "simulate_physical",
     "spectrum_peaks",
+    "steady_physical",
 ]
 
 #: Number of spectral lines listed by :func:`spectrum_peaks`.
@@ -136,29 +137,12 @@ def _num(x: Any) -> float | None:
     return x if np.isfinite(x) else None
 
 
-class _Converted(BackendArray):
-    """A physical copy of an array, computed when read: ``fn(source[key])`` for any key.
-
-    ``fn`` is one of the elementwise scale conversions, so a slice of the copy has the bits of the
-    same slice of ``fn(source)``.  Written to NetCDF, such a variable is computed while it is
-    written and not held besides its source.
-    """
-
-    def __init__(self, source: np.ndarray, fn: Any) -> None:
-        self.source, self.fn = source, fn
-        self.shape, self.dtype = source.shape, np.dtype(float)
-
-    def __getitem__(self, key: Any) -> np.ndarray:
-        return indexing.explicit_indexing_adapter(key, self.shape, indexing.IndexingSupport.BASIC, self._get)
-
-    def _get(self, key: Any) -> np.ndarray:
-        return np.asarray(self.fn(self.source[key]), dtype=float)
-
-
 def _set(ds: xr.Dataset, name: str, dims: Any, data: Any, coord: bool = False, meta: Variable | None = None) -> None:
     """Add a float variable (or coordinate) with its registry attributes (or those of ``meta``)."""
-    if isinstance(data, _Converted):
-        data = indexing.LazilyIndexedArray(data)
+    from ._converted import Converted
+
+    if isinstance(data, Converted):
+        data = xr.core.indexing.LazilyIndexedArray(data)
     else:
         data = np.asarray(data, dtype=float)
     var = xr.Variable(dims, data, attrs=(meta or VARIABLES[name]).attrs())
@@ -191,10 +175,43 @@ def simulate_physical(ds: xr.Dataset, scales: Any = None) -> dict[str, Any]:
         periods the force extremes are taken over); ``pair`` (the statement of the pair and its
         k0) and ``assumed``.  ``None`` for values of a diverged run.
     """
-    sc = _resolve_scales(ds, scales)
-    model = model_from_attrs(ds)
-    summ = json.loads(ds.attrs.get("summary", "{}"))
-    force = mesh_force(model, ds["tau"].values, ds["u"].values, ds["v"].values)
+    return _simulate_summary(_resolve_scales(ds, scales), model_from_attrs(ds), json.loads(ds.attrs.get("summary", "{}")),
+                             ds["tau"].values, ds["u"].values, ds["v"].values, ds["order"].values,
+                             ds["spectrum"].values, int(ds.attrs.get("history_periods", 0)))
+
+
+def steady_physical(res: Any, scales: Any = None) -> dict[str, Any]:
+    """The physical summary of a steady state without building its Dataset.
+
+    The values of ``simulate_physical(add_physical(res.to_dataset(), scales))``: the model, the
+    summary and the scales are read back from the same JSON as the Dataset's attributes.
+
+    Parameters
+    ----------
+    res : SteadyState
+        The result of :func:`geardyn.analysis.steady.simulate`.
+    scales : PhysicalScales, LoadedConfig or None
+        The gear pair's scales (``None``: the paper's Table 1 pair, k0 assumed).
+
+    Returns
+    -------
+    dict
+        The keys of :func:`simulate_physical`.
+    """
+    from ..io import json_attr
+    from .steady import _jsonable, amplitude_spectrum
+
+    t = res.traj
+    order, spec = amplitude_spectrum(t.u, t.history_periods)
+    return _simulate_summary(PhysicalScales.from_json(scales_of(scales).to_json()),
+                             GearModel.from_dict(json.loads(json_attr(res.model))),
+                             json.loads(json_attr(_jsonable(res.summary))), t.tau, t.u, t.v, order, spec,
+                             int(t.history_periods))
+
+
+def _simulate_summary(sc: PhysicalScales, model: GearModel, summ: dict[str, Any], tau: np.ndarray, u: np.ndarray,
+                      v: np.ndarray, order: np.ndarray, spectrum: np.ndarray, history_periods: int) -> dict[str, Any]:
+    force = mesh_force(model, tau, u, v)
     ok = bool(np.all(np.isfinite(force))) and summ.get("status", "ok") == "ok"
     fmax = float(np.max(force)) if ok else None
     out: dict[str, Any] = dict(sc.operating_point(model))
@@ -207,8 +224,8 @@ def simulate_physical(ds: xr.Dataset, scales: Any = None) -> dict[str, Any]:
         x = _num(summ.get(nd))
         out[key] = float(sc.um_from_u(x)) if x is not None else None
     out["backlash_um"] = float(sc.um_from_u(model.D))
-    out["spectrum_peaks"] = spectrum_peaks(ds["order"].values, ds["spectrum"].values, sc, model.omega) if ok else []
-    out["history_periods"] = int(ds.attrs.get("history_periods", 0)) or None
+    out["spectrum_peaks"] = spectrum_peaks(order, spectrum, sc, model.omega) if ok else []
+    out["history_periods"] = history_periods or None
     out["pair"] = sc.statement()
     out["assumed"] = list(sc.assumed)
     return out
@@ -256,10 +273,12 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
     xarray.Dataset
         The copy (the data of ``ds`` shared, not copied).
     """
+    from ._converted import Converted
+
     sc = _resolve_scales(ds, scales)
 
     def per_point(values: np.ndarray, fn: Any) -> Any:
-        return _Converted(values, fn) if lazy else fn(values)
+        return Converted(values, fn) if lazy else fn(values)
 
     out = ds.copy()
     out.attrs[SCALES_ATTR] = sc.to_json()

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
-import xarray as xr
 
+from .._lazy import lazy_module
 from ..grid import PointModels, integrate_points
 from ..integrate import ST_OK, BatchResult, Trajectory, trajectory
 from ..io import annotate, result_attrs
@@ -33,6 +33,8 @@ from .classify import (
     period_label,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
+
+xr = lazy_module("xarray")
 
 #: Periods of time history kept by :func:`simulate` (also the spectrum's length: resolution 1/32 order).
 HISTORY_PERIODS = 32

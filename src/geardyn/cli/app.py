@@ -13,7 +13,7 @@ import typer
 from rich.console import Console
 
 from .. import __version__
-from ..errors import GeardynError
+from ..errors import GeardynError, SweepFailed, SweepInterrupted
 
 __all__ = ["EXIT_INTERRUPTED", "app", "console", "emit_json", "err_console", "fail", "main"]
 
@@ -101,8 +101,6 @@ def _json_default(o: Any) -> Any:
 
 def is_stop(e: BaseException) -> bool:
     """A sweep stopped from outside (Ctrl-C, a lost scheduler): not an input error, :func:`main` reports it."""
-    from ..sweep import SweepFailed, SweepInterrupted
-
     return isinstance(e, (SweepInterrupted, SweepFailed))
 
 
@@ -123,8 +121,6 @@ def main(argv: Optional[list[str]] = None) -> None:
     SystemExit
         With the exit code above (also on success when a command returns a code).
     """
-    from ..sweep import SweepFailed, SweepInterrupted
-
     # typer's parser exceptions (its own vendored click, or click itself in older versions)
     cx = sys.modules[typer.BadParameter.__module__]
     usage_error, click_exception = cx.UsageError, cx.ClickException

@@ -1,4 +1,4 @@
-"""Harmonic balance: ``geardyn hb`` (a branch of periodic responses by HB continuation, with Hill stability)."""
+"""Harmonic balance: ``geardyn hb`` (a branch of periodic responses by HB continuation, with Floquet stability)."""
 
 from __future__ import annotations
 
@@ -108,8 +108,9 @@ def hb(
     system: Annotated[Optional[Path], typer.Option("--system", help="A multi-DOF system file (examples/systems/*.toml) instead of the 1-DOF model: every DOF's harmonics, the elastic multipliers (rigid-body modes left out); --param takes the system's parameter names (omega, mesh.xi0, ...); the JSON adds 'meshes'.")] = None,
     compare_shooting: Annotated[bool, typer.Option("--compare-shooting", help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.")] = False,
     ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02; 0.2 with --system).")] = None,
+    floquet: Annotated[str, typer.Option("--floquet", help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, refined by a Newton step; the default) or 'hill' (Hill's method).")] = "monodromy",
 ) -> None:
-    """Harmonic balance (AFT, exact dead-zone switches) with Hill stability: a branch of period-n responses
+    """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of period-n responses
     continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and
     grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch
     with --compare-shooting)."""
@@ -125,11 +126,12 @@ def hb(
         from ..analysis.hb.system_continuation import SYSTEM_DS_MAX
 
         dsm = SYSTEM_DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
-        return _hb_system(inp, model, system_range(model, inp, param, start, stop), H, n, dsm, compare_shooting)
+        return _hb_system(inp, model, system_range(model, inp, param, start, stop), H, n, dsm, compare_shooting,
+                          floquet)
     dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     scales = inp.scales()
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
-    res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm)
+    res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm, floquet=floquet)
     summary = physical_json(res.to_json(), model, scales, param=name)
     shoot_ds = None
     if compare_shooting:
@@ -157,7 +159,7 @@ def hb(
 
 
 def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: int, dsm: float,
-               compare_shooting: bool) -> None:
+               compare_shooting: bool, floquet: str = "monodromy") -> None:
     """``geardyn hb --system``: the branch of the system (per-point values of the reference mesh, ``meshes`` per
     mesh); with ``--compare-shooting`` the shooting continuation's bifurcations in the JSON and its branch in
     ``hb.nc`` and on the figure."""
@@ -166,7 +168,7 @@ def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: in
 
     name, start_v, stop_v = rng
     res = hb_system_continuation(s, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm,
-                                 state0=inp.state0())
+                                 state0=inp.state0(), floquet=floquet)
     summary = res.to_json()
     if compare_shooting:
         from ..analysis.systems_continuation import system_continuation

@@ -37,16 +37,20 @@ def simulate(inp: Inputs) -> None:
     """Integrate one operating point and report its steady response (Poincaré points, period, impact, amplitudes),
     with physical values for the configured gear pair: pinion speed, dynamic transmission error (µm), dynamic mesh
     force (N), dynamic factor, spectrum peaks in Hz and mesh orders."""
-    from ..analysis.physical import add_physical, simulate_physical
+    from ..analysis.physical import add_physical, simulate_physical, steady_physical
     from ..analysis.steady import simulate as run_simulate
 
     model = inp.model()
     opts = inp.options(model.omega)
     res = run_simulate(model, opts, inp.state0())
-    ds = add_physical(res.to_dataset(), inp.scales())
-    paths = inp.write(ds, "simulate")
     summary = res.to_json()
-    summary.update(simulate_physical(ds))
+    if inp.out is None:  # nothing to write: the same summary without building the Dataset
+        paths: list[str] = []
+        summary.update(steady_physical(res, inp.scales()))
+    else:
+        ds = add_physical(res.to_dataset(), inp.scales())
+        paths = inp.write(ds, "simulate")
+        summary.update(simulate_physical(ds))
     summary["poincare"] = summary.pop("poincare")  # the long list last, after the summary keys
     finish(summary, paths, inp, render.simulate)
 

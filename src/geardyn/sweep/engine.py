@@ -8,7 +8,7 @@ from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
-from ..errors import SweepError
+from ..errors import SweepError, SweepFailed, SweepInterrupted  # noqa: F401  (raised here; defined with the errors)
 from ..grid import Grid, chunked as _chunked
 from ..model import GearModel, IntegrationOptions, ModelError
 from .checkpoints import CheckpointStore, _load_chunk, prepare_checkpoint
@@ -36,63 +36,6 @@ MIN_CHUNK_POINTS = 16
 #: Fewest chunks of a cost-sized sweep (when it has points enough), so that a small grid still keeps
 #: up to 12 workers busy (12 divides evenly among 1, 2, 3, 4 and 6).
 MIN_CHUNKS = 12
-
-
-class SweepInterrupted(SweepError):
-    """A sweep stopped by Ctrl-C; the finished chunks are kept in the checkpoint (if any).
-
-    Parameters
-    ----------
-    finished, total : int
-        Chunks finished (including those loaded on resume) and chunks in the sweep.
-    checkpoint : Path or None
-        The checkpoint directory holding the finished chunks.
-
-    Attributes
-    ----------
-    finished, total, checkpoint
-        As given.
-    """
-
-    def __init__(self, finished: int, total: int, checkpoint: Path | None) -> None:
-        self.finished = finished
-        self.total = total
-        self.checkpoint = checkpoint
-        if checkpoint is not None:
-            msg = (
-                f"interrupted: {finished} of {total} chunks finished and saved in {checkpoint}; "
-                "run the same command again with --resume to complete the sweep"
-            )
-        else:
-            msg = (
-                f"interrupted: {finished} of {total} chunks finished, none saved (no --out); "
-                "give --out to make a sweep resumable"
-            )
-        super().__init__(msg)
-
-
-class SweepFailed(SweepError, RuntimeError):
-    """A sweep stopped by a fault outside it (e.g. the Dask scheduler was lost); finished chunks are kept.
-
-    Parameters
-    ----------
-    reason : str
-        What stopped the sweep.
-    finished, total, checkpoint
-        As for :class:`SweepInterrupted`.
-    """
-
-    def __init__(self, reason: str, finished: int, total: int, checkpoint: Path | None) -> None:
-        self.reason = reason
-        self.finished = finished
-        self.total = total
-        self.checkpoint = checkpoint
-        if checkpoint is not None:
-            tail = (f"{finished} of {total} chunks finished and saved in {checkpoint}; "
-                    "run the same command again with --resume to complete the sweep")
-        else:
-            tail = f"{finished} of {total} chunks finished, none saved (no --out)"
-        super().__init__(f"sweep stopped: {reason}; {tail}")
 
 
 @dataclass(frozen=True)

@@ -373,7 +373,7 @@ def _near_critical(h: HillResult) -> bool:
 def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
                     harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
                     samples: int | None = None, ds: float = DS_INIT, ds_max: float = DS_MAX,
-                    max_points: int = MAX_POINTS) -> HBContinuation:
+                    max_points: int = MAX_POINTS, floquet: str = "monodromy") -> HBContinuation:
     """Continue the period-n harmonic-balance solution of ``model`` in ``param`` from ``start`` to ``stop``.
 
     Parameters
@@ -397,6 +397,9 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
         Initial and largest arclength step in (a, p/|stop − start|).
     max_points : int
         Largest number of branch points.
+    floquet : str
+        How the multipliers are computed: ``"monodromy"`` (default, :mod:`.monodromy`) or ``"hill"``
+        (Hill's method, :mod:`.hill`).
 
     Returns
     -------
@@ -420,7 +423,7 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
         raise ModelError("start, stop: must be finite and different")
     m0 = model.with_param(param, start)
     model.with_param(param, stop)
-    sysm = HBSystem(model, harmonics, period, param=param, samples=samples)
+    sysm = HBSystem(model, harmonics, period, param=param, samples=samples, floquet=floquet)
     H = sysm.H
     sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N, stability=False)  # Hill: at the first point
     nanmu = np.full((1, 2), complex(math.nan, math.nan))

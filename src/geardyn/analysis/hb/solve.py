@@ -34,6 +34,7 @@ from ._blas import single_thread_blas, solve
 from ._aftkernel import bordered_omega_kernel, dR_domega_kernel, forcing_kernel, residual_kernel
 from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples
 from .hill import HillResult, hill_floquet
+from .monodromy import check_floquet, monodromy_floquet
 
 __all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
 
@@ -75,10 +76,13 @@ class HBSystem:
         Parameter name (as :meth:`GearModel.with_param`) used by :meth:`residual` and :meth:`dR_dp`.
     samples : int, optional
         Time samples N per response period (default :func:`~geardyn.analysis.hb.aft.time_samples`).
+    floquet : str
+        How :meth:`stability` computes the Floquet multipliers: ``"monodromy"`` (default,
+        :mod:`.monodromy`) or ``"hill"`` (Hill's method, :mod:`.hill`).
     """
 
     def __init__(self, model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int = 1,
-                 param: str | None = None, samples: int | None = None):
+                 param: str | None = None, samples: int | None = None, *, floquet: str = "monodromy"):
         if int(period) < 1:
             raise ModelError(f"period: must be an integer >= 1, got {period!r}")
         if int(harmonics) < 1:
@@ -86,6 +90,7 @@ class HBSystem:
         self.base = model
         self.n = int(period)
         self.H = int(harmonics)
+        self.floquet = check_floquet(floquet)
         self.param = canonical_param(param) if param is not None else None
         N = samples or time_samples(self.H, self.n, model.n_harmonics + 2)
         self.basis = HarmonicBasis(self.H, N)
@@ -263,10 +268,17 @@ class HBSystem:
         return (r1 - r2) / (q1 - q2)
 
     def stability(self, a: np.ndarray, p: float | None = None) -> HillResult:
-        """Hill's Floquet exponents and multipliers of the solution ``a`` (see :mod:`.hill`)."""
+        """Floquet exponents and multipliers of the solution ``a``: from the monodromy matrix along it
+        (:mod:`.monodromy`) or by Hill's method (:mod:`.hill`), as ``floquet`` says."""
         w, D, C, K = self._at(p)
-        dz = dead_zone_terms(self.basis, a, K, D)
-        return hill_floquet(self._cut(C, 2 * self.H), dz.S, w / self.n, self.H)
+        if self.floquet == "hill":
+            dz = dead_zone_terms(self.basis, a, K, D)
+            return hill_floquet(self._cut(C, 2 * self.H), dz.S, w / self.n, self.H)
+        H, nu = self.H, w / self.n
+        x0 = np.array([a[0] + np.sum(a[1:H + 1]), nu * (np.arange(1, H + 1) @ a[H + 1:])])
+        F = self._entry(p)[1][2]
+        one, zero = np.ones((1, 1)), np.zeros((1, 1))
+        return monodromy_floquet(nu, x0, zero, zero, one, one, [C], [K], [np.zeros(1, complex)], [F], [D])
 
     def newton(self, a0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL,
                max_iter: int = NEWTON_MAX_ITER) -> tuple[np.ndarray, Status, int, float]:
@@ -432,7 +444,7 @@ def linear_guess(model: GearModel, harmonics: int, period: int = 1) -> np.ndarra
 
 def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int = 1,
              guess: np.ndarray | str | None = None, *, samples: int | None = None, tol: float = NEWTON_TOL,
-             max_iter: int = NEWTON_MAX_ITER, stability: bool = True) -> HBSolution:
+             max_iter: int = NEWTON_MAX_ITER, stability: bool = True, floquet: str = "monodromy") -> HBSolution:
     """Solve the harmonic-balance equations of ``model`` at one parameter point.
 
     Parameters
@@ -453,6 +465,8 @@ def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int =
         :data:`NEWTON_TOL` and :data:`NEWTON_MAX_ITER`).
     stability : bool
         Compute Hill's multipliers of a converged solution.
+    floquet : str
+        How the multipliers are computed: ``"monodromy"`` (default) or ``"hill"`` (see :class:`HBSystem`).
 
     Returns
     -------
@@ -471,7 +485,7 @@ def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int =
     steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
     A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517 (Hill's multipliers).
     """
-    sysm = HBSystem(model, harmonics, period, samples=samples)
+    sysm = HBSystem(model, harmonics, period, samples=samples, floquet=floquet)
     H = sysm.H
     if guess is None or (isinstance(guess, str) and guess == "simulate"):
         a0 = guess_from_simulation(model, H, period)

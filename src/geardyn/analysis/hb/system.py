@@ -62,6 +62,7 @@ from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, signal_extrema, time_sa
 from .hill import HillResult
 from .solve import (DEFAULT_HARMONICS, GUESS_DTAU, GUESS_TRANSIENT, NEWTON_MAX_ITER, NEWTON_TOL, HBSolution,
                     HBSystem)
+from .monodromy import check_floquet, monodromy_floquet
 from .system_hill import system_hill_floquet
 
 __all__ = ["HBSystemEquations", "HBSystemSolution", "hb_system_solve", "system_linear_guess",
@@ -153,6 +154,9 @@ class HBSystemEquations:
         :meth:`dR_dp`.
     samples : int, optional
         Time samples N per response period (default :func:`~geardyn.analysis.hb.aft.time_samples`).
+    floquet : str
+        How :meth:`stability` computes the multipliers: ``"monodromy"`` (default, :mod:`.monodromy`) or
+        ``"hill"`` (Hill's method, :mod:`.system_hill`).
 
     Raises
     ------
@@ -161,13 +165,14 @@ class HBSystemEquations:
     """
 
     def __init__(self, model: Any, harmonics: int = DEFAULT_HARMONICS, period: int = 1, param: str | None = None,
-                 samples: int | None = None):
+                 samples: int | None = None, *, floquet: str = "monodromy"):
         if int(period) < 1:
             raise ModelError(f"period: must be an integer >= 1, got {period!r}")
         if int(harmonics) < 1:
             raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
         p = require_periodic(model, "harmonic balance")
         self.base, self.n, self.H, self.param = model, int(period), int(harmonics), param
+        self.floquet = check_floquet(floquet)
         self.periods = self.n * p  # base periods per response period
         H = self.H
         self.M = 2 * H + 1
@@ -409,9 +414,18 @@ class HBSystemEquations:
         return J, K1, nu, trace
 
     def stability(self, a: np.ndarray, p: float | None = None) -> HillResult:
-        """Hill's multipliers of the solution ``a``, the rigid-body modes left out (:mod:`.system_hill`)."""
-        K0, K1, nu, trace = self.hill_operators(a, p)
-        return system_hill_floquet(K0, K1, self.elastic, nu, self.H, trace)
+        """The elastic multipliers of the solution ``a`` (the rigid-body modes left out): from the monodromy
+        matrix of one period started on it (:mod:`.monodromy`) or by Hill's method (:mod:`.system_hill`), as
+        ``floquet`` says."""
+        if self.floquet == "hill":
+            K0, K1, nu, trace = self.hill_operators(a, p)
+            return system_hill_floquet(K0, K1, self.elastic, nu, self.H, trace)
+        pt = self._entry(p)
+        els = pt.elements
+        E = [self.dbasis.to_complex(el.E) for el in els]
+        return monodromy_floquet(pt.omega / self.periods, self.state(a, p), pt.A, pt.B, np.array([el.W for el in els]),
+                                 np.array([el.V for el in els]), [el.C for el in els], [el.K for el in els], E,
+                                 [np.array([gi], dtype=complex) for gi in pt.g], [el.D for el in els], P=self.elastic)
 
     # ------------------------------------------------------------------ measures
     def extremes(self, a: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:
@@ -592,7 +606,7 @@ class HBSystemSolution(HBSolution):
 def hb_system_solve(model: Any, harmonics: int = DEFAULT_HARMONICS, period: int = 1,
                     guess: np.ndarray | str | None = None, *, samples: int | None = None, tol: float = NEWTON_TOL,
                     max_iter: int = NEWTON_MAX_ITER, stability: bool = True,
-                    state0: Sequence[float] | None = None) -> HBSystemSolution:
+                    state0: Sequence[float] | None = None, floquet: str = "monodromy") -> HBSystemSolution:
     """Solve the harmonic-balance equations of a multi-DOF system at one parameter point.
 
     Parameters
@@ -615,6 +629,9 @@ def hb_system_solve(model: Any, harmonics: int = DEFAULT_HARMONICS, period: int 
         Compute Hill's multipliers of a converged solution.
     state0 : (u0, v0) or (2n,), optional
         Start of the simulation of the default guess.
+    floquet : str
+        How the multipliers are computed: ``"monodromy"`` (default) or ``"hill"`` (see
+        :class:`HBSystemEquations`).
 
     Returns
     -------
@@ -626,7 +643,7 @@ def hb_system_solve(model: Any, harmonics: int = DEFAULT_HARMONICS, period: int 
     ModelError
         For incommensurate meshes, bad ``harmonics``/``period`` or a guess of the wrong shape.
     """
-    eq = HBSystemEquations(model, harmonics, period, samples=samples)
+    eq = HBSystemEquations(model, harmonics, period, samples=samples, floquet=floquet)
     H, nd = eq.H, model.n
     if guess is None or (isinstance(guess, str) and guess == "simulate"):
         Q0 = system_guess_from_simulation(eq, state0)

@@ -71,14 +71,15 @@ def _pairs(mu: np.ndarray) -> np.ndarray:
 
 
 def _radial(mu: np.ndarray) -> np.ndarray:
-    """What the tests see of the multipliers: a complex one's modulus |μ|, a real one's (signed) value.
+    """What the step control sees of the multipliers: their moduli |μ|.
 
     The argument of a lightly damped mode's pair turns by ω_d ΔT when the period T = 2π/ν changes: on the 8-DOF
     bevel pair the bearing modes' pairs turn several times round the circle between ω = 0.6 and 1.2, at
     |μ| ≈ 0.98.  No test depends on that turn (``ns`` is a product of moduli, ``pd`` = Π(μ + 1) changes sign only
-    on the real axis), so the step control measures only the moduli and the real multipliers."""
-    cplx = np.abs(mu.imag) > 1e-9 * np.abs(mu)
-    return np.where(cplx, np.abs(mu), mu.real)
+    on the real axis), so the step control measures only the moduli.  The moduli stay continuous where a pair
+    meets on the real axis and splits into two real multipliers (on the bevel pair near ω = 0.883, on the negative
+    axis); a real multiplier's sign cannot change along a branch (μ = 0 is impossible), so nothing is lost."""
+    return np.abs(mu)
 
 
 class _SystemTracer(_Tracer):
@@ -253,7 +254,8 @@ class HBSystemContinuation(HBContinuation):
 def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
                            harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
                            samples: int | None = None, ds: float = DS_INIT, ds_max: float = SYSTEM_DS_MAX,
-                           max_points: int = MAX_POINTS, state0: Any = None) -> HBSystemContinuation:
+                           max_points: int = MAX_POINTS, state0: Any = None,
+                           floquet: str = "monodromy") -> HBSystemContinuation:
     """Continue the period-n HB solution of a system in ``param`` from ``start`` to ``stop``.
 
     Parameters
@@ -279,6 +281,9 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
         Largest number of points.
     state0 : (u0, v0) or (2n,), optional
         Start of the simulation of the default guess.
+    floquet : str
+        How the multipliers are computed: ``"monodromy"`` (default, :mod:`.monodromy`) or ``"hill"``
+        (Hill's method, :mod:`.system_hill`).
 
     Returns
     -------
@@ -294,7 +299,8 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
     ps = hi - lo
     if not (ps > 0 and math.isfinite(ps)):
         raise ModelError("start, stop: must be finite and different")
-    sysm = HBSystemEquations(model.with_param(param, stop), harmonics, period, param=param, samples=samples)
+    sysm = HBSystemEquations(model.with_param(param, stop), harmonics, period, param=param, samples=samples,
+                             floquet=floquet)
     sol = hb_system_solve(model.with_param(param, start), sysm.H, period, guess, samples=sysm.N, state0=state0,
                           stability=False)  # Hill: at the first point of the branch
     names = sysm.elements

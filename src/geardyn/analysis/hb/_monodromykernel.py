@@ -1,0 +1,278 @@
+"""Compiled integration of one response period with the variational equation (see :mod:`.monodromy`).
+
+:func:`monodromy_kernel` advances the state x = (q, q') of
+
+    q'' = G(φ) − A q − B q' − Σ_e W[e] (C_e(φ) δ_e' + K_e(φ) f(δ_e; D_e)),   δ_e = V[e]·q − E_e(φ),
+
+and the columns Y of a fundamental matrix of its variational equation (the stiffness K_e χ_e, χ_e = 1 in
+contact) from φ = 0 to 2π (d/dτ = ν d/dφ) with the classic RK4.  Each step runs with every element locked
+to the contact region (drive contact, gap, back contact) it is in at the step's start, so the vector
+field is smooth on the step; a step at whose end an element is in another region is shortened to end on
+the boundary (the step length found by an Illinois iteration on the locked step), so RK4 keeps its
+fourth order through the contact switches.  All series are centred complex coefficients in φ.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = ["monodromy_kernel"]
+
+SWITCH_MAX_ITER = 60
+#: More contact switches than this in one period: the integration is abandoned (chattering on a boundary).
+MAX_SWITCHES = 100_000
+
+
+@njit(cache=True)
+def _series(z, L, phi):
+    """Value at φ of the real trigonometric polynomial with centred complex coefficients z[0 … 2L]."""
+    v = z[L].real
+    for k in range(1, L + 1):
+        c = z[L + k]
+        v += 2.0 * (c.real * math.cos(k * phi) - c.imag * math.sin(k * phi))
+    return v
+
+
+@njit(cache=True)
+def _region(d, D):
+    if D == 0.0:
+        return 1
+    return 1 if d > D else (-1 if d < -D else 0)
+
+
+@njit(cache=True)
+def _deflection(x, e, V, Ez, Le, phi):
+    nd = V.shape[1]
+    d = 0.0
+    for s in range(nd):
+        d += V[e, s] * x[s]
+    return d - _series(Ez[e], Le[e], phi)
+
+
+@njit(cache=True)
+def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, out):
+    """The series at φ: out[0, :nd] = G, out[1, :ne] = C, out[2] = K, out[3] = E, out[4] = dE/dφ."""
+    for r in range(Gz.shape[0]):
+        out[0, r] = _series(Gz[r], Lg[r], phi)
+    for e in range(Cz.shape[0]):
+        out[1, e] = _series(Cz[e], Lc[e], phi)
+        out[2, e] = _series(Kz[e], Lk[e], phi)
+        out[3, e] = _series(Ez[e], Le[e], phi)
+        out[4, e] = _series(dEz[e], Le[e], phi)
+
+
+@njit(cache=True)
+def _state_rhs(x, out, A, B, W, V, cf, D, reg, inv_nu, nu):
+    nd = A.shape[0]
+    ne = W.shape[0]
+    for r in range(nd):
+        out[r] = x[nd + r] * inv_nu
+        acc = cf[0, r]
+        for s in range(nd):
+            acc -= A[r, s] * x[s] + B[r, s] * x[nd + s]
+        out[nd + r] = acc
+    for e in range(ne):
+        d = -cf[3, e]
+        dv = -nu * cf[4, e]
+        for s in range(nd):
+            d += V[e, s] * x[s]
+            dv += V[e, s] * x[nd + s]
+        f = 0.0
+        if reg[e] != 0:
+            f = d - reg[e] * D[e] if D[e] > 0.0 else d
+        force = cf[1, e] * dv + cf[2, e] * f
+        for r in range(nd):
+            out[nd + r] -= W[e, r] * force
+    for r in range(nd):
+        out[nd + r] *= inv_nu
+
+
+@njit(cache=True)
+def _tangent_rhs(Y, out, A, B, W, V, cf, reg, inv_nu, vy):
+    nd = A.shape[0]
+    m = Y.shape[1]
+    ne = W.shape[0]
+    for r in range(nd):
+        for j in range(m):
+            out[r, j] = Y[nd + r, j] * inv_nu
+            acc = 0.0
+            for s in range(nd):
+                acc += A[r, s] * Y[s, j] + B[r, s] * Y[nd + s, j]
+            out[nd + r, j] = -acc
+    for e in range(ne):
+        c = cf[1, e]
+        k = cf[2, e] if reg[e] != 0 else 0.0
+        for j in range(m):
+            a = 0.0
+            b = 0.0
+            for s in range(nd):
+                a += V[e, s] * Y[s, j]
+                b += V[e, s] * Y[nd + s, j]
+            vy[j] = k * a + c * b
+        for r in range(nd):
+            w = W[e, r]
+            if w != 0.0:
+                for j in range(m):
+                    out[nd + r, j] -= w * vy[j]
+    for r in range(nd):
+        for j in range(m):
+            out[nd + r, j] *= inv_nu
+
+
+@njit(cache=True)
+def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, c0, c1, c2, D, reg, inv_nu, nu):
+    """One locked RK4 step of the state from ``x`` into ``out``; c0, c1, c2: the series at the step's start,
+    middle and end."""
+    n2 = x.shape[0]
+    _state_rhs(x, k1, A, B, W, V, c0, D, reg, inv_nu, nu)
+    for r in range(n2):
+        tmp[r] = x[r] + 0.5 * h * k1[r]
+    _state_rhs(tmp, k2, A, B, W, V, c1, D, reg, inv_nu, nu)
+    for r in range(n2):
+        tmp[r] = x[r] + 0.5 * h * k2[r]
+    _state_rhs(tmp, k3, A, B, W, V, c1, D, reg, inv_nu, nu)
+    for r in range(n2):
+        tmp[r] = x[r] + h * k3[r]
+    _state_rhs(tmp, k4, A, B, W, V, c2, D, reg, inv_nu, nu)
+    for r in range(n2):
+        out[r] = x[r] + h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r])
+
+
+@njit(cache=True)
+def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, c0, c1, c2, reg, inv_nu, vy):
+    """One locked RK4 step of the fundamental matrix, in place (the stiffness does not depend on the state
+    inside a region)."""
+    n2, m = Y.shape
+    _tangent_rhs(Y, k1, A, B, W, V, c0, reg, inv_nu, vy)
+    for r in range(n2):
+        for j in range(m):
+            tmp[r, j] = Y[r, j] + 0.5 * h * k1[r, j]
+    _tangent_rhs(tmp, k2, A, B, W, V, c1, reg, inv_nu, vy)
+    for r in range(n2):
+        for j in range(m):
+            tmp[r, j] = Y[r, j] + 0.5 * h * k2[r, j]
+    _tangent_rhs(tmp, k3, A, B, W, V, c1, reg, inv_nu, vy)
+    for r in range(n2):
+        for j in range(m):
+            tmp[r, j] = Y[r, j] + h * k3[r, j]
+    _tangent_rhs(tmp, k4, A, B, W, V, c2, reg, inv_nu, vy)
+    for r in range(n2):
+        for j in range(m):
+            Y[r, j] += h / 6.0 * (k1[r, j] + 2.0 * k2[r, j] + 2.0 * k3[r, j] + k4[r, j])
+
+
+@njit(cache=True)
+def monodromy_kernel(x, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol):
+    """Advance the state ``x`` (2n) and the columns ``Y`` (2n, m) in place over φ ∈ [0, 2π]; returns
+    (steps, switches) taken, or (−1, switches) if the state stopped being finite."""
+    n2 = x.shape[0]
+    m = Y.shape[1]
+    ne = W.shape[0]
+    inv_nu = 1.0 / nu
+    s1 = np.empty(n2)
+    s2 = np.empty(n2)
+    s3 = np.empty(n2)
+    s4 = np.empty(n2)
+    st = np.empty(n2)
+    xe = np.empty(n2)
+    xt = np.empty(n2)
+    k1 = np.empty((n2, m))
+    k2 = np.empty((n2, m))
+    k3 = np.empty((n2, m))
+    k4 = np.empty((n2, m))
+    tmp = np.empty((n2, m))
+    vy = np.empty(m)
+    width = max(A.shape[0], ne)
+    c0 = np.empty((5, width))
+    c1 = np.empty((5, width))
+    c2 = np.empty((5, width))
+    t1 = np.empty((5, width))
+    t2 = np.empty((5, width))
+    reg = np.empty(ne, dtype=np.int64)
+    for e in range(ne):
+        reg[e] = _region(_deflection(x, e, V, Ez, Le, 0.0), D[e])
+    end = 2.0 * math.pi
+    phi = 0.0
+    steps = 0
+    switches = 0
+    while phi < end:
+        h = min(hmax, end - phi)
+        if end - (phi + h) < 1e-12 * end:
+            h = end - phi
+        _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c0)
+        _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c1)
+        _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c2)
+        _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, c0, c1, c2, D, reg, inv_nu, nu)
+        for r in range(n2):
+            if not math.isfinite(xe[r]):
+                return -1, switches
+        # the earliest element whose region changed: the step is cut at its boundary
+        first = -1
+        hs = h
+        level_first = 0.0
+        for e in range(ne):
+            if D[e] == 0.0:
+                continue
+            d1 = _deflection(xe, e, V, Ez, Le, phi + h)
+            if _region(d1, D[e]) == reg[e]:
+                continue
+            d0 = _deflection(x, e, V, Ez, Le, phi)
+            if reg[e] == 1:
+                level = D[e]
+            elif reg[e] == -1:
+                level = -D[e]
+            else:
+                level = D[e] if d1 > D[e] else -D[e]
+            a, fa = 0.0, d0 - level
+            b, fb = h, d1 - level
+            side = 0
+            c = b
+            for _it in range(SWITCH_MAX_ITER):
+                c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
+                if not (a < c < b):
+                    c = 0.5 * (a + b)
+                _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, t1)
+                _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, t2)
+                _state_step(c, x, xt, s1, s2, s3, s4, st, A, B, W, V, c0, t1, t2, D, reg, inv_nu, nu)
+                fc = _deflection(xt, e, V, Ez, Le, phi + c) - level
+                if fc == 0.0 or b - a <= tol * (1.0 + phi):
+                    break
+                if (fc > 0.0) == (fa > 0.0):
+                    a, fa = c, fc
+                    if side == -1:
+                        fb *= 0.5
+                    side = -1
+                else:
+                    b, fb = c, fc
+                    if side == 1:
+                        fa *= 0.5
+                    side = 1
+            if c < hs:
+                hs = c
+                first = e
+                level_first = level
+        if first >= 0 and hs <= 1e-13 * end:  # on the boundary already: only the region changes
+            reg[first] = 0 if reg[first] != 0 else (1 if level_first > 0.0 else -1)
+            switches += 1
+            if switches > MAX_SWITCHES:
+                return -1, switches
+            continue
+        if first >= 0:
+            _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c1)
+            _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c2)
+            _state_step(hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, c0, c1, c2, D, reg, inv_nu, nu)
+        _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, c0, c1, c2, reg, inv_nu, vy)
+        for r in range(n2):
+            x[r] = xe[r]
+        if first >= 0:
+            # the element crossed its boundary: into the gap from a contact, or into the contact at that level
+            reg[first] = 0 if reg[first] != 0 else (1 if level_first > 0.0 else -1)
+            switches += 1
+            if switches > MAX_SWITCHES:
+                return -1, switches
+        phi = phi + hs if first >= 0 else phi + h
+        steps += 1
+    return steps, switches
