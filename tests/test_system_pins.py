@@ -34,9 +34,9 @@ def spur6():
 
 
 def test_simulate_of_the_six_dof_spur_pair(spur6):
-    from geardyn.analysis.systems_steady import simulate_system
+    from geardyn.analysis.steady import simulate
 
-    r = simulate_system(spur6, IntegrationOptions(transient=50, periods=16))
+    r = simulate(spur6, IntegrationOptions(transient=50, periods=16))
     np.testing.assert_allclose([r.summary["amplitude"], r.summary["u_min"]],
                                _h("0x1.68ae935646840p-7", "0x1.0b29337c59bccp+0"), **TOL)
     np.testing.assert_allclose(r.poincare[-1], _h(
@@ -47,17 +47,17 @@ def test_simulate_of_the_six_dof_spur_pair(spur6):
 
 
 def test_lyapunov_spectrum_of_the_torsional_pair(torsional):
-    from geardyn.analysis.systems_lyapunov import system_lyapunov
+    from geardyn.analysis.lyapunov import lyapunov_spectrum
 
-    ly = system_lyapunov(torsional, IntegrationOptions(transient=50, periods=200))
+    ly = lyapunov_spectrum(torsional, IntegrationOptions(transient=50, periods=200))
     np.testing.assert_allclose(ly.exponents, _h("0x1.941005e51ee39p-15", "-0x1.30dfb99b4d757p-20",
                                                 "-0x1.5704906659f72p-6", "-0x1.6ed1b01d4516dp-3"), **TOL)
 
 
 def test_shooting_on_the_torsional_pair(torsional):
-    from geardyn.analysis.systems_orbit import shoot_system
+    from geardyn.analysis.periodic import shoot
 
-    o = shoot_system(torsional, 1)
+    o = shoot(torsional, 1)
     assert o.iterations == 3
     np.testing.assert_allclose(o.state, _h("0x1.89ff552194481p-2", "-0x1.4fefab1a41916p-3",
                                            "0x1.e621e651acf17p-5", "-0x1.de6c8f476c0a3p-3"), **TOL)
@@ -67,7 +67,7 @@ def test_shooting_on_the_torsional_pair(torsional):
 
 
 def test_period_map_of_the_bevel_pair():
-    from geardyn.integrate_ndof import period_map
+    from geardyn.integrate import period_map
 
     b8 = load_system(EX / "paper_bevel_8dof.toml")
     pts, M, _st, ok = period_map(b8, np.zeros(b8.state_dim), 1)
@@ -79,7 +79,7 @@ def test_period_map_of_the_bevel_pair():
 
 
 def test_batch_of_the_six_dof_spur_pair(spur6):
-    from geardyn.integrate_ndof import integrate_batch
+    from geardyn.integrate import integrate_batch
 
     res = integrate_batch([spur6.with_param("omega", w) for w in (0.6, 0.9)], None,
                           IntegrationOptions(transient=20, periods=4))

@@ -19,8 +19,8 @@ from typing import Any, Iterable, Mapping, NamedTuple
 import numpy as np
 import xarray as xr
 
-from .analysis.classify import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .errors import ModelError
+from .labels import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .model import GearModel, canonical_param
 from .params import describe
 from .status import Status

@@ -2,7 +2,7 @@
 
 The unknowns are y = (x, p): the state x (2n) at θ = 0 of a period-n orbit and the parameter p
 scaled by the interval, p̂ = p/|stop − start|.  The residual G(x, p) = P^n(x; p) − x is the
-system's period map (:func:`geardyn.integrate_ndof.period_map`, whose Jacobian is the monodromy
+system's period map (:func:`geardyn.integrate.period_map`, whose Jacobian is the monodromy
 M); ∂G/∂p by a central difference.  A free rigid-body mode makes M − I singular (a rigidly
 rotated orbit is again an orbit): its position directions S are fixed by the constraints
 Sᵀ(x − x_ref) = 0 (the rigid velocity is pinned by G = 0 itself), so the bordered system
@@ -13,7 +13,7 @@ Sᵀ(x − x_ref) = 0 (the rigid velocity is pinned by G = 0 itself), so the bor
 
 is solved by least squares (predictor y + ds·t, Newton corrector; the step is halved on failure and
 grows after easy corrections).  Along the branch the *elastic* multipliers (the monodromy on the
-quotient by the rigid subspace, :func:`~geardyn.analysis.systems_orbit.elastic_multipliers`) are
+quotient by the rigid subspace, :func:`~geardyn.analysis.periodic.orbit.elastic_multipliers`) are
 watched, and a bifurcation is reported where between two points
 
 - ``fold``: the parameter component of the tangent changes sign (a real multiplier through +1);
@@ -41,10 +41,10 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
-from ..integrate_ndof import element_names, period_map
+from ..integrate import period_map
 from ..model import DEFAULT_DTAU
-from .systems_orbit import elastic_multipliers, require_periodic, shoot_system
-from .systems_steady import rigid_modes
+from ..systems.elements import rigid_modes
+from .periodic.orbit import elastic_multipliers, require_periodic, shoot
 
 __all__ = ["SystemContinuation", "system_continuation", "DS_MAX", "MAX_POINTS"]
 
@@ -118,7 +118,7 @@ class SystemContinuation:
     def to_json(self) -> dict[str, Any]:
         """Keys of ``continuation --json`` (``branch`` points, ``bifurcations``, ``branches``) plus ``meshes``."""
         p = self.model.period_multiple() or 1
-        names = list(element_names(self.model))
+        names = list((e.name for e in self.model.elements))
         M = len(self.model.meshes)
         st = self.stable
         pts = [{self.param: float(self.values[i]), "amplitude": float(self.amplitude[i]), "stable": bool(st[i]),
@@ -145,7 +145,7 @@ class SystemContinuation:
 
         from .systems_sweep import system_attrs
 
-        names = list(element_names(self.model))
+        names = list((e.name for e in self.model.elements))
         bt = [b["type"] for b in self.bifurcations]
         ds = xr.Dataset({
             "value": ("point", self.values), "amplitude": ("point", self.amplitude),
@@ -173,7 +173,7 @@ def _impact(lo: float, D: float) -> str:
 
 class _Problem:
     def __init__(self, model, param, span, n, dtau, accurate, x_ref):
-        from ..integrate_ndof import natural_steps
+        from ..integrate import natural_steps
 
         self.model, self.param, self.span, self.n = model, param, span, n
         self.dtau, self.accurate = dtau, accurate
@@ -238,7 +238,7 @@ def _correct(prob: _Problem, y0: np.ndarray, t: np.ndarray):
 
 
 def _tests(pt: _Pt, D: list[float]) -> dict[str, float]:
-    from ..integrate_ndof import K
+    from .. import backend as K
 
     mu = pt.mu
     real = mu.real[np.abs(mu.imag) < 1e-9]
@@ -296,7 +296,7 @@ def system_continuation(model: Any, param: str, start: float, stop: float, n: in
         raise ModelError("stop: the interval needs two different finite values (--start, --stop)")
     m0 = model.with_param(param, start)
     model.with_param(param, stop)
-    orb = shoot_system(m0, n, guess, dtau=dtau, accurate=accurate, state0=state0)
+    orb = shoot(m0, n, guess, dtau=dtau, accurate=accurate, state0=state0)
     if not orb.converged:
         raise ModelError(f"guess: shooting for the period-{n} orbit at {param} = {start:g} did not converge; "
                          f"give a better --guess")
@@ -358,7 +358,7 @@ def _events(a: _Pt, b: _Pt, prob: _Problem, out: list, param: str, span: float, 
         add("period-doubling", s, "real multiplier through −1")
     if ta["ns"] != tb["ns"]:
         add("neimark-sacker", 0.5, "complex pair through the unit circle")
-    names = list(element_names(prob.model))
+    names = list((e.name for e in prob.model.elements))
     for key, va in ta.items():
         if key[0] != "g" or key not in tb:
             continue
@@ -371,13 +371,13 @@ def _events(a: _Pt, b: _Pt, prob: _Problem, out: list, param: str, span: float, 
 
 
 def _amp(p: _Pt) -> float:
-    from ..integrate_ndof import K
+    from .. import backend as K
 
     return 0.5 * float(p.stats[0, K.S_UMAX] - p.stats[0, K.S_UMIN])
 
 
 def _result(model, param, start, stop, n, pts, prob, span, bifs, end) -> SystemContinuation:
-    from ..integrate_ndof import K
+    from .. import backend as K
 
     names = [mm.name for mm in model.meshes]
     ref = names.index(model.scaling.reference) if model.scaling.reference in names else 0

@@ -30,7 +30,7 @@ import xarray as xr
 
 from .._docfill import SYSTEM, fill, parameters, result_of
 from ..io import KIND_VARIABLES, Variable
-from ..integrate_ndof import element_series, initial_state, integrate_batch
+from ..integrate import integrate_batch
 from ..model import IntegrationOptions
 from .bifurcation import sweep_summary
 from .classify import IMPACT_LABELS, MOTION_DIVERGED, MOTION_PERIODIC, MOTION_UNRESOLVED, detect_period, \
@@ -83,7 +83,7 @@ def point_rows(models: list[Any], res: Any) -> dict[str, np.ndarray]:
     Parameters
     ----------
     models : list of SystemModel
-    res : SystemBatchResult
+    res : BatchResult
 
     Returns
     -------
@@ -110,7 +110,7 @@ def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray |
     ----------
     {{model, param, values}}
     state0 : ndarray (2n,) or None
-        Start of every point (default :func:`~geardyn.integrate_ndof.initial_state` of each).
+        Start of every point (default ``model.initial_state`` of each).
     {{options}}
 
     Returns
@@ -132,7 +132,7 @@ def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarra
     ----------
     {{model, param, values}}
     state0 : ndarray (2n,) or None
-        Start of the first point (default :func:`~geardyn.integrate_ndof.initial_state`).
+        Start of the first point (default ``model.initial_state``).
     {{options}}
 
     Returns
@@ -144,7 +144,7 @@ def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarra
     rows: list[dict[str, np.ndarray]] = []
     for v in values:
         m = model.with_param(param, float(v))
-        s = initial_state(m) if x is None else x
+        s = m.initial_state() if x is None else x
         res = integrate_batch([m], s, options, threads=1)
         rows.append(point_rows([m], res))
         if res.ok[0]:
@@ -208,7 +208,7 @@ def _per_point(model: Any, rows: dict[str, np.ndarray], ref: int) -> dict[str, n
         if not ok[i]:
             period[i], motion[i] = -1, MOTION_DIVERGED
             continue
-        d = element_series(model, rows["poincare"][i], 0.0)[:, ref]
+        d = model.element_series(rows["poincare"][i], 0.0)[:, ref]
         pu[i], pv[i] = d[:, 0], d[:, 1]
         n = detect_period(rows["poincare"][i]) if p else 0
         if n > 0:
@@ -295,7 +295,7 @@ def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str =
         Parameter name (``omega``, ``<mesh>.kappa1``, ...).
     values : sequence of float
     mode : {"fixed", "continue"}
-        Every point from ``state0`` (default :func:`~geardyn.integrate_ndof.initial_state` of each
+        Every point from ``state0`` (default ``model.initial_state`` of each
         point), or each from the previous point's end state.
     sweep : {"up", "down", "both"}
         Directions of a continuation sweep.
