@@ -140,3 +140,20 @@ def test_torsional_pair_orbit_is_the_one_dof_orbit(torsional, accurate):
     assert o.u_min == pytest.approx(o1.u_min, abs=1e-6) and o.u_max == pytest.approx(o1.u_max, abs=1e-6)
     assert o.stable == o1.stable and o.impact == o1.impact
 
+
+def test_torsional_pair_continuation_switches_and_equals_the_one_dof(torsional):
+    """Continuation of a system: its events (period doubling located by Newton, grazing) are the 1-DOF
+    model's to 1e-8, and at the period doubling it switches onto the period-2 branch."""
+    from geardyn.analysis.periodic import continuation
+
+    a = continuation(torsional, "omega", 0.6, 1.0, max_period=2)
+    b = continuation(GearModel(), "omega", 0.6, 1.0, max_period=2)
+    ea = [(x.type, x.n, x.value) for x in a.bifurcations]
+    eb = [(x.type, x.n, x.value) for x in b.bifurcations]
+    assert [x[:2] for x in ea] == [x[:2] for x in eb] and ("period-doubling", 1) in [x[:2] for x in ea]
+    np.testing.assert_allclose([x[2] for x in ea], [x[2] for x in eb], rtol=0, atol=1e-8)
+    assert [br.n for br in a.branches] == [br.n for br in b.branches] and 2 in [br.n for br in a.branches]
+    two = next(br for br in a.branches if br.n == 2)
+    assert two.origin is not None and two.origin.type == "period-doubling" and len(two) > 3
+    assert two.multipliers.shape[1] == 2  # the elastic multipliers: the rigid-body pair is left out
+    assert bool(np.any(two.stable))

@@ -236,7 +236,8 @@ def _continuation(values: dict[str, Any], kw: dict[str, Any]):
     opts = _opts(values, periods=1)
     res = system_continuation(s, param, float(kw["start"]), float(kw["stop"]), int(kw.get("period", 1)),
                               _guess(s, kw.get("guess")), dtau=opts.dtau, accurate=opts.accurate,
-                              ds_max=kw.get("ds_max"), state0=_state(values))
+                              ds_max=kw.get("ds_max"), state0=_state(values), switch=bool(kw.get("switch", True)),
+                              max_period=int(kw.get("max_period", 4)))
     return res.to_json(), (lambda: res.to_dataset())
 
 
