@@ -28,7 +28,7 @@ def _states(model: Any) -> list[str]:
 def _finish(ds: xr.Dataset, summary: dict[str, Any], units: dict[str, tuple[str, str]]) -> xr.Dataset:
     from ..io import annotate
 
-    del units  # the metadata come from the registry (SYSTEM_VARIABLES)
+    del units  # the metadata come from the registry (geardyn.io.SYSTEM_VARIABLES)
     ds.attrs["summary"] = json.dumps(summary, default=lambda o: None)
     return annotate(ds)
 
