@@ -39,7 +39,7 @@ def _models(points):
 
 def _write_batch(models, path):
     from geardyn import _kernel_ndof as K
-    from geardyn.integrate_ndof import forcing_period, initial_state
+    from geardyn.integrate import forcing_period
     from geardyn.systems import SystemModel
 
     a = SystemModel.pack(models)
@@ -51,12 +51,12 @@ def _write_batch(models, path):
             Tf = forcing_period(m)
             N = int(np.ceil(Tf / 0.01))
             vals = [m.omega, Tf, N, *A[p].ravel(), *B[p].ravel(), *W[p].ravel(), *a.V[p].ravel(), *g[p],
-                    *a.D[p], *a.ratio[p], *a.coef[p].ravel(), *initial_state(m)]
+                    *a.D[p], *a.ratio[p], *a.coef[p].ravel(), *m.initial_state()]
             f.write(" ".join(repr(float(v)) for v in vals) + "\n")
 
 
 def _geardyn(models, transient, periods, threads):
-    from geardyn.integrate_ndof import integrate_batch
+    from geardyn.integrate import integrate_batch
     from geardyn.model import IntegrationOptions
 
     opts = IntegrationOptions(transient=transient, periods=periods)
@@ -75,7 +75,7 @@ def _children_cpu():
 def _scipy(models, transient, periods, sample=2):
     from scipy.integrate import solve_ivp
 
-    from geardyn.integrate_ndof import forcing_period, initial_state
+    from geardyn.integrate import forcing_period
 
     total = 0.0
     for m in models[:: max(1, len(models) // sample)][:sample]:
@@ -101,7 +101,7 @@ def _scipy(models, transient, periods, sample=2):
         T = forcing_period(m)
         npr = 20  # periods actually integrated per sampled point, scaled below
         t = time.perf_counter()
-        solve_ivp(rhs, (0, npr * T), initial_state(m), method="RK45", rtol=1e-8, atol=1e-10,
+        solve_ivp(rhs, (0, npr * T), m.initial_state(), method="RK45", rtol=1e-8, atol=1e-10,
                   t_eval=np.arange(1, npr + 1) * T)
         total += (time.perf_counter() - t) * (transient + periods) / npr
     return total / sample * len(models)

@@ -60,7 +60,7 @@ def test_rk4_order_four_on_smooth_case():
     # time-varying stiffness and damping, contact never lost (large mean load): a smooth ODE
     m = GearModel(omega=0.9, fp=6.0)
     start = (7.0, 0.0)
-    assert _map_with_steps(m, 80, 4, False, start)[1][0] > m.D  # never leaves drive-side contact
+    assert _map_with_steps(m, 80, 4, False, start)[1][0, 0] > m.D  # never leaves drive-side contact
     p = _observed_order(m, 80, 4, accurate=False, start=start)
     assert 3.8 < p < 4.2
 
@@ -156,7 +156,7 @@ def test_monodromy_determinant_is_liouville_on_nonsmooth_orbit():
     start = integrate_batch([m]).end_state[0]
     for n in (1, 2, 3):
         _, M, stats, ok = period_map(m, start, n)
-        assert ok and stats[0] < m.D  # the orbit separates
+        assert ok and stats[0, 0] < m.D  # the orbit separates
         assert np.linalg.det(M) == pytest.approx(math.exp(-2 * m.xi0 * n * m.period), rel=1e-10)
 
 

@@ -18,7 +18,7 @@ from typer.testing import CliRunner
 from geardyn.analysis.hb import hb_continuation, hb_solve
 from geardyn.analysis.hb.system import HBSystemEquations, hb_system_solve
 from geardyn.analysis.hb.system_continuation import hb_system_continuation
-from geardyn.analysis.systems_orbit import shoot_system
+from geardyn.analysis.periodic import shoot
 from geardyn.cli import app
 from geardyn.model import GearModel
 from geardyn.status import Status
@@ -171,11 +171,11 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
     both errors fall from H = 16 to H = 32; the monodromy's multipliers within 1e-6 at both H.
     """
     model = _four_dof(0.9)
-    orb = shoot_system(model, 1, accurate=True, dtau=0.002)
+    orb = shoot(model, 1, accurate=True, dtau=0.002)
     assert orb.converged
     mu_ref, r = orb.elastic
     assert r == 0
-    ref = orb.meshes[0]
+    ref = orb.extra["meshes"][0]
     assert ref["u_min"] < model.meshes[0].D < ref["u_max"]  # the mesh loses contact: a nonlinear orbit
     errs, mono = [], []
     for H in (16, 32):

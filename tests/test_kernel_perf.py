@@ -212,15 +212,13 @@ def test_batched_monodromy_equals_period_map(threads):
     threads(1)
     models = [GearModel(omega=w) for w in (0.6, 0.75, 0.9, 1.05)]
     opts = IntegrationOptions(transient=0, periods=2)
-    _, coef, D, omega, nsteps = I._prepare(models, opts)
-    s0 = np.array([[0.3, -0.1]] * len(models))
-    pc, end, stats, _, tout, status, _ = I._run(coef, D, omega, nsteps, s0, 0, 2, K.TAN_MONODROMY, False)
+    res = I.integrate_batch(models, (0.3, -0.1), opts, monodromy=True)
     for i, m in enumerate(models):
         points, mono, st, ok = I.period_map(m, (0.3, -0.1), n=2)
         assert ok
-        np.testing.assert_array_equal(pc[i], points)
-        np.testing.assert_array_equal(tout[i], mono)
-        np.testing.assert_array_equal(stats[i], st)
+        np.testing.assert_array_equal(res.poincare[i], points)
+        np.testing.assert_array_equal(res.tangent[i], mono)
+        np.testing.assert_array_equal(res.stats[i], st)
 
 
 def test_time_history_consistent_with_batch():

@@ -11,11 +11,10 @@ import pytest
 
 from geardyn.analysis.periodic import shoot
 from geardyn.analysis.steady import simulate
-from geardyn.analysis.systems_lyapunov import expected_sum, system_lyapunov
-from geardyn.analysis.systems_orbit import require_periodic, shoot_system
-from geardyn.analysis.systems_steady import simulate_system
+from geardyn.analysis.lyapunov import lyapunov_spectrum
+from geardyn.analysis.periodic.orbit import require_periodic
 from geardyn.errors import ModelError
-from geardyn.integrate_ndof import forcing_period, integrate_batch, period_map, trajectory
+from geardyn.integrate import forcing_period, integrate_batch, period_map, trajectory
 from geardyn.model import GearModel, IntegrationOptions
 from geardyn.systems import Scaling, SystemModel, assemble, load_description, load_system
 from geardyn.systems.assemble import MeshND
@@ -61,7 +60,7 @@ def _four_dof(D=0.5, xi0=0.05, eps=(0.3,), kappa=(0.2,), omega=0.9, clearance=Tr
 @pytest.mark.parametrize("accurate", [False, True])
 def test_simulate_reduces_to_one_dof(torsional, accurate):
     opts = IntegrationOptions(accurate=accurate)
-    a = simulate_system(torsional, opts).to_json()
+    a = simulate(torsional, opts).to_json()
     b = simulate(GearModel().with_param("omega", 0.8), opts).to_json()
     m = a["meshes"][0]
     for k in KEYS:
@@ -84,7 +83,7 @@ def simulate_dynamic_factor(b, accurate):
 
 @pytest.mark.parametrize("accurate", [False, True])
 def test_orbit_multipliers_reduce(torsional, accurate):
-    o = shoot_system(torsional, 1, accurate=accurate)
+    o = shoot(torsional, 1, accurate=accurate)
     o1 = shoot(GearModel().with_param("omega", 0.8), 1, accurate=accurate)
     assert o.converged and o1.converged
     mu, r = o.elastic
@@ -106,7 +105,7 @@ def test_incommensurate_refused(torsional):
     with pytest.raises(ModelError, match="incommensurate"):
         require_periodic(two)
     with pytest.raises(ModelError, match="incommensurate"):
-        shoot_system(two, 1)
+        shoot(two, 1)
     # the time response and the Lyapunov spectrum still work
     r = integrate_batch([two], None, IntegrationOptions(transient=10, periods=10))
     assert r.ok[0]
@@ -121,7 +120,7 @@ def test_rigid_bearing_limit():
     for scale in (1.0, 10.0, 100.0, 1000.0):
         conns = tuple(replace(c, stiffness=np.array(c.stiffness) * scale) for c in d.connections)
         s = assemble(replace(d, connections=conns), omega=0.6)
-        a = simulate_system(s, IntegrationOptions(transient=200, periods=64)).to_json()
+        a = simulate(s, IntegrationOptions(transient=200, periods=64)).to_json()
         errs.append(abs(a["u_max"] - ref["u_max"]) + abs(a["u_min"] - ref["u_min"]))
     assert all(e2 < e1 for e1, e2 in zip(errs, errs[1:])), errs
     assert errs[-1] < 1e-2 * max(errs[0], 1e-12) or errs[-1] < 1e-4, errs
@@ -131,8 +130,8 @@ def test_rigid_bearing_limit():
 @pytest.mark.parametrize("omega,periods", [(1.5, 600), (0.8, 300)])  # chaotic, periodic (period 2)
 def test_lyapunov_sum_is_mean_trace(torsional, omega, periods):
     for model in (torsional.with_param("omega", omega), _four_dof(omega=omega)):
-        r = system_lyapunov(model, IntegrationOptions(transient=100, periods=periods))
-        assert np.sum(r.exponents) == pytest.approx(expected_sum(model), rel=1e-6, abs=1e-9)
+        r = lyapunov_spectrum(model, IntegrationOptions(transient=100, periods=periods))
+        assert np.sum(r.exponents) == pytest.approx(model.mean_trace(), rel=1e-6, abs=1e-9)
         assert len(r.exponents) == model.state_dim
 
 
@@ -143,7 +142,7 @@ def test_monodromy_determinant(omega):
     x0 = integrate_batch([model], None, IntegrationOptions(transient=50, periods=1)).end_state[0]
     _pts, M, _st, ok = period_map(model, x0, n, dtau=0.005, accurate=True)
     assert ok
-    expect = math.exp(expected_sum(model) * n * forcing_period(model))
+    expect = math.exp(model.mean_trace() * n * forcing_period(model))
     assert np.linalg.det(M) == pytest.approx(expect, rel=1e-6)
 
 

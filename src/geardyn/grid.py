@@ -222,14 +222,8 @@ def integrate_points(models: Sequence[GearModel], state0: Sequence[float] | np.n
     too_long = options.dtau >= 2.0 * math.pi / omega
     if np.any(too_long):
         options.check_for(float(omega[int(np.argmax(too_long))]))
-    nsteps = steps_per_period(omega, options.dtau)
-    s0 = itg._state_array(state0, len(models), models.state_dim)
-    tangent = itg.K.TAN_LYAPUNOV if lyapunov else itg.K.TAN_NONE
-    pc, end, stats, tl, tout, status, _ = itg._run(coef, D, omega, nsteps, s0, options.transient, options.periods,
-                                                   tangent, options.accurate, record_poincare, 0, lyapunov,
-                                                   threads, options.adaptive)
-    return itg.BatchResult(models, options, pc, end, status, stats, nsteps,
-                           lyapunov_log=tl if lyapunov else None, tangent=tout if lyapunov else None)
+    return itg.integrate_packed(models, (coef, D, omega), steps_per_period(omega, options.dtau), state0, options,
+                                lyapunov=lyapunov, record_poincare=record_poincare, threads=threads)
 
 
 class Grid:

@@ -1,8 +1,13 @@
-"""Integration of the non-dimensional model: batches, trajectories, period maps.
+"""Integration of any system: batches, trajectories, period maps — the one door to the kernels.
 
-This is the only module that talks to the numba kernel (:mod:`geardyn._kernel`).  Every analysis
-(simulation, sweeps, Lyapunov spectra, shooting) goes through :func:`integrate_batch`,
-:func:`trajectory` or :func:`period_map`.
+Every analysis (simulation, sweeps, Lyapunov spectra, shooting, continuation) goes through
+:func:`integrate_batch`, :func:`trajectory` or :func:`period_map`, for any
+:class:`~geardyn.system.System`: the door packs the batch with the system's ``pack``, hands it to the
+system's :attr:`~geardyn.system.System.backend` (:mod:`geardyn.backend`: the 1-DOF kernel for a
+:class:`~geardyn.model.GearModel`, the mesh-vector kernel for a :class:`~geardyn.systems.SystemModel`)
+and returns one :class:`BatchResult` with an element axis (length 1 for the pair; the meshes, then the
+clearances for a system).  Sampling: the step is h = T_f/N with T_f the system's ``sampling_period`` (the
+forcing period; 2π/ω for the pair) and N = ceil(T_f/Δτ) unless given.
 
 Two integration settings are arguments of these functions rather than fields of
 :class:`~geardyn.model.IntegrationOptions`:
@@ -19,19 +24,22 @@ Two integration settings are arguments of these functions rather than fields of
 
 from __future__ import annotations
 
+import math
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Iterator, Sequence
+from typing import Any, Iterator, Sequence
 
 import numpy as np
 
-from . import _kernel as K
-from .model import GearModel, IntegrationOptions, ModelError, pack_models, steps_per_period
+from .backend import DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM
+from .backend import S_VMAX, S_VMIN, ST_DIVERGED, ST_OK, RawRun
+from .model import IntegrationOptions, ModelError
 
 __all__ = [
     "BatchResult",
     "Trajectory",
     "integrate_batch",
+    "integrate_packed",
     "trajectory",
     "period_map",
     "set_threads",
@@ -39,40 +47,39 @@ __all__ = [
     "state_dim",
     "natural_steps",
     "STATE_DIM",
+    "forcing_period",
+    "start_state",
     "ST_OK",
     "ST_DIVERGED",
     "DIVERGENCE_BOUND",
 ]
 
-ST_OK = K.ST_OK
-ST_DIVERGED = K.ST_DIVERGED
-DIVERGENCE_BOUND = K.DIVERGENCE_BOUND
 #: Dimension of the state the kernel integrates: (u, u') of the 1-DOF model.
 STATE_DIM = 2
 
 
-def state_dim(model: GearModel) -> int:
+def state_dim(model: Any) -> int:
     """Dimension of the state of ``model`` as the kernel integrates it (the length of ``state0``).
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         The system.
 
     Returns
     -------
     int
-        ``model.state_dim`` (:data:`STATE_DIM` = 2, (u, u'), for the 1-DOF model).
+        ``model.state_dim`` (:data:`STATE_DIM` = 2, (u, u'), for the 1-DOF model; 2n for a system).
     """
     return int(model.state_dim)
 
 
-def natural_steps(model: GearModel, dtau: float) -> int:
-    """The RK4 steps per forcing period the kernel takes for ``model`` when none are given.
+def natural_steps(model: Any, dtau: float) -> int:
+    """The RK4 steps per sampling period the kernel takes for ``model`` when none are given.
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         The model.
     dtau : float
         Target step Δτ.
@@ -80,9 +87,9 @@ def natural_steps(model: GearModel, dtau: float) -> int:
     Returns
     -------
     int
-        N = ceil(T/Δτ), so that h = T/N <= Δτ (:func:`geardyn.model.steps_per_period`).
+        N = ceil(T_f/Δτ), so that h = T_f/N <= Δτ (for the pair :func:`geardyn.model.steps_per_period`).
     """
-    return int(steps_per_period(model.omega, dtau))
+    return int(math.ceil(model.sampling_period / dtau))
 
 
 def _thread_count(n: int) -> int:
@@ -153,10 +160,80 @@ def using_threads(n: int | None) -> Iterator[None]:
         numba.set_num_threads(old)
 
 
+
+def forcing_period(model: Any) -> float:
+    """The sampling period T_f of ``model``: its forcing period (p·2π/ω), or 2π/ω when not periodic.
+
+    Parameters
+    ----------
+    model : System
+
+    Returns
+    -------
+    float
+        ``model.sampling_period``.
+    """
+    return float(model.sampling_period)
+
+
+def start_state(model: Any, state0: Sequence[float] | np.ndarray | None = None) -> np.ndarray:
+    """A full initial state from what a user gives.
+
+    Parameters
+    ----------
+    model : System
+    state0 : None, (u0, v0) or (d,)
+        None: ``model.initial_state()``; two numbers: the reference element's (δ, δ') at θ = 0
+        (``model.initial_state(u0, v0)``; for the pair the state itself); else the full state as given.
+
+    Returns
+    -------
+    ndarray (d,)
+    """
+    if state0 is None:
+        return model.initial_state()
+    s = np.asarray(state0, dtype=float)
+    if s.shape == (2,):
+        return model.initial_state(float(s[0]), float(s[1]))
+    return s
+
+
+def _statistic(k: int, doc: str) -> property:
+    """The read-only property of the reference element's streaming statistic ``k``, NaN where diverged."""
+    return property(lambda self: self._el(k, self.reference), doc=doc)
+
+
 @dataclass
-class _Batch:
-    """The fields and totals of a batch result, the same for :class:`BatchResult` and
-    :class:`geardyn.integrate_ndof.SystemBatchResult` (the shapes along the state axis differ)."""
+class BatchResult:
+    """Results for P points of one kind of system integrated together (all non-dimensional).
+
+    Attributes
+    ----------
+    models : list of System
+        The points, in batch order.
+    options : IntegrationOptions
+        The options they were integrated with.
+    poincare : ndarray (P, periods, d)
+        The state at θ ≡ 0 at the end of each recorded sampling period; NaN where diverged.
+    end_state : ndarray (P, d)
+        Final state (the start state for a continuation sweep).
+    status : ndarray (P,)
+        ``ST_OK`` or ``ST_DIVERGED``.
+    stats : ndarray (P, elements, NSTAT)
+        Streaming statistics of every element's deflection over the recorded periods, sampled at every
+        step (one element, the mesh, for the pair).
+    nsteps : ndarray (P,)
+        RK4 steps per sampling period.
+    lyapunov_log : ndarray (P, periods, d) or None
+        Per recorded period, the logs of the Gram–Schmidt diagonal (Lyapunov mode).
+    tangent : ndarray (P, d, d) or None
+        Final tangent matrix: the monodromy over the recorded periods in monodromy mode.
+    elements : tuple of str
+        Names of the elements of ``stats``.
+    reference : int
+        Index of the reference element (whose deflection is the 1-DOF model's u): ``u_min``, ``u_max``,
+        ``amplitude``, ``mean``, ``rms`` and ``contact_fractions`` are its.
+    """
 
     models: list
     options: IntegrationOptions
@@ -167,6 +244,8 @@ class _Batch:
     nsteps: np.ndarray
     lyapunov_log: np.ndarray | None = None
     tangent: np.ndarray | None = None
+    elements: tuple[str, ...] = ("mesh",)
+    reference: int = 0
 
     @property
     def ok(self) -> np.ndarray:
@@ -174,78 +253,70 @@ class _Batch:
         return self.status == ST_OK
 
     @property
-    def amplitude(self) -> np.ndarray:
-        """Half peak-to-peak displacement (u_max − u_min)/2 over the recorded periods."""
-        return 0.5 * (self.u_max - self.u_min)
-
-    @property
     def total_steps(self) -> int:
         """RK4 steps the batch took, transient included."""
         o = self.options
         return int(np.sum(self.nsteps) * (o.transient + o.periods))
 
+    def _el(self, k: int, e: int | None) -> np.ndarray:
+        x = self.stats[:, :, k]
+        x = np.where(self.ok[:, None], x, np.nan)
+        return x if e is None else x[:, e]
 
-def _statistic(k: int, doc: str) -> property:
-    """The read-only property of the streaming statistic ``stats[:, k]``, NaN where diverged."""
-    return property(lambda self: self._masked(self.stats[:, k]), doc=doc)
-
-
-@dataclass
-class BatchResult(_Batch):
-    """Results for P parameter points integrated together (all non-dimensional).
-
-    Attributes
-    ----------
-    models : list of GearModel
-        The points, in batch order.
-    options : IntegrationOptions
-        The options they were integrated with.
-    poincare : ndarray (P, n, d)
-        The state at θ ≡ 0 mod 2π at the end of each recorded period; NaN where diverged.
-    end_state : ndarray (P, d)
-        Final state (the start state for a continuation sweep).
-    status : ndarray (P,)
-        ``ST_OK`` or ``ST_DIVERGED``.
-    stats : ndarray (P, NSTAT)
-        Streaming statistics over the recorded periods, sampled at every step.
-    lyapunov_log : ndarray (P, n, 2) or None
-        Per recorded period, the logs of the Gram–Schmidt diagonal (Lyapunov mode).
-    tangent : ndarray (P, 2, 2) or None
-        Final tangent matrix: the monodromy over the recorded periods in monodromy mode.
-    nsteps : ndarray (P,)
-        RK4 steps per forcing period.
-    """
-
-    def _masked(self, x: np.ndarray) -> np.ndarray:
-        return np.where(self.ok, x, np.nan)
-
-    def _per_sample(self, x: np.ndarray) -> np.ndarray:
-        """x / number of samples; NaN where no sample was taken (diverged before recording)."""
-        n = self.stats[:, K.S_N]
+    def _per_sample(self, k: int, e: int | None) -> np.ndarray:
+        """stats k / number of samples; NaN where no sample was taken (diverged before recording)."""
+        n = self.stats[:, :, S_N]
         with np.errstate(invalid="ignore", divide="ignore"):
-            return np.where(n > 0, x / np.where(n > 0, n, 1.0), np.nan)
+            r = np.where(n > 0, self.stats[:, :, k] / np.where(n > 0, n, 1.0), np.nan)
+        r = np.where(self.ok[:, None], r, np.nan)
+        return r if e is None else r[:, e]
 
-    u_min = _statistic(K.S_UMIN, "Smallest u over the recorded periods (P,); NaN where diverged.")
-    u_max = _statistic(K.S_UMAX, "Largest u over the recorded periods (P,); NaN where diverged.")
-    v_min = _statistic(K.S_VMIN, "Smallest u' over the recorded periods (P,); NaN where diverged.")
-    v_max = _statistic(K.S_VMAX, "Largest u' over the recorded periods (P,); NaN where diverged.")
+    def element_u_min(self, e: int | None = None) -> np.ndarray:
+        """Smallest δ (P,) of element e, or (P, elements) for e None; NaN where diverged."""
+        return self._el(S_UMIN, e)
+
+    def element_u_max(self, e: int | None = None) -> np.ndarray:
+        """Largest δ (P,) of element e, or (P, elements) for e None; NaN where diverged."""
+        return self._el(S_UMAX, e)
+
+    def element_mean(self, e: int | None = None) -> np.ndarray:
+        """Mean δ over the recorded periods."""
+        return self._per_sample(S_USUM, e)
+
+    def element_rms(self, e: int | None = None) -> np.ndarray:
+        """RMS of the fluctuation δ − mean(δ) over the recorded periods."""
+        m = self._per_sample(S_USUM, e)
+        return np.sqrt(np.maximum(self._per_sample(S_USQ, e) - m * m, 0.0))
+
+    def element_fractions(self, e: int | None = None) -> np.ndarray:
+        """(P, 3) (or (P, elements, 3)) time fractions in drive contact, separation, back contact."""
+        f = np.stack([self._per_sample(k, None) for k in (S_NDRIVE, S_NSEP, S_NBACK)], axis=-1)
+        return f if e is None else f[:, e]
+
+    u_min = _statistic(S_UMIN, "Smallest u over the recorded periods (P,); NaN where diverged.")
+    u_max = _statistic(S_UMAX, "Largest u over the recorded periods (P,); NaN where diverged.")
+    v_min = _statistic(S_VMIN, "Smallest u' over the recorded periods (P,); NaN where diverged.")
+    v_max = _statistic(S_VMAX, "Largest u' over the recorded periods (P,); NaN where diverged.")
+
+    @property
+    def amplitude(self) -> np.ndarray:
+        """Half peak-to-peak displacement (u_max − u_min)/2 over the recorded periods."""
+        return 0.5 * (self.u_max - self.u_min)
 
     @property
     def mean(self) -> np.ndarray:
-        return self._masked(self._per_sample(self.stats[:, K.S_USUM]))
+        """Mean u over the recorded periods."""
+        return self.element_mean(self.reference)
 
     @property
     def rms(self) -> np.ndarray:
         """RMS of the fluctuation u − mean(u) over the recorded periods."""
-        m = self._per_sample(self.stats[:, K.S_USUM])
-        var = np.maximum(self._per_sample(self.stats[:, K.S_USQ]) - m * m, 0.0)
-        return self._masked(np.sqrt(var))
+        return self.element_rms(self.reference)
 
     @property
     def contact_fractions(self) -> np.ndarray:
         """(P, 3) time fractions in drive-side contact, separation and back-side contact."""
-        f = np.stack([self._per_sample(self.stats[:, k]) for k in (K.S_NDRIVE, K.S_NSEP, K.S_NBACK)], axis=1)
-        return np.where(self.ok[:, None], f, np.nan)
+        return self.element_fractions(self.reference)
 
 
 def _state_array(state0: Sequence[float] | np.ndarray | None, P: int, d: int = STATE_DIM,
@@ -264,6 +335,14 @@ def _state_array(state0: Sequence[float] | np.ndarray | None, P: int, d: int = S
     return np.ascontiguousarray(s, dtype=float)
 
 
+def _states(models: list, state0: Any) -> np.ndarray:
+    """The initial states of a batch: given ones checked, or each system's :meth:`initial_state`."""
+    backend = models[0].backend
+    if state0 is None:
+        return backend.initial_states(models)
+    return _state_array(state0, len(models), models[0].state_dim, backend.coords)
+
+
 def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
     """Validated steps per period for P points from an integer or a (P,) sequence."""
     arr = np.asarray(steps)
@@ -277,48 +356,74 @@ def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
     return np.ascontiguousarray(arr, dtype=np.int64)
 
 
-def _prepare(models: Sequence[GearModel], options: IntegrationOptions,
+def _prepare(models: Sequence[Any], options: IntegrationOptions,
              steps: int | Sequence[int] | np.ndarray | None = None):
+    """The models as a list, their backend, packed arrays and steps per sampling period."""
     models = list(models)
-    coef, D, omega = pack_models(models)
+    if not models:
+        raise ModelError("empty parameter grid: no model to integrate")
+    backend = models[0].backend
+    packed = backend.pack(models)
     if steps is None:
         for m in models:
-            options.check_for(m.omega)
-        nsteps = steps_per_period(omega, options.dtau)
+            T = m.sampling_period
+            options.check_for(m.omega if T == m.period else 2.0 * math.pi / T)
+        nsteps = backend.natural_steps(models, packed, options.dtau)
     else:
         nsteps = _steps_array(steps, len(models))
-    return models, coef, D, omega, nsteps
+    return models, backend, packed, nsteps
 
 
-def _run(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
-         record_poincare=True, hist_len=0, lyapunov=False, threads=None, adaptive=False, tangent0=None):
-    P = coef.shape[0]
-    d = STATE_DIM  # the kernel's buffers: it integrates the 1-DOF mesh, state (u, u')
-    poincare = np.zeros((P, n_record if record_poincare else 0, d))
-    end_state = np.zeros((P, d))
-    stats = np.zeros((P, K.NSTAT))
-    tan_log = np.zeros((P, n_record if lyapunov else 0, d))
-    tan_out = np.zeros((P, d, d))
-    if tangent0 is not None:  # K.TAN_CONTINUE: the kernel starts the tangent basis from these
-        tan_out[:] = tangent0
-    status = np.zeros(P, dtype=np.int64)
-    hist = np.zeros((P, hist_len, d))
+def _run(models: list, backend: Any, packed: Any, nsteps: np.ndarray, state0: np.ndarray, transient: int,
+         record: int, mode: str, accurate: bool, *, record_poincare: bool = True, hist_len: int = 0,
+         threads: int | None = None, adaptive: bool = False, tangent0: np.ndarray | None = None) -> RawRun:
     # one point runs on one worker whatever the setting: leave numba's state alone then
-    with using_threads(threads if P > 1 else None):
-        if adaptive:
-            from .analysis.classify import MAX_PERIOD
+    with using_threads(threads if len(models) > 1 else None):
+        return backend.run(models, packed, nsteps, state0, transient, record, mode, accurate,
+                           record_poincare=record_poincare, hist_len=hist_len,
+                           adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0, tangent0=tangent0)
 
-            K.run_batch(coef, D, omega, nsteps, state0, int(n_transient), int(n_record), int(tangent),
-                        bool(accurate), poincare, end_state, stats, tan_log, tan_out, status, hist,
-                        IntegrationOptions.ADAPTIVE_TOL, MAX_PERIOD)
-        else:
-            K.run_batch(coef, D, omega, nsteps, state0, int(n_transient), int(n_record), int(tangent),
-                        bool(accurate), poincare, end_state, stats, tan_log, tan_out, status, hist)
-    return poincare, end_state, stats, tan_log, tan_out, status, hist
+
+def _result(models: list, options: IntegrationOptions, raw: RawRun, nsteps: np.ndarray, lyapunov: bool,
+            monodromy: bool) -> BatchResult:
+    m = models[0]
+    return BatchResult(models, options, raw.poincare, raw.end_state, raw.status, raw.stats, nsteps,
+                       lyapunov_log=raw.tan_log if lyapunov else None,
+                       tangent=raw.tangent if (lyapunov or monodromy) else None,
+                       elements=tuple(e.name for e in m.elements), reference=int(m.reference))
+
+
+def integrate_packed(models: Sequence[Any], packed: Any, nsteps: np.ndarray, state0: Any,
+                     options: IntegrationOptions, *, lyapunov: bool = False, record_poincare: bool = True,
+                     threads: int | None = None) -> BatchResult:
+    """:func:`integrate_batch` of a batch whose kernel arrays are already packed (the grid's fast path).
+
+    Parameters
+    ----------
+    models : sequence of System
+        The points (any sequence with a length whose first item is one of them, e.g. a
+        :class:`geardyn.grid.PointModels`); it becomes the result's ``models``.
+    packed : kernel arrays
+        ``models[0].pack(models)``, bit for bit.
+    nsteps : (P,) int64
+        RK4 steps per sampling period.
+    state0, options, lyapunov, record_poincare, threads
+        As :func:`integrate_batch`.
+
+    Returns
+    -------
+    BatchResult
+    """
+    m0 = models[0]
+    s0 = _state_array(state0, len(models), m0.state_dim, m0.backend.coords)
+    raw = _run(models, m0.backend, packed, nsteps, s0, options.transient, options.periods,
+               "lyapunov" if lyapunov else "none", options.accurate, record_poincare=record_poincare,
+               threads=threads, adaptive=options.adaptive)
+    return _result(models, options, raw, nsteps, lyapunov, False)
 
 
 def integrate_batch(
-    models: Sequence[GearModel],
+    models: Sequence[Any],
     state0: Sequence[float] | np.ndarray | None = None,
     options: IntegrationOptions = IntegrationOptions(),
     *,
@@ -326,97 +431,116 @@ def integrate_batch(
     record_poincare: bool = True,
     steps: int | Sequence[int] | np.ndarray | None = None,
     threads: int | None = None,
+    monodromy: bool = False,
     tangent0: np.ndarray | None = None,
 ) -> BatchResult:
-    """Integrate P parameter points through ``options.transient + options.periods`` periods.
+    """Integrate P points of one kind of system through ``options.transient + options.periods`` periods.
 
     Parameters
     ----------
-    models : sequence of GearModel
-        One model per parameter point (their harmonic counts may differ).
-    state0 : (2,) or (P, 2), optional
-        Initial (u, u') at θ = 0 (non-dimensional); zeros by default.
+    models : sequence of System
+        One model per point, all of one kind (GearModels may differ in their harmonic counts; systems
+        must share their structure).
+    state0 : (d,) or (P, d), optional
+        Initial state at θ = 0 (non-dimensional); by default each system's ``initial_state()`` (zeros
+        for the pair).
     options : IntegrationOptions
-        Step, transient, recorded periods, accurate mode.
+        Step, transient, recorded periods, accurate mode (the adaptive transient: pair only).
     lyapunov : bool
         Propagate the tangent matrix over the recorded periods with Gram–Schmidt every period and
         return the per-period logs (``lyapunov_log``) for :mod:`geardyn.analysis.lyapunov`.
     record_poincare : bool
         Keep the Poincaré points (False saves memory in large sweeps).
     steps : int or (P,) ints, optional
-        RK4 steps per forcing period N, the step being h = T/N; by default N = ceil(T/Δτ) from
+        RK4 steps per sampling period N, the step being h = T_f/N; by default N = ceil(T_f/Δτ) from
         ``options.dtau`` (which is then not used).
     threads : int, optional
         Threads the kernel may use for this batch (default: numba's current setting, which is
         left as it was).
-    tangent0 : (P, 2, 2) array, optional
-        With ``lyapunov``: the tangent basis to start the recorded periods from (the ``tangent`` a
-        previous run ended with), instead of the identity, so that a run continued in blocks of
+    monodromy : bool
+        Propagate the raw tangent matrix over the recorded periods (``tangent``: the monodromy).
+    tangent0 : (P, d, d) array, optional
+        With ``lyapunov`` (pair only): the tangent basis to start the recorded periods from (the ``tangent``
+        a previous run ended with), instead of the identity, so that a run continued in blocks of
         periods gives the same numbers as one run.
 
     Returns
     -------
     BatchResult
-        Section points, end states, statuses and statistics per point.
+        Section points, end states, statuses and per-element statistics per point.
 
     Raises
     ------
     ModelError
-        For an empty grid, a step not below a forcing period, a bad initial state, ``steps`` or
+        For an empty batch, a step not below a sampling period, a bad initial state, ``steps`` or
         ``threads``.
     """
-    models, coef, D, omega, nsteps = _prepare(models, options, steps)
-    s0 = _state_array(state0, len(models), state_dim(models[0]))
-    tangent = K.TAN_LYAPUNOV if lyapunov else K.TAN_NONE
+    models, backend, packed, nsteps = _prepare(models, options, steps)
+    s0 = _states(models, state0)
+    mode = "lyapunov" if lyapunov else ("monodromy" if monodromy else "none")
     if tangent0 is not None:
         if not lyapunov:
             raise ModelError("tangent0: a starting tangent basis needs lyapunov=True")
-        tangent0 = np.asarray(tangent0, dtype=float).reshape(len(models), 2, 2)
-        tangent = K.TAN_CONTINUE
-    pc, end, stats, tl, tout, status, _ = _run(coef, D, omega, nsteps, s0, options.transient, options.periods,
-                                               tangent, options.accurate, record_poincare, 0, lyapunov,
-                                               threads, options.adaptive, tangent0)
-    return BatchResult(models, options, pc, end, status, stats, nsteps,
-                       lyapunov_log=tl if lyapunov else None, tangent=tout if lyapunov else None)
+        d = models[0].state_dim
+        tangent0 = np.asarray(tangent0, dtype=float).reshape(len(models), d, d)
+        mode = "continue"
+    raw = _run(models, backend, packed, nsteps, s0, options.transient, options.periods, mode, options.accurate,
+               record_poincare=record_poincare, threads=threads, adaptive=options.adaptive, tangent0=tangent0)
+    return _result(models, options, raw, nsteps, lyapunov, monodromy)
 
 
 @dataclass
 class Trajectory:
-    """A single trajectory: the time history of its last periods plus its batch summary.
+    """A single trajectory: the state at every step of its last periods plus its batch summary.
 
     ``tau`` is non-dimensional time measured from the start of the history window (which
-    starts at a period boundary, θ ≡ 0), ``u`` and ``v`` = u' are non-dimensional.
+    starts at a period boundary, θ ≡ 0).
 
     Attributes
     ----------
-    model : GearModel
+    model : System
         The point.
     options : IntegrationOptions
         The options it was integrated with.
-    tau, u, v : ndarray
-        The time history of the last ``history_periods`` periods (every step).
+    tau : ndarray (K,)
+        Times of the kept history (every step of the last ``history_periods`` periods).
+    x : ndarray (K, d)
+        The state at those times (NaN if the trajectory diverged).
+    deltas : ndarray (K, elements, 2)
+        δ and δ' of every element (``model.element_series``).
     summary : BatchResult
         The batch result of the run (Poincaré points, statistics, status).
     history_periods : int
         Periods of history kept.
     """
 
-    model: GearModel
+    model: Any
     options: IntegrationOptions
     tau: np.ndarray
-    u: np.ndarray
-    v: np.ndarray
+    x: np.ndarray
+    deltas: np.ndarray
     summary: BatchResult
     history_periods: int = field(default=0)
 
     @property
+    def u(self) -> np.ndarray:
+        """δ of the reference element (K,): the 1-DOF model's u."""
+        return np.ascontiguousarray(self.deltas[:, self.summary.reference, 0])
+
+    @property
+    def v(self) -> np.ndarray:
+        """δ' of the reference element (K,)."""
+        return np.ascontiguousarray(self.deltas[:, self.summary.reference, 1])
+
+    @property
     def poincare(self) -> np.ndarray:
+        """Poincaré points (periods, d)."""
         return self.summary.poincare[0]
 
 
 def trajectory(
-    model: GearModel,
-    state0: Sequence[float] = (0.0, 0.0),
+    model: Any,
+    state0: Sequence[float] | np.ndarray | None = None,
     options: IntegrationOptions = IntegrationOptions(),
     *,
     history_periods: int = 32,
@@ -427,16 +551,16 @@ def trajectory(
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         The model.
-    state0 : (2,)
-        Initial (u, u') at θ = 0.
+    state0 : (d,), optional
+        Initial state at θ = 0 (default ``model.initial_state()``: (0, 0) for the pair).
     options : IntegrationOptions
         Step, transient, recorded periods, accurate mode.
     history_periods : int
         Periods kept at every step (at most ``options.periods``).
     steps : int, optional
-        RK4 steps per forcing period (default ceil(T/Δτ)).
+        RK4 steps per sampling period (default ceil(T_f/Δτ)).
     threads : int, optional
         Threads for this call (numba's setting is left as it was).
 
@@ -448,26 +572,24 @@ def trajectory(
     Raises
     ------
     ModelError
-        For a step not below the forcing period, a bad initial state or ``steps``.
+        For a step not below the sampling period, a bad initial state or ``steps``.
     """
-    models, coef, D, omega, nsteps = _prepare([model], options, steps)
+    models, backend, packed, nsteps = _prepare([model], options, steps)
     hp = int(min(max(history_periods, 1), options.periods))
     N = int(nsteps[0])
-    s0 = _state_array(state0, 1, state_dim(model))
-    pc, end, stats, _, _, status, hist = _run(coef, D, omega, nsteps, s0, options.transient, options.periods,
-                                              K.TAN_NONE, options.accurate, True, hp * N + 1, False, threads)
-    summary = BatchResult(models, options, pc, end, status, stats, nsteps)
-    h = model.period / N
-    tau = np.arange(hp * N + 1) * h
-    u, v = hist[0, :, 0].copy(), hist[0, :, 1].copy()
-    if status[0] != ST_OK:
-        u[:] = np.nan
-        v[:] = np.nan
-    return Trajectory(model, options, tau, u, v, summary, hp)
+    s0 = _states(models, state0)
+    raw = _run(models, backend, packed, nsteps, s0, options.transient, options.periods, "none", options.accurate,
+               hist_len=hp * N + 1, threads=threads)
+    summary = _result(models, options, raw, nsteps, False, False)
+    tau = np.arange(hp * N + 1) * (model.sampling_period / N)
+    x = raw.hist[0]
+    if raw.status[0] != ST_OK:
+        x = np.full_like(x, np.nan)
+    return Trajectory(model, options, tau, x, model.element_series(x, tau), summary, hp)
 
 
 def period_map(
-    model: GearModel,
+    model: Any,
     state: Sequence[float],
     n: int = 1,
     *,
@@ -480,41 +602,40 @@ def period_map(
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         The model.
-    state : (2,)
-        (u, u') at θ = 0.
+    state : (d,)
+        The state at θ = 0.
     n : int
-        Forcing periods of the map P^n.
+        Sampling periods of the map P^n.
     dtau : float
-        Target step Δτ; N = ceil(T/Δτ) steps per period unless ``steps`` is given.
+        Target step Δτ; N = ceil(T_f/Δτ) steps per period unless ``steps`` is given.
     accurate : bool
         Split steps at the contact boundaries.
     steps : int, optional
-        RK4 steps per forcing period N (the step is h = T/N; ``dtau`` is then not used).
+        RK4 steps per sampling period N (the step is h = T_f/N; ``dtau`` is then not used).
     threads : int, optional
         Threads for this call (numba's setting is left as it was).
 
     Returns
     -------
-    points : ndarray (n, 2)
+    points : ndarray (n, d)
         The state after each of the n periods (the last is P^n(state)).
-    monodromy : ndarray (2, 2)
+    monodromy : ndarray (d, d)
         The derivative of P^n at ``state`` (tangent propagation of the same kernel: the exact
         Jacobian of the discrete map in the default mode).
-    stats : ndarray (NSTAT,)
-        The streaming statistics over the n periods.
+    stats : ndarray (elements, NSTAT)
+        The streaming statistics of every element over the n periods.
     ok : bool
         False if the trajectory diverged.
 
     Raises
     ------
     ModelError
-        For a step not below the forcing period, a bad state or ``steps``.
+        For a step not below the sampling period, a bad state or ``steps``.
     """
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=int(n), accurate=accurate)
-    models, coef, D, omega, nsteps = _prepare([model], opts, steps)
-    s0 = _state_array(state, 1, state_dim(model))
-    pc, end, stats, _, tout, status, _ = _run(coef, D, omega, nsteps, s0, 0, int(n), K.TAN_MONODROMY, accurate,
-                                              threads=threads)
-    return pc[0], tout[0], stats[0], bool(status[0] == ST_OK)
+    models, backend, packed, nsteps = _prepare([model], opts, steps)
+    s0 = _states(models, state)
+    raw = _run(models, backend, packed, nsteps, s0, 0, int(n), "monodromy", accurate, threads=threads)
+    return raw.poincare[0], raw.tangent[0], raw.stats[0], bool(raw.status[0] == ST_OK)

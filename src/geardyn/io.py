@@ -19,8 +19,8 @@ from typing import Any, Iterable, Mapping, NamedTuple
 import numpy as np
 
 from ._lazy import lazy_module
-from .analysis.classify import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .errors import ModelError
+from .labels import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .model import GearModel, canonical_param
 from .params import describe
 from .status import Status
@@ -183,6 +183,40 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
            "coefficient": _v("index of the Fourier coefficient"),
            "stable": _v("solution stable (1) or unstable (0) by Hill's multipliers")},
 }
+
+_V = lambda ln, u="1": Variable(u, ln)  # noqa: E731
+#: Metadata of the variables of the results of mesh-vector systems (entered in :data:`KIND_VARIABLES` for
+#: every ``system_*`` kind, so that :func:`annotate` fills them in).
+SYSTEM_VARIABLES: dict[str, Variable] = {
+    "element": _V("element (meshes, then clearances)"), "mesh": _V("gear mesh"),
+    "coordinate": _V("state coordinate (q̃, then q̃')"), "state": _V("state coordinate (q̃, then q̃')"),
+    "delta": _V("deflection δ of the element (DTE over b_c for a mesh)"),
+    "delta_rate": _V("rate dδ/dτ of the element"),
+    "u": _V("deflection δ of the reference mesh"), "v": _V("rate dδ/dτ of the reference mesh"),
+    "mesh_force": _V("mesh force over k_ref b_c"), "mesh_force_N": _V("dynamic mesh force", "N"),
+    "poincare": _V("Poincaré points of the full state at θ ≡ 0"),
+    "points": _V("section points of the orbit (full state)"),
+    "elastic": _V("elastic multiplier index (largest modulus first)"),
+    "elastic_re": _V("elastic Floquet multiplier, real part"),
+    "elastic_im": _V("elastic Floquet multiplier, imaginary part"),
+    "end_state": _V("final state (q̃, q̃') of the point"),
+    "poincare_u": _V("Poincaré section δ of the reference mesh at θ ≡ 0"),
+    "poincare_v": _V("Poincaré section dδ/dτ of the reference mesh at θ ≡ 0"),
+    "poincare_coordinate": _V("Poincaré section of the chosen state coordinate"),
+    "mesh_u_min": _V("smallest deflection δ of the mesh"), "mesh_u_max": _V("largest deflection δ of the mesh"),
+    "mesh_amplitude": _V("half peak-to-peak deflection δ of the mesh"),
+    "mesh_impact": _V("impact state of the mesh (0 none, 1 single-sided, 2 double-sided)"),
+    "mesh_mean": _V("mean deflection δ of the mesh"), "mesh_rms": _V("RMS of δ of the mesh about its mean"),
+    "u0": _V("initial value of the first slice coordinate at θ = 0"),
+    "v0": _V("initial value of the second slice coordinate at θ = 0"),
+    "value": _V("continuation parameter value"), "element_u_min": _V("smallest deflection δ of the element"),
+    "element_u_max": _V("largest deflection δ of the element"),
+    "bifurcation_value": _V("continuation parameter at the bifurcation"),
+}
+SYSTEM_KINDS = ("system_simulate", "system_lyapunov", "system_orbit", "system_bifurcation", "system_response",
+                "system_map", "system_basins", "system_continuation")
+for _k in SYSTEM_KINDS:
+    KIND_VARIABLES.setdefault(_k, {}).update(SYSTEM_VARIABLES)
 
 #: Suffix of the copy of a displacement variable in µm (``amplitude_um``; see :func:`physical_long_name`).
 PHYSICAL_SUFFIX = "_um"

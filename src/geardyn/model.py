@@ -28,6 +28,7 @@ import numpy as np
 from ._docfill import attributes
 from .errors import ModelError
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
+from .system import Element
 
 __all__ = [
     "Boundary",
@@ -212,6 +213,51 @@ class GearModel:
     def contact_boundaries(self) -> tuple[Boundary, ...]:
         """The switching surfaces of the non-smooth element: the mesh's dead zone at u = ±D."""
         return (Boundary("mesh", (1.0, 0.0), self.D),)
+
+    @property
+    def sampling_period(self) -> float:
+        """The stroboscopic sampling period: the forcing period T."""
+        return self.period
+
+    def period_multiple(self) -> int:
+        """The forcing repeats after one mesh period."""
+        return 1
+
+    @property
+    def elements(self) -> tuple[Element, ...]:
+        """The one non-smooth element: the mesh, half backlash D."""
+        return (Element("mesh", self.D, "mesh"),)
+
+    #: The reference element (the mesh).
+    reference: ClassVar[int] = 0
+
+    def element_series(self, x: np.ndarray, tau: np.ndarray | float) -> np.ndarray:
+        """(u, u') of the mesh for states x (..., 2): shape (..., 1, 2)."""
+        return np.asarray(x, dtype=float)[..., None, :]
+
+    def rigid_basis(self) -> np.ndarray:
+        """No rigid-body mode: an empty (1, 0) basis."""
+        return np.zeros((1, 0))
+
+    def initial_state(self, u0: float = 0.0, v0: float = 0.0) -> np.ndarray:
+        """The state (u0, v0)."""
+        return np.array([u0, v0], dtype=float)
+
+    def mean_trace(self) -> float:
+        """Mean trace of the Jacobian over a period: −2ξ0 (the damping harmonics average to zero)."""
+        return -2.0 * self.xi0
+
+    def report(self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None,
+               extrema: Any = None) -> dict[str, Any]:
+        """Nothing beyond the summary's own keys (they are the mesh's)."""
+        return {}
+
+    @property
+    def backend(self) -> Any:
+        """The 1-DOF kernel's backend, :data:`geardyn.backend.PAIR`."""
+        from .backend import PAIR
+
+        return PAIR
 
     @staticmethod
     def pack(models: Iterable["GearModel"]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

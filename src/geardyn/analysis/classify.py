@@ -33,21 +33,18 @@ from typing import Any, Sequence
 
 import numpy as np
 
-#: Largest period n (in forcing periods) that :func:`detect_period` reports.
-MAX_PERIOD = 32
+from ..labels import (  # noqa: F401  (the vocabulary, re-exported for the classification's callers)
+    IMPACT_DOUBLE, IMPACT_LABELS, IMPACT_NONE, IMPACT_SINGLE, IMPACT_UNKNOWN, MAX_PERIOD, MOTION_CHAOTIC,
+    MOTION_DIVERGED, MOTION_LABELS, MOTION_PERIODIC, MOTION_QUASIPERIODIC, MOTION_UNRESOLVED, impact_state,
+    motion_label, period_label,
+)
+
 #: Poincaré points i and i+n count as equal when they differ by less than this, relative to
 #: max(1, the largest |point| in the window).
 PERIOD_TOL = 1.0e-6
 #: Fraction of the recorded Poincaré points (the latest ones) examined for periodicity.
 PERIOD_WINDOW = 0.5
 
-IMPACT_NONE, IMPACT_SINGLE, IMPACT_DOUBLE, IMPACT_UNKNOWN = 0, 1, 2, -1
-IMPACT_LABELS = {
-    IMPACT_NONE: "no impact",
-    IMPACT_SINGLE: "single-sided impact",
-    IMPACT_DOUBLE: "double-sided impact",
-    IMPACT_UNKNOWN: "unknown",
-}
 
 
 def detect_period(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float = PERIOD_TOL) -> int:
@@ -146,36 +143,7 @@ def impact_states(u_min: np.ndarray, D: np.ndarray) -> np.ndarray:
     return np.where(np.isfinite(u), code, IMPACT_UNKNOWN).astype(np.int64)
 
 
-def impact_state(u_min: float, D: float) -> int:
-    """Impact state code from the smallest displacement of a steady response."""
-    if not np.isfinite(u_min):
-        return IMPACT_UNKNOWN
-    if D == 0.0 or u_min > D:
-        return IMPACT_NONE
-    if u_min >= -D:
-        return IMPACT_SINGLE
-    return IMPACT_DOUBLE
-
-
-def period_label(period: int) -> str:
-    """'period-n', 'not periodic' or 'diverged' from :func:`detect_period`'s code."""
-    if period > 0:
-        return f"period-{period}"
-    if period == 0:
-        return "not periodic"
-    return "diverged"
-
-
 # ---------------------------------------------------------------------------- motion classes
-#: Motion codes stored in Datasets (variable ``motion``).
-MOTION_DIVERGED, MOTION_UNRESOLVED, MOTION_PERIODIC, MOTION_QUASIPERIODIC, MOTION_CHAOTIC = -1, 0, 1, 2, 3
-MOTION_LABELS = {
-    MOTION_DIVERGED: "diverged",
-    MOTION_UNRESOLVED: "unresolved",
-    MOTION_PERIODIC: "periodic",
-    MOTION_QUASIPERIODIC: "quasi-periodic",
-    MOTION_CHAOTIC: "chaotic",
-}
 #: An exponent counts as different from zero when it exceeds LLE_SIGMAS standard errors …
 LLE_SIGMAS = 3.0
 #: … plus this absolute floor (per unit τ), which absorbs the O(h⁴) integration error and round-off
@@ -255,14 +223,6 @@ def motion_class(period: int, lle: float, lle_err: float, ok: bool = True, curve
                  settle_ratio: float = np.nan) -> int:
     """Scalar form of :func:`classify_motion`."""
     return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio))
-
-
-def motion_label(code: int, period: int | None = None) -> str:
-    """'period-n', 'quasi-periodic', 'chaotic', 'diverged' or 'unresolved'."""
-    code = int(code)
-    if code == MOTION_PERIODIC and period is not None and int(period) > 0:
-        return f"period-{int(period)}"
-    return MOTION_LABELS.get(code, "unresolved")
 
 
 def count_loops(points: np.ndarray, gap: float = LOOP_GAP) -> int:

@@ -28,7 +28,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from .._lazy import lazy_module
-from ..integrate import ST_OK, BatchResult, integrate_batch
+from ..integrate import ST_OK, BatchResult, integrate_batch, start_state
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 
@@ -164,7 +164,7 @@ def lyapunov_batch(
 
 def _spectra(res: BatchResult, blocks: int) -> dict[str, Any]:
     """The dict of :func:`lyapunov_batch` from a Lyapunov-mode batch result."""
-    T = np.array([m.period for m in res.models])
+    T = np.array([m.sampling_period for m in res.models])
     lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=blocks)
     bad = res.status != ST_OK
     lam[bad] = np.nan
@@ -229,17 +229,20 @@ class LyapunovResult:
         Blocks of the uncertainty.
     motion : dict
         ``motion`` and ``period`` labels when classified (else empty).
+    extra : dict
+        What the system adds to the summary (``System.report``: per-mesh entries; empty for the pair).
     """
 
-    model: GearModel
+    model: Any
     options: IntegrationOptions
-    state0: tuple[float, float]
+    state0: tuple[float, ...]
     exponents: np.ndarray
     uncertainty: np.ndarray
     log: np.ndarray
     status: int
     blocks: int
     motion: dict[str, Any] = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -247,8 +250,8 @@ class LyapunovResult:
 
     @property
     def expected_sum(self) -> float:
-        """−2ξ0: the sum the exponents must have (mean trace of the Jacobian)."""
-        return -2.0 * self.model.xi0
+        """The sum the exponents must have: the mean trace of the Jacobian (−2ξ0 for the pair)."""
+        return self.model.mean_trace()
 
     def to_json(self) -> dict[str, Any]:
         """The ``lyapunov --json`` summary (DESIGN §5 keys ``exponents`` and ``uncertainty``)."""
@@ -267,11 +270,12 @@ class LyapunovResult:
             "motion": self.motion.get("motion"),
             "period": self.motion.get("period"),
             "status": "ok" if self.ok else "diverged",
+            **self.extra,
         }
 
     def to_dataset(self) -> xr.Dataset:
         """Per-period logs and running estimates, with the final exponents as attributes."""
-        T = self.model.period
+        T = self.model.sampling_period
         m = self.log.shape[0]
         run = running_estimate(self.log, T) if m else np.zeros((0, len(self.exponents)))
         ds = xr.Dataset(
@@ -289,26 +293,26 @@ class LyapunovResult:
 
 
 def lyapunov_spectrum(
-    model: GearModel,
+    model: Any,
     options: IntegrationOptions = IntegrationOptions(periods=LYAPUNOV_PERIODS),
-    state0: Sequence[float] = (0.0, 0.0),
+    state0: Sequence[float] | None = None,
     *,
     blocks: int = DEFAULT_BLOCKS,
     classify: bool = True,
     progress: Callable[[int, int], None] | None = None,
 ) -> LyapunovResult:
-    """Both Lyapunov exponents of one point with their uncertainty.
+    """The Lyapunov spectrum (all d exponents) of one point of any System, with its uncertainty.
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         Non-dimensional model.
     options : IntegrationOptions
         ``transient`` periods are discarded (the trajectory settles on its attractor), then the
         tangent matrix is propagated over ``periods`` periods (more periods, smaller uncertainty:
         it falls roughly as 1/√periods on a chaotic attractor).
-    state0 : (u0, v0)
-        Initial state at θ = 0 (non-dimensional).
+    state0 : (u0, v0) of the reference element, or a full state, optional
+        Initial state at θ = 0 (:func:`geardyn.integrate.start_state`; default ``model.initial_state()``).
     blocks : int
         Blocks of the block-statistics uncertainty.
     classify : bool
@@ -332,6 +336,7 @@ def lyapunov_spectrum(
     Benettin et al. (1980), as for :func:`lyapunov_batch`: tangent vectors re-orthonormalised by
     Gram–Schmidt once per forcing period.
     """
+    state0 = start_state(model, state0)
     if progress is None:
         out = lyapunov_batch([model], state0, options, blocks=blocks)
     else:
@@ -349,5 +354,5 @@ def lyapunov_spectrum(
         motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
     return LyapunovResult(
         model, options, tuple(float(x) for x in state0), out["exponents"][0], out["uncertainty"][0],
-        res.lyapunov_log[0], int(res.status[0]), blocks, motion,
+        res.lyapunov_log[0], int(res.status[0]), blocks, motion, model.report(res, 0),
     )

@@ -9,14 +9,14 @@ integration with the tangent equations) and classifies them (:mod:`geardyn.analy
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 import numpy as np
 
 from .._lazy import lazy_module
 from ..grid import PointModels, integrate_points
-from ..integrate import ST_OK, BatchResult, Trajectory, trajectory
+from ..integrate import ST_OK, BatchResult, Trajectory, start_state, trajectory
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions
 from .classify import (
@@ -42,11 +42,13 @@ HISTORY_PERIODS = 32
 SPECTRUM_MAX_ORDER = 10.0
 
 
-def _omega_D(models: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Mesh frequencies and half backlashes of a batch's models (from the arrays of a PointModels)."""
+def _periods_gaps(models: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Sampling periods and the reference element's half gaps of a batch's models (from the arrays of a
+    PointModels)."""
     if isinstance(models, PointModels):
-        return models.omega, models.D
-    return np.array([m.omega for m in models], dtype=float), np.array([m.D for m in models], dtype=float)
+        return 2.0 * math.pi / models.omega, models.D
+    return (np.array([m.sampling_period for m in models], dtype=float),
+            np.array([m.elements[m.reference].gap for m in models], dtype=float))
 
 
 def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
@@ -65,7 +67,7 @@ def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
     """
     period = np.where(res.status == ST_OK, detect_periods(res.poincare), -1).astype(np.int64)
     u_min = res.u_min
-    impact = impact_states(u_min, _omega_D(res.models)[1])
+    impact = impact_states(u_min, _periods_gaps(res.models)[1])
     fr = res.contact_fractions
     return {
         "period": period,
@@ -117,12 +119,13 @@ def classify_batch(
     nb = DEFAULT_BLOCKS if blocks is None else blocks
     models = res.models if isinstance(res.models, PointModels) else list(res.models)
     P = len(models)
-    T = 2.0 * math.pi / _omega_D(models)[0]
+    T = _periods_gaps(models)[0]
     out = summarize_batch(res)
     out["poincare"] = res.poincare.copy()
     out["end_state"] = res.end_state.copy()
-    lam = np.full((P, 2), np.nan)
-    err = np.full((P, 2), np.nan)
+    d = res.end_state.shape[1]
+    lam = np.full((P, d), np.nan)
+    err = np.full((P, d), np.nan)
     if res.lyapunov_log is not None and res.lyapunov_log.shape[1] > 0:
         lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=nb)
     settled = np.zeros(P, dtype=np.int64)
@@ -199,13 +202,30 @@ def amplitude_spectrum(u: np.ndarray, periods: int) -> tuple[np.ndarray, np.ndar
 
 @dataclass
 class SteadyState:
-    """Steady response of one point (non-dimensional); see :func:`simulate`."""
+    """Steady response of one point of any System (non-dimensional); see :func:`simulate`.
 
-    model: GearModel
+    Attributes
+    ----------
+    model : System
+        The point.
+    options : IntegrationOptions
+        The options it was integrated with.
+    state0 : tuple of float
+        The initial state (the full state).
+    traj : Trajectory
+        The integrated trajectory with its time history.
+    summary : dict
+        The classification and the reference element's measures.
+    extra : dict
+        What the system adds (``System.report``: per-mesh entries of a mesh-vector system; empty for the pair).
+    """
+
+    model: Any
     options: IntegrationOptions
-    state0: tuple[float, float]
+    state0: tuple[float, ...]
     traj: Trajectory
     summary: dict[str, Any]
+    extra: dict[str, Any] = field(default_factory=dict)
 
     @property
     def poincare(self) -> np.ndarray:
@@ -229,6 +249,7 @@ class SteadyState:
             "u_max": s["u_max"],
             "contact_fractions": s["contact_fractions"],
             "status": s["status"],
+            **self.extra,
         }
 
     def to_dataset(self) -> xr.Dataset:
@@ -258,26 +279,34 @@ def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
 
 
 def simulate(
-    model: GearModel,
+    model: Any,
     options: IntegrationOptions = IntegrationOptions(),
-    state0: Sequence[float] = (0.0, 0.0),
+    state0: Sequence[float] | None = None,
     *,
     history_periods: int = HISTORY_PERIODS,
 ) -> SteadyState:
-    """Integrate one point and summarise its steady response.
+    """Integrate one point of any System and summarise its steady response.
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         Non-dimensional model.
     options : IntegrationOptions
         ``transient`` periods are discarded, ``periods`` Poincaré points recorded.
-    state0 : (u0, v0)
-        Initial state at θ = 0 (non-dimensional).
+    state0 : (u0, v0) of the reference element, or a full state, optional
+        Initial state at θ = 0 (non-dimensional; :func:`geardyn.integrate.start_state`); default
+        ``model.initial_state()`` ((0, 0) for the pair).
     history_periods : int
         How many of the last recorded periods keep the full time history (for plots and the spectrum).
+
+    Returns
+    -------
+    SteadyState
+        Its ``to_json`` has the keys of ``geardyn simulate --json`` (the reference element's measures; the
+        period in forcing periods of the base frequency) plus what ``model.report`` adds.
     """
-    t = trajectory(model, state0, options, history_periods=history_periods)
+    s0 = start_state(model, state0)
+    t = trajectory(model, s0, options, history_periods=history_periods)
     arr = summarize_batch(t.summary)
     period = int(arr["period"][0])
     ok = int(arr["status"][0]) == ST_OK
@@ -294,7 +323,7 @@ def simulate(
         return x if np.isfinite(x) else None
 
     summary = {
-        "period": period if period > 0 else None,
+        "period": period * (model.period_multiple() or 1) if period > 0 else None,
         "motion": motion,
         "impact": IMPACT_LABELS[int(arr["impact"][0])],
         "amplitude": f("amplitude"),
@@ -309,4 +338,5 @@ def simulate(
         "lle": float(cls["lle"][0]) if cls is not None and np.isfinite(cls["lle"][0]) else None,
         "lle_err": float(cls["lle_err"][0]) if cls is not None and np.isfinite(cls["lle_err"][0]) else None,
     }
-    return SteadyState(model, options, tuple(float(x) for x in state0), t, summary)
+    extra = model.report(t.summary, 0, t.tau, t.deltas)
+    return SteadyState(model, options, tuple(float(x) for x in s0), t, summary, extra)

@@ -15,8 +15,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..integrate_ndof import element_names
-from .systems_steady import mesh_forces
+from ..systems.report import mesh_forces
 from .systems_sweep import system_attrs
 
 __all__ = ["simulate_dataset", "lyapunov_dataset", "orbit_dataset"]
@@ -29,17 +28,17 @@ def _states(model: Any) -> list[str]:
 def _finish(ds: xr.Dataset, summary: dict[str, Any], units: dict[str, tuple[str, str]]) -> xr.Dataset:
     from ..io import annotate
 
-    del units  # the metadata come from the registry (SYSTEM_VARIABLES)
+    del units  # the metadata come from the registry (geardyn.io.SYSTEM_VARIABLES)
     ds.attrs["summary"] = json.dumps(summary, default=lambda o: None)
     return annotate(ds)
 
 
 def simulate_dataset(res: Any) -> xr.Dataset:
-    """The Dataset of a :class:`~geardyn.analysis.systems_steady.SystemSteadyState`.
+    """The Dataset of a :class:`~geardyn.analysis.steady.SteadyState` of a system.
 
     Parameters
     ----------
-    res : SystemSteadyState
+    res : SteadyState
 
     Returns
     -------
@@ -47,7 +46,7 @@ def simulate_dataset(res: Any) -> xr.Dataset:
         Kind ``system_simulate``.
     """
     m, t = res.model, res.traj
-    els = list(element_names(m))
+    els = [e.name for e in m.elements]
     M = len(m.meshes)
     force = mesh_forces(m, t.tau, t.deltas) if np.all(np.isfinite(t.deltas)) else np.full((t.tau.size, M), np.nan)
     sc = m.scaling
@@ -71,11 +70,11 @@ def simulate_dataset(res: Any) -> xr.Dataset:
 
 
 def lyapunov_dataset(res: Any) -> xr.Dataset:
-    """The Dataset of a :class:`~geardyn.analysis.systems_lyapunov.SystemLyapunovResult`.
+    """The Dataset of a :class:`~geardyn.analysis.lyapunov.LyapunovResult` of a system.
 
     Parameters
     ----------
-    res : SystemLyapunovResult
+    res : LyapunovResult
 
     Returns
     -------
@@ -92,11 +91,11 @@ def lyapunov_dataset(res: Any) -> xr.Dataset:
 
 
 def orbit_dataset(orbit: Any) -> xr.Dataset:
-    """The Dataset of a :class:`~geardyn.analysis.systems_orbit.SystemOrbit`.
+    """The Dataset of a :class:`~geardyn.analysis.periodic.PeriodicOrbit` of a system.
 
     Parameters
     ----------
-    orbit : SystemOrbit
+    orbit : PeriodicOrbit
 
     Returns
     -------

@@ -2,7 +2,7 @@
 
 :func:`system_map` sweeps two system parameters (every point from the same initial state) and
 :func:`system_basins` a grid over a 2-D slice of the state space — two chosen coordinates of the
-state (q̃, q̃') at θ = 0, the others those of :func:`~geardyn.integrate_ndof.initial_state` — each
+state (q̃, q̃') at θ = 0, the others those of ``model.initial_state`` — each
 start labelled by the attractor it reaches (:func:`geardyn.analysis.attractors.identify_attractors`
 on the full-state Poincaré cycles).  Both run on the sweep engine (module-level chunk functions of
 :mod:`geardyn.analysis.systems_sweep`) and give Datasets with the 1-DOF layouts (kinds
@@ -18,7 +18,6 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
-from ..integrate_ndof import initial_state
 from ..model import IntegrationOptions
 from .systems_sweep import SYSTEM_CHUNK_POINTS, _MESH_LONG, _engine, _per_point, continue_chunk, point_rows, system_attrs
 
@@ -78,7 +77,7 @@ def map_chunk(model: Any, xname: str, yname: str, xy: np.ndarray, state0: np.nda
     dict of ndarray
         :func:`~geardyn.analysis.systems_sweep.point_rows`.
     """
-    from ..integrate_ndof import integrate_batch
+    from ..integrate import integrate_batch
 
     models = [model.with_param(xname, float(a)).with_param(yname, float(b)) for a, b in xy]
     return point_rows(models, integrate_batch(models, state0, options, threads=1))
@@ -98,7 +97,7 @@ def basin_chunk(model: Any, states: np.ndarray, options: IntegrationOptions) -> 
     dict of ndarray
         :func:`~geardyn.analysis.systems_sweep.point_rows`.
     """
-    from ..integrate_ndof import integrate_batch
+    from ..integrate import integrate_batch
 
     return point_rows([model] * len(states), integrate_batch([model] * len(states), states, options, threads=1))
 
@@ -150,7 +149,7 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
     options : IntegrationOptions
     state0 : (2n,), optional
         Initial state of every point, or of every row's first point (default
-        :func:`~geardyn.integrate_ndof.initial_state` of each).
+        ``model.initial_state`` of each).
     engine : dict, optional
         Keywords of :func:`geardyn.sweep.run_chunks`.
 
@@ -191,7 +190,7 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
     model : SystemModel
     coords : (int, int) or None
         The two state coordinates varied (:func:`coordinate_index`); ``None``: the reference mesh's
-        (δ, δ') through :func:`~geardyn.integrate_ndof.initial_state` (the 1-DOF basins' (u0, v0)).
+        (δ, δ') through ``model.initial_state`` (the 1-DOF basins' (u0, v0)).
     a_range, b_range : (float, float)
         Their ranges (non-dimensional q̃ or q̃').
     na, nb : int
@@ -201,7 +200,7 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
     engine : dict, optional
         Keywords of :func:`geardyn.sweep.run_chunks`.
     base_state : (2n,), optional
-        The other coordinates (default :func:`~geardyn.integrate_ndof.initial_state`).
+        The other coordinates (default ``model.initial_state``).
 
     Returns
     -------
@@ -211,7 +210,6 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
         attractor table of :func:`geardyn.analysis.basins.basins` (cycle points of the reference
         mesh's δ, δ').
     """
-    from ..integrate_ndof import element_series
     from ..io import annotate
     from .attractors import identify_attractors
 
@@ -221,9 +219,9 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
     a = np.linspace(float(a_range[0]), float(a_range[1]), int(na))
     b = np.linspace(float(b_range[0]), float(b_range[1]), int(nb))
     if coords is None:  # the reference mesh's (δ, δ') at θ = 0, the 1-DOF model's (u0, v0)
-        states = np.array([initial_state(model, float(u), float(v)) for v in b for u in a])
+        states = np.array([model.initial_state(float(u), float(v)) for v in b for u in a])
     else:
-        base = initial_state(model) if base_state is None else np.asarray(base_state, float)
+        base = model.initial_state() if base_state is None else np.asarray(base_state, float)
         states = np.tile(base, (a.size * b.size, 1))
         states[:, i] = np.tile(a, b.size)
         states[:, j] = np.repeat(b, a.size)
@@ -231,7 +229,7 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
     ref = _ref(model)
     per = _per_point(model, rows, ref)
     ok = per["status"] == 0
-    sec = element_series(model, rows["poincare"], 0.0)[:, :, ref]  # (P, m, 2): the reference mesh's δ, δ'
+    sec = model.element_series(rows["poincare"], 0.0)[:, :, ref]  # (P, m, 2): the reference mesh's δ, δ'
     ident = {"period": np.where(per["period"] > 0, per["period"] // max(model.period_multiple() or 1, 1), 0),
              "motion": per["motion"], "status": per["status"], "amplitude": per["mesh_amplitude"][:, ref],
              "mean": per["mesh_mean"][:, ref], "u_min": per["mesh_u_min"][:, ref],

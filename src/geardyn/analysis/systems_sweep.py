@@ -29,8 +29,7 @@ import numpy as np
 import xarray as xr
 
 from .._docfill import SYSTEM, fill, parameters, result_of
-from ..io import KIND_VARIABLES, Variable
-from ..integrate_ndof import element_series, initial_state, integrate_batch
+from ..integrate import integrate_batch
 from ..model import IntegrationOptions
 from .bifurcation import sweep_summary
 from .classify import IMPACT_LABELS, MOTION_DIVERGED, MOTION_PERIODIC, MOTION_UNRESOLVED, detect_period, \
@@ -38,40 +37,6 @@ from .classify import IMPACT_LABELS, MOTION_DIVERGED, MOTION_PERIODIC, MOTION_UN
 
 __all__ = ["system_sweep", "system_sweep_dataset", "sweep_json", "system_response_jumps", "sweep_chunk",
            "continue_chunk", "point_rows", "system_attrs"]
-
-_V = lambda ln, u="1": Variable(u, ln)  # noqa: E731
-#: Metadata of the variables of the system results (entered in :data:`geardyn.io.KIND_VARIABLES` for
-#: every ``system_*`` kind, so that :func:`geardyn.io.annotate` fills them in).
-SYSTEM_VARIABLES: dict[str, Variable] = {
-    "element": _V("element (meshes, then clearances)"), "mesh": _V("gear mesh"),
-    "coordinate": _V("state coordinate (q̃, then q̃')"), "state": _V("state coordinate (q̃, then q̃')"),
-    "delta": _V("deflection δ of the element (DTE over b_c for a mesh)"),
-    "delta_rate": _V("rate dδ/dτ of the element"),
-    "u": _V("deflection δ of the reference mesh"), "v": _V("rate dδ/dτ of the reference mesh"),
-    "mesh_force": _V("mesh force over k_ref b_c"), "mesh_force_N": _V("dynamic mesh force", "N"),
-    "poincare": _V("Poincaré points of the full state at θ ≡ 0"),
-    "points": _V("section points of the orbit (full state)"),
-    "elastic": _V("elastic multiplier index (largest modulus first)"),
-    "elastic_re": _V("elastic Floquet multiplier, real part"),
-    "elastic_im": _V("elastic Floquet multiplier, imaginary part"),
-    "end_state": _V("final state (q̃, q̃') of the point"),
-    "poincare_u": _V("Poincaré section δ of the reference mesh at θ ≡ 0"),
-    "poincare_v": _V("Poincaré section dδ/dτ of the reference mesh at θ ≡ 0"),
-    "poincare_coordinate": _V("Poincaré section of the chosen state coordinate"),
-    "mesh_u_min": _V("smallest deflection δ of the mesh"), "mesh_u_max": _V("largest deflection δ of the mesh"),
-    "mesh_amplitude": _V("half peak-to-peak deflection δ of the mesh"),
-    "mesh_impact": _V("impact state of the mesh (0 none, 1 single-sided, 2 double-sided)"),
-    "mesh_mean": _V("mean deflection δ of the mesh"), "mesh_rms": _V("RMS of δ of the mesh about its mean"),
-    "u0": _V("initial value of the first slice coordinate at θ = 0"),
-    "v0": _V("initial value of the second slice coordinate at θ = 0"),
-    "value": _V("continuation parameter value"), "element_u_min": _V("smallest deflection δ of the element"),
-    "element_u_max": _V("largest deflection δ of the element"),
-    "bifurcation_value": _V("continuation parameter at the bifurcation"),
-}
-SYSTEM_KINDS = ("system_simulate", "system_lyapunov", "system_orbit", "system_bifurcation", "system_response",
-                "system_map", "system_basins", "system_continuation")
-for _k in SYSTEM_KINDS:
-    KIND_VARIABLES.setdefault(_k, {}).update(SYSTEM_VARIABLES)
 
 #: Points per chunk of a fixed-initial-state system sweep.
 SYSTEM_CHUNK_POINTS = 16
@@ -83,7 +48,7 @@ def point_rows(models: list[Any], res: Any) -> dict[str, np.ndarray]:
     Parameters
     ----------
     models : list of SystemModel
-    res : SystemBatchResult
+    res : BatchResult
 
     Returns
     -------
@@ -110,7 +75,7 @@ def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray |
     ----------
     {{model, param, values}}
     state0 : ndarray (2n,) or None
-        Start of every point (default :func:`~geardyn.integrate_ndof.initial_state` of each).
+        Start of every point (default ``model.initial_state`` of each).
     {{options}}
 
     Returns
@@ -132,7 +97,7 @@ def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarra
     ----------
     {{model, param, values}}
     state0 : ndarray (2n,) or None
-        Start of the first point (default :func:`~geardyn.integrate_ndof.initial_state`).
+        Start of the first point (default ``model.initial_state``).
     {{options}}
 
     Returns
@@ -144,7 +109,7 @@ def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarra
     rows: list[dict[str, np.ndarray]] = []
     for v in values:
         m = model.with_param(param, float(v))
-        s = initial_state(m) if x is None else x
+        s = m.initial_state() if x is None else x
         res = integrate_batch([m], s, options, threads=1)
         rows.append(point_rows([m], res))
         if res.ok[0]:
@@ -208,7 +173,7 @@ def _per_point(model: Any, rows: dict[str, np.ndarray], ref: int) -> dict[str, n
         if not ok[i]:
             period[i], motion[i] = -1, MOTION_DIVERGED
             continue
-        d = element_series(model, rows["poincare"][i], 0.0)[:, ref]
+        d = model.element_series(rows["poincare"][i], 0.0)[:, ref]
         pu[i], pv[i] = d[:, 0], d[:, 1]
         n = detect_period(rows["poincare"][i]) if p else 0
         if n > 0:
@@ -295,7 +260,7 @@ def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str =
         Parameter name (``omega``, ``<mesh>.kappa1``, ...).
     values : sequence of float
     mode : {"fixed", "continue"}
-        Every point from ``state0`` (default :func:`~geardyn.integrate_ndof.initial_state` of each
+        Every point from ``state0`` (default ``model.initial_state`` of each
         point), or each from the previous point's end state.
     sweep : {"up", "down", "both"}
         Directions of a continuation sweep.

@@ -82,10 +82,10 @@ def _state(values: dict[str, Any]) -> tuple[float, float]:
 
 def _simulate(values: dict[str, Any], kw: dict[str, Any]):
     from ..analysis.systems_data import simulate_dataset
-    from ..analysis.systems_steady import simulate_system
+    from ..analysis.steady import simulate
 
     s = load_cli_system(values)
-    res = simulate_system(s, _opts(values), _state(values))
+    res = simulate(s, _opts(values), _state(values))
     out = res.to_json()
     ref = next(m for m in out["meshes"] if m["name"] == out["reference_mesh"])
     for k in ("dynamic_factor", "dte_min_um", "dte_max_um", "dte_amplitude_um", "mesh_force_max_N",
@@ -101,11 +101,11 @@ def _simulate(values: dict[str, Any], kw: dict[str, Any]):
 
 def _lyapunov(values: dict[str, Any], kw: dict[str, Any]):
     from ..analysis.systems_data import lyapunov_dataset
-    from ..analysis.systems_lyapunov import system_lyapunov
+    from ..analysis.lyapunov import lyapunov_spectrum
 
     s = load_cli_system(values)
     blocks = int(kw.get("blocks", 20))
-    res = system_lyapunov(s, _opts(values), _state(values), blocks=max(blocks, 2))
+    res = lyapunov_spectrum(s, _opts(values), _state(values), blocks=max(blocks, 2))
     return res.to_json(), (lambda: lyapunov_dataset(res))
 
 
@@ -120,12 +120,12 @@ def _guess(s: Any, g: Any):
 
 def _orbit(values: dict[str, Any], kw: dict[str, Any]):
     from ..analysis.systems_data import orbit_dataset
-    from ..analysis.systems_orbit import shoot_system
+    from ..analysis.periodic import shoot
 
     s = load_cli_system(values)
     opts = _opts(values, periods=1)
-    o = shoot_system(s, int(kw.get("period", 1)), _guess(s, kw.get("guess")), dtau=opts.dtau,
-                     accurate=opts.accurate, state0=_state(values), transient=opts.transient)
+    o = shoot(s, int(kw.get("period", 1)), _guess(s, kw.get("guess")), dtau=opts.dtau,
+              accurate=opts.accurate, state0=_state(values), transient=opts.transient)
     return o.to_json(), (lambda: orbit_dataset(o))
 
 
@@ -236,7 +236,8 @@ def _continuation(values: dict[str, Any], kw: dict[str, Any]):
     opts = _opts(values, periods=1)
     res = system_continuation(s, param, float(kw["start"]), float(kw["stop"]), int(kw.get("period", 1)),
                               _guess(s, kw.get("guess")), dtau=opts.dtau, accurate=opts.accurate,
-                              ds_max=kw.get("ds_max"), state0=_state(values))
+                              ds_max=kw.get("ds_max"), state0=_state(values), switch=bool(kw.get("switch", True)),
+                              max_period=int(kw.get("max_period", 4)))
     return res.to_json(), (lambda: res.to_dataset())
 
 

@@ -16,7 +16,6 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from ..analysis import systems_sweep as _variables  # noqa: F401  (enters the system variables in geardyn.io)
 from .common import plot_function
 
 __all__ = ["element_deflections", "reference_phase", "lyapunov_spectrum", "multipliers", "mesh_amplitudes",

@@ -70,6 +70,8 @@ from .._docfill import attributes
 from ..errors import ModelError
 from ..model import Boundary
 from ..params import MAX_HARMONICS, canonical_param, slot
+from ..system import Element
+from . import elements as _el
 from .description import Mesh, SystemDescription
 
 __all__ = ["MeshND", "Scaling", "SystemArrays", "SystemModel", "assemble"]
@@ -448,6 +450,54 @@ class SystemModel:
         out = [Boundary(m.name, tuple(self.V[i]) + zero, m.D) for i, m in enumerate(self.meshes)]
         out += [Boundary(nm, tuple(self.Vc[i]) + zero, d) for i, (nm, d) in enumerate(zip(self.clearance_names, self.Dc))]
         return tuple(out)
+
+    # ------------------------------------------------------------------ the System contract
+    @property
+    def sampling_period(self) -> float:
+        """The stroboscopic sampling period: p·T, or T for incommensurate mesh frequencies."""
+        return (self.period_multiple() or 1) * self.period
+
+    @property
+    def elements(self) -> tuple[Element, ...]:
+        """The meshes, then the clearances."""
+        return tuple(Element(m.name, m.D, "mesh") for m in self.meshes) + tuple(
+            Element(n, d, "clearance") for n, d in zip(self.clearance_names, self.Dc))
+
+    @property
+    def reference(self) -> int:
+        """Index of the reference mesh among the elements."""
+        names = [m.name for m in self.meshes]
+        return names.index(self.scaling.reference) if self.scaling.reference in names else 0
+
+    def element_series(self, x: np.ndarray, tau: np.ndarray | float) -> np.ndarray:
+        """δ and δ' of every element (..., elements, 2), :func:`geardyn.systems.elements.element_series`."""
+        return _el.element_series(self, x, tau)
+
+    def initial_state(self, u0: float = 0.0, v0: float = 0.0) -> np.ndarray:
+        """The state at θ = 0 with the reference mesh at (u0, v0), :func:`geardyn.systems.elements.initial_state`."""
+        return _el.initial_state(self, u0, v0)
+
+    def rigid_basis(self) -> np.ndarray:
+        """The rigid-body modes (n, r), :func:`geardyn.systems.elements.rigid_modes`."""
+        return _el.rigid_modes(self)
+
+    def mean_trace(self) -> float:
+        """Mean trace of the Jacobian over a forcing period, :func:`geardyn.systems.elements.mean_trace`."""
+        return _el.mean_trace(self)
+
+    def report(self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None,
+               extrema: Any = None) -> dict[str, Any]:
+        """Per-mesh and per-clearance summary entries, :func:`geardyn.systems.report.report`."""
+        from .report import report
+
+        return report(self, res, point, tau, deltas, extrema)
+
+    @property
+    def backend(self) -> Any:
+        """The mesh-vector kernel's backend, :data:`geardyn.backend.MESH`."""
+        from ..backend import MESH
+
+        return MESH
 
     @property
     def n_harmonics(self) -> int:

@@ -37,9 +37,9 @@ from ..secant import illinois_on_chord
 from .branch import Bifurcation, Branch
 from .floquet import REAL_MULTIPLIER_TOL
 from .map import MapEvaluation, PeriodMap
-from .orbit import PeriodicOrbit, _map_extrema, _minimal_period
+from .orbit import PeriodicOrbit, _hermite_extrema, _map_extrema, _minimal_period, elastic_basis
 
-__all__ = ["continue_branch", "MAX_BRANCH_POINTS", "DS_MAX", "DS_INIT", "DS_MIN"]
+__all__ = ["continue_branch", "element_extrema", "MAX_BRANCH_POINTS", "DS_MAX", "DS_INIT", "DS_MIN"]
 
 #: Corrector (continuation): ||P^n(x) − x|| <= CORRECTOR_TOL·(1 + ||x||) and a last update below CORRECTOR_STEP_TOL.
 CORRECTOR_TOL = 1.0e-9
@@ -119,6 +119,22 @@ class _Family:
         self.dtau = pmap.dtau
         self.accurate = pmap.accurate
         self._maps: dict[float, PeriodMap] = {}
+        model = pmap.model
+        # the rigid-body gauge: rows Rᵀ q = const fix the free rigid position (empty for the pair)
+        R = model.rigid_basis()
+        self.gauge = np.hstack([R.T, np.zeros((R.shape[1], self.dim - R.shape[0] + 1))])
+        self.elastic_basis = elastic_basis(model)
+        self.reference = int(model.reference)
+        self.names = tuple(e.name for e in model.elements)
+
+    def elastic(self, M: np.ndarray) -> np.ndarray:
+        """The monodromy on the quotient by the rigid-body subspace (M itself without rigid-body modes)."""
+        U = self.elastic_basis
+        return M if U is None else U.T @ M @ U
+
+    def gaps_at(self, p: float) -> list[float]:
+        """The half gaps of the elements at parameter p."""
+        return [e.gap for e in self.model_at(p).elements]
 
     def map_at(self, p: float) -> PeriodMap:
         p = float(p)
@@ -144,8 +160,33 @@ class _Family:
         g = self.map_at(p).with_steps(N).param_derivative(x, self.param)
         return g if np.all(np.isfinite(g)) else None
 
-    def extrema(self, x: np.ndarray, p: float, N: int) -> tuple[float, float]:
-        return _map_extrema(self.map_at(p).with_steps(N), x)
+    def extrema(self, x: np.ndarray, p: float, N: int) -> np.ndarray:
+        """(elements, 2): every element's extremes of δ over the orbit from x (Hermite-refined)."""
+        return element_extrema(self.map_at(p).with_steps(N), x)
+
+
+def element_extrema(pmap: PeriodMap, x: np.ndarray) -> np.ndarray:
+    """(elements, 2): every element's extremes of δ over one iteration of ``pmap`` from x (Hermite-refined).
+
+    Parameters
+    ----------
+    pmap : PeriodMap
+    x : ndarray (d,)
+
+    Returns
+    -------
+    ndarray (elements, 2)
+        NaN if the trajectory diverged.
+    """
+    m = pmap.model
+    if len(m.elements) == 1:
+        return np.array([_map_extrema(pmap, x)])
+    tr = pmap.trajectory(x)
+    out = np.full((len(m.elements), 2), np.nan)
+    if np.all(np.isfinite(tr.x)):
+        for e in range(out.shape[0]):
+            out[e] = _hermite_extrema(tr.deltas[:, e, 0], tr.deltas[:, e, 1], pmap.step)
+    return out
 
 
 def _axis(dim: int) -> np.ndarray:
@@ -161,9 +202,17 @@ class _Point:
     ev: _Eval
     Gq: np.ndarray  # ∂P^n/∂(p/ps)
     tangent: np.ndarray
-    u_min: float
-    u_max: float
+    ext: np.ndarray  # (elements, 2): the extremes of every element's δ
+    ref: int
     iters: int = 0
+
+    @property
+    def u_min(self) -> float:
+        return float(self.ext[self.ref, 0])
+
+    @property
+    def u_max(self) -> float:
+        return float(self.ext[self.ref, 1])
 
     @property
     def p(self) -> float:
@@ -205,12 +254,14 @@ class _Continuer:
     def _finish_point(self, ev: _Eval, Gq: np.ndarray, t_ref: np.ndarray | None, iters: int) -> _Point:
         prob = self.prob
         J = np.hstack([ev.M - np.eye(prob.dim), Gq[:, None]])
+        if prob.gauge.shape[0]:
+            J = np.vstack([J, prob.gauge])
         t = _null_vector(J)
         if t_ref is not None and float(t @ t_ref) < 0:
             t = -t
-        umin, umax = prob.extrema(ev.x, ev.p, ev.N)
+        ext = prob.extrema(ev.x, ev.p, ev.N)
         y = np.append(ev.x, ev.p / self.ps)
-        return _Point(y, ev, Gq, t, umin, umax, iters)
+        return _Point(y, ev, Gq, t, ext, prob.reference, iters)
 
     def correct(self, y0: np.ndarray, normal: np.ndarray, t_ref: np.ndarray | None, N: int | None = None
                 ) -> _Point | None:
@@ -248,10 +299,14 @@ class _Continuer:
                 J = np.zeros((d + 1, d + 1))
                 J[:d, :d] = ev.M - np.eye(d)
                 J[:d, d] = Gq
-                J[2, :] = normal
+                J[d, :] = normal
                 F = np.concatenate([G, [float(normal @ (y - y0))]])
                 try:
-                    dy = np.linalg.solve(J, -F)
+                    if prob.gauge.shape[0]:  # rigid-body modes: the gauge rows make the system full rank
+                        dy = np.linalg.lstsq(np.vstack([J, prob.gauge]),
+                                             -np.concatenate([F, prob.gauge @ (y - y0)]), rcond=None)[0]
+                    else:
+                        dy = np.linalg.solve(J, -F)
                 except np.linalg.LinAlgError:
                     return None
                 y = y + dy
@@ -283,20 +338,26 @@ class _Continuer:
             return None
         return pt.ev.points[n // 2 - 1] - pt.y[:-1]
 
-    def _tests(self, pt: _Point, D: float) -> dict[str, float]:
-        M = pt.M
-        tr, det = float(np.trace(M)), float(np.linalg.det(M))
-        out = {
-            "turn": float(pt.tangent[-1]),
-            "det_m_i": 1.0 - tr + det,
-            "pd": 1.0 + tr + det,
-            "ns": det - 1.0,
-        }
-        if D > 0.0:
-            out["graze_min_plus"] = pt.u_min - D
-            out["graze_min_minus"] = pt.u_min + D
-            out["graze_max_plus"] = pt.u_max - D
-            out["graze_max_minus"] = pt.u_max + D
+    def _tests(self, pt: _Point, gaps: list[float]) -> dict[str, float]:
+        M = self.prob.elastic(pt.M)
+        if M.shape == (2, 2):
+            tr, det = float(np.trace(M)), float(np.linalg.det(M))
+            out = {"turn": float(pt.tangent[-1]), "det_m_i": 1.0 - tr + det, "pd": 1.0 + tr + det, "ns": det - 1.0}
+        else:  # det(I − M), det(I + M) and Π_{i<j} (μ_i μ_j − 1): zero at +1, −1 and a pair on the unit circle
+            eye = np.eye(M.shape[0])
+            mu = np.linalg.eigvals(M)
+            prods = (mu[:, None] * mu[None, :])[np.triu_indices(mu.size, 1)]
+            out = {"turn": float(pt.tangent[-1]), "det_m_i": float(np.linalg.det(eye - M)),
+                   "pd": float(np.linalg.det(eye + M)), "ns": float(np.real(np.prod(prods - 1.0)))}
+        for e, D in enumerate(gaps):  # grazing of every element (the reference element's keys unqualified)
+            if D <= 0.0:
+                continue
+            tag = "" if e == pt.ref else f":{self.prob.names[e]}"
+            lo, hi = float(pt.ext[e, 0]), float(pt.ext[e, 1])
+            out["graze_min_plus" + tag] = lo - D
+            out["graze_min_minus" + tag] = lo + D
+            out["graze_max_plus" + tag] = hi - D
+            out["graze_max_minus" + tag] = hi + D
         sep = self._separation(pt)
         if sep is not None and self._merge_w is not None:
             out["merge"] = float(sep @ self._merge_w)
@@ -309,7 +370,7 @@ class _Continuer:
         if name == "merge":
             sep = self._separation(pt)
             return float(sep @ self._merge_w) if sep is not None and self._merge_w is not None else math.nan
-        return self._tests(pt, self.prob.model_at(pt.p).D)[name]
+        return self._tests(pt, self.prob.gaps_at(pt.p))[name]
 
     def locate_event(self, a: _Point, b: _Point, name: str) -> tuple[_Point, bool]:
         """Zero of test function ``name`` between branch points a and b (Illinois secant on the chord,
@@ -332,7 +393,7 @@ class _Continuer:
 
     def detect_events(self, a: _Point, b: _Point, branch_index: int) -> list[tuple[float, Bifurcation, _Point]]:
         """Events between consecutive branch points a and b, located; sorted along the branch."""
-        D = self.prob.model_at(a.p).D
+        D = self.prob.gaps_at(a.p)
         sep_a = self._separation(a)
         self._merge_w = None
         if sep_a is not None and float(np.linalg.norm(sep_a)) > 0.0:
@@ -357,7 +418,7 @@ class _Continuer:
                 <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))):
             fa, fb = ta["merge"], tb["merge"]
             sig = fa / (fa - fb)
-            mu = np.linalg.eigvals(a.M + sig * (b.M - a.M))
+            mu = np.linalg.eigvals(self.prob.elastic(a.M + sig * (b.M - a.M)))
             mu = mu[np.argsort(-np.abs(mu), kind="stable")]
             s_merge = sig * float(np.linalg.norm(d))
             x_m = a.ev.x + sig * (b.ev.x - a.ev.x)
@@ -378,18 +439,21 @@ class _Continuer:
             checks.append(("pd", "period-doubling", "real multiplier through −1"))
         if sign_change("ns"):
             checks.append(("ns", "neimark-sacker", "complex pair through the unit circle"))
-        for k, lab in (("graze_min_plus", "u_min = +D (drive-side contact loss)"),
-                       ("graze_min_minus", "u_min = −D (back-side contact)"),
-                       ("graze_max_plus", "u_max = +D (drive-side contact)"),
-                       ("graze_max_minus", "u_max = −D")):
-            if sign_change(k):
-                checks.append((k, "grazing", lab))
+        for e, name in enumerate(self.prob.names):
+            tag = "" if e == a.ref else f":{name}"
+            of = "" if e == a.ref else f" of {name}"
+            for k, lab in (("graze_min_plus", "u_min = +D (drive-side contact loss)"),
+                           ("graze_min_minus", "u_min = −D (back-side contact)"),
+                           ("graze_max_plus", "u_max = +D (drive-side contact)"),
+                           ("graze_max_minus", "u_max = −D")):
+                if sign_change(k + tag):
+                    checks.append((k + tag, "grazing", lab + of))
         for key, typ, detail in checks:
             if self.locate:
                 pt, ok = self.locate_event(a, b, key)
             else:
                 pt, ok = (a if abs(ta[key]) <= abs(tb[key]) else b), False
-            mu = np.linalg.eigvals(pt.M)
+            mu = np.linalg.eigvals(self.prob.elastic(pt.M))
             mu = mu[np.argsort(-np.abs(mu), kind="stable")]
             if typ == "neimark-sacker" and np.all(np.abs(mu.imag) <= REAL_MULTIPLIER_TOL * np.abs(mu)):
                 continue  # a real pair with product 1 (neutral saddle), not a bifurcation
@@ -402,8 +466,8 @@ class _Continuer:
                 continue
             events.append((s, Bifurcation(
                 typ, self.prob.param, pt.p, pt.y[:-1].copy(), self.prob.n, branch_index, mu, pt.u_min, pt.u_max,
-                detail, ok, bool(np.max(np.abs(np.linalg.eigvals(a.M))) < 1.0),
-                bool(np.max(np.abs(np.linalg.eigvals(b.M))) < 1.0), key), pt))
+                detail, ok, bool(np.max(np.abs(np.linalg.eigvals(self.prob.elastic(a.M)))) < 1.0),
+                bool(np.max(np.abs(np.linalg.eigvals(self.prob.elastic(b.M)))) < 1.0), key), pt))
         events.sort(key=lambda e: e[0])
         return events
 
@@ -503,7 +567,8 @@ def _make_branch(index: int, prob: _Family, pts: list[_Point], end: str, origin:
         u_min=np.array([q.u_min for q in pts]),
         u_max=np.array([q.u_max for q in pts]),
         steps=np.array([q.ev.N for q in pts], dtype=np.int64),
-        end=end, origin=origin, bifurcations=bifs,
+        end=end, origin=origin, bifurcations=bifs, elastic=prob.elastic_basis,
+        extrema=np.array([q.ext for q in pts]).reshape(len(pts), len(prob.names), 2),
     )
 
 

@@ -126,6 +126,11 @@ class Branch:
         The event it was switched from.
     bifurcations : list of Bifurcation
         Events located on it.
+    elastic : ndarray (d, d − 2r), optional
+        The complement of the system's rigid-body subspace (:func:`~geardyn.analysis.periodic.orbit.elastic_basis`):
+        the multipliers are then those of ``elasticᵀ M elastic``, the 2r rigid-body ones (exactly 1) left out.
+    extrema : ndarray (K, elements, 2), optional
+        Every element's extremes of δ over each orbit (the reference element's are ``u_min``, ``u_max``).
     """
 
     index: int
@@ -141,11 +146,16 @@ class Branch:
     end: str
     origin: Bifurcation | None = None
     bifurcations: list[Bifurcation] = field(default_factory=list)
+    elastic: np.ndarray | None = None
+    extrema: np.ndarray | None = None
 
     @property
     def multipliers(self) -> np.ndarray:
-        """(K, d) complex multipliers per point, largest modulus first."""
-        mu = np.linalg.eigvals(self.monodromy)
+        """(K, d − 2r) complex (elastic) multipliers per point, largest modulus first."""
+        M = self.monodromy
+        if self.elastic is not None:
+            M = np.einsum("ji,kjl,lm->kim", self.elastic, M, self.elastic)
+        mu = np.linalg.eigvals(M)
         order = np.argsort(-np.abs(mu), axis=1, kind="stable")
         return np.take_along_axis(mu, order, axis=1)
 

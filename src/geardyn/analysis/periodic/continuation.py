@@ -17,10 +17,12 @@ import xarray as xr
 
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
-from .arclength import MAX_BRANCH_POINTS, continue_branch
+from .arclength import MAX_BRANCH_POINTS, continue_branch, element_extrema
 from .branch import Bifurcation, Branch
 from .map import PeriodMap
-from .orbit import SHOOT_MAX_ITER, SHOOT_TOL, PeriodicOrbit, _minimal_period, _newton, _orbit_from_eval, shoot
+from .orbit import (
+    SHOOT_MAX_ITER, SHOOT_TOL, PeriodicOrbit, _minimal_period, _newton, _orbit_from_eval, newton_step_for, shoot,
+)
 
 __all__ = ["ContinuationResult", "continuation", "switch_at_period_doubling", "DEFAULT_MAX_PERIOD"]
 
@@ -101,7 +103,7 @@ def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel
         for a in SWITCH_AMPLITUDES:
             for s_e in (1.0, -1.0):
                 x0 = bif.state + s_e * a * scale * e
-                ev, conv, its, res, _status = _newton(pmap, x0, SHOOT_TOL, SHOOT_MAX_ITER)
+                ev, conv, its, res, _status = _newton(pmap, x0, SHOOT_TOL, SHOOT_MAX_ITER, newton_step_for(model))
                 if not conv:
                     continue
                 if _minimal_period(ev.points, n2) == n2:
@@ -193,17 +195,19 @@ class ContinuationResult:
 
         nmax = max([b.n for b in self.branches] + [1])
         rows = []
+        m = self.model
         for b in self.branches:
             K = len(b)
             pu = np.full((K, nmax), np.nan)
             pv = np.full((K, nmax), np.nan)
-            pu[:, : b.n] = b.points[:, :, 0]
-            pv[:, : b.n] = b.points[:, :, 1]
+            sec = m.element_series(b.points, 0.0)[..., m.reference, :]  # the reference element's (δ, δ')
+            pu[:, : b.n] = sec[..., 0]
+            pv[:, : b.n] = sec[..., 1]
             mu = b.multipliers
-            # the state (u, u') of the 1-DOF model is written as the variables u and v
+            # the reference element's (δ, δ') at θ = 0 (the 1-DOF model's state (u, u')) are the variables u and v
             rows.append(dict(
-                value=b.values, branch=np.full(K, b.index), period=np.full(K, b.n), u0=b.states[:, 0],
-                v0=b.states[:, 1], amplitude=b.amplitude, u_min=b.u_min, u_max=b.u_max,
+                value=b.values, branch=np.full(K, b.index), period=np.full(K, b.n), u0=sec[:, 0, 0],
+                v0=sec[:, 0, 1], amplitude=b.amplitude, u_min=b.u_min, u_max=b.u_max,
                 stable=b.stable.astype(np.int8), mre=mu.real, mim=mu.imag, pu=pu, pv=pv,
             ))
 
@@ -212,7 +216,7 @@ class ContinuationResult:
 
         P = self.param
         bifs = self.bifurcations
-        dim = self.model.state_dim
+        dim = self.branches[0].multipliers.shape[1] if self.branches else self.model.state_dim
         ds = xr.Dataset(
             {
                 P: ("point", cat("value")),
@@ -233,8 +237,10 @@ class ContinuationResult:
                 f"bifurcation_{P}": ("bifurcation", np.array([b.value for b in bifs], dtype=float)),
                 "bifurcation_period": ("bifurcation", np.array([b.n for b in bifs], dtype=np.int64)),
                 "bifurcation_branch": ("bifurcation", np.array([b.branch for b in bifs], dtype=np.int64)),
-                "bifurcation_u": ("bifurcation", np.array([b.state[0] for b in bifs], dtype=float)),
-                "bifurcation_v": ("bifurcation", np.array([b.state[1] for b in bifs], dtype=float)),
+                "bifurcation_u": ("bifurcation", np.array([m.element_series(b.state, 0.0)[m.reference, 0]
+                                                           for b in bifs], dtype=float)),
+                "bifurcation_v": ("bifurcation", np.array([m.element_series(b.state, 0.0)[m.reference, 1]
+                                                           for b in bifs], dtype=float)),
                 "bifurcation_amplitude": ("bifurcation", np.array([b.amplitude for b in bifs], dtype=float)),
                 "bifurcation_detail": ("bifurcation", np.array([b.detail for b in bifs], dtype=object)),
             },
@@ -427,7 +433,8 @@ def _append_merge(br: Branch, parent: Branch, model: GearModel, dtau: float, acc
     if not ev.ok:
         return br
     pts, M = ev.points, ev.monodromy
-    mb.multipliers = np.sort_complex(np.linalg.eigvals(M))[::-1]
+    Uc = br.elastic
+    mb.multipliers = np.sort_complex(np.linalg.eigvals(M if Uc is None else Uc.T @ M @ Uc))[::-1]
     sec = np.vstack([pd.state[None, :], pts[:-1]])
     br.values = np.concatenate([br.values, [pd.value]])
     br.states = np.vstack([br.states, pd.state[None, :]])
@@ -436,6 +443,8 @@ def _append_merge(br: Branch, parent: Branch, model: GearModel, dtau: float, acc
     br.u_min = np.concatenate([br.u_min, [pd.u_min]])
     br.u_max = np.concatenate([br.u_max, [pd.u_max]])
     br.steps = np.concatenate([br.steps, [pmap.steps]])
+    if br.extrema is not None:
+        br.extrema = np.concatenate([br.extrema, element_extrema(pmap, pd.state)[None]])
     return br
 
 
@@ -455,6 +464,8 @@ def _prepend_source(br: Branch, src: Bifurcation, model: GearModel, dtau: float,
     br.u_min = np.concatenate([[src.u_min], br.u_min])
     br.u_max = np.concatenate([[src.u_max], br.u_max])
     br.steps = np.concatenate([[pmap.steps], br.steps])
+    if br.extrema is not None:
+        br.extrema = np.concatenate([element_extrema(pmap, src.state)[None], br.extrema])
     return br
 
 

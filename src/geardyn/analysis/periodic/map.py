@@ -21,12 +21,12 @@ integration.  numba's thread setting of the caller is left as it was.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
-from ...integrate_ndof import forcing_period, integrate_batch, natural_steps, period_map, state_dim, trajectory
-from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
+from ...integrate import forcing_period, integrate_batch, natural_steps, period_map, state_dim, trajectory
+from ...model import DEFAULT_DTAU, IntegrationOptions, ModelError, canonical_param
 
 __all__ = ["PeriodMap", "MapEvaluation", "FD_REL_STEP", "MAP_THREADS"]
 
@@ -84,9 +84,8 @@ class PeriodMap:
 
     Parameters
     ----------
-    model : GearModel
-        The system (any object with ``period``, ``get``/``with_param`` by parameter name and a
-        kernel packing, as :class:`~geardyn.model.GearModel`).
+    model : System
+        The system (:class:`geardyn.system.System`: any model the door :mod:`geardyn.integrate` integrates).
     n : int
         Forcing periods per map iteration (P^n).
     dtau : float
@@ -114,7 +113,7 @@ class PeriodMap:
 
     __slots__ = ("model", "n", "dtau", "accurate", "_steps", "_fixed")
 
-    def __init__(self, model: GearModel, n: int = 1, *, dtau: float = DEFAULT_DTAU, accurate: bool = False,
+    def __init__(self, model: Any, n: int = 1, *, dtau: float = DEFAULT_DTAU, accurate: bool = False,
                  steps: int | None = None):
         if not _is_count(n):
             raise ModelError(f"period: must be an integer >= 1, got {n!r}")
@@ -299,6 +298,22 @@ class PeriodMap:
         ends = res.poincare[:, -1, :]
         return (ends[0] - ends[1]) / (values[0] - values[1])
 
+    def trajectory(self, x: Sequence[float] | np.ndarray):
+        """The trajectory over the n periods of one map iteration, at every RK4 step.
+
+        Parameters
+        ----------
+        x : (d,) array
+            State at θ = 0.
+
+        Returns
+        -------
+        geardyn.integrate.Trajectory
+            The full state and every element's (δ, δ') (NaN if the trajectory diverged).
+        """
+        return trajectory(self.model, x, self._options(), history_periods=self.n, steps=self._steps,
+                          threads=MAP_THREADS)
+
     def history(self, x: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The trajectory over the n periods of one map iteration, at every RK4 step.
 
@@ -312,6 +327,5 @@ class PeriodMap:
         tau, u, v : ndarray (n·N + 1,)
             Time from x and the state (NaN if the trajectory diverged).
         """
-        tr = trajectory(self.model, x, self._options(), history_periods=self.n, steps=self._steps,
-                        threads=MAP_THREADS)
+        tr = self.trajectory(x)
         return tr.tau, tr.u, tr.v

@@ -9,13 +9,14 @@ refined between the RK4 steps.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
 import numpy as np
 import xarray as xr
 
-from ...integrate import integrate_batch, state_dim
+from ...integrate import integrate_batch, start_state
+from ...labels import IMPACT_LABELS, impact_state
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError
 from ...status import Status
 from .floquet import Floquet, floquet
@@ -24,6 +25,9 @@ from .map import MAP_THREADS, MapEvaluation, PeriodMap
 __all__ = [
     "PeriodicOrbit",
     "shoot",
+    "require_periodic",
+    "elastic_basis",
+    "elastic_multipliers",
     "guess_from_simulation",
     "orbit_extrema",
     "orbit_status_label",
@@ -139,9 +143,86 @@ def orbit_extrema(model: GearModel, state: Sequence[float], n: int = 1, *, dtau:
 
 
 def _impact_label(u_min: float, D: float) -> str:
-    from ..classify import IMPACT_LABELS, impact_state
-
     return IMPACT_LABELS[impact_state(u_min, D)]
+
+
+def require_periodic(model: Any, what: str = "the periodic tools") -> int:
+    """The forcing-period multiple p of a system, refusing a quasi-periodic forcing.
+
+    Parameters
+    ----------
+    model : System
+    what : str
+        The tools named in the error message.
+
+    Returns
+    -------
+    int
+        p = ``model.period_multiple()``: the forcing repeats after p base periods (1 for the pair).
+
+    Raises
+    ------
+    ModelError
+        If the forcing frequencies are incommensurate (no common period).
+    """
+    p = model.period_multiple()
+    if p is None:
+        raise ModelError(f"system: {what} need a periodic forcing, but the mesh-frequency ratios are "
+                         f"incommensurate; use simulate or lyapunov")
+    return p
+
+
+def elastic_basis(model: Any) -> np.ndarray | None:
+    """Orthonormal columns (d, d − 2r) spanning the complement of the rigid-body subspace, or None (r = 0).
+
+    The rigid-body modes R (``model.rigid_basis()``) and their velocities span an invariant subspace of
+    every monodromy of the system, whose 2r multipliers are exactly 1; the monodromy restricted to the
+    quotient, ``Ucᵀ M Uc``, has the elastic multipliers.
+
+    Parameters
+    ----------
+    model : System
+
+    Returns
+    -------
+    ndarray (d, d − 2r) or None
+    """
+    R = model.rigid_basis()
+    n, r = R.shape
+    if r == 0:
+        return None
+    S = np.zeros((2 * n, 2 * r))
+    S[:n, :r] = R
+    S[n:, r:] = R
+    Q, _ = np.linalg.qr(np.hstack([S, np.eye(2 * n)]))
+    return Q[:, 2 * r:2 * n]
+
+
+def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, int]:
+    """Eigenvalues of the monodromy on the quotient by the rigid-body subspace, and the rigid-mode count r.
+
+    The rigid-body modes (``model.rigid_basis()``) span, with their velocities, an invariant subspace
+    whose 2r multipliers are exactly 1; the remaining d − 2r decide stability (:func:`elastic_basis`).
+    For a system without rigid-body modes (the pair) these are all the multipliers.
+
+    Parameters
+    ----------
+    model : System
+    monodromy : ndarray (d, d)
+        Monodromy matrix of a periodic orbit.
+
+    Returns
+    -------
+    multipliers : ndarray of complex (d − 2r,), largest modulus first
+    r : int
+    """
+    Uc = elastic_basis(model)
+    M = np.asarray(monodromy, float)
+    if Uc is None or not np.all(np.isfinite(M)):
+        mu = np.linalg.eigvals(M) if np.all(np.isfinite(M)) else np.full(M.shape[0], np.nan + 0j)
+        return mu[np.argsort(-np.abs(mu), kind="stable")], 0
+    mu = np.linalg.eigvals(Uc.T @ M @ Uc)
+    return mu[np.argsort(-np.abs(mu), kind="stable")], (M.shape[0] - Uc.shape[1]) // 2
 
 
 def _minimal_period(points: np.ndarray, n: int) -> int:
@@ -155,33 +236,12 @@ def _minimal_period(points: np.ndarray, n: int) -> int:
 
 
 @dataclass
-class _ShotOrbit:
-    """The fields a shot orbit has whatever its model (:class:`PeriodicOrbit`,
-    :class:`geardyn.analysis.systems_orbit.SystemOrbit`), in their constructors' order."""
-
-    model: Any
-    n: int
-    state: np.ndarray
-    points: np.ndarray
-    monodromy: np.ndarray
-    converged: bool
-    status: Status
-    iterations: int
-    residuals: list[float]
-
-    @property
-    def multipliers(self) -> np.ndarray:
-        """Floquet multipliers of :attr:`floquet`, largest modulus first."""
-        return self.floquet.multipliers
-
-
-@dataclass
-class PeriodicOrbit(_ShotOrbit):
-    """A period-n orbit found by shooting (all quantities non-dimensional).
+class PeriodicOrbit:
+    """A period-n orbit of any System found by shooting (all quantities non-dimensional).
 
     Attributes
     ----------
-    model : GearModel
+    model : System
         The model the orbit belongs to.
     n : int
         Forcing periods of the map P^n that was solved (``--period``).
@@ -203,16 +263,42 @@ class PeriodicOrbit(_ShotOrbit):
         default-mode iteration stalls far from the orbit, the accurate-mode iterates that brought it
         close follow, then the final default-mode ones).
     u_min, u_max : float
-        Extremes of u over the orbit (Hermite-refined between steps).
+        Extremes of the reference element's u over the orbit (Hermite-refined between steps).
     dtau, accurate, steps : float, bool, int
         The integration settings: target step, mode and RK4 steps per period (0: ceil(T/Δτ)).
+    extra : dict
+        What the system adds to the summary (``System.report``: per-mesh entries; empty for the pair).
+
+    References
+    ----------
+    A. H. Nayfeh and D. T. Mook, *Nonlinear Oscillations*, Wiley, 1979 (Floquet theory).
     """
 
+    model: Any
+    n: int
+    state: np.ndarray
+    points: np.ndarray
+    monodromy: np.ndarray
+    converged: bool
+    status: Status
+    iterations: int
+    residuals: list[float]
     u_min: float
     u_max: float
     dtau: float = DEFAULT_DTAU
     accurate: bool = False
     steps: int = 0
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        """Floquet multipliers of :attr:`floquet` (all d of them, rigid-body ones included), largest modulus first."""
+        return self.floquet.multipliers
+
+    @property
+    def elastic(self) -> tuple[np.ndarray, int]:
+        """The elastic multipliers and the rigid-mode count (:func:`elastic_multipliers`)."""
+        return elastic_multipliers(self.model, self.monodromy)
 
     @property
     def status_label(self) -> str:
@@ -232,12 +318,21 @@ class PeriodicOrbit(_ShotOrbit):
     @property
     def floquet(self) -> Floquet:
         """Floquet analysis of the monodromy matrix."""
-        return floquet(self.monodromy, self.n, self.model.period)
+        return floquet(self.monodromy, self.n, self.model.sampling_period)
 
     @property
     def stable(self) -> bool:
-        """Converged and all multipliers inside the unit circle."""
-        return self.converged and self.floquet.stable
+        """Converged and all elastic multipliers inside the unit circle (the rigid-body ones are exactly 1)."""
+        mu, r = self.elastic
+        if r == 0:
+            return self.converged and self.floquet.stable
+        return bool(self.converged and np.all(np.abs(mu) < 1.0))
+
+    def _instability(self) -> str:
+        mu, r = self.elastic
+        if r == 0:
+            return self.floquet.instability
+        return floquet(np.diag(mu), self.n, self.model.sampling_period).instability if mu.size else "none"
 
     @property
     def minimal_period(self) -> int:
@@ -255,7 +350,8 @@ class PeriodicOrbit(_ShotOrbit):
     @property
     def impact(self) -> str:
         """Impact state from u_min (``no impact``, ``single-sided``, ``double-sided``, ...)."""
-        return _impact_label(self.u_min, self.model.D)
+        m = self.model
+        return _impact_label(self.u_min, m.elements[m.reference].gap)
 
     def history(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(τ, u, u') at every step over the n periods of the orbit, starting at ``state``."""
@@ -264,6 +360,7 @@ class PeriodicOrbit(_ShotOrbit):
     def to_json(self) -> dict[str, Any]:
         """The ``orbit --json`` summary (DESIGN §5 keys plus a few more)."""
         fl = self.floquet
+        mu, r = self.elastic
 
         def num(x: float) -> float | None:
             return float(x) if np.isfinite(x) else None
@@ -272,13 +369,17 @@ class PeriodicOrbit(_ShotOrbit):
             "omega": self.model.omega,
             "state": [float(s) for s in self.state],
             "points": self.points.tolist(),
-            "period": self.minimal_period if self.converged else None,
+            "period": self.minimal_period * (self.model.period_multiple() or 1) if self.converged else None,
             "requested_period": self.n,
             "multipliers": fl.pairs(),
             "multiplier_moduli": [float(abs(m)) for m in fl.multipliers],
             "floquet_exponents": [num(e) for e in fl.exponents],
+            "elastic_multipliers": [[float(m.real), float(m.imag)] for m in mu],
+            "rigid_body_modes": r,
+            "rigid_body_note": (f"{2 * r} multipliers equal to 1 belong to the {r} rigid-body mode(s) "
+                                f"and are left out of the stability test") if r else None,
             "stable": bool(self.stable),
-            "instability": fl.instability,
+            "instability": self._instability(),
             "converged": bool(self.converged),
             "status": self.status_label,
             "iterations": self.iterations,
@@ -289,6 +390,7 @@ class PeriodicOrbit(_ShotOrbit):
             "impact": self.impact,
             "determinant": num(fl.determinant),
             "accurate": self.accurate,
+            **self.extra,
         }
 
     def to_dataset(self) -> xr.Dataset:
@@ -352,7 +454,7 @@ def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] 
         The guess; None if the simulation diverged.
     """
     rec = max(GUESS_RECORD_PER_PERIOD * n, 16)
-    s0 = np.zeros(state_dim(model)) if state0 is None else np.asarray(state0, dtype=float)
+    s0 = start_state(model, state0)
     opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=rec, accurate=accurate)
     res = integrate_batch([model], s0, opts, threads=MAP_THREADS)
     if not res.ok[0]:
@@ -364,11 +466,52 @@ def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] 
 
 
 def newton_step(A: np.ndarray, G: np.ndarray) -> np.ndarray:
-    """The Newton step dx of A dx = −G (least squares where A is singular)."""
+    """The Newton step dx of A dx = −G (least squares where A is singular).
+
+    Parameters
+    ----------
+    A : ndarray (d, d)
+    G : ndarray (d,)
+
+    Returns
+    -------
+    ndarray (d,)
+    """
     try:
         return np.linalg.solve(A, -G)
     except np.linalg.LinAlgError:
         return np.linalg.lstsq(A, -G, rcond=None)[0]
+
+
+def least_squares_step(A: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """The minimum-norm Newton step of A dx = −G: a free rigid-body mode makes monodromy − I singular (a
+    rigid rotation of a whole solution is again a solution), and the minimum-norm step leaves it where it is.
+
+    Parameters
+    ----------
+    A : ndarray (d, d)
+    G : ndarray (d,)
+
+    Returns
+    -------
+    ndarray (d,)
+    """
+    return np.linalg.lstsq(A, -G, rcond=1e-10)[0]
+
+
+def newton_step_for(model: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """The Newton step for the period map of ``model``: :func:`least_squares_step` when it has rigid-body
+    modes (``model.rigid_basis()`` not empty), else :func:`newton_step`.
+
+    Parameters
+    ----------
+    model : System
+
+    Returns
+    -------
+    callable
+    """
+    return least_squares_step if model.rigid_basis().shape[1] else newton_step
 
 
 def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int,
@@ -448,31 +591,33 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
     T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer,
     1989 (shooting for periodic solutions of forced systems).
     """
+    require_periodic(model, "shooting and Floquet multipliers")
     n = int(n)
     if n < 1:
         raise ModelError(f"period: must be an integer >= 1, got {n}")
     IntegrationOptions(dtau=dtau).check_for(model.omega)
     pmap = PeriodMap(model, n, dtau=dtau, accurate=accurate)
     N = pmap.steps
+    step = newton_step_for(model)
     if guess is None:
         x0 = guess_from_simulation(model, n, state0, dtau=dtau, accurate=accurate, transient=transient)
         if x0 is None:
-            return _failed_orbit(model, n, np.zeros(pmap.dim) if state0 is None else np.asarray(state0, float),
-                                 Status.DIVERGED, dtau, accurate, N)
+            return _failed_orbit(model, n, start_state(model, state0), Status.DIVERGED, dtau, accurate, N)
     else:
         x0 = np.asarray(guess, dtype=float)
         if x0.shape != (pmap.dim,) or not np.all(np.isfinite(x0)):
-            raise ModelError(f"guess: expected two finite numbers u,v, got {guess!r}")
-    ev, conv, its, res, status = _newton(pmap, x0, tol, max_iter)
+            what = "two finite numbers u,v" if pmap.dim == 2 else f"{pmap.dim} finite numbers (the full state)"
+            raise ModelError(f"guess: expected {what}, got {guess!r}")
+    ev, conv, its, res, status = _newton(pmap, x0, tol, max_iter, step)
     if not conv and not accurate:
         # The default-mode map has a kink wherever an RK4 stage crosses ±D, which can stall the
         # damped iteration far from the orbit.  The accurate-mode map is smooth there and its orbit
         # lies within the discretisation error of the default-mode one: get close with it, then
         # finish in the default mode (quadratic convergence).
         acc = PeriodMap(model, n, dtau=dtau, accurate=True, steps=N)
-        ev_a, conv_a, its_a, res_a, _st = _newton(acc, x0, tol, max_iter)
+        ev_a, conv_a, its_a, res_a, _st = _newton(acc, x0, tol, max_iter, step)
         if conv_a:
-            ev2, conv, its2, res2, status = _newton(pmap, ev_a.x, tol, max_iter)
+            ev2, conv, its2, res2, status = _newton(pmap, ev_a.x, tol, max_iter, step)
             if ev2.ok:
                 ev, its, res = ev2, its + its_a + its2, res + res_a + res2
     if not ev.ok:
@@ -484,9 +629,16 @@ def _orbit_from_eval(pmap: PeriodMap, ev: MapEvaluation, conv: bool, status: Sta
                      res: list[float]) -> PeriodicOrbit:
     """The orbit through a converged evaluation of ``pmap`` (which has the evaluation's steps)."""
     pts = np.vstack([ev.x[None, :], ev.points[:-1]])
-    umin, umax = _map_extrema(pmap, ev.x)
-    return PeriodicOrbit(pmap.model, pmap.n, ev.x.copy(), pts, ev.monodromy.copy(), conv, status, its, res,
-                         umin, umax, pmap.dtau, pmap.accurate, ev.steps)
+    m = pmap.model
+    tr = pmap.trajectory(ev.x)
+    ext = np.full((len(m.elements), 2), np.nan)
+    if np.all(np.isfinite(tr.x)):
+        for e in range(ext.shape[0]):
+            ext[e] = _hermite_extrema(tr.deltas[:, e, 0], tr.deltas[:, e, 1], pmap.step)
+    umin, umax = (float(ext[m.reference, 0]), float(ext[m.reference, 1]))
+    extra = m.report(tau=tr.tau, deltas=tr.deltas, extrema=ext)
+    return PeriodicOrbit(m, pmap.n, ev.x.copy(), pts, ev.monodromy.copy(), conv, status, its, res,
+                         umin, umax, pmap.dtau, pmap.accurate, ev.steps, extra)
 
 
 def _failed_orbit(model: GearModel, n: int, x: np.ndarray, status: Status, dtau: float, accurate: bool,

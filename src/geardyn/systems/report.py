@@ -1,0 +1,161 @@
+"""What a :class:`~geardyn.systems.SystemModel` adds to a result's summary: per-mesh and per-clearance entries.
+
+The analyses are written once against the System contract; their ``--json`` keys are those of the 1-DOF pair
+(the reference element's), and :meth:`SystemModel.report` adds ``meshes`` (each mesh's DTE, non-dimensional
+and in µm, mesh force in N and dynamic factor, contact fractions and impact state), ``clearances`` likewise,
+and the DOF labels.
+
+Mesh force ``s_m = C_m(θ) δ_m' + K_m(θ) f(δ_m; D_m)`` (units k_ref b_c); the dynamic factor is its
+largest value over the history divided by the static mesh force (the mesh force of the static
+equilibrium at mean stiffness in drive contact, ``K̄ q̃ = F̃ + Σ k_m D_m V_m``, least-norm for
+rigid-body modes; for the paper's torsional pair exactly f_p).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..labels import IMPACT_LABELS, impact_state
+
+__all__ = ["static_mesh_forces", "mesh_forces", "report"]
+
+
+def _num(x: Any) -> float | None:
+    x = float(x)
+    return x if np.isfinite(x) else None
+
+
+def static_mesh_forces(model: Any) -> np.ndarray:
+    """Static mesh force of every mesh (units k_ref b_c), see the module docstring.
+
+    Parameters
+    ----------
+    model : SystemModel
+
+    Returns
+    -------
+    ndarray (meshes,)
+        k_m (V_m·q̃ − D_m) at the static equilibrium K̄ q̃ = F̃ + Σ k_m D_m V_m (least-norm solution).
+    """
+    Kt = np.array(model.Kb, dtype=float)
+    rhs = np.array(model.F, dtype=float)
+    for i, m in enumerate(model.meshes):
+        Kt += m.k * np.outer(model.V[i], model.V[i])
+        rhs += m.k * m.D * model.V[i]
+    q = np.linalg.lstsq(Kt, rhs, rcond=1e-12)[0]
+    return np.array([m.k * (model.V[i] @ q - m.D) for i, m in enumerate(model.meshes)])
+
+
+def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
+    """Mesh forces s_m = C_m(θ) δ_m' + K_m(θ) f(δ_m; D_m) from the element deflections.
+
+    Parameters
+    ----------
+    model : SystemModel
+    tau : ndarray (K,)
+        Times τ.
+    deltas : ndarray (K, elements, 2)
+        Deflection δ and its rate δ' of every element (meshes first) at those times.
+
+    Returns
+    -------
+    ndarray (K, meshes)
+        Mesh forces in units k_ref b_c.
+    """
+    tau = np.asarray(tau, dtype=float)
+    th = model.omega * tau
+    out = []
+    for i, m in enumerate(model.meshes):
+        c = m.coefficients()
+        C = np.full_like(th, c[0, 0, 0])
+        Kk = np.full_like(th, c[1, 0, 0])
+        for j in range(1, c.shape[1]):
+            ph = j * m.ratio * th
+            C = C + c[0, j, 0] * np.cos(ph) + c[0, j, 1] * np.sin(ph)
+            Kk = Kk + c[1, j, 0] * np.cos(ph) + c[1, j, 1] * np.sin(ph)
+        d = deltas[:, i, 0]
+        f = d - np.clip(d, -m.D, m.D)
+        out.append(C * deltas[:, i, 1] + Kk * f)
+    return np.stack(out, axis=1) if out else np.zeros((tau.size, 0))
+
+
+def _fractions(fr: np.ndarray) -> dict[str, float | None]:
+    return {"drive": _num(fr[0]), "separation": _num(fr[1]), "back": _num(fr[2])}
+
+
+def _mesh_entries(model: Any, res: Any, point: int, tau: np.ndarray | None, deltas: np.ndarray | None,
+                  extrema: np.ndarray | None) -> list[dict[str, Any]]:
+    sc = model.scaling
+    um = sc.b_c * 1e6
+    fs = static_mesh_forces(model)
+    ok = bool(res.ok[point]) if res is not None else extrema is not None
+    force = mesh_forces(model, tau, deltas) if (tau is not None and deltas is not None and ok
+                                                and np.all(np.isfinite(deltas))) else None
+    out = []
+    for i, m in enumerate(model.meshes):
+        if extrema is not None:
+            lo, hi = float(extrema[i, 0]), float(extrema[i, 1])
+        else:
+            lo, hi = float(res.element_u_min(i)[point]), float(res.element_u_max(i)[point])
+        e: dict[str, Any] = {"name": m.name, "u_min": _num(lo), "u_max": _num(hi), "amplitude": _num(0.5 * (hi - lo)),
+                             "impact": IMPACT_LABELS[impact_state(lo, m.D)]}
+        if res is not None:
+            e.update(rms=_num(res.element_rms(i)[point]), mean=_num(res.element_mean(i)[point]),
+                     contact_fractions=_fractions(res.element_fractions(i)[point]),
+                     dte_min_um=_num(lo * um), dte_max_um=_num(hi * um))
+        e["dte_amplitude_um"] = _num(0.5 * (hi - lo) * um)
+        if res is not None:
+            e.update(static_force_N=_num(fs[i] * sc.force_scale), dynamic_factor=None)
+        if force is not None:
+            fmax = float(np.max(force[:, i]))
+            e["mesh_force_max_N"] = _num(fmax * sc.force_scale)
+            if res is not None:
+                e["mesh_force_min_N"] = _num(np.min(force[:, i]) * sc.force_scale)
+            e["dynamic_factor"] = _num(fmax / fs[i]) if fs[i] > 0 else None
+        elif extrema is not None:
+            e.update(mesh_force_max_N=None, dynamic_factor=None)
+        out.append(e)
+    return out
+
+
+def _clearance_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
+    M = len(model.meshes)
+    out = []
+    for c, name in enumerate(model.clearance_names):
+        e = M + c
+        lo, hi = float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
+        out.append({"name": name, "u_min": _num(lo), "u_max": _num(hi), "amplitude": _num(0.5 * (hi - lo)),
+                    "impact": IMPACT_LABELS[impact_state(lo, model.Dc[c])],
+                    "contact_fractions": _fractions(res.element_fractions(e)[point])})
+    return out
+
+
+def report(model: Any, res: Any = None, point: int = 0, tau: np.ndarray | None = None,
+           deltas: np.ndarray | None = None, extrema: np.ndarray | None = None) -> dict[str, Any]:
+    """The keys a system adds to an analysis summary.
+
+    Parameters
+    ----------
+    model : SystemModel
+    res : BatchResult, optional
+        A batch with the point's per-element statistics (a steady response, a Lyapunov run).
+    point : int
+        The point of ``res``.
+    tau, deltas : ndarray, optional
+        A time history and every element's (δ, δ') on it (mesh forces and dynamic factors come from it).
+    extrema : ndarray (elements, 2), optional
+        Each element's (δ_min, δ_max) on a periodic orbit (Hermite-refined), instead of ``res``.
+
+    Returns
+    -------
+    dict
+        ``reference_mesh``, ``labels``, ``forcing_period_multiple``, ``meshes`` and (with ``res``) ``clearances``.
+    """
+    out: dict[str, Any] = {"reference_mesh": model.meshes[model.reference].name, "labels": list(model.labels),
+                           "forcing_period_multiple": model.period_multiple(),
+                           "meshes": _mesh_entries(model, res, point, tau, deltas, extrema)}
+    if res is not None:
+        out["clearances"] = _clearance_entries(model, res, point)
+    return out
