@@ -22,7 +22,7 @@ import xarray as xr
 from .._docfill import RESULT, attributes, parameters
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
-from . import systems
+from . import modes, systems
 from .common import DPI, save
 from .hb import hb_figure
 
@@ -121,6 +121,7 @@ def register(kind: str, *specs: FigureSpec) -> None:
 
 register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=engineering.has_iso_kv))
 register("runup", FigureSpec("runup", runup.runup_figure))
+register("modes", FigureSpec("campbell", modes.campbell, when=modes.has_campbell))
 systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
 
 
