@@ -26,7 +26,7 @@ import typer
 from .. import params
 from ..errors import GeardynError, ModelError
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
-from .app import app, emit_json, fail, is_stop
+from .app import GeardynCommand, app, emit_json, fail, is_stop
 from .output import engine_keywords, out_paths
 
 __all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
@@ -619,7 +619,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
         wrapper.__signature__ = inspect.Signature(every)  # type: ignore[attr-defined]
         wrapper.__annotations__ = {p.name: p.annotation for p in every}
         del wrapper.__wrapped__
-        app.command(name)(wrapper)
+        app.command(name, cls=GeardynCommand)(wrapper)
         return fn
 
     return deco
