@@ -279,6 +279,9 @@ def run_system(name: str, values: dict[str, Any], kw: dict[str, Any]) -> None:
         For a bad system file or option (the decorator prints one line).
     """
     summary, ds = _HANDLERS[name](values, kw)
+    from ..systems.notes import excitation_note
+    if (note := excitation_note(load_cli_system(values), _state(values))) is not None:
+        summary["note"] = note
     files: list[str] = []
     if values.get("out") is not None:
         files = _write(values, ds() if callable(ds) else ds)
@@ -339,6 +342,6 @@ def _print(name: str, s: dict[str, Any]) -> None:
     for k in ("exponents", "elastic_multipliers"):  # every value of a point's spectrum
         if s.get(k) is not None:
             c.print(f"{k}: {s[k]}")
-    for k in ("motion", "period", "stable", "rigid_body_note", "status"):
+    for k in ("motion", "period", "stable", "rigid_body_note", "status", "note"):
         if s.get(k) is not None:
             c.print(f"{k}: {_cell(s[k])}")
