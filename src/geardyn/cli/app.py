@@ -16,8 +16,7 @@ from typer.core import TyperCommand, TyperGroup
 from .. import __version__
 from ..errors import GeardynError
 
-__all__ = ["EXIT_INTERRUPTED", "GeardynCommand", "GeardynGroup", "app", "console", "emit_json", "err_console", "fail",
-           "main"]
+__all__ = ["EXIT_INTERRUPTED", "app", "console", "emit_json", "err_console", "fail", "main"]
 
 #: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
 EXIT_INTERRUPTED = 130

@@ -24,7 +24,17 @@ LABEL_GAP_PT = 10.0
 
 
 def has_campbell(ds: xr.Dataset) -> bool:
-    """Whether a ``modes`` result carries a Campbell diagram (a system with meshes)."""
+    """Whether a ``modes`` result carries a Campbell diagram (a system with meshes).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``modes`` result.
+
+    Returns
+    -------
+    bool
+    """
     return "line_slope" in ds and ds.sizes.get("line", 0) > 0
 
 
