@@ -249,7 +249,8 @@ def _write(values: dict[str, Any], ds: Any) -> list[str]:
     from ..plot import save_figures
     stem = ds.attrs["geardyn_kind"]
     nc, figdir = out_paths(Path(values["out"]), stem)
-    files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+    files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir, fmt=values.get("fig_format", "png"),
+                                                                         dpi=values.get("dpi", 120))]
     if values.get("resume") is not None:
         from ..sweep import checkpoint_dir, remove_checkpoint
 
