@@ -105,3 +105,13 @@ def test_modes_numbering_is_one_in_table_crossings_and_json():
 def test_no_module_sets_a_matplotlib_backend():
     offenders = [str(p.relative_to(SRC)) for p in SRC.rglob("*.py") if "matplotlib.use(" in p.read_text()]
     assert offenders == []
+
+
+def test_hz_max_sets_the_mesh_frequency_range_of_a_system_without_teeth():
+    j = json.loads(_invoke("modes", "--system", str(PLANETARY), "--hz-max", "3000", "--json").stdout)
+    c = j["campbell"]
+    assert c["x"] == "mesh_frequency_hz" and c["x_range"] == [0.0, 3000.0]
+    assert c["crossings"] and all(0.0 <= x["x"] <= 3000.0 for x in c["crossings"])
+    assert max(x["x"] for x in c["crossings"]) == pytest.approx(2658.32, abs=0.01)  # mode 12, order 1
+    r = CliRunner().invoke(app, ["modes", "--system", str(PLANETARY), "--hz-max", "-1"])
+    assert r.exit_code == 2 and "hz-max" in r.output
