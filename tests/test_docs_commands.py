@@ -224,7 +224,7 @@ def _json(command: str) -> dict:
     return json.loads(geardyn(shlex.split(command)[1:]).stdout)
 
 
-def test_quickstart_numbers_of_the_operating_point():
+def test_quickstart_numbers_of_the_operating_point(workdir):
     text = _doc("quickstart.md")
     s = _json("geardyn simulate --rpm 2400 --torque 1500 --json")
     omega, fp = _num(r"# ω = ([\d.]+), f_p = ([\d.]+)", text)
@@ -242,7 +242,7 @@ def test_quickstart_numbers_of_the_operating_point():
 
 
 @pytest.mark.slow
-def test_quickstart_numbers_of_the_speed_sweep():
+def test_quickstart_numbers_of_the_speed_sweep(workdir):
     text = _doc("quickstart.md")
     r = _json("geardyn response --rpm-start 900 --rpm-stop 3600 --num 109 --json")
     up, a, b, down, c, d, lo, hi = _num(
@@ -255,7 +255,7 @@ def test_quickstart_numbers_of_the_speed_sweep():
     assert [[round(x, 1) for x in iv] for iv in r["hysteresis_rpm"]] == [[lo, hi]]
 
 
-def test_analysis_numbers_of_the_lyapunov_exponents():
+def test_analysis_numbers_of_the_lyapunov_exponents(workdir):
     text = _doc("analysis.md")
     l1, e1, l2, e2, total = _num(r"\| 0\.8 \| (-?[\d.]+) ± ([\d.]+) \| (-?[\d.]+) ± ([\d.]+) \| (-?[\d.]+) \| "
                                  r"period-2 \|", text.replace("−", "-"))
@@ -273,7 +273,7 @@ def _response_doc():
     return text, up, down
 
 
-def test_analysis_numbers_of_the_jumps_and_hysteresis():
+def test_analysis_numbers_of_the_jumps_and_hysteresis(workdir):
     text, up, down = _response_doc()
     cmd = "geardyn response --omega-start 0.3 --omega-stop 1.0 --num 71 --xi0 0.08"
     r = _json(cmd + " --json")
@@ -288,7 +288,7 @@ def test_analysis_numbers_of_the_jumps_and_hysteresis():
 
 
 @pytest.mark.slow
-def test_analysis_numbers_of_the_finer_response():
+def test_analysis_numbers_of_the_finer_response(workdir):
     text, _, _ = _response_doc()
     r = _json("geardyn response --omega-start 0.3 --omega-stop 1.0 --num 141 --xi0 0.08 --json")
     a, b, c, d, lo, hi = _num(r"With `--num 141` \(step 0\.005\): jumps at ([\d.]+) → ([\d.]+) and ([\d.]+) → "
@@ -299,7 +299,7 @@ def test_analysis_numbers_of_the_finer_response():
     assert r["hysteresis"] == [pytest.approx([lo, hi], abs=1e-12)]
 
 
-def test_systems_numbers_of_the_modes_and_campbell_crossings():
+def test_systems_numbers_of_the_modes_and_campbell_crossings(workdir):
     text = _doc("systems.md")
     r = _json("geardyn modes --system examples/systems/paper_bevel_8dof.toml --rpm-max 5000 --json")
     rows = re.findall(r"\| ([\d, ]+) \| ([\d.]+)(?: \(pair\))? \| ([\d./ —]+) \|", text)
