@@ -45,6 +45,7 @@ COMMANDS.update({f"system_{k}": v[:1] + ["--system", _SYSTEM] + v[1:] for k, v i
                  if k not in ("runup", "hb")})  # hb refuses --system for now
 COMMANDS["system_basins"] = ["basins", "--system", _SYSTEM, "--omega", "1.2", "--nu", "2", "--nv", "2",
                              "--transient", "20", "--periods", "8"]
+COMMANDS["modes"] = ["modes", "--system", _SYSTEM]
 COMMANDS["system_continuation"] = ["continuation", "--system", _SYSTEM, "--param", "omega", "--start", "1.3",
                                    "--stop", "1.35"]
 

@@ -77,22 +77,50 @@ def test_campbell_crossings_by_hand():
     r = modal_analysis(d)
     fn = r.frequencies_hz[1]
     c = campbell(d, r, rpm_range=(0.0, 1e6), orders=(1, 2))
-    # mesh frequency at n rpm: 20 n/60 Hz; order k crosses f_n at n = 60 f_n/(20 k)
+    # mesh frequency at n rpm: 20 n/60 Hz; order k crosses f_n at n = 60 f_n/(20 k); the elastic mode is mode 2
     got = {(x["order"], x["mode"]): x["rpm"] for x in c["crossings"]}
-    assert got == {(1, 1): pytest.approx(3 * fn), (2, 1): pytest.approx(1.5 * fn)}
+    assert got == {(1, 2): pytest.approx(3 * fn), (2, 2): pytest.approx(1.5 * fn)}
     assert [x["order"] for x in c["crossings"]] == [2, 1]  # sorted by speed
-    assert c["lines"][0]["hz_per_rpm"] == pytest.approx(20 / 60)
-    # a second mesh at ratio 2: its order-1 line is the first mesh's order 2
+    assert c["lines"][0]["hz_per_x"] == pytest.approx(20 / 60)
+    assert c["x"] == "rpm" and [ln["label"] for ln in c["lines"]] == ["order 1", "order 2"]
+    # a second mesh at ratio 2: its order-1 line is the first mesh's order 2 (one line, both named)
     b = d.bodies + (Body("h", ("theta",), inertia=1.0),)
     m2 = Mesh("m2", ((("g", "theta"), 0.1), (("h", "theta"), -0.1)), 1e8, backlash=1e-4, ratio=2.0)
     d2 = SystemDescription(bodies=b, meshes=d.meshes + (m2,))
-    c2 = campbell(d2, rpm_range=(0, 1e7), orders=(1,))
+    c2 = campbell(d2, rpm_range=(0, 1e7), orders=(1, 2))
     r2 = modal_analysis(d2)
+    assert [ln["label"] for ln in c2["lines"]] == ["order 1 of mesh", "order 1 of m2 = order 2 of mesh",
+                                                   "order 2 of m2"]
+    assert [ln["harmonic"] for ln in c2["lines"]] == [1.0, 2.0, 4.0]
+    assert len(c2["crossings"]) == 3 * 2  # two elastic modes, three distinct lines
     for x in c2["crossings"]:
-        ratio = 1.0 if x["mesh"] == "mesh" else 2.0
-        assert x["rpm"] == pytest.approx(60 * r2.frequencies_hz[x["mode"]] / (20 * ratio), rel=1e-12)
-    with pytest.raises(ModelError, match="teeth"):
-        campbell(replace(d, meshes=(replace(d.meshes[0], teeth=None),)))
+        harmonic = c2["lines"][x["line"]]["harmonic"]
+        assert x["rpm"] == pytest.approx(60 * r2.frequencies_hz[x["mode"] - 1] / (20 * harmonic), rel=1e-12)
+    # without teeth: against the mesh frequency, order k crossing f_n at f_n / k
+    c3 = campbell(replace(d, meshes=(replace(d.meshes[0], teeth=None),)), orders=(1, 3))
+    assert c3["x"] == "mesh_frequency_hz" and "rpm_range" not in c3 and "mesh frequency" in c3["x_label"]
+    assert {x["order"]: x["x"] for x in c3["crossings"]} == {1: pytest.approx(fn), 3: pytest.approx(fn / 3)}
+    assert c3["x_range"] == [0.0, pytest.approx(float(f"{1.2 * fn:.2g}"))]
+    with pytest.raises(ModelError, match="orders"):
+        campbell(d, orders=(0,))
+
+
+def test_planetary_campbell_one_line_per_order_and_one_crossing_per_frequency():
+    """The six meshes of the planetary set share one frequency: three lines for orders 1-3, and each
+    degenerate pair of modes is one crossing naming both (issue: 288 crossing lines before)."""
+    d = load_description(EXAMPLES / "planetary_lin_parker_1999.toml")
+    rep = modes_report(d, orders=(1, 2, 3))
+    c = rep["campbell"]
+    assert [ln["label"] for ln in c["lines"]] == ["order 1", "order 2", "order 3"]
+    assert all(len(ln["meshes"]) == 6 for ln in c["lines"])
+    distinct = len({round(f, 6) for f in rep["frequencies_hz"] if f > 0})
+    assert distinct == 11 and len(c["crossings"]) <= 3 * distinct
+    keys = [(x["line"], tuple(x["modes"])) for x in c["crossings"]]
+    assert len(keys) == len(set(keys))
+    assert [2, 3] in [x["modes"] for x in c["crossings"]] and [2, 3] in rep["degenerate"]
+    # every crossing of order 1 lies at the mode's own frequency (the x axis is the mesh frequency)
+    for x in c["crossings"]:
+        assert x["x"] * c["lines"][x["line"]]["harmonic"] == pytest.approx(x["frequency_hz"], rel=1e-12)
 
 
 def test_planetary_structure_lin_parker():
@@ -312,5 +340,8 @@ def test_modes_report_is_json_ready():
     assert rep["modes"][0]["rigid"] and rep["frequencies_hz"][0] == 0.0
     assert any(m["mesh_dominated"] for m in rep["modes"])
     assert rep["campbell"]["crossings"] and {"rpm", "mode", "order", "mesh"} <= set(rep["campbell"]["crossings"][0])
+    assert [m["mode"] for m in rep["modes"]] == [1, 2, 3, 4, 5, 6]  # numbered from 1, as the crossings
+    assert {x["mode"] for x in rep["campbell"]["crossings"]} <= set(range(2, 7))
     rep_p = modes_report(load_description(EXAMPLES / "planetary_lin_parker_1999.toml"))
-    assert rep_p["campbell"] is None and "teeth" in rep_p["campbell_note"]
+    assert rep_p["campbell"]["x"] == "mesh_frequency_hz" and "teeth" in rep_p["campbell_note"]
+    assert rep_p["degenerate"][0] == [2, 3]

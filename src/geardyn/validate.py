@@ -42,6 +42,8 @@ __all__ = [
     "axis",
     "chunk_points",
     "config_file",
+    "dpi",
+    "figure_formats",
     "grid",
     "initial_state",
     "integer",
@@ -70,6 +72,11 @@ MAX_TOTAL_STEPS = 10**12
 #: Largest number of recorded values of a result (Poincaré points × 2 coordinates over all points):
 #: 5·10⁸ float64 values are 4 GB, a sixth of a 24 GB machine.
 MAX_RECORDED_VALUES = 500_000_000
+
+#: File formats a figure can be saved in (``--format``).
+FIGURE_FORMATS = ("png", "pdf", "svg")
+#: Range of ``--dpi``.
+DPI_RANGE = (10, 2400)
 
 _SCHEDULER = re.compile(r"^(?:(tcp|tls|inproc|ucx|ws|wss)://)?(\[[0-9a-fA-F:.]+\]|[A-Za-z0-9_.\-]+)(?::(\d{1,5}))?/?$")
 
@@ -447,6 +454,53 @@ def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
     if opts is not None:
         options(opts.dtau, opts.transient, opts.periods, opts.accurate, g.omegas(base))
     return models
+
+
+def figure_formats(value: Any) -> tuple[str, ...]:
+    """The file formats of saved figures: ``"png,pdf"`` or a sequence of names, each in :data:`FIGURE_FORMATS`.
+
+    Parameters
+    ----------
+    value : str or sequence of str
+        The formats (``--format``), comma-separated in a string; case and spaces are ignored, a repeat
+        is dropped.
+
+    Returns
+    -------
+    tuple of str
+        The formats in the order given.
+
+    Raises
+    ------
+    ModelError
+        For an empty list or an unknown format.
+    """
+    items = value.split(",") if isinstance(value, str) else list(value)
+    names = tuple(dict.fromkeys(str(v).strip().lower().lstrip(".") for v in items))
+    bad = [n for n in names if n not in FIGURE_FORMATS]
+    if not names or bad or "" in names:
+        raise ModelError(f"format: expected {', '.join(FIGURE_FORMATS)} (comma-separated), got {value!r}")
+    return names
+
+
+def dpi(value: Any) -> int:
+    """The resolution of raster figures (``--dpi``), an integer in :data:`DPI_RANGE`.
+
+    Parameters
+    ----------
+    value : int
+        Dots per inch.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ModelError
+        Outside :data:`DPI_RANGE`.
+    """
+    return integer("dpi", value, *DPI_RANGE)
 
 
 def workers(n: Any) -> int:

@@ -11,6 +11,7 @@ from typing import Any, Optional
 
 import typer
 from rich.console import Console
+from typer.core import TyperCommand, TyperGroup
 
 from .. import __version__
 from ..errors import GeardynError, SweepFailed, SweepInterrupted
@@ -20,8 +21,41 @@ __all__ = ["EXIT_INTERRUPTED", "app", "console", "emit_json", "err_console", "fa
 #: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
 EXIT_INTERRUPTED = 130
 
+class _HelpScreen:
+    """What every help screen shares, built here once: ``--help`` shows no value placeholder (it takes none),
+    and help texts are shown as written (a ``[mesh]`` is text, not Rich markup)."""
+
+    def get_help_option(self, ctx: Any) -> Any:
+        opt = super().get_help_option(ctx)  # type: ignore[misc]
+        if opt is not None:
+            opt.metavar = ""
+        return opt
+
+    def format_help(self, ctx: Any, formatter: Any) -> None:
+        from rich.markup import escape
+
+        objs = [self, *self.get_params(ctx), *getattr(self, "commands", {}).values()]  # type: ignore[attr-defined]
+        saved = [(o, o.help) for o in objs if getattr(o, "help", None)]
+        try:
+            for o, text in saved:
+                o.help = escape(text)
+            super().format_help(ctx, formatter)  # type: ignore[misc]
+        finally:
+            for o, text in saved:
+                o.help = text
+
+
+class GeardynCommand(_HelpScreen, TyperCommand):
+    """A geardyn command (see :class:`_HelpScreen`)."""
+
+
+class GeardynGroup(_HelpScreen, TyperGroup):
+    """The ``geardyn`` command group (see :class:`_HelpScreen`)."""
+
+
 app = typer.Typer(
     name="geardyn",
+    cls=GeardynGroup,
     help="Nonlinear dynamics of gear pairs with backlash.",
     no_args_is_help=True,
     add_completion=False,

@@ -12,7 +12,6 @@ from ..model import DEFAULT_DTAU
 from . import render
 from .app import console
 from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option
-from .output import out_paths
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 
@@ -146,15 +145,13 @@ def hb(
                                "accurate": opts.accurate}
     paths: list[str] = []
     if inp.out is not None:
-        from ..io import attach, write_netcdf
-        from ..plot import save_figures
+        from ..io import attach
         from ..plot.hb import SHOOTING_CONTEXT
 
-        nc, figdir = out_paths(inp.out, "hb")
         ds = add_physical(res.to_dataset(), scales)
         if shoot_ds is not None:
             ds = attach(ds, SHOOTING_CONTEXT, shoot_ds)  # the file redraws the figure with the shooting branch
-        paths = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+        paths = inp.write(ds, "hb")
     finish(summary, paths, inp, show)
 
 
@@ -180,13 +177,11 @@ def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: in
                                "accurate": opts.accurate}
     paths: list[str] = []
     if inp.out is not None:
-        from ..io import attach, write_netcdf
-        from ..plot import save_figures
+        from ..io import attach
         from ..plot.hb import SHOOTING_CONTEXT
 
-        nc, figdir = out_paths(inp.out, "hb")
         ds = res.to_dataset()
         if compare_shooting:
             ds = attach(ds, SHOOTING_CONTEXT, sres.to_dataset())  # the file redraws the figure with shooting
-        paths = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+        paths = inp.write(ds, "hb")
     finish(summary, paths, inp, show)

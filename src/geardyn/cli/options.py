@@ -26,10 +26,10 @@ import typer
 from .. import params
 from ..errors import GeardynError, ModelError
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
-from .app import app, emit_json, fail, is_stop
+from .app import GeardynCommand, app, emit_json, fail, is_stop
 from .output import engine_keywords, out_paths
 
-__all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
+__all__ = ["CONFIG", "ENGINE", "FIGURE_OPTIONS", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
            "integration", "sweep_range", "model_group", "option", "param_option", "ContinuationParamOpt", "StopOpt"]
 
 _P = inspect.Parameter
@@ -180,9 +180,16 @@ ENGINE = [
 ]
 OUTPUT = [
     option("json_out", bool, False, "--json", help="Print a machine-readable summary on stdout.", panel=OUTPUT_PANEL),
-    option("out", Optional[Path], None, "--out", help="Directory (or .nc file) for NetCDF data and PNG figures.",
+    option("out", Optional[Path], None, "--out", help="Directory (or .nc file) for NetCDF data and figures.",
            panel=OUTPUT_PANEL),
 ]
+#: How figures are saved (with ``--out``; and by ``geardyn plot``).
+FIGURE_OPTIONS = [
+    option("fig_format", str, "png", "--format", panel=OUTPUT_PANEL,
+           help="File formats of the figures, comma-separated: png, pdf, svg (e.g. png,pdf)."),
+    option("dpi", int, 120, "--dpi", panel=OUTPUT_PANEL, help="Resolution of PNG figures (dots per inch)."),
+]
+OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
@@ -419,6 +426,24 @@ class Inputs:
         """
         return engine_keywords(self.values, stem)
 
+    def figures(self) -> dict[str, Any]:
+        """``fmt`` and ``dpi`` of :func:`geardyn.plot.save_figures` from ``--format`` and ``--dpi``, checked.
+
+        Returns
+        -------
+        dict
+            ``{"fmt": tuple of str, "dpi": int}`` (PNG at 120 dpi for a command without the options).
+
+        Raises
+        ------
+        ModelError
+            For an unknown format or a resolution out of range.
+        """
+        from .. import validate
+
+        return {"fmt": validate.figure_formats(self.values.get("fig_format", "png")),
+                "dpi": validate.dpi(self.values.get("dpi", 120))}
+
     def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None, *, release: bool = False) -> list[str]:
         """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint.
 
@@ -447,12 +472,12 @@ class Inputs:
 
         nc, figdir = out_paths(out, stem)
         if release:
-            files = write_released(ds, nc, figdir)
+            files = write_released(ds, nc, figdir, **self.figures())
         else:
             from ..io import write_netcdf
             from ..plot import save_figures
 
-            files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+            files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir, **self.figures())]
         if engine is not None and engine.get("checkpoint") is not None:
             from ..sweep import remove_checkpoint
 
@@ -600,6 +625,11 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
             import numpy as np
 
             inp = Inputs({n: kw.pop(n) for n in names})
+            if "fig_format" in inp.values:
+                try:  # a bad --format or --dpi is refused before the computation, not after it
+                    inp.figures()
+                except GeardynError as e:
+                    raise fail(str(e)) from None
             # No floating-point warning reaches the user: an overflowing input is refused by the checks that
             # follow (a value that is not finite), a diverging point carries its status.
             with np.errstate(all="ignore"), warnings.catch_warnings():
@@ -619,7 +649,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
         wrapper.__signature__ = inspect.Signature(every)  # type: ignore[attr-defined]
         wrapper.__annotations__ = {p.name: p.annotation for p in every}
         del wrapper.__wrapped__
-        app.command(name)(wrapper)
+        app.command(name, cls=GeardynCommand)(wrapper)
         return fn
 
     return deco

@@ -73,7 +73,7 @@ def engine_keywords(values: dict[str, Any], stem: str) -> dict[str, Any]:
     }
 
 
-def write_released(ds: Any, nc: Path, figdir: Path) -> list[str]:
+def write_released(ds: Any, nc: Path, figdir: Path, fmt: Any = ("png",), dpi: int = 120) -> list[str]:
     """The NetCDF file of ``ds`` written releasing its variables (:func:`_write_releasing`), then its
     figures drawn from the file (:func:`_figures_from_file`); the files written.
 
@@ -89,6 +89,10 @@ def write_released(ds: Any, nc: Path, figdir: Path) -> list[str]:
         The NetCDF file.
     figdir : Path
         Where the figures go.
+    fmt : sequence of str
+        Their file formats (:func:`geardyn.validate.figure_formats`).
+    dpi : int
+        Their resolution.
 
     Returns
     -------
@@ -104,7 +108,7 @@ def write_released(ds: Any, nc: Path, figdir: Path) -> list[str]:
     frozen_before = gc.get_freeze_count()
     gc.freeze()
     try:
-        return [str(_write_releasing(ds, nc)), *_figures_from_file(nc, figdir)]
+        return [str(_write_releasing(ds, nc)), *_figures_from_file(nc, figdir, fmt, dpi)]
     finally:
         if not frozen_before:  # (what a caller froze is unfrozen by that caller)
             gc.unfreeze()
@@ -140,7 +144,7 @@ def _write_releasing(ds: Any, nc: Path) -> Path:
     return _atomic(nc, write)
 
 
-def _figures_from_file(nc: Path, figdir: Path) -> list[str]:
+def _figures_from_file(nc: Path, figdir: Path, fmt: Any = ("png",), dpi: int = 120) -> list[str]:
     """The figures of the result in ``nc``, drawn from the file opened lazily (each loads what it draws).
 
     Memory freed before a figure is given back first (reference cycles collected; free heap pages
@@ -159,6 +163,7 @@ def _figures_from_file(nc: Path, figdir: Path) -> list[str]:
         for spec in figures_for(ds):
             gc.collect()
             release_free_memory()
-            files.append(str(save(spec(ds), figdir / f"{spec.stem}.png")))
+            art = spec(ds)
+            files += [str(save(art, figdir / f"{spec.stem}.{f}", dpi=dpi)) for f in fmt]
     gc.collect()
     return files

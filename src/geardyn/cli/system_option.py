@@ -250,7 +250,8 @@ def _write(values: dict[str, Any], ds: Any) -> list[str]:
     from ..plot import save_figures
     stem = ds.attrs["geardyn_kind"]
     nc, figdir = out_paths(Path(values["out"]), stem)
-    files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir)]
+    files = [str(write_netcdf(ds, nc))] + [str(p) for p in save_figures(ds, figdir, fmt=values.get("fig_format", "png"),
+                                                                         dpi=values.get("dpi", 120))]
     if values.get("resume") is not None:
         from ..sweep import checkpoint_dir, remove_checkpoint
 
@@ -280,6 +281,9 @@ def run_system(name: str, values: dict[str, Any], kw: dict[str, Any]) -> None:
         For a bad system file or option (the decorator prints one line).
     """
     summary, ds = _HANDLERS[name](values, kw)
+    from ..systems.notes import excitation_note
+    if (note := excitation_note(load_cli_system(values), _state(values))) is not None:
+        summary["note"] = note
     files: list[str] = []
     if values.get("out") is not None:
         files = _write(values, ds() if callable(ds) else ds)
@@ -340,6 +344,6 @@ def _print(name: str, s: dict[str, Any]) -> None:
     for k in ("exponents", "elastic_multipliers"):  # every value of a point's spectrum
         if s.get(k) is not None:
             c.print(f"{k}: {s[k]}")
-    for k in ("motion", "period", "stable", "rigid_body_note", "status"):
+    for k in ("motion", "period", "stable", "rigid_body_note", "status", "note"):
         if s.get(k) is not None:
             c.print(f"{k}: {_cell(s[k])}")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Optional
 
 import typer
 
@@ -21,53 +21,36 @@ def _orders(text: str) -> tuple[int, ...]:
     return vals
 
 
-def _figure(report: dict[str, Any], path: Path) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    camp = report["campbell"]
-    lo, hi = camp["rpm_range"]
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for f in report["frequencies_hz"]:
-        if f > 0:
-            ax.axhline(f, color="0.6", lw=0.8)
-    for line in camp["lines"]:
-        ax.plot([lo, hi], [line["hz_per_rpm"] * lo, line["hz_per_rpm"] * hi], lw=1.2,
-                label=f"{line['mesh']} order {line['order']}")
-    for c in camp["crossings"]:
-        ax.plot(c["rpm"], c["frequency_hz"], "o", ms=4, color="k")
-    ax.set_xlabel("pinion speed (rpm)")
-    ax.set_ylabel("frequency (Hz)")
-    ax.set_title(report.get("title") or "Campbell diagram")
-    ax.legend(fontsize=8)
-    path.mkdir(parents=True, exist_ok=True) if path.suffix == "" else path.parent.mkdir(parents=True, exist_ok=True)
-    out = path / "campbell.png" if path.suffix == "" else path
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
-    return out
-
-
 def _render(summary: dict[str, Any], paths: list[str]) -> None:
     from rich.console import Console
     from rich.table import Table
 
     t = Table(title=f"modes — {summary.get('title') or ''}")
-    for col in ("mode", "frequency (Hz)", "mesh-dominated", "largest energy"):
+    for col in ("mode", "frequency (Hz)", "mesh-dominated", "largest strain energy"):
         t.add_column(col)
-    for i, (m, e) in enumerate(zip(summary["modes"], summary["energy_fractions"])):
+    for m, e in zip(summary["modes"], summary["energy_fractions"]):
         top = max(e.items(), key=lambda kv: kv[1]) if e else ("—", 0.0)
-        t.add_row(str(i + 1), "rigid (0)" if m["rigid"] else f"{m['frequency_hz']:.6g}",
-                  "yes" if m["mesh_dominated"] else "no", f"{top[0]} {top[1]:.3f}")
+        t.add_row(str(m["mode"]), "0 (rigid body)" if m["rigid"] else f"{m['frequency_hz']:.6g}",
+                  "yes" if m["mesh_dominated"] else "no", "—" if m["rigid"] else f"{top[0]} {top[1]:.3f}")
     c = Console()
     c.print(t)
+    if summary.get("degenerate"):
+        c.print("degenerate (one frequency): " + "; ".join("modes " + ", ".join(map(str, g))
+                                                          for g in summary["degenerate"]), markup=False)
     camp = summary.get("campbell")
-    if camp:
-        for x in camp["crossings"]:
-            c.print(f"crossing: {x['rpm']:.6g} rpm, mode {x['mode']}, order {x['order']} of {x['mesh']}")
+    if summary.get("campbell_note"):
+        c.print(summary["campbell_note"], markup=False, highlight=False)
+    if camp and camp["crossings"]:
+        rpm = camp["x"] == "rpm"
+        x = Table(title="Campbell crossings")
+        for col in ("pinion speed (rpm)" if rpm else "mesh frequency (Hz)", "frequency (Hz)", "modes", "line"):
+            x.add_column(col)
+        for cr in camp["crossings"]:
+            x.add_row(f"{cr['x']:.6g}", f"{cr['frequency_hz']:.6g}", ", ".join(map(str, cr["modes"])),
+                      camp["lines"][cr["line"]]["label"])
+        c.print(x)
     for p in paths:
-        c.print(f"wrote {p}")
+        c.print(f"wrote {p}", markup=False, highlight=False)
 
 
 @command("modes", OUTPUT)
@@ -75,22 +58,25 @@ def modes(
     inp: Inputs,
     system: Annotated[Path, typer.Option("--system", help="TOML file of the multi-DOF system.")],
     rpm_max: Annotated[float, typer.Option("--rpm-max", help="Upper end of the Campbell diagram's speed range (rpm).")] = 10000.0,
+    hz_max: Annotated[Optional[float], typer.Option("--hz-max", help="Upper end of the reference mesh frequency (Hz) of a Campbell diagram drawn against it (a reference mesh without teeth); default 1.2 times where the lowest order meets the highest mode.")] = None,
     orders: Annotated[str, typer.Option("--orders", help="Mesh orders of the Campbell diagram, e.g. '1,2,3'.")] = "1,2,3",
     clearances: Annotated[str, typer.Option("--clearances", help="Clearance elements 'contact' (stiffness on) or 'open'.")] = "contact",
 ) -> None:
-    """Natural frequencies (Hz, ascending; rigid-body modes 0), M-orthonormal mode shapes and modal strain-energy
-    fractions per element at mean mesh stiffness, and the Campbell diagram against pinion speed with the
-    mesh-order crossings (rpm, mode, order); --out writes the Campbell figure."""
+    """Natural frequencies (Hz, ascending; modes numbered from 1, rigid-body modes 0 Hz), M-orthonormal mode
+    shapes and modal strain-energy fractions per element at mean mesh stiffness, and the Campbell diagram with
+    the crossings of the mesh orders (against pinion speed, or against the mesh frequency when the reference
+    mesh gives no teeth); --out writes modes.nc and the Campbell figure."""
     from .. import validate
     from ..systems import load_description, modes_report
     from .options import choice
 
     desc = load_description(system)
     hi = validate.positive("rpm-max", rpm_max)
-    rep = modes_report(desc, (0.0, hi), _orders(orders), choice("clearances", clearances, ("contact", "open")))
+    hz = None if hz_max is None else (0.0, validate.positive("hz-max", hz_max))
+    rep = modes_report(desc, (0.0, hi), _orders(orders), choice("clearances", clearances, ("contact", "open")), hz)
     paths: list[str] = []
     if inp.out is not None:
-        if rep.get("campbell") is None:
-            raise ModelError(f"out: no Campbell diagram: {rep.get('campbell_note')}")
-        paths = [str(_figure(rep, Path(inp.out)))]
+        from ..systems.modes_data import modes_dataset
+
+        paths = inp.write(modes_dataset(rep), "modes")
     finish(rep, paths, inp, _render)

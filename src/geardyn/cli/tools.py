@@ -11,7 +11,7 @@ import typer
 from ..errors import GeardynError
 from . import render
 from .app import console, emit_json, err_console, fail
-from .options import CONFIG, OUTPUT, RPM, TORQUE, Inputs, command, option
+from .options import CONFIG, FIGURE_OPTIONS, OUTPUT, RPM, TORQUE, Inputs, command, option
 
 JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 
@@ -30,7 +30,8 @@ def geometry(inp: Inputs) -> None:
 
 
 PLOT_OPTIONS = [
-    option("out", Optional[Path], None, "--out", help="Directory for the PNG figures (default: the file's directory)."),
+    option("out", Optional[Path], None, "--out", help="Directory for the figures (default: the file's directory)."),
+    *FIGURE_OPTIONS,
     option("physical", bool, False, "--physical",
            help="Also draw physical-unit figures (rpm, µm, N) with the gear pair of --config (default pair: the "
                 "paper's Table 1) when the file has no physical variables."),
@@ -59,7 +60,7 @@ def plot_cmd(
             from ..analysis.physical import add_physical
 
             ds = add_physical(ds, None if (inp.config is None and "physical_scales" in ds.attrs) else inp.scales())
-        files = [str(p) for p in save_figures(ds, inp.out if inp.out is not None else file.parent)]
+        files = [str(p) for p in save_figures(ds, inp.out if inp.out is not None else file.parent, **inp.figures())]
     except GeardynError as e:
         raise fail(f"{file}: {e}")
     if inp.json_out:

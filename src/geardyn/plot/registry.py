@@ -14,7 +14,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 import xarray as xr
@@ -22,7 +22,7 @@ import xarray as xr
 from .._docfill import RESULT, attributes, parameters
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
-from . import systems, tooth
+from . import modes, systems, tooth
 from .common import DPI, save
 from .hb import hb_figure
 
@@ -122,6 +122,7 @@ def register(kind: str, *specs: FigureSpec) -> None:
 
 register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=engineering.has_iso_kv))
 register("runup", FigureSpec("runup", runup.runup_figure))
+register("modes", FigureSpec("campbell", modes.campbell, when=modes.has_campbell))
 systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
 register("stiffness", FigureSpec("stiffness", tooth.stiffness_figure), FigureSpec("compliance", tooth.compliance_figure))
 register("signature", FigureSpec("order_spectrum", tooth.order_spectrum),
@@ -182,7 +183,8 @@ def draw(ds: xr.Dataset, stem: str, ax: Any = None) -> Any:
     return specs[stem](ds, ax=ax)
 
 
-def save_figures(ds: xr.Dataset, directory: str | Path, *, fmt: str = "png", dpi: int = DPI) -> list[Path]:
+def save_figures(ds: xr.Dataset, directory: str | Path, *, fmt: str | Sequence[str] = "png",
+                 dpi: int = DPI) -> list[Path]:
     """Draw every figure of a result into ``directory`` and return their paths.
 
     Parameters
@@ -191,19 +193,32 @@ def save_figures(ds: xr.Dataset, directory: str | Path, *, fmt: str = "png", dpi
         A geardyn result (its ``geardyn_kind`` selects the figures, see :func:`figures_for`).
     directory : str or Path
         Where the files go (created if needed), named ``<stem>.<fmt>``.
-    fmt : str
-        File format (``png``, ``svg``, ``pdf``); saving needs no display and switches no backend.
+    fmt : str or sequence of str
+        File formats (``png``, ``pdf``, ``svg``; several as ``"png,pdf"`` or a list): each figure is
+        drawn once and saved in each; saving needs no display and switches no backend.
     dpi : int
-        Resolution of raster formats.
+        Resolution of raster formats (default :data:`~geardyn.plot.common.DPI`).
 
     Returns
     -------
     list of Path
+        Figure by figure, one file per format.
 
     Raises
     ------
     PlotError
         As :func:`figures_for`.
+    ModelError
+        For an unknown format or a resolution out of range (:func:`geardyn.validate.figure_formats`,
+        :func:`geardyn.validate.dpi`).
     """
+    from .. import validate
+
+    formats = validate.figure_formats(fmt)
+    res = validate.dpi(dpi)
     d = Path(directory)
-    return [save(spec(ds), d / f"{spec.stem}.{fmt}", dpi=dpi) for spec in figures_for(ds)]
+    paths: list[Path] = []
+    for spec in figures_for(ds):
+        art = spec(ds)
+        paths += [save(art, d / f"{spec.stem}.{f}", dpi=res) for f in formats]
+    return paths

@@ -40,7 +40,8 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     order = np.argsort(x)
     a0 = axes[0]
     mesh = a0.pcolormesh(x[order], orders, amp_o[order].T, shading="nearest", cmap="viridis")
-    fig.colorbar(mesh, ax=a0, label=f"order amplitude [{unit}]")
+    # the colour bar beside the panel, not taken out of it: the three panels keep one width and one x scale
+    fig.colorbar(mesh, cax=a0.inset_axes((1.015, 0.0, 0.025, 1.0)), label=f"order amplitude [{unit}]")
     a0.set_ylabel("mesh order")
     a0.set_yticks(orders)
     rate = float(ds.attrs.get("ramp_rate_rpm_per_s", np.nan))

@@ -12,7 +12,14 @@ meshes hold more than half of its strain energy.
 
 Campbell diagram: mesh m's frequency at pinion speed n (rpm) is ``f_m = r_m z n/60`` (z the
 reference mesh's ``teeth``), and order k of it is ``k f_m``.  Each crossing with a natural
-frequency f_i is at ``n = 60 f_i/(k r_m z)``.
+frequency f_i is at ``n = 60 f_i/(k r_m z)``.  Without ``teeth`` the diagram is drawn against the
+reference mesh frequency f_ref itself: order k of mesh m is ``k r_m f_ref``, crossing f_i at
+``f_ref = f_i/(k r_m)``.  Orders of meshes with the same ``k r_m`` are one line, and modes of one
+(degenerate) frequency one crossing.
+
+Modes are numbered from 1 in ascending frequency (the rigid-body modes first) wherever they are
+shown: tables, crossings, JSON, figures; the arrays of :class:`ModalResult` are indexed from 0 (mode
+``i`` is column ``i - 1``).
 
 References
 ----------
@@ -165,59 +172,121 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> Moda
     return ModalResult(desc.labels, f, w2, phi, rigid, tuple(names), tuple(meshes), energy)
 
 
+def _frequency_groups(res: ModalResult) -> list[tuple[float, list[int]]]:
+    """The distinct non-zero natural frequencies with the numbers (from 1) of the modes at each."""
+    degenerate = {g[0]: g for g in res.degenerate_groups()}
+    out, i = [], 0
+    f = res.frequencies_hz
+    while i < len(f):
+        g = degenerate.get(i, [i])
+        if f[i] > 0:
+            out.append((float(f[i]), [k + 1 for k in g]))
+        i = g[-1] + 1
+    return out
+
+
+def _line_label(pairs: list[tuple[str, int]], meshes: Sequence[str]) -> str:
+    """"order 2", or "order 2 of m1 = order 1 of m2" when the line is not every mesh's order."""
+    by_order: dict[int, list[str]] = {}
+    for name, k in pairs:
+        by_order.setdefault(k, []).append(name)
+    if len(by_order) == 1 and len(next(iter(by_order.values()))) == len(meshes):
+        return f"order {next(iter(by_order))}"
+    return " = ".join(f"order {k} of {', '.join(names)}" for k, names in sorted(by_order.items()))
+
+
 def campbell(
     desc: SystemDescription,
     result: ModalResult | None = None,
     rpm_range: tuple[float, float] = (0.0, 10000.0),
     orders: Sequence[int] = (1, 2, 3),
+    mesh_hz_range: tuple[float, float] | None = None,
 ) -> dict[str, Any]:
-    """Campbell diagram against pinion speed: mesh-order lines and their crossings with the modes.
+    """Campbell diagram: the mesh-order lines and their crossings with the natural frequencies.
+
+    Against pinion speed (rpm) when the reference mesh gives ``teeth``, else against the reference
+    mesh frequency (Hz).  Mesh orders of equal frequency (``k r_m``, e.g. the six meshes of a
+    planetary set) are one line; the modes of one degenerate frequency are one crossing.
 
     Parameters
     ----------
     desc : SystemDescription
-        The system; its reference mesh must give ``teeth``.
+        The system (at least one mesh).
     result : ModalResult, optional
         Its modes (computed when not given).
     rpm_range : (float, float)
-        Speed range (rpm) in which crossings are listed.
+        Speed range (rpm) of the diagram when the reference mesh gives ``teeth``.
     orders : sequence of int
         Harmonic orders of each mesh frequency.
+    mesh_hz_range : (float, float), optional
+        Range of the reference mesh frequency (Hz) of the diagram without ``teeth`` (default up to
+        1.2 times the frequency at which the lowest line crosses the highest mode).
 
     Returns
     -------
     dict
-        ``lines``: per mesh and order the slope in Hz per rpm (``k r_m z/60``); ``crossings``: a list
-        of ``{"rpm", "mode", "order", "mesh", "frequency_hz"}`` sorted by rpm; ``rpm_range``.
+        ``x``: ``"rpm"`` or ``"mesh_frequency_hz"``; ``x_label``; ``x_range``; ``teeth`` (or ``None``);
+        ``lines``: per distinct line ``{"label", "harmonic" (multiple of the reference mesh frequency),
+        "hz_per_x", "order", "mesh", "meshes", "orders"}``; ``crossings``: ``{"x", "mode", "modes",
+        "order", "mesh", "meshes", "line", "frequency_hz"}`` sorted by ``x`` (``"rpm"`` too against
+        speed), modes numbered from 1; ``rpm_range`` against speed.
 
     Raises
     ------
     ModelError
-        When the reference mesh has no ``teeth`` or the range or orders are invalid.
+        When the system has no mesh or the range or orders are invalid.
     """
-    z = desc.reference_mesh.teeth
-    if z is None:
-        raise ModelError(f"mesh {desc.reference_mesh.name!r}: teeth: needed for a Campbell diagram against pinion speed")
-    lo, hi = (float(x) for x in rpm_range)
-    if not (0 <= lo < hi and math.isfinite(hi)):
-        raise ModelError(f"rpm_range: must be 0 <= low < high, got {rpm_range!r}")
+    if not desc.meshes:
+        raise ModelError("campbell: the system has no mesh, so no mesh orders to draw")
     orders = [int(k) for k in orders]
     if not orders or any(k < 1 for k in orders):
         raise ModelError(f"orders: must be integers >= 1, got {orders!r}")
     res = result or modal_analysis(desc)
-    lines, crossings = [], []
+    groups = _frequency_groups(res)
+    z = desc.reference_mesh.teeth
+    per_x = z / 60.0 if z is not None else 1.0  # reference mesh frequency (Hz) per unit of x
+    harmonics: dict[float, list[tuple[str, int]]] = {}
     for m in desc.meshes:
         for k in orders:
-            slope = k * m.ratio * z / 60.0  # Hz per rpm
-            lines.append({"mesh": m.name, "order": k, "hz_per_rpm": slope})
-            for i, f in enumerate(res.frequencies_hz):
-                if f <= 0:
-                    continue
-                rpm = f / slope
-                if lo <= rpm <= hi:
-                    crossings.append({"rpm": rpm, "mode": i, "order": k, "mesh": m.name, "frequency_hz": float(f)})
-    crossings.sort(key=lambda c: (c["rpm"], c["mode"]))
-    return {"rpm_range": [lo, hi], "teeth": z, "lines": lines, "crossings": crossings}
+            key = float(f"{k * m.ratio:.12g}")
+            harmonics.setdefault(key, []).append((m.name, k))
+    if z is not None:
+        lo, hi = (float(x) for x in rpm_range)
+        what = "rpm_range"
+    elif mesh_hz_range is not None:
+        lo, hi = (float(x) for x in mesh_hz_range)
+        what = "mesh_hz_range"
+    else:
+        top = max((f for f, _ in groups), default=1.0)
+        lo, hi, what = 0.0, float(f"{1.2 * top / min(harmonics):.2g}"), "mesh_hz_range"
+    if not (0 <= lo < hi and math.isfinite(hi)):
+        raise ModelError(f"{what}: must be 0 <= low < high, got {(lo, hi)!r}")
+    names = [m.name for m in desc.meshes]
+    lines, crossings = [], []
+    for n, (h, pairs) in enumerate(sorted(harmonics.items())):
+        label = _line_label(pairs, names)
+        slope = h * per_x
+        lines.append({"label": label, "harmonic": h, "hz_per_x": slope, "order": pairs[0][1], "mesh": pairs[0][0],
+                      "meshes": [p[0] for p in pairs], "orders": [p[1] for p in pairs]})
+        for f, modes in groups:
+            x = f / slope
+            if lo <= x <= hi:
+                c = {"x": x, "mode": modes[0], "modes": modes, "order": pairs[0][1], "mesh": pairs[0][0],
+                     "meshes": [p[0] for p in pairs], "line": n, "frequency_hz": f}
+                if z is not None:
+                    c["rpm"] = x
+                crossings.append(c)
+    crossings.sort(key=lambda c: (c["x"], c["mode"]))
+    out: dict[str, Any] = {
+        "x": "rpm" if z is not None else "mesh_frequency_hz",
+        "x_label": ("pinion speed [rpm]" if z is not None else
+                    f"mesh frequency of {desc.reference_mesh.name} [Hz]" if desc.reference_mesh.ratio == 1.0 else
+                    "base mesh frequency ω_e/2π [Hz]"),
+        "x_range": [lo, hi], "teeth": z, "lines": lines, "crossings": crossings,
+    }
+    if z is not None:
+        out["rpm_range"] = [lo, hi]
+    return out
 
 
 def modes_report(
@@ -225,6 +294,7 @@ def modes_report(
     rpm_range: tuple[float, float] = (0.0, 10000.0),
     orders: Sequence[int] = (1, 2, 3),
     clearances: str = "contact",
+    mesh_hz_range: tuple[float, float] | None = None,
 ) -> dict[str, Any]:
     """A JSON-ready report of the modes and the Campbell diagram.
 
@@ -232,7 +302,7 @@ def modes_report(
     ----------
     desc : SystemDescription
         The system.
-    rpm_range, orders : see :func:`campbell`
+    rpm_range, orders, mesh_hz_range : see :func:`campbell`
     clearances : {"contact", "open"}
         See :func:`modal_analysis`.
 
@@ -240,15 +310,17 @@ def modes_report(
     -------
     dict
         ``frequencies_hz`` (ascending, rigid-body modes 0), ``rigid`` (per mode), ``dofs`` (labels),
-        ``modes`` (per mode: ``{"frequency_hz", "rigid", "mesh_dominated", "shape": {dof: value}}``),
-        ``energy_fractions`` (per mode: ``{element: fraction}``), ``degenerate`` (index groups),
-        ``campbell`` (:func:`campbell`, or ``None`` with a ``campbell_note`` when the reference mesh
-        gives no ``teeth``), ``assumed`` (the assumptions as dicts).
+        ``modes`` (per mode: ``{"mode" (its number, from 1), "frequency_hz", "rigid", "mesh_dominated",
+        "shape": {dof: value}}``), ``energy_fractions`` (per mode: ``{element: fraction}``),
+        ``degenerate`` (groups of mode numbers), ``campbell`` (:func:`campbell`, or ``None`` with a
+        ``campbell_note`` when the system has no mesh; a ``campbell_note`` also says when it is drawn
+        against the mesh frequency), ``assumed`` (the assumptions as dicts).
     """
     res = modal_analysis(desc, clearances)
     dom = res.mesh_dominated
     modes = [
         {
+            "mode": i + 1,
             "frequency_hz": float(res.frequencies_hz[i]),
             "rigid": bool(res.rigid[i]),
             "mesh_dominated": bool(dom[i]) and not bool(res.rigid[i]),
@@ -264,12 +336,15 @@ def modes_report(
         "rigid": [bool(x) for x in res.rigid],
         "modes": modes,
         "energy_fractions": [{e: float(res.energy[i, j]) for j, e in enumerate(res.elements)} for i in range(len(modes))],
-        "degenerate": res.degenerate_groups(),
+        "degenerate": [[i + 1 for i in g] for g in res.degenerate_groups()],
         "assumed": [a.to_dict() for a in desc.assumptions],
     }
-    if desc.reference_mesh.teeth is None:
+    if not desc.meshes:
         out["campbell"] = None
-        out["campbell_note"] = "the reference mesh gives no teeth: no Campbell diagram against pinion speed"
-    else:
-        out["campbell"] = campbell(desc, res, rpm_range, orders)
+        out["campbell_note"] = "the system has no mesh: no Campbell diagram"
+        return out
+    out["campbell"] = campbell(desc, res, rpm_range, orders, mesh_hz_range)
+    if desc.reference_mesh.teeth is None:
+        out["campbell_note"] = (f"mesh {desc.reference_mesh.name!r} gives no teeth: the Campbell diagram is "
+                                f"against its mesh frequency (Hz), not pinion speed")
     return out

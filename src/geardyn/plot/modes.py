@@ -1,0 +1,98 @@
+"""The Campbell diagram of a ``modes`` result (``geardyn modes --out``, :func:`geardyn.systems.modes_data.modes_dataset`).
+
+One horizontal line per natural frequency, labelled at the right edge with its mode numbers (a
+degenerate frequency is one line naming its modes), one line per distinct mesh order (meshes of
+equal frequency share it), the crossings as dots, and the legend below the axes, off the data.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import xarray as xr
+from matplotlib.axes import Axes
+
+from .common import plot_function
+
+__all__ = ["campbell", "has_campbell"]
+
+#: Relative tolerance for two natural frequencies to be one line.
+SAME_FREQUENCY_RTOL = 1e-6
+#: Smallest vertical distance (points) between two mode labels.
+LABEL_GAP_PT = 10.0
+
+
+def has_campbell(ds: xr.Dataset) -> bool:
+    """Whether a ``modes`` result carries a Campbell diagram (a system with meshes).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``modes`` result.
+
+    Returns
+    -------
+    bool
+    """
+    return "line_slope" in ds and ds.sizes.get("line", 0) > 0
+
+
+def frequency_lines(ds: xr.Dataset) -> list[tuple[float, list[int]]]:
+    """The distinct natural frequencies (Hz, ascending) with the numbers of the modes at each."""
+    out: list[tuple[float, list[int]]] = []
+    for f, m in zip(ds["frequency_Hz"].values, ds["mode"].values):
+        if out and abs(f - out[-1][0]) <= SAME_FREQUENCY_RTOL * max(abs(f), 1e-300):
+            out[-1][1].append(int(m))
+        else:
+            out.append((float(f), [int(m)]))
+    return out
+
+
+def _spread(y: np.ndarray, gap: float, top: float) -> np.ndarray:
+    """Positions as close to ``y`` (ascending) as possible, at least ``gap`` apart, within [0, top]."""
+    out = np.array(y, dtype=float)
+    for i in range(1, len(out)):
+        out[i] = max(out[i], out[i - 1] + gap)
+    if len(out) and out[-1] > top:
+        out[-1] = top
+        for i in range(len(out) - 2, -1, -1):
+            out[i] = min(out[i], out[i + 1] - gap)
+    return out
+
+
+@plot_function("modes", (8, 5.6))
+def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Campbell diagram: the natural frequencies (labelled with their mode numbers), the mesh-order lines and
+    their crossings against pinion speed (or the mesh frequency when the file gives no tooth count)."""
+    lo, hi = json.loads(ds.attrs["campbell_x_range"])
+    groups = frequency_lines(ds)
+    fmax = max(f for f, _ in groups)
+    top = 1.08 * fmax if fmax > 0 else 1.0
+    for f, _ in groups:
+        if f > 0:
+            ax.axhline(f, color="0.6", lw=0.8, zorder=1)
+    for j, (slope, text) in enumerate(zip(ds["line_slope"].values, ds["line_label"].values)):
+        x1 = min(hi, top / slope)
+        ax.plot([lo, x1], [slope * lo, slope * x1], color=f"C{j}", lw=1.4, zorder=2, label=str(text))
+    if ds.sizes.get("crossing", 0):
+        ax.plot(ds["crossing_x"].values, ds["crossing_frequency_Hz"].values, "o", ms=4, color="k", zorder=3,
+                label="crossing")
+    ax.set_xlim(lo, hi)
+    ax.set_ylim(0.0, top)
+    ax.set_xlabel(ds.attrs.get("campbell_x_label", "pinion speed [rpm]"))
+    ax.set_ylabel("frequency [Hz]")
+    title = ds.attrs.get("title") or ""
+    ax.set_title(f"Campbell diagram\n{title}" if title else "Campbell diagram", fontsize=10)
+    # mode labels in a column right of the axes, spread so that they do not overlap
+    height_pt = ax.get_window_extent().height * 72.0 / ax.figure.dpi
+    ys = np.array([f / top for f, _ in groups])
+    placed = _spread(ys, LABEL_GAP_PT / max(height_pt, 1.0), 1.0)
+    for (f, modes), y in zip(groups, placed):
+        num = ", ".join(map(str, modes))
+        text = f"{'mode' if len(modes) == 1 else 'modes'} {num}: " + (f"{f:.5g} Hz" if f > 0 else "rigid body")
+        ax.annotate(text, xy=(1.0, f), xycoords=("axes fraction", "data"), xytext=(1.03, y),
+                    textcoords="axes fraction", va="center", ha="left", fontsize=7, annotation_clip=False,
+                    arrowprops=dict(arrowstyle="-", lw=0.5, color="0.5", shrinkA=0, shrinkB=1))
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=min(4, ds.sizes["line"] + 1), fontsize=8,
+              frameon=False)

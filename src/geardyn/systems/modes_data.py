@@ -1,0 +1,104 @@
+"""The ``modes`` Dataset: the report of :func:`~geardyn.systems.modes.modes_report` as a result that
+``geardyn plot`` redraws (its Campbell figure is in :mod:`geardyn.plot.registry`).
+
+Modes are numbered from 1 (coordinate ``mode``), as in the report's tables and JSON.  The Campbell
+lines and crossings are variables along ``line`` and ``crossing``; the diagram's axis (pinion speed,
+or the mesh frequency when the reference mesh gives no ``teeth``) is in the attributes
+``campbell_x``, ``campbell_x_label`` and ``campbell_x_range``.  A system without a Campbell diagram
+gives the modes alone.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..io import KIND_VARIABLES, Variable, json_attr
+
+__all__ = ["MODES_VARIABLES", "modes_dataset"]
+
+_V = lambda ln, u="1": Variable(u, ln)  # noqa: E731
+#: Metadata of the variables of a ``modes`` result (entered in :data:`geardyn.io.KIND_VARIABLES`).
+MODES_VARIABLES: dict[str, Variable] = {
+    "mode": _V("mode number (from 1, ascending frequency; rigid-body modes first)"),
+    "dof": _V("degree of freedom (body.dof)"),
+    "element": _V("stiffness element (connections, clearances, meshes)"),
+    "frequency_Hz": _V("natural frequency (rigid-body modes 0)", "Hz"),
+    "rigid": _V("rigid-body mode (1) or elastic (0)"),
+    "mesh_dominated": _V("meshes hold more than half of the mode's strain energy (1)"),
+    "shape": _V("M-orthonormal mode shape (SI coordinates: m and rad)"),
+    "energy_fraction": _V("modal strain-energy fraction of the element"),
+    "line": _V("index of the Campbell line"),
+    "line_label": _V("mesh orders of the Campbell line"),
+    "line_harmonic": _V("line frequency as a multiple of the base mesh frequency (k r_m)"),
+    "line_slope": _V("line frequency per unit of the Campbell axis (Hz per rpm, or per Hz)"),
+    "crossing": _V("index of the crossing of a Campbell line with a natural frequency"),
+    "crossing_x": _V("crossing on the Campbell axis (pinion speed in rpm, or mesh frequency in Hz)"),
+    "crossing_frequency_Hz": _V("natural frequency of the crossing", "Hz"),
+    "crossing_mode": _V("first mode number of the crossing"),
+    "crossing_modes": _V("mode numbers of the crossing (a degenerate frequency lists several)"),
+    "crossing_line": _V("Campbell line of the crossing (index along line)"),
+}
+KIND_VARIABLES.setdefault("modes", {}).update(MODES_VARIABLES)
+
+
+def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
+    """The ``modes`` Dataset of a modes report.
+
+    Parameters
+    ----------
+    report : dict
+        :func:`geardyn.systems.modes.modes_report`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Kind ``modes``: ``frequency_Hz``, ``rigid``, ``mesh_dominated`` over ``mode``; ``shape`` over
+        (``dof``, ``mode``); ``energy_fraction`` over (``mode``, ``element``); with a Campbell diagram
+        ``line_*`` over ``line`` and ``crossing_*`` over ``crossing``.  The report is the ``summary``
+        attribute (JSON).
+    """
+    from .. import __version__
+
+    modes = report["modes"]
+    dofs = list(report["dofs"])
+    elements = list(report["energy_fractions"][0]) if report["energy_fractions"] else []
+    n = len(modes)
+    data: dict[str, Any] = {
+        "frequency_Hz": ("mode", np.array(report["frequencies_hz"], dtype=float)),
+        "rigid": ("mode", np.array([m["rigid"] for m in modes], dtype=np.int8)),
+        "mesh_dominated": ("mode", np.array([m["mesh_dominated"] for m in modes], dtype=np.int8)),
+        "shape": (("dof", "mode"), np.array([[m["shape"][d] for m in modes] for d in dofs], dtype=float)),
+        "energy_fraction": (("mode", "element"),
+                            np.array([[e[k] for k in elements] for e in report["energy_fractions"]],
+                                     dtype=float).reshape(n, len(elements))),
+    }
+    coords: dict[str, Any] = {"mode": np.arange(1, n + 1), "dof": np.array(dofs, dtype=object),
+                              "element": np.array(elements, dtype=object)}
+    attrs = {"geardyn_kind": "modes", "geardyn_version": __version__, "title": report.get("title") or "",
+             "source": report.get("source") or "", "summary": json_attr(report)}
+    camp = report.get("campbell")
+    if camp:
+        lines, cr = camp["lines"], camp["crossings"]
+        coords["line"] = np.arange(len(lines))
+        coords["crossing"] = np.arange(len(cr))
+        data.update({
+            "line_label": ("line", np.array([ln["label"] for ln in lines], dtype=object)),
+            "line_harmonic": ("line", np.array([ln["harmonic"] for ln in lines], dtype=float)),
+            "line_slope": ("line", np.array([ln["hz_per_x"] for ln in lines], dtype=float)),
+            "crossing_x": ("crossing", np.array([c["x"] for c in cr], dtype=float)),
+            "crossing_frequency_Hz": ("crossing", np.array([c["frequency_hz"] for c in cr], dtype=float)),
+            "crossing_mode": ("crossing", np.array([c["mode"] for c in cr], dtype=np.int64)),
+            "crossing_modes": ("crossing", np.array([", ".join(map(str, c["modes"])) for c in cr], dtype=object)),
+            "crossing_line": ("crossing", np.array([c["line"] for c in cr], dtype=np.int64)),
+        })
+        attrs.update({"campbell_x": camp["x"], "campbell_x_label": camp["x_label"],
+                      "campbell_x_range": json.dumps(list(camp["x_range"]))})
+        if camp.get("teeth") is not None:
+            attrs["teeth"] = int(camp["teeth"])
+    if report.get("campbell_note"):
+        attrs["campbell_note"] = report["campbell_note"]
+    return xr.Dataset(data, coords=coords, attrs=attrs)
