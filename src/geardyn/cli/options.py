@@ -27,7 +27,7 @@ from .. import params
 from ..errors import GeardynError, ModelError
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
 from .app import app, emit_json, fail, is_stop
-from .output import engine_keywords, out_paths
+from .output import check_out, engine_keywords, out_paths
 
 __all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
            "integration", "sweep_range", "model_group", "option", "param_option", "ContinuationParamOpt", "StopOpt"]
@@ -565,6 +565,10 @@ StopOpt = Annotated[Optional[float], typer.Option(
     "--stop", help="Parameter value where the continuation ends (may lie below --start).")]
 
 
+#: Suffixes that make a command's ``--out`` a file name (else a directory); the NetCDF commands: ``.nc``.
+OUT_FILES = {"plot": (), "modes": (".png", ".pdf", ".svg")}
+
+
 def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register ``fn(inp, **own_options)`` as a command that also takes the options of ``groups``.
 
@@ -600,6 +604,11 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
             import numpy as np
 
             inp = Inputs({n: kw.pop(n) for n in names})
+            if inp.values.get("out") is not None:  # before anything is computed
+                try:
+                    check_out(inp.values["out"], file_suffixes=OUT_FILES.get(name, (".nc",)))
+                except GeardynError as e:
+                    raise fail(str(e)) from None
             # No floating-point warning reaches the user: an overflowing input is refused by the checks that
             # follow (a value that is not finite), a diverging point carries its status.
             with np.errstate(all="ignore"), warnings.catch_warnings():

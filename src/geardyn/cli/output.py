@@ -7,11 +7,71 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-__all__ = ["engine_keywords", "out_paths", "write_released"]
+__all__ = ["check_out", "engine_keywords", "out_paths", "write_released"]
+
+
+def _is_nc(out: Path) -> bool:
+    return out.suffix.lower() == ".nc"
+
+
+def check_out(out: Any, option: str = "out", *, file_suffixes: tuple[str, ...] = (".nc",)) -> Path:
+    """Refuse an output path that cannot be written before anything is computed.
+
+    ``out`` names a file when its suffix is one of ``file_suffixes`` (any case), else a directory.
+    Refused: an empty name; a file name that is an existing directory; a directory name that is an
+    existing file; a folder that cannot be created or written.
+
+    Parameters
+    ----------
+    out : str or Path
+        The value of the option.
+    option : str
+        The option's name, for the message.
+    file_suffixes : tuple of str
+        Suffixes (lower case) that make ``out`` a file name.
+
+    Returns
+    -------
+    Path
+        ``out``.
+
+    Raises
+    ------
+    ModelError
+        One line naming the option, the path and what is wrong.
+    """
+    import os
+
+    from ..errors import ModelError
+
+    text = str(out) if out is not None else ""
+    if not text.strip():
+        raise ModelError(f"{option}: empty; give a directory or a file name")
+    if "\0" in text:
+        raise ModelError(f"{option}: the path contains a NUL character")
+    out = Path(text)
+    is_file = out.suffix.lower() in file_suffixes
+    try:
+        if is_file and out.is_dir():
+            raise ModelError(f"{option}: {out} is a directory; give a file name ({'/'.join(file_suffixes)}) or a "
+                             f"directory name without that suffix")
+        if not is_file and out.exists() and not out.is_dir():
+            raise ModelError(f"{option}: {out} exists and is not a directory")
+        folder = out.parent if is_file else out
+        probe = folder
+        while not probe.exists() and probe != probe.parent:
+            probe = probe.parent
+        if probe.exists() and not probe.is_dir():
+            raise ModelError(f"{option}: cannot create {folder}: {probe} is a file")
+        if probe.exists() and not os.access(probe, os.W_OK | os.X_OK):
+            raise ModelError(f"{option}: cannot write in {probe} (permission denied)")
+    except OSError as e:  # a name too long, a loop of links ...
+        raise ModelError(f"{option}: cannot use {text[:200]!r} ({e.strerror or e})") from None
+    return out
 
 
 def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
-    """(NetCDF file, figure directory) for ``--out``: a directory, or a file name ending in .nc.
+    """(NetCDF file, figure directory) for ``--out``: a directory, or a file name ending in .nc (any case).
 
     Parameters
     ----------
@@ -25,7 +85,8 @@ def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
     nc, figures : Path
         The NetCDF file and the directory the figures go to.
     """
-    if out.suffix == ".nc":
+    out = Path(out)
+    if _is_nc(out):
         return out, out.parent
     return out / f"{stem}.nc", out
 
@@ -116,19 +177,22 @@ def _write_releasing(ds: Any, nc: Path) -> Path:
     The coordinates and attributes go first, then each data variable is added (variables
     computed when read, e.g. :func:`geardyn.analysis.physical.add_physical` with ``lazy``, are
     computed then), so that the file is written without holding a copy of the result; it reads
-    back as the Dataset ``write_netcdf`` writes.  Atomic as ``write_netcdf``.
+    back as the Dataset ``write_netcdf`` writes.  Atomic as ``write_netcdf`` (produced in memory, then
+    written: a full disk is an :class:`OSError` naming the file).
     """
-    from ..io import _atomic, annotate
+    from ..atomic import atomic_write_bytes, write_netcdf_bytes
+    from ..io import annotate
 
     annotate(ds)
     names = list(ds.data_vars)
 
-    def write(tmp: Path) -> None:
+    def write(buf: Any) -> None:
         from xarray.backends import H5NetCDFStore
 
-        # One open file.  Written from this thread alone, so without xarray's write lock, whose look-up of
-        # a Dask scheduler imports Dask (where installed) for nothing.
-        store = H5NetCDFStore.open(tmp, mode="w", lock=False)
+        # One open file, in memory (HDF5 never meets a full disk; the variables move from ds into it).
+        # Written from this thread alone, so without xarray's write lock, whose look-up of a Dask
+        # scheduler imports Dask (where installed) for nothing.
+        store = H5NetCDFStore.open(buf, mode="w", lock=False)
         try:
             ds.drop_vars(names).dump_to_store(store)
             for name in names:
@@ -137,7 +201,7 @@ def _write_releasing(ds: Any, nc: Path) -> Path:
         finally:
             store.close()
 
-    return _atomic(nc, write)
+    return atomic_write_bytes(nc, write_netcdf_bytes(write))
 
 
 def _figures_from_file(nc: Path, figdir: Path) -> list[str]:

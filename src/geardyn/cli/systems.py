@@ -42,11 +42,15 @@ def _figure(report: dict[str, Any], path: Path) -> Path:
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(report.get("title") or "Campbell diagram")
     ax.legend(fontsize=8)
-    path.mkdir(parents=True, exist_ok=True) if path.suffix == "" else path.parent.mkdir(parents=True, exist_ok=True)
+    import io
+
+    from ..atomic import atomic_write_bytes
+
     out = path / "campbell.png" if path.suffix == "" else path
-    fig.savefig(out, dpi=120)
+    buf = io.BytesIO()
+    fig.savefig(buf, dpi=120, format=out.suffix.lstrip(".").lower() or "png")
     plt.close(fig)
-    return out
+    return atomic_write_bytes(out, buf.getbuffer())
 
 
 def _render(summary: dict[str, Any], paths: list[str]) -> None:

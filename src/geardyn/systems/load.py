@@ -72,7 +72,7 @@ from typing import Any
 
 import numpy as np
 
-from .._config_values import _ANGLE_UNITS, _ureg, parse_toml, read_toml
+from .._config_values import _ANGLE_UNITS, parse_toml, quantity, read_toml
 from ..errors import ConfigError, GeardynError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
 from .assemble import SystemModel, assemble
@@ -307,9 +307,11 @@ class _Block:
         if not isinstance(raw, str):
             raise self.cerr(key, f"{el}expected a {kind} with its unit, as a string (e.g. {example}), got {raw!r}")
         try:
-            q = _ureg().Quantity(raw)
+            q = quantity(raw)
+        except ValueError as e:
+            raise self.cerr(key, f"{el}cannot read {raw[:60]!r} ({e}); write e.g. {example}") from None
         except Exception as e:  # pint raises several types for a bad unit string
-            raise self.cerr(key, f"{el}cannot read {raw!r} ({type(e).__name__}); write e.g. {example}") from None
+            raise self.cerr(key, f"{el}cannot read {raw[:60]!r} ({type(e).__name__}); write e.g. {example}") from None
         units = str(q.units)
         if kind in ("angle", "phase") and units not in _ANGLE_UNITS:
             raise self.cerr(key, f"{el}expected an angle with its unit (e.g. {example}), got {raw!r}")
