@@ -202,6 +202,11 @@ class _Ctx:
 
 #: Largest integer a configuration value may hold (tooth counts and the like are far below it).
 MAX_INTEGER = 1_000_000
+#: Smallest and largest magnitude of a dimensional value in its SI unit (0 is allowed where the sign is).
+MIN_MAGNITUDE = 1e-30
+MAX_MAGNITUDE = 1e30
+#: Largest number of teeth of a gear (a bevel or hypoid gear has at most a few hundred).
+MAX_TEETH = 1000
 
 
 def _clip(raw: Any, n: int = 60) -> str:
@@ -237,6 +242,8 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
             raise bad(f"expected an integer, got {_clip(raw)}")
         if abs(raw) > MAX_INTEGER:
             raise bad(f"must be at most {MAX_INTEGER} in size, got {_clip(raw)}")
+        if key in ("z1", "z2") and not 1 <= raw <= MAX_TEETH:
+            raise bad(f"a number of teeth must be from 1 to {MAX_TEETH}, got {raw}")
         return raw
     if kind.unit is None or (kind is _PHASE and isinstance(raw, (int, float))):
         # plain (non-dimensional) number; phases may be plain numbers in radians
@@ -277,7 +284,10 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
         )
     x = float(q.to(kind.unit).magnitude)
     if not math.isfinite(x):
-        raise bad(f"must be finite, got {raw!r}")
+        raise bad(f"must be finite, got {_clip(raw)}")
+    if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
+        raise bad(f"{_clip(raw)} is outside the range of physical values, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} "
+                  f"{kind.unit}")
     return x
 
 

@@ -27,7 +27,7 @@ from .. import params
 from ..errors import GeardynError, ModelError
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
 from .app import app, emit_json, fail, is_stop
-from .output import check_out, engine_keywords, out_paths
+from .output import check_budget, check_out, engine_keywords, out_paths
 
 __all__ = ["CONFIG", "ENGINE", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
            "integration", "sweep_range", "model_group", "option", "param_option", "ContinuationParamOpt", "StopOpt"]
@@ -331,6 +331,7 @@ class Inputs:
         ws = list(omegas) + ([] if omega is None else [omega])
         opts = validate.options(v["dtau"], v["transient"], n, v["accurate"], ws)
         validate.recorded(points, opts.periods)
+        check_budget(opts, ws, points)
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
 
     def param_range(self, param: Optional[str], start: Optional[float], stop: Optional[float], *,

@@ -7,7 +7,101 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-__all__ = ["check_out", "engine_keywords", "out_paths", "write_released"]
+__all__ = ["TIME_BUDGET", "check_budget", "check_out", "engine_keywords", "out_paths", "write_released"]
+
+#: Estimated computing time a command may take (s), unless the environment variable
+#: ``GEARDYN_TIME_BUDGET`` gives another number of seconds: 4 hours.
+TIME_BUDGET = 4 * 3600.0
+#: Estimated kernel time of one RK4 step: a single trajectory (simulate, lyapunov: one point, with its
+#: recording) and a sweep point (SIMD lanes, per thread; ``geardyn.sweep.STEP_SECONDS``).
+TRAJECTORY_STEP_SECONDS = 1.0e-7
+#: Memory a recorded forcing period takes: of a single trajectory (its statistics and history, measured
+#: about 620 bytes) and of a sweep point (its Poincaré point), and a sweep point's fixed share (bytes).
+TRAJECTORY_PERIOD_BYTES = 1024
+SWEEP_PERIOD_BYTES = 16
+SWEEP_POINT_BYTES = 1024
+
+
+def time_budget() -> float:
+    """The time budget in seconds (:data:`TIME_BUDGET`, or ``GEARDYN_TIME_BUDGET``)."""
+    import math
+    import os
+
+    try:
+        t = float(os.environ.get("GEARDYN_TIME_BUDGET", TIME_BUDGET))
+    except ValueError:
+        return TIME_BUDGET
+    return t if math.isfinite(t) and t > 0 else TIME_BUDGET
+
+
+def memory_budget() -> float:
+    """Half of this machine's physical memory (bytes; 8 GB where it cannot be read)."""
+    import os
+
+    try:
+        return 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return 8e9
+
+
+def _human_time(s: float) -> str:
+    return f"{s:.3g} s" if s < 120 else f"{s / 60:.3g} min" if s < 7200 else f"{s / 3600:.3g} h"
+
+
+def check_budget(opts: Any, omegas: Any, points: int) -> None:
+    """Refuse, before computing, a run whose estimated memory or computing time exceeds the budgets
+    (:func:`memory_budget`, :func:`time_budget`); the message gives the estimate.
+
+    Parameters
+    ----------
+    opts : IntegrationOptions
+        Step, transient and recorded periods.
+    omegas : sequence of float
+        The forcing frequencies of the points (the steps per period follow from them); none: no time check.
+    points : int
+        Points of the run (1: a single trajectory).
+
+    Raises
+    ------
+    ModelError
+        Naming the options, the estimate and the budget.
+    """
+    import math
+
+    import numpy as np
+
+    from ..errors import ModelError
+
+    points = max(1, int(points))
+    pe, tr = int(opts.periods), int(opts.transient)
+    if points == 1:
+        need = pe * TRAJECTORY_PERIOD_BYTES
+    else:
+        need = points * (pe * SWEEP_PERIOD_BYTES + SWEEP_POINT_BYTES)
+    have = memory_budget()
+    if need > have:
+        raise ModelError(f"periods: {points} point(s) × {pe} recorded periods need about {need / 1e9:.3g} GB of memory; "
+                         f"at most {have / 1e9:.3g} GB (half this machine's memory): fewer points or --periods")
+    ws = np.asarray(list(omegas) if not isinstance(omegas, np.ndarray) else omegas, dtype=float).ravel()
+    ws = ws[np.isfinite(ws) & (ws > 0)]
+    if not ws.size:
+        return
+    steps = float(np.mean(np.ceil(2.0 * math.pi / ws / opts.dtau)))
+    total = steps * (tr + pe) * points
+    if points == 1:
+        seconds = total * TRAJECTORY_STEP_SECONDS
+    else:
+        import numba
+
+        from ..sweep import STEP_SECONDS
+
+        seconds = total * STEP_SECONDS / max(1, int(numba.config.NUMBA_NUM_THREADS))
+    budget = time_budget()
+    if seconds > budget:
+        raise ModelError(
+            f"periods: {points} point(s) × ({tr} transient + {pe} recorded periods) × {steps:.3g} steps per period "
+            f"= {total:.3g} RK4 steps, about {_human_time(seconds)} of computing; the budget is {_human_time(budget)} "
+            f"(GEARDYN_TIME_BUDGET seconds): fewer points or periods, or a larger --dtau")
 
 
 def _is_nc(out: Path) -> bool:
