@@ -100,7 +100,6 @@ _K = {
     "speed": ("rpm", '"3000 rpm"'),
 }
 
-#: Kinds of value that cannot be negative.
 _NONNEGATIVE = frozenset({"mass", "inertia", "stiffness", "tstiffness", "damping", "tdamping"})
 
 _BODY_KEYS = {"name": "text", "dofs": "list", "mass": "mass", "inertia": "inertia", "mass_matrix": "matrix"}
@@ -337,15 +336,13 @@ class _Block:
         return self._in_range(key, kind, x, el, raw)
 
     def _in_range(self, key: str, kind: str, x: float, el: str, raw: Any) -> float:
-        """``x`` if a physical value of ``kind`` may take it: no negative mass, inertia, stiffness, damping
-        or backlash, and no magnitude outside [:data:`MIN_MAGNITUDE`, :data:`MAX_MAGNITUDE`] (SI)."""
+        """``x`` if a ``kind`` may be it: not negative (see :data:`_NONNEGATIVE`), magnitude within the SI range."""
         if kind in _NONNEGATIVE or key == "backlash":
             if x < 0:
                 what = "backlash" if key == "backlash" else kind
                 raise self.cerr(key, f"{el}must be >= 0 (a negative {what} has no physical meaning), got {raw!r}")
         if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
-            raise self.cerr(key, f"{el}{raw!r} is outside the range of physical values, {MIN_MAGNITUDE:g} to "
-                                 f"{MAX_MAGNITUDE:g} in SI units")
+            raise self.cerr(key, f"{el}{raw!r} is outside the physical range, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} SI")
         return x
 
 
@@ -636,12 +633,9 @@ def _unique(ctx: _Ctx, section: str, names: list) -> None:
     """Refuse two [[section]] tables of the same name (the second would silently replace the first)."""
     seen: dict[str, int] = {}
     for i, n in enumerate(names):
-        if n is None:
-            continue
-        if n in seen:
-            first = ctx.line(section, seen[n], "name")
-            raise ctx.config(section, i, "name", None, f"duplicate {section} name {n!r} (also the [[{section}]] "
-                             + (f"at line {first}" if first else f"number {seen[n] + 1}") + "); names must be unique")
+        if n is not None and n in seen:
+            at = f"line {ctx.line(section, seen[n], 'name')}"
+            raise ctx.config(section, i, "name", None, f"duplicate {section} name {n!r} (also at {at}); names must be unique")
         seen[n] = i
 
 
