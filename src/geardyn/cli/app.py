@@ -173,6 +173,10 @@ def _invoke(argv: Optional[list[str]]) -> int:
     cx = sys.modules[typer.BadParameter.__module__]
     usage_error, click_exception = cx.UsageError, cx.ClickException
     no_args_is_help = getattr(cx, "NoArgsIsHelpError", ())
+    empty = _empty_path_option(sys.argv[1:] if argv is None else argv)
+    if empty is not None:  # a path option given as "": typer would take it for the current directory
+        say_error(f"error: {empty.lstrip('-')}: empty; give a directory or a file name")
+        return EXIT_USAGE
     try:
         rv = app(args=argv, prog_name="geardyn", standalone_mode=False)
     except no_args_is_help as e:  # type: ignore[misc]
@@ -228,6 +232,23 @@ def _invoke(argv: Optional[list[str]]) -> int:
     if isinstance(rv, int) and not isinstance(rv, bool):
         return rv
     return EXIT_OK
+
+
+#: Options whose value is a path, which may not be empty.
+PATH_OPTIONS = ("--out", "--config", "--system")
+
+
+def _empty_path_option(args: list[str]) -> Optional[str]:
+    """The first path option of ``args`` given an empty value (``--out ""`` or ``--out=``), else None."""
+    args = [str(a) for a in args]
+    for i, a in enumerate(args):
+        if a == "--":
+            return None
+        if a in PATH_OPTIONS and i + 1 < len(args) and not args[i + 1].strip():
+            return a
+        if "=" in a and a.split("=", 1)[0] in PATH_OPTIONS and not a.split("=", 1)[1].strip():
+            return a.split("=", 1)[0]
+    return None
 
 
 def describe_os_error(e: OSError) -> str:

@@ -10,8 +10,8 @@ from typing import Any
 __all__ = ["TIME_BUDGET", "check_budget", "check_out", "engine_keywords", "out_paths", "write_released"]
 
 #: Estimated computing time a command may take (s), unless the environment variable
-#: ``GEARDYN_TIME_BUDGET`` gives another number of seconds: 4 hours.
-TIME_BUDGET = 4 * 3600.0
+#: ``GEARDYN_TIME_BUDGET`` gives another number of seconds: 1 hour.
+TIME_BUDGET = 3600.0
 #: Estimated kernel time of one RK4 step: a single trajectory (simulate, lyapunov: one point, with its
 #: recording) and a sweep point (SIMD lanes, per thread; ``geardyn.sweep.STEP_SECONDS``).
 TRAJECTORY_STEP_SECONDS = 1.0e-7
@@ -218,14 +218,81 @@ def engine_keywords(values: dict[str, Any], stem: str) -> dict[str, Any]:
     nc = out_paths(Path(out), stem)[0] if out is not None else None
     if values.get("resume") and nc is None:
         raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
+    scheduler = validate.scheduler(values.get("scheduler"))
+    if scheduler is not None:
+        probe_scheduler(scheduler)
     return {
         "workers": validate.workers(values.get("workers", 1)),
         "processes": bool(values.get("processes", False)),
-        "scheduler": validate.scheduler(values.get("scheduler")),
+        "scheduler": scheduler,
         "checkpoint": checkpoint_dir(nc) if nc is not None else None,
         "resume": bool(values.get("resume", False)),
         "progress": not values.get("json_out"),
     }
+
+
+#: Seconds a Dask scheduler is given to accept a connection and send its handshake.
+HANDSHAKE_TIMEOUT = 5.0
+
+
+def probe_scheduler(address: str, timeout: float = HANDSHAKE_TIMEOUT) -> None:
+    """Check that a ``tcp://`` address is a Dask scheduler before a sweep relies on it.
+
+    A Dask server sends its handshake (an 8-byte length, then msgpack frames naming its ``compression``
+    and ``pickle-protocol``) as soon as it accepts a connection; an endpoint that refuses, stays
+    silent for ``timeout`` seconds or sends anything else is refused in one line.  Other schemes (TLS,
+    in-process) are left to Dask.
+
+    Parameters
+    ----------
+    address : str
+        ``tcp://HOST:PORT`` (port 8786 when not given).
+    timeout : float
+        Seconds for the connection and the handshake.
+
+    Raises
+    ------
+    SweepError
+        Naming the address and what was found there.
+    """
+    import socket
+    import struct
+    import time
+
+    from ..errors import SweepError
+
+    from ..validate import _SCHEDULER
+
+    m = _SCHEDULER.match(address)
+    if m is None or (m.group(1) or "tcp") != "tcp":
+        return
+    host, port_n = m.group(2).strip("[]"), int(m.group(3) or 8786)
+    deadline = time.monotonic() + timeout
+
+    def receive(sock: socket.socket, n: int) -> bytes:
+        data = b""
+        while len(data) < n:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError
+            sock.settimeout(left)
+            part = sock.recv(n - len(data))
+            if not part:
+                break
+            data += part
+        return data
+
+    try:
+        with socket.create_connection((host, port_n), timeout=timeout) as sock:
+            head = receive(sock, 8)
+            size = struct.unpack("<Q", head)[0] if len(head) == 8 else 0
+            body = receive(sock, size) if 0 < size <= 1_000_000 else b""
+    except TimeoutError:
+        raise SweepError(f"scheduler: {address} did not answer as a Dask scheduler within {timeout:g} s") from None
+    except (OSError, ValueError, OverflowError) as e:
+        raise SweepError(f"scheduler: cannot connect to {address} ({getattr(e, 'strerror', None) or e})") from None
+    if b"pickle-protocol" not in body and b"compression" not in body:
+        raise SweepError(f"scheduler: {address} is not a Dask scheduler (it answered something else)")
 
 
 def write_released(ds: Any, nc: Path, figdir: Path) -> list[str]:

@@ -54,6 +54,9 @@ def bifurcation(
     opts = inp.options(omegas=[m.omega for m in models], points=len(models) * (2 if sweep == "both" else 1))
     choice("mode", mode, MODES)
     choice("sweep", sweep, SWEEPS)
+    if mode == "fixed" and sweep != "up":
+        raise ModelError(f"sweep: --sweep {sweep} applies to --mode continue; in fixed mode every point starts from "
+                         "(u0, v0), so the direction changes nothing")
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("bifurcation")
     ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=inp.state0(), options=opts,
