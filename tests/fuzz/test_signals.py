@@ -177,6 +177,7 @@ def test_kill_9_then_resume_every_sweep(tmp_path, args, stem):
     _kill9_then_resume(tmp_path, args, stem)
 
 
+@pytest.mark.slow
 def test_resume_of_a_finished_chunk_directory_survives_sigint(tmp_path):
     """SIGINT in the middle of a sweep with --out: the chunks saved then complete it with --resume."""
     out = tmp_path / "out"
