@@ -381,3 +381,14 @@ def test_8_an_out_that_is_a_directory_names_it_not_a_temporary(tmp_path):
     d.mkdir()
     line = refused([*SIM, "--out", d], str(d), "is a directory")
     assert ".tmp" not in line
+
+
+# ---------------------------------------------------------------- found by the long fuzz profile
+def test_lyapunov_exponents_below_double_precision_are_refused_not_a_division_by_zero():
+    # ω = 1e-3 with ξ0 = 0.1: the perturbations shrink by e^-1257 in one period (the kernel divided by 0)
+    refused(["lyapunov", "--transient", "3", "--periods", "8", "--blocks", "2", "--rpm", "1.0"], "omega:", "ω >=")
+    refused(["bifurcation", "--param", "omega", "--start", "0.001", "--stop", "0.0012", "--num", "2", "--transient",
+             "3", "--periods", "8", "--settle", "0", "--lyapunov"], "omega:")
+    c, out, err = run(["lyapunov", "--transient", "3", "--periods", "8", "--blocks", "2", "--omega", "0.002", "--json"])
+    assert c == 0, err
+    assert strict_json(out)["sum"] == pytest.approx(-0.2, abs=1e-6)  # trace of the Jacobian: -2 ξ0

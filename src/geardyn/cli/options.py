@@ -249,6 +249,11 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
     return m
 
 
+#: Largest contraction (as a power of e) of the perturbations over one forcing period for which
+#: Lyapunov exponents are computed: e^-700 is still a normal double (the smallest is e^-708).
+MAX_PERIOD_CONTRACTION = 700.0
+
+
 class Inputs:
     """The values of a command's shared option groups, with the checked objects built from them.
 
@@ -333,6 +338,37 @@ class Inputs:
         validate.recorded(points, opts.periods)
         check_budget(opts, ws, points)
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
+
+    def exponents_computable(self, model: GearModel, omegas: Any) -> None:
+        """Refuse Lyapunov exponents where the damping contracts the perturbations below double precision
+        within one forcing period (e^(-2 ξ0 T) < e^-:data:`MAX_PERIOD_CONTRACTION`, T = 2π/ω): their
+        Gram–Schmidt normalisation would divide by zero.
+
+        Parameters
+        ----------
+        model : GearModel
+            The model (its mean damping ξ0).
+        omegas : sequence of float
+            The forcing frequencies of the run.
+
+        Raises
+        ------
+        ModelError
+            Naming ω and the smallest ω allowed.
+        """
+        import math
+
+        import numpy as np
+
+        xi = float(model.xi0)  # the mean damping: the harmonics average out over a period
+        ws = np.asarray(omegas, dtype=float).ravel()
+        if xi <= 0 or not ws.size:
+            return
+        w_min = 4.0 * math.pi * xi / MAX_PERIOD_CONTRACTION
+        if float(np.min(ws)) < w_min:
+            raise ModelError(f"omega: Lyapunov exponents need ω >= {w_min:.4g} with this damping (ξ0 = {xi:g}): at "
+                             f"ω = {float(np.min(ws)):.4g} the perturbations shrink by e^-{4 * math.pi * xi / float(np.min(ws)):.0f} "
+                             f"in one forcing period, below double precision")
 
     def param_range(self, param: Optional[str], start: Optional[float], stop: Optional[float], *,
                     what: str = "swept") -> tuple[str, float, float]:

@@ -52,6 +52,8 @@ def bifurcation(
     inp.options(omegas=values if name == "omega" else [model.omega], points=values.size * (2 if sweep == "both" else 1))
     models = validate.grid(model, [(name, values)])
     opts = inp.options(omegas=[m.omega for m in models], points=len(models) * (2 if sweep == "both" else 1))
+    if lyap:
+        inp.exponents_computable(model, [m.omega for m in models])
     choice("mode", mode, MODES)
     choice("sweep", sweep, SWEEPS)
     if mode == "fixed" and sweep != "up":
@@ -97,6 +99,8 @@ def response(
     _, values = validate.axis("omega", omega_start, omega_stop, num)
     opts = inp.options(omegas=values, points=2 * values.size)
     validate.grid(model, [("omega", values)])
+    if lyap:
+        inp.exponents_computable(model, values)
     choice("measure", measure, MEASURES)
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("response")
@@ -171,6 +175,8 @@ def parameter_map(
     inp.not_swept(xn, yn)
     axis_omegas = xv if xn == "omega" else yv if yn == "omega" else [model.omega]
     opts = inp.options(omegas=axis_omegas, points=xv.size * yv.size)
+    if lyap:
+        inp.exponents_computable(model, axis_omegas)
     validate.grid(model, [(yn, yv), (xn, xv)], opts)
     choice("mode", mode, MODES)
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
