@@ -14,7 +14,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, NamedTuple
 
-from .errors import ConfigError, GeardynError
+from .errors import ConfigError, GeardynError, ModelError
 
 _ANGLE_UNITS = frozenset({"degree", "radian", "arcminute", "arcsecond", "turn", "revolution", "gradian"})
 _SPEED_UNIT_WORDS = ("revolution", "radian", "turn", "degree", "rpm")
@@ -222,8 +222,8 @@ def _shown(name: str) -> str:
 
 # ---------------------------------------------------------------------------- value parsing
 def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, index: int | None = None) -> Any:
-    def bad(problem: str) -> GeardynError:
-        return ctx.error(section, key, (f"element {index}: " if index is not None else "") + problem)
+    def bad(problem: str, cls: type[GeardynError] = ConfigError) -> GeardynError:
+        return ctx.error(section, key, (f"element {index}: " if index is not None else "") + problem, cls)
 
     if kind is _TEXT:
         if not isinstance(raw, str):
@@ -243,7 +243,7 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
         if abs(raw) > MAX_INTEGER:
             raise bad(f"must be at most {MAX_INTEGER} in size, got {_clip(raw)}")
         if key in ("z1", "z2") and not 1 <= raw <= MAX_TEETH:
-            raise bad(f"a number of teeth must be from 1 to {MAX_TEETH}, got {raw}")
+            raise bad(f"a number of teeth must be from 1 to {MAX_TEETH}, got {raw}", ModelError)
         return raw
     if kind.unit is None or (kind is _PHASE and isinstance(raw, (int, float))):
         # plain (non-dimensional) number; phases may be plain numbers in radians
@@ -287,7 +287,7 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
         raise bad(f"must be finite, got {_clip(raw)}")
     if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
         raise bad(f"{_clip(raw)} is outside the range of physical values, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} "
-                  f"{kind.unit}")
+                  f"{kind.unit}", ModelError)
     return x
 
 
