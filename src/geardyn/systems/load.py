@@ -303,7 +303,7 @@ class _Block:
             if abs(raw) > MAX_INTEGER:
                 raise self.cerr(key, f"{el}must be at most {MAX_INTEGER} in size, got {_clip(raw)}")
             if key in ("z1", "z2", "teeth") and not 1 <= raw <= MAX_TEETH:
-                raise self.cerr(key, f"{el}a number of teeth must be from 1 to {MAX_TEETH}, got {raw}")
+                raise self.merr(key, f"{el}a number of teeth must be from 1 to {MAX_TEETH}, got {raw}")
             return raw
         if unit is None or (kind == "phase" and isinstance(raw, (int, float))):
             if not isinstance(raw, (int, float)):
@@ -340,9 +340,9 @@ class _Block:
         if kind in _NONNEGATIVE or key == "backlash":
             if x < 0:
                 what = "backlash" if key == "backlash" else kind
-                raise self.cerr(key, f"{el}must be >= 0 (a negative {what} has no physical meaning), got {raw!r}")
+                raise self.merr(key, f"{el}must be >= 0 (a negative {what} has no physical meaning), got {raw!r}")
         if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
-            raise self.cerr(key, f"{el}{raw!r} is outside the physical range, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} SI")
+            raise self.merr(key, f"{el}{raw!r} is outside the physical range, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} SI")
         return x
 
 
