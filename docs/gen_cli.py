@@ -40,9 +40,54 @@ Conventions shared by the commands:
   figures of a saved result.
 * Commands running longer than half a second draw their progress on stderr (sweeps in points,
   continuation by the parameter span traced, `lyapunov` as a spinner); `--json` keeps stderr quiet.
-* Input errors are one line on stderr and exit code 2; every count has an upper bound stated in
-  its message; `geardyn --version` prints the version.
-* Invalid input is refused with one line on stderr naming the parameter and exit code 2.
+* `geardyn --version` prints the version.
+
+## Failure contract
+
+Every command keeps the same contract, whatever it is given:
+
+| exit code | meaning |
+|---|---|
+| 0 | success |
+| 1 | a runtime or I/O failure: an output that cannot be written (full disk, file-size limit, permissions found only while writing), a lost Dask scheduler, memory exhausted |
+| 2 | bad input or usage: an option out of range, a value that does not parse, a bad configuration, system, TE or result file, an `--out` that cannot be used, work over the budgets below, a `--scheduler` that is not a Dask scheduler |
+| 130 | interrupted by SIGINT (Ctrl-C) |
+| 143 | interrupted by SIGTERM |
+
+* **Messages.** Each problem is one line on stderr, `error: ...`, naming the option, file, line or
+  key at fault and what is allowed. Never a traceback, never a NumPy or library warning
+  (`GEARDYN_TRACEBACK=1` shows the traceback of an unexpected error, which is reported as
+  `error: internal error (...)` with exit code 1).
+* **JSON.** `--json` output is strict RFC 8259 JSON: a value that is not finite is written as
+  `null`, and its place is listed under `"non_finite"`.
+* **Streams.** A terminal or pipe that cannot encode Unicode (`PYTHONIOENCODING=ascii`, `LC_ALL=C`)
+  gets ASCII fallbacks (`µm` → `um`, `ω` → `omega`), also in `--help`; a closed stdout
+  (`geardyn ... --json >&-`) or a reader that stops (`| head`) ends the command quietly.
+* **Bounded work.** Before computing, every run is checked against a memory budget (half of the
+  machine's memory) and a time budget (1 hour of estimated computing, or `GEARDYN_TIME_BUDGET`
+  seconds); a refusal states the estimate. Counts have upper bounds stated in their messages.
+  Configuration and system files are read up to 4 MB and 16 levels of nesting; unit strings are
+  `[number] unit` with unit names, `*`, `/`, parentheses (4 deep) and whole exponents (at most 12):
+  nothing is evaluated (`"9**9**9 mm"` is refused). Physical values are range-checked (no negative
+  stiffness, mass, inertia, damping or backlash; magnitudes from 1e-30 to 1e30 in SI units; 1 to
+  1000 teeth; unique names). TE records are read up to 64 MB and 2 000 000 samples. A `--scheduler`
+  must answer the Dask handshake within 5 s.
+* **Interruption.** Every command stops within about a second of SIGINT or SIGTERM, prints a line
+  starting with `interrupted` and exits 130 or 143; it never reports success after the signal.
+  The temporary files of writes in progress are removed and the worker processes it started are
+  stopped. A second signal ends it at once.
+* **Resume.** A sweep with `--out` saves each finished chunk as it completes (in `<out>.chunks`,
+  next to its NetCDF file); after an interruption, a crash or `kill -9`, the same command with
+  `--resume` computes only the missing chunks and gives the result of an uninterrupted run. Each
+  chunk carries the sweep's fingerprint, its index and a checksum: a chunk of another sweep, under
+  another index or that does not verify is reported in one line and computed again. A checkpoint
+  manifest that cannot be read is reported and the resume refused (run without `--resume` to start
+  over); `--resume` with nothing to resume says so and runs the whole sweep. Temporary files left by
+  a killed process are removed by the next run.
+* **Atomic files.** Every file written (NetCDF, figures, reports, JSON, TOML, checkpoint chunks) is
+  written to a temporary file in the same folder, flushed to disk and renamed; on a write error the
+  message names the file and the reason and nothing partial is left. NetCDF files are produced in
+  memory first, so that a full disk never reaches the HDF5 library.
 """
 
 

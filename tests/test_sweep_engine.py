@@ -97,7 +97,7 @@ def test_resume_refuses_a_checkpoint_of_another_sweep(tmp_path):
 
 
 def test_chunk_writes_are_durable(tmp_path, monkeypatch):
-    import geardyn.io as gio
+    import geardyn.atomic as gio
 
     synced: list[Path] = []
     real = gio._fsync_dir

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from ._packaged_quantities import PACKAGED_QUANTITIES
-from .errors import ConfigError, GeardynError
+from .errors import ConfigError, GeardynError, ModelError
 
 _ANGLE_UNITS = frozenset({"degree", "radian", "arcminute", "arcsecond", "turn", "revolution", "gradian"})
 _SPEED_UNIT_WORDS = ("revolution", "radian", "turn", "degree", "rpm")
@@ -62,8 +62,100 @@ def _ureg():
     return ureg
 
 
+#: Longest quantity string, deepest parenthesis nesting of its unit and largest |exponent| accepted.
+MAX_QUANTITY_CHARS = 200
+MAX_UNIT_NESTING = 4
+MAX_UNIT_EXPONENT = 12
+_TOKEN = re.compile(r"\s*(?:(?P<num>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[^\W\d][\w°]*|°|%)"
+                    r"|(?P<pow>\*\*|\^)|(?P<op>[*/·⋅])|(?P<open>\()|(?P<close>\)))")
+
+
+def check_quantity(text: str) -> None:
+    """Check that ``text`` is ``[number] [unit expression]`` before any unit library sees it.
+
+    The unit expression is unit names joined by ``*``, ``/``, ``·`` or a space, each with at most one
+    integer exponent (``**`` or ``^``, at most :data:`MAX_UNIT_EXPONENT` in size) and parentheses nested
+    at most :data:`MAX_UNIT_NESTING` deep; the number is a plain decimal literal.  So nothing is
+    evaluated: ``"9**9**9 mm"`` or ``"2**10 m"`` are refused, ``"20 N/(mm*um)"`` and ``"1.772 kg*m^2"``
+    pass (and mean what pint makes of them).
+
+    Parameters
+    ----------
+    text : str
+        The quantity string.
+
+    Raises
+    ------
+    ValueError
+        Naming what is not allowed.
+    """
+    if len(text) > MAX_QUANTITY_CHARS:
+        raise ValueError(f"longer than {MAX_QUANTITY_CHARS} characters")
+    tokens = []
+    pos, end = 0, len(text.rstrip())
+    while pos < end:
+        m = _TOKEN.match(text, pos)
+        if m is None or m.end() == pos:
+            raise ValueError(f"unexpected {text[pos:].strip()[:10]!r}")
+        tokens.append((m.lastgroup, m.group(m.lastgroup)))
+        pos = m.end()
+    i = 0
+    if tokens and tokens[0][0] == "num":
+        i = 1
+    depth = 0
+    expect_unit = True  # a unit name or "(" must come next (or the end, after the number alone)
+    last = None
+    while i < len(tokens):
+        kind, tok = tokens[i]
+        if kind == "name" or kind == "open":
+            if not expect_unit and last not in ("name", "close", "exp", "num"):
+                raise ValueError(f"unexpected {tok!r}")
+            if kind == "open":
+                depth += 1
+                if depth > MAX_UNIT_NESTING:
+                    raise ValueError(f"units nested more than {MAX_UNIT_NESTING} deep")
+                expect_unit = True
+            else:
+                expect_unit = False
+        elif kind == "close":
+            if expect_unit or depth == 0:
+                raise ValueError("unbalanced ')'")
+            depth -= 1
+        elif kind == "op":
+            if expect_unit:
+                raise ValueError(f"unexpected {tok!r}")
+            expect_unit = True
+        elif kind == "pow":
+            if last not in ("name", "close"):
+                raise ValueError("an exponent must follow a unit and be a whole number (no exponent towers)")
+            if i + 1 >= len(tokens) or tokens[i + 1][0] != "num" or not re.fullmatch(r"[+-]?\d+", tokens[i + 1][1]):
+                raise ValueError("an exponent must be a whole number")
+            if abs(int(tokens[i + 1][1])) > MAX_UNIT_EXPONENT:
+                raise ValueError(f"exponent {tokens[i + 1][1]} is larger than {MAX_UNIT_EXPONENT}")
+            i += 1
+            kind = "exp"
+        else:  # a number as a factor of the unit ("1/s"): a plain literal, never raised to a power
+            if not expect_unit:
+                raise ValueError(f"unexpected number {tok!r} inside the unit")
+            expect_unit = False
+        last = kind
+        i += 1
+    if depth:
+        raise ValueError("unbalanced '('")
+    if expect_unit and last is not None:
+        raise ValueError("the unit ends with an operator")
+
+
+def quantity(text: str) -> Any:
+    """``text`` as a pint Quantity, after :func:`check_quantity` (raises ``ValueError`` or pint's errors)."""
+    check_quantity(text)
+    return _ureg().Quantity(text)
+
+
 def parse_quantity(text: str, unit: str) -> float:
     """Parse ``"number unit"`` and return its magnitude in ``unit`` (raises ``ValueError``).
+
+    The string is checked by :func:`check_quantity` first (no expression is evaluated).
 
     Parameters
     ----------
@@ -72,7 +164,7 @@ def parse_quantity(text: str, unit: str) -> float:
     unit : str
         Target unit understood by pint, e.g. ``"m"``.
     """
-    q = _ureg().Quantity(text)
+    q = quantity(text)
     return float(q.to(unit).magnitude)
 
 
@@ -109,6 +201,21 @@ class _Ctx:
         return cls(f"{where}{what}{problem}")
 
 
+#: Largest integer a configuration value may hold (tooth counts and the like are far below it).
+MAX_INTEGER = 1_000_000
+#: Smallest and largest magnitude of a dimensional value in its SI unit (0 is allowed where the sign is).
+MIN_MAGNITUDE = 1e-30
+MAX_MAGNITUDE = 1e30
+#: Largest number of teeth of a gear (a bevel or hypoid gear has at most a few hundred).
+MAX_TEETH = 1000
+
+
+def _clip(raw: Any, n: int = 60) -> str:
+    """``repr(raw)`` cut to ``n`` characters (a 400-digit value stays a one-line message)."""
+    text = repr(raw) if not isinstance(raw, int) or abs(raw) < 10**40 else f"an integer of {len(str(abs(raw)))} digits"
+    return text if len(text) <= n else text[: n - 3] + "..."
+
+
 def _shown(name: str) -> str:
     """A section or key as written, quoted where it holds whitespace or unprintable characters (one-line messages)."""
     return name if name.isprintable() and not any(c.isspace() for c in name) else repr(name)
@@ -116,8 +223,8 @@ def _shown(name: str) -> str:
 
 # ---------------------------------------------------------------------------- value parsing
 def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, index: int | None = None) -> Any:
-    def bad(problem: str) -> GeardynError:
-        return ctx.error(section, key, (f"element {index}: " if index is not None else "") + problem)
+    def bad(problem: str, cls: type[GeardynError] = ConfigError) -> GeardynError:
+        return ctx.error(section, key, (f"element {index}: " if index is not None else "") + problem, cls)
 
     if kind is _TEXT:
         if not isinstance(raw, str):
@@ -132,31 +239,40 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
     if kind is _INT:
         if isinstance(raw, float) and raw.is_integer():
             raw = int(raw)
-        if not isinstance(raw, int):
-            raise bad(f"expected an integer, got {raw!r}")
+        if not isinstance(raw, int) or isinstance(raw, bool):
+            raise bad(f"expected an integer, got {_clip(raw)}")
+        if abs(raw) > MAX_INTEGER:
+            raise bad(f"must be at most {MAX_INTEGER} in size, got {_clip(raw)}")
+        if key in ("z1", "z2") and not 1 <= raw <= MAX_TEETH:
+            raise bad(f"a number of teeth must be from 1 to {MAX_TEETH}, got {raw}", ModelError)
         return raw
     if kind.unit is None or (kind is _PHASE and isinstance(raw, (int, float))):
         # plain (non-dimensional) number; phases may be plain numbers in radians
         if isinstance(raw, str):
             try:
-                q = _ureg().Quantity(raw)
+                q = quantity(raw)
             except Exception:
-                raise bad(f"expected a {kind.label} (e.g. {kind.example}), got {raw!r}") from None
+                raise bad(f"expected a {kind.label} (e.g. {kind.example}), got {_clip(raw)}") from None
             if not q.unitless:
                 raise bad(f"expected a {kind.label} without unit (e.g. {kind.example}), got {raw!r}")
             raw = float(q.to("").magnitude)
-        x = float(raw)
+        try:
+            x = float(raw)
+        except OverflowError:
+            x = math.inf
         if not math.isfinite(x):
-            raise bad(f"must be a finite number, got {raw!r}")
+            raise bad(f"must be a finite number, got {_clip(raw)}")
         return x
     if not isinstance(raw, str):
         raise bad(f"expected a {kind.label} with its unit, as a string (e.g. {kind.example}), got {raw!r}")
     if (kind.label, raw) in PACKAGED_QUANTITIES:  # the packaged pair, read without importing pint
         return PACKAGED_QUANTITIES[kind.label, raw]
     try:
-        q = _ureg().Quantity(raw)
+        q = quantity(raw)
+    except ValueError as e:
+        raise bad(f"cannot read {_clip(raw)} as a {kind.label} ({e}); write e.g. {kind.example}") from None
     except Exception as e:  # pint raises several error types for bad unit strings
-        raise bad(f"cannot read {raw!r} as a {kind.label} ({type(e).__name__}); write e.g. {kind.example}") from None
+        raise bad(f"cannot read {_clip(raw)} as a {kind.label} ({type(e).__name__}); write e.g. {kind.example}") from None
     units = str(q.units)
     if kind in (_ANGLE, _PHASE):
         if units not in _ANGLE_UNITS:
@@ -171,7 +287,10 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
         )
     x = float(q.to(kind.unit).magnitude)
     if not math.isfinite(x):
-        raise bad(f"must be finite, got {raw!r}")
+        raise bad(f"must be finite, got {_clip(raw)}")
+    if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
+        raise bad(f"{_clip(raw)} is outside the range of physical values, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} "
+                  f"{kind.unit}", ModelError)
     return x
 
 
@@ -222,14 +341,31 @@ def read_toml(path: str | Path, what: str) -> tuple[str, str]:
     ConfigError
         If the file is missing, a directory, or unreadable as UTF-8 text.
     """
+    import os
+    import stat
+
     p = Path(path)
     source = str(path)
-    if not p.is_file():
-        raise ConfigError(f"{source}: {what} not found" + (" (it is a directory)" if p.is_dir() else ""))
     try:
-        return source, p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise ConfigError(f"{source}: cannot read {what} ({e})") from None
+        st = os.stat(p)
+    except (OSError, ValueError):
+        raise ConfigError(f"{source}: {what} not found") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise ConfigError(f"{source}: {what} not found (it is a directory)")
+    if not stat.S_ISREG(st.st_mode):
+        raise ConfigError(f"{source}: not a regular file (a pipe, socket or device); give the {what} itself")
+    if st.st_size > MAX_TOML_BYTES:
+        raise ConfigError(f"{source}: {what} of {st.st_size} bytes; at most {MAX_TOML_BYTES} allowed")
+    try:
+        with open(p, "rb") as f:
+            data = f.read(MAX_TOML_BYTES + 1)
+        if len(data) > MAX_TOML_BYTES:
+            raise ConfigError(f"{source}: {what} larger than {MAX_TOML_BYTES} bytes")
+        return source, data.decode("utf-8-sig")  # (a byte-order mark is allowed)
+    except UnicodeDecodeError as e:
+        raise ConfigError(f"{source}: cannot read {what}: not UTF-8 text (byte {e.start})") from None
+    except OSError as e:
+        raise ConfigError(f"{source}: cannot read {what} ({e.strerror or e})") from None
 
 
 def parse_toml(text: str, source: str) -> dict[str, Any]:
@@ -252,8 +388,13 @@ def parse_toml(text: str, source: str) -> dict[str, Any]:
     ConfigError
         ``SOURCE: line N: TOML syntax error: … (column C)`` for a syntax error.
     """
+    if text.startswith("\ufeff"):
+        text = text[1:]
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
+    except RecursionError:
+        raise ConfigError(f"{source}: TOML syntax error: arrays or tables nested more than {MAX_TOML_NESTING} "
+                          "deep") from None
     except tomllib.TOMLDecodeError as e:
         msg = str(e)
         m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
@@ -261,3 +402,24 @@ def parse_toml(text: str, source: str) -> dict[str, Any]:
             msg = msg[: m.start()].strip()
             raise ConfigError(f"{source}: line {m.group(1)}: TOML syntax error: {msg} (column {m.group(2)})") from None
         raise ConfigError(f"{source}: TOML syntax error: {msg}") from None
+    if _depth(data) > MAX_TOML_NESTING:
+        raise ConfigError(f"{source}: arrays or tables nested more than {MAX_TOML_NESTING} deep")
+    return data
+
+
+#: Largest configuration or system file read (bytes) and deepest nesting of its arrays and tables.
+MAX_TOML_BYTES = 4_000_000
+MAX_TOML_NESTING = 16
+
+
+def _depth(obj: Any) -> int:
+    """Nesting depth of dicts and lists (iteratively: no recursion on hostile input)."""
+    deepest, stack = 0, [(obj, 0)]
+    while stack:
+        o, d = stack.pop()
+        deepest = max(deepest, d)
+        if isinstance(o, dict):
+            stack.extend((v, d + 1) for v in o.values())
+        elif isinstance(o, list):
+            stack.extend((v, d + 1) for v in o)
+    return deepest

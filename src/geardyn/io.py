@@ -10,8 +10,6 @@ atomically: to a temporary file in the same directory, then renamed.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
 from typing import Any, Iterable, Mapping, NamedTuple
@@ -19,6 +17,7 @@ from typing import Any, Iterable, Mapping, NamedTuple
 import numpy as np
 
 from ._lazy import lazy_module
+from .atomic import atomic_write, atomic_write_bytes, write_netcdf_bytes
 from .errors import ModelError
 from .labels import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .model import GearModel, canonical_param
@@ -517,62 +516,14 @@ def model_from_attrs(ds: xr.Dataset) -> GearModel:
     return GearModel.from_dict(json.loads(ds.attrs["model"]))
 
 
-def _temp_beside(path: Path) -> str:
-    """A new temporary file next to ``path`` with the permissions a plain ``open`` would give."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)
-    return tmp
-
-
-def _fsync_dir(directory: Path) -> None:
-    """Make a rename in ``directory`` durable (POSIX; a no-op where directories cannot be opened)."""
-    try:
-        fd = os.open(directory, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
-
-
-def _atomic(path: str | Path, write: Any) -> Path:
-    """Run ``write(tmp)`` on a temporary file beside ``path``, make it durable and rename it to ``path``."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _temp_beside(path)
-    try:
-        write(tmp)
-        with open(tmp, "rb") as f:
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-        _fsync_dir(path.parent)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
-
-
-def atomic_write_bytes(path: str | Path, data: bytes) -> None:
-    """Write bytes to ``path`` atomically (temporary file in the same directory, fsync, rename).
-
-    Parameters
-    ----------
-    path : str or Path
-        The file (its directory is created if missing).
-    data : bytes
-        The content.
-    """
-    _atomic(path, lambda tmp: Path(tmp).write_bytes(data))
+_atomic = atomic_write  # (the name the writers of this package use)
 
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     """Write ``ds`` to NetCDF (h5netcdf) atomically, its variables annotated (:func:`annotate`).
+
+    The file is produced in memory and then written (:mod:`geardyn.atomic`): a full disk or a
+    file-size limit is an :class:`OSError` naming ``path``, and nothing is left.
 
     Parameters
     ----------
@@ -586,7 +537,8 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     Path
         ``path``.
     """
-    return _atomic(path, lambda tmp: annotate(ds).to_netcdf(tmp, engine="h5netcdf"))
+    data = write_netcdf_bytes(lambda buf: annotate(ds).to_netcdf(buf, engine="h5netcdf"))
+    return atomic_write_bytes(path, data)
 
 
 def read_netcdf(path: str | Path) -> xr.Dataset:

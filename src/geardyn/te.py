@@ -57,6 +57,18 @@ TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
 LENGTH_UNITS = {"um": 1.0, "µm": 1.0, "micron": 1.0, "mm": 1e3, "nm": 1e-3, "m": 1e6}
 #: Sideband share above which the forcing is reported as not periodic over one mesh cycle.
 PERIODIC_SHARE = 0.05
+#: Largest TE file read (bytes) and most samples used: the record is read in a bounded way.
+MAX_TE_BYTES = 64_000_000
+MAX_TE_ROWS = 2_000_000
+#: Largest |TE| accepted (µm): 1 m along the line of action is no transmission error.
+MAX_TE_UM = 1.0e6
+#: Largest pinion speed of a time record (rpm).
+MAX_TE_RPM = 1.0e6
+#: Largest number of teeth, mesh harmonics and shaft orders.
+MAX_TEETH = 10_000
+MAX_ORDERS = 1_000
+#: Largest least-squares matrix of the fit (bytes): samples × 2 × fitted orders × 8.
+MAX_FIT_BYTES = 2_000_000_000
 _SPLIT = re.compile(r"[,;\t]|\s+")
 _UNIT_IN_NAME = re.compile(r"[\[(]\s*([^\])]+?)\s*[\])]|[_/ ]([A-Za-zµ]+)\s*$")
 
@@ -126,13 +138,7 @@ def read_te(path: str | Path, *, x_unit: str | None = None, te_unit: str | None 
         unit that is not an angle or time (first column) or a length (TE), or no units stated.
     """
     src = str(path)
-    p = Path(path)
-    if not p.is_file():
-        raise ConfigError(f"{src}: TE file not found")
-    try:
-        lines = p.read_text(encoding="utf-8-sig").splitlines()
-    except (OSError, UnicodeDecodeError) as e:
-        raise ConfigError(f"{src}: cannot read the TE file ({e})") from None
+    lines = _read_lines(src)
 
     def bad(lineno: int, problem: str) -> ConfigError:
         return ConfigError(f"{src}: line {lineno}: {problem}")
@@ -160,7 +166,9 @@ def read_te(path: str | Path, *, x_unit: str | None = None, te_unit: str | None 
         if any(v is None for v in nums):
             raise bad(i, f"expected two numbers, got {text!r}")
         if not all(math.isfinite(v) for v in nums):
-            raise bad(i, f"not a finite number: {text!r}")
+            raise bad(i, f"not a finite number: {text[:60]!r}")
+        if len(rows) >= MAX_TE_ROWS:
+            raise bad(i, f"more than {MAX_TE_ROWS} samples; at most {MAX_TE_ROWS} are read (resample the record)")
         rows.append((i, nums[0], nums[1]))
     if not rows:
         raise bad(max(len(lines), 1), "no numeric rows (angle or time, TE) in the file")
@@ -180,6 +188,13 @@ def read_te(path: str | Path, *, x_unit: str | None = None, te_unit: str | None 
         raise bad(where, f"first-column unit {xu!r} is neither an angle (deg, rad, rev) nor a time (s, ms, us)")
     x = np.array([r[1] for r in rows]) * scale
     te = np.array([r[2] for r in rows]) * LENGTH_UNITS[tu]
+    big = ~(np.abs(te) <= MAX_TE_UM)
+    if np.any(big):
+        k = int(np.argmax(big))
+        raise bad(rows[k][0], f"TE {rows[k][2]:g} {tu} is beyond {MAX_TE_UM:g} µm (1 m): not a transmission error")
+    if not np.all(np.isfinite(x)):
+        k = int(np.argmax(~np.isfinite(x)))
+        raise bad(rows[k][0], f"{rows[k][1]:g} {xu} is out of range")
     steps = np.diff(x)
     if np.any(steps <= 0):
         k = int(np.argmax(steps <= 0)) + 1
@@ -189,11 +204,41 @@ def read_te(path: str | Path, *, x_unit: str | None = None, te_unit: str | None 
     if kind == "time":
         if rpm is None:
             raise bad(where, "a time record needs the pinion speed (--rpm) to give the pinion angle")
-        if not (math.isfinite(rpm) and rpm > 0):
-            raise ConfigError(f"{src}: rpm: the pinion speed must be > 0 rpm, got {rpm!r}")
+        if not (math.isfinite(rpm) and 0 < rpm <= MAX_TE_RPM):
+            raise ConfigError(f"rpm: the pinion speed of the time record {src} must be in (0, {MAX_TE_RPM:g}] rpm, "
+                              f"got {rpm!r}")
         used_rpm = float(rpm)
         x = (x - x[0]) * used_rpm * math.pi / 30.0
     return TESignal(source=src, angle=x - x[0], te_um=te, abscissa=kind, rpm=used_rpm)
+
+
+def _read_lines(src: str) -> list[str]:
+    """The lines of a TE file, read in a bounded way (at most :data:`MAX_TE_BYTES`)."""
+    import os
+    import stat
+
+    try:
+        st = os.stat(src)
+    except (OSError, ValueError):
+        raise ConfigError(f"{src}: TE file not found") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise ConfigError(f"{src}: TE file not found (it is a directory)")
+    if not stat.S_ISREG(st.st_mode):
+        raise ConfigError(f"{src}: not a regular file (a pipe, socket or device); give the TE file itself")
+    if st.st_size > MAX_TE_BYTES:
+        raise ConfigError(f"{src}: TE file of {st.st_size / 1e6:.1f} MB; at most {MAX_TE_BYTES / 1e6:.0f} MB are read "
+                          f"(at most {MAX_TE_ROWS} samples; resample the record)")
+    try:
+        with open(src, "rb") as f:
+            data = f.read(MAX_TE_BYTES + 1)
+    except OSError as e:
+        raise ConfigError(f"{src}: cannot read the TE file ({e.strerror or e})") from None
+    if len(data) > MAX_TE_BYTES:
+        raise ConfigError(f"{src}: TE file larger than {MAX_TE_BYTES / 1e6:.0f} MB")
+    try:
+        return data.decode("utf-8-sig").splitlines()
+    except UnicodeDecodeError as e:
+        raise ConfigError(f"{src}: cannot read the TE file: not UTF-8 text (byte {e.start})") from None
 
 
 def _pick_unit(src: str, line: int, what: str, header: str | None, given: str | None) -> str:
@@ -296,13 +341,25 @@ def analyse_te(signal: TESignal, z1: int, z2: int, *, harmonics: int = 3, shaft_
     """
     src = signal.source
     for name, z in (("z1", z1), ("z2", z2)):
-        if isinstance(z, bool) or int(z) != z or z < 1:
-            raise ConfigError(f"teeth: {name} must be a whole number >= 1, got {z!r}")
+        if isinstance(z, bool) or not isinstance(z, (int, np.integer)) or not 1 <= z <= MAX_TEETH:
+            raise ConfigError(f"teeth: {name} must be a whole number from 1 to {MAX_TEETH}, got {z!r}")
     z1, z2 = int(z1), int(z2)
-    if harmonics < 1 or shaft_orders < 0:
-        raise ConfigError(f"harmonics: need >= 1 mesh harmonics and >= 0 shaft orders, got {harmonics}, {shaft_orders}")
+    if not 1 <= harmonics <= MAX_ORDERS:
+        raise ConfigError(f"harmonics: must be from 1 to {MAX_ORDERS}, got {harmonics}")
+    if not 0 <= shaft_orders <= MAX_ORDERS:
+        raise ConfigError(f"shaft-orders: must be from 0 to {MAX_ORDERS}, got {shaft_orders}")
     phi = np.asarray(signal.angle, dtype=float)
     y = np.asarray(signal.te_um, dtype=float)
+    fitted = 2 * harmonics * (1 + 4 * shaft_orders) + 4 * shaft_orders
+    if y.size * 2 * fitted * 8 > MAX_FIT_BYTES:
+        raise ConfigError(f"harmonics: {y.size} samples × {2 * fitted} columns take {y.size * 16 * fitted / 1e9:.3g} GB; "
+                          f"at most {MAX_FIT_BYTES / 1e9:g} GB (fewer --harmonics or --shaft-orders)")
+    step = float(np.max(np.diff(phi))) if phi.size > 1 else 0.0
+    if not (math.isfinite(step) and step * z1 * harmonics < math.pi):
+        what = f" at {signal.rpm:g} rpm" if signal.rpm is not None else ""
+        raise ConfigError(f"{src}: the samples{what} are {step * z1 / (2 * math.pi):.3g} mesh cycles apart: mesh "
+                          f"harmonic {harmonics} needs more than 2 samples per cycle (a smaller --rpm, a denser "
+                          f"record or fewer --harmonics)")
     revs = float(phi[-1] / (2.0 * math.pi))
     if revs * z1 < 1.0:
         raise ConfigError(f"{src}: the record covers {revs * z1:.3g} mesh cycles: at least one is needed")

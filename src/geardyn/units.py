@@ -45,6 +45,21 @@ def _speed(name: str, value: Any) -> float:
     return x
 
 
+#: Range of ω a pinion speed may give: from 10⁻⁴ to 10³ times the natural frequency of the mesh.
+MIN_OMEGA, MAX_OMEGA = 1e-4, 1e3
+
+
+def _omega_of(scales: Any, name: str, rpm: float) -> float:
+    """ω of pinion speed ``rpm``, refused (naming ``name`` and the allowed speeds) outside
+    [:data:`MIN_OMEGA`, :data:`MAX_OMEGA`]."""
+    w = float(scales.omega_from_rpm(rpm))
+    if not MIN_OMEGA <= w <= MAX_OMEGA:
+        lo, hi = (float(scales.rpm_from_omega(x)) for x in (MIN_OMEGA, MAX_OMEGA))
+        raise ModelError(f"{name}: {rpm:g} rpm is ω = {w:.4g} for this gear pair; allowed {lo:.4g} to {hi:.4g} rpm "
+                         f"(ω from {MIN_OMEGA:g} to {MAX_OMEGA:g})")
+    return w
+
+
 def _physical_needed(scales: Any, name: str | None) -> None:
     """Refuse a speed or torque for the unit scales of a configuration without a gear pair."""
     if name is not None and getattr(scales, "nondimensional", False):
@@ -134,7 +149,7 @@ def operating_overrides(
     if rpm is not None:
         if omega is not None:
             raise ModelError("rpm: give the speed either as --rpm (pinion speed) or as --omega, not both")
-        out["omega"] = float(scales.omega_from_rpm(_speed("rpm", rpm)))
+        out["omega"] = _omega_of(scales, "rpm", _speed("rpm", rpm))
     if torque is not None:
         if fp is not None:
             raise ModelError("torque: give the load either as --torque (pinion torque) or as --fp, not both")
@@ -185,7 +200,7 @@ def omega_range(scales: PhysicalScales, rpm_start: float, rpm_stop: float) -> tu
     a, b = _speed("rpm_start", rpm_start), _speed("rpm_stop", rpm_stop)
     if a == b:
         raise ModelError(f"rpm_stop: must differ from rpm_start, got {a:g} rpm for both")
-    return float(scales.omega_from_rpm(a)), float(scales.omega_from_rpm(b))
+    return _omega_of(scales, "rpm_start", a), _omega_of(scales, "rpm_stop", b)
 
 
 def sweep_range(

@@ -5,7 +5,6 @@ from __future__ import annotations
 import atexit
 import errno
 import gc
-import json
 import sys
 from typing import Any, Optional
 
@@ -16,7 +15,7 @@ from typer.core import TyperCommand, TyperGroup
 from .. import __version__
 from ..errors import GeardynError, SweepFailed, SweepInterrupted
 
-__all__ = ["EXIT_INTERRUPTED", "app", "console", "emit_json", "err_console", "fail", "main"]
+__all__ = ["EXIT_FAILURE", "EXIT_INTERRUPTED", "EXIT_OK", "EXIT_TERMINATED", "EXIT_USAGE", "app", "console", "emit_json", "err_console", "fail", "main"]
 
 #: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
 EXIT_INTERRUPTED = 130
@@ -108,29 +107,30 @@ def fail(message: str) -> "typer.Exit":
 
 
 def emit_json(obj: Any) -> None:
-    """Write ``obj`` as indented JSON on stdout (NumPy scalars and arrays as plain numbers and lists).
+    """Write ``obj`` as indented, strict JSON on stdout (RFC 8259; see :func:`geardyn.cli.guard.strict_json`).
+
+    NumPy scalars and arrays are written as plain numbers and lists; a non-finite number is written as
+    ``null`` and its place listed under ``"non_finite"``.  Nothing is written once SIGINT or SIGTERM has
+    asked the command to stop.
 
     Parameters
     ----------
     obj : object
-        A JSON-serialisable value; NaN and infinities are written as ``NaN`` and ``Infinity``.
+        A JSON-serialisable value.
 
     Raises
     ------
     TypeError
         For a value that is neither JSON-serialisable nor a NumPy scalar or array.
+    KeyboardInterrupt
+        After SIGINT or SIGTERM.
     """
-    sys.stdout.write(json.dumps(obj, indent=2, allow_nan=True, default=_json_default) + "\n")
+    from .guard import check_stop, strict_json
 
-
-def _json_default(o: Any) -> Any:
-    import numpy as np
-
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
+    text = strict_json(obj) + "\n"
+    check_stop()
+    sys.stdout.write(text)
+    sys.stdout.flush()
 
 
 def is_stop(e: BaseException) -> bool:
@@ -138,12 +138,20 @@ def is_stop(e: BaseException) -> bool:
     return isinstance(e, (SweepInterrupted, SweepFailed))
 
 
-def main(argv: Optional[list[str]] = None) -> None:
-    """Entry point: run the app; every input error becomes one line on stderr, never a traceback.
+#: Exit codes: success, a runtime or I/O failure, bad input or usage, interrupted by SIGINT / SIGTERM.
+EXIT_OK, EXIT_FAILURE, EXIT_USAGE, EXIT_TERMINATED = 0, 1, 2, 143
 
-    Exit codes: 0 success; 2 invalid input (model and option errors, unknown options, values
-    that do not parse, bad configuration files); 130 interrupted by Ctrl-C (a sweep says how to
-    resume); 1 other failures such as an unwritable output or a lost Dask scheduler.
+
+def main(argv: Optional[list[str]] = None) -> None:
+    """Entry point: run a command under the failure contract of ``docs/cli.md``.
+
+    Exit codes: 0 success; 1 a runtime or I/O failure (an unwritable output, a full disk, a lost Dask
+    scheduler); 2 invalid input (model and option errors, unknown options, values that do not parse,
+    bad configuration, system or result files); 130 interrupted by SIGINT, 143 by SIGTERM (a sweep
+    keeps its finished chunks and says how to resume).  Every problem is one line on stderr, never a
+    traceback or a library warning (``GEARDYN_TRACEBACK=1`` shows the traceback of an unexpected
+    error).  The command runs in a worker thread while the main thread handles the signals
+    (:func:`geardyn.cli.guard.run_guarded`).
 
     Parameters
     ----------
@@ -155,10 +163,11 @@ def main(argv: Optional[list[str]] = None) -> None:
     SystemExit
         With the exit code above (also on success when a command returns a code).
     """
-    # typer's parser exceptions (its own vendored click, or click itself in older versions)
-    cx = sys.modules[typer.BadParameter.__module__]
-    usage_error, click_exception = cx.UsageError, cx.ClickException
-    no_args_is_help = getattr(cx, "NoArgsIsHelpError", ())
+    import warnings
+
+    from .guard import prepare_streams, run_guarded
+
+    prepare_streams()
     # What the imports made lives as long as the process: frozen out of the garbage collector while
     # the command runs (its full collections would walk it again and again), and what the process
     # holds at its exit is frozen first, so that the interpreter's exit does not walk the whole heap
@@ -167,38 +176,126 @@ def main(argv: Optional[list[str]] = None) -> None:
     atexit.register(gc.freeze)
     gc.freeze()
     try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # no library warning reaches the user; problems are refused in words
+            code = run_guarded(lambda: _invoke(argv))
+    finally:
+        gc.unfreeze()  # as found, for a caller in the same process
+    _flush_quietly()
+    raise SystemExit(code)
+
+
+def _flush_quietly() -> None:
+    from .guard import quiet_broken_pipe
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            if stream is not None:
+                stream.flush()
+        except (OSError, ValueError):
+            quiet_broken_pipe()
+
+
+def _invoke(argv: Optional[list[str]]) -> int:
+    """Run the app on ``argv``; every error it raises becomes one line on stderr and an exit code."""
+    from .guard import STOP, quiet_broken_pipe
+
+    # typer's parser exceptions (its own vendored click, or click itself in older versions)
+    cx = sys.modules[typer.BadParameter.__module__]
+    usage_error, click_exception = cx.UsageError, cx.ClickException
+    no_args_is_help = getattr(cx, "NoArgsIsHelpError", ())
+    empty = _empty_path_option(sys.argv[1:] if argv is None else argv)
+    if empty is not None:  # a path option given as "": typer would take it for the current directory
+        say_error(f"error: {empty.lstrip('-')}: empty; give a directory or a file name")
+        return EXIT_USAGE
+    try:
         rv = app(args=argv, prog_name="geardyn", standalone_mode=False)
     except no_args_is_help as e:  # type: ignore[misc]
         print(e.ctx.get_help() if e.ctx is not None else e.format_message())
-        raise SystemExit(0) from None
+        return EXIT_OK
     except usage_error as e:
         where = f" (see 'geardyn {e.ctx.info_name} --help')" if e.ctx is not None and e.ctx.parent is not None else ""
         say_error(f"error: {e.format_message()}{where}")
-        raise SystemExit(2) from None
+        return EXIT_USAGE
     except SweepInterrupted as e:
-        say_error(str(e))
-        raise SystemExit(EXIT_INTERRUPTED) from None
+        if STOP.event.is_set():  # the main thread says it as it leaves
+            STOP.message = str(e)
+        else:
+            say_error(str(e))
+        return EXIT_INTERRUPTED
     except SweepFailed as e:
         say_error(f"error: {e}")
-        raise SystemExit(1) from None
+        return EXIT_FAILURE
     except GeardynError as e:
         say_error(f"error: {e}")
-        raise SystemExit(2) from None
-    except typer.Abort:
-        say_error("interrupted")
-        raise SystemExit(EXIT_INTERRUPTED) from None
+        return EXIT_USAGE
+    except (typer.Abort, KeyboardInterrupt):
+        if not STOP.event.is_set():
+            say_error("interrupted")
+        return EXIT_INTERRUPTED
     except click_exception as e:
         say_error(f"error: {e.format_message()}")
-        raise SystemExit(e.exit_code) from None
+        return e.exit_code
     except OSError as e:
         if e.errno == errno.EPIPE:  # output piped into a program that stopped reading
-            raise SystemExit(1) from None
-        name = f" {e.filename}" if getattr(e, "filename", None) else ""
-        say_error(f"error: cannot access{name}: {e.strerror or e}")
-        raise SystemExit(1) from None
-    finally:
-        gc.unfreeze()  # as found, for a caller in the same process
-    if rv == EXIT_INTERRUPTED:  # Ctrl-C outside a sweep (typer maps it to exit code 130)
+            quiet_broken_pipe()
+            return EXIT_FAILURE
+        say_error(f"error: {describe_os_error(e)}")
+        return EXIT_FAILURE
+    except MemoryError:
+        say_error("error: out of memory (use fewer points, periods or a smaller grid)")
+        return EXIT_FAILURE
+    except RecursionError:
+        say_error("error: input nested too deeply")
+        return EXIT_USAGE
+    except Exception as e:  # noqa: BLE001  (a bug: one line, never a traceback)
+        import os
+
+        if os.environ.get("GEARDYN_TRACEBACK"):
+            import traceback
+
+            traceback.print_exc()
+        say_error(f"error: internal error ({type(e).__name__}: {' '.join(str(e).split())[:300]}); "
+                  f"please report it with the command line")
+        return EXIT_FAILURE
+    if rv == EXIT_INTERRUPTED and not STOP.event.is_set():  # Ctrl-C outside a sweep (typer maps it to 130)
         say_error("interrupted")
     if isinstance(rv, int) and not isinstance(rv, bool):
-        raise SystemExit(rv)
+        return rv
+    return EXIT_OK
+
+
+#: Options whose value is a path, which may not be empty.
+PATH_OPTIONS = ("--out", "--config", "--system")
+
+
+def _empty_path_option(args: list[str]) -> Optional[str]:
+    """The first path option of ``args`` given an empty value (``--out ""`` or ``--out=``), else None."""
+    args = [str(a) for a in args]
+    for i, a in enumerate(args):
+        if a == "--":
+            return None
+        if a in PATH_OPTIONS and i + 1 < len(args) and not args[i + 1].strip():
+            return a
+        if "=" in a and a.split("=", 1)[0] in PATH_OPTIONS and not a.split("=", 1)[1].strip():
+            return a.split("=", 1)[0]
+    return None
+
+
+def describe_os_error(e: OSError) -> str:
+    """One line naming the file of an I/O error and the reason (``FILE: No space left on device``).
+
+    Parameters
+    ----------
+    e : OSError
+        The error.
+
+    Returns
+    -------
+    str
+    """
+    import os
+
+    name = getattr(e, "filename", None)
+    reason = e.strerror or (os.strerror(e.errno) if e.errno else None) or str(e) or type(e).__name__
+    return f"{name}: {reason}" if name else f"I/O failure: {reason}"

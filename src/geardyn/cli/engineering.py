@@ -29,12 +29,17 @@ TE_OPTIONS = [
 
 
 def _teeth(text: str) -> tuple[int, int]:
+    from ..te import MAX_TEETH
+
     try:
-        z1, z2 = (int(t) for t in text.replace(";", ",").split(","))
+        parts = text.replace(";", ",").split(",")
+        if len(parts) != 2 or any(len(t.strip()) > 12 for t in parts):
+            raise ValueError
+        z1, z2 = (int(t) for t in parts)
     except ValueError:
-        raise ModelError(f"teeth: expected z1,z2 (two whole numbers, e.g. 14,39), got {text!r}") from None
-    if z1 < 1 or z2 < 1:
-        raise ModelError(f"teeth: numbers of teeth must be >= 1, got {text!r}")
+        raise ModelError(f"teeth: expected z1,z2 (two whole numbers, e.g. 14,39), got {text[:40]!r}") from None
+    if not (1 <= z1 <= MAX_TEETH and 1 <= z2 <= MAX_TEETH):
+        raise ModelError(f"teeth: numbers of teeth must be from 1 to {MAX_TEETH}, got {text!r}")
     return z1, z2
 
 
@@ -48,6 +53,10 @@ def te(
     from ..te import analyse_te, mesh_section, read_te
 
     z1, z2 = _teeth(inp.teeth)
+    if inp.te_out is not None:
+        from .output import check_out
+
+        check_out(inp.te_out, file_suffixes=(inp.te_out.suffix.lower() or ".toml",))
     sig = read_te(file, x_unit=inp.x_unit, te_unit=inp.te_unit, rpm=inp.te_rpm)
     res = analyse_te(sig, z1, z2, harmonics=inp.harmonics, shaft_orders=inp.shaft_orders)
     section = mesh_section(res)
@@ -56,7 +65,9 @@ def te(
     summary["mesh_section"] = section
     files = []
     if inp.te_out is not None:
-        inp.te_out.write_text(section, encoding="utf-8")
+        from ..atomic import atomic_write_bytes
+
+        atomic_write_bytes(inp.te_out, section.encode("utf-8"))
         files.append(str(inp.te_out))
     if inp.json_out:
         summary["files"] = files

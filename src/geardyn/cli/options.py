@@ -27,7 +27,7 @@ from .. import params
 from ..errors import GeardynError, ModelError
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
 from .app import GeardynCommand, app, emit_json, fail, is_stop
-from .output import engine_keywords, out_paths
+from .output import check_budget, check_out, engine_keywords, out_paths
 
 __all__ = ["CONFIG", "ENGINE", "FIGURE_OPTIONS", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
            "integration", "sweep_range", "model_group", "option", "param_option", "ContinuationParamOpt", "StopOpt"]
@@ -256,6 +256,11 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
     return m
 
 
+#: Largest contraction (as a power of e) of the perturbations over one forcing period for which
+#: Lyapunov exponents are computed: e^-700 is still a normal double (the smallest is e^-708).
+MAX_PERIOD_CONTRACTION = 700.0
+
+
 class Inputs:
     """The values of a command's shared option groups, with the checked objects built from them.
 
@@ -338,7 +343,39 @@ class Inputs:
         ws = list(omegas) + ([] if omega is None else [omega])
         opts = validate.options(v["dtau"], v["transient"], n, v["accurate"], ws)
         validate.recorded(points, opts.periods)
+        check_budget(opts, ws, points)
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
+
+    def exponents_computable(self, model: GearModel, omegas: Any) -> None:
+        """Refuse Lyapunov exponents where the damping contracts the perturbations below double precision
+        within one forcing period (e^(-2 ξ0 T) < e^-:data:`MAX_PERIOD_CONTRACTION`, T = 2π/ω): their
+        Gram–Schmidt normalisation would divide by zero.
+
+        Parameters
+        ----------
+        model : GearModel
+            The model (its mean damping ξ0).
+        omegas : sequence of float
+            The forcing frequencies of the run.
+
+        Raises
+        ------
+        ModelError
+            Naming ω and the smallest ω allowed.
+        """
+        import math
+
+        import numpy as np
+
+        xi = float(model.xi0)  # the mean damping: the harmonics average out over a period
+        ws = np.asarray(omegas, dtype=float).ravel()
+        if xi <= 0 or not ws.size:
+            return
+        w_min = 4.0 * math.pi * xi / MAX_PERIOD_CONTRACTION
+        if float(np.min(ws)) < w_min:
+            raise ModelError(f"omega: Lyapunov exponents need ω >= {w_min:.4g} with this damping (ξ0 = {xi:g}): at "
+                             f"ω = {float(np.min(ws)):.4g} the perturbations shrink by e^-{4 * math.pi * xi / float(np.min(ws)):.0f} "
+                             f"in one forcing period, below double precision")
 
     def param_range(self, param: Optional[str], start: Optional[float], stop: Optional[float], *,
                     what: str = "swept") -> tuple[str, float, float]:
@@ -590,6 +627,10 @@ StopOpt = Annotated[Optional[float], typer.Option(
     "--stop", help="Parameter value where the continuation ends (may lie below --start).")]
 
 
+#: Suffixes that make a command's ``--out`` a file name (else a directory); the NetCDF commands: ``.nc``.
+OUT_FILES = {"plot": (), "modes": (".png", ".pdf", ".svg")}
+
+
 def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register ``fn(inp, **own_options)`` as a command that also takes the options of ``groups``.
 
@@ -625,11 +666,13 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
             import numpy as np
 
             inp = Inputs({n: kw.pop(n) for n in names})
-            if "fig_format" in inp.values:
-                try:  # a bad --format or --dpi is refused before the computation, not after it
+            try:  # a bad --format, --dpi or --out is refused before the computation, not after it
+                if "fig_format" in inp.values:
                     inp.figures()
-                except GeardynError as e:
-                    raise fail(str(e)) from None
+                if inp.values.get("out") is not None:
+                    check_out(inp.values["out"], file_suffixes=OUT_FILES.get(name, (".nc",)))
+            except GeardynError as e:
+                raise fail(str(e)) from None
             # No floating-point warning reaches the user: an overflowing input is refused by the checks that
             # follow (a value that is not finite), a diverging point carries its status.
             with np.errstate(all="ignore"), warnings.catch_warnings():

@@ -7,11 +7,165 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-__all__ = ["engine_keywords", "out_paths", "write_released"]
+__all__ = ["TIME_BUDGET", "check_budget", "check_out", "engine_keywords", "out_paths", "write_released"]
+
+#: Estimated computing time a command may take (s), unless the environment variable
+#: ``GEARDYN_TIME_BUDGET`` gives another number of seconds: 1 hour.
+TIME_BUDGET = 3600.0
+#: Estimated kernel time of one RK4 step: a single trajectory (simulate, lyapunov: one point, with its
+#: recording) and a sweep point (SIMD lanes, per thread; ``geardyn.sweep.STEP_SECONDS``).
+TRAJECTORY_STEP_SECONDS = 1.0e-7
+#: Memory a recorded forcing period takes: of a single trajectory (its statistics and history, measured
+#: about 620 bytes) and of a sweep point (its Poincaré point), and a sweep point's fixed share (bytes).
+TRAJECTORY_PERIOD_BYTES = 1024
+SWEEP_PERIOD_BYTES = 16
+SWEEP_POINT_BYTES = 1024
+
+
+def time_budget() -> float:
+    """The time budget in seconds (:data:`TIME_BUDGET`, or ``GEARDYN_TIME_BUDGET``)."""
+    import math
+    import os
+
+    try:
+        t = float(os.environ.get("GEARDYN_TIME_BUDGET", TIME_BUDGET))
+    except ValueError:
+        return TIME_BUDGET
+    return t if math.isfinite(t) and t > 0 else TIME_BUDGET
+
+
+def memory_budget() -> float:
+    """Half of this machine's physical memory (bytes; 8 GB where it cannot be read)."""
+    import os
+
+    try:
+        return 0.5 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return 8e9
+
+
+def _human_time(s: float) -> str:
+    return f"{s:.3g} s" if s < 120 else f"{s / 60:.3g} min" if s < 7200 else f"{s / 3600:.3g} h"
+
+
+def check_budget(opts: Any, omegas: Any, points: int) -> None:
+    """Refuse, before computing, a run whose estimated memory or computing time exceeds the budgets
+    (:func:`memory_budget`, :func:`time_budget`); the message gives the estimate.
+
+    Parameters
+    ----------
+    opts : IntegrationOptions
+        Step, transient and recorded periods.
+    omegas : sequence of float
+        The forcing frequencies of the points (the steps per period follow from them); none: no time check.
+    points : int
+        Points of the run (1: a single trajectory).
+
+    Raises
+    ------
+    ModelError
+        Naming the options, the estimate and the budget.
+    """
+    import math
+
+    import numpy as np
+
+    from ..errors import ModelError
+
+    points = max(1, int(points))
+    pe, tr = int(opts.periods), int(opts.transient)
+    if points == 1:
+        need = pe * TRAJECTORY_PERIOD_BYTES
+    else:
+        need = points * (pe * SWEEP_PERIOD_BYTES + SWEEP_POINT_BYTES)
+    have = memory_budget()
+    if need > have:
+        raise ModelError(f"periods: {points} point(s) × {pe} recorded periods need about {need / 1e9:.3g} GB of memory; "
+                         f"at most {have / 1e9:.3g} GB (half this machine's memory): fewer points or --periods")
+    ws = np.asarray(list(omegas) if not isinstance(omegas, np.ndarray) else omegas, dtype=float).ravel()
+    ws = ws[np.isfinite(ws) & (ws > 0)]
+    if not ws.size:
+        return
+    steps = float(np.mean(np.ceil(2.0 * math.pi / ws / opts.dtau)))
+    total = steps * (tr + pe) * points
+    if points == 1:
+        seconds = total * TRAJECTORY_STEP_SECONDS
+    else:
+        import numba
+
+        from ..sweep import STEP_SECONDS
+
+        seconds = total * STEP_SECONDS / max(1, int(numba.config.NUMBA_NUM_THREADS))
+    budget = time_budget()
+    if seconds > budget:
+        raise ModelError(
+            f"periods: {points} point(s) × ({tr} transient + {pe} recorded periods) × {steps:.3g} steps per period "
+            f"= {total:.3g} RK4 steps, about {_human_time(seconds)} of computing; the budget is {_human_time(budget)} "
+            f"(GEARDYN_TIME_BUDGET seconds): fewer points or periods, or a larger --dtau")
+
+
+def _is_nc(out: Path) -> bool:
+    return out.suffix.lower() == ".nc"
+
+
+def check_out(out: Any, option: str = "out", *, file_suffixes: tuple[str, ...] = (".nc",)) -> Path:
+    """Refuse an output path that cannot be written before anything is computed.
+
+    ``out`` names a file when its suffix is one of ``file_suffixes`` (any case), else a directory.
+    Refused: an empty name; a file name that is an existing directory; a directory name that is an
+    existing file; a folder that cannot be created or written.
+
+    Parameters
+    ----------
+    out : str or Path
+        The value of the option.
+    option : str
+        The option's name, for the message.
+    file_suffixes : tuple of str
+        Suffixes (lower case) that make ``out`` a file name.
+
+    Returns
+    -------
+    Path
+        ``out``.
+
+    Raises
+    ------
+    ModelError
+        One line naming the option, the path and what is wrong.
+    """
+    import os
+
+    from ..errors import ModelError
+
+    text = str(out) if out is not None else ""
+    if not text.strip():
+        raise ModelError(f"{option}: empty; give a directory or a file name")
+    if "\0" in text:
+        raise ModelError(f"{option}: the path contains a NUL character")
+    out = Path(text)
+    is_file = out.suffix.lower() in file_suffixes
+    try:
+        if is_file and out.is_dir():
+            raise ModelError(f"{option}: {out} is a directory; give a file name ({'/'.join(file_suffixes)}) or a "
+                             f"directory name without that suffix")
+        if not is_file and out.exists() and not out.is_dir():
+            raise ModelError(f"{option}: {out} exists and is not a directory")
+        folder = out.parent if is_file else out
+        probe = folder
+        while not probe.exists() and probe != probe.parent:
+            probe = probe.parent
+        if probe.exists() and not probe.is_dir():
+            raise ModelError(f"{option}: cannot create {folder}: {probe} is a file")
+        if probe.exists() and not os.access(probe, os.W_OK | os.X_OK):
+            raise ModelError(f"{option}: cannot write in {probe} (permission denied)")
+    except OSError as e:  # a name too long, a loop of links ...
+        raise ModelError(f"{option}: cannot use {text[:200]!r} ({e.strerror or e})") from None
+    return out
 
 
 def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
-    """(NetCDF file, figure directory) for ``--out``: a directory, or a file name ending in .nc.
+    """(NetCDF file, figure directory) for ``--out``: a directory, or a file name ending in .nc (any case).
 
     Parameters
     ----------
@@ -25,7 +179,8 @@ def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
     nc, figures : Path
         The NetCDF file and the directory the figures go to.
     """
-    if out.suffix == ".nc":
+    out = Path(out)
+    if _is_nc(out):
         return out, out.parent
     return out / f"{stem}.nc", out
 
@@ -63,14 +218,81 @@ def engine_keywords(values: dict[str, Any], stem: str) -> dict[str, Any]:
     nc = out_paths(Path(out), stem)[0] if out is not None else None
     if values.get("resume") and nc is None:
         raise ModelError("resume: needs --out (a resumable sweep keeps its finished chunks next to its output)")
+    scheduler = validate.scheduler(values.get("scheduler"))
+    if scheduler is not None:
+        probe_scheduler(scheduler)
     return {
         "workers": validate.workers(values.get("workers", 1)),
         "processes": bool(values.get("processes", False)),
-        "scheduler": validate.scheduler(values.get("scheduler")),
+        "scheduler": scheduler,
         "checkpoint": checkpoint_dir(nc) if nc is not None else None,
         "resume": bool(values.get("resume", False)),
         "progress": not values.get("json_out"),
     }
+
+
+#: Seconds a Dask scheduler is given to accept a connection and send its handshake.
+HANDSHAKE_TIMEOUT = 5.0
+
+
+def probe_scheduler(address: str, timeout: float = HANDSHAKE_TIMEOUT) -> None:
+    """Check that a ``tcp://`` address is a Dask scheduler before a sweep relies on it.
+
+    A Dask server sends its handshake (an 8-byte length, then msgpack frames naming its ``compression``
+    and ``pickle-protocol``) as soon as it accepts a connection; an endpoint that refuses, stays
+    silent for ``timeout`` seconds or sends anything else is refused in one line.  Other schemes (TLS,
+    in-process) are left to Dask.
+
+    Parameters
+    ----------
+    address : str
+        ``tcp://HOST:PORT`` (port 8786 when not given).
+    timeout : float
+        Seconds for the connection and the handshake.
+
+    Raises
+    ------
+    SweepError
+        Naming the address and what was found there.
+    """
+    import socket
+    import struct
+    import time
+
+    from ..errors import SweepError
+
+    from ..validate import _SCHEDULER
+
+    m = _SCHEDULER.match(address)
+    if m is None or (m.group(1) or "tcp") != "tcp":
+        return
+    host, port_n = m.group(2).strip("[]"), int(m.group(3) or 8786)
+    deadline = time.monotonic() + timeout
+
+    def receive(sock: socket.socket, n: int) -> bytes:
+        data = b""
+        while len(data) < n:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise TimeoutError
+            sock.settimeout(left)
+            part = sock.recv(n - len(data))
+            if not part:
+                break
+            data += part
+        return data
+
+    try:
+        with socket.create_connection((host, port_n), timeout=timeout) as sock:
+            head = receive(sock, 8)
+            size = struct.unpack("<Q", head)[0] if len(head) == 8 else 0
+            body = receive(sock, size) if 0 < size <= 1_000_000 else b""
+    except TimeoutError:
+        raise SweepError(f"scheduler: {address} did not answer as a Dask scheduler within {timeout:g} s") from None
+    except (OSError, ValueError, OverflowError) as e:
+        raise SweepError(f"scheduler: cannot connect to {address} ({getattr(e, 'strerror', None) or e})") from None
+    if b"pickle-protocol" not in body and b"compression" not in body:
+        raise SweepError(f"scheduler: {address} is not a Dask scheduler (it answered something else)")
 
 
 def write_released(ds: Any, nc: Path, figdir: Path, fmt: Any = ("png",), dpi: int = 120) -> list[str]:
@@ -120,19 +342,22 @@ def _write_releasing(ds: Any, nc: Path) -> Path:
     The coordinates and attributes go first, then each data variable is added (variables
     computed when read, e.g. :func:`geardyn.analysis.physical.add_physical` with ``lazy``, are
     computed then), so that the file is written without holding a copy of the result; it reads
-    back as the Dataset ``write_netcdf`` writes.  Atomic as ``write_netcdf``.
+    back as the Dataset ``write_netcdf`` writes.  Atomic as ``write_netcdf`` (produced in memory, then
+    written: a full disk is an :class:`OSError` naming the file).
     """
-    from ..io import _atomic, annotate
+    from ..atomic import atomic_write_bytes, write_netcdf_bytes
+    from ..io import annotate
 
     annotate(ds)
     names = list(ds.data_vars)
 
-    def write(tmp: Path) -> None:
+    def write(buf: Any) -> None:
         from xarray.backends import H5NetCDFStore
 
-        # One open file.  Written from this thread alone, so without xarray's write lock, whose look-up of
-        # a Dask scheduler imports Dask (where installed) for nothing.
-        store = H5NetCDFStore.open(tmp, mode="w", lock=False)
+        # One open file, in memory (HDF5 never meets a full disk; the variables move from ds into it).
+        # Written from this thread alone, so without xarray's write lock, whose look-up of a Dask
+        # scheduler imports Dask (where installed) for nothing.
+        store = H5NetCDFStore.open(buf, mode="w", lock=False)
         try:
             ds.drop_vars(names).dump_to_store(store)
             for name in names:
@@ -141,7 +366,7 @@ def _write_releasing(ds: Any, nc: Path) -> Path:
         finally:
             store.close()
 
-    return _atomic(nc, write)
+    return atomic_write_bytes(nc, write_netcdf_bytes(write))
 
 
 def _figures_from_file(nc: Path, figdir: Path, fmt: Any = ("png",), dpi: int = 120) -> list[str]:

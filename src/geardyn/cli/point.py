@@ -72,7 +72,11 @@ def lyapunov(
     model = inp.model()
     scales = inp.scales()
     opts = inp.options(model.omega)
-    nb = validate.integer("blocks", blocks, 2, max(2, opts.periods))
+    inp.exponents_computable(model, [model.omega])
+    nb = validate.integer("blocks", blocks, 2, validate.MAX_PERIODS)
+    if opts.periods < nb:
+        raise ModelError(f"periods: {opts.periods} periods cannot be cut into --blocks {nb} blocks; give at least "
+                         f"{nb} periods (or fewer blocks, >= 2)")
     from ..sweep.progress import task_progress
 
     with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:

@@ -48,10 +48,17 @@ def bifurcation(
     scales = inp.scales()
     name, start, stop = inp.param_range(param, start, stop)
     name, values = validate.axis(name, start, stop, num)
+    # the budgets first: building a grid of 10^8 models alone takes minutes
+    inp.options(omegas=values if name == "omega" else [model.omega], points=values.size * (2 if sweep == "both" else 1))
     models = validate.grid(model, [(name, values)])
     opts = inp.options(omegas=[m.omega for m in models], points=len(models) * (2 if sweep == "both" else 1))
+    if lyap:
+        inp.exponents_computable(model, [m.omega for m in models])
     choice("mode", mode, MODES)
     choice("sweep", sweep, SWEEPS)
+    if mode == "fixed" and sweep != "up":
+        raise ModelError(f"sweep: --sweep {sweep} applies to --mode continue; in fixed mode every point starts from "
+                         "(u0, v0), so the direction changes nothing")
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("bifurcation")
     ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=inp.state0(), options=opts,
@@ -90,8 +97,10 @@ def response(
     if omega_start is None or omega_stop is None:
         raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
     _, values = validate.axis("omega", omega_start, omega_stop, num)
-    validate.grid(model, [("omega", values)])
     opts = inp.options(omegas=values, points=2 * values.size)
+    validate.grid(model, [("omega", values)])
+    if lyap:
+        inp.exponents_computable(model, values)
     choice("measure", measure, MEASURES)
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("response")
@@ -164,7 +173,10 @@ def parameter_map(
     xn, xv = validate.axis(x, x_start, x_stop, inp.x_num)
     yn, yv = validate.axis(y, y_start, y_stop, inp.y_num)
     inp.not_swept(xn, yn)
-    opts = inp.options(points=xv.size * yv.size)
+    axis_omegas = xv if xn == "omega" else yv if yn == "omega" else [model.omega]
+    opts = inp.options(omegas=axis_omegas, points=xv.size * yv.size)
+    if lyap:
+        inp.exponents_computable(model, axis_omegas)
     validate.grid(model, [(yn, yv), (xn, xv)], opts)
     choice("mode", mode, MODES)
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)

@@ -50,11 +50,12 @@ def plot_cmd(
     from ..plot import save_figures
 
     if not file.is_file():
-        raise fail(f"file: {file} not found")
+        raise fail(f"file: {file} not found" + (" (it is a directory)" if file.is_dir() else ""))
     try:
         ds = read_netcdf(file)
-    except (OSError, ValueError) as e:
-        raise fail(f"file: cannot read {file} as a NetCDF result ({type(e).__name__}: {e})")
+    except (OSError, ValueError, TypeError, KeyError, RuntimeError) as e:
+        raise fail(f"file: cannot read {file} as a NetCDF result ({type(e).__name__}: {' '.join(str(e).split())[:200]})")
+    _check_attributes(file, ds)
     try:
         if inp.physical or inp.config is not None:
             from ..analysis.physical import add_physical
@@ -63,11 +64,36 @@ def plot_cmd(
         files = [str(p) for p in save_figures(ds, inp.out if inp.out is not None else file.parent, **inp.figures())]
     except GeardynError as e:
         raise fail(f"{file}: {e}")
+    except OSError:
+        raise
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, RecursionError) as e:
+        kind = ds.attrs.get("geardyn_kind")
+        raise fail(f"{file}: not a complete geardyn{' ' + str(kind) if isinstance(kind, str) else ''} result "
+                   f"({type(e).__name__}: {' '.join(str(e).split())[:120]}); it cannot be drawn")
     if inp.json_out:
         emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
         return
     for f in files:
         console.print(f"wrote {f}", markup=False, highlight=False)
+
+
+#: Largest attribute of a result file drawn by ``plot`` (characters of a string, elements of an array).
+MAX_ATTRIBUTE_SIZE = 1_000_000
+MAX_ATTRIBUTE_ELEMENTS = 10_000
+
+
+def _check_attributes(file: Path, ds) -> None:
+    """Refuse a result whose attributes are too large to be a geardyn result's (they would be parsed)."""
+    import numpy as np
+
+    for where, attrs in [("", ds.attrs)] + [(f"{name}.", v.attrs) for name, v in ds.variables.items()]:
+        for key, val in attrs.items():
+            if isinstance(val, str) and len(val) > MAX_ATTRIBUTE_SIZE:
+                raise fail(f"{file}: attribute {where}{key} holds {len(val)} characters; at most "
+                           f"{MAX_ATTRIBUTE_SIZE} in a geardyn result")
+            if np.size(val) > MAX_ATTRIBUTE_ELEMENTS:
+                raise fail(f"{file}: attribute {where}{key} holds {np.size(val)} elements; at most "
+                           f"{MAX_ATTRIBUTE_ELEMENTS} in a geardyn result")
 
 
 @command("reproduce", JSON_ONLY)
@@ -80,8 +106,11 @@ def reproduce(
     """Run every study of the paper on its Table 1 pair and write a report judging each claim."""
     from ..reproduce import Settings, run
 
-    if workers < 1:
-        raise fail(f"workers: must be >= 1, got {workers}")
+    from .. import validate
+    from .output import check_out
+
+    workers = validate.workers(workers)
+    check_out(out, file_suffixes=())
     settings = replace(Settings.quick() if quick else Settings(), workers=workers)
     log = (lambda m: None) if inp.json_out else (lambda m: err_console.print(f"… {m}", markup=False, highlight=False))
     res = run(out, settings, log=log)
@@ -90,6 +119,10 @@ def reproduce(
                    "claims": [{"id": c.id, "verdict": c.verdict, "computed": c.computed} for c in res["claims"]]})
         return
     render.claims(res)
+
+
+#: Most timed runs of ``bench`` per workload (each workload takes about a second).
+MAX_REPEATS = 100
 
 
 @command("bench", JSON_ONLY)
@@ -103,10 +136,11 @@ def bench(
     from ..bench import WORKLOADS, run_benchmarks
 
     names = list(WORKLOADS) if workload.lower() == "all" else [workload]
-    if threads is not None and threads < 1:
-        raise fail(f"threads: must be >= 1, got {threads}")
-    if repeats < 1:
-        raise fail(f"repeats: must be >= 1, got {repeats}")
+    from .. import validate
+
+    if threads is not None:
+        validate.integer("threads", threads, 1, validate.MAX_WORKERS)
+    validate.integer("repeats", repeats, 1, MAX_REPEATS)
     res = run_benchmarks(names, threads=threads, repeats=repeats)
     if inp.json_out:
         emit_json(res)

@@ -183,7 +183,7 @@ def label(da: xr.DataArray, fallback: str | None = None) -> str:
 
 
 def save(fig: Any, path: str | Path, *, close: bool = True, dpi: int = DPI) -> Path:
-    """Save a figure (a :class:`~matplotlib.figure.Figure` or :class:`PlotArtists`) and return its path.
+    """Save a figure (a :class:`~matplotlib.figure.Figure` or :class:`PlotArtists`) atomically and return its path.
 
     The format follows the suffix of ``path`` (PNG for ``.png``).  A figure managed by pyplot is
     closed there when ``close`` is true; geardyn's own figures need no closing.
@@ -204,10 +204,15 @@ def save(fig: Any, path: str | Path, *, close: bool = True, dpi: int = DPI) -> P
     Path
         ``path``.
     """
+    import io
+
+    from ..atomic import atomic_write_bytes
+
     figure = fig.figure if isinstance(fig, PlotArtists) else fig
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    figure.savefig(path, dpi=dpi, bbox_inches="tight")
+    buf = io.BytesIO()  # drawn in memory, then written atomically: no truncated figure on a full disk
+    figure.savefig(buf, dpi=dpi, bbox_inches="tight", format=path.suffix.lstrip(".").lower() or "png")
+    atomic_write_bytes(path, buf.getbuffer())
     if close and getattr(figure.canvas, "manager", None) is not None and "matplotlib.pyplot" in sys.modules:
         sys.modules["matplotlib.pyplot"].close(figure)
     return path

@@ -6,6 +6,13 @@ through a temporary file, fsync, rename and an fsync of the directory
 (:func:`geardyn.io.atomic_write_bytes`), so a process killed at any moment (even ``kill -9``)
 leaves only complete chunk files, and a resumed sweep returns exactly the arrays of an
 uninterrupted one.
+
+Integrity: every chunk file carries the sweep's fingerprint, its own index and a SHA-256 checksum of
+its arrays.  On resume a chunk that belongs to another sweep, sits under another index or does not
+verify is reported in one line on stderr, removed and computed again; a manifest that cannot be read
+is reported and the resume refused (running without ``--resume`` starts over); ``--resume`` with no
+checkpoint says so and runs the whole sweep; temporary files left by a killed process (of the chunks
+and of the final output) are removed.
 """
 
 from __future__ import annotations
@@ -15,6 +22,7 @@ import io as _io
 import json
 import pickle
 import queue
+import sys
 import threading
 import zipfile
 from pathlib import Path
@@ -23,12 +31,33 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import SweepError
+from ..atomic import remove_stale
 from ..io import atomic_write_bytes
 
-__all__ = ["MANIFEST", "CheckpointStore", "checkpoint_dir", "fingerprint", "prepare_checkpoint", "remove_checkpoint"]
+__all__ = ["MANIFEST", "CheckpointStore", "active_checkpoints", "checkpoint_dir", "fingerprint", "prepare_checkpoint",
+           "remove_checkpoint"]
 
 #: File name of the checkpoint manifest (fingerprint of the sweep and its number of chunks).
 MANIFEST = "manifest.json"
+#: Name of the entry of a chunk file holding its identity (sweep fingerprint, index, checksum).
+CHUNK_META = "__geardyn_chunk__"
+
+#: Fingerprint of the sweep of each checkpoint directory opened by this process (in the order opened).
+_OPEN: dict[str, str] = {}
+
+
+def active_checkpoints() -> list[Path]:
+    """The checkpoint directories of the sweeps this process has opened and not removed."""
+    return [Path(d) for d in _OPEN if Path(d, MANIFEST).exists()]
+
+
+def report(message: str) -> None:
+    """One line on stderr about the checkpoint (a chunk recomputed, nothing to resume ...)."""
+    try:
+        sys.stderr.write(" ".join(message.split()) + "\n")
+        sys.stderr.flush()
+    except (OSError, ValueError, AttributeError):
+        pass
 
 
 def checkpoint_dir(out_file: str | Path) -> Path:
@@ -61,6 +90,7 @@ def remove_checkpoint(directory: str | Path) -> None:
         The checkpoint directory (missing: nothing to do).
     """
     d = Path(directory)
+    _OPEN.pop(str(d), None)
     if not d.is_dir():
         return
     for p in d.iterdir():
@@ -109,23 +139,52 @@ def _chunk_path(directory: Path, index: int) -> Path:
     return directory / f"chunk-{index:06d}.npz"
 
 
+def checksum(result: dict[str, np.ndarray]) -> str:
+    """SHA-256 of a chunk's arrays (names, dtypes, shapes and bytes, in name order)."""
+    h = hashlib.sha256()
+    for k in sorted(result):
+        a = np.ascontiguousarray(result[k])
+        h.update(f"{k}:{a.dtype.str}:{a.shape}:".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
 def _save_chunk(directory: Path, index: int, result: dict[str, np.ndarray]) -> None:
+    meta = {"fingerprint": _OPEN.get(str(directory), ""), "index": int(index), "checksum": checksum(result)}
     buf = _io.BytesIO()
-    np.savez(buf, **result)
-    atomic_write_bytes(_chunk_path(directory, index), buf.getvalue())
+    np.savez(buf, **result, **{CHUNK_META: np.array(json.dumps(meta))})
+    atomic_write_bytes(_chunk_path(directory, index), buf.getbuffer())
 
 
 def _load_chunk(directory: Path, index: int) -> dict[str, np.ndarray] | None:
-    """A finished chunk, or None if it is missing or unreadable (it is then run again)."""
+    """A finished chunk, or None if it is missing, unreadable, of another sweep or index, or does not verify
+    (reported in one line, removed, and then run again)."""
     p = _chunk_path(directory, index)
     if not p.exists():
         return None
+    why = None
     try:
         with np.load(p, allow_pickle=False) as z:
-            return {k: z[k] for k in z.files}
-    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+            out = {k: z[k] for k in z.files}
+        meta = json.loads(str(out.pop(CHUNK_META))) if CHUNK_META in out else None
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile, RuntimeError) as e:
+        why = f"unreadable ({type(e).__name__})"
+        meta = out = None
+    if why is None:
+        fp = _OPEN.get(str(directory))
+        if not isinstance(meta, dict):
+            why = "it carries no sweep fingerprint"
+        elif fp is not None and meta.get("fingerprint") != fp:
+            why = "it belongs to another sweep"
+        elif meta.get("index") != index:
+            why = f"it is chunk {meta.get('index')!r} of its sweep"
+        elif meta.get("checksum") != checksum(out):
+            why = "its checksum does not verify"
+    if why is not None:
+        report(f"checkpoint: {p.name} in {directory} is not used ({why}); chunk {index} is computed again")
         p.unlink(missing_ok=True)
         return None
+    return out
 
 
 def _clear_chunks(directory: Path) -> None:
@@ -175,23 +234,40 @@ def prepare_checkpoint(directory: Path, chunks: Sequence[Any], resume: bool) -> 
         raise SweepError(f"out: checkpoint path {directory} exists and is not a directory")
     fp = fingerprint(chunks)
     man = directory / MANIFEST
+    _clear_temporaries(directory)
+    if directory.name.endswith(".chunks"):  # temporaries of the final output left by a killed process
+        remove_stale(directory.with_name(directory.name[: -len(".chunks")]))
     old: dict[str, Any] = {}
     if man.exists():
         try:
-            old = json.loads(man.read_text())
-        except (OSError, ValueError):
+            old = json.loads(man.read_text(encoding="utf-8"))
+            if not isinstance(old, dict) or not isinstance(old.get("fingerprint"), str):
+                raise ValueError("not a checkpoint manifest")
+        except (OSError, ValueError, UnicodeDecodeError, RecursionError) as e:
+            if resume:
+                raise SweepError(
+                    f"resume: the checkpoint manifest {man} cannot be read ({type(e).__name__}); its chunks cannot "
+                    "be trusted: run without --resume to start over"
+                ) from None
             old = {}
+    elif resume:
+        has_chunks = any(directory.glob("chunk-*.npz"))
+        report(f"resume: nothing to resume in {directory} (no checkpoint manifest"
+               + ("; its chunk files are not trusted" if has_chunks else "") + "); the whole sweep is run")
     if resume and old and old.get("fingerprint") != fp:
         raise SweepError(
             f"resume: checkpoint {directory} holds a different sweep (parameters, options or chunk size differ); "
             "run without --resume to start over, or use another --out"
         )
+    _OPEN[str(directory)] = fp
     if not resume or not old:
         _clear_chunks(directory)  # a fresh start, or chunks without a manifest: not trusted
         atomic_write_bytes(man, json.dumps({"fingerprint": fp, "chunks": len(chunks)}).encode())
         return set()
-    _clear_temporaries(directory)
-    return {c.index for c in chunks if _chunk_path(directory, c.index).exists()}
+    done = {c.index for c in chunks if _chunk_path(directory, c.index).exists()}
+    if not done:
+        report(f"resume: no finished chunk in {directory}; the whole sweep is run")
+    return done
 
 
 class CheckpointStore:

@@ -72,7 +72,7 @@ from typing import Any
 
 import numpy as np
 
-from .._config_values import _ANGLE_UNITS, _ureg, parse_toml, read_toml
+from .._config_values import _ANGLE_UNITS, MAX_INTEGER, MAX_MAGNITUDE, MAX_TEETH, MIN_MAGNITUDE, _clip, parse_toml, quantity, read_toml
 from ..errors import ConfigError, GeardynError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
 from .assemble import SystemModel, assemble
@@ -99,6 +99,8 @@ _K = {
     "torque": ("N*m", '"1500 N*m"'),
     "speed": ("rpm", '"3000 rpm"'),
 }
+
+_NONNEGATIVE = frozenset({"mass", "inertia", "stiffness", "tstiffness", "damping", "tdamping"})
 
 _BODY_KEYS = {"name": "text", "dofs": "list", "mass": "mass", "inertia": "inertia", "mass_matrix": "matrix"}
 _BEARING_KEYS = {f"k{d}": ("tstiffness" if d == "theta" else "stiffness") for d in DOFS} | {
@@ -227,6 +229,8 @@ class _Block:
         return self.ctx.model(self.section, self.index, key, self.element, problem)
 
     def wrap(self, err: ModelError) -> ModelError:
+        if str(err).startswith(f"{self.ctx.source}: "):  # already placed in the file
+            return err
         key, problem = _strip(str(err), self.element)
         key = key if key in self.data else None
         return self.merr(key, problem)
@@ -295,21 +299,30 @@ class _Block:
             if isinstance(raw, float) and raw.is_integer():
                 raw = int(raw)
             if not isinstance(raw, int):
-                raise self.cerr(key, f"{el}expected an integer, got {raw!r}")
+                raise self.cerr(key, f"{el}expected an integer, got {_clip(raw)}")
+            if abs(raw) > MAX_INTEGER:
+                raise self.cerr(key, f"{el}must be at most {MAX_INTEGER} in size, got {_clip(raw)}")
+            if key in ("z1", "z2", "teeth") and not 1 <= raw <= MAX_TEETH:
+                raise self.merr(key, f"{el}a number of teeth must be from 1 to {MAX_TEETH}, got {raw}")
             return raw
         if unit is None or (kind == "phase" and isinstance(raw, (int, float))):
             if not isinstance(raw, (int, float)):
                 raise self.cerr(key, f"{el}expected a plain number (e.g. {example}), got {raw!r}")
-            x = float(raw)
+            try:
+                x = float(raw)
+            except OverflowError:
+                x = math.inf
             if not math.isfinite(x):
-                raise self.cerr(key, f"{el}must be a finite number, got {raw!r}")
+                raise self.cerr(key, f"{el}must be a finite number, got {_clip(raw)}")
             return x
         if not isinstance(raw, str):
             raise self.cerr(key, f"{el}expected a {kind} with its unit, as a string (e.g. {example}), got {raw!r}")
         try:
-            q = _ureg().Quantity(raw)
+            q = quantity(raw)
+        except ValueError as e:
+            raise self.cerr(key, f"{el}cannot read {raw[:60]!r} ({e}); write e.g. {example}") from None
         except Exception as e:  # pint raises several types for a bad unit string
-            raise self.cerr(key, f"{el}cannot read {raw!r} ({type(e).__name__}); write e.g. {example}") from None
+            raise self.cerr(key, f"{el}cannot read {raw[:60]!r} ({type(e).__name__}); write e.g. {example}") from None
         units = str(q.units)
         if kind in ("angle", "phase") and units not in _ANGLE_UNITS:
             raise self.cerr(key, f"{el}expected an angle with its unit (e.g. {example}), got {raw!r}")
@@ -320,6 +333,16 @@ class _Block:
         x = float(q.to(unit).magnitude)
         if not math.isfinite(x):
             raise self.cerr(key, f"{el}must be finite, got {raw!r}")
+        return self._in_range(key, kind, x, el, raw)
+
+    def _in_range(self, key: str, kind: str, x: float, el: str, raw: Any) -> float:
+        """``x`` if a ``kind`` may be it: not negative (see :data:`_NONNEGATIVE`), magnitude within the SI range."""
+        if kind in _NONNEGATIVE or key == "backlash":
+            if x < 0:
+                what = "backlash" if key == "backlash" else kind
+                raise self.merr(key, f"{el}must be >= 0 (a negative {what} has no physical meaning), got {raw!r}")
+        if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
+            raise self.merr(key, f"{el}{raw!r} is outside the physical range, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} SI")
         return x
 
 
@@ -556,6 +579,7 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
     bodies = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []))]
     if not bodies:
         raise ConfigError(f"{ctx.source}: no [[body]]: a system needs bodies")
+    _unique(ctx, "body", [b.name for b in bodies])
     bmap = {b.name: b for b in bodies}
     conns, clears = [], []
     for i, t in enumerate(data.get("connection", [])):
@@ -576,10 +600,14 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
                     names[j])
         jn = rb._parse("backlash", "length", rb.data["backlash"]["value"] if isinstance(rb.data.get("backlash"), dict)
                        else rb.data["backlash"]) if rb.has("backlash") else 0.0
+        if jn < 0:
+            raise rb.merr("backlash", f"must be >= 0, got {jn:g} m")
         if not jn > 0:
             raise rb.merr("backlash", "is 0: give [system] characteristic_length (e.g. \"1 um\") to scale lengths")
         b_c = jn / 2.0
     meshes = [_mesh(ctx, i, t, bmap, b_c) for i, t in enumerate(mesh_data)]
+    _unique(ctx, "mesh", [m.name for m in meshes])
+    _unique(ctx, "connection", [getattr(c, "name", None) for c in conns + clears])
     mmap = {m.name: m for m in meshes}
     k_ref = mmap[ref].stiffness if ref in mmap else meshes[0].stiffness
     loads = [ld for i, t in enumerate(data.get("load", [])) for ld in _loads(ctx, i, t, mmap, k_ref, b_c)]
@@ -599,6 +627,16 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
         )
     except ModelError as e:
         raise _element_line(ctx, data, e) from None
+
+
+def _unique(ctx: _Ctx, section: str, names: list) -> None:
+    """Refuse two [[section]] tables of the same name (the second would silently replace the first)."""
+    seen: dict[str, int] = {}
+    for i, n in enumerate(names):
+        if n is not None and n in seen:
+            at = f"line {ctx.line(section, seen[n], 'name')}"
+            raise ctx.config(section, i, "name", None, f"duplicate {section} name {n!r} (also at {at}); names must be unique")
+        seen[n] = i
 
 
 def _top_line(ctx: _Ctx, key: str) -> int | None:

@@ -153,6 +153,10 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> Moda
     K = 0.5 * (K + K.T)
     w2, phi = scipy.linalg.eigh(K, M)
     scale = max(float(np.max(np.abs(w2))), 1e-300)
+    if np.any(w2 < -RIGID_RTOL * scale):  # an unstable mode is no rigid-body mode
+        raise ModelError(f"stiffness: the system is statically unstable (a mode with ω² = {float(np.min(w2)):.4g} "
+                         f"rad²/s² < 0): a stiffness matrix of {desc.source or 'the system'} is not positive "
+                         f"semi-definite")
     rigid = w2 <= RIGID_RTOL * scale
     f = np.where(rigid, 0.0, np.sqrt(np.clip(w2, 0.0, None)) / (2.0 * math.pi))
     order = np.argsort(f, kind="stable")
