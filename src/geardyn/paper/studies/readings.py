@@ -47,7 +47,7 @@ FULL_PHASES = False
 HIGH_CHAOS_FROM = 0.5
 #: Candidates confirmed per claim: as many as fit in this many points (a point of Table 3 is one, a range
 #: claim its interval's grid), at least one and at most VERIFY_MAX.
-VERIFY_POINTS = 40
+VERIFY_POINTS = 60
 VERIFY_MAX = 6
 #: |λ1| "near zero" (Table 3): within max(3σ + LLE_BAND_FLOOR, LLE_NEAR) …
 LLE_NEAR = 0.01
