@@ -111,10 +111,14 @@ def _synthetic():
     fit = xr.Dataset({"omega": ("p", np.tile(om, 2)), "xi0": ("p", [0.1] * 6), "b_mm": ("p", [0.2] * 3 + [0.7] * 3),
                       "amplitude": ("p", [0.5, 0.9, 0.6, 0.55, 0.95, 0.65])},
                      attrs={"geardyn_kind": "formula_fit", "A0": 0.6, "dA": 0.3, "beta": 0.1, "r2": 0.9})
+    readings = xr.Dataset({"hold_fraction": (("claim", "omega"), [[0.2, 1.0, 0.5], [0.0, 0.5, 1.0]])},
+                          coords={"claim": ["T2-1", "T3-2"], "omega": [0.9, 1.0, 1.1]},
+                          attrs={"geardyn_kind": "readings_map", "default_omega": 1.0})
     search = xr.Dataset({"match_fraction": (("omega", "claim"), [[0.2, 1.0], [0.5, np.nan], [0.9, 0.0]])},
                         coords={"omega": om, "claim": ["T2-1", "T2-2"]}, attrs={"geardyn_kind": "search", "param": "xi1"})
     return {"stability_comparison": comp, "mathieu_boundary": mathieu, "stability_boundary": boundary,
-            "formula_fit": fit, "search": search, **_tooth_synthetic()}
+            "formula_fit": fit, "search": search, "readings_map": readings,
+            **_tooth_synthetic()}
 
 
 def _tooth_synthetic():

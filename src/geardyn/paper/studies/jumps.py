@@ -277,7 +277,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         txt = "; ".join(f"D = {k[2]:g}: jump at ω = {omega:g} ± {JUMP_NEAR:g}: "
                         f"{jump_type_at(jumps_of(R[k]), omega, JUMP_NEAR)}" for k in keys)
         ok = jump_holds(jumps_of(R[keys[0]]), omega, direction, JUMP_NEAR)
-        claims.append(CLAIMS[cid].judge(f"b = {b:g} read as D = b/2 (default) and D = b: {txt} (the nearest jump must be "
+        claims.append(CLAIMS[cid].judge(f"b = {b:g} read as D = b/2 (the default reading): {txt} (the nearest jump must be "
                                         f"{direction}ward; the opposite jump fails).", "reproduced" if ok else "contradicted",
                                         jd.ev(*keys)))
 

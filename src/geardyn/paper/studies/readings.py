@@ -41,6 +41,8 @@ XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
 XI1_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = ((0.01, ("T2-4", "XI1-CHAOS")), (0.08, ("T2-5", "XI1-CHAOS")))
 #: The backlash values of Table 3 (mm).
 TABLE3_B: tuple[float, ...] = tuple(CLAIMS[c].numbers["b"] for c in claim_ids("T3-"))
+#: All 16 phase pairs for the damping claims (False: each phase varied alone, 7 pairs, as for the others).
+FULL_PHASES = False
 #: XI0-BIF: the return to chaos is sought from this ξ0 on.
 HIGH_CHAOS_FROM = 0.5
 #: Candidates confirmed per claim: as many as fit in this many points (a point of Table 3 is one, a range
@@ -130,7 +132,7 @@ class ScreenData:
     omegas : ndarray
         The ω grid.
     pairs_full, pairs_one : list of (float, float)
-        The 16 phase pairs, and the 7 with one phase varied.
+        The phase pairs of the damping claims (:data:`FULL_PHASES`) and of the backlash claims (each phase varied alone).
     xi0, xi1 : dict of ndarray
         Per variable, (probe, phase pair, ω) for the ξ0 and ξ1 probes.
     bl : dict of ndarray
@@ -161,7 +163,7 @@ def run_screen(ctx: Context) -> ScreenData:
     """
     s = ctx.settings
     W = np.asarray(s.readings_omegas, dtype=float)
-    full, one = phase_pairs(True), phase_pairs(False)
+    full, one = phase_pairs(FULL_PHASES), phase_pairs(False)
     xi1_t, xi0_t = TABLE1["xi1"], TABLE1["xi0"]
     rows = []
     for x0, _ in XI0_PROBES:

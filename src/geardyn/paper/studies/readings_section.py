@@ -48,7 +48,7 @@ def readings_section(ctx: Context, findings: Mapping[str, Finding]) -> Section:
         "The paper leaves open the phases of the stiffness and damping variation, how its backlash b in mm becomes "
         "D (f_p, ε1 and b_n of Table 1 kept), and the ω of its damping and backlash studies. Every claim is judged "
         "under the readings it depends on: φ_c1 and φ_k1 over {" + ", ".join(phase_text(p) for p in PHASES) + "} "
-        "(all 16 pairs for the damping claims, each phase alone for the backlash and jump claims), D = " +
+        "(each varied alone: 7 pairs), D = " +
         ", ".join(f"b/({v:g} mm)" for v in BACKLASH_READINGS.values()) +
         f", and ω over [{w[0]:.2f}, {w[-1]:.2f}] in steps of 0.01 (the jump claims over the responses' ω grid of step "
         f"{(s.response_omega[1] - s.response_omega[0]) / (s.response_num - 1):.2g}).",
