@@ -253,6 +253,10 @@ def test_4_a_closed_stdout_ends_quietly(tmp_path):
       "1000000"], "of computing"),
     (["bench", "--repeats", str(10**23)], "repeats"),
     (["simulate", "--transient", "100000000", "--periods", "2"], "of computing"),
+    (["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "1e11", "--num", "0"], "of computing"),
+    (["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "100", "--num", "0", "--dtau",
+      "1e-320"], "steps per forcing period"),
+    (["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "-5", "--num", "0"], "tau_duration"),
 ])
 def test_5_unbounded_work_is_refused_before_computing(args, needle):
     t0 = time.monotonic()

@@ -177,6 +177,24 @@ def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
     return float(w0), float(w1), T, scales
 
 
+def _check_ramp_steps(inp: Inputs, w0: float, w1: float, T: float) -> None:
+    """Refuse, before computing, a step or a ramp whose RK4 steps cannot be counted or exceed the bound."""
+    import math
+
+    from .. import validate
+
+    dt = validate.options(inp.dtau, 0, 1, inp.accurate, [w0, w1]).dtau
+    if not (math.isfinite(T) and T > 0):
+        raise ModelError(f"tau_duration: must be a finite number > 0, got {T!r}")
+    from .output import TRAJECTORY_STEP_SECONDS, _human_time, time_budget
+
+    steps, budget = T / dt, time_budget()
+    if not (steps <= validate.MAX_TOTAL_STEPS and steps * TRAJECTORY_STEP_SECONDS <= budget):
+        raise ModelError(f"dtau: a ramp of τ = {T:.6g} with Δτ = {dt:g} is {steps:.3g} RK4 steps, about "
+                         f"{_human_time(steps * TRAJECTORY_STEP_SECONDS)} of computing; the budget is "
+                         f"{_human_time(budget)} (GEARDYN_TIME_BUDGET seconds): a shorter ramp or a larger dtau")
+
+
 @command("runup", RUNUP_OPTIONS, model_group(omega=False, rpm=False), OUTPUT)
 def runup_cmd(inp: Inputs) -> None:
     """Run-up / run-down through a linear speed ramp: order-tracked DTE, amplitude and dynamic factor against
@@ -190,6 +208,7 @@ def runup_cmd(inp: Inputs) -> None:
 
     model = inp.model()
     w0, w1, T, sc = _ramp(inp)
+    _check_ramp_steps(inp, w0, w1, T)
     nq = validate.integer("num", inp.qs_num, 0, 2001)
     orders = validate.integer("orders", inp.orders, 1, 50)
     res = runup(model, w0, w1, T, cycles_per_block=inp.cycles_per_block, orders=orders, dtau=inp.dtau,
