@@ -18,12 +18,13 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
-from ..grid import Grid, build_models, chunked
-from ..model import IntegrationOptions
+from ..grid import Grid, chunked
 from ..io import system_attrs
-from .systems_sweep import SYSTEM_CHUNK_POINTS, _MESH_LONG, _engine, _per_point, continue_chunk, point_rows
+from ..model import IntegrationOptions
+from .systems_sweep import SYSTEM_CHUNK_POINTS, _MESH_LONG, _engine, _per_point, continue_chunk, point_rows, \
+    points_chunk
 
-__all__ = ["system_map", "system_basins", "map_chunk", "basin_chunk", "coordinate_index", "grid_json"]
+__all__ = ["system_map", "system_basins", "basin_chunk", "coordinate_index", "grid_json"]
 
 
 def coordinate_index(model: Any, name: str) -> int:
@@ -60,30 +61,6 @@ def coordinate_index(model: Any, name: str) -> int:
     if not 0 <= i < 2 * model.n:
         raise ModelError(f"coordinates: index {i} out of range 0..{2 * model.n - 1}")
     return i
-
-
-def map_chunk(model: Any, names: Sequence[str], points: np.ndarray, state0: np.ndarray | None,
-              options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Chunk function: parameter points of a map (:meth:`geardyn.grid.Grid.points`), each from ``state0``.
-
-    Parameters
-    ----------
-    model : SystemModel
-    names : sequence of str
-        The grid's parameter names (columns of ``points``).
-    points : ndarray (P, len(names))
-    state0 : ndarray (2n,) or None
-    options : IntegrationOptions
-
-    Returns
-    -------
-    dict of ndarray
-        :func:`~geardyn.analysis.systems_sweep.point_rows`.
-    """
-    from ..integrate import integrate_batch
-
-    models = build_models(model, names, points)
-    return point_rows(models, integrate_batch(models, state0, options, threads=1))
 
 
 def basin_chunk(model: Any, states: np.ndarray, options: IntegrationOptions) -> dict[str, np.ndarray]:
@@ -162,8 +139,8 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
     grid.check(model)
     s0 = None if state0 is None else np.asarray(state0, float)
     if mode == "fixed":
-        rows = _run(map_chunk, [(model, grid.names, grid.points(s), s0, options) for s in grid.slices(SYSTEM_CHUNK_POINTS)], engine,
-                    "system map")
+        rows = _run(points_chunk, [(model, grid.names, grid.points(s), s0, options)
+                                   for s in grid.slices(SYSTEM_CHUNK_POINTS)], engine, "system map")
     else:
         rows = _run(continue_chunk, [(m, xname, xv, s0, options) for m in Grid.range(yname, yv).models(model)],
                     engine, "system map (continued rows)")
@@ -221,7 +198,8 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
         states = np.tile(base, (a.size * b.size, 1))
         states[:, i] = np.tile(a, b.size)
         states[:, j] = np.repeat(b, a.size)
-    rows = _run(basin_chunk, [(model, states[s], options) for s in chunked(len(states), SYSTEM_CHUNK_POINTS)], engine, "system basins")
+    rows = _run(basin_chunk, [(model, states[s], options) for s in chunked(len(states), SYSTEM_CHUNK_POINTS)],
+                engine, "system basins")
     ref = model.reference
     per = _per_point(model, rows, ref)
     ok = per["status"] == 0

@@ -37,7 +37,7 @@ from .bifurcation import sweep_summary
 from .classify import IMPACT_LABELS, MOTION_DIVERGED, MOTION_PERIODIC, MOTION_UNRESOLVED, detect_period, \
     impact_state, period_label
 
-__all__ = ["system_sweep", "system_sweep_dataset", "sweep_json", "system_response_jumps", "sweep_chunk",
+__all__ = ["system_sweep", "system_sweep_dataset", "sweep_json", "system_response_jumps", "points_chunk",
            "continue_chunk", "point_rows"]
 
 #: Points per chunk of a fixed-initial-state system sweep.
@@ -68,26 +68,29 @@ _CHUNK = (SYSTEM, "param : str\n    The swept parameter.",
           "options : IntegrationOptions\n    Integration settings of every point.")
 
 
-@fill(*_CHUNK)
-def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
-                options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Chunk function: the points ``values`` of ``param``, each from ``state0`` (default per point).
+def points_chunk(model: Any, names: Sequence[str], points: np.ndarray, state0: np.ndarray | None,
+                 options: IntegrationOptions) -> dict[str, np.ndarray]:
+    """Chunk function: parameter points (:meth:`geardyn.grid.Grid.points`), each from ``state0`` (default per point).
 
     Parameters
     ----------
-    {{model, param, values}}
+    model : System
+        The base system.
+    names : sequence of str
+        The grid's parameter names (columns of ``points``).
+    points : ndarray (P, len(names))
     state0 : ndarray (2n,) or None
         Start of every point (default ``model.initial_state`` of each).
-    {{options}}
+    options : IntegrationOptions
+        Integration settings of every point.
 
     Returns
     -------
     dict of ndarray
         :func:`point_rows`.
     """
-    models = build_models(model, [param], np.asarray(values, float)[:, None])
-    res = integrate_batch(models, state0, options, threads=1)
-    return point_rows(models, res)
+    models = build_models(model, names, points)
+    return point_rows(models, integrate_batch(models, state0, options, threads=1))
 
 
 @fill(*_CHUNK)
@@ -254,7 +257,7 @@ def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str =
     if mode == "fixed":
         dirs = ["fixed"]
         sl = grid.slices(SYSTEM_CHUNK_POINTS)
-        chunks = [Chunk(i, sweep_chunk, (model, param, vals[s], s0, options)) for i, s in enumerate(sl)]
+        chunks = [Chunk(i, points_chunk, (model, grid.names, grid.points(s), s0, options)) for i, s in enumerate(sl)]
         res = run_chunks(chunks, description=f"system {param}", **_engine(engine))
         runs = {"fixed": {k: np.concatenate([r[k] for r in res]) for k in res[0]}}
     else:
