@@ -57,7 +57,6 @@ COVERED_BY = {
     "geardyn._kernel": "test_core.py",
     "geardyn._kernel_ndof": "test_ndof.py",
     "geardyn._config_values": "test_config.py",
-    "geardyn.integrate_ndof": "test_ndof.py",
     "geardyn.backend": "test_conformance.py",
     "geardyn.labels": "test_sweeps.py",
     "geardyn.systems.elements": "test_ndof.py",

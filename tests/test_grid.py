@@ -108,3 +108,57 @@ def test_analyses_take_one_options_object_or_the_keywords():
     m2 = parameter_map(GearModel(), "omega", [0.9, 1.1], "xi0", [0.05, 0.1], options=FAST, settle_periods=0,
                        mode="continue", engine=SweepOptions(chunk_points=1))
     xr.testing.assert_identical(m1, m2)
+
+
+def test_grid_over_a_systems_mesh_parameters():
+    """A product over ω and the second stiffness harmonic of the second mesh of the planetary set: the
+    names keep their element, the alias after the dot is spelled canonically, and every model is the
+    base with the two parameters set (what ``with_param`` gives), the other meshes untouched."""
+    from pathlib import Path
+
+    from geardyn.grid import param_name, point_models
+    from geardyn.grid import PointModels
+    from geardyn.systems import load_system
+
+    base = load_system(Path(__file__).resolve().parents[1] / "examples" / "systems" / "planetary_lin_parker_1999.toml")
+    assert param_name("ring_planet1.kappa2") == "ring_planet1.kappa2"
+    assert param_name("ring_planet1.backlash") == "ring_planet1.D"
+    assert param_name("ring_planet1.k") == "ring_planet1.k"
+    g = Grid.product(("omega", [0.5, 0.4]), ("ring_planet1.kappa2", [0.1, 0.0, 0.05]))
+    assert g.names == ("omega", "ring_planet1.kappa2") and g.shape == (2, 3)
+    ms = g.models(base)
+    assert [(m.omega, m.get("ring_planet1.kappa2")) for m in ms] == [
+        (0.4, 0.0), (0.4, 0.05), (0.4, 0.1), (0.5, 0.0), (0.5, 0.05), (0.5, 0.1)]
+    assert all(m.meshes[1].kappa[:1] == (0.0,) and m.meshes[0] == base.meshes[0] for m in ms)
+    assert ms[2].meshes[1].kappa == (0.0, 0.1)
+    g.check(base)
+    assert g.lazy_models(base)[5].get("ring_planet1.kappa2") == 0.1
+    np.testing.assert_array_equal(g.omegas(base), [0.4] * 3 + [0.5] * 3)
+    pm = point_models(base, g.names, g.points())
+    assert isinstance(pm, list) and [m.get("omega") for m in pm] == [m.omega for m in ms]
+    assert isinstance(point_models(GearModel(), ["omega"], np.array([[0.9]])), PointModels)
+    with pytest.raises(ModelError):
+        Grid.range("no_such_mesh.kappa1", [0.1]).check(base)
+    with pytest.raises(ModelError, match="unknown parameter"):
+        Grid.range("zeta", [1.0])
+
+
+def test_system_sweep_over_the_backlash_of_the_second_mesh():
+    """A system sweep over ``ring_planet1.backlash`` (an alias, spelled ``ring_planet1.D`` on the grid): its points are
+    the direct integrations of the base set to each value (integrate_batch, one point at a time), in sorted order."""
+    from pathlib import Path
+
+    from geardyn.analysis.systems_sweep import system_sweep
+    from geardyn.integrate import integrate_batch
+    from geardyn.systems import load_system
+
+    base = load_system(Path(__file__).resolve().parents[1] / "examples" / "systems" / "planetary_lin_parker_1999.toml")
+    opts = IntegrationOptions(transient=4, periods=3)
+    ds = system_sweep(base, "ring_planet1.backlash", [1.2, 0.8], options=opts)
+    assert ds.attrs["param"] == "ring_planet1.D"
+    np.testing.assert_array_equal(ds["ring_planet1.D"].values, [0.8, 1.2])
+    for i, v in enumerate((0.8, 1.2)):
+        m = base.with_param("ring_planet1.D", v)
+        ref = integrate_batch([m], None, opts)
+        np.testing.assert_array_equal(ds["end_state"].values[0, i], ref.end_state[0])
+        np.testing.assert_array_equal(ds["mesh_u_min"].values[0, i], ref.element_u_min()[0, :len(m.meshes)])

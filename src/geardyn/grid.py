@@ -9,7 +9,8 @@ parameter points):
   (:meth:`Grid.curve`);
 - a grid of **initial states** (u0, v0) at θ = 0 (:meth:`Grid.states`).
 
-A grid knows its axes (canonical parameter names, :func:`geardyn.model.canonical_param`, and
+A grid knows its axes (canonical parameter names of any System, :func:`param_name`: the pair's names,
+and a system's ``<element>.<name>`` such as ``m2.kappa2``, the stiffness harmonic of mesh ``m2``, and
 values), its shape and size, yields the compact parameter array of a slice of its points
 (:meth:`Grid.points`: what a sweep's workers receive instead of lists of model objects) and
 builds the models of a slice (:meth:`Grid.models`), inside the worker.
@@ -27,11 +28,11 @@ from ._docfill import fill
 from .model import GearModel, IntegrationOptions, ModelError, canonical_param, pack_points
 
 __all__ = ["GRID_KINDS", "Grid", "GridModels", "PointModels", "build_models", "chunked", "grid_models", "integrate_points",
-           "linspace_values"]
+           "linspace_values", "param_name", "point_models"]
 
 #: Docstring entries of the functions and classes that build the models of parameter points.
-_BASE = """base : GearModel
-    The model every point starts from."""
+_BASE = """base : System
+    The model every point starts from (a :class:`GearModel` or a system)."""
 _NAMES = """names : sequence of str
     Parameter names, one per column of ``points``."""
 _POINTS = """points : ndarray (P, len(names))
@@ -97,6 +98,34 @@ def chunked(n: int, size: int) -> list[slice]:
     return [slice(i, min(i + size, n)) for i in range(0, n, size)]
 
 
+def param_name(name: str) -> str:
+    """Canonical spelling of a parameter name of any System.
+
+    Parameters
+    ----------
+    name : str
+        A name of the pair (:func:`geardyn.model.canonical_param`), or a system's ``<element>.<name>``
+        (``m2.kappa2``, ``gap.D``, ``m1.k``; the part after the dot spelled as the pair's where it is one).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ModelError
+        For an unqualified name outside the pair's grammar.
+    """
+    if isinstance(name, str) and "." in name:
+        elem, p = name.rsplit(".", 1)
+        try:
+            p = canonical_param(p)
+        except ModelError:
+            pass  # a system's own mesh parameter (k, ratio): its with_param judges it
+        return f"{elem}.{p}"
+    return canonical_param(name)
+
+
 def _axis_values(name: str, values: Sequence[float] | np.ndarray, unique: bool) -> np.ndarray:
     a = np.asarray(values, dtype=float).ravel()
     if unique:
@@ -109,7 +138,7 @@ def _axis_values(name: str, values: Sequence[float] | np.ndarray, unique: bool) 
 
 
 @fill(_BASE, _NAMES, _POINTS)
-def build_models(base: GearModel, names: Sequence[str], points: np.ndarray) -> list[GearModel]:
+def build_models(base: Any, names: Sequence[str], points: np.ndarray) -> list[Any]:
     """The models of parameter points: ``base`` with ``names[j]`` set to ``points[i, j]`` in that order.
 
     Parameters
@@ -118,7 +147,7 @@ def build_models(base: GearModel, names: Sequence[str], points: np.ndarray) -> l
 
     Returns
     -------
-    list of GearModel
+    list of System
     """
     pts = np.asarray(points, dtype=float).reshape(-1, len(names))
     out = []
@@ -188,6 +217,24 @@ class PointModels(abc.Sequence):
     def packed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The kernel arrays ``(coef, D, omega)``."""
         return self.coef, self.D, self.omega
+
+
+@fill(_BASE, _NAMES, _POINTS)
+def point_models(base: Any, names: Sequence[str], points: np.ndarray) -> Sequence[Any]:
+    """The models of parameter points: a :class:`PointModels` for the pair (its fast path, bit for bit the
+    models' kernel arrays without a model object per point), the list of :func:`build_models` otherwise.
+
+    Parameters
+    ----------
+    {{base, names, points}}
+
+    Returns
+    -------
+    PointModels or list of System
+    """
+    if isinstance(base, GearModel):
+        return PointModels(base, names, points)
+    return build_models(base, names, points)
 
 
 def integrate_points(models: Sequence[GearModel], state0: Sequence[float] | np.ndarray | None = None,
@@ -267,7 +314,7 @@ class Grid:
         Parameters
         ----------
         param : str
-            Any parameter name (:func:`geardyn.model.canonical_param`).
+            Any parameter name of a System (:func:`param_name`).
         values : sequence of float
             Its values (finite, at least one).
 
@@ -281,7 +328,7 @@ class Grid:
         ModelError
             For an unknown parameter, no values or a non-finite value.
         """
-        name = canonical_param(param)
+        name = param_name(param)
         return cls("range", [name], [_axis_values(name, values, True)])
 
     @classmethod
@@ -332,7 +379,7 @@ class Grid:
         """
         if not axes:
             raise ModelError("empty parameter grid: give at least one parameter")
-        names = [canonical_param(p) for p, _ in axes]
+        names = [param_name(p) for p, _ in axes]
         if len(set(names)) != len(names):
             raise ModelError(f"grid: each parameter at most once, got {', '.join(names)}")
         return cls("product", names, [_axis_values(n, v, unique) for n, (_, v) in zip(names, axes)])
@@ -358,7 +405,7 @@ class Grid:
         """
         if not points:
             raise ModelError("empty parameter grid: give at least one parameter")
-        names = [canonical_param(p) for p in points]
+        names = [param_name(p) for p in points]
         return cls("curve", names, [_axis_values(n, v, False) for n, v in zip(names, points.values())])
 
     @classmethod
@@ -439,7 +486,7 @@ class Grid:
         return np.column_stack([p[:, 1], p[:, 0]])
 
     @fill(_BASE)
-    def models(self, base: GearModel, sl: slice = slice(None)) -> list[GearModel]:
+    def models(self, base: Any, sl: slice = slice(None)) -> list[Any]:
         """The models of the points in ``sl``: ``base`` with each axis parameter set, in axis order.
 
         Parameters
@@ -450,7 +497,7 @@ class Grid:
 
         Returns
         -------
-        list of GearModel
+        list of System
 
         Raises
         ------
@@ -462,7 +509,7 @@ class Grid:
         return build_models(base, self.names, self.points(sl))
 
     @fill(_BASE)
-    def check(self, base: GearModel, block: int = 1 << 16) -> None:
+    def check(self, base: Any, block: int = 1 << 16) -> None:
         """Validate every point as its model would be validated, without keeping a model.
 
         Parameters
@@ -479,10 +526,13 @@ class Grid:
         if self.kind == "states":
             raise ModelError("grid: a grid of initial states has no parameter points")
         for sl in chunked(self.size, block):
-            pack_points(base, self.names, self.points(sl))
+            if isinstance(base, GearModel):
+                pack_points(base, self.names, self.points(sl))
+            else:  # a system validates in with_param
+                build_models(base, self.names, self.points(sl))
 
     @fill(_BASE)
-    def lazy_models(self, base: GearModel) -> "GridModels":
+    def lazy_models(self, base: Any) -> "GridModels":
         """The models of every point, validated now (:meth:`check`) and each built only when it is used.
 
         Parameters
@@ -503,7 +553,7 @@ class Grid:
         return GridModels(self, base)
 
     @fill(_BASE)
-    def omegas(self, base: GearModel) -> np.ndarray:
+    def omegas(self, base: Any) -> np.ndarray:
         """The mesh frequency ω of every point (flat order): its ω axis, else ``base.omega``.
 
         Parameters
@@ -596,7 +646,7 @@ class GridModels(abc.Sequence):
     {{base}}
     """
 
-    def __init__(self, grid: Grid, base: GearModel) -> None:
+    def __init__(self, grid: Grid, base: Any) -> None:
         self.grid, self.base = grid, base
 
     def __len__(self) -> int:

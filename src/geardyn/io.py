@@ -511,6 +511,41 @@ def result_attrs(kind: str, model: GearModel, options: Any = None, **extra: Any)
     return attrs
 
 
+def system_attrs(model: Any, kind: str, options: Any = None,
+                 extra: dict[str, Any] | None = None) -> dict[str, str]:
+    """Global attributes of a system result: kind, the system (file, labels, meshes) and options as JSON.
+
+    Parameters
+    ----------
+    model : SystemModel
+        A system of meshes (its labels, meshes, clearances and reference mesh go into ``system``).
+    kind : str
+        ``geardyn_kind``.
+    options : IntegrationOptions, optional
+    extra : dict, optional
+        Further attributes (strings kept, other values as JSON).
+
+    Returns
+    -------
+    dict of str
+    """
+    from . import __version__
+
+    extra = dict(extra or {})
+    desc = model.description
+    sysinfo = {"labels": list(model.labels), "meshes": [m.name for m in model.meshes],
+               "clearances": list(model.clearance_names), "reference_mesh": model.scaling.reference,
+               "omega": model.omega, "title": getattr(desc, "title", None),
+               "source": str(getattr(desc, "source", "") or "") or None}
+    attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "system": json.dumps(sysinfo),
+             "model": json.dumps({"omega": model.omega})}
+    if options is not None:
+        attrs["options"] = json.dumps(asdict(options))
+    for k, v in extra.items():
+        attrs[k] = v if isinstance(v, str) else json.dumps(v)
+    return attrs
+
+
 def model_from_attrs(ds: xr.Dataset) -> GearModel:
     """The model stored in a Dataset's ``model`` attribute."""
     return GearModel.from_dict(json.loads(ds.attrs["model"]))

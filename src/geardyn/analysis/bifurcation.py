@@ -24,7 +24,7 @@ import numpy as np
 import xarray as xr
 
 from .._docfill import parameters, result_of
-from ..grid import Grid, PointModels, build_models, integrate_points, linspace_values
+from ..grid import Grid, PointModels, build_models, integrate_points, linspace_values, point_models
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, json_values, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
@@ -201,8 +201,8 @@ def grid_chunk(
     """
     if continuation:
         r = continuation_chunk(build_models(model, names, points), state0, options, lyapunov, settle_periods)
-    else:  # the kernel arrays straight from the points (no model object per point)
-        r = fixed_chunk(PointModels(model, names, points), state0, options, lyapunov, settle_periods)
+    else:  # the pair's kernel arrays straight from the points (no model object per point)
+        r = fixed_chunk(point_models(model, names, points), state0, options, lyapunov, settle_periods)
     return r if keep is None else {k: r[k] for k in keep if k in r}
 
 

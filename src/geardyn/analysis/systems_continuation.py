@@ -86,7 +86,7 @@ class SystemContinuation:
         import json
 
         from ..io import annotate
-        from .systems_sweep import system_attrs
+        from ..io import system_attrs
 
         m, res = self.model, self.result
         names = [e.name for e in m.elements]

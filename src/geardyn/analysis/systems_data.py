@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ..systems.report import mesh_forces
-from .systems_sweep import system_attrs
+from ..io import system_attrs
 
 __all__ = ["simulate_dataset", "lyapunov_dataset", "orbit_dataset"]
 

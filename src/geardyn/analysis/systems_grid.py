@@ -18,10 +18,13 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
+from ..grid import Grid, chunked
+from ..io import system_attrs
 from ..model import IntegrationOptions
-from .systems_sweep import SYSTEM_CHUNK_POINTS, _MESH_LONG, _engine, _per_point, continue_chunk, point_rows, system_attrs
+from .systems_sweep import SYSTEM_CHUNK_POINTS, _MESH_LONG, _engine, _per_point, continue_chunk, point_rows, \
+    points_chunk
 
-__all__ = ["system_map", "system_basins", "map_chunk", "basin_chunk", "coordinate_index", "grid_json"]
+__all__ = ["system_map", "system_basins", "basin_chunk", "coordinate_index", "grid_json"]
 
 
 def coordinate_index(model: Any, name: str) -> int:
@@ -60,29 +63,6 @@ def coordinate_index(model: Any, name: str) -> int:
     return i
 
 
-def map_chunk(model: Any, xname: str, yname: str, xy: np.ndarray, state0: np.ndarray | None,
-              options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Chunk function: points (x, y) of a parameter map, each from ``state0``.
-
-    Parameters
-    ----------
-    model : SystemModel
-    xname, yname : str
-    xy : ndarray (P, 2)
-    state0 : ndarray (2n,) or None
-    options : IntegrationOptions
-
-    Returns
-    -------
-    dict of ndarray
-        :func:`~geardyn.analysis.systems_sweep.point_rows`.
-    """
-    from ..integrate import integrate_batch
-
-    models = [model.with_param(xname, float(a)).with_param(yname, float(b)) for a, b in xy]
-    return point_rows(models, integrate_batch(models, state0, options, threads=1))
-
-
 def basin_chunk(model: Any, states: np.ndarray, options: IntegrationOptions) -> dict[str, np.ndarray]:
     """Chunk function: one system point, many initial states.
 
@@ -102,22 +82,12 @@ def basin_chunk(model: Any, states: np.ndarray, options: IntegrationOptions) -> 
     return point_rows([model] * len(states), integrate_batch([model] * len(states), states, options, threads=1))
 
 
-def _slices(n: int) -> list[slice]:
-    """The chunks of ``n`` independent points."""
-    return [slice(a, min(a + SYSTEM_CHUNK_POINTS, n)) for a in range(0, n, SYSTEM_CHUNK_POINTS)]
-
-
 def _run(fn, args: list[tuple], engine: dict[str, Any] | None, what: str) -> dict[str, np.ndarray]:
     """The rows of the chunks ``fn(*a)`` for ``a`` in ``args``, run on the sweep engine, in chunk order."""
     from ..sweep import Chunk, run_chunks
 
     res = run_chunks([Chunk(i, fn, a) for i, a in enumerate(args)], description=what, **_engine(engine))
     return {k: np.concatenate([r[k] for r in res]) for k in res[0]}
-
-
-def _ref(model: Any) -> int:
-    names = [m.name for m in model.meshes]
-    return names.index(model.scaling.reference) if model.scaling.reference in names else 0
 
 
 def _mesh_vars(per: dict[str, np.ndarray], dims: tuple[str, ...], shape: tuple[int, ...], ref: int) -> dict[str, Any]:
@@ -140,8 +110,9 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
     ----------
     model : SystemModel
     xname, yname : str
-        System parameter names (``omega``, ``<mesh>.xi0``, ...).
+        System parameter names (``omega``, ``<mesh>.xi0``, ...; spelled as :func:`geardyn.grid.param_name`).
     xvalues, yvalues : sequence of float
+        Their values (sorted, as the axes of :meth:`geardyn.grid.Grid.product`).
     mode : {"fixed", "continue"}
         ``fixed``: every point from ``state0``; ``continue``: along each row (x increasing) every
         point from the end state of its left neighbour, the first from ``state0`` (one chunk per
@@ -162,18 +133,20 @@ def system_map(model: Any, xname: str, xvalues: Sequence[float], yname: str, yva
 
     if mode not in ("fixed", "continue"):
         raise ModelError(f"mode: must be one of fixed, continue, got {mode!r}")
-    xv, yv = np.asarray(xvalues, float), np.asarray(yvalues, float)
+    grid = Grid.product((yname, yvalues), (xname, xvalues))  # x fastest
+    yname, xname = grid.names
+    yv, xv = grid.values(yname), grid.values(xname)
+    grid.check(model)
     s0 = None if state0 is None else np.asarray(state0, float)
     if mode == "fixed":
-        xy = np.array([(a, b) for b in yv for a in xv])
-        rows = _run(map_chunk, [(model, xname, yname, xy[s], s0, options) for s in _slices(len(xy))], engine,
-                    "system map")
+        rows = _run(points_chunk, [(model, grid.names, grid.points(s), s0, options)
+                                   for s in grid.slices(SYSTEM_CHUNK_POINTS)], engine, "system map")
     else:
-        rows = _run(continue_chunk, [(model.with_param(yname, float(b)), xname, xv, s0, options) for b in yv], engine,
-                    "system map (continued rows)")
-    per = _per_point(model, rows, _ref(model))
+        rows = _run(continue_chunk, [(m, xname, xv, s0, options) for m in Grid.range(yname, yv).models(model)],
+                    engine, "system map (continued rows)")
+    per = _per_point(model, rows, model.reference)
     dims = (yname, xname)
-    ds = xr.Dataset(_mesh_vars(per, dims, (yv.size, xv.size), _ref(model)),
+    ds = xr.Dataset(_mesh_vars(per, dims, (yv.size, xv.size), model.reference),
                     coords={yname: yv, xname: xv, "mesh": [m.name for m in model.meshes]},
                     attrs=system_attrs(model, "system_map", options, {"x": xname, "y": yname, "mode": mode}))
     ds["lle"] = (dims, np.full((yv.size, xv.size), np.nan))
@@ -225,8 +198,9 @@ def system_basins(model: Any, coords: tuple[int, int], a_range: tuple[float, flo
         states = np.tile(base, (a.size * b.size, 1))
         states[:, i] = np.tile(a, b.size)
         states[:, j] = np.repeat(b, a.size)
-    rows = _run(basin_chunk, [(model, states[s], options) for s in _slices(len(states))], engine, "system basins")
-    ref = _ref(model)
+    rows = _run(basin_chunk, [(model, states[s], options) for s in chunked(len(states), SYSTEM_CHUNK_POINTS)],
+                engine, "system basins")
+    ref = model.reference
     per = _per_point(model, rows, ref)
     ok = per["status"] == 0
     sec = model.element_series(rows["poincare"], 0.0)[:, :, ref]  # (P, m, 2): the reference mesh's δ, δ'

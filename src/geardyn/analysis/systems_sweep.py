@@ -29,14 +29,16 @@ import numpy as np
 import xarray as xr
 
 from .._docfill import SYSTEM, fill, parameters, result_of
+from ..grid import Grid, build_models
 from ..integrate import integrate_batch
+from ..io import system_attrs
 from ..model import IntegrationOptions
 from .bifurcation import sweep_summary
 from .classify import IMPACT_LABELS, MOTION_DIVERGED, MOTION_PERIODIC, MOTION_UNRESOLVED, detect_period, \
     impact_state, period_label
 
-__all__ = ["system_sweep", "system_sweep_dataset", "sweep_json", "system_response_jumps", "sweep_chunk",
-           "continue_chunk", "point_rows", "system_attrs"]
+__all__ = ["system_sweep", "system_sweep_dataset", "sweep_json", "system_response_jumps", "points_chunk",
+           "continue_chunk", "point_rows"]
 
 #: Points per chunk of a fixed-initial-state system sweep.
 SYSTEM_CHUNK_POINTS = 16
@@ -66,26 +68,29 @@ _CHUNK = (SYSTEM, "param : str\n    The swept parameter.",
           "options : IntegrationOptions\n    Integration settings of every point.")
 
 
-@fill(*_CHUNK)
-def sweep_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarray | None,
-                options: IntegrationOptions) -> dict[str, np.ndarray]:
-    """Chunk function: the points ``values`` of ``param``, each from ``state0`` (default per point).
+def points_chunk(model: Any, names: Sequence[str], points: np.ndarray, state0: np.ndarray | None,
+                 options: IntegrationOptions) -> dict[str, np.ndarray]:
+    """Chunk function: parameter points (:meth:`geardyn.grid.Grid.points`), each from ``state0`` (default per point).
 
     Parameters
     ----------
-    {{model, param, values}}
+    model : System
+        The base system.
+    names : sequence of str
+        The grid's parameter names (columns of ``points``).
+    points : ndarray (P, len(names))
     state0 : ndarray (2n,) or None
         Start of every point (default ``model.initial_state`` of each).
-    {{options}}
+    options : IntegrationOptions
+        Integration settings of every point.
 
     Returns
     -------
     dict of ndarray
         :func:`point_rows`.
     """
-    models = [model.with_param(param, float(v)) for v in values]
-    res = integrate_batch(models, state0, options, threads=1)
-    return point_rows(models, res)
+    models = build_models(model, names, points)
+    return point_rows(models, integrate_batch(models, state0, options, threads=1))
 
 
 @fill(*_CHUNK)
@@ -107,8 +112,7 @@ def continue_chunk(model: Any, param: str, values: np.ndarray, state0: np.ndarra
     """
     x = None if state0 is None else np.asarray(state0, float)
     rows: list[dict[str, np.ndarray]] = []
-    for v in values:
-        m = model.with_param(param, float(v))
+    for m in build_models(model, [param], np.asarray(values, float)[:, None]):
         s = m.initial_state() if x is None else x
         res = integrate_batch([m], s, options, threads=1)
         rows.append(point_rows([m], res))
@@ -121,42 +125,6 @@ def _engine(engine: dict[str, Any] | None) -> dict[str, Any]:
     e = dict(engine or {})
     e.setdefault("progress", False)
     return e
-
-
-def system_attrs(model: Any, kind: str, options: IntegrationOptions | None = None,
-                 extra: dict[str, Any] | None = None) -> dict[str, str]:
-    """Global attributes of a system result: kind, the system (file, labels, meshes) and options as JSON.
-
-    Parameters
-    ----------
-    model : SystemModel
-    kind : str
-        ``geardyn_kind``.
-    options : IntegrationOptions, optional
-    extra : dict, optional
-        Further attributes (strings kept, other values as JSON).
-
-    Returns
-    -------
-    dict of str
-    """
-    extra = dict(extra or {})
-    from dataclasses import asdict
-
-    from .. import __version__
-
-    desc = model.description
-    sysinfo = {"labels": list(model.labels), "meshes": [m.name for m in model.meshes],
-               "clearances": list(model.clearance_names), "reference_mesh": model.scaling.reference,
-               "omega": model.omega, "title": getattr(desc, "title", None),
-               "source": str(getattr(desc, "source", "") or "") or None}
-    attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "system": json.dumps(sysinfo),
-             "model": json.dumps({"omega": model.omega})}
-    if options is not None:
-        attrs["options"] = json.dumps(asdict(options))
-    for k, v in extra.items():
-        attrs[k] = v if isinstance(v, str) else json.dumps(v)
-    return attrs
 
 
 def _per_point(model: Any, rows: dict[str, np.ndarray], ref: int) -> dict[str, np.ndarray]:
@@ -215,8 +183,7 @@ def system_sweep_dataset(model: Any, param: str, values: Sequence[float], runs: 
     """
     from ..io import annotate
 
-    ref = [m.name for m in model.meshes].index(model.scaling.reference) \
-        if model.scaling.reference in [m.name for m in model.meshes] else 0
+    ref = model.reference
     dirs = list(runs)
     per = {d: _per_point(model, runs[d], ref) for d in dirs}
     st = lambda k: np.stack([per[d][k] for d in dirs])  # noqa: E731
@@ -257,8 +224,9 @@ def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str =
     ----------
     model : SystemModel
     param : str
-        Parameter name (``omega``, ``<mesh>.kappa1``, ...).
+        Parameter name (``omega``, ``<mesh>.kappa1``, ...; spelled as :func:`geardyn.grid.param_name`).
     values : sequence of float
+        Its values (sorted, as :meth:`geardyn.grid.Grid.range`).
     mode : {"fixed", "continue"}
         Every point from ``state0`` (default ``model.initial_state`` of each
         point), or each from the previous point's end state.
@@ -281,12 +249,15 @@ def system_sweep(model: Any, param: str, values: Sequence[float], *, mode: str =
     """
     from ..sweep import Chunk, run_chunks
 
-    vals = np.asarray([float(v) for v in values])
+    grid = Grid.range(param, values)
+    param = grid.names[0]
+    vals = grid.values(param)
+    grid.check(model)
     s0 = None if state0 is None else np.asarray(state0, float)
     if mode == "fixed":
         dirs = ["fixed"]
-        sl = [slice(a, min(a + SYSTEM_CHUNK_POINTS, vals.size)) for a in range(0, vals.size, SYSTEM_CHUNK_POINTS)]
-        chunks = [Chunk(i, sweep_chunk, (model, param, vals[s], s0, options)) for i, s in enumerate(sl)]
+        sl = grid.slices(SYSTEM_CHUNK_POINTS)
+        chunks = [Chunk(i, points_chunk, (model, grid.names, grid.points(s), s0, options)) for i, s in enumerate(sl)]
         res = run_chunks(chunks, description=f"system {param}", **_engine(engine))
         runs = {"fixed": {k: np.concatenate([r[k] for r in res]) for k in res[0]}}
     else:

@@ -393,14 +393,12 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
 
 
 def _attrs(res: HBContinuation, options: dict[str, Any], extra: dict[str, Any]) -> dict[str, str]:
-    """A response's attributes: the 1-DOF model's, or a system's (:func:`~geardyn.analysis.systems_sweep.system_attrs`
+    """A response's attributes: the 1-DOF model's, or a system's (:func:`~geardyn.io.system_attrs`
     with ``model`` its reference mesh's ω, D and ξ0, as the system's ``hb`` Dataset has)."""
-    from ...io import json_attr, result_attrs
+    from ...io import json_attr, result_attrs, system_attrs
 
     if not _is_system(res):
         return result_attrs("response", res.model, options, **extra)
-    from ..systems_sweep import system_attrs
-
     attrs = system_attrs(res.model, "response", None, {**extra, "options": json_attr(options),
                                                        "reference_mesh": res.elements[res.reference]})
     ref = res.model.meshes[res.reference]

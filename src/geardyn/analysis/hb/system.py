@@ -30,7 +30,7 @@ D₁, D₂ the derivative operators in real coefficients, T(·) the Toeplitz (mu
 
 Rigid-body modes
 ----------------
-A free rigid-body mode R (:func:`~geardyn.analysis.systems_steady.rigid_modes`: K̄R = 0, C̃_bR = 0,
+A free rigid-body mode R (:func:`~geardyn.systems.elements.rigid_modes`: K̄R = 0, C̃_bR = 0,
 F̃·R = 0) leaves the mean of the rigid coordinate undetermined: adding R c to the harmonic 0 of every
 DOF maps a solution to a solution, so J has the right null vectors (R in the harmonic-0 slots) and the
 left null vectors (M̃R there: the harmonic-0 momentum balance along R holds identically).  The gauge
@@ -54,8 +54,10 @@ import numpy as np
 
 from ...errors import ModelError
 from ...status import Status
-from ..systems_orbit import require_periodic
-from ..systems_steady import rigid_modes, static_mesh_forces, system_state0
+from ...integrate import start_state
+from ...systems.elements import rigid_modes
+from ...systems.report import static_mesh_forces
+from ..periodic.orbit import require_periodic
 from ._aftkernel import dead_zone_kernel, real_operator_kernel
 from ._blas import single_thread_blas
 from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, signal_extrema, time_samples, toeplitz
@@ -537,12 +539,12 @@ def system_guess_from_simulation(eq: HBSystemEquations, state0: Sequence[float] 
     -------
     ndarray or None
     """
-    from ...integrate_ndof import trajectory
+    from ...integrate import trajectory
     from ...model import IntegrationOptions
 
     m, n, H = eq.base, eq.n, eq.H
     opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=n)
-    tr = trajectory(m, system_state0(m, state0), opts, history_periods=n)
+    tr = trajectory(m, start_state(m, state0), opts, history_periods=n)
     q = tr.x[:-1, :m.n]
     if not np.all(np.isfinite(q)):
         return None

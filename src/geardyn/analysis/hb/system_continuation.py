@@ -220,8 +220,7 @@ class HBSystemContinuation(HBContinuation):
         the system's coordinates and every element's extremes; the JSON summary in the ``summary`` attribute."""
         import xarray as xr
 
-        from ...io import annotate
-        from ..systems_sweep import system_attrs
+        from ...io import annotate, system_attrs
 
         P = self.values.size
         nd = len(self.model.labels)

@@ -16,7 +16,7 @@ velocity of the rigid motion).  The matrix is restricted to the quotient by that
 orthonormal basis of the complement of R, K0 → (Pᵀ⊗I) K0 (P⊗I) and likewise K1 — whose 2(n − r)(2H + 1)
 eigenvalues are those of the elastic motion only.  The r rigid modes' 2r multipliers (exactly 1) are
 therefore excluded from the output and from the stability test, as in shooting
-(:func:`~geardyn.analysis.systems_orbit.elastic_multipliers`).
+(:func:`~geardyn.analysis.periodic.orbit.elastic_multipliers`).
 
 Which eigenvalues are the Floquet exponents (the rule of :mod:`.hill`, generalised)
 --------------------------------------------------------------------------------
