@@ -47,6 +47,7 @@ COVERED_BY = {
     "geardyn.accessor": "test_plot_cli.py",
     "geardyn._accessor_hook": "test_plot_cli.py",
     "geardyn._lazy": "test_plot_cli.py",
+    "geardyn.atomic": "fuzz/test_issue_items.py",
     "geardyn._packaged_quantities": "test_config.py",
     "geardyn.analysis._converted": "test_physical.py",
     "geardyn.bench": "test_kernel_perf.py",

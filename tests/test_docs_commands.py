@@ -87,8 +87,18 @@ QUOTED: dict[str, Run | str] = {
     "geardyn te FILE.csv --teeth z1,z2": Run(subs={"FILE.csv": "te.csv", "z1,z2": "14,39"}),
     "geardyn geometry --config FILE --json": Run(subs={"FILE": "examples/automotive_hypoid_like.toml"}),
     # hb.md
-    "geardyn hb --param omega --start 0.3 --stop 1.0 --xi0 0.08 [--harmonics 16] [--period 1]":
-        Run({"--harmonics": "6"}),
+    "geardyn hb --param omega --start 0.3 --stop 1.0 --xi0 0.08 [--harmonics 16] [--period 1] "
+    "[--floquet monodromy|hill]": Run({"--harmonics": "6"}),
+    "geardyn hb --floquet": _FRAGMENT,
+    "geardyn hb --floquet hill": _FRAGMENT,
+    # excitation.md
+    "geardyn stiffness examples/tooth_healthy_spur.toml --out out/healthy": AS_QUOTED,
+    "geardyn stiffness examples/tooth_crack_50.toml --out out/crack50": AS_QUOTED,
+    "geardyn stiffness examples/tooth_helical.toml --out out/helical": AS_QUOTED,
+    "geardyn signature examples/tooth_healthy_spur.toml examples/tooth_crack_50.toml --out out/sig":
+        Run({"--revolutions": "4"}),
+    "geardyn signature examples/tooth_crack_50.toml --sweep-depths 0,0.1,0.25,0.5,0.75 --out out/sweep":
+        Run({"--revolutions": "4", "--sweep-depths": "0,0.5"}),
     "geardyn response --method hb --omega-start 0.3 --omega-stop 1.0 --xi0 0.08 [--num 71] [--json] [--out DIR]":
         Run({"--num": "6"}),
     "geardyn hb --system FILE --param omega --start 0.6 --stop 1.2 [--harmonics 12] [--period 1] [--json] "
@@ -137,7 +147,6 @@ QUOTED: dict[str, Run | str] = {
     "geardyn simulate --system examples/systems/paper_torsional.toml --omega 0.8 --accurate --json": Run(SHORT),
     "geardyn simulate --omega 0.8 --accurate --json": Run(SHORT),
     "geardyn plot results/bevel8/modes.nc": AS_QUOTED,
-    "geardyn continuation --system": _FRAGMENT,
     # README.md
     "geardyn simulate --omega 1.2 --out sim12": Run(SHORT),
     "geardyn simulate --rpm 2400 --torque 1500 --json": AS_QUOTED,

@@ -161,7 +161,7 @@ def main(argv: Optional[list[str]] = None) -> None:
     Raises
     ------
     SystemExit
-        With the exit code above (also on success when a command returns a code).
+        With the exit code above, unless it is 0.
     """
     import warnings
 
@@ -182,7 +182,8 @@ def main(argv: Optional[list[str]] = None) -> None:
     finally:
         gc.unfreeze()  # as found, for a caller in the same process
     _flush_quietly()
-    raise SystemExit(code)
+    if code:  # success returns, as it always has, to a caller in the same process
+        raise SystemExit(code)
 
 
 def _flush_quietly() -> None:
