@@ -54,10 +54,11 @@ def _shooting(model) -> dict:
     t, c = time.perf_counter(), time.process_time()
     r = system_continuation(model, "omega", LO, HI, 1)
     wall, cpu = time.perf_counter() - t, time.process_time() - c
+    res = r.result  # one continuation for every System: its branches and their located events
     return {"method": "shooting", "accurate": True, "wall_s": wall, "cpu_s": cpu, "points": int(r.values.size),
-            "end": r.end,
-            "events": [{"type": b["type"], "omega": b["omega"], "located": b["located"], "detail": b["detail"]}
-                       for b in r.bifurcations]}
+            "end": res.branches[0].end,
+            "events": [{"type": b.type, "omega": b.value, "located": b.located, "detail": b.detail}
+                       for b in res.bifurcations if b.branch == 0]}
 
 
 def _match(a: list[dict], b: list[dict]) -> list[dict]:
