@@ -103,6 +103,8 @@ BAD = {
     "words.csv": ("angle [deg], TE [um]\nabc, def\n", r"line 2: expected two numbers"),
     "empty.csv": ("angle [deg], TE [um]\n# nothing measured\n", r"line 2: no numeric rows"),
     "one.csv": ("angle [deg], TE [um]\n" + "".join(f"{i}\n" for i in range(20)), r"line 2: expected two columns"),
+    "commas.csv": ("angle [rad], TE [um]\n,\n" + "".join(f"{i},0.1\n" for i in range(20)),
+                   r"line 2: expected two columns \(angle or time, TE\), got 0"),
     "nan.csv": ("angle [deg], TE [um]\n" + "".join(f"{i},{'nan' if i == 5 else 0.1}\n" for i in range(20)),
                 r"line 7: not a finite number"),
     "back.csv": ("angle [deg], TE [um]\n" + "".join(f"{i if i != 9 else 3},0.1\n" for i in range(20)),

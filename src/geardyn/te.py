@@ -159,8 +159,8 @@ def read_te(path: str | Path, *, x_unit: str | None = None, te_unit: str | None 
             names = [s.strip() for s in re.split(r"[,;\t]", text)] if re.search(r"[,;\t]", text) else parts
             header_units = (_unit_of(names[0]), _unit_of(names[-1]))
             continue
-        if len(parts) == 1:
-            raise bad(i, f"expected two columns (angle or time, TE), got one: {text!r}")
+        if len(parts) < 2:
+            raise bad(i, f"expected two columns (angle or time, TE), got {len(parts)}: {text[:60]!r}")
         if len(parts) > 2:
             raise bad(i, f"expected two columns (angle or time, TE), got {len(parts)}: {text!r}")
         if any(v is None for v in nums):
