@@ -21,6 +21,7 @@ The contract
 
 from __future__ import annotations
 
+import abc
 from dataclasses import dataclass
 from typing import Any, Sequence
 
@@ -75,7 +76,7 @@ def _buffers(P: int, d: int, record: int, record_poincare: bool, lyapunov: bool,
             np.zeros((P, hist_len, d)))
 
 
-class Backend:
+class Backend(abc.ABC):
     """The kernel contract (see the module docstring); subclasses call one kernel."""
 
     #: The backend's name.
@@ -98,10 +99,11 @@ class Backend:
         """The (P, d) default initial states: each system's ``initial_state()``."""
         return np.ascontiguousarray(np.stack([m.initial_state() for m in models]))
 
+    @abc.abstractmethod
     def run(self, models: Sequence[Any], packed: Any, nsteps: np.ndarray, state0: np.ndarray, transient: int,
             record: int, mode: str, accurate: bool, *, record_poincare: bool = True, hist_len: int = 0,
             adaptive_tol: float = 0.0, tangent0: np.ndarray | None = None) -> RawRun:
-        raise NotImplementedError
+        """Run the batch in ``mode`` and return its raw arrays (each backend calls its own kernel)."""
 
 
 class PairBackend(Backend):
