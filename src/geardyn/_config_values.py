@@ -319,6 +319,23 @@ def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any) -> tup
     return _parse_scalar(ctx, section, key, spec.kind, raw), assumed
 
 
+
+def regular_file_size(source: str, what: str) -> int:
+    """The size in bytes of the regular file ``source``; a missing file, a directory, a pipe, socket or
+    device is refused in one line naming ``source`` and ``what`` (e.g. "configuration file")."""
+    import os
+    import stat
+
+    try:
+        st = os.stat(source)
+    except (OSError, ValueError):
+        raise ConfigError(f"{source}: {what} not found") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise ConfigError(f"{source}: {what} not found (it is a directory)")
+    if not stat.S_ISREG(st.st_mode):
+        raise ConfigError(f"{source}: not a regular file (a pipe, socket or device); give the {what} itself")
+    return int(st.st_size)
+
 def read_toml(path: str | Path, what: str) -> tuple[str, str]:
     """The text of a TOML file, with the name its messages give it.
 
@@ -341,21 +358,11 @@ def read_toml(path: str | Path, what: str) -> tuple[str, str]:
     ConfigError
         If the file is missing, a directory, or unreadable as UTF-8 text.
     """
-    import os
-    import stat
-
     p = Path(path)
     source = str(path)
-    try:
-        st = os.stat(p)
-    except (OSError, ValueError):
-        raise ConfigError(f"{source}: {what} not found") from None
-    if stat.S_ISDIR(st.st_mode):
-        raise ConfigError(f"{source}: {what} not found (it is a directory)")
-    if not stat.S_ISREG(st.st_mode):
-        raise ConfigError(f"{source}: not a regular file (a pipe, socket or device); give the {what} itself")
-    if st.st_size > MAX_TOML_BYTES:
-        raise ConfigError(f"{source}: {what} of {st.st_size} bytes; at most {MAX_TOML_BYTES} allowed")
+    size = regular_file_size(source, what)
+    if size > MAX_TOML_BYTES:
+        raise ConfigError(f"{source}: {what} of {size} bytes; at most {MAX_TOML_BYTES} allowed")
     try:
         with open(p, "rb") as f:
             data = f.read(MAX_TOML_BYTES + 1)

@@ -214,19 +214,11 @@ def read_te(path: str | Path, *, x_unit: str | None = None, te_unit: str | None 
 
 def _read_lines(src: str) -> list[str]:
     """The lines of a TE file, read in a bounded way (at most :data:`MAX_TE_BYTES`)."""
-    import os
-    import stat
+    from ._config_values import regular_file_size
 
-    try:
-        st = os.stat(src)
-    except (OSError, ValueError):
-        raise ConfigError(f"{src}: TE file not found") from None
-    if stat.S_ISDIR(st.st_mode):
-        raise ConfigError(f"{src}: TE file not found (it is a directory)")
-    if not stat.S_ISREG(st.st_mode):
-        raise ConfigError(f"{src}: not a regular file (a pipe, socket or device); give the TE file itself")
-    if st.st_size > MAX_TE_BYTES:
-        raise ConfigError(f"{src}: TE file of {st.st_size / 1e6:.1f} MB; at most {MAX_TE_BYTES / 1e6:.0f} MB are read "
+    size = regular_file_size(src, "TE file")
+    if size > MAX_TE_BYTES:
+        raise ConfigError(f"{src}: TE file of {size / 1e6:.1f} MB; at most {MAX_TE_BYTES / 1e6:.0f} MB are read "
                           f"(at most {MAX_TE_ROWS} samples; resample the record)")
     try:
         with open(src, "rb") as f:
