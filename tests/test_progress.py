@@ -239,7 +239,7 @@ def test_progress_to_a_file_is_written_while_the_sweep_runs(tmp_path):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(Path(P.__file__).parents[2]),
                                                                      os.environ.get("PYTHONPATH")])))
     argv = [sys.executable, "-m", "geardyn.cli", "response", "--omega-start", "0.6", "--omega-stop", "1.2",
-            "--num", "60", "--transient", "600", "--periods", "100"]
+            "--num", "30", "--transient", "400", "--periods", "60"]
     with open(err, "w") as fh:
         t0 = time.monotonic()
         proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=fh, env=env)
@@ -254,7 +254,7 @@ def test_progress_to_a_file_is_written_while_the_sweep_runs(tmp_path):
     assert seen_running is not None, "no progress line before the command ended"
     assert "\x1b[" not in seen_running  # plain text, no terminal control sequences
     lines = [ln for ln in err.read_text().splitlines() if ln.startswith("response ω: ") and "points (" in ln]
-    assert lines[-1].startswith("response ω: 120/120 points (100%)")
+    assert lines[-1].startswith("response ω: 60/60 points (100%)")
     assert 2 <= len(lines) <= 2 + elapsed / P.PLAIN_INTERVAL
 
 
