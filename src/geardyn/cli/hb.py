@@ -146,8 +146,9 @@ def hb(
 
         ws = [model.with_param(name, v).omega for v in (start_v, stop_v)]
         opts = validate.options(inp.dtau, 0, 1, inp.accurate, ws)
-        sres = shooting(model, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate, switch=False,
-                        state0=inp.state0())
+        with _progress(inp, name, "shooting") as bar:
+            sres = shooting(model, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate, switch=False,
+                            state0=inp.state0(), progress=bar)
         shoot_ds = sres.to_dataset()
         summary["shooting"] = {"bifurcations": [b.to_json() for b in sres.bifurcations], "dtau": opts.dtau,
                                "accurate": opts.accurate}
@@ -163,8 +164,8 @@ def hb(
     finish(summary, paths, inp, show)
 
 
-def _progress(inp: Inputs, name: str) -> Any:
-    """The progress display of the continuation (none with ``--json``)."""
+def _progress(inp: Inputs, name: str, what: str = "hb") -> Any:
+    """The progress display of a continuation (none with ``--json``)."""
     from ..analysis.bifurcation import param_symbol
     from ..sweep.progress import task_progress
 
@@ -172,7 +173,7 @@ def _progress(inp: Inputs, name: str) -> Any:
         sym = param_symbol(name)
     except (KeyError, ValueError):  # a system's parameter (<mesh>.xi0, ...) by its name
         sym = name
-    return task_progress(f"hb {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out)
+    return task_progress(f"{what} {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out)
 
 
 def _check_result(res: Any, start: float) -> None:
