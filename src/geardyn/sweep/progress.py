@@ -253,7 +253,7 @@ class _DelayedBar(ABC):
             if self._closed or self._p is not None or self._plain is not None:
                 return
             console = _stderr_console()
-            if not console.is_terminal:  # a file or a pipe: plain lines at a modest rate
+            if not (console.is_terminal or console.is_jupyter):  # a file or a pipe: plain lines at a modest rate
                 self._plain = console
                 self._line()
                 threading.Thread(target=self._plain_loop, daemon=True, name="geardyn-progress").start()
