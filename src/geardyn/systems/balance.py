@@ -32,7 +32,17 @@ SHARE_TOL = 1e-9
 
 
 def free_motions(Kt: np.ndarray) -> np.ndarray:
-    """Orthonormal basis (n, r) of the directions the mean stiffness ``Kt`` (non-dimensional) does not hold."""
+    """Orthonormal basis of the directions a mean stiffness does not hold.
+
+    Parameters
+    ----------
+    Kt : ndarray (n, n)
+        The mean stiffness (non-dimensional).
+
+    Returns
+    -------
+    ndarray (n, r)
+    """
     w, U = np.linalg.eigh(0.5 * (Kt + Kt.T))
     tol = RTOL * max(1.0, float(np.max(np.abs(w))))
     return U[:, np.abs(w) <= tol]

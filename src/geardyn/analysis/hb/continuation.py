@@ -457,8 +457,20 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
 
 def span_reporter(progress: Callable[[float, float], None] | None, start: float,
                   stop: float) -> Callable[[float], None] | None:
-    """A branch point's parameter → ``progress(farthest distance from start towards stop, |stop − start|)``
-    (called once with 0 now, then whenever the distance grows); None without ``progress``."""
+    """A branch point's parameter → ``progress(farthest distance from start towards stop, |stop − start|)``.
+
+    Parameters
+    ----------
+    progress : callable or None
+        ``progress(done, total)``; called once with 0 now, then whenever the distance grows.
+    start, stop : float
+        The continuation's interval.
+
+    Returns
+    -------
+    callable or None
+        The callback of each branch point's parameter; None without ``progress``.
+    """
     if progress is None:
         return None
     total = abs(stop - start)
@@ -476,7 +488,17 @@ def span_reporter(progress: Callable[[float, float], None] | None, start: float,
 
 
 def max_points_end(max_points: int) -> str:
-    """The ``end`` of a branch stopped by the point limit."""
+    """The ``end`` of a branch stopped by the point limit.
+
+    Parameters
+    ----------
+    max_points : int
+        The limit.
+
+    Returns
+    -------
+    str
+    """
     return (f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
             f"a larger ds_max)")
 
