@@ -39,7 +39,9 @@ Conventions shared by the commands:
   its figures (a directory, or a file name ending in `.nc`). `geardyn plot FILE.nc` redraws the
   figures of a saved result.
 * Commands running longer than half a second draw their progress on stderr (sweeps in points,
-  continuation by the parameter span traced, `lyapunov` as a spinner); `--json` keeps stderr quiet.
+  continuation and `hb` by the parameter span traced, `lyapunov` as a spinner): a bar on a terminal,
+  plain lines (at most one every 5 s, flushed, and a last one at the end) when stderr is a file or a
+  pipe; `--json` keeps stderr quiet.
 * `geardyn --version` prints the version.
 
 ## Failure contract

@@ -4,6 +4,8 @@ number changes with a progress display."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -222,3 +224,48 @@ def test_cli_draws_progress_unless_json(name, monkeypatch):
     code, out, err = _cli(CLI_RUNS[name] + ["--json"])
     assert code == 0 and out.lstrip().startswith("{")
     assert err == ""
+
+
+# ------------------------------------------------------------------------- stderr not a terminal
+def test_progress_to_a_file_is_written_while_the_sweep_runs(tmp_path):
+    """With stderr redirected to a file, the sweep's progress is there while it runs (not only at its end), as
+    plain lines at most one per PLAIN_INTERVAL seconds (plus the first and the last)."""
+    import os
+    import subprocess
+    import sys
+    import time
+
+    err = tmp_path / "stderr.txt"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(Path(P.__file__).parents[2]),
+                                                                     os.environ.get("PYTHONPATH")])))
+    argv = [sys.executable, "-m", "geardyn.cli", "response", "--omega-start", "0.6", "--omega-stop", "1.2",
+            "--num", "30", "--transient", "400", "--periods", "60"]
+    with open(err, "w") as fh:
+        t0 = time.monotonic()
+        proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=fh, env=env)
+        seen_running = None
+        while proc.poll() is None:
+            text = err.read_text()
+            if seen_running is None and "response ω: " in text and "points" in text:
+                seen_running = text
+            time.sleep(0.05)
+        elapsed = time.monotonic() - t0
+    assert proc.returncode == 0
+    assert seen_running is not None, "no progress line before the command ended"
+    assert "\x1b[" not in seen_running  # plain text, no terminal control sequences
+    lines = [ln for ln in err.read_text().splitlines() if ln.startswith("response ω: ") and "points (" in ln]
+    assert lines[-1].startswith("response ω: 60/60 points (100%)")
+    assert 2 <= len(lines) <= 2 + elapsed / P.PLAIN_INTERVAL
+
+
+def test_plain_lines_are_rate_limited(monkeypatch, capsys):
+    """Many updates in a short time give the first line, the last one and nothing between (stderr captured: not
+    a terminal)."""
+    monkeypatch.setattr(P, "PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr(P, "PLAIN_INTERVAL", 3600.0)
+    with P.task_progress("busy", unit="steps", fmt=".0f") as cb:
+        for k in range(1001):
+            cb(k, 1000)
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 2 and lines[0].startswith("busy: starting")
+    assert lines[1].startswith("busy: 1000/1000 steps (100%), elapsed 0:00:0")

@@ -10,7 +10,7 @@ import typer
 from ..errors import ModelError
 from ..model import DEFAULT_DTAU
 from . import render
-from .app import console
+from .app import EXIT_FAILURE, console, say_error
 from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
@@ -18,6 +18,8 @@ __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 #: Largest H and n accepted (the Hill matrix has 2(2H + 1) rows; n·H harmonics of ω are resolved).
 MAX_HARMONICS = 512
 MAX_PERIOD = 64
+#: Largest --max-points accepted.
+MAX_POINTS_LIMIT = 1_000_000
 
 SHOOTING_RUN = [
     option("dtau", float, DEFAULT_DTAU, "--dtau", panel="Integration",
@@ -108,11 +110,13 @@ def hb(
     compare_shooting: Annotated[bool, typer.Option("--compare-shooting", help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.")] = False,
     ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02; 0.2 with --system).")] = None,
     floquet: Annotated[str, typer.Option("--floquet", help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, refined by a Newton step; the default) or 'hill' (Hill's method).")] = "monodromy",
+    max_points: Annotated[int, typer.Option("--max-points", help="Largest number of branch points; a branch that reaches it before --stop ends there with a warning.")] = 3000,
 ) -> None:
     """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of period-n responses
     continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and
     grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch
-    with --compare-shooting)."""
+    with --compare-shooting).  A model or system without damping is refused (no stability can be decided); a
+    branch whose first solution does not converge exits with code 1 and writes nothing."""
     from .. import validate
     from ..analysis.hb import hb_continuation
     from ..analysis.hb.continuation import DS_MAX
@@ -120,17 +124,21 @@ def hb(
 
     H = validate.integer("harmonics", harmonics, 1, MAX_HARMONICS)
     n = validate.integer("period", period, 1, MAX_PERIOD)
+    mp = validate.integer("max-points", max_points, 2, MAX_POINTS_LIMIT)
     model = system_model(system, inp)
     if system is not None:
         from ..analysis.hb.system_continuation import SYSTEM_DS_MAX
 
         dsm = SYSTEM_DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
         return _hb_system(inp, model, system_range(model, inp, param, start, stop), H, n, dsm, compare_shooting,
-                          floquet)
+                          floquet, mp)
     dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
     scales = inp.scales()
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
-    res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm, floquet=floquet)
+    with _progress(inp, name) as bar:
+        res = hb_continuation(model, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm, floquet=floquet,
+                              max_points=mp, progress=bar)
+    _check_result(res, start_v)
     summary = physical_json(res.to_json(), model, scales, param=name)
     shoot_ds = None
     if compare_shooting:
@@ -138,8 +146,9 @@ def hb(
 
         ws = [model.with_param(name, v).omega for v in (start_v, stop_v)]
         opts = validate.options(inp.dtau, 0, 1, inp.accurate, ws)
-        sres = shooting(model, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate, switch=False,
-                        state0=inp.state0())
+        with _progress(inp, name, "shooting") as bar:
+            sres = shooting(model, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate, switch=False,
+                            state0=inp.state0(), progress=bar)
         shoot_ds = sres.to_dataset()
         summary["shooting"] = {"bifurcations": [b.to_json() for b in sres.bifurcations], "dtau": opts.dtau,
                                "accurate": opts.accurate}
@@ -155,17 +164,53 @@ def hb(
     finish(summary, paths, inp, show)
 
 
+def _progress(inp: Inputs, name: str, what: str = "hb") -> Any:
+    """The progress display of a continuation (none with ``--json``)."""
+    from ..analysis.bifurcation import param_symbol
+    from ..sweep.progress import task_progress
+
+    try:
+        sym = param_symbol(name)
+    except (KeyError, ValueError):  # a system's parameter (<mesh>.xi0, ...) by its name
+        sym = name
+    return task_progress(f"{what} {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out)
+
+
+def _check_result(res: Any, start: float) -> None:
+    """Refuse a run that gave no branch (exit code 1, nothing written); warn in one line when the branch stopped at
+    the point limit."""
+    if not res.converged or res.values.size < 2:
+        why = (f"{res.end}; try another --start or more --harmonics" if not res.converged else
+               f"no second point ({res.end}); try a smaller --ds-max or another --start")
+        say_error(f"error: harmonic balance gave no branch: at {res.param} = {start:.6g}, {why}")
+        raise typer.Exit(code=EXIT_FAILURE)
+    if res.end.startswith("max points"):
+        say_error(f"warning: the branch stopped at {res.values.size} points (--max-points) at {res.param} = "
+                  f"{res.values[-1]:.6g}, before the end of the interval; raise --max-points or --ds-max")
+
+
 def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: int, dsm: float,
-               compare_shooting: bool, floquet: str = "monodromy") -> None:
+               compare_shooting: bool, floquet: str = "monodromy", mp: int = 3000) -> None:
     """``geardyn hb --system``: the branch of the system (per-point values of the reference mesh, ``meshes`` per
     mesh); with ``--compare-shooting`` the shooting continuation's bifurcations in the JSON and its branch in
     ``hb.nc`` and on the figure."""
     from .. import validate
     from ..analysis.hb.system_continuation import hb_system_continuation
 
+    from ..analysis.hb.damping import require_damping, undamped_modes
+
     name, start_v, stop_v = rng
-    res = hb_system_continuation(s, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm,
-                                 state0=inp.state0(), floquet=floquet)
+    require_damping(s, name, start_v, stop_v)
+    free = undamped_modes(s)
+    if free:
+        say_error(f"warning: {len(free)} elastic mode(s) of the system have no damping (at "
+                  f"{', '.join(f'{f:.6g}' for f in sorted(set(free)))} Hz): their Floquet multipliers stay on the "
+                  f"unit circle, so no point is asymptotically stable and pairs grazing the circle are reported as "
+                  f"Neimark–Sacker points")
+    with _progress(inp, name) as bar:
+        res = hb_system_continuation(s, name, start_v, stop_v, harmonics=H, period=n, ds_max=dsm,
+                                     state0=inp.state0(), floquet=floquet, max_points=mp, progress=bar)
+    _check_result(res, start_v)
     summary = res.to_json()
     if compare_shooting:
         from ..analysis.systems_continuation import system_continuation

@@ -107,7 +107,8 @@ def response(
     if choice("method", method, ("sweep", "hb")) == "hb":
         from ..analysis.hb import hb_response
 
-        ds = hb_response(model, float(values[0]), float(values[-1]), values.size, measure=measure)
+        ds = hb_response(model, float(values[0]), float(values[-1]), values.size, measure=measure,
+                         progress=not inp.json_out)
     else:
         ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
                                 state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)

@@ -180,7 +180,8 @@ def _response(values: dict[str, Any], kw: dict[str, Any]):
         from ..analysis.hb import hb_response
         from ..analysis.response import response_json
 
-        ds = hb_response(s, float(lo), float(hi), int(kw.get("num", 71)), measure=measure, state0=_state(values))
+        ds = hb_response(s, float(lo), float(hi), int(kw.get("num", 71)), measure=measure, state0=_state(values),
+                         progress=not values.get("json_out"))
         return {**response_json(ds), "method": "hb"}, ds
     ds = system_sweep(s, "omega", list(np.linspace(float(lo), float(hi), int(kw.get("num", 71)))), mode="continue",
                       sweep="both", options=_opts(values), engine=engine_keywords(values, "system_response"),

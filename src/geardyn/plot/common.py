@@ -9,6 +9,8 @@ machine without switching the backend (no ``matplotlib.use`` anywhere in geardyn
 
 from __future__ import annotations
 
+import math
+
 import functools
 import inspect
 import io as _io
@@ -42,6 +44,8 @@ IMAGE_CELLS = 40_000
 NAN_COLOR = "#8c8c8c"
 #: Hatch of those cells.
 NAN_HATCH = "///"
+#: Largest number of components of a spectrum drawn as stems (more: one line, :func:`log_stems`).
+STEM_MAX = 80
 #: Offsets (points) tried in turn for a label beside its anchor, the first free of other labels is taken.
 LABEL_OFFSETS = tuple((dx, dy) for dy in (0, 11, -11, 22, -22, 33, -33, 44, -44) for dx in (5, -5))
 
@@ -448,7 +452,14 @@ def contact_lines(ax: Axes, ds: xr.Dataset, param: str | None = None, x: np.ndar
 
 
 def log_stems(ax: Axes, x: np.ndarray, amp: np.ndarray) -> None:
-    """An amplitude spectrum as stems on a log scale, six decades below its peak (the mean term left out).
+    """An amplitude spectrum on a log scale (the mean term left out): stems with a dot on each from the floor of the
+    axis for a line spectrum, one line for a dense (broadband) one.
+
+    The floor is the decade under that of the smallest amplitude within six decades of the peak (at lowest the
+    decade six decades under the peak); components below it (the rounding between the harmonics of a periodic response) are
+    not drawn.  A spectrum with more
+    than :data:`STEM_MAX` components above the floor is drawn as a line: stems that close together would fill the
+    axis down to the floor like bars.
 
     Parameters
     ----------
@@ -459,10 +470,20 @@ def log_stems(ax: Axes, x: np.ndarray, amp: np.ndarray) -> None:
     amp : ndarray
         Amplitudes at ``x``.
     """
-    ax.vlines(x[1:], 1e-12, np.maximum(amp[1:], 1e-12), color="C0", lw=1.0)
     ax.set_yscale("log")
-    top = max(float(np.max(amp[1:])) if amp.size > 1 else 1.0, 1e-12)
-    ax.set_ylim(max(top * 1e-6, 1e-12), top * 2)
+    f, a = np.asarray(x[1:], dtype=float), np.asarray(amp[1:], dtype=float)
+    ok = np.isfinite(a) & (a > 0)
+    top = float(np.max(a[ok])) if np.any(ok) else 1.0
+    big = a[ok & (a >= top * 1e-6)]
+    lowest = 10.0 ** (math.floor(math.log10(float(np.min(big)))) - 1) if big.size else top * 1e-6
+    floor = max(10.0 ** math.floor(math.log10(top * 1e-6)), lowest, 1e-300)
+    shown = ok & (a >= floor)
+    if int(np.count_nonzero(shown)) > STEM_MAX:
+        ax.plot(f, np.where(ok, np.maximum(a, floor), np.nan), color="C0", lw=0.8, gid="spectrum")
+    else:
+        ax.vlines(f[shown], floor, a[shown], color="C0", lw=1.0, gid="spectrum")
+        ax.plot(f[shown], a[shown], "o", color="C0", ms=3, gid="spectrum-peaks")
+    ax.set_ylim(floor, top * 2)
 
 
 def _renderer(fig: Figure) -> Any:

@@ -51,6 +51,21 @@ def draw_response(ax: Axes, x: np.ndarray, da: xr.DataArray, hysteresis: Sequenc
     ax.legend(fontsize=8, loc="best")
 
 
+def _no_solution(ax: Axes, x: np.ndarray, da: xr.DataArray) -> None:
+    """Hatch the grid intervals where neither sweep has a stable period-n solution (an HB response: a period-2n,
+    quasi-periodic or chaotic response there, which harmonic balance of period n cannot tell apart)."""
+    none = np.all(~np.isfinite(da.values), axis=0)
+    half = 0.5 * np.diff(x)
+    edges = np.concatenate([[x[0]], x[:-1] + half, [x[-1]]]) if x.size > 1 else np.array([x[0], x[0]])
+    first = True
+    for i in np.nonzero(none)[0]:
+        ax.axvspan(edges[i], edges[i + 1], facecolor="none", edgecolor="0.7", hatch="///", lw=0, zorder=0,
+                   label="no stable period-n solution" if first else None)
+        first = False
+    if not first:
+        ax.legend(fontsize=8, loc="best")
+
+
 @plot_function("response", (8.5, 4.8))
 def response(ds: xr.Dataset, ax: Axes = None) -> None:
     """The response measure against the swept parameter for both sweeps, with jumps and hysteresis intervals."""
@@ -59,7 +74,13 @@ def response(ds: xr.Dataset, ax: Axes = None) -> None:
     hy = json.loads(ds.attrs.get("hysteresis", "[]"))
     jumps = [(j[name], j["amplitude_from"], j["amplitude_to"], j["sweep"], f"{symbol(name)} = {j[name]:.4g}")
              for j in json.loads(ds.attrs.get("jumps", "[]"))]
-    draw_response(ax, ds[name].values, ds[measure], hy, jumps)
+    x = ds[name].values
+    draw_response(ax, x, ds[measure], hy, jumps)
+    if ds.attrs.get("method") == "hb":
+        _no_solution(ax, x, ds[measure])
+    if x.size > 1:  # the requested range, also where no point has a value
+        pad = 0.02 * float(x[-1] - x[0])
+        ax.set_xlim(float(x[0]) - pad, float(x[-1]) + pad)
     ax.set_xlabel(label(ds[name], name))
     ax.set_ylabel(label(ds[measure], measure))
     set_title(ax, "Frequency response (up/down sweeps with continuation)" + ("; grey: hysteresis" if hy else ""), ds,

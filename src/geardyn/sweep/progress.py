@@ -13,6 +13,11 @@ quiet.  A sweep counts **points** when every chunk function says how many points
 Chunks loaded from a checkpoint count their points at the start.  Chunk functions that do not say
 how many points they hold are counted as chunks.  Single computations report through a callback
 ``progress(done, total)`` drawn by :func:`task_progress`.
+
+On a terminal the bar is rich's live display.  When stderr is not a terminal (a file, a pipe, a log),
+a live display would only be written when it stops, so the progress goes there as plain lines
+instead: one when the bar would appear, then at most one every :data:`PLAIN_INTERVAL` seconds, and
+a last one when the computation ends, each flushed.
 """
 
 from __future__ import annotations
@@ -25,13 +30,15 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["PROGRESS_DELAY", "POLL_INTERVAL", "ST_DIVERGED", "Progress", "chunk_points", "counts_points",
+__all__ = ["PLAIN_INTERVAL", "PROGRESS_DELAY", "POLL_INTERVAL", "ST_DIVERGED", "Progress", "chunk_points", "counts_points",
            "divergence_summary", "pool_counter", "task_progress", "tick"]
 
 #: Seconds a computation must run before its progress bar appears (short runs stay quiet).
 PROGRESS_DELAY = 0.5
 #: Seconds between two reads of the local pool's shared point counter by the bar.
 POLL_INTERVAL = 0.2
+#: Seconds between two plain progress lines when stderr is not a terminal.
+PLAIN_INTERVAL = 5.0
 #: Status code of a diverged point in a chunk's ``status`` array (``integrate.ST_DIVERGED``).
 ST_DIVERGED = 1
 #: Seconds a worker waits for the shared counter's lock before it drops a tick (a worker killed
@@ -163,6 +170,12 @@ def divergence_summary(results: Sequence[dict[str, np.ndarray]] | dict[str, np.n
     return int(sum(int(np.count_nonzero(s == ST_DIVERGED)) for s in st)), int(sum(s.size for s in st))
 
 
+def _clock(sec: float) -> str:
+    """Seconds as h:mm:ss."""
+    sec = max(0, int(sec))
+    return f"{sec // 3600}:{sec // 60 % 60:02d}:{sec % 60:02d}"
+
+
 def _stderr_console():
     from rich.console import Console
 
@@ -193,6 +206,7 @@ class _DelayedBar(ABC):
         self._lock = threading.RLock()
         self._p = None
         self._t = None
+        self._plain: Any = None  # the console of plain progress lines (stderr not a terminal)
         self._closed = False
         self._stop = threading.Event()
         self._t0 = time.monotonic()
@@ -236,14 +250,43 @@ class _DelayedBar(ABC):
         from rich.progress import Progress as RichProgress
 
         with self._lock:
-            if self._closed or self._p is not None:
+            if self._closed or self._p is not None or self._plain is not None:
                 return
-            self._p = RichProgress(*self._columns(), console=_stderr_console(), transient=False)
+            console = _stderr_console()
+            if not (console.is_terminal or console.is_jupyter):  # a file or a pipe: plain lines at a modest rate
+                self._plain = console
+                self._line()
+                threading.Thread(target=self._plain_loop, daemon=True, name="geardyn-progress").start()
+                return
+            self._p = RichProgress(*self._columns(), console=console, transient=False)
             self._p.start()
             done, total = self._current()
             self._t = self._p.add_task(self._description, total=total, completed=done, **self._fields())
         if self._poll:
             threading.Thread(target=self._poll_loop, daemon=True, name="geardyn-progress").start()
+
+    def _plain_loop(self) -> None:
+        while not self._stop.wait(PLAIN_INTERVAL):
+            with self._lock:
+                if not self._closed:
+                    self._line()
+
+    def _line(self) -> None:
+        """Write the current state as one plain line on stderr, flushed (the caller holds the lock)."""
+        done, total = self._current()
+        sec = time.monotonic() - self._t0
+        text = f"{self._description}: {self._numbers(done, total)}, elapsed {_clock(sec)}"
+        if total and 0 < done < total:
+            text += f", ETA {_clock(sec * (total - done) / done)}"
+        self._plain.print(text, markup=False, highlight=False, soft_wrap=True)
+        try:
+            self._plain.file.flush()
+        except (OSError, ValueError):  # a closed or broken stream: progress is not worth failing for
+            pass
+
+    @abstractmethod
+    def _numbers(self, done: float, total: float | None) -> str:
+        """The numbers of a plain progress line ("12/40 points (30%)")."""
 
     def _poll_loop(self) -> None:
         while not self._stop.wait(POLL_INTERVAL):
@@ -261,6 +304,8 @@ class _DelayedBar(ABC):
         self._stop.set()
         self._redraw()
         with self._lock:
+            if self._plain is not None and not self._closed:
+                self._line()
             self._closed = True
             if self._p is not None:
                 self._p.stop()
@@ -359,6 +404,10 @@ class Progress(_DelayedBar):
         live = self._ticks + sum(int(c.get_obj().value) for c in self._counters) if self.counts_points else 0
         return min(self._total, self._base + max(self._finished, live)), self._total
 
+    def _numbers(self, done: float, total: float | None) -> str:
+        pct = f" ({100.0 * done / total:.0f}%)" if total else ""
+        return f"{int(done)}/{int(total or 0)} {self._unit}{pct}"
+
     def _tick(self, n: int) -> None:
         with self._lock:
             self._ticks += n
@@ -417,6 +466,15 @@ class _TaskBar(_DelayedBar):
         if self._indeterminate:  # a spinner until the end, then a finished task
             return (1.0, 1.0) if self._total is not None and self._done >= self._total else (0.0, None)
         return self._done, self._total
+
+    def _numbers(self, done: float, total: float | None) -> str:
+        if self._indeterminate:
+            req = self._fields()["requested"]
+            return ("done" if total else "running") + (f" ({req})" if req else "")
+        if total is None:
+            return "starting"
+        pct = f" ({100.0 * done / total:.0f}%)" if total else ""
+        return f"{self._fields()['numbers']}{pct}"
 
     def update(self, done: float, total: float) -> None:
         with self._lock:

@@ -72,6 +72,7 @@ from ..model import Boundary
 from ..params import MAX_HARMONICS, canonical_param, slot
 from ..system import Element
 from . import elements as _el
+from .balance import check_balance
 from .description import Mesh, SystemDescription
 
 __all__ = ["MeshND", "Scaling", "SystemArrays", "SystemModel", "assemble"]
@@ -614,7 +615,8 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     Raises
     ------
     ModelError
-        When the assembled mass matrix is singular, or a speed in rpm cannot be converted.
+        When the assembled mass matrix is singular, a speed in rpm cannot be converted, or the loads drive a free
+        rigid-body motion (:func:`geardyn.systems.balance.check_balance`).
     """
     M = desc.mass_matrix()
     try:
@@ -651,7 +653,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
             omega = scaling.omega_from_rpm(desc.rpm)
         else:
             omega = 1.0
-    return SystemModel(
+    model = SystemModel(
         labels=desc.labels,
         Mi=Mi,
         Kb=Kbt,
@@ -668,3 +670,5 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         Dc=Dc,
         description=desc,
     )
+    check_balance(model, desc)  # loads on a free rigid-body motion: refused, the balancing load named
+    return model

@@ -41,10 +41,12 @@ from ...status import Status, flag_attrs
 from ..secant import illinois_on_chord
 from ._blas import single_thread_blas, solve
 from .aft import signal_extrema
+from .damping import require_damping
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS, HBSystem, hb_solve
 
-__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation", "trace_branch"]
+__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation", "max_points_end", "span_reporter",
+           "trace_branch"]
 
 #: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
 KIND = "hb"
@@ -373,7 +375,8 @@ def _near_critical(h: HillResult) -> bool:
 def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
                     harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
                     samples: int | None = None, ds: float = DS_INIT, ds_max: float = DS_MAX,
-                    max_points: int = MAX_POINTS, floquet: str = "monodromy") -> HBContinuation:
+                    max_points: int = MAX_POINTS, floquet: str = "monodromy",
+                    progress: Callable[[float, float], None] | None = None) -> HBContinuation:
     """Continue the period-n harmonic-balance solution of ``model`` in ``param`` from ``start`` to ``stop``.
 
     Parameters
@@ -396,10 +399,13 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     ds, ds_max : float
         Initial and largest arclength step in (a, p/|stop − start|).
     max_points : int
-        Largest number of branch points.
+        Largest number of branch points (the branch then ends with ``end`` saying so).
     floquet : str
         How the multipliers are computed: ``"monodromy"`` (default, :mod:`.monodromy`) or ``"hill"``
         (Hill's method, :mod:`.hill`).
+    progress : callable, optional
+        Called as ``progress(done, total)`` with the parameter distance covered towards ``stop`` (the farthest
+        point so far) and |stop − start|.
 
     Returns
     -------
@@ -409,7 +415,8 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     Raises
     ------
     ModelError
-        Unknown parameter, or start/stop outside the parameter's valid range.
+        Unknown parameter, start/stop outside the parameter's valid range, or a model without damping
+        (:func:`~geardyn.analysis.hb.damping.require_damping`: no stability can be decided).
 
     References
     ----------
@@ -423,6 +430,8 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
         raise ModelError("start, stop: must be finite and different")
     m0 = model.with_param(param, start)
     model.with_param(param, stop)
+    require_damping(model, param, start, stop)
+    report = span_reporter(progress, start, stop)
     sysm = HBSystem(model, harmonics, period, param=param, samples=samples, floquet=floquet)
     H = sysm.H
     sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N, stability=False)  # Hill: at the first point
@@ -438,7 +447,7 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     y = np.concatenate([sol.coefficients, [start / ps]])
     ref = np.zeros(sysm.basis.size + 1)
     ref[-1] = direction
-    pts, bifs, end = trace_branch(tr, y, ref, ds, ds_max, max_points)
+    pts, bifs, end = trace_branch(tr, y, ref, ds, ds_max, max_points, report)
     vals = np.array([tr.p(q.y) for q in pts])
     return HBContinuation(
         model, param, H, sysm.n, sysm.basis.N, vals, np.array([q.y[:-1] for q in pts]),
@@ -446,8 +455,57 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
         np.array([q.hill.multipliers for q in pts]), np.array([int(q.hill.status) for q in pts]), bifs, end)
 
 
+def span_reporter(progress: Callable[[float, float], None] | None, start: float,
+                  stop: float) -> Callable[[float], None] | None:
+    """A branch point's parameter → ``progress(farthest distance from start towards stop, |stop − start|)``.
+
+    Parameters
+    ----------
+    progress : callable or None
+        ``progress(done, total)``; called once with 0 now, then whenever the distance grows.
+    start, stop : float
+        The continuation's interval.
+
+    Returns
+    -------
+    callable or None
+        The callback of each branch point's parameter; None without ``progress``.
+    """
+    if progress is None:
+        return None
+    total = abs(stop - start)
+    sign = 1.0 if stop >= start else -1.0
+    farthest = [0.0]
+    progress(0.0, total)
+
+    def on_point(p: float) -> None:
+        d = min(max(sign * (p - start), 0.0), total)
+        if d > farthest[0]:
+            farthest[0] = d
+            progress(d, total)
+
+    return on_point
+
+
+def max_points_end(max_points: int) -> str:
+    """The ``end`` of a branch stopped by the point limit.
+
+    Parameters
+    ----------
+    max_points : int
+        The limit.
+
+    Returns
+    -------
+    str
+    """
+    return (f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
+            f"a larger ds_max)")
+
+
 def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float,
-                 max_points: int) -> tuple[list[_Pt], list[HBBifurcation], str]:
+                 max_points: int, on_point: Callable[[float], None] | None = None,
+                 ) -> tuple[list[_Pt], list[HBBifurcation], str]:
     """The pseudo-arclength loop of :func:`hb_continuation` on any tracer (the 1-DOF one or a subclass).
 
     Parameters
@@ -462,6 +520,8 @@ def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max:
         Initial and largest arclength step.
     max_points : int
         Largest number of points.
+    on_point : callable, optional
+        Called with the parameter of each point added (the progress, :func:`span_reporter`).
 
     Returns
     -------
@@ -473,7 +533,7 @@ def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max:
         pts = [first]
         bifs: list[HBBifurcation] = []
         h = float(ds)
-        end = "max points"
+        end = max_points_end(max_points)
         while len(pts) < max_points:
             cur = pts[-1]
             nxt = None
@@ -495,6 +555,8 @@ def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max:
                 break
             bifs.extend(tr.events(cur, nxt))
             pts.append(nxt)
+            if on_point is not None:
+                on_point(tr.p(nxt.y))
             h_next = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
             if dmu > 0.0:  # the multipliers move about linearly in the step: aim below the refusal limit
                 h_next = min(h_next, h * MULTIPLIER_STEP_TARGET / dmu)

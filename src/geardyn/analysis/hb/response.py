@@ -44,12 +44,16 @@ from .aft import signal_extrema
 from .continuation import HBBifurcation, HBContinuation, hb_continuation
 from .solve import DEFAULT_HARMONICS, HBSystem
 
-__all__ = ["MEASURES", "STABILITY_EVENTS", "hb_response", "response_from_branch", "stable_segments", "sweep_paths"]
+__all__ = ["MEASURES", "STABILITY_EVENTS", "decided_stability", "hb_response", "response_from_branch",
+           "stable_segments", "sweep_paths"]
 
 #: Response measures (as :data:`geardyn.analysis.response.MEASURES`).
 MEASURES = ("amplitude", "rms", "u_max", "u_min", "mean")
 #: Events at which a branch changes stability (the ends of its stable segments).
 STABILITY_EVENTS = ("fold", "period-doubling", "neimark-sacker")
+#: Steps of ω in which a grid point is reached from the nearest branch point when Newton from the interpolated
+#: coefficients fails.
+WALK_STEPS = 8
 
 
 @dataclass
@@ -98,6 +102,56 @@ def _event_between(res: HBContinuation, i: int, j: int) -> HBBifurcation | None:
     return best if best is not None and dbest <= 1.5 * chord + 1e-12 else None
 
 
+def _resolved_before(resolved: np.ndarray, i: int) -> int:
+    """The last point before i whose stability is decided (i − 1 if none is)."""
+    j = i - 1
+    while j > 0 and not resolved[j]:
+        j -= 1
+    return j if resolved[j] else i - 1
+
+
+def _resolved_after(resolved: np.ndarray, i: int) -> int:
+    """The first point after i whose stability is decided (i + 1 if none is)."""
+    j = i + 1
+    while j < resolved.size - 1 and not resolved[j]:
+        j += 1
+    return j if resolved[j] else i + 1
+
+
+def decided_stability(res: HBContinuation) -> np.ndarray:
+    """Stability per branch point, a point whose multipliers were not resolved taking its neighbours' when they
+    are both stable and no stability event is located between them.
+
+    A point of undecided stability is a solution like the others (its coefficients converged); only its Floquet
+    multipliers failed.  Stability changes only at a fold, a period doubling or a Neimark–Sacker point, so between
+    two stable points with none of them located in between the branch is stable throughout.  Elsewhere the
+    undecided point is counted unstable (no sweep stays on it).
+
+    Parameters
+    ----------
+    res : HBContinuation
+
+    Returns
+    -------
+    ndarray of bool (P,)
+    """
+    st = np.array(res.stable, dtype=bool)
+    resolved = res.status == int(Status.OK)
+    P = st.size
+    i = 0
+    while i < P:
+        if resolved[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < P and not resolved[j + 1]:
+            j += 1
+        if i > 0 and j + 1 < P and st[i - 1] and st[j + 1] and _event_between(res, i - 1, j + 1) is None:
+            st[i:j + 1] = True
+        i = j + 1
+    return st
+
+
 def stable_segments(res: HBContinuation) -> list[Segment]:
     """The stable segments of a branch in ω (see the module docstring), in branch order.
 
@@ -112,8 +166,9 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     """
     if res.param != "omega":
         raise ModelError(f"param: a frequency response needs a branch in omega, got {res.param}")
-    st = res.stable
+    st = decided_stability(res)
     P = res.values.size
+    resolved = res.status == int(Status.OK)
     runs, i = [], 0
     while i < P:
         if not st[i]:
@@ -134,8 +189,8 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
         w = list(res.values[i0:i1 + 1])
         a = list(res.coefficients[i0:i1 + 1])
         amp = list(res.amplitude[i0:i1 + 1])
-        first = _event_between(res, i0 - 1, i0) if i0 > 0 and not st[i0 - 1] else None
-        last = _event_between(res, i1, i1 + 1) if i1 + 1 < P and not st[i1 + 1] else None
+        first = _event_between(res, _resolved_before(resolved, i0), i0) if i0 > 0 and not st[i0 - 1] else None
+        last = _event_between(res, i1, _resolved_after(resolved, i1)) if i1 + 1 < P and not st[i1 + 1] else None
         rising = w[-1] >= w[0] if len(w) > 1 else True
         for b, at_start in ((first, True), (last, False)):
             if b is None:
@@ -202,8 +257,11 @@ def sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list
             if x == stop:
                 break
             end = cur.ends[1] if d > 0 else cur.ends[0]
-            if end is not None and end.type != "fold":
-                cur = None  # a period doubling or torus: the attractor goes on nearby, not period-n
+            if end is None or end.type != "fold":
+                # a period doubling or torus: the attractor goes on nearby, not period-n; no located event (the
+                # branch's end, or a change of stability that was not located): where it goes is not known, and a
+                # jump is placed only at a fold
+                cur = None
                 continue
             amp = cur.amplitude_at(x)
             cands = ahead(x, cur.index)
@@ -259,6 +317,23 @@ class _Reader:
 
     def nu(self, w: float, n: int) -> float:
         return self.eq.nu(w) if self.system else w / n
+
+
+def _walk(rd: _Reader, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
+    """The segment's solution at ω = x by natural continuation from its nearest point, in WALK_STEPS equal steps
+    of ω (then four times as many), each Newton started from the previous solution."""
+    k = int(np.argmin(np.abs(seg.omega - x)))
+    ncoef = seg.coefficients.shape[1]
+    a, st = seg.coefficients[k], Status.NOT_CONVERGED
+    for steps in (WALK_STEPS, 4 * WALK_STEPS):
+        a = seg.coefficients[k]
+        for w in np.linspace(float(seg.omega[k]), x, steps + 1)[1:]:
+            a, st = rd.newton(a[:ncoef], float(w))
+            if st is not Status.OK:
+                break
+        if st is Status.OK:
+            break
+    return a, st
 
 
 def _measures(basis: Any, a: np.ndarray) -> dict[str, float]:
@@ -330,7 +405,10 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     def solve(seg: Segment, x: float) -> tuple[np.ndarray, Status]:
         key = (seg.index, float(x))
         if key not in solved:
-            solved[key] = rd.newton(seg.guess(x), x)
+            a, st = rd.newton(seg.guess(x), x)
+            if st is not Status.OK:  # the interpolated guess is too far: walk there from the nearest branch point
+                a, st = _walk(rd, seg, x)
+            solved[key] = (a, st)
         return solved[key]
 
     with single_thread_blas():
@@ -424,7 +502,7 @@ def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list
 
 def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: int, *,
                 harmonics: int = DEFAULT_HARMONICS, period: int = 1, measure: str = "amplitude",
-                guess: Any = None, state0: Any = None) -> Any:
+                guess: Any = None, state0: Any = None, progress: bool = False) -> Any:
     """Up and down frequency response by harmonic balance, in the format of
     :func:`geardyn.analysis.response.frequency_response`.
 
@@ -446,6 +524,8 @@ def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: in
     state0 : optional
         A system's start of the simulation of the default guess (as
         :func:`~geardyn.analysis.hb.system_continuation.hb_system_continuation`; unused for the 1-DOF model).
+    progress : bool
+        Show the progress of the continuation on stderr (:func:`geardyn.sweep.progress.task_progress`).
 
     Returns
     -------
@@ -455,21 +535,26 @@ def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: in
     Raises
     ------
     ModelError
-        For invalid input, or when HB does not converge at the lower end of the interval.
+        For invalid input, a model without damping (no stability can be decided), or when HB does not converge
+        at the lower end of the interval.
     """
+    from ...sweep.progress import task_progress
+
     lo, hi = sorted((float(omega_start), float(omega_stop)))
     if not lo > 0:
         raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a range from {omega_start!r} to "
                          f"{omega_stop!r}")
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
-    if isinstance(model, GearModel):
-        res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess)
-    else:
-        from .system_continuation import hb_system_continuation
+    with task_progress("response ω (HB)", unit="Δω traced", enabled=progress) as bar:
+        if isinstance(model, GearModel):
+            res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess,
+                                  progress=bar)
+        else:
+            from .system_continuation import hb_system_continuation
 
-        res = hb_system_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess,
-                                     state0=state0)
+            res = hb_system_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess,
+                                         state0=state0, progress=bar)
     if not res.converged:
         raise ModelError(f"omega_start: harmonic balance at omega = {lo:g} did not converge ({res.end})")
     return response_from_branch(res, np.linspace(lo, hi, int(num)), measure)

@@ -23,14 +23,15 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from ...errors import ModelError
 from ...status import Status, flag_attrs
-from .continuation import (DS_INIT, KIND, MAX_POINTS, NEAR_CRITICAL, HBContinuation, _Tracer,
+from .continuation import (DS_INIT, KIND, MAX_POINTS, NEAR_CRITICAL, HBContinuation, _Tracer, span_reporter,
                            trace_branch)
+from .damping import require_damping
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS
 from .system import HBSystemEquations, dynamic_factors, hb_system_solve
@@ -254,7 +255,8 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
                            harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
                            samples: int | None = None, ds: float = DS_INIT, ds_max: float = SYSTEM_DS_MAX,
                            max_points: int = MAX_POINTS, state0: Any = None,
-                           floquet: str = "monodromy") -> HBSystemContinuation:
+                           floquet: str = "monodromy",
+                           progress: Callable[[float, float], None] | None = None) -> HBSystemContinuation:
     """Continue the period-n HB solution of a system in ``param`` from ``start`` to ``stop``.
 
     Parameters
@@ -277,12 +279,15 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
         Initial and largest arclength step (defaults :data:`~geardyn.analysis.hb.continuation.DS_INIT` and
         :data:`SYSTEM_DS_MAX`).
     max_points : int
-        Largest number of points.
+        Largest number of points (the branch then ends with ``end`` saying so).
     state0 : (u0, v0) or (2n,), optional
         Start of the simulation of the default guess.
     floquet : str
         How the multipliers are computed: ``"monodromy"`` (default, :mod:`.monodromy`) or ``"hill"``
         (Hill's method, :mod:`.system_hill`).
+    progress : callable, optional
+        Called as ``progress(done, total)`` with the parameter distance covered towards ``stop`` and
+        |stop − start|.
 
     Returns
     -------
@@ -291,13 +296,16 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
     Raises
     ------
     ModelError
-        Unknown parameter, incommensurate meshes, or start/stop outside the parameter's valid range.
+        Unknown parameter, incommensurate meshes, start/stop outside the parameter's valid range, or a system
+        without damping (:func:`~geardyn.analysis.hb.damping.require_damping`).
     """
     start, stop = float(start), float(stop)
     lo, hi = sorted((start, stop))
     ps = hi - lo
     if not (ps > 0 and math.isfinite(ps)):
         raise ModelError("start, stop: must be finite and different")
+    require_damping(model, param, start, stop)
+    report = span_reporter(progress, start, stop)
     sysm = HBSystemEquations(model.with_param(param, stop), harmonics, period, param=param, samples=samples,
                              floquet=floquet)
     sol = hb_system_solve(model.with_param(param, start), sysm.H, period, guess, samples=sysm.N, state0=state0,
@@ -314,7 +322,7 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
     y = np.concatenate([sol.unknowns, [start / ps]])
     ref = np.zeros(sysm.basis.size + 1)
     ref[-1] = 1.0 if stop > start else -1.0
-    pts, bifs, end = trace_branch(tr, y, ref, ds, ds_max, max_points)
+    pts, bifs, end = trace_branch(tr, y, ref, ds, ds_max, max_points, report)
     vals = np.array([tr.p(q.y) for q in pts])
     N0 = sysm.basis.size - sysm.basis.rigid
     ext = np.array([sysm.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
