@@ -5,6 +5,7 @@ from __future__ import annotations
 import atexit
 import errno
 import gc
+import re
 import sys
 from collections.abc import Iterator, MutableMapping
 from importlib import import_module
@@ -25,12 +26,18 @@ EXIT_INTERRUPTED = 130
 
 class _HelpScreen:
     """What every help screen shares, built here once: ``--help`` shows no value placeholder (it takes none),
-    and help texts are shown as written (a ``[mesh]`` is text, not Rich markup)."""
+    and help texts are shown as written (a ``[mesh]`` is text, not Rich markup).  Also what every command's
+    parsing shares: its options are converted by :func:`_direct_values`."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)  # type: ignore[call-arg]
+        _direct_values(self.params)  # type: ignore[attr-defined]
 
     def get_help_option(self, ctx: Any) -> Any:
         opt = super().get_help_option(ctx)  # type: ignore[misc]
         if opt is not None:
             opt.metavar = ""
+            _direct_values([opt])
         return opt
 
     def format_help(self, ctx: Any, formatter: Any) -> None:
@@ -117,6 +124,59 @@ class GeardynGroup(_HelpScreen, TyperGroup):
             super().format_help(ctx, formatter)
         finally:
             self.commands = commands
+
+
+_INT = re.compile(r"-?[0-9]{1,18}")
+_FLOAT = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?")
+
+
+def _direct(annotation: Any, value: Any) -> Any:
+    """``value`` converted to ``annotation`` where that needs no validation library: a plain decimal number
+    (``0.8``, ``-2``, ``1e-3``) for a float or an int option, a value already of the option's type (a default),
+    a string for a string option.  Else ``_direct`` itself (the caller then converts as typer does)."""
+    if annotation is float:
+        if type(value) is float:
+            return value
+        if type(value) is int:
+            return float(value)
+        if type(value) is str and _FLOAT.fullmatch(value):
+            return float(value)
+    elif annotation is int:
+        if type(value) is int or (type(value) is str and _INT.fullmatch(value)):
+            return int(value)
+    elif annotation is str or annotation is bool:
+        if type(value) is annotation:
+            return value
+    return _direct
+
+
+def _direct_values(params: list[Any]) -> None:
+    """Convert the values of ``params`` (a command's typer parameters) to their types without pydantic where
+    :func:`_direct` can: typer's own conversion imports pydantic and builds a validator per option (about a
+    tenth of a short command), which stays the conversion for every other value, with its messages.  The
+    same values result either way (``tests/test_startup.py`` compares them)."""
+    if _Direct is None:  # another typer: its own conversion throughout
+        return
+    for p in params:
+        desc = getattr(p, "type_descriptor", None)
+        if getattr(p, "_runtime_param", 0) is None and desc is not None and desc.file_annotation is None:
+            p._runtime_param = _Direct(parameter_info=desc.parameter_info, annotation=desc.annotation)
+
+
+try:
+    from typer._coercion import RuntimeParam, build_runtime_param
+
+    class _Direct(RuntimeParam):  # type: ignore[misc, valid-type]
+        """Typer's conversion of one parameter, :func:`_direct` first."""
+
+        def _coerce_value(self, value: Any, param: Any, ctx: Any) -> Any:
+            out = _direct(self.annotation, value)
+            if out is _direct:
+                param._runtime_param = build_runtime_param(param.type_descriptor)
+                out = param._runtime_param._coerce_value(value, param=param, ctx=ctx)
+            return out
+except ImportError:  # pragma: no cover  (a typer without a pluggable conversion)
+    _Direct = None  # type: ignore[assignment, misc]
 
 
 def _import_help_renderer() -> None:

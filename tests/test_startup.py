@@ -1,0 +1,134 @@
+"""What a short command imports: ``geardyn --help`` none of the commands, NumPy, numba or the libraries typer
+imports for Markdown, tracebacks and validation; ``geardyn simulate --json`` only its own command module
+and the one compiled kernel it runs.  Import discipline, not timing (the times are measured by
+``benchmarks/startup.py``)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import sys
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from geardyn.cli import _commands
+
+#: Modules no command needs: typer imports them for Markdown help texts, pretty tracebacks and validation.
+TYPER_EXTRAS = ("rich.markdown", "rich.traceback", "pydantic", "typer._adapters")
+OTHER_COMMAND_MODULES = tuple(f"geardyn.cli.{m}" for m in _commands.MODULES if m != "point")
+
+
+def _run(args: list[str], *, preload: bool = False, report: str = "") -> subprocess.CompletedProcess:
+    """``geardyn ARGS`` in a fresh interpreter (with every command module imported first if ``preload``);
+    ``report`` is Python code run after the command, printing on stderr."""
+    code = ("import sys\n"
+            + ("from geardyn.cli import app\n" if preload else "")
+            + "from geardyn.cli import main\n"
+            + f"try:\n    main({args!r})\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
+            + report)
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                          env={**os.environ, "COLUMNS": "100"})
+
+
+def _imported(names: tuple[str, ...]) -> str:
+    return f"print(sorted(m for m in {names!r} if m in sys.modules), file=sys.stderr)\n"
+
+
+def test_help_imports_no_command_nor_numpy_numba_or_typer_extras():
+    names = ("numpy", "numba", "scipy", "geardyn.model", "geardyn.cli.options", "geardyn.cli.point",
+             *OTHER_COMMAND_MODULES, *TYPER_EXTRAS)
+    r = _run(["--help"], report=_imported(names))
+    assert r.stderr.strip().splitlines()[-1] == "[]"
+    assert "simulate" in r.stdout and "signature" in r.stdout
+
+
+@pytest.mark.parametrize("args", [["--help"], ["simulate", "--help"], ["hb", "--help"]])
+def test_help_screens_are_those_of_the_app_with_every_command_imported(args):
+    assert _run(args).stdout == _run(args, preload=True).stdout
+
+
+def test_the_command_list_is_current():
+    """``geardyn --help`` lists the commands from ``cli/_commands.py``: it is what the commands say
+    (``python docs/gen_cli.py`` rewrites it)."""
+    assert _commands.COMMANDS == _commands.table()
+
+
+def test_simulate_imports_its_command_and_one_compiled_kernel_only():
+    report = (_imported((*OTHER_COMMAND_MODULES, *TYPER_EXTRAS, "xarray", "pandas", "dask", "matplotlib", "pint"))
+              + "from numba.core.dispatcher import Dispatcher\n"
+              "print(sorted({v.py_func.__qualname__ for n, m in list(sys.modules.items()) if n.startswith('geardyn.')"
+              " for v in vars(m).values() if isinstance(v, Dispatcher) and v.overloads}), file=sys.stderr)\n")
+    r = _run(["simulate", "--omega", "0.8", "--transient", "20", "--periods", "4", "--json"], report=report)
+    *_, modules, kernels = r.stderr.strip().splitlines()
+    assert modules == "[]"
+    assert kernels == "['_scalar_worker']"
+    assert json.loads(r.stdout)["omega"] == 0.8
+
+
+# The conversion of option values without pydantic gives what typer's own conversion gives.
+_TYPER = {}
+
+
+def _typer_value(annotation: type, text: str):
+    """``text`` converted by typer's own conversion for an option of type ``annotation`` (or the exception)."""
+    from typer._coercion import build_runtime_param, resolve_type_descriptor
+    from typer.models import OptionInfo
+
+    if annotation not in _TYPER:
+        _TYPER[annotation] = build_runtime_param(resolve_type_descriptor(annotation, OptionInfo()))
+    try:
+        return _TYPER[annotation]._coerce_value(text, param=None, ctx=None)
+    except Exception as e:  # noqa: BLE001  (compared by type)
+        return type(e)
+
+
+def _check(annotation: type, value) -> bool:
+    """Whether ``value`` is converted without typer's conversion (then: to what typer converts it to)."""
+    app = sys.modules["geardyn.cli.app"]
+    got = app._direct(annotation, value)
+    if got is app._direct:
+        return False  # left to typer's conversion
+    want = _typer_value(annotation, value)
+    assert type(got) is type(want), (value, got, want)
+    if isinstance(got, float):
+        assert got.hex() == want.hex() or (math.isnan(got) and math.isnan(want)), (value, got, want)
+    else:
+        assert got == want, (value, got, want)
+    return True
+
+
+NUMBERS = st.one_of(
+    st.from_regex(r"-?[0-9]{1,25}(\.[0-9]{1,25})?([eE][-+]?[0-9]{1,4})?", fullmatch=True),
+    st.floats(allow_nan=False).map(repr),
+    st.integers(-10**20, 10**20).map(str),
+    st.text(alphabet="0123456789+-.eE_ x", max_size=12),
+)
+
+
+@settings(max_examples=400, derandomize=True, deadline=None)
+@given(NUMBERS)
+def test_numbers_are_converted_as_typer_converts_them(text):
+    assert _check(str, text)
+    _check(float, text)
+    _check(int, text)
+
+
+@pytest.mark.parametrize("text", ["0.8", "-2", "1e-3", "1E+300", "1e400", "007", "-0"])
+def test_plain_numbers_are_converted_directly(text):
+    assert _check(float, text)
+
+
+@pytest.mark.parametrize("text", [" 0.8", "+1", "1_0", ".5", "5.", "nan", "inf", "0x10", "1,5"])
+def test_other_spellings_are_left_to_typer(text):
+    assert not _check(float, text) and not _check(int, text)
+
+
+@pytest.mark.parametrize("annotation, value, direct", [
+    (float, 0.8, True), (float, 3, True), (float, -0.0, True), (int, 7, True), (str, "x", True),
+    (bool, True, True), (bool, False, True), (float, True, False), (int, False, False), (float, None, False)])
+def test_defaults_are_kept_as_typer_keeps_them(annotation, value, direct):
+    assert _check(annotation, value) is direct
