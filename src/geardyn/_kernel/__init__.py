@@ -90,16 +90,29 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .accurate import CROSSING_TOL, HERMITE_SAMPLES, MAX_SPLITS, NEWTON_ITERS, _accurate_worker
 from .core import (
     DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX,
     S_VMIN, ST_DIVERGED, ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE,
 )
-from .lanes import (
-    ALIGN_BYTES, GROUP, KIND_COS, KIND_GEN, KIND_SIN, LANES, MODE_PLAIN, MODE_STATS, MODE_TAN,
-    _KIND_TOKENS, _kind_token, _lanes_kind, _lanes_worker, native_simd_width, simd_width,
-)
 from .scalar import _scalar_worker
+
+#: Names of the lanes and accurate modules, imported on first use: a run imports the worker it runs
+#: (``simulate`` one point at a time: the scalar worker only, not the lanes' chunk kernels).
+_LAZY = {
+    **dict.fromkeys(("CROSSING_TOL", "HERMITE_SAMPLES", "MAX_SPLITS", "NEWTON_ITERS", "_accurate_worker"), ".accurate"),
+    **dict.fromkeys(("ALIGN_BYTES", "GROUP", "KIND_COS", "KIND_GEN", "KIND_SIN", "LANES", "MODE_PLAIN", "MODE_STATS",
+                     "MODE_TAN", "_KIND_TOKENS", "_kind_token", "_lanes_kind", "_lanes_worker", "native_simd_width",
+                     "simd_width"), ".lanes"),
+}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+
+    return getattr(importlib.import_module(module, __name__), name)
 
 __all__ = [
     "run_batch", "n_threads",
@@ -230,6 +243,10 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     order = _queue_order(nsteps)
     counter = np.zeros(1, dtype=np.int64)
     lanes = not scalar_only and tangent != TAN_CONTINUE and P >= LANE_MIN_POINTS * nw
+    if accurate:
+        from .accurate import _accurate_worker
+    elif lanes:
+        from .lanes import _kind_token, _lanes_kind, _lanes_worker
     token = _kind_token(_lanes_kind(coef, order)) if lanes else None
 
     def work():

@@ -25,7 +25,7 @@ __all__ = ["EXIT_INTERRUPTED", "app", "build_model", "main"]
 
 def __getattr__(name: str) -> Any:
     if name == "app":
-        from ._commands import load_all
+        from ._listing import load_all
 
         value: Any = load_all()
     elif name == "build_model":

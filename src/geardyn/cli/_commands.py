@@ -2,17 +2,13 @@
 
 ``geardyn --help`` lists the commands from :data:`COMMANDS`, and a command's module is imported when the
 command is run (or its own ``--help`` is asked for), so that a short command imports only what it runs.
-:data:`COMMANDS` is written by ``python docs/gen_cli.py`` from the commands themselves (:func:`write`);
-``tests/test_startup.py`` fails while it differs from them.
+:data:`COMMANDS` is written by ``python docs/gen_cli.py`` from the commands themselves
+(:func:`geardyn.cli._listing.write`); ``tests/test_startup.py`` fails while it differs from them.
 """
 
 from __future__ import annotations
 
-from importlib import import_module
-from pathlib import Path
-from typing import Any
-
-__all__ = ["COMMANDS", "MODULES", "load_all", "table", "write"]
+__all__ = ["COMMANDS", "MODULES"]
 
 #: The modules that define commands, in the order their commands are registered (and listed).
 MODULES = ("point", "sweeps", "tools", "engineering", "hb", "systems", "diagnostics")
@@ -98,40 +94,3 @@ COMMANDS: dict[str, tuple[str, str]] = {
     )),
     # generated: end
 }
-
-_BEGIN, _END = "    # generated: begin\n", "    # generated: end\n"
-
-
-def load_all() -> Any:
-    """Import every command module (registering its commands in the order of :data:`MODULES`) and return
-    the typer app."""
-    for module in MODULES:
-        import_module(f"{__package__}.{module}")
-    from .app import app
-
-    return app
-
-
-def table() -> dict[str, tuple[str, str]]:
-    """:data:`COMMANDS` as the commands themselves give it (every command module imported)."""
-    import typer.main
-
-    app = load_all()
-    group = typer.main.get_command(app)
-    names = [info.name or typer.main.get_command_name(info.callback.__name__) for info in app.registered_commands]
-    return {name: (group.commands[name].callback.__module__.rsplit(".", 1)[1], group.commands[name].help or "")
-            for name in names}
-
-
-def write() -> bool:
-    """Rewrite :data:`COMMANDS` in this file from the commands (:func:`table`); True if the file changed."""
-    path = Path(__file__)
-    text = path.read_text(encoding="utf-8")
-    head, rest = text.split(_BEGIN, 1)
-    _, tail = rest.split(_END, 1)
-    rows = "".join(f"    {name!r}: ({module!r}, (\n" + "".join(f"        {line!r}\n" for line in help_.splitlines(True))
-                   + "    )),\n" for name, (module, help_) in table().items())
-    new = head + _BEGIN + rows + _END + tail
-    if new != text:
-        path.write_text(new, encoding="utf-8")
-    return new != text
