@@ -23,9 +23,9 @@ Where the time goes, ``--where``: each geardyn command run ``--where-runs`` time
 and timers on numba's cache load; the wall time of each part, median over the runs (the interpreter's start
 from ``python -c pass`` timed in the same runs):
 
-* the imports, grouped by package (a module's own time, its imports excluded); the modules imported
-  during numba's first call (its registries, which import ``scipy.linalg`` and ``cffi``) in a group of
-  their own;
+* the imports, grouped by package (a module's own time, its imports excluded; a standard-library module
+  counts for the package that imported it first); the modules imported during numba's first call (its
+  registries, which import ``scipy.linalg`` and ``cffi``) in a group of their own;
 * numba's first call without those imports: the rest of its registries' set-up, then reading the
   cached machine code and linking it;
 * the rest: parsing the options, the computation, the output and the exit.
@@ -65,9 +65,8 @@ GROUPS = [
     ("pydantic", ("pydantic", "pydantic_core", "annotated_types", "typing_inspection")),
     ("geardyn.cli", ("geardyn.cli",)),
     ("geardyn (model, analysis, kernel modules)", ("geardyn",)),
-    ("import numba (numba, llvmlite)", ("numba", "llvmlite")),
-    ("scipy", ("scipy",)),
-    ("Python standard library and others", ("",)),
+    ("import numba (numba, llvmlite, what they import)", ("numba", "llvmlite")),
+    ("Python's standard library (imported by none of the above)", ("",)),
 ]
 #: Run in the child of ``--where`` before the command: times numba's loads of cached functions.
 PROBE = r"""
@@ -151,28 +150,35 @@ def _where_run(cmd: list[str], env: dict[str, str]) -> tuple[float, dict[str, fl
     t = time.perf_counter()
     r = subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     wall = time.perf_counter() - t
-    own: dict[str, float] = {}
+    rows: list[tuple[int, str, float]] = []  # (nesting level, module, its own seconds), in importtime's order
     probe: dict = {"before": [], "loads": []}
     for line in r.stderr.splitlines():
         if line.startswith("STARTUP-PROBE "):
             probe = json.loads(line.split(" ", 1)[1])
         elif line.startswith("import time:") and "|" in line and "self [us]" not in line:
             us, _, name = line[len("import time:"):].split("|")
-            own[name.strip()] = own.get(name.strip(), 0.0) + int(us) / 1e6
+            rows.append(((len(name) - len(name.lstrip()) - 1) // 2, name.strip(), int(us) / 1e6))
     before = set(probe["before"])
     in_load = {m for load in probe["loads"] for m in load.get("modules", [])}
+    first = "numba's first call: imports (its registries: numba modules, scipy.linalg, cffi)"
     parts: dict[str, float] = {}
-    for name, sec in own.items():
-        if name in before:
-            continue
-        key = ("numba's first call: imports (its registries: numba, scipy.linalg, cffi)" if name in in_load
-               else f"import: {_group(name)}")
-        parts[key] = parts.get(key, 0.0) + sec
-    first = sum(load.get("wall", 0.0) for load in probe["loads"])
-    link = sum(load.get("read_and_link", 0.0) for load in probe["loads"])
+    # A module imported by another (printed before it, one level deeper) counts for the other's group unless
+    # it is of a named package itself: ``inspect`` first imported by numba is numba's cost.
+    stack: list[tuple[int, str]] = []
+    for level, name, sec in reversed(rows):
+        while stack and stack[-1][0] >= level:
+            stack.pop()
+        own = first if name in in_load else _group(name)
+        group = stack[-1][1] if own == GROUPS[-1][0] and stack else own
+        stack.append((level, group))
+        if name not in before:
+            key = group if group == first else f"import: {group}"
+            parts[key] = parts.get(key, 0.0) + sec
+    load = sum(one.get("wall", 0.0) for one in probe["loads"])
+    link = sum(one.get("read_and_link", 0.0) for one in probe["loads"])
     if probe["loads"]:
-        imports = parts.get("numba's first call: imports (its registries: numba, scipy.linalg, cffi)", 0.0)
-        parts["numba's first call: registries' set-up besides their imports"] = max(0.0, first - link - imports)
+        imports = parts.get(first, 0.0)
+        parts["numba's first call: registries' set-up besides their imports"] = max(0.0, load - link - imports)
         parts["numba's first call: the cached machine code read and linked"] = link
     return wall, parts
 

@@ -71,6 +71,58 @@ def test_simulate_imports_its_command_and_one_compiled_kernel_only():
     assert json.loads(r.stdout)["omega"] == 0.8
 
 
+SIMULATE = ["simulate", "--omega", "0.8", "--transient", "20", "--periods", "4", "--json"]
+
+
+def test_a_cached_worker_is_loaded_without_numbas_compiler():
+    """From a warm cache, neither numba's lowering registries nor scipy.linalg (which they import) are imported."""
+    _run(SIMULATE)  # fills the cache in a fresh checkout
+    r = _run(SIMULATE, report=_imported(("numba.np.arraymath", "numba.np.linalg", "scipy.linalg")))
+    assert r.stderr.strip().splitlines()[-1] == "[]"
+
+
+@pytest.mark.parametrize("args", [SIMULATE, ["lyapunov", "--omega", "0.8", "--transient", "20", "--periods", "50",
+                                             "--json"]])
+def test_the_fast_load_gives_the_bits_of_numbas_own_load(args):
+    """The same output, every digit, whether the worker is read from the cache by ``fast_loads`` or by numba
+    (its compiler set up first)."""
+    own = ("import geardyn._cache_guard as g\n"
+           "g.fast_loads = lambda *workers: None\n")
+    code = own + f"from geardyn.cli import main\nmain({args!r})\n"
+    _run(args)
+    numba_load = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert _run(args).stdout == numba_load
+    assert json.loads(numba_load)["omega"] == 0.8
+
+
+def test_a_failing_fast_load_falls_back_to_numbas_own():
+    from geardyn._cache_guard import fast_loads
+
+    calls = []
+
+    class Cache:
+        def load_overload(self, sig, ctx):
+            calls.append(("numba", sig))
+            return "loaded"
+
+        def _load_overload(self, sig, ctx):
+            raise RuntimeError("not readable this way")
+
+        def _guard_against_spurious_io_errors(self):
+            raise AssertionError("not reached")
+
+    class Worker:
+        _cache = Cache()
+
+    from numba.core.registry import cpu_target
+
+    w = Worker()
+    fast_loads(w)
+    fast_loads(w)  # a second call: no second wrapper
+    assert w._cache.load_overload("sig", cpu_target.target_context) == "loaded"
+    assert calls == [("numba", "sig")]
+
+
 # The conversion of option values without pydantic gives what typer's own conversion gives.
 _TYPER = {}
 

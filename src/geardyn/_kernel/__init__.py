@@ -80,6 +80,7 @@ removed and compiled again.
 
 from __future__ import annotations
 
+from .._cache_guard import fast_loads as _fast_loads
 from .._cache_guard import refresh as _refresh_cache
 
 _refresh_cache(__file__)  # before the cached workers are imported (see geardyn._cache_guard)
@@ -95,6 +96,8 @@ from .core import (
     S_VMIN, ST_DIVERGED, ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE,
 )
 from .scalar import _scalar_worker
+
+_fast_loads(_scalar_worker)  # read from numba's cache without setting up its compiler (see fast_loads)
 
 #: Names of the lanes and accurate modules, imported on first use: a run imports the worker it runs
 #: (``simulate`` one point at a time: the scalar worker only, not the lanes' chunk kernels).
@@ -245,8 +248,12 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     lanes = not scalar_only and tangent != TAN_CONTINUE and P >= LANE_MIN_POINTS * nw
     if accurate:
         from .accurate import _accurate_worker
+
+        _fast_loads(_accurate_worker)
     elif lanes:
         from .lanes import _kind_token, _lanes_kind, _lanes_worker
+
+        _fast_loads(_lanes_worker)
     token = _kind_token(_lanes_kind(coef, order)) if lanes else None
 
     def work():
