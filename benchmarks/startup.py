@@ -72,42 +72,57 @@ GROUPS = [
 PROBE = r"""
 import json, sys, time
 _BEFORE = set(sys.modules)
-_LOADS = []
+_LOADS = []  # per first call of a compiled function: its wall time and the modules it imported
+_LINKS = []  # per cached function read: the time to read and link its machine code
+
+
+def _timed(module):
+    if module.__name__ == "numba.core.dispatcher":
+        compile_ = module.Dispatcher.compile
+
+        def compile(self, sig):
+            if self.overloads:
+                return compile_(self, sig)
+            before, t = set(sys.modules), time.perf_counter()
+            try:
+                return compile_(self, sig)
+            finally:
+                _LOADS.append({"wall": time.perf_counter() - t, "modules": sorted(set(sys.modules) - before)})
+
+        module.Dispatcher.compile = compile
+    else:
+        read = module.Cache._load_overload
+
+        def _load_overload(self, *a, **k):
+            t = time.perf_counter()
+            try:
+                return read(self, *a, **k)
+            finally:
+                _LINKS.append(time.perf_counter() - t)
+
+        module.Cache._load_overload = _load_overload
 
 
 class _Probe:
-    def find_spec(self, name, path=None, target=None):
-        if name != "numba.core.caching":
-            return None
-        sys.meta_path.remove(self)
-        import importlib.util
+    names = {"numba.core.dispatcher", "numba.core.caching"}
 
-        spec = importlib.util.find_spec(name)
+    def find_spec(self, name, path=None, target=None):
+        if name not in self.names:
+            return None
+        self.names = self.names - {name}
+        sys.meta_path.remove(self)
+        try:
+            import importlib.util
+
+            spec = importlib.util.find_spec(name)
+        finally:
+            if self.names:
+                sys.meta_path.insert(0, self)
         run = spec.loader.exec_module
 
         def exec_module(module):
             run(module)
-            load, inner = module.Cache.load_overload, module.Cache._load_overload
-
-            def load_overload(self, *a, **k):
-                before, t = set(sys.modules), time.perf_counter()
-                try:
-                    return load(self, *a, **k)
-                finally:
-                    _LOADS[-1].update(wall=time.perf_counter() - t, modules=sorted(set(sys.modules) - before))
-
-            def _load_overload(self, *a, **k):
-                t = time.perf_counter()
-                try:
-                    return inner(self, *a, **k)
-                finally:
-                    _LOADS[-1]["read_and_link"] = time.perf_counter() - t
-
-            def entry(self, *a, **k):
-                _LOADS.append({})
-                return load_overload(self, *a, **k)
-
-            module.Cache.load_overload, module.Cache._load_overload = entry, _load_overload
+            _timed(module)
 
         spec.loader.exec_module = exec_module
         return spec
@@ -117,7 +132,8 @@ sys.meta_path.insert(0, _Probe())
 
 
 def _report():
-    print("STARTUP-PROBE " + json.dumps({"before": sorted(_BEFORE), "loads": _LOADS}), file=sys.stderr)
+    print("STARTUP-PROBE " + json.dumps({"before": sorted(_BEFORE), "loads": _LOADS, "links": _LINKS}),
+          file=sys.stderr)
 
 
 import atexit
@@ -160,7 +176,7 @@ def _where_run(cmd: list[str], env: dict[str, str]) -> tuple[float, dict[str, fl
             rows.append(((len(name) - len(name.lstrip()) - 1) // 2, name.strip(), int(us) / 1e6))
     before = set(probe["before"])
     in_load = {m for load in probe["loads"] for m in load.get("modules", [])}
-    first = "numba's first call: imports (its registries: numba modules, scipy.linalg, cffi)"
+    first = "numba's first call: imports"
     parts: dict[str, float] = {}
     # A module imported by another (printed before it, one level deeper) counts for the other's group unless
     # it is of a named package itself: ``inspect`` first imported by numba is numba's cost.
@@ -174,11 +190,11 @@ def _where_run(cmd: list[str], env: dict[str, str]) -> tuple[float, dict[str, fl
         if name not in before:
             key = group if group == first else f"import: {group}"
             parts[key] = parts.get(key, 0.0) + sec
-    load = sum(one.get("wall", 0.0) for one in probe["loads"])
-    link = sum(one.get("read_and_link", 0.0) for one in probe["loads"])
+    load = sum(one["wall"] for one in probe["loads"])
+    link = sum(probe.get("links", []))
     if probe["loads"]:
         imports = parts.get(first, 0.0)
-        parts["numba's first call: registries' set-up besides their imports"] = max(0.0, load - link - imports)
+        parts["numba's first call: the rest of its set-up"] = max(0.0, load - link - imports)
         parts["numba's first call: the cached machine code read and linked"] = link
     return wall, parts
 
