@@ -26,8 +26,9 @@ from ``python -c pass`` timed in the same runs):
 * the imports, grouped by package (a module's own time, its imports excluded; a standard-library module
   counts for the package that imported it first); the modules imported during numba's first call (its
   registries, which import ``scipy.linalg`` and ``cffi``) in a group of their own;
-* numba's first call without those imports: the rest of its registries' set-up, then reading the
-  cached machine code and linking it;
+* numba's first call without those imports: the rest of its set-up (with numba's own loader: its
+  registries), then reading the cached machine code and linking it (the modules that the cached code's
+  environment names are imported as it is read: a group of their own);
 * the rest: parsing the options, the computation, the output and the exit.
 
 Run: ``python benchmarks/startup.py [--rounds 15] [--before OTHER/src] [--floors] [--where]`` (about half a
@@ -94,11 +95,11 @@ def _timed(module):
         read = module.Cache._load_overload
 
         def _load_overload(self, *a, **k):
-            t = time.perf_counter()
+            before, t = set(sys.modules), time.perf_counter()
             try:
                 return read(self, *a, **k)
             finally:
-                _LINKS.append(time.perf_counter() - t)
+                _LINKS.append({"wall": time.perf_counter() - t, "modules": sorted(set(sys.modules) - before)})
 
         module.Cache._load_overload = _load_overload
 
@@ -175,8 +176,10 @@ def _where_run(cmd: list[str], env: dict[str, str]) -> tuple[float, dict[str, fl
             us, _, name = line[len("import time:"):].split("|")
             rows.append(((len(name) - len(name.lstrip()) - 1) // 2, name.strip(), int(us) / 1e6))
     before = set(probe["before"])
-    in_load = {m for load in probe["loads"] for m in load.get("modules", [])}
-    first = "numba's first call: imports"
+    in_read = {m for read in probe.get("links", []) for m in read["modules"]}
+    in_load = {m for load in probe["loads"] for m in load["modules"]} - in_read
+    first = "numba's first call: imports (set-up)"
+    unpickled = "numba's first call: imports (the modules the cached code's environment names)"
     parts: dict[str, float] = {}
     # A module imported by another (printed before it, one level deeper) counts for the other's group unless
     # it is of a named package itself: ``inspect`` first imported by numba is numba's cost.
@@ -184,18 +187,17 @@ def _where_run(cmd: list[str], env: dict[str, str]) -> tuple[float, dict[str, fl
     for level, name, sec in reversed(rows):
         while stack and stack[-1][0] >= level:
             stack.pop()
-        own = first if name in in_load else _group(name)
+        own = first if name in in_load else unpickled if name in in_read else _group(name)
         group = stack[-1][1] if own == GROUPS[-1][0] and stack else own
         stack.append((level, group))
         if name not in before:
-            key = group if group == first else f"import: {group}"
+            key = group if group in (first, unpickled) else f"import: {group}"
             parts[key] = parts.get(key, 0.0) + sec
     load = sum(one["wall"] for one in probe["loads"])
-    link = sum(probe.get("links", []))
+    read = sum(one["wall"] for one in probe.get("links", []))
     if probe["loads"]:
-        imports = parts.get(first, 0.0)
-        parts["numba's first call: the rest of its set-up"] = max(0.0, load - link - imports)
-        parts["numba's first call: the cached machine code read and linked"] = link
+        parts["numba's first call: the rest of its set-up"] = max(0.0, load - read - parts.get(first, 0.0))
+        parts["numba's first call: the cached code read and linked"] = max(0.0, read - parts.get(unpickled, 0.0))
     return wall, parts
 
 
