@@ -24,8 +24,9 @@ and timers on numba's cache load; the wall time of each part, median over the ru
 from ``python -c pass`` timed in the same runs):
 
 * the imports, grouped by package (a module's own time, its imports excluded; a standard-library module
-  counts for the package that imported it first); the modules imported during numba's first call (its
-  registries, which import ``scipy.linalg`` and ``cffi``) in a group of their own;
+  counts for the package that imported it first); the modules imported during numba's first call in a
+  group of their own (with numba's own loader: its typing and lowering registries, which import
+  ``scipy.linalg`` and ``cffi``);
 * numba's first call without those imports: the rest of its set-up (with numba's own loader: its
   registries), then reading the cached machine code and linking it (the modules that the cached code's
   environment names are imported as it is read: a group of their own);
