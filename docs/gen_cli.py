@@ -3,7 +3,8 @@
 Run ``python docs/gen_cli.py`` after changing a command; ``tests/test_docs.py`` fails while
 ``docs/cli.md`` differs from what this script writes.  The reference is built from the typer app
 itself (command names, docstrings, option names, types, defaults and help texts), so it cannot
-drift from the code.
+drift from the code.  The script also rewrites the list of commands in ``src/geardyn/cli/_commands.py``,
+from which ``geardyn --help`` lists them without importing them (``tests/test_startup.py`` checks it).
 """
 
 from __future__ import annotations
@@ -174,6 +175,10 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     TARGET.write_text(text, encoding="utf-8")
     print(f"wrote {TARGET}")
+    from geardyn.cli import _commands, _listing
+
+    if _listing.write():  # the list `geardyn --help` shows without importing the commands
+        print(f"wrote {_commands.__file__}")
     return 0
 
 

@@ -12,8 +12,8 @@ The main entry points, importable from here:
 * results on disk: :func:`read_netcdf`, :func:`write_netcdf`; every result Dataset has the
   ``ds.geardyn`` accessor (``ds.geardyn.plot()``).
 
-Only the model is imported with the package; everything else (xarray, the numba kernel, pint,
-matplotlib) is imported on first use.  The ``ds.geardyn`` accessor is registered when xarray is
+Nothing heavy is imported with the package: the model (and NumPy with it), xarray, the numba
+kernel, pint and matplotlib are imported on first use, so that ``geardyn --help`` imports none of them.  The ``ds.geardyn`` accessor is registered when xarray is
 imported, by whoever imports it.
 """
 
@@ -24,13 +24,16 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-from .model import PAPER_DEFAULTS, GearModel, IntegrationOptions, ModelError  # noqa: E402
+from .errors import ModelError  # noqa: E402
 from ._accessor_hook import register_accessor as _register_accessor  # noqa: E402
 
 _register_accessor()  # ds.geardyn: now if xarray is imported, else as soon as it is
 
 #: Public names imported on first access: name -> module.
 _LAZY = {
+    "GearModel": ".model",
+    "IntegrationOptions": ".model",
+    "PAPER_DEFAULTS": ".model",
     "SpiralBevelGearPair": ".geometry",
     "MeshHarmonics": ".geometry",
     "load_config": ".config",
@@ -52,7 +55,7 @@ _LAZY = {
     "write_netcdf": ".io",
 }
 
-__all__ = ["GearModel", "IntegrationOptions", "ModelError", "PAPER_DEFAULTS", "__version__", *_LAZY]
+__all__ = ["ModelError", "__version__", *_LAZY]
 
 
 def __getattr__(name: str) -> Any:

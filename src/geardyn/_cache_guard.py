@@ -14,7 +14,7 @@ import hashlib
 import os
 from pathlib import Path
 
-__all__ = ["STAMP", "refresh"]
+__all__ = ["STAMP", "fast_loads", "refresh"]
 
 #: Name of the stamp file (in the package's ``__pycache__``) holding the hash of its sources.
 STAMP = "geardyn-sources.sha256"
@@ -62,3 +62,39 @@ def refresh(package_file: str) -> bool:
     except OSError:  # a read-only install: numba caches in the user's directory, keyed as before
         return False
     return removed
+
+
+def fast_loads(*workers: object) -> None:
+    """Let each numba dispatcher of ``workers`` load its compiled code from the cache without setting up
+    numba's compiler first.
+
+    Before reading a cached function, numba sets up its typing and lowering registries (imports a few
+    hundred of its modules and, through them, ``scipy.linalg``: about half of a short command's time), which
+    only compiling needs.  A worker's cached machine code (its callees linked in) is read and linked with
+    numba's runtime started, nothing else; the same code runs, so the results are the same bits.  A worker
+    that is not in the cache is compiled as before (numba's compiler sets itself up then), and any error
+    of this load falls back to numba's own.  Other dispatchers, a user's own among them, are not touched.
+
+    Parameters
+    ----------
+    *workers : numba dispatcher
+        The kernel's entry points (those called from Python).  A second call for one is a no-op.
+    """
+    for worker in workers:
+        cache = getattr(worker, "_cache", None)
+        full = getattr(cache, "load_overload", None)
+        if full is None or getattr(full, "fast", False) or not hasattr(cache, "_load_overload"):
+            continue
+
+        def load_overload(sig, target_context, cache=cache, full=full):  # type: ignore[no-untyped-def]
+            try:
+                from numba.core.runtime import rtsys
+
+                rtsys.initialize(target_context)
+                with cache._guard_against_spurious_io_errors():
+                    return cache._load_overload(sig, target_context)
+            except Exception:  # noqa: BLE001  (numba's own load, as if this had not been tried)
+                return full(sig, target_context)
+
+        load_overload.fast = True  # type: ignore[attr-defined]
+        cache.load_overload = load_overload

@@ -28,7 +28,6 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _kernel as _K1
-from . import _kernel_ndof as _KN
 from ._kernel import (  # the statistics' indices, statuses and bound: the same in both kernels
     DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX, S_VMIN,
     ST_DIVERGED, ST_OK,
@@ -151,7 +150,8 @@ class MeshBackend(Backend):
 
     def run(self, models, packed, nsteps, state0, transient, record, mode, accurate, *, record_poincare=True,
             hist_len=0, adaptive_tol=0.0, tangent0=None) -> RawRun:
-        K = _KN
+        from . import _kernel_ndof as K  # imported by the first mesh-vector run: a pair never needs it
+
         if mode == "continue":
             raise ModelError("tangent0: continuing a tangent basis is not available for mesh-vector systems")
         P, d = len(models), models[0].state_dim

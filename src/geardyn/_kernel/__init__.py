@@ -80,6 +80,7 @@ removed and compiled again.
 
 from __future__ import annotations
 
+from .._cache_guard import fast_loads as _fast_loads
 from .._cache_guard import refresh as _refresh_cache
 
 _refresh_cache(__file__)  # before the cached workers are imported (see geardyn._cache_guard)
@@ -90,16 +91,31 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .accurate import CROSSING_TOL, HERMITE_SAMPLES, MAX_SPLITS, NEWTON_ITERS, _accurate_worker
 from .core import (
     DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX,
     S_VMIN, ST_DIVERGED, ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE,
 )
-from .lanes import (
-    ALIGN_BYTES, GROUP, KIND_COS, KIND_GEN, KIND_SIN, LANES, MODE_PLAIN, MODE_STATS, MODE_TAN,
-    _KIND_TOKENS, _kind_token, _lanes_kind, _lanes_worker, native_simd_width, simd_width,
-)
 from .scalar import _scalar_worker
+
+_fast_loads(_scalar_worker)  # read from numba's cache without setting up its compiler (see fast_loads)
+
+#: Names of the lanes and accurate modules, imported on first use: a run imports the worker it runs
+#: (``simulate`` one point at a time: the scalar worker only, not the lanes' chunk kernels).
+_LAZY = {
+    **dict.fromkeys(("CROSSING_TOL", "HERMITE_SAMPLES", "MAX_SPLITS", "NEWTON_ITERS", "_accurate_worker"), ".accurate"),
+    **dict.fromkeys(("ALIGN_BYTES", "GROUP", "KIND_COS", "KIND_GEN", "KIND_SIN", "LANES", "MODE_PLAIN", "MODE_STATS",
+                     "MODE_TAN", "_KIND_TOKENS", "_kind_token", "_lanes_kind", "_lanes_worker", "native_simd_width",
+                     "simd_width"), ".lanes"),
+}
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+
+    return getattr(importlib.import_module(module, __name__), name)
 
 __all__ = [
     "run_batch", "n_threads",
@@ -230,6 +246,14 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     order = _queue_order(nsteps)
     counter = np.zeros(1, dtype=np.int64)
     lanes = not scalar_only and tangent != TAN_CONTINUE and P >= LANE_MIN_POINTS * nw
+    if accurate:
+        from .accurate import _accurate_worker
+
+        _fast_loads(_accurate_worker)
+    elif lanes:
+        from .lanes import _kind_token, _lanes_kind, _lanes_worker
+
+        _fast_loads(_lanes_worker)
     token = _kind_token(_lanes_kind(coef, order)) if lanes else None
 
     def work():

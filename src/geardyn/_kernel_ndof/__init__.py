@@ -22,6 +22,7 @@ numba keys a cache entry on the worker's source file only, so this package calls
 
 from __future__ import annotations
 
+from .._cache_guard import fast_loads as _fast_loads
 from .._cache_guard import refresh as _refresh_cache
 
 _refresh_cache(__file__)  # before the cached workers are imported (see geardyn._cache_guard)
@@ -35,6 +36,8 @@ from .core import (
 )
 from .step import CROSSING_TOL, HERMITE_SAMPLES, MAX_SPLITS
 from .worker import ndof_worker
+
+_fast_loads(ndof_worker)  # read from numba's cache without setting up its compiler (see geardyn._cache_guard)
 
 __all__ = [
     "run_batch", "n_threads",

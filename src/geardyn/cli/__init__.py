@@ -2,16 +2,35 @@
 
 Layout: :mod:`.app` (the typer app and the entry point :func:`main`), :mod:`.options` (the option groups
 every command shares, generated from :mod:`geardyn.params`), the commands (:mod:`.point`, :mod:`.sweeps`,
-:mod:`.tools`) and :mod:`.render` (tables for people).  Adding a command: one decorated function in a
-command module, its table in :mod:`.render`, and ``python docs/gen_cli.py``.
+:mod:`.tools`, ...) and :mod:`.render` (tables for people).  Adding a command: one decorated function in a
+command module, its table in :mod:`.render`, and ``python docs/gen_cli.py`` (which also lists it in
+:mod:`._commands`).
+
+A command's module is imported when the command runs (or its ``--help`` is asked for), not before:
+``geardyn --help`` lists the commands from :mod:`._commands`.  ``from geardyn.cli import app`` gives the
+app with every command registered.
 """
 
 from __future__ import annotations
 
-from .app import EXIT_INTERRUPTED, app, main
-from .options import build_model
-from . import point, sweeps, tools  # noqa: F401  (register the commands, in this order)
-from . import engineering, hb, systems  # noqa: F401,E402  (te, runup; hb; modes)
-from . import diagnostics  # noqa: F401,E402  (stiffness, signature)
+from importlib import import_module
+from typing import Any
+
+from .app import EXIT_INTERRUPTED, main
+
+del app  # noqa: F821  (the submodule's name, bound by the import above: ``app`` is the typer app, below)
 
 __all__ = ["EXIT_INTERRUPTED", "app", "build_model", "main"]
+
+
+def __getattr__(name: str) -> Any:
+    if name == "app":
+        from ._listing import load_all
+
+        value: Any = load_all()
+    elif name == "build_model":
+        value = import_module(".options", __name__).build_model
+    else:
+        raise AttributeError(f"module 'geardyn.cli' has no attribute {name!r}")
+    globals()[name] = value
+    return value

@@ -5,8 +5,11 @@ from __future__ import annotations
 import atexit
 import errno
 import gc
+import re
 import sys
-from typing import Any, Optional
+from collections.abc import Iterator, MutableMapping
+from importlib import import_module
+from typing import Any, Callable, Optional
 
 import typer
 from rich.console import Console
@@ -14,6 +17,7 @@ from typer.core import TyperCommand, TyperGroup
 
 from .. import __version__
 from ..errors import GeardynError, SweepFailed, SweepInterrupted
+from ._commands import COMMANDS
 
 __all__ = ["EXIT_FAILURE", "EXIT_INTERRUPTED", "EXIT_OK", "EXIT_TERMINATED", "EXIT_USAGE", "app", "console", "emit_json", "err_console", "fail", "main"]
 
@@ -22,17 +26,24 @@ EXIT_INTERRUPTED = 130
 
 class _HelpScreen:
     """What every help screen shares, built here once: ``--help`` shows no value placeholder (it takes none),
-    and help texts are shown as written (a ``[mesh]`` is text, not Rich markup)."""
+    and help texts are shown as written (a ``[mesh]`` is text, not Rich markup).  Also what every command's
+    parsing shares: its options are converted by :func:`_direct_values`."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)  # type: ignore[call-arg]
+        _direct_values(self.params)  # type: ignore[attr-defined]
 
     def get_help_option(self, ctx: Any) -> Any:
         opt = super().get_help_option(ctx)  # type: ignore[misc]
         if opt is not None:
             opt.metavar = ""
+            _direct_values([opt])
         return opt
 
     def format_help(self, ctx: Any, formatter: Any) -> None:
         from rich.markup import escape
 
+        _import_help_renderer()
         objs = [self, *self.get_params(ctx), *getattr(self, "commands", {}).values()]  # type: ignore[attr-defined]
         saved = [(o, o.help) for o in objs if getattr(o, "help", None)]
         try:
@@ -48,8 +59,155 @@ class GeardynCommand(_HelpScreen, TyperCommand):
     """A geardyn command (see :class:`_HelpScreen`)."""
 
 
+class _Commands(MutableMapping):  # type: ignore[type-arg]
+    """The group's commands by name, in the order of :data:`._commands.COMMANDS`: a command not registered when
+    the group was made is built (its module imported) when it is first looked up."""
+
+    def __init__(self, built: Any, build: Callable[[str], Any]) -> None:
+        self._built = dict(built)
+        self._build = build
+
+    def __getitem__(self, name: str) -> Any:
+        cmd = self._built.get(name)
+        if cmd is None:
+            if name not in COMMANDS:
+                raise KeyError(name)
+            cmd = self._built[name] = self._build(name)
+        return cmd
+
+    def __setitem__(self, name: str, cmd: Any) -> None:
+        self._built[name] = cmd
+
+    def __delitem__(self, name: str) -> None:
+        del self._built[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(dict.fromkeys([*COMMANDS, *self._built]))
+
+    def __len__(self) -> int:
+        return len(dict.fromkeys([*COMMANDS, *self._built]))
+
+    def __contains__(self, name: object) -> bool:
+        return name in COMMANDS or name in self._built
+
+    def listing(self) -> dict[str, Any]:
+        """Every command for the group's help screen, those not built yet by their name and help text only."""
+        return {name: self._built.get(name) or GeardynCommand(name=name, help=COMMANDS[name][1]) for name in self}
+
+
 class GeardynGroup(_HelpScreen, TyperGroup):
-    """The ``geardyn`` command group (see :class:`_HelpScreen`)."""
+    """The ``geardyn`` command group (see :class:`_HelpScreen`).  Its commands are imported on first use
+    (:class:`_Commands`); its help screen lists them from :data:`._commands.COMMANDS` without importing them."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.commands = _Commands(self.commands, self._build_command)
+
+    def _build_command(self, name: str) -> Any:
+        import typer.main
+
+        import_module(f"{__package__}.{COMMANDS[name][0]}")
+        for info in app.registered_commands:
+            if (info.name or typer.main.get_command_name(info.callback.__name__)) == name:
+                return typer.main.get_command_from_info(info, pretty_exceptions_short=app.pretty_exceptions_short,
+                                                        rich_markup_mode=self.rich_markup_mode)
+        raise KeyError(name)
+
+    def list_commands(self, ctx: Any) -> list[str]:
+        return list(self.commands)
+
+    def format_help(self, ctx: Any, formatter: Any) -> None:
+        commands = self.commands
+        if isinstance(commands, _Commands):
+            self.commands = commands.listing()
+        try:
+            super().format_help(ctx, formatter)
+        finally:
+            self.commands = commands
+
+
+_INT = re.compile(r"-?[0-9]{1,18}")
+_FLOAT = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?")
+
+
+def _direct(annotation: Any, value: Any) -> Any:
+    """``value`` converted to ``annotation`` where that needs no validation library: a plain decimal number
+    (``0.8``, ``-2``, ``1e-3``) for a float or an int option, a value already of the option's type (a default),
+    a string for a string option.  Else ``_direct`` itself (the caller then converts as typer does)."""
+    if annotation is float:
+        if type(value) is float:
+            return value
+        if type(value) is int:
+            return float(value)
+        if type(value) is str and _FLOAT.fullmatch(value):
+            return float(value)
+    elif annotation is int:
+        if type(value) is int or (type(value) is str and _INT.fullmatch(value)):
+            return int(value)
+    elif annotation is str or annotation is bool:
+        if type(value) is annotation:
+            return value
+    return _direct
+
+
+def _direct_values(params: list[Any]) -> None:
+    """Convert the values of ``params`` (a command's typer parameters) to their types without pydantic where
+    :func:`_direct` can: typer's own conversion imports pydantic and builds a validator per option (about a
+    tenth of a short command), which stays the conversion for every other value, with its messages.  The
+    same values result either way (``tests/test_startup.py`` compares them)."""
+    if _Direct is None:  # another typer: its own conversion throughout
+        return
+    for p in params:
+        desc = getattr(p, "type_descriptor", None)
+        if getattr(p, "_runtime_param", 0) is None and desc is not None and desc.file_annotation is None:
+            p._runtime_param = _Direct(parameter_info=desc.parameter_info, annotation=desc.annotation)
+
+
+try:
+    from typer._coercion import RuntimeParam, build_runtime_param
+
+    class _Direct(RuntimeParam):  # type: ignore[misc, valid-type]
+        """Typer's conversion of one parameter, :func:`_direct` first."""
+
+        def _coerce_value(self, value: Any, param: Any, ctx: Any) -> Any:
+            out = _direct(self.annotation, value)
+            if out is _direct:
+                param._runtime_param = build_runtime_param(param.type_descriptor)
+                out = param._runtime_param._coerce_value(value, param=param, ctx=ctx)
+            return out
+except ImportError:  # pragma: no cover  (a typer without a pluggable conversion)
+    _Direct = None  # type: ignore[assignment, misc]
+
+
+def _import_help_renderer() -> None:
+    """Import typer's help renderer (``typer.rich_utils``) without ``rich.markdown`` and ``rich.traceback``
+    (half of its import time), which it imports for Markdown help texts and pretty tracebacks, neither of
+    which geardyn uses: while it is imported they are stand-ins that import the real class on first use."""
+    if "typer.rich_utils" in sys.modules:
+        return
+
+    class _OnFirstUse(type):
+        def __call__(cls, *args: Any, **kwargs: Any) -> Any:
+            return cls.real()(*args, **kwargs)
+
+        def __getattr__(cls, attr: str) -> Any:
+            return getattr(cls.real(), attr)
+
+    from types import ModuleType
+
+    stand_ins = {}
+    for module, name in (("rich.markdown", "Markdown"), ("rich.traceback", "Traceback")):
+        if module not in sys.modules:
+            stand_ins[module] = ModuleType(module)
+            real = (lambda module=module, name=name: getattr(import_module(module), name))
+            setattr(stand_ins[module], name, _OnFirstUse(name, (), {"real": staticmethod(real)}))
+    sys.modules.update(stand_ins)
+    try:
+        import_module("typer.rich_utils")
+    finally:
+        for module, stand_in in stand_ins.items():
+            if sys.modules.get(module) is stand_in:
+                del sys.modules[module]
 
 
 app = typer.Typer(

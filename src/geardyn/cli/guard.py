@@ -17,16 +17,15 @@
 from __future__ import annotations
 
 import codecs
-import ctypes
-import json
 import math
 import os
 import signal
 import sys
 import threading
 import time
-import unicodedata
 from typing import Any, Callable
+
+# ctypes, json and unicodedata are imported where they are used: every command imports this module.
 
 __all__ = ["GRACE", "STOP", "check_stop", "prepare_streams", "quiet_broken_pipe", "run_guarded", "strict_json"]
 
@@ -63,6 +62,8 @@ def ascii_text(text: str) -> str:
 def _fallback(c: str) -> str:
     if c in ASCII:
         return ASCII[c]
+    import unicodedata
+
     folded = unicodedata.normalize("NFKD", c).encode("ascii", "ignore").decode("ascii")
     return folded or "?"
 
@@ -161,6 +162,8 @@ def strict_json(obj: Any) -> str:
     TypeError
         For a value that is not JSON-serialisable.
     """
+    import json
+
     bad: list[str] = []
     clean = _finite(obj, "", bad)
     if bad and isinstance(clean, dict):
@@ -224,6 +227,8 @@ def _inject(thread: threading.Thread, exc: type[BaseException]) -> None:
     """Raise ``exc`` in ``thread`` at its next Python instruction (a kernel call runs on until it returns)."""
     if thread.ident is None or not thread.is_alive():
         return
+    import ctypes
+
     ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(thread.ident), ctypes.py_object(exc))
 
 
