@@ -74,7 +74,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
         'Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of period-n responses\n'
         'continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and\n'
         'grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch\n'
-        'with --compare-shooting).'
+        'with --compare-shooting).  A model or system without damping is refused (no stability can be decided); a\n'
+        'branch whose first solution does not converge exits with code 1 and writes nothing.'
     )),
     'modes': ('systems', (
         'Natural frequencies (Hz, ascending; modes numbered from 1, rigid-body modes 0 Hz), M-orthonormal mode\n'
