@@ -271,7 +271,8 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
     Returns
     -------
     dict
-        Claim id → figure references (:meth:`Context.figure`), in the order of :data:`OVERLAYS`.
+        Claim id → the figure reference (:meth:`Context.figure`) and data path of each overlay, in the
+        order of :data:`OVERLAYS`.
     """
     s = ctx.settings
     out: dict[str, list[str]] = {}
@@ -282,10 +283,10 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
         name = overlay_key(param)
         fixed = model_text(ctx.model_at(keys[0]), skip=("omega", param))
         values = ", ".join(f"{k[index]:g}" for k in keys)
-        ctx.save(name, response_overlay(jd, keys, param), f"frequency responses at {_SYMBOL[param]} = {values} "
-                                                            f"overlaid ({fixed})")
+        rel = ctx.save(name, response_overlay(jd, keys, param), f"frequency responses at {_SYMBOL[param]} = {values} "
+                                                                  f"overlaid ({fixed})")
         for cid in cids + ("JUMP-LOW",):
-            out.setdefault(cid, []).append(ctx.figure(name))
+            out.setdefault(cid, []).extend([ctx.figure(name), rel])
     return out
 
 
@@ -395,11 +396,15 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
                                         jd.ev(*keys)))
 
     jd.with_overlays(claims)
+    def zoomed(keys: Sequence[tuple[float, float, float]]) -> str:
+        up = any(j["sweep"] == "up" and j["direction"] == "up" for k in keys for j in jumps_of(R[k]))
+        return ", zoomed on in the middle panel" if up else ""
+
     overlays = [(ctx.figure(overlay_key(p)), f"Overlay of the up and down sweeps at {_SYMBOL[p]} = "
                  + ", ".join(f"{k[i]:g}" for k in getattr(s, attr))
                  + f" ({model_text(ctx.model_at(getattr(s, attr)[0]), skip=('omega', p))}): amplitude (top; up sweep "
                    "thick with small filled markers, down sweep thin with large open markers, first upward jump "
-                   "starred) and "
+                   f"starred{zoomed(getattr(s, attr))}) and "
                    "fluctuation, the spread of the Poincaré points of the up sweep (bottom); the ω the paper names "
                    "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.")
                 for p, i, attr, _ in OVERLAYS if len(getattr(s, attr)) >= 2]
