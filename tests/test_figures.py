@@ -116,8 +116,10 @@ def _synthetic():
                           attrs={"geardyn_kind": "readings_map", "default_omega": 1.0})
     search = xr.Dataset({"match_fraction": (("omega", "claim"), [[0.2, 1.0], [0.5, np.nan], [0.9, 0.0]])},
                         coords={"omega": om, "claim": ["T2-1", "T2-2"]}, attrs={"geardyn_kind": "search", "param": "xi1"})
+    from test_reproduce_figures import overlay
+
     return {"stability_comparison": comp, "mathieu_boundary": mathieu, "stability_boundary": boundary,
-            "formula_fit": fit, "search": search, "readings_map": readings,
+            "formula_fit": fit, "search": search, "readings_map": readings, "response_overlay": overlay(),
             **_tooth_synthetic()}
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import re
 from html.parser import HTMLParser
 
@@ -174,3 +175,128 @@ def test_model_text_names_the_parameters_with_their_symbols():
     assert model_text(m) == "ω = 1, ξ0 = 0.08, ξ1 = 0.05, D = 0.25"
     assert model_text(m, skip=("omega",)) == "ξ0 = 0.08, ξ1 = 0.05, D = 0.25"
     assert model_text(m, only=("fp", "kappa1")) == "f_p = 0.2, κ1 = 0.2"
+
+
+# --- what run a report comes from: quick or full, version, date, command line ----------------------------------
+def _run_info(kind="quick"):
+    from geardyn.paper.report import RunInfo
+    from geardyn.paper.settings import Settings
+
+    changes = Settings.quick().changes() if kind == "quick" else []
+    return RunInfo("9.8.7", "2026-12-02T12:00:00Z", "geardyn reproduce --out r --quick", kind, changes)
+
+
+def test_a_quick_report_says_so_at_the_top_with_what_was_reduced_and_labels_its_totals(tmp_path):
+    run = _run_info("quick")
+    page = render_html("T", ["intro"], _sections(), tmp_path, LABELS, run)
+    text = visible_text(page)
+    box = page.index("<div class='reduced'>")
+    assert page.index("<h1>T (quick run)</h1>") < box < page.index("<p>intro</p>") < page.index("Claims and verdicts")
+    assert "<title>T (quick run)</title>" in page
+    banner = text[text.index("Quick run:"):]
+    assert banner.startswith("Quick run: reduced grids, fewer points and shorter runs than the full reproduction")
+    assert "may differ from the full run" in banner[:300]
+    for change in run.changes:  # every reduced setting named, with the full run's value
+        assert f"<li>{html.escape(change)}</li>" in page
+    assert "points of each frequency response: 12 (full run: 91)" in run.changes
+    assert ("Totals of this quick run (2 claims): 0 reproduced, 0 reproduced under a reading, 2 contradicted, "
+            "0 not testable (may differ from the full run).") in text
+    assert "Totals (2 claims)" not in text
+    md = render_markdown("T", ["intro"], _sections(), LABELS, run)
+    assert md.startswith("# T (quick run)\n") and md.index("> **Quick run:") < md.index("## Claims and verdicts")
+    assert "> - points of each frequency response: 12 (full run: 91)" in md and "Totals of this quick run (2 claims)" in md
+    full = render_html("T", ["intro"], _sections(), tmp_path, LABELS, _run_info("full"))
+    assert "class='reduced'" not in full and "<h1>T</h1>" in full and "Totals (2 claims): " in full
+    assert "quick" not in visible_text(full).replace("--quick", "")
+
+
+def test_the_report_names_the_geardyn_version_the_date_and_the_command_line(tmp_path):
+    import json
+
+    run = _run_info("full")
+    page = render_html("T", ["intro"], _sections(), tmp_path, LABELS, run)
+    head = page[:page.index("<p>intro</p>")]
+    assert "geardyn 9.8.7" in head and "2026-12-02T12:00:00Z" in head
+    assert "<code>geardyn reproduce --out r --quick</code>" in head
+    md = render_markdown("T", ["intro"], _sections(), LABELS, run)
+    assert "*geardyn 9.8.7, run 2026-12-02T12:00:00Z: geardyn reproduce --out r --quick*" in md.split("## ")[0]
+    paths = write_report(tmp_path, "T", ["intro"], _sections(), meta={"compute_s": 1.0}, labels=LABELS, run=run)
+    meta = json.loads(paths["meta"].read_text())
+    assert meta["run"] == {"version": "9.8.7", "date": "2026-12-02T12:00:00Z",
+                           "command": "geardyn reproduce --out r --quick", "kind": "full", "changes": []}
+    assert meta["compute_s"] == 1.0 and meta["totals"].startswith("Totals (2 claims)")
+
+
+def test_run_kind_and_changes_of_the_settings():
+    from dataclasses import replace
+
+    from geardyn.paper.settings import Settings
+
+    assert Settings().changes() == [] and Settings().run_kind() == "full"
+    assert replace(Settings(), workers=7).run_kind() == "full"  # workers change the time, not the results
+    assert replace(Settings.quick(), workers=2).run_kind() == "quick"
+    one = Settings(transient=5)
+    assert one.run_kind() == "changed" and one.changes() == ["transient periods of the bifurcation diagrams: 5 (full run: 300)"]
+    quick = Settings.quick().changes()
+    assert "ξ0 grid of the ξ0 bifurcation diagram: 5 points over [0.03, 0.5] (full run: 62 points over [0.02, 0.95])" in quick
+    assert "ω grid of the stability condition: 2 points (0.8, 1.6) (full run: 21 points over [0.4, 2.4])" in quick
+    assert "ω interval of the continuation: [0.61, 0.63] (full run: [0.5, 0.7])" in quick
+
+
+def test_run_info_records_the_version_the_date_now_and_the_command():
+    from datetime import datetime, timezone
+
+    import geardyn
+    from geardyn.paper.run import PYTHON_COMMAND, run_info
+    from geardyn.paper.settings import Settings
+
+    before = datetime.now(timezone.utc).replace(microsecond=0)
+    info = run_info(Settings.quick(), "geardyn reproduce --quick")
+    after = datetime.now(timezone.utc)
+    assert info.version == geardyn.__version__ and info.command == "geardyn reproduce --quick"
+    assert before <= datetime.fromisoformat(info.date.replace("Z", "+00:00")) <= after
+    assert info.kind == "quick" and info.changes == Settings.quick().changes()
+    assert run_info(Settings()).command == PYTHON_COMMAND and not run_info(Settings()).reduced
+
+
+def _table_rows(out: str) -> dict[str, list[str]]:
+    """The rows of a rich table as printed: id → the text of each further column (wrapped lines joined)."""
+    rows: dict[str, list[str]] = {}
+    current = None
+    for line in out.splitlines():
+        if not line.startswith("│"):
+            continue
+        cells = [c.strip() for c in line.strip("│").split("│")]
+        if cells[0]:
+            current = cells[0]
+            rows[current] = cells[1:]
+        elif current is not None:
+            rows[current] = [f"{a} {b}".strip() for a, b in zip(rows[current], cells[1:])]
+    return rows
+
+
+@pytest.mark.parametrize("width", [80, 160])
+def test_terminal_summary_prints_each_claims_statement_beside_its_verdict_and_says_quick_first(monkeypatch, width):
+    import io
+
+    from rich.console import Console
+
+    from geardyn.cli import render
+
+    buf = io.StringIO()
+    monkeypatch.setattr(render, "console", Console(file=buf, width=width, color_system=None))
+    claims = [c for s in _sections() for c in s.claims]
+    render.claims({"claims": claims, "paths": {"html": "r/report.html"}, "seconds": 3.0, "run": _run_info("quick")})
+    out = buf.getvalue()
+    flat = re.sub(r"\s+", " ", out)
+    assert out.lstrip().startswith("Quick run: reduced grids")
+    assert flat.index("Quick run") < flat.index("Totals of this quick run (2 claims)") < flat.index("T2-1")
+    rows = _table_rows(out)
+    assert list(rows) == [c.id for c in claims]
+    for c in claims:  # the paper's statement, whole, on the claim's row beside its verdict
+        assert rows[c.id] == [c.statement, c.verdict], rows[c.id]
+    assert "geardyn 9.8.7, run 2026-12-02T12:00:00Z: geardyn reproduce --out r --quick" in flat
+    assert "verdicts may differ from the full run" in flat.split("r/report.html")[-1]
+    buf.truncate(0), buf.seek(0)
+    render.claims({"claims": claims, "paths": {"html": "r/report.html"}, "seconds": 3.0, "run": _run_info("full")})
+    assert "Quick" not in buf.getvalue() and "Totals (2 claims)" in re.sub(r"\s+", " ", buf.getvalue())

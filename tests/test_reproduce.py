@@ -161,7 +161,7 @@ def test_summary_table_says_what_the_paper_claims_and_the_totals_come_first(repo
     page = (out / "report.html").read_text()
     header = "<tr>" + "".join(f"<th>{h}</th>" for h in SUMMARY_COLUMNS) + "</tr>"
     assert "paper says" in SUMMARY_COLUMNS and page.count(header) == 1
-    totals = page.index("Totals (")
+    totals = page.index("Totals of this quick run (")
     assert totals < page.index(header)
     claims = _findings(out)
     kinds = ("reproduced", "reproduced under a reading", "contradicted", "not testable")
@@ -177,7 +177,7 @@ def test_summary_table_says_what_the_paper_claims_and_the_totals_come_first(repo
         assert c.computed.startswith(found_text(c).rstrip("…"))
         assert html_escape(c.deciding) in row
     md = (out / "report.md").read_text()
-    assert md.index("Totals (") < md.index("| id | source | paper says | we find | verdict | deciding evidence |")
+    assert md.index("Totals of this quick run (") < md.index("| id | source | paper says | we find | verdict | deciding evidence |")
 
 
 def html_escape(s):
@@ -293,3 +293,73 @@ def test_report_shows_the_readings_of_every_claim_f1_f2_and_the_three_tables(rep
     assert free.any() and (~free).any() and float(np.ptp(f2["amplitude"].values[free])) < 1e-9
     run = json.loads((out / "run.json").read_text())
     assert {"readings_screen", "readings_responses"} <= set(run["datasets"])
+
+
+# --- a quick report says so; where a report comes from; the comparisons drawn on one axes ------------------------
+def test_a_quick_report_says_it_is_quick_with_its_version_date_and_command(report_dir):
+    from datetime import datetime
+
+    import geardyn
+    from geardyn.reproduce import Settings
+
+    out, summary = report_dir
+    page = (out / "report.html").read_text()
+    assert "<h1>geardyn reproduction of the spiral bevel gear paper (quick run)</h1>" in page
+    box = page[page.index("<div class='reduced'>"):page.index("</div>", page.index("<div class='reduced'>"))]
+    assert page.index("<div class='reduced'>") < page.index("<h2>Claims and verdicts</h2>")
+    assert "Quick run: reduced grids" in box and "may differ from the full run" in box
+    assert box.count("<li>") == len(Settings.quick().changes()) >= 15
+    assert "points of each frequency response: 12 (full run: 91)" in box
+    command = f"geardyn reproduce --out {out} --quick --workers 1 --json"
+    head = page[:page.index("<div class='reduced'>")]
+    assert f"geardyn {geardyn.__version__}" in head and command in head
+    run = json.loads((out / "run.json").read_text())["run"]
+    assert run["version"] == geardyn.__version__ and run["command"] == command and run["kind"] == "quick"
+    assert run["changes"] == Settings.quick().changes()
+    datetime.fromisoformat(run["date"].replace("Z", "+00:00"))
+    assert summary["run"] == run  # the --json summary carries the same
+    assert [c["statement"] for c in summary["claims"]] == [CLAIMS[c["id"]].statement for c in summary["claims"]]
+
+
+def test_the_compared_responses_are_overlaid_and_cited_by_the_claims_that_compare_them(report_dir):
+    import xarray as xr
+
+    from geardyn.paper.studies.jumps import response_key
+    from geardyn.reproduce import Settings
+
+    out, _ = report_dir
+    s = Settings.quick()
+    page = (out / "report.html").read_text()
+    claims = {c.id: c for c in _findings(out)}
+    section = page[page.index("<h2>Jumps and fluctuations"):page.index("<h2>", page.index("<h2>Jumps and fluctuations") + 5)]
+    shown = re.findall(r"<img alt=\"([^\"]+)\"", section)
+    assert shown[:3] == [f"figures/responses_over_{p}/response_overlay.png" for p in ("xi0", "xi1", "D")]
+    assert len(shown) == 3 + len(s.response_sets)  # the overlays first, then each response on its own
+    for cid, p in (("JUMP-XI0", "xi0"), ("JUMP-XI1", "xi1"), ("JUMP-057", "D"), ("JUMP-082", "D"), ("T4-3", "xi0")):
+        assert claims[cid].evidence[0] == f"figures/responses_over_{p}/response_overlay.png", cid
+    assert {f"figures/responses_over_{p}/response_overlay.png" for p in ("xi0", "xi1")} <= set(claims["JUMP-FLUCT"].evidence)
+    for p, attr in (("xi0", "xi0_set"), ("xi1", "xi1_set"), ("D", "d_set")):
+        ov = xr.load_dataset(out / "data" / f"responses_over_{p}.nc")
+        keys = getattr(s, attr)
+        assert list(ov["value"].values) == [k[{"xi0": 0, "xi1": 1, "D": 2}[p]] for k in keys]
+        for i, k in enumerate(keys):  # the responses themselves, on one ω grid
+            r = xr.load_dataset(out / "data" / f"{response_key(*k)}.nc")
+            np.testing.assert_array_equal(ov["amplitude"].values[i], r["amplitude"].sel(sweep=["up", "down"]).values)
+            np.testing.assert_array_equal(ov["omega"].values, r["omega"].values)
+    marks = [m[0] for m in json.loads(xr.load_dataset(out / "data" / "responses_over_D.nc").attrs["marks"])]
+    assert marks == [0.5, 0.57, 0.82, 0.95]  # the ω the backlash claims name
+
+
+def test_the_stability_caption_says_what_its_gaps_are(report_dir):
+    import xarray as xr
+
+    out, _ = report_dir
+    page = (out / "report.html").read_text()
+    cap = re.search(r"<figure id='fig-figures-stability-condition[^']*'>.*?<figcaption>(.*?)</figcaption>", page, re.S).group(1)
+    ds = xr.load_dataset(out / "data" / "stability_condition.nc")
+    kinds = ds["bifurcation_type"].values.astype(str)
+    assert "Markers: the ξ0 below which the period-1 response of the full model" in cap
+    if np.all(np.isfinite(ds["xi0_critical"].values)):
+        assert "(no gaps)" in cap
+    else:
+        assert "Gaps (" in cap and any(k in cap for k in kinds)

@@ -202,18 +202,27 @@ def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
 
 
 def claims(res: dict[str, Any]) -> None:
-    """The verdicts of ``geardyn reproduce``: counts per kind, then per claim what the paper says, the verdict and why."""
+    """The verdicts of ``geardyn reproduce``: a reduced run said first, the totals, then per claim the paper's
+    statement beside its verdict (the deciding evidence is in the report)."""
+    from ..paper.report import totals_text
+
     style = {"reproduced": "green", "reproduced under a reading": "cyan", "contradicted": "red", "not testable": "dim"}
-    counts = {k: sum(c.verdict == k for c in res["claims"]) for k in style}
-    t = Table(title="Claims of the paper: " + ", ".join(f"{n} {k}" for k, n in counts.items()))
-    for col in ("id", "paper says", "verdict", "deciding evidence"):
-        t.add_column(col, overflow="fold")
+    run = res.get("run")
+    if run is not None and run.reduced:
+        console.print(f"[bold yellow]{escape(run.banner('listed in the report'))}[/]")
+    t = Table(title=escape(totals_text(res["claims"], run)))
+    t.add_column("id", no_wrap=True)
+    t.add_column("the paper says", overflow="fold", ratio=3)
+    t.add_column("verdict", overflow="fold", ratio=2)
     for c in res["claims"]:
         verdict = c.verdict + (f" ({c.reading})" if getattr(c, "reading", "") else "")
-        t.add_row(c.id, c.statement, f"[{style.get(c.verdict, 'white')}]{escape(verdict)}[/]",
-                  escape(getattr(c, "deciding", "") or c.computed))
+        t.add_row(c.id, escape(c.statement), f"[{style.get(c.verdict, 'white')}]{escape(verdict)}[/]")
     console.print(t)
-    console.print(f"report: {res['paths']['html']} ({res['seconds']:.1f} s)")
+    if run is not None:
+        console.print(escape(run.provenance()), style="dim", highlight=False)
+    more = "; verdicts may differ from the full run's" if run is not None and run.reduced else ""
+    console.print(f"report (deciding evidence, readings, figures): {res['paths']['html']} ({res['seconds']:.1f} s{more})",
+                  markup=False, highlight=False)
 
 
 def bench(res: dict[str, Any]) -> None:

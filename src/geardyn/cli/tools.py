@@ -100,7 +100,7 @@ def _check_attributes(file: Path, ds) -> None:
 def reproduce(
     inp: Inputs,
     out: Annotated[Path, typer.Option("--out", help="Directory for report.html, report.md, claims.json, figures and data.")] = Path("results"),
-    quick: Annotated[bool, typer.Option("--quick", help="A reduced run (coarse grids, short runs) that exercises every study.")] = False,
+    quick: Annotated[bool, typer.Option("--quick", help="A reduced run (coarse grids, short runs) that exercises every study; its report and summary say so, and its verdicts may differ from the full run's.")] = False,
     workers: Annotated[int, typer.Option("--workers", help="Worker processes for the sweeps.")] = 2,
 ) -> None:
     """Run every study of the paper on its Table 1 pair and write a report judging each claim."""
@@ -113,10 +113,16 @@ def reproduce(
     check_out(out, file_suffixes=())
     settings = replace(Settings.quick() if quick else Settings(), workers=workers)
     log = (lambda m: None) if inp.json_out else (lambda m: err_console.print(f"… {m}", markup=False, highlight=False))
-    res = run(out, settings, log=log)
+    import shlex
+    from dataclasses import asdict
+
+    command = shlex.join(["geardyn", "reproduce", "--out", str(out)] + ["--quick"] * quick
+                         + ["--workers", str(workers)] + ["--json"] * inp.json_out)
+    res = run(out, settings, log=log, command=command)
     if inp.json_out:
-        emit_json({"report": res["paths"], "seconds": res["seconds"],
-                   "claims": [{"id": c.id, "verdict": c.verdict, "computed": c.computed} for c in res["claims"]]})
+        emit_json({"report": res["paths"], "seconds": res["seconds"], "run": asdict(res["run"]),
+                   "claims": [{"id": c.id, "statement": c.statement, "verdict": c.verdict, "computed": c.computed}
+                              for c in res["claims"]]})
         return
     render.claims(res)
 

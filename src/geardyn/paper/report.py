@@ -21,6 +21,64 @@ from ..io import atomic_write_bytes
 #: The four verdict kinds, strongest first (the rules that give them: :mod:`geardyn.paper.verdicts`).
 VERDICTS = ("reproduced", "reproduced under a reading", "contradicted", "not testable")
 
+#: What a run that is not the full reproduction is called, by :meth:`geardyn.paper.settings.Settings.run_kind`.
+RUN_NAMES = {"quick": "quick run", "changed": "run with changed settings"}
+
+
+@dataclass
+class RunInfo:
+    """Where a report comes from: the geardyn version, the date, the command line, and whether the
+    run is the full reproduction (and if not, what it changed).
+
+    Parameters
+    ----------
+    version : str
+        geardyn's version.
+    date : str
+        When the run started (ISO 8601, UTC).
+    command : str
+        The command line that made the report.
+    kind : str
+        ``"full"``, ``"quick"`` or ``"changed"`` (:meth:`geardyn.paper.settings.Settings.run_kind`).
+    changes : list of str
+        What the run changes from the full reproduction, one line per setting (empty for the full run).
+    """
+
+    version: str
+    date: str
+    command: str
+    kind: str = "full"
+    changes: list[str] = field(default_factory=list)
+
+    @property
+    def reduced(self) -> bool:
+        """Whether the run is not the full reproduction."""
+        return self.kind != "full"
+
+    def provenance(self) -> str:
+        """``"geardyn 0.1.0, run 2026-12-02T12:00:00Z: geardyn reproduce --out results"``."""
+        return f"geardyn {self.version}, run {self.date}: {self.command}"
+
+    def banner(self, where: str = "listed below") -> str:
+        """What a reduced run is, in two sentences (empty for the full run): the first line of its report
+        and of its terminal summary.
+
+        Parameters
+        ----------
+        where : str
+            Where the changed settings are listed.
+
+        Returns
+        -------
+        str
+        """
+        if not self.reduced:
+            return ""
+        what = ("reduced grids, fewer points and shorter runs than the full reproduction"
+                if self.kind == "quick" else "settings that differ from the full reproduction")
+        return (f"{RUN_NAMES.get(self.kind, self.kind).capitalize()}: {what} ({len(self.changes)} settings, {where})"
+                ". Its verdicts and totals may differ from the full run's (geardyn reproduce without --quick).")
+
 
 @dataclass
 class Finding:
@@ -119,19 +177,27 @@ def _verdict_text(c: "Finding") -> str:
     return f"{c.verdict}: {c.reading}" if c.reading and c.verdict == "reproduced under a reading" else c.verdict
 
 
-def totals_text(claims: Sequence[Finding]) -> str:
-    """``"Totals (26 claims): 4 reproduced, 7 reproduced under a reading, 15 contradicted, 0 not testable."``
+def totals_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
+    """``"Totals (26 claims): 4 reproduced, 7 reproduced under a reading, 15 contradicted, 0 not testable."``;
+    for a run that is not the full reproduction ``"Totals of this quick run (26 claims): … (may differ
+    from the full run)."``
 
     Parameters
     ----------
     claims : sequence of Finding
+    run : RunInfo, optional
+        The run (default: the full reproduction).
 
     Returns
     -------
     str
     """
     counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
-    return f"Totals ({len(claims)} claims): " + ", ".join(f"{n} {v}" for v, n in counts.items()) + "."
+    text = ", ".join(f"{n} {v}" for v, n in counts.items())
+    if run is not None and run.reduced:
+        return (f"Totals of this {RUN_NAMES.get(run.kind, run.kind)} ({len(claims)} claims): {text} "
+                "(may differ from the full run).")
+    return f"Totals ({len(claims)} claims): {text}."
 
 
 #: Column headers of the summary table.
@@ -177,7 +243,7 @@ def _anchor(path: str) -> str:
 
 
 def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section],
-                    labels: Mapping[str, str] | None = None) -> str:
+                    labels: Mapping[str, str] | None = None, run: RunInfo | None = None) -> str:
     """The report as Markdown: the totals, the table of claims (what the paper says, what geardyn
     finds, the verdict), then every section.
 
@@ -189,6 +255,9 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
     sections : sequence of Section
     labels : mapping, optional
         Dataset name → what it is (with its parameters): the text of the evidence links.
+    run : RunInfo, optional
+        Where the report comes from, written under the title; a run that is not the full
+        reproduction says so there, with what it changed, and in its title and totals.
 
     Returns
     -------
@@ -196,9 +265,13 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
     """
     labels = labels or {}
     claims = [c for s in sections for c in s.claims]
-    out = [f"# {title}", ""]
+    out = [f"# {_title(title, run)}", ""]
+    if run is not None:
+        out += [f"*{run.provenance()}*", ""]
+        if run.reduced:
+            out += [f"> **{run.banner()}**", ">"] + [f"> - {ch}" for ch in run.changes] + [""]
     out += [p + "\n" for p in intro]
-    out += ["## Claims and verdicts", "", totals_text(claims), "",
+    out += ["## Claims and verdicts", "", totals_text(claims, run), "",
             "| " + " | ".join(SUMMARY_COLUMNS) + " |", "|" + "---|" * len(SUMMARY_COLUMNS)]
     for c in claims:
         out.append(f"| {c.id} | {_md_escape_cell(c.source)} | {_md_escape_cell(c.statement)} | "
@@ -227,6 +300,10 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
     return "\n".join(out)
 
 
+def _title(title: str, run: RunInfo | None) -> str:
+    return f"{title} ({RUN_NAMES.get(run.kind, run.kind)})" if run is not None and run.reduced else title
+
+
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;max-width:1200px;margin:2em auto;
 padding:0 1em;color:#222;line-height:1.45}
@@ -240,6 +317,9 @@ table.summary td:nth-child(5){min-width:9em;max-width:16em}table.summary td:nth-
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}figcaption{font-size:0.9em;color:#555}
 .claim{border-left:4px solid #999;padding:0.3em 0.8em;margin:1em 0;background:#fafafa}
 code{background:#f2f2f2;padding:0 3px}
+.provenance{color:#555;font-size:0.9em}
+.reduced{border:2px solid #c77700;background:#fff4e0;padding:0.6em 1em;margin:1em 0}
+.reduced ul{columns:2;font-size:0.88em;margin:0.4em 0}
 """
 
 
@@ -264,7 +344,7 @@ def _img(directory: Path, rel: str) -> str:
 
 
 def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], directory: Path,
-                labels: Mapping[str, str] | None = None) -> str:
+                labels: Mapping[str, str] | None = None, run: RunInfo | None = None) -> str:
     """The report as one self-contained HTML page (figures embedded as base64 PNG).
 
     The totals come first, then the table of claims (what the paper says, what geardyn finds, the
@@ -280,6 +360,10 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
         The report directory the figure paths are relative to.
     labels : mapping, optional
         Dataset name → what it is (with its parameters): the text of the evidence links.
+    run : RunInfo, optional
+        Where the report comes from (version, date, command line), shown under the title; a run that
+        is not the full reproduction says so in a box there, with what it changed, and in its title
+        and totals.
 
     Returns
     -------
@@ -289,11 +373,18 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
     labels = labels or {}
     claims = [c for s in sections for c in s.claims]
     shown = {p for s in sections for p, _ in s.figures}
-    out = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(title)}</title><style>{_CSS}</style></head><body>",
-           f"<h1>{e(title)}</h1>"]
+    head = _title(title, run)
+    out = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(head)}</title><style>{_CSS}</style></head><body>",
+           f"<h1>{e(head)}</h1>"]
+    if run is not None:
+        out.append(f"<p class='provenance'>geardyn {e(run.version)} &middot; run {e(run.date)} &middot; command: "
+                   f"<code>{e(run.command)}</code></p>")
+        if run.reduced:
+            out.append(f"<div class='reduced'><b>{e(run.banner())}</b><ul>"
+                       + "".join(f"<li>{e(ch)}</li>" for ch in run.changes) + "</ul></div>")
     out += [f"<p>{e(p)}</p>" for p in intro]
     out.append("<h2>Claims and verdicts</h2>")
-    out.append(f"<p class='totals'><b>{e(totals_text(claims))}</b></p>")
+    out.append(f"<p class='totals'><b>{e(totals_text(claims, run))}</b></p>")
     out.append("<table class='summary'><tr>" + "".join(f"<th>{e(h)}</th>" for h in SUMMARY_COLUMNS) + "</tr>")
     for c in claims:
         out.append(f"<tr><td><a href='#{e(c.id)}'>{e(c.id)}</a></td><td>{e(c.source)}</td><td>{e(c.statement)}</td>"
@@ -326,7 +417,8 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
 
 
 def write_report(directory: str | Path, title: str, intro: Sequence[str], sections: Sequence[Section],
-                 meta: dict[str, Any] | None = None, labels: Mapping[str, str] | None = None) -> dict[str, Path]:
+                 meta: dict[str, Any] | None = None, labels: Mapping[str, str] | None = None,
+                 run: RunInfo | None = None) -> dict[str, Path]:
     """Write report.md, report.html, claims.json (a list, one entry per claim) and, with ``meta``,
     run.json (settings, timings) into ``directory``.
 
@@ -341,6 +433,8 @@ def write_report(directory: str | Path, title: str, intro: Sequence[str], sectio
         Written as run.json.
     labels : mapping, optional
         Dataset name → what it is, with its parameters (the text of the evidence links).
+    run : RunInfo, optional
+        Where the report comes from (:func:`render_html`); also written into run.json.
 
     Returns
     -------
@@ -351,9 +445,11 @@ def write_report(directory: str | Path, title: str, intro: Sequence[str], sectio
     d.mkdir(parents=True, exist_ok=True)
     claims = [asdict(c) for s in sections for c in s.claims]
     paths = {"md": d / "report.md", "html": d / "report.html", "claims": d / "claims.json"}
-    atomic_write_bytes(paths["md"], render_markdown(title, intro, sections, labels).encode())
-    atomic_write_bytes(paths["html"], render_html(title, intro, sections, d, labels).encode())
+    atomic_write_bytes(paths["md"], render_markdown(title, intro, sections, labels, run).encode())
+    atomic_write_bytes(paths["html"], render_html(title, intro, sections, d, labels, run).encode())
     atomic_write_bytes(paths["claims"], json.dumps(claims, indent=2, default=str).encode())
+    if run is not None:
+        meta = {"run": asdict(run), "totals": totals_text([c for s in sections for c in s.claims], run), **(meta or {})}
     if meta:
         paths["meta"] = d / "run.json"
         atomic_write_bytes(paths["meta"], json.dumps(meta, indent=2, default=str).encode())

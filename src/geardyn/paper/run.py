@@ -19,6 +19,7 @@ from __future__ import annotations
 import time
 from concurrent.futures import Executor
 from dataclasses import asdict
+from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
@@ -29,7 +30,7 @@ from ..io import write_netcdf
 from ..model import DEFAULT_DTAU
 from ..plot import save_figures
 from ..sweep import local_pool
-from .report import Section, write_report
+from .report import RunInfo, Section, write_report
 from .settings import FIGURE_REF, Context, Settings
 from .studies.backlash import study_backlash
 from .studies.damping import study_xi0, study_xi1
@@ -44,8 +45,8 @@ from .studies.tables import study_tables
 from .table1 import TABLE1
 from .verdicts import VERDICT_RULES
 
-__all__ = ["STUDIES", "Settings", "link_figures", "run", "run_studies", "settings_section", "write_output",
-           "write_outputs"]
+__all__ = ["STUDIES", "Settings", "link_figures", "run", "run_info", "run_studies", "settings_section",
+           "write_output", "write_outputs"]
 
 #: The studies that need only the context, in report order (the jump studies share their responses).
 STUDIES: list[Callable[[Context], Section]] = [study_xi0, study_xi1, study_backlash]
@@ -201,8 +202,33 @@ def link_figures(sections: Sequence[Section], figures: Mapping[str, Sequence[str
             c.evidence = [resolve(e) for e in c.evidence]
 
 
+#: The command line recorded for a run started from Python (:func:`run` without ``command``).
+PYTHON_COMMAND = "geardyn.reproduce.run (from Python)"
+
+
+def run_info(settings: Settings, command: str | None = None) -> RunInfo:
+    """Where a run's report comes from: geardyn's version, the date and time now (UTC), the command
+    line, and what the run changes from the full reproduction.
+
+    Parameters
+    ----------
+    settings : Settings
+        The run's settings.
+    command : str, optional
+        The command line (default :data:`PYTHON_COMMAND`).
+
+    Returns
+    -------
+    RunInfo
+    """
+    from .. import __version__
+
+    date = datetime.now(timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
+    return RunInfo(__version__, date, command or PYTHON_COMMAND, settings.run_kind(), settings.changes())
+
+
 def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str], None] = lambda s: None,
-        executor: Executor | None = None) -> dict[str, Any]:
+        executor: Executor | None = None, command: str | None = None) -> dict[str, Any]:
     """Run every study, draw the figures, write the report.
 
     Parameters
@@ -216,16 +242,21 @@ def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str]
         Receives one progress line per step.
     executor : concurrent.futures.Executor, optional
         Where the sweeps run; default a local pool of ``settings.workers`` processes (none for 1).
+    command : str, optional
+        The command line, written into the report (default :data:`PYTHON_COMMAND`).
 
     Returns
     -------
     dict
-        ``paths`` (the report files), ``claims`` (every :class:`~geardyn.paper.report.Finding`)
-        and ``seconds``.
+        ``paths`` (the report files), ``claims`` (every :class:`~geardyn.paper.report.Finding`),
+        ``run`` (the :class:`~geardyn.paper.report.RunInfo`) and ``seconds``.
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
+    info = run_info(settings, command)
+    if info.reduced:
+        log(info.banner("listed in the report"))
     own = executor is None and settings.workers > 1
     if own:
         executor = local_pool(settings.workers)
@@ -243,6 +274,7 @@ def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str]
     paths = write_report(out, TITLE, INTRO, sections,
                          meta={"settings": asdict(settings), "compute_s": t_compute,
                                "total_s": time.perf_counter() - t0, "datasets": ctx.datasets, "figures": figures},
-                         labels=ctx.labels)
+                         labels=ctx.labels, run=info)
     claims = [c for s in sections for c in s.claims]
-    return {"paths": {k: str(v) for k, v in paths.items()}, "claims": claims, "seconds": time.perf_counter() - t0}
+    return {"paths": {k: str(v) for k, v in paths.items()}, "claims": claims, "run": info,
+            "seconds": time.perf_counter() - t0}

@@ -8,7 +8,7 @@ Settings the paper leaves unstated are chosen here, once, with the reason writte
 from __future__ import annotations
 
 from concurrent.futures import Executor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -19,10 +19,55 @@ from ..analysis.bifurcation import bifurcation
 from ..model import GearModel, IntegrationOptions
 from .table1 import TABLE1_MODEL
 
-__all__ = ["FIGURE_REF", "Context", "Settings", "model_text"]
+__all__ = ["FIGURE_REF", "RUN_FULL", "RUN_QUICK", "RUN_CHANGED", "Context", "Settings", "model_text"]
 
 #: Prefix of a figure reference (:meth:`Context.figure`) until the figure is drawn.
 FIGURE_REF = "figure:"
+#: What a run is (:meth:`Settings.run_kind`): the full reproduction, ``--quick``, or other settings.
+RUN_FULL, RUN_QUICK, RUN_CHANGED = "full", "quick", "changed"
+
+#: What each setting is, as a reduced run's report lists what it changed (``workers`` changes no result).
+SETTING_TEXT = {
+    "omega_damping": "ω of the damping and backlash studies",
+    "transient": "transient periods of the bifurcation diagrams",
+    "periods": "recorded periods of the bifurcation diagrams",
+    "settle": "settling periods of non-periodic points",
+    "xi0_grid": "ξ0 grid of the ξ0 bifurcation diagram",
+    "xi1_grid": "ξ1 grid of the ξ1 bifurcation diagram",
+    "d_grid": "D grid of the backlash bifurcation diagram",
+    "readings_omegas": "ω grid of the readings",
+    "readings_transient": "transient periods of each screened reading",
+    "readings_periods": "recorded periods of each screened reading",
+    "readings_settle": "settling periods of each screened reading",
+    "readings_response_transient": "transient periods per point of the readings' responses",
+    "readings_response_periods": "recorded periods per point of the readings' responses",
+    "confirm_periods": "periods of the exponent run that re-examines doubtful labels",
+    "response_omega": "ω range of the frequency responses",
+    "response_num": "points of each frequency response",
+    "response_transient": "transient periods per point of the frequency responses",
+    "response_periods": "recorded periods per point of the frequency responses",
+    "xi0_set": "responses with ξ0 varied",
+    "xi1_set": "responses with ξ1 varied",
+    "d_set": "responses with D varied",
+    "alt_set": "further responses",
+    "stability_omegas": "ω grid of the stability condition",
+    "continuation_omega": "ω interval of the continuation",
+    "continuation_sweep_num": "points of the sweep under the continuation",
+    "continuation_sweep_periods": "recorded periods of the sweep under the continuation",
+    "xi0_zoom": "ξ0 interval of the zoomed ξ0 diagram",
+}
+
+
+def _setting_value(name: str, value: Any) -> str:
+    """A setting's value in a few words: a number, an interval, a grid by its size and ends, a set of responses."""
+    if name.endswith(("_grid", "_omegas")):
+        pts = ", ".join(f"{v:g}" for v in value)
+        return f"{len(value)} points over [{min(value):g}, {max(value):g}]" if len(value) > 3 else f"{len(value)} points ({pts})"
+    if name.endswith("_set"):
+        return f"{len(value)} responses"
+    if isinstance(value, tuple):
+        return "[" + ", ".join(f"{v:g}" for v in value) + "]"
+    return f"{value:g}"
 
 
 @dataclass(frozen=True)
@@ -125,6 +170,32 @@ class Settings:
             response_num=12, response_transient=40, response_periods=30, stability_omegas=(0.8, 1.6),
             continuation_omega=(0.61, 0.63), continuation_sweep_num=11, continuation_sweep_periods=16,
         )
+
+    def changes(self) -> list[str]:
+        """What this run changes from the full reproduction (:class:`Settings` as defined), one line per
+        setting: ``"points of each frequency response: 12 (full run: 91)"``; empty for the full run.
+
+        ``workers`` is left out: it changes the time, not the results.
+
+        Returns
+        -------
+        list of str
+        """
+        full = Settings()
+        return [f"{text}: {_setting_value(k, getattr(self, k))} (full run: {_setting_value(k, getattr(full, k))})"
+                for k, text in SETTING_TEXT.items() if getattr(self, k) != getattr(full, k)]
+
+    def run_kind(self) -> str:
+        """:data:`RUN_FULL` (the settings of the full reproduction), :data:`RUN_QUICK` (those of
+        :meth:`quick`) or :data:`RUN_CHANGED` (any other), whatever the number of workers.
+
+        Returns
+        -------
+        str
+        """
+        if not self.changes():
+            return RUN_FULL
+        return RUN_QUICK if replace(self, workers=1) == replace(Settings.quick(), workers=1) else RUN_CHANGED
 
     @property
     def readings_options(self) -> IntegrationOptions:

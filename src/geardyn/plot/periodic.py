@@ -199,6 +199,24 @@ def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any
 
 
 # ---------------------------------------------------------------------------- stability boundary
+def _stability_gaps(ax, om: np.ndarray, kinds: np.ndarray, crit: np.ndarray, xi0_low: Any) -> None:
+    """Mark the ω where the full model has no boundary marker, on a strip above the ω axis: stable down to the
+    end of the ξ0 scan (no boundary above it), or not decided (the start orbit not found or unstable, the
+    scan stopped early); each kind named in the legend."""
+    low = f"{float(xi0_low):g}" if xi0_low is not None else "the end of the scan"
+    stable = (kinds == "stable") & ~np.isfinite(crit)
+    undecided = ~np.isfinite(crit) & ~stable
+    if stable.any():
+        ax.plot(om[stable], np.full(stable.sum(), 0.03), ls="none", marker="v", color="0.45", mfc="none",
+                clip_on=False, transform=ax.get_xaxis_transform(), gid="gap",
+                label=f"gap: full model stays stable down to ξ0 = {low} (no boundary above it)")
+    if undecided.any():
+        why = sorted({str(k) for k in kinds[undecided] if str(k)}) or ["not computed"]
+        ax.plot(om[undecided], np.full(undecided.sum(), 0.03), ls="none", marker="x", color="k", clip_on=False,
+                transform=ax.get_xaxis_transform(), gid="gap",
+                label="gap: stability not decided (" + "; ".join(why) + ")")
+
+
 @plot_function("stability_comparison", (8, 5.5), tight=True)
 def stability_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Floquet stability boundaries ξ0_c(ω), with the paper's condition ξ0 = ½√(1 − κ1²) when the
@@ -221,6 +239,12 @@ def stability_figure(ds: xr.Dataset, ax: Any = None) -> None:
             st = BIFURCATION_STYLE[typ]
             ax.plot(om[sel], crit[sel], ls="none", marker=st["marker"], color=st["color"], mfc="white",
                     label=f"full model, period-1 response loses stability by {st['label']}")
+        _stability_gaps(ax, om, kinds, crit, ds.attrs.get("xi0_low"))
+    if linear is not None and np.any(np.isnan(ds[linear].values)):
+        sel = np.isnan(ds[linear].values)
+        ax.plot(om[sel], np.full(sel.sum(), 0.97), ls="none", marker="^", color="C0", mfc="none", clip_on=False,
+                transform=ax.get_xaxis_transform(), gid="gap",
+                label="gap in the linear boundary: still unstable at the top of its search, no boundary found")
     paper = None
     if "xi0_paper" in ds:
         paper = float(ds["xi0_paper"].values)

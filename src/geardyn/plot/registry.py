@@ -86,6 +86,7 @@ FIGURES: dict[str, tuple[FigureSpec, ...]] = {
     "formula_fit": (FigureSpec("formula_fit", reproduce.formula_fit),),
     "search": (FigureSpec("search", reproduce.search_map),),
     "readings_map": (FigureSpec("readings", reproduce.readings_map),),
+    "response_overlay": (FigureSpec("response_overlay", reproduce.response_overlay),),
 }
 
 

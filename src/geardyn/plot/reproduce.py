@@ -3,35 +3,107 @@
 from __future__ import annotations
 
 
+import json
+from typing import Any
+
 import numpy as np
 import xarray as xr
 
 from matplotlib.axes import Axes
 
-from .common import plot_function, set_title, symbol
+from .common import parameter_text, place_labels, plot_function, set_title, symbol
 
-__all__ = ["formula_fit", "readings_map", "search_map"]
+__all__ = ["CURVE_STYLES", "curve_style", "end_labels", "formula_fit", "readings_map", "response_overlay", "search_map"]
 
 
-@plot_function("formula_fit", (8.5, 4.8))
-def formula_fit(ds: xr.Dataset, ax: Axes = None) -> None:
-    """Computed amplitudes against ω with the fitted A0 + ΔA sin(πω) e^(−ξ0 ω) + β b², per (ξ0, b)
-    (a result of the reproduction report)."""
+#: Line style and marker of the i-th curve of a figure that compares several (cycled): curves stay
+#: distinguishable without colour.
+CURVE_STYLES = (("-", "o"), ("--", "s"), (":", "^"), ("-.", "D"), ((0, (5, 1, 1, 1, 1, 1)), "v"), ((0, (1, 3)), "P"))
+
+
+def curve_style(i: int) -> dict:
+    """Colour, line style and marker of the i-th of several compared curves (:data:`CURVE_STYLES`, cycled).
+
+    Parameters
+    ----------
+    i : int
+        The curve's index.
+
+    Returns
+    -------
+    dict
+        ``color``, ``ls`` and ``marker``.
+    """
+    ls, marker = CURVE_STYLES[i % len(CURVE_STYLES)]
+    return {"color": f"C{i % 10}", "ls": ls, "marker": marker}
+
+
+def _formula_groups(ds: xr.Dataset) -> list[tuple[float, float]]:
+    return sorted({(float(x), float(y)) for x, y in zip(ds["xi0"].values, ds["b_mm"].values)})
+
+
+def _formula_grid(ds: xr.Dataset) -> tuple[int, int]:
+    n = len(_formula_groups(ds))
+    cols = min(3, n)
+    return -(-n // cols), cols
+
+
+def _formula_size(ds: xr.Dataset) -> tuple[float, float]:
+    rows, cols = _formula_grid(ds)
+    return 1.2 + 3.3 * cols, 1.4 + 2.6 * rows
+
+
+@plot_function("formula_fit", _formula_size, n=lambda ds: len(_formula_groups(ds)),
+               subplots=lambda ds: dict(zip(("nrows", "ncols"), _formula_grid(ds)), sharex=True, sharey=True),
+               tight=True, ax_doc="""
+               ax : matplotlib.axes.Axes or sequence of Axes, optional
+                   Where to draw: one Axes per (ξ0, b) (small multiples), or one Axes for every curve
+                   (each in its own colour, line style and marker, labelled at its end); a new figure
+                   of small multiples if omitted.""")
+def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
+    """Computed amplitudes against ω with the fitted A0 + ΔA sin(πω) e^(−ξ0 ω) + β b², one panel per
+    (ξ0, b) on shared axes (a result of the reproduction report)."""
     A0, dA, beta = (float(ds.attrs[k]) for k in ("A0", "dA", "beta"))
     w, xi0, b, a = (ds[k].values for k in ("omega", "xi0", "b_mm", "amplitude"))
-    groups = sorted({(x, y) for x, y in zip(xi0, b)})
+    groups = _formula_groups(ds)
+    axes = list(ax) if isinstance(ax, (list, tuple)) else [ax]
+    one = len(axes) == 1 or all(x is None for x in axes[1:])
+    ww = np.linspace(w.min(), w.max(), 300)
+    ends = []
     for i, (x0, bb) in enumerate(groups):
+        target = axes[0] if one else axes[i]
+        st = curve_style(i)
         sel = (xi0 == x0) & (b == bb)
         order = np.argsort(w[sel])
-        c = f"C{i % 10}"
-        ax.plot(w[sel][order], a[sel][order], ".", color=c, ms=4, label=f"ξ0 = {x0:g}, b = {bb:g} mm")
-        ww = np.linspace(w.min(), w.max(), 300)
-        ax.plot(ww, A0 + dA * np.sin(np.pi * ww) * np.exp(-x0 * ww) + beta * bb**2, "-", color=c, lw=1)
-    ax.set_xlabel("mesh frequency ω = ω_e/ω_n")
-    ax.set_ylabel("amplitude (half peak-to-peak of u)")
-    set_title(ax, f"Amplitude formula fit: R² = {float(ds.attrs['r2']):.3f} (dots: computed, lines: fit)", ds,
-              exclude=["omega", "xi0", "D"])
-    ax.legend(fontsize=7, ncol=2)
+        name = f"ξ0 = {x0:g}, b = {bb:g} mm"
+        target.plot(w[sel][order], a[sel][order], ls="none", marker=st["marker"], color=st["color"], ms=4,
+                    label=f"computed, {name}" if one else "computed (up sweep)")
+        fit = A0 + dA * np.sin(np.pi * ww) * np.exp(-x0 * ww) + beta * bb**2
+        target.plot(ww, fit, ls=st["ls"], color=st["color"], lw=1.2, label=f"fit, {name}" if one else "fitted formula")
+        if one:
+            ends.append((ww[-1], fit[-1], name, st["color"]))
+        else:
+            target.set_title(name, fontsize=9, color=st["color"])
+            target.grid(alpha=0.3)
+    drawn = [x for x in axes if x is not None]
+    if one:
+        place_labels(drawn[0], ends)
+        drawn[0].set_xlabel("mesh frequency ω = ω_e/ω_n")
+        drawn[0].set_ylabel("amplitude (half peak-to-peak of u)")
+    else:
+        drawn[0].legend(fontsize=7, loc="upper left")
+        cols = drawn[0].get_gridspec().ncols if drawn[0].get_gridspec() is not None else 1
+        for k, x in enumerate(drawn):
+            if k >= len(drawn) - cols:
+                x.set_xlabel("ω = ω_e/ω_n")
+            if k % cols == 0:
+                x.set_ylabel("amplitude (½ p-p of u)")
+    head = f"Amplitude formula fit: R² = {float(ds.attrs['r2']):.3f} (markers: computed, lines: fit)"
+    params = parameter_text(ds, exclude=["omega", "xi0", "D"])
+    if one:
+        set_title(drawn[0], head, ds, exclude=["omega", "xi0", "D"])
+    else:
+        drawn[0].figure.suptitle(f"{head}\n{params}" if params else head, fontsize=10)
 
 
 def _search_size(ds: xr.Dataset) -> tuple[float, float]:
@@ -80,3 +152,157 @@ def readings_map(ds: xr.Dataset, ax: Axes = None) -> None:
     ax.set_xlabel("mesh frequency ω = ω_e/ω_n (dashed: the default reading)")
     ax.figure.colorbar(im, ax=ax, label="fraction of the readings holding")
     set_title(ax, "Where each claim holds on the screen of readings", ds, exclude=["omega", "xi0", "xi1", "D"])
+
+
+#: Markers drawn per curve of an overlay (every k-th point; the lines join every point).
+MARKERS_PER_CURVE = 15
+
+
+def _zoom_on_jumps(zoom: Axes, w: np.ndarray, amp: np.ndarray, firsts: list[dict]) -> None:
+    """Limits and labels of the inset over the first upward jumps (every jump with a margin of its grid steps)."""
+    at = [j["omega"] for j in firsts]
+    dw = float(np.median(np.diff(w))) if w.size > 1 else 0.01
+    lo, hi = min(at) - 4 * dw, max(at) + 4 * dw
+    sel = (w >= lo) & (w <= hi)
+    vals = amp[:, :, sel]
+    vals = vals[np.isfinite(vals)]
+    if vals.size:
+        pad = 0.08 * float(np.ptp(vals) or 1.0)
+        zoom.set_ylim(float(vals.min()) - pad, float(vals.max()) + pad)
+    zoom.set_xlim(lo, hi)
+    zoom.set_title("zoom on the first upward jumps (up sweeps)", fontsize=9)
+    zoom.set_ylabel("amplitude", fontsize=8)
+    zoom.grid(alpha=0.3)
+
+
+def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float = 0.05) -> list:
+    """Label curves at their right ends, to the right, moved apart vertically so that no two overlap.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw (its y limits should be final).
+    ends : list of (x, y, text, colour)
+        The end point of each curve and its label.
+    gap : float
+        Least distance between two labels, as a fraction of the height of the axes.
+
+    Returns
+    -------
+    list of matplotlib.text.Annotation
+    """
+    lo, hi = ax.get_ylim()
+    d = gap * (hi - lo)
+    order = sorted(range(len(ends)), key=lambda k: ends[k][1])
+    placed: dict[int, float] = {}
+    last = -np.inf
+    for k in order:
+        y = max(float(ends[k][1]), last + d)
+        placed[k] = last = y
+    return [ax.annotate(text, (x, placed[k]), xytext=(6, 0), textcoords="offset points", color=colour, fontsize=7,
+                        ha="left", va="center") for k, (x, _, text, colour) in enumerate(ends)]
+
+
+def _case_text(param: str, value: float) -> str:
+    text = f"{symbol(param)} = {value:g}"
+    return text + f" (b = {2 * value:g} mm)" if param == "D" else text
+
+
+def _has_up_jump(ds: xr.Dataset) -> bool:
+    return any(j["sweep"] == "up" and j["direction"] == "up" for js in json.loads(ds.attrs.get("jumps", "[]")) for j in js)
+
+
+def _overlay_panels(ds: xr.Dataset) -> int:
+    return 3 if _has_up_jump(ds) else 2
+
+
+@plot_function("response_overlay", lambda ds: (11, 10.5 if _has_up_jump(ds) else 7.5), n=_overlay_panels,
+               subplots=lambda ds: {"height_ratios": (2.2, 1.3, 1) if _has_up_jump(ds) else (2.2, 1)}, tight=True,
+               ax_doc="""
+               ax : matplotlib.axes.Axes or sequence of Axes, optional
+                   Where to draw: the amplitude panel only (one Axes), or every panel (the amplitude, the
+                   zoom on the first upward jumps when there is one, the fluctuation); a new figure if omitted.""")
+def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
+    """Frequency responses at several values of one parameter on one axes, as the paper's claims compare
+    them: amplitude of the up sweep (thick, small filled markers) and the down sweep (thin, large open
+    markers) per value, each in its own colour, line style and marker and labelled at its end; the first
+    upward jump of each starred (and zoomed on in a panel of its own); the ω the paper names dotted and
+    its Table 4 amplitudes as crosses; below, the fluctuation (spread of the Poincaré points of the up
+    sweep) on the same ω axis (a result of the reproduction report)."""
+    axes = list(ax) if isinstance(ax, (list, tuple)) else [ax]
+    amp_ax, zoom, fl_ax = (axes + [None, None])[:3] if len(axes) == 3 else (axes[0], None, axes[1] if len(axes) > 1 else None)
+    if fl_ax is not None:
+        fl_ax.sharex(amp_ax)
+    param = str(ds.attrs["param"])
+    w = ds["omega"].values
+    values = ds["value"].values
+    jumps = json.loads(ds.attrs.get("jumps", "[]"))
+    marks = json.loads(ds.attrs.get("marks", "[]"))
+    table4 = json.loads(ds.attrs.get("table4", "[]"))
+    ends = []
+    step = max(1, w.size // MARKERS_PER_CURVE)
+    firsts = []
+    for i, v in enumerate(values):
+        st = curve_style(i)
+        every = (i * step // max(len(values), 1), step)  # markers of the curves staggered, not on top of each other
+        up, down = (ds["amplitude"].values[i, k] for k in (0, 1))
+        js = [j for j in (jumps[i] if i < len(jumps) else []) if j["sweep"] == "up" and j["direction"] == "up"]
+        firsts.append(min(js, key=lambda j: j["omega"]) if js else None)
+        for target, full in ((amp_ax, True), (zoom, False)):
+            if target is None:
+                continue
+            # the down sweep under the up sweep, its open markers larger: a ring round the up sweep's where they agree
+            target.plot(w, down, ls=st["ls"], marker=st["marker"], color=st["color"], ms=7, lw=0.7, mfc="none",
+                        markevery=every if full else None, gid="down", label="_nolegend_")
+            target.plot(w, up, ls=st["ls"], marker=st["marker"], color=st["color"], ms=3.5, lw=1.4,
+                        markevery=every if full else None, gid="up", label=_case_text(param, float(v)) if full else None)
+        ends.append((w[-1], up[-1], f"{symbol(param)} = {float(v):g}", st["color"]))
+        if fl_ax is not None:
+            fl_ax.plot(w, ds["fluctuation"].values[i], ls=st["ls"], marker=st["marker"], color=st["color"], ms=3.5,
+                       lw=1.2, markevery=every, label=_case_text(param, float(v)))
+    for i, j in enumerate(firsts):
+        for target in (amp_ax, zoom):
+            if j is not None and target is not None:
+                target.plot([j["omega"]], [j["amplitude_to"]], ls="none", marker="*", ms=13, color=curve_style(i)["color"],
+                            mec="k", mew=0.6, zorder=5, gid="jump", label="_nolegend_")
+    for case, omega, A, cid in table4:
+        amp_ax.plot([omega], [A], ls="none", marker="X", ms=9, color=curve_style(int(case))["color"], mec="k", mew=0.8,
+                    zorder=6, gid="table4", label="_nolegend_")
+        amp_ax.annotate(cid, (omega, A), xytext=(4, -9), textcoords="offset points", fontsize=6.5)
+    for target in (amp_ax, zoom, fl_ax):
+        if target is None:
+            continue
+        for omega, _ in marks:
+            target.axvline(omega, color="0.35", ls=":", lw=1.0, gid="mark", zorder=0)
+    if zoom is not None and any(j is not None for j in firsts):
+        _zoom_on_jumps(zoom, w, ds["amplitude"].values, [j for j in firsts if j is not None])
+    for k, (omega, _) in enumerate(marks):  # staggered: the names of close ω do not overlap
+        amp_ax.annotate(f"ω = {omega:g}", (omega, 1.0), xycoords=amp_ax.get_xaxis_transform(), xytext=(2, -3 - 10 * (k % 2)),
+                        textcoords="offset points", ha="left", va="top", fontsize=7, color="0.25", gid="mark")
+    span = float(w[-1] - w[0]) if w.size > 1 else 1.0
+    amp_ax.set_xlim(w[0] - 0.02 * span, w[-1] + 0.14 * span)  # room for the labels at the curves' ends
+    from matplotlib.lines import Line2D
+
+    proxies = [Line2D([], [], color="0.3", ls="-", marker="o", lw=1.4, label="up sweep (filled markers)"),
+               Line2D([], [], color="0.3", ls="-", marker="o", ms=7, mfc="none", lw=0.7,
+                      label="down sweep (open markers, round the up sweep's where they agree)"),
+               Line2D([], [], color="0.3", ls="none", marker="*", ms=11, mec="k", label="first upward jump (up sweep)")]
+    proxies += [Line2D([], [], color="0.35", ls=":", label=text) for _, text in marks]
+    if table4:
+        proxies.append(Line2D([], [], color="0.5", ls="none", marker="X", ms=8, mec="k",
+                              label="paper's Table 4 amplitude (row labelled)"))
+    handles, _ = amp_ax.get_legend_handles_labels()
+    amp_ax.legend(handles=handles + proxies, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    end_labels(amp_ax, ends)
+    amp_ax.set_ylabel("amplitude (half peak-to-peak of u)")
+    amp_ax.grid(alpha=0.3)
+    set_title(amp_ax, f"Frequency responses compared over {symbol(param)}", ds, exclude=["omega", param])
+    if fl_ax is not None:
+        fl_ax.set_ylabel("fluctuation\n(spread of Poincaré points, up sweep)", fontsize=8)
+        fl_ax.set_xlabel("mesh frequency ω = ω_e/ω_n")
+        fl_ax.grid(alpha=0.3)
+        amp_ax.tick_params(labelbottom=False)
+    else:
+        amp_ax.set_xlabel("mesh frequency ω = ω_e/ω_n")
+    if zoom is not None:
+        zoom.set_xlabel("mesh frequency ω = ω_e/ω_n", fontsize=8)

@@ -85,5 +85,6 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
         "The amplitude formula",
         ["The formula is linear in A0, ΔA and β, so they are fitted by linear least squares to the amplitudes of "
          "the up sweeps of the jump study (b = 2D mm); the verdict follows the R² rule of the Settings."],
-        [(ev[1], f"Computed amplitudes against the fitted formula over ω ∈ [{ctx.settings.response_omega[0]:g}, "
-                 f"{ctx.settings.response_omega[1]:g}], {where}")], [c])
+        [(ev[1], f"Computed amplitudes (markers) against the fitted formula (line) over ω ∈ "
+                 f"[{ctx.settings.response_omega[0]:g}, {ctx.settings.response_omega[1]:g}], one panel per (ξ0, b) on "
+                 f"shared axes, each in its own colour, line style and marker; {where}")], [c])

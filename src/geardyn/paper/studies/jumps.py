@@ -8,7 +8,7 @@ are judged by :mod:`geardyn.paper.studies.readings_jumps`.  Jumps and hysteresis
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 import numpy as np
@@ -31,6 +31,7 @@ __all__ = [
     "first_up_jump",
     "fluctuation",
     "hysteresis_of",
+    "response_overlay",
     "study_jumps",
     "study_table4",
 ]
@@ -140,10 +141,19 @@ class JumpData:
         (ξ0, ξ1, D) → frequency response Dataset.
     evidence : dict
         (ξ0, ξ1, D) → its data path and figure reference.
+    overlays : dict
+        Claim id → the figure references of the overlays it compares responses on
+        (:func:`save_overlays`).
     """
 
     responses: dict[tuple[float, float, float], xr.Dataset]
     evidence: dict[tuple[float, float, float], list[str]]
+    overlays: dict[str, list[str]] = field(default_factory=dict)
+
+    def with_overlays(self, claims: Sequence[Finding]) -> None:
+        """Put the overlays each claim compares responses on first in its evidence (in place)."""
+        for c in claims:
+            c.evidence = list(dict.fromkeys(self.overlays.get(c.id, []) + list(c.evidence)))
 
     def ev(self, *keys: tuple[float, float, float]) -> list[str]:
         """The evidence of the responses at ``keys``, in order."""
@@ -176,7 +186,111 @@ def compute_responses(ctx: Context) -> JumpData:
         rel = ctx.save(name, ds, f"frequency response at {model_text(model, skip=('omega',))}")
         out[key] = ds
         ev[key] = [rel, ctx.figure(name)]
-    return JumpData(out, ev)
+    jd = JumpData(out, ev)
+    jd.overlays = save_overlays(ctx, jd)
+    return jd
+
+
+#: What each overlay of the jump study compares: the varied parameter, its index in (ξ0, ξ1, D) and the
+#: claims that compare the responses over it.
+OVERLAYS = (("xi0", 0, "xi0_set", ("JUMP-XI0", "JUMP-FLUCT", "T4-2", "T4-3")),
+            ("xi1", 1, "xi1_set", ("JUMP-XI1", "JUMP-FLUCT")),
+            ("D", 2, "d_set", ("JUMP-057", "JUMP-082", "JUMP-095", "T4-4", "T4-5")))
+
+
+def overlay_key(param: str) -> str:
+    """The name of the saved overlay of the responses with ``param`` varied."""
+    return f"responses_over_{param}"
+
+
+def response_overlay(jd: JumpData, keys: Sequence[tuple[float, float, float]], param: str) -> xr.Dataset:
+    """The frequency responses at ``keys`` (one parameter varied) on one ω grid, for one figure that
+    compares them (kind ``response_overlay``): amplitude of both sweeps, fluctuation of the up sweep,
+    each response's jumps and hysteresis, and the ω and amplitudes the paper's claims name.
+
+    Parameters
+    ----------
+    jd : JumpData
+        The responses (all on one ω grid).
+    keys : sequence of (ξ0, ξ1, D)
+        The responses compared, in order.
+    param : str
+        The parameter varied: ``"xi0"``, ``"xi1"`` or ``"D"``.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``amplitude`` (case, sweep, omega), ``fluctuation`` (case, omega: the spread of the Poincaré
+        points of the up sweep, :func:`geardyn.paper.verdicts.section_spread`), ``value`` (case: the
+        varied parameter); attributes ``param``, ``model`` (the first response's), ``jumps`` and
+        ``hysteresis`` (a list per case), ``marks`` (the claimed ω: [ω, text]) and ``table4`` (the
+        paper's Table 4 amplitudes at these responses: [case, ω, A, text]).
+    """
+    index = {"xi0": 0, "xi1": 1, "D": 2}[param]
+    first = jd.responses[keys[0]]
+    omega = first["omega"].values
+    amp = np.stack([jd.responses[k]["amplitude"].sel(sweep=["up", "down"]).values for k in keys])
+    spread = []
+    for k in keys:
+        up = jd.responses[k].sel(sweep="up")
+        pu, pv = up["poincare_u"].values, up["poincare_v"].values
+        spread.append([section_spread(np.column_stack([pu[i], pv[i]])) for i in range(omega.size)])
+    marks = [[LOW_OMEGA, f"ω = {LOW_OMEGA:g}: steady below, upward jumps above (paper)"]]
+    if param == "D":
+        for cid in ("JUMP-057", "JUMP-082", "JUMP-095"):
+            n = CLAIMS[cid].numbers
+            if cid == "JUMP-057" or any(k[2] == n["b"] / 2 for k in keys):
+                what = "jumps" if cid == "JUMP-057" else f"{n['direction']}ward jump at b = {n['b']:g} mm"
+                marks.append([n["omega"], f"ω = {n['omega']:g}: {what} (paper)"])
+    table4 = []
+    for cid in claim_ids("T4-"):
+        omega4, xi0, b, A = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A"))
+        for i, k in enumerate(keys):
+            if k == (xi0, TABLE1["xi1"], b / 2):
+                table4.append([i, omega4, A, cid])
+    model = dict(json.loads(first.attrs["model"]))
+    return xr.Dataset(
+        {"amplitude": (("case", "sweep", "omega"), amp), "fluctuation": (("case", "omega"), np.asarray(spread)),
+         "value": ("case", np.array([k[index] for k in keys], dtype=float))},
+        coords={"case": np.arange(len(keys)), "sweep": ["up", "down"], "omega": omega},
+        attrs={"geardyn_kind": "response_overlay", "param": param, "model": json.dumps(model),
+               "jumps": json.dumps([jumps_of(jd.responses[k]) for k in keys]),
+               "hysteresis": json.dumps([hysteresis_of(jd.responses[k]) for k in keys]),
+               "marks": json.dumps(marks), "table4": json.dumps(table4)})
+
+
+def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
+    """Save the overlay of each comparison of the jump study (:data:`OVERLAYS`) and return, per claim,
+    the overlay figures it compares responses on.
+
+    Parameters
+    ----------
+    ctx : Context
+    jd : JumpData
+
+    Returns
+    -------
+    dict
+        Claim id → the figure reference (:meth:`Context.figure`) and data path of each overlay, in the
+        order of :data:`OVERLAYS`.
+    """
+    s = ctx.settings
+    out: dict[str, list[str]] = {}
+    for param, index, attr, cids in OVERLAYS:
+        keys = list(getattr(s, attr))
+        if len(keys) < 2:
+            continue
+        name = overlay_key(param)
+        fixed = model_text(ctx.model_at(keys[0]), skip=("omega", param))
+        values = ", ".join(f"{k[index]:g}" for k in keys)
+        rel = ctx.save(name, response_overlay(jd, keys, param), f"frequency responses at {_SYMBOL[param]} = {values} "
+                                                                  f"overlaid ({fixed})")
+        for cid in cids + ("JUMP-LOW",):
+            out.setdefault(cid, []).extend([ctx.figure(name), rel])
+    return out
+
+
+_SYMBOL = {"xi0": "ξ0", "xi1": "ξ1", "D": "D"}
 
 
 def _key_text(key: tuple[float, float, float]) -> str:
@@ -281,6 +395,19 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
                                         f"{direction}ward; the opposite jump fails).", "reproduced" if ok else "contradicted",
                                         jd.ev(*keys)))
 
+    jd.with_overlays(claims)
+    def zoomed(keys: Sequence[tuple[float, float, float]]) -> str:
+        up = any(j["sweep"] == "up" and j["direction"] == "up" for k in keys for j in jumps_of(R[k]))
+        return ", zoomed on in the middle panel" if up else ""
+
+    overlays = [(ctx.figure(overlay_key(p)), f"Overlay of the up and down sweeps at {_SYMBOL[p]} = "
+                 + ", ".join(f"{k[i]:g}" for k in getattr(s, attr))
+                 + f" ({model_text(ctx.model_at(getattr(s, attr)[0]), skip=('omega', p))}): amplitude (top; up sweep "
+                   "thick with small filled markers, down sweep thin with large open markers, first upward jump "
+                   f"starred{zoomed(getattr(s, attr))}) and "
+                   "fluctuation, the spread of the Poincaré points of the up sweep (bottom); the ω the paper names "
+                   "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.")
+                for p, i, attr, _ in OVERLAYS if len(getattr(s, attr)) >= 2]
     return Section(
         "Jumps and fluctuations of the amplitude-frequency response",
         [f"Up and down sweeps over ω ∈ [{s.response_omega[0]:g}, {s.response_omega[1]:g}] ({s.response_num} points, "
@@ -289,8 +416,8 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
          "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
          "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm), the default "
          f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."],
-        [(jd.evidence[k][1], f"Frequency response at {_key_text(k)}: up and down sweeps over ω ∈ "
-                             f"[{s.response_omega[0]:g}, {s.response_omega[1]:g}]") for k in R],
+        overlays + [(jd.evidence[k][1], f"Frequency response at {_key_text(k)}: up and down sweeps over ω ∈ "
+                                        f"[{s.response_omega[0]:g}, {s.response_omega[1]:g}]") for k in R],
         claims,
         table,
     )
@@ -343,6 +470,7 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         claims.append(CLAIMS[cid].judge(txt + ".", v, ev))
         table.append([f"{omega:g}", f"{xi0:g}", f"{b:g}", f"{A:g}", kind, f"{a_up:.3f} / {a_dn:.3f}",
                       ", ".join(kinds) or "none"])
+    jd.with_overlays(claims)
     return Section(
         "Table 4: amplitude and jump type at five operating points",
         [f"Read from the frequency responses of the jump study at the grid ω nearest each row. Amplitude counts as "

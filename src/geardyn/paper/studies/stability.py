@@ -18,7 +18,7 @@ from ..table1 import TABLE1
 from ..verdicts import STABILITY_REL
 from .jumps import JumpData, hysteresis_of
 
-__all__ = ["STABILITY_REL", "jump_continuation", "study_orbits", "study_stability"]
+__all__ = ["STABILITY_REL", "gaps_text", "jump_continuation", "study_orbits", "study_stability"]
 
 
 def study_stability(ctx: Context) -> Section:
@@ -56,8 +56,52 @@ def study_stability(ctx: Context) -> Section:
         ["The critical mean damping above which the period-1 response (full model) and the zero solution of the "
          "linear contact model (D = 0, unforced) are stable, from Floquet multipliers, against the paper's closed form."],
         [(ev[1], f"Floquet stability boundaries in ξ0 against the paper's condition, ω ∈ [{min(s.stability_omegas):g}, "
-                 f"{max(s.stability_omegas):g}], {model_text(ctx.base, skip=('omega', 'xi0'), only=('xi1', 'D', 'fp', 'kappa1'))}")],
+                 f"{max(s.stability_omegas):g}], {model_text(ctx.base, skip=('omega', 'xi0'), only=('xi1', 'D', 'fp', 'kappa1'))}. "
+                 + gaps_text(ds))],
         [c])
+
+
+def _omegas(om: np.ndarray) -> str:
+    return ", ".join(f"{w:g}" for w in om)
+
+
+def gaps_text(ds: xr.Dataset) -> str:
+    """What the gaps of the stability figure are, for its caption: the ω where the full model's period-1
+    response has no boundary marker (stable down to the end of the ξ0 scan, or not decided, and why) and
+    where the linear boundary is missing.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``stability_comparison`` result (:func:`geardyn.analysis.periodic.compare_stability_condition`).
+
+    Returns
+    -------
+    str
+    """
+    om = ds["omega"].values
+    kinds = ds["bifurcation_type"].values.astype(str)
+    crit = ds["xi0_critical"].values
+    low = ds.attrs.get("xi0_low", "the end of the scan")
+    stable = (kinds == "stable") & ~np.isfinite(crit)
+    undecided = ~np.isfinite(crit) & ~stable
+    out = [f"Markers: the ξ0 below which the period-1 response of the full model (started stable at ξ0 = "
+           f"{ds.attrs.get('xi0_high', 'the top of the scan')} and continued down in ξ0) loses stability; the line: "
+           "the linear contact model's boundary (0 outside its instability tongues)."]
+    if not stable.any() and not undecided.any():
+        out.append("Every ω of the grid has a boundary of the full model (no gaps).")
+    if stable.any():
+        out.append(f"Gaps (▽ on the ω axis) at ω = {_omegas(om[stable])}: the period-1 response stays stable down to "
+                   f"ξ0 = {low}, the end of the scan, so it has no stability boundary above it: stable for every damping "
+                   "the scan covers, not a missing computation.")
+    if undecided.any():
+        why = "; ".join(sorted({k for k in kinds[undecided] if k})) or "not computed"
+        out.append(f"Gaps (× on the ω axis) at ω = {_omegas(om[undecided])}: stability could not be decided ({why}).")
+    lin = ds["xi0_critical_linear"].values
+    if np.any(np.isnan(lin)):
+        out.append(f"The linear boundary is missing (△ at the top) at ω = {_omegas(om[np.isnan(lin)])}: still unstable at "
+                   "the top of its search.")
+    return " ".join(out)
 
 
 def jump_continuation(model: GearModel, lo: float, hi: float, *, sweep_num: int = 0,
