@@ -102,7 +102,8 @@ OUT_RUNS = {
                    "--periods", "8"],
     "system_basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
                       "--periods", "8"],
-    "system_continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35"],
+    "system_continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35",
+                            "--ds-max", "0.1"],
 }
 
 
