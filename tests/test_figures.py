@@ -47,7 +47,7 @@ COMMANDS["system_basins"] = ["basins", "--system", _SYSTEM, "--omega", "1.2", "-
                              "--transient", "20", "--periods", "8"]
 COMMANDS["modes"] = ["modes", "--system", _SYSTEM]
 COMMANDS["system_continuation"] = ["continuation", "--system", _SYSTEM, "--param", "omega", "--start", "1.3",
-                                   "--stop", "1.35"]
+                                   "--stop", "1.35", "--ds-max", "0.1"]
 
 
 @pytest.fixture(scope="module")

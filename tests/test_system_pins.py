@@ -33,6 +33,7 @@ def spur6():
     return load_system(EX / "spur_bending_torsional.toml")
 
 
+@pytest.mark.slow  # the stiff bearings take small steps
 def test_simulate_of_the_six_dof_spur_pair(spur6):
     from geardyn.analysis.steady import simulate
 

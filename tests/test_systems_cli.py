@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from geardyn.cli import main
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
 TORS = str(EX / "paper_torsional.toml")
@@ -16,7 +19,15 @@ BEVEL = str(EX / "paper_bevel_8dof.toml")
 
 
 def run(*args: str, code: int = 0) -> subprocess.CompletedProcess:
-    p = subprocess.run([sys.executable, "-m", "geardyn.cli", *args], capture_output=True, text=True)
+    """``geardyn ARGS`` run in this process (the kernels compile or load once for the whole file)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            main(list(args))
+            rc = 0
+        except SystemExit as e:
+            rc = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+    p = subprocess.CompletedProcess(["geardyn", *args], rc, out.getvalue(), err.getvalue())
     assert p.returncode == code, p.stderr
     return p
 
@@ -91,7 +102,8 @@ OUT_RUNS = {
                    "--periods", "8"],
     "system_basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
                       "--periods", "8"],
-    "system_continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35"],
+    "system_continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35",
+                            "--ds-max", "0.1"],
 }
 
 
@@ -119,8 +131,11 @@ def test_out_with_system_and_plot_redraws_the_same_figures(kind, tmp_path):
     r = json.loads(run("plot", str(tmp_path / "a" / f"{kind}.nc"), "--out", str(tmp_path / "b"), "--json").stdout)
     assert sorted(p.rsplit("/", 1)[-1] for p in r["files"]) == drawn
     assert sorted(p.name for p in (tmp_path / "b").iterdir()) == drawn
+    if kind == "system_continuation":
+        assert s["rigid_body_modes"] == 1 and len(s["branch"][0]["multipliers"]) == 2
 
 
+@pytest.mark.slow  # the same events, with switching, at 1e-8: test_conformance.py (system continuation)
 def test_continuation_on_a_system_finds_the_1dof_period_doubling():
     a = json.loads(run("continuation", "--system", TORS, "--param", "omega", "--start", "0.6", "--stop", "1.0",
                        "--no-switch", "--json").stdout)

@@ -39,6 +39,7 @@ def test_lyapunov_sum_is_minus_twice_the_damping(model):
     assert sum(ly.exponents) == pytest.approx(-2 * model.xi0, abs=1e-9)
 
 
+@pytest.mark.slow  # HB at 128 harmonics against shooting at dtau 0.005
 def test_harmonic_balance_and_continuation_run(model):
     orb = shoot(model, 1, dtau=0.005)
     # the forcing holds 64 harmonics of omega'; the response's products with the stiffness reach beyond, so

@@ -27,7 +27,7 @@ from fuzz_helpers import EXAMPLES, check_contract, run
 
 FAST = settings(max_examples=40, deadline=None, derandomize=True, database=None,
                 suppress_health_check=list(HealthCheck))
-FAST_FILES = settings(FAST, max_examples=12)
+FAST_FILES = settings(FAST, max_examples=6)
 LONG = settings(max_examples=400, deadline=None, database=None, suppress_health_check=list(HealthCheck))
 
 

@@ -55,8 +55,8 @@ def _interrupted(name: str, sig: int) -> None:
     assert out.strip() == "" or "wrote" not in out  # no success reported
 
 
-@pytest.mark.parametrize("name", DEFAULT)
-def test_sigint_stops_the_command_within_a_second(name):
+@pytest.mark.parametrize("name", [pytest.param("simulate", marks=pytest.mark.slow), "bifurcation"])
+def test_sigint_stops_the_command_within_a_second(name):  # simulate: SIGTERM in the default run
     _interrupted(name, signal.SIGINT)
 
 
