@@ -71,7 +71,7 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     noise, seed : float, int
         Measurement noise (share of the signal RMS) and its seed.
     harmonics : int, optional
-        Harmonics of the excitation's period kept (default: all the model takes, at most 64).
+        Harmonics of the excitation's period kept (default: the table's full series, at most 64 per mesh order).
     b_c, backlash, xi0, dtau : float
         As :func:`geardyn.tooth.excitation.pair_model` and the RK4 step.
     label : str
@@ -87,10 +87,8 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     """
     geo = ms.geometry
     z1, z2 = geo.gears[0].teeth, geo.gears[1].teeth
-    H = harmonics
-    if H is None:
-        H = min(64, (ms.stiffness.size) // 2)
-    model, sc = pair_model(ms, rpm, b_c=b_c, backlash=backlash, xi0=xi0, harmonics=H)
+    model, sc = pair_model(ms, rpm, b_c=b_c, backlash=backlash, xi0=xi0, harmonics=harmonics)
+    H = len(model.kappa)
     g = math.gcd(z1, z2)
     if revolutions is None:
         revolutions = max(10, 2 * z2 // g)
@@ -121,7 +119,7 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     )
     summary = {"label": label, "rpm": float(rpm), "fs_Hz": float(fs), "revolutions": int(revolutions),
                "z1": z1, "z2": z2, "mesh_frequency_Hz": rpm / 60.0 * z1, "noise": noise,
-               "excitation_cycles": ms.cycles, "harmonics": H, "omega_model": model.omega,
+               "excitation_cycles": ms.cycles, "harmonics": H, "omega_model": model.forcing_omega,
                "omega_mesh": sc["mesh_omega"], "omega_n_rad_s": sc["omega_n"], "k0_N_per_m": sc["k0"],
                "indicators": ind, "faults": [_fault(f) for f in ms.faults]}
     ds = ds.expand_dims(run=[label or "run"])
