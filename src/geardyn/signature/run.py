@@ -16,8 +16,10 @@ from .acquire import acquire
 from .indicators import crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4, rms, sideband_level
 from .signals import order_spectrum, split_tsa, tsa
 
-__all__ = ["INDICATORS", "combine", "indicators", "signature", "signature_sweep"]
+__all__ = ["INDICATORS", "SIGNATURE_HARMONICS", "combine", "indicators", "signature", "signature_sweep"]
 
+#: Harmonics of the excitation's period a signature run keeps by default (the full table: ``harmonics=``).
+SIGNATURE_HARMONICS = 64
 #: The indicators reported, in order.
 INDICATORS = ("rms", "crest_factor", "kurtosis", "fm0", "fm4", "na4", "m6a", "m8a", "sideband_level", "energy_ratio")
 
@@ -71,7 +73,8 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     noise, seed : float, int
         Measurement noise (share of the signal RMS) and its seed.
     harmonics : int, optional
-        Harmonics of the excitation's period kept (default: the table's full series, at most 64 per mesh order).
+        Harmonics of the excitation's period kept (default :data:`SIGNATURE_HARMONICS`: mesh orders up to
+        64/P, the band where the noise of the record does not bury the fault's sidebands).
     b_c, backlash, xi0, dtau : float
         As :func:`geardyn.tooth.excitation.pair_model` and the RK4 step.
     label : str
@@ -87,8 +90,8 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     """
     geo = ms.geometry
     z1, z2 = geo.gears[0].teeth, geo.gears[1].teeth
-    model, sc = pair_model(ms, rpm, b_c=b_c, backlash=backlash, xi0=xi0, harmonics=harmonics)
-    H = len(model.kappa)
+    H = min(SIGNATURE_HARMONICS, ms.stiffness.size // 2) if harmonics is None else harmonics
+    model, sc = pair_model(ms, rpm, b_c=b_c, backlash=backlash, xi0=xi0, harmonics=H)
     g = math.gcd(z1, z2)
     if revolutions is None:
         revolutions = max(10, 2 * z2 // g)
