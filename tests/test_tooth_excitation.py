@@ -98,3 +98,32 @@ def test_a_stiffness_that_is_not_positive_is_refused():
     k[:8] = 0.02  # the interpolant rings below zero next to the drop
     with pytest.raises(ModelError, match="sum of"):
         excitation_model(BASE, Excitation(k, None, cycles=4))
+
+
+def test_table_files_round_trip_and_feed_the_configuration_and_the_options(tmp_path):
+    from geardyn.cli.options import build_model
+    from geardyn.config import load_config
+    from geardyn.tooth.table import read_table, write_table
+
+    k = series_table(3.0e8, 3.0e8 * np.array([0.2, 0.05]), np.array([0.3, -1.0]), 24)
+    e = series_table(0.0, np.array([2e-6, 0.5e-6]), np.array([0.1, 0.7]), 24)
+    exc = Excitation(np.tile(k, 2), np.tile(e, 2), cycles=2)
+    for name in ("t.csv", "t.json"):
+        back = read_table(write_table(exc, tmp_path / name))
+        assert back.cycles == 2
+        np.testing.assert_array_equal(back.stiffness, exc.stiffness)
+        np.testing.assert_array_equal(back.ste, exc.ste)
+    (tmp_path / "c.toml").write_text('[mesh]\nxi0 = 0.05\nxi = []\n[operating]\nomega = 0.8\n'
+                                      '[excitation]\nfile = "t.csv"\nb_c = "1 um"\n')
+    cfg = load_config(tmp_path / "c.toml")
+    want = excitation_model(GearModel(omega=0.8, xi0=0.05, xi=()), exc, b_c=1e-6)
+    assert cfg.model.cycles == 2 and cfg.model.omega == 0.8
+    np.testing.assert_allclose(cfg.model.kappa, want.kappa, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(cfg.model.eps, want.eps, rtol=0, atol=1e-12)
+    assert cfg.model.eps[1] == pytest.approx(2.0, rel=1e-12)  # 2 um over b_c = 1 um at mesh order 1 = member 2
+    m = build_model(tmp_path / "c.toml", omega=0.9)
+    assert m.omega == 0.9 and m.cycles == 2
+    with pytest.raises(ModelError, match="--kappa1"):
+        build_model(tmp_path / "c.toml", kappa1=0.1)
+    with pytest.raises(ModelError, match="--fe"):
+        build_model(None, excitation=tmp_path / "t.json", fe=0.1)
