@@ -103,12 +103,15 @@ QUOTED: dict[str, Run | str] = {
         Run({"--revolutions": "4", "--sweep-depths": "0,0.5"}),
     "geardyn stiffness FILE.toml --out x.nc": Run(subs={"FILE.toml": "examples/tooth_healthy_spur.toml"}),
     _C50: AS_QUOTED,
-    "geardyn simulate --excitation c50.csv --omega 0.8 --transient 20 --periods 10": Run(before=(_C50,)),
-    "geardyn lyapunov --excitation c50.csv --omega 0.8 --transient 10 --periods 40": Run(before=(_C50,)),
-    "geardyn orbit --excitation c50.csv --omega 0.8": Run(before=(_C50,)),
-    "geardyn continuation --excitation c50.csv --param omega --start 0.8 --stop 0.82": Run(before=(_C50,)),
+    "geardyn simulate --excitation c50.csv --omega 0.8 --transient 20 --periods 10":
+        Run({"--transient": "2", "--periods": "2"}, before=(_C50,)),
+    "geardyn lyapunov --excitation c50.csv --omega 0.8 --transient 10 --periods 40":
+        Run({"--transient": "2", "--periods": "20"}, before=(_C50,)),
+    "geardyn orbit --excitation c50.csv --omega 0.8": Run({"--transient": "20"}, before=(_C50,)),
+    "geardyn continuation --excitation c50.csv --param omega --start 0.8 --stop 0.82 --transient 30":
+        Run({"--stop": "0.801", "--transient": "5", "--dtau": "0.05"}, before=(_C50,)),
     "geardyn bifurcation --excitation c50.csv --param omega --start 0.6 --stop 1.0 --num 5 --transient 20 "
-    "--periods 8": Run({"--num": "2"}, before=(_C50,)),
+    "--periods 8": Run({"--num": "2", "--transient": "2", "--periods": "2"}, before=(_C50,)),
     "geardyn hb --excitation c50.csv --param omega --start 0.8 --stop 0.82":
         "quoted as refused (the 1-DOF HB takes one-cycle excitations); tests/test_tooth_hunting.py checks the refusal",
     "geardyn simulate --system examples/systems/spur_crack50.toml --transient 30 --periods 10":
