@@ -127,3 +127,11 @@ def test_table_files_round_trip_and_feed_the_configuration_and_the_options(tmp_p
         build_model(tmp_path / "c.toml", kappa1=0.1)
     with pytest.raises(ModelError, match="--fe"):
         build_model(None, excitation=tmp_path / "t.json", fe=0.1)
+
+
+def test_runup_refuses_a_multi_cycle_excitation():
+    from geardyn.analysis.runup import runup
+
+    m = excitation_model(BASE, Excitation(np.full(40, 3.0e8), None, cycles=4))
+    with pytest.raises(ModelError, match="one-cycle excitation"):
+        runup(m, 0.5, 0.6, 500.0)
