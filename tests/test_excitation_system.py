@@ -66,3 +66,10 @@ def test_continuation_and_harmonic_balance(system):
     br = system_continuation(system, "omega", 0.8, 0.805, 1, dtau=0.02, accurate=False, max_points=8)
     w = br.values
     assert w.size >= 2 and w.min() >= 0.8 - 1e-12 and w.max() <= 0.805 + 1e-12
+
+
+def test_the_example_system_with_a_cracked_pinion_tooth_loads():
+    s = load_system(ROOT / "examples/systems/spur_crack50.toml")
+    m = s.meshes[0]
+    assert s.period_multiple() == 16 and m.cycles == 16 and m.ratio == 1.0 / 16 and len(m.kappa) == 16 * 32 // 2
+    assert s.omega == pytest.approx(s.scaling.omega_from_rpm(1800.0), rel=1e-12)
