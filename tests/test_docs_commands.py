@@ -68,6 +68,8 @@ def quoted_commands() -> list[tuple[str, str]]:
 _FRAGMENT = "not a command: options named in the text"
 _BENCH = "a timed benchmark (benchmarks/ runs it, not the tests)"
 
+#: The excitation table of docs/excitation.md's end-to-end example.
+_C50 = "geardyn stiffness examples/tooth_crack_50.toml --points 32 --table c50.csv --out c50.nc"
 #: Every quoted command: ``AS_QUOTED``, a :class:`Run` with shorter settings, or why the tests do not run it.
 QUOTED: dict[str, Run | str] = {
     # analysis.md (the numbers: test_analysis_* below)
@@ -99,6 +101,21 @@ QUOTED: dict[str, Run | str] = {
         Run({"--revolutions": "4"}),
     "geardyn signature examples/tooth_crack_50.toml --sweep-depths 0,0.1,0.25,0.5,0.75 --out out/sweep":
         Run({"--revolutions": "4", "--sweep-depths": "0,0.5"}),
+    "geardyn stiffness FILE.toml --out x.nc": Run(subs={"FILE.toml": "examples/tooth_healthy_spur.toml"}),
+    _C50: AS_QUOTED,
+    "geardyn simulate --excitation c50.csv --omega 0.8 --transient 20 --periods 10": Run(before=(_C50,)),
+    "geardyn lyapunov --excitation c50.csv --omega 0.8 --transient 10 --periods 40":
+        Run({"--transient": "2", "--periods": "20"}, before=(_C50,)),
+    "geardyn orbit --excitation c50.csv --omega 0.8": Run({"--transient": "20"}, before=(_C50,)),
+    "geardyn continuation --excitation c50.csv --param omega --start 0.8 --stop 0.82 --transient 30":
+        Run({"--stop": "0.801", "--transient": "5", "--dtau": "0.05"}, before=(_C50,)),
+    "geardyn bifurcation --excitation c50.csv --param omega --start 0.6 --stop 1.0 --num 5 --transient 20 "
+    "--periods 8": Run({"--num": "2"}, before=(_C50,)),
+    "geardyn hb --excitation c50.csv --param omega --start 0.8 --stop 0.82":
+        "quoted as refused (the 1-DOF HB takes one-cycle excitations); tests/test_tooth_hunting.py checks the refusal",
+    "geardyn simulate --system examples/systems/spur_crack50.toml --transient 30 --periods 10":
+        "one forcing period is about 1e5 RK4 steps (ω = 0.093); tests/test_excitation_system.py loads the file and "
+        "runs the same kind of system at ω = 0.8",
     "geardyn response --method hb --omega-start 0.3 --omega-stop 1.0 --xi0 0.08 [--num 71] [--json] [--out DIR]":
         Run({"--num": "6"}),
     "geardyn hb --system FILE --param omega --start 0.6 --stop 1.2 [--harmonics 12] [--period 1] [--json] "

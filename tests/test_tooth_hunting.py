@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from geardyn.analysis.hb import hb_solve
+from geardyn.errors import ModelError
 from geardyn.analysis.lyapunov import lyapunov_spectrum
 from geardyn.analysis.periodic.continuation import continuation
 from geardyn.analysis.periodic.orbit import shoot
@@ -16,13 +17,13 @@ from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, pair_model
 def model():
     geo = pair_geometry(20, 40, 0.003, face_width=0.02)
     ms = mesh_stiffness(geo, 100.0, faults=[Crack(0, 0, 0.5)], points=16)
-    m, sc = pair_model(ms, 1000.0, harmonics=64)
-    assert sc["cycles"] == 20
-    return m.replace(omega=0.6 / 20)  # mesh frequency 0.6 omega_n: forcing period 20 mesh periods
+    m, sc = pair_model(ms, 1000.0, harmonics=64)  # mesh orders up to 3.2
+    assert sc["cycles"] == 20 and m.cycles == 20
+    return m.replace(omega=0.6)  # mesh frequency 0.6 omega_n: forcing period 20 mesh periods
 
 
 def test_poincare_section_and_shooting_use_the_revolution_period(model):
-    assert model.period == pytest.approx(20 * 2 * np.pi / 0.6, rel=1e-15)
+    assert model.sampling_period == pytest.approx(20 * 2 * np.pi / 0.6, rel=1e-15)
     orb = shoot(model, 1, dtau=0.02)
     assert orb.status == 0
     tr = trajectory(model, orb.state, IntegrationOptions(dtau=0.02, transient=0, periods=3), history_periods=1)
@@ -42,10 +43,16 @@ def test_lyapunov_sum_is_minus_twice_the_damping(model):
 @pytest.mark.slow  # HB at 128 harmonics against shooting at dtau 0.005
 def test_harmonic_balance_and_continuation_run(model):
     orb = shoot(model, 1, dtau=0.005)
-    # the forcing holds 64 harmonics of omega'; the response's products with the stiffness reach beyond, so
-    # HB takes 128: its state at theta = 0 then agrees with shooting's fixed point
-    hb = hb_solve(model, harmonics=128)
+    # the pair's HB takes the one-cycle form (omega/20); the forcing holds 64 harmonics of omega/20, the
+    # response's products with the stiffness reach beyond, so HB takes 128: its state at theta = 0 then
+    # agrees with shooting's fixed point
+    with pytest.raises(ModelError, match="one-cycle"):
+        hb_solve(model, harmonics=8)
+    hb = hb_solve(model.forcing_model(), harmonics=128)
     assert hb.status == 0
     np.testing.assert_allclose(hb.state(), orb.state, rtol=0, atol=1e-4)
-    br = continuation(model, "omega", 0.6 / 20, 0.61 / 20, 1, dtau=0.02, accurate=False, max_points=10)
+    # the continuation parameter is the mesh frequency
+    br = continuation(model, "omega", 0.6, 0.61, 1, dtau=0.02, accurate=False, max_points=10)
     assert len(br.branches) >= 1
+    w = np.concatenate([b.values for b in br.branches])
+    assert w.min() >= 0.6 - 1e-9 and w.max() <= 0.61 + 1e-9

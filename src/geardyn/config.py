@@ -176,6 +176,8 @@ _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
         "model": MappingProxyType(
             {f.name: _Key(_PHASE if f.units == "rad" else _NUMBER, f.series) for f in FAMILIES.values()}
         ),
+        # a mesh stiffness and STE table over P mesh cycles (geardyn.tooth.table; docs/excitation.md)
+        "excitation": MappingProxyType({"file": _Key(_TEXT), "b_c": _Key(_LENGTH), "harmonics": _Key(_INT)}),
     }
 )
 _TOP_LEVEL_TEXT = ("title", "description")
@@ -411,6 +413,47 @@ def _load_text(text: str, source: str) -> LoadedConfig:
             raise ConfigError(f"{source}: " + (f"line {line}: " if line else "")
                               + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}")
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
+    exc = _read_section(ctx, data, "excitation")[0] if "excitation" in data else {}
+    cfg = _load_sections(ctx, {k: v for k, v in data.items() if k != "excitation"})
+    return _with_excitation(ctx, cfg, exc) if exc else cfg
+
+
+def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> LoadedConfig:
+    """``cfg`` with the ``[excitation]`` table's stiffness and STE (``file`` relative to the configuration)."""
+    from .tooth.table import apply_excitation
+
+    if "file" not in exc:
+        raise ctx.error("excitation", "file", "missing: the table file (.nc of geardyn stiffness, .csv, .json, "
+                        "or a tooth-pair .toml)")
+    path = Path(exc["file"])
+    if not path.is_absolute() and Path(ctx.source).is_file():
+        path = Path(ctx.source).parent / path
+    try:
+        model = apply_excitation(cfg.model, path, b_c=exc.get("b_c", cfg.b_c), harmonics=exc.get("harmonics"))
+    except (ModelError, ConfigError) as e:
+        raise ctx.error("excitation", "file", str(e), type(e)) from None
+    note = (f"[excitation] {exc['file']}: stiffness and STE over {model.cycles} mesh cycle(s), "
+            f"{len(model.kappa)} harmonics of ω/{model.cycles} (they replace kappa, eps and their phases)")
+    return replace(cfg, model=model, notes=cfg.notes + (note,))
+
+
+def configured_model(config: str | Path | None, excitation: str | Path | None, given: Mapping[str, Any]) -> GearModel:
+    """The model of a configuration (None: the paper's pair) with an excitation file applied (its STE over b_c).
+
+    ``given`` holds the command-line model options by keyword: the series options are refused beside a
+    table (``excitation`` or the configuration's ``[excitation]``; :mod:`geardyn.tooth.table`).
+    """
+    from .tooth.table import apply_excitation, refuse_series_options
+
+    cfg = load_config(config)
+    m = cfg.model if excitation is None else apply_excitation(cfg.model, excitation, b_c=cfg.b_c)
+    if excitation is not None or m.cycles != 1:
+        refuse_series_options(given)
+    return m
+
+
+def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
+    source = ctx.source
     data, kappa_geometry = _kappa_word(ctx, data)
     if "gear_pair" not in data:
         if kappa_geometry:

@@ -92,15 +92,48 @@ def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: A
     return x
 
 
-def _as_tuple(name: str, values: Any) -> tuple[float, ...]:
+def _as_tuple(name: str, values: Any, cycles: int = 1) -> tuple[float, ...]:
     if values is None:
         return ()
     if np.isscalar(values):
         values = (values,)
     out = tuple(_check_finite(f"{name}{i + 1}", v) for i, v in enumerate(values))
-    if len(out) > MAX_HARMONICS:
-        raise ModelError(f"{name}: at most {MAX_HARMONICS} harmonics, got {len(out)}")
+    cap = MAX_HARMONICS * cycles
+    if len(out) > cap:
+        raise ModelError(f"{name}: at most {cap} harmonics, got {len(out)}"
+                         + (f" (mesh orders up to {MAX_HARMONICS} over a period of {cycles} mesh cycles)"
+                            if cycles > 1 else ""))
     return out
+
+
+def stiffness_minimum(kappa: Sequence[float], phi_k: Sequence[float]) -> float:
+    """A certified lower bound of the relative stiffness 1 + Σ_j κ_j cos(jθ + φ_j) over a period.
+
+    The series is sampled at M ≥ 8H equally spaced angles (an FFT, exact to rounding); between two
+    samples it departs from the nearer by at most max|K′|·π/M ≤ (Σ j|κ_j|)·π/M, which is subtracted.
+    M is chosen so that this margin is at most 0.02.
+
+    Parameters
+    ----------
+    kappa, phi_k : sequence of float
+        Amplitudes and phases (rad), j = 1 …
+
+    Returns
+    -------
+    float
+        min over the samples − the margin (> 0 proves the stiffness positive for every θ).
+    """
+    a = np.asarray(kappa, dtype=float)
+    if a.size == 0:
+        return 1.0
+    p = np.asarray(phi_k, dtype=float)
+    slope = float(np.sum(np.arange(1, a.size + 1) * np.abs(a)))
+    M = 1 << int(math.ceil(math.log2(max(8 * a.size + 8, 50.0 * math.pi * slope, 64.0))))
+    X = np.zeros(M // 2 + 1, dtype=complex)
+    X[0] = M
+    X[1:a.size + 1] = 0.5 * M * a * np.exp(1j * p)
+    values = np.fft.irfft(X, M)
+    return float(values.min()) - slope * math.pi / M
 
 
 @dataclass(frozen=True)
@@ -144,6 +177,13 @@ class GearModel:
         Mean load f_p = F_p/(k0 b_c) (non-dimensional).
     D : float
         Half backlash b_n/b_c (non-dimensional, >= 0; ``D = 0`` means no backlash, a linear mesh).
+    cycles : int
+        P, the mesh cycles of one forcing period (default 1).  With P > 1 (a tooth fault, the hunting
+        period; :mod:`geardyn.tooth.excitation`) ω stays the mesh frequency, the series ξ, κ, ε are
+        harmonics of the forcing frequency ω/P (member j is mesh order j/P, at most
+        ``MAX_HARMONICS``·P of them), the forcing period is P·2π/ω (:attr:`sampling_period`,
+        :meth:`period_multiple`) and the stiffness must be positive for every θ (Σ|κ_j| < 1, or a
+        certified minimum > 0: :func:`stiffness_minimum`).
 
     The defaults are the paper's Table 1 values with ω = 1.
     """
@@ -158,12 +198,17 @@ class GearModel:
     phi_e: tuple[float, ...] = FAMILIES["phi_e"].default
     fp: float = FAMILIES["fp"].default
     D: float = FAMILIES["D"].default
+    cycles: int = 1
 
     #: Dimension of the state (u, u') — the 1-DOF model's physics: one relative coordinate.
     state_dim: ClassVar[int] = 2
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
+        P = self.cycles
+        if isinstance(P, (bool, np.bool_)) or not isinstance(P, numbers.Real) or not float(P).is_integer() or P < 1:
+            raise ModelError(f"cycles: the mesh cycles of a forcing period must be an integer >= 1, got {P!r}")
+        set_(self, "cycles", int(P))
         for name in ("omega", "xi0", "fp", "D"):
             set_(self, name, _check_finite(name, getattr(self, name)))
         if self.omega <= 0:
@@ -173,15 +218,16 @@ class GearModel:
         if self.D < 0:
             raise ModelError(f"D (backlash): must be >= 0 (0 means no backlash), got {self.D!r}")
         for amp, ph, label in (("xi", "phi_c", "xi"), ("kappa", "phi_k", "kappa"), ("eps", "phi_e", "eps")):
-            a = _as_tuple(label, getattr(self, amp))
-            p = _as_tuple(ph, getattr(self, ph))
+            a = _as_tuple(label, getattr(self, amp), self.cycles)
+            p = _as_tuple(ph, getattr(self, ph), self.cycles)
             if len(p) > len(a):
                 raise ModelError(
                     f"{ph}: {len(p)} phases given for {len(a)} {label} harmonics; give at most one phase per harmonic"
                 )
             set_(self, amp, a)
             set_(self, ph, p + (0.0,) * (len(a) - len(p)))
-        if sum(abs(k) for k in self.kappa) >= MAX_KAPPA_SUM:
+        if sum(abs(k) for k in self.kappa) >= MAX_KAPPA_SUM and not (
+                self.cycles > 1 and stiffness_minimum(self.kappa, self.phi_k) > 0.0):
             raise ModelError(
                 f"kappa: sum of |kappa_r| must be < {MAX_KAPPA_SUM} so the mesh stiffness stays positive, "
                 f"got {sum(abs(k) for k in self.kappa):g}"
@@ -190,8 +236,21 @@ class GearModel:
     # ------------------------------------------------------------------ derived quantities
     @property
     def period(self) -> float:
-        """Forcing (mesh) period T = 2π/ω in non-dimensional time τ."""
+        """Mesh period T = 2π/ω in non-dimensional time τ (the forcing period when ``cycles`` is 1)."""
         return 2.0 * math.pi / self.omega
+
+    @property
+    def forcing_omega(self) -> float:
+        """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1)."""
+        return self.omega if self.cycles == 1 else self.omega / self.cycles
+
+    def forcing_model(self) -> "GearModel":
+        """The same equation with one forcing period as its unit: frequency ω/P, ``cycles`` 1 (itself when P = 1).
+
+        For tools written for one-cycle models (the 1-DOF harmonic balance): its ω is the forcing frequency
+        ω/P, so a value of ``omega`` there is P times smaller than the mesh frequency.
+        """
+        return self if self.cycles == 1 else self.replace(omega=self.forcing_omega, cycles=1)
 
     @property
     def n_harmonics(self) -> int:
@@ -216,12 +275,12 @@ class GearModel:
 
     @property
     def sampling_period(self) -> float:
-        """The stroboscopic sampling period: the forcing period T."""
-        return self.period
+        """The stroboscopic sampling period: the forcing period 2π/(ω/P) = P·T."""
+        return 2.0 * math.pi / self.forcing_omega
 
     def period_multiple(self) -> int:
-        """The forcing repeats after one mesh period."""
-        return 1
+        """The forcing repeats after P = ``cycles`` mesh periods (1 unless an excitation spans several)."""
+        return self.cycles
 
     @property
     def elements(self) -> tuple[Element, ...]:
@@ -304,14 +363,15 @@ class GearModel:
         Returns an array ``c`` of shape ``(3, H + 1, 2)`` with
         ``X(θ) = Σ_j c[i, j, 0] cos(jθ) + c[i, j, 1] sin(jθ)`` for
         ``X = C`` (i = 0, the full damping term 2ξ(θ)), ``K`` (i = 1, stiffness 1 + Σκ cos) and
-        ``F`` (i = 2, forcing f_p + ω² Σ l² ε_l cos).
+        ``F`` (i = 2, forcing f_p + ω² Σ l² ε_l cos), θ the phase of the forcing frequency
+        :attr:`forcing_omega` (ω/P; the mesh phase when ``cycles`` is 1).
         """
         H = self.n_harmonics if n_harmonics is None else n_harmonics
         c = np.zeros((3, H + 1, 2))
         c[0, 0, 0] = 2.0 * self.xi0
         c[1, 0, 0] = 1.0
         c[2, 0, 0] = self.fp
-        w2 = self.omega**2
+        w2 = self.forcing_omega**2
         series = (
             (0, self.xi, self.phi_c, lambda j: 2.0),
             (1, self.kappa, self.phi_k, lambda j: 1.0),
@@ -331,7 +391,7 @@ class GearModel:
 
     def rhs(self, tau: float, y: Sequence[float]) -> np.ndarray:
         """Right-hand side of the first-order system y = (u, u') at time τ (plain NumPy, for references)."""
-        th = self.omega * tau
+        th = self.forcing_omega * tau
         cf = self.coefficients()
         j = np.arange(cf.shape[1])
         cj, sj = np.cos(j * th), np.sin(j * th)
@@ -342,6 +402,8 @@ class GearModel:
     def to_dict(self) -> dict[str, Any]:
         """Plain-dict form (JSON-serialisable)."""
         d = asdict(self)
+        if d["cycles"] == 1:  # the form of every model without a multi-cycle excitation
+            del d["cycles"]
         return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
 
     def to_json(self) -> str:
@@ -468,7 +530,7 @@ def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np
     D : ndarray (P,)
         Half backlashes.
     omega : ndarray (P,)
-        Mesh frequencies.
+        Forcing frequencies ω/P (:attr:`GearModel.forcing_omega`; the mesh frequencies when P = 1).
 
     Raises
     ------
@@ -481,7 +543,7 @@ def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np
     H = max(m.n_harmonics for m in models)
     coef = np.stack([m.coefficients(H) for m in models])
     D = np.array([m.D for m in models])
-    omega = np.array([m.omega for m in models])
+    omega = np.array([m.forcing_omega for m in models])
     return np.ascontiguousarray(coef), D, omega
 
 
@@ -524,7 +586,7 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
     Returns
     -------
     coef, D, omega : ndarray
-        As :func:`pack_models`.
+        As :func:`pack_models` (``omega`` the forcing frequencies ω/P of a multi-cycle ``base``).
 
     Raises
     ------
@@ -559,7 +621,14 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
             ksum = np.zeros(P)
             for r in range(val["kappa"].shape[1]):
                 ksum = ksum + np.abs(val["kappa"][:, r])
-            ok &= ksum < MAX_KAPPA_SUM
+            if base.cycles > 1 and np.any(ksum >= MAX_KAPPA_SUM):  # the model's certified minimum, per distinct row
+                rows = np.hstack([val["kappa"], val["phi_k"]])
+                uniq, inv = np.unique(rows, axis=0, return_inverse=True)
+                H0 = val["kappa"].shape[1]
+                cert = np.array([stiffness_minimum(r[:H0], r[H0:]) > 0.0 for r in uniq])[inv.ravel()]
+                ok &= (ksum < MAX_KAPPA_SUM) | cert
+            else:
+                ok &= ksum < MAX_KAPPA_SUM
     if not np.all(ok):
         bad = int(np.argmin(ok))
         m = base
@@ -567,6 +636,8 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
             m = m.with_param(p, float(v))  # raises the model's own error
         raise ModelError(f"point {bad}: refused by the model")  # pragma: no cover - the checks above are the model's
     coef = np.zeros((P, 3, H + 1, 2))
+    if base.cycles != 1:  # the series are harmonics of the forcing frequency ω/P
+        val["omega"] = val["omega"] / base.cycles
     w2 = _per_value(_square, val["omega"])
     with np.errstate(over="ignore", invalid="ignore"):  # a value so large that it overflows: the point diverges
         coef[:, 0, 0, 0] = 2.0 * val["xi0"]

@@ -23,6 +23,7 @@ from .errors import ModelError
 
 __all__ = [
     "ALIASES",
+    "EXCITATION_HELP",
     "FAMILIES",
     "LISTING_ORDER",
     "MAX_HARMONICS",
@@ -37,8 +38,14 @@ __all__ = [
     "slot",
 ]
 
-#: Largest number of harmonics of any one Fourier series.
+#: Largest number of harmonics of any one Fourier series (of mesh orders: a model whose forcing period spans
+#: P mesh cycles takes MAX_HARMONICS·P harmonics of ω/P; :class:`~geardyn.model.GearModel` ``cycles``).
 MAX_HARMONICS = 64
+
+#: Help of the common ``--excitation`` option (:mod:`geardyn.tooth.table`).
+EXCITATION_HELP = ("Mesh stiffness and STE over P mesh cycles (.nc of geardyn stiffness, .csv, .json, or a tooth-pair "
+                   ".toml) instead of their harmonics; ω stays the mesh frequency, the forcing period is P·2π/ω "
+                   "(docs/excitation.md).")
 
 
 @dataclass(frozen=True)

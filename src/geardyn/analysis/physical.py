@@ -82,7 +82,7 @@ def mesh_force(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) 
     tau, u, v = (np.asarray(x, dtype=float) for x in (tau, u, v))
     cf = model.coefficients()
     j = np.arange(cf.shape[1])[:, None]
-    th = model.omega * tau[None, :]
+    th = model.forcing_omega * tau[None, :]
     cj, sj = np.cos(j * th), np.sin(j * th)
     C = cf[0, :, 0] @ cj + cf[0, :, 1] @ sj
     K = cf[1, :, 0] @ cj + cf[1, :, 1] @ sj
@@ -202,7 +202,7 @@ def steady_physical(res: Any, scales: Any = None) -> dict[str, Any]:
     from .steady import _jsonable, amplitude_spectrum
 
     t = res.traj
-    order, spec = amplitude_spectrum(t.u, t.history_periods)
+    order, spec = amplitude_spectrum(t.u, t.history_periods * (res.model.period_multiple() or 1))
     return _simulate_summary(PhysicalScales.from_json(scales_of(scales).to_json()),
                              GearModel.from_dict(json.loads(json_attr(res.model))),
                              json.loads(json_attr(_jsonable(res.summary))), t.tau, t.u, t.v, order, spec,

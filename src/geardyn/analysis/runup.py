@@ -191,6 +191,9 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
                          "(shorten it, or lower the speeds)")
     if orders < 1:
         raise ModelError(f"orders: must be >= 1, got {orders!r}")
+    if getattr(model, "cycles", 1) != 1:
+        raise ModelError(f"runup: blocks of whole mesh cycles need a one-cycle excitation; this one spans "
+                         f"{model.cycles} mesh cycles (use response or bifurcation over omega)")
     m = int(cycles_per_block) if cycles_per_block is not None else max(1, math.ceil(total / max(1, max_blocks)))
     if m < 1:
         raise ModelError(f"cycles_per_block: must be >= 1, got {cycles_per_block!r}")

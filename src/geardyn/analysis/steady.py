@@ -255,7 +255,7 @@ class SteadyState:
     def to_dataset(self) -> xr.Dataset:
         """Time history (last periods), Poincaré points and spectrum with the model and options as attributes."""
         t = self.traj
-        order, spec = amplitude_spectrum(t.u, t.history_periods)
+        order, spec = amplitude_spectrum(t.u, t.history_periods * (self.model.period_multiple() or 1))
         pc = self.poincare
         ds = xr.Dataset(
             {

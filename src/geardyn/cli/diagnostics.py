@@ -23,6 +23,8 @@ STIFFNESS_OPTIONS = [
     option("slices", Optional[int], None, "--slices", help="Slices across the face width (default 1 spur, 40 helical, "
                                                            "crowned or with partial faults)."),
     option("harmonics", int, 8, "--harmonics", help="Fourier harmonics of the excitation's period listed."),
+    option("table", Optional[Path], None, "--table",
+           help="Also write the stiffness and STE table as .csv or .json (an --excitation file for the analyses)."),
     *OUTPUT,
 ]
 
@@ -72,7 +74,12 @@ def stiffness_cmd(
     summary = stiffness_summary(ms, harmonics=inp.harmonics)
     summary["name"] = case.name
     ds = stiffness_dataset(ms, summary)
-    finish(summary, inp.write(ds, "stiffness"), inp, _show_stiffness)
+    paths = inp.write(ds, "stiffness")
+    if inp.table is not None:
+        from ..tooth.table import table_of, write_table
+
+        paths.append(str(write_table(table_of(ms), inp.table, case.name)))
+    finish(summary, paths, inp, _show_stiffness)
 
 
 def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:

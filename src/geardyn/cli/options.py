@@ -29,7 +29,7 @@ from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel,
 from .app import GeardynCommand, app, emit_json, fail, is_stop
 from .output import check_budget, check_out, engine_keywords, out_paths
 
-__all__ = ["CONFIG", "ENGINE", "FIGURE_OPTIONS", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
+__all__ = ["CONFIG", "ENGINE", "EXCITATION", "FIGURE_OPTIONS", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
            "integration", "sweep_range", "model_group", "option", "param_option", "ContinuationParamOpt", "StopOpt"]
 
 _P = inspect.Parameter
@@ -84,6 +84,7 @@ RPM = option("rpm", Optional[float], None, "--rpm", panel=PHYSICAL_PANEL,
                   "k0 = 2000 N/µm assumed).")
 TORQUE = option("torque", Optional[float], None, "--torque", panel=PHYSICAL_PANEL,
                 help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config).")
+EXCITATION = option("excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
 RPM_RANGE = [
     option("rpm_start", Optional[float], None, "--rpm-start", panel=PHYSICAL_PANEL,
            help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop)."),
@@ -106,7 +107,7 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     -------
     list of inspect.Parameter
     """
-    group = list(CONFIG) + ([RPM] if rpm else []) + [TORQUE]
+    group = list(CONFIG) + [EXCITATION] + ([RPM] if rpm else []) + [TORQUE]
     for o in params.cli_options():
         if o.param == "omega" and not omega:
             continue
@@ -193,13 +194,13 @@ OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
-def base_model(config: Optional[Path]) -> GearModel:
-    """The model of ``--config`` (or the paper's defaults)."""
-    if config is None:
+def base_model(config: Optional[Path], excitation: Optional[Path] = None, given: Any = None) -> GearModel:
+    """The model of ``--config`` (or the paper's defaults) and ``--excitation`` (:mod:`geardyn.tooth.table`)."""
+    if config is None and excitation is None:
         return GearModel()
-    from ..config import load_config
+    from ..config import configured_model
 
-    return load_config(config).model
+    return configured_model(config, excitation, given or {})
 
 
 def pair_scales(config: Optional[Path]):
@@ -220,8 +221,8 @@ def pair_scales(config: Optional[Path]):
 
 
 def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, torque: Optional[float] = None,
-                **values: Optional[float]) -> GearModel:
-    """The config's model with the command-line values applied on top (validated).
+                excitation: Optional[Path] = None, **values: Optional[float]) -> GearModel:
+    """The config's model (with the ``excitation`` table) with the command-line values applied on top (validated).
 
     Parameters
     ----------
@@ -243,7 +244,7 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
     unknown = set(values) - set(by_dest)
     if unknown:
         raise ModelError(f"model options: unknown {sorted(unknown)}; allowed: {sorted(by_dest)}")
-    m = base_model(config)
+    m = base_model(config, excitation, values)
     if rpm is not None or torque is not None:
         from ..units import operating_overrides
 
@@ -303,7 +304,7 @@ class Inputs:
         dests = {o.dest for o in params.cli_options()}
         given = {k: v.get(k) for k in dests}
         given.update(fixed)
-        return build_model(v.get("config"), rpm=v.get("rpm"), torque=v.get("torque"), **given)
+        return build_model(v.get("config"), rpm=v.get("rpm"), torque=v.get("torque"), excitation=v.get("excitation"), **given)
 
     def scales(self):
         """The physical scales of the configured gear pair."""

@@ -1,4 +1,4 @@
-"""Vibration signatures of a gear pair: DAQ-like sampling with a tachometer, order tracking, order
+"""Vibration signatures of a gear pair or a system (a translational DOF as the sensor, :mod:`.system`): DAQ-like sampling with a tachometer, order tracking, order
 spectrum, time-synchronous average, regular/residual/difference signals and condition indicators
 (``docs/excitation.md``)."""
 

@@ -57,7 +57,7 @@ class Acquisition:
 
 
 def acceleration(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Non-dimensional x'' = f_p − C(θ) u' − K(θ) f(u) along a history (θ = ω τ).
+    """Non-dimensional x'' = f_p − C(θ) u' − K(θ) f(u) along a history (θ = (ω/P) τ, the forcing phase).
 
     Parameters
     ----------
@@ -73,7 +73,7 @@ def acceleration(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray
     """
     cf = model.coefficients()
     j = np.arange(cf.shape[1])
-    th = np.outer(model.omega * np.asarray(tau), j)
+    th = np.outer(model.forcing_omega * np.asarray(tau), j)
     cj, sj = np.cos(th), np.sin(th)
     C = cj @ cf[0, :, 0] + sj @ cf[0, :, 1]
     K = cj @ cf[1, :, 0] + sj @ cf[1, :, 1]
@@ -116,7 +116,7 @@ def acquire(model: GearModel, scales: dict, revolutions: int, fs: float, *, nois
     if int(revolutions) < 1:
         raise ModelError(f"revolutions: at least 1, got {revolutions!r}")
     periods = int(math.ceil(revolutions * z1 / P)) + 1
-    transient = max(2, int(math.ceil(settle / model.period)))
+    transient = max(2, int(math.ceil(settle / model.sampling_period)))
     tr = trajectory(model, (model.fp, 0.0), IntegrationOptions(dtau=dtau, transient=transient, periods=periods),
                     history_periods=periods)
     if not np.all(np.isfinite(tr.u)):

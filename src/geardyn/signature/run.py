@@ -16,8 +16,10 @@ from .acquire import acquire
 from .indicators import crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4, rms, sideband_level
 from .signals import order_spectrum, split_tsa, tsa
 
-__all__ = ["INDICATORS", "combine", "indicators", "signature", "signature_sweep"]
+__all__ = ["INDICATORS", "SIGNATURE_HARMONICS", "combine", "indicators", "signature", "signature_sweep"]
 
+#: Harmonics of the excitation's period a signature run keeps by default (the full table: ``harmonics=``).
+SIGNATURE_HARMONICS = 64
 #: The indicators reported, in order.
 INDICATORS = ("rms", "crest_factor", "kurtosis", "fm0", "fm4", "na4", "m6a", "m8a", "sideband_level", "energy_ratio")
 
@@ -71,7 +73,8 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     noise, seed : float, int
         Measurement noise (share of the signal RMS) and its seed.
     harmonics : int, optional
-        Harmonics of the excitation's period kept (default: all the model takes, at most 64).
+        Harmonics of the excitation's period kept (default :data:`SIGNATURE_HARMONICS`: mesh orders up to
+        64/P, the band where the noise of the record does not bury the fault's sidebands).
     b_c, backlash, xi0, dtau : float
         As :func:`geardyn.tooth.excitation.pair_model` and the RK4 step.
     label : str
@@ -87,9 +90,7 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     """
     geo = ms.geometry
     z1, z2 = geo.gears[0].teeth, geo.gears[1].teeth
-    H = harmonics
-    if H is None:
-        H = min(64, (ms.stiffness.size) // 2)
+    H = min(SIGNATURE_HARMONICS, ms.stiffness.size // 2) if harmonics is None else harmonics
     model, sc = pair_model(ms, rpm, b_c=b_c, backlash=backlash, xi0=xi0, harmonics=H)
     g = math.gcd(z1, z2)
     if revolutions is None:
@@ -121,7 +122,7 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     )
     summary = {"label": label, "rpm": float(rpm), "fs_Hz": float(fs), "revolutions": int(revolutions),
                "z1": z1, "z2": z2, "mesh_frequency_Hz": rpm / 60.0 * z1, "noise": noise,
-               "excitation_cycles": ms.cycles, "harmonics": H, "omega_model": model.omega,
+               "excitation_cycles": ms.cycles, "harmonics": H, "omega_model": model.forcing_omega,
                "omega_mesh": sc["mesh_omega"], "omega_n_rad_s": sc["omega_n"], "k0_N_per_m": sc["k0"],
                "indicators": ind, "faults": [_fault(f) for f in ms.faults]}
     ds = ds.expand_dims(run=[label or "run"])

@@ -68,7 +68,7 @@ import numpy as np
 
 from .._docfill import attributes
 from ..errors import ModelError
-from ..model import Boundary
+from ..model import Boundary, stiffness_minimum
 from ..params import MAX_HARMONICS, canonical_param, slot
 from ..system import Element
 from . import elements as _el
@@ -104,15 +104,17 @@ class MeshND:
     phi_e: tuple[float, ...]
     #: Half backlash / b_c.
     D: float
-    #: Mesh frequency / base frequency.
+    #: Frequency of the series' fundamental / base frequency (the mesh's ratio / its cycles P).
     ratio: float
+    #: P, the mesh cycles of the series' period (:attr:`~geardyn.systems.description.Mesh.cycles`).
+    cycles: int = 1
 
     def __post_init__(self) -> None:
         who = f"{self.name}"
         for amp, ph in (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e")):
             a, p = tuple(map(float, getattr(self, amp))), tuple(map(float, getattr(self, ph)))
-            if len(a) > MAX_HARMONICS:
-                raise ModelError(f"{who}.{amp}: at most {MAX_HARMONICS} harmonics")
+            if len(a) > MAX_HARMONICS * self.cycles:
+                raise ModelError(f"{who}.{amp}: at most {MAX_HARMONICS * self.cycles} harmonics")
             if len(p) > len(a):
                 raise ModelError(f"{who}.{ph}: {len(p)} phases for {len(a)} harmonics")
             object.__setattr__(self, amp, a)
@@ -126,7 +128,8 @@ class MeshND:
             raise ModelError(f"{who}: stiffness and ratio must be > 0")
         if self.D < 0:
             raise ModelError(f"{who}.D: must be >= 0, got {self.D!r}")
-        if sum(abs(x) for x in self.kappa) >= 1.0:
+        if sum(abs(x) for x in self.kappa) >= 1.0 and not (
+                self.cycles > 1 and stiffness_minimum(self.kappa, self.phi_k) > 0.0):
             raise ModelError(f"{who}.kappa: sum of |kappa_r| must be < 1 so the mesh stiffness stays positive")
 
     @property
@@ -594,7 +597,8 @@ def _mesh_nd(desc: SystemDescription, m: Mesh, k_ref: float, m_ref: float, b_c: 
         eps=tuple(e / b_c for e in m.e),
         phi_e=m.phi_e,
         D=m.backlash / 2.0 / b_c,
-        ratio=m.ratio,
+        ratio=m.ratio if m.cycles == 1 else m.ratio / m.cycles,
+        cycles=m.cycles,
     )
 
 

@@ -52,6 +52,12 @@ def _finite(what: str, value, unit: str = "") -> float:
     return x
 
 
+def _positive(kappa: tuple[float, ...], phi_k: tuple[float, ...]) -> bool:
+    from ..model import stiffness_minimum
+
+    return stiffness_minimum(kappa, phi_k) > 0.0
+
+
 def _series(what: str, values: Iterable) -> tuple[float, ...]:
     return tuple(_finite(f"{what}{i + 1}", v) for i, v in enumerate(values or ()))
 
@@ -255,10 +261,22 @@ class Mesh(_AlongVector):
     ratio: float = 1.0
     #: Teeth of the body whose speed is the pinion speed, to convert rpm to the mesh frequency.
     teeth: int | None = None
+    #: P, the mesh cycles of the series' period (an excitation table over a tooth fault or the hunting
+    #: period, :mod:`geardyn.tooth.table`): with P > 1 the harmonics of ``kappa``, ``e`` and the damping
+    #: are of θ_m/P (member j is mesh order j/P), and the stiffness must stay positive (Σ|κ| < 1 or a
+    #: certified minimum > 0, :func:`geardyn.model.stiffness_minimum`).
+    cycles: int = 1
+    #: An excitation file (:func:`geardyn.tooth.table.read_table`) giving ``stiffness``, ``kappa``, ``phi_k``,
+    #: ``e``, ``phi_e`` and ``cycles`` (then not given); damping harmonic k (mesh order k) becomes member k·P.
+    excitation: str | None = None
+    #: Harmonics of the table kept (default all, at most MAX_HARMONICS·P).
+    excitation_harmonics: int | None = None
 
     def __post_init__(self) -> None:
         who = f"mesh {self.name!r}"
         set_ = object.__setattr__
+        if self.excitation is not None:
+            self._from_table(who)
         vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
         if not any(c != 0 for _, c in vec):
             raise ModelError(f"{who}: vector: the mesh vector must not be zero")
@@ -295,13 +313,45 @@ class Mesh(_AlongVector):
         if len(self.phi_c) > n_damp:
             raise ModelError(f"{who}: phi_c: {len(self.phi_c)} phases for {n_damp} damping harmonics")
         set_(self, "phi_c", self.phi_c + (0.0,) * (n_damp - len(self.phi_c)))
-        if sum(abs(x) for x in self.kappa) >= 1.0:
+        P = self.cycles
+        if isinstance(P, bool) or not isinstance(P, (int, float, np.integer)) or not float(P).is_integer() or P < 1:
+            raise ModelError(f"{who}: cycles: must be an integer >= 1, got {P!r}")
+        set_(self, "cycles", int(P))
+        if sum(abs(x) for x in self.kappa) >= 1.0 and not (self.cycles > 1 and _positive(self.kappa, self.phi_k)):
             raise ModelError(f"{who}: kappa: sum of |kappa_r| must be < 1 so the mesh stiffness stays positive")
         if self.teeth is not None:
             t = self.teeth
             if isinstance(t, bool) or not float(t).is_integer() or t < 1:
                 raise ModelError(f"{who}: teeth: must be an integer >= 1, got {t!r}")
             set_(self, "teeth", int(t))
+
+
+    def _from_table(self, who: str) -> None:
+        from ..errors import ConfigError
+        from ..params import MAX_HARMONICS
+        from ..tooth.table import read_table
+
+        given = [k for k in ("kappa", "phi_k", "e", "phi_e") if getattr(self, k)]
+        if self.stiffness is not None or given or self.cycles != 1:
+            raise ModelError(f"{who}: excitation: give the table or stiffness/kappa/e/cycles, not both")
+        try:
+            exc = read_table(self.excitation)
+        except ConfigError as err:
+            raise ModelError(f"{who}: excitation: {err}") from None
+        P = exc.cycles
+        H = self.excitation_harmonics
+        s = exc.series(min(exc.stiffness.size // 2, MAX_HARMONICS * P) if H is None else H, 1.0, cap=MAX_HARMONICS * P)
+        vals = {"stiffness": s["k0"], "kappa": s["kappa"], "phi_k": s["phi_k"], "e": s.get("eps", ()),
+                "phi_e": s.get("phi_e", ()), "cycles": P}
+        name = "xi" if self.xi is not None else "c"
+        damp = getattr(self, name) or ()
+        if P > 1 and damp:
+            d, ph = [0.0] * (P * len(damp)), [0.0] * (P * len(damp))
+            for k, a in enumerate(damp, start=1):
+                d[k * P - 1], ph[k * P - 1] = a, (self.phi_c[k - 1] if k <= len(self.phi_c) else 0.0)
+            vals.update({name: tuple(d), "phi_c": tuple(ph)})
+        for k, v in vals.items():
+            object.__setattr__(self, k, v)
 
 
 @dataclass(frozen=True)

@@ -114,7 +114,7 @@ _MESH_COMMON = {
     "name": "text", "pinion": "text", "gear": "text", "type": "text", "stiffness": "stiffness",
     "backlash": "length", "kappa": "number*", "k": "stiffness*", "phi_k": "phase*", "xi0": "number",
     "xi": "number*", "c0": "damping", "c": "damping*", "phi_c": "phase*", "eps": "number*", "e": "length*",
-    "phi_e": "phase*", "ratio": "number", "teeth": "int", "vector": "table",
+    "phi_e": "phase*", "ratio": "number", "teeth": "int", "vector": "table", "excitation": "text", "excitation_harmonics": "int",
 }
 _MESH_SPUR = {
     "pressure_angle": "angle", "helix_angle": "angle", "base_radius1": "length", "base_radius2": "length",
@@ -428,7 +428,7 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
     blk = _Block(ctx, "mesh", i, data, _MESH_COMMON | extra, name)
     if typ not in ("vector", "spur", "bevel"):
         raise blk.cerr("type", f"must be 'vector', 'spur' or 'bevel', got {typ!r}")
-    if not blk.has("stiffness"):
+    if not (blk.has("stiffness") or blk.has("excitation")):
         raise blk.cerr(None, "missing key 'stiffness' (the mean mesh stiffness, e.g. \"2000 N/um\")")
     try:
         backlash = blk.get("backlash", default=0.0, assumed="no backlash given: 0 (a linear mesh)")
@@ -504,6 +504,7 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
             name=name, vector=vector, stiffness=k0, backlash=backlash, kappa=kappa,
             phi_k=blk.get("phi_k", default=()), phi_c=blk.get("phi_c", default=()), e=e,
             phi_e=blk.get("phi_e", default=()), ratio=blk.get("ratio", default=1.0), teeth=teeth, **damping,
+            **({"excitation": str(Path(ctx.source).parent / blk.get("excitation")), "excitation_harmonics": blk.get("excitation_harmonics")} if blk.has("excitation") else {}),
         )
     except ModelError as err:
         raise blk.wrap(err) from None

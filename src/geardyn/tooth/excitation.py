@@ -1,27 +1,29 @@
 """The mesh excitation as a periodic function: a table over P mesh cycles and its Fourier series.
 
-The 1-DOF model takes the stiffness and the STE as Fourier series in the mesh angle θ = ωτ
-(``docs/model.md``): k/k0 = 1 + Σ_r κ_r cos(rθ + φ_kr) and e/b_c = Σ_l ε_l cos(lθ + φ_el), any
-number of harmonics (up to :data:`geardyn.params.MAX_HARMONICS`), each with its phase.  A table of N
-equally spaced values over one period is *exactly* its trigonometric interpolant with ⌊N/2⌋
-harmonics (the discrete Fourier transform, Nyquist term halved):
+The 1-DOF model takes the stiffness and the STE as Fourier series (``docs/model.md``):
+k/k0 = 1 + Σ_j κ_j cos(jθ + φ_kj) and e/b_c = Σ_j ε_j cos(jθ + φ_ej), each harmonic with its phase.  A
+table of N equally spaced values over one period is *exactly* its trigonometric interpolant with
+⌊N/2⌋ harmonics (the discrete Fourier transform, Nyquist term halved):
 
     x_n = c_0 + Σ_{j=1}^{⌊N/2⌋} A_j cos(2π j n / N + φ_j),  A_j = 2|X_j|/N (|X_{N/2}|/N),  φ_j = arg X_j,
 
-so a table with N ≤ 2·MAX_HARMONICS points per period goes through the existing inputs unchanged:
-the kernel evaluates, at every θ, the smooth periodic function through the table's points.
+so the kernel evaluates, at every θ, the smooth periodic function through the table's points.
 
 **Periods of several mesh cycles (a tooth fault, the hunting period).**  The forcing period of a
-fault on one pinion tooth is z1 mesh cycles, in general lcm(z1, z2).  Without touching the kernel the
-model is *reparametrised*: with P cycles per period, the model's frequency becomes ω' = ω/P (its
-period 2π/ω' = P·2π/ω) and mesh order r/P becomes the model's harmonic j = r.  The STE forcing
-ω'² j² ε_j = ω² (j/P)² ε_j is then exactly the forcing of that order, the damping and stiffness
-series carry no ω, so the equation is the same; every analysis (Poincaré sections, shooting,
-Lyapunov exponents, continuation, harmonic balance) sees the forcing period P·2π/ω because that is
-the model's period.  Limits: the series holds MAX_HARMONICS (64) harmonics of ω', i.e. mesh orders
-up to 64/P; the model refuses Σ|κ_j| ≥ 1 (a sufficient positivity test), so a table whose full
-series breaks that is passed with fewer harmonics (``harmonics=``).  A sweep over ``omega`` of such
-a model sweeps ω' (multiply by P for the mesh frequency).
+fault on one pinion tooth is z1 mesh cycles, in general lcm(z1, z2).  The model carries P, the mesh
+cycles of one forcing period (:attr:`geardyn.model.GearModel.cycles`): ω stays the mesh frequency
+(``--omega 0.8`` and the reported rpm mean the mesh), the series are harmonics of the forcing frequency
+ω/P (member j is mesh order j/P; the STE forcing (ω/P)² j² ε_j is that order's), and the forcing period
+P·2π/ω is the sampling period of every analysis (Poincaré sections, shooting, Lyapunov exponents,
+continuation; a system's HB through its period multiple).  A damping harmonic ξ_k of a base model is
+mesh order k, so it becomes member k·P.  Limits: at most MAX_HARMONICS·P harmonics (mesh orders up to
+64); the stiffness must stay positive: Σ|κ_j| < 1, or, for P > 1, a certified minimum
+(:func:`geardyn.model.stiffness_minimum`).
+
+**Files** (:func:`read_table`, :func:`load_excitation`): the NetCDF that ``geardyn stiffness --out
+FILE.nc`` writes, the CSV/JSON tables of ``geardyn stiffness --table FILE.csv|.json`` (columns or keys
+``phase`` in mesh cycles, ``stiffness`` in N/m, ``ste`` in m; P = the phase span), or a tooth-pair
+TOML file (``examples/tooth_*.toml``), whose stiffness and STE are computed here.
 """
 
 from __future__ import annotations
@@ -101,16 +103,38 @@ class Excitation:
     ste: np.ndarray | None = None
     cycles: int = 1
 
-    def series(self, harmonics: int | None = None, b_c: float = 1.0) -> dict[str, tuple[float, ...] | float]:
-        """``k0`` and the model's ``kappa``, ``phi_k``, ``eps``, ``phi_e`` (harmonics of ω/cycles)."""
+    def __post_init__(self) -> None:
+        k = np.asarray(self.stiffness, dtype=float)
+        object.__setattr__(self, "stiffness", k)
+        if self.ste is not None:
+            e = np.asarray(self.ste, dtype=float)
+            if e.shape != k.shape:
+                raise ModelError(f"excitation: {e.size} STE values for {k.size} stiffness values")
+            object.__setattr__(self, "ste", e)
+        P = self.cycles
+        if isinstance(P, bool) or not float(P).is_integer() or P < 1:
+            raise ModelError(f"excitation: cycles must be an integer >= 1, got {P!r}")
+        object.__setattr__(self, "cycles", int(P))
+        if k.ndim != 1 or k.size < 2 or not np.all(np.isfinite(k)) or np.any(k <= 0):
+            raise ModelError("excitation: the stiffness table needs at least 2 finite values > 0")
+
+    def series(self, harmonics: int | None = None, b_c: float = 1.0,
+               cap: int | None = None) -> dict[str, tuple[float, ...] | float]:
+        """``k0`` and the model's ``kappa``, ``phi_k``, ``eps``, ``phi_e`` (harmonics of ω/cycles).
+
+        ``harmonics`` (default all of the table's) is refused above ``cap`` (default MAX_HARMONICS·cycles)
+        and above the table's ⌊N/2⌋."""
         k0, ka, kp = fourier_series(self.stiffness)
         if k0 <= 0:
             raise ModelError("excitation: the mean stiffness must be > 0")
+        cap = MAX_HARMONICS * self.cycles if cap is None else int(cap)
         H = len(ka) if harmonics is None else int(harmonics)
-        if H > MAX_HARMONICS:
-            raise ModelError(f"excitation: {H} harmonics asked; the model takes at most {MAX_HARMONICS} "
-                             f"(mesh orders up to {MAX_HARMONICS / self.cycles:g} for a period of {self.cycles} "
-                             f"cycles): pass harmonics=<= {MAX_HARMONICS}")
+        if H < 1 or H > len(ka):
+            raise ModelError(f"excitation: harmonics must be 1 … {len(ka)} (the table's), got {H}")
+        if H > cap:
+            raise ModelError(f"excitation: {H} harmonics asked; the model takes at most {cap} "
+                             f"(mesh orders up to {cap / self.cycles:g} for a period of {self.cycles} "
+                             f"cycles): pass harmonics <= {cap}")
         out: dict = {"k0": k0, "kappa": tuple(ka[:H] / k0), "phi_k": tuple(kp[:H])}
         if self.ste is not None:
             _, ea, ep = fourier_series(self.ste)
@@ -118,37 +142,41 @@ class Excitation:
         return out
 
 
-def excitation_model(base: GearModel, exc: Excitation, *, harmonics: int | None = None, b_c: float = 1.0,
-                     mesh_omega: float | None = None) -> GearModel:
-    """``base`` with the stiffness and STE of ``exc`` (its other parameters kept).
+def excitation_model(base: GearModel, exc: Excitation, *, harmonics: int | None = None,
+                     b_c: float = 1.0) -> GearModel:
+    """``base`` with the stiffness and STE of ``exc`` over its P = ``exc.cycles`` mesh cycles.
 
     Parameters
     ----------
     base : GearModel
-        Damping, load, backlash and (unless ``mesh_omega``) the mesh frequency ω.
+        Mesh frequency ω, damping, load and backlash (a base with ``cycles`` > 1 is refused).
     exc : Excitation
-        The tables; a period of P = ``exc.cycles`` mesh cycles sets the model's ω' = ω/P.
+        The tables.
     harmonics : int, optional
-        Harmonics of ω' kept (default: the full series of the table).
+        Harmonics of ω/P kept (default: the full series of the table, at most MAX_HARMONICS·P).
     b_c : float
         Characteristic length the STE table is divided by (same unit as the table).
-    mesh_omega : float, optional
-        Mesh frequency ω (default ``base.omega``).
 
     Returns
     -------
     GearModel
+        ``cycles = P``; the stiffness series relative to the table's own mean; base damping harmonic
+        ξ_k (mesh order k) moved to member k·P.
     """
-    s = exc.series(harmonics, b_c)
-    w = base.omega if mesh_omega is None else float(mesh_omega)
-    changes = {"omega": w / exc.cycles, "kappa": s["kappa"], "phi_k": s["phi_k"]}
-    if "eps" in s:
-        changes.update(eps=s["eps"], phi_e=s["phi_e"])
-    else:
-        changes.update(eps=(), phi_e=())
-    if exc.cycles != 1 and base.xi:
-        raise ModelError("excitation: damping harmonics of a base model are mesh orders; give xi = () with a "
-                         "multi-cycle excitation")
+    P = int(exc.cycles)
+    if base.cycles != 1:
+        raise ModelError(f"excitation: the base model already spans {base.cycles} mesh cycles")
+    if harmonics is None:
+        harmonics = min(exc.stiffness.size // 2, MAX_HARMONICS * P)
+    s = exc.series(harmonics, b_c, cap=MAX_HARMONICS * P)
+    changes: dict = {"cycles": P, "kappa": s["kappa"], "phi_k": s["phi_k"],
+                     "eps": s.get("eps", ()), "phi_e": s.get("phi_e", ())}
+    if P != 1 and base.xi:
+        xi = [0.0] * (P * len(base.xi))
+        ph = [0.0] * (P * len(base.xi))
+        for k, (a, p) in enumerate(zip(base.xi, base.phi_c), start=1):
+            xi[k * P - 1], ph[k * P - 1] = a, p
+        changes.update(xi=tuple(xi), phi_c=tuple(ph))
     return base.replace(**changes)
 
 
@@ -176,12 +204,12 @@ def pair_model(ms, rpm: float, *, b_c: float = 10e-6, backlash: float = 100e-6, 
     density : float
         Density of the gear bodies (kg/m³).
     harmonics : int, optional
-        Harmonics of the excitation's period kept (default all of the table's).
+        Harmonics of the excitation's period kept (default all of the table's, at most MAX_HARMONICS·P).
 
     Returns
     -------
     (GearModel, scales)
-        The model (frequency ω/P for a period of P cycles) and ``{"k0", "m_e", "omega_n", "b_c",
+        The model (mesh frequency ω, ``cycles`` = P) and ``{"k0", "m_e", "omega_n", "b_c",
         "mesh_omega", "cycles", "z1", "z2", "rpm"}``.
     """
     geo = ms.geometry
@@ -190,8 +218,7 @@ def pair_model(ms, rpm: float, *, b_c: float = 10e-6, backlash: float = 100e-6, 
     I1, I2 = (0.5 * density * math.pi * geo.face_width * r**4 for r in geo.r)
     m_e = I1 * I2 / (I1 * geo.r_b[1] ** 2 + I2 * geo.r_b[0] ** 2)
     exc = Excitation(ms.stiffness, ms.ste_equivalent, ms.cycles)
-    s = exc.series(harmonics, b_c)
-    k0 = float(s["k0"])
+    k0 = fourier_series(exc.stiffness)[0]
     omega_n = math.sqrt(k0 / m_e)
     w_mesh = rpm * 2.0 * math.pi / 60.0 * geo.gears[0].teeth / omega_n
     base = GearModel(omega=w_mesh, xi0=xi0, xi=(), phi_c=(), kappa=(), phi_k=(), eps=(), phi_e=(),

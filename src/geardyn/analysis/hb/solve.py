@@ -87,6 +87,9 @@ class HBSystem:
             raise ModelError(f"period: must be an integer >= 1, got {period!r}")
         if int(harmonics) < 1:
             raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
+        if getattr(model, "cycles", 1) != 1:
+            raise ModelError(f"harmonic balance of the pair takes a one-cycle excitation, this one spans {model.cycles} "
+                             "mesh cycles: use a system file, or model.forcing_model() (ω there is ω/P)")
         self.base = model
         self.n = int(period)
         self.H = int(harmonics)
