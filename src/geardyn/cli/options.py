@@ -231,9 +231,10 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
     rpm, torque : float, optional
         Pinion speed and pinion torque (N·m, balanced): they set ω and f_p through the scales of the
         configured gear pair and cannot be combined with ``omega`` / ``fp``.
+    excitation : Path, optional
+        A mesh excitation table (``docs/excitation.md``) in place of the config's stiffness and STE series.
     **values
-        The registry's model options by their keyword (``omega``, ``xi0``, ``xi1``, ``kappa1``, ``fp``, ``fe``,
-        ``backlash``, ``phi_c``, ``phi_k``, ``phi_e``); ``None`` leaves a value as the config gives it.
+        The registry's model options by keyword (``omega``, ``xi0``, …); ``None`` keeps the config's value.
 
     Raises
     ------

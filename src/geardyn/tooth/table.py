@@ -30,7 +30,18 @@ _CSV_HEADER = ("phase_cycles", "stiffness_N_per_m", "ste_m")
 
 
 def table_of(ms: Any) -> Excitation:
-    """The :class:`Excitation` of a :class:`~geardyn.tooth.mesh.MeshStiffness` (stiffness and e_eq)."""
+    """The :class:`Excitation` of a :class:`~geardyn.tooth.mesh.MeshStiffness` (stiffness and e_eq).
+
+    Parameters
+    ----------
+    ms : MeshStiffness
+        The mesh stiffness and STE over its P mesh cycles.
+
+    Returns
+    -------
+    Excitation
+        Its stiffness and equivalent-STE table over the same cycles.
+    """
     return Excitation(np.asarray(ms.stiffness, dtype=float), np.asarray(ms.ste_equivalent, dtype=float),
                       int(ms.cycles))
 
