@@ -342,7 +342,7 @@ class Inputs:
 
         v = self.values
         n = periods if periods is not None else v.get("periods", 1)
-        ws = list(omegas) + ([] if omega is None else [omega])
+        ws = omegas if omega is None else (*omegas, omega)  # a sweep's array passed as it is, not as a list
         opts = validate.options(v["dtau"], v["transient"], n, v["accurate"], ws)
         validate.recorded(points, opts.periods)
         check_budget(opts, ws, points)
