@@ -75,37 +75,44 @@ def test_bifurcation_and_response_on_a_system():
     assert b["meshes"][0]["name"] == "mesh" and len(b["meshes"][0]["amplitude"]) == 5
     r = json.loads(run("response", "--system", TORS, "--omega-start", "0.6", "--omega-stop", "1.0", "--num", "5",
                        "--transient", "50", "--periods", "32", "--json").stdout)
-    assert set(r["amplitude"]) == {"up", "down"} and "jumps" in r
+    pair = json.loads(run("response", "--omega-start", "0.6", "--omega-stop", "1.0", "--num", "5", "--transient", "50",
+                          "--periods", "32", "--json").stdout)
+    assert {"up", "down", "jumps", "hysteresis", "coexistence", "meshes"} <= set(r)
+    assert set(r) - {"meshes", "note"} <= set(pair)
 
 
 OUT_RUNS = {
-    "system_simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "30", "--periods", "8"],
-    "system_lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
-    "system_orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
-    "system_bifurcation": ["bifurcation", "--system", TORS, "--start", "0.7", "--stop", "0.9", "--num", "3",
+    "simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "30", "--periods", "8"],
+    "lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
+    "orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
+    "bifurcation": ["bifurcation", "--system", TORS, "--start", "0.7", "--stop", "0.9", "--num", "3",
                            "--transient", "20", "--periods", "8"],
-    "system_response": ["response", "--system", TORS, "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3",
+    "response": ["response", "--system", TORS, "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3",
                         "--transient", "20", "--periods", "8"],
-    "system_map": ["map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
+    "map": ["map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
                    "--x-num", "2", "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20",
                    "--periods", "8"],
-    "system_basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
+    "basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
                       "--periods", "8"],
-    "system_continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35"],
+    "continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35"],
 }
 
 
-@pytest.mark.parametrize("kind", ["system_bifurcation", "system_map", "system_basins", "system_continuation",
-                                  "system_orbit"])
+@pytest.mark.parametrize("kind", ["bifurcation", "map", "basins", "continuation", "orbit"])
 def test_tables_of_a_system_run_without_json(kind, tmp_path):
     """Without --json every system command prints its table: for a sweep the range of each mesh value
-    over the points and the count of each label, under a title with the swept ranges."""
+    over the points and the count of each label, under a title with the swept ranges; the mesh's half
+    backlash and DTE in µm, and no dynamic-factor column where the command computes none."""
     p = run(*OUT_RUNS[kind], "--out", str(tmp_path))
-    title = {"system_bifurcation": "omega = 0.7 … 0.9 (3 points)", "system_map": "omega = 0.7 … 0.9",
-             "system_basins": "u0 = -3 … 3", "system_continuation": "omega from 1.3 to 1.35",
-             "system_orbit": "omega = 0.8"}[kind]
-    assert title in p.stdout and "mesh(es)" in p.stdout and "wrote " in p.stdout
-    if kind in ("system_bifurcation", "system_map", "system_basins"):
+    title = {"bifurcation": "omega = 0.7 … 0.9 (3 points)", "map": "omega = 0.7 … 0.9",
+             "basins": "u0 = -3 … 3", "continuation": "omega from 1.3 to 1.35",
+             "orbit": "ω = 0.8"}[kind]
+    out = " ".join(p.stdout.split())
+    assert title in out and "mesh(es)" in out and "wrote " in out
+    assert "dynamic factor" not in out
+    if kind in ("bifurcation", "map", "basins", "continuation"):
+        assert "backlash" in out and "DTE" in out and "(µm)" in out
+    if kind == "bifurcation":
         assert re.search(r"status: ok ×\d+", p.stdout), p.stdout
 
 
@@ -145,7 +152,7 @@ def test_incommensurate_meshes_refuse_continuation_in_one_line():
     import math
     from dataclasses import replace
 
-    from geardyn.analysis.systems_continuation import system_continuation
+    from geardyn.analysis.periodic import continuation as system_continuation
     from geardyn.errors import ModelError
     from geardyn.systems import load_system
 
@@ -163,4 +170,19 @@ def test_basins_on_a_slice_of_two_coordinates(tmp_path):
     s = json.loads(run("basins", "--system", BEVEL, "--omega", "0.8", "--coords", f"{lab[0]},{lab[0]}'",
                        "--u-min", "-0.1", "--u-max", "0.1", "--v-min", "-0.1", "--v-max", "0.1", "--nu", "2",
                        "--nv", "2", "--transient", "20", "--periods", "8", "--json").stdout)
-    assert s["coordinates"] == [lab[0], lab[0] + "'"] and len(s["period"]) == 2 and s["attractors"]
+    assert s["coordinates"] == [lab[0], lab[0] + "'"] and len(s["labels"]) == 2 and s["attractors"]
+
+
+OLD_KINDS = Path(__file__).resolve().parent / "data" / "system_kinds"
+
+
+@pytest.mark.parametrize("kind", ["system_simulate", "system_bifurcation", "system_response"])
+def test_files_of_the_earlier_system_kinds_are_still_redrawn(kind, tmp_path):
+    """Files of the ``system_*`` kinds the previous version wrote (``tests/data/system_kinds``, written by it on the
+    torsional pair) are read and redrawn by ``geardyn plot``: one figure per figure the version drew."""
+    drawn = {"system_simulate": ["element_deflections.png", "phase_portrait.png"],
+             "system_bifurcation": ["bifurcation.png", "mesh_amplitudes.png"],
+             "system_response": ["mesh_amplitudes.png", "response.png"]}[kind]
+    r = json.loads(run("plot", str(OLD_KINDS / f"{kind}.nc"), "--out", str(tmp_path), "--json").stdout)
+    assert sorted(p.rsplit("/", 1)[-1] for p in r["files"]) == drawn
+    assert all((tmp_path / f).stat().st_size > 0 for f in drawn)

@@ -168,11 +168,10 @@ def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: in
                                  state0=inp.state0(), floquet=floquet)
     summary = res.to_json()
     if compare_shooting:
-        from ..analysis.systems_continuation import system_continuation
+        from ..analysis.periodic import continuation
 
         opts = validate.options(inp.dtau, 0, 1, inp.accurate, [])
-        sres = system_continuation(s, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate,
-                                   state0=inp.state0())
+        sres = continuation(s, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0())
         summary["shooting"] = {"bifurcations": sres.to_json()["bifurcations"], "dtau": opts.dtau,
                                "accurate": opts.accurate}
     paths: list[str] = []

@@ -681,7 +681,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
                     if inp.values.get("system") is not None:
                         from .system_option import run_system
 
-                        return run_system(name, inp.values, kw)
+                        return run_system(name, inp, kw)
                     return fn(inp, **kw)
                 except GeardynError as e:
                     if is_stop(e):

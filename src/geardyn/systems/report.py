@@ -19,7 +19,7 @@ import numpy as np
 
 from ..labels import IMPACT_LABELS, impact_state
 
-__all__ = ["static_mesh_forces", "mesh_forces", "report"]
+__all__ = ["static_mesh_forces", "mesh_forces", "report", "result_meshes"]
 
 
 def _num(x: Any) -> float | None:
@@ -158,4 +158,61 @@ def report(model: Any, res: Any = None, point: int = 0, tau: np.ndarray | None =
                            "meshes": _mesh_entries(model, res, point, tau, deltas, extrema)}
     if res is not None:
         out["clearances"] = _clearance_entries(model, res, point)
+    return out
+
+
+def result_meshes(ds: Any) -> list[dict[str, Any]]:
+    """The ``meshes`` entries of a sweep, map or basin result of a system (its Dataset, any kind).
+
+    Per mesh: ``name``, ``backlash_um`` (D b_c), and over the result's points (the layout of its reference
+    variables: a list, ``{sweep: list}`` for two sweeps, nested lists for a grid) ``u_min``, ``u_max``,
+    ``amplitude`` (non-dimensional), ``dte_amplitude_um`` and ``impact``; ``dynamic_factor`` None (the sweeps
+    keep no histories).  The element variables of a system of several elements, else the reference
+    variables (one mesh).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A result written for a system (its ``system`` attribute).
+
+    Returns
+    -------
+    list of dict
+    """
+    import json
+
+    info = json.loads(ds.attrs["system"])
+    um = float(info.get("b_c_um") or float("nan"))
+    els = info.get("elements") or [{"name": n, "kind": "mesh", "gap": float("nan")} for n in info["meshes"]]
+    dims = [d for d in ds["amplitude"].dims]
+    two = "sweep" in ds.dims and ds.sizes["sweep"] > 1
+
+    def values(a: np.ndarray, f: Any) -> Any:
+        def conv(x: np.ndarray) -> Any:
+            return [conv(r) for r in x] if x.ndim > 1 else [f(v) for v in x]
+        if "sweep" in dims:
+            labs = [str(s) for s in ds["sweep"].values]
+            per = {lab: conv(a[i]) for i, lab in enumerate(labs)}
+            return per if two else per[labs[0]]
+        return conv(a)
+
+    out = []
+    for i, e in enumerate(els):
+        if e["kind"] != "mesh":
+            continue
+        if "element_u_min" in ds:
+            lo, hi = ds["element_u_min"].values[..., i], ds["element_u_max"].values[..., i]
+            imp = ds["element_impact"].values[..., i]
+        elif "u_min" in ds:
+            lo, hi, imp = ds["u_min"].values, ds["u_max"].values, ds["impact"].values
+        else:  # a basin map of one mesh keeps its amplitude only
+            lo = hi = np.full(ds["amplitude"].shape, np.nan)
+            imp = ds["impact"].values
+        amp = 0.5 * (hi - lo) if "u_min" in ds or "element_u_min" in ds else ds["amplitude"].values
+        out.append({"name": e["name"], "backlash_um": _num(e["gap"] * um), "u_min": values(lo, _num),
+                    "u_max": values(hi, _num), "amplitude": values(amp, _num),
+                    "dte_min_um": values(lo * um, _num), "dte_max_um": values(hi * um, _num),
+                    "dte_amplitude_um": values(amp * um, _num),
+                    "impact": values(imp, lambda c: IMPACT_LABELS.get(int(c), "unknown")),
+                    "dynamic_factor": None})
     return out
