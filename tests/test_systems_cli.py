@@ -186,3 +186,34 @@ def test_files_of_the_earlier_system_kinds_are_still_redrawn(kind, tmp_path):
     r = json.loads(run("plot", str(OLD_KINDS / f"{kind}.nc"), "--out", str(tmp_path), "--json").stdout)
     assert sorted(p.rsplit("/", 1)[-1] for p in r["files"]) == drawn
     assert all((tmp_path / f).stat().st_size > 0 for f in drawn)
+
+
+def test_system_figures_name_the_mesh_and_draw_its_backlash_an_rpm_axis_and_coexistence(tmp_path):
+    """Issue 23 item 6 and 2: a system's bifurcation diagram draws u = ±D of its reference mesh, a top axis in
+    pinion speed (ω_n 60/(2π z) rpm per unit ω of its reference pinion) and a title naming the mesh; its response
+    figure shades the coexistence intervals (hatched) as well as the hysteresis ones."""
+    import math
+
+    from geardyn.io import read_netcdf
+    from geardyn.plot import draw
+    from geardyn.systems import load_system
+
+    s = load_system(TORS)
+    run(*OUT_RUNS["response"], "--out", str(tmp_path), "--json")
+    ds = read_netcdf(tmp_path / "response.nc")
+    art = draw(ds, "response_bifurcation")
+    lines = [a for a in art.axes[0].get_lines() if a.get_gid() == "contact"]
+    assert sorted(float(line.get_ydata()[0]) for line in lines) == [-s.elements[0].gap, s.elements[0].gap]
+    assert "reference mesh mesh" in " ".join(ax.get_title() for ax in art.figure.axes)
+    tops = [a for ax in art.figure.axes for a in ax.child_axes]
+    assert any(t.get_xlabel() == "pinion speed [rpm]" for t in tops)
+    sec = tops[0]
+    per = s.scaling.omega_n * 60.0 / (2.0 * math.pi * s.scaling.teeth)
+    assert sec._functions[0](1.0) == pytest.approx(per, rel=1e-12)
+    ds.attrs["coexistence"] = json.dumps([[0.75, 0.85]])
+    art = draw(ds, "response")
+    hatched = [p for p in art.axes[0].patches if p.get_hatch() == "//"]
+    assert len(hatched) == 1
+    r = hatched[0]
+    assert r.get_x() == pytest.approx(0.75) and r.get_x() + r.get_width() == pytest.approx(0.85)
+    assert "coexisting" in art.axes[0].get_title()

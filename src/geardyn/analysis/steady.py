@@ -289,7 +289,8 @@ class SteadyState:
                 history_periods=str(t.history_periods),
             ),
         )
-        return annotate(ds, names=["section", "element", "state", "delta", "delta_rate", "poincare"])
+        return annotate(ds, names=[n for n in ("section", "element", "state", "delta", "delta_rate", "poincare")
+                                   if n in ds.variables])
 
 
 def _jsonable(d: dict[str, Any]) -> dict[str, Any]:

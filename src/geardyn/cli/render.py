@@ -172,6 +172,10 @@ def response(s: dict[str, Any], paths: list[str]) -> None:
     hy = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["hysteresis"]) or "none"
     hy_rpm = ", ".join(f"[{a:.1f}, {b:.1f}]" for a, b in s.get("hysteresis_rpm", [])) or "none"
     console.print(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}", markup=False, highlight=False)
+    if s.get("coexistence"):
+        co = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["coexistence"])
+        console.print(f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}",
+                      markup=False, highlight=False)
     console.print(f"gear pair: {s['physical']['pair']}", markup=False, highlight=False)
     files(paths)
 

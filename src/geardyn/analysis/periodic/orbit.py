@@ -426,8 +426,8 @@ class PeriodicOrbit:
 
             ds["points"] = (("section", "state"), np.asarray(self.points, float))
             ds = ds.assign_coords(state=state_names(m, d))
-        annotate(ds, names=["points", "state", "multiplier_re", "multiplier_im", "floquet_exponent", "monodromy", "section", "multiplier",
-                            "row", "col"])
+        annotate(ds, names=[n for n in ("points", "state") if n in ds.variables]
+                 + ["multiplier_re", "multiplier_im", "floquet_exponent", "monodromy", "section", "multiplier", "row", "col"])
         ds.attrs["status"] = self.status_label
         return ds
 
