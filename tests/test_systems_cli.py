@@ -69,7 +69,7 @@ def test_unavailable_and_bad_combinations_one_line():
 
 
 def test_bifurcation_and_response_on_a_system():
-    b = json.loads(run("bifurcation", "--system", TORS, "--start", "0.6", "--stop", "1.0", "--num", "5",
+    b = json.loads(run("bifurcation", "--system", TORS, "--param", "omega", "--start", "0.6", "--stop", "1.0", "--num", "5",
                        "--transient", "50", "--periods", "32", "--json").stdout)
     assert b["values"] == pytest.approx([0.6, 0.7, 0.8, 0.9, 1.0]) and len(b["period"]) == 5
     assert b["meshes"][0]["name"] == "mesh" and len(b["meshes"][0]["amplitude"]) == 5
@@ -85,7 +85,7 @@ OUT_RUNS = {
     "simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "30", "--periods", "8"],
     "lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
     "orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
-    "bifurcation": ["bifurcation", "--system", TORS, "--start", "0.7", "--stop", "0.9", "--num", "3",
+    "bifurcation": ["bifurcation", "--system", TORS, "--param", "omega", "--start", "0.7", "--stop", "0.9", "--num", "3",
                            "--transient", "20", "--periods", "8"],
     "response": ["response", "--system", TORS, "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3",
                         "--transient", "20", "--periods", "8"],
@@ -94,26 +94,29 @@ OUT_RUNS = {
                    "--periods", "8"],
     "basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
                       "--periods", "8"],
-    "continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35"],
+    "continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35",
+                     "--sweep-num", "5"],
 }
 
 
-@pytest.mark.parametrize("kind", ["bifurcation", "map", "basins", "continuation", "orbit"])
+@pytest.mark.parametrize("kind", ["bifurcation", "response", "map", "basins", "continuation", "orbit", "simulate"])
 def test_tables_of_a_system_run_without_json(kind, tmp_path):
-    """Without --json every system command prints its table: for a sweep the range of each mesh value
-    over the points and the count of each label, under a title with the swept ranges; the mesh's half
-    backlash and DTE in µm, and no dynamic-factor column where the command computes none."""
+    """Without --json every system command prints the pair's tables (in rpm and µm where the pair's are) after the
+    table of its meshes: each mesh's half backlash and DTE in µm, and no dynamic-factor column where the command
+    computes none (issue 23 item 6: no "dynamic factor —"); a response prints its jump table."""
     p = run(*OUT_RUNS[kind], "--out", str(tmp_path))
-    title = {"bifurcation": "omega = 0.7 … 0.9 (3 points)", "map": "omega = 0.7 … 0.9",
-             "basins": "u0 = -3 … 3", "continuation": "omega from 1.3 to 1.35",
-             "orbit": "ω = 0.8"}[kind]
+    pair = {"bifurcation": "Motion over omega", "response": "Jumps", "map": "map of mesh.xi0 × omega",
+            "basins": "Attractors at ω = 0.8", "continuation": "Branches in omega from 1.3 to 1.35",
+            "orbit": "Period-1 orbit at ω = 0.8", "simulate": "Steady response at ω = 0.8"}[kind]
     out = " ".join(p.stdout.split())
-    assert title in out and "mesh(es)" in out and "wrote " in out
-    assert "dynamic factor" not in out
-    if kind in ("bifurcation", "map", "basins", "continuation"):
-        assert "backlash" in out and "DTE" in out and "(µm)" in out
-    if kind == "bifurcation":
-        assert re.search(r"status: ok ×\d+", p.stdout), p.stdout
+    assert pair in out and "1 mesh(es) of the system" in out and "wrote " in out
+    assert "—" not in out
+    assert "backlash" in out
+    assert "DTE" in out and "(µm)" in out
+    if kind in ("simulate", "orbit"):  # one point with its history: forces and the dynamic factor
+        assert "dynamic factor" in out and "pinion speed (rpm)" in out
+    else:
+        assert "dynamic factor" not in out
 
 
 @pytest.mark.parametrize("kind", list(OUT_RUNS))

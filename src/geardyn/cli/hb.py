@@ -39,7 +39,7 @@ def system_model(path: Optional[Path], inp: Inputs) -> Any:
     """
     if path is None:
         return inp.model()
-    from .system_option import load_cli_system
+    from .system_input import load_cli_system
 
     return load_cli_system(dict(inp.values, system=path))
 
