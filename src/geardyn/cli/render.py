@@ -57,7 +57,13 @@ MESH_COLUMNS = (("backlash_um", "half backlash D (µm)"), ("dte_min_um", "DTE mi
 
 def meshes(s: dict[str, Any]) -> None:
     """The meshes of a system's result: each mesh's half backlash, DTE (µm), impact state, forces (N) and dynamic
-    factor, over the points of a sweep their range (columns a command does not compute are left out)."""
+    factor, over the points of a sweep their range (columns a command does not compute are left out).
+
+    Parameters
+    ----------
+    s : dict
+        A command's summary with its ``meshes`` entries.
+    """
     rows = s.get("meshes") or []
     cols = [(k, h) for k, h in MESH_COLUMNS if any(k in m and any(v is not None for v in _flat(m[k])) for m in rows)]
     t = Table(title=f"{len(rows)} mesh(es) of the system" + (f", reference mesh {s['reference_mesh']}"

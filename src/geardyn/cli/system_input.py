@@ -38,7 +38,17 @@ _NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
 
 
 def load_cli_system(values: dict[str, Any]):
-    """The system of ``--system`` with ``--omega``/``--rpm`` and the mesh options applied."""
+    """The system of ``--system`` with ``--omega``/``--rpm`` and the model options applied to its reference mesh.
+
+    Parameters
+    ----------
+    values : dict
+        The command's shared option values (``system`` the file).
+
+    Returns
+    -------
+    SystemModel
+    """
     from .. import params
     from ..systems import load_system
 
@@ -62,7 +72,22 @@ def load_cli_system(values: dict[str, Any]):
 
 
 def coordinates(s: Any, text: Optional[str], n: int) -> list[int] | None:
-    """The state coordinates of ``--coords`` (DOF labels, ``label'`` for a rate, or indices), at least ``n``."""
+    """The state coordinates of ``--coords`` (DOF labels, ``label'`` for a rate, or indices), at least ``n``.
+
+    Parameters
+    ----------
+    s : System
+        The system whose state is indexed.
+    text : str or None
+        The option's value, comma-separated.
+    n : int
+        How many coordinates are needed.
+
+    Returns
+    -------
+    list of int or None
+        None without ``--coords``.
+    """
     from ..analysis.basins import coordinate_index
 
     if text is None:
