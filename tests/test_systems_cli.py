@@ -179,13 +179,19 @@ def test_basins_on_a_slice_of_two_coordinates(tmp_path):
 OLD_KINDS = Path(__file__).resolve().parent / "data" / "system_kinds"
 
 
-@pytest.mark.parametrize("kind", ["system_simulate", "system_bifurcation", "system_response"])
+OLD_FIGURES = {"system_simulate": ["element_deflections.png", "phase_portrait.png"],
+               "system_bifurcation": ["bifurcation.png", "mesh_amplitudes.png"],
+               "system_response": ["mesh_amplitudes.png", "response.png"],
+               "system_lyapunov": ["lyapunov_spectrum.png"], "system_orbit": ["multipliers.png"],
+               "system_map": ["map_amplitude.png", "map_impact.png", "map_motion.png"],
+               "system_basins": ["basins.png"], "system_continuation": ["continuation.png"]}
+
+
+@pytest.mark.parametrize("kind", list(OLD_FIGURES))
 def test_files_of_the_earlier_system_kinds_are_still_redrawn(kind, tmp_path):
     """Files of the ``system_*`` kinds the previous version wrote (``tests/data/system_kinds``, written by it on the
-    torsional pair) are read and redrawn by ``geardyn plot``: one figure per figure the version drew."""
-    drawn = {"system_simulate": ["element_deflections.png", "phase_portrait.png"],
-             "system_bifurcation": ["bifurcation.png", "mesh_amplitudes.png"],
-             "system_response": ["mesh_amplitudes.png", "response.png"]}[kind]
+    torsional pair) are read and redrawn by ``geardyn plot``: the figures that version drew."""
+    drawn = OLD_FIGURES[kind]
     r = json.loads(run("plot", str(OLD_KINDS / f"{kind}.nc"), "--out", str(tmp_path), "--json").stdout)
     assert sorted(p.rsplit("/", 1)[-1] for p in r["files"]) == drawn
     assert all((tmp_path / f).stat().st_size > 0 for f in drawn)
