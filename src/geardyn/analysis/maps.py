@@ -29,7 +29,9 @@ __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
 
 #: Per-point variables kept in a map (Poincaré points are not kept: a map can hold 10⁶ points).
 MAP_VARIABLES = ("period", "motion", "impact", "status", "loops", "amplitude", "rms", "mean", "u_min", "u_max",
-                 "fraction_separation", "fraction_back", "lle", "lle_err", "lambda2") + tuple(ELEMENT_VARIABLES)
+                 "fraction_separation", "fraction_back", "lle", "lle_err", "lambda2")
+#: What a map keeps of each point: :data:`MAP_VARIABLES` and, for a system of several elements, its per-element ones.
+_KEEP = MAP_VARIABLES + tuple(ELEMENT_VARIABLES)
 
 
 @sweep_function("parameter_map")
@@ -92,10 +94,10 @@ def parameter_map(
     common = (s0t, options, lyapunov, settle_periods)
     description = f"map {yn} × {xn}"
     if mode == "fixed":
-        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (False, MAP_VARIABLES),
+        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (False, _KEEP),
                          chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine, description)
     else:  # one continuation row per chunk, x increasing
-        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (True, MAP_VARIABLES),
+        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (True, _KEEP),
                          grid.slices(xv.size), engine, description)
     shape = (yv.size, xv.size)
     coords: dict[str, Any] = {yn: yv, xn: xv}
