@@ -359,8 +359,8 @@ def response_json(ds: xr.Dataset) -> dict[str, Any]:
     -------
     dict
         ``jumps`` [{omega, direction, size, sweep, …}], ``hysteresis`` [[ω_a, ω_b], …],
-        ``measure``, the grid under the parameter's name, ``method`` (``hb``) for a harmonic-balance response
-        and, per sweep, its amplitudes, ``motion``, ``impact`` and ``period``.
+        ``measure``, the grid under the parameter's name and, per sweep, its amplitudes,
+        ``motion``, ``impact`` and ``period``.
     """
     name = _param(ds)
     measure = str(ds.attrs.get("measure", "amplitude"))
@@ -372,8 +372,6 @@ def response_json(ds: xr.Dataset) -> dict[str, Any]:
         "measure": measure,
         name: json_values(ds[name]),
     }
-    if "method" in ds.attrs:  # a response read off a harmonic-balance branch
-        out["method"] = str(ds.attrs["method"])
     for lab in labels:
         pl = point_labels(ds, lab)
         out[lab] = {
