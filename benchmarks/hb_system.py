@@ -6,7 +6,7 @@ on bearings; one rigid-body mode, the rotation of the pair), period-1 branch con
 
 * HB: :func:`geardyn.analysis.hb.system_continuation.hb_system_continuation` at ``--harmonics`` (each DOF),
   with the systems' default largest step ds_max = SYSTEM_DS_MAX (0.2) and with the 1-DOF default DS_MAX (0.02);
-* shooting: :func:`geardyn.analysis.systems_continuation.system_continuation` at its defaults (accurate mode,
+* shooting: :func:`geardyn.analysis.periodic.continuation` at its defaults (accurate mode,
   Δτ = 0.01, ds_max = 0.02; events bracketed to one step, not located);
 
 both in this process, one after the other, with the wall time of each, the load average before and after,
@@ -31,7 +31,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from geardyn.analysis.hb.continuation import DS_MAX  # noqa: E402
 from geardyn.analysis.hb.system_continuation import SYSTEM_DS_MAX, hb_system_continuation  # noqa: E402
-from geardyn.analysis.systems_continuation import system_continuation  # noqa: E402
+from geardyn.analysis.periodic import continuation as system_continuation  # noqa: E402
 from geardyn.systems import load_system  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -40,7 +40,8 @@ COMMANDS = {
     "hb": ["hb", "--param", "omega", "--start", "1.2", "--stop", "1.3", "--harmonics", "4"],
 }
 _SYSTEM = str(Path(__file__).resolve().parents[1] / "examples" / "systems" / "paper_torsional.toml")
-#: The same commands on a multi-DOF system (kinds system_<command>, figures of geardyn.plot.systems).
+#: The same commands on a multi-DOF system (the same kinds, ``<command>.nc``; the figures only a system has come
+#: from geardyn.plot.systems).
 COMMANDS.update({f"system_{k}": v[:1] + ["--system", _SYSTEM] + v[1:] for k, v in COMMANDS.items()
                  if k not in ("runup", "hb")})  # hb refuses --system for now
 COMMANDS["system_basins"] = ["basins", "--system", _SYSTEM, "--omega", "1.2", "--nu", "2", "--nv", "2",
@@ -72,12 +73,13 @@ def test_plot_redraws_the_figures_the_command_drew(runs, name, tmp_path):
     drawn = _figures_in(d)
     assert drawn, f"{name} --out wrote no figure"
     assert {p.split("/")[-1] for p in summary["files"] if p.endswith(".png")} == drawn
-    r = CliRunner().invoke(app, ["plot", str(d / f"{name}.nc"), "--out", str(tmp_path), "--json"])
+    nc = d / f"{name.removeprefix('system_')}.nc"
+    r = CliRunner().invoke(app, ["plot", str(nc), "--out", str(tmp_path), "--json"])
     assert r.exit_code == 0, r.output
     assert _figures_in(tmp_path) == drawn
     assert {p.split("/")[-1] for p in json.loads(r.stdout)["files"]} == drawn
     # the accessor and save_figures are the same path
-    assert {p.name for p in read_netcdf(d / f"{name}.nc").geardyn.plot(tmp_path / "acc")} == drawn
+    assert {p.name for p in read_netcdf(nc).geardyn.plot(tmp_path / "acc")} == drawn
 
 
 def test_continuation_file_carries_its_brute_force_sweep(runs):
@@ -147,7 +149,9 @@ def _tooth_synthetic():
 
 
 def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):
-    datasets = {k: read_netcdf(d / f"{k}.nc") for k, (d, _) in runs.items()} | _synthetic()
+    datasets = {k: read_netcdf(d / f"{k.removeprefix('system_')}.nc") for k, (d, _) in runs.items()} | _synthetic()
+    old = Path(__file__).resolve().parent / "data" / "system_kinds"  # the system_* kinds earlier versions wrote
+    datasets |= {f"earlier_{f.stem}": read_netcdf(f) for f in old.glob("system_*.nc")}
     assert set(FIGURES) <= set(datasets), "a registered kind without a test Dataset"
     mp, bif = datasets["map"], datasets["bifurcation"]
     variants = [mp.assign(lle=mp["amplitude"] * 0 + 0.01)]  # a map with exponents computed
@@ -159,6 +163,13 @@ def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):
     variants.append(datasets["response"].assign_attrs(iso_kv=json.dumps(iso_kv)))  # a pair with ISO inputs
     for drop in (["amplitude_um"], ["amplitude_um", "rms_um"], ["amplitude_um", "rms_um", "u_max_um"]):
         variants.append(bif.drop_vars(drop))  # the next variable drawn against rpm
+    for k in ("system_bifurcation", "system_response"):  # a system of two meshes: its per-element variables
+        one = datasets[k]
+        two = xr.concat([one["u_min"], one["u_max"]], dim="element").transpose(*one["u_min"].dims, "element")
+        sysinfo = json.loads(one.attrs["system"])
+        sysinfo["elements"] = [{"name": n, "kind": "mesh", "gap": 1.0} for n in ("m1", "m2")]
+        variants.append(one.assign(element_u_min=two - 1.0, element_u_max=two + 1.0)
+                        .assign_coords(element=["m1", "m2"]).assign_attrs(system=json.dumps(sysinfo)))
     checked = set()
     for ds in list(datasets.values()) + variants:
         for spec in figures_for(ds):

@@ -259,19 +259,18 @@ def test_cli_system_compare_shooting_overlay_is_stored_and_redrawn(tmp_path):
     s = json.loads(r.stdout)
     ds = read_netcdf(out / "hb.nc")
     sh = attached(ds, "shooting")
-    assert sh is not None and sh.attrs["geardyn_kind"] == "system_continuation" and sh.sizes["point"] > 10
+    assert sh is not None and sh.attrs["geardyn_kind"] == "continuation" and sh.sizes["point"] > 10
     # the two methods agree on the folds (shooting brackets them to one step of its branch: within 1e-3)
     hb_f = sorted(b["omega"] for b in s["bifurcations"] if b["type"] == "fold")
     sh_f = sorted(b["omega"] for b in s["shooting"]["bifurcations"] if b["type"] == "fold")
     assert len(hb_f) == len(sh_f) == 2 and np.allclose(hb_f, sh_f, atol=1e-3)
-    # the grey branch is shooting's reference-mesh extremes against its ω
+    # the grey branch is shooting's reference-mesh extremes against its ω (the one continuation Dataset)
     art = hb_figure(ds)
-    e = [str(v) for v in sh["element"].values].index(s["reference_mesh"])
     drawn = [ln for ln in art.axes[1].get_lines() if ln.get_color() == SHOOTING_STYLE["color"]]
     x = np.concatenate([ln.get_xdata() for ln in drawn])
     y = np.concatenate([ln.get_ydata() for ln in drawn])
-    assert set(np.round(x, 12)) == set(np.round(sh["value"].values, 12))
-    want = np.concatenate([sh["element_u_min"].values[:, e], sh["element_u_max"].values[:, e]])
+    assert set(np.round(x, 12)) == set(np.round(sh["omega"].values, 12))
+    want = np.concatenate([sh["u_min"].values, sh["u_max"].values])  # the reference mesh's extremes
     assert set(np.round(y, 12)) == set(np.round(want, 12))
     assert "over the shooting branch" in art.axes[0].get_title()
     re = tmp_path / "re"
@@ -306,5 +305,6 @@ def test_response_method_hb_of_the_torsional_system_is_the_1dof_response():
                                  "--omega-stop", "0.65", "--num", "31", "--json"])
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
-    assert s["method"] == "hb" and s["jumps"] == js and s["up"]["amplitude"] == [
+    # the command's jumps are those of the Dataset, with the pair's physical keys (rpm, µm) beside them
+    assert [{k: j[k] for k in js[0]} for j in s["jumps"]] == js and s["up"]["amplitude"] == [
         None if np.isnan(v) else v for v in sysr["amplitude"].sel(sweep="up").values]

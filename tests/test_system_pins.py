@@ -90,9 +90,11 @@ def test_batch_of_the_six_dof_spur_pair(spur6):
 
 
 def test_bifurcation_sweep_of_the_six_dof_spur_pair(spur6):
-    from geardyn.analysis.systems_sweep import system_sweep
+    from geardyn.analysis.bifurcation import bifurcation
 
-    ds = system_sweep(spur6, "omega", [0.07, 0.09], options=IntegrationOptions(transient=20, periods=8))
+    # no settling pass (settle_periods=0): the kernel call of the previous system sweep
+    ds = bifurcation(spur6, "omega", [0.07, 0.09], options=IntegrationOptions(transient=20, periods=8),
+                     settle_periods=0)
     np.testing.assert_allclose(ds["amplitude"].values.ravel(), _h("0x1.67b0b14774cc0p-7", "0x1.69226f29e57c0p-7"),
                                **TOL)
     np.testing.assert_allclose(ds["poincare_u"].values.ravel()[:3],

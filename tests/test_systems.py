@@ -263,10 +263,12 @@ def test_system_map_continued_rows_follow_the_1dof_map_and_its_coexisting_branch
     (which reduces exactly to the 1-DOF model) the continued map equals the 1-DOF continued map
     (accurate mode, to 1e-9), stays on the upper branch of the hysteresis at ξ0 = 0.05 where the
     fixed-start map drops to the lower one, and each row equals the system's continuation sweep."""
+    from geardyn.analysis.bifurcation import bifurcation
     from geardyn.analysis.maps import parameter_map
-    from geardyn.analysis.systems_grid import system_map
-    from geardyn.analysis.systems_sweep import system_sweep
     from geardyn.model import GearModel, IntegrationOptions
+
+    def system_map(*a, **k):
+        return parameter_map(*a, settle_periods=0, **k)
 
     s = load_system(TORSIONAL)
     xv, yv = np.linspace(0.5, 0.7, 6), np.array([0.05, 0.08])
@@ -282,7 +284,8 @@ def test_system_map_continued_rows_follow_the_1dof_map_and_its_coexisting_branch
     # points started from rest are on the lower one (≈ 1.99)
     assert cont["u_max"].values[0, 3] > fixed["u_max"].values[0, 3] + 0.3
     for j, y in enumerate(yv[:1]):  # one row: every row is continued the same way
-        row = system_sweep(s.with_param("mesh.xi0", float(y)), "omega", list(xv), mode="continue", options=o)
+        row = bifurcation(s.with_param("mesh.xi0", float(y)), "omega", list(xv), mode="continue", options=o,
+                          settle_periods=0)
         np.testing.assert_array_equal(row["u_max"].values.ravel(), cont["u_max"].values[j])
     with pytest.raises(ModelError, match="mode"):
         system_map(s, "omega", xv, "mesh.xi0", yv, mode="sideways", options=o)

@@ -80,45 +80,54 @@ def test_unavailable_and_bad_combinations_one_line():
 
 
 def test_bifurcation_and_response_on_a_system():
-    b = json.loads(run("bifurcation", "--system", TORS, "--start", "0.6", "--stop", "1.0", "--num", "5",
+    b = json.loads(run("bifurcation", "--system", TORS, "--param", "omega", "--start", "0.6", "--stop", "1.0", "--num", "5",
                        "--transient", "50", "--periods", "32", "--json").stdout)
     assert b["values"] == pytest.approx([0.6, 0.7, 0.8, 0.9, 1.0]) and len(b["period"]) == 5
     assert b["meshes"][0]["name"] == "mesh" and len(b["meshes"][0]["amplitude"]) == 5
     r = json.loads(run("response", "--system", TORS, "--omega-start", "0.6", "--omega-stop", "1.0", "--num", "5",
                        "--transient", "50", "--periods", "32", "--json").stdout)
-    assert set(r["amplitude"]) == {"up", "down"} and "jumps" in r
+    pair = json.loads(run("response", "--omega-start", "0.6", "--omega-stop", "1.0", "--num", "5", "--transient", "50",
+                          "--periods", "32", "--json").stdout)
+    assert {"up", "down", "jumps", "hysteresis", "coexistence", "meshes"} <= set(r)
+    assert set(r) - {"meshes", "note"} <= set(pair)
 
 
 OUT_RUNS = {
-    "system_simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "30", "--periods", "8"],
-    "system_lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
-    "system_orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
-    "system_bifurcation": ["bifurcation", "--system", TORS, "--start", "0.7", "--stop", "0.9", "--num", "3",
+    "simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "30", "--periods", "8"],
+    "lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
+    "orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
+    "bifurcation": ["bifurcation", "--system", TORS, "--param", "omega", "--start", "0.7", "--stop", "0.9", "--num", "3",
                            "--transient", "20", "--periods", "8"],
-    "system_response": ["response", "--system", TORS, "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3",
+    "response": ["response", "--system", TORS, "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3",
                         "--transient", "20", "--periods", "8"],
-    "system_map": ["map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
+    "map": ["map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
                    "--x-num", "2", "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20",
                    "--periods", "8"],
-    "system_basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
+    "basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
                       "--periods", "8"],
-    "system_continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35",
-                            "--ds-max", "0.1"],
+    "continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35",
+                     "--sweep-num", "5", "--ds-max", "0.1"],
 }
 
 
-@pytest.mark.parametrize("kind", ["system_bifurcation", "system_map", "system_basins", "system_continuation",
-                                  "system_orbit"])
+@pytest.mark.parametrize("kind", ["bifurcation", "response", "map", "basins", "continuation", "orbit", "simulate"])
 def test_tables_of_a_system_run_without_json(kind, tmp_path):
-    """Without --json every system command prints its table: for a sweep the range of each mesh value
-    over the points and the count of each label, under a title with the swept ranges."""
+    """Without --json every system command prints the pair's tables (in rpm and µm where the pair's are) after the
+    table of its meshes: each mesh's half backlash and DTE in µm, and no dynamic-factor column where the command
+    computes none (issue 23 item 6: no "dynamic factor —"); a response prints its jump table."""
     p = run(*OUT_RUNS[kind], "--out", str(tmp_path))
-    title = {"system_bifurcation": "omega = 0.7 … 0.9 (3 points)", "system_map": "omega = 0.7 … 0.9",
-             "system_basins": "u0 = -3 … 3", "system_continuation": "omega from 1.3 to 1.35",
-             "system_orbit": "omega = 0.8"}[kind]
-    assert title in p.stdout and "mesh(es)" in p.stdout and "wrote " in p.stdout
-    if kind in ("system_bifurcation", "system_map", "system_basins"):
-        assert re.search(r"status: ok ×\d+", p.stdout), p.stdout
+    pair = {"bifurcation": "Motion over omega", "response": "Jumps", "map": "map of mesh.xi0 × omega",
+            "basins": "Attractors at ω = 0.8", "continuation": "Branches in omega from 1.3 to 1.35",
+            "orbit": "Period-1 orbit at ω = 0.8", "simulate": "Steady response at ω = 0.8"}[kind]
+    out = " ".join(p.stdout.split())
+    assert pair in out and "1 mesh(es) of the system" in out and "wrote " in out
+    assert "—" not in out
+    assert "backlash" in out
+    assert "DTE" in out and "(µm)" in out
+    if kind in ("simulate", "orbit"):  # one point with its history: forces and the dynamic factor
+        assert "dynamic factor" in out and "pinion speed (rpm)" in out
+    else:
+        assert "dynamic factor" not in out
 
 
 @pytest.mark.parametrize("kind", list(OUT_RUNS))
@@ -160,7 +169,7 @@ def test_incommensurate_meshes_refuse_continuation_in_one_line():
     import math
     from dataclasses import replace
 
-    from geardyn.analysis.systems_continuation import system_continuation
+    from geardyn.analysis.periodic import continuation as system_continuation
     from geardyn.errors import ModelError
     from geardyn.systems import load_system
 
@@ -178,4 +187,56 @@ def test_basins_on_a_slice_of_two_coordinates(tmp_path):
     s = json.loads(run("basins", "--system", BEVEL, "--omega", "0.8", "--coords", f"{lab[0]},{lab[0]}'",
                        "--u-min", "-0.1", "--u-max", "0.1", "--v-min", "-0.1", "--v-max", "0.1", "--nu", "2",
                        "--nv", "2", "--transient", "20", "--periods", "8", "--json").stdout)
-    assert s["coordinates"] == [lab[0], lab[0] + "'"] and len(s["period"]) == 2 and s["attractors"]
+    assert s["coordinates"] == [lab[0], lab[0] + "'"] and len(s["labels"]) == 2 and s["attractors"]
+
+
+OLD_KINDS = Path(__file__).resolve().parent / "data" / "system_kinds"
+
+
+OLD_FIGURES = {"system_simulate": ["element_deflections.png", "phase_portrait.png"],
+               "system_bifurcation": ["bifurcation.png", "mesh_amplitudes.png"],
+               "system_response": ["mesh_amplitudes.png", "response.png"],
+               "system_lyapunov": ["lyapunov_spectrum.png"], "system_orbit": ["multipliers.png"],
+               "system_map": ["map_amplitude.png", "map_impact.png", "map_motion.png"],
+               "system_basins": ["basins.png"], "system_continuation": ["continuation.png"]}
+
+
+@pytest.mark.parametrize("kind", list(OLD_FIGURES))
+def test_files_of_the_earlier_system_kinds_are_still_redrawn(kind, tmp_path):
+    """Files of the ``system_*`` kinds the previous version wrote (``tests/data/system_kinds``, written by it on the
+    torsional pair) are read and redrawn by ``geardyn plot``: the figures that version drew."""
+    drawn = OLD_FIGURES[kind]
+    r = json.loads(run("plot", str(OLD_KINDS / f"{kind}.nc"), "--out", str(tmp_path), "--json").stdout)
+    assert sorted(p.rsplit("/", 1)[-1] for p in r["files"]) == drawn
+    assert all((tmp_path / f).stat().st_size > 0 for f in drawn)
+
+
+def test_system_figures_name_the_mesh_and_draw_its_backlash_an_rpm_axis_and_coexistence(tmp_path):
+    """Issue 23 item 6 and 2: a system's bifurcation diagram draws u = ±D of its reference mesh, a top axis in
+    pinion speed (ω_n 60/(2π z) rpm per unit ω of its reference pinion) and a title naming the mesh; its response
+    figure shades the coexistence intervals (hatched) as well as the hysteresis ones."""
+    import math
+
+    from geardyn.io import read_netcdf
+    from geardyn.plot import draw
+    from geardyn.systems import load_system
+
+    s = load_system(TORS)
+    run(*OUT_RUNS["response"], "--out", str(tmp_path), "--json")
+    ds = read_netcdf(tmp_path / "response.nc")
+    art = draw(ds, "response_bifurcation")
+    lines = [a for a in art.axes[0].get_lines() if a.get_gid() == "contact"]
+    assert sorted(float(line.get_ydata()[0]) for line in lines) == [-s.elements[0].gap, s.elements[0].gap]
+    assert "reference mesh mesh" in " ".join(ax.get_title() for ax in art.figure.axes)
+    tops = [a for ax in art.figure.axes for a in ax.child_axes]
+    assert any(t.get_xlabel() == "pinion speed [rpm]" for t in tops)
+    sec = tops[0]
+    per = s.scaling.omega_n * 60.0 / (2.0 * math.pi * s.scaling.teeth)
+    assert sec._functions[0](1.0) == pytest.approx(per, rel=1e-12)
+    ds.attrs["coexistence"] = json.dumps([[0.75, 0.85]])
+    art = draw(ds, "response")
+    hatched = [p for p in art.axes[0].patches if p.get_hatch() == "//"]
+    assert len(hatched) == 1
+    r = hatched[0]
+    assert r.get_x() == pytest.approx(0.75) and r.get_x() + r.get_width() == pytest.approx(0.85)
+    assert "coexisting" in art.axes[0].get_title()

@@ -212,10 +212,21 @@ SYSTEM_VARIABLES: dict[str, Variable] = {
     "element_u_max": _V("largest deflection δ of the element"),
     "bifurcation_value": _V("continuation parameter at the bifurcation"),
 }
+SYSTEM_VARIABLES.update({
+    "element_mean": _V("mean deflection δ of the element"),
+    "element_rms": _V("RMS of δ of the element about its mean"),
+    "element_impact": _V("impact state of the element (0 none, 1 single-sided, 2 double-sided)"),
+    "start_state": _V("initial state (q̃, q̃') of the point"),
+})
+#: The kinds the previous versions wrote for systems (``system_<analysis>``); their files stay readable.
 SYSTEM_KINDS = ("system_simulate", "system_lyapunov", "system_orbit", "system_bifurcation", "system_response",
                 "system_map", "system_basins", "system_continuation")
 for _k in SYSTEM_KINDS:
     KIND_VARIABLES.setdefault(_k, {}).update(SYSTEM_VARIABLES)
+#: Every kind: the variables that only a system's results have (per element, full states).
+_SYSTEM_ONLY = ("element", "mesh", "coordinate", "state", "delta", "delta_rate", "mesh_force", "mesh_force_N",
+                "end_state", "start_state", "element_u_min", "element_u_max", "element_mean", "element_rms",
+                "element_impact", "elastic", "elastic_re", "elastic_im", "poincare", "points")
 
 #: Suffix of the copy of a displacement variable in µm (``amplitude_um``; see :func:`physical_long_name`).
 PHYSICAL_SUFFIX = "_um"
@@ -252,6 +263,8 @@ def variable(name: str, kind: str | None = None) -> Variable | None:
     Variable or None
     """
     meta = KIND_VARIABLES.get(kind or "", {}).get(name) or VARIABLES.get(name)
+    if meta is None and name in _SYSTEM_ONLY:
+        meta = SYSTEM_VARIABLES[name]
     if meta is not None:
         return meta
     if _is_parameter(name):
@@ -499,10 +512,16 @@ def summary_json(ds: xr.Dataset, variables: Any = None) -> dict[str, Any]:
     }
 
 
-def result_attrs(kind: str, model: GearModel, options: Any = None, **extra: Any) -> dict[str, str]:
-    """Standard global attributes: kind, model and options as JSON, and any extra JSON values."""
+def result_attrs(kind: str, model: Any, options: Any = None, **extra: Any) -> dict[str, str]:
+    """Standard global attributes: kind, model and options as JSON, and any extra JSON values.
+
+    The pair's model is stored whole; a system of meshes (any other System) as :func:`system_attrs` stores it
+    (``system``: labels, meshes, reference mesh, title, source; ``model``: its ω).
+    """
     from . import __version__
 
+    if not isinstance(model, GearModel):
+        return system_attrs(model, kind, options, extra)
     attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "model": json_attr(model)}
     if options is not None:
         attrs["options"] = json_attr(options)
@@ -536,13 +555,17 @@ def system_attrs(model: Any, kind: str, options: Any = None,
     sysinfo = {"labels": list(model.labels), "meshes": [m.name for m in model.meshes],
                "clearances": list(model.clearance_names), "reference_mesh": model.scaling.reference,
                "omega": model.omega, "title": getattr(desc, "title", None),
-               "source": str(getattr(desc, "source", "") or "") or None}
+               "source": str(getattr(desc, "source", "") or "") or None,
+               "elements": [{"name": e.name, "kind": e.kind, "gap": e.gap} for e in model.elements]}
+    sc = getattr(model, "scaling", None)
+    if sc is not None:  # the scales of the physical units (µm, N, rpm)
+        sysinfo.update(b_c_um=sc.b_c * 1e6, force_scale_N=sc.force_scale, omega_n=sc.omega_n, teeth=sc.teeth)
     attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "system": json.dumps(sysinfo),
-             "model": json.dumps({"omega": model.omega})}
+             "model": json.dumps({"omega": model.omega, "D": model.elements[model.reference].gap})}
     if options is not None:
-        attrs["options"] = json.dumps(asdict(options))
+        attrs["options"] = json_attr(options)
     for k, v in extra.items():
-        attrs[k] = v if isinstance(v, str) else json.dumps(v)
+        attrs[k] = v if isinstance(v, str) else json_attr(v)
     return attrs
 
 

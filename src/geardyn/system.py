@@ -57,7 +57,7 @@ from typing import Any, Iterable, Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["System", "Element"]
+__all__ = ["System", "Element", "state_names", "element_names"]
 
 
 @dataclass(frozen=True)
@@ -126,3 +126,53 @@ class System(Protocol):
 
     @property
     def backend(self) -> Any: ...
+
+
+def state_names(model: Any, d: int) -> list[str]:
+    """Names of the d state coordinates of a system (its DOF labels, then their rates), else their indices.
+
+    Parameters
+    ----------
+    model : System
+        The system (its ``labels``, if it has them).
+    d : int
+        The state dimension.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> from geardyn.model import GearModel
+    >>> state_names(GearModel(), 2)
+    ['0', '1']
+    """
+    labels = list(getattr(model, "labels", ()) or ())
+    if 2 * len(labels) == d:
+        return labels + [f"{lab}'" for lab in labels]
+    return [str(i) for i in range(d)]
+
+
+def element_names(model: Any, n: int) -> list[str]:
+    """Names of the n non-smooth elements of a system (its :attr:`~geardyn.system.System.elements`), else indices.
+
+    Parameters
+    ----------
+    model : System or None
+        The system.
+    n : int
+        The number of elements expected.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> from geardyn.model import GearModel
+    >>> element_names(GearModel(), 1)
+    ['mesh']
+    """
+    els = [e.name for e in model.elements] if model is not None else []
+    return els if len(els) == n else [str(i) for i in range(n)]

@@ -32,7 +32,7 @@ from .model import (
     _check_finite,
     canonical_param,
 )
-from .grid import Grid
+from .grid import Grid, param_name
 from .params import FAMILIES, slot
 
 __all__ = [
@@ -388,7 +388,7 @@ def axis(param: Any, start: Any, stop: Any, num: Any) -> tuple[str, np.ndarray]:
     """
     if not isinstance(param, str) or not param:
         raise ModelError(f"param: expected a parameter name, got {_describe(param)}")
-    name = canonical_param(param)
+    name = param_name(param)
     a = number("start", start)
     b = number("stop", stop)
     n = integer("num", num, 1, MAX_GRID_POINTS)
@@ -435,7 +435,7 @@ def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
         if not (isinstance(ax, (tuple, list)) and len(ax) == 2):
             raise ModelError(f"grid: axis {i + 1} must be (parameter, values), got {_describe(ax)}")
         p, v = ax
-        name = canonical_param(p) if isinstance(p, str) else canonical_param(repr(p))
+        name = param_name(p) if isinstance(p, str) else canonical_param(repr(p))
         try:
             arr = np.asarray(v, dtype=float).ravel()
         except (TypeError, ValueError, OverflowError):

@@ -1,6 +1,6 @@
 """The N-DOF integrator kernel: numba functions on the arrays of :meth:`geardyn.systems.SystemModel.pack`.
 
-Only :mod:`geardyn.integrate_ndof` imports this package.  :func:`run_batch` advances a batch of
+Only :mod:`geardyn.backend` (its ``MESH`` backend, behind :mod:`geardyn.integrate`) imports this package.  :func:`run_batch` advances a batch of
 parameter points of one system structure through ``n_transient + n_record`` forcing periods with
 classic fixed-step RK4 (h = T_f/N, T_f the forcing period, so the stroboscopic samples are exact)
 and serves every analysis: Poincaré points of the full state, streaming statistics per element

@@ -16,7 +16,7 @@ are cut into chunks for the sweep engine.
 from __future__ import annotations
 
 import json
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 import xarray as xr
@@ -24,15 +24,16 @@ import xarray as xr
 from .._docfill import parameters, result_of
 from ..grid import Grid, linspace_values
 from ..io import json_values
-from ..model import GearModel, IntegrationOptions
+from ..model import IntegrationOptions, ModelError
 from ..sweep import DEFAULT_CHUNK_POINTS
 from ..sweep.progress import counts_points
 from .attractors import CLOUD_POINTS, CYCLE_TOL, NONPERIODIC_TOL, identify_attractors
-from .bifurcation import fixed_chunk
+from ..system import element_names, state_names
+from .bifurcation import ELEMENT_VARIABLES, fixed_chunk
 from .classify import MAX_PERIOD
 from .points import result_dataset, run_slices, sweep_function
 
-__all__ = ["basins", "basins_json", "identify_attractors", "CYCLE_TOL", "NONPERIODIC_TOL", "BASIN_OPTIONS"]
+__all__ = ["basins", "basins_json", "coordinate_index", "identify_attractors", "CYCLE_TOL", "NONPERIODIC_TOL", "BASIN_OPTIONS"]
 
 #: Default integration options of a basin map: the usual transient, and just enough recorded
 #: periods to detect periods up to MAX_PERIOD.
@@ -45,30 +46,91 @@ def basin_chunk(model, states, options, settle_periods):
     sweep's progress bar by :func:`~geardyn.analysis.bifurcation.fixed_chunk`)."""
     r = fixed_chunk([model] * len(states), np.asarray(states, dtype=float), options, False, settle_periods)
     keep = min(r["poincare"].shape[1], max(MAX_PERIOD, CLOUD_POINTS))
-    return {k: r[k] for k in ("period", "motion", "impact", "status", "amplitude", "mean", "u_min", "u_max", "lle")} | {
-        "poincare": r["poincare"][:, -keep:, :]}
+    return {k: r[k] for k in ("period", "motion", "impact", "status", "amplitude", "mean", "u_min", "u_max", "lle")
+            + tuple(ELEMENT_VARIABLES) if k in r} | {"poincare": r["poincare"][:, -keep:, :]}
+
+
+def coordinate_index(model: Any, name: str) -> int:
+    """Index in a system's state (q̃, q̃') of a coordinate: a DOF label, ``label'`` (its rate) or an integer.
+
+    Parameters
+    ----------
+    model : System
+        The system whose state is indexed (its DOF ``labels``, if it has them).
+    name : str
+        The coordinate: ``x``, ``x'`` for a DOF label x, or an index into the state.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ModelError
+        For an unknown coordinate.
+    """
+    labels = list(getattr(model, "labels", ()) or ())
+    d = int(model.state_dim)
+    s = str(name).strip()
+    if s in labels:
+        return labels.index(s)
+    if s.endswith("'") and s[:-1] in labels:
+        return d // 2 + labels.index(s[:-1])
+    try:
+        i = int(s)
+    except ValueError:
+        raise ModelError(f"coordinates: unknown coordinate {s!r}; the system's are {', '.join(labels)} and their "
+                         f"rates {', '.join(lab + chr(39) for lab in labels)} (or indices 0..{d - 1})") from None
+    if not 0 <= i < d:
+        raise ModelError(f"coordinates: index {i} out of range 0..{d - 1}")
+    return i
+
+
+def _start_states(model: Any, grid: Grid, coordinates: tuple[int, int] | None,
+                  base_state: Sequence[float] | None) -> np.ndarray | None:
+    """The full initial states of a state grid (None for the pair's (u0, v0), taken straight from the grid)."""
+    if coordinates is None:
+        if model.state_dim == 2:
+            return None
+        return np.array([model.initial_state(float(u), float(v)) for u, v in grid.state_points()])
+    i, j = coordinates
+    if i == j:
+        raise ModelError("coordinates: give two different coordinates for the basin slice")
+    base = model.initial_state() if base_state is None else np.asarray(base_state, dtype=float)
+    pts = grid.state_points()
+    states = np.tile(base, (pts.shape[0], 1))
+    states[:, i], states[:, j] = pts[:, 0], pts[:, 1]
+    return states
 
 
 @sweep_function("basins", options=BASIN_OPTIONS)
 def basins(
-    model: GearModel,
+    model: Any,
     u_range: tuple[float, float],
     v_range: tuple[float, float],
     nu: int,
     nv: int,
     *,
+    coordinates: tuple[int, int] | None = None,
+    base_state: Sequence[float] | None = None,
     options, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Basins of attraction over a grid of initial states (u0, v0) at θ = 0.
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         The parameter set (where attractors coexist, e.g. inside a hysteresis interval).
     u_range, v_range : (float, float)
         Ranges of the initial displacement u0 and velocity v0 (non-dimensional).
     nu, nv : int
         Grid points along u0 and v0.
+    coordinates : (int, int), optional
+        Two state coordinates of a system (:func:`coordinate_index`) that u0 and v0 set, the others those of
+        ``base_state``; default the reference element's (δ, δ') through
+        :meth:`~geardyn.system.System.initial_state` (the pair's (u, u')).
+    base_state : sequence of float, optional
+        The other coordinates with ``coordinates`` (default ``model.initial_state()``).
     options : IntegrationOptions
         Transient (long enough for every start to settle) and recorded periods (at least
         2·MAX_PERIOD to detect periods up to MAX_PERIOD); default :data:`BASIN_OPTIONS`.
@@ -98,7 +160,9 @@ def basins(
     u0 = linspace_values(*u_range, nu, label="u0")
     v0 = linspace_values(*v_range, nv, label="v0")
     grid = Grid.states(u0, v0)
-    rows = run_slices(basin_chunk, lambda sl: (model, grid.state_points(sl), options, settle_periods),
+    full = _start_states(model, grid, coordinates, base_state)
+    rows = run_slices(basin_chunk, lambda sl: (model, grid.state_points(sl) if full is None else full[sl], options,
+                                               settle_periods),
                       grid.slices(engine.points_per_chunk(4 * DEFAULT_CHUNK_POINTS)), engine, "basins")
     labels, atts = identify_attractors(rows)
     shape = grid.shape
@@ -113,6 +177,17 @@ def basins(
     total = float(labels.size)
     data = {"attractor": (dims, labels.reshape(shape))}
     data.update({k: (dims, rows[k].reshape(shape)) for k in ("period", "motion", "impact", "amplitude", "status")})
+    extra: dict[str, Any] = {}
+    for k in ELEMENT_VARIABLES:  # a system's per-element variables
+        if k in rows:
+            data[k] = (dims + ("element",), rows[k].reshape(shape + rows[k].shape[1:]))
+            extra["element"] = element_names(model, rows[k].shape[1])
+    if full is not None:
+        names = state_names(model, model.state_dim)
+        extra_attrs = {"coordinates": [names[c] for c in coordinates] if coordinates is not None
+                       else ["δ (reference element)", "δ' (reference element)"]}
+    else:
+        extra_attrs = {}
     data.update({
         "attractor_period": ("attractor_index", np.array([a["period"] for a in atts], dtype=np.int64)),
         "attractor_motion": ("attractor_index", np.array([a["motion"] for a in atts], dtype=np.int64)),
@@ -121,9 +196,9 @@ def basins(
         "attractor_u": (("attractor_index", "cycle_point"), au),
         "attractor_v": (("attractor_index", "cycle_point"), av),
     })
-    coords = {"v0": v0, "u0": u0, "attractor_index": np.arange(A), "cycle_point": np.arange(width)}
+    coords = {"v0": v0, "u0": u0, "attractor_index": np.arange(A), "cycle_point": np.arange(width), **extra}
     return result_dataset(data, coords, "basins", model, options, settle_periods=int(settle_periods),
-                          diverged=int(np.count_nonzero(labels < 0)))
+                          diverged=int(np.count_nonzero(labels < 0)), **extra_attrs)
 
 
 @parameters(result_of("basins"))
@@ -154,6 +229,7 @@ def basins_json(ds: xr.Dataset) -> dict[str, Any]:
     lab = ds["attractor"].values
     return {
         "omega": float(json.loads(ds.attrs["model"])["omega"]),
+        **({"coordinates": json.loads(ds.attrs["coordinates"])} if "coordinates" in ds.attrs else {}),
         "attractors": atts,
         "diverged_fraction": float(np.count_nonzero(lab < 0) / lab.size),
         "u0": json_values(ds["u0"]),

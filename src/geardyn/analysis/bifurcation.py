@@ -24,13 +24,14 @@ import numpy as np
 import xarray as xr
 
 from .._docfill import parameters, result_of
-from ..grid import Grid, PointModels, build_models, integrate_points, linspace_values, point_models
+from ..grid import Grid, PointModels, build_models, integrate_points, linspace_values, param_name, point_models
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, json_values, result_attrs
-from ..model import GearModel, IntegrationOptions, ModelError, canonical_param
+from ..model import GearModel, IntegrationOptions, ModelError
 from ..params import FAMILIES, slot
 from ..sweep import Chunk, chunk_slices, run_chunks
 from ..sweep.progress import counts_points, tick
+from ..system import element_names, state_names
 from .classify import SETTLE_PERIODS
 from .points import initial_state, run_slices, sweep_function
 from .steady import classify_batch
@@ -68,12 +69,35 @@ _SCALARS = {
 sweep_values = linspace_values
 
 
-def _rows(out: dict[str, np.ndarray], start: np.ndarray, restarted: np.ndarray | None = None) -> dict[str, np.ndarray]:
-    """Chunk result: one row per point (plain arrays only, for checkpoint files)."""
+#: Per-point, per-element variables of a system of several elements (P, elements), with their dtype.
+ELEMENT_VARIABLES = {"element_u_min": float, "element_u_max": float, "element_mean": float, "element_rms": float,
+                     "element_impact": np.int8}
+
+
+def reference_section(models: Sequence[Any], poincare: np.ndarray) -> np.ndarray:
+    """The reference element's (δ, δ') at the Poincaré points (P, n, d) of a batch: (P, n, 2).
+
+    The pair's state is (u, u') itself (its packed points are returned as they are); a system's section
+    points are mapped through each point's :meth:`~geardyn.system.System.element_series`.
+    """
+    if isinstance(models, PointModels):
+        return poincare
+    out = np.empty(poincare.shape[:2] + (2,))
+    for i, m in enumerate(models):
+        out[i] = m.element_series(poincare[i], 0.0)[:, m.reference, :]
+    return out
+
+
+def _rows(out: dict[str, np.ndarray], start: np.ndarray, restarted: np.ndarray | None = None,
+          models: Sequence[Any] | None = None) -> dict[str, np.ndarray]:
+    """Chunk result: one row per point (plain arrays only, for checkpoint files); the Poincaré points are the
+    reference element's (δ, δ'), the start and end states the full states."""
     n = out["period"].shape[0]
     r = {k: np.asarray(out[k], dtype=t) for k, t in _SCALARS.items() if k in out}
+    r.update({k: np.asarray(out[k], dtype=t) for k, t in ELEMENT_VARIABLES.items() if k in out})
     r["restarted"] = np.zeros(n, np.int64) if restarted is None else restarted.astype(np.int64)
-    r["poincare"] = np.asarray(out["poincare"], dtype=float)
+    pc = np.asarray(out["poincare"], dtype=float)
+    r["poincare"] = pc if models is None else reference_section(models, pc)
     r["start"] = np.asarray(start, dtype=float).reshape(n, -1)
     r["end"] = np.asarray(out["end_state"], dtype=float)
     return r
@@ -111,7 +135,7 @@ def fixed_chunk(
     models = models if isinstance(models, PointModels) else list(models)
     s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), models[0].state_dim)).copy()
     res = integrate_points(models, s0, options, lyapunov=lyapunov)
-    out = _rows(classify_batch(res, settle_periods=settle_periods), s0)
+    out = _rows(classify_batch(res, settle_periods=settle_periods), s0, models=models)
     tick(len(models))
     return out
 
@@ -161,7 +185,7 @@ def continuation_chunk(
         state = out["end_state"][0].copy() if out["status"][0] == ST_OK else np.full(d, np.nan)
         tick(1)
     merged = {k: np.concatenate([r[k] for r in rows], axis=0) for k in rows[0]}
-    return _rows(merged, starts, restarted)
+    return _rows(merged, starts, restarted, models)
 
 
 @counts_points(lambda args: len(args[2]))
@@ -208,6 +232,8 @@ def grid_chunk(
 
 def param_symbol(name: str) -> str:
     """The symbol of a canonical parameter name for labels (``"omega"`` → ``"ω"``, ``"kappa2"`` → ``"κ2"``)."""
+    if "." in name:  # an element's parameter of a system: its name
+        return name
     fam, idx = slot(name)
     sym = FAMILIES[fam].symbol
     return sym.replace("_{k}", "{k}").replace("{k}", str(idx + 1)) if idx is not None else sym
@@ -271,7 +297,7 @@ def bifurcation(
     R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010 (brute-force
     bifurcation diagrams and natural-parameter continuation of attractors).
     """
-    name = canonical_param(param)
+    name = param_name(param)
     if mode not in MODES:
         raise ModelError(f"mode: must be one of {', '.join(MODES)}, got {mode!r}")
     if sweep not in SWEEPS:
@@ -295,13 +321,14 @@ def bifurcation(
                   for i, lab in enumerate(labels)]
         results = run_chunks(chunks, engine, description=label)
         per_sweep = [r if lab == "up" else {k: v[::-1] for k, v in r.items()} for lab, r in zip(labels, results)]
-    ds = points_dataset(name, vals, labels, per_sweep)
+    ds = points_dataset(name, vals, labels, per_sweep, model)
     ds.attrs.update(result_attrs("bifurcation", model, options, param=name, mode=mode, sweep=sweep,
                                  state0=list(s0t), lyapunov=bool(lyapunov), settle_periods=int(settle_periods)))
     return ds
 
 
-def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_sweep: Sequence[dict[str, np.ndarray]]) -> xr.Dataset:
+def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_sweep: Sequence[dict[str, np.ndarray]],
+                   model: Any = None) -> xr.Dataset:
     """Assemble per-sweep row dicts (ascending ``values``) into the bifurcation Dataset.
 
     Parameters
@@ -314,6 +341,8 @@ def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_swe
         The sweep labels (``fixed``, or ``up``/``down``).
     per_sweep : sequence of dict of ndarray
         The rows of each sweep (chunk results joined), in the order of ``values``.
+    model : System, optional
+        The base model: names the ``element`` and ``state`` coordinates of a system.
 
     Returns
     -------
@@ -332,12 +361,21 @@ def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_swe
     pc = stack("poincare")
     data["poincare_u"] = (dims + ("section",), pc[..., 0])
     data["poincare_v"] = (dims + ("section",), pc[..., 1])
+    coords: dict[str, Any] = {"sweep": list(labels), name: np.asarray(values, float), "section": np.arange(pc.shape[2])}
     st, en = stack("start"), stack("end")
-    data.update(start_u=(dims, st[..., 0]), start_v=(dims, st[..., 1]), end_u=(dims, en[..., 0]),
-                end_v=(dims, en[..., 1]))
-    ds = xr.Dataset(data, coords={"sweep": list(labels), name: np.asarray(values, float),
-                                  "section": np.arange(pc.shape[2])})
+    if st.shape[-1] == 2:  # the pair: (u, u')
+        data.update(start_u=(dims, st[..., 0]), start_v=(dims, st[..., 1]), end_u=(dims, en[..., 0]),
+                    end_v=(dims, en[..., 1]))
+    else:  # a system: the full states
+        data.update(start_state=(dims + ("state",), st), end_state=(dims + ("state",), en))
+        coords["state"] = state_names(model, st.shape[-1])
+    for k in ELEMENT_VARIABLES:
+        if k in per_sweep[0]:
+            data[k] = (dims + ("element",), stack(k))
+            coords["element"] = element_names(model, data[k][1].shape[-1])
+    ds = xr.Dataset(data, coords=coords)
     return annotate(ds)
+
 
 
 def point_labels(ds: xr.Dataset, sweep: str) -> dict[str, list[Any]]:

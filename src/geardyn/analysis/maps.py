@@ -17,9 +17,11 @@ import xarray as xr
 from .._docfill import parameters, result_of
 from ..grid import Grid, build_models
 from ..io import json_values
-from ..model import GearModel, ModelError, canonical_param
+from ..grid import param_name
+from ..model import ModelError
 from ..sweep import chunk_slices
-from .bifurcation import MODES, grid_chunk
+from ..system import element_names
+from .bifurcation import ELEMENT_VARIABLES, MODES, grid_chunk
 from .classify import MOTION_LABELS
 from .points import initial_state, result_dataset, run_slices, sweep_function
 
@@ -28,11 +30,13 @@ __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
 #: Per-point variables kept in a map (Poincaré points are not kept: a map can hold 10⁶ points).
 MAP_VARIABLES = ("period", "motion", "impact", "status", "loops", "amplitude", "rms", "mean", "u_min", "u_max",
                  "fraction_separation", "fraction_back", "lle", "lle_err", "lambda2")
+#: What a map keeps of each point: :data:`MAP_VARIABLES` and, for a system of several elements, its per-element ones.
+_KEEP = MAP_VARIABLES + tuple(ELEMENT_VARIABLES)
 
 
 @sweep_function("parameter_map")
 def parameter_map(
-    model: GearModel,
+    model: Any,
     x_param: str,
     x_values: Sequence[float],
     y_param: str,
@@ -45,7 +49,7 @@ def parameter_map(
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         Base model; ``x_param`` and ``y_param`` are set at each grid point.
     x_param, y_param : str
         Two different parameter names (see :data:`geardyn.model.PARAMETER_HELP`).
@@ -69,7 +73,7 @@ def parameter_map(
     TypeError
         For a keyword that is not an engine option.
     """
-    xn, yn = canonical_param(x_param), canonical_param(y_param)
+    xn, yn = param_name(x_param), param_name(y_param)
     if xn == yn:
         raise ModelError(f"map: x and y must be different parameters, got {xn!r} twice")
     if mode not in MODES:
@@ -90,13 +94,19 @@ def parameter_map(
     common = (s0t, options, lyapunov, settle_periods)
     description = f"map {yn} × {xn}"
     if mode == "fixed":
-        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (False, MAP_VARIABLES),
+        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (False, _KEEP),
                          chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine, description)
     else:  # one continuation row per chunk, x increasing
-        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (True, MAP_VARIABLES),
+        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (True, _KEEP),
                          grid.slices(xv.size), engine, description)
     shape = (yv.size, xv.size)
-    return result_dataset({k: ((yn, xn), v.reshape(shape)) for k, v in cat.items()}, {yn: yv, xn: xv}, "map",
+    coords: dict[str, Any] = {yn: yv, xn: xv}
+    data = {}
+    for k, v in cat.items():  # a system's per-element variables over the element dimension
+        data[k] = ((yn, xn, "element"), v.reshape(shape + v.shape[1:])) if v.ndim > 1 else ((yn, xn), v.reshape(shape))
+        if v.ndim > 1:
+            coords["element"] = element_names(model, v.shape[1])
+    return result_dataset(data, coords, "map",
                           model, options, x=xn, y=yn, mode=mode, state0=list(s0t), lyapunov=bool(lyapunov),
                           settle_periods=int(settle_periods))
 

@@ -149,10 +149,11 @@ def initial_state(model: GearModel, state0: Sequence[float] | np.ndarray) -> tup
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         The base model (its ``state_dim`` is the length the state must have).
     state0 : sequence of float
-        The initial state at θ = 0.
+        The initial state at θ = 0: the full state, or (u0, v0) of a system's reference element
+        (:meth:`~geardyn.system.System.initial_state`).
 
     Returns
     -------
@@ -166,7 +167,10 @@ def initial_state(model: GearModel, state0: Sequence[float] | np.ndarray) -> tup
     ValueError
         If the state does not have ``model.state_dim`` components.
     """
-    s0 = np.asarray(state0, dtype=float).reshape(model.state_dim)
+    s0 = np.asarray(state0, dtype=float)
+    if s0.shape == (2,) and model.state_dim != 2:  # (u0, v0) of a system's reference element
+        s0 = model.initial_state(float(s0[0]), float(s0[1]))
+    s0 = s0.reshape(model.state_dim)
     if not np.all(np.isfinite(s0)):
         raise ModelError("initial state (u0, v0): must be finite")
     return tuple(float(x) for x in s0)

@@ -63,13 +63,15 @@ def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
     -------
     dict of ndarray
         ``period`` (:func:`~geardyn.analysis.classify.detect_period`, -1 where not ok), ``impact``,
-        ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, the three contact fractions, ``status``.
+        ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, the three contact fractions, ``status`` (all of
+        the reference element); for a system of several elements also ``element_u_min``, ``element_u_max``,
+        ``element_mean``, ``element_rms`` and ``element_impact`` (P, elements).
     """
     period = np.where(res.status == ST_OK, detect_periods(res.poincare), -1).astype(np.int64)
     u_min = res.u_min
     impact = impact_states(u_min, _periods_gaps(res.models)[1])
     fr = res.contact_fractions
-    return {
+    out = {
         "period": period,
         "impact": impact,
         "amplitude": res.amplitude,
@@ -82,6 +84,12 @@ def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
         "fraction_back": fr[:, 2],
         "status": res.status.astype(np.int64),
     }
+    if res.stats.shape[1] > 1:  # every element of a system with several
+        lo = res.element_u_min()
+        gaps = np.array([[e.gap for e in m.elements] for m in res.models], dtype=float)
+        out.update(element_u_min=lo, element_u_max=res.element_u_max(), element_mean=res.element_mean(),
+                   element_rms=res.element_rms(), element_impact=impact_states(lo, gaps))
+    return out
 
 
 def classify_batch(
@@ -255,23 +263,34 @@ class SteadyState:
     def to_dataset(self) -> xr.Dataset:
         """Time history (last periods), Poincaré points and spectrum with the model and options as attributes."""
         t = self.traj
-        order, spec = amplitude_spectrum(t.u, t.history_periods * (self.model.period_multiple() or 1))
+        m = self.model
+        order, spec = amplitude_spectrum(t.u, t.history_periods * (m.period_multiple() or 1))
         pc = self.poincare
+        sec = m.element_series(pc, 0.0)[:, m.reference, :]  # the reference element's (δ, δ') (the pair's (u, u'))
+        data: dict[str, Any] = {
+            "u": ("tau", t.u),
+            "v": ("tau", t.v),
+            "poincare_u": ("section", sec[:, 0]),
+            "poincare_v": ("section", sec[:, 1]),
+            "spectrum": ("order", spec),
+        }
+        coords: dict[str, Any] = {"tau": t.tau, "section": np.arange(pc.shape[0]), "order": order}
+        if pc.shape[1] != 2 or t.deltas.shape[1] > 1:  # a system: every element's δ, δ' and the full states
+            from ..system import state_names
+
+            data.update(delta=(("tau", "element"), t.deltas[:, :, 0]), delta_rate=(("tau", "element"), t.deltas[:, :, 1]),
+                        poincare=(("section", "state"), pc))
+            coords.update(element=[e.name for e in m.elements], state=state_names(m, pc.shape[1]))
         ds = xr.Dataset(
-            {
-                "u": ("tau", t.u),
-                "v": ("tau", t.v),
-                "poincare_u": ("section", pc[:, 0]),
-                "poincare_v": ("section", pc[:, 1]),
-                "spectrum": ("order", spec),
-            },
-            coords={"tau": t.tau, "section": np.arange(pc.shape[0]), "order": order},
+            data,
+            coords=coords,
             attrs=result_attrs(
                 "simulate", self.model, self.options, state0=list(self.state0), summary=_jsonable(self.summary),
                 history_periods=str(t.history_periods),
             ),
         )
-        return annotate(ds, names=["section"])
+        return annotate(ds, names=[n for n in ("section", "element", "state", "delta", "delta_rate", "poincare")
+                                   if n in ds.variables])
 
 
 def _jsonable(d: dict[str, Any]) -> dict[str, Any]:

@@ -41,7 +41,7 @@ def system_model(path: Optional[Path], inp: Inputs) -> Any:
     """
     if path is None:
         return inp.model()
-    from .system_option import load_cli_system
+    from .system_input import load_cli_system
 
     return load_cli_system(dict(inp.values, system=path))
 
@@ -213,11 +213,10 @@ def _hb_system(inp: Inputs, s: Any, rng: tuple[str, float, float], H: int, n: in
     _check_result(res, start_v)
     summary = res.to_json()
     if compare_shooting:
-        from ..analysis.systems_continuation import system_continuation
+        from ..analysis.periodic import continuation
 
         opts = validate.options(inp.dtau, 0, 1, inp.accurate, [])
-        sres = system_continuation(s, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate,
-                                   state0=inp.state0())
+        sres = continuation(s, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0())
         summary["shooting"] = {"bifurcations": sres.to_json()["bifurcations"], "dtau": opts.dtau,
                                "accurate": opts.accurate}
     paths: list[str] = []

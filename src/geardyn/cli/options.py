@@ -210,10 +210,6 @@ def pair_scales(config: Optional[Path]):
     ----------
     config : Path, optional
         Configuration file.
-
-    Returns
-    -------
-    PhysicalScales
     """
     from ..units import PhysicalScales, configured_pair
 
@@ -283,18 +279,14 @@ class Inputs:
         except KeyError:
             raise AttributeError(name) from None
 
-    def model(self, **fixed: Optional[float]) -> GearModel:
-        """The model of ``--config`` with the model options and the operating point applied.
+    def model(self, **fixed: Optional[float]) -> Any:
+        """The model of ``--config`` (or the system of ``--system``, the model options on its reference mesh) with
+        the model options and the operating point applied: a System.
 
         Parameters
         ----------
         **fixed : float or None
             Model options set by the command itself (keywords of :func:`build_model`), over the given ones.
-
-        Returns
-        -------
-        GearModel
-            The configured model with the command's options over it.
 
         Raises
         ------
@@ -302,13 +294,21 @@ class Inputs:
             For an invalid value or a conflicting ``--rpm`` / ``--torque``.
         """
         v = self.values
+        if v.get("system") is not None:  # the system of the file, the options applied to its reference mesh
+            from .system_input import load_cli_system
+
+            return load_cli_system({**v, **{k: x for k, x in fixed.items() if x is not None}})
         dests = {o.dest for o in params.cli_options()}
         given = {k: v.get(k) for k in dests}
         given.update(fixed)
         return build_model(v.get("config"), rpm=v.get("rpm"), torque=v.get("torque"), excitation=v.get("excitation"), **given)
 
     def scales(self):
-        """The physical scales of the configured gear pair."""
+        """The physical scales of the configured gear pair (of a system's reference mesh with ``--system``)."""
+        if self.values.get("system") is not None:
+            from ..systems.report import physical_scales
+
+            return physical_scales(self.model())
         return pair_scales(self.values.get("config"))
 
     def options(self, omega: float | None = None, *, periods: int | None = None, omegas: Any = (),
@@ -355,10 +355,8 @@ class Inputs:
 
         Parameters
         ----------
-        model : GearModel
-            The model (its mean damping ξ0).
+        model : System
         omegas : sequence of float
-            The forcing frequencies of the run.
 
         Raises
         ------
@@ -369,7 +367,7 @@ class Inputs:
 
         import numpy as np
 
-        xi = float(model.xi0)  # the mean damping: the harmonics average out over a period
+        xi = -float(model.mean_trace()) / model.state_dim  # the mean damping (the pair's ξ0): harmonics average out
         ws = np.asarray(omegas, dtype=float).ravel()
         if xi <= 0 or not ws.size:
             return
@@ -387,14 +385,14 @@ class Inputs:
         model option given for the same parameter is refused (:meth:`not_swept`).
         """
         from .. import validate
-        from ..model import canonical_param
+        from ..grid import param_name
 
         if param is None and (self.values.get("rpm_start") is not None or self.values.get("rpm_stop") is not None):
             param = "omega"
         if param is None:
             raise ModelError(f"param: give the {what} parameter (--param), or a pinion-speed range "
                              f"(--rpm-start/--rpm-stop)")
-        name = canonical_param(param)
+        name = param_name(param)
         self.not_swept(name)
         start, stop = sweep_range(self, start, stop, name)
         if start is None or stop is None:
@@ -544,6 +542,10 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
         summary["files"] = paths
         emit_json(summary)
         return
+    if "meshes" in summary:  # a system: its meshes first
+        from .render import meshes
+
+        meshes(summary)
     show(summary, paths, *extra)
 
 
@@ -654,7 +656,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         hints = typing.get_type_hints(fn, include_extras=True)
-        from .system_option import SYSTEM, SYSTEM_COMMANDS
+        from .system_input import SYSTEM, SYSTEM_COMMANDS
         groups_ = groups + ((SYSTEM,) if name in SYSTEM_COMMANDS else ())
         own = [p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)
                for p in list(inspect.signature(fn).parameters.values())[1:]]
@@ -680,10 +682,6 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
             with np.errstate(all="ignore"), warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
                 try:
-                    if inp.values.get("system") is not None:
-                        from .system_option import run_system
-
-                        return run_system(name, inp.values, kw)
                     return fn(inp, **kw)
                 except GeardynError as e:
                     if is_stop(e):

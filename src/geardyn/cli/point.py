@@ -13,23 +13,33 @@ from .options import (MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inp
                       option)
 
 PeriodOpt = Annotated[int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
-GuessOpt = Annotated[Optional[str], typer.Option("--guess", help="Shooting guess 'u,v' at θ = 0 (default: the state reached by simulating --transient periods from --u0, --v0).")]
+GuessOpt = Annotated[Optional[str], typer.Option("--guess", help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state reached by simulating --transient periods from --u0, --v0).")]
 #: Points of the brute-force up/down sweep drawn under a continuation figure, and its recorded periods.
 CONTINUATION_SWEEP_NUM = 101
 CONTINUATION_SWEEP_PERIODS = 32
 
 
-def parse_guess(text: Optional[str]) -> Optional[tuple[float, float]]:
-    """'u,v' → (u, v); None when not given."""
+def parse_guess(text: Optional[str], d: int = 2) -> Optional[tuple[float, ...]]:
+    """'u,v' → (u, v) (a system's d state values); None when not given."""
     if text is None:
         return None
     try:
         vals = tuple(float(p) for p in text.split(","))
     except ValueError:
         vals = ()
-    if len(vals) != 2 or not all(abs(v) < float("inf") for v in vals):
-        raise ModelError(f"guess: expected two finite numbers 'u,v', got {text!r}")
-    return vals  # type: ignore[return-value]
+    if len(vals) != d or not all(abs(v) < float("inf") for v in vals):
+        what = "two finite numbers 'u,v'" if d == 2 else f"{d} finite numbers (q̃, q̃') separated by commas"
+        raise ModelError(f"guess: expected {what}, got {text!r}")
+    return vals
+
+
+def _system(inp: Inputs, model, summary: dict, **kw) -> dict:
+    """What a system's summary adds (``meshes``; :func:`geardyn.cli.system_input.mesh_summary`); the pair's as it is."""
+    if inp.system is None:
+        return summary
+    from .system_input import mesh_summary
+
+    return mesh_summary(model, summary, state0=inp.state0(), **kw)
 
 
 @command("simulate", MODEL, STATE, integration(), OUTPUT)
@@ -44,7 +54,10 @@ def simulate(inp: Inputs) -> None:
     opts = inp.options(model.omega)
     res = run_simulate(model, opts, inp.state0())
     summary = res.to_json()
-    if inp.out is None:  # nothing to write: the same summary without building the Dataset
+    if inp.system is not None:  # a system: the reference mesh's physical values and every mesh's
+        summary = {**_system(inp, model, summary), **inp.scales().operating_point(model)}
+        paths = inp.write(res.to_dataset(), "simulate") if inp.out is not None else []
+    elif inp.out is None:  # nothing to write: the same summary without building the Dataset
         paths: list[str] = []
         summary.update(steady_physical(res, inp.scales()))
     else:
@@ -80,9 +93,10 @@ def lyapunov(
     from ..sweep.progress import task_progress
 
     with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
-        res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar)
+        # a system's tangent basis is not continued between blocks: its spectrum in one integration
+        res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar if inp.system is None else None)
     paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []
-    finish(physical_json(res.to_json(), model, scales), paths, inp, render.lyapunov)
+    finish(_system(inp, model, physical_json(res.to_json(), model, scales)), paths, inp, render.lyapunov)
 
 
 @command("orbit", MODEL, STATE, integration(periods=None), OUTPUT)
@@ -97,12 +111,12 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
     scales = inp.scales()
     opts = inp.options(model.omega, periods=1)
     n = validate.integer("period", period, 1, 1024)
-    g = parse_guess(guess)
+    g = parse_guess(guess, model.state_dim)
     res = shoot(model, n, g, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0(), transient=opts.transient)
     paths: list[str] = []
     if inp.out is not None:
         paths = inp.write(add_physical(res.to_dataset(), scales), "orbit")
-    finish(physical_json(res.to_json(), model, scales), paths, inp, render.orbit)
+    finish(_system(inp, model, physical_json(res.to_json(), model, scales)), paths, inp, render.orbit)
 
 
 CONTINUATION_RUN = integration(periods=None, accurate=option(
@@ -143,7 +157,7 @@ def continuation(
     nsw = validate.integer("sweep-num", sweep_num, 0, 100_000)
     if ds_max is not None:
         validate.positive("ds-max", ds_max)
-    g = parse_guess(guess)
+    g = parse_guess(guess, model.state_dim)
     state0 = inp.state0()
     from ..analysis.bifurcation import param_symbol
     from ..sweep.progress import task_progress
@@ -175,4 +189,5 @@ def continuation(
         if sweep_ds is not None:
             paths.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
         paths += [str(p) for p in save_figures(ds, figdir)]
-    finish(physical_json(res.to_json(), model, scales, param=name), paths, inp, render.continuation)
+    finish(_system(inp, model, physical_json(res.to_json(), model, scales, param=name), result=res), paths, inp,
+           render.continuation)

@@ -11,7 +11,7 @@ from rich.table import Table
 from .._docfill import PATHS, SUMMARY, parameters
 from .app import console
 
-__all__ = ["continuation", "files", "intervals", "orbit", "simulate"]
+__all__ = ["continuation", "files", "intervals", "meshes", "orbit", "simulate"]
 
 
 _summary_doc = parameters(SUMMARY, PATHS)
@@ -19,6 +19,63 @@ _summary_doc = parameters(SUMMARY, PATHS)
 
 def _num(x: Any) -> str:
     return "n/a" if x is None else f"{x:.6g}"
+
+
+def _flat(x: Any) -> list[Any]:
+    """The scalars of a summary entry: a value, or the values of its (nested) lists and dicts."""
+    if isinstance(x, dict):
+        return [v for y in x.values() for v in _flat(y)]
+    if isinstance(x, (list, tuple)):
+        return [v for y in x for v in _flat(y)]
+    return [x]
+
+
+def _cell(x: Any) -> str:
+    """One table cell: a number, the range of a sweep's numbers, or the count of each of its labels."""
+    from collections import Counter
+
+    vals = [v for v in _flat(x) if v is not None]
+    if not vals:
+        return "n/a"
+    if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in vals):
+        finite = [float(v) for v in vals if np.isfinite(v)]
+        if not finite:
+            return "n/a"
+        lo, hi = min(finite), max(finite)
+        return f"{lo:.6g}" if lo == hi else f"{lo:.6g} … {hi:.6g}"
+    if len(vals) == 1:
+        return str(vals[0])
+    return ", ".join(f"{k} ×{n}" for k, n in Counter(str(v) for v in vals).most_common())
+
+
+#: Columns of the per-mesh table of a system: summary key, header (the units of the pair's tables).
+MESH_COLUMNS = (("backlash_um", "half backlash D (µm)"), ("dte_min_um", "DTE min (µm)"), ("dte_max_um", "DTE max (µm)"),
+                ("dte_amplitude_um", "DTE half peak-to-peak (µm)"), ("amplitude", "amplitude δ"), ("impact", "impact"),
+                ("mesh_force_max_N", "max mesh force (N)"), ("static_force_N", "static force (N)"),
+                ("dynamic_factor", "dynamic factor"))
+
+
+def meshes(s: dict[str, Any]) -> None:
+    """The meshes of a system's result: each mesh's half backlash, DTE (µm), impact state, forces (N) and dynamic
+    factor, over the points of a sweep their range (columns a command does not compute are left out).
+
+    Parameters
+    ----------
+    s : dict
+        A command's summary with its ``meshes`` entries.
+    """
+    rows = s.get("meshes") or []
+    cols = [(k, h) for k, h in MESH_COLUMNS if any(k in m and any(v is not None for v in _flat(m[k])) for m in rows)]
+    t = Table(title=f"{len(rows)} mesh(es) of the system" + (f", reference mesh {s['reference_mesh']}"
+                                                            if s.get("reference_mesh") else ""))
+    t.add_column("mesh")  # one row per quantity, one column per mesh (a sweep: the range over its points)
+    for m in rows:
+        t.add_column(m["name"])
+    for k, h in cols:
+        t.add_row(h, *(_cell(m.get(k)) for m in rows))
+    console.print(t)
+    if s.get("note"):
+        console.print(f"note: {s['note']}", markup=False, highlight=False)
 
 
 def files(paths: list[str]) -> None:
@@ -54,7 +111,8 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
                        ("mesh_force_max_N", "max dynamic mesh force (N)"), ("mesh_force_min_N", "min dynamic mesh force (N)"),
                        ("dynamic_factor", "dynamic factor (max force / F_p)"), ("dte_rms_um", "DTE RMS about mean (µm)"),
                        ("dte_amplitude_um", "DTE half peak-to-peak (µm)"), ("backlash_um", "half backlash (µm)")):
-            t.add_row(lab, _num(s[k]))
+            if k in s:
+                t.add_row(lab, _num(s[k]))
         peaks = s.get("spectrum_peaks") or []
         t.add_row("largest spectral lines (order, Hz, µm)",
                   "\n".join(f"{p['order']:g}, {p['frequency_Hz']:.6g}, {p['amplitude_um']:.4g}" for p in peaks))
@@ -132,9 +190,13 @@ def lyapunov(s: dict[str, Any], paths: list[str]) -> None:
         return "n/a" if x is None else f"{x:+.6f}"
 
     console.print(f"Lyapunov exponents at ω = {s['omega']:g} over {s['periods']} periods (per unit τ, ± one standard error):")
-    for i in range(2):
+    n = len(s["exponents"])
+    for i in range(n):
         console.print(f"  λ{i + 1} = {fmt(s['exponents'][i])} ± {s['uncertainty'][i] or float('nan'):.2e}")
-    console.print(f"  λ1 + λ2 = {fmt(s['sum'])}   (−2ξ0 = {s['expected_sum']:+.6f})")
+    if n == 2:
+        console.print(f"  λ1 + λ2 = {fmt(s['sum'])}   (−2ξ0 = {s['expected_sum']:+.6f})")
+    else:  # a system: the sum equals the mean trace of the Jacobian
+        console.print(f"  λ1 + … + λ{n} = {fmt(s['sum'])}   (mean trace of the Jacobian = {s['expected_sum']:+.6f})")
     console.print(f"  motion: {s['motion']}")
     files(paths)
 
@@ -172,6 +234,10 @@ def response(s: dict[str, Any], paths: list[str]) -> None:
     hy = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["hysteresis"]) or "none"
     hy_rpm = ", ".join(f"[{a:.1f}, {b:.1f}]" for a, b in s.get("hysteresis_rpm", [])) or "none"
     console.print(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}", markup=False, highlight=False)
+    if s.get("coexistence"):
+        co = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["coexistence"])
+        console.print(f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}",
+                      markup=False, highlight=False)
     console.print(f"gear pair: {s['physical']['pair']}", markup=False, highlight=False)
     files(paths)
 

@@ -25,6 +25,15 @@ def _sweep_json(inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine
     finish(summary, inp.write(ds, stem, engine), inp, show, *extra)
 
 
+def _system(inp: Inputs, model: Any, summary: dict[str, Any], ds: Any) -> dict[str, Any]:
+    """A system's summary with its ``meshes`` (:func:`geardyn.cli.system_input.mesh_summary`); the pair's as it is."""
+    if inp.system is None:
+        return summary
+    from .system_input import mesh_summary
+
+    return mesh_summary(model, summary, ds, state0=(inp.values.get("u0") or 0.0, inp.values.get("v0") or 0.0))
+
+
 @command("bifurcation", RPM_RANGE, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
 def bifurcation(
     inp: Inputs,
@@ -64,8 +73,8 @@ def bifurcation(
     ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=inp.state0(), options=opts,
                          lyapunov=lyap, settle_periods=nset, chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size), **engine)
     ds = add_physical(ds, scales)
-    _sweep_json(inp, physical_json(bifurcation_json(ds), model, scales, param=name), ds, "bifurcation", engine,
-                render.intervals)
+    summary = _system(inp, model, physical_json(bifurcation_json(ds), model, scales, param=name), ds)
+    _sweep_json(inp, summary, ds, "bifurcation", engine, render.intervals)
 
 
 RESPONSE_RANGE = [
@@ -108,14 +117,19 @@ def response(
         from ..analysis.hb import hb_response
 
         ds = hb_response(model, float(values[0]), float(values[-1]), values.size, measure=measure,
-                         progress=not inp.json_out)
+                         progress=not inp.json_out,
+                         **({"state0": inp.state0()} if inp.system is not None else {}))
     else:
         ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
                                 state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)
     ds = add_physical(ds, scales)
-    from .engineering import attach_iso_kv  # the ISO K_v-B curve beside the response, when the pair has its inputs
+    summary = physical_json(response_json(ds), model, scales, param="omega")
+    if inp.system is None:
+        from .engineering import attach_iso_kv  # the ISO K_v-B curve beside the response, when the pair has its inputs
 
-    ds, summary = attach_iso_kv(inp.config, model, ds, physical_json(response_json(ds), model, scales, param="omega"))
+        ds, summary = attach_iso_kv(inp.config, model, ds, summary)
+    elif method == "sweep":
+        summary = _system(inp, model, summary, ds)
     _sweep_json(inp, summary, ds, "response", engine, render.response)
 
 
@@ -146,7 +160,7 @@ def parameter_map(
     from ..analysis.bifurcation import MODES
     from ..analysis.maps import map_json, parameter_map as run_map
     from ..analysis.physical import add_physical, physical_json
-    from ..model import canonical_param
+    from ..grid import param_name as canonical_param
 
     model = inp.model()
     scales = inp.scales()
@@ -186,7 +200,7 @@ def parameter_map(
                  settle_periods=nset, chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
                  **engine)
     ds = add_physical(ds, scales, lazy=True)
-    summary = physical_json(map_json(ds), model, scales) if inp.json_out else _map_counts(ds)
+    summary = _system(inp, model, physical_json(map_json(ds), model, scales) if inp.json_out else _map_counts(ds), ds)
     finish(summary, inp.write(ds, "map", engine, release=True), inp, render.parameter_map)
 
 
@@ -232,7 +246,13 @@ def basins(
     opts = inp.options(model.omega, points=n_u * n_v)
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("basins")
-    ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, options=opts, settle_periods=nset,
-                    chunk_points=validate.chunk_points(chunk_size), **engine)
+    c = None
+    if inp.system is not None:  # a slice of two state coordinates (default the reference mesh's δ, δ')
+        from .system_input import coordinates
+
+        c = coordinates(model, inp.coords, 2)
+    ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, coordinates=None if c is None else (c[0], c[1]),
+                    options=opts, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
     ds = add_physical(ds, scales)
-    _sweep_json(inp, physical_json(basins_json(ds), model, scales), ds, "basins", engine, render.basins, n_u, n_v)
+    summary = _system(inp, model, physical_json(basins_json(ds), model, scales), ds)
+    _sweep_json(inp, summary, ds, "basins", engine, render.basins, n_u, n_v)

@@ -355,14 +355,30 @@ def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), 
         The title.
     """
     params = parameter_text(ds, exclude)
+    info = system_info(ds)
+    if info:  # a system's figure says which mesh the reference variables are
+        where = f"{info.get('title') or 'system'}: reference mesh {info.get('reference_mesh')}"
+        params = f"{where}; {params}" if params else where
     size = {} if fontsize is None else {"fontsize": fontsize}
     return ax.set_title(f"{text}\n{params}" if params else text, **size)
+
+
+def system_info(ds: xr.Dataset) -> dict:
+    """The ``system`` attribute of a system's result (title, meshes, reference mesh, scales), ``{}`` for the pair."""
+    try:
+        return dict(json.loads(ds.attrs["system"]))
+    except (KeyError, ValueError, TypeError):
+        return {}
 
 
 def rpm_per_omega(ds: xr.Dataset) -> float | None:
     """Pinion speed (rpm) per unit ω of the gear pair stored with a result, or ``None`` without a physical pair."""
     from ..geometry.scales import PhysicalScales
 
+    info = system_info(ds)
+    if info:  # a system: its reference pinion's teeth and ω_n
+        teeth, wn = info.get("teeth"), info.get("omega_n")
+        return float(wn) * 60.0 / (2.0 * np.pi * float(teeth)) if teeth and wn else None
     try:
         sc = PhysicalScales.from_attrs(ds.attrs)
     except (GeardynError, ValueError, KeyError, TypeError):

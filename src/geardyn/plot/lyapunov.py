@@ -34,7 +34,7 @@ def convergence(ds: xr.Dataset, ax: Any = None) -> None:
         a.set_ylabel(f"λ{i + 1} [1/τ]")
         a.set_xscale("log")
     m = model_of(ds)
-    if np.isfinite(lam[0]) and axes[1] is not None:
+    if np.isfinite(lam[0]) and axes[1] is not None and "xi0" in m:  # the pair's λ1 + λ2 = −2ξ0
         axes[1].axhline(-2 * m["xi0"] - lam[0], color="C3", lw=0.7, ls="--", label="−2ξ0 − λ1")
         axes[1].legend(fontsize=8)
     [a for a in axes if a is not None][-1].set_xlabel("recorded forcing periods")

@@ -166,8 +166,9 @@ def response_rpm(ds: xr.Dataset, ax: Axes = None) -> None:
     hy = json.loads(ds.attrs.get("hysteresis_rpm", "[]"))
     jumps = [(j["rpm"], j["amplitude_from_um"], j["amplitude_to_um"], j["sweep"], f"{j['rpm']:.0f} rpm")
              for j in json.loads(ds.attrs.get("jumps_physical", "[]"))]
-    draw_response(ax, rpm, da, hy, jumps, min_width=1e-3 * float(np.ptp(rpm)))
     scale = float(rpm[-1] / w[-1])
+    co = [[a * scale, b * scale] for a, b in json.loads(ds.attrs.get("coexistence", "[]"))]
+    draw_response(ax, rpm, da, hy, jumps, min_width=1e-3 * float(np.ptp(rpm)), coexistence=co)
     ax.set_xlabel(label(ds["rpm"]))
     ax.set_ylabel(label(da))
     sec = ax.secondary_xaxis("top", functions=(lambda r: r / scale, lambda x: x * scale))
@@ -175,5 +176,6 @@ def response_rpm(ds: xr.Dataset, ax: Axes = None) -> None:
     sc = json.loads(ds.attrs.get("physical_scales", "{}"))
     k0 = sc.get("k0_N_per_m")
     k0_text = f" (k0 = {k0 * 1e-6:.4g} N/µm{', assumed' if 'k0' in sc.get('assumed', []) else ''})" if k0 else ""
-    set_title(ax, "Frequency response against pinion speed" + k0_text + ("; grey: hysteresis" if hy else ""), ds,
+    set_title(ax, "Frequency response against pinion speed" + k0_text + ("; grey: hysteresis" if hy else "")
+              + ("; hatched: coexisting attractors" if co else ""), ds,
               exclude=["omega"], fontsize=10)

@@ -10,7 +10,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import label, place_labels, plot_function, set_title, symbol
+from .common import label, place_labels, plot_function, rpm_axis, set_title, symbol, system_info
 
 __all__ = ["SWEEP_STYLE", "draw_response", "response"]
 
@@ -19,7 +19,8 @@ SWEEP_STYLE = {"up": ("^", "C0"), "down": ("v", "C3")}
 
 
 def draw_response(ax: Axes, x: np.ndarray, da: xr.DataArray, hysteresis: Sequence[Sequence[float]],
-                  jumps: Sequence[tuple[float, float, float, str, str]], min_width: float = 0.0) -> None:
+                  jumps: Sequence[tuple[float, float, float, str, str]], min_width: float = 0.0,
+                  coexistence: Sequence[Sequence[float]] = ()) -> None:
     """The sweeps of ``da`` (dimension ``sweep``) against ``x`` with shaded hysteresis intervals and jump arrows,
     each jump labelled beside its arrow where the label covers no other label or arrow.
 
@@ -37,9 +38,14 @@ def draw_response(ax: Axes, x: np.ndarray, da: xr.DataArray, hysteresis: Sequenc
         Where each jump is, the measure before and after it, its sweep and its label.
     min_width : float
         Smallest width drawn of a hysteresis interval.
+    coexistence : sequence of (float, float)
+        Intervals where the sweeps end on different attractors with no jump at a bound, shaded hatched.
     """
     for a, b in hysteresis:
         ax.axvspan(a, max(b, a + min_width), color="0.88", lw=0, zorder=0)
+    for k, (a, b) in enumerate(coexistence):
+        ax.axvspan(a, max(b, a + min_width), facecolor="none", edgecolor="0.6", hatch="//", lw=0, zorder=0,
+                   label="coexisting attractors" if k == 0 else None)
     for s in [str(v) for v in da["sweep"].values]:
         mk, c = SWEEP_STYLE.get(s, ("o", "k"))
         ax.plot(x, da.sel(sweep=s).values, "-", marker=mk, ms=3.5, lw=0.8, color=c, label=f"sweep {s}")
@@ -72,10 +78,11 @@ def response(ds: xr.Dataset, ax: Axes = None) -> None:
     name = str(ds.attrs.get("param", "omega"))
     measure = str(ds.attrs.get("measure", "amplitude"))
     hy = json.loads(ds.attrs.get("hysteresis", "[]"))
+    co = json.loads(ds.attrs.get("coexistence", "[]"))
     jumps = [(j[name], j["amplitude_from"], j["amplitude_to"], j["sweep"], f"{symbol(name)} = {j[name]:.4g}")
              for j in json.loads(ds.attrs.get("jumps", "[]"))]
     x = ds[name].values
-    draw_response(ax, x, ds[measure], hy, jumps)
+    draw_response(ax, x, ds[measure], hy, jumps, coexistence=co)
     if ds.attrs.get("method") == "hb":
         _no_solution(ax, x, ds[measure])
     if x.size > 1:  # the requested range, also where no point has a value
@@ -83,5 +90,7 @@ def response(ds: xr.Dataset, ax: Axes = None) -> None:
         ax.set_xlim(float(x[0]) - pad, float(x[-1]) + pad)
     ax.set_xlabel(label(ds[name], name))
     ax.set_ylabel(label(ds[measure], measure))
-    set_title(ax, "Frequency response (up/down sweeps with continuation)" + ("; grey: hysteresis" if hy else ""), ds,
-              exclude=[name])
+    if system_info(ds):  # a system: its pinion speed on a top axis (the pair draws a figure against rpm)
+        rpm_axis(ax, ds, name)
+    shading = ("; grey: hysteresis" if hy else "") + ("; hatched: coexisting attractors" if co else "")
+    set_title(ax, "Frequency response (up/down sweeps with continuation)" + shading, ds, exclude=[name])

@@ -1,11 +1,11 @@
-"""Figures of multi-DOF system results (kinds ``system_*``, written by the commands with ``--system``).
+"""Figures that only the results of multi-DOF systems have.
 
-The sweep, map and basin Datasets of systems have the 1-DOF layouts along the reference mesh, so
-their main figures are the 1-DOF ones (:mod:`.bifurcation`, :mod:`.response`, :mod:`.maps`,
-:mod:`.basins`); this module adds what only systems have — every element's deflection, all 2n
-Lyapunov exponents, all Floquet multipliers, the amplitude of each mesh along a sweep and the
-branches of a continuation with their bifurcations — and :func:`register_all` enters them in the
-figure registry (:mod:`.registry`).
+A system's result is of the command's one kind (``simulate``, ``bifurcation``, ...) with the pair's layout
+along the reference element plus per-element variables, so its main figures are the pair's; this module adds
+what only systems have — every element's deflection, all 2n Lyapunov exponents, all Floquet multipliers, the
+amplitude of each mesh along a sweep — each drawn when the Dataset holds it, and keeps the figures of the
+``system_*`` kinds that earlier versions wrote (their files stay readable: ``geardyn plot`` redraws them).
+:func:`register_all` enters them in the figure registry (:mod:`.registry`).
 """
 
 from __future__ import annotations
@@ -72,7 +72,8 @@ def multipliers(ds: xr.Dataset, ax: Axes = None) -> None:
     t = np.linspace(0.0, 2 * np.pi, 361)
     ax.plot(np.cos(t), np.sin(t), color="0.5", lw=0.8)
     ax.plot(ds["multiplier_re"].values, ds["multiplier_im"].values, "o", mfc="none", color="k", label="all")
-    ax.plot(ds["elastic_re"].values, ds["elastic_im"].values, ".", color="C3", label="elastic")
+    if "elastic_re" in ds:
+        ax.plot(ds["elastic_re"].values, ds["elastic_im"].values, ".", color="C3", label="elastic")
     ax.set_aspect("equal")
     _finish(ax, ds, "Floquet multipliers", "Re μ", "Im μ", legend=dict(fontsize=8))
 
@@ -82,11 +83,16 @@ def mesh_amplitudes(ds: xr.Dataset, ax: Axes = None) -> None:
     """Amplitude (half peak-to-peak δ) of every mesh along the sweep, per direction."""
     param = str(ds.attrs.get("param", "omega"))
     x = ds[param].values
-    for e, name in enumerate(ds["mesh"].values):
+    if "mesh_amplitude" in ds:  # a system_* file of an earlier version
+        names, amp = ds["mesh"].values, ds["mesh_amplitude"]
+    else:
+        kinds = {e["name"]: e["kind"] for e in _sysinfo(ds).get("elements", [])}
+        names = [str(n) for n in ds["element"].values if kinds.get(str(n), "mesh") == "mesh"]
+        amp = 0.5 * (ds["element_u_max"] - ds["element_u_min"]).sel(element=names)
+    for e, name in enumerate(names):
         for s, style in zip([str(v) for v in ds["sweep"].values], ("-", "--")):
-            ax.plot(x, ds["mesh_amplitude"].sel(sweep=s).values[:, e], style, color=f"C{e}", lw=1.0,
-                    label=f"{name} ({s})")
-    _finish(ax, ds, "Mesh amplitudes", param, "amplitude of δ", legend=dict(fontsize=7))
+            ax.plot(x, amp.sel(sweep=s).values[:, e], style, color=f"C{e}", lw=1.0, label=f"mesh {name} ({s})")
+    _finish(ax, ds, "Mesh amplitudes", param, "amplitude of δ (half peak-to-peak, over b_c)", legend=dict(fontsize=7))
 
 
 @plot_function("system_continuation", (7, 4.5))
@@ -121,6 +127,16 @@ def register_all(register, FigureSpec, bifurcation, response, maps, basins) -> N
     bifurcation, response, maps, basins : module
         The 1-DOF plot modules whose figures draw the system sweeps (laid out along the reference mesh).
     """
+    def has(name):
+        return lambda ds: name in ds
+
+    register("simulate", FigureSpec("element_deflections", element_deflections, when=has("delta")))
+    register("lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum,
+                                    when=lambda ds: ds.sizes.get("exponent", 0) > 2))
+    register("orbit", FigureSpec("multipliers", multipliers, when=has("points")))
+    for kind in ("bifurcation", "response"):
+        register(kind, FigureSpec("mesh_amplitudes", mesh_amplitudes, when=has("element_u_min")))
+    # the kinds earlier versions wrote for systems
     register("system_simulate", FigureSpec("element_deflections", element_deflections),
              FigureSpec("phase_portrait", reference_phase))
     register("system_lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum))

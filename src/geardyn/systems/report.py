@@ -19,7 +19,7 @@ import numpy as np
 
 from ..labels import IMPACT_LABELS, impact_state
 
-__all__ = ["static_mesh_forces", "mesh_forces", "report"]
+__all__ = ["static_mesh_forces", "mesh_forces", "report", "result_meshes", "physical_scales"]
 
 
 def _num(x: Any) -> float | None:
@@ -99,7 +99,7 @@ def _mesh_entries(model: Any, res: Any, point: int, tau: np.ndarray | None, delt
             lo, hi = float(extrema[i, 0]), float(extrema[i, 1])
         else:
             lo, hi = float(res.element_u_min(i)[point]), float(res.element_u_max(i)[point])
-        e: dict[str, Any] = {"name": m.name, "u_min": _num(lo), "u_max": _num(hi), "amplitude": _num(0.5 * (hi - lo)),
+        e: dict[str, Any] = {"name": m.name, "backlash_um": _num(m.D * um), "u_min": _num(lo), "u_max": _num(hi), "amplitude": _num(0.5 * (hi - lo)),
                              "impact": IMPACT_LABELS[impact_state(lo, m.D)]}
         if res is not None:
             e.update(rms=_num(res.element_rms(i)[point]), mean=_num(res.element_mean(i)[point]),
@@ -159,3 +159,111 @@ def report(model: Any, res: Any = None, point: int = 0, tau: np.ndarray | None =
     if res is not None:
         out["clearances"] = _clearance_entries(model, res, point)
     return out
+
+
+def result_meshes(ds: Any) -> list[dict[str, Any]]:
+    """The ``meshes`` entries of a sweep, map or basin result of a system (its Dataset, any kind).
+
+    Per mesh: ``name``, ``backlash_um`` (D b_c), and over the result's points (the layout of its reference
+    variables: a list, ``{sweep: list}`` for two sweeps, nested lists for a grid) ``u_min``, ``u_max``,
+    ``amplitude`` (non-dimensional), ``dte_amplitude_um`` and ``impact``; ``dynamic_factor`` None (the sweeps
+    keep no histories).  The element variables of a system of several elements, else the reference
+    variables (one mesh).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A result written for a system (its ``system`` attribute).
+
+    Returns
+    -------
+    list of dict
+    """
+    import json
+
+    info = json.loads(ds.attrs["system"])
+    um = float(info.get("b_c_um") or float("nan"))
+    els = info.get("elements") or [{"name": n, "kind": "mesh", "gap": float("nan")} for n in info["meshes"]]
+    dims = [d for d in ds["amplitude"].dims]
+    two = "sweep" in ds.dims and ds.sizes["sweep"] > 1
+
+    def values(a: np.ndarray, f: Any) -> Any:
+        def conv(x: np.ndarray) -> Any:
+            return [conv(r) for r in x] if x.ndim > 1 else [f(v) for v in x]
+        if "sweep" in dims:
+            labs = [str(s) for s in ds["sweep"].values]
+            per = {lab: conv(a[i]) for i, lab in enumerate(labs)}
+            return per if two else per[labs[0]]
+        return conv(a)
+
+    out = []
+    for i, e in enumerate(els):
+        if e["kind"] != "mesh":
+            continue
+        if "element_u_min" in ds:
+            lo, hi = ds["element_u_min"].values[..., i], ds["element_u_max"].values[..., i]
+            imp = ds["element_impact"].values[..., i]
+        elif "u_min" in ds:
+            lo, hi, imp = ds["u_min"].values, ds["u_max"].values, ds["impact"].values
+        else:  # a basin map of one mesh keeps its amplitude only
+            lo = hi = np.full(ds["amplitude"].shape, np.nan)
+            imp = ds["impact"].values
+        amp = 0.5 * (hi - lo) if "u_min" in ds or "element_u_min" in ds else ds["amplitude"].values
+        out.append({"name": e["name"], "backlash_um": _num(e["gap"] * um), "u_min": values(lo, _num),
+                    "u_max": values(hi, _num), "amplitude": values(amp, _num),
+                    "dte_min_um": values(lo * um, _num), "dte_max_um": values(hi * um, _num),
+                    "dte_amplitude_um": values(amp * um, _num),
+                    "impact": values(imp, lambda c: IMPACT_LABELS.get(int(c), "unknown")),
+                    "dynamic_factor": None})
+    return out
+
+
+def physical_scales(model: Any) -> Any:
+    """The physical scales of a system's reference mesh, in the form the pair's physical summaries take them.
+
+    :class:`~geardyn.geometry.scales.PhysicalScales` with z1 the reference pinion's teeth, b_c, k_ref, m_ref and
+    ω_n of the system's :class:`~geardyn.systems.assemble.Scaling` and D the reference mesh's half gap, so that
+    :func:`geardyn.analysis.physical.add_physical` and :func:`~geardyn.analysis.physical.physical_json` give a
+    system's results the pair's physical keys (rpm, µm, N).  Without teeth on the reference mesh the speeds are
+    NaN; a system has no single pinion torque (``fp``, ``torque_N_m`` None) and its static force is the
+    reference mesh's (:func:`static_mesh_forces`).
+
+    Parameters
+    ----------
+    model : SystemModel
+
+    Returns
+    -------
+    PhysicalScales
+    """
+    from dataclasses import dataclass
+
+    from ..geometry.scales import PhysicalScales
+
+    @dataclass(frozen=True)
+    class SystemScales(PhysicalScales):
+        def rpm_from_omega(self, omega: Any) -> Any:
+            return super().rpm_from_omega(omega) if self.z1 else np.asarray(omega, dtype=float) * np.nan
+
+        def omega_from_rpm(self, rpm: Any) -> Any:
+            if not self.z1:
+                from ..errors import ModelError
+
+                raise ModelError(f"rpm: the reference mesh of {self.title} gives no teeth; give ω (--omega)")
+            return super().omega_from_rpm(rpm)
+
+        def torque_from_fp(self, fp: Any) -> Any:
+            return np.asarray(fp, dtype=float) * np.nan
+
+        def operating_point(self, m: Any) -> dict[str, Any]:
+            return {"omega": float(m.omega), "rpm": _num(self.rpm_from_omega(m.omega)),
+                    "mesh_frequency_Hz": float(self.hz_from_omega(m.omega)),
+                    "natural_frequency_Hz": self.natural_frequency_Hz, "fp": None, "torque_N_m": None,
+                    "static_force_N": _num(static_mesh_forces(m)[m.reference] * m.scaling.force_scale)}
+
+    sc = model.scaling
+    desc = getattr(model, "description", None)
+    return SystemScales(title=getattr(desc, "title", None) or "system", source=str(getattr(desc, "source", "") or ""),
+                        z1=int(sc.teeth or 0), b_c_m=sc.b_c, k0_N_per_m=sc.k_ref, m_e_kg=sc.m_ref,
+                        omega_n_rad_s=sc.omega_n, R1_m=None, R2_m=None,
+                        D=float(model.elements[model.reference].gap), k0_source="reference mesh of the system")

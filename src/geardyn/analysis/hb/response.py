@@ -508,7 +508,7 @@ def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: in
 
     Parameters
     ----------
-    model : GearModel or SystemModel
+    model : System
         The model, or a multi-DOF system (then the response is its reference mesh's, from
         :func:`~geardyn.analysis.hb.system_continuation.hb_system_continuation`); ω is varied.
     omega_start, omega_stop : float

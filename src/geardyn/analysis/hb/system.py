@@ -1,4 +1,4 @@
-"""Harmonic balance of multi-DOF systems (:class:`~geardyn.systems.SystemModel`): residual, Jacobian, Newton.
+"""Harmonic balance of multi-DOF systems (a system of meshes, :mod:`geardyn.systems`): residual, Jacobian, Newton.
 
 The system (non-dimensional, :mod:`geardyn.systems.assemble`; the kernel's form)::
 
@@ -6,7 +6,7 @@ The system (non-dimensional, :mod:`geardyn.systems.assemble`; the kernel's form)
     δ_e = V[e]·q − E_e(θ)   (meshes; clearances: C_e = cc, K_e = kc, E_e = 0),
 
 with A = M̃⁻¹K̃_b, B = M̃⁻¹C̃_b, W[e] = M̃⁻¹V[e], g = M̃⁻¹F̃.  A period-n response (n forcing periods of
-p base periods each, p = :meth:`SystemModel.period_multiple`) is sought as H harmonics of ν = ω/(n p) in
+p base periods each, p = :meth:`System.period_multiple`) is sought as H harmonics of ν = ω/(n p) in
 the slow angle φ = θ/(n p) for every DOF: the unknown is the (n_dof, 2H + 1) array of real coefficients
 ``[a_0, a_1 … a_H, b_1 … b_H]`` per DOF, flattened DOF by DOF (n_dof(2H + 1) reals).  Mesh e runs at
 θ_e = r_e θ, so its harmonic j is harmonic j r_e n p of φ (an integer: the forcing is periodic).
@@ -145,7 +145,7 @@ class HBSystemEquations:
 
     Parameters
     ----------
-    model : SystemModel
+    model : System
         The system at its base point (a value of ``param`` given to a method replaces that parameter).
     harmonics : int
         H per DOF: harmonics of ν = ω/(n p) (default :data:`~geardyn.analysis.hb.solve.DEFAULT_HARMONICS`).
@@ -564,7 +564,7 @@ class HBSystemSolution(HBSolution):
 
     Attributes
     ----------
-    model : SystemModel
+    model : System
         The system point.
     harmonics, period, samples : int
         H per DOF, n and the time samples N per response period.
@@ -613,7 +613,7 @@ def hb_system_solve(model: Any, harmonics: int = DEFAULT_HARMONICS, period: int 
 
     Parameters
     ----------
-    model : SystemModel
+    model : System
         The system (its forcing must be periodic).
     harmonics : int
         H per DOF (default :data:`~geardyn.analysis.hb.solve.DEFAULT_HARMONICS`).

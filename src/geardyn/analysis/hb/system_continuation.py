@@ -150,7 +150,7 @@ class HBSystemContinuation(HBContinuation):
     ----------
     param : str
         The continued system parameter.
-    model : SystemModel
+    model : System
         The system at its base point; ``param`` takes the values along the branch.
     values : ndarray (P,)
         Those values.
@@ -261,7 +261,7 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
 
     Parameters
     ----------
-    model : SystemModel
+    model : System
         Base system (its value of ``param`` is replaced; the forcing must be periodic).
     param : str
         A system parameter (``omega``, ``<mesh>.xi0``, ``<mesh>.kappa1``, ``<clearance>.D`` ...).

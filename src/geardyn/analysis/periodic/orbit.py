@@ -400,10 +400,12 @@ class PeriodicOrbit:
         tau, u, v = self.history() if self.converged else (np.zeros(0), np.zeros(0), np.zeros(0))
         fl = self.floquet
         d = len(self.state)
+        m = self.model
+        sec = m.element_series(self.points, 0.0)[:, m.reference, :]  # the reference element's (δ, δ')
         ds = xr.Dataset(
             {
-                "poincare_u": ("section", self.points[:, 0]),
-                "poincare_v": ("section", self.points[:, 1]),
+                "poincare_u": ("section", sec[:, 0]),
+                "poincare_v": ("section", sec[:, 1]),
                 "multiplier_re": ("multiplier", fl.multipliers.real),
                 "multiplier_im": ("multiplier", fl.multipliers.imag),
                 "floquet_exponent": ("multiplier", fl.exponents),
@@ -419,8 +421,13 @@ class PeriodicOrbit:
                 summary=self.to_json(),
             ),
         )
-        annotate(ds, names=["multiplier_re", "multiplier_im", "floquet_exponent", "monodromy", "section", "multiplier",
-                            "row", "col"])
+        if d != 2:  # a system: the full section states
+            from ...system import state_names
+
+            ds["points"] = (("section", "state"), np.asarray(self.points, float))
+            ds = ds.assign_coords(state=state_names(m, d))
+        annotate(ds, names=[n for n in ("points", "state") if n in ds.variables]
+                 + ["multiplier_re", "multiplier_im", "floquet_exponent", "monodromy", "section", "multiplier", "row", "col"])
         ds.attrs["status"] = self.status_label
         return ds
 

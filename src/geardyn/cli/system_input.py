@@ -1,0 +1,156 @@
+"""``--system FILE``: the option group that gives the commands a multi-DOF system (``examples/systems/*.toml``).
+
+:data:`SYSTEM` is the option group of the commands of :data:`SYSTEM_COMMANDS`; with ``--system`` their
+:meth:`~geardyn.cli.options.Inputs.model` is the system of the file (:func:`load_cli_system`: ``--omega`` /
+``--rpm`` and the model options applied to its reference mesh), and the command runs its own analysis on it;
+the summary adds ``meshes`` (:func:`mesh_summary`), printed as one more table (:func:`geardyn.cli.render.meshes`).
+"""
+
+from __future__ import annotations
+
+import inspect
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+
+from ..errors import ModelError
+
+__all__ = ["SYSTEM", "SYSTEM_COMMANDS", "load_cli_system", "coordinates", "mesh_summary"]
+
+SYSTEM_PANEL = "Multi-DOF system"
+SYSTEM = [inspect.Parameter(
+    "system", inspect.Parameter.KEYWORD_ONLY, default=None,
+    annotation=Annotated[Optional[Path], typer.Option(
+        "--system", rich_help_panel=SYSTEM_PANEL,
+        help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis runs "
+             "on it, and the JSON summary adds one entry per mesh under 'meshes'.")]),
+    inspect.Parameter(
+    "coords", inspect.Parameter.KEYWORD_ONLY, default=None,
+    annotation=Annotated[Optional[str], typer.Option(
+        "--coords", rich_help_panel=SYSTEM_PANEL,
+        help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes "
+             "of the basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').")])]
+
+#: Commands that take ``--system``.
+SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins")
+_NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
+
+
+def load_cli_system(values: dict[str, Any]):
+    """The system of ``--system`` with ``--omega``/``--rpm`` and the model options applied to its reference mesh.
+
+    Parameters
+    ----------
+    values : dict
+        The command's shared option values (``system`` the file).
+
+    Returns
+    -------
+    SystemModel
+    """
+    from .. import params
+    from ..systems import load_system
+
+    path = values["system"]
+    if values.get("config") is not None:
+        raise ModelError("system: --system and --config cannot be combined (the system file holds the gear data)")
+    if values.get("torque") is not None or values.get("fp") is not None:
+        raise ModelError("system: the loads come from the system file; --torque and --fp do not apply with --system")
+    if values.get("excitation") is not None:
+        raise ModelError("excitation: with --system a mesh's excitation table is the key excitation = \"FILE\" of "
+                         "that mesh in the system file (docs/excitation.md); --excitation applies to --config")
+    s = load_system(path)
+    if values.get("rpm") is not None and values.get("omega") is not None:
+        raise ModelError("rpm: give --rpm or --omega, not both")
+    if values.get("rpm") is not None:
+        s = s.with_param("omega", s.scaling.omega_from_rpm(float(values["rpm"])))
+    if values.get("omega") is not None:
+        s = s.with_param("omega", float(values["omega"]))
+    for o in params.cli_options():
+        v = values.get(o.dest)
+        if v is not None and o.dest not in _NOT_MODEL and o.param not in ("omega", "fp"):
+            s = s.with_param(o.param, float(v))
+    return s
+
+
+def coordinates(s: Any, text: Optional[str], n: int) -> list[int] | None:
+    """The state coordinates of ``--coords`` (DOF labels, ``label'`` for a rate, or indices), at least ``n``.
+
+    Parameters
+    ----------
+    s : System
+        The system whose state is indexed.
+    text : str or None
+        The option's value, comma-separated.
+    n : int
+        How many coordinates are needed.
+
+    Returns
+    -------
+    list of int or None
+        None without ``--coords``.
+    """
+    from ..analysis.basins import coordinate_index
+
+    if text is None:
+        return None
+    idx = [coordinate_index(s, p) for p in str(text).split(",") if p.strip()]
+    if len(idx) < n:
+        raise ModelError(f"coords: give {n} coordinate(s) separated by commas, got {text!r}")
+    return idx
+
+
+def mesh_summary(s: Any, summary: dict[str, Any], ds: Any = None, result: Any = None,
+                 state0: Any = (0.0, 0.0)) -> dict[str, Any]:
+    """``summary`` with what a system adds: ``meshes`` of a sweep's Dataset (:func:`geardyn.systems.report.result_meshes`)
+    or of a continuation's branches, the reference mesh's forces and dynamic factor for one point, and a note on a
+    system without excitation.
+
+    Parameters
+    ----------
+    s : SystemModel
+        The system of the command.
+    summary : dict
+        The command's summary (the pair's keys).
+    ds : xarray.Dataset, optional
+        A sweep, map or basin result (its per-mesh variables).
+    result : ContinuationResult, optional
+        A continuation (its per-element extremes along the branches).
+    state0 : (u0, v0)
+        The initial state of the command (for the note on a system without excitation).
+
+    Returns
+    -------
+    dict
+    """
+    import numpy as np
+
+    from ..labels import IMPACT_LABELS, impact_state
+    from ..systems.notes import excitation_note
+    from ..systems.report import result_meshes
+
+    if ds is not None:
+        summary["meshes"] = result_meshes(ds)
+    elif result is not None:
+        ext = [b.extrema for b in result.branches if b.extrema is not None]
+        ext = np.concatenate(ext) if ext else np.zeros((0, len(s.elements), 2))
+        um = s.scaling.b_c * 1e6
+        summary["meshes"] = [{"name": e.name, "backlash_um": e.gap * um, "u_min": ext[:, i, 0].tolist(),
+                              "u_max": ext[:, i, 1].tolist(), "amplitude": (0.5 * (ext[:, i, 1] - ext[:, i, 0])).tolist(),
+                              "dte_amplitude_um": (0.5 * (ext[:, i, 1] - ext[:, i, 0]) * um).tolist(),
+                              "impact": [IMPACT_LABELS[impact_state(float(lo), e.gap)] for lo in ext[:, i, 0]],
+                              "dynamic_factor": None} for i, e in enumerate(s.elements) if e.kind == "mesh"]
+        r = s.rigid_basis().shape[1]
+        summary["rigid_body_modes"] = r
+        if r:
+            summary["notes"] = summary["notes"] + [f"{2 * r} multipliers equal to 1 belong to the rigid-body mode(s) "
+                                                   f"and are left out; the multipliers listed are the elastic ones"]
+    ref = next((m for m in summary.get("meshes", []) if m["name"] == summary.get("reference_mesh")), None)
+    if ref is not None:  # one point: the reference mesh's forces and dynamic factor, as the pair's keys
+        for k in ("dynamic_factor", "mesh_force_max_N", "mesh_force_min_N", "static_force_N", "dte_min_um",
+                  "dte_max_um", "dte_amplitude_um"):
+            summary[k] = ref.get(k)
+    if (note := excitation_note(s, tuple(state0))) is not None:
+        summary["note"] = note
+    return summary
