@@ -10,7 +10,7 @@ import pytest
 from geardyn.analysis.hb.system import hb_system_solve
 from geardyn.analysis.lyapunov import lyapunov_spectrum
 from geardyn.analysis.periodic.orbit import shoot
-from geardyn.analysis.systems_continuation import system_continuation
+from geardyn.analysis.periodic import continuation
 from geardyn.integrate import trajectory
 from geardyn.model import IntegrationOptions
 from geardyn.systems.load import load_system
@@ -63,7 +63,7 @@ def test_continuation_and_harmonic_balance(system):
     scale = abs(b[0] - b[1])
     assert abs((a[0] - a[1]) - (b[0] - b[1])) < 2e-3 * scale
     np.testing.assert_allclose(a[2:], b[2:], rtol=0, atol=2e-3 * scale)
-    br = system_continuation(system, "omega", 0.8, 0.805, 1, dtau=0.02, accurate=False, max_points=8)
+    br = continuation(system, "omega", 0.8, 0.805, 1, dtau=0.02, accurate=False, max_points=8).branches[0]
     w = br.values
     assert w.size >= 2 and w.min() >= 0.8 - 1e-12 and w.max() <= 0.805 + 1e-12
 

@@ -227,7 +227,7 @@ def test_system_figures_name_the_mesh_and_draw_its_backlash_an_rpm_axis_and_coex
     art = draw(ds, "response_bifurcation")
     lines = [a for a in art.axes[0].get_lines() if a.get_gid() == "contact"]
     assert sorted(float(line.get_ydata()[0]) for line in lines) == [-s.elements[0].gap, s.elements[0].gap]
-    assert "reference mesh mesh" in " ".join(ax.get_title() for ax in art.figure.axes)
+    assert "reference mesh 'mesh'" in " ".join(ax.get_title() for ax in art.figure.axes)
     tops = [a for ax in art.figure.axes for a in ax.child_axes]
     assert any(t.get_xlabel() == "pinion speed [rpm]" for t in tops)
     sec = tops[0]

@@ -243,9 +243,15 @@ class SteadyState:
     def to_json(self) -> dict[str, Any]:
         """The ``simulate --json`` summary (DESIGN §5 keys)."""
         s = self.summary
+        pc, m = self.poincare, self.model
+        state = {}
+        if pc.shape[1] != 2:  # a system: the reference element's (δ, δ') as the pair's (u, u'), the full states beside
+            state = {"poincare_state": pc.tolist()}
+            pc = m.element_series(pc, 0.0)[:, m.reference, :]
         return {
             "omega": self.model.omega,
-            "poincare": self.poincare.tolist(),
+            "poincare": pc.tolist(),
+            **state,
             "motion": s["motion"],
             "lle": s.get("lle"),
             "period": s["period"],

@@ -113,9 +113,9 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
                        ("dte_amplitude_um", "DTE half peak-to-peak (µm)"), ("backlash_um", "half backlash (µm)")):
             if k in s:
                 t.add_row(lab, _num(s[k]))
-        peaks = s.get("spectrum_peaks") or []
-        t.add_row("largest spectral lines (order, Hz, µm)",
-                  "\n".join(f"{p['order']:g}, {p['frequency_Hz']:.6g}, {p['amplitude_um']:.4g}" for p in peaks))
+        if peaks := s.get("spectrum_peaks") or []:
+            t.add_row("largest spectral lines (order, Hz, µm)",
+                      "\n".join(f"{p['order']:g}, {p['frequency_Hz']:.6g}, {p['amplitude_um']:.4g}" for p in peaks))
     console.print(t)
     if "pair" in s:
         console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)

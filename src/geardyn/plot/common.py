@@ -357,7 +357,7 @@ def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), 
     params = parameter_text(ds, exclude)
     info = system_info(ds)
     if info:  # a system's figure says which mesh the reference variables are
-        where = f"{info.get('title') or 'system'}: reference mesh {info.get('reference_mesh')}"
+        where = f"{info.get('title') or 'system'}: reference mesh '{info.get('reference_mesh')}'"
         params = f"{where}; {params}" if params else where
     size = {} if fontsize is None else {"fontsize": fontsize}
     return ax.set_title(f"{text}\n{params}" if params else text, **size)
