@@ -38,7 +38,7 @@ def require_damping(model: Any, param: str | None = None, start: float | None = 
 
     Parameters
     ----------
-    model : GearModel or SystemModel
+    model : System
     param : str, optional
         The continued parameter; with ``start`` and ``stop`` the model is refused only when it has no damping at
         either end (a damping continued through zero is allowed).
@@ -67,7 +67,7 @@ def undamped_modes(model: Any) -> list[float]:
 
     Parameters
     ----------
-    model : SystemModel
+    model : System
         (A 1-DOF model has one mode, damped unless ξ0 = 0: see :func:`require_damping`.)
 
     Returns
