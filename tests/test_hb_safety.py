@@ -193,3 +193,24 @@ def test_failed_start_exits_1_and_writes_no_figure(tmp_path):
     assert not out.exists() or not any(out.iterdir())
     code, stdout, _ = _main(argv + ["--json"])
     assert code == 1 and stdout == ""
+
+
+def test_hb_response_that_resolves_no_point_exits_1_and_writes_nothing(tmp_path, monkeypatch):
+    import geardyn.analysis.hb as hb
+
+    real = hb.hb_response
+
+    def unresolved(*a, **k):  # the real response with every point made unresolved
+        ds = real(*a, **k)
+        for name in ds.data_vars:
+            if ds[name].dtype.kind == "f":
+                ds[name][...] = np.nan
+        return ds
+
+    monkeypatch.setattr(hb, "hb_response", unresolved)
+    out = tmp_path / "r"
+    code, stdout, err = _main(["response", "--method", "hb", "--omega-start", "0.5", "--omega-stop", "0.6", "--num",
+                               "3", "--out", str(out)])
+    assert code == 1
+    assert "resolved no point" in err and len(err.strip().splitlines()) == 1
+    assert not out.exists() or not any(out.iterdir())

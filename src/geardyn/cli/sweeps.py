@@ -119,6 +119,12 @@ def response(
         ds = hb_response(model, float(values[0]), float(values[-1]), values.size, measure=measure,
                          progress=not inp.json_out,
                          **({"state0": inp.state0()} if inp.system is not None else {}))
+        if not np.isfinite(np.asarray(ds[measure].values, dtype=float)).any():  # no point resolved: nothing to show
+            from .app import EXIT_FAILURE, say_error
+
+            say_error(f"error: harmonic balance resolved no point of the response from ω = {values[0]:.6g} to "
+                      f"{values[-1]:.6g}; nothing written")
+            raise typer.Exit(code=EXIT_FAILURE)
     else:
         ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
                                 state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)
