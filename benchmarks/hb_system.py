@@ -54,11 +54,11 @@ def _shooting(model) -> dict:
     t, c = time.perf_counter(), time.process_time()
     r = system_continuation(model, "omega", LO, HI, 1)
     wall, cpu = time.perf_counter() - t, time.process_time() - c
-    res = r.result  # one continuation for every System: its branches and their located events
-    return {"method": "shooting", "accurate": True, "wall_s": wall, "cpu_s": cpu, "points": int(r.values.size),
-            "end": res.branches[0].end,
+    primary = r.branches[0]  # one continuation for every System: its branches and their located events
+    return {"method": "shooting", "accurate": True, "wall_s": wall, "cpu_s": cpu, "points": int(primary.values.size),
+            "end": primary.end,
             "events": [{"type": b.type, "omega": b.value, "located": b.located, "detail": b.detail}
-                       for b in res.bifurcations if b.branch == 0]}
+                       for b in r.bifurcations if b.branch == 0]}
 
 
 def _match(a: list[dict], b: list[dict]) -> list[dict]:
