@@ -24,7 +24,7 @@ from ..errors import ModelError
 from ..integrate import trajectory
 from ..model import GearModel, IntegrationOptions
 
-__all__ = ["Acquisition", "acquire", "acceleration"]
+__all__ = ["Acquisition", "acquire", "acceleration", "sampled"]
 
 
 @dataclass(frozen=True)
@@ -123,9 +123,39 @@ def acquire(model: GearModel, scales: dict, revolutions: int, fs: float, *, nois
         raise ModelError("signature: the simulation diverged")
     a = acceleration(model, tr.tau, tr.u, tr.v) * b_c * wn * wn
     t_sim = tr.tau / wn
+    return sampled(t_sim, a, rpm=rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, z1=z1, z2=z2)
+
+
+def sampled(t_sim: np.ndarray, accel: np.ndarray, *, rpm: float, revolutions: int, fs: float, noise: float, seed: int,
+            z1: int, z2: int) -> Acquisition:
+    """A simulated acceleration sampled like a data acquisition: ``revolutions`` pinion revolutions at ``fs``
+    (cubic-spline interpolation of the simulated points), optional white noise at ``noise`` times its RMS, and a
+    once-per-revolution tachometer pulse (5 V Gaussian, 4 samples wide) at the pinion's zero angle.
+
+    Parameters
+    ----------
+    t_sim, accel : ndarray
+        Simulated times (s) and accelerations (m/s²).
+    rpm : float
+        Pinion speed.
+    revolutions : int
+        Pinion revolutions recorded.
+    fs : float
+        Sampling rate (Hz).
+    noise : float
+        Noise RMS relative to the signal's RMS (0: none).
+    seed : int
+        Seed of the noise.
+    z1, z2 : int
+        Tooth counts of the pinion and the gear.
+
+    Returns
+    -------
+    Acquisition
+    """
     duration = revolutions * 60.0 / rpm
     t = np.arange(int(math.floor(duration * fs)) + 1) / fs
-    sig = CubicSpline(t_sim, a)(t)
+    sig = CubicSpline(t_sim, accel)(t)
     if noise > 0:
         sig = sig + noise * np.sqrt(np.mean(sig**2)) * np.random.default_rng(seed).normal(size=sig.size)
     phi = 2.0 * math.pi * rpm / 60.0 * t

@@ -21,7 +21,7 @@ from scipy.interpolate import CubicSpline
 from ..errors import ModelError
 from ..integrate import trajectory
 from ..model import IntegrationOptions
-from .acquire import Acquisition
+from .acquire import Acquisition, sampled
 from .signals import order_spectrum, split_tsa, tsa
 
 __all__ = ["system_acquire", "system_signature"]
@@ -73,16 +73,7 @@ def system_acquire(system: Any, dof: str, revolutions: int, fs: float, *, z2: in
         raise ModelError("signature: the simulation diverged")
     t_sim = (tr.tau - tr.tau[0]) / sc.omega_n
     a = CubicSpline(t_sim, v).derivative()(t_sim) * sc.s[i] * sc.omega_n  # d²q/dt² = s ω_n d(q̃′)/dt
-    duration = revolutions * 60.0 / rpm
-    t = np.arange(int(math.floor(duration * fs)) + 1) / fs
-    sig = CubicSpline(t_sim, a)(t)
-    if noise > 0:
-        sig = sig + noise * np.sqrt(np.mean(sig**2)) * np.random.default_rng(seed).normal(size=sig.size)
-    phi = 2.0 * math.pi * rpm / 60.0 * t
-    wrapped = np.mod(phi + math.pi, 2.0 * math.pi) - math.pi
-    sigma = 4.0 * 2.0 * math.pi * rpm / 60.0 / fs
-    tach = 5.0 * np.exp(-0.5 * (wrapped / sigma) ** 2)
-    return Acquisition(time=t, accel=sig, tach=tach, fs=float(fs), rpm=rpm, z1=z1, z2=int(z2 or z1))
+    return sampled(t_sim, a, rpm=rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, z1=z1, z2=int(z2 or z1))
 
 
 def system_signature(system: Any, dof: str, *, revolutions: int = 10, fs: float | None = None, z2: int | None = None,
