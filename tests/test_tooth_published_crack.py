@@ -12,9 +12,9 @@ Sources and what is checked against each (``docs/excitation.md`` §2 gives the t
   h_x = h_q) and asserts geardyn's compliances equal them to 2e-4: geardyn integrates by the trapezoidal
   rule on 801 sections (error O(Δy²), observed ≤ 6e-5 on these pairs), so 2e-4 bounds the discretisation
   and nothing else.
-* Monotone in depth, and largest in single contact (Chen & Shao 2011; Wu et al. 2008 and every source
-  read: the stiffness falls with crack depth and most where the cracked tooth carries the load alone):
-  ``test_reduction_is_monotone_in_depth_and_largest_in_single_contact``.
+* Monotone in depth, and largest in single contact (the qualitative result reported throughout the
+  cracked-gear literature; in the one summary with numbers read here: "the maximum reduction occurs when a
+  single tooth with cracks engages"): ``test_reduction_is_monotone_in_depth_and_largest_in_single_contact``.
 * The only numbers of a potential-energy through-crack study that could be read (secondary: the public
   summary at zhygear.com, "Time-varying meshing stiffness characteristics of helical gears", Figure 1
   text; pair parameters not given there): average mesh stiffness −4.31 % at 10 % depth against the
