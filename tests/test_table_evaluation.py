@@ -199,3 +199,14 @@ def test_table_refused_outside_the_accurate_mode():
     with pytest.raises(ModelError, match="at most twice"):
         m.replace(table=((0.0, 0.5, 0.5, 0.5), (1.0,) * 4, ()))
     assert GearModel.from_dict(m.to_dict()) == m
+
+
+def test_rhs_evaluates_the_table():
+    m = _model(cycles=3)
+    xs, kl, kr, ks = _segments(m.table[0], m.table[1], 3)
+    rng = np.random.default_rng(1)
+    for x in np.r_[rng.uniform(0, 3, 50), np.array(xs) + 1e-9, 2.9]:  # mesh cycles; just past a node: its right value
+        j = max(i for i in range(len(xs)) if xs[i] <= x)
+        K = kr[j] + ks[j] * (x - xs[j])
+        tau = 2 * math.pi * x / m.omega  # the mesh phase 2π x
+        assert abs(m.rhs(tau, (1.7, 0.1))[1] - (m.fp - 2 * m.xi0 * 0.1 - K * (1.7 - m.D))) < 1e-12

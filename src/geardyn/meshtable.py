@@ -25,7 +25,7 @@ import numpy as np
 
 from .errors import ModelError
 
-__all__ = ["EVALUATIONS", "TABLE_COLUMNS", "check_table", "kernel_table", "node_values", "segments"]
+__all__ = ["EVALUATIONS", "TABLE_COLUMNS", "check_table", "kernel_table", "node_values", "segments", "table_values"]
 
 #: How a model's mesh stiffness and STE are evaluated: its Fourier series, or its table as given.
 EVALUATIONS = ("series", "table")
@@ -143,3 +143,27 @@ def kernel_table(table: Sequence[Any], cycles: int) -> np.ndarray:
     wrap = rows[:1].copy()
     wrap[0, 0] += 2.0 * math.pi
     return np.ascontiguousarray(np.vstack([rows, wrap]))
+
+
+def table_values(table: Sequence[Any], cycles: int, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """K(θ) = k/k0 and e(θ) = e/b_c of a table at the forcing phases θ (right-continuous at a jump).
+
+    Parameters
+    ----------
+    table : (phase, k, e)
+        As :func:`check_table` returns it.
+    cycles : int
+        P, the mesh cycles of the forcing period.
+    theta : ndarray
+        Forcing phases θ = (ω/P) τ (any real values; the table is periodic in 2π).
+
+    Returns
+    -------
+    (K, e) : ndarray
+    """
+    rows = kernel_table(table, cycles)
+    x = np.mod(np.asarray(theta, dtype=float), 2.0 * math.pi)
+    j = np.searchsorted(rows[:-1, 0], x, side="right") - 1  # −1: before the first node, the wrap segment
+    base = np.where(j < 0, rows[-2, 0] - 2.0 * math.pi, rows[j, 0])
+    r = rows[j]  # j = −1 is the last node's row
+    return r[..., 2] + r[..., 5] * (x - base), r[..., 4] + r[..., 6] * (x - base)

@@ -27,7 +27,7 @@ import numpy as np
 
 from ._docfill import attributes
 from .errors import ModelError
-from .meshtable import EVALUATIONS, check_table, kernel_table
+from .meshtable import EVALUATIONS, check_table, kernel_table, table_values
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
 from .system import Element
 
@@ -406,12 +406,15 @@ class GearModel:
         return u - np.clip(u, -self.D, self.D)
 
     def rhs(self, tau: float, y: Sequence[float]) -> np.ndarray:
-        """Right-hand side of the first-order system y = (u, u') at time τ (plain NumPy, for references)."""
+        """Right-hand side of the first-order system y = (u, u') at time τ (plain NumPy, for references; a table
+        evaluated as given: between its nodes, where F = f_p, the STE acting at the nodes only)."""
         th = self.forcing_omega * tau
-        cf = self.coefficients()
+        cf = pack_models([self])[0][0] if self.table else self.coefficients()
         j = np.arange(cf.shape[1])
         cj, sj = np.cos(j * th), np.sin(j * th)
         C, K, F = (cf[i, :, 0] @ cj + cf[i, :, 1] @ sj for i in range(3))
+        if self.table:
+            K = K + float(table_values(self.table, self.cycles, np.array(th))[0])
         u, v = y
         return np.array([v, F - C * v - K * float(self.restoring(u))])
 
