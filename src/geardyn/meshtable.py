@@ -102,7 +102,22 @@ def node_values(phase: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 def segments(x: np.ndarray, left: np.ndarray, right: np.ndarray, period: float) -> np.ndarray:
-    """The slope of each segment x_j → x_{j+1} (the last one wraps to x_0 + period)."""
+    """The slope of each segment x_j → x_{j+1} (the last one wraps to x_0 + period).
+
+    Parameters
+    ----------
+    x : ndarray (m,)
+        Distinct node positions, increasing within one period.
+    left, right : ndarray (m,)
+        Each node's left and right value (:func:`node_values`).
+    period : float
+        The period of the position.
+
+    Returns
+    -------
+    ndarray (m,)
+        (left_{j+1} − right_j)/(x_{j+1} − x_j).
+    """
     x1 = np.r_[x[1:], x[0] + period]
     l1 = np.r_[left[1:], left[0]]
     return (l1 - right) / (x1 - x)
@@ -165,5 +180,5 @@ def table_values(table: Sequence[Any], cycles: int, theta: np.ndarray) -> tuple[
     x = np.mod(np.asarray(theta, dtype=float), 2.0 * math.pi)
     j = np.searchsorted(rows[:-1, 0], x, side="right") - 1  # −1: before the first node, the wrap segment
     base = np.where(j < 0, rows[-2, 0] - 2.0 * math.pi, rows[j, 0])
-    r = rows[j]  # j = −1 is the last node's row
+    r = rows[:-1][j]  # j = −1: the last node
     return r[..., 2] + r[..., 5] * (x - base), r[..., 4] + r[..., 6] * (x - base)

@@ -232,14 +232,16 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent, xb, kb, ks):
 
 # ----------------------------------------------------------------------------- a table evaluated as given
 @njit(nogil=True)
-def _step_table(cf, tab, m, t, te, omega, u, v, D, r, Y, tangent, jn, seg, eps):
+def _step_table(cf, tab, m, t, te, last, omega, u, v, D, r, Y, tangent, jn, seg, eps):
     """The regular step [t, te] of a point evaluated as a table; returns (u, v, region, jn, seg).
 
     ``jn``: the next node of the period (m: none left); ``seg``: the segment the motion is in (m − 1 and
-    ``jn`` = 0: the wrap segment from the last node, one period back).  Sub-steps end at the nodes.
+    ``jn`` = 0: the wrap segment from the last node, one period back).  Sub-steps end at the nodes; the
+    ``last`` step of a period takes the nodes left within ``eps`` of its end there.
     """
     while True:
-        while jn < m and tab[jn, 0] / omega <= t + eps:  # the nodes due: the STE's kink and jump
+        # the nodes due (at the period's end: all that are left): the STE's kink and jump
+        while jn < m and (tab[jn, 0] / omega <= t + eps or (last and t == te)):
             du = tab[jn, 4] - tab[jn, 3]
             v -= omega * (tab[jn, 6] - tab[seg, 6])
             if du != 0.0:
@@ -247,14 +249,14 @@ def _step_table(cf, tab, m, t, te, omega, u, v, D, r, Y, tangent, jn, seg, eps):
                 r = _region(u, D)
             seg = jn
             jn += 1
+        if t == te:
+            return u, v, r, jn, seg
         ts = te
         if jn < m and tab[jn, 0] / omega < te - eps:
             ts = tab[jn, 0] / omega
         xb = tab[seg, 0] - (2.0 * math.pi if jn == 0 else 0.0)
         u, v, r = _step_accurate(cf, omega * t, omega, ts - t, u, v, D, r, Y, tangent, xb, tab[seg, 2], tab[seg, 5])
         t = ts
-        if ts == te:
-            return u, v, r, jn, seg
 
 
 # ----------------------------------------------------------------------------- one point, the worker
@@ -306,8 +308,8 @@ def _point_accurate(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
             if m == 0:
                 u, v, r = _step_accurate(cf, k * h * omega, omega, h, u, v, D, r, Y, tan_on, 0.0, 0.0, 0.0)
             else:
-                u, v, r, jn, seg = _step_table(cf, tab, m, k * h, T if k == N - 1 else (k + 1) * h, omega, u, v,
-                                               D, r, Y, tan_on, jn, seg, eps)
+                u, v, r, jn, seg = _step_table(cf, tab, m, k * h, T if k == N - 1 else (k + 1) * h, k == N - 1,
+                                               omega, u, v, D, r, Y, tan_on, jn, seg, eps)
             if rec:
                 st[S_UMIN] = min(st[S_UMIN], u)
                 st[S_UMAX] = max(st[S_UMAX], u)
