@@ -11,7 +11,7 @@ A point whose stiffness and STE are a table evaluated as given (:mod:`geardyn.me
 sub-step at every node of the table (the node times θ_j/ω are known in advance): within a sub-step the
 stiffness is the node's segment, linear in θ, so RK4 keeps its order through the jumps; at a node the
 STE's kink changes u' by −ω(σ_j − σ_{j−1}) and its jump changes u by −(e_j⁺ − e_j⁻).  A node within
-``NODE_TOL``·h of a step's end is taken at the start of the next step.
+``NODE_TOL``·h of a step's end is taken at that end (the last step of a period: every node left).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ HERMITE_SAMPLES = 8
 #: Accurate mode: Newton iterations on the sub-step length, and the tolerance on |u - boundary|.
 NEWTON_ITERS = 6
 CROSSING_TOL = 1.0e-14
-#: Table evaluation: a node this close (relative to the step h) to the end of a step is taken at the next step.
+#: Table evaluation: a node this close (relative to the step h) to the end of a step is taken at that end.
 NODE_TOL = 1.0e-10
 
 
