@@ -121,7 +121,8 @@ class PairBackend(Backend):
     def run(self, models, packed, nsteps, state0, transient, record, mode, accurate, *, record_poincare=True,
             hist_len=0, adaptive_tol=0.0, tangent0=None) -> RawRun:
         K = _K1
-        coef, D, omega = packed
+        coef, D, omega = packed[:3]
+        table = packed[3] if len(packed) > 3 else None  # models evaluated as tables (accurate mode)
         P, d = coef.shape[0], 2
         lyapunov = mode in ("lyapunov", "continue")
         poincare, end_state, tan_log, tan_out, status, hist = _buffers(P, d, record, record_poincare, lyapunov,
@@ -134,9 +135,9 @@ class PairBackend(Backend):
         args = (coef, D, omega, nsteps, state0, int(transient), int(record), int(tan), bool(accurate), poincare,
                 end_state, stats, tan_log, tan_out, status, hist)
         if adaptive_tol > 0.0:  # the adaptive transient, seeking cycles up to MAX_PERIOD
-            K.run_batch(*args, float(adaptive_tol), MAX_PERIOD)
+            K.run_batch(*args, float(adaptive_tol), MAX_PERIOD, table=table)
         else:
-            K.run_batch(*args)
+            K.run_batch(*args, table=table)
         return RawRun(poincare, end_state, stats[:, None, :], tan_log, tan_out, status, hist)
 
 

@@ -177,7 +177,8 @@ _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
             {f.name: _Key(_PHASE if f.units == "rad" else _NUMBER, f.series) for f in FAMILIES.values()}
         ),
         # a mesh stiffness and STE table over P mesh cycles (geardyn.tooth.table; docs/excitation.md)
-        "excitation": MappingProxyType({"file": _Key(_TEXT), "b_c": _Key(_LENGTH), "harmonics": _Key(_INT)}),
+        "excitation": MappingProxyType({"file": _Key(_TEXT), "b_c": _Key(_LENGTH), "harmonics": _Key(_INT),
+                                        "evaluation": _Key(_TEXT)}),
     }
 )
 _TOP_LEVEL_TEXT = ("title", "description")
@@ -429,7 +430,8 @@ def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> Loade
     if not path.is_absolute() and Path(ctx.source).is_file():
         path = Path(ctx.source).parent / path
     try:
-        model = apply_excitation(cfg.model, path, b_c=exc.get("b_c", cfg.b_c), harmonics=exc.get("harmonics"))
+        model = apply_excitation(cfg.model, path, b_c=exc.get("b_c", cfg.b_c), harmonics=exc.get("harmonics"),
+                                 evaluation=exc.get("evaluation", "series"))
     except (ModelError, ConfigError) as e:
         raise ctx.error("excitation", "file", str(e), type(e)) from None
     note = (f"[excitation] {exc['file']}: stiffness and STE over {model.cycles} mesh cycle(s), "
@@ -437,16 +439,23 @@ def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> Loade
     return replace(cfg, model=model, notes=cfg.notes + (note,))
 
 
-def configured_model(config: str | Path | None, excitation: str | Path | None, given: Mapping[str, Any]) -> GearModel:
+def configured_model(config: str | Path | None, excitation: str | Path | None, given: Mapping[str, Any],
+                     evaluation: str | None = None) -> GearModel:
     """The model of a configuration (None: the paper's pair) with an excitation file applied (its STE over b_c).
 
     ``given`` holds the command-line model options by keyword: the series options are refused beside a
-    table (``excitation`` or the configuration's ``[excitation]``; :mod:`geardyn.tooth.table`).
+    table (``excitation`` or the configuration's ``[excitation]``; :mod:`geardyn.tooth.table`).  ``evaluation``
+    (``"series"`` or ``"table"``; default the configuration's ``[excitation] evaluation``, else series) is how the
+    ``excitation`` table is evaluated.
     """
     from .tooth.table import apply_excitation, refuse_series_options
 
     cfg = load_config(config)
-    m = cfg.model if excitation is None else apply_excitation(cfg.model, excitation, b_c=cfg.b_c)
+    if evaluation is not None and excitation is None and evaluation != cfg.model.evaluation:
+        raise ModelError(f"--excitation-evaluation {evaluation}: needs an excitation table (--excitation FILE, or "
+                         "[excitation] of the configuration with evaluation = \"table\")")
+    m = cfg.model if excitation is None else apply_excitation(cfg.model, excitation, b_c=cfg.b_c,
+                                                              evaluation=evaluation or "series")
     if excitation is not None or m.cycles != 1:
         refuse_series_options(given)
     return m

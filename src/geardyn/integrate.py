@@ -377,6 +377,9 @@ def _prepare(models: Sequence[Any], options: IntegrationOptions,
 def _run(models: list, backend: Any, packed: Any, nsteps: np.ndarray, state0: np.ndarray, transient: int,
          record: int, mode: str, accurate: bool, *, record_poincare: bool = True, hist_len: int = 0,
          threads: int | None = None, adaptive: bool = False, tangent0: np.ndarray | None = None) -> RawRun:
+    if not accurate and getattr(models[0], "evaluation", "series") == "table":
+        raise ModelError("evaluation \"table\": the table is evaluated as given in the accurate mode only "
+                         "(--accurate, IntegrationOptions(accurate=True)); or evaluate its series")
     # one point runs on one worker whatever the setting: leave numba's state alone then
     with using_threads(threads if len(models) > 1 else None):
         return backend.run(models, packed, nsteps, state0, transient, record, mode, accurate,

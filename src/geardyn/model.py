@@ -27,6 +27,7 @@ import numpy as np
 
 from ._docfill import attributes
 from .errors import ModelError
+from .meshtable import EVALUATIONS, check_table, kernel_table, table_values
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
 from .system import Element
 
@@ -184,6 +185,13 @@ class GearModel:
         ``MAX_HARMONICS``·P of them), the forcing period is P·2π/ω (:attr:`sampling_period`,
         :meth:`period_multiple`) and the stiffness must be positive for every θ (Σ|κ_j| < 1, or a
         certified minimum > 0: :func:`stiffness_minimum`).
+    evaluation : str
+        ``"series"`` (default): the kernels evaluate the series κ, ε.  ``"table"``: the accurate mode
+        evaluates ``table`` as given (piecewise linear, with its jumps; :mod:`geardyn.meshtable`) and ends
+        a sub-step at every node; the series stay the model's for the tools that take series.
+    table : (phase, k, e)
+        With ``evaluation = "table"``: node phases in mesh cycles over [0, ``cycles``), k/k0 and e/b_c
+        (e may be empty).
 
     The defaults are the paper's Table 1 values with ω = 1.
     """
@@ -199,6 +207,8 @@ class GearModel:
     fp: float = FAMILIES["fp"].default
     D: float = FAMILIES["D"].default
     cycles: int = 1
+    evaluation: str = "series"
+    table: tuple = ()
 
     #: Dimension of the state (u, u') — the 1-DOF model's physics: one relative coordinate.
     state_dim: ClassVar[int] = 2
@@ -226,8 +236,14 @@ class GearModel:
                 )
             set_(self, amp, a)
             set_(self, ph, p + (0.0,) * (len(a) - len(p)))
+        if self.evaluation not in EVALUATIONS:
+            raise ModelError(f"evaluation: one of {', '.join(EVALUATIONS)}, got {self.evaluation!r}")
+        if (self.evaluation == "table") != bool(self.table):
+            raise ModelError("table: evaluation = \"table\" takes a table (phase, k, e), and a table needs it")
+        if self.table:
+            set_(self, "table", check_table(self.table, self.cycles))
         if sum(abs(k) for k in self.kappa) >= MAX_KAPPA_SUM and not (
-                self.cycles > 1 and stiffness_minimum(self.kappa, self.phi_k) > 0.0):
+                (self.cycles > 1 or self.table) and stiffness_minimum(self.kappa, self.phi_k) > 0.0):
             raise ModelError(
                 f"kappa: sum of |kappa_r| must be < {MAX_KAPPA_SUM} so the mesh stiffness stays positive, "
                 f"got {sum(abs(k) for k in self.kappa):g}"
@@ -390,12 +406,15 @@ class GearModel:
         return u - np.clip(u, -self.D, self.D)
 
     def rhs(self, tau: float, y: Sequence[float]) -> np.ndarray:
-        """Right-hand side of the first-order system y = (u, u') at time τ (plain NumPy, for references)."""
+        """Right-hand side of the first-order system y = (u, u') at time τ (plain NumPy, for references; a table
+        evaluated as given: between its nodes, where F = f_p, the STE acting at the nodes only)."""
         th = self.forcing_omega * tau
-        cf = self.coefficients()
+        cf = pack_models([self])[0][0] if self.table else self.coefficients()
         j = np.arange(cf.shape[1])
         cj, sj = np.cos(j * th), np.sin(j * th)
         C, K, F = (cf[i, :, 0] @ cj + cf[i, :, 1] @ sj for i in range(3))
+        if self.table:
+            K = K + float(table_values(self.table, self.cycles, np.array(th))[0])
         u, v = y
         return np.array([v, F - C * v - K * float(self.restoring(u))])
 
@@ -404,6 +423,10 @@ class GearModel:
         d = asdict(self)
         if d["cycles"] == 1:  # the form of every model without a multi-cycle excitation
             del d["cycles"]
+        if d["evaluation"] == "series":  # likewise without a table evaluated as given
+            del d["evaluation"], d["table"]
+        elif d["table"]:
+            d["table"] = [list(c) for c in d["table"]]
         return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
 
     def to_json(self) -> str:
@@ -531,6 +554,9 @@ def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np
         Half backlashes.
     omega : ndarray (P,)
         Forcing frequencies ω/P (:attr:`GearModel.forcing_omega`; the mesh frequencies when P = 1).
+    table : (ndarray (P, M, 7), ndarray (P,)), only when a model is evaluated as a table
+        Its :func:`geardyn.meshtable.kernel_table` rows (zero-padded) and node counts (0: series); the
+        stiffness and STE series of such a model are left out of ``coef`` (K = 0, F = f_p).
 
     Raises
     ------
@@ -544,7 +570,16 @@ def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np
     coef = np.stack([m.coefficients(H) for m in models])
     D = np.array([m.D for m in models])
     omega = np.array([m.forcing_omega for m in models])
-    return np.ascontiguousarray(coef), D, omega
+    if all(m.evaluation == "series" for m in models):
+        return np.ascontiguousarray(coef), D, omega
+    rows = [kernel_table(m.table, m.cycles) if m.table else np.zeros((0, 7)) for m in models]
+    tab = np.zeros((len(models), max(r.shape[0] for r in rows), 7))
+    for i, r in enumerate(rows):
+        tab[i, :r.shape[0]] = r
+        if r.shape[0]:
+            coef[i, 1] = 0.0
+            coef[i, 2, 1:] = 0.0
+    return np.ascontiguousarray(coef), D, omega, (tab, np.array([max(r.shape[0] - 1, 0) for r in rows]))
 
 
 def _per_value(fn, x: np.ndarray) -> np.ndarray:
@@ -593,6 +628,9 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
     ModelError
         For no point, or a point the model refuses (ω <= 0, D < 0, Σ|κ_r| >= 1, a non-finite value).
     """
+    if base.evaluation != "series":
+        raise ModelError("evaluation \"table\": a parameter grid evaluates series models only; the table is "
+                         "evaluated as given by simulate, orbit and lyapunov with --accurate")
     names = list(names)
     pts = np.asarray(points, dtype=float).reshape(-1, len(names))
     P = pts.shape[0]

@@ -177,7 +177,7 @@ def _queue_order(nsteps: np.ndarray) -> np.ndarray:
 
 
 def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
-              poincare, end_state, stats, tan_log, tan_out, status, hist, adapt_tol=0.0, max_period=0):
+              poincare, end_state, stats, tan_log, tan_out, status, hist, adapt_tol=0.0, max_period=0, table=None):
     """Advance a batch of P parameter points; results are written into the output arrays.
 
     Parameters
@@ -223,6 +223,10 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
         over the ``n_record`` periods (``core._adapt_finish``).  0 (default): the fixed transient.
     max_period : int
         Longest cycle the adaptive transient looks for.
+    table : (float64[P, M, 7], int64[P]), optional
+        Accurate mode only: per point the rows of its stiffness and STE table
+        (:func:`geardyn.meshtable.kernel_table`) and their count m (0: the point's series); the sub-steps
+        end at the table's nodes.
 
     Notes
     -----
@@ -234,6 +238,12 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     P = coef.shape[0]
     if P == 0:
         return
+    if table is not None and not accurate:
+        raise ValueError("a table is evaluated as given in the accurate mode only")
+    if table is None:
+        tab, ntab = np.zeros((P, 1, 7)), np.zeros(P, dtype=np.int64)
+    else:
+        tab, ntab = np.ascontiguousarray(table[0], dtype=float), np.ascontiguousarray(table[1], dtype=np.int64)
     n_transient = int(n_transient)
     n_record = int(n_record)
     tangent = int(tangent)
@@ -259,7 +269,7 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
     def work():
         if accurate:
             _accurate_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                             poincare, end_state, stats, tan_log, tan_out, status, hist)
+                             poincare, end_state, stats, tan_log, tan_out, status, hist, tab, ntab)
         elif lanes:
             _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
                           poincare, end_state, stats, tan_log, tan_out, status, adapt_tol, max_period)

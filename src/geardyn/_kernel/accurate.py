@@ -6,6 +6,12 @@ earliest exit from the region is found on the dense (cubic Hermite) output of th
 bisection on the cubic, then refined by Newton on the true sub-step length; the step goes on from
 the boundary in the region the velocity points to.  The coefficients are evaluated with plain
 trigonometric calls at every (sub-)step start, midpoint and end.
+
+A point whose stiffness and STE are a table evaluated as given (:mod:`geardyn.meshtable`) also ends a
+sub-step at every node of the table (the node times θ_j/ω are known in advance): within a sub-step the
+stiffness is the node's segment, linear in θ, so RK4 keeps its order through the jumps; at a node the
+STE's kink changes u' by −ω(σ_j − σ_{j−1}) and its jump changes u by −(e_j⁺ − e_j⁻).  A node within
+``NODE_TOL``·h of a step's end is taken at that end (the last step of a period: every node left).
 """
 
 from __future__ import annotations
@@ -27,6 +33,8 @@ HERMITE_SAMPLES = 8
 #: Accurate mode: Newton iterations on the sub-step length, and the tolerance on |u - boundary|.
 NEWTON_ITERS = 6
 CROSSING_TOL = 1.0e-14
+#: Table evaluation: a node this close (relative to the step h) to the end of a step is taken at that end.
+NODE_TOL = 1.0e-10
 
 
 # ----------------------------------------------------------------------------- coefficients
@@ -49,8 +57,10 @@ def _coef(cf, c1, s1):
 
 
 @njit(nogil=True)
-def _coef_at(cf, theta):
-    return _coef(cf, math.cos(theta), math.sin(theta))
+def _coef_at(cf, theta, xb, kb, ks):
+    """C, K, F at θ, K plus the table segment kb + ks (θ − xb) (all three 0 for a series model)."""
+    C, K, F = _coef(cf, math.cos(theta), math.sin(theta))
+    return C, K + (kb + ks * (theta - xb)), F
 
 
 # ----------------------------------------------------------------------------- locked steps
@@ -74,11 +84,11 @@ def _flock(u, D, r):
 
 
 @njit(nogil=True)
-def _rk4_locked(cf, theta0, omega, u, v, s, D, r):
+def _rk4_locked(cf, theta0, omega, u, v, s, D, r, xb, kb, ks):
     """One RK4 step of length s from angle theta0 with the vector field locked to region r."""
-    C0, K0, F0 = _coef_at(cf, theta0)
-    C1, K1, F1 = _coef_at(cf, theta0 + 0.5 * omega * s)
-    C2, K2, F2 = _coef_at(cf, theta0 + omega * s)
+    C0, K0, F0 = _coef_at(cf, theta0, xb, kb, ks)
+    C1, K1, F1 = _coef_at(cf, theta0 + 0.5 * omega * s, xb, kb, ks)
+    C2, K2, F2 = _coef_at(cf, theta0 + omega * s, xb, kb, ks)
     hh = 0.5 * s
     h6 = s / 6.0
     k1 = F0 - C0 * v - K0 * _flock(u, D, r)
@@ -95,11 +105,11 @@ def _rk4_locked(cf, theta0, omega, u, v, s, D, r):
 
 
 @njit(nogil=True)
-def _tangent_locked(cf, theta0, omega, s, r, Y):
+def _tangent_locked(cf, theta0, omega, s, r, Y, xb, kb, ks):
     """Propagate the tangent matrix Y over a sub-step of length s locked to region r."""
-    C0, K0, F0 = _coef_at(cf, theta0)
-    C1, K1, F1 = _coef_at(cf, theta0 + 0.5 * omega * s)
-    C2, K2, F2 = _coef_at(cf, theta0 + omega * s)
+    C0, K0, F0 = _coef_at(cf, theta0, xb, kb, ks)
+    C1, K1, F1 = _coef_at(cf, theta0 + 0.5 * omega * s, xb, kb, ks)
+    C2, K2, F2 = _coef_at(cf, theta0 + omega * s, xb, kb, ks)
     g = 1.0 if r != 0 else 0.0
     hh = 0.5 * s
     h6 = s / 6.0
@@ -146,15 +156,17 @@ def _hermite(u0, v0, u1, v1, H, x):
 
 
 @njit(nogil=True)
-def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent):
-    """One regular step of length h in accurate mode; returns (u, v, region)."""
+def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent, xb, kb, ks):
+    """One regular step of length h in accurate mode; returns (u, v, region).
+
+    ``xb, kb, ks``: the table segment K += kb + ks (θ − xb) the step lies in (0, 0, 0 for a series model)."""
     t_done = 0.0
     for _ in range(MAX_SPLITS):
         H = h - t_done
         if H <= 0.0:
             break
         th = theta0 + omega * t_done
-        un, vn = _rk4_locked(cf, th, omega, u, v, H, D, r)
+        un, vn = _rk4_locked(cf, th, omega, u, v, H, D, r, xb, kb, ks)
         # earliest exit from region r along the dense (Hermite) output of this sub-step
         x_in = 0.0
         x_out = -1.0
@@ -167,7 +179,7 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent):
             x_in = x
         if x_out < 0.0:
             if tangent:
-                _tangent_locked(cf, th, omega, H, r, Y)
+                _tangent_locked(cf, th, omega, H, r, Y, xb, kb, ks)
             return un, vn, r
         # which boundary: the one on the side where the path went
         ux = un if x_out == 1.0 else _hermite(u, v, un, vn, H, x_out)
@@ -187,7 +199,7 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent):
                 lo = mid
         s = 0.5 * (lo + hi) * H
         for _k in range(NEWTON_ITERS):
-            us, vs = _rk4_locked(cf, th, omega, u, v, s, D, r)
+            us, vs = _rk4_locked(cf, th, omega, u, v, s, D, r, xb, kb, ks)
             g = us - b
             if abs(g) <= CROSSING_TOL * (1.0 + abs(b)) or vs == 0.0:
                 break
@@ -195,9 +207,9 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent):
             if s_new <= 0.0 or s_new > H:
                 break
             s = s_new
-        us, vs = _rk4_locked(cf, th, omega, u, v, s, D, r)
+        us, vs = _rk4_locked(cf, th, omega, u, v, s, D, r, xb, kb, ks)
         if tangent:
-            _tangent_locked(cf, th, omega, s, r, Y)
+            _tangent_locked(cf, th, omega, s, r, Y, xb, kb, ks)
         u = b
         v = vs
         t_done += s
@@ -210,12 +222,41 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent):
     H = h - t_done
     if H > 0.0:
         th = theta0 + omega * t_done
-        un, vn = _rk4_locked(cf, th, omega, u, v, H, D, r)
+        un, vn = _rk4_locked(cf, th, omega, u, v, H, D, r, xb, kb, ks)
         if tangent:
-            _tangent_locked(cf, th, omega, H, r, Y)
+            _tangent_locked(cf, th, omega, H, r, Y, xb, kb, ks)
         u = un
         v = vn
     return u, v, r
+
+
+# ----------------------------------------------------------------------------- a table evaluated as given
+@njit(nogil=True)
+def _step_table(cf, tab, m, t, te, last, omega, u, v, D, r, Y, tangent, jn, seg, eps):
+    """The regular step [t, te] of a point evaluated as a table; returns (u, v, region, jn, seg).
+
+    ``jn``: the next node of the period (m: none left); ``seg``: the segment the motion is in (m − 1 and
+    ``jn`` = 0: the wrap segment from the last node, one period back).  Sub-steps end at the nodes; the
+    ``last`` step of a period takes the nodes left within ``eps`` of its end there.
+    """
+    while True:
+        # the nodes due (at the period's end: all that are left): the STE's kink and jump
+        while jn < m and (tab[jn, 0] / omega <= t + eps or (last and t == te)):
+            du = tab[jn, 4] - tab[jn, 3]
+            v -= omega * (tab[jn, 6] - tab[seg, 6])
+            if du != 0.0:
+                u -= du
+                r = _region(u, D)
+            seg = jn
+            jn += 1
+        if t == te:
+            return u, v, r, jn, seg
+        ts = te
+        if jn < m and tab[jn, 0] / omega < te - eps:
+            ts = tab[jn, 0] / omega
+        xb = tab[seg, 0] - (2.0 * math.pi if jn == 0 else 0.0)
+        u, v, r = _step_accurate(cf, omega * t, omega, ts - t, u, v, D, r, Y, tangent, xb, tab[seg, 2], tab[seg, 5])
+        t = ts
 
 
 # ----------------------------------------------------------------------------- one point, the worker
@@ -232,10 +273,12 @@ def _gram_schmidt(Y):
 
 @njit(nogil=True)
 def _point_accurate(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
-                    poincare, end_state, stats, tan_log, tan_out, status, hist):
-    """One point in accurate mode (steps split at the contact-boundary crossings)."""
+                    poincare, end_state, stats, tan_log, tan_out, status, hist, tab, m):
+    """One point in accurate mode (steps split at the contact-boundary crossings, and at the nodes of
+    its table when m > 0; its state at a period end is that before the node at θ ≡ 0)."""
     T = 2.0 * math.pi / omega
     h = T / N
+    eps = NODE_TOL * h
     Y = np.eye(2)
     if tangent == TAN_CONTINUE:  # the orthonormal basis a previous block ended with
         Y[:, :] = tan_out[p]
@@ -259,8 +302,14 @@ def _point_accurate(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
             hist[p, 0, 0] = u
             hist[p, 0, 1] = v
             hi = 1
+        jn = 0
+        seg = m - 1
         for k in range(N):
-            u, v, r = _step_accurate(cf, k * h * omega, omega, h, u, v, D, r, Y, tan_on)
+            if m == 0:
+                u, v, r = _step_accurate(cf, k * h * omega, omega, h, u, v, D, r, Y, tan_on, 0.0, 0.0, 0.0)
+            else:
+                u, v, r, jn, seg = _step_table(cf, tab, m, k * h, T if k == N - 1 else (k + 1) * h, k == N - 1,
+                                               omega, u, v, D, r, Y, tan_on, jn, seg, eps)
             if rec:
                 st[S_UMIN] = min(st[S_UMIN], u)
                 st[S_UMAX] = max(st[S_UMAX], u)
@@ -300,8 +349,8 @@ def _point_accurate(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
 
 @njit(nogil=True, cache=True)
 def _accurate_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                     poincare, end_state, stats, tan_log, tan_out, status, hist):
-    """Integrate points of the queue ``order`` one at a time in accurate mode."""
+                     poincare, end_state, stats, tan_log, tan_out, status, hist, tab, ntab):
+    """Integrate points of the queue ``order`` one at a time in accurate mode (tables: ``tab``, ``ntab``)."""
     while True:
         i = _fetch_add(counter, 1)
         if i >= order.shape[0]:
@@ -309,4 +358,4 @@ def _accurate_worker(order, counter, coef, D, omega, nsteps, state0, n_transient
         p = order[i]
         _point_accurate(p, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1],
                         n_transient, n_record, tangent,
-                        poincare, end_state, stats, tan_log, tan_out, status, hist)
+                        poincare, end_state, stats, tan_log, tan_out, status, hist, tab[p], ntab[p])

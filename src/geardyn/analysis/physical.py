@@ -86,6 +86,10 @@ def mesh_force(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) 
     cj, sj = np.cos(j * th), np.sin(j * th)
     C = cf[0, :, 0] @ cj + cf[0, :, 1] @ sj
     K = cf[1, :, 0] @ cj + cf[1, :, 1] @ sj
+    if model.evaluation == "table":  # the stiffness the accurate mode evaluates: the table as given
+        from ..meshtable import table_values
+
+        K = table_values(model.table, model.cycles, th[0])[0]
     return C * v + K * model.restoring(u)
 
 

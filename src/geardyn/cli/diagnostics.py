@@ -78,7 +78,7 @@ def stiffness_cmd(
     if inp.table is not None:
         from ..tooth.table import table_of, write_table
 
-        paths.append(str(write_table(table_of(ms), inp.table, case.name)))
+        paths.append(str(write_table(table_of(ms, jumps=True), inp.table, case.name)))
     finish(summary, paths, inp, _show_stiffness)
 
 

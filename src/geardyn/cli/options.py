@@ -85,6 +85,8 @@ RPM = option("rpm", Optional[float], None, "--rpm", panel=PHYSICAL_PANEL,
 TORQUE = option("torque", Optional[float], None, "--torque", panel=PHYSICAL_PANEL,
                 help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config).")
 EXCITATION = option("excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
+EVALUATION = option("excitation_evaluation", Optional[str], None, "--excitation-evaluation", panel=PHYSICAL_PANEL,
+                    help="series (default) or table: with --accurate, the table as given, piecewise linear with its jumps.")
 RPM_RANGE = [
     option("rpm_start", Optional[float], None, "--rpm-start", panel=PHYSICAL_PANEL,
            help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop)."),
@@ -107,7 +109,7 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     -------
     list of inspect.Parameter
     """
-    group = list(CONFIG) + [EXCITATION] + ([RPM] if rpm else []) + [TORQUE]
+    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE]
     for o in params.cli_options():
         if o.param == "omega" and not omega:
             continue
@@ -194,30 +196,26 @@ OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
-def base_model(config: Optional[Path], excitation: Optional[Path] = None, given: Any = None) -> GearModel:
+def base_model(config: Optional[Path], excitation: Optional[Path] = None, given: Any = None,
+               evaluation: Optional[str] = None) -> GearModel:
     """The model of ``--config`` (or the paper's defaults) and ``--excitation`` (:mod:`geardyn.tooth.table`)."""
-    if config is None and excitation is None:
+    if config is None and excitation is None and evaluation is None:
         return GearModel()
     from ..config import configured_model
 
-    return configured_model(config, excitation, given or {})
+    return configured_model(config, excitation, given or {}, evaluation)
 
 
 def pair_scales(config: Optional[Path]):
-    """Physical scales of the gear pair of ``--config`` (default: the paper's Table 1 pair, k0 assumed).
-
-    Parameters
-    ----------
-    config : Path, optional
-        Configuration file.
-    """
+    """Physical scales of the gear pair of the configuration file ``config`` (default: the paper's Table 1 pair, k0
+    assumed)."""
     from ..units import PhysicalScales, configured_pair
 
     return PhysicalScales.from_config(configured_pair(config))
 
 
 def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, torque: Optional[float] = None,
-                excitation: Optional[Path] = None, **values: Optional[float]) -> GearModel:
+                excitation: Optional[Path] = None, evaluation: Optional[str] = None, **values: Optional[float]) -> GearModel:
     """The config's model (with the ``excitation`` table) with the command-line values applied on top (validated).
 
     Parameters
@@ -229,6 +227,8 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
         configured gear pair and cannot be combined with ``omega`` / ``fp``.
     excitation : Path, optional
         A mesh excitation table (``docs/excitation.md``) in place of the config's stiffness and STE series.
+    evaluation : str, optional
+        ``"series"`` or ``"table"``: how the excitation table is evaluated (default: the configuration's, else series).
     **values
         The registry's model options by keyword (``omega``, ``xi0``, …); ``None`` keeps the config's value.
 
@@ -241,7 +241,7 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
     unknown = set(values) - set(by_dest)
     if unknown:
         raise ModelError(f"model options: unknown {sorted(unknown)}; allowed: {sorted(by_dest)}")
-    m = base_model(config, excitation, values)
+    m = base_model(config, excitation, values, evaluation)
     if rpm is not None or torque is not None:
         from ..units import operating_overrides
 
@@ -301,7 +301,8 @@ class Inputs:
         dests = {o.dest for o in params.cli_options()}
         given = {k: v.get(k) for k in dests}
         given.update(fixed)
-        return build_model(v.get("config"), rpm=v.get("rpm"), torque=v.get("torque"), excitation=v.get("excitation"), **given)
+        return build_model(v.get("config"), rpm=v.get("rpm"), torque=v.get("torque"), excitation=v.get("excitation"),
+                           evaluation=v.get("excitation_evaluation"), **given)
 
     def scales(self):
         """The physical scales of the configured gear pair (of a system's reference mesh with ``--system``)."""

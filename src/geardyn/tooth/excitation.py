@@ -9,6 +9,13 @@ table of N equally spaced values over one period is *exactly* its trigonometric 
 
 so the kernel evaluates, at every θ, the smooth periodic function through the table's points.
 
+**Tables with jumps, evaluated as given.**  A table may also give its node phases (``phase``, mesh
+cycles, non-decreasing; a phase given twice is a jump: left value, then right value).  Its series is
+then the Fourier series of its piecewise-linear function (:func:`piecewise_series`, exact integrals).
+``excitation_model(..., evaluation="table")`` makes a model whose accurate-mode kernel evaluates the
+table itself, piecewise linear with its jumps, and ends a sub-step at every node
+(:mod:`geardyn.meshtable`); its series stay for the tools that take series.
+
 **Periods of several mesh cycles (a tooth fault, the hunting period).**  The forcing period of a
 fault on one pinion tooth is z1 mesh cycles, in general lcm(z1, z2).  The model carries P, the mesh
 cycles of one forcing period (:attr:`geardyn.model.GearModel.cycles`): ω stays the mesh frequency
@@ -37,7 +44,7 @@ from ..errors import ModelError
 from ..model import GearModel
 from ..params import MAX_HARMONICS
 
-__all__ = ["Excitation", "excitation_model", "fourier_series", "pair_model", "series_table"]
+__all__ = ["Excitation", "excitation_model", "fourier_series", "pair_model", "piecewise_series", "series_table"]
 
 
 def fourier_series(values: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
@@ -62,6 +69,44 @@ def fourier_series(values: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
     if N % 2 == 0:
         amp[-1] *= 0.5
     return float(X[0].real / N), amp, np.angle(X[1:])
+
+
+def piecewise_series(phase: np.ndarray, values: np.ndarray, harmonics: int) -> tuple[float, np.ndarray, np.ndarray]:
+    """Mean, amplitudes A_j and phases φ_j (j = 1 … ``harmonics``) of a piecewise-linear periodic function.
+
+    The coefficients c_j = ∫_0^1 y(x) e^{−2πijx} dx are integrated exactly segment by segment:
+    ∫_a^b (y_a + s(x − a)) e^{−iwx} dx = [(i/w) y(x) e^{−iwx} + (s/w²) e^{−iwx}]_a^b, w = 2πj; then
+    y = c_0 + Σ_j 2|c_j| cos(2πjx + arg c_j).
+
+    Parameters
+    ----------
+    phase : ndarray (n,)
+        Node positions as fractions of the period, non-decreasing in [0, 1); a position given twice is a
+        jump (left value, then right value).
+    values : ndarray (n,)
+        The value at each node.
+    harmonics : int
+        Harmonics returned.
+
+    Returns
+    -------
+    (mean, amplitude, phase)
+    """
+    from ..meshtable import node_values, segments
+
+    x, left, right = node_values(phase, values)
+    slope = segments(x, left, right, 1.0)
+    b = np.r_[x[1:], x[0] + 1.0]
+    yb = np.r_[left[1:], left[0]]
+    mean = float(np.sum(0.5 * (right + yb) * (b - x)))
+    w = 2.0 * np.pi * np.arange(1, int(harmonics) + 1)[:, None]
+
+    def prim(xx, yy):
+        ex = np.exp(-1j * w * xx[None, :])
+        return (1j / w) * yy[None, :] * ex + (slope[None, :] / w**2) * ex
+
+    c = (prim(b, yb) - prim(x, right)).sum(axis=1)
+    return mean, 2.0 * np.abs(c), np.angle(c)
 
 
 def series_table(mean: float, amplitude: np.ndarray, phase: np.ndarray, n: int) -> np.ndarray:
@@ -97,11 +142,15 @@ class Excitation:
         STE over the same phases (m).
     cycles : int
         Mesh cycles the tables span.
+    phase : ndarray or None
+        Node phases in mesh cycles, non-decreasing over [0, cycles), a phase twice at a jump (left value,
+        then right value); None: equally spaced from 0.
     """
 
     stiffness: np.ndarray
     ste: np.ndarray | None = None
     cycles: int = 1
+    phase: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         k = np.asarray(self.stiffness, dtype=float)
@@ -117,6 +166,30 @@ class Excitation:
         object.__setattr__(self, "cycles", int(P))
         if k.ndim != 1 or k.size < 2 or not np.all(np.isfinite(k)) or np.any(k <= 0):
             raise ModelError("excitation: the stiffness table needs at least 2 finite values > 0")
+        if self.phase is not None:
+            from ..meshtable import check_table
+
+            ph = np.asarray(self.phase, dtype=float)
+            if ph.shape != k.shape:
+                raise ModelError(f"excitation: {ph.size} phases for {k.size} stiffness values")
+            check_table((ph, k, ()), self.cycles)
+            object.__setattr__(self, "phase", ph)
+
+    def nodes(self) -> np.ndarray:
+        """The node phases in mesh cycles (equally spaced from 0 unless given)."""
+        n = self.stiffness.size
+        return self.cycles * np.arange(n) / n if self.phase is None else self.phase
+
+    def _series(self, values: np.ndarray, harmonics: int | None) -> tuple[float, np.ndarray, np.ndarray]:
+        if self.phase is None:
+            return fourier_series(values)
+        H = self.default_harmonics(10**9) if harmonics is None else harmonics
+        return piecewise_series(self.phase / self.cycles, values, H)
+
+    def default_harmonics(self, cap: int) -> int:
+        """⌊n/2⌋ for n distinct phases, at most ``cap``."""
+        n = self.stiffness.size if self.phase is None else np.unique(self.phase).size
+        return min(n // 2, cap)
 
     def series(self, harmonics: int | None = None, b_c: float = 1.0,
                cap: int | None = None) -> dict[str, tuple[float, ...] | float]:
@@ -124,7 +197,10 @@ class Excitation:
 
         ``harmonics`` (default all of the table's) is refused above ``cap`` (default MAX_HARMONICS·cycles)
         and above the table's ⌊N/2⌋."""
-        k0, ka, kp = fourier_series(self.stiffness)
+        if self.phase is not None:
+            harmonics = self.default_harmonics(MAX_HARMONICS * self.cycles if cap is None else int(cap)) \
+                if harmonics is None else harmonics
+        k0, ka, kp = self._series(self.stiffness, harmonics)
         if k0 <= 0:
             raise ModelError("excitation: the mean stiffness must be > 0")
         cap = MAX_HARMONICS * self.cycles if cap is None else int(cap)
@@ -137,13 +213,13 @@ class Excitation:
                              f"cycles): pass harmonics <= {cap}")
         out: dict = {"k0": k0, "kappa": tuple(ka[:H] / k0), "phi_k": tuple(kp[:H])}
         if self.ste is not None:
-            _, ea, ep = fourier_series(self.ste)
+            _, ea, ep = self._series(self.ste, harmonics)
             out.update(eps=tuple(ea[:H] / b_c), phi_e=tuple(ep[:H]))
         return out
 
 
 def excitation_model(base: GearModel, exc: Excitation, *, harmonics: int | None = None,
-                     b_c: float = 1.0) -> GearModel:
+                     b_c: float = 1.0, evaluation: str = "series") -> GearModel:
     """``base`` with the stiffness and STE of ``exc`` over its P = ``exc.cycles`` mesh cycles.
 
     Parameters
@@ -156,6 +232,9 @@ def excitation_model(base: GearModel, exc: Excitation, *, harmonics: int | None 
         Harmonics of ω/P kept (default: the full series of the table, at most MAX_HARMONICS·P).
     b_c : float
         Characteristic length the STE table is divided by (same unit as the table).
+    evaluation : {"series", "table"}
+        ``"table"``: the model carries the table (k/k0 with k0 the series' mean, e/b_c) and the accurate
+        mode evaluates it as given (:mod:`geardyn.meshtable`).
 
     Returns
     -------
@@ -167,10 +246,13 @@ def excitation_model(base: GearModel, exc: Excitation, *, harmonics: int | None 
     if base.cycles != 1:
         raise ModelError(f"excitation: the base model already spans {base.cycles} mesh cycles")
     if harmonics is None:
-        harmonics = min(exc.stiffness.size // 2, MAX_HARMONICS * P)
+        harmonics = exc.default_harmonics(MAX_HARMONICS * P)
     s = exc.series(harmonics, b_c, cap=MAX_HARMONICS * P)
     changes: dict = {"cycles": P, "kappa": s["kappa"], "phi_k": s["phi_k"],
                      "eps": s.get("eps", ()), "phi_e": s.get("phi_e", ())}
+    if evaluation != "series":
+        e = () if exc.ste is None else tuple(exc.ste / b_c)
+        changes.update(evaluation=evaluation, table=(tuple(exc.nodes()), tuple(exc.stiffness / s["k0"]), e))
     if P != 1 and base.xi:
         xi = [0.0] * (P * len(base.xi))
         ph = [0.0] * (P * len(base.xi))

@@ -5,8 +5,10 @@ Formats (``docs/excitation.md``):
 * NetCDF written by ``geardyn stiffness --out FILE.nc``: ``mesh_stiffness`` (N/µm) and
   ``ste_equivalent`` (µm) over ``phase`` (mesh cycles).
 * CSV: a header line ``phase_cycles,stiffness_N_per_m,ste_m`` (the STE column optional), one row per
-  phase, equally spaced from 0; P = N·Δphase mesh cycles.
-* JSON: ``{"cycles": P, "stiffness_N_per_m": [...], "ste_m": [...]}`` (``ste_m`` optional).
+  phase, equally spaced from 0 (P = N·Δphase mesh cycles), or any non-decreasing phases with a phase
+  given twice at a jump (left value, then right value; P = ⌊last phase⌋ + 1).
+* JSON: ``{"cycles": P, "stiffness_N_per_m": [...], "ste_m": [...]}`` (``ste_m`` optional; ``phase_cycles``
+  optional, with jumps as in the CSV).
 * TOML: a tooth-pair file (``[tooth_pair]``, ``[modifications]``, ``[[fault]]``, ``[mesh]``; see
   :mod:`geardyn.tooth.config`), whose stiffness and STE are computed by the potential-energy method.
 """
@@ -29,21 +31,65 @@ __all__ = ["apply_excitation", "read_table", "refuse_series_options", "table_of"
 _CSV_HEADER = ("phase_cycles", "stiffness_N_per_m", "ste_m")
 
 
-def table_of(ms: Any) -> Excitation:
+def table_of(ms: Any, jumps: bool = False) -> Excitation:
     """The :class:`Excitation` of a :class:`~geardyn.tooth.mesh.MeshStiffness` (stiffness and e_eq).
 
     Parameters
     ----------
     ms : MeshStiffness
-        The mesh stiffness and STE over its P mesh cycles.
+        The mesh stiffness and STE over its P mesh cycles (on its equally spaced grid).
+    jumps : bool
+        Also locate every phase where the number of pairs in contact changes between two neighbouring
+        grid phases (bisection to 1e-13 cycle with :func:`~geardyn.tooth.mesh.mesh_stiffness` at the mid
+        phases) and give it twice, with the left and the right value (a grid phase that is one takes
+        the left value in a new row before it).
 
     Returns
     -------
     Excitation
-        Its stiffness and equivalent-STE table over the same cycles.
+        Its stiffness and equivalent-STE table over the same cycles (with ``phase`` when ``jumps``).
     """
-    return Excitation(np.asarray(ms.stiffness, dtype=float), np.asarray(ms.ste_equivalent, dtype=float),
-                      int(ms.cycles))
+    k = np.asarray(ms.stiffness, dtype=float)
+    e = np.asarray(ms.ste_equivalent, dtype=float)
+    if not jumps:
+        return Excitation(k, e, int(ms.cycles))
+    return _with_jumps(ms, k, e)
+
+
+def _with_jumps(ms: Any, k: np.ndarray, e: np.ndarray) -> Excitation:
+    from .mesh import mesh_stiffness
+
+    P, phase, count = int(ms.cycles), np.asarray(ms.phase, dtype=float), np.asarray(ms.pairs_in_contact)
+    n = phase.size
+    at = np.flatnonzero(count != np.roll(count, -1))  # a change between grid phase i and i + 1 (cyclic)
+    if at.size == 0:
+        return Excitation(k, e, P, phase=phase.copy())
+
+    def mesh(th):
+        return mesh_stiffness(ms.geometry, ms.force * ms.geometry.r_b[0], faults=ms.faults,
+                              modifications=ms.modifications, cycles=P, slices=ms.slices, phases=th)
+
+    lo = phase[at].copy()
+    hi = np.where(at + 1 < n, phase[(at + 1) % n], float(P))
+    c_lo = count[at]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        same = mesh(np.mod(mid, P)).pairs_in_contact == c_lo
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+        if np.all(hi - lo <= 1e-13 * max(1.0, P)):
+            break
+    left, right = mesh(np.mod(lo, P)), mesh(np.mod(hi, P))
+    rows = [(phase[i], 0, k[i], e[i]) for i in range(n)]  # (phase, order at that phase, k, e)
+    for j, i in enumerate(at):
+        nxt = float(phase[(i + 1) % n])
+        lv = (left.stiffness[j], left.ste_equivalent[j])
+        if abs(hi[j] - nxt - (P if i + 1 == n else 0.0)) <= 1e-9:  # at a grid phase: its row is the right value
+            rows.append((nxt, -1, *lv))
+        else:
+            x = float(np.mod(hi[j], P))
+            rows += [(x, 1, *lv), (x, 2, right.stiffness[j], right.ste_equivalent[j])]
+    a = np.array(sorted(rows), dtype=float)
+    return Excitation(a[:, 2], a[:, 3], P, phase=a[:, 0])
 
 
 def _cycles_from_phase(where: str, phase: np.ndarray) -> int:
@@ -59,6 +105,23 @@ def _cycles_from_phase(where: str, phase: np.ndarray) -> int:
     if P < 1 or abs(span - P) > 1e-6 * span:
         raise ConfigError(f"{where}: the table spans {span:.9g} mesh cycles; it must span a whole number of cycles")
     return int(P)
+
+
+def _phased(where: str, phase: np.ndarray, k: np.ndarray, e: np.ndarray | None, cycles: int | None = None) -> Excitation:
+    """The table of rows at ``phase``: equally spaced from 0 (as before), else explicit node phases with jumps."""
+    d = np.diff(phase)
+    if phase.size >= 2 and np.all(d > 0):
+        try:
+            P = _cycles_from_phase(where, phase)
+        except ConfigError:
+            P = None
+        if P is not None and (cycles is None or cycles == P):
+            return Excitation(k, e, P)
+    if phase.size < 2 or np.any(d < 0):
+        raise ConfigError(f"{where}: phase_cycles must be equally spaced from 0, or non-decreasing with a phase at "
+                          "most twice (a jump: left value, then right value)")
+    P = int(math.floor(phase[-1])) + 1 if cycles is None else int(cycles)
+    return Excitation(k, e, P, phase=phase)
 
 
 def read_table(path: str | Path, *, cycles: int | None = None, points: int | None = None) -> Excitation:
@@ -107,7 +170,7 @@ def read_table(path: str | Path, *, cycles: int | None = None, points: int | Non
             a = np.array([[float(x) for x in r] for r in rows[1:]], dtype=float)
             if a.ndim != 2 or a.shape[1] != len(head):
                 raise ConfigError(f"{where}: every row needs {len(head)} numbers")
-            return Excitation(a[:, 1], a[:, 2] if a.shape[1] == 3 else None, _cycles_from_phase(where, a[:, 0]))
+            return _phased(where, a[:, 0], a[:, 1], a[:, 2] if a.shape[1] == 3 else None)
         if suffix == ".json":
             d = json.loads(p.read_text(encoding="utf-8"))
             if not isinstance(d, dict) or "stiffness_N_per_m" not in d:
@@ -117,9 +180,13 @@ def read_table(path: str | Path, *, cycles: int | None = None, points: int | Non
                 raise ConfigError(f"{where}: unknown keys {sorted(unknown)}")
             k = np.asarray(d["stiffness_N_per_m"], dtype=float)
             P = int(d.get("cycles", 1))
-            if "phase_cycles" in d and _cycles_from_phase(where, np.asarray(d["phase_cycles"], dtype=float)) != P:
-                raise ConfigError(f"{where}: phase_cycles does not span cycles = {P} mesh cycles")
-            return Excitation(k, np.asarray(d["ste_m"], dtype=float) if d.get("ste_m") is not None else None, P)
+            e = np.asarray(d["ste_m"], dtype=float) if d.get("ste_m") is not None else None
+            if "phase_cycles" in d:
+                ph = np.asarray(d["phase_cycles"], dtype=float)
+                if np.all(np.diff(ph) > 0) and _cycles_from_phase(where, ph) != P:
+                    raise ConfigError(f"{where}: phase_cycles does not span cycles = {P} mesh cycles")
+                return _phased(where, ph, k, e, P)
+            return Excitation(k, e, P)
         if suffix == ".toml":
             from .config import load_case
             from .mesh import mesh_stiffness
@@ -154,7 +221,7 @@ def write_table(exc: Excitation, path: str | Path, name: str = "") -> Path:
     """
     p = Path(path)
     n = exc.stiffness.size
-    phase = exc.cycles * np.arange(n) / n
+    phase = exc.nodes()
     if p.suffix.lower() == ".csv":
         cols = [phase, exc.stiffness] + ([exc.ste] if exc.ste is not None else [])
         head = _CSV_HEADER[:len(cols)]
@@ -171,7 +238,8 @@ def write_table(exc: Excitation, path: str | Path, name: str = "") -> Path:
     return p
 
 
-def apply_excitation(model: Any, path: str | Path, *, b_c: float | None, harmonics: int | None = None) -> Any:
+def apply_excitation(model: Any, path: str | Path, *, b_c: float | None, harmonics: int | None = None,
+                     evaluation: str = "series") -> Any:
     """``model`` with the stiffness and STE of an excitation file (:func:`read_table`).
 
     Parameters
@@ -184,6 +252,8 @@ def apply_excitation(model: Any, path: str | Path, *, b_c: float | None, harmoni
         Characteristic length (m) the STE is divided by; None is refused when the table has an STE.
     harmonics : int, optional
         Harmonics of ω/P kept (default all of the table's, at most MAX_HARMONICS·P).
+    evaluation : {"series", "table"}
+        ``"table"``: the accurate mode evaluates the table as given (:func:`excitation_model`).
 
     Returns
     -------
@@ -193,7 +263,8 @@ def apply_excitation(model: Any, path: str | Path, *, b_c: float | None, harmoni
     if exc.ste is not None and (b_c is None or not math.isfinite(b_c) or b_c <= 0):
         raise ModelError(f"excitation: {path}: the STE needs the characteristic length b_c; give the configuration's "
                          "gear pair or [excitation] b_c")
-    return excitation_model(model, exc, harmonics=harmonics, b_c=b_c if exc.ste is not None else 1.0)
+    return excitation_model(model, exc, harmonics=harmonics, b_c=b_c if exc.ste is not None else 1.0,
+                            evaluation=evaluation)
 
 
 def refuse_series_options(values: dict[str, Any]) -> None:
