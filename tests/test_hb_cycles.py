@@ -1,0 +1,137 @@
+"""The pair's harmonic balance with an excitation of P > 1 mesh cycles (harmonics of ω/P, ω the mesh frequency).
+
+Exact theory: a one-cycle series written as a 3-cycle one (harmonic j of ω becomes harmonic 3j of ω/3) is the same
+equation, so HB with P = 3 and 3H harmonics has the one-cycle solution's coefficients on the harmonics 3k (zero
+elsewhere), the same states, amplitudes, folds and jumps at the same mesh frequency, and the Floquet multipliers of
+its forcing period (three mesh periods) are the cubes of the one-cycle ones.  The cracked pinion tooth over one
+revolution (P = 20) is checked against shooting (an independent integration of the period map).
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from geardyn.analysis.hb import hb_continuation, hb_solve
+from geardyn.analysis.hb.response import response_from_branch
+from geardyn.analysis.hb.solve import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
+from geardyn.analysis.periodic.orbit import shoot
+from geardyn.errors import ModelError
+from geardyn.model import GearModel
+from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, pair_model
+
+
+def repeated(m: GearModel, P: int = 3) -> GearModel:
+    """``m`` with its series written over P mesh cycles (harmonic j of ω → harmonic P·j of ω/P)."""
+    def z(t):
+        return tuple(x for v in t for x in (0.0,) * (P - 1) + (v,))
+    return m.replace(xi=z(m.xi), phi_c=z(m.phi_c), kappa=z(m.kappa), phi_k=z(m.phi_k), eps=z(m.eps),
+                     phi_e=z(m.phi_e), cycles=P)
+
+
+def spread(a: np.ndarray, H: int, P: int = 3) -> np.ndarray:
+    """Coefficients [a0, a1..aH, b1..bH] of H harmonics as those of P·H harmonics of φ/P."""
+    out = np.zeros(2 * P * H + 1)
+    k = P * np.arange(1, H + 1)
+    out[0], out[k], out[P * H + k] = a[0], a[1:H + 1], a[H + 1:]
+    return out
+
+
+@pytest.fixture(scope="module")
+def crack():
+    geo = pair_geometry(20, 40, 0.003, face_width=0.02)
+    ms = mesh_stiffness(geo, 100.0, faults=[Crack(0, 0, 0.5)], points=16)
+    m, _sc = pair_model(ms, 1000.0, harmonics=64)
+    assert m.cycles == 20 and m.n_harmonics == 64
+    return m
+
+
+@pytest.mark.parametrize("w", [0.7, 1.2])  # stable, and unstable (a multiplier −4.9) on the paper's pair
+def test_three_cycle_series_equals_the_one_cycle_model(w):
+    m1 = GearModel(omega=w)
+    m3 = repeated(m1)
+    s1, s3 = hb_solve(m1), hb_solve(m3)
+    assert s1.status == 0 and s3.status == 0
+    assert s3.harmonics == 3 * DEFAULT_HARMONICS  # the default: 16 mesh orders
+    np.testing.assert_allclose(s3.coefficients, spread(s1.coefficients, s1.harmonics), rtol=0, atol=1e-10)
+    np.testing.assert_allclose(s3.state(), s1.state(), rtol=0, atol=1e-10)
+    assert s3.amplitude == pytest.approx(s1.amplitude, abs=1e-10)
+    # the forcing period is 3 mesh periods: μ(P = 3) = μ(P = 1)³ (monodromy, relative error ~1e-7 each)
+    np.testing.assert_allclose(s3.multipliers, s1.multipliers**3, rtol=1e-6, atol=1e-9)
+    t1, u1 = s1.signal(64)
+    t3, u3 = s3.signal(192)
+    np.testing.assert_allclose(t3[:64], t1, rtol=1e-14)  # τ over the forcing period, 3 mesh periods
+    for k in range(3):  # the same u in each of its mesh periods
+        np.testing.assert_allclose(u3[64 * k:64 * (k + 1)], u1, atol=1e-10)
+
+
+def test_three_cycle_series_hill_multipliers():
+    # Hill's method: the central copies give the same multipliers, to Hill's truncation (~2e-4 at H = 16, docs/hb.md)
+    m1, m3 = GearModel(omega=0.7), repeated(GearModel(omega=0.7))
+    ref = hb_solve(m1).multipliers**3
+    s3 = hb_solve(m3, floquet="hill")
+    assert s3.hill.status == 0
+    np.testing.assert_allclose(s3.multipliers, ref, rtol=0, atol=1e-3)
+
+
+def test_three_cycle_series_continuation_and_response():
+    # the branch in the mesh frequency: the same grazing, folds and period doubling, the same jumps
+    m1 = GearModel()
+    r1 = hb_continuation(m1, "omega", 0.5, 0.8, guess="linear")
+    r3 = hb_continuation(repeated(m1), "omega", 0.5, 0.8, guess="linear")
+    assert r3.harmonics == 48 and r3.end == r1.end == "reached the end of the interval"
+    ev1 = sorted((b.type, b.value) for b in r1.bifurcations)
+    ev3 = sorted((b.type, b.value) for b in r3.bifurcations)
+    assert [t for t, _ in ev3] == [t for t, _ in ev1] == ["fold", "fold", "grazing", "period-doubling"]
+    np.testing.assert_allclose([v for _, v in ev3], [v for _, v in ev1], rtol=0, atol=1e-8)
+    assert min(r3.values) >= 0.5 - 1e-12 and max(r3.values) <= 0.8 + 0.02
+    g = np.linspace(0.5, 0.8, 13)
+    d1, d3 = response_from_branch(r1, g), response_from_branch(r3, g)
+    for k in ("amplitude", "u_min", "u_max", "mean"):
+        np.testing.assert_allclose(d3[k].values, d1[k].values, rtol=0, atol=1e-9, equal_nan=True)
+    np.testing.assert_array_equal(d3["period"].values, d1["period"].values)
+    j1, j3 = json.loads(d1.attrs["jumps"]), json.loads(d3.attrs["jumps"])
+    assert len(j1) == len(j3) == 2
+    for a, b in zip(j1, j3):
+        assert (a["sweep"], a["direction"]) == (b["sweep"], b["direction"])
+        assert b["omega"] == pytest.approx(a["omega"], abs=1e-8)
+        assert b["size"] == pytest.approx(a["size"], abs=1e-7)
+
+
+def test_default_harmonics_and_its_bound(crack):
+    assert default_harmonics(GearModel()) == DEFAULT_HARMONICS
+    assert default_harmonics(crack) == 20 * DEFAULT_HARMONICS  # 320 > the excitation's 64
+    assert default_harmonics(crack, 2) == 320
+    full = crack.replace(kappa=crack.kappa + (0.0,) * 575 + (1e-6,))  # 640 harmonics of ω/20 carried
+    assert full.n_harmonics == 640 and default_harmonics(full) == 640
+    big = GearModel(kappa=(0.0,) * 69 + (0.2,), cycles=70)  # 16·70 = 1120 > 1024
+    with pytest.raises(ModelError, match="give the harmonics explicitly"):
+        default_harmonics(big)
+    assert MAX_DEFAULT_HARMONICS == 1024
+
+
+@pytest.mark.parametrize("w, atol_state, atol_amp", [
+    (0.6, 1e-8, 1e-8),     # in contact all round: HB's series converges fast (1e-11 from shooting at 0.0025)
+    (0.95, 3e-4, 1e-5),    # contact loss (u_min < D): algebraic convergence, velocity 1.3e-4 off at H = 320
+])
+def test_crack_over_one_revolution_against_shooting(crack, w, atol_state, atol_amp):
+    m = crack.replace(omega=w)
+    hb = hb_solve(m)
+    assert hb.status == 0 and hb.harmonics == 320
+    orb = shoot(m, 1, guess=hb.state(), dtau=0.005, accurate=True)  # its own fixed point of the revolution map
+    assert orb.status == 0
+    np.testing.assert_allclose(hb.state(), orb.state, rtol=0, atol=atol_state)
+    assert hb.amplitude == pytest.approx(0.5 * (orb.u_max - orb.u_min), abs=atol_amp)
+    mu = np.linalg.eigvals(orb.monodromy)
+    np.testing.assert_allclose(np.sort_complex(hb.multipliers), np.sort_complex(mu), rtol=1e-5)
+    assert (w > 0.9) == (hb.u_min < m.D)
+
+
+def test_crack_continuation_parameter_is_the_mesh_frequency(crack):
+    # 128 harmonics of ω/20 (mesh orders to 6.4) keep this quick; the branch's ω is the mesh frequency
+    r = hb_continuation(crack, "omega", 0.6, 0.605, harmonics=128, guess="linear", ds_max=0.2)
+    assert r.converged and r.end == "reached the end of the interval"
+    assert r.values[0] == 0.6 and r.values[-1] >= 0.605
+    s = hb_solve(crack.replace(omega=float(r.values[-1])), harmonics=128, guess=r.coefficients[-1])
+    np.testing.assert_allclose(s.coefficients, r.coefficients[-1], atol=1e-9)
+    assert np.all(r.stable)
