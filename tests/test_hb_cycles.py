@@ -135,3 +135,49 @@ def test_crack_continuation_parameter_is_the_mesh_frequency(crack):
     s = hb_solve(crack.replace(omega=float(r.values[-1])), harmonics=128, guess=r.coefficients[-1])
     np.testing.assert_allclose(s.coefficients, r.coefficients[-1], atol=1e-9)
     assert np.all(r.stable)
+
+
+def _tables(tmp_path):
+    """A one-cycle excitation table and the same table over 3 cycles (JSON, docs/excitation.md)."""
+    th = 2 * np.pi * np.arange(16) / 16
+    k = 2e9 * (1 + 0.2 * np.cos(th) + 0.05 * np.cos(2 * th + 0.3))
+    e = 25e-6 * np.cos(th)
+    one, three = tmp_path / "one.json", tmp_path / "three.json"
+    one.write_text(json.dumps({"cycles": 1, "stiffness_N_per_m": list(k), "ste_m": list(e)}))
+    three.write_text(json.dumps({"cycles": 3, "stiffness_N_per_m": list(np.tile(k, 3)), "ste_m": list(np.tile(e, 3))}))
+    return one, three
+
+
+def _cli(args):
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    r = CliRunner().invoke(app, args)
+    assert r.exit_code == 0, r.output
+    return json.loads(r.stdout)
+
+
+def test_cli_hb_with_a_three_cycle_excitation(tmp_path):
+    one, three = _tables(tmp_path)
+    rng = ["--param", "omega", "--start", "0.5", "--stop", "0.65", "--ds-max", "0.05", "--json"]
+    a = _cli(["hb", "--excitation", str(one), "--harmonics", "8", *rng])
+    b = _cli(["hb", "--excitation", str(three), "--harmonics", "24", *rng])
+    assert (a["harmonics"], b["harmonics"]) == (8, 24) and a["converged"] and b["converged"]
+    fa = [x for x in a["bifurcations"] if x["type"] == "fold"]
+    fb = [x for x in b["bifurcations"] if x["type"] == "fold"]
+    assert len(fa) == len(fb) == 2
+    for x, y in zip(fa, fb):  # the mesh frequency, and its pinion speed
+        assert y["omega"] == pytest.approx(x["omega"], abs=1e-8) and y["rpm"] == pytest.approx(x["rpm"], rel=1e-8)
+
+
+@pytest.mark.slow  # two HB branches at H = 16 and 48 read off on a grid (about 15 s)
+def test_cli_response_method_hb_with_a_three_cycle_excitation(tmp_path):
+    one, three = _tables(tmp_path)
+    g = ["--omega-start", "0.54", "--omega-stop", "0.64", "--num", "5", "--method", "hb", "--json"]  # H = 16, 48
+    ra, rb = _cli(["response", "--excitation", str(one), *g]), _cli(["response", "--excitation", str(three), *g])
+    ja, jb = ra["jumps"], rb["jumps"]
+    assert len(ja) == len(jb) == 2
+    for x, y in zip(ja, jb):
+        assert y["omega"] == pytest.approx(x["omega"], abs=1e-8) and y["size"] == pytest.approx(x["size"], abs=1e-7)
+    assert rb["up"]["amplitude"] == pytest.approx(ra["up"]["amplitude"], abs=1e-9)

@@ -88,3 +88,31 @@ def test_cracked_tooth_runup_shows_shaft_order_sidebands():
     # it in every block and ten times it in most
     assert np.all(sc > 2 * sh) and np.median(sc / sh) > 10
     assert np.median(sc / rc.order_amplitude[:, 0]) > 0.05
+
+
+def test_cli_runup_with_a_three_cycle_excitation(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    th = 2 * np.pi * np.arange(16) / 16
+    k = 2e9 * (1 + 0.2 * np.cos(th) + 0.05 * np.cos(2 * th + 0.3))
+    e = 25e-6 * np.cos(th)
+    one, three = tmp_path / "one.json", tmp_path / "three.json"
+    one.write_text(json.dumps({"cycles": 1, "stiffness_N_per_m": list(k), "ste_m": list(e)}))
+    three.write_text(json.dumps({"cycles": 3, "stiffness_N_per_m": list(np.tile(k, 3)), "ste_m": list(np.tile(e, 3))}))
+    args = ["runup", "--omega-start", "0.5", "--omega-stop", "0.7", "--tau-duration", "1000", "--cycles-per-block", "3",
+            "--settle", "30", "--num", "0", "--json"]
+    ra = CliRunner().invoke(app, [*args, "--excitation", str(one)])
+    rb = CliRunner().invoke(app, [*args, "--excitation", str(three), "--out", str(tmp_path / "o")])
+    assert ra.exit_code == 0 and rb.exit_code == 0, (ra.output, rb.output)
+    a, b = json.loads(ra.stdout), json.loads(rb.stdout)
+    assert b["excitation_cycles"] == 3 and b["cycles_per_block"] == 3 and b["rpm"] == a["rpm"]
+    # the tables' series agree to rounding (a DFT of 16 and of 48 points)
+    np.testing.assert_allclose(b["amplitude"], a["amplitude"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b["order_amplitude"], a["order_amplitude"], rtol=0, atol=1e-9)
+    assert (tmp_path / "o" / "runup.nc").is_file() and (tmp_path / "o" / "runup.png").is_file()
+    r = CliRunner().invoke(app, [*args[:-1], "--excitation", str(three), "--cycles-per-block", "4"])
+    assert r.exit_code != 0 and "multiple of the excitation's 3" in r.output
