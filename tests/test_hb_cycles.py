@@ -181,3 +181,14 @@ def test_cli_response_method_hb_with_a_three_cycle_excitation(tmp_path):
     for x, y in zip(ja, jb):
         assert y["omega"] == pytest.approx(x["omega"], abs=1e-8) and y["size"] == pytest.approx(x["size"], abs=1e-7)
     assert rb["up"]["amplitude"] == pytest.approx(ra["up"]["amplitude"], abs=1e-9)
+
+
+def test_response_keeps_the_grid_end_where_the_branch_starts_rounded():
+    # a branch from 0.8 to 0.82 starts at (0.8/0.02)·0.02 = 0.8000000000000002: the grid's first point is on it
+    m = GearModel(xi0=0.3)
+    from geardyn.analysis.hb import hb_response
+
+    ds = hb_response(m, 0.8, 0.82, 3)
+    assert np.all(ds["status"].values == 0)
+    ref = hb_solve(m.replace(omega=0.8))
+    np.testing.assert_allclose(ds["amplitude"].values[:, 0], ref.amplitude, rtol=0, atol=1e-9)

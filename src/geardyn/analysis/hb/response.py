@@ -388,6 +388,11 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     w = np.asarray(omegas, dtype=float)
     segs = stable_segments(res)
     lo, hi = float(w[0]), float(w[-1])
+    for seg in segs:  # a branch's first value is start/p_s·p_s: within rounding of the grid's end, it is that end
+        for k in (0, -1):
+            for x in (lo, hi):
+                if seg.omega[k] != x and abs(seg.omega[k] - x) <= 8.0 * math.ulp(x):
+                    seg.omega[k] = x
     paths = sweep_paths(segs, lo, hi)
     n, H = res.period, res.harmonics
     rd = _Reader(res)
