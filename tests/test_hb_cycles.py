@@ -46,22 +46,25 @@ def crack():
     return m
 
 
-@pytest.mark.parametrize("w", [0.7, 1.2])  # stable, and unstable (a multiplier −4.9) on the paper's pair
-def test_three_cycle_series_equals_the_one_cycle_model(w):
+@pytest.mark.parametrize("w, n", [(0.7, 1), (1.2, 1), (0.9, 2)])  # stable, unstable (μ = −4.9), period 2
+def test_three_cycle_series_equals_the_one_cycle_model(w, n):
+    # period n: n forcing periods, 2 mesh periods for P = 1 and 6 for P = 3 (harmonic k of ω/2 is 3k of ω/6)
     m1 = GearModel(omega=w)
     m3 = repeated(m1)
-    s1, s3 = hb_solve(m1), hb_solve(m3)
+    s1, s3 = hb_solve(m1, period=n), hb_solve(m3, period=n)
     assert s1.status == 0 and s3.status == 0
     assert s3.harmonics == 3 * DEFAULT_HARMONICS  # the default: 16 mesh orders
     np.testing.assert_allclose(s3.coefficients, spread(s1.coefficients, s1.harmonics), rtol=0, atol=1e-10)
     np.testing.assert_allclose(s3.state(), s1.state(), rtol=0, atol=1e-10)
     assert s3.amplitude == pytest.approx(s1.amplitude, abs=1e-10)
-    # the forcing period is 3 mesh periods: μ(P = 3) = μ(P = 1)³ (monodromy, relative error ~1e-7 each)
-    np.testing.assert_allclose(s3.multipliers, s1.multipliers**3, rtol=1e-6, atol=1e-9)
+    # the forcing period is 3 mesh periods: μ(P = 3) = μ(P = 1)³; the monodromy's relative error is about
+    # T ρ STEP_ANGLE⁴/120 (docs/hb.md): 5e-7 over the 6 mesh periods of n = 2 at ω = 0.9, three times that cubed
+    assert s1.period == s3.period == n
+    np.testing.assert_allclose(s3.multipliers, s1.multipliers**3, rtol=5e-6, atol=1e-9)
     t1, u1 = s1.signal(64)
     t3, u3 = s3.signal(192)
-    np.testing.assert_allclose(t3[:64], t1, rtol=1e-14)  # τ over the forcing period, 3 mesh periods
-    for k in range(3):  # the same u in each of its mesh periods
+    np.testing.assert_allclose(t3[:64], t1, rtol=1e-14)  # τ over n forcing periods, 3n mesh periods
+    for k in range(3):  # the same u in each n mesh periods
         np.testing.assert_allclose(u3[64 * k:64 * (k + 1)], u1, atol=1e-10)
 
 
@@ -192,3 +195,12 @@ def test_response_keeps_the_grid_end_where_the_branch_starts_rounded():
     assert np.all(ds["status"].values == 0)
     ref = hb_solve(m.replace(omega=0.8))
     np.testing.assert_allclose(ds["amplitude"].values[:, 0], ref.amplitude, rtol=0, atol=1e-9)
+
+
+def test_three_cycle_series_continuation_in_another_parameter():
+    # the mean load f_p at ω = 0.6: the same grazing (contact loss ends) as the one-cycle model
+    m1 = GearModel(omega=0.6)
+    r1 = hb_continuation(m1, "fp", 0.2, 0.6, guess="linear")
+    r3 = hb_continuation(repeated(m1), "fp", 0.2, 0.6, guess="linear")
+    assert [b.type for b in r3.bifurcations] == [b.type for b in r1.bifurcations] == ["grazing"]
+    assert r3.bifurcations[0].value == pytest.approx(r1.bifurcations[0].value, abs=1e-10)
