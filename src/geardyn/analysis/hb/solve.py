@@ -38,7 +38,8 @@ from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_
 from .hill import HillResult, hill_floquet
 from .monodromy import check_floquet, monodromy_floquet
 
-__all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
+__all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "default_harmonics", "DEFAULT_HARMONICS",
+           "MAX_DEFAULT_HARMONICS", "NEWTON_TOL"]
 
 #: Default harmonics of ν = ω/n (see ``docs/hb.md`` for the convergence study behind it).
 DEFAULT_HARMONICS = 16
