@@ -219,3 +219,19 @@ def test_crack_with_contact_loss_converges_in_the_harmonics(crack):
     e320 = np.max(np.abs(h320.state() - ref.state))
     e640 = np.max(np.abs(h640.state() - ref.state))
     assert e640 < e320 / 5 and e640 < 3e-5
+
+
+def test_derivative_in_the_mesh_frequency(crack):
+    # ∂R/∂ω (ω the mesh frequency) against a central difference of the residual, and the bordered matrix's column
+    from geardyn.analysis.hb import HBSystem
+    from geardyn.analysis.hb.solve import linear_guess
+
+    s = HBSystem(crack, 64, param="omega")
+    a = linear_guess(crack.replace(omega=0.6), 64)
+    a[1:] += 0.01 * np.random.default_rng(0).normal(size=a.size - 1)  # any coefficients
+    d = 1e-6
+    fd = (s.residual(a, 0.6 + d, jacobian=False)[0] - s.residual(a, 0.6 - d, jacobian=False)[0]) / (2 * d)
+    an = s.dR_dp(a, 0.6)
+    assert np.max(np.abs(an - fd)) <= 1e-7 * np.max(np.abs(an))
+    _R, A = s.bordered(a, 0.6, 0.01)
+    np.testing.assert_allclose(A[:-1, -1], 0.01 * an, rtol=1e-12, atol=1e-15)
