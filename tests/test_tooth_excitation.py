@@ -129,9 +129,12 @@ def test_table_files_round_trip_and_feed_the_configuration_and_the_options(tmp_p
         build_model(None, excitation=tmp_path / "t.json", fe=0.1)
 
 
-def test_runup_refuses_a_multi_cycle_excitation():
+def test_runup_takes_a_multi_cycle_excitation():
+    # blocks of whole forcing periods (tests/test_runup_cycles.py checks the run-up itself)
     from geardyn.analysis.runup import runup
 
     m = excitation_model(BASE, Excitation(np.full(40, 3.0e8), None, cycles=4))
-    with pytest.raises(ModelError, match="one-cycle excitation"):
-        runup(m, 0.5, 0.6, 500.0)
+    r = runup(m, 0.5, 0.6, 500.0, settle=4)
+    assert r.cycles % 4 == 0 and not r.diverged
+    with pytest.raises(ModelError, match="multiple of the excitation's 4"):
+        runup(m, 0.5, 0.6, 500.0, cycles_per_block=6)

@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 
 from geardyn.analysis.hb import hb_solve
-from geardyn.errors import ModelError
 from geardyn.analysis.lyapunov import lyapunov_spectrum
 from geardyn.analysis.periodic.continuation import continuation
 from geardyn.analysis.periodic.orbit import shoot
@@ -43,13 +42,13 @@ def test_lyapunov_sum_is_minus_twice_the_damping(model):
 @pytest.mark.slow  # HB at 128 harmonics against shooting at dtau 0.005
 def test_harmonic_balance_and_continuation_run(model):
     orb = shoot(model, 1, dtau=0.005)
-    # the pair's HB takes the one-cycle form (omega/20); the forcing holds 64 harmonics of omega/20, the
-    # response's products with the stiffness reach beyond, so HB takes 128: its state at theta = 0 then
-    # agrees with shooting's fixed point
-    with pytest.raises(ModelError, match="one-cycle"):
-        hb_solve(model, harmonics=8)
-    hb = hb_solve(model.forcing_model(), harmonics=128)
+    # the pair's HB takes P = 20 (harmonics of omega/20, omega the mesh frequency): the equations of its one-cycle
+    # form (omega/20); the forcing holds 64 harmonics of omega/20, the response's products with the stiffness
+    # reach beyond, so HB takes 128: its state at theta = 0 then agrees with shooting's fixed point
+    hb = hb_solve(model, harmonics=128)
     assert hb.status == 0
+    np.testing.assert_allclose(hb.coefficients, hb_solve(model.forcing_model(), harmonics=128).coefficients,
+                               rtol=0, atol=1e-12)
     np.testing.assert_allclose(hb.state(), orb.state, rtol=0, atol=1e-4)
     # the continuation parameter is the mesh frequency
     br = continuation(model, "omega", 0.6, 0.61, 1, dtau=0.02, accurate=False, max_points=10)

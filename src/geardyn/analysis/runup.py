@@ -14,6 +14,14 @@ constant over a *block* of ``m`` whole mesh cycles and stepped from block to blo
   that a speed change adds to d²e/dτ² is left out (it is ω′/ω² times the kept term, 1e-4 or less for
   the ramps of a run-up test).
 
+An excitation of P > 1 mesh cycles (``GearModel.cycles``, a tooth fault, the hunting period) repeats only
+after P cycles: the blocks are then whole forcing periods (m a multiple of P), so every block starts and ends at
+the excitation's phase 0 (mod 2π) and its phase stays continuous through the ramp; the RK4 step is the one-cycle
+model's, T/ceil(T/Δτ) with T the mesh period (P·ceil(T/Δτ) steps a forcing period), the settling and the
+quasi-static response count mesh periods (rounded up to whole forcing periods) and the order tracking stays in
+mesh orders, with the spectrum of the orders j/P (the shaft-order sidebands) beside it.  A one-cycle series
+written over P cycles gives the one-cycle model's run-up to rounding (``tests/test_runup_cycles.py``).
+
 No Python loop runs per time step: each block is one call of the compiled kernel (the loop over
 blocks, a few hundred, is in Python).  The error of the piecewise-constant speed is measured by
 :func:`block_error` against a reference that steps the speed every mesh cycle.
@@ -60,9 +68,12 @@ class RunupResult:
     tau : numpy.ndarray
         Time τ at the middle of each block.
     cycles : int
-        Mesh cycles per block.
+        Mesh cycles per block (a multiple of the model's P).
     order_amplitude : numpy.ndarray
         (blocks, L): amplitude of mesh order l = 1 … L of u over each block.
+    spectrum : numpy.ndarray or None
+        With an excitation of P > 1 mesh cycles, (blocks, (L + 1)P − 1): amplitude of the orders j/P,
+        j = 1 … (L + 1)P − 1 (mesh orders and their shaft-order sidebands, up to L + 1 − 1/P); None when P = 1.
     amplitude : numpy.ndarray
         Half peak-to-peak of u over each block.
     dynamic_factor : numpy.ndarray
@@ -87,6 +98,15 @@ class RunupResult:
     duration: float
     diverged: bool = False
     options: IntegrationOptions = field(default_factory=IntegrationOptions)
+    spectrum: np.ndarray | None = None
+
+    @property
+    def spectrum_orders(self) -> np.ndarray:
+        """The mesh orders j/P of :attr:`spectrum` (empty when it is None)."""
+        if self.spectrum is None:
+            return np.zeros(0)
+        P = int(getattr(self.model, "cycles", 1))
+        return np.arange(1, self.spectrum.shape[1] + 1) / P
 
     @property
     def ramp_rate(self) -> float:
@@ -107,6 +127,10 @@ class RunupResult:
                    "ramp_rate_per_tau": self.ramp_rate, "diverged": int(self.diverged),
                    "model": json.dumps(self.model.to_dict())},
         )
+        if self.spectrum is not None:
+            ds["spectrum"] = (("block", "spectrum_order"), self.spectrum)
+            ds = ds.assign_coords(spectrum_order=("spectrum_order", self.spectrum_orders))
+            ds.attrs["excitation_cycles"] = int(self.model.cycles)
         annotate(ds)
         return ds
 
@@ -115,7 +139,7 @@ class RunupResult:
         def lst(a: np.ndarray) -> list[float | None]:
             return [float(x) if np.isfinite(x) else None for x in np.asarray(a, dtype=float).ravel()]
 
-        return {
+        out = {
             "omega_start": self.omega_start, "omega_stop": self.omega_stop, "duration_tau": self.duration,
             "ramp_rate_per_tau": self.ramp_rate, "cycles_per_block": self.cycles, "blocks": int(self.omega.size),
             "omega": lst(self.omega), "tau": lst(self.tau), "amplitude": lst(self.amplitude),
@@ -123,6 +147,11 @@ class RunupResult:
             "order_amplitude": [lst(self.order_amplitude[:, j]) for j in range(self.order_amplitude.shape[1])],
             "diverged": self.diverged,
         }
+        if self.spectrum is not None:
+            out["excitation_cycles"] = int(self.model.cycles)
+            out["spectrum_orders"] = lst(self.spectrum_orders)
+            out["spectrum"] = [lst(self.spectrum[:, j]) for j in range(self.spectrum.shape[1])]
+        return out
 
 
 def _block_speeds(w0: float, w1: float, duration: float, cycles: int) -> tuple[np.ndarray, np.ndarray]:
@@ -155,7 +184,8 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
     duration : float
         Duration of the ramp in τ (> 0).
     cycles_per_block : int, optional
-        Mesh cycles per speed block; default so that there are about ``max_blocks`` blocks.
+        Mesh cycles per speed block, a multiple of the excitation's P mesh cycles (``model.cycles``); default so
+        that there are about ``max_blocks`` blocks (rounded up to a multiple of P).
     max_blocks : int
         Blocks of the default block length.
     orders : int
@@ -165,7 +195,8 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
     accurate : bool
         Split the steps at the contact crossings.
     settle : int
-        Periods integrated at ``omega_start`` before the ramp, so that it starts on a steady state.
+        Mesh periods integrated at ``omega_start`` before the ramp, so that it starts on a steady state (rounded
+        up to whole forcing periods of P mesh periods).
     state0 : (u0, u0')
         State at the start of the settling.
 
@@ -176,8 +207,8 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
     Raises
     ------
     ModelError
-        For non-positive speeds or duration, equal speeds, a step not below a block's period, or
-        more than :data:`MAX_CYCLES` mesh cycles.
+        For non-positive speeds or duration, equal speeds, a step not below a block's period, a block that is
+        not a whole number of forcing periods, or more than :data:`MAX_CYCLES` mesh cycles.
     """
     w0, w1, T = float(omega_start), float(omega_stop), float(duration)
     for name, v in (("omega_start", w0), ("omega_stop", w1), ("duration", T)):
@@ -191,50 +222,76 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
                          "(shorten it, or lower the speeds)")
     if orders < 1:
         raise ModelError(f"orders: must be >= 1, got {orders!r}")
-    if getattr(model, "cycles", 1) != 1:
-        raise ModelError(f"runup: blocks of whole mesh cycles need a one-cycle excitation; this one spans "
-                         f"{model.cycles} mesh cycles (use response or bifurcation over omega)")
+    P = int(getattr(model, "cycles", 1))
     m = int(cycles_per_block) if cycles_per_block is not None else max(1, math.ceil(total / max(1, max_blocks)))
     if m < 1:
         raise ModelError(f"cycles_per_block: must be >= 1, got {cycles_per_block!r}")
+    if P > 1:
+        if cycles_per_block is None:
+            m = P * -(-m // P)
+        elif m % P:
+            raise ModelError(f"cycles_per_block: a block is whole forcing periods, a multiple of the excitation's {P} "
+                             f"mesh cycles; got {m}")
     speeds, mids = _block_speeds(w0, w1, T, m)
     IntegrationOptions(dtau=dtau).check_for(max(w0, w1))
-    start = integrate_batch([model.replace(omega=w0)], state0,
-                            IntegrationOptions(dtau=dtau, transient=max(int(settle), 0), periods=1, accurate=accurate),
-                            record_poincare=False)
+    if P == 1:
+        start = integrate_batch([model.replace(omega=w0)], state0,
+                                IntegrationOptions(dtau=dtau, transient=max(int(settle), 0), periods=1,
+                                                   accurate=accurate), record_poincare=False)
+    else:  # settle mesh periods rounded up to forcing periods, at the one-cycle model's step
+        start = integrate_batch([model.replace(omega=w0)], state0,
+                                IntegrationOptions(dtau=dtau, transient=-(-max(int(settle), 0) // P), periods=1,
+                                                   accurate=accurate), record_poincare=False,
+                                steps=_steps(w0, dtau, P))
     state = np.asarray(start.end_state[0], dtype=float)
     nb = speeds.size
     amp_o = np.full((nb, orders), np.nan)
     amp = np.full(nb, np.nan)
     kdyn = np.full(nb, np.nan)
+    spec = np.full((nb, (orders + 1) * P - 1), np.nan) if P > 1 else None
     diverged = not np.all(np.isfinite(state))
-    opts = IntegrationOptions(dtau=dtau, transient=0, periods=m, accurate=accurate)
+    opts = IntegrationOptions(dtau=dtau, transient=0, periods=m // P, accurate=accurate)
     for b in range(nb):
         if diverged:
             break
-        out = _block(model.replace(omega=float(speeds[b])), state, opts, m, orders)
+        out = _block(model.replace(omega=float(speeds[b])), state, opts, m, orders, spec is not None)
         if out is None:
             diverged = True
             break
-        amp_o[b], amp[b], kdyn[b], state = out
+        amp_o[b], amp[b], kdyn[b], state = out[:4]
+        if spec is not None:
+            spec[b] = out[4]
     return RunupResult(model=model, omega=speeds, tau=mids, cycles=m, order_amplitude=amp_o, amplitude=amp,
                        dynamic_factor=kdyn, omega_start=w0, omega_stop=w1, duration=T, diverged=diverged,
-                       options=opts)
+                       options=opts, spectrum=spec)
 
 
-def _block(mb: GearModel, state: np.ndarray, opts: IntegrationOptions, m: int, orders: int):
-    """Order amplitudes, half peak-to-peak, dynamic factor and end state of m recorded periods (None: diverged)."""
+def _steps(omega: float, dtau: float, P: int) -> int | None:
+    """RK4 steps a forcing period of P mesh periods at the one-cycle model's step T/ceil(T/Δτ), T = 2π/ω
+    (None for P = 1: the integrator's own default, the same)."""
+    return None if P == 1 else P * int(math.ceil(2.0 * math.pi / omega / dtau))
+
+
+def _block(mb: GearModel, state: np.ndarray, opts: IntegrationOptions, m: int, orders: int, spectrum: bool = False):
+    """Order amplitudes, half peak-to-peak, dynamic factor and end state of m recorded mesh periods (None: diverged);
+    with ``spectrum`` also the amplitudes of the orders j/P, j = 1 … (orders + 1)P − 1."""
     from .physical import mesh_force
 
-    tr = trajectory(mb, tuple(state), opts, history_periods=m)
+    P = int(getattr(mb, "cycles", 1))
+    k = m // P  # forcing periods
+    tr = trajectory(mb, tuple(state), opts, history_periods=k, steps=_steps(mb.omega, opts.dtau, P))
     u, v = tr.u[:-1], tr.v[:-1]
     if not np.all(np.isfinite(u)):
         return None
     n = u.size
-    theta = 2.0 * np.pi * m * np.arange(n) / n
+    theta = 2.0 * np.pi * m * np.arange(n) / n  # the mesh phase
     amp_o = 2.0 * np.abs(np.exp(-1j * np.outer(np.arange(1, orders + 1), theta)) @ u) / n
     kdyn = float(np.max(mesh_force(mb, tr.tau[:-1], u, v))) / mb.fp if mb.fp > 0 else np.nan
-    return amp_o, 0.5 * (u.max() - u.min()), kdyn, np.array([tr.u[-1], tr.v[-1]])
+    out = (amp_o, 0.5 * (u.max() - u.min()), kdyn, np.array([tr.u[-1], tr.v[-1]]))
+    if spectrum:  # order j/P is the DFT bin j·k of the k forcing periods
+        X = np.fft.rfft(u)
+        out += (2.0 * np.abs(X[k * np.arange(1, (orders + 1) * P)]) / n,)
+    return out
 
 
 def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: int = 32, transient: int = 200,
@@ -248,7 +305,8 @@ def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: 
     omegas : array_like
         Speeds ω (increasing).
     orders, periods, transient, dtau, accurate
-        Tracked orders, recorded and discarded periods per point, RK4 step, contact splitting.
+        Tracked orders, recorded and discarded mesh periods per point (rounded up to whole forcing periods of P
+        mesh periods), RK4 step, contact splitting.
 
     Returns
     -------
@@ -257,13 +315,15 @@ def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: 
         ``dynamic_factor`` per point (None where diverged), measured as in :func:`runup`.
     """
     w = np.asarray(omegas, dtype=float)
-    opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=int(periods), accurate=accurate)
+    P = int(getattr(model, "cycles", 1))
+    opts = IntegrationOptions(dtau=dtau, transient=-(-int(transient) // P), periods=-(-int(periods) // P),
+                              accurate=accurate)
     out: dict[str, Any] = {"x": [float(x) for x in w]}
     for lab, seq in (("up", range(w.size)), ("down", range(w.size - 1, -1, -1))):
         rows: dict[int, Any] = {}
         state = np.zeros(2)
         for i in seq:
-            r = _block(model.replace(omega=float(w[i])), state, opts, opts.periods, orders)
+            r = _block(model.replace(omega=float(w[i])), state, opts, opts.periods * P, orders)
             rows[i] = r
             if r is None:
                 state = np.zeros(2)

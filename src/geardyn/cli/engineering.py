@@ -139,12 +139,14 @@ RUNUP_OPTIONS = [
     option("omega_stop", Optional[float], None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
     option("tau_duration", Optional[float], None, "--tau-duration", help="Duration of the ramp in τ (instead of --duration)."),
     option("cycles_per_block", Optional[int], None, "--cycles-per-block",
-           help="Mesh cycles per constant-speed block (default: about 400 blocks)."),
+           help="Mesh cycles per constant-speed block (default: about 400 blocks); with an --excitation of P mesh cycles "
+                "a multiple of P (blocks of whole forcing periods)."),
     option("orders", int, 3, "--orders", help="Mesh orders tracked."),
     option("qs_num", int, 21, "--num", help="Speeds of the quasi-static (steady) response beside the ramp (0: none)."),
     option("dtau", float, 0.05, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ) in every block."),
     option("accurate", bool, False, "--accurate", help="Split steps at the contact crossings u = ±D."),
-    option("settle", int, 200, "--settle", help="Periods at the start speed before the ramp (from --u0, --v0 = 0)."),
+    option("settle", int, 200, "--settle", help="Mesh periods at the start speed before the ramp (from --u0, --v0 = 0; "
+                                                "whole forcing periods with an --excitation of several cycles)."),
 ]
 
 

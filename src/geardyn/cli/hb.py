@@ -15,7 +15,8 @@ from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inpu
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 
-#: Largest H and n accepted (the Hill matrix has 2(2H + 1) rows; n·H harmonics of ω are resolved).
+#: Largest H and n accepted (the Hill matrix has 2(2H + 1) rows; n·H harmonics of ω are resolved); the pair
+#: with an excitation of several mesh cycles takes up to ``MAX_DEFAULT_HARMONICS`` (1024) harmonics of ω/(P n).
 MAX_HARMONICS = 512
 MAX_PERIOD = 64
 #: Largest --max-points accepted.
@@ -104,7 +105,7 @@ def hb(
     param: ContinuationParamOpt = None,
     start: Annotated[Optional[float], typer.Option("--start", help="Parameter value where the branch starts (the first solution from the attractor reached by simulation from rest there).")] = None,
     stop: StopOpt = None,
-    harmonics: Annotated[int, typer.Option("--harmonics", help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H).")] = 16,
+    harmonics: Annotated[Optional[int], typer.Option("--harmonics", help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an --excitation of P mesh cycles (harmonics of ω/(P n)) the larger of 16·P and n times the excitation's harmonics, at most 1024.")] = None,
     period: Annotated[int, typer.Option("--period", help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n).")] = 1,
     system: Annotated[Optional[Path], typer.Option("--system", help="A multi-DOF system file (examples/systems/*.toml) instead of the 1-DOF model: every DOF's harmonics, the elastic multipliers (rigid-body modes left out); --param takes the system's parameter names (omega, mesh.xi0, ...); the JSON adds 'meshes'.")] = None,
     compare_shooting: Annotated[bool, typer.Option("--compare-shooting", help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.")] = False,
@@ -122,10 +123,16 @@ def hb(
     from ..analysis.hb.continuation import DS_MAX
     from ..analysis.physical import add_physical, physical_json
 
-    H = validate.integer("harmonics", harmonics, 1, MAX_HARMONICS)
+    from ..analysis.hb.solve import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
+
     n = validate.integer("period", period, 1, MAX_PERIOD)
     mp = validate.integer("max-points", max_points, 2, MAX_POINTS_LIMIT)
     model = system_model(system, inp)
+    multi = system is None and model.cycles > 1  # an excitation of several mesh cycles: harmonics of ω/(P n)
+    if harmonics is None:
+        H = default_harmonics(model, n) if multi else DEFAULT_HARMONICS
+    else:
+        H = validate.integer("harmonics", harmonics, 1, MAX_DEFAULT_HARMONICS if multi else MAX_HARMONICS)
     if system is not None:
         from ..analysis.hb.system_continuation import SYSTEM_DS_MAX
 

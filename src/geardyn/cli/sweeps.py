@@ -91,7 +91,7 @@ def response(
     measure: Annotated[str, typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean.")] = "amplitude",
     lyap: LyapunovFlagOpt = False,
     settle: SettleOpt = 1000,
-    method: Annotated[str, typer.Option("--method", help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16) with Floquet stability, jumps at the exact folds (integration and engine options unused).")] = "sweep",
+    method: Annotated[str, typer.Option("--method", help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16; for an --excitation of P mesh cycles at least 16·P harmonics of ω/P) with Floquet stability, jumps at the exact folds (integration and engine options unused).")] = "sweep",
 ) -> None:
     """Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)
     and hysteresis intervals where the sweeps end on different attractors (or, with --method hb, from one

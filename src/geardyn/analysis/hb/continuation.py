@@ -373,7 +373,7 @@ def _near_critical(h: HillResult) -> bool:
 
 
 def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
-                    harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
+                    harmonics: int | None = None, period: int = 1, guess: Any = None,
                     samples: int | None = None, ds: float = DS_INIT, ds_max: float = DS_MAX,
                     max_points: int = MAX_POINTS, floquet: str = "monodromy",
                     progress: Callable[[float, float], None] | None = None) -> HBContinuation:
@@ -389,7 +389,8 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
         The branch starts at ``start`` and is followed (through folds) until the parameter leaves the
         interval between ``start`` and ``stop``.
     harmonics : int
-        H, harmonics of ω/n (default :data:`~geardyn.analysis.hb.solve.DEFAULT_HARMONICS`).
+        H, harmonics of ν = ω/(P n) (default :func:`~geardyn.analysis.hb.solve.default_harmonics`: 16 for a
+        one-cycle model).
     period : int
         n, the response period in forcing periods.
     guess : coefficients, "simulate" or "linear", optional

@@ -316,7 +316,7 @@ class _Reader:
         return self.eq.deflection(x, self.reference, w)
 
     def nu(self, w: float, n: int) -> float:
-        return self.eq.nu(w) if self.system else w / n
+        return self.eq.nu(w) if self.system else self.eq.forcing(w) / n
 
 
 def _walk(rd: _Reader, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
@@ -388,6 +388,11 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     w = np.asarray(omegas, dtype=float)
     segs = stable_segments(res)
     lo, hi = float(w[0]), float(w[-1])
+    for seg in segs:  # a branch's first value is start/p_s·p_s: within rounding of the grid's end, it is that end
+        for k in (0, -1):
+            for x in (lo, hi):
+                if seg.omega[k] != x and abs(seg.omega[k] - x) <= 8.0 * math.ulp(x):
+                    seg.omega[k] = x
     paths = sweep_paths(segs, lo, hi)
     n, H = res.period, res.harmonics
     rd = _Reader(res)
@@ -501,7 +506,7 @@ def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list
 
 
 def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: int, *,
-                harmonics: int = DEFAULT_HARMONICS, period: int = 1, measure: str = "amplitude",
+                harmonics: int | None = None, period: int = 1, measure: str = "amplitude",
                 guess: Any = None, state0: Any = None, progress: bool = False) -> Any:
     """Up and down frequency response by harmonic balance, in the format of
     :func:`geardyn.analysis.response.frequency_response`.
@@ -516,7 +521,8 @@ def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: in
     num : int
         Grid points of the sweeps (the jumps and hysteresis bounds are exact, not on the grid).
     harmonics, period : int
-        H and n of the HB solutions.
+        H and n of the HB solutions (H default: :func:`~geardyn.analysis.hb.solve.default_harmonics`, 16 for a
+        one-cycle model and for a system).
     measure : str
         Amplitude measure: one of :data:`MEASURES`.
     guess : optional
@@ -553,7 +559,8 @@ def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: in
         else:
             from .system_continuation import hb_system_continuation
 
-            res = hb_system_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess,
+            res = hb_system_continuation(model, "omega", lo, hi, period=period, guess=guess,
+                                         harmonics=DEFAULT_HARMONICS if harmonics is None else harmonics,
                                          state0=state0, progress=bar)
     if not res.converged:
         raise ModelError(f"omega_start: harmonic balance at omega = {lo:g} did not converge ({res.end})")

@@ -1,7 +1,9 @@
 """Harmonic balance for one parameter value: the residual, its analytic Jacobian, Newton's method.
 
-For a period-n response u(φ), φ = θ/n = ντ with ν = ω/n, the equation of motion
-u'' + C(θ)u' + K(θ)f(u; D) = F(θ) becomes, in the complex coefficients c_k (k = −H … H),
+For a period-n response u(φ), φ = θ/n = ντ with ν = ω/(P n), the equation of motion
+u'' + C(θ)u' + K(θ)f(u; D) = F(θ) (θ the phase of the forcing frequency ω/P: P = ``GearModel.cycles`` mesh
+cycles a forcing period, 1 unless the excitation spans several; ω, the parameter, stays the mesh frequency,
+and ∂R/∂ω = ∂R/∂(ω/P)/P) becomes, in the complex coefficients c_k (k = −H … H),
 
     R_k(c) = −ν²k² c_k + ν Σ_l Ĉ_{k−l} (il) c_l + [K f(u)]^_k − F̂_k = 0,
 
@@ -36,10 +38,14 @@ from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_
 from .hill import HillResult, hill_floquet
 from .monodromy import check_floquet, monodromy_floquet
 
-__all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "DEFAULT_HARMONICS", "NEWTON_TOL"]
+__all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "default_harmonics", "DEFAULT_HARMONICS",
+           "MAX_DEFAULT_HARMONICS", "NEWTON_TOL"]
 
 #: Default harmonics of ν = ω/n (see ``docs/hb.md`` for the convergence study behind it).
 DEFAULT_HARMONICS = 16
+#: The most harmonics the default of a multi-cycle excitation (P > 1) takes: the Jacobian is a dense matrix of
+#: 2H + 1 rows (its LU costs about (2H + 1)³ flops a Newton step).
+MAX_DEFAULT_HARMONICS = 1024
 #: Newton converges when ||R|| <= NEWTON_TOL·(1 + ||a||) (real coefficients, Euclidean norm).
 NEWTON_TOL = 1e-11
 NEWTON_MAX_ITER = 40
@@ -52,6 +58,39 @@ FD_REL_STEP = 1e-6
 #: as in the guess of shooting).
 GUESS_TRANSIENT = 400
 GUESS_DTAU = DEFAULT_DTAU
+
+
+def default_harmonics(model: GearModel, period: int = 1) -> int:
+    """H when none is given: :data:`DEFAULT_HARMONICS` for a one-cycle model; for an excitation of P > 1 mesh
+    cycles (harmonics of ν = ω/(P n)), the larger of P·:data:`DEFAULT_HARMONICS` (the mesh orders up to 16 of
+    a one-cycle model's default) and n times the excitation's harmonics (every harmonic it carries).
+
+    Parameters
+    ----------
+    model : GearModel
+    period : int
+        n, the response period in forcing periods.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ModelError
+        When that is more than :data:`MAX_DEFAULT_HARMONICS` (give the harmonics explicitly).
+    """
+    P = int(getattr(model, "cycles", 1))
+    if P == 1:
+        return DEFAULT_HARMONICS
+    H = max(P * DEFAULT_HARMONICS, int(period) * int(model.n_harmonics))
+    if H > MAX_DEFAULT_HARMONICS:
+        raise ModelError(f"harmonics: the excitation spans {P} mesh cycles (harmonics of ω/{P * int(period)}); the "
+                         f"default would take {H} ({P}·{DEFAULT_HARMONICS} for mesh orders up to {DEFAULT_HARMONICS}, "
+                         f"and the excitation's {model.n_harmonics} per forcing period), more than "
+                         f"{MAX_DEFAULT_HARMONICS}: give the harmonics explicitly (the cost grows as H³), or use "
+                         f"shooting")
+    return H
 
 
 class _AtOmega(NamedTuple):
@@ -68,10 +107,10 @@ class HBSystem:
     ----------
     model : GearModel
         Base model; ``param`` values replace one of its parameters.
-    harmonics : int
-        H, harmonics of ν = ω/n retained.
+    harmonics : int, optional
+        H, harmonics of ν = ω/(P n) retained (default :func:`default_harmonics`).
     period : int
-        n, the response period in forcing periods.
+        n, the response period in forcing periods (P mesh periods each).
     param : str, optional
         Parameter name (as :meth:`GearModel.with_param`) used by :meth:`residual` and :meth:`dR_dp`.
     samples : int, optional
@@ -81,16 +120,16 @@ class HBSystem:
         :mod:`.monodromy`) or ``"hill"`` (Hill's method, :mod:`.hill`).
     """
 
-    def __init__(self, model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int = 1,
+    def __init__(self, model: GearModel, harmonics: int | None = None, period: int = 1,
                  param: str | None = None, samples: int | None = None, *, floquet: str = "monodromy"):
         if int(period) < 1:
             raise ModelError(f"period: must be an integer >= 1, got {period!r}")
+        if harmonics is None:
+            harmonics = default_harmonics(model, int(period))
         if int(harmonics) < 1:
             raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
-        if getattr(model, "cycles", 1) != 1:
-            raise ModelError(f"harmonic balance of the pair takes a one-cycle excitation, this one spans {model.cycles} "
-                             "mesh cycles: use a system file, or model.forcing_model() (ω there is ω/P)")
         self.base = model
+        self.P = int(getattr(model, "cycles", 1))
         self.n = int(period)
         self.H = int(harmonics)
         self.floquet = check_floquet(floquet)
@@ -120,7 +159,7 @@ class HBSystem:
             if key is not None and self.param == "omega" and key > 0 and math.isfinite(2.0 * math.pi / key):
                 # only the forcing depends on ω: skip building and validating a model per value
                 C, K, _F = self._base_series()
-                e = self._cache[key] = (_AtOmega(key, self.base.D), (C, K, self._forcing(key)))
+                e = self._cache[key] = (_AtOmega(key, self.base.D), (C, K, self._forcing(self.forcing(key))))
                 return e
             m = self.base if key is None else self.base.with_param(self.param, key)
             C, K, F = model_series(m, self.n)
@@ -160,8 +199,15 @@ class HBSystem:
         m, (C, K, _F) = self._entry(p)
         return m.omega, float(m.D), C, K
 
+    def forcing(self, omega: float) -> float:
+        """The forcing frequency ω/P of the mesh frequency ``omega`` (``omega`` itself when P = 1)."""
+        return omega if self.P == 1 else omega / self.P
+
     def nu(self, p: float | None = None) -> float:
-        return self._entry(p)[0].omega / self.n
+        """ν = ω/(P n), the fundamental frequency of the response at ``p``."""
+        if p is not None and self.param == "omega":
+            return self.forcing(float(p)) / self.n
+        return self.forcing(self._entry(p)[0].omega) / self.n
 
     def _centred(self, z: np.ndarray, L: int) -> np.ndarray:
         """Centred coefficient array z padded or cut to half-length L."""
@@ -204,7 +250,8 @@ class HBSystem:
         """
         m, (C, K, F) = self._entry(p)
         b = self.basis
-        R, J = residual_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, C, K, self._f_centred(F),
+        R, J = residual_kernel(np.ascontiguousarray(a, dtype=float), self.forcing(m.omega) / self.n, C, K,
+                               self._f_centred(F),
                                float(m.D),
                                b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, bool(jacobian))
         return R, (J if jacobian else None)
@@ -217,8 +264,10 @@ class HBSystem:
             raise ModelError("dR_dp: the system has no continuation parameter")
         if self.param == "omega":
             m, (C, K, F) = self._entry(p)
-            return dR_domega_kernel(np.ascontiguousarray(a, dtype=float), m.omega / self.n, m.omega, self.n, C,
-                                    self._f_centred(F), self.H)
+            w = self.forcing(m.omega)
+            Rw = dR_domega_kernel(np.ascontiguousarray(a, dtype=float), w / self.n, w, self.n, C,
+                                  self._f_centred(F), self.H)
+            return Rw if self.P == 1 else Rw / self.P  # dR/dω = dR/d(ω/P) / P
         return self._dR_dp_fd(a, p)
 
     def bordered(self, a: np.ndarray, p: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
@@ -248,8 +297,9 @@ class HBSystem:
             w, D, C, K = self._at(p)
             b = self.basis
             fp, eps, phi_e, n, Hm = self._forcing_args()
-            return bordered_omega_kernel(np.ascontiguousarray(a, dtype=float), w, n, C, K, fp, eps, phi_e, Hm, D,
-                                         b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, float(scale))
+            sc = float(scale) if self.P == 1 else float(scale) / self.P  # dR/dω = dR/d(ω/P) / P
+            return bordered_omega_kernel(np.ascontiguousarray(a, dtype=float), self.forcing(w), n, C, K, fp, eps,
+                                         phi_e, Hm, D, b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, sc)
         R, J = self.residual(a, p)
         Rp = self.dR_dp(a, p)
         M = self.basis.size
@@ -274,6 +324,7 @@ class HBSystem:
         """Floquet exponents and multipliers of the solution ``a``: from the monodromy matrix along it
         (:mod:`.monodromy`) or by Hill's method (:mod:`.hill`), as ``floquet`` says."""
         w, D, C, K = self._at(p)
+        w = self.forcing(w)
         if self.floquet == "hill":
             dz = dead_zone_terms(self.basis, a, K, D)
             return hill_floquet(self._cut(C, 2 * self.H), dz.S, w / self.n, self.H)
@@ -381,14 +432,14 @@ class HBSolution:
         """(τ, u) at ``samples`` equispaced instants over the n forcing periods, from τ = 0 (θ = 0)."""
         b = HarmonicBasis(self.harmonics, max(samples, 2 * self.harmonics + 2))
         phi = 2.0 * np.pi * np.arange(samples) / samples
-        nu = self.model.omega / self.period
+        nu = self.model.forcing_omega / self.period
         return phi / nu, b.evaluate(self.coefficients, phi)
 
     def state(self) -> np.ndarray:
         """(u, u') at τ = 0 (θ = 0), comparable with a shooting orbit's ``state``."""
         a, H = self.coefficients, self.harmonics
         k = np.arange(1, H + 1)
-        nu = self.model.omega / self.period
+        nu = self.model.forcing_omega / self.period
         return np.array([a[0] + a[1:H + 1].sum(), nu * float(k @ a[H + 1:])])
 
 
@@ -414,6 +465,9 @@ def guess_from_simulation(model: GearModel, harmonics: int, period: int = 1,
     from ...integrate import trajectory
 
     n, H = int(period), int(harmonics)
+    P = int(getattr(model, "cycles", 1))
+    if P > 1:  # the same settling time as a one-cycle model's: the transient counts forcing periods of P cycles
+        transient = -(-int(transient) // P)
     opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=n)
     tr = trajectory(model, state0, opts, history_periods=n)
     u = tr.u[:-1]
@@ -432,6 +486,7 @@ def linear_guess(model: GearModel, harmonics: int, period: int = 1) -> np.ndarra
     """Coefficients of the response of the linearised, permanently meshing model (u > D), a guess
     for small-amplitude responses: u = f_p + D + Σ_l ω²l²ε_l cos(lθ + φ_el)/(1 − (lω)² + 2iξ0 lω)."""
     H, n = int(harmonics), int(period)
+    model = model.forcing_model()  # harmonics of the forcing frequency ω/P
     a = np.zeros(2 * H + 1)
     a[0] = model.fp + model.D
     w = model.omega
@@ -445,7 +500,7 @@ def linear_guess(model: GearModel, harmonics: int, period: int = 1) -> np.ndarra
     return a
 
 
-def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int = 1,
+def hb_solve(model: GearModel, harmonics: int | None = None, period: int = 1,
              guess: np.ndarray | str | None = None, *, samples: int | None = None, tol: float = NEWTON_TOL,
              max_iter: int = NEWTON_MAX_ITER, stability: bool = True, floquet: str = "monodromy") -> HBSolution:
     """Solve the harmonic-balance equations of ``model`` at one parameter point.
@@ -455,7 +510,8 @@ def hb_solve(model: GearModel, harmonics: int = DEFAULT_HARMONICS, period: int =
     model : GearModel
         Non-dimensional model.
     harmonics : int
-        H, harmonics of ω/n (default :data:`DEFAULT_HARMONICS`).
+        H, harmonics of ν = ω/(P n) (default :func:`default_harmonics`: :data:`DEFAULT_HARMONICS` for a one-cycle
+        model).
     period : int
         n: the response repeats after n forcing periods (n = 1 harmonic, n > 1 subharmonic).
     guess : ndarray, "simulate", "linear" or None
