@@ -288,9 +288,9 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     if len(files) > 2:
         raise ModelError(f"files: with --system none, one or two tooth-pair files or excitation tables, got {len(files)}")
     systems = [load_system(p) for p in paths]
-    s0 = systems[0]
-    rpm = inp.rpm if inp.rpm is not None else s0.scaling.rpm_from_omega(s0.omega)
+    rpm = inp.rpm if inp.rpm is not None else systems[0].scaling.rpm_from_omega(systems[0].omega)
     systems = [s.with_param("omega", s.scaling.omega_from_rpm(rpm)) for s in systems]
+    s0 = systems[0]
     mesh = inp.mesh
     z1, z2, _ = mesh_shafts(systems[0], mesh)
     dof = inp.sensor if inp.sensor is not None else default_sensor(systems[0], mesh)

@@ -15,7 +15,17 @@ __all__ = ["is_system", "system_signals"]
 
 
 def is_system(ds: xr.Dataset) -> bool:
-    """Whether a ``signature`` result is a system's (its runs name a sensor)."""
+    """Whether a ``signature`` result is a system's (its runs name a sensor).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``signature`` result.
+
+    Returns
+    -------
+    bool
+    """
     return "sensor" in json.loads(ds.attrs.get("summary", "{}")).get("runs", [{}])[0]
 
 

@@ -283,7 +283,9 @@ def system_signature(system: Any, dof: str | None = None, *, mesh: str | None = 
 
 
 def system_signature_sweep(make: Callable[[float], Any], sizes: Sequence[float], *, dof: str | None = None,
-                           mesh: str | None = None, name: str = "crack depth", **kw: Any) -> xr.Dataset:
+                           mesh: str | None = None, name: str = "crack depth", revolutions: int | None = None,
+                           fs: float | None = None, z2: int | None = None, noise: float = 0.02, seed: int = 0,
+                           dtau: float = 0.01) -> xr.Dataset:
     """Indicators of the pinion and the wheel of a system's sensor against a fault size.
 
     Parameters
@@ -296,8 +298,8 @@ def system_signature_sweep(make: Callable[[float], Any], sizes: Sequence[float],
         As :func:`system_signature` (the default sensor is that of the first system).
     name : str
         What the size is.
-    **kw
-        ``revolutions``, ``fs``, ``z2``, ``noise``, ``seed``, ``dtau`` of :func:`system_signature`.
+    revolutions, fs, z2, noise, seed, dtau
+        As :func:`system_signature`.
 
     Returns
     -------
@@ -310,7 +312,8 @@ def system_signature_sweep(make: Callable[[float], Any], sizes: Sequence[float],
     for s in sizes:
         system = make(float(s))
         dof = default_sensor(system, mesh) if dof is None else dof
-        r = json.loads(system_signature(system, dof, mesh=mesh, **kw).attrs["summary"])["runs"][0]
+        r = json.loads(system_signature(system, dof, mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise,
+                                        seed=seed, dtau=dtau).attrs["summary"])["runs"][0]
         rows.append(r["indicators"])
         rpm = r["rpm"]
         mname = r["mesh"]
