@@ -17,7 +17,7 @@ from typer.testing import CliRunner
 from geardyn.cli import app
 from geardyn.signature.indicators import fm4
 from geardyn.signature.signals import split_tsa
-from geardyn.signature.system import default_sensor, mesh_shafts, system_signature, with_excitation
+from geardyn.signature.system import default_sensor, mesh_shafts, settle_time, system_signature, with_excitation
 from geardyn.systems.load import load_system
 from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, table_of, write_table
 
@@ -60,6 +60,14 @@ def test_the_sensor_and_the_shafts_of_the_system():
     s = load_system(SYSTEM)
     assert default_sensor(s) == "pinion.y"  # line of action (sin 20°, cos 20°): y is the larger component
     assert mesh_shafts(s) == (16, 48, "pinion")  # base radii 71.6047 / 23.8682 mm = 3 = 48/16
+
+
+def test_the_settling_time_is_ten_time_constants_of_the_slowest_mode():
+    # the torsional pair linearised in contact: δ'' + 2ξ0 δ' + δ = 0, λ = −ξ0 ± i√(1 − ξ0²), 1/|Re λ| = 1/ξ0
+    s = load_system(EX / "systems/paper_torsional.toml")
+    for xi0 in (0.1, 0.01):
+        assert settle_time(s.with_param("xi0", xi0), least=0.0) == pytest.approx(10.0 / xi0, rel=1e-12)
+    assert settle_time(s) == 300.0  # at least 300
 
 
 def test_the_crack_raises_the_shaft_order_sidebands_around_the_mesh_orders(runs):

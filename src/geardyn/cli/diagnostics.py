@@ -339,9 +339,9 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
             ds = system_signature_sweep(make, depths, dof=dof, mesh=mesh, **kw)
             summary = json.loads(ds.attrs["summary"])
             summary.update(system=str(paths[0]), excitation=str(tooth[-1]))
+            ds.attrs["summary"] = json.dumps(summary)
             summary["indicators"] = {k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values]
                                          for sh in ds["shaft"].values} for k in ds.data_vars}
-            ds.attrs["summary"] = json.dumps(summary)
             finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
             return
         runs_in = []

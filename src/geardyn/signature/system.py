@@ -9,8 +9,8 @@ accurate to the step's fourth power times the signal's fourth derivative), then 
 The shafts are those of one mesh (default the reference mesh): its pinion turns at the mesh's frequency
 r ω ω_n/2π (r its ``ratio``) over its ``teeth``; the wheel's teeth are the pinion's times the ratio of the
 rotation entries of the mesh vector (the base radii of a spur or helical mesh, the mean radii of a bevel
-mesh), or those of a tooth-pair file.  The default sensor is the translation of the mesh's pinion most
-nearly along the line of action.
+mesh) rounded to the nearest integer within a quarter tooth, or those of a tooth-pair file.  The default
+sensor is the translation of the mesh's pinion most nearly along the line of action.
 """
 
 from __future__ import annotations
@@ -30,8 +30,8 @@ from ..integrate import trajectory
 from ..model import IntegrationOptions
 from .acquire import Acquisition, sampled
 
-__all__ = ["check_sensor", "default_rate", "default_sensor", "mesh_shafts", "system_acquire", "system_signature", "system_signature_sweep",
-           "with_excitation"]
+__all__ = ["check_sensor", "default_rate", "default_sensor", "mesh_shafts", "settle_time", "system_acquire",
+           "system_signature", "system_signature_sweep", "with_excitation"]
 
 _TRANSLATIONS = ("x", "y", "z")
 
@@ -47,6 +47,9 @@ def _mesh(system: Any, mesh: str | None) -> Any:
 
 def mesh_shafts(system: Any, mesh: str | None = None) -> tuple[int, int | None, str | None]:
     """The pinion's teeth, the wheel's teeth (``None`` if the mesh vector does not give them) and the pinion body.
+
+    The wheel's teeth are z1 |v_θ,wheel| / |v_θ,pinion| (the ratio of the base or mean radii) rounded, when
+    that is within a quarter tooth of an integer.
 
     Parameters
     ----------
@@ -66,7 +69,7 @@ def mesh_shafts(system: Any, mesh: str | None = None) -> tuple[int, int | None, 
     if len(rot) != 2:
         return z1, None, rot[0][0] if rot else None
     z2 = z1 * rot[1][1] / rot[0][1]
-    return z1, (int(round(z2)) if abs(z2 - round(z2)) < 1e-3 * z2 else None), rot[0][0]
+    return z1, (int(round(z2)) if abs(z2 - round(z2)) <= 0.25 else None), rot[0][0]
 
 
 def default_sensor(system: Any, mesh: str | None = None) -> str:
@@ -174,9 +177,46 @@ def default_rate(system: Any, f_mesh: float) -> float:
     return 1000.0 * math.ceil(max(20.0 * f_mesh, 5.0 * f_top) / 1000.0)
 
 
+def settle_time(system: Any, decays: float = 10.0, least: float = 300.0) -> float:
+    """The non-dimensional time integrated and discarded before a record: ``decays`` time constants of the
+    slowest-decaying mode of the system linearised with the teeth and clearances in contact (mean stiffness and
+    damping of each mesh), at least ``least``; rigid-body modes are left out.
+
+    Parameters
+    ----------
+    system : SystemModel
+    decays : float
+        Time constants 1/|Re λ| of the slowest mode (10: its free vibration down to e⁻¹⁰ ≈ 5e-5).
+    least : float
+        The least time.
+
+    Returns
+    -------
+    float
+        Δτ.
+    """
+    n = system.n
+    Mi = np.asarray(system.Mi, dtype=float)
+    K = np.array(system.Kb, dtype=float)
+    C = np.array(system.Cb, dtype=float)
+    for i, m in enumerate(system.meshes):
+        v = np.asarray(system.V[i], dtype=float)
+        K += m.k * np.outer(v, v)
+        C += 2.0 * m.xi0 * np.outer(v, v)
+    for i, (k, c) in enumerate(zip(system.kc, system.cc)):
+        v = np.asarray(system.Vc[i], dtype=float)
+        K += k * np.outer(v, v)
+        C += c * np.outer(v, v)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Mi @ K, -Mi @ C]])
+    lam = np.linalg.eigvals(A)
+    lam = lam[np.abs(lam) > 1e-8 * max(1.0, float(np.max(np.abs(lam))))]
+    decay = float(np.min(-lam.real)) if lam.size else 0.0
+    return max(least, decays / decay) if decay > 0 else least
+
+
 def system_acquire(system: Any, dof: str, revolutions: int, fs: float, *, mesh: str | None = None,
                    z2: int | None = None, noise: float = 0.0, seed: int = 0, dtau: float = 0.01,
-                   settle: float = 300.0) -> Acquisition:
+                   settle: float | None = None) -> Acquisition:
     """Simulate a system and sample the acceleration of one translational DOF and the pinion's tachometer.
 
     Parameters
@@ -196,8 +236,10 @@ def system_acquire(system: Any, dof: str, revolutions: int, fs: float, *, mesh: 
         The wheel's teeth (for its TSA).
     noise, seed : float, int
         Gaussian noise RMS as a share of the signal's RMS, and its seed.
-    dtau, settle : float
-        RK4 step target and the non-dimensional time discarded first.
+    dtau : float
+        RK4 step target.
+    settle : float, optional
+        The non-dimensional time discarded first (default :func:`settle_time`).
 
     Returns
     -------
@@ -216,6 +258,7 @@ def system_acquire(system: Any, dof: str, revolutions: int, fs: float, *, mesh: 
         raise ModelError(f"fs: {fs:g} Hz is below 8 samples per mesh period (mesh frequency {f_mesh:g} Hz)")
     Tf = system.sampling_period
     periods = int(math.ceil(revolutions * z1 * system.period / m.ratio / Tf)) + 1
+    settle = settle_time(system) if settle is None else settle
     transient = max(2, int(math.ceil(settle / Tf)))
     tr = trajectory(system, None, IntegrationOptions(dtau=dtau, transient=transient, periods=periods),
                     history_periods=periods)
