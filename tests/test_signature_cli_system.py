@@ -125,6 +125,8 @@ def test_system_healthy_beside_faulty_from_tooth_pair_files(tmp_path):
         assert (run["z1"], run["z2"], run["excitation_cycles"], run["harmonics"]) == (16, 48, 16, 64)
         assert run["rpm"] == pytest.approx(6000.0) and run["mesh_frequency_Hz"] == pytest.approx(1600.0)
         assert set(run["indicators"]) == {"pinion", "wheel"}
+    assert a["faults"] == [] and b["faults"][0]["kind"] == "crack" and b["faults"][0]["depth"] == 0.5
+    assert b["omega_model"] == pytest.approx(b["omega_mesh"] / 16)
     assert b["indicators"]["pinion"]["fm4"] > 2 * a["indicators"]["pinion"]["fm4"]
     assert {Path(f).name for f in s["files"]} == {"signature.nc", "order_spectrum.png", "signature.png"}
 

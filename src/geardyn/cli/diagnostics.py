@@ -276,6 +276,7 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     from ..signature.system import (check_sensor, default_sensor, mesh_shafts, system_signature,
                                     system_signature_sweep, with_excitation)
     from ..systems.load import load_system
+    from ..tooth.faults import fault_to_dict
     from ..tooth.mesh import mesh_stiffness
     from ..tooth.table import read_table, table_of, write_table
 
@@ -344,21 +345,23 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
                                          for sh in ds["shaft"].values} for k in ds.data_vars}
             finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
             return
-        runs_in = []
+        runs_in = []  # (system, label, summary keys)
         if files:
             for f in files:
                 if f in cases:
-                    runs_in.append((excited(cases[f], cases[f].faults, f.stem), cases[f].name, str(f)))
+                    runs_in.append((excited(cases[f], cases[f].faults, f.stem), cases[f].name,
+                                    {"excitation": str(f), "faults": [fault_to_dict(x) for x in cases[f].faults]}))
                 else:
                     n = read_table(f).stiffness.size // 2
-                    runs_in.append((with_excitation(s0, mesh, f, None if H is None else min(H, n)), f.stem, str(f)))
+                    runs_in.append((with_excitation(s0, mesh, f, None if H is None else min(H, n)), f.stem,
+                                    {"excitation": str(f)}))
         else:
-            runs_in = [(s, p.stem, None) for s, p in zip(systems, paths)]
+            runs_in = [(s, p.stem, {"excitation": None}) for s, p in zip(systems, paths)]
         labels = [lab if [r[1] for r in runs_in].count(lab) == 1 else f"{lab} ({i + 1})"
                   for i, (_, lab, _) in enumerate(runs_in)]
         runs = [system_signature(s, dof, mesh=mesh, label=lab, **kw,
-                                 extra={"system": str(paths[min(i, len(paths) - 1)]), "excitation": exc})
-                for i, ((s, _, exc), lab) in enumerate(zip(runs_in, labels))]
+                                 extra={"system": str(paths[min(i, len(paths) - 1)]), **keys})
+                for i, ((s, _, keys), lab) in enumerate(zip(runs_in, labels))]
     ds = combine(runs) if len(runs) > 1 else runs[0]
     summary = json.loads(ds.attrs["summary"])
     finish(summary, inp.write(ds, "signature"), inp, _show_signature)

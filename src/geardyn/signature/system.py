@@ -297,8 +297,8 @@ def system_signature(system: Any, dof: str | None = None, *, mesh: str | None = 
     Returns
     -------
     xarray.Dataset
-        ``geardyn_kind = "signature"`` with the pair's variables; the summary's run adds ``sensor``, ``mesh``
-        and ``omega``.
+        ``geardyn_kind = "signature"`` with the pair's variables and summary keys (``faults`` empty unless
+        ``extra`` gives them); the run adds ``sensor``, ``mesh`` and ``omega``.
     """
     from .run import labelled, record
 
@@ -320,8 +320,9 @@ def system_signature(system: Any, dof: str | None = None, *, mesh: str | None = 
     summary = {"label": label, "rpm": acq.rpm, "fs_Hz": float(fs), "revolutions": int(revolutions),
                "z1": z1, "z2": z2, "mesh_frequency_Hz": f_mesh, "noise": noise,
                "excitation_cycles": int(sm.cycles), "harmonics": int(sm.n_harmonics),
-               "omega": system.omega, "omega_n_rad_s": system.scaling.omega_n, "k0_N_per_m": float(m.stiffness),
-               "indicators": ind, "sensor": dof, "mesh": m.name, **(extra or {})}
+               "omega_model": sm.ratio * system.omega, "omega_mesh": m.ratio * system.omega, "omega": system.omega,
+               "omega_n_rad_s": system.scaling.omega_n, "k0_N_per_m": float(m.stiffness), "indicators": ind,
+               "faults": [], "sensor": dof, "mesh": m.name, **(extra or {})}
     return labelled(ds, summary, label)
 
 
