@@ -101,6 +101,12 @@ QUOTED: dict[str, Run | str] = {
         Run({"--revolutions": "4"}),
     "geardyn signature examples/tooth_crack_50.toml --sweep-depths 0,0.1,0.25,0.5,0.75 --out out/sweep":
         Run({"--revolutions": "4", "--sweep-depths": "0,0.5"}),
+    "geardyn signature --system examples/systems/spur_bending_torsional.toml examples/tooth_luo_healthy.toml "
+    "examples/tooth_luo_crack50.toml --out out/syssig": Run({"--revolutions": "5", "--rpm": "6000"}),
+    "geardyn signature --system examples/systems/spur_crack50.toml --sweep-depths 0,0.1,0.25,0.5 --out out/syssweep":
+        Run({"--revolutions": "5", "--rpm": "6000", "--sweep-depths": "0,0.5"}),
+    "geardyn signature --system examples/systems/spur_healthy.toml --system examples/systems/spur_crack50.toml "
+    "--rpm 6000": Run({"--revolutions": "5"}),
     "geardyn stiffness FILE.toml --out x.nc": Run(subs={"FILE.toml": "examples/tooth_healthy_spur.toml"}),
     _C50: AS_QUOTED,
     "geardyn simulate --excitation c50.csv --omega 0.8 --transient 20 --periods 10": Run(before=(_C50,)),

@@ -161,6 +161,9 @@ def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):
                                     "supercritical_start": 1.5 * rpm[1]},
               "model_resonance_rpm": rpm[1], "simulated": {"up": [1.2] * len(rpm), "down": [1.3] * len(rpm)}}
     variants.append(datasets["response"].assign_attrs(iso_kv=json.dumps(iso_kv)))  # a pair with ISO inputs
+    sig = json.loads(datasets["signature"].attrs["summary"])  # a system's signature: its runs name a sensor
+    sig["runs"][0].update(sensor="pinion.y", mesh="mesh")
+    variants.append(datasets["signature"].assign_attrs(summary=json.dumps(sig)))
     for drop in (["amplitude_um"], ["amplitude_um", "rms_um"], ["amplitude_um", "rms_um", "u_max_um"]):
         variants.append(bif.drop_vars(drop))  # the next variable drawn against rpm
     for k in ("system_bifurcation", "system_response"):  # a system of two meshes: its per-element variables

@@ -91,7 +91,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     'signature': ('diagnostics', (
         'Vibration signature of a pair: the acceleration along the line of action sampled with a once-per-revolution\n'
         'tachometer, order spectrum, TSA per shaft, regular/residual/difference signals and the condition indicators;\n'
-        'healthy beside faulty with two files; indicators against crack depth with --sweep-depths.'
+        'healthy beside faulty with two files; indicators against crack depth with --sweep-depths. With --system: the\n'
+        'same for a bearing sensor (a translational DOF) of a multi-DOF system.'
     )),
     # generated: end
 }

@@ -112,9 +112,13 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
 
 
 SIGNATURE_OPTIONS = [
-    option("rpm", Optional[float], None, "--rpm", help="Pinion speed (rpm; default the file's [signature] rpm, else 3000)."),
+    option("rpm", Optional[float], None, "--rpm",
+           help="Pinion speed (rpm; default the file's [signature] rpm, else 3000; with --system the system's "
+                "operating point)."),
     option("revolutions", Optional[int], None, "--revolutions", help="Pinion revolutions recorded."),
-    option("fs", Optional[float], None, "--fs", help="Sampling rate (Hz; default about 20 samples per mesh period)."),
+    option("fs", Optional[float], None, "--fs",
+           help="Sampling rate (Hz; default about 20 samples per mesh period; with --system also 5 per period of "
+                "the system's highest natural frequency)."),
     option("noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02)."),
     option("sweep", Optional[str], None, "--sweep-depths",
            help="Crack depths d1,d2,... : indicators against the depth of the file's first crack (or a crack on "
@@ -122,24 +126,72 @@ SIGNATURE_OPTIONS = [
     option("fault", Optional[list[str]], None, "--fault", help="Add a fault (as for stiffness)."),
     option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's."),
     option("points", int, 32, "--points", help="Mesh phases per mesh cycle of the excitation table."),
+    option("system", Optional[list[Path]], None, "--system", panel="Multi-DOF system",
+           help="A system file (examples/systems): the signature of a bearing sensor, a translational DOF. Once: "
+                "the tooth-pair files (or excitation tables) become its mesh's excitation, one run each (none: the "
+                "system as given; with --sweep-depths and no file, its mesh's tooth-pair excitation file); twice: "
+                "the two systems side by side."),
+    option("sensor", Optional[str], None, "--sensor", panel="Multi-DOF system",
+           help="With --system: the sensor, a translational DOF body.x|y|z (default the translation of the mesh's "
+                "pinion most nearly along its line of action)."),
+    option("mesh", Optional[str], None, "--mesh", panel="Multi-DOF system",
+           help="With --system: the mesh that takes the files' excitation and whose pinion and wheel are analysed "
+                "(default the reference mesh)."),
     *OUTPUT,
 ]
+
+
+def _depths(text: str) -> list[float]:
+    try:
+        return [float(x) for x in text.split(",")]
+    except ValueError:
+        raise ModelError(f"sweep-depths: comma-separated numbers, got {text!r}") from None
+
+
+def _sweep_crack(case: Any, period: int) -> tuple[Any, list[Any], int]:
+    """The crack of a sweep (the case's first, else one on pinion tooth 0), the other faults and the period."""
+    from ..tooth.faults import Crack
+
+    crack = next((f for f in case.faults if isinstance(f, Crack)), Crack(0, 0, 0.0))
+    z1, z2 = case.geometry.gears[0].teeth, case.geometry.gears[1].teeth
+    return crack, [f for f in case.faults if f is not crack], max(period, z1 if crack.gear == 0 else z2)
+
+
+def _period(cases: list[Any]) -> int:
+    """The excitation period (mesh cycles) every run shares, so that healthy and faulty compare on equal terms."""
+    from ..tooth.mesh import default_cycles
+
+    if not cases:
+        return 1
+    z1, z2 = cases[0].geometry.gears[0].teeth, cases[0].geometry.gears[1].teeth
+    period = max(1, *[c.mesh.get("cycles", 0) or 0 for c in cases])
+    return max(period, *[default_cycles(z1, z2, c.faults) for c in cases])
 
 
 @command("signature", SIGNATURE_OPTIONS)
 def signature_cmd(
     inp: Inputs,
-    files: Annotated[list[Path], typer.Argument(help="One tooth-pair file, or two (healthy beside faulty).")],
+    files: Annotated[Optional[list[Path]], typer.Argument(
+        help="One tooth-pair file, or two (healthy beside faulty); with --system none, one or two tooth-pair files "
+             "or excitation tables for its mesh.")] = None,
 ) -> None:
     """Vibration signature of a pair: the acceleration along the line of action sampled with a once-per-revolution
     tachometer, order spectrum, TSA per shaft, regular/residual/difference signals and the condition indicators;
-    healthy beside faulty with two files; indicators against crack depth with --sweep-depths."""
+    healthy beside faulty with two files; indicators against crack depth with --sweep-depths. With --system: the
+    same for a bearing sensor (a translational DOF) of a multi-DOF system."""
     import dataclasses
+    import json
 
     from ..signature.run import combine, signature, signature_sweep
-    from ..tooth.faults import Crack
     from ..tooth.mesh import mesh_stiffness
 
+    files = list(files or [])
+    if inp.system:
+        _system_signature(inp, files)
+        return
+    for name in ("sensor", "mesh"):
+        if getattr(inp, name) is not None:
+            raise ModelError(f"{name}: --{name} applies with --system")
     if not 1 <= len(files) <= 2:
         raise ModelError(f"files: one or two tooth-pair files, got {len(files)}")
     cases = [_case(f, inp) for f in files]
@@ -151,33 +203,21 @@ def signature_cmd(
     for key in ("backlash", "b_c", "xi0"):
         if key in first:
             kw[key] = float(first[key])
-    z1, z2 = cases[0].geometry.gears[0].teeth, cases[0].geometry.gears[1].teeth
-    # every run over the same period so that healthy and faulty compare on equal terms
-    period = max(1, *[c.mesh.get("cycles", 0) or 0 for c in cases])
-    from ..tooth.mesh import default_cycles
-
-    period = max(period, *[default_cycles(z1, z2, c.faults) for c in cases])
+    period = _period(cases)
 
     def mesh_of(case, faults=None):
         return mesh_stiffness(case.geometry, case.torque, faults=case.faults if faults is None else faults,
                               modifications=case.modifications, cycles=period, points=inp.points)
 
     if inp.sweep:
-        try:
-            depths = [float(x) for x in inp.sweep.split(",")]
-        except ValueError:
-            raise ModelError(f"sweep-depths: comma-separated numbers, got {inp.sweep!r}") from None
+        depths = _depths(inp.sweep)
         case = cases[-1]
-        crack = next((f for f in case.faults if isinstance(f, Crack)), Crack(0, 0, 0.0))
-        others = [f for f in case.faults if f is not crack]
-        period = max(period, z1 if crack.gear == 0 else z2)
+        crack, others, period = _sweep_crack(case, period)
 
         def make(d):
             return mesh_of(case, others + ([dataclasses.replace(crack, depth=d)] if d > 0 else []))
 
         ds = signature_sweep(make, depths, rpm, **kw)
-        import json
-
         summary = json.loads(ds.attrs["summary"])
         summary["indicators"] = {k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values] for sh in ("pinion", "wheel")}
                                  for k in ds.data_vars}
@@ -185,8 +225,6 @@ def signature_cmd(
         return
     runs = [signature(mesh_of(c), rpm, label=c.name, **kw) for c in cases]
     ds = combine(runs) if len(runs) > 1 else runs[0]
-    import json
-
     summary = json.loads(ds.attrs["summary"])
     finish(summary, inp.write(ds, "signature"), inp, _show_signature)
 
@@ -195,22 +233,27 @@ def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
     from ..signature.run import INDICATORS
 
     r0 = s["runs"][0]
-    console.print(f"z = {r0['z1']}/{r0['z2']} at {r0['rpm']:g} rpm (mesh {r0['mesh_frequency_Hz']:.5g} Hz), "
+    where = f"sensor {r0['sensor']} (mesh {r0['mesh']!r}), " if "sensor" in r0 else ""
+    console.print(f"{where}z = {r0['z1']}/{r0['z2']} at {r0['rpm']:.6g} rpm (mesh {r0['mesh_frequency_Hz']:.5g} Hz), "
                   f"fs = {r0['fs_Hz']:g} Hz, {r0['revolutions']} pinion revolutions, excitation period "
                   f"{r0['excitation_cycles']} mesh cycles ({r0['harmonics']} harmonics)", markup=False, highlight=False)
-    t = Table(title="Condition indicators (TSA of the pinion | of the wheel)")
+    wheel = all("wheel" in r["indicators"] for r in s["runs"])
+    t = Table(title="Condition indicators (TSA of the pinion | of the wheel)" if wheel else
+              "Condition indicators (TSA of the pinion)")
     t.add_column("indicator")
     for r in s["runs"]:
         t.add_column(r["label"], justify="right")
     for k in INDICATORS:
-        t.add_row(k, *[f"{r['indicators']['pinion'][k]:.4g} | {r['indicators']['wheel'][k]:.4g}" for r in s["runs"]])
+        t.add_row(k, *[f"{r['indicators']['pinion'][k]:.4g}" + (f" | {r['indicators']['wheel'][k]:.4g}" if wheel else "")
+                       for r in s["runs"]])
     console.print(t)
     for f in paths:
         console.print(f"wrote {f}", markup=False, highlight=False)
 
 
 def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
-    t = Table(title=f"Indicators of the pinion's TSA against {s['size_name']} at {s['rpm']:g} rpm")
+    where = f" (sensor {s['sensor']})" if "sensor" in s else ""
+    t = Table(title=f"Indicators of the pinion's TSA against {s['size_name']} at {s['rpm']:.6g} rpm{where}")
     t.add_column(s["size_name"], justify="right")
     names = ("kurtosis", "fm4", "na4", "m6a", "fm0", "energy_ratio")
     for n in names:
@@ -220,3 +263,105 @@ def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
     console.print(t)
     for f in paths:
         console.print(f"wrote {f}", markup=False, highlight=False)
+
+
+def _system_signature(inp: Inputs, files: list[Path]) -> None:
+    """``geardyn signature --system``: a bearing sensor of one or two systems, the system with the excitation of
+    each tooth-pair file (or table) on a mesh, or over a crack-depth sweep of a tooth-pair file."""
+    import dataclasses
+    import json
+    import tempfile
+
+    from ..signature.run import SIGNATURE_HARMONICS, combine
+    from ..signature.system import (check_sensor, default_sensor, mesh_shafts, system_signature,
+                                    system_signature_sweep, with_excitation)
+    from ..systems.load import load_system
+    from ..tooth.faults import fault_to_dict
+    from ..tooth.mesh import mesh_stiffness
+    from ..tooth.table import read_table, table_of, write_table
+
+    paths = list(inp.system)
+    if len(paths) > 2:
+        raise ModelError(f"system: one or two system files, got {len(paths)}")
+    if len(paths) == 2 and (files or inp.sweep):
+        raise ModelError("system: two system files are compared as given; give tooth-pair files or --sweep-depths "
+                         "with one --system")
+    if len(files) > 2:
+        raise ModelError(f"files: with --system none, one or two tooth-pair files or excitation tables, got {len(files)}")
+    systems = [load_system(p) for p in paths]
+    rpm = inp.rpm if inp.rpm is not None else systems[0].scaling.rpm_from_omega(systems[0].omega)
+    systems = [s.with_param("omega", s.scaling.omega_from_rpm(rpm)) for s in systems]
+    s0 = systems[0]
+    mesh = inp.mesh
+    z1, z2, _ = mesh_shafts(systems[0], mesh)
+    dof = inp.sensor if inp.sensor is not None else default_sensor(systems[0], mesh)
+    for s in systems:
+        check_sensor(s, dof)
+        mesh_shafts(s, mesh)
+    desc_mesh = next(m for m in s0.description.meshes if m.name == (mesh or s0.scaling.reference))
+    tooth = [f for f in files if f.suffix.lower() == ".toml"]
+    if inp.sweep and not files:
+        if desc_mesh.excitation is None or not desc_mesh.excitation.lower().endswith(".toml"):
+            raise ModelError(f"sweep-depths: give the tooth-pair file whose crack is swept (mesh {desc_mesh.name!r} "
+                             f"of the system has no tooth-pair excitation file)")
+        tooth = [Path(desc_mesh.excitation)]
+    if (inp.fault or inp.torque is not None) and not tooth:
+        raise ModelError("fault: --fault and --torque apply to tooth-pair files")
+    cases = {f: _case(f, inp) for f in tooth}
+    for f, c in cases.items():
+        zc = (c.geometry.gears[0].teeth, c.geometry.gears[1].teeth)
+        if zc[0] != z1 or (z2 is not None and zc[1] != z2):
+            raise ModelError(f"{f}: z = {zc[0]}/{zc[1]}, but mesh {desc_mesh.name!r} of the system has "
+                             f"{z1}/{z2 if z2 is not None else '?'} teeth")
+        z2 = zc[1]
+    first = next(iter(cases.values())).signature if cases else {}
+    kw = {"revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
+          "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
+          "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02)), "z2": z2}
+    period = _period(list(cases.values()))
+    H = None if desc_mesh.excitation_harmonics is not None else SIGNATURE_HARMONICS
+    tmp = tempfile.TemporaryDirectory()
+
+    def excited(case, faults, name):
+        ms = mesh_stiffness(case.geometry, case.torque, faults=faults, modifications=case.modifications,
+                            cycles=period, points=inp.points)
+        path = write_table(table_of(ms), Path(tmp.name) / f"{name}.csv")
+        return with_excitation(s0, mesh, path, None if H is None else min(H, ms.stiffness.size // 2))
+
+    with tmp:
+        if inp.sweep:
+            depths = _depths(inp.sweep)
+            case = cases[tooth[-1]]
+            crack, others, period = _sweep_crack(case, period)
+
+            def make(d):
+                return excited(case, others + ([dataclasses.replace(crack, depth=d)] if d > 0 else []), f"d{d:g}")
+
+            ds = system_signature_sweep(make, depths, dof=dof, mesh=mesh, **kw)
+            summary = json.loads(ds.attrs["summary"])
+            summary.update(system=str(paths[0]), excitation=str(tooth[-1]))
+            ds.attrs["summary"] = json.dumps(summary)
+            summary["indicators"] = {k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values]
+                                         for sh in ds["shaft"].values} for k in ds.data_vars}
+            finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
+            return
+        runs_in = []  # (system, label, summary keys)
+        if files:
+            for f in files:
+                if f in cases:
+                    runs_in.append((excited(cases[f], cases[f].faults, f.stem), cases[f].name,
+                                    {"excitation": str(f), "faults": [fault_to_dict(x) for x in cases[f].faults]}))
+                else:
+                    n = read_table(f).stiffness.size // 2
+                    runs_in.append((with_excitation(s0, mesh, f, None if H is None else min(H, n)), f.stem,
+                                    {"excitation": str(f)}))
+        else:
+            runs_in = [(s, p.stem, {"excitation": None}) for s, p in zip(systems, paths)]
+        labels = [lab if [r[1] for r in runs_in].count(lab) == 1 else f"{lab} ({i + 1})"
+                  for i, (_, lab, _) in enumerate(runs_in)]
+        runs = [system_signature(s, dof, mesh=mesh, label=lab, **kw,
+                                 extra={"system": str(paths[min(i, len(paths) - 1)]), **keys})
+                for i, ((s, _, keys), lab) in enumerate(zip(runs_in, labels))]
+    ds = combine(runs) if len(runs) > 1 else runs[0]
+    summary = json.loads(ds.attrs["summary"])
+    finish(summary, inp.write(ds, "signature"), inp, _show_signature)

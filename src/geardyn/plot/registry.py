@@ -22,7 +22,7 @@ import xarray as xr
 from .._docfill import RESULT, attributes, parameters
 from ..errors import PlotError
 from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
-from . import modes, systems, tooth
+from . import modes, signature_system, systems, tooth
 from .common import DPI, save
 from .hb import hb_figure
 
@@ -127,7 +127,8 @@ register("modes", FigureSpec("campbell", modes.campbell, when=modes.has_campbell
 systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
 register("stiffness", FigureSpec("stiffness", tooth.stiffness_figure), FigureSpec("compliance", tooth.compliance_figure))
 register("signature", FigureSpec("order_spectrum", tooth.order_spectrum),
-         FigureSpec("signature", tooth.signature_signals))
+         FigureSpec("signature", tooth.signature_signals, when=lambda ds: not signature_system.is_system(ds)),
+         FigureSpec("signature", signature_system.system_signals, when=signature_system.is_system))
 register("signature_sweep", FigureSpec("indicators", tooth.indicator_sweep))
 
 

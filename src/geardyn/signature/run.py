@@ -10,13 +10,15 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import xarray as xr
 
+from ..errors import ModelError
 from ..tooth.excitation import pair_model
 from ..tooth.mesh import MeshStiffness
-from .acquire import acquire
+from .acquire import Acquisition, acquire
 from .indicators import crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4, rms, sideband_level
 from .signals import order_spectrum, split_tsa, tsa
 
-__all__ = ["INDICATORS", "SIGNATURE_HARMONICS", "combine", "indicators", "signature", "signature_sweep"]
+__all__ = ["INDICATORS", "SIGNATURE_HARMONICS", "combine", "indicators", "labelled", "record", "signature",
+           "signature_sweep", "sweep_dataset"]
 
 #: Harmonics of the excitation's period a signature run keeps by default (the full table: ``harmonics=``).
 SIGNATURE_HARMONICS = 64
@@ -98,33 +100,84 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
     if fs is None:
         fs = 1000.0 * math.ceil(20 * rpm / 60.0 * z1 / 1000.0)
     acq = acquire(model, sc, revolutions, fs, noise=noise, seed=seed, dtau=dtau)
-    N = _per_rev(z1, z2)
-    orders, amp = order_spectrum(acq, N)
-    t1 = tsa(acq, N)
-    t2 = tsa(acq, N, z1 / z2)
-    p1 = split_tsa(t1, z1)
-    ind = {"pinion": indicators(t1, z1), "wheel": indicators(t2, z2)}
-    keep = min(acq.time.size, int(3 * 60.0 / rpm * acq.fs))
-    top = orders <= 3.5 * z1
-    ds = xr.Dataset(
-        {"accel": ("time", acq.accel[:keep], {"units": "m/s^2", "long_name": "acceleration along the line of action"}),
-         "tach": ("time", acq.tach[:keep], {"units": "V", "long_name": "tachometer (pinion, once per revolution)"}),
-         "order_amplitude": ("order", amp[top], {"units": "m/s^2", "long_name": "order spectrum amplitude"}),
-         "tsa_pinion": ("angle_pinion", t1, {"units": "m/s^2", "long_name": "TSA of the pinion"}),
-         "regular": ("angle_pinion", p1["regular"], {"units": "m/s^2"}),
-         "residual": ("angle_pinion", p1["residual"], {"units": "m/s^2"}),
-         "difference": ("angle_pinion", p1["difference"], {"units": "m/s^2"}),
-         "tsa_wheel": ("angle_wheel", t2, {"units": "m/s^2", "long_name": "TSA of the wheel"})},
-        coords={"time": ("time", acq.time[:keep], {"units": "s"}),
-                "order": ("order", orders[top], {"units": "1", "long_name": "pinion order"}),
-                "angle_pinion": ("angle_pinion", 360.0 * np.arange(N) / N, {"units": "deg"}),
-                "angle_wheel": ("angle_wheel", 360.0 * np.arange(N) / N, {"units": "deg"})},
-    )
+    ds, ind = record(acq, z2, "acceleration along the line of action")
     summary = {"label": label, "rpm": float(rpm), "fs_Hz": float(fs), "revolutions": int(revolutions),
                "z1": z1, "z2": z2, "mesh_frequency_Hz": rpm / 60.0 * z1, "noise": noise,
                "excitation_cycles": ms.cycles, "harmonics": H, "omega_model": model.forcing_omega,
                "omega_mesh": sc["mesh_omega"], "omega_n_rad_s": sc["omega_n"], "k0_N_per_m": sc["k0"],
                "indicators": ind, "faults": [_fault(f) for f in ms.faults]}
+    return labelled(ds, summary, label)
+
+
+def record(acq: Acquisition, z2: int | None, what: str) -> tuple[xr.Dataset, dict[str, dict[str, float]]]:
+    """The variables of a ``signature`` result from a record, and the indicators of each shaft's TSA.
+
+    Parameters
+    ----------
+    acq : Acquisition
+        The record (its ``z1`` the teeth of the shaft the tachometer is on).
+    z2 : int or None
+        The wheel's teeth (None: no wheel TSA).
+    what : str
+        What the acceleration is (its ``long_name``).
+
+    Returns
+    -------
+    (xarray.Dataset, dict)
+        ``accel`` and ``tach`` over ``time`` (the first three pinion revolutions), ``order_amplitude`` over
+        ``order`` (up to 3.5 mesh orders), ``tsa_pinion`` / ``regular`` / ``residual`` / ``difference`` over
+        ``angle_pinion``, ``tsa_wheel`` over ``angle_wheel``; shaft → indicator name → value.
+    """
+    z1, rpm = acq.z1, acq.rpm
+    N = _per_rev(z1, z2 or z1)
+    orders, amp = order_spectrum(acq, N)
+    t1 = tsa(acq, N)
+    p1 = split_tsa(t1, z1)
+    ind = {"pinion": indicators(t1, z1)}
+    if z2:
+        try:
+            t2 = tsa(acq, N, z1 / z2)
+        except ModelError:
+            revs = int(round(acq.time[-1] * rpm / 60.0))
+            raise ModelError(f"revolutions: {revs} pinion revolutions hold no whole revolution of the wheel "
+                             f"(z2/z1 = {z2}/{z1}); record at least {math.ceil(z2 / z1) + 2}") from None
+        ind["wheel"] = indicators(t2, z2)
+    keep = min(acq.time.size, int(3 * 60.0 / rpm * acq.fs))
+    top = orders <= 3.5 * z1
+    ds = xr.Dataset(
+        {"accel": ("time", acq.accel[:keep], {"units": "m/s^2", "long_name": what}),
+         "tach": ("time", acq.tach[:keep], {"units": "V", "long_name": "tachometer (pinion, once per revolution)"}),
+         "order_amplitude": ("order", amp[top], {"units": "m/s^2", "long_name": "order spectrum amplitude"}),
+         "tsa_pinion": ("angle_pinion", t1, {"units": "m/s^2", "long_name": "TSA of the pinion"}),
+         "regular": ("angle_pinion", p1["regular"], {"units": "m/s^2"}),
+         "residual": ("angle_pinion", p1["residual"], {"units": "m/s^2"}),
+         "difference": ("angle_pinion", p1["difference"], {"units": "m/s^2"})},
+        coords={"time": ("time", acq.time[:keep], {"units": "s"}),
+                "order": ("order", orders[top], {"units": "1", "long_name": "pinion order"}),
+                "angle_pinion": ("angle_pinion", 360.0 * np.arange(N) / N, {"units": "deg"})},
+    )
+    if z2:
+        ds["tsa_wheel"] = xr.DataArray(t2, dims="angle_wheel", attrs={"units": "m/s^2", "long_name": "TSA of the wheel"})
+        ds = ds.assign_coords(angle_wheel=("angle_wheel", 360.0 * np.arange(N) / N, {"units": "deg"}))
+    return ds, ind
+
+
+def labelled(ds: xr.Dataset, summary: dict[str, Any], label: str) -> xr.Dataset:
+    """One run of a ``signature`` result: ``ds`` along ``run`` = [label] with its summary.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        As :func:`record` returns it.
+    summary : dict
+        The run's summary.
+    label : str
+        Its name.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     ds = ds.expand_dims(run=[label or "run"])
     ds.attrs.update(geardyn_kind="signature", summary=json.dumps({"runs": [summary]}))
     return ds
@@ -183,12 +236,33 @@ def signature_sweep(make: Callable[[float], MeshStiffness], sizes: Sequence[floa
         ms = make(float(s))
         ds = signature(ms, rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, harmonics=harmonics, b_c=b_c,
                        backlash=backlash, xi0=xi0, dtau=dtau)
-        ind = json.loads(ds.attrs["summary"])["runs"][0]["indicators"]
-        rows.append([[ind[sh][k] for k in INDICATORS] for sh in ("pinion", "wheel")])
-    a = np.array(rows)  # (size, shaft, indicator)
+        rows.append(json.loads(ds.attrs["summary"])["runs"][0]["indicators"])
+    return sweep_dataset(rows, sizes, {"size_name": name, "rpm": rpm})
+
+
+def sweep_dataset(rows: Sequence[dict[str, dict[str, float]]], sizes: Sequence[float],
+                  summary: dict[str, Any]) -> xr.Dataset:
+    """A ``signature_sweep`` result from the indicators of each run.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        Per size: shaft → indicator → value (as a ``signature`` run's ``indicators``).
+    sizes : sequence of float
+        The fault sizes.
+    summary : dict
+        ``size_name``, ``rpm`` and what else the result's summary holds (``sizes`` is added).
+
+    Returns
+    -------
+    xarray.Dataset
+        One variable per indicator over (``size``, ``shaft``).
+    """
+    shafts = [sh for sh in ("pinion", "wheel") if sh in rows[0]]
+    a = np.array([[[r[sh][k] for k in INDICATORS] for sh in shafts] for r in rows])  # (size, shaft, indicator)
     ds = xr.Dataset({k: (("size", "shaft"), a[:, :, i]) for i, k in enumerate(INDICATORS)},
-                    coords={"size": ("size", np.asarray(sizes, dtype=float), {"long_name": name}),
-                            "shaft": ["pinion", "wheel"]})
-    ds.attrs.update(geardyn_kind="signature_sweep", summary=json.dumps({"size_name": name, "rpm": rpm,
+                    coords={"size": ("size", np.asarray(sizes, dtype=float), {"long_name": summary["size_name"]}),
+                            "shaft": shafts})
+    ds.attrs.update(geardyn_kind="signature_sweep", summary=json.dumps({**summary,
                                                                         "sizes": [float(s) for s in sizes]}))
     return ds
