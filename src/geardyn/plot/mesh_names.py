@@ -20,7 +20,17 @@ __all__ = ["MESH_VARIABLES", "mesh_labels", "of_mesh", "reference_mesh", "system
 
 
 def system_info(ds: xr.Dataset) -> dict:
-    """The ``system`` attribute of a system's result (title, meshes, reference mesh, scales), ``{}`` for the pair."""
+    """The ``system`` attribute of a system's result (title, meshes, reference mesh, scales), ``{}`` for the pair.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+
+    Returns
+    -------
+    dict
+    """
     try:
         return dict(json.loads(ds.attrs["system"]))
     except (KeyError, ValueError, TypeError):
@@ -40,7 +50,17 @@ _MESH_SYMBOL = re.compile(r"(?<![\w/'])(u_n|du/dτ|dδ/dτ|u|δ)(?![\w/'])")
 
 
 def reference_mesh(ds: xr.Dataset) -> str | None:
-    """The name of a system result's reference mesh (the mesh its u, amplitudes and ω are of); ``None`` for the pair."""
+    """The name of a system result's reference mesh (the mesh its u, amplitudes and ω are of); ``None`` for the pair.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+
+    Returns
+    -------
+    str or None
+    """
     info = system_info(ds)
     name = info.get("reference_mesh") if info else None
     return str(name) if name else None
