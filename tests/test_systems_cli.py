@@ -229,7 +229,7 @@ def test_system_figures_name_the_mesh_and_draw_its_backlash_an_rpm_axis_and_coex
     assert sorted(float(line.get_ydata()[0]) for line in lines) == [-s.elements[0].gap, s.elements[0].gap]
     assert "reference mesh 'mesh'" in " ".join(ax.get_title() for ax in art.figure.axes)
     tops = [a for ax in art.figure.axes for a in ax.child_axes]
-    assert any(t.get_xlabel() == "pinion speed [rpm]" for t in tops)
+    assert any(t.get_xlabel() == "pinion speed of mesh 'mesh' [rpm]" for t in tops)
     sec = tops[0]
     per = s.scaling.omega_n * 60.0 / (2.0 * math.pi * s.scaling.teeth)
     assert sec._functions[0](1.0) == pytest.approx(per, rel=1e-12)

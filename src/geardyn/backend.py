@@ -17,13 +17,16 @@ The contract
     ``"none"``, ``"lyapunov"`` (Gram–Schmidt logs per recorded period), ``"monodromy"`` (the raw tangent
     product over the recorded periods), ``"continue"`` (Lyapunov from a given tangent basis; pair only).
     The kernels' arithmetic is theirs: a backend only allocates the outputs and calls ``run_batch``.
+    ``watch(poincare)``, when given, receives the Poincaré output before the kernel runs, filled with NaN
+    until each recorded period writes its row (mesh-vector kernel only; the pair's ignores it), so that
+    another thread can follow a long run (:func:`geardyn.integrate.integrate_batch` with ``progress``).
 """
 
 from __future__ import annotations
 
 import abc
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -101,7 +104,8 @@ class Backend(abc.ABC):
     @abc.abstractmethod
     def run(self, models: Sequence[Any], packed: Any, nsteps: np.ndarray, state0: np.ndarray, transient: int,
             record: int, mode: str, accurate: bool, *, record_poincare: bool = True, hist_len: int = 0,
-            adaptive_tol: float = 0.0, tangent0: np.ndarray | None = None) -> RawRun:
+            adaptive_tol: float = 0.0, tangent0: np.ndarray | None = None,
+            watch: Callable[[np.ndarray], None] | None = None) -> RawRun:
         """Run the batch in ``mode`` and return its raw arrays (each backend calls its own kernel)."""
 
 
@@ -119,7 +123,7 @@ class PairBackend(Backend):
         return np.ceil(T / dtau).astype(np.int64)
 
     def run(self, models, packed, nsteps, state0, transient, record, mode, accurate, *, record_poincare=True,
-            hist_len=0, adaptive_tol=0.0, tangent0=None) -> RawRun:
+            hist_len=0, adaptive_tol=0.0, tangent0=None, watch=None) -> RawRun:
         K = _K1
         coef, D, omega = packed[:3]
         table = packed[3] if len(packed) > 3 else None  # models evaluated as tables (accurate mode)
@@ -150,7 +154,7 @@ class MeshBackend(Backend):
     coords = "(q̃, q̃')"
 
     def run(self, models, packed, nsteps, state0, transient, record, mode, accurate, *, record_poincare=True,
-            hist_len=0, adaptive_tol=0.0, tangent0=None) -> RawRun:
+            hist_len=0, adaptive_tol=0.0, tangent0=None, watch=None) -> RawRun:
         from . import _kernel_ndof as K  # imported by the first mesh-vector run: a pair never needs it
 
         if mode == "continue":
@@ -163,6 +167,9 @@ class MeshBackend(Backend):
         stats = np.zeros((P, E, K.NSTAT))
         tper = np.array([m.sampling_period for m in models], dtype=float)
         tan = {"none": K.TAN_NONE, "lyapunov": K.TAN_LYAPUNOV, "monodromy": K.TAN_MONODROMY}[mode]
+        if watch is not None:  # every recorded row is written by the kernel (NaN after a divergence)
+            poincare.fill(np.nan)
+            watch(poincare)
         K.run_batch(packed, tper, nsteps, state0, int(transient), int(record), int(tan), bool(accurate),
                     poincare, end_state, stats, tan_log, tan_out, status, hist)
         return RawRun(poincare, end_state, stats, tan_log, tan_out, status, hist)

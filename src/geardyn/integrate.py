@@ -25,9 +25,10 @@ Two integration settings are arguments of these functions rather than fields of
 from __future__ import annotations
 
 import math
+import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any, Iterator, Sequence
+from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
@@ -374,17 +375,51 @@ def _prepare(models: Sequence[Any], options: IntegrationOptions,
     return models, backend, packed, nsteps
 
 
+#: Seconds between two looks at a running kernel's output by :func:`integrate_batch` with ``progress``.
+PROGRESS_POLL = 0.25
+
+
 def _run(models: list, backend: Any, packed: Any, nsteps: np.ndarray, state0: np.ndarray, transient: int,
          record: int, mode: str, accurate: bool, *, record_poincare: bool = True, hist_len: int = 0,
-         threads: int | None = None, adaptive: bool = False, tangent0: np.ndarray | None = None) -> RawRun:
+         threads: int | None = None, adaptive: bool = False, tangent0: np.ndarray | None = None,
+         progress: Callable[[int, int], None] | None = None) -> RawRun:
     if not accurate and getattr(models[0], "evaluation", "series") == "table":
         raise ModelError("evaluation \"table\": the table is evaluated as given in the accurate mode only "
                          "(--accurate, IntegrationOptions(accurate=True)); or evaluate its series")
-    # one point runs on one worker whatever the setting: leave numba's state alone then
-    with using_threads(threads if len(models) > 1 else None):
-        return backend.run(models, packed, nsteps, state0, transient, record, mode, accurate,
-                           record_poincare=record_poincare, hist_len=hist_len,
-                           adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0, tangent0=tangent0)
+
+    def call(watch: Any = None) -> RawRun:
+        # one point runs on one worker whatever the setting: leave numba's state alone then
+        with using_threads(threads if len(models) > 1 else None):
+            return backend.run(models, packed, nsteps, state0, transient, record, mode, accurate,
+                               record_poincare=record_poincare, hist_len=hist_len,
+                               adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0, tangent0=tangent0,
+                               **({} if watch is None else {"watch": watch}))
+
+    if progress is None or record == 0 or not record_poincare:
+        return call()
+    # the kernel runs in a thread (it holds no GIL); this one counts the recorded rows it has written
+    seen: list[np.ndarray] = []
+    out: dict[str, Any] = {}
+
+    def work() -> None:
+        try:
+            out["raw"] = call(seen.append)
+        except BaseException as e:  # raised again in the caller's thread
+            out["error"] = e
+
+    total = int(transient) + int(record)
+    worker = threading.Thread(target=work, name="geardyn-kernel", daemon=True)
+    worker.start()
+    while worker.is_alive():
+        worker.join(PROGRESS_POLL)
+        if seen:
+            rows = int(np.count_nonzero(np.all(np.isfinite(seen[0][:, :, 0]), axis=0)))
+            if rows:
+                progress(int(transient) + rows, total)
+    if "error" in out:
+        raise out["error"]
+    progress(total, total)
+    return out["raw"]
 
 
 def _result(models: list, options: IntegrationOptions, raw: RawRun, nsteps: np.ndarray, lyapunov: bool,
@@ -436,6 +471,7 @@ def integrate_batch(
     threads: int | None = None,
     monodromy: bool = False,
     tangent0: np.ndarray | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> BatchResult:
     """Integrate P points of one kind of system through ``options.transient + options.periods`` periods.
 
@@ -466,6 +502,11 @@ def integrate_batch(
         With ``lyapunov`` (pair only): the tangent basis to start the recorded periods from (the ``tangent``
         a previous run ended with), instead of the identity, so that a run continued in blocks of
         periods gives the same numbers as one run.
+    progress : callable, optional
+        Called as ``progress(done, total)`` in sampling periods while a mesh-vector system runs (the kernel in
+        a thread, its recorded rows counted every :data:`PROGRESS_POLL` s; the transient counts once recording
+        begins) and at the end; the numbers are those of a call without it.  The pair's kernel reports nothing
+        before its end.
 
     Returns
     -------
@@ -488,7 +529,8 @@ def integrate_batch(
         tangent0 = np.asarray(tangent0, dtype=float).reshape(len(models), d, d)
         mode = "continue"
     raw = _run(models, backend, packed, nsteps, s0, options.transient, options.periods, mode, options.accurate,
-               record_poincare=record_poincare, threads=threads, adaptive=options.adaptive, tangent0=tangent0)
+               record_poincare=record_poincare, threads=threads, adaptive=options.adaptive, tangent0=tangent0,
+               progress=progress)
     return _result(models, options, raw, nsteps, lyapunov, monodromy)
 
 

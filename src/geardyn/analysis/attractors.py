@@ -4,10 +4,12 @@ One test serves the frequency response (do the up and down sweeps end on the sam
 a grid point? :func:`geardyn.analysis.response.same_attractor`) and the basins of attraction
 (which attractor does each initial state reach? :func:`identify_attractors`):
 
-- two **periodic** attractors are the same when they have the same period n and each point of
-  one Poincaré cycle lies within ``tol`` (relative to max(1, the first cycle's largest
-  |coordinate|)) of a point of the other, in both directions — the cycle's phase does not matter
-  (:func:`same_cycle`);
+- two **periodic** attractors are the same when each point of one Poincaré cycle lies within
+  ``tol`` (relative to max(1, the first cycle's largest |coordinate|)) of a point of the other, in
+  both directions — the cycle's phase does not matter (:func:`same_cycle`).  The detected periods
+  need not agree: a period-1 orbit whose last points still scatter by more than the period test's
+  1e-6 (a transient not yet decayed, typically at the point just after a jump) is detected with a
+  longer period, yet all its points lie on the one point of the settled cycle;
 - two **non-periodic** attractors (quasi-periodic, chaotic, unresolved) are the same when their
   amplitude signatures (amplitude and mean; the basins also compare the extremes and require the
   same motion class) agree to an absolute tolerance (:func:`same_signature`);
@@ -147,8 +149,8 @@ def same_attractor(a: Attractor, b: Attractor, *, signature_tol: float, tol: flo
     """
     if a.periodic != b.periodic:
         return False
-    if a.periodic:
-        return a.period == b.period and same_cycle(a.points, b.points, tol)
+    if a.periodic:  # the same set of section points whatever period the detector saw (module docstring)
+        return same_cycle(a.points, b.points, tol)
     if match_motion and a.motion != b.motion:
         return False
     return same_signature(a.signature, b.signature, signature_tol)

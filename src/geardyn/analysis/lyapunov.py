@@ -207,6 +207,30 @@ def _in_blocks(model: GearModel, state0: Sequence[float], options: IntegrationOp
     return _spectra(res, blocks)
 
 
+def _watched(model: Any, state0: Sequence[float], options: IntegrationOptions, blocks: int,
+             progress: Callable[[int, int], None]) -> dict[str, Any]:
+    """:func:`lyapunov_batch` of one point of a kernel that cannot continue a tangent basis (a mesh-vector system),
+    with ``progress``: the transient in :data:`PROGRESS_BLOCKS` blocks (default mode: each block continues the
+    state exactly, as the one run's transient periods do), then the recorded periods in one run whose rows are
+    counted as the kernel writes them (:func:`~geardyn.integrate.integrate_batch` with ``progress``)."""
+    total = int(options.transient) + int(options.periods)
+    progress(0, total)
+    state, done = np.asarray(state0, dtype=float), 0
+    if not options.accurate:  # the accurate mode carries contact states across periods: its transient in one run
+        size = max(1, -(-int(options.transient) // PROGRESS_BLOCKS))
+        while done < options.transient:
+            n = min(size, int(options.transient) - done)
+            part = integrate_batch([model], state, options.replace(transient=0, periods=n), record_poincare=False)
+            if part.status[0] != ST_OK:  # diverged: the one run, which reports it as such
+                return lyapunov_batch([model], state0, options, blocks=blocks)
+            state, done = part.end_state[0], done + n
+            progress(done, total)
+    rest = options.replace(transient=int(options.transient) - done)
+    res = integrate_batch([model], state, rest, lyapunov=True,
+                          progress=lambda k, _: progress(done + k, total))
+    return _spectra(res, blocks)
+
+
 @dataclass
 class LyapunovResult:
     """Lyapunov spectrum of one point (non-dimensional rates per unit τ); see :func:`lyapunov_spectrum`.
@@ -321,9 +345,11 @@ def lyapunov_spectrum(
         passes: give a long enough transient).
     progress : callable, optional
         Called as ``progress(done, total)`` in forcing periods, ``total`` = transient + recorded
-        periods.  With it the run goes in :data:`PROGRESS_BLOCKS` blocks of periods, each continuing
+        periods.  With it the pair's run goes in :data:`PROGRESS_BLOCKS` blocks of periods, each continuing
         the state and the orthonormal tangent basis the previous block ended with
-        (``integrate_batch(..., tangent0=...)``), so the results are those of one run, bit for bit.
+        (``integrate_batch(..., tangent0=...)``); a mesh-vector system's transient goes in blocks and its
+        recorded periods in one run followed as it goes (:func:`_watched`).  The results are those of one
+        run, bit for bit.
 
     Returns
     -------
@@ -339,8 +365,10 @@ def lyapunov_spectrum(
     state0 = start_state(model, state0)
     if progress is None:
         out = lyapunov_batch([model], state0, options, blocks=blocks)
-    else:
+    elif model.backend.name == "pair":  # the pair's kernel continues a tangent basis: blocks of periods
         out = _in_blocks(model, state0, options, blocks, progress)
+    else:
+        out = _watched(model, state0, options, blocks, progress)
     res = out["result"]
     motion: dict[str, Any] = {}
     if classify:

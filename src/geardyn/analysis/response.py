@@ -14,11 +14,11 @@ From its Dataset:
   its size (|ΔA|) and the sweep in which it occurs.
 - a **hysteresis interval** [ω_a, ω_b] covers a maximal run of grid points where the up and down
   sweeps end on different attractors (:func:`same_attractor`, the test of
-  :mod:`geardyn.analysis.attractors` that the basins use too) and a jump bounds it: coexisting
-  attractors, whose basins :mod:`geardyn.analysis.basins` can map.  Its bounds are the midpoints of
-  the grid steps around the run, where the jumps are reported too (so it is never zero-width);
-  runs of differing attractors that no jump bounds are listed apart as **coexistence**
-  (:func:`coexistence_intervals`).
+  :mod:`geardyn.analysis.attractors` that the basins use too) and the sweep that leaves its
+  attractor at an end of the run jumps there: coexisting attractors, whose basins
+  :mod:`geardyn.analysis.basins` can map.  Its bounds are the midpoints of the grid steps of those
+  jumps (so it is never zero-width); runs of differing attractors that no jump bounds, and any part
+  of a run beyond its jump, are listed apart as **coexistence** (:func:`coexistence_intervals`).
 
 All amplitudes are non-dimensional (units of b_c), frequencies ω = ω_e/ω_n.
 """
@@ -286,6 +286,28 @@ def _disagreeing_runs(ds: xr.Dataset, a: str, b: str) -> list[tuple[int, int]]:
     return runs
 
 
+def _leaving_jumps(jumps: list[dict[str, Any]], name: str, x: np.ndarray, sweep: str, rising: bool,
+                   k: int, j: int) -> list[int]:
+    """Grid steps (index m of the step x_m → x_{m+1}) where ``sweep`` jumps in the span of the run k … j.
+
+    The span is the run and its two bounding steps (m from k − 1 to j); ``rising`` picks the sweep's
+    direction of travel (the up sweep leaves its attractor at the run's upper end, the down sweep at
+    its lower end).
+    """
+    index = {float(v): i for i, v in enumerate(x)}
+    steps = []
+    for jp in jumps:
+        if jp.get("sweep") != sweep:
+            continue
+        a, b = index.get(float(jp[f"{name}_from"])), index.get(float(jp[f"{name}_to"]))
+        if a is None or b is None or abs(a - b) != 1 or (b > a) != rising:
+            continue
+        m = min(a, b)
+        if k - 1 <= m <= j:
+            steps.append(m)
+    return sorted(steps)
+
+
 def coexistence_intervals(ds: xr.Dataset, a: str = "up", b: str = "down",
                           jumps: list[dict[str, Any]] | None = None) -> tuple[list[list[float]], list[list[float]]]:
     """The intervals where sweeps ``a`` and ``b`` end on different attractors, split by whether a jump bounds them.
@@ -297,22 +319,31 @@ def coexistence_intervals(ds: xr.Dataset, a: str = "up", b: str = "down",
     and its jumps agree, and a run of one grid point gives an interval one grid step wide (not a
     zero-width one); at an end of the grid the interval ends at that grid point.
 
+    The run is a **hysteresis** loop when the sweep that leaves its attractor at one of its ends
+    jumps there: sweep ``a`` (rising) in a step at the run's upper end, or sweep ``b`` (falling)
+    at its lower end.  Such a jump is taken in the run's bounding step or in a step inside the run
+    (the point a sweep reaches just after its jump may not have settled on the attractor it jumped
+    to, and so still differ from the other sweep there); the loop then runs from the down jump's
+    midpoint to the up jump's (the run's bound where that end has no such jump), and any part of the
+    run beyond a jump is listed as coexistence.  A run with a jump of either sweep in a bounding
+    step is hysteresis too.
+
     Parameters
     ----------
     ds : xarray.Dataset
         A continuation Dataset with both sweeps.
     a, b : str
-        The sweep labels compared.
+        The sweep labels compared: ``a`` runs with rising parameter (``up``), ``b`` falling (``down``).
     jumps : list of dict, optional
         The jumps of the Dataset (default: :func:`detect_jumps` on its ``measure``).
 
     Returns
     -------
     (hysteresis, coexistence) : two lists of [float, float]
-        ``hysteresis``: the intervals with a listed jump at one of their bounds (an amplitude jump
-        where a sweep leaves its attractor).  ``coexistence``: attractors that differ with no jump
-        in the measure at either bound (for example two period-n orbits of equal amplitude, or a
-        point still settling); they are coexisting attractors, but no jump shows them.
+        ``hysteresis``: the loops bounded by a jump (an amplitude jump where a sweep leaves its
+        attractor).  ``coexistence``: attractors that differ with no jump in the measure at either
+        bound (for example two period-n orbits of equal amplitude, or a point still settling); they
+        are coexisting attractors, but no jump shows them.
     """
     labels = [str(s) for s in ds["sweep"].values]
     if a not in labels or b not in labels:
@@ -322,11 +353,25 @@ def coexistence_intervals(ds: xr.Dataset, a: str = "up", b: str = "down",
     if jumps is None:
         jumps = detect_jumps(ds, str(ds.attrs.get("measure", "amplitude")))
     steps = {frozenset((j[f"{name}_from"], j[f"{name}_to"])) for j in jumps}
+
+    def mid(m: int) -> float:  # midpoint of the step x_m → x_{m+1}, or the grid's end
+        return float(0.5 * (x[m] + x[m + 1])) if 0 <= m < x.size - 1 else float(x[min(max(m, 0), x.size - 1)])
+
     hysteresis: list[list[float]] = []
     coexistence: list[list[float]] = []
     for k, j in _disagreeing_runs(ds, a, b):
-        lo = float(0.5 * (x[k - 1] + x[k])) if k > 0 else float(x[k])
-        hi = float(0.5 * (x[j] + x[j + 1])) if j + 1 < x.size else float(x[j])
+        lo, hi = mid(k - 1), mid(j)
+        ups = _leaving_jumps(jumps, name, x, a, True, k, j)
+        downs = _leaving_jumps(jumps, name, x, b, False, k, j)
+        m_hi = ups[-1] if ups else j
+        m_lo = downs[0] if downs else k - 1
+        if (ups or downs) and m_lo < m_hi:
+            if m_lo > k - 1:
+                coexistence.append([lo, mid(m_lo)])
+            hysteresis.append([mid(m_lo), mid(m_hi)])
+            if m_hi < j:
+                coexistence.append([mid(m_hi), hi])
+            continue
         jumped = (k > 0 and frozenset((float(x[k - 1]), float(x[k]))) in steps) or \
                  (j + 1 < x.size and frozenset((float(x[j]), float(x[j + 1]))) in steps)
         (hysteresis if jumped else coexistence).append([lo, hi])

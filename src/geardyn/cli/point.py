@@ -93,8 +93,7 @@ def lyapunov(
     from ..sweep.progress import task_progress
 
     with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
-        # a system's tangent basis is not continued between blocks: its spectrum in one integration
-        res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar if inp.system is None else None)
+        res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar)
     paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []
     finish(_system(inp, model, physical_json(res.to_json(), model, scales)), paths, inp, render.lyapunov)
 

@@ -21,6 +21,22 @@ def _num(x: Any) -> str:
     return "n/a" if x is None else f"{x:.6g}"
 
 
+#: What the tables print for the dynamic factor of a mesh that carries no static load (its max force has no scale).
+NO_STATIC_LOAD = "no static load"
+
+
+def _no_load(d: dict[str, Any]) -> bool:
+    """Whether a summary (or a mesh's entry) has a mesh force but no static load to divide it by."""
+    f = d.get("static_force_N")
+    return d.get("dynamic_factor") is None and isinstance(f, (int, float)) and f == 0 and \
+        d.get("mesh_force_max_N") is not None
+
+
+def _dynamic_factor(d: dict[str, Any]) -> str:
+    """The dynamic factor K_v = max mesh force / static mesh force of a summary, or why there is none."""
+    return NO_STATIC_LOAD if _no_load(d) else _num(d.get("dynamic_factor"))
+
+
 def _flat(x: Any) -> list[Any]:
     """The scalars of a summary entry: a value, or the values of its (nested) lists and dicts."""
     if isinstance(x, dict):
@@ -64,7 +80,7 @@ def meshes(s: dict[str, Any]) -> None:
     s : dict
         A command's summary with its ``meshes`` entries.
     """
-    rows = s.get("meshes") or []
+    rows = [{**m, "dynamic_factor": NO_STATIC_LOAD} if _no_load(m) else m for m in s.get("meshes") or []]
     cols = [(k, h) for k, h in MESH_COLUMNS if any(k in m and any(v is not None for v in _flat(m[k])) for m in rows)]
     t = Table(title=f"{len(rows)} mesh(es) of the system" + (f", reference mesh {s['reference_mesh']}"
                                                             if s.get("reference_mesh") else ""))
@@ -111,8 +127,10 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
                        ("mesh_force_max_N", "max dynamic mesh force (N)"), ("mesh_force_min_N", "min dynamic mesh force (N)"),
                        ("dynamic_factor", "dynamic factor (max force / F_p)"), ("dte_rms_um", "DTE RMS about mean (µm)"),
                        ("dte_amplitude_um", "DTE half peak-to-peak (µm)"), ("backlash_um", "half backlash (µm)")):
+            if k == "torque_N_m" and s.get(k) is None and "meshes" in s:
+                continue  # a system: its loads are in its file, the static force of each mesh in its table
             if k in s:
-                t.add_row(lab, _num(s[k]))
+                t.add_row(lab, _dynamic_factor(s) if k == "dynamic_factor" else _num(s[k]))
         if peaks := s.get("spectrum_peaks") or []:
             t.add_row("largest spectral lines (order, Hz, µm)",
                       "\n".join(f"{p['order']:g}, {p['frequency_Hz']:.6g}, {p['amplitude_um']:.4g}" for p in peaks))

@@ -11,7 +11,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from ..analysis.classify import IMPACT_LABELS, MOTION_LABELS
-from .common import contact_lines, label, plot_function, rpm_axis, set_title, symbol
+from .common import contact_lines, label, of_mesh, plot_function, rpm_axis, set_title, symbol
 
 __all__ = ["IMPACT_COLORS", "MOTION_COLORS", "POINT_SIZE", "SWEEP_COLORS", "category_band", "diagram",
            "diagram_panels"]
@@ -118,8 +118,8 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
                    label=f"sweep {s}" if len(sweeps) > 1 or s != "fixed" else "Poincaré points")
     lines = contact_lines(ax, ds, name, x, lw=0.7, ls="--")
     if lines:
-        lines[0].set_label("contact u = ±D")
-    ax.set_ylabel("Poincaré section u (θ ≡ 0)")
+        lines[0].set_label(of_mesh("contact u = ±D", ds))
+    ax.set_ylabel(of_mesh("Poincaré section u (θ ≡ 0)", ds))
     ax.legend(loc="best", fontsize=8, markerscale=8)  # where it covers the fewest Poincaré points
     mode = ds.attrs.get("mode", "")
     set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds,

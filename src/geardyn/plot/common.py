@@ -31,9 +31,11 @@ from matplotlib.figure import Figure
 from .._docfill import RESULT, parameters
 from ..errors import GeardynError, PlotError
 from ..params import FAMILIES, LISTING_ORDER, canonical_param, slot
+from .mesh_names import MESH_VARIABLES, mesh_labels, of_mesh, reference_mesh, system_info
 
-__all__ = ["DPI", "IMAGE_CELLS", "NAN_COLOR", "PlotArtists", "cells", "contact_lines", "label", "log_stems", "model_of",
-           "new_figure", "panels", "parameter_text", "place_labels", "plot_function", "save", "set_title", "symbol"]
+__all__ = ["DPI", "IMAGE_CELLS", "MESH_VARIABLES", "NAN_COLOR", "PlotArtists", "cells", "contact_lines", "label",
+           "log_stems", "mesh_labels", "model_of", "new_figure", "of_mesh", "panels", "parameter_text", "place_labels",
+           "plot_function", "reference_mesh", "save", "set_title", "symbol"]
 
 #: Resolution of saved PNG figures.
 DPI = 120
@@ -363,14 +365,6 @@ def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), 
     return ax.set_title(f"{text}\n{params}" if params else text, **size)
 
 
-def system_info(ds: xr.Dataset) -> dict:
-    """The ``system`` attribute of a system's result (title, meshes, reference mesh, scales), ``{}`` for the pair."""
-    try:
-        return dict(json.loads(ds.attrs["system"]))
-    except (KeyError, ValueError, TypeError):
-        return {}
-
-
 def rpm_per_omega(ds: xr.Dataset) -> float | None:
     """Pinion speed (rpm) per unit ω of the gear pair stored with a result, or ``None`` without a physical pair."""
     from ..geometry.scales import PhysicalScales
@@ -409,7 +403,7 @@ def rpm_axis(ax: Axes, ds: xr.Dataset, param: str) -> Any:
     if not scale:
         return None
     sec = ax.secondary_xaxis("top", functions=(lambda w: w * scale, lambda r: r / scale))
-    sec.set_xlabel("pinion speed [rpm]", fontsize=8)
+    sec.set_xlabel(f"{of_mesh('pinion speed', ds)} [rpm]", fontsize=8)
     sec.tick_params(labelsize=8)
     return sec
 
@@ -592,6 +586,8 @@ def plot_function(kind: str, figsize: Any, *, n: Any = 1, subplots: Any = None, 
         def plot(ds: xr.Dataset, *args: Any, **kwargs: Any) -> PlotArtists:
             bound = sig.bind(ds, *args, **kwargs)
             bound.apply_defaults()
+            first = next(iter(sig.parameters))
+            bound.arguments[first] = ds = mesh_labels(ds)  # a system's labels name its reference mesh
             count = n(ds) if callable(n) else n
             size = figsize(ds) if callable(figsize) else figsize
             fig, axes, new = panels(bound.arguments["ax"], count, size,

@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import PlotArtists, label, panels, result, snapshot
+from .common import PlotArtists, label, mesh_labels, of_mesh, panels, result, snapshot
 
 __all__ = ["HB_STYLE", "SHOOTING_CONTEXT", "SHOOTING_STYLE", "hb_figure"]
 
@@ -95,6 +95,7 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
     """
     if shooting is None:
         shooting = attached(ds, SHOOTING_CONTEXT)
+    ds = mesh_labels(ds)  # a system's labels name its reference mesh
     param = str(ds.attrs["param"])
     model = json.loads(ds.attrs["model"])
     D = float(model.get("D", 0.0))
@@ -130,7 +131,7 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
         if D > 0:
             for s in (D, -D):
                 axes[1].axhline(s, color="0.5", lw=0.8, ls=":")
-        axes[1].set_ylabel("u_min, u_max (dotted: ±D)")
+        axes[1].set_ylabel(of_mesh("u_min, u_max", ds) + " (dotted: ±D)")
     [a for a in axes if a is not None][-1].set_xlabel(label(ds[param], param))
     axes[0].legend(fontsize=7, ncol=2, loc="best")
     fixed = ", ".join(f"{k} = {model[k]:g}" for k in ("xi0", "fp", "D") if k != param and k in model)

@@ -16,7 +16,7 @@ from matplotlib.axes import Axes
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
 
-from .common import label, log_stems, plot_function, set_title, symbol
+from .common import label, log_stems, of_mesh, plot_function, set_title, symbol
 from .response import draw_response
 from .simulate import OUTSIDE_RIGHT, TIME_PERIODS_SHOWN, last_periods
 
@@ -71,7 +71,7 @@ def spectrum_hz(ds: xr.Dataset, ax: Axes = None) -> None:
     f = ds["frequency_Hz"].values
     log_stems(ax, f, ds["spectrum_um"].values)
     ax.set_xlabel(label(ds["frequency_Hz"]))
-    ax.set_ylabel(f"DTE amplitude [{ds['spectrum_um'].attrs.get('units', 'µm')}]")
+    ax.set_ylabel(f"{of_mesh('DTE amplitude', ds)} [{ds['spectrum_um'].attrs.get('units', 'µm')}]")
     order = ds["order"].values
     if order.size > 1 and order[1] > 0:
         hz_per_order = f[1] / order[1]
@@ -172,7 +172,7 @@ def response_rpm(ds: xr.Dataset, ax: Axes = None) -> None:
     ax.set_xlabel(label(ds["rpm"]))
     ax.set_ylabel(label(da))
     sec = ax.secondary_xaxis("top", functions=(lambda r: r / scale, lambda x: x * scale))
-    sec.set_xlabel("ω = ω_e/ω_n")
+    sec.set_xlabel(of_mesh("ω = ω_e/ω_n", ds))
     sc = json.loads(ds.attrs.get("physical_scales", "{}"))
     k0 = sc.get("k0_N_per_m")
     k0_text = f" (k0 = {k0 * 1e-6:.4g} N/µm{', assumed' if 'k0' in sc.get('assumed', []) else ''})" if k0 else ""

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import contact_lines, label, log_stems, model_of, plot_function, set_title
+from .common import contact_lines, label, log_stems, model_of, of_mesh, plot_function, set_title
 
 __all__ = ["TIME_PERIODS_SHOWN", "last_periods", "phase_portrait", "spectrum", "time_history"]
 
@@ -45,11 +47,11 @@ def time_history(ds: xr.Dataset, ax: Axes = None) -> None:
     if D > 0:
         ax.axhspan(-D, D, color="0.9", label="separation |u| ≤ D")
         contact_lines(ax, ds)
-    ax.plot(tau[keep], ds["u"].values[keep], lw=1.0, color="C0", label="u")
+    ax.plot(tau[keep], ds["u"].values[keep], lw=1.0, color="C0", label=of_mesh("u", ds))
     for k in range(TIME_PERIODS_SHOWN + 1):  # period boundaries: where the Poincaré section is taken
         ax.axvline(tau[-1] - k * T, color="C3", lw=0.4, alpha=0.5)
     ax.set_xlabel(label(ds["tau"]))
-    ax.set_ylabel(label(ds["u"]))
+    ax.set_ylabel("\n".join(textwrap.wrap(label(ds["u"]), 36)))  # a low panel: the label on two lines if long
     set_title(ax, "Time history (red lines: Poincaré section θ ≡ 0)", ds)
     ax.legend(**OUTSIDE_RIGHT)
 
@@ -73,5 +75,5 @@ def spectrum(ds: xr.Dataset, ax: Axes = None) -> None:
     """Amplitude spectrum of u in orders of the mesh frequency (log scale)."""
     log_stems(ax, ds["order"].values, ds["spectrum"].values)
     ax.set_xlabel("order of the mesh frequency")
-    ax.set_ylabel("amplitude of u")
+    ax.set_ylabel(of_mesh("amplitude of u", ds))
     set_title(ax, ds["spectrum"].attrs.get("long_name", "Amplitude spectrum of u"), ds)

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import plot_function
+from .common import label, of_mesh, plot_function, rpm_axis, symbol
 
 __all__ = ["element_deflections", "reference_phase", "lyapunov_spectrum", "multipliers", "mesh_amplitudes",
            "continuation_branches", "register_all"]
@@ -45,14 +45,14 @@ def element_deflections(ds: xr.Dataset, ax: Axes = None) -> None:
     tau = ds["tau"].values
     for e in ds["element"].values:
         ax.plot(tau, ds["delta"].sel(element=e).values, lw=0.8, label=str(e))
-    _finish(ax, ds, "Element deflections", "τ", "deflection δ (over b_c)", legend=dict(fontsize=7, loc="upper right"))
+    _finish(ax, ds, "Element deflections", label(ds["tau"], "τ"), "deflection δ of each element (over b_c)", legend=dict(fontsize=7, loc="upper right"))
 
 
 @plot_function("system_simulate", (5.5, 4.5))
 def reference_phase(ds: xr.Dataset, ax: Axes = None) -> None:
     """Phase portrait of the reference mesh (δ, δ') with its Poincaré points."""
     ax.plot(ds["u"].values, ds["v"].values, lw=0.6, color="C0")
-    _finish(ax, ds, "Phase portrait of the reference mesh", "δ (reference mesh)", "dδ/dτ")
+    _finish(ax, ds, of_mesh("Phase portrait of the reference mesh", ds), of_mesh("δ", ds), of_mesh("dδ/dτ", ds))
 
 
 @plot_function("system_lyapunov", (6, 3.8))
@@ -92,7 +92,9 @@ def mesh_amplitudes(ds: xr.Dataset, ax: Axes = None) -> None:
     for e, name in enumerate(names):
         for s, style in zip([str(v) for v in ds["sweep"].values], ("-", "--")):
             ax.plot(x, amp.sel(sweep=s).values[:, e], style, color=f"C{e}", lw=1.0, label=f"mesh {name} ({s})")
-    _finish(ax, ds, "Mesh amplitudes", param, "amplitude of δ (half peak-to-peak, over b_c)", legend=dict(fontsize=7))
+    _finish(ax, ds, "Mesh amplitudes", label(ds[param], symbol(param)) if param in ds else symbol(param),
+            "amplitude of δ of each mesh (half peak-to-peak, over b_c)", legend=dict(fontsize=7))
+    rpm_axis(ax, ds, param)
 
 
 @plot_function("system_continuation", (7, 4.5))
@@ -111,7 +113,7 @@ def continuation_branches(ds: xr.Dataset, ax: Axes = None) -> None:
             sel = ds["bifurcation_type"].values == t
             ax.plot(ds["bifurcation_value"].values[sel], ds["bifurcation_amplitude"].values[sel],
                     marks.get(str(t), "o"), color="k", ms=5, mfc="none", label=str(t))
-    _finish(ax, ds, "Continuation of periodic orbits", param, "amplitude of δ (reference mesh)",
+    _finish(ax, ds, "Continuation of periodic orbits", symbol(param), of_mesh("amplitude of δ (the reference mesh)", ds),
             legend=dict(fontsize=7))
 
 

@@ -37,7 +37,8 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     Returns
     -------
     ndarray (meshes,)
-        k_m (V_m·q̃ − D_m) at the static equilibrium K̄ q̃ = F̃ + Σ k_m D_m V_m (least-norm solution).
+        k_m (V_m·q̃ − D_m) at the static equilibrium K̄ q̃ = F̃ + Σ k_m D_m V_m (least-norm solution); a force
+        within the rounding of that solve (1e-9 of the largest k_m max(D_m, 1) or |F̃|) is 0: an unloaded mesh.
     """
     Kt = np.array(model.Kb, dtype=float)
     rhs = np.array(model.F, dtype=float)
@@ -45,7 +46,10 @@ def static_mesh_forces(model: Any) -> np.ndarray:
         Kt += m.k * np.outer(model.V[i], model.V[i])
         rhs += m.k * m.D * model.V[i]
     q = np.linalg.lstsq(Kt, rhs, rcond=1e-12)[0]
-    return np.array([m.k * (model.V[i] @ q - m.D) for i, m in enumerate(model.meshes)])
+    f = np.array([m.k * (model.V[i] @ q - m.D) for i, m in enumerate(model.meshes)])
+    scale = max([1.0, float(np.max(np.abs(model.F), initial=0.0))] + [m.k * max(m.D, 1.0) for m in model.meshes])
+    f[np.abs(f) <= 1e-9 * scale] = 0.0
+    return f
 
 
 def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
