@@ -116,3 +116,25 @@ def test_cli_runup_with_a_three_cycle_excitation(tmp_path):
     assert (tmp_path / "o" / "runup.nc").is_file() and (tmp_path / "o" / "runup.png").is_file()
     r = CliRunner().invoke(app, [*args[:-1], "--excitation", str(three), "--cycles-per-block", "4"])
     assert r.exit_code != 0 and "multiple of the excitation's 3" in r.output
+
+
+def test_the_runup_figure_maps_every_order_of_a_multi_cycle_excitation():
+    # the top panel of a P = 3 run-up is the spectrum over the orders j/3 (log colours), the one-cycle one the
+    # mesh orders only
+    from matplotlib.colors import LogNorm
+    from matplotlib.collections import QuadMesh
+
+    from geardyn.plot.runup import runup_figure
+
+    r3 = runup(repeated(GearModel(), 3), 0.5, 0.6, 500.0, max_blocks=12, settle=3)
+    fig3 = runup_figure(r3.to_dataset()).figure
+    top = fig3.axes[0]
+    quad = [c for c in top.collections if isinstance(c, QuadMesh)][0]
+    assert isinstance(quad.norm, LogNorm)
+    lo, hi = top.get_ylim()
+    assert lo < 1 / 3 and hi > 3.5  # orders 1/3 … 11/3 drawn
+    assert "j/3" in top.get_ylabel()
+    r1 = runup(GearModel(), 0.5, 0.6, 500.0, max_blocks=12, settle=3)
+    top1 = runup_figure(r1.to_dataset()).figure.axes[0]
+    quad1 = [c for c in top1.collections if isinstance(c, QuadMesh)][0]
+    assert not isinstance(quad1.norm, LogNorm) and top1.get_ylabel() == "mesh order"
