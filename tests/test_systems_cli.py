@@ -93,7 +93,7 @@ def test_bifurcation_and_response_on_a_system():
 
 
 OUT_RUNS = {
-    "simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "30", "--periods", "8"],
+    "simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "300", "--periods", "8"],
     "lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
     "orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
     "bifurcation": ["bifurcation", "--system", TORS, "--param", "omega", "--start", "0.7", "--stop", "0.9", "--num", "3",
