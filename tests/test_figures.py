@@ -31,7 +31,7 @@ COMMANDS = {
     "bifurcation": ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "4",
                     "--transient", "20", "--periods", "8", "--settle", "0"],
     "response": ["response", "--omega-start", "0.8", "--omega-stop", "1.2", "--num", "4", "--transient", "20",
-                 "--periods", "8"],
+                 "--periods", "8", "--settle", "0"],
     "map": ["map", "--x", "omega", "--y", "xi0", "--x-start", "0.8", "--x-stop", "1.2", "--x-num", "3",
             "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20", "--periods", "8",
             "--settle", "0"],
@@ -45,10 +45,12 @@ _SYSTEM = str(Path(__file__).resolve().parents[1] / "examples" / "systems" / "pa
 COMMANDS.update({f"system_{k}": v[:1] + ["--system", _SYSTEM] + v[1:] for k, v in COMMANDS.items()
                  if k not in ("runup", "hb")})  # hb refuses --system for now
 COMMANDS["system_basins"] = ["basins", "--system", _SYSTEM, "--omega", "1.2", "--nu", "2", "--nv", "2",
-                             "--transient", "20", "--periods", "8"]
+                             "--transient", "20", "--periods", "8", "--settle", "0"]
 COMMANDS["modes"] = ["modes", "--system", _SYSTEM]
+#: (a system's continuation over its brute-force sweep: tests/test_systems_cli.py)
 COMMANDS["system_continuation"] = ["continuation", "--system", _SYSTEM, "--param", "omega", "--start", "1.3",
-                                   "--stop", "1.35", "--ds-max", "0.1"]
+                                   "--stop", "1.35", "--ds-max", "0.1", "--sweep-num", "0",
+                                   "--transient", "20"]
 
 
 @pytest.fixture(scope="module")

@@ -253,8 +253,8 @@ def test_cli_system_compare_shooting_overlay_is_stored_and_redrawn(tmp_path):
     from geardyn.plot.hb import SHOOTING_STYLE, hb_figure
 
     out = tmp_path / "run"
-    r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), *SMALL, "--compare-shooting", "--json",
-                                 "--out", str(out)])
+    r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), *SMALL, "--compare-shooting", "--default-mode",
+                                 "--json", "--out", str(out)])
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     ds = read_netcdf(out / "hb.nc")

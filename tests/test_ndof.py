@@ -112,16 +112,23 @@ def test_incommensurate_refused(torsional):
 
 
 def test_rigid_bearing_limit():
-    """The 8-DOF bevel model tends to the 1-DOF model as the bearing stiffness grows."""
+    """The 8-DOF bevel model tends to the 1-DOF model as the bearing stiffness grows (the mesh deflection's
+    extremes over the recorded periods; integrated without ``simulate``'s motion classification, whose Lyapunov
+    spectrum of the softer systems is not what is compared)."""
     d = load_description(EX / "paper_bevel_8dof.toml")
     g = GearModel().with_param("omega", 0.6)
-    ref = simulate(g, IntegrationOptions(transient=200, periods=64)).to_json()
+    opts = IntegrationOptions(transient=200, periods=64)
+
+    def extremes(model):
+        r = integrate_batch([model], None, opts)
+        return float(r.u_min[0]), float(r.u_max[0])
+
+    ref = extremes(g)
     errs = []
     for scale in (1.0, 10.0, 100.0, 1000.0):
         conns = tuple(replace(c, stiffness=np.array(c.stiffness) * scale) for c in d.connections)
-        s = assemble(replace(d, connections=conns), omega=0.6)
-        a = simulate(s, IntegrationOptions(transient=200, periods=64)).to_json()
-        errs.append(abs(a["u_max"] - ref["u_max"]) + abs(a["u_min"] - ref["u_min"]))
+        a = extremes(assemble(replace(d, connections=conns), omega=0.6))
+        errs.append(abs(a[1] - ref[1]) + abs(a[0] - ref[0]))
     assert all(e2 < e1 for e1, e2 in zip(errs, errs[1:])), errs
     assert errs[-1] < 1e-2 * max(errs[0], 1e-12) or errs[-1] < 1e-4, errs
 

@@ -272,7 +272,7 @@ def test_system_map_continued_rows_follow_the_1dof_map_and_its_coexisting_branch
 
     s = load_system(TORSIONAL)
     xv, yv = np.linspace(0.5, 0.7, 6), np.array([0.05, 0.08])
-    o = IntegrationOptions(transient=100, periods=32, accurate=True)
+    o = IntegrationOptions(transient=50, periods=8, accurate=True)
     cont = system_map(s, "omega", xv, "mesh.xi0", yv, mode="continue", options=o)
     fixed = system_map(s, "omega", xv, "mesh.xi0", yv[:1], mode="fixed", options=o)
     one = parameter_map(GearModel(), "omega", xv, "xi0", yv, mode="continue", options=o, settle_periods=0)

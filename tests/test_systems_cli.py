@@ -93,20 +93,20 @@ def test_bifurcation_and_response_on_a_system():
 
 
 OUT_RUNS = {
-    "simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "30", "--periods", "8"],
+    "simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "300", "--periods", "8"],
     "lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
     "orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
     "bifurcation": ["bifurcation", "--system", TORS, "--param", "omega", "--start", "0.7", "--stop", "0.9", "--num", "3",
-                           "--transient", "20", "--periods", "8"],
+                           "--transient", "20", "--periods", "8", "--settle", "0"],
     "response": ["response", "--system", TORS, "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3",
-                        "--transient", "20", "--periods", "8"],
+                        "--transient", "20", "--periods", "8", "--settle", "0"],
     "map": ["map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
                    "--x-num", "2", "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20",
-                   "--periods", "8"],
+                   "--periods", "8", "--settle", "0"],
     "basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
-                      "--periods", "8"],
+                      "--periods", "8", "--settle", "0"],
     "continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35",
-                     "--sweep-num", "5", "--ds-max", "0.1"],
+                     "--sweep-num", "2", "--ds-max", "0.1", "--transient", "20"],
 }
 
 
@@ -186,7 +186,7 @@ def test_basins_on_a_slice_of_two_coordinates(tmp_path):
     lab = load_system(BEVEL).labels
     s = json.loads(run("basins", "--system", BEVEL, "--omega", "0.8", "--coords", f"{lab[0]},{lab[0]}'",
                        "--u-min", "-0.1", "--u-max", "0.1", "--v-min", "-0.1", "--v-max", "0.1", "--nu", "2",
-                       "--nv", "2", "--transient", "20", "--periods", "8", "--json").stdout)
+                       "--nv", "2", "--transient", "20", "--periods", "8", "--settle", "0", "--json").stdout)
     assert s["coordinates"] == [lab[0], lab[0] + "'"] and len(s["labels"]) == 2 and s["attractors"]
 
 
