@@ -7,8 +7,6 @@ another exception.  The command-line cases check the one-line message and the ex
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import math
 import re
@@ -21,10 +19,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from geardyn import validate
-from geardyn.cli import main
 from geardyn.config import LoadedConfig, load_config, packaged_config_path
 from geardyn.errors import ConfigError
 from geardyn.model import GearModel, IntegrationOptions, ModelError, canonical_param
+from cli_run import run_cli
 
 SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 CONFIG_SETTINGS = settings(max_examples=40, deadline=None,
@@ -246,15 +244,6 @@ def test_random_configs_through_the_cli(tmp_path, changes):
 
 
 # ---------------------------------------------------------------------------------- command line
-def run_cli(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(argv)
-            code = 0
-        except SystemExit as e:
-            code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
-    return code, out.getvalue(), err.getvalue()
 
 
 def one_line(err: str) -> str:

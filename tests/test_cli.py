@@ -2,29 +2,19 @@
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 
 import pytest
 import typer.main
 
 import geardyn
-from geardyn.cli import app, main
+from geardyn.cli import app
 from geardyn.params import cli_options
+from cli_run import run_cli
 
 FAST = ["--transient", "20", "--periods", "8"]
 
 
-def run_cli(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(argv)
-            code = 0
-        except SystemExit as e:
-            code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
-    return code, out.getvalue(), err.getvalue()
 
 
 def refused(argv: list[str]) -> str:

@@ -4,8 +4,6 @@ continuation reports its progress, and a run with no branch exits 1 and writes n
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import math
 from pathlib import Path
@@ -15,26 +13,15 @@ import pytest
 
 from geardyn.analysis.hb import hb_continuation
 from geardyn.analysis.hb.damping import require_damping, undamped_modes
-from geardyn.cli import main
 from geardyn.errors import ModelError
 from geardyn.model import GearModel
 from geardyn.systems import load_system
 from geardyn.systems.assemble import assemble
 from geardyn.systems.description import Body, Connection, Mesh, SystemDescription
+from cli_run import run_cli as _main
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "systems"
 PLANETARY = EXAMPLES / "planetary_lin_parker_1999.toml"
-
-
-def _main(argv):
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(argv)
-            code = 0
-        except SystemExit as e:
-            code = e.code
-    return code, out.getvalue(), err.getvalue()
 
 
 # ------------------------------------------------------------------------------ damping

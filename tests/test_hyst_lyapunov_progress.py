@@ -7,8 +7,6 @@ written rows are counted while it runs (``integrate_batch(..., progress=...)``).
 
 from __future__ import annotations
 
-import contextlib
-import io
 import re
 from pathlib import Path
 
@@ -18,22 +16,11 @@ import pytest
 import geardyn.integrate as I
 import geardyn.sweep.progress as P
 from geardyn.analysis.lyapunov import lyapunov_spectrum
-from geardyn.cli import main
 from geardyn.model import IntegrationOptions
 from geardyn.systems import load_system
+from cli_run import run_cli as _cli
 
 TORS = str(Path(__file__).resolve().parents[1] / "examples" / "systems" / "paper_torsional.toml")
-
-
-def _cli(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(argv)
-            code = 0
-        except SystemExit as e:
-            code = e.code if isinstance(e.code, int) else 1
-    return code, out.getvalue(), err.getvalue()
 
 
 @pytest.mark.parametrize("accurate, periods", [(False, 120), (True, 40)])

@@ -17,6 +17,7 @@ from geardyn.analysis.periodic import continuation
 from geardyn.analysis.response import frequency_response
 from geardyn.model import GearModel, IntegrationOptions
 from geardyn.sweep import Chunk
+from cli_run import run_cli as _cli
 
 FAST = IntegrationOptions(transient=40, periods=16)
 OMEGAS = np.linspace(0.8, 1.2, 5)
@@ -190,22 +191,6 @@ def test_task_progress_draws_on_stderr_and_is_silent_when_disabled(monkeypatch, 
 
 
 # ------------------------------------------------------------------------- through the command line
-def _cli(argv):
-    import contextlib
-    import io
-
-    from geardyn.cli import main
-
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(argv)
-            code = 0
-        except SystemExit as e:
-            code = e.code if isinstance(e.code, int) else 1
-    return code, out.getvalue(), err.getvalue()
-
-
 CLI_RUNS = {
     "response": ["response", "--omega-start", "0.8", "--omega-stop", "1.2", "--num", "4", "--transient", "40", "--periods", "16"],
     "lyapunov": ["lyapunov", "--transient", "20", "--periods", "100"],

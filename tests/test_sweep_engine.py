@@ -19,6 +19,7 @@ from geardyn.errors import SweepError
 from geardyn.io import read_netcdf
 from geardyn.model import GearModel, IntegrationOptions, ModelError
 from geardyn.sweep import Chunk, SweepInterrupted, checkpoint_dir, chunked, grid_models, run_chunks
+from cli_run import run_cli
 
 OMEGAS = np.linspace(0.6, 1.4, 6)
 #: A chunk of one point under these options takes ~0.1 s: long enough to interrupt a sweep mid-run.
@@ -202,22 +203,6 @@ def test_run_chunks_refuses_bad_arguments(tmp_path, monkeypatch):
 # ------------------------------------------------------------------------- through the command line
 BIF = ["bifurcation", "--param", "omega", "--start", "0.6", "--stop", "1.4", "--num", "8", "--chunk-size", "1",
        "--transient", str(SLOW.transient), "--periods", str(SLOW.periods), "--settle", "0"]
-
-
-def run_cli(argv: list[str]) -> tuple[int, str, str]:
-    import contextlib
-    import io
-
-    from geardyn.cli import main
-
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(argv)
-            code = 0
-        except SystemExit as e:
-            code = e.code if isinstance(e.code, int) else 1
-    return code, out.getvalue(), err.getvalue()
 
 
 def start_cli(*args: str) -> subprocess.Popen:
