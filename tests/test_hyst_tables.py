@@ -4,27 +4,21 @@ mesh that carries no static load says so instead of a dash or "n/a"."""
 
 from __future__ import annotations
 
-import contextlib
-import io
 import re
 from pathlib import Path
 
 import pytest
 
-from geardyn.cli import main
+from cli_run import run_cli
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
 
 
 def run(*args: str) -> str:
     """``geardyn ARGS`` in this process; its stdout with runs of white space made one space (rich wraps tables)."""
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(list(args))
-        except SystemExit as e:
-            assert not e.code, err.getvalue()
-    return " ".join(out.getvalue().split())
+    code, out, err = run_cli(args)
+    assert not code, err
+    return " ".join(out.split())
 
 
 def _value(text: str, row: str) -> float:

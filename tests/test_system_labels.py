@@ -5,14 +5,12 @@ legend entries of u and the contact lines."""
 
 from __future__ import annotations
 
-import contextlib
-import io
 import re
 from pathlib import Path
 
 import pytest
 
-from geardyn.cli import main
+from cli_run import run_cli
 from geardyn.io import read_netcdf
 from geardyn.plot import figures_for
 from geardyn.plot.mesh_names import of_mesh
@@ -34,12 +32,8 @@ RUNS = {
 
 
 def run(*args: str) -> None:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(list(args))
-        except SystemExit as e:
-            assert not e.code, err.getvalue()
+    code, _out, err = run_cli(args)
+    assert not code, err
 
 
 @pytest.fixture(scope="module")

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import re
 import subprocess
@@ -11,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from geardyn.cli import main
+from cli_run import run_cli
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
 TORS = str(EX / "paper_torsional.toml")
@@ -20,14 +18,7 @@ BEVEL = str(EX / "paper_bevel_8dof.toml")
 
 def run(*args: str, code: int = 0) -> subprocess.CompletedProcess:
     """``geardyn ARGS`` run in this process (the kernels compile or load once for the whole file)."""
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        try:
-            main(list(args))
-            rc = 0
-        except SystemExit as e:
-            rc = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
-    p = subprocess.CompletedProcess(["geardyn", *args], rc, out.getvalue(), err.getvalue())
+    p = subprocess.CompletedProcess(["geardyn", *args], *run_cli(args))
     assert p.returncode == code, p.stderr
     return p
 
