@@ -171,7 +171,8 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
     both errors fall from H = 16 to H = 32; the monodromy's multipliers within 1e-6 at both H.
     """
     model = _four_dof(0.9)
-    orb = shoot(model, 1, accurate=True, dtau=0.002)
+    # Newton from 30 settling periods (not the default 400): the same orbit to 1.4e-12 (measured), 8x cheaper
+    orb = shoot(model, 1, accurate=True, dtau=0.002, transient=30)
     assert orb.converged
     mu_ref, r = orb.elastic
     assert r == 0

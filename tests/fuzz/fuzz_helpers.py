@@ -96,17 +96,16 @@ def interrupt(args: Sequence[str], *, after: float, sig: int = signal.SIGINT, ma
     stderr), and return (exit code, stdout, stderr, seconds from the signal to its end)."""
     p = start(args)
     t0 = time.monotonic()
-    if marker is not None:
-        buf = ""
-        os.set_blocking(p.stderr.fileno(), False)
-        while marker not in buf and time.monotonic() - t0 < timeout:
-            chunk = p.stderr.read()
-            buf += chunk or ""
-            if p.poll() is not None:
-                break
-            time.sleep(0.05)
-        os.set_blocking(p.stderr.fileno(), True)
-        pre = buf
+    if marker is not None:  # read the pipe's bytes as they come (the text wrapper's buffer stays empty)
+        fd, raw, want = p.stderr.fileno(), b"", marker.encode()
+        os.set_blocking(fd, False)
+        while want not in raw and time.monotonic() - t0 < timeout and p.poll() is None:
+            try:
+                raw += os.read(fd, 1 << 16)
+            except BlockingIOError:
+                time.sleep(0.02)
+        os.set_blocking(fd, True)
+        pre = raw.decode(errors="replace")
     else:
         time.sleep(after)
         pre = ""

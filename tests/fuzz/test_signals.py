@@ -43,10 +43,15 @@ LONG = {
     "bench": ["bench", "--repeats", "100"],
 }
 DEFAULT = ("simulate", "bifurcation")
+#: The start of a command's first progress line: it is signalled once that appears (it is computing then),
+#: the others after WARM seconds.
+PROGRESS = {"bifurcation": "points (", "bifurcation-continue-both": "points (", "response": "points (",
+            "map": "points (", "basins": "points (", "lyapunov": "periods (", "continuation": "traced (",
+            "hb": "traced ("}
 
 
 def _interrupted(name: str, sig: int) -> None:
-    code, out, err, took = interrupt(LONG[name], after=WARM, sig=sig)
+    code, out, err, took = interrupt(LONG[name], after=WARM, sig=sig, marker=PROGRESS.get(name))
     assert code == (130 if sig == signal.SIGINT else 143), (code, err[-1500:])
     assert took < STOP_SECONDS, took
     assert "Traceback" not in err, err[-2000:]
@@ -166,7 +171,7 @@ def _kill9_then_resume(tmp_path, args, stem: str) -> None:
 
 
 def test_kill_9_then_resume_gives_the_uninterrupted_result(tmp_path):
-    _kill9_then_resume(tmp_path, [*BIF, "--num", "600", "--chunk-size", "16"], "bifurcation")
+    _kill9_then_resume(tmp_path, [*BIF, "--num", "300", "--chunk-size", "16"], "bifurcation")
 
 
 @pytest.mark.slow

@@ -79,17 +79,17 @@ def mesh_force(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) 
     ndarray
         The force in units of k0 b_c (multiply by :attr:`PhysicalScales.force_scale_N` for N).
     """
+    from ..series import series_values
+
     tau, u, v = (np.asarray(x, dtype=float) for x in (tau, u, v))
-    cf = model.coefficients()
-    j = np.arange(cf.shape[1])[:, None]
-    th = model.forcing_omega * tau[None, :]
-    cj, sj = np.cos(j * th), np.sin(j * th)
-    C = cf[0, :, 0] @ cj + cf[0, :, 1] @ sj
-    K = cf[1, :, 0] @ cj + cf[1, :, 1] @ sj
+    th = model.forcing_omega * tau
     if model.evaluation == "table":  # the stiffness the accurate mode evaluates: the table as given
         from ..meshtable import table_values
 
-        K = table_values(model.table, model.cycles, th[0])[0]
+        (C,) = series_values(model.coefficients(), th, (0,))
+        K = table_values(model.table, model.cycles, th)[0]
+    else:
+        C, K = series_values(model.coefficients(), th, (0, 1))
     return C * v + K * model.restoring(u)
 
 

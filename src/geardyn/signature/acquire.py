@@ -23,6 +23,7 @@ from scipy.interpolate import CubicSpline
 from ..errors import ModelError
 from ..integrate import trajectory
 from ..model import GearModel, IntegrationOptions
+from ..series import series_values
 
 __all__ = ["Acquisition", "acquire", "acceleration", "sampled"]
 
@@ -71,12 +72,7 @@ def acceleration(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray
     ndarray
         x'' at each instant.
     """
-    cf = model.coefficients()
-    j = np.arange(cf.shape[1])
-    th = np.outer(model.forcing_omega * np.asarray(tau), j)
-    cj, sj = np.cos(th), np.sin(th)
-    C = cj @ cf[0, :, 0] + sj @ cf[0, :, 1]
-    K = cj @ cf[1, :, 0] + sj @ cf[1, :, 1]
+    C, K = series_values(model.coefficients(), model.forcing_omega * np.asarray(tau, dtype=float), (0, 1))
     return model.fp - C * v - K * model.restoring(u)
 
 

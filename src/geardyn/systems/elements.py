@@ -12,6 +12,8 @@ from typing import Any
 
 import numpy as np
 
+from ..series import series_values
+
 __all__ = ["element_series", "initial_state", "rigid_modes", "mean_trace"]
 
 
@@ -39,13 +41,7 @@ def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.nda
     theta = model.omega * np.asarray(tau, dtype=float)
     out = []
     for i, m in enumerate(model.meshes):
-        c = m.coefficients()
-        E = np.zeros_like(theta) + c[2, 0, 0]
-        Ed = np.zeros_like(theta)
-        for j in range(1, c.shape[1]):
-            ph = j * m.ratio * theta
-            E = E + c[2, j, 0] * np.cos(ph) + c[2, j, 1] * np.sin(ph)
-            Ed = Ed + j * m.ratio * (c[2, j, 1] * np.cos(ph) - c[2, j, 0] * np.sin(ph))
+        E, Ed = series_values(m.coefficients(), theta, (2,), ratio=m.ratio, derivative=True)
         out.append(np.stack([q @ model.V[i] - E, v @ model.V[i] - model.omega * Ed], axis=-1))
     for i in range(len(model.clearance_names)):
         out.append(np.stack([q @ model.Vc[i], v @ model.Vc[i]], axis=-1))

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..labels import IMPACT_LABELS, impact_state
+from ..series import series_values
 
 __all__ = ["static_mesh_forces", "mesh_forces", "report", "result_meshes", "physical_scales"]
 
@@ -72,13 +73,7 @@ def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
     th = model.omega * tau
     out = []
     for i, m in enumerate(model.meshes):
-        c = m.coefficients()
-        C = np.full_like(th, c[0, 0, 0])
-        Kk = np.full_like(th, c[1, 0, 0])
-        for j in range(1, c.shape[1]):
-            ph = j * m.ratio * th
-            C = C + c[0, j, 0] * np.cos(ph) + c[0, j, 1] * np.sin(ph)
-            Kk = Kk + c[1, j, 0] * np.cos(ph) + c[1, j, 1] * np.sin(ph)
+        C, Kk = series_values(m.coefficients(), th, (0, 1), ratio=m.ratio)
         d = deltas[:, i, 0]
         f = d - np.clip(d, -m.D, m.D)
         out.append(C * deltas[:, i, 1] + Kk * f)
