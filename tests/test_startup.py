@@ -34,6 +34,17 @@ def _run(args: list[str], *, preload: bool = False, report: str = "") -> subproc
                           env={**os.environ, "COLUMNS": "100"})
 
 
+_WARMED: set[tuple[str, ...]] = set()
+
+
+def _warm(args: list[str]) -> None:
+    """Run ``geardyn ARGS`` once per test process: in a fresh checkout this compiles its kernels into numba's
+    cache, which the tests then read."""
+    if tuple(args) not in _WARMED:
+        _run(args)
+        _WARMED.add(tuple(args))
+
+
 def _imported(names: tuple[str, ...]) -> str:
     return f"print(sorted(m for m in {names!r} if m in sys.modules), file=sys.stderr)\n"
 
@@ -63,7 +74,7 @@ def test_simulate_imports_its_command_and_one_compiled_kernel_only():
               "print(sorted({v.py_func.__qualname__ for n, m in list(sys.modules.items()) if n.startswith('geardyn.')"
               " for v in vars(m).values() if isinstance(v, Dispatcher) and v.overloads}), file=sys.stderr)\n")
     args = ["simulate", "--omega", "0.8", "--transient", "20", "--periods", "4", "--json"]
-    _run(args)  # in a fresh checkout this compiles the worker (and what it calls) into numba's cache
+    _warm(args)
     r = _run(args, report=report)
     *_, modules, kernels = r.stderr.strip().splitlines()
     assert modules == "[]"
@@ -76,7 +87,7 @@ SIMULATE = ["simulate", "--omega", "0.8", "--transient", "20", "--periods", "4",
 
 def test_a_cached_worker_is_loaded_without_numbas_compiler():
     """From a warm cache, neither numba's lowering registries nor scipy.linalg (which they import) are imported."""
-    _run(SIMULATE)  # fills the cache in a fresh checkout
+    _warm(SIMULATE)
     r = _run(SIMULATE, report=_imported(("numba.np.arraymath", "numba.np.linalg", "scipy.linalg")))
     assert r.stderr.strip().splitlines()[-1] == "[]"
 
@@ -89,7 +100,7 @@ def test_the_fast_load_gives_the_bits_of_numbas_own_load(args):
     own = ("import geardyn._cache_guard as g\n"
            "g.fast_loads = lambda *workers: None\n")
     code = own + f"from geardyn.cli import main\nmain({args!r})\n"
-    _run(args)
+    _warm(args)
     numba_load = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert _run(args).stdout == numba_load
     assert json.loads(numba_load)["omega"] == 0.8
