@@ -323,6 +323,26 @@ def test_cli_continuation_json_and_files(capsys, tmp_path):
     assert (tmp_path / "continuation.png").stat().st_size > 0
 
 
+def test_cli_continuation_first_orbit_settles_for_transient_periods(capsys, monkeypatch):
+    """--transient is the settling of the simulation that gives the first orbit's guess (as for orbit), not only
+    of the sweep drawn under the figure."""
+    import sys
+
+    C = sys.modules["geardyn.analysis.periodic.continuation"]
+    seen = []
+
+    def shoot(*a, **kw):
+        seen.append(kw.get("transient"))
+        return real(*a, **kw)
+
+    real = C.shoot
+    monkeypatch.setattr(C, "shoot", shoot)
+    code, _, err = run_cli(capsys, "continuation", "--param", "omega", "--start", "0.65", "--stop", "0.64",
+                           "--xi0", "0.08", "--no-switch", "--transient", "37", "--json")
+    assert code == 0, err
+    assert seen == [37]
+
+
 @pytest.mark.parametrize("args,name", [
     (("orbit", "--omega", "-1"), "omega"),
     (("orbit", "--guess", "1,x"), "guess"),

@@ -164,7 +164,8 @@ def continuation(
     sym = param_symbol(name)
     with task_progress(f"continuation {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out) as bar:
         res = run_continuation(model, name, start_v, stop_v, n, g, dtau=opts.dtau, accurate=opts.accurate,
-                               switch=switch, max_period=mp, ds_max=ds_max, state0=state0, progress=bar)
+                               switch=switch, max_period=mp, ds_max=ds_max, state0=state0,
+                               transient=opts.transient, progress=bar)
     sweep_ds = None
     if inp.out is not None and nsw > 0:
         from ..analysis.bifurcation import bifurcation, sweep_values

@@ -21,7 +21,7 @@ from .arclength import MAX_BRANCH_POINTS, continue_branch, element_extrema
 from .branch import Bifurcation, Branch
 from .map import PeriodMap
 from .orbit import (
-    SHOOT_MAX_ITER, SHOOT_TOL, PeriodicOrbit, _minimal_period, _newton, _orbit_from_eval, newton_step_for, shoot,
+    GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL, PeriodicOrbit, _minimal_period, _newton, _orbit_from_eval, newton_step_for, shoot,
 )
 
 __all__ = ["ContinuationResult", "continuation", "switch_at_period_doubling", "DEFAULT_MAX_PERIOD"]
@@ -260,7 +260,7 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
                  guess: Sequence[float] | None = None, *, dtau: float = DEFAULT_DTAU, accurate: bool = True,
                  switch: bool = True, max_period: int = DEFAULT_MAX_PERIOD, ds: float | None = None,
                  ds_max: float | None = None, max_points: int = MAX_BRANCH_POINTS, locate: bool = True,
-                 state0: Sequence[float] | None = None,
+                 state0: Sequence[float] | None = None, transient: int = GUESS_TRANSIENT,
                  progress: Callable[[float, float], None] | None = None) -> ContinuationResult:
     """Pseudo-arclength continuation of period-n orbits in ``param`` from ``start`` to ``stop``.
 
@@ -298,6 +298,8 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
         Largest number of points per branch.
     state0 : (u, u'), optional
         Start of the simulation that gives the first guess.
+    transient : int
+        Forcing periods of that simulation (without ``guess``).
     progress : callable, optional
         Called as ``progress(done, total)`` in parameter units while the branches are traced:
         ``total`` is the parameter distance the branches traced so far have to cover (|stop − start|
@@ -340,7 +342,7 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
     IntegrationOptions(dtau=dtau).check_for(m0.omega)
     if param == "omega":
         IntegrationOptions(dtau=dtau).check_for(max(start, stop))
-    orbit = shoot(m0, n, guess, dtau=dtau, accurate=accurate, state0=state0)
+    orbit = shoot(m0, n, guess, dtau=dtau, accurate=accurate, state0=state0, transient=transient)
     notes: list[str] = []
     if not orbit.converged:
         raise ModelError(f"guess: shooting for the period-{n} orbit at {param} = {start:g} did not converge "
