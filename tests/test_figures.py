@@ -47,9 +47,9 @@ COMMANDS.update({f"system_{k}": v[:1] + ["--system", _SYSTEM] + v[1:] for k, v i
 COMMANDS["system_basins"] = ["basins", "--system", _SYSTEM, "--omega", "1.2", "--nu", "2", "--nv", "2",
                              "--transient", "20", "--periods", "8", "--settle", "0"]
 COMMANDS["modes"] = ["modes", "--system", _SYSTEM]
-#: (a system's continuation over its brute-force sweep: tests/test_systems_cli.py)
+#: (a system's continuation over a brute-force sweep of two points)
 COMMANDS["system_continuation"] = ["continuation", "--system", _SYSTEM, "--param", "omega", "--start", "1.3",
-                                   "--stop", "1.35", "--ds-max", "0.1", "--sweep-num", "0",
+                                   "--stop", "1.35", "--ds-max", "0.1", "--sweep-num", "2",
                                    "--transient", "20"]
 
 
@@ -79,6 +79,12 @@ def test_plot_redraws_the_figures_the_command_drew(runs, name, tmp_path):
     r = CliRunner().invoke(app, ["plot", str(nc), "--out", str(tmp_path), "--json"])
     assert r.exit_code == 0, r.output
     assert _figures_in(tmp_path) == drawn
+    if name.startswith("system_"):  # a system's JSON adds its meshes
+        assert all({"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} <= set(m)
+                   for m in summary["meshes"]) and summary["meshes"]
+    if name == "system_continuation":  # the torsional pair's rigid rotation is left out of the multipliers
+        assert summary["rigid_body_modes"] == 1 and len(summary["branch"][0]["multipliers"]) == 2
+        assert (d / "continuation_sweep.nc").exists()
     assert {p.split("/")[-1] for p in json.loads(r.stdout)["files"]} == drawn
     # the accessor and save_figures are the same path
     assert {p.name for p in read_netcdf(nc).geardyn.plot(tmp_path / "acc")} == drawn

@@ -121,20 +121,6 @@ def test_tables_of_a_system_run_without_json(kind, tmp_path):
         assert "dynamic factor" not in out
 
 
-@pytest.mark.parametrize("kind", list(OUT_RUNS))
-def test_out_with_system_and_plot_redraws_the_same_figures(kind, tmp_path):
-    s = json.loads(run(*OUT_RUNS[kind], "--json", "--out", str(tmp_path / "a")).stdout)
-    drawn = sorted(p.rsplit("/", 1)[-1] for p in s["files"] if p.endswith(".png"))
-    assert drawn and str(tmp_path / "a" / f"{kind}.nc") in s["files"]
-    assert "meshes" in s and all({"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} <= set(m)
-                                 for m in s["meshes"])
-    r = json.loads(run("plot", str(tmp_path / "a" / f"{kind}.nc"), "--out", str(tmp_path / "b"), "--json").stdout)
-    assert sorted(p.rsplit("/", 1)[-1] for p in r["files"]) == drawn
-    assert sorted(p.name for p in (tmp_path / "b").iterdir()) == drawn
-    if kind == "system_continuation":
-        assert s["rigid_body_modes"] == 1 and len(s["branch"][0]["multipliers"]) == 2
-
-
 @pytest.mark.slow  # the same events, with switching, at 1e-8: test_conformance.py (system continuation)
 def test_continuation_on_a_system_finds_the_1dof_period_doubling():
     a = json.loads(run("continuation", "--system", TORS, "--param", "omega", "--start", "0.6", "--stop", "1.0",
