@@ -86,13 +86,13 @@ def test_trajectory_with_progress_is_the_trajectory_without(case):
         assert all(d >= tr for d in done)
 
 
-@pytest.mark.parametrize("kind", ["none", "lyapunov", "monodromy", "adaptive"])
+@pytest.mark.parametrize("kind", ["none", "lyapunov", "monodromy", "adaptive", "no-poincare"])
 def test_a_batch_with_progress_is_the_batch_without(kind):
     """Enough points for the lanes; points diverging in the transient (negative damping) end as in one run."""
     models = [GearModel(omega=w) for w in np.linspace(0.5, 1.5, 9)] + [GearModel(omega=0.8, xi0=x)
                                                                         for x in (-0.3, -0.02)]
     opts = IntegrationOptions(transient=120, periods=30, adaptive=kind == "adaptive")
-    kw = {"lyapunov": kind == "lyapunov", "monodromy": kind == "monodromy"}
+    kw = {"lyapunov": kind == "lyapunov", "monodromy": kind == "monodromy", "record_poincare": kind != "no-poincare"}
     calls, cb = _calls()
     a = I.integrate_batch(models, None, opts, progress=cb, **kw)
     b = I.integrate_batch(models, None, opts, **kw)

@@ -214,7 +214,7 @@ MESH = MeshBackend()
 
 # ------------------------------------------------------------------------------ a run followed as it goes
 def run_followed(call: Callable[..., RawRun], nsteps: np.ndarray, state0: np.ndarray, transient: int, record: int,
-                 progress: Callable[[int, int], None], *, pieces: bool, poll: float) -> RawRun:
+                 progress: Callable[[int, int], None], *, pieces: bool, rows: bool, poll: float) -> RawRun:
     """One run of a batch reporting ``progress(done, total)`` in sampling periods per point as it goes.
 
     Parameters
@@ -228,7 +228,7 @@ def run_followed(call: Callable[..., RawRun], nsteps: np.ndarray, state0: np.nda
     state0 : ndarray (P, d)
         The start states.
     transient, record : int
-        Transient periods, and recorded periods whose rows are written (0: nothing to follow).
+        Transient and recorded periods.
     progress : callable
         ``progress(done, total)``, ``total`` = transient + record; ``done`` never decreases and ends at ``total``.
     pieces : bool
@@ -239,6 +239,8 @@ def run_followed(call: Callable[..., RawRun], nsteps: np.ndarray, state0: np.nda
         in its first period, which lies in its transient (the last transient period is left to the recording
         run), so it ends as the one run ends a point diverged in its transient.  Without pieces the transient
         counts once recording begins.
+    rows : bool
+        Whether the recorded periods write Poincaré rows to follow (else they count at the end).
     poll : float
         Seconds between two counts of the recorded rows (the kernel runs in a thread; it holds no GIL).
 
@@ -261,7 +263,7 @@ def run_followed(call: Callable[..., RawRun], nsteps: np.ndarray, state0: np.nda
             progress(done, total)
             size = int(min(max(1.0, n * PIECE_SECONDS / dt if dt > 0 else 8.0 * n), 8.0 * n))
     rest = transient - done
-    if record == 0:
+    if record == 0 or not rows:
         raw = call(state, rest)
         progress(total, total)
         return raw

@@ -403,8 +403,9 @@ def _run(models: list, backend: Any, packed: Any, nsteps: np.ndarray, state0: np
         return call(state0, transient)
     from .backend import run_followed
 
-    return run_followed(call, nsteps, state0, int(transient), int(record) if record_poincare else 0, progress,
-                        pieces=not adaptive and backend.restarts_exactly(accurate), poll=PROGRESS_POLL)
+    return run_followed(call, nsteps, state0, int(transient), int(record), progress,
+                        pieces=not adaptive and backend.restarts_exactly(accurate), rows=record_poincare,
+                        poll=PROGRESS_POLL)
 
 
 def _result(models: list, options: IntegrationOptions, raw: RawRun, nsteps: np.ndarray, lyapunov: bool,
