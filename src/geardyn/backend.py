@@ -18,13 +18,21 @@ The contract
     product over the recorded periods), ``"continue"`` (Lyapunov from a given tangent basis; pair only).
     The kernels' arithmetic is theirs: a backend only allocates the outputs and calls ``run_batch``.
     ``watch(poincare)``, when given, receives the Poincaré output before the kernel runs, filled with NaN
-    until each recorded period writes its row (mesh-vector kernel only; the pair's ignores it), so that
-    another thread can follow a long run (:func:`geardyn.integrate.integrate_batch` with ``progress``).
+    until each recorded period writes its row (every kernel writes every row of a point, or NaN in all of
+    them when it diverges, so the fill changes no result), so that another thread can follow a long run
+    (:func:`geardyn.integrate.integrate_batch` with ``progress``).
+``restarts_exactly(accurate)``
+    Whether the state at a period's end is all the kernel carries from one period to the next when no
+    period is recorded: then ``k`` transient periods followed by a run from their end state equal one run,
+    bit for bit, and :func:`geardyn.integrate.integrate_batch` with ``progress`` runs a long transient in
+    such pieces to report it.
 """
 
 from __future__ import annotations
 
 import abc
+import threading
+import time
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
@@ -38,12 +46,16 @@ from ._kernel import (  # the statistics' indices, statuses and bound: the same 
 from .errors import ModelError
 from .labels import MAX_PERIOD
 
-__all__ = ["RawRun", "Backend", "PairBackend", "MeshBackend", "PAIR", "MESH", "MODES",
+__all__ = ["RawRun", "Backend", "PairBackend", "MeshBackend", "PAIR", "MESH", "MODES", "run_followed",
            "S_UMIN", "S_UMAX", "S_USUM", "S_USQ", "S_VMIN", "S_VMAX", "S_NDRIVE", "S_NSEP", "S_NBACK", "S_N",
            "NSTAT", "ST_OK", "ST_DIVERGED", "DIVERGENCE_BOUND"]
 
 #: Integration modes of :meth:`Backend.run`.
 MODES = ("none", "lyapunov", "monodromy", "continue")
+#: Seconds one piece of a transient run in pieces by :func:`run_followed` aims at (its periods follow the speed seen).
+PIECE_SECONDS = 0.25
+#: RK4 steps (summed over the points) of the first such piece.
+FIRST_PIECE_STEPS = 200_000
 
 
 @dataclass
@@ -101,6 +113,10 @@ class Backend(abc.ABC):
         """The (P, d) default initial states: each system's ``initial_state()``."""
         return np.ascontiguousarray(np.stack([m.initial_state() for m in models]))
 
+    def restarts_exactly(self, accurate: bool) -> bool:
+        """Whether a transient run from a period's end state continues it bit for bit (see the module docstring)."""
+        return False
+
     @abc.abstractmethod
     def run(self, models: Sequence[Any], packed: Any, nsteps: np.ndarray, state0: np.ndarray, transient: int,
             record: int, mode: str, accurate: bool, *, record_poincare: bool = True, hist_len: int = 0,
@@ -122,6 +138,13 @@ class PairBackend(Backend):
         T = 2.0 * np.pi / np.asarray(packed[2], dtype=float)  # as geardyn.model.steps_per_period
         return np.ceil(T / dtau).astype(np.int64)
 
+    def restarts_exactly(self, accurate: bool) -> bool:
+        """The default mode carries (u, u') only (the rotation is re-seeded at every period's start, tangents and
+        statistics start with the record); the accurate mode also carries the contact region its last sub-step was
+        locked to, which a restart would take again from u (they differ where a period ends on u = ±D or after a
+        step used up its splits)."""
+        return not accurate
+
     def run(self, models, packed, nsteps, state0, transient, record, mode, accurate, *, record_poincare=True,
             hist_len=0, adaptive_tol=0.0, tangent0=None, watch=None) -> RawRun:
         K = _K1
@@ -136,6 +159,9 @@ class PairBackend(Backend):
             tan_out[:] = tangent0
         tan = {"none": K.TAN_NONE, "lyapunov": K.TAN_LYAPUNOV, "monodromy": K.TAN_MONODROMY,
                "continue": K.TAN_CONTINUE}[mode]
+        if watch is not None:  # every recorded row is written by the kernel (NaN after a divergence)
+            poincare.fill(np.nan)
+            watch(poincare)
         args = (coef, D, omega, nsteps, state0, int(transient), int(record), int(tan), bool(accurate), poincare,
                 end_state, stats, tan_log, tan_out, status, hist)
         if adaptive_tol > 0.0:  # the adaptive transient, seeking cycles up to MAX_PERIOD
@@ -152,6 +178,11 @@ class MeshBackend(Backend):
 
     name = "mesh"
     coords = "(q̃, q̃')"
+
+    def restarts_exactly(self, accurate: bool) -> bool:
+        """Both modes carry the state only: the default mode's coefficient table is the same every period and the
+        accurate mode takes every element's contact branch again from the state at each (sub-)step's start."""
+        return True
 
     def run(self, models, packed, nsteps, state0, transient, record, mode, accurate, *, record_poincare=True,
             hist_len=0, adaptive_tol=0.0, tangent0=None, watch=None) -> RawRun:
@@ -179,3 +210,89 @@ class MeshBackend(Backend):
 PAIR = PairBackend()
 #: The backend of :class:`~geardyn.systems.SystemModel`.
 MESH = MeshBackend()
+
+
+# ------------------------------------------------------------------------------ a run followed as it goes
+def run_followed(call: Callable[..., RawRun], nsteps: np.ndarray, state0: np.ndarray, transient: int, record: int,
+                 progress: Callable[[int, int], None], *, pieces: bool, rows: bool, poll: float) -> RawRun:
+    """One run of a batch reporting ``progress(done, total)`` in sampling periods per point as it goes.
+
+    Parameters
+    ----------
+    call : callable
+        ``call(start, periods, watch=None)``: the run from the states ``start`` through ``periods`` transient
+        periods and the record, handing its Poincaré output to ``watch`` (:meth:`Backend.run`);
+        ``call(start, periods, piece=True)``: ``periods`` transient periods only.
+    nsteps : ndarray (P,)
+        RK4 steps per sampling period (sizes the first piece).
+    state0 : ndarray (P, d)
+        The start states.
+    transient, record : int
+        Transient and recorded periods.
+    progress : callable
+        ``progress(done, total)``, ``total`` = transient + record; ``done`` never decreases and ends at ``total``.
+    pieces : bool
+        Run all but the last transient period in pieces of whole periods, each from the end state of the one
+        before and reported, which only a backend whose :meth:`~Backend.restarts_exactly` may (and no adaptive
+        transient): the state at a period's end is then all a run carries, so the results are the one run's,
+        bit for bit.  A point that diverges in a piece ends it with a NaN state; every later run of it diverges
+        in its first period, which lies in its transient (the last transient period is left to the recording
+        run), so it ends as the one run ends a point diverged in its transient.  Without pieces the transient
+        counts once recording begins.
+    rows : bool
+        Whether the recorded periods write Poincaré rows to follow (else they count at the end).
+    poll : float
+        Seconds between two counts of the recorded rows (the kernel runs in a thread; it holds no GIL).
+
+    Returns
+    -------
+    RawRun
+        That of ``call(state0, transient)``, bit for bit.
+    """
+    total = transient + record
+    state, done = state0, 0
+    if pieces:
+        state = np.array(state0, dtype=float)
+        size = max(1, -(-FIRST_PIECE_STEPS // max(int(np.sum(nsteps)), 1)))
+        while transient - 1 - done > 0:
+            n = min(size, transient - 1 - done)
+            t0 = time.monotonic()
+            state = np.ascontiguousarray(call(state, n, piece=True).end_state)
+            dt = time.monotonic() - t0
+            done += n
+            progress(done, total)
+            size = int(min(max(1.0, n * PIECE_SECONDS / dt if dt > 0 else 8.0 * n), 8.0 * n))
+    rest = transient - done
+    if record == 0 or not rows:
+        raw = call(state, rest)
+        progress(total, total)
+        return raw
+    import numba
+
+    seen: list[np.ndarray] = []
+    out: dict[str, Any] = {}
+    threads = numba.get_num_threads()  # numba's setting is per thread: the kernel's thread takes the caller's
+
+    def work() -> None:
+        try:
+            numba.set_num_threads(threads)
+            out["raw"] = call(state, rest, seen.append)
+        except BaseException as e:  # raised again in the caller's thread
+            out["error"] = e
+
+    worker = threading.Thread(target=work, name="geardyn-kernel", daemon=True)
+    worker.start()
+    shown = done
+    while worker.is_alive():
+        worker.join(poll)
+        if seen:
+            pc = seen[0]
+            rows = int(np.count_nonzero(np.isfinite(pc[:, :, 0]))) // max(pc.shape[0], 1)  # per point, on average
+            if rows and transient + rows > shown:
+                shown = transient + rows
+                progress(shown, total)
+    if "error" in out:
+        raise out["error"]
+    if shown < total:
+        progress(total, total)
+    return out["raw"]

@@ -132,7 +132,8 @@ def workload(name: str) -> Workload:
     return WORKLOADS[key]()
 
 
-def time_workload(w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = True) -> dict[str, float | int]:
+def time_workload(w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = True,
+                  ran: Callable[[], None] | None = None) -> dict[str, float | int]:
     """Time one workload in-process (minimum wall time over the repeats).
 
     Parameters
@@ -143,6 +144,8 @@ def time_workload(w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = Tr
         Timed runs (default :data:`DEFAULT_REPEATS`); the minimum is reported.
     warmup : bool
         Run once untimed first (JIT compilation or cache load excluded).
+    ran : callable, optional
+        Called with no argument after each run (the warm-up included), outside the timed span.
 
     Returns
     -------
@@ -160,11 +163,15 @@ def time_workload(w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = Tr
     models = w.models()
     if warmup:
         w.run(models)
+        if ran is not None:
+            ran()
     times = []
     for _ in range(repeats):
         t0 = time.perf_counter()
         w.run(models)
         times.append(time.perf_counter() - t0)
+        if ran is not None:
+            ran()
     wall = min(times)
     steps = w.steps
     return {"wall_s": wall, "steps": steps, "ns_per_step": 1e9 * wall / steps,
@@ -209,7 +216,8 @@ def _llvm_cpu() -> str:
 
 
 def run_benchmarks(names: Sequence[str] = ("W1", "W2", "W3"), threads: int | None = None,
-                   repeats: int = DEFAULT_REPEATS) -> dict[str, object]:
+                   repeats: int = DEFAULT_REPEATS,
+                   progress: Callable[[int, int], None] | None = None) -> dict[str, object]:
     """Time the named workloads with ``threads`` kernel threads.
 
     numba's thread count is restored afterwards.
@@ -222,6 +230,9 @@ def run_benchmarks(names: Sequence[str] = ("W1", "W2", "W3"), threads: int | Non
         Kernel threads; None keeps the current setting.
     repeats : int
         Timed runs per workload (default :data:`DEFAULT_REPEATS`).
+    progress : callable, optional
+        Called as ``progress(done, total)`` in runs (each workload's warm-up and timed runs) after each run,
+        outside the timed spans.
 
     Returns
     -------
@@ -246,7 +257,14 @@ def run_benchmarks(names: Sequence[str] = ("W1", "W2", "W3"), threads: int | Non
     try:
         set_threads(threads)
         used = numba.get_num_threads()
-        results = {w.name: time_workload(w, repeats) for w in ws}
+        count = [0]
+        total = len(ws) * (repeats + 1)
+
+        def ran() -> None:
+            count[0] += 1
+            progress(count[0], total)
+
+        results = {w.name: time_workload(w, repeats, ran=None if progress is None else ran) for w in ws}
     finally:
         numba.set_num_threads(old)
     return {"workloads": results, "threads": used, "repeats": repeats, "machine": machine_info()}

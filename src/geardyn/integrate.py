@@ -387,39 +387,25 @@ def _run(models: list, backend: Any, packed: Any, nsteps: np.ndarray, state0: np
         raise ModelError("evaluation \"table\": the table is evaluated as given in the accurate mode only "
                          "(--accurate, IntegrationOptions(accurate=True)); or evaluate its series")
 
-    def call(watch: Any = None) -> RawRun:
+    def call(start: np.ndarray, periods: int, watch: Any = None, *, piece: bool = False) -> RawRun:
+        """The batch from ``start`` through ``periods`` transient periods and the record (``piece``: the
+        transient periods only)."""
         # one point runs on one worker whatever the setting: leave numba's state alone then
         with using_threads(threads if len(models) > 1 else None):
-            return backend.run(models, packed, nsteps, state0, transient, record, mode, accurate,
+            if piece:
+                return backend.run(models, packed, nsteps, start, periods, 0, "none", accurate, record_poincare=False)
+            return backend.run(models, packed, nsteps, start, periods, record, mode, accurate,
                                record_poincare=record_poincare, hist_len=hist_len,
                                adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0, tangent0=tangent0,
                                **({} if watch is None else {"watch": watch}))
 
-    if progress is None or record == 0 or not record_poincare:
-        return call()
-    # the kernel runs in a thread (it holds no GIL); this one counts the recorded rows it has written
-    seen: list[np.ndarray] = []
-    out: dict[str, Any] = {}
+    if progress is None:
+        return call(state0, transient)
+    from .backend import run_followed
 
-    def work() -> None:
-        try:
-            out["raw"] = call(seen.append)
-        except BaseException as e:  # raised again in the caller's thread
-            out["error"] = e
-
-    total = int(transient) + int(record)
-    worker = threading.Thread(target=work, name="geardyn-kernel", daemon=True)
-    worker.start()
-    while worker.is_alive():
-        worker.join(PROGRESS_POLL)
-        if seen:
-            rows = int(np.count_nonzero(np.all(np.isfinite(seen[0][:, :, 0]), axis=0)))
-            if rows:
-                progress(int(transient) + rows, total)
-    if "error" in out:
-        raise out["error"]
-    progress(total, total)
-    return out["raw"]
+    return run_followed(call, nsteps, state0, int(transient), int(record), progress,
+                        pieces=not adaptive and backend.restarts_exactly(accurate), rows=record_poincare,
+                        poll=PROGRESS_POLL)
 
 
 def _result(models: list, options: IntegrationOptions, raw: RawRun, nsteps: np.ndarray, lyapunov: bool,
@@ -503,10 +489,13 @@ def integrate_batch(
         a previous run ended with), instead of the identity, so that a run continued in blocks of
         periods gives the same numbers as one run.
     progress : callable, optional
-        Called as ``progress(done, total)`` in sampling periods while a mesh-vector system runs (the kernel in
-        a thread, its recorded rows counted every :data:`PROGRESS_POLL` s; the transient counts once recording
-        begins) and at the end; the numbers are those of a call without it.  The pair's kernel reports nothing
-        before its end.
+        Called as ``progress(done, total)`` in sampling periods (per point), ``total`` = transient + recorded
+        periods, while the batch runs and at its end; the numbers are those of a call without it, bit for bit.
+        The transient goes in pieces of whole periods, each reported, where the backend continues a run from a
+        period's end state exactly (:meth:`~geardyn.backend.Backend.restarts_exactly`: every mode of a
+        mesh-vector system, the pair's default mode; not the adaptive transient); otherwise it counts once
+        recording begins.  The recorded periods run in one kernel call in a thread, the rows it has written
+        counted every :data:`PROGRESS_POLL` s.
 
     Returns
     -------
@@ -591,6 +580,7 @@ def trajectory(
     history_periods: int = 32,
     steps: int | None = None,
     threads: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Trajectory:
     """Integrate one point and keep the state at every step of its last ``history_periods`` periods.
 
@@ -608,6 +598,9 @@ def trajectory(
         RK4 steps per sampling period (default ceil(T_f/Δτ)).
     threads : int, optional
         Threads for this call (numba's setting is left as it was).
+    progress : callable, optional
+        Called as ``progress(done, total)`` in sampling periods while the point runs, as by
+        :func:`integrate_batch`; the numbers are those of a call without it, bit for bit.
 
     Returns
     -------
@@ -624,7 +617,7 @@ def trajectory(
     N = int(nsteps[0])
     s0 = _states(models, state0)
     raw = _run(models, backend, packed, nsteps, s0, options.transient, options.periods, "none", options.accurate,
-               hist_len=hp * N + 1, threads=threads)
+               hist_len=hp * N + 1, threads=threads, progress=progress)
     summary = _result(models, options, raw, nsteps, False, False)
     tau = np.arange(hp * N + 1) * (model.sampling_period / N)
     x = raw.hist[0]

@@ -38,7 +38,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 import xarray as xr
@@ -172,7 +172,8 @@ def _block_speeds(w0: float, w1: float, duration: float, cycles: int) -> tuple[n
 def runup(model: GearModel, omega_start: float, omega_stop: float, duration: float, *,
           cycles_per_block: int | None = None, max_blocks: int = MAX_BLOCKS, orders: int = 3,
           dtau: float = DEFAULT_DTAU, accurate: bool = False, settle: int = 200,
-          state0: tuple[float, float] = (0.0, 0.0)) -> RunupResult:
+          state0: tuple[float, float] = (0.0, 0.0),
+          progress: Callable[[int, int], None] | None = None) -> RunupResult:
     """Integrate the model through a linear speed ramp ω(τ) from ``omega_start`` to ``omega_stop``.
 
     Parameters
@@ -199,6 +200,9 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
         up to whole forcing periods of P mesh periods).
     state0 : (u0, u0')
         State at the start of the settling.
+    progress : callable, optional
+        Called as ``progress(done, total)`` in blocks: (0, blocks) once the settling is done, then after each
+        block (and (blocks, blocks) at the end, also after a divergence); the result does not depend on it.
 
     Returns
     -------
@@ -251,6 +255,8 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
     spec = np.full((nb, (orders + 1) * P - 1), np.nan) if P > 1 else None
     diverged = not np.all(np.isfinite(state))
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=m // P, accurate=accurate)
+    if progress is not None:
+        progress(0, nb)
     for b in range(nb):
         if diverged:
             break
@@ -261,6 +267,10 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
         amp_o[b], amp[b], kdyn[b], state = out[:4]
         if spec is not None:
             spec[b] = out[4]
+        if progress is not None:
+            progress(b + 1, nb)
+    if progress is not None:
+        progress(nb, nb)
     return RunupResult(model=model, omega=speeds, tau=mids, cycles=m, order_amplitude=amp_o, amplitude=amp,
                        dynamic_factor=kdyn, omega_start=w0, omega_stop=w1, duration=T, diverged=diverged,
                        options=opts, spectrum=spec)
@@ -295,7 +305,8 @@ def _block(mb: GearModel, state: np.ndarray, opts: IntegrationOptions, m: int, o
 
 
 def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: int = 32, transient: int = 200,
-                    dtau: float = DEFAULT_DTAU, accurate: bool = False) -> dict[str, Any]:
+                    dtau: float = DEFAULT_DTAU, accurate: bool = False,
+                    progress: Callable[[int, int], None] | None = None) -> dict[str, Any]:
     """The quasi-static counterpart of a run-up: steady states swept up and down with state continuation.
 
     Parameters
@@ -307,6 +318,9 @@ def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: 
     orders, periods, transient, dtau, accurate
         Tracked orders, recorded and discarded mesh periods per point (rounded up to whole forcing periods of P
         mesh periods), RK4 step, contact splitting.
+    progress : callable, optional
+        Called as ``progress(done, total)`` in points after each point of the two sweeps (total: twice the
+        speeds); the result does not depend on it.
 
     Returns
     -------
@@ -319,12 +333,16 @@ def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: 
     opts = IntegrationOptions(dtau=dtau, transient=-(-int(transient) // P), periods=-(-int(periods) // P),
                               accurate=accurate)
     out: dict[str, Any] = {"x": [float(x) for x in w]}
+    done = 0
     for lab, seq in (("up", range(w.size)), ("down", range(w.size - 1, -1, -1))):
         rows: dict[int, Any] = {}
         state = np.zeros(2)
         for i in seq:
             r = _block(model.replace(omega=float(w[i])), state, opts, opts.periods * P, orders)
             rows[i] = r
+            done += 1
+            if progress is not None:
+                progress(done, 2 * w.size)
             if r is None:
                 state = np.zeros(2)
             else:

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
 from .._lazy import lazy_module
 from ..grid import PointModels, integrate_points
-from ..integrate import ST_OK, BatchResult, Trajectory, start_state, trajectory
+from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, start_state, trajectory
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions
 from .classify import (
@@ -97,6 +97,7 @@ def classify_batch(
     *,
     settle_periods: int = SETTLE_PERIODS,
     blocks: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, np.ndarray]:
     """Full per-point classification of a batch: period, motion, impact, amplitudes, exponents.
 
@@ -113,6 +114,10 @@ def classify_batch(
         non-periodic point without exponents is then 'unresolved').
     blocks : int, optional
         Blocks for the exponents' uncertainty (default :data:`geardyn.analysis.lyapunov.DEFAULT_BLOCKS`).
+    progress : callable, optional
+        Called as ``progress(done, total)`` in periods (per point) of the settling passes while they run,
+        ``total`` being the periods of the passes begun so far (it grows as a pass begins); the numbers are
+        those of a call without it, bit for bit (:func:`~geardyn.integrate.integrate_batch`).
 
     Returns
     -------
@@ -144,7 +149,12 @@ def classify_batch(
     while settle_periods > 0 and need.size and rounds < SETTLE_ROUNDS:
         opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
         sub = models[need] if isinstance(models, PointModels) else [models[i] for i in need]
-        r2 = integrate_points(sub, out["end_state"][need], opts, lyapunov=True)
+        if progress is None:
+            r2 = integrate_points(sub, out["end_state"][need], opts, lyapunov=True)
+        else:  # the same numbers as integrate_points (a PointModels' models are the GearModels it holds)
+            ran = rounds * opts.periods
+            r2 = integrate_batch(list(sub), out["end_state"][need], opts, lyapunov=True,
+                                 progress=lambda d, n, ran=ran: progress(ran + d, ran + n))
         s2 = summarize_batch(r2)
         for k, v in s2.items():
             out[k][need] = v
@@ -309,6 +319,7 @@ def simulate(
     state0: Sequence[float] | None = None,
     *,
     history_periods: int = HISTORY_PERIODS,
+    progress: Callable[[int, int], None] | None = None,
 ) -> SteadyState:
     """Integrate one point of any System and summarise its steady response.
 
@@ -323,6 +334,11 @@ def simulate(
         ``model.initial_state()`` ((0, 0) for the pair).
     history_periods : int
         How many of the last recorded periods keep the full time history (for plots and the spectrum).
+    progress : callable, optional
+        Called as ``progress(done, total)`` in forcing periods while the point runs: ``total`` is the transient
+        plus the recorded periods, and grows by a settling pass's periods when the response is not periodic and
+        :func:`classify_batch` integrates on (:func:`~geardyn.integrate.trajectory`); the result is that of a call
+        without it, bit for bit.
 
     Returns
     -------
@@ -331,13 +347,15 @@ def simulate(
         period in forcing periods of the base frequency) plus what ``model.report`` adds.
     """
     s0 = start_state(model, state0)
-    t = trajectory(model, s0, options, history_periods=history_periods)
+    t = trajectory(model, s0, options, history_periods=history_periods, progress=progress)
     arr = summarize_batch(t.summary)
     period = int(arr["period"][0])
     ok = int(arr["status"][0]) == ST_OK
     # Full motion classification; the Lyapunov spectrum is computed (by integrating on from the
     # end state) only when no period was found.
-    cls = classify_batch(t.summary) if ok and period == 0 else None
+    base = int(options.transient) + int(options.periods)
+    cls = classify_batch(t.summary, progress=None if progress is None else (
+        lambda d, n: progress(base + d, base + n))) if ok and period == 0 else None
     if cls is not None:
         period = int(cls["period"][0])
     motion = motion_label(int(cls["motion"][0]), period) if cls is not None else (

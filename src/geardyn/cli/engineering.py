@@ -213,8 +213,12 @@ def runup_cmd(inp: Inputs) -> None:
     _check_ramp_steps(inp, w0, w1, T)
     nq = validate.integer("num", inp.qs_num, 0, 2001)
     orders = validate.integer("orders", inp.orders, 1, 50)
-    res = runup(model, w0, w1, T, cycles_per_block=inp.cycles_per_block, orders=orders, dtau=inp.dtau,
-                accurate=inp.accurate, settle=validate.integer("settle", inp.settle, 0, validate.MAX_PERIODS))
+    from ..sweep.progress import task_progress
+
+    with task_progress("runup", unit="blocks", fmt=".0f", enabled=not inp.json_out) as bar:
+        res = runup(model, w0, w1, T, cycles_per_block=inp.cycles_per_block, orders=orders, dtau=inp.dtau,
+                    accurate=inp.accurate, settle=validate.integer("settle", inp.settle, 0, validate.MAX_PERIODS),
+                    progress=bar)
     ds = res.to_dataset()
     summary = res.to_json()
     um = float(sc.b_c_m) * 1e6
@@ -234,7 +238,10 @@ def runup_cmd(inp: Inputs) -> None:
                     "pair": sc.statement(), "model": model.to_dict()})
     if nq >= 2:
         lo, hi = sorted((w0, w1))
-        qs = steady_response(model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate)
+        with task_progress("runup: quasi-static sweep up and down", unit="points", fmt=".0f",
+                           enabled=not inp.json_out) as bar:
+            qs = steady_response(model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate,
+                                 progress=bar)
         x_rpm = [float(v) for v in sc.rpm_from_omega(np.array(qs["x"]))]
         for lab in ("up", "down"):
             qs[lab]["amplitude_um"] = [None if v is None else v * um for v in qs[lab]["amplitude"]]

@@ -50,9 +50,12 @@ def simulate(inp: Inputs) -> None:
     from ..analysis.physical import add_physical, simulate_physical, steady_physical
     from ..analysis.steady import simulate as run_simulate
 
+    from ..sweep.progress import task_progress
+
     model = inp.model()
     opts = inp.options(model.omega)
-    res = run_simulate(model, opts, inp.state0())
+    with task_progress("simulate", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
+        res = run_simulate(model, opts, inp.state0(), progress=bar)
     summary = res.to_json()
     if inp.system is not None:  # a system: the reference mesh's physical values and every mesh's
         summary = {**_system(inp, model, summary), **inp.scales().operating_point(model)}
@@ -111,7 +114,12 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
     opts = inp.options(model.omega, periods=1)
     n = validate.integer("period", period, 1, 1024)
     g = parse_guess(guess, model.state_dim)
-    res = shoot(model, n, g, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0(), transient=opts.transient)
+    from ..sweep.progress import task_progress
+
+    with task_progress("orbit", unit="periods", fmt=".0f",
+                       enabled=not inp.json_out and g is None) as bar:
+        res = shoot(model, n, g, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0(), transient=opts.transient,
+                    progress=bar)
     paths: list[str] = []
     if inp.out is not None:
         paths = inp.write(add_physical(res.to_dataset(), scales), "orbit")

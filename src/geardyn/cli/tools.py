@@ -147,7 +147,10 @@ def bench(
     if threads is not None:
         validate.integer("threads", threads, 1, validate.MAX_WORKERS)
     validate.integer("repeats", repeats, 1, MAX_REPEATS)
-    res = run_benchmarks(names, threads=threads, repeats=repeats)
+    from ..sweep.progress import task_progress
+
+    with task_progress("bench", unit="runs", fmt=".0f", enabled=not inp.json_out) as bar:
+        res = run_benchmarks(names, threads=threads, repeats=repeats, progress=bar)
     if inp.json_out:
         emit_json(res)
         return

@@ -434,7 +434,8 @@ class PeriodicOrbit:
 
 def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] | None = None, *,
                           dtau: float = DEFAULT_DTAU, accurate: bool = False,
-                          transient: int = GUESS_TRANSIENT) -> np.ndarray | None:
+                          transient: int = GUESS_TRANSIENT,
+                          progress: Callable[[int, int], None] | None = None) -> np.ndarray | None:
     """A shooting guess from a simulation.
 
     Simulate ``transient`` periods, then pick among the next Poincaré points the one closest to
@@ -454,6 +455,9 @@ def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] 
         Split the steps at the contact boundaries u = ±D (``IntegrationOptions.accurate``); default False.
     transient : int
         Forcing periods discarded first.
+    progress : callable, optional
+        Called as ``progress(done, total)`` in forcing periods while the simulation runs
+        (:func:`~geardyn.integrate.integrate_batch`); the guess is that of a call without it, bit for bit.
 
     Returns
     -------
@@ -463,7 +467,7 @@ def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] 
     rec = max(GUESS_RECORD_PER_PERIOD * n, 16)
     s0 = start_state(model, state0)
     opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=rec, accurate=accurate)
-    res = integrate_batch([model], s0, opts, threads=MAP_THREADS)
+    res = integrate_batch([model], s0, opts, threads=MAP_THREADS, progress=progress)
     if not res.ok[0]:
         return None
     pts = res.poincare[0]
@@ -557,7 +561,8 @@ def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int,
 
 def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *, dtau: float = DEFAULT_DTAU,
           accurate: bool = False, tol: float = SHOOT_TOL, max_iter: int = SHOOT_MAX_ITER,
-          state0: Sequence[float] | None = None, transient: int = GUESS_TRANSIENT) -> PeriodicOrbit:
+          state0: Sequence[float] | None = None, transient: int = GUESS_TRANSIENT,
+          progress: Callable[[int, int], None] | None = None) -> PeriodicOrbit:
     """Find a period-n orbit by Newton's method on the n-period stroboscopic map.
 
     Parameters
@@ -582,6 +587,9 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
         Start of the simulation that gives the guess when ``guess`` is None.
     transient : int
         Forcing periods of that simulation.
+    progress : callable, optional
+        Called as ``progress(done, total)`` in forcing periods while that simulation runs (the Newton
+        iterations after it report nothing); the orbit is that of a call without it, bit for bit.
 
     Returns
     -------
@@ -607,7 +615,8 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
     N = pmap.steps
     step = newton_step_for(model)
     if guess is None:
-        x0 = guess_from_simulation(model, n, state0, dtau=dtau, accurate=accurate, transient=transient)
+        x0 = guess_from_simulation(model, n, state0, dtau=dtau, accurate=accurate, transient=transient,
+                                   progress=progress)
         if x0 is None:
             return _failed_orbit(model, n, start_state(model, state0), Status.DIVERGED, dtau, accurate, N)
     else:
