@@ -83,7 +83,7 @@ def test_trajectory_with_progress_is_the_trajectory_without(case):
     if case.startswith("system") or case == "pair":  # the transient in pieces, each reported
         assert sum(0 < d < tr for d in done) >= 3
     else:  # the pair's accurate mode carries its contact region across periods: its transient in one run
-        assert all(d >= tr for d in done)
+        assert all(d == 0 or d >= tr for d in done)  # (0 first: the bar shows at once)
 
 
 @pytest.mark.parametrize("kind", ["none", "lyapunov", "monodromy", "adaptive", "no-poincare"])

@@ -251,6 +251,7 @@ def run_followed(call: Callable[..., RawRun], nsteps: np.ndarray, state0: np.nda
     """
     total = transient + record
     state, done = state0, 0
+    progress(0, total)
     if pieces:
         state = np.array(state0, dtype=float)
         size = max(1, -(-FIRST_PIECE_STEPS // max(int(np.sum(nsteps)), 1)))

@@ -25,14 +25,13 @@ Two integration settings are arguments of these functions rather than fields of
 from __future__ import annotations
 
 import math
-import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
-from .backend import DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM
+from .backend import DIVERGENCE_BOUND, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM
 from .backend import S_VMAX, S_VMIN, ST_DIVERGED, ST_OK, RawRun
 from .model import IntegrationOptions, ModelError
 

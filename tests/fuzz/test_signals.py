@@ -43,11 +43,12 @@ LONG = {
     "bench": ["bench", "--repeats", "100"],
 }
 DEFAULT = ("simulate", "bifurcation")
-#: The start of a command's first progress line: it is signalled once that appears (it is computing then),
-#: the others after WARM seconds.
+#: The start of a command's first progress line: it is signalled once that appears (it is computing then);
+#: a command without one after WARM seconds.
 PROGRESS = {"bifurcation": "points (", "bifurcation-continue-both": "points (", "response": "points (",
             "map": "points (", "basins": "points (", "lyapunov": "periods (", "continuation": "traced (",
-            "hb": "traced ("}
+            "hb": "traced (", "simulate": "periods (", "simulate-accurate": "periods (", "orbit": "periods (",
+            "runup": "blocks (", "bench": "runs ("}
 
 
 def _interrupted(name: str, sig: int) -> None:

@@ -172,65 +172,6 @@ def _spectra(res: BatchResult, blocks: int) -> dict[str, Any]:
     return {"exponents": lam, "uncertainty": err, "status": res.status.copy(), "result": res}
 
 
-#: Blocks of periods a Lyapunov run with a progress report is split into (each continues the state and
-#: the orthonormal tangent basis of the previous one exactly, so the numbers are those of one run).
-PROGRESS_BLOCKS = 50
-
-
-def _in_blocks(model: GearModel, state0: Sequence[float], options: IntegrationOptions, blocks: int,
-               progress: Callable[[int, int], None]) -> dict[str, Any]:
-    """:func:`lyapunov_batch` of one point, run in :data:`PROGRESS_BLOCKS` blocks of periods with ``progress``."""
-    total = int(options.transient) + int(options.periods)
-    size = max(1, -(-int(options.periods) // PROGRESS_BLOCKS))
-    progress(0, total)
-    parts: list[BatchResult] = []
-    state, basis, done = state0, None, 0
-    while done < options.periods:
-        n = min(size, options.periods - done)
-        opts = options.replace(transient=options.transient if not parts else 0, periods=n)
-        part = integrate_batch([model], state, opts, lyapunov=True, tangent0=basis)
-        parts.append(part)
-        done += n
-        progress(int(options.transient) + done, total)
-        if part.status[0] != ST_OK:
-            break
-        state, basis = part.end_state[0], part.tangent
-    first, last = parts[0], parts[-1]
-    log = np.concatenate([p.lyapunov_log for p in parts], axis=1)
-    pc = np.concatenate([p.poincare for p in parts], axis=1)
-    if log.shape[1] < options.periods:  # diverged: the rest of the run is not defined
-        fill = ((0, 0), (0, options.periods - log.shape[1]), (0, 0))
-        log = np.pad(log, fill)
-        pc = np.pad(pc, fill, constant_values=np.nan)
-    res = BatchResult(first.models, options, pc, last.end_state, last.status, last.stats, first.nsteps,
-                      lyapunov_log=log, tangent=last.tangent)
-    return _spectra(res, blocks)
-
-
-def _watched(model: Any, state0: Sequence[float], options: IntegrationOptions, blocks: int,
-             progress: Callable[[int, int], None]) -> dict[str, Any]:
-    """:func:`lyapunov_batch` of one point of a kernel that cannot continue a tangent basis (a mesh-vector system),
-    with ``progress``: the transient in :data:`PROGRESS_BLOCKS` blocks (default mode: each block continues the
-    state exactly, as the one run's transient periods do), then the recorded periods in one run whose rows are
-    counted as the kernel writes them (:func:`~geardyn.integrate.integrate_batch` with ``progress``)."""
-    total = int(options.transient) + int(options.periods)
-    progress(0, total)
-    state, done = np.asarray(state0, dtype=float), 0
-    if not options.accurate:  # the accurate mode carries contact states across periods: its transient in one run
-        size = max(1, -(-int(options.transient) // PROGRESS_BLOCKS))
-        while done < options.transient:
-            n = min(size, int(options.transient) - done)
-            part = integrate_batch([model], state, options.replace(transient=0, periods=n), record_poincare=False)
-            if part.status[0] != ST_OK:  # diverged: the one run, which reports it as such
-                return lyapunov_batch([model], state0, options, blocks=blocks)
-            state, done = part.end_state[0], done + n
-            progress(done, total)
-    rest = options.replace(transient=int(options.transient) - done)
-    res = integrate_batch([model], state, rest, lyapunov=True,
-                          progress=lambda k, _: progress(done + k, total))
-    return _spectra(res, blocks)
-
-
 @dataclass
 class LyapunovResult:
     """Lyapunov spectrum of one point (non-dimensional rates per unit τ); see :func:`lyapunov_spectrum`.
@@ -345,11 +286,9 @@ def lyapunov_spectrum(
         passes: give a long enough transient).
     progress : callable, optional
         Called as ``progress(done, total)`` in forcing periods, ``total`` = transient + recorded
-        periods.  With it the pair's run goes in :data:`PROGRESS_BLOCKS` blocks of periods, each continuing
-        the state and the orthonormal tangent basis the previous block ended with
-        (``integrate_batch(..., tangent0=...)``); a mesh-vector system's transient goes in blocks and its
-        recorded periods in one run followed as it goes (:func:`_watched`).  The results are those of one
-        run, bit for bit.
+        periods, as by :func:`~geardyn.integrate.integrate_batch` (the transient in pieces where the kernel
+        continues a run exactly, the recorded periods in one run followed as it goes).  The results are those
+        of a call without it, bit for bit.
 
     Returns
     -------
@@ -363,12 +302,7 @@ def lyapunov_spectrum(
     Gram–Schmidt once per forcing period.
     """
     state0 = start_state(model, state0)
-    if progress is None:
-        out = lyapunov_batch([model], state0, options, blocks=blocks)
-    elif model.backend.name == "pair":  # the pair's kernel continues a tangent basis: blocks of periods
-        out = _in_blocks(model, state0, options, blocks, progress)
-    else:
-        out = _watched(model, state0, options, blocks, progress)
+    out = _spectra(integrate_batch([model], state0, options, lyapunov=True, progress=progress), blocks)
     res = out["result"]
     motion: dict[str, Any] = {}
     if classify:
