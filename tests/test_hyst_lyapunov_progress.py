@@ -42,7 +42,7 @@ def test_a_systems_spectrum_with_progress_is_the_spectrum_without(accurate, peri
     done = [d for d, _ in calls]
     assert calls[0] == (0, total) and calls[-1] == (total, total) and all(n == total for _, n in calls)
     assert done == sorted(done)
-    assert sum(0 < d < 40 for d in done) >= 10  # the transient in pieces, each reported
+    assert len({d for d in done if 0 < d < 40}) >= 5  # the transient in pieces, each reported
 
 
 def test_the_recorded_periods_are_counted_while_the_kernel_runs(monkeypatch):
