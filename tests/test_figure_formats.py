@@ -32,8 +32,15 @@ def _files(r) -> list[Path]:
     return [Path(f) for f in json.loads(r.stdout)["files"]]
 
 
-def test_simulate_saves_every_format_at_the_resolution_asked_for(tmp_path):
-    base = _files(_run("simulate", "--omega", "0.8", *SHORT, "--json", "--out", str(tmp_path / "a")))
+@pytest.fixture(scope="module")
+def simulated(tmp_path_factory):
+    """(directory, files) of one ``simulate --out`` at the default format and resolution."""
+    d = tmp_path_factory.mktemp("simulate")
+    return d, _files(_run("simulate", "--omega", "0.8", *SHORT, "--json", "--out", str(d)))
+
+
+def test_simulate_saves_every_format_at_the_resolution_asked_for(tmp_path, simulated):
+    a, base = simulated
     r = _run("simulate", "--omega", "0.8", *SHORT, "--json", "--out", str(tmp_path / "b"), "--format", "png,PDF, svg",
              "--dpi", "240")
     files = _files(r)
@@ -43,16 +50,15 @@ def test_simulate_saves_every_format_at_the_resolution_asked_for(tmp_path):
     for p in files[1:]:
         assert p.read_bytes().startswith(MAGIC[p.suffix[1:]]), p.name
     for p in (f for f in files if f.suffix == ".png"):
-        big, small = Image.open(p), Image.open(tmp_path / "a" / p.name)
+        big, small = Image.open(p), Image.open(a / p.name)
         assert big.info["dpi"] == pytest.approx((240, 240), abs=0.05)
         assert big.size[0] == pytest.approx(2 * small.size[0], rel=0.02)  # 240 dpi against the default 120 (text
         # and the tight bounding box round to whole pixels at each resolution)
     assert DPI == 120  # the CLI's default (--dpi)
 
 
-def test_plot_modes_and_a_map_take_the_formats(tmp_path):
-    _run("simulate", "--omega", "0.8", *SHORT, "--out", str(tmp_path / "s"))
-    r = _run("plot", str(tmp_path / "s" / "simulate.nc"), "--out", str(tmp_path / "p"), "--format", "svg", "--json")
+def test_plot_modes_and_a_map_take_the_formats(tmp_path, simulated):
+    r = _run("plot", str(simulated[0] / "simulate.nc"), "--out", str(tmp_path / "p"), "--format", "svg", "--json")
     assert {p.suffix for p in _files(r)} == {".svg"} and len(_files(r)) == 5
     r = _run("modes", "--system", BEVEL, "--out", str(tmp_path / "m"), "--format", "pdf", "--json")
     assert [p.name for p in _files(r)] == ["modes.nc", "campbell.pdf"]
@@ -73,9 +79,8 @@ def test_bad_format_or_dpi_refused_before_the_run(tmp_path, args, message):
     assert not any(tmp_path.iterdir())  # nothing computed, nothing written
 
 
-def test_save_figures_in_python_takes_a_list_of_formats(tmp_path):
-    _run("simulate", "--omega", "0.8", *SHORT, "--out", str(tmp_path))
-    ds = read_netcdf(tmp_path / "simulate.nc")
+def test_save_figures_in_python_takes_a_list_of_formats(tmp_path, simulated):
+    ds = read_netcdf(simulated[0] / "simulate.nc")
     paths = save_figures(ds, tmp_path / "py", fmt=["svg", "pdf"], dpi=80)
     assert [p.suffix for p in paths[:2]] == [".svg", ".pdf"] and len(paths) == 10
     assert figure_formats("PNG, .svg,png") == ("png", "svg")

@@ -261,8 +261,9 @@ def test_clearance_element_in_the_arrays_and_boundaries(tmp_path):
 def test_system_map_continued_rows_follow_the_1dof_map_and_its_coexisting_branch():
     """``mode="continue"``: each row continues along x from its left neighbour.  On the torsional pair
     (which reduces exactly to the 1-DOF model) the continued map equals the 1-DOF continued map
-    (accurate mode, to 1e-9), stays on the upper branch of the hysteresis at ξ0 = 0.05 where the
-    fixed-start map drops to the lower one, and each row equals the system's continuation sweep."""
+    (default mode, to 1e-9; the accurate mode is held to the 1-DOF model in tests/test_conformance.py), stays on
+    the upper branch of the hysteresis at ξ0 = 0.05 where the fixed-start map drops to the lower one, and each
+    row equals the system's continuation sweep."""
     from geardyn.analysis.bifurcation import bifurcation
     from geardyn.analysis.maps import parameter_map
     from geardyn.model import GearModel, IntegrationOptions
@@ -272,7 +273,7 @@ def test_system_map_continued_rows_follow_the_1dof_map_and_its_coexisting_branch
 
     s = load_system(TORSIONAL)
     xv, yv = np.linspace(0.5, 0.7, 6), np.array([0.05, 0.08])
-    o = IntegrationOptions(transient=50, periods=8, accurate=True)
+    o = IntegrationOptions(transient=50, periods=8)
     cont = system_map(s, "omega", xv, "mesh.xi0", yv, mode="continue", options=o)
     fixed = system_map(s, "omega", xv, "mesh.xi0", yv[:1], mode="fixed", options=o)
     one = parameter_map(GearModel(), "omega", xv, "xi0", yv, mode="continue", options=o, settle_periods=0)
