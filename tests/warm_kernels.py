@@ -23,6 +23,12 @@ def pair() -> None:
     for kw in ({}, {"phi_k": (0.5,)}, {"kappa": (0.2, 0.1), "phi_k": (0.0, 0.0)}):  # the lanes' three kinds
         integrate_batch([GearModel(omega=x, **kw) for x in w], None, ONE)
     integrate_batch([GearModel()], None, ONE.replace(accurate=True))
+    from geardyn.tooth.excitation import Excitation, excitation_model  # a table evaluated as given
+
+    exc = Excitation(np.array([1.25, 1.2, 0.7, 1.15]) * 3e8, np.array([0, 2, 5, -3]) * 1e-7, 1,
+                     phase=np.array([0.0, 0.3, 0.55, 0.9]))
+    table = excitation_model(GearModel(fp=0.3, D=0.6), exc, b_c=1e-5, evaluation="table", harmonics=3)
+    integrate_batch([table], None, ONE.replace(accurate=True))
 
 
 def systems() -> None:
@@ -35,10 +41,11 @@ def systems() -> None:
 
 
 def hb() -> None:
-    from geardyn.analysis.hb import hb_solve
+    from geardyn.analysis.hb import hb_continuation, hb_solve
 
     hb_solve(GearModel(omega=0.8), 8)
     hb_solve(GearModel(omega=0.8), 8, floquet="hill")
+    hb_continuation(GearModel(), "omega", 0.8, 0.81, harmonics=4, max_points=3)
 
 
 GROUPS = {"pair": pair, "systems": systems, "hb": hb}
