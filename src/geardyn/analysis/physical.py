@@ -33,6 +33,7 @@ import numpy as np
 from .._lazy import lazy_module
 from ..io import PHYSICAL_SUFFIX, VARIABLES, Variable, model_from_attrs, physical_long_name
 from ..model import GearModel
+from ..series import series_values
 from ..units import SCALES_ATTR, PhysicalScales, scales_of
 
 xr = lazy_module("xarray")
@@ -79,8 +80,6 @@ def mesh_force(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) 
     ndarray
         The force in units of k0 b_c (multiply by :attr:`PhysicalScales.force_scale_N` for N).
     """
-    from ..series import series_values
-
     tau, u, v = (np.asarray(x, dtype=float) for x in (tau, u, v))
     th = model.forcing_omega * tau
     if model.evaluation == "table":  # the stiffness the accurate mode evaluates: the table as given

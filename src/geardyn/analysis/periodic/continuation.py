@@ -21,7 +21,8 @@ from .arclength import MAX_BRANCH_POINTS, continue_branch, element_extrema
 from .branch import Bifurcation, Branch
 from .map import PeriodMap
 from .orbit import (
-    GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL, PeriodicOrbit, _minimal_period, _newton, _orbit_from_eval, newton_step_for, shoot,
+    GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL, PeriodicOrbit, _minimal_period, _newton, _orbit_from_eval,
+    newton_step_for, shoot,
 )
 
 __all__ = ["ContinuationResult", "continuation", "switch_at_period_doubling", "DEFAULT_MAX_PERIOD"]
