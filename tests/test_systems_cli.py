@@ -167,6 +167,20 @@ def test_basins_on_a_slice_of_two_coordinates(tmp_path):
     assert s["coordinates"] == [lab[0], lab[0] + "'"] and len(s["labels"]) == 2 and s["attractors"]
 
 
+
+@pytest.mark.parametrize("args, message", [
+    (["simulate", "--system", TORS, "--coords", "foo,bar"], "No such option: --coords"),
+    (["bifurcation", "--system", TORS, "--coords", "x,y", "--param", "omega", "--start", "0.8", "--stop", "0.9"],
+     "No such option: --coords"),
+    (["basins", "--coords", "x,y", "--nu", "2", "--nv", "2"], "coords: --coords picks the state coordinates"),
+])
+def test_coords_is_an_option_of_a_systems_basins_only(args, message):
+    """--coords slices a system's state space for basins: any other command, or the pair's basins, refuses it in
+    one line before computing (it used to be accepted and ignored by every --system command)."""
+    p = run(*args, code=2)
+    lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and message in lines[0], p.stderr
+
 OLD_KINDS = Path(__file__).resolve().parent / "data" / "system_kinds"
 
 

@@ -9,6 +9,7 @@ import typer
 
 from ..errors import ModelError
 from . import render
+from .system_input import CoordsOpt
 from .options import (ENGINE, MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, choice, command, finish, integration,
                       model_group, option, param_option, sweep_range)
 
@@ -237,6 +238,7 @@ def basins(
     nv: Annotated[int, typer.Option("--nv", help="Grid points along v0.")] = 41,
     settle: SettleOpt = 1000,
     chunk_size: Annotated[int, typer.Option("--chunk-size", help="Initial states per chunk.")] = 64,
+    coords: CoordsOpt = None,
 ) -> None:
     """Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it reaches
     (attractors identified by their Poincaré cycles)."""
@@ -256,7 +258,10 @@ def basins(
     if inp.system is not None:  # a slice of two state coordinates (default the reference mesh's δ, δ')
         from .system_input import coordinates
 
-        c = coordinates(model, inp.coords, 2)
+        c = coordinates(model, coords, 2)
+    elif coords is not None:
+        raise ModelError("coords: --coords picks the state coordinates of a --system's slice; the pair's basins are "
+                         "over (u0, v0)")
     ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, coordinates=None if c is None else (c[0], c[1]),
                     options=opts, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
     ds = add_physical(ds, scales)

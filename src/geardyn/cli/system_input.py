@@ -16,7 +16,7 @@ import typer
 
 from ..errors import ModelError
 
-__all__ = ["SYSTEM", "SYSTEM_COMMANDS", "load_cli_system", "coordinates", "mesh_summary"]
+__all__ = ["SYSTEM", "SYSTEM_COMMANDS", "CoordsOpt", "load_cli_system", "coordinates", "mesh_summary"]
 
 SYSTEM_PANEL = "Multi-DOF system"
 SYSTEM = [inspect.Parameter(
@@ -24,13 +24,12 @@ SYSTEM = [inspect.Parameter(
     annotation=Annotated[Optional[Path], typer.Option(
         "--system", rich_help_panel=SYSTEM_PANEL,
         help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis runs "
-             "on it, and the JSON summary adds one entry per mesh under 'meshes'.")]),
-    inspect.Parameter(
-    "coords", inspect.Parameter.KEYWORD_ONLY, default=None,
-    annotation=Annotated[Optional[str], typer.Option(
-        "--coords", rich_help_panel=SYSTEM_PANEL,
-        help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes "
-             "of the basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').")])]
+             "on it, and the JSON summary adds one entry per mesh under 'meshes'.")])]
+#: ``basins --coords``: the two state coordinates of a system's slice.
+CoordsOpt = Annotated[Optional[str], typer.Option(
+    "--coords", rich_help_panel=SYSTEM_PANEL,
+    help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
+         "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').")]
 
 #: Commands that take ``--system``.
 SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins")
