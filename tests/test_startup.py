@@ -198,10 +198,3 @@ def test_other_spellings_are_left_to_typer(text):
 def test_defaults_are_kept_as_typer_keeps_them(annotation, value, direct):
     assert _check(annotation, value) is direct
 
-
-def test_the_warm_up_groups_are_those_the_run_starts():
-    """tests/conftest.py starts every group of tests/warm_kernels.py (and names no other)."""
-    import conftest
-    import warm_kernels
-
-    assert tuple(warm_kernels.GROUPS) == conftest.GROUPS

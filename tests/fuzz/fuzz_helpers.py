@@ -10,6 +10,7 @@ import contextlib
 import io
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -92,14 +93,14 @@ def run_child(args: Sequence[str], timeout: float = 300, **popen) -> tuple[int, 
 
 def interrupt(args: Sequence[str], *, after: float, sig: int = signal.SIGINT, marker: str | None = None,
               timeout: float = 120) -> tuple[int, str, str, float]:
-    """Start a command, signal it once it has run ``after`` seconds (or once ``marker`` appears on its
-    stderr), and return (exit code, stdout, stderr, seconds from the signal to its end)."""
+    """Start a command, signal it once it has run ``after`` seconds (or once the regular expression ``marker``
+    matches its stderr), and return (exit code, stdout, stderr, seconds from the signal to its end)."""
     p = start(args)
     t0 = time.monotonic()
     if marker is not None:  # read the pipe's bytes as they come (the text wrapper's buffer stays empty)
-        fd, raw, want = p.stderr.fileno(), b"", marker.encode()
+        fd, raw, want = p.stderr.fileno(), b"", re.compile(marker.encode())
         os.set_blocking(fd, False)
-        while want not in raw and time.monotonic() - t0 < timeout and p.poll() is None:
+        while not want.search(raw) and time.monotonic() - t0 < timeout and p.poll() is None:
             try:
                 raw += os.read(fd, 1 << 16)
             except BlockingIOError:

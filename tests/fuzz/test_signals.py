@@ -43,12 +43,14 @@ LONG = {
     "bench": ["bench", "--repeats", "100"],
 }
 DEFAULT = ("simulate", "bifurcation")
-#: The start of a command's first progress line: it is signalled once that appears (it is computing then);
-#: a command without one after WARM seconds.
-PROGRESS = {"bifurcation": "points (", "bifurcation-continue-both": "points (", "response": "points (",
-            "map": "points (", "basins": "points (", "lyapunov": "periods (", "continuation": "traced (",
-            "hb": "traced (", "simulate": "periods (", "simulate-accurate": "periods (", "orbit": "periods (",
-            "runup": "blocks (", "bench": "runs ("}
+#: A command's progress line once it has computed something (a count above zero: its kernel is running, not
+#: still loading or compiling): it is signalled then; a command without one after WARM seconds.
+_COUNT = r"(?:[1-9][\d.]*|0\.\d*[1-9][\d.]*)/[\d.]+ "
+PROGRESS = {name: _COUNT + unit for name, unit in {
+    "bifurcation": "points", "bifurcation-continue-both": "points", "response": "points", "map": "points",
+    "basins": "points", "lyapunov": "periods", "continuation": "Δω traced", "hb": "Δω traced",
+    "simulate": "periods", "simulate-accurate": "periods", "orbit": "periods", "runup": "blocks",
+    "bench": "runs"}.items()}
 
 
 def _interrupted(name: str, sig: int) -> None:
