@@ -5,9 +5,7 @@ numba keys a cached function on the source file it is defined in, so a worker co
 changes.  :func:`refresh`, called by a kernel package before it imports its modules, hashes every
 source file of the package and, when the hash differs from the one stamped next to the cache,
 removes the package's cached machine code so that numba compiles it afresh.  An installed copy
-never changes and pays only the hash (a few kilobytes read once per process).  :func:`fast_loads` also makes
-each kernel's cache saves take a file lock (:func:`locked_saves`), so that processes compiling at once cannot
-give two specializations the same cache file.
+never changes and pays only the hash (a few kilobytes read once per process).
 """
 
 from __future__ import annotations
@@ -16,7 +14,7 @@ import hashlib
 import os
 from pathlib import Path
 
-__all__ = ["STAMP", "fast_loads", "locked_saves", "refresh"]
+__all__ = ["STAMP", "fast_loads", "refresh"]
 
 #: Name of the stamp file (in the package's ``__pycache__``) holding the hash of its sources.
 STAMP = "geardyn-sources.sha256"
@@ -100,41 +98,3 @@ def fast_loads(*workers: object) -> None:
 
         load_overload.fast = True  # type: ignore[attr-defined]
         cache.load_overload = load_overload
-        locked_saves(getattr(cache, "_cache_file", None))
-
-
-def locked_saves(cache_file: object) -> None:
-    """Make a numba cache file's ``save`` hold an exclusive lock on ``<index>.lock`` (POSIX ``flock``).
-
-    numba's ``save`` reads the index, takes the first data-file number it does not list and writes both: two
-    processes adding different specializations of one function at once (two sweep workers of a fresh install,
-    test workers) can take the same number, and the index then names a file holding the other's machine code.
-    Under the lock one save completes before the next reads the index.  Where no lock can be taken (no
-    ``fcntl``, a read-only cache) the save runs as numba's own.
-
-    Parameters
-    ----------
-    cache_file : numba.core.caching.IndexDataCacheFile or None
-        A dispatcher's ``_cache._cache_file``; None or one already locked is left alone.
-    """
-    save = getattr(cache_file, "save", None)
-    index = getattr(cache_file, "_index_path", None)
-    if save is None or index is None or getattr(save, "locked", False):
-        return
-
-    def locked(key, data, save=save, lock=str(index) + ".lock"):  # type: ignore[no-untyped-def]
-        try:
-            import fcntl
-
-            fh = open(lock, "a")
-        except (ImportError, OSError):
-            return save(key, data)
-        with fh:
-            fcntl.flock(fh, fcntl.LOCK_EX)
-            try:
-                return save(key, data)
-            finally:
-                fcntl.flock(fh, fcntl.LOCK_UN)
-
-    locked.locked = True  # type: ignore[attr-defined]
-    cache_file.save = locked  # type: ignore[attr-defined]
