@@ -240,6 +240,10 @@ def test_docs_send_no_output_into_the_docs():
     assert [c for _, c in quoted_commands() if re.search(r"--out\s+docs/", c)] == []
 
 
+#: The ``before`` commands already run in a directory.
+_BEFORE_DONE: set = set()
+
+
 @pytest.mark.parametrize("command", list(dict.fromkeys(c for _, c in quoted_commands())))
 def test_quoted_command_runs(command, workdir):
     how = QUOTED[command]
@@ -251,10 +255,6 @@ def test_quoted_command_runs(command, workdir):
             geardyn(shlex.split(before)[1:])
             _BEFORE_DONE.add((workdir, before))
     geardyn(argv(command, how))
-
-
-#: The ``before`` commands already run in a directory.
-_BEFORE_DONE: set = set()
 
 
 # ------------------------------------------------------------------------------------ quoted numbers

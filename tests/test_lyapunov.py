@@ -218,3 +218,16 @@ def test_liouville_long_records():
     ws = np.linspace(0.5, 1.5, 21)
     out = lyapunov_batch([PAPER.replace(omega=w) for w in ws], (0.0, 0.0), IntegrationOptions(transient=300, periods=3000))
     assert np.all(np.abs(out["exponents"].sum(axis=1) + 0.2) < 1e-6)
+
+
+@pytest.mark.parametrize("omega", [1.2, 0.8])  # chaotic, periodic
+def test_a_run_continued_from_its_tangent_basis_is_the_one_run(omega):
+    """``integrate_batch(..., tangent0=)``: a Lyapunov run in two blocks, the second from the state and the
+    orthonormal tangent basis the first ended with, gives the one run's logs and end state, bit for bit."""
+    m = GearModel(omega=omega)
+    o = IntegrationOptions(transient=20, periods=60)
+    one = integrate_batch([m], None, o, lyapunov=True)
+    a = integrate_batch([m], None, o.replace(periods=25), lyapunov=True)
+    b = integrate_batch([m], a.end_state, o.replace(transient=0, periods=35), lyapunov=True, tangent0=a.tangent)
+    np.testing.assert_array_equal(np.concatenate([a.lyapunov_log, b.lyapunov_log], axis=1), one.lyapunov_log)
+    np.testing.assert_array_equal(b.end_state, one.end_state)
