@@ -28,8 +28,12 @@ def run_once(out: str, workers: int, src: Path) -> dict[str, float]:
     env = dict(os.environ, PYTHONPATH=str(src))
     load = os.getloadavg()[0]
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "geardyn.cli", "reproduce", "--out", out, "--workers", str(workers), "--json"],
-                   check=True, stdout=subprocess.DEVNULL, env=env)
+    subprocess.run(
+        [sys.executable, "-m", "geardyn.cli", "reproduce", "--out", out, "--workers", str(workers), "--json"],
+        check=True,
+        stdout=subprocess.DEVNULL,
+        env=env,
+    )
     return {"wall_s": time.perf_counter() - t0, "load_before": load, "load_after": os.getloadavg()[0]}
 
 
@@ -51,8 +55,14 @@ def main() -> None:
         for i in range(args.repeat):
             for name, src in checkouts.items():
                 runs[name].append(run_once(os.path.join(tmp, f"{name}{i}"), args.workers, src))
-        result = {name: {"wall_s": [r["wall_s"] for r in rs], "min_wall_s": min(r["wall_s"] for r in rs),
-                         "load_avg_1min": [r["load_before"] for r in rs]} for name, rs in runs.items()}
+        result = {
+            name: {
+                "wall_s": [r["wall_s"] for r in rs],
+                "min_wall_s": min(r["wall_s"] for r in rs),
+                "load_avg_1min": [r["load_before"] for r in rs],
+            }
+            for name, rs in runs.items()
+        }
         result.update(workers=args.workers, cpus=os.cpu_count())
         print(json.dumps(result, indent=2))
         if args.out:

@@ -45,16 +45,51 @@ def run_tree(cmd: list[str], env: dict | None = None) -> dict:
     out, err = proc.communicate()
     if proc.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} failed: {err.strip()[-400:]}")
-    return {"wall_s": wall, "peak_rss_tree_mb": peak, "load_before": load0, "load_after": os.getloadavg()[0],
-            "stdout": out}
+    return {
+        "wall_s": wall,
+        "peak_rss_tree_mb": peak,
+        "load_before": load0,
+        "load_after": os.getloadavg()[0],
+        "stdout": out,
+    }
 
 
-def map_cmd(num: int, workers: int, out: Path, transient: int = 20, periods: int = 10,
-            processes: bool = False) -> list[str]:
-    return GEARDYN + ["map", "--x", "omega", "--x-start", "0.5", "--x-stop", "0.75", "--x-num", str(num),
-                      "--y", "xi0", "--y-start", "0.05", "--y-stop", "0.3", "--y-num", str(num), "--settle", "0",
-                      "--transient", str(transient), "--periods", str(periods), "--workers", str(workers),
-                      "--out", str(out)] + (["--processes"] if processes else [])
+def map_cmd(
+    num: int, workers: int, out: Path, transient: int = 20, periods: int = 10, processes: bool = False
+) -> list[str]:
+    return (
+        GEARDYN
+        + [
+            "map",
+            "--x",
+            "omega",
+            "--x-start",
+            "0.5",
+            "--x-stop",
+            "0.75",
+            "--x-num",
+            str(num),
+            "--y",
+            "xi0",
+            "--y-start",
+            "0.05",
+            "--y-stop",
+            "0.3",
+            "--y-num",
+            str(num),
+            "--settle",
+            "0",
+            "--transient",
+            str(transient),
+            "--periods",
+            str(periods),
+            "--workers",
+            str(workers),
+            "--out",
+            str(out),
+        ]
+        + (["--processes"] if processes else [])
+    )
 
 
 def lean_cmd(num: int, out: Path) -> list[str]:
@@ -75,16 +110,28 @@ def bench_map(a) -> dict:
     for r in range(a.rounds):
         for which in ("map", "lean"):
             with tempfile.TemporaryDirectory(prefix="geardyn-cmd-") as d:
-                cmd = map_cmd(a.num, a.workers, Path(d), processes=a.processes) if which == "map" \
+                cmd = (
+                    map_cmd(a.num, a.workers, Path(d), processes=a.processes)
+                    if which == "map"
                     else lean_cmd(a.num, Path(d))
+                )
                 m = run_tree(cmd)
             m.pop("stdout")
             rows.append({"round": r, "run": which, **m})
-            print(f"[map {a.num}^2] {which}: {m['wall_s']:.1f} s, {m['peak_rss_tree_mb']:.0f} MB "
-                  f"(load {m['load_before']:.1f})", file=sys.stderr)
+            print(
+                f"[map {a.num}^2] {which}: {m['wall_s']:.1f} s, {m['peak_rss_tree_mb']:.0f} MB "
+                f"(load {m['load_before']:.1f})",
+                file=sys.stderr,
+            )
     best = {w: min(x["wall_s"] for x in rows if x["run"] == w) for w in ("map", "lean")}
-    return {"points": a.num ** 2, "workers": a.workers, "processes": a.processes, "rows": rows, "wall_ratio": best["map"] / best["lean"],
-            "peak_rss_map_mb": max(x["peak_rss_tree_mb"] for x in rows if x["run"] == "map")}
+    return {
+        "points": a.num**2,
+        "workers": a.workers,
+        "processes": a.processes,
+        "rows": rows,
+        "wall_ratio": best["map"] / best["lean"],
+        "peak_rss_map_mb": max(x["peak_rss_tree_mb"] for x in rows if x["run"] == "map"),
+    }
 
 
 def bench_steps(a) -> dict:
@@ -105,13 +152,29 @@ def bench_steps(a) -> dict:
             w1 = json.loads(b.pop("stdout"))
             w1_ns = _w1_ns_per_step(w1)
             m.pop("stdout")
-            rows.append({"round": r, "run": which, "map_ns_per_step": m["wall_s"] / steps * 1e9, "map": m,
-                         "w1_ns_per_step": w1_ns, "w1_load": b["load_before"]})
-            print(f"[steps {a.num}^2] {which}: map {rows[-1]['map_ns_per_step']:.2f} ns/step ({m['wall_s']:.1f} s), "
-                  f"W1 {w1_ns:.2f} ns/step (load {m['load_before']:.1f})", file=sys.stderr)
+            rows.append(
+                {
+                    "round": r,
+                    "run": which,
+                    "map_ns_per_step": m["wall_s"] / steps * 1e9,
+                    "map": m,
+                    "w1_ns_per_step": w1_ns,
+                    "w1_load": b["load_before"],
+                }
+            )
+            print(
+                f"[steps {a.num}^2] {which}: map {rows[-1]['map_ns_per_step']:.2f} ns/step ({m['wall_s']:.1f} s), "
+                f"W1 {w1_ns:.2f} ns/step (load {m['load_before']:.1f})",
+                file=sys.stderr,
+            )
     best_w1 = min(x["w1_ns_per_step"] for x in rows)
-    out = {"points": a.num ** 2, "threads": a.threads, "rk4_steps": steps, "rows": rows,
-           "ratio": min(x["map_ns_per_step"] for x in rows if x["run"] == "map") / best_w1}
+    out = {
+        "points": a.num**2,
+        "threads": a.threads,
+        "rk4_steps": steps,
+        "rows": rows,
+        "ratio": min(x["map_ns_per_step"] for x in rows if x["run"] == "map") / best_w1,
+    }
     if a.before:
         out["ratio_before"] = min(x["map_ns_per_step"] for x in rows if x["run"] == "before") / best_w1
     return out
@@ -122,8 +185,24 @@ def _w1_ns_per_step(js) -> float:
     return float(w["ns_per_step"]) if "ns_per_step" in w else float(w["wall_s"]) / float(w["steps"]) * 1e9
 
 
-W1_BIF = ["bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1.5", "--num", "200",
-          "--transient", "300", "--periods", "200", "--settle", "0", "--json"]
+W1_BIF = [
+    "bifurcation",
+    "--param",
+    "omega",
+    "--start",
+    "0.5",
+    "--stop",
+    "1.5",
+    "--num",
+    "200",
+    "--transient",
+    "300",
+    "--periods",
+    "200",
+    "--settle",
+    "0",
+    "--json",
+]
 
 
 def bench_adaptive(a) -> dict:
@@ -145,15 +224,23 @@ def bench_adaptive(a) -> dict:
             extra = ["--adaptive"] if which == "adaptive" else []
             run_tree(GEARDYN + W1_BIF + extra + ["--out", str(Path(d) / "bif.nc")])
             ds = read_netcdf(Path(d) / "bif.nc")
-            data[which] = (ds["period"].values[0].copy(), ds["poincare_u"].values[0].copy(),
-                           ds["poincare_v"].values[0].copy())
+            data[which] = (
+                ds["period"].values[0].copy(),
+                ds["poincare_u"].values[0].copy(),
+                ds["poincare_v"].values[0].copy(),
+            )
     pf, uf, vf = data["fixed"]
     pa, ua, va = data["adaptive"]
     both = (pf > 0) & (pa > 0)
     diff = float(max(np.max(np.abs(uf[both] - ua[both])), np.max(np.abs(vf[both] - va[both])))) if both.any() else 0.0
     best = {w: min(x["wall_s"] for x in rows if x["run"] == w) for w in ("fixed", "adaptive")}
-    return {"rows": rows, "speedup": best["fixed"] / best["adaptive"], "same_label": float(np.mean(pf == pa)),
-            "periodic_both": int(both.sum()), "max_poincare_diff": diff}
+    return {
+        "rows": rows,
+        "speedup": best["fixed"] / best["adaptive"],
+        "same_label": float(np.mean(pf == pa)),
+        "periodic_both": int(both.sum()),
+        "max_poincare_diff": diff,
+    }
 
 
 def main(argv=None) -> int:
@@ -161,12 +248,19 @@ def main(argv=None) -> int:
     ap.add_argument("what", choices=("map", "steps", "adaptive", "all"))
     ap.add_argument("--num", type=int, help="grid values per axis (map: 1000, steps: 500)")
     ap.add_argument("--workers", type=int, default=2, help="map: --workers of the command (threads; default 2)")
-    ap.add_argument("--processes", action="store_true",
-                    help="map: run the command's workers as local worker processes (--processes)")
+    ap.add_argument(
+        "--processes",
+        action="store_true",
+        help="map: run the command's workers as local worker processes (--processes)",
+    )
     ap.add_argument("--threads", type=int, default=2, help="kernel threads of the steps comparison")
     ap.add_argument("--rounds", type=int, default=2)
-    ap.add_argument("--before", type=Path, help="steps: the src directory of another checkout, whose map runs "
-                                                "alternating with this one's (e.g. a git worktree of an earlier commit)")
+    ap.add_argument(
+        "--before",
+        type=Path,
+        help="steps: the src directory of another checkout, whose map runs "
+        "alternating with this one's (e.g. a git worktree of an earlier commit)",
+    )
     ap.add_argument("--json", type=Path)
     a = ap.parse_args(argv)
     res: dict = {"machine_load_start": list(os.getloadavg())}

@@ -77,6 +77,7 @@ def ref_script(ref_dir: str | None = None) -> Path:
 
 def cpu_busy_fraction(interval: float = 1.0) -> float:
     """Fraction of all CPUs busy over ``interval`` seconds (from /proc/stat); NaN if unavailable."""
+
     def snap():
         with open("/proc/stat") as f:
             v = [int(x) for x in f.readline().split()[1:]]
@@ -119,12 +120,18 @@ def run_c(binary: Path, name: str) -> dict[str, float]:
     """One run of the C reference on one workload: {variant, steps, wall_s, cpu_s, ns_per_step}
     (``cpu_s``: the CPU time of the whole process, its few milliseconds of set-up included)."""
     c0 = _children_cpu()
-    out = subprocess.run([str(binary), name.lower(), C_VARIANT[name], "1", "1"], capture_output=True, text=True,
-                         check=True).stdout
+    out = subprocess.run(
+        [str(binary), name.lower(), C_VARIANT[name], "1", "1"], capture_output=True, text=True, check=True
+    ).stdout
     cpu = _children_cpu() - c0
     m = re.search(r"RESULT (\w+) (\w+) (\d+) (\d+) ([\d.]+) ([\d.]+) ([\d.]+)", out)
-    return {"variant": m.group(2), "steps": int(m.group(4)), "wall_s": float(m.group(5)), "cpu_s": cpu,
-            "ns_per_step": float(m.group(7))}
+    return {
+        "variant": m.group(2),
+        "steps": int(m.group(4)),
+        "wall_s": float(m.group(5)),
+        "cpu_s": cpu,
+        "ns_per_step": float(m.group(7)),
+    }
 
 
 def run_geardyn(name: str, threads: int, width: int | None = None) -> dict[str, float]:
@@ -160,8 +167,9 @@ def run_before(src: Path, name: str) -> dict[str, float]:
     fresh process after an untimed warm-up run: {wall_s, cpu_s}."""
     env = {k: v for k, v in os.environ.items() if k != _lanes.SIMD_ENV}
     env["PYTHONPATH"] = str(src)
-    out = subprocess.run([sys.executable, "-c", _BEFORE, name], capture_output=True, text=True, check=True,
-                         env=env).stdout
+    out = subprocess.run(
+        [sys.executable, "-c", _BEFORE, name], capture_output=True, text=True, check=True, env=env
+    ).stdout
     return json.loads(out.strip().splitlines()[-1])
 
 
@@ -186,9 +194,12 @@ def peers(verbose: bool = True) -> dict[str, dict]:
         s, n, pts = P.pynamicalsys_poincare(ws, 300, 200)
         note(f"pynamicalsys W1: {len(ws)} of 200 ω, {s:.2f} s")
         out.setdefault("pynamicalsys", {})["W1"] = {
-            "measured_s": s, "measured_steps": n, "wall_s": P.extrapolate(s, n, full_w1_steps),
+            "measured_s": s,
+            "measured_steps": n,
+            "wall_s": P.extrapolate(s, n, full_w1_steps),
             "grid": f"every 10th ω of W1 ({len(ws)} ω), full 300 + 200 periods; extrapolated by RK4 steps",
-            "max_poincare_diff_vs_geardyn_periodic": _poincare_check(ws, pts, 300, 200)}
+            "max_poincare_diff_vs_geardyn_periodic": _poincare_check(ws, pts, 300, 200),
+        }
         s, n, _ = P.pynamicalsys_poincare([1.2], 0, 10_000)
         note(f"pynamicalsys W2: {s:.2f} s")
         out["pynamicalsys"]["W2"] = {"measured_s": s, "measured_steps": n, "wall_s": s, "grid": "full workload"}
@@ -196,9 +207,12 @@ def peers(verbose: bool = True) -> dict[str, dict]:
         s, n, lam = P.pynamicalsys_lyapunov(ws, 300, 400)
         note(f"pynamicalsys W3: {len(ws)} of 50 ω, {s:.2f} s")
         out["pynamicalsys"]["W3"] = {
-            "measured_s": s, "measured_steps": n, "wall_s": P.extrapolate(s, n, full_w3_steps),
+            "measured_s": s,
+            "measured_steps": n,
+            "wall_s": P.extrapolate(s, n, full_w3_steps),
             "grid": f"every 10th ω of W3 ({len(ws)} ω), 300 + 400 periods; extrapolated by RK4 steps",
-            "max_abs_l1_plus_l2_plus_2xi0": float(np.max(np.abs(lam.sum(axis=1) + 2 * P.XI0)))}
+            "max_abs_l1_plus_l2_plus_2xi0": float(np.max(np.abs(lam.sum(axis=1) + 2 * P.XI0))),
+        }
     except ImportError:
         note("pynamicalsys not installed: skipped")
 
@@ -207,18 +221,29 @@ def peers(verbose: bool = True) -> dict[str, dict]:
     s, t, pts = P.scipy_poincare(ws, 30, 20)
     note(f"scipy W1: {len(ws)} ω, {s:.2f} s")
     out.setdefault("scipy_rk45", {})["W1"] = {
-        "measured_s": s, "measured_tau": t, "wall_s": P.extrapolate(s, t, tau(w1.omegas, 500)),
+        "measured_s": s,
+        "measured_tau": t,
+        "wall_s": P.extrapolate(s, t, tau(w1.omegas, 500)),
         "grid": f"every 40th ω of W1 ({len(ws)} ω), 30 + 20 periods; extrapolated by integrated time τ",
-        "tolerances": [P.SCIPY_RTOL, P.SCIPY_ATOL]}
+        "tolerances": [P.SCIPY_RTOL, P.SCIPY_ATOL],
+    }
     s, t, _ = P.scipy_poincare([1.2], 0, 200)
     note(f"scipy W2: {s:.2f} s")
-    out["scipy_rk45"]["W2"] = {"measured_s": s, "measured_tau": t, "wall_s": P.extrapolate(s, t, tau([1.2], 10_000)),
-                               "grid": "200 of 10,000 periods; extrapolated by τ"}
+    out["scipy_rk45"]["W2"] = {
+        "measured_s": s,
+        "measured_tau": t,
+        "wall_s": P.extrapolate(s, t, tau([1.2], 10_000)),
+        "grid": "200 of 10,000 periods; extrapolated by τ",
+    }
     ws = np.asarray(w3.omegas)[::25]
     s, t, lam = P.scipy_lyapunov(ws, 10, 20)
     note(f"scipy W3: {len(ws)} ω, {s:.2f} s")
-    out["scipy_rk45"]["W3"] = {"measured_s": s, "measured_tau": t, "wall_s": P.extrapolate(s, t, tau(w3.omegas, 2300)),
-                               "grid": f"every 25th ω of W3 ({len(ws)} ω), 10 + 20 periods; extrapolated by τ"}
+    out["scipy_rk45"]["W3"] = {
+        "measured_s": s,
+        "measured_tau": t,
+        "wall_s": P.extrapolate(s, t, tau(w3.omegas, 2300)),
+        "grid": f"every 25th ω of W3 ({len(ws)} ω), 10 + 20 periods; extrapolated by τ",
+    }
     for impl in out.values():
         for name, r in impl.items():
             r["ns_per_step"] = 1e9 * r["wall_s"] / {"W1": full_w1_steps, "W2": full_w2_steps, "W3": full_w3_steps}[name]
@@ -230,8 +255,9 @@ def _poincare_check(ws, pts, transient, periods) -> float:
     from geardyn.integrate import integrate_batch
     from geardyn.model import GearModel, IntegrationOptions
 
-    res = integrate_batch([GearModel(omega=float(w)) for w in ws],
-                          options=IntegrationOptions(transient=transient, periods=periods))
+    res = integrate_batch(
+        [GearModel(omega=float(w)) for w in ws], options=IntegrationOptions(transient=transient, periods=periods)
+    )
     diffs = []
     for i, p in enumerate(pts):
         q = res.poincare[i]
@@ -242,32 +268,57 @@ def _poincare_check(ws, pts, transient, periods) -> float:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--rounds", type=int, default=15,
-                    help="rounds; each runs every workload once with every implementation (default 15)")
+    ap.add_argument(
+        "--rounds",
+        type=int,
+        default=15,
+        help="rounds; each runs every workload once with every implementation (default 15)",
+    )
     ap.add_argument("--no-peers", action="store_true", help="skip pynamicalsys and SciPy")
-    ap.add_argument("--wait-idle", type=float, default=0.0, metavar="SECONDS",
-                    help="before each round, wait up to this long for the CPUs to be idle")
+    ap.add_argument(
+        "--wait-idle",
+        type=float,
+        default=0.0,
+        metavar="SECONDS",
+        help="before each round, wait up to this long for the CPUs to be idle",
+    )
     ap.add_argument("--json", type=Path, help="write all numbers to this file")
-    ap.add_argument("--widths", default="",
-                    help="comma-separated SIMD widths (256, 0) also timed on one thread on W1 and W3 "
-                         "(default: none; 0 = the compiler-vectorised lanes)")
-    ap.add_argument("--ref-dir", help="directory of the C reference's run-ref.sh (default: shared/bench "
-                                      "beside the checkout, or GEARDYN_CREF_DIR)")
-    ap.add_argument("--before", type=Path, metavar="SRC",
-                    help="the src directory of an earlier checkout: its W1 and W3 on one thread are timed in the "
-                         "same rounds (geardyn bench in a fresh process)")
-    ap.add_argument("--cpu-time", action="store_true",
-                    help="compare the one-thread runs by CPU time (geardyn: the process's; C: the child "
-                         "process's) instead of wall time, for a loaded machine; two threads stay wall time")
+    ap.add_argument(
+        "--widths",
+        default="",
+        help="comma-separated SIMD widths (256, 0) also timed on one thread on W1 and W3 "
+        "(default: none; 0 = the compiler-vectorised lanes)",
+    )
+    ap.add_argument(
+        "--ref-dir",
+        help="directory of the C reference's run-ref.sh (default: shared/bench "
+        "beside the checkout, or GEARDYN_CREF_DIR)",
+    )
+    ap.add_argument(
+        "--before",
+        type=Path,
+        metavar="SRC",
+        help="the src directory of an earlier checkout: its W1 and W3 on one thread are timed in the "
+        "same rounds (geardyn bench in a fresh process)",
+    )
+    ap.add_argument(
+        "--cpu-time",
+        action="store_true",
+        help="compare the one-thread runs by CPU time (geardyn: the process's; C: the child "
+        "process's) instead of wall time, for a loaded machine; two threads stay wall time",
+    )
     a = ap.parse_args(argv)
     one = "cpu_s" if a.cpu_time else "wall_s"
     widths = [int(w) for w in a.widths.split(",") if w.strip()]
 
     info = B.machine_info()
     info["simd_width_native"] = _lanes.native_simd_width()
-    print(f"machine: {info['cpu']}, {info['cores']} cores, LLVM target {info['llvm_cpu']}; "
-          f"python {info['python']}, numpy {info['numpy']}, numba {info['numba']}; "
-          f"lanes: {info['simd_width_native']}-bit SIMD", file=sys.stderr)
+    print(
+        f"machine: {info['cpu']}, {info['cores']} cores, LLVM target {info['llvm_cpu']}; "
+        f"python {info['python']}, numpy {info['numpy']}, numba {info['numba']}; "
+        f"lanes: {info['simd_width_native']}-bit SIMD",
+        file=sys.stderr,
+    )
     t0 = time.perf_counter()
     binary = build_c_reference(ref_script(a.ref_dir))
     if binary is None:
@@ -285,8 +336,12 @@ def main(argv=None) -> int:
     if a.before:
         for n in LANE_WORKLOADS:
             run_before(a.before, n)  # compile or load the earlier checkout's kernel
-    impls = ((["c"] if binary else []) + ["geardyn_1", "geardyn_2"] + [f"geardyn_1_w{w}" for w in widths]
-             + (["before_1"] if a.before else []))
+    impls = (
+        (["c"] if binary else [])
+        + ["geardyn_1", "geardyn_2"]
+        + [f"geardyn_1_w{w}" for w in widths]
+        + (["before_1"] if a.before else [])
+    )
     runs: dict[str, dict[str, list[float]]] = {k: {n: [] for n in ("W1", "W2", "W3")} for k in impls}
     busy = []
     loads = []
@@ -307,9 +362,18 @@ def main(argv=None) -> int:
                     runs[f"geardyn_1_w{w}"][n].append(run_geardyn(n, 1, w)[one])
                 if a.before:
                     runs["before_1"][n].append(run_before(a.before, n)[one])
-        print(f"round {r + 1}/{a.rounds} (busy {busy[-1]:.0%}, load {loads[-1]:.2f}): " + " ".join(
-            f"{k} {n} {1e9 * runs[k][n][-1] / B.workload(n).steps:.2f}" for k in impls for n in ("W1", "W2", "W3")
-            if runs[k][n]) + " ns/step", file=sys.stderr, flush=True)
+        print(
+            f"round {r + 1}/{a.rounds} (busy {busy[-1]:.0%}, load {loads[-1]:.2f}): "
+            + " ".join(
+                f"{k} {n} {1e9 * runs[k][n][-1] / B.workload(n).steps:.2f}"
+                for k in impls
+                for n in ("W1", "W2", "W3")
+                if runs[k][n]
+            )
+            + " ns/step",
+            file=sys.stderr,
+            flush=True,
+        )
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     best = {k: {n: min(v) for n, v in runs[k].items() if v} for k in impls}
     have_c = binary is not None
@@ -320,13 +384,27 @@ def main(argv=None) -> int:
     # ---------------------------------------------------------------- report
     if a.cpu_time:
         print("one-thread columns and ratios: CPU time; two threads and the speed-up: wall time")
-    lines = ["| workload | C reference (1 thread) | geardyn 1 thread | ratio to C (target) | geardyn 2 threads | "
-             "2-thread speed-up | pynamicalsys | SciPy RK45 |", "|---|---|---|---|---|---|---|---|"]
-    summary = {"machine": info, "runs_wall_s": runs, "geardyn_1_wall_s": wall_1, "cpu_busy_before_round": busy,
-               "load_average_1min": loads,
-               "simd_widths_forced": widths, "one_thread_time": one, "best_wall_s": best,
-               "steps": steps, "peak_rss_mb": rss_mb, "peers": peer, "ratios": {}, "rounds": a.rounds,
-               "load_average_end": list(os.getloadavg())}
+    lines = [
+        "| workload | C reference (1 thread) | geardyn 1 thread | ratio to C (target) | geardyn 2 threads | "
+        "2-thread speed-up | pynamicalsys | SciPy RK45 |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    summary = {
+        "machine": info,
+        "runs_wall_s": runs,
+        "geardyn_1_wall_s": wall_1,
+        "cpu_busy_before_round": busy,
+        "load_average_1min": loads,
+        "simd_widths_forced": widths,
+        "one_thread_time": one,
+        "best_wall_s": best,
+        "steps": steps,
+        "peak_rss_mb": rss_mb,
+        "peers": peer,
+        "ratios": {},
+        "rounds": a.rounds,
+        "load_average_end": list(os.getloadavg()),
+    }
     for n in ("W1", "W2", "W3"):
         g1 = best["geardyn_1"][n]
         g2 = best["geardyn_2"].get(n)
@@ -336,29 +414,43 @@ def main(argv=None) -> int:
         sp = min(wall_1[n]) / g2 if g2 else None
         pn = peer.get("pynamicalsys", {}).get(n)
         sc = peer.get("scipy_rk45", {}).get(n)
-        med = (float(np.median(np.array(runs["geardyn_1"][n]) / np.array(runs["c"][n]))) if c else None)
+        med = float(np.median(np.array(runs["geardyn_1"][n]) / np.array(runs["c"][n]))) if c else None
         med_sp = float(np.median(np.array(wall_1[n]) / np.array(runs["geardyn_2"][n]))) if g2 else None
-        summary["ratios"][n] = {"geardyn_over_c": ratio, "median_round_ratio": med, "c_variant": C_VARIANT[n],
-                                "speedup_2_threads": sp, "median_round_speedup": med_sp,
-                                "pynamicalsys_over_geardyn": pn["wall_s"] / g1 if pn else None,
-                                "scipy_over_geardyn": sc["wall_s"] / g1 if sc else None}
+        summary["ratios"][n] = {
+            "geardyn_over_c": ratio,
+            "median_round_ratio": med,
+            "c_variant": C_VARIANT[n],
+            "speedup_2_threads": sp,
+            "median_round_speedup": med_sp,
+            "pynamicalsys_over_geardyn": pn["wall_s"] / g1 if pn else None,
+            "scipy_over_geardyn": sc["wall_s"] / g1 if sc else None,
+        }
         cell = lambda t: f"{t:.3f} s ({ns(t):.2f} ns/step)"  # noqa: E731
-        lines.append(" | ".join([
-            f"| {n}",
-            f"{cell(c)} {C_VARIANT[n]}" if c else "n/a (no gcc)",
-            cell(g1),
-            f"{ratio:.2f}x, median {med:.2f}x (<= {TARGETS[n]}x)" if ratio else "n/a",
-            cell(g2) if g2 else "(one point)",
-            f"{sp:.2f}x, median {med_sp:.2f}x" if sp else "-",
-            f"{pn['wall_s']:.1f} s = {pn['wall_s'] / g1:.0f}x slower" if pn else "-",
-            f"{sc['wall_s']:.0f} s = {sc['wall_s'] / g1:.0f}x slower" if sc else "-",
-        ]) + " |")
+        lines.append(
+            " | ".join(
+                [
+                    f"| {n}",
+                    f"{cell(c)} {C_VARIANT[n]}" if c else "n/a (no gcc)",
+                    cell(g1),
+                    f"{ratio:.2f}x, median {med:.2f}x (<= {TARGETS[n]}x)" if ratio else "n/a",
+                    cell(g2) if g2 else "(one point)",
+                    f"{sp:.2f}x, median {med_sp:.2f}x" if sp else "-",
+                    f"{pn['wall_s']:.1f} s = {pn['wall_s'] / g1:.0f}x slower" if pn else "-",
+                    f"{sc['wall_s']:.0f} s = {sc['wall_s'] / g1:.0f}x slower" if sc else "-",
+                ]
+            )
+            + " |"
+        )
     others = [f"geardyn_1_w{w}" for w in widths] + (["before_1"] if a.before else [])
     if others:
-        heads = [f"width {w} (ratio to native; to C)" for w in widths] + (["earlier checkout (ratio to native; to C)"]
-                                                                          if a.before else [])
-        lines += ["", "| workload | geardyn 1 thread, native width | " + " | ".join(heads) + " |",
-                  "|---|---|" + "---|" * len(heads)]
+        heads = [f"width {w} (ratio to native; to C)" for w in widths] + (
+            ["earlier checkout (ratio to native; to C)"] if a.before else []
+        )
+        lines += [
+            "",
+            "| workload | geardyn 1 thread, native width | " + " | ".join(heads) + " |",
+            "|---|---|" + "---|" * len(heads),
+        ]
         for n in LANE_WORKLOADS:
             g1 = best["geardyn_1"][n]
             c = best["c"][n] if have_c else None

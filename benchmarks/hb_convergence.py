@@ -47,10 +47,18 @@ def main() -> None:
         t_ref = time.perf_counter() - t0
         ref_ev = [(b.type, b.value) for b in ref.bifurcations]
         ref_amp = {w: shoot(m.replace(omega=w), 1, dtau=DTAU_REF, accurate=True).amplitude for w in OMEGA_AMP}
-        print(f"\n## {name}  (shooting reference: {t_ref:.1f} s; events "
-              + ", ".join(f"{t} {v:.8f}" for t, v in ref_ev) + ")\n")
-        print("| H | N | " + " | ".join(f"{t} ω err" for t, _ in ref_ev)
-              + " | " + " | ".join(f"amp err ω={w}" for w in OMEGA_AMP) + " | HB time (s) |")
+        print(
+            f"\n## {name}  (shooting reference: {t_ref:.1f} s; events "
+            + ", ".join(f"{t} {v:.8f}" for t, v in ref_ev)
+            + ")\n"
+        )
+        print(
+            "| H | N | "
+            + " | ".join(f"{t} ω err" for t, _ in ref_ev)
+            + " | "
+            + " | ".join(f"amp err ω={w}" for w in OMEGA_AMP)
+            + " | HB time (s) |"
+        )
         print("|---" * (3 + len(ref_ev) + len(OMEGA_AMP)) + "|")
         for H in Hs:
             t0 = time.perf_counter()
@@ -64,8 +72,14 @@ def main() -> None:
             for w in OMEGA_AMP:
                 s = hb_solve(m.replace(omega=w), H, stability=False)
                 amps.append(abs(s.amplitude - ref_amp[w]))
-            print(f"| {H} | {r.samples} | " + " | ".join(f"{e:.1e}" for e in errs) + " | "
-                  + " | ".join(f"{e:.1e}" for e in amps) + f" | {t_hb:.1f} |", flush=True)
+            print(
+                f"| {H} | {r.samples} | "
+                + " | ".join(f"{e:.1e}" for e in errs)
+                + " | "
+                + " | ".join(f"{e:.1e}" for e in amps)
+                + f" | {t_hb:.1f} |",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

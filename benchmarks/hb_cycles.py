@@ -70,41 +70,82 @@ def main() -> None:
             g, tg, cg = timed(lambda: guess_from_simulation(m, H))
             s, tn, cn = timed(lambda: hb_solve(m, harmonics=H, guess=g, stability=False))
             st, tt, ct = timed(lambda: hb_solve(m, harmonics=H, guess=s.coefficients))
-            points.append({"omega": w, "method": "hb", "harmonics": H, "status": int(st.status),
-                           "state_error": float(np.max(np.abs(st.state() - ref.state))),
-                           "amplitude_error": float(abs(st.amplitude - amp_ref)),
-                           "multiplier_error": float(np.max(np.abs(np.sort_complex(st.multipliers) - mu_ref))),
-                           "guess_s": tg, "newton_s": tn, "newton_cpu_s": cn, "with_multipliers_s": tt,
-                           "u_min": st.u_min, "D": m.D})
+            points.append(
+                {
+                    "omega": w,
+                    "method": "hb",
+                    "harmonics": H,
+                    "status": int(st.status),
+                    "state_error": float(np.max(np.abs(st.state() - ref.state))),
+                    "amplitude_error": float(abs(st.amplitude - amp_ref)),
+                    "multiplier_error": float(np.max(np.abs(np.sort_complex(st.multipliers) - mu_ref))),
+                    "guess_s": tg,
+                    "newton_s": tn,
+                    "newton_cpu_s": cn,
+                    "with_multipliers_s": tt,
+                    "u_min": st.u_min,
+                    "D": m.D,
+                }
+            )
         for dt in (0.02, 0.005):
             o, t1, c1 = timed(lambda: shoot(m, 1, dtau=dt, accurate=True, guess=ref.state))
             o2, t2, c2 = timed(lambda: shoot(m, 1, dtau=dt, accurate=True))
-            points.append({"omega": w, "method": "shooting", "dtau": dt,
-                           "state_error": float(np.max(np.abs(o.state - ref.state))),
-                           "multiplier_error": float(np.max(np.abs(np.sort_complex(np.linalg.eigvals(o.monodromy))
-                                                                   - mu_ref))),
-                           "from_hb_state_s": t1, "from_simulation_s": t2, "from_simulation_cpu_s": c2})
+            points.append(
+                {
+                    "omega": w,
+                    "method": "shooting",
+                    "dtau": dt,
+                    "state_error": float(np.max(np.abs(o.state - ref.state))),
+                    "multiplier_error": float(np.max(np.abs(np.sort_complex(np.linalg.eigvals(o.monodromy)) - mu_ref))),
+                    "from_hb_state_s": t1,
+                    "from_simulation_s": t2,
+                    "from_simulation_cpu_s": c2,
+                }
+            )
     r, th, ch = timed(lambda: hb_continuation(m0, "omega", 0.9, 0.96))
     sr, ts, cs = timed(lambda: continuation(m0, "omega", 0.9, 0.96, 1, dtau=0.02, switch=False))
-    cont = {"hb": {"harmonics": r.harmonics, "points": int(r.values.size), "wall_s": th, "cpu_s": ch,
-                   "events": [(b.type, b.value) for b in r.bifurcations], "end": r.end},
-            "shooting": {"dtau": 0.02, "points": sum(len(b) for b in sr.branches), "wall_s": ts, "cpu_s": cs,
-                         "events": [(b.type, b.value) for b in sr.bifurcations]}}
-    res = {"case": "20/40 spur pair, 50 % crack on pinion tooth 0, P = 20, 64 harmonics of ω/20",
-           "points": points, "continuation": cont, "load_before": load0, "load_after": os.getloadavg(),
-           "machine": platform.processor() or platform.machine(), "python": platform.python_version()}
+    cont = {
+        "hb": {
+            "harmonics": r.harmonics,
+            "points": int(r.values.size),
+            "wall_s": th,
+            "cpu_s": ch,
+            "events": [(b.type, b.value) for b in r.bifurcations],
+            "end": r.end,
+        },
+        "shooting": {
+            "dtau": 0.02,
+            "points": sum(len(b) for b in sr.branches),
+            "wall_s": ts,
+            "cpu_s": cs,
+            "events": [(b.type, b.value) for b in sr.bifurcations],
+        },
+    }
+    res = {
+        "case": "20/40 spur pair, 50 % crack on pinion tooth 0, P = 20, 64 harmonics of ω/20",
+        "points": points,
+        "continuation": cont,
+        "load_before": load0,
+        "load_after": os.getloadavg(),
+        "machine": platform.processor() or platform.machine(),
+        "python": platform.python_version(),
+    }
     OUT.parent.mkdir(exist_ok=True)
     OUT.write_text(json.dumps(res, indent=1))
     print("| ω | method | H / Δτ | state error | amplitude error | multiplier error | time (s) |")
     print("|---|---|---|---|---|---|---|")
     for p in points:
         if p["method"] == "hb":
-            print(f"| {p['omega']} | HB | {p['harmonics']} | {p['state_error']:.1e} | {p['amplitude_error']:.1e} | "
-                  f"{p['multiplier_error']:.1e} | guess {p['guess_s']:.2f} + Newton {p['newton_s']:.2f}; with "
-                  f"multipliers {p['with_multipliers_s']:.2f} |")
+            print(
+                f"| {p['omega']} | HB | {p['harmonics']} | {p['state_error']:.1e} | {p['amplitude_error']:.1e} | "
+                f"{p['multiplier_error']:.1e} | guess {p['guess_s']:.2f} + Newton {p['newton_s']:.2f}; with "
+                f"multipliers {p['with_multipliers_s']:.2f} |"
+            )
         else:
-            print(f"| {p['omega']} | shooting | {p['dtau']} | {p['state_error']:.1e} | — | {p['multiplier_error']:.1e} "
-                  f"| {p['from_hb_state_s']:.2f} from HB's state, {p['from_simulation_s']:.2f} from simulation |")
+            print(
+                f"| {p['omega']} | shooting | {p['dtau']} | {p['state_error']:.1e} | — | {p['multiplier_error']:.1e} "
+                f"| {p['from_hb_state_s']:.2f} from HB's state, {p['from_simulation_s']:.2f} from simulation |"
+            )
     for k, v in cont.items():
         print(f"{k}: {v}")
     print(f"load average before {load0}, after {os.getloadavg()}")

@@ -40,13 +40,24 @@ from geardyn.model import GearModel  # noqa: E402
 MODEL = GearModel(xi0=0.08)
 LO, HI = 0.3, 1.0
 FOLD_ACCURACY = 1e-3
-HB_SETTINGS = [dict(harmonics=16, ds_max=0.02), dict(harmonics=16, ds_max=0.05), dict(harmonics=12, ds_max=0.05),
-               dict(harmonics=10, ds_max=0.05), dict(harmonics=8, ds_max=0.05), dict(harmonics=8, ds_max=0.1),
-               dict(harmonics=6, ds_max=0.1), dict(harmonics=8, ds_max=0.1, floquet="hill"),
-               dict(harmonics=16, ds_max=0.02, floquet="hill")]
-SHOOTING_SETTINGS = [dict(accurate=False, dtau=0.01), dict(accurate=False, dtau=0.02, ds_max=0.05),
-                     dict(accurate=False, dtau=0.02, ds_max=0.1), dict(accurate=False, dtau=0.05, ds_max=0.05),
-                     dict(accurate=True, dtau=0.02, ds_max=0.05)]
+HB_SETTINGS = [
+    dict(harmonics=16, ds_max=0.02),
+    dict(harmonics=16, ds_max=0.05),
+    dict(harmonics=12, ds_max=0.05),
+    dict(harmonics=10, ds_max=0.05),
+    dict(harmonics=8, ds_max=0.05),
+    dict(harmonics=8, ds_max=0.1),
+    dict(harmonics=6, ds_max=0.1),
+    dict(harmonics=8, ds_max=0.1, floquet="hill"),
+    dict(harmonics=16, ds_max=0.02, floquet="hill"),
+]
+SHOOTING_SETTINGS = [
+    dict(accurate=False, dtau=0.01),
+    dict(accurate=False, dtau=0.02, ds_max=0.05),
+    dict(accurate=False, dtau=0.02, ds_max=0.1),
+    dict(accurate=False, dtau=0.05, ds_max=0.05),
+    dict(accurate=True, dtau=0.02, ds_max=0.05),
+]
 
 
 def _hb(kw):
@@ -100,33 +111,64 @@ def main() -> None:
     for i, (method, kw, _fn) in enumerate(runs):
         ev, pts = found[i]
         err = _errors(ev, ref)
-        rows.append({"method": method, "settings": kw, "seconds": best[i], "cpu_seconds": best_cpu[i],
-                     "points": pts, "errors": err, "events": ev, "meets": max(err.values()) <= FOLD_ACCURACY})
-    print(f"reference (shooting, accurate, Δτ = 0.001, {t_ref:.1f} s): "
-          + ", ".join(f"{t} {v:.8f}" for t, v in ref))
-    print("\n| method | settings | points | wall (s), min of "
-          f"{args.repeats} | CPU (s), min | fold error | grazing error | period-doubling error |")
+        rows.append(
+            {
+                "method": method,
+                "settings": kw,
+                "seconds": best[i],
+                "cpu_seconds": best_cpu[i],
+                "points": pts,
+                "errors": err,
+                "events": ev,
+                "meets": max(err.values()) <= FOLD_ACCURACY,
+            }
+        )
+    print(f"reference (shooting, accurate, Δτ = 0.001, {t_ref:.1f} s): " + ", ".join(f"{t} {v:.8f}" for t, v in ref))
+    print(
+        "\n| method | settings | points | wall (s), min of "
+        f"{args.repeats} | CPU (s), min | fold error | grazing error | period-doubling error |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for r in rows:
         s = ", ".join(f"{k} = {v}" for k, v in r["settings"].items())
         e = r["errors"]
-        print(f"| {r['method']} | {s} | {r['points']} | {r['seconds']:.2f} | {r['cpu_seconds']:.2f} | "
-              f"{e['fold']:.1e} | {e['grazing']:.1e} | {e['period-doubling']:.1e} |")
-    fast = {m: min((r for r in rows if r["method"] == m and r["meets"]), key=lambda r: r["seconds"], default=None)
-            for m in ("HB", "shooting")}
+        print(
+            f"| {r['method']} | {s} | {r['points']} | {r['seconds']:.2f} | {r['cpu_seconds']:.2f} | "
+            f"{e['fold']:.1e} | {e['grazing']:.1e} | {e['period-doubling']:.1e} |"
+        )
+    fast = {
+        m: min((r for r in rows if r["method"] == m and r["meets"]), key=lambda r: r["seconds"], default=None)
+        for m in ("HB", "shooting")
+    }
     if fast["HB"] and fast["shooting"]:
         ratio = fast["HB"]["seconds"] / fast["shooting"]["seconds"]
-        print(f"\nfastest with every event within {FOLD_ACCURACY:g}: HB {fast['HB']['seconds']:.2f} s "
-              f"({fast['HB']['settings']}), shooting {fast['shooting']['seconds']:.2f} s "
-              f"({fast['shooting']['settings']}); HB/shooting = {ratio:.2f} (goal <= 0.5); in CPU time "
-              f"{fast['HB']['cpu_seconds']:.2f} s against {fast['shooting']['cpu_seconds']:.2f} s, "
-              f"{fast['HB']['cpu_seconds'] / fast['shooting']['cpu_seconds']:.2f}")
-    print(f"load average before {load0[0]:.2f} {load0[1]:.2f} {load0[2]:.2f}, after {load1[0]:.2f} {load1[1]:.2f} "
-          f"{load1[2]:.2f} ({os.cpu_count()} cores, {platform.processor() or platform.machine()})")
+        print(
+            f"\nfastest with every event within {FOLD_ACCURACY:g}: HB {fast['HB']['seconds']:.2f} s "
+            f"({fast['HB']['settings']}), shooting {fast['shooting']['seconds']:.2f} s "
+            f"({fast['shooting']['settings']}); HB/shooting = {ratio:.2f} (goal <= 0.5); in CPU time "
+            f"{fast['HB']['cpu_seconds']:.2f} s against {fast['shooting']['cpu_seconds']:.2f} s, "
+            f"{fast['HB']['cpu_seconds'] / fast['shooting']['cpu_seconds']:.2f}"
+        )
+    print(
+        f"load average before {load0[0]:.2f} {load0[1]:.2f} {load0[2]:.2f}, after {load1[0]:.2f} {load1[1]:.2f} "
+        f"{load1[2]:.2f} ({os.cpu_count()} cores, {platform.processor() or platform.machine()})"
+    )
     out = Path(__file__).with_name("results") / "hb_vs_shooting.json"
     out.parent.mkdir(exist_ok=True)
-    out.write_text(json.dumps({"reference": ref, "reference_seconds": t_ref, "rows": rows, "load_before": load0,
-                               "load_after": load1, "repeats": args.repeats}, indent=1, default=str))
+    out.write_text(
+        json.dumps(
+            {
+                "reference": ref,
+                "reference_seconds": t_ref,
+                "rows": rows,
+                "load_before": load0,
+                "load_after": load1,
+                "repeats": args.repeats,
+            },
+            indent=1,
+            default=str,
+        )
+    )
     print(f"wrote {out}")
 
 

@@ -89,8 +89,15 @@ def lean(num: int, transient: int, periods: int, out: Path, chunk: int = 8192) -
             f.write(np.ascontiguousarray(cols).tobytes())
     wall = time.perf_counter() - t0
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-    return {"wall_s": wall, "peak_rss_tree_mb": rss, "peak_rss_single_process_mb": rss, "processes": 1,
-            "output_bytes": {path.name: path.stat().st_size}, "columns": list(FIELDS), "chunk_points": chunk}
+    return {
+        "wall_s": wall,
+        "peak_rss_tree_mb": rss,
+        "peak_rss_single_process_mb": rss,
+        "processes": 1,
+        "output_bytes": {path.name: path.stat().st_size},
+        "columns": list(FIELDS),
+        "chunk_points": chunk,
+    }
 
 
 def main(argv=None) -> int:
@@ -101,9 +108,12 @@ def main(argv=None) -> int:
     ap.add_argument("--periods", type=int, default=10)
     ap.add_argument("--out", type=Path, help="output directory (default: a temporary one, removed)")
     ap.add_argument("--json", type=Path, help="write the measurements to this file")
-    ap.add_argument("--engine", choices=("map", "lean"), default="map",
-                    help="map: the geardyn map command (sweep engine); "
-                         "lean: integrate_batch in chunks in this process")
+    ap.add_argument(
+        "--engine",
+        choices=("map", "lean"),
+        default="map",
+        help="map: the geardyn map command (sweep engine); lean: integrate_batch in chunks in this process",
+    )
     ap.add_argument("--processes", action="store_true", help="map: run the workers as local worker processes")
     a = ap.parse_args(argv)
 
@@ -111,20 +121,57 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     if a.engine == "lean":
         res = lean(a.num, a.transient, a.periods, out)
-        res.update(points=a.num * a.num, engine="lean", transient=a.transient, periods=a.periods,
-                   limit_mb=LIMIT_MB, under_limit=res["peak_rss_tree_mb"] < LIMIT_MB, load_average=list(os.getloadavg()))
-        print(f"lean: {a.num}x{a.num} = {a.num * a.num:,} points: {res['wall_s']:.0f} s, peak RSS "
-              f"{res['peak_rss_tree_mb']:.0f} MB (limit {LIMIT_MB:.0f} MB); "
-              f"{res['output_bytes']['map.f64'] / 1e6:.1f} MB written")
+        res.update(
+            points=a.num * a.num,
+            engine="lean",
+            transient=a.transient,
+            periods=a.periods,
+            limit_mb=LIMIT_MB,
+            under_limit=res["peak_rss_tree_mb"] < LIMIT_MB,
+            load_average=list(os.getloadavg()),
+        )
+        print(
+            f"lean: {a.num}x{a.num} = {a.num * a.num:,} points: {res['wall_s']:.0f} s, peak RSS "
+            f"{res['peak_rss_tree_mb']:.0f} MB (limit {LIMIT_MB:.0f} MB); "
+            f"{res['output_bytes']['map.f64'] / 1e6:.1f} MB written"
+        )
         if a.json:
             a.json.write_text(json.dumps(res, indent=2) + "\n")
         if a.out is None:
             shutil.rmtree(out, ignore_errors=True)
         return 0 if res["under_limit"] else 1
-    cmd = [sys.executable, "-m", "geardyn.cli", "map", "--x", "omega", "--x-start", "0.5", "--x-stop", "0.75", "--x-num", str(a.num),
-           "--y", "xi0", "--y-start", "0.05", "--y-stop", "0.3", "--y-num", str(a.num), "--settle", "0",
-           "--transient", str(a.transient), "--periods", str(a.periods), "--workers", str(a.workers),
-           "--out", str(out)] + (["--processes"] if a.processes else [])
+    cmd = [
+        sys.executable,
+        "-m",
+        "geardyn.cli",
+        "map",
+        "--x",
+        "omega",
+        "--x-start",
+        "0.5",
+        "--x-stop",
+        "0.75",
+        "--x-num",
+        str(a.num),
+        "--y",
+        "xi0",
+        "--y-start",
+        "0.05",
+        "--y-stop",
+        "0.3",
+        "--y-num",
+        str(a.num),
+        "--settle",
+        "0",
+        "--transient",
+        str(a.transient),
+        "--periods",
+        str(a.periods),
+        "--workers",
+        str(a.workers),
+        "--out",
+        str(out),
+    ] + (["--processes"] if a.processes else [])
     print(" ".join(cmd), file=sys.stderr)
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
@@ -144,15 +191,26 @@ def main(argv=None) -> int:
         return proc.returncode
     files = {p.name: p.stat().st_size for p in out.iterdir() if p.is_file()}
     res = {
-        "engine": "map", "points": a.num * a.num, "workers": a.workers, "worker_processes": a.processes,
-        "transient": a.transient, "periods": a.periods,
-        "wall_s": wall, "peak_rss_tree_mb": peak_total, "peak_rss_single_process_mb": peak_single,
-        "processes": peak_procs, "limit_mb": LIMIT_MB, "under_limit": peak_total < LIMIT_MB,
-        "output_bytes": files, "load_average": list(os.getloadavg()),
+        "engine": "map",
+        "points": a.num * a.num,
+        "workers": a.workers,
+        "worker_processes": a.processes,
+        "transient": a.transient,
+        "periods": a.periods,
+        "wall_s": wall,
+        "peak_rss_tree_mb": peak_total,
+        "peak_rss_single_process_mb": peak_single,
+        "processes": peak_procs,
+        "limit_mb": LIMIT_MB,
+        "under_limit": peak_total < LIMIT_MB,
+        "output_bytes": files,
+        "load_average": list(os.getloadavg()),
     }
-    print(f"{a.num}x{a.num} = {a.num * a.num:,} points, {a.workers} workers: {wall:.0f} s, peak RSS of the process "
-          f"tree {peak_total:.0f} MB (largest process {peak_single:.0f} MB; limit {LIMIT_MB:.0f} MB); "
-          f"map.nc {files.get('map.nc', 0) / 1e6:.1f} MB")
+    print(
+        f"{a.num}x{a.num} = {a.num * a.num:,} points, {a.workers} workers: {wall:.0f} s, peak RSS of the process "
+        f"tree {peak_total:.0f} MB (largest process {peak_single:.0f} MB; limit {LIMIT_MB:.0f} MB); "
+        f"map.nc {files.get('map.nc', 0) / 1e6:.1f} MB"
+    )
     if a.json:
         a.json.write_text(json.dumps(res, indent=2) + "\n")
     if a.out is None:

@@ -65,8 +65,13 @@ def pynamicalsys_poincare(omegas, transient: int, periods: int) -> tuple[float, 
     ds = _pyn_system()
     w0 = float(omegas[0])
     ds.integrator("rk4", time_step=2 * math.pi / w0 / steps(w0))
-    ds.stroboscopic_map([0.0, 0.0], num_samples=1, sampling_time=2 * math.pi / w0, parameters=_params(w0),
-                        transient_time=2 * math.pi / w0)  # JIT warm-up
+    ds.stroboscopic_map(
+        [0.0, 0.0],
+        num_samples=1,
+        sampling_time=2 * math.pi / w0,
+        parameters=_params(w0),
+        transient_time=2 * math.pi / w0,
+    )  # JIT warm-up
     out = []
     n = 0
     t0 = time.perf_counter()
@@ -74,8 +79,13 @@ def pynamicalsys_poincare(omegas, transient: int, periods: int) -> tuple[float, 
         T = 2 * math.pi / w
         N = steps(w)
         ds.integrator("rk4", time_step=T / N)
-        r = ds.stroboscopic_map([0.0, 0.0], num_samples=periods, sampling_time=T, parameters=_params(w),
-                                transient_time=transient * T if transient else None)
+        r = ds.stroboscopic_map(
+            [0.0, 0.0],
+            num_samples=periods,
+            sampling_time=T,
+            parameters=_params(w),
+            transient_time=transient * T if transient else None,
+        )
         out.append(r[:, 1:])
         n += N * (transient + periods)
     return time.perf_counter() - t0, n, out
@@ -95,8 +105,15 @@ def pynamicalsys_lyapunov(omegas, transient: int, periods: int) -> tuple[float, 
         N = steps(w)
         ds.integrator("rk4", time_step=T / N)
         # pynamicalsys's total_time includes the transient
-        lam.append(ds.lyapunov([0.0, 0.0], (transient + periods) * T, parameters=_params(w),
-                               transient_time=transient * T, endpoint=False))
+        lam.append(
+            ds.lyapunov(
+                [0.0, 0.0],
+                (transient + periods) * T,
+                parameters=_params(w),
+                transient_time=transient * T,
+                endpoint=False,
+            )
+        )
         n += N * (transient + periods)
     return time.perf_counter() - t0, n, np.array(lam)
 
@@ -122,8 +139,9 @@ def scipy_poincare(omegas, transient: int, periods: int) -> tuple[float, float, 
     for w in omegas:
         T = 2 * math.pi / w
         te = T * np.arange(transient + 1, transient + periods + 1)
-        sol = solve_ivp(_scipy_rhs(w), (0.0, te[-1]), [0.0, 0.0], method="RK45", t_eval=te,
-                        rtol=SCIPY_RTOL, atol=SCIPY_ATOL)
+        sol = solve_ivp(
+            _scipy_rhs(w), (0.0, te[-1]), [0.0, 0.0], method="RK45", t_eval=te, rtol=SCIPY_RTOL, atol=SCIPY_ATOL
+        )
         out.append(sol.y.T)
         tau += te[-1]
     return time.perf_counter() - t0, tau, out

@@ -38,25 +38,37 @@ def main() -> None:
     geo = pair_geometry(z1, z2, m, face_width=b, E=E, nu=nu)
     bores = [0.5 * rf for rf in geo.r_f]
     geo = pair_geometry(z1, z2, m, face_width=b, E=E, nu=nu, bore1=bores[0], bore2=bores[1])
-    g1 = GearElementTVMS(n=0, material=steel, width=b, bore_diameter=2 * bores[0], module=m, n_teeth=z1,
-                         pr_angle=math.radians(20.0))
-    g2 = GearElementTVMS(n=1, material=steel, width=b, bore_diameter=2 * bores[1], module=m, n_teeth=z2,
-                         pr_angle=math.radians(20.0))
+    g1 = GearElementTVMS(
+        n=0, material=steel, width=b, bore_diameter=2 * bores[0], module=m, n_teeth=z1, pr_angle=math.radians(20.0)
+    )
+    g2 = GearElementTVMS(
+        n=1, material=steel, width=b, bore_diameter=2 * bores[1], module=m, n_teeth=z2, pr_angle=math.radians(20.0)
+    )
     mesh = Mesh(g1, g2)
     ks_ross = np.asarray(mesh.stiffness_range, dtype=float)
     ms = mesh_stiffness(geo, 100.0, points=256)
-    print(f"pair z = {z1}/{z2}, m = {a.module_mm} mm, b = {a.width_mm} mm, E = {E / 1e9:g} GPa, nu = {nu:.4f}, "
-          f"bore radii = {bores[0] * 1e3:.3f}, {bores[1] * 1e3:.3f} mm")
+    print(
+        f"pair z = {z1}/{z2}, m = {a.module_mm} mm, b = {a.width_mm} mm, E = {E / 1e9:g} GPa, nu = {nu:.4f}, "
+        f"bore radii = {bores[0] * 1e3:.3f}, {bores[1] * 1e3:.3f} mm"
+    )
     print(f"contact ratio: ROSS {mesh.contact_ratio:.5f}, geardyn {geo.eps_alpha:.5f}")
-    print(f"Hertz k_h (N/um): ROSS {mesh.hertzian_stiffness / 1e6:.2f}, geardyn {b / hertz_compliance(E, nu, E, nu) / 1e6:.2f}")
+    print(
+        f"Hertz k_h (N/um): ROSS {mesh.hertzian_stiffness / 1e6:.2f}, geardyn {b / hertz_compliance(E, nu, E, nu) / 1e6:.2f}"
+    )
     for name, k in (("ROSS", ks_ross), ("geardyn", ms.stiffness_unmodified)):
-        print(f"mesh stiffness {name:8s}: mean {k.mean() / 1e6:8.2f}  min {k.min() / 1e6:8.2f}  max {k.max() / 1e6:8.2f} N/um")
+        print(
+            f"mesh stiffness {name:8s}: mean {k.mean() / 1e6:8.2f}  min {k.min() / 1e6:8.2f}  max {k.max() / 1e6:8.2f} N/um"
+        )
     print(f"ratio of means ROSS/geardyn = {ks_ross.mean() / ms.stiffness_unmodified.mean():.3f}")
-    print(f"root half angle theta_f (rad): ROSS {float(g1.tooth_dict['root_angle']):.4f} (trochoid fillet of the rack "
-          f"cutter), geardyn {geo.sections[0].theta_f:.4f} (radial flank below the base circle)")
+    print(
+        f"root half angle theta_f (rad): ROSS {float(g1.tooth_dict['root_angle']):.4f} (trochoid fillet of the rack "
+        f"cutter), geardyn {geo.sections[0].theta_f:.4f} (radial flank below the base circle)"
+    )
     print("\npinion tooth, compliance x 1e-12 m/N (whole face width) at contact radii along the path:")
-    print(f"{'r (mm)':>8} | {'bend R':>8} {'bend g':>8} | {'shear R':>8} {'shear g':>8} | {'axial R':>8} {'axial g':>8}"
-          f" | {'fillet R':>8} {'fillet g':>8}")
+    print(
+        f"{'r (mm)':>8} | {'bend R':>8} {'bend g':>8} | {'shear R':>8} {'shear g':>8} | {'axial R':>8} {'axial g':>8}"
+        f" | {'fillet R':>8} {'fillet g':>8}"
+    )
     for s in np.linspace(geo.s_A, geo.s_E, 5):
         rho = float(geo.contact_radius(0, s))
         alpha = math.acos(geo.r_b[0] / rho)

@@ -159,8 +159,9 @@ def _stats(x: list[float]) -> dict[str, float]:
 
 
 def _group(module: str) -> str:
-    return next(name for name, prefixes in GROUPS if any(module == p or module.startswith(p + ".") or p == ""
-                                                            for p in prefixes))
+    return next(
+        name for name, prefixes in GROUPS if any(module == p or module.startswith(p + ".") or p == "" for p in prefixes)
+    )
 
 
 def _where_run(cmd: list[str], env: dict[str, str]) -> tuple[float, dict[str, float]]:
@@ -174,7 +175,7 @@ def _where_run(cmd: list[str], env: dict[str, str]) -> tuple[float, dict[str, fl
         if line.startswith("STARTUP-PROBE "):
             probe = json.loads(line.split(" ", 1)[1])
         elif line.startswith("import time:") and "|" in line and "self [us]" not in line:
-            us, _, name = line[len("import time:"):].split("|")
+            us, _, name = line[len("import time:") :].split("|")
             rows.append(((len(name) - len(name.lstrip()) - 1) // 2, name.strip(), int(us) / 1e6))
     before = set(probe["before"])
     in_read = {m for read in probe.get("links", []) for m in read["modules"]}
@@ -220,8 +221,11 @@ def where(runs: int, env: dict[str, str]) -> dict:
         keys = sorted({k for p in parts[name] for k in p})
         med = {k: statistics.median([p.get(k, 0.0) for p in parts[name]]) for k in keys}
         rest = [w - py - sum(p.values()) for w, p in zip(walls[name], parts[name])]
-        table = {"Python's start (python -c pass)": py, **med,
-                 "the rest: options parsed, the computation, the output, the exit": statistics.median(rest)}
+        table = {
+            "Python's start (python -c pass)": py,
+            **med,
+            "the rest: options parsed, the computation, the output, the exit": statistics.median(rest),
+        }
         out[name] = {"wall_median_s": statistics.median(walls[name]), "parts_s": table}
     return out
 
@@ -229,10 +233,17 @@ def where(runs: int, env: dict[str, str]) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rounds", type=int, default=15)
-    ap.add_argument("--before", type=Path, default=None,
-                    help="the src directory of another checkout: its help and simulate are timed in the same rounds")
-    ap.add_argument("--floors", action="store_true",
-                    help="also time python -c pass, import numba and one cached numba function in the same rounds")
+    ap.add_argument(
+        "--before",
+        type=Path,
+        default=None,
+        help="the src directory of another checkout: its help and simulate are timed in the same rounds",
+    )
+    ap.add_argument(
+        "--floors",
+        action="store_true",
+        help="also time python -c pass, import numba and one cached numba function in the same rounds",
+    )
     ap.add_argument("--where", action="store_true", help="split each command's time into parts instead")
     ap.add_argument("--where-runs", type=int, default=7)
     ap.add_argument("--out", type=Path, default=None)
@@ -241,7 +252,9 @@ def main() -> None:
 
     def environment(src: Path) -> dict[str, str]:
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(src), os.environ.get("PYTHONPATH")])))
-        env.pop("PYTHONDONTWRITEBYTECODE", None)  # warm means compiled: the bytecode cache as an installed package has it
+        env.pop(
+            "PYTHONDONTWRITEBYTECODE", None
+        )  # warm means compiled: the bytecode cache as an installed package has it
         return env
 
     if args.where:
@@ -267,8 +280,10 @@ def main() -> None:
         Path(tmp.name, "floor_kernel.py").write_text(FLOOR_KERNEL)
         runs["pass"] = ([sys.executable, "-c", "pass"], environment(ROOT / "src"))
         runs["numba"] = ([sys.executable, "-c", "import numba"], environment(ROOT / "src"))
-        runs["numba_call"] = ([sys.executable, "-c", "import floor_kernel; floor_kernel.f(1.0)"],
-                              environment(Path(tmp.name)))
+        runs["numba_call"] = (
+            [sys.executable, "-c", "import floor_kernel; floor_kernel.f(1.0)"],
+            environment(Path(tmp.name)),
+        )
     if args.before is not None:
         for name in TARGETS:
             runs[f"{name}_before"] = (COMMANDS[name], environment(args.before.resolve()))
@@ -284,26 +299,43 @@ def main() -> None:
             cpu[name].append(c)
     load_after = os.getloadavg()
     result: dict = {
-        "machine": {"platform": platform.platform(), "python": platform.python_version(), "cpus": os.cpu_count(),
-                    "load_before": load_before, "load_after": load_after},
+        "machine": {
+            "platform": platform.platform(),
+            "python": platform.python_version(),
+            "cpus": os.cpu_count(),
+            "load_before": load_before,
+            "load_after": load_after,
+        },
         "rounds": args.rounds,
         "before": args.before is not None,  # another checkout timed beside (its path not recorded)
-        "commands": {k: " ".join(["python", *v[1:]]) if k == "numpy" else "geardyn " + " ".join(v[3:])
-                     for k, v in COMMANDS.items()},
+        "commands": {
+            k: " ".join(["python", *v[1:]]) if k == "numpy" else "geardyn " + " ".join(v[3:])
+            for k, v in COMMANDS.items()
+        },
         "wall_s": {k: _stats(v) for k, v in wall.items()},
         "cpu_s": {k: _stats(v) for k, v in cpu.items()},
         "ratio_to_numpy": {},
     }
     if tmp is not None:
-        result["commands"].update({"pass": "python -c pass", "numba": 'python -c "import numba"',
-                                   "numba_call": "python -c <a one-line @njit(cache=True) function, called from the cache>"})
-    extra = [f"{k}_before" for k in TARGETS if f"{k}_before" in runs] + [k for k in ("pass", "numba", "numba_call")
-                                                                           if k in runs]
+        result["commands"].update(
+            {
+                "pass": "python -c pass",
+                "numba": 'python -c "import numba"',
+                "numba_call": "python -c <a one-line @njit(cache=True) function, called from the cache>",
+            }
+        )
+    extra = [f"{k}_before" for k in TARGETS if f"{k}_before" in runs] + [
+        k for k in ("pass", "numba", "numba_call") if k in runs
+    ]
     for name, target in [*TARGETS.items(), *((k, None) for k in extra)]:
         rw = [a / b for a, b in zip(wall[name], wall["numpy"])]
         rc = [a / b for a, b in zip(cpu[name], cpu["numpy"])]
-        result["ratio_to_numpy"][name] = {"wall": _stats(rw), "cpu": _stats(rc), "target": target,
-                                          "met": None if target is None else statistics.median(rw) <= target}
+        result["ratio_to_numpy"][name] = {
+            "wall": _stats(rw),
+            "cpu": _stats(rc),
+            "target": target,
+            "met": None if target is None else statistics.median(rw) <= target,
+        }
     if tmp is not None:
         tmp.cleanup()
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -313,8 +345,10 @@ def main() -> None:
         r = result["ratio_to_numpy"].get(name)
         ratio = "1" if r is None else f"{r['wall']['median']:.2f}x {r['cpu']['median']:.2f}x"
         target = f"  (target {r['target']:g}x)" if r is not None and r["target"] else ""
-        print(f"{name:16s} {result['wall_s'][name]['min']:9.3f} {result['wall_s'][name]['median']:8.3f} "
-              f"{result['cpu_s'][name]['median']:11.3f} {ratio:>19s}{target}")
+        print(
+            f"{name:16s} {result['wall_s'][name]['min']:9.3f} {result['wall_s'][name]['median']:8.3f} "
+            f"{result['cpu_s'][name]['median']:11.3f} {ratio:>19s}{target}"
+        )
     print(f"written {out}")
 
 

@@ -50,8 +50,20 @@ def _write_batch(models, path):
         for p, m in enumerate(models):
             Tf = forcing_period(m)
             N = int(np.ceil(Tf / 0.01))
-            vals = [m.omega, Tf, N, *A[p].ravel(), *B[p].ravel(), *W[p].ravel(), *a.V[p].ravel(), *g[p],
-                    *a.D[p], *a.ratio[p], *a.coef[p].ravel(), *m.initial_state()]
+            vals = [
+                m.omega,
+                Tf,
+                N,
+                *A[p].ravel(),
+                *B[p].ravel(),
+                *W[p].ravel(),
+                *a.V[p].ravel(),
+                *g[p],
+                *a.D[p],
+                *a.ratio[p],
+                *a.coef[p].ravel(),
+                *m.initial_state(),
+            ]
             f.write(" ".join(repr(float(v)) for v in vals) + "\n")
 
 
@@ -101,8 +113,9 @@ def _scipy(models, transient, periods, sample=2):
         T = forcing_period(m)
         npr = 20  # periods actually integrated per sampled point, scaled below
         t = time.perf_counter()
-        solve_ivp(rhs, (0, npr * T), m.initial_state(), method="RK45", rtol=1e-8, atol=1e-10,
-                  t_eval=np.arange(1, npr + 1) * T)
+        solve_ivp(
+            rhs, (0, npr * T), m.initial_state(), method="RK45", rtol=1e-8, atol=1e-10, t_eval=np.arange(1, npr + 1) * T
+        )
         total += (time.perf_counter() - t) * (transient + periods) / npr
     return total / sample * len(models)
 
@@ -124,8 +137,9 @@ def main() -> None:
         _geardyn(models[:2], 1, 1, 1)  # compile / load the cache
         load0 = os.getloadavg()
         c0 = _children_cpu()
-        out = subprocess.run([str(exe), str(batch), str(a.transient), str(a.periods)], check=True,
-                             capture_output=True, text=True).stdout.split()
+        out = subprocess.run(
+            [str(exe), str(batch), str(a.transient), str(a.periods)], check=True, capture_output=True, text=True
+        ).stdout.split()
         cpu_c = _children_cpu() - c0
         t_c, sum_c = float(out[0]), float(out[1])
         t1, cpu1, sum1 = _geardyn(models, a.transient, a.periods, 1)
@@ -134,13 +148,22 @@ def main() -> None:
         load1 = os.getloadavg()
     res = {
         "workload": f"W4: 8-DOF bevel, {a.points} omega, {a.transient} + {a.periods} periods",
-        "c_reference_s": t_c, "geardyn_1thread_s": t1, "geardyn_2threads_s": t2,
-        "ratio_1thread_vs_c": t1 / t_c, "speedup_2threads": t1 / t2,
-        "c_reference_cpu_s": cpu_c, "geardyn_1thread_cpu_s": cpu1, "geardyn_2threads_cpu_s": cpu2,
-        "ratio_1thread_vs_c_cpu": cpu1 / cpu_c, "cpu_2threads_over_1thread": cpu2 / cpu1,
+        "c_reference_s": t_c,
+        "geardyn_1thread_s": t1,
+        "geardyn_2threads_s": t2,
+        "ratio_1thread_vs_c": t1 / t_c,
+        "speedup_2threads": t1 / t2,
+        "c_reference_cpu_s": cpu_c,
+        "geardyn_1thread_cpu_s": cpu1,
+        "geardyn_2threads_cpu_s": cpu2,
+        "ratio_1thread_vs_c_cpu": cpu1 / cpu_c,
+        "cpu_2threads_over_1thread": cpu2 / cpu1,
         "scipy_rk45_estimated_s": t_sp,
-        "checksum_c": sum_c, "checksum_geardyn": sum1, "checksum_geardyn_2threads": sum2,
-        "loadavg_before": load0, "loadavg_after": load1,
+        "checksum_c": sum_c,
+        "checksum_geardyn": sum1,
+        "checksum_geardyn_2threads": sum2,
+        "loadavg_before": load0,
+        "loadavg_after": load1,
     }
     text = json.dumps(res, indent=2)
     print(text)

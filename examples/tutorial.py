@@ -52,44 +52,67 @@ def main(out_dir: Path) -> dict:
     # load_config() without a file gives the paper's Table 1 pair; its mean mesh stiffness is not
     # in the paper and is assumed: k0 = face width 100 mm × c_γ 20 N/(mm·µm) = 2000 N/µm.
     cfg = load_config()
-    print(f"2. {cfg.title}: R1 = {cfg.pair.R1 * 1e3:.3f} mm, m_e = {cfg.pair.m_e:.3f} kg, "
-          f"k0 = {cfg.pair.k0_mean * 1e-6:.0f} N/µm, f_n = {cfg.pair.omega_n / 2 / np.pi:.1f} Hz")
+    print(
+        f"2. {cfg.title}: R1 = {cfg.pair.R1 * 1e3:.3f} mm, m_e = {cfg.pair.m_e:.3f} kg, "
+        f"k0 = {cfg.pair.k0_mean * 1e-6:.0f} N/µm, f_n = {cfg.pair.omega_n / 2 / np.pi:.1f} Hz"
+    )
     print(f"   assumed inputs: {', '.join(cfg.assumed)}")
     at = cfg.at(rpm=2400, torque=1500)  # pinion speed (rpm) and pinion torque (N·m, balanced)
     print(f"   2400 rpm, 1500 N·m → ω = {at.model.omega:.5f}, f_p = {at.model.fp:.5f}")
     scales = PhysicalScales.from_config(cfg)
-    print(f"   and back: ω = 1 is {scales.rpm_from_omega(1.0):.1f} rpm; f_p = 0.2 is {scales.torque_from_fp(0.2):.1f} N·m")
+    print(
+        f"   and back: ω = 1 is {scales.rpm_from_omega(1.0):.1f} rpm; f_p = 0.2 is {scales.torque_from_fp(0.2):.1f} N·m"
+    )
 
     # ------------------------------------------------------------------ 3. physical outputs
     res = simulate(at.model, QUICK)
     ds = geardyn.add_physical(res.to_dataset(), scales)  # adds rpm, µm, N, Hz variables
     p = geardyn.simulate_physical(ds)
-    print(f"3. at {p['rpm']:.0f} rpm: dynamic factor {p['dynamic_factor']:.3f}, max mesh force "
-          f"{p['mesh_force_max_N'] / 1e3:.2f} kN (static {p['static_force_N'] / 1e3:.2f} kN), "
-          f"DTE RMS {p['dte_rms_um']:.2f} µm")
+    print(
+        f"3. at {p['rpm']:.0f} rpm: dynamic factor {p['dynamic_factor']:.3f}, max mesh force "
+        f"{p['mesh_force_max_N'] / 1e3:.2f} kN (static {p['static_force_N'] / 1e3:.2f} kN), "
+        f"DTE RMS {p['dte_rms_um']:.2f} µm"
+    )
     for peak in p["spectrum_peaks"][:3]:
-        print(f"   spectral line: order {peak['order']:g} = {peak['frequency_Hz']:.1f} Hz, {peak['amplitude_um']:.2f} µm")
+        print(
+            f"   spectral line: order {peak['order']:g} = {peak['frequency_Hz']:.1f} Hz, {peak['amplitude_um']:.2f} µm"
+        )
     # The mesh force time history, F_n/(k0 b_c) = 2ξ(θ) u' + K(θ) f(u; D), in newtons:
     F = ds["mesh_force_N"]
     print(f"   mesh force samples: {F.size}, units {F.attrs['units']}, over {ds['time_s'].values[-1] * 1e3:.2f} ms")
     results["physical"] = p
 
     # ------------------------------------------------------------------ 4. a pair built in Python
-    pair = SpiralBevelGearPair(z1=11, z2=41, m_mn=3.68e-3, beta_m=radians(35), alpha_n=radians(20), j_n=0.1e-3,
-                               I1=8e-4, I2=0.05, face_width=34e-3)
+    pair = SpiralBevelGearPair(
+        z1=11,
+        z2=41,
+        m_mn=3.68e-3,
+        beta_m=radians(35),
+        alpha_n=radians(20),
+        j_n=0.1e-3,
+        I1=8e-4,
+        I2=0.05,
+        face_width=34e-3,
+    )
     m_car = pair.gear_model(rpm=2500, torque=300)
-    print(f"4. car-axle sized pair: δ1 = {np.degrees(pair.delta1):.2f}°, R1 = {pair.R1 * 1e3:.2f} mm, "
-          f"2500 rpm → ω = {m_car.omega:.4f}, 300 N·m → f_p = {m_car.fp:.4f}")
+    print(
+        f"4. car-axle sized pair: δ1 = {np.degrees(pair.delta1):.2f}°, R1 = {pair.R1 * 1e3:.2f} mm, "
+        f"2500 rpm → ω = {m_car.omega:.4f}, 300 N·m → f_p = {m_car.fp:.4f}"
+    )
 
     # ------------------------------------------------------------------ 5. exponents and an orbit
     ly = geardyn.lyapunov_spectrum(GearModel(omega=0.8), IntegrationOptions(transient=100, periods=200))
     lam = ly.exponents
-    print(f"5. Lyapunov exponents at ω = 0.8: {lam[0]:+.4f}, {lam[1]:+.4f} per unit τ "
-          f"(sum {lam.sum():+.4f}, −2ξ0 = {-2 * 0.1:+.4f})")
+    print(
+        f"5. Lyapunov exponents at ω = 0.8: {lam[0]:+.4f}, {lam[1]:+.4f} per unit τ "
+        f"(sum {lam.sum():+.4f}, −2ξ0 = {-2 * 0.1:+.4f})"
+    )
     orb = geardyn.shoot(GearModel(omega=0.8), 2)  # Newton on the 2-period map
     fl = orb.floquet
-    print(f"   period-2 orbit: converged {orb.converged}, state {np.round(orb.state, 6).tolist()}, "
-          f"|μ| = {np.round(np.abs(fl.multipliers), 4).tolist()}, stable {fl.stable}")
+    print(
+        f"   period-2 orbit: converged {orb.converged}, state {np.round(orb.state, 6).tolist()}, "
+        f"|μ| = {np.round(np.abs(fl.multipliers), 4).tolist()}, stable {fl.stable}"
+    )
     # a stable orbit's largest exponent is ln|μ_max| / (n T):
     print(f"   ln|μ_max|/(2T) = {np.log(np.abs(fl.multipliers).max()) / (2 * orb.model.period):+.4f}")
     results["lyapunov"] = lam.tolist()
@@ -97,11 +120,21 @@ def main(out_dir: Path) -> dict:
     # ------------------------------------------------------------------ 6. sweep, save, plot
     rpm = np.linspace(1500, 2100, 7)
     omegas = scales.omega_from_rpm(rpm)
-    sweep = geardyn.bifurcation(cfg.model, "omega", omegas, mode="continue", sweep="both",
-                                options=IntegrationOptions(transient=60, periods=16), settle_periods=0)
+    sweep = geardyn.bifurcation(
+        cfg.model,
+        "omega",
+        omegas,
+        mode="continue",
+        sweep="both",
+        options=IntegrationOptions(transient=60, periods=16),
+        settle_periods=0,
+    )
     sweep = geardyn.add_physical(sweep, scales)  # adds the rpm coordinate and amplitudes in µm
-    for r, up, down in zip(sweep["rpm"].values, sweep["amplitude_um"].sel(sweep="up").values,
-                           sweep["amplitude_um"].sel(sweep="down").values):
+    for r, up, down in zip(
+        sweep["rpm"].values,
+        sweep["amplitude_um"].sel(sweep="up").values,
+        sweep["amplitude_um"].sel(sweep="down").values,
+    ):
         print(f"6. {r:6.0f} rpm: half peak-to-peak DTE up {up:6.2f} µm, down {down:6.2f} µm")
     path = geardyn.write_netcdf(sweep, out_dir / "sweep.nc")
     again = geardyn.read_netcdf(path)
@@ -119,5 +152,7 @@ if __name__ == "__main__":
     else:  # without a directory the files go to a temporary one, removed at the end (say so)
         with tempfile.TemporaryDirectory() as tmp:
             main(Path(tmp))
-            print(f"(the files were written into a temporary directory, removed now; give a directory to keep them: "
-                  f"python examples/tutorial.py OUT)")
+            print(
+                "(the files were written into a temporary directory, removed now; give a directory to keep them: "
+                "python examples/tutorial.py OUT)"
+            )

@@ -7,7 +7,7 @@ test puts this directory on the workers' ``PYTHONPATH``.
 from __future__ import annotations
 
 import os
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import xarray as xr
@@ -22,8 +22,9 @@ from geardyn.sweep import Chunk, chunked, concat_results, grid_models, run_chunk
 FAST = IntegrationOptions(transient=40, periods=16)
 
 
-def steady_chunk(models: Sequence[GearModel], options: IntegrationOptions,
-                 state0: tuple[float, float] = (0.0, 0.0)) -> dict[str, np.ndarray]:
+def steady_chunk(
+    models: Sequence[GearModel], options: IntegrationOptions, state0: tuple[float, float] = (0.0, 0.0)
+) -> dict[str, np.ndarray]:
     """Steady response of each model from the same initial state (one row per point)."""
     res = integrate_batch(models, state0, options)
     out = summarize_batch(res)
@@ -41,8 +42,9 @@ def crash_once_chunk(marker: str, models: Sequence[GearModel], options: Integrat
     os._exit(13)
 
 
-def interrupt_at_chunk(flag: str, stop_at: int, index: int, models: Sequence[GearModel],
-                       options: IntegrationOptions) -> dict[str, np.ndarray]:
+def interrupt_at_chunk(
+    flag: str, stop_at: int, index: int, models: Sequence[GearModel], options: IntegrationOptions
+) -> dict[str, np.ndarray]:
     """Like :func:`steady_chunk`, but chunk ``stop_at`` raises KeyboardInterrupt (a Ctrl-C in
     process) while the file ``flag`` exists."""
     if index == stop_at and os.path.exists(flag):
@@ -50,14 +52,24 @@ def interrupt_at_chunk(flag: str, stop_at: int, index: int, models: Sequence[Gea
     return steady_chunk(models, options)
 
 
-def make_chunks(param: str, values: Sequence[float], options: IntegrationOptions = FAST, chunk_points: int = 2,
-                base: GearModel = GearModel()) -> list[Chunk]:
+def make_chunks(
+    param: str,
+    values: Sequence[float],
+    options: IntegrationOptions = FAST,
+    chunk_points: int = 2,
+    base: GearModel = GearModel(),
+) -> list[Chunk]:
     models = grid_models(base, [param], [values])
     return [Chunk(i, steady_chunk, (models[s], options)) for i, s in enumerate(chunked(len(models), chunk_points))]
 
 
-def to_dataset(param: str, values: Sequence[float], results: list[dict[str, np.ndarray]],
-               options: IntegrationOptions = FAST, base: GearModel = GearModel()) -> xr.Dataset:
+def to_dataset(
+    param: str,
+    values: Sequence[float],
+    results: list[dict[str, np.ndarray]],
+    options: IntegrationOptions = FAST,
+    base: GearModel = GearModel(),
+) -> xr.Dataset:
     r = concat_results(results)
     data = {k: ((param,), v) for k, v in r.items() if k != "poincare"}
     data["poincare_u"] = ((param, "section"), r["poincare"][:, :, 0])
@@ -69,8 +81,14 @@ def to_dataset(param: str, values: Sequence[float], results: list[dict[str, np.n
     )
 
 
-def sweep(param: str, values: Sequence[float], options: IntegrationOptions = FAST, chunk_points: int = 2,
-          base: GearModel = GearModel(), **run_kw) -> xr.Dataset:
+def sweep(
+    param: str,
+    values: Sequence[float],
+    options: IntegrationOptions = FAST,
+    chunk_points: int = 2,
+    base: GearModel = GearModel(),
+    **run_kw,
+) -> xr.Dataset:
     """Run the sweep with ``run_chunks(**run_kw)`` and assemble its Dataset."""
     chunks = make_chunks(param, values, options, chunk_points, base)
     return to_dataset(param, values, run_chunks(chunks, **run_kw), options, base)

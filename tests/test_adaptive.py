@@ -78,15 +78,18 @@ def reference():
 
 
 def test_sweep_same_for_workers_and_chunk_sizes(reference):
-    xr.testing.assert_identical(reference, bifurcation(GearModel(), "omega", SWEEP, options=SHORT, settle_periods=0,
-                                                       workers=2, chunk_points=5))
-    xr.testing.assert_identical(reference, bifurcation(GearModel(), "omega", SWEEP, options=SHORT, settle_periods=0,
-                                                       chunk_points=1))
+    xr.testing.assert_identical(
+        reference, bifurcation(GearModel(), "omega", SWEEP, options=SHORT, settle_periods=0, workers=2, chunk_points=5)
+    )
+    xr.testing.assert_identical(
+        reference, bifurcation(GearModel(), "omega", SWEEP, options=SHORT, settle_periods=0, chunk_points=1)
+    )
 
 
 def test_continuation_sweep_runs_adaptive():
-    f = bifurcation(GearModel(), "omega", SWEEP[:4], mode="continue", options=SHORT.replace(adaptive=False),
-                    settle_periods=0)
+    f = bifurcation(
+        GearModel(), "omega", SWEEP[:4], mode="continue", options=SHORT.replace(adaptive=False), settle_periods=0
+    )
     a = bifurcation(GearModel(), "omega", SWEEP[:4], mode="continue", options=SHORT, settle_periods=0)
     assert np.array_equal(f["period"].values, a["period"].values)
     per = f["period"].values > 0
@@ -96,8 +99,26 @@ def test_continuation_sweep_runs_adaptive():
 def test_cli_adaptive_killed_with_sigkill_then_resumed(tmp_path):
     from test_sweep_engine import _wait_for_chunks, chunk_files, run_cli, start_cli
 
-    argv = ["bifurcation", "--param", "omega", "--start", "1.15", "--stop", "1.45", "--num", "8", "--chunk-size",
-            "1", "--transient", "3000", "--periods", "16", "--settle", "0", "--adaptive"]
+    argv = [
+        "bifurcation",
+        "--param",
+        "omega",
+        "--start",
+        "1.15",
+        "--stop",
+        "1.45",
+        "--num",
+        "8",
+        "--chunk-size",
+        "1",
+        "--transient",
+        "3000",
+        "--periods",
+        "16",
+        "--settle",
+        "0",
+        "--adaptive",
+    ]
     ref_dir = tmp_path / "ref"
     code, _, err = run_cli(argv + ["--out", str(ref_dir), "--json"])
     assert code == 0, err

@@ -81,7 +81,8 @@ COVERED_BY = {
 
 SECTION_END = re.compile(
     r"^(Returns|Yields|Raises|Attributes|Parameters|Notes|References|Examples|See Also|Warns|Other Parameters)\n-{3,}$",
-    re.M)
+    re.M,
+)
 
 
 def _modules() -> list:
@@ -114,7 +115,7 @@ def _documented(doc: str, section: str) -> set[str] | None:
     m = re.search(rf"^{section}\n-{{3,}}$", doc, re.M)
     if m is None:
         return None
-    rest = doc[m.end():]
+    rest = doc[m.end() :]
     end = SECTION_END.search(rest)
     body = rest[: end.start()] if end else rest
     names: set[str] = set()
@@ -163,8 +164,9 @@ def test_public_names_document_every_parameter(qualname: str, obj: object) -> No
 def test_known_gaps_are_only_files_edited_elsewhere() -> None:
     # the list names packages and modules, never single functions of the files checked here
     assert all(entry.endswith(".") for entry in KNOWN_GAPS)
-    assert not any(entry.startswith(("geardyn.analysis.periodic", "geardyn.geometry", "geardyn.io"))
-                   for entry in KNOWN_GAPS)
+    assert not any(
+        entry.startswith(("geardyn.analysis.periodic", "geardyn.geometry", "geardyn.io")) for entry in KNOWN_GAPS
+    )
 
 
 def _var_keyword(obj: object) -> str | None:
@@ -175,8 +177,11 @@ def _var_keyword(obj: object) -> str | None:
     return next((p.name for p in sig.parameters.values() if p.kind is p.VAR_KEYWORD), None)
 
 
-@pytest.mark.parametrize("qualname, obj", [(q, o) for q, o in PUBLIC if inspect.isfunction(o)],
-                         ids=[q for q, o in PUBLIC if inspect.isfunction(o)])
+@pytest.mark.parametrize(
+    "qualname, obj",
+    [(q, o) for q, o in PUBLIC if inspect.isfunction(o)],
+    ids=[q for q, o in PUBLIC if inspect.isfunction(o)],
+)
 def test_no_blanket_keywords_unless_forwarded_and_documented(qualname: str, obj: object) -> None:
     name = _var_keyword(obj)
     if name is None:
@@ -188,12 +193,16 @@ def test_no_blanket_keywords_unless_forwarded_and_documented(qualname: str, obj:
     assert name in listed, f"{qualname}: **{name} not documented"
 
 
-@pytest.mark.parametrize("call", [
-    lambda: geardyn.analysis.bifurcation.bifurcation(GearModel(), "omega", [1.0], chunks=2),
-    lambda: geardyn.analysis.maps.parameter_map(GearModel(), "omega", [1.0], "xi0", [0.1], worker=1),
-    lambda: geardyn.analysis.basins.basins(GearModel(), (0, 1), (0, 1), 2, 2, scheduler_address="x"),
-    lambda: geardyn.analysis.response.frequency_response(GearModel(), 0.5, 1.0, 3, progres=False),
-], ids=["bifurcation", "parameter_map", "basins", "frequency_response"])
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: geardyn.analysis.bifurcation.bifurcation(GearModel(), "omega", [1.0], chunks=2),
+        lambda: geardyn.analysis.maps.parameter_map(GearModel(), "omega", [1.0], "xi0", [0.1], worker=1),
+        lambda: geardyn.analysis.basins.basins(GearModel(), (0, 1), (0, 1), 2, 2, scheduler_address="x"),
+        lambda: geardyn.analysis.response.frequency_response(GearModel(), 0.5, 1.0, 3, progres=False),
+    ],
+    ids=["bifurcation", "parameter_map", "basins", "frequency_response"],
+)
 def test_unknown_keyword_is_refused(call) -> None:
     with pytest.raises(TypeError, match="unexpected keyword argument"):
         call()

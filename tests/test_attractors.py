@@ -25,8 +25,9 @@ def test_periodic_and_non_periodic_attractors_differ():
     assert not A.same_attractor(per, qp, signature_tol=1.0)
     assert A.same_attractor(qp, ch, signature_tol=0.1, match_motion=False)  # the response's test
     assert not A.same_attractor(qp, ch, signature_tol=0.1)  # the basins' test
-    assert not A.same_attractor(qp, A.Attractor(0, MOTION_QUASIPERIODIC, qp.points, np.array([1.2, 0.0])),
-                                signature_tol=0.1)
+    assert not A.same_attractor(
+        qp, A.Attractor(0, MOTION_QUASIPERIODIC, qp.points, np.array([1.2, 0.0])), signature_tol=0.1
+    )
 
 
 def test_response_and_basins_share_the_module():
@@ -43,7 +44,9 @@ def test_identify_attractors_numbers_by_basin_size():
         "motion": np.array([MOTION_PERIODIC] * 3 + [-1, MOTION_PERIODIC]),
         "status": np.array([0, 0, 0, 1, 0]),
         "amplitude": np.array([0.1, 1.0, 1.0, np.nan, 1.0]),
-        "mean": np.zeros(5), "u_min": np.zeros(5), "u_max": np.zeros(5),
+        "mean": np.zeros(5),
+        "u_min": np.zeros(5),
+        "u_max": np.zeros(5),
         "poincare": np.stack([cyc1, cyc2, cyc2[::-1].copy(), cyc1, cyc2 + 1e-5]),
     }
     labels, atts = A.identify_attractors(rows)

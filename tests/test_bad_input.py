@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_run import run_cli
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -22,25 +23,54 @@ from geardyn import validate
 from geardyn.config import LoadedConfig, load_config, packaged_config_path
 from geardyn.errors import ConfigError
 from geardyn.model import GearModel, IntegrationOptions, ModelError, canonical_param
-from cli_run import run_cli
 
 SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-CONFIG_SETTINGS = settings(max_examples=40, deadline=None,
-                           suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+CONFIG_SETTINGS = settings(
+    max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture]
+)
 
-VALID_NAMES = ["omega", "xi0", "xi1", "xi2", "kappa1", "kappa3", "fp", "eps1", "eps2", "fe", "D", "backlash", "b",
-               "phi_c1", "phi_k2", "phi_e1", "phi_e3", "xi64", "xi65", "kappa0", "eps", "phi_c0"]
+VALID_NAMES = [
+    "omega",
+    "xi0",
+    "xi1",
+    "xi2",
+    "kappa1",
+    "kappa3",
+    "fp",
+    "eps1",
+    "eps2",
+    "fe",
+    "D",
+    "backlash",
+    "b",
+    "phi_c1",
+    "phi_k2",
+    "phi_e1",
+    "phi_e3",
+    "xi64",
+    "xi65",
+    "kappa0",
+    "eps",
+    "phi_c0",
+]
 TEXT = st.text(alphabet=st.characters(blacklist_categories=("Cs",)), max_size=12)
 NUMBERS = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
     st.floats(min_value=-3, max_value=3),
-    st.integers(min_value=-10**400, max_value=10**400),
+    st.integers(min_value=-(10**400), max_value=10**400),
     st.integers(min_value=-5, max_value=5),
 )
 ANY_VALUE = st.one_of(
-    NUMBERS, TEXT, st.none(), st.booleans(), st.complex_numbers(max_magnitude=10),
-    st.lists(st.floats(allow_nan=True), max_size=3), st.dictionaries(TEXT, st.integers(), max_size=2),
-    st.just(np.float64("nan")), st.just(np.int64(3)), st.just(np.bool_(True)),
+    NUMBERS,
+    TEXT,
+    st.none(),
+    st.booleans(),
+    st.complex_numbers(max_magnitude=10),
+    st.lists(st.floats(allow_nan=True), max_size=3),
+    st.dictionaries(TEXT, st.integers(), max_size=2),
+    st.just(np.float64("nan")),
+    st.just(np.int64(3)),
+    st.just(np.bool_(True)),
 )
 
 
@@ -92,8 +122,13 @@ def test_one_parameter_at_a_time(name, value):
 
 
 @SETTINGS
-@given(ANY_VALUE, ANY_VALUE, ANY_VALUE, ANY_VALUE,
-       st.lists(st.one_of(st.floats(min_value=1e-12, max_value=1e12), st.floats(allow_nan=True)), max_size=3))
+@given(
+    ANY_VALUE,
+    ANY_VALUE,
+    ANY_VALUE,
+    ANY_VALUE,
+    st.lists(st.one_of(st.floats(min_value=1e-12, max_value=1e12), st.floats(allow_nan=True)), max_size=3),
+)
 def test_options_accepted_or_refused_by_name(dtau, transient, periods, accurate, omegas):
     try:
         o = validate.options(dtau, transient, periods, accurate, omegas)
@@ -120,9 +155,16 @@ def test_sweep_axis_accepted_or_refused_by_name(param, start, stop, num):
 
 
 @SETTINGS
-@given(st.lists(st.tuples(st.sampled_from(["omega", "xi0", "kappa1", "D", "fp", "phi_e2"]),
-                          st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=3)), max_size=2),
-       st.sampled_from([None, IntegrationOptions(), IntegrationOptions(dtau=2.0)]))
+@given(
+    st.lists(
+        st.tuples(
+            st.sampled_from(["omega", "xi0", "kappa1", "D", "fp", "phi_e2"]),
+            st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=3),
+        ),
+        max_size=2,
+    ),
+    st.sampled_from([None, IntegrationOptions(), IntegrationOptions(dtau=2.0)]),
+)
 def test_grid_accepted_or_refused_by_name(axes, opts):
     try:
         models = validate.grid(GearModel(), axes, opts)
@@ -136,8 +178,11 @@ def test_grid_accepted_or_refused_by_name(axes, opts):
 @SETTINGS
 @given(ANY_VALUE, ANY_VALUE)
 def test_engine_settings_accepted_or_refused_by_name(workers, address):
-    for fn, name, value in ((validate.workers, "workers", workers), (validate.scheduler, "scheduler", address),
-                            (validate.chunk_points, "chunk size", workers)):
+    for fn, name, value in (
+        (validate.workers, "workers", workers),
+        (validate.scheduler, "scheduler", address),
+        (validate.chunk_points, "chunk size", workers),
+    ):
         try:
             fn(value)
         except ModelError as e:
@@ -147,14 +192,37 @@ def test_engine_settings_accepted_or_refused_by_name(workers, address):
 # ---------------------------------------------------------------------------------- configuration files
 PAPER = tomllib.loads(packaged_config_path().read_text(encoding="utf-8"))
 SECTIONS = ["gear_pair", "mesh", "operating", "model", "title", "bogus"]
-KEYS = sorted({k for s in PAPER.values() if isinstance(s, dict) for k in s}
-              | {"omega", "D", "xi", "c0", "k0", "torque", "rpm", "characteristic_length", "unknown_key"})
+KEYS = sorted(
+    {k for s in PAPER.values() if isinstance(s, dict) for k in s}
+    | {"omega", "D", "xi", "c0", "k0", "torque", "rpm", "characteristic_length", "unknown_key"}
+)
 TOML_VALUES = st.recursive(
-    st.one_of(NUMBERS.filter(lambda x: not isinstance(x, int) or abs(x) < 2**63), st.booleans(), TEXT,
-              st.sampled_from(["7 mm", "35 deg", "1 kg*m^2", "3000 rpm", "0.5 rad", "-1 mm", "nan mm", "1 N*m",
-                               "20 N/(mm*um)", "2 s", "x mm", "0 rpm", "1e999 m", ""])),
-    lambda inner: st.one_of(st.lists(inner, max_size=3),
-                            st.fixed_dictionaries({"value": inner}, optional={"assumed": TEXT})),
+    st.one_of(
+        NUMBERS.filter(lambda x: not isinstance(x, int) or abs(x) < 2**63),
+        st.booleans(),
+        TEXT,
+        st.sampled_from(
+            [
+                "7 mm",
+                "35 deg",
+                "1 kg*m^2",
+                "3000 rpm",
+                "0.5 rad",
+                "-1 mm",
+                "nan mm",
+                "1 N*m",
+                "20 N/(mm*um)",
+                "2 s",
+                "x mm",
+                "0 rpm",
+                "1e999 m",
+                "",
+            ]
+        ),
+    ),
+    lambda inner: st.one_of(
+        st.lists(inner, max_size=3), st.fixed_dictionaries({"value": inner}, optional={"assumed": TEXT})
+    ),
     max_leaves=4,
 )
 
@@ -177,13 +245,22 @@ def toml_value(v) -> str:
 
 def toml_text(doc: dict) -> str:
     top = [f"{json.dumps(k)} = {toml_value(v)}" for k, v in doc.items() if not isinstance(v, dict)]
-    tables = [f"[{json.dumps(k)}]\n" + "\n".join(f"{json.dumps(kk)} = {toml_value(vv)}" for kk, vv in v.items())
-              for k, v in doc.items() if isinstance(v, dict)]
+    tables = [
+        f"[{json.dumps(k)}]\n" + "\n".join(f"{json.dumps(kk)} = {toml_value(vv)}" for kk, vv in v.items())
+        for k, v in doc.items()
+        if isinstance(v, dict)
+    ]
     return "\n".join(top + tables) + "\n"
 
 
-mutations = st.lists(st.tuples(st.sampled_from(SECTIONS), st.one_of(st.sampled_from(KEYS), TEXT.filter(bool)),
-                               st.one_of(st.just("delete"), TOML_VALUES)), max_size=4)
+mutations = st.lists(
+    st.tuples(
+        st.sampled_from(SECTIONS),
+        st.one_of(st.sampled_from(KEYS), TEXT.filter(bool)),
+        st.one_of(st.just("delete"), TOML_VALUES),
+    ),
+    max_size=4,
+)
 
 
 def mutate(doc: dict, changes) -> dict:
@@ -260,7 +337,7 @@ def configs(tmp_path_factory) -> dict[str, Path]:
     files = {
         "unknown_key": paper.replace("[operating]", "[operating]\nspeed = 3000"),
         "unknown_section": paper + "\n[gearbox]\nstages = 2\n",
-        "syntax": paper.replace('z2 = 47', 'z2 = = 47'),
+        "syntax": paper.replace("z2 = 47", "z2 = = 47"),
         "unclosed": "[model\nomega = 1\n",
         "wrong_unit": paper.replace('m_mn = "7.28 mm"', 'm_mn = "7.28 kg"'),
         "nonfinite": paper.replace("xi0 = 0.1 ", "xi0 = nan "),
@@ -304,17 +381,29 @@ CLI_CASES = {
     "missing_value": (SIM + ["--omega"], ["--omega", "argument"]),
     "unknown_command": (["simulat"], ["simulat"]),
     "unknown_parameter": (BIF + ["--param", "omegaa", "--start", "0.5", "--stop", "1"], ["omegaa", "allowed"]),
-    "unknown_map_axis": (["map", "--x", "omega", "--x-start", "0.5", "--x-stop", "1", "--y", "zeta", "--y-start", "0",
-                          "--y-stop", "1"], ["zeta", "unknown parameter"]),
+    "unknown_map_axis": (
+        ["map", "--x", "omega", "--x-start", "0.5", "--x-stop", "1", "--y", "zeta", "--y-start", "0", "--y-stop", "1"],
+        ["zeta", "unknown parameter"],
+    ),
     "empty_grid": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--num", "0"], ["num", ">= 1"]),
     "grid_crosses_omega_zero": (BIF + ["--param", "omega", "--start", "-0.5", "--stop", "1"], ["omega", "> 0"]),
     "grid_start_nan": (BIF + ["--param", "xi0", "--start", "nan", "--stop", "1"], ["start", "finite"]),
-    "workers_zero": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--workers", "0"], ["workers", ">= 1"]),
-    "chunk_size_zero": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--chunk-size", "0"],
-                        ["chunk size", ">= 1"]),
-    "scheduler_garbage": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--scheduler", "not an address"],
-                          ["scheduler", "tcp://HOST:PORT"]),
-    "resume_without_out": (BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--resume"], ["resume", "--out"]),
+    "workers_zero": (
+        BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--workers", "0"],
+        ["workers", ">= 1"],
+    ),
+    "chunk_size_zero": (
+        BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--chunk-size", "0"],
+        ["chunk size", ">= 1"],
+    ),
+    "scheduler_garbage": (
+        BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--scheduler", "not an address"],
+        ["scheduler", "tcp://HOST:PORT"],
+    ),
+    "resume_without_out": (
+        BIF + ["--param", "omega", "--start", "0.5", "--stop", "1", "--resume"],
+        ["resume", "--out"],
+    ),
 }
 
 
@@ -353,7 +442,8 @@ def test_cli_refuses_bad_config_files_in_one_line(configs, case, command):
     line = one_line(err)
     assert line.startswith(f"error: {path}:"), line
     z2 = 1 + packaged_config_path().read_text(encoding="utf-8").splitlines().index(
-        next(ln for ln in packaged_config_path().read_text(encoding="utf-8").splitlines() if ln.startswith("z2 =")))
+        next(ln for ln in packaged_config_path().read_text(encoding="utf-8").splitlines() if ln.startswith("z2 ="))
+    )
     for w in CONFIG_CASES[case]:
         assert w.format(z2=z2) in line, line
 

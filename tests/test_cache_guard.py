@@ -14,13 +14,13 @@ def test_stale_cache_is_removed_when_any_source_changes(tmp_path, monkeypatch):
     cached = [pkg / "__pycache__" / "worker.w-10.py311.nbi", pkg / "__pycache__" / "worker.w-10.py311.1.nbc"]
     for f in cached:
         f.write_bytes(b"machine code")
-    assert refresh(str(pkg / "__init__.py")) is True          # no stamp yet: the cache is not trusted
+    assert refresh(str(pkg / "__init__.py")) is True  # no stamp yet: the cache is not trusted
     assert not any(f.exists() for f in cached) and (pkg / "__pycache__" / STAMP).exists()
     for f in cached:
         f.write_bytes(b"fresh machine code")
-    assert refresh(str(pkg / "__init__.py")) is False         # unchanged sources: the cache is kept
+    assert refresh(str(pkg / "__init__.py")) is False  # unchanged sources: the cache is kept
     assert all(f.exists() for f in cached)
-    (pkg / "core.py").write_text("def f(): return 2\n")       # a change in a file the workers inline
+    (pkg / "core.py").write_text("def f(): return 2\n")  # a change in a file the workers inline
     assert refresh(str(pkg / "__init__.py")) is True
     assert not any(f.exists() for f in cached)
 

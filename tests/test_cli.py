@@ -6,15 +6,13 @@ import json
 
 import pytest
 import typer.main
+from cli_run import run_cli
 
 import geardyn
 from geardyn.cli import app
 from geardyn.params import cli_options
-from cli_run import run_cli
 
 FAST = ["--transient", "20", "--periods", "8"]
-
-
 
 
 def refused(argv: list[str]) -> str:
@@ -63,27 +61,106 @@ def test_simulate_json_lists_the_poincare_points_after_the_summary():
     assert keys.index("motion") < keys.index("poincare") and keys[-2:] == ["poincare", "files"]
 
 
-@pytest.mark.parametrize("argv, starts", [
-    (["bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1", "--num", "3", "--settle",
-      "99999999999999999999999"], "error: settle: must be an integer >= 0 and <= 100000000"),
-    (["response", "--omega-start", "0.5", "--omega-stop", "1", "--num", "3", "--settle",
-      "99999999999999999999999"], "error: settle: must be an integer >= 0 and <= 100000000"),
-    (["bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1", "--num", "3", "--dtau", "1e-320"],
-     "error: dtau: ω = 0.5 with Δτ"),
-    (["simulate", "--omega", "0.8", "--dtau", "1e-6", "--periods", "100000000"],
-     "error: transient/periods: 300 + 100000000 periods of 7853982 steps"),
-    (["bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1", "--num", "3", "--omega", "1e308"],
-     "error: omega: --omega 1e+308 conflicts with the swept parameter omega"),
-    (["continuation", "--param", "omega", "--start", "0.5", "--stop", "1", "--omega", "1e308"],
-     "error: omega: --omega 1e+308 conflicts with the swept parameter omega"),
-    (["map", "--x", "omega", "--y", "D", "--x-start", "0.5", "--x-stop", "1", "--y-start", "0.1", "--y-stop", "1",
-      "--backlash", "0.3"], "error: backlash: --backlash 0.3 conflicts with the swept parameter D"),
-    (["bifurcation", "--rpm-start", "1000", "--rpm-stop", "2000", "--num", "3", "--rpm", "1500"],
-     "error: rpm: --rpm 1500 conflicts with the swept parameter omega"),
-    (["map", "--x", "omega", "--y", "xi0", "--x-start", "0.5", "--x-stop", "1", "--y-start", "0", "--y-stop", "1",
-      "--x-num", "1000", "--y-num", "1000", "--periods", "1000"], "error: periods: 1000000 points × 1000 recorded"),
-    (["simulate", "--rpm", "1e308"], "error: "),
-])
+@pytest.mark.parametrize(
+    "argv, starts",
+    [
+        (
+            [
+                "bifurcation",
+                "--param",
+                "omega",
+                "--start",
+                "0.5",
+                "--stop",
+                "1",
+                "--num",
+                "3",
+                "--settle",
+                "99999999999999999999999",
+            ],
+            "error: settle: must be an integer >= 0 and <= 100000000",
+        ),
+        (
+            [
+                "response",
+                "--omega-start",
+                "0.5",
+                "--omega-stop",
+                "1",
+                "--num",
+                "3",
+                "--settle",
+                "99999999999999999999999",
+            ],
+            "error: settle: must be an integer >= 0 and <= 100000000",
+        ),
+        (
+            ["bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1", "--num", "3", "--dtau", "1e-320"],
+            "error: dtau: ω = 0.5 with Δτ",
+        ),
+        (
+            ["simulate", "--omega", "0.8", "--dtau", "1e-6", "--periods", "100000000"],
+            "error: transient/periods: 300 + 100000000 periods of 7853982 steps",
+        ),
+        (
+            ["bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1", "--num", "3", "--omega", "1e308"],
+            "error: omega: --omega 1e+308 conflicts with the swept parameter omega",
+        ),
+        (
+            ["continuation", "--param", "omega", "--start", "0.5", "--stop", "1", "--omega", "1e308"],
+            "error: omega: --omega 1e+308 conflicts with the swept parameter omega",
+        ),
+        (
+            [
+                "map",
+                "--x",
+                "omega",
+                "--y",
+                "D",
+                "--x-start",
+                "0.5",
+                "--x-stop",
+                "1",
+                "--y-start",
+                "0.1",
+                "--y-stop",
+                "1",
+                "--backlash",
+                "0.3",
+            ],
+            "error: backlash: --backlash 0.3 conflicts with the swept parameter D",
+        ),
+        (
+            ["bifurcation", "--rpm-start", "1000", "--rpm-stop", "2000", "--num", "3", "--rpm", "1500"],
+            "error: rpm: --rpm 1500 conflicts with the swept parameter omega",
+        ),
+        (
+            [
+                "map",
+                "--x",
+                "omega",
+                "--y",
+                "xi0",
+                "--x-start",
+                "0.5",
+                "--x-stop",
+                "1",
+                "--y-start",
+                "0",
+                "--y-stop",
+                "1",
+                "--x-num",
+                "1000",
+                "--y-num",
+                "1000",
+                "--periods",
+                "1000",
+            ],
+            "error: periods: 1000000 points × 1000 recorded",
+        ),
+        (["simulate", "--rpm", "1e308"], "error: "),
+    ],
+)
 def test_bad_counts_and_conflicts_are_refused_with_one_line(argv, starts):
     assert refused(argv).startswith(starts)
 
@@ -99,8 +176,29 @@ def test_tables_carry_physical_units_and_the_exponent():
 
 
 def test_map_takes_pinion_speed_and_torque_axes():
-    code, out, err = run_cli(["map", "--x", "rpm", "--x-start", "1500", "--x-stop", "3000", "--y", "torque",
-                              "--y-start", "500", "--y-stop", "2000", "--x-num", "3", "--y-num", "2", *FAST, "--json"])
+    code, out, err = run_cli(
+        [
+            "map",
+            "--x",
+            "rpm",
+            "--x-start",
+            "1500",
+            "--x-stop",
+            "3000",
+            "--y",
+            "torque",
+            "--y-start",
+            "500",
+            "--y-stop",
+            "2000",
+            "--x-num",
+            "3",
+            "--y-num",
+            "2",
+            *FAST,
+            "--json",
+        ]
+    )
     assert code == 0, err
     s = json.loads(out)
     from geardyn.units import PhysicalScales, configured_pair
@@ -125,8 +223,16 @@ def test_a_released_output_reads_back_as_write_netcdf_and_draws_the_figures_of_t
     from geardyn.io import read_netcdf, write_netcdf
     from geardyn.plot import figures_for
 
-    ds = parameter_map(GearModel(), "omega", np.array([0.8, 1.2]), "xi0", np.array([0.05, 0.1, 0.2]),
-                       options=IntegrationOptions(transient=10, periods=4), settle_periods=0, progress=False)
+    ds = parameter_map(
+        GearModel(),
+        "omega",
+        np.array([0.8, 1.2]),
+        "xi0",
+        np.array([0.05, 0.1, 0.2]),
+        options=IntegrationOptions(transient=10, periods=4),
+        settle_periods=0,
+        progress=False,
+    )
     ref = read_netcdf(write_netcdf(ds.copy(deep=True), tmp_path / "ref.nc"))
     frozen = gc.get_freeze_count()
     files = write_released(ds, tmp_path / "out" / "map.nc", tmp_path / "out")

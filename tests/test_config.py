@@ -112,7 +112,7 @@ def test_dimensional_mesh_and_table3_reading(tmp_path):
 
 
 def test_model_section_overrides_and_operating_point_follows(tmp_path):
-    p = write(tmp_path, PAIR + "\n[mesh]\nfp = 0.2\n[operating]\nrpm = \"3000 rpm\"\n[model]\nomega = 0.5\n")
+    p = write(tmp_path, PAIR + '\n[mesh]\nfp = 0.2\n[operating]\nrpm = "3000 rpm"\n[model]\nomega = 0.5\n')
     cfg = load_config(p)
     assert cfg.model.omega == 0.5
     assert cfg.rpm == pytest.approx(0.5 * cfg.pair.omega_n * 60 / (2 * math.pi * 23))
@@ -131,7 +131,7 @@ def test_assumed_inline_table(tmp_path):
 
 # ---------------------------------------------------------------------------- refusals
 def test_unknown_key_refused_with_file_line_and_allowed(tmp_path):
-    p = write(tmp_path, PAIR + "face_widht = \"90 mm\"\n")
+    p = write(tmp_path, PAIR + 'face_widht = "90 mm"\n')
     with pytest.raises(ConfigError) as ei:
         load_config(p)
     msg = str(ei.value)
@@ -357,15 +357,38 @@ def test_nondimensional_config_runs_every_command(tmp_path):
     cfg = load_config(p)
     assert cfg.pair is None
     m = cfg.model
-    assert (m.omega, m.xi0, m.xi, m.kappa, m.phi_k, m.eps, m.fp) == (0.9, 0.08, (0.05,), (0.2, 0.05), (0.0, 0.3),
-                                                                      (0.5,), 0.2)
-    for args in (["simulate", "--periods", "8", "--transient", "20"],
-                 ["orbit", "--period", "1"],
-                 ["lyapunov", "--periods", "20", "--transient", "20"],
-                 ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.0", "--num", "3",
-                  "--transient", "20", "--periods", "4", "--settle", "0"],
-                 ["response", "--omega-start", "0.8", "--omega-stop", "1.0", "--num", "3", "--transient", "20",
-                  "--settle", "0"]):
+    assert (m.omega, m.xi0, m.xi, m.kappa, m.phi_k, m.eps, m.fp) == (
+        0.9,
+        0.08,
+        (0.05,),
+        (0.2, 0.05),
+        (0.0, 0.3),
+        (0.5,),
+        0.2,
+    )
+    for args in (
+        ["simulate", "--periods", "8", "--transient", "20"],
+        ["orbit", "--period", "1"],
+        ["lyapunov", "--periods", "20", "--transient", "20"],
+        [
+            "bifurcation",
+            "--param",
+            "omega",
+            "--start",
+            "0.8",
+            "--stop",
+            "1.0",
+            "--num",
+            "3",
+            "--transient",
+            "20",
+            "--periods",
+            "4",
+            "--settle",
+            "0",
+        ],
+        ["response", "--omega-start", "0.8", "--omega-stop", "1.0", "--num", "3", "--transient", "20", "--settle", "0"],
+    ):
         r = runner.invoke(app, [*args, "--config", str(p), "--json"])
         assert r.exit_code == 0, (args, r.output)
         out = json.loads(r.stdout)
@@ -399,7 +422,9 @@ def test_packaged_quantities_hold_pint_values_and_cover_the_packaged_file():
     kinds = {k.label: k for k in vars(cv).values() if isinstance(k, cv._Kind)}
     for (label, text), value in PACKAGED_QUANTITIES.items():
         assert value.hex() == float(cv._ureg().Quantity(text).to(kinds[label].unit).magnitude).hex(), text
-    code = ("import sys; from geardyn.config import load_config; c = load_config(None); "
-            "print('pint' in sys.modules, c.pair is not None)")
+    code = (
+        "import sys; from geardyn.config import load_config; c = load_config(None); "
+        "print('pint' in sys.modules, c.pair is not None)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.split() == ["False", "True"]

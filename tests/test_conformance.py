@@ -60,8 +60,9 @@ def test_the_contract(system):
 
 
 def test_one_batch_result_with_an_element_axis(system):
-    res = integrate_batch([system, system.with_param("omega", 1.1 * system.omega)], None,
-                          IntegrationOptions(transient=2, periods=3))
+    res = integrate_batch(
+        [system, system.with_param("omega", 1.1 * system.omega)], None, IntegrationOptions(transient=2, periods=3)
+    )
     E = len(system.elements)
     assert res.poincare.shape == (2, 3, system.state_dim) and res.stats.shape[:2] == (2, E)
     assert res.elements == tuple(e.name for e in system.elements) and res.reference == system.reference

@@ -120,13 +120,20 @@ def reference_poincare(omega, y0, periods, *, xi0=0.1, xi1=0.05, kappa1=0.2, fp=
         while t < t_end - 1e-14:
             r = region_of(y[0], y[1])
             evs = []
-            for b in ([D] if r == 1 else [-D] if r == -1 else [D, -D]):
-                ev = (lambda bb: (lambda tt, yy: yy[0] - bb))(b)
+            for b in [D] if r == 1 else [-D] if r == -1 else [D, -D]:
+                ev = (lambda bb: lambda tt, yy: yy[0] - bb)(b)
                 ev.terminal = True
                 ev.direction = -1 if (r == 1 or (r == 0 and b == -D)) else 1
                 evs.append(ev)
-            sol = solve_ivp(_reference_rhs(omega, xi0, xi1, kappa1, fp, eps1, D, r), (t, t_end), y,
-                            method="DOP853", rtol=1e-12, atol=1e-13, events=evs)
+            sol = solve_ivp(
+                _reference_rhs(omega, xi0, xi1, kappa1, fp, eps1, D, r),
+                (t, t_end),
+                y,
+                method="DOP853",
+                rtol=1e-12,
+                atol=1e-13,
+                events=evs,
+            )
             t = float(sol.t[-1])
             y = sol.y[:, -1].copy()
             if sol.status == 1:  # stopped at a crossing: restart exactly on the boundary; the
@@ -225,9 +232,16 @@ def test_bad_model_values_refused_naming_the_parameter(kwargs, name):
 
 @pytest.mark.parametrize(
     "kwargs, name",
-    [({"dtau": 0.0}, "dtau"), ({"dtau": -1e-3}, "dtau"), ({"periods": 0}, "periods"), ({"transient": -1}, "transient"),
-     ({"transient": 2.5}, "transient"), ({"transient": "abc"}, "transient"), ({"periods": None}, "periods"),
-     ({"transient": 10**400}, "transient")],
+    [
+        ({"dtau": 0.0}, "dtau"),
+        ({"dtau": -1e-3}, "dtau"),
+        ({"periods": 0}, "periods"),
+        ({"transient": -1}, "transient"),
+        ({"transient": 2.5}, "transient"),
+        ({"transient": "abc"}, "transient"),
+        ({"periods": None}, "periods"),
+        ({"transient": 10**400}, "transient"),
+    ],
 )
 def test_bad_options_refused(kwargs, name):
     with pytest.raises(ModelError, match=name):

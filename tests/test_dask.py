@@ -20,6 +20,7 @@ import xarray as xr
 distributed = pytest.importorskip("distributed")
 
 import sweep_fixtures as F  # noqa: E402
+
 from geardyn.model import IntegrationOptions  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
@@ -50,13 +51,36 @@ class Cluster:
 
     def _start(self, name: str, args: list[str]) -> None:
         log = open(self.workdir / f"{name}.log", "w")
-        self.procs[name] = subprocess.Popen([sys.executable, "-m", "dask", *args], stdout=log, stderr=subprocess.STDOUT,
-                                            env=self.env, cwd=self.workdir, start_new_session=True)
+        self.procs[name] = subprocess.Popen(
+            [sys.executable, "-m", "dask", *args],
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            env=self.env,
+            cwd=self.workdir,
+            start_new_session=True,
+        )
         log.close()
 
     def add_worker(self, name: str) -> None:
-        self._start(name, ["worker", self.address, "--name", name, "--nthreads", "1", "--no-nanny", "--no-dashboard",
-                           "--host", "127.0.0.1", "--death-timeout", "60", "--local-directory", str(self.workdir)])
+        self._start(
+            name,
+            [
+                "worker",
+                self.address,
+                "--name",
+                name,
+                "--nthreads",
+                "1",
+                "--no-nanny",
+                "--no-dashboard",
+                "--host",
+                "127.0.0.1",
+                "--death-timeout",
+                "60",
+                "--local-directory",
+                str(self.workdir),
+            ],
+        )
 
     def client(self):
         return distributed.Client(self.address, timeout=START_TIMEOUT, set_as_default=False)

@@ -24,16 +24,20 @@ def test_fill_replaces_a_placeholder_line_with_the_entries_indented_like_it():
             Other.
         """
 
-    assert inspect.getdoc(f) == ("Do.\n\nParameters\n----------\nx : float\n    The abscissa.\n"
-                                 "y : float\n    The ordinate.\nz : int\n    Other.")
+    assert inspect.getdoc(f) == (
+        "Do.\n\nParameters\n----------\nx : float\n    The abscissa.\ny : float\n    The ordinate.\nz : int\n    Other."
+    )
 
 
 def test_fill_refuses_a_placeholder_without_entry_and_an_unused_entry():
     with pytest.raises(KeyError):
+
         @fill()
         def f():
             """{{missing}}"""
+
     with pytest.raises(ValueError, match="not used"):
+
         @fill(X, Y)
         def g():
             """{{x}}"""
@@ -90,6 +94,8 @@ def test_attributes_documents_the_fields_from_their_comments():
             w: int = 1  # a local, not a field
             return w
 
-    assert inspect.getdoc(C) == ("A point.\n\nAttributes\n----------\nname : str\n    The name.\n"
-                                 "x, y : float\n    The coordinates (m),\n    east then north.\n\n"
-                                 "Notes\n-----\nNone.")
+    assert inspect.getdoc(C) == (
+        "A point.\n\nAttributes\n----------\nname : str\n    The name.\n"
+        "x, y : float\n    The coordinates (m),\n    east then north.\n\n"
+        "Notes\n-----\nNone."
+    )

@@ -84,8 +84,9 @@ def test_docs_link_each_other_and_name_real_commands():
 
 def test_quickstart_plots_only_files_an_earlier_command_writes():
     quick = (DOCS / "quickstart.md").read_text(encoding="utf-8")
-    lines = [ln.split("#")[0].strip() for block in re.findall(r"```bash\n(.*?)```", quick, re.S)
-             for ln in block.splitlines()]
+    lines = [
+        ln.split("#")[0].strip() for block in re.findall(r"```bash\n(.*?)```", quick, re.S) for ln in block.splitlines()
+    ]
     written: set[str] = set()
     for ln in lines:
         m = re.match(r"geardyn (\w+) .*--out (\S+)", ln)
@@ -93,8 +94,16 @@ def test_quickstart_plots_only_files_an_earlier_command_writes():
         if plotted:
             target = Path(plotted.group(1))
             assert str(target.parent) in written, f"quickstart plots {target}, which no earlier command writes"
-            assert target.stem in {"simulate", "response", "bifurcation", "map", "basins", "orbit", "continuation",
-                                   "lyapunov"}, target
+            assert target.stem in {
+                "simulate",
+                "response",
+                "bifurcation",
+                "map",
+                "basins",
+                "orbit",
+                "continuation",
+                "lyapunov",
+            }, target
         if m and m.group(1) != "plot":
             written.add(m.group(2))
 

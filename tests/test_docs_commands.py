@@ -74,18 +74,24 @@ _C50 = "geardyn stiffness examples/tooth_crack_50.toml --points 32 --table c50.c
 QUOTED: dict[str, Run | str] = {
     # analysis.md (the numbers: test_analysis_* below)
     "geardyn lyapunov --omega 0.8 --json": AS_QUOTED,
-    "geardyn bifurcation --param omega --start 0.5 --stop 1.5 --num 101 --lyapunov --json":
-        Run({"--num": "5", "--settle": "0", **SHORT}),
-    "geardyn response --omega-start 0.3 --omega-stop 1.0 --num 71 --xi0 0.08 --json":
-        Run({"--num": "8", "--settle": "0", **SHORT}),
+    "geardyn bifurcation --param omega --start 0.5 --stop 1.5 --num 101 --lyapunov --json": Run(
+        {"--num": "5", "--settle": "0", **SHORT}
+    ),
+    "geardyn response --omega-start 0.3 --omega-stop 1.0 --num 71 --xi0 0.08 --json": Run(
+        {"--num": "8", "--settle": "0", **SHORT}
+    ),
     # architecture.md
-    "geardyn plot FILE.nc": Run(subs={"FILE.nc": "arch/simulate.nc"},
-                                before=("geardyn simulate --omega 0.8 --transient 20 --periods 8 --out arch",)),
+    "geardyn plot FILE.nc": Run(
+        subs={"FILE.nc": "arch/simulate.nc"},
+        before=("geardyn simulate --omega 0.8 --transient 20 --periods 8 --out arch",),
+    ),
     # engineering.md
-    "geardyn te FILE.csv --teeth 14,39 [--harmonics 3] [--shaft-orders 2] [--out mesh.toml] [--json]":
-        Run(subs={"FILE.csv": "te.csv"}),
-    "geardyn runup --rpm-start 1200 --rpm-stop 2400 --duration 2 [--num 21] [--cycles-per-block M] [--out DIR]":
-        Run({"--duration": "0.3", "--num": "3"}),
+    "geardyn te FILE.csv --teeth 14,39 [--harmonics 3] [--shaft-orders 2] [--out mesh.toml] [--json]": Run(
+        subs={"FILE.csv": "te.csv"}
+    ),
+    "geardyn runup --rpm-start 1200 --rpm-stop 2400 --duration 2 [--num 21] [--cycles-per-block M] [--out DIR]": Run(
+        {"--duration": "0.3", "--num": "3"}
+    ),
     "geardyn geometry --config PAIR.toml": Run(subs={"PAIR.toml": "examples/iso10300_sample1.toml"}),
     "geardyn te FILE.csv --teeth z1,z2": Run(subs={"FILE.csv": "te.csv", "z1,z2": "14,39"}),
     "geardyn geometry --config FILE --json": Run(subs={"FILE": "examples/automotive_hypoid_like.toml"}),
@@ -98,14 +104,17 @@ QUOTED: dict[str, Run | str] = {
     "geardyn stiffness examples/tooth_healthy_spur.toml --out out/healthy": AS_QUOTED,
     "geardyn stiffness examples/tooth_crack_50.toml --out out/crack50": AS_QUOTED,
     "geardyn stiffness examples/tooth_helical.toml --out out/helical": AS_QUOTED,
-    "geardyn signature examples/tooth_healthy_spur.toml examples/tooth_crack_50.toml --out out/sig":
-        Run({"--revolutions": "4"}),
-    "geardyn signature examples/tooth_crack_50.toml --sweep-depths 0,0.1,0.25,0.5,0.75 --out out/sweep":
-        Run({"--revolutions": "4", "--sweep-depths": "0,0.5"}),
+    "geardyn signature examples/tooth_healthy_spur.toml examples/tooth_crack_50.toml --out out/sig": Run(
+        {"--revolutions": "4"}
+    ),
+    "geardyn signature examples/tooth_crack_50.toml --sweep-depths 0,0.1,0.25,0.5,0.75 --out out/sweep": Run(
+        {"--revolutions": "4", "--sweep-depths": "0,0.5"}
+    ),
     "geardyn signature --system examples/systems/spur_bending_torsional.toml examples/tooth_luo_healthy.toml "
     "examples/tooth_luo_crack50.toml --out out/syssig": Run({"--revolutions": "5", "--rpm": "6000"}),
-    "geardyn signature --system examples/systems/spur_crack50.toml --sweep-depths 0,0.1,0.25,0.5 --out out/syssweep":
-        Run({"--revolutions": "5", "--rpm": "6000", "--sweep-depths": "0,0.5"}),
+    "geardyn signature --system examples/systems/spur_crack50.toml --sweep-depths 0,0.1,0.25,0.5 --out out/syssweep": Run(
+        {"--revolutions": "5", "--rpm": "6000", "--sweep-depths": "0,0.5"}
+    ),
     "geardyn signature --system examples/systems/spur_healthy.toml --system examples/systems/spur_crack50.toml "
     "--rpm 6000": Run({"--revolutions": "5"}),
     "geardyn stiffness FILE.toml --out x.nc": Run(subs={"FILE.toml": "examples/tooth_healthy_spur.toml"}),
@@ -113,25 +122,26 @@ QUOTED: dict[str, Run | str] = {
     "geardyn simulate --excitation c50.csv --omega 0.8 --transient 20 --periods 10": Run(before=(_C50,)),
     "geardyn simulate --excitation c50.csv --omega 0.8 --transient 20 --periods 10 --accurate --excitation-evaluation "
     "table": Run(before=(_C50,)),  # as quoted: a shorter transient leaves it unsettled, and settling costs more
-    "geardyn lyapunov --excitation c50.csv --omega 0.8 --transient 10 --periods 40":
-        Run({"--transient": "2", "--periods": "20"}, before=(_C50,)),
+    "geardyn lyapunov --excitation c50.csv --omega 0.8 --transient 10 --periods 40": Run(
+        {"--transient": "2", "--periods": "20"}, before=(_C50,)
+    ),
     "geardyn orbit --excitation c50.csv --omega 0.8": Run({"--transient": "20"}, before=(_C50,)),
-    "geardyn continuation --excitation c50.csv --param omega --start 0.8 --stop 0.82 --transient 30":
-        Run({"--stop": "0.801", "--transient": "5", "--dtau": "0.05", "--ds-max": "0.5"}, before=(_C50,)),
+    "geardyn continuation --excitation c50.csv --param omega --start 0.8 --stop 0.82 --transient 30": Run(
+        {"--stop": "0.801", "--transient": "5", "--dtau": "0.05", "--ds-max": "0.5"}, before=(_C50,)
+    ),
     "geardyn bifurcation --excitation c50.csv --param omega --start 0.6 --stop 1.0 --num 5 --transient 20 "
     "--periods 8": Run({"--num": "2"}, before=(_C50,)),
-    "geardyn hb --excitation c50.csv --param omega --start 0.8 --stop 0.82":
-        Run({"--max-points": "3"}, before=(_C50,)),
-    "geardyn response --method hb --excitation c50.csv --omega-start 0.8 --omega-stop 0.82 --num 5":
-        "about 50 s of CPU (50 branch points, each with the monodromy of a pinion revolution); "
-        "tests/test_hb_cycles.py runs response --method hb with an excitation table over 3 cycles",
-    "geardyn runup --excitation c50.csv --omega-start 0.5 --omega-stop 0.7 --tau-duration 4000 --num 5":
-        Run({"--tau-duration": "800", "--num": "0"}, before=(_C50,)),
-    "geardyn simulate --system examples/systems/spur_crack50.toml --transient 30 --periods 10":
-        "one forcing period is about 1e5 RK4 steps (ω = 0.093); tests/test_excitation_system.py loads the file and "
-        "runs the same kind of system at ω = 0.8",
-    "geardyn response --method hb --omega-start 0.3 --omega-stop 1.0 --xi0 0.08 [--num 71] [--json] [--out DIR]":
-        Run({"--num": "6"}),
+    "geardyn hb --excitation c50.csv --param omega --start 0.8 --stop 0.82": Run({"--max-points": "3"}, before=(_C50,)),
+    "geardyn response --method hb --excitation c50.csv --omega-start 0.8 --omega-stop 0.82 --num 5": "about 50 s of CPU (50 branch points, each with the monodromy of a pinion revolution); "
+    "tests/test_hb_cycles.py runs response --method hb with an excitation table over 3 cycles",
+    "geardyn runup --excitation c50.csv --omega-start 0.5 --omega-stop 0.7 --tau-duration 4000 --num 5": Run(
+        {"--tau-duration": "800", "--num": "0"}, before=(_C50,)
+    ),
+    "geardyn simulate --system examples/systems/spur_crack50.toml --transient 30 --periods 10": "one forcing period is about 1e5 RK4 steps (ω = 0.093); tests/test_excitation_system.py loads the file and "
+    "runs the same kind of system at ω = 0.8",
+    "geardyn response --method hb --omega-start 0.3 --omega-stop 1.0 --xi0 0.08 [--num 71] [--json] [--out DIR]": Run(
+        {"--num": "6"}
+    ),
     "geardyn hb --system FILE --param omega --start 0.6 --stop 1.2 [--harmonics 12] [--period 1] [--json] "
     "[--out DIR]": Run({"--harmonics": "6"}, subs={"FILE": "examples/systems/paper_torsional.toml"}),
     "geardyn plot hb.nc": Run(before=("geardyn hb --param omega --start 0.5 --stop 0.65 --harmonics 6 --out .",)),
@@ -140,8 +150,9 @@ QUOTED: dict[str, Run | str] = {
     # performance.md
     "geardyn bench --workload all --threads 1 --json": _BENCH,
     "geardyn map --x omega --x-start 0.5 --x-stop 0.75 --x-num 1000 --y xi0 --y-start 0.05 --y-stop 0.3 "
-    "--y-num 1000 --settle 0 --transient 20 --periods 10 --workers 2 --out DIR":
-        Run({"--x-num": "3", "--y-num": "2"}, subs={"DIR": "perfmap"}),
+    "--y-num 1000 --settle 0 --transient 20 --periods 10 --workers 2 --out DIR": Run(
+        {"--x-num": "3", "--y-num": "2"}, subs={"DIR": "perfmap"}
+    ),
     "geardyn map --workers 2": _FRAGMENT,
     "geardyn bench --workload W1 --threads 2": _BENCH,
     # quickstart.md (the numbers: test_quickstart_* below)
@@ -153,21 +164,25 @@ QUOTED: dict[str, Run | str] = {
     "geardyn simulate --rpm 2400 --torque 1500": AS_QUOTED,
     "geardyn lyapunov --rpm 2400 --torque 1500 --json": Run({"--transient": "20", "--periods": "40"}),
     "geardyn orbit --rpm 1500 --period 1": AS_QUOTED,
-    "geardyn response --rpm-start 900 --rpm-stop 3600 --num 109 --out resp":
-        Run({"--num": "5", "--settle": "0", **SHORT}),
-    "geardyn bifurcation --rpm-start 1500 --rpm-stop 2100 --num 61 --mode continue --sweep both":
-        Run({"--num": "4", "--settle": "0", **SHORT}),
-    "geardyn map --x omega --rpm-start 900 --rpm-stop 3600 --y xi0 --y-start 0.05 --y-stop 0.2":
-        Run({"--x-num": "3", "--y-num": "2", "--settle": "0", **SHORT}),
+    "geardyn response --rpm-start 900 --rpm-stop 3600 --num 109 --out resp": Run(
+        {"--num": "5", "--settle": "0", **SHORT}
+    ),
+    "geardyn bifurcation --rpm-start 1500 --rpm-stop 2100 --num 61 --mode continue --sweep both": Run(
+        {"--num": "4", "--settle": "0", **SHORT}
+    ),
+    "geardyn map --x omega --rpm-start 900 --rpm-stop 3600 --y xi0 --y-start 0.05 --y-stop 0.2": Run(
+        {"--x-num": "3", "--y-num": "2", "--settle": "0", **SHORT}
+    ),
     "geardyn geometry --config examples/automotive_hypoid_like.toml": AS_QUOTED,
     "geardyn simulate --config examples/automotive_hypoid_like.toml --json": Run(SHORT),
     "geardyn simulate --config examples/automotive_hypoid_like.toml --rpm 4000 --torque 150": Run(SHORT),
     "geardyn plot resp/response.nc --out figs": AS_QUOTED,
-    "geardyn bifurcation --param omega --start 0.5 --stop 1.5 --num 101 --out bif":
-        Run({"--num": "5", "--settle": "0", **SHORT}),
+    "geardyn bifurcation --param omega --start 0.5 --stop 1.5 --num 101 --out bif": Run(
+        {"--num": "5", "--settle": "0", **SHORT}
+    ),
     "geardyn plot bif/bifurcation.nc --config examples/automotive_hypoid_like.toml --out bif_hypoid": AS_QUOTED,
     "geardyn reproduce --out results": "every study with its full settings takes hours; tests/test_reproduce.py "
-                                       "runs them with the quick settings",
+    "runs them with the quick settings",
     # systems.md (the numbers: test_systems_* below)
     "geardyn modes --system examples/systems/paper_bevel_8dof.toml --json": AS_QUOTED,
     "geardyn modes --system examples/systems/paper_bevel_8dof.toml --rpm-max 5000 --out results/bevel8": AS_QUOTED,
@@ -204,8 +219,7 @@ def _te_record(path: Path) -> None:
     """A synthetic single-flank record of a 14/39 pair: mesh order 14 and a pinion once-per-rev."""
     phi = np.linspace(0.0, 2 * 360.0, 14 * 2 * 64 * 2, endpoint=False)
     te = 2.0 * np.cos(np.radians(14 * phi)) + 0.5 * np.cos(np.radians(phi))
-    path.write_text("angle [deg], TE [um]\n" + "".join(f"{a:.6f},{b:.6f}\n" for a, b in zip(phi, te)),
-                    encoding="utf-8")
+    path.write_text("angle [deg], TE [um]\n" + "".join(f"{a:.6f},{b:.6f}\n" for a, b in zip(phi, te)), encoding="utf-8")
 
 
 @pytest.fixture(scope="module")
@@ -280,7 +294,9 @@ def test_quickstart_numbers_of_the_operating_point(workdir):
     period, df, fmax, fstat, rms, hz = _num(
         r"runs in a period-(\d+) motion with single-sided impacts: dynamic factor ([\d.]+) \(max mesh force "
         r"([\d.]+) kN against F_p = ([\d.]+) kN\), DTE RMS ([\d.]+) µm, and the strongest line at half the "
-        r"mesh order \(([\d.]+) Hz\)", text)
+        r"mesh order \(([\d.]+) Hz\)",
+        text,
+    )
     assert s["period"] == period and s["impact"] == "single-sided impact"
     assert round(s["dynamic_factor"], 1) == df
     assert round(s["mesh_force_max_N"] / 1e3, 1) == fmax and round(s["static_force_N"] / 1e3, 1) == fstat
@@ -296,7 +312,9 @@ def test_quickstart_numbers_of_the_speed_sweep(workdir):
     up, a, b, down, c, d, lo, hi = _num(
         r"upward jump at ([\d.]+) rpm on the run-up \(between the points at ([\d.]+) and ([\d.]+) rpm\), a "
         r"downward jump at ([\d.]+) rpm on the run-down \(between ([\d.]+) and ([\d.]+) rpm\), and the "
-        r"hysteresis interval between the two jumps, rpm \[([\d.]+), ([\d.]+)\]", text)
+        r"hysteresis interval between the two jumps, rpm \[([\d.]+), ([\d.]+)\]",
+        text,
+    )
     jumps = {j["sweep"]: j for j in r["jumps"]}
     assert [round(jumps["up"][k], 1) for k in ("rpm", "rpm_from", "rpm_to")] == [up, a, b]
     assert [round(jumps["down"][k], 1) for k in ("rpm", "rpm_from", "rpm_to")] == [down, c, d]
@@ -305,8 +323,11 @@ def test_quickstart_numbers_of_the_speed_sweep(workdir):
 
 def test_analysis_numbers_of_the_lyapunov_exponents(workdir):
     text = _doc("analysis.md")
-    l1, e1, l2, e2, total = _num(r"\| 0\.8 \| (-?[\d.]+) ± ([\d.]+) \| (-?[\d.]+) ± ([\d.]+) \| (-?[\d.]+) \| "
-                                 r"period-2 \|", text.replace("−", "-"))
+    l1, e1, l2, e2, total = _num(
+        r"\| 0\.8 \| (-?[\d.]+) ± ([\d.]+) \| (-?[\d.]+) ± ([\d.]+) \| (-?[\d.]+) \| "
+        r"period-2 \|",
+        text.replace("−", "-"),
+    )
     s = _json("geardyn lyapunov --omega 0.8 --json")
     assert [round(x, 6) for x in s["exponents"]] == [l1, l2]
     assert [round(x, 6) for x in s["uncertainty"]] == [e1, e2]
@@ -316,8 +337,9 @@ def test_analysis_numbers_of_the_lyapunov_exponents(workdir):
 def _response_doc():
     text = _doc("analysis.md").replace("−", "-")
     up = _num(r"upward jump between ω = ([\d.]+) and ([\d.]+) \(amplitude ([\d.]+) → ([\d.]+), size ([\d.]+)\)", text)
-    down = _num(r"downward jump between ω = ([\d.]+) and ([\d.]+) \(amplitude ([\d.]+) → ([\d.]+), size ([\d.]+)\)",
-                text)
+    down = _num(
+        r"downward jump between ω = ([\d.]+) and ([\d.]+) \(amplitude ([\d.]+) → ([\d.]+), size ([\d.]+)\)", text
+    )
     return text, up, down
 
 
@@ -339,8 +361,11 @@ def test_analysis_numbers_of_the_jumps_and_hysteresis(workdir):
 def test_analysis_numbers_of_the_finer_response(workdir):
     text, _, _ = _response_doc()
     r = _json("geardyn response --omega-start 0.3 --omega-stop 1.0 --num 141 --xi0 0.08 --json")
-    a, b, c, d, lo, hi = _num(r"With `--num 141` \(step 0\.005\): jumps at ([\d.]+) → ([\d.]+) and ([\d.]+) → "
-                              r"([\d.]+), interval ω \[([\d.]+), ([\d.]+)\]", text)
+    a, b, c, d, lo, hi = _num(
+        r"With `--num 141` \(step 0\.005\): jumps at ([\d.]+) → ([\d.]+) and ([\d.]+) → "
+        r"([\d.]+), interval ω \[([\d.]+), ([\d.]+)\]",
+        text,
+    )
     jumps = {j["sweep"]: j for j in r["jumps"]}
     assert [jumps["up"]["omega_from"], jumps["up"]["omega_to"]] == pytest.approx([a, b], abs=1e-12)
     assert [jumps["down"]["omega_from"], jumps["down"]["omega_to"]] == pytest.approx([c, d], abs=1e-12)
@@ -360,8 +385,11 @@ def test_systems_numbers_of_the_modes_and_campbell_crossings(workdir):
             e = r["energy_fractions"][int(modes.split(",")[0]) - 1]
             got = [sum(v for k, v in e.items() if k.startswith(p)) for p in ("pinion", "gear", "mesh")]
             assert [round(x, 3) for x in got] == [float(x) for x in energy.split(" / ")]
-    o3, o2, o1 = _num(r"the mesh mode 8 is crossed by order 3 at (\d+) rpm, by order 2 at (\d+) rpm and by order 1 "
-                      r"at (\d+) rpm", text)
+    o3, o2, o1 = _num(
+        r"the mesh mode 8 is crossed by order 3 at (\d+) rpm, by order 2 at (\d+) rpm and by order 1 "
+        r"at (\d+) rpm",
+        text,
+    )
     mesh = {c["order"]: c["rpm"] for c in r["campbell"]["crossings"] if c["modes"] == [8]}
     assert [round(mesh[k]) for k in (3, 2, 1)] == [o3, o2, o1]
     (below,) = _num(r"All the bearing modes are crossed by order 1 below (\d+) rpm", text)

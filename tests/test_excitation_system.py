@@ -9,8 +9,8 @@ import pytest
 
 from geardyn.analysis.hb.system import hb_system_solve
 from geardyn.analysis.lyapunov import lyapunov_spectrum
-from geardyn.analysis.periodic.orbit import shoot
 from geardyn.analysis.periodic import continuation
+from geardyn.analysis.periodic.orbit import shoot
 from geardyn.integrate import trajectory
 from geardyn.model import IntegrationOptions
 from geardyn.systems.load import load_system
@@ -38,7 +38,7 @@ def test_the_mesh_frequency_stays_omega_and_the_forcing_period_is_a_revolution(s
     m = system.meshes[0]
     assert system.omega == 0.8 and system.period_multiple() == P
     assert m.ratio == 1.0 / P and m.cycles == P and len(m.kappa) == 8 * P // 2
-    assert m.xi[P - 1] > 0 and not any(m.xi[:P - 1])  # the damping harmonic stays mesh order 1
+    assert m.xi[P - 1] > 0 and not any(m.xi[: P - 1])  # the damping harmonic stays mesh order 1
     assert system.sampling_period == pytest.approx(P * 2 * np.pi / 0.8, rel=1e-14)
 
 

@@ -41,12 +41,24 @@ def simulated(tmp_path_factory):
 
 def test_simulate_saves_every_format_at_the_resolution_asked_for(tmp_path, simulated):
     a, base = simulated
-    r = _run("simulate", "--omega", "0.8", *SHORT, "--json", "--out", str(tmp_path / "b"), "--format", "png,PDF, svg",
-             "--dpi", "240")
+    r = _run(
+        "simulate",
+        "--omega",
+        "0.8",
+        *SHORT,
+        "--json",
+        "--out",
+        str(tmp_path / "b"),
+        "--format",
+        "png,PDF, svg",
+        "--dpi",
+        "240",
+    )
     files = _files(r)
     stems = [p.stem for p in base if p.suffix == ".png"]
-    assert [(p.stem, p.suffix) for p in files if p.suffix != ".nc"] == [(s, f".{f}") for s in stems
-                                                                         for f in ("png", "pdf", "svg")]
+    assert [(p.stem, p.suffix) for p in files if p.suffix != ".nc"] == [
+        (s, f".{f}") for s in stems for f in ("png", "pdf", "svg")
+    ]
     for p in files[1:]:
         assert p.read_bytes().startswith(MAGIC[p.suffix[1:]]), p.name
     for p in (f for f in files if f.suffix == ".png"):
@@ -62,19 +74,62 @@ def test_plot_modes_and_a_map_take_the_formats(tmp_path, simulated):
     assert {p.suffix for p in _files(r)} == {".svg"} and len(_files(r)) == 5
     r = _run("modes", "--system", BEVEL, "--out", str(tmp_path / "m"), "--format", "pdf", "--json")
     assert [p.name for p in _files(r)] == ["modes.nc", "campbell.pdf"]
-    r = _run("map", "--x", "omega", "--x-start", "0.6", "--x-stop", "0.8", "--x-num", "2", "--y", "xi0", "--y-start",
-             "0.05", "--y-stop", "0.1", "--y-num", "2", "--settle", "0", *SHORT, "--out", str(tmp_path / "map"),
-             "--format", "svg,png", "--json")
+    r = _run(
+        "map",
+        "--x",
+        "omega",
+        "--x-start",
+        "0.6",
+        "--x-stop",
+        "0.8",
+        "--x-num",
+        "2",
+        "--y",
+        "xi0",
+        "--y-start",
+        "0.05",
+        "--y-stop",
+        "0.1",
+        "--y-num",
+        "2",
+        "--settle",
+        "0",
+        *SHORT,
+        "--out",
+        str(tmp_path / "map"),
+        "--format",
+        "svg,png",
+        "--json",
+    )
     names = [p.name for p in _files(r)]
     assert "map_motion.svg" in names and "map_motion.png" in names and not any(n.endswith(".pdf") for n in names)
 
 
-@pytest.mark.parametrize("args, message", [(["--format", "jpg"], "format: expected png, pdf, svg"),
-                                           (["--format", ""], "format:"),
-                                           (["--dpi", "0"], "dpi: must be an integer >= 10")])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--format", "jpg"], "format: expected png, pdf, svg"),
+        (["--format", ""], "format:"),
+        (["--dpi", "0"], "dpi: must be an integer >= 10"),
+    ],
+)
 def test_bad_format_or_dpi_refused_before_the_run(tmp_path, args, message):
-    r = _run("bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1.5", "--num", "3", *SHORT,
-             "--out", str(tmp_path), *args, code=2)
+    r = _run(
+        "bifurcation",
+        "--param",
+        "omega",
+        "--start",
+        "0.5",
+        "--stop",
+        "1.5",
+        "--num",
+        "3",
+        *SHORT,
+        "--out",
+        str(tmp_path),
+        *args,
+        code=2,
+    )
     assert message in r.output and len(r.output.strip().splitlines()) == 1
     assert not any(tmp_path.iterdir())  # nothing computed, nothing written
 

@@ -19,16 +19,63 @@ from geardyn.io import read_netcdf
 from geardyn.plot import draw, figures_for
 from geardyn.plot.common import NAN_COLOR, parameter_text, symbol
 
-MODEL = {"D": 1.0, "eps": [0.5], "fp": 0.2, "kappa": [0.2], "omega": 1.0, "phi_c": [0.0], "phi_e": [0.0],
-         "phi_k": [0.0], "xi": [0.05], "xi0": 0.1}
+MODEL = {
+    "D": 1.0,
+    "eps": [0.5],
+    "fp": 0.2,
+    "kappa": [0.2],
+    "omega": 1.0,
+    "phi_c": [0.0],
+    "phi_e": [0.0],
+    "phi_k": [0.0],
+    "xi": [0.05],
+    "xi0": 0.1,
+}
 
 RUNS = {
     "simulate": ["simulate", "--rpm", "2400", "--transient", "30", "--periods", "8"],
-    "bifurcation_D": ["bifurcation", "--param", "D", "--start", "0.05", "--stop", "1", "--num", "5",
-                      "--transient", "20", "--periods", "8", "--settle", "0"],
-    "map": ["map", "--x", "omega", "--y", "D", "--rpm-start", "1000", "--rpm-stop", "4000", "--x-num", "4",
-            "--y-start", "0.1", "--y-stop", "1", "--y-num", "6", "--transient", "20", "--periods", "8",
-            "--settle", "0"],
+    "bifurcation_D": [
+        "bifurcation",
+        "--param",
+        "D",
+        "--start",
+        "0.05",
+        "--stop",
+        "1",
+        "--num",
+        "5",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
+    "map": [
+        "map",
+        "--x",
+        "omega",
+        "--y",
+        "D",
+        "--rpm-start",
+        "1000",
+        "--rpm-stop",
+        "4000",
+        "--x-num",
+        "4",
+        "--y-start",
+        "0.1",
+        "--y-stop",
+        "1",
+        "--y-num",
+        "6",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
     "orbit": ["orbit", "--omega", "1.2", "--transient", "50"],
     "basins": ["basins", "--omega", "1.2", "--nu", "3", "--nv", "3", "--transient", "20", "--periods", "16"],
 }
@@ -51,23 +98,39 @@ def _response(param="omega"):
     x = np.linspace(0.4, 0.8, 9)
     up = np.where(x < 0.6, 0.2, 1.1)
     down = np.where(x < 0.52, 0.2, 1.1)
-    jumps = [{"sweep": "down", param: 0.525, "amplitude_from": 1.1, "amplitude_to": 0.2},
-             {"sweep": "up", param: 0.615, "amplitude_from": 0.25, "amplitude_to": 1.1},
-             {"sweep": "up", param: 0.635, "amplitude_from": 0.3, "amplitude_to": 1.0}]
-    return xr.Dataset({"amplitude": (("sweep", param), np.stack([up, down]))},
-                      coords={"sweep": ["up", "down"], param: x},
-                      attrs={"geardyn_kind": "response", "param": param, "measure": "amplitude",
-                             "model": json.dumps(MODEL), "jumps": json.dumps(jumps),
-                             "hysteresis": json.dumps([[0.525, 0.615]])})
+    jumps = [
+        {"sweep": "down", param: 0.525, "amplitude_from": 1.1, "amplitude_to": 0.2},
+        {"sweep": "up", param: 0.615, "amplitude_from": 0.25, "amplitude_to": 1.1},
+        {"sweep": "up", param: 0.635, "amplitude_from": 0.3, "amplitude_to": 1.0},
+    ]
+    return xr.Dataset(
+        {"amplitude": (("sweep", param), np.stack([up, down]))},
+        coords={"sweep": ["up", "down"], param: x},
+        attrs={
+            "geardyn_kind": "response",
+            "param": param,
+            "measure": "amplitude",
+            "model": json.dumps(MODEL),
+            "jumps": json.dumps(jumps),
+            "hysteresis": json.dumps([[0.525, 0.615]]),
+        },
+    )
 
 
 def _stability():
     om = np.linspace(0.4, 2.2, 10)
     crit = np.array([np.nan, 0.08, 0.11, 0.2, 0.22, 0.21, 0.15, np.nan, np.nan, np.nan])
     kinds = ["stable" if np.isnan(c) else "period-doubling" for c in crit]
-    return xr.Dataset({"xi0_critical": ("omega", crit), "bifurcation_type": ("omega", kinds),
-                       "xi0_critical_linear": ("omega", np.r_[np.zeros(8), 0.055, 0.0]), "xi0_paper": 0.4899},
-                      coords={"omega": om}, attrs={"geardyn_kind": "stability_comparison", "model": json.dumps(MODEL)})
+    return xr.Dataset(
+        {
+            "xi0_critical": ("omega", crit),
+            "bifurcation_type": ("omega", kinds),
+            "xi0_critical_linear": ("omega", np.r_[np.zeros(8), 0.055, 0.0]),
+            "xi0_paper": 0.4899,
+        },
+        coords={"omega": om},
+        attrs={"geardyn_kind": "stability_comparison", "model": json.dumps(MODEL)},
+    )
 
 
 def _texts(fig):
@@ -96,8 +159,11 @@ def _assert_no_overlap(fig, what):
 
 
 def _data_points(ax):
-    pts = [np.column_stack(line.get_data()) for line in ax.get_lines()
-           if line.get_transform() is ax.transData and line.get_visible()]
+    pts = [
+        np.column_stack(line.get_data())
+        for line in ax.get_lines()
+        if line.get_transform() is ax.transData and line.get_visible()
+    ]
     pts += [c.get_offsets() for c in ax.collections if c.get_offset_transform() is ax.transData]
     pts = [np.asarray(p, dtype=float).reshape(-1, 2) for p in pts]
     pts = np.concatenate(pts) if pts else np.zeros((0, 2))
@@ -146,8 +212,7 @@ def test_jump_labels_collide_neither_with_each_other_nor_with_arrows():
         assert not any(t.get_window_extent(renderer).overlaps(b) for b in arrows), t.get_text()
 
 
-@pytest.mark.parametrize("stem", ["time_history", "phase_portrait", "spectrum", "physical_time_history",
-                                  "spectrum_hz"])
+@pytest.mark.parametrize("stem", ["time_history", "phase_portrait", "spectrum", "physical_time_history", "spectrum_hz"])
 def test_simulate_figures_have_no_overlapping_text(results, stem):
     art = draw(results["simulate"], stem)
     _assert_no_overlap(art.figure, stem)
@@ -188,8 +253,16 @@ def test_every_title_carries_the_parameters(results, name):
 
 
 def test_parameter_symbols():
-    assert [symbol(n) for n in ("omega", "xi0", "xi1", "kappa2", "fp", "eps1", "D", "rpm")] == \
-        ["ω", "ξ0", "ξ1", "κ2", "f_p", "ε1", "D", "rpm"]
+    assert [symbol(n) for n in ("omega", "xi0", "xi1", "kappa2", "fp", "eps1", "D", "rpm")] == [
+        "ω",
+        "ξ0",
+        "ξ1",
+        "κ2",
+        "f_p",
+        "ε1",
+        "D",
+        "rpm",
+    ]
     ds = xr.Dataset(attrs={"model": json.dumps(MODEL)})
     assert parameter_text(ds, ["omega", "backlash"]) == "ξ0 = 0.1, ξ1 = 0.05, κ1 = 0.2, f_p = 0.2, ε1 = 0.5"
 
@@ -207,7 +280,7 @@ def test_map_draws_missing_exponents_in_a_colour_of_their_own(results):
     mesh = ax.collections[0]
     zero = mesh.cmap(mesh.norm(0.0))
     grey = nan_cells.cmap(0.0)
-    assert np.allclose(grey[:3], [int(NAN_COLOR[i:i + 2], 16) / 255 for i in (1, 3, 5)])
+    assert np.allclose(grey[:3], [int(NAN_COLOR[i : i + 2], 16) / 255 for i in (1, 3, 5)])
     assert np.linalg.norm(np.subtract(grey[:3], zero[:3])) > 0.2  # not the colour of λ1 = 0
     legend = ax.get_legend()
     assert legend is not None and any("NaN" in t.get_text() for t in legend.get_texts())
@@ -226,8 +299,9 @@ def test_amplitude_against_rpm_of_a_map_has_markers_a_colour_bar_and_a_title(res
     assert "against pinion speed" in ax.get_title()
     few = ds.isel(D=[0, 1])
     ax = draw(few, "amplitude_um_vs_rpm").axes[0]
-    assert isinstance(ax.get_legend(), Legend) and [t.get_text() for t in ax.get_legend().get_texts()] == \
-        [f"D = {v:.4g}" for v in few["D"].values]
+    assert isinstance(ax.get_legend(), Legend) and [t.get_text() for t in ax.get_legend().get_texts()] == [
+        f"D = {v:.4g}" for v in few["D"].values
+    ]
 
 
 def test_amplitude_against_rpm_of_a_large_map_draws_evenly_spaced_rows_and_says_so(results):
@@ -238,8 +312,11 @@ def test_amplitude_against_rpm_of_a_large_map_draws_evenly_spaced_rows_and_says_
     n = 3 * MAX_CURVES + 5
     d = np.linspace(0.1, 1.0, n)
     amp = ds["amplitude_um"].isel(D=0).values[None, :] * (1.0 + d[:, None])  # row k scaled by 1 + D_k
-    big = xr.Dataset({"amplitude_um": (("D", "omega"), amp, ds["amplitude_um"].attrs)},
-                     coords={"D": ("D", d, ds["D"].attrs), "omega": ds["omega"], "rpm": ds["rpm"]}, attrs=ds.attrs)
+    big = xr.Dataset(
+        {"amplitude_um": (("D", "omega"), amp, ds["amplitude_um"].attrs)},
+        coords={"D": ("D", d, ds["D"].attrs), "omega": ds["omega"], "rpm": ds["rpm"]},
+        attrs=ds.attrs,
+    )
     ax = draw(big, "amplitude_um_vs_rpm").axes[0]
     lines = ax.get_lines()
     assert len(lines) == MAX_CURVES
@@ -267,10 +344,38 @@ def test_figures_over_omega_of_a_physical_pair_read_in_rpm_too(tmp_path):
         except SystemExit as e:
             assert e.code in (0, None)
 
-    run("bifurcation", "--rpm-start", "1500", "--rpm-stop", "3000", "--num", "6", "--transient", "20", "--periods",
-        "8", "--out", str(tmp_path / "b"), "--json")
-    run("basins", "--rpm", "2400", "--nu", "3", "--nv", "3", "--transient", "20", "--periods", "8",
-        "--out", str(tmp_path / "s"), "--json")
+    run(
+        "bifurcation",
+        "--rpm-start",
+        "1500",
+        "--rpm-stop",
+        "3000",
+        "--num",
+        "6",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--out",
+        str(tmp_path / "b"),
+        "--json",
+    )
+    run(
+        "basins",
+        "--rpm",
+        "2400",
+        "--nu",
+        "3",
+        "--nv",
+        "3",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--out",
+        str(tmp_path / "s"),
+        "--json",
+    )
     art = draw(read_netcdf(tmp_path / "b" / "bifurcation.nc"), "bifurcation")
     tops = [a for ax in art.figure.axes for a in ax.child_axes]
     assert any(t.get_xlabel() == "pinion speed [rpm]" for t in tops)
@@ -300,10 +405,13 @@ def test_cells_of_a_large_even_grid_are_an_image_of_the_same_cells():
     im = cells(ax, x, y, z, cmap="viridis")
     assert isinstance(im, AxesImage) and np.array_equal(im.get_array(), z)
     dx, dy = x[1] - x[0], y[1] - y[0]
-    assert np.allclose(im.get_extent(), [x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2], rtol=0, atol=1e-12)
+    assert np.allclose(
+        im.get_extent(), [x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2], rtol=0, atol=1e-12
+    )
     edges = Figure().add_subplot().pcolormesh(x, y, z, shading="nearest").get_coordinates()  # the mesh's cells
-    assert np.allclose(im.get_extent(), [edges[0, 0, 0], edges[0, -1, 0], edges[0, 0, 1], edges[-1, 0, 1]],
-                       rtol=0, atol=1e-12)
+    assert np.allclose(
+        im.get_extent(), [edges[0, 0, 0], edges[0, -1, 0], edges[0, 0, 1], edges[-1, 0, 1]], rtol=0, atol=1e-12
+    )
     uneven = np.r_[x[:-1], x[-1] + 0.5]
     assert isinstance(cells(Figure().add_subplot(), uneven, y, z), QuadMesh)
     assert isinstance(cells(Figure().add_subplot(), x[:3], y[:3], z[:3, :3]), QuadMesh)

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import inspect
 import json
-from pathlib import Path
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,15 +26,77 @@ COMMANDS = {
     "simulate": ["simulate", "--omega", "1.2", "--transient", "20", "--periods", "8"],
     "lyapunov": ["lyapunov", "--omega", "1.2", "--transient", "20", "--periods", "100", "--blocks", "4"],
     "orbit": ["orbit", "--omega", "1.2", "--transient", "50"],
-    "continuation": ["continuation", "--param", "omega", "--start", "1.2", "--stop", "1.3", "--sweep-num", "5",
-                     "--transient", "20", "--no-switch"],
-    "bifurcation": ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "4",
-                    "--transient", "20", "--periods", "8", "--settle", "0"],
-    "response": ["response", "--omega-start", "0.8", "--omega-stop", "1.2", "--num", "4", "--transient", "20",
-                 "--periods", "8", "--settle", "0"],
-    "map": ["map", "--x", "omega", "--y", "xi0", "--x-start", "0.8", "--x-stop", "1.2", "--x-num", "3",
-            "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20", "--periods", "8",
-            "--settle", "0"],
+    "continuation": [
+        "continuation",
+        "--param",
+        "omega",
+        "--start",
+        "1.2",
+        "--stop",
+        "1.3",
+        "--sweep-num",
+        "5",
+        "--transient",
+        "20",
+        "--no-switch",
+    ],
+    "bifurcation": [
+        "bifurcation",
+        "--param",
+        "omega",
+        "--start",
+        "0.8",
+        "--stop",
+        "1.2",
+        "--num",
+        "4",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
+    "response": [
+        "response",
+        "--omega-start",
+        "0.8",
+        "--omega-stop",
+        "1.2",
+        "--num",
+        "4",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
+    "map": [
+        "map",
+        "--x",
+        "omega",
+        "--y",
+        "xi0",
+        "--x-start",
+        "0.8",
+        "--x-stop",
+        "1.2",
+        "--x-num",
+        "3",
+        "--y-start",
+        "0.05",
+        "--y-stop",
+        "0.1",
+        "--y-num",
+        "2",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
     "basins": ["basins", "--omega", "1.2", "--nu", "3", "--nv", "3", "--transient", "20", "--periods", "16"],
     "runup": ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "300", "--num", "2"],
     "hb": ["hb", "--param", "omega", "--start", "1.2", "--stop", "1.3", "--harmonics", "4"],
@@ -42,15 +104,45 @@ COMMANDS = {
 _SYSTEM = str(Path(__file__).resolve().parents[1] / "examples" / "systems" / "paper_torsional.toml")
 #: The same commands on a multi-DOF system (the same kinds, ``<command>.nc``; the figures only a system has come
 #: from geardyn.plot.systems).
-COMMANDS.update({f"system_{k}": v[:1] + ["--system", _SYSTEM] + v[1:] for k, v in COMMANDS.items()
-                 if k not in ("runup", "hb")})  # hb refuses --system for now
-COMMANDS["system_basins"] = ["basins", "--system", _SYSTEM, "--omega", "1.2", "--nu", "2", "--nv", "2",
-                             "--transient", "20", "--periods", "8", "--settle", "0"]
+COMMANDS.update(
+    {f"system_{k}": v[:1] + ["--system", _SYSTEM] + v[1:] for k, v in COMMANDS.items() if k not in ("runup", "hb")}
+)  # hb refuses --system for now
+COMMANDS["system_basins"] = [
+    "basins",
+    "--system",
+    _SYSTEM,
+    "--omega",
+    "1.2",
+    "--nu",
+    "2",
+    "--nv",
+    "2",
+    "--transient",
+    "20",
+    "--periods",
+    "8",
+    "--settle",
+    "0",
+]
 COMMANDS["modes"] = ["modes", "--system", _SYSTEM]
 #: (a system's continuation over a brute-force sweep of two points)
-COMMANDS["system_continuation"] = ["continuation", "--system", _SYSTEM, "--param", "omega", "--start", "1.3",
-                                   "--stop", "1.35", "--ds-max", "0.1", "--sweep-num", "2",
-                                   "--transient", "20"]
+COMMANDS["system_continuation"] = [
+    "continuation",
+    "--system",
+    _SYSTEM,
+    "--param",
+    "omega",
+    "--start",
+    "1.3",
+    "--stop",
+    "1.35",
+    "--ds-max",
+    "0.1",
+    "--sweep-num",
+    "2",
+    "--transient",
+    "20",
+]
 
 
 @pytest.fixture(scope="module")
@@ -80,8 +172,12 @@ def test_plot_redraws_the_figures_the_command_drew(runs, name, tmp_path):
     assert r.exit_code == 0, r.output
     assert _figures_in(tmp_path) == drawn
     if name.startswith("system_"):  # a system's JSON adds its meshes
-        assert all({"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} <= set(m)
-                   for m in summary["meshes"]) and summary["meshes"]
+        assert (
+            all(
+                {"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} <= set(m) for m in summary["meshes"]
+            )
+            and summary["meshes"]
+        )
     if name == "system_continuation":  # the torsional pair's rigid rotation is left out of the multipliers
         assert summary["rigid_body_modes"] == 1 and len(summary["branch"][0]["multipliers"]) == 2
         assert (d / "continuation_sweep.nc").exists()
@@ -111,26 +207,53 @@ def _synthetic():
     """Datasets of the kinds no command writes (report and stability studies)."""
     om = np.array([0.8, 1.0, 1.2])
     model = json.dumps({"omega": 1.0, "D": 1.0, "xi0": 0.1, "fp": 0.2, "kappa1": 0.2})
-    comp = xr.Dataset({"xi0_critical": ("omega", [0.05, 0.12, 0.08]),
-                       "bifurcation_type": ("omega", ["period-doubling", "fold", "stable"]),
-                       "xi0_critical_linear": ("omega", [0.02, 0.1, 0.04]), "xi0_paper": 0.4899},
-                      coords={"omega": om}, attrs={"geardyn_kind": "stability_comparison", "model": model})
-    mathieu = xr.Dataset({"xi0_critical": ("omega", [0.02, 0.1, 0.04])}, coords={"omega": om},
-                         attrs={"geardyn_kind": "mathieu_boundary", "model": model})
+    comp = xr.Dataset(
+        {
+            "xi0_critical": ("omega", [0.05, 0.12, 0.08]),
+            "bifurcation_type": ("omega", ["period-doubling", "fold", "stable"]),
+            "xi0_critical_linear": ("omega", [0.02, 0.1, 0.04]),
+            "xi0_paper": 0.4899,
+        },
+        coords={"omega": om},
+        attrs={"geardyn_kind": "stability_comparison", "model": model},
+    )
+    mathieu = xr.Dataset(
+        {"xi0_critical": ("omega", [0.02, 0.1, 0.04])},
+        coords={"omega": om},
+        attrs={"geardyn_kind": "mathieu_boundary", "model": model},
+    )
     boundary = comp[["xi0_critical", "bifurcation_type"]].assign_attrs(geardyn_kind="stability_boundary")
-    fit = xr.Dataset({"omega": ("p", np.tile(om, 2)), "xi0": ("p", [0.1] * 6), "b_mm": ("p", [0.2] * 3 + [0.7] * 3),
-                      "amplitude": ("p", [0.5, 0.9, 0.6, 0.55, 0.95, 0.65])},
-                     attrs={"geardyn_kind": "formula_fit", "A0": 0.6, "dA": 0.3, "beta": 0.1, "r2": 0.9})
-    readings = xr.Dataset({"hold_fraction": (("claim", "omega"), [[0.2, 1.0, 0.5], [0.0, 0.5, 1.0]])},
-                          coords={"claim": ["T2-1", "T3-2"], "omega": [0.9, 1.0, 1.1]},
-                          attrs={"geardyn_kind": "readings_map", "default_omega": 1.0})
-    search = xr.Dataset({"match_fraction": (("omega", "claim"), [[0.2, 1.0], [0.5, np.nan], [0.9, 0.0]])},
-                        coords={"omega": om, "claim": ["T2-1", "T2-2"]}, attrs={"geardyn_kind": "search", "param": "xi1"})
+    fit = xr.Dataset(
+        {
+            "omega": ("p", np.tile(om, 2)),
+            "xi0": ("p", [0.1] * 6),
+            "b_mm": ("p", [0.2] * 3 + [0.7] * 3),
+            "amplitude": ("p", [0.5, 0.9, 0.6, 0.55, 0.95, 0.65]),
+        },
+        attrs={"geardyn_kind": "formula_fit", "A0": 0.6, "dA": 0.3, "beta": 0.1, "r2": 0.9},
+    )
+    readings = xr.Dataset(
+        {"hold_fraction": (("claim", "omega"), [[0.2, 1.0, 0.5], [0.0, 0.5, 1.0]])},
+        coords={"claim": ["T2-1", "T3-2"], "omega": [0.9, 1.0, 1.1]},
+        attrs={"geardyn_kind": "readings_map", "default_omega": 1.0},
+    )
+    search = xr.Dataset(
+        {"match_fraction": (("omega", "claim"), [[0.2, 1.0], [0.5, np.nan], [0.9, 0.0]])},
+        coords={"omega": om, "claim": ["T2-1", "T2-2"]},
+        attrs={"geardyn_kind": "search", "param": "xi1"},
+    )
     from test_reproduce_figures import overlay
 
-    return {"stability_comparison": comp, "mathieu_boundary": mathieu, "stability_boundary": boundary,
-            "formula_fit": fit, "search": search, "readings_map": readings, "response_overlay": overlay(),
-            **_tooth_synthetic()}
+    return {
+        "stability_comparison": comp,
+        "mathieu_boundary": mathieu,
+        "stability_boundary": boundary,
+        "formula_fit": fit,
+        "search": search,
+        "readings_map": readings,
+        "response_overlay": overlay(),
+        **_tooth_synthetic(),
+    }
 
 
 def _tooth_synthetic():
@@ -144,15 +267,24 @@ def _tooth_synthetic():
     n, order = np.arange(64), np.arange(100) / 2.0
     ind = {k: 1.0 + i for i, k in enumerate(INDICATORS)}
     run = {"z1": 20, "z2": 40, "indicators": {"pinion": ind, "wheel": ind}}
-    sig = xr.Dataset({"accel": (("run", "time"), np.sin(n)[None]), "tach": (("run", "time"), (n % 16 == 0)[None] * 5.0),
-                      "order_amplitude": (("run", "order"), (1e-3 + (order % 20 == 0))[None]),
-                      **{v: (("run", "angle_pinion"), np.cos(n)[None]) for v in ("tsa_pinion", "regular", "residual",
-                                                                                  "difference")}},
-                     coords={"run": ["a"], "time": n / 1e3, "order": order, "angle_pinion": n * 360 / 64},
-                     attrs={"geardyn_kind": "signature", "summary": json.dumps({"runs": [run]})})
-    sweep = xr.Dataset({k: (("size", "shaft"), [[1.0, 1.0], [2.0, 1.5]]) for k in INDICATORS},
-                       coords={"size": [0.0, 0.5], "shaft": ["pinion", "wheel"]},
-                       attrs={"geardyn_kind": "signature_sweep"})
+    sig = xr.Dataset(
+        {
+            "accel": (("run", "time"), np.sin(n)[None]),
+            "tach": (("run", "time"), (n % 16 == 0)[None] * 5.0),
+            "order_amplitude": (("run", "order"), (1e-3 + (order % 20 == 0))[None]),
+            **{
+                v: (("run", "angle_pinion"), np.cos(n)[None])
+                for v in ("tsa_pinion", "regular", "residual", "difference")
+            },
+        },
+        coords={"run": ["a"], "time": n / 1e3, "order": order, "angle_pinion": n * 360 / 64},
+        attrs={"geardyn_kind": "signature", "summary": json.dumps({"runs": [run]})},
+    )
+    sweep = xr.Dataset(
+        {k: (("size", "shaft"), [[1.0, 1.0], [2.0, 1.5]]) for k in INDICATORS},
+        coords={"size": [0.0, 0.5], "shaft": ["pinion", "wheel"]},
+        attrs={"geardyn_kind": "signature_sweep"},
+    )
     return {"stiffness": stiff, "signature": sig, "signature_sweep": sweep}
 
 
@@ -164,10 +296,19 @@ def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):
     mp, bif = datasets["map"], datasets["bifurcation"]
     variants = [mp.assign(lle=mp["amplitude"] * 0 + 0.01)]  # a map with exponents computed
     rpm = [float(x) for x in datasets["response"]["rpm"].values]
-    iso_kv = {"rpm": rpm, "K_v": [1.1] * len(rpm), "resonance_speed_rpm": rpm[1], "torque_N_m": 1000.0,
-              "sector_bounds_rpm": {"subcritical_end": 0.75 * rpm[1], "main_resonance_end": 1.25 * rpm[1],
-                                    "supercritical_start": 1.5 * rpm[1]},
-              "model_resonance_rpm": rpm[1], "simulated": {"up": [1.2] * len(rpm), "down": [1.3] * len(rpm)}}
+    iso_kv = {
+        "rpm": rpm,
+        "K_v": [1.1] * len(rpm),
+        "resonance_speed_rpm": rpm[1],
+        "torque_N_m": 1000.0,
+        "sector_bounds_rpm": {
+            "subcritical_end": 0.75 * rpm[1],
+            "main_resonance_end": 1.25 * rpm[1],
+            "supercritical_start": 1.5 * rpm[1],
+        },
+        "model_resonance_rpm": rpm[1],
+        "simulated": {"up": [1.2] * len(rpm), "down": [1.3] * len(rpm)},
+    }
     variants.append(datasets["response"].assign_attrs(iso_kv=json.dumps(iso_kv)))  # a pair with ISO inputs
     sig = json.loads(datasets["signature"].attrs["summary"])  # a system's signature: its runs name a sensor
     sig["runs"][0].update(sensor="pinion.y", mesh="mesh")
@@ -179,8 +320,11 @@ def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):
         two = xr.concat([one["u_min"], one["u_max"]], dim="element").transpose(*one["u_min"].dims, "element")
         sysinfo = json.loads(one.attrs["system"])
         sysinfo["elements"] = [{"name": n, "kind": "mesh", "gap": 1.0} for n in ("m1", "m2")]
-        variants.append(one.assign(element_u_min=two - 1.0, element_u_max=two + 1.0)
-                        .assign_coords(element=["m1", "m2"]).assign_attrs(system=json.dumps(sysinfo)))
+        variants.append(
+            one.assign(element_u_min=two - 1.0, element_u_max=two + 1.0)
+            .assign_coords(element=["m1", "m2"])
+            .assign_attrs(system=json.dumps(sysinfo))
+        )
     checked = set()
     for ds in list(datasets.values()) + variants:
         for spec in figures_for(ds):
@@ -222,8 +366,7 @@ def test_no_backend_is_forced_at_import():
     env = dict(os.environ, MPLBACKEND="svg")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env).stdout
     assert out.strip() == "svg"
-    code = ("import sys, geardyn.plot; import xarray as xr; "
-            "print('matplotlib.pyplot' in sys.modules)")
+    code = "import sys, geardyn.plot; import xarray as xr; print('matplotlib.pyplot' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env).stdout
     assert out.strip() == "False"
 
@@ -280,8 +423,11 @@ def test_summary_json_holds_the_common_part_of_the_json_outputs(runs):
 
 def test_attach_round_trip_through_a_file(tmp_path):
     main = xr.Dataset({"a": ("x", [1.0, 2.0])}, coords={"x": [0, 1]}, attrs={"geardyn_kind": "simulate", "k": "v"})
-    ctx = xr.Dataset({"amplitude": (("sweep", "omega"), [[1.0, 2.0, 3.0]])},
-                     coords={"sweep": ["up"], "omega": [0.5, 1.0, 1.5]}, attrs={"geardyn_kind": "bifurcation"})
+    ctx = xr.Dataset(
+        {"amplitude": (("sweep", "omega"), [[1.0, 2.0, 3.0]])},
+        coords={"sweep": ["up"], "omega": [0.5, 1.0, 1.5]},
+        attrs={"geardyn_kind": "bifurcation"},
+    )
     both = attach(main, "brute", ctx)
     f = write_netcdf(both, tmp_path / "both.nc")
     back = read_netcdf(f)

@@ -24,15 +24,28 @@ DEG = math.pi / 180.0
 def table1(**changes) -> SpiralBevelGearPair:
     """The paper's Table 1 pair (SI units) with the assumed face width 100 mm and c_γ = 20 N/(mm·µm)."""
     kw = dict(
-        z1=23, z2=47, m_mn=7.28e-3, beta_m=35 * DEG, alpha_n=20 * DEG, Sigma=90 * DEG, j_n=0.1e-3,
-        I1=1.772, I2=1.873, r1=0.1255, r2=0.256, face_width=0.1, xi0=0.1,
+        z1=23,
+        z2=47,
+        m_mn=7.28e-3,
+        beta_m=35 * DEG,
+        alpha_n=20 * DEG,
+        Sigma=90 * DEG,
+        j_n=0.1e-3,
+        I1=1.772,
+        I2=1.873,
+        r1=0.1255,
+        r2=0.256,
+        face_width=0.1,
+        xi0=0.1,
     )
     kw.update(changes)
     return SpiralBevelGearPair(**kw)
 
 
 # ---------------------------------------------------------------------------- pitch cones
-@pytest.mark.parametrize("z1,z2,sigma_deg", [(23, 47, 90), (11, 41, 90), (20, 20, 90), (17, 43, 60), (15, 31, 120), (9, 50, 75)])
+@pytest.mark.parametrize(
+    "z1,z2,sigma_deg", [(23, 47, 90), (11, 41, 90), (20, 20, 90), (17, 43, 60), (15, 31, 120), (9, 50, 75)]
+)
 def test_pitch_cone_angles_sum_to_shaft_angle(z1, z2, sigma_deg):
     p = table1(z1=z1, z2=z2, Sigma=sigma_deg * DEG, r1=None, r2=None)
     assert p.delta1 + p.delta2 == pytest.approx(sigma_deg * DEG, abs=1e-14)
@@ -57,7 +70,10 @@ ANGLES = [(20, 35), (14.5, 0), (25, 45), (20, 10), (22.5, 30), (17.5, 60)]
 
 @pytest.mark.parametrize(
     "alpha_deg,beta_deg,hand,side,sigma_deg",
-    [(a, b, h, s, S) for (a, b), h, s, S in itertools.product(ANGLES, ("left", "right"), ("concave", "convex"), (90, 70, 115))],
+    [
+        (a, b, h, s, S)
+        for (a, b), h, s, S in itertools.product(ANGLES, ("left", "right"), ("concave", "convex"), (90, 70, 115))
+    ],
 )
 def test_directional_radius_from_vectors(alpha_deg, beta_deg, hand, side, sigma_deg):
     p = table1(alpha_n=alpha_deg * DEG, beta_m=beta_deg * DEG, hand=hand, drive_side=side, Sigma=sigma_deg * DEG)

@@ -103,10 +103,20 @@ def test_analyses_take_one_options_object_or_the_keywords():
     xr.testing.assert_identical(a, b)
     with pytest.raises(TypeError, match="bifurcation\\(\\) got an unexpected keyword argument 'chunks'"):
         bifurcation(GearModel(), "omega", vals, options=FAST, chunks=2)
-    m1 = parameter_map(GearModel(), "omega", [0.9, 1.1], "xi0", [0.05, 0.1], options=FAST, settle_periods=0,
-                       mode="continue")
-    m2 = parameter_map(GearModel(), "omega", [0.9, 1.1], "xi0", [0.05, 0.1], options=FAST, settle_periods=0,
-                       mode="continue", engine=SweepOptions(chunk_points=1))
+    m1 = parameter_map(
+        GearModel(), "omega", [0.9, 1.1], "xi0", [0.05, 0.1], options=FAST, settle_periods=0, mode="continue"
+    )
+    m2 = parameter_map(
+        GearModel(),
+        "omega",
+        [0.9, 1.1],
+        "xi0",
+        [0.05, 0.1],
+        options=FAST,
+        settle_periods=0,
+        mode="continue",
+        engine=SweepOptions(chunk_points=1),
+    )
     xr.testing.assert_identical(m1, m2)
 
 
@@ -116,8 +126,7 @@ def test_grid_over_a_systems_mesh_parameters():
     base with the two parameters set (what ``with_param`` gives), the other meshes untouched."""
     from pathlib import Path
 
-    from geardyn.grid import param_name, point_models
-    from geardyn.grid import PointModels
+    from geardyn.grid import PointModels, param_name, point_models
     from geardyn.systems import load_system
 
     base = load_system(Path(__file__).resolve().parents[1] / "examples" / "systems" / "planetary_lin_parker_1999.toml")
@@ -128,7 +137,13 @@ def test_grid_over_a_systems_mesh_parameters():
     assert g.names == ("omega", "ring_planet1.kappa2") and g.shape == (2, 3)
     ms = g.models(base)
     assert [(m.omega, m.get("ring_planet1.kappa2")) for m in ms] == [
-        (0.4, 0.0), (0.4, 0.05), (0.4, 0.1), (0.5, 0.0), (0.5, 0.05), (0.5, 0.1)]
+        (0.4, 0.0),
+        (0.4, 0.05),
+        (0.4, 0.1),
+        (0.5, 0.0),
+        (0.5, 0.05),
+        (0.5, 0.1),
+    ]
     assert all(m.meshes[1].kappa[:1] == (0.0,) and m.meshes[0] == base.meshes[0] for m in ms)
     assert ms[2].meshes[1].kappa == (0.0, 0.1)
     g.check(base)

@@ -76,8 +76,9 @@ def _gear_mathieu(omega: float, kappa: float, zeta: float, H: int, floquet: str 
 
 @pytest.mark.parametrize("floquet", ["hill", "monodromy"])
 @pytest.mark.parametrize("zeta", [0.0, 0.02])
-@pytest.mark.parametrize("m, kind, bracket", [(1, "a", (1.5, 2.6)), (1, "b", (1.5, 2.6)),
-                                              (2, "a", (0.8, 1.3)), (2, "b", (0.8, 1.3))])
+@pytest.mark.parametrize(
+    "m, kind, bracket", [(1, "a", (1.5, 2.6)), (1, "b", (1.5, 2.6)), (2, "a", (0.8, 1.3)), (2, "b", (0.8, 1.3))]
+)
 def test_mathieu_boundaries_dlmf(zeta, m, kind, bracket, floquet):
     kappa = 0.3
     w = _mathieu_boundary(kappa, zeta, m, kind, bracket)
@@ -111,8 +112,7 @@ def _meissner_exact(omega: float, kappa: float, zeta: float) -> np.ndarray:
 MEISSNER_HARMONICS = 64  # the number of harmonics at which the 1e-6 agreement is claimed
 
 
-@pytest.mark.parametrize("omega, kappa, zeta", [(1.3, 0.3, 0.05), (2.0, 0.3, 0.02), (0.8, 0.5, 0.1),
-                                                (1.0, 0.4, 0.0)])
+@pytest.mark.parametrize("omega, kappa, zeta", [(1.3, 0.3, 0.05), (2.0, 0.3, 0.02), (0.8, 0.5, 0.1), (1.0, 0.4, 0.0)])
 def test_meissner_multipliers(omega, kappa, zeta):
     H = MEISSNER_HARMONICS
     L = 2 * H
@@ -133,10 +133,18 @@ def test_meissner_multipliers(omega, kappa, zeta):
 # Δτ = 0.001 gives the same values to ~1e-14, so the RK4 error is negligible.  Recomputed live by
 # the slow test below.
 SHOOTING_EVENTS = {
-    "defaults": [("grazing", 0.5653637910409205), ("fold", 0.6196583031679641), ("fold", 0.5549281687177483),
-                 ("period-doubling", 0.7840304635925194)],
-    "piecewise-linear": [("grazing", 0.5366682782768969), ("fold", 0.5950030552494947),
-                         ("fold", 0.5406506774697525), ("period-doubling", 0.7904529595603209)],
+    "defaults": [
+        ("grazing", 0.5653637910409205),
+        ("fold", 0.6196583031679641),
+        ("fold", 0.5549281687177483),
+        ("period-doubling", 0.7840304635925194),
+    ],
+    "piecewise-linear": [
+        ("grazing", 0.5366682782768969),
+        ("fold", 0.5950030552494947),
+        ("fold", 0.5406506774697525),
+        ("period-doubling", 0.7904529595603209),
+    ],
 }
 CASES = {"defaults": GearModel(), "piecewise-linear": GearModel(kappa=(0.0,), xi=(0.0,))}
 
@@ -162,7 +170,9 @@ def test_events_match_shooting_defaults():
     st = res.stable
     w = res.values
     assert np.all(st[(w < folds[0] - 1e-3)])
-    assert np.all(st[(w > folds[1] + 1e-3) & (w < pd - 1e-3)] | (res.amplitude[(w > folds[1] + 1e-3) & (w < pd - 1e-3)] < 0.5))
+    assert np.all(
+        st[(w > folds[1] + 1e-3) & (w < pd - 1e-3)] | (res.amplitude[(w > folds[1] + 1e-3) & (w < pd - 1e-3)] < 0.5)
+    )
     assert not np.any(st[w > pd + 1e-3])
 
 

@@ -22,7 +22,7 @@ def _value_slope(basis: HarmonicBasis, a: np.ndarray, phi: np.ndarray) -> tuple[
     kk = np.arange(1, H + 1)
     arg = np.multiply.outer(phi, kk)
     c, s = np.cos(arg), np.sin(arg)
-    A, B = a[1:H + 1], a[H + 1:]
+    A, B = a[1 : H + 1], a[H + 1 :]
     return a[0] + c @ A + s @ B, c @ (kk * B) - s @ (kk * A)
 
 
@@ -61,7 +61,6 @@ def _crossings(basis: HarmonicBasis, a: np.ndarray, level: float, lo: np.ndarray
     return x
 
 
-
 def _indicator(intervals: list[tuple[float, float, float]], Q: int) -> tuple[np.ndarray, np.ndarray]:
     """Coefficients (index q + Q, |q| <= Q) of χ (1 on every interval) and σ (its sign on each)."""
     q = np.arange(-Q, Q + 1)
@@ -76,7 +75,6 @@ def _indicator(intervals: list[tuple[float, float, float]], Q: int) -> tuple[np.
         chi += v
         sig += s * v
     return chi, sig
-
 
 
 def dead_zone_terms_numpy(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float) -> DeadZoneTerms:
@@ -126,13 +124,12 @@ def dead_zone_terms_numpy(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D:
             sig[Q] = float(s)
     S_full = convolve(K, chi)  # centred at L + Q
     mid = L + Q
-    S = S_full[mid - 2 * H: mid + 2 * H + 1]
+    S = S_full[mid - 2 * H : mid + 2 * H + 1]
     G = toeplitz(S, H) @ c
     if D > 0.0:
         Ks = convolve(K, sig)
-        G = G - D * Ks[mid - H: mid + H + 1]
+        G = G - D * Ks[mid - H : mid + H + 1]
     return DeadZoneTerms(G, S, phis)
-
 
 
 def signal_extrema_numpy(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:
@@ -171,8 +168,9 @@ def signal_extrema_numpy(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, fl
     return umin, umax, pmin, pmax
 
 
-def residual_numpy(sysm: HBSystem, a: np.ndarray, p: float | None = None, jacobian: bool = True
-                   ) -> tuple[np.ndarray, np.ndarray | None]:
+def residual_numpy(
+    sysm: HBSystem, a: np.ndarray, p: float | None = None, jacobian: bool = True
+) -> tuple[np.ndarray, np.ndarray | None]:
     """``HBSystem.residual`` in NumPy."""
     m, (C, K, F) = sysm._entry(p)
     H, b = sysm.H, sysm.basis
@@ -181,11 +179,11 @@ def residual_numpy(sysm: HBSystem, a: np.ndarray, p: float | None = None, jacobi
     c = b.to_complex(a)
     dz = dead_zone_terms_numpy(b, a, K, m.D)
     TcOm = toeplitz(C, H) * (1j * k)[None, :]
-    Rc = -(nu * k) ** 2 * c + nu * (TcOm @ c) + dz.G - sysm._centred(F, H)
+    Rc = -((nu * k) ** 2) * c + nu * (TcOm @ c) + dz.G - sysm._centred(F, H)
     R = b.to_real(Rc)
     if not jacobian:
         return R, None
-    Jc = np.diag(-(nu * k) ** 2).astype(complex) + nu * TcOm + toeplitz(dz.S, H)
+    Jc = np.diag(-((nu * k) ** 2)).astype(complex) + nu * TcOm + toeplitz(dz.S, H)
     return R, b.real_operator(Jc)
 
 
@@ -216,8 +214,9 @@ def test_compiled_aft_matches_numpy():
             np.testing.assert_allclose(np.sort(x.switches), np.sort(y.switches), rtol=0, atol=1e-12)
             np.testing.assert_allclose(x.G, y.G, rtol=0, atol=1e-12)
             np.testing.assert_allclose(x.S, y.S, rtol=0, atol=1e-12)
-            np.testing.assert_allclose(aft.signal_extrema(s.basis, a), signal_extrema_numpy(s.basis, a),
-                                       rtol=0, atol=1e-12)
+            np.testing.assert_allclose(
+                aft.signal_extrema(s.basis, a), signal_extrema_numpy(s.basis, a), rtol=0, atol=1e-12
+            )
             R, J = s.residual(a)
             R2, J2 = residual_numpy(s, a)
             np.testing.assert_allclose(R, R2, rtol=0, atol=1e-12 * (1 + np.abs(R2).max()))

@@ -115,16 +115,19 @@ def test_response_method_hb_has_jumps_and_hysteresis_at_the_folds(small_lib):
     assert np.all(up[inside] < down[inside]) and np.allclose(up[~inside], down[~inside], rtol=1e-9)
 
 
-@pytest.mark.parametrize("args, name", [
-    (["--harmonics", "0"], "harmonics"),
-    (["--period", "0"], "period"),
-    (["--harmonics", "100000"], "harmonics"),
-    (["--ds-max", "0"], "ds-max"),
-    (["--system", "bevel.toml"], "system"),
-    (["--start", "nan"], "start"),
-    (["--omega", "0.7"], "omega"),
-    (["--param", "zeta"], "param"),
-])
+@pytest.mark.parametrize(
+    "args, name",
+    [
+        (["--harmonics", "0"], "harmonics"),
+        (["--period", "0"], "period"),
+        (["--harmonics", "100000"], "harmonics"),
+        (["--ds-max", "0"], "ds-max"),
+        (["--system", "bevel.toml"], "system"),
+        (["--start", "nan"], "start"),
+        (["--omega", "0.7"], "omega"),
+        (["--param", "zeta"], "param"),
+    ],
+)
 def test_bad_input_is_one_line(args, name):
     base = {"--param": "omega", "--start": "0.5", "--stop": "0.6"}
     for i in range(0, len(args), 2):

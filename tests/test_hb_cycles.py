@@ -23,17 +23,20 @@ from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, pair_model
 
 def repeated(m: GearModel, P: int = 3) -> GearModel:
     """``m`` with its series written over P mesh cycles (harmonic j of ω → harmonic P·j of ω/P)."""
+
     def z(t):
         return tuple(x for v in t for x in (0.0,) * (P - 1) + (v,))
-    return m.replace(xi=z(m.xi), phi_c=z(m.phi_c), kappa=z(m.kappa), phi_k=z(m.phi_k), eps=z(m.eps),
-                     phi_e=z(m.phi_e), cycles=P)
+
+    return m.replace(
+        xi=z(m.xi), phi_c=z(m.phi_c), kappa=z(m.kappa), phi_k=z(m.phi_k), eps=z(m.eps), phi_e=z(m.phi_e), cycles=P
+    )
 
 
 def spread(a: np.ndarray, H: int, P: int = 3) -> np.ndarray:
     """Coefficients [a0, a1..aH, b1..bH] of H harmonics as those of P·H harmonics of φ/P."""
     out = np.zeros(2 * P * H + 1)
     k = P * np.arange(1, H + 1)
-    out[0], out[k], out[P * H + k] = a[0], a[1:H + 1], a[H + 1:]
+    out[0], out[k], out[P * H + k] = a[0], a[1 : H + 1], a[H + 1 :]
     return out
 
 
@@ -65,13 +68,13 @@ def test_three_cycle_series_equals_the_one_cycle_model(w, n):
     t3, u3 = s3.signal(192)
     np.testing.assert_allclose(t3[:64], t1, rtol=1e-14)  # τ over n forcing periods, 3n mesh periods
     for k in range(3):  # the same u in each n mesh periods
-        np.testing.assert_allclose(u3[64 * k:64 * (k + 1)], u1, atol=1e-10)
+        np.testing.assert_allclose(u3[64 * k : 64 * (k + 1)], u1, atol=1e-10)
 
 
 def test_three_cycle_series_hill_multipliers():
     # Hill's method: the central copies give the same multipliers, to Hill's truncation (~2e-4 at H = 16, docs/hb.md)
     m1, m3 = GearModel(omega=0.7), repeated(GearModel(omega=0.7))
-    ref = hb_solve(m1).multipliers**3
+    ref = hb_solve(m1).multipliers ** 3
     s3 = hb_solve(m3, floquet="hill")
     assert s3.hill.status == 0
     np.testing.assert_allclose(s3.multipliers, ref, rtol=0, atol=1e-3)
@@ -113,10 +116,13 @@ def test_default_harmonics_and_its_bound(crack):
     assert MAX_DEFAULT_HARMONICS == 1024
 
 
-@pytest.mark.parametrize("w, atol_state, atol_amp", [
-    (0.6, 1e-8, 1e-8),     # in contact all round: HB's series converges fast (1e-11 from shooting at 0.0025)
-    (0.95, 3e-4, 1e-5),    # contact loss (u_min < D): algebraic convergence, velocity 1.3e-4 off at H = 320
-])
+@pytest.mark.parametrize(
+    "w, atol_state, atol_amp",
+    [
+        (0.6, 1e-8, 1e-8),  # in contact all round: HB's series converges fast (1e-11 from shooting at 0.0025)
+        (0.95, 3e-4, 1e-5),  # contact loss (u_min < D): algebraic convergence, velocity 1.3e-4 off at H = 320
+    ],
+)
 def test_crack_over_one_revolution_against_shooting(crack, w, atol_state, atol_amp):
     m = crack.replace(omega=w)
     hb = hb_solve(m)
@@ -213,8 +219,11 @@ def test_crack_with_contact_loss_converges_in_the_harmonics(crack):
     m = crack.replace(omega=0.95)
     h320 = hb_solve(m)
     ref = shoot(m, 1, guess=h320.state(), dtau=0.0025, accurate=True)
-    h640 = hb_solve(m, harmonics=640, guess=np.concatenate([h320.coefficients[:321], np.zeros(320),
-                                                             h320.coefficients[321:], np.zeros(320)]))
+    h640 = hb_solve(
+        m,
+        harmonics=640,
+        guess=np.concatenate([h320.coefficients[:321], np.zeros(320), h320.coefficients[321:], np.zeros(320)]),
+    )
     assert h640.status == 0
     e320 = np.max(np.abs(h320.state() - ref.state))
     e640 = np.max(np.abs(h640.state() - ref.state))

@@ -28,7 +28,9 @@ def branch():
 
 def _same_response(a, b):
     ja, jb = json.loads(a.attrs["jumps"]), json.loads(b.attrs["jumps"])
-    assert [(j["sweep"], j["direction"], j["omega"]) for j in ja] == [(j["sweep"], j["direction"], j["omega"]) for j in jb]
+    assert [(j["sweep"], j["direction"], j["omega"]) for j in ja] == [
+        (j["sweep"], j["direction"], j["omega"]) for j in jb
+    ]
     for x, y in zip(ja, jb):
         assert x["amplitude_to"] == pytest.approx(y["amplitude_to"], rel=1e-9)
     assert json.loads(a.attrs["hysteresis"]) == json.loads(b.attrs["hysteresis"])

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_run import run_cli as _main
 
 from geardyn.analysis.hb import hb_continuation
 from geardyn.analysis.hb.damping import require_damping, undamped_modes
@@ -18,7 +19,6 @@ from geardyn.model import GearModel
 from geardyn.systems import load_system
 from geardyn.systems.assemble import assemble
 from geardyn.systems.description import Body, Connection, Mesh, SystemDescription
-from cli_run import run_cli as _main
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "systems"
 PLANETARY = EXAMPLES / "planetary_lin_parker_1999.toml"
@@ -29,14 +29,28 @@ def test_undamped_planetary_is_refused_in_one_line_and_writes_nothing(tmp_path):
     """The issue's command (undamped, unforced, backlash-free: every multiplier on the unit circle) ran over 15
     minutes printing nothing; it is refused at once."""
     out = tmp_path / "out"
-    code, stdout, err = _main(["hb", "--system", str(PLANETARY), "--param", "omega", "--start", "0.5", "--stop", "1.5",
-                               "--out", str(out)])
+    code, stdout, err = _main(
+        ["hb", "--system", str(PLANETARY), "--param", "omega", "--start", "0.5", "--stop", "1.5", "--out", str(out)]
+    )
     lines = err.strip().splitlines()
     assert code == 2 and len(lines) == 1, err
     assert lines[0].startswith("error: the system has no damping") and "Liouville" in lines[0]
     assert stdout == "" and not out.exists()
-    code, _, err = _main(["response", "--method", "hb", "--system", str(PLANETARY), "--omega-start", "0.5",
-                          "--omega-stop", "1.5", "--num", "5"])
+    code, _, err = _main(
+        [
+            "response",
+            "--method",
+            "hb",
+            "--system",
+            str(PLANETARY),
+            "--omega-start",
+            "0.5",
+            "--omega-stop",
+            "1.5",
+            "--num",
+            "5",
+        ]
+    )
     assert code == 2 and "no damping" in err and len(err.strip().splitlines()) == 1
 
 
@@ -58,11 +72,14 @@ def test_pair_without_damping_is_refused_unless_the_damping_is_continued_through
 def _satellites(ks=2.0e3, Js=0.01, xi0=0.1):
     """A pinion–gear mesh (damped) and two equal satellites on the gear by undamped torsional springs: the mode with
     the satellites in opposition (gear and pinion still) has no damping, at exactly √(k_s/J_s)/2π."""
-    bodies = (Body("p", ("theta",), inertia=0.02), Body("g", ("theta",), inertia=0.05),
-              Body("s1", ("theta",), inertia=Js), Body("s2", ("theta",), inertia=Js))
+    bodies = (
+        Body("p", ("theta",), inertia=0.02),
+        Body("g", ("theta",), inertia=0.05),
+        Body("s1", ("theta",), inertia=Js),
+        Body("s2", ("theta",), inertia=Js),
+    )
     mesh = Mesh("mesh", ((("p", "theta"), 0.05), (("g", "theta"), -0.1)), 2e8, backlash=1e-4, teeth=20, xi0=xi0)
-    springs = tuple(Connection.along(f"spring{i}", {("g", "theta"): 1.0, (f"s{i}", "theta"): -1.0}, ks)
-                    for i in (1, 2))
+    springs = tuple(Connection.along(f"spring{i}", {("g", "theta"): 1.0, (f"s{i}", "theta"): -1.0}, ks) for i in (1, 2))
     return assemble(SystemDescription(bodies=bodies, meshes=(mesh,), connections=springs))
 
 
@@ -83,8 +100,24 @@ def test_undamped_modes_are_found_exactly():
 def test_system_with_an_undamped_mode_is_warned_in_one_line(tmp_path):
     toml = tmp_path / "sat.toml"
     toml.write_text(_SAT_TOML)
-    code, stdout, err = _main(["hb", "--system", str(toml), "--param", "omega", "--start", "0.5", "--stop", "0.52",
-                               "--harmonics", "4", "--max-points", "3", "--json"])
+    code, stdout, err = _main(
+        [
+            "hb",
+            "--system",
+            str(toml),
+            "--param",
+            "omega",
+            "--start",
+            "0.5",
+            "--stop",
+            "0.52",
+            "--harmonics",
+            "4",
+            "--max-points",
+            "3",
+            "--json",
+        ]
+    )
     warn = [ln for ln in err.splitlines() if "no damping" in ln]
     assert code == 0, err
     assert len(warn) == 1 and warn[0].startswith("warning: 1 elastic mode(s) of the system have no damping")
@@ -134,8 +167,22 @@ fp = 0.2
 def test_branch_stops_at_max_points_with_a_message():
     res = hb_continuation(GearModel(), "omega", 0.5, 0.65, harmonics=8, max_points=6)
     assert res.values.size == 6 and res.end.startswith("max points: stopped at 6 points before the end")
-    code, stdout, err = _main(["hb", "--param", "omega", "--start", "0.5", "--stop", "0.65", "--harmonics", "8",
-                               "--max-points", "6", "--json"])
+    code, stdout, err = _main(
+        [
+            "hb",
+            "--param",
+            "omega",
+            "--start",
+            "0.5",
+            "--stop",
+            "0.65",
+            "--harmonics",
+            "8",
+            "--max-points",
+            "6",
+            "--json",
+        ]
+    )
     s = json.loads(stdout)
     assert code == 0 and len(s["branch"]) == 6 and s["end"] == res.end
     warn = [ln for ln in err.splitlines() if ln.startswith("warning:")]
@@ -196,8 +243,9 @@ def test_hb_response_that_resolves_no_point_exits_1_and_writes_nothing(tmp_path,
 
     monkeypatch.setattr(hb, "hb_response", unresolved)
     out = tmp_path / "r"
-    code, stdout, err = _main(["response", "--method", "hb", "--omega-start", "0.5", "--omega-stop", "0.6", "--num",
-                               "3", "--out", str(out)])
+    code, stdout, err = _main(
+        ["response", "--method", "hb", "--omega-start", "0.5", "--omega-stop", "0.6", "--num", "3", "--out", str(out)]
+    )
     assert code == 1
     assert "resolved no point" in err and len(err.strip().splitlines()) == 1
     assert not out.exists() or not any(out.iterdir())

@@ -31,9 +31,11 @@ TORSIONAL = EX / "paper_torsional.toml"
 
 def _conj_close(a: np.ndarray, b: np.ndarray) -> float:
     """Largest distance between two multiplier sets (Hausdorff), the smaller of b and its conjugate set."""
+
     def haus(x, y):
         d = np.abs(x[:, None] - y[None, :])
         return float(max(d.min(axis=0).max(), d.min(axis=1).max()))
+
     return min(haus(a, b), haus(a, np.conj(b)))
 
 
@@ -42,11 +44,23 @@ def _four_dof(omega, D=0.5, kappa=(0.2,), xi=(0.02,), eps=(0.3,), clearance=True
     Mi = np.linalg.inv(np.diag([1.0, 0.7, 1.3, 0.9]))
     Kb = np.diag([2.0, 0.0, 1.5, 0.0]) + 0.1 * np.eye(4)
     mesh = MeshND("m0", 1.0, 0.05, tuple(xi), (), tuple(kappa), (), tuple(eps), (), D, 1.0)
-    extra = dict(clearance_names=("gap",), Vc=np.array([[1.0, 0.0, -1.0, 0.0]]), kc=(0.5,), cc=(0.01,), Dc=(0.4,)) \
-        if clearance else {}
-    return SystemModel(labels=tuple(f"b{i}.x" for i in range(4)), Mi=Mi, Kb=Kb, Cb=0.02 * Kb,
-                       V=np.array([[0.3, 1.0, -0.2, -1.0]]), meshes=(mesh,), F=np.array(fp), omega=omega,
-                       scaling=Scaling("m0", 1.0, 1.0, 1.0, 1.0, (1.0,) * 4, None), **extra)
+    extra = (
+        dict(clearance_names=("gap",), Vc=np.array([[1.0, 0.0, -1.0, 0.0]]), kc=(0.5,), cc=(0.01,), Dc=(0.4,))
+        if clearance
+        else {}
+    )
+    return SystemModel(
+        labels=tuple(f"b{i}.x" for i in range(4)),
+        Mi=Mi,
+        Kb=Kb,
+        Cb=0.02 * Kb,
+        V=np.array([[0.3, 1.0, -0.2, -1.0]]),
+        meshes=(mesh,),
+        F=np.array(fp),
+        omega=omega,
+        scaling=Scaling("m0", 1.0, 1.0, 1.0, 1.0, (1.0,) * 4, None),
+        **extra,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -74,14 +88,15 @@ def test_torsional_branch_reproduces_the_1dof_hb(torsional_branch, torsional):
     assert eq.N == res.samples
     worst = {"u": 0.0, "mu": 0.0}
     for w, x, lo, hi, st in zip(res.values, res.coefficients, res.u_min, res.u_max, res.status):
-        sysw = hb_system_solve(torsional.with_param("omega", w), res.harmonics, guess=x.reshape(2, -1), tol=1e-13,
-                               floquet="hill")
+        sysw = hb_system_solve(
+            torsional.with_param("omega", w), res.harmonics, guess=x.reshape(2, -1), tol=1e-13, floquet="hill"
+        )
         d = eq.deflection(sysw.unknowns, eq.reference, w)  # the mesh's u, a guess for the 1-DOF HB
-        one = hb_solve(GearModel().with_param("omega", w), res.harmonics, guess=d, samples=res.samples, tol=1e-13,
-                       floquet="hill")
+        one = hb_solve(
+            GearModel().with_param("omega", w), res.harmonics, guess=d, samples=res.samples, tol=1e-13, floquet="hill"
+        )
         assert one.converged and sysw.converged
-        worst["u"] = max(worst["u"], abs(one.u_min - lo), abs(one.u_max - hi),
-                         abs(one.amplitude - 0.5 * (hi - lo)))
+        worst["u"] = max(worst["u"], abs(one.u_min - lo), abs(one.u_max - hi), abs(one.amplitude - 0.5 * (hi - lo)))
         assert int(one.hill.status) == int(st) == int(sysw.hill.status)
         # the multipliers of a real system are a conjugate-closed set; Hill's choice may take the conjugate
         # copies (they differ by the truncation error, about 1e-6 at H = 16): compared up to conjugation
@@ -102,8 +117,13 @@ def test_torsional_monodromy_multipliers_are_the_1dof_ones(torsional):
     for w in (0.55, 0.7, 0.9):
         sysw = hb_system_solve(torsional.with_param("omega", w), 16)
         eq = sysw.equations
-        one = hb_solve(GearModel().with_param("omega", w), 16, guess=eq.deflection(sysw.unknowns, eq.reference),
-                       samples=eq.N, tol=1e-13)
+        one = hb_solve(
+            GearModel().with_param("omega", w),
+            16,
+            guess=eq.deflection(sysw.unknowns, eq.reference),
+            samples=eq.N,
+            tol=1e-13,
+        )
         assert sysw.hill.status is Status.OK and one.hill.status is Status.OK
         assert _conj_close(sysw.multipliers, one.multipliers) < 1e-6
         hill = hb_solve(GearModel().with_param("omega", w), 16, guess=one.coefficients, floquet="hill")
@@ -155,7 +175,7 @@ def test_in_contact_constant_stiffness_h1_is_the_frequency_domain_solution(case,
     np.testing.assert_allclose(a[:, 2], -Q.imag, atol=1e-10)
     r = sol.rigid
     assert r == (1 if case == "torsional_rigid" else 0)
-    exact = mu if r == 0 else mu[np.argsort(np.abs(mu - 1.0))[2 * r:]]  # the rigid mode's two multipliers 1 out
+    exact = mu if r == 0 else mu[np.argsort(np.abs(mu - 1.0))[2 * r :]]  # the rigid mode's two multipliers 1 out
     assert sol.hill.status is Status.OK and sol.multipliers.size == exact.size
     assert _conj_close(sol.multipliers, exact) < mu_tol
 
@@ -183,8 +203,14 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
         sol = hb_system_solve(model, H, floquet="hill")
         assert sol.converged and sol.hill.status is Status.OK
         np.testing.assert_allclose(sol.state()[:4] - orb.state[:4], 0.0, atol=1e-3)
-        errs.append((max(abs(sol.u_min - ref["u_min"]), abs(sol.u_max - ref["u_max"]),
-                         abs(sol.amplitude - ref["amplitude"])), _conj_close(sol.multipliers, mu_ref)))
+        errs.append(
+            (
+                max(
+                    abs(sol.u_min - ref["u_min"]), abs(sol.u_max - ref["u_max"]), abs(sol.amplitude - ref["amplitude"])
+                ),
+                _conj_close(sol.multipliers, mu_ref),
+            )
+        )
         m = hb_system_solve(model, H, guess=sol.coefficients)  # the monodromy (default)
         assert m.hill.status is Status.OK
         mono.append(_conj_close(m.multipliers, mu_ref))
@@ -204,8 +230,12 @@ def test_jacobian_and_domega_match_central_differences():
     x = sol.unknowns + 1e-3 * np.random.default_rng(1).standard_normal(sol.unknowns.size)
     R, J = eq.residual(x, 0.9)
     h = 1e-6
-    Jfd = np.array([(eq.residual(x + h * e, 0.9, False)[0] - eq.residual(x - h * e, 0.9, False)[0]) / (2 * h)
-                    for e in np.eye(x.size)]).T
+    Jfd = np.array(
+        [
+            (eq.residual(x + h * e, 0.9, False)[0] - eq.residual(x - h * e, 0.9, False)[0]) / (2 * h)
+            for e in np.eye(x.size)
+        ]
+    ).T
     np.testing.assert_allclose(J, Jfd, atol=1e-6 * max(1.0, np.abs(J).max()))
     dfd = (eq.residual(x, 0.9 + h, False)[0] - eq.residual(x, 0.9 - h, False)[0]) / (2 * h)
     np.testing.assert_allclose(eq.dR_dp(x, 0.9), dfd, atol=1e-7)
@@ -239,8 +269,9 @@ def test_cli_system_json_and_files(tmp_path):
 def test_cli_system_refuses_one_line():
     r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), *SMALL, "--fp", "0.3"])
     assert r.exit_code == 2 and "fp" in r.output
-    r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), "--param", "mesh.zeta", "--start", "0.1",
-                                 "--stop", "0.2"])
+    r = CliRunner().invoke(
+        app, ["hb", "--system", str(TORSIONAL), "--param", "mesh.zeta", "--start", "0.1", "--stop", "0.2"]
+    )
     assert r.exit_code == 2 and "zeta" in r.output
 
 
@@ -254,8 +285,10 @@ def test_cli_system_compare_shooting_overlay_is_stored_and_redrawn(tmp_path):
     from geardyn.plot.hb import SHOOTING_STYLE, hb_figure
 
     out = tmp_path / "run"
-    r = CliRunner().invoke(app, ["hb", "--system", str(TORSIONAL), *SMALL, "--compare-shooting", "--default-mode",
-                                 "--json", "--out", str(out)])
+    r = CliRunner().invoke(
+        app,
+        ["hb", "--system", str(TORSIONAL), *SMALL, "--compare-shooting", "--default-mode", "--json", "--out", str(out)],
+    )
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     ds = read_netcdf(out / "hb.nc")
@@ -302,10 +335,26 @@ def test_response_method_hb_of_the_torsional_system_is_the_1dof_response():
         assert (a["sweep"], a["direction"]) == (b["sweep"], b["direction"])
         assert a["omega"] == pytest.approx(b["omega"], abs=1e-7) and a["size"] == pytest.approx(b["size"], abs=1e-7)
     np.testing.assert_allclose(json.loads(sysr.attrs["hysteresis"]), json.loads(one.attrs["hysteresis"]), atol=1e-7)
-    r = CliRunner().invoke(app, ["response", "--system", str(TORSIONAL), "--method", "hb", "--omega-start", "0.5",
-                                 "--omega-stop", "0.65", "--num", "31", "--json"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "response",
+            "--system",
+            str(TORSIONAL),
+            "--method",
+            "hb",
+            "--omega-start",
+            "0.5",
+            "--omega-stop",
+            "0.65",
+            "--num",
+            "31",
+            "--json",
+        ],
+    )
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     # the command's jumps are those of the Dataset, with the pair's physical keys (rpm, µm) beside them
     assert [{k: j[k] for k in js[0]} for j in s["jumps"]] == js and s["up"]["amplitude"] == [
-        None if np.isnan(v) else v for v in sysr["amplitude"].sel(sweep="up").values]
+        None if np.isnan(v) else v for v in sysr["amplitude"].sel(sweep="up").values
+    ]

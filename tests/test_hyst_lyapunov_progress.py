@@ -12,13 +12,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_run import run_cli as _cli
 
 import geardyn.integrate as I
 import geardyn.sweep.progress as P
 from geardyn.analysis.lyapunov import lyapunov_spectrum
 from geardyn.model import IntegrationOptions
 from geardyn.systems import load_system
-from cli_run import run_cli as _cli
 
 TORS = str(Path(__file__).resolve().parents[1] / "examples" / "systems" / "paper_torsional.toml")
 
@@ -51,8 +51,13 @@ def test_the_recorded_periods_are_counted_while_the_kernel_runs(monkeypatch):
     monkeypatch.setattr(I, "PROGRESS_POLL", 0.001)
     s = load_system(TORS).with_param("omega", 0.8)
     calls: list[tuple[int, int]] = []
-    res = I.integrate_batch([s], None, IntegrationOptions(transient=5, periods=400), lyapunov=True,
-                            progress=lambda d, n: calls.append((d, n)))
+    res = I.integrate_batch(
+        [s],
+        None,
+        IntegrationOptions(transient=5, periods=400),
+        lyapunov=True,
+        progress=lambda d, n: calls.append((d, n)),
+    )
     plain = I.integrate_batch([s], None, IntegrationOptions(transient=5, periods=400), lyapunov=True)
     np.testing.assert_array_equal(res.lyapunov_log, plain.lyapunov_log)
     np.testing.assert_array_equal(res.poincare, plain.poincare)

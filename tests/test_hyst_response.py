@@ -34,6 +34,7 @@ def bevel() -> xr.Dataset:
 def test_the_bevel_pairs_points_after_its_jumps_are_the_other_sweeps_cycle(bevel):
     """What the stored data hold: at 0.91 and 0.94 the two sweeps' last section points agree to 1e-6 although the
     detected periods differ; at 0.92 and 0.93 the amplitudes differ threefold (two attractors)."""
+
     def at(w, s):
         return bevel.sel(sweep=s).sel(omega=w, method="nearest")
 
@@ -50,7 +51,9 @@ def test_the_bevel_pairs_points_after_its_jumps_are_the_other_sweeps_cycle(bevel
 def test_the_bevel_pairs_main_loop_is_hysteresis_between_its_jumps(bevel):
     jumps = detect_jumps(bevel)
     assert [(j["sweep"], j["direction"], j["omega_from"], j["omega_to"]) for j in jumps] == [
-        ("up", "up", pytest.approx(0.93), pytest.approx(0.94)), ("down", "down", pytest.approx(0.92), pytest.approx(0.91))]
+        ("up", "up", pytest.approx(0.93), pytest.approx(0.94)),
+        ("down", "down", pytest.approx(0.92), pytest.approx(0.91)),
+    ]
     hy, co = coexistence_intervals(bevel, jumps=jumps)
     # from the midpoint of the down jump's step to that of the up jump's: the two grid points 0.92 and 0.93
     assert hy == [[pytest.approx(0.915), pytest.approx(0.935)]]
@@ -74,13 +77,18 @@ def _synthetic(amp_up: np.ndarray, amp_down: np.ndarray, x: np.ndarray) -> xr.Da
     n = x.size
     pu = np.stack([amp_up, amp_down])[..., None] * np.ones((1, 1, 4))
     return xr.Dataset(
-        {"amplitude": (("sweep", "omega"), np.stack([amp_up, amp_down])),
-         "mean": (("sweep", "omega"), np.zeros((2, n))),
-         "status": (("sweep", "omega"), np.zeros((2, n), np.int64)),
-         "period": (("sweep", "omega"), np.ones((2, n), np.int64)),
-         "motion": (("sweep", "omega"), np.full((2, n), MOTION_PERIODIC, np.int64)),
-         "poincare_u": (("sweep", "omega", "section"), pu), "poincare_v": (("sweep", "omega", "section"), 0 * pu)},
-        coords={"sweep": ["up", "down"], "omega": x}, attrs={"param": "omega", "measure": "amplitude"})
+        {
+            "amplitude": (("sweep", "omega"), np.stack([amp_up, amp_down])),
+            "mean": (("sweep", "omega"), np.zeros((2, n))),
+            "status": (("sweep", "omega"), np.zeros((2, n), np.int64)),
+            "period": (("sweep", "omega"), np.ones((2, n), np.int64)),
+            "motion": (("sweep", "omega"), np.full((2, n), MOTION_PERIODIC, np.int64)),
+            "poincare_u": (("sweep", "omega", "section"), pu),
+            "poincare_v": (("sweep", "omega", "section"), 0 * pu),
+        },
+        coords={"sweep": ["up", "down"], "omega": x},
+        attrs={"param": "omega", "measure": "amplitude"},
+    )
 
 
 def test_a_jump_one_step_inside_the_run_bounds_the_loop_and_the_rest_is_coexistence():
@@ -91,8 +99,8 @@ def test_a_jump_one_step_inside_the_run_bounds_the_loop_and_the_rest_is_coexiste
     amp_up = np.where(x < 0.765, 0.3, 1.2)
     amp_down = np.where(x < 0.725, 0.3, 1.2)
     ds = _synthetic(amp_up, amp_down, x)
-    ds["poincare_u"][0, 7, :] = 1.21     # up sweep at 0.77: not yet on the down sweep's orbit
-    ds["poincare_u"][1, 2, :] = 0.31     # down sweep at 0.72: not yet on the up sweep's orbit
+    ds["poincare_u"][0, 7, :] = 1.21  # up sweep at 0.77: not yet on the down sweep's orbit
+    ds["poincare_u"][1, 2, :] = 0.31  # down sweep at 0.72: not yet on the up sweep's orbit
     hy, co = coexistence_intervals(ds)
     assert hy == [[pytest.approx(0.725), pytest.approx(0.765)]]
     assert co == [[pytest.approx(0.715), pytest.approx(0.725)], [pytest.approx(0.765), pytest.approx(0.775)]]

@@ -8,7 +8,6 @@ import re
 from pathlib import Path
 
 import pytest
-
 from cli_run import run_cli
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
@@ -31,8 +30,17 @@ def test_a_loaded_system_prints_its_static_mesh_force_and_dynamic_factor():
     """paper_torsional.toml loads its mesh with f_p = 0.2 as balanced torques: the static mesh force is f_p k b_c =
     0.2 × 2000 N/µm × 50 µm = 20 000 N (the file's stiffness and half backlash 0.1 mm / 2), and the dynamic factor
     printed is the printed max mesh force over it."""
-    out = run("simulate", "--system", str(EX / "paper_torsional.toml"), "--omega", "0.8", "--transient", "30",
-              "--periods", "8")
+    out = run(
+        "simulate",
+        "--system",
+        str(EX / "paper_torsional.toml"),
+        "--omega",
+        "0.8",
+        "--transient",
+        "30",
+        "--periods",
+        "8",
+    )
     assert _value(out, "half backlash D (µm)") == pytest.approx(50.0)
     assert _value(out, "static force (N)") == pytest.approx(20000.0, rel=1e-6)
     assert _value(out, "static mesh force F_p (N)") == pytest.approx(20000.0, rel=1e-6)
@@ -61,10 +69,19 @@ def test_a_system_without_load_says_no_static_load(tmp_path):
 def test_the_mesh_table_says_no_static_load_for_each_mesh_without_one(capsys):
     from geardyn.cli import render
 
-    meshes = [{"name": f"m{i}", "backlash_um": 0.0, "mesh_force_max_N": 0.0, "static_force_N": 0.0,
-               "dynamic_factor": None} for i in range(2)]
-    meshes.append({"name": "loaded", "backlash_um": 10.0, "mesh_force_max_N": 300.0, "static_force_N": 200.0,
-                   "dynamic_factor": 1.5})
+    meshes = [
+        {"name": f"m{i}", "backlash_um": 0.0, "mesh_force_max_N": 0.0, "static_force_N": 0.0, "dynamic_factor": None}
+        for i in range(2)
+    ]
+    meshes.append(
+        {
+            "name": "loaded",
+            "backlash_um": 10.0,
+            "mesh_force_max_N": 300.0,
+            "static_force_N": 200.0,
+            "dynamic_factor": 1.5,
+        }
+    )
     render.meshes({"meshes": meshes})
     rows = [r for r in capsys.readouterr().out.splitlines() if "dynamic" in r]
     assert rows and rows[0].count("no static load") == 2 and "1.5" in rows[0]

@@ -42,9 +42,11 @@ def test_json_values_convert_as_the_cli_does() -> None:
 
 def test_summary_json_and_atomic_netcdf(tmp_path) -> None:
     m = GearModel()
-    ds = xr.Dataset({"status": ("omega", np.array([0, 1])), "lle": ("omega", [0.1, np.nan])},
-                    coords={"omega": [0.9, 1.1]},
-                    attrs=io.result_attrs("bifurcation", m, IntegrationOptions()))
+    ds = xr.Dataset(
+        {"status": ("omega", np.array([0, 1])), "lle": ("omega", [0.1, np.nan])},
+        coords={"omega": [0.9, 1.1]},
+        attrs=io.result_attrs("bifurcation", m, IntegrationOptions()),
+    )
     s = io.summary_json(ds)
     assert s["kind"] == "bifurcation" and s["status"] == {"ok": 1, "diverged": 1}
     assert s["coords"] == {"omega": [0.9, 1.1]} and s["points"]["lle"] == [0.1, None]

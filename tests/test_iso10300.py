@@ -33,11 +33,38 @@ def _si(v):
 def _mesh_from_toml(name: str):
     cfg = tomllib.loads((EXAMPLES / name).read_text(encoding="utf-8"))
     g, op = cfg["gear_pair"], cfg["operating"]
-    opt = {k: _si(g[k]) for k in ("beta_m2", "alpha_lim", "offset", "zeta_mp", "zeta_m", "d_m1", "d_m2",
-                                  "delta1", "delta2", "h_am1", "h_am2", "b2_eff", "K_A", "f_pt", "density") if k in g}
+    opt = {
+        k: _si(g[k])
+        for k in (
+            "beta_m2",
+            "alpha_lim",
+            "offset",
+            "zeta_mp",
+            "zeta_m",
+            "d_m1",
+            "d_m2",
+            "delta1",
+            "delta2",
+            "h_am1",
+            "h_am2",
+            "b2_eff",
+            "K_A",
+            "f_pt",
+            "density",
+        )
+        if k in g
+    }
     return bevel_mesh(
-        int(g["z1"]), int(g["z2"]), _si(g["m_mn"]), _si(g["beta_m"]), _si(g["alpha_n"]), _si(g["Sigma"]),
-        _si(g["face_width"]), torque1=_si(op["torque"]), speed1=_si(op["rpm"]), **opt,
+        int(g["z1"]),
+        int(g["z2"]),
+        _si(g["m_mn"]),
+        _si(g["beta_m"]),
+        _si(g["alpha_n"]),
+        _si(g["Sigma"]),
+        _si(g["face_width"]),
+        torque1=_si(op["torque"]),
+        speed1=_si(op["rpm"]),
+        **opt,
     )
 
 
@@ -149,8 +176,18 @@ def test_hypoid_needs_its_mean_point_data():
 
 
 def test_low_load_factor_reduces_stiffness():
-    m = bevel_mesh(14, 39, 3.2133e-3, math.radians(35), math.radians(20), math.radians(90), 25.4e-3,
-                   torque1=3.0, speed1=100.0, f_pt=26e-6)
+    m = bevel_mesh(
+        14,
+        39,
+        3.2133e-3,
+        math.radians(35),
+        math.radians(20),
+        math.radians(90),
+        25.4e-3,
+        torque1=3.0,
+        speed1=100.0,
+        f_pt=26e-6,
+    )
     # F_vmt / b_v,eff = 109 N / 21.6 mm = 5.06 N/mm: C_F = 0.0506
     assert m.C_F == pytest.approx(2 * 3.0 / m.d_m1 / m.b_v_eff / 1e5)
     assert m.c_gamma == pytest.approx(20e9 * m.C_F)
@@ -165,7 +202,11 @@ def test_method_b_sectors_are_continuous_at_their_ends():
     kv_super = dynamic_factor_method_b(2.0, B, e)[0]
     assert dynamic_factor_method_b(1.4999999, B, e)[0] == pytest.approx(kv_super, abs=1e-5)
     assert [dynamic_factor_method_b(n, B, e)[1] for n in (0.5, 1.0, 1.3, 2.0)] == [
-        "subcritical", "main resonance", "intermediate", "supercritical"]
+        "subcritical",
+        "main resonance",
+        "intermediate",
+        "supercritical",
+    ]
     cv = method_b_coefficients(1.4)
     assert (cv["cv1"], cv["cv2"], cv["cv3"], cv["cv7"]) == (0.32, 0.34, 0.23, 0.75)
     # cv7 is continuous at eps_gamma = 1.5 and 2.5
@@ -187,7 +228,9 @@ def test_spur_limit_and_bevel_to_cylindrical():
     zv = 20 / math.cos(math.pi / 4)
     d_v = zv * 1e-3
     rav, rbv = d_v / 2 + 1e-3, d_v / 2 * math.cos(math.radians(20))
-    ev = (2 * math.sqrt(rav**2 - rbv**2) - d_v * math.sin(math.radians(20))) / (math.pi * 1e-3 * math.cos(math.radians(20)))
+    ev = (2 * math.sqrt(rav**2 - rbv**2) - d_v * math.sin(math.radians(20))) / (
+        math.pi * 1e-3 * math.cos(math.radians(20))
+    )
     assert m.eps_valpha == pytest.approx(ev, rel=1e-12) and m.eps_vbeta == 0.0
 
 
@@ -211,23 +254,72 @@ def test_response_carries_the_iso_kv_curve(tmp_path):
 
     from geardyn.cli import app
 
-    r = CliRunner().invoke(app, ["response", "--config", str(EXAMPLES / "iso10300_sample1.toml"), "--rpm-start", "5000",
-                                 "--rpm-stop", "30000", "--num", "6", "--transient", "60", "--settle", "0", "--json",
-                                 "--out", str(tmp_path)])
+    r = CliRunner().invoke(
+        app,
+        [
+            "response",
+            "--config",
+            str(EXAMPLES / "iso10300_sample1.toml"),
+            "--rpm-start",
+            "5000",
+            "--rpm-stop",
+            "30000",
+            "--num",
+            "6",
+            "--transient",
+            "60",
+            "--settle",
+            "0",
+            "--json",
+            "--out",
+            str(tmp_path),
+        ],
+    )
     assert r.exit_code == 0, r.output
     b = json.loads(r.stdout)["iso_kv"]
     assert len(b["K_v"]) == len(b["rpm"]) == 6 and set(b["simulated"]) == {"up", "down"}
     assert b["resonance_speed_rpm"] == pytest.approx(b["sector_bounds_rpm"]["subcritical_end"] / 0.75)
     # K_v at 1200 rpm (the sample's speed) is the printed one; here the grid's own speeds
-    one = bevel_mesh(14, 39, 3.2133e-3, math.radians(35), math.radians(20), math.radians(90), 25.4e-3,
-                     d_m1=54.918e-3, d_m2=152.987e-3, delta1=math.radians(19.747), delta2=math.radians(70.253),
-                     h_am1=4.837e-3, h_am2=1.590e-3, b2_eff=21.59e-3, K_A=1.1, f_pt=26e-6,
-                     torque1=b["torque_N_m"], speed1=5000 * math.pi / 30)
+    one = bevel_mesh(
+        14,
+        39,
+        3.2133e-3,
+        math.radians(35),
+        math.radians(20),
+        math.radians(90),
+        25.4e-3,
+        d_m1=54.918e-3,
+        d_m2=152.987e-3,
+        delta1=math.radians(19.747),
+        delta2=math.radians(70.253),
+        h_am1=4.837e-3,
+        h_am2=1.590e-3,
+        b2_eff=21.59e-3,
+        K_A=1.1,
+        f_pt=26e-6,
+        torque1=b["torque_N_m"],
+        speed1=5000 * math.pi / 30,
+    )
     assert b["K_v"][0] == pytest.approx(one.K_v, rel=1e-12)
     assert b["sector"][0] == "subcritical" and "main resonance" in b["sector"]
     assert all(v is None or v >= 0 for v in b["simulated"]["up"])
     assert (tmp_path / "response_iso_kv.png").is_file()
     # a pair without the ISO inputs K_v needs (the paper's) has no iso_kv block
-    r = CliRunner().invoke(app, ["response", "--rpm-start", "2000", "--rpm-stop", "3000", "--num", "3",
-                                 "--transient", "30", "--settle", "0", "--json"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "response",
+            "--rpm-start",
+            "2000",
+            "--rpm-stop",
+            "3000",
+            "--num",
+            "3",
+            "--transient",
+            "30",
+            "--settle",
+            "0",
+            "--json",
+        ],
+    )
     assert r.exit_code == 0 and "iso_kv" not in json.loads(r.stdout)

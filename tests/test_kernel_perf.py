@@ -27,8 +27,9 @@ REF_TOL = 1e-12
 
 
 # --------------------------------------------------------------------------- plain references
-def reference_rk4(model: GearModel, n_transient: int, n_record: int, dtau: float = 0.01,
-                  state0: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+def reference_rk4(
+    model: GearModel, n_transient: int, n_record: int, dtau: float = 0.01, state0: tuple[float, float] = (0.0, 0.0)
+) -> np.ndarray:
     """Poincaré points from a plain classic-RK4 loop written from the model equation.
 
     u'' + 2[ξ0 + Σ ξ_k cos(kθ + φ_ck)] u' + [1 + Σ κ_r cos(rθ + φ_kr)] f(u) = f_p + ω² Σ l² ε_l cos(lθ + φ_el),
@@ -120,8 +121,14 @@ def test_harmonics_and_phases_match_plain_rk4(threads):
     """Several harmonics per series, with phases, in a batch and alone, against the plain loop."""
     threads(1)
     opts = IntegrationOptions(transient=15, periods=5)
-    base = dict(xi=(0.05, 0.01, 0.005), phi_c=(0.3, -0.2), kappa=(0.2, 0.05), phi_k=(0.0, 1.1),
-                eps=(0.5, 0.1, 0.0, 0.02), phi_e=(-0.4, 0.2, 0.0, 0.7))
+    base = dict(
+        xi=(0.05, 0.01, 0.005),
+        phi_c=(0.3, -0.2),
+        kappa=(0.2, 0.05),
+        phi_k=(0.0, 1.1),
+        eps=(0.5, 0.1, 0.0, 0.02),
+        phi_e=(-0.4, 0.2, 0.0, 0.7),
+    )
     models = [GearModel(omega=w, **base) for w in (0.55, 0.62, 0.7)]
     batch = I.integrate_batch(models, options=opts)
     for i, m in enumerate(models):
@@ -149,8 +156,11 @@ def test_lanes_and_scalar_paths_are_bit_identical(threads):
     threads(1)
     opts = IntegrationOptions(transient=8, periods=5)
     models = [GearModel(omega=w) for w in W1_GRID[::25]]
-    models += [GearModel(omega=0.8, phi_c=(0.4,), phi_e=(1.0,)), GearModel(omega=1.3, D=0.0),
-               GearModel(omega=1.1, kappa=(0.2, 0.0, 0.03))]
+    models += [
+        GearModel(omega=0.8, phi_c=(0.4,), phi_e=(1.0,)),
+        GearModel(omega=1.3, D=0.0),
+        GearModel(omega=1.1, kappa=(0.2, 0.0, 0.03)),
+    ]
     for lyap in (False, True):
         batch = I.integrate_batch(models, options=opts, lyapunov=lyap)
         for i, m in enumerate(models):

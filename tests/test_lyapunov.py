@@ -24,8 +24,8 @@ from geardyn.analysis.classify import (
     motion_label,
     settling_ratio,
 )
-from geardyn.analysis.steady import classify_batch
 from geardyn.analysis.lyapunov import lyapunov_batch, lyapunov_spectrum, spectrum_from_log
+from geardyn.analysis.steady import classify_batch
 from geardyn.integrate import integrate_batch, period_map
 from geardyn.model import GearModel, IntegrationOptions
 
@@ -34,10 +34,10 @@ PAPER = GearModel()
 
 # ------------------------------------------------------------------------------ Liouville
 LIOUVILLE_CASES = [
-    PAPER.replace(omega=0.8),                      # period-2
-    PAPER.replace(omega=1.2),                      # chaotic
-    PAPER.replace(omega=1.35),                     # chaotic
-    PAPER.replace(omega=1.05),                     # chaotic window
+    PAPER.replace(omega=0.8),  # period-2
+    PAPER.replace(omega=1.2),  # chaotic
+    PAPER.replace(omega=1.35),  # chaotic
+    PAPER.replace(omega=1.05),  # chaotic window
     PAPER.replace(omega=0.6, xi0=0.05, xi=(0.1,)),  # larger damping harmonic
     GearModel(omega=1.3, xi0=0.07, xi=(0.03, 0.02), kappa=(0.15, 0.05), eps=(0.5, 0.1), phi_k=(0.3, 1.0), D=0.8),
 ]
@@ -54,8 +54,9 @@ def test_liouville_sum_of_exponents_equals_minus_two_xi0():
 
 
 def test_liouville_in_accurate_mode():
-    out = lyapunov_batch([PAPER.replace(omega=1.2)], (0.0, 0.0),
-                         IntegrationOptions(transient=50, periods=100, accurate=True))
+    out = lyapunov_batch(
+        [PAPER.replace(omega=1.2)], (0.0, 0.0), IntegrationOptions(transient=50, periods=100, accurate=True)
+    )
     assert abs(out["exponents"][0].sum() + 0.2) < 1e-6
 
 
@@ -81,11 +82,11 @@ def test_largest_exponent_equals_floquet_rate(omega, n):
     assert detect_period(r.poincare[0]) == n
     x = r.end_state[0]
     pts, M, _, ok = period_map(m, x, n)
-    assert ok and np.allclose(pts[-1], x, atol=1e-8)           # a converged point of the orbit
+    assert ok and np.allclose(pts[-1], x, atol=1e-8)  # a converged point of the orbit
     mu = np.linalg.eigvals(M)
     T = m.period
     lam_f = np.log(np.max(np.abs(mu))) / (n * T)
-    assert abs(np.log(abs(np.linalg.det(M))) / (n * T) + 2 * m.xi0) < 1e-8   # det(monodromy) = exp(-2ξ0 nT)
+    assert abs(np.log(abs(np.linalg.det(M))) / (n * T) + 2 * m.xi0) < 1e-8  # det(monodromy) = exp(-2ξ0 nT)
     res = lyapunov_spectrum(m, IntegrationOptions(transient=0, periods=400 * n), x)
     lam1, err1 = res.exponents[0], res.uncertainty[0]
     assert lam1 < 0
@@ -128,8 +129,8 @@ def test_damped_mathieu_principal_tongue():
     for w, l, e in zip(ws, lam, err):
         ref = _floquet_rate_scipy(w)
         assert abs(l - ref) <= 4 * e + 1e-5, (w, l, e, ref)
-    assert np.all(lam[: len(inside)] > LLE_SIGMAS * err[: len(inside)])     # zero solution unstable inside
-    assert np.all(lam[len(inside):] < -LLE_SIGMAS * err[len(inside):])      # and stable outside
+    assert np.all(lam[: len(inside)] > LLE_SIGMAS * err[: len(inside)])  # zero solution unstable inside
+    assert np.all(lam[len(inside) :] < -LLE_SIGMAS * err[len(inside) :])  # and stable outside
     # outside the tongue the multipliers are a complex pair: λ1 = λ2 = -ξ0
     assert abs(lam[-1] + MATHIEU_XI) < 4 * err[-1] + 1e-5
 
@@ -145,9 +146,17 @@ def test_classify_motion_thresholds():
         [np.nan] * 7 + [0.45, 1.0],
         [np.nan] * 8 + [0.5],
     )
-    assert codes.tolist() == [MOTION_PERIODIC, MOTION_CHAOTIC, MOTION_QUASIPERIODIC, MOTION_QUASIPERIODIC,
-                              MOTION_UNRESOLVED, MOTION_DIVERGED, MOTION_UNRESOLVED, MOTION_UNRESOLVED,
-                              MOTION_UNRESOLVED]
+    assert codes.tolist() == [
+        MOTION_PERIODIC,
+        MOTION_CHAOTIC,
+        MOTION_QUASIPERIODIC,
+        MOTION_QUASIPERIODIC,
+        MOTION_UNRESOLVED,
+        MOTION_DIVERGED,
+        MOTION_UNRESOLVED,
+        MOTION_UNRESOLVED,
+        MOTION_UNRESOLVED,
+    ]
     assert motion_label(MOTION_PERIODIC, 3) == "period-3"
     assert motion_label(MOTION_CHAOTIC) == "chaotic"
 
@@ -160,21 +169,26 @@ def test_geometry_diagnostics():
     two = np.concatenate([ellipse * 0.1 + [1, 0], ellipse * 0.1 - [1, 0]])
     assert count_loops(two) == 2
     assert curve_dimension(np.tile([[1.0, 2.0], [3.0, 4.0]], (50, 1))) == 0.0
-    converging = np.array([[1 + 0.99 ** k * (-1) ** k, 0.0] for k in range(400)])
+    converging = np.array([[1 + 0.99**k * (-1) ** k, 0.0] for k in range(400)])
     assert settling_ratio(converging) < 0.5
     assert 0.8 < settling_ratio(ellipse) < 1.25
 
 
 CLASS_CASES = [
     # (model, initial state, expected motion label, expected impact code)
-    (GearModel(omega=0.9, fp=2.0), (2.0, 0.0), "period-1", 0),                  # linear limit, always in contact
+    (GearModel(omega=0.9, fp=2.0), (2.0, 0.0), "period-1", 0),  # linear limit, always in contact
     (PAPER.replace(omega=0.8), (0.0, 0.0), "period-2", 1),
     (PAPER.replace(omega=1.3), (0.0, 0.0), "chaotic", None),
     # undamped linear oscillator forced at an incommensurate frequency: an exact torus
-    (GearModel(omega=0.6180339887, xi0=0.0, xi=(), kappa=(), eps=(0.5,), fp=0.0, D=0.0), (1.0, 0.0), "quasi-periodic", 0),
+    (
+        GearModel(omega=0.6180339887, xi0=0.0, xi=(), kappa=(), eps=(0.5,), fp=0.0, D=0.0),
+        (1.0, 0.0),
+        "quasi-periodic",
+        0,
+    ),
     # damped Mathieu inside its tongue: the linear response grows without bound
     (_mathieu(2.0).replace(eps=(0.1,)), (0.1, 0.0), "diverged", -1),
-    (PAPER.replace(omega=0.8, xi0=-0.2), (0.0, 0.0), "diverged", -1),           # negative damping
+    (PAPER.replace(omega=0.8, xi0=-0.2), (0.0, 0.0), "diverged", -1),  # negative damping
 ]
 
 
@@ -216,7 +230,9 @@ def test_simulate_reports_motion():
 @pytest.mark.slow
 def test_liouville_long_records():
     ws = np.linspace(0.5, 1.5, 21)
-    out = lyapunov_batch([PAPER.replace(omega=w) for w in ws], (0.0, 0.0), IntegrationOptions(transient=300, periods=3000))
+    out = lyapunov_batch(
+        [PAPER.replace(omega=w) for w in ws], (0.0, 0.0), IntegrationOptions(transient=300, periods=3000)
+    )
     assert np.all(np.abs(out["exponents"].sum(axis=1) + 0.2) < 1e-6)
 
 

@@ -32,13 +32,16 @@ def test_values_right_continuous_and_periodic():
     assert np.allclose(table_values(*table, th + 2 * math.pi)[0], K)
 
 
-@pytest.mark.parametrize("table, match", [
-    (((0.0, 0.5, 0.5, 0.5), (1.0,) * 4, ()), "at most twice"),
-    (((0.0, 0.6, 0.5), (1.0,) * 3, ()), "non-decreasing"),
-    (((0.0, 1.0), (1.0, 1.0), ()), "non-decreasing"),
-    (((0.0, 0.5), (1.0, 0.0), ()), "> 0"),
-    (((0.0, 0.5), (1.0, 1.0), (0.0,)), "one of each"),
-])
+@pytest.mark.parametrize(
+    "table, match",
+    [
+        (((0.0, 0.5, 0.5, 0.5), (1.0,) * 4, ()), "at most twice"),
+        (((0.0, 0.6, 0.5), (1.0,) * 3, ()), "non-decreasing"),
+        (((0.0, 1.0), (1.0, 1.0), ()), "non-decreasing"),
+        (((0.0, 0.5), (1.0, 0.0), ()), "> 0"),
+        (((0.0, 0.5), (1.0, 1.0), (0.0,)), "one of each"),
+    ],
+)
 def test_refused(table, match):
     with pytest.raises(ModelError, match=match):
         check_table(table, 1)

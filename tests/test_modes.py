@@ -89,8 +89,11 @@ def test_campbell_crossings_by_hand():
     d2 = SystemDescription(bodies=b, meshes=d.meshes + (m2,))
     c2 = campbell(d2, rpm_range=(0, 1e7), orders=(1, 2))
     r2 = modal_analysis(d2)
-    assert [ln["label"] for ln in c2["lines"]] == ["order 1 of mesh", "order 1 of m2 = order 2 of mesh",
-                                                   "order 2 of m2"]
+    assert [ln["label"] for ln in c2["lines"]] == [
+        "order 1 of mesh",
+        "order 1 of m2 = order 2 of mesh",
+        "order 2 of m2",
+    ]
     assert [ln["harmonic"] for ln in c2["lines"]] == [1.0, 2.0, 4.0]
     assert len(c2["crossings"]) == 3 * 2  # two elastic modes, three distinct lines
     for x in c2["crossings"]:
@@ -214,18 +217,38 @@ def _lin_parker_system(n_planets: int) -> SystemDescription:
         psi = 2 * math.pi * i / n_planets
         er = (math.cos(psi), math.sin(psi))
         et = (-math.sin(psi), math.cos(psi))
-        conns.append(Connection.along(f"{p}_radial", {
-            ("carrier", "x"): er[0], ("carrier", "y"): er[1], (p, "x"): -er[0], (p, "y"): -er[1]}, _LP_K_BEARING))
-        conns.append(Connection.along(f"{p}_tangential", {
-            ("carrier", "x"): et[0], ("carrier", "y"): et[1], ("carrier", "theta"): r["carrier"],
-            (p, "x"): -et[0], (p, "y"): -et[1]}, _LP_K_BEARING))
+        conns.append(
+            Connection.along(
+                f"{p}_radial",
+                {("carrier", "x"): er[0], ("carrier", "y"): er[1], (p, "x"): -er[0], (p, "y"): -er[1]},
+                _LP_K_BEARING,
+            )
+        )
+        conns.append(
+            Connection.along(
+                f"{p}_tangential",
+                {
+                    ("carrier", "x"): et[0],
+                    ("carrier", "y"): et[1],
+                    ("carrier", "theta"): r["carrier"],
+                    (p, "x"): -et[0],
+                    (p, "y"): -et[1],
+                },
+                _LP_K_BEARING,
+            )
+        )
         for gear, ang, rp in (("sun", psi - _LP_ALPHA, r["planet"]), ("ring", psi + _LP_ALPHA, -r["planet"])):
             n = (-math.sin(ang), math.cos(ang))
-            vec = (((gear, "x"), n[0]), ((gear, "y"), n[1]), ((gear, "theta"), r[gear]),
-                   ((p, "x"), -n[0]), ((p, "y"), -n[1]), ((p, "theta"), rp))
+            vec = (
+                ((gear, "x"), n[0]),
+                ((gear, "y"), n[1]),
+                ((gear, "theta"), r[gear]),
+                ((p, "x"), -n[0]),
+                ((p, "y"), -n[1]),
+                ((p, "theta"), rp),
+            )
             meshes.append(Mesh(f"{gear}_{p}", vec, _LP_K_MESH, xi0=0.0))
-    return SystemDescription(bodies=bodies, meshes=tuple(meshes), connections=tuple(conns),
-                             characteristic_length=1e-6)
+    return SystemDescription(bodies=bodies, meshes=tuple(meshes), connections=tuple(conns), characteristic_length=1e-6)
 
 
 def _lin_parker_mode_types(d: SystemDescription, r) -> list[str]:
@@ -238,8 +261,15 @@ def _lin_parker_mode_types(d: SystemDescription, r) -> list[str]:
     for i in range(d.n):
         phi = r.shapes[:, i] / np.abs(r.shapes[:, i]).max()
         still_rot, still_tra = np.abs(phi[rot]).max() < 1e-8, np.abs(phi[tra]).max() < 1e-8
-        out.append("planet" if still_rot and still_tra else "rotational" if still_tra
-                   else "translational" if still_rot else "mixed")
+        out.append(
+            "planet"
+            if still_rot and still_tra
+            else "rotational"
+            if still_tra
+            else "translational"
+            if still_rot
+            else "mixed"
+        )
     return out
 
 

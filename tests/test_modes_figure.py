@@ -33,9 +33,12 @@ def _invoke(*args: str):
 def _drawn(ds):
     art = draw(ds, "campbell")
     ax = art.axes[0]
-    horizontal = [a for a in ax.lines if np.ptp(a.get_ydata()) == 0 and a.get_linestyle() == "-"
-                  and list(a.get_xdata()) == [0, 1]]  # axhline: x in axes fraction
-    orders = [a for a in ax.lines if a.get_label() and not a.get_label().startswith("_") and a.get_label() != "crossing"]
+    horizontal = [
+        a for a in ax.lines if np.ptp(a.get_ydata()) == 0 and a.get_linestyle() == "-" and list(a.get_xdata()) == [0, 1]
+    ]  # axhline: x in axes fraction
+    orders = [
+        a for a in ax.lines if a.get_label() and not a.get_label().startswith("_") and a.get_label() != "crossing"
+    ]
     labels = [a.get_text() for a in ax.texts if isinstance(a, Annotation)]
     return art, ax, horizontal, orders, labels
 

@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from geardyn.analysis.periodic import shoot
-from geardyn.analysis.steady import simulate
 from geardyn.analysis.lyapunov import lyapunov_spectrum
+from geardyn.analysis.periodic import shoot
 from geardyn.analysis.periodic.orbit import require_periodic
+from geardyn.analysis.steady import simulate
 from geardyn.errors import ModelError
 from geardyn.integrate import forcing_period, integrate_batch, period_map, trajectory
 from geardyn.model import GearModel, IntegrationOptions
@@ -30,9 +30,22 @@ def torsional():
 
 def _model(n, Mi, Kb, Cb, V, meshes, F, omega=1.0, Vc=None, kc=(), cc=(), Dc=(), names=()):
     sc = Scaling("m0", 1.0, 1.0, 1.0, 1.0, (1.0,) * n, None)
-    return SystemModel(labels=tuple(f"b{i}.x" for i in range(n)), Mi=Mi, Kb=Kb, Cb=Cb, V=V, meshes=meshes, F=F,
-                       omega=omega, scaling=sc, clearance_names=tuple(names),
-                       Vc=np.zeros((0, n)) if Vc is None else Vc, kc=kc, cc=cc, Dc=Dc)
+    return SystemModel(
+        labels=tuple(f"b{i}.x" for i in range(n)),
+        Mi=Mi,
+        Kb=Kb,
+        Cb=Cb,
+        V=V,
+        meshes=meshes,
+        F=F,
+        omega=omega,
+        scaling=sc,
+        clearance_names=tuple(names),
+        Vc=np.zeros((0, n)) if Vc is None else Vc,
+        kc=kc,
+        cc=cc,
+        Dc=Dc,
+    )
 
 
 def _mesh(name="m0", k=1.0, xi0=0.0, xi=(), kappa=(), eps=(), D=0.0, ratio=1.0):
@@ -52,8 +65,7 @@ def _four_dof(D=0.5, xi0=0.05, eps=(0.3,), kappa=(0.2,), omega=0.9, clearance=Tr
     if clearance:
         extra = dict(Vc=np.array([[1.0, 0.0, -1.0, 0.0]]), kc=(0.5,), cc=(0.01,), Dc=(0.4,), names=("gap",))
     del rng
-    return _model(4, Mi, Kb, Cb, V, (_mesh(k=1.0, xi0=xi0, xi=(0.02,), kappa=kappa, eps=eps, D=D),), F, omega,
-                  **extra)
+    return _model(4, Mi, Kb, Cb, V, (_mesh(k=1.0, xi0=xi0, xi=(0.02,), kappa=kappa, eps=eps, D=D),), F, omega, **extra)
 
 
 # ---------------------------------------------------------------------------- exact reduction
@@ -203,8 +215,9 @@ def test_accurate_mode_order_four_through_contact_loss(torsional):
     assert np.any(tr.u < 1.0) and np.any(tr.u > 1.0)
 
     def end(N):
-        return integrate_batch([model], x0, IntegrationOptions(transient=0, periods=2, accurate=True),
-                               steps=N).end_state[0]
+        return integrate_batch(
+            [model], x0, IntegrationOptions(transient=0, periods=2, accurate=True), steps=N
+        ).end_state[0]
 
     ref = end(6400)
     errs = [np.max(np.abs(end(N) - ref)) for N in (100, 200, 400)]
@@ -244,7 +257,13 @@ def test_poincare_matches_dop853_with_events():
         dv = model.V[0] @ v - om * Ed
         dc = model.Vc[0] @ q
         dcv = model.Vc[0] @ v
-        a = g - A @ q - B @ v - W * (C * dv + K * fz(d, m.D)) - Wc * (model.cc[0] * dcv + model.kc[0] * fz(dc, model.Dc[0]))
+        a = (
+            g
+            - A @ q
+            - B @ v
+            - W * (C * dv + K * fz(d, m.D))
+            - Wc * (model.cc[0] * dcv + model.kc[0] * fz(dc, model.Dc[0]))
+        )
         return np.concatenate([v, a])
 
     def ev(sign, which):
@@ -252,6 +271,7 @@ def test_poincare_matches_dop853_with_events():
             if which == "mesh":
                 return model.V[0] @ x[:4] - coefs(t)[2] - sign * m.D
             return model.Vc[0] @ x[:4] - sign * model.Dc[0]
+
         return f
 
     events = [ev(s, w) for s in (1, -1) for w in ("mesh", "gap")]

@@ -29,8 +29,20 @@ def _invoke(*args: str):
 @pytest.fixture(scope="module")
 def runup_dir(tmp_path_factory):
     d = tmp_path_factory.mktemp("runup")
-    _invoke("runup", "--rpm-start", "1700", "--rpm-stop", "2000", "--duration", "0.5", "--num", "3", "--json",
-            "--out", str(d))
+    _invoke(
+        "runup",
+        "--rpm-start",
+        "1700",
+        "--rpm-stop",
+        "2000",
+        "--duration",
+        "0.5",
+        "--num",
+        "3",
+        "--json",
+        "--out",
+        str(d),
+    )
     return d
 
 
@@ -48,8 +60,20 @@ def test_runup_panels_share_one_x_scale(runup_dir):
 
 def test_every_figure_is_saved_at_one_resolution(runup_dir, tmp_path):
     """HB, run-up and every other figure go through one save at :data:`DPI`."""
-    _invoke("hb", "--param", "omega", "--start", "0.5", "--stop", "0.65", "--harmonics", "8", "--json",
-            "--out", str(tmp_path))
+    _invoke(
+        "hb",
+        "--param",
+        "omega",
+        "--start",
+        "0.5",
+        "--stop",
+        "0.65",
+        "--harmonics",
+        "8",
+        "--json",
+        "--out",
+        str(tmp_path),
+    )
     pngs = sorted(tmp_path.glob("*.png")) + sorted(runup_dir.glob("*.png"))
     assert {p.name for p in pngs} >= {"hb.png", "runup.png"}
     for p in pngs:
@@ -63,6 +87,18 @@ def test_a_system_without_excitation_says_so():
     assert "no excitation" in excitation_note(planetary) and "geardyn modes" in excitation_note(planetary)
     assert excitation_note(planetary, (0.1, 0.0)) is None
     assert excitation_note(load_system(EX / "paper_bevel_8dof.toml")) is None
-    r = json.loads(_invoke("simulate", "--system", str(EX / "planetary_lin_parker_1999.toml"), "--omega", "0.5",
-                           "--transient", "20", "--periods", "4", "--json").stdout)
+    r = json.loads(
+        _invoke(
+            "simulate",
+            "--system",
+            str(EX / "planetary_lin_parker_1999.toml"),
+            "--omega",
+            "0.5",
+            "--transient",
+            "20",
+            "--periods",
+            "4",
+            "--json",
+        ).stdout
+    )
     assert r["amplitude"] == 0.0 and "no excitation" in r["note"]

@@ -45,9 +45,10 @@ def test_messages_are_one_line() -> None:
 def test_parameter_names_of_the_help_texts_come_from_the_registry_and_all_parse():
     import re
 
+    from typer.testing import CliRunner
+
     from geardyn.cli import app
     from geardyn.params import ALIASES, FAMILIES, LISTING_ORDER, canonical_param, parameter_names
-    from typer.testing import CliRunner
 
     text = parameter_names()
     assert re.sub(r" \([^)]*\)", "", text).split(", ") == [FAMILIES[n].pattern for n in LISTING_ORDER]

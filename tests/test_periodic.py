@@ -184,8 +184,13 @@ def test_folds_bracket_the_hysteresis_of_up_down_sweeps(branch_008):
     f_low, f_high = folds
     step = 0.005
     grid = np.round(np.arange(0.50, 0.64 + step / 2, step), 6)
-    resp = frequency_response(GearModel(xi0=0.08), float(grid[0]), float(grid[-1]), grid.size,
-                              options=IntegrationOptions(transient=300, periods=16))
+    resp = frequency_response(
+        GearModel(xi0=0.08),
+        float(grid[0]),
+        float(grid[-1]),
+        grid.size,
+        options=IntegrationOptions(transient=300, periods=16),
+    )
     hyst = hysteresis_intervals(resp)
     assert len(hyst) == 1, hyst
     w_a, w_b = hyst[0]
@@ -309,9 +314,26 @@ def test_cli_orbit_json(capsys):
 
 
 def test_cli_continuation_json_and_files(capsys, tmp_path):
-    code, out, _ = run_cli(capsys, "continuation", "--param", "omega", "--start", "0.65", "--stop", "0.5",
-                           "--xi0", "0.08", "--no-switch", "--sweep-num", "6", "--transient", "100",
-                           "--out", str(tmp_path), "--json")
+    code, out, _ = run_cli(
+        capsys,
+        "continuation",
+        "--param",
+        "omega",
+        "--start",
+        "0.65",
+        "--stop",
+        "0.5",
+        "--xi0",
+        "0.08",
+        "--no-switch",
+        "--sweep-num",
+        "6",
+        "--transient",
+        "100",
+        "--out",
+        str(tmp_path),
+        "--json",
+    )
     assert code == 0
     js = json.loads(out)
     assert js["branch"] and all({"omega", "amplitude", "stable", "multipliers"} <= set(p) for p in js["branch"])
@@ -337,21 +359,38 @@ def test_cli_continuation_first_orbit_settles_for_transient_periods(capsys, monk
 
     real = C.shoot
     monkeypatch.setattr(C, "shoot", shoot)
-    code, _, err = run_cli(capsys, "continuation", "--param", "omega", "--start", "0.65", "--stop", "0.64",
-                           "--xi0", "0.08", "--no-switch", "--transient", "37", "--json")
+    code, _, err = run_cli(
+        capsys,
+        "continuation",
+        "--param",
+        "omega",
+        "--start",
+        "0.65",
+        "--stop",
+        "0.64",
+        "--xi0",
+        "0.08",
+        "--no-switch",
+        "--transient",
+        "37",
+        "--json",
+    )
     assert code == 0, err
     assert seen == [37]
 
 
-@pytest.mark.parametrize("args,name", [
-    (("orbit", "--omega", "-1"), "omega"),
-    (("orbit", "--guess", "1,x"), "guess"),
-    (("orbit", "--period", "0"), "period"),
-    (("continuation", "--param", "nope", "--start", "0.3", "--stop", "1"), "parameter"),
-    (("continuation", "--param", "omega", "--start", "0.3", "--stop", "0.3"), "stop"),
-    (("continuation", "--param", "D", "--start", "1", "--stop", "-1"), "D"),
-    (("continuation", "--param", "omega", "--start", "0.3", "--stop", "1", "--max-period", "0"), "max-period"),
-])
+@pytest.mark.parametrize(
+    "args,name",
+    [
+        (("orbit", "--omega", "-1"), "omega"),
+        (("orbit", "--guess", "1,x"), "guess"),
+        (("orbit", "--period", "0"), "period"),
+        (("continuation", "--param", "nope", "--start", "0.3", "--stop", "1"), "parameter"),
+        (("continuation", "--param", "omega", "--start", "0.3", "--stop", "0.3"), "stop"),
+        (("continuation", "--param", "D", "--start", "1", "--stop", "-1"), "D"),
+        (("continuation", "--param", "omega", "--start", "0.3", "--stop", "1", "--max-period", "0"), "max-period"),
+    ],
+)
 def test_cli_bad_input(capsys, args, name):
     code, out, err = run_cli(capsys, *args, "--json")
     assert code == 2

@@ -70,11 +70,14 @@ def test_evaluate_of_a_non_finite_or_diverging_state_is_not_ok():
 
 
 # ------------------------------------------------------------------------------ derivatives
-@pytest.mark.parametrize("model, x, accurate", [
-    (GearModel(omega=1.3), (1.2, -0.3), False),  # contact loss on the way: the discrete map's exact Jacobian
-    (GearModel(omega=0.6, xi0=0.05), (0.4, 0.2), False),
-    (GearModel(omega=0.7, **LINEAR), (0.3, 0.1), False),
-])
+@pytest.mark.parametrize(
+    "model, x, accurate",
+    [
+        (GearModel(omega=1.3), (1.2, -0.3), False),  # contact loss on the way: the discrete map's exact Jacobian
+        (GearModel(omega=0.6, xi0=0.05), (0.4, 0.2), False),
+        (GearModel(omega=0.7, **LINEAR), (0.3, 0.1), False),
+    ],
+)
 def test_jacobian_equals_central_finite_differences(model, x, accurate):
     pmap = PeriodMap(model, 2, accurate=accurate)
     x = np.asarray(x, float)

@@ -97,8 +97,11 @@ def test_rpm_range_to_omega_range():
     w0, w1 = omega_range(sc, 900.0, 3600.0)
     assert (w0, w1) == (pytest.approx(omega_of(900.0), rel=1e-12), pytest.approx(omega_of(3600.0), rel=1e-12))
     assert sweep_range(sc, None, None, 0.5, 0.7) == (0.5, 0.7)
-    for args, word in (((sc, 900.0, None), "both"), ((sc, 900.0, 1000.0, 0.5, None), "not both"),
-                       ((sc, -1.0, 1000.0), "> 0 rpm")):
+    for args, word in (
+        ((sc, 900.0, None), "both"),
+        ((sc, 900.0, 1000.0, 0.5, None), "not both"),
+        ((sc, -1.0, 1000.0), "> 0 rpm"),
+    ):
         with pytest.raises(ModelError, match=word):
             sweep_range(*args)
     with pytest.raises(ModelError, match="swept parameter"):
@@ -127,8 +130,24 @@ def test_linear_limit_mesh_force_and_dynamic_factor_in_newtons():
     """Constant coefficients and a load high enough that contact is never lost: the mesh force is
     F_p + |k0 + i c0 ω_e| |U| cos(...) with U = m_e ω_e² e1 / (k0 − m_e ω_e² + i c0 ω_e), all dimensional."""
     torque = 20000.0
-    s = run_json(["simulate", "--rpm", str(RPM), "--torque", str(torque), "--xi1", "0", "--kappa1", "0",
-                  "--transient", "300", "--periods", "32", "--json"])
+    s = run_json(
+        [
+            "simulate",
+            "--rpm",
+            str(RPM),
+            "--torque",
+            str(torque),
+            "--xi1",
+            "0",
+            "--kappa1",
+            "0",
+            "--transient",
+            "300",
+            "--periods",
+            "32",
+            "--json",
+        ]
+    )
     assert s["impact"] == "no impact" and s["u_min"] > 1.0
     w_e = 2 * math.pi * Z1 * RPM / 60.0
     c0 = 2 * XI0 * M_E * OMEGA_N
@@ -154,8 +173,22 @@ def test_physical_outputs_are_nondimensional_values_times_scales(tmp_path):
     """Paper defaults at 2400 rpm and 1500 N·m (separation every period): every physical output of
     simulate equals the non-dimensional quantity times its scale, recomputed here from the saved
     time history with the model's force law written out."""
-    s = run_json(["simulate", "--rpm", str(RPM), "--torque", str(TORQUE), "--transient", "200", "--periods", "40",
-                  "--json", "--out", str(tmp_path / "sim")])
+    s = run_json(
+        [
+            "simulate",
+            "--rpm",
+            str(RPM),
+            "--torque",
+            str(TORQUE),
+            "--transient",
+            "200",
+            "--periods",
+            "40",
+            "--json",
+            "--out",
+            str(tmp_path / "sim"),
+        ]
+    )
     for key in ("omega", "rpm", "dynamic_factor", "mesh_force_max_N", "dte_rms_um"):
         assert key in s
     assert s["impact"] != "no impact"  # the nonlinear case
@@ -186,8 +219,24 @@ def test_physical_outputs_are_nondimensional_values_times_scales(tmp_path):
 
 
 def test_response_against_rpm_gives_speeds_and_jumps_in_rpm():
-    s = run_json(["response", "--rpm-start", "1500", "--rpm-stop", "2000", "--num", "3", "--transient", "50",
-                  "--periods", "16", "--settle", "0", "--json"])
+    s = run_json(
+        [
+            "response",
+            "--rpm-start",
+            "1500",
+            "--rpm-stop",
+            "2000",
+            "--num",
+            "3",
+            "--transient",
+            "50",
+            "--periods",
+            "16",
+            "--settle",
+            "0",
+            "--json",
+        ]
+    )
     assert s["rpm"] == pytest.approx([1500.0, 1750.0, 2000.0])
     assert s["omega"] == pytest.approx([omega_of(r) for r in (1500.0, 1750.0, 2000.0)], rel=1e-12)
     for j in s["jumps"]:
@@ -198,8 +247,17 @@ def test_response_against_rpm_gives_speeds_and_jumps_in_rpm():
 
 
 def test_physical_json_adds_units_everywhere():
-    summ = {"omega": 0.5, "u_min": 0.2, "exponents": [0.01, -0.21], "branch": [{"omega": 0.6, "amplitude": 0.1}],
-            "param": "omega", "values": [0.5, 1.0], "hysteresis": [[0.5, 0.6]], "start": 0.5, "stop": 1.0}
+    summ = {
+        "omega": 0.5,
+        "u_min": 0.2,
+        "exponents": [0.01, -0.21],
+        "branch": [{"omega": 0.6, "amplitude": 0.1}],
+        "param": "omega",
+        "values": [0.5, 1.0],
+        "hysteresis": [[0.5, 0.6]],
+        "start": 0.5,
+        "stop": 1.0,
+    }
     out = physical_json(summ, GearModel(omega=0.5), None, param="omega")
     assert out["rpm"] == pytest.approx(60 * 0.5 * OMEGA_N / (2 * math.pi * Z1))
     assert out["u_min_um"] == pytest.approx(0.2 * B_N * 1e6)
@@ -210,8 +268,17 @@ def test_physical_json_adds_units_everywhere():
     assert out["hysteresis_rpm"][0][1] == pytest.approx(60 * 0.6 * OMEGA_N / (2 * math.pi * Z1))
     assert out["rpm_stop"] == pytest.approx(60 * 1.0 * OMEGA_N / (2 * math.pi * Z1))
     assert out["physical"]["static_force_N"] == pytest.approx(0.2 * K0 * B_N)
-    assert summ == {"omega": 0.5, "u_min": 0.2, "exponents": [0.01, -0.21], "branch": [{"omega": 0.6, "amplitude": 0.1}],
-                    "param": "omega", "values": [0.5, 1.0], "hysteresis": [[0.5, 0.6]], "start": 0.5, "stop": 1.0}
+    assert summ == {
+        "omega": 0.5,
+        "u_min": 0.2,
+        "exponents": [0.01, -0.21],
+        "branch": [{"omega": 0.6, "amplitude": 0.1}],
+        "param": "omega",
+        "values": [0.5, 1.0],
+        "hysteresis": [[0.5, 0.6]],
+        "start": 0.5,
+        "stop": 1.0,
+    }
 
 
 def test_dimensional_config_drives_the_physical_front_end():
@@ -225,8 +292,22 @@ def test_dimensional_config_drives_the_physical_front_end():
     assert s["rpm"] == pytest.approx(2500.0, rel=1e-9) and s["torque_N_m"] == pytest.approx(300.0, rel=1e-9)
     assert s["static_force_N"] == pytest.approx(300.0 / cfg.pair.R1, rel=1e-9)
     assert s["omega"] == pytest.approx(2 * math.pi * 11 * 2500 / 60 / sc.omega_n_rad_s, rel=1e-12)
-    s2 = run_json(["simulate", "--config", str(cfg_path), "--rpm", "4000", "--torque", "150", "--transient", "100",
-                   "--periods", "16", "--json"])
+    s2 = run_json(
+        [
+            "simulate",
+            "--config",
+            str(cfg_path),
+            "--rpm",
+            "4000",
+            "--torque",
+            "150",
+            "--transient",
+            "100",
+            "--periods",
+            "16",
+            "--json",
+        ]
+    )
     assert s2["rpm"] == pytest.approx(4000.0) and s2["torque_N_m"] == pytest.approx(150.0)
 
 
@@ -236,8 +317,9 @@ def test_lazy_physical_copies_are_computed_when_read_with_the_same_bits():
     from geardyn.analysis.physical import add_physical
 
     u = np.array([0.1, 0.5, 1.2, np.nan])
-    ds = xr.Dataset({"amplitude": ("omega", u), "lle": ("omega", [-0.1, 0.0, 0.02, np.nan])},
-                    coords={"omega": [0.5, 0.8, 1.1, 1.4]})
+    ds = xr.Dataset(
+        {"amplitude": ("omega", u), "lle": ("omega", [-0.1, 0.0, 0.02, np.nan])}, coords={"omega": [0.5, 0.8, 1.1, 1.4]}
+    )
     sc = scales_of(None)
     lazy = add_physical(ds, sc, lazy=True)
     assert not isinstance(lazy["amplitude_um"].variable._data, np.ndarray)  # held as a lazily indexed array

@@ -17,15 +17,35 @@ from geardyn.io import read_netcdf, write_netcdf
 from geardyn.model import GearModel, IntegrationOptions
 from geardyn.plot import FIGURES, FigureSpec, PlotUnavailable, save_figures
 
-SIMULATE_FIGURES = {"time_history.png", "phase_portrait.png", "spectrum.png", "physical_time_history.png",
-                    "spectrum_hz.png"}
+SIMULATE_FIGURES = {
+    "time_history.png",
+    "phase_portrait.png",
+    "spectrum.png",
+    "physical_time_history.png",
+    "spectrum_hz.png",
+}
 
 
 @pytest.fixture(scope="module")
 def sim_file(tmp_path_factory):
     d = tmp_path_factory.mktemp("sim")
-    r = CliRunner().invoke(app, ["simulate", "--rpm", "2400", "--torque", "1500", "--transient", "50",
-                                 "--periods", "8", "--json", "--out", str(d)])
+    r = CliRunner().invoke(
+        app,
+        [
+            "simulate",
+            "--rpm",
+            "2400",
+            "--torque",
+            "1500",
+            "--transient",
+            "50",
+            "--periods",
+            "8",
+            "--json",
+            "--out",
+            str(d),
+        ],
+    )
     assert r.exit_code == 0, r.output
     return d / "simulate.nc"
 
@@ -89,8 +109,13 @@ def test_plot_dispatches_a_sweep_and_draws_it_against_rpm(tmp_path):
     from geardyn.analysis.bifurcation import bifurcation
     from geardyn.analysis.physical import add_physical
 
-    ds = bifurcation(GearModel(), "omega", np.array([0.8, 1.0, 1.2]),
-                     options=IntegrationOptions(transient=20, periods=8), settle_periods=0)
+    ds = bifurcation(
+        GearModel(),
+        "omega",
+        np.array([0.8, 1.0, 1.2]),
+        options=IntegrationOptions(transient=20, periods=8),
+        settle_periods=0,
+    )
     f = write_netcdf(add_physical(ds), tmp_path / "bif.nc")
     r = CliRunner().invoke(app, ["plot", str(f), "--json"])
     assert r.exit_code == 0, r.output
@@ -105,8 +130,13 @@ def test_plot_dispatches_a_sweep_and_draws_it_against_rpm(tmp_path):
 def test_physical_figures_on_request_for_a_file_without_them(tmp_path):
     from geardyn.analysis.bifurcation import bifurcation
 
-    ds = bifurcation(GearModel(), "omega", np.array([0.8, 1.0]), options=IntegrationOptions(transient=10, periods=4),
-                     settle_periods=0)
+    ds = bifurcation(
+        GearModel(),
+        "omega",
+        np.array([0.8, 1.0]),
+        options=IntegrationOptions(transient=10, periods=4),
+        settle_periods=0,
+    )
     f = write_netcdf(ds, tmp_path / "bif.nc")
     r = CliRunner().invoke(app, ["plot", str(f), "--json"])
     assert "amplitude_um_vs_rpm.png" not in r.stdout
@@ -116,8 +146,19 @@ def test_physical_figures_on_request_for_a_file_without_them(tmp_path):
 
 
 def test_every_known_kind_has_a_drawer():
-    for kind in ("simulate", "lyapunov", "bifurcation", "response", "map", "basins", "orbit", "continuation",
-                 "stability_boundary", "mathieu_boundary", "stability_comparison"):
+    for kind in (
+        "simulate",
+        "lyapunov",
+        "bifurcation",
+        "response",
+        "map",
+        "basins",
+        "orbit",
+        "continuation",
+        "stability_boundary",
+        "mathieu_boundary",
+        "stability_comparison",
+    ):
         assert FIGURES[kind] and all(isinstance(f, FigureSpec) and callable(f.draw) for f in FIGURES[kind])
 
 
@@ -143,11 +184,13 @@ def test_unplottable_files_are_refused_with_one_line(tmp_path):
 
 
 def test_import_geardyn_stays_light():
-    code = ("import sys, geardyn; import xarray as xr; assert hasattr(xr.Dataset(), 'geardyn'); "
-            "print(sorted(m for m in ('matplotlib', 'numba', 'pint', 'scipy') if m in sys.modules))")
+    code = (
+        "import sys, geardyn; import xarray as xr; assert hasattr(xr.Dataset(), 'geardyn'); "
+        "print(sorted(m for m in ('matplotlib', 'numba', 'pint', 'scipy') if m in sys.modules))"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
-    from geardyn import GearModel as G, IntegrationOptions, SpiralBevelGearPair, load_config, simulate  # noqa: F401
+    from geardyn import GearModel as G  # noqa: F401
 
     assert G is GearModel
 
@@ -156,9 +199,11 @@ def test_simulate_json_builds_no_dataset_and_says_the_same_as_with_out(tmp_path)
     """Without --out, ``simulate --json`` imports none of the Dataset's or figures' libraries nor pint, and its
     summary is the one computed from the written Dataset (every key, every value)."""
     args = ["simulate", "--omega", "0.8", "--transient", "40", "--periods", "8", "--json"]
-    code = ("import sys; from geardyn.cli import main; main(%r); "
-            "print(sorted(m for m in ('xarray', 'pandas', 'dask', 'matplotlib', 'pint') if m in sys.modules), "
-            "file=sys.stderr)" % (args,))
+    code = (
+        "import sys; from geardyn.cli import main; main(%r); "
+        "print(sorted(m for m in ('xarray', 'pandas', 'dask', 'matplotlib', 'pint') if m in sys.modules), "
+        "file=sys.stderr)" % (args,)
+    )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert r.stderr.strip().splitlines()[-1] == "[]"
     bare = json.loads(r.stdout)

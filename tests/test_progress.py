@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from cli_run import run_cli as _cli
 
 import geardyn.sweep.progress as P
 from geardyn.analysis.bifurcation import bifurcation, continuation_chunk, fixed_chunk, grid_chunk
@@ -17,7 +18,6 @@ from geardyn.analysis.periodic import continuation
 from geardyn.analysis.response import frequency_response
 from geardyn.model import GearModel, IntegrationOptions
 from geardyn.sweep import Chunk
-from cli_run import run_cli as _cli
 
 FAST = IntegrationOptions(transient=40, periods=16)
 OMEGAS = np.linspace(0.8, 1.2, 5)
@@ -67,22 +67,34 @@ def test_pool_workers_report_points_through_the_shared_counter(drawn, monkeypatc
         watch(self, counter)
 
     monkeypatch.setattr(P.Progress, "watch", spy)
-    bifurcation(GearModel(), "omega", OMEGAS, mode="continue", sweep="both", options=FAST, progress=True,
-                workers=2, processes=True)
+    bifurcation(
+        GearModel(),
+        "omega",
+        OMEGAS,
+        mode="continue",
+        sweep="both",
+        options=FAST,
+        progress=True,
+        workers=2,
+        processes=True,
+    )
     assert len(counters) == 1 and counters[0].value == 10  # every point ticked in a worker
     assert drawn[-1][:3] == (10, 10, "points")
     # without a bar the pool gets no counter
     counters.clear()
-    bifurcation(GearModel(), "omega", OMEGAS[:2], mode="continue", sweep="both", options=FAST, workers=2,
-                processes=True)
+    bifurcation(
+        GearModel(), "omega", OMEGAS[:2], mode="continue", sweep="both", options=FAST, workers=2, processes=True
+    )
     assert counters == []
 
 
 def test_resumed_chunks_count_their_points_at_start():
     pts = np.linspace(0.8, 1.2, 7)[:, None]
     common = ((0.0, 0.0), FAST, False, 0, True)
-    chunks = [Chunk(0, grid_chunk, (GearModel(), ["omega"], pts[:3]) + common),
-              Chunk(1, grid_chunk, (GearModel(), ["omega"], pts[3:]) + common)]
+    chunks = [
+        Chunk(0, grid_chunk, (GearModel(), ["omega"], pts[:3]) + common),
+        Chunk(1, grid_chunk, (GearModel(), ["omega"], pts[3:]) + common),
+    ]
     bar = P.Progress.for_chunks(chunks, {0: {}}, "demo")
     try:
         assert bar.counts_points and bar.completed == 3 and bar._total == 7
@@ -199,10 +211,36 @@ def test_task_progress_draws_on_stderr_and_is_silent_when_disabled(monkeypatch, 
 
 # ------------------------------------------------------------------------- through the command line
 CLI_RUNS = {
-    "response": ["response", "--omega-start", "0.8", "--omega-stop", "1.2", "--num", "4", "--transient", "40", "--periods", "16"],
+    "response": [
+        "response",
+        "--omega-start",
+        "0.8",
+        "--omega-stop",
+        "1.2",
+        "--num",
+        "4",
+        "--transient",
+        "40",
+        "--periods",
+        "16",
+    ],
     "lyapunov": ["lyapunov", "--transient", "20", "--periods", "100"],
-    "continuation": ["continuation", "--param", "omega", "--start", "1.2", "--stop", "1.1", "--no-switch",
-                     "--backlash", "0", "--kappa1", "0", "--xi1", "0"],
+    "continuation": [
+        "continuation",
+        "--param",
+        "omega",
+        "--start",
+        "1.2",
+        "--stop",
+        "1.1",
+        "--no-switch",
+        "--backlash",
+        "0",
+        "--kappa1",
+        "0",
+        "--xi1",
+        "0",
+    ],
 }
 CLI_LABEL = {"response": "response ω", "lyapunov": "lyapunov", "continuation": "continuation ω"}
 
@@ -228,10 +266,26 @@ def test_progress_to_a_file_is_written_while_the_sweep_runs(tmp_path):
     import time
 
     err = tmp_path / "stderr.txt"
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(Path(P.__file__).parents[2]),
-                                                                     os.environ.get("PYTHONPATH")])))
-    argv = [sys.executable, "-m", "geardyn.cli", "response", "--omega-start", "0.6", "--omega-stop", "1.2",
-            "--num", "30", "--transient", "400", "--periods", "60"]
+    env = dict(
+        os.environ,
+        PYTHONPATH=os.pathsep.join(filter(None, [str(Path(P.__file__).parents[2]), os.environ.get("PYTHONPATH")])),
+    )
+    argv = [
+        sys.executable,
+        "-m",
+        "geardyn.cli",
+        "response",
+        "--omega-start",
+        "0.6",
+        "--omega-stop",
+        "1.2",
+        "--num",
+        "30",
+        "--transient",
+        "400",
+        "--periods",
+        "60",
+    ]
     with open(err, "w") as fh:
         t0 = time.monotonic()
         proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=fh, env=env)

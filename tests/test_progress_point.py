@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_run import run_cli as _cli
 
 import geardyn.backend as B
 import geardyn.integrate as I
@@ -23,7 +24,6 @@ from geardyn.analysis.steady import simulate
 from geardyn.model import GearModel, IntegrationOptions
 from geardyn.systems import load_system
 from geardyn.tooth.excitation import Excitation, excitation_model
-from cli_run import run_cli as _cli
 
 SYSTEMS = Path(__file__).resolve().parents[1] / "examples" / "systems"
 TORS = str(SYSTEMS / "paper_torsional.toml")
@@ -60,17 +60,25 @@ def _counted(calls: list[tuple[int, int]], total: int) -> list[int]:
 
 def _table_model() -> GearModel:
     base = GearModel(omega=0.8, xi0=0.05, xi=(), phi_c=(), kappa=(), phi_k=(), eps=(), phi_e=(), fp=0.3, D=0.6)
-    exc = Excitation(np.array([1.25, 1.2, 1.1, 0.7, 0.8, 1.15]) * 3e8, np.array([0, 2, 5, 5, 1, -3]) * 1e-7, 1,
-                     phase=np.array([0.0, 0.1, 0.3, 0.3, 0.55, 0.9]))
+    exc = Excitation(
+        np.array([1.25, 1.2, 1.1, 0.7, 0.8, 1.15]) * 3e8,
+        np.array([0, 2, 5, 5, 1, -3]) * 1e-7,
+        1,
+        phase=np.array([0.0, 0.1, 0.3, 0.3, 0.55, 0.9]),
+    )
     return excitation_model(base, exc, b_c=1e-5, evaluation="table", harmonics=3)
 
 
 # ------------------------------------------------------------------------------------------ the kernel door
 @pytest.mark.parametrize("case", ["pair", "pair-accurate", "pair-table", "system", "system-accurate"])
 def test_trajectory_with_progress_is_the_trajectory_without(case):
-    model = {"pair": GearModel(omega=1.2), "pair-accurate": GearModel(omega=1.2), "pair-table": _table_model(),
-             "system": load_system(BEVEL).with_param("omega", 0.8),
-             "system-accurate": load_system(TORS).with_param("omega", 0.8)}[case]
+    model = {
+        "pair": GearModel(omega=1.2),
+        "pair-accurate": GearModel(omega=1.2),
+        "pair-table": _table_model(),
+        "system": load_system(BEVEL).with_param("omega", 0.8),
+        "system-accurate": load_system(TORS).with_param("omega", 0.8),
+    }[case]
     acc = case.endswith(("accurate", "table"))
     tr = 12 if case == "system-accurate" else 60
     opts = IntegrationOptions(transient=tr, periods=20, accurate=acc)
@@ -89,8 +97,9 @@ def test_trajectory_with_progress_is_the_trajectory_without(case):
 @pytest.mark.parametrize("kind", ["none", "lyapunov", "monodromy", "adaptive", "no-poincare"])
 def test_a_batch_with_progress_is_the_batch_without(kind):
     """Enough points for the lanes; points diverging in the transient (negative damping) end as in one run."""
-    models = [GearModel(omega=w) for w in np.linspace(0.5, 1.5, 9)] + [GearModel(omega=0.8, xi0=x)
-                                                                        for x in (-0.3, -0.02)]
+    models = [GearModel(omega=w) for w in np.linspace(0.5, 1.5, 9)] + [
+        GearModel(omega=0.8, xi0=x) for x in (-0.3, -0.02)
+    ]
     opts = IntegrationOptions(transient=120, periods=30, adaptive=kind == "adaptive")
     kw = {"lyapunov": kind == "lyapunov", "monodromy": kind == "monodromy", "record_poincare": kind != "no-poincare"}
     calls, cb = _calls()
@@ -106,7 +115,10 @@ def test_a_point_diverging_in_a_late_piece_ends_as_in_one_run():
     for tr in (2, 40, 400):
         opts = IntegrationOptions(transient=tr, periods=10)
         calls, cb = _calls()
-        a, b = I.trajectory(m, None, opts, history_periods=3, progress=cb), I.trajectory(m, None, opts, history_periods=3)
+        a, b = (
+            I.trajectory(m, None, opts, history_periods=3, progress=cb),
+            I.trajectory(m, None, opts, history_periods=3),
+        )
         assert np.array_equal(a.x, b.x, equal_nan=True)
         _same(a.summary, b.summary)
         _counted(calls, tr + 10)
@@ -156,8 +168,9 @@ def test_runup_reports_its_blocks():
     for k in ("order_amplitude", "amplitude", "dynamic_factor", "omega"):
         assert np.array_equal(getattr(a, k), getattr(b, k))
     calls, cb = _calls()
-    assert steady_response(m, [0.8, 0.9, 1.0], periods=4, transient=10, progress=cb) == \
-        steady_response(m, [0.8, 0.9, 1.0], periods=4, transient=10)
+    assert steady_response(m, [0.8, 0.9, 1.0], periods=4, transient=10, progress=cb) == steady_response(
+        m, [0.8, 0.9, 1.0], periods=4, transient=10
+    )
     assert calls == [(k, 6) for k in range(1, 7)]
 
 

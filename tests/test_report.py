@@ -4,15 +4,23 @@ from __future__ import annotations
 
 import html
 import re
+from datetime import UTC
 from html.parser import HTMLParser
 
 import pytest
 
 from geardyn.paper import CLAIMS
-from geardyn.paper.report import SUMMARY_COLUMNS, Section, dataset_of, render_html, render_markdown, write_report
+from geardyn.paper.report import (
+    SUMMARY_COLUMNS,
+    VERDICTS,
+    Section,
+    dataset_of,
+    render_html,
+    render_markdown,
+    write_report,
+)
 from geardyn.paper.settings import model_text
 from geardyn.paper.table1 import TABLE1_MODEL
-from geardyn.paper.report import VERDICTS
 from geardyn.paper.verdicts import (
     VERDICT_RULES,
     combine,
@@ -78,19 +86,32 @@ def check_verdict_wording(claims) -> None:
 
 
 def _sections():
-    f1 = CLAIMS["T2-1"].judge("at ω = 1: chaotic over 75 % of the interval's length.", "contradicted",
-                              ["data/xi0_bifurcation.nc", "figures/xi0_bifurcation/bifurcation.png",
-                               "figures/xi0_bifurcation/bifurcation.png"])
-    f2 = CLAIMS["JUMP-057"].judge("within ±0.03 of ω = 0.57 for 0 of 4 backlash values (0 %).", "contradicted",
-                                  ["data/response_xi0_0.08_xi1_0.05_D_0.1.nc"])
+    f1 = CLAIMS["T2-1"].judge(
+        "at ω = 1: chaotic over 75 % of the interval's length.",
+        "contradicted",
+        [
+            "data/xi0_bifurcation.nc",
+            "figures/xi0_bifurcation/bifurcation.png",
+            "figures/xi0_bifurcation/bifurcation.png",
+        ],
+    )
+    f2 = CLAIMS["JUMP-057"].judge(
+        "within ±0.03 of ω = 0.57 for 0 of 4 backlash values (0 %).",
+        "contradicted",
+        ["data/response_xi0_0.08_xi1_0.05_D_0.1.nc"],
+    )
     return [
-        Section("A", ["text"], [("figures/xi0_bifurcation/bifurcation.png", "Bifurcation diagram over ξ0, ω = 1")], [f1]),
+        Section(
+            "A", ["text"], [("figures/xi0_bifurcation/bifurcation.png", "Bifurcation diagram over ξ0, ω = 1")], [f1]
+        ),
         Section("B", [], [], [f2], [["ξ0", "D"], ["0.08", "0.1"]]),
     ]
 
 
-LABELS = {"xi0_bifurcation": "bifurcation diagram over ξ0 (ω = 1, ξ1 = 0.05, D = 1)",
-          "response_xi0_0.08_xi1_0.05_D_0.1": "frequency response at ξ0 = 0.08, ξ1 = 0.05, D = 0.1"}
+LABELS = {
+    "xi0_bifurcation": "bifurcation diagram over ξ0 (ω = 1, ξ1 = 0.05, D = 1)",
+    "response_xi0_0.08_xi1_0.05_D_0.1": "frequency response at ξ0 = 0.08, ξ1 = 0.05, D = 0.1",
+}
 
 
 def test_summary_has_paper_says_beside_we_find_and_the_verdict_and_totals_come_first(tmp_path):
@@ -193,18 +214,22 @@ def test_a_quick_report_says_so_at_the_top_with_what_was_reduced_and_labels_its_
     box = page.index("<div class='reduced'>")
     assert page.index("<h1>T (quick run)</h1>") < box < page.index("<p>intro</p>") < page.index("Claims and verdicts")
     assert "<title>T (quick run)</title>" in page
-    banner = text[text.index("Quick run:"):]
+    banner = text[text.index("Quick run:") :]
     assert banner.startswith("Quick run: reduced grids, fewer points and shorter runs than the full reproduction")
     assert "may differ from the full run" in banner[:300]
     for change in run.changes:  # every reduced setting named, with the full run's value
         assert f"<li>{html.escape(change)}</li>" in page
     assert "points of each frequency response: 12 (full run: 91)" in run.changes
-    assert ("Totals of this quick run (2 claims): 0 reproduced, 0 reproduced under a reading, 2 contradicted, "
-            "0 not testable (may differ from the full run).") in text
+    assert (
+        "Totals of this quick run (2 claims): 0 reproduced, 0 reproduced under a reading, 2 contradicted, "
+        "0 not testable (may differ from the full run)."
+    ) in text
     assert "Totals (2 claims)" not in text
     md = render_markdown("T", ["intro"], _sections(), LABELS, run)
     assert md.startswith("# T (quick run)\n") and md.index("> **Quick run:") < md.index("## Claims and verdicts")
-    assert "> - points of each frequency response: 12 (full run: 91)" in md and "Totals of this quick run (2 claims)" in md
+    assert (
+        "> - points of each frequency response: 12 (full run: 91)" in md and "Totals of this quick run (2 claims)" in md
+    )
     full = render_html("T", ["intro"], _sections(), tmp_path, LABELS, _run_info("full"))
     assert "class='reduced'" not in full and "<h1>T</h1>" in full and "Totals (2 claims): " in full
     assert "quick" not in visible_text(full).replace("--quick", "")
@@ -215,15 +240,20 @@ def test_the_report_names_the_geardyn_version_the_date_and_the_command_line(tmp_
 
     run = _run_info("full")
     page = render_html("T", ["intro"], _sections(), tmp_path, LABELS, run)
-    head = page[:page.index("<p>intro</p>")]
+    head = page[: page.index("<p>intro</p>")]
     assert "geardyn 9.8.7" in head and "2026-12-02T12:00:00Z" in head
     assert "<code>geardyn reproduce --out r --quick</code>" in head
     md = render_markdown("T", ["intro"], _sections(), LABELS, run)
     assert "*geardyn 9.8.7, run 2026-12-02T12:00:00Z: geardyn reproduce --out r --quick*" in md.split("## ")[0]
     paths = write_report(tmp_path, "T", ["intro"], _sections(), meta={"compute_s": 1.0}, labels=LABELS, run=run)
     meta = json.loads(paths["meta"].read_text())
-    assert meta["run"] == {"version": "9.8.7", "date": "2026-12-02T12:00:00Z",
-                           "command": "geardyn reproduce --out r --quick", "kind": "full", "changes": []}
+    assert meta["run"] == {
+        "version": "9.8.7",
+        "date": "2026-12-02T12:00:00Z",
+        "command": "geardyn reproduce --out r --quick",
+        "kind": "full",
+        "changes": [],
+    }
     assert meta["compute_s"] == 1.0 and meta["totals"].startswith("Totals (2 claims)")
 
 
@@ -236,23 +266,28 @@ def test_run_kind_and_changes_of_the_settings():
     assert replace(Settings(), workers=7).run_kind() == "full"  # workers change the time, not the results
     assert replace(Settings.quick(), workers=2).run_kind() == "quick"
     one = Settings(transient=5)
-    assert one.run_kind() == "changed" and one.changes() == ["transient periods of the bifurcation diagrams: 5 (full run: 300)"]
+    assert one.run_kind() == "changed" and one.changes() == [
+        "transient periods of the bifurcation diagrams: 5 (full run: 300)"
+    ]
     quick = Settings.quick().changes()
-    assert "ξ0 grid of the ξ0 bifurcation diagram: 5 points over [0.03, 0.5] (full run: 62 points over [0.02, 0.95])" in quick
+    assert (
+        "ξ0 grid of the ξ0 bifurcation diagram: 5 points over [0.03, 0.5] (full run: 62 points over [0.02, 0.95])"
+        in quick
+    )
     assert "ω grid of the stability condition: 2 points (0.8, 1.6) (full run: 21 points over [0.4, 2.4])" in quick
     assert "ω interval of the continuation: [0.61, 0.63] (full run: [0.5, 0.7])" in quick
 
 
 def test_run_info_records_the_version_the_date_now_and_the_command():
-    from datetime import datetime, timezone
+    from datetime import datetime
 
     import geardyn
     from geardyn.paper.run import PYTHON_COMMAND, run_info
     from geardyn.paper.settings import Settings
 
-    before = datetime.now(timezone.utc).replace(microsecond=0)
+    before = datetime.now(UTC).replace(microsecond=0)
     info = run_info(Settings.quick(), "geardyn reproduce --quick")
-    after = datetime.now(timezone.utc)
+    after = datetime.now(UTC)
     assert info.version == geardyn.__version__ and info.command == "geardyn reproduce --quick"
     assert before <= datetime.fromisoformat(info.date.replace("Z", "+00:00")) <= after
     assert info.kind == "quick" and info.changes == Settings.quick().changes()

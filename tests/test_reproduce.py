@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from geardyn.analysis.classify import MOTION_CHAOTIC, MOTION_PERIODIC, MOTION_QUASIPERIODIC
 from geardyn.cli import app
 from geardyn.paper import CLAIMS, TABLE1, TABLE1_MODEL, TABLE3, TABLE4
 from geardyn.paper.claims import claim_ids
@@ -16,7 +17,6 @@ from geardyn.paper.report import Finding, Section
 from geardyn.paper.run import link_figures
 from geardyn.paper.studies.formula import fit_formula
 from geardyn.paper.verdicts import is_chaotic, is_regular, motion_rule, quasi_n, verdict_of
-from geardyn.analysis.classify import MOTION_PERIODIC, MOTION_QUASIPERIODIC, MOTION_CHAOTIC
 
 
 @pytest.fixture(scope="module")
@@ -40,8 +40,18 @@ def test_report_files_and_claims(report_dir):
     assert {f"T3-{i}" for i in range(1, len(TABLE3) + 1)} <= set(ids)
     assert {f"T4-{i}" for i in range(1, len(TABLE4) + 1)} <= set(ids)
     for c in claims:
-        assert set(c) == {"id", "source", "statement", "computed", "verdict", "evidence", "readings", "deciding",
-                          "reading", "found"}
+        assert set(c) == {
+            "id",
+            "source",
+            "statement",
+            "computed",
+            "verdict",
+            "evidence",
+            "readings",
+            "deciding",
+            "reading",
+            "found",
+        }
         assert c["verdict"] in ("reproduced", "reproduced under a reading", "contradicted", "not testable")
         # every claim shows the readings it was judged under, with its result under each, and why the verdict
         assert c["readings"][0] == ["reading", "result", "holds"] and len(c["readings"]) >= 2, c["id"]
@@ -126,7 +136,11 @@ def test_motion_words():
     assert motion_rule("chaotic") == (is_chaotic, "chaotic")
     assert motion_rule("quasi-periodic") == (is_regular, "regular (periodic or quasi-periodic)")
     q3, what = motion_rule("quasi-3-periodic")
-    assert what == "quasi-3-periodic (read as period-3, by F1)" and q3(MOTION_PERIODIC, 3, 0) and not q3(MOTION_PERIODIC, 2, 0)
+    assert (
+        what == "quasi-3-periodic (read as period-3, by F1)"
+        and q3(MOTION_PERIODIC, 3, 0)
+        and not q3(MOTION_PERIODIC, 2, 0)
+    )
     with pytest.raises(ValueError):
         motion_rule("periodic-ish")
 
@@ -166,9 +180,11 @@ def test_summary_table_says_what_the_paper_claims_and_the_totals_come_first(repo
     claims = _findings(out)
     kinds = ("reproduced", "reproduced under a reading", "contradicted", "not testable")
     counts = {v: sum(c.verdict == v for c in claims) for v in kinds}
-    assert (f"{counts['reproduced']} reproduced, {counts['reproduced under a reading']} reproduced under a reading, "
-            f"{counts['contradicted']} contradicted, {counts['not testable']} not testable") in page[totals:totals + 300]
-    summary = page[page.index(header):page.index("</table>", page.index(header))]
+    assert (
+        f"{counts['reproduced']} reproduced, {counts['reproduced under a reading']} reproduced under a reading, "
+        f"{counts['contradicted']} contradicted, {counts['not testable']} not testable"
+    ) in page[totals : totals + 300]
+    summary = page[page.index(header) : page.index("</table>", page.index(header))]
     for c in claims:
         row = re.search(rf"<tr><td><a href='#{re.escape(c.id)}'>.*?</tr>", summary).group(0)
         from geardyn.paper.report import found_text
@@ -177,7 +193,9 @@ def test_summary_table_says_what_the_paper_claims_and_the_totals_come_first(repo
         assert c.computed.startswith(found_text(c).rstrip("…"))
         assert html_escape(c.deciding) in row
     md = (out / "report.md").read_text()
-    assert md.index("Totals of this quick run (") < md.index("| id | source | paper says | we find | verdict | deciding evidence |")
+    assert md.index("Totals of this quick run (") < md.index(
+        "| id | source | paper says | we find | verdict | deciding evidence |"
+    )
 
 
 def html_escape(s):
@@ -199,7 +217,7 @@ def test_every_figure_shown_exists_and_every_cited_figure_is_shown(report_dir):
             if rel.endswith(".png"):
                 assert rel in shown, f"{c.id} cites {rel}, which the report does not show"
             elif rel.startswith("data/"):  # cited data: its main figure is shown too (the ω-search heat maps)
-                name = rel[len("data/"):-len(".nc")]
+                name = rel[len("data/") : -len(".nc")]
                 assert not drawn[name] or drawn[name][0] in shown, f"{c.id} cites {rel}; its figure is not shown"
 
 
@@ -248,7 +266,10 @@ def test_continuation_figure_draws_its_up_down_sweep(report_dir):
     s = Settings.quick()
     assert sweep is not None and list(sweep["sweep"].values) == ["up", "down"]
     assert sweep["omega"].size == s.continuation_sweep_num
-    assert float(sweep["omega"].min()) == s.continuation_omega[0] and float(sweep["omega"].max()) == s.continuation_omega[1]
+    assert (
+        float(sweep["omega"].min()) == s.continuation_omega[0]
+        and float(sweep["omega"].max()) == s.continuation_omega[1]
+    )
     art = continuation_figure(ds)
     labels = [h.get_label() for a in art.axes if a is not None for h in a.get_lines() + a.collections]
     assert any("sweep up" in lab for lab in labels) and any("sweep down" in lab for lab in labels)
@@ -275,13 +296,18 @@ def test_report_shows_the_readings_of_every_claim_f1_f2_and_the_three_tables(rep
 
     out, _ = report_dir
     page = (out / "report.html").read_text()
-    for title in ("F1: the period map contracts every area",
-                  "F2: without back-flank contact the response does not depend on D",
-                  "Table 2 recomputed", "Table 3 recomputed", "Table 4 recomputed", "Readings"):
+    for title in (
+        "F1: the period map contracts every area",
+        "F2: without back-flank contact the response does not depend on D",
+        "Table 2 recomputed",
+        "Table 3 recomputed",
+        "Table 4 recomputed",
+        "Readings",
+    ):
         assert f"<h2>{title}</h2>" in page, title
     for cid in CLAIMS:  # every claim block holds its readings table
-        block = page[page.index(f"<div class='claim' id='{cid}'>"):]
-        block = block[:block.index("</div>")]
+        block = page[page.index(f"<div class='claim' id='{cid}'>") :]
+        block = block[: block.index("</div>")]
         assert "<table class='readings'><tr><th>reading</th><th>result</th><th>holds</th></tr>" in block, cid
     for cid in claim_ids("T2-") + claim_ids("T3-") + claim_ids("T4-"):  # the paper's rows beside geardyn's
         word = CLAIMS[cid].numbers.get("motion") or CLAIMS[cid].numbers["jump"]
@@ -305,13 +331,13 @@ def test_a_quick_report_says_it_is_quick_with_its_version_date_and_command(repor
     out, summary = report_dir
     page = (out / "report.html").read_text()
     assert "<h1>geardyn reproduction of the spiral bevel gear paper (quick run)</h1>" in page
-    box = page[page.index("<div class='reduced'>"):page.index("</div>", page.index("<div class='reduced'>"))]
+    box = page[page.index("<div class='reduced'>") : page.index("</div>", page.index("<div class='reduced'>"))]
     assert page.index("<div class='reduced'>") < page.index("<h2>Claims and verdicts</h2>")
     assert "Quick run: reduced grids" in box and "may differ from the full run" in box
     assert box.count("<li>") == len(Settings.quick().changes()) >= 15
     assert "points of each frequency response: 12 (full run: 91)" in box
     command = f"geardyn reproduce --out {out} --quick --workers 1 --json"
-    head = page[:page.index("<div class='reduced'>")]
+    head = page[: page.index("<div class='reduced'>")]
     assert f"geardyn {geardyn.__version__}" in head and command in head
     run = json.loads((out / "run.json").read_text())["run"]
     assert run["version"] == geardyn.__version__ and run["command"] == command and run["kind"] == "quick"
@@ -331,13 +357,17 @@ def test_the_compared_responses_are_overlaid_and_cited_by_the_claims_that_compar
     s = Settings.quick()
     page = (out / "report.html").read_text()
     claims = {c.id: c for c in _findings(out)}
-    section = page[page.index("<h2>Jumps and fluctuations"):page.index("<h2>", page.index("<h2>Jumps and fluctuations") + 5)]
+    section = page[
+        page.index("<h2>Jumps and fluctuations") : page.index("<h2>", page.index("<h2>Jumps and fluctuations") + 5)
+    ]
     shown = re.findall(r"<img alt=\"([^\"]+)\"", section)
     assert shown[:3] == [f"figures/responses_over_{p}/response_overlay.png" for p in ("xi0", "xi1", "D")]
     assert len(shown) == 3 + len(s.response_sets)  # the overlays first, then each response on its own
     for cid, p in (("JUMP-XI0", "xi0"), ("JUMP-XI1", "xi1"), ("JUMP-057", "D"), ("JUMP-082", "D"), ("T4-3", "xi0")):
         assert claims[cid].evidence[0] == f"figures/responses_over_{p}/response_overlay.png", cid
-    assert {f"figures/responses_over_{p}/response_overlay.png" for p in ("xi0", "xi1")} <= set(claims["JUMP-FLUCT"].evidence)
+    assert {f"figures/responses_over_{p}/response_overlay.png" for p in ("xi0", "xi1")} <= set(
+        claims["JUMP-FLUCT"].evidence
+    )
     for p, attr in (("xi0", "xi0_set"), ("xi1", "xi1_set"), ("D", "d_set")):
         ov = xr.load_dataset(out / "data" / f"responses_over_{p}.nc")
         keys = getattr(s, attr)
@@ -355,7 +385,9 @@ def test_the_stability_caption_says_what_its_gaps_are(report_dir):
 
     out, _ = report_dir
     page = (out / "report.html").read_text()
-    cap = re.search(r"<figure id='fig-figures-stability-condition[^']*'>.*?<figcaption>(.*?)</figcaption>", page, re.S).group(1)
+    cap = re.search(
+        r"<figure id='fig-figures-stability-condition[^']*'>.*?<figcaption>(.*?)</figcaption>", page, re.S
+    ).group(1)
     ds = xr.load_dataset(out / "data" / "stability_condition.nc")
     kinds = ds["bifurcation_type"].values.astype(str)
     assert "Markers: the ξ0 below which the period-1 response of the full model" in cap

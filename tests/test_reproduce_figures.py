@@ -20,9 +20,10 @@ def _formula(groups=((0.08, 0.2), (0.08, 0.5), (0.08, 0.7), (0.08, 1.5), (0.1, 0
     w = np.linspace(0.3, 1.2, 7)
     rows = [(x, g[0], g[1], 0.5 + 0.1 * k + 0.3 * np.sin(np.pi * x)) for k, g in enumerate(groups) for x in w]
     om, xi0, b, a = (np.array(c) for c in zip(*rows))
-    return xr.Dataset({"omega": ("point", om), "xi0": ("point", xi0), "b_mm": ("point", b), "amplitude": ("point", a)},
-                      attrs={"geardyn_kind": "formula_fit", "model": MODEL, "A0": "0.5", "dA": "0.3", "beta": "0.1",
-                             "r2": "0.4"})
+    return xr.Dataset(
+        {"omega": ("point", om), "xi0": ("point", xi0), "b_mm": ("point", b), "amplitude": ("point", a)},
+        attrs={"geardyn_kind": "formula_fit", "model": MODEL, "A0": "0.5", "dA": "0.3", "beta": "0.1", "r2": "0.4"},
+    )
 
 
 def _style(line):
@@ -35,8 +36,14 @@ def test_formula_fit_draws_one_panel_per_curve_each_labelled_in_a_style_of_its_o
     axes = art.figure.axes
     assert len(axes) == 6  # small multiples: one panel per (ξ0, b), not nine curves stacked on one axes
     titles = [ax.get_title() for ax in axes]
-    assert titles == ["ξ0 = 0.08, b = 0.2 mm", "ξ0 = 0.08, b = 0.5 mm", "ξ0 = 0.08, b = 0.7 mm",
-                      "ξ0 = 0.08, b = 1.5 mm", "ξ0 = 0.1, b = 0.5 mm", "ξ0 = 0.15, b = 0.5 mm"]
+    assert titles == [
+        "ξ0 = 0.08, b = 0.2 mm",
+        "ξ0 = 0.08, b = 0.5 mm",
+        "ξ0 = 0.08, b = 0.7 mm",
+        "ξ0 = 0.08, b = 1.5 mm",
+        "ξ0 = 0.1, b = 0.5 mm",
+        "ξ0 = 0.15, b = 0.5 mm",
+    ]
     styles = []
     for ax in axes:
         dots = [ln for ln in ax.get_lines() if ln.get_linestyle() == "None"]
@@ -58,27 +65,40 @@ def test_formula_fit_on_one_axes_labels_every_curve_at_its_end_in_distinct_style
     fits = [ln for ln in ax.get_lines() if ln.get_linestyle() != "None"]
     assert len(fits) == 6 and len({_style(ln) for ln in fits}) == 6
     labels = sorted(t.get_text() for t in ax.texts)
-    assert labels == sorted(f"ξ0 = {x:g}, b = {b:g} mm" for x, b in {(0.08, 0.2), (0.08, 0.5), (0.08, 0.7),
-                                                                        (0.08, 1.5), (0.1, 0.5), (0.15, 0.5)})
+    assert labels == sorted(
+        f"ξ0 = {x:g}, b = {b:g} mm"
+        for x, b in {(0.08, 0.2), (0.08, 0.5), (0.08, 0.7), (0.08, 1.5), (0.1, 0.5), (0.15, 0.5)}
+    )
 
 
 def overlay(n=3, param="xi0"):
     """A synthetic ``response_overlay``: n responses, the second with an upward jump at ω = 0.6."""
     w = np.round(np.linspace(0.3, 1.2, 10), 4)
-    amp = np.stack([np.stack([np.sin(np.pi * w) * (1 - 0.2 * i), np.sin(np.pi * w) * (1 - 0.2 * i) + 0.05])
-                    for i in range(n)])
+    amp = np.stack(
+        [np.stack([np.sin(np.pi * w) * (1 - 0.2 * i), np.sin(np.pi * w) * (1 - 0.2 * i) + 0.05]) for i in range(n)]
+    )
     jumps = [[] for _ in range(n)]
-    jumps[1] = [{"omega": 0.6, "direction": "up", "size": 0.4, "sweep": "up", "amplitude_from": 0.3, "amplitude_to": 0.7},
-                {"omega": 0.9, "direction": "down", "size": 0.2, "sweep": "down", "amplitude_from": 0.8,
-                 "amplitude_to": 0.6}]
+    jumps[1] = [
+        {"omega": 0.6, "direction": "up", "size": 0.4, "sweep": "up", "amplitude_from": 0.3, "amplitude_to": 0.7},
+        {"omega": 0.9, "direction": "down", "size": 0.2, "sweep": "down", "amplitude_from": 0.8, "amplitude_to": 0.6},
+    ]
     return xr.Dataset(
-        {"amplitude": (("case", "sweep", "omega"), amp), "fluctuation": (("case", "omega"), np.zeros((n, w.size))),
-         "value": ("case", [0.08, 0.1, 0.15, 0.2][:n])},
+        {
+            "amplitude": (("case", "sweep", "omega"), amp),
+            "fluctuation": (("case", "omega"), np.zeros((n, w.size))),
+            "value": ("case", [0.08, 0.1, 0.15, 0.2][:n]),
+        },
         coords={"case": np.arange(n), "sweep": ["up", "down"], "omega": w},
-        attrs={"geardyn_kind": "response_overlay", "param": param, "model": MODEL, "jumps": json.dumps(jumps),
-               "hysteresis": json.dumps([[] for _ in range(n)]),
-               "marks": json.dumps([[0.5, "ω = 0.5: steady below (paper)"], [0.57, "ω = 0.57: jumps (paper)"]]),
-               "table4": json.dumps([[0, 0.6, 0.45, "T4-2"], [2, 0.6, 0.3, "T4-3"]])})
+        attrs={
+            "geardyn_kind": "response_overlay",
+            "param": param,
+            "model": MODEL,
+            "jumps": json.dumps(jumps),
+            "hysteresis": json.dumps([[] for _ in range(n)]),
+            "marks": json.dumps([[0.5, "ω = 0.5: steady below (paper)"], [0.57, "ω = 0.57: jumps (paper)"]]),
+            "table4": json.dumps([[0, 0.6, 0.45, "T4-2"], [2, 0.6, 0.3, "T4-3"]]),
+        },
+    )
 
 
 def test_response_overlay_draws_the_compared_responses_on_one_axes():
@@ -130,17 +150,26 @@ def test_response_overlay_without_a_jump_has_no_zoom_panel():
 def test_response_overlay_over_d_names_the_paper_backlash():
     art = draw(overlay(4, "D"), "response_overlay")
     legend = [t.get_text() for t in art.axes[0].get_legend().get_texts()]
-    assert legend[:4] == ["D = 0.08 (b = 0.16 mm)", "D = 0.1 (b = 0.2 mm)", "D = 0.15 (b = 0.3 mm)",
-                          "D = 0.2 (b = 0.4 mm)"]
+    assert legend[:4] == [
+        "D = 0.08 (b = 0.16 mm)",
+        "D = 0.1 (b = 0.2 mm)",
+        "D = 0.15 (b = 0.3 mm)",
+        "D = 0.2 (b = 0.4 mm)",
+    ]
 
 
 def _stability(kinds, crit, linear):
     om = np.round(np.linspace(0.4, 1.4, len(kinds)), 3)
-    return xr.Dataset({"xi0_critical": ("omega", crit), "bifurcation_type": ("omega", kinds),
-                       "xi0_critical_linear": ("omega", linear), "xi0_paper": 0.4899},
-                      coords={"omega": om},
-                      attrs={"geardyn_kind": "stability_comparison", "model": MODEL, "xi0_low": "0.001",
-                             "xi0_high": "0.6"})
+    return xr.Dataset(
+        {
+            "xi0_critical": ("omega", crit),
+            "bifurcation_type": ("omega", kinds),
+            "xi0_critical_linear": ("omega", linear),
+            "xi0_paper": 0.4899,
+        },
+        coords={"omega": om},
+        attrs={"geardyn_kind": "stability_comparison", "model": MODEL, "xi0_low": "0.001", "xi0_high": "0.6"},
+    )
 
 
 def test_stability_figure_marks_and_names_each_kind_of_gap():

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from geardyn.analysis.runup import block_error, runup, steady_response
 from geardyn.cli import app
 from geardyn.errors import ModelError
-from geardyn.analysis.runup import block_error, runup, steady_response
 from geardyn.model import GearModel
 
 MODEL = GearModel()  # the paper's Table 1 values
@@ -66,8 +66,23 @@ def test_bad_ramps_refused():
 
 
 def test_cli_runup(tmp_path):
-    r = CliRunner().invoke(app, ["runup", "--rpm-start", "1200", "--rpm-stop", "1500", "--duration", "0.5",
-                                 "--num", "3", "--json", "--out", str(tmp_path)])
+    r = CliRunner().invoke(
+        app,
+        [
+            "runup",
+            "--rpm-start",
+            "1200",
+            "--rpm-stop",
+            "1500",
+            "--duration",
+            "0.5",
+            "--num",
+            "3",
+            "--json",
+            "--out",
+            str(tmp_path),
+        ],
+    )
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     assert s["rpm"][0] == pytest.approx(1200, rel=0.01) and s["ramp_rate_rpm_per_s"] == pytest.approx(600, rel=1e-9)

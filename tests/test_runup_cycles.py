@@ -17,10 +17,13 @@ from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, pair_model
 
 def repeated(m: GearModel, P: int) -> GearModel:
     """``m`` with its series written over P mesh cycles (harmonic j of ω → harmonic P·j of ω/P)."""
+
     def z(t):
         return tuple(x for v in t for x in (0.0,) * (P - 1) + (v,))
-    return m.replace(xi=z(m.xi), phi_c=z(m.phi_c), kappa=z(m.kappa), phi_k=z(m.phi_k), eps=z(m.eps),
-                     phi_e=z(m.phi_e), cycles=P)
+
+    return m.replace(
+        xi=z(m.xi), phi_c=z(m.phi_c), kappa=z(m.kappa), phi_k=z(m.phi_k), eps=z(m.eps), phi_e=z(m.phi_e), cycles=P
+    )
 
 
 @pytest.mark.parametrize("accurate", [False, True])
@@ -103,8 +106,22 @@ def test_cli_runup_with_a_three_cycle_excitation(tmp_path):
     one, three = tmp_path / "one.json", tmp_path / "three.json"
     one.write_text(json.dumps({"cycles": 1, "stiffness_N_per_m": list(k), "ste_m": list(e)}))
     three.write_text(json.dumps({"cycles": 3, "stiffness_N_per_m": list(np.tile(k, 3)), "ste_m": list(np.tile(e, 3))}))
-    args = ["runup", "--omega-start", "0.5", "--omega-stop", "0.7", "--tau-duration", "1000", "--cycles-per-block", "3",
-            "--settle", "30", "--num", "0", "--json"]
+    args = [
+        "runup",
+        "--omega-start",
+        "0.5",
+        "--omega-stop",
+        "0.7",
+        "--tau-duration",
+        "1000",
+        "--cycles-per-block",
+        "3",
+        "--settle",
+        "30",
+        "--num",
+        "0",
+        "--json",
+    ]
     ra = CliRunner().invoke(app, [*args, "--excitation", str(one)])
     rb = CliRunner().invoke(app, [*args, "--excitation", str(three), "--out", str(tmp_path / "o")])
     assert ra.exit_code == 0 and rb.exit_code == 0, (ra.output, rb.output)
@@ -121,8 +138,8 @@ def test_cli_runup_with_a_three_cycle_excitation(tmp_path):
 def test_the_runup_figure_maps_every_order_of_a_multi_cycle_excitation():
     # the top panel of a P = 3 run-up is the spectrum over the orders j/3 (log colours), the one-cycle one the
     # mesh orders only
-    from matplotlib.colors import LogNorm
     from matplotlib.collections import QuadMesh
+    from matplotlib.colors import LogNorm
 
     from geardyn.plot.runup import runup_figure
 

@@ -15,7 +15,11 @@ def _plain(c, th, i, ratio, derivative):
     for j in range(1, c.shape[1]):
         a, b = c[i, j]
         w = j * ratio
-        s += w * (b * math.cos(w * th) - a * math.sin(w * th)) if derivative else a * math.cos(w * th) + b * math.sin(w * th)
+        s += (
+            w * (b * math.cos(w * th) - a * math.sin(w * th))
+            if derivative
+            else a * math.cos(w * th) + b * math.sin(w * th)
+        )
     return s
 
 
@@ -38,8 +42,8 @@ def test_a_value_does_not_depend_on_its_block_or_the_shape():
     c = rng.normal(size=(2, 12, 2))
     th = rng.uniform(0.0, 100.0, BLOCK + 5)
     (whole,) = series_values(c, th, (1,))
-    alone = np.array([series_values(c, t, (1,))[0] for t in th[BLOCK - 3:BLOCK + 5]])
-    assert np.array_equal(whole[BLOCK - 3:BLOCK + 5], alone)
+    alone = np.array([series_values(c, t, (1,))[0] for t in th[BLOCK - 3 : BLOCK + 5]])
+    assert np.array_equal(whole[BLOCK - 3 : BLOCK + 5], alone)
     (grid,) = series_values(c, th[:12].reshape(3, 4), (1,))
     assert grid.shape == (3, 4) and np.array_equal(grid.reshape(-1), whole[:12])
 

@@ -1,13 +1,27 @@
 """Condition indicators against closed forms; order tracking, TSA and the signals of a known record."""
 
-import json
 import math
 
 import numpy as np
 import pytest
 
-from geardyn.signature import (Acquisition, crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4,
-                               order_spectrum, pulse_times, rms, sideband_level, split_tsa, tsa)
+from geardyn.signature import (
+    Acquisition,
+    crest_factor,
+    energy_ratio,
+    fm0,
+    fm4,
+    kurtosis,
+    m6a,
+    m8a,
+    na4,
+    order_spectrum,
+    pulse_times,
+    rms,
+    sideband_level,
+    split_tsa,
+    tsa,
+)
 
 N = 4096
 SINE = np.sin(2 * np.pi * 8 * np.arange(N) / N)
@@ -40,8 +54,9 @@ def _record(signal, rpm=600.0, fs=20_000.0, revs=8):
     phi = 2 * np.pi * rpm / 60 * t
     wrapped = np.mod(phi + np.pi, 2 * np.pi) - np.pi
     sigma = 4 * 2 * np.pi * rpm / 60 / fs
-    return Acquisition(time=t, accel=signal(phi), tach=5 * np.exp(-0.5 * (wrapped / sigma) ** 2), fs=fs, rpm=rpm,
-                       z1=20, z2=40)
+    return Acquisition(
+        time=t, accel=signal(phi), tach=5 * np.exp(-0.5 * (wrapped / sigma) ** 2), fs=fs, rpm=rpm, z1=20, z2=40
+    )
 
 
 def test_order_tracking_tsa_and_the_split_signals():

@@ -43,8 +43,10 @@ def _runs(tables, rpm, noise):
     s0 = s0.with_param("omega", s0.scaling.omega_from_rpm(rpm))
     # dtau 0.05: 100 steps per period of the system's highest mode (6.4 kHz); the indicators equal those at 0.01
     # to four digits
-    return [system_signature(with_excitation(s0, None, t, harmonics=64), revolutions=6, noise=noise, dtau=0.05)
-            for t in tables]
+    return [
+        system_signature(with_excitation(s0, None, t, harmonics=64), revolutions=6, noise=noise, dtau=0.05)
+        for t in tables
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -114,8 +116,19 @@ def _cli(*args):
 
 
 def test_system_healthy_beside_faulty_from_tooth_pair_files(tmp_path):
-    r = _cli("--system", SYSTEM, EX / "tooth_luo_healthy.toml", EX / "tooth_luo_crack50.toml", "--rpm", 6000,
-             "--revolutions", 5, "--json", "--out", tmp_path)
+    r = _cli(
+        "--system",
+        SYSTEM,
+        EX / "tooth_luo_healthy.toml",
+        EX / "tooth_luo_crack50.toml",
+        "--rpm",
+        6000,
+        "--revolutions",
+        5,
+        "--json",
+        "--out",
+        tmp_path,
+    )
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     a, b = s["runs"]
@@ -133,8 +146,19 @@ def test_system_healthy_beside_faulty_from_tooth_pair_files(tmp_path):
 
 def test_system_crack_depth_sweep_of_the_mesh_tooth_file():
     # spur_crack50.toml's mesh takes tooth_luo_crack50.toml: its crack is swept
-    r = _cli("--system", EX / "systems/spur_crack50.toml", "--sweep-depths", "0,0.5", "--rpm", 6000,
-             "--revolutions", 5, "--sensor", "gear.x", "--json")
+    r = _cli(
+        "--system",
+        EX / "systems/spur_crack50.toml",
+        "--sweep-depths",
+        "0,0.5",
+        "--rpm",
+        6000,
+        "--revolutions",
+        5,
+        "--sensor",
+        "gear.x",
+        "--json",
+    )
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     assert s["sizes"] == [0.0, 0.5] and s["sensor"] == "gear.x" and s["mesh"] == "mesh"
@@ -143,18 +167,21 @@ def test_system_crack_depth_sweep_of_the_mesh_tooth_file():
     assert fm[1] > 2 * fm[0]
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--system", SYSTEM, "--sensor", "pinion.theta"], "'pinion.theta' is a rotation"),
-    (["--system", SYSTEM, "--sensor", "shaft.x"], "'shaft.x' is not a DOF of the system"),
-    (["--system", EX / "systems/paper_torsional.toml"], "no translational DOF"),
-    (["--system", SYSTEM, "--mesh", "stage2"], "'stage2' is not a mesh"),
-    (["--system", SYSTEM, EX / "tooth_crack_50.toml"], "z = 20/40, but mesh 'mesh' of the system has 16/48"),
-    (["--system", SYSTEM, "--sweep-depths", "0,0.5"], "give the tooth-pair file whose crack is swept"),
-    (["--system", SYSTEM, "--fault", "crack:depth=0.5"], "apply to tooth-pair files"),
-    (["--system", SYSTEM, "--system", SYSTEM, EX / "tooth_luo_healthy.toml"], "compared as given"),
-    (["--sensor", "pinion.y", EX / "tooth_crack_50.toml"], "--sensor applies with --system"),
-    ([], "one or two tooth-pair files"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--system", SYSTEM, "--sensor", "pinion.theta"], "'pinion.theta' is a rotation"),
+        (["--system", SYSTEM, "--sensor", "shaft.x"], "'shaft.x' is not a DOF of the system"),
+        (["--system", EX / "systems/paper_torsional.toml"], "no translational DOF"),
+        (["--system", SYSTEM, "--mesh", "stage2"], "'stage2' is not a mesh"),
+        (["--system", SYSTEM, EX / "tooth_crack_50.toml"], "z = 20/40, but mesh 'mesh' of the system has 16/48"),
+        (["--system", SYSTEM, "--sweep-depths", "0,0.5"], "give the tooth-pair file whose crack is swept"),
+        (["--system", SYSTEM, "--fault", "crack:depth=0.5"], "apply to tooth-pair files"),
+        (["--system", SYSTEM, "--system", SYSTEM, EX / "tooth_luo_healthy.toml"], "compared as given"),
+        (["--sensor", "pinion.y", EX / "tooth_crack_50.toml"], "--sensor applies with --system"),
+        ([], "one or two tooth-pair files"),
+    ],
+)
 def test_system_signature_failures_are_one_line_exit_2(args, message):
     r = _cli(*args)
     assert r.exit_code == 2, r.output
@@ -163,8 +190,17 @@ def test_system_signature_failures_are_one_line_exit_2(args, message):
 
 @pytest.mark.slow
 def test_two_system_files_side_by_side():
-    r = _cli("--system", EX / "systems/spur_healthy.toml", "--system", EX / "systems/spur_crack50.toml", "--rpm",
-             6000, "--revolutions", 5, "--json")
+    r = _cli(
+        "--system",
+        EX / "systems/spur_healthy.toml",
+        "--system",
+        EX / "systems/spur_crack50.toml",
+        "--rpm",
+        6000,
+        "--revolutions",
+        5,
+        "--json",
+    )
     assert r.exit_code == 0, r.output
     a, b = json.loads(r.stdout)["runs"]
     assert (a["label"], b["label"]) == ("spur_healthy", "spur_crack50")

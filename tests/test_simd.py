@@ -55,9 +55,15 @@ def _batch(kind: str, P: int = 37):
 
 
 def _outputs(P, n_record, hist_len=0):
-    return dict(poincare=np.zeros((P, n_record, 2)), end_state=np.zeros((P, 2)), stats=np.zeros((P, K.NSTAT)),
-                tan_log=np.zeros((P, n_record, 2)), tan_out=np.zeros((P, 2, 2)),
-                status=np.zeros(P, dtype=np.int64), hist=np.zeros((P, hist_len, 2)))
+    return dict(
+        poincare=np.zeros((P, n_record, 2)),
+        end_state=np.zeros((P, 2)),
+        stats=np.zeros((P, K.NSTAT)),
+        tan_log=np.zeros((P, n_record, 2)),
+        tan_out=np.zeros((P, 2, 2)),
+        status=np.zeros(P, dtype=np.int64),
+        hist=np.zeros((P, hist_len, 2)),
+    )
 
 
 def _run(width, batch, n_transient, n_record, tangent, accurate=False, adapt=False, threads=1):
@@ -67,9 +73,26 @@ def _run(width, batch, n_transient, n_record, tangent, accurate=False, adapt=Fal
     old_t = numba.get_num_threads()
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     try:
-        K.run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
-                    out["poincare"], out["end_state"], out["stats"], out["tan_log"], out["tan_out"], out["status"],
-                    out["hist"], 1e-10 if adapt else 0.0, 8 if adapt else 0)
+        K.run_batch(
+            coef,
+            D,
+            omega,
+            nsteps,
+            state0,
+            n_transient,
+            n_record,
+            tangent,
+            accurate,
+            out["poincare"],
+            out["end_state"],
+            out["stats"],
+            out["tan_log"],
+            out["tan_out"],
+            out["status"],
+            out["hist"],
+            1e-10 if adapt else 0.0,
+            8 if adapt else 0,
+        )
     finally:
         numba.set_num_threads(old_t)
         lanes._set_simd_width(old_w)
@@ -81,9 +104,27 @@ def _run_scalar(batch, n_transient, n_record, tangent):
     coef, D, omega, nsteps, state0 = batch
     out = _outputs(coef.shape[0], n_record)
     order = K._queue_order(nsteps)
-    _scalar_worker(order, np.zeros(1, dtype=np.int64), coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                   out["poincare"], out["end_state"], out["stats"], out["tan_log"], out["tan_out"], out["status"],
-                   out["hist"], 0.0, 0)
+    _scalar_worker(
+        order,
+        np.zeros(1, dtype=np.int64),
+        coef,
+        D,
+        omega,
+        nsteps,
+        state0,
+        n_transient,
+        n_record,
+        tangent,
+        out["poincare"],
+        out["end_state"],
+        out["stats"],
+        out["tan_log"],
+        out["tan_out"],
+        out["status"],
+        out["hist"],
+        0.0,
+        0,
+    )
     return out
 
 
@@ -132,8 +173,11 @@ def test_widths_give_the_same_bits_lane_by_lane(batch, mode):
     assert np.all(np.isfinite(ref["poincare"][ref["status"] == K.ST_OK]))
     for width in (512, 256):
         _assert_same_bits(ref, _run(width, arrays, n_tr, n_rec, tangent, adapt=adapt), f"{kind} {mode} width {width}")
-    _assert_same_bits(ref, _run(lanes.native_simd_width(), arrays, n_tr, n_rec, tangent, adapt=adapt, threads=2),
-                      f"{kind} {mode} native width, 2 threads")
+    _assert_same_bits(
+        ref,
+        _run(lanes.native_simd_width(), arrays, n_tr, n_rec, tangent, adapt=adapt, threads=2),
+        f"{kind} {mode} native width, 2 threads",
+    )
     if not adapt:
         _assert_same_bits(ref, _run_scalar(arrays, n_tr, n_rec, tangent), f"{kind} {mode} scalar worker")
 
@@ -171,8 +215,10 @@ def test_512_bit_blocks_use_zmm_registers_and_256_bit_ones_do_not():
 
 
 def test_width_from_the_environment():
-    code = ("from geardyn._kernel import lanes, simd_width; import sys; "
-            "sys.stdout.write(str(simd_width()) + ' ' + str(lanes.native_simd_width()))")
+    code = (
+        "from geardyn._kernel import lanes, simd_width; import sys; "
+        "sys.stdout.write(str(simd_width()) + ' ' + str(lanes.native_simd_width()))"
+    )
     env = dict(os.environ)
     for value, expect in (("256", "256"), ("0", "0"), ("512", "512")):
         env[lanes.SIMD_ENV] = value
@@ -198,7 +244,8 @@ def test_avx2_machine_code_gives_the_same_bits():
         "from geardyn._kernel import simd_width\n"
         "assert simd_width() == 256, simd_width()\n"
         "out = T._run(256, T._batch('sin', P=21), 3, 4, T.K.TAN_LYAPUNOV)\n"
-        "sys.stdout.write(' '.join(str(x) for x in T._bits(out)))\n")
+        "sys.stdout.write(' '.join(str(x) for x in T._bits(out)))\n"
+    )
     env = {k: v for k, v in os.environ.items() if k != lanes.SIMD_ENV}
     env.update(NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES="+avx,+avx2,+fma,+sse4.2,+popcnt")
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout

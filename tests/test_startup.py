@@ -25,13 +25,16 @@ OTHER_COMMAND_MODULES = tuple(f"geardyn.cli.{m}" for m in _commands.MODULES if m
 def _run(args: list[str], *, preload: bool = False, report: str = "") -> subprocess.CompletedProcess:
     """``geardyn ARGS`` in a fresh interpreter (with every command module imported first if ``preload``);
     ``report`` is Python code run after the command, printing on stderr."""
-    code = ("import sys\n"
-            + ("from geardyn.cli import app\n" if preload else "")
-            + "from geardyn.cli import main\n"
-            + f"try:\n    main({args!r})\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
-            + report)
-    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
-                          env={**os.environ, "COLUMNS": "100"})
+    code = (
+        "import sys\n"
+        + ("from geardyn.cli import app\n" if preload else "")
+        + "from geardyn.cli import main\n"
+        + f"try:\n    main({args!r})\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
+        + report
+    )
+    return subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, env={**os.environ, "COLUMNS": "100"}
+    )
 
 
 _WARMED: set[tuple[str, ...]] = set()
@@ -50,8 +53,16 @@ def _imported(names: tuple[str, ...]) -> str:
 
 
 def test_help_imports_no_command_nor_numpy_numba_or_typer_extras():
-    names = ("numpy", "numba", "scipy", "geardyn.model", "geardyn.cli.options", "geardyn.cli.point",
-             *OTHER_COMMAND_MODULES, *TYPER_EXTRAS)
+    names = (
+        "numpy",
+        "numba",
+        "scipy",
+        "geardyn.model",
+        "geardyn.cli.options",
+        "geardyn.cli.point",
+        *OTHER_COMMAND_MODULES,
+        *TYPER_EXTRAS,
+    )
     r = _run(["--help"], report=_imported(names))
     assert r.stderr.strip().splitlines()[-1] == "[]"
     assert "simulate" in r.stdout and "signature" in r.stdout
@@ -69,10 +80,12 @@ def test_the_command_list_is_current():
 
 
 def test_simulate_imports_its_command_and_one_compiled_kernel_only():
-    report = (_imported((*OTHER_COMMAND_MODULES, *TYPER_EXTRAS, "xarray", "pandas", "dask", "matplotlib", "pint"))
-              + "from numba.core.dispatcher import Dispatcher\n"
-              "print(sorted({v.py_func.__qualname__ for n, m in list(sys.modules.items()) if n.startswith('geardyn.')"
-              " for v in vars(m).values() if isinstance(v, Dispatcher) and v.overloads}), file=sys.stderr)\n")
+    report = (
+        _imported((*OTHER_COMMAND_MODULES, *TYPER_EXTRAS, "xarray", "pandas", "dask", "matplotlib", "pint"))
+        + "from numba.core.dispatcher import Dispatcher\n"
+        "print(sorted({v.py_func.__qualname__ for n, m in list(sys.modules.items()) if n.startswith('geardyn.')"
+        " for v in vars(m).values() if isinstance(v, Dispatcher) and v.overloads}), file=sys.stderr)\n"
+    )
     args = ["simulate", "--omega", "0.8", "--transient", "20", "--periods", "4", "--json"]
     _warm(args)
     r = _run(args, report=report)
@@ -92,13 +105,13 @@ def test_a_cached_worker_is_loaded_without_numbas_compiler():
     assert r.stderr.strip().splitlines()[-1] == "[]"
 
 
-@pytest.mark.parametrize("args", [SIMULATE, ["lyapunov", "--omega", "0.8", "--transient", "20", "--periods", "50",
-                                             "--json"]])
+@pytest.mark.parametrize(
+    "args", [SIMULATE, ["lyapunov", "--omega", "0.8", "--transient", "20", "--periods", "50", "--json"]]
+)
 def test_the_fast_load_gives_the_bits_of_numbas_own_load(args):
     """The same output, every digit, whether the worker is read from the cache by ``fast_loads`` or by numba
     (its compiler set up first)."""
-    own = ("import geardyn._cache_guard as g\n"
-           "g.fast_loads = lambda *workers: None\n")
+    own = "import geardyn._cache_guard as g\ng.fast_loads = lambda *workers: None\n"
     code = own + f"from geardyn.cli import main\nmain({args!r})\n"
     _warm(args)
     numba_load = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
@@ -169,7 +182,7 @@ def _check(annotation: type, value) -> bool:
 NUMBERS = st.one_of(
     st.from_regex(r"-?[0-9]{1,25}(\.[0-9]{1,25})?([eE][-+]?[0-9]{1,4})?", fullmatch=True),
     st.floats(allow_nan=False).map(repr),
-    st.integers(-10**20, 10**20).map(str),
+    st.integers(-(10**20), 10**20).map(str),
     st.text(alphabet="0123456789+-.eE_ x", max_size=12),
 )
 
@@ -192,9 +205,20 @@ def test_other_spellings_are_left_to_typer(text):
     assert not _check(float, text) and not _check(int, text)
 
 
-@pytest.mark.parametrize("annotation, value, direct", [
-    (float, 0.8, True), (float, 3, True), (float, -0.0, True), (int, 7, True), (str, "x", True),
-    (bool, True, True), (bool, False, True), (float, True, False), (int, False, False), (float, None, False)])
+@pytest.mark.parametrize(
+    "annotation, value, direct",
+    [
+        (float, 0.8, True),
+        (float, 3, True),
+        (float, -0.0, True),
+        (int, 7, True),
+        (str, "x", True),
+        (bool, True, True),
+        (bool, False, True),
+        (float, True, False),
+        (int, False, False),
+        (float, None, False),
+    ],
+)
 def test_defaults_are_kept_as_typer_keeps_them(annotation, value, direct):
     assert _check(annotation, value) is direct
-

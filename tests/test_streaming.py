@@ -27,8 +27,17 @@ def _same(a, b) -> None:
     assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
-@pytest.mark.parametrize("names", [["omega", "xi0"], ["omega", "phi_e1", "kappa1"], ["eps2", "phi_c3", "fp", "D"],
-                                   ["phi_k2"], ["fe", "backlash", "xi1"], ["omega", "omega"]])
+@pytest.mark.parametrize(
+    "names",
+    [
+        ["omega", "xi0"],
+        ["omega", "phi_e1", "kappa1"],
+        ["eps2", "phi_c3", "fp", "D"],
+        ["phi_k2"],
+        ["fe", "backlash", "xi1"],
+        ["omega", "omega"],
+    ],
+)
 def test_pack_points_is_pack_models_of_the_models(names):
     rng = np.random.default_rng(len(names))
     pts = rng.uniform(0.05, 0.3, (300, len(names)))
@@ -40,14 +49,17 @@ def test_pack_points_is_pack_models_of_the_models(names):
         _same(a, b)
 
 
-@pytest.mark.parametrize("base, names, pts", [
-    (GearModel(), ["omega", "xi0"], [[0.5, 0.1], [-1.0, 0.1]]),
-    (GearModel(), ["omega", "xi0"], [[0.5, np.nan]]),
-    (GearModel(), ["kappa1"], [[0.3], [1.2]]),
-    (GearModel(), ["D"], [[0.3], [-1.0]]),
-    (GearModel(kappa=(0.2, 0.7)), ["kappa1", "kappa2"], [[0.5, 0.1]]),  # refused on the way, as with_param does
-    (GearModel(), ["omega", "omega"], [[-1.0, 0.5]]),
-])
+@pytest.mark.parametrize(
+    "base, names, pts",
+    [
+        (GearModel(), ["omega", "xi0"], [[0.5, 0.1], [-1.0, 0.1]]),
+        (GearModel(), ["omega", "xi0"], [[0.5, np.nan]]),
+        (GearModel(), ["kappa1"], [[0.3], [1.2]]),
+        (GearModel(), ["D"], [[0.3], [-1.0]]),
+        (GearModel(kappa=(0.2, 0.7)), ["kappa1", "kappa2"], [[0.5, 0.1]]),  # refused on the way, as with_param does
+        (GearModel(), ["omega", "omega"], [[-1.0, 0.5]]),
+    ],
+)
 def test_pack_points_refuses_what_the_model_refuses(base, names, pts):
     with pytest.raises(ModelError) as want:
         build_models(base, names, np.array(pts))

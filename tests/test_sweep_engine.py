@@ -11,15 +11,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import xarray as xr
-
 import sweep_fixtures as F
+import xarray as xr
+from cli_run import run_cli
+
 from geardyn import sweep as S
 from geardyn.errors import SweepError
 from geardyn.io import read_netcdf
 from geardyn.model import GearModel, IntegrationOptions, ModelError
 from geardyn.sweep import Chunk, SweepInterrupted, checkpoint_dir, chunked, grid_models, run_chunks
-from cli_run import run_cli
 
 OMEGAS = np.linspace(0.6, 1.4, 6)
 #: A chunk of one point under these options takes ~0.1 s: long enough to interrupt a sweep mid-run.
@@ -40,7 +40,7 @@ def reference() -> xr.Dataset:
 def test_workers_1_and_2_give_identical_datasets(reference):
     two = F.sweep("omega", OMEGAS, workers=2)
     xr.testing.assert_identical(reference, two)
-    assert set(np.unique(reference["period"].values)) - {0} , "the grid should hold periodic points"
+    assert set(np.unique(reference["period"].values)) - {0}, "the grid should hold periodic points"
 
 
 def test_threads_and_processes_give_identical_datasets(reference):
@@ -121,8 +121,10 @@ def test_ctrl_c_in_process_keeps_finished_chunks_and_resumes(tmp_path, reference
     flag = tmp_path / "stop"
     flag.touch()
     models = grid_models(GearModel(), ["omega"], [OMEGAS])
-    chunks = [Chunk(i, F.interrupt_at_chunk, (str(flag), 2, i, models[s], F.FAST))
-              for i, s in enumerate(chunked(len(models), 2))]
+    chunks = [
+        Chunk(i, F.interrupt_at_chunk, (str(flag), 2, i, models[s], F.FAST))
+        for i, s in enumerate(chunked(len(models), 2))
+    ]
     with pytest.raises(SweepInterrupted) as ei:
         run_chunks(chunks, checkpoint=ck)
     e = ei.value
@@ -130,7 +132,9 @@ def test_ctrl_c_in_process_keeps_finished_chunks_and_resumes(tmp_path, reference
     assert "--resume" in str(e) and "\n" not in str(e)
     assert len(chunk_files(ck)) == 2
     flag.unlink()
-    xr.testing.assert_identical(reference, F.to_dataset("omega", OMEGAS, run_chunks(chunks, checkpoint=ck, resume=True)))
+    xr.testing.assert_identical(
+        reference, F.to_dataset("omega", OMEGAS, run_chunks(chunks, checkpoint=ck, resume=True))
+    )
 
 
 def test_lost_local_worker_process_does_not_lose_the_sweep(tmp_path, reference):
@@ -153,8 +157,9 @@ def _wait_for_chunks(proc: subprocess.Popen, d: Path, n: int, timeout: float = 1
 # ------------------------------------------------------------------------- divergence and progress
 def test_negative_damping_points_diverge_and_the_sweep_goes_on(capsys):
     xi0 = np.linspace(-0.3, 0.2, 11)
-    ds = F.sweep("xi0", xi0, IntegrationOptions(transient=60, periods=16), chunk_points=4, progress=True,
-                 description="xi0 sweep")
+    ds = F.sweep(
+        "xi0", xi0, IntegrationOptions(transient=60, periods=16), chunk_points=4, progress=True, description="xi0 sweep"
+    )
     status = ds["status"].values
     neg, pos = xi0 < -1e-12, xi0 > 1e-12
     assert np.all(status[neg] == S.ST_DIVERGED)
@@ -201,14 +206,36 @@ def test_run_chunks_refuses_bad_arguments(tmp_path, monkeypatch):
 
 
 # ------------------------------------------------------------------------- through the command line
-BIF = ["bifurcation", "--param", "omega", "--start", "0.6", "--stop", "1.4", "--num", "8", "--chunk-size", "1",
-       "--transient", str(SLOW.transient), "--periods", str(SLOW.periods), "--settle", "0"]
+BIF = [
+    "bifurcation",
+    "--param",
+    "omega",
+    "--start",
+    "0.6",
+    "--stop",
+    "1.4",
+    "--num",
+    "8",
+    "--chunk-size",
+    "1",
+    "--transient",
+    str(SLOW.transient),
+    "--periods",
+    str(SLOW.periods),
+    "--settle",
+    "0",
+]
 
 
 def start_cli(*args: str) -> subprocess.Popen:
     """``geardyn ARGS`` in its own process group (signals reach it and its workers only)."""
-    return subprocess.Popen([sys.executable, "-m", "geardyn.cli", *args], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    return subprocess.Popen(
+        [sys.executable, "-m", "geardyn.cli", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -296,8 +323,23 @@ def test_cli_resume_needs_out_and_the_same_sweep(tmp_path):
 def test_cli_xi0_sweep_marks_negative_damping_diverged():
     import json
 
-    argv = ["bifurcation", "--param", "xi0", "--start", "-0.3", "--stop", "0.2", "--num", "11", "--transient", "60",
-            "--periods", "16", "--settle", "0"]
+    argv = [
+        "bifurcation",
+        "--param",
+        "xi0",
+        "--start",
+        "-0.3",
+        "--stop",
+        "0.2",
+        "--num",
+        "11",
+        "--transient",
+        "60",
+        "--periods",
+        "16",
+        "--settle",
+        "0",
+    ]
     code, out, err = run_cli(argv + ["--json"])
     assert code == 0, err
     assert err == ""  # silent with --json

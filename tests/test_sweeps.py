@@ -66,8 +66,10 @@ class PiecewiseLinear:
                 s = t - t0
                 e, c, sn = np.exp(-XI0 * s), np.cos(self.wd * s), np.sin(self.wd * s)
                 p, dp = part(t)
-                return (off + p + e * (C1 * c + C2 * sn),
-                        dp + e * (-XI0 * (C1 * c + C2 * sn) + self.wd * (-C1 * sn + C2 * c)))
+                return (
+                    off + p + e * (C1 * c + C2 * sn),
+                    dp + e * (-XI0 * (C1 * c + C2 * sn) + self.wd * (-C1 * sn + C2 * c)),
+                )
         else:
             C2 = -V0 / (2 * XI0)
             C1 = W0 - C2
@@ -76,6 +78,7 @@ class PiecewiseLinear:
                 e = np.exp(-2 * XI0 * (t - t0))
                 p, dp = part(t)
                 return off + p + C1 + C2 * e, dp - 2 * XI0 * C2 * e
+
         return f
 
     def period_map(self, x, samples: int = 400) -> np.ndarray:
@@ -87,7 +90,7 @@ class PiecewiseLinear:
             ts = np.linspace(t, T, max(int(samples * (T - t) / T), 8))
             us = f(ts)[0]
             hit = None
-            for b in ((D, -D) if r == 0 else (r * D,)):
+            for b in (D, -D) if r == 0 else (r * D,):
                 g = us - b
                 for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
                     lo = max(ts[i], t + 1e-12)
@@ -120,15 +123,17 @@ def _branch_omega(u0: float, guess: list[float]) -> float:
 
 def reference_folds() -> tuple[float, float]:
     """(ω of the high branch's fold, ω of the low branch's fold): the extremes of ω along each branch."""
-    g = [0.05, 0.59]   # low branch near its fold (v0, ω), from u0 = 1.53
+    g = [0.05, 0.59]  # low branch near its fold (v0, ω), from u0 = 1.53
     _branch_omega(1.53, g)
-    low = minimize_scalar(lambda u: -_branch_omega(u, g), bounds=(1.55, 1.62), method="bounded",
-                          options={"xatol": 1e-7})
-    g = [0.6, 0.55]    # high branch (v0, ω) from u0 = 0.35
+    low = minimize_scalar(
+        lambda u: -_branch_omega(u, g), bounds=(1.55, 1.62), method="bounded", options={"xatol": 1e-7}
+    )
+    g = [0.6, 0.55]  # high branch (v0, ω) from u0 = 0.35
     for u in np.arange(0.35, 0.80, 0.05):
         _branch_omega(u, g)
-    high = minimize_scalar(lambda u: _branch_omega(u, g), bounds=(0.75, 0.95), method="bounded",
-                           options={"xatol": 1e-7})
+    high = minimize_scalar(
+        lambda u: _branch_omega(u, g), bounds=(0.75, 0.95), method="bounded", options={"xatol": 1e-7}
+    )
     return float(high.fun), float(-low.fun)
 
 
@@ -146,7 +151,7 @@ def test_piecewise_linear_reference_matches_kernel_map():
 
 
 # ------------------------------------------------------------------ jumps and hysteresis
-GRID = np.round(np.arange(0.503, 0.64, 0.01), 6)   # keeps ≥ 0.002 away from both folds
+GRID = np.round(np.arange(0.503, 0.64, 0.01), 6)  # keeps ≥ 0.002 away from both folds
 
 
 @pytest.fixture(scope="module")
@@ -191,10 +196,13 @@ def test_jump_detection_synthetic():
     up = np.where(x < 0.61, 0.2 + 0.1 * x, 1.5 - 0.2 * x)
     down = np.where(x < 0.41, 0.2 + 0.1 * x, 1.5 - 0.2 * x)
     noisy = up.copy()
-    band = x > 0.75                                    # scatter (as of chaotic amplitudes): no jumps
+    band = x > 0.75  # scatter (as of chaotic amplitudes): no jumps
     noisy[band] += 0.15 * np.where(np.arange(band.sum()) % 2, 1.0, -1.0) * (1 + 0.3 * np.sin(37 * x[band]))
-    ds = xr.Dataset({"amplitude": (("sweep", "omega"), np.stack([noisy, down]))},
-                    coords={"sweep": ["up", "down"], "omega": x}, attrs={"param": "omega"})
+    ds = xr.Dataset(
+        {"amplitude": (("sweep", "omega"), np.stack([noisy, down]))},
+        coords={"sweep": ["up", "down"], "omega": x},
+        attrs={"param": "omega"},
+    )
     j = detect_jumps(ds)
     assert [(d["sweep"], d["direction"]) for d in j] == [("up", "up"), ("down", "down")]
     assert [d["omega"] for d in j] == [pytest.approx(0.6125), pytest.approx(0.4125)]
@@ -295,26 +303,105 @@ def test_cli_json_keys(tmp_path):
     s = json.loads(r.stdout)
     assert len(s["exponents"]) == 2 and len(s["uncertainty"]) == 2
     assert abs(sum(s["exponents"]) + 0.2) < 1e-6
-    r = run.invoke(app, ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "2",
-                         "--transient", "100", "--periods", "64", "--lyapunov", "--json",
-                         "--out", str(tmp_path / "bif")])
+    r = run.invoke(
+        app,
+        [
+            "bifurcation",
+            "--param",
+            "omega",
+            "--start",
+            "0.8",
+            "--stop",
+            "1.2",
+            "--num",
+            "2",
+            "--transient",
+            "100",
+            "--periods",
+            "64",
+            "--lyapunov",
+            "--json",
+            "--out",
+            str(tmp_path / "bif"),
+        ],
+    )
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     assert {"param", "values", "period", "motion", "impact", "lle"} <= set(s)
     assert (tmp_path / "bif" / "bifurcation.nc").exists() and (tmp_path / "bif" / "bifurcation.png").exists()
     assert not (tmp_path / "bif" / "bifurcation.nc.chunks").exists()
-    r = run.invoke(app, ["response", "--omega-start", "0.50", "--omega-stop", "0.62", "--num", "5",
-                         "--kappa1", "0", "--xi1", "0", "--transient", "200", "--periods", "32", "--json"])
+    r = run.invoke(
+        app,
+        [
+            "response",
+            "--omega-start",
+            "0.50",
+            "--omega-stop",
+            "0.62",
+            "--num",
+            "5",
+            "--kappa1",
+            "0",
+            "--xi1",
+            "0",
+            "--transient",
+            "200",
+            "--periods",
+            "32",
+            "--json",
+        ],
+    )
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     assert {"jumps", "hysteresis"} <= set(s)
-    r = run.invoke(app, ["map", "--x", "omega", "--x-start", "0.6", "--x-stop", "0.8", "--x-num", "2",
-                         "--y", "D", "--y-start", "0.5", "--y-stop", "1", "--y-num", "2",
-                         "--transient", "100", "--periods", "32", "--json"])
+    r = run.invoke(
+        app,
+        [
+            "map",
+            "--x",
+            "omega",
+            "--x-start",
+            "0.6",
+            "--x-stop",
+            "0.8",
+            "--x-num",
+            "2",
+            "--y",
+            "D",
+            "--y-start",
+            "0.5",
+            "--y-stop",
+            "1",
+            "--y-num",
+            "2",
+            "--transient",
+            "100",
+            "--periods",
+            "32",
+            "--json",
+        ],
+    )
     assert r.exit_code == 0, r.output
     assert {"x", "y", "motion", "impact", "amplitude", "lle"} <= set(json.loads(r.stdout))
-    r = run.invoke(app, ["basins", "--omega", "0.57", "--kappa1", "0", "--xi1", "0", "--nu", "3", "--nv", "2",
-                         "--transient", "200", "--json"])
+    r = run.invoke(
+        app,
+        [
+            "basins",
+            "--omega",
+            "0.57",
+            "--kappa1",
+            "0",
+            "--xi1",
+            "0",
+            "--nu",
+            "3",
+            "--nv",
+            "2",
+            "--transient",
+            "200",
+            "--json",
+        ],
+    )
     assert r.exit_code == 0, r.output
     assert {"attractors", "labels"} <= set(json.loads(r.stdout))
     r = run.invoke(app, ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--mode", "sideways"])
@@ -332,7 +419,9 @@ def test_reference_folds_recomputed():
 @pytest.mark.slow
 def test_fine_response_brackets_the_folds():
     grid = np.round(np.arange(0.5305, 0.6, 0.002), 6)
-    ds = frequency_response(SOFT, float(grid[0]), float(grid[-1]), grid.size, options=IntegrationOptions(transient=600, periods=64))
+    ds = frequency_response(
+        SOFT, float(grid[0]), float(grid[-1]), grid.size, options=IntegrationOptions(transient=600, periods=64)
+    )
     hy = hysteresis_intervals(ds)
     lo = 0.5 * (grid[grid > FOLD_HIGH].min() + grid[grid < FOLD_HIGH].max())
     hi = 0.5 * (grid[grid < FOLD_LOW].max() + grid[grid > FOLD_LOW].min())
@@ -346,18 +435,24 @@ def test_hysteresis_is_never_zero_width_and_always_has_its_jump():
 
     x = np.round(np.linspace(0.70, 0.80, 11), 6)
     n = x.size
-    amp_up = np.where(x < 0.765, 0.3, 1.2)      # the up sweep jumps between 0.76 and 0.77
-    amp_down = np.where(x < 0.755, 0.3, 1.2)    # the down sweep jumps between 0.76 and 0.75
+    amp_up = np.where(x < 0.765, 0.3, 1.2)  # the up sweep jumps between 0.76 and 0.77
+    amp_down = np.where(x < 0.755, 0.3, 1.2)  # the down sweep jumps between 0.76 and 0.75
     period = np.ones((2, n), np.int64)
     motion = np.full((2, n), MOTION_PERIODIC, np.int64)
     pu = np.stack([amp_up, amp_down])[..., None] * np.ones((1, 1, 4))
     ds = xr.Dataset(
-        {"amplitude": (("sweep", "omega"), np.stack([amp_up, amp_down])),
-         "mean": (("sweep", "omega"), np.zeros((2, n))),
-         "status": (("sweep", "omega"), np.zeros((2, n), np.int64)),
-         "period": (("sweep", "omega"), period), "motion": (("sweep", "omega"), motion),
-         "poincare_u": (("sweep", "omega", "section"), pu), "poincare_v": (("sweep", "omega", "section"), 0 * pu)},
-        coords={"sweep": ["up", "down"], "omega": x}, attrs={"param": "omega", "measure": "amplitude"})
+        {
+            "amplitude": (("sweep", "omega"), np.stack([amp_up, amp_down])),
+            "mean": (("sweep", "omega"), np.zeros((2, n))),
+            "status": (("sweep", "omega"), np.zeros((2, n), np.int64)),
+            "period": (("sweep", "omega"), period),
+            "motion": (("sweep", "omega"), motion),
+            "poincare_u": (("sweep", "omega", "section"), pu),
+            "poincare_v": (("sweep", "omega", "section"), 0 * pu),
+        },
+        coords={"sweep": ["up", "down"], "omega": x},
+        attrs={"param": "omega", "measure": "amplitude"},
+    )
     hy, co = coexistence_intervals(ds)
     assert hy == [[pytest.approx(0.755), pytest.approx(0.765)]] and co == []
     assert hy[0][1] - hy[0][0] == pytest.approx(0.01)

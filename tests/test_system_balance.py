@@ -21,8 +21,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "systems"
 
 def _pair(loads, I1=1.5e-3, I2=4.0e-2, R1=0.03, R2=0.09):
     bodies = (Body("pinion", ("theta",), inertia=I1), Body("gear", ("theta",), inertia=I2))
-    mesh = Mesh("mesh", ((("pinion", "theta"), R1), (("gear", "theta"), -R2)), 3e8, backlash=1e-4, teeth=20,
-                xi0=0.1)
+    mesh = Mesh("mesh", ((("pinion", "theta"), R1), (("gear", "theta"), -R2)), 3e8, backlash=1e-4, teeth=20, xi0=0.1)
     return SystemDescription(bodies=bodies, meshes=(mesh,), loads=tuple(Load(b, "theta", t) for b, t in loads))
 
 
@@ -58,12 +57,14 @@ def test_unbalanced_planetary_names_the_carrier_torque(tmp_path):
     assert ex.value.code == 2 and len(lines) == 1
     assert lines[0].startswith(f"error: {f}: the loads drive the free rotation of carrier, sun, planet1")
     assert f"{t_c:.6g} N·m on carrier.theta" in lines[0]
-    f.write_text(text + f'\n[[load]]\nbody = "sun"\ntorque = "1 N*m"\n[[load]]\nbody = "carrier"\n'
-                        f'torque = "{t_c!r} N*m"\n')
+    f.write_text(
+        text + f'\n[[load]]\nbody = "sun"\ntorque = "1 N*m"\n[[load]]\nbody = "carrier"\ntorque = "{t_c!r} N*m"\n'
+    )
     load_system(f)  # balanced to rounding
 
 
-@pytest.mark.parametrize("name", ["paper_torsional", "paper_bevel_8dof", "spur_bending_torsional",
-                                  "planetary_lin_parker_1999"])
+@pytest.mark.parametrize(
+    "name", ["paper_torsional", "paper_bevel_8dof", "spur_bending_torsional", "planetary_lin_parker_1999"]
+)
 def test_the_examples_are_balanced(name):
     load_system(EXAMPLES / f"{name}.toml")

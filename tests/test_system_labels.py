@@ -9,8 +9,8 @@ import re
 from pathlib import Path
 
 import pytest
-
 from cli_run import run_cli
+
 from geardyn.io import read_netcdf
 from geardyn.plot import figures_for
 from geardyn.plot.mesh_names import of_mesh
@@ -18,16 +18,42 @@ from geardyn.plot.mesh_names import of_mesh
 DATA = Path(__file__).parent / "data"
 #: A label showing a quantity of the reference mesh: its deflection u or δ (and rates), displacements, DTE, amplitudes,
 #: the mesh frequency ω or the pinion speed.
-MESH_QUANTITY = re.compile(r"(?<![\w/])(u|δ|du/dτ|dδ/dτ)(?![\w/])|displacement|DTE|amplitude|ω(?!_n)|pinion speed|mesh force")
+MESH_QUANTITY = re.compile(
+    r"(?<![\w/])(u|δ|du/dτ|dδ/dτ)(?![\w/])|displacement|DTE|amplitude|ω(?!_n)|pinion speed|mesh force"
+)
 #: The system's results (``data/hyst/labels``): the torsional example with its mesh named 'bevel' (``"mesh"`` replaced
 #: by ``"bevel"`` in ``examples/systems/paper_torsional.toml``), written by ``geardyn KIND ... --system bevel.toml
 #: --out DIR`` with these arguments.
 RUNS = {
     "simulate": ["simulate", "--omega", "0.8", "--transient", "30", "--periods", "4"],
-    "bifurcation": ["bifurcation", "--param", "omega", "--start", "0.7", "--stop", "0.9", "--num", "3",
-                    "--transient", "20", "--periods", "8"],
-    "response": ["response", "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3", "--transient", "20",
-                 "--periods", "8"],
+    "bifurcation": [
+        "bifurcation",
+        "--param",
+        "omega",
+        "--start",
+        "0.7",
+        "--stop",
+        "0.9",
+        "--num",
+        "3",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+    ],
+    "response": [
+        "response",
+        "--omega-start",
+        "0.7",
+        "--omega-stop",
+        "0.9",
+        "--num",
+        "3",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+    ],
 }
 
 

@@ -92,9 +92,21 @@ def test_pack_contract_shapes_and_dtypes():
     batch = [s.with_param("omega", w) for w in (0.5, 0.8, 1.2)]
     a = SystemModel.pack(batch)
     n, m = 8, 1
-    shapes = {"Mi": (3, n, n), "Kb": (3, n, n), "Cb": (3, n, n), "V": (3, m, n), "coef": (3, m, 3, 2, 2),
-              "D": (3, m), "ratio": (3, m), "F": (3, n), "Vc": (3, 0, n), "kc": (3, 0), "cc": (3, 0),
-              "Dc": (3, 0), "omega": (3,)}
+    shapes = {
+        "Mi": (3, n, n),
+        "Kb": (3, n, n),
+        "Cb": (3, n, n),
+        "V": (3, m, n),
+        "coef": (3, m, 3, 2, 2),
+        "D": (3, m),
+        "ratio": (3, m),
+        "F": (3, n),
+        "Vc": (3, 0, n),
+        "kc": (3, 0),
+        "cc": (3, 0),
+        "Dc": (3, 0),
+        "omega": (3,),
+    }
     for name, shape in shapes.items():
         arr = getattr(a, name)
         assert arr.shape == shape, name
@@ -109,7 +121,11 @@ def test_pack_contract_shapes_and_dtypes():
 
 
 def _two_mesh(ratio2: float) -> SystemDescription:
-    bodies = (Body("a", ("theta",), inertia=1.0), Body("b", ("theta",), inertia=2.0), Body("c", ("theta",), inertia=3.0))
+    bodies = (
+        Body("a", ("theta",), inertia=1.0),
+        Body("b", ("theta",), inertia=2.0),
+        Body("c", ("theta",), inertia=3.0),
+    )
     m1 = Mesh("m1", ((("a", "theta"), 0.1), (("b", "theta"), -0.2)), 1e8, backlash=1e-4, kappa=(0.1,))
     m2 = Mesh("m2", ((("b", "theta"), 0.1), (("c", "theta"), -0.3)), 2e8, backlash=1e-4, ratio=ratio2)
     return SystemDescription(bodies=bodies, meshes=(m1, m2))
@@ -185,20 +201,43 @@ mass = "3 kg"
 """
 
 BAD = {
-    "negative mass": (_MIN.replace('dofs = ["theta"]\ninertia = "2 kg*m^2"', 'dofs = ["theta", "x"]\ninertia = "2 kg*m^2"\nmass = "-1 kg"'),
-                      ModelError, "mass", "'g'"),
+    "negative mass": (
+        _MIN.replace(
+            'dofs = ["theta"]\ninertia = "2 kg*m^2"', 'dofs = ["theta", "x"]\ninertia = "2 kg*m^2"\nmass = "-1 kg"'
+        ),
+        ModelError,
+        "mass",
+        "'g'",
+    ),
     "zero inertia": (_MIN.replace('inertia = "1 kg*m^2"', 'inertia = "0 kg*m^2"'), ModelError, "inertia", "'p'"),
-    "unknown body": (_MIN + '[[connection]]\nname = "brg"\nbody = "pinon"\nkx = "1e8 N/m"\n',
-                     ModelError, "pinon", "'brg'"),
-    "singular mass matrix": (_MIN + '[[body]]\nname = "s"\ndofs = ["x", "y"]\nmass_matrix = [[1.0, 1.0], [1.0, 1.0]]\n'
-                             '[[connection]]\nname = "b"\nbody = "s"\nkx = "1e8 N/m"\n', ModelError, "mass_matrix", "'s'"),
+    "unknown body": (
+        _MIN + '[[connection]]\nname = "brg"\nbody = "pinon"\nkx = "1e8 N/m"\n',
+        ModelError,
+        "pinon",
+        "'brg'",
+    ),
+    "singular mass matrix": (
+        _MIN + '[[body]]\nname = "s"\ndofs = ["x", "y"]\nmass_matrix = [[1.0, 1.0], [1.0, 1.0]]\n'
+        '[[connection]]\nname = "b"\nbody = "s"\nkx = "1e8 N/m"\n',
+        ModelError,
+        "mass_matrix",
+        "'s'",
+    ),
     "body with no connection": (_MIN + _EXTRA_BODY, ModelError, 'name = "lonely"', "'lonely'"),
-    "unknown key": (_MIN.replace('stiffness = "1e8 N/m"', 'stiffness = "1e8 N/m"\nstifness = "1e8 N/m"'),
-                    ConfigError, "stifness", "'mesh'"),
+    "unknown key": (
+        _MIN.replace('stiffness = "1e8 N/m"', 'stiffness = "1e8 N/m"\nstifness = "1e8 N/m"'),
+        ConfigError,
+        "stifness",
+        "'mesh'",
+    ),
     "unknown section": (_MIN + "[gearbox]\nx = 1\n", ConfigError, "[gearbox]", "gearbox"),
     "wrong units": (_MIN.replace('inertia = "2 kg*m^2"', 'inertia = "2 kg"'), ConfigError, "inertia", "'g'"),
-    "wrong unit of a stiffness": (_MIN.replace('stiffness = "1e8 N/m"', 'stiffness = "1e8 N"'), ConfigError,
-                                  "stiffness", "'mesh'"),
+    "wrong unit of a stiffness": (
+        _MIN.replace('stiffness = "1e8 N/m"', 'stiffness = "1e8 N"'),
+        ConfigError,
+        "stiffness",
+        "'mesh'",
+    ),
     "TOML syntax": (_MIN.replace('name = "mesh"', 'name = "mesh'), ConfigError, 'name = "mesh', "TOML"),
 }
 
@@ -241,7 +280,9 @@ def test_python_description_validates():
 def test_clearance_element_in_the_arrays_and_boundaries(tmp_path):
     p = tmp_path / "clear.toml"
     p.write_text(
-        _MIN.replace('dofs = ["theta"]\ninertia = "2 kg*m^2"', 'dofs = ["x", "theta"]\ninertia = "2 kg*m^2"\nmass = "4 kg"')
+        _MIN.replace(
+            'dofs = ["theta"]\ninertia = "2 kg*m^2"', 'dofs = ["x", "theta"]\ninertia = "2 kg*m^2"\nmass = "4 kg"'
+        )
         + '[[connection]]\nname = "gap"\nvector = { g = { x = 1 } }\nstiffness = "1e8 N/m"\n'
         'damping = "10 N*s/m"\nclearance = "0.02 mm"\n'
     )
@@ -285,8 +326,9 @@ def test_system_map_continued_rows_follow_the_1dof_map_and_its_coexisting_branch
     # points started from rest are on the lower one (≈ 1.99)
     assert cont["u_max"].values[0, 3] > fixed["u_max"].values[0, 3] + 0.3
     for j, y in enumerate(yv[:1]):  # one row: every row is continued the same way
-        row = bifurcation(s.with_param("mesh.xi0", float(y)), "omega", list(xv), mode="continue", options=o,
-                          settle_periods=0)
+        row = bifurcation(
+            s.with_param("mesh.xi0", float(y)), "omega", list(xv), mode="continue", options=o, settle_periods=0
+        )
         np.testing.assert_array_equal(row["u_max"].values.ravel(), cont["u_max"].values[j])
     with pytest.raises(ModelError, match="mode"):
         system_map(s, "omega", xv, "mesh.xi0", yv, mode="sideways", options=o)

@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 import json
-import re
 import subprocess
 from pathlib import Path
 
 import pytest
-
 from cli_run import run_cli
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
@@ -33,15 +31,26 @@ def test_simulate_system_reduces_exactly():
         assert m[k] == pytest.approx(b[k], abs=1e-6)
         assert a[k] == pytest.approx(b[k], abs=1e-6)
     assert m["dynamic_factor"] == pytest.approx(b["dynamic_factor"], rel=1e-6)
-    assert set(b) - {"pair", "assumed", "spectrum_peaks", "history_periods", "fp", "torque_N_m", "backlash_um",
-                     "dte_mean_um", "dte_rms_um", "mesh_force_mean_N"} <= set(a)
+    assert set(b) - {
+        "pair",
+        "assumed",
+        "spectrum_peaks",
+        "history_periods",
+        "fp",
+        "torque_N_m",
+        "backlash_um",
+        "dte_mean_um",
+        "dte_rms_um",
+        "mesh_force_mean_N",
+    } <= set(a)
     for e in a["meshes"]:
         assert {"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} <= set(e)
 
 
 def test_lyapunov_and_orbit_system_json():
-    ly = json.loads(run("lyapunov", "--system", BEVEL, "--omega", "0.8", "--periods", "100", "--transient", "50",
-                        "--json").stdout)
+    ly = json.loads(
+        run("lyapunov", "--system", BEVEL, "--omega", "0.8", "--periods", "100", "--transient", "50", "--json").stdout
+    )
     assert len(ly["exponents"]) == 16 and len(ly["meshes"]) == 1
     assert ly["sum"] == pytest.approx(ly["expected_sum"], rel=1e-6)
     o = json.loads(run("orbit", "--system", TORS, "--omega", "0.8", "--json").stdout)
@@ -63,22 +72,89 @@ def test_modes_json_and_figure(tmp_path):
 
 
 def test_unavailable_and_bad_combinations_one_line():
-    p = run("map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
-            "--y-start", "0.05", "--y-stop", "0.1", "--mode", "sideways", "--json", code=2)
+    p = run(
+        "map",
+        "--system",
+        TORS,
+        "--x",
+        "omega",
+        "--y",
+        "mesh.xi0",
+        "--x-start",
+        "0.7",
+        "--x-stop",
+        "0.9",
+        "--y-start",
+        "0.05",
+        "--y-stop",
+        "0.1",
+        "--mode",
+        "sideways",
+        "--json",
+        code=2,
+    )
     assert "mode" in p.stderr and len(p.stderr.strip().splitlines()) == 1
     p = run("simulate", "--system", TORS, "--fp", "0.3", code=2)
     assert "system" in p.stderr and len(p.stderr.strip().splitlines()) == 1
 
 
 def test_bifurcation_and_response_on_a_system():
-    b = json.loads(run("bifurcation", "--system", TORS, "--param", "omega", "--start", "0.6", "--stop", "1.0", "--num", "5",
-                       "--transient", "50", "--periods", "32", "--json").stdout)
+    b = json.loads(
+        run(
+            "bifurcation",
+            "--system",
+            TORS,
+            "--param",
+            "omega",
+            "--start",
+            "0.6",
+            "--stop",
+            "1.0",
+            "--num",
+            "5",
+            "--transient",
+            "50",
+            "--periods",
+            "32",
+            "--json",
+        ).stdout
+    )
     assert b["values"] == pytest.approx([0.6, 0.7, 0.8, 0.9, 1.0]) and len(b["period"]) == 5
     assert b["meshes"][0]["name"] == "mesh" and len(b["meshes"][0]["amplitude"]) == 5
-    r = json.loads(run("response", "--system", TORS, "--omega-start", "0.6", "--omega-stop", "1.0", "--num", "5",
-                       "--transient", "50", "--periods", "32", "--json").stdout)
-    pair = json.loads(run("response", "--omega-start", "0.6", "--omega-stop", "1.0", "--num", "5", "--transient", "50",
-                          "--periods", "32", "--json").stdout)
+    r = json.loads(
+        run(
+            "response",
+            "--system",
+            TORS,
+            "--omega-start",
+            "0.6",
+            "--omega-stop",
+            "1.0",
+            "--num",
+            "5",
+            "--transient",
+            "50",
+            "--periods",
+            "32",
+            "--json",
+        ).stdout
+    )
+    pair = json.loads(
+        run(
+            "response",
+            "--omega-start",
+            "0.6",
+            "--omega-stop",
+            "1.0",
+            "--num",
+            "5",
+            "--transient",
+            "50",
+            "--periods",
+            "32",
+            "--json",
+        ).stdout
+    )
     assert {"up", "down", "jumps", "hysteresis", "coexistence", "meshes"} <= set(r)
     assert set(r) - {"meshes", "note"} <= set(pair)
 
@@ -87,17 +163,103 @@ OUT_RUNS = {
     "simulate": ["simulate", "--system", TORS, "--omega", "0.8", "--transient", "300", "--periods", "8"],
     "lyapunov": ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "20", "--periods", "40"],
     "orbit": ["orbit", "--system", TORS, "--omega", "0.8"],
-    "bifurcation": ["bifurcation", "--system", TORS, "--param", "omega", "--start", "0.7", "--stop", "0.9", "--num", "3",
-                           "--transient", "20", "--periods", "8", "--settle", "0"],
-    "response": ["response", "--system", TORS, "--omega-start", "0.7", "--omega-stop", "0.9", "--num", "3",
-                        "--transient", "20", "--periods", "8", "--settle", "0"],
-    "map": ["map", "--system", TORS, "--x", "omega", "--y", "mesh.xi0", "--x-start", "0.7", "--x-stop", "0.9",
-                   "--x-num", "2", "--y-start", "0.05", "--y-stop", "0.1", "--y-num", "2", "--transient", "20",
-                   "--periods", "8", "--settle", "0"],
-    "basins": ["basins", "--system", TORS, "--omega", "0.8", "--nu", "2", "--nv", "2", "--transient", "20",
-                      "--periods", "8", "--settle", "0"],
-    "continuation": ["continuation", "--system", TORS, "--param", "omega", "--start", "1.3", "--stop", "1.35",
-                     "--sweep-num", "2", "--ds-max", "0.1", "--transient", "20"],
+    "bifurcation": [
+        "bifurcation",
+        "--system",
+        TORS,
+        "--param",
+        "omega",
+        "--start",
+        "0.7",
+        "--stop",
+        "0.9",
+        "--num",
+        "3",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
+    "response": [
+        "response",
+        "--system",
+        TORS,
+        "--omega-start",
+        "0.7",
+        "--omega-stop",
+        "0.9",
+        "--num",
+        "3",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
+    "map": [
+        "map",
+        "--system",
+        TORS,
+        "--x",
+        "omega",
+        "--y",
+        "mesh.xi0",
+        "--x-start",
+        "0.7",
+        "--x-stop",
+        "0.9",
+        "--x-num",
+        "2",
+        "--y-start",
+        "0.05",
+        "--y-stop",
+        "0.1",
+        "--y-num",
+        "2",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
+    "basins": [
+        "basins",
+        "--system",
+        TORS,
+        "--omega",
+        "0.8",
+        "--nu",
+        "2",
+        "--nv",
+        "2",
+        "--transient",
+        "20",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
+    "continuation": [
+        "continuation",
+        "--system",
+        TORS,
+        "--param",
+        "omega",
+        "--start",
+        "1.3",
+        "--stop",
+        "1.35",
+        "--sweep-num",
+        "2",
+        "--ds-max",
+        "0.1",
+        "--transient",
+        "20",
+    ],
 }
 
 
@@ -107,9 +269,15 @@ def test_tables_of_a_system_run_without_json(kind, tmp_path):
     table of its meshes: each mesh's half backlash and DTE in µm, and no dynamic-factor column where the command
     computes none (issue 23 item 6: no "dynamic factor —"); a response prints its jump table."""
     p = run(*OUT_RUNS[kind], "--out", str(tmp_path))
-    pair = {"bifurcation": "Motion over omega", "response": "Jumps", "map": "map of mesh.xi0 × omega",
-            "basins": "Attractors at ω = 0.8", "continuation": "Branches in omega from 1.3 to 1.35",
-            "orbit": "Period-1 orbit at ω = 0.8", "simulate": "Steady response at ω = 0.8"}[kind]
+    pair = {
+        "bifurcation": "Motion over omega",
+        "response": "Jumps",
+        "map": "map of mesh.xi0 × omega",
+        "basins": "Attractors at ω = 0.8",
+        "continuation": "Branches in omega from 1.3 to 1.35",
+        "orbit": "Period-1 orbit at ω = 0.8",
+        "simulate": "Steady response at ω = 0.8",
+    }[kind]
     out = " ".join(p.stdout.split())
     assert pair in out and "1 mesh(es) of the system" in out and "wrote " in out
     assert "—" not in out
@@ -123,10 +291,24 @@ def test_tables_of_a_system_run_without_json(kind, tmp_path):
 
 @pytest.mark.slow  # the same events, with switching, at 1e-8: test_conformance.py (system continuation)
 def test_continuation_on_a_system_finds_the_1dof_period_doubling():
-    a = json.loads(run("continuation", "--system", TORS, "--param", "omega", "--start", "0.6", "--stop", "1.0",
-                       "--no-switch", "--json").stdout)
-    b = json.loads(run("continuation", "--param", "omega", "--start", "0.6", "--stop", "1.0", "--no-switch",
-                       "--json").stdout)
+    a = json.loads(
+        run(
+            "continuation",
+            "--system",
+            TORS,
+            "--param",
+            "omega",
+            "--start",
+            "0.6",
+            "--stop",
+            "1.0",
+            "--no-switch",
+            "--json",
+        ).stdout
+    )
+    b = json.loads(
+        run("continuation", "--param", "omega", "--start", "0.6", "--stop", "1.0", "--no-switch", "--json").stdout
+    )
     pa = [x["omega"] for x in a["bifurcations"] if x["type"] == "period-doubling"]
     pb = [x["omega"] for x in b["bifurcations"] if x["type"] == "period-doubling"]
     assert len(pa) == len(pb) == 1 and pa[0] == pytest.approx(pb[0], abs=1e-8)
@@ -134,8 +316,19 @@ def test_continuation_on_a_system_finds_the_1dof_period_doubling():
 
 
 def test_response_hysteresis_on_a_system_matches_1dof():
-    args = ["--omega-start", "0.6", "--omega-stop", "1.0", "--num", "9", "--transient", "300", "--periods", "32",
-            "--json"]
+    args = [
+        "--omega-start",
+        "0.6",
+        "--omega-stop",
+        "1.0",
+        "--num",
+        "9",
+        "--transient",
+        "300",
+        "--periods",
+        "32",
+        "--json",
+    ]
     a = json.loads(run("response", "--system", TORS, *args).stdout)
     b = json.loads(run("response", *args).stdout)
     assert a["hysteresis"] == b["hysteresis"]
@@ -161,19 +354,50 @@ def test_basins_on_a_slice_of_two_coordinates(tmp_path):
     from geardyn.systems import load_system
 
     lab = load_system(BEVEL).labels
-    s = json.loads(run("basins", "--system", BEVEL, "--omega", "0.8", "--coords", f"{lab[0]},{lab[0]}'",
-                       "--u-min", "-0.1", "--u-max", "0.1", "--v-min", "-0.1", "--v-max", "0.1", "--nu", "2",
-                       "--nv", "2", "--transient", "20", "--periods", "8", "--settle", "0", "--json").stdout)
+    s = json.loads(
+        run(
+            "basins",
+            "--system",
+            BEVEL,
+            "--omega",
+            "0.8",
+            "--coords",
+            f"{lab[0]},{lab[0]}'",
+            "--u-min",
+            "-0.1",
+            "--u-max",
+            "0.1",
+            "--v-min",
+            "-0.1",
+            "--v-max",
+            "0.1",
+            "--nu",
+            "2",
+            "--nv",
+            "2",
+            "--transient",
+            "20",
+            "--periods",
+            "8",
+            "--settle",
+            "0",
+            "--json",
+        ).stdout
+    )
     assert s["coordinates"] == [lab[0], lab[0] + "'"] and len(s["labels"]) == 2 and s["attractors"]
 
 
-
-@pytest.mark.parametrize("args, message", [
-    (["simulate", "--system", TORS, "--coords", "foo,bar"], "No such option: --coords"),
-    (["bifurcation", "--system", TORS, "--coords", "x,y", "--param", "omega", "--start", "0.8", "--stop", "0.9"],
-     "No such option: --coords"),
-    (["basins", "--coords", "x,y", "--nu", "2", "--nv", "2"], "coords: --coords picks the state coordinates"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["simulate", "--system", TORS, "--coords", "foo,bar"], "No such option: --coords"),
+        (
+            ["bifurcation", "--system", TORS, "--coords", "x,y", "--param", "omega", "--start", "0.8", "--stop", "0.9"],
+            "No such option: --coords",
+        ),
+        (["basins", "--coords", "x,y", "--nu", "2", "--nv", "2"], "coords: --coords picks the state coordinates"),
+    ],
+)
 def test_coords_is_an_option_of_a_systems_basins_only(args, message):
     """--coords slices a system's state space for basins: any other command, or the pair's basins, refuses it in
     one line before computing (it used to be accepted and ignored by every --system command)."""
@@ -181,15 +405,20 @@ def test_coords_is_an_option_of_a_systems_basins_only(args, message):
     lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and message in lines[0], p.stderr
 
+
 OLD_KINDS = Path(__file__).resolve().parent / "data" / "system_kinds"
 
 
-OLD_FIGURES = {"system_simulate": ["element_deflections.png", "phase_portrait.png"],
-               "system_bifurcation": ["bifurcation.png", "mesh_amplitudes.png"],
-               "system_response": ["mesh_amplitudes.png", "response.png"],
-               "system_lyapunov": ["lyapunov_spectrum.png"], "system_orbit": ["multipliers.png"],
-               "system_map": ["map_amplitude.png", "map_impact.png", "map_motion.png"],
-               "system_basins": ["basins.png"], "system_continuation": ["continuation.png"]}
+OLD_FIGURES = {
+    "system_simulate": ["element_deflections.png", "phase_portrait.png"],
+    "system_bifurcation": ["bifurcation.png", "mesh_amplitudes.png"],
+    "system_response": ["mesh_amplitudes.png", "response.png"],
+    "system_lyapunov": ["lyapunov_spectrum.png"],
+    "system_orbit": ["multipliers.png"],
+    "system_map": ["map_amplitude.png", "map_impact.png", "map_motion.png"],
+    "system_basins": ["basins.png"],
+    "system_continuation": ["continuation.png"],
+}
 
 
 @pytest.mark.parametrize("kind", list(OLD_FIGURES))

@@ -54,6 +54,7 @@ def reference(model: GearModel, state0, periods: int) -> np.ndarray:
 
     def run(t0, t1, y, K0, Ks, base):
         """From t0 to t1 on one segment K = K0 + Ks (ωt − base), restarted at each crossing of u = ±D."""
+
         def rhs(t, y):
             return [y[1], fp - c * y[1] - (K0 + Ks * (w * t - base)) * f(y[0])]
 
@@ -95,8 +96,9 @@ def _model(D=0.6, cycles=1, e=True, omega=0.8):
 
 
 def _accurate(model, N, periods, state0=(0.9, 0.0)):
-    return integrate_batch([model], np.asarray(state0), IntegrationOptions(transient=0, periods=periods, accurate=True),
-                           steps=N).poincare[0]
+    return integrate_batch(
+        [model], np.asarray(state0), IntegrationOptions(transient=0, periods=periods, accurate=True), steps=N
+    ).poincare[0]
 
 
 def test_constant_table_equals_plain_model():
@@ -142,8 +144,10 @@ def _rk4_through(model, N, periods, state0=(0.9, 0.0)):
         k3 = acc(t + h / 2, u + h / 2 * (v + h / 2 * k1), v + h / 2 * k2)
         u3, v3 = u + h * (v + h / 2 * k2), v + h * k3
         k4 = acc(t + h, u3, v3)
-        u, v = (u + h / 6 * (v + 2 * (v + h / 2 * k1) + 2 * (v + h / 2 * k2) + v3),
-                v + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4))
+        u, v = (
+            u + h / 6 * (v + 2 * (v + h / 2 * k1) + 2 * (v + h / 2 * k2) + v3),
+            v + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4),
+        )
     return np.array([u, v])
 
 

@@ -33,7 +33,7 @@ def _synthetic(path: Path, *, time_unit: str | None = None, rpm: float = 600.0, 
     if time_unit is None:
         x, head = np.degrees(phi), "angle [deg], TE [um]"
     else:
-        x, head = phi / (rpm * math.pi / 30.0) * 1e3, f"time (ms); TE (µm)"
+        x, head = phi / (rpm * math.pi / 30.0) * 1e3, "time (ms); TE (µm)"
     sep = "," if time_unit is None else ";"
     path.write_text(head + "\n" + "\n".join(f"{a:.9f}{sep}{b:.9f}" for a, b in zip(x, te)) + "\n", encoding="utf-8")
     return path
@@ -59,8 +59,9 @@ def test_synthetic_record_recovered(tmp_path):
     _check(res)
     assert res.hunting_mesh_cycles == math.lcm(Z1, Z2) == 546
     assert not res.periodic_over_mesh_cycle and res.sideband_share > 0.05
-    assert res.residual_share == pytest.approx(NOISE / np.sqrt(0.5 * (1 + 0.25**2 + sum(a * a for _, a, _ in SIDE))
-                                                                + NOISE**2), rel=0.05)
+    assert res.residual_share == pytest.approx(
+        NOISE / np.sqrt(0.5 * (1 + 0.25**2 + sum(a * a for _, a, _ in SIDE)) + NOISE**2), rel=0.05
+    )
 
 
 def test_time_record_with_speed(tmp_path):
@@ -103,16 +104,26 @@ BAD = {
     "words.csv": ("angle [deg], TE [um]\nabc, def\n", r"line 2: expected two numbers"),
     "empty.csv": ("angle [deg], TE [um]\n# nothing measured\n", r"line 2: no numeric rows"),
     "one.csv": ("angle [deg], TE [um]\n" + "".join(f"{i}\n" for i in range(20)), r"line 2: expected two columns"),
-    "commas.csv": ("angle [rad], TE [um]\n,\n" + "".join(f"{i},0.1\n" for i in range(20)),
-                   r"line 2: expected two columns \(angle or time, TE\), got 0"),
-    "nan.csv": ("angle [deg], TE [um]\n" + "".join(f"{i},{'nan' if i == 5 else 0.1}\n" for i in range(20)),
-                r"line 7: not a finite number"),
-    "back.csv": ("angle [deg], TE [um]\n" + "".join(f"{i if i != 9 else 3},0.1\n" for i in range(20)),
-                 r"line 11: the angle must increase strictly: 3 follows 8 \(line 10\)"),
-    "force.csv": ("angle [deg], TE [N]\n" + "".join(f"{i},0.1\n" for i in range(20)),
-                  r"line 1: TE unit 'n' is not a length"),
-    "mass.csv": ("x [kg], TE [um]\n" + "".join(f"{i},0.1\n" for i in range(20)),
-                 r"line 1: first-column unit 'kg' is neither an angle"),
+    "commas.csv": (
+        "angle [rad], TE [um]\n,\n" + "".join(f"{i},0.1\n" for i in range(20)),
+        r"line 2: expected two columns \(angle or time, TE\), got 0",
+    ),
+    "nan.csv": (
+        "angle [deg], TE [um]\n" + "".join(f"{i},{'nan' if i == 5 else 0.1}\n" for i in range(20)),
+        r"line 7: not a finite number",
+    ),
+    "back.csv": (
+        "angle [deg], TE [um]\n" + "".join(f"{i if i != 9 else 3},0.1\n" for i in range(20)),
+        r"line 11: the angle must increase strictly: 3 follows 8 \(line 10\)",
+    ),
+    "force.csv": (
+        "angle [deg], TE [N]\n" + "".join(f"{i},0.1\n" for i in range(20)),
+        r"line 1: TE unit 'n' is not a length",
+    ),
+    "mass.csv": (
+        "x [kg], TE [um]\n" + "".join(f"{i},0.1\n" for i in range(20)),
+        r"line 1: first-column unit 'kg' is neither an angle",
+    ),
     "nounit.csv": ("angle, TE\n" + "".join(f"{i},0.1\n" for i in range(20)), r"line 1: units not stated"),
 }
 

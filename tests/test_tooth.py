@@ -19,7 +19,8 @@ def test_hertz_term_is_yang_sun_closed_form():
     # Yang & Sun (1985): k_h = pi E L / (4 (1 - nu^2)) for one material, per unit width L = 1
     assert hertz_compliance(E, NU, E, NU) == pytest.approx(4 * (1 - NU**2) / (math.pi * E), rel=1e-15)
     assert hertz_compliance(E, NU, 2 * E, 0.25) == pytest.approx(
-        2 / math.pi * ((1 - NU**2) / E + (1 - 0.0625) / (2 * E)), rel=1e-15)
+        2 / math.pi * ((1 - NU**2) / E + (1 - 0.0625) / (2 * E)), rel=1e-15
+    )
 
 
 @pytest.mark.parametrize("alpha_deg", [0.0, 15.0, 30.0])
@@ -83,8 +84,9 @@ def test_tip_relief_in_the_mesh_below_and_above_transition():
     assert hi.ste[0] == pytest.approx((hi.force + (k_tot - k_new) * e_old) / k_tot, rel=1e-9)
 
 
-@pytest.mark.parametrize("z1,z2,m", [(18, 36, 0.002), (20, 40, 0.003), (25, 25, 0.005), (30, 75, 0.004),
-                                     (40, 60, 0.006)])
+@pytest.mark.parametrize(
+    "z1,z2,m", [(18, 36, 0.002), (20, 40, 0.003), (25, 25, 0.005), (30, 75, 0.004), (40, 60, 0.006)]
+)
 def test_mean_mesh_stiffness_within_20_percent_of_iso_6336(z1, z2, m):
     geo = pair_geometry(z1, z2, m, face_width=0.03)
     ms = mesh_stiffness(geo, 500.0)
@@ -107,8 +109,12 @@ def test_crack_reduces_stiffness_monotonically_with_depth():
 def test_faults_enter_as_data_on_any_tooth():
     geo = pair_geometry(20, 40, 0.003, face_width=0.02)
     healthy = mesh_stiffness(geo, 100.0, cycles=40, points=32, slices=10)
-    faults = [Crack(0, 3, 0.5, length=0.5), Spall(1, 7, at=0.5, length=1e-3, width=5e-3, depth=1e-3),
-              Broken(0, 11, remaining=0.7), Wear(1, 2e-6, kind="sliding")]
+    faults = [
+        Crack(0, 3, 0.5, length=0.5),
+        Spall(1, 7, at=0.5, length=1e-3, width=5e-3, depth=1e-3),
+        Broken(0, 11, remaining=0.7),
+        Wear(1, 2e-6, kind="sliding"),
+    ]
     ms = mesh_stiffness(geo, 100.0, faults=faults, slices=10, points=32)
     assert ms.cycles == 40  # lcm(20, 40): faults on both gears
     cycle = np.floor(ms.phase).astype(int)

@@ -11,8 +11,9 @@ EX = Path(__file__).resolve().parents[1] / "examples"
 
 
 def test_stiffness_json_and_files(tmp_path):
-    r = CliRunner().invoke(app, ["stiffness", str(EX / "tooth_crack_25.toml"), "--json", "--points", "16",
-                                 "--out", str(tmp_path)])
+    r = CliRunner().invoke(
+        app, ["stiffness", str(EX / "tooth_crack_25.toml"), "--json", "--points", "16", "--out", str(tmp_path)]
+    )
     assert r.exit_code == 0, r.output
     s = json.loads(r.stdout)
     assert s["cycles"] == 20 and s["faults"][0]["depth"] == 0.25
@@ -21,8 +22,18 @@ def test_stiffness_json_and_files(tmp_path):
 
 
 def test_stiffness_fault_option_and_errors(tmp_path):
-    r = CliRunner().invoke(app, ["stiffness", str(EX / "tooth_healthy_spur.toml"), "--json", "--points", "16",
-                                 "--fault", "broken:gear=1,tooth=3,remaining=0.8"])
+    r = CliRunner().invoke(
+        app,
+        [
+            "stiffness",
+            str(EX / "tooth_healthy_spur.toml"),
+            "--json",
+            "--points",
+            "16",
+            "--fault",
+            "broken:gear=1,tooth=3,remaining=0.8",
+        ],
+    )
     assert r.exit_code == 0, r.output
     assert json.loads(r.stdout)["cycles"] == 40
     bad = tmp_path / "bad.toml"

@@ -1,6 +1,5 @@
 """The excitation as a table over one or several mesh cycles through the model's Fourier inputs."""
 
-import math
 
 import numpy as np
 import pytest
@@ -18,8 +17,13 @@ BASE = GearModel(omega=0.8, xi0=0.05, xi=(), phi_c=(), kappa=(), phi_k=(), eps=(
 
 
 def _run(model, periods=5, steps=None, transient=20):
-    return trajectory(model, (0.1, 0.0), IntegrationOptions(dtau=0.02, transient=transient, periods=periods),
-                      history_periods=periods, steps=steps)
+    return trajectory(
+        model,
+        (0.1, 0.0),
+        IntegrationOptions(dtau=0.02, transient=transient, periods=periods),
+        history_periods=periods,
+        steps=steps,
+    )
 
 
 def test_constant_stiffness_table_equals_the_series_to_rounding():
@@ -113,8 +117,9 @@ def test_table_files_round_trip_and_feed_the_configuration_and_the_options(tmp_p
         assert back.cycles == 2
         np.testing.assert_array_equal(back.stiffness, exc.stiffness)
         np.testing.assert_array_equal(back.ste, exc.ste)
-    (tmp_path / "c.toml").write_text('[mesh]\nxi0 = 0.05\nxi = []\n[operating]\nomega = 0.8\n'
-                                      '[excitation]\nfile = "t.csv"\nb_c = "1 um"\n')
+    (tmp_path / "c.toml").write_text(
+        '[mesh]\nxi0 = 0.05\nxi = []\n[operating]\nomega = 0.8\n[excitation]\nfile = "t.csv"\nb_c = "1 um"\n'
+    )
     cfg = load_config(tmp_path / "c.toml")
     want = excitation_model(GearModel(omega=0.8, xi0=0.05, xi=()), exc, b_c=1e-6)
     assert cfg.model.cycles == 2 and cfg.model.omega == 0.8

@@ -47,8 +47,9 @@ def test_harmonic_balance_and_continuation_run(model):
     # reach beyond, so HB takes 128: its state at theta = 0 then agrees with shooting's fixed point
     hb = hb_solve(model, harmonics=128)
     assert hb.status == 0
-    np.testing.assert_allclose(hb.coefficients, hb_solve(model.forcing_model(), harmonics=128).coefficients,
-                               rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        hb.coefficients, hb_solve(model.forcing_model(), harmonics=128).coefficients, rtol=0, atol=1e-12
+    )
     np.testing.assert_allclose(hb.state(), orb.state, rtol=0, atol=1e-4)
     # the continuation parameter is the mesh frequency
     br = continuation(model, "omega", 0.6, 0.61, 1, dtau=0.02, accurate=False, max_points=10)

@@ -66,7 +66,7 @@ def _published_crack_integrals(z, m, r_f, r_c, depth):
         if p <= r_b:
             return 0.0
         a = math.acos(r_b / p)
-        return -math.tan(a) ** 2 * r_b / (p * p * math.sin(a))
+        return -(math.tan(a) ** 2) * r_b / (p * p * math.sin(a))
 
     def y(p):
         return p * math.cos(psi(p))

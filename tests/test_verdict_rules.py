@@ -54,10 +54,14 @@ def test_open_ends_and_unbounded_ranges_are_cut_to_the_grid():
 def _response(amplitudes, sections):
     w = np.linspace(0.6, 0.9, len(amplitudes))
     pc = np.asarray(sections, dtype=float)  # (ω, section, 2)
-    return xr.Dataset({"amplitude": (("sweep", "omega"), np.asarray([amplitudes], float)),
-                       "poincare_u": (("sweep", "omega", "section"), pc[None, ..., 0]),
-                       "poincare_v": (("sweep", "omega", "section"), pc[None, ..., 1])},
-                      coords={"sweep": ["up"], "omega": w})
+    return xr.Dataset(
+        {
+            "amplitude": (("sweep", "omega"), np.asarray([amplitudes], float)),
+            "poincare_u": (("sweep", "omega", "section"), pc[None, ..., 0]),
+            "poincare_v": (("sweep", "omega", "section"), pc[None, ..., 1]),
+        },
+        coords={"sweep": ["up"], "omega": w},
+    )
 
 
 def test_spread_is_zero_for_period_one_whatever_the_amplitude():
@@ -104,8 +108,12 @@ def test_jump_location_is_tested():
 
 # --- two-part claims ------------------------------------------------------------------------------------------------
 def _point(motion, period, lle, err):
-    return {"motion": np.array([motion]), "period": np.array([period]), "lle": np.array([lle]),
-            "lle_err": np.array([err])}
+    return {
+        "motion": np.array([motion]),
+        "period": np.array([period]),
+        "lle": np.array([lle]),
+        "lle_err": np.array([err]),
+    }
 
 
 def test_both_parts_of_a_motion_and_exponent_claim_are_required():

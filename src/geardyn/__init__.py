@@ -24,8 +24,8 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-from .errors import ModelError  # noqa: E402
 from ._accessor_hook import register_accessor as _register_accessor  # noqa: E402
+from .errors import ModelError  # noqa: E402
 
 _register_accessor()  # ds.geardyn: now if xarray is imported, else as soon as it is
 

@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import importlib.util
 import sys
+from collections.abc import Sequence
 from importlib.abc import Loader, MetaPathFinder
 from importlib.machinery import ModuleSpec
-from typing import Any, Sequence
+from typing import Any
 
 __all__ = ["register_accessor"]
 

@@ -51,8 +51,6 @@ class _Key(NamedTuple):
     series: bool = False
 
 
-
-
 @lru_cache(maxsize=1)
 def _ureg():
     import pint
@@ -66,8 +64,10 @@ def _ureg():
 MAX_QUANTITY_CHARS = 200
 MAX_UNIT_NESTING = 4
 MAX_UNIT_EXPONENT = 12
-_TOKEN = re.compile(r"\s*(?:(?P<num>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[^\W\d][\w°]*|°|%)"
-                    r"|(?P<pow>\*\*|\^)|(?P<op>[*/·⋅])|(?P<open>\()|(?P<close>\)))")
+_TOKEN = re.compile(
+    r"\s*(?:(?P<num>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[^\W\d][\w°]*|°|%)"
+    r"|(?P<pow>\*\*|\^)|(?P<op>[*/·⋅])|(?P<open>\()|(?P<close>\)))"
+)
 
 
 def check_quantity(text: str) -> None:
@@ -191,9 +191,7 @@ class _Ctx:
                 return i
         return None
 
-    def error(
-        self, section: str | None, key: str, problem: str, cls: type[GeardynError] = ConfigError
-    ) -> GeardynError:
+    def error(self, section: str | None, key: str, problem: str, cls: type[GeardynError] = ConfigError) -> GeardynError:
         """The error ``cls`` (a file problem by default) with the file, line, section and key in its message."""
         line = self.line_of(section, key)
         where = f"{self.source}: " + (f"line {line}: " if line else "")
@@ -272,7 +270,9 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
     except ValueError as e:
         raise bad(f"cannot read {_clip(raw)} as a {kind.label} ({e}); write e.g. {kind.example}") from None
     except Exception as e:  # pint raises several error types for bad unit strings
-        raise bad(f"cannot read {_clip(raw)} as a {kind.label} ({type(e).__name__}); write e.g. {kind.example}") from None
+        raise bad(
+            f"cannot read {_clip(raw)} as a {kind.label} ({type(e).__name__}); write e.g. {kind.example}"
+        ) from None
     units = str(q.units)
     if kind in (_ANGLE, _PHASE):
         if units not in _ANGLE_UNITS:
@@ -289,8 +289,10 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
     if not math.isfinite(x):
         raise bad(f"must be finite, got {_clip(raw)}")
     if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
-        raise bad(f"{_clip(raw)} is outside the range of physical values, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} "
-                  f"{kind.unit}", ModelError)
+        raise bad(
+            f"{_clip(raw)} is outside the range of physical values, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} {kind.unit}",
+            ModelError,
+        )
     return x
 
 
@@ -304,7 +306,7 @@ def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any) -> tup
                 section,
                 key,
                 "an inline table must have the keys 'value' and optionally 'assumed' "
-                f"(e.g. {{ value = {spec.kind.example}, assumed = \"typical value\" }}), got keys {sorted(raw)}",
+                f'(e.g. {{ value = {spec.kind.example}, assumed = "typical value" }}), got keys {sorted(raw)}',
             )
         assumed = raw.get("assumed")
         if assumed is not None and (not isinstance(assumed, str) or not assumed.strip()):
@@ -317,7 +319,6 @@ def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any) -> tup
             return (), assumed
         return tuple(_parse_scalar(ctx, section, key, spec.kind, r, i + 1) for i, r in enumerate(raw)), assumed
     return _parse_scalar(ctx, section, key, spec.kind, raw), assumed
-
 
 
 def regular_file_size(source: str, what: str) -> int:
@@ -335,6 +336,7 @@ def regular_file_size(source: str, what: str) -> int:
     if not stat.S_ISREG(st.st_mode):
         raise ConfigError(f"{source}: not a regular file (a pipe, socket or device); give the {what} itself")
     return int(st.st_size)
+
 
 def read_toml(path: str | Path, what: str) -> tuple[str, str]:
     """The text of a TOML file, with the name its messages give it.
@@ -400,8 +402,9 @@ def parse_toml(text: str, source: str) -> dict[str, Any]:
     try:
         data = tomllib.loads(text)
     except RecursionError:
-        raise ConfigError(f"{source}: TOML syntax error: arrays or tables nested more than {MAX_TOML_NESTING} "
-                          "deep") from None
+        raise ConfigError(
+            f"{source}: TOML syntax error: arrays or tables nested more than {MAX_TOML_NESTING} deep"
+        ) from None
     except tomllib.TOMLDecodeError as e:
         msg = str(e)
         m = re.search(r"\(at line (\d+), column (\d+)\)", msg)

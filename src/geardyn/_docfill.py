@@ -17,9 +17,22 @@ from __future__ import annotations
 
 import inspect
 import re
-from typing import Callable, TypeVar
+from collections.abc import Callable
+from typing import TypeVar
 
-__all__ = ["attributes", "fill", "parameters", "result_of", "MODEL", "SYSTEM", "POINT", "OPTIONS", "RESULT", "SUMMARY", "PATHS"]
+__all__ = [
+    "attributes",
+    "fill",
+    "parameters",
+    "result_of",
+    "MODEL",
+    "SYSTEM",
+    "POINT",
+    "OPTIONS",
+    "RESULT",
+    "SUMMARY",
+    "PATHS",
+]
 
 T = TypeVar("T")
 
@@ -160,7 +173,7 @@ def attributes(cls: T) -> T:
     except (OSError, TypeError):  # no source (a frozen build): the class keeps the docstring it has
         return cls
     start = next(i for i, line in enumerate(lines) if line.lstrip().startswith("class "))
-    body = [line.rstrip("\n") for line in lines[start + 1:]]
+    body = [line.rstrip("\n") for line in lines[start + 1 :]]
     indent = min(len(line) - len(line.lstrip()) for line in body if line.strip())
     entries: list[list] = []  # [names, type, comment lines]
     comment: list[str] = []
@@ -186,8 +199,11 @@ def attributes(cls: T) -> T:
             break
         else:
             grouping = False
-    docs = [f"{', '.join(names)} : {kinds[0] if len(set(kinds)) == 1 else ', '.join(kinds)}\n"
-            + "\n".join("    " + c for c in text) for names, kinds, text in entries]
+    docs = [
+        f"{', '.join(names)} : {kinds[0] if len(set(kinds)) == 1 else ', '.join(kinds)}\n"
+        + "\n".join("    " + c for c in text)
+        for names, kinds, text in entries
+    ]
     return _add_section(cls, "Attributes", docs)
 
 

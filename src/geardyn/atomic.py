@@ -20,8 +20,9 @@ import errno
 import os
 import tempfile
 import threading
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 __all__ = ["atomic_write", "atomic_write_bytes", "discard_temporaries", "remove_stale", "write_netcdf_bytes"]
 

@@ -33,22 +33,56 @@ from __future__ import annotations
 import abc
 import threading
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 
 from . import _kernel as _K1
 from ._kernel import (  # the statistics' indices, statuses and bound: the same in both kernels
-    DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX, S_VMIN,
-    ST_DIVERGED, ST_OK,
+    DIVERGENCE_BOUND,
+    NSTAT,
+    S_N,
+    S_NBACK,
+    S_NDRIVE,
+    S_NSEP,
+    S_UMAX,
+    S_UMIN,
+    S_USQ,
+    S_USUM,
+    S_VMAX,
+    S_VMIN,
+    ST_DIVERGED,
+    ST_OK,
 )
 from .errors import ModelError
 from .labels import MAX_PERIOD
 
-__all__ = ["RawRun", "Backend", "PairBackend", "MeshBackend", "PAIR", "MESH", "MODES", "run_followed",
-           "S_UMIN", "S_UMAX", "S_USUM", "S_USQ", "S_VMIN", "S_VMAX", "S_NDRIVE", "S_NSEP", "S_NBACK", "S_N",
-           "NSTAT", "ST_OK", "ST_DIVERGED", "DIVERGENCE_BOUND"]
+__all__ = [
+    "RawRun",
+    "Backend",
+    "PairBackend",
+    "MeshBackend",
+    "PAIR",
+    "MESH",
+    "MODES",
+    "run_followed",
+    "S_UMIN",
+    "S_UMAX",
+    "S_USUM",
+    "S_USQ",
+    "S_VMIN",
+    "S_VMAX",
+    "S_NDRIVE",
+    "S_NSEP",
+    "S_NBACK",
+    "S_N",
+    "NSTAT",
+    "ST_OK",
+    "ST_DIVERGED",
+    "DIVERGENCE_BOUND",
+]
 
 #: Integration modes of :meth:`Backend.run`.
 MODES = ("none", "lyapunov", "monodromy", "continue")
@@ -85,9 +119,14 @@ class RawRun:
 
 
 def _buffers(P: int, d: int, record: int, record_poincare: bool, lyapunov: bool, hist_len: int):
-    return (np.zeros((P, record if record_poincare else 0, d)), np.zeros((P, d)),
-            np.zeros((P, record if lyapunov else 0, d)), np.zeros((P, d, d)), np.zeros(P, dtype=np.int64),
-            np.zeros((P, hist_len, d)))
+    return (
+        np.zeros((P, record if record_poincare else 0, d)),
+        np.zeros((P, d)),
+        np.zeros((P, record if lyapunov else 0, d)),
+        np.zeros((P, d, d)),
+        np.zeros(P, dtype=np.int64),
+        np.zeros((P, hist_len, d)),
+    )
 
 
 class Backend(abc.ABC):
@@ -118,10 +157,23 @@ class Backend(abc.ABC):
         return False
 
     @abc.abstractmethod
-    def run(self, models: Sequence[Any], packed: Any, nsteps: np.ndarray, state0: np.ndarray, transient: int,
-            record: int, mode: str, accurate: bool, *, record_poincare: bool = True, hist_len: int = 0,
-            adaptive_tol: float = 0.0, tangent0: np.ndarray | None = None,
-            watch: Callable[[np.ndarray], None] | None = None) -> RawRun:
+    def run(
+        self,
+        models: Sequence[Any],
+        packed: Any,
+        nsteps: np.ndarray,
+        state0: np.ndarray,
+        transient: int,
+        record: int,
+        mode: str,
+        accurate: bool,
+        *,
+        record_poincare: bool = True,
+        hist_len: int = 0,
+        adaptive_tol: float = 0.0,
+        tangent0: np.ndarray | None = None,
+        watch: Callable[[np.ndarray], None] | None = None,
+    ) -> RawRun:
         """Run the batch in ``mode`` and return its raw arrays (each backend calls its own kernel)."""
 
 
@@ -145,25 +197,61 @@ class PairBackend(Backend):
         step used up its splits)."""
         return not accurate
 
-    def run(self, models, packed, nsteps, state0, transient, record, mode, accurate, *, record_poincare=True,
-            hist_len=0, adaptive_tol=0.0, tangent0=None, watch=None) -> RawRun:
+    def run(
+        self,
+        models,
+        packed,
+        nsteps,
+        state0,
+        transient,
+        record,
+        mode,
+        accurate,
+        *,
+        record_poincare=True,
+        hist_len=0,
+        adaptive_tol=0.0,
+        tangent0=None,
+        watch=None,
+    ) -> RawRun:
         K = _K1
         coef, D, omega = packed[:3]
         table = packed[3] if len(packed) > 3 else None  # models evaluated as tables (accurate mode)
         P, d = coef.shape[0], 2
         lyapunov = mode in ("lyapunov", "continue")
-        poincare, end_state, tan_log, tan_out, status, hist = _buffers(P, d, record, record_poincare, lyapunov,
-                                                                        hist_len)
+        poincare, end_state, tan_log, tan_out, status, hist = _buffers(
+            P, d, record, record_poincare, lyapunov, hist_len
+        )
         stats = np.zeros((P, K.NSTAT))
         if tangent0 is not None:  # K.TAN_CONTINUE: the kernel starts the tangent basis from these
             tan_out[:] = tangent0
-        tan = {"none": K.TAN_NONE, "lyapunov": K.TAN_LYAPUNOV, "monodromy": K.TAN_MONODROMY,
-               "continue": K.TAN_CONTINUE}[mode]
+        tan = {
+            "none": K.TAN_NONE,
+            "lyapunov": K.TAN_LYAPUNOV,
+            "monodromy": K.TAN_MONODROMY,
+            "continue": K.TAN_CONTINUE,
+        }[mode]
         if watch is not None:  # every recorded row is written by the kernel (NaN after a divergence)
             poincare.fill(np.nan)
             watch(poincare)
-        args = (coef, D, omega, nsteps, state0, int(transient), int(record), int(tan), bool(accurate), poincare,
-                end_state, stats, tan_log, tan_out, status, hist)
+        args = (
+            coef,
+            D,
+            omega,
+            nsteps,
+            state0,
+            int(transient),
+            int(record),
+            int(tan),
+            bool(accurate),
+            poincare,
+            end_state,
+            stats,
+            tan_log,
+            tan_out,
+            status,
+            hist,
+        )
         if adaptive_tol > 0.0:  # the adaptive transient, seeking cycles up to MAX_PERIOD
             K.run_batch(*args, float(adaptive_tol), MAX_PERIOD, table=table)
         else:
@@ -184,8 +272,23 @@ class MeshBackend(Backend):
         accurate mode takes every element's contact branch again from the state at each (sub-)step's start."""
         return True
 
-    def run(self, models, packed, nsteps, state0, transient, record, mode, accurate, *, record_poincare=True,
-            hist_len=0, adaptive_tol=0.0, tangent0=None, watch=None) -> RawRun:
+    def run(
+        self,
+        models,
+        packed,
+        nsteps,
+        state0,
+        transient,
+        record,
+        mode,
+        accurate,
+        *,
+        record_poincare=True,
+        hist_len=0,
+        adaptive_tol=0.0,
+        tangent0=None,
+        watch=None,
+    ) -> RawRun:
         from . import _kernel_ndof as K  # imported by the first mesh-vector run: a pair never needs it
 
         if mode == "continue":
@@ -193,16 +296,32 @@ class MeshBackend(Backend):
         P, d = len(models), models[0].state_dim
         E = len(models[0].elements)
         lyapunov = mode == "lyapunov"
-        poincare, end_state, tan_log, tan_out, status, hist = _buffers(P, d, record, record_poincare, lyapunov,
-                                                                        hist_len)
+        poincare, end_state, tan_log, tan_out, status, hist = _buffers(
+            P, d, record, record_poincare, lyapunov, hist_len
+        )
         stats = np.zeros((P, E, K.NSTAT))
         tper = np.array([m.sampling_period for m in models], dtype=float)
         tan = {"none": K.TAN_NONE, "lyapunov": K.TAN_LYAPUNOV, "monodromy": K.TAN_MONODROMY}[mode]
         if watch is not None:  # every recorded row is written by the kernel (NaN after a divergence)
             poincare.fill(np.nan)
             watch(poincare)
-        K.run_batch(packed, tper, nsteps, state0, int(transient), int(record), int(tan), bool(accurate),
-                    poincare, end_state, stats, tan_log, tan_out, status, hist)
+        K.run_batch(
+            packed,
+            tper,
+            nsteps,
+            state0,
+            int(transient),
+            int(record),
+            int(tan),
+            bool(accurate),
+            poincare,
+            end_state,
+            stats,
+            tan_log,
+            tan_out,
+            status,
+            hist,
+        )
         return RawRun(poincare, end_state, stats, tan_log, tan_out, status, hist)
 
 
@@ -213,8 +332,18 @@ MESH = MeshBackend()
 
 
 # ------------------------------------------------------------------------------ a run followed as it goes
-def run_followed(call: Callable[..., RawRun], nsteps: np.ndarray, state0: np.ndarray, transient: int, record: int,
-                 progress: Callable[[int, int], None], *, pieces: bool, rows: bool, poll: float) -> RawRun:
+def run_followed(
+    call: Callable[..., RawRun],
+    nsteps: np.ndarray,
+    state0: np.ndarray,
+    transient: int,
+    record: int,
+    progress: Callable[[int, int], None],
+    *,
+    pieces: bool,
+    rows: bool,
+    poll: float,
+) -> RawRun:
     """One run of a batch reporting ``progress(done, total)`` in sampling periods per point as it goes.
 
     Parameters

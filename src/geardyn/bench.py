@@ -20,8 +20,8 @@ from __future__ import annotations
 import os
 import platform
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -80,8 +80,12 @@ class Workload:
         """
         from .integrate import integrate_batch
 
-        res = integrate_batch(self.models() if models is None else models, options=self.options,
-                              lyapunov=self.lyapunov, record_poincare=self.record_poincare)
+        res = integrate_batch(
+            self.models() if models is None else models,
+            options=self.options,
+            lyapunov=self.lyapunov,
+            record_poincare=self.record_poincare,
+        )
         out = {"poincare": res.poincare, "status": res.status}
         if self.lyapunov:
             T = 2.0 * np.pi / np.asarray(self.omegas)
@@ -90,19 +94,32 @@ class Workload:
 
 
 def _w1() -> Workload:
-    return Workload("W1", "bifurcation: 200 ω in [0.5, 1.5], 300 + 200 periods, Poincaré points",
-                    tuple(np.linspace(0.5, 1.5, 200)), IntegrationOptions(dtau=BENCH_DTAU, transient=300, periods=200))
+    return Workload(
+        "W1",
+        "bifurcation: 200 ω in [0.5, 1.5], 300 + 200 periods, Poincaré points",
+        tuple(np.linspace(0.5, 1.5, 200)),
+        IntegrationOptions(dtau=BENCH_DTAU, transient=300, periods=200),
+    )
 
 
 def _w2() -> Workload:
-    return Workload("W2", "trajectory: ω = 1.2, 10,000 periods, Poincaré points",
-                    (1.2,), IntegrationOptions(dtau=BENCH_DTAU, transient=0, periods=10_000))
+    return Workload(
+        "W2",
+        "trajectory: ω = 1.2, 10,000 periods, Poincaré points",
+        (1.2,),
+        IntegrationOptions(dtau=BENCH_DTAU, transient=0, periods=10_000),
+    )
 
 
 def _w3() -> Workload:
-    return Workload("W3", "Lyapunov: 50 ω in [0.5, 1.5], 300 + 2000 periods, tangent vectors, both exponents",
-                    tuple(np.linspace(0.5, 1.5, 50)), IntegrationOptions(dtau=BENCH_DTAU, transient=300, periods=2000),
-                    lyapunov=True, record_poincare=False)
+    return Workload(
+        "W3",
+        "Lyapunov: 50 ω in [0.5, 1.5], 300 + 2000 periods, tangent vectors, both exponents",
+        tuple(np.linspace(0.5, 1.5, 50)),
+        IntegrationOptions(dtau=BENCH_DTAU, transient=300, periods=2000),
+        lyapunov=True,
+        record_poincare=False,
+    )
 
 
 #: The standard workloads by name.
@@ -132,8 +149,9 @@ def workload(name: str) -> Workload:
     return WORKLOADS[key]()
 
 
-def time_workload(w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = True,
-                  ran: Callable[[], None] | None = None) -> dict[str, float | int]:
+def time_workload(
+    w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = True, ran: Callable[[], None] | None = None
+) -> dict[str, float | int]:
     """Time one workload in-process (minimum wall time over the repeats).
 
     Parameters
@@ -174,8 +192,13 @@ def time_workload(w: Workload, repeats: int = DEFAULT_REPEATS, warmup: bool = Tr
             ran()
     wall = min(times)
     steps = w.steps
-    return {"wall_s": wall, "steps": steps, "ns_per_step": 1e9 * wall / steps,
-            "median_s": float(np.median(times)), "repeats": repeats}
+    return {
+        "wall_s": wall,
+        "steps": steps,
+        "ns_per_step": 1e9 * wall / steps,
+        "median_s": float(np.median(times)),
+        "repeats": repeats,
+    }
 
 
 def machine_info() -> dict[str, object]:
@@ -215,9 +238,12 @@ def _llvm_cpu() -> str:
         return "unknown"
 
 
-def run_benchmarks(names: Sequence[str] = ("W1", "W2", "W3"), threads: int | None = None,
-                   repeats: int = DEFAULT_REPEATS,
-                   progress: Callable[[int, int], None] | None = None) -> dict[str, object]:
+def run_benchmarks(
+    names: Sequence[str] = ("W1", "W2", "W3"),
+    threads: int | None = None,
+    repeats: int = DEFAULT_REPEATS,
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, object]:
     """Time the named workloads with ``threads`` kernel threads.
 
     numba's thread count is restored afterwards.

@@ -49,11 +49,12 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any
 
 from ._config_values import (
     _ANGLE,
@@ -77,7 +78,6 @@ from ._config_values import (
     parse_toml,
     read_toml,
 )
-from .params import FAMILIES
 from .errors import ConfigError
 from .geometry import (
     HANDS,
@@ -92,6 +92,7 @@ from .geometry import (
 )
 from .geometry.iso import ISO_KEYS, ISO_ONLY_KEYS, K0_METHODS, iso_k0, iso_summary, pair_iso_mesh
 from .model import GearModel, ModelError
+from .params import FAMILIES
 
 __all__ = ["LoadedConfig", "PAPER_CONFIG", "load_config", "packaged_config_path", "parse_quantity"]
 
@@ -177,8 +178,9 @@ _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
             {f.name: _Key(_PHASE if f.units == "rad" else _NUMBER, f.series) for f in FAMILIES.values()}
         ),
         # a mesh stiffness and STE table over P mesh cycles (geardyn.tooth.table; docs/excitation.md)
-        "excitation": MappingProxyType({"file": _Key(_TEXT), "b_c": _Key(_LENGTH), "harmonics": _Key(_INT),
-                                        "evaluation": _Key(_TEXT)}),
+        "excitation": MappingProxyType(
+            {"file": _Key(_TEXT), "b_c": _Key(_LENGTH), "harmonics": _Key(_INT), "evaluation": _Key(_TEXT)}
+        ),
     }
 )
 _TOP_LEVEL_TEXT = ("title", "description")
@@ -279,7 +281,7 @@ class LoadedConfig:
         """Names of the assumed inputs."""
         return [a.name for a in self.assumptions]
 
-    def at(self, rpm: float | None = None, torque: float | None = None) -> "LoadedConfig":
+    def at(self, rpm: float | None = None, torque: float | None = None) -> LoadedConfig:
         """The same configuration at another operating point.
 
         Parameters
@@ -292,8 +294,9 @@ class LoadedConfig:
         changes: dict[str, Any] = {}
         out: dict[str, Any] = {}
         if self.pair is None and (rpm is not None or torque is not None):
-            raise ConfigError(f"{self.source}: no [gear_pair], so a pinion speed or torque has no meaning; "
-                              "give ω and f_p instead")
+            raise ConfigError(
+                f"{self.source}: no [gear_pair], so a pinion speed or torque has no meaning; give ω and f_p instead"
+            )
         sc = self.scales
         if rpm is not None:
             self.pair.mesh_frequency(rpm)  # validates rpm > 0
@@ -308,13 +311,16 @@ class LoadedConfig:
         assumptions = tuple(a for a in self.assumptions if a.name not in dropped)
         # notes on how the configuration's own speed or torque came about no longer hold
         stale = (("pinion speed", "no [operating] rpm") if rpm is not None else ()) + (
-            ("pinion torque T1", "no [operating] torque", "[mesh] fp =") if torque is not None else ())
+            ("pinion torque T1", "no [operating] torque", "[mesh] fp =") if torque is not None else ()
+        )
         notes = [n for n in self.notes if not n.startswith(stale)] if stale else list(self.notes)
         if rpm is not None:
             notes.append(f"pinion speed {float(rpm):.6g} rpm given for this run sets ω = {changes['omega']:.6g}")
         if torque is not None:
-            notes.append(f"pinion torque T1 = {float(torque):.6g} N·m given for this run sets f_p = {changes['fp']:.6g}"
-                         " (balanced torques)")
+            notes.append(
+                f"pinion torque T1 = {float(torque):.6g} N·m given for this run sets f_p = {changes['fp']:.6g}"
+                " (balanced torques)"
+            )
         return replace(self, model=self.model.replace(**changes), assumptions=assumptions, notes=tuple(notes), **out)
 
     def geometry_summary(self) -> dict[str, Any]:
@@ -333,15 +339,22 @@ class LoadedConfig:
             s["iso10300"] = None
             iso_notes.append(f"ISO 10300-1 mesh data not computed: {e}")
         else:
-            block = iso_summary(mesh, k0_method=self.k0_method, k0_used=self.pair.k0_mean,
-                                c_gamma_given=self.pair.c_gamma, hypoid=bool(self.iso_inputs.get("offset")))
+            block = iso_summary(
+                mesh,
+                k0_method=self.k0_method,
+                k0_used=self.pair.k0_mean,
+                c_gamma_given=self.pair.c_gamma,
+                hypoid=bool(self.iso_inputs.get("offset")),
+            )
             iso_notes = block.pop("iso_notes")
             s.update(block)
             s["iso10300"] = "ISO 10300-1:2014 Annex A (Method B1 virtual cylindrical gears), clause 6"
             k_geo, k_model = mesh.kappa.kappa[0], (self.model.kappa or (0.0,))[0]
             if k_model > 0 and k_geo > 0 and abs(k_model / k_geo - 1.0) > 0.1:
-                iso_notes.append(f"the model's κ1 = {k_model:.4g} is {k_model / k_geo:.3g} × the κ1 = {k_geo:.4g} "
-                                 "the contact ratios imply")
+                iso_notes.append(
+                    f"the model's κ1 = {k_model:.4g} is {k_model / k_geo:.3g} × the κ1 = {k_geo:.4g} "
+                    "the contact ratios imply"
+                )
         s["source"] = self.source
         s["title"] = self.title
         s["backlash_reading"] = self.backlash_reading
@@ -411,8 +424,11 @@ def _load_text(text: str, source: str) -> LoadedConfig:
         allowed = ", ".join([f"[{s}]" for s in _SCHEMA] + list(_TOP_LEVEL_TEXT))
         if isinstance(val, dict):
             line = ctx.line_of(key, "")
-            raise ConfigError(f"{source}: " + (f"line {line}: " if line else "")
-                              + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}")
+            raise ConfigError(
+                f"{source}: "
+                + (f"line {line}: " if line else "")
+                + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}"
+            )
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
     exc = _read_section(ctx, data, "excitation")[0] if "excitation" in data else {}
     cfg = _load_sections(ctx, {k: v for k, v in data.items() if k != "excitation"})
@@ -424,23 +440,34 @@ def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> Loade
     from .tooth.table import apply_excitation
 
     if "file" not in exc:
-        raise ctx.error("excitation", "file", "missing: the table file (.nc of geardyn stiffness, .csv, .json, "
-                        "or a tooth-pair .toml)")
+        raise ctx.error(
+            "excitation",
+            "file",
+            "missing: the table file (.nc of geardyn stiffness, .csv, .json, or a tooth-pair .toml)",
+        )
     path = Path(exc["file"])
     if not path.is_absolute() and Path(ctx.source).is_file():
         path = Path(ctx.source).parent / path
     try:
-        model = apply_excitation(cfg.model, path, b_c=exc.get("b_c", cfg.b_c), harmonics=exc.get("harmonics"),
-                                 evaluation=exc.get("evaluation", "series"))
+        model = apply_excitation(
+            cfg.model,
+            path,
+            b_c=exc.get("b_c", cfg.b_c),
+            harmonics=exc.get("harmonics"),
+            evaluation=exc.get("evaluation", "series"),
+        )
     except (ModelError, ConfigError) as e:
         raise ctx.error("excitation", "file", str(e), type(e)) from None
-    note = (f"[excitation] {exc['file']}: stiffness and STE over {model.cycles} mesh cycle(s), "
-            f"{len(model.kappa)} harmonics of ω/{model.cycles} (they replace kappa, eps and their phases)")
+    note = (
+        f"[excitation] {exc['file']}: stiffness and STE over {model.cycles} mesh cycle(s), "
+        f"{len(model.kappa)} harmonics of ω/{model.cycles} (they replace kappa, eps and their phases)"
+    )
     return replace(cfg, model=model, notes=cfg.notes + (note,))
 
 
-def configured_model(config: str | Path | None, excitation: str | Path | None, given: Mapping[str, Any],
-                     evaluation: str | None = None) -> GearModel:
+def configured_model(
+    config: str | Path | None, excitation: str | Path | None, given: Mapping[str, Any], evaluation: str | None = None
+) -> GearModel:
     """The model of a configuration (None: the paper's pair) with an excitation file applied (its STE over b_c).
 
     ``given`` holds the command-line model options by keyword: the series options are refused beside a
@@ -452,10 +479,15 @@ def configured_model(config: str | Path | None, excitation: str | Path | None, g
 
     cfg = load_config(config)
     if evaluation is not None and excitation is None and evaluation != cfg.model.evaluation:
-        raise ModelError(f"--excitation-evaluation {evaluation}: needs an excitation table (--excitation FILE, or "
-                         "[excitation] of the configuration with evaluation = \"table\")")
-    m = cfg.model if excitation is None else apply_excitation(cfg.model, excitation, b_c=cfg.b_c,
-                                                              evaluation=evaluation or "series")
+        raise ModelError(
+            f"--excitation-evaluation {evaluation}: needs an excitation table (--excitation FILE, or "
+            '[excitation] of the configuration with evaluation = "table")'
+        )
+    m = (
+        cfg.model
+        if excitation is None
+        else apply_excitation(cfg.model, excitation, b_c=cfg.b_c, evaluation=evaluation or "series")
+    )
     if excitation is not None or m.cycles != 1:
         refuse_series_options(given)
     return m
@@ -505,7 +537,9 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
         gp["drive_side"] = drive_side_from_rotation(gp["hand"], rotation)
         if "pinion_rotation" in gp_assumed:
             gp_assumed["drive_side"] = gp_assumed.pop("pinion_rotation")
-        notes.append(f"drive_side = {gp['drive_side']} follows from hand = {gp['hand']} and pinion_rotation = {rotation}")
+        notes.append(
+            f"drive_side = {gp['drive_side']} follows from hand = {gp['hand']} and pinion_rotation = {rotation}"
+        )
     for k in ("xi0", "c0"):
         if k in mesh:
             gp[k] = mesh.pop(k)
@@ -524,20 +558,23 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
             iso_mesh = pair_iso_mesh(pair, iso_in, rpm=op.get("rpm"), torque=op.get("torque"))
         except ModelError as e:
             raise _wrap(ctx, "gear_pair", e) from None
-        iso_assumptions = [Assumption(a.name, a.value, a.unit, a.source) for a in iso_mesh.assumed
-                           if a.name != "K_v"]
+        iso_assumptions = [Assumption(a.name, a.value, a.unit, a.source) for a in iso_mesh.assumed if a.name != "K_v"]
     if method == "iso":
         cg = pair.c_gamma
         k0 = iso_k0(iso_mesh, cg)
-        src = (f"ISO 10300-1: k0 = c_γ b_v,eff = {(iso_mesh.c_gamma if cg is None else cg) * 1e-9:.4g} N/(mm·µm)"
-               f"{' (given)' if cg is not None else f' (C_F = {iso_mesh.C_F:.4g})'} × {iso_mesh.b_v_eff * 1e3:.5g} mm")
+        src = (
+            f"ISO 10300-1: k0 = c_γ b_v,eff = {(iso_mesh.c_gamma if cg is None else cg) * 1e-9:.4g} N/(mm·µm)"
+            f"{' (given)' if cg is not None else f' (C_F = {iso_mesh.C_F:.4g})'} × {iso_mesh.b_v_eff * 1e3:.5g} mm"
+        )
         pair = replace(pair, k0=k0, assumed=pair.assumed + (("k0", src),))
-        notes.append(f"k0 = {k0 * 1e-6:.6g} N/µm by ISO 10300-1 (k0_method = \"iso\"; \"face_width\" gives c_γ × b)")
+        notes.append(f'k0 = {k0 * 1e-6:.6g} N/µm by ISO 10300-1 (k0_method = "iso"; "face_width" gives c_γ × b)')
     if kappa_geometry:
         mesh["kappa"], mesh["phi_k"] = iso_mesh.kappa.kappa, iso_mesh.kappa.phi
-        notes.append(f"[mesh] kappa = \"{KAPPA_FROM_GEOMETRY}\": κ_r = "
-                     + ", ".join(f"{k:.4g}" for k in iso_mesh.kappa.kappa)
-                     + f" from ε_vα = {iso_mesh.eps_valpha:.4g}, ε_vβ = {iso_mesh.eps_vbeta:.4g}")
+        notes.append(
+            f'[mesh] kappa = "{KAPPA_FROM_GEOMETRY}": κ_r = '
+            + ", ".join(f"{k:.4g}" for k in iso_mesh.kappa.kappa)
+            + f" from ε_vα = {iso_mesh.eps_valpha:.4g}, ε_vβ = {iso_mesh.eps_vbeta:.4g}"
+        )
 
     # ---- characteristic length
     b_c = mesh.pop("characteristic_length", None)
@@ -547,7 +584,7 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
         raise ctx.error(
             "gear_pair",
             "j_n",
-            "is 0 (no backlash): give [mesh] characteristic_length (e.g. \"1 um\") to scale lengths",
+            'is 0 (no backlash): give [mesh] characteristic_length (e.g. "1 um") to scale lengths',
             ModelError,
         )
     b_c_used = pair.b_n if b_c is None else b_c
@@ -671,12 +708,19 @@ def _load_nondimensional(ctx: _Ctx, data: Mapping[str, Any]) -> LoadedConfig:
     for section, values in (("mesh", mesh), ("operating", op)):
         for key in _PHYSICAL_KEYS[section]:
             if key in values:
-                raise ctx.error(section, key, "needs a gear pair: add [gear_pair], or give the non-dimensional "
-                                "values (xi0, xi, kappa, eps, fp in [mesh]; omega in [operating])")
+                raise ctx.error(
+                    section,
+                    key,
+                    "needs a gear pair: add [gear_pair], or give the non-dimensional "
+                    "values (xi0, xi, kappa, eps, fp in [mesh]; omega in [operating])",
+                )
     notes: list[str] = ["no [gear_pair]: a non-dimensional model (speeds and torques cannot be given)"]
     default = GearModel()
-    kw: dict[str, Any] = {"omega": op.get("omega", default.omega), "xi0": mesh.pop("xi0", default.xi0),
-                          "fp": mesh.pop("fp", default.fp)}
+    kw: dict[str, Any] = {
+        "omega": op.get("omega", default.omega),
+        "xi0": mesh.pop("xi0", default.xi0),
+        "fp": mesh.pop("fp", default.fp),
+    }
     for name, key, section in (("ω", "omega", op), ("ξ0", "xi0", None), ("f_p", "fp", None)):
         if section is not None and key not in section:
             notes.append(f"no [operating] omega: ω = {kw[key]:g} (GearModel default)")
@@ -688,10 +732,24 @@ def _load_nondimensional(ctx: _Ctx, data: Mapping[str, Any]) -> LoadedConfig:
             notes.append("[model] overrides: " + ", ".join(f"{k} = {v}" for k, v in mo.items()))
     except ModelError as e:
         raise _wrap(ctx, "model" if mo and _key_of_message(str(e)) in mo else "mesh", e) from None
-    assumptions = [Assumption(k, list(v) if isinstance(v, tuple) else v, "", src)
-                   for declared, values in ((mesh_assumed, {**mesh, **kw}), (op_assumed, op), (mo_assumed, mo))
-                   for k, src in declared.items() for v in [values.get(k, "")]]
-    return LoadedConfig(source=ctx.source, title=str(data.get("title") or ""), pair=None, mesh=harmonics,
-                        b_c=float("nan"), model=model, rpm=float("nan"), torque=float("nan"), torque2=None,
-                        assumptions=tuple(assumptions), notes=tuple(notes),
-                        backlash_reading="no [gear_pair]: D is the model's non-dimensional backlash", k0_method="")
+    assumptions = [
+        Assumption(k, list(v) if isinstance(v, tuple) else v, "", src)
+        for declared, values in ((mesh_assumed, {**mesh, **kw}), (op_assumed, op), (mo_assumed, mo))
+        for k, src in declared.items()
+        for v in [values.get(k, "")]
+    ]
+    return LoadedConfig(
+        source=ctx.source,
+        title=str(data.get("title") or ""),
+        pair=None,
+        mesh=harmonics,
+        b_c=float("nan"),
+        model=model,
+        rpm=float("nan"),
+        torque=float("nan"),
+        torque2=None,
+        assumptions=tuple(assumptions),
+        notes=tuple(notes),
+        backlash_reading="no [gear_pair]: D is the model's non-dimensional backlash",
+        k0_method="",
+    )

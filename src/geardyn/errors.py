@@ -18,7 +18,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["ConfigError", "GeardynError", "ModelError", "PlotError", "SweepError"]  # the sweep stops: from geardyn.sweep
+__all__ = [
+    "ConfigError",
+    "GeardynError",
+    "ModelError",
+    "PlotError",
+    "SweepError",
+]  # the sweep stops: from geardyn.sweep
 
 
 class GeardynError(Exception):
@@ -87,8 +93,10 @@ class SweepFailed(SweepError, RuntimeError):
         self.total = total
         self.checkpoint = checkpoint
         if checkpoint is not None:
-            tail = (f"{finished} of {total} chunks finished and saved in {checkpoint}; "
-                    "run the same command again with --resume to complete the sweep")
+            tail = (
+                f"{finished} of {total} chunks finished and saved in {checkpoint}; "
+                "run the same command again with --resume to complete the sweep"
+            )
         else:
             tail = f"{finished} of {total} chunks finished, none saved (no --out)"
         super().__init__(f"sweep stopped: {reason}; {tail}")

@@ -20,15 +20,27 @@ from __future__ import annotations
 
 import math
 from collections import abc
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from ._docfill import fill
 from .model import GearModel, IntegrationOptions, ModelError, canonical_param, pack_points
 
-__all__ = ["GRID_KINDS", "Grid", "GridModels", "PointModels", "build_models", "chunked", "grid_models", "integrate_points",
-           "linspace_values", "param_name", "point_models"]
+__all__ = [
+    "GRID_KINDS",
+    "Grid",
+    "GridModels",
+    "PointModels",
+    "build_models",
+    "chunked",
+    "grid_models",
+    "integrate_points",
+    "linspace_values",
+    "param_name",
+    "point_models",
+]
 
 #: Docstring entries of the functions and classes that build the models of parameter points.
 _BASE = """base : System
@@ -237,9 +249,15 @@ def point_models(base: Any, names: Sequence[str], points: np.ndarray) -> Sequenc
     return build_models(base, names, points)
 
 
-def integrate_points(models: Sequence[GearModel], state0: Sequence[float] | np.ndarray | None = None,
-                     options: IntegrationOptions = IntegrationOptions(), *, lyapunov: bool = False,
-                     record_poincare: bool = True, threads: int | None = None) -> Any:
+def integrate_points(
+    models: Sequence[GearModel],
+    state0: Sequence[float] | np.ndarray | None = None,
+    options: IntegrationOptions = IntegrationOptions(),
+    *,
+    lyapunov: bool = False,
+    record_poincare: bool = True,
+    threads: int | None = None,
+) -> Any:
     """:func:`geardyn.integrate.integrate_batch` of ``models``, straight from the arrays of a :class:`PointModels`.
 
     Parameters
@@ -263,14 +281,23 @@ def integrate_points(models: Sequence[GearModel], state0: Sequence[float] | np.n
     from .model import steps_per_period
 
     if not isinstance(models, PointModels):
-        return itg.integrate_batch(models, state0, options, lyapunov=lyapunov, record_poincare=record_poincare,
-                                   threads=threads)
+        return itg.integrate_batch(
+            models, state0, options, lyapunov=lyapunov, record_poincare=record_poincare, threads=threads
+        )
     coef, D, omega = models.packed()
     too_long = options.dtau >= 2.0 * math.pi / omega
     if np.any(too_long):
         options.check_for(float(omega[int(np.argmax(too_long))]))
-    return itg.integrate_packed(models, (coef, D, omega), steps_per_period(omega, options.dtau), state0, options,
-                                lyapunov=lyapunov, record_poincare=record_poincare, threads=threads)
+    return itg.integrate_packed(
+        models,
+        (coef, D, omega),
+        steps_per_period(omega, options.dtau),
+        state0,
+        options,
+        lyapunov=lyapunov,
+        record_poincare=record_poincare,
+        threads=threads,
+    )
 
 
 class Grid:
@@ -308,7 +335,7 @@ class Grid:
 
     # ------------------------------------------------------------------ constructors
     @classmethod
-    def range(cls, param: str, values: Sequence[float] | np.ndarray) -> "Grid":
+    def range(cls, param: str, values: Sequence[float] | np.ndarray) -> Grid:
         """One parameter over ``values`` (sorted, duplicates dropped).
 
         Parameters
@@ -332,7 +359,7 @@ class Grid:
         return cls("range", [name], [_axis_values(name, values, True)])
 
     @classmethod
-    def linspace(cls, param: str, start: float, stop: float, num: int) -> "Grid":
+    def linspace(cls, param: str, start: float, stop: float, num: int) -> Grid:
         """One parameter over ``num`` evenly spaced values ``start`` … ``stop``.
 
         Parameters
@@ -357,7 +384,7 @@ class Grid:
         return cls.range(param, linspace_values(start, stop, num))
 
     @classmethod
-    def product(cls, *axes: tuple[str, Sequence[float]], unique: bool = True) -> "Grid":
+    def product(cls, *axes: tuple[str, Sequence[float]], unique: bool = True) -> Grid:
         """Every combination of the axes' values, the last axis fastest.
 
         Parameters
@@ -385,7 +412,7 @@ class Grid:
         return cls("product", names, [_axis_values(n, v, unique) for n, (_, v) in zip(names, axes)])
 
     @classmethod
-    def curve(cls, points: dict[str, Sequence[float]]) -> "Grid":
+    def curve(cls, points: dict[str, Sequence[float]]) -> Grid:
         """Parameter points listed together: point i sets every parameter to its i-th value.
 
         Parameters
@@ -409,7 +436,7 @@ class Grid:
         return cls("curve", names, [_axis_values(n, v, False) for n, v in zip(names, points.values())])
 
     @classmethod
-    def states(cls, u0: Sequence[float] | np.ndarray, v0: Sequence[float] | np.ndarray) -> "Grid":
+    def states(cls, u0: Sequence[float] | np.ndarray, v0: Sequence[float] | np.ndarray) -> Grid:
         """Initial states (u0, v0) at θ = 0: rows of v0, u0 fastest (dimensions ``v0``, ``u0``).
 
         Parameters
@@ -532,7 +559,7 @@ class Grid:
                 build_models(base, self.names, self.points(sl))
 
     @fill(_BASE)
-    def lazy_models(self, base: Any) -> "GridModels":
+    def lazy_models(self, base: Any) -> GridModels:
         """The models of every point, validated now (:meth:`check`) and each built only when it is used.
 
         Parameters

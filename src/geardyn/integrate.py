@@ -25,14 +25,29 @@ Two integration settings are arguments of these functions rather than fields of
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterator, Sequence
+from typing import Any
 
 import numpy as np
 
-from .backend import DIVERGENCE_BOUND, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM
-from .backend import S_VMAX, S_VMIN, ST_DIVERGED, ST_OK, RawRun
+from .backend import (
+    DIVERGENCE_BOUND,
+    S_N,
+    S_NBACK,
+    S_NDRIVE,
+    S_NSEP,
+    S_UMAX,
+    S_UMIN,
+    S_USQ,
+    S_USUM,
+    S_VMAX,
+    S_VMIN,
+    ST_DIVERGED,
+    ST_OK,
+    RawRun,
+)
 from .model import IntegrationOptions, ModelError
 
 __all__ = [
@@ -158,7 +173,6 @@ def using_threads(n: int | None) -> Iterator[None]:
         yield
     finally:
         numba.set_num_threads(old)
-
 
 
 def forcing_period(model: Any) -> float:
@@ -319,8 +333,9 @@ class BatchResult:
         return self.element_fractions(self.reference)
 
 
-def _state_array(state0: Sequence[float] | np.ndarray | None, P: int, d: int = STATE_DIM,
-                 coords: str = "(u0, v0)") -> np.ndarray:
+def _state_array(
+    state0: Sequence[float] | np.ndarray | None, P: int, d: int = STATE_DIM, coords: str = "(u0, v0)"
+) -> np.ndarray:
     """The (P, d) initial states of a batch from one state (d,) or one per point (P, d), checked;
     ``coords`` names the state's coordinates in the messages."""
     if state0 is None:
@@ -350,14 +365,18 @@ def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
         arr = np.full(P, arr)
     if arr.shape != (P,):
         raise ModelError(f"steps: expected an integer or {P} integers, got shape {arr.shape}")
-    if arr.dtype.kind not in "iuf" or arr.dtype == bool or not np.all(np.isfinite(arr)) \
-            or not np.all(arr == np.round(arr)) or np.any(arr < 1):
+    if (
+        arr.dtype.kind not in "iuf"
+        or arr.dtype == bool
+        or not np.all(np.isfinite(arr))
+        or not np.all(arr == np.round(arr))
+        or np.any(arr < 1)
+    ):
         raise ModelError(f"steps: RK4 steps per period must be integers >= 1, got {steps!r}")
     return np.ascontiguousarray(arr, dtype=np.int64)
 
 
-def _prepare(models: Sequence[Any], options: IntegrationOptions,
-             steps: int | Sequence[int] | np.ndarray | None = None):
+def _prepare(models: Sequence[Any], options: IntegrationOptions, steps: int | Sequence[int] | np.ndarray | None = None):
     """The models as a list, their backend, packed arrays and steps per sampling period."""
     models = list(models)
     if not models:
@@ -378,13 +397,29 @@ def _prepare(models: Sequence[Any], options: IntegrationOptions,
 PROGRESS_POLL = 0.25
 
 
-def _run(models: list, backend: Any, packed: Any, nsteps: np.ndarray, state0: np.ndarray, transient: int,
-         record: int, mode: str, accurate: bool, *, record_poincare: bool = True, hist_len: int = 0,
-         threads: int | None = None, adaptive: bool = False, tangent0: np.ndarray | None = None,
-         progress: Callable[[int, int], None] | None = None) -> RawRun:
+def _run(
+    models: list,
+    backend: Any,
+    packed: Any,
+    nsteps: np.ndarray,
+    state0: np.ndarray,
+    transient: int,
+    record: int,
+    mode: str,
+    accurate: bool,
+    *,
+    record_poincare: bool = True,
+    hist_len: int = 0,
+    threads: int | None = None,
+    adaptive: bool = False,
+    tangent0: np.ndarray | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> RawRun:
     if not accurate and getattr(models[0], "evaluation", "series") == "table":
-        raise ModelError("evaluation \"table\": the table is evaluated as given in the accurate mode only "
-                         "(--accurate, IntegrationOptions(accurate=True)); or evaluate its series")
+        raise ModelError(
+            'evaluation "table": the table is evaluated as given in the accurate mode only '
+            "(--accurate, IntegrationOptions(accurate=True)); or evaluate its series"
+        )
 
     def call(start: np.ndarray, periods: int, watch: Any = None, *, piece: bool = False) -> RawRun:
         """The batch from ``start`` through ``periods`` transient periods and the record (``piece``: the
@@ -393,32 +428,69 @@ def _run(models: list, backend: Any, packed: Any, nsteps: np.ndarray, state0: np
         with using_threads(threads if len(models) > 1 else None):
             if piece:
                 return backend.run(models, packed, nsteps, start, periods, 0, "none", accurate, record_poincare=False)
-            return backend.run(models, packed, nsteps, start, periods, record, mode, accurate,
-                               record_poincare=record_poincare, hist_len=hist_len,
-                               adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0, tangent0=tangent0,
-                               **({} if watch is None else {"watch": watch}))
+            return backend.run(
+                models,
+                packed,
+                nsteps,
+                start,
+                periods,
+                record,
+                mode,
+                accurate,
+                record_poincare=record_poincare,
+                hist_len=hist_len,
+                adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0,
+                tangent0=tangent0,
+                **({} if watch is None else {"watch": watch}),
+            )
 
     if progress is None:
         return call(state0, transient)
     from .backend import run_followed
 
-    return run_followed(call, nsteps, state0, int(transient), int(record), progress,
-                        pieces=not adaptive and backend.restarts_exactly(accurate), rows=record_poincare,
-                        poll=PROGRESS_POLL)
+    return run_followed(
+        call,
+        nsteps,
+        state0,
+        int(transient),
+        int(record),
+        progress,
+        pieces=not adaptive and backend.restarts_exactly(accurate),
+        rows=record_poincare,
+        poll=PROGRESS_POLL,
+    )
 
 
-def _result(models: list, options: IntegrationOptions, raw: RawRun, nsteps: np.ndarray, lyapunov: bool,
-            monodromy: bool) -> BatchResult:
+def _result(
+    models: list, options: IntegrationOptions, raw: RawRun, nsteps: np.ndarray, lyapunov: bool, monodromy: bool
+) -> BatchResult:
     m = models[0]
-    return BatchResult(models, options, raw.poincare, raw.end_state, raw.status, raw.stats, nsteps,
-                       lyapunov_log=raw.tan_log if lyapunov else None,
-                       tangent=raw.tangent if (lyapunov or monodromy) else None,
-                       elements=tuple(e.name for e in m.elements), reference=int(m.reference))
+    return BatchResult(
+        models,
+        options,
+        raw.poincare,
+        raw.end_state,
+        raw.status,
+        raw.stats,
+        nsteps,
+        lyapunov_log=raw.tan_log if lyapunov else None,
+        tangent=raw.tangent if (lyapunov or monodromy) else None,
+        elements=tuple(e.name for e in m.elements),
+        reference=int(m.reference),
+    )
 
 
-def integrate_packed(models: Sequence[Any], packed: Any, nsteps: np.ndarray, state0: Any,
-                     options: IntegrationOptions, *, lyapunov: bool = False, record_poincare: bool = True,
-                     threads: int | None = None) -> BatchResult:
+def integrate_packed(
+    models: Sequence[Any],
+    packed: Any,
+    nsteps: np.ndarray,
+    state0: Any,
+    options: IntegrationOptions,
+    *,
+    lyapunov: bool = False,
+    record_poincare: bool = True,
+    threads: int | None = None,
+) -> BatchResult:
     """:func:`integrate_batch` of a batch whose kernel arrays are already packed (the grid's fast path).
 
     Parameters
@@ -439,9 +511,20 @@ def integrate_packed(models: Sequence[Any], packed: Any, nsteps: np.ndarray, sta
     """
     m0 = models[0]
     s0 = _state_array(state0, len(models), m0.state_dim, m0.backend.coords)
-    raw = _run(models, m0.backend, packed, nsteps, s0, options.transient, options.periods,
-               "lyapunov" if lyapunov else "none", options.accurate, record_poincare=record_poincare,
-               threads=threads, adaptive=options.adaptive)
+    raw = _run(
+        models,
+        m0.backend,
+        packed,
+        nsteps,
+        s0,
+        options.transient,
+        options.periods,
+        "lyapunov" if lyapunov else "none",
+        options.accurate,
+        record_poincare=record_poincare,
+        threads=threads,
+        adaptive=options.adaptive,
+    )
     return _result(models, options, raw, nsteps, lyapunov, False)
 
 
@@ -516,9 +599,22 @@ def integrate_batch(
         d = models[0].state_dim
         tangent0 = np.asarray(tangent0, dtype=float).reshape(len(models), d, d)
         mode = "continue"
-    raw = _run(models, backend, packed, nsteps, s0, options.transient, options.periods, mode, options.accurate,
-               record_poincare=record_poincare, threads=threads, adaptive=options.adaptive, tangent0=tangent0,
-               progress=progress)
+    raw = _run(
+        models,
+        backend,
+        packed,
+        nsteps,
+        s0,
+        options.transient,
+        options.periods,
+        mode,
+        options.accurate,
+        record_poincare=record_poincare,
+        threads=threads,
+        adaptive=options.adaptive,
+        tangent0=tangent0,
+        progress=progress,
+    )
     return _result(models, options, raw, nsteps, lyapunov, monodromy)
 
 
@@ -615,8 +711,20 @@ def trajectory(
     hp = int(min(max(history_periods, 1), options.periods))
     N = int(nsteps[0])
     s0 = _states(models, state0)
-    raw = _run(models, backend, packed, nsteps, s0, options.transient, options.periods, "none", options.accurate,
-               hist_len=hp * N + 1, threads=threads, progress=progress)
+    raw = _run(
+        models,
+        backend,
+        packed,
+        nsteps,
+        s0,
+        options.transient,
+        options.periods,
+        "none",
+        options.accurate,
+        hist_len=hp * N + 1,
+        threads=threads,
+        progress=progress,
+    )
     summary = _result(models, options, raw, nsteps, False, False)
     tau = np.arange(hp * N + 1) * (model.sampling_period / N)
     x = raw.hist[0]

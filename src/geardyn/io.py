@@ -10,9 +10,10 @@ atomically: to a temporary file in the same directory, then renamed.
 from __future__ import annotations
 
 import json
+from collections.abc import Iterable, Mapping
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
-from typing import Any, Iterable, Mapping, NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -72,8 +73,9 @@ VARIABLES: dict[str, Variable] = {
     "u_max": _v("largest displacement"),
     "period": _v("period of the Poincaré sequence (0 not periodic, -1 diverged)"),
     "impact": _v("impact state (0 none, 1 single-sided, 2 double-sided, -1 unknown)", flags=IMPACT_LABELS),
-    "motion": _v("motion class (-1 diverged, 0 unresolved, 1 periodic, 2 quasi-periodic, 3 chaotic)",
-                 flags=MOTION_LABELS),
+    "motion": _v(
+        "motion class (-1 diverged, 0 unresolved, 1 periodic, 2 quasi-periodic, 3 chaotic)", flags=MOTION_LABELS
+    ),
     "fraction_drive": _v("time fraction in drive-side contact"),
     "fraction_separation": _v("time fraction in separation"),
     "fraction_back": _v("time fraction in back-side contact"),
@@ -178,21 +180,27 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
         "tau": _v("non-dimensional time τ = ω_n t at the middle of a speed block"),
         "time_s": _v("time at the middle of a speed block", "s"),
     },
-    "hb": {"coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
-           "coefficient": _v("index of the Fourier coefficient"),
-           "stable": _v("solution stable (1) or unstable (0) by Hill's multipliers")},
+    "hb": {
+        "coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
+        "coefficient": _v("index of the Fourier coefficient"),
+        "stable": _v("solution stable (1) or unstable (0) by Hill's multipliers"),
+    },
 }
 
 _V = lambda ln, u="1": Variable(u, ln)  # noqa: E731
 #: Metadata of the variables of the results of mesh-vector systems (entered in :data:`KIND_VARIABLES` for
 #: every ``system_*`` kind, so that :func:`annotate` fills them in).
 SYSTEM_VARIABLES: dict[str, Variable] = {
-    "element": _V("element (meshes, then clearances)"), "mesh": _V("gear mesh"),
-    "coordinate": _V("state coordinate (q̃, then q̃')"), "state": _V("state coordinate (q̃, then q̃')"),
+    "element": _V("element (meshes, then clearances)"),
+    "mesh": _V("gear mesh"),
+    "coordinate": _V("state coordinate (q̃, then q̃')"),
+    "state": _V("state coordinate (q̃, then q̃')"),
     "delta": _V("deflection δ of the element (DTE over b_c for a mesh)"),
     "delta_rate": _V("rate dδ/dτ of the element"),
-    "u": _V("deflection δ of the reference mesh"), "v": _V("rate dδ/dτ of the reference mesh"),
-    "mesh_force": _V("mesh force over k_ref b_c"), "mesh_force_N": _V("dynamic mesh force", "N"),
+    "u": _V("deflection δ of the reference mesh"),
+    "v": _V("rate dδ/dτ of the reference mesh"),
+    "mesh_force": _V("mesh force over k_ref b_c"),
+    "mesh_force_N": _V("dynamic mesh force", "N"),
     "poincare": _V("Poincaré points of the full state at θ ≡ 0"),
     "points": _V("section points of the orbit (full state)"),
     "elastic": _V("elastic multiplier index (largest modulus first)"),
@@ -202,31 +210,63 @@ SYSTEM_VARIABLES: dict[str, Variable] = {
     "poincare_u": _V("Poincaré section δ of the reference mesh at θ ≡ 0"),
     "poincare_v": _V("Poincaré section dδ/dτ of the reference mesh at θ ≡ 0"),
     "poincare_coordinate": _V("Poincaré section of the chosen state coordinate"),
-    "mesh_u_min": _V("smallest deflection δ of the mesh"), "mesh_u_max": _V("largest deflection δ of the mesh"),
+    "mesh_u_min": _V("smallest deflection δ of the mesh"),
+    "mesh_u_max": _V("largest deflection δ of the mesh"),
     "mesh_amplitude": _V("half peak-to-peak deflection δ of the mesh"),
     "mesh_impact": _V("impact state of the mesh (0 none, 1 single-sided, 2 double-sided)"),
-    "mesh_mean": _V("mean deflection δ of the mesh"), "mesh_rms": _V("RMS of δ of the mesh about its mean"),
+    "mesh_mean": _V("mean deflection δ of the mesh"),
+    "mesh_rms": _V("RMS of δ of the mesh about its mean"),
     "u0": _V("initial value of the first slice coordinate at θ = 0"),
     "v0": _V("initial value of the second slice coordinate at θ = 0"),
-    "value": _V("continuation parameter value"), "element_u_min": _V("smallest deflection δ of the element"),
+    "value": _V("continuation parameter value"),
+    "element_u_min": _V("smallest deflection δ of the element"),
     "element_u_max": _V("largest deflection δ of the element"),
     "bifurcation_value": _V("continuation parameter at the bifurcation"),
 }
-SYSTEM_VARIABLES.update({
-    "element_mean": _V("mean deflection δ of the element"),
-    "element_rms": _V("RMS of δ of the element about its mean"),
-    "element_impact": _V("impact state of the element (0 none, 1 single-sided, 2 double-sided)"),
-    "start_state": _V("initial state (q̃, q̃') of the point"),
-})
+SYSTEM_VARIABLES.update(
+    {
+        "element_mean": _V("mean deflection δ of the element"),
+        "element_rms": _V("RMS of δ of the element about its mean"),
+        "element_impact": _V("impact state of the element (0 none, 1 single-sided, 2 double-sided)"),
+        "start_state": _V("initial state (q̃, q̃') of the point"),
+    }
+)
 #: The kinds the previous versions wrote for systems (``system_<analysis>``); their files stay readable.
-SYSTEM_KINDS = ("system_simulate", "system_lyapunov", "system_orbit", "system_bifurcation", "system_response",
-                "system_map", "system_basins", "system_continuation")
+SYSTEM_KINDS = (
+    "system_simulate",
+    "system_lyapunov",
+    "system_orbit",
+    "system_bifurcation",
+    "system_response",
+    "system_map",
+    "system_basins",
+    "system_continuation",
+)
 for _k in SYSTEM_KINDS:
     KIND_VARIABLES.setdefault(_k, {}).update(SYSTEM_VARIABLES)
 #: Every kind: the variables that only a system's results have (per element, full states).
-_SYSTEM_ONLY = ("element", "mesh", "coordinate", "state", "delta", "delta_rate", "mesh_force", "mesh_force_N",
-                "end_state", "start_state", "element_u_min", "element_u_max", "element_mean", "element_rms",
-                "element_impact", "elastic", "elastic_re", "elastic_im", "poincare", "points")
+_SYSTEM_ONLY = (
+    "element",
+    "mesh",
+    "coordinate",
+    "state",
+    "delta",
+    "delta_rate",
+    "mesh_force",
+    "mesh_force_N",
+    "end_state",
+    "start_state",
+    "element_u_min",
+    "element_u_max",
+    "element_mean",
+    "element_rms",
+    "element_impact",
+    "elastic",
+    "elastic_re",
+    "elastic_im",
+    "poincare",
+    "points",
+)
 
 #: Suffix of the copy of a displacement variable in µm (``amplitude_um``; see :func:`physical_long_name`).
 PHYSICAL_SUFFIX = "_um"
@@ -269,8 +309,8 @@ def variable(name: str, kind: str | None = None) -> Variable | None:
         return meta
     if _is_parameter(name):
         return _v(*describe(name))
-    if name.startswith("bifurcation_") and _is_parameter(name[len("bifurcation_"):]):
-        return _v(f"parameter {name[len('bifurcation_'):]} at the bifurcation")
+    if name.startswith("bifurcation_") and _is_parameter(name[len("bifurcation_") :]):
+        return _v(f"parameter {name[len('bifurcation_') :]} at the bifurcation")
     if name.endswith(PHYSICAL_SUFFIX):
         base = variable(name[: -len(PHYSICAL_SUFFIX)], kind)
         if base is not None and base.units == _ONE:
@@ -325,7 +365,7 @@ def annotate(ds: xr.Dataset, kind: str | None = None, *, names: Iterable[str] | 
     """
     kind = kind or ds.attrs.get("geardyn_kind")
     ctx = _contexts(ds)
-    for name in (list(ds.variables) if names is None else list(names)):
+    for name in list(ds.variables) if names is None else list(names):
         base, k = str(name), kind
         head, sep, tail = base.partition(CONTEXT_SEPARATOR)
         if sep and head in ctx:
@@ -403,7 +443,7 @@ def attached(ds: xr.Dataset, name: str) -> xr.Dataset | None:
     names = [k for k in ds.variables if str(k).startswith(pre)]
     sub = ds[names] if names else xr.Dataset()
     sub = sub.drop_vars([c for c in sub.coords if not str(c).startswith(pre)])
-    ren = {str(k): str(k)[len(pre):] for k in list(sub.variables) + list(sub.dims) if str(k).startswith(pre)}
+    ren = {str(k): str(k)[len(pre) :] for k in list(sub.variables) + list(sub.dims) if str(k).startswith(pre)}
     out = sub.rename(ren)
     out.attrs = dict(ctx[name])
     return out
@@ -427,8 +467,9 @@ def json_number(x: Any) -> float | None:
     return x if np.isfinite(x) else None
 
 
-def json_values(da: xr.DataArray | np.ndarray, kind: str | None = None, *, name: str | None = None,
-                period: Any = None) -> Any:
+def json_values(
+    da: xr.DataArray | np.ndarray, kind: str | None = None, *, name: str | None = None, period: Any = None
+) -> Any:
     """JSON-ready nested lists of a per-point variable, converted as geardyn's ``--json`` outputs do.
 
     Coded variables (with flags in the registry) become their labels; ``motion`` of a periodic point
@@ -455,8 +496,10 @@ def json_values(da: xr.DataArray | np.ndarray, kind: str | None = None, *, name:
     meta = variable(name, kind)
     if name == "motion":
         per = np.broadcast_to(np.asarray(period), vals.shape) if period is not None else np.full(vals.shape, None)
-        out = np.array([motion_label(int(c), None if p is None else int(p)) for c, p in zip(vals.ravel(), per.ravel())],
-                       dtype=object).reshape(vals.shape)
+        out = np.array(
+            [motion_label(int(c), None if p is None else int(p)) for c, p in zip(vals.ravel(), per.ravel())],
+            dtype=object,
+        ).reshape(vals.shape)
     elif meta is not None and meta.flags:
         out = np.array([meta.flags.get(int(c), "unknown") for c in vals.ravel()], dtype=object).reshape(vals.shape)
     elif name in ("period", "attractor_period"):
@@ -530,8 +573,7 @@ def result_attrs(kind: str, model: Any, options: Any = None, **extra: Any) -> di
     return attrs
 
 
-def system_attrs(model: Any, kind: str, options: Any = None,
-                 extra: dict[str, Any] | None = None) -> dict[str, str]:
+def system_attrs(model: Any, kind: str, options: Any = None, extra: dict[str, Any] | None = None) -> dict[str, str]:
     """Global attributes of a system result: kind, the system (file, labels, meshes) and options as JSON.
 
     Parameters
@@ -552,16 +594,25 @@ def system_attrs(model: Any, kind: str, options: Any = None,
 
     extra = dict(extra or {})
     desc = model.description
-    sysinfo = {"labels": list(model.labels), "meshes": [m.name for m in model.meshes],
-               "clearances": list(model.clearance_names), "reference_mesh": model.scaling.reference,
-               "omega": model.omega, "title": getattr(desc, "title", None),
-               "source": str(getattr(desc, "source", "") or "") or None,
-               "elements": [{"name": e.name, "kind": e.kind, "gap": e.gap} for e in model.elements]}
+    sysinfo = {
+        "labels": list(model.labels),
+        "meshes": [m.name for m in model.meshes],
+        "clearances": list(model.clearance_names),
+        "reference_mesh": model.scaling.reference,
+        "omega": model.omega,
+        "title": getattr(desc, "title", None),
+        "source": str(getattr(desc, "source", "") or "") or None,
+        "elements": [{"name": e.name, "kind": e.kind, "gap": e.gap} for e in model.elements],
+    }
     sc = getattr(model, "scaling", None)
     if sc is not None:  # the scales of the physical units (µm, N, rpm)
         sysinfo.update(b_c_um=sc.b_c * 1e6, force_scale_N=sc.force_scale, omega_n=sc.omega_n, teeth=sc.teeth)
-    attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "system": json.dumps(sysinfo),
-             "model": json.dumps({"omega": model.omega, "D": model.elements[model.reference].gap})}
+    attrs = {
+        "geardyn_kind": kind,
+        "geardyn_version": __version__,
+        "system": json.dumps(sysinfo),
+        "model": json.dumps({"omega": model.omega, "D": model.elements[model.reference].gap}),
+    }
     if options is not None:
         attrs["options"] = json_attr(options)
     for k, v in extra.items():

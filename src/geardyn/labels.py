@@ -10,9 +10,21 @@ from __future__ import annotations
 import math
 
 __all__ = [
-    "MAX_PERIOD", "IMPACT_NONE", "IMPACT_SINGLE", "IMPACT_DOUBLE", "IMPACT_UNKNOWN", "IMPACT_LABELS",
-    "MOTION_DIVERGED", "MOTION_UNRESOLVED", "MOTION_PERIODIC", "MOTION_QUASIPERIODIC", "MOTION_CHAOTIC",
-    "MOTION_LABELS", "impact_state", "period_label", "motion_label",
+    "MAX_PERIOD",
+    "IMPACT_NONE",
+    "IMPACT_SINGLE",
+    "IMPACT_DOUBLE",
+    "IMPACT_UNKNOWN",
+    "IMPACT_LABELS",
+    "MOTION_DIVERGED",
+    "MOTION_UNRESOLVED",
+    "MOTION_PERIODIC",
+    "MOTION_QUASIPERIODIC",
+    "MOTION_CHAOTIC",
+    "MOTION_LABELS",
+    "impact_state",
+    "period_label",
+    "motion_label",
 ]
 
 #: Largest period n (in forcing periods) that period detection reports (and the adaptive transient seeks).

@@ -19,7 +19,8 @@ This module validates the nodes and builds the kernel's arrays; it imports NumPy
 from __future__ import annotations
 
 import math
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -73,8 +74,10 @@ def check_table(table: Sequence[Any], cycles: int) -> tuple[tuple[float, ...], .
     if n < 2 or np.any(d < 0) or p[0] < 0 or p[-1] >= cycles:
         raise ModelError(f"table: the node phases must be non-decreasing in [0, {cycles}) mesh cycles (at least 2)")
     if np.any((d[:-1] == 0) & (d[1:] == 0)) or np.unique(p).size < 2:
-        raise ModelError("table: a phase is given at most twice (a jump: left value, then right value), and at "
-                         "least two phases are distinct")
+        raise ModelError(
+            "table: a phase is given at most twice (a jump: left value, then right value), and at "
+            "least two phases are distinct"
+        )
     if min(k) <= 0:
         raise ModelError("table: the stiffness must be > 0 at every node")
     return phase, k, e

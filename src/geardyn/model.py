@@ -20,8 +20,9 @@ from __future__ import annotations
 import json
 import math
 import numbers
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass, fields
-from typing import Any, ClassVar, Iterable, Sequence
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -101,9 +102,10 @@ def _as_tuple(name: str, values: Any, cycles: int = 1) -> tuple[float, ...]:
     out = tuple(_check_finite(f"{name}{i + 1}", v) for i, v in enumerate(values))
     cap = MAX_HARMONICS * cycles
     if len(out) > cap:
-        raise ModelError(f"{name}: at most {cap} harmonics, got {len(out)}"
-                         + (f" (mesh orders up to {MAX_HARMONICS} over a period of {cycles} mesh cycles)"
-                            if cycles > 1 else ""))
+        raise ModelError(
+            f"{name}: at most {cap} harmonics, got {len(out)}"
+            + (f" (mesh orders up to {MAX_HARMONICS} over a period of {cycles} mesh cycles)" if cycles > 1 else "")
+        )
     return out
 
 
@@ -132,7 +134,7 @@ def stiffness_minimum(kappa: Sequence[float], phi_k: Sequence[float]) -> float:
     M = 1 << int(math.ceil(math.log2(max(8 * a.size + 8, 50.0 * math.pi * slope, 64.0))))
     X = np.zeros(M // 2 + 1, dtype=complex)
     X[0] = M
-    X[1:a.size + 1] = 0.5 * M * a * np.exp(1j * p)
+    X[1 : a.size + 1] = 0.5 * M * a * np.exp(1j * p)
     values = np.fft.irfft(X, M)
     return float(values.min()) - slope * math.pi / M
 
@@ -239,11 +241,12 @@ class GearModel:
         if self.evaluation not in EVALUATIONS:
             raise ModelError(f"evaluation: one of {', '.join(EVALUATIONS)}, got {self.evaluation!r}")
         if (self.evaluation == "table") != bool(self.table):
-            raise ModelError("table: evaluation = \"table\" takes a table (phase, k, e), and a table needs it")
+            raise ModelError('table: evaluation = "table" takes a table (phase, k, e), and a table needs it')
         if self.table:
             set_(self, "table", check_table(self.table, self.cycles))
         if sum(abs(k) for k in self.kappa) >= MAX_KAPPA_SUM and not (
-                (self.cycles > 1 or self.table) and stiffness_minimum(self.kappa, self.phi_k) > 0.0):
+            (self.cycles > 1 or self.table) and stiffness_minimum(self.kappa, self.phi_k) > 0.0
+        ):
             raise ModelError(
                 f"kappa: sum of |kappa_r| must be < {MAX_KAPPA_SUM} so the mesh stiffness stays positive, "
                 f"got {sum(abs(k) for k in self.kappa):g}"
@@ -260,7 +263,7 @@ class GearModel:
         """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1)."""
         return self.omega if self.cycles == 1 else self.omega / self.cycles
 
-    def forcing_model(self) -> "GearModel":
+    def forcing_model(self) -> GearModel:
         """The same equation with one forcing period as its unit: frequency ω/P, ``cycles`` 1 (itself when P = 1).
 
         For tools written for one-cycle models (the 1-DOF harmonic balance): its ω is the forcing frequency
@@ -322,8 +325,9 @@ class GearModel:
         """Mean trace of the Jacobian over a period: −2ξ0 (the damping harmonics average to zero)."""
         return -2.0 * self.xi0
 
-    def report(self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None,
-               extrema: Any = None) -> dict[str, Any]:
+    def report(
+        self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None
+    ) -> dict[str, Any]:
         """Nothing beyond the summary's own keys (they are the mesh's)."""
         return {}
 
@@ -335,11 +339,11 @@ class GearModel:
         return PAIR
 
     @staticmethod
-    def pack(models: Iterable["GearModel"]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def pack(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Kernel arrays of a batch of models (see :func:`pack_models`)."""
         return pack_models(models)
 
-    def replace(self, **changes: Any) -> "GearModel":
+    def replace(self, **changes: Any) -> GearModel:
         """Return a copy with fields changed (validated anew)."""
         d = {f.name: getattr(self, f.name) for f in fields(self)}
         d.update(changes)
@@ -354,7 +358,7 @@ class GearModel:
         seq = getattr(self, attr)
         return seq[idx] if idx < len(seq) else 0.0
 
-    def with_param(self, name: str, value: float) -> "GearModel":
+    def with_param(self, name: str, value: float) -> GearModel:
         """Copy with the parameter ``name`` set to ``value`` (harmonic series extended as needed)."""
         attr, idx = slot(name)
         if idx is None:
@@ -433,7 +437,7 @@ class GearModel:
         return json.dumps(self.to_dict(), sort_keys=True)
 
     @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> "GearModel":
+    def from_dict(cls, d: dict[str, Any]) -> GearModel:
         known = {f.name for f in fields(cls)}
         unknown = set(d) - known
         if unknown:
@@ -443,6 +447,7 @@ class GearModel:
 
 #: The paper's Table 1 non-dimensional values (ω not given there).
 PAPER_DEFAULTS = GearModel()
+
 
 def steps_per_period(omega: float | np.ndarray, dtau: float) -> np.ndarray:
     """Number of RK4 steps per forcing period, N = ceil(T/Δτ) with T = 2π/ω, so h = T/N <= Δτ.
@@ -523,8 +528,9 @@ class IntegrationOptions:
         object.__setattr__(self, "accurate", bool(self.accurate))
         object.__setattr__(self, "adaptive", bool(self.adaptive))
         if self.adaptive and self.accurate:
-            raise ModelError("adaptive: the adaptive transient runs in the default mode only; drop --accurate or "
-                             "--adaptive")
+            raise ModelError(
+                "adaptive: the adaptive transient runs in the default mode only; drop --accurate or --adaptive"
+            )
 
     def check_for(self, omega: float) -> None:
         """Refuse a step that is not smaller than the forcing period 2π/ω."""
@@ -532,7 +538,7 @@ class IntegrationOptions:
         if self.dtau >= T:
             raise ModelError(f"dtau: must be smaller than the forcing period T = 2π/ω = {T:.6g}, got {self.dtau!r}")
 
-    def replace(self, **changes: Any) -> "IntegrationOptions":
+    def replace(self, **changes: Any) -> IntegrationOptions:
         d = asdict(self)
         d.update(changes)
         return IntegrationOptions(**d)
@@ -575,7 +581,7 @@ def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np
     rows = [kernel_table(m.table, m.cycles) if m.table else np.zeros((0, 7)) for m in models]
     tab = np.zeros((len(models), max(r.shape[0] for r in rows), 7))
     for i, r in enumerate(rows):
-        tab[i, :r.shape[0]] = r
+        tab[i, : r.shape[0]] = r
         if r.shape[0]:
             coef[i, 1] = 0.0
             coef[i, 2, 1:] = 0.0
@@ -629,8 +635,10 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
         For no point, or a point the model refuses (ω <= 0, D < 0, Σ|κ_r| >= 1, a non-finite value).
     """
     if base.evaluation != "series":
-        raise ModelError("evaluation \"table\": a parameter grid evaluates series models only; the table is "
-                         "evaluated as given by simulate, orbit and lyapunov with --accurate")
+        raise ModelError(
+            'evaluation "table": a parameter grid evaluates series models only; the table is '
+            "evaluated as given by simulate, orbit and lyapunov with --accurate"
+        )
     names = list(names)
     pts = np.asarray(points, dtype=float).reshape(-1, len(names))
     P = pts.shape[0]
@@ -644,7 +652,7 @@ def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tu
     val = {k: np.full(P, float(getattr(base, k))) for k in ("omega", "xi0", "fp", "D")}
     for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
         row = np.zeros(len(getattr(proto, k)))
-        row[:len(getattr(base, k))] = getattr(base, k)
+        row[: len(getattr(base, k))] = getattr(base, k)
         val[k] = np.tile(row, (P, 1)).reshape(P, row.size)
     ok = np.ones(P, dtype=bool)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):

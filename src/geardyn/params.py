@@ -14,9 +14,9 @@ kernel), one line in ``docs/model.md`` and a test; see ``docs/architecture.md``.
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Mapping
 
 from ._docfill import attributes
 from .errors import ModelError
@@ -43,9 +43,11 @@ __all__ = [
 MAX_HARMONICS = 64
 
 #: Help of the common ``--excitation`` option (:mod:`geardyn.tooth.table`).
-EXCITATION_HELP = ("Mesh stiffness and STE over P mesh cycles (.nc of geardyn stiffness, .csv, .json, or a tooth-pair "
-                   ".toml) instead of their harmonics; ω stays the mesh frequency, the forcing period is P·2π/ω "
-                   "(docs/excitation.md).")
+EXCITATION_HELP = (
+    "Mesh stiffness and STE over P mesh cycles (.nc of geardyn stiffness, .csv, .json, or a tooth-pair "
+    ".toml) instead of their harmonics; ω stays the mesh frequency, the forcing period is P·2π/ω "
+    "(docs/excitation.md)."
+)
 
 
 @dataclass(frozen=True)
@@ -81,28 +83,89 @@ class Family:
 
 
 #: The families, in the order of :class:`~geardyn.model.GearModel`'s fields.
-FAMILIES: Mapping[str, Family] = MappingProxyType({f.name: f for f in (
-    Family("omega", False, "ω", "mesh frequency ω = ω_e/ω_n", "1", 1.0,
-           "--omega", "Mesh frequency ω = ω_e/ω_n (non-dimensional, > 0)."),
-    Family("xi0", False, "ξ0", "mean damping ratio ξ0", "1", 0.1,
-           "--xi0", "Mean damping ratio ξ0."),
-    Family("xi", True, "ξ_{k}", "damping harmonic ξ_{k}", "1", (0.05,),
-           "--xi1", "First damping harmonic ξ1."),
-    Family("phi_c", True, "φ_c{k}", "phase of damping harmonic {k}", "rad", (),
-           "--phi-c", "Phase of the first damping harmonic (rad).", amplitude="xi"),
-    Family("kappa", True, "κ_{k}", "stiffness harmonic κ_{k}", "1", (0.2,),
-           "--kappa1", "First stiffness harmonic κ1 (|κ| sum < 1)."),
-    Family("phi_k", True, "φ_k{k}", "phase of stiffness harmonic {k}", "rad", (),
-           "--phi-k", "Phase of the first stiffness harmonic (rad).", amplitude="kappa"),
-    Family("eps", True, "ε_{k}", "STE harmonic ε_{k}", "1", (0.5,),
-           "--fe", "First STE harmonic ε1 (forcing ω² ε1 cos θ; the paper's 0.5)."),
-    Family("phi_e", True, "φ_e{k}", "phase of STE harmonic {k}", "rad", (),
-           "--phi-e", "Phase of the first STE harmonic (rad).", amplitude="eps"),
-    Family("fp", False, "f_p", "mean load f_p", "1", 0.2,
-           "--fp", "Mean load f_p (non-dimensional)."),
-    Family("D", False, "D", "half backlash D", "1", 1.0,
-           "--backlash", "Half backlash D (non-dimensional, >= 0; 0 = no backlash)."),
-)})
+FAMILIES: Mapping[str, Family] = MappingProxyType(
+    {
+        f.name: f
+        for f in (
+            Family(
+                "omega",
+                False,
+                "ω",
+                "mesh frequency ω = ω_e/ω_n",
+                "1",
+                1.0,
+                "--omega",
+                "Mesh frequency ω = ω_e/ω_n (non-dimensional, > 0).",
+            ),
+            Family("xi0", False, "ξ0", "mean damping ratio ξ0", "1", 0.1, "--xi0", "Mean damping ratio ξ0."),
+            Family("xi", True, "ξ_{k}", "damping harmonic ξ_{k}", "1", (0.05,), "--xi1", "First damping harmonic ξ1."),
+            Family(
+                "phi_c",
+                True,
+                "φ_c{k}",
+                "phase of damping harmonic {k}",
+                "rad",
+                (),
+                "--phi-c",
+                "Phase of the first damping harmonic (rad).",
+                amplitude="xi",
+            ),
+            Family(
+                "kappa",
+                True,
+                "κ_{k}",
+                "stiffness harmonic κ_{k}",
+                "1",
+                (0.2,),
+                "--kappa1",
+                "First stiffness harmonic κ1 (|κ| sum < 1).",
+            ),
+            Family(
+                "phi_k",
+                True,
+                "φ_k{k}",
+                "phase of stiffness harmonic {k}",
+                "rad",
+                (),
+                "--phi-k",
+                "Phase of the first stiffness harmonic (rad).",
+                amplitude="kappa",
+            ),
+            Family(
+                "eps",
+                True,
+                "ε_{k}",
+                "STE harmonic ε_{k}",
+                "1",
+                (0.5,),
+                "--fe",
+                "First STE harmonic ε1 (forcing ω² ε1 cos θ; the paper's 0.5).",
+            ),
+            Family(
+                "phi_e",
+                True,
+                "φ_e{k}",
+                "phase of STE harmonic {k}",
+                "rad",
+                (),
+                "--phi-e",
+                "Phase of the first STE harmonic (rad).",
+                amplitude="eps",
+            ),
+            Family("fp", False, "f_p", "mean load f_p", "1", 0.2, "--fp", "Mean load f_p (non-dimensional)."),
+            Family(
+                "D",
+                False,
+                "D",
+                "half backlash D",
+                "1",
+                1.0,
+                "--backlash",
+                "Half backlash D (non-dimensional, >= 0; 0 = no backlash).",
+            ),
+        )
+    }
+)
 
 #: Other spellings accepted for a parameter name.
 ALIASES: Mapping[str, str] = MappingProxyType({"fe": "eps1", "backlash": "D", "b": "D"})
@@ -128,12 +191,14 @@ LISTING_ORDER = ("omega", "xi0", "xi", "kappa", "fp", "eps", "D", "phi_c", "phi_
 
 #: Parameter names accepted by sweeps, :meth:`~geardyn.model.GearModel.get` and ``with_param``.
 PARAMETER_HELP: Mapping[str, str] = MappingProxyType(
-    {FAMILIES[n].pattern: _help_entry(FAMILIES[n]) for n in LISTING_ORDER})
+    {FAMILIES[n].pattern: _help_entry(FAMILIES[n]) for n in LISTING_ORDER}
+)
 
 
 def parameter_names() -> str:
     """The parameter names a sweep or a continuation takes, for a help text: each family's pattern in
     :data:`LISTING_ORDER`, its :data:`ALIASES` in parentheses (``"omega, xi0, xiK, …, epsL (fe), D (backlash, b), …"``)."""
+
     def aliases(f: Family) -> str:
         names = [a for a, target in ALIASES.items() if family_of(target) is f]
         return f" ({', '.join(names)})" if names else ""

@@ -11,5 +11,18 @@ from .paper.settings import Context, Settings
 from .paper.studies.formula import fit_formula
 from .paper.verdicts import MATCH_PARTLY, MATCH_REPRODUCED, VERDICT_RULES, describe_motion, quasi_n, verdict_of
 
-__all__ = ["MATCH_PARTLY", "MATCH_REPRODUCED", "VERDICT_RULES", "Context", "Settings", "describe_motion", "fit_formula",
-           "quasi_n", "run", "run_studies", "settings_section", "verdict_of", "write_outputs"]
+__all__ = [
+    "MATCH_PARTLY",
+    "MATCH_REPRODUCED",
+    "VERDICT_RULES",
+    "Context",
+    "Settings",
+    "describe_motion",
+    "fit_formula",
+    "quasi_n",
+    "run",
+    "run_studies",
+    "settings_section",
+    "verdict_of",
+    "write_outputs",
+]

@@ -21,8 +21,9 @@ __all__ = ["series_values", "BLOCK"]
 BLOCK = 4096
 
 
-def series_values(c: np.ndarray, theta: np.ndarray | float, rows: Sequence[int], *, ratio: float = 1.0,
-                  derivative: bool = False) -> tuple[np.ndarray, ...]:
+def series_values(
+    c: np.ndarray, theta: np.ndarray | float, rows: Sequence[int], *, ratio: float = 1.0, derivative: bool = False
+) -> tuple[np.ndarray, ...]:
     """Series ``rows`` of the coefficients ``c`` at angles ``ratio·θ``, then (if ``derivative``) their d/dθ.
 
     Parameters
@@ -50,7 +51,7 @@ def series_values(c: np.ndarray, theta: np.ndarray | float, rows: Sequence[int],
     val = np.empty((len(rows), flat.size))
     der = np.empty((len(rows), flat.size)) if derivative else None
     for a in range(0, flat.size, BLOCK):
-        t = flat[a:a + BLOCK]
+        t = flat[a : a + BLOCK]
         x = [np.full_like(t, c[i, 0, 0]) for i in rows]
         dx = [np.zeros_like(t) for _ in rows] if derivative else []
         for j in range(1, c.shape[1]):
@@ -61,9 +62,9 @@ def series_values(c: np.ndarray, theta: np.ndarray | float, rows: Sequence[int],
                 x[k] = x[k] + c[i, j, 0] * cs + c[i, j, 1] * sn
                 if derivative:
                     dx[k] = dx[k] + jr * (c[i, j, 1] * cs - c[i, j, 0] * sn)
-        val[:, a:a + BLOCK] = x
+        val[:, a : a + BLOCK] = x
         if derivative:
-            der[:, a:a + BLOCK] = dx
+            der[:, a : a + BLOCK] = dx
     out = [v.reshape(th.shape) for v in val]
     if derivative:
         out += [d.reshape(th.shape) for d in der]

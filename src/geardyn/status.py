@@ -38,7 +38,7 @@ class Status(IntEnum):
         return self is Status.OK
 
     @classmethod
-    def parse(cls, value: "Status | int | str") -> "Status":
+    def parse(cls, value: Status | int | str) -> Status:
         """The status of an integer code, a label or a member (``"converged"`` is read as ``OK``)."""
         if isinstance(value, cls):
             return value
@@ -63,15 +63,17 @@ _LABELS = {
 _MESSAGES = {
     Status.OK: "computed",
     Status.DIVERGED: "the response grew without bound or became non-finite; the point has no attractor "
-                     "from this initial state (check damping and load, or try another initial state)",
+    "from this initial state (check damping and load, or try another initial state)",
     Status.NOT_CONVERGED: "the iteration did not meet its tolerance; try another initial guess, a smaller "
-                          "continuation step or more iterations",
+    "continuation step or more iterations",
     Status.UNRESOLVED: "the solver converged but could not resolve the quantity asked for (e.g. Floquet "
-                       "multipliers from too few harmonics); raise the resolution",
+    "multipliers from too few harmonics); raise the resolution",
 }
 
 
 def flag_attrs() -> dict[str, object]:
     """CF-style attributes of a ``status`` variable: ``flag_values`` and ``flag_meanings``."""
-    return {"flag_values": [int(s) for s in Status],
-            "flag_meanings": " ".join(_LABELS[s].replace(" ", "_") for s in Status)}
+    return {
+        "flag_values": [int(s) for s in Status],
+        "flag_meanings": " ".join(_LABELS[s].replace(" ", "_") for s in Status),
+    }

@@ -52,8 +52,9 @@ backend
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, Iterable, Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -110,12 +111,13 @@ class System(Protocol):
 
     def mean_trace(self) -> float: ...
 
-    def report(self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None,
-               extrema: Any = None) -> dict[str, Any]: ...
+    def report(
+        self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None
+    ) -> dict[str, Any]: ...
 
     def get(self, name: str) -> float: ...
 
-    def with_param(self, name: str, value: float) -> "System": ...
+    def with_param(self, name: str, value: float) -> System: ...
 
     def parameters(self) -> dict[str, float]: ...
 

@@ -49,8 +49,14 @@ __all__ = [
 ]
 
 #: Units of the first column: angle (to rad) ...
-ANGLE_UNITS = {"deg": math.pi / 180.0, "degree": math.pi / 180.0, "degrees": math.pi / 180.0, "rad": 1.0,
-               "rev": 2.0 * math.pi, "turn": 2.0 * math.pi}
+ANGLE_UNITS = {
+    "deg": math.pi / 180.0,
+    "degree": math.pi / 180.0,
+    "degrees": math.pi / 180.0,
+    "rad": 1.0,
+    "rev": 2.0 * math.pi,
+    "turn": 2.0 * math.pi,
+}
 #: ... or time (to s).
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
 #: Units of the TE column (to µm).
@@ -108,8 +114,9 @@ def _number(text: str) -> float | None:
         return None
 
 
-def read_te(path: str | Path, *, x_unit: str | None = None, te_unit: str | None = None,
-            rpm: float | None = None) -> TESignal:
+def read_te(
+    path: str | Path, *, x_unit: str | None = None, te_unit: str | None = None, rpm: float | None = None
+) -> TESignal:
     """Read a two-column TE record (angle or time, TE), with an optional header stating the units.
 
     Parameters
@@ -198,15 +205,18 @@ def read_te(path: str | Path, *, x_unit: str | None = None, te_unit: str | None 
     steps = np.diff(x)
     if np.any(steps <= 0):
         k = int(np.argmax(steps <= 0)) + 1
-        raise bad(rows[k][0], f"the {kind} must increase strictly: {rows[k][1]:g} follows {rows[k - 1][1]:g} "
-                              f"(line {rows[k - 1][0]})")
+        raise bad(
+            rows[k][0],
+            f"the {kind} must increase strictly: {rows[k][1]:g} follows {rows[k - 1][1]:g} (line {rows[k - 1][0]})",
+        )
     used_rpm = None
     if kind == "time":
         if rpm is None:
             raise bad(where, "a time record needs the pinion speed (--rpm) to give the pinion angle")
         if not (math.isfinite(rpm) and 0 < rpm <= MAX_TE_RPM):
-            raise ConfigError(f"rpm: the pinion speed of the time record {src} must be in (0, {MAX_TE_RPM:g}] rpm, "
-                              f"got {rpm!r}")
+            raise ConfigError(
+                f"rpm: the pinion speed of the time record {src} must be in (0, {MAX_TE_RPM:g}] rpm, got {rpm!r}"
+            )
         used_rpm = float(rpm)
         x = (x - x[0]) * used_rpm * math.pi / 30.0
     return TESignal(source=src, angle=x - x[0], te_um=te, abscissa=kind, rpm=used_rpm)
@@ -218,8 +228,10 @@ def _read_lines(src: str) -> list[str]:
 
     size = regular_file_size(src, "TE file")
     if size > MAX_TE_BYTES:
-        raise ConfigError(f"{src}: TE file of {size / 1e6:.1f} MB; at most {MAX_TE_BYTES / 1e6:.0f} MB are read "
-                          f"(at most {MAX_TE_ROWS} samples; resample the record)")
+        raise ConfigError(
+            f"{src}: TE file of {size / 1e6:.1f} MB; at most {MAX_TE_BYTES / 1e6:.0f} MB are read "
+            f"(at most {MAX_TE_ROWS} samples; resample the record)"
+        )
     try:
         with open(src, "rb") as f:
             data = f.read(MAX_TE_BYTES + 1)
@@ -239,8 +251,10 @@ def _pick_unit(src: str, line: int, what: str, header: str | None, given: str | 
         raise ConfigError(f"{src}: line {line}: the header gives the {what} in {header!r}, the option {given!r}")
     unit = header or given
     if unit is None:
-        raise ConfigError(f"{src}: line {line}: units not stated for the {what}: write them in a header "
-                          "(e.g. 'angle [deg], TE [um]') or give --x-unit and --te-unit")
+        raise ConfigError(
+            f"{src}: line {line}: units not stated for the {what}: write them in a header "
+            "(e.g. 'angle [deg], TE [um]') or give --x-unit and --te-unit"
+        )
     return unit
 
 
@@ -292,18 +306,25 @@ class TEAnalysis:
 
     def to_json(self) -> dict[str, Any]:
         """JSON summary (phases also in degrees)."""
+
         def with_deg(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
             return [{**r, "phase_deg": math.degrees(r["phase_rad"])} for r in rows]
 
         return {
-            "source": self.source, "z1": self.z1, "z2": self.z2,
-            "mesh_harmonics": with_deg(self.mesh), "sidebands": with_deg(self.sidebands),
-            "mean_um": self.mean_um, "sideband_share": self.sideband_share, "residual_share": self.residual_share,
+            "source": self.source,
+            "z1": self.z1,
+            "z2": self.z2,
+            "mesh_harmonics": with_deg(self.mesh),
+            "sidebands": with_deg(self.sidebands),
+            "mean_um": self.mean_um,
+            "sideband_share": self.sideband_share,
+            "residual_share": self.residual_share,
             "hunting_period_mesh_cycles": self.hunting_mesh_cycles,
             "hunting_period_pinion_revolutions": self.hunting_mesh_cycles / self.z1,
             "periodic_over_mesh_cycle": self.periodic_over_mesh_cycle,
             "periodic_share_threshold": PERIODIC_SHARE,
-            "record_pinion_revolutions": self.revolutions, "left_out": list(self.left_out),
+            "record_pinion_revolutions": self.revolutions,
+            "left_out": list(self.left_out),
         }
 
 
@@ -344,32 +365,46 @@ def analyse_te(signal: TESignal, z1: int, z2: int, *, harmonics: int = 3, shaft_
     y = np.asarray(signal.te_um, dtype=float)
     fitted = 2 * harmonics * (1 + 4 * shaft_orders) + 4 * shaft_orders
     if y.size * 2 * fitted * 8 > MAX_FIT_BYTES:
-        raise ConfigError(f"harmonics: {y.size} samples × {2 * fitted} columns take {y.size * 16 * fitted / 1e9:.3g} GB; "
-                          f"at most {MAX_FIT_BYTES / 1e9:g} GB (fewer --harmonics or --shaft-orders)")
+        raise ConfigError(
+            f"harmonics: {y.size} samples × {2 * fitted} columns take {y.size * 16 * fitted / 1e9:.3g} GB; "
+            f"at most {MAX_FIT_BYTES / 1e9:g} GB (fewer --harmonics or --shaft-orders)"
+        )
     step = float(np.max(np.diff(phi))) if phi.size > 1 else 0.0
     if not (math.isfinite(step) and step * z1 * harmonics < math.pi):
         what = f" at {signal.rpm:g} rpm" if signal.rpm is not None else ""
-        raise ConfigError(f"{src}: the samples{what} are {step * z1 / (2 * math.pi):.3g} mesh cycles apart: mesh "
-                          f"harmonic {harmonics} needs more than 2 samples per cycle (a smaller --rpm, a denser "
-                          f"record or fewer --harmonics)")
+        raise ConfigError(
+            f"{src}: the samples{what} are {step * z1 / (2 * math.pi):.3g} mesh cycles apart: mesh "
+            f"harmonic {harmonics} needs more than 2 samples per cycle (a smaller --rpm, a denser "
+            f"record or fewer --harmonics)"
+        )
     revs = float(phi[-1] / (2.0 * math.pi))
     if revs * z1 < 1.0:
         raise ConfigError(f"{src}: the record covers {revs * z1:.3g} mesh cycles: at least one is needed")
     gear_ok = revs >= z2 / z1
-    left_out = [] if gear_ok else [f"gear orders: the record covers {revs:.3g} pinion revolutions, less than one "
-                                   f"gear revolution ({z2 / z1:.3g})"]
-    orders: list[dict[str, Any]] = [{"order": float(l * z1), "kind": "mesh", "mesh_harmonic": l}
-                                    for l in range(1, harmonics + 1)]
+    left_out = (
+        []
+        if gear_ok
+        else [
+            f"gear orders: the record covers {revs:.3g} pinion revolutions, less than one "
+            f"gear revolution ({z2 / z1:.3g})"
+        ]
+    )
+    orders: list[dict[str, Any]] = [
+        {"order": float(l * z1), "kind": "mesh", "mesh_harmonic": l} for l in range(1, harmonics + 1)
+    ]
     shafts = [("pinion", 1.0)] + ([("gear", z1 / z2)] if gear_ok else [])
     for shaft, unit in shafts:
         for j in range(1, shaft_orders + 1):
-            orders.append({"order": j * unit, "kind": f"{shaft} shaft order", "mesh_harmonic": 0, "shaft": shaft, "j": j})
+            orders.append(
+                {"order": j * unit, "kind": f"{shaft} shaft order", "mesh_harmonic": 0, "shaft": shaft, "j": j}
+            )
             for l in range(1, harmonics + 1):
                 for sgn in (-1, 1):
                     o = l * z1 + sgn * j * unit
                     if o > 0:
-                        orders.append({"order": o, "kind": "sideband", "mesh_harmonic": l, "shaft": shaft,
-                                       "j": sgn * j})
+                        orders.append(
+                            {"order": o, "kind": "sideband", "mesh_harmonic": l, "shaft": shaft, "j": sgn * j}
+                        )
     # merge orders that coincide (e.g. z2 = z1: the gear orders are the pinion orders)
     uniq: list[dict[str, Any]] = []
     for o in orders:
@@ -399,10 +434,17 @@ def analyse_te(signal: TESignal, z1: int, z2: int, *, harmonics: int = 3, shaft_
     rms_all = float(np.sqrt(np.mean(part_all**2)))
     dev = float(np.sqrt(np.mean((y - y.mean()) ** 2)))
     return TEAnalysis(
-        z1=z1, z2=z2, mesh=rows_mesh, sidebands=rows_side, mean_um=float(coef[0]),
+        z1=z1,
+        z2=z2,
+        mesh=rows_mesh,
+        sidebands=rows_side,
+        mean_um=float(coef[0]),
         sideband_share=float(np.sqrt(np.mean(part_side**2)) / rms_all) if rms_all > 0 else 0.0,
         residual_share=float(np.sqrt(np.mean(resid**2)) / dev) if dev > 0 else 0.0,
-        hunting_mesh_cycles=math.lcm(z1, z2), revolutions=revs, source=src, left_out=left_out,
+        hunting_mesh_cycles=math.lcm(z1, z2),
+        revolutions=revs,
+        source=src,
+        left_out=left_out,
     )
 
 
@@ -423,14 +465,17 @@ def mesh_section(res: TEAnalysis) -> str:
     """
     e = ", ".join(f'"{r["amplitude_um"]:.6g} um"' for r in res.mesh)
     ph = ", ".join(f'"{math.degrees(r["phase_rad"]):.6g} deg"' for r in res.mesh)
-    verdict = ("small enough to take the forcing as periodic over one mesh cycle" if res.periodic_over_mesh_cycle
-               else "NOT negligible: the measured forcing is not periodic over one mesh cycle")
+    verdict = (
+        "small enough to take the forcing as periodic over one mesh cycle"
+        if res.periodic_over_mesh_cycle
+        else "NOT negligible: the measured forcing is not periodic over one mesh cycle"
+    )
     return (
         f"# STE harmonics from the measured transmission error {res.source} (z1 = {res.z1}, z2 = {res.z2}).\n"
         f"# Mesh orders only; the shaft orders and sidebands are {100 * res.sideband_share:.3g} % of the RMS of the\n"
         f"# fitted orders ({verdict}); hunting period {res.hunting_mesh_cycles} mesh cycles.\n"
         f"# Phases: e(θ) = Σ e_l cos(lθ + φ_l) with θ = 0 at the first sample of the record.\n"
         "[mesh]\n"
-        f"e = {{ value = [{e}], assumed = \"measured TE taken as the static transmission error\" }}\n"
+        f'e = {{ value = [{e}], assumed = "measured TE taken as the static transmission error" }}\n'
         f"phi_e = [{ph}]\n"
     )

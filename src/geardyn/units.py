@@ -55,16 +55,20 @@ def _omega_of(scales: Any, name: str, rpm: float) -> float:
     w = float(scales.omega_from_rpm(rpm))
     if not MIN_OMEGA <= w <= MAX_OMEGA:
         lo, hi = (float(scales.rpm_from_omega(x)) for x in (MIN_OMEGA, MAX_OMEGA))
-        raise ModelError(f"{name}: {rpm:g} rpm is ω = {w:.4g} for this gear pair; allowed {lo:.4g} to {hi:.4g} rpm "
-                         f"(ω from {MIN_OMEGA:g} to {MAX_OMEGA:g})")
+        raise ModelError(
+            f"{name}: {rpm:g} rpm is ω = {w:.4g} for this gear pair; allowed {lo:.4g} to {hi:.4g} rpm "
+            f"(ω from {MIN_OMEGA:g} to {MAX_OMEGA:g})"
+        )
     return w
 
 
 def _physical_needed(scales: Any, name: str | None) -> None:
     """Refuse a speed or torque for the unit scales of a configuration without a gear pair."""
     if name is not None and getattr(scales, "nondimensional", False):
-        raise ModelError(f"{name}: the configuration {scales.source} has no [gear_pair], so a pinion speed or torque "
-                         "has no meaning; give ω (--omega) and f_p (--fp) instead")
+        raise ModelError(
+            f"{name}: the configuration {scales.source} has no [gear_pair], so a pinion speed or torque "
+            "has no meaning; give ω (--omega) and f_p (--fp) instead"
+        )
 
 
 def configured_pair(config: str | Path | None = None) -> Any:
@@ -204,7 +208,7 @@ def omega_range(scales: PhysicalScales, rpm_start: float, rpm_stop: float) -> tu
 
 
 def sweep_range(
-    scales: "PhysicalScales | None",
+    scales: PhysicalScales | None,
     rpm_start: float | None,
     rpm_stop: float | None,
     start: float | None = None,

@@ -17,11 +17,13 @@ from __future__ import annotations
 import math
 import numbers
 import re
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
+from .grid import Grid, param_name
 from .model import (
     DEFAULT_DTAU,
     DEFAULT_PERIODS,
@@ -32,7 +34,6 @@ from .model import (
     _check_finite,
     canonical_param,
 )
-from .grid import Grid, param_name
 from .params import FAMILIES, slot
 
 __all__ = [
@@ -398,8 +399,9 @@ def axis(param: Any, start: Any, stop: Any, num: Any) -> tuple[str, np.ndarray]:
     return name, values
 
 
-def grid(base: GearModel, axes: Sequence[tuple[str, Sequence[float]]],
-         opts: IntegrationOptions | None = None) -> Sequence[GearModel]:
+def grid(
+    base: GearModel, axes: Sequence[tuple[str, Sequence[float]]], opts: IntegrationOptions | None = None
+) -> Sequence[GearModel]:
     """The models of the Cartesian grid over ``axes`` (last axis fastest), each validated.
 
     Refuses an empty grid, one larger than :data:`MAX_GRID_POINTS`, any grid point the model

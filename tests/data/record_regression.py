@@ -29,22 +29,30 @@ def hexes(a) -> list:
 
 def compute() -> dict:
     out: dict = {}
-    ds = bifurcation(GearModel(), "omega", np.linspace(0.6, 1.4, 9),
-                     options=IntegrationOptions(transient=120, periods=24))
-    out["bifurcation"] = {k: hexes(ds[k].values) for k in
-                          ("poincare_u", "poincare_v", "period", "motion", "impact", "amplitude", "u_min", "u_max",
-                           "lle")}
+    ds = bifurcation(
+        GearModel(), "omega", np.linspace(0.6, 1.4, 9), options=IntegrationOptions(transient=120, periods=24)
+    )
+    out["bifurcation"] = {
+        k: hexes(ds[k].values)
+        for k in ("poincare_u", "poincare_v", "period", "motion", "impact", "amplitude", "u_min", "u_max", "lle")
+    }
     orb = shoot(GearModel(omega=0.8), n=2)
-    out["orbit"] = {"state": hexes(orb.state), "monodromy": hexes(orb.monodromy), "u_min": hexes([orb.u_min]),
-                    "u_max": hexes([orb.u_max])}
+    out["orbit"] = {
+        "state": hexes(orb.state),
+        "monodromy": hexes(orb.monodromy),
+        "u_min": hexes([orb.u_min]),
+        "u_max": hexes([orb.u_max]),
+    }
     ly = lyapunov_spectrum(GearModel(omega=1.2), IntegrationOptions(transient=100, periods=300))
     out["lyapunov"] = {"exponents": hexes(ly.exponents), "uncertainty": hexes(ly.uncertainty)}
     st = simulate(GearModel(omega=0.8), IntegrationOptions(transient=100, periods=16))
     out["simulate"] = {"poincare": hexes(st.poincare), "amplitude": hexes([st.summary["amplitude"]])}
     cr = continuation(GearModel(), "omega", 0.9, 1.1, switch=False)
-    out["continuation"] = {"param": hexes(np.concatenate([b.values for b in cr.branches])),
-                           "amplitude": hexes(np.concatenate([b.amplitude for b in cr.branches])),
-                           "monodromy": hexes(np.concatenate([b.monodromy for b in cr.branches]))}
+    out["continuation"] = {
+        "param": hexes(np.concatenate([b.values for b in cr.branches])),
+        "amplitude": hexes(np.concatenate([b.amplitude for b in cr.branches])),
+        "monodromy": hexes(np.concatenate([b.monodromy for b in cr.branches])),
+    }
     return out
 
 

@@ -15,8 +15,8 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 
@@ -91,8 +91,9 @@ def run_child(args: Sequence[str], timeout: float = 300, **popen) -> tuple[int, 
     return p.returncode, out or "", err or ""
 
 
-def interrupt(args: Sequence[str], *, after: float, sig: int = signal.SIGINT, marker: str | None = None,
-              timeout: float = 120) -> tuple[int, str, str, float]:
+def interrupt(
+    args: Sequence[str], *, after: float, sig: int = signal.SIGINT, marker: str | None = None, timeout: float = 120
+) -> tuple[int, str, str, float]:
     """Start a command, signal it once it has run ``after`` seconds (or once the regular expression ``marker``
     matches its stderr), and return (exit code, stdout, stderr, seconds from the signal to its end)."""
     p = start(args)

@@ -20,13 +20,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from fuzz_helpers import EXAMPLES, check_contract, run
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from fuzz_helpers import EXAMPLES, check_contract, run
-
-FAST = settings(max_examples=40, deadline=None, derandomize=True, database=None,
-                suppress_health_check=list(HealthCheck))
+FAST = settings(
+    max_examples=40, deadline=None, derandomize=True, database=None, suppress_health_check=list(HealthCheck)
+)
 FAST_FILES = settings(FAST, max_examples=6)
 LONG = settings(max_examples=400, deadline=None, database=None, suppress_health_check=list(HealthCheck))
 
@@ -43,13 +43,35 @@ FLOATS = st.one_of(
     st.floats(min_value=-3, max_value=3).map(lambda x: f"{x:.6g}"),
 )
 INTS = st.one_of(
-    st.integers(min_value=-10**30, max_value=10**30).map(str),
+    st.integers(min_value=-(10**30), max_value=10**30).map(str),
     st.sampled_from(["0", "-1", "1", "2", "3", "9" * 401, "1e8", "2**64", "+5"]),
 )
 TEXT = st.one_of(
     st.text(max_size=24),
-    st.sampled_from(["", " ", "--json", "-", "µm", "ω", "\u202e", "a" * 5000, "../../x", "\x00", "1,2", "14,39",
-                     "9**9**9 mm", "tcp://127.0.0.1:1", "fixed", "continue", "both", "down", "omega", "xi0"]),
+    st.sampled_from(
+        [
+            "",
+            " ",
+            "--json",
+            "-",
+            "µm",
+            "ω",
+            "\u202e",
+            "a" * 5000,
+            "../../x",
+            "\x00",
+            "1,2",
+            "14,39",
+            "9**9**9 mm",
+            "tcp://127.0.0.1:1",
+            "fixed",
+            "continue",
+            "both",
+            "down",
+            "omega",
+            "xi0",
+        ]
+    ),
 )
 VALUES = st.one_of(FLOATS, INTS, TEXT)
 
@@ -59,11 +81,43 @@ CHEAP = {
     "lyapunov": ["lyapunov", "--transient", "3", "--periods", "8", "--blocks", "2"],
     "orbit": ["orbit", "--transient", "3"],
     "geometry": ["geometry"],
-    "bifurcation": ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "3", *SMALL,
-                    "--settle", "0"],
+    "bifurcation": [
+        "bifurcation",
+        "--param",
+        "omega",
+        "--start",
+        "0.8",
+        "--stop",
+        "1.2",
+        "--num",
+        "3",
+        *SMALL,
+        "--settle",
+        "0",
+    ],
     "response": ["response", "--omega-start", "0.8", "--omega-stop", "1.2", "--num", "3", *SMALL, "--settle", "0"],
-    "map": ["map", "--x", "omega", "--y", "xi0", "--x-start", "0.8", "--x-stop", "1.2", "--y-start", "0.05",
-            "--y-stop", "0.1", "--x-num", "2", "--y-num", "2", *SMALL, "--settle", "0"],
+    "map": [
+        "map",
+        "--x",
+        "omega",
+        "--y",
+        "xi0",
+        "--x-start",
+        "0.8",
+        "--x-stop",
+        "1.2",
+        "--y-start",
+        "0.05",
+        "--y-stop",
+        "0.1",
+        "--x-num",
+        "2",
+        "--y-num",
+        "2",
+        *SMALL,
+        "--settle",
+        "0",
+    ],
     "basins": ["basins", "--nu", "2", "--nv", "2", *SMALL, "--settle", "0"],
     "modes": ["modes", "--system", str(EXAMPLES / "systems" / "paper_torsional.toml")],
     "runup": ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "100", "--num", "0"],
@@ -128,12 +182,37 @@ def test_option_values_long(data):
 
 # ---------------------------------------------------------------- configuration and system files
 TOML_VALUES = st.one_of(
-    st.integers(min_value=-10**400, max_value=10**400).map(str),
-    st.floats(allow_nan=True, allow_infinity=True).map(lambda x: "nan" if math.isnan(x) else
-                                                       ("inf" if x > 0 else "-inf") if math.isinf(x) else repr(x)),
-    st.sampled_from(['"9**9**9 mm"', '"1e200 m"', '"1e-320 kg*m^2"', '"-5 N/um"', '"2**10 m"', '"mm**m"', '""',
-                     '"((((((m))))))"', "[]", "{}", "true", '"µm"', '"20 deg"', '"3000 rpm"', '"7 N*m"', "[[1]]",
-                     '"' + "9" * 300 + ' mm"', "1979-05-27", '"m^99"', '"-0.1 mm"', "0", "-1", '"1 inch"']),
+    st.integers(min_value=-(10**400), max_value=10**400).map(str),
+    st.floats(allow_nan=True, allow_infinity=True).map(
+        lambda x: "nan" if math.isnan(x) else ("inf" if x > 0 else "-inf") if math.isinf(x) else repr(x)
+    ),
+    st.sampled_from(
+        [
+            '"9**9**9 mm"',
+            '"1e200 m"',
+            '"1e-320 kg*m^2"',
+            '"-5 N/um"',
+            '"2**10 m"',
+            '"mm**m"',
+            '""',
+            '"((((((m))))))"',
+            "[]",
+            "{}",
+            "true",
+            '"µm"',
+            '"20 deg"',
+            '"3000 rpm"',
+            '"7 N*m"',
+            "[[1]]",
+            '"' + "9" * 300 + ' mm"',
+            "1979-05-27",
+            '"m^99"',
+            '"-0.1 mm"',
+            "0",
+            "-1",
+            '"1 inch"',
+        ]
+    ),
     st.text(max_size=20).map(json.dumps),
 )
 EXAMPLE_FILES = sorted(p for p in EXAMPLES.glob("*.toml")) + sorted((EXAMPLES / "systems").glob("*.toml"))
@@ -143,8 +222,10 @@ ASSIGN = re.compile(r"^(\s*[A-Za-z_][\w]*\s*=\s*)(.+?)(\s*(#.*)?)$")
 def mutate_toml(data, text: str) -> str:
     lines = text.splitlines()
     for _ in range(data.draw(st.integers(1, 3), label="mutations")):
-        kind = data.draw(st.sampled_from(["value", "value", "value", "delete", "duplicate", "unknown", "truncate",
-                                          "bom", "nest"]), label="mutation")
+        kind = data.draw(
+            st.sampled_from(["value", "value", "value", "delete", "duplicate", "unknown", "truncate", "bom", "nest"]),
+            label="mutation",
+        )
         candidates = [i for i, ln in enumerate(lines) if ASSIGN.match(ln)]
         if kind == "value" and candidates:
             i = data.draw(st.sampled_from(candidates), label="line")
@@ -193,8 +274,10 @@ def test_config_and_system_files_long(data, tmp_path_factory):
 
 
 # ---------------------------------------------------------------- TE records
-NUMBER_TEXT = st.one_of(st.floats(allow_nan=True, allow_infinity=True).map(repr),
-                        st.sampled_from(["1e308", "-1e308", "", "x", "1,5", "0x1p3", "1e-320"]))
+NUMBER_TEXT = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.sampled_from(["1e308", "-1e308", "", "x", "1,5", "0x1p3", "1e-320"]),
+)
 
 
 def te_case(data, tmp_path: Path) -> None:
@@ -204,14 +287,24 @@ def te_case(data, tmp_path: Path) -> None:
     for _ in range(data.draw(st.integers(0, 3), label="edits")):
         if rows:
             i = data.draw(st.integers(0, len(rows) - 1), label="row")
-            rows[i] = data.draw(st.one_of(NUMBER_TEXT, st.tuples(NUMBER_TEXT, NUMBER_TEXT).map(", ".join),
-                                          st.text(max_size=30)), label="new row")
-    header = data.draw(st.sampled_from(["angle [rad], TE [um]", "time [s], TE [um]", "a, b", "", "t (ms); TE (µm)",
-                                        "angle [furlong], TE [um]"]), label="header")
+            rows[i] = data.draw(
+                st.one_of(NUMBER_TEXT, st.tuples(NUMBER_TEXT, NUMBER_TEXT).map(", ".join), st.text(max_size=30)),
+                label="new row",
+            )
+    header = data.draw(
+        st.sampled_from(
+            ["angle [rad], TE [um]", "time [s], TE [um]", "a, b", "", "t (ms); TE (µm)", "angle [furlong], TE [um]"]
+        ),
+        label="header",
+    )
     f = tmp_path / "te.csv"
     f.write_text(header + "\n" + "\n".join(rows) + "\n", encoding="utf-8")
-    args = ["te", f, "--teeth", data.draw(st.sampled_from(["14,39", "1,1", "0,3", "10001,2", "a,b", "14"]),
-                                          label="teeth")]
+    args = [
+        "te",
+        f,
+        "--teeth",
+        data.draw(st.sampled_from(["14,39", "1,1", "0,3", "10001,2", "a,b", "14"]), label="teeth"),
+    ]
     if data.draw(st.booleans(), label="rpm"):
         args += ["--rpm", data.draw(FLOATS, label="rpm value")]
     if data.draw(st.booleans(), label="harmonics"):
@@ -249,10 +342,29 @@ def results(tmp_path_factory) -> dict[str, xr.Dataset]:
     return out
 
 
-KINDS = st.sampled_from(["simulate", "bifurcation", "response", "map", "basins", "orbit", "continuation", "lyapunov",
-                         "runup", "hb", "reproduce", "", "x" * 300, "ω"])
+KINDS = st.sampled_from(
+    [
+        "simulate",
+        "bifurcation",
+        "response",
+        "map",
+        "basins",
+        "orbit",
+        "continuation",
+        "lyapunov",
+        "runup",
+        "hb",
+        "reproduce",
+        "",
+        "x" * 300,
+        "ω",
+    ]
+)
 ATTR_VALUES = st.one_of(
-    st.text(max_size=30), KINDS, st.integers(-10**18, 10**18), st.floats(allow_nan=True),
+    st.text(max_size=30),
+    KINDS,
+    st.integers(-(10**18), 10**18),
+    st.floats(allow_nan=True),
     st.sampled_from(["{", "[]", "{}", "null", '{"omega": "x"}', "[" * 5000 + "]" * 5000, '{"a": 1e999}']),
     st.just(np.zeros(20_000)),
 )

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import re
 import shutil
 import time
 from pathlib import Path
@@ -17,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-
 from fuzz_helpers import EXAMPLES, check_contract, child_env, run, run_child, strict_json
+
 from geardyn.model import GearModel, IntegrationOptions
 from geardyn.sweep import Chunk, chunked, grid_models, run_chunks
 
@@ -117,8 +116,9 @@ def test_1_modes_refuses_a_statically_unstable_stiffness_matrix():
     desc = load_description(BEVEL8)
     import dataclasses
 
-    neg = [dataclasses.replace(c, stiffness=tuple(tuple(-x for x in row) for row in c.stiffness))
-           for c in desc.connections]
+    neg = [
+        dataclasses.replace(c, stiffness=tuple(tuple(-x for x in row) for row in c.stiffness)) for c in desc.connections
+    ]
     assert neg
     with pytest.raises(ModelError, match="statically unstable"):
         modal_analysis(dataclasses.replace(desc, connections=tuple(neg)), "contact")
@@ -145,14 +145,17 @@ def test_1_te_rpm_that_makes_the_angle_meaningless_is_refused(tmp_path):
 
 
 # ---------------------------------------------------------------- 4. tracebacks on bad files
-@pytest.mark.parametrize("old,new,needle", [
-    ("z1 = 23", "z1 = " + "9" * 401, "z1"),
-    ("z1 = 23", "z1 = 1000000000000000000000000000000", "z1"),
-    ("z1 = 23", "z1 = 5000", "teeth"),
-    ('r1 = "125.5 mm"', 'r1 = "1e200 m"', "r1"),
-    ('I1 = "1.772 kg*m^2"', 'I1 = "1e-320 kg*m^2"', "I1"),
-    ('m_mn = "7.28 mm"', 'm_mn = "9**9**9 mm"', "exponent"),
-])
+@pytest.mark.parametrize(
+    "old,new,needle",
+    [
+        ("z1 = 23", "z1 = " + "9" * 401, "z1"),
+        ("z1 = 23", "z1 = 1000000000000000000000000000000", "z1"),
+        ("z1 = 23", "z1 = 5000", "teeth"),
+        ('r1 = "125.5 mm"', 'r1 = "1e200 m"', "r1"),
+        ('I1 = "1.772 kg*m^2"', 'I1 = "1e-320 kg*m^2"', "I1"),
+        ('m_mn = "7.28 mm"', 'm_mn = "9**9**9 mm"', "exponent"),
+    ],
+)
 def test_4_and_5_bad_config_values_are_one_line(tmp_path, old, new, needle):
     f = edited(tmp_path, PAIR, old, new)
     t0 = time.monotonic()
@@ -160,12 +163,15 @@ def test_4_and_5_bad_config_values_are_one_line(tmp_path, old, new, needle):
     assert time.monotonic() - t0 < 30
 
 
-@pytest.mark.parametrize("old,new,needle", [
-    ("z1 = 23", "z1 = " + "9" * 401, "z1"),
-    ('r1 = "125.5 mm"', 'r1 = "1e200 m"', "r1"),
-    ('inertia = "1.772 kg*m^2"', 'inertia = "1e-320 kg*m^2"', "inertia"),
-    ('m_mn = "7.28 mm"', 'm_mn = "9**9**9 mm"', "exponent"),
-])
+@pytest.mark.parametrize(
+    "old,new,needle",
+    [
+        ("z1 = 23", "z1 = " + "9" * 401, "z1"),
+        ('r1 = "125.5 mm"', 'r1 = "1e200 m"', "r1"),
+        ('inertia = "1.772 kg*m^2"', 'inertia = "1e-320 kg*m^2"', "inertia"),
+        ('m_mn = "7.28 mm"', 'm_mn = "9**9**9 mm"', "exponent"),
+    ],
+)
 def test_4_and_5_bad_system_values_are_one_line(tmp_path, old, new, needle):
     f = edited(tmp_path, TORSIONAL, old, new)
     line = refused(["modes", "--system", f, "--json"], needle)
@@ -235,29 +241,95 @@ def test_4_a_closed_stdout_ends_quietly(tmp_path):
     import subprocess
     import sys
 
-    p = subprocess.run([sys.executable, "-c", "import os, runpy, sys; os.close(1); sys.argv = ['geardyn', 'geometry', "
-                        "'--json']; runpy.run_module('geardyn.cli', run_name='__main__')"],
-                       env=child_env(), stderr=subprocess.PIPE, text=True, timeout=120)
+    p = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "import os, runpy, sys; os.close(1); sys.argv = ['geardyn', 'geometry', "
+            "'--json']; runpy.run_module('geardyn.cli', run_name='__main__')",
+        ],
+        env=child_env(),
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=120,
+    )
     assert p.returncode == 0 and p.stderr == "", p.stderr
-    p = subprocess.run(f"{sys.executable} -m geardyn.cli geometry --json >&-", shell=True, env=child_env(),
-                       stderr=subprocess.PIPE, text=True, timeout=120)
+    p = subprocess.run(
+        f"{sys.executable} -m geardyn.cli geometry --json >&-",
+        shell=True,
+        env=child_env(),
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=120,
+    )
     assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
 
 
 # ---------------------------------------------------------------- 5. hangs and unbounded work
-@pytest.mark.parametrize("args,needle", [
-    ([*SIM[:3], "--periods", "100000000"], "GB of memory"),
-    (["bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1.5", "--num", "100000000", "--periods", "2"],
-     "memory"),
-    (["bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1.5", "--num", "100000", "--transient",
-      "1000000"], "of computing"),
-    (["bench", "--repeats", str(10**23)], "repeats"),
-    (["simulate", "--transient", "100000000", "--periods", "2"], "of computing"),
-    (["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "1e11", "--num", "0"], "of computing"),
-    (["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "100", "--num", "0", "--dtau",
-      "1e-320"], "steps per forcing period"),
-    (["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "-5", "--num", "0"], "tau_duration"),
-])
+@pytest.mark.parametrize(
+    "args,needle",
+    [
+        ([*SIM[:3], "--periods", "100000000"], "GB of memory"),
+        (
+            [
+                "bifurcation",
+                "--param",
+                "omega",
+                "--start",
+                "0.5",
+                "--stop",
+                "1.5",
+                "--num",
+                "100000000",
+                "--periods",
+                "2",
+            ],
+            "memory",
+        ),
+        (
+            [
+                "bifurcation",
+                "--param",
+                "omega",
+                "--start",
+                "0.5",
+                "--stop",
+                "1.5",
+                "--num",
+                "100000",
+                "--transient",
+                "1000000",
+            ],
+            "of computing",
+        ),
+        (["bench", "--repeats", str(10**23)], "repeats"),
+        (["simulate", "--transient", "100000000", "--periods", "2"], "of computing"),
+        (
+            ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "1e11", "--num", "0"],
+            "of computing",
+        ),
+        (
+            [
+                "runup",
+                "--omega-start",
+                "0.8",
+                "--omega-stop",
+                "0.9",
+                "--tau-duration",
+                "100",
+                "--num",
+                "0",
+                "--dtau",
+                "1e-320",
+            ],
+            "steps per forcing period",
+        ),
+        (
+            ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "-5", "--num", "0"],
+            "tau_duration",
+        ),
+    ],
+)
 def test_5_unbounded_work_is_refused_before_computing(args, needle):
     t0 = time.monotonic()
     refused(args, needle)
@@ -282,8 +354,22 @@ def test_5_a_scheduler_that_is_not_dask_is_refused_in_one_line():
         c.close()
 
     threading.Thread(target=banner, daemon=True).start()
-    base = ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "3", "--periods", "2",
-            "--transient", "2", "--scheduler"]
+    base = [
+        "bifurcation",
+        "--param",
+        "omega",
+        "--start",
+        "0.8",
+        "--stop",
+        "1.2",
+        "--num",
+        "3",
+        "--periods",
+        "2",
+        "--transient",
+        "2",
+        "--scheduler",
+    ]
     t0 = time.monotonic()
     refused([*base, f"tcp://127.0.0.1:{silent.getsockname()[1]}"], "did not answer")
     assert time.monotonic() - t0 < 20
@@ -317,13 +403,19 @@ def test_6_stale_temporaries_of_the_output_are_removed_by_the_next_write(tmp_pat
 
 
 # ---------------------------------------------------------------- 7. one contract
-@pytest.mark.parametrize("cmd", [
-    SIM, ["lyapunov", "--transient", "3", "--periods", "4", "--blocks", "2"], ["orbit", "--transient", "3"],
-    ["hb", "--param", "omega", "--start", "0.8", "--stop", "0.9"], ["modes", "--system", str(TORSIONAL)],
-    ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "50"],
-    ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "3"],
-    ["basins", "--nu", "2", "--nv", "2"],
-])
+@pytest.mark.parametrize(
+    "cmd",
+    [
+        SIM,
+        ["lyapunov", "--transient", "3", "--periods", "4", "--blocks", "2"],
+        ["orbit", "--transient", "3"],
+        ["hb", "--param", "omega", "--start", "0.8", "--stop", "0.9"],
+        ["modes", "--system", str(TORSIONAL)],
+        ["runup", "--omega-start", "0.8", "--omega-stop", "0.9", "--tau-duration", "50"],
+        ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "3"],
+        ["basins", "--nu", "2", "--nv", "2"],
+    ],
+)
 def test_7_a_bad_out_is_exit_2_in_every_command(tmp_path, cmd):
     a_file = tmp_path / "file"
     a_file.write_text("x")
@@ -339,16 +431,53 @@ def test_7_out_with_an_upper_case_suffix_is_a_file(tmp_path):
 
 
 def test_7_resume_with_nothing_to_resume_says_so(tmp_path):
-    c, out, err = run(["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "3",
-                       "--transient", "3", "--periods", "4", "--settle", "0", "--out", tmp_path / "o", "--resume",
-                       "--json"])
+    c, out, err = run(
+        [
+            "bifurcation",
+            "--param",
+            "omega",
+            "--start",
+            "0.8",
+            "--stop",
+            "1.2",
+            "--num",
+            "3",
+            "--transient",
+            "3",
+            "--periods",
+            "4",
+            "--settle",
+            "0",
+            "--out",
+            tmp_path / "o",
+            "--resume",
+            "--json",
+        ]
+    )
     assert c == 0, err
     assert "nothing to resume" in err
 
 
 def test_7_a_direction_in_fixed_mode_is_refused():
-    refused(["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "3", "--sweep", "down",
-             "--mode", "fixed"], "sweep", "continue")
+    refused(
+        [
+            "bifurcation",
+            "--param",
+            "omega",
+            "--start",
+            "0.8",
+            "--stop",
+            "1.2",
+            "--num",
+            "3",
+            "--sweep",
+            "down",
+            "--mode",
+            "fixed",
+        ],
+        "sweep",
+        "continue",
+    )
 
 
 # ---------------------------------------------------------------- 8. messages that name the right thing
@@ -391,8 +520,27 @@ def test_8_an_out_that_is_a_directory_names_it_not_a_temporary(tmp_path):
 def test_lyapunov_exponents_below_double_precision_are_refused_not_a_division_by_zero():
     # ω = 1e-3 with ξ0 = 0.1: the perturbations shrink by e^-1257 in one period (the kernel divided by 0)
     refused(["lyapunov", "--transient", "3", "--periods", "8", "--blocks", "2", "--rpm", "1.0"], "omega:", "ω >=")
-    refused(["bifurcation", "--param", "omega", "--start", "0.001", "--stop", "0.0012", "--num", "2", "--transient",
-             "3", "--periods", "8", "--settle", "0", "--lyapunov"], "omega:")
+    refused(
+        [
+            "bifurcation",
+            "--param",
+            "omega",
+            "--start",
+            "0.001",
+            "--stop",
+            "0.0012",
+            "--num",
+            "2",
+            "--transient",
+            "3",
+            "--periods",
+            "8",
+            "--settle",
+            "0",
+            "--lyapunov",
+        ],
+        "omega:",
+    )
     c, out, err = run(["lyapunov", "--transient", "3", "--periods", "8", "--blocks", "2", "--omega", "0.002", "--json"])
     assert c == 0, err
     assert strict_json(out)["sum"] == pytest.approx(-0.2, abs=1e-6)  # trace of the Jacobian: -2 ξ0

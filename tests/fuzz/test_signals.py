@@ -15,7 +15,6 @@ import time
 import numpy as np
 import pytest
 import xarray as xr
-
 from fuzz_helpers import EXAMPLES, datasets_equal, interrupt, run_child, start
 
 #: Seconds from the signal to the end of the process allowed (the contract's "about a second", with
@@ -32,11 +31,41 @@ LONG = {
     "orbit": ["orbit", "--transient", "3000000"],
     "bifurcation": [*BIF, "--num", "20000"],
     "bifurcation-continue-both": [*BIF, "--num", "4000", "--mode", "continue", "--sweep", "both"],
-    "continuation": ["continuation", "--param", "omega", "--start", "0.5", "--stop", "3", "--transient", "100",
-                     "--ds-max", "0.0005", "--max-period", "64"],
+    "continuation": [
+        "continuation",
+        "--param",
+        "omega",
+        "--start",
+        "0.5",
+        "--stop",
+        "3",
+        "--transient",
+        "100",
+        "--ds-max",
+        "0.0005",
+        "--max-period",
+        "64",
+    ],
     "response": ["response", "--omega-start", "0.5", "--omega-stop", "1.5", "--num", "4000"],
-    "map": ["map", "--x", "omega", "--y", "xi0", "--x-start", "0.5", "--x-stop", "1.5", "--y-start", "0.02",
-            "--y-stop", "0.2", "--x-num", "200", "--y-num", "100"],
+    "map": [
+        "map",
+        "--x",
+        "omega",
+        "--y",
+        "xi0",
+        "--x-start",
+        "0.5",
+        "--x-stop",
+        "1.5",
+        "--y-start",
+        "0.02",
+        "--y-stop",
+        "0.2",
+        "--x-num",
+        "200",
+        "--y-num",
+        "100",
+    ],
     "basins": ["basins", "--nu", "150", "--nv", "150"],
     "hb": ["hb", "--param", "omega", "--start", "0.3", "--stop", "3", "--harmonics", "256", "--period", "4"],
     "runup": ["runup", "--omega-start", "0.5", "--omega-stop", "1.5", "--tau-duration", "3e6", "--num", "0"],
@@ -46,11 +75,24 @@ DEFAULT = ("simulate", "bifurcation")
 #: A command's progress line once it has computed something (a count above zero: its kernel is running, not
 #: still loading or compiling): it is signalled then; a command without one after WARM seconds.
 _COUNT = r"(?:[1-9][\d.]*|0\.\d*[1-9][\d.]*)/[\d.]+ "
-PROGRESS = {name: _COUNT + unit for name, unit in {
-    "bifurcation": "points", "bifurcation-continue-both": "points", "response": "points", "map": "points",
-    "basins": "points", "lyapunov": "periods", "continuation": "Δω traced", "hb": "Δω traced",
-    "simulate": "periods", "simulate-accurate": "periods", "orbit": "periods", "runup": "blocks",
-    "bench": "runs"}.items()}
+PROGRESS = {
+    name: _COUNT + unit
+    for name, unit in {
+        "bifurcation": "points",
+        "bifurcation-continue-both": "points",
+        "response": "points",
+        "map": "points",
+        "basins": "points",
+        "lyapunov": "periods",
+        "continuation": "Δω traced",
+        "hb": "Δω traced",
+        "simulate": "periods",
+        "simulate-accurate": "periods",
+        "orbit": "periods",
+        "runup": "blocks",
+        "bench": "runs",
+    }.items()
+}
 
 
 def _interrupted(name: str, sig: int) -> None:
@@ -88,13 +130,29 @@ def test_sigterm_stops_every_kind_of_command(name):
 def _limit(nbytes: int):
     def pre() -> None:
         resource.setrlimit(resource.RLIMIT_FSIZE, (nbytes, nbytes))
+
     return pre
 
 
 WRITERS = {
     "simulate": ["simulate", "--transient", "3", "--periods", "4"],
-    "bifurcation": ["bifurcation", "--param", "omega", "--start", "0.8", "--stop", "1.2", "--num", "5",
-                    "--transient", "3", "--periods", "8", "--settle", "0"],
+    "bifurcation": [
+        "bifurcation",
+        "--param",
+        "omega",
+        "--start",
+        "0.8",
+        "--stop",
+        "1.2",
+        "--num",
+        "5",
+        "--transient",
+        "3",
+        "--periods",
+        "8",
+        "--settle",
+        "0",
+    ],
     "hb": ["hb", "--param", "omega", "--start", "0.8", "--stop", "0.9", "--harmonics", "4"],
     "lyapunov": ["lyapunov", "--transient", "3", "--periods", "8", "--blocks", "2"],
     "orbit": ["orbit", "--transient", "3"],
@@ -168,8 +226,10 @@ def _kill9_then_resume(tmp_path, args, stem: str) -> None:
     code, _, err = run_child([*args, "--out", out, "--json", "--resume"], timeout=900)
     assert code == 0 and "Traceback" not in err, err[-2000:]
     assert not list(out.glob(".*.tmp")) and not chunks.exists()
-    with xr.open_dataset(ref_dir / f"{stem}.nc", engine="h5netcdf") as a, \
-            xr.open_dataset(out / f"{stem}.nc", engine="h5netcdf") as b:
+    with (
+        xr.open_dataset(ref_dir / f"{stem}.nc", engine="h5netcdf") as a,
+        xr.open_dataset(out / f"{stem}.nc", engine="h5netcdf") as b,
+    ):
         datasets_equal(a, b)
 
 
@@ -178,13 +238,38 @@ def test_kill_9_then_resume_gives_the_uninterrupted_result(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("args,stem", [
-    (["basins", "--nu", "30", "--nv", "30", "--chunk-size", "16"], "basins"),
-    (["map", "--x", "omega", "--y", "xi0", "--x-start", "0.5", "--x-stop", "1.5", "--y-start", "0.02", "--y-stop",
-      "0.2", "--x-num", "30", "--y-num", "20", "--chunk-size", "16"], "map"),
-    (["response", "--omega-start", "0.5", "--omega-stop", "1.5", "--num", "300"], "response"),
-    ([*BIF, "--num", "300", "--mode", "continue", "--sweep", "both"], "bifurcation"),
-])
+@pytest.mark.parametrize(
+    "args,stem",
+    [
+        (["basins", "--nu", "30", "--nv", "30", "--chunk-size", "16"], "basins"),
+        (
+            [
+                "map",
+                "--x",
+                "omega",
+                "--y",
+                "xi0",
+                "--x-start",
+                "0.5",
+                "--x-stop",
+                "1.5",
+                "--y-start",
+                "0.02",
+                "--y-stop",
+                "0.2",
+                "--x-num",
+                "30",
+                "--y-num",
+                "20",
+                "--chunk-size",
+                "16",
+            ],
+            "map",
+        ),
+        (["response", "--omega-start", "0.5", "--omega-stop", "1.5", "--num", "300"], "response"),
+        ([*BIF, "--num", "300", "--mode", "continue", "--sweep", "both"], "bifurcation"),
+    ],
+)
 def test_kill_9_then_resume_every_sweep(tmp_path, args, stem):
     _kill9_then_resume(tmp_path, args, stem)
 

@@ -92,8 +92,24 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from .core import (
-    DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX,
-    S_VMIN, ST_DIVERGED, ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE,
+    DIVERGENCE_BOUND,
+    NSTAT,
+    S_N,
+    S_NBACK,
+    S_NDRIVE,
+    S_NSEP,
+    S_UMAX,
+    S_UMIN,
+    S_USQ,
+    S_USUM,
+    S_VMAX,
+    S_VMIN,
+    ST_DIVERGED,
+    ST_OK,
+    TAN_CONTINUE,
+    TAN_LYAPUNOV,
+    TAN_MONODROMY,
+    TAN_NONE,
 )
 from .scalar import _scalar_worker
 
@@ -103,9 +119,26 @@ _fast_loads(_scalar_worker)  # read from numba's cache without setting up its co
 #: (``simulate`` one point at a time: the scalar worker only, not the lanes' chunk kernels).
 _LAZY = {
     **dict.fromkeys(("CROSSING_TOL", "HERMITE_SAMPLES", "MAX_SPLITS", "NEWTON_ITERS", "_accurate_worker"), ".accurate"),
-    **dict.fromkeys(("ALIGN_BYTES", "GROUP", "KIND_COS", "KIND_GEN", "KIND_SIN", "LANES", "MODE_PLAIN", "MODE_STATS",
-                     "MODE_TAN", "_KIND_TOKENS", "_kind_token", "_lanes_kind", "_lanes_worker", "native_simd_width",
-                     "simd_width"), ".lanes"),
+    **dict.fromkeys(
+        (
+            "ALIGN_BYTES",
+            "GROUP",
+            "KIND_COS",
+            "KIND_GEN",
+            "KIND_SIN",
+            "LANES",
+            "MODE_PLAIN",
+            "MODE_STATS",
+            "MODE_TAN",
+            "_KIND_TOKENS",
+            "_kind_token",
+            "_lanes_kind",
+            "_lanes_worker",
+            "native_simd_width",
+            "simd_width",
+        ),
+        ".lanes",
+    ),
 }
 
 
@@ -117,13 +150,45 @@ def __getattr__(name: str):
 
     return getattr(importlib.import_module(module, __name__), name)
 
+
 __all__ = [
-    "run_batch", "n_threads",
-    "S_UMIN", "S_UMAX", "S_USUM", "S_USQ", "S_VMIN", "S_VMAX", "S_NDRIVE", "S_NSEP", "S_NBACK", "S_N",
-    "NSTAT", "TAN_NONE", "TAN_LYAPUNOV", "TAN_MONODROMY", "TAN_CONTINUE", "ST_OK", "ST_DIVERGED", "DIVERGENCE_BOUND",
-    "MAX_SPLITS", "HERMITE_SAMPLES", "NEWTON_ITERS", "CROSSING_TOL",
-    "GROUP", "LANES", "LANE_MIN_POINTS", "THREAD_MIN_STEPS", "ALIGN_BYTES",
-    "KIND_COS", "KIND_SIN", "KIND_GEN", "MODE_PLAIN", "MODE_STATS", "MODE_TAN", "simd_width", "native_simd_width",
+    "run_batch",
+    "n_threads",
+    "S_UMIN",
+    "S_UMAX",
+    "S_USUM",
+    "S_USQ",
+    "S_VMIN",
+    "S_VMAX",
+    "S_NDRIVE",
+    "S_NSEP",
+    "S_NBACK",
+    "S_N",
+    "NSTAT",
+    "TAN_NONE",
+    "TAN_LYAPUNOV",
+    "TAN_MONODROMY",
+    "TAN_CONTINUE",
+    "ST_OK",
+    "ST_DIVERGED",
+    "DIVERGENCE_BOUND",
+    "MAX_SPLITS",
+    "HERMITE_SAMPLES",
+    "NEWTON_ITERS",
+    "CROSSING_TOL",
+    "GROUP",
+    "LANES",
+    "LANE_MIN_POINTS",
+    "THREAD_MIN_STEPS",
+    "ALIGN_BYTES",
+    "KIND_COS",
+    "KIND_SIN",
+    "KIND_GEN",
+    "MODE_PLAIN",
+    "MODE_STATS",
+    "MODE_TAN",
+    "simd_width",
+    "native_simd_width",
 ]
 
 
@@ -147,8 +212,9 @@ def _executor() -> ThreadPoolExecutor:
         if _pool is None:
             import numba
 
-            _pool = ThreadPoolExecutor(max_workers=max(1, int(numba.config.NUMBA_NUM_THREADS)),
-                                       thread_name_prefix="geardyn-kernel")
+            _pool = ThreadPoolExecutor(
+                max_workers=max(1, int(numba.config.NUMBA_NUM_THREADS)), thread_name_prefix="geardyn-kernel"
+            )
         return _pool
 
 
@@ -176,8 +242,27 @@ def _queue_order(nsteps: np.ndarray) -> np.ndarray:
     return np.argsort(-np.asarray(nsteps, dtype=np.int64), kind="stable").astype(np.int64)
 
 
-def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, accurate,
-              poincare, end_state, stats, tan_log, tan_out, status, hist, adapt_tol=0.0, max_period=0, table=None):
+def run_batch(
+    coef,
+    D,
+    omega,
+    nsteps,
+    state0,
+    n_transient,
+    n_record,
+    tangent,
+    accurate,
+    poincare,
+    end_state,
+    stats,
+    tan_log,
+    tan_out,
+    status,
+    hist,
+    adapt_tol=0.0,
+    max_period=0,
+    table=None,
+):
     """Advance a batch of P parameter points; results are written into the output arrays.
 
     Parameters
@@ -268,14 +353,71 @@ def run_batch(coef, D, omega, nsteps, state0, n_transient, n_record, tangent, ac
 
     def work():
         if accurate:
-            _accurate_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                             poincare, end_state, stats, tan_log, tan_out, status, hist, tab, ntab)
+            _accurate_worker(
+                order,
+                counter,
+                coef,
+                D,
+                omega,
+                nsteps,
+                state0,
+                n_transient,
+                n_record,
+                tangent,
+                poincare,
+                end_state,
+                stats,
+                tan_log,
+                tan_out,
+                status,
+                hist,
+                tab,
+                ntab,
+            )
         elif lanes:
-            _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                          poincare, end_state, stats, tan_log, tan_out, status, adapt_tol, max_period)
+            _lanes_worker(
+                token,
+                order,
+                counter,
+                coef,
+                D,
+                omega,
+                nsteps,
+                state0,
+                n_transient,
+                n_record,
+                tangent,
+                poincare,
+                end_state,
+                stats,
+                tan_log,
+                tan_out,
+                status,
+                adapt_tol,
+                max_period,
+            )
         else:
-            _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                           poincare, end_state, stats, tan_log, tan_out, status, hist, adapt_tol, max_period)
+            _scalar_worker(
+                order,
+                counter,
+                coef,
+                D,
+                omega,
+                nsteps,
+                state0,
+                n_transient,
+                n_record,
+                tangent,
+                poincare,
+                end_state,
+                stats,
+                tan_log,
+                tan_out,
+                status,
+                hist,
+                adapt_tol,
+                max_period,
+            )
 
     if nw == 1:
         work()

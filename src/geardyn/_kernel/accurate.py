@@ -22,10 +22,25 @@ import numpy as np
 from numba import njit
 
 from .core import (
-    DIVERGENCE_BOUND, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX, S_VMIN,
-    ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_NONE, _diverged, _fetch_add, _gs,
+    DIVERGENCE_BOUND,
+    S_N,
+    S_NBACK,
+    S_NDRIVE,
+    S_NSEP,
+    S_UMAX,
+    S_UMIN,
+    S_USQ,
+    S_USUM,
+    S_VMAX,
+    S_VMIN,
+    ST_OK,
+    TAN_CONTINUE,
+    TAN_LYAPUNOV,
+    TAN_NONE,
+    _diverged,
+    _fetch_add,
+    _gs,
 )
-
 
 #: Accurate mode: at most this many splits of one step, and Hermite samples per step searched.
 MAX_SPLITS = 8
@@ -272,8 +287,27 @@ def _gram_schmidt(Y):
 
 
 @njit(nogil=True)
-def _point_accurate(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
-                    poincare, end_state, stats, tan_log, tan_out, status, hist, tab, m):
+def _point_accurate(
+    p,
+    cf,
+    D,
+    omega,
+    N,
+    u,
+    v,
+    n_transient,
+    n_record,
+    tangent,
+    poincare,
+    end_state,
+    stats,
+    tan_log,
+    tan_out,
+    status,
+    hist,
+    tab,
+    m,
+):
     """One point in accurate mode (steps split at the contact-boundary crossings, and at the nodes of
     its table when m > 0; its state at a period end is that before the node at θ ≡ 0)."""
     T = 2.0 * math.pi / omega
@@ -308,8 +342,24 @@ def _point_accurate(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
             if m == 0:
                 u, v, r = _step_accurate(cf, k * h * omega, omega, h, u, v, D, r, Y, tan_on, 0.0, 0.0, 0.0)
             else:
-                u, v, r, jn, seg = _step_table(cf, tab, m, k * h, T if k == N - 1 else (k + 1) * h, k == N - 1,
-                                               omega, u, v, D, r, Y, tan_on, jn, seg, eps)
+                u, v, r, jn, seg = _step_table(
+                    cf,
+                    tab,
+                    m,
+                    k * h,
+                    T if k == N - 1 else (k + 1) * h,
+                    k == N - 1,
+                    omega,
+                    u,
+                    v,
+                    D,
+                    r,
+                    Y,
+                    tan_on,
+                    jn,
+                    seg,
+                    eps,
+                )
             if rec:
                 st[S_UMIN] = min(st[S_UMIN], u)
                 st[S_UMAX] = max(st[S_UMAX], u)
@@ -348,14 +398,51 @@ def _point_accurate(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
 
 
 @njit(nogil=True, cache=True)
-def _accurate_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                     poincare, end_state, stats, tan_log, tan_out, status, hist, tab, ntab):
+def _accurate_worker(
+    order,
+    counter,
+    coef,
+    D,
+    omega,
+    nsteps,
+    state0,
+    n_transient,
+    n_record,
+    tangent,
+    poincare,
+    end_state,
+    stats,
+    tan_log,
+    tan_out,
+    status,
+    hist,
+    tab,
+    ntab,
+):
     """Integrate points of the queue ``order`` one at a time in accurate mode (tables: ``tab``, ``ntab``)."""
     while True:
         i = _fetch_add(counter, 1)
         if i >= order.shape[0]:
             break
         p = order[i]
-        _point_accurate(p, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1],
-                        n_transient, n_record, tangent,
-                        poincare, end_state, stats, tan_log, tan_out, status, hist, tab[p], ntab[p])
+        _point_accurate(
+            p,
+            coef[p],
+            D[p],
+            omega[p],
+            nsteps[p],
+            state0[p, 0],
+            state0[p, 1],
+            n_transient,
+            n_record,
+            tangent,
+            poincare,
+            end_state,
+            stats,
+            tan_log,
+            tan_out,
+            status,
+            hist,
+            tab[p],
+            ntab[p],
+        )

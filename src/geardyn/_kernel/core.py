@@ -17,7 +17,6 @@ from numba import njit
 from numba.core import types
 from numba.extending import intrinsic
 
-
 # Layout of the per-point statistics array (accumulated over the recorded periods, sampled at
 # every step end).
 S_UMIN, S_UMAX, S_USUM, S_USQ, S_VMIN, S_VMAX, S_NDRIVE, S_NSEP, S_NBACK, S_N = range(10)
@@ -173,8 +172,7 @@ def _rk4_tan(a, b, h, hh, h6, C0, C1, C2, g1, g2, g3, g4):
     a4 = _fma(h, b3, a)
     b4 = _fma(h, kb3, b)
     kb4 = _fma(-g4, a4, -(C2 * b4))
-    return (_fma(h6, _fma(2.0, b3, _fma(2.0, b2, b)) + b4, a),
-            _fma(h6, _fma(2.0, kb3, _fma(2.0, kb2, kb1)) + kb4, b))
+    return (_fma(h6, _fma(2.0, b3, _fma(2.0, b2, b)) + b4, a), _fma(h6, _fma(2.0, kb3, _fma(2.0, kb2, kb1)) + kb4, b))
 
 
 @njit(inline="always")
@@ -316,5 +314,16 @@ def _adapt_finish(p, l, n, n_record, N, cbuf, snap, poincare, end_state, stats):
         usq += snap[l, 5]
         ndrv += snap[l, 6]
         nbck += snap[l, 7]
-    _write_stats(stats, p, N * n_record, stats[p, S_UMIN], stats[p, S_UMAX], stats[p, S_VMIN],
-                 stats[p, S_VMAX], usum, usq, ndrv, nbck)
+    _write_stats(
+        stats,
+        p,
+        N * n_record,
+        stats[p, S_UMIN],
+        stats[p, S_UMAX],
+        stats[p, S_VMIN],
+        stats[p, S_VMAX],
+        usum,
+        usq,
+        ndrv,
+        nbck,
+    )

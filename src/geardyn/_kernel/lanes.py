@@ -25,12 +25,31 @@ from numba.core import types
 from numba.extending import overload
 
 from .core import (
-    DIVERGENCE_BOUND, NSNAP, ST_OK, TAN_LYAPUNOV, TAN_NONE,
-    _adapt_check, _adapt_finish, _adapt_reset, _adapt_snapshot, _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot, _rot_small,
-    _series1, _series_acc, _slope, _thresholds, _write_stats,
+    DIVERGENCE_BOUND,
+    NSNAP,
+    ST_OK,
+    TAN_LYAPUNOV,
+    TAN_NONE,
+    _adapt_check,
+    _adapt_finish,
+    _adapt_reset,
+    _adapt_snapshot,
+    _diverged,
+    _fetch_add,
+    _fma,
+    _gs,
+    _half_step_rotation,
+    _rk4,
+    _rk4_tan,
+    _rot,
+    _rot_small,
+    _series1,
+    _series_acc,
+    _slope,
+    _thresholds,
+    _write_stats,
 )
 from .simd import make_vector_chunks
-
 
 #: Parameter points advanced in lock-step by one worker, in groups of GROUP lanes (one SIMD
 #: vector of doubles); when the queue is empty the remaining lanes are packed into the first groups.
@@ -38,16 +57,63 @@ GROUP = 4
 LANES = 16
 
 # Lane state: field f of lane l is S[f * LANES + l].
-(F_U, F_V, F_C, F_S, F_CM1, F_SA, F_H, F_HH, F_H6,
- F_CA0, F_CA1, F_CB1, F_KA0, F_KA1, F_KB1, F_FA0, F_FA1, F_FB1,
- F_D, F_DRV, F_BCK, F_DTAN,
- F_UMIN, F_UMAX, F_VMIN, F_VMAX, F_USUM, F_USQ, F_NDRV, F_NBCK,
- F_Y00, F_Y10, F_Y01, F_Y11,
- # scratch of the general (any number of harmonics) chunk
- F_XC0, F_XK0, F_XF0, F_XC1, F_XK1, F_XF1, F_XC2, F_XK2, F_XF2,
- F_P0C, F_P0S, F_P1C, F_P1S, F_P2C, F_P2S,
- F_R1C, F_R1S, F_R2C, F_R2S,
- NFIELDS) = range(54)
+(
+    F_U,
+    F_V,
+    F_C,
+    F_S,
+    F_CM1,
+    F_SA,
+    F_H,
+    F_HH,
+    F_H6,
+    F_CA0,
+    F_CA1,
+    F_CB1,
+    F_KA0,
+    F_KA1,
+    F_KB1,
+    F_FA0,
+    F_FA1,
+    F_FB1,
+    F_D,
+    F_DRV,
+    F_BCK,
+    F_DTAN,
+    F_UMIN,
+    F_UMAX,
+    F_VMIN,
+    F_VMAX,
+    F_USUM,
+    F_USQ,
+    F_NDRV,
+    F_NBCK,
+    F_Y00,
+    F_Y10,
+    F_Y01,
+    F_Y11,
+    # scratch of the general (any number of harmonics) chunk
+    F_XC0,
+    F_XK0,
+    F_XF0,
+    F_XC1,
+    F_XK1,
+    F_XF1,
+    F_XC2,
+    F_XK2,
+    F_XF2,
+    F_P0C,
+    F_P0S,
+    F_P1C,
+    F_P1S,
+    F_P2C,
+    F_P2S,
+    F_R1C,
+    F_R1S,
+    F_R2C,
+    F_R2S,
+    NFIELDS,
+) = range(54)
 
 #: Chunk kinds: first harmonic with cosine terms only, first harmonic with sine terms, general.
 KIND_COS, KIND_SIN, KIND_GEN = 0, 1, 2
@@ -203,10 +269,8 @@ def _make_chunk(kind, mode):
                         g2 = _slope(K1, u2, dtan)
                         g3 = _slope(K1, u3, dtan)
                         g4 = _slope(K2, u4, dtan)
-                        y00, y10 = _rk4_tan(S[F_Y00 * L + l], S[F_Y10 * L + l], h, hh, h6,
-                                            C0, C1, C2, g1, g2, g3, g4)
-                        y01, y11 = _rk4_tan(S[F_Y01 * L + l], S[F_Y11 * L + l], h, hh, h6,
-                                            C0, C1, C2, g1, g2, g3, g4)
+                        y00, y10 = _rk4_tan(S[F_Y00 * L + l], S[F_Y10 * L + l], h, hh, h6, C0, C1, C2, g1, g2, g3, g4)
+                        y01, y11 = _rk4_tan(S[F_Y01 * L + l], S[F_Y11 * L + l], h, hh, h6, C0, C1, C2, g1, g2, g3, g4)
                         S[F_Y00 * L + l] = y00
                         S[F_Y10 * L + l] = y10
                         S[F_Y01 * L + l] = y01
@@ -243,14 +307,20 @@ _FIELDS = {name[2:]: value for name, value in globals().items() if name.startswi
 
 def _vector_kernels(width):
     """The explicit-SIMD chunk kernels (:mod:`.simd`) of the first-harmonic kinds at one width."""
-    return {kind: tuple(make_vector_chunks(kind == KIND_SIN, mode, width, LANES, _FIELDS)
-                        for mode in (MODE_PLAIN, MODE_STATS, MODE_TAN))
-            for kind in (KIND_COS, KIND_SIN)}
+    return {
+        kind: tuple(
+            make_vector_chunks(kind == KIND_SIN, mode, width, LANES, _FIELDS)
+            for mode in (MODE_PLAIN, MODE_STATS, MODE_TAN)
+        )
+        for kind in (KIND_COS, KIND_SIN)
+    }
 
 
-_TEMPLATE_KERNELS = {KIND_COS: (_chunk_c0, _chunk_c1, _chunk_c2),
-                     KIND_SIN: (_chunk_s0, _chunk_s1, _chunk_s2),
-                     KIND_GEN: (_chunk_g0, _chunk_g1, _chunk_g2)}
+_TEMPLATE_KERNELS = {
+    KIND_COS: (_chunk_c0, _chunk_c1, _chunk_c2),
+    KIND_SIN: (_chunk_s0, _chunk_s1, _chunk_s2),
+    KIND_GEN: (_chunk_g0, _chunk_g1, _chunk_g2),
+}
 #: Chunk kernels per register width (0: the template's compiler-vectorised loops) and kind.  The
 #: general kind always runs the template.
 _KERNELS = {0: _TEMPLATE_KERNELS}
@@ -303,7 +373,7 @@ def _aligned_zeros(n):
     pad = ALIGN_BYTES // 8
     raw = np.zeros(n + pad)
     off = ((ALIGN_BYTES - raw.ctypes.data % ALIGN_BYTES) % ALIGN_BYTES) // 8
-    return raw[off:off + n]
+    return raw[off : off + n]
 
 
 @njit(nogil=True)
@@ -400,14 +470,43 @@ def _lane_load(S, CF, l, cf, D, omega, N, u, v):
 @njit(nogil=True)
 def _lane_stats_out(S, l, stats, p, n):
     L = LANES
-    _write_stats(stats, p, n, S[F_UMIN * L + l], S[F_UMAX * L + l], S[F_VMIN * L + l],
-                 S[F_VMAX * L + l], S[F_USUM * L + l], S[F_USQ * L + l],
-                 S[F_NDRV * L + l], S[F_NBCK * L + l])
+    _write_stats(
+        stats,
+        p,
+        n,
+        S[F_UMIN * L + l],
+        S[F_UMAX * L + l],
+        S[F_VMIN * L + l],
+        S[F_VMAX * L + l],
+        S[F_USUM * L + l],
+        S[F_USQ * L + l],
+        S[F_NDRV * L + l],
+        S[F_NBCK * L + l],
+    )
 
 
 @njit(nogil=True, cache=True)
-def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                  poincare, end_state, stats, tan_log, tan_out, status, adapt_tol, max_period):
+def _lanes_worker(
+    token,
+    order,
+    counter,
+    coef,
+    D,
+    omega,
+    nsteps,
+    state0,
+    n_transient,
+    n_record,
+    tangent,
+    poincare,
+    end_state,
+    stats,
+    tan_log,
+    tan_out,
+    status,
+    adapt_tol,
+    max_period,
+):
     """Integrate points of the queue ``order`` (default mode) in lock-step lanes, refilling each
     finished lane with the next point of the queue (shared through ``counter`` with the other
     workers of the batch).
@@ -557,12 +656,20 @@ def _lanes_worker(token, order, counter, coef, D, omega, nsteps, state0, n_trans
                     cbuf[l, j, 0] = u
                     cbuf[l, j, 1] = v
                     if j + 1 == n_record % rlen[l]:
-                        _adapt_snapshot(snap, l, S[F_UMIN * L + l], S[F_UMAX * L + l], S[F_VMIN * L + l],
-                                        S[F_VMAX * L + l], S[F_USUM * L + l], S[F_USQ * L + l],
-                                        S[F_NDRV * L + l], S[F_NBCK * L + l])
+                        _adapt_snapshot(
+                            snap,
+                            l,
+                            S[F_UMIN * L + l],
+                            S[F_UMAX * L + l],
+                            S[F_VMIN * L + l],
+                            S[F_VMAX * L + l],
+                            S[F_USUM * L + l],
+                            S[F_USQ * L + l],
+                            S[F_NDRV * L + l],
+                            S[F_NBCK * L + l],
+                        )
                 if tangent == TAN_LYAPUNOV:
-                    a1, b1, a2, b2, l1, l2 = _gs(S[F_Y00 * L + l], S[F_Y10 * L + l],
-                                                 S[F_Y01 * L + l], S[F_Y11 * L + l])
+                    a1, b1, a2, b2, l1, l2 = _gs(S[F_Y00 * L + l], S[F_Y10 * L + l], S[F_Y01 * L + l], S[F_Y11 * L + l])
                     S[F_Y00 * L + l] = a1
                     S[F_Y10 * L + l] = b1
                     S[F_Y01 * L + l] = a2
@@ -606,8 +713,11 @@ _KIND_DTYPES = {KIND_COS: np.int8, KIND_SIN: np.int16, KIND_GEN: np.int32}
 #: Type tokens selecting the chunk kind (dtype) and register width (number of dimensions) at compile
 #: time: the lanes worker is compiled (and cached) separately per kind and width, and only for those
 #: a program uses.
-_TOKENS = {(kind, width): np.empty((0,) * _NDIM_OF_WIDTH[width], dt)
-           for kind, dt in _KIND_DTYPES.items() for width in _NDIM_OF_WIDTH}
+_TOKENS = {
+    (kind, width): np.empty((0,) * _NDIM_OF_WIDTH[width], dt)
+    for kind, dt in _KIND_DTYPES.items()
+    for width in _NDIM_OF_WIDTH
+}
 
 
 def native_simd_width() -> int:

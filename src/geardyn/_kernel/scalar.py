@@ -14,16 +14,57 @@ import numpy as np
 from numba import njit
 
 from .core import (
-    DIVERGENCE_BOUND, NSNAP, ST_OK, TAN_CONTINUE, TAN_LYAPUNOV, TAN_NONE,
-    _adapt_check, _adapt_finish, _adapt_reset, _adapt_snapshot, _coef_seq, _diverged, _fetch_add, _fma, _gs, _half_step_rotation, _rk4, _rk4_tan, _rot_small,
-    _series1, _slope, _thresholds, _write_stats,
+    DIVERGENCE_BOUND,
+    NSNAP,
+    ST_OK,
+    TAN_CONTINUE,
+    TAN_LYAPUNOV,
+    TAN_NONE,
+    _adapt_check,
+    _adapt_finish,
+    _adapt_reset,
+    _adapt_snapshot,
+    _coef_seq,
+    _diverged,
+    _fetch_add,
+    _fma,
+    _gs,
+    _half_step_rotation,
+    _rk4,
+    _rk4_tan,
+    _rot_small,
+    _series1,
+    _slope,
+    _thresholds,
+    _write_stats,
 )
 
 
 @njit(nogil=True)
-def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
-                  poincare, end_state, stats, tan_log, tan_out, status, hist,
-                  adapt_tol, ring, streak, cbuf, snap):
+def _point_scalar(
+    p,
+    cf,
+    D,
+    omega,
+    N,
+    u,
+    v,
+    n_transient,
+    n_record,
+    tangent,
+    poincare,
+    end_state,
+    stats,
+    tan_log,
+    tan_out,
+    status,
+    hist,
+    adapt_tol,
+    ring,
+    streak,
+    cbuf,
+    snap,
+):
     """One point in the default mode, state and statistics in registers.
 
     The arithmetic is that of the lane kernels (same operations, same order), so a point gives
@@ -170,8 +211,27 @@ def _point_scalar(p, cf, D, omega, N, u, v, n_transient, n_record, tangent,
 
 
 @njit(nogil=True, cache=True)
-def _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent,
-                   poincare, end_state, stats, tan_log, tan_out, status, hist, adapt_tol, max_period):
+def _scalar_worker(
+    order,
+    counter,
+    coef,
+    D,
+    omega,
+    nsteps,
+    state0,
+    n_transient,
+    n_record,
+    tangent,
+    poincare,
+    end_state,
+    stats,
+    tan_log,
+    tan_out,
+    status,
+    hist,
+    adapt_tol,
+    max_period,
+):
     """Integrate points of the queue ``order`` one at a time (histories, small batches); adaptive
     transient with ``adapt_tol`` > 0 (periods up to ``max_period``)."""
     mp = max_period if adapt_tol > 0.0 else 0
@@ -184,7 +244,27 @@ def _scalar_worker(order, counter, coef, D, omega, nsteps, state0, n_transient, 
         if i >= order.shape[0]:
             break
         p = order[i]
-        _point_scalar(p, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1],
-                      n_transient, n_record, tangent,
-                      poincare, end_state, stats, tan_log, tan_out, status, hist,
-                      adapt_tol, ring, streak, cbuf, snap)
+        _point_scalar(
+            p,
+            coef[p],
+            D[p],
+            omega[p],
+            nsteps[p],
+            state0[p, 0],
+            state0[p, 1],
+            n_transient,
+            n_record,
+            tangent,
+            poincare,
+            end_state,
+            stats,
+            tan_log,
+            tan_out,
+            status,
+            hist,
+            adapt_tol,
+            ring,
+            streak,
+            cbuf,
+            snap,
+        )

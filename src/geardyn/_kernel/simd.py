@@ -130,6 +130,7 @@ def _vector_chunk(kind_sin, mode, V, width, L, fields):
 
         def step(l0):
             """One RK4 step of the block at lane l0: fields loaded from S, results stored to S."""
+
             def ld(f):
                 return builder.load(ptr(f, l0), align=8)
 

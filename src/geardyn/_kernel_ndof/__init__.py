@@ -31,8 +31,23 @@ import numpy as np
 
 from .._kernel import _executor, n_threads
 from .core import (
-    DIVERGENCE_BOUND, NSTAT, S_N, S_NBACK, S_NDRIVE, S_NSEP, S_UMAX, S_UMIN, S_USQ, S_USUM, S_VMAX, S_VMIN,
-    ST_DIVERGED, ST_OK, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE,
+    DIVERGENCE_BOUND,
+    NSTAT,
+    S_N,
+    S_NBACK,
+    S_NDRIVE,
+    S_NSEP,
+    S_UMAX,
+    S_UMIN,
+    S_USQ,
+    S_USUM,
+    S_VMAX,
+    S_VMIN,
+    ST_DIVERGED,
+    ST_OK,
+    TAN_LYAPUNOV,
+    TAN_MONODROMY,
+    TAN_NONE,
 )
 from .step import CROSSING_TOL, HERMITE_SAMPLES, MAX_SPLITS
 from .worker import ndof_worker
@@ -40,10 +55,29 @@ from .worker import ndof_worker
 _fast_loads(ndof_worker)  # read from numba's cache without setting up its compiler (see geardyn._cache_guard)
 
 __all__ = [
-    "run_batch", "n_threads",
-    "S_UMIN", "S_UMAX", "S_USUM", "S_USQ", "S_VMIN", "S_VMAX", "S_NDRIVE", "S_NSEP", "S_NBACK", "S_N", "NSTAT",
-    "TAN_NONE", "TAN_LYAPUNOV", "TAN_MONODROMY", "ST_OK", "ST_DIVERGED", "DIVERGENCE_BOUND",
-    "MAX_SPLITS", "HERMITE_SAMPLES", "CROSSING_TOL", "THREAD_MIN_WORK",
+    "run_batch",
+    "n_threads",
+    "S_UMIN",
+    "S_UMAX",
+    "S_USUM",
+    "S_USQ",
+    "S_VMIN",
+    "S_VMAX",
+    "S_NDRIVE",
+    "S_NSEP",
+    "S_NBACK",
+    "S_N",
+    "NSTAT",
+    "TAN_NONE",
+    "TAN_LYAPUNOV",
+    "TAN_MONODROMY",
+    "ST_OK",
+    "ST_DIVERGED",
+    "DIVERGENCE_BOUND",
+    "MAX_SPLITS",
+    "HERMITE_SAMPLES",
+    "CROSSING_TOL",
+    "THREAD_MIN_WORK",
 ]
 
 #: Batches with less work than this (RK4 steps × DOFs²) run on the calling thread only.
@@ -62,8 +96,23 @@ def derived(arrays):
     return A, B, W, g, Wc
 
 
-def run_batch(arrays, tperiod, nsteps, state0, n_transient, n_record, tangent, accurate,
-              poincare, end_state, stats, tan_log, tan_out, status, hist):
+def run_batch(
+    arrays,
+    tperiod,
+    nsteps,
+    state0,
+    n_transient,
+    n_record,
+    tangent,
+    accurate,
+    poincare,
+    end_state,
+    stats,
+    tan_log,
+    tan_out,
+    status,
+    hist,
+):
     """Advance a batch of P points of one system structure; results are written into the outputs.
 
     Parameters
@@ -110,10 +159,38 @@ def run_batch(arrays, tperiod, nsteps, state0, n_transient, n_record, tangent, a
     a = arrays
 
     def job():
-        ndof_worker(order, counter, A, B, W, a.V, a.coef, a.D, a.ratio, g, Wc, a.Vc, a.kc, a.cc, a.Dc, a.omega,
-                    np.ascontiguousarray(tperiod, dtype=np.float64), np.ascontiguousarray(nsteps, dtype=np.int64),
-                    np.ascontiguousarray(state0, dtype=np.float64), int(n_transient), int(n_record), int(tangent),
-                    bool(accurate), poincare, end_state, stats, tan_log, tan_out, status, hist)
+        ndof_worker(
+            order,
+            counter,
+            A,
+            B,
+            W,
+            a.V,
+            a.coef,
+            a.D,
+            a.ratio,
+            g,
+            Wc,
+            a.Vc,
+            a.kc,
+            a.cc,
+            a.Dc,
+            a.omega,
+            np.ascontiguousarray(tperiod, dtype=np.float64),
+            np.ascontiguousarray(nsteps, dtype=np.int64),
+            np.ascontiguousarray(state0, dtype=np.float64),
+            int(n_transient),
+            int(n_record),
+            int(tangent),
+            bool(accurate),
+            poincare,
+            end_state,
+            stats,
+            tan_log,
+            tan_out,
+            status,
+            hist,
+        )
 
     if nw == 1:
         job()

@@ -72,14 +72,15 @@ def _accel(context, builder, tys, vals, i0):
         j = loop.index
         qj = _splat(builder, builder.load(_ptr(context, builder, tq, q, [j])))
         vj = _splat(builder, builder.load(_ptr(context, builder, tv, v, [j])))
-        t = builder.fadd(builder.fmul(_vload(context, builder, tA, AT, [j, i0]), qj),
-                         builder.fmul(_vload(context, builder, tB, BT, [j, i0]), vj))
+        t = builder.fadd(
+            builder.fmul(_vload(context, builder, tA, AT, [j, i0]), qj),
+            builder.fmul(_vload(context, builder, tB, BT, [j, i0]), vj),
+        )
         builder.store(builder.fsub(builder.load(acc), t), acc)
     with cgutils.for_range(builder, _rows(context, builder, tW, WT)) as loop:
         e = loop.index
         se = _splat(builder, builder.load(_ptr(context, builder, ts, s, [e])))
-        builder.store(builder.fsub(builder.load(acc), builder.fmul(_vload(context, builder, tW, WT, [e, i0]), se)),
-                      acc)
+        builder.store(builder.fsub(builder.load(acc), builder.fmul(_vload(context, builder, tW, WT, [e, i0]), se)), acc)
     return builder.load(acc)
 
 
@@ -95,10 +96,22 @@ def stage_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0):
         cv = _splat(builder, args[9])
         _vstore(context, builder, t[10], args[10], [i0v], acc)
         qs = _vload(context, builder, t[6], args[6], [i0v])
-        _vstore(context, builder, t[11], args[11], [i0v],
-                builder.fadd(_vload(context, builder, t[7], args[7], [i0v]), builder.fmul(cv, qs)))
-        _vstore(context, builder, t[12], args[12], [i0v],
-                builder.fadd(_vload(context, builder, t[8], args[8], [i0v]), builder.fmul(cv, acc)))
+        _vstore(
+            context,
+            builder,
+            t[11],
+            args[11],
+            [i0v],
+            builder.fadd(_vload(context, builder, t[7], args[7], [i0v]), builder.fmul(cv, qs)),
+        )
+        _vstore(
+            context,
+            builder,
+            t[12],
+            args[12],
+            [i0v],
+            builder.fadd(_vload(context, builder, t[8], args[8], [i0v]), builder.fmul(cv, acc)),
+        )
         return context.get_dummy_value()
 
     return sig, codegen

@@ -13,7 +13,6 @@ the vector field is continuous, so the split keeps RK4 fourth order and no salta
 
 from __future__ import annotations
 
-
 import numpy as np
 from numba import njit
 
@@ -115,8 +114,9 @@ def _gfun(d, D, m):
 
 
 @njit(nogil=True)
-def _locked(x0, t, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
-            tangent, Y):
+def _locked(
+    x0, t, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv, tangent, Y
+):
     """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``)."""
     for i in range(x0.shape[0]):
         xo[i] = x0[i]
@@ -142,8 +142,37 @@ def _worst(x, t, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev):
 
 
 @njit(nogil=True)
-def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, gaps, mode, xo, cfa, wk, wt,
-                  Gq, Gv, tangent, Y, Ysave, ev):
+def accurate_step(
+    x,
+    t,
+    h,
+    coef,
+    ratio,
+    omega,
+    A,
+    B,
+    W,
+    V,
+    D,
+    Wc,
+    Vc,
+    kc,
+    cc,
+    Dc,
+    g,
+    gaps,
+    mode,
+    xo,
+    cfa,
+    wk,
+    wt,
+    Gq,
+    Gv,
+    tangent,
+    Y,
+    Ysave,
+    ev,
+):
     """Advance x (and Y) by one step of length h split at every contact-boundary crossing."""
     d = x.shape[0]
     rem = h
@@ -156,8 +185,34 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
             for i in range(d):
                 for c in range(Y.shape[1]):
                     Ysave[i, c] = Y[i, c]
-        _locked(x, tt, rem, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
-                tangent, Y)
+        _locked(
+            x,
+            tt,
+            rem,
+            coef,
+            ratio,
+            omega,
+            A,
+            B,
+            W,
+            V,
+            D,
+            Wc,
+            Vc,
+            kc,
+            cc,
+            Dc,
+            g,
+            mode,
+            xo,
+            cfa,
+            wk,
+            wt,
+            Gq,
+            Gv,
+            tangent,
+            Y,
+        )
         gend, _w = _worst(xo, tt + rem, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
         hi = rem
         ghi = gend
@@ -165,8 +220,34 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
             # a crossing out and back inside the sub-step: check a few locked sub-lengths
             for k in range(1, HERMITE_SAMPLES + 1):
                 sk = rem * k / (HERMITE_SAMPLES + 1)
-                _locked(x, tt, sk, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, wk[5], cfa, wk,
-                        wt, Gq, Gv, False, Y)
+                _locked(
+                    x,
+                    tt,
+                    sk,
+                    coef,
+                    ratio,
+                    omega,
+                    A,
+                    B,
+                    W,
+                    V,
+                    D,
+                    Wc,
+                    Vc,
+                    kc,
+                    cc,
+                    Dc,
+                    g,
+                    mode,
+                    wk[5],
+                    cfa,
+                    wk,
+                    wt,
+                    Gq,
+                    Gv,
+                    False,
+                    Y,
+                )
                 gk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
                 if gk < 0.0:
                     hi = sk
@@ -188,8 +269,34 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
             s = hi - ghi * (hi - lo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
             if not (s > lo and s < hi):
                 s = 0.5 * (lo + hi)
-            _locked(x, tt, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, wk[5], cfa, wk, wt,
-                    Gq, Gv, False, Y)
+            _locked(
+                x,
+                tt,
+                s,
+                coef,
+                ratio,
+                omega,
+                A,
+                B,
+                W,
+                V,
+                D,
+                Wc,
+                Vc,
+                kc,
+                cc,
+                Dc,
+                g,
+                mode,
+                wk[5],
+                cfa,
+                wk,
+                wt,
+                Gq,
+                Gv,
+                False,
+                Y,
+            )
             gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
             if gs == 0.0:
                 lo = s
@@ -212,8 +319,34 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
             for i in range(d):
                 for c in range(Y.shape[1]):
                     Y[i, c] = Ysave[i, c]
-        _locked(x, tt, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
-                tangent, Y)
+        _locked(
+            x,
+            tt,
+            s,
+            coef,
+            ratio,
+            omega,
+            A,
+            B,
+            W,
+            V,
+            D,
+            Wc,
+            Vc,
+            kc,
+            cc,
+            Dc,
+            g,
+            mode,
+            xo,
+            cfa,
+            wk,
+            wt,
+            Gq,
+            Gv,
+            tangent,
+            Y,
+        )
         for i in range(d):
             x[i] = xo[i]
         tt += s
@@ -224,8 +357,9 @@ def accurate_step(x, t, h, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc
     coef_at(coef, ratio, omega * tt, cfa[3])
     element_values(x, x, V.shape[1], cfa[3], V, Vc, omega, ev)
     _regions(ev, gaps, mode)
-    _locked(x, tt, rem, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv,
-            tangent, Y)
+    _locked(
+        x, tt, rem, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv, tangent, Y
+    )
     for i in range(d):
         x[i] = xo[i]
 
@@ -246,7 +380,7 @@ def aligned_zeros(rows, cols):
     """A zeroed float64 (rows, cols) array whose data start on an ALIGN_BYTES boundary."""
     raw = np.zeros(rows * cols + ALIGN_BYTES // 8)
     off = ((ALIGN_BYTES - raw.ctypes.data % ALIGN_BYTES) % ALIGN_BYTES) // 8
-    return raw[off:off + rows * cols].reshape((rows, cols))
+    return raw[off : off + rows * cols].reshape((rows, cols))
 
 
 @njit(nogil=True)
@@ -279,8 +413,19 @@ def rk4_plain(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega):
     """
     hh = 0.5 * h
     h6 = h / 6.0
-    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = X[XQ], X[XV], X[XK1], X[XK2], X[XK3], X[XQ2], X[XV2], X[XQ3], \
-        X[XV3], X[XQ4], X[XV4]
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = (
+        X[XQ],
+        X[XV],
+        X[XK1],
+        X[XK2],
+        X[XK3],
+        X[XQ2],
+        X[XV2],
+        X[XQ3],
+        X[XV3],
+        X[XQ4],
+        X[XV4],
+    )
     forces_tab(q, v, tab, 2 * j, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         stage_block(AT, BT, gP, WT, s, q, v, q, v, hh, k1, q2, v2, b)

@@ -16,8 +16,17 @@ from numba import njit
 
 from .._kernel.core import _fetch_add
 from .core import (
-    LOCK_FREE, NSTAT, ST_DIVERGED, ST_OK, TAN_LYAPUNOV, TAN_NONE, accumulate, coef_at,
-    diverged_state, element_values, gram_schmidt,
+    LOCK_FREE,
+    NSTAT,
+    ST_DIVERGED,
+    ST_OK,
+    TAN_LYAPUNOV,
+    TAN_NONE,
+    accumulate,
+    coef_at,
+    diverged_state,
+    element_values,
+    gram_schmidt,
 )
 from .simd import LANE_BLOCK
 from .step import XQ, XROWS, XV, accurate_step, aligned_zeros, pad_point, rk4, rk4_plain
@@ -34,9 +43,38 @@ def _store_hist(hist, p, s, q, v, vo):
 
 
 @njit(nogil=True, cache=True)
-def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, Dc, omega, tperiod, nsteps,
-                state0, n_transient, n_record, tangent, accurate, poincare, end_state, stats, tan_log, tan_out,
-                status, hist):
+def ndof_worker(
+    order,
+    counter,
+    A,
+    B,
+    W,
+    V,
+    coef,
+    D,
+    ratio,
+    g,
+    Wc,
+    Vc,
+    kc,
+    cc,
+    Dc,
+    omega,
+    tperiod,
+    nsteps,
+    state0,
+    n_transient,
+    n_record,
+    tangent,
+    accurate,
+    poincare,
+    end_state,
+    stats,
+    tan_log,
+    tan_out,
+    status,
+    hist,
+):
     P = order.shape[0]
     d = state0.shape[1]
     n = d // 2
@@ -122,12 +160,64 @@ def ndof_worker(order, counter, A, B, W, V, coef, D, ratio, g, Wc, Vc, kc, cc, D
             else:
                 for j in range(N):
                     if accurate:
-                        accurate_step(x, j * h, h, coef[p], ratio[p], om, A[p], B[p], W[p], V[p], D[p], Wc[p], Vc[p],
-                                      kc[p], cc[p], Dc[p], g[p], gaps, mode, xo, cfa, wk, wt, Gq, Gv, tan_on, Y, Ysave,
-                                      ev)
+                        accurate_step(
+                            x,
+                            j * h,
+                            h,
+                            coef[p],
+                            ratio[p],
+                            om,
+                            A[p],
+                            B[p],
+                            W[p],
+                            V[p],
+                            D[p],
+                            Wc[p],
+                            Vc[p],
+                            kc[p],
+                            cc[p],
+                            Dc[p],
+                            g[p],
+                            gaps,
+                            mode,
+                            xo,
+                            cfa,
+                            wk,
+                            wt,
+                            Gq,
+                            Gv,
+                            tan_on,
+                            Y,
+                            Ysave,
+                            ev,
+                        )
                     else:
-                        rk4(x, h, tab[2 * j], tab[2 * j + 1], tab[2 * j + 2], A[p], B[p], W[p], V[p], D[p], Wc[p],
-                            Vc[p], kc[p], cc[p], Dc[p], g[p], om, mode, tan_on, Y, wk, wt, Gq, Gv)
+                        rk4(
+                            x,
+                            h,
+                            tab[2 * j],
+                            tab[2 * j + 1],
+                            tab[2 * j + 2],
+                            A[p],
+                            B[p],
+                            W[p],
+                            V[p],
+                            D[p],
+                            Wc[p],
+                            Vc[p],
+                            kc[p],
+                            cc[p],
+                            Dc[p],
+                            g[p],
+                            om,
+                            mode,
+                            tan_on,
+                            Y,
+                            wk,
+                            wt,
+                            Gq,
+                            Gv,
+                        )
                     if rec:
                         if accurate:
                             coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])

@@ -26,8 +26,16 @@ import numpy as np
 from ..integrate import ST_OK
 from .classify import MAX_PERIOD, MOTION_PERIODIC
 
-__all__ = ["CLOUD_POINTS", "CYCLE_TOL", "NONPERIODIC_TOL", "Attractor", "identify_attractors", "same_attractor",
-           "same_cycle", "same_signature"]
+__all__ = [
+    "CLOUD_POINTS",
+    "CYCLE_TOL",
+    "NONPERIODIC_TOL",
+    "Attractor",
+    "identify_attractors",
+    "same_attractor",
+    "same_cycle",
+    "same_signature",
+]
 
 #: Cycle points closer than this (relative to max(1, largest |coordinate|)) are the same point.
 CYCLE_TOL = 1.0e-3
@@ -103,8 +111,9 @@ class Attractor:
         return self.period > 0
 
 
-def attractor_of(period: int, motion: int, section: np.ndarray, signature: np.ndarray,
-                 cloud: int = CLOUD_POINTS) -> Attractor:
+def attractor_of(
+    period: int, motion: int, section: np.ndarray, signature: np.ndarray, cloud: int = CLOUD_POINTS
+) -> Attractor:
     """The :class:`Attractor` of one point from its period, motion code and Poincaré section.
 
     Parameters
@@ -128,8 +137,9 @@ def attractor_of(period: int, motion: int, section: np.ndarray, signature: np.nd
     return Attractor(0, int(motion), section[-cloud:], signature)
 
 
-def same_attractor(a: Attractor, b: Attractor, *, signature_tol: float, tol: float = CYCLE_TOL,
-                   match_motion: bool = True) -> bool:
+def same_attractor(
+    a: Attractor, b: Attractor, *, signature_tol: float, tol: float = CYCLE_TOL, match_motion: bool = True
+) -> bool:
     """Whether ``a`` and ``b`` are the same attractor (see the module docstring).
 
     Parameters
@@ -156,8 +166,9 @@ def same_attractor(a: Attractor, b: Attractor, *, signature_tol: float, tol: flo
     return same_signature(a.signature, b.signature, signature_tol)
 
 
-def identify_attractors(rows: dict[str, np.ndarray], *, tol: float = CYCLE_TOL,
-                        nonperiodic_tol: float = NONPERIODIC_TOL) -> tuple[np.ndarray, list[dict[str, Any]]]:
+def identify_attractors(
+    rows: dict[str, np.ndarray], *, tol: float = CYCLE_TOL, nonperiodic_tol: float = NONPERIODIC_TOL
+) -> tuple[np.ndarray, list[dict[str, Any]]]:
     """Label each point by its attractor.
 
     Non-periodic attractors are compared by amplitude, mean and extremes, to ``nonperiodic_tol``
@@ -204,11 +215,21 @@ def identify_attractors(rows: dict[str, np.ndarray], *, tol: float = CYCLE_TOL,
         raw[i] = found
         info[found]["count"] += 1
     # number by basin size (ties: periodic first, then by period and first cycle point)
-    key = sorted(range(len(atts)), key=lambda a: (-info[a]["count"], atts[a].period == 0, atts[a].period,
-                                                  float(atts[a].points[0, 0])))
+    key = sorted(
+        range(len(atts)),
+        key=lambda a: (-info[a]["count"], atts[a].period == 0, atts[a].period, float(atts[a].points[0, 0])),
+    )
     renumber = {old: k for k, old in enumerate(key)}
     labels = np.array([renumber[r] if r >= 0 else -1 for r in raw], dtype=np.int64)
-    out = [{"period": atts[old].period, "motion": atts[old].motion, "points": atts[old].points,
-            "amplitude": info[old]["amplitude"], "mean": info[old]["mean"], "count": info[old]["count"]}
-           for old in key]
+    out = [
+        {
+            "period": atts[old].period,
+            "motion": atts[old].motion,
+            "points": atts[old].points,
+            "amplitude": info[old]["amplitude"],
+            "mean": info[old]["mean"],
+            "count": info[old]["count"],
+        }
+        for old in key
+    ]
     return labels, out

@@ -16,7 +16,8 @@ are cut into chunks for the sweep engine.
 from __future__ import annotations
 
 import json
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -27,13 +28,21 @@ from ..io import json_values
 from ..model import IntegrationOptions, ModelError
 from ..sweep import DEFAULT_CHUNK_POINTS
 from ..sweep.progress import counts_points
-from .attractors import CLOUD_POINTS, CYCLE_TOL, NONPERIODIC_TOL, identify_attractors
 from ..system import element_names, state_names
+from .attractors import CLOUD_POINTS, CYCLE_TOL, NONPERIODIC_TOL, identify_attractors
 from .bifurcation import ELEMENT_VARIABLES, fixed_chunk
 from .classify import MAX_PERIOD
 from .points import result_dataset, run_slices, sweep_function
 
-__all__ = ["basins", "basins_json", "coordinate_index", "identify_attractors", "CYCLE_TOL", "NONPERIODIC_TOL", "BASIN_OPTIONS"]
+__all__ = [
+    "basins",
+    "basins_json",
+    "coordinate_index",
+    "identify_attractors",
+    "CYCLE_TOL",
+    "NONPERIODIC_TOL",
+    "BASIN_OPTIONS",
+]
 
 #: Default integration options of a basin map: the usual transient, and just enough recorded
 #: periods to detect periods up to MAX_PERIOD.
@@ -46,8 +55,12 @@ def basin_chunk(model, states, options, settle_periods):
     sweep's progress bar by :func:`~geardyn.analysis.bifurcation.fixed_chunk`)."""
     r = fixed_chunk([model] * len(states), np.asarray(states, dtype=float), options, False, settle_periods)
     keep = min(r["poincare"].shape[1], max(MAX_PERIOD, CLOUD_POINTS))
-    return {k: r[k] for k in ("period", "motion", "impact", "status", "amplitude", "mean", "u_min", "u_max", "lle")
-            + tuple(ELEMENT_VARIABLES) if k in r} | {"poincare": r["poincare"][:, -keep:, :]}
+    return {
+        k: r[k]
+        for k in ("period", "motion", "impact", "status", "amplitude", "mean", "u_min", "u_max", "lle")
+        + tuple(ELEMENT_VARIABLES)
+        if k in r
+    } | {"poincare": r["poincare"][:, -keep:, :]}
 
 
 def coordinate_index(model: Any, name: str) -> int:
@@ -79,15 +92,18 @@ def coordinate_index(model: Any, name: str) -> int:
     try:
         i = int(s)
     except ValueError:
-        raise ModelError(f"coordinates: unknown coordinate {s!r}; the system's are {', '.join(labels)} and their "
-                         f"rates {', '.join(lab + chr(39) for lab in labels)} (or indices 0..{d - 1})") from None
+        raise ModelError(
+            f"coordinates: unknown coordinate {s!r}; the system's are {', '.join(labels)} and their "
+            f"rates {', '.join(lab + chr(39) for lab in labels)} (or indices 0..{d - 1})"
+        ) from None
     if not 0 <= i < d:
         raise ModelError(f"coordinates: index {i} out of range 0..{d - 1}")
     return i
 
 
-def _start_states(model: Any, grid: Grid, coordinates: tuple[int, int] | None,
-                  base_state: Sequence[float] | None) -> np.ndarray | None:
+def _start_states(
+    model: Any, grid: Grid, coordinates: tuple[int, int] | None, base_state: Sequence[float] | None
+) -> np.ndarray | None:
     """The full initial states of a state grid (None for the pair's (u0, v0), taken straight from the grid)."""
     if coordinates is None:
         if model.state_dim == 2:
@@ -113,7 +129,9 @@ def basins(
     *,
     coordinates: tuple[int, int] | None = None,
     base_state: Sequence[float] | None = None,
-    options, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
+    options,
+    settle_periods,
+    engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Basins of attraction over a grid of initial states (u0, v0) at θ = 0.
 
@@ -161,9 +179,13 @@ def basins(
     v0 = linspace_values(*v_range, nv, label="v0")
     grid = Grid.states(u0, v0)
     full = _start_states(model, grid, coordinates, base_state)
-    rows = run_slices(basin_chunk, lambda sl: (model, grid.state_points(sl) if full is None else full[sl], options,
-                                               settle_periods),
-                      grid.slices(engine.points_per_chunk(4 * DEFAULT_CHUNK_POINTS)), engine, "basins")
+    rows = run_slices(
+        basin_chunk,
+        lambda sl: (model, grid.state_points(sl) if full is None else full[sl], options, settle_periods),
+        grid.slices(engine.points_per_chunk(4 * DEFAULT_CHUNK_POINTS)),
+        engine,
+        "basins",
+    )
     labels, atts = identify_attractors(rows)
     shape = grid.shape
     dims = grid.names
@@ -184,21 +206,34 @@ def basins(
             extra["element"] = element_names(model, rows[k].shape[1])
     if full is not None:
         names = state_names(model, model.state_dim)
-        extra_attrs = {"coordinates": [names[c] for c in coordinates] if coordinates is not None
-                       else ["δ (reference element)", "δ' (reference element)"]}
+        extra_attrs = {
+            "coordinates": [names[c] for c in coordinates]
+            if coordinates is not None
+            else ["δ (reference element)", "δ' (reference element)"]
+        }
     else:
         extra_attrs = {}
-    data.update({
-        "attractor_period": ("attractor_index", np.array([a["period"] for a in atts], dtype=np.int64)),
-        "attractor_motion": ("attractor_index", np.array([a["motion"] for a in atts], dtype=np.int64)),
-        "attractor_fraction": ("attractor_index", np.array([a["count"] / total for a in atts])),
-        "attractor_amplitude": ("attractor_index", np.array([a["amplitude"] for a in atts])),
-        "attractor_u": (("attractor_index", "cycle_point"), au),
-        "attractor_v": (("attractor_index", "cycle_point"), av),
-    })
+    data.update(
+        {
+            "attractor_period": ("attractor_index", np.array([a["period"] for a in atts], dtype=np.int64)),
+            "attractor_motion": ("attractor_index", np.array([a["motion"] for a in atts], dtype=np.int64)),
+            "attractor_fraction": ("attractor_index", np.array([a["count"] / total for a in atts])),
+            "attractor_amplitude": ("attractor_index", np.array([a["amplitude"] for a in atts])),
+            "attractor_u": (("attractor_index", "cycle_point"), au),
+            "attractor_v": (("attractor_index", "cycle_point"), av),
+        }
+    )
     coords = {"v0": v0, "u0": u0, "attractor_index": np.arange(A), "cycle_point": np.arange(width), **extra}
-    return result_dataset(data, coords, "basins", model, options, settle_periods=int(settle_periods),
-                          diverged=int(np.count_nonzero(labels < 0)), **extra_attrs)
+    return result_dataset(
+        data,
+        coords,
+        "basins",
+        model,
+        options,
+        settle_periods=int(settle_periods),
+        diverged=int(np.count_nonzero(labels < 0)),
+        **extra_attrs,
+    )
 
 
 @parameters(result_of("basins"))
@@ -218,14 +253,16 @@ def basins_json(ds: xr.Dataset) -> dict[str, Any]:
         u = ds["attractor_u"].values[k]
         v = ds["attractor_v"].values[k]
         ok = np.isfinite(u)
-        atts.append({
-            "label": k,
-            "period": json_values(per[k], name="attractor_period"),
-            "motion": json_values(ds["attractor_motion"].values[k], name="motion", period=per[k]),
-            "fraction": float(ds["attractor_fraction"].values[k]),
-            "amplitude": float(ds["attractor_amplitude"].values[k]),
-            "points": np.column_stack([u[ok], v[ok]]).tolist(),
-        })
+        atts.append(
+            {
+                "label": k,
+                "period": json_values(per[k], name="attractor_period"),
+                "motion": json_values(ds["attractor_motion"].values[k], name="motion", period=per[k]),
+                "fraction": float(ds["attractor_fraction"].values[k]),
+                "amplitude": float(ds["attractor_amplitude"].values[k]),
+                "points": np.column_stack([u[ok], v[ok]]).tolist(),
+            }
+        )
     lab = ds["attractor"].values
     return {
         "omega": float(json.loads(ds.attrs["model"])["omega"]),

@@ -18,7 +18,8 @@ mode); see :func:`bifurcation`.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -57,11 +58,25 @@ SWEEPS = ("up", "down", "both")
 #: in one byte, periods and loop counts (at most a few hundred) in two, so that a 10⁶-point map
 #: holds 8 MB of codes instead of 40 MB (the values are the same).
 _SCALARS = {
-    "period": np.int16, "motion": np.int8, "impact": np.int8, "status": np.int8, "loops": np.int16,
-    "settled": np.int64, "restarted": np.int64,
-    "amplitude": float, "rms": float, "mean": float, "u_min": float, "u_max": float,
-    "fraction_drive": float, "fraction_separation": float, "fraction_back": float,
-    "lle": float, "lle_err": float, "lambda2": float, "curve_dim": float,
+    "period": np.int16,
+    "motion": np.int8,
+    "impact": np.int8,
+    "status": np.int8,
+    "loops": np.int16,
+    "settled": np.int64,
+    "restarted": np.int64,
+    "amplitude": float,
+    "rms": float,
+    "mean": float,
+    "u_min": float,
+    "u_max": float,
+    "fraction_drive": float,
+    "fraction_separation": float,
+    "fraction_back": float,
+    "lle": float,
+    "lle_err": float,
+    "lambda2": float,
+    "curve_dim": float,
     "settle_ratio": float,
 }
 
@@ -70,8 +85,13 @@ sweep_values = linspace_values
 
 
 #: Per-point, per-element variables of a system of several elements (P, elements), with their dtype.
-ELEMENT_VARIABLES = {"element_u_min": float, "element_u_max": float, "element_mean": float, "element_rms": float,
-                     "element_impact": np.int8}
+ELEMENT_VARIABLES = {
+    "element_u_min": float,
+    "element_u_max": float,
+    "element_mean": float,
+    "element_rms": float,
+    "element_impact": np.int8,
+}
 
 
 def reference_section(models: Sequence[Any], poincare: np.ndarray) -> np.ndarray:
@@ -88,8 +108,12 @@ def reference_section(models: Sequence[Any], poincare: np.ndarray) -> np.ndarray
     return out
 
 
-def _rows(out: dict[str, np.ndarray], start: np.ndarray, restarted: np.ndarray | None = None,
-          models: Sequence[Any] | None = None) -> dict[str, np.ndarray]:
+def _rows(
+    out: dict[str, np.ndarray],
+    start: np.ndarray,
+    restarted: np.ndarray | None = None,
+    models: Sequence[Any] | None = None,
+) -> dict[str, np.ndarray]:
     """Chunk result: one row per point (plain arrays only, for checkpoint files); the Poincaré points are the
     reference element's (δ, δ'), the start and end states the full states."""
     n = out["period"].shape[0]
@@ -253,7 +277,11 @@ def bifurcation(
     mode: str = "fixed",
     sweep: str = "up",
     description: str | None = None,
-    state0, options, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
+    state0,
+    options,
+    lyapunov,
+    settle_periods,
+    engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Bifurcation diagram of ``param`` over ``values``.
 
@@ -312,23 +340,44 @@ def bifurcation(
     common = (s0t, options, lyapunov, settle_periods)
     if mode == "fixed":
         labels = ["fixed"]
-        per_sweep = [run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common,
-                                chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine, label)]
+        per_sweep = [
+            run_slices(
+                grid_chunk,
+                lambda sl: (model, grid.names, grid.points(sl)) + common,
+                chunk_slices(grid, model, options, engine, lyapunov=lyapunov),
+                engine,
+                label,
+            )
+        ]
     else:
         labels = ["up", "down"] if sweep == "both" else [sweep]
         pts = grid.points()
-        chunks = [Chunk(i, grid_chunk, (model, grid.names, pts if lab == "up" else pts[::-1].copy()) + common + (True,))
-                  for i, lab in enumerate(labels)]
+        chunks = [
+            Chunk(i, grid_chunk, (model, grid.names, pts if lab == "up" else pts[::-1].copy()) + common + (True,))
+            for i, lab in enumerate(labels)
+        ]
         results = run_chunks(chunks, engine, description=label)
         per_sweep = [r if lab == "up" else {k: v[::-1] for k, v in r.items()} for lab, r in zip(labels, results)]
     ds = points_dataset(name, vals, labels, per_sweep, model)
-    ds.attrs.update(result_attrs("bifurcation", model, options, param=name, mode=mode, sweep=sweep,
-                                 state0=list(s0t), lyapunov=bool(lyapunov), settle_periods=int(settle_periods)))
+    ds.attrs.update(
+        result_attrs(
+            "bifurcation",
+            model,
+            options,
+            param=name,
+            mode=mode,
+            sweep=sweep,
+            state0=list(s0t),
+            lyapunov=bool(lyapunov),
+            settle_periods=int(settle_periods),
+        )
+    )
     return ds
 
 
-def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_sweep: Sequence[dict[str, np.ndarray]],
-                   model: Any = None) -> xr.Dataset:
+def points_dataset(
+    name: str, values: np.ndarray, labels: Sequence[str], per_sweep: Sequence[dict[str, np.ndarray]], model: Any = None
+) -> xr.Dataset:
     """Assemble per-sweep row dicts (ascending ``values``) into the bifurcation Dataset.
 
     Parameters
@@ -364,8 +413,9 @@ def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_swe
     coords: dict[str, Any] = {"sweep": list(labels), name: np.asarray(values, float), "section": np.arange(pc.shape[2])}
     st, en = stack("start"), stack("end")
     if st.shape[-1] == 2:  # the pair: (u, u')
-        data.update(start_u=(dims, st[..., 0]), start_v=(dims, st[..., 1]), end_u=(dims, en[..., 0]),
-                    end_v=(dims, en[..., 1]))
+        data.update(
+            start_u=(dims, st[..., 0]), start_v=(dims, st[..., 1]), end_u=(dims, en[..., 0]), end_v=(dims, en[..., 1])
+        )
     else:  # a system: the full states
         data.update(start_state=(dims + ("state",), st), end_state=(dims + ("state",), en))
         coords["state"] = state_names(model, st.shape[-1])
@@ -375,7 +425,6 @@ def points_dataset(name: str, values: np.ndarray, labels: Sequence[str], per_swe
             coords["element"] = element_names(model, data[k][1].shape[-1])
     ds = xr.Dataset(data, coords=coords)
     return annotate(ds)
-
 
 
 def point_labels(ds: xr.Dataset, sweep: str) -> dict[str, list[Any]]:
@@ -396,8 +445,10 @@ def point_labels(ds: xr.Dataset, sweep: str) -> dict[str, list[Any]]:
     """
     s = ds.sel(sweep=sweep)
     per = s["period"].values
-    return {k: json_values(s[k], period=per if k == "motion" else None)
-            for k in ("period", "motion", "impact", "lle", "amplitude", "status")}
+    return {
+        k: json_values(s[k], period=per if k == "motion" else None)
+        for k in ("period", "motion", "impact", "lle", "amplitude", "status")
+    }
 
 
 def class_intervals(ds: xr.Dataset, sweep: str) -> list[dict[str, Any]]:
@@ -450,8 +501,9 @@ def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
     return out
 
 
-def sweep_summary(ds: xr.Dataset, values: Callable[[np.ndarray], list[Any]]
-                  ) -> tuple[dict[str, Any], Callable[[Callable[[str], Any]], Any]]:
+def sweep_summary(
+    ds: xr.Dataset, values: Callable[[np.ndarray], list[Any]]
+) -> tuple[dict[str, Any], Callable[[Callable[[str], Any]], Any]]:
     """The head of a one-parameter sweep's JSON summary and the way its per-point entries go in.
 
     Parameters
@@ -471,8 +523,12 @@ def sweep_summary(ds: xr.Dataset, values: Callable[[np.ndarray], list[Any]]
     param = str(ds.attrs["param"])
     labels = [str(x) for x in ds["sweep"].values]
     one = len(labels) == 1
-    head = {"param": param, "values": values(ds[param].values), "mode": ds.attrs.get("mode"),
-            "sweep": labels[0] if one else labels}
+    head = {
+        "param": param,
+        "values": values(ds[param].values),
+        "mode": ds.attrs.get("mode"),
+        "sweep": labels[0] if one else labels,
+    }
 
     def per_sweep(f: Callable[[str], Any]) -> Any:
         return f(labels[0]) if one else {lab: f(lab) for lab in labels}

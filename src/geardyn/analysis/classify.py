@@ -29,14 +29,27 @@ still contracting onto a cycle (:func:`is_settling`), up to :data:`SETTLE_ROUNDS
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from ..labels import (  # noqa: F401  (the vocabulary, re-exported for the classification's callers)
-    IMPACT_DOUBLE, IMPACT_LABELS, IMPACT_NONE, IMPACT_SINGLE, IMPACT_UNKNOWN, MAX_PERIOD, MOTION_CHAOTIC,
-    MOTION_DIVERGED, MOTION_LABELS, MOTION_PERIODIC, MOTION_QUASIPERIODIC, MOTION_UNRESOLVED, impact_state,
-    motion_label, period_label,
+    IMPACT_DOUBLE,
+    IMPACT_LABELS,
+    IMPACT_NONE,
+    IMPACT_SINGLE,
+    IMPACT_UNKNOWN,
+    MAX_PERIOD,
+    MOTION_CHAOTIC,
+    MOTION_DIVERGED,
+    MOTION_LABELS,
+    MOTION_PERIODIC,
+    MOTION_QUASIPERIODIC,
+    MOTION_UNRESOLVED,
+    impact_state,
+    motion_label,
+    period_label,
 )
 
 #: Poincaré points i and i+n count as equal when they differ by less than this, relative to
@@ -44,7 +57,6 @@ from ..labels import (  # noqa: F401  (the vocabulary, re-exported for the class
 PERIOD_TOL = 1.0e-6
 #: Fraction of the recorded Poincaré points (the latest ones) examined for periodicity.
 PERIOD_WINDOW = 0.5
-
 
 
 def detect_period(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float = PERIOD_TOL) -> int:
@@ -70,8 +82,8 @@ def detect_period(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float =
         w = min(window, m - n)
         if w < max(2, n):  # need every point of the cycle compared at least once
             break
-        a = pts[m - w:]
-        b = pts[m - w - n: m - n]
+        a = pts[m - w :]
+        b = pts[m - w - n : m - n]
         if float(np.max(np.abs(a - b))) <= tol * scale:
             return n
     return 0
@@ -113,7 +125,7 @@ def detect_periods(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float 
         if w < max(2, n) or todo.size == 0:  # need every point of the cycle compared at least once
             break
         sub = pts[todo]
-        d = np.max(np.abs(sub[:, m - w:] - sub[:, m - w - n: m - n]).reshape(todo.size, -1), axis=1)
+        d = np.max(np.abs(sub[:, m - w :] - sub[:, m - w - n : m - n]).reshape(todo.size, -1), axis=1)
         hit = d <= tol * scale[todo]
         out[todo[hit]] = n
         todo = todo[~hit]
@@ -174,8 +186,9 @@ CURVE_DIM_RANGE = (0.8, 1.5)
 CURVE_DIM_RADII = (4.0, 32.0)
 
 
-def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_dim: Any = np.nan,
-                    settle_ratio: Any = np.nan) -> np.ndarray:
+def classify_motion(
+    period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_dim: Any = np.nan, settle_ratio: Any = np.nan
+) -> np.ndarray:
     """Motion codes from the period, the largest exponent and its uncertainty (element-wise).
 
     Parameters
@@ -206,8 +219,9 @@ def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_d
     good = np.asarray(ok, dtype=bool) & (n >= 0)
     band = LLE_SIGMAS * np.where(np.isfinite(err), err, 0.0) + LLE_FLOOR
     with np.errstate(invalid="ignore"):
-        code = np.where(lam > band, MOTION_CHAOTIC,
-                        np.where(np.abs(lam) <= band, MOTION_QUASIPERIODIC, MOTION_UNRESOLVED))
+        code = np.where(
+            lam > band, MOTION_CHAOTIC, np.where(np.abs(lam) <= band, MOTION_QUASIPERIODIC, MOTION_UNRESOLVED)
+        )
     dim = np.asarray(curve_dim, dtype=float)
     lo, hi = CURVE_DIM_RANGE
     ratio = np.asarray(settle_ratio, dtype=float)
@@ -219,8 +233,9 @@ def classify_motion(period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_d
     return code.astype(np.int64)
 
 
-def motion_class(period: int, lle: float, lle_err: float, ok: bool = True, curve_dim: float = np.nan,
-                 settle_ratio: float = np.nan) -> int:
+def motion_class(
+    period: int, lle: float, lle_err: float, ok: bool = True, curve_dim: float = np.nan, settle_ratio: float = np.nan
+) -> int:
     """Scalar form of :func:`classify_motion`."""
     return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio))
 
@@ -246,10 +261,12 @@ def count_loops(points: np.ndarray, gap: float = LOOP_GAP) -> int:
         return 1
     pairs = cKDTree(pts).query_pairs(gap * extent, output_type="ndarray")
     m = pts.shape[0]
-    g = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(m, m)) if len(pairs) else coo_matrix((m, m))
+    g = (
+        coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(m, m))
+        if len(pairs)
+        else coo_matrix((m, m))
+    )
     return int(connected_components(g, directed=False)[0])
-
-
 
 
 def curve_dimension(points: np.ndarray, radii: tuple[float, float] = CURVE_DIM_RADII) -> float:

@@ -21,7 +21,8 @@ the Poincaré points), so the same rules serve every sweep.
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -39,8 +40,15 @@ from .classify import (
 from .periodic.orbit import shoot
 from .steady import classify_batch
 
-__all__ = ["CONFIRM_LABELS", "LONG_PERIODS", "NEAR_ZERO", "SHOOT_MAX_PERIOD", "confirm_point", "confirm_sweep",
-           "needs_confirmation"]
+__all__ = [
+    "CONFIRM_LABELS",
+    "LONG_PERIODS",
+    "NEAR_ZERO",
+    "SHOOT_MAX_PERIOD",
+    "confirm_point",
+    "confirm_sweep",
+    "needs_confirmation",
+]
 
 #: Periods of the longer exponent run.
 LONG_PERIODS = 3000
@@ -50,8 +58,12 @@ NEAR_ZERO = 0.01
 SHOOT_MAX_PERIOD = 8
 #: Codes of the ``confirmed`` variable: what decided a point's label.
 CONFIRM_NONE, CONFIRM_LONG, CONFIRM_SHOOT, CONFIRM_HALVED = 0, 1, 2, 3
-CONFIRM_LABELS = {CONFIRM_NONE: "sweep label kept", CONFIRM_LONG: "longer exponent run",
-                  CONFIRM_SHOOT: "stable orbit by shooting", CONFIRM_HALVED: "stable period-n orbit of a period-2n label"}
+CONFIRM_LABELS = {
+    CONFIRM_NONE: "sweep label kept",
+    CONFIRM_LONG: "longer exponent run",
+    CONFIRM_SHOOT: "stable orbit by shooting",
+    CONFIRM_HALVED: "stable period-n orbit of a period-2n label",
+}
 
 
 def needs_confirmation(motion: int, period: int, lle: float) -> bool:
@@ -86,8 +98,17 @@ def _stable_orbit(model: GearModel, n: int, guesses: Sequence[np.ndarray]) -> in
     return 0
 
 
-def confirm_point(model: GearModel, end_state: Sequence[float], section: np.ndarray, motion: int, period: int,
-                  lle: float, lle_err: float, *, long_periods: int = LONG_PERIODS) -> dict[str, Any]:
+def confirm_point(
+    model: GearModel,
+    end_state: Sequence[float],
+    section: np.ndarray,
+    motion: int,
+    period: int,
+    lle: float,
+    lle_err: float,
+    *,
+    long_periods: int = LONG_PERIODS,
+) -> dict[str, Any]:
     """Re-examine one point's label (see the module docstring).
 
     Parameters
@@ -111,8 +132,13 @@ def confirm_point(model: GearModel, end_state: Sequence[float], section: np.ndar
         ``motion``, ``period``, ``lle``, ``lle_err`` (the decided label) and ``confirmed`` (a code
         of :data:`CONFIRM_LABELS`).
     """
-    out = {"motion": int(motion), "period": int(period), "lle": float(lle), "lle_err": float(lle_err),
-           "confirmed": CONFIRM_NONE}
+    out = {
+        "motion": int(motion),
+        "period": int(period),
+        "lle": float(lle),
+        "lle_err": float(lle_err),
+        "confirmed": CONFIRM_NONE,
+    }
     if not needs_confirmation(motion, period, lle):
         return out
     pts = np.asarray(section, dtype=float).reshape(-1, 2)
@@ -126,8 +152,9 @@ def confirm_point(model: GearModel, end_state: Sequence[float], section: np.ndar
         if p != period:
             out.update(period=p, confirmed=CONFIRM_HALVED)
         return out
-    res = integrate_points([model], np.asarray(end_state, float), IntegrationOptions(transient=0, periods=long_periods),
-                           lyapunov=True)
+    res = integrate_points(
+        [model], np.asarray(end_state, float), IntegrationOptions(transient=0, periods=long_periods), lyapunov=True
+    )
     c = classify_batch(res, settle_periods=0)
     lam, err = float(c["lle"][0]), float(c["lle_err"][0])
     out.update(lle=lam, lle_err=err, confirmed=CONFIRM_LONG)
@@ -182,9 +209,16 @@ def confirm_sweep(ds: xr.Dataset, model: GearModel, param: str, *, long_periods:
         for i in range(x.size):
             if not needs_confirmation(motion[s, i], period[s, i], lle[s, i]):
                 continue
-            r = confirm_point(model.with_param(param, float(x[i])), (eu[s, i], ev[s, i]),
-                              np.column_stack([pu[s, i], pv[s, i]]), motion[s, i], period[s, i], lle[s, i], err[s, i],
-                              long_periods=long_periods)
+            r = confirm_point(
+                model.with_param(param, float(x[i])),
+                (eu[s, i], ev[s, i]),
+                np.column_stack([pu[s, i], pv[s, i]]),
+                motion[s, i],
+                period[s, i],
+                lle[s, i],
+                err[s, i],
+                long_periods=long_periods,
+            )
             for k in new:
                 new[k][s, i] = r[k]
             code[s, i] = r["confirmed"]
@@ -193,9 +227,17 @@ def confirm_sweep(ds: xr.Dataset, model: GearModel, param: str, *, long_periods:
     out["period_sweep"] = (dims, period)
     for k, v in new.items():
         out[k] = (dims, v, ds[k].attrs if k in ds else {})
-    out["confirmed"] = (dims, code, {"long_name": "what decided the label",
-                                     "flag_values": list(CONFIRM_LABELS),
-                                     "flag_meanings": "kept longer_run shooting halved"})
-    out.attrs["confirm"] = (f"labels re-examined (F1): longer run of {long_periods} periods, shooting up to period "
-                            f"{SHOOT_MAX_PERIOD}, period-2n labels halved when a stable period-n orbit is found")
+    out["confirmed"] = (
+        dims,
+        code,
+        {
+            "long_name": "what decided the label",
+            "flag_values": list(CONFIRM_LABELS),
+            "flag_meanings": "kept longer_run shooting halved",
+        },
+    )
+    out.attrs["confirm"] = (
+        f"labels re-examined (F1): longer run of {long_periods} periods, shooting up to period "
+        f"{SHOOT_MAX_PERIOD}, period-2n labels halved when a stable period-n orbit is found"
+    )
     return out

@@ -22,8 +22,9 @@ All exponents are non-dimensional rates per unit τ = ω_n t; multiply by ω_n f
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -98,7 +99,7 @@ def spectrum_from_log(
     B = int(min(max(blocks, 2), mk))
     if B >= 2:
         L = mk // B
-        blk = kept[:, mk - B * L:, :].reshape(P, B, L, d).mean(axis=2) / T[:, None, None]
+        blk = kept[:, mk - B * L :, :].reshape(P, B, L, d).mean(axis=2) / T[:, None, None]
         err = blk.std(axis=1, ddof=1) / np.sqrt(B)
     else:
         err = np.full((P, d), np.nan)
@@ -251,8 +252,7 @@ class LyapunovResult:
                 "uncertainty": ("exponent", self.uncertainty),
             },
             coords={"section": np.arange(m), "exponent": np.arange(1, len(self.exponents) + 1)},
-            attrs=result_attrs("lyapunov", self.model, self.options, state0=list(self.state0),
-                               summary=self.to_json()),
+            attrs=result_attrs("lyapunov", self.model, self.options, state0=list(self.state0), summary=self.to_json()),
         )
         return annotate(ds)
 
@@ -315,6 +315,14 @@ def lyapunov_spectrum(
         code = motion_class(n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio)
         motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
     return LyapunovResult(
-        model, options, tuple(float(x) for x in state0), out["exponents"][0], out["uncertainty"][0],
-        res.lyapunov_log[0], int(res.status[0]), blocks, motion, model.report(res, 0),
+        model,
+        options,
+        tuple(float(x) for x in state0),
+        out["exponents"][0],
+        out["uncertainty"][0],
+        res.lyapunov_log[0],
+        int(res.status[0]),
+        blocks,
+        motion,
+        model.report(res, 0),
     )

@@ -9,15 +9,15 @@ Dataset with dimensions named after the two parameters, ``(y, x)``.
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from .._docfill import parameters, result_of
-from ..grid import Grid, build_models
+from ..grid import Grid, build_models, param_name
 from ..io import json_values
-from ..grid import param_name
 from ..model import ModelError
 from ..sweep import chunk_slices
 from ..system import element_names
@@ -28,8 +28,23 @@ from .points import initial_state, result_dataset, run_slices, sweep_function
 __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
 
 #: Per-point variables kept in a map (Poincaré points are not kept: a map can hold 10⁶ points).
-MAP_VARIABLES = ("period", "motion", "impact", "status", "loops", "amplitude", "rms", "mean", "u_min", "u_max",
-                 "fraction_separation", "fraction_back", "lle", "lle_err", "lambda2")
+MAP_VARIABLES = (
+    "period",
+    "motion",
+    "impact",
+    "status",
+    "loops",
+    "amplitude",
+    "rms",
+    "mean",
+    "u_min",
+    "u_max",
+    "fraction_separation",
+    "fraction_back",
+    "lle",
+    "lle_err",
+    "lambda2",
+)
 #: What a map keeps of each point: :data:`MAP_VARIABLES` and, for a system of several elements, its per-element ones.
 _KEEP = MAP_VARIABLES + tuple(ELEMENT_VARIABLES)
 
@@ -43,7 +58,11 @@ def parameter_map(
     y_values: Sequence[float],
     *,
     mode: str = "fixed",
-    state0, options, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
+    state0,
+    options,
+    lyapunov,
+    settle_periods,
+    engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Map of the steady response over a grid of two parameters.
 
@@ -87,18 +106,29 @@ def parameter_map(
         model.with_param(xn, float(v))
     for v in yv:
         model.with_param(yn, float(v))
-    corners = build_models(model, grid.names, np.array([[yv[0], xv[0]], [yv[0], xv[-1]], [yv[-1], xv[0]],
-                                                        [yv[-1], xv[-1]]]))
+    corners = build_models(
+        model, grid.names, np.array([[yv[0], xv[0]], [yv[0], xv[-1]], [yv[-1], xv[0]], [yv[-1], xv[-1]]])
+    )
     options.check_for(max(m.omega for m in corners))
     s0t = initial_state(model, state0)
     common = (s0t, options, lyapunov, settle_periods)
     description = f"map {yn} × {xn}"
     if mode == "fixed":
-        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (False, _KEEP),
-                         chunk_slices(grid, model, options, engine, lyapunov=lyapunov), engine, description)
+        cat = run_slices(
+            grid_chunk,
+            lambda sl: (model, grid.names, grid.points(sl)) + common + (False, _KEEP),
+            chunk_slices(grid, model, options, engine, lyapunov=lyapunov),
+            engine,
+            description,
+        )
     else:  # one continuation row per chunk, x increasing
-        cat = run_slices(grid_chunk, lambda sl: (model, grid.names, grid.points(sl)) + common + (True, _KEEP),
-                         grid.slices(xv.size), engine, description)
+        cat = run_slices(
+            grid_chunk,
+            lambda sl: (model, grid.names, grid.points(sl)) + common + (True, _KEEP),
+            grid.slices(xv.size),
+            engine,
+            description,
+        )
     shape = (yv.size, xv.size)
     coords: dict[str, Any] = {yn: yv, xn: xv}
     data = {}
@@ -106,9 +136,19 @@ def parameter_map(
         data[k] = ((yn, xn, "element"), v.reshape(shape + v.shape[1:])) if v.ndim > 1 else ((yn, xn), v.reshape(shape))
         if v.ndim > 1:
             coords["element"] = element_names(model, v.shape[1])
-    return result_dataset(data, coords, "map",
-                          model, options, x=xn, y=yn, mode=mode, state0=list(s0t), lyapunov=bool(lyapunov),
-                          settle_periods=int(settle_periods))
+    return result_dataset(
+        data,
+        coords,
+        "map",
+        model,
+        options,
+        x=xn,
+        y=yn,
+        mode=mode,
+        state0=list(s0t),
+        lyapunov=bool(lyapunov),
+        settle_periods=int(settle_periods),
+    )
 
 
 @parameters(result_of("parameter_map"))

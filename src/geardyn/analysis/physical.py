@@ -92,8 +92,9 @@ def mesh_force(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) 
     return C * v + K * model.restoring(u)
 
 
-def spectrum_peaks(order: np.ndarray, amplitude: np.ndarray, scales: PhysicalScales, omega: float,
-                   n: int = N_PEAKS) -> list[dict[str, float]]:
+def spectrum_peaks(
+    order: np.ndarray, amplitude: np.ndarray, scales: PhysicalScales, omega: float, n: int = N_PEAKS
+) -> list[dict[str, float]]:
     """The largest lines of an amplitude spectrum of u (order 0, the mean, excluded).
 
     Parameters
@@ -126,8 +127,12 @@ def spectrum_peaks(order: np.ndarray, amplitude: np.ndarray, scales: PhysicalSca
     idx = [i for i in np.argsort(-a)[:n] if a[i] > PEAK_REL_THRESHOLD * top]
     f_mesh = float(scales.hz_from_omega(omega))
     return [
-        {"order": float(o[i]), "frequency_Hz": float(o[i] * f_mesh), "amplitude": float(a[i]),
-         "amplitude_um": float(scales.um_from_u(a[i]))}
+        {
+            "order": float(o[i]),
+            "frequency_Hz": float(o[i] * f_mesh),
+            "amplitude": float(a[i]),
+            "amplitude_um": float(scales.um_from_u(a[i])),
+        }
         for i in idx
     ]
 
@@ -178,9 +183,17 @@ def simulate_physical(ds: xr.Dataset, scales: Any = None) -> dict[str, Any]:
         periods the force extremes are taken over); ``pair`` (the statement of the pair and its
         k0) and ``assumed``.  ``None`` for values of a diverged run.
     """
-    return _simulate_summary(_resolve_scales(ds, scales), model_from_attrs(ds), json.loads(ds.attrs.get("summary", "{}")),
-                             ds["tau"].values, ds["u"].values, ds["v"].values, ds["order"].values,
-                             ds["spectrum"].values, int(ds.attrs.get("history_periods", 0)))
+    return _simulate_summary(
+        _resolve_scales(ds, scales),
+        model_from_attrs(ds),
+        json.loads(ds.attrs.get("summary", "{}")),
+        ds["tau"].values,
+        ds["u"].values,
+        ds["v"].values,
+        ds["order"].values,
+        ds["spectrum"].values,
+        int(ds.attrs.get("history_periods", 0)),
+    )
 
 
 def steady_physical(res: Any, scales: Any = None) -> dict[str, Any]:
@@ -206,14 +219,30 @@ def steady_physical(res: Any, scales: Any = None) -> dict[str, Any]:
 
     t = res.traj
     order, spec = amplitude_spectrum(t.u, t.history_periods * (res.model.period_multiple() or 1))
-    return _simulate_summary(PhysicalScales.from_json(scales_of(scales).to_json()),
-                             GearModel.from_dict(json.loads(json_attr(res.model))),
-                             json.loads(json_attr(_jsonable(res.summary))), t.tau, t.u, t.v, order, spec,
-                             int(t.history_periods))
+    return _simulate_summary(
+        PhysicalScales.from_json(scales_of(scales).to_json()),
+        GearModel.from_dict(json.loads(json_attr(res.model))),
+        json.loads(json_attr(_jsonable(res.summary))),
+        t.tau,
+        t.u,
+        t.v,
+        order,
+        spec,
+        int(t.history_periods),
+    )
 
 
-def _simulate_summary(sc: PhysicalScales, model: GearModel, summ: dict[str, Any], tau: np.ndarray, u: np.ndarray,
-                      v: np.ndarray, order: np.ndarray, spectrum: np.ndarray, history_periods: int) -> dict[str, Any]:
+def _simulate_summary(
+    sc: PhysicalScales,
+    model: GearModel,
+    summ: dict[str, Any],
+    tau: np.ndarray,
+    u: np.ndarray,
+    v: np.ndarray,
+    order: np.ndarray,
+    spectrum: np.ndarray,
+    history_periods: int,
+) -> dict[str, Any]:
     force = mesh_force(model, tau, u, v)
     ok = bool(np.all(np.isfinite(force))) and summ.get("status", "ok") == "ok"
     fmax = float(np.max(force)) if ok else None
@@ -222,8 +251,13 @@ def _simulate_summary(sc: PhysicalScales, model: GearModel, summ: dict[str, Any]
     out["mesh_force_max_N"] = float(sc.N_from_force(fmax)) if ok else None
     out["mesh_force_min_N"] = float(sc.N_from_force(np.min(force))) if ok else None
     out["mesh_force_mean_N"] = float(sc.N_from_force(np.mean(force[:-1]))) if ok else None
-    for key, nd in (("dte_rms_um", "rms"), ("dte_amplitude_um", "amplitude"), ("dte_mean_um", "mean"),
-                    ("dte_min_um", "u_min"), ("dte_max_um", "u_max")):
+    for key, nd in (
+        ("dte_rms_um", "rms"),
+        ("dte_amplitude_um", "amplitude"),
+        ("dte_mean_um", "mean"),
+        ("dte_min_um", "u_min"),
+        ("dte_max_um", "u_max"),
+    ):
         x = _num(summ.get(nd))
         out[key] = float(sc.um_from_u(x)) if x is not None else None
     out["backlash_um"] = float(sc.um_from_u(model.D))
@@ -296,13 +330,25 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
         if name in out.data_vars:
             da = out[name]
             long_name = physical_long_name(str(da.attrs.get("long_name", name)))
-            _set(out, f"{name}{PHYSICAL_SUFFIX}", da.dims, per_point(da.values, sc.um_from_u),
-                 meta=Variable("µm", long_name))
+            _set(
+                out,
+                f"{name}{PHYSICAL_SUFFIX}",
+                da.dims,
+                per_point(da.values, sc.um_from_u),
+                meta=Variable("µm", long_name),
+            )
     if "lle" in out.data_vars:
         _set(out, "lle_per_s", out["lle"].dims, per_point(out["lle"].values, sc.per_s_from_per_tau))
     if "jumps" in out.attrs and str(out.attrs.get("param", "omega")) == "omega":
-        conv = _walk({"jumps": json.loads(out.attrs["jumps"]), "hysteresis": json.loads(out.attrs.get("hysteresis", "[]")),
-                      "values": []}, sc, "omega")
+        conv = _walk(
+            {
+                "jumps": json.loads(out.attrs["jumps"]),
+                "hysteresis": json.loads(out.attrs.get("hysteresis", "[]")),
+                "values": [],
+            },
+            sc,
+            "omega",
+        )
         out.attrs["jumps_physical"] = json.dumps(conv["jumps"])
         out.attrs["hysteresis_rpm"] = json.dumps(conv["hysteresis_rpm"])
     if out.attrs.get("geardyn_kind") == "simulate" and {"tau", "u", "v"} <= set(out.variables):
@@ -361,8 +407,11 @@ def _convert_array(x: list | tuple, fn) -> list | None:
 def _walk(d: dict[str, Any], sc: PhysicalScales, param: str | None) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for k, v in d.items():
-        out[k] = _walk(v, sc, param) if isinstance(v, dict) else (
-            [_walk(e, sc, param) if isinstance(e, dict) else e for e in v] if isinstance(v, list) else v)
+        out[k] = (
+            _walk(v, sc, param)
+            if isinstance(v, dict)
+            else ([_walk(e, sc, param) if isinstance(e, dict) else e for e in v] if isinstance(v, list) else v)
+        )
     for k, v in d.items():
         if isinstance(v, dict):
             continue
@@ -386,8 +435,9 @@ def _walk(d: dict[str, Any], sc: PhysicalScales, param: str | None) -> dict[str,
     return out
 
 
-def physical_json(summary: dict[str, Any], model: GearModel, scales: Any = None, *,
-                  param: str | None = None) -> dict[str, Any]:
+def physical_json(
+    summary: dict[str, Any], model: GearModel, scales: Any = None, *, param: str | None = None
+) -> dict[str, Any]:
     """A command's JSON summary with physical values added alongside the non-dimensional ones.
 
     Added, wherever they occur in the (nested) summary: ``rpm`` next to every ``omega`` (and

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import functools
 import inspect
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -22,8 +23,16 @@ from ..model import GearModel, IntegrationOptions, ModelError
 from ..sweep import Chunk, SweepOptions, run_chunks
 from .classify import SETTLE_PERIODS
 
-__all__ = ["SweepKeyword", "SWEEP_KEYWORDS", "sweep_function", "initial_state", "concat_rows", "RowSink",
-           "run_slices", "result_dataset"]
+__all__ = [
+    "SweepKeyword",
+    "SWEEP_KEYWORDS",
+    "sweep_function",
+    "initial_state",
+    "concat_rows",
+    "RowSink",
+    "run_slices",
+    "result_dataset",
+]
 
 
 @dataclass(frozen=True)
@@ -42,29 +51,62 @@ class SweepKeyword:
 
 
 #: The keyword parameters the sweeps over points share (declared once: :func:`sweep_function`).
-SWEEP_KEYWORDS: dict[str, SweepKeyword] = {k.name: k for k in (
-    SweepKeyword("state0", "Sequence[float]", (0.0, 0.0), """state0 : sequence of float
+SWEEP_KEYWORDS: dict[str, SweepKeyword] = {
+    k.name: k
+    for k in (
+        SweepKeyword(
+            "state0",
+            "Sequence[float]",
+            (0.0, 0.0),
+            """state0 : sequence of float
     Initial state (non-dimensional) at θ = 0 of every point (``fixed`` mode) or of the first point
-    of each continuation run; one entry per state component (``model.state_dim``)."""),
-    SweepKeyword("options", "IntegrationOptions", IntegrationOptions(), """options : IntegrationOptions
+    of each continuation run; one entry per state component (``model.state_dim``).""",
+        ),
+        SweepKeyword(
+            "options",
+            "IntegrationOptions",
+            IntegrationOptions(),
+            """options : IntegrationOptions
     Transient and recorded periods per point (in continuation runs a shorter transient is usually
-    enough, since each point starts near its attractor); default ``IntegrationOptions()``."""),
-    SweepKeyword("lyapunov", "bool", False, """lyapunov : bool
+    enough, since each point starts near its attractor); default ``IntegrationOptions()``.""",
+        ),
+        SweepKeyword(
+            "lyapunov",
+            "bool",
+            False,
+            """lyapunov : bool
     Compute the largest exponent (and λ2) of every point over its recorded periods.  Without it
-    only non-periodic points get exponents (needed to tell quasi-periodic from chaotic)."""),
-    SweepKeyword("settle_periods", "int", SETTLE_PERIODS, """settle_periods : int
+    only non-periodic points get exponents (needed to tell quasi-periodic from chaotic).""",
+        ),
+        SweepKeyword(
+            "settle_periods",
+            "int",
+            SETTLE_PERIODS,
+            """settle_periods : int
     Further periods for points not periodic after the transient (see
     :func:`~geardyn.analysis.steady.classify_batch`); default
-    :data:`~geardyn.analysis.classify.SETTLE_PERIODS`."""),
-    SweepKeyword("engine", "SweepOptions | None", None, """engine : SweepOptions, optional
+    :data:`~geardyn.analysis.classify.SETTLE_PERIODS`.""",
+        ),
+        SweepKeyword(
+            "engine",
+            "SweepOptions | None",
+            None,
+            """engine : SweepOptions, optional
     Where and how the sweep runs (:class:`geardyn.sweep.SweepOptions`); where the points are
     independent, its ``chunk_points`` is the number of points per chunk (default
-    :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`)."""),
-    SweepKeyword("engine_kw", "Any", inspect.Parameter.empty, """**engine_kw
+    :data:`geardyn.sweep.DEFAULT_CHUNK_POINTS`).""",
+        ),
+        SweepKeyword(
+            "engine_kw",
+            "Any",
+            inspect.Parameter.empty,
+            """**engine_kw
     Fields of :class:`~geardyn.sweep.SweepOptions` given one by one (``workers``, ``scheduler``,
     ``executor``, ``checkpoint``, ``resume``, ``progress``, ``chunk_points``); any other keyword
-    is refused with :class:`TypeError`."""),
-)}
+    is refused with :class:`TypeError`.""",
+        ),
+    )
+}
 
 
 def _indent(text: str, prefix: str) -> str:
@@ -227,7 +269,7 @@ class RowSink:
             a = self.arrays.get(k)
             if a is None:
                 a = self.arrays[k] = np.empty((self.total,) + v.shape[1:], dtype=v.dtype)
-            a[start:start + v.shape[0]] = v
+            a[start : start + v.shape[0]] = v
             n = v.shape[0]
         self._rows += int(n or 0)
 
@@ -287,8 +329,9 @@ def run_slices(
     return sink.result()
 
 
-def result_dataset(data: Mapping[str, Any], coords: Mapping[str, Any], kind: str, model: GearModel,
-                   options: Any, **extra: Any) -> xr.Dataset:
+def result_dataset(
+    data: Mapping[str, Any], coords: Mapping[str, Any], kind: str, model: GearModel, options: Any, **extra: Any
+) -> xr.Dataset:
     """A sweep's Dataset: its variables, the standard attributes and the registry's metadata.
 
     Parameters

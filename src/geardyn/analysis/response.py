@@ -34,7 +34,8 @@ import xarray as xr
 from .._docfill import parameters, result_of
 from ..io import json_values
 from ..model import GearModel, ModelError
-from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor, same_attractor as _same_attractor
+from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor
+from .attractors import same_attractor as _same_attractor
 from .bifurcation import bifurcation, point_labels, sweep_values
 from .classify import MOTION_PERIODIC
 from .points import sweep_function
@@ -77,7 +78,11 @@ def frequency_response(
     num: int,
     *,
     measure: str = "amplitude",
-    options, state0, lyapunov, settle_periods, engine,  # shared sweep keywords (SWEEP_KEYWORDS)
+    options,
+    state0,
+    lyapunov,
+    settle_periods,
+    engine,  # shared sweep keywords (SWEEP_KEYWORDS)
 ) -> xr.Dataset:
     """Up and down frequency sweeps with state continuation, with jumps and hysteresis detected.
 
@@ -120,9 +125,22 @@ def frequency_response(
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
     vals = sweep_values(omega_start, omega_stop, num)
     if np.any(vals <= 0):
-        raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a grid from {omega_start!r} to {omega_stop!r}")
-    ds = bifurcation(model, "omega", vals, mode="continue", sweep="both", state0=state0, options=options,
-                     lyapunov=lyapunov, settle_periods=settle_periods, engine=engine, description="response ω")
+        raise ModelError(
+            f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a grid from {omega_start!r} to {omega_stop!r}"
+        )
+    ds = bifurcation(
+        model,
+        "omega",
+        vals,
+        mode="continue",
+        sweep="both",
+        state0=state0,
+        options=options,
+        lyapunov=lyapunov,
+        settle_periods=settle_periods,
+        engine=engine,
+        description="response ω",
+    )
     return annotate_response(ds, measure)
 
 
@@ -130,8 +148,13 @@ def annotate_response(ds: xr.Dataset, measure: str = "amplitude") -> xr.Dataset:
     """Detect jumps and hysteresis in a two-sweep ω Dataset and store them as attributes."""
     jumps = detect_jumps(ds, measure)
     hyst, coexist = coexistence_intervals(ds, jumps=jumps)
-    ds.attrs.update(geardyn_kind="response", measure=measure, jumps=json.dumps(jumps), hysteresis=json.dumps(hyst),
-                    coexistence=json.dumps(coexist))
+    ds.attrs.update(
+        geardyn_kind="response",
+        measure=measure,
+        jumps=json.dumps(jumps),
+        hysteresis=json.dumps(hyst),
+        coexistence=json.dumps(coexist),
+    )
     return ds
 
 
@@ -190,24 +213,26 @@ def detect_jumps(
         for i in range(d.size):
             if not np.isfinite(d[i]) or ad[i] < min_fraction * scale:
                 continue
-            before = ad[max(0, i - window):i]
-            after = ad[i + 1:i + 1 + window]
+            before = ad[max(0, i - window) : i]
+            after = ad[i + 1 : i + 1 + window]
             before = before[np.isfinite(before)]
             after = after[np.isfinite(after)]
             sides = [float(np.median(s)) for s in (before, after) if s.size]
             typical = max(sides) if sides else 0.0
             if ad[i] < ratio * typical:
                 continue
-            jumps.append({
-                name: float(0.5 * (xs[i] + xs[i + 1])),
-                "direction": "up" if d[i] > 0 else "down",
-                "size": float(ad[i]),
-                "sweep": lab,
-                f"{name}_from": float(xs[i]),
-                f"{name}_to": float(xs[i + 1]),
-                "amplitude_from": float(As[i]),
-                "amplitude_to": float(As[i + 1]),
-            })
+            jumps.append(
+                {
+                    name: float(0.5 * (xs[i] + xs[i + 1])),
+                    "direction": "up" if d[i] > 0 else "down",
+                    "size": float(ad[i]),
+                    "sweep": lab,
+                    f"{name}_from": float(xs[i]),
+                    f"{name}_to": float(xs[i + 1]),
+                    "amplitude_from": float(As[i]),
+                    "amplitude_to": float(As[i + 1]),
+                }
+            )
     return jumps
 
 
@@ -229,16 +254,29 @@ def _attractor(s: dict[str, np.ndarray], k: int) -> Attractor:
     return Attractor(n, int(s["motion"][k]), cycle, np.array([s["amplitude"][k], s["mean"][k]]))
 
 
-def _same(sa: dict[str, np.ndarray], sb: dict[str, np.ndarray], k: int, amp_range: float, tol: float,
-          nonperiodic_tol: float) -> bool | None:
+def _same(
+    sa: dict[str, np.ndarray], sb: dict[str, np.ndarray], k: int, amp_range: float, tol: float, nonperiodic_tol: float
+) -> bool | None:
     if int(sa["status"][k]) != 0 or int(sb["status"][k]) != 0:
         return None
-    return _same_attractor(_attractor(sa, k), _attractor(sb, k), tol=tol,
-                           signature_tol=nonperiodic_tol * max(amp_range, 1e-12), match_motion=False)
+    return _same_attractor(
+        _attractor(sa, k),
+        _attractor(sb, k),
+        tol=tol,
+        signature_tol=nonperiodic_tol * max(amp_range, 1e-12),
+        match_motion=False,
+    )
 
 
-def same_attractor(ds: xr.Dataset, k: int, a: str = "up", b: str = "down", *, tol: float = ATTRACTOR_TOL,
-                   nonperiodic_tol: float = NONPERIODIC_TOL) -> bool | None:
+def same_attractor(
+    ds: xr.Dataset,
+    k: int,
+    a: str = "up",
+    b: str = "down",
+    *,
+    tol: float = ATTRACTOR_TOL,
+    nonperiodic_tol: float = NONPERIODIC_TOL,
+) -> bool | None:
     """Whether sweeps ``a`` and ``b`` reached the same attractor at grid index ``k``.
 
     Periodic attractors are compared by their Poincaré cycles (same period, each point of one
@@ -286,8 +324,9 @@ def _disagreeing_runs(ds: xr.Dataset, a: str, b: str) -> list[tuple[int, int]]:
     return runs
 
 
-def _leaving_jumps(jumps: list[dict[str, Any]], name: str, x: np.ndarray, sweep: str, rising: bool,
-                   k: int, j: int) -> list[int]:
+def _leaving_jumps(
+    jumps: list[dict[str, Any]], name: str, x: np.ndarray, sweep: str, rising: bool, k: int, j: int
+) -> list[int]:
     """Grid steps (index m of the step x_m → x_{m+1}) where ``sweep`` jumps in the span of the run k … j.
 
     The span is the run and its two bounding steps (m from k − 1 to j); ``rising`` picks the sweep's
@@ -308,8 +347,9 @@ def _leaving_jumps(jumps: list[dict[str, Any]], name: str, x: np.ndarray, sweep:
     return sorted(steps)
 
 
-def coexistence_intervals(ds: xr.Dataset, a: str = "up", b: str = "down",
-                          jumps: list[dict[str, Any]] | None = None) -> tuple[list[list[float]], list[list[float]]]:
+def coexistence_intervals(
+    ds: xr.Dataset, a: str = "up", b: str = "down", jumps: list[dict[str, Any]] | None = None
+) -> tuple[list[list[float]], list[list[float]]]:
     """The intervals where sweeps ``a`` and ``b`` end on different attractors, split by whether a jump bounds them.
 
     A maximal run of grid points x_k … x_j where the sweeps disagree is bounded by the grid steps
@@ -372,8 +412,9 @@ def coexistence_intervals(ds: xr.Dataset, a: str = "up", b: str = "down",
             if m_hi < j:
                 coexistence.append([mid(m_hi), hi])
             continue
-        jumped = (k > 0 and frozenset((float(x[k - 1]), float(x[k]))) in steps) or \
-                 (j + 1 < x.size and frozenset((float(x[j]), float(x[j + 1]))) in steps)
+        jumped = (k > 0 and frozenset((float(x[k - 1]), float(x[k]))) in steps) or (
+            j + 1 < x.size and frozenset((float(x[j]), float(x[j + 1]))) in steps
+        )
         (hysteresis if jumped else coexistence).append([lo, hi])
     return hysteresis, coexistence
 

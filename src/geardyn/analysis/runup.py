@@ -37,8 +37,9 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -119,13 +120,22 @@ class RunupResult:
         from ..io import annotate
 
         ds = xr.Dataset(
-            {"order_amplitude": (("block", "order"), self.order_amplitude), "amplitude": (("block",), self.amplitude),
-             "dynamic_factor": (("block",), self.dynamic_factor)},
+            {
+                "order_amplitude": (("block", "order"), self.order_amplitude),
+                "amplitude": (("block",), self.amplitude),
+                "dynamic_factor": (("block",), self.dynamic_factor),
+            },
             coords={"omega": (("block",), self.omega), "tau": (("block",), self.tau), "order": (("order",), orders)},
-            attrs={"geardyn_kind": "runup", "cycles_per_block": int(self.cycles),
-                   "omega_start": self.omega_start, "omega_stop": self.omega_stop, "duration_tau": self.duration,
-                   "ramp_rate_per_tau": self.ramp_rate, "diverged": int(self.diverged),
-                   "model": json.dumps(self.model.to_dict())},
+            attrs={
+                "geardyn_kind": "runup",
+                "cycles_per_block": int(self.cycles),
+                "omega_start": self.omega_start,
+                "omega_stop": self.omega_stop,
+                "duration_tau": self.duration,
+                "ramp_rate_per_tau": self.ramp_rate,
+                "diverged": int(self.diverged),
+                "model": json.dumps(self.model.to_dict()),
+            },
         )
         if self.spectrum is not None:
             ds["spectrum"] = (("block", "spectrum_order"), self.spectrum)
@@ -136,13 +146,20 @@ class RunupResult:
 
     def to_json(self) -> dict[str, Any]:
         """JSON summary (lists per block)."""
+
         def lst(a: np.ndarray) -> list[float | None]:
             return [float(x) if np.isfinite(x) else None for x in np.asarray(a, dtype=float).ravel()]
 
         out = {
-            "omega_start": self.omega_start, "omega_stop": self.omega_stop, "duration_tau": self.duration,
-            "ramp_rate_per_tau": self.ramp_rate, "cycles_per_block": self.cycles, "blocks": int(self.omega.size),
-            "omega": lst(self.omega), "tau": lst(self.tau), "amplitude": lst(self.amplitude),
+            "omega_start": self.omega_start,
+            "omega_stop": self.omega_stop,
+            "duration_tau": self.duration,
+            "ramp_rate_per_tau": self.ramp_rate,
+            "cycles_per_block": self.cycles,
+            "blocks": int(self.omega.size),
+            "omega": lst(self.omega),
+            "tau": lst(self.tau),
+            "amplitude": lst(self.amplitude),
             "dynamic_factor": lst(self.dynamic_factor),
             "order_amplitude": [lst(self.order_amplitude[:, j]) for j in range(self.order_amplitude.shape[1])],
             "diverged": self.diverged,
@@ -169,11 +186,21 @@ def _block_speeds(w0: float, w1: float, duration: float, cycles: int) -> tuple[n
     return np.array(speeds), np.array(mids)
 
 
-def runup(model: GearModel, omega_start: float, omega_stop: float, duration: float, *,
-          cycles_per_block: int | None = None, max_blocks: int = MAX_BLOCKS, orders: int = 3,
-          dtau: float = DEFAULT_DTAU, accurate: bool = False, settle: int = 200,
-          state0: tuple[float, float] = (0.0, 0.0),
-          progress: Callable[[int, int], None] | None = None) -> RunupResult:
+def runup(
+    model: GearModel,
+    omega_start: float,
+    omega_stop: float,
+    duration: float,
+    *,
+    cycles_per_block: int | None = None,
+    max_blocks: int = MAX_BLOCKS,
+    orders: int = 3,
+    dtau: float = DEFAULT_DTAU,
+    accurate: bool = False,
+    settle: int = 200,
+    state0: tuple[float, float] = (0.0, 0.0),
+    progress: Callable[[int, int], None] | None = None,
+) -> RunupResult:
     """Integrate the model through a linear speed ramp ω(τ) from ``omega_start`` to ``omega_stop``.
 
     Parameters
@@ -222,8 +249,10 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
         raise ModelError(f"omega_stop: must differ from omega_start, got {w0:g} for both")
     total = 0.5 * (w0 + w1) * T / (2.0 * math.pi)
     if total > MAX_CYCLES:
-        raise ModelError(f"duration: the ramp spans {total:.3g} mesh cycles, more than the {MAX_CYCLES:.0e} allowed "
-                         "(shorten it, or lower the speeds)")
+        raise ModelError(
+            f"duration: the ramp spans {total:.3g} mesh cycles, more than the {MAX_CYCLES:.0e} allowed "
+            "(shorten it, or lower the speeds)"
+        )
     if orders < 1:
         raise ModelError(f"orders: must be >= 1, got {orders!r}")
     P = int(getattr(model, "cycles", 1))
@@ -234,19 +263,27 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
         if cycles_per_block is None:
             m = P * -(-m // P)
         elif m % P:
-            raise ModelError(f"cycles_per_block: a block is whole forcing periods, a multiple of the excitation's {P} "
-                             f"mesh cycles; got {m}")
+            raise ModelError(
+                f"cycles_per_block: a block is whole forcing periods, a multiple of the excitation's {P} "
+                f"mesh cycles; got {m}"
+            )
     speeds, mids = _block_speeds(w0, w1, T, m)
     IntegrationOptions(dtau=dtau).check_for(max(w0, w1))
     if P == 1:
-        start = integrate_batch([model.replace(omega=w0)], state0,
-                                IntegrationOptions(dtau=dtau, transient=max(int(settle), 0), periods=1,
-                                                   accurate=accurate), record_poincare=False)
+        start = integrate_batch(
+            [model.replace(omega=w0)],
+            state0,
+            IntegrationOptions(dtau=dtau, transient=max(int(settle), 0), periods=1, accurate=accurate),
+            record_poincare=False,
+        )
     else:  # settle mesh periods rounded up to forcing periods, at the one-cycle model's step
-        start = integrate_batch([model.replace(omega=w0)], state0,
-                                IntegrationOptions(dtau=dtau, transient=-(-max(int(settle), 0) // P), periods=1,
-                                                   accurate=accurate), record_poincare=False,
-                                steps=_steps(w0, dtau, P))
+        start = integrate_batch(
+            [model.replace(omega=w0)],
+            state0,
+            IntegrationOptions(dtau=dtau, transient=-(-max(int(settle), 0) // P), periods=1, accurate=accurate),
+            record_poincare=False,
+            steps=_steps(w0, dtau, P),
+        )
     state = np.asarray(start.end_state[0], dtype=float)
     nb = speeds.size
     amp_o = np.full((nb, orders), np.nan)
@@ -271,9 +308,21 @@ def runup(model: GearModel, omega_start: float, omega_stop: float, duration: flo
             progress(b + 1, nb)
     if progress is not None:
         progress(nb, nb)
-    return RunupResult(model=model, omega=speeds, tau=mids, cycles=m, order_amplitude=amp_o, amplitude=amp,
-                       dynamic_factor=kdyn, omega_start=w0, omega_stop=w1, duration=T, diverged=diverged,
-                       options=opts, spectrum=spec)
+    return RunupResult(
+        model=model,
+        omega=speeds,
+        tau=mids,
+        cycles=m,
+        order_amplitude=amp_o,
+        amplitude=amp,
+        dynamic_factor=kdyn,
+        omega_start=w0,
+        omega_stop=w1,
+        duration=T,
+        diverged=diverged,
+        options=opts,
+        spectrum=spec,
+    )
 
 
 def _steps(omega: float, dtau: float, P: int) -> int | None:
@@ -304,9 +353,17 @@ def _block(mb: GearModel, state: np.ndarray, opts: IntegrationOptions, m: int, o
     return out
 
 
-def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: int = 32, transient: int = 200,
-                    dtau: float = DEFAULT_DTAU, accurate: bool = False,
-                    progress: Callable[[int, int], None] | None = None) -> dict[str, Any]:
+def steady_response(
+    model: GearModel,
+    omegas: Any,
+    *,
+    orders: int = 3,
+    periods: int = 32,
+    transient: int = 200,
+    dtau: float = DEFAULT_DTAU,
+    accurate: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, Any]:
     """The quasi-static counterpart of a run-up: steady states swept up and down with state continuation.
 
     Parameters
@@ -330,8 +387,9 @@ def steady_response(model: GearModel, omegas: Any, *, orders: int = 3, periods: 
     """
     w = np.asarray(omegas, dtype=float)
     P = int(getattr(model, "cycles", 1))
-    opts = IntegrationOptions(dtau=dtau, transient=-(-int(transient) // P), periods=-(-int(periods) // P),
-                              accurate=accurate)
+    opts = IntegrationOptions(
+        dtau=dtau, transient=-(-int(transient) // P), periods=-(-int(periods) // P), accurate=accurate
+    )
     out: dict[str, Any] = {"x": [float(x) for x in w]}
     done = 0
     for lab, seq in (("up", range(w.size)), ("down", range(w.size - 1, -1, -1))):

@@ -9,7 +9,8 @@ halved (the Illinois modification), so the bracket shrinks from both sides.
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 __all__ = ["illinois_on_chord"]
 

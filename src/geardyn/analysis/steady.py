@@ -9,8 +9,9 @@ integration with the tangent equations) and classifies them (:mod:`geardyn.analy
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -18,7 +19,7 @@ from .._lazy import lazy_module
 from ..grid import PointModels, integrate_points
 from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, start_state, trajectory
 from ..io import annotate, result_attrs
-from ..model import GearModel, IntegrationOptions
+from ..model import IntegrationOptions
 from .classify import (
     IMPACT_LABELS,
     LLE_FLOOR,
@@ -47,8 +48,10 @@ def _periods_gaps(models: Any) -> tuple[np.ndarray, np.ndarray]:
     PointModels)."""
     if isinstance(models, PointModels):
         return 2.0 * math.pi / models.omega, models.D
-    return (np.array([m.sampling_period for m in models], dtype=float),
-            np.array([m.elements[m.reference].gap for m in models], dtype=float))
+    return (
+        np.array([m.sampling_period for m in models], dtype=float),
+        np.array([m.elements[m.reference].gap for m in models], dtype=float),
+    )
 
 
 def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
@@ -87,8 +90,13 @@ def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
     if res.stats.shape[1] > 1:  # every element of a system with several
         lo = res.element_u_min()
         gaps = np.array([[e.gap for e in m.elements] for m in res.models], dtype=float)
-        out.update(element_u_min=lo, element_u_max=res.element_u_max(), element_mean=res.element_mean(),
-                   element_rms=res.element_rms(), element_impact=impact_states(lo, gaps))
+        out.update(
+            element_u_min=lo,
+            element_u_max=res.element_u_max(),
+            element_mean=res.element_mean(),
+            element_rms=res.element_rms(),
+            element_impact=impact_states(lo, gaps),
+        )
     return out
 
 
@@ -153,8 +161,13 @@ def classify_batch(
             r2 = integrate_points(sub, out["end_state"][need], opts, lyapunov=True)
         else:  # the same numbers as integrate_points (a PointModels' models are the GearModels it holds)
             ran = rounds * opts.periods
-            r2 = integrate_batch(list(sub), out["end_state"][need], opts, lyapunov=True,
-                                 progress=lambda d, n, ran=ran: progress(ran + d, ran + n))
+            r2 = integrate_batch(
+                list(sub),
+                out["end_state"][need],
+                opts,
+                lyapunov=True,
+                progress=lambda d, n, ran=ran: progress(ran + d, ran + n),
+            )
         s2 = summarize_batch(r2)
         for k, v in s2.items():
             out[k][need] = v
@@ -181,8 +194,16 @@ def classify_batch(
     err[bad] = np.nan
     sections = _Sections(section, out["poincare"])
     cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections)
-    out.update(motion=cls["motion"], lle=lam[:, 0].copy(), lle_err=err[:, 0].copy(), lambda2=lam[:, 1].copy(),
-               curve_dim=cls["curve_dim"], settle_ratio=cls["settle_ratio"], loops=cls["loops"], settled=settled)
+    out.update(
+        motion=cls["motion"],
+        lle=lam[:, 0].copy(),
+        lle_err=err[:, 0].copy(),
+        lambda2=lam[:, 1].copy(),
+        curve_dim=cls["curve_dim"],
+        settle_ratio=cls["settle_ratio"],
+        loops=cls["loops"],
+        settled=settled,
+    )
     return out
 
 
@@ -294,19 +315,28 @@ class SteadyState:
         if pc.shape[1] != 2 or t.deltas.shape[1] > 1:  # a system: every element's δ, δ' and the full states
             from ..system import state_names
 
-            data.update(delta=(("tau", "element"), t.deltas[:, :, 0]), delta_rate=(("tau", "element"), t.deltas[:, :, 1]),
-                        poincare=(("section", "state"), pc))
+            data.update(
+                delta=(("tau", "element"), t.deltas[:, :, 0]),
+                delta_rate=(("tau", "element"), t.deltas[:, :, 1]),
+                poincare=(("section", "state"), pc),
+            )
             coords.update(element=[e.name for e in m.elements], state=state_names(m, pc.shape[1]))
         ds = xr.Dataset(
             data,
             coords=coords,
             attrs=result_attrs(
-                "simulate", self.model, self.options, state0=list(self.state0), summary=_jsonable(self.summary),
+                "simulate",
+                self.model,
+                self.options,
+                state0=list(self.state0),
+                summary=_jsonable(self.summary),
                 history_periods=str(t.history_periods),
             ),
         )
-        return annotate(ds, names=[n for n in ("section", "element", "state", "delta", "delta_rate", "poincare")
-                                   if n in ds.variables])
+        return annotate(
+            ds,
+            names=[n for n in ("section", "element", "state", "delta", "delta_rate", "poincare") if n in ds.variables],
+        )
 
 
 def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
@@ -354,12 +384,16 @@ def simulate(
     # Full motion classification; the Lyapunov spectrum is computed (by integrating on from the
     # end state) only when no period was found.
     base = int(options.transient) + int(options.periods)
-    cls = classify_batch(t.summary, progress=None if progress is None else (
-        lambda d, n: progress(base + d, base + n))) if ok and period == 0 else None
+    cls = (
+        classify_batch(t.summary, progress=None if progress is None else (lambda d, n: progress(base + d, base + n)))
+        if ok and period == 0
+        else None
+    )
     if cls is not None:
         period = int(cls["period"][0])
-    motion = motion_label(int(cls["motion"][0]), period) if cls is not None else (
-        period_label(period) if ok else "diverged")
+    motion = (
+        motion_label(int(cls["motion"][0]), period) if cls is not None else (period_label(period) if ok else "diverged")
+    )
 
     def f(key: str) -> float | None:
         x = float(arr[key][0])
@@ -375,7 +409,9 @@ def simulate(
         "u_min": f("u_min"),
         "u_max": f("u_max"),
         "contact_fractions": {
-            "drive": f("fraction_drive"), "separation": f("fraction_separation"), "back": f("fraction_back"),
+            "drive": f("fraction_drive"),
+            "separation": f("fraction_separation"),
+            "back": f("fraction_back"),
         },
         "status": "ok" if ok else "diverged",
         "lle": float(cls["lle"][0]) if cls is not None and np.isfinite(cls["lle"][0]) else None,

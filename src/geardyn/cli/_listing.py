@@ -30,8 +30,10 @@ def table() -> dict[str, tuple[str, str]]:
     app = load_all()
     group = typer.main.get_command(app)
     names = [info.name or typer.main.get_command_name(info.callback.__name__) for info in app.registered_commands]
-    return {name: (group.commands[name].callback.__module__.rsplit(".", 1)[1], group.commands[name].help or "")
-            for name in names}
+    return {
+        name: (group.commands[name].callback.__module__.rsplit(".", 1)[1], group.commands[name].help or "")
+        for name in names
+    }
 
 
 def write() -> bool:
@@ -40,8 +42,12 @@ def write() -> bool:
     text = path.read_text(encoding="utf-8")
     head, rest = text.split(_BEGIN, 1)
     _, tail = rest.split(_END, 1)
-    rows = "".join(f"    {name!r}: ({module!r}, (\n" + "".join(f"        {line!r}\n" for line in help_.splitlines(True))
-                   + "    )),\n" for name, (module, help_) in table().items())
+    rows = "".join(
+        f"    {name!r}: ({module!r}, (\n"
+        + "".join(f"        {line!r}\n" for line in help_.splitlines(True))
+        + "    )),\n"
+        for name, (module, help_) in table().items()
+    )
     new = head + _BEGIN + rows + _END + tail
     if new != text:
         path.write_text(new, encoding="utf-8")

@@ -7,9 +7,9 @@ import errno
 import gc
 import re
 import sys
-from collections.abc import Iterator, MutableMapping
+from collections.abc import Callable, Iterator, MutableMapping
 from importlib import import_module
-from typing import Any, Callable, Optional
+from typing import Any
 
 import typer
 from rich.console import Console
@@ -19,10 +19,23 @@ from .. import __version__
 from ..errors import GeardynError, SweepFailed, SweepInterrupted
 from ._commands import COMMANDS
 
-__all__ = ["EXIT_FAILURE", "EXIT_INTERRUPTED", "EXIT_OK", "EXIT_TERMINATED", "EXIT_USAGE", "app", "console", "emit_json", "err_console", "fail", "main"]
+__all__ = [
+    "EXIT_FAILURE",
+    "EXIT_INTERRUPTED",
+    "EXIT_OK",
+    "EXIT_TERMINATED",
+    "EXIT_USAGE",
+    "app",
+    "console",
+    "emit_json",
+    "err_console",
+    "fail",
+    "main",
+]
 
 #: Exit code of a run stopped by Ctrl-C (128 + SIGINT, the shell convention).
 EXIT_INTERRUPTED = 130
+
 
 class _HelpScreen:
     """What every help screen shares, built here once: ``--help`` shows no value placeholder (it takes none),
@@ -109,8 +122,9 @@ class GeardynGroup(_HelpScreen, TyperGroup):
         import_module(f"{__package__}.{COMMANDS[name][0]}")
         for info in app.registered_commands:
             if (info.name or typer.main.get_command_name(info.callback.__name__)) == name:
-                return typer.main.get_command_from_info(info, pretty_exceptions_short=app.pretty_exceptions_short,
-                                                        rich_markup_mode=self.rich_markup_mode)
+                return typer.main.get_command_from_info(
+                    info, pretty_exceptions_short=app.pretty_exceptions_short, rich_markup_mode=self.rich_markup_mode
+                )
         raise KeyError(name)
 
     def list_commands(self, ctx: Any) -> list[str]:
@@ -199,7 +213,7 @@ def _import_help_renderer() -> None:
     for module, name in (("rich.markdown", "Markdown"), ("rich.traceback", "Traceback")):
         if module not in sys.modules:
             stand_ins[module] = ModuleType(module)
-            real = (lambda module=module, name=name: getattr(import_module(module), name))
+            real = lambda module=module, name=name: getattr(import_module(module), name)
             setattr(stand_ins[module], name, _OnFirstUse(name, (), {"real": staticmethod(real)}))
     sys.modules.update(stand_ins)
     try:
@@ -230,8 +244,9 @@ def _version(value: bool) -> None:
 
 @app.callback()
 def _root(
-    version: bool = typer.Option(False, "--version", help="Print the version and exit.", callback=_version,
-                                 is_eager=True, metavar=""),
+    version: bool = typer.Option(
+        False, "--version", help="Print the version and exit.", callback=_version, is_eager=True, metavar=""
+    ),
 ) -> None:
     """geardyn: simulate and analyse the nonlinear dynamics of a gear pair with backlash."""
 
@@ -247,7 +262,7 @@ def say_error(message: str) -> None:
     err_console.print(" ".join(str(message).split()), markup=False, highlight=False, soft_wrap=True)
 
 
-def fail(message: str) -> "typer.Exit":
+def fail(message: str) -> typer.Exit:
     """Print one line naming the bad input and return the exit (code 2) to raise.
 
     Parameters
@@ -300,7 +315,7 @@ def is_stop(e: BaseException) -> bool:
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE, EXIT_TERMINATED = 0, 1, 2, 143
 
 
-def main(argv: Optional[list[str]] = None) -> None:
+def main(argv: list[str] | None = None) -> None:
     """Entry point: run a command under the failure contract of ``docs/cli.md``.
 
     Exit codes: 0 success; 1 a runtime or I/O failure (an unwritable output, a full disk, a lost Dask
@@ -355,7 +370,7 @@ def _flush_quietly() -> None:
             quiet_broken_pipe()
 
 
-def _invoke(argv: Optional[list[str]]) -> int:
+def _invoke(argv: list[str] | None) -> int:
     """Run the app on ``argv``; every error it raises becomes one line on stderr and an exit code."""
     from .guard import STOP, quiet_broken_pipe
 
@@ -414,8 +429,10 @@ def _invoke(argv: Optional[list[str]]) -> int:
             import traceback
 
             traceback.print_exc()
-        say_error(f"error: internal error ({type(e).__name__}: {' '.join(str(e).split())[:300]}); "
-                  f"please report it with the command line")
+        say_error(
+            f"error: internal error ({type(e).__name__}: {' '.join(str(e).split())[:300]}); "
+            f"please report it with the command line"
+        )
         return EXIT_FAILURE
     if rv == EXIT_INTERRUPTED and not STOP.event.is_set():  # Ctrl-C outside a sweep (typer maps it to 130)
         say_error("interrupted")
@@ -428,7 +445,7 @@ def _invoke(argv: Optional[list[str]]) -> int:
 PATH_OPTIONS = ("--out", "--config", "--system")
 
 
-def _empty_path_option(args: list[str]) -> Optional[str]:
+def _empty_path_option(args: list[str]) -> str | None:
     """The first path option of ``args`` given an empty value (``--out ""`` or ``--out=``), else None."""
     args = [str(a) for a in args]
     for i, a in enumerate(args):

@@ -14,17 +14,37 @@ from .options import OUTPUT, Inputs, command, finish, option
 
 STIFFNESS_OPTIONS = [
     option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
-    option("fault", Optional[list[str]], None, "--fault",
-           help="Add a fault: KIND:key=value,... e.g. crack:gear=0,tooth=0,depth=0.5 (repeatable; lengths in m)."),
-    option("cycles", Optional[int], None, "--cycles",
-           help="Mesh cycles computed (default: 1 healthy, z1 or z2 with faults on one gear, the hunting period "
-                "lcm(z1, z2) with faults on both)."),
+    option(
+        "fault",
+        Optional[list[str]],
+        None,
+        "--fault",
+        help="Add a fault: KIND:key=value,... e.g. crack:gear=0,tooth=0,depth=0.5 (repeatable; lengths in m).",
+    ),
+    option(
+        "cycles",
+        Optional[int],
+        None,
+        "--cycles",
+        help="Mesh cycles computed (default: 1 healthy, z1 or z2 with faults on one gear, the hunting period "
+        "lcm(z1, z2) with faults on both).",
+    ),
     option("points", int, 64, "--points", help="Mesh phases per mesh cycle."),
-    option("slices", Optional[int], None, "--slices", help="Slices across the face width (default 1 spur, 40 helical, "
-                                                           "crowned or with partial faults)."),
+    option(
+        "slices",
+        Optional[int],
+        None,
+        "--slices",
+        help="Slices across the face width (default 1 spur, 40 helical, crowned or with partial faults).",
+    ),
     option("harmonics", int, 8, "--harmonics", help="Fourier harmonics of the excitation's period listed."),
-    option("table", Optional[Path], None, "--table",
-           help="Also write the stiffness and STE table as .csv or .json (an --excitation file for the analyses)."),
+    option(
+        "table",
+        Optional[Path],
+        None,
+        "--table",
+        help="Also write the stiffness and STE table as .csv or .json (an --excitation file for the analyses).",
+    ),
     *OUTPUT,
 ]
 
@@ -68,9 +88,15 @@ def stiffness_cmd(
 
     case = _case(file, inp)
     cycles = inp.cycles if inp.cycles is not None else case.mesh.get("cycles")
-    ms = mesh_stiffness(case.geometry, case.torque, faults=case.faults, modifications=case.modifications,
-                        cycles=cycles, points=int(case.mesh.get("points", inp.points)),
-                        slices=inp.slices if inp.slices is not None else case.mesh.get("slices"))
+    ms = mesh_stiffness(
+        case.geometry,
+        case.torque,
+        faults=case.faults,
+        modifications=case.modifications,
+        cycles=cycles,
+        points=int(case.mesh.get("points", inp.points)),
+        slices=inp.slices if inp.slices is not None else case.mesh.get("slices"),
+    )
     summary = stiffness_summary(ms, harmonics=inp.harmonics)
     summary["name"] = case.name
     ds = stiffness_dataset(ms, summary)
@@ -84,22 +110,35 @@ def stiffness_cmd(
 
 def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
     iso = s["iso6336"]
-    console.print(f"{s['name']}: z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, β = {s['beta_deg']:g}°, "
-                  f"b = {s['face_width_mm']:g} mm, ε_α = {s['eps_alpha']:.4f}, ε_β = {s['eps_beta']:.4f}, "
-                  f"F = {s['force_N']:.5g} N, {s['cycles']} mesh cycle(s), {len(s['faults'])} fault(s)",
-                  markup=False, highlight=False)
+    console.print(
+        f"{s['name']}: z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, β = {s['beta_deg']:g}°, "
+        f"b = {s['face_width_mm']:g} mm, ε_α = {s['eps_alpha']:.4f}, ε_β = {s['eps_beta']:.4f}, "
+        f"F = {s['force_N']:.5g} N, {s['cycles']} mesh cycle(s), {len(s['faults'])} fault(s)",
+        markup=False,
+        highlight=False,
+    )
     t = Table(title="Mesh stiffness and STE")
     for col in ("quantity", "value"):
         t.add_column(col)
-    rows = [("mean k_m (N/µm)", s["k_mean_N_per_um"]), ("min / max k_m (N/µm)",
-                                                        f"{s['k_min_N_per_um']:.5g} / {s['k_max_N_per_um']:.5g}"),
-            ("loaded STE mean, p-p (µm)", f"{s['ste_mean_um']:.4g}, {s['ste_peak_to_peak_um']:.4g}"),
-            ("mean k_m / b (N/(mm·µm))", iso["mesh_mean"]), ("ISO 6336-1 c_γ (N/(mm·µm))", iso["c_gamma_iso"]),
-            ("ratio to c_γ", iso["mesh_mean_over_c_gamma"]), ("max single pair / b", iso["single_pair_max"]),
-            ("ISO 6336-1 c′ (N/(mm·µm))", iso["c_prime_iso"])]
+    rows = [
+        ("mean k_m (N/µm)", s["k_mean_N_per_um"]),
+        ("min / max k_m (N/µm)", f"{s['k_min_N_per_um']:.5g} / {s['k_max_N_per_um']:.5g}"),
+        ("loaded STE mean, p-p (µm)", f"{s['ste_mean_um']:.4g}, {s['ste_peak_to_peak_um']:.4g}"),
+        ("mean k_m / b (N/(mm·µm))", iso["mesh_mean"]),
+        ("ISO 6336-1 c_γ (N/(mm·µm))", iso["c_gamma_iso"]),
+        ("ratio to c_γ", iso["mesh_mean_over_c_gamma"]),
+        ("max single pair / b", iso["single_pair_max"]),
+        ("ISO 6336-1 c′ (N/(mm·µm))", iso["c_prime_iso"]),
+    ]
     for k, v in rows:
-        t.add_row(k, "— (virtual gears: ISO 10300, geardyn geometry)" if v is None else
-                  f"{v:.5g}" if isinstance(v, float) else str(v))
+        t.add_row(
+            k,
+            "— (virtual gears: ISO 10300, geardyn geometry)"
+            if v is None
+            else f"{v:.5g}"
+            if isinstance(v, float)
+            else str(v),
+        )
     console.print(t)
     h = Table(title=f"Fourier harmonics (orders of the mesh frequency; Σ|κ| over all = {s['kappa_abs_sum_all']:.4g})")
     for col in ("mesh order", "κ", "φ_k (rad)", "STE e_eq (µm)", "φ_e (rad)"):
@@ -112,31 +151,64 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
 
 
 SIGNATURE_OPTIONS = [
-    option("rpm", Optional[float], None, "--rpm",
-           help="Pinion speed (rpm; default the file's [signature] rpm, else 3000; with --system the system's "
-                "operating point)."),
+    option(
+        "rpm",
+        Optional[float],
+        None,
+        "--rpm",
+        help="Pinion speed (rpm; default the file's [signature] rpm, else 3000; with --system the system's "
+        "operating point).",
+    ),
     option("revolutions", Optional[int], None, "--revolutions", help="Pinion revolutions recorded."),
-    option("fs", Optional[float], None, "--fs",
-           help="Sampling rate (Hz; default about 20 samples per mesh period; with --system also 5 per period of "
-                "the system's highest natural frequency)."),
+    option(
+        "fs",
+        Optional[float],
+        None,
+        "--fs",
+        help="Sampling rate (Hz; default about 20 samples per mesh period; with --system also 5 per period of "
+        "the system's highest natural frequency).",
+    ),
     option("noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02)."),
-    option("sweep", Optional[str], None, "--sweep-depths",
-           help="Crack depths d1,d2,... : indicators against the depth of the file's first crack (or a crack on "
-                "pinion tooth 0)."),
+    option(
+        "sweep",
+        Optional[str],
+        None,
+        "--sweep-depths",
+        help="Crack depths d1,d2,... : indicators against the depth of the file's first crack (or a crack on "
+        "pinion tooth 0).",
+    ),
     option("fault", Optional[list[str]], None, "--fault", help="Add a fault (as for stiffness)."),
     option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's."),
     option("points", int, 32, "--points", help="Mesh phases per mesh cycle of the excitation table."),
-    option("system", Optional[list[Path]], None, "--system", panel="Multi-DOF system",
-           help="A system file (examples/systems): the signature of a bearing sensor, a translational DOF. Once: "
-                "the tooth-pair files (or excitation tables) become its mesh's excitation, one run each (none: the "
-                "system as given; with --sweep-depths and no file, its mesh's tooth-pair excitation file); twice: "
-                "the two systems side by side."),
-    option("sensor", Optional[str], None, "--sensor", panel="Multi-DOF system",
-           help="With --system: the sensor, a translational DOF body.x|y|z (default the translation of the mesh's "
-                "pinion most nearly along its line of action)."),
-    option("mesh", Optional[str], None, "--mesh", panel="Multi-DOF system",
-           help="With --system: the mesh that takes the files' excitation and whose pinion and wheel are analysed "
-                "(default the reference mesh)."),
+    option(
+        "system",
+        Optional[list[Path]],
+        None,
+        "--system",
+        panel="Multi-DOF system",
+        help="A system file (examples/systems): the signature of a bearing sensor, a translational DOF. Once: "
+        "the tooth-pair files (or excitation tables) become its mesh's excitation, one run each (none: the "
+        "system as given; with --sweep-depths and no file, its mesh's tooth-pair excitation file); twice: "
+        "the two systems side by side.",
+    ),
+    option(
+        "sensor",
+        Optional[str],
+        None,
+        "--sensor",
+        panel="Multi-DOF system",
+        help="With --system: the sensor, a translational DOF body.x|y|z (default the translation of the mesh's "
+        "pinion most nearly along its line of action).",
+    ),
+    option(
+        "mesh",
+        Optional[str],
+        None,
+        "--mesh",
+        panel="Multi-DOF system",
+        help="With --system: the mesh that takes the files' excitation and whose pinion and wheel are analysed "
+        "(default the reference mesh).",
+    ),
     *OUTPUT,
 ]
 
@@ -171,9 +243,13 @@ def _period(cases: list[Any]) -> int:
 @command("signature", SIGNATURE_OPTIONS)
 def signature_cmd(
     inp: Inputs,
-    files: Annotated[Optional[list[Path]], typer.Argument(
-        help="One tooth-pair file, or two (healthy beside faulty); with --system none, one or two tooth-pair files "
-             "or excitation tables for its mesh.")] = None,
+    files: Annotated[
+        list[Path] | None,
+        typer.Argument(
+            help="One tooth-pair file, or two (healthy beside faulty); with --system none, one or two tooth-pair files "
+            "or excitation tables for its mesh."
+        ),
+    ] = None,
 ) -> None:
     """Vibration signature of a pair: the acceleration along the line of action sampled with a once-per-revolution
     tachometer, order spectrum, TSA per shaft, regular/residual/difference signals and the condition indicators;
@@ -197,17 +273,25 @@ def signature_cmd(
     cases = [_case(f, inp) for f in files]
     first = cases[0].signature
     rpm = inp.rpm if inp.rpm is not None else float(first.get("rpm", 3000.0))
-    kw = {"revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
-          "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
-          "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02))}
+    kw = {
+        "revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
+        "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
+        "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02)),
+    }
     for key in ("backlash", "b_c", "xi0"):
         if key in first:
             kw[key] = float(first[key])
     period = _period(cases)
 
     def mesh_of(case, faults=None):
-        return mesh_stiffness(case.geometry, case.torque, faults=case.faults if faults is None else faults,
-                              modifications=case.modifications, cycles=period, points=inp.points)
+        return mesh_stiffness(
+            case.geometry,
+            case.torque,
+            faults=case.faults if faults is None else faults,
+            modifications=case.modifications,
+            cycles=period,
+            points=inp.points,
+        )
 
     if inp.sweep:
         depths = _depths(inp.sweep)
@@ -219,8 +303,9 @@ def signature_cmd(
 
         ds = signature_sweep(make, depths, rpm, **kw)
         summary = json.loads(ds.attrs["summary"])
-        summary["indicators"] = {k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values] for sh in ("pinion", "wheel")}
-                                 for k in ds.data_vars}
+        summary["indicators"] = {
+            k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values] for sh in ("pinion", "wheel")} for k in ds.data_vars
+        }
         finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
         return
     runs = [signature(mesh_of(c), rpm, label=c.name, **kw) for c in cases]
@@ -234,18 +319,30 @@ def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
 
     r0 = s["runs"][0]
     where = f"sensor {r0['sensor']} (mesh {r0['mesh']!r}), " if "sensor" in r0 else ""
-    console.print(f"{where}z = {r0['z1']}/{r0['z2']} at {r0['rpm']:.6g} rpm (mesh {r0['mesh_frequency_Hz']:.5g} Hz), "
-                  f"fs = {r0['fs_Hz']:g} Hz, {r0['revolutions']} pinion revolutions, excitation period "
-                  f"{r0['excitation_cycles']} mesh cycles ({r0['harmonics']} harmonics)", markup=False, highlight=False)
+    console.print(
+        f"{where}z = {r0['z1']}/{r0['z2']} at {r0['rpm']:.6g} rpm (mesh {r0['mesh_frequency_Hz']:.5g} Hz), "
+        f"fs = {r0['fs_Hz']:g} Hz, {r0['revolutions']} pinion revolutions, excitation period "
+        f"{r0['excitation_cycles']} mesh cycles ({r0['harmonics']} harmonics)",
+        markup=False,
+        highlight=False,
+    )
     wheel = all("wheel" in r["indicators"] for r in s["runs"])
-    t = Table(title="Condition indicators (TSA of the pinion | of the wheel)" if wheel else
-              "Condition indicators (TSA of the pinion)")
+    t = Table(
+        title="Condition indicators (TSA of the pinion | of the wheel)"
+        if wheel
+        else "Condition indicators (TSA of the pinion)"
+    )
     t.add_column("indicator")
     for r in s["runs"]:
         t.add_column(r["label"], justify="right")
     for k in INDICATORS:
-        t.add_row(k, *[f"{r['indicators']['pinion'][k]:.4g}" + (f" | {r['indicators']['wheel'][k]:.4g}" if wheel else "")
-                       for r in s["runs"]])
+        t.add_row(
+            k,
+            *[
+                f"{r['indicators']['pinion'][k]:.4g}" + (f" | {r['indicators']['wheel'][k]:.4g}" if wheel else "")
+                for r in s["runs"]
+            ],
+        )
     console.print(t)
     for f in paths:
         console.print(f"wrote {f}", markup=False, highlight=False)
@@ -273,8 +370,14 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     import tempfile
 
     from ..signature.run import SIGNATURE_HARMONICS, combine
-    from ..signature.system import (check_sensor, default_sensor, mesh_shafts, system_signature,
-                                    system_signature_sweep, with_excitation)
+    from ..signature.system import (
+        check_sensor,
+        default_sensor,
+        mesh_shafts,
+        system_signature,
+        system_signature_sweep,
+        with_excitation,
+    )
     from ..systems.load import load_system
     from ..tooth.faults import fault_to_dict
     from ..tooth.mesh import mesh_stiffness
@@ -284,10 +387,13 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     if len(paths) > 2:
         raise ModelError(f"system: one or two system files, got {len(paths)}")
     if len(paths) == 2 and (files or inp.sweep):
-        raise ModelError("system: two system files are compared as given; give tooth-pair files or --sweep-depths "
-                         "with one --system")
+        raise ModelError(
+            "system: two system files are compared as given; give tooth-pair files or --sweep-depths with one --system"
+        )
     if len(files) > 2:
-        raise ModelError(f"files: with --system none, one or two tooth-pair files or excitation tables, got {len(files)}")
+        raise ModelError(
+            f"files: with --system none, one or two tooth-pair files or excitation tables, got {len(files)}"
+        )
     systems = [load_system(p) for p in paths]
     rpm = inp.rpm if inp.rpm is not None else systems[0].scaling.rpm_from_omega(systems[0].omega)
     systems = [s.with_param("omega", s.scaling.omega_from_rpm(rpm)) for s in systems]
@@ -302,8 +408,10 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     tooth = [f for f in files if f.suffix.lower() == ".toml"]
     if inp.sweep and not files:
         if desc_mesh.excitation is None or not desc_mesh.excitation.lower().endswith(".toml"):
-            raise ModelError(f"sweep-depths: give the tooth-pair file whose crack is swept (mesh {desc_mesh.name!r} "
-                             f"of the system has no tooth-pair excitation file)")
+            raise ModelError(
+                f"sweep-depths: give the tooth-pair file whose crack is swept (mesh {desc_mesh.name!r} "
+                f"of the system has no tooth-pair excitation file)"
+            )
         tooth = [Path(desc_mesh.excitation)]
     if (inp.fault or inp.torque is not None) and not tooth:
         raise ModelError("fault: --fault and --torque apply to tooth-pair files")
@@ -311,20 +419,31 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     for f, c in cases.items():
         zc = (c.geometry.gears[0].teeth, c.geometry.gears[1].teeth)
         if zc[0] != z1 or (z2 is not None and zc[1] != z2):
-            raise ModelError(f"{f}: z = {zc[0]}/{zc[1]}, but mesh {desc_mesh.name!r} of the system has "
-                             f"{z1}/{z2 if z2 is not None else '?'} teeth")
+            raise ModelError(
+                f"{f}: z = {zc[0]}/{zc[1]}, but mesh {desc_mesh.name!r} of the system has "
+                f"{z1}/{z2 if z2 is not None else '?'} teeth"
+            )
         z2 = zc[1]
     first = next(iter(cases.values())).signature if cases else {}
-    kw = {"revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
-          "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
-          "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02)), "z2": z2}
+    kw = {
+        "revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
+        "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
+        "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02)),
+        "z2": z2,
+    }
     period = _period(list(cases.values()))
     H = None if desc_mesh.excitation_harmonics is not None else SIGNATURE_HARMONICS
     tmp = tempfile.TemporaryDirectory()
 
     def excited(case, faults, name):
-        ms = mesh_stiffness(case.geometry, case.torque, faults=faults, modifications=case.modifications,
-                            cycles=period, points=inp.points)
+        ms = mesh_stiffness(
+            case.geometry,
+            case.torque,
+            faults=faults,
+            modifications=case.modifications,
+            cycles=period,
+            points=inp.points,
+        )
         path = write_table(table_of(ms), Path(tmp.name) / f"{name}.csv")
         return with_excitation(s0, mesh, path, None if H is None else min(H, ms.stiffness.size // 2))
 
@@ -341,27 +460,40 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
             summary = json.loads(ds.attrs["summary"])
             summary.update(system=str(paths[0]), excitation=str(tooth[-1]))
             ds.attrs["summary"] = json.dumps(summary)
-            summary["indicators"] = {k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values]
-                                         for sh in ds["shaft"].values} for k in ds.data_vars}
+            summary["indicators"] = {
+                k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values] for sh in ds["shaft"].values}
+                for k in ds.data_vars
+            }
             finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
             return
         runs_in = []  # (system, label, summary keys)
         if files:
             for f in files:
                 if f in cases:
-                    runs_in.append((excited(cases[f], cases[f].faults, f.stem), cases[f].name,
-                                    {"excitation": str(f), "faults": [fault_to_dict(x) for x in cases[f].faults]}))
+                    runs_in.append(
+                        (
+                            excited(cases[f], cases[f].faults, f.stem),
+                            cases[f].name,
+                            {"excitation": str(f), "faults": [fault_to_dict(x) for x in cases[f].faults]},
+                        )
+                    )
                 else:
                     n = read_table(f).stiffness.size // 2
-                    runs_in.append((with_excitation(s0, mesh, f, None if H is None else min(H, n)), f.stem,
-                                    {"excitation": str(f)}))
+                    runs_in.append(
+                        (with_excitation(s0, mesh, f, None if H is None else min(H, n)), f.stem, {"excitation": str(f)})
+                    )
         else:
             runs_in = [(s, p.stem, {"excitation": None}) for s, p in zip(systems, paths)]
-        labels = [lab if [r[1] for r in runs_in].count(lab) == 1 else f"{lab} ({i + 1})"
-                  for i, (_, lab, _) in enumerate(runs_in)]
-        runs = [system_signature(s, dof, mesh=mesh, label=lab, **kw,
-                                 extra={"system": str(paths[min(i, len(paths) - 1)]), **keys})
-                for i, ((s, _, keys), lab) in enumerate(zip(runs_in, labels))]
+        labels = [
+            lab if [r[1] for r in runs_in].count(lab) == 1 else f"{lab} ({i + 1})"
+            for i, (_, lab, _) in enumerate(runs_in)
+        ]
+        runs = [
+            system_signature(
+                s, dof, mesh=mesh, label=lab, **kw, extra={"system": str(paths[min(i, len(paths) - 1)]), **keys}
+            )
+            for i, ((s, _, keys), lab) in enumerate(zip(runs_in, labels))
+        ]
     ds = combine(runs) if len(runs) > 1 else runs[0]
     summary = json.loads(ds.attrs["summary"])
     finish(summary, inp.write(ds, "signature"), inp, _show_signature)

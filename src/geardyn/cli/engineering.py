@@ -17,11 +17,27 @@ JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 TE_OPTIONS = [
     option("teeth", str, ..., "--teeth", help="Teeth of pinion and gear, z1,z2 (e.g. 14,39)."),
     option("harmonics", int, 3, "--harmonics", help="Mesh harmonics fitted (orders l z1, l = 1 … L)."),
-    option("shaft_orders", int, 2, "--shaft-orders",
-           help="Shaft orders j fitted for each shaft, alone and as sidebands l z1 ± j (pinion), l z1 ± j z1/z2 (gear)."),
-    option("x_unit", Optional[str], None, "--x-unit",
-           help="Unit of the first column when the header does not state it: deg, rad, rev (angle) or s, ms, us (time)."),
-    option("te_unit", Optional[str], None, "--te-unit", help="Unit of the TE column when the header does not state it: um, mm, nm, m."),
+    option(
+        "shaft_orders",
+        int,
+        2,
+        "--shaft-orders",
+        help="Shaft orders j fitted for each shaft, alone and as sidebands l z1 ± j (pinion), l z1 ± j z1/z2 (gear).",
+    ),
+    option(
+        "x_unit",
+        Optional[str],
+        None,
+        "--x-unit",
+        help="Unit of the first column when the header does not state it: deg, rad, rev (angle) or s, ms, us (time).",
+    ),
+    option(
+        "te_unit",
+        Optional[str],
+        None,
+        "--te-unit",
+        help="Unit of the TE column when the header does not state it: um, mm, nm, m.",
+    ),
     option("te_rpm", Optional[float], None, "--rpm", help="Pinion speed (rpm) of a time record."),
     option("te_out", Optional[Path], None, "--out", help="Write the [mesh] section (TOML) to this file."),
     *JSON_ONLY,
@@ -46,7 +62,9 @@ def _teeth(text: str) -> tuple[int, int]:
 @command("te", TE_OPTIONS)
 def te(
     inp: Inputs,
-    file: Annotated[Path, typer.Argument(help="Measured TE record: two columns (angle or time, TE), header with units optional.")],
+    file: Annotated[
+        Path, typer.Argument(help="Measured TE record: two columns (angle or time, TE), header with units optional.")
+    ],
 ) -> None:
     """Measured transmission error: mesh-order harmonics with phases, shaft-order sidebands, hunting period, and a
     [mesh] section (mesh orders only) the other commands accept."""
@@ -88,14 +106,19 @@ def _show_te(s: dict[str, Any], files: list[str]) -> None:
     for col in ("kind", "shaft", "pinion order", "amplitude (µm)", "phase (deg)"):
         t.add_column(col)
     for r in side:
-        t.add_row(r["kind"], r.get("shaft", ""), f"{r['order']:.6g}", f"{r['amplitude_um']:.5g}", f"{r['phase_deg']:.4g}")
+        t.add_row(
+            r["kind"], r.get("shaft", ""), f"{r['order']:.6g}", f"{r['amplitude_um']:.5g}", f"{r['phase_deg']:.4g}"
+        )
     console.print(t)
     lines = [
         f"hunting period: {s['hunting_period_mesh_cycles']} mesh cycles ({s['hunting_period_pinion_revolutions']:.6g} "
         f"pinion revolutions); the record covers {s['record_pinion_revolutions']:.4g} pinion revolutions",
         f"sidebands: {100 * s['sideband_share']:.3g} % of the fitted orders' RMS; the forcing is "
-        + ("periodic over one mesh cycle to that share" if s["periodic_over_mesh_cycle"]
-           else "NOT periodic over one mesh cycle (the model keeps the mesh orders only)"),
+        + (
+            "periodic over one mesh cycle to that share"
+            if s["periodic_over_mesh_cycle"]
+            else "NOT periodic over one mesh cycle (the model keeps the mesh orders only)"
+        ),
         f"residual: {100 * s['residual_share']:.3g} % of the signal's RMS",
         *[f"left out: {x}" for x in s["left_out"]],
     ]
@@ -106,7 +129,7 @@ def _show_te(s: dict[str, Any], files: list[str]) -> None:
         console.print(f"wrote {f}", markup=False, highlight=False)
 
 
-def attach_iso_kv(config: Optional[Path], model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+def attach_iso_kv(config: Path | None, model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
     """Add the ISO K_v-B curve (JSON ``iso_kv``, Dataset attribute ``iso_kv``) to a frequency response over ω.
 
     Only when the configured pair has the ISO inputs K_v needs (``f_pt`` among its ``[gear_pair]`` keys); the
@@ -122,9 +145,16 @@ def attach_iso_kv(config: Optional[Path], model: Any, ds: Any, summary: dict[str
         return ds, summary
     sc = cfg.scales
     u_max = {str(s): ds["u_max"].sel(sweep=s).values for s in ds["sweep"].values}
-    block = iso_kv_block(cfg.pair, cfg.iso_inputs, torque=float(sc.torque_from_fp(model.fp)),
-                         rpm=ds["rpm"].values, u_max=u_max, D=model.D, fp=model.fp,
-                         model_resonance_rpm=float(sc.rpm_from_omega(1.0)))
+    block = iso_kv_block(
+        cfg.pair,
+        cfg.iso_inputs,
+        torque=float(sc.torque_from_fp(model.fp)),
+        rpm=ds["rpm"].values,
+        u_max=u_max,
+        D=model.D,
+        fp=model.fp,
+        model_resonance_rpm=float(sc.rpm_from_omega(1.0)),
+    )
     ds = ds.copy()
     ds.attrs["iso_kv"] = json.dumps(block)
     return ds, {**summary, "iso_kv": block}
@@ -132,21 +162,45 @@ def attach_iso_kv(config: Optional[Path], model: Any, ds: Any, summary: dict[str
 
 RUNUP_OPTIONS = [
     option("ru_rpm_start", Optional[float], None, "--rpm-start", help="Pinion speed at the start of the ramp (rpm)."),
-    option("ru_rpm_stop", Optional[float], None, "--rpm-stop", help="Pinion speed at the end of the ramp (rpm; below "
-                                                                     "--rpm-start for a run-down)."),
+    option(
+        "ru_rpm_stop",
+        Optional[float],
+        None,
+        "--rpm-stop",
+        help="Pinion speed at the end of the ramp (rpm; below --rpm-start for a run-down).",
+    ),
     option("duration", Optional[float], None, "--duration", help="Duration of the ramp (s)."),
-    option("omega_start", Optional[float], None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."),
+    option(
+        "omega_start", Optional[float], None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."
+    ),
     option("omega_stop", Optional[float], None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
-    option("tau_duration", Optional[float], None, "--tau-duration", help="Duration of the ramp in τ (instead of --duration)."),
-    option("cycles_per_block", Optional[int], None, "--cycles-per-block",
-           help="Mesh cycles per constant-speed block (default: about 400 blocks); with an --excitation of P mesh cycles "
-                "a multiple of P (blocks of whole forcing periods)."),
+    option(
+        "tau_duration",
+        Optional[float],
+        None,
+        "--tau-duration",
+        help="Duration of the ramp in τ (instead of --duration).",
+    ),
+    option(
+        "cycles_per_block",
+        Optional[int],
+        None,
+        "--cycles-per-block",
+        help="Mesh cycles per constant-speed block (default: about 400 blocks); with an --excitation of P mesh cycles "
+        "a multiple of P (blocks of whole forcing periods).",
+    ),
     option("orders", int, 3, "--orders", help="Mesh orders tracked."),
     option("qs_num", int, 21, "--num", help="Speeds of the quasi-static (steady) response beside the ramp (0: none)."),
     option("dtau", float, 0.05, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ) in every block."),
     option("accurate", bool, False, "--accurate", help="Split steps at the contact crossings u = ±D."),
-    option("settle", int, 200, "--settle", help="Mesh periods at the start speed before the ramp (from --u0, --v0 = 0; "
-                                                "whole forcing periods with an --excitation of several cycles)."),
+    option(
+        "settle",
+        int,
+        200,
+        "--settle",
+        help="Mesh periods at the start speed before the ramp (from --u0, --v0 = 0; "
+        "whole forcing periods with an --excitation of several cycles).",
+    ),
 ]
 
 
@@ -192,9 +246,11 @@ def _check_ramp_steps(inp: Inputs, w0: float, w1: float, T: float) -> None:
 
     steps, budget = T / dt, time_budget()
     if not (steps <= validate.MAX_TOTAL_STEPS and steps * TRAJECTORY_STEP_SECONDS <= budget):
-        raise ModelError(f"dtau: a ramp of τ = {T:.6g} with Δτ = {dt:g} is {steps:.3g} RK4 steps, about "
-                         f"{_human_time(steps * TRAJECTORY_STEP_SECONDS)} of computing; the budget is "
-                         f"{_human_time(budget)} (GEARDYN_TIME_BUDGET seconds): a shorter ramp or a larger dtau")
+        raise ModelError(
+            f"dtau: a ramp of τ = {T:.6g} with Δτ = {dt:g} is {steps:.3g} RK4 steps, about "
+            f"{_human_time(steps * TRAJECTORY_STEP_SECONDS)} of computing; the budget is "
+            f"{_human_time(budget)} (GEARDYN_TIME_BUDGET seconds): a shorter ramp or a larger dtau"
+        )
 
 
 @command("runup", RUNUP_OPTIONS, model_group(omega=False, rpm=False), OUTPUT)
@@ -216,47 +272,74 @@ def runup_cmd(inp: Inputs) -> None:
     from ..sweep.progress import task_progress
 
     with task_progress("runup", unit="blocks", fmt=".0f", enabled=not inp.json_out) as bar:
-        res = runup(model, w0, w1, T, cycles_per_block=inp.cycles_per_block, orders=orders, dtau=inp.dtau,
-                    accurate=inp.accurate, settle=validate.integer("settle", inp.settle, 0, validate.MAX_PERIODS),
-                    progress=bar)
+        res = runup(
+            model,
+            w0,
+            w1,
+            T,
+            cycles_per_block=inp.cycles_per_block,
+            orders=orders,
+            dtau=inp.dtau,
+            accurate=inp.accurate,
+            settle=validate.integer("settle", inp.settle, 0, validate.MAX_PERIODS),
+            progress=bar,
+        )
     ds = res.to_dataset()
     summary = res.to_json()
     um = float(sc.b_c_m) * 1e6
     from ..io import annotate
 
-    ds = ds.assign_coords(rpm=("block", sc.rpm_from_omega(ds["omega"].values)),
-                          time_s=("block", sc.s_from_tau(ds["tau"].values)))
+    ds = ds.assign_coords(
+        rpm=("block", sc.rpm_from_omega(ds["omega"].values)), time_s=("block", sc.s_from_tau(ds["tau"].values))
+    )
     for v in ("order_amplitude", "amplitude"):
         ds[f"{v}_um"] = (ds[v].dims, ds[v].values * um)
     annotate(ds)
     rate = float(sc.rpm_from_omega(res.ramp_rate) * sc.omega_n_rad_s)
     ds.attrs["ramp_rate_rpm_per_s"] = rate
     ds.attrs["physical_scales"] = sc.to_json()
-    summary.update({"rpm": [float(x) for x in ds["rpm"].values], "ramp_rate_rpm_per_s": rate,
-                    "duration_s": float(sc.s_from_tau(T)), "amplitude_um": [None if not np.isfinite(x) else float(x)
-                                                                             for x in ds["amplitude_um"].values],
-                    "pair": sc.statement(), "model": model.to_dict()})
+    summary.update(
+        {
+            "rpm": [float(x) for x in ds["rpm"].values],
+            "ramp_rate_rpm_per_s": rate,
+            "duration_s": float(sc.s_from_tau(T)),
+            "amplitude_um": [None if not np.isfinite(x) else float(x) for x in ds["amplitude_um"].values],
+            "pair": sc.statement(),
+            "model": model.to_dict(),
+        }
+    )
     if nq >= 2:
         lo, hi = sorted((w0, w1))
-        with task_progress("runup: quasi-static sweep up and down", unit="points", fmt=".0f",
-                           enabled=not inp.json_out) as bar:
-            qs = steady_response(model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate,
-                                 progress=bar)
+        with task_progress(
+            "runup: quasi-static sweep up and down", unit="points", fmt=".0f", enabled=not inp.json_out
+        ) as bar:
+            qs = steady_response(
+                model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate, progress=bar
+            )
         x_rpm = [float(v) for v in sc.rpm_from_omega(np.array(qs["x"]))]
         for lab in ("up", "down"):
             qs[lab]["amplitude_um"] = [None if v is None else v * um for v in qs[lab]["amplitude"]]
         summary["quasi_static"] = {**qs, "rpm": x_rpm}
-        plot_qs = {"x": x_rpm, **{lab: {"amplitude": qs[lab]["amplitude_um"], "dynamic_factor": qs[lab]["dynamic_factor"]}
-                                  for lab in ("up", "down")}}
+        plot_qs = {
+            "x": x_rpm,
+            **{
+                lab: {"amplitude": qs[lab]["amplitude_um"], "dynamic_factor": qs[lab]["dynamic_factor"]}
+                for lab in ("up", "down")
+            },
+        }
         ds.attrs["quasi_static"] = json.dumps(plot_qs)
     finish(summary, inp.write(ds, "runup"), inp, _show_runup)
 
 
 def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
     what = "run-up" if s["omega_stop"] > s["omega_start"] else "run-down"
-    console.print(f"{what}: {s['rpm'][0]:.6g} → {s['rpm'][-1]:.6g} rpm in {s['duration_s']:.4g} s "
-                  f"({s['ramp_rate_rpm_per_s']:.4g} rpm/s), {s['blocks']} blocks of {s['cycles_per_block']} mesh cycles"
-                  + ("; DIVERGED" if s["diverged"] else ""), markup=False, highlight=False)
+    console.print(
+        f"{what}: {s['rpm'][0]:.6g} → {s['rpm'][-1]:.6g} rpm in {s['duration_s']:.4g} s "
+        f"({s['ramp_rate_rpm_per_s']:.4g} rpm/s), {s['blocks']} blocks of {s['cycles_per_block']} mesh cycles"
+        + ("; DIVERGED" if s["diverged"] else ""),
+        markup=False,
+        highlight=False,
+    )
     t = Table(title="Order-tracked DTE (every tenth block)")
     for col in ("rpm", "ω", "mesh order 1 (µm)", "half p-p (µm)", "dynamic factor"):
         t.add_column(col, justify="right")
@@ -264,9 +347,13 @@ def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
     scale = next((x for x in um if x), 1.0)
     for i in range(0, s["blocks"], max(1, s["blocks"] // 10)):
         a1 = s["order_amplitude"][0][i]
-        t.add_row(f"{s['rpm'][i]:.6g}", f"{s['omega'][i]:.5g}", "n/a" if a1 is None else f"{a1 * scale:.4g}",
-                  "n/a" if s["amplitude_um"][i] is None else f"{s['amplitude_um'][i]:.4g}",
-                  "n/a" if s["dynamic_factor"][i] is None else f"{s['dynamic_factor'][i]:.4g}")
+        t.add_row(
+            f"{s['rpm'][i]:.6g}",
+            f"{s['omega'][i]:.5g}",
+            "n/a" if a1 is None else f"{a1 * scale:.4g}",
+            "n/a" if s["amplitude_um"][i] is None else f"{s['amplitude_um'][i]:.4g}",
+            "n/a" if s["dynamic_factor"][i] is None else f"{s['dynamic_factor'][i]:.4g}",
+        )
     console.print(t)
     console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
     for f in paths:

@@ -23,7 +23,8 @@ import signal
 import sys
 import threading
 import time
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 # ctypes, json and unicodedata are imported where they are used: every command imports this module.
 
@@ -39,17 +40,107 @@ SIGNAL_EXIT = {signal.SIGINT: 130, signal.SIGTERM: 143}
 # ---------------------------------------------------------------- streams
 #: ASCII spellings of the characters geardyn prints (others: their unaccented letter, else "?").
 ASCII = {
-    "µ": "u", "μ": "u", "ω": "omega", "Ω": "Omega", "τ": "tau", "θ": "theta", "ξ": "xi", "κ": "kappa",
-    "ε": "eps", "φ": "phi", "ϕ": "phi", "λ": "lambda", "Δ": "d", "δ": "d", "σ": "sigma", "π": "pi",
-    "α": "alpha", "β": "beta", "γ": "gamma", "ζ": "zeta", "η": "eta", "ν": "nu", "ρ": "rho", "ψ": "psi",
-    "≥": ">=", "≤": "<=", "≠": "!=", "≈": "~", "±": "+-", "×": "x", "·": "*", "−": "-", "–": "-", "—": "-",
-    "→": "->", "←": "<-", "…": "...", "°": "deg", "²": "^2", "³": "^3", "⁻": "^-", "¹": "^1", "⁰": "^0",
-    "⁴": "^4", "⁵": "^5", "⁶": "^6", "⁷": "^7", "⁸": "^8", "⁹": "^9", "√": "sqrt", "∞": "inf", "‖": "||",
-    "’": "'", "‘": "'", "“": '"', "”": '"', "•": "*", "✓": "ok", "✗": "x", "│": "|", "─": "-", "━": "-",
-    "┃": "|", "╭": "+", "╮": "+", "╰": "+", "╯": "+", "┏": "+", "┓": "+", "┗": "+", "┛": "+", "┡": "+",
-    "┩": "+", "├": "+", "┤": "+", "┼": "+", "┌": "+", "┐": "+", "└": "+", "┘": "+", "╇": "+", "╈": "+",
-    "┳": "+", "┻": "+", "╋": "+", "┬": "+", "┴": "+", "█": "#", "▌": "#", "▏": "|", "⠋": "-", "⠙": "\\",
-    "⠹": "|", "⠸": "/", "⠼": "-", "⠴": "\\", "⠦": "|", "⠧": "/", "⠇": "-", "⠏": "\\", "\u00a0": " ",
+    "µ": "u",
+    "μ": "u",
+    "ω": "omega",
+    "Ω": "Omega",
+    "τ": "tau",
+    "θ": "theta",
+    "ξ": "xi",
+    "κ": "kappa",
+    "ε": "eps",
+    "φ": "phi",
+    "ϕ": "phi",
+    "λ": "lambda",
+    "Δ": "d",
+    "δ": "d",
+    "σ": "sigma",
+    "π": "pi",
+    "α": "alpha",
+    "β": "beta",
+    "γ": "gamma",
+    "ζ": "zeta",
+    "η": "eta",
+    "ν": "nu",
+    "ρ": "rho",
+    "ψ": "psi",
+    "≥": ">=",
+    "≤": "<=",
+    "≠": "!=",
+    "≈": "~",
+    "±": "+-",
+    "×": "x",
+    "·": "*",
+    "−": "-",
+    "–": "-",
+    "—": "-",
+    "→": "->",
+    "←": "<-",
+    "…": "...",
+    "°": "deg",
+    "²": "^2",
+    "³": "^3",
+    "⁻": "^-",
+    "¹": "^1",
+    "⁰": "^0",
+    "⁴": "^4",
+    "⁵": "^5",
+    "⁶": "^6",
+    "⁷": "^7",
+    "⁸": "^8",
+    "⁹": "^9",
+    "√": "sqrt",
+    "∞": "inf",
+    "‖": "||",
+    "’": "'",
+    "‘": "'",
+    "“": '"',
+    "”": '"',
+    "•": "*",
+    "✓": "ok",
+    "✗": "x",
+    "│": "|",
+    "─": "-",
+    "━": "-",
+    "┃": "|",
+    "╭": "+",
+    "╮": "+",
+    "╰": "+",
+    "╯": "+",
+    "┏": "+",
+    "┓": "+",
+    "┗": "+",
+    "┛": "+",
+    "┡": "+",
+    "┩": "+",
+    "├": "+",
+    "┤": "+",
+    "┼": "+",
+    "┌": "+",
+    "┐": "+",
+    "└": "+",
+    "┘": "+",
+    "╇": "+",
+    "╈": "+",
+    "┳": "+",
+    "┻": "+",
+    "╋": "+",
+    "┬": "+",
+    "┴": "+",
+    "█": "#",
+    "▌": "#",
+    "▏": "|",
+    "⠋": "-",
+    "⠙": "\\",
+    "⠹": "|",
+    "⠸": "/",
+    "⠼": "-",
+    "⠴": "\\",
+    "⠦": "|",
+    "⠧": "/",
+    "⠇": "-",
+    "⠏": "\\",
+    "\u00a0": " ",
 }
 ERROR_HANDLER = "geardyn-ascii"
 
@@ -71,7 +162,7 @@ def _fallback(c: str) -> str:
 def _ascii_errors(err: UnicodeError) -> tuple[str, int]:
     if not isinstance(err, UnicodeEncodeError):
         raise err
-    return ascii_text(err.object[err.start:err.end]), err.end
+    return ascii_text(err.object[err.start : err.end]), err.end
 
 
 codecs.register_error(ERROR_HANDLER, _ascii_errors)
@@ -276,8 +367,10 @@ def _interrupted_message(exc: BaseException | None) -> str:
 
     dirs = active_checkpoints()
     if dirs:
-        return (f"interrupted: the finished chunks are saved in {dirs[-1]}; run the same command again with "
-                f"--resume to complete the sweep")
+        return (
+            f"interrupted: the finished chunks are saved in {dirs[-1]}; run the same command again with "
+            f"--resume to complete the sweep"
+        )
     return "interrupted"
 
 

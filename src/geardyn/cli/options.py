@@ -18,8 +18,9 @@ from __future__ import annotations
 import functools
 import inspect
 import typing
+from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Any, Callable, Optional
+from typing import Annotated, Any, Optional
 
 import typer
 
@@ -29,8 +30,27 @@ from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel,
 from .app import GeardynCommand, app, emit_json, fail, is_stop
 from .output import check_budget, check_out, engine_keywords, out_paths
 
-__all__ = ["CONFIG", "ENGINE", "EXCITATION", "FIGURE_OPTIONS", "MODEL", "OUTPUT", "STATE", "Inputs", "build_model", "choice", "command", "finish",
-           "integration", "sweep_range", "model_group", "option", "param_option", "ContinuationParamOpt", "StopOpt"]
+__all__ = [
+    "CONFIG",
+    "ENGINE",
+    "EXCITATION",
+    "FIGURE_OPTIONS",
+    "MODEL",
+    "OUTPUT",
+    "STATE",
+    "Inputs",
+    "build_model",
+    "choice",
+    "command",
+    "finish",
+    "integration",
+    "sweep_range",
+    "model_group",
+    "option",
+    "param_option",
+    "ContinuationParamOpt",
+    "StopOpt",
+]
 
 _P = inspect.Parameter
 MODEL_PANEL = "Model (non-dimensional)"
@@ -63,8 +83,12 @@ def option(dest: str, kind: Any, default: Any, *flags: str, help: str, panel: st
     inspect.Parameter
         A keyword-only parameter annotated with its ``typer.Option``.
     """
-    return _P(dest, _P.KEYWORD_ONLY, default=default,
-              annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel)])
+    return _P(
+        dest,
+        _P.KEYWORD_ONLY,
+        default=default,
+        annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel)],
+    )
 
 
 def _flags_take_no_value(p: inspect.Parameter) -> inspect.Parameter:
@@ -77,21 +101,61 @@ def _flags_take_no_value(p: inspect.Parameter) -> inspect.Parameter:
     return p
 
 
-CONFIG = [option("config", Optional[Path], None, "--config", panel=PHYSICAL_PANEL,
-                 help="TOML file with the gear pair, mesh and operating point (default: the paper's Table 1).")]
-RPM = option("rpm", Optional[float], None, "--rpm", panel=PHYSICAL_PANEL,
-             help="Pinion speed in rpm (sets ω for the gear pair of --config; default pair: the paper's Table 1, "
-                  "k0 = 2000 N/µm assumed).")
-TORQUE = option("torque", Optional[float], None, "--torque", panel=PHYSICAL_PANEL,
-                help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config).")
-EXCITATION = option("excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
-EVALUATION = option("excitation_evaluation", Optional[str], None, "--excitation-evaluation", panel=PHYSICAL_PANEL,
-                    help="series (default) or table: with --accurate, the table as given, piecewise linear with its jumps.")
+CONFIG = [
+    option(
+        "config",
+        Optional[Path],
+        None,
+        "--config",
+        panel=PHYSICAL_PANEL,
+        help="TOML file with the gear pair, mesh and operating point (default: the paper's Table 1).",
+    )
+]
+RPM = option(
+    "rpm",
+    Optional[float],
+    None,
+    "--rpm",
+    panel=PHYSICAL_PANEL,
+    help="Pinion speed in rpm (sets ω for the gear pair of --config; default pair: the paper's Table 1, "
+    "k0 = 2000 N/µm assumed).",
+)
+TORQUE = option(
+    "torque",
+    Optional[float],
+    None,
+    "--torque",
+    panel=PHYSICAL_PANEL,
+    help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config).",
+)
+EXCITATION = option(
+    "excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP
+)
+EVALUATION = option(
+    "excitation_evaluation",
+    Optional[str],
+    None,
+    "--excitation-evaluation",
+    panel=PHYSICAL_PANEL,
+    help="series (default) or table: with --accurate, the table as given, piecewise linear with its jumps.",
+)
 RPM_RANGE = [
-    option("rpm_start", Optional[float], None, "--rpm-start", panel=PHYSICAL_PANEL,
-           help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop)."),
-    option("rpm_stop", Optional[float], None, "--rpm-stop", panel=PHYSICAL_PANEL,
-           help="End of an ω sweep given as pinion speed in rpm (with --rpm-start)."),
+    option(
+        "rpm_start",
+        Optional[float],
+        None,
+        "--rpm-start",
+        panel=PHYSICAL_PANEL,
+        help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop).",
+    ),
+    option(
+        "rpm_stop",
+        Optional[float],
+        None,
+        "--rpm-stop",
+        panel=PHYSICAL_PANEL,
+        help="End of an ω sweep given as pinion speed in rpm (with --rpm-start).",
+    ),
 ]
 
 
@@ -125,14 +189,20 @@ STATE = [
 ACCURATE_HELP = "Split steps at the contact crossings u = ±D (4th order through contact loss)."
 
 
-ADAPTIVE_HELP = ("Adaptive transient: --transient becomes a maximum; each point stops its transient once its "
-                 "Poincaré points have converged onto a period-n cycle (n <= 32, estimated distance 1e-10) and "
-                 "records that cycle; other points run the full transient.")
+ADAPTIVE_HELP = (
+    "Adaptive transient: --transient becomes a maximum; each point stops its transient once its "
+    "Poincaré points have converged onto a period-n cycle (n <= 32, estimated distance 1e-10) and "
+    "records that cycle; other points run the full transient."
+)
 
 
-def integration(*, periods: int | None = DEFAULT_PERIODS,
-                periods_help: str = "Forcing periods recorded (Poincaré points).",
-                accurate: inspect.Parameter | None = None, adaptive: bool = False) -> list[inspect.Parameter]:
+def integration(
+    *,
+    periods: int | None = DEFAULT_PERIODS,
+    periods_help: str = "Forcing periods recorded (Poincaré points).",
+    accurate: inspect.Parameter | None = None,
+    adaptive: bool = False,
+) -> list[inspect.Parameter]:
     """The integration options ``--dtau --transient [--periods] --accurate [--adaptive]``.
 
     ``--dtau`` and ``--transient`` default to :data:`~geardyn.model.DEFAULT_DTAU` and
@@ -155,49 +225,96 @@ def integration(*, periods: int | None = DEFAULT_PERIODS,
     list of inspect.Parameter
     """
     group = [
-        option("dtau", float, DEFAULT_DTAU, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).",
-               panel=RUN_PANEL),
-        option("transient", int, DEFAULT_TRANSIENT, "--transient", help="Forcing periods discarded before recording.",
-               panel=RUN_PANEL),
+        option(
+            "dtau", float, DEFAULT_DTAU, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).", panel=RUN_PANEL
+        ),
+        option(
+            "transient",
+            int,
+            DEFAULT_TRANSIENT,
+            "--transient",
+            help="Forcing periods discarded before recording.",
+            panel=RUN_PANEL,
+        ),
     ]
     if periods is not None:
         group.append(option("periods", int, periods, "--periods", help=periods_help, panel=RUN_PANEL))
-    group.append(accurate if accurate is not None else
-                 option("accurate", bool, False, "--accurate", help=ACCURATE_HELP, panel=RUN_PANEL))
+    group.append(
+        accurate
+        if accurate is not None
+        else option("accurate", bool, False, "--accurate", help=ACCURATE_HELP, panel=RUN_PANEL)
+    )
     if adaptive:
         group.append(option("adaptive", bool, False, "--adaptive", help=ADAPTIVE_HELP, panel=RUN_PANEL))
     return group
 
 
 ENGINE = [
-    option("workers", int, 1, "--workers", panel=ENGINE_PANEL,
-           help="Chunks of a sweep integrated at once, on threads of this process (1: one at a time on every "
-                "kernel thread; N: N at a time on 1/N of them each)."),
-    option("processes", bool, False, "--processes", panel=ENGINE_PANEL,
-           help="Run the --workers in local worker processes instead of threads (a worker process that dies "
-                "is replaced; each process costs 140-190 MB of memory)."),
-    option("scheduler", Optional[str], None, "--scheduler", panel=ENGINE_PANEL,
-           help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed)."),
-    option("resume", bool, False, "--resume", panel=ENGINE_PANEL,
-           help="Complete an interrupted sweep with the same --out: chunks already finished are kept."),
+    option(
+        "workers",
+        int,
+        1,
+        "--workers",
+        panel=ENGINE_PANEL,
+        help="Chunks of a sweep integrated at once, on threads of this process (1: one at a time on every "
+        "kernel thread; N: N at a time on 1/N of them each).",
+    ),
+    option(
+        "processes",
+        bool,
+        False,
+        "--processes",
+        panel=ENGINE_PANEL,
+        help="Run the --workers in local worker processes instead of threads (a worker process that dies "
+        "is replaced; each process costs 140-190 MB of memory).",
+    ),
+    option(
+        "scheduler",
+        Optional[str],
+        None,
+        "--scheduler",
+        panel=ENGINE_PANEL,
+        help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed).",
+    ),
+    option(
+        "resume",
+        bool,
+        False,
+        "--resume",
+        panel=ENGINE_PANEL,
+        help="Complete an interrupted sweep with the same --out: chunks already finished are kept.",
+    ),
 ]
 OUTPUT = [
     option("json_out", bool, False, "--json", help="Print a machine-readable summary on stdout.", panel=OUTPUT_PANEL),
-    option("out", Optional[Path], None, "--out", help="Directory (or .nc file) for NetCDF data and figures.",
-           panel=OUTPUT_PANEL),
+    option(
+        "out",
+        Optional[Path],
+        None,
+        "--out",
+        help="Directory (or .nc file) for NetCDF data and figures.",
+        panel=OUTPUT_PANEL,
+    ),
 ]
 #: How figures are saved (with ``--out``; and by ``geardyn plot``).
 FIGURE_OPTIONS = [
-    option("fig_format", str, "png", "--format", panel=OUTPUT_PANEL,
-           help="File formats of the figures, comma-separated: png, pdf, svg (e.g. png,pdf)."),
+    option(
+        "fig_format",
+        str,
+        "png",
+        "--format",
+        panel=OUTPUT_PANEL,
+        help="File formats of the figures, comma-separated: png, pdf, svg (e.g. png,pdf).",
+    ),
     option("dpi", int, 120, "--dpi", panel=OUTPUT_PANEL, help="Resolution of PNG figures (dots per inch)."),
 ]
 OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
-def base_model(config: Optional[Path], excitation: Optional[Path] = None, given: Any = None,
-               evaluation: Optional[str] = None) -> GearModel:
+def base_model(
+    config: Path | None, excitation: Path | None = None, given: Any = None, evaluation: str | None = None
+) -> GearModel:
     """The model of ``--config`` (or the paper's defaults) and ``--excitation`` (:mod:`geardyn.tooth.table`)."""
     if config is None and excitation is None and evaluation is None:
         return GearModel()
@@ -206,7 +323,7 @@ def base_model(config: Optional[Path], excitation: Optional[Path] = None, given:
     return configured_model(config, excitation, given or {}, evaluation)
 
 
-def pair_scales(config: Optional[Path]):
+def pair_scales(config: Path | None):
     """Physical scales of the gear pair of the configuration file ``config`` (default: the paper's Table 1 pair, k0
     assumed)."""
     from ..units import PhysicalScales, configured_pair
@@ -214,8 +331,15 @@ def pair_scales(config: Optional[Path]):
     return PhysicalScales.from_config(configured_pair(config))
 
 
-def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, torque: Optional[float] = None,
-                excitation: Optional[Path] = None, evaluation: Optional[str] = None, **values: Optional[float]) -> GearModel:
+def build_model(
+    config: Path | None = None,
+    *,
+    rpm: float | None = None,
+    torque: float | None = None,
+    excitation: Path | None = None,
+    evaluation: str | None = None,
+    **values: float | None,
+) -> GearModel:
     """The config's model (with the ``excitation`` table) with the command-line values applied on top (validated).
 
     Parameters
@@ -245,8 +369,9 @@ def build_model(config: Optional[Path] = None, *, rpm: Optional[float] = None, t
     if rpm is not None or torque is not None:
         from ..units import operating_overrides
 
-        phys = operating_overrides(pair_scales(config), rpm=rpm, torque=torque, omega=values.get("omega"),
-                                   fp=values.get("fp"))
+        phys = operating_overrides(
+            pair_scales(config), rpm=rpm, torque=torque, omega=values.get("omega"), fp=values.get("fp")
+        )
         values = {**values, "omega": phys.get("omega", values.get("omega")), "fp": phys.get("fp", values.get("fp"))}
     for dest, param in by_dest.items():
         if values.get(dest) is not None:
@@ -279,7 +404,7 @@ class Inputs:
         except KeyError:
             raise AttributeError(name) from None
 
-    def model(self, **fixed: Optional[float]) -> Any:
+    def model(self, **fixed: float | None) -> Any:
         """The model of ``--config`` (or the system of ``--system``, the model options on its reference mesh) with
         the model options and the operating point applied: a System.
 
@@ -301,8 +426,14 @@ class Inputs:
         dests = {o.dest for o in params.cli_options()}
         given = {k: v.get(k) for k in dests}
         given.update(fixed)
-        return build_model(v.get("config"), rpm=v.get("rpm"), torque=v.get("torque"), excitation=v.get("excitation"),
-                           evaluation=v.get("excitation_evaluation"), **given)
+        return build_model(
+            v.get("config"),
+            rpm=v.get("rpm"),
+            torque=v.get("torque"),
+            excitation=v.get("excitation"),
+            evaluation=v.get("excitation_evaluation"),
+            **given,
+        )
 
     def scales(self):
         """The physical scales of the configured gear pair (of a system's reference mesh with ``--system``)."""
@@ -312,8 +443,9 @@ class Inputs:
             return physical_scales(self.model())
         return pair_scales(self.values.get("config"))
 
-    def options(self, omega: float | None = None, *, periods: int | None = None, omegas: Any = (),
-                points: int = 1) -> IntegrationOptions:
+    def options(
+        self, omega: float | None = None, *, periods: int | None = None, omegas: Any = (), points: int = 1
+    ) -> IntegrationOptions:
         """Validated integration options, checked against ``omega`` (or every one of ``omegas``) and against the
         memory the recorded periods of ``points`` points take.
 
@@ -374,12 +506,15 @@ class Inputs:
             return
         w_min = 4.0 * math.pi * xi / MAX_PERIOD_CONTRACTION
         if float(np.min(ws)) < w_min:
-            raise ModelError(f"omega: Lyapunov exponents need ω >= {w_min:.4g} with this damping (ξ0 = {xi:g}): at "
-                             f"ω = {float(np.min(ws)):.4g} the perturbations shrink by e^-{4 * math.pi * xi / float(np.min(ws)):.0f} "
-                             f"in one forcing period, below double precision")
+            raise ModelError(
+                f"omega: Lyapunov exponents need ω >= {w_min:.4g} with this damping (ξ0 = {xi:g}): at "
+                f"ω = {float(np.min(ws)):.4g} the perturbations shrink by e^-{4 * math.pi * xi / float(np.min(ws)):.0f} "
+                f"in one forcing period, below double precision"
+            )
 
-    def param_range(self, param: Optional[str], start: Optional[float], stop: Optional[float], *,
-                    what: str = "swept") -> tuple[str, float, float]:
+    def param_range(
+        self, param: str | None, start: float | None, stop: float | None, *, what: str = "swept"
+    ) -> tuple[str, float, float]:
         """The canonical name and the finite range of a swept (or continued) parameter.
 
         ``--rpm-start/--rpm-stop`` give ω's range in pinion speed (and make ω the default parameter); a
@@ -391,14 +526,16 @@ class Inputs:
         if param is None and (self.values.get("rpm_start") is not None or self.values.get("rpm_stop") is not None):
             param = "omega"
         if param is None:
-            raise ModelError(f"param: give the {what} parameter (--param), or a pinion-speed range "
-                             f"(--rpm-start/--rpm-stop)")
+            raise ModelError(
+                f"param: give the {what} parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)"
+            )
         name = param_name(param)
         self.not_swept(name)
         start, stop = sweep_range(self, start, stop, name)
         if start is None or stop is None:
-            raise ModelError("start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop "
-                             "for omega")
+            raise ModelError(
+                "start: give the parameter range (--start and --stop), or --rpm-start and --rpm-stop for omega"
+            )
         return name, validate.number("start", start), validate.number("stop", stop)
 
     def not_swept(self, *names: str) -> None:
@@ -419,12 +556,16 @@ class Inputs:
         for name in names:
             o = flags.get(name)
             if o is not None and self.values.get(o.dest) is not None:
-                raise ModelError(f"{o.flag.lstrip('-')}: {o.flag} {self.values[o.dest]:g} conflicts with the swept "
-                                 f"parameter {name}; give its range instead")
+                raise ModelError(
+                    f"{o.flag.lstrip('-')}: {o.flag} {self.values[o.dest]:g} conflicts with the swept "
+                    f"parameter {name}; give its range instead"
+                )
             if name in physical and self.values.get(physical[name][0]) is not None:
                 dest, flag = physical[name]
-                raise ModelError(f"{dest}: {flag} {self.values[dest]:g} conflicts with the swept parameter {name}; "
-                                 f"give its range instead")
+                raise ModelError(
+                    f"{dest}: {flag} {self.values[dest]:g} conflicts with the swept parameter {name}; "
+                    f"give its range instead"
+                )
 
     def state0(self) -> tuple[float, float]:
         """The initial state (u0, v0)."""
@@ -432,7 +573,7 @@ class Inputs:
 
         return validate.initial_state(self.values["u0"], self.values["v0"])
 
-    def nc(self, stem: str) -> Optional[Path]:
+    def nc(self, stem: str) -> Path | None:
         """The NetCDF file of ``--out`` (None without it).
 
         Parameters
@@ -479,8 +620,10 @@ class Inputs:
         """
         from .. import validate
 
-        return {"fmt": validate.figure_formats(self.values.get("fig_format", "png")),
-                "dpi": validate.dpi(self.values.get("dpi", 120))}
+        return {
+            "fmt": validate.figure_formats(self.values.get("fig_format", "png")),
+            "dpi": validate.dpi(self.values.get("dpi", 120)),
+        }
 
     def write(self, ds: Any, stem: str, engine: dict[str, Any] | None = None, *, release: bool = False) -> list[str]:
         """With ``--out``: write the result's NetCDF file and its figures, then drop a sweep's checkpoint.
@@ -577,8 +720,9 @@ def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
     return value
 
 
-def sweep_range(inp: Inputs, start: Optional[float], stop: Optional[float],
-                param: str = "omega") -> tuple[Optional[float], Optional[float]]:
+def sweep_range(
+    inp: Inputs, start: float | None, stop: float | None, param: str = "omega"
+) -> tuple[float | None, float | None]:
     """(start, stop) of a sweep: ``--rpm-start/--rpm-stop`` converted to ω, else ``start, stop`` as given.
 
     Parameters
@@ -621,15 +765,20 @@ def param_option(what: str) -> Any:
     typing.Annotated
         ``Optional[str]`` with its ``typer.Option``.
     """
-    return Annotated[Optional[str], typer.Option(
-        "--param", help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop).")]
+    return Annotated[
+        str | None,
+        typer.Option(
+            "--param", help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop)."
+        ),
+    ]
 
 
 #: ``--param`` of a continuation (HB or shooting).
 ContinuationParamOpt = param_option("Continuation parameter")
 #: ``--stop`` of a continuation (HB or shooting).
-StopOpt = Annotated[Optional[float], typer.Option(
-    "--stop", help="Parameter value where the continuation ends (may lie below --start).")]
+StopOpt = Annotated[
+    float | None, typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")
+]
 
 
 #: Suffixes that make a command's ``--out`` a file name (else a directory); the NetCDF commands: ``.nc``.
@@ -658,9 +807,12 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         hints = typing.get_type_hints(fn, include_extras=True)
         from .system_input import SYSTEM, SYSTEM_COMMANDS
+
         groups_ = groups + ((SYSTEM,) if name in SYSTEM_COMMANDS else ())
-        own = [p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)
-               for p in list(inspect.signature(fn).parameters.values())[1:]]
+        own = [
+            p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)
+            for p in list(inspect.signature(fn).parameters.values())[1:]
+        ]
         shared = [p for g in groups_ for p in g]
         names = [p.name for p in shared]
 

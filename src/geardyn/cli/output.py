@@ -80,8 +80,10 @@ def check_budget(opts: Any, omegas: Any, points: int) -> None:
         need = points * (pe * SWEEP_PERIOD_BYTES + SWEEP_POINT_BYTES)
     have = memory_budget()
     if need > have:
-        raise ModelError(f"periods: {points} point(s) × {pe} recorded periods need about {need / 1e9:.3g} GB of memory; "
-                         f"at most {have / 1e9:.3g} GB (half this machine's memory): fewer points or --periods")
+        raise ModelError(
+            f"periods: {points} point(s) × {pe} recorded periods need about {need / 1e9:.3g} GB of memory; "
+            f"at most {have / 1e9:.3g} GB (half this machine's memory): fewer points or --periods"
+        )
     ws = np.asarray(list(omegas) if not isinstance(omegas, np.ndarray) else omegas, dtype=float).ravel()
     ws = ws[np.isfinite(ws) & (ws > 0)]
     if not ws.size:
@@ -101,7 +103,8 @@ def check_budget(opts: Any, omegas: Any, points: int) -> None:
         raise ModelError(
             f"periods: {points} point(s) × ({tr} transient + {pe} recorded periods) × {steps:.3g} steps per period "
             f"= {total:.3g} RK4 steps, about {_human_time(seconds)} of computing; the budget is {_human_time(budget)} "
-            f"(GEARDYN_TIME_BUDGET seconds): fewer points or periods, or a larger --dtau")
+            f"(GEARDYN_TIME_BUDGET seconds): fewer points or periods, or a larger --dtau"
+        )
 
 
 def _is_nc(out: Path) -> bool:
@@ -147,8 +150,10 @@ def check_out(out: Any, option: str = "out", *, file_suffixes: tuple[str, ...] =
     is_file = out.suffix.lower() in file_suffixes
     try:
         if is_file and out.is_dir():
-            raise ModelError(f"{option}: {out} is a directory; give a file name ({'/'.join(file_suffixes)}) or a "
-                             f"directory name without that suffix")
+            raise ModelError(
+                f"{option}: {out} is a directory; give a file name ({'/'.join(file_suffixes)}) or a "
+                f"directory name without that suffix"
+            )
         if not is_file and out.exists() and not out.is_dir():
             raise ModelError(f"{option}: {out} exists and is not a directory")
         folder = out.parent if is_file else out
@@ -260,7 +265,6 @@ def probe_scheduler(address: str, timeout: float = HANDSHAKE_TIMEOUT) -> None:
     import time
 
     from ..errors import SweepError
-
     from ..validate import _SCHEDULER
 
     m = _SCHEDULER.match(address)

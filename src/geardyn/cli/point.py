@@ -2,24 +2,43 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 
 from ..errors import ModelError
 from ..model import IntegrationOptions
 from . import render
-from .options import (MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, integration,
-                      option)
+from .options import (
+    MODEL,
+    OUTPUT,
+    RPM_RANGE,
+    STATE,
+    ContinuationParamOpt,
+    Inputs,
+    StopOpt,
+    command,
+    finish,
+    integration,
+    option,
+)
 
-PeriodOpt = Annotated[int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
-GuessOpt = Annotated[Optional[str], typer.Option("--guess", help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state reached by simulating --transient periods from --u0, --v0).")]
+PeriodOpt = Annotated[
+    int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")
+]
+GuessOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--guess",
+        help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state reached by simulating --transient periods from --u0, --v0).",
+    ),
+]
 #: Points of the brute-force up/down sweep drawn under a continuation figure, and its recorded periods.
 CONTINUATION_SWEEP_NUM = 101
 CONTINUATION_SWEEP_PERIODS = 32
 
 
-def parse_guess(text: Optional[str], d: int = 2) -> Optional[tuple[float, ...]]:
+def parse_guess(text: str | None, d: int = 2) -> tuple[float, ...] | None:
     """'u,v' → (u, v) (a system's d state values); None when not given."""
     if text is None:
         return None
@@ -49,7 +68,6 @@ def simulate(inp: Inputs) -> None:
     force (N), dynamic factor, spectrum peaks in Hz and mesh orders."""
     from ..analysis.physical import add_physical, simulate_physical, steady_physical
     from ..analysis.steady import simulate as run_simulate
-
     from ..sweep.progress import task_progress
 
     model = inp.model()
@@ -91,8 +109,10 @@ def lyapunov(
     inp.exponents_computable(model, [model.omega])
     nb = validate.integer("blocks", blocks, 2, validate.MAX_PERIODS)
     if opts.periods < nb:
-        raise ModelError(f"periods: {opts.periods} periods cannot be cut into --blocks {nb} blocks; give at least "
-                         f"{nb} periods (or fewer blocks, >= 2)")
+        raise ModelError(
+            f"periods: {opts.periods} periods cannot be cut into --blocks {nb} blocks; give at least "
+            f"{nb} periods (or fewer blocks, >= 2)"
+        )
     from ..sweep.progress import task_progress
 
     with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
@@ -116,34 +136,70 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
     g = parse_guess(guess, model.state_dim)
     from ..sweep.progress import task_progress
 
-    with task_progress("orbit", unit="periods", fmt=".0f",
-                       enabled=not inp.json_out and g is None) as bar:
-        res = shoot(model, n, g, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0(), transient=opts.transient,
-                    progress=bar)
+    with task_progress("orbit", unit="periods", fmt=".0f", enabled=not inp.json_out and g is None) as bar:
+        res = shoot(
+            model,
+            n,
+            g,
+            dtau=opts.dtau,
+            accurate=opts.accurate,
+            state0=inp.state0(),
+            transient=opts.transient,
+            progress=bar,
+        )
     paths: list[str] = []
     if inp.out is not None:
         paths = inp.write(add_physical(res.to_dataset(), scales), "orbit")
     finish(_system(inp, model, physical_json(res.to_json(), model, scales)), paths, inp, render.orbit)
 
 
-CONTINUATION_RUN = integration(periods=None, accurate=option(
-    "accurate", bool, True, "--accurate/--default-mode", panel="Integration",
-    help="Accurate mode (steps split at u = ±D; the default here, since its Floquet multipliers vary smoothly along "
-         "a branch) or the default integration mode (faster; multipliers jump by O(Δτ) where RK4 stages cross ±D)."))
+CONTINUATION_RUN = integration(
+    periods=None,
+    accurate=option(
+        "accurate",
+        bool,
+        True,
+        "--accurate/--default-mode",
+        panel="Integration",
+        help="Accurate mode (steps split at u = ±D; the default here, since its Floquet multipliers vary smoothly along "
+        "a branch) or the default integration mode (faster; multipliers jump by O(Δτ) where RK4 stages cross ±D).",
+    ),
+)
 
 
 @command("continuation", RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT)
 def continuation(
     inp: Inputs,
     param: ContinuationParamOpt = None,
-    start: Annotated[Optional[float], typer.Option("--start", help="Parameter value where the branch starts (the first orbit is found there by shooting).")] = None,
+    start: Annotated[
+        float | None,
+        typer.Option(
+            "--start", help="Parameter value where the branch starts (the first orbit is found there by shooting)."
+        ),
+    ] = None,
     stop: StopOpt = None,
     period: PeriodOpt = 1,
     guess: GuessOpt = None,
-    switch: Annotated[bool, typer.Option("--switch/--no-switch", help="Switch at period doublings onto the period-2n branch and continue it.")] = True,
+    switch: Annotated[
+        bool,
+        typer.Option(
+            "--switch/--no-switch", help="Switch at period doublings onto the period-2n branch and continue it."
+        ),
+    ] = True,
     max_period: Annotated[int, typer.Option("--max-period", help="Largest period reached by branch switching.")] = 4,
-    ds_max: Annotated[Optional[float], typer.Option("--ds-max", help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the interval).")] = None,
-    sweep_num: Annotated[int, typer.Option("--sweep-num", help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none).")] = CONTINUATION_SWEEP_NUM,
+    ds_max: Annotated[
+        float | None,
+        typer.Option(
+            "--ds-max",
+            help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the interval).",
+        ),
+    ] = None,
+    sweep_num: Annotated[
+        int,
+        typer.Option(
+            "--sweep-num", help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none)."
+        ),
+    ] = CONTINUATION_SWEEP_NUM,
 ) -> None:
     """Pseudo-arclength continuation of periodic orbits in any parameter: stable and unstable branches, folds,
     period doublings (with branch switching), Neimark–Sacker points and grazing; with --out the figure shows the
@@ -171,17 +227,37 @@ def continuation(
 
     sym = param_symbol(name)
     with task_progress(f"continuation {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out) as bar:
-        res = run_continuation(model, name, start_v, stop_v, n, g, dtau=opts.dtau, accurate=opts.accurate,
-                               switch=switch, max_period=mp, ds_max=ds_max, state0=state0,
-                               transient=opts.transient, progress=bar)
+        res = run_continuation(
+            model,
+            name,
+            start_v,
+            stop_v,
+            n,
+            g,
+            dtau=opts.dtau,
+            accurate=opts.accurate,
+            switch=switch,
+            max_period=mp,
+            ds_max=ds_max,
+            state0=state0,
+            transient=opts.transient,
+            progress=bar,
+        )
     sweep_ds = None
     if inp.out is not None and nsw > 0:
         from ..analysis.bifurcation import bifurcation, sweep_values
 
-        sweep_ds = bifurcation(model, name, sweep_values(start_v, stop_v, nsw), mode="continue", sweep="both",
-                               state0=state0, options=IntegrationOptions(dtau=opts.dtau, transient=opts.transient,
-                                                                         periods=CONTINUATION_SWEEP_PERIODS),
-                               progress=not inp.json_out, description=f"up/down sweep {sym}")
+        sweep_ds = bifurcation(
+            model,
+            name,
+            sweep_values(start_v, stop_v, nsw),
+            mode="continue",
+            sweep="both",
+            state0=state0,
+            options=IntegrationOptions(dtau=opts.dtau, transient=opts.transient, periods=CONTINUATION_SWEEP_PERIODS),
+            progress=not inp.json_out,
+            description=f"up/down sweep {sym}",
+        )
     paths: list[str] = []
     if inp.out is not None:
         from ..io import attach
@@ -197,5 +273,9 @@ def continuation(
         if sweep_ds is not None:
             paths.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
         paths += [str(p) for p in save_figures(ds, figdir)]
-    finish(_system(inp, model, physical_json(res.to_json(), model, scales, param=name), result=res), paths, inp,
-           render.continuation)
+    finish(
+        _system(inp, model, physical_json(res.to_json(), model, scales, param=name), result=res),
+        paths,
+        inp,
+        render.continuation,
+    )

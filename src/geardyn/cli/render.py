@@ -28,8 +28,12 @@ NO_STATIC_LOAD = "no static load"
 def _no_load(d: dict[str, Any]) -> bool:
     """Whether a summary (or a mesh's entry) has a mesh force but no static load to divide it by."""
     f = d.get("static_force_N")
-    return d.get("dynamic_factor") is None and isinstance(f, (int, float)) and f == 0 and \
-        d.get("mesh_force_max_N") is not None
+    return (
+        d.get("dynamic_factor") is None
+        and isinstance(f, (int, float))
+        and f == 0
+        and d.get("mesh_force_max_N") is not None
+    )
 
 
 def _dynamic_factor(d: dict[str, Any]) -> str:
@@ -65,10 +69,17 @@ def _cell(x: Any) -> str:
 
 
 #: Columns of the per-mesh table of a system: summary key, header (the units of the pair's tables).
-MESH_COLUMNS = (("backlash_um", "half backlash D (µm)"), ("dte_min_um", "DTE min (µm)"), ("dte_max_um", "DTE max (µm)"),
-                ("dte_amplitude_um", "DTE half peak-to-peak (µm)"), ("amplitude", "amplitude δ"), ("impact", "impact"),
-                ("mesh_force_max_N", "max mesh force (N)"), ("static_force_N", "static force (N)"),
-                ("dynamic_factor", "dynamic factor"))
+MESH_COLUMNS = (
+    ("backlash_um", "half backlash D (µm)"),
+    ("dte_min_um", "DTE min (µm)"),
+    ("dte_max_um", "DTE max (µm)"),
+    ("dte_amplitude_um", "DTE half peak-to-peak (µm)"),
+    ("amplitude", "amplitude δ"),
+    ("impact", "impact"),
+    ("mesh_force_max_N", "max mesh force (N)"),
+    ("static_force_N", "static force (N)"),
+    ("dynamic_factor", "dynamic factor"),
+)
 
 
 def meshes(s: dict[str, Any]) -> None:
@@ -82,8 +93,10 @@ def meshes(s: dict[str, Any]) -> None:
     """
     rows = [{**m, "dynamic_factor": NO_STATIC_LOAD} if _no_load(m) else m for m in s.get("meshes") or []]
     cols = [(k, h) for k, h in MESH_COLUMNS if any(k in m and any(v is not None for v in _flat(m[k])) for m in rows)]
-    t = Table(title=f"{len(rows)} mesh(es) of the system" + (f", reference mesh {s['reference_mesh']}"
-                                                            if s.get("reference_mesh") else ""))
+    t = Table(
+        title=f"{len(rows)} mesh(es) of the system"
+        + (f", reference mesh {s['reference_mesh']}" if s.get("reference_mesh") else "")
+    )
     t.add_column("mesh")  # one row per quantity, one column per mesh (a sweep: the range over its points)
     for m in rows:
         t.add_column(m["name"])
@@ -112,28 +125,44 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
     t = Table(title=f"Steady response at ω = {s['omega']:g}", show_header=False)
     t.add_row("motion", s["motion"])
     t.add_row("impact state", s["impact"])
-    for k, lab in (("amplitude", "amplitude (half peak-to-peak)"), ("rms", "RMS about mean"), ("mean", "mean"),
-                   ("u_min", "u_min"), ("u_max", "u_max")):
+    for k, lab in (
+        ("amplitude", "amplitude (half peak-to-peak)"),
+        ("rms", "RMS about mean"),
+        ("mean", "mean"),
+        ("u_min", "u_min"),
+        ("u_max", "u_max"),
+    ):
         t.add_row(lab, _num(s[k]))
     t.add_row("largest Lyapunov exponent λ1 (per unit τ)", _num(s.get("lle")))
     cf = s["contact_fractions"]
-    t.add_row("time in drive / separation / back contact", " / ".join(_num(cf[k]) for k in ("drive", "separation", "back")))
+    t.add_row(
+        "time in drive / separation / back contact", " / ".join(_num(cf[k]) for k in ("drive", "separation", "back"))
+    )
     pts = s["poincare"]
-    shown = pts[-(s["period"] or 4):]
+    shown = pts[-(s["period"] or 4) :]
     t.add_row(f"last {len(shown)} Poincaré points (u, u')", "\n".join(f"({p[0]:.6f}, {p[1]:.6f})" for p in shown))
     if "rpm" in s:
-        for k, lab in (("rpm", "pinion speed (rpm)"), ("mesh_frequency_Hz", "mesh frequency (Hz)"),
-                       ("torque_N_m", "pinion torque, balanced (N·m)"), ("static_force_N", "static mesh force F_p (N)"),
-                       ("mesh_force_max_N", "max dynamic mesh force (N)"), ("mesh_force_min_N", "min dynamic mesh force (N)"),
-                       ("dynamic_factor", "dynamic factor (max force / F_p)"), ("dte_rms_um", "DTE RMS about mean (µm)"),
-                       ("dte_amplitude_um", "DTE half peak-to-peak (µm)"), ("backlash_um", "half backlash (µm)")):
+        for k, lab in (
+            ("rpm", "pinion speed (rpm)"),
+            ("mesh_frequency_Hz", "mesh frequency (Hz)"),
+            ("torque_N_m", "pinion torque, balanced (N·m)"),
+            ("static_force_N", "static mesh force F_p (N)"),
+            ("mesh_force_max_N", "max dynamic mesh force (N)"),
+            ("mesh_force_min_N", "min dynamic mesh force (N)"),
+            ("dynamic_factor", "dynamic factor (max force / F_p)"),
+            ("dte_rms_um", "DTE RMS about mean (µm)"),
+            ("dte_amplitude_um", "DTE half peak-to-peak (µm)"),
+            ("backlash_um", "half backlash (µm)"),
+        ):
             if k == "torque_N_m" and s.get(k) is None and "meshes" in s:
                 continue  # a system: its loads are in its file, the static force of each mesh in its table
             if k in s:
                 t.add_row(lab, _dynamic_factor(s) if k == "dynamic_factor" else _num(s[k]))
         if peaks := s.get("spectrum_peaks") or []:
-            t.add_row("largest spectral lines (order, Hz, µm)",
-                      "\n".join(f"{p['order']:g}, {p['frequency_Hz']:.6g}, {p['amplitude_um']:.4g}" for p in peaks))
+            t.add_row(
+                "largest spectral lines (order, Hz, µm)",
+                "\n".join(f"{p['order']:g}, {p['frequency_Hz']:.6g}, {p['amplitude_um']:.4g}" for p in peaks),
+            )
     console.print(t)
     if "pair" in s:
         console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
@@ -161,12 +190,16 @@ def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> 
 def orbit(s: dict[str, Any], paths: list[str]) -> None:
     """A shot periodic orbit with its Floquet multipliers."""
     t = Table(title=f"Period-{s['requested_period']} orbit at ω = {s['omega']:g}", show_header=False)
-    t.add_row("converged", f"{s['converged']} ({s['status']}, {s['iterations']} Newton iterations, residual {s['residual']})")
+    t.add_row(
+        "converged", f"{s['converged']} ({s['status']}, {s['iterations']} Newton iterations, residual {s['residual']})"
+    )
     t.add_row("minimal period", str(s["period"]))
     t.add_row("state (u, u') at θ = 0", f"({s['state'][0]:.10g}, {s['state'][1]:.10g})")
     t.add_row("section points", "\n".join(f"({p[0]:.8f}, {p[1]:.8f})" for p in s["points"]))
-    t.add_row("Floquet multipliers", "\n".join(f"{m[0]:+.8f} {m[1]:+.8f}i  (|μ| = {abs(complex(*m)):.8f})"
-                                                for m in s["multipliers"]))
+    t.add_row(
+        "Floquet multipliers",
+        "\n".join(f"{m[0]:+.8f} {m[1]:+.8f}i  (|μ| = {abs(complex(*m)):.8f})" for m in s["multipliers"]),
+    )
     t.add_row("stable", f"{s['stable']} (instability: {s['instability']})")
     for k in ("u_min", "u_max", "amplitude"):
         t.add_row(k, "n/a" if s[k] is None else f"{s[k]:.8g}")
@@ -195,7 +228,9 @@ def continuation(s: dict[str, Any], paths: list[str]) -> None:
         t.add_column(col)
     for b in s["bifurcations"]:
         mus = ", ".join(f"{complex(*m):.4f}" for m in b["multipliers"])
-        t.add_row(b["type"], f"{b[p]:.6f}", str(b["period"]), str(b["branch"]), f"{b['amplitude']:.4f}", mus, b["detail"])
+        t.add_row(
+            b["type"], f"{b[p]:.6f}", str(b["period"]), str(b["branch"]), f"{b['amplitude']:.4f}", mus, b["detail"]
+        )
     console.print(t)
     for note in s.get("notes", []):
         console.print(f"note: {note}", markup=False, highlight=False)
@@ -204,10 +239,13 @@ def continuation(s: dict[str, Any], paths: list[str]) -> None:
 
 def lyapunov(s: dict[str, Any], paths: list[str]) -> None:
     """Both exponents with their uncertainty and the Liouville check."""
+
     def fmt(x: Any) -> str:
         return "n/a" if x is None else f"{x:+.6f}"
 
-    console.print(f"Lyapunov exponents at ω = {s['omega']:g} over {s['periods']} periods (per unit τ, ± one standard error):")
+    console.print(
+        f"Lyapunov exponents at ω = {s['omega']:g} over {s['periods']} periods (per unit τ, ± one standard error):"
+    )
     n = len(s["exponents"])
     for i in range(n):
         console.print(f"  λ{i + 1} = {fmt(s['exponents'][i])} ± {s['uncertainty'][i] or float('nan'):.2e}")
@@ -246,16 +284,26 @@ def response(s: dict[str, Any], paths: list[str]) -> None:
     for col in ("sweep", "ω (midpoint)", "from → to", "direction", "size", "pinion speed (rpm)", "size (µm)"):
         t.add_column(col)
     for j in s["jumps"]:
-        t.add_row(j["sweep"], f"{j['omega']:.6g}", f"{j['omega_from']:.6g} → {j['omega_to']:.6g}", j["direction"],
-                  f"{j['size']:.4g}", f"{j['rpm']:.1f} ({j['rpm_from']:.1f} → {j['rpm_to']:.1f})", f"{j['size_um']:.4g}")
+        t.add_row(
+            j["sweep"],
+            f"{j['omega']:.6g}",
+            f"{j['omega_from']:.6g} → {j['omega_to']:.6g}",
+            j["direction"],
+            f"{j['size']:.4g}",
+            f"{j['rpm']:.1f} ({j['rpm_from']:.1f} → {j['rpm_to']:.1f})",
+            f"{j['size_um']:.4g}",
+        )
     console.print(t)
     hy = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["hysteresis"]) or "none"
     hy_rpm = ", ".join(f"[{a:.1f}, {b:.1f}]" for a, b in s.get("hysteresis_rpm", [])) or "none"
     console.print(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}", markup=False, highlight=False)
     if s.get("coexistence"):
         co = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["coexistence"])
-        console.print(f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}",
-                      markup=False, highlight=False)
+        console.print(
+            f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}",
+            markup=False,
+            highlight=False,
+        )
     console.print(f"gear pair: {s['physical']['pair']}", markup=False, highlight=False)
     files(paths)
 
@@ -271,8 +319,11 @@ def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
     """The attractors of a basin computation and their basin shares."""
     speed = f", {s['rpm']:.1f} rpm" if "rpm" in s else ""
     t = Table(title=f"Attractors at ω = {s['omega']:g}{speed} ({n_u} × {n_v} initial states)")
-    for col in ("label", "motion", "basin share", "amplitude") + (("amplitude (µm)",) if speed else ()) + \
-            ("Poincaré points (u, u')",):
+    for col in (
+        ("label", "motion", "basin share", "amplitude")
+        + (("amplitude (µm)",) if speed else ())
+        + ("Poincaré points (u, u')",)
+    ):
         t.add_column(col)
     for a in s["attractors"]:
         pts = a["points"][:4]
@@ -305,8 +356,11 @@ def claims(res: dict[str, Any]) -> None:
     if run is not None:
         console.print(escape(run.provenance()), style="dim", highlight=False)
     more = "; verdicts may differ from the full run's" if run is not None and run.reduced else ""
-    console.print(f"report (deciding evidence, readings, figures): {res['paths']['html']} ({res['seconds']:.1f} s{more})",
-                  markup=False, highlight=False)
+    console.print(
+        f"report (deciding evidence, readings, figures): {res['paths']['html']} ({res['seconds']:.1f} s{more})",
+        markup=False,
+        highlight=False,
+    )
 
 
 def bench(res: dict[str, Any]) -> None:
@@ -318,5 +372,6 @@ def bench(res: dict[str, Any]) -> None:
         t.add_row(name, f"{r['wall_s']:.4f}", f"{r['steps']:,}", f"{r['ns_per_step']:.2f}")
     console.print(t)
     m = res["machine"]
-    console.print(f"{m['cpu']}, {m['cores']} cores, load average {m.get('load_average', 'n/a')}", markup=False,
-                  highlight=False)
+    console.print(
+        f"{m['cpu']}, {m['cores']} cores, load average {m.get('load_average', 'n/a')}", markup=False, highlight=False
+    )

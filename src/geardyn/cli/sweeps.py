@@ -9,20 +9,58 @@ import typer
 
 from ..errors import ModelError
 from . import render
+from .options import (
+    ENGINE,
+    MODEL,
+    OUTPUT,
+    RPM_RANGE,
+    STATE,
+    Inputs,
+    choice,
+    command,
+    finish,
+    integration,
+    model_group,
+    option,
+    param_option,
+    sweep_range,
+)
 from .system_input import CoordsOpt
-from .options import (ENGINE, MODEL, OUTPUT, RPM_RANGE, STATE, Inputs, choice, command, finish, integration,
-                      model_group, option, param_option, sweep_range)
 
-ModeOpt = Annotated[str, typer.Option("--mode", help="fixed: every point from (u0, v0); continue: each point from the previous end state.")]
-SweepDirOpt = Annotated[str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")]
-LyapunovFlagOpt = Annotated[bool, typer.Option("--lyapunov", help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).")]
-SettleOpt = Annotated[int, typer.Option("--settle", help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).")]
-ChunkOpt = Annotated[Optional[int], typer.Option("--chunk-size", help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 1 s of work each).")]
+ModeOpt = Annotated[
+    str,
+    typer.Option("--mode", help="fixed: every point from (u0, v0); continue: each point from the previous end state."),
+]
+SweepDirOpt = Annotated[
+    str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")
+]
+LyapunovFlagOpt = Annotated[
+    bool,
+    typer.Option(
+        "--lyapunov",
+        help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).",
+    ),
+]
+SettleOpt = Annotated[
+    int,
+    typer.Option(
+        "--settle",
+        help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).",
+    ),
+]
+ChunkOpt = Annotated[
+    int | None,
+    typer.Option(
+        "--chunk-size",
+        help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 1 s of work each).",
+    ),
+]
 ParamOpt = param_option("Swept parameter")
 
 
-def _sweep_json(inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine: dict[str, Any], show: Any,
-                *extra: Any) -> None:
+def _sweep_json(
+    inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine: dict[str, Any], show: Any, *extra: Any
+) -> None:
     finish(summary, inp.write(ds, stem, engine), inp, show, *extra)
 
 
@@ -39,8 +77,8 @@ def _system(inp: Inputs, model: Any, summary: dict[str, Any], ds: Any) -> dict[s
 def bifurcation(
     inp: Inputs,
     param: ParamOpt = None,
-    start: Annotated[Optional[float], typer.Option("--start", help="First parameter value.")] = None,
-    stop: Annotated[Optional[float], typer.Option("--stop", help="Last parameter value.")] = None,
+    start: Annotated[float | None, typer.Option("--start", help="First parameter value.")] = None,
+    stop: Annotated[float | None, typer.Option("--stop", help="Last parameter value.")] = None,
     num: Annotated[int, typer.Option("--num", help="Number of parameter values.")] = 101,
     mode: ModeOpt = "fixed",
     sweep: SweepDirOpt = "up",
@@ -51,7 +89,8 @@ def bifurcation(
     """Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and amplitudes
     per point (and the largest Lyapunov exponent with --lyapunov); fixed initial state or continuation, up/down/both."""
     from .. import validate
-    from ..analysis.bifurcation import MODES, SWEEPS, bifurcation as run_bifurcation, bifurcation_json
+    from ..analysis.bifurcation import MODES, SWEEPS, bifurcation_json
+    from ..analysis.bifurcation import bifurcation as run_bifurcation
     from ..analysis.physical import add_physical, physical_json
 
     model = inp.model()
@@ -67,12 +106,25 @@ def bifurcation(
     choice("mode", mode, MODES)
     choice("sweep", sweep, SWEEPS)
     if mode == "fixed" and sweep != "up":
-        raise ModelError(f"sweep: --sweep {sweep} applies to --mode continue; in fixed mode every point starts from "
-                         "(u0, v0), so the direction changes nothing")
+        raise ModelError(
+            f"sweep: --sweep {sweep} applies to --mode continue; in fixed mode every point starts from "
+            "(u0, v0), so the direction changes nothing"
+        )
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("bifurcation")
-    ds = run_bifurcation(model, name, values, mode=mode, sweep=sweep, state0=inp.state0(), options=opts,
-                         lyapunov=lyap, settle_periods=nset, chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size), **engine)
+    ds = run_bifurcation(
+        model,
+        name,
+        values,
+        mode=mode,
+        sweep=sweep,
+        state0=inp.state0(),
+        options=opts,
+        lyapunov=lyap,
+        settle_periods=nset,
+        chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
+        **engine,
+    )
     ds = add_physical(ds, scales)
     summary = _system(inp, model, physical_json(bifurcation_json(ds), model, scales, param=name), ds)
     _sweep_json(inp, summary, ds, "bifurcation", engine, render.intervals)
@@ -85,14 +137,27 @@ RESPONSE_RANGE = [
 ]
 
 
-@command("response", RESPONSE_RANGE, model_group(omega=False, rpm=False), STATE, integration(adaptive=True), ENGINE, OUTPUT)
+@command(
+    "response", RESPONSE_RANGE, model_group(omega=False, rpm=False), STATE, integration(adaptive=True), ENGINE, OUTPUT
+)
 def response(
     inp: Inputs,
-    num: Annotated[int, typer.Option("--num", help="Number of ω values (the jumps are located to within one step).")] = 71,
-    measure: Annotated[str, typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean.")] = "amplitude",
+    num: Annotated[
+        int, typer.Option("--num", help="Number of ω values (the jumps are located to within one step).")
+    ] = 71,
+    measure: Annotated[
+        str,
+        typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean."),
+    ] = "amplitude",
     lyap: LyapunovFlagOpt = False,
     settle: SettleOpt = 1000,
-    method: Annotated[str, typer.Option("--method", help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16; for an --excitation of P mesh cycles at least 16·P harmonics of ω/P) with Floquet stability, jumps at the exact folds (integration and engine options unused).")] = "sweep",
+    method: Annotated[
+        str,
+        typer.Option(
+            "--method",
+            help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16; for an --excitation of P mesh cycles at least 16·P harmonics of ω/P) with Floquet stability, jumps at the exact folds (integration and engine options unused).",
+        ),
+    ] = "sweep",
 ) -> None:
     """Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)
     and hysteresis intervals where the sweeps end on different attractors (or, with --method hb, from one
@@ -117,18 +182,36 @@ def response(
     if choice("method", method, ("sweep", "hb")) == "hb":
         from ..analysis.hb import hb_response
 
-        ds = hb_response(model, float(values[0]), float(values[-1]), values.size, measure=measure,
-                         progress=not inp.json_out,
-                         **({"state0": inp.state0()} if inp.system is not None else {}))
+        ds = hb_response(
+            model,
+            float(values[0]),
+            float(values[-1]),
+            values.size,
+            measure=measure,
+            progress=not inp.json_out,
+            **({"state0": inp.state0()} if inp.system is not None else {}),
+        )
         if not np.isfinite(np.asarray(ds[measure].values, dtype=float)).any():  # no point resolved: nothing to show
             from .app import EXIT_FAILURE, say_error
 
-            say_error(f"error: harmonic balance resolved no point of the response from ω = {values[0]:.6g} to "
-                      f"{values[-1]:.6g}; nothing written")
+            say_error(
+                f"error: harmonic balance resolved no point of the response from ω = {values[0]:.6g} to "
+                f"{values[-1]:.6g}; nothing written"
+            )
             raise typer.Exit(code=EXIT_FAILURE)
     else:
-        ds = frequency_response(model, float(values[0]), float(values[-1]), values.size, options=opts,
-                                state0=inp.state0(), measure=measure, lyapunov=lyap, settle_periods=nset, **engine)
+        ds = frequency_response(
+            model,
+            float(values[0]),
+            float(values[-1]),
+            values.size,
+            options=opts,
+            state0=inp.state0(),
+            measure=measure,
+            lyapunov=lyap,
+            settle_periods=nset,
+            **engine,
+        )
     ds = add_physical(ds, scales)
     summary = physical_json(response_json(ds), model, scales, param="omega")
     if inp.system is None:
@@ -141,8 +224,14 @@ def response(
 
 
 MAP_AXES = [
-    option("x", str, ..., "--x", help="Parameter along the horizontal axis (e.g. omega), or rpm / torque for a range "
-                                      "in pinion speed (rpm) / pinion torque (N·m) of the configured pair."),
+    option(
+        "x",
+        str,
+        ...,
+        "--x",
+        help="Parameter along the horizontal axis (e.g. omega), or rpm / torque for a range "
+        "in pinion speed (rpm) / pinion torque (N·m) of the configured pair.",
+    ),
     option("y", str, ..., "--y", help="Parameter along the vertical axis (e.g. xi0 or D), or rpm / torque."),
     option("x_start", Optional[float], None, "--x-start", help="First x value (for x = omega also as --rpm-start)."),
     option("x_stop", Optional[float], None, "--x-stop", help="Last x value (for x = omega also as --rpm-stop)."),
@@ -165,7 +254,8 @@ def parameter_map(
     """2-D parameter map (e.g. ω × ξ0, ω × D) of motion class, impact state, amplitude and largest exponent."""
     from .. import validate
     from ..analysis.bifurcation import MODES
-    from ..analysis.maps import map_json, parameter_map as run_map
+    from ..analysis.maps import map_json
+    from ..analysis.maps import parameter_map as run_map
     from ..analysis.physical import add_physical, physical_json
     from ..grid import param_name as canonical_param
 
@@ -176,11 +266,17 @@ def parameter_map(
     # an axis in physical units: pinion speed (rpm) for ω, pinion torque (N·m, balanced) for f_p
     physical = {"rpm": ("omega", scales.omega_from_rpm), "torque": ("fp", scales.fp_from_torque)}
 
-    def in_model_units(name: str, a: Optional[float], b: Optional[float]) -> tuple[str, Optional[float], Optional[float]]:
+    def in_model_units(
+        name: str, a: float | None, b: float | None
+    ) -> tuple[str, float | None, float | None]:
         if name not in physical or a is None or b is None:
             return name, a, b
         param, convert = physical[name]
-        return param, float(convert(validate.number(f"{name} start", a))), float(convert(validate.number(f"{name} stop", b)))
+        return (
+            param,
+            float(convert(validate.number(f"{name} start", a))),
+            float(convert(validate.number(f"{name} stop", b))),
+        )
 
     x, x_start, x_stop = in_model_units(x, x_start, x_stop)
     y, y_start, y_stop = in_model_units(y, y_start, y_stop)
@@ -191,7 +287,9 @@ def parameter_map(
             x_start, x_stop = sweep_range(inp, x_start, x_stop, canonical_param(x))
     for nm, val in (("x_start", x_start), ("x_stop", x_stop), ("y_start", y_start), ("y_stop", y_stop)):
         if val is None:
-            raise ModelError(f"{nm}: required (for an omega axis a pinion-speed range --rpm-start/--rpm-stop also works)")
+            raise ModelError(
+                f"{nm}: required (for an omega axis a pinion-speed range --rpm-start/--rpm-stop also works)"
+            )
     xn, xv = validate.axis(x, x_start, x_stop, inp.x_num)
     yn, yv = validate.axis(y, y_start, y_stop, inp.y_num)
     inp.not_swept(xn, yn)
@@ -203,9 +301,20 @@ def parameter_map(
     choice("mode", mode, MODES)
     nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
     engine = inp.engine("map")
-    ds = run_map(model, xn, xv, yn, yv, mode=mode, state0=inp.state0(), options=opts, lyapunov=lyap,
-                 settle_periods=nset, chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
-                 **engine)
+    ds = run_map(
+        model,
+        xn,
+        xv,
+        yn,
+        yv,
+        mode=mode,
+        state0=inp.state0(),
+        options=opts,
+        lyapunov=lyap,
+        settle_periods=nset,
+        chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
+        **engine,
+    )
     ds = add_physical(ds, scales, lazy=True)
     summary = _system(inp, model, physical_json(map_json(ds), model, scales) if inp.json_out else _map_counts(ds), ds)
     finish(summary, inp.write(ds, "map", engine, release=True), inp, render.parameter_map)
@@ -219,12 +328,20 @@ def _map_counts(ds: Any) -> dict[str, Any]:
     xn, yn = str(ds.attrs["x"]), str(ds.attrs["y"])
     motion = ds["motion"].values.ravel()
     present = [c for c in sorted(MOTION_LABELS) if np.any(motion == c)]
-    return {"x": xn, "y": yn, "x_values": ds[xn].values.tolist(), "y_values": ds[yn].values.tolist(),
-            "motion_counts": {MOTION_LABELS[c]: int(np.count_nonzero(motion == c)) for c in present}}
+    return {
+        "x": xn,
+        "y": yn,
+        "x_values": ds[xn].values.tolist(),
+        "y_values": ds[yn].values.tolist(),
+        "motion_counts": {MOTION_LABELS[c]: int(np.count_nonzero(motion == c)) for c in present},
+    }
 
 
-BASIN_RUN = integration(periods=64, periods_help="Forcing periods recorded per initial state (>= 2 × the largest "
-                                                 "period detected).", adaptive=True)
+BASIN_RUN = integration(
+    periods=64,
+    periods_help="Forcing periods recorded per initial state (>= 2 × the largest period detected).",
+    adaptive=True,
+)
 
 
 @command("basins", MODEL, BASIN_RUN, ENGINE, OUTPUT)
@@ -243,7 +360,8 @@ def basins(
     """Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it reaches
     (attractors identified by their Poincaré cycles)."""
     from .. import validate
-    from ..analysis.basins import basins as run_basins, basins_json
+    from ..analysis.basins import basins as run_basins
+    from ..analysis.basins import basins_json
     from ..analysis.physical import add_physical, physical_json
 
     model = inp.model()
@@ -260,10 +378,21 @@ def basins(
 
         c = coordinates(model, coords, 2)
     elif coords is not None:
-        raise ModelError("coords: --coords picks the state coordinates of a --system's slice; the pair's basins are "
-                         "over (u0, v0)")
-    ds = run_basins(model, (lo_u, hi_u), (lo_v, hi_v), n_u, n_v, coordinates=None if c is None else (c[0], c[1]),
-                    options=opts, settle_periods=nset, chunk_points=validate.chunk_points(chunk_size), **engine)
+        raise ModelError(
+            "coords: --coords picks the state coordinates of a --system's slice; the pair's basins are over (u0, v0)"
+        )
+    ds = run_basins(
+        model,
+        (lo_u, hi_u),
+        (lo_v, hi_v),
+        n_u,
+        n_v,
+        coordinates=None if c is None else (c[0], c[1]),
+        options=opts,
+        settle_periods=nset,
+        chunk_points=validate.chunk_points(chunk_size),
+        **engine,
+    )
     ds = add_physical(ds, scales)
     summary = _system(inp, model, physical_json(basins_json(ds), model, scales), ds)
     _sweep_json(inp, summary, ds, "basins", engine, render.basins, n_u, n_v)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import inspect
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
@@ -19,17 +19,32 @@ from ..errors import ModelError
 __all__ = ["SYSTEM", "SYSTEM_COMMANDS", "CoordsOpt", "load_cli_system", "coordinates", "mesh_summary"]
 
 SYSTEM_PANEL = "Multi-DOF system"
-SYSTEM = [inspect.Parameter(
-    "system", inspect.Parameter.KEYWORD_ONLY, default=None,
-    annotation=Annotated[Optional[Path], typer.Option(
-        "--system", rich_help_panel=SYSTEM_PANEL,
-        help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis runs "
-             "on it, and the JSON summary adds one entry per mesh under 'meshes'.")])]
+SYSTEM = [
+    inspect.Parameter(
+        "system",
+        inspect.Parameter.KEYWORD_ONLY,
+        default=None,
+        annotation=Annotated[
+            Path | None,
+            typer.Option(
+                "--system",
+                rich_help_panel=SYSTEM_PANEL,
+                help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis runs "
+                "on it, and the JSON summary adds one entry per mesh under 'meshes'.",
+            ),
+        ],
+    )
+]
 #: ``basins --coords``: the two state coordinates of a system's slice.
-CoordsOpt = Annotated[Optional[str], typer.Option(
-    "--coords", rich_help_panel=SYSTEM_PANEL,
-    help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
-         "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').")]
+CoordsOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--coords",
+        rich_help_panel=SYSTEM_PANEL,
+        help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
+        "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').",
+    ),
+]
 
 #: Commands that take ``--system``.
 SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins")
@@ -57,8 +72,10 @@ def load_cli_system(values: dict[str, Any]):
     if values.get("torque") is not None or values.get("fp") is not None:
         raise ModelError("system: the loads come from the system file; --torque and --fp do not apply with --system")
     if values.get("excitation") is not None:
-        raise ModelError("excitation: with --system a mesh's excitation table is the key excitation = \"FILE\" of "
-                         "that mesh in the system file (docs/excitation.md); --excitation applies to --config")
+        raise ModelError(
+            'excitation: with --system a mesh\'s excitation table is the key excitation = "FILE" of '
+            "that mesh in the system file (docs/excitation.md); --excitation applies to --config"
+        )
     s = load_system(path)
     if values.get("rpm") is not None and values.get("omega") is not None:
         raise ModelError("rpm: give --rpm or --omega, not both")
@@ -73,7 +90,7 @@ def load_cli_system(values: dict[str, Any]):
     return s
 
 
-def coordinates(s: Any, text: Optional[str], n: int) -> list[int] | None:
+def coordinates(s: Any, text: str | None, n: int) -> list[int] | None:
     """The state coordinates of ``--coords`` (DOF labels, ``label'`` for a rate, or indices), at least ``n``.
 
     Parameters
@@ -100,8 +117,9 @@ def coordinates(s: Any, text: Optional[str], n: int) -> list[int] | None:
     return idx
 
 
-def mesh_summary(s: Any, summary: dict[str, Any], ds: Any = None, result: Any = None,
-                 state0: Any = (0.0, 0.0)) -> dict[str, Any]:
+def mesh_summary(
+    s: Any, summary: dict[str, Any], ds: Any = None, result: Any = None, state0: Any = (0.0, 0.0)
+) -> dict[str, Any]:
     """``summary`` with what a system adds: ``meshes`` of a sweep's Dataset (:func:`geardyn.systems.report.result_meshes`)
     or of a continuation's branches, the reference mesh's forces and dynamic factor for one point, and a note on a
     system without excitation.
@@ -135,20 +153,38 @@ def mesh_summary(s: Any, summary: dict[str, Any], ds: Any = None, result: Any = 
         ext = [b.extrema for b in result.branches if b.extrema is not None]
         ext = np.concatenate(ext) if ext else np.zeros((0, len(s.elements), 2))
         um = s.scaling.b_c * 1e6
-        summary["meshes"] = [{"name": e.name, "backlash_um": e.gap * um, "u_min": ext[:, i, 0].tolist(),
-                              "u_max": ext[:, i, 1].tolist(), "amplitude": (0.5 * (ext[:, i, 1] - ext[:, i, 0])).tolist(),
-                              "dte_amplitude_um": (0.5 * (ext[:, i, 1] - ext[:, i, 0]) * um).tolist(),
-                              "impact": [IMPACT_LABELS[impact_state(float(lo), e.gap)] for lo in ext[:, i, 0]],
-                              "dynamic_factor": None} for i, e in enumerate(s.elements) if e.kind == "mesh"]
+        summary["meshes"] = [
+            {
+                "name": e.name,
+                "backlash_um": e.gap * um,
+                "u_min": ext[:, i, 0].tolist(),
+                "u_max": ext[:, i, 1].tolist(),
+                "amplitude": (0.5 * (ext[:, i, 1] - ext[:, i, 0])).tolist(),
+                "dte_amplitude_um": (0.5 * (ext[:, i, 1] - ext[:, i, 0]) * um).tolist(),
+                "impact": [IMPACT_LABELS[impact_state(float(lo), e.gap)] for lo in ext[:, i, 0]],
+                "dynamic_factor": None,
+            }
+            for i, e in enumerate(s.elements)
+            if e.kind == "mesh"
+        ]
         r = s.rigid_basis().shape[1]
         summary["rigid_body_modes"] = r
         if r:
-            summary["notes"] = summary["notes"] + [f"{2 * r} multipliers equal to 1 belong to the rigid-body mode(s) "
-                                                   f"and are left out; the multipliers listed are the elastic ones"]
+            summary["notes"] = summary["notes"] + [
+                f"{2 * r} multipliers equal to 1 belong to the rigid-body mode(s) "
+                f"and are left out; the multipliers listed are the elastic ones"
+            ]
     ref = next((m for m in summary.get("meshes", []) if m["name"] == summary.get("reference_mesh")), None)
     if ref is not None:  # one point: the reference mesh's forces and dynamic factor, as the pair's keys
-        for k in ("dynamic_factor", "mesh_force_max_N", "mesh_force_min_N", "static_force_N", "dte_min_um",
-                  "dte_max_um", "dte_amplitude_um"):
+        for k in (
+            "dynamic_factor",
+            "mesh_force_max_N",
+            "mesh_force_min_N",
+            "static_force_N",
+            "dte_min_um",
+            "dte_max_um",
+            "dte_amplitude_um",
+        ):
             summary[k] = ref.get(k)
     if (note := excitation_note(s, tuple(state0))) is not None:
         summary["note"] = note

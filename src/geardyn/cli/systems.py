@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
@@ -30,13 +30,20 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
         t.add_column(col)
     for m, e in zip(summary["modes"], summary["energy_fractions"]):
         top = max(e.items(), key=lambda kv: kv[1]) if e else ("—", 0.0)
-        t.add_row(str(m["mode"]), "0 (rigid body)" if m["rigid"] else f"{m['frequency_hz']:.6g}",
-                  "yes" if m["mesh_dominated"] else "no", "—" if m["rigid"] else f"{top[0]} {top[1]:.3f}")
+        t.add_row(
+            str(m["mode"]),
+            "0 (rigid body)" if m["rigid"] else f"{m['frequency_hz']:.6g}",
+            "yes" if m["mesh_dominated"] else "no",
+            "—" if m["rigid"] else f"{top[0]} {top[1]:.3f}",
+        )
     c = Console()
     c.print(t)
     if summary.get("degenerate"):
-        c.print("degenerate (one frequency): " + "; ".join("modes " + ", ".join(map(str, g))
-                                                          for g in summary["degenerate"]), markup=False)
+        c.print(
+            "degenerate (one frequency): "
+            + "; ".join("modes " + ", ".join(map(str, g)) for g in summary["degenerate"]),
+            markup=False,
+        )
     camp = summary.get("campbell")
     if summary.get("campbell_note"):
         c.print(summary["campbell_note"], markup=False, highlight=False)
@@ -46,8 +53,12 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
         for col in ("pinion speed (rpm)" if rpm else "mesh frequency (Hz)", "frequency (Hz)", "modes", "line"):
             x.add_column(col)
         for cr in camp["crossings"]:
-            x.add_row(f"{cr['x']:.6g}", f"{cr['frequency_hz']:.6g}", ", ".join(map(str, cr["modes"])),
-                      camp["lines"][cr["line"]]["label"])
+            x.add_row(
+                f"{cr['x']:.6g}",
+                f"{cr['frequency_hz']:.6g}",
+                ", ".join(map(str, cr["modes"])),
+                camp["lines"][cr["line"]]["label"],
+            )
         c.print(x)
     for p in paths:
         c.print(f"wrote {p}", markup=False, highlight=False)
@@ -57,10 +68,22 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
 def modes(
     inp: Inputs,
     system: Annotated[Path, typer.Option("--system", help="TOML file of the multi-DOF system.")],
-    rpm_max: Annotated[float, typer.Option("--rpm-max", help="Upper end of the Campbell diagram's speed range (rpm).")] = 10000.0,
-    hz_max: Annotated[Optional[float], typer.Option("--hz-max", help="Upper end of the reference mesh frequency (Hz) of a Campbell diagram drawn against it (a reference mesh without teeth); default 1.2 times where the lowest order meets the highest mode.")] = None,
-    orders: Annotated[str, typer.Option("--orders", help="Mesh orders of the Campbell diagram, e.g. '1,2,3'.")] = "1,2,3",
-    clearances: Annotated[str, typer.Option("--clearances", help="Clearance elements 'contact' (stiffness on) or 'open'.")] = "contact",
+    rpm_max: Annotated[
+        float, typer.Option("--rpm-max", help="Upper end of the Campbell diagram's speed range (rpm).")
+    ] = 10000.0,
+    hz_max: Annotated[
+        float | None,
+        typer.Option(
+            "--hz-max",
+            help="Upper end of the reference mesh frequency (Hz) of a Campbell diagram drawn against it (a reference mesh without teeth); default 1.2 times where the lowest order meets the highest mode.",
+        ),
+    ] = None,
+    orders: Annotated[
+        str, typer.Option("--orders", help="Mesh orders of the Campbell diagram, e.g. '1,2,3'.")
+    ] = "1,2,3",
+    clearances: Annotated[
+        str, typer.Option("--clearances", help="Clearance elements 'contact' (stiffness on) or 'open'.")
+    ] = "contact",
 ) -> None:
     """Natural frequencies (Hz, ascending; modes numbered from 1, rigid-body modes 0 Hz), M-orthonormal mode
     shapes and modal strain-energy fractions per element at mean mesh stiffness, and the Campbell diagram with

@@ -32,9 +32,14 @@ def geometry(inp: Inputs) -> None:
 PLOT_OPTIONS = [
     option("out", Optional[Path], None, "--out", help="Directory for the figures (default: the file's directory)."),
     *FIGURE_OPTIONS,
-    option("physical", bool, False, "--physical",
-           help="Also draw physical-unit figures (rpm, µm, N) with the gear pair of --config (default pair: the "
-                "paper's Table 1) when the file has no physical variables."),
+    option(
+        "physical",
+        bool,
+        False,
+        "--physical",
+        help="Also draw physical-unit figures (rpm, µm, N) with the gear pair of --config (default pair: the "
+        "paper's Table 1) when the file has no physical variables.",
+    ),
     *CONFIG,
     *JSON_ONLY,
 ]
@@ -54,7 +59,9 @@ def plot_cmd(
     try:
         ds = read_netcdf(file)
     except (OSError, ValueError, TypeError, KeyError, RuntimeError) as e:
-        raise fail(f"file: cannot read {file} as a NetCDF result ({type(e).__name__}: {' '.join(str(e).split())[:200]})")
+        raise fail(
+            f"file: cannot read {file} as a NetCDF result ({type(e).__name__}: {' '.join(str(e).split())[:200]})"
+        )
     _check_attributes(file, ds)
     try:
         if inp.physical or inp.config is not None:
@@ -68,8 +75,10 @@ def plot_cmd(
         raise
     except (KeyError, IndexError, TypeError, ValueError, AttributeError, RecursionError) as e:
         kind = ds.attrs.get("geardyn_kind")
-        raise fail(f"{file}: not a complete geardyn{' ' + str(kind) if isinstance(kind, str) else ''} result "
-                   f"({type(e).__name__}: {' '.join(str(e).split())[:120]}); it cannot be drawn")
+        raise fail(
+            f"{file}: not a complete geardyn{' ' + str(kind) if isinstance(kind, str) else ''} result "
+            f"({type(e).__name__}: {' '.join(str(e).split())[:120]}); it cannot be drawn"
+        )
     if inp.json_out:
         emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
         return
@@ -89,24 +98,35 @@ def _check_attributes(file: Path, ds) -> None:
     for where, attrs in [("", ds.attrs)] + [(f"{name}.", v.attrs) for name, v in ds.variables.items()]:
         for key, val in attrs.items():
             if isinstance(val, str) and len(val) > MAX_ATTRIBUTE_SIZE:
-                raise fail(f"{file}: attribute {where}{key} holds {len(val)} characters; at most "
-                           f"{MAX_ATTRIBUTE_SIZE} in a geardyn result")
+                raise fail(
+                    f"{file}: attribute {where}{key} holds {len(val)} characters; at most "
+                    f"{MAX_ATTRIBUTE_SIZE} in a geardyn result"
+                )
             if np.size(val) > MAX_ATTRIBUTE_ELEMENTS:
-                raise fail(f"{file}: attribute {where}{key} holds {np.size(val)} elements; at most "
-                           f"{MAX_ATTRIBUTE_ELEMENTS} in a geardyn result")
+                raise fail(
+                    f"{file}: attribute {where}{key} holds {np.size(val)} elements; at most "
+                    f"{MAX_ATTRIBUTE_ELEMENTS} in a geardyn result"
+                )
 
 
 @command("reproduce", JSON_ONLY)
 def reproduce(
     inp: Inputs,
-    out: Annotated[Path, typer.Option("--out", help="Directory for report.html, report.md, claims.json, figures and data.")] = Path("results"),
-    quick: Annotated[bool, typer.Option("--quick", help="A reduced run (coarse grids, short runs) that exercises every study; its report and summary say so, and its verdicts may differ from the full run's.")] = False,
+    out: Annotated[
+        Path, typer.Option("--out", help="Directory for report.html, report.md, claims.json, figures and data.")
+    ] = Path("results"),
+    quick: Annotated[
+        bool,
+        typer.Option(
+            "--quick",
+            help="A reduced run (coarse grids, short runs) that exercises every study; its report and summary say so, and its verdicts may differ from the full run's.",
+        ),
+    ] = False,
     workers: Annotated[int, typer.Option("--workers", help="Worker processes for the sweeps.")] = 2,
 ) -> None:
     """Run every study of the paper on its Table 1 pair and write a report judging each claim."""
-    from ..reproduce import Settings, run
-
     from .. import validate
+    from ..reproduce import Settings, run
     from .output import check_out
 
     workers = validate.workers(workers)
@@ -116,13 +136,25 @@ def reproduce(
     import shlex
     from dataclasses import asdict
 
-    command = shlex.join(["geardyn", "reproduce", "--out", str(out)] + ["--quick"] * quick
-                         + ["--workers", str(workers)] + ["--json"] * inp.json_out)
+    command = shlex.join(
+        ["geardyn", "reproduce", "--out", str(out)]
+        + ["--quick"] * quick
+        + ["--workers", str(workers)]
+        + ["--json"] * inp.json_out
+    )
     res = run(out, settings, log=log, command=command)
     if inp.json_out:
-        emit_json({"report": res["paths"], "seconds": res["seconds"], "run": asdict(res["run"]),
-                   "claims": [{"id": c.id, "statement": c.statement, "verdict": c.verdict, "computed": c.computed}
-                              for c in res["claims"]]})
+        emit_json(
+            {
+                "report": res["paths"],
+                "seconds": res["seconds"],
+                "run": asdict(res["run"]),
+                "claims": [
+                    {"id": c.id, "statement": c.statement, "verdict": c.verdict, "computed": c.computed}
+                    for c in res["claims"]
+                ],
+            }
+        )
         return
     render.claims(res)
 
@@ -134,8 +166,10 @@ MAX_REPEATS = 100
 @command("bench", JSON_ONLY)
 def bench(
     inp: Inputs,
-    workload: Annotated[str, typer.Option("--workload", help="W1 (bifurcation), W2 (trajectory), W3 (Lyapunov) or all.")] = "all",
-    threads: Annotated[Optional[int], typer.Option("--threads", help="Kernel threads (default: all cores).")] = None,
+    workload: Annotated[
+        str, typer.Option("--workload", help="W1 (bifurcation), W2 (trajectory), W3 (Lyapunov) or all.")
+    ] = "all",
+    threads: Annotated[int | None, typer.Option("--threads", help="Kernel threads (default: all cores).")] = None,
     repeats: Annotated[int, typer.Option("--repeats", help="Timed runs per workload; the minimum is reported.")] = 5,
 ) -> None:
     """Time the integrator on the standard workloads (in-process, after JIT warm-up, minimum of the runs)."""

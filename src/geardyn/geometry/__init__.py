@@ -45,7 +45,6 @@ pointing from the pinion flank into the gear flank (the direction of the force o
 ``n1 = n2 = n``.
 """
 
-
 from __future__ import annotations
 
 from . import bevel, harmonics, inputs, scales, summary, vectors

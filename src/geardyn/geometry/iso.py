@@ -27,17 +27,43 @@ ISO 10300-1:2014, clause 6 and Annex A; ISO 23509:2016; ISO/TR 10300-30:2017.
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 from ..model import ModelError
 from ..standards import BevelMesh, bevel_mesh
 
-__all__ = ["ISO_KEYS", "ISO_ONLY_KEYS", "K0_METHODS", "SIMULATED_KV", "iso_k0", "iso_kv_block", "iso_rows", "iso_summary",
-           "pair_iso_mesh"]
+__all__ = [
+    "ISO_KEYS",
+    "ISO_ONLY_KEYS",
+    "K0_METHODS",
+    "SIMULATED_KV",
+    "iso_k0",
+    "iso_kv_block",
+    "iso_rows",
+    "iso_summary",
+    "pair_iso_mesh",
+]
 
 #: The extra ``[gear_pair]`` keys read by :func:`pair_iso_mesh` (names of :func:`bevel_mesh` arguments).
-ISO_KEYS = ("beta_m2", "alpha_lim", "d_m1", "d_m2", "delta1", "delta2", "h_am1", "h_am2", "x_hm1", "offset",
-            "zeta_mp", "zeta_m", "b2_eff", "K_A", "f_pt", "density")
+ISO_KEYS = (
+    "beta_m2",
+    "alpha_lim",
+    "d_m1",
+    "d_m2",
+    "delta1",
+    "delta2",
+    "h_am1",
+    "h_am2",
+    "x_hm1",
+    "offset",
+    "zeta_mp",
+    "zeta_m",
+    "b2_eff",
+    "K_A",
+    "f_pt",
+    "density",
+)
 #: Inputs that only the ISO chain uses: giving any of them selects ``k0_method = "iso"`` by default.
 ISO_ONLY_KEYS = ISO_KEYS
 #: The ways to obtain k0 from the geometry.
@@ -46,8 +72,14 @@ K0_METHODS = ("iso", "face_width")
 N_KAPPA = 3
 
 
-def pair_iso_mesh(pair: Any, inputs: Mapping[str, float] | None = None, *, rpm: float | None = None,
-                  torque: float | None = None, n_harmonics: int = N_KAPPA) -> BevelMesh:
+def pair_iso_mesh(
+    pair: Any,
+    inputs: Mapping[str, float] | None = None,
+    *,
+    rpm: float | None = None,
+    torque: float | None = None,
+    n_harmonics: int = N_KAPPA,
+) -> BevelMesh:
     """The ISO 10300-1 mesh data of a pair with the extra inputs of its configuration.
 
     Parameters
@@ -78,8 +110,19 @@ def pair_iso_mesh(pair: Any, inputs: Mapping[str, float] | None = None, *, rpm: 
     if unknown:
         raise ModelError(f"iso inputs: unknown {sorted(unknown)}; allowed: {', '.join(ISO_KEYS)}")
     speed = None if rpm is None else float(rpm) * math.pi / 30.0
-    return bevel_mesh(pair.z1, pair.z2, pair.m_mn, pair.beta_m, pair.alpha_n, pair.Sigma, pair.resolved.face_width,
-                      torque1=torque, speed1=speed, n_harmonics=n_harmonics, **kw)
+    return bevel_mesh(
+        pair.z1,
+        pair.z2,
+        pair.m_mn,
+        pair.beta_m,
+        pair.alpha_n,
+        pair.Sigma,
+        pair.resolved.face_width,
+        torque1=torque,
+        speed1=speed,
+        n_harmonics=n_harmonics,
+        **kw,
+    )
 
 
 def iso_k0(mesh: BevelMesh, c_gamma: float | None = None) -> float:
@@ -105,8 +148,9 @@ def iso_k0(mesh: BevelMesh, c_gamma: float | None = None) -> float:
     return (mesh.c_gamma if c_gamma is None else float(c_gamma)) * mesh.b_v_eff
 
 
-def iso_summary(mesh: BevelMesh, *, k0_method: str, k0_used: float, c_gamma_given: float | None,
-                hypoid: bool) -> dict[str, Any]:
+def iso_summary(
+    mesh: BevelMesh, *, k0_method: str, k0_used: float, c_gamma_given: float | None, hypoid: bool
+) -> dict[str, Any]:
     """The ISO block of the geometry summary: :meth:`BevelMesh.to_json` plus k0 by ISO and the method used.
 
     Parameters
@@ -134,14 +178,20 @@ def iso_summary(mesh: BevelMesh, *, k0_method: str, k0_used: float, c_gamma_give
     out["k0_iso_N_per_m"] = k_iso
     out["k0_method"] = k0_method
     out["iso_assumed"] = j["assumed"]
-    notes = [f"ISO 10300-1: k0 = c_γ b_v,eff = {mesh.c_gamma * 1e-9:.4g} N/(mm·µm) × {mesh.b_v_eff * 1e3:.5g} mm"
-             f" = {iso_k0(mesh) * 1e-6:.5g} N/µm; the model uses k0 = {k0_used * 1e-6:.5g} N/µm ({k0_method})"]
+    notes = [
+        f"ISO 10300-1: k0 = c_γ b_v,eff = {mesh.c_gamma * 1e-9:.4g} N/(mm·µm) × {mesh.b_v_eff * 1e3:.5g} mm"
+        f" = {iso_k0(mesh) * 1e-6:.5g} N/µm; the model uses k0 = {k0_used * 1e-6:.5g} N/µm ({k0_method})"
+    ]
     kap = ", ".join(f"{k:.4g}" for k in mesh.kappa.kappa)
-    notes.append(f"contact ratios ε_vα = {mesh.eps_valpha:.4g}, ε_vβ = {mesh.eps_vbeta:.4g} imply κ_r = {kap} "
-                 "(geardyn.standards.stiffness; [mesh] kappa = \"geometry\" uses them)")
+    notes.append(
+        f"contact ratios ε_vα = {mesh.eps_valpha:.4g}, ε_vβ = {mesh.eps_vbeta:.4g} imply κ_r = {kap} "
+        '(geardyn.standards.stiffness; [mesh] kappa = "geometry" uses them)'
+    )
     if hypoid:
-        notes.append("hypoid pair: the ISO data include the offset; the torsional model is its zero-offset "
-                     "equivalent (pitch cones from the ratio, directional radii from r1, r2)")
+        notes.append(
+            "hypoid pair: the ISO data include the offset; the torsional model is its zero-offset "
+            "equivalent (pitch cones from the ratio, directional radii from r1, r2)"
+        )
     out["iso_notes"] = notes
     return out
 
@@ -159,6 +209,7 @@ def iso_rows(s: Mapping[str, Any]) -> list[tuple[str, str, str, str]]:
     list of (str, str, str, str)
         The table rows, values formatted (``—`` for a missing one).
     """
+
     def f(x: Any, spec: str = ".5g") -> str:
         return "—" if x is None else format(x, spec)
 
@@ -172,8 +223,10 @@ def iso_rows(s: Mapping[str, Any]) -> list[tuple[str, str, str, str]]:
         ("mesh stiffness c_γ (ISO)", f(s["c_gamma_N_per_mm_um"], ".4g"), "N/(mm·µm)", f"C_F = {s['C_F']:.4g}"),
         ("k0 by ISO, c_γ b_v,eff", f(s["k0_iso_N_per_m"] * 1e-6), "N/µm", k0_note.get(s["k0_method"], "")),
     ]
-    rows += [(f"κ{r} from the contact ratios", f(k, ".4g"), "", f"φ_k{r} = {p:.4g} deg")
-             for r, (k, p) in enumerate(zip(s["kappa_from_geometry"], s["phi_k_from_geometry_deg"]), start=1)]
+    rows += [
+        (f"κ{r} from the contact ratios", f(k, ".4g"), "", f"φ_k{r} = {p:.4g} deg")
+        for r, (k, p) in enumerate(zip(s["kappa_from_geometry"], s["phi_k_from_geometry_deg"]), start=1)
+    ]
     return rows + [
         ("resonance speed n_E1 (ISO)", f(s["resonance_speed_rpm"], ".6g"), "rpm", ""),
         ("resonance ratio N = n1/n_E1", f(s["resonance_ratio"], ".4f"), "", ""),
@@ -182,12 +235,23 @@ def iso_rows(s: Mapping[str, Any]) -> list[tuple[str, str, str, str]]:
 
 
 #: What the simulated dynamic factor of :func:`iso_kv_block` is.
-SIMULATED_KV = ("(u_max − D)/f_p: the mesh force at the largest compression with the mean stiffness, over the "
-                "static force (the simulated counterpart of K_v = F_max/F_static)")
+SIMULATED_KV = (
+    "(u_max − D)/f_p: the mesh force at the largest compression with the mean stiffness, over the "
+    "static force (the simulated counterpart of K_v = F_max/F_static)"
+)
 
 
-def iso_kv_block(pair: Any, inputs: Mapping[str, float], *, torque: float, rpm: Any,
-                 u_max: Mapping[str, Any], D: float, fp: float, model_resonance_rpm: float) -> dict[str, Any]:
+def iso_kv_block(
+    pair: Any,
+    inputs: Mapping[str, float],
+    *,
+    torque: float,
+    rpm: Any,
+    u_max: Mapping[str, Any],
+    D: float,
+    fp: float,
+    model_resonance_rpm: float,
+) -> dict[str, Any]:
     """The ISO K_v-B curve over a speed grid next to the simulated dynamic factor (JSON-ready).
 
     Parameters
@@ -216,8 +280,9 @@ def iso_kv_block(pair: Any, inputs: Mapping[str, float], *, torque: float, rpm: 
     """
     rows = [pair_iso_mesh(pair, inputs, rpm=float(r), torque=torque) for r in rpm]
     n_e1 = rows[0].resonance_speed_rpm if rows else float("nan")
-    sim = {k: [None if not math.isfinite(float(u)) else max(float(u) - D, 0.0) / fp for u in v]
-           for k, v in u_max.items()}
+    sim = {
+        k: [None if not math.isfinite(float(u)) else max(float(u) - D, 0.0) / fp for u in v] for k, v in u_max.items()
+    }
     return {
         "standard": "ISO 10300-1:2014 clause 6.3 (ISO 6336-1 Method B sectors)",
         "torque_N_m": float(torque),
@@ -226,8 +291,11 @@ def iso_kv_block(pair: Any, inputs: Mapping[str, float], *, torque: float, rpm: 
         "N": [m.N for m in rows],
         "sector": [m.sector for m in rows],
         "resonance_speed_rpm": n_e1,
-        "sector_bounds_rpm": {"subcritical_end": 0.75 * n_e1, "main_resonance_end": 1.25 * n_e1,
-                              "supercritical_start": 1.5 * n_e1},
+        "sector_bounds_rpm": {
+            "subcritical_end": 0.75 * n_e1,
+            "main_resonance_end": 1.25 * n_e1,
+            "supercritical_start": 1.5 * n_e1,
+        },
         "model_resonance_rpm": float(model_resonance_rpm),
         "simulated": sim,
         "simulated_definition": SIMULATED_KV,

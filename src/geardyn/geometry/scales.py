@@ -82,7 +82,7 @@ class PhysicalScales:
     @classmethod
     def from_pair(
         cls, pair: Any, b_c: float, *, title: str | None = None, source: str = "", assumptions: Any = None
-    ) -> "PhysicalScales":
+    ) -> PhysicalScales:
         """Scales of a gear pair with the characteristic length ``b_c``.
 
         Parameters
@@ -127,7 +127,7 @@ class PhysicalScales:
         )
 
     @classmethod
-    def unit(cls, *, title: str = "", source: str = "", D: float = 1.0) -> "PhysicalScales":
+    def unit(cls, *, title: str = "", source: str = "", D: float = 1.0) -> PhysicalScales:
         """Unit scales of a non-dimensional configuration (no ``[gear_pair]``).
 
         With ω_n = 2π rad/s, z1 = 60, b_c = 1 µm, k0 = 1 N/µm and R1 = R2 = 1 m, a "speed in rpm"
@@ -147,13 +147,24 @@ class PhysicalScales:
         PhysicalScales
         """
         w = 2.0 * math.pi
-        return cls(title=title or "non-dimensional model", source=source, z1=60, b_c_m=1e-6, k0_N_per_m=1e6,
-                   m_e_kg=1e6 / w**2, omega_n_rad_s=w, R1_m=1.0, R2_m=1.0, D=float(D), assumed=(),
-                   k0_source="no [gear_pair]: unit scales, the physical values repeat the non-dimensional ones",
-                   nondimensional=True)
+        return cls(
+            title=title or "non-dimensional model",
+            source=source,
+            z1=60,
+            b_c_m=1e-6,
+            k0_N_per_m=1e6,
+            m_e_kg=1e6 / w**2,
+            omega_n_rad_s=w,
+            R1_m=1.0,
+            R2_m=1.0,
+            D=float(D),
+            assumed=(),
+            k0_source="no [gear_pair]: unit scales, the physical values repeat the non-dimensional ones",
+            nondimensional=True,
+        )
 
     @classmethod
-    def from_config(cls, cfg: Any) -> "PhysicalScales":
+    def from_config(cls, cfg: Any) -> PhysicalScales:
         """Scales of a loaded configuration (its pair, characteristic length, title and source).
 
         Parameters
@@ -183,7 +194,7 @@ class PhysicalScales:
         return json.dumps(self.to_dict(), sort_keys=True)
 
     @classmethod
-    def from_json(cls, text: str) -> "PhysicalScales":
+    def from_json(cls, text: str) -> PhysicalScales:
         """Scales from the JSON of :meth:`to_json`.
 
         Parameters
@@ -200,7 +211,7 @@ class PhysicalScales:
         return cls(**d)
 
     @classmethod
-    def from_attrs(cls, attrs: dict[str, Any]) -> "PhysicalScales | None":
+    def from_attrs(cls, attrs: dict[str, Any]) -> PhysicalScales | None:
         """The scales stored in a Dataset's attributes (:data:`SCALES_ATTR`), or ``None`` when there are none.
 
         Parameters

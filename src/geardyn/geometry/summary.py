@@ -150,7 +150,9 @@ def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str, str, str]]:
         ("face width b", fmt(summary["face_width_m"] * 1e3), "mm", note("face_width")),
     ]
     if summary.get("c_gamma_N_per_m2") is not None:
-        rows.append(("stiffness per face width c_γ", fmt(summary["c_gamma_N_per_m2"] * 1e-9), "N/(mm·µm)", note("c_gamma")))
+        rows.append(
+            ("stiffness per face width c_γ", fmt(summary["c_gamma_N_per_m2"] * 1e-9), "N/(mm·µm)", note("c_gamma"))
+        )
     rows += [
         ("mean mesh stiffness k0", fmt(summary["k0_N_per_m"] * 1e-6), "N/µm", note("k0")),
         ("natural frequency ω_n", fmt(summary["omega_n_rad_s"]), "rad/s", ""),
@@ -160,7 +162,12 @@ def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str, str, str]]:
         ("half backlash b_n", fmt(summary["b_n_m"] * 1e3), "mm", note("j_n")),
         ("characteristic length b_c", fmt(None if summary["b_c_m"] is None else summary["b_c_m"] * 1e3), "mm", ""),
         ("non-dimensional backlash D", fmt(summary["D"]), "", ""),
-        ("pinion hand / loaded flank", f"{summary['pinion_hand']} / {summary['pinion_drive_flank']}", "", note("hand", "drive_side")),
+        (
+            "pinion hand / loaded flank",
+            f"{summary['pinion_hand']} / {summary['pinion_drive_flank']}",
+            "",
+            note("hand", "drive_side"),
+        ),
         ("pinion rotation (viewed from back)", summary["pinion_rotation_from_back"], "", "from hand and flank"),
     ]
     if "rpm" in summary:

@@ -14,9 +14,10 @@ The paper's words for motions are kept as words (``"quasi-4-periodic"``, ``"chao
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from .report import Finding
 
@@ -79,52 +80,127 @@ def _table2(row: int, statement: str, **numbers: Any) -> Claim:
 
 
 def _table3(row: int, b: float, D: float, motion: str, amplitude: str, lyapunov: str, statement: str) -> Claim:
-    return Claim(f"T3-{row}", f"Table 3, row {row}", statement,
-                 {"b": b, "D": D, "motion": motion, "amplitude": amplitude, "lyapunov": lyapunov})
+    return Claim(
+        f"T3-{row}",
+        f"Table 3, row {row}",
+        statement,
+        {"b": b, "D": D, "motion": motion, "amplitude": amplitude, "lyapunov": lyapunov},
+    )
 
 
 def _table4(row: int, omega: float, xi0: float, b: float, A: float, jump: str, statement: str) -> Claim:
-    return Claim(f"T4-{row}", f"Table 4, row {row}", statement, {"omega": omega, "xi0": xi0, "b": b, "A": A, "jump": jump})
+    return Claim(
+        f"T4-{row}", f"Table 4, row {row}", statement, {"omega": omega, "xi0": xi0, "b": b, "A": A, "jump": jump}
+    )
 
 
 _LIST: tuple[Claim, ...] = (
     # Table 2: dynamic states against the damping ratios
-    _table2(1, "ξ0 < 0.064: chaotic motion (high nonlinearity).", param="xi0", hi=0.064, hi_open=True, motion="chaotic"),
-    _table2(2, "0.064 ≤ ξ0 ≤ 0.1: quasi-4-periodic motion (medium nonlinearity).", param="xi0", lo=0.064, hi=0.1,
-            motion="quasi-4-periodic"),
-    _table2(3, "ξ0 > 0.1: quasi-2-periodic motion (low nonlinearity).", param="xi0", lo=0.1, lo_open=True,
-            motion="quasi-2-periodic"),
-    _table2(4, "ξ1 < 0.03: quasi-periodic motion (low nonlinearity).", param="xi1", hi=0.03, hi_open=True,
-            motion="quasi-periodic"),
+    _table2(
+        1, "ξ0 < 0.064: chaotic motion (high nonlinearity).", param="xi0", hi=0.064, hi_open=True, motion="chaotic"
+    ),
+    _table2(
+        2,
+        "0.064 ≤ ξ0 ≤ 0.1: quasi-4-periodic motion (medium nonlinearity).",
+        param="xi0",
+        lo=0.064,
+        hi=0.1,
+        motion="quasi-4-periodic",
+    ),
+    _table2(
+        3,
+        "ξ0 > 0.1: quasi-2-periodic motion (low nonlinearity).",
+        param="xi0",
+        lo=0.1,
+        lo_open=True,
+        motion="quasi-2-periodic",
+    ),
+    _table2(
+        4,
+        "ξ1 < 0.03: quasi-periodic motion (low nonlinearity).",
+        param="xi1",
+        hi=0.03,
+        hi_open=True,
+        motion="quasi-periodic",
+    ),
     _table2(5, "ξ1 ≥ 0.05: chaotic motion (high nonlinearity).", param="xi1", lo=0.05, motion="chaotic"),
-    Claim("XI0-BIF", "text, damping study",
-          "As ξ0 increases the motion goes chaos → quasi-4-periodic → quasi-2-periodic → chaos, with bifurcation "
-          "points near ξ0 = 0.064 and ξ0 = 0.8.", {"param": "xi0", "points": (0.064, 0.8)}),
-    Claim("XI1-CHAOS", "text, damping study", "Increasing ξ1 drives the system from quasi-periodic to chaotic motion.",
-          {"param": "xi1"}),
+    Claim(
+        "XI0-BIF",
+        "text, damping study",
+        "As ξ0 increases the motion goes chaos → quasi-4-periodic → quasi-2-periodic → chaos, with bifurcation "
+        "points near ξ0 = 0.064 and ξ0 = 0.8.",
+        {"param": "xi0", "points": (0.064, 0.8)},
+    ),
+    Claim(
+        "XI1-CHAOS",
+        "text, damping study",
+        "Increasing ξ1 drives the system from quasi-periodic to chaotic motion.",
+        {"param": "xi1"},
+    ),
     # Table 3 and the backlash text
-    _table3(1, 0.2, 0.1, "quasi-1-periodic", "increasing", "negative",
-            "b = 0.2 mm (D = 0.1): quasi-1-periodic motion, negative Lyapunov exponent."),
-    _table3(2, 0.7, 0.35, "quasi-2-periodic", "moderate", "near zero",
-            "b = 0.7 mm (D = 0.35): quasi-2-periodic motion, Lyapunov exponent near zero."),
-    _table3(3, 1.5, 0.75, "chaotic", "high", "positive",
-            "b = 1.5 mm (D = 0.75): chaotic motion, positive Lyapunov exponent."),
-    Claim("BL-IMPACT", "text, backlash study",
-          "For b = 0.2, 0.7, 1.5 mm the gear pair always has single-sided impacts; the impact state does not change.",
-          {"b": (0.2, 0.7, 1.5), "impact": "single-sided impact"}),
+    _table3(
+        1,
+        0.2,
+        0.1,
+        "quasi-1-periodic",
+        "increasing",
+        "negative",
+        "b = 0.2 mm (D = 0.1): quasi-1-periodic motion, negative Lyapunov exponent.",
+    ),
+    _table3(
+        2,
+        0.7,
+        0.35,
+        "quasi-2-periodic",
+        "moderate",
+        "near zero",
+        "b = 0.7 mm (D = 0.35): quasi-2-periodic motion, Lyapunov exponent near zero.",
+    ),
+    _table3(
+        3,
+        1.5,
+        0.75,
+        "chaotic",
+        "high",
+        "positive",
+        "b = 1.5 mm (D = 0.75): chaotic motion, positive Lyapunov exponent.",
+    ),
+    Claim(
+        "BL-IMPACT",
+        "text, backlash study",
+        "For b = 0.2, 0.7, 1.5 mm the gear pair always has single-sided impacts; the impact state does not change.",
+        {"b": (0.2, 0.7, 1.5), "impact": "single-sided impact"},
+    ),
     Claim("BL-AMP", "text and Table 3", "The vibration amplitude grows with backlash."),
     # Jumps
-    Claim("JUMP-LOW", "text, jump study", "Below ω = 0.5 the amplitude is steady whatever the damping.", {"omega": 0.5}),
-    Claim("JUMP-XI0", "text, jump study", "Above ω = 0.5 upward jumps occur; their size decreases as ξ0 increases.",
-          {"omega": 0.5, "direction": "up"}),
+    Claim(
+        "JUMP-LOW", "text, jump study", "Below ω = 0.5 the amplitude is steady whatever the damping.", {"omega": 0.5}
+    ),
+    Claim(
+        "JUMP-XI0",
+        "text, jump study",
+        "Above ω = 0.5 upward jumps occur; their size decreases as ξ0 increases.",
+        {"omega": 0.5, "direction": "up"},
+    ),
     Claim("JUMP-XI1", "text, jump study", "The upward jump size increases with ξ1.", {"direction": "up"}),
-    Claim("JUMP-FLUCT", "text, jump study",
-          "After the first jump the amplitude fluctuates; fluctuations weaken with higher ξ0 and intensify with higher ξ1."),
+    Claim(
+        "JUMP-FLUCT",
+        "text, jump study",
+        "After the first jump the amplitude fluctuates; fluctuations weaken with higher ξ0 and intensify with higher ξ1.",
+    ),
     Claim("JUMP-057", "text, backlash jumps", "Jumps occur near ω = 0.57 for all backlash values.", {"omega": 0.57}),
-    Claim("JUMP-082", "text, backlash jumps", "For b = 0.5 a downward jump appears at ω = 0.82.",
-          {"b": 0.5, "omega": 0.82, "direction": "down"}),
-    Claim("JUMP-095", "text, backlash jumps", "For b = 1.5 an upward jump occurs at ω = 0.95.",
-          {"b": 1.5, "omega": 0.95, "direction": "up"}),
+    Claim(
+        "JUMP-082",
+        "text, backlash jumps",
+        "For b = 0.5 a downward jump appears at ω = 0.82.",
+        {"b": 0.5, "omega": 0.82, "direction": "down"},
+    ),
+    Claim(
+        "JUMP-095",
+        "text, backlash jumps",
+        "For b = 1.5 an upward jump occurs at ω = 0.95.",
+        {"b": 1.5, "omega": 0.95, "direction": "up"},
+    ),
     # Table 4: amplitude and jump type at five operating points
     _table4(1, 0.4, 0.08, 0.5, 0.15, "none", "ω = 0.4, ξ0 = 0.08, b = 0.5: amplitude 0.15, no jump."),
     _table4(2, 0.6, 0.08, 0.5, 0.45, "upward", "ω = 0.6, ξ0 = 0.08, b = 0.5: amplitude 0.45, upward jump."),
@@ -157,8 +233,10 @@ def claim_ids(prefix: str) -> list[str]:
 
 #: Table 3 as rows: b (mm), D, dynamic state, amplitude trend, Lyapunov exponent (from the T3 claims).
 TABLE3: tuple[tuple[float, float, str, str, str], ...] = tuple(
-    tuple(CLAIMS[c].numbers[k] for k in ("b", "D", "motion", "amplitude", "lyapunov")) for c in claim_ids("T3-"))
+    tuple(CLAIMS[c].numbers[k] for k in ("b", "D", "motion", "amplitude", "lyapunov")) for c in claim_ids("T3-")
+)
 
 #: Table 4 as rows: ω, ξ0, b (mm), amplitude A, jump type (from the T4 claims).
 TABLE4: tuple[tuple[float, float, float, float, str], ...] = tuple(
-    tuple(CLAIMS[c].numbers[k] for k in ("omega", "xi0", "b", "A", "jump")) for c in claim_ids("T4-"))
+    tuple(CLAIMS[c].numbers[k] for k in ("omega", "xi0", "b", "A", "jump")) for c in claim_ids("T4-")
+)

@@ -17,23 +17,33 @@ Two batched sweeps try the readings, each one call of the sweep engine:
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from ..analysis.bifurcation import grid_chunk
+from ..analysis.points import run_slices
 from ..analysis.response import detect_jumps
 from ..analysis.steady import summarize_batch
 from ..grid import Grid, PointModels, integrate_points
 from ..model import GearModel, IntegrationOptions
 from ..sweep import Chunk, SweepOptions, chunk_slices, run_chunks
-from ..analysis.points import run_slices
 from .verdicts import section_spread
 
-__all__ = ["BACKLASH_READINGS", "DEFAULT_BACKLASH", "PHASES", "Reading", "lockstep_chunk", "lockstep_responses",
-           "phase_pairs", "phase_text", "screen"]
+__all__ = [
+    "BACKLASH_READINGS",
+    "DEFAULT_BACKLASH",
+    "PHASES",
+    "Reading",
+    "lockstep_chunk",
+    "lockstep_responses",
+    "phase_pairs",
+    "phase_text",
+    "screen",
+]
 
 #: The phases tried for φ_c1 and φ_k1 (rad).
 PHASES: tuple[float, ...] = (0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi)
@@ -102,8 +112,12 @@ class Reading:
     @property
     def is_default(self) -> bool:
         """Phases 0, the default backlash reading (or none) and ω = 1 (or none)."""
-        return (self.phi_c == 0 and self.phi_k == 0 and self.backlash in ("", DEFAULT_BACKLASH)
-                and (math.isnan(self.omega) or abs(self.omega - 1.0) < 1e-9))
+        return (
+            self.phi_c == 0
+            and self.phi_k == 0
+            and self.backlash in ("", DEFAULT_BACKLASH)
+            and (math.isnan(self.omega) or abs(self.omega - 1.0) < 1e-9)
+        )
 
     def D(self, b_mm: float) -> float:
         """D of a backlash b (mm) under this reading."""
@@ -133,12 +147,31 @@ class Reading:
 
 
 #: The variables a screen keeps per point.
-SCREEN_KEEP = ("motion", "period", "lle", "lle_err", "amplitude", "impact", "u_min", "u_max", "poincare", "end",
-               "status")
+SCREEN_KEEP = (
+    "motion",
+    "period",
+    "lle",
+    "lle_err",
+    "amplitude",
+    "impact",
+    "u_min",
+    "u_max",
+    "poincare",
+    "end",
+    "status",
+)
 
 
-def screen(base: GearModel, names: Sequence[str], points: np.ndarray, options: IntegrationOptions, settle: int,
-           executor: Any = None, *, lyapunov: bool = False) -> dict[str, np.ndarray]:
+def screen(
+    base: GearModel,
+    names: Sequence[str],
+    points: np.ndarray,
+    options: IntegrationOptions,
+    settle: int,
+    executor: Any = None,
+    *,
+    lyapunov: bool = False,
+) -> dict[str, np.ndarray]:
     """Independent points from u = u' = 0, in one call of the sweep engine (a curve grid).
 
     Parameters
@@ -167,13 +200,18 @@ def screen(base: GearModel, names: Sequence[str], points: np.ndarray, options: I
     grid = Grid.curve({n: pts[:, i] for i, n in enumerate(names)})
     engine = SweepOptions(executor=executor)
     gp = grid.points()
-    return run_slices(grid_chunk, lambda sl: (base, grid.names, gp[sl], (0.0, 0.0), options, lyapunov, settle,
-                                              False, SCREEN_KEEP),
-                      chunk_slices(grid, base, options, engine, lyapunov=lyapunov), engine, "readings screen")
+    return run_slices(
+        grid_chunk,
+        lambda sl: (base, grid.names, gp[sl], (0.0, 0.0), options, lyapunov, settle, False, SCREEN_KEEP),
+        chunk_slices(grid, base, options, engine, lyapunov=lyapunov),
+        engine,
+        "readings screen",
+    )
 
 
-def lockstep_chunk(base: GearModel, names: Sequence[str], points: np.ndarray, omegas: np.ndarray,
-                   options: IntegrationOptions) -> dict[str, np.ndarray]:
+def lockstep_chunk(
+    base: GearModel, names: Sequence[str], points: np.ndarray, omegas: np.ndarray, options: IntegrationOptions
+) -> dict[str, np.ndarray]:
     """Up and down frequency responses of several readings, every ω step one batch (chunk function).
 
     Each reading's point at ω_i starts from its own end state at ω_{i−1} (the previous ω of its
@@ -220,8 +258,15 @@ def lockstep_chunk(base: GearModel, names: Sequence[str], points: np.ndarray, om
     return {k: v.reshape(R, -1) if k != "period" else v.reshape(R, -1) for k, v in out.items()}
 
 
-def lockstep_responses(base: GearModel, names: Sequence[str], points: np.ndarray, omegas: Sequence[float],
-                       options: IntegrationOptions, executor: Any = None, chunk: int | None = None) -> dict[str, np.ndarray]:
+def lockstep_responses(
+    base: GearModel,
+    names: Sequence[str],
+    points: np.ndarray,
+    omegas: Sequence[float],
+    options: IntegrationOptions,
+    executor: Any = None,
+    chunk: int | None = None,
+) -> dict[str, np.ndarray]:
     """:func:`lockstep_chunk` over many readings, cut into chunks of ``chunk`` readings for the sweep engine.
 
     Parameters
@@ -242,8 +287,10 @@ def lockstep_responses(base: GearModel, names: Sequence[str], points: np.ndarray
     pts = np.asarray(points, dtype=float).reshape(-1, len(names))
     w = np.sort(np.asarray(omegas, dtype=float))
     chunk = max(1, -(-pts.shape[0] // 4)) if chunk is None else int(chunk)
-    chunks = [Chunk(i, lockstep_chunk, (base, tuple(names), pts[a:a + chunk], w, options))
-              for i, a in enumerate(range(0, pts.shape[0], chunk))]
+    chunks = [
+        Chunk(i, lockstep_chunk, (base, tuple(names), pts[a : a + chunk], w, options))
+        for i, a in enumerate(range(0, pts.shape[0], chunk))
+    ]
     res = run_chunks(chunks, SweepOptions(executor=executor), description="readings responses")
     out = {k: np.concatenate([r[k] for r in res], axis=0).reshape(pts.shape[0], 2, w.size) for k in res[0]}
     out["omega"] = w
@@ -263,6 +310,9 @@ def response_jumps(omega: np.ndarray, amplitude: np.ndarray) -> list[dict[str, A
     -------
     list of dict
     """
-    ds = xr.Dataset({"amplitude": (("sweep", "omega"), np.asarray(amplitude, float))},
-                    coords={"sweep": ["up", "down"], "omega": np.asarray(omega, float)}, attrs={"param": "omega"})
+    ds = xr.Dataset(
+        {"amplitude": (("sweep", "omega"), np.asarray(amplitude, float))},
+        coords={"sweep": ["up", "down"], "omega": np.asarray(omega, float)},
+        attrs={"param": "omega"},
+    )
     return detect_jumps(ds)

@@ -12,9 +12,10 @@ from __future__ import annotations
 import base64
 import html
 import json
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from ..io import atomic_write_bytes
 
@@ -74,10 +75,15 @@ class RunInfo:
         """
         if not self.reduced:
             return ""
-        what = ("reduced grids, fewer points and shorter runs than the full reproduction"
-                if self.kind == "quick" else "settings that differ from the full reproduction")
-        return (f"{RUN_NAMES.get(self.kind, self.kind).capitalize()}: {what} ({len(self.changes)} settings, {where})"
-                ". Its verdicts and totals may differ from the full run's (geardyn reproduce without --quick).")
+        what = (
+            "reduced grids, fewer points and shorter runs than the full reproduction"
+            if self.kind == "quick"
+            else "settings that differ from the full reproduction"
+        )
+        return (
+            f"{RUN_NAMES.get(self.kind, self.kind).capitalize()}: {what} ({len(self.changes)} settings, {where})"
+            ". Its verdicts and totals may differ from the full run's (geardyn reproduce without --quick)."
+        )
 
 
 @dataclass
@@ -162,7 +168,7 @@ def _md_table(rows: Sequence[Sequence[str]]) -> list[str]:
 FOUND_CHARS = 240
 
 
-def found_text(c: "Finding") -> str:
+def found_text(c: Finding) -> str:
     """What geardyn finds, in one line for the summary: ``found``, else the first sentence of ``computed``."""
     if c.found:
         return c.found
@@ -172,7 +178,7 @@ def found_text(c: "Finding") -> str:
     return t if len(t) <= FOUND_CHARS else t[: FOUND_CHARS - 1].rstrip() + "…"
 
 
-def _verdict_text(c: "Finding") -> str:
+def _verdict_text(c: Finding) -> str:
     """The verdict as the report writes it: the kind, with the reading where it is one."""
     return f"{c.verdict}: {c.reading}" if c.reading and c.verdict == "reproduced under a reading" else c.verdict
 
@@ -195,8 +201,10 @@ def totals_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
     counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
     text = ", ".join(f"{n} {v}" for v, n in counts.items())
     if run is not None and run.reduced:
-        return (f"Totals of this {RUN_NAMES.get(run.kind, run.kind)} ({len(claims)} claims): {text} "
-                "(may differ from the full run).")
+        return (
+            f"Totals of this {RUN_NAMES.get(run.kind, run.kind)} ({len(claims)} claims): {text} "
+            "(may differ from the full run)."
+        )
     return f"Totals ({len(claims)} claims): {text}."
 
 
@@ -242,8 +250,13 @@ def _anchor(path: str) -> str:
     return "fig-" + "".join(ch if ch.isalnum() else "-" for ch in path)
 
 
-def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section],
-                    labels: Mapping[str, str] | None = None, run: RunInfo | None = None) -> str:
+def render_markdown(
+    title: str,
+    intro: Sequence[str],
+    sections: Sequence[Section],
+    labels: Mapping[str, str] | None = None,
+    run: RunInfo | None = None,
+) -> str:
     """The report as Markdown: the totals, the table of claims (what the paper says, what geardyn
     finds, the verdict), then every section.
 
@@ -271,11 +284,19 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
         if run.reduced:
             out += [f"> **{run.banner()}**", ">"] + [f"> - {ch}" for ch in run.changes] + [""]
     out += [p + "\n" for p in intro]
-    out += ["## Claims and verdicts", "", totals_text(claims, run), "",
-            "| " + " | ".join(SUMMARY_COLUMNS) + " |", "|" + "---|" * len(SUMMARY_COLUMNS)]
+    out += [
+        "## Claims and verdicts",
+        "",
+        totals_text(claims, run),
+        "",
+        "| " + " | ".join(SUMMARY_COLUMNS) + " |",
+        "|" + "---|" * len(SUMMARY_COLUMNS),
+    ]
     for c in claims:
-        out.append(f"| {c.id} | {_md_escape_cell(c.source)} | {_md_escape_cell(c.statement)} | "
-                   f"{_md_escape_cell(found_text(c))} | **{_verdict_text(c)}** | {_md_escape_cell(c.deciding)} |")
+        out.append(
+            f"| {c.id} | {_md_escape_cell(c.source)} | {_md_escape_cell(c.statement)} | "
+            f"{_md_escape_cell(found_text(c))} | **{_verdict_text(c)}** | {_md_escape_cell(c.deciding)} |"
+        )
     out.append("")
     for s in sections:
         out += [f"## {s.title}", ""]
@@ -283,8 +304,10 @@ def render_markdown(title: str, intro: Sequence[str], sections: Sequence[Section
         if s.table:
             out += _md_table(s.table)
         for c in s.claims:
-            ev = "; ".join(f"{lab} (" + ", ".join(f"[{k}]({p})" for k, p in items) + ")"
-                           for lab, items in _evidence_groups(c.evidence, labels))
+            ev = "; ".join(
+                f"{lab} (" + ", ".join(f"[{k}]({p})" for k, p in items) + ")"
+                for lab, items in _evidence_groups(c.evidence, labels)
+            )
             out += [
                 f"**{c.id}** ({c.source}). *Paper:* {c.statement}",
                 "",
@@ -324,8 +347,12 @@ code{background:#f2f2f2;padding:0 3px}
 
 
 def _vclass(v: str) -> str:
-    return {"reproduced": "v-reproduced", "reproduced under a reading": "v-reading", "contradicted": "v-contradicted",
-            "not testable": "v-untestable"}[v]
+    return {
+        "reproduced": "v-reproduced",
+        "reproduced under a reading": "v-reading",
+        "contradicted": "v-contradicted",
+        "not testable": "v-untestable",
+    }[v]
 
 
 def _html_table(rows: Sequence[Sequence[str]], cls: str = "") -> str:
@@ -343,8 +370,14 @@ def _img(directory: Path, rel: str) -> str:
     return f'<img alt="{html.escape(rel)}" src="data:image/png;base64,{data}">'
 
 
-def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], directory: Path,
-                labels: Mapping[str, str] | None = None, run: RunInfo | None = None) -> str:
+def render_html(
+    title: str,
+    intro: Sequence[str],
+    sections: Sequence[Section],
+    directory: Path,
+    labels: Mapping[str, str] | None = None,
+    run: RunInfo | None = None,
+) -> str:
     """The report as one self-contained HTML page (figures embedded as base64 PNG).
 
     The totals come first, then the table of claims (what the paper says, what geardyn finds, the
@@ -374,22 +407,31 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
     claims = [c for s in sections for c in s.claims]
     shown = {p for s in sections for p, _ in s.figures}
     head = _title(title, run)
-    out = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(head)}</title><style>{_CSS}</style></head><body>",
-           f"<h1>{e(head)}</h1>"]
+    out = [
+        f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{e(head)}</title><style>{_CSS}</style></head><body>",
+        f"<h1>{e(head)}</h1>",
+    ]
     if run is not None:
-        out.append(f"<p class='provenance'>geardyn {e(run.version)} &middot; run {e(run.date)} &middot; command: "
-                   f"<code>{e(run.command)}</code></p>")
+        out.append(
+            f"<p class='provenance'>geardyn {e(run.version)} &middot; run {e(run.date)} &middot; command: "
+            f"<code>{e(run.command)}</code></p>"
+        )
         if run.reduced:
-            out.append(f"<div class='reduced'><b>{e(run.banner())}</b><ul>"
-                       + "".join(f"<li>{e(ch)}</li>" for ch in run.changes) + "</ul></div>")
+            out.append(
+                f"<div class='reduced'><b>{e(run.banner())}</b><ul>"
+                + "".join(f"<li>{e(ch)}</li>" for ch in run.changes)
+                + "</ul></div>"
+            )
     out += [f"<p>{e(p)}</p>" for p in intro]
     out.append("<h2>Claims and verdicts</h2>")
     out.append(f"<p class='totals'><b>{e(totals_text(claims, run))}</b></p>")
     out.append("<table class='summary'><tr>" + "".join(f"<th>{e(h)}</th>" for h in SUMMARY_COLUMNS) + "</tr>")
     for c in claims:
-        out.append(f"<tr><td><a href='#{e(c.id)}'>{e(c.id)}</a></td><td>{e(c.source)}</td><td>{e(c.statement)}</td>"
-                   f"<td>{e(found_text(c))}</td><td class='{_vclass(c.verdict)}'>{e(_verdict_text(c))}</td>"
-                   f"<td>{e(c.deciding)}</td></tr>")
+        out.append(
+            f"<tr><td><a href='#{e(c.id)}'>{e(c.id)}</a></td><td>{e(c.source)}</td><td>{e(c.statement)}</td>"
+            f"<td>{e(found_text(c))}</td><td class='{_vclass(c.verdict)}'>{e(_verdict_text(c))}</td>"
+            f"<td>{e(c.deciding)}</td></tr>"
+        )
     out.append("</table>")
 
     def link(kind: str, path: str) -> str:
@@ -402,23 +444,34 @@ def render_html(title: str, intro: Sequence[str], sections: Sequence[Section], d
         if s.table:
             out.append(_html_table(s.table))
         for c in s.claims:
-            ev = "; ".join(f"{e(lab)} (" + ", ".join(link(k, p) for k, p in items) + ")"
-                           for lab, items in _evidence_groups(c.evidence, labels))
+            ev = "; ".join(
+                f"{e(lab)} (" + ", ".join(link(k, p) for k, p in items) + ")"
+                for lab, items in _evidence_groups(c.evidence, labels)
+            )
             out.append(
                 f"<div class='claim' id='{e(c.id)}'><b>{e(c.id)}</b> ({e(c.source)})<br><i>Paper:</i> {e(c.statement)}"
                 f"<br><i>geardyn:</i> {e(c.computed)}<br><i>Verdict:</i> <span class='{_vclass(c.verdict)}'>"
                 f"<b>{e(_verdict_text(c))}</b></span> &mdash; deciding: {e(c.deciding)} &mdash; evidence: {ev}"
-                + (_html_table(c.readings, "readings") if c.readings else "") + "</div>"
+                + (_html_table(c.readings, "readings") if c.readings else "")
+                + "</div>"
             )
         for path, caption in s.figures:
-            out.append(f"<figure id='{_anchor(path)}'>{_img(directory, path)}<figcaption>{e(caption)}</figcaption></figure>")
+            out.append(
+                f"<figure id='{_anchor(path)}'>{_img(directory, path)}<figcaption>{e(caption)}</figcaption></figure>"
+            )
     out.append("</body></html>")
     return "\n".join(out)
 
 
-def write_report(directory: str | Path, title: str, intro: Sequence[str], sections: Sequence[Section],
-                 meta: dict[str, Any] | None = None, labels: Mapping[str, str] | None = None,
-                 run: RunInfo | None = None) -> dict[str, Path]:
+def write_report(
+    directory: str | Path,
+    title: str,
+    intro: Sequence[str],
+    sections: Sequence[Section],
+    meta: dict[str, Any] | None = None,
+    labels: Mapping[str, str] | None = None,
+    run: RunInfo | None = None,
+) -> dict[str, Path]:
     """Write report.md, report.html, claims.json (a list, one entry per claim) and, with ``meta``,
     run.json (settings, timings) into ``directory``.
 

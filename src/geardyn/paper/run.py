@@ -17,11 +17,12 @@ report).  No setting is tuned silently.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import Executor
 from dataclasses import asdict
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any
 
 import xarray as xr
 
@@ -34,9 +35,9 @@ from .report import RunInfo, Section, write_report
 from .settings import FIGURE_REF, Context, Settings
 from .studies.backlash import study_backlash
 from .studies.damping import study_xi0, study_xi1
+from .studies.facts import study_facts
 from .studies.formula import study_formula
 from .studies.jumps import compute_responses, study_jumps, study_table4
-from .studies.facts import study_facts
 from .studies.readings import damping_readings, run_screen
 from .studies.readings_jumps import jump_readings, run_lockstep
 from .studies.readings_section import fixed_readings, readings_section
@@ -45,8 +46,17 @@ from .studies.tables import study_tables
 from .table1 import TABLE1
 from .verdicts import VERDICT_RULES
 
-__all__ = ["STUDIES", "Settings", "link_figures", "run", "run_info", "run_studies", "settings_section",
-           "write_output", "write_outputs"]
+__all__ = [
+    "STUDIES",
+    "Settings",
+    "link_figures",
+    "run",
+    "run_info",
+    "run_studies",
+    "settings_section",
+    "write_output",
+    "write_outputs",
+]
 
 #: The studies that need only the context, in report order (the jump studies share their responses).
 STUDIES: list[Callable[[Context], Section]] = [study_xi0, study_xi1, study_backlash]
@@ -74,8 +84,10 @@ def run_studies(ctx: Context) -> list[Section]:
     s = ctx.settings
     key = s.xi0_set[0]
     args = (ctx.model_at(key), *s.continuation_omega)
-    kw = {"sweep_num": s.continuation_sweep_num,
-          "sweep_options": s.response_options.replace(periods=s.continuation_sweep_periods)}
+    kw = {
+        "sweep_num": s.continuation_sweep_num,
+        "sweep_options": s.response_options.replace(periods=s.continuation_sweep_periods),
+    }
     # the continuation (and its brute-force sweep) is long and sequential: start it first, on a worker if any
     branch_future = ctx.executor.submit(jump_continuation, *args, **kw) if ctx.executor is not None else None
     sections = [study(ctx) for study in STUDIES]
@@ -92,8 +104,12 @@ def run_studies(ctx: Context) -> list[Section]:
     jr = run_lockstep(ctx)
     jres = jump_readings(ctx, jr, findings)
     fixed_readings(findings)
-    return [*study_facts(ctx), *sections, *study_tables(ctx, dres, jr, jres, default_holds, findings),
-            readings_section(ctx, findings)]
+    return [
+        *study_facts(ctx),
+        *sections,
+        *study_tables(ctx, dres, jr, jres, default_holds, findings),
+        readings_section(ctx, findings),
+    ]
 
 
 def settings_section(s: Settings, elapsed: float) -> Section:
@@ -162,8 +178,10 @@ def write_outputs(ctx: Context) -> dict[str, list[str]]:
         Name → figure paths relative to ``ctx.out``, main figure first.
     """
     names = list(ctx.pending)
-    jobs = [(ctx.pending[n], ctx.out / ctx.datasets[n], None if n in ctx.data_only else ctx.out / "figures" / n)
-            for n in names]
+    jobs = [
+        (ctx.pending[n], ctx.out / ctx.datasets[n], None if n in ctx.data_only else ctx.out / "figures" / n)
+        for n in names
+    ]
     if ctx.executor is None:
         drawn = [write_output(*job) for job in jobs]
     else:
@@ -191,7 +209,7 @@ def link_figures(sections: Sequence[Section], figures: Mapping[str, Sequence[str
     def resolve(ref: str) -> str:
         if not ref.startswith(FIGURE_REF):
             return ref
-        name = ref[len(FIGURE_REF):]
+        name = ref[len(FIGURE_REF) :]
         if not figures.get(name):
             raise PlotError(f"no figure was drawn for {name!r}, which the report refers to")
         return figures[name][0]
@@ -223,12 +241,18 @@ def run_info(settings: Settings, command: str | None = None) -> RunInfo:
     """
     from .. import __version__
 
-    date = datetime.now(timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
+    date = datetime.now(UTC).replace(microsecond=0).isoformat().replace("+00:00", "Z")
     return RunInfo(__version__, date, command or PYTHON_COMMAND, settings.run_kind(), settings.changes())
 
 
-def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str], None] = lambda s: None,
-        executor: Executor | None = None, command: str | None = None) -> dict[str, Any]:
+def run(
+    out: str | Path,
+    settings: Settings = Settings(),
+    *,
+    log: Callable[[str], None] = lambda s: None,
+    executor: Executor | None = None,
+    command: str | None = None,
+) -> dict[str, Any]:
     """Run every study, draw the figures, write the report.
 
     Parameters
@@ -271,10 +295,25 @@ def run(out: str | Path, settings: Settings = Settings(), *, log: Callable[[str]
             executor.shutdown(wait=True)
     link_figures(sections, figures)
     sections.insert(0, settings_section(settings, t_compute))
-    paths = write_report(out, TITLE, INTRO, sections,
-                         meta={"settings": asdict(settings), "compute_s": t_compute,
-                               "total_s": time.perf_counter() - t0, "datasets": ctx.datasets, "figures": figures},
-                         labels=ctx.labels, run=info)
+    paths = write_report(
+        out,
+        TITLE,
+        INTRO,
+        sections,
+        meta={
+            "settings": asdict(settings),
+            "compute_s": t_compute,
+            "total_s": time.perf_counter() - t0,
+            "datasets": ctx.datasets,
+            "figures": figures,
+        },
+        labels=ctx.labels,
+        run=info,
+    )
     claims = [c for s in sections for c in s.claims]
-    return {"paths": {k: str(v) for k, v in paths.items()}, "claims": claims, "run": info,
-            "seconds": time.perf_counter() - t0}
+    return {
+        "paths": {k: str(v) for k, v in paths.items()},
+        "claims": claims,
+        "run": info,
+        "seconds": time.perf_counter() - t0,
+    }

@@ -7,10 +7,11 @@ Settings the paper leaves unstated are chosen here, once, with the reason writte
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -62,7 +63,11 @@ def _setting_value(name: str, value: Any) -> str:
     """A setting's value in a few words: a number, an interval, a grid by its size and ends, a set of responses."""
     if name.endswith(("_grid", "_omegas")):
         pts = ", ".join(f"{v:g}" for v in value)
-        return f"{len(value)} points over [{min(value):g}, {max(value):g}]" if len(value) > 3 else f"{len(value)} points ({pts})"
+        return (
+            f"{len(value)} points over [{min(value):g}, {max(value):g}]"
+            if len(value) > 3
+            else f"{len(value)} points ({pts})"
+        )
     if name.endswith("_set"):
         return f"{len(value)} responses"
     if isinstance(value, tuple):
@@ -122,8 +127,9 @@ class Settings:
     transient: int = 300
     periods: int = 200
     settle: int = 400
-    xi0_grid: tuple[float, ...] = tuple(np.round(np.concatenate([np.arange(0.02, 0.2, 0.004),
-                                                                 np.arange(0.2, 0.951, 0.05)]), 4))
+    xi0_grid: tuple[float, ...] = tuple(
+        np.round(np.concatenate([np.arange(0.02, 0.2, 0.004), np.arange(0.2, 0.951, 0.05)]), 4)
+    )
     xi1_grid: tuple[float, ...] = tuple(np.round(np.arange(0.0, 0.1501, 0.005), 4))
     d_grid: tuple[float, ...] = tuple(np.round(np.arange(0.05, 1.0001, 0.025), 4))
     readings_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.5, 1.6001, 0.01), 2))
@@ -139,8 +145,12 @@ class Settings:
     response_periods: int = 100
     xi0_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.25), (0.1, 0.05, 0.25), (0.15, 0.05, 0.25))
     xi1_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.03, 0.25), (0.08, 0.05, 0.25), (0.08, 0.08, 0.25))
-    d_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.1), (0.08, 0.05, 0.25), (0.08, 0.05, 0.35),
-                                                     (0.08, 0.05, 0.75))
+    d_set: tuple[tuple[float, float, float], ...] = (
+        (0.08, 0.05, 0.1),
+        (0.08, 0.05, 0.25),
+        (0.08, 0.05, 0.35),
+        (0.08, 0.05, 0.75),
+    )
     alt_set: tuple[tuple[float, float, float], ...] = ()
     stability_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.4, 2.41, 0.1), 3))
     continuation_omega: tuple[float, float] = (0.5, 0.7)
@@ -160,15 +170,30 @@ class Settings:
         return IntegrationOptions(transient=self.response_transient, periods=self.response_periods)
 
     @classmethod
-    def quick(cls) -> "Settings":
+    def quick(cls) -> Settings:
         """A reduced run (coarse grids, short runs) that exercises every study end to end."""
         return cls(
-            transient=60, periods=40, settle=60,
-            xi0_grid=(0.03, 0.07, 0.09, 0.15, 0.5), xi1_grid=(0.0, 0.02, 0.06), d_grid=(0.1, 0.35, 0.75),
-            readings_omegas=(0.9, 1.0, 1.3), readings_transient=30, readings_periods=16, readings_settle=20,
-            readings_response_transient=20, readings_response_periods=16, confirm_periods=200, workers=1,
-            response_num=12, response_transient=40, response_periods=30, stability_omegas=(0.8, 1.6),
-            continuation_omega=(0.61, 0.63), continuation_sweep_num=11, continuation_sweep_periods=16,
+            transient=60,
+            periods=40,
+            settle=60,
+            xi0_grid=(0.03, 0.07, 0.09, 0.15, 0.5),
+            xi1_grid=(0.0, 0.02, 0.06),
+            d_grid=(0.1, 0.35, 0.75),
+            readings_omegas=(0.9, 1.0, 1.3),
+            readings_transient=30,
+            readings_periods=16,
+            readings_settle=20,
+            readings_response_transient=20,
+            readings_response_periods=16,
+            confirm_periods=200,
+            workers=1,
+            response_num=12,
+            response_transient=40,
+            response_periods=30,
+            stability_omegas=(0.8, 1.6),
+            continuation_omega=(0.61, 0.63),
+            continuation_sweep_num=11,
+            continuation_sweep_periods=16,
         )
 
     def changes(self) -> list[str]:
@@ -182,8 +207,11 @@ class Settings:
         list of str
         """
         full = Settings()
-        return [f"{text}: {_setting_value(k, getattr(self, k))} (full run: {_setting_value(k, getattr(full, k))})"
-                for k, text in SETTING_TEXT.items() if getattr(self, k) != getattr(full, k)]
+        return [
+            f"{text}: {_setting_value(k, getattr(self, k))} (full run: {_setting_value(k, getattr(full, k))})"
+            for k, text in SETTING_TEXT.items()
+            if getattr(self, k) != getattr(full, k)
+        ]
 
     def run_kind(self) -> str:
         """:data:`RUN_FULL` (the settings of the full reproduction), :data:`RUN_QUICK` (those of
@@ -232,9 +260,15 @@ def model_text(model: GearModel, *, skip: Sequence[str] = (), only: Sequence[str
     -------
     str
     """
-    values = {"omega": model.omega, "xi0": model.xi0, "xi1": model.xi[0] if model.xi else 0.0, "D": model.D,
-              "fp": model.fp, "kappa1": model.kappa[0] if model.kappa else 0.0,
-              "eps1": model.eps[0] if model.eps else 0.0}
+    values = {
+        "omega": model.omega,
+        "xi0": model.xi0,
+        "xi1": model.xi[0] if model.xi else 0.0,
+        "D": model.D,
+        "fp": model.fp,
+        "kappa1": model.kappa[0] if model.kappa else 0.0,
+        "eps1": model.eps[0] if model.eps else 0.0,
+    }
     names = ("omega", "xi0", "xi1", "D") if only is None else tuple(only)
     return ", ".join(f"{sym} = {values[k]:g}" for k, sym in _SYMBOLS if k in names and k not in skip)
 
@@ -355,5 +389,12 @@ class Context:
         xarray.Dataset
         """
         s = self.settings
-        return bifurcation(model, param, values, options=kw.pop("options", s.options), settle_periods=s.settle,
-                           executor=self.executor, **kw)
+        return bifurcation(
+            model,
+            param,
+            values,
+            options=kw.pop("options", s.options),
+            settle_periods=s.settle,
+            executor=self.executor,
+            **kw,
+        )

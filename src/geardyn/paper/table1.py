@@ -8,8 +8,8 @@ gear pair is the packaged configuration :data:`geardyn.config.PAPER_CONFIG`.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from types import MappingProxyType
-from typing import Mapping
 
 from ..model import PAPER_DEFAULTS, GearModel
 
@@ -19,10 +19,16 @@ __all__ = ["TABLE1", "TABLE1_MODEL", "table1_config"]
 TABLE1_MODEL: GearModel = PAPER_DEFAULTS
 
 #: The Table 1 mesh values by the report's names (read from :data:`TABLE1_MODEL`).
-TABLE1: Mapping[str, float] = MappingProxyType({
-    "xi0": TABLE1_MODEL.xi0, "xi1": TABLE1_MODEL.xi[0], "kappa1": TABLE1_MODEL.kappa[0],
-    "fp": TABLE1_MODEL.fp, "eps1": TABLE1_MODEL.eps[0], "D": TABLE1_MODEL.D,
-})
+TABLE1: Mapping[str, float] = MappingProxyType(
+    {
+        "xi0": TABLE1_MODEL.xi0,
+        "xi1": TABLE1_MODEL.xi[0],
+        "kappa1": TABLE1_MODEL.kappa[0],
+        "fp": TABLE1_MODEL.fp,
+        "eps1": TABLE1_MODEL.eps[0],
+        "D": TABLE1_MODEL.D,
+    }
+)
 
 
 def table1_config():

@@ -22,7 +22,7 @@ every study.
 from __future__ import annotations
 
 import re
-from typing import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 import xarray as xr
@@ -188,8 +188,9 @@ def of_claims(verdicts: Sequence[str]) -> str:
     return "reproduced" if verdicts and all(v == "reproduced" for v in verdicts) else "contradicted"
 
 
-def length_fraction(x: Sequence[float], ok: Sequence[bool], lo: float, hi: float, *, lo_open: bool = False,
-                    hi_open: bool = False) -> tuple[float, float]:
+def length_fraction(
+    x: Sequence[float], ok: Sequence[bool], lo: float, hi: float, *, lo_open: bool = False, hi_open: bool = False
+) -> tuple[float, float]:
     """Fraction of the length of [lo, hi] (within the grid's reach) where a claim holds.
 
     Each grid point stands for the interval between the midpoints to its neighbours (the first and
@@ -281,8 +282,9 @@ def fluctuation_trend(values: Sequence[float], decreasing: bool) -> tuple[bool, 
         return False, f"no fluctuation at these settings (largest {float(v.max()):.1e} < {FLUCT_MIN:g})"
     d = np.diff(v)
     ok = bool(np.all(d < 0) if decreasing else np.all(d > 0))
-    return ok, ("strictly " + ("decreasing" if decreasing else "increasing")) if ok else \
-        ("not strictly " + ("decreasing" if decreasing else "increasing"))
+    return ok, ("strictly " + ("decreasing" if decreasing else "increasing")) if ok else (
+        "not strictly " + ("decreasing" if decreasing else "increasing")
+    )
 
 
 def jump_type_at(jumps: Sequence[Mapping[str, object]], omega: float, tol: float) -> str:
@@ -303,8 +305,11 @@ def jump_type_at(jumps: Sequence[Mapping[str, object]], omega: float, tol: float
         ``"upward"`` or ``"downward"``; ``"none"`` when no jump lies within ``tol``; ``"both"``
         when jumps of both directions are equally near (neither direction is then shown).
     """
-    near = [(abs(float(j["omega"]) - omega), str(j["direction"])) for j in jumps  # type: ignore[arg-type]
-            if abs(float(j["omega"]) - omega) <= tol + 1e-12]  # type: ignore[arg-type]
+    near = [
+        (abs(float(j["omega"]) - omega), str(j["direction"]))
+        for j in jumps  # type: ignore[arg-type]
+        if abs(float(j["omega"]) - omega) <= tol + 1e-12
+    ]  # type: ignore[arg-type]
     if not near:
         return "none"
     dmin = min(d for d, _ in near)
@@ -472,8 +477,12 @@ def range_of(numbers: Mapping[str, object]) -> tuple[float, float, bool, bool]:
     -------
     tuple
     """
-    return (float(numbers.get("lo", -np.inf)), float(numbers.get("hi", np.inf)),  # type: ignore[arg-type]
-            bool(numbers.get("lo_open", False)), bool(numbers.get("hi_open", False)))
+    return (
+        float(numbers.get("lo", -np.inf)),
+        float(numbers.get("hi", np.inf)),  # type: ignore[arg-type]
+        bool(numbers.get("lo_open", False)),
+        bool(numbers.get("hi_open", False)),
+    )
 
 
 def motion_fields(ds: xr.Dataset, sweep: str | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -494,8 +503,9 @@ def motion_fields(ds: xr.Dataset, sweep: str | None = None) -> tuple[np.ndarray,
     return s["motion"].values.astype(int), s["period"].values.astype(int), s["loops"].values.astype(int)
 
 
-def match_fraction(ds: xr.Dataset, param: str, lo: float, hi: float, pred: MotionTest,
-                   *, lo_open: bool = False, hi_open: bool = False) -> tuple[float, int]:
+def match_fraction(
+    ds: xr.Dataset, param: str, lo: float, hi: float, pred: MotionTest, *, lo_open: bool = False, hi_open: bool = False
+) -> tuple[float, int]:
     """Fraction, by length (:func:`length_fraction`), of [lo, hi] where the motion satisfies ``pred``.
 
     Parameters

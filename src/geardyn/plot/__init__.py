@@ -13,8 +13,18 @@ from ..errors import PlotError
 from .common import PlotArtists
 from .registry import FIGURES, PHYSICAL_FIGURES, FigureSpec, draw, figures_for, register, save_figures
 
-__all__ = ["FIGURES", "PHYSICAL_FIGURES", "FigureSpec", "PlotArtists", "PlotError", "PlotUnavailable", "draw",
-           "figures_for", "register", "save_figures"]
+__all__ = [
+    "FIGURES",
+    "PHYSICAL_FIGURES",
+    "FigureSpec",
+    "PlotArtists",
+    "PlotError",
+    "PlotUnavailable",
+    "draw",
+    "figures_for",
+    "register",
+    "save_figures",
+]
 
 #: Former name of :class:`geardyn.errors.PlotError` (a Dataset geardyn cannot draw).
 PlotUnavailable = PlotError

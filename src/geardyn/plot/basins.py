@@ -3,15 +3,13 @@ attractors' Poincaré points on top.  Drawn from the Dataset only."""
 
 from __future__ import annotations
 
-
 import numpy as np
 import xarray as xr
+from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from ..analysis.classify import motion_label
-from matplotlib.axes import Axes
-
 from .common import label, plot_function, set_title, speed_text
 
 __all__ = ["BASIN_COLORS", "POINT_COLORS", "basin_figure"]
@@ -28,8 +26,15 @@ def basin_figure(ds: xr.Dataset, ax: Axes = None) -> None:
     lab = ds["attractor"].values
     A = ds.sizes["attractor_index"]
     colors = ["#000000"] + [BASIN_COLORS[k % len(BASIN_COLORS)] for k in range(A)]
-    ax.pcolormesh(ds["u0"].values, ds["v0"].values, lab + 1, cmap=ListedColormap(colors), vmin=-0.5,
-                  vmax=A + 0.5, shading="nearest")
+    ax.pcolormesh(
+        ds["u0"].values,
+        ds["v0"].values,
+        lab + 1,
+        cmap=ListedColormap(colors),
+        vmin=-0.5,
+        vmax=A + 0.5,
+        shading="nearest",
+    )
     handles = []
     for k in range(A):
         u = ds["attractor_u"].values[k]
@@ -40,8 +45,12 @@ def basin_figure(ds: xr.Dataset, ax: Axes = None) -> None:
         name = motion_label(int(ds["attractor_motion"].values[k]), per)
         frac = float(ds["attractor_fraction"].values[k])
         amp = float(ds["attractor_amplitude"].values[k])
-        handles.append(Patch(color=BASIN_COLORS[k % len(BASIN_COLORS)],
-                             label=f"{k}: {name}, amplitude {amp:.3g}, basin {100 * frac:.1f} %"))
+        handles.append(
+            Patch(
+                color=BASIN_COLORS[k % len(BASIN_COLORS)],
+                label=f"{k}: {name}, amplitude {amp:.3g}, basin {100 * frac:.1f} %",
+            )
+        )
     if np.any(lab < 0):
         handles.append(Patch(color="#000000", label=f"diverged {100 * np.mean(lab < 0):.1f} %"))
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=8, frameon=False)

@@ -13,8 +13,7 @@ from matplotlib.patches import Patch
 from ..analysis.classify import IMPACT_LABELS, MOTION_LABELS
 from .common import contact_lines, label, of_mesh, plot_function, rpm_axis, set_title, symbol
 
-__all__ = ["IMPACT_COLORS", "MOTION_COLORS", "POINT_SIZE", "SWEEP_COLORS", "category_band", "diagram",
-           "diagram_panels"]
+__all__ = ["IMPACT_COLORS", "MOTION_COLORS", "POINT_SIZE", "SWEEP_COLORS", "category_band", "diagram", "diagram_panels"]
 
 #: Colours of the motion classes (codes of :data:`geardyn.analysis.classify.MOTION_LABELS`).
 MOTION_COLORS = {-1: "#000000", 0: "#bdbdbd", 1: "#4c9be8", 2: "#3cb371", 3: "#e8554c"}
@@ -63,8 +62,17 @@ def category_band(ax, x: np.ndarray, codes: np.ndarray, colors: dict[int, str], 
     ax.set_ylabel(title, rotation=0, ha="right", va="center", fontsize=8)
     present = sorted({int(c) for c in codes})
     handles = [Patch(color=colors[k], label=names[k]) for k in present if k in colors]
-    leg = ax.legend(handles=handles, loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=7, frameon=False,
-                    ncol=max(len(handles), 1), handlelength=1.0, columnspacing=0.8, borderpad=0.0)
+    leg = ax.legend(
+        handles=handles,
+        loc="center left",
+        bbox_to_anchor=(1.01, 0.5),
+        fontsize=7,
+        frameon=False,
+        ncol=max(len(handles), 1),
+        handlelength=1.0,
+        columnspacing=0.8,
+        borderpad=0.0,
+    )
     return [mesh, leg]
 
 
@@ -97,11 +105,16 @@ def _diagram_layout(ds: xr.Dataset) -> dict:
     return {"sharex": True, "gridspec_kw": {"height_ratios": ratios, "hspace": 0.08}}
 
 
-@plot_function("bifurcation`` or ``response", _diagram_size, n=diagram_panels, subplots=_diagram_layout,
-               ax_doc="""
+@plot_function(
+    "bifurcation`` or ``response",
+    _diagram_size,
+    n=diagram_panels,
+    subplots=_diagram_layout,
+    ax_doc="""
                ax : matplotlib.axes.Axes or sequence of Axes, optional
                    One Axes: the Poincaré points only; :func:`diagram_panels` Axes: every panel (points, λ1
-                   when computed, motion and impact bands of each sweep); omitted: a new figure.""")
+                   when computed, motion and impact bands of each sweep); omitted: a new figure.""",
+)
 def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     """The bifurcation figure of a ``bifurcation`` (or ``response``) Dataset, with the contact boundaries
     u = ±D (following D when D is the swept parameter)."""
@@ -114,16 +127,21 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
         pu = ds["poincare_u"].sel(sweep=s).values
         xx = np.broadcast_to(x[:, None], pu.shape)
         ax.plot(xx.ravel(), pu.ravel(), ",", color=SWEEP_COLORS.get(s, "k"), alpha=0.8)
-        ax.scatter(xx.ravel(), pu.ravel(), s=POINT_SIZE, color=SWEEP_COLORS.get(s, "k"), lw=0,
-                   label=f"sweep {s}" if len(sweeps) > 1 or s != "fixed" else "Poincaré points")
+        ax.scatter(
+            xx.ravel(),
+            pu.ravel(),
+            s=POINT_SIZE,
+            color=SWEEP_COLORS.get(s, "k"),
+            lw=0,
+            label=f"sweep {s}" if len(sweeps) > 1 or s != "fixed" else "Poincaré points",
+        )
     lines = contact_lines(ax, ds, name, x, lw=0.7, ls="--")
     if lines:
         lines[0].set_label(of_mesh("contact u = ±D", ds))
     ax.set_ylabel(of_mesh("Poincaré section u (θ ≡ 0)", ds))
     ax.legend(loc="best", fontsize=8, markerscale=8)  # where it covers the fewest Poincaré points
     mode = ds.attrs.get("mode", "")
-    set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds,
-              exclude=[name])
+    set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds, exclude=[name])
     rpm_axis(ax, ds, name)
     k = 1
     if _has_lle(ds):
@@ -141,9 +159,21 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
         k = 2
     for s in sweeps:
         if axes[k] is not None:
-            category_band(axes[k], x, ds["motion"].sel(sweep=s).values, MOTION_COLORS, MOTION_LABELS,
-                          f"motion ({s})" if len(sweeps) > 1 else "motion")
-            category_band(axes[k + 1], x, ds["impact"].sel(sweep=s).values, IMPACT_COLORS, IMPACT_LABELS,
-                          f"impact ({s})" if len(sweeps) > 1 else "impact")
+            category_band(
+                axes[k],
+                x,
+                ds["motion"].sel(sweep=s).values,
+                MOTION_COLORS,
+                MOTION_LABELS,
+                f"motion ({s})" if len(sweeps) > 1 else "motion",
+            )
+            category_band(
+                axes[k + 1],
+                x,
+                ds["impact"].sel(sweep=s).values,
+                IMPACT_COLORS,
+                IMPACT_LABELS,
+                f"impact ({s})" if len(sweeps) > 1 else "impact",
+            )
         k += 2
     [a for a in axes if a is not None][-1].set_xlabel(label(ds[name], name))

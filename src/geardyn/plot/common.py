@@ -9,17 +9,17 @@ machine without switching the backend (no ``matplotlib.use`` anywhere in geardyn
 
 from __future__ import annotations
 
-import math
-
 import functools
 import inspect
 import io as _io
 import json
+import math
 import sys
 import textwrap
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -33,9 +33,29 @@ from ..errors import GeardynError, PlotError
 from ..params import FAMILIES, LISTING_ORDER, canonical_param, slot
 from .mesh_names import MESH_VARIABLES, mesh_labels, of_mesh, reference_mesh, system_info
 
-__all__ = ["DPI", "IMAGE_CELLS", "MESH_VARIABLES", "NAN_COLOR", "PlotArtists", "cells", "contact_lines", "label",
-           "log_stems", "mesh_labels", "model_of", "new_figure", "of_mesh", "panels", "parameter_text", "place_labels",
-           "plot_function", "reference_mesh", "save", "set_title", "symbol"]
+__all__ = [
+    "DPI",
+    "IMAGE_CELLS",
+    "MESH_VARIABLES",
+    "NAN_COLOR",
+    "PlotArtists",
+    "cells",
+    "contact_lines",
+    "label",
+    "log_stems",
+    "mesh_labels",
+    "model_of",
+    "new_figure",
+    "of_mesh",
+    "panels",
+    "parameter_text",
+    "place_labels",
+    "plot_function",
+    "reference_mesh",
+    "save",
+    "set_title",
+    "symbol",
+]
 
 #: Resolution of saved PNG figures.
 DPI = 120
@@ -298,8 +318,17 @@ def parameter_text(ds: xr.Dataset, exclude: Iterable[str] = ()) -> str:
     return ", ".join(parts)
 
 
-def cells(ax: Axes, x: np.ndarray, y: np.ndarray, z: np.ndarray, *, cmap: Any = None, norm: Any = None,
-          vmin: float | None = None, vmax: float | None = None) -> Any:
+def cells(
+    ax: Axes,
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    *,
+    cmap: Any = None,
+    norm: Any = None,
+    vmin: float | None = None,
+    vmax: float | None = None,
+) -> Any:
     """Draw ``z[j, i]`` as cells centred on ``(x[i], y[j])`` (``pcolormesh(..., shading="nearest")``).
 
     A grid of at least :data:`IMAGE_CELLS` cells on evenly spaced axes is drawn as an image of the same
@@ -329,13 +358,20 @@ def cells(ax: Axes, x: np.ndarray, y: np.ndarray, z: np.ndarray, *, cmap: Any = 
 
     if z.size >= IMAGE_CELLS and even(x) and even(y):
         dx, dy = (x[-1] - x[0]) / (x.size - 1), (y[-1] - y[0]) / (y.size - 1)
-        return ax.imshow(z, origin="lower", aspect="auto", interpolation="nearest",
-                         extent=(x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2), **kw)
+        return ax.imshow(
+            z,
+            origin="lower",
+            aspect="auto",
+            interpolation="nearest",
+            extent=(x[0] - dx / 2, x[-1] + dx / 2, y[0] - dy / 2, y[-1] + dy / 2),
+            **kw,
+        )
     return ax.pcolormesh(x, y, z, shading="nearest", **kw)
 
 
-def set_title(ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), *,
-              fontsize: float | str | None = None) -> Any:
+def set_title(
+    ax: Axes, text: str, ds: xr.Dataset, exclude: Iterable[str] = (), *, fontsize: float | str | None = None
+) -> Any:
     """Title ``text`` with the result's parameters (:func:`parameter_text`) on a second line.
 
     Parameters
@@ -422,8 +458,16 @@ def speed_text(ds: xr.Dataset) -> str:
 
 
 # ------------------------------------------------------------------------------------ drawing
-def contact_lines(ax: Axes, ds: xr.Dataset, param: str | None = None, x: np.ndarray | None = None, *,
-                  color: str = "0.6", lw: float = 0.8, ls: str | None = None) -> list[Artist]:
+def contact_lines(
+    ax: Axes,
+    ds: xr.Dataset,
+    param: str | None = None,
+    x: np.ndarray | None = None,
+    *,
+    color: str = "0.6",
+    lw: float = 0.8,
+    ls: str | None = None,
+) -> list[Artist]:
     """The contact boundaries u = ±D of a figure over ``x``: horizontal lines at the model's D, or, when the
     swept parameter ``param`` is D itself, the lines u = ±D following the plotted D (nothing where D = 0).
 
@@ -501,8 +545,13 @@ def _renderer(fig: Figure) -> Any:
     return get() if get is not None else fig._get_renderer()
 
 
-def place_labels(ax: Axes, labels: Sequence[tuple[float, float, str, str]], avoid: Sequence[Artist] = (), *,
-                 fontsize: float | str = 7) -> list[Artist]:
+def place_labels(
+    ax: Axes,
+    labels: Sequence[tuple[float, float, str, str]],
+    avoid: Sequence[Artist] = (),
+    *,
+    fontsize: float | str = 7,
+) -> list[Artist]:
     """Labels beside anchor points, each at the first of :data:`LABEL_OFFSETS` where its box overlaps
     neither an earlier label nor an artist of ``avoid`` (arrows, say).
 
@@ -528,8 +577,16 @@ def place_labels(ax: Axes, labels: Sequence[tuple[float, float, str, str]], avoi
     out = []
     for x, y, s, colour in labels:
         for dx, dy in LABEL_OFFSETS:
-            t = ax.annotate(s, (x, y), xytext=(dx, dy), textcoords="offset points", color=colour,
-                            ha="left" if dx > 0 else "right", va="center", fontsize=fontsize)
+            t = ax.annotate(
+                s,
+                (x, y),
+                xytext=(dx, dy),
+                textcoords="offset points",
+                color=colour,
+                ha="left" if dx > 0 else "right",
+                va="center",
+                fontsize=fontsize,
+            )
             box = t.get_window_extent(renderer)
             if not any(box.overlaps(b) for b in taken) or (dx, dy) == LABEL_OFFSETS[-1]:
                 break
@@ -549,8 +606,16 @@ def _doc(text: str) -> str:
     return textwrap.dedent(text).strip("\n")
 
 
-def plot_function(kind: str, figsize: Any, *, n: Any = 1, subplots: Any = None, ax_doc: str = ONE_AXES,
-                  params: str = "", tight: bool = False) -> Callable[[Callable[..., Any]], Callable[..., PlotArtists]]:
+def plot_function(
+    kind: str,
+    figsize: Any,
+    *,
+    n: Any = 1,
+    subplots: Any = None,
+    ax_doc: str = ONE_AXES,
+    params: str = "",
+    tight: bool = False,
+) -> Callable[[Callable[..., Any]], Callable[..., PlotArtists]]:
     """Make ``fn(ds, ..., ax)`` drawing into given Axes a plot function ``fn(ds, ..., ax=None) -> PlotArtists``.
 
     The wrapper finds or creates the Axes (:func:`panels`), records what ``fn`` adds and completes the
@@ -579,6 +644,7 @@ def plot_function(kind: str, figsize: Any, *, n: Any = 1, subplots: Any = None, 
     callable
         The decorator.
     """
+
     def wrap(fn: Callable[..., Any]) -> Callable[..., PlotArtists]:
         sig = inspect.signature(fn)
 
@@ -590,8 +656,9 @@ def plot_function(kind: str, figsize: Any, *, n: Any = 1, subplots: Any = None, 
             bound.arguments[first] = ds = mesh_labels(ds)  # a system's labels name its reference mesh
             count = n(ds) if callable(n) else n
             size = figsize(ds) if callable(figsize) else figsize
-            fig, axes, new = panels(bound.arguments["ax"], count, size,
-                                    **((subplots(ds) if callable(subplots) else subplots) or {}))
+            fig, axes, new = panels(
+                bound.arguments["ax"], count, size, **((subplots(ds) if callable(subplots) else subplots) or {})
+            )
             before = snapshot(axes)
             bound.arguments["ax"] = axes[0] if count == 1 else axes
             fn(*bound.args, **bound.kwargs)

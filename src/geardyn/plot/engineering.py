@@ -51,13 +51,28 @@ def kv_overlay(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     rpm = np.asarray(b["rpm"], dtype=float)
     n_e1 = b["resonance_speed_rpm"]
     bounds = b["sector_bounds_rpm"]
-    ax.axvspan(bounds["subcritical_end"], bounds["main_resonance_end"], color="0.85", zorder=0,
-               label="ISO main resonance sector (0.75 < N ≤ 1.25)")
-    ax.axvspan(bounds["main_resonance_end"], bounds["supercritical_start"], color="0.93", zorder=0,
-               label="ISO intermediate sector (1.25 < N < 1.5)")
+    ax.axvspan(
+        bounds["subcritical_end"],
+        bounds["main_resonance_end"],
+        color="0.85",
+        zorder=0,
+        label="ISO main resonance sector (0.75 < N ≤ 1.25)",
+    )
+    ax.axvspan(
+        bounds["main_resonance_end"],
+        bounds["supercritical_start"],
+        color="0.93",
+        zorder=0,
+        label="ISO intermediate sector (1.25 < N < 1.5)",
+    )
     ax.axvline(n_e1, color="0.4", ls=":", lw=1.0, label=f"ISO resonance n_E1 = {n_e1:.0f} rpm")
-    ax.axvline(b["model_resonance_rpm"], color="C2", ls="--", lw=1.0,
-               label=f"model resonance ω = 1 at {b['model_resonance_rpm']:.0f} rpm")
+    ax.axvline(
+        b["model_resonance_rpm"],
+        color="C2",
+        ls="--",
+        lw=1.0,
+        label=f"model resonance ω = 1 at {b['model_resonance_rpm']:.0f} rpm",
+    )
     kv = np.array([np.nan if v is None else v for v in b["K_v"]], dtype=float)
     ax.plot(rpm, kv, "k-", lw=2.0, label="ISO K_v (Method B)")
     for lab, vals in b["simulated"].items():

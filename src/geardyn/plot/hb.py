@@ -21,8 +21,12 @@ SHOOTING_CONTEXT = "shooting"
 HB_STYLE = dict(color="C0")
 SHOOTING_STYLE = dict(color="0.55", lw=3.5, alpha=0.45)
 #: Marker of each bifurcation type.
-EVENT_MARKERS = {"fold": ("o", "C3"), "period-doubling": ("s", "C2"), "neimark-sacker": ("D", "C4"),
-                 "grazing": ("^", "0.3")}
+EVENT_MARKERS = {
+    "fold": ("o", "C3"),
+    "period-doubling": ("s", "C2"),
+    "neimark-sacker": ("D", "C4"),
+    "grazing": ("^", "0.3"),
+}
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int, bool]]:
@@ -35,8 +39,9 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int, bool]]:
     return out
 
 
-def _branch(ax, x: np.ndarray, ys: list[np.ndarray], stable: np.ndarray, name: str, style: dict,
-            seen: set[str]) -> None:
+def _branch(
+    ax, x: np.ndarray, ys: list[np.ndarray], stable: np.ndarray, name: str, style: dict, seen: set[str]
+) -> None:
     """One branch: stable runs solid, unstable dashed (runs overlap by one point so the line is unbroken)."""
     for i0, i1, st in _runs(stable):
         j1 = min(i1 + 1, x.size - 1)
@@ -44,8 +49,14 @@ def _branch(ax, x: np.ndarray, ys: list[np.ndarray], stable: np.ndarray, name: s
         for y in ys:
             kw = dict(style)
             kw.setdefault("lw", 1.7 if st else 1.2)
-            ax.plot(x[i0:j1 + 1], y[i0:j1 + 1], ls="-" if st else "--", label=None if lab in seen else lab,
-                    zorder=3 if name.startswith("HB") else 2, **kw)
+            ax.plot(
+                x[i0 : j1 + 1],
+                y[i0 : j1 + 1],
+                ls="-" if st else "--",
+                label=None if lab in seen else lab,
+                zorder=3 if name.startswith("HB") else 2,
+                **kw,
+            )
             seen.add(lab)
 
 
@@ -54,8 +65,18 @@ def _events(ax, bifs: list[dict], param: str, what: str, seen: set[str]) -> None
         mk, c = EVENT_MARKERS.get(b["type"], ("P", "k"))
         ys = [0.5 * (b["u_max"] - b["u_min"])] if what == "amplitude" else [b["u_min"], b["u_max"]]
         for y in ys:
-            ax.plot([b[param]], [y], ls="none", marker=mk, color=c, mfc="white", mew=1.8, ms=7, zorder=5,
-                    label=None if b["type"] in seen else b["type"])
+            ax.plot(
+                [b[param]],
+                [y],
+                ls="none",
+                marker=mk,
+                color=c,
+                mfc="white",
+                mew=1.8,
+                ms=7,
+                zorder=5,
+                label=None if b["type"] in seen else b["type"],
+            )
             seen.add(b["type"])
 
 
@@ -69,8 +90,12 @@ def _shooting_curves(shooting: xr.Dataset, ds: xr.Dataset, param: str) -> dict[s
     ref = json.loads(ds.attrs.get("summary", "{}")).get("reference_mesh")
     names = [str(v) for v in shooting["element"].values]
     e = names.index(ref) if ref in names else 0
-    return {"x": shooting["value"].values, **{k: shooting[k].values for k in keys},
-            "u_min": shooting["element_u_min"].values[:, e], "u_max": shooting["element_u_max"].values[:, e]}
+    return {
+        "x": shooting["value"].values,
+        **{k: shooting[k].values for k in keys},
+        "u_min": shooting["element_u_min"].values[:, e],
+        "u_max": shooting["element_u_max"].values[:, e],
+    }
 
 
 def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None) -> PlotArtists:
@@ -121,8 +146,16 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
         _branch(a, x, ys, stable, f"HB (H = {H})", HB_STYLE, seen)
         if np.any(~ok):
             for y in ys:
-                a.plot(x[~ok], y[~ok], ls="none", marker="x", color="C1", ms=4, zorder=4,
-                       label=None if "unresolved" in seen else "stability unresolved")
+                a.plot(
+                    x[~ok],
+                    y[~ok],
+                    ls="none",
+                    marker="x",
+                    color="C1",
+                    ms=4,
+                    zorder=4,
+                    label=None if "unresolved" in seen else "stability unresolved",
+                )
                 seen.add("unresolved")
         _events(a, bifs, param, what, seen)
         a.grid(alpha=0.3)

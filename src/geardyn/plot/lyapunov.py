@@ -13,9 +13,15 @@ from .common import model_of, plot_function, set_title
 __all__ = ["convergence"]
 
 
-@plot_function("lyapunov", (8, 5.5), n=2, subplots={"sharex": True}, ax_doc="""
+@plot_function(
+    "lyapunov",
+    (8, 5.5),
+    n=2,
+    subplots={"sharex": True},
+    ax_doc="""
                ax : matplotlib.axes.Axes or sequence of two Axes, optional
-                   One Axes: λ1 only; two: λ1 and λ2; omitted: a new figure.""")
+                   One Axes: λ1 only; two: λ1 and λ2; omitted: a new figure.""",
+)
 def convergence(ds: xr.Dataset, ax: Any = None) -> None:
     """Running λ1, λ2 estimates with the final values ±3σ; the dashed line is −2ξ0 − λ1 for comparison with λ2."""
     axes = ax
@@ -38,5 +44,8 @@ def convergence(ds: xr.Dataset, ax: Any = None) -> None:
         axes[1].axhline(-2 * m["xi0"] - lam[0], color="C3", lw=0.7, ls="--", label="−2ξ0 − λ1")
         axes[1].legend(fontsize=8)
     [a for a in axes if a is not None][-1].set_xlabel("recorded forcing periods")
-    set_title(axes[0], f"Lyapunov exponents: λ1 = {lam[0]:.5g} ± {err[0]:.2g}, λ2 = {lam[1]:.5g} ± {err[1]:.2g}"
-              "  (band: ±3σ)", ds)
+    set_title(
+        axes[0],
+        f"Lyapunov exponents: λ1 = {lam[0]:.5g} ± {err[0]:.2g}, λ2 = {lam[1]:.5g} ± {err[1]:.2g}  (band: ±3σ)",
+        ds,
+    )

@@ -3,9 +3,9 @@
 
 from __future__ import annotations
 
-
 import numpy as np
 import xarray as xr
+from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap, TwoSlopeNorm
 from matplotlib.patches import Patch
 
@@ -20,8 +20,6 @@ from ..analysis.classify import (
     motion_label,
 )
 from .bifurcation import IMPACT_COLORS
-from matplotlib.axes import Axes
-
 from .common import NAN_COLOR, NAN_HATCH, cells, label, plot_function, set_title
 
 __all__ = ["MOTION_CATEGORIES", "continuous_map", "impact_map", "motion_map"]
@@ -30,24 +28,32 @@ __all__ = ["MOTION_CATEGORIES", "continuous_map", "impact_map", "motion_map"]
 SHOWN_PERIODS = 4
 #: Categories of the motion map: (name, colour).  Periodic points are split by period.
 MOTION_CATEGORIES = [
-    (MOTION_LABELS[MOTION_DIVERGED], "#000000"), (MOTION_LABELS[MOTION_UNRESOLVED], "#bdbdbd"),
-    *zip((motion_label(MOTION_PERIODIC, n) for n in range(1, SHOWN_PERIODS + 1)),
-         ("#c6dbef", "#6baed6", "#9e9ac8", "#2171b5")),
+    (MOTION_LABELS[MOTION_DIVERGED], "#000000"),
+    (MOTION_LABELS[MOTION_UNRESOLVED], "#bdbdbd"),
+    *zip(
+        (motion_label(MOTION_PERIODIC, n) for n in range(1, SHOWN_PERIODS + 1)),
+        ("#c6dbef", "#6baed6", "#9e9ac8", "#2171b5"),
+    ),
     (f"period-n (n > {SHOWN_PERIODS})", "#08306b"),
-    (MOTION_LABELS[MOTION_QUASIPERIODIC], "#3cb371"), (MOTION_LABELS[MOTION_CHAOTIC], "#e8554c"),
+    (MOTION_LABELS[MOTION_QUASIPERIODIC], "#3cb371"),
+    (MOTION_LABELS[MOTION_CHAOTIC], "#e8554c"),
 ]
 
 
 def _motion_index(motion: np.ndarray, period: np.ndarray) -> np.ndarray:
     names = [n for n, _ in MOTION_CATEGORIES]
     m, p = motion, period
-    out = np.where(m == MOTION_DIVERGED, names.index(MOTION_LABELS[MOTION_DIVERGED]),
-                   names.index(MOTION_LABELS[MOTION_UNRESOLVED]))
+    out = np.where(
+        m == MOTION_DIVERGED, names.index(MOTION_LABELS[MOTION_DIVERGED]), names.index(MOTION_LABELS[MOTION_UNRESOLVED])
+    )
     out = np.where(m == MOTION_QUASIPERIODIC, names.index(MOTION_LABELS[MOTION_QUASIPERIODIC]), out)
     out = np.where(m == MOTION_CHAOTIC, names.index(MOTION_LABELS[MOTION_CHAOTIC]), out)
     shown = range(1, SHOWN_PERIODS + 1)
-    per = np.select([p == k for k in shown], [names.index(motion_label(MOTION_PERIODIC, k)) for k in shown],
-                    names.index(f"period-n (n > {SHOWN_PERIODS})"))
+    per = np.select(
+        [p == k for k in shown],
+        [names.index(motion_label(MOTION_PERIODIC, k)) for k in shown],
+        names.index(f"period-n (n > {SHOWN_PERIODS})"),
+    )
     return np.where(m == MOTION_PERIODIC, per, out)
 
 
@@ -67,8 +73,13 @@ def _categorical(ds: xr.Dataset, idx: np.ndarray, cats: list, title: str, ax: Ax
     cmap = ListedColormap([c for _, c in cats])
     cells(ax, ds[xn].values, ds[yn].values, idx, cmap=cmap, vmin=-0.5, vmax=len(cats) - 0.5)
     present = sorted(set(np.unique(idx).tolist()))
-    ax.legend(handles=[Patch(color=cats[k][1], label=cats[k][0]) for k in present], loc="center left",
-              bbox_to_anchor=(1.01, 0.5), fontsize=8, frameon=False)
+    ax.legend(
+        handles=[Patch(color=cats[k][1], label=cats[k][0]) for k in present],
+        loc="center left",
+        bbox_to_anchor=(1.01, 0.5),
+        fontsize=8,
+        frameon=False,
+    )
     _labels(ax, ds, title)
 
 
@@ -88,12 +99,16 @@ def impact_map(ds: xr.Dataset, ax: Axes = None) -> None:
     _categorical(ds, idx, cats, "Impact state", ax)
 
 
-@plot_function("map", (7.5, 5.5), params="""
+@plot_function(
+    "map",
+    (7.5, 5.5),
+    params="""
                var : str
                    The variable drawn (``amplitude``, ``lle``, ``rms``, …).""",
-               ax_doc="""
+    ax_doc="""
                ax : matplotlib.axes.Axes, optional
-                   Where to draw; a new figure if omitted (the colour bar is added beside it).""")
+                   Where to draw; a new figure if omitted (the colour bar is added beside it).""",
+)
 def continuous_map(ds: xr.Dataset, var: str = "amplitude", ax: Axes = None) -> None:
     """A continuous variable over the grid (the largest exponent on a scale centred at zero); points
     without a value (NaN) are drawn hatched in :data:`~geardyn.plot.common.NAN_COLOR`, named in a legend."""
@@ -107,10 +122,24 @@ def continuous_map(ds: xr.Dataset, var: str = "amplitude", ax: Axes = None) -> N
         im = cells(ax, x, y, z, cmap="viridis")
     missing = ~np.isfinite(z)
     if missing.any():
-        ax.pcolor(x, y, np.ma.masked_array(np.zeros(z.shape), ~missing), cmap=ListedColormap([NAN_COLOR]),
-                  shading="nearest", hatch=NAN_HATCH, edgecolor="0.35", lw=0, gid="nan")
+        ax.pcolor(
+            x,
+            y,
+            np.ma.masked_array(np.zeros(z.shape), ~missing),
+            cmap=ListedColormap([NAN_COLOR]),
+            shading="nearest",
+            hatch=NAN_HATCH,
+            edgecolor="0.35",
+            lw=0,
+            gid="nan",
+        )
         what = "no exponent" if var == "lle" else "no value"
-        ax.legend(handles=[Patch(facecolor=NAN_COLOR, edgecolor="0.35", hatch=NAN_HATCH, label=f"{what} (NaN)")],
-                  loc="upper left", bbox_to_anchor=(0.0, -0.13), fontsize=8, frameon=False)
+        ax.legend(
+            handles=[Patch(facecolor=NAN_COLOR, edgecolor="0.35", hatch=NAN_HATCH, label=f"{what} (NaN)")],
+            loc="upper left",
+            bbox_to_anchor=(0.0, -0.13),
+            fontsize=8,
+            frameon=False,
+        )
     ax.figure.colorbar(im, ax=ax, label=label(ds[var], var))
     _labels(ax, ds, ds[var].attrs.get("long_name", var))

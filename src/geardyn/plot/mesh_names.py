@@ -39,12 +39,39 @@ def system_info(ds: xr.Dataset) -> dict:
 
 #: Variables of a result that are values of its reference mesh (a system's figures name the mesh in their labels),
 #: with their copies in µm (``<name>_um``).
-MESH_VARIABLES = frozenset({
-    "u", "v", "poincare_u", "poincare_v", "amplitude", "rms", "mean", "u_min", "u_max", "spectrum", "start_u",
-    "start_v", "end_u", "end_v", "bifurcation_u", "bifurcation_v", "bifurcation_amplitude", "attractor_u",
-    "attractor_v", "attractor_amplitude", "dte_um", "mesh_force", "mesh_force_N", "spectrum_um", "omega", "rpm",
-    "mesh_frequency_Hz", "order_amplitude", "dynamic_factor",
-})
+MESH_VARIABLES = frozenset(
+    {
+        "u",
+        "v",
+        "poincare_u",
+        "poincare_v",
+        "amplitude",
+        "rms",
+        "mean",
+        "u_min",
+        "u_max",
+        "spectrum",
+        "start_u",
+        "start_v",
+        "end_u",
+        "end_v",
+        "bifurcation_u",
+        "bifurcation_v",
+        "bifurcation_amplitude",
+        "attractor_u",
+        "attractor_v",
+        "attractor_amplitude",
+        "dte_um",
+        "mesh_force",
+        "mesh_force_N",
+        "spectrum_um",
+        "omega",
+        "rpm",
+        "mesh_frequency_Hz",
+        "order_amplitude",
+        "dynamic_factor",
+    }
+)
 #: The symbol of a reference-mesh quantity in a label, after which the mesh is named ("u of mesh 'bevel'").
 _MESH_SYMBOL = re.compile(r"(?<![\w/'])(u_n|du/dτ|dδ/dτ|u|δ)(?![\w/'])")
 
@@ -90,7 +117,7 @@ def of_mesh(text: str, ds: xr.Dataset) -> str:
     m = _MESH_SYMBOL.search(text)
     if m is None:
         return f"{text} of {named}"
-    return f"{text[:m.end()]} of {named}{text[m.end():]}"
+    return f"{text[: m.end()]} of {named}{text[m.end() :]}"
 
 
 def mesh_labels(ds: xr.Dataset) -> xr.Dataset:

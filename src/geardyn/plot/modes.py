@@ -76,8 +76,15 @@ def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
         x1 = min(hi, top / slope)
         ax.plot([lo, x1], [slope * lo, slope * x1], color=f"C{j}", lw=1.4, zorder=2, label=str(text))
     if ds.sizes.get("crossing", 0):
-        ax.plot(ds["crossing_x"].values, ds["crossing_frequency_Hz"].values, "o", ms=4, color="k", zorder=3,
-                label="crossing")
+        ax.plot(
+            ds["crossing_x"].values,
+            ds["crossing_frequency_Hz"].values,
+            "o",
+            ms=4,
+            color="k",
+            zorder=3,
+            label="crossing",
+        )
     ax.set_xlim(lo, hi)
     ax.set_ylim(0.0, top)
     ax.set_xlabel(ds.attrs.get("campbell_x_label", "pinion speed [rpm]"))
@@ -91,8 +98,18 @@ def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
     for (f, modes), y in zip(groups, placed):
         num = ", ".join(map(str, modes))
         text = f"{'mode' if len(modes) == 1 else 'modes'} {num}: " + (f"{f:.5g} Hz" if f > 0 else "rigid body")
-        ax.annotate(text, xy=(1.0, f), xycoords=("axes fraction", "data"), xytext=(1.03, y),
-                    textcoords="axes fraction", va="center", ha="left", fontsize=7, annotation_clip=False,
-                    arrowprops=dict(arrowstyle="-", lw=0.5, color="0.5", shrinkA=0, shrinkB=1))
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=min(4, ds.sizes["line"] + 1), fontsize=8,
-              frameon=False)
+        ax.annotate(
+            text,
+            xy=(1.0, f),
+            xycoords=("axes fraction", "data"),
+            xytext=(1.03, y),
+            textcoords="axes fraction",
+            va="center",
+            ha="left",
+            fontsize=7,
+            annotation_clip=False,
+            arrowprops=dict(arrowstyle="-", lw=0.5, color="0.5", shrinkA=0, shrinkB=1),
+        )
+    ax.legend(
+        loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=min(4, ds.sizes["line"] + 1), fontsize=8, frameon=False
+    )

@@ -13,8 +13,14 @@ import xarray as xr
 from ..io import attached
 from .common import contact_lines, label, model_of, plot_function, rpm_axis, set_title, symbol
 
-__all__ = ["BIFURCATION_STYLE", "PERIOD_COLOURS", "SWEEP_CONTEXT", "continuation_figure", "orbit_figure",
-           "stability_figure"]
+__all__ = [
+    "BIFURCATION_STYLE",
+    "PERIOD_COLOURS",
+    "SWEEP_CONTEXT",
+    "continuation_figure",
+    "orbit_figure",
+    "stability_figure",
+]
 
 #: Colours of branches by period (period-1, 2, 4, 8, others).
 PERIOD_COLOURS = {1: "C0", 2: "C1", 4: "C2", 8: "C4"}
@@ -38,11 +44,17 @@ def _colour(n: int) -> str:
 
 
 # ------------------------------------------------------------------------------------- orbit
-@plot_function("orbit", (14, 4.2), n=3, tight=True,
-               subplots={"nrows": 1, "ncols": 3, "gridspec_kw": {"width_ratios": [1.2, 1.6, 1.0]}}, ax_doc="""
+@plot_function(
+    "orbit",
+    (14, 4.2),
+    n=3,
+    tight=True,
+    subplots={"nrows": 1, "ncols": 3, "gridspec_kw": {"width_ratios": [1.2, 1.6, 1.0]}},
+    ax_doc="""
                ax : matplotlib.axes.Axes or sequence of three Axes, optional
                    One Axes: the phase portrait only; three: phase portrait, time history, multipliers;
-                   omitted: a new figure.""")
+                   omitted: a new figure.""",
+)
 def orbit_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Phase portrait with the section points, time history over the orbit, and the Floquet
     multipliers against the unit circle."""
@@ -89,8 +101,12 @@ def _multipliers(ax, ds: xr.Dataset, summary: dict) -> None:
     ax.axvline(0, color="0.8", lw=0.6)
     ax.plot(ds["multiplier_re"].values, ds["multiplier_im"].values, "x", color="C3", ms=9, mew=2)
     ax.set_aspect("equal")
-    r = max(1.1, float(np.nanmax(np.hypot(ds["multiplier_re"].values, ds["multiplier_im"].values))) * 1.1
-            if np.any(np.isfinite(ds["multiplier_re"].values)) else 1.1)
+    r = max(
+        1.1,
+        float(np.nanmax(np.hypot(ds["multiplier_re"].values, ds["multiplier_im"].values))) * 1.1
+        if np.any(np.isfinite(ds["multiplier_re"].values))
+        else 1.1,
+    )
     ax.set_xlim(-r, r)
     ax.set_ylim(-r, r)
     ax.set_xlabel("Re μ")
@@ -130,8 +146,15 @@ def _draw_branches(ax, ds: xr.Dataset, param: str, what: str) -> None:
             j1 = min(i1 + 1, len(sel) - 1)
             lab = f"period-{n} {'stable' if st else 'unstable'}"
             for y in ys:
-                ax.plot(x[i0:j1 + 1], y[i0:j1 + 1], ls="-" if st else "--", lw=1.6 if st else 1.1,
-                        color=_colour(n), label=None if lab in seen_labels else lab, zorder=3)
+                ax.plot(
+                    x[i0 : j1 + 1],
+                    y[i0 : j1 + 1],
+                    ls="-" if st else "--",
+                    lw=1.6 if st else 1.1,
+                    color=_colour(n),
+                    label=None if lab in seen_labels else lab,
+                    zorder=3,
+                )
                 seen_labels.add(lab)
 
 
@@ -157,19 +180,41 @@ def _draw_bifurcations(ax, ds: xr.Dataset, param: str, what: str) -> None:
         typ = str(ds["bifurcation_type"].values[i])
         st = BIFURCATION_STYLE.get(typ, dict(marker="P", color="k", label=typ))
         x = float(ds[f"bifurcation_{param}"].values[i])
-        y = float(ds["bifurcation_amplitude"].values[i]) if what == "amplitude" else float(ds["bifurcation_u"].values[i])
-        ax.plot([x], [y], ls="none", marker=st["marker"], color=st["color"], ms=7, mfc="white", mew=1.8, zorder=5,
-                label=None if typ in seen else st["label"])
+        y = (
+            float(ds["bifurcation_amplitude"].values[i])
+            if what == "amplitude"
+            else float(ds["bifurcation_u"].values[i])
+        )
+        ax.plot(
+            [x],
+            [y],
+            ls="none",
+            marker=st["marker"],
+            color=st["color"],
+            ms=7,
+            mfc="white",
+            mew=1.8,
+            zorder=5,
+            label=None if typ in seen else st["label"],
+        )
         seen.add(typ)
 
 
-@plot_function("continuation", (10, 8.5), n=2, subplots={"sharex": True}, tight=True, params="""
+@plot_function(
+    "continuation",
+    (10, 8.5),
+    n=2,
+    subplots={"sharex": True},
+    tight=True,
+    params="""
                sweep : xarray.Dataset, optional
                    The brute-force sweep (dims ``sweep`` and the parameter, variables ``amplitude`` and
                    ``poincare_u``, as written by ``geardyn bifurcation --mode continue --sweep both``);
-                   default the one attached to ``ds`` under :data:`SWEEP_CONTEXT`, if any.""", ax_doc="""
+                   default the one attached to ``ds`` under :data:`SWEEP_CONTEXT`, if any.""",
+    ax_doc="""
                ax : matplotlib.axes.Axes or sequence of two Axes, optional
-                   One Axes: the amplitude panel only; two: amplitude and section points; omitted: a new figure.""")
+                   One Axes: the amplitude panel only; two: amplitude and section points; omitted: a new figure.""",
+)
 def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any = None) -> None:
     """The branches of a continuation (stable solid, unstable dashed, coloured by period) with their
     bifurcations, over the brute-force up/down sweep of the same parameter.  Top: amplitude;
@@ -207,14 +252,31 @@ def _stability_gaps(ax, om: np.ndarray, kinds: np.ndarray, crit: np.ndarray, xi0
     stable = (kinds == "stable") & ~np.isfinite(crit)
     undecided = ~np.isfinite(crit) & ~stable
     if stable.any():
-        ax.plot(om[stable], np.full(stable.sum(), 0.03), ls="none", marker="v", color="0.45", mfc="none",
-                clip_on=False, transform=ax.get_xaxis_transform(), gid="gap",
-                label=f"gap: full model stays stable down to ξ0 = {low} (no boundary above it)")
+        ax.plot(
+            om[stable],
+            np.full(stable.sum(), 0.03),
+            ls="none",
+            marker="v",
+            color="0.45",
+            mfc="none",
+            clip_on=False,
+            transform=ax.get_xaxis_transform(),
+            gid="gap",
+            label=f"gap: full model stays stable down to ξ0 = {low} (no boundary above it)",
+        )
     if undecided.any():
         why = sorted({str(k) for k in kinds[undecided] if str(k)}) or ["not computed"]
-        ax.plot(om[undecided], np.full(undecided.sum(), 0.03), ls="none", marker="x", color="k", clip_on=False,
-                transform=ax.get_xaxis_transform(), gid="gap",
-                label="gap: stability not decided (" + "; ".join(why) + ")")
+        ax.plot(
+            om[undecided],
+            np.full(undecided.sum(), 0.03),
+            ls="none",
+            marker="x",
+            color="k",
+            clip_on=False,
+            transform=ax.get_xaxis_transform(),
+            gid="gap",
+            label="gap: stability not decided (" + "; ".join(why) + ")",
+        )
 
 
 @plot_function("stability_comparison", (8, 5.5), tight=True)
@@ -224,11 +286,19 @@ def stability_figure(ds: xr.Dataset, ax: Any = None) -> None:
     :func:`geardyn.analysis.periodic.compare_stability_condition`, or a ``stability_boundary`` or
     ``mathieu_boundary`` one); the legend sits below the axes, clear of the data."""
     om = ds["omega"].values
-    linear = "xi0_critical_linear" if "xi0_critical_linear" in ds else (
-        "xi0_critical" if ds.attrs.get("geardyn_kind") == "mathieu_boundary" else None)
+    linear = (
+        "xi0_critical_linear"
+        if "xi0_critical_linear" in ds
+        else ("xi0_critical" if ds.attrs.get("geardyn_kind") == "mathieu_boundary" else None)
+    )
     if linear is not None:
-        ax.plot(om, ds[linear].values, "-", color="C0",
-                label="linear contact model (D = 0, unforced): Mathieu–Hill boundary")
+        ax.plot(
+            om,
+            ds[linear].values,
+            "-",
+            color="C0",
+            label="linear contact model (D = 0, unforced): Mathieu–Hill boundary",
+        )
     if "bifurcation_type" in ds:
         crit = ds["xi0_critical"].values
         kinds = ds["bifurcation_type"].values.astype(str)
@@ -237,14 +307,30 @@ def stability_figure(ds: xr.Dataset, ax: Any = None) -> None:
                 continue
             sel = kinds == typ
             st = BIFURCATION_STYLE[typ]
-            ax.plot(om[sel], crit[sel], ls="none", marker=st["marker"], color=st["color"], mfc="white",
-                    label=f"full model, period-1 response loses stability by {st['label']}")
+            ax.plot(
+                om[sel],
+                crit[sel],
+                ls="none",
+                marker=st["marker"],
+                color=st["color"],
+                mfc="white",
+                label=f"full model, period-1 response loses stability by {st['label']}",
+            )
         _stability_gaps(ax, om, kinds, crit, ds.attrs.get("xi0_low"))
     if linear is not None and np.any(np.isnan(ds[linear].values)):
         sel = np.isnan(ds[linear].values)
-        ax.plot(om[sel], np.full(sel.sum(), 0.97), ls="none", marker="^", color="C0", mfc="none", clip_on=False,
-                transform=ax.get_xaxis_transform(), gid="gap",
-                label="gap in the linear boundary: still unstable at the top of its search, no boundary found")
+        ax.plot(
+            om[sel],
+            np.full(sel.sum(), 0.97),
+            ls="none",
+            marker="^",
+            color="C0",
+            mfc="none",
+            clip_on=False,
+            transform=ax.get_xaxis_transform(),
+            gid="gap",
+            label="gap in the linear boundary: still unstable at the top of its search, no boundary found",
+        )
     paper = None
     if "xi0_paper" in ds:
         paper = float(ds["xi0_paper"].values)
@@ -257,4 +343,6 @@ def stability_figure(ds: xr.Dataset, ax: Any = None) -> None:
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
-    set_title(ax, "Stability boundaries from Floquet multipliers vs the paper's condition", ds, exclude=["omega", "xi0"])
+    set_title(
+        ax, "Stability boundaries from Floquet multipliers vs the paper's condition", ds, exclude=["omega", "xi0"]
+    )

@@ -11,7 +11,6 @@ import json
 
 import numpy as np
 import xarray as xr
-
 from matplotlib.axes import Axes
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
@@ -20,8 +19,15 @@ from .common import label, log_stems, of_mesh, plot_function, set_title, symbol
 from .response import draw_response
 from .simulate import OUTSIDE_RIGHT, TIME_PERIODS_SHOWN, last_periods
 
-__all__ = ["RPM_CURVE_VARIABLES", "TIME_PERIODS_SHOWN", "response_rpm", "rpm_curve", "rpm_curve_variable",
-           "spectrum_hz", "time_history"]
+__all__ = [
+    "RPM_CURVE_VARIABLES",
+    "TIME_PERIODS_SHOWN",
+    "response_rpm",
+    "rpm_curve",
+    "rpm_curve_variable",
+    "spectrum_hz",
+    "time_history",
+]
 
 #: Variables drawn against pinion speed, in order of preference, for results with an ``rpm`` coordinate.
 RPM_CURVE_VARIABLES = ("amplitude_um", "rms_um", "u_max_um", "poincare_u_um")
@@ -32,10 +38,15 @@ LEGEND_CURVES = 4
 MAX_CURVES = 32
 
 
-@plot_function("simulate", (8, 6.5), n=2, subplots={"sharex": True},
-               ax_doc="""
+@plot_function(
+    "simulate",
+    (8, 6.5),
+    n=2,
+    subplots={"sharex": True},
+    ax_doc="""
                ax : matplotlib.axes.Axes or sequence of two Axes, optional
-                   One Axes: the DTE only; two: DTE and mesh force; omitted: a new figure.""")
+                   One Axes: the DTE only; two: DTE and mesh force; omitted: a new figure.""",
+)
 def time_history(ds: xr.Dataset, ax: Axes = None) -> None:
     """Dynamic transmission error (µm) and dynamic mesh force (kN) against time (ms), last periods
     (a ``simulate`` result with physical variables ``time_s``, ``dte_um``, ``mesh_force_N``)."""
@@ -104,13 +115,21 @@ def rpm_curve_variable(ds: xr.Dataset) -> str | None:
 
 
 def _has_response_rpm(ds: xr.Dataset) -> bool:
-    return (ds.attrs.get("geardyn_kind") == "response" and "rpm" in ds.coords and "sweep" in ds.dims
-            and "amplitude_um" in ds.data_vars)
+    return (
+        ds.attrs.get("geardyn_kind") == "response"
+        and "rpm" in ds.coords
+        and "sweep" in ds.dims
+        and "amplitude_um" in ds.data_vars
+    )
 
 
-@plot_function("any", (7.5, 4.5), params="""
+@plot_function(
+    "any",
+    (7.5, 4.5),
+    params="""
                name : str, optional
-                   The variable drawn; default :func:`rpm_curve_variable`.""")
+                   The variable drawn; default :func:`rpm_curve_variable`.""",
+)
 def rpm_curve(ds: xr.Dataset, name: str | None = None, ax: Axes = None) -> None:
     """A result variable (µm) against pinion speed (rpm), one line per value of its other dimensions: named
     in a legend up to :data:`LEGEND_CURVES` lines, else coloured by the value of a colour bar (a result with
@@ -137,17 +156,19 @@ def rpm_curve(ds: xr.Dataset, name: str | None = None, ax: Axes = None) -> None:
     set_title(ax, title, ds, exclude=[dim, "omega", *others])
     x, lines = rpm.values, flat.values  # read once (a lazily opened file is read again at every access)
     values = [np.atleast_1d(v) for v in flat["_line"].values]
-    colour_by = len(others) == 1 and count > LEGEND_CURVES and np.issubdtype(np.asarray(flat[others[0]]).dtype,
-                                                                              np.number)
+    colour_by = (
+        len(others) == 1 and count > LEGEND_CURVES and np.issubdtype(np.asarray(flat[others[0]]).dtype, np.number)
+    )
     if colour_by:
         z = np.asarray(flat[others[0]].values, dtype=float)
         mappable = ScalarMappable(Normalize(np.nanmin(z), np.nanmax(z)), "viridis")
     for i in drawn:
-        lab = ", ".join(f"{symbol(k)} = {v:.4g}" if isinstance(v, (int, float, np.number)) else f"{k} = {v}"
-                        for k, v in zip(others, values[i]))
+        lab = ", ".join(
+            f"{symbol(k)} = {v:.4g}" if isinstance(v, (int, float, np.number)) else f"{k} = {v}"
+            for k, v in zip(others, values[i])
+        )
         colour = mappable.to_rgba(z[i]) if colour_by else f"C{i % 10}"
-        ax.plot(x, lines[:, i], ".-", ms=4, lw=0.8, color=colour,
-                label=lab if count <= LEGEND_CURVES else None)
+        ax.plot(x, lines[:, i], ".-", ms=4, lw=0.8, color=colour, label=lab if count <= LEGEND_CURVES else None)
     if colour_by:
         ax.figure.colorbar(mappable, ax=ax, label=label(ds[others[0]], others[0]))
     elif count <= LEGEND_CURVES:
@@ -164,8 +185,10 @@ def response_rpm(ds: xr.Dataset, ax: Axes = None) -> None:
     w = ds["omega"].values
     rpm = ds["rpm"].values
     hy = json.loads(ds.attrs.get("hysteresis_rpm", "[]"))
-    jumps = [(j["rpm"], j["amplitude_from_um"], j["amplitude_to_um"], j["sweep"], f"{j['rpm']:.0f} rpm")
-             for j in json.loads(ds.attrs.get("jumps_physical", "[]"))]
+    jumps = [
+        (j["rpm"], j["amplitude_from_um"], j["amplitude_to_um"], j["sweep"], f"{j['rpm']:.0f} rpm")
+        for j in json.loads(ds.attrs.get("jumps_physical", "[]"))
+    ]
     scale = float(rpm[-1] / w[-1])
     co = [[a * scale, b * scale] for a, b in json.loads(ds.attrs.get("coexistence", "[]"))]
     draw_response(ax, rpm, da, hy, jumps, min_width=1e-3 * float(np.ptp(rpm)), coexistence=co)
@@ -176,6 +199,13 @@ def response_rpm(ds: xr.Dataset, ax: Axes = None) -> None:
     sc = json.loads(ds.attrs.get("physical_scales", "{}"))
     k0 = sc.get("k0_N_per_m")
     k0_text = f" (k0 = {k0 * 1e-6:.4g} N/µm{', assumed' if 'k0' in sc.get('assumed', []) else ''})" if k0 else ""
-    set_title(ax, "Frequency response against pinion speed" + k0_text + ("; grey: hysteresis" if hy else "")
-              + ("; hatched: coexisting attractors" if co else ""), ds,
-              exclude=["omega"], fontsize=10)
+    set_title(
+        ax,
+        "Frequency response against pinion speed"
+        + k0_text
+        + ("; grey: hysteresis" if hy else "")
+        + ("; hatched: coexisting attractors" if co else ""),
+        ds,
+        exclude=["omega"],
+        fontsize=10,
+    )

@@ -12,17 +12,33 @@ sweep under a continuation) is attached to the Dataset (:func:`geardyn.io.attach
 from __future__ import annotations
 
 import json
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from .._docfill import RESULT, attributes, parameters
 from ..errors import PlotError
-from . import basins, bifurcation, engineering, lyapunov, maps, periodic, physical, reproduce, response, runup, simulate
-from . import modes, signature_system, systems, tooth
+from . import (
+    basins,
+    bifurcation,
+    engineering,
+    lyapunov,
+    maps,
+    modes,
+    periodic,
+    physical,
+    reproduce,
+    response,
+    runup,
+    signature_system,
+    simulate,
+    systems,
+    tooth,
+)
 from .common import DPI, save
 from .hb import hb_figure
 
@@ -65,17 +81,20 @@ _STABILITY = (FigureSpec("stability_boundary", periodic.stability_figure),)
 
 #: The figures of each kind of result, in the order they are drawn.
 FIGURES: dict[str, tuple[FigureSpec, ...]] = {
-    "simulate": (FigureSpec("time_history", simulate.time_history),
-                 FigureSpec("phase_portrait", simulate.phase_portrait),
-                 FigureSpec("spectrum", simulate.spectrum)),
+    "simulate": (
+        FigureSpec("time_history", simulate.time_history),
+        FigureSpec("phase_portrait", simulate.phase_portrait),
+        FigureSpec("spectrum", simulate.spectrum),
+    ),
     "lyapunov": (FigureSpec("lyapunov", lyapunov.convergence),),
     "bifurcation": (FigureSpec("bifurcation", bifurcation.diagram),),
-    "response": (FigureSpec("response", response.response),
-                 FigureSpec("response_bifurcation", bifurcation.diagram)),
-    "map": (FigureSpec("map_motion", maps.motion_map),
-            FigureSpec("map_impact", maps.impact_map),
-            FigureSpec("map_amplitude", maps.continuous_map, kwargs={"var": "amplitude"}),
-            FigureSpec("map_lle", maps.continuous_map, when=_lle_computed, kwargs={"var": "lle"})),
+    "response": (FigureSpec("response", response.response), FigureSpec("response_bifurcation", bifurcation.diagram)),
+    "map": (
+        FigureSpec("map_motion", maps.motion_map),
+        FigureSpec("map_impact", maps.impact_map),
+        FigureSpec("map_amplitude", maps.continuous_map, kwargs={"var": "amplitude"}),
+        FigureSpec("map_lle", maps.continuous_map, when=_lle_computed, kwargs={"var": "lle"}),
+    ),
     "basins": (FigureSpec("basins", basins.basin_figure),),
     "orbit": (FigureSpec("orbit", periodic.orbit_figure, when=_orbit_converged),),
     "continuation": (FigureSpec("continuation", periodic.continuation_figure),),
@@ -103,8 +122,10 @@ PHYSICAL_FIGURES: tuple[FigureSpec, ...] = (
     FigureSpec("physical_time_history", physical.time_history, when=_has("time_s", "dte_um", "mesh_force_N")),
     FigureSpec("spectrum_hz", physical.spectrum_hz, when=_has("frequency_Hz", "spectrum_um")),
     FigureSpec("response_rpm", physical.response_rpm, when=physical._has_response_rpm),
-    *(FigureSpec(f"{name}_vs_rpm", physical.rpm_curve, when=_rpm_curve_of(name), kwargs={"name": name})
-      for name in physical.RPM_CURVE_VARIABLES),
+    *(
+        FigureSpec(f"{name}_vs_rpm", physical.rpm_curve, when=_rpm_curve_of(name), kwargs={"name": name})
+        for name in physical.RPM_CURVE_VARIABLES
+    ),
 )
 
 
@@ -125,10 +146,15 @@ register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=
 register("runup", FigureSpec("runup", runup.runup_figure))
 register("modes", FigureSpec("campbell", modes.campbell, when=modes.has_campbell))
 systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
-register("stiffness", FigureSpec("stiffness", tooth.stiffness_figure), FigureSpec("compliance", tooth.compliance_figure))
-register("signature", FigureSpec("order_spectrum", tooth.order_spectrum),
-         FigureSpec("signature", tooth.signature_signals, when=lambda ds: not signature_system.is_system(ds)),
-         FigureSpec("signature", signature_system.system_signals, when=signature_system.is_system))
+register(
+    "stiffness", FigureSpec("stiffness", tooth.stiffness_figure), FigureSpec("compliance", tooth.compliance_figure)
+)
+register(
+    "signature",
+    FigureSpec("order_spectrum", tooth.order_spectrum),
+    FigureSpec("signature", tooth.signature_signals, when=lambda ds: not signature_system.is_system(ds)),
+    FigureSpec("signature", signature_system.system_signals, when=signature_system.is_system),
+)
 register("signature_sweep", FigureSpec("indicators", tooth.indicator_sweep))
 
 
@@ -185,8 +211,9 @@ def draw(ds: xr.Dataset, stem: str, ax: Any = None) -> Any:
     return specs[stem](ds, ax=ax)
 
 
-def save_figures(ds: xr.Dataset, directory: str | Path, *, fmt: str | Sequence[str] = "png",
-                 dpi: int = DPI) -> list[Path]:
+def save_figures(
+    ds: xr.Dataset, directory: str | Path, *, fmt: str | Sequence[str] = "png", dpi: int = DPI
+) -> list[Path]:
     """Draw every figure of a result into ``directory`` and return their paths.
 
     Parameters

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-
 import json
 from typing import Any
 
 import numpy as np
 import xarray as xr
-
 from matplotlib.axes import Axes
 
 from .common import parameter_text, place_labels, plot_function, set_title, symbol
@@ -53,13 +51,18 @@ def _formula_size(ds: xr.Dataset) -> tuple[float, float]:
     return 1.2 + 3.3 * cols, 1.4 + 2.6 * rows
 
 
-@plot_function("formula_fit", _formula_size, n=lambda ds: len(_formula_groups(ds)),
-               subplots=lambda ds: dict(zip(("nrows", "ncols"), _formula_grid(ds)), sharex=True, sharey=True),
-               tight=True, ax_doc="""
+@plot_function(
+    "formula_fit",
+    _formula_size,
+    n=lambda ds: len(_formula_groups(ds)),
+    subplots=lambda ds: dict(zip(("nrows", "ncols"), _formula_grid(ds)), sharex=True, sharey=True),
+    tight=True,
+    ax_doc="""
                ax : matplotlib.axes.Axes or sequence of Axes, optional
                    Where to draw: one Axes per (ξ0, b) (small multiples), or one Axes for every curve
                    (each in its own colour, line style and marker, labelled at its end); a new figure
-                   of small multiples if omitted.""")
+                   of small multiples if omitted.""",
+)
 def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
     """Computed amplitudes against ω with the fitted A0 + ΔA sin(πω) e^(−ξ0 ω) + β b², one panel per
     (ξ0, b) on shared axes (a result of the reproduction report)."""
@@ -76,8 +79,15 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
         sel = (xi0 == x0) & (b == bb)
         order = np.argsort(w[sel])
         name = f"ξ0 = {x0:g}, b = {bb:g} mm"
-        target.plot(w[sel][order], a[sel][order], ls="none", marker=st["marker"], color=st["color"], ms=4,
-                    label=f"computed, {name}" if one else "computed (up sweep)")
+        target.plot(
+            w[sel][order],
+            a[sel][order],
+            ls="none",
+            marker=st["marker"],
+            color=st["color"],
+            ms=4,
+            label=f"computed, {name}" if one else "computed (up sweep)",
+        )
         fit = A0 + dA * np.sin(np.pi * ww) * np.exp(-x0 * ww) + beta * bb**2
         target.plot(ww, fit, ls=st["ls"], color=st["color"], lw=1.2, label=f"fit, {name}" if one else "fitted formula")
         if one:
@@ -110,22 +120,40 @@ def _search_size(ds: xr.Dataset) -> tuple[float, float]:
     return 7, 0.6 + 0.45 * ds["match_fraction"].shape[1] + 1.5
 
 
-@plot_function("search", _search_size, ax_doc="""
+@plot_function(
+    "search",
+    _search_size,
+    ax_doc="""
                ax : matplotlib.axes.Axes, optional
-                   Where to draw; a new figure if omitted (the colour bar is added beside it).""")
+                   Where to draw; a new figure if omitted (the colour bar is added beside it).""",
+)
 def search_map(ds: xr.Dataset, ax: Axes = None) -> None:
     """Fraction of grid points matching each claim, for each searched ω (a result of the reproduction report)."""
     frac = ds["match_fraction"].values
-    im = ax.imshow(frac.T, aspect="auto", origin="lower", vmin=0, vmax=1, cmap="viridis",
-                   extent=(-0.5, frac.shape[0] - 0.5, -0.5, frac.shape[1] - 0.5))
+    im = ax.imshow(
+        frac.T,
+        aspect="auto",
+        origin="lower",
+        vmin=0,
+        vmax=1,
+        cmap="viridis",
+        extent=(-0.5, frac.shape[0] - 0.5, -0.5, frac.shape[1] - 0.5),
+    )
     ax.set_xticks(range(frac.shape[0]), [f"{w:g}" for w in ds["omega"].values])
     ax.set_yticks(range(frac.shape[1]), [str(c) for c in ds["claim"].values])
     ax.set_xlabel("ω searched")
     for i in range(frac.shape[0]):
         for j in range(frac.shape[1]):
             if np.isfinite(frac[i, j]):
-                ax.text(i, j, f"{frac[i, j]:.0%}", ha="center", va="center", fontsize=7,
-                        color="w" if frac[i, j] < 0.6 else "k")
+                ax.text(
+                    i,
+                    j,
+                    f"{frac[i, j]:.0%}",
+                    ha="center",
+                    va="center",
+                    fontsize=7,
+                    color="w" if frac[i, j] < 0.6 else "k",
+                )
     ax.figure.colorbar(im, ax=ax, label="fraction of grid points matching the claim")
     param = str(ds.attrs.get("param"))
     set_title(ax, f"Where the claims over {symbol(param)} hold", ds, exclude=["omega", param])
@@ -135,9 +163,13 @@ def _readings_size(ds: xr.Dataset) -> tuple[float, float]:
     return 9, 1.6 + 0.32 * ds["hold_fraction"].shape[0]
 
 
-@plot_function("readings_map", _readings_size, ax_doc="""
+@plot_function(
+    "readings_map",
+    _readings_size,
+    ax_doc="""
                ax : matplotlib.axes.Axes, optional
-                   Where to draw; a new figure if omitted (the colour bar is added beside it).""")
+                   Where to draw; a new figure if omitted (the colour bar is added beside it).""",
+)
 def readings_map(ds: xr.Dataset, ax: Axes = None) -> None:
     """Fraction of the readings (phase pairs, backlash readings) under which each claim's screen holds, against ω
     (a result of the reproduction report); the default ω dashed."""
@@ -199,8 +231,19 @@ def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float =
     for k in order:
         y = max(float(ends[k][1]), last + d)
         placed[k] = last = y
-    return [ax.annotate(text, (x, placed[k]), xytext=(6, 0), textcoords="offset points", color=colour, fontsize=7,
-                        ha="left", va="center") for k, (x, _, text, colour) in enumerate(ends)]
+    return [
+        ax.annotate(
+            text,
+            (x, placed[k]),
+            xytext=(6, 0),
+            textcoords="offset points",
+            color=colour,
+            fontsize=7,
+            ha="left",
+            va="center",
+        )
+        for k, (x, _, text, colour) in enumerate(ends)
+    ]
 
 
 def _case_text(param: str, value: float) -> str:
@@ -209,19 +252,26 @@ def _case_text(param: str, value: float) -> str:
 
 
 def _has_up_jump(ds: xr.Dataset) -> bool:
-    return any(j["sweep"] == "up" and j["direction"] == "up" for js in json.loads(ds.attrs.get("jumps", "[]")) for j in js)
+    return any(
+        j["sweep"] == "up" and j["direction"] == "up" for js in json.loads(ds.attrs.get("jumps", "[]")) for j in js
+    )
 
 
 def _overlay_panels(ds: xr.Dataset) -> int:
     return 3 if _has_up_jump(ds) else 2
 
 
-@plot_function("response_overlay", lambda ds: (11, 10.5 if _has_up_jump(ds) else 7.5), n=_overlay_panels,
-               subplots=lambda ds: {"height_ratios": (2.2, 1.3, 1) if _has_up_jump(ds) else (2.2, 1)}, tight=True,
-               ax_doc="""
+@plot_function(
+    "response_overlay",
+    lambda ds: (11, 10.5 if _has_up_jump(ds) else 7.5),
+    n=_overlay_panels,
+    subplots=lambda ds: {"height_ratios": (2.2, 1.3, 1) if _has_up_jump(ds) else (2.2, 1)},
+    tight=True,
+    ax_doc="""
                ax : matplotlib.axes.Axes or sequence of Axes, optional
                    Where to draw: the amplitude panel only (one Axes), or every panel (the amplitude, the
-                   zoom on the first upward jumps when there is one, the fluctuation); a new figure if omitted.""")
+                   zoom on the first upward jumps when there is one, the fluctuation); a new figure if omitted.""",
+)
 def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     """Frequency responses at several values of one parameter on one axes, as the paper's claims compare
     them: amplitude of the up sweep (thick, small filled markers) and the down sweep (thin, large open
@@ -230,7 +280,9 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     its Table 4 amplitudes as crosses; below, the fluctuation (spread of the Poincaré points of the up
     sweep) on the same ω axis (a result of the reproduction report)."""
     axes = list(ax) if isinstance(ax, (list, tuple)) else [ax]
-    amp_ax, zoom, fl_ax = (axes + [None, None])[:3] if len(axes) == 3 else (axes[0], None, axes[1] if len(axes) > 1 else None)
+    amp_ax, zoom, fl_ax = (
+        (axes + [None, None])[:3] if len(axes) == 3 else (axes[0], None, axes[1] if len(axes) > 1 else None)
+    )
     if fl_ax is not None:
         fl_ax.sharex(amp_ax)
     param = str(ds.attrs["param"])
@@ -252,22 +304,74 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
             if target is None:
                 continue
             # the down sweep under the up sweep, its open markers larger: a ring round the up sweep's where they agree
-            target.plot(w, down, ls=st["ls"], marker=st["marker"], color=st["color"], ms=7, lw=0.7, mfc="none",
-                        markevery=every if full else None, gid="down", label="_nolegend_")
-            target.plot(w, up, ls=st["ls"], marker=st["marker"], color=st["color"], ms=3.5, lw=1.4,
-                        markevery=every if full else None, gid="up", label=_case_text(param, float(v)) if full else None)
+            target.plot(
+                w,
+                down,
+                ls=st["ls"],
+                marker=st["marker"],
+                color=st["color"],
+                ms=7,
+                lw=0.7,
+                mfc="none",
+                markevery=every if full else None,
+                gid="down",
+                label="_nolegend_",
+            )
+            target.plot(
+                w,
+                up,
+                ls=st["ls"],
+                marker=st["marker"],
+                color=st["color"],
+                ms=3.5,
+                lw=1.4,
+                markevery=every if full else None,
+                gid="up",
+                label=_case_text(param, float(v)) if full else None,
+            )
         ends.append((w[-1], up[-1], f"{symbol(param)} = {float(v):g}", st["color"]))
         if fl_ax is not None:
-            fl_ax.plot(w, ds["fluctuation"].values[i], ls=st["ls"], marker=st["marker"], color=st["color"], ms=3.5,
-                       lw=1.2, markevery=every, label=_case_text(param, float(v)))
+            fl_ax.plot(
+                w,
+                ds["fluctuation"].values[i],
+                ls=st["ls"],
+                marker=st["marker"],
+                color=st["color"],
+                ms=3.5,
+                lw=1.2,
+                markevery=every,
+                label=_case_text(param, float(v)),
+            )
     for i, j in enumerate(firsts):
         for target in (amp_ax, zoom):
             if j is not None and target is not None:
-                target.plot([j["omega"]], [j["amplitude_to"]], ls="none", marker="*", ms=13, color=curve_style(i)["color"],
-                            mec="k", mew=0.6, zorder=5, gid="jump", label="_nolegend_")
+                target.plot(
+                    [j["omega"]],
+                    [j["amplitude_to"]],
+                    ls="none",
+                    marker="*",
+                    ms=13,
+                    color=curve_style(i)["color"],
+                    mec="k",
+                    mew=0.6,
+                    zorder=5,
+                    gid="jump",
+                    label="_nolegend_",
+                )
     for case, omega, A, cid in table4:
-        amp_ax.plot([omega], [A], ls="none", marker="X", ms=9, color=curve_style(int(case))["color"], mec="k", mew=0.8,
-                    zorder=6, gid="table4", label="_nolegend_")
+        amp_ax.plot(
+            [omega],
+            [A],
+            ls="none",
+            marker="X",
+            ms=9,
+            color=curve_style(int(case))["color"],
+            mec="k",
+            mew=0.8,
+            zorder=6,
+            gid="table4",
+            label="_nolegend_",
+        )
         amp_ax.annotate(cid, (omega, A), xytext=(4, -9), textcoords="offset points", fontsize=6.5)
     for target in (amp_ax, zoom, fl_ax):
         if target is None:
@@ -277,20 +381,51 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     if zoom is not None and any(j is not None for j in firsts):
         _zoom_on_jumps(zoom, w, ds["amplitude"].values, [j for j in firsts if j is not None])
     for k, (omega, _) in enumerate(marks):  # staggered: the names of close ω do not overlap
-        amp_ax.annotate(f"ω = {omega:g}", (omega, 1.0), xycoords=amp_ax.get_xaxis_transform(), xytext=(2, -3 - 10 * (k % 2)),
-                        textcoords="offset points", ha="left", va="top", fontsize=7, color="0.25", gid="mark")
+        amp_ax.annotate(
+            f"ω = {omega:g}",
+            (omega, 1.0),
+            xycoords=amp_ax.get_xaxis_transform(),
+            xytext=(2, -3 - 10 * (k % 2)),
+            textcoords="offset points",
+            ha="left",
+            va="top",
+            fontsize=7,
+            color="0.25",
+            gid="mark",
+        )
     span = float(w[-1] - w[0]) if w.size > 1 else 1.0
     amp_ax.set_xlim(w[0] - 0.02 * span, w[-1] + 0.14 * span)  # room for the labels at the curves' ends
     from matplotlib.lines import Line2D
 
-    proxies = [Line2D([], [], color="0.3", ls="-", marker="o", lw=1.4, label="up sweep (filled markers)"),
-               Line2D([], [], color="0.3", ls="-", marker="o", ms=7, mfc="none", lw=0.7,
-                      label="down sweep (open markers, round the up sweep's where they agree)"),
-               Line2D([], [], color="0.3", ls="none", marker="*", ms=11, mec="k", label="first upward jump (up sweep)")]
+    proxies = [
+        Line2D([], [], color="0.3", ls="-", marker="o", lw=1.4, label="up sweep (filled markers)"),
+        Line2D(
+            [],
+            [],
+            color="0.3",
+            ls="-",
+            marker="o",
+            ms=7,
+            mfc="none",
+            lw=0.7,
+            label="down sweep (open markers, round the up sweep's where they agree)",
+        ),
+        Line2D([], [], color="0.3", ls="none", marker="*", ms=11, mec="k", label="first upward jump (up sweep)"),
+    ]
     proxies += [Line2D([], [], color="0.35", ls=":", label=text) for _, text in marks]
     if table4:
-        proxies.append(Line2D([], [], color="0.5", ls="none", marker="X", ms=8, mec="k",
-                              label="paper's Table 4 amplitude (row labelled)"))
+        proxies.append(
+            Line2D(
+                [],
+                [],
+                color="0.5",
+                ls="none",
+                marker="X",
+                ms=8,
+                mec="k",
+                label="paper's Table 4 amplitude (row labelled)",
+            )
+        )
     handles, _ = amp_ax.get_legend_handles_labels()
     amp_ax.legend(handles=handles + proxies, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     end_labels(amp_ax, ends)

@@ -4,7 +4,7 @@ hysteresis intervals shaded.  Drawn from the Dataset only (jumps and intervals a
 from __future__ import annotations
 
 import json
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 import xarray as xr
@@ -18,9 +18,15 @@ __all__ = ["SWEEP_STYLE", "draw_response", "response"]
 SWEEP_STYLE = {"up": ("^", "C0"), "down": ("v", "C3")}
 
 
-def draw_response(ax: Axes, x: np.ndarray, da: xr.DataArray, hysteresis: Sequence[Sequence[float]],
-                  jumps: Sequence[tuple[float, float, float, str, str]], min_width: float = 0.0,
-                  coexistence: Sequence[Sequence[float]] = ()) -> None:
+def draw_response(
+    ax: Axes,
+    x: np.ndarray,
+    da: xr.DataArray,
+    hysteresis: Sequence[Sequence[float]],
+    jumps: Sequence[tuple[float, float, float, str, str]],
+    min_width: float = 0.0,
+    coexistence: Sequence[Sequence[float]] = (),
+) -> None:
     """The sweeps of ``da`` (dimension ``sweep``) against ``x`` with shaded hysteresis intervals and jump arrows,
     each jump labelled beside its arrow where the label covers no other label or arrow.
 
@@ -44,16 +50,33 @@ def draw_response(ax: Axes, x: np.ndarray, da: xr.DataArray, hysteresis: Sequenc
     for a, b in hysteresis:
         ax.axvspan(a, max(b, a + min_width), color="0.88", lw=0, zorder=0)
     for k, (a, b) in enumerate(coexistence):
-        ax.axvspan(a, max(b, a + min_width), facecolor="none", edgecolor="0.6", hatch="//", lw=0, zorder=0,
-                   label="coexisting attractors" if k == 0 else None)
+        ax.axvspan(
+            a,
+            max(b, a + min_width),
+            facecolor="none",
+            edgecolor="0.6",
+            hatch="//",
+            lw=0,
+            zorder=0,
+            label="coexisting attractors" if k == 0 else None,
+        )
     for s in [str(v) for v in da["sweep"].values]:
         mk, c = SWEEP_STYLE.get(s, ("o", "k"))
         ax.plot(x, da.sel(sweep=s).values, "-", marker=mk, ms=3.5, lw=0.8, color=c, label=f"sweep {s}")
-    arrows = [ax.annotate("", xy=(xj, a1), xytext=(xj, a0),
-                          arrowprops=dict(arrowstyle="->", color=SWEEP_STYLE.get(s, ("o", "k"))[1], lw=1.5))
-              for xj, a0, a1, s, _ in jumps]
-    place_labels(ax, [(xj, 0.5 * (a0 + a1), text, SWEEP_STYLE.get(s, ("o", "k"))[1]) for xj, a0, a1, s, text in jumps],
-                 avoid=arrows)
+    arrows = [
+        ax.annotate(
+            "",
+            xy=(xj, a1),
+            xytext=(xj, a0),
+            arrowprops=dict(arrowstyle="->", color=SWEEP_STYLE.get(s, ("o", "k"))[1], lw=1.5),
+        )
+        for xj, a0, a1, s, _ in jumps
+    ]
+    place_labels(
+        ax,
+        [(xj, 0.5 * (a0 + a1), text, SWEEP_STYLE.get(s, ("o", "k"))[1]) for xj, a0, a1, s, text in jumps],
+        avoid=arrows,
+    )
     ax.legend(fontsize=8, loc="best")
 
 
@@ -65,8 +88,16 @@ def _no_solution(ax: Axes, x: np.ndarray, da: xr.DataArray) -> None:
     edges = np.concatenate([[x[0]], x[:-1] + half, [x[-1]]]) if x.size > 1 else np.array([x[0], x[0]])
     first = True
     for i in np.nonzero(none)[0]:
-        ax.axvspan(edges[i], edges[i + 1], facecolor="none", edgecolor="0.7", hatch="///", lw=0, zorder=0,
-                   label="no stable period-n solution" if first else None)
+        ax.axvspan(
+            edges[i],
+            edges[i + 1],
+            facecolor="none",
+            edgecolor="0.7",
+            hatch="///",
+            lw=0,
+            zorder=0,
+            label="no stable period-n solution" if first else None,
+        )
         first = False
     if not first:
         ax.legend(fontsize=8, loc="best")
@@ -79,8 +110,10 @@ def response(ds: xr.Dataset, ax: Axes = None) -> None:
     measure = str(ds.attrs.get("measure", "amplitude"))
     hy = json.loads(ds.attrs.get("hysteresis", "[]"))
     co = json.loads(ds.attrs.get("coexistence", "[]"))
-    jumps = [(j[name], j["amplitude_from"], j["amplitude_to"], j["sweep"], f"{symbol(name)} = {j[name]:.4g}")
-             for j in json.loads(ds.attrs.get("jumps", "[]"))]
+    jumps = [
+        (j[name], j["amplitude_from"], j["amplitude_to"], j["sweep"], f"{symbol(name)} = {j[name]:.4g}")
+        for j in json.loads(ds.attrs.get("jumps", "[]"))
+    ]
     x = ds[name].values
     draw_response(ax, x, ds[measure], hy, jumps, coexistence=co)
     if ds.attrs.get("method") == "hb":

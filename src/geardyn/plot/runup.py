@@ -51,8 +51,14 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         positive = spec[np.isfinite(spec) & (spec > 0)]
         top = float(positive.max()) if positive.size else 1.0
         # a log scale over four decades: the sidebands sit orders of magnitude below the mesh orders
-        mesh = a0.pcolormesh(x[order], ds["spectrum_order"].values, np.clip(spec[order].T, top * 1e-4, None),
-                             shading="nearest", cmap="viridis", norm=LogNorm(vmin=top * 1e-4, vmax=top))
+        mesh = a0.pcolormesh(
+            x[order],
+            ds["spectrum_order"].values,
+            np.clip(spec[order].T, top * 1e-4, None),
+            shading="nearest",
+            cmap="viridis",
+            norm=LogNorm(vmin=top * 1e-4, vmax=top),
+        )
         a0.set_ylabel(f"order (mesh orders; sidebands at j/{int(ds.attrs.get('excitation_cycles', 1))})")
         a0.set_yticks(np.arange(1, int(np.ceil(ds["spectrum_order"].values.max())) + 1))
     else:
@@ -63,12 +69,18 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     fig.colorbar(mesh, cax=a0.inset_axes((1.015, 0.0, 0.025, 1.0)), label=f"order amplitude [{unit}]")
     rate = float(ds.attrs.get("ramp_rate_rpm_per_s", np.nan))
     what = "run-up" if float(ds.attrs["omega_stop"]) > float(ds.attrs["omega_start"]) else "run-down"
-    a0.set_title(f"{what}: order-tracked DTE ({ds.attrs['cycles_per_block']} mesh cycles per speed block"
-                 + (f", {rate:.4g} rpm/s" if np.isfinite(rate) else "") + ")", fontsize=10)
+    a0.set_title(
+        f"{what}: order-tracked DTE ({ds.attrs['cycles_per_block']} mesh cycles per speed block"
+        + (f", {rate:.4g} rpm/s" if np.isfinite(rate) else "")
+        + ")",
+        fontsize=10,
+    )
     qs = json.loads(ds.attrs.get("quasi_static", "null") or "null")
     a1, a2 = axes[1], axes[2]
-    for a, var, ylab in ((a1, "amplitude", f"DTE half peak-to-peak [{unit}]"), (a2, "dynamic_factor",
-                                                                                "dynamic factor max F_n/F_p [1]")):
+    for a, var, ylab in (
+        (a1, "amplitude", f"DTE half peak-to-peak [{unit}]"),
+        (a2, "dynamic_factor", "dynamic factor max F_n/F_p [1]"),
+    ):
         if a is None:
             continue
         y = ds[f"{var}_um"].values if (var == "amplitude" and unit == "µm") else ds[var].values
@@ -78,8 +90,15 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
                 if lab in qs:
                     key = var if var in qs[lab] else None
                     if key is not None:
-                        a.plot(qs["x"], [np.nan if v is None else v for v in qs[lab][key]], marker=marker, ls="none",
-                               color=colour, ms=4, label=f"steady response, sweep {lab}")
+                        a.plot(
+                            qs["x"],
+                            [np.nan if v is None else v for v in qs[lab][key]],
+                            marker=marker,
+                            ls="none",
+                            color=colour,
+                            ms=4,
+                            label=f"steady response, sweep {lab}",
+                        )
         a.set_ylabel(ylab)
         a.grid(True, alpha=0.3)
         a.legend(fontsize=7, loc="upper left")

@@ -46,6 +46,9 @@ def system_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     """
     art = tooth.signature_signals(ds, ax=ax)
     r0 = json.loads(ds.attrs["summary"])["runs"][0]
-    art.axes[0].set_title(f"acceleration of the sensor {r0['sensor']} (mesh {r0['mesh']!r}), sampled with a "
-                          f"once-per-revolution tachometer on its pinion", fontsize=9)
+    art.axes[0].set_title(
+        f"acceleration of the sensor {r0['sensor']} (mesh {r0['mesh']!r}), sampled with a "
+        f"once-per-revolution tachometer on its pinion",
+        fontsize=9,
+    )
     return art

@@ -18,8 +18,15 @@ from matplotlib.axes import Axes
 
 from .common import label, of_mesh, plot_function, rpm_axis, symbol
 
-__all__ = ["element_deflections", "reference_phase", "lyapunov_spectrum", "multipliers", "mesh_amplitudes",
-           "continuation_branches", "register_all"]
+__all__ = [
+    "element_deflections",
+    "reference_phase",
+    "lyapunov_spectrum",
+    "multipliers",
+    "mesh_amplitudes",
+    "continuation_branches",
+    "register_all",
+]
 
 
 def _sysinfo(ds: xr.Dataset) -> dict:
@@ -45,7 +52,14 @@ def element_deflections(ds: xr.Dataset, ax: Axes = None) -> None:
     tau = ds["tau"].values
     for e in ds["element"].values:
         ax.plot(tau, ds["delta"].sel(element=e).values, lw=0.8, label=str(e))
-    _finish(ax, ds, "Element deflections", label(ds["tau"], "τ"), "deflection δ of each element (over b_c)", legend=dict(fontsize=7, loc="upper right"))
+    _finish(
+        ax,
+        ds,
+        "Element deflections",
+        label(ds["tau"], "τ"),
+        "deflection δ of each element (over b_c)",
+        legend=dict(fontsize=7, loc="upper right"),
+    )
 
 
 @plot_function("system_simulate", (5.5, 4.5))
@@ -92,8 +106,14 @@ def mesh_amplitudes(ds: xr.Dataset, ax: Axes = None) -> None:
     for e, name in enumerate(names):
         for s, style in zip([str(v) for v in ds["sweep"].values], ("-", "--")):
             ax.plot(x, amp.sel(sweep=s).values[:, e], style, color=f"C{e}", lw=1.0, label=f"mesh {name} ({s})")
-    _finish(ax, ds, "Mesh amplitudes", label(ds[param], symbol(param)) if param in ds else symbol(param),
-            "amplitude of δ of each mesh (half peak-to-peak, over b_c)", legend=dict(fontsize=7))
+    _finish(
+        ax,
+        ds,
+        "Mesh amplitudes",
+        label(ds[param], symbol(param)) if param in ds else symbol(param),
+        "amplitude of δ of each mesh (half peak-to-peak, over b_c)",
+        legend=dict(fontsize=7),
+    )
     rpm_axis(ax, ds, param)
 
 
@@ -111,10 +131,23 @@ def continuation_branches(ds: xr.Dataset, ax: Axes = None) -> None:
         marks = {"fold": "s", "period-doubling": "D", "neimark-sacker": "*", "grazing": "v"}
         for t in np.unique(ds["bifurcation_type"].values):
             sel = ds["bifurcation_type"].values == t
-            ax.plot(ds["bifurcation_value"].values[sel], ds["bifurcation_amplitude"].values[sel],
-                    marks.get(str(t), "o"), color="k", ms=5, mfc="none", label=str(t))
-    _finish(ax, ds, "Continuation of periodic orbits", symbol(param), of_mesh("amplitude of δ (the reference mesh)", ds),
-            legend=dict(fontsize=7))
+            ax.plot(
+                ds["bifurcation_value"].values[sel],
+                ds["bifurcation_amplitude"].values[sel],
+                marks.get(str(t), "o"),
+                color="k",
+                ms=5,
+                mfc="none",
+                label=str(t),
+            )
+    _finish(
+        ax,
+        ds,
+        "Continuation of periodic orbits",
+        symbol(param),
+        of_mesh("amplitude of δ (the reference mesh)", ds),
+        legend=dict(fontsize=7),
+    )
 
 
 def register_all(register, FigureSpec, bifurcation, response, maps, basins) -> None:
@@ -129,25 +162,38 @@ def register_all(register, FigureSpec, bifurcation, response, maps, basins) -> N
     bifurcation, response, maps, basins : module
         The 1-DOF plot modules whose figures draw the system sweeps (laid out along the reference mesh).
     """
+
     def has(name):
         return lambda ds: name in ds
 
     register("simulate", FigureSpec("element_deflections", element_deflections, when=has("delta")))
-    register("lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum,
-                                    when=lambda ds: ds.sizes.get("exponent", 0) > 2))
+    register(
+        "lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum, when=lambda ds: ds.sizes.get("exponent", 0) > 2)
+    )
     register("orbit", FigureSpec("multipliers", multipliers, when=has("points")))
     for kind in ("bifurcation", "response"):
         register(kind, FigureSpec("mesh_amplitudes", mesh_amplitudes, when=has("element_u_min")))
     # the kinds earlier versions wrote for systems
-    register("system_simulate", FigureSpec("element_deflections", element_deflections),
-             FigureSpec("phase_portrait", reference_phase))
+    register(
+        "system_simulate",
+        FigureSpec("element_deflections", element_deflections),
+        FigureSpec("phase_portrait", reference_phase),
+    )
     register("system_lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum))
     register("system_orbit", FigureSpec("multipliers", multipliers))
-    register("system_bifurcation", FigureSpec("bifurcation", bifurcation.diagram),
-             FigureSpec("mesh_amplitudes", mesh_amplitudes))
-    register("system_response", FigureSpec("response", response.response),
-             FigureSpec("mesh_amplitudes", mesh_amplitudes))
-    register("system_map", FigureSpec("map_motion", maps.motion_map), FigureSpec("map_impact", maps.impact_map),
-             FigureSpec("map_amplitude", maps.continuous_map, kwargs={"var": "amplitude"}))
+    register(
+        "system_bifurcation",
+        FigureSpec("bifurcation", bifurcation.diagram),
+        FigureSpec("mesh_amplitudes", mesh_amplitudes),
+    )
+    register(
+        "system_response", FigureSpec("response", response.response), FigureSpec("mesh_amplitudes", mesh_amplitudes)
+    )
+    register(
+        "system_map",
+        FigureSpec("map_motion", maps.motion_map),
+        FigureSpec("map_impact", maps.impact_map),
+        FigureSpec("map_amplitude", maps.continuous_map, kwargs={"var": "amplitude"}),
+    )
     register("system_basins", FigureSpec("basins", basins.basin_figure))
     register("system_continuation", FigureSpec("continuation", continuation_branches))

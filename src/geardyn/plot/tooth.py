@@ -39,14 +39,22 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     iso = s["iso6336"]
     bw = s["face_width_mm"]
     if iso["c_gamma_iso"] is not None:
-        a0.axhline(iso["c_gamma_iso"] * bw, color="C3", lw=1.0, ls=":",
-                   label=f"ISO 6336-1 c_γ·b = {iso['c_gamma_iso'] * bw:.4g} N/µm")
+        a0.axhline(
+            iso["c_gamma_iso"] * bw,
+            color="C3",
+            lw=1.0,
+            ls=":",
+            label=f"ISO 6336-1 c_γ·b = {iso['c_gamma_iso'] * bw:.4g} N/µm",
+        )
     a0.axhline(s["k_mean_N_per_um"], color="C2", lw=1.0, ls="-.", label=f"mean {s['k_mean_N_per_um']:.4g} N/µm")
     a0.set_ylabel("mesh stiffness [N/µm]")
     a0.legend(fontsize=8, loc="lower right")
     faults = ", ".join(f"{f['kind']} g{f['gear']}t{f.get('tooth')}" for f in s["faults"]) or "healthy"
-    a0.set_title(f"z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, b = {bw:g} mm, ε_α = {s['eps_alpha']:.3f}, "
-                 f"F = {s['force_N']:.4g} N — {faults}", fontsize=9)
+    a0.set_title(
+        f"z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, b = {bw:g} mm, ε_α = {s['eps_alpha']:.3f}, "
+        f"F = {s['force_N']:.4g} N — {faults}",
+        fontsize=9,
+    )
     if a1 is not None:
         a1.plot(ph, ds["ste"], "k-", lw=1.2, label="loaded STE δ")
         if np.nanmax(np.abs(ds["ste_noload"].values)) > 0:
@@ -140,8 +148,11 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
                     i = int(np.argmin(np.abs(order - o)))
                     a.plot(order[i], max(amp[i], 1e-12), "^", color="C2", ms=4)
         ind = s["indicators"]["pinion"]
-        a.set_title(f"{name}: order spectrum (▼ pinion shaft-order sidebands ±1, ±2; ▲ wheel ±{z1}/{z2}); "
-                    f"FM4 {ind['fm4']:.3g}, kurtosis {ind['kurtosis']:.3g}", fontsize=9)
+        a.set_title(
+            f"{name}: order spectrum (▼ pinion shaft-order sidebands ±1, ±2; ▲ wheel ±{z1}/{z2}); "
+            f"FM4 {ind['fm4']:.3g}, kurtosis {ind['kurtosis']:.3g}",
+            fontsize=9,
+        )
         a.set_ylabel("amplitude [m/s²]")
         a.set_ylim(top * 1e-5, top * 5)
     [a for a in axes if a is not None][-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
@@ -182,8 +193,13 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
             continue
         a1.plot(ang, ds["tsa_pinion"].sel(run=name), color=c, lw=0.9, label=name)
         a2.plot(ang, ds["residual"].sel(run=name), color=c, lw=0.9, label=name)
-        a3.plot(ang, ds["difference"].sel(run=name), color=c, lw=0.9,
-                label=f"{name}: FM4 {ind['fm4']:.3g}, NA4 {ind['na4']:.3g}, M6A {ind['m6a']:.3g}")
+        a3.plot(
+            ang,
+            ds["difference"].sel(run=name),
+            color=c,
+            lw=0.9,
+            label=f"{name}: FM4 {ind['fm4']:.3g}, NA4 {ind['na4']:.3g}, M6A {ind['m6a']:.3g}",
+        )
     a0.set_xlabel("time [ms]")
     a0.set_ylabel("accel. [m/s²]")
     a0.set_title("acceleration along the line of action, sampled with a once-per-revolution tachometer", fontsize=9)

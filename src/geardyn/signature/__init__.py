@@ -2,10 +2,27 @@
 spectrum, time-synchronous average, regular/residual/difference signals and condition indicators
 (``docs/excitation.md``)."""
 
-from .acquire import Acquisition, acquire, acceleration
-from .indicators import (crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4, rms, sideband_level)
+from .acquire import Acquisition, acceleration, acquire
+from .indicators import crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4, rms, sideband_level
 from .signals import angle_resample, order_spectrum, pulse_times, split_tsa, tsa
 
-__all__ = ["Acquisition", "acceleration", "acquire", "angle_resample", "crest_factor", "energy_ratio", "fm0", "fm4",
-           "kurtosis", "m6a", "m8a", "na4", "order_spectrum", "pulse_times", "rms", "sideband_level", "split_tsa",
-           "tsa"]
+__all__ = [
+    "Acquisition",
+    "acceleration",
+    "acquire",
+    "angle_resample",
+    "crest_factor",
+    "energy_ratio",
+    "fm0",
+    "fm4",
+    "kurtosis",
+    "m6a",
+    "m8a",
+    "na4",
+    "order_spectrum",
+    "pulse_times",
+    "rms",
+    "sideband_level",
+    "split_tsa",
+    "tsa",
+]

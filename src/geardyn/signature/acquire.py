@@ -76,8 +76,17 @@ def acceleration(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray
     return model.fp - C * v - K * model.restoring(u)
 
 
-def acquire(model: GearModel, scales: dict, revolutions: int, fs: float, *, noise: float = 0.0, seed: int = 0,
-            dtau: float = 0.01, settle: float = 300.0) -> Acquisition:
+def acquire(
+    model: GearModel,
+    scales: dict,
+    revolutions: int,
+    fs: float,
+    *,
+    noise: float = 0.0,
+    seed: int = 0,
+    dtau: float = 0.01,
+    settle: float = 300.0,
+) -> Acquisition:
     """Simulate the pair and sample its acceleration and tachometer like a DAQ.
 
     Parameters
@@ -113,8 +122,12 @@ def acquire(model: GearModel, scales: dict, revolutions: int, fs: float, *, nois
         raise ModelError(f"revolutions: at least 1, got {revolutions!r}")
     periods = int(math.ceil(revolutions * z1 / P)) + 1
     transient = max(2, int(math.ceil(settle / model.sampling_period)))
-    tr = trajectory(model, (model.fp, 0.0), IntegrationOptions(dtau=dtau, transient=transient, periods=periods),
-                    history_periods=periods)
+    tr = trajectory(
+        model,
+        (model.fp, 0.0),
+        IntegrationOptions(dtau=dtau, transient=transient, periods=periods),
+        history_periods=periods,
+    )
     if not np.all(np.isfinite(tr.u)):
         raise ModelError("signature: the simulation diverged")
     a = acceleration(model, tr.tau, tr.u, tr.v) * b_c * wn * wn
@@ -122,8 +135,18 @@ def acquire(model: GearModel, scales: dict, revolutions: int, fs: float, *, nois
     return sampled(t_sim, a, rpm=rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, z1=z1, z2=z2)
 
 
-def sampled(t_sim: np.ndarray, accel: np.ndarray, *, rpm: float, revolutions: int, fs: float, noise: float, seed: int,
-            z1: int, z2: int) -> Acquisition:
+def sampled(
+    t_sim: np.ndarray,
+    accel: np.ndarray,
+    *,
+    rpm: float,
+    revolutions: int,
+    fs: float,
+    noise: float,
+    seed: int,
+    z1: int,
+    z2: int,
+) -> Acquisition:
     """A simulated acceleration sampled like a data acquisition: ``revolutions`` pinion revolutions at ``fs``
     (cubic-spline interpolation of the simulated points), optional white noise at ``noise`` times its RMS, and a
     once-per-revolution tachometer pulse (5 V Gaussian, 4 samples wide) at the pinion's zero angle.

@@ -12,8 +12,19 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["crest_factor", "energy_ratio", "fm0", "fm4", "kurtosis", "m6a", "m8a", "na4", "normalised_moment",
-           "rms", "sideband_level"]
+__all__ = [
+    "crest_factor",
+    "energy_ratio",
+    "fm0",
+    "fm4",
+    "kurtosis",
+    "m6a",
+    "m8a",
+    "na4",
+    "normalised_moment",
+    "rms",
+    "sideband_level",
+]
 
 
 def rms(x: np.ndarray) -> float:

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import json
 import math
-from typing import Any, Callable, Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -17,8 +18,17 @@ from .acquire import Acquisition, acquire
 from .indicators import crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4, rms, sideband_level
 from .signals import order_spectrum, split_tsa, tsa
 
-__all__ = ["INDICATORS", "SIGNATURE_HARMONICS", "combine", "indicators", "labelled", "record", "signature",
-           "signature_sweep", "sweep_dataset"]
+__all__ = [
+    "INDICATORS",
+    "SIGNATURE_HARMONICS",
+    "combine",
+    "indicators",
+    "labelled",
+    "record",
+    "signature",
+    "signature_sweep",
+    "sweep_dataset",
+]
 
 #: Harmonics of the excitation's period a signature run keeps by default (the full table: ``harmonics=``).
 SIGNATURE_HARMONICS = 64
@@ -45,21 +55,39 @@ def indicators(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, floa
     """
     p = split_tsa(avg, z, shaft_orders)
     x = avg - avg.mean()
-    return {"rms": rms(x), "crest_factor": crest_factor(x), "kurtosis": kurtosis(x),
-            "fm0": fm0(avg, p["mesh_amplitudes"]), "fm4": fm4(p["difference"]), "na4": na4(p["residual"]),
-            "m6a": m6a(p["difference"]), "m8a": m8a(p["difference"]),
-            "sideband_level": sideband_level(avg, p["sidebands"]),
-            "energy_ratio": energy_ratio(p["difference"], p["regular"])}
+    return {
+        "rms": rms(x),
+        "crest_factor": crest_factor(x),
+        "kurtosis": kurtosis(x),
+        "fm0": fm0(avg, p["mesh_amplitudes"]),
+        "fm4": fm4(p["difference"]),
+        "na4": na4(p["residual"]),
+        "m6a": m6a(p["difference"]),
+        "m8a": m8a(p["difference"]),
+        "sideband_level": sideband_level(avg, p["sidebands"]),
+        "energy_ratio": energy_ratio(p["difference"], p["regular"]),
+    }
 
 
 def _per_rev(z1: int, z2: int) -> int:
     return int(2 ** math.ceil(math.log2(8 * max(z1, z2))))
 
 
-def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, fs: float | None = None,
-              noise: float = 0.02, seed: int = 0, harmonics: int | None = None, b_c: float = 10e-6,
-              backlash: float = 100e-6, xi0: float = 0.05, dtau: float = 0.01,
-              label: str = "") -> xr.Dataset:
+def signature(
+    ms: MeshStiffness,
+    rpm: float,
+    *,
+    revolutions: int | None = None,
+    fs: float | None = None,
+    noise: float = 0.02,
+    seed: int = 0,
+    harmonics: int | None = None,
+    b_c: float = 10e-6,
+    backlash: float = 100e-6,
+    xi0: float = 0.05,
+    dtau: float = 0.01,
+    label: str = "",
+) -> xr.Dataset:
     """Simulate the pair with the excitation of ``ms`` and read its signature.
 
     Parameters
@@ -101,11 +129,24 @@ def signature(ms: MeshStiffness, rpm: float, *, revolutions: int | None = None, 
         fs = 1000.0 * math.ceil(20 * rpm / 60.0 * z1 / 1000.0)
     acq = acquire(model, sc, revolutions, fs, noise=noise, seed=seed, dtau=dtau)
     ds, ind = record(acq, z2, "acceleration along the line of action")
-    summary = {"label": label, "rpm": float(rpm), "fs_Hz": float(fs), "revolutions": int(revolutions),
-               "z1": z1, "z2": z2, "mesh_frequency_Hz": rpm / 60.0 * z1, "noise": noise,
-               "excitation_cycles": ms.cycles, "harmonics": H, "omega_model": model.forcing_omega,
-               "omega_mesh": sc["mesh_omega"], "omega_n_rad_s": sc["omega_n"], "k0_N_per_m": sc["k0"],
-               "indicators": ind, "faults": [_fault(f) for f in ms.faults]}
+    summary = {
+        "label": label,
+        "rpm": float(rpm),
+        "fs_Hz": float(fs),
+        "revolutions": int(revolutions),
+        "z1": z1,
+        "z2": z2,
+        "mesh_frequency_Hz": rpm / 60.0 * z1,
+        "noise": noise,
+        "excitation_cycles": ms.cycles,
+        "harmonics": H,
+        "omega_model": model.forcing_omega,
+        "omega_mesh": sc["mesh_omega"],
+        "omega_n_rad_s": sc["omega_n"],
+        "k0_N_per_m": sc["k0"],
+        "indicators": ind,
+        "faults": [_fault(f) for f in ms.faults],
+    }
     return labelled(ds, summary, label)
 
 
@@ -139,25 +180,33 @@ def record(acq: Acquisition, z2: int | None, what: str) -> tuple[xr.Dataset, dic
             t2 = tsa(acq, N, z1 / z2)
         except ModelError:
             revs = int(round(acq.time[-1] * rpm / 60.0))
-            raise ModelError(f"revolutions: {revs} pinion revolutions hold no whole revolution of the wheel "
-                             f"(z2/z1 = {z2}/{z1}); record at least {math.ceil(z2 / z1) + 2}") from None
+            raise ModelError(
+                f"revolutions: {revs} pinion revolutions hold no whole revolution of the wheel "
+                f"(z2/z1 = {z2}/{z1}); record at least {math.ceil(z2 / z1) + 2}"
+            ) from None
         ind["wheel"] = indicators(t2, z2)
     keep = min(acq.time.size, int(3 * 60.0 / rpm * acq.fs))
     top = orders <= 3.5 * z1
     ds = xr.Dataset(
-        {"accel": ("time", acq.accel[:keep], {"units": "m/s^2", "long_name": what}),
-         "tach": ("time", acq.tach[:keep], {"units": "V", "long_name": "tachometer (pinion, once per revolution)"}),
-         "order_amplitude": ("order", amp[top], {"units": "m/s^2", "long_name": "order spectrum amplitude"}),
-         "tsa_pinion": ("angle_pinion", t1, {"units": "m/s^2", "long_name": "TSA of the pinion"}),
-         "regular": ("angle_pinion", p1["regular"], {"units": "m/s^2"}),
-         "residual": ("angle_pinion", p1["residual"], {"units": "m/s^2"}),
-         "difference": ("angle_pinion", p1["difference"], {"units": "m/s^2"})},
-        coords={"time": ("time", acq.time[:keep], {"units": "s"}),
-                "order": ("order", orders[top], {"units": "1", "long_name": "pinion order"}),
-                "angle_pinion": ("angle_pinion", 360.0 * np.arange(N) / N, {"units": "deg"})},
+        {
+            "accel": ("time", acq.accel[:keep], {"units": "m/s^2", "long_name": what}),
+            "tach": ("time", acq.tach[:keep], {"units": "V", "long_name": "tachometer (pinion, once per revolution)"}),
+            "order_amplitude": ("order", amp[top], {"units": "m/s^2", "long_name": "order spectrum amplitude"}),
+            "tsa_pinion": ("angle_pinion", t1, {"units": "m/s^2", "long_name": "TSA of the pinion"}),
+            "regular": ("angle_pinion", p1["regular"], {"units": "m/s^2"}),
+            "residual": ("angle_pinion", p1["residual"], {"units": "m/s^2"}),
+            "difference": ("angle_pinion", p1["difference"], {"units": "m/s^2"}),
+        },
+        coords={
+            "time": ("time", acq.time[:keep], {"units": "s"}),
+            "order": ("order", orders[top], {"units": "1", "long_name": "pinion order"}),
+            "angle_pinion": ("angle_pinion", 360.0 * np.arange(N) / N, {"units": "deg"}),
+        },
     )
     if z2:
-        ds["tsa_wheel"] = xr.DataArray(t2, dims="angle_wheel", attrs={"units": "m/s^2", "long_name": "TSA of the wheel"})
+        ds["tsa_wheel"] = xr.DataArray(
+            t2, dims="angle_wheel", attrs={"units": "m/s^2", "long_name": "TSA of the wheel"}
+        )
         ds = ds.assign_coords(angle_wheel=("angle_wheel", 360.0 * np.arange(N) / N, {"units": "deg"}))
     return ds, ind
 
@@ -196,8 +245,10 @@ def combine(runs: Sequence[xr.Dataset]) -> xr.Dataset:
     xarray.Dataset
     """
     ds = xr.concat(list(runs), dim="run", join="outer")
-    ds.attrs.update(geardyn_kind="signature",
-                    summary=json.dumps({"runs": [json.loads(r.attrs["summary"])["runs"][0] for r in runs]}))
+    ds.attrs.update(
+        geardyn_kind="signature",
+        summary=json.dumps({"runs": [json.loads(r.attrs["summary"])["runs"][0] for r in runs]}),
+    )
     return ds
 
 
@@ -207,10 +258,22 @@ def _fault(f: Any) -> dict[str, Any]:
     return fault_to_dict(f)
 
 
-def signature_sweep(make: Callable[[float], MeshStiffness], sizes: Sequence[float], rpm: float, *,
-                    name: str = "crack depth", revolutions: int | None = None, fs: float | None = None,
-                    noise: float = 0.02, seed: int = 0, harmonics: int | None = None, b_c: float = 10e-6,
-                    backlash: float = 100e-6, xi0: float = 0.05, dtau: float = 0.01) -> xr.Dataset:
+def signature_sweep(
+    make: Callable[[float], MeshStiffness],
+    sizes: Sequence[float],
+    rpm: float,
+    *,
+    name: str = "crack depth",
+    revolutions: int | None = None,
+    fs: float | None = None,
+    noise: float = 0.02,
+    seed: int = 0,
+    harmonics: int | None = None,
+    b_c: float = 10e-6,
+    backlash: float = 100e-6,
+    xi0: float = 0.05,
+    dtau: float = 0.01,
+) -> xr.Dataset:
     """Indicators of the pinion and the wheel against a fault size.
 
     Parameters
@@ -234,14 +297,26 @@ def signature_sweep(make: Callable[[float], MeshStiffness], sizes: Sequence[floa
     rows = []
     for s in sizes:
         ms = make(float(s))
-        ds = signature(ms, rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, harmonics=harmonics, b_c=b_c,
-                       backlash=backlash, xi0=xi0, dtau=dtau)
+        ds = signature(
+            ms,
+            rpm,
+            revolutions=revolutions,
+            fs=fs,
+            noise=noise,
+            seed=seed,
+            harmonics=harmonics,
+            b_c=b_c,
+            backlash=backlash,
+            xi0=xi0,
+            dtau=dtau,
+        )
         rows.append(json.loads(ds.attrs["summary"])["runs"][0]["indicators"])
     return sweep_dataset(rows, sizes, {"size_name": name, "rpm": rpm})
 
 
-def sweep_dataset(rows: Sequence[dict[str, dict[str, float]]], sizes: Sequence[float],
-                  summary: dict[str, Any]) -> xr.Dataset:
+def sweep_dataset(
+    rows: Sequence[dict[str, dict[str, float]]], sizes: Sequence[float], summary: dict[str, Any]
+) -> xr.Dataset:
     """A ``signature_sweep`` result from the indicators of each run.
 
     Parameters
@@ -260,9 +335,9 @@ def sweep_dataset(rows: Sequence[dict[str, dict[str, float]]], sizes: Sequence[f
     """
     shafts = [sh for sh in ("pinion", "wheel") if sh in rows[0]]
     a = np.array([[[r[sh][k] for k in INDICATORS] for sh in shafts] for r in rows])  # (size, shaft, indicator)
-    ds = xr.Dataset({k: (("size", "shaft"), a[:, :, i]) for i, k in enumerate(INDICATORS)},
-                    coords={"size": ("size", np.asarray(sizes, dtype=float), {"long_name": summary["size_name"]}),
-                            "shaft": shafts})
-    ds.attrs.update(geardyn_kind="signature_sweep", summary=json.dumps({**summary,
-                                                                        "sizes": [float(s) for s in sizes]}))
+    ds = xr.Dataset(
+        {k: (("size", "shaft"), a[:, :, i]) for i, k in enumerate(INDICATORS)},
+        coords={"size": ("size", np.asarray(sizes, dtype=float), {"long_name": summary["size_name"]}), "shaft": shafts},
+    )
+    ds.attrs.update(geardyn_kind="signature_sweep", summary=json.dumps({**summary, "sizes": [float(s) for s in sizes]}))
     return ds

@@ -160,5 +160,10 @@ def split_tsa(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, np.nd
     amp = 2.0 * np.abs(X) / N
     if N % 2 == 0:
         amp[-1] *= 0.5
-    return {"regular": regular, "residual": np.fft.irfft(Xr, N), "difference": avg - avg.mean() - regular,
-            "mesh_amplitudes": amp[mesh], "sidebands": amp[[z - 1, z + 1]] if z + 1 < X.size else amp[[z - 1]]}
+    return {
+        "regular": regular,
+        "residual": np.fft.irfft(Xr, N),
+        "difference": avg - avg.mean() - regular,
+        "mesh_amplitudes": amp[mesh],
+        "sidebands": amp[[z - 1, z + 1]] if z + 1 < X.size else amp[[z - 1]],
+    }

@@ -18,8 +18,9 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -30,8 +31,17 @@ from ..integrate import trajectory
 from ..model import IntegrationOptions
 from .acquire import Acquisition, sampled
 
-__all__ = ["check_sensor", "default_rate", "default_sensor", "mesh_shafts", "settle_time", "system_acquire",
-           "system_signature", "system_signature_sweep", "with_excitation"]
+__all__ = [
+    "check_sensor",
+    "default_rate",
+    "default_sensor",
+    "mesh_shafts",
+    "settle_time",
+    "system_acquire",
+    "system_signature",
+    "system_signature_sweep",
+    "with_excitation",
+]
 
 _TRANSLATIONS = ("x", "y", "z")
 
@@ -97,8 +107,9 @@ def default_sensor(system: Any, mesh: str | None = None) -> str:
             return max(own, key=lambda t: t[1])[0]
     anyt = [lab for lab in labels if lab.rsplit(".", 1)[-1] in _TRANSLATIONS]
     if not anyt:
-        raise ModelError(f"sensor: the system has no translational DOF (x, y or z) for an accelerometer; "
-                         f"DOFs: {', '.join(labels)}")
+        raise ModelError(
+            f"sensor: the system has no translational DOF (x, y or z) for an accelerometer; DOFs: {', '.join(labels)}"
+        )
     return anyt[0]
 
 
@@ -114,8 +125,9 @@ def check_sensor(system: Any, dof: str) -> None:
     trans = [lab for lab in system.labels if lab.rsplit(".", 1)[-1] in _TRANSLATIONS]
     if dof not in trans:
         what = "a rotation, not a translation" if dof in system.labels else "not a DOF of the system"
-        raise ModelError(f"sensor: {dof!r} is {what}; the translations (accelerometer positions) are: "
-                         f"{', '.join(trans) or 'none'}")
+        raise ModelError(
+            f"sensor: {dof!r} is {what}; the translations (accelerometer positions) are: {', '.join(trans) or 'none'}"
+        )
 
 
 def with_excitation(system: Any, mesh: str | None, path: str | Path, harmonics: int | None = None) -> Any:
@@ -143,10 +155,20 @@ def with_excitation(system: Any, mesh: str | None, path: str | Path, harmonics: 
     name = "xi" if m.xi is not None else "c"
     damp, phc = getattr(m, name), m.phi_c
     if m.excitation is not None and m.cycles > 1 and damp:  # undo the table's spreading over P cycles
-        damp, phc = damp[m.cycles - 1::m.cycles], phc[m.cycles - 1::m.cycles]
-    new = dataclasses.replace(m, stiffness=None, kappa=(), phi_k=(), e=(), phi_e=(), cycles=1, excitation=str(path),
-                              excitation_harmonics=m.excitation_harmonics if harmonics is None else int(harmonics),
-                              phi_c=tuple(phc), **{name: (tuple(damp) if damp is not None else None)})
+        damp, phc = damp[m.cycles - 1 :: m.cycles], phc[m.cycles - 1 :: m.cycles]
+    new = dataclasses.replace(
+        m,
+        stiffness=None,
+        kappa=(),
+        phi_k=(),
+        e=(),
+        phi_e=(),
+        cycles=1,
+        excitation=str(path),
+        excitation_harmonics=m.excitation_harmonics if harmonics is None else int(harmonics),
+        phi_c=tuple(phc),
+        **{name: (tuple(damp) if damp is not None else None)},
+    )
     desc = system.description
     desc = dataclasses.replace(desc, meshes=tuple(new if x.name == m.name else x for x in desc.meshes))
     s = assemble(desc, None)
@@ -214,9 +236,19 @@ def settle_time(system: Any, decays: float = 10.0, least: float = 300.0) -> floa
     return max(least, decays / decay) if decay > 0 else least
 
 
-def system_acquire(system: Any, dof: str, revolutions: int, fs: float, *, mesh: str | None = None,
-                   z2: int | None = None, noise: float = 0.0, seed: int = 0, dtau: float = 0.01,
-                   settle: float | None = None) -> Acquisition:
+def system_acquire(
+    system: Any,
+    dof: str,
+    revolutions: int,
+    fs: float,
+    *,
+    mesh: str | None = None,
+    z2: int | None = None,
+    noise: float = 0.0,
+    seed: int = 0,
+    dtau: float = 0.01,
+    settle: float | None = None,
+) -> Acquisition:
     """Simulate a system and sample the acceleration of one translational DOF and the pinion's tachometer.
 
     Parameters
@@ -260,8 +292,9 @@ def system_acquire(system: Any, dof: str, revolutions: int, fs: float, *, mesh: 
     periods = int(math.ceil(revolutions * z1 * system.period / m.ratio / Tf)) + 1
     settle = settle_time(system) if settle is None else settle
     transient = max(2, int(math.ceil(settle / Tf)))
-    tr = trajectory(system, None, IntegrationOptions(dtau=dtau, transient=transient, periods=periods),
-                    history_periods=periods)
+    tr = trajectory(
+        system, None, IntegrationOptions(dtau=dtau, transient=transient, periods=periods), history_periods=periods
+    )
     v = tr.x[:, system.n + i]
     if not np.all(np.isfinite(v)):
         raise ModelError("signature: the simulation diverged")
@@ -270,9 +303,20 @@ def system_acquire(system: Any, dof: str, revolutions: int, fs: float, *, mesh: 
     return sampled(t_sim, a, rpm=rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, z1=z1, z2=int(z2 or z1))
 
 
-def system_signature(system: Any, dof: str | None = None, *, mesh: str | None = None, revolutions: int | None = None,
-                     fs: float | None = None, z2: int | None = None, noise: float = 0.02, seed: int = 0,
-                     dtau: float = 0.01, label: str = "", extra: dict[str, Any] | None = None) -> xr.Dataset:
+def system_signature(
+    system: Any,
+    dof: str | None = None,
+    *,
+    mesh: str | None = None,
+    revolutions: int | None = None,
+    fs: float | None = None,
+    z2: int | None = None,
+    noise: float = 0.02,
+    seed: int = 0,
+    dtau: float = 0.01,
+    label: str = "",
+    extra: dict[str, Any] | None = None,
+) -> xr.Dataset:
     """Record, order spectrum, TSA of pinion and wheel, regular/residual/difference signals and the indicators
     of a system's sensor: a ``signature`` result as the pair's (:func:`geardyn.signature.run.signature`).
 
@@ -305,8 +349,10 @@ def system_signature(system: Any, dof: str | None = None, *, mesh: str | None = 
     z1, zv, _body = mesh_shafts(system, mesh)
     z2 = zv if z2 is None else int(z2)
     if z2 is None:
-        raise ModelError(f"mesh {_mesh(system, mesh).name!r}: the wheel's teeth are not known (the mesh vector has no "
-                         f"rotation of both gears): give them (z2, or a tooth-pair file)")
+        raise ModelError(
+            f"mesh {_mesh(system, mesh).name!r}: the wheel's teeth are not known (the mesh vector has no "
+            f"rotation of both gears): give them (z2, or a tooth-pair file)"
+        )
     dof = default_sensor(system, mesh) if dof is None else dof
     m = _mesh(system, mesh)
     f_mesh = m.ratio * system.omega * system.scaling.omega_n / (2.0 * math.pi)
@@ -317,19 +363,45 @@ def system_signature(system: Any, dof: str | None = None, *, mesh: str | None = 
     acq = system_acquire(system, dof, revolutions, fs, mesh=mesh, z2=z2, noise=noise, seed=seed, dtau=dtau)
     ds, ind = record(acq, z2, f"acceleration of {dof}")
     sm = system.mesh(m.name)
-    summary = {"label": label, "rpm": acq.rpm, "fs_Hz": float(fs), "revolutions": int(revolutions),
-               "z1": z1, "z2": z2, "mesh_frequency_Hz": f_mesh, "noise": noise,
-               "excitation_cycles": int(sm.cycles), "harmonics": int(sm.n_harmonics),
-               "omega_model": sm.ratio * system.omega, "omega_mesh": m.ratio * system.omega, "omega": system.omega,
-               "omega_n_rad_s": system.scaling.omega_n, "k0_N_per_m": float(m.stiffness), "indicators": ind,
-               "faults": [], "sensor": dof, "mesh": m.name, **(extra or {})}
+    summary = {
+        "label": label,
+        "rpm": acq.rpm,
+        "fs_Hz": float(fs),
+        "revolutions": int(revolutions),
+        "z1": z1,
+        "z2": z2,
+        "mesh_frequency_Hz": f_mesh,
+        "noise": noise,
+        "excitation_cycles": int(sm.cycles),
+        "harmonics": int(sm.n_harmonics),
+        "omega_model": sm.ratio * system.omega,
+        "omega_mesh": m.ratio * system.omega,
+        "omega": system.omega,
+        "omega_n_rad_s": system.scaling.omega_n,
+        "k0_N_per_m": float(m.stiffness),
+        "indicators": ind,
+        "faults": [],
+        "sensor": dof,
+        "mesh": m.name,
+        **(extra or {}),
+    }
     return labelled(ds, summary, label)
 
 
-def system_signature_sweep(make: Callable[[float], Any], sizes: Sequence[float], *, dof: str | None = None,
-                           mesh: str | None = None, name: str = "crack depth", revolutions: int | None = None,
-                           fs: float | None = None, z2: int | None = None, noise: float = 0.02, seed: int = 0,
-                           dtau: float = 0.01) -> xr.Dataset:
+def system_signature_sweep(
+    make: Callable[[float], Any],
+    sizes: Sequence[float],
+    *,
+    dof: str | None = None,
+    mesh: str | None = None,
+    name: str = "crack depth",
+    revolutions: int | None = None,
+    fs: float | None = None,
+    z2: int | None = None,
+    noise: float = 0.02,
+    seed: int = 0,
+    dtau: float = 0.01,
+) -> xr.Dataset:
     """Indicators of the pinion and the wheel of a system's sensor against a fault size.
 
     Parameters
@@ -356,8 +428,11 @@ def system_signature_sweep(make: Callable[[float], Any], sizes: Sequence[float],
     for s in sizes:
         system = make(float(s))
         dof = default_sensor(system, mesh) if dof is None else dof
-        r = json.loads(system_signature(system, dof, mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise,
-                                        seed=seed, dtau=dtau).attrs["summary"])["runs"][0]
+        r = json.loads(
+            system_signature(
+                system, dof, mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise, seed=seed, dtau=dtau
+            ).attrs["summary"]
+        )["runs"][0]
         rows.append(r["indicators"])
         rpm = r["rpm"]
         mname = r["mesh"]

@@ -7,8 +7,8 @@
 """
 
 from ._common import AssumedInput
-from .iso10300 import BevelMesh, bevel_mesh
 from .iso6336 import CylindricalMesh, cylindrical_mesh, dynamic_factor_method_b, method_b_coefficients
+from .iso10300 import BevelMesh, bevel_mesh
 from .stiffness import StiffnessHarmonics, mesh_stiffness_harmonics, mesh_stiffness_waveform
 
 __all__ = [

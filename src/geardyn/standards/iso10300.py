@@ -361,32 +361,71 @@ def bevel_mesh(
     a = float(default("offset", 0.0, offset, "m", "not given; no hypoid offset (spiral bevel pair)"))
     hypoid = a != 0.0
     if hypoid:
-        missing = [n for n, v in (("beta_m2", beta_m2), ("d_m1", d_m1), ("d_m2", d_m2), ("delta1", delta1),
-                                  ("delta2", delta2), ("zeta_mp", zeta_mp), ("zeta_m", zeta_m)) if v is None]
+        missing = [
+            n
+            for n, v in (
+                ("beta_m2", beta_m2),
+                ("d_m1", d_m1),
+                ("d_m2", d_m2),
+                ("delta1", delta1),
+                ("delta2", delta2),
+                ("zeta_mp", zeta_mp),
+                ("zeta_m", zeta_m),
+            )
+            if v is None
+        ]
         if missing:
             raise ModelError(
-                "hypoid pair (offset != 0): give the ISO 23509 mean-point data " + ", ".join(missing)
+                "hypoid pair (offset != 0): give the ISO 23509 mean-point data "
+                + ", ".join(missing)
                 + " (the hypoid geometry itself is not solved here)"
             )
     src_no_offset = "not given; pair without offset"
-    beta_m2 = check_angle("beta_m2", default("beta_m2", beta_m1, beta_m2, "rad", src_no_offset + ": beta_m2 = beta_m1"), 0.0, 70.0)
-    alpha_lim = float(default("alpha_lim", 0.0, alpha_lim, "rad", "not given; no limit pressure angle (ISO 23509, f_alim = 1)"))
+    beta_m2 = check_angle(
+        "beta_m2", default("beta_m2", beta_m1, beta_m2, "rad", src_no_offset + ": beta_m2 = beta_m1"), 0.0, 70.0
+    )
+    alpha_lim = float(
+        default("alpha_lim", 0.0, alpha_lim, "rad", "not given; no limit pressure angle (ISO 23509, f_alim = 1)")
+    )
     zeta_mp = float(default("zeta_mp", 0.0, zeta_mp, "rad", src_no_offset))
     zeta_m = float(default("zeta_m", 0.0, zeta_m, "rad", src_no_offset))
     u = z2 / z1
     d1 = math.atan2(math.sin(Sigma), math.cos(Sigma) + u)
     delta1 = float(default("delta1", d1, delta1, "rad", "not given; tan delta1 = sin Sigma / (cos Sigma + z2/z1)"))
     delta2 = float(default("delta2", Sigma - delta1, delta2, "rad", "not given; delta2 = Sigma - delta1"))
-    d_m1 = check_positive("d_m1", default("d_m1", z1 * m_mn / math.cos(beta_m1), d_m1, "m",
-                                          "not given; d_m1 = z1 m_mn / cos beta_m1"), "m")
-    d_m2 = check_positive("d_m2", default("d_m2", z2 * m_mn / math.cos(beta_m2), d_m2, "m",
-                                          "not given; d_m2 = z2 m_mn / cos beta_m2"), "m")
-    x = float(default("x_hm1", 0.0, x_hm1, "", "not given; no profile shift")) if h_am1 is None or h_am2 is None else 0.0
-    h_am1 = check_positive("h_am1", default("h_am1", m_mn * (1.0 + x), h_am1, "m", "not given; h_am1 = m_mn (1 + x_hm1)"), "m")
-    h_am2 = check_positive("h_am2", default("h_am2", m_mn * (1.0 - x), h_am2, "m", "not given; h_am2 = m_mn (1 - x_hm1)"), "m")
-    b2e = check_positive("b2_eff", default("b2_eff", DEFAULT_EFFECTIVE_FACE_WIDTH_RATIO * b, b2_eff, "m",
-                                           "not given; b2,eff = 0.85 b (ISO 10300-1)"), "m")
-    rho = check_positive("density", default("density", DEFAULT_DENSITY, density, "kg/m^3", "not given; steel (ISO/TR 10300-30)"), "kg/m^3")
+    d_m1 = check_positive(
+        "d_m1",
+        default("d_m1", z1 * m_mn / math.cos(beta_m1), d_m1, "m", "not given; d_m1 = z1 m_mn / cos beta_m1"),
+        "m",
+    )
+    d_m2 = check_positive(
+        "d_m2",
+        default("d_m2", z2 * m_mn / math.cos(beta_m2), d_m2, "m", "not given; d_m2 = z2 m_mn / cos beta_m2"),
+        "m",
+    )
+    x = (
+        float(default("x_hm1", 0.0, x_hm1, "", "not given; no profile shift"))
+        if h_am1 is None or h_am2 is None
+        else 0.0
+    )
+    h_am1 = check_positive(
+        "h_am1", default("h_am1", m_mn * (1.0 + x), h_am1, "m", "not given; h_am1 = m_mn (1 + x_hm1)"), "m"
+    )
+    h_am2 = check_positive(
+        "h_am2", default("h_am2", m_mn * (1.0 - x), h_am2, "m", "not given; h_am2 = m_mn (1 - x_hm1)"), "m"
+    )
+    b2e = check_positive(
+        "b2_eff",
+        default(
+            "b2_eff", DEFAULT_EFFECTIVE_FACE_WIDTH_RATIO * b, b2_eff, "m", "not given; b2,eff = 0.85 b (ISO 10300-1)"
+        ),
+        "m",
+    )
+    rho = check_positive(
+        "density",
+        default("density", DEFAULT_DENSITY, density, "kg/m^3", "not given; steel (ISO/TR 10300-30)"),
+        "kg/m^3",
+    )
     K_A = check_positive("K_A", default("K_A", 1.0, K_A, "", "not given; uniform load"))
 
     alpha_nD, alpha_nC, alpha_e = alpha_d + alpha_lim, alpha_d - alpha_lim, alpha_d
@@ -400,11 +439,15 @@ def bevel_mesh(
     d_vb1, d_vb2 = d_v1 * math.cos(alpha_vet), d_v2 * math.cos(alpha_vet)
     d_va1, d_va2 = d_v1 + 2.0 * h_am1, d_v2 + 2.0 * h_am2
     p_vet = math.pi * m_mn * math.cos(alpha_vet) / math.cos(beta_v)
-    g_va = 0.5 * ((math.sqrt(d_va1**2 - d_vb1**2) - d_v1 * math.sin(alpha_vet))
-                  + (math.sqrt(d_va2**2 - d_vb2**2) - d_v2 * math.sin(alpha_vet)))
+    g_va = 0.5 * (
+        (math.sqrt(d_va1**2 - d_vb1**2) - d_v1 * math.sin(alpha_vet))
+        + (math.sqrt(d_va2**2 - d_vb2**2) - d_v2 * math.sin(alpha_vet))
+    )
     eps_va = g_va / p_vet
     if not eps_va > 1.0:
-        raise ModelError(f"transverse contact ratio of the virtual gears eps_va = {eps_va:.4g} must be > 1 (ISO 10300-1)")
+        raise ModelError(
+            f"transverse contact ratio of the virtual gears eps_va = {eps_va:.4g} must be > 1 (ISO 10300-1)"
+        )
     th_mp = math.atan(math.sin(delta2) * math.tan(zeta_m))
     gamma_p = th_mp - 0.5 * zeta_mp
     t = math.tan(0.5 * zeta_mp)
@@ -415,7 +458,9 @@ def bevel_mesh(
 
     F_mt1 = F_vmt = None
     if torque1 is None:
-        assumed.append(AssumedInput("torque1", "unknown", "N*m", "not given; C_F = 1 (line load taken >= 100 N/mm); no K_v"))
+        assumed.append(
+            AssumedInput("torque1", "unknown", "N*m", "not given; C_F = 1 (line load taken >= 100 N/mm); no K_v")
+        )
         C_F = 1.0
     else:
         F_mt1 = 2.0 * check_positive("torque1", torque1, "N*m") / d_m1
@@ -435,7 +480,11 @@ def bevel_mesh(
     if N is not None and F_vmt is not None and f_pt is not None:
         fpt = check_positive("f_pt", f_pt, "m")
         y_a = min(0.075 * fpt, _RUNNING_IN_MAX)
-        assumed.append(AssumedInput("y_alpha", y_a, "m", "running-in allowance of case hardened or nitrided steel: min(0.075 f_pt, 3 um)"))
+        assumed.append(
+            AssumedInput(
+                "y_alpha", y_a, "m", "running-in allowance of case hardened or nitrided steel: min(0.075 f_pt, 3 um)"
+            )
+        )
         B = b_v_eff * (fpt - y_a) * c_prime / (F_vmt * K_A)
         K_v, sector, K = dynamic_factor_method_b(N, B, eps_vg, n_sub=0.75, n_main=1.25)
     else:
@@ -443,13 +492,46 @@ def bevel_mesh(
         assumed.append(AssumedInput("K_v", "not computed", "", "needs " + ", ".join(need)))
 
     return BevelMesh(
-        u=u, delta1=delta1, delta2=delta2, d_m1=d_m1, d_m2=d_m2,
-        alpha_nD=alpha_nD, alpha_nC=alpha_nC, alpha_e=alpha_e,
-        d_v1=d_v1, d_v2=d_v2, a_v=0.5 * (d_v1 + d_v2), d_va1=d_va1, d_va2=d_va2, d_vb1=d_vb1, d_vb2=d_vb2,
-        beta_v=beta_v, beta_vb=beta_vb, alpha_vet=alpha_vet, m_vt=m_vt, z_v1=d_v1 / m_vt, z_v2=d_v2 / m_vt,
-        p_vet=p_vet, g_valpha=g_va, eps_valpha=eps_va, b2_eff=b2e, b_v_eff=b_v_eff, b_v=b_v,
-        eps_vbeta=eps_vb, eps_vgamma=eps_vg, C_F=C_F, c_prime=c_prime, c_gamma=c_gamma, m_red=m_red,
-        omega_E1=omega_E1, F_mt1=F_mt1, F_vmt=F_vmt, N=N, K=K, K_v=K_v, sector=sector,
+        u=u,
+        delta1=delta1,
+        delta2=delta2,
+        d_m1=d_m1,
+        d_m2=d_m2,
+        alpha_nD=alpha_nD,
+        alpha_nC=alpha_nC,
+        alpha_e=alpha_e,
+        d_v1=d_v1,
+        d_v2=d_v2,
+        a_v=0.5 * (d_v1 + d_v2),
+        d_va1=d_va1,
+        d_va2=d_va2,
+        d_vb1=d_vb1,
+        d_vb2=d_vb2,
+        beta_v=beta_v,
+        beta_vb=beta_vb,
+        alpha_vet=alpha_vet,
+        m_vt=m_vt,
+        z_v1=d_v1 / m_vt,
+        z_v2=d_v2 / m_vt,
+        p_vet=p_vet,
+        g_valpha=g_va,
+        eps_valpha=eps_va,
+        b2_eff=b2e,
+        b_v_eff=b_v_eff,
+        b_v=b_v,
+        eps_vbeta=eps_vb,
+        eps_vgamma=eps_vg,
+        C_F=C_F,
+        c_prime=c_prime,
+        c_gamma=c_gamma,
+        m_red=m_red,
+        omega_E1=omega_E1,
+        F_mt1=F_mt1,
+        F_vmt=F_vmt,
+        N=N,
+        K=K,
+        K_v=K_v,
+        sector=sector,
         kappa=mesh_stiffness_harmonics(eps_va, eps_vb, n_harmonics),
         assumed=tuple(assumed),
     )

@@ -46,10 +46,30 @@ from __future__ import annotations
 from ..errors import SweepError
 from ..grid import Grid, grid_models
 from .checkpoints import MANIFEST, CheckpointStore, checkpoint_dir, fingerprint, prepare_checkpoint, remove_checkpoint
-from .engine import (CHUNK_SECONDS, DEFAULT_CHUNK_POINTS, MIN_CHUNK_POINTS, MIN_CHUNKS, STEP_SECONDS, Chunk, SweepFailed,
-                     SweepInterrupted, chunk_slices, chunked, concat_results, run_chunks)
-from .executors import (DASK_CONNECT_TIMEOUT, DASK_RETRIES, MAX_POOL_RESTARTS, MAX_RESUBMITS, PIPELINE, POOL_PRELOAD,
-                        dask_executor, local_pool)
+from .engine import (
+    CHUNK_SECONDS,
+    DEFAULT_CHUNK_POINTS,
+    MIN_CHUNK_POINTS,
+    MIN_CHUNKS,
+    STEP_SECONDS,
+    Chunk,
+    SweepFailed,
+    SweepInterrupted,
+    chunk_slices,
+    chunked,
+    concat_results,
+    run_chunks,
+)
+from .executors import (
+    DASK_CONNECT_TIMEOUT,
+    DASK_RETRIES,
+    MAX_POOL_RESTARTS,
+    MAX_RESUBMITS,
+    PIPELINE,
+    POOL_PRELOAD,
+    dask_executor,
+    local_pool,
+)
 from .options import ENGINE_KEYWORDS, SweepOptions
 from .progress import PROGRESS_DELAY, ST_DIVERGED, divergence_summary
 

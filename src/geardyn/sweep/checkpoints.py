@@ -25,17 +25,25 @@ import queue
 import sys
 import threading
 import zipfile
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
-from ..errors import SweepError
 from ..atomic import remove_stale
+from ..errors import SweepError
 from ..io import atomic_write_bytes
 
-__all__ = ["MANIFEST", "CheckpointStore", "active_checkpoints", "checkpoint_dir", "fingerprint", "prepare_checkpoint",
-           "remove_checkpoint"]
+__all__ = [
+    "MANIFEST",
+    "CheckpointStore",
+    "active_checkpoints",
+    "checkpoint_dir",
+    "fingerprint",
+    "prepare_checkpoint",
+    "remove_checkpoint",
+]
 
 #: File name of the checkpoint manifest (fingerprint of the sweep and its number of chunks).
 MANIFEST = "manifest.json"
@@ -252,8 +260,11 @@ def prepare_checkpoint(directory: Path, chunks: Sequence[Any], resume: bool) -> 
             old = {}
     elif resume:
         has_chunks = any(directory.glob("chunk-*.npz"))
-        report(f"resume: nothing to resume in {directory} (no checkpoint manifest"
-               + ("; its chunk files are not trusted" if has_chunks else "") + "); the whole sweep is run")
+        report(
+            f"resume: nothing to resume in {directory} (no checkpoint manifest"
+            + ("; its chunk files are not trusted" if has_chunks else "")
+            + "); the whole sweep is run"
+        )
     if resume and old and old.get("fingerprint") != fp:
         raise SweepError(
             f"resume: checkpoint {directory} holds a different sweep (parameters, options or chunk size differ); "

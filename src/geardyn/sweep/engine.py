@@ -2,22 +2,35 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
-from pathlib import Path
-from typing import Any, Callable, Iterator, Sequence
+from typing import Any
 
 import numpy as np
 
 from ..errors import SweepError, SweepFailed, SweepInterrupted  # noqa: F401  (raised here; defined with the errors)
-from ..grid import Grid, chunked as _chunked
+from ..grid import Grid
+from ..grid import chunked as _chunked
 from ..model import GearModel, IntegrationOptions, ModelError
 from .checkpoints import CheckpointStore, _load_chunk, prepare_checkpoint
 from .executors import SchedulerLost, run_on_dask, run_on_executor, run_on_pool, run_on_threads
 from .options import SweepOptions
 from .progress import Progress, print_summary
 
-__all__ = ["CHUNK_SECONDS", "DEFAULT_CHUNK_POINTS", "MIN_CHUNKS", "MIN_CHUNK_POINTS", "STEP_SECONDS", "Chunk",
-           "SweepFailed", "SweepInterrupted", "chunk_slices", "chunked", "concat_results", "run_chunks"]
+__all__ = [
+    "CHUNK_SECONDS",
+    "DEFAULT_CHUNK_POINTS",
+    "MIN_CHUNKS",
+    "MIN_CHUNK_POINTS",
+    "STEP_SECONDS",
+    "Chunk",
+    "SweepFailed",
+    "SweepInterrupted",
+    "chunk_slices",
+    "chunked",
+    "concat_results",
+    "run_chunks",
+]
 
 #: Points per chunk of a sweep cut by count (``chunk_points``), the former default.
 DEFAULT_CHUNK_POINTS = 16
@@ -74,8 +87,15 @@ def chunked(n: int, size: int = DEFAULT_CHUNK_POINTS) -> list[slice]:
     return _chunked(n, size)
 
 
-def chunk_slices(grid: Grid, base: GearModel, options: IntegrationOptions, engine: SweepOptions, *,
-                 lyapunov: bool = False, default: int | None = None) -> list[slice]:
+def chunk_slices(
+    grid: Grid,
+    base: GearModel,
+    options: IntegrationOptions,
+    engine: SweepOptions,
+    *,
+    lyapunov: bool = False,
+    default: int | None = None,
+) -> list[slice]:
     """How a sweep over ``grid`` is cut into chunks.
 
     ``engine.chunk_points`` (or ``default``) given: slices of that many points.  Otherwise the

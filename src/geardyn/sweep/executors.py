@@ -31,11 +31,19 @@ import os
 import signal
 import threading
 import time
-from concurrent.futures import (CancelledError, Executor, Future, InvalidStateError, ProcessPoolExecutor,
-                                ThreadPoolExecutor, as_completed, wait)
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import (
+    CancelledError,
+    Executor,
+    Future,
+    InvalidStateError,
+    ProcessPoolExecutor,
+    ThreadPoolExecutor,
+    as_completed,
+    wait,
+)
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
-from typing import Callable, Iterator, Sequence
 
 import numpy as np
 
@@ -108,8 +116,14 @@ def submit_all(executor: Executor, todo: Sequence, call: Callable = call_chunk) 
     return {executor.submit(call, c.fn, c.args): c for c in todo}
 
 
-def drain(executor: Executor, futs: dict[Future, object], finished: Finished, *, call: Callable = call_chunk,
-          resubmit: Callable[[BaseException, object], bool] | None = None) -> None:
+def drain(
+    executor: Executor,
+    futs: dict[Future, object],
+    finished: Finished,
+    *,
+    call: Callable = call_chunk,
+    resubmit: Callable[[BaseException, object], bool] | None = None,
+) -> None:
     """Hand each result of ``futs`` to ``finished`` as it completes.
 
     Parameters
@@ -179,8 +193,9 @@ def run_on_threads(workers: int, todo: Sequence, finished: Finished) -> None:
     threads = max(1, int(numba.get_num_threads()))
     per_chunk = threads if workers == 1 else max(1, threads // workers)
     at_once = min(PIPELINE if workers == 1 else workers, len(todo))
-    pool = ThreadPoolExecutor(max_workers=max(1, at_once), thread_name_prefix="geardyn-chunk",
-                              initializer=set_threads, initargs=(per_chunk,))
+    pool = ThreadPoolExecutor(
+        max_workers=max(1, at_once), thread_name_prefix="geardyn-chunk", initializer=set_threads, initargs=(per_chunk,)
+    )
 
     def done(c, r) -> None:
         finished(c, r)
@@ -359,8 +374,9 @@ def _start_forkserver() -> None:
 
 
 def _new_pool(ctx, workers: int, counter=None) -> ProcessPoolExecutor:
-    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                               initargs=(os.getpid(), counter))
+    return ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=_init_worker, initargs=(os.getpid(), counter)
+    )
 
 
 def local_pool(workers: int) -> ProcessPoolExecutor:
@@ -564,7 +580,12 @@ def _run_dask_policy(executor: Executor, todo: Sequence, finished: Finished, add
     level = log.level
     log.setLevel(logging.CRITICAL)
     try:
-        drain(executor, submit_all(executor, todo, call_chunk_single_thread), finished,
-              call=call_chunk_single_thread, resubmit=resubmit)
+        drain(
+            executor,
+            submit_all(executor, todo, call_chunk_single_thread),
+            finished,
+            call=call_chunk_single_thread,
+            resubmit=resubmit,
+        )
     finally:
         log.setLevel(level)

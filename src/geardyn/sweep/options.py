@@ -15,8 +15,7 @@ from ..model import ModelError
 __all__ = ["ENGINE_KEYWORDS", "SweepOptions"]
 
 #: The keyword arguments of :class:`SweepOptions`, also accepted one by one by the analyses.
-ENGINE_KEYWORDS = ("workers", "scheduler", "executor", "checkpoint", "resume", "progress", "chunk_points",
-                   "processes")
+ENGINE_KEYWORDS = ("workers", "scheduler", "executor", "checkpoint", "resume", "progress", "chunk_points", "processes")
 
 
 @dataclass(frozen=True)
@@ -77,7 +76,7 @@ class SweepOptions:
         if c is not None and (isinstance(c, bool) or not isinstance(c, (int, np.integer)) or c < 1):
             raise ModelError(f"chunk size: must be >= 1, got {c!r}")
 
-    def replace(self, **changes: Any) -> "SweepOptions":
+    def replace(self, **changes: Any) -> SweepOptions:
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
 
@@ -86,7 +85,7 @@ class SweepOptions:
         return int(self.chunk_points) if self.chunk_points is not None else int(default)
 
     @classmethod
-    def merge(cls, engine: "SweepOptions | None" = None, caller: str = "sweep", **keywords: Any) -> "SweepOptions":
+    def merge(cls, engine: SweepOptions | None = None, caller: str = "sweep", **keywords: Any) -> SweepOptions:
         """``engine`` (or the defaults) with the engine keywords given one by one applied on top.
 
         Parameters

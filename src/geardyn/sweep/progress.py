@@ -25,13 +25,25 @@ from __future__ import annotations
 import threading
 import time
 from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from typing import Any, Callable, Iterator, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
-__all__ = ["PLAIN_INTERVAL", "PROGRESS_DELAY", "POLL_INTERVAL", "ST_DIVERGED", "Progress", "chunk_points", "counts_points",
-           "divergence_summary", "pool_counter", "task_progress", "tick"]
+__all__ = [
+    "PLAIN_INTERVAL",
+    "PROGRESS_DELAY",
+    "POLL_INTERVAL",
+    "ST_DIVERGED",
+    "Progress",
+    "chunk_points",
+    "counts_points",
+    "divergence_summary",
+    "pool_counter",
+    "task_progress",
+    "tick",
+]
 
 #: Seconds a computation must run before its progress bar appears (short runs stay quiet).
 PROGRESS_DELAY = 0.5
@@ -48,7 +60,7 @@ _LOCK_TIMEOUT = 1.0
 #: Where :func:`tick` goes in this process: the active bar, a worker's shared counter, or nowhere.
 _SINK: Callable[[int], None] | None = None
 #: The bars of this process, innermost last (the one a local pool's counter is attached to).
-_ACTIVE: list["Progress"] = []
+_ACTIVE: list[Progress] = []
 
 
 # ------------------------------------------------------------------------------ reporting points
@@ -81,6 +93,7 @@ def counts_points(points_of: Callable[[tuple], int]) -> Callable[[Callable[..., 
     callable
         The decorator (it returns the function itself, still importable by name in workers).
     """
+
     def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
         fn.points_of = points_of  # type: ignore[attr-defined]
         return fn
@@ -232,8 +245,11 @@ class _DelayedBar(ABC):
 
         class Elapsed(ProgressColumn):
             def render(self, task: Any) -> Text:
-                end = time.monotonic() if task.finished_time is None or task.start_time is None else (
-                    task.start_time + task.finished_time)
+                end = (
+                    time.monotonic()
+                    if task.finished_time is None or task.start_time is None
+                    else (task.start_time + task.finished_time)
+                )
                 sec = max(0, int(end - t0))
                 return Text(f"{sec // 3600}:{sec // 60 % 60:02d}:{sec % 60:02d}", style="progress.elapsed")
 
@@ -329,8 +345,9 @@ class Progress(_DelayedBar):
         Points per chunk index (needed to count points as chunks finish).
     """
 
-    def __init__(self, total: int, completed: int, description: str, unit: str = "chunks",
-                 sizes: Mapping[int, int] | None = None) -> None:
+    def __init__(
+        self, total: int, completed: int, description: str, unit: str = "chunks", sizes: Mapping[int, int] | None = None
+    ) -> None:
         super().__init__(description, poll=unit == "points")
         self._total = int(total)
         self._base = int(completed)
@@ -344,7 +361,7 @@ class Progress(_DelayedBar):
         self._begin()
 
     @classmethod
-    def for_chunks(cls, chunks: Sequence[Any], done: Mapping[int, Any] | Sequence[int], description: str) -> "Progress":
+    def for_chunks(cls, chunks: Sequence[Any], done: Mapping[int, Any] | Sequence[int], description: str) -> Progress:
         """The bar of a sweep over ``chunks`` of which those with index in ``done`` are finished.
 
         Counts points when every chunk function says how many it holds (:func:`counts_points`),
@@ -366,8 +383,7 @@ class Progress(_DelayedBar):
         sizes = {c.index: chunk_points(c) for c in chunks}
         finished = set(done)
         if chunks and all(v is not None for v in sizes.values()):
-            return cls(sum(sizes.values()), sum(sizes[i] for i in finished if i in sizes), description,
-                       "points", sizes)
+            return cls(sum(sizes.values()), sum(sizes[i] for i in finished if i in sizes), description, "points", sizes)
         return cls(len(chunks), len(finished), description)
 
     @property
@@ -397,8 +413,15 @@ class Progress(_DelayedBar):
     def _columns(self) -> list:
         from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeRemainingColumn
 
-        return [TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TextColumn(self._unit),
-                self._elapsed(), TextColumn("ETA"), TimeRemainingColumn()]
+        return [
+            TextColumn("{task.description}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TextColumn(self._unit),
+            self._elapsed(),
+            TextColumn("ETA"),
+            TimeRemainingColumn(),
+        ]
 
     def _current(self) -> tuple[int, int]:
         live = self._ticks + sum(int(c.get_obj().value) for c in self._counters) if self.counts_points else 0
@@ -450,11 +473,21 @@ class _TaskBar(_DelayedBar):
         from rich.progress import BarColumn, SpinnerColumn, TaskProgressColumn, TextColumn, TimeRemainingColumn
 
         if self._indeterminate:
-            return [SpinnerColumn(finished_text="✓"), TextColumn("{task.description}"), TextColumn("{task.fields[requested]}"),
-                    self._elapsed()]
-        return [TextColumn("{task.description}"), BarColumn(), TaskProgressColumn(),
-                TextColumn("{task.fields[numbers]}"), self._elapsed(),
-                TextColumn("ETA"), TimeRemainingColumn()]
+            return [
+                SpinnerColumn(finished_text="✓"),
+                TextColumn("{task.description}"),
+                TextColumn("{task.fields[requested]}"),
+                self._elapsed(),
+            ]
+        return [
+            TextColumn("{task.description}"),
+            BarColumn(),
+            TaskProgressColumn(),
+            TextColumn("{task.fields[numbers]}"),
+            self._elapsed(),
+            TextColumn("ETA"),
+            TimeRemainingColumn(),
+        ]
 
     def _fields(self) -> dict[str, Any]:
         t, f = self._total, self._fmt
@@ -483,8 +516,9 @@ class _TaskBar(_DelayedBar):
 
 
 @contextmanager
-def task_progress(description: str, *, unit: str = "", enabled: bool = True, indeterminate: bool = False,
-                  fmt: str = ".4g") -> Iterator[Callable[[float, float], None] | None]:
+def task_progress(
+    description: str, *, unit: str = "", enabled: bool = True, indeterminate: bool = False, fmt: str = ".4g"
+) -> Iterator[Callable[[float, float], None] | None]:
     """A progress bar on stderr for one long computation that reports ``progress(done, total)``.
 
     The bar appears after :data:`PROGRESS_DELAY` s (a shorter run shows nothing) and is stopped when

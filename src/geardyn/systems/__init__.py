@@ -17,7 +17,27 @@ from .load import load_description, load_system
 from .modes import ModalResult, campbell, modal_analysis, modes_report
 from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
 
-__all__ = sorted(["DOFS", "Body", "Clearance", "Connection", "Load", "Mesh", "SystemDescription",
-                  "MeshND", "Scaling", "SystemArrays", "SystemModel", "assemble", "load_description", "load_system",
-                  "ModalResult", "campbell", "modal_analysis", "modes_report",
-                  "bevel_mesh_vector", "cylindrical_mesh_vector"])
+__all__ = sorted(
+    [
+        "DOFS",
+        "Body",
+        "Clearance",
+        "Connection",
+        "Load",
+        "Mesh",
+        "SystemDescription",
+        "MeshND",
+        "Scaling",
+        "SystemArrays",
+        "SystemModel",
+        "assemble",
+        "load_description",
+        "load_system",
+        "ModalResult",
+        "campbell",
+        "modal_analysis",
+        "modes_report",
+        "bevel_mesh_vector",
+        "cylindrical_mesh_vector",
+    ]
+)

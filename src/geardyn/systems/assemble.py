@@ -60,9 +60,10 @@ are incommensurate.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import Any, Iterable, NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -129,7 +130,8 @@ class MeshND:
         if self.D < 0:
             raise ModelError(f"{who}.D: must be >= 0, got {self.D!r}")
         if sum(abs(x) for x in self.kappa) >= 1.0 and not (
-                self.cycles > 1 and stiffness_minimum(self.kappa, self.phi_k) > 0.0):
+            self.cycles > 1 and stiffness_minimum(self.kappa, self.phi_k) > 0.0
+        ):
             raise ModelError(f"{who}.kappa: sum of |kappa_r| must be < 1 so the mesh stiffness stays positive")
 
     @property
@@ -403,7 +405,7 @@ class SystemModel:
         seq = getattr(m, attr)
         return seq[idx] if idx < len(seq) else 0.0
 
-    def with_param(self, name: str, value: float) -> "SystemModel":
+    def with_param(self, name: str, value: float) -> SystemModel:
         """Copy with one parameter changed (validated anew)."""
         if name == "omega":
             return replace(self, omega=value)
@@ -452,7 +454,9 @@ class SystemModel:
         """
         zero = (0.0,) * self.n
         out = [Boundary(m.name, tuple(self.V[i]) + zero, m.D) for i, m in enumerate(self.meshes)]
-        out += [Boundary(nm, tuple(self.Vc[i]) + zero, d) for i, (nm, d) in enumerate(zip(self.clearance_names, self.Dc))]
+        out += [
+            Boundary(nm, tuple(self.Vc[i]) + zero, d) for i, (nm, d) in enumerate(zip(self.clearance_names, self.Dc))
+        ]
         return tuple(out)
 
     # ------------------------------------------------------------------ the System contract
@@ -465,7 +469,8 @@ class SystemModel:
     def elements(self) -> tuple[Element, ...]:
         """The meshes, then the clearances."""
         return tuple(Element(m.name, m.D, "mesh") for m in self.meshes) + tuple(
-            Element(n, d, "clearance") for n, d in zip(self.clearance_names, self.Dc))
+            Element(n, d, "clearance") for n, d in zip(self.clearance_names, self.Dc)
+        )
 
     @property
     def reference(self) -> int:
@@ -489,8 +494,9 @@ class SystemModel:
         """Mean trace of the Jacobian over a forcing period, :func:`geardyn.systems.elements.mean_trace`."""
         return _el.mean_trace(self)
 
-    def report(self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None,
-               extrema: Any = None) -> dict[str, Any]:
+    def report(
+        self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None
+    ) -> dict[str, Any]:
         """Per-mesh and per-clearance summary entries, :func:`geardyn.systems.report.report`."""
         from .report import report
 
@@ -528,7 +534,7 @@ class SystemModel:
         )
 
     @staticmethod
-    def pack(systems: Iterable["SystemModel"]) -> SystemArrays:
+    def pack(systems: Iterable[SystemModel]) -> SystemArrays:
         """Arrays of a batch of systems of one structure, stacked along a leading axis P.
 
         Raises
@@ -546,7 +552,9 @@ class SystemModel:
                 raise ModelError("pack: every system of a batch must have the same DOFs, meshes and clearances")
         H = max(s.n_harmonics for s in systems)
         each = [s.arrays(H) for s in systems]
-        return SystemArrays(*(np.ascontiguousarray(np.stack([getattr(a, f) for a in each])) for f in SystemArrays._fields))
+        return SystemArrays(
+            *(np.ascontiguousarray(np.stack([getattr(a, f) for a in each])) for f in SystemArrays._fields)
+        )
 
     # ------------------------------------------------------------------ checks and helpers
     def relative_coefficients(self, mesh: str | None = None) -> dict[str, float]:

@@ -103,7 +103,11 @@ def check_balance(model: Any, desc: Any) -> None:
     T = np.linalg.lstsq(phi[J].T, -(phi.T @ F), rcond=None)[0]
     bodies = list(dict.fromkeys(labels[i].rsplit(".", 1)[0] for i in np.nonzero(moving)[0]))
     kind = "rotation" if np.any(rotation[moving]) else "motion"
-    loads = " and ".join(f"a {'torque' if rotation[j] else 'force'} of {t:.6g} {'N·m' if rotation[j] else 'N'} on "
-                         f"{labels[j]}" for j, t in zip(J, T))
-    raise ModelError(f"the loads drive the free {kind} of {', '.join(bodies)} (no stiffness holds it, so there is "
-                     f"no steady state); {loads} would balance them")
+    loads = " and ".join(
+        f"a {'torque' if rotation[j] else 'force'} of {t:.6g} {'N·m' if rotation[j] else 'N'} on {labels[j]}"
+        for j, t in zip(J, T)
+    )
+    raise ModelError(
+        f"the loads drive the free {kind} of {', '.join(bodies)} (no stiffness holds it, so there is "
+        f"no steady state); {loads} would balance them"
+    )

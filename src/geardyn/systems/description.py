@@ -23,8 +23,8 @@ torsional N·m/rad (mixed entries of a matrix in N/rad), damping likewise with a
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Iterable
 
 import numpy as np
 
@@ -108,7 +108,9 @@ class Body:
             v = getattr(self, attr)
             if v is None:
                 if needed:
-                    raise ModelError(f"{who}: {attr}: missing (needed for its {'translations' if attr == 'mass' else 'rotation'})")
+                    raise ModelError(
+                        f"{who}: {attr}: missing (needed for its {'translations' if attr == 'mass' else 'rotation'})"
+                    )
                 continue
             v = _finite(f"{who}: {attr}", v, unit)
             if v <= 0:
@@ -159,7 +161,7 @@ class Connection:
         object.__setattr__(self, "damping", _matrix(who, "damping", c, n))
 
     @classmethod
-    def along(cls, name: str, vector: dict[Dof, float], stiffness: float, damping: float = 0.0) -> "Connection":
+    def along(cls, name: str, vector: dict[Dof, float], stiffness: float, damping: float = 0.0) -> Connection:
         """A spring-damper along the coupling vector ``w``: stiffness matrix ``k w wᵀ``, damping ``c w wᵀ``."""
         dofs = tuple(vector)
         w = np.array([vector[d] for d in dofs], dtype=float)
@@ -325,7 +327,6 @@ class Mesh(_AlongVector):
                 raise ModelError(f"{who}: teeth: must be an integer >= 1, got {t!r}")
             set_(self, "teeth", int(t))
 
-
     def _from_table(self, who: str) -> None:
         from ..errors import ConfigError
         from ..params import MAX_HARMONICS
@@ -341,8 +342,14 @@ class Mesh(_AlongVector):
         P = exc.cycles
         H = self.excitation_harmonics
         s = exc.series(min(exc.stiffness.size // 2, MAX_HARMONICS * P) if H is None else H, 1.0, cap=MAX_HARMONICS * P)
-        vals = {"stiffness": s["k0"], "kappa": s["kappa"], "phi_k": s["phi_k"], "e": s.get("eps", ()),
-                "phi_e": s.get("phi_e", ()), "cycles": P}
+        vals = {
+            "stiffness": s["k0"],
+            "kappa": s["kappa"],
+            "phi_k": s["phi_k"],
+            "e": s.get("eps", ()),
+            "phi_e": s.get("phi_e", ()),
+            "cycles": P,
+        }
         name = "xi" if self.xi is not None else "c"
         damp = getattr(self, name) or ()
         if P > 1 and damp:
@@ -465,7 +472,9 @@ class SystemDescription:
         elems = [e.name for e in (*self.connections, *self.clearances, *self.meshes)]
         dup = sorted({n for n in elems if elems.count(n) > 1})
         if dup:
-            raise ModelError(f"element {dup[0]!r}: the name is used twice (connections, clearances and meshes share names)")
+            raise ModelError(
+                f"element {dup[0]!r}: the name is used twice (connections, clearances and meshes share names)"
+            )
         idx = self.index()
         bodies = {b.name: b for b in self.bodies}
         used: set[str] = set()
@@ -482,7 +491,9 @@ class SystemDescription:
                     used.add(b)
         for ld in self.loads:
             if (ld.body, ld.dof) not in idx:
-                what = f"unknown body {ld.body!r}" if ld.body not in bodies else f"body {ld.body!r} has no DOF {ld.dof!r}"
+                what = (
+                    f"unknown body {ld.body!r}" if ld.body not in bodies else f"body {ld.body!r} has no DOF {ld.dof!r}"
+                )
                 raise ModelError(f"load on {ld.body}.{ld.dof}: {what}")
         for b in self.bodies:
             if b.name not in used:
@@ -495,7 +506,9 @@ class SystemDescription:
                     f"body {b.name!r}: {key}: the mass matrix is singular or not positive definite (eigenvalues {ev.tolist()})"
                 )
         if self.reference is not None and self.reference not in {m.name for m in self.meshes}:
-            raise ModelError(f"reference: unknown mesh {self.reference!r}; meshes: {', '.join(m.name for m in self.meshes)}")
+            raise ModelError(
+                f"reference: unknown mesh {self.reference!r}; meshes: {', '.join(m.name for m in self.meshes)}"
+            )
         if self.characteristic_length is not None and not self.characteristic_length > 0:
             raise ModelError(f"characteristic_length: must be > 0 m, got {self.characteristic_length!r}")
         if self.characteristic_length is None and self.reference_mesh.backlash <= 0:

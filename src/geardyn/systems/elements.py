@@ -103,7 +103,9 @@ def rigid_modes(model: Any, rtol: float = 1e-9) -> np.ndarray:
     w, U = np.linalg.eigh(Kt)
     tol = rtol * max(1.0, float(np.max(np.abs(w))))
     R = U[:, np.abs(w) <= tol]
-    if R.shape[1] and (np.max(np.abs(np.asarray(model.Cb) @ R)) > tol or np.max(np.abs(np.asarray(model.F) @ R)) > 1e-9):
+    if R.shape[1] and (
+        np.max(np.abs(np.asarray(model.Cb) @ R)) > tol or np.max(np.abs(np.asarray(model.F) @ R)) > 1e-9
+    ):
         return np.zeros((model.n, 0))
     return R
 

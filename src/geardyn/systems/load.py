@@ -72,7 +72,17 @@ from typing import Any
 
 import numpy as np
 
-from .._config_values import _ANGLE_UNITS, MAX_INTEGER, MAX_MAGNITUDE, MAX_TEETH, MIN_MAGNITUDE, _clip, parse_toml, quantity, read_toml
+from .._config_values import (
+    _ANGLE_UNITS,
+    MAX_INTEGER,
+    MAX_MAGNITUDE,
+    MAX_TEETH,
+    MIN_MAGNITUDE,
+    _clip,
+    parse_toml,
+    quantity,
+    read_toml,
+)
 from ..errors import ConfigError, GeardynError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
 from .assemble import SystemModel, assemble
@@ -107,22 +117,61 @@ _BEARING_KEYS = {f"k{d}": ("tstiffness" if d == "theta" else "stiffness") for d 
     f"c{d}": ("tdamping" if d == "theta" else "damping") for d in DOFS
 }
 _CONN_KEYS = {
-    "name": "text", "body": "text", "kind": "text", "vector": "table", "stiffness": "any", "damping": "any",
-    "clearance": "any", "dofs": "list", "stiffness_matrix": "matrix", "damping_matrix": "matrix",
+    "name": "text",
+    "body": "text",
+    "kind": "text",
+    "vector": "table",
+    "stiffness": "any",
+    "damping": "any",
+    "clearance": "any",
+    "dofs": "list",
+    "stiffness_matrix": "matrix",
+    "damping_matrix": "matrix",
 } | _BEARING_KEYS
 _MESH_COMMON = {
-    "name": "text", "pinion": "text", "gear": "text", "type": "text", "stiffness": "stiffness",
-    "backlash": "length", "kappa": "number*", "k": "stiffness*", "phi_k": "phase*", "xi0": "number",
-    "xi": "number*", "c0": "damping", "c": "damping*", "phi_c": "phase*", "eps": "number*", "e": "length*",
-    "phi_e": "phase*", "ratio": "number", "teeth": "int", "vector": "table", "excitation": "text", "excitation_harmonics": "int",
+    "name": "text",
+    "pinion": "text",
+    "gear": "text",
+    "type": "text",
+    "stiffness": "stiffness",
+    "backlash": "length",
+    "kappa": "number*",
+    "k": "stiffness*",
+    "phi_k": "phase*",
+    "xi0": "number",
+    "xi": "number*",
+    "c0": "damping",
+    "c": "damping*",
+    "phi_c": "phase*",
+    "eps": "number*",
+    "e": "length*",
+    "phi_e": "phase*",
+    "ratio": "number",
+    "teeth": "int",
+    "vector": "table",
+    "excitation": "text",
+    "excitation_harmonics": "int",
 }
 _MESH_SPUR = {
-    "pressure_angle": "angle", "helix_angle": "angle", "base_radius1": "length", "base_radius2": "length",
-    "center_angle": "angle", "pinion_rotation": "text", "hand": "text",
+    "pressure_angle": "angle",
+    "helix_angle": "angle",
+    "base_radius1": "length",
+    "base_radius2": "length",
+    "center_angle": "angle",
+    "pinion_rotation": "text",
+    "hand": "text",
 }
 _MESH_BEVEL = {
-    "z1": "int", "z2": "int", "m_mn": "length", "beta_m": "angle", "alpha_n": "angle", "Sigma": "angle",
-    "r1": "length", "r2": "length", "hand": "text", "drive_side": "text",
+    "z1": "int",
+    "z2": "int",
+    "m_mn": "length",
+    "beta_m": "angle",
+    "alpha_n": "angle",
+    "Sigma": "angle",
+    "r1": "length",
+    "r2": "length",
+    "hand": "text",
+    "drive_side": "text",
 }
 _LOAD_KEYS = {"body": "text", "dof": "text", "force": "force", "torque": "torque", "mesh": "text", "fp": "number"}
 _SECTIONS = {
@@ -244,8 +293,12 @@ class _Block:
         if key not in self.data:
             if assumed is not None:
                 self.ctx.assume(
-                    Assumption(f"{self.label}.{key}", default if not isinstance(default, tuple) else list(default),
-                               _K.get(kind.rstrip("*"), (None,))[0] or "", assumed)
+                    Assumption(
+                        f"{self.label}.{key}",
+                        default if not isinstance(default, tuple) else list(default),
+                        _K.get(kind.rstrip("*"), (None,))[0] or "",
+                        assumed,
+                    )
                 )
             return default
         raw = self.data[key]
@@ -342,7 +395,9 @@ class _Block:
                 what = "backlash" if key == "backlash" else kind
                 raise self.merr(key, f"{el}must be >= 0 (a negative {what} has no physical meaning), got {raw!r}")
         if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
-            raise self.merr(key, f"{el}{raw!r} is outside the physical range, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} SI")
+            raise self.merr(
+                key, f"{el}{raw!r} is outside the physical range, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} SI"
+            )
         return x
 
 
@@ -387,7 +442,9 @@ def _connection(ctx: _Ctx, i: int, data: dict):
     blk = _Block(ctx, "connection", i, data, _CONN_KEYS, name)
     forms = [f for f in ("body", "vector", "stiffness_matrix") if blk.has(f)]
     if len(forms) != 1:
-        raise blk.cerr(None, "give one of: body (a bearing with kx, ky, kz, ktheta), vector, or dofs + stiffness_matrix")
+        raise blk.cerr(
+            None, "give one of: body (a bearing with kx, ky, kz, ktheta), vector, or dofs + stiffness_matrix"
+        )
     try:
         if forms[0] == "body":
             bad = [k for k in data if k not in _BEARING_KEYS and k not in ("name", "body")]
@@ -442,7 +499,7 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                 raise blk.cerr("vector", f"not allowed with type = {typ!r} (the vector comes from the geometry)")
             p, g = blk.get("pinion"), blk.get("gear")
             if p is None or g is None:
-                raise blk.cerr(None, "needs the bodies: pinion = \"...\" and gear = \"...\"")
+                raise blk.cerr(None, 'needs the bodies: pinion = "..." and gear = "..."')
             for key, b in (("pinion", p), ("gear", g)):
                 if b not in bodies:
                     raise blk.merr(key, f"unknown body {b!r}; bodies: {', '.join(bodies)}")
@@ -453,17 +510,27 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                         raise blk.cerr(None, f"missing key {key!r}")
                 helix = blk.get("helix_angle", default=0.0)
                 vector = cylindrical_mesh_vector(
-                    p, g, d1, d2,
+                    p,
+                    g,
+                    d1,
+                    d2,
                     pressure_angle=blk.get("pressure_angle"),
                     base_radius1=blk.get("base_radius1"),
                     base_radius2=blk.get("base_radius2"),
                     helix_angle=helix,
-                    center_angle=blk.get("center_angle", default=0.0,
-                                         assumed="not given: the line of centres from pinion to gear along +x"),
-                    pinion_rotation=blk.get("pinion_rotation", default="counterclockwise",
-                                            assumed="not given: the pinion runs counterclockwise seen from +z"),
-                    hand=blk.get("hand", default="right",
-                                 assumed="not given: right-hand pinion helix" if helix > 0 else None),
+                    center_angle=blk.get(
+                        "center_angle",
+                        default=0.0,
+                        assumed="not given: the line of centres from pinion to gear along +x",
+                    ),
+                    pinion_rotation=blk.get(
+                        "pinion_rotation",
+                        default="counterclockwise",
+                        assumed="not given: the pinion runs counterclockwise seen from +z",
+                    ),
+                    hand=blk.get(
+                        "hand", default="right", assumed="not given: right-hand pinion helix" if helix > 0 else None
+                    ),
                 )
             else:
                 missing = [k for k in ("z1", "z2", "m_mn", "beta_m", "alpha_n") if not blk.has(k)]
@@ -473,8 +540,16 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                 I2 = bodies[g].inertia or 1.0
                 kw = {k: blk.get(k) for k in ("Sigma", "r1", "r2", "hand", "drive_side") if blk.has(k)}
                 pair = SpiralBevelGearPair(
-                    z1=blk.get("z1"), z2=blk.get("z2"), m_mn=blk.get("m_mn"), beta_m=blk.get("beta_m"),
-                    alpha_n=blk.get("alpha_n"), j_n=backlash, I1=I1, I2=I2, k0=blk.get("stiffness"), **kw,
+                    z1=blk.get("z1"),
+                    z2=blk.get("z2"),
+                    m_mn=blk.get("m_mn"),
+                    beta_m=blk.get("beta_m"),
+                    alpha_n=blk.get("alpha_n"),
+                    j_n=backlash,
+                    I1=I1,
+                    I2=I2,
+                    k0=blk.get("stiffness"),
+                    **kw,
                 )
                 for a in pair.assumptions:
                     if a.name in ("r1", "r2", "hand", "drive_side"):
@@ -501,10 +576,26 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                 "xi": blk.get("xi", default=()),
             }
         return Mesh(
-            name=name, vector=vector, stiffness=k0, backlash=backlash, kappa=kappa,
-            phi_k=blk.get("phi_k", default=()), phi_c=blk.get("phi_c", default=()), e=e,
-            phi_e=blk.get("phi_e", default=()), ratio=blk.get("ratio", default=1.0), teeth=teeth, **damping,
-            **({"excitation": str(Path(ctx.source).parent / blk.get("excitation")), "excitation_harmonics": blk.get("excitation_harmonics")} if blk.has("excitation") else {}),
+            name=name,
+            vector=vector,
+            stiffness=k0,
+            backlash=backlash,
+            kappa=kappa,
+            phi_k=blk.get("phi_k", default=()),
+            phi_c=blk.get("phi_c", default=()),
+            e=e,
+            phi_e=blk.get("phi_e", default=()),
+            ratio=blk.get("ratio", default=1.0),
+            teeth=teeth,
+            **damping,
+            **(
+                {
+                    "excitation": str(Path(ctx.source).parent / blk.get("excitation")),
+                    "excitation_harmonics": blk.get("excitation_harmonics"),
+                }
+                if blk.has("excitation")
+                else {}
+            ),
         )
     except ModelError as err:
         raise blk.wrap(err) from None
@@ -515,7 +606,7 @@ def _loads(ctx: _Ctx, i: int, data: dict, meshes: dict[str, Mesh], k_ref: float,
     blk = _Block(ctx, "load", i, data, _LOAD_KEYS, where if isinstance(where, str) else None)
     if blk.has("mesh"):
         if not blk.has("fp") or any(blk.has(k) for k in ("body", "dof", "force", "torque")):
-            raise blk.cerr(None, "a load on a mesh is given as mesh = \"...\" and fp = <number> only")
+            raise blk.cerr(None, 'a load on a mesh is given as mesh = "..." and fp = <number> only')
         mname = blk.get("mesh")
         if mname not in meshes:
             raise blk.merr("mesh", f"unknown mesh {mname!r}; meshes: {', '.join(meshes)}")
@@ -523,9 +614,9 @@ def _loads(ctx: _Ctx, i: int, data: dict, meshes: dict[str, Mesh], k_ref: float,
         # the balanced torques: T_l = ±F_p R_l on the rotations of the mesh's bodies
         return [Load(b, d, Fp * v) for (b, d), v in meshes[mname].vector if d == "theta"]
     if not blk.has("body") or blk.has("fp"):
-        raise blk.cerr(None, "a load needs body = \"...\" and torque = \"... N*m\" (or dof and force)")
+        raise blk.cerr(None, 'a load needs body = "..." and torque = "... N*m" (or dof and force)')
     if blk.has("torque") == blk.has("force"):
-        raise blk.cerr(None, "give torque (on theta) or force (with dof = \"x\", \"y\" or \"z\")")
+        raise blk.cerr(None, 'give torque (on theta) or force (with dof = "x", "y" or "z")')
     if blk.has("torque"):
         if blk.get("dof", default="theta") != "theta":
             raise blk.cerr("dof", "a torque acts on theta")
@@ -544,7 +635,7 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
     if m:
         kind, name, rest = m.groups()
         sections = {"clearance": "connection", "element": None}.get(kind, kind)
-        for sec in ([sections] if sections else ["connection", "mesh"]):
+        for sec in [sections] if sections else ["connection", "mesh"]:
             for i, tbl in enumerate(data.get(sec, []) or []):
                 if isinstance(tbl, dict) and tbl.get("name", f"{sec}{i + 1}") == name:
                     key, problem = _strip(rest, None)
@@ -571,10 +662,14 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
                 raise ctx.config(None, None, None, None, f"{key}: expected a string")
         elif key in _ARRAYS:
             if not isinstance(val, list):
-                raise ConfigError(f"{ctx.source}: line {ctx.line(key, None, None) or '?'}: {key}: write [[{key}]] tables")
+                raise ConfigError(
+                    f"{ctx.source}: line {ctx.line(key, None, None) or '?'}: {key}: write [[{key}]] tables"
+                )
         elif key not in _SECTIONS:
             allowed = ", ".join([f"[{s}]" for s in _SECTIONS] + [f"[[{s}]]" for s in _ARRAYS] + list(_TOP_TEXT))
-            raise ConfigError(f"{ctx.source}: line {_top_line(ctx, key) or '?'}: unknown section or key {key!r}; allowed: {allowed}")
+            raise ConfigError(
+                f"{ctx.source}: line {_top_line(ctx, key) or '?'}: unknown section or key {key!r}; allowed: {allowed}"
+            )
     sysb = _Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
     opb = _Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
     bodies = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []))]
@@ -594,17 +689,32 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
     if b_c is None:  # half the reference mesh's backlash, read first so that eps can be converted
         names = [t.get("name", f"mesh{i + 1}") if isinstance(t, dict) else None for i, t in enumerate(mesh_data)]
         if ref is not None and ref not in names:
-            raise ctx.model("system", None, "reference", None, f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}")
+            raise ctx.model(
+                "system", None, "reference", None, f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}"
+            )
         j = names.index(ref) if ref is not None else 0
         typ = mesh_data[j].get("type") if isinstance(mesh_data[j], dict) else None
-        rb = _Block(ctx, "mesh", j, mesh_data[j], _MESH_COMMON | {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {}),
-                    names[j])
-        jn = rb._parse("backlash", "length", rb.data["backlash"]["value"] if isinstance(rb.data.get("backlash"), dict)
-                       else rb.data["backlash"]) if rb.has("backlash") else 0.0
+        rb = _Block(
+            ctx,
+            "mesh",
+            j,
+            mesh_data[j],
+            _MESH_COMMON | {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {}),
+            names[j],
+        )
+        jn = (
+            rb._parse(
+                "backlash",
+                "length",
+                rb.data["backlash"]["value"] if isinstance(rb.data.get("backlash"), dict) else rb.data["backlash"],
+            )
+            if rb.has("backlash")
+            else 0.0
+        )
         if jn < 0:
             raise rb.merr("backlash", f"must be >= 0, got {jn:g} m")
         if not jn > 0:
-            raise rb.merr("backlash", "is 0: give [system] characteristic_length (e.g. \"1 um\") to scale lengths")
+            raise rb.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
         b_c = jn / 2.0
     meshes = [_mesh(ctx, i, t, bmap, b_c) for i, t in enumerate(mesh_data)]
     _unique(ctx, "mesh", [m.name for m in meshes])
@@ -621,10 +731,19 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
             raise opb.merr(key, f"must be > 0, got {v:g}")
     try:
         return SystemDescription(
-            bodies=tuple(bodies), meshes=tuple(meshes), connections=tuple(conns), clearances=tuple(clears),
-            loads=tuple(loads), reference=ref, characteristic_length=sysb.get("characteristic_length"), rpm=rpm,
-            omega=omega, equivalent_mass=sysb.get("equivalent_mass", default="rotational"),
-            title=str(data.get("title", "")), source=ctx.source, assumptions=tuple(ctx.assumptions),
+            bodies=tuple(bodies),
+            meshes=tuple(meshes),
+            connections=tuple(conns),
+            clearances=tuple(clears),
+            loads=tuple(loads),
+            reference=ref,
+            characteristic_length=sysb.get("characteristic_length"),
+            rpm=rpm,
+            omega=omega,
+            equivalent_mass=sysb.get("equivalent_mass", default="rotational"),
+            title=str(data.get("title", "")),
+            source=ctx.source,
+            assumptions=tuple(ctx.assumptions),
         )
     except ModelError as e:
         raise _element_line(ctx, data, e) from None
@@ -636,7 +755,9 @@ def _unique(ctx: _Ctx, section: str, names: list) -> None:
     for i, n in enumerate(names):
         if n is not None and n in seen:
             at = f"line {ctx.line(section, seen[n], 'name')}"
-            raise ctx.config(section, i, "name", None, f"duplicate {section} name {n!r} (also at {at}); names must be unique")
+            raise ctx.config(
+                section, i, "name", None, f"duplicate {section} name {n!r} (also at {at}); names must be unique"
+            )
         seen[n] = i
 
 

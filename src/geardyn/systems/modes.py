@@ -31,8 +31,9 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -154,9 +155,11 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> Moda
     w2, phi = scipy.linalg.eigh(K, M)
     scale = max(float(np.max(np.abs(w2))), 1e-300)
     if np.any(w2 < -RIGID_RTOL * scale):  # an unstable mode is no rigid-body mode
-        raise ModelError(f"stiffness: the system is statically unstable (a mode with ω² = {float(np.min(w2)):.4g} "
-                         f"rad²/s² < 0): a stiffness matrix of {desc.source or 'the system'} is not positive "
-                         f"semi-definite")
+        raise ModelError(
+            f"stiffness: the system is statically unstable (a mode with ω² = {float(np.min(w2)):.4g} "
+            f"rad²/s² < 0): a stiffness matrix of {desc.source or 'the system'} is not positive "
+            f"semi-definite"
+        )
     rigid = w2 <= RIGID_RTOL * scale
     f = np.where(rigid, 0.0, np.sqrt(np.clip(w2, 0.0, None)) / (2.0 * math.pi))
     order = np.argsort(f, kind="stable")
@@ -190,7 +193,7 @@ def _frequency_groups(res: ModalResult) -> list[tuple[float, list[int]]]:
 
 
 def _line_label(pairs: list[tuple[str, int]], meshes: Sequence[str]) -> str:
-    """"order 2", or "order 2 of m1 = order 1 of m2" when the line is not every mesh's order."""
+    """ "order 2", or "order 2 of m1 = order 1 of m2" when the line is not every mesh's order."""
     by_order: dict[int, list[str]] = {}
     for name, k in pairs:
         by_order.setdefault(k, []).append(name)
@@ -270,23 +273,47 @@ def campbell(
     for n, (h, pairs) in enumerate(sorted(harmonics.items())):
         label = _line_label(pairs, names)
         slope = h * per_x
-        lines.append({"label": label, "harmonic": h, "hz_per_x": slope, "order": pairs[0][1], "mesh": pairs[0][0],
-                      "meshes": [p[0] for p in pairs], "orders": [p[1] for p in pairs]})
+        lines.append(
+            {
+                "label": label,
+                "harmonic": h,
+                "hz_per_x": slope,
+                "order": pairs[0][1],
+                "mesh": pairs[0][0],
+                "meshes": [p[0] for p in pairs],
+                "orders": [p[1] for p in pairs],
+            }
+        )
         for f, modes in groups:
             x = f / slope
             if lo <= x <= hi:
-                c = {"x": x, "mode": modes[0], "modes": modes, "order": pairs[0][1], "mesh": pairs[0][0],
-                     "meshes": [p[0] for p in pairs], "line": n, "frequency_hz": f}
+                c = {
+                    "x": x,
+                    "mode": modes[0],
+                    "modes": modes,
+                    "order": pairs[0][1],
+                    "mesh": pairs[0][0],
+                    "meshes": [p[0] for p in pairs],
+                    "line": n,
+                    "frequency_hz": f,
+                }
                 if z is not None:
                     c["rpm"] = x
                 crossings.append(c)
     crossings.sort(key=lambda c: (c["x"], c["mode"]))
     out: dict[str, Any] = {
         "x": "rpm" if z is not None else "mesh_frequency_hz",
-        "x_label": ("pinion speed [rpm]" if z is not None else
-                    f"mesh frequency of {desc.reference_mesh.name} [Hz]" if desc.reference_mesh.ratio == 1.0 else
-                    "base mesh frequency ω_e/2π [Hz]"),
-        "x_range": [lo, hi], "teeth": z, "lines": lines, "crossings": crossings,
+        "x_label": (
+            "pinion speed [rpm]"
+            if z is not None
+            else f"mesh frequency of {desc.reference_mesh.name} [Hz]"
+            if desc.reference_mesh.ratio == 1.0
+            else "base mesh frequency ω_e/2π [Hz]"
+        ),
+        "x_range": [lo, hi],
+        "teeth": z,
+        "lines": lines,
+        "crossings": crossings,
     }
     if z is not None:
         out["rpm_range"] = [lo, hi]
@@ -339,7 +366,9 @@ def modes_report(
         "frequencies_hz": [float(x) for x in res.frequencies_hz],
         "rigid": [bool(x) for x in res.rigid],
         "modes": modes,
-        "energy_fractions": [{e: float(res.energy[i, j]) for j, e in enumerate(res.elements)} for i in range(len(modes))],
+        "energy_fractions": [
+            {e: float(res.energy[i, j]) for j, e in enumerate(res.elements)} for i in range(len(modes))
+        ],
         "degenerate": [[i + 1 for i in g] for g in res.degenerate_groups()],
         "assumed": [a.to_dict() for a in desc.assumptions],
     }
@@ -349,6 +378,8 @@ def modes_report(
         return out
     out["campbell"] = campbell(desc, res, rpm_range, orders, mesh_hz_range)
     if desc.reference_mesh.teeth is None:
-        out["campbell_note"] = (f"mesh {desc.reference_mesh.name!r} gives no teeth: the Campbell diagram is "
-                                f"against its mesh frequency (Hz), not pinion speed")
+        out["campbell_note"] = (
+            f"mesh {desc.reference_mesh.name!r} gives no teeth: the Campbell diagram is "
+            f"against its mesh frequency (Hz), not pinion speed"
+        )
     return out

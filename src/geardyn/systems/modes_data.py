@@ -72,31 +72,49 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         "rigid": ("mode", np.array([m["rigid"] for m in modes], dtype=np.int8)),
         "mesh_dominated": ("mode", np.array([m["mesh_dominated"] for m in modes], dtype=np.int8)),
         "shape": (("dof", "mode"), np.array([[m["shape"][d] for m in modes] for d in dofs], dtype=float)),
-        "energy_fraction": (("mode", "element"),
-                            np.array([[e[k] for k in elements] for e in report["energy_fractions"]],
-                                     dtype=float).reshape(n, len(elements))),
+        "energy_fraction": (
+            ("mode", "element"),
+            np.array([[e[k] for k in elements] for e in report["energy_fractions"]], dtype=float).reshape(
+                n, len(elements)
+            ),
+        ),
     }
-    coords: dict[str, Any] = {"mode": np.arange(1, n + 1), "dof": np.array(dofs, dtype=object),
-                              "element": np.array(elements, dtype=object)}
-    attrs = {"geardyn_kind": "modes", "geardyn_version": __version__, "title": report.get("title") or "",
-             "source": report.get("source") or "", "summary": json_attr(report)}
+    coords: dict[str, Any] = {
+        "mode": np.arange(1, n + 1),
+        "dof": np.array(dofs, dtype=object),
+        "element": np.array(elements, dtype=object),
+    }
+    attrs = {
+        "geardyn_kind": "modes",
+        "geardyn_version": __version__,
+        "title": report.get("title") or "",
+        "source": report.get("source") or "",
+        "summary": json_attr(report),
+    }
     camp = report.get("campbell")
     if camp:
         lines, cr = camp["lines"], camp["crossings"]
         coords["line"] = np.arange(len(lines))
         coords["crossing"] = np.arange(len(cr))
-        data.update({
-            "line_label": ("line", np.array([ln["label"] for ln in lines], dtype=object)),
-            "line_harmonic": ("line", np.array([ln["harmonic"] for ln in lines], dtype=float)),
-            "line_slope": ("line", np.array([ln["hz_per_x"] for ln in lines], dtype=float)),
-            "crossing_x": ("crossing", np.array([c["x"] for c in cr], dtype=float)),
-            "crossing_frequency_Hz": ("crossing", np.array([c["frequency_hz"] for c in cr], dtype=float)),
-            "crossing_mode": ("crossing", np.array([c["mode"] for c in cr], dtype=np.int64)),
-            "crossing_modes": ("crossing", np.array([", ".join(map(str, c["modes"])) for c in cr], dtype=object)),
-            "crossing_line": ("crossing", np.array([c["line"] for c in cr], dtype=np.int64)),
-        })
-        attrs.update({"campbell_x": camp["x"], "campbell_x_label": camp["x_label"],
-                      "campbell_x_range": json.dumps(list(camp["x_range"]))})
+        data.update(
+            {
+                "line_label": ("line", np.array([ln["label"] for ln in lines], dtype=object)),
+                "line_harmonic": ("line", np.array([ln["harmonic"] for ln in lines], dtype=float)),
+                "line_slope": ("line", np.array([ln["hz_per_x"] for ln in lines], dtype=float)),
+                "crossing_x": ("crossing", np.array([c["x"] for c in cr], dtype=float)),
+                "crossing_frequency_Hz": ("crossing", np.array([c["frequency_hz"] for c in cr], dtype=float)),
+                "crossing_mode": ("crossing", np.array([c["mode"] for c in cr], dtype=np.int64)),
+                "crossing_modes": ("crossing", np.array([", ".join(map(str, c["modes"])) for c in cr], dtype=object)),
+                "crossing_line": ("crossing", np.array([c["line"] for c in cr], dtype=np.int64)),
+            }
+        )
+        attrs.update(
+            {
+                "campbell_x": camp["x"],
+                "campbell_x_label": camp["x_label"],
+                "campbell_x_range": json.dumps(list(camp["x_range"])),
+            }
+        )
         if camp.get("teeth") is not None:
             attrs["teeth"] = int(camp["teeth"])
     if report.get("campbell_note"):

@@ -32,5 +32,7 @@ def excitation_note(system: Any, state0: tuple[float, float] = (0.0, 0.0)) -> st
         return None
     if any(any(float(e) != 0.0 for e in m.eps) for m in system.meshes):
         return None
-    return ("the system has no excitation (no load, no transmission error) and starts from rest: its response is "
-            "zero; it is meant for the linear modes (geardyn modes), or give loads or STE in its file")
+    return (
+        "the system has no excitation (no load, no transmission error) and starts from rest: its response is "
+        "zero; it is meant for the linear modes (geardyn modes), or give loads or STE in its file"
+    )

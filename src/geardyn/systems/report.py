@@ -84,26 +84,40 @@ def _fractions(fr: np.ndarray) -> dict[str, float | None]:
     return {"drive": _num(fr[0]), "separation": _num(fr[1]), "back": _num(fr[2])}
 
 
-def _mesh_entries(model: Any, res: Any, point: int, tau: np.ndarray | None, deltas: np.ndarray | None,
-                  extrema: np.ndarray | None) -> list[dict[str, Any]]:
+def _mesh_entries(
+    model: Any, res: Any, point: int, tau: np.ndarray | None, deltas: np.ndarray | None, extrema: np.ndarray | None
+) -> list[dict[str, Any]]:
     sc = model.scaling
     um = sc.b_c * 1e6
     fs = static_mesh_forces(model)
     ok = bool(res.ok[point]) if res is not None else extrema is not None
-    force = mesh_forces(model, tau, deltas) if (tau is not None and deltas is not None and ok
-                                                and np.all(np.isfinite(deltas))) else None
+    force = (
+        mesh_forces(model, tau, deltas)
+        if (tau is not None and deltas is not None and ok and np.all(np.isfinite(deltas)))
+        else None
+    )
     out = []
     for i, m in enumerate(model.meshes):
         if extrema is not None:
             lo, hi = float(extrema[i, 0]), float(extrema[i, 1])
         else:
             lo, hi = float(res.element_u_min(i)[point]), float(res.element_u_max(i)[point])
-        e: dict[str, Any] = {"name": m.name, "backlash_um": _num(m.D * um), "u_min": _num(lo), "u_max": _num(hi), "amplitude": _num(0.5 * (hi - lo)),
-                             "impact": IMPACT_LABELS[impact_state(lo, m.D)]}
+        e: dict[str, Any] = {
+            "name": m.name,
+            "backlash_um": _num(m.D * um),
+            "u_min": _num(lo),
+            "u_max": _num(hi),
+            "amplitude": _num(0.5 * (hi - lo)),
+            "impact": IMPACT_LABELS[impact_state(lo, m.D)],
+        }
         if res is not None:
-            e.update(rms=_num(res.element_rms(i)[point]), mean=_num(res.element_mean(i)[point]),
-                     contact_fractions=_fractions(res.element_fractions(i)[point]),
-                     dte_min_um=_num(lo * um), dte_max_um=_num(hi * um))
+            e.update(
+                rms=_num(res.element_rms(i)[point]),
+                mean=_num(res.element_mean(i)[point]),
+                contact_fractions=_fractions(res.element_fractions(i)[point]),
+                dte_min_um=_num(lo * um),
+                dte_max_um=_num(hi * um),
+            )
         e["dte_amplitude_um"] = _num(0.5 * (hi - lo) * um)
         if res is not None:
             e.update(static_force_N=_num(fs[i] * sc.force_scale), dynamic_factor=None)
@@ -125,14 +139,27 @@ def _clearance_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]
     for c, name in enumerate(model.clearance_names):
         e = M + c
         lo, hi = float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
-        out.append({"name": name, "u_min": _num(lo), "u_max": _num(hi), "amplitude": _num(0.5 * (hi - lo)),
-                    "impact": IMPACT_LABELS[impact_state(lo, model.Dc[c])],
-                    "contact_fractions": _fractions(res.element_fractions(e)[point])})
+        out.append(
+            {
+                "name": name,
+                "u_min": _num(lo),
+                "u_max": _num(hi),
+                "amplitude": _num(0.5 * (hi - lo)),
+                "impact": IMPACT_LABELS[impact_state(lo, model.Dc[c])],
+                "contact_fractions": _fractions(res.element_fractions(e)[point]),
+            }
+        )
     return out
 
 
-def report(model: Any, res: Any = None, point: int = 0, tau: np.ndarray | None = None,
-           deltas: np.ndarray | None = None, extrema: np.ndarray | None = None) -> dict[str, Any]:
+def report(
+    model: Any,
+    res: Any = None,
+    point: int = 0,
+    tau: np.ndarray | None = None,
+    deltas: np.ndarray | None = None,
+    extrema: np.ndarray | None = None,
+) -> dict[str, Any]:
     """The keys a system adds to an analysis summary.
 
     Parameters
@@ -152,9 +179,12 @@ def report(model: Any, res: Any = None, point: int = 0, tau: np.ndarray | None =
     dict
         ``reference_mesh``, ``labels``, ``forcing_period_multiple``, ``meshes`` and (with ``res``) ``clearances``.
     """
-    out: dict[str, Any] = {"reference_mesh": model.meshes[model.reference].name, "labels": list(model.labels),
-                           "forcing_period_multiple": model.period_multiple(),
-                           "meshes": _mesh_entries(model, res, point, tau, deltas, extrema)}
+    out: dict[str, Any] = {
+        "reference_mesh": model.meshes[model.reference].name,
+        "labels": list(model.labels),
+        "forcing_period_multiple": model.period_multiple(),
+        "meshes": _mesh_entries(model, res, point, tau, deltas, extrema),
+    }
     if res is not None:
         out["clearances"] = _clearance_entries(model, res, point)
     return out
@@ -189,6 +219,7 @@ def result_meshes(ds: Any) -> list[dict[str, Any]]:
     def values(a: np.ndarray, f: Any) -> Any:
         def conv(x: np.ndarray) -> Any:
             return [conv(r) for r in x] if x.ndim > 1 else [f(v) for v in x]
+
         if "sweep" in dims:
             labs = [str(s) for s in ds["sweep"].values]
             per = {lab: conv(a[i]) for i, lab in enumerate(labs)}
@@ -208,12 +239,20 @@ def result_meshes(ds: Any) -> list[dict[str, Any]]:
             lo = hi = np.full(ds["amplitude"].shape, np.nan)
             imp = ds["impact"].values
         amp = 0.5 * (hi - lo) if "u_min" in ds or "element_u_min" in ds else ds["amplitude"].values
-        out.append({"name": e["name"], "backlash_um": _num(e["gap"] * um), "u_min": values(lo, _num),
-                    "u_max": values(hi, _num), "amplitude": values(amp, _num),
-                    "dte_min_um": values(lo * um, _num), "dte_max_um": values(hi * um, _num),
-                    "dte_amplitude_um": values(amp * um, _num),
-                    "impact": values(imp, lambda c: IMPACT_LABELS.get(int(c), "unknown")),
-                    "dynamic_factor": None})
+        out.append(
+            {
+                "name": e["name"],
+                "backlash_um": _num(e["gap"] * um),
+                "u_min": values(lo, _num),
+                "u_max": values(hi, _num),
+                "amplitude": values(amp, _num),
+                "dte_min_um": values(lo * um, _num),
+                "dte_max_um": values(hi * um, _num),
+                "dte_amplitude_um": values(amp * um, _num),
+                "impact": values(imp, lambda c: IMPACT_LABELS.get(int(c), "unknown")),
+                "dynamic_factor": None,
+            }
+        )
     return out
 
 
@@ -255,14 +294,28 @@ def physical_scales(model: Any) -> Any:
             return np.asarray(fp, dtype=float) * np.nan
 
         def operating_point(self, m: Any) -> dict[str, Any]:
-            return {"omega": float(m.omega), "rpm": _num(self.rpm_from_omega(m.omega)),
-                    "mesh_frequency_Hz": float(self.hz_from_omega(m.omega)),
-                    "natural_frequency_Hz": self.natural_frequency_Hz, "fp": None, "torque_N_m": None,
-                    "static_force_N": _num(static_mesh_forces(m)[m.reference] * m.scaling.force_scale)}
+            return {
+                "omega": float(m.omega),
+                "rpm": _num(self.rpm_from_omega(m.omega)),
+                "mesh_frequency_Hz": float(self.hz_from_omega(m.omega)),
+                "natural_frequency_Hz": self.natural_frequency_Hz,
+                "fp": None,
+                "torque_N_m": None,
+                "static_force_N": _num(static_mesh_forces(m)[m.reference] * m.scaling.force_scale),
+            }
 
     sc = model.scaling
     desc = getattr(model, "description", None)
-    return SystemScales(title=getattr(desc, "title", None) or "system", source=str(getattr(desc, "source", "") or ""),
-                        z1=int(sc.teeth or 0), b_c_m=sc.b_c, k0_N_per_m=sc.k_ref, m_e_kg=sc.m_ref,
-                        omega_n_rad_s=sc.omega_n, R1_m=None, R2_m=None,
-                        D=float(model.elements[model.reference].gap), k0_source="reference mesh of the system")
+    return SystemScales(
+        title=getattr(desc, "title", None) or "system",
+        source=str(getattr(desc, "source", "") or ""),
+        z1=int(sc.teeth or 0),
+        b_c_m=sc.b_c,
+        k0_N_per_m=sc.k_ref,
+        m_e_kg=sc.m_ref,
+        omega_n_rad_s=sc.omega_n,
+        R1_m=None,
+        R2_m=None,
+        D=float(model.elements[model.reference].gap),
+        k0_source="reference mesh of the system",
+    )

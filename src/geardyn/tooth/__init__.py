@@ -14,6 +14,25 @@ from .geometry import PairGeometry, pair_geometry
 from .mesh import MeshStiffness, mesh_stiffness, share_load
 from .table import apply_excitation, read_table, table_of, write_table
 
-__all__ = ["Broken", "Crack", "Excitation", "MeshStiffness", "Modifications", "PairGeometry", "Spall", "Wear",
-           "excitation_model", "fault_from_dict", "fourier_series", "mesh_stiffness", "pair_geometry", "pair_model",
-           "apply_excitation", "read_table", "series_table", "share_load", "table_of", "write_table"]
+__all__ = [
+    "Broken",
+    "Crack",
+    "Excitation",
+    "MeshStiffness",
+    "Modifications",
+    "PairGeometry",
+    "Spall",
+    "Wear",
+    "excitation_model",
+    "fault_from_dict",
+    "fourier_series",
+    "mesh_stiffness",
+    "pair_geometry",
+    "pair_model",
+    "apply_excitation",
+    "read_table",
+    "series_table",
+    "share_load",
+    "table_of",
+    "write_table",
+]

@@ -26,8 +26,25 @@ from .geometry import PairGeometry, pair_geometry
 
 __all__ = ["ToothCase", "load_case"]
 
-_PAIR_KEYS = {"z1", "z2", "z_virtual", "m_n_mm", "alpha_n_deg", "beta_deg", "face_width_mm", "x1", "x2", "h_a", "h_f", "E_GPa",
-              "nu", "bore1_mm", "bore2_mm", "torque_Nm", "name"}
+_PAIR_KEYS = {
+    "z1",
+    "z2",
+    "z_virtual",
+    "m_n_mm",
+    "alpha_n_deg",
+    "beta_deg",
+    "face_width_mm",
+    "x1",
+    "x2",
+    "h_a",
+    "h_f",
+    "E_GPa",
+    "nu",
+    "bore1_mm",
+    "bore2_mm",
+    "torque_Nm",
+    "name",
+}
 _SCALE = {"_mm": 1e-3, "_um": 1e-6}
 
 
@@ -107,17 +124,32 @@ def load_case(path: str | Path) -> ToothCase:
     zv = tp.get("z_virtual")
     try:
         geo = pair_geometry(
-            *(zv if zv is not None else (tp["z1"], tp["z2"])), tp["m_n_mm"] * 1e-3, alpha_n=math.radians(tp.get("alpha_n_deg", 20.0)),
-            beta=math.radians(tp.get("beta_deg", 0.0)), face_width=tp["face_width_mm"] * 1e-3,
-            x1=tp.get("x1", 0.0), x2=tp.get("x2", 0.0), h_a=tp.get("h_a", 1.0), h_f=tp.get("h_f", 1.25),
+            *(zv if zv is not None else (tp["z1"], tp["z2"])),
+            tp["m_n_mm"] * 1e-3,
+            alpha_n=math.radians(tp.get("alpha_n_deg", 20.0)),
+            beta=math.radians(tp.get("beta_deg", 0.0)),
+            face_width=tp["face_width_mm"] * 1e-3,
+            x1=tp.get("x1", 0.0),
+            x2=tp.get("x2", 0.0),
+            h_a=tp.get("h_a", 1.0),
+            h_f=tp.get("h_f", 1.25),
             bore1=tp["bore1_mm"] * 1e-3 if "bore1_mm" in tp else None,
             bore2=tp["bore2_mm"] * 1e-3 if "bore2_mm" in tp else None,
-            E=tp.get("E_GPa", 206.0) * 1e9, nu=tp.get("nu", 0.3), teeth=(tp["z1"], tp["z2"]) if zv is not None else None)
+            E=tp.get("E_GPa", 206.0) * 1e9,
+            nu=tp.get("nu", 0.3),
+            teeth=(tp["z1"], tp["z2"]) if zv is not None else None,
+        )
         md = _si(doc.get("modifications", {}))
         mods = Modifications(**{k: tuple(v) if isinstance(v, list) else v for k, v in md.items()})
         faults = [fault_from_dict(_si(f)) for f in doc.get("fault", [])]
     except (ModelError, TypeError) as exc:
         raise ConfigError(f"{p}: {exc}") from None
-    return ToothCase(name=str(tp.get("name", p.stem)), geometry=geo, torque=float(tp["torque_Nm"]),
-                     modifications=mods, faults=faults, mesh=dict(doc.get("mesh", {})),
-                     signature=_si(doc.get("signature", {})))
+    return ToothCase(
+        name=str(tp.get("name", p.stem)),
+        geometry=geo,
+        torque=float(tp["torque_Nm"]),
+        modifications=mods,
+        faults=faults,
+        mesh=dict(doc.get("mesh", {})),
+        signature=_si(doc.get("signature", {})),
+    )

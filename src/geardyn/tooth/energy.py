@@ -40,16 +40,24 @@ import numpy as np
 
 from .geometry import PairGeometry, Section
 
-__all__ = ["SAINSOT", "ToothCompliance", "cantilever_compliance", "fillet_compliance", "hertz_compliance",
-           "tooth_compliance"]
+__all__ = [
+    "SAINSOT",
+    "ToothCompliance",
+    "cantilever_compliance",
+    "fillet_compliance",
+    "hertz_compliance",
+    "tooth_compliance",
+]
 
 #: Sainsot, Velex & Duverger (2004), Table 1: rows L*, M*, P*, Q*; columns A, B, C, D, E, F.
-SAINSOT = np.array([
-    [-5.574e-5, -1.9986e-3, -2.3015e-4, 4.7702e-3, 0.0271, 6.8045],
-    [60.111e-5, 28.100e-3, -83.431e-4, -9.9256e-3, 0.1624, 0.9086],
-    [-50.952e-5, 185.50e-3, 0.0538e-4, 53.300e-3, 0.2895, 0.9236],
-    [-6.2042e-5, 9.0889e-3, -4.0964e-4, 7.8297e-3, -0.1472, 0.6904],
-])
+SAINSOT = np.array(
+    [
+        [-5.574e-5, -1.9986e-3, -2.3015e-4, 4.7702e-3, 0.0271, 6.8045],
+        [60.111e-5, 28.100e-3, -83.431e-4, -9.9256e-3, 0.1624, 0.9086],
+        [-50.952e-5, 185.50e-3, 0.0538e-4, 53.300e-3, 0.2895, 0.9236],
+        [-6.2042e-5, 9.0889e-3, -4.0964e-4, 7.8297e-3, -0.1472, 0.6904],
+    ]
+)
 
 
 @dataclass(frozen=True)
@@ -78,8 +86,9 @@ def _cumtrapz(f: np.ndarray, y: np.ndarray) -> np.ndarray:
     return out
 
 
-def cantilever_compliance(y: np.ndarray, w: np.ndarray, d: np.ndarray, h_l: np.ndarray, alpha1: np.ndarray,
-                          E: float, nu: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def cantilever_compliance(
+    y: np.ndarray, w: np.ndarray, d: np.ndarray, h_l: np.ndarray, alpha1: np.ndarray, E: float, nu: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Bending, shear and axial compliances (per unit width) of a cantilever of thickness w(y).
 
     Parameters
@@ -108,8 +117,9 @@ def cantilever_compliance(y: np.ndarray, w: np.ndarray, d: np.ndarray, h_l: np.n
     j0, j1, j2, a0 = (np.interp(dd, yy, J) for J in (J0, J1, J2, A0))
     c, s = np.cos(alpha1), np.sin(alpha1)
     G = E / (2.0 * (1.0 + nu))
-    bending = (c * c * (dd * dd * j0 - 2.0 * dd * j1 + j2) - 2.0 * c * s * h_l * (dd * j0 - j1)
-               + s * s * h_l * h_l * j0) / E
+    bending = (
+        c * c * (dd * dd * j0 - 2.0 * dd * j1 + j2) - 2.0 * c * s * h_l * (dd * j0 - j1) + s * s * h_l * h_l * j0
+    ) / E
     return bending, 1.2 * c * c * a0 / G, s * s * a0 / E
 
 
@@ -131,8 +141,9 @@ def hertz_compliance(E1: float, nu1: float, E2: float, nu2: float) -> float:
     return 2.0 / math.pi * ((1.0 - nu1**2) / E1 + (1.0 - nu2**2) / E2)
 
 
-def fillet_compliance(alpha1: np.ndarray, u_f: np.ndarray, r_f: float, theta_f: float, r_int: float,
-                      E: float) -> np.ndarray:
+def fillet_compliance(
+    alpha1: np.ndarray, u_f: np.ndarray, r_f: float, theta_f: float, r_int: float, E: float
+) -> np.ndarray:
     """Fillet-foundation compliance per unit width (Sainsot, Velex & Duverger 2004, eq. 9).
 
     Parameters

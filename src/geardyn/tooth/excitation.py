@@ -191,15 +191,19 @@ class Excitation:
         n = self.stiffness.size if self.phase is None else np.unique(self.phase).size
         return min(n // 2, cap)
 
-    def series(self, harmonics: int | None = None, b_c: float = 1.0,
-               cap: int | None = None) -> dict[str, tuple[float, ...] | float]:
+    def series(
+        self, harmonics: int | None = None, b_c: float = 1.0, cap: int | None = None
+    ) -> dict[str, tuple[float, ...] | float]:
         """``k0`` and the model's ``kappa``, ``phi_k``, ``eps``, ``phi_e`` (harmonics of ω/cycles).
 
         ``harmonics`` (default all of the table's) is refused above ``cap`` (default MAX_HARMONICS·cycles)
         and above the table's ⌊N/2⌋."""
         if self.phase is not None:
-            harmonics = self.default_harmonics(MAX_HARMONICS * self.cycles if cap is None else int(cap)) \
-                if harmonics is None else harmonics
+            harmonics = (
+                self.default_harmonics(MAX_HARMONICS * self.cycles if cap is None else int(cap))
+                if harmonics is None
+                else harmonics
+            )
         k0, ka, kp = self._series(self.stiffness, harmonics)
         if k0 <= 0:
             raise ModelError("excitation: the mean stiffness must be > 0")
@@ -208,9 +212,11 @@ class Excitation:
         if H < 1 or H > len(ka):
             raise ModelError(f"excitation: harmonics must be 1 … {len(ka)} (the table's), got {H}")
         if H > cap:
-            raise ModelError(f"excitation: {H} harmonics asked; the model takes at most {cap} "
-                             f"(mesh orders up to {cap / self.cycles:g} for a period of {self.cycles} "
-                             f"cycles): pass harmonics <= {cap}")
+            raise ModelError(
+                f"excitation: {H} harmonics asked; the model takes at most {cap} "
+                f"(mesh orders up to {cap / self.cycles:g} for a period of {self.cycles} "
+                f"cycles): pass harmonics <= {cap}"
+            )
         out: dict = {"k0": k0, "kappa": tuple(ka[:H] / k0), "phi_k": tuple(kp[:H])}
         if self.ste is not None:
             _, ea, ep = self._series(self.ste, harmonics)
@@ -218,8 +224,9 @@ class Excitation:
         return out
 
 
-def excitation_model(base: GearModel, exc: Excitation, *, harmonics: int | None = None,
-                     b_c: float = 1.0, evaluation: str = "series") -> GearModel:
+def excitation_model(
+    base: GearModel, exc: Excitation, *, harmonics: int | None = None, b_c: float = 1.0, evaluation: str = "series"
+) -> GearModel:
     """``base`` with the stiffness and STE of ``exc`` over its P = ``exc.cycles`` mesh cycles.
 
     Parameters
@@ -248,8 +255,13 @@ def excitation_model(base: GearModel, exc: Excitation, *, harmonics: int | None 
     if harmonics is None:
         harmonics = exc.default_harmonics(MAX_HARMONICS * P)
     s = exc.series(harmonics, b_c, cap=MAX_HARMONICS * P)
-    changes: dict = {"cycles": P, "kappa": s["kappa"], "phi_k": s["phi_k"],
-                     "eps": s.get("eps", ()), "phi_e": s.get("phi_e", ())}
+    changes: dict = {
+        "cycles": P,
+        "kappa": s["kappa"],
+        "phi_k": s["phi_k"],
+        "eps": s.get("eps", ()),
+        "phi_e": s.get("phi_e", ()),
+    }
     if evaluation != "series":
         e = () if exc.ste is None else tuple(exc.ste / b_c)
         changes.update(evaluation=evaluation, table=(tuple(exc.nodes()), tuple(exc.stiffness / s["k0"]), e))
@@ -262,8 +274,16 @@ def excitation_model(base: GearModel, exc: Excitation, *, harmonics: int | None 
     return base.replace(**changes)
 
 
-def pair_model(ms, rpm: float, *, b_c: float = 10e-6, backlash: float = 100e-6, xi0: float = 0.05,
-               density: float = 7850.0, harmonics: int | None = None) -> tuple[GearModel, dict[str, float]]:
+def pair_model(
+    ms,
+    rpm: float,
+    *,
+    b_c: float = 10e-6,
+    backlash: float = 100e-6,
+    xi0: float = 0.05,
+    density: float = 7850.0,
+    harmonics: int | None = None,
+) -> tuple[GearModel, dict[str, float]]:
     """The non-dimensional model of a pair from its :class:`~geardyn.tooth.mesh.MeshStiffness`.
 
     Scales: k0 the mean tangent mesh stiffness; the equivalent mass along the line of action
@@ -303,8 +323,27 @@ def pair_model(ms, rpm: float, *, b_c: float = 10e-6, backlash: float = 100e-6, 
     k0 = fourier_series(exc.stiffness)[0]
     omega_n = math.sqrt(k0 / m_e)
     w_mesh = rpm * 2.0 * math.pi / 60.0 * geo.gears[0].teeth / omega_n
-    base = GearModel(omega=w_mesh, xi0=xi0, xi=(), phi_c=(), kappa=(), phi_k=(), eps=(), phi_e=(),
-                     fp=ms.force / (k0 * b_c), D=0.5 * backlash / b_c)
+    base = GearModel(
+        omega=w_mesh,
+        xi0=xi0,
+        xi=(),
+        phi_c=(),
+        kappa=(),
+        phi_k=(),
+        eps=(),
+        phi_e=(),
+        fp=ms.force / (k0 * b_c),
+        D=0.5 * backlash / b_c,
+    )
     model = excitation_model(base, exc, harmonics=harmonics, b_c=b_c)
-    return model, {"k0": k0, "m_e": m_e, "omega_n": omega_n, "b_c": b_c, "mesh_omega": w_mesh,
-                   "cycles": ms.cycles, "z1": geo.gears[0].teeth, "z2": geo.gears[1].teeth, "rpm": float(rpm)}
+    return model, {
+        "k0": k0,
+        "m_e": m_e,
+        "omega_n": omega_n,
+        "b_c": b_c,
+        "mesh_omega": w_mesh,
+        "cycles": ms.cycles,
+        "z1": geo.gears[0].teeth,
+        "z2": geo.gears[1].teeth,
+        "rpm": float(rpm),
+    }

@@ -178,10 +178,24 @@ def _section(z: float, x: float, m_t: float, alpha_t: float, r_f: float, r_a: fl
     return Section(y=y, h=h, r_f=r_f, r_b=r_b, r_a=r_a, theta_f=theta_f, psi0=psi0)
 
 
-def pair_geometry(z1: int, z2: int, m_n: float, *, alpha_n: float = math.radians(20.0), beta: float = 0.0,
-                  face_width: float = 0.02, x1: float = 0.0, x2: float = 0.0, h_a: float = 1.0, h_f: float = 1.25,
-                  bore1: float | None = None, bore2: float | None = None, E: float = 206.0e9,
-                  nu: float = 0.3, teeth: tuple[int, int] | None = None) -> PairGeometry:
+def pair_geometry(
+    z1: int,
+    z2: int,
+    m_n: float,
+    *,
+    alpha_n: float = math.radians(20.0),
+    beta: float = 0.0,
+    face_width: float = 0.02,
+    x1: float = 0.0,
+    x2: float = 0.0,
+    h_a: float = 1.0,
+    h_f: float = 1.25,
+    bore1: float | None = None,
+    bore2: float | None = None,
+    E: float = 206.0e9,
+    nu: float = 0.3,
+    teeth: tuple[int, int] | None = None,
+) -> PairGeometry:
     """The geometry of an external spur (β = 0) or helical pair.
 
     Parameters
@@ -253,13 +267,36 @@ def pair_geometry(z1: int, z2: int, m_n: float, *, alpha_n: float = math.radians
     if eps_alpha < 1.0:
         raise ModelError(f"geometry: transverse contact ratio {eps_alpha:.3f} < 1")
     eps_beta = face_width * math.sin(beta) / (math.pi * m_n)
-    gears = (GearBlank(z1, x1, bore1 if bore1 is not None else 0.5 * r_f[0], E, nu, n1),
-             GearBlank(z2, x2, bore2 if bore2 is not None else 0.5 * r_f[1], E, nu, n2))
+    gears = (
+        GearBlank(z1, x1, bore1 if bore1 is not None else 0.5 * r_f[0], E, nu, n1),
+        GearBlank(z2, x2, bore2 if bore2 is not None else 0.5 * r_f[1], E, nu, n2),
+    )
     for g, rf in zip(gears, r_f):
         if not 0 < g.bore_radius < rf:
             raise ModelError(f"bore radius of z = {g.z:g}: must lie between 0 and the root radius {rf:g} m")
     sections = (_section(z1, x1, m_t, alpha_t, r_f[0], r_a[0]), _section(z2, x2, m_t, alpha_t, r_f[1], r_a[1]))
-    return PairGeometry(gears=gears, m_n=m_n, alpha_n=alpha_n, beta=beta, face_width=face_width, h_a=h_a,
-                        h_f=h_f, m_t=m_t, alpha_t=alpha_t, alpha_wt=alpha_wt, beta_b=beta_b, a_w=a_w, r=r,
-                        r_b=r_b, r_a=r_a, r_f=r_f, p_bt=p_bt, T1T2=T1T2, s_A=s_A, s_E=s_E,
-                        eps_alpha=eps_alpha, eps_beta=eps_beta, sections=sections)
+    return PairGeometry(
+        gears=gears,
+        m_n=m_n,
+        alpha_n=alpha_n,
+        beta=beta,
+        face_width=face_width,
+        h_a=h_a,
+        h_f=h_f,
+        m_t=m_t,
+        alpha_t=alpha_t,
+        alpha_wt=alpha_wt,
+        beta_b=beta_b,
+        a_w=a_w,
+        r=r,
+        r_b=r_b,
+        r_a=r_a,
+        r_f=r_f,
+        p_bt=p_bt,
+        T1T2=T1T2,
+        s_A=s_A,
+        s_E=s_E,
+        eps_alpha=eps_alpha,
+        eps_beta=eps_beta,
+        sections=sections,
+    )

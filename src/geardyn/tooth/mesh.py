@@ -28,8 +28,9 @@ F = k_m (δ − e_eq) hold at that phase (for a pair without modifications e_eq 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -133,13 +134,13 @@ class MeshStiffness:
 
     geometry: PairGeometry
     force: float
-    phase: np.ndarray            # mesh cycles, M points
-    stiffness: np.ndarray        # tangent mesh stiffness k_m (N/m)
+    phase: np.ndarray  # mesh cycles, M points
+    stiffness: np.ndarray  # tangent mesh stiffness k_m (N/m)
     stiffness_unmodified: np.ndarray  # Σ k_i over the pairs geometrically in contact (no separations)
-    ste: np.ndarray              # loaded STE δ (m)
-    ste_noload: np.ndarray       # no-load TE: min e_i (m)
-    ste_equivalent: np.ndarray   # e_eq = δ − F / k_m (m)
-    share: np.ndarray            # (M, P) load share of the pairs m = floor(θ) − j, j = 0 … P−1
+    ste: np.ndarray  # loaded STE δ (m)
+    ste_noload: np.ndarray  # no-load TE: min e_i (m)
+    ste_equivalent: np.ndarray  # e_eq = δ − F / k_m (m)
+    share: np.ndarray  # (M, P) load share of the pairs m = floor(θ) − j, j = 0 … P−1
     pairs_in_contact: np.ndarray  # (M,) number of pairs carrying load
     cycles: int
     slices: int
@@ -175,9 +176,17 @@ def _profile_fraction(geo: PairGeometry, gear: int, s: np.ndarray) -> np.ndarray
     return f if gear == 0 else 1.0 - f
 
 
-def mesh_stiffness(geo: PairGeometry, torque1: float, *, faults: Sequence[Any] = (),
-                   modifications: Modifications | None = None, cycles: int | None = None, points: int = 64,
-                   slices: int | None = None, phases: np.ndarray | None = None) -> MeshStiffness:
+def mesh_stiffness(
+    geo: PairGeometry,
+    torque1: float,
+    *,
+    faults: Sequence[Any] = (),
+    modifications: Modifications | None = None,
+    cycles: int | None = None,
+    points: int = 64,
+    slices: int | None = None,
+    phases: np.ndarray | None = None,
+) -> MeshStiffness:
     """Mesh stiffness, load sharing and STE of a pair over ``cycles`` mesh cycles.
 
     Parameters
@@ -225,7 +234,7 @@ def mesh_stiffness(geo: PairGeometry, torque1: float, *, faults: Sequence[Any] =
     span = geo.eps_alpha + b * tanb / geo.p_bt
     J = int(math.ceil(span)) + 1
     base = np.floor(theta).astype(np.int64)
-    m = base[:, None, None] - np.arange(J)[None, :, None]            # (M, J, 1) pair index
+    m = base[:, None, None] - np.arange(J)[None, :, None]  # (M, J, 1) pair index
     s = geo.s_A + (theta[:, None, None] - m) * geo.p_bt - y[None, None, :] * tanb  # (M, J, S)
     m = np.broadcast_to(m, s.shape)
     yy = np.broadcast_to(y[None, None, :], s.shape)
@@ -261,8 +270,10 @@ def mesh_stiffness(geo: PairGeometry, torque1: float, *, faults: Sequence[Any] =
     kf, ef = k.reshape(M, -1), gap.reshape(M, -1)
     delta = share_load(kf, ef, F)
     if not np.all(np.isfinite(delta)):
-        raise ModelError("mesh: no tooth pair in contact at some phase (a missing or broken tooth where the contact ratio "
-                         "leaves it alone in mesh); the static mesh is undefined there")
+        raise ModelError(
+            "mesh: no tooth pair in contact at some phase (a missing or broken tooth where the contact ratio "
+            "leaves it alone in mesh); the static mesh is undefined there"
+        )
     load = kf * np.clip(delta[:, None] - ef, 0.0, None)
     km = np.where(delta[:, None] > ef, kf, 0.0).sum(axis=1)
     share = (load.reshape(M, J, S).sum(axis=2)) / F
@@ -276,10 +287,23 @@ def mesh_stiffness(geo: PairGeometry, torque1: float, *, faults: Sequence[Any] =
     for name in ("bending", "shear", "axial", "fillet"):
         comps[name] = getattr(t1, name) + getattr(t2, name)
     comps["pair"] = b * math.cos(geo.beta_b) / (t1.total + t2.total + ch)
-    return MeshStiffness(geometry=geo, force=F, phase=theta, stiffness=km, stiffness_unmodified=k.reshape(M, -1).sum(1),
-                         ste=delta, ste_noload=noload, ste_equivalent=delta - F / km, share=share,
-                         pairs_in_contact=pairs, cycles=P, slices=S, faults=tuple(faults), modifications=mods,
-                         components=comps)
+    return MeshStiffness(
+        geometry=geo,
+        force=F,
+        phase=theta,
+        stiffness=km,
+        stiffness_unmodified=k.reshape(M, -1).sum(1),
+        ste=delta,
+        ste_noload=noload,
+        ste_equivalent=delta - F / km,
+        share=share,
+        pairs_in_contact=pairs,
+        cycles=P,
+        slices=S,
+        faults=tuple(faults),
+        modifications=mods,
+        components=comps,
+    )
 
 
 def faults_json(faults: Sequence[Any]) -> list[dict[str, Any]]:

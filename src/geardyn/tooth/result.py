@@ -37,15 +37,41 @@ def iso_beside(ms: MeshStiffness, torque1: float | None = None) -> dict[str, flo
     mean = float(np.mean(ms.stiffness_unmodified)) / b / 1e9
     c_single = float(np.max(ms.components["pair"])) / b / 1e9
     if any(g.z != g.teeth for g in geo.gears):  # virtual cylindrical gears of a bevel pair: ISO 10300 applies
-        return {"c_prime_iso": None, "c_gamma_iso": None, "C_F": None, "single_pair_max": c_single,
-                "mesh_mean": mean, "mesh_mean_over_c_gamma": None, "single_max_over_c_prime": None,
-                "eps_alpha_iso": None, "note": "virtual cylindrical gears: compare with geardyn geometry (ISO 10300-1)"}
-    iso = cylindrical_mesh(geo.gears[0].teeth, geo.gears[1].teeth, geo.m_n, geo.alpha_n, geo.beta, geo.face_width,
-                           x1=geo.gears[0].x, x2=geo.gears[1].x, h_aP=geo.h_a, h_fP=geo.h_f, torque1=torque1)
+        return {
+            "c_prime_iso": None,
+            "c_gamma_iso": None,
+            "C_F": None,
+            "single_pair_max": c_single,
+            "mesh_mean": mean,
+            "mesh_mean_over_c_gamma": None,
+            "single_max_over_c_prime": None,
+            "eps_alpha_iso": None,
+            "note": "virtual cylindrical gears: compare with geardyn geometry (ISO 10300-1)",
+        }
+    iso = cylindrical_mesh(
+        geo.gears[0].teeth,
+        geo.gears[1].teeth,
+        geo.m_n,
+        geo.alpha_n,
+        geo.beta,
+        geo.face_width,
+        x1=geo.gears[0].x,
+        x2=geo.gears[1].x,
+        h_aP=geo.h_a,
+        h_fP=geo.h_f,
+        torque1=torque1,
+    )
     cg = iso.c_gamma_alpha if geo.beta == 0 else iso.c_gamma_beta
-    return {"c_prime_iso": iso.c_prime / 1e9, "c_gamma_iso": cg / 1e9, "C_F": iso.C_F,
-            "single_pair_max": c_single, "mesh_mean": mean, "mesh_mean_over_c_gamma": mean / (cg / 1e9),
-            "single_max_over_c_prime": c_single / (iso.c_prime / 1e9), "eps_alpha_iso": iso.eps_alpha}
+    return {
+        "c_prime_iso": iso.c_prime / 1e9,
+        "c_gamma_iso": cg / 1e9,
+        "C_F": iso.C_F,
+        "single_pair_max": c_single,
+        "mesh_mean": mean,
+        "mesh_mean_over_c_gamma": mean / (cg / 1e9),
+        "single_max_over_c_prime": c_single / (iso.c_prime / 1e9),
+        "eps_alpha_iso": iso.eps_alpha,
+    }
 
 
 def stiffness_summary(ms: MeshStiffness, harmonics: int = 8, torque1: float | None = None) -> dict[str, Any]:
@@ -69,18 +95,34 @@ def stiffness_summary(ms: MeshStiffness, harmonics: int = 8, torque1: float | No
     _, ea, ep = fourier_series(ms.ste_equivalent)
     H = min(harmonics, len(ka))
     return {
-        "z1": geo.gears[0].teeth, "z2": geo.gears[1].teeth, "z_shape": [geo.gears[0].z, geo.gears[1].z], "m_n_mm": geo.m_n * 1e3, "alpha_n_deg": math.degrees(geo.alpha_n),
-        "beta_deg": math.degrees(geo.beta), "face_width_mm": geo.face_width * 1e3,
-        "x1": geo.gears[0].x, "x2": geo.gears[1].x, "eps_alpha": geo.eps_alpha, "eps_beta": geo.eps_beta,
-        "force_N": ms.force, "cycles": ms.cycles, "points": int(ms.phase.size), "slices": ms.slices,
-        "k_mean_N_per_um": k0 / 1e6, "k_min_N_per_um": float(ms.stiffness.min()) / 1e6,
+        "z1": geo.gears[0].teeth,
+        "z2": geo.gears[1].teeth,
+        "z_shape": [geo.gears[0].z, geo.gears[1].z],
+        "m_n_mm": geo.m_n * 1e3,
+        "alpha_n_deg": math.degrees(geo.alpha_n),
+        "beta_deg": math.degrees(geo.beta),
+        "face_width_mm": geo.face_width * 1e3,
+        "x1": geo.gears[0].x,
+        "x2": geo.gears[1].x,
+        "eps_alpha": geo.eps_alpha,
+        "eps_beta": geo.eps_beta,
+        "force_N": ms.force,
+        "cycles": ms.cycles,
+        "points": int(ms.phase.size),
+        "slices": ms.slices,
+        "k_mean_N_per_um": k0 / 1e6,
+        "k_min_N_per_um": float(ms.stiffness.min()) / 1e6,
         "k_max_N_per_um": float(ms.stiffness.max()) / 1e6,
-        "ste_mean_um": float(np.mean(ms.ste)) * 1e6, "ste_peak_to_peak_um": float(np.ptp(ms.ste)) * 1e6,
+        "ste_mean_um": float(np.mean(ms.ste)) * 1e6,
+        "ste_peak_to_peak_um": float(np.ptp(ms.ste)) * 1e6,
         "harmonic_order_of_mesh": [(j + 1) / ms.cycles for j in range(H)],
-        "kappa": [float(a / k0) for a in ka[:H]], "phi_k": [float(p) for p in kp[:H]],
-        "ste_harmonics_um": [float(a * 1e6) for a in ea[:H]], "phi_e": [float(p) for p in ep[:H]],
+        "kappa": [float(a / k0) for a in ka[:H]],
+        "phi_k": [float(p) for p in kp[:H]],
+        "ste_harmonics_um": [float(a * 1e6) for a in ea[:H]],
+        "phi_e": [float(p) for p in ep[:H]],
         "kappa_abs_sum_all": float(np.sum(ka) / k0),
-        "iso6336": iso_beside(ms, torque1), "faults": faults_json(ms.faults),
+        "iso6336": iso_beside(ms, torque1),
+        "faults": faults_json(ms.faults),
     }
 
 
@@ -102,19 +144,33 @@ def stiffness_dataset(ms: MeshStiffness, summary: dict[str, Any]) -> xr.Dataset:
     c = ms.components
     J = ms.share.shape[1]
     ds = xr.Dataset(
-        {"mesh_stiffness": ("phase", ms.stiffness / 1e6, {"units": "N/um", "long_name": "mesh stiffness k_m"}),
-         "mesh_stiffness_unmodified": ("phase", ms.stiffness_unmodified / 1e6, {"units": "N/um"}),
-         "ste": ("phase", ms.ste * 1e6, {"units": "um", "long_name": "loaded static transmission error"}),
-         "ste_noload": ("phase", np.where(np.isfinite(ms.ste_noload), ms.ste_noload, np.nan) * 1e6, {"units": "um"}),
-         "ste_equivalent": ("phase", ms.ste_equivalent * 1e6, {"units": "um", "long_name": "e_eq = δ − F/k_m"}),
-         "load_share": (("phase", "pair"), ms.share, {"units": "1"}),
-         "pairs_in_contact": ("phase", ms.pairs_in_contact),
-         **{f"compliance_{k}": ("path", c[k] * 1e9, {"units": "mm*um/N", "long_name": f"{k} compliance per unit width"})
-            for k in ("hertz", "bending", "shear", "axial", "fillet")},
-         "single_pair_stiffness": ("path", c["pair"] / 1e6, {"units": "N/um"})},
-        coords={"phase": ("phase", ms.phase, {"units": "mesh cycles"}), "pair": np.arange(J),
-                "path": ("path", (c["s"] - ms.geometry.s_A) / ms.geometry.p_bt,
-                         {"units": "base pitches", "long_name": "position on the path of contact from A"})},
+        {
+            "mesh_stiffness": ("phase", ms.stiffness / 1e6, {"units": "N/um", "long_name": "mesh stiffness k_m"}),
+            "mesh_stiffness_unmodified": ("phase", ms.stiffness_unmodified / 1e6, {"units": "N/um"}),
+            "ste": ("phase", ms.ste * 1e6, {"units": "um", "long_name": "loaded static transmission error"}),
+            "ste_noload": ("phase", np.where(np.isfinite(ms.ste_noload), ms.ste_noload, np.nan) * 1e6, {"units": "um"}),
+            "ste_equivalent": ("phase", ms.ste_equivalent * 1e6, {"units": "um", "long_name": "e_eq = δ − F/k_m"}),
+            "load_share": (("phase", "pair"), ms.share, {"units": "1"}),
+            "pairs_in_contact": ("phase", ms.pairs_in_contact),
+            **{
+                f"compliance_{k}": (
+                    "path",
+                    c[k] * 1e9,
+                    {"units": "mm*um/N", "long_name": f"{k} compliance per unit width"},
+                )
+                for k in ("hertz", "bending", "shear", "axial", "fillet")
+            },
+            "single_pair_stiffness": ("path", c["pair"] / 1e6, {"units": "N/um"}),
+        },
+        coords={
+            "phase": ("phase", ms.phase, {"units": "mesh cycles"}),
+            "pair": np.arange(J),
+            "path": (
+                "path",
+                (c["s"] - ms.geometry.s_A) / ms.geometry.p_bt,
+                {"units": "base pitches", "long_name": "position on the path of contact from A"},
+            ),
+        },
     )
     ds.attrs.update(geardyn_kind="stiffness", summary=json.dumps(summary))
     return ds

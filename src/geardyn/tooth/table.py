@@ -66,8 +66,15 @@ def _with_jumps(ms: Any, k: np.ndarray, e: np.ndarray) -> Excitation:
         return Excitation(k, e, P, phase=phase.copy())
 
     def mesh(th):
-        return mesh_stiffness(ms.geometry, ms.force * ms.geometry.r_b[0], faults=ms.faults,
-                              modifications=ms.modifications, cycles=P, slices=ms.slices, phases=th)
+        return mesh_stiffness(
+            ms.geometry,
+            ms.force * ms.geometry.r_b[0],
+            faults=ms.faults,
+            modifications=ms.modifications,
+            cycles=P,
+            slices=ms.slices,
+            phases=th,
+        )
 
     lo = phase[at].copy()
     hi = np.where(at + 1 < n, phase[(at + 1) % n], float(P))
@@ -107,7 +114,9 @@ def _cycles_from_phase(where: str, phase: np.ndarray) -> int:
     return int(P)
 
 
-def _phased(where: str, phase: np.ndarray, k: np.ndarray, e: np.ndarray | None, cycles: int | None = None) -> Excitation:
+def _phased(
+    where: str, phase: np.ndarray, k: np.ndarray, e: np.ndarray | None, cycles: int | None = None
+) -> Excitation:
     """The table of rows at ``phase``: equally spaced from 0 (as before), else explicit node phases with jumps."""
     d = np.diff(phase)
     if phase.size >= 2 and np.all(d > 0):
@@ -118,8 +127,10 @@ def _phased(where: str, phase: np.ndarray, k: np.ndarray, e: np.ndarray | None, 
         if P is not None and (cycles is None or cycles == P):
             return Excitation(k, e, P)
     if phase.size < 2 or np.any(d < 0):
-        raise ConfigError(f"{where}: phase_cycles must be equally spaced from 0, or non-decreasing with a phase at "
-                          "most twice (a jump: left value, then right value)")
+        raise ConfigError(
+            f"{where}: phase_cycles must be equally spaced from 0, or non-decreasing with a phase at "
+            "most twice (a jump: left value, then right value)"
+        )
     P = int(math.floor(phase[-1])) + 1 if cycles is None else int(cycles)
     return Excitation(k, e, P, phase=phase)
 
@@ -165,8 +176,9 @@ def read_table(path: str | Path, *, cycles: int | None = None, points: int | Non
                 rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
             head = tuple(c.strip() for c in rows[0]) if rows else ()
             if head[:2] != _CSV_HEADER[:2] or (len(head) > 2 and head[2] != _CSV_HEADER[2]) or len(head) > 3:
-                raise ConfigError(f"{where}: the header must be {','.join(_CSV_HEADER)} (ste_m optional), got "
-                                  f"{','.join(head)!r}")
+                raise ConfigError(
+                    f"{where}: the header must be {','.join(_CSV_HEADER)} (ste_m optional), got {','.join(head)!r}"
+                )
             a = np.array([[float(x) for x in r] for r in rows[1:]], dtype=float)
             if a.ndim != 2 or a.shape[1] != len(head):
                 raise ConfigError(f"{where}: every row needs {len(head)} numbers")
@@ -192,10 +204,15 @@ def read_table(path: str | Path, *, cycles: int | None = None, points: int | Non
             from .mesh import mesh_stiffness
 
             case = load_case(p)
-            ms = mesh_stiffness(case.geometry, case.torque, faults=case.faults, modifications=case.modifications,
-                                cycles=cycles if cycles is not None else case.mesh.get("cycles"),
-                                points=int(points if points is not None else case.mesh.get("points", 64)),
-                                slices=case.mesh.get("slices"))
+            ms = mesh_stiffness(
+                case.geometry,
+                case.torque,
+                faults=case.faults,
+                modifications=case.modifications,
+                cycles=cycles if cycles is not None else case.mesh.get("cycles"),
+                points=int(points if points is not None else case.mesh.get("points", 64)),
+                slices=case.mesh.get("slices"),
+            )
             return table_of(ms)
     except ConfigError:
         raise
@@ -224,12 +241,16 @@ def write_table(exc: Excitation, path: str | Path, name: str = "") -> Path:
     phase = exc.nodes()
     if p.suffix.lower() == ".csv":
         cols = [phase, exc.stiffness] + ([exc.ste] if exc.ste is not None else [])
-        head = _CSV_HEADER[:len(cols)]
+        head = _CSV_HEADER[: len(cols)]
         lines = [",".join(head)] + [",".join(repr(float(c[i])) for c in cols) for i in range(n)]
         p.write_text("\n".join(lines) + "\n", encoding="utf-8")
     elif p.suffix.lower() == ".json":
-        d = {"name": name, "cycles": exc.cycles, "phase_cycles": [float(x) for x in phase],
-             "stiffness_N_per_m": [float(x) for x in exc.stiffness]}
+        d = {
+            "name": name,
+            "cycles": exc.cycles,
+            "phase_cycles": [float(x) for x in phase],
+            "stiffness_N_per_m": [float(x) for x in exc.stiffness],
+        }
         if exc.ste is not None:
             d["ste_m"] = [float(x) for x in exc.ste]
         p.write_text(json.dumps(d) + "\n", encoding="utf-8")
@@ -238,8 +259,9 @@ def write_table(exc: Excitation, path: str | Path, name: str = "") -> Path:
     return p
 
 
-def apply_excitation(model: Any, path: str | Path, *, b_c: float | None, harmonics: int | None = None,
-                     evaluation: str = "series") -> Any:
+def apply_excitation(
+    model: Any, path: str | Path, *, b_c: float | None, harmonics: int | None = None, evaluation: str = "series"
+) -> Any:
     """``model`` with the stiffness and STE of an excitation file (:func:`read_table`).
 
     Parameters
@@ -261,10 +283,13 @@ def apply_excitation(model: Any, path: str | Path, *, b_c: float | None, harmoni
     """
     exc = read_table(path)
     if exc.ste is not None and (b_c is None or not math.isfinite(b_c) or b_c <= 0):
-        raise ModelError(f"excitation: {path}: the STE needs the characteristic length b_c; give the configuration's "
-                         "gear pair or [excitation] b_c")
-    return excitation_model(model, exc, harmonics=harmonics, b_c=b_c if exc.ste is not None else 1.0,
-                            evaluation=evaluation)
+        raise ModelError(
+            f"excitation: {path}: the STE needs the characteristic length b_c; give the configuration's "
+            "gear pair or [excitation] b_c"
+        )
+    return excitation_model(
+        model, exc, harmonics=harmonics, b_c=b_c if exc.ste is not None else 1.0, evaluation=evaluation
+    )
 
 
 def refuse_series_options(values: dict[str, Any]) -> None:
@@ -282,6 +307,7 @@ def refuse_series_options(values: dict[str, Any]) -> None:
     """
     clash = [d for d in ("kappa1", "fe", "phi_k", "phi_e", "xi1", "phi_c") if values.get(d) is not None]
     if clash:
-        raise ModelError(f"{', '.join('--' + d.replace('_', '-') for d in clash)}: not with an excitation table "
-                         "(it gives the stiffness and STE series over P mesh cycles)")
-
+        raise ModelError(
+            f"{', '.join('--' + d.replace('_', '-') for d in clash)}: not with an excitation table "
+            "(it gives the stiffness and STE series over P mesh cycles)"
+        )

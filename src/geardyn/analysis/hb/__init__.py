@@ -28,7 +28,24 @@ from .system import HBSystemEquations, HBSystemSolution, hb_system_solve
 from .system_continuation import SYSTEM_DS_MAX, HBSystemContinuation, hb_system_continuation
 from .system_hill import system_hill_floquet
 
-__all__ = ["DEFAULT_HARMONICS", "HBBifurcation", "HBContinuation", "HBSolution", "HBSystem", "HillResult",
-           "hb_continuation", "hb_response", "hb_solve", "hill_floquet", "hill_matrix", "response_from_branch",
-           "HBSystemContinuation", "HBSystemEquations", "HBSystemSolution", "SYSTEM_DS_MAX", "hb_system_continuation",
-           "hb_system_solve", "system_hill_floquet"]
+__all__ = [
+    "DEFAULT_HARMONICS",
+    "HBBifurcation",
+    "HBContinuation",
+    "HBSolution",
+    "HBSystem",
+    "HillResult",
+    "hb_continuation",
+    "hb_response",
+    "hb_solve",
+    "hill_floquet",
+    "hill_matrix",
+    "response_from_branch",
+    "HBSystemContinuation",
+    "HBSystemEquations",
+    "HBSystemSolution",
+    "SYSTEM_DS_MAX",
+    "hb_system_continuation",
+    "hb_system_solve",
+    "system_hill_floquet",
+]

@@ -276,7 +276,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
         acc = 0.0 + 0.0j
         for l in range(M):
             acc += TcOm[r, l] * c[l]
-        Rc[r] = -(nu * k) ** 2 * c[r] + nu * acc + G[r] - Fh[r]
+        Rc[r] = -((nu * k) ** 2) * c[r] + nu * acc + G[r] - Fh[r]
     R = _to_real(Rc, H)
     if not jac:
         return R, np.empty((0, 0))
@@ -284,7 +284,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
     for r in range(M):
         for l in range(M):
             Jc[r, l] = nu * TcOm[r, l] + S[r - l + 2 * H]
-        Jc[r, r] += -(nu * (r - H)) ** 2
+        Jc[r, r] += -((nu * (r - H)) ** 2)
     return R, real_operator_kernel(Jc, H)
 
 

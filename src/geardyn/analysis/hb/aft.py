@@ -54,8 +54,7 @@ import numpy as np
 from ...model import GearModel
 from ._aftkernel import dead_zone_kernel, extrema_kernel
 
-__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "model_series", "dead_zone_terms",
-           "signal_extrema"]
+__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "model_series", "dead_zone_terms", "signal_extrema"]
 
 #: Samples per retained Fourier coefficient (N >= OVERSAMPLE·(2H + 1)) and the smallest N.
 OVERSAMPLE = 8
@@ -167,15 +166,15 @@ class HarmonicBasis:
         H = self.H
         c = np.empty(2 * H + 1, dtype=complex)
         c[H] = a[0]
-        z = 0.5 * (a[1:H + 1] - 1j * a[H + 1:])
-        c[H + 1:] = z
+        z = 0.5 * (a[1 : H + 1] - 1j * a[H + 1 :])
+        c[H + 1 :] = z
         c[:H] = np.conj(z[::-1])
         return c
 
     def to_real(self, c: np.ndarray) -> np.ndarray:
         """Real coefficient vector of the complex coefficients ``c`` (imaginary residue dropped)."""
         H = self.H
-        pos, neg = c[H + 1:], c[H - 1::-1]
+        pos, neg = c[H + 1 :], c[H - 1 :: -1]
         return np.concatenate([[c[H].real], (pos + neg).real, (1j * (pos - neg)).real])
 
     def real_operator(self, A: np.ndarray) -> np.ndarray:
@@ -184,14 +183,14 @@ class HarmonicBasis:
         H = self.H
         AW = np.empty_like(A)
         AW[:, 0] = A[:, H]
-        P, Nn = A[:, H + 1:], A[:, H - 1::-1]
-        AW[:, 1:H + 1] = 0.5 * (P + Nn)
-        AW[:, H + 1:] = 0.5j * (Nn - P)
+        P, Nn = A[:, H + 1 :], A[:, H - 1 :: -1]
+        AW[:, 1 : H + 1] = 0.5 * (P + Nn)
+        AW[:, H + 1 :] = 0.5j * (Nn - P)
         out = np.empty(A.shape, dtype=float)
         out[0] = AW[H].real
-        Pr, Nr = AW[H + 1:], AW[H - 1::-1]
-        out[1:H + 1] = (Pr + Nr).real
-        out[H + 1:] = (1j * (Pr - Nr)).real
+        Pr, Nr = AW[H + 1 :], AW[H - 1 :: -1]
+        out[1 : H + 1] = (Pr + Nr).real
+        out[H + 1 :] = (1j * (Pr - Nr)).real
         return out
 
     def samples(self, a: np.ndarray) -> np.ndarray:
@@ -200,7 +199,7 @@ class HarmonicBasis:
         H, N = self.H, self.N
         X = np.zeros(N // 2 + 1, dtype=complex)
         X[0] = a[0] * N
-        X[1:H + 1] = 0.5 * N * (a[1:H + 1] - 1j * a[H + 1:])
+        X[1 : H + 1] = 0.5 * N * (a[1 : H + 1] - 1j * a[H + 1 :])
         return np.fft.irfft(X, N)
 
     def evaluate(self, a: np.ndarray, phi: np.ndarray, derivative: int = 0) -> np.ndarray:
@@ -210,7 +209,7 @@ class HarmonicBasis:
         kk = np.arange(1, H + 1)
         arg = np.multiply.outer(np.asarray(phi, dtype=float), kk)
         c, s = np.cos(arg), np.sin(arg)
-        A, B = a[1:H + 1], a[H + 1:]
+        A, B = a[1 : H + 1], a[H + 1 :]
         if derivative == 0:
             return a[0] + c @ A + s @ B
         if derivative == 1:
@@ -279,8 +278,16 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
     -------
     DeadZoneTerms
     """
-    G, S, phis = dead_zone_kernel(np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(K, dtype=complex),
-                                  float(D), basis.cos_table, basis.sin_table, basis.H, ROOT_MAX_ITER, ROOT_TOL)
+    G, S, phis = dead_zone_kernel(
+        np.ascontiguousarray(a, dtype=float),
+        np.ascontiguousarray(K, dtype=complex),
+        float(D),
+        basis.cos_table,
+        basis.sin_table,
+        basis.H,
+        ROOT_MAX_ITER,
+        ROOT_TOL,
+    )
     return DeadZoneTerms(G, S, phis)
 
 
@@ -297,6 +304,5 @@ def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, f
     -------
     (u_min, u_max, phi_min, phi_max) : floats
     """
-    r = extrema_kernel(np.ascontiguousarray(a, dtype=float), basis.H, basis.cos_table, basis.sin_table,
-                       ROOT_MAX_ITER)
+    r = extrema_kernel(np.ascontiguousarray(a, dtype=float), basis.H, basis.cos_table, basis.sin_table, ROOT_MAX_ITER)
     return float(r[0]), float(r[1]), float(r[2]), float(r[3])

@@ -31,8 +31,9 @@ steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 14
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -43,10 +44,17 @@ from ._blas import single_thread_blas, solve
 from .aft import signal_extrema
 from .damping import require_damping
 from .hill import HillResult
-from .solve import DEFAULT_HARMONICS, HBSystem, hb_solve
+from .solve import HBSystem, hb_solve
 
-__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation", "max_points_end", "span_reporter",
-           "trace_branch"]
+__all__ = [
+    "KIND",
+    "HBBifurcation",
+    "HBContinuation",
+    "hb_continuation",
+    "max_points_end",
+    "span_reporter",
+    "trace_branch",
+]
 
 #: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
 KIND = "hb"
@@ -78,8 +86,15 @@ class _Pt:
 
     __slots__ = ("y", "t", "u_min", "u_max", "iters", "_stability", "_hill")
 
-    def __init__(self, y: np.ndarray, t: np.ndarray, u_min: float, u_max: float,
-                 stability: Callable[[], HillResult], iters: int = 0):
+    def __init__(
+        self,
+        y: np.ndarray,
+        t: np.ndarray,
+        u_min: float,
+        u_max: float,
+        stability: Callable[[], HillResult],
+        iters: int = 0,
+    ):
         self.y, self.t, self.u_min, self.u_max, self.iters = y, t, u_min, u_max, iters
         self._stability = stability
         self._hill: HillResult | None = None
@@ -121,9 +136,15 @@ class HBBifurcation:
     coefficients: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
 
     def to_json(self) -> dict[str, Any]:
-        return {"type": self.type, "value": self.value, "u_min": self.u_min, "u_max": self.u_max,
-                "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
-                "detail": self.detail, "located": self.located}
+        return {
+            "type": self.type,
+            "value": self.value,
+            "u_min": self.u_min,
+            "u_max": self.u_max,
+            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
+            "detail": self.detail,
+            "located": self.located,
+        }
 
 
 @dataclass
@@ -176,27 +197,47 @@ class HBContinuation:
 
     @property
     def converged(self) -> bool:
-        return bool(self.values.size) and bool(np.all(self.status != int(Status.NOT_CONVERGED))
-                                                 and np.all(self.status != int(Status.DIVERGED)))
+        return bool(self.values.size) and bool(
+            np.all(self.status != int(Status.NOT_CONVERGED)) and np.all(self.status != int(Status.DIVERGED))
+        )
 
     def of_type(self, typ: str) -> list[HBBifurcation]:
         return [b for b in self.bifurcations if b.type == typ]
 
     def to_json(self) -> dict[str, Any]:
         """Plain-dict summary: ``branch`` points, ``bifurcations``, ``harmonics``, ``converged``."""
+
         def num(x: float) -> float | None:
             return float(x) if np.isfinite(x) else None
 
-        pts = [{self.param: float(v), "amplitude": num(0.5 * (hi - lo)), "u_min": num(lo), "u_max": num(hi),
-                "stable": bool(st) if int(s) == int(Status.OK) else None, "status": Status(int(s)).label,
-                "multipliers": [[num(m.real), num(m.imag)] for m in mu]}
-               for v, lo, hi, st, s, mu in zip(self.values, self.u_min, self.u_max, self.stable, self.status,
-                                               self.multipliers)]
-        bifs = [{"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
-                for b in self.bifurcations]
-        return {"param": self.param, "branch": pts, "bifurcations": bifs,
-                "harmonics": self.harmonics, "period": self.period, "samples": self.samples,
-                "converged": self.converged, "end": self.end}
+        pts = [
+            {
+                self.param: float(v),
+                "amplitude": num(0.5 * (hi - lo)),
+                "u_min": num(lo),
+                "u_max": num(hi),
+                "stable": bool(st) if int(s) == int(Status.OK) else None,
+                "status": Status(int(s)).label,
+                "multipliers": [[num(m.real), num(m.imag)] for m in mu],
+            }
+            for v, lo, hi, st, s, mu in zip(
+                self.values, self.u_min, self.u_max, self.stable, self.status, self.multipliers
+            )
+        ]
+        bifs = [
+            {"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
+            for b in self.bifurcations
+        ]
+        return {
+            "param": self.param,
+            "branch": pts,
+            "bifurcations": bifs,
+            "harmonics": self.harmonics,
+            "period": self.period,
+            "samples": self.samples,
+            "converged": self.converged,
+            "end": self.end,
+        }
 
     def to_dataset(self):
         """The branch as an :class:`xarray.Dataset` over ``point`` (kind ``hb``; the bifurcations as the JSON
@@ -208,19 +249,33 @@ class HBContinuation:
         from ...io import annotate, result_attrs
 
         ds = xr.Dataset(
-            {self.param: ("point", self.values), "u_min": ("point", self.u_min), "u_max": ("point", self.u_max),
-             "amplitude": ("point", self.amplitude), "stable": ("point", self.stable.astype(np.int8)),
-             "multiplier_re": (("point", "multiplier"), self.multipliers.real),
-             "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
-             "coefficients": (("point", "coefficient"), self.coefficients),
-             "status": ("point", self.status.astype(np.int64))},
-            coords={"point": np.arange(self.values.size), "multiplier": [0, 1],
-                    "coefficient": np.arange(2 * self.harmonics + 1)},
-            attrs=result_attrs(KIND, self.model, param=self.param, harmonics=self.harmonics, period=self.period,
-                               samples=self.samples, end=self.end,
-                               coefficient_layout="[a0, a1..aH, b1..bH] of u(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
-                                                  "φ = ωτ/n",
-                               bifurcations=json.dumps(self.to_json()["bifurcations"])),
+            {
+                self.param: ("point", self.values),
+                "u_min": ("point", self.u_min),
+                "u_max": ("point", self.u_max),
+                "amplitude": ("point", self.amplitude),
+                "stable": ("point", self.stable.astype(np.int8)),
+                "multiplier_re": (("point", "multiplier"), self.multipliers.real),
+                "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
+                "coefficients": (("point", "coefficient"), self.coefficients),
+                "status": ("point", self.status.astype(np.int64)),
+            },
+            coords={
+                "point": np.arange(self.values.size),
+                "multiplier": [0, 1],
+                "coefficient": np.arange(2 * self.harmonics + 1),
+            },
+            attrs=result_attrs(
+                KIND,
+                self.model,
+                param=self.param,
+                harmonics=self.harmonics,
+                period=self.period,
+                samples=self.samples,
+                end=self.end,
+                coefficient_layout="[a0, a1..aH, b1..bH] of u(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, φ = ωτ/n",
+                bifurcations=json.dumps(self.to_json()["bifurcations"]),
+            ),
         )
         ds["status"].attrs.update(flag_attrs())
         return annotate(ds)
@@ -228,13 +283,15 @@ class HBContinuation:
 
 class _Tracer:
     #: Test function → (event type, detail) of :meth:`events`.
-    labels = {"turn": ("fold", "turning point: a Hill exponent through 0 (μ through +1)"),
-              "pd": ("period-doubling", "real multiplier through −1"),
-              "ns": ("neimark-sacker", "complex pair through the unit circle"),
-              "graze_min_plus": ("grazing", "u_min = +D (drive-side contact loss)"),
-              "graze_min_minus": ("grazing", "u_min = −D (back-side contact)"),
-              "graze_max_plus": ("grazing", "u_max = +D (drive-side contact)"),
-              "graze_max_minus": ("grazing", "u_max = −D")}
+    labels = {
+        "turn": ("fold", "turning point: a Hill exponent through 0 (μ through +1)"),
+        "pd": ("period-doubling", "real multiplier through −1"),
+        "ns": ("neimark-sacker", "complex pair through the unit circle"),
+        "graze_min_plus": ("grazing", "u_min = +D (drive-side contact loss)"),
+        "graze_min_minus": ("grazing", "u_min = −D (back-side contact)"),
+        "graze_max_plus": ("grazing", "u_max = +D (drive-side contact)"),
+        "graze_max_minus": ("grazing", "u_max = −D"),
+    }
 
     def __init__(self, sysm: HBSystem, lo: float, hi: float, ps: float):
         self.s, self.lo, self.hi, self.ps = sysm, lo, hi, ps
@@ -284,8 +341,9 @@ class _Tracer:
                 return self._finish(y, ref_t, it + 1)
         return None
 
-    def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int,
-                aug: tuple[np.ndarray, np.ndarray] | None = None) -> _Pt:
+    def _finish(
+        self, y: np.ndarray, ref_t: np.ndarray, iters: int, aug: tuple[np.ndarray, np.ndarray] | None = None
+    ) -> _Pt:
         t = self.tangent(y, ref_t, aug)
         a, p = y[:-1], self.p(y)
         umin, umax = self.extremes(a, p)
@@ -319,8 +377,12 @@ class _Tracer:
                 if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
                     out["ns"] = float(abs(mu[0] * mu[1]) - 1.0)
         if D > 0 and (key is None or key.startswith("graze")):
-            out.update(graze_min_plus=pt.u_min - D, graze_min_minus=pt.u_min + D,
-                       graze_max_plus=pt.u_max - D, graze_max_minus=pt.u_max + D)
+            out.update(
+                graze_min_plus=pt.u_min - D,
+                graze_min_minus=pt.u_min + D,
+                graze_max_plus=pt.u_max - D,
+                graze_max_minus=pt.u_max + D,
+            )
         return out
 
     def locate(self, a: _Pt, b: _Pt, key: str) -> tuple[_Pt, bool]:
@@ -345,9 +407,21 @@ class _Tracer:
         for key, (typ, detail) in self.labels.items():
             if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
                 pt, ok = self.locate(a, b, key)
-                out.append((float((pt.y - a.y) @ d), HBBifurcation(
-                    typ, self.p(pt.y), pt.u_min, pt.u_max, pt.hill.multipliers.copy(), detail, ok,
-                    pt.y[:-1].copy())))
+                out.append(
+                    (
+                        float((pt.y - a.y) @ d),
+                        HBBifurcation(
+                            typ,
+                            self.p(pt.y),
+                            pt.u_min,
+                            pt.u_max,
+                            pt.hill.multipliers.copy(),
+                            detail,
+                            ok,
+                            pt.y[:-1].copy(),
+                        ),
+                    )
+                )
         out.sort(key=lambda e: e[0])
         return [b for _s, b in out]
 
@@ -372,11 +446,22 @@ def _near_critical(h: HillResult) -> bool:
     return bool(np.any(np.abs(mu.real + 1.0) < NEAR_CRITICAL))
 
 
-def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
-                    harmonics: int | None = None, period: int = 1, guess: Any = None,
-                    samples: int | None = None, ds: float = DS_INIT, ds_max: float = DS_MAX,
-                    max_points: int = MAX_POINTS, floquet: str = "monodromy",
-                    progress: Callable[[float, float], None] | None = None) -> HBContinuation:
+def hb_continuation(
+    model: GearModel,
+    param: str,
+    start: float,
+    stop: float,
+    *,
+    harmonics: int | None = None,
+    period: int = 1,
+    guess: Any = None,
+    samples: int | None = None,
+    ds: float = DS_INIT,
+    ds_max: float = DS_MAX,
+    max_points: int = MAX_POINTS,
+    floquet: str = "monodromy",
+    progress: Callable[[float, float], None] | None = None,
+) -> HBContinuation:
     """Continue the period-n harmonic-balance solution of ``model`` in ``param`` from ``start`` to ``stop``.
 
     Parameters
@@ -438,9 +523,21 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N, stability=False)  # Hill: at the first point
     nanmu = np.full((1, 2), complex(math.nan, math.nan))
     if not sol.converged:
-        return HBContinuation(model, param, H, sysm.n, sysm.basis.N, np.array([start]),
-                              sol.coefficients[None, :], np.array([math.nan]), np.array([math.nan]), nanmu,
-                              np.array([int(sol.status)]), [], f"start: {sol.status.label}")
+        return HBContinuation(
+            model,
+            param,
+            H,
+            sysm.n,
+            sysm.basis.N,
+            np.array([start]),
+            sol.coefficients[None, :],
+            np.array([math.nan]),
+            np.array([math.nan]),
+            nanmu,
+            np.array([int(sol.status)]),
+            [],
+            f"start: {sol.status.label}",
+        )
     ps = abs(stop - start)
     direction = 1.0 if stop > start else -1.0
     lo, hi = min(start, stop), max(start, stop)
@@ -451,13 +548,25 @@ def hb_continuation(model: GearModel, param: str, start: float, stop: float, *,
     pts, bifs, end = trace_branch(tr, y, ref, ds, ds_max, max_points, report)
     vals = np.array([tr.p(q.y) for q in pts])
     return HBContinuation(
-        model, param, H, sysm.n, sysm.basis.N, vals, np.array([q.y[:-1] for q in pts]),
-        np.array([q.u_min for q in pts]), np.array([q.u_max for q in pts]),
-        np.array([q.hill.multipliers for q in pts]), np.array([int(q.hill.status) for q in pts]), bifs, end)
+        model,
+        param,
+        H,
+        sysm.n,
+        sysm.basis.N,
+        vals,
+        np.array([q.y[:-1] for q in pts]),
+        np.array([q.u_min for q in pts]),
+        np.array([q.u_max for q in pts]),
+        np.array([q.hill.multipliers for q in pts]),
+        np.array([int(q.hill.status) for q in pts]),
+        bifs,
+        end,
+    )
 
 
-def span_reporter(progress: Callable[[float, float], None] | None, start: float,
-                  stop: float) -> Callable[[float], None] | None:
+def span_reporter(
+    progress: Callable[[float, float], None] | None, start: float, stop: float
+) -> Callable[[float], None] | None:
     """A branch point's parameter → ``progress(farthest distance from start towards stop, |stop − start|)``.
 
     Parameters
@@ -500,13 +609,21 @@ def max_points_end(max_points: int) -> str:
     -------
     str
     """
-    return (f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
-            f"a larger ds_max)")
+    return (
+        f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
+        f"a larger ds_max)"
+    )
 
 
-def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float,
-                 max_points: int, on_point: Callable[[float], None] | None = None,
-                 ) -> tuple[list[_Pt], list[HBBifurcation], str]:
+def trace_branch(
+    tr: _Tracer,
+    y: np.ndarray,
+    ref: np.ndarray,
+    ds: float,
+    ds_max: float,
+    max_points: int,
+    on_point: Callable[[float], None] | None = None,
+) -> tuple[list[_Pt], list[HBBifurcation], str]:
     """The pseudo-arclength loop of :func:`hb_continuation` on any tracer (the 1-DOF one or a subclass).
 
     Parameters
@@ -546,8 +663,9 @@ def trace_branch(tr: _Tracer, y: np.ndarray, ref: np.ndarray, ds: float, ds_max:
                     cosang = float(np.clip(nxt.t @ cur.t, -1, 1))
                     if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG:
                         dmu = tr.multiplier_step(cur.hill, nxt.hill)
-                        if dmu <= MAX_MULTIPLIER_STEP and (h <= NEAR_CRITICAL_DS * ds_max
-                                                           or not tr.near_critical(nxt.hill)):
+                        if dmu <= MAX_MULTIPLIER_STEP and (
+                            h <= NEAR_CRITICAL_DS * ds_max or not tr.near_critical(nxt.hill)
+                        ):
                             break
                 nxt = None
                 h *= 0.5

@@ -32,8 +32,9 @@ def _undamped(model: Any) -> bool:
     return float(model.mean_trace()) == 0.0
 
 
-def require_damping(model: Any, param: str | None = None, start: float | None = None,
-                    stop: float | None = None) -> None:
+def require_damping(
+    model: Any, param: str | None = None, start: float | None = None, stop: float | None = None
+) -> None:
     """Refuse a model without damping (at both ends of the parameter range, when one is given).
 
     Parameters
@@ -53,13 +54,17 @@ def require_damping(model: Any, param: str | None = None, start: float | None = 
     if not all(_undamped(m) for m in ends):
         return
     if hasattr(model, "meshes"):
-        what = ("the system has no damping (every mesh's xi0 and every connection's damping are 0)", "give the "
-                "meshes xi0 > 0 or damping to the connections")
+        what = (
+            "the system has no damping (every mesh's xi0 and every connection's damping are 0)",
+            "give the meshes xi0 > 0 or damping to the connections",
+        )
     else:
         what = ("the model has no damping (xi0 = 0)", "give --xi0 > 0")
-    raise ModelError(f"{what[0]}: every Floquet multiplier then lies on or outside the unit circle (Liouville), "
-                     f"so harmonic balance can decide no stability and would report every pair grazing the circle "
-                     f"as a bifurcation; {what[1]}")
+    raise ModelError(
+        f"{what[0]}: every Floquet multiplier then lies on or outside the unit circle (Liouville), "
+        f"so harmonic balance can decide no stability and would report every pair grazing the circle "
+        f"as a bifurcation; {what[1]}"
+    )
 
 
 def undamped_modes(model: Any) -> list[float]:

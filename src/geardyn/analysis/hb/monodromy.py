@@ -42,7 +42,7 @@ eigen-decomposition of a 2(n − r)(2H + 1)-row matrix (350 rows for the 8-DOF b
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -50,8 +50,17 @@ from ...status import Status
 from ._monodromykernel import monodromy_kernel
 from .hill import LIOUVILLE_TOL, HillResult
 
-__all__ = ["CLOSURE_TOL", "FIRST_STEP_FACTOR", "FLOQUET_METHODS", "REFINE", "REFINE_GAIN", "STEP_ANGLE", "SWITCH_TOL", "check_floquet",
-           "monodromy_floquet"]
+__all__ = [
+    "CLOSURE_TOL",
+    "FIRST_STEP_FACTOR",
+    "FLOQUET_METHODS",
+    "REFINE",
+    "REFINE_GAIN",
+    "STEP_ANGLE",
+    "SWITCH_TOL",
+    "check_floquet",
+    "monodromy_floquet",
+]
 
 #: The ways of computing Floquet multipliers of an HB solution: ``"monodromy"`` (this module, the default)
 #: and ``"hill"`` (Hill's method, :mod:`.hill` and :mod:`.system_hill`).
@@ -102,14 +111,25 @@ def _pack(series: Sequence[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     L = np.array([(len(z) - 1) // 2 for z in series], dtype=np.int64)
     out = np.zeros((len(series), 2 * int(L.max(initial=0)) + 1), dtype=complex)
     for i, z in enumerate(series):
-        out[i, :len(z)] = z
+        out[i, : len(z)] = z
     return out, L
 
 
-def monodromy_floquet(nu: float, x0: np.ndarray, A: np.ndarray, B: np.ndarray, W: np.ndarray, V: np.ndarray,
-                      C: Sequence[np.ndarray], K: Sequence[np.ndarray], E: Sequence[np.ndarray],
-                      G: Sequence[np.ndarray], D: Sequence[float], P: np.ndarray | None = None,
-                      trace: float | None = None) -> HillResult:
+def monodromy_floquet(
+    nu: float,
+    x0: np.ndarray,
+    A: np.ndarray,
+    B: np.ndarray,
+    W: np.ndarray,
+    V: np.ndarray,
+    C: Sequence[np.ndarray],
+    K: Sequence[np.ndarray],
+    E: Sequence[np.ndarray],
+    G: Sequence[np.ndarray],
+    D: Sequence[float],
+    P: np.ndarray | None = None,
+    trace: float | None = None,
+) -> HillResult:
     """Floquet exponents and multipliers from the monodromy matrix of one period started on the HB solution.
 
     Parameters
@@ -173,8 +193,9 @@ def monodromy_floquet(nu: float, x0: np.ndarray, A: np.ndarray, B: np.ndarray, W
         """(end state, QᵀΦQ) of the period from ``start`` in steps of at most ``h``, or None if it could not be
         integrated."""
         xe, Y = start.copy(), Q.copy()
-        steps, _switches = monodromy_kernel(xe, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, Dv, h,
-                                            float(nu), SWITCH_TOL)
+        steps, _switches = monodromy_kernel(
+            xe, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, Dv, h, float(nu), SWITCH_TOL
+        )
         Phi = Q.T @ Y
         return None if steps < 0 or not (np.all(np.isfinite(Phi)) and np.all(np.isfinite(xe))) else (xe, Phi)
 
@@ -194,8 +215,11 @@ def monodromy_floquet(nu: float, x0: np.ndarray, A: np.ndarray, B: np.ndarray, W
             dz = np.linalg.solve(Phi - np.eye(count), -gap)
         except np.linalg.LinAlgError:
             dz = None
-        if dz is not None and np.all(np.isfinite(dz)) and float(np.linalg.norm(dz)) <= REFINE_GAIN * float(
-                np.linalg.norm(gap)):
+        if (
+            dz is not None
+            and np.all(np.isfinite(dz))
+            and float(np.linalg.norm(dz)) <= REFINE_GAIN * float(np.linalg.norm(gap))
+        ):
             again = period(x_start + Q @ dz, hmax)
             if again is not None:
                 Phi, refined = again[1], True

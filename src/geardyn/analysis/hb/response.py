@@ -44,8 +44,15 @@ from .aft import signal_extrema
 from .continuation import HBBifurcation, HBContinuation, hb_continuation
 from .solve import DEFAULT_HARMONICS, HBSystem
 
-__all__ = ["MEASURES", "STABILITY_EVENTS", "decided_stability", "hb_response", "response_from_branch",
-           "stable_segments", "sweep_paths"]
+__all__ = [
+    "MEASURES",
+    "STABILITY_EVENTS",
+    "decided_stability",
+    "hb_response",
+    "response_from_branch",
+    "stable_segments",
+    "sweep_paths",
+]
 
 #: Response measures (as :data:`geardyn.analysis.response.MEASURES`).
 MEASURES = ("amplitude", "rms", "u_max", "u_min", "mean")
@@ -95,7 +102,7 @@ def _event_between(res: HBContinuation, i: int, j: int) -> HBBifurcation | None:
     for b in res.bifurcations:
         if b.type not in STABILITY_EVENTS or b.coefficients.size < ai.size:
             continue
-        bc = b.coefficients[:ai.size]  # a system's event also carries the gauge multipliers
+        bc = b.coefficients[: ai.size]  # a system's event also carries the gauge multipliers
         d = float(np.linalg.norm(bc - ai) + np.linalg.norm(bc - aj))
         if d < dbest:
             best, dbest = b, d
@@ -147,7 +154,7 @@ def decided_stability(res: HBContinuation) -> np.ndarray:
         while j + 1 < P and not resolved[j + 1]:
             j += 1
         if i > 0 and j + 1 < P and st[i - 1] and st[j + 1] and _event_between(res, i - 1, j + 1) is None:
-            st[i:j + 1] = True
+            st[i : j + 1] = True
         i = j + 1
     return st
 
@@ -186,9 +193,9 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
         i = j + 1
     out = []
     for i0, i1 in runs:
-        w = list(res.values[i0:i1 + 1])
-        a = list(res.coefficients[i0:i1 + 1])
-        amp = list(res.amplitude[i0:i1 + 1])
+        w = list(res.values[i0 : i1 + 1])
+        a = list(res.coefficients[i0 : i1 + 1])
+        amp = list(res.amplitude[i0 : i1 + 1])
         first = _event_between(res, _resolved_before(resolved, i0), i0) if i0 > 0 and not st[i0 - 1] else None
         last = _event_between(res, i1, _resolved_after(resolved, i1)) if i1 + 1 < P and not st[i1 + 1] else None
         rising = w[-1] >= w[0] if len(w) > 1 else True
@@ -200,7 +207,7 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
             if not beyond:
                 continue
             amp_b = 0.5 * (b.u_max - b.u_min)
-            bc = b.coefficients[:res.coefficients.shape[1]]
+            bc = b.coefficients[: res.coefficients.shape[1]]
             if at_start:
                 w.insert(0, b.value), a.insert(0, bc), amp.insert(0, amp_b)
             else:
@@ -234,8 +241,7 @@ def sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list
 
         def ahead(x: float, exclude: int | None = None) -> list[Segment]:
             """Segments that continue from x in the sweep direction."""
-            return [s for s in segments if s.index != exclude
-                    and ((s.lo <= x < s.hi) if d > 0 else (s.lo < x <= s.hi))]
+            return [s for s in segments if s.index != exclude and ((s.lo <= x < s.hi) if d > 0 else (s.lo < x <= s.hi))]
 
         pieces: list[tuple[float, float, int | None]] = []
         x = start
@@ -339,15 +345,18 @@ def _walk(rd: _Reader, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
 def _measures(basis: Any, a: np.ndarray) -> dict[str, float]:
     H = basis.H
     umin, umax, _, _ = signal_extrema(basis, a)
-    rms = math.sqrt(0.5 * float(np.sum(a[1:H + 1] ** 2 + a[H + 1:] ** 2)))
+    rms = math.sqrt(0.5 * float(np.sum(a[1 : H + 1] ** 2 + a[H + 1 :] ** 2)))
     return {"amplitude": 0.5 * (umax - umin), "rms": rms, "mean": float(a[0]), "u_min": umin, "u_max": umax}
 
 
 def _minimal_period(pu: np.ndarray, pv: np.ndarray, n: int) -> int:
     scale = 1.0 + float(np.max(np.abs(np.concatenate([pu, pv]))))
     for d in range(1, n + 1):
-        if n % d == 0 and np.all(np.abs(np.roll(pu, -d) - pu) <= 1e-8 * scale) \
-                and np.all(np.abs(np.roll(pv, -d) - pv) <= 1e-8 * scale):
+        if (
+            n % d == 0
+            and np.all(np.abs(np.roll(pu, -d) - pu) <= 1e-8 * scale)
+            and np.all(np.abs(np.roll(pv, -d) - pv) <= 1e-8 * scale)
+        ):
             return d
     return n
 
@@ -456,21 +465,45 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                     before, after = w[w >= x], w[w < x]
                     g_from = float(before[0]) if before.size else x
                     g_to = float(after[-1]) if after.size else x
-                jumps.append({"omega": x, "direction": "up" if m_to > m_from else "down",
-                              "size": abs(m_to - m_from), "sweep": lab, "omega_from": g_from, "omega_to": g_to,
-                              "amplitude_from": m_from, "amplitude_to": m_to})
+                jumps.append(
+                    {
+                        "omega": x,
+                        "direction": "up" if m_to > m_from else "down",
+                        "size": abs(m_to - m_from),
+                        "sweep": lab,
+                        "omega_from": g_from,
+                        "omega_to": g_to,
+                        "amplitude_from": m_from,
+                        "amplitude_to": m_to,
+                    }
+                )
     hyst = _hysteresis(paths)
     ds = xr.Dataset(
-        {"period": (("sweep", "omega"), period), "motion": (("sweep", "omega"), motion),
-         "impact": (("sweep", "omega"), impact), "status": (("sweep", "omega"), status),
-         **{k: (("sweep", "omega"), f[k]) for k in MEASURES},
-         "lle": (("sweep", "omega"), np.full(shape, np.nan)),
-         "poincare_u": (("sweep", "omega", "section"), pu), "poincare_v": (("sweep", "omega", "section"), pv)},
+        {
+            "period": (("sweep", "omega"), period),
+            "motion": (("sweep", "omega"), motion),
+            "impact": (("sweep", "omega"), impact),
+            "status": (("sweep", "omega"), status),
+            **{k: (("sweep", "omega"), f[k]) for k in MEASURES},
+            "lle": (("sweep", "omega"), np.full(shape, np.nan)),
+            "poincare_u": (("sweep", "omega", "section"), pu),
+            "poincare_v": (("sweep", "omega", "section"), pv),
+        },
         coords={"sweep": ["up", "down"], "omega": w, "section": np.arange(n)},
-        attrs=_attrs(res, {"method": "hb", "harmonics": H, "period": n, "samples": res.samples},
-                     dict(param="omega", mode="harmonic balance", sweep="both", method="hb", measure=measure,
-                          jumps=json.dumps(jumps), hysteresis=json.dumps(hyst),
-                          bifurcations=json.dumps(res.to_json()["bifurcations"]))),
+        attrs=_attrs(
+            res,
+            {"method": "hb", "harmonics": H, "period": n, "samples": res.samples},
+            dict(
+                param="omega",
+                mode="harmonic balance",
+                sweep="both",
+                method="hb",
+                measure=measure,
+                jumps=json.dumps(jumps),
+                hysteresis=json.dumps(hyst),
+                bifurcations=json.dumps(res.to_json()["bifurcations"]),
+            ),
+        ),
     )
     return annotate(ds)
 
@@ -482,8 +515,12 @@ def _attrs(res: HBContinuation, options: dict[str, Any], extra: dict[str, Any]) 
 
     if not _is_system(res):
         return result_attrs("response", res.model, options, **extra)
-    attrs = system_attrs(res.model, "response", None, {**extra, "options": json_attr(options),
-                                                       "reference_mesh": res.elements[res.reference]})
+    attrs = system_attrs(
+        res.model,
+        "response",
+        None,
+        {**extra, "options": json_attr(options), "reference_mesh": res.elements[res.reference]},
+    )
     ref = res.model.meshes[res.reference]
     attrs["model"] = json.dumps({"omega": res.model.omega, "D": ref.D, "xi0": ref.xi0})
     return attrs
@@ -505,9 +542,19 @@ def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list
     return out
 
 
-def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: int, *,
-                harmonics: int | None = None, period: int = 1, measure: str = "amplitude",
-                guess: Any = None, state0: Any = None, progress: bool = False) -> Any:
+def hb_response(
+    model: GearModel,
+    omega_start: float,
+    omega_stop: float,
+    num: int,
+    *,
+    harmonics: int | None = None,
+    period: int = 1,
+    measure: str = "amplitude",
+    guess: Any = None,
+    state0: Any = None,
+    progress: bool = False,
+) -> Any:
     """Up and down frequency response by harmonic balance, in the format of
     :func:`geardyn.analysis.response.frequency_response`.
 
@@ -548,20 +595,28 @@ def hb_response(model: GearModel, omega_start: float, omega_stop: float, num: in
 
     lo, hi = sorted((float(omega_start), float(omega_stop)))
     if not lo > 0:
-        raise ModelError(f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a range from {omega_start!r} to "
-                         f"{omega_stop!r}")
+        raise ModelError(
+            f"omega: must be > 0 (mesh frequency ω_e/ω_n), got a range from {omega_start!r} to {omega_stop!r}"
+        )
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
     with task_progress("response ω (HB)", unit="Δω traced", enabled=progress) as bar:
         if isinstance(model, GearModel):
-            res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess,
-                                  progress=bar)
+            res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess, progress=bar)
         else:
             from .system_continuation import hb_system_continuation
 
-            res = hb_system_continuation(model, "omega", lo, hi, period=period, guess=guess,
-                                         harmonics=DEFAULT_HARMONICS if harmonics is None else harmonics,
-                                         state0=state0, progress=bar)
+            res = hb_system_continuation(
+                model,
+                "omega",
+                lo,
+                hi,
+                period=period,
+                guess=guess,
+                harmonics=DEFAULT_HARMONICS if harmonics is None else harmonics,
+                state0=state0,
+                progress=bar,
+            )
     if not res.converged:
         raise ModelError(f"omega_start: harmonic balance at omega = {lo:g} did not converge ({res.end})")
     return response_from_branch(res, np.linspace(lo, hi, int(num)), measure)

@@ -25,21 +25,30 @@ G. W. Hill, Acta Math. 8 (1886) 1–36 (Hill's method for the stability, :mod:`.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import NamedTuple, Sequence
+from typing import NamedTuple
 
 import numpy as np
 
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
-from ._blas import single_thread_blas, solve
 from ._aftkernel import bordered_omega_kernel, dR_domega_kernel, forcing_kernel, residual_kernel
+from ._blas import single_thread_blas, solve
 from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, dead_zone_terms, model_series, signal_extrema, time_samples
 from .hill import HillResult, hill_floquet
 from .monodromy import check_floquet, monodromy_floquet
 
-__all__ = ["HBSystem", "HBSolution", "hb_solve", "guess_from_simulation", "default_harmonics", "DEFAULT_HARMONICS",
-           "MAX_DEFAULT_HARMONICS", "NEWTON_TOL"]
+__all__ = [
+    "HBSystem",
+    "HBSolution",
+    "hb_solve",
+    "guess_from_simulation",
+    "default_harmonics",
+    "DEFAULT_HARMONICS",
+    "MAX_DEFAULT_HARMONICS",
+    "NEWTON_TOL",
+]
 
 #: Default harmonics of ν = ω/n (see ``docs/hb.md`` for the convergence study behind it).
 DEFAULT_HARMONICS = 16
@@ -85,11 +94,13 @@ def default_harmonics(model: GearModel, period: int = 1) -> int:
         return DEFAULT_HARMONICS
     H = max(P * DEFAULT_HARMONICS, int(period) * int(model.n_harmonics))
     if H > MAX_DEFAULT_HARMONICS:
-        raise ModelError(f"harmonics: the excitation spans {P} mesh cycles (harmonics of ω/{P * int(period)}); the "
-                         f"default would take {H} ({P}·{DEFAULT_HARMONICS} for mesh orders up to {DEFAULT_HARMONICS}, "
-                         f"and the excitation's {model.n_harmonics} per forcing period), more than "
-                         f"{MAX_DEFAULT_HARMONICS}: give the harmonics explicitly (the cost grows as H³), or use "
-                         f"shooting")
+        raise ModelError(
+            f"harmonics: the excitation spans {P} mesh cycles (harmonics of ω/{P * int(period)}); the "
+            f"default would take {H} ({P}·{DEFAULT_HARMONICS} for mesh orders up to {DEFAULT_HARMONICS}, "
+            f"and the excitation's {model.n_harmonics} per forcing period), more than "
+            f"{MAX_DEFAULT_HARMONICS}: give the harmonics explicitly (the cost grows as H³), or use "
+            f"shooting"
+        )
     return H
 
 
@@ -120,8 +131,16 @@ class HBSystem:
         :mod:`.monodromy`) or ``"hill"`` (Hill's method, :mod:`.hill`).
     """
 
-    def __init__(self, model: GearModel, harmonics: int | None = None, period: int = 1,
-                 param: str | None = None, samples: int | None = None, *, floquet: str = "monodromy"):
+    def __init__(
+        self,
+        model: GearModel,
+        harmonics: int | None = None,
+        period: int = 1,
+        param: str | None = None,
+        samples: int | None = None,
+        *,
+        floquet: str = "monodromy",
+    ):
         if int(period) < 1:
             raise ModelError(f"period: must be an integer >= 1, got {period!r}")
         if harmonics is None:
@@ -179,8 +198,13 @@ class HBSystem:
         """(f_p, ε_l, φ_el, n, harmonics of the model's series) of the base model for :func:`forcing_kernel`."""
         if self._fargs is None:
             b = self.base
-            self._fargs = (float(b.fp), np.array(b.eps, dtype=float).reshape(-1),
-                           np.array(b.phi_e, dtype=float).reshape(-1), self.n, int(b.n_harmonics))
+            self._fargs = (
+                float(b.fp),
+                np.array(b.eps, dtype=float).reshape(-1),
+                np.array(b.phi_e, dtype=float).reshape(-1),
+                self.n,
+                int(b.n_harmonics),
+            )
         return self._fargs
 
     def _at(self, p: float | None) -> tuple[float, float, np.ndarray, np.ndarray]:
@@ -214,7 +238,7 @@ class HBSystem:
         Lz = (len(z) - 1) // 2
         out = np.zeros(2 * L + 1, dtype=complex)
         m = min(L, Lz)
-        out[L - m:L + m + 1] = z[Lz - m:Lz + m + 1]
+        out[L - m : L + m + 1] = z[Lz - m : Lz + m + 1]
         return out
 
     def _cut(self, z: np.ndarray, L: int) -> np.ndarray:
@@ -231,8 +255,9 @@ class HBSystem:
         """F cut or padded to the harmonics |k| <= H (kept per F array)."""
         return self._cut(F, self.H)
 
-    def residual(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
-                 ) -> tuple[np.ndarray, np.ndarray | None]:
+    def residual(
+        self, a: np.ndarray, p: float | None = None, jacobian: bool = True
+    ) -> tuple[np.ndarray, np.ndarray | None]:
         """Residual R(a) (real, length 2H + 1) and, if asked, its analytic Jacobian ∂R/∂a.
 
         Parameters
@@ -250,10 +275,20 @@ class HBSystem:
         """
         m, (C, K, F) = self._entry(p)
         b = self.basis
-        R, J = residual_kernel(np.ascontiguousarray(a, dtype=float), self.forcing(m.omega) / self.n, C, K,
-                               self._f_centred(F),
-                               float(m.D),
-                               b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, bool(jacobian))
+        R, J = residual_kernel(
+            np.ascontiguousarray(a, dtype=float),
+            self.forcing(m.omega) / self.n,
+            C,
+            K,
+            self._f_centred(F),
+            float(m.D),
+            b.cos_table,
+            b.sin_table,
+            self.H,
+            ROOT_MAX_ITER,
+            ROOT_TOL,
+            bool(jacobian),
+        )
         return R, (J if jacobian else None)
 
     def dR_dp(self, a: np.ndarray, p: float) -> np.ndarray:
@@ -265,8 +300,9 @@ class HBSystem:
         if self.param == "omega":
             m, (C, K, F) = self._entry(p)
             w = self.forcing(m.omega)
-            Rw = dR_domega_kernel(np.ascontiguousarray(a, dtype=float), w / self.n, w, self.n, C,
-                                  self._f_centred(F), self.H)
+            Rw = dR_domega_kernel(
+                np.ascontiguousarray(a, dtype=float), w / self.n, w, self.n, C, self._f_centred(F), self.H
+            )
             return Rw if self.P == 1 else Rw / self.P  # dR/dω = dR/d(ω/P) / P
         return self._dR_dp_fd(a, p)
 
@@ -298,8 +334,24 @@ class HBSystem:
             b = self.basis
             fp, eps, phi_e, n, Hm = self._forcing_args()
             sc = float(scale) if self.P == 1 else float(scale) / self.P  # dR/dω = dR/d(ω/P) / P
-            return bordered_omega_kernel(np.ascontiguousarray(a, dtype=float), self.forcing(w), n, C, K, fp, eps,
-                                         phi_e, Hm, D, b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL, sc)
+            return bordered_omega_kernel(
+                np.ascontiguousarray(a, dtype=float),
+                self.forcing(w),
+                n,
+                C,
+                K,
+                fp,
+                eps,
+                phi_e,
+                Hm,
+                D,
+                b.cos_table,
+                b.sin_table,
+                self.H,
+                ROOT_MAX_ITER,
+                ROOT_TOL,
+                sc,
+            )
         R, J = self.residual(a, p)
         Rp = self.dR_dp(a, p)
         M = self.basis.size
@@ -329,13 +381,14 @@ class HBSystem:
             dz = dead_zone_terms(self.basis, a, K, D)
             return hill_floquet(self._cut(C, 2 * self.H), dz.S, w / self.n, self.H)
         H, nu = self.H, w / self.n
-        x0 = np.array([a[0] + np.sum(a[1:H + 1]), nu * (np.arange(1, H + 1) @ a[H + 1:])])
+        x0 = np.array([a[0] + np.sum(a[1 : H + 1]), nu * (np.arange(1, H + 1) @ a[H + 1 :])])
         F = self._entry(p)[1][2]
         one, zero = np.ones((1, 1)), np.zeros((1, 1))
         return monodromy_floquet(nu, x0, zero, zero, one, one, [C], [K], [np.zeros(1, complex)], [F], [D])
 
-    def newton(self, a0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL,
-               max_iter: int = NEWTON_MAX_ITER) -> tuple[np.ndarray, Status, int, float]:
+    def newton(
+        self, a0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL, max_iter: int = NEWTON_MAX_ITER
+    ) -> tuple[np.ndarray, Status, int, float]:
         """Damped Newton on R(a) = 0 at fixed parameter.
 
         Returns
@@ -440,12 +493,18 @@ class HBSolution:
         a, H = self.coefficients, self.harmonics
         k = np.arange(1, H + 1)
         nu = self.model.forcing_omega / self.period
-        return np.array([a[0] + a[1:H + 1].sum(), nu * float(k @ a[H + 1:])])
+        return np.array([a[0] + a[1 : H + 1].sum(), nu * float(k @ a[H + 1 :])])
 
 
-def guess_from_simulation(model: GearModel, harmonics: int, period: int = 1,
-                          state0: Sequence[float] = (0.0, 0.0), *, transient: int = GUESS_TRANSIENT,
-                          dtau: float = GUESS_DTAU) -> np.ndarray | None:
+def guess_from_simulation(
+    model: GearModel,
+    harmonics: int,
+    period: int = 1,
+    state0: Sequence[float] = (0.0, 0.0),
+    *,
+    transient: int = GUESS_TRANSIENT,
+    dtau: float = GUESS_DTAU,
+) -> np.ndarray | None:
     """Fourier coefficients of the attractor reached by simulation from ``state0`` (n periods after
     ``transient`` forcing periods), truncated to H harmonics of ω/n; None if the simulation diverged.
 
@@ -477,8 +536,8 @@ def guess_from_simulation(model: GearModel, harmonics: int, period: int = 1,
     a = np.zeros(2 * H + 1)
     a[0] = X[0].real
     m = min(H, X.size - 1)
-    a[1:m + 1] = 2.0 * X[1:m + 1].real
-    a[H + 1:H + 1 + m] = -2.0 * X[1:m + 1].imag
+    a[1 : m + 1] = 2.0 * X[1 : m + 1].real
+    a[H + 1 : H + 1 + m] = -2.0 * X[1 : m + 1].imag
     return a
 
 
@@ -500,9 +559,18 @@ def linear_guess(model: GearModel, harmonics: int, period: int = 1) -> np.ndarra
     return a
 
 
-def hb_solve(model: GearModel, harmonics: int | None = None, period: int = 1,
-             guess: np.ndarray | str | None = None, *, samples: int | None = None, tol: float = NEWTON_TOL,
-             max_iter: int = NEWTON_MAX_ITER, stability: bool = True, floquet: str = "monodromy") -> HBSolution:
+def hb_solve(
+    model: GearModel,
+    harmonics: int | None = None,
+    period: int = 1,
+    guess: np.ndarray | str | None = None,
+    *,
+    samples: int | None = None,
+    tol: float = NEWTON_TOL,
+    max_iter: int = NEWTON_MAX_ITER,
+    stability: bool = True,
+    floquet: str = "monodromy",
+) -> HBSolution:
     """Solve the harmonic-balance equations of ``model`` at one parameter point.
 
     Parameters

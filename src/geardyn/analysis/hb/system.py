@@ -47,14 +47,15 @@ test (:mod:`.system_hill`).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple, Sequence
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from ...errors import ModelError
-from ...status import Status
 from ...integrate import start_state
+from ...status import Status
 from ...systems.elements import rigid_modes
 from ...systems.report import static_mesh_forces
 from ..periodic.orbit import require_periodic
@@ -62,13 +63,18 @@ from ._aftkernel import dead_zone_kernel, real_operator_kernel
 from ._blas import single_thread_blas
 from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, signal_extrema, time_samples, toeplitz
 from .hill import HillResult
-from .solve import (DEFAULT_HARMONICS, GUESS_DTAU, GUESS_TRANSIENT, NEWTON_MAX_ITER, NEWTON_TOL, HBSolution,
-                    HBSystem)
 from .monodromy import check_floquet, monodromy_floquet
+from .solve import DEFAULT_HARMONICS, GUESS_DTAU, GUESS_TRANSIENT, NEWTON_MAX_ITER, NEWTON_TOL, HBSolution, HBSystem
 from .system_hill import system_hill_floquet
 
-__all__ = ["HBSystemEquations", "HBSystemSolution", "hb_system_solve", "system_linear_guess",
-           "system_guess_from_simulation", "dynamic_factors"]
+__all__ = [
+    "HBSystemEquations",
+    "HBSystemSolution",
+    "hb_system_solve",
+    "system_linear_guess",
+    "system_guess_from_simulation",
+    "dynamic_factors",
+]
 
 #: A harmonic j r_e n p of a mesh series counts as an integer within this (relative) tolerance.
 HARMONIC_RTOL = 1e-9
@@ -90,11 +96,11 @@ class Layout(NamedTuple):
 
 class _Element(NamedTuple):
     name: str
-    W: np.ndarray      # (n,) M̃⁻¹ V[e]
-    V: np.ndarray      # (n,)
-    C: np.ndarray      # centred complex series in φ of the damping
-    K: np.ndarray      # of the stiffness
-    E: np.ndarray      # real coefficients of the STE on the δ basis
+    W: np.ndarray  # (n,) M̃⁻¹ V[e]
+    V: np.ndarray  # (n,)
+    C: np.ndarray  # centred complex series in φ of the damping
+    K: np.ndarray  # of the stiffness
+    E: np.ndarray  # real coefficients of the STE on the δ basis
     D: float
 
 
@@ -136,7 +142,7 @@ def _centred(z: np.ndarray, L: int) -> np.ndarray:
     Lz = (len(z) - 1) // 2
     m = min(L, Lz)
     out = np.zeros(2 * L + 1, dtype=complex)
-    out[L - m:L + m + 1] = z[Lz - m:Lz + m + 1]
+    out[L - m : L + m + 1] = z[Lz - m : Lz + m + 1]
     return out
 
 
@@ -166,8 +172,16 @@ class HBSystemEquations:
         For incommensurate mesh frequencies, a bad H or n.
     """
 
-    def __init__(self, model: Any, harmonics: int = DEFAULT_HARMONICS, period: int = 1, param: str | None = None,
-                 samples: int | None = None, *, floquet: str = "monodromy"):
+    def __init__(
+        self,
+        model: Any,
+        harmonics: int = DEFAULT_HARMONICS,
+        period: int = 1,
+        param: str | None = None,
+        samples: int | None = None,
+        *,
+        floquet: str = "monodromy",
+    ):
         if int(period) < 1:
             raise ModelError(f"period: must be an integer >= 1, got {period!r}")
         if int(harmonics) < 1:
@@ -243,8 +257,10 @@ class HBSystemEquations:
         if key is not None and self.param != "omega":
             require_periodic(m, "harmonic balance")
         if self._ste_harmonics(m) > self.Hd:
-            raise ModelError(f"{self.param}: the STE reaches harmonic {self._ste_harmonics(m)} of ν, above the "
-                             f"{self.Hd} this harmonic balance was set up with")
+            raise ModelError(
+                f"{self.param}: the STE reaches harmonic {self._ste_harmonics(m)} of ν, above the "
+                f"{self.Hd} this harmonic balance was set up with"
+            )
         Mi = np.asarray(m.Mi)
         els = []
         for i, mesh in enumerate(m.meshes):
@@ -254,8 +270,17 @@ class HBSystemEquations:
             E = self.dbasis.to_real(_centred(_phi_series(cf[2], mesh.ratio, self.periods), self.Hd))
             els.append(_Element(mesh.name, Mi @ m.V[i], np.asarray(m.V[i]), C, K, E, float(mesh.D)))
         for i, nm in enumerate(m.clearance_names):
-            els.append(_Element(nm, Mi @ m.Vc[i], np.asarray(m.Vc[i]), np.array([m.cc[i]], dtype=complex),
-                                np.array([m.kc[i]], dtype=complex), np.zeros(2 * self.Hd + 1), float(m.Dc[i])))
+            els.append(
+                _Element(
+                    nm,
+                    Mi @ m.Vc[i],
+                    np.asarray(m.Vc[i]),
+                    np.array([m.cc[i]], dtype=complex),
+                    np.array([m.kc[i]], dtype=complex),
+                    np.zeros(2 * self.Hd + 1),
+                    float(m.Dc[i]),
+                )
+            )
         e = _Point(m, m.omega, tuple(els), Mi @ np.asarray(m.Kb), Mi @ np.asarray(m.Cb), Mi @ np.asarray(m.F))
         self._cache[key] = e
         if key is not None and self.param == "omega" and None not in self._cache:
@@ -272,14 +297,14 @@ class HBSystemEquations:
 
     # ------------------------------------------------------------------ evaluation
     def _split(self, x: np.ndarray) -> np.ndarray:
-        return np.asarray(x, dtype=float)[:self.basis.dofs * self.M].reshape(self.basis.dofs, self.M)
+        return np.asarray(x, dtype=float)[: self.basis.dofs * self.M].reshape(self.basis.dofs, self.M)
 
     def _d1(self, Q: np.ndarray) -> np.ndarray:
         """φ-derivative of real coefficient rows."""
         H = self.H
         out = np.zeros_like(Q)
-        out[..., 1:H + 1] = self._k * Q[..., H + 1:]
-        out[..., H + 1:] = -self._k * Q[..., 1:H + 1]
+        out[..., 1 : H + 1] = self._k * Q[..., H + 1 :]
+        out[..., H + 1 :] = -self._k * Q[..., 1 : H + 1]
         return out
 
     def deflection(self, x: np.ndarray, e: int, p: float | None = None) -> np.ndarray:
@@ -295,12 +320,13 @@ class HBSystemEquations:
         d = np.zeros(2 * Hd + 1)
         d[self._pad] = el.V @ Q
         d -= el.E
-        G, S, _ = dead_zone_kernel(d, el.K, el.D, self.dbasis.cos_table, self.dbasis.sin_table, Hd,
-                                   ROOT_MAX_ITER, ROOT_TOL)
+        G, S, _ = dead_zone_kernel(
+            d, el.K, el.D, self.dbasis.cos_table, self.dbasis.sin_table, Hd, ROOT_MAX_ITER, ROOT_TOL
+        )
         Lc = (len(el.C) - 1) // 2
-        damp = np.convolve(el.C, self._ikd * self.dbasis.to_complex(d))[Lc + Hd - H:Lc + Hd + H + 1]
+        damp = np.convolve(el.C, self._ikd * self.dbasis.to_complex(d))[Lc + Hd - H : Lc + Hd + H + 1]
         hb = self.hbasis
-        return hb.to_real(damp), hb.to_real(G[Hd - H:Hd + H + 1]), S
+        return hb.to_real(damp), hb.to_real(G[Hd - H : Hd + H + 1]), S
 
     def _core(self, x: np.ndarray, p: float | None, jacobian: bool):
         """R (n, M) split as ν² R2 + ν R1 + R0, the Jacobian (or None) and the per-element S series."""
@@ -334,8 +360,9 @@ class HBSystemEquations:
             J += np.kron(np.outer(el.W, el.V), op)
         return J
 
-    def residual(self, a: np.ndarray, p: float | None = None, jacobian: bool = True
-                 ) -> tuple[np.ndarray, np.ndarray | None]:
+    def residual(
+        self, a: np.ndarray, p: float | None = None, jacobian: bool = True
+    ) -> tuple[np.ndarray, np.ndarray | None]:
         """Residual (length ``basis.size``: the HB equations, then the gauge rows) and its Jacobian.
 
         Parameters
@@ -425,9 +452,20 @@ class HBSystemEquations:
         pt = self._entry(p)
         els = pt.elements
         E = [self.dbasis.to_complex(el.E) for el in els]
-        return monodromy_floquet(pt.omega / self.periods, self.state(a, p), pt.A, pt.B, np.array([el.W for el in els]),
-                                 np.array([el.V for el in els]), [el.C for el in els], [el.K for el in els], E,
-                                 [np.array([gi], dtype=complex) for gi in pt.g], [el.D for el in els], P=self.elastic)
+        return monodromy_floquet(
+            pt.omega / self.periods,
+            self.state(a, p),
+            pt.A,
+            pt.B,
+            np.array([el.W for el in els]),
+            np.array([el.V for el in els]),
+            [el.C for el in els],
+            [el.K for el in els],
+            E,
+            [np.array([gi], dtype=complex) for gi in pt.g],
+            [el.D for el in els],
+            P=self.elastic,
+        )
 
     # ------------------------------------------------------------------ measures
     def extremes(self, a: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:
@@ -457,7 +495,7 @@ class HBSystemEquations:
         """(q̃, q̃') at θ = 0, comparable with a shooting orbit's state (up to the rigid-body position)."""
         Q = self._split(a)
         H = self.H
-        return np.concatenate([Q[:, 0] + Q[:, 1:H + 1].sum(axis=1), self.nu(p) * (Q[:, H + 1:] @ self._k)])
+        return np.concatenate([Q[:, 0] + Q[:, 1 : H + 1].sum(axis=1), self.nu(p) * (Q[:, H + 1 :] @ self._k)])
 
     def project(self, Q: np.ndarray) -> np.ndarray:
         """Coefficients with the rigid-body part removed: the harmonic-0 rigid coordinate set to the gauge
@@ -520,8 +558,13 @@ def system_linear_guess(eq: HBSystemEquations, p: float | None = None) -> np.nda
     return eq.project(np.array([eq.hbasis.to_real(row) for row in c]))
 
 
-def system_guess_from_simulation(eq: HBSystemEquations, state0: Sequence[float] | None = None, *,
-                                 transient: int = GUESS_TRANSIENT, dtau: float = GUESS_DTAU) -> np.ndarray | None:
+def system_guess_from_simulation(
+    eq: HBSystemEquations,
+    state0: Sequence[float] | None = None,
+    *,
+    transient: int = GUESS_TRANSIENT,
+    dtau: float = GUESS_DTAU,
+) -> np.ndarray | None:
     """Coefficients (n_dof, 2H + 1) of the attractor reached by simulation from ``state0`` (n forcing periods
     after ``transient``), the rigid-body part removed (:meth:`HBSystemEquations.project`); None if the
     simulation diverged.
@@ -545,15 +588,15 @@ def system_guess_from_simulation(eq: HBSystemEquations, state0: Sequence[float] 
     m, n, H = eq.base, eq.n, eq.H
     opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=n)
     tr = trajectory(m, start_state(m, state0), opts, history_periods=n)
-    q = tr.x[:-1, :m.n]
+    q = tr.x[:-1, : m.n]
     if not np.all(np.isfinite(q)):
         return None
     X = np.fft.rfft(q, axis=0) / q.shape[0]
     a = np.zeros((m.n, 2 * H + 1))
     a[:, 0] = X[0].real
     k = min(H, X.shape[0] - 1)
-    a[:, 1:k + 1] = 2.0 * X[1:k + 1].real.T
-    a[:, H + 1:H + 1 + k] = -2.0 * X[1:k + 1].imag.T
+    a[:, 1 : k + 1] = 2.0 * X[1 : k + 1].real.T
+    a[:, H + 1 : H + 1 + k] = -2.0 * X[1 : k + 1].imag.T
     return eq.project(a)
 
 
@@ -605,10 +648,19 @@ class HBSystemSolution(HBSolution):
         return phi / eq.nu(), eq.dbasis.evaluate(eq.deflection(self.unknowns, eq.reference), phi)
 
 
-def hb_system_solve(model: Any, harmonics: int = DEFAULT_HARMONICS, period: int = 1,
-                    guess: np.ndarray | str | None = None, *, samples: int | None = None, tol: float = NEWTON_TOL,
-                    max_iter: int = NEWTON_MAX_ITER, stability: bool = True,
-                    state0: Sequence[float] | None = None, floquet: str = "monodromy") -> HBSystemSolution:
+def hb_system_solve(
+    model: Any,
+    harmonics: int = DEFAULT_HARMONICS,
+    period: int = 1,
+    guess: np.ndarray | str | None = None,
+    *,
+    samples: int | None = None,
+    tol: float = NEWTON_TOL,
+    max_iter: int = NEWTON_MAX_ITER,
+    stability: bool = True,
+    state0: Sequence[float] | None = None,
+    floquet: str = "monodromy",
+) -> HBSystemSolution:
     """Solve the harmonic-balance equations of a multi-DOF system at one parameter point.
 
     Parameters
@@ -661,8 +713,9 @@ def hb_system_solve(model: Any, harmonics: int = DEFAULT_HARMONICS, period: int 
             raise ModelError(f"guess: expected coefficients of shape ({nd}, {2 * H + 1}), got {Q0.shape}")
     with single_thread_blas():
         x, status, its, r = eq.newton(eq.unknowns(Q0), None, tol=tol, max_iter=max_iter)
-        sol = HBSystemSolution(model, H, eq.n, eq.N, eq._split(x).copy(), status, its, r, equations=eq,
-                               unknowns=x, rigid=eq.basis.rigid)
+        sol = HBSystemSolution(
+            model, H, eq.n, eq.N, eq._split(x).copy(), status, its, r, equations=eq, unknowns=x, rigid=eq.basis.rigid
+        )
         if status is Status.OK:
             sol.u_min, sol.u_max = eq.extremes(x)
             sol.element_extremes = eq.element_extremes(x)

@@ -22,15 +22,15 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
 from ...errors import ModelError
 from ...status import Status, flag_attrs
-from .continuation import (DS_INIT, KIND, MAX_POINTS, NEAR_CRITICAL, HBContinuation, _Tracer, span_reporter,
-                           trace_branch)
+from .continuation import DS_INIT, KIND, MAX_POINTS, NEAR_CRITICAL, HBContinuation, _Tracer, span_reporter, trace_branch
 from .damping import require_damping
 from .hill import HillResult
 from .solve import DEFAULT_HARMONICS
@@ -54,8 +54,12 @@ NEAR_CRITICAL_PAIR = 0.01
 #: 1e-9 (``benchmarks/hb_system.py``).
 SYSTEM_DS_MAX = 0.2
 #: Side of a grazing test → its description.
-_SIDES = {"min_plus": "δ_min = +D (drive-side contact loss)", "min_minus": "δ_min = −D (back-side contact)",
-          "max_plus": "δ_max = +D (drive-side contact)", "max_minus": "δ_max = −D"}
+_SIDES = {
+    "min_plus": "δ_min = +D (drive-side contact loss)",
+    "min_minus": "δ_min = −D (back-side contact)",
+    "max_plus": "δ_max = +D (drive-side contact)",
+    "max_minus": "δ_max = −D",
+}
 
 
 def _pairs(mu: np.ndarray) -> np.ndarray:
@@ -137,8 +141,10 @@ class _SystemTracer(_Tracer):
         if h.status is not Status.OK or not h.multipliers.size:
             return False
         mu = h.multipliers
-        return bool(np.any(np.abs(np.sqrt(np.abs(_pairs(mu))) - 1.0) < NEAR_CRITICAL_PAIR)
-                    or np.any(np.abs(mu + 1.0) < NEAR_CRITICAL))
+        return bool(
+            np.any(np.abs(np.sqrt(np.abs(_pairs(mu))) - 1.0) < NEAR_CRITICAL_PAIR)
+            or np.any(np.abs(mu + 1.0) < NEAR_CRITICAL)
+        )
 
 
 @dataclass
@@ -202,18 +208,29 @@ class HBSystemContinuation(HBContinuation):
         rows = []
         for e, nm in enumerate(self.elements):
             lo, hi = self.element_u_min[:, e], self.element_u_max[:, e]
-            row = {"name": nm, "u_min": [num(v) for v in lo], "u_max": [num(v) for v in hi],
-                   "amplitude": [num(0.5 * (b - a)) for a, b in zip(lo, hi)],
-                   "impact": [IMPACT_LABELS[impact_state(v, D[e])] if np.isfinite(v) else None for v in lo]}
+            row = {
+                "name": nm,
+                "u_min": [num(v) for v in lo],
+                "u_max": [num(v) for v in hi],
+                "amplitude": [num(0.5 * (b - a)) for a, b in zip(lo, hi)],
+                "impact": [IMPACT_LABELS[impact_state(v, D[e])] if np.isfinite(v) else None for v in lo],
+            }
             if e < M:
                 row["dynamic_factor"] = [num(v) for v in self.dynamic_factor[:, e]]
             rows.append(row)
-        out.update(meshes=rows[:M], clearances=rows[M:], labels=list(self.model.labels),
-                   reference_mesh=self.elements[self.reference] if self.elements else None,
-                   rigid_body_modes=self.rigid,
-                   notes=[f"{2 * self.rigid} Floquet multipliers equal to 1 belong to the {self.rigid} rigid-body "
-                          f"mode(s) and are left out; the multipliers listed are the elastic ones"]
-                   if self.rigid else [])
+        out.update(
+            meshes=rows[:M],
+            clearances=rows[M:],
+            labels=list(self.model.labels),
+            reference_mesh=self.elements[self.reference] if self.elements else None,
+            rigid_body_modes=self.rigid,
+            notes=[
+                f"{2 * self.rigid} Floquet multipliers equal to 1 belong to the {self.rigid} rigid-body "
+                f"mode(s) and are left out; the multipliers listed are the elastic ones"
+            ]
+            if self.rigid
+            else [],
+        )
         return out
 
     def to_dataset(self):
@@ -226,37 +243,68 @@ class HBSystemContinuation(HBContinuation):
         P = self.values.size
         nd = len(self.model.labels)
         ref = self.model.meshes[self.reference]
-        attrs = system_attrs(self.model, KIND, None, {
-            "param": self.param, "harmonics": self.harmonics, "period": self.period, "samples": self.samples,
-            "end": self.end, "rigid_body_modes": self.rigid,
-            "coefficient_layout": "[a0, a1..aH, b1..bH] per DOF of q(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
-                                  "φ = ωτ/(n p)",
-            "bifurcations": json.dumps(self.to_json()["bifurcations"])})
+        attrs = system_attrs(
+            self.model,
+            KIND,
+            None,
+            {
+                "param": self.param,
+                "harmonics": self.harmonics,
+                "period": self.period,
+                "samples": self.samples,
+                "end": self.end,
+                "rigid_body_modes": self.rigid,
+                "coefficient_layout": "[a0, a1..aH, b1..bH] per DOF of q(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
+                "φ = ωτ/(n p)",
+                "bifurcations": json.dumps(self.to_json()["bifurcations"]),
+            },
+        )
         attrs["model"] = json.dumps({"omega": self.model.omega, "D": ref.D, "xi0": ref.xi0})
         ds = xr.Dataset(
-            {self.param: ("point", self.values), "u_min": ("point", self.u_min), "u_max": ("point", self.u_max),
-             "amplitude": ("point", self.amplitude), "stable": ("point", self.stable.astype(np.int8)),
-             "multiplier_re": (("point", "multiplier"), self.multipliers.real),
-             "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
-             "coefficients": (("point", "dof", "coefficient"), self.coefficients.reshape(P, nd, -1)),
-             "element_u_min": (("point", "element"), self.element_u_min),
-             "element_u_max": (("point", "element"), self.element_u_max),
-             "status": ("point", self.status.astype(np.int64))},
-            coords={"point": np.arange(P), "multiplier": np.arange(self.multipliers.shape[1]),
-                    "dof": list(self.model.labels), "coefficient": np.arange(2 * self.harmonics + 1),
-                    "element": list(self.elements)},
-            attrs=attrs)
+            {
+                self.param: ("point", self.values),
+                "u_min": ("point", self.u_min),
+                "u_max": ("point", self.u_max),
+                "amplitude": ("point", self.amplitude),
+                "stable": ("point", self.stable.astype(np.int8)),
+                "multiplier_re": (("point", "multiplier"), self.multipliers.real),
+                "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
+                "coefficients": (("point", "dof", "coefficient"), self.coefficients.reshape(P, nd, -1)),
+                "element_u_min": (("point", "element"), self.element_u_min),
+                "element_u_max": (("point", "element"), self.element_u_max),
+                "status": ("point", self.status.astype(np.int64)),
+            },
+            coords={
+                "point": np.arange(P),
+                "multiplier": np.arange(self.multipliers.shape[1]),
+                "dof": list(self.model.labels),
+                "coefficient": np.arange(2 * self.harmonics + 1),
+                "element": list(self.elements),
+            },
+            attrs=attrs,
+        )
         ds["status"].attrs.update(flag_attrs())
         ds.attrs["summary"] = json.dumps(self.to_json())
         return annotate(ds)
 
 
-def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
-                           harmonics: int = DEFAULT_HARMONICS, period: int = 1, guess: Any = None,
-                           samples: int | None = None, ds: float = DS_INIT, ds_max: float = SYSTEM_DS_MAX,
-                           max_points: int = MAX_POINTS, state0: Any = None,
-                           floquet: str = "monodromy",
-                           progress: Callable[[float, float], None] | None = None) -> HBSystemContinuation:
+def hb_system_continuation(
+    model: Any,
+    param: str,
+    start: float,
+    stop: float,
+    *,
+    harmonics: int = DEFAULT_HARMONICS,
+    period: int = 1,
+    guess: Any = None,
+    samples: int | None = None,
+    ds: float = DS_INIT,
+    ds_max: float = SYSTEM_DS_MAX,
+    max_points: int = MAX_POINTS,
+    state0: Any = None,
+    floquet: str = "monodromy",
+    progress: Callable[[float, float], None] | None = None,
+) -> HBSystemContinuation:
     """Continue the period-n HB solution of a system in ``param`` from ``start`` to ``stop``.
 
     Parameters
@@ -306,18 +354,36 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
         raise ModelError("start, stop: must be finite and different")
     require_damping(model, param, start, stop)
     report = span_reporter(progress, start, stop)
-    sysm = HBSystemEquations(model.with_param(param, stop), harmonics, period, param=param, samples=samples,
-                             floquet=floquet)
-    sol = hb_system_solve(model.with_param(param, start), sysm.H, period, guess, samples=sysm.N, state0=state0,
-                          stability=False)  # Hill: at the first point of the branch
+    sysm = HBSystemEquations(
+        model.with_param(param, stop), harmonics, period, param=param, samples=samples, floquet=floquet
+    )
+    sol = hb_system_solve(
+        model.with_param(param, start), sysm.H, period, guess, samples=sysm.N, state0=state0, stability=False
+    )  # Hill: at the first point of the branch
     names = sysm.elements
     if not sol.converged:
         nan = np.full((1, len(names)), math.nan)
-        return HBSystemContinuation(model, param, sysm.H, sysm.n, sysm.N, np.array([start]),
-                                    sol.unknowns[None, :sysm.basis.size - sysm.basis.rigid], np.array([math.nan]),
-                                    np.array([math.nan]), np.full((1, 2 * (model.n - sysm.basis.rigid)), np.nan + 0j),
-                                    np.array([int(sol.status)]), [], f"start: {sol.status.label}", names, nan, nan,
-                                    np.full((1, len(model.meshes)), math.nan), sysm.basis.rigid, sysm.reference)
+        return HBSystemContinuation(
+            model,
+            param,
+            sysm.H,
+            sysm.n,
+            sysm.N,
+            np.array([start]),
+            sol.unknowns[None, : sysm.basis.size - sysm.basis.rigid],
+            np.array([math.nan]),
+            np.array([math.nan]),
+            np.full((1, 2 * (model.n - sysm.basis.rigid)), np.nan + 0j),
+            np.array([int(sol.status)]),
+            [],
+            f"start: {sol.status.label}",
+            names,
+            nan,
+            nan,
+            np.full((1, len(model.meshes)), math.nan),
+            sysm.basis.rigid,
+            sysm.reference,
+        )
     tr = _SystemTracer(sysm, lo, hi, ps)
     y = np.concatenate([sol.unknowns, [start / ps]])
     ref = np.zeros(sysm.basis.size + 1)
@@ -326,10 +392,27 @@ def hb_system_continuation(model: Any, param: str, start: float, stop: float, *,
     vals = np.array([tr.p(q.y) for q in pts])
     N0 = sysm.basis.size - sysm.basis.rigid
     ext = np.array([sysm.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
-    dyn = np.array([[np.nan if f is None else f for f in dynamic_factors(sysm, q.y[:-1], v)]
-                    for q, v in zip(pts, vals)])
+    dyn = np.array(
+        [[np.nan if f is None else f for f in dynamic_factors(sysm, q.y[:-1], v)] for q, v in zip(pts, vals)]
+    )
     return HBSystemContinuation(
-        model, param, sysm.H, sysm.n, sysm.N, vals, np.array([q.y[:N0] for q in pts]),
-        np.array([q.u_min for q in pts]), np.array([q.u_max for q in pts]),
-        np.array([q.hill.multipliers for q in pts]), np.array([int(q.hill.status) for q in pts]), bifs, end,
-        names, ext[:, :, 0], ext[:, :, 1], dyn, sysm.basis.rigid, sysm.reference)
+        model,
+        param,
+        sysm.H,
+        sysm.n,
+        sysm.N,
+        vals,
+        np.array([q.y[:N0] for q in pts]),
+        np.array([q.u_min for q in pts]),
+        np.array([q.u_max for q in pts]),
+        np.array([q.hill.multipliers for q in pts]),
+        np.array([int(q.hill.status) for q in pts]),
+        bifs,
+        end,
+        names,
+        ext[:, :, 0],
+        ext[:, :, 1],
+        dyn,
+        sysm.basis.rigid,
+        sysm.reference,
+    )

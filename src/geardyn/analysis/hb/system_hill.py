@@ -81,9 +81,9 @@ def _overlap(ya: np.ndarray, yc: np.ndarray, m: int) -> float:
     M = ya.shape[1]
     sh = np.zeros_like(ya)
     if m >= 0:
-        sh[:, :M - m] = ya[:, m:]
+        sh[:, : M - m] = ya[:, m:]
     else:
-        sh[:, -m:] = ya[:, :M + m]
+        sh[:, -m:] = ya[:, : M + m]
     den = np.linalg.norm(ya) * np.linalg.norm(yc)
     return float(abs(np.vdot(sh, yc)) / den) if den > 0 else 0.0
 
@@ -92,8 +92,11 @@ def _is_copy(c: int, chosen: list[int], lam: np.ndarray, mu: np.ndarray, y: np.n
     """Whether eigenvalue c is a copy λ_a + imν (m ≠ 0) of an accepted exponent a (see the module docstring)."""
     for a in chosen:
         m = int(round(float((lam[c] - lam[a]).imag) / nu))
-        if m != 0 and abs(mu[c] - mu[a]) <= COPY_TOL * max(1.0, abs(mu[a])) \
-                and _overlap(y[:, :, a], y[:, :, c], m) >= COPY_OVERLAP:
+        if (
+            m != 0
+            and abs(mu[c] - mu[a]) <= COPY_TOL * max(1.0, abs(mu[a]))
+            and _overlap(y[:, :, a], y[:, :, c], m) >= COPY_OVERLAP
+        ):
             return True
     return False
 
@@ -103,8 +106,7 @@ def _nan_result(count: int, status: Status) -> HillResult:
     return HillResult(nan, nan, np.full(count, math.nan), math.nan, status)
 
 
-def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float, H: int,
-                        trace: float) -> HillResult:
+def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float, H: int, trace: float) -> HillResult:
     """Elastic Floquet exponents and multipliers of y'' + 𝒞(τ)y' + 𝒦(τ)y = 0 by Hill's method.
 
     Parameters

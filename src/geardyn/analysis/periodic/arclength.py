@@ -23,12 +23,11 @@ Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010; Yu. A. Kuznetsov,
 *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004 (numerical analysis of bifurcations).
 """
 
-
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -233,8 +232,19 @@ def _null_vector(Ja: np.ndarray) -> np.ndarray:
 class _Continuer:
     """Pseudo-arclength continuation of one branch with event detection."""
 
-    def __init__(self, prob: _Family, lo: float, hi: float, span: float, ds: float | None, ds_max: float | None,
-                 max_points: int, locate: bool, detect: bool = True, stop_on_instability: bool = False):
+    def __init__(
+        self,
+        prob: _Family,
+        lo: float,
+        hi: float,
+        span: float,
+        ds: float | None,
+        ds_max: float | None,
+        max_points: int,
+        locate: bool,
+        detect: bool = True,
+        stop_on_instability: bool = False,
+    ):
         self.prob = prob
         self.lo, self.hi = lo, hi
         self.span = span
@@ -263,8 +273,9 @@ class _Continuer:
         y = np.append(ev.x, ev.p / self.ps)
         return _Point(y, ev, Gq, t, ext, prob.reference, iters)
 
-    def correct(self, y0: np.ndarray, normal: np.ndarray, t_ref: np.ndarray | None, N: int | None = None
-                ) -> _Point | None:
+    def correct(
+        self, y0: np.ndarray, normal: np.ndarray, t_ref: np.ndarray | None, N: int | None = None
+    ) -> _Point | None:
         """Newton on [P^n(x; p) − x; normal·(y − y0)] = 0 from y0 (y = (u, u', p/ps)), with N steps per
         period held fixed.  The parameter column of the Jacobian is taken at the first iterate (chord
         iteration in that column) and recomputed at the converged point for its tangent."""
@@ -303,8 +314,9 @@ class _Continuer:
                 F = np.concatenate([G, [float(normal @ (y - y0))]])
                 try:
                     if prob.gauge.shape[0]:  # rigid-body modes: the gauge rows make the system full rank
-                        dy = np.linalg.lstsq(np.vstack([J, prob.gauge]),
-                                             -np.concatenate([F, prob.gauge @ (y - y0)]), rcond=None)[0]
+                        dy = np.linalg.lstsq(
+                            np.vstack([J, prob.gauge]), -np.concatenate([F, prob.gauge @ (y - y0)]), rcond=None
+                        )[0]
                     else:
                         dy = np.linalg.solve(J, -F)
                 except np.linalg.LinAlgError:
@@ -347,8 +359,12 @@ class _Continuer:
             eye = np.eye(M.shape[0])
             mu = np.linalg.eigvals(M)
             prods = (mu[:, None] * mu[None, :])[np.triu_indices(mu.size, 1)]
-            out = {"turn": float(pt.tangent[-1]), "det_m_i": float(np.linalg.det(eye - M)),
-                   "pd": float(np.linalg.det(eye + M)), "ns": float(np.real(np.prod(prods - 1.0)))}
+            out = {
+                "turn": float(pt.tangent[-1]),
+                "det_m_i": float(np.linalg.det(eye - M)),
+                "pd": float(np.linalg.det(eye + M)),
+                "ns": float(np.real(np.prod(prods - 1.0))),
+            }
         for e, D in enumerate(gaps):  # grazing of every element (the reference element's keys unqualified)
             if D <= 0.0:
                 continue
@@ -413,19 +429,43 @@ class _Continuer:
         # it by the period doubling of the period-n/2 branch it belongs to.
         s_merge = math.inf
         sep_b = self._separation(b)
-        if sign_change("merge") and sep_a is not None and sep_b is not None and (
+        if (
+            sign_change("merge")
+            and sep_a is not None
+            and sep_b is not None
+            and (
                 float(np.linalg.norm(sep_a)) + float(np.linalg.norm(sep_b))
-                <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))):
+                <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
+            )
+        ):
             fa, fb = ta["merge"], tb["merge"]
             sig = fa / (fa - fb)
             mu = np.linalg.eigvals(self.prob.elastic(a.M + sig * (b.M - a.M)))
             mu = mu[np.argsort(-np.abs(mu), kind="stable")]
             s_merge = sig * float(np.linalg.norm(d))
             x_m = a.ev.x + sig * (b.ev.x - a.ev.x)
-            events.append((s_merge, Bifurcation(
-                "merge", self.prob.param, a.p + sig * (b.p - a.p), x_m, self.prob.n, branch_index, mu,
-                a.u_min + sig * (b.u_min - a.u_min), a.u_max + sig * (b.u_max - a.u_max),
-                "the branch meets the period-n/2 branch at its period doubling", False, None, None, "merge"), a))
+            events.append(
+                (
+                    s_merge,
+                    Bifurcation(
+                        "merge",
+                        self.prob.param,
+                        a.p + sig * (b.p - a.p),
+                        x_m,
+                        self.prob.n,
+                        branch_index,
+                        mu,
+                        a.u_min + sig * (b.u_min - a.u_min),
+                        a.u_max + sig * (b.u_max - a.u_max),
+                        "the branch meets the period-n/2 branch at its period doubling",
+                        False,
+                        None,
+                        None,
+                        "merge",
+                    ),
+                    a,
+                )
+            )
 
         turn = float(a.tangent[-1]) * float(b.tangent[-1]) < 0  # both oriented along the travel direction
         checks: list[tuple[str, str, str]] = []
@@ -442,10 +482,12 @@ class _Continuer:
         for e, name in enumerate(self.prob.names):
             tag = "" if e == a.ref else f":{name}"
             of = "" if e == a.ref else f" of {name}"
-            for k, lab in (("graze_min_plus", "u_min = +D (drive-side contact loss)"),
-                           ("graze_min_minus", "u_min = −D (back-side contact)"),
-                           ("graze_max_plus", "u_max = +D (drive-side contact)"),
-                           ("graze_max_minus", "u_max = −D")):
+            for k, lab in (
+                ("graze_min_plus", "u_min = +D (drive-side contact loss)"),
+                ("graze_min_minus", "u_min = −D (back-side contact)"),
+                ("graze_max_plus", "u_max = +D (drive-side contact)"),
+                ("graze_max_minus", "u_max = −D"),
+            ):
                 if sign_change(k + tag):
                     checks.append((k + tag, "grazing", lab + of))
         for key, typ, detail in checks:
@@ -464,10 +506,28 @@ class _Continuer:
             s = float(chord @ (pt.y - a.y))
             if s >= s_merge:
                 continue
-            events.append((s, Bifurcation(
-                typ, self.prob.param, pt.p, pt.y[:-1].copy(), self.prob.n, branch_index, mu, pt.u_min, pt.u_max,
-                detail, ok, bool(np.max(np.abs(np.linalg.eigvals(self.prob.elastic(a.M)))) < 1.0),
-                bool(np.max(np.abs(np.linalg.eigvals(self.prob.elastic(b.M)))) < 1.0), key), pt))
+            events.append(
+                (
+                    s,
+                    Bifurcation(
+                        typ,
+                        self.prob.param,
+                        pt.p,
+                        pt.y[:-1].copy(),
+                        self.prob.n,
+                        branch_index,
+                        mu,
+                        pt.u_min,
+                        pt.u_max,
+                        detail,
+                        ok,
+                        bool(np.max(np.abs(np.linalg.eigvals(self.prob.elastic(a.M)))) < 1.0),
+                        bool(np.max(np.abs(np.linalg.eigvals(self.prob.elastic(b.M)))) < 1.0),
+                        key,
+                    ),
+                    pt,
+                )
+            )
         events.sort(key=lambda e: e[0])
         return events
 
@@ -476,8 +536,9 @@ class _Continuer:
         if self.on_point is not None:
             self.on_point(pt.p)
 
-    def run(self, first: _Point, direction: float, branch_index: int, prefix: list[_Point] | None = None
-            ) -> tuple[list[_Point], list[Bifurcation], str]:
+    def run(
+        self, first: _Point, direction: float, branch_index: int, prefix: list[_Point] | None = None
+    ) -> tuple[list[_Point], list[Bifurcation], str]:
         """Continue from ``first`` with the parameter initially moving in ``direction`` (+1/−1)."""
         t = first.tangent if first.tangent[-1] * direction >= 0 else -first.tangent
         first.tangent = t
@@ -536,8 +597,11 @@ class _Continuer:
                         bifs.append(bif)
                         return pts, bifs, "merged into the period-n/2 branch at its period doubling"
                     bifs.append(bif)
-                    if self.stop_on_instability and bif.type in ("fold", "period-doubling", "neimark-sacker",
-                                                                 "branch-point") and bif.stable_before:
+                    if (
+                        self.stop_on_instability
+                        and bif.type in ("fold", "period-doubling", "neimark-sacker", "branch-point")
+                        and bif.stable_before
+                    ):
                         stop_here = bpt
                         break
                 if stop_here is not None:
@@ -555,11 +619,14 @@ class _Continuer:
         return pts, bifs, end
 
 
-def _make_branch(index: int, prob: _Family, pts: list[_Point], end: str, origin: Bifurcation | None,
-                 bifs: list[Bifurcation]) -> Branch:
+def _make_branch(
+    index: int, prob: _Family, pts: list[_Point], end: str, origin: Bifurcation | None, bifs: list[Bifurcation]
+) -> Branch:
     n = prob.n
     return Branch(
-        index=index, param=prob.param, n=n,
+        index=index,
+        param=prob.param,
+        n=n,
         values=np.array([q.p for q in pts]),
         states=np.array([q.y[:-1] for q in pts]),
         points=np.array([np.vstack([q.y[None, :-1], q.ev.points[:-1]]) for q in pts]).reshape(len(pts), n, prob.dim),
@@ -567,17 +634,31 @@ def _make_branch(index: int, prob: _Family, pts: list[_Point], end: str, origin:
         u_min=np.array([q.u_min for q in pts]),
         u_max=np.array([q.u_max for q in pts]),
         steps=np.array([q.ev.N for q in pts], dtype=np.int64),
-        end=end, origin=origin, bifurcations=bifs, elastic=prob.elastic_basis,
+        end=end,
+        origin=origin,
+        bifurcations=bifs,
+        elastic=prob.elastic_basis,
         extrema=np.array([q.ext for q in pts]).reshape(len(pts), len(prob.names), 2),
     )
 
 
-def continue_branch(orbit: PeriodicOrbit, param: str, stop: float, *, start_bound: float | None = None,
-                    index: int = 0, ds: float | None = None, ds_max: float | None = None,
-                    max_points: int = MAX_BRANCH_POINTS, locate: bool = True, detect: bool = True,
-                    stop_on_instability: bool = False, origin: Bifurcation | None = None,
-                    direction: float | None = None,
-                    progress: Callable[[float, float], None] | None = None) -> Branch:
+def continue_branch(
+    orbit: PeriodicOrbit,
+    param: str,
+    stop: float,
+    *,
+    start_bound: float | None = None,
+    index: int = 0,
+    ds: float | None = None,
+    ds_max: float | None = None,
+    max_points: int = MAX_BRANCH_POINTS,
+    locate: bool = True,
+    detect: bool = True,
+    stop_on_instability: bool = False,
+    origin: Bifurcation | None = None,
+    direction: float | None = None,
+    progress: Callable[[float, float], None] | None = None,
+) -> Branch:
     """Continue the branch through a converged orbit in ``param`` towards ``stop``.
 
     The branch is followed by pseudo-arclength continuation (so it passes around folds) until the

@@ -9,8 +9,9 @@ events and writes the ``continuation --json`` summary and the NetCDF Dataset.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -21,8 +22,15 @@ from .arclength import MAX_BRANCH_POINTS, continue_branch, element_extrema
 from .branch import Bifurcation, Branch
 from .map import PeriodMap
 from .orbit import (
-    GUESS_TRANSIENT, SHOOT_MAX_ITER, SHOOT_TOL, PeriodicOrbit, _minimal_period, _newton, _orbit_from_eval,
-    newton_step_for, shoot,
+    GUESS_TRANSIENT,
+    SHOOT_MAX_ITER,
+    SHOOT_TOL,
+    PeriodicOrbit,
+    _minimal_period,
+    _newton,
+    _orbit_from_eval,
+    newton_step_for,
+    shoot,
 )
 
 __all__ = ["ContinuationResult", "continuation", "switch_at_period_doubling", "DEFAULT_MAX_PERIOD"]
@@ -39,8 +47,9 @@ SAME_EVENT_PARAM_REL = 1.0e-3
 SAME_EVENT_STATE_REL = 1.0e-2
 
 
-def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel, *, stop: float,
-                              start: float, dtau: float, accurate: bool) -> PeriodicOrbit | None:
+def switch_at_period_doubling(
+    branch: Branch, bif: Bifurcation, model: GearModel, *, stop: float, start: float, dtau: float, accurate: bool
+) -> PeriodicOrbit | None:
     """A period-2n orbit next to a period doubling of a period-n branch (branch switching).
 
     At the flip point x* the eigenvector e of the multiplier −1 gives the direction in which the
@@ -74,8 +83,7 @@ def switch_at_period_doubling(branch: Branch, bif: Bifurcation, model: GearModel
     """
     param = branch.param
     n2 = 2 * branch.n
-    ev_star = PeriodMap(model.with_param(param, bif.value), branch.n, dtau=dtau, accurate=accurate
-                        ).evaluate(bif.state)
+    ev_star = PeriodMap(model.with_param(param, bif.value), branch.n, dtau=dtau, accurate=accurate).evaluate(bif.state)
     if not ev_star.ok:
         return None
     w, V = np.linalg.eig(ev_star.monodromy)
@@ -163,17 +171,19 @@ class ContinuationResult:
             mu = br.multipliers
             st = br.stable
             for i in range(len(br)):
-                pts.append({
-                    self.param: float(br.values[i]),
-                    "amplitude": float(br.amplitude[i]),
-                    "stable": bool(st[i]),
-                    "multipliers": [[float(m.real), float(m.imag)] for m in mu[i]],
-                    "period": int(br.n),
-                    "branch": int(br.index),
-                    "state": [float(s) for s in br.states[i]],
-                    "u_min": float(br.u_min[i]),
-                    "u_max": float(br.u_max[i]),
-                })
+                pts.append(
+                    {
+                        self.param: float(br.values[i]),
+                        "amplitude": float(br.amplitude[i]),
+                        "stable": bool(st[i]),
+                        "multipliers": [[float(m.real), float(m.imag)] for m in mu[i]],
+                        "period": int(br.n),
+                        "branch": int(br.index),
+                        "state": [float(s) for s in br.states[i]],
+                        "u_min": float(br.u_min[i]),
+                        "u_max": float(br.u_max[i]),
+                    }
+                )
         return {
             "param": self.param,
             "start": self.start,
@@ -181,9 +191,15 @@ class ContinuationResult:
             "branch": pts,
             "bifurcations": [b.to_json() for b in self.bifurcations],
             "branches": [
-                {"branch": b.index, "period": b.n, "points": len(b), "end": b.end,
-                 "from": None if b.origin is None else {"type": b.origin.type, self.param: b.origin.value,
-                                                        "branch": b.origin.branch}}
+                {
+                    "branch": b.index,
+                    "period": b.n,
+                    "points": len(b),
+                    "end": b.end,
+                    "from": None
+                    if b.origin is None
+                    else {"type": b.origin.type, self.param: b.origin.value, "branch": b.origin.branch},
+                }
                 for b in self.branches
             ],
             "notes": self.notes,
@@ -206,11 +222,23 @@ class ContinuationResult:
             pv[:, : b.n] = sec[..., 1]
             mu = b.multipliers
             # the reference element's (δ, δ') at θ = 0 (the 1-DOF model's state (u, u')) are the variables u and v
-            rows.append(dict(
-                value=b.values, branch=np.full(K, b.index), period=np.full(K, b.n), u0=sec[:, 0, 0],
-                v0=sec[:, 0, 1], amplitude=b.amplitude, u_min=b.u_min, u_max=b.u_max,
-                stable=b.stable.astype(np.int8), mre=mu.real, mim=mu.imag, pu=pu, pv=pv,
-            ))
+            rows.append(
+                dict(
+                    value=b.values,
+                    branch=np.full(K, b.index),
+                    period=np.full(K, b.n),
+                    u0=sec[:, 0, 0],
+                    v0=sec[:, 0, 1],
+                    amplitude=b.amplitude,
+                    u_min=b.u_min,
+                    u_max=b.u_max,
+                    stable=b.stable.astype(np.int8),
+                    mre=mu.real,
+                    mim=mu.imag,
+                    pu=pu,
+                    pv=pv,
+                )
+            )
 
         def cat(k: str) -> np.ndarray:
             return np.concatenate([r[k] for r in rows]) if rows else np.zeros(0)
@@ -238,18 +266,30 @@ class ContinuationResult:
                 f"bifurcation_{P}": ("bifurcation", np.array([b.value for b in bifs], dtype=float)),
                 "bifurcation_period": ("bifurcation", np.array([b.n for b in bifs], dtype=np.int64)),
                 "bifurcation_branch": ("bifurcation", np.array([b.branch for b in bifs], dtype=np.int64)),
-                "bifurcation_u": ("bifurcation", np.array([m.element_series(b.state, 0.0)[m.reference, 0]
-                                                           for b in bifs], dtype=float)),
-                "bifurcation_v": ("bifurcation", np.array([m.element_series(b.state, 0.0)[m.reference, 1]
-                                                           for b in bifs], dtype=float)),
+                "bifurcation_u": (
+                    "bifurcation",
+                    np.array([m.element_series(b.state, 0.0)[m.reference, 0] for b in bifs], dtype=float),
+                ),
+                "bifurcation_v": (
+                    "bifurcation",
+                    np.array([m.element_series(b.state, 0.0)[m.reference, 1] for b in bifs], dtype=float),
+                ),
                 "bifurcation_amplitude": ("bifurcation", np.array([b.amplitude for b in bifs], dtype=float)),
                 "bifurcation_detail": ("bifurcation", np.array([b.detail for b in bifs], dtype=object)),
             },
-            coords={"point": np.arange(sum(len(b) for b in self.branches)), "multiplier": np.arange(dim),
-                    "section": np.arange(nmax), "bifurcation": np.arange(len(bifs))},
+            coords={
+                "point": np.arange(sum(len(b) for b in self.branches)),
+                "multiplier": np.arange(dim),
+                "section": np.arange(nmax),
+                "bifurcation": np.arange(len(bifs)),
+            },
             attrs=result_attrs(
-                "continuation", self.model, {"dtau": self.dtau, "accurate": self.accurate},
-                param=P, start=str(self.start), stop=str(self.stop),
+                "continuation",
+                self.model,
+                {"dtau": self.dtau, "accurate": self.accurate},
+                param=P,
+                start=str(self.start),
+                stop=str(self.stop),
                 branches=[{"branch": b.index, "period": b.n, "end": b.end} for b in self.branches],
                 notes=self.notes,
             ),
@@ -257,12 +297,26 @@ class ContinuationResult:
         return annotate(ds)
 
 
-def continuation(model: GearModel, param: str, start: float, stop: float, n: int = 1,
-                 guess: Sequence[float] | None = None, *, dtau: float = DEFAULT_DTAU, accurate: bool = True,
-                 switch: bool = True, max_period: int = DEFAULT_MAX_PERIOD, ds: float | None = None,
-                 ds_max: float | None = None, max_points: int = MAX_BRANCH_POINTS, locate: bool = True,
-                 state0: Sequence[float] | None = None, transient: int = GUESS_TRANSIENT,
-                 progress: Callable[[float, float], None] | None = None) -> ContinuationResult:
+def continuation(
+    model: GearModel,
+    param: str,
+    start: float,
+    stop: float,
+    n: int = 1,
+    guess: Sequence[float] | None = None,
+    *,
+    dtau: float = DEFAULT_DTAU,
+    accurate: bool = True,
+    switch: bool = True,
+    max_period: int = DEFAULT_MAX_PERIOD,
+    ds: float | None = None,
+    ds_max: float | None = None,
+    max_points: int = MAX_BRANCH_POINTS,
+    locate: bool = True,
+    state0: Sequence[float] | None = None,
+    transient: int = GUESS_TRANSIENT,
+    progress: Callable[[float, float], None] | None = None,
+) -> ContinuationResult:
     """Pseudo-arclength continuation of period-n orbits in ``param`` from ``start`` to ``stop``.
 
     Parameters
@@ -346,13 +400,27 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
     orbit = shoot(m0, n, guess, dtau=dtau, accurate=accurate, state0=state0, transient=transient)
     notes: list[str] = []
     if not orbit.converged:
-        raise ModelError(f"guess: shooting for the period-{n} orbit at {param} = {start:g} did not converge "
-                         f"(status {orbit.status_label}); give a better --guess u,v")
+        raise ModelError(
+            f"guess: shooting for the period-{n} orbit at {param} = {start:g} did not converge "
+            f"(status {orbit.status_label}); give a better --guess u,v"
+        )
     if orbit.minimal_period < n:
         notes.append(f"the starting orbit has minimal period {orbit.minimal_period} < {n}")
     span_done = _SpanProgress(progress)
-    branches = [continue_branch(orbit, param, stop, start_bound=start, index=0, ds=ds, ds_max=ds_max,
-                                max_points=max_points, locate=locate, progress=span_done.branch())]
+    branches = [
+        continue_branch(
+            orbit,
+            param,
+            stop,
+            start_bound=start,
+            index=0,
+            ds=ds,
+            ds_max=ds_max,
+            max_points=max_points,
+            locate=locate,
+            progress=span_done.branch(),
+        )
+    ]
     span = abs(stop - start)
     if switch:
         queue = [0]
@@ -365,22 +433,36 @@ def continuation(model: GearModel, param: str, start: float, stop: float, n: int
             for b in br.bifurcations:
                 if b.type != "period-doubling":
                     continue
-                if any(nn == 2 * br.n and abs(v - b.value) <= SAME_EVENT_PARAM_REL * span
-                       and np.linalg.norm(s - b.state) <= SAME_EVENT_STATE_REL * (1 + np.linalg.norm(s))
-                       for nn, v, s in seen):
+                if any(
+                    nn == 2 * br.n
+                    and abs(v - b.value) <= SAME_EVENT_PARAM_REL * span
+                    and np.linalg.norm(s - b.state) <= SAME_EVENT_STATE_REL * (1 + np.linalg.norm(s))
+                    for nn, v, s in seen
+                ):
                     continue  # the period-2n branch through this point is already traced
-                new = switch_at_period_doubling(br, b, model, stop=stop, start=start, dtau=dtau,
-                                                accurate=accurate)
+                new = switch_at_period_doubling(br, b, model, stop=stop, start=start, dtau=dtau, accurate=accurate)
                 if new is None:
-                    notes.append(f"no period-{2 * br.n} orbit found next to the period doubling at "
-                                 f"{param} = {b.value:.6g}")
+                    notes.append(
+                        f"no period-{2 * br.n} orbit found next to the period doubling at {param} = {b.value:.6g}"
+                    )
                     continue
                 p_new = new.model.get(param)
                 away = 1.0 if p_new >= b.value else -1.0
                 far, near = (max(start, stop), min(start, stop)) if away > 0 else (min(start, stop), max(start, stop))
-                nb = continue_branch(new, param, far, start_bound=near, index=len(branches), ds=ds,
-                                     ds_max=ds_max, max_points=max_points, locate=locate, origin=b,
-                                     direction=away, progress=span_done.branch())
+                nb = continue_branch(
+                    new,
+                    param,
+                    far,
+                    start_bound=near,
+                    index=len(branches),
+                    ds=ds,
+                    ds_max=ds_max,
+                    max_points=max_points,
+                    locate=locate,
+                    origin=b,
+                    direction=away,
+                    progress=span_done.branch(),
+                )
                 nb = _prepend_source(nb, b, model, dtau, accurate)
                 nb = _append_merge(nb, br, model, dtau, accurate, span)
                 branches.append(nb)
@@ -470,5 +552,3 @@ def _prepend_source(br: Branch, src: Bifurcation, model: GearModel, dtau: float,
     if br.extrema is not None:
         br.extrema = np.concatenate([element_extrema(pmap, src.state)[None], br.extrema])
     return br
-
-

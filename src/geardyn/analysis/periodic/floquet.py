@@ -62,8 +62,13 @@ class Floquet:
     @property
     def crossing(self) -> str | None:
         """The bifurcation through which this kind of instability arises (None if stable)."""
-        return {"saddle": "fold", "flip-saddle": "period-doubling", "unstable-focus": "neimark-sacker",
-                "repeller": None, "none": None}[self.instability]
+        return {
+            "saddle": "fold",
+            "flip-saddle": "period-doubling",
+            "unstable-focus": "neimark-sacker",
+            "repeller": None,
+            "none": None,
+        }[self.instability]
 
     def pairs(self) -> list[list[float]]:
         """Multipliers as [[re, im], ...] (the JSON form)."""
@@ -115,5 +120,3 @@ def floquet(monodromy: np.ndarray, n: int, period: float) -> Floquet:
     else:
         kind = "saddle" if mu[0].real > 0 else "flip-saddle"
     return Floquet(mu, expo, stable, kind, float(np.linalg.det(M)), float(np.trace(M)))
-
-

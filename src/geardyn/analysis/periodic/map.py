@@ -20,8 +20,9 @@ integration.  numba's thread setting of the caller is left as it was.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -113,8 +114,9 @@ class PeriodMap:
 
     __slots__ = ("model", "n", "dtau", "accurate", "_steps", "_fixed")
 
-    def __init__(self, model: Any, n: int = 1, *, dtau: float = DEFAULT_DTAU, accurate: bool = False,
-                 steps: int | None = None):
+    def __init__(
+        self, model: Any, n: int = 1, *, dtau: float = DEFAULT_DTAU, accurate: bool = False, steps: int | None = None
+    ):
         if not _is_count(n):
             raise ModelError(f"period: must be an integer >= 1, got {n!r}")
         if steps is not None and not _is_count(steps):
@@ -157,11 +159,13 @@ class PeriodMap:
         return self.model.get(name)
 
     def __repr__(self) -> str:
-        return (f"PeriodMap(n={self.n}, steps={self._steps}{'' if self._fixed else ' (natural)'}, "
-                f"accurate={self.accurate}, model={self.model!r})")
+        return (
+            f"PeriodMap(n={self.n}, steps={self._steps}{'' if self._fixed else ' (natural)'}, "
+            f"accurate={self.accurate}, model={self.model!r})"
+        )
 
     # ------------------------------------------------------------------ new maps
-    def with_param(self, name: str, value: float) -> "PeriodMap":
+    def with_param(self, name: str, value: float) -> PeriodMap:
         """The same map for the system with parameter ``name`` set to ``value``.
 
         Parameters
@@ -182,10 +186,15 @@ class PeriodMap:
         ModelError
             For an unknown name or a value the system refuses.
         """
-        return PeriodMap(self.model.with_param(name, value), self.n, dtau=self.dtau, accurate=self.accurate,
-                         steps=self._steps if self._fixed else None)
+        return PeriodMap(
+            self.model.with_param(name, value),
+            self.n,
+            dtau=self.dtau,
+            accurate=self.accurate,
+            steps=self._steps if self._fixed else None,
+        )
 
-    def with_steps(self, steps: int | None) -> "PeriodMap":
+    def with_steps(self, steps: int | None) -> PeriodMap:
         """The same map with ``steps`` RK4 steps per forcing period (None: ceil(T/Δτ)).
 
         Parameters
@@ -228,8 +237,9 @@ class PeriodMap:
         d = self.dim
         if not np.all(np.isfinite(x)):
             return MapEvaluation(x, np.full((self.n, d), np.nan), np.full((d, d), np.nan), False, self._steps)
-        pts, M, _st, ok = period_map(self.model, x, self.n, accurate=self.accurate, steps=self._steps,
-                                     threads=MAP_THREADS)
+        pts, M, _st, ok = period_map(
+            self.model, x, self.n, accurate=self.accurate, steps=self._steps, threads=MAP_THREADS
+        )
         ok = ok and bool(np.all(np.isfinite(M)))
         return MapEvaluation(x.copy(), pts, M, ok, self._steps)
 
@@ -311,8 +321,9 @@ class PeriodMap:
         geardyn.integrate.Trajectory
             The full state and every element's (δ, δ') (NaN if the trajectory diverged).
         """
-        return trajectory(self.model, x, self._options(), history_periods=self.n, steps=self._steps,
-                          threads=MAP_THREADS)
+        return trajectory(
+            self.model, x, self._options(), history_periods=self.n, steps=self._steps, threads=MAP_THREADS
+        )
 
     def history(self, x: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The trajectory over the n periods of one map iteration, at every RK4 step.

@@ -9,8 +9,9 @@ refined between the RK4 steps.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -97,8 +98,12 @@ def _hermite_extrema(u: np.ndarray, v: np.ndarray, h: float) -> tuple[float, flo
                 continue
             x = r[ok]
             x2, x3 = x * x, x * x * x
-            val = ((2 * x3 - 3 * x2 + 1) * a0[ok] + (x3 - 2 * x2 + x) * b0[ok] + (-2 * x3 + 3 * x2) * a1[ok]
-                   + (x3 - x2) * b1[ok])
+            val = (
+                (2 * x3 - 3 * x2 + 1) * a0[ok]
+                + (x3 - 2 * x2 + x) * b0[ok]
+                + (-2 * x3 + 3 * x2) * a1[ok]
+                + (x3 - x2) * b1[ok]
+            )
             cand_min.append(float(np.min(val)))
             cand_max.append(float(np.max(val)))
     return min(cand_min), max(cand_max)
@@ -112,8 +117,15 @@ def _map_extrema(pmap: PeriodMap, state: np.ndarray) -> tuple[float, float]:
     return _hermite_extrema(u, v, pmap.step)
 
 
-def orbit_extrema(model: GearModel, state: Sequence[float], n: int = 1, *, dtau: float = DEFAULT_DTAU,
-                  accurate: bool = False, steps: int | None = None) -> tuple[float, float]:
+def orbit_extrema(
+    model: GearModel,
+    state: Sequence[float],
+    n: int = 1,
+    *,
+    dtau: float = DEFAULT_DTAU,
+    accurate: bool = False,
+    steps: int | None = None,
+) -> tuple[float, float]:
     """Smallest and largest u over n periods from ``state`` (non-dimensional).
 
     The step-end samples are refined by the cubic Hermite interpolant of (u, u') (error O(h⁴)
@@ -167,8 +179,10 @@ def require_periodic(model: Any, what: str = "the periodic tools") -> int:
     """
     p = model.period_multiple()
     if p is None:
-        raise ModelError(f"system: {what} need a periodic forcing, but the mesh-frequency ratios are "
-                         f"incommensurate; use simulate or lyapunov")
+        raise ModelError(
+            f"system: {what} need a periodic forcing, but the mesh-frequency ratios are "
+            f"incommensurate; use simulate or lyapunov"
+        )
     return p
 
 
@@ -195,7 +209,7 @@ def elastic_basis(model: Any) -> np.ndarray | None:
     S[:n, :r] = R
     S[n:, r:] = R
     Q, _ = np.linalg.qr(np.hstack([S, np.eye(2 * n)]))
-    return Q[:, 2 * r:2 * n]
+    return Q[:, 2 * r : 2 * n]
 
 
 def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, int]:
@@ -376,8 +390,12 @@ class PeriodicOrbit:
             "floquet_exponents": [num(e) for e in fl.exponents],
             "elastic_multipliers": [[float(m.real), float(m.imag)] for m in mu],
             "rigid_body_modes": r,
-            "rigid_body_note": (f"{2 * r} multipliers equal to 1 belong to the {r} rigid-body mode(s) "
-                                f"and are left out of the stability test") if r else None,
+            "rigid_body_note": (
+                f"{2 * r} multipliers equal to 1 belong to the {r} rigid-body mode(s) "
+                f"and are left out of the stability test"
+            )
+            if r
+            else None,
             "stable": bool(self.stable),
             "instability": self._instability(),
             "converged": bool(self.converged),
@@ -413,10 +431,16 @@ class PeriodicOrbit:
                 "u": ("tau", u),
                 "v": ("tau", v),
             },
-            coords={"tau": tau, "section": np.arange(self.n), "multiplier": np.arange(d),
-                    "row": list(range(d)), "col": list(range(d))},
+            coords={
+                "tau": tau,
+                "section": np.arange(self.n),
+                "multiplier": np.arange(d),
+                "row": list(range(d)),
+                "col": list(range(d)),
+            },
             attrs=result_attrs(
-                "orbit", self.model,
+                "orbit",
+                self.model,
                 {"dtau": self.dtau, "accurate": self.accurate, "steps_per_period": self.steps},
                 summary=self.to_json(),
             ),
@@ -426,16 +450,34 @@ class PeriodicOrbit:
 
             ds["points"] = (("section", "state"), np.asarray(self.points, float))
             ds = ds.assign_coords(state=state_names(m, d))
-        annotate(ds, names=[n for n in ("points", "state") if n in ds.variables]
-                 + ["multiplier_re", "multiplier_im", "floquet_exponent", "monodromy", "section", "multiplier", "row", "col"])
+        annotate(
+            ds,
+            names=[n for n in ("points", "state") if n in ds.variables]
+            + [
+                "multiplier_re",
+                "multiplier_im",
+                "floquet_exponent",
+                "monodromy",
+                "section",
+                "multiplier",
+                "row",
+                "col",
+            ],
+        )
         ds.attrs["status"] = self.status_label
         return ds
 
 
-def guess_from_simulation(model: GearModel, n: int = 1, state0: Sequence[float] | None = None, *,
-                          dtau: float = DEFAULT_DTAU, accurate: bool = False,
-                          transient: int = GUESS_TRANSIENT,
-                          progress: Callable[[int, int], None] | None = None) -> np.ndarray | None:
+def guess_from_simulation(
+    model: GearModel,
+    n: int = 1,
+    state0: Sequence[float] | None = None,
+    *,
+    dtau: float = DEFAULT_DTAU,
+    accurate: bool = False,
+    transient: int = GUESS_TRANSIENT,
+    progress: Callable[[int, int], None] | None = None,
+) -> np.ndarray | None:
     """A shooting guess from a simulation.
 
     Simulate ``transient`` periods, then pick among the next Poincaré points the one closest to
@@ -525,9 +567,13 @@ def newton_step_for(model: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray
     return least_squares_step if model.rigid_basis().shape[1] else newton_step
 
 
-def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int,
-            step: Callable[[np.ndarray, np.ndarray], np.ndarray] = newton_step,
-            ) -> tuple[MapEvaluation, bool, int, list[float], Status]:
+def _newton(
+    pmap: PeriodMap,
+    x0: np.ndarray,
+    tol: float,
+    max_iter: int,
+    step: Callable[[np.ndarray, np.ndarray], np.ndarray] = newton_step,
+) -> tuple[MapEvaluation, bool, int, list[float], Status]:
     """Damped Newton on P^n(x) − x = 0 for one map (fixed parameters and steps per period).
 
     ``step(A, G)`` solves A dx = −G for the step (A = monodromy − I, G the residual).
@@ -559,10 +605,19 @@ def _newton(pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int,
     return ev, False, max_iter, res, Status.NOT_CONVERGED
 
 
-def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *, dtau: float = DEFAULT_DTAU,
-          accurate: bool = False, tol: float = SHOOT_TOL, max_iter: int = SHOOT_MAX_ITER,
-          state0: Sequence[float] | None = None, transient: int = GUESS_TRANSIENT,
-          progress: Callable[[int, int], None] | None = None) -> PeriodicOrbit:
+def shoot(
+    model: GearModel,
+    n: int = 1,
+    guess: Sequence[float] | None = None,
+    *,
+    dtau: float = DEFAULT_DTAU,
+    accurate: bool = False,
+    tol: float = SHOOT_TOL,
+    max_iter: int = SHOOT_MAX_ITER,
+    state0: Sequence[float] | None = None,
+    transient: int = GUESS_TRANSIENT,
+    progress: Callable[[int, int], None] | None = None,
+) -> PeriodicOrbit:
     """Find a period-n orbit by Newton's method on the n-period stroboscopic map.
 
     Parameters
@@ -615,8 +670,9 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
     N = pmap.steps
     step = newton_step_for(model)
     if guess is None:
-        x0 = guess_from_simulation(model, n, state0, dtau=dtau, accurate=accurate, transient=transient,
-                                   progress=progress)
+        x0 = guess_from_simulation(
+            model, n, state0, dtau=dtau, accurate=accurate, transient=transient, progress=progress
+        )
         if x0 is None:
             return _failed_orbit(model, n, start_state(model, state0), Status.DIVERGED, dtau, accurate, N)
     else:
@@ -641,8 +697,9 @@ def shoot(model: GearModel, n: int = 1, guess: Sequence[float] | None = None, *,
     return _orbit_from_eval(pmap, ev, conv, status, its, res)
 
 
-def _orbit_from_eval(pmap: PeriodMap, ev: MapEvaluation, conv: bool, status: Status, its: int,
-                     res: list[float]) -> PeriodicOrbit:
+def _orbit_from_eval(
+    pmap: PeriodMap, ev: MapEvaluation, conv: bool, status: Status, its: int, res: list[float]
+) -> PeriodicOrbit:
     """The orbit through a converged evaluation of ``pmap`` (which has the evaluation's steps)."""
     pts = np.vstack([ev.x[None, :], ev.points[:-1]])
     m = pmap.model
@@ -653,13 +710,43 @@ def _orbit_from_eval(pmap: PeriodMap, ev: MapEvaluation, conv: bool, status: Sta
             ext[e] = _hermite_extrema(tr.deltas[:, e, 0], tr.deltas[:, e, 1], pmap.step)
     umin, umax = (float(ext[m.reference, 0]), float(ext[m.reference, 1]))
     extra = m.report(tau=tr.tau, deltas=tr.deltas, extrema=ext)
-    return PeriodicOrbit(m, pmap.n, ev.x.copy(), pts, ev.monodromy.copy(), conv, status, its, res,
-                         umin, umax, pmap.dtau, pmap.accurate, ev.steps, extra)
+    return PeriodicOrbit(
+        m,
+        pmap.n,
+        ev.x.copy(),
+        pts,
+        ev.monodromy.copy(),
+        conv,
+        status,
+        its,
+        res,
+        umin,
+        umax,
+        pmap.dtau,
+        pmap.accurate,
+        ev.steps,
+        extra,
+    )
 
 
-def _failed_orbit(model: GearModel, n: int, x: np.ndarray, status: Status, dtau: float, accurate: bool,
-                  N: int) -> PeriodicOrbit:
+def _failed_orbit(
+    model: GearModel, n: int, x: np.ndarray, status: Status, dtau: float, accurate: bool, N: int
+) -> PeriodicOrbit:
     x = np.asarray(x, float)
     d = x.size
-    return PeriodicOrbit(model, n, x, np.full((n, d), np.nan), np.full((d, d), np.nan), False, status, 0,
-                         [math.inf], math.nan, math.nan, dtau, accurate, N)
+    return PeriodicOrbit(
+        model,
+        n,
+        x,
+        np.full((n, d), np.nan),
+        np.full((d, d), np.nan),
+        False,
+        status,
+        0,
+        [math.inf],
+        math.nan,
+        math.nan,
+        dtau,
+        accurate,
+        N,
+    )

@@ -11,7 +11,8 @@ functions are about the 1-DOF model's physics (its ξ0, κ1 and contact limit D 
 from __future__ import annotations
 
 import math
-from typing import Any, Iterable
+from collections.abc import Iterable
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -76,13 +77,24 @@ def paper_stability_condition(model: GearModel) -> dict[str, Any]:
         ``kappa1``, ``xi0_paper``, ``xi0``, ``above_paper_condition``.
     """
     crit = paper_stability_damping(model.get("kappa1"))
-    return {"kappa1": model.get("kappa1"), "xi0_paper": crit, "xi0": model.get("xi0"),
-            "above_paper_condition": bool(model.get("xi0") > crit)}
+    return {
+        "kappa1": model.get("kappa1"),
+        "xi0_paper": crit,
+        "xi0": model.get("xi0"),
+        "above_paper_condition": bool(model.get("xi0") > crit),
+    }
 
 
-def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: float = XI0_SCAN_HIGH,
-                       xi0_low: float = XI0_SCAN_LOW, n: int = 1, dtau: float = DEFAULT_DTAU,
-                       accurate: bool = False) -> xr.Dataset:
+def stability_boundary(
+    model: GearModel,
+    omegas: Iterable[float],
+    *,
+    xi0_high: float = XI0_SCAN_HIGH,
+    xi0_low: float = XI0_SCAN_LOW,
+    n: int = 1,
+    dtau: float = DEFAULT_DTAU,
+    accurate: bool = False,
+) -> xr.Dataset:
     """Floquet stability boundary of the period-n response in ξ0, for each ω.
 
     At each ω the period-n orbit reached by simulation at ``xi0_high`` (heavily damped, stable) is
@@ -123,8 +135,11 @@ def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: f
             kinds[i] = "start orbit not found" if not orb.converged else "start orbit unstable"
             continue
         br = continue_branch(orb, "xi0", xi0_low, start_bound=xi0_high, stop_on_instability=True)
-        lost = [b for b in br.bifurcations if b.type in ("fold", "period-doubling", "neimark-sacker", "branch-point")
-                and b.stable_before]
+        lost = [
+            b
+            for b in br.bifurcations
+            if b.type in ("fold", "period-doubling", "neimark-sacker", "branch-point") and b.stable_before
+        ]
         if lost:
             crit[i] = lost[0].value
             kinds[i] = lost[0].type
@@ -137,14 +152,20 @@ def stability_boundary(model: GearModel, omegas: Iterable[float], *, xi0_high: f
     ds = xr.Dataset(
         {"xi0_critical": ("omega", crit), "bifurcation_type": ("omega", kinds), "status": ("omega", status)},
         coords={"omega": om},
-        attrs=result_attrs("stability_boundary", model, {"dtau": dtau, "accurate": accurate, "n": n},
-                           xi0_high=str(xi0_high), xi0_low=str(xi0_low)),
+        attrs=result_attrs(
+            "stability_boundary",
+            model,
+            {"dtau": dtau, "accurate": accurate, "n": n},
+            xi0_high=str(xi0_high),
+            xi0_low=str(xi0_low),
+        ),
     )
     return annotate(ds, names=["xi0_critical", "bifurcation_type"])
 
 
-def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float = DEFAULT_DTAU,
-                     xi0_max: float = 1.0, tol: float = 1e-8) -> xr.Dataset:
+def mathieu_boundary(
+    model: GearModel, omegas: Iterable[float], *, dtau: float = DEFAULT_DTAU, xi0_max: float = 1.0, tol: float = 1e-8
+) -> xr.Dataset:
     """Floquet stability boundary of the linear contact model (D = 0, no load, no STE; the damped
     Mathieu–Hill equation u'' + 2ξ(θ)u' + k(θ)u = 0 with the model's ξ_k, κ_r): for each ω the
     smallest ξ0 above which u = 0 is stable (bisection on max|μ| = 1; 0 where it is stable already at
@@ -177,10 +198,12 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
     crit = np.zeros(om.size)
     lin = model.replace(D=0.0, fp=0.0, eps=(), phi_e=())  # the 1-DOF model's linear contact limit
     for i, w in enumerate(om):
+
         def rho(xi0: float) -> float:
             pmap = PeriodMap(lin.with_param("omega", float(w)).with_param("xi0", xi0), 1, dtau=dtau)
             ev = pmap.evaluate(np.zeros(pmap.dim))
             return float(np.max(np.abs(np.linalg.eigvals(ev.monodromy)))) if ev.ok else math.inf
+
         if rho(XI0_SCAN_LOW) < 1.0:
             crit[i] = 0.0  # stable for every positive damping in the scan (outside the instability tongues)
             continue
@@ -196,13 +219,22 @@ def mathieu_boundary(model: GearModel, omegas: Iterable[float], *, dtau: float =
                 hi = mid
         crit[i] = 0.5 * (lo + hi)
 
-    ds = xr.Dataset({"xi0_critical": ("omega", crit)}, coords={"omega": om},
-                    attrs=result_attrs("mathieu_boundary", lin, {"dtau": dtau}))
+    ds = xr.Dataset(
+        {"xi0_critical": ("omega", crit)},
+        coords={"omega": om},
+        attrs=result_attrs("mathieu_boundary", lin, {"dtau": dtau}),
+    )
     return annotate(ds, names=["xi0_critical"])
 
 
-def compare_stability_condition(model: GearModel, omegas: Iterable[float], *, dtau: float = DEFAULT_DTAU,
-                                xi0_high: float = XI0_SCAN_HIGH, xi0_low: float = XI0_SCAN_LOW) -> xr.Dataset:
+def compare_stability_condition(
+    model: GearModel,
+    omegas: Iterable[float],
+    *,
+    dtau: float = DEFAULT_DTAU,
+    xi0_high: float = XI0_SCAN_HIGH,
+    xi0_low: float = XI0_SCAN_LOW,
+) -> xr.Dataset:
     """The paper's condition ξ0 = ½√(1 − κ1²) against the Floquet stability boundaries.
 
     Returns one Dataset over ``omega`` with ``xi0_critical`` (period-1 response of the full model,

@@ -14,10 +14,11 @@ from ...analysis.confirm import confirm_sweep
 from ..claims import CLAIMS, claim_ids
 from ..report import Section
 from ..settings import Context, model_text
-from .readings import lle_sign_holds
 from ..verdicts import count_text, describe_motion, motion_fields, motion_rule, parts
+from .readings import lle_sign_holds
 
 __all__ = ["study_backlash"]
+
 
 def _sign_ok(word: str, lle: float, err: float) -> bool:
     return lle_sign_holds(word, lle, err)
@@ -45,9 +46,14 @@ def study_backlash(ctx: Context) -> Section:
     where = model_text(ctx.base, skip=("D",))
     ds = ctx.bifurcation(ctx.base, "D", s.d_grid, lyapunov=True)
     rel = ctx.save("backlash_bifurcation", ds, f"bifurcation diagram over D ({where})")
-    pts = confirm_sweep(ctx.bifurcation(ctx.base, "D", Ds, lyapunov=True,
-                                        options=s.options.replace(periods=max(s.periods, 2 * s.settle))),
-                        ctx.base, "D", long_periods=s.confirm_periods)
+    pts = confirm_sweep(
+        ctx.bifurcation(
+            ctx.base, "D", Ds, lyapunov=True, options=s.options.replace(periods=max(s.periods, 2 * s.settle))
+        ),
+        ctx.base,
+        "D",
+        long_periods=s.confirm_periods,
+    )
     rel_pts = ctx.save("backlash_table3", pts, f"the Table 3 points D = {', '.join(f'{d:g}' for d in Ds)} ({where})")
     ev = [rel_pts, rel, ctx.figure("backlash_bifurcation"), ctx.figure("backlash_table3")]
     m, n, l = motion_fields(pts)
@@ -60,32 +66,59 @@ def study_backlash(ctx: Context) -> Section:
     for i, r in enumerate(rows):
         desc = describe_motion(int(m[i]), int(n[i]), int(l[i]))
         sign = r.numbers["lyapunov"]
-        table.append([f"{bs[i]:g}", f"{Ds[i]:g}", r.numbers["motion"], desc, f"{lle[i]:+.4f} ± {err[i]:.1e}",
-                      f"{amp[i]:.3f}", IMPACT_LABELS[int(imp[i])]])
+        table.append(
+            [
+                f"{bs[i]:g}",
+                f"{Ds[i]:g}",
+                r.numbers["motion"],
+                desc,
+                f"{lle[i]:+.4f} ± {err[i]:.1e}",
+                f"{amp[i]:.3f}",
+                IMPACT_LABELS[int(imp[i])],
+            ]
+        )
         ok_state = preds[i](int(m[i]), int(n[i]), int(l[i]))
         ok_sign = bool(_sign_ok(sign, lle[i], err[i]))
-        claims.append(r.judge(f"at ω = {s.omega_damping:g}: {desc}, λ1 = {lle[i]:+.4f} ± {err[i]:.1e} (claimed {sign}); "
-                              f"parts holding: {count_text(ok_state + ok_sign, 2, '')}; motion: {'yes' if ok_state else 'no'}, "
-                              f"exponent sign: {'yes' if ok_sign else 'no'}.", parts(ok_state, ok_sign), ev))
+        claims.append(
+            r.judge(
+                f"at ω = {s.omega_damping:g}: {desc}, λ1 = {lle[i]:+.4f} ± {err[i]:.1e} (claimed {sign}); "
+                f"parts holding: {count_text(ok_state + ok_sign, 2, '')}; motion: {'yes' if ok_state else 'no'}, "
+                f"exponent sign: {'yes' if ok_sign else 'no'}.",
+                parts(ok_state, ok_sign),
+                ev,
+            )
+        )
     nD = len(rows)
     claimed_impact = CLAIMS["BL-IMPACT"].numbers["impact"]
     n_single = sum(IMPACT_LABELS[int(x)] == claimed_impact for x in imp)
-    text = (f"at ω = {s.omega_damping:g}: impacts " + ", ".join(
-        f"{IMPACT_LABELS[int(x)]} (D = {d:g})" for x, d in zip(imp, Ds)) +
-        f"; {claimed_impact} at {count_text(n_single, nD, 'backlash values')}")
+    text = (
+        f"at ω = {s.omega_damping:g}: impacts "
+        + ", ".join(f"{IMPACT_LABELS[int(x)]} (D = {d:g})" for x, d in zip(imp, Ds))
+        + f"; {claimed_impact} at {count_text(n_single, nD, 'backlash values')}"
+    )
     claims.append(CLAIMS["BL-IMPACT"].judge(text + ".", "reproduced" if n_single == nD else "contradicted", ev))
     grows = bool(np.all(np.diff(amp) > 0))
-    text = f"at ω = {s.omega_damping:g}: amplitudes " + ", ".join(f"{a:.3f}" for a in amp) + \
-        f" for D = {', '.join(f'{d:g}' for d in Ds)} ({'growing' if grows else 'not growing'} with D)"
+    text = (
+        f"at ω = {s.omega_damping:g}: amplitudes "
+        + ", ".join(f"{a:.3f}" for a in amp)
+        + f" for D = {', '.join(f'{d:g}' for d in Ds)} ({'growing' if grows else 'not growing'} with D)"
+    )
     claims.append(CLAIMS["BL-AMP"].judge(text + ".", "reproduced" if grows else "contradicted", ev))
     return Section(
         "Backlash (Table 3)",
-        [f"The paper pairs b = {', '.join(f'{b:g}' for b in bs)} mm with D = {', '.join(f'{d:g}' for d in Ds)}, "
-         f"i.e. D = b/(2 mm) with f_p and ε1 fixed (a fixed length scale b_c = 1 mm, not b_c = b_n); this study uses "
-         f"that reading at ω = {s.omega_damping:g}. Amplitude = half peak-to-peak of u over the recorded periods."],
-        [(ev[2], f"Bifurcation diagram over the backlash D with the largest Lyapunov exponent, {where}"),
-         (ev[3], f"The Table 3 points D = {', '.join(f'{d:g}' for d in Ds)} with their Lyapunov exponents "
-                 f"({max(s.periods, 2 * s.settle)} recorded periods), {where}")],
+        [
+            f"The paper pairs b = {', '.join(f'{b:g}' for b in bs)} mm with D = {', '.join(f'{d:g}' for d in Ds)}, "
+            f"i.e. D = b/(2 mm) with f_p and ε1 fixed (a fixed length scale b_c = 1 mm, not b_c = b_n); this study uses "
+            f"that reading at ω = {s.omega_damping:g}. Amplitude = half peak-to-peak of u over the recorded periods."
+        ],
+        [
+            (ev[2], f"Bifurcation diagram over the backlash D with the largest Lyapunov exponent, {where}"),
+            (
+                ev[3],
+                f"The Table 3 points D = {', '.join(f'{d:g}' for d in Ds)} with their Lyapunov exponents "
+                f"({max(s.periods, 2 * s.settle)} recorded periods), {where}",
+            ),
+        ],
         claims,
         table,
     )

@@ -9,8 +9,9 @@ also shown over :attr:`Settings.xi0_zoom`, where its structure lies.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -18,7 +19,6 @@ import xarray as xr
 from ...analysis.classify import MOTION_CHAOTIC
 from ...analysis.confirm import confirm_sweep
 from ..claims import CLAIMS, Claim
-from ...io import json_attr
 from ..report import Finding, Section
 from ..settings import Context, model_text
 from ..table1 import TABLE1
@@ -26,7 +26,6 @@ from ..verdicts import (
     MATCH_REPRODUCED,
     MotionTest,
     count_text,
-    elsewhere,
     match_fraction,
     motion_fields,
     motion_rule,
@@ -47,9 +46,11 @@ HIGH_CHAOS_FROM = 0.5
 #: XI0-BIF: largest distances (in ξ0) of the computed points from the paper's first and second point.
 BIF_NEAR = (0.02, 0.1)
 
-_WORDS = ("'quasi-n-periodic' = a period-n orbit (by F1 no quasi-periodic torus exists for ξ0 > 0); 'chaotic' = "
-          "largest exponent significantly positive; labels of closed curves, λ1 ≈ 0 or period-2n are re-examined by a "
-          "longer exponent run or shooting.")
+_WORDS = (
+    "'quasi-n-periodic' = a period-n orbit (by F1 no quasi-periodic torus exists for ξ0 > 0); 'chaotic' = "
+    "largest exponent significantly positive; labels of closed curves, λ1 ≈ 0 or period-2n are re-examined by a "
+    "longer exponent run or shooting."
+)
 
 
 @dataclass(frozen=True)
@@ -79,7 +80,7 @@ class RangeTest:
     what: str
 
     @classmethod
-    def of(cls, claim: Claim, **bounds: Any) -> "RangeTest":
+    def of(cls, claim: Claim, **bounds: Any) -> RangeTest:
         """The test of ``claim``; ``bounds`` (``hi=…, hi_open=…``) close an end the paper leaves open.
 
         Parameters
@@ -102,8 +103,7 @@ class RangeTest:
 
     def fraction(self, ds: xr.Dataset) -> tuple[float, int]:
         """Matching fraction and number of grid points in the range (:func:`match_fraction`)."""
-        return match_fraction(ds, self.param, self.lo, self.hi, self.pred, lo_open=self.lo_open,
-                              hi_open=self.hi_open)
+        return match_fraction(ds, self.param, self.lo, self.hi, self.pred, lo_open=self.lo_open, hi_open=self.hi_open)
 
 
 def judge_ranges(ctx: Context, ds: xr.Dataset, rows: Sequence[RangeTest], evidence: list[str]) -> list[Finding]:
@@ -129,9 +129,12 @@ def judge_ranges(ctx: Context, ds: xr.Dataset, rows: Sequence[RangeTest], eviden
     claims = []
     for r in rows:
         f, npts = r.fraction(ds)
-        text = (f"at ω = {w0:g}: {r.what} over {100 * f:.0f} % of the interval's length ({npts} grid points in it; "
-                f"holds from {100 * MATCH_REPRODUCED:.0f} %)." if np.isfinite(f) else f"at ω = {w0:g}: no grid point "
-                "in the interval.")
+        text = (
+            f"at ω = {w0:g}: {r.what} over {100 * f:.0f} % of the interval's length ({npts} grid points in it; "
+            f"holds from {100 * MATCH_REPRODUCED:.0f} %)."
+            if np.isfinite(f)
+            else f"at ω = {w0:g}: no grid point in the interval."
+        )
         claims.append(r.claim.judge(text, verdict_of(f), evidence))
     return claims
 
@@ -146,8 +149,12 @@ SYMBOL = {"xi0": "ξ0", "xi1": "ξ1", "D": "D", "omega": "ω"}
 
 
 def _diagram(ctx: Context, param: str, grid: Sequence[float]) -> tuple[xr.Dataset, list[str]]:
-    ds = confirm_sweep(ctx.bifurcation(ctx.base, param, grid, lyapunov=True), ctx.base, param,
-                       long_periods=ctx.settings.confirm_periods)
+    ds = confirm_sweep(
+        ctx.bifurcation(ctx.base, param, grid, lyapunov=True),
+        ctx.base,
+        param,
+        long_periods=ctx.settings.confirm_periods,
+    )
     name = f"{param}_bifurcation"
     label = f"bifurcation diagram over {SYMBOL[param]} ({model_text(ctx.base, skip=(param,))})"
     return ds, [ctx.save(name, ds, label), ctx.figure(name)]
@@ -171,8 +178,11 @@ def study_xi0(ctx: Context) -> Section:
     ds, ev = _diagram(ctx, "xi0", s.xi0_grid)
     first, second = CLAIMS["XI0-BIF"].numbers["points"]
     # Table 2 leaves ξ0 > 0.1 open above; the text ends that motion at the second bifurcation point
-    rows = [RangeTest.of(CLAIMS["T2-1"]), RangeTest.of(CLAIMS["T2-2"]),
-            RangeTest.of(CLAIMS["T2-3"], hi=second, hi_open=True)]
+    rows = [
+        RangeTest.of(CLAIMS["T2-1"]),
+        RangeTest.of(CLAIMS["T2-2"]),
+        RangeTest.of(CLAIMS["T2-3"], hi=second, hi_open=True),
+    ]
     claims = judge_ranges(ctx, ds, rows, ev)
     x = ds["xi0"].values
     m, _, _ = motion_fields(ds)
@@ -180,37 +190,58 @@ def study_xi0(ctx: Context) -> Section:
     low = chaotic < LOW_CHAOS_BELOW
     last_low_chaos = float(chaotic[low].max()) if np.any(low) else float("nan")
     high_chaos = chaotic[chaotic >= HIGH_CHAOS_FROM]
-    text = (f"at ω = {s.omega_damping:g}: largest chaotic ξ0 below {LOW_CHAOS_BELOW:g} is {last_low_chaos:.3g}"
-            if np.isfinite(last_low_chaos) else f"at ω = {s.omega_damping:g}: no chaos below ξ0 = {LOW_CHAOS_BELOW:g}")
-    text += ("; chaos returns at ξ0 = " + ", ".join(f"{v:.3g}" for v in high_chaos)) if high_chaos.size else \
-        f"; no chaos for ξ0 ≥ {HIGH_CHAOS_FROM:g} (the high-damping response is periodic)"
+    text = (
+        f"at ω = {s.omega_damping:g}: largest chaotic ξ0 below {LOW_CHAOS_BELOW:g} is {last_low_chaos:.3g}"
+        if np.isfinite(last_low_chaos)
+        else f"at ω = {s.omega_damping:g}: no chaos below ξ0 = {LOW_CHAOS_BELOW:g}"
+    )
+    text += (
+        ("; chaos returns at ξ0 = " + ", ".join(f"{v:.3g}" for v in high_chaos))
+        if high_chaos.size
+        else f"; no chaos for ξ0 ≥ {HIGH_CHAOS_FROM:g} (the high-damping response is periodic)"
+    )
     first_ok = bool(np.isfinite(last_low_chaos) and abs(last_low_chaos - first) <= BIF_NEAR[0])
     second_ok = bool(np.any(np.abs(high_chaos - second) <= BIF_NEAR[1]))
-    text += (f". Bifurcation points found: {count_text(first_ok + second_ok, 2, '')}; within ±{BIF_NEAR[0]:g} "
-             f"of ξ0 = {first:g}: {_yes(first_ok)}, within ±{BIF_NEAR[1]:g} of ξ0 = {second:g}: {_yes(second_ok)}")
+    text += (
+        f". Bifurcation points found: {count_text(first_ok + second_ok, 2, '')}; within ±{BIF_NEAR[0]:g} "
+        f"of ξ0 = {first:g}: {_yes(first_ok)}, within ±{BIF_NEAR[1]:g} of ξ0 = {second:g}: {_yes(second_ok)}"
+    )
     text += f". Motion along ξ0: {runs_text(motion_runs(ds, 'xi0'))}."
     claims.append(CLAIMS["XI0-BIF"].judge(text, parts(first_ok, second_ok), ev))
-    figures = [(ev[1], f"Bifurcation diagram over ξ0 with the largest Lyapunov exponent, "
-                       f"{model_text(ctx.base, skip=('xi0',))}")]
+    figures = [
+        (
+            ev[1],
+            f"Bifurcation diagram over ξ0 with the largest Lyapunov exponent, {model_text(ctx.base, skip=('xi0',))}",
+        )
+    ]
     lo, hi = s.xi0_zoom
     x = ds["xi0"].values
     inside = (x >= lo - 1e-12) & (x <= hi + 1e-12)
     if 2 <= inside.sum() < x.size:
         zoom = ds.isel(xi0=np.flatnonzero(inside))
-        ctx.save("xi0_bifurcation_zoom", zoom, f"bifurcation diagram over ξ0 ∈ [{lo:g}, {hi:g}] "
-                                               f"({model_text(ctx.base, skip=('xi0',))})")
-        figures.append((ctx.figure("xi0_bifurcation_zoom"),
-                        f"The same diagram over ξ0 ∈ [{lo:g}, {hi:g}], where its structure lies (the paper's first "
-                        f"bifurcation point ξ0 = {first:g} and the Table 2 rows), {model_text(ctx.base, skip=('xi0',))}"))
+        ctx.save(
+            "xi0_bifurcation_zoom",
+            zoom,
+            f"bifurcation diagram over ξ0 ∈ [{lo:g}, {hi:g}] ({model_text(ctx.base, skip=('xi0',))})",
+        )
+        figures.append(
+            (
+                ctx.figure("xi0_bifurcation_zoom"),
+                f"The same diagram over ξ0 ∈ [{lo:g}, {hi:g}], where its structure lies (the paper's first "
+                f"bifurcation point ξ0 = {first:g} and the Table 2 rows), {model_text(ctx.base, skip=('xi0',))}",
+            )
+        )
         for c in claims:
             c.evidence.append(ctx.figure("xi0_bifurcation_zoom"))
     return Section(
         "Mean damping ξ0 (Table 2, rows 1–3)",
-        [f"Bifurcation diagram over ξ0 at ω = {s.omega_damping:g} (the paper does not state ω; see Settings), every "
-         f"point from u = u' = 0, {s.transient} transient and {s.periods} recorded periods, exponents on every point. "
-         f"The grid is fine over ξ0 ∈ [{lo:g}, {hi:g}], where the motions change, and coarse above; the diagram is "
-         f"shown whole and over that interval.",
-         "Mapping of the paper's words: " + _WORDS],
+        [
+            f"Bifurcation diagram over ξ0 at ω = {s.omega_damping:g} (the paper does not state ω; see Settings), every "
+            f"point from u = u' = 0, {s.transient} transient and {s.periods} recorded periods, exponents on every point. "
+            f"The grid is fine over ξ0 ∈ [{lo:g}, {hi:g}], where the motions change, and coarse above; the diagram is "
+            f"shown whole and over that interval.",
+            "Mapping of the paper's words: " + _WORDS,
+        ],
         figures,
         claims,
     )
@@ -239,17 +270,27 @@ def study_xi1(ctx: Context) -> Section:
     rows = [RangeTest.of(CLAIMS["T2-4"]), RangeTest.of(CLAIMS["T2-5"])]
     claims = judge_ranges(ctx, ds, rows, ev)
     ends = [c.verdict for c in claims]
-    claims.append(CLAIMS["XI1-CHAOS"].judge(
-        f"at ω = {s.omega_damping:g}, motion along ξ1: {runs_text(motion_runs(ds, 'xi1'))}. The sequence's ends are "
-        f"Table 2 rows 4 and 5: regular at low ξ1 (T2-4) {ends[0]}, chaotic at high ξ1 (T2-5) {ends[1]}.",
-        of_claims(ends), ev))
+    claims.append(
+        CLAIMS["XI1-CHAOS"].judge(
+            f"at ω = {s.omega_damping:g}, motion along ξ1: {runs_text(motion_runs(ds, 'xi1'))}. The sequence's ends are "
+            f"Table 2 rows 4 and 5: regular at low ξ1 (T2-4) {ends[0]}, chaotic at high ξ1 (T2-5) {ends[1]}.",
+            of_claims(ends),
+            ev,
+        )
+    )
     return Section(
         "Harmonic damping ξ1 (Table 2, rows 4–5)",
-        [f"Bifurcation diagram over ξ1 at ω = {s.omega_damping:g}, other values from Table 1. The paper's Table 2 "
-         f"puts its default point (ξ0 = {TABLE1['xi0']:g}, ξ1 = {TABLE1['xi1']:g}) both in the quasi-4-periodic row "
-         f"(ξ0 ≤ {CLAIMS['T2-2'].numbers['hi']:g}) and in the chaotic row (ξ1 ≥ {CLAIMS['T2-5'].numbers['lo']:g}): "
-         "the two studies cannot share one ω unless the boundary case decides it."],
-        [(ev[1], f"Bifurcation diagram over ξ1 with the largest Lyapunov exponent, {model_text(ctx.base, skip=('xi1',))}"),
-         ],
+        [
+            f"Bifurcation diagram over ξ1 at ω = {s.omega_damping:g}, other values from Table 1. The paper's Table 2 "
+            f"puts its default point (ξ0 = {TABLE1['xi0']:g}, ξ1 = {TABLE1['xi1']:g}) both in the quasi-4-periodic row "
+            f"(ξ0 ≤ {CLAIMS['T2-2'].numbers['hi']:g}) and in the chaotic row (ξ1 ≥ {CLAIMS['T2-5'].numbers['lo']:g}): "
+            "the two studies cannot share one ω unless the boundary case decides it."
+        ],
+        [
+            (
+                ev[1],
+                f"Bifurcation diagram over ξ1 with the largest Lyapunov exponent, {model_text(ctx.base, skip=('xi1',))}",
+            ),
+        ],
         claims,
     )

@@ -37,7 +37,8 @@ F1_TEXT = (
     "area: impossible. So there are no invariant closed curves, no quasi-periodic attractors, and no Neimark–Sacker "
     "(torus, 'Hopf') bifurcation of a periodic orbit (the product of its two multipliers is that determinant, so a "
     "complex pair lies strictly inside the unit circle). The paper's 'quasi-n-periodic' can only mean period-n; "
-    "geardyn reads it so, and any label of closed curves or λ1 ≈ 0 is re-examined by a longer exponent run or shooting.")
+    "geardyn reads it so, and any label of closed curves or λ1 ≈ 0 is re-examined by a longer exponent run or shooting."
+)
 F2_TEXT = (
     "F2 (backlash without back-flank contact). When u ≥ −D throughout, f(u; D) = max(u − D, 0). With w = u − D the "
     "equation reads w'' + 2c(θ)w' + k(θ) max(w, 0) = f_p + f_e(θ), free of D. A response that never touches the "
@@ -45,11 +46,18 @@ F2_TEXT = (
     "period, exponents and amplitude. With f_p and ε fixed, as Table 3 does (D = b/(2 mm)), the motion can change "
     "with b while the impacts stay single-sided only by switching between coexisting attractors, and the amplitude "
     "cannot grow with b: the claims that the motion goes quasi-1 → quasi-2 → chaotic with b, that the impacts stay "
-    "single-sided, and that the amplitude grows with b cannot all hold.")
+    "single-sided, and that the amplitude grows with b cannot all hold."
+)
 
 #: F1: the (ξ0, ω, φ_c1) points checked.
 F1_POINTS: tuple[tuple[float, float, float], ...] = (
-    (0.03, 1.0, 0.0), (0.06, 1.0, 0.0), (0.1, 1.0, 0.0), (0.1, 0.6, 0.0), (0.1, 1.4, 0.5 * math.pi), (0.3, 1.0, math.pi))
+    (0.03, 1.0, 0.0),
+    (0.06, 1.0, 0.0),
+    (0.1, 1.0, 0.0),
+    (0.1, 0.6, 0.0),
+    (0.1, 1.4, 0.5 * math.pi),
+    (0.3, 1.0, math.pi),
+)
 #: F2: the D values of the response.
 F2_D: tuple[float, ...] = (0.1, 0.35, 0.75, 1.5, 3.0, 7.0, 15.0)
 #: F2: the ω of the response.
@@ -77,8 +85,18 @@ def f1_check(base, transient: int = 300) -> list[dict[str, float]]:
         x = res.end_state[0]
         J = PeriodMap(m, 1).jacobian(x)
         det, th = float(np.linalg.det(J)), math.exp(-4 * math.pi * xi0 / w)
-        out.append({"xi0": xi0, "omega": w, "phi_c1": ph, "det": det, "theory": th, "rel": abs(det - th) / th,
-                    "u": float(x[0]), "v": float(x[1])})
+        out.append(
+            {
+                "xi0": xi0,
+                "omega": w,
+                "phi_c1": ph,
+                "det": det,
+                "theory": th,
+                "rel": abs(det - th) / th,
+                "u": float(x[0]),
+                "v": float(x[1]),
+            }
+        )
     return out
 
 
@@ -99,8 +117,14 @@ def f2_check(base, transient: int = 400, periods: int = 64) -> dict[str, np.ndar
     s0 = np.array([[d, 0.0] for d in F2_D])
     res = integrate_points(models, s0, IntegrationOptions(transient=transient, periods=periods))
     D = np.asarray(F2_D)
-    return {"D": D, "amplitude": res.amplitude, "u_min": res.u_min, "u_max_rel": res.u_max - D,
-            "impact": impact_states(res.u_min, D), "back": res.u_min < -D}
+    return {
+        "D": D,
+        "amplitude": res.amplitude,
+        "u_min": res.u_min,
+        "u_max_rel": res.u_max - D,
+        "impact": impact_states(res.u_min, D),
+        "back": res.u_min < -D,
+    }
 
 
 def study_facts(ctx: Context) -> list[Section]:
@@ -118,32 +142,67 @@ def study_facts(ctx: Context) -> list[Section]:
     ctx.log("F1 and F2")
     f1 = f1_check(ctx.base)
     f2 = f2_check(ctx.base)
-    ctx.save("facts_f1", xr.Dataset({k: ("point", np.array([r[k] for r in f1])) for k in f1[0]},
-                                    attrs={"geardyn_kind": "facts_f1", "model": json_attr(ctx.base)}),
-             "F1: period-map Jacobian determinants", figures=False)
-    ctx.save("facts_f2", xr.Dataset({k: ("D", np.asarray(v, dtype=float)) for k, v in f2.items() if k != "D"},
-                                    coords={"D": f2["D"]}, attrs={"geardyn_kind": "facts_f2", "model": json_attr(ctx.base)}),
-             f"F2: one response at several D (ω = {F2_OMEGA:g})", figures=False)
+    ctx.save(
+        "facts_f1",
+        xr.Dataset(
+            {k: ("point", np.array([r[k] for r in f1])) for k in f1[0]},
+            attrs={"geardyn_kind": "facts_f1", "model": json_attr(ctx.base)},
+        ),
+        "F1: period-map Jacobian determinants",
+        figures=False,
+    )
+    ctx.save(
+        "facts_f2",
+        xr.Dataset(
+            {k: ("D", np.asarray(v, dtype=float)) for k, v in f2.items() if k != "D"},
+            coords={"D": f2["D"]},
+            attrs={"geardyn_kind": "facts_f2", "model": json_attr(ctx.base)},
+        ),
+        f"F2: one response at several D (ω = {F2_OMEGA:g})",
+        figures=False,
+    )
     worst = max(r["rel"] for r in f1)
     free = ~f2["back"]
     amp_free = f2["amplitude"][free]
     spread = float(np.ptp(amp_free)) if amp_free.size else float("nan")
     table = [["ξ0", "ω", "φ_c1", "det of the period-map Jacobian", "exp(−4πξ0/ω)", "relative difference"]]
     for r in f1:
-        table.append([f"{r['xi0']:g}", f"{r['omega']:g}", f"{r['phi_c1']:.3g}", f"{r['det']:.10f}",
-                      f"{r['theory']:.10f}", f"{r['rel']:.1e}"])
+        table.append(
+            [
+                f"{r['xi0']:g}",
+                f"{r['omega']:g}",
+                f"{r['phi_c1']:.3g}",
+                f"{r['det']:.10f}",
+                f"{r['theory']:.10f}",
+                f"{r['rel']:.1e}",
+            ]
+        )
     t2 = [["D", "amplitude", "u_max − D", "u_min", "impact", "back flank touched"]]
     for i, d in enumerate(f2["D"]):
-        t2.append([f"{d:g}", f"{f2['amplitude'][i]:.12f}", f"{f2['u_max_rel'][i]:.12f}", f"{f2['u_min'][i]:.4f}",
-                   IMPACT_LABELS[int(f2["impact"][i])], "yes" if f2["back"][i] else "no"])
-    text = [F1_TEXT,
-            f"F1 checked: at {len(f1)} points on attractors (periodic and chaotic, several ξ0, ω and φ_c1) the determinant "
-            f"of the period-map Jacobian from the variational equations equals exp(−4πξ0/ω) to a relative {worst:.1e} "
-            "(RK4 with the paper's Δτ = 0.01)."]
-    text2 = [F2_TEXT,
-            f"F2 checked at ω = {F2_OMEGA:g} (Table 1 otherwise), each D from (u, u') = (D, 0): the {int(free.sum())} "
-            f"responses that never touch the back flank (D = {', '.join(f'{d:g}' for d in f2['D'][free])}) have the "
-            f"same amplitude to {spread:.1e}; those that do (D = {', '.join(f'{d:g}' for d in f2['D'][~free]) or '–'}) "
-            "differ."]
-    return [Section("F1: the period map contracts every area", text, [], [], table),
-            Section("F2: without back-flank contact the response does not depend on D", text2, [], [], t2)]
+        t2.append(
+            [
+                f"{d:g}",
+                f"{f2['amplitude'][i]:.12f}",
+                f"{f2['u_max_rel'][i]:.12f}",
+                f"{f2['u_min'][i]:.4f}",
+                IMPACT_LABELS[int(f2["impact"][i])],
+                "yes" if f2["back"][i] else "no",
+            ]
+        )
+    text = [
+        F1_TEXT,
+        f"F1 checked: at {len(f1)} points on attractors (periodic and chaotic, several ξ0, ω and φ_c1) the determinant "
+        f"of the period-map Jacobian from the variational equations equals exp(−4πξ0/ω) to a relative {worst:.1e} "
+        "(RK4 with the paper's Δτ = 0.01).",
+    ]
+    text2 = [
+        F2_TEXT,
+        f"F2 checked at ω = {F2_OMEGA:g} (Table 1 otherwise), each D from (u, u') = (D, 0): the {int(free.sum())} "
+        f"responses that never touch the back flank (D = {', '.join(f'{d:g}' for d in f2['D'][free])}) have the "
+        f"same amplitude to {spread:.1e}; those that do (D = {', '.join(f'{d:g}' for d in f2['D'][~free]) or '–'}) "
+        "differ.",
+    ]
+    return [
+        Section("F1: the period map contracts every area", text, [], [], table),
+        Section("F2: without back-flank contact the response does not depend on D", text2, [], [], t2),
+    ]

@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ...io import json_attr
 from ..claims import CLAIMS
 from ..report import Section
 from ..settings import Context
 from ..table1 import TABLE1
-from ...io import json_attr
 from ..verdicts import FORMULA_R2_PARTLY, FORMULA_R2_REPRODUCED, combine
 from .jumps import JumpData
 
@@ -38,8 +38,14 @@ def fit_formula(omega: np.ndarray, xi0: np.ndarray, b: np.ndarray, A: np.ndarray
     res = A[ok] - pred
     ss_tot = float(np.sum((A[ok] - A[ok].mean()) ** 2))
     r2 = 1.0 - float(np.sum(res**2)) / ss_tot if ss_tot > 0 else float("nan")
-    return {"A0": float(coef[0]), "dA": float(coef[1]), "beta": float(coef[2]), "r2": r2,
-            "rmse": float(np.sqrt(np.mean(res**2))), "n": int(ok.sum())}
+    return {
+        "A0": float(coef[0]),
+        "dA": float(coef[1]),
+        "beta": float(coef[2]),
+        "r2": r2,
+        "rmse": float(np.sqrt(np.mean(res**2))),
+        "n": int(ok.sum()),
+    }
 
 
 def study_formula(ctx: Context, jd: JumpData) -> Section:
@@ -67,10 +73,18 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
     data = np.vstack(rows)
     fit = fit_formula(data[:, 0], data[:, 1], data[:, 2], data[:, 3])
     ds = xr.Dataset(
-        {"amplitude": ("point", data[:, 3]), "omega": ("point", data[:, 0]), "xi0": ("point", data[:, 1]),
-         "b_mm": ("point", data[:, 2])},
-        attrs={"geardyn_kind": "formula_fit", "model": json_attr(ctx.base.replace(xi=(TABLE1["xi1"],))),
-               **{k: str(v) for k, v in fit.items()}})
+        {
+            "amplitude": ("point", data[:, 3]),
+            "omega": ("point", data[:, 0]),
+            "xi0": ("point", data[:, 1]),
+            "b_mm": ("point", data[:, 2]),
+        },
+        attrs={
+            "geardyn_kind": "formula_fit",
+            "model": json_attr(ctx.base.replace(xi=(TABLE1["xi1"],))),
+            **{k: str(v) for k, v in fit.items()},
+        },
+    )
     groups = sorted({(float(x), float(b)) for x, b in zip(data[:, 1], data[:, 2])})
     where = f"ξ1 = {TABLE1['xi1']:g}; (ξ0, b in mm) = " + ", ".join(f"({x:g}, {b:g})" for x, b in groups)
     rel = ctx.save("formula_fit", ds, f"formula fit to the up sweeps ({where})")
@@ -80,11 +94,23 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
     c = CLAIMS["FORMULA"].judge(
         f"least-squares fit to {fit['n']} computed amplitudes (up sweeps, ξ1 = {TABLE1['xi1']:g}, b = 2D mm): "
         f"A0 = {fit['A0']:.3f}, ΔA = {fit['dA']:.3f}, β = {fit['beta']:.3f} per mm²; R² = {r2:.3f}, "
-        f"RMS error {fit['rmse']:.3f} (holds from R² ≥ {FORMULA_R2_REPRODUCED:g}).", v, ev)
+        f"RMS error {fit['rmse']:.3f} (holds from R² ≥ {FORMULA_R2_REPRODUCED:g}).",
+        v,
+        ev,
+    )
     return Section(
         "The amplitude formula",
-        ["The formula is linear in A0, ΔA and β, so they are fitted by linear least squares to the amplitudes of "
-         "the up sweeps of the jump study (b = 2D mm); the verdict follows the R² rule of the Settings."],
-        [(ev[1], f"Computed amplitudes (markers) against the fitted formula (line) over ω ∈ "
-                 f"[{ctx.settings.response_omega[0]:g}, {ctx.settings.response_omega[1]:g}], one panel per (ξ0, b) on "
-                 f"shared axes, each in its own colour, line style and marker; {where}")], [c])
+        [
+            "The formula is linear in A0, ΔA and β, so they are fitted by linear least squares to the amplitudes of "
+            "the up sweeps of the jump study (b = 2D mm); the verdict follows the R² rule of the Settings."
+        ],
+        [
+            (
+                ev[1],
+                f"Computed amplitudes (markers) against the fitted formula (line) over ω ∈ "
+                f"[{ctx.settings.response_omega[0]:g}, {ctx.settings.response_omega[1]:g}], one panel per (ξ0, b) on "
+                f"shared axes, each in its own colour, line style and marker; {where}",
+            )
+        ],
+        [c],
+    )

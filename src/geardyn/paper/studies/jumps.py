@@ -8,8 +8,9 @@ are judged by :mod:`geardyn.paper.studies.readings_jumps`.  Jumps and hysteresis
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -180,8 +181,15 @@ def compute_responses(ctx: Context) -> JumpData:
         xi0, xi1, D = key
         ctx.log(f"frequency response ξ0 = {xi0:g}, ξ1 = {xi1:g}, D = {D:g}")
         model = ctx.model_at(key)
-        ds = frequency_response(model, s.response_omega[0], s.response_omega[1], s.response_num,
-                                options=s.response_options, settle_periods=s.settle, executor=ctx.executor)
+        ds = frequency_response(
+            model,
+            s.response_omega[0],
+            s.response_omega[1],
+            s.response_num,
+            options=s.response_options,
+            settle_periods=s.settle,
+            executor=ctx.executor,
+        )
         name = response_key(*key)
         rel = ctx.save(name, ds, f"frequency response at {model_text(model, skip=('omega',))}")
         out[key] = ds
@@ -193,9 +201,11 @@ def compute_responses(ctx: Context) -> JumpData:
 
 #: What each overlay of the jump study compares: the varied parameter, its index in (ξ0, ξ1, D) and the
 #: claims that compare the responses over it.
-OVERLAYS = (("xi0", 0, "xi0_set", ("JUMP-XI0", "JUMP-FLUCT", "T4-2", "T4-3")),
-            ("xi1", 1, "xi1_set", ("JUMP-XI1", "JUMP-FLUCT")),
-            ("D", 2, "d_set", ("JUMP-057", "JUMP-082", "JUMP-095", "T4-4", "T4-5")))
+OVERLAYS = (
+    ("xi0", 0, "xi0_set", ("JUMP-XI0", "JUMP-FLUCT", "T4-2", "T4-3")),
+    ("xi1", 1, "xi1_set", ("JUMP-XI1", "JUMP-FLUCT")),
+    ("D", 2, "d_set", ("JUMP-057", "JUMP-082", "JUMP-095", "T4-4", "T4-5")),
+)
 
 
 def overlay_key(param: str) -> str:
@@ -250,13 +260,22 @@ def response_overlay(jd: JumpData, keys: Sequence[tuple[float, float, float]], p
                 table4.append([i, omega4, A, cid])
     model = dict(json.loads(first.attrs["model"]))
     return xr.Dataset(
-        {"amplitude": (("case", "sweep", "omega"), amp), "fluctuation": (("case", "omega"), np.asarray(spread)),
-         "value": ("case", np.array([k[index] for k in keys], dtype=float))},
+        {
+            "amplitude": (("case", "sweep", "omega"), amp),
+            "fluctuation": (("case", "omega"), np.asarray(spread)),
+            "value": ("case", np.array([k[index] for k in keys], dtype=float)),
+        },
         coords={"case": np.arange(len(keys)), "sweep": ["up", "down"], "omega": omega},
-        attrs={"geardyn_kind": "response_overlay", "param": param, "model": json.dumps(model),
-               "jumps": json.dumps([jumps_of(jd.responses[k]) for k in keys]),
-               "hysteresis": json.dumps([hysteresis_of(jd.responses[k]) for k in keys]),
-               "marks": json.dumps(marks), "table4": json.dumps(table4)})
+        attrs={
+            "geardyn_kind": "response_overlay",
+            "param": param,
+            "model": json.dumps(model),
+            "jumps": json.dumps([jumps_of(jd.responses[k]) for k in keys]),
+            "hysteresis": json.dumps([hysteresis_of(jd.responses[k]) for k in keys]),
+            "marks": json.dumps(marks),
+            "table4": json.dumps(table4),
+        },
+    )
 
 
 def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
@@ -283,8 +302,11 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
         name = overlay_key(param)
         fixed = model_text(ctx.model_at(keys[0]), skip=("omega", param))
         values = ", ".join(f"{k[index]:g}" for k in keys)
-        rel = ctx.save(name, response_overlay(jd, keys, param), f"frequency responses at {_SYMBOL[param]} = {values} "
-                                                                  f"overlaid ({fixed})")
+        rel = ctx.save(
+            name,
+            response_overlay(jd, keys, param),
+            f"frequency responses at {_SYMBOL[param]} = {values} overlaid ({fixed})",
+        )
         for cid in cids + ("JUMP-LOW",):
             out.setdefault(cid, []).extend([ctx.figure(name), rel])
     return out
@@ -324,7 +346,10 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     claims: list[Finding] = []
     table = [["ξ0", "ξ1", "D", "jumps (ω, direction, size, sweep)", "hysteresis intervals"]]
     for (xi0, xi1, D), ds in R.items():
-        js = "; ".join(f"{j['omega']:.3f} {j['direction']} {j['size']:.3f} ({j['sweep']})" for j in jumps_of(ds)) or "none"
+        js = (
+            "; ".join(f"{j['omega']:.3f} {j['direction']} {j['size']:.3f} ({j['sweep']})" for j in jumps_of(ds))
+            or "none"
+        )
         hs = ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in hysteresis_of(ds)) or "none"
         table.append([f"{xi0:g}", f"{xi1:g}", f"{D:g}", js, hs])
 
@@ -333,11 +358,16 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     low_h = [(k, h) for k, ds in R.items() for h in hysteresis_of(ds) if h[0] < LOW_OMEGA]
     unsteady = {k for k, _ in low} | {k for k, _ in low_h}
     n_steady = len(R) - len(unsteady)
-    claims.append(CLAIMS["JUMP-LOW"].judge(
-        f"over {len(R)} responses (ξ0, ξ1, D varied): {len(low)} jumps and {len(low_h)} hysteresis intervals below "
-        f"ω = {LOW_OMEGA:g}" + (": " + ", ".join(f"ω = {j['omega']:.2f} at {_key_text(k)}" for k, j in low) if low else "")
-        + f"; steady below ω = {LOW_OMEGA:g} in {count_text(n_steady, len(R), 'responses')}.",
-        parts(n_steady == len(R)), jd.ev(*R)))
+    claims.append(
+        CLAIMS["JUMP-LOW"].judge(
+            f"over {len(R)} responses (ξ0, ξ1, D varied): {len(low)} jumps and {len(low_h)} hysteresis intervals below "
+            f"ω = {LOW_OMEGA:g}"
+            + (": " + ", ".join(f"ω = {j['omega']:.2f} at {_key_text(k)}" for k, j in low) if low else "")
+            + f"; steady below ω = {LOW_OMEGA:g} in {count_text(n_steady, len(R), 'responses')}.",
+            parts(n_steady == len(R)),
+            jd.ev(*R),
+        )
+    )
 
     def size_series(keys: Sequence[tuple[float, float, float]]) -> list[float]:
         out = []
@@ -352,23 +382,36 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         vals = [k[0] if lab == "ξ0" else k[1] for k in keys]
         locs = [first_up_jump(R[k]) for k in keys]
         txt = f"first upward jump above ω = {above:g} (up sweep): " + ", ".join(
-            f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none") for v, sz, j in zip(vals, sizes, locs))
+            f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none")
+            for v, sz, j in zip(vals, sizes, locs)
+        )
         ok = _monotone(sizes, dec)
         n_found = sum(j is not None for j in locs)
         exists = n_found == len(locs)
-        claims.append(CLAIMS[cid].judge(
-            txt + f"; parts holding: {count_text(exists + ok, 2, '')}; an upward jump in each response: "
-            f"{'yes' if exists else 'no'} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} with "
-            f"{lab}: {'yes' if ok else 'no'}.", parts(exists, ok), jd.ev(*keys)))
+        claims.append(
+            CLAIMS[cid].judge(
+                txt + f"; parts holding: {count_text(exists + ok, 2, '')}; an upward jump in each response: "
+                f"{'yes' if exists else 'no'} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} with "
+                f"{lab}: {'yes' if ok else 'no'}.",
+                parts(exists, ok),
+                jd.ev(*keys),
+            )
+        )
 
     fl0 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi0_set]
     fl1 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi1_set]
     (ok0, why0), (ok1, why1) = fluctuation_trend(fl0, True), fluctuation_trend(fl1, False)
-    claims.append(CLAIMS["JUMP-FLUCT"].judge(
-        "fluctuation after the first jump (mean spread of the Poincaré points over the up sweep): ξ0 = " +
-        ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0)) + f" ({why0}); ξ1 = " +
-        ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1)) + f" ({why1}); both parts required.",
-        parts(ok0, ok1), jd.ev(*s.xi0_set, *s.xi1_set)))
+    claims.append(
+        CLAIMS["JUMP-FLUCT"].judge(
+            "fluctuation after the first jump (mean spread of the Poincaré points over the up sweep): ξ0 = "
+            + ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0))
+            + f" ({why0}); ξ1 = "
+            + ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1))
+            + f" ({why1}); both parts required.",
+            parts(ok0, ok1),
+            jd.ev(*s.xi0_set, *s.xi1_set),
+        )
+    )
 
     firsts = {k: first_up_jump(R[k]) for k in s.d_set}
     at = CLAIMS["JUMP-057"].numbers["omega"]
@@ -378,46 +421,75 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     if locs.size >= 2 and float(np.ptp(locs)) <= 2 * JUMP_NEAR:
         shared = f"{locs.min():.3f}" if np.ptp(locs) == 0 else f"{locs.min():.3f}–{locs.max():.3f}"
         common = f"; the {locs.size} jumps found share one location, ω = {shared}"
-    claims.append(CLAIMS["JUMP-057"].judge(
-        "first upward jump (up sweep) for D = " + ", ".join(
-            f"{k[2]:g}: " + (f"ω = {j['omega']:.3f}" if j else "none") for k, j in firsts.items()) +
-        f"; within ±{JUMP_NEAR:g} of ω = {at:g} for {count_text(len(near), len(firsts), 'backlash values')}" + common + ".",
-        parts(len(near) == len(firsts)), jd.ev(*s.d_set)))
+    claims.append(
+        CLAIMS["JUMP-057"].judge(
+            "first upward jump (up sweep) for D = "
+            + ", ".join(f"{k[2]:g}: " + (f"ω = {j['omega']:.3f}" if j else "none") for k, j in firsts.items())
+            + f"; within ±{JUMP_NEAR:g} of ω = {at:g} for {count_text(len(near), len(firsts), 'backlash values')}"
+            + common
+            + ".",
+            parts(len(near) == len(firsts)),
+            jd.ev(*s.d_set),
+        )
+    )
 
     base_xi0 = s.d_set[0][0]  # the ξ0 of the backlash responses
     for cid in ("JUMP-082", "JUMP-095"):
         b, omega, direction = (CLAIMS[cid].numbers[k] for k in ("b", "omega", "direction"))
         keys = [k for k in ((base_xi0, TABLE1["xi1"], b / 2), (base_xi0, TABLE1["xi1"], b)) if k in R]
-        txt = "; ".join(f"D = {k[2]:g}: jump at ω = {omega:g} ± {JUMP_NEAR:g}: "
-                        f"{jump_type_at(jumps_of(R[k]), omega, JUMP_NEAR)}" for k in keys)
+        txt = "; ".join(
+            f"D = {k[2]:g}: jump at ω = {omega:g} ± {JUMP_NEAR:g}: {jump_type_at(jumps_of(R[k]), omega, JUMP_NEAR)}"
+            for k in keys
+        )
         ok = jump_holds(jumps_of(R[keys[0]]), omega, direction, JUMP_NEAR)
-        claims.append(CLAIMS[cid].judge(f"b = {b:g} read as D = b/2 (the default reading): {txt} (the nearest jump must be "
-                                        f"{direction}ward; the opposite jump fails).", "reproduced" if ok else "contradicted",
-                                        jd.ev(*keys)))
+        claims.append(
+            CLAIMS[cid].judge(
+                f"b = {b:g} read as D = b/2 (the default reading): {txt} (the nearest jump must be "
+                f"{direction}ward; the opposite jump fails).",
+                "reproduced" if ok else "contradicted",
+                jd.ev(*keys),
+            )
+        )
 
     jd.with_overlays(claims)
+
     def zoomed(keys: Sequence[tuple[float, float, float]]) -> str:
         up = any(j["sweep"] == "up" and j["direction"] == "up" for k in keys for j in jumps_of(R[k]))
         return ", zoomed on in the middle panel" if up else ""
 
-    overlays = [(ctx.figure(overlay_key(p)), f"Overlay of the up and down sweeps at {_SYMBOL[p]} = "
-                 + ", ".join(f"{k[i]:g}" for k in getattr(s, attr))
-                 + f" ({model_text(ctx.model_at(getattr(s, attr)[0]), skip=('omega', p))}): amplitude (top; up sweep "
-                   "thick with small filled markers, down sweep thin with large open markers, first upward jump "
-                   f"starred{zoomed(getattr(s, attr))}) and "
-                   "fluctuation, the spread of the Poincaré points of the up sweep (bottom); the ω the paper names "
-                   "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.")
-                for p, i, attr, _ in OVERLAYS if len(getattr(s, attr)) >= 2]
+    overlays = [
+        (
+            ctx.figure(overlay_key(p)),
+            f"Overlay of the up and down sweeps at {_SYMBOL[p]} = "
+            + ", ".join(f"{k[i]:g}" for k in getattr(s, attr))
+            + f" ({model_text(ctx.model_at(getattr(s, attr)[0]), skip=('omega', p))}): amplitude (top; up sweep "
+            "thick with small filled markers, down sweep thin with large open markers, first upward jump "
+            f"starred{zoomed(getattr(s, attr))}) and "
+            "fluctuation, the spread of the Poincaré points of the up sweep (bottom); the ω the paper names "
+            "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.",
+        )
+        for p, i, attr, _ in OVERLAYS
+        if len(getattr(s, attr)) >= 2
+    ]
     return Section(
         "Jumps and fluctuations of the amplitude-frequency response",
-        [f"Up and down sweeps over ω ∈ [{s.response_omega[0]:g}, {s.response_omega[1]:g}] ({s.response_num} points, "
-         f"each starting from the previous end state, {s.response_options.transient} transient and "
-         f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step of the "
-         "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
-         "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm), the default "
-         f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."],
-        overlays + [(jd.evidence[k][1], f"Frequency response at {_key_text(k)}: up and down sweeps over ω ∈ "
-                                        f"[{s.response_omega[0]:g}, {s.response_omega[1]:g}]") for k in R],
+        [
+            f"Up and down sweeps over ω ∈ [{s.response_omega[0]:g}, {s.response_omega[1]:g}] ({s.response_num} points, "
+            f"each starting from the previous end state, {s.response_options.transient} transient and "
+            f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step of the "
+            "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
+            "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm), the default "
+            f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."
+        ],
+        overlays
+        + [
+            (
+                jd.evidence[k][1],
+                f"Frequency response at {_key_text(k)}: up and down sweeps over ω ∈ "
+                f"[{s.response_omega[0]:g}, {s.response_omega[1]:g}]",
+            )
+            for k in R
+        ],
         claims,
         table,
     )
@@ -455,25 +527,35 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         kind_ok = jump_holds(jumps_of(ds), omega, kind, TABLE4_NEAR)
         amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
         v = parts(amp_ok, kind_ok)
-        txt = (f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
-               f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: {jump_type_at(jumps_of(ds), omega, TABLE4_NEAR)}); parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
-               f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {'yes' if amp_ok else 'no'}, jump type "
-               f"'{kind}': {'yes' if kind_ok else 'no'}")
+        txt = (
+            f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
+            f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: {jump_type_at(jumps_of(ds), omega, TABLE4_NEAR)}); parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
+            f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {'yes' if amp_ok else 'no'}, jump type "
+            f"'{kind}': {'yes' if kind_ok else 'no'}"
+        )
         ev = list(jd.evidence[key])
         if alt in R:
             da = R[alt]
             ka = int(np.argmin(np.abs(da["omega"].values - omega)))
             ja = sorted({j["direction"] + "ward" for j in jumps_of(da) if abs(j["omega"] - omega) <= TABLE4_NEAR})
-            txt += (f". Read as D = b = {b:g}: A = {float(da['amplitude'].sel(sweep='up').values[ka]):.3f} (up), "
-                    f"jumps: {', '.join(ja) or 'none'}")
+            txt += (
+                f". Read as D = b = {b:g}: A = {float(da['amplitude'].sel(sweep='up').values[ka]):.3f} (up), "
+                f"jumps: {', '.join(ja) or 'none'}"
+            )
             ev += jd.evidence[alt]
         claims.append(CLAIMS[cid].judge(txt + ".", v, ev))
-        table.append([f"{omega:g}", f"{xi0:g}", f"{b:g}", f"{A:g}", kind, f"{a_up:.3f} / {a_dn:.3f}",
-                      ", ".join(kinds) or "none"])
+        table.append(
+            [f"{omega:g}", f"{xi0:g}", f"{b:g}", f"{A:g}", kind, f"{a_up:.3f} / {a_dn:.3f}", ", ".join(kinds) or "none"]
+        )
     jd.with_overlays(claims)
     return Section(
         "Table 4: amplitude and jump type at five operating points",
-        [f"Read from the frequency responses of the jump study at the grid ω nearest each row. Amplitude counts as "
-         f"matching within {100 * TABLE4_AMP_REL:.0f} % (either sweep); the jump type when a jump of that direction lies "
-         f"within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."],
-        [], claims, table)
+        [
+            f"Read from the frequency responses of the jump study at the grid ω nearest each row. Amplitude counts as "
+            f"matching within {100 * TABLE4_AMP_REL:.0f} % (either sweep); the jump type when a jump of that direction lies "
+            f"within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."
+        ],
+        [],
+        claims,
+        table,
+    )

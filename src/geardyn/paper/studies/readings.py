@@ -15,8 +15,9 @@ The jump claims are judged on lockstep frequency responses (:mod:`geardyn.paper.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -36,7 +37,11 @@ __all__ = ["ReadingRow", "ScreenData", "apply_rows", "damping_readings", "interv
 
 #: ξ0 probes of the screen and the claims they test: (ξ0, claim ids).
 XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
-    (0.05, ("T2-1", "XI0-BIF")), (0.08, ("T2-2", "XI0-BIF")), (0.2, ("T2-3", "XI0-BIF")), (0.9, ("XI0-BIF",)))
+    (0.05, ("T2-1", "XI0-BIF")),
+    (0.08, ("T2-2", "XI0-BIF")),
+    (0.2, ("T2-3", "XI0-BIF")),
+    (0.9, ("XI0-BIF",)),
+)
 #: ξ1 probes: (ξ1, claim ids).
 XI1_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = ((0.01, ("T2-4", "XI1-CHAOS")), (0.08, ("T2-5", "XI1-CHAOS")))
 #: The backlash values of Table 3 (mm).
@@ -185,14 +190,26 @@ def run_screen(ctx: Context) -> ScreenData:
         data.xi0[k] = r[k][:a].reshape(len(XI0_PROBES), nf, nW)
         data.xi1[k] = r[k][a:b].reshape(len(XI1_PROBES), nf, nW)
         data.bl[k] = r[k][b:].reshape(len(BACKLASH_READINGS), len(TABLE3_B), no, nW)
-    ctx.save("readings_screen", xr.Dataset(
-        {k: ("point", r[k]) for k in keep}
-        | {n: ("point", pts[:, i]) for i, n in enumerate(NAMES)},
-        attrs={"geardyn_kind": "readings_screen", "model": json_attr(ctx.base),
-               "options": json_attr({"transient": s.readings_options.transient, "periods": s.readings_options.periods,
-                                     "settle": s.readings_settle})}),
+    ctx.save(
+        "readings_screen",
+        xr.Dataset(
+            {k: ("point", r[k]) for k in keep} | {n: ("point", pts[:, i]) for i, n in enumerate(NAMES)},
+            attrs={
+                "geardyn_kind": "readings_screen",
+                "model": json_attr(ctx.base),
+                "options": json_attr(
+                    {
+                        "transient": s.readings_options.transient,
+                        "periods": s.readings_options.periods,
+                        "settle": s.readings_settle,
+                    }
+                ),
+            },
+        ),
         f"screen of the readings: {pts.shape[0]} points over ω ∈ [{W[0]:.2f}, {W[-1]:.2f}] (step 0.01), phases and "
-        "backlash readings", figures=False)
+        "backlash readings",
+        figures=False,
+    )
     return data
 
 
@@ -234,7 +251,7 @@ def in_range(cid: str, grid: Sequence[float]) -> list[float]:
     if idx.size == 0:
         return [float(v) for v in x]
     a, b = max(int(idx[0]) - 1, 0), min(int(idx[-1]) + 1, x.size - 1)
-    return [float(v) for v in x[a:b + 1]]
+    return [float(v) for v in x[a : b + 1]]
 
 
 def _range_judge(cid: str, param: str, values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
@@ -260,8 +277,9 @@ def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]],
         high = ch[ch >= HIGH_CHAOS_FROM]
         ok1 = bool(np.isfinite(last) and abs(last - first) <= 0.02)
         ok2 = bool(np.any(np.abs(high - second) <= 0.1))
-        return ok1 and ok2, (f"last low chaos at ξ0 = {last:.3g}" if np.isfinite(last) else "no low chaos") + \
-            (f", chaos again at ξ0 = {high.min():.3g}" if high.size else ", no chaos at high ξ0")
+        return ok1 and ok2, (f"last low chaos at ξ0 = {last:.3g}" if np.isfinite(last) else "no low chaos") + (
+            f", chaos again at ξ0 = {high.min():.3g}" if high.size else ", no chaos at high ξ0"
+        )
 
     return judge
 
@@ -273,8 +291,10 @@ def _t3_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
         m, n, lam, err = int(r["motion"][0]), int(r["period"][0]), float(r["lle"][0]), float(r["lle_err"][0])
         ok_m, ok_s = pred(m, n), lle_sign_holds(word, lam, err)
         lab = f"period-{n}" if m == MOTION_PERIODIC else {MOTION_CHAOTIC: "chaotic"}.get(m, "unresolved")
-        return ok_m and ok_s, f"{lab}, λ1 = {lam:+.4f} ± {err:.1e} (motion {'yes' if ok_m else 'no'}, sign " \
-                              f"{'yes' if ok_s else 'no'})"
+        return (
+            ok_m and ok_s,
+            f"{lab}, λ1 = {lam:+.4f} ± {err:.1e} (motion {'yes' if ok_m else 'no'}, sign {'yes' if ok_s else 'no'})",
+        )
 
     return judge
 
@@ -315,8 +335,11 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                     ok &= np.array([word(m, n) for m, n in zip(var["motion"][i, j], var["period"][i, j])])
                 ws = W[ok]
                 okmap.setdefault(cid, []).append(ok)
-                rows[cid].append(ReadingRow(f"φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}",
-                                            f"probes hold {at_omegas(ws)}", "screen"))
+                rows[cid].append(
+                    ReadingRow(
+                        f"φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}", f"probes hold {at_omegas(ws)}", "screen"
+                    )
+                )
                 cands[cid] += [(float(w), pair, "") for w in ws]
     # Table 3: per backlash reading and phase pair, the ω where the row's motion holds on the screen
     for k, cid in enumerate(claim_ids("T3-")):
@@ -333,21 +356,33 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                     ok &= edge
                 ws = W[ok]
                 okmap.setdefault(cid, []).append(ok)
-                rows[cid].append(ReadingRow(f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {_pt(pair[0])}, "
-                                            f"φ_k1 = {_pt(pair[1])}", f"motion holds {at_omegas(ws)}", "screen"))
+                rows[cid].append(
+                    ReadingRow(
+                        f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}",
+                        f"motion holds {at_omegas(ws)}",
+                        "screen",
+                    )
+                )
                 cands[cid] += [(float(w), pair, key) for w in ws]
     # BL-IMPACT, BL-AMP and their joint test with the Table 3 sequence (F2)
     joint = _backlash_rows(data, rows, cands, okmap)
     ids = [c for c in CLAIMS if c in okmap]
-    ctx.save("readings_damping", xr.Dataset(
-        {"hold_fraction": (("claim", "omega"), np.array([np.mean(okmap[c], axis=0) for c in ids]))},
-        coords={"claim": ids, "omega": W},
-        attrs={"geardyn_kind": "readings_map", "model": json_attr(ctx.base), "default_omega": s.omega_damping}),
+    ctx.save(
+        "readings_damping",
+        xr.Dataset(
+            {"hold_fraction": (("claim", "omega"), np.array([np.mean(okmap[c], axis=0) for c in ids]))},
+            coords={"claim": ids, "omega": W},
+            attrs={"geardyn_kind": "readings_map", "model": json_attr(ctx.base), "default_omega": s.omega_damping},
+        ),
         f"fraction of the readings (phase pairs; with b, backlash readings) where each claim's screen holds, over "
-        f"ω ∈ [{W[0]:.2f}, {W[-1]:.2f}] (ξ0 = {TABLE1['xi0']:g}, ξ1 = {TABLE1['xi1']:g} unless probed)")
+        f"ω ∈ [{W[0]:.2f}, {W[-1]:.2f}] (ξ0 = {TABLE1['xi0']:g}, ξ1 = {TABLE1['xi1']:g} unless probed)",
+    )
     for cid in ids:
-        findings[cid].evidence += [ctx.datasets["readings_screen"], ctx.datasets["readings_damping"],
-                                   ctx.figure("readings_damping")]
+        findings[cid].evidence += [
+            ctx.datasets["readings_screen"],
+            ctx.datasets["readings_damping"],
+            ctx.figure("readings_damping"),
+        ]
     # confirm the candidates nearest the default of every claim that fails at the default reading
     ver: list[Verification] = []
     for cid, cs in cands.items():
@@ -362,7 +397,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
         else:
             param = str(CLAIMS[cid].numbers["param"])
             n_pts = len(in_range(cid, xi0_grid if param == "xi0" else xi1_grid))
-        for w, pair, key in _order(cs)[:max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]:
+        for w, pair, key in _order(cs)[: max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]:
             rd = Reading(pair[0], pair[1], key, w)
             if cid.startswith("T3-"):
                 b = CLAIMS[cid].numbers["b"]
@@ -393,23 +428,31 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
         rows[v.cid].append(ReadingRow(v.reading.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed"))
     for cid, rs in rows.items():
         f = findings[cid]
-        head = ReadingRow("default: ω = 1, φ_c1 = 0, φ_k1 = 0" + (", D = b/(2 mm)" if cid.startswith(("T3", "BL")) else ""),
-                          "see the study (full computation)", "yes" if f.verdict == "reproduced" else "no")
+        head = ReadingRow(
+            "default: ω = 1, φ_c1 = 0, φ_k1 = 0" + (", D = b/(2 mm)" if cid.startswith(("T3", "BL")) else ""),
+            "see the study (full computation)",
+            "yes" if f.verdict == "reproduced" else "no",
+        )
         f.readings = [["reading", "result", "holds"]] + [[r.reading, r.result, r.holds] for r in [head] + rs]
         if f.verdict != "reproduced":
             ok = [v for v, (o, _) in zip(ver, results) if o and v.cid == cid]
             ok += [v for v, (o, _) in zip(ver, results) if o and v.cid == "TAB:" + cid]
             if ok:
                 f.verdict, f.reading = "reproduced under a reading", ok[0].reading.text
-                f.deciding = f"holds under {ok[0].reading.text} ({ok[0].reading.changes() or 'default'}), confirmed by a " \
-                             f"full computation; fails at the default reading"
+                f.deciding = (
+                    f"holds under {ok[0].reading.text} ({ok[0].reading.changes() or 'default'}), confirmed by a "
+                    f"full computation; fails at the default reading"
+                )
             else:
                 tried = sum(1 for r in rs if r.holds == "screen")
                 n_c = len(cands.get(cid, []))
                 n_v = sum(v.cid == cid for v in ver)
-                f.deciding = (f"fails at the default reading; the screen of {tried} reading families × {W.size} ω gives "
-                              f"{n_c} candidate readings" + (f", and the {n_v} nearest the default fail in a full "
-                                                             "computation" if n_v else "") + joint.get(cid, ""))
+                f.deciding = (
+                    f"fails at the default reading; the screen of {tried} reading families × {W.size} ω gives "
+                    f"{n_c} candidate readings"
+                    + (f", and the {n_v} nearest the default fail in a full computation" if n_v else "")
+                    + joint.get(cid, "")
+                )
                 if "quasi" in str(CLAIMS[cid].numbers.get("motion", "")):
                     f.deciding += "; by F1 its 'quasi-n-periodic' can only be period-n, which is what was tested"
         else:
@@ -482,9 +525,12 @@ def _xi1_chaos_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]
     return judge
 
 
-def _backlash_rows(data: ScreenData, rows: dict[str, list[ReadingRow]],
-                   cands: dict[str, list[tuple[float, tuple[float, float], str]]],
-                   okmap: dict[str, list[np.ndarray]]) -> dict[str, str]:
+def _backlash_rows(
+    data: ScreenData,
+    rows: dict[str, list[ReadingRow]],
+    cands: dict[str, list[tuple[float, tuple[float, float], str]]],
+    okmap: dict[str, list[np.ndarray]],
+) -> dict[str, str]:
     """BL-IMPACT and BL-AMP rows, and the joint test with the Table 3 sequence (by F2 it cannot hold)."""
     W = data.omegas
     single = [k for k, v in IMPACT_LABELS.items() if v == CLAIMS["BL-IMPACT"].numbers["impact"]][0]
@@ -498,8 +544,13 @@ def _backlash_rows(data: ScreenData, rows: dict[str, list[ReadingRow]],
             amp = data.bl["amplitude"][r, :, j, :]
             ok_imp = np.all(imp == single, axis=0)
             ok_amp = np.all(np.diff(amp, axis=0) > 0, axis=0)
-            seq = np.all([[p(m, n) for m, n in zip(data.bl["motion"][r, k, j], data.bl["period"][r, k, j])]
-                          for k, p in enumerate(preds)], axis=0)
+            seq = np.all(
+                [
+                    [p(m, n) for m, n in zip(data.bl["motion"][r, k, j], data.bl["period"][r, k, j])]
+                    for k, p in enumerate(preds)
+                ],
+                axis=0,
+            )
             n_joint += int(np.sum(seq & ok_imp))
             n_seq += int(np.sum(seq))
             lab = f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}"
@@ -507,13 +558,17 @@ def _backlash_rows(data: ScreenData, rows: dict[str, list[ReadingRow]],
             okmap.setdefault("BL-AMP", []).append(ok_amp)
             cands["BL-IMPACT"] += [(float(w), pair, key) for w in W[ok_imp]]
             cands["BL-AMP"] += [(float(w), pair, key) for w in W[ok_amp]]
-            rows["BL-IMPACT"].append(ReadingRow(lab, f"single-sided at all three b {at_omegas(W[ok_imp])}",
-                                                "yes" if ok_imp.any() else "no"))
-            rows["BL-AMP"].append(ReadingRow(lab, f"amplitude grows with b {at_omegas(W[ok_amp])}",
-                                             "yes" if ok_amp.any() else "no"))
-    note = (f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided "
-            f"impacts hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not "
-            "depend on D)")
+            rows["BL-IMPACT"].append(
+                ReadingRow(lab, f"single-sided at all three b {at_omegas(W[ok_imp])}", "yes" if ok_imp.any() else "no")
+            )
+            rows["BL-AMP"].append(
+                ReadingRow(lab, f"amplitude grows with b {at_omegas(W[ok_amp])}", "yes" if ok_amp.any() else "no")
+            )
+    note = (
+        f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided "
+        f"impacts hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not "
+        "depend on D)"
+    )
     return {c: note for c in ("BL-IMPACT", "T3-1", "T3-2", "T3-3")}
 
 
@@ -526,8 +581,14 @@ def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]
     for v in ver:
         v.start = len(rows)
         for x in v.values:
-            p = {"omega": v.reading.omega, "phi_c1": v.reading.phi_c, "phi_k1": v.reading.phi_k,
-                 "xi0": TABLE1["xi0"], "xi1": TABLE1["xi1"], "D": 1.0}
+            p = {
+                "omega": v.reading.omega,
+                "phi_c1": v.reading.phi_c,
+                "phi_k1": v.reading.phi_k,
+                "xi0": TABLE1["xi0"],
+                "xi1": TABLE1["xi1"],
+                "D": 1.0,
+            }
             p[v.param] = x
             rows.append([p[n] for n in NAMES])
     pts = np.asarray(rows, dtype=float)
@@ -535,10 +596,12 @@ def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]
     # ranges as the default-reading diagrams are computed; single points (Table 3) with long exponent runs
     single = np.zeros(len(rows), dtype=bool)
     for v in ver:
-        single[v.start:v.start + len(v.values)] = v.param == "D"
+        single[v.start : v.start + len(v.values)] = v.param == "D"
     r: dict[str, list[Any]] = {}
-    for sel, opts, lyap in ((~single, s.options, False),
-                            (single, IntegrationOptions(transient=s.transient, periods=max(s.periods, 2 * s.settle)), True)):
+    for sel, opts, lyap in (
+        (~single, s.options, False),
+        (single, IntegrationOptions(transient=s.transient, periods=max(s.periods, 2 * s.settle)), True),
+    ):
         idx = np.flatnonzero(sel)
         if idx.size == 0:
             continue
@@ -557,8 +620,16 @@ def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]
                 model = ctx.base
                 for n, val in zip(NAMES, pts[g]):
                     model = model.with_param(n, float(val))
-                c = confirm_point(model, r["end"][g], r["poincare"][g], int(r["motion"][g]), int(r["period"][g]),
-                                  float(r["lle"][g]), float(r["lle_err"][g]), long_periods=s.confirm_periods)
+                c = confirm_point(
+                    model,
+                    r["end"][g],
+                    r["poincare"][g],
+                    int(r["motion"][g]),
+                    int(r["period"][g]),
+                    float(r["lle"][g]),
+                    float(r["lle_err"][g]),
+                    long_periods=s.confirm_periods,
+                )
                 for k in ("motion", "period", "lle", "lle_err"):
                     sub[k][i] = c[k]
         out.append(v.judge(sub))

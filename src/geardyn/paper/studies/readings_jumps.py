@@ -10,8 +10,9 @@ reading (phases 0, D = b/(2 mm)) first.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -30,17 +31,31 @@ __all__ = ["JUMP_KEYS", "JumpReadings", "jump_readings", "run_lockstep"]
 
 #: The responses of each reading: (ξ0, ξ1, b in mm).
 JUMP_KEYS: tuple[tuple[float, float, float], ...] = (
-    (0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5), (0.08, 0.03, 0.5), (0.08, 0.08, 0.5),
-    (0.08, 0.05, 0.2), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
+    (0.08, 0.05, 0.5),
+    (0.1, 0.05, 0.5),
+    (0.15, 0.05, 0.5),
+    (0.08, 0.03, 0.5),
+    (0.08, 0.08, 0.5),
+    (0.08, 0.05, 0.2),
+    (0.08, 0.05, 0.7),
+    (0.08, 0.05, 1.5),
+)
 XI0_KEYS = ((0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5))
 XI1_KEYS = ((0.08, 0.03, 0.5), (0.08, 0.05, 0.5), (0.08, 0.08, 0.5))
 B_KEYS = ((0.08, 0.05, 0.2), (0.08, 0.05, 0.5), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
+
+
 def _claim_keys() -> dict[str, set[int]]:
     ix = JUMP_KEYS.index
     xi1 = TABLE1["xi1"]
-    out = {"JUMP-LOW": set(range(len(JUMP_KEYS))), "JUMP-XI0": {ix(k) for k in XI0_KEYS},
-           "JUMP-XI1": {ix(k) for k in XI1_KEYS}, "JUMP-FLUCT": {ix(k) for k in XI0_KEYS + XI1_KEYS},
-           "JUMP-057": {ix(k) for k in B_KEYS}, "FORMULA": {i for i, k in enumerate(JUMP_KEYS) if k[1] == xi1}}
+    out = {
+        "JUMP-LOW": set(range(len(JUMP_KEYS))),
+        "JUMP-XI0": {ix(k) for k in XI0_KEYS},
+        "JUMP-XI1": {ix(k) for k in XI1_KEYS},
+        "JUMP-FLUCT": {ix(k) for k in XI0_KEYS + XI1_KEYS},
+        "JUMP-057": {ix(k) for k in B_KEYS},
+        "FORMULA": {i for i, k in enumerate(JUMP_KEYS) if k[1] == xi1},
+    }
     for cid in ("JUMP-082", "JUMP-095"):
         out[cid] = {ix((0.08, xi1, CLAIMS[cid].numbers["b"]))}
     for cid in claim_ids("T4-"):
@@ -83,8 +98,13 @@ class JumpReadings:
         return JUMP_KEYS.index(k)
 
 
-def run_lockstep(ctx: Context, readings: list[Reading] | None = None, options: Any = None,
-                 name: str = "readings_responses", keys: list[set[int]] | None = None) -> JumpReadings:
+def run_lockstep(
+    ctx: Context,
+    readings: list[Reading] | None = None,
+    options: Any = None,
+    name: str = "readings_responses",
+    keys: list[set[int]] | None = None,
+) -> JumpReadings:
     """Every reading's responses, in one call of the sweep engine.
 
     Parameters
@@ -109,8 +129,9 @@ def run_lockstep(ctx: Context, readings: list[Reading] | None = None, options: A
     options = s.readings_response_options if options is None else options
     nR, nK = len(readings), len(JUMP_KEYS)
     pairs = [(i, k) for i in range(nR) for k in range(nK) if keys is None or k in keys[i]]
-    pts = np.array([[readings[i].phi_c, readings[i].phi_k, *JUMP_KEYS[k][:2], readings[i].D(JUMP_KEYS[k][2])]
-                    for i, k in pairs])
+    pts = np.array(
+        [[readings[i].phi_c, readings[i].phi_k, *JUMP_KEYS[k][:2], readings[i].D(JUMP_KEYS[k][2])] for i, k in pairs]
+    )
     W = np.round(np.linspace(s.response_omega[0], s.response_omega[1], s.response_num), 6)
     ctx.log(f"readings responses: {pts.shape[0]} up/down sweeps of {W.size} ω each")
     r = lockstep_responses(ctx.base, ("phi_c1", "phi_k1", "xi0", "xi1", "D"), pts, W, options, ctx.executor)
@@ -118,15 +139,28 @@ def run_lockstep(ctx: Context, readings: list[Reading] | None = None, options: A
     spread = np.full((nR, nK, 2, W.size), np.nan)
     for j, (i, k) in enumerate(pairs):
         amp[i, k], spread[i, k] = r["amplitude"][j], r["spread"][j]
-    jumps = [[response_jumps(W, amp[i, k]) if np.isfinite(amp[i, k]).any() else [] for k in range(nK)]
-             for i in range(nR)]
-    ctx.save(name, xr.Dataset(
-        {"amplitude": (("reading", "key", "sweep", "omega"), amp), "spread": (("reading", "key", "sweep", "omega"), spread)},
-        coords={"reading": [rd.text for rd in readings], "key": [f"ξ0 = {a:g}, ξ1 = {b:g}, b = {c:g} mm" for a, b, c in JUMP_KEYS],
-                "sweep": ["up", "down"], "omega": W},
-        attrs={"geardyn_kind": "readings_responses", "model": json_attr(ctx.base)}),
+    jumps = [
+        [response_jumps(W, amp[i, k]) if np.isfinite(amp[i, k]).any() else [] for k in range(nK)] for i in range(nR)
+    ]
+    ctx.save(
+        name,
+        xr.Dataset(
+            {
+                "amplitude": (("reading", "key", "sweep", "omega"), amp),
+                "spread": (("reading", "key", "sweep", "omega"), spread),
+            },
+            coords={
+                "reading": [rd.text for rd in readings],
+                "key": [f"ξ0 = {a:g}, ξ1 = {b:g}, b = {c:g} mm" for a, b, c in JUMP_KEYS],
+                "sweep": ["up", "down"],
+                "omega": W,
+            },
+            attrs={"geardyn_kind": "readings_responses", "model": json_attr(ctx.base)},
+        ),
         f"frequency responses under {nR} readings ({nR * nK} up/down sweeps, ω step {W[1] - W[0]:.2f}, "
-        f"{options.transient} transient and {options.periods} recorded periods per point)", figures=False)
+        f"{options.transient} transient and {options.periods} recorded periods per point)",
+        figures=False,
+    )
     return JumpReadings(W, readings, amp, spread, jumps)
 
 
@@ -168,6 +202,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
             sz = [j["size"] for j in js]  # type: ignore[index]
             ok = bool(np.all(np.diff(sz) < 0) if decreasing else np.all(np.diff(sz) > 0))
             return ok, "sizes " + ", ".join(f"{lab} = {k[pos]:g}: {v:.3f}" for k, v in zip(keys, sz))
+
         return t
 
     def fluct(i: int) -> tuple[bool, str]:
@@ -175,8 +210,13 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
         f1 = [_fluct(jr, i, K(k)) for k in XI1_KEYS]
         ok0, why0 = fluctuation_trend(f0, True)
         ok1, why1 = fluctuation_trend(f1, False)
-        return ok0 and ok1, ("spread over ξ0 " + ", ".join(f"{v:.3f}" for v in f0) + f" ({why0}); over ξ1 "
-                             + ", ".join(f"{v:.3f}" for v in f1) + f" ({why1})")
+        return ok0 and ok1, (
+            "spread over ξ0 "
+            + ", ".join(f"{v:.3f}" for v in f0)
+            + f" ({why0}); over ξ1 "
+            + ", ".join(f"{v:.3f}" for v in f1)
+            + f" ({why1})"
+        )
 
     def at057(i: int) -> tuple[bool, str]:
         at = CLAIMS["JUMP-057"].numbers["omega"]
@@ -190,7 +230,10 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
 
         def t(i: int) -> tuple[bool, str]:
             js = jr.jumps[i][k]
-            return jump_holds(js, w, d, JUMP_NEAR), f"jump at ω = {w:g} ± {JUMP_NEAR:g}: {jump_type_at(js, w, JUMP_NEAR)}"
+            return jump_holds(
+                js, w, d, JUMP_NEAR
+            ), f"jump at ω = {w:g} ± {JUMP_NEAR:g}: {jump_type_at(js, w, JUMP_NEAR)}"
+
         return t
 
     def table4(cid: str) -> Callable[[int], tuple[bool, str]]:
@@ -204,6 +247,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
             typ = jump_type_at(jr.jumps[i][k], w, TABLE4_NEAR)
             ok_j = jump_holds(jr.jumps[i][k], w, kind, TABLE4_NEAR)
             return ok_a and ok_j, f"A = {a[0]:.3f} / {a[1]:.3f} (up / down), jump: {typ}"
+
         return t
 
     def formula(i: int) -> tuple[bool, str]:
@@ -217,9 +261,16 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
         fit = fit_formula(d[:, 0], d[:, 1], d[:, 2], d[:, 3])
         return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({rd.backlash})"
 
-    tests = {"JUMP-LOW": low, "JUMP-XI0": sizes(XI0_KEYS, True, "ξ0", 0), "JUMP-XI1": sizes(XI1_KEYS, False, "ξ1", 1),
-             "JUMP-FLUCT": fluct, "JUMP-057": at057, "JUMP-082": located("JUMP-082"), "JUMP-095": located("JUMP-095"),
-             "FORMULA": formula}
+    tests = {
+        "JUMP-LOW": low,
+        "JUMP-XI0": sizes(XI0_KEYS, True, "ξ0", 0),
+        "JUMP-XI1": sizes(XI1_KEYS, False, "ξ1", 1),
+        "JUMP-FLUCT": fluct,
+        "JUMP-057": at057,
+        "JUMP-082": located("JUMP-082"),
+        "JUMP-095": located("JUMP-095"),
+        "FORMULA": formula,
+    }
     for cid in claim_ids("T4-"):
         tests[cid] = table4(cid)
     return tests
@@ -254,20 +305,26 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
         f.evidence.append(ctx.datasets["readings_responses"])
         f.readings = [["reading", "result", "holds"]] + [
             [rd.text + (" (default)" if rd.is_default else ""), txt, "yes" if ok else "no"]
-            for rd, (ok, txt) in zip(jr.readings, res)]
+            for rd, (ok, txt) in zip(jr.readings, res)
+        ]
         i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
         # at the default reading the study's full responses decide; the lockstep rows are the other readings
         full_default = f.verdict == "reproduced"
         holding = [i for i, (ok, _) in enumerate(res) if ok and i != i_def]
         if full_default:
-            f.verdict, f.deciding = "reproduced", f"holds at the default reading (full responses); lockstep: {res[i_def][1]}"
+            f.verdict, f.deciding = (
+                "reproduced",
+                f"holds at the default reading (full responses); lockstep: {res[i_def][1]}",
+            )
         elif holding:
-            need[cid] = holding[:CONFIRM_SINGLE if len(CLAIM_KEYS[cid]) <= 2 else 1]
+            need[cid] = holding[: CONFIRM_SINGLE if len(CLAIM_KEYS[cid]) <= 2 else 1]
             f.deciding = f"{len(holding)} of {len(res) - 1} other readings hold in the lockstep responses"
         else:
             f.verdict = "contradicted"
-            f.deciding = f"fails at the default reading and under all {len(res) - 1} other readings; lockstep default: " \
-                         f"{res[i_def][1]}"
+            f.deciding = (
+                f"fails at the default reading and under all {len(res) - 1} other readings; lockstep default: "
+                f"{res[i_def][1]}"
+            )
     if need:
         _confirm(ctx, jr, need, findings)
     return out
@@ -292,11 +349,15 @@ def _confirm(ctx: Context, jr: JumpReadings, need: dict[str, list[int]], finding
             tried.append(f"{rd.text}: {txt}")
             if ok:
                 f.verdict, f.reading = "reproduced under a reading", rd.text
-                f.deciding = (f"fails at the default reading; holds under {rd.text} ({rd.changes()}), confirmed with "
-                              f"{longer}: {txt}; {f.deciding}")
+                f.deciding = (
+                    f"fails at the default reading; holds under {rd.text} ({rd.changes()}), confirmed with "
+                    f"{longer}: {txt}; {f.deciding}"
+                )
                 break
         else:
             f.verdict = "contradicted"
-            f.deciding = (f"fails at the default reading; the {len(idx)} reading(s) nearest the default where the lockstep "
-                          f"responses show it fail with {longer} ({'; '.join(tried)}); {f.deciding}")
+            f.deciding = (
+                f"fails at the default reading; the {len(idx)} reading(s) nearest the default where the lockstep "
+                f"responses show it fail with {longer} ({'; '.join(tried)}); {f.deciding}"
+            )
         f.evidence.append(ctx.datasets["readings_responses_confirmed"])

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from typing import Mapping
+from collections.abc import Mapping
 
 from ..readings import BACKLASH_READINGS, PHASES, phase_text
-from ..report import Finding, Section, VERDICTS
+from ..report import VERDICTS, Finding, Section
 from ..settings import Context
 
 __all__ = ["fixed_readings", "readings_section"]
@@ -22,11 +22,18 @@ def fixed_readings(findings: Mapping[str, Finding]) -> None:
     for f in findings.values():
         if f.readings:
             continue
-        f.readings = [["reading", "result", "holds"],
-                      ["the paper's κ1 = 0.2 (no phase, backlash or ω enters the closed form)", f.computed,
-                       "yes" if f.verdict == "reproduced" else "no"]]
-        f.deciding = f.deciding or (("holds" if f.verdict == "reproduced" else "fails") +
-                                    " against Floquet multipliers of the full model and of the linear contact model")
+        f.readings = [
+            ["reading", "result", "holds"],
+            [
+                "the paper's κ1 = 0.2 (no phase, backlash or ω enters the closed form)",
+                f.computed,
+                "yes" if f.verdict == "reproduced" else "no",
+            ],
+        ]
+        f.deciding = f.deciding or (
+            ("holds" if f.verdict == "reproduced" else "fails")
+            + " against Floquet multipliers of the full model and of the linear contact model"
+        )
 
 
 def readings_section(ctx: Context, findings: Mapping[str, Finding]) -> Section:
@@ -48,9 +55,9 @@ def readings_section(ctx: Context, findings: Mapping[str, Finding]) -> Section:
         "The paper leaves open the phases of the stiffness and damping variation, how its backlash b in mm becomes "
         "D (f_p, ε1 and b_n of Table 1 kept), and the ω of its damping and backlash studies. Every claim is judged "
         "under the readings it depends on: φ_c1 and φ_k1 over {" + ", ".join(phase_text(p) for p in PHASES) + "} "
-        "(each varied alone: 7 pairs), D = " +
-        ", ".join(f"b/({v:g} mm)" for v in BACKLASH_READINGS.values()) +
-        f", and ω over [{w[0]:.2f}, {w[-1]:.2f}] in steps of 0.01 (the jump claims over the responses' ω grid of step "
+        "(each varied alone: 7 pairs), D = "
+        + ", ".join(f"b/({v:g} mm)" for v in BACKLASH_READINGS.values())
+        + f", and ω over [{w[0]:.2f}, {w[-1]:.2f}] in steps of 0.01 (the jump claims over the responses' ω grid of step "
         f"{(s.response_omega[1] - s.response_omega[0]) / (s.response_num - 1):.2g}).",
         f"The damping and backlash readings are screened in one sweep ({s.readings_transient} transient and "
         f"{s.readings_periods} recorded periods per point, exponents for the points not periodic); the candidates "
@@ -70,8 +77,12 @@ def readings_section(ctx: Context, findings: Mapping[str, Finding]) -> Section:
     figs = []
     if "readings_damping" in ctx.datasets:
         w0, w1 = ctx.settings.readings_omegas[0], ctx.settings.readings_omegas[-1]
-        figs.append((ctx.figure("readings_damping"),
-                     f"Fraction of the readings where each damping and backlash claim holds on the screen, over ω ∈ "
-                     f"[{w0:.2f}, {w1:.2f}] (step 0.01; ξ0 = 0.1, ξ1 = 0.05 unless the claim varies them); the "
-                     "candidates nearest the default are then confirmed in full"))
+        figs.append(
+            (
+                ctx.figure("readings_damping"),
+                f"Fraction of the readings where each damping and backlash claim holds on the screen, over ω ∈ "
+                f"[{w0:.2f}, {w1:.2f}] (step 0.01; ξ0 = 0.1, ξ1 = 0.05 unless the claim varies them); the "
+                "candidates nearest the default are then confirmed in full",
+            )
+        )
     return Section("Readings", text, figs, [], table)

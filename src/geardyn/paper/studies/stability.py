@@ -37,7 +37,11 @@ def study_stability(ctx: Context) -> Section:
     s = ctx.settings
     ctx.log("stability condition against Floquet analysis")
     ds = compare_stability_condition(ctx.base, s.stability_omegas)
-    rel = ctx.save("stability_condition", ds, f"Floquet stability boundaries over ω ({model_text(ctx.base, skip=('omega', 'xi0'))})")
+    rel = ctx.save(
+        "stability_condition",
+        ds,
+        f"Floquet stability boundaries over ω ({model_text(ctx.base, skip=('omega', 'xi0'))})",
+    )
     paper = float(ds.attrs["xi0_paper"])
     mx = ds.attrs.get("max_xi0_critical")
     ml = ds.attrs.get("max_xi0_critical_linear")
@@ -50,15 +54,25 @@ def study_stability(ctx: Context) -> Section:
         f"[{min(s.stability_omegas):g}, {max(s.stability_omegas):g}] gives critical ξ0 up to {mxv:.4f} "
         f"(at ω = {ds.attrs.get('max_xi0_critical_at_omega')}) for the period-1 response of the full model and up to "
         f"{mlv:.4f} (at ω = {ds.attrs.get('max_xi0_critical_linear_at_omega')}) for the linear contact model.",
-        "reproduced" if close else "contradicted", ev)
+        "reproduced" if close else "contradicted",
+        ev,
+    )
     return Section(
         "The stability condition ξ0 = ½√(1 − κ1²)",
-        ["The critical mean damping above which the period-1 response (full model) and the zero solution of the "
-         "linear contact model (D = 0, unforced) are stable, from Floquet multipliers, against the paper's closed form."],
-        [(ev[1], f"Floquet stability boundaries in ξ0 against the paper's condition, ω ∈ [{min(s.stability_omegas):g}, "
-                 f"{max(s.stability_omegas):g}], {model_text(ctx.base, skip=('omega', 'xi0'), only=('xi1', 'D', 'fp', 'kappa1'))}. "
-                 + gaps_text(ds))],
-        [c])
+        [
+            "The critical mean damping above which the period-1 response (full model) and the zero solution of the "
+            "linear contact model (D = 0, unforced) are stable, from Floquet multipliers, against the paper's closed form."
+        ],
+        [
+            (
+                ev[1],
+                f"Floquet stability boundaries in ξ0 against the paper's condition, ω ∈ [{min(s.stability_omegas):g}, "
+                f"{max(s.stability_omegas):g}], {model_text(ctx.base, skip=('omega', 'xi0'), only=('xi1', 'D', 'fp', 'kappa1'))}. "
+                + gaps_text(ds),
+            )
+        ],
+        [c],
+    )
 
 
 def _omegas(om: np.ndarray) -> str:
@@ -85,27 +99,34 @@ def gaps_text(ds: xr.Dataset) -> str:
     low = ds.attrs.get("xi0_low", "the end of the scan")
     stable = (kinds == "stable") & ~np.isfinite(crit)
     undecided = ~np.isfinite(crit) & ~stable
-    out = [f"Markers: the ξ0 below which the period-1 response of the full model (started stable at ξ0 = "
-           f"{ds.attrs.get('xi0_high', 'the top of the scan')} and continued down in ξ0) loses stability; the line: "
-           "the linear contact model's boundary (0 outside its instability tongues)."]
+    out = [
+        f"Markers: the ξ0 below which the period-1 response of the full model (started stable at ξ0 = "
+        f"{ds.attrs.get('xi0_high', 'the top of the scan')} and continued down in ξ0) loses stability; the line: "
+        "the linear contact model's boundary (0 outside its instability tongues)."
+    ]
     if not stable.any() and not undecided.any():
         out.append("Every ω of the grid has a boundary of the full model (no gaps).")
     if stable.any():
-        out.append(f"Gaps (▽ on the ω axis) at ω = {_omegas(om[stable])}: the period-1 response stays stable down to "
-                   f"ξ0 = {low}, the end of the scan, so it has no stability boundary above it: stable for every damping "
-                   "the scan covers, not a missing computation.")
+        out.append(
+            f"Gaps (▽ on the ω axis) at ω = {_omegas(om[stable])}: the period-1 response stays stable down to "
+            f"ξ0 = {low}, the end of the scan, so it has no stability boundary above it: stable for every damping "
+            "the scan covers, not a missing computation."
+        )
     if undecided.any():
         why = "; ".join(sorted({k for k in kinds[undecided] if k})) or "not computed"
         out.append(f"Gaps (× on the ω axis) at ω = {_omegas(om[undecided])}: stability could not be decided ({why}).")
     lin = ds["xi0_critical_linear"].values
     if np.any(np.isnan(lin)):
-        out.append(f"The linear boundary is missing (△ at the top) at ω = {_omegas(om[np.isnan(lin)])}: still unstable at "
-                   "the top of its search.")
+        out.append(
+            f"The linear boundary is missing (△ at the top) at ω = {_omegas(om[np.isnan(lin)])}: still unstable at "
+            "the top of its search."
+        )
     return " ".join(out)
 
 
-def jump_continuation(model: GearModel, lo: float, hi: float, *, sweep_num: int = 0,
-                      sweep_options: IntegrationOptions | None = None) -> xr.Dataset:
+def jump_continuation(
+    model: GearModel, lo: float, hi: float, *, sweep_num: int = 0, sweep_options: IntegrationOptions | None = None
+) -> xr.Dataset:
     """Period-1 branch through the first jump by pseudo-arclength continuation, with the brute-force
     up/down sweep over the same interval attached for its figure (run on a worker).
 
@@ -129,8 +150,14 @@ def jump_continuation(model: GearModel, lo: float, hi: float, *, sweep_num: int 
     """
     ds = continuation(model, "omega", lo, hi, switch=False).to_dataset()
     if sweep_num > 0:
-        sweep = bifurcation(model, "omega", sweep_values(lo, hi, sweep_num), mode="continue", sweep="both",
-                            options=sweep_options or IntegrationOptions())
+        sweep = bifurcation(
+            model,
+            "omega",
+            sweep_values(lo, hi, sweep_num),
+            mode="continue",
+            sweep="both",
+            options=sweep_options or IntegrationOptions(),
+        )
         ds = attach(ds, SWEEP_CONTEXT, sweep)
     return ds
 
@@ -152,32 +179,67 @@ def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
     """
     s = ctx.settings
     key = s.xi0_set[0]
-    ctx.save("jump_continuation", branch, f"continuation of the period-1 orbit over ω ∈ [{s.continuation_omega[0]:g}, "
-                                          f"{s.continuation_omega[1]:g}] ({model_text(ctx.model_at(key), skip=('omega',))})")
-    bifs = [{"type": str(t), "omega": float(w)} for t, w in
-            zip(branch["bifurcation_type"].values, branch["bifurcation_omega"].values)] if "bifurcation" in branch.dims else []
+    ctx.save(
+        "jump_continuation",
+        branch,
+        f"continuation of the period-1 orbit over ω ∈ [{s.continuation_omega[0]:g}, "
+        f"{s.continuation_omega[1]:g}] ({model_text(ctx.model_at(key), skip=('omega',))})",
+    )
+    bifs = (
+        [
+            {"type": str(t), "omega": float(w)}
+            for t, w in zip(branch["bifurcation_type"].values, branch["bifurcation_omega"].values)
+        ]
+        if "bifurcation" in branch.dims
+        else []
+    )
     folds = sorted(b["omega"] for b in bifs if b["type"] == "fold")
     hyst = hysteresis_of(jd.responses[key])
     first = [h for h in hyst if h[1] >= s.continuation_omega[0] and h[0] <= s.continuation_omega[1]]
-    events = (", ".join(f"{b['type']} at ω = {b['omega']:.4f}" for b in bifs) + ".") if bifs else \
-        "no fold, period doubling or other event on this interval."
+    events = (
+        (", ".join(f"{b['type']} at ω = {b['omega']:.4f}" for b in bifs) + ".")
+        if bifs
+        else "no fold, period doubling or other event on this interval."
+    )
     sweep = attached(branch, SWEEP_CONTEXT)
-    over = (f", drawn over the brute-force up/down sweep of the same interval ({sweep['omega'].size} points, each "
+    over = (
+        (
+            f", drawn over the brute-force up/down sweep of the same interval ({sweep['omega'].size} points, each "
             f"continuing from the previous end state, {s.response_transient} transient and "
-            f"{s.continuation_sweep_periods} recorded periods)") if sweep is not None else ""
-    text = [f"Pseudo-arclength continuation of the period-1 orbit (shooting, Floquet multipliers, accurate mode) over "
-            f"ω ∈ [{s.continuation_omega[0]:g}, {s.continuation_omega[1]:g}] for ξ0 = {key[0]:g}, ξ1 = {key[1]:g}, "
-            f"D = {key[2]:g}{over}. Events: " + events]
+            f"{s.continuation_sweep_periods} recorded periods)"
+        )
+        if sweep is not None
+        else ""
+    )
+    text = [
+        f"Pseudo-arclength continuation of the period-1 orbit (shooting, Floquet multipliers, accurate mode) over "
+        f"ω ∈ [{s.continuation_omega[0]:g}, {s.continuation_omega[1]:g}] for ξ0 = {key[0]:g}, ξ1 = {key[1]:g}, "
+        f"D = {key[2]:g}{over}. Events: " + events
+    ]
     if len(folds) >= 2 and first:
         a, b = first[0]
-        text.append(f"The folds at ω = {folds[0]:.4f} and {folds[-1]:.4f} bound the unstable middle branch; the up/down "
-                    f"sweeps disagree over [{a:.3f}, {b:.3f}], inside the fold interval within one grid step: the jumps are "
-                    "the ends of the stable branches at the folds.")
-    text.append("No Neimark–Sacker (torus) point can occur in this model for ξ0 > 0: the product of the two Floquet "
-                "multipliers is det M = exp(−2ξ0 nT) < 1, so a complex pair always lies inside the unit circle. The "
-                "paper's 'Hopf bifurcation' cannot be a torus bifurcation of a periodic orbit here; the transitions it "
-                "describes are period doublings, folds and the crises that end chaotic bands.")
-    return Section("Periodic orbits behind the first jump", text,
-                   [(ctx.figure("jump_continuation"), "Continuation over ω at " + model_text(ctx.model_at(key), skip=("omega",))
-                     + ": stable (solid) and unstable (dashed) period-1 branch with its bifurcations"
-                     + (", over the brute-force up/down sweep" if sweep is not None else ""))], [])
+        text.append(
+            f"The folds at ω = {folds[0]:.4f} and {folds[-1]:.4f} bound the unstable middle branch; the up/down "
+            f"sweeps disagree over [{a:.3f}, {b:.3f}], inside the fold interval within one grid step: the jumps are "
+            "the ends of the stable branches at the folds."
+        )
+    text.append(
+        "No Neimark–Sacker (torus) point can occur in this model for ξ0 > 0: the product of the two Floquet "
+        "multipliers is det M = exp(−2ξ0 nT) < 1, so a complex pair always lies inside the unit circle. The "
+        "paper's 'Hopf bifurcation' cannot be a torus bifurcation of a periodic orbit here; the transitions it "
+        "describes are period doublings, folds and the crises that end chaotic bands."
+    )
+    return Section(
+        "Periodic orbits behind the first jump",
+        text,
+        [
+            (
+                ctx.figure("jump_continuation"),
+                "Continuation over ω at "
+                + model_text(ctx.model_at(key), skip=("omega",))
+                + ": stable (solid) and unstable (dashed) period-1 branch with its bifurcations"
+                + (", over the brute-force up/down sweep" if sweep is not None else ""),
+            )
+        ],
+        [],
+    )

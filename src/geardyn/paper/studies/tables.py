@@ -11,7 +11,7 @@ import numpy as np
 from ..claims import CLAIMS, claim_ids
 from ..report import Section
 from ..settings import Context
-from ..verdicts import describe_motion, length_fraction, motion_fields, motion_rule, range_of, runs_text, motion_runs
+from ..verdicts import describe_motion, length_fraction, motion_fields, motion_rule, motion_runs, range_of, runs_text
 from .readings_jumps import JumpReadings
 
 __all__ = ["study_tables"]
@@ -45,8 +45,14 @@ def _default_t2(ctx: Context, cid: str) -> str:
     return f"{100 * frac:.0f} % of the length; {runs_text(motion_runs(sub, param))}"
 
 
-def study_tables(ctx: Context, dres: dict[str, Any], jr: JumpReadings, jres: dict[str, list[tuple[bool, str]]],
-                 default_holds: dict[str, bool], findings: dict[str, Any] | None = None) -> list[Section]:
+def study_tables(
+    ctx: Context,
+    dres: dict[str, Any],
+    jr: JumpReadings,
+    jres: dict[str, list[tuple[bool, str]]],
+    default_holds: dict[str, bool],
+    findings: dict[str, Any] | None = None,
+) -> list[Section]:
     """Tables 2, 3 and 4 of the paper beside geardyn's under the default and the best-agreeing reading.
 
     Parameters
@@ -69,16 +75,40 @@ def study_tables(ctx: Context, dres: dict[str, Any], jr: JumpReadings, jres: dic
     """
     tabs = dres["tables"]
     best2, best3 = dres["best2"], dres["best3"]
-    t2 = [["row", "range", "paper", "geardyn, default reading (ω = 1, phases 0)", f"geardyn, best reading ({best2.text})",
-           "holds (default / best)"]]
+    t2 = [
+        [
+            "row",
+            "range",
+            "paper",
+            "geardyn, default reading (ω = 1, phases 0)",
+            f"geardyn, best reading ({best2.text})",
+            "holds (default / best)",
+        ]
+    ]
     for i, cid in enumerate(claim_ids("T2-"), start=1):
         _, ok_b, txt_b = tabs.get(cid, (None, False, "–"))
         ok_d = default_holds.get(cid, False)
-        t2.append([str(i), _range_text(cid), CLAIMS[cid].numbers["motion"], _default_t2(ctx, cid), txt_b,
-                   f"{'yes' if ok_d else 'no'} / {'yes' if ok_b else 'no'}"])
+        t2.append(
+            [
+                str(i),
+                _range_text(cid),
+                CLAIMS[cid].numbers["motion"],
+                _default_t2(ctx, cid),
+                txt_b,
+                f"{'yes' if ok_d else 'no'} / {'yes' if ok_b else 'no'}",
+            ]
+        )
     pts = ctx.pending.get("backlash_table3")
-    t3 = [["b (mm)", "paper motion", "paper λ1", "geardyn, default reading (ω = 1, phases 0, D = b/(2 mm))",
-           f"geardyn, best reading ({best3.text})", "holds (best)"]]
+    t3 = [
+        [
+            "b (mm)",
+            "paper motion",
+            "paper λ1",
+            "geardyn, default reading (ω = 1, phases 0, D = b/(2 mm))",
+            f"geardyn, best reading ({best3.text})",
+            "holds (best)",
+        ]
+    ]
     for k, cid in enumerate(claim_ids("T3-")):
         nb = CLAIMS[cid].numbers
         if pts is not None:
@@ -94,32 +124,77 @@ def study_tables(ctx: Context, dres: dict[str, Any], jr: JumpReadings, jres: dic
     score = [sum(jres[c][i][0] for c in t4ids) for i in range(len(jr.readings))]
     i_best = int(np.argmax(score))
     best4 = jr.readings[i_best]
-    t4 = [["ω", "ξ0", "b (mm)", "paper A", "paper jump", "geardyn, default reading", f"geardyn, best reading ({best4.text})",
-           "holds (default / best)"]]
+    t4 = [
+        [
+            "ω",
+            "ξ0",
+            "b (mm)",
+            "paper A",
+            "paper jump",
+            "geardyn, default reading",
+            f"geardyn, best reading ({best4.text})",
+            "holds (default / best)",
+        ]
+    ]
     for cid in t4ids:
         nb = CLAIMS[cid].numbers
         (okd, td), (okb, tb) = jres[cid][i_def], jres[cid][i_best]
-        t4.append([f"{nb['omega']:g}", f"{nb['xi0']:g}", f"{nb['b']:g}", f"{nb['A']:g}", nb["jump"], td, tb,
-                   f"{'yes' if okd else 'no'} / {'yes' if okb else 'no'}"])
+        t4.append(
+            [
+                f"{nb['omega']:g}",
+                f"{nb['xi0']:g}",
+                f"{nb['b']:g}",
+                f"{nb['A']:g}",
+                nb["jump"],
+                td,
+                tb,
+                f"{'yes' if okd else 'no'} / {'yes' if okb else 'no'}",
+            ]
+        )
     if findings is not None:
-        for ids, best, holds in ((claim_ids("T2-"), best2, [r[-1].endswith("yes") for r in t2[1:]]),
-                                 (claim_ids("T3-"), best3, [r[-1] == "yes" for r in t3[1:]]),
-                                 (t4ids, best4, [r[-1].endswith("yes") for r in t4[1:]])):
+        for ids, best, holds in (
+            (claim_ids("T2-"), best2, [r[-1].endswith("yes") for r in t2[1:]]),
+            (claim_ids("T3-"), best3, [r[-1] == "yes" for r in t3[1:]]),
+            (t4ids, best4, [r[-1].endswith("yes") for r in t4[1:]]),
+        ):
             for cid in ids:
                 if cid in findings:
-                    findings[cid].deciding += (f"; under one reading for the whole table, the best ({best.text}) holds "
-                                               f"{sum(holds)} of {len(holds)} rows")
+                    findings[cid].deciding += (
+                        f"; under one reading for the whole table, the best ({best.text}) holds "
+                        f"{sum(holds)} of {len(holds)} rows"
+                    )
     return [
-        Section("Table 2 recomputed", [
-            "The paper's Table 2 beside geardyn's diagrams over ξ0 and ξ1: at the default reading (the study's full "
-            "diagrams) and at the (ω, phases) where most rows hold on the screen, recomputed in full on the same grids. "
-            "A row holds when its motion covers at least 80 % of its interval's length."], [], [], t2),
-        Section("Table 3 recomputed", [
-            "The paper's Table 3 beside geardyn's points: at the default reading and at the (ω, phases, backlash "
-            "reading) where most rows hold on the screen, recomputed with long exponent runs. A row holds when both the "
-            "motion and the sign of λ1 hold."], [], [], t3),
-        Section("Table 4 recomputed", [
-            f"The paper's Table 4 beside the lockstep frequency responses at the default reading and at the reading "
-            f"where most rows hold ({score[i_best]} of {len(t4ids)}). A row holds when the amplitude (up or down sweep) "
-            "is within 25 % and the nearest jump within ±0.05 has the claimed direction (none for 'none')."], [], [], t4),
+        Section(
+            "Table 2 recomputed",
+            [
+                "The paper's Table 2 beside geardyn's diagrams over ξ0 and ξ1: at the default reading (the study's full "
+                "diagrams) and at the (ω, phases) where most rows hold on the screen, recomputed in full on the same grids. "
+                "A row holds when its motion covers at least 80 % of its interval's length."
+            ],
+            [],
+            [],
+            t2,
+        ),
+        Section(
+            "Table 3 recomputed",
+            [
+                "The paper's Table 3 beside geardyn's points: at the default reading and at the (ω, phases, backlash "
+                "reading) where most rows hold on the screen, recomputed with long exponent runs. A row holds when both the "
+                "motion and the sign of λ1 hold."
+            ],
+            [],
+            [],
+            t3,
+        ),
+        Section(
+            "Table 4 recomputed",
+            [
+                f"The paper's Table 4 beside the lockstep frequency responses at the default reading and at the reading "
+                f"where most rows hold ({score[i_best]} of {len(t4ids)}). A row holds when the amplitude (up or down sweep) "
+                "is within 25 % and the nearest jump within ±0.05 has the claimed direction (none for 'none')."
+            ],
+            [],
+            [],
+            t4,
+        ),
     ]
