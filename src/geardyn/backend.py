@@ -16,6 +16,8 @@ The contract
     Integrate ``transient`` sampling periods, then record ``record``; ``mode`` is one of :data:`MODES`:
     ``"none"``, ``"lyapunov"`` (Gram–Schmidt logs per recorded period), ``"monodromy"`` (the raw tangent
     product over the recorded periods), ``"continue"`` (Lyapunov from a given tangent basis; pair only).
+    ``tangents=k`` in Lyapunov mode asks for the k leading exponents only (``tan_log`` and ``tangent`` then have k
+    columns; a backend may give more, the pair always gives its two).
     The kernels' arithmetic is theirs: a backend only allocates the outputs and calls ``run_batch``.
     ``watch(poincare)``, when given, receives the Poincaré output before the kernel runs, filled with NaN
     until each recorded period writes its row (every kernel writes every row of a point, or NaN in all of
@@ -118,15 +120,23 @@ class RawRun:
     hist: np.ndarray
 
 
-def _buffers(P: int, d: int, record: int, record_poincare: bool, lyapunov: bool, hist_len: int):
+def _buffers(P: int, d: int, record: int, record_poincare: bool, lyapunov: bool, hist_len: int, k: int | None = None):
+    k = d if k is None else k
     return (
         np.zeros((P, record if record_poincare else 0, d)),
         np.zeros((P, d)),
-        np.zeros((P, record if lyapunov else 0, d)),
-        np.zeros((P, d, d)),
+        np.zeros((P, record if lyapunov else 0, k)),
+        np.zeros((P, d, k)),
         np.zeros(P, dtype=np.int64),
         np.zeros((P, hist_len, d)),
     )
+
+
+def leading_basis(d: int, k: int) -> np.ndarray:
+    """A fixed orthonormal (d, k) basis in general position: the start of k leading tangent vectors (seeded, so
+    that a run is reproducible; no column lies in a coordinate subspace a decoupled part of a system could keep)."""
+    q, _r = np.linalg.qr(np.random.default_rng(20261205).standard_normal((d, k)))
+    return np.ascontiguousarray(q)
 
 
 class Backend(abc.ABC):
@@ -173,6 +183,7 @@ class Backend(abc.ABC):
         adaptive_tol: float = 0.0,
         tangent0: np.ndarray | None = None,
         watch: Callable[[np.ndarray], None] | None = None,
+        tangents: int | None = None,
     ) -> RawRun:
         """Run the batch in ``mode`` and return its raw arrays (each backend calls its own kernel)."""
 
@@ -213,6 +224,7 @@ class PairBackend(Backend):
         adaptive_tol=0.0,
         tangent0=None,
         watch=None,
+        tangents=None,
     ) -> RawRun:
         K = _K1
         coef, D, omega = packed[:3]
@@ -288,6 +300,7 @@ class MeshBackend(Backend):
         adaptive_tol=0.0,
         tangent0=None,
         watch=None,
+        tangents=None,
     ) -> RawRun:
         from . import _kernel_ndof as K  # imported by the first mesh-vector run: a pair never needs it
 
@@ -296,9 +309,13 @@ class MeshBackend(Backend):
         P, d = len(models), models[0].state_dim
         E = len(models[0].elements)
         lyapunov = mode == "lyapunov"
+        k = d if (not lyapunov or tangents is None) else max(1, min(int(tangents), d))
         poincare, end_state, tan_log, tan_out, status, hist = _buffers(
-            P, d, record, record_poincare, lyapunov, hist_len
+            P, d, record, record_poincare, lyapunov, hist_len, k
         )
+        basis = None
+        if k < d:  # leading exponents: a fixed generic orthonormal start (no coordinate subspace)
+            basis = np.broadcast_to(leading_basis(d, k), (P, d, k))
         stats = np.zeros((P, E, K.NSTAT))
         tper = np.array([m.sampling_period for m in models], dtype=float)
         tan = {"none": K.TAN_NONE, "lyapunov": K.TAN_LYAPUNOV, "monodromy": K.TAN_MONODROMY}[mode]
@@ -321,6 +338,7 @@ class MeshBackend(Backend):
             tan_out,
             status,
             hist,
+            tangent0=basis,
         )
         return RawRun(poincare, end_state, stats, tan_log, tan_out, status, hist)
 

@@ -257,6 +257,7 @@ def integrate_points(
     lyapunov: bool = False,
     record_poincare: bool = True,
     threads: int | None = None,
+    tangents: int | None = None,
 ) -> Any:
     """:func:`geardyn.integrate.integrate_batch` of ``models``, straight from the arrays of a :class:`PointModels`.
 
@@ -264,8 +265,8 @@ def integrate_points(
     ----------
     models : PointModels or sequence of GearModel
         The points (any other sequence goes to ``integrate_batch`` as it is).
-    state0, options, lyapunov, record_poincare, threads
-        As for :func:`geardyn.integrate.integrate_batch`.
+    state0, options, lyapunov, record_poincare, threads, tangents
+        As for :func:`geardyn.integrate.integrate_batch` (``tangents``: systems only; the pair takes both).
 
     Returns
     -------
@@ -282,7 +283,13 @@ def integrate_points(
 
     if not isinstance(models, PointModels):
         return itg.integrate_batch(
-            models, state0, options, lyapunov=lyapunov, record_poincare=record_poincare, threads=threads
+            models,
+            state0,
+            options,
+            lyapunov=lyapunov,
+            record_poincare=record_poincare,
+            threads=threads,
+            tangents=tangents,
         )
     coef, D, omega = models.packed()
     too_long = options.dtau >= 2.0 * math.pi / omega
