@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import numbers
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -34,7 +34,6 @@ from .model import (
     _check_finite,
     canonical_param,
 )
-from .params import FAMILIES, slot
 
 __all__ = [
     "MAX_GRID_POINTS",
@@ -48,8 +47,6 @@ __all__ = [
     "grid",
     "initial_state",
     "integer",
-    "model",
-    "nonnegative",
     "number",
     "options",
     "positive",
@@ -131,25 +128,6 @@ def positive(name: str, value: Any, what: str = "") -> float:
     return x
 
 
-def nonnegative(name: str, value: Any, what: str = "") -> float:
-    """A finite number >= 0.
-
-    Parameters
-    ----------
-    name, value, what
-        As for :func:`positive` (``what`` is appended to "must be >= 0").
-
-    Returns
-    -------
-    float
-        The number; a negative or non-finite value raises :class:`ModelError`.
-    """
-    x = number(name, value)
-    if x < 0:
-        raise ModelError(f"{name}: must be >= 0{what}, got {_describe(value)}")
-    return x
-
-
 def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
     """An integer in [lo, hi] (an integral float such as 3.0 is accepted).
 
@@ -190,73 +168,6 @@ def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
         allowed = f">= {lo}" if hi is None else f">= {lo} and <= {hi}"
         raise ModelError(f"{name}: must be an integer {allowed}, got {_describe(value)}")
     return n
-
-
-def model(base: GearModel | None = None, **params: Any) -> GearModel:
-    """``base`` (default: the paper's model) with parameters set by name, validated once at the end.
-
-    Parameters
-    ----------
-    base : GearModel, optional
-        The model to start from.
-    **params
-        Values by sweep name (``omega``, ``xi0``, ``xi1``, ``kappa2``, ``fp``, ``eps1`` or ``fe``,
-        ``D`` or ``backlash``, ``phi_c1``, …), all non-dimensional; a phase for a harmonic not
-        yet present adds that harmonic with amplitude 0.
-
-    Returns
-    -------
-    GearModel
-        The new model (``base`` is unchanged).
-
-    Raises
-    ------
-    ModelError
-        For an unknown parameter name, a value that is not a finite number or a model the
-        parameters make invalid.
-    """
-    m = base if base is not None else GearModel()
-    if not isinstance(m, GearModel):
-        raise ModelError(f"base: expected a GearModel, got {_describe(m)}")
-    d: dict[str, Any] = {k: (list(v) if isinstance(v, list) else v) for k, v in m.to_dict().items()}
-    for name, value in params.items():
-        attr, idx = slot(str(name))  # refuses an unknown name before its value is looked at
-        x = number(str(name), value)
-        if idx is None:
-            d[attr] = x
-            continue
-        seq = d[attr]
-        seq.extend([0.0] * (idx + 1 - len(seq)))
-        seq[idx] = x
-        amp = FAMILIES[attr].amplitude
-        if amp is not None and len(d[amp]) < len(seq):
-            d[amp].extend([0.0] * (len(seq) - len(d[amp])))
-    return GearModel(**{k: tuple(v) if isinstance(v, list) else v for k, v in d.items()})
-
-
-def model_params(values: Mapping[str, Any], base: GearModel | None = None) -> GearModel:
-    """:func:`model` from a mapping (e.g. a table of a configuration file).
-
-    Parameters
-    ----------
-    values : mapping
-        Parameter values by name.
-    base : GearModel, optional
-        The model to start from (default: the paper's model).
-
-    Returns
-    -------
-    GearModel
-        ``base`` with the values set.
-
-    Raises
-    ------
-    ModelError
-        For a value that is not a mapping, or as :func:`model`.
-    """
-    if not isinstance(values, Mapping):
-        raise ModelError(f"model parameters: expected a table of name = value, got {_describe(values)}")
-    return model(base, **{str(k): v for k, v in values.items()})
 
 
 def options(
