@@ -645,12 +645,31 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     -------
     Path
         ``path``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geardyn import GearModel, IntegrationOptions, read_netcdf, simulate, write_netcdf
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> path = write_netcdf(ds, pathlib.Path(tempfile.mkdtemp()) / "simulate.nc")
+    >>> read_netcdf(path)["poincare_u"].shape == ds["poincare_u"].shape
+    True
     """
     data = write_netcdf_bytes(lambda buf: annotate(ds).to_netcdf(buf, engine="h5netcdf"))
     return atomic_write_bytes(path, data)
 
 
 def read_netcdf(path: str | Path) -> xr.Dataset:
-    """Read a geardyn NetCDF file fully into memory."""
+    """Read a geardyn NetCDF file fully into memory.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geardyn import GearModel, IntegrationOptions, read_netcdf, simulate, write_netcdf
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> again = read_netcdf(write_netcdf(ds, pathlib.Path(tempfile.mkdtemp()) / "simulate.nc"))
+    >>> again.attrs["geardyn_kind"], again.geardyn.model.omega
+    ('simulate', 0.8)
+    """
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         return ds.load()

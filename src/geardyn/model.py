@@ -196,6 +196,19 @@ class GearModel:
         (e may be empty).
 
     The defaults are the paper's Table 1 values with ω = 1.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> m = GearModel(omega=0.8)
+    >>> m.omega, m.xi0, m.kappa, m.eps, m.fp, m.D
+    (0.8, 0.1, (0.2,), (0.5,), 0.2, 1.0)
+    >>> m.with_param("kappa2", 0.1).kappa
+    (0.2, 0.1)
+    >>> GearModel(omega=0.0)
+    Traceback (most recent call last):
+        ...
+    geardyn.errors.ModelError: omega: ...
     """
 
     omega: float = FAMILIES["omega"].default
@@ -500,6 +513,14 @@ class IntegrationOptions:
         Tolerance of the adaptive transient: the estimated distance of a Poincaré point to its
         cycle (the Aitken estimate d²/(e − d) of two successive n-period differences e, d), relative
         to max(1, |u|, |u'|).
+
+    Examples
+    --------
+    >>> from geardyn import IntegrationOptions
+    >>> IntegrationOptions(transient=100, periods=50)
+    IntegrationOptions(dtau=0.01, transient=100, periods=50, accurate=False, adaptive=False)
+    >>> IntegrationOptions(periods=50).replace(accurate=True).accurate
+    True
     """
 
     #: Tolerance of the adaptive transient (estimated distance to the cycle, relative to max(1, |point|)).

@@ -82,7 +82,18 @@ class Element:
 
 @runtime_checkable
 class System(Protocol):
-    """What an analysis may ask of a model (see the module docstring)."""
+    """What an analysis may ask of a model (see the module docstring).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, System, load_system
+    >>> pair = GearModel(omega=0.8)
+    >>> isinstance(pair, System), pair.state_dim, [e.name for e in pair.elements]
+    (True, 2, ['mesh'])
+    >>> system = load_system("examples/systems/paper_torsional.toml")
+    >>> isinstance(system, System), system.state_dim, system.rigid_basis().shape
+    (True, 4, (2, 1))
+    """
 
     state_dim: int
 

@@ -182,6 +182,14 @@ def simulate_physical(ds: xr.Dataset, scales: Any = None) -> dict[str, Any]:
         ``backlash_um`` (half backlash D b_c); ``spectrum_peaks``; ``history_periods`` (how many
         periods the force extremes are taken over); ``pair`` (the statement of the pair and its
         k0) and ``assumed``.  ``None`` for values of a diverged run.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, add_physical, load_config, simulate, simulate_physical
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> out = simulate_physical(add_physical(ds, load_config()))
+    >>> round(out["rpm"]), round(out["static_force_N"]), round(out["dynamic_factor"], 2)
+    (2395, 20000, 3.78)
     """
     return _simulate_summary(
         _resolve_scales(ds, scales),
@@ -309,6 +317,14 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
     -------
     xarray.Dataset
         The copy (the data of ``ds`` shared, not copied).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, add_physical, load_config, simulate
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> ds = add_physical(ds, load_config())  # the paper's pair: µm, N, rpm
+    >>> ds["dte_um"].attrs["units"], ds["mesh_force_N"].attrs["units"]
+    ('µm', 'N')
     """
     from ._converted import Converted
 

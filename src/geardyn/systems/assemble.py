@@ -283,6 +283,15 @@ class SystemModel:
     ------
     ModelError
         If an array has the wrong shape, ω is not positive, or a clearance gap is negative.
+
+    Examples
+    --------
+    >>> from geardyn import SystemModel, load_system
+    >>> system = load_system("examples/systems/paper_torsional.toml")
+    >>> isinstance(system, SystemModel), system.labels
+    (True, ('pinion.theta', 'gear.theta'))
+    >>> round(system.omega, 6), system.with_param("omega", 0.8).omega
+    (1.002046, 0.8)
     """
 
     labels: tuple[str, ...]

@@ -813,6 +813,13 @@ def load_system(path: str | Path, omega: float | None = None) -> SystemModel:
     ------
     ConfigError, ModelError
         As :func:`load_description`.
+
+    Examples
+    --------
+    >>> from geardyn import load_system
+    >>> system = load_system("examples/systems/paper_torsional.toml", omega=0.8)
+    >>> system.omega, system.state_dim, [e.name for e in system.elements]
+    (0.8, 4, ['mesh'])
     """
     desc = load_description(path)
     try:
