@@ -37,12 +37,14 @@ from .model import (
 
 __all__ = [
     "MAX_GRID_POINTS",
+    "MAX_PERIOD_CONTRACTION",
     "MAX_PERIODS",
     "MAX_STEPS_PER_PERIOD",
     "axis",
     "chunk_points",
     "config_file",
     "dpi",
+    "exponents_computable",
     "figure_formats",
     "grid",
     "initial_state",
@@ -507,3 +509,38 @@ def config_file(path: Any) -> Path:
     if not p.is_file():
         raise ModelError(f"{p}: configuration file not found")
     return p
+
+
+#: Largest contraction (as a power of e) of the perturbations over one forcing period for which
+#: Lyapunov exponents are computed: e^-700 is still a normal double (the smallest is e^-708).
+MAX_PERIOD_CONTRACTION = 700.0
+
+
+def exponents_computable(model: Any, omegas: Any) -> None:
+    """Refuse Lyapunov exponents where the damping contracts the perturbations below double precision within one
+    forcing period (e^(-2 ξ0 T) < e^-:data:`MAX_PERIOD_CONTRACTION`, T = 2π/ω): their Gram–Schmidt
+    normalisation would divide by zero.
+
+    Parameters
+    ----------
+    model : System
+        The system (its mean damping is −mean trace / state dimension: the pair's ξ0).
+    omegas : sequence of float
+        Every forcing frequency the exponents are computed at.
+
+    Raises
+    ------
+    ModelError
+        Naming ω and the smallest ω allowed.
+    """
+    xi = -float(model.mean_trace()) / model.state_dim  # the mean damping (the pair's ξ0): harmonics average out
+    ws = np.asarray(omegas, dtype=float).ravel()
+    if xi <= 0 or not ws.size:
+        return
+    w_min = 4.0 * math.pi * xi / MAX_PERIOD_CONTRACTION
+    w = float(np.min(ws))
+    if w < w_min:
+        raise ModelError(
+            f"omega: Lyapunov exponents need ω >= {w_min:.4g} with this damping (ξ0 = {xi:g}): at ω = {w:.4g} the "
+            f"perturbations shrink by e^-{4 * math.pi * xi / w:.0f} in one forcing period, below double precision"
+        )

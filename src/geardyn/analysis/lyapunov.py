@@ -310,6 +310,9 @@ def lyapunov_spectrum(
     >>> abs(float(ly.exponents.sum()) - ly.expected_sum) < 1e-9
     True
     """
+    from ..validate import exponents_computable
+
+    exponents_computable(model, [model.omega])  # below double precision within a period: refused
     state0 = start_state(model, state0)
     out = _spectra(integrate_batch([model], state0, options, lyapunov=True, progress=progress), blocks)
     res = out["result"]
