@@ -2,7 +2,8 @@
 
 Sections and keys (units in the key names)::
 
-    [tooth_pair]       z1, z2, z_virtual ([z_v1, z_v2] of a bevel pair's virtual cylindrical gears), m_n_mm, alpha_n_deg (20), beta_deg (0), face_width_mm, x1, x2 (0),
+    [tooth_pair]       z1, z2, z_virtual ([z_v1, z_v2] of a bevel pair's virtual cylindrical gears), m_n_mm,
+                       alpha_n_deg (20), beta_deg (0), face_width_mm, x1, x2 (0),
                        h_a (1), h_f (1.25), E_GPa (206), nu (0.3), bore1_mm, bore2_mm (0.5 r_f), torque_Nm
     [modifications]    tip_relief_um, tip_length_mm, root_relief_um, root_length_mm (pairs: pinion, wheel),
                        shape ("linear" | "parabolic"), crowning_um
