@@ -2,8 +2,9 @@
 
 :func:`summarize_batch` turns a :class:`~geardyn.integrate.BatchResult` into per-point arrays (used
 by every sweep); :func:`classify_batch` settles the points that are not yet periodic (further
-integration with the tangent equations) and classifies them (:mod:`geardyn.analysis.classify`); :func:`simulate` runs one point with its time history and returns a
-:class:`SteadyState` whose :meth:`~SteadyState.to_dataset` is the ``simulate`` result.
+integration with the tangent equations) and classifies them (:mod:`geardyn.analysis.classify`);
+:func:`simulate` runs one point with its time history and returns a :class:`SteadyState` whose
+:meth:`~SteadyState.to_dataset` is the ``simulate`` result.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from .classify import (
     is_settling,
     motion_label,
     period_label,
+    quasi_periodic_allowed,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
 
@@ -116,8 +118,9 @@ def classify_batch(
         exponents from the recorded periods.
     settle_periods : int
         Points whose Poincaré sequence is not periodic are integrated this many further periods
-        from their end state with the tangent equations (repeated, up to :data:`~geardyn.analysis.classify.SETTLE_ROUNDS`
-        passes, while :func:`~geardyn.analysis.classify.is_settling`); their period, amplitudes, Poincaré points, end state
+        from their end state with the tangent equations (repeated, up to
+        :data:`~geardyn.analysis.classify.SETTLE_ROUNDS` passes, while
+        :func:`~geardyn.analysis.classify.is_settling`); their period, amplitudes, Poincaré points, end state
         and exponents are then those of the last pass (0: no such pass; the motion of a
         non-periodic point without exponents is then 'unresolved').
     blocks : int, optional
@@ -133,8 +136,8 @@ def classify_batch(
         The keys of :func:`summarize_batch` plus ``motion`` (codes),
         ``lle``, ``lle_err``, ``lambda2`` (NaN where not computed), ``curve_dim`` (correlation
         dimension of the section of non-periodic points, else NaN), ``settle_ratio``
-        (:func:`~geardyn.analysis.classify.settling_ratio` of non-periodic points, else NaN), ``loops`` (closed curves of a
-        quasi-periodic section, else 0), ``settled`` (number of settling passes run),
+        (:func:`~geardyn.analysis.classify.settling_ratio` of non-periodic points, else NaN), ``loops``
+        (closed curves of a quasi-periodic section, else 0), ``settled`` (number of settling passes run),
         ``poincare`` (P, n, 2) and ``end_state`` (P, 2).
     """
     nb = DEFAULT_BLOCKS if blocks is None else blocks
@@ -193,7 +196,7 @@ def classify_batch(
     lam[bad] = np.nan
     err[bad] = np.nan
     sections = _Sections(section, out["poincare"])
-    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections)
+    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections, _quasi_allowed(models))
     out.update(
         motion=cls["motion"],
         lle=lam[:, 0].copy(),
@@ -205,6 +208,17 @@ def classify_batch(
         settled=settled,
     )
     return out
+
+
+def _quasi_allowed(models: Any) -> np.ndarray:
+    """:func:`~geardyn.analysis.classify.quasi_periodic_allowed` of each model of a batch (a PointModels'
+    from its base and, when ξ0 is swept, its ξ0 column: the pair's mean trace is −2ξ0)."""
+    if isinstance(models, PointModels):
+        if "xi0" not in models.names:
+            return np.full(len(models), quasi_periodic_allowed(models.base))
+        xi0 = models.points[:, models.names.index("xi0")]
+        return ~(xi0 > 0.0)
+    return np.array([quasi_periodic_allowed(m) for m in models], dtype=bool)
 
 
 class _Sections:
