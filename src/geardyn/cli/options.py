@@ -128,6 +128,23 @@ TORQUE = option(
     panel=PHYSICAL_PANEL,
     help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config).",
 )
+TORQUE_ORDER = _P(
+    "torque_order",
+    _P.KEYWORD_ONLY,
+    default=None,
+    annotation=Annotated[
+        Optional[list[str]],
+        typer.Option(
+            "--torque-order",
+            metavar="ORDER:AMPLITUDE[:PHASE]",
+            rich_help_panel=PHYSICAL_PANEL,
+            help="A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic of constant "
+            "amplitude. With --config of a gear pair: ORDER of the pinion speed (frequency ORDER/z1 of the mesh frequency), "
+            "AMPLITUDE a pinion torque in N·m (the gear's torque steady). Otherwise (no --config, or a non-dimensional "
+            "configuration): ORDER of the mesh frequency (e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp.",
+        ),
+    ],
+)
 EXCITATION = option(
     "excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP
 )
@@ -173,7 +190,7 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     -------
     list of inspect.Parameter
     """
-    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE]
+    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE, TORQUE_ORDER]
     for o in params.cli_options():
         if o.param == "omega" and not omega:
             continue
@@ -338,6 +355,7 @@ def build_model(
     torque: float | None = None,
     excitation: Path | None = None,
     evaluation: str | None = None,
+    torque_orders: Any = None,
     **values: float | None,
 ) -> GearModel:
     """The config's model (with the ``excitation`` table) with the command-line values applied on top (validated).
@@ -353,6 +371,9 @@ def build_model(
         A mesh excitation table (``docs/excitation.md``) in place of the config's stiffness and STE series.
     evaluation : str, optional
         ``"series"`` or ``"table"``: how the excitation table is evaluated (default: the configuration's, else series).
+    torque_orders : list of str, optional
+        ``--torque-order`` texts ``ORDER:AMPLITUDE[:PHASE]`` (:func:`geardyn.torque_orders.parse_cli`), added to the
+        configuration's: pinion orders and torques (N·m) for a gear pair, else mesh orders, non-dimensional.
     **values
         The registry's model options by keyword (``omega``, ``xi0``, …); ``None`` keeps the config's value.
 
@@ -376,6 +397,19 @@ def build_model(
     for dest, param in by_dest.items():
         if values.get(dest) is not None:
             m = m.with_param(param, values[dest])
+    if torque_orders:
+        from ..torque_orders import parse_cli
+
+        given = [parse_cli(t) for t in torque_orders]
+        pair = None
+        if config is not None:
+            from ..config import load_config
+
+            cfg = load_config(config)
+            pair = cfg.pair
+        if pair is not None:
+            given = [(q / pair.z1, pair.fp_from_torques(a, 0.0, cfg.b_c), p) for q, a, p in given]
+        m = m.replace(torque_orders=m.torque_orders + tuple(given))
     return m
 
 
@@ -419,6 +453,11 @@ class Inputs:
             For an invalid value or a conflicting ``--rpm`` / ``--torque``.
         """
         v = self.values
+        if v.get("system") is not None and v.get("torque_order"):
+            raise ModelError(
+                "--torque-order: applies to the pair; with --system write orders = [{order, amplitude, phase}] "
+                "on a drive or load of the system file"
+            )
         if v.get("system") is not None:  # the system of the file, the options applied to its reference mesh
             from .system_input import load_cli_system
 
@@ -432,6 +471,7 @@ class Inputs:
             torque=v.get("torque"),
             excitation=v.get("excitation"),
             evaluation=v.get("excitation_evaluation"),
+            torque_orders=v.get("torque_order"),
             **given,
         )
 
