@@ -138,10 +138,13 @@ TORQUE_ORDER = _P(
             "--torque-order",
             metavar="ORDER:AMPLITUDE[:PHASE]",
             rich_help_panel=PHYSICAL_PANEL,
-            help="A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic of "
-            "constant amplitude. With --config of a gear pair: ORDER of the pinion speed (frequency ORDER/z1 of the mesh "
-            "frequency), AMPLITUDE a pinion torque in N·m (the gear's torque steady). Otherwise (no --config, or a non-dimensional "
-            "configuration): ORDER of the mesh frequency (e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp.",
+            help=(
+                "A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic "
+                "of constant amplitude. With --config of a gear pair: ORDER of the pinion speed (frequency "
+                "ORDER/z1 of the mesh frequency), AMPLITUDE a pinion torque in N·m (the gear's torque steady). "
+                "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
+                "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp."
+            ),
         ),
     ],
 )
