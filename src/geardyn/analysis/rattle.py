@@ -240,6 +240,8 @@ class RattleResult:
             "regime": self.regime() if self.status == "ok" else None,
             "cycles": self.cycles,
             "cycle_mesh_periods": self.cycle_mesh_periods,
+            "cycle": f"one forcing period: {self.cycle_mesh_periods} mesh period(s), the common period of the mesh "
+            "and the torque orders",
             "torque_orders": to_dicts(self.model.torque_orders),
             "fp": self.model.fp,
             "D": self.model.D,
