@@ -180,6 +180,22 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
         "tau": _v("non-dimensional time τ = ω_n t at the middle of a speed block"),
         "time_s": _v("time at the middle of a speed block", "s"),
     },
+    "rattle": {
+        "impact": _v("index of the impact"),
+        "impact_time": _v("time τ of an impact (start of a contact)"),
+        "impact_flank": _v("flank of an impact", flags={1: "drive", -1: "back"}),
+        "impact_velocity": _v("relative velocity du/dτ at an impact"),
+    },
+    "rattle_map": {
+        "amplitude_scale": _v("scale of the torque orders' amplitudes"),
+        "impacts_drive": _v("drive-flank impacts per forcing cycle"),
+        "impacts_back": _v("back-flank impacts per forcing cycle"),
+        "impact_velocity_max": _v("largest relative impact velocity |du/dτ|"),
+        "impact_velocity_max_m_s": _v("largest relative impact velocity", "m/s"),
+        "rattle_index": _v("rattle index: impact kinetic-energy loss per cycle (k b_c²)"),
+        "rattle_index_J": _v("rattle index: impact kinetic-energy loss per cycle", "J"),
+        "status": _v("point status (0 ok, 1 diverged)"),
+    },
     "hb": {
         "coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
         "coefficient": _v("index of the Fourier coefficient"),

@@ -31,6 +31,7 @@ from . import (
     modes,
     periodic,
     physical,
+    rattle,
     reproduce,
     response,
     runup,
@@ -156,6 +157,8 @@ register(
     FigureSpec("signature", signature_system.system_signals, when=signature_system.is_system),
 )
 register("signature_sweep", FigureSpec("indicators", tooth.indicator_sweep))
+register("rattle", FigureSpec("rattle", rattle.rattle_history))
+register("rattle_map", FigureSpec("rattle_map", rattle.rattle_map_figure))
 
 
 def _kind(ds: Any) -> str:
