@@ -864,6 +864,10 @@ def load_description(path: str | Path) -> SystemDescription:
     ctx = _Ctx(source, text)
     data = parse_toml(text, source)
     try:
+        if isinstance(data, dict) and "shaft" in data:  # a gearbox from its geometry: geardyn.gearbox.build
+            from ..gearbox.build import build_description
+
+            return build_description(ctx, data, _Block, _body, _element_line)
         return _build(ctx, data)
     except GeardynError:
         raise
