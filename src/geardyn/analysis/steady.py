@@ -3,7 +3,8 @@
 :func:`summarize_batch` turns a :class:`~geardyn.integrate.BatchResult` into per-point arrays (used
 by every sweep); :func:`classify_batch` settles the points that are not yet periodic (further
 integration with the tangent equations) and classifies them (:mod:`geardyn.analysis.classify`);
-:func:`simulate` runs one point with its time history and returns a :class:`SteadyState` whose :meth:`~SteadyState.to_dataset` is the ``simulate`` result.
+:func:`simulate` runs one point with its time history and returns a :class:`SteadyState` whose
+:meth:`~SteadyState.to_dataset` is the ``simulate`` result.
 """
 
 from __future__ import annotations
@@ -103,8 +104,8 @@ def classify_batch(
         Points whose Poincaré sequence is not periodic are integrated this many further periods
         from their end state with the tangent equations (repeated, up to
         :data:`~geardyn.analysis.classify.SETTLE_ROUNDS` passes, while :func:`~geardyn.analysis.classify.is_settling`);
-        their period, amplitudes, Poincaré points, end state and exponents are then those of the last pass (0: no such pass; the motion of a
-        non-periodic point without exponents is then 'unresolved').
+        their period, amplitudes, Poincaré points, end state and exponents are then those of the last pass
+        (0: no such pass; the motion of a non-periodic point without exponents is then 'unresolved').
     blocks : int, optional
         Blocks for the exponents' uncertainty (default :data:`geardyn.analysis.lyapunov.DEFAULT_BLOCKS`).
     progress : callable, optional
