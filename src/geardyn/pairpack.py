@@ -334,6 +334,13 @@ class PointModels(Batch):
     def reference_gaps(self) -> np.ndarray:
         return self.D
 
+    def mean_traces(self) -> np.ndarray:
+        """−2ξ0 of every point, from its ξ0 column where ξ0 is swept (no model built)."""
+        cols = [j for j, n in enumerate(self.names) if slot(n)[0] == "xi0"]
+        if not cols:
+            return np.full(len(self), float(self.base.mean_trace()))
+        return -2.0 * self.points[:, cols[-1]]
+
     def reference_section(self, poincare: np.ndarray) -> np.ndarray:
         """The state (u, u') is the mesh's (δ, δ'): the points as they are."""
         return poincare

@@ -358,6 +358,10 @@ class Batch(Sequence):
         """The reference element's gap of every point (P,)."""
         return self.element_gaps()[:, self.reference]
 
+    def mean_traces(self) -> np.ndarray:
+        """The mean trace of the Jacobian of every point (P,): the sum of its Lyapunov exponents."""
+        return np.array([float(self[i].mean_trace()) for i in range(len(self))])
+
     def reference_section(self, poincare: np.ndarray) -> np.ndarray:
         """The reference element's (δ, δ') at Poincaré points (P, n, d) of the batch: (P, n, 2)."""
         out = np.empty(poincare.shape[:2] + (2,))

@@ -31,7 +31,7 @@ from .classify import (
     is_settling,
     motion_label,
     period_label,
-    quasi_periodic_allowed,
+    quasi_periodic_allowed_batch,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
 
@@ -180,7 +180,7 @@ def classify_batch(
     lam[bad] = np.nan
     err[bad] = np.nan
     sections = _Sections(section, out["poincare"])
-    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections, _quasi_allowed(models))
+    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections, quasi_periodic_allowed_batch(models))
     out.update(
         motion=cls["motion"],
         lle=lam[:, 0].copy(),
@@ -192,17 +192,6 @@ def classify_batch(
         settled=settled,
     )
     return out
-
-
-def _quasi_allowed(models: Any) -> np.ndarray:
-    """:func:`~geardyn.analysis.classify.quasi_periodic_allowed` of each model of a batch (a PointModels'
-    from its base and, when ξ0 is swept, its ξ0 column: the pair's mean trace is −2ξ0)."""
-    if isinstance(models, PointModels):
-        if "xi0" not in models.names:
-            return np.full(len(models), quasi_periodic_allowed(models.base))
-        xi0 = models.points[:, models.names.index("xi0")]
-        return ~(xi0 > 0.0)
-    return np.array([quasi_periodic_allowed(m) for m in models], dtype=bool)
 
 
 class _Sections:
