@@ -563,7 +563,7 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
     title = data.get("title") or gp.get("name", "")
     try:
         pair = SpiralBevelGearPair(**gp, assumed=tuple(gp_assumed.items()))
-        pair.resolved  # applies defaults and validates them
+        _ = pair.resolved  # applies defaults and validates them
     except ModelError as e:
         section = "mesh" if _key_of_message(str(e)) in ("xi0", "c0", "xi0/c0") else "gear_pair"
         raise _wrap(ctx, section, e) from None
@@ -716,7 +716,8 @@ def _kappa_word(ctx: _Ctx, data: dict[str, Any]) -> tuple[dict[str, Any], bool]:
 
 
 def _load_nondimensional(ctx: _Ctx, data: Mapping[str, Any]) -> LoadedConfig:
-    """A configuration without ``[gear_pair]``: the non-dimensional model of ``[mesh]``, ``[operating]`` and ``[model]``."""
+    """A configuration without ``[gear_pair]``: the non-dimensional model of ``[mesh]``, ``[operating]`` and
+    ``[model]``."""
     mesh, mesh_assumed = _read_section(ctx, data, "mesh")
     op, op_assumed = _read_section(ctx, data, "operating")
     mo, mo_assumed = _read_section(ctx, data, "model")
@@ -736,9 +737,8 @@ def _load_nondimensional(ctx: _Ctx, data: Mapping[str, Any]) -> LoadedConfig:
         "xi0": mesh.pop("xi0", default.xi0),
         "fp": mesh.pop("fp", default.fp),
     }
-    for name, key, section in (("ω", "omega", op), ("ξ0", "xi0", None), ("f_p", "fp", None)):
-        if section is not None and key not in section:
-            notes.append(f"no [operating] omega: ω = {kw[key]:g} (GearModel default)")
+    if "omega" not in op:
+        notes.append(f"no [operating] omega: ω = {kw['omega']:g} (GearModel default)")
     try:
         harmonics = MeshHarmonics(**mesh)
         model = GearModel(**kw, **harmonics.nondimensional(1.0, 1.0, 1.0, 1.0))
