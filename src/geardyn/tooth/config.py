@@ -20,14 +20,14 @@ the wrong type are refused in one line naming the file, the line and the key.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
 from .. import _config_values as cv
 from .._config_values import _Key
 from ..errors import ConfigError, ModelError
-from .faults import Modifications, fault_from_dict
+from .faults import FAULT_KINDS, Modifications, fault_from_dict
 from .geometry import PairGeometry, pair_geometry
 
 __all__ = ["ToothCase", "load_case"]
@@ -156,11 +156,14 @@ def _faults(ctx: cv._Ctx, doc: dict[str, Any]) -> list:
     out = []
     for i, t in enumerate(raw):
         kind = t.get("kind") if isinstance(t.get("kind"), str) else None
+        types = {f.name: str(f.type) for f in fields(FAULT_KINDS[kind])} if kind in FAULT_KINDS else {}
         for key, val in t.items():
-            if key == "kind" or isinstance(val, str):  # a fault's own words go to its constructor
+            base = next((key[: -len(u)] for u in _SCALE if key.endswith(u)), key)
+            if key == "kind" or base not in types:  # the fault's constructor names what it does not know
                 continue
-            spec = _Key(cv._INT if key in ("gear", "tooth") else cv._NUMBER)
-            cv._parse_value(ctx, "fault", key, spec, val, index=i, element=kind)
+            typ = types[base]
+            kind_of = cv._TEXT if typ.startswith("str") else cv._INT if typ.startswith("int") else cv._NUMBER
+            cv._parse_value(ctx, "fault", key, _Key(kind_of), val, index=i, element=kind)
         try:
             out.append(fault_from_dict(_si(t)))
         except ModelError as e:
