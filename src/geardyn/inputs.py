@@ -270,7 +270,14 @@ class PairInputs:
             refuse_series_options(given or {})
         return m
 
-    def model(self, *, rpm: float | None = None, torque: float | None = None, **values: float | None) -> Any:
+    def model(
+        self,
+        *,
+        rpm: float | None = None,
+        torque: float | None = None,
+        torque_orders: Any = None,
+        **values: float | None,
+    ) -> Any:
         """The run's model with the operating point and the model options applied (validated).
 
         Parameters
@@ -278,6 +285,10 @@ class PairInputs:
         rpm, torque : float, optional
             Pinion speed (rpm) and pinion torque (N·m, balanced): they set ω and f_p through the scales of the
             run's pair and cannot be combined with ``omega`` / ``fp``.
+        torque_orders : list of str, optional
+            Torque orders ``ORDER:AMPLITUDE[:PHASE]`` (:func:`geardyn.torque_orders.parse_cli`): orders of the
+            pinion speed with amplitudes in N·m for a configuration's gear pair, else orders of the mesh frequency
+            with non-dimensional amplitudes.
         **values : float or None
             The registry's model options by keyword (``omega``, ``xi0``, …); ``None`` keeps the files' value.
 
@@ -307,6 +318,15 @@ class PairInputs:
         for dest, param in by_dest.items():
             if values.get(dest) is not None:
                 m = m.with_param(param, values[dest])
+        if torque_orders:
+            from .torque_orders import parse_cli
+
+            given = [parse_cli(t) for t in torque_orders]
+            cfg = self.loaded
+            pair = cfg.pair if cfg is not None else None
+            if pair is not None:
+                given = [(q / pair.z1, pair.fp_from_torques(a, 0.0, cfg.b_c), p) for q, a, p in given]
+            m = m.replace(torque_orders=m.torque_orders + tuple(given))
         return m
 
     def summary(self) -> dict[str, Any] | None:

@@ -318,13 +318,22 @@ def lyapunov_spectrum(
     res = out["result"]
     motion: dict[str, Any] = {}
     if classify:
-        from .classify import curve_dimension, detect_period, motion_class, motion_label, settling_ratio
+        from .classify import (
+            curve_dimension,
+            detect_period,
+            motion_class,
+            motion_label,
+            quasi_periodic_allowed,
+            settling_ratio,
+        )
 
         ok = res.status[0] == ST_OK
         pc = res.poincare[0]
         n = detect_period(pc) if ok else -1
         dim, ratio = (curve_dimension(pc), settling_ratio(pc)) if n == 0 else (np.nan, np.nan)
-        code = motion_class(n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio)
+        code = motion_class(
+            n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio, quasi_periodic_allowed(model)
+        )
         motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
     return LyapunovResult(
         model,

@@ -129,6 +129,26 @@ TORQUE = option(
     help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config, else of a tooth-pair "
     "--excitation file).",
 )
+TORQUE_ORDER = _P(
+    "torque_order",
+    _P.KEYWORD_ONLY,
+    default=None,
+    annotation=Annotated[
+        Optional[list[str]],
+        typer.Option(
+            "--torque-order",
+            metavar="ORDER:AMPLITUDE[:PHASE]",
+            rich_help_panel=PHYSICAL_PANEL,
+            help=(
+                "A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic "
+                "of constant amplitude. With --config of a gear pair: ORDER of the pinion speed (frequency "
+                "ORDER/z1 of the mesh frequency), AMPLITUDE a pinion torque in N·m (the gear's torque steady). "
+                "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
+                "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp."
+            ),
+        ),
+    ],
+)
 EXCITATION = option(
     "excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP
 )
@@ -174,7 +194,7 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     -------
     list of inspect.Parameter
     """
-    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE]
+    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE, TORQUE_ORDER]
     for o in params.cli_options():
         if o.param == "omega" and not omega:
             continue
@@ -320,6 +340,7 @@ def build_model(
     torque: float | None = None,
     excitation: Path | None = None,
     evaluation: str | None = None,
+    torque_orders: Any = None,
     **values: float | None,
 ) -> GearModel:
     """The model of a configuration and excitation file with the command-line values applied on top (validated):
@@ -336,6 +357,9 @@ def build_model(
         A mesh excitation table (``docs/excitation.md``) in place of the config's stiffness and STE series.
     evaluation : str, optional
         ``"series"`` or ``"table"``: how the excitation table is evaluated (default: the configuration's, else series).
+    torque_orders : list of str, optional
+        ``--torque-order`` texts ``ORDER:AMPLITUDE[:PHASE]`` (:func:`geardyn.torque_orders.parse_cli`), added to the
+        configuration's: pinion orders and torques (N·m) for a gear pair, else mesh orders, non-dimensional.
     **values
         The registry's model options by keyword (``omega``, ``xi0``, …); ``None`` keeps the config's value.
 
@@ -346,7 +370,9 @@ def build_model(
     """
     from ..inputs import PairInputs
 
-    return PairInputs(config, excitation, evaluation).model(rpm=rpm, torque=torque, **values)
+    return PairInputs(config, excitation, evaluation).model(
+        rpm=rpm, torque=torque, torque_orders=torque_orders, **values
+    )
 
 
 class Inputs:
@@ -386,6 +412,11 @@ class Inputs:
             For an invalid value or a conflicting ``--rpm`` / ``--torque``.
         """
         v = self.values
+        if v.get("system") is not None and v.get("torque_order"):
+            raise ModelError(
+                "--torque-order: applies to the pair; with --system write orders = [{order, amplitude, phase}] "
+                "on a drive or load of the system file"
+            )
         if v.get("system") is not None:  # the system of the file, the options applied to its reference mesh
             key = tuple(sorted((k, x) for k, x in fixed.items() if x is not None))
             if key not in self._systems:  # one system (and one read of its file) per set of fixed values
@@ -396,7 +427,7 @@ class Inputs:
         dests = {o.dest for o in params.cli_options()}
         given = {k: v.get(k) for k in dests}
         given.update(fixed)
-        return self.pair().model(rpm=v.get("rpm"), torque=v.get("torque"), **given)
+        return self.pair().model(rpm=v.get("rpm"), torque=v.get("torque"), torque_orders=v.get("torque_order"), **given)
 
     def pair(self) -> Any:
         """The gear pair's files of ``--config`` and ``--excitation``, each read once for the command
