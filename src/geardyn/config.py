@@ -523,34 +523,6 @@ def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> Loade
     return replace(cfg, model=model, notes=cfg.notes + (note,))
 
 
-def configured_model(
-    config: str | Path | None, excitation: str | Path | None, given: Mapping[str, Any], evaluation: str | None = None
-) -> GearModel:
-    """The model of a configuration (None: the paper's pair) with an excitation file applied (its STE over b_c).
-
-    ``given`` holds the command-line model options by keyword: the series options are refused beside a
-    table (``excitation`` or the configuration's ``[excitation]``; :mod:`geardyn.tooth.table`).  ``evaluation``
-    (``"series"`` or ``"table"``; default the configuration's ``[excitation] evaluation``, else series) is how the
-    ``excitation`` table is evaluated.
-    """
-    from .tooth.table import apply_excitation, refuse_series_options
-
-    cfg = load_config(config)
-    if evaluation is not None and excitation is None and evaluation != cfg.model.evaluation:
-        raise ModelError(
-            f"--excitation-evaluation {evaluation}: needs an excitation table (--excitation FILE, or "
-            '[excitation] of the configuration with evaluation = "table")'
-        )
-    m = (
-        cfg.model
-        if excitation is None
-        else apply_excitation(cfg.model, excitation, b_c=cfg.b_c, evaluation=evaluation or "series")
-    )
-    if excitation is not None or m.cycles != 1:
-        refuse_series_options(given)
-    return m
-
-
 def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
     source = ctx.source
     data, kappa_geometry = _kappa_word(ctx, data)
