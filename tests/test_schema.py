@@ -99,3 +99,14 @@ def test_an_oversized_tooth_pair_file_is_refused_before_it_is_parsed(tmp_path):
     p.write_text(TOOTH + "#" * MAX_TOML_BYTES, encoding="utf-8")
     with pytest.raises(ConfigError, match=r"tooth-pair file of \d+ bytes; at most"):
         load_case(p)
+
+
+GEARBOX = (EX / "gearbox" / "two_stage_helical.toml").read_text(encoding="utf-8")
+
+
+def test_a_gearbox_file_is_placed_by_the_same_locator(tmp_path):
+    i = GEARBOX.index("[[shaft]]")
+    j = GEARBOX.index("\n", GEARBOX.index("name", i))
+    text = GEARBOX[: j + 1] + "bogus = 1\n" + GEARBOX[j + 1 :]
+    msg, line = _refused(tmp_path, "system", text)
+    assert line == "bogus = 1" and re.search(r"\[\[shaft\]\] '\w+' bogus: unknown key", msg), msg
