@@ -66,6 +66,15 @@ def test_every_file_the_page_names_exists(token):
     assert _exists(token), token
 
 
+def test_every_public_module_and_package_is_on_the_page():
+    """The concepts' table says where everything is: each module and package of ``src/geardyn`` not private by
+    its name (``_x``) is named on the page."""
+    names = [p.name for p in PKG.glob("*.py") if not p.name.startswith("_")]
+    names += [p.name + "/" for p in PKG.iterdir() if p.is_dir() and not p.name.startswith(("_", "."))]
+    missing = [n for n in names if f"`{n}" not in DOC and f"{n}`" not in DOC]
+    assert missing == [], missing
+
+
 def test_the_recipes_name_existing_files_only():
     recipes = "\n".join(_section(t) for t in re.findall(r"^## (Recipe: [^\n]+)$", DOC, re.M))
     named = re.findall(r"`((?:python )?[\w./-]+(?:\.py|\.md|/))`", recipes)
