@@ -11,6 +11,13 @@ arrays; reported as ``setup``); the median of the repeats is shown.
 
     python benchmarks/ndof_scaling.py --before ../kernel-before [--stages 1 8 16 32] [--repeat 3]
                                       [--json benchmarks/results/ndof_scaling.json]
+
+``--classify`` measures instead what classifying a point that is not periodic costs: ``geardyn simulate --system
+CHAIN_96DOF.toml --omega 0.8 --json`` (16 stages) against the same command with ``--no-classify``, as whole
+processes of the console script (the CPU time of the child: user + system), interleaved and repeated:
+
+    python benchmarks/ndof_scaling.py --classify [--stages 16] [--repeat 3]
+                                      [--json benchmarks/results/classify_96dof.json]
 """
 
 from __future__ import annotations
@@ -147,13 +154,61 @@ def _time(src: Path, system: Path, points: int, periods: int) -> dict:
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
+def _cli_cpu(args: list[str], cwd: str) -> tuple[float, dict]:
+    """CPU seconds (user + system) of one ``geardyn`` process of this checkout, and its JSON output."""
+    import resource
+    import shutil
+
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    exe = shutil.which("geardyn") or "geardyn"
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    out = subprocess.run([exe, *args], env=env, check=True, capture_output=True, text=True, cwd=cwd)
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    return cpu, json.loads(out.stdout)
+
+
+def classify_cost(stages: int, repeat: int, path: Path | None) -> None:
+    """The CPU time of ``simulate --system`` of a chain at ω = 0.8, classified and plain (``--no-classify``)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        f = chain_toml(stages, Path(tmp) / f"chain_{6 * stages}dof.toml")
+        args = ["simulate", "--system", str(f), "--omega", "0.8", "--json"]
+        _cli_cpu([*args, "--no-classify"], tmp)  # compile / load the cache
+        plain, full = [], []
+        for _ in range(repeat):
+            cp, jp = _cli_cpu([*args, "--no-classify"], tmp)
+            cf, jf = _cli_cpu(args, tmp)
+            plain.append(cp)
+            full.append(cf)
+        res = {
+            "command": "geardyn simulate --system CHAIN.toml --omega 0.8 --json",
+            "dof": 6 * stages,
+            "plain_cpu_s": statistics.median(plain),
+            "classified_cpu_s": statistics.median(full),
+            "ratio": statistics.median(full) / statistics.median(plain),
+            "motion_plain": jp["motion"],
+            "motion_classified": jf["motion"],
+            "lle": jf.get("lle"),
+            "loadavg": os.getloadavg(),
+        }
+    print(json.dumps(res, indent=2))
+    if path is not None:
+        path.write_text(json.dumps(res, indent=2) + "\n")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--before", type=Path, required=True, help="root of the checkout before the change")
+    ap.add_argument("--before", type=Path, default=None, help="root of the checkout before the change")
+    ap.add_argument("--classify", action="store_true", help="the classification's cost instead (see above)")
     ap.add_argument("--stages", type=int, nargs="+", default=[1, 8, 16, 32])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--json", type=Path, default=None)
     a = ap.parse_args()
+    if a.classify:
+        classify_cost(a.stages[0] if a.stages != [1, 8, 16, 32] else 16, a.repeat, a.json)
+        return
+    if a.before is None:
+        ap.error("--before is required (the checkout to compare with)")
     after_src, before_src = ROOT / "src", a.before.resolve() / "src"
     rows = []
     with tempfile.TemporaryDirectory() as tmp:

@@ -163,3 +163,36 @@ def test_bad_bearings_are_refused_naming_the_key(kw, key):
     args.update(kw)
     with pytest.raises(ModelError, match=key):
         RollingBearing(**args)
+
+
+def test_varying_compliance_frequency_in_the_spectrum():
+    """A rotor of mass m on one ball bearing with clearance under a constant radial load W, integrated with SciPy
+    (DOP853) on the law's forces: the loaded zone passes the load line Z times per cage revolution, so the
+    vertical response's strongest line (DC aside) is the ball-pass frequency Z f_cage, f_cage = f_s (1 − d_b cos α /
+    d_m)/2 (Harris & Kotzalas ch. 9; Sopanen & Mikkola 2003), not the shaft or cage frequency."""
+    from scipy.integrate import solve_ivp
+
+    b = RollingBearing("ball", 8, 0.0395, 0.0079, 0.0, 5e-6, 1.0e10)
+    m, W, fs = 2.0, 500.0, 50.0
+    om = 2 * math.pi * fs
+    n = float(b.exponent)
+    # linearised stiffness at the static deflection (cage-averaged), for a damping ratio of 5 %
+    k_lin = bearing_stiffness(0.0, -2.2e-5, 0.0, b.elements, b.stiffness, n, b.clearance)[1, 1]
+    c = 2 * 0.05 * math.sqrt(k_lin * m)
+
+    def rhs(t, s):
+        x, y, vx, vy = s
+        fx, fy = ball_bearing_forces(b, x, y, t, om)
+        return [vx, vy, (fx - c * vx) / m, (fy - c * vy - W) / m]
+
+    fs_sample, t0, T = 20000.0, 0.2, 0.5
+    t = t0 + np.arange(int(T * fs_sample)) / fs_sample
+    sol = solve_ivp(rhs, (0.0, t[-1]), [0.0, -2.2e-5, 0.0, 0.0], method="DOP853", t_eval=t, rtol=1e-9, atol=1e-14)
+    assert sol.success
+    y = sol.y[1] - np.mean(sol.y[1])
+    spec = np.abs(np.fft.rfft(y * np.hanning(y.size)))
+    f = np.fft.rfftfreq(y.size, 1 / fs_sample)
+    peak = f[np.argmax(spec[1:]) + 1]
+    f_bp = b.elements * b.cage_ratio * fs
+    assert abs(peak - f_bp) <= 2 * (f[1] - f[0])
+    assert abs(f_bp - fs) > 10 and abs(f_bp - b.cage_ratio * fs) > 10

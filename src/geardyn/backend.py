@@ -81,6 +81,7 @@ __all__ = [
     "MESH",
     "MODES",
     "run_followed",
+    "tangent_work",
     "S_UMIN",
     "S_UMAX",
     "S_USUM",
@@ -372,6 +373,27 @@ class MeshBackend(Backend):
             tangent0=basis,
         )
         return RawRun(poincare, end_state, stats, tan_log, tan_out, status, hist)
+
+
+def tangent_work(models: Sequence[Any], tangents: int | None = None) -> float:
+    """The work of a mesh-vector run with ``tangents`` tangent vectors (default all 2n: the full spectrum) over that
+    of a plain run of the same periods, counted in multiply-adds per RK4 step from the kernel's sparse patterns
+    (an estimate of the cost, printed before a full spectrum; the classification's two leading vectors run beside
+    the plain step instead, :func:`geardyn._kernel_ndof.core.tan_free`)."""
+    from . import _kernel_ndof as K
+
+    arrays = type(models[0]).pack(list(models)[:1])
+    sp, jt, blk = K.sparse_arrays(arrays)
+    n = int(sp[10].shape[1])
+    d = 2 * n
+    k = d if tangents is None else max(1, min(int(tangents), d))
+    ne, nab, nw = int(sp[5].shape[0]), int(sp[1].shape[0]), int(sp[8].shape[0])
+    ng, nct = int(jt[1].shape[0]), int(jt[5].shape[0])
+    plain = 4 * (K.plain_cost(blk) + 2 * ne) + ne
+    state = 4 * (2 * nab + 2 * ne + nw + n)
+    jac = 4 * (ne + 2 * nct + 2 * ng) if k == d else 4 * ne
+    cols = 4 * k * ((2 * ng + 2 * n) if k == d else (2 * nab + 2 * ne + nw + n)) + 4 * d * k
+    return float((state if k == d else plain) + jac + cols) / float(plain)
 
 
 #: The backend of :class:`~geardyn.model.GearModel`.

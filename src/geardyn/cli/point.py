@@ -123,6 +123,17 @@ def lyapunov(
         )
     from ..sweep.progress import task_progress
 
+    if model.state_dim > 2:  # a system: say what the full spectrum costs before it runs
+        from ..backend import tangent_work
+
+        total = opts.transient + opts.periods
+        ratio = (opts.transient + opts.periods * tangent_work([model])) / max(total, 1)
+        typer.echo(
+            f"lyapunov: the full spectrum integrates {model.state_dim} tangent vectors with the state over the "
+            f"{opts.periods} recorded periods, about {ratio:.0f}x the work of a plain run of the same {total} "
+            "periods (simulate classifies with the two leading vectors)",
+            err=True,
+        )
     with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
         res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar)
     paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []
