@@ -22,7 +22,9 @@ The contract
     ``"none"``, ``"lyapunov"`` (Gram–Schmidt logs per recorded period), ``"monodromy"`` (the raw tangent
     product over the recorded periods), ``"continue"`` (Lyapunov from a given tangent basis; pair only).
     ``tangents=k`` in Lyapunov mode asks for the k leading exponents only (``tan_log`` and ``tangent`` then have k
-    columns; a backend may give more, the pair always gives its two).
+    columns; a backend may give more, the pair always gives its two).  A mesh-vector system's leading exponents
+    are those of its motion modulo its rigid-body modes (``rigid_basis``: a free rotation's tangent grows linearly,
+    a finite-time exponent ln(t)/t > 0 that would read as chaos), which the full spectrum keeps.
     The kernels' arithmetic is theirs: a backend only allocates the outputs and calls ``run_batch``.
     ``watch(poincare)``, when given, receives the Poincaré output before the kernel runs, filled with NaN
     until each recorded period writes its row (every kernel writes every row of a point, or NaN in all of
@@ -345,9 +347,16 @@ class MeshBackend(Backend):
         poincare, end_state, tan_log, tan_out, status, hist = _buffers(
             P, d, record, record_poincare, lyapunov, hist_len, k
         )
-        basis = None
-        if k < d:  # leading exponents: a fixed generic orthonormal start (no coordinate subspace)
-            basis = np.broadcast_to(leading_basis(d, k), (P, d, k))
+        basis = rigid = None
+        if k < d:  # leading exponents: a fixed generic orthonormal start, modulo the rigid-body motions
+            R = np.asarray(models[0].rigid_basis(), dtype=float)
+            n, r = d // 2, R.shape[1]
+            rigid = np.zeros((d, 2 * r))
+            rigid[:n, :r] = R
+            rigid[n:, r:] = R
+            b0 = leading_basis(d, k)
+            b0 = np.linalg.qr(b0 - rigid @ (rigid.T @ b0))[0]
+            basis = np.broadcast_to(b0, (P, d, k))
         stats = np.zeros((P, E, K.NSTAT))
         tper = np.array([m.sampling_period for m in models], dtype=float)
         tan = {"none": K.TAN_NONE, "lyapunov": K.TAN_LYAPUNOV, "monodromy": K.TAN_MONODROMY}[mode]
@@ -371,6 +380,7 @@ class MeshBackend(Backend):
             status,
             hist,
             tangent0=basis,
+            rigid=rigid,
         )
         return RawRun(poincare, end_state, stats, tan_log, tan_out, status, hist)
 

@@ -237,6 +237,7 @@ def run_batch(
     status,
     hist,
     tangent0=None,
+    rigid=None,
 ):
     """Advance a batch of P points of one system structure; results are written into the outputs.
 
@@ -273,6 +274,10 @@ def run_batch(
         Out: if K > 0 the state at every step of the last (K − 1)/N periods.
     tangent0 : float64[P, 2n, k], optional
         The initial tangent columns (default the first k columns of the identity).
+    rigid : float64[2n, r], optional
+        Orthonormal columns spanning an invariant subspace (the rigid-body modes' positions and velocities) removed
+        from the tangent columns before each Gram–Schmidt (Lyapunov mode): the exponents are then those of the
+        dynamics modulo it.
     """
     P = arrays.Mi.shape[0]
     if P == 0:
@@ -284,6 +289,7 @@ def run_batch(
         tangent0 = np.zeros((P, d, k))
         tangent0[:, np.arange(k), np.arange(k)] = 1.0
     tangent0 = np.ascontiguousarray(tangent0, dtype=np.float64)
+    rigid = np.zeros((d, 0)) if rigid is None else np.ascontiguousarray(rigid, dtype=np.float64)
     order = np.argsort(-np.asarray(nsteps, dtype=np.int64), kind="stable").astype(np.int64)
     counter = np.zeros(1, dtype=np.int64)
     work = float(np.sum(nsteps)) * (int(n_transient) + int(n_record)) * plain_cost(blk)
@@ -326,6 +332,7 @@ def run_batch(
             int(tangent),
             k,
             tangent0,
+            rigid,
             bool(accurate),
             poincare,
             end_state,

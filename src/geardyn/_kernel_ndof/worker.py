@@ -47,6 +47,19 @@ def _store_hist(hist, p, s, q, v, vo):
 
 
 @njit(nogil=True)
+def _quotient(Y, R):
+    """Y −= R (Rᵀ Y): the tangent columns modulo the invariant rigid-body subspace (orthonormal columns R, (d, r);
+    r = 0: nothing), so that the leading exponents are the elastic ones, not the secular drift of a free rotation."""
+    for c in range(Y.shape[1]):
+        for b in range(R.shape[1]):
+            r = 0.0
+            for i in range(Y.shape[0]):
+                r += R[i, b] * Y[i, c]
+            for i in range(Y.shape[0]):
+                Y[i, c] -= r * R[i, b]
+
+
+@njit(nogil=True)
 def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0):
     """N plain steps on the padded state X (statistics when ``rec``; history samples b0 + j)."""
     q = X[XQ]
@@ -141,6 +154,7 @@ def ndof_worker(
     tangent,
     ntan,
     tangent0,
+    rigid,
     accurate,
     poincare,
     end_state,
@@ -332,6 +346,7 @@ def ndof_worker(
                     for i in range(d):
                         poincare[p, r, i] = x[i]
                 if tangent == TAN_LYAPUNOV:
+                    _quotient(Y, rigid)
                     gram_schmidt(Y, logs)
                     for i in range(ktan):
                         tan_log[p, r, i] = logs[i]
