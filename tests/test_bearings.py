@@ -37,7 +37,7 @@ def harris_jr(eps: float, n: float) -> float:
     def f(psi: float) -> float:
         return max(0.0, 1.0 - (1.0 - math.cos(psi)) / (2.0 * eps)) ** n * math.cos(psi)
 
-    return quad(f, -psi_l, psi_l, epsabs=1e-13, epsrel=1e-11, limit=200)[0] / (2.0 * math.pi)
+    return quad(f, -psi_l, psi_l, epsabs=1e-12, epsrel=1e-10, limit=200)[0] / (2.0 * math.pi)
 
 
 def harris_radial_load(delta_r: float, Pd: float, Z: int, K: float, n: float) -> float:
