@@ -236,3 +236,30 @@ def test_modes_json_of_the_shipped_gearbox():
         assert name in e
     assert sum(e.values()) == pytest.approx(1.0, abs=1e-9)
     assert out["frequencies_hz"][0] == 0.0 and out["frequencies_hz"][1] > 0  # one rigid rotation of the train
+    # each mode's energy grouped per shaft, bearing, coupling and mesh; the shafts' nodes and the kinematics
+    g = out["modes"][5]["energy"]
+    assert set(g) == {"shafts", "bearings", "couplings", "meshes"}
+    assert set(g["shafts"]) == {"input", "intermediate", "output"} and len(g["bearings"]) == 6
+    assert set(g["meshes"]) == {"stage1", "stage2"}
+    assert sum(sum(x.values()) for x in g.values()) == pytest.approx(1.0, abs=1e-9)
+    gb = out["gearbox"]
+    assert [s["name"] for s in gb["shafts"]] == ["input", "intermediate", "output"]
+    assert all(s["elements"] >= 4 for s in gb["shafts"])
+    assert gb["kinematics"]["mesh_ratios"] == {"stage1": "1", "stage2": "19/64"}
+    assert len(out["modes"][5]["shape"]) == n
+
+
+def test_modes_figures_of_the_gearbox_redraw(tmp_path):
+    r = _cli(
+        "modes", "--system", "examples/gearbox/two_stage_helical.toml", "--rpm-max", "3000", "--out", str(tmp_path)
+    )
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "mode_shapes.png").stat().st_size > 10_000 and (tmp_path / "campbell.png").exists()
+    import xarray as xr
+
+    ds = xr.open_dataset(tmp_path / "modes.nc")
+    assert ds.sizes["node"] == 18 and set(ds["element_kind"].values) == {"shaft", "bearing", "coupling", "mesh"}
+    (tmp_path / "mode_shapes.png").unlink()
+    r = _cli("plot", str(tmp_path / "modes.nc"), "--out", str(tmp_path))
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "mode_shapes.png").exists()

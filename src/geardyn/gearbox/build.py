@@ -483,6 +483,11 @@ def _build(ctx, data: dict) -> GearboxDescription:
                 m, ip, idia = g.blank(mat.rho, _section_at(segs, g.position).outer)
                 blockm += np.diag([m, m, m, idia, idia, ip])
             bodies.append(NodeBody(nn, NODE_DOFS, mass_matrix=tuple(map(tuple, blockm))))
+        radii = []
+        for k in range(len(pos_list)):
+            gr = [gears[n].reference_radius for n in node_feats[k] if n in gears]
+            near = [secs[e].outer / 2 for e in (k - 1, k) if 0 <= e < len(secs)]
+            radii.append(max(gr) if gr else max(near))
         dofs = tuple((nn, d) for nn in node_names for d in NODE_DOFS)
         conns.append(Connection(name, dofs, K, beta * K))
         shafts.append(
@@ -498,6 +503,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
                 speeds[name],
                 senses[name],
                 tuple(node_feats),
+                tuple(radii),
             )
         )
 
@@ -567,6 +573,8 @@ def _build(ctx, data: dict) -> GearboxDescription:
         "forcing_period_mesh_cycles": period,
         "rounded": rounded,
     }
+    kinds = {s.name: "shaft" for s in shafts} | {b.element: "bearing" for b in bblocks}
+    kinds |= {b.element: "coupling" for b in cblocks} | {m.name: "mesh" for m in meshes}
     return GearboxDescription(
         bodies=tuple(bodies) + tuple(rigid),
         meshes=tuple(meshes),
@@ -582,6 +590,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
         assumptions=tuple(ctx.assumptions),
         shafts=tuple(shafts),
         kinematics=kin,
+        element_kinds=kinds,
     )
 
 

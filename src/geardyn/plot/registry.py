@@ -26,6 +26,7 @@ from . import (
     basins,
     bifurcation,
     engineering,
+    gearbox,
     lyapunov,
     maps,
     modes,
@@ -145,6 +146,7 @@ def register(kind: str, *specs: FigureSpec) -> None:
 register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=engineering.has_iso_kv))
 register("runup", FigureSpec("runup", runup.runup_figure))
 register("modes", FigureSpec("campbell", modes.campbell, when=modes.has_campbell))
+register("modes", FigureSpec("mode_shapes", gearbox.mode_shapes, when=gearbox.has_shafts))
 systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
 register(
     "stiffness", FigureSpec("stiffness", tooth.stiffness_figure), FigureSpec("compliance", tooth.compliance_figure)

@@ -5,7 +5,9 @@ Modes are numbered from 1 (coordinate ``mode``), as in the report's tables and J
 lines and crossings are variables along ``line`` and ``crossing``; the diagram's axis (pinion speed,
 or the mesh frequency when the reference mesh gives no ``teeth``) is in the attributes
 ``campbell_x``, ``campbell_x_label`` and ``campbell_x_range``.  A system without a Campbell diagram
-gives the modes alone.
+gives the modes alone.  A gearbox adds its shaft nodes (coordinate ``node``: ``node_shaft``,
+``node_position``) and each element's kind (``element_kind``), from which the figure of the deflection along
+each shaft is drawn.
 """
 
 from __future__ import annotations
@@ -41,6 +43,11 @@ MODES_VARIABLES: dict[str, Variable] = {
     "crossing_mode": _V("first mode number of the crossing"),
     "crossing_modes": _V("mode numbers of the crossing (a degenerate frequency lists several)"),
     "crossing_line": _V("Campbell line of the crossing (index along line)"),
+    "node": _V("shaft node (a gearbox)"),
+    "node_shaft": _V("shaft of the node"),
+    "node_position": _V("position of the node along its shaft", "m"),
+    "node_radius": _V("radius of the node: its gear's reference radius, else the shaft's outer radius", "m"),
+    "element_kind": _V("kind of the element: shaft, bearing, coupling or mesh (a gearbox)"),
 }
 KIND_VARIABLES.setdefault("modes", {}).update(MODES_VARIABLES)
 
@@ -91,6 +98,18 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         "source": report.get("source") or "",
         "summary": json_attr(report),
     }
+    gb = report.get("gearbox")
+    if gb:  # a gearbox: its shaft nodes, for the deflection along each shaft
+        nodes = [(s["name"], n["name"], n["position_m"]) for s in gb["shafts"] for n in s["nodes"]]
+        data["node_radius"] = ("node", np.array([n["radius_m"] for s in gb["shafts"] for n in s["nodes"]]))
+        coords["node"] = np.array([n for _, n, _ in nodes], dtype=object)
+        data["node_shaft"] = ("node", np.array([s for s, _, _ in nodes], dtype=object))
+        data["node_position"] = ("node", np.array([p for _, _, p in nodes], dtype=float))
+        kinds = {}
+        for m in modes[:1]:
+            for kind, group in m.get("energy", {}).items():
+                kinds.update({name: {"meshes": "mesh"}.get(kind, kind[:-1]) for name in group})
+        data["element_kind"] = ("element", np.array([kinds.get(e, "") for e in elements], dtype=object))
     camp = report.get("campbell")
     if camp:
         lines, cr = camp["lines"], camp["crossings"]
