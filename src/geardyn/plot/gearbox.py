@@ -9,6 +9,8 @@ title of a panel names the mode, its frequency and the elements holding most of 
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
@@ -44,26 +46,26 @@ def mode_shapes(ds: xr.Dataset, ax: Axes = None) -> None:
     """Deflection along each shaft of the lowest elastic modes: lateral (solid), torsional (dashed), axial (dotted)."""
     dofs = [str(d) for d in ds["dof"].values]
     index = {d: k for k, d in enumerate(dofs)}
-    nodes = [str(n) for n in ds["node"].values]
-    shafts = list(dict.fromkeys(str(s) for s in ds["node_shaft"].values))
+    nodes = json.loads(ds.attrs["nodes"])
+    names = json.loads(ds.attrs["shafts"])
+    shaft_of = np.asarray(ds["node_shaft"].values, dtype=int)
     pos = ds["node_position"].values * 1e3
     shape = ds["shape"].values
     elements = [str(e) for e in ds["element"].values]
     energy = ds["energy_fraction"].values
     r = ds["node_radius"].values
-    shaft_of = np.array([str(x) for x in ds["node_shaft"].values])
     for a, i in zip(ax, _elastic(ds)):
         if a is None:
             continue
         col = shape[:, i]
         lat = np.array([np.hypot(col[index[f"{n}.x"]], col[index[f"{n}.y"]]) for n in nodes])
-        radius = np.array([float(np.max(r[shaft_of == sh])) for sh in shaft_of])
+        radius = np.array([float(np.max(r[shaft_of == k])) for k in shaft_of])
         tor = np.array([col[index[f"{n}.theta"]] for n in nodes]) * radius
         axial = np.array([col[index[f"{n}.z"]] for n in nodes])
         scale = max(float(np.max(np.abs(lat))), float(np.max(np.abs(tor))), float(np.max(np.abs(axial))), 1e-300)
         lat, tor, axial = lat / scale, tor / scale, axial / scale
-        for j, s in enumerate(shafts):
-            sel = np.array([str(x) == s for x in ds["node_shaft"].values])
+        for j, s in enumerate(names):
+            sel = shaft_of == j
             a.plot(pos[sel], lat[sel], "-o", ms=3, color=f"C{j}", lw=1.3, label=f"{s}: lateral")
             a.plot(pos[sel], tor[sel], "--", color=f"C{j}", lw=1.0, label=f"{s}: torsion r θ")
             a.plot(pos[sel], axial[sel], ":", color=f"C{j}", lw=1.2, label=f"{s}: axial")

@@ -5,8 +5,10 @@ Modes are numbered from 1 (coordinate ``mode``), as in the report's tables and J
 lines and crossings are variables along ``line`` and ``crossing``; the diagram's axis (pinion speed,
 or the mesh frequency when the reference mesh gives no ``teeth``) is in the attributes
 ``campbell_x``, ``campbell_x_label`` and ``campbell_x_range``.  A system without a Campbell diagram
-gives the modes alone.  A gearbox adds its shaft nodes (coordinate ``node``: ``node_shaft``,
-``node_position``) and each element's kind (``element_kind``), from which the figure of the deflection along
+gives the modes alone.  Names are attributes (JSON lists): ``line_labels`` (the mesh orders of each line) and
+``crossing_modes`` (the mode numbers of each crossing).  A gearbox adds its shaft nodes along ``node``
+(``node_shaft``, an index into the attribute ``shafts``, ``node_position``, ``node_radius``; their names in the
+attribute ``nodes``) and each element's kind (``element_kind``), from which the figure of the deflection along
 each shaft is drawn.
 """
 
@@ -34,20 +36,19 @@ MODES_VARIABLES: dict[str, Variable] = {
     "shape": _V("M-orthonormal mode shape (SI coordinates: m and rad)"),
     "energy_fraction": _V("modal strain-energy fraction of the element"),
     "line": _V("index of the Campbell line"),
-    "line_label": _V("mesh orders of the Campbell line"),
     "line_harmonic": _V("line frequency as a multiple of the base mesh frequency (k r_m)"),
     "line_slope": _V("line frequency per unit of the Campbell axis (Hz per rpm, or per Hz)"),
     "crossing": _V("index of the crossing of a Campbell line with a natural frequency"),
     "crossing_x": _V("crossing on the Campbell axis (pinion speed in rpm, or mesh frequency in Hz)"),
     "crossing_frequency_Hz": _V("natural frequency of the crossing", "Hz"),
     "crossing_mode": _V("first mode number of the crossing"),
-    "crossing_modes": _V("mode numbers of the crossing (a degenerate frequency lists several)"),
     "crossing_line": _V("Campbell line of the crossing (index along line)"),
-    "node": _V("shaft node (a gearbox)"),
-    "node_shaft": _V("shaft of the node"),
+    "node_shaft": _V("shaft of the node (index into the attribute 'shafts')"),
     "node_position": _V("position of the node along its shaft", "m"),
     "node_radius": _V("radius of the node: its gear's reference radius, else the shaft's outer radius", "m"),
-    "element_kind": _V("kind of the element: shaft, bearing, coupling or mesh (a gearbox)"),
+    "element_kind": Variable(
+        "1", "kind of the element (a gearbox)", {0: "other", 1: "shaft", 2: "bearing", 3: "coupling", 4: "mesh"}
+    ),
 }
 KIND_VARIABLES.setdefault("modes", {}).update(MODES_VARIABLES)
 
@@ -99,17 +100,20 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         "summary": json_attr(report),
     }
     gb = report.get("gearbox")
-    if gb:  # a gearbox: its shaft nodes, for the deflection along each shaft
-        nodes = [(s["name"], n["name"], n["position_m"]) for s in gb["shafts"] for n in s["nodes"]]
-        data["node_radius"] = ("node", np.array([n["radius_m"] for s in gb["shafts"] for n in s["nodes"]]))
-        coords["node"] = np.array([n for _, n, _ in nodes], dtype=object)
-        data["node_shaft"] = ("node", np.array([s for s, _, _ in nodes], dtype=object))
-        data["node_position"] = ("node", np.array([p for _, _, p in nodes], dtype=float))
-        kinds = {}
+    if gb:  # a gearbox: its shaft nodes (names in the attributes), for the deflection along each shaft
+        shafts = [s["name"] for s in gb["shafts"]]
+        nodes = [(k, n) for k, s in enumerate(gb["shafts"]) for n in s["nodes"]]
+        data["node_shaft"] = ("node", np.array([k for k, _ in nodes], dtype=np.int64))
+        data["node_position"] = ("node", np.array([n["position_m"] for _, n in nodes], dtype=float))
+        data["node_radius"] = ("node", np.array([n["radius_m"] for _, n in nodes], dtype=float))
+        codes = {v: k for k, v in MODES_VARIABLES["element_kind"].flags.items()}
+        kinds: dict[str, int] = {}
         for m in modes[:1]:
-            for kind, group in m.get("energy", {}).items():
-                kinds.update({name: {"meshes": "mesh"}.get(kind, kind[:-1]) for name in group})
-        data["element_kind"] = ("element", np.array([kinds.get(e, "") for e in elements], dtype=object))
+            for group, members in m.get("energy", {}).items():
+                kinds.update({name: codes[{"meshes": "mesh"}.get(group, group[:-1])] for name in members})
+        data["element_kind"] = ("element", np.array([kinds.get(e, 0) for e in elements], dtype=np.int8))
+        attrs["shafts"] = json.dumps(shafts)
+        attrs["nodes"] = json.dumps([n["name"] for _, n in nodes])
     camp = report.get("campbell")
     if camp:
         lines, cr = camp["lines"], camp["crossings"]
@@ -117,13 +121,11 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         coords["crossing"] = np.arange(len(cr))
         data.update(
             {
-                "line_label": ("line", np.array([ln["label"] for ln in lines], dtype=object)),
                 "line_harmonic": ("line", np.array([ln["harmonic"] for ln in lines], dtype=float)),
                 "line_slope": ("line", np.array([ln["hz_per_x"] for ln in lines], dtype=float)),
                 "crossing_x": ("crossing", np.array([c["x"] for c in cr], dtype=float)),
                 "crossing_frequency_Hz": ("crossing", np.array([c["frequency_hz"] for c in cr], dtype=float)),
                 "crossing_mode": ("crossing", np.array([c["mode"] for c in cr], dtype=np.int64)),
-                "crossing_modes": ("crossing", np.array([", ".join(map(str, c["modes"])) for c in cr], dtype=object)),
                 "crossing_line": ("crossing", np.array([c["line"] for c in cr], dtype=np.int64)),
             }
         )
@@ -132,6 +134,8 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
                 "campbell_x": camp["x"],
                 "campbell_x_label": camp["x_label"],
                 "campbell_x_range": json.dumps(list(camp["x_range"])),
+                "line_labels": json.dumps([ln["label"] for ln in lines]),
+                "crossing_modes": json.dumps([c["modes"] for c in cr]),
             }
         )
         if camp.get("teeth") is not None:
