@@ -264,3 +264,25 @@ def test_modes_figures_of_the_gearbox_redraw(tmp_path):
     r = _cli("plot", str(tmp_path / "modes.nc"), "--out", str(tmp_path))
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "mode_shapes.png").exists()
+
+
+def test_torque_orders_on_a_gearbox_enter_the_forcing_period_and_the_model(tmp_path):
+    """The shipped motor's 6th order runs at 6/23 of the stage-1 mesh frequency: with the meshes' 64 cycles the
+    forcing repeats after lcm(64, 23) = 1472 cycles, above the default bound 1000 (the file raises it)."""
+    ex = ROOT / "examples/gearbox/two_stage_helical.toml"
+    d = load_description(ex)
+    assert d.kinematics["order_ratios"] == {"order 6 of motor": "6/23"}
+    assert d.kinematics["forcing_period_mesh_cycles"] == 1472
+    motor = next(ld for ld in d.loads if ld.body == "motor")
+    assert motor.orders == ((Fraction(6), 4.5, 0.0),) and motor.speed == Fraction(1, 23)
+    s = load_system(ex)
+    assert s.period_multiple() == 1472
+    text = ex.read_text().replace("max_period = 1500", "max_period = 1000")
+    f = tmp_path / "bound.toml"
+    f.write_text(text)
+    with pytest.raises(
+        ModelError,
+        match=r"is 1472 cycles of mesh 'stage1', above the bound max_period = 1000 "
+        r"\(mesh 'stage2' at 19/64, order 6 of motor at 6/23 of",
+    ):
+        load_description(f)

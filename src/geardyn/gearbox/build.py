@@ -61,6 +61,7 @@ A system file with ``[[shaft]]`` tables is a gearbox (``geardyn.systems.load`` h
     [[load]]
     body = "motor"                # or gear = "..."
     torque = "100 N*m"            # or "balance": the torque that balances the others at the exact speeds
+    orders = [{ order = 6, amplitude = "3 N*m", phase = "0 deg" }]   # torque orders of the body's shaft speed
 
 Every shaft gets a node at each segment end and at every gear, bearing and coupling; each interval between
 neighbouring nodes is cut into ``elements_per_segment`` Timoshenko elements (:mod:`.shaft`).
@@ -164,7 +165,7 @@ _COUPLING = {
     "ktheta": "tstiffness",
     "ctheta": "tdamping",
 }
-_LOAD = {"body": "text", "gear": "text", "torque": "any"}
+_LOAD = {"body": "text", "gear": "text", "torque": "any", "orders": "any"}
 _EXTRA_UNITS = {"pressure": ("Pa", '"210 GPa"'), "density": ("kg/m^3", '"7850 kg/m^3"'), "time": ("s", '"2e-6 s"')}
 #: Default stiffness-proportional damping of a shaft (s): ζ = β ω/2, 0.03 % at 1 kHz, 3 % at 100 kHz (the high
 #: element modes stay underdamped, so that the explicit RK4 step is not limited by them).
@@ -403,25 +404,41 @@ def _build(ctx, data: dict) -> GearboxDescription:
         raise ctx.model("mesh", None, None, None, str(e)) from None
     zref = pairs[ref_i][3] * speeds[pairs[ref_i][1]]
     ratios = {nm: sp_z * speeds[sp] / zref for (nm, sp, _, sp_z, _) in pairs}
+    body_speed: dict[str, Fraction] = {}
+    for blk in cblocks:
+        if blk.has("body") and blk.has("shaft") and blk.get("shaft") in speeds:
+            body_speed[blk.get("body")] = speeds[blk.get("shaft")]
+    loads_raw = list(enumerate(data.get("load", []) or []))
+    order_ratios = _order_ratios(ctx, loads_raw, gears, speeds, body_speed, zref)
     bound = gbb.get("max_period", default=DEFAULT_MAX_PERIOD)
     if not 1 <= bound <= 10**6:
         raise gbb.merr("max_period", f"must be from 1 to 1000000 reference mesh cycles, got {bound}")
-    period = forcing_period(ratios.values())
+    period = forcing_period([*ratios.values(), *order_ratios.values()])
     rounded = False
     if period > bound:
         if not gbb.get("round_ratios", default=False):
-            worst = max(ratios, key=lambda k: ratios[k].denominator)
+            every = {**{f"mesh {k!r}": v for k, v in ratios.items()}, **order_ratios}
+            causes = ", ".join(f"{k} at {v}" for k, v in every.items() if v.denominator > 1)
             raise ctx.model(
                 "gearbox" if "gearbox" in data else "mesh",
                 None,
                 None,
                 None,
                 f"the forcing period (the meshes' hunting period) is {period} cycles of mesh {ref!r}, above the "
-                f"bound max_period = {bound} (mesh {worst!r} runs at {ratios[worst]} of it); raise [gearbox] "
+                f"bound max_period = {bound} ({causes} of its frequency); raise [gearbox] "
                 "max_period or set round_ratios = true",
             )
+        if order_ratios and forcing_period(order_ratios.values()) > bound:
+            raise ctx.model(
+                "load",
+                None,
+                None,
+                None,
+                f"the torque orders alone repeat only after {forcing_period(order_ratios.values())} cycles of mesh "
+                f"{ref!r}, above max_period = {bound}; rounding changes mesh ratios, not orders: raise max_period",
+            )
         ratios = {k: round_ratio(v, bound) for k, v in ratios.items()}
-        period = forcing_period(ratios.values())
+        period = forcing_period([*ratios.values(), *order_ratios.values()])
         rounded = True
         ctx.assume(Assumption("gearbox.round_ratios", True, "", f"mesh ratios rounded to the denominator {bound}"))
 
@@ -514,7 +531,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
             conns.append(_bearing(blk, node))
         except ModelError as e:
             raise blk.wrap(e) from None
-    body_speed: dict[str, Fraction] = {}
     for blk in cblocks:
         node = node_at[where[blk.element]]
         blk.need("body", "ktheta")
@@ -535,7 +551,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
         if not jn > 0:
             raise blk.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
         b_c = jn / 2.0
-    loads_raw = list(enumerate(data.get("load", []) or []))
     power = _drive_power(ctx, loads_raw, gears, speeds, body_speed)
     meshes = []
     for blk, (nm, sp, *_) in zip(mblocks, pairs):
@@ -558,7 +573,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
             )
         except ModelError as e:
             raise blk.wrap(e) from None
-    loads = _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap)
+    loads = _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap, zref)
     rpm, omega = opb.get("rpm"), opb.get("omega")
     if rpm is None and omega is None:
         ctx.assume(Assumption("operating.omega", 1.0, "", "no operating point given: ω = 1"))
@@ -570,6 +585,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
         "reference_shaft": pairs[ref_i][1],
         "shaft_speed_ratios": {s: str(v) for s, v in speeds.items()},
         "mesh_ratios": {k: str(v) for k, v in ratios.items()},
+        "order_ratios": {k: str(v) for k, v in order_ratios.items()},
         "forcing_period_mesh_cycles": period,
         "rounded": rounded,
     }
@@ -661,8 +677,49 @@ def _drive_power(ctx, loads_raw, gears, speeds, body_speed) -> float:
     return p
 
 
-def _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap) -> list[Load]:
-    out: list[tuple[str, Fraction, float | None, Any]] = []
+def _orders(blk) -> tuple:
+    """``orders = [{ order = 2, amplitude = "40 N*m", phase = "0 deg" }, ...]``: (order, N·m, rad) tuples."""
+    from ..torque_orders import order_fraction
+
+    if not blk.has("orders"):
+        return ()
+    raw = blk.data["orders"]
+    if not isinstance(raw, list) or not raw or not all(isinstance(e, dict) for e in raw):
+        raise blk.cerr("orders", 'expected a list of tables { order = 2, amplitude = "40 N*m", phase = "0 deg" }')
+    out = []
+    for i, e in enumerate(raw):
+        if set(e) - {"order", "amplitude", "phase"} or "order" not in e or "amplitude" not in e:
+            raise blk.cerr("orders", f"element {i + 1}: keys order, amplitude and optionally phase")
+        try:
+            k = order_fraction(e["order"], f"element {i + 1}: order")
+        except ModelError as err:
+            raise blk.merr("orders", str(err)) from None
+        a = blk._scalar("orders", "torque", e["amplitude"], i + 1)
+        ph = blk._scalar("orders", "angle", e["phase"], i + 1) if "phase" in e else 0.0
+        out.append((k, a, ph))
+    return tuple(out)
+
+
+def _order_ratios(ctx, loads_raw, gears, speeds, body_speed, zref) -> dict[str, Fraction]:
+    """The frequency of every torque order of the loads over the reference mesh frequency (exact)."""
+    out: dict[str, Fraction] = {}
+    for i, t in loads_raw:
+        if not isinstance(t, dict) or "orders" not in t:
+            continue
+        blk = ctx.Block(ctx, "load", i, t, _LOAD, t.get("body") or t.get("gear"))
+        if "gear" in t and t["gear"] in gears:
+            n = speeds[gears[t["gear"]].shaft]
+        elif t.get("body") in body_speed:
+            n = body_speed[t["body"]]
+        else:
+            continue  # refused with its message when the loads are read
+        for k, _, _ in _orders(blk):
+            out[f"order {k} of {blk.element}"] = k * n / zref
+    return out
+
+
+def _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap, zref) -> list[Load]:
+    out: list[tuple[str, Fraction, float | None, Any, tuple]] = []
     for i, t in loads_raw:
         if not isinstance(t, dict):
             raise ConfigError(f"{ctx.source}: [[load]] {i + 1}: must be a table")
@@ -671,17 +728,23 @@ def _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap) -> l
         target, n = _load_target(blk, gears, node_at, where, speeds, body_speed, rmap)
         raw = t["torque"]
         T = None if raw == "balance" else blk.get("torque", "torque")
-        out.append((target, n, T, blk))
+        out.append((target, n, T, blk, _orders(blk)))
     free = [x for x in out if x[2] is None]
     if len(free) > 1:
         raise free[1][3].cerr("torque", 'only one load may be "balance"')
     if free:
-        target, n, _, blk = free[0]
-        P = sum(T * Fraction(nn) for _, nn, T, _ in out if T is not None)
+        target, n, _, blk, _ = free[0]
+        P = sum(T * Fraction(nn) for _, nn, T, _, _ in out if T is not None)
         Tb = -float(P) / float(n)
         ctx.assume(Assumption(f"load.{target}.torque", Tb, "N*m", "balances the other loads at the exact speeds"))
-        out = [(a, b, Tb if T is None else T, c) for a, b, T, c in out]
-    return [Load(target, "theta", T) for target, _, T, _ in out]
+        out = [(a, b, Tb if T is None else T, c, o) for a, b, T, c, o in out]
+    loads = []
+    for target, n, T, blk, orders in out:
+        try:  # the body's shaft speed over the base (reference mesh) frequency: its order k runs at k n/z_ref
+            loads.append(Load(target, "theta", T, orders, (n / zref) if orders else None))
+        except ModelError as e:
+            raise blk.wrap(e) from None
+    return loads
 
 
 def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_default, shafts) -> Mesh:
