@@ -195,6 +195,10 @@ QUOTED: dict[str, Run | str] = {
     "geardyn simulate --system examples/systems/paper_torsional.toml --omega 0.8 --accurate --json": AS_QUOTED,
     "geardyn simulate --omega 0.8 --accurate --json": Run(SHORT),
     "geardyn plot results/bevel8/modes.nc": AS_QUOTED,
+    # gearbox.md (the numbers: tests/test_gearbox.py)
+    "geardyn modes --system examples/gearbox/two_stage_helical.toml --json": AS_QUOTED,
+    "geardyn modes --system examples/gearbox/two_stage_helical.toml --rpm-max 3000 --out results/gearbox": AS_QUOTED,
+    "geardyn plot results/gearbox/modes.nc": AS_QUOTED,
     # README.md
     "geardyn simulate --omega 1.2 --out sim12": Run(SHORT),
     "geardyn simulate --rpm 2400 --torque 1500 --json": AS_QUOTED,

@@ -267,9 +267,12 @@ def test_modes_figures_of_the_gearbox_redraw(tmp_path):
 
 
 def test_torque_orders_on_a_gearbox_enter_the_forcing_period_and_the_model(tmp_path):
-    """The shipped motor's 6th order runs at 6/23 of the stage-1 mesh frequency: with the meshes' 64 cycles the
+    """The shipped motor's 6th order (commented out in the file) runs at 6/23 of the stage-1 mesh frequency: with the meshes' 64 cycles the
     forcing repeats after lcm(64, 23) = 1472 cycles, above the default bound 1000 (the file raises it)."""
-    ex = ROOT / "examples/gearbox/two_stage_helical.toml"
+    ex = tmp_path / "orders.toml"
+    text = (ROOT / "examples/gearbox/two_stage_helical.toml").read_text()
+    assert '# orders = [{ order = 6, amplitude = "4.5 N*m"' in text
+    ex.write_text(text.replace("# orders = [", "orders = ["))
     d = load_description(ex)
     assert d.kinematics["order_ratios"] == {"order 6 of motor": "6/23"}
     assert d.kinematics["forcing_period_mesh_cycles"] == 1472

@@ -108,11 +108,13 @@ def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
         for m in s.meshes
         if m.name != s.scaling.reference
     )
-    text = f"forcing period: {p} cycles of mesh {s.scaling.reference!r} (the least common period; {ratios})"
+    orders = ", ".join(f"order at {r}" for r, _, _ in getattr(s, "orders", ()))
+    text = f"forcing period: {p} cycles of mesh {s.scaling.reference!r} (the least common period; {ratios}"
+    text += f", {orders})" if orders else ")"
     dtau = values.get("dtau")
     if dtau:
         steps = math.ceil(p * 2.0 * math.pi / s.omega / float(dtau))
-        text += f"; {steps:,} RK4 steps per forcing period at dtau = {float(dtau):g}"
+        text += f"; at omega = {s.omega:.4g}, {steps:,} RK4 steps per forcing period (dtau = {float(dtau):g})"
         n = sum(int(values.get(k) or 0) for k in ("transient", "periods"))
         if n:
             text += f", {steps * n:,} for --transient + --periods = {n} forcing periods"
