@@ -101,6 +101,9 @@ position = "0 mm"
 kx = "2e8 N/m"
 ky = "2e8 N/m"
 kz = "1e8 N/m"
+cx = "3000 N*s/m"
+cy = "3000 N*s/m"
+cz = "3000 N*s/m"
 
 [[bearing]]
 name = "{s}_B"
@@ -108,6 +111,8 @@ shaft = "{s}"
 position = "200 mm"
 kx = "2e8 N/m"
 ky = "2e8 N/m"
+cx = "3000 N*s/m"
+cy = "3000 N*s/m"
 """
 
 
@@ -267,8 +272,8 @@ def test_modes_figures_of_the_gearbox_redraw(tmp_path):
 
 
 def test_torque_orders_on_a_gearbox_enter_the_forcing_period_and_the_model(tmp_path):
-    """The shipped motor's 6th order (commented out in the file) runs at 6/23 of the stage-1 mesh frequency: with the meshes' 64 cycles the
-    forcing repeats after lcm(64, 23) = 1472 cycles, above the default bound 1000 (the file raises it)."""
+    """The shipped motor's 6th order (commented out in the file) runs at 6/23 of the stage-1 mesh frequency: with
+    the meshes' 64 cycles the forcing repeats after lcm(64, 23) = 1472 cycles, above the default bound 1000."""
     ex = tmp_path / "orders.toml"
     text = (ROOT / "examples/gearbox/two_stage_helical.toml").read_text()
     assert '# orders = [{ order = 6, amplitude = "4.5 N*m"' in text
@@ -289,3 +294,37 @@ def test_torque_orders_on_a_gearbox_enter_the_forcing_period_and_the_model(tmp_p
         r"\(mesh 'stage2' at 19/64, order 6 of motor at 6/23 of",
     ):
         load_description(f)
+
+
+def test_a_gearbox_simulation_settles_on_its_static_deflection(tmp_path):
+    """Linear meshes (no backlash, constant stiffness) and a balanced torque: the simulated steady deflection of
+    every mesh is the static one, K q = F solved on the SI matrices (the rigid rotation left free)."""
+    f = _file(
+        tmp_path,
+        z=(20, 40, 20, 40),  # stage 2 at 1/2 of stage 1: a forcing period of 2 cycles
+        beta1="15 deg",
+        mesh1_extra="xi0 = 0.1",
+        mesh2_extra="xi0 = 0.1",
+        gearbox='[system]\ncharacteristic_length = "10 um"\n'
+        '[[load]]\ngear = "p1"\ntorque = "100 N*m"\n[[load]]\ngear = "w2"\ntorque = "balance"',
+    )
+    text = f.read_text().replace('backlash = "0.1 mm"', 'backlash = "0 mm"')
+    f.write_text(text)
+    d = load_description(f)
+    K, _ = d.bearing_matrices()
+    for m in d.meshes:
+        v = d.vector(m)
+        K = K + m.stiffness * np.outer(v, v)
+    q = np.linalg.lstsq(K, d.load_vector(), rcond=None)[0]
+    static = np.array([d.vector(m) @ q for m in d.meshes]) / d.b_c
+    from geardyn.analysis.steady import simulate
+    from geardyn.integrate import IntegrationOptions
+
+    s = load_system(f).with_param("omega", 0.5)
+    assert s.period_multiple() == 2
+    res = simulate(s, IntegrationOptions(dtau=0.05, transient=1500, periods=2))  # shaft torsion: little damping
+    means = np.array([m["mean"] for m in res.summary["meshes"]])
+    assert res.summary["status"] == "ok"
+    assert np.allclose(means, static, rtol=1e-6), (means, static)
+    amps = np.array([m["amplitude"] for m in res.summary["meshes"]])
+    assert np.all(amps < 1e-6 * np.abs(static))
