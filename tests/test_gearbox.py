@@ -317,14 +317,14 @@ def test_a_gearbox_simulation_settles_on_its_static_deflection(tmp_path):
         K = K + m.stiffness * np.outer(v, v)
     q = np.linalg.lstsq(K, d.load_vector(), rcond=None)[0]
     static = np.array([d.vector(m) @ q for m in d.meshes]) / d.b_c
-    from geardyn.analysis.steady import simulate
-    from geardyn.integrate import IntegrationOptions
+    from geardyn.integrate import IntegrationOptions, integrate_batch
 
     s = load_system(f).with_param("omega", 0.5)
     assert s.period_multiple() == 2
-    res = simulate(s, IntegrationOptions(dtau=0.05, transient=1500, periods=2))  # shaft torsion: little damping
-    means = np.array([m["mean"] for m in res.summary["meshes"]])
-    assert res.summary["status"] == "ok"
+    # 600 forcing periods: the shafts' torsion within a shaft has little damping (Rayleigh β K only)
+    r = integrate_batch([s], options=IntegrationOptions(dtau=0.05, transient=600, periods=4))
+    assert int(np.asarray(r.status)[0]) == 0
+    means = r.element_mean()[0]
+    spread = r.element_u_max()[0] - r.element_u_min()[0]
     assert np.allclose(means, static, rtol=1e-6), (means, static)
-    amps = np.array([m["amplitude"] for m in res.summary["meshes"]])
-    assert np.all(amps < 1e-6 * np.abs(static))
+    assert np.all(spread < 1e-6 * np.abs(static))
