@@ -316,7 +316,7 @@ def crack_depth_of(fg: FEGear, crack: float) -> float:
 def fe_compliance(fg: FEGear, load_radii, plane: str = "stress") -> np.ndarray:
     """Compliance per unit width (m²/N) of the loaded tooth at each radius in ``load_radii``."""
     from scipy.sparse.linalg import splu
-    from skfem import Basis, ElementQuad2, ElementVector, MeshQuad, asm, condense
+    from skfem import Basis, ElementQuad2, ElementVector, MeshQuad, asm
     from skfem.models.elasticity import lame_parameters, linear_elasticity
 
     g = fg.gear

@@ -27,8 +27,8 @@ Sources and what is checked against each (``docs/excitation.md`` §2 gives the t
   justified; ``test_secondary_helical_summary_trend_and_documented_gap`` checks the trend that survives
   those differences (monotone, growing from step to step, the reduction at 80 % several times that at
   20 %) and pins the documented gap (geardyn's reductions are 7.0-15.3 times smaller on a helical pair
-  with the radial-flank tooth; asserted 4.5-19) so that a change of the crack model shows up here and in the docs together.  This last
-  assertion records a disagreement; it is not a validation.
+  with the radial-flank tooth; asserted 4.5-19) so that a change of the crack model shows up here and
+  in the docs together.  This last assertion records a disagreement; it is not a validation.
 """
 
 import math

@@ -23,8 +23,8 @@ Table 1)::
 with u_f the distance from the root circle to the contact point's height on the centre line (the
 convention of Ma et al. 2014-2015; the lever of the root moment, to where the force line crosses the
 centre line, gives 4-8 % less tooth compliance and departs further from the finite-element check of
-``benchmarks/tooth_fe.py``, docs/excitation.md), S_f = 2 r_f θ_f the root thickness, and each X* = A/θ_f² + B h_f² + C h_f/θ_f + D/θ_f
-+ E h_f + F of θ_f (half angle at the root) and h_f = r_f / r_int.
+``benchmarks/tooth_fe.py``, docs/excitation.md), S_f = 2 r_f θ_f the root thickness, and each
+X* = A/θ_f² + B h_f² + C h_f/θ_f + D/θ_f + E h_f + F of θ_f (half angle at the root) and h_f = r_f / r_int.
 
 A root crack (after Wu, Zuo & Parey 2008, J. Sound Vib. 317, 608-624, and Chen & Shao 2011, Eng. Fail.
 Anal. 18, 2149-2164, with a straight crack): a crack that starts on one flank at the section y_c of half
