@@ -361,6 +361,10 @@ def pair_geometry(
     for name, v in (("m_n", m_n), ("face_width", face_width), ("E", E)):
         if not (math.isfinite(v) and v > 0):
             raise ModelError(f"{name}: must be > 0, got {v!r}")
+    if not 0.05e-3 <= m_n <= 0.1:
+        raise ModelError(f"m_n: module from 0.05 to 100 mm, got {m_n * 1e3:g} mm")
+    if face_width > 100.0 * m_n:
+        raise ModelError(f"face_width: at most 100 m_n = {100 * m_n * 1e3:g} mm, got {face_width * 1e3:g} mm")
     if not 0.0 <= nu < 0.5:
         raise ModelError(f"nu: Poisson's ratio in [0, 0.5), got {nu!r}")
     if not math.radians(10.0) <= alpha_n <= math.radians(35.0):
