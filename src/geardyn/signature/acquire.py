@@ -25,7 +25,7 @@ from ..integrate import trajectory
 from ..model import GearModel, IntegrationOptions
 from ..series import series_values
 
-__all__ = ["Acquisition", "acquire", "acceleration", "sampled"]
+__all__ = ["Acquisition", "acquire", "acceleration", "check_record", "sampled"]
 
 
 @dataclass(frozen=True)
@@ -76,6 +76,48 @@ def acceleration(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray
     return model.fp - C * v - K * model.restoring(u)
 
 
+#: Largest record (samples) and simulation (integration steps) a signature may plan for; larger requests are
+#: refused before computing (each sample or step holds some ten float64 values).
+MAX_SAMPLES = 50_000_000
+MAX_STEPS = 50_000_000
+
+
+def check_record(fs: float, f_mesh: float, revolutions: int, rpm: float, noise: float) -> None:
+    """Refuse a sampling rate, record length or noise level a record cannot have, before computing.
+
+    Parameters
+    ----------
+    fs : float
+        Sampling rate (Hz): finite, at least 8 samples per mesh period.
+    f_mesh : float
+        Mesh frequency (Hz).
+    revolutions : int
+        Pinion revolutions (≥ 1).
+    rpm : float
+        Pinion speed.
+    noise : float
+        Noise RMS relative to the signal's: finite, in [0, 1] (beyond, the indicators are those of the noise).
+
+    Raises
+    ------
+    ModelError
+        One line naming the option and the bound (with the estimate for a record too large).
+    """
+    if not (isinstance(fs, (int, float)) and math.isfinite(fs) and fs > 0):
+        raise ModelError(f"fs: a sampling rate > 0 Hz, got {fs!r}")
+    if fs < 8 * f_mesh:
+        raise ModelError(f"fs: {fs:g} Hz is below 8 samples per mesh period (mesh frequency {f_mesh:g} Hz)")
+    if int(revolutions) != revolutions or revolutions < 1:
+        raise ModelError(f"revolutions: a whole number of at least 1, got {revolutions!r}")
+    n = revolutions * 60.0 / rpm * fs
+    if n > MAX_SAMPLES:
+        raise ModelError(
+            f"fs x revolutions: {n:.3g} samples ({fs:g} Hz over {revolutions} revolutions); at most {MAX_SAMPLES:.3g}"
+        )
+    if not (isinstance(noise, (int, float)) and math.isfinite(noise) and 0.0 <= noise <= 1.0):
+        raise ModelError(f"noise: a share of the signal RMS in [0, 1], got {noise!r}")
+
+
 def acquire(
     model: GearModel,
     scales: dict,
@@ -116,12 +158,15 @@ def acquire(
     z1, z2, P = int(scales["z1"]), int(scales["z2"]), int(scales["cycles"])
     rpm, wn, b_c = float(scales["rpm"]), float(scales["omega_n"]), float(scales["b_c"])
     f_mesh = rpm / 60.0 * z1
-    if fs < 8 * f_mesh:
-        raise ModelError(f"fs: {fs:g} Hz is below 8 samples per mesh period (mesh frequency {f_mesh:g} Hz)")
-    if int(revolutions) < 1:
-        raise ModelError(f"revolutions: at least 1, got {revolutions!r}")
+    check_record(fs, f_mesh, revolutions, rpm, noise)
     periods = int(math.ceil(revolutions * z1 / P)) + 1
     transient = max(2, int(math.ceil(settle / model.sampling_period)))
+    steps = (periods + transient) * model.sampling_period / dtau
+    if steps > MAX_STEPS:
+        raise ModelError(
+            f"revolutions: {revolutions} pinion revolutions need about {steps:.3g} integration steps; at most "
+            f"{MAX_STEPS:.3g} (fewer revolutions)"
+        )
     tr = trajectory(
         model,
         (model.fp, 0.0),

@@ -29,7 +29,7 @@ from scipy.interpolate import CubicSpline
 from ..errors import ModelError
 from ..integrate import trajectory
 from ..model import IntegrationOptions
-from .acquire import Acquisition, sampled
+from .acquire import MAX_STEPS, Acquisition, check_record, sampled
 
 __all__ = [
     "check_sensor",
@@ -286,12 +286,17 @@ def system_acquire(
     i = list(system.labels).index(dof)
     f_mesh = m.ratio * system.omega * sc.omega_n / (2.0 * math.pi)
     rpm = 60.0 * f_mesh / z1
-    if fs < 8 * f_mesh:
-        raise ModelError(f"fs: {fs:g} Hz is below 8 samples per mesh period (mesh frequency {f_mesh:g} Hz)")
+    check_record(fs, f_mesh, revolutions, rpm, noise)
     Tf = system.sampling_period
     periods = int(math.ceil(revolutions * z1 * system.period / m.ratio / Tf)) + 1
     settle = settle_time(system) if settle is None else settle
     transient = max(2, int(math.ceil(settle / Tf)))
+    steps = (periods + transient) * Tf / dtau
+    if steps > MAX_STEPS:
+        raise ModelError(
+            f"revolutions: {revolutions} pinion revolutions need about {steps:.3g} integration steps; at most "
+            f"{MAX_STEPS:.3g} (fewer revolutions)"
+        )
     tr = trajectory(
         system, None, IntegrationOptions(dtau=dtau, transient=transient, periods=periods), history_periods=periods
     )

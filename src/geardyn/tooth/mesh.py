@@ -154,6 +154,11 @@ class MeshStiffness:
         return float(np.mean(self.stiffness))
 
 
+#: Largest memory a mesh computation may plan for (bytes); larger requests are refused before computing.
+MAX_MESH_BYTES = 2_000_000_000
+#: Arrays of the (phase, pair, slice) size a mesh computation holds at once (an upper estimate).
+_MESH_ARRAYS = 24
+
 #: Largest line load F_bt / b a pair may carry (N/m): 100 000 N/mm, some 30 times what case-hardened steel
 #: teeth carry at their bending and pitting limits.
 MAX_LINE_LOAD = 1e8
@@ -291,10 +296,22 @@ def mesh_stiffness(
             raise ModelError(f"fault: tooth {f.tooth} of gear {f.gear} does not exist (z = {z})")
     check_plausible(geo, torque1, mods, faults)
     P = default_cycles(z1, z2, faults) if cycles is None else int(cycles)
-    if P < 1 or points < 4:
-        raise ModelError(f"cycles >= 1 and points >= 4 per cycle, got {P}, {points}")
+    if P < 1:
+        raise ModelError(f"cycles: at least 1, got {P}")
+    if int(points) != points or points < 4:
+        raise ModelError(f"points: a whole number of at least 4 per mesh cycle, got {points!r}")
+    if slices is not None and (int(slices) != slices or slices < 1):
+        raise ModelError(f"slices: a whole number of at least 1, got {slices!r}")
     partial = any(isinstance(f, Spall) or (isinstance(f, Crack) and f.length < 1.0) for f in faults)
     S = int(slices) if slices else (40 if (geo.beta > 0 or mods.crowning > 0 or partial) else 1)
+    J_est = int(math.ceil(geo.eps_alpha + geo.face_width * math.tan(geo.beta_b) / geo.p_bt)) + 1
+    M_est = P * int(points) if phases is None else int(np.size(phases))
+    need = _MESH_ARRAYS * 8.0 * M_est * J_est * S
+    if need > MAX_MESH_BYTES:
+        raise ModelError(
+            f"points x cycles x slices: {M_est} phases x {J_est} pairs x {S} slices would need about "
+            f"{need / 1e9:.3g} GB; at most {MAX_MESH_BYTES / 1e9:g} GB (fewer --points, --cycles or --slices)"
+        )
     F = torque1 / geo.r_b[0]
     b = geo.face_width
     tanb = math.tan(geo.beta_b)
