@@ -138,6 +138,31 @@ class ToothCase:
     mesh: dict[str, Any] = field(default_factory=dict)
     signature: dict[str, Any] = field(default_factory=dict)
 
+    def mesh_stiffness(self, cycles: int | None = None, points: int | None = None) -> Any:
+        """The pair's mesh stiffness and STE (:func:`geardyn.tooth.mesh.mesh_stiffness`) at its torque.
+
+        Parameters
+        ----------
+        cycles, points : int, optional
+            Mesh cycles and phases per cycle (default the file's ``[mesh]`` values, else the hunting
+            period's cycles and 64 points).
+
+        Returns
+        -------
+        MeshStiffness
+        """
+        from .mesh import mesh_stiffness
+
+        return mesh_stiffness(
+            self.geometry,
+            self.torque,
+            faults=self.faults,
+            modifications=self.modifications,
+            cycles=cycles if cycles is not None else self.mesh.get("cycles"),
+            points=int(points if points is not None else self.mesh.get("points", 64)),
+            slices=self.mesh.get("slices"),
+        )
+
 
 def _section(ctx: _Ctx, doc: dict[str, Any], name: str, keys: dict[str, tuple[_Key, str | None, float]]) -> dict:
     raw = doc.get(name, {})
