@@ -21,6 +21,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
+from ..plausible import budget
 from ..integrate import trajectory
 from ..model import GearModel, IntegrationOptions
 from ..series import series_values
@@ -110,10 +111,7 @@ def check_record(fs: float, f_mesh: float, revolutions: int, rpm: float, noise: 
     if int(revolutions) != revolutions or revolutions < 1:
         raise ModelError(f"revolutions: a whole number of at least 1, got {revolutions!r}")
     n = revolutions * 60.0 / rpm * fs
-    if n > MAX_SAMPLES:
-        raise ModelError(
-            f"fs x revolutions: {n:.3g} samples ({fs:g} Hz over {revolutions} revolutions); at most {MAX_SAMPLES:.3g}"
-        )
+    budget(f"a record at {fs:g} Hz over {revolutions} revolutions", n, MAX_SAMPLES, "samples", "fs x revolutions")
     if not (isinstance(noise, (int, float)) and math.isfinite(noise) and 0.0 <= noise <= 1.0):
         raise ModelError(f"noise: a share of the signal RMS in [0, 1], got {noise!r}")
 
@@ -162,11 +160,7 @@ def acquire(
     periods = int(math.ceil(revolutions * z1 / P)) + 1
     transient = max(2, int(math.ceil(settle / model.sampling_period)))
     steps = (periods + transient) * model.sampling_period / dtau
-    if steps > MAX_STEPS:
-        raise ModelError(
-            f"revolutions: {revolutions} pinion revolutions need about {steps:.3g} integration steps; at most "
-            f"{MAX_STEPS:.3g} (fewer revolutions)"
-        )
+    budget(f"{revolutions} pinion revolutions", steps, MAX_STEPS, "integration steps", "revolutions")
     tr = trajectory(
         model,
         (model.fp, 0.0),

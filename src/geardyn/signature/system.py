@@ -27,6 +27,7 @@ import xarray as xr
 from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
+from ..plausible import budget
 from ..integrate import trajectory
 from ..model import IntegrationOptions
 from .acquire import MAX_STEPS, Acquisition, check_record, sampled
@@ -292,11 +293,7 @@ def system_acquire(
     settle = settle_time(system) if settle is None else settle
     transient = max(2, int(math.ceil(settle / Tf)))
     steps = (periods + transient) * Tf / dtau
-    if steps > MAX_STEPS:
-        raise ModelError(
-            f"revolutions: {revolutions} pinion revolutions need about {steps:.3g} integration steps; at most "
-            f"{MAX_STEPS:.3g} (fewer revolutions)"
-        )
+    budget(f"{revolutions} pinion revolutions", steps, MAX_STEPS, "integration steps", "revolutions")
     tr = trajectory(
         system, None, IntegrationOptions(dtau=dtau, transient=transient, periods=periods), history_periods=periods
     )

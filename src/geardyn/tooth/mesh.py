@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
+from ..plausible import budget
 from .energy import hertz_compliance, tooth_compliance
 from .faults import Broken, Crack, Modifications, Spall, Wear, fault_to_dict
 from .geometry import PairGeometry
@@ -307,11 +308,9 @@ def mesh_stiffness(
     J_est = int(math.ceil(geo.eps_alpha + geo.face_width * math.tan(geo.beta_b) / geo.p_bt)) + 1
     M_est = P * int(points) if phases is None else int(np.size(phases))
     need = _MESH_ARRAYS * 8.0 * M_est * J_est * S
-    if need > MAX_MESH_BYTES:
-        raise ModelError(
-            f"points x cycles x slices: {M_est} phases x {J_est} pairs x {S} slices would need about "
-            f"{need / 1e9:.3g} GB; at most {MAX_MESH_BYTES / 1e9:g} GB (fewer --points, --cycles or --slices)"
-        )
+    budget(
+        f"memory of {M_est} phases x {J_est} pairs x {S} slices", need, MAX_MESH_BYTES, key="points x cycles x slices"
+    )
     F = torque1 / geo.r_b[0]
     b = geo.face_width
     tanb = math.tan(geo.beta_b)
