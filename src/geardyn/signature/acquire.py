@@ -21,9 +21,9 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
-from ..plausible import budget
 from ..integrate import trajectory
 from ..model import GearModel, IntegrationOptions
+from ..plausible import budget
 from ..series import series_values
 
 __all__ = ["Acquisition", "acquire", "acceleration", "check_record", "sampled"]

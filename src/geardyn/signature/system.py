@@ -27,9 +27,9 @@ import xarray as xr
 from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
-from ..plausible import budget
 from ..integrate import trajectory
 from ..model import IntegrationOptions
+from ..plausible import budget
 from .acquire import MAX_STEPS, Acquisition, check_record, sampled
 
 __all__ = [
