@@ -15,6 +15,8 @@ Sources and what is checked against each (``docs/excitation.md`` §2 gives the t
   ``quad`` to 1e-11, breakpoints at the base circle and where h_x = h_q or h_c) and asserts geardyn's
   compliances equal them to 2e-4: geardyn integrates by the trapezoidal rule on 801 sections (error
   O(Δy²), observed ≤ 6e-5 on these pairs), so 2e-4 bounds the discretisation and nothing else.
+  (geardyn's default crack is the cracked section's flexibility of fracture mechanics, checked against
+  finite elements in ``tests/test_tooth_fe.py``; the section law is kept as ``crack_model="section"``.)
 * Monotone in depth, and largest in single contact (the qualitative result reported throughout the
   cracked-gear literature; in the one summary with numbers read here: "the maximum reduction occurs when a
   single tooth with cracks engages"): ``test_reduction_is_monotone_in_depth_and_largest_in_single_contact``.
@@ -26,9 +28,10 @@ Sources and what is checked against each (``docs/excitation.md`` §2 gives the t
   foundation term and its averaging window are not stated, so no tolerance on the magnitudes can be
   justified; ``test_secondary_helical_summary_trend_and_documented_gap`` checks the trend that survives
   those differences (monotone, growing from step to step, the reduction at 80 % several times that at
-  20 %) and pins the documented gap (geardyn's reductions are 7.0-15.3 times smaller on a helical pair
-  with the radial-flank tooth; asserted 4.5-19) so that a change of the crack model shows up here and
-  in the docs together.  This last assertion records a disagreement; it is not a validation.
+  20 %) and pins the documented gap (geardyn's reductions, with its cracked-section flexibility, are
+  5.6-32 times smaller on a helical pair with the radial-flank tooth; asserted 4-40) so that a change of
+  the crack model shows up here and in the docs together.  This last assertion records a disagreement;
+  it is not a validation.
 """
 
 import math
@@ -112,7 +115,7 @@ def test_cracked_tooth_compliances_are_the_published_integrals(z1, z2, m):
     rho = geo.contact_radius(0, np.array([geo.s_A, 0.5 * (geo.s_A + geo.s_E), geo.s_E]))
     healthy = tooth_compliance(geo, 0, rho)
     for depth in (None, 0.1, 0.5, 0.75, 0.9):
-        tc = tooth_compliance(geo, 0, rho, crack_depth=depth)
+        tc = tooth_compliance(geo, 0, rho, crack_depth=depth, crack_model="section")
         for i, rc in enumerate(rho):
             kb, ks, ka = _published_crack_integrals(z1, m, geo.r_f[0], float(rc), depth)
             assert tc.bending[i] == pytest.approx(kb, rel=2e-4)
@@ -172,6 +175,6 @@ def test_secondary_helical_summary_trend_and_documented_gap():
     assert np.all(steps_pub > 0) and np.all(steps_ours > 0)
     assert np.all(np.diff(steps_pub) > 0) and np.all(np.diff(steps_ours) > 0)
     assert published[3] / published[1] > 3 and ours[3] / ours[1] > 3
-    # the documented disagreement (docs/excitation.md §2): geardyn 7.0-15.3 times smaller at these depths
+    # the documented disagreement (docs/excitation.md §2): geardyn 5.6-32 times smaller at these depths
     ratio = published / ours
-    assert np.all((ratio > 4.5) & (ratio < 19.0))
+    assert np.all((ratio > 4.0) & (ratio < 40.0))
