@@ -274,7 +274,9 @@ def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         The figure, its Axes and the artists drawn.
     """
     n = ds.sizes["tooth"]
-    fig, axes, _ = panels(ax, n, (10.0, 2.6 * ((n + 1) // 2) + 0.6), nrows=(n + 1) // 2, ncols=2)
+    fig, axes, new = panels(ax, n, (10.0, 2.9 * ((n + 1) // 2) + 0.6), nrows=(n + 1) // 2, ncols=2)
+    if new:
+        fig.subplots_adjust(hspace=0.5)
     before = snapshot(axes)
     for a, t in zip(axes, ds["tooth"].values):
         if a is None:
