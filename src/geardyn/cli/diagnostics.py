@@ -169,10 +169,13 @@ SIGNATURE_OPTIONS = [
         Optional[float],
         None,
         "--fs",
-        help="Sampling rate (Hz; default about 20 samples per mesh period; with --system also 5 per period of "
-        "the system's highest natural frequency).",
+        help="Sampling rate (Hz; default 20 samples per mesh period and 2.5 per period of the highest mesh "
+        "harmonic the model holds; with --system 20 per mesh period and 5 per period of the system's highest "
+        "natural frequency).",
     ),
-    option("noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02)."),
+    option(
+        "noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."
+    ),
     option(
         "sweep",
         Optional[str],

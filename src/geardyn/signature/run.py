@@ -30,6 +30,7 @@ __all__ = [
     "signature",
     "signature_sweep",
     "sweep_dataset",
+    "sweep_runs",
 ]
 
 #: Harmonics of the excitation's period a signature run keeps by default (the full table: ``harmonics=``).
@@ -335,11 +336,10 @@ def signature_sweep(
     xarray.Dataset
         ``geardyn_kind = "signature_sweep"``: one variable per indicator over (``size``, ``shaft``).
     """
-    rows = []
-    for s in sizes:
-        ms = make(float(s))
-        ds = signature(
-            ms,
+
+    def run(size: float) -> xr.Dataset:
+        return signature(
+            make(size),
             rpm,
             revolutions=revolutions,
             fs=fs,
@@ -351,8 +351,39 @@ def signature_sweep(
             xi0=xi0,
             dtau=dtau,
         )
-        rows.append(json.loads(ds.attrs["summary"])["runs"][0]["indicators"])
-    return sweep_dataset(rows, sizes, {"size_name": name, "rpm": rpm})
+
+    return sweep_runs(run, sizes, name, lambda last: {"rpm": rpm})
+
+
+def sweep_runs(
+    run: Callable[[float], xr.Dataset],
+    sizes: Sequence[float],
+    name: str,
+    extra: Callable[[dict[str, Any]], dict[str, Any]],
+) -> xr.Dataset:
+    """A ``signature_sweep`` result from one ``signature`` run per fault size: the one sweep of the pair and
+    of every system.
+
+    Parameters
+    ----------
+    run : callable
+        ``run(size) -> xarray.Dataset``, a ``signature`` result.
+    sizes : sequence of float
+        The fault sizes.
+    name : str
+        What the size is.
+    extra : callable
+        ``extra(last_run_summary) -> dict``: what the sweep's summary adds (``rpm``, ``sensor`` …).
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    rows, last = [], {}
+    for size in sizes:
+        last = json.loads(run(float(size)).attrs["summary"])["runs"][0]
+        rows.append(last["indicators"])
+    return sweep_dataset(rows, sizes, {"size_name": name, **extra(last)})
 
 
 def sweep_dataset(

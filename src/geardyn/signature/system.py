@@ -21,7 +21,6 @@ sensor is the translation of the mesh's pinion most nearly along the line of act
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -430,18 +429,15 @@ def system_signature_sweep(
     xarray.Dataset
         ``geardyn_kind = "signature_sweep"`` as the pair's; the summary adds ``sensor`` and ``mesh``.
     """
-    from .run import sweep_dataset
+    from .run import sweep_runs
 
-    rows, rpm = [], None
-    for s in sizes:
-        system = make(float(s))
-        dof = default_sensor(system, mesh) if dof is None else dof
-        r = json.loads(
-            system_signature(
-                system, dof, mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise, seed=seed, dtau=dtau
-            ).attrs["summary"]
-        )["runs"][0]
-        rows.append(r["indicators"])
-        rpm = r["rpm"]
-        mname = r["mesh"]
-    return sweep_dataset(rows, sizes, {"size_name": name, "rpm": rpm, "sensor": dof, "mesh": mname})
+    def run(size: float) -> xr.Dataset:
+        system = make(size)
+        sensor = default_sensor(system, mesh) if dof is None else dof
+        return system_signature(
+            system, sensor, mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise, seed=seed, dtau=dtau
+        )
+
+    return sweep_runs(
+        run, sizes, name, lambda last: {"rpm": last["rpm"], "sensor": last["sensor"], "mesh": last["mesh"]}
+    )
