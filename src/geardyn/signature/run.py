@@ -73,10 +73,10 @@ def indicators(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, floa
 
 
 def per_rev(z: int, top_order: float = 0.0) -> int:
-    """Angle-domain points per revolution of a shaft with ``z`` teeth: at least 16 per mesh period, and at
-    least 4 per period of the highest mesh harmonic ``top_order`` the model holds (twice its Nyquist rate),
-    rounded up to a power of 2.  Each shaft gets its own: one count for both would resolve the gear with
-    more teeth too coarsely and fold its mesh harmonics into its difference signal.
+    """Angle-domain points per revolution of a shaft with ``z`` teeth: at least 16 per period of every mesh
+    harmonic the model holds (the highest, ``top_order`` mesh orders, and the mesh frequency itself), rounded up
+    to a power of 2.  Each shaft gets its own: one count for both would resolve the gear with more teeth too
+    coarsely and fold its mesh harmonics into its difference signal.
 
     Parameters
     ----------
@@ -91,10 +91,10 @@ def per_rev(z: int, top_order: float = 0.0) -> int:
 
     Examples
     --------
-    >>> per_rev(19), per_rev(48), per_rev(48, top_order=32.0)
-    (512, 1024, 8192)
+    >>> per_rev(19), per_rev(48), per_rev(48, top_order=3.37)
+    (512, 1024, 4096)
     """
-    return int(2 ** math.ceil(math.log2(max(16.0 * z, 4.0 * z * top_order))))
+    return int(2 ** math.ceil(math.log2(16.0 * z * max(1.0, top_order))))
 
 
 def default_fs(f_mesh: float, top_order: float = 0.0) -> float:
