@@ -255,6 +255,14 @@ class LoadedConfig:
         The ISO 10300-1 inputs of ``[gear_pair]`` (:data:`~geardyn.geometry.iso.ISO_KEYS`, SI units).
     k0_method : str
         How k0 was obtained: ``"given"``, ``"iso"`` (c_γ b_v,eff) or ``"face_width"`` (c_γ × b).
+
+    Examples
+    --------
+    >>> from geardyn import load_config
+    >>> cfg = load_config()
+    >>> slower = cfg.at(rpm=2000, torque=1000)
+    >>> slower.rpm, round(slower.model.omega, 4), round(slower.model.fp, 4)
+    (2000.0, 0.668, 0.1035)
     """
 
     source: str
@@ -401,6 +409,13 @@ def load_config(path: str | Path | None = None) -> LoadedConfig:
         file, the line when known and the key.
     ModelError
         For a value out of range for the gear pair or the model, with the same kind of message.
+
+    Examples
+    --------
+    >>> from geardyn import load_config
+    >>> cfg = load_config()  # the paper's Table 1 pair, packaged with geardyn
+    >>> cfg.pair.z1, cfg.pair.z2, cfg.rpm, round(cfg.model.omega, 4)
+    (23, 47, 3000.0, 1.002)
     """
     if path is None:
         res = packaged_config_path()

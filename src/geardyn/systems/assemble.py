@@ -289,6 +289,15 @@ class SystemModel:
     ------
     ModelError
         If an array has the wrong shape, ω is not positive, or a clearance gap is negative.
+
+    Examples
+    --------
+    >>> from geardyn import SystemModel, load_system
+    >>> system = load_system("examples/systems/paper_torsional.toml")
+    >>> isinstance(system, SystemModel), system.labels
+    (True, ('pinion.theta', 'gear.theta'))
+    >>> round(system.omega, 6), system.with_param("omega", 0.8).omega
+    (1.002046, 0.8)
     """
 
     labels: tuple[str, ...]
@@ -569,6 +578,48 @@ class SystemModel:
         return SystemArrays(
             *(np.ascontiguousarray(np.stack([getattr(a, f) for a in each])) for f in SystemArrays._fields)
         )
+
+    # ------------------------------------------------------------------ a result's attributes
+    def to_attrs(self) -> str:
+        """The non-dimensional system as JSON text (a result's ``system_model`` attribute): its DOF labels,
+        matrices, meshes, loads, ω, scales and clearances, every float exactly.  :meth:`from_attrs` is the
+        inverse (without the physical description, which is not stored)."""
+        import json
+        from dataclasses import asdict
+
+        d = {
+            "labels": list(self.labels),
+            "Mi": self.Mi.tolist(),
+            "Kb": self.Kb.tolist(),
+            "Cb": self.Cb.tolist(),
+            "V": self.V.tolist(),
+            "meshes": [asdict(m) for m in self.meshes],
+            "F": self.F.tolist(),
+            "omega": self.omega,
+            "scaling": asdict(self.scaling),
+            "clearance_names": list(self.clearance_names),
+            "Vc": self.Vc.tolist(),
+            "kc": list(self.kc),
+            "cc": list(self.cc),
+            "Dc": list(self.Dc),
+        }
+        return json.dumps(d)
+
+    @classmethod
+    def from_attrs(cls, text: str) -> SystemModel:
+        """The system of :meth:`to_attrs` text (``description`` None)."""
+        import json
+
+        d = json.loads(text)
+        sc = d.pop("scaling")
+        sc["s"] = tuple(sc["s"])
+        d["scaling"] = Scaling(**sc)
+        d["meshes"] = tuple(MeshND(**m) for m in d["meshes"])
+        d["labels"] = tuple(d["labels"])
+        d["clearance_names"] = tuple(d["clearance_names"])
+        n = len(d["labels"])
+        d["Vc"] = np.reshape(np.array(d["Vc"], dtype=float), (len(d["clearance_names"]), n))
+        return cls(**d)
 
     # ------------------------------------------------------------------ checks and helpers
     def relative_coefficients(self, mesh: str | None = None) -> dict[str, float]:

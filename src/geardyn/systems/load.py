@@ -864,6 +864,10 @@ def load_description(path: str | Path) -> SystemDescription:
     ctx = _Ctx(source, text)
     data = parse_toml(text, source)
     try:
+        if isinstance(data, dict) and "shaft" in data:  # a gearbox from its geometry: geardyn.gearbox.build
+            from ..gearbox.build import build_description
+
+            return build_description(ctx, data, _Block, _body, _element_line)
         return _build(ctx, data)
     except GeardynError:
         raise
@@ -885,6 +889,13 @@ def load_system(path: str | Path, omega: float | None = None) -> SystemModel:
     ------
     ConfigError, ModelError
         As :func:`load_description`.
+
+    Examples
+    --------
+    >>> from geardyn import load_system
+    >>> system = load_system("examples/systems/paper_torsional.toml", omega=0.8)
+    >>> system.omega, system.state_dim, [e.name for e in system.elements]
+    (0.8, 4, ['mesh'])
     """
     desc = load_description(path)
     try:
