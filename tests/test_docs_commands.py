@@ -194,6 +194,13 @@ QUOTED: dict[str, Run | str] = {
     "geardyn rattle --fp 0.002 --xi0 0.02 --xi1 0 --kappa1 0.1 --fe 0 --omega 0.5 --torque-order 1/4:0.02 --json": Run(
         {"--transient": "10", "--periods": "2"}
     ),
+    "geardyn rattle --system": _FRAGMENT,
+    "geardyn plot rattle_map.nc": Run(
+        before=(
+            "geardyn rattle --system examples/gearbox/rattle_idle.toml --map-points 2 --scale-points 1 "
+            "--transient 3 --periods 1 --dtau 0.05 --out .",
+        )
+    ),
     # systems.md (the numbers: test_systems_* below)
     "geardyn modes --system examples/systems/paper_bevel_8dof.toml --json": AS_QUOTED,
     "geardyn modes --system examples/systems/paper_bevel_8dof.toml --rpm-max 5000 --out results/bevel8": AS_QUOTED,
