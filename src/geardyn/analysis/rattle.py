@@ -305,7 +305,7 @@ class RattleResult:
 
 
 def _check(model: Any) -> GearModel:
-    if not isinstance(model, GearModel):
+    if not hasattr(model, "torque_orders") or model.state_dim != 2:
         raise ModelError("rattle: takes the pair (a GearModel); a system of two gears: see pair_of_system")
     if not model.D > 0:
         raise ModelError(f"D (backlash): rattle needs a backlash, D > 0, got {model.D!r}")
