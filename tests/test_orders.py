@@ -246,3 +246,13 @@ def test_cli_bad_torque_order_exits_2(args, key):
     code, out, err = run_cli(["simulate", "--json", "--periods", "2", "--transient", "0", *args])
     assert code == 2
     assert key in err and len(err.strip().splitlines()) == 1
+
+
+def test_config_orders_change_the_response(tmp_path):
+    base = "[mesh]\nxi0 = 0.1\nxi = [0.05]\nkappa = [0.2]\neps = [0.5]\nfp = 0.2\n[operating]\nomega = 1.0\n"
+    plain, forced = tmp_path / "plain.toml", tmp_path / "forced.toml"
+    plain.write_text(base)
+    forced.write_text(base + '[model]\ntorque_orders = [{ order = "1/2", amplitude = 0.05, phase = "30 deg" }]\n')
+    a = _simulate("--config", str(plain))
+    b = _simulate("--config", str(forced))
+    assert a["rms"] != b["rms"] and a["amplitude"] != b["amplitude"]
