@@ -78,6 +78,10 @@ def test_hb_equals_simulation_on_the_linear_case():
     from geardyn.analysis.hb.solve import hb_solve
 
     m = LINEAR
+    direct = hb_solve(m, harmonics=16, guess="linear", stability=False)  # harmonics of ω/M, M = 2 mesh cycles
+    assert direct.converged
+    tau, u = direct.signal(256)
+    assert np.max(np.abs(u - exact_linear(m, tau))) < 1e-9
     f = m.forcing_model()  # one forcing period as its unit: ω/2, orders 1 and 6, the STE harmonic 2
     assert f.period_multiple() == 1 and f.omega == m.omega / 2
     sol = hb_solve(f, harmonics=8, guess="linear", stability=False)

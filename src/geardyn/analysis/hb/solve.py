@@ -89,7 +89,7 @@ def default_harmonics(model: GearModel, period: int = 1) -> int:
     ModelError
         When that is more than :data:`MAX_DEFAULT_HARMONICS` (give the harmonics explicitly).
     """
-    P = int(getattr(model, "cycles", 1))
+    P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period (excitation, torque orders)
     if P == 1:
         return DEFAULT_HARMONICS
     H = max(P * DEFAULT_HARMONICS, int(period) * int(model.n_harmonics))
@@ -148,7 +148,7 @@ class HBSystem:
         if int(harmonics) < 1:
             raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
         self.base = model
-        self.P = int(getattr(model, "cycles", 1))
+        self.P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period (excitation, torque orders)
         self.n = int(period)
         self.H = int(harmonics)
         self.floquet = check_floquet(floquet)
@@ -524,7 +524,7 @@ def guess_from_simulation(
     from ...integrate import trajectory
 
     n, H = int(period), int(harmonics)
-    P = int(getattr(model, "cycles", 1))
+    P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period (excitation, torque orders)
     if P > 1:  # the same settling time as a one-cycle model's: the transient counts forcing periods of P cycles
         transient = -(-int(transient) // P)
     opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=n)
