@@ -260,3 +260,19 @@ def test_config_orders_change_the_response(tmp_path):
     a = _simulate("--config", str(plain))
     b = _simulate("--config", str(forced))
     assert a["rms"] != b["rms"] and a["amplitude"] != b["amplitude"]
+
+
+def test_hb_continuation_in_omega_keeps_the_orders():
+    """A branch over ω of the linear case: every point's coefficients are the exact steady state at its ω (the
+    orders' amplitudes do not depend on ω, the STE's grow as ω²)."""
+    from geardyn.analysis.hb.aft import HarmonicBasis
+    from geardyn.analysis.hb.continuation import hb_continuation
+
+    br = hb_continuation(LINEAR, "omega", 0.7, 0.705, harmonics=8, guess="linear", max_points=40)
+    assert br.values.size >= 5 and br.values.max() > 0.703
+    for w, a in zip(br.values, br.coefficients):
+        m = LINEAR.replace(omega=float(w))
+        tau = np.linspace(0.0, m.sampling_period, 40)
+        u = HarmonicBasis(8, 64).evaluate(a, m.forcing_omega * tau)
+        # to the corrector's tolerance (the orders' terms are 0.05 and 0.04: leaving them out fails by ~0.1)
+        assert np.max(np.abs(u - exact_linear(m, tau))) < 1e-6
