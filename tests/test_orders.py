@@ -276,3 +276,19 @@ def test_hb_continuation_in_omega_keeps_the_orders():
         u = HarmonicBasis(8, 64).evaluate(a, m.forcing_omega * tau)
         # to the corrector's tolerance (the orders' terms are 0.05 and 0.04: leaving them out fails by ~0.1)
         assert np.max(np.abs(u - exact_linear(m, tau))) < 1e-6
+
+
+def test_shooting_finds_the_exact_orbit():
+    """Shooting on the forcing period (two mesh periods for the half order): the orbit's state at θ = 0 is the
+    exact steady state's, and its multipliers are those of the linear oscillator over that period."""
+    from geardyn.analysis.periodic import shoot
+
+    m = LINEAR
+    orb = shoot(m, 1, guess=(m.D + m.fp, 0.0), dtau=0.002)
+    assert orb.converged
+    u0 = exact_linear(m, np.array([0.0]))[0]
+    h = 1e-6
+    v0 = (exact_linear(m, np.array([h]))[0] - exact_linear(m, np.array([-h]))[0]) / (2 * h)
+    assert abs(orb.state[0] - u0) < 1e-8 and abs(orb.state[1] - v0) < 1e-6
+    T = m.sampling_period  # |μ| = exp(−ξ0 T) for the underdamped linear oscillator of unit frequency
+    assert np.allclose(np.abs(orb.multipliers), math.exp(-m.xi0 * T), rtol=1e-6)
