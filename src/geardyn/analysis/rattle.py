@@ -56,8 +56,19 @@ _NEWTON = 30
 
 @dataclass(frozen=True)
 class RattleScales:
-    """The physical scales of a rattle result: b_c (m), ω_n (rad/s), the mesh stiffness k (N/m) and the teeth z
-    of the gear whose speed sets the mesh frequency (for rpm; None when unknown)."""
+    """The physical scales of a rattle result.
+
+    Parameters
+    ----------
+    b_c_m : float
+        Characteristic length b_c (m).
+    omega_n_rad_s : float
+        ω_n (rad/s).
+    k_N_per_m : float
+        Mean mesh stiffness k (N/m).
+    teeth : int, optional
+        Teeth of the gear whose speed sets the mesh frequency (for rpm; None when unknown).
+    """
 
     b_c_m: float
     omega_n_rad_s: float
@@ -192,6 +203,8 @@ class RattleResult:
     scales : RattleScales or None
     status : str
         ``"ok"`` or ``"diverged"``.
+    extra : dict
+        Further keys of the JSON summary.
     """
 
     model: GearModel
@@ -446,6 +459,15 @@ def pair_of_system(system: Any) -> GearModel:
     With ``a = V M̃⁻¹ Vᵀ`` the relative coordinate u = V q̃ − E obeys u'' + a(C u' + K f(u)) = V M̃⁻¹ F − E'' (the
     loads and their torque orders projected by V M̃⁻¹), the pair's equation when a·k = 1 (a reference mesh
     between two rotations).
+
+    Parameters
+    ----------
+    system : SystemModel or GearModel
+        The system (a pair is returned as it is).
+
+    Returns
+    -------
+    GearModel
 
     Raises
     ------
