@@ -29,12 +29,14 @@ xr = lazy_module("xarray")
 
 
 class Variable(NamedTuple):
-    """Metadata of one variable: ``units`` ("1" = non-dimensional), ``long_name`` and, for coded
-    variables, ``flags`` (code → meaning, written as CF ``flag_values``/``flag_meanings``)."""
+    """Metadata of one variable: ``units`` ("1" = non-dimensional), ``long_name``, for coded
+    variables ``flags`` (code → meaning, written as CF ``flag_values``/``flag_meanings``), and ``text``
+    for a variable that holds names (a sweep's direction, a bifurcation's type), not numbers."""
 
     units: str
     long_name: str
     flags: Mapping[int, str] | None = None
+    text: bool = False
 
     def attrs(self) -> dict[str, Any]:
         """The variable's attributes as geardyn writes them."""
@@ -49,8 +51,8 @@ _STATUS_FLAGS = {int(s): s.label for s in Status}
 _ONE = "1"
 
 
-def _v(long_name: str, units: str = _ONE, flags: Mapping[int, str] | None = None) -> Variable:
-    return Variable(units, long_name, flags)
+def _v(long_name: str, units: str = _ONE, flags: Mapping[int, str] | None = None, text: bool = False) -> Variable:
+    return Variable(units, long_name, flags, text)
 
 
 #: Every variable and coordinate geardyn writes, by name (kinds that mean something else by a name
@@ -92,7 +94,7 @@ VARIABLES: dict[str, Variable] = {
     "start_state": _v("initial state of the point ((u, u') for the pair, (q̃, q̃') for a system)"),
     "end_state": _v("final state of the point (the start of the next continuation point)"),
     "state": _v("state coordinate ((u, u') for the pair, (q̃, q̃') for a system)"),
-    "sweep": _v("sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)"),
+    "sweep": _v("sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)", text=True),
     # model parameters: their long names and units come from the registry (geardyn.params, see variable())
     # Lyapunov spectrum
     "log_r": _v("log of the Gram–Schmidt diagonal per forcing period"),
@@ -124,13 +126,13 @@ VARIABLES: dict[str, Variable] = {
     "stable": _v("orbit stable (1) or unstable (0)"),
     "point": _v("index of the branch point"),
     "bifurcation": _v("index of the bifurcation"),
-    "bifurcation_type": _v("bifurcation type"),
+    "bifurcation_type": _v("bifurcation type", text=True),
     "bifurcation_period": _v("period of the branch the bifurcation lies on"),
     "bifurcation_branch": _v("branch index of the bifurcation"),
     "bifurcation_u": _v("orbit u at θ = 0 at the bifurcation"),
     "bifurcation_v": _v("orbit du/dτ at θ = 0 at the bifurcation"),
     "bifurcation_amplitude": _v("orbit amplitude at the bifurcation"),
-    "bifurcation_detail": _v("which multiplier or boundary"),
+    "bifurcation_detail": _v("which multiplier or boundary", text=True),
     # stability boundaries
     "xi0_critical": _v("ξ0 below which the period-n response loses stability"),
     "xi0_critical_linear": _v("ξ0 above which the linear contact model (D = 0, unforced) is stable"),
@@ -166,8 +168,8 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
         "poincare_v": _v("section points du/dτ of the orbit (θ ≡ 0)"),
         "status": _v("point status (0 ok)", flags=_STATUS_FLAGS),
     },
-    "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary")},
-    "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary")},
+    "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
+    "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
     "mathieu_boundary": {"xi0_critical": _v("ξ0 above which the linear contact model is stable")},
     "runup": {
         "order_amplitude": _v("order-tracked DTE amplitude |u_l| over a speed block"),
@@ -806,10 +808,10 @@ def result_variables(ds: Any, where: str = "", error: type[Exception] = ModelErr
     """
     where = f"{where}: " if where else ""
     kind = ds.attrs.get("geardyn_kind") if hasattr(ds, "attrs") else None
-    registered = set(VARIABLES) | set(SYSTEM_VARIABLES) | set(KIND_VARIABLES.get(str(kind), {}))
+    registered = {**VARIABLES, **SYSTEM_VARIABLES, **KIND_VARIABLES.get(str(kind), {})}
     for name, var in ds.variables.items():
         name = str(name)
-        if name not in registered or name in TEXT_COORDINATES:
+        if name not in registered or registered[name].text or name in TEXT_COORDINATES:
             continue
         if getattr(var.dtype, "kind", "O") not in "biuf":
             raise error(f"{where}variable {name!r} holds {var.dtype} values; a geardyn result stores numbers there")
