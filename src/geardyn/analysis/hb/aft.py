@@ -51,10 +51,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...model import GearModel
 from ._aftkernel import dead_zone_kernel, extrema_kernel
 
-__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "model_series", "dead_zone_terms", "signal_extrema"]
+__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "dead_zone_terms", "signal_extrema"]
 
 #: Samples per retained Fourier coefficient (N >= OVERSAMPLE·(2H + 1)) and the smallest N.
 OVERSAMPLE = 8
@@ -83,34 +82,6 @@ def time_samples(H: int, n: int = 1, model_harmonics: int = 0) -> int:
     """
     need = max(OVERSAMPLE * (2 * H + 1), 2 * (H + n * model_harmonics) + 1, MIN_SAMPLES)
     return 1 << int(math.ceil(math.log2(need)))
-
-
-def model_series(model: GearModel, n: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Complex Fourier coefficients in φ = θ/n of the damping C, stiffness K and forcing F.
-
-    Parameters
-    ----------
-    model : GearModel
-    n : int
-        Response period in forcing periods.
-
-    Returns
-    -------
-    (C, K, F) : three complex arrays of length 2L + 1, L = n·model.n_harmonics, index m + L holding
-        the coefficient of e^{imφ} (nonzero only for m a multiple of n).
-    """
-    cf = model.coefficients()
-    Hm = cf.shape[1] - 1
-    L = n * Hm
-    out = []
-    for i in range(3):
-        z = np.zeros(2 * L + 1, dtype=complex)
-        z[L] = cf[i, 0, 0]
-        for j in range(1, Hm + 1):
-            z[L + n * j] = 0.5 * (cf[i, j, 0] - 1j * cf[i, j, 1])
-            z[L - n * j] = 0.5 * (cf[i, j, 0] + 1j * cf[i, j, 1])
-        out.append(z)
-    return out[0], out[1], out[2]
 
 
 @dataclass
@@ -270,7 +241,7 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
     a : ndarray (2H + 1,)
         Real coefficients of u.
     K : complex ndarray
-        Centred coefficients of the stiffness in φ (from :func:`model_series`).
+        Centred coefficients of the stiffness in φ (an element of :class:`~geardyn.analysis.hb.form.HBForm`).
     D : float
         Half backlash (>= 0).
 

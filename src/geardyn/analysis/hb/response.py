@@ -37,12 +37,11 @@ from typing import Any
 
 import numpy as np
 
-from ...model import GearModel, ModelError
+from ...errors import ModelError
 from ...status import Status
-from ._blas import single_thread_blas
 from .aft import signal_extrema
-from .continuation import HBBifurcation, HBContinuation, hb_continuation
-from .solve import DEFAULT_HARMONICS, HBSystem
+from .continuation import HBBifurcation, HBContinuation, _xi0, hb_continuation
+from .equations import HBEquations, single_thread_blas
 
 __all__ = [
     "MEASURES",
@@ -284,45 +283,26 @@ def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
     return None
 
 
-def _is_system(res: HBContinuation) -> bool:
-    from .system_continuation import HBSystemContinuation
-
-    return isinstance(res, HBSystemContinuation)
-
-
 class _Reader:
     """What the response reads off a branch's solutions: Newton at ω from a segment's coefficients, and the
-    signal u (the 1-DOF model's u; a system's reference-mesh deflection δ) as real coefficients on ``basis``."""
+    reference element's deflection δ (the pair's u) as real coefficients on ``basis``."""
 
     def __init__(self, res: HBContinuation):
-        n, H = res.period, res.harmonics
-        self.system = _is_system(res)
-        if self.system:
-            from .system import HBSystemEquations
-
-            self.eq = HBSystemEquations(res.model, H, n, param="omega", samples=res.samples)
-            self.basis, self.D = self.eq.dbasis, float(res.model.meshes[res.reference].D)
-            self.gauge = np.zeros(self.eq.basis.rigid)
-        else:
-            self.eq = HBSystem(res.model, H, n, param="omega", samples=res.samples)
-            self.basis, self.D = self.eq.basis, float(res.model.D)
-        self.reference = res.reference if self.system else 0
+        self.eq = HBEquations(res.model, res.harmonics, res.period, param="omega", samples=res.samples)
+        self.basis, self.D = self.eq.dbasis, float(res.gaps[res.reference])
+        self.gauge = np.zeros(self.eq.basis.rigid)
 
     def newton(self, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
-        x0 = np.concatenate([guess, self.gauge]) if self.system else guess
-        a, st, _its, _r = self.eq.newton(x0, w)
+        a, st, _its, _r = self.eq.newton(np.concatenate([guess, self.gauge]), w)
         return a, st
 
     def signal(self, a: np.ndarray, w: float) -> np.ndarray:
-        """Coefficients of u (of the reference mesh's δ for a system) of the unknowns ``a``; ``a`` itself for one
-        DOF, or a segment's coefficients (then the gauge multipliers are appended)."""
-        if not self.system:
-            return a
+        """Coefficients of the reference element's δ of the unknowns ``a`` (or of a segment's coefficients)."""
         x = a if a.size == self.eq.basis.size else np.concatenate([a, self.gauge])
-        return self.eq.deflection(x, self.reference, w)
+        return self.eq.deflection(x, self.eq.reference, w)
 
     def nu(self, w: float, n: int) -> float:
-        return self.eq.nu(w) if self.system else self.eq.forcing(w) / n
+        return self.eq.nu(w)
 
 
 def _walk(rd: _Reader, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
@@ -447,7 +427,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
         jumps = []
         for lab in ("up", "down"):
             pieces = paths[lab]
-            for (a0, b0, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
+            for (_a0, b0, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
                 if s0 is None or s1 is None:
                     continue
                 x = float(b0)
@@ -509,20 +489,15 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
 
 
 def _attrs(res: HBContinuation, options: dict[str, Any], extra: dict[str, Any]) -> dict[str, str]:
-    """A response's attributes: the 1-DOF model's, or a system's (:func:`~geardyn.io.system_attrs`
-    with ``model`` its reference mesh's ω, D and ξ0, as the system's ``hb`` Dataset has)."""
-    from ...io import json_attr, result_attrs, system_attrs
+    """A response's attributes (:func:`~geardyn.io.result_attrs`; ``model`` with the reference element's D and ξ0,
+    as the ``hb`` Dataset has)."""
+    from ...io import result_attrs
 
-    if not _is_system(res):
-        return result_attrs("response", res.model, options, **extra)
-    attrs = system_attrs(
-        res.model,
-        "response",
-        None,
-        {**extra, "options": json_attr(options), "reference_mesh": res.elements[res.reference]},
-    )
-    ref = res.model.meshes[res.reference]
-    attrs["model"] = json.dumps({"omega": res.model.omega, "D": ref.D, "xi0": ref.xi0})
+    attrs = result_attrs("response", res.model, options, **extra)
+    ref = json.loads(attrs["model"])
+    ref.setdefault("D", res.gaps[res.reference])
+    ref.setdefault("xi0", _xi0(res.model, res.reference))
+    attrs["model"] = json.dumps(ref)
     return attrs
 
 
@@ -543,7 +518,7 @@ def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list
 
 
 def hb_response(
-    model: GearModel,
+    model: Any,
     omega_start: float,
     omega_stop: float,
     num: int,
@@ -561,8 +536,7 @@ def hb_response(
     Parameters
     ----------
     model : System
-        The model, or a multi-DOF system (then the response is its reference mesh's, from
-        :func:`~geardyn.analysis.hb.system_continuation.hb_system_continuation`); ω is varied.
+        The pair or a multi-DOF system (then the response is its reference mesh's); ω is varied.
     omega_start, omega_stop : float
         The ω interval (> 0); the branch is continued from the lower end.
     num : int
@@ -575,8 +549,7 @@ def hb_response(
     guess : optional
         Start guess at the lower end (as :func:`~geardyn.analysis.hb.continuation.hb_continuation`).
     state0 : optional
-        A system's start of the simulation of the default guess (as
-        :func:`~geardyn.analysis.hb.system_continuation.hb_system_continuation`; unused for the 1-DOF model).
+        Start of the simulation of the default guess (as :func:`~geardyn.analysis.hb.continuation.hb_continuation`).
     progress : bool
         Show the progress of the continuation on stderr (:func:`geardyn.sweep.progress.task_progress`).
 
@@ -601,22 +574,9 @@ def hb_response(
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
     with task_progress("response ω (HB)", unit="Δω traced", enabled=progress) as bar:
-        if isinstance(model, GearModel):
-            res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess, progress=bar)
-        else:
-            from .system_continuation import hb_system_continuation
-
-            res = hb_system_continuation(
-                model,
-                "omega",
-                lo,
-                hi,
-                period=period,
-                guess=guess,
-                harmonics=DEFAULT_HARMONICS if harmonics is None else harmonics,
-                state0=state0,
-                progress=bar,
-            )
+        res = hb_continuation(
+            model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess, state0=state0, progress=bar
+        )
     if not res.converged:
         raise ModelError(f"omega_start: harmonic balance at omega = {lo:g} did not converge ({res.end})")
     return response_from_branch(res, np.linspace(lo, hi, int(num)), measure)
