@@ -43,16 +43,13 @@ def _cases():
 
 
 def _continuation():
-    try:  # the stack before harmonic balance was written once on the System contract
-        from geardyn.analysis.hb.system_continuation import hb_system_continuation
+    """The continuation of the tree on PYTHONPATH: one function for every system, or (a tree from before harmonic
+    balance was written once) the pair's and the systems' own."""
+    from geardyn.analysis import hb
 
-        from geardyn.analysis.hb import hb_continuation
-
-        return lambda m, *a, **k: (hb_system_continuation if hasattr(m, "meshes") else hb_continuation)(m, *a, **k)
-    except ImportError:
-        from geardyn.analysis.hb import hb_continuation
-
-        return hb_continuation
+    if hasattr(hb, "hb_system_continuation"):
+        return lambda m, *a, **k: (hb.hb_continuation if m.state_dim == 2 else hb.hb_system_continuation)(m, *a, **k)
+    return hb.hb_continuation
 
 
 def _run(fn, case, repeats):

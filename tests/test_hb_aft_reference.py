@@ -83,7 +83,7 @@ def dead_zone_terms_numpy(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D:
     H, N = basis.H, basis.N
     L = (len(K) - 1) // 2
     c = basis.to_complex(a)
-    u = basis.samples(a)
+    u = samples(basis, a)
     state = np.where(u > D, 1, np.where(u < -D, -1, 0))
     # events: (angle, new state); a jump of two levels inside one step has two switches
     j = np.nonzero(state != np.roll(state, -1))[0] if D > 0.0 else np.zeros(0, dtype=int)
@@ -146,7 +146,7 @@ def signal_extrema_numpy(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, fl
     -------
     (u_min, u_max, phi_min, phi_max) : floats
     """
-    u = basis.samples(a)
+    u = samples(basis, a)
     h = 2.0 * np.pi / basis.N
     out = []
     for j in (int(np.argmin(u)), int(np.argmax(u))):
@@ -167,6 +167,26 @@ def signal_extrema_numpy(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, fl
     umin = min(umin, float(u.min()))
     umax = max(umax, float(u.max()))
     return umin, umax, pmin, pmax
+
+
+def samples(basis: HarmonicBasis, a: np.ndarray) -> np.ndarray:
+    """u(φ_j) at the N time samples of ``basis`` (inverse real FFT)."""
+    H, N = basis.H, basis.N
+    X = np.zeros(N // 2 + 1, dtype=complex)
+    X[0] = a[0] * N
+    X[1 : H + 1] = 0.5 * N * (a[1 : H + 1] - 1j * a[H + 1 :])
+    return np.fft.irfft(X, N)
+
+
+def real_operator(basis: HarmonicBasis, A: np.ndarray) -> np.ndarray:
+    """The real (2H + 1)² matrix Wi A W of a complex operator on the c_k of real signals (a = Wi c)."""
+    H, M = basis.H, 2 * basis.H + 1
+    Wi = np.zeros((M, M), dtype=complex)
+    Wi[0, H] = 1.0
+    for k in range(1, H + 1):
+        Wi[k, H + k], Wi[k, H - k] = 1.0, 1.0
+        Wi[H + k, H + k], Wi[H + k, H - k] = 1.0j, -1.0j
+    return (Wi @ A @ basis.W).real
 
 
 def model_series(model: GearModel, n: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -216,7 +236,7 @@ def residual_numpy(
     if not jacobian:
         return R, None
     Jc = np.diag(-((nu * k) ** 2)).astype(complex) + nu * TcOm + toeplitz(dz.S, H)
-    return R, b.real_operator(Jc)
+    return R, real_operator(b, Jc)
 
 
 def dR_domega_numpy(sysm: HBSystem, a: np.ndarray, p: float) -> np.ndarray:

@@ -18,7 +18,7 @@ Entry points
 from .continuation import HBBifurcation, HBContinuation, hb_continuation
 from .equations import DEFAULT_HARMONICS, HBEquations
 from .form import HBForm
-from .hill import HillResult, hill_floquet, hill_matrix, system_hill_floquet
+from .hill import HillResult, hill_floquet, system_hill_floquet
 from .response import hb_response, response_from_branch
 from .solve import HBSolution, hb_solve
 
@@ -34,7 +34,6 @@ __all__ = [
     "hb_response",
     "hb_solve",
     "hill_floquet",
-    "hill_matrix",
     "response_from_branch",
     "system_hill_floquet",
 ]

@@ -716,20 +716,8 @@ def hb_continuation(
 def span_reporter(
     progress: Callable[[float, float], None] | None, start: float, stop: float
 ) -> Callable[[float], None] | None:
-    """A branch point's parameter → ``progress(farthest distance from start towards stop, |stop − start|)``.
-
-    Parameters
-    ----------
-    progress : callable or None
-        ``progress(done, total)``; called once with 0 now, then whenever the distance grows.
-    start, stop : float
-        The continuation's interval.
-
-    Returns
-    -------
-    callable or None
-        The callback of each branch point's parameter; None without ``progress``.
-    """
+    """A branch point's parameter → ``progress(farthest distance from start towards stop, |stop − start|)``
+    (called once with 0 now, then whenever the distance grows); None without ``progress``."""
     if progress is None:
         return None
     total = abs(stop - start)
@@ -747,17 +735,7 @@ def span_reporter(
 
 
 def max_points_end(max_points: int) -> str:
-    """The ``end`` of a branch stopped by the point limit.
-
-    Parameters
-    ----------
-    max_points : int
-        The limit.
-
-    Returns
-    -------
-    str
-    """
+    """The ``end`` of a branch stopped by the point limit."""
     return (
         f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
         f"a larger ds_max)"
@@ -773,27 +751,9 @@ def trace_branch(
     max_points: int,
     on_point: Callable[[float], None] | None = None,
 ) -> tuple[list[_Pt], list[HBBifurcation], str]:
-    """The pseudo-arclength loop of :func:`hb_continuation` on any tracer (the 1-DOF one or a subclass).
-
-    Parameters
-    ----------
-    tr : _Tracer
-        The equations with their tests; its ``lo``, ``hi`` bound the parameter.
-    y : ndarray
-        The first solution (unknowns, then p/p_s).
-    ref : ndarray
-        Direction the first tangent is oriented by.
-    ds, ds_max : float
-        Initial and largest arclength step.
-    max_points : int
-        Largest number of points.
-    on_point : callable, optional
-        Called with the parameter of each point added (the progress, :func:`span_reporter`).
-
-    Returns
-    -------
-    (points, bifurcations, end)
-    """
+    """The pseudo-arclength loop from the solution ``y`` (unknowns, then p/p_s), the first tangent oriented like
+    ``ref``, steps ``ds`` up to ``ds_max``, at most ``max_points``; ``on_point`` gets each point's parameter.
+    Returns (points, bifurcations, end)."""
     lo, hi = tr.lo, tr.hi
     with single_thread_blas():
         first = tr._finish(y, ref, 0)

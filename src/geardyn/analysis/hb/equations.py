@@ -52,10 +52,19 @@ from ...integrate import start_state
 from ...model import DEFAULT_DTAU, IntegrationOptions
 from ...params import canonical_param
 from ...status import Status
-from ._aftkernel import bordered_nu_kernel, dead_zone_kernel, real_operator_kernel, residual_kernel
-from .aft import ROOT_MAX_ITER, ROOT_TOL, HarmonicBasis, signal_extrema, time_samples, toeplitz
+from ._aftkernel import bordered_nu_kernel, real_operator_kernel, residual_kernel
+from .aft import (
+    ROOT_MAX_ITER,
+    ROOT_TOL,
+    DeadZoneTerms,
+    HarmonicBasis,
+    dead_zone_terms,
+    signal_extrema,
+    time_samples,
+    toeplitz,
+)
 from .form import FormElement, HBForm
-from .hill import HillResult, hill_floquet, system_hill_floquet
+from .hill import HillResult, system_hill_floquet
 from .monodromy import check_floquet, monodromy_floquet
 
 __all__ = ["HBEquations", "default_harmonics", "single_thread_blas", "solve", "DEFAULT_HARMONICS", "NEWTON_TOL"]
@@ -102,13 +111,13 @@ def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return x
 
 
-def dead_zone(d: np.ndarray, el: FormElement, basis: HarmonicBasis) -> tuple[np.ndarray, np.ndarray]:
-    """The dead zone's K f(δ; D) projected on ``basis`` (complex, centred) and the series of K f'(δ)."""
-    G, S, _ = dead_zone_kernel(d, el.K, el.gap, basis.cos_table, basis.sin_table, basis.H, ROOT_MAX_ITER, ROOT_TOL)
-    return G, S
+def dead_zone(d: np.ndarray, el: FormElement, basis: HarmonicBasis) -> DeadZoneTerms:
+    """The dead zone's K f(δ; D) projected on ``basis`` and the series S of K f'(δ) (:func:`.aft.dead_zone_terms`)."""
+    return dead_zone_terms(basis, d, el.K, el.gap)
 
 
-#: Element law → its projection (the Jacobian operator is the Toeplitz matrix of the S series it returns).
+#: Element law → its projection G of K f(δ) and the series S of K f'(δ), whose Toeplitz matrix is the Jacobian: a
+#: new law is one such function.
 LAW_TERMS = {"dead_zone": dead_zone}
 
 
@@ -342,7 +351,7 @@ class HBEquations:
             d = np.zeros(2 * Hd + 1)
             d[self._pad] = el.V @ Q
             d -= E
-            G, S = LAW_TERMS[el.law](d, el, self.dbasis)
+            G, S, _ = LAW_TERMS[el.law](d, el, self.dbasis)
             Lc = (len(el.C) - 1) // 2
             damp = np.convolve(el.C, self._ikd * self.dbasis.to_complex(d))[Lc + Hd - H : Lc + Hd + H + 1]
             R1 += np.outer(el.W, self.hbasis.to_real(damp))
@@ -473,10 +482,6 @@ class HBEquations:
         matrix of one period started on it (:mod:`.monodromy`) or by Hill's method (:mod:`.hill`)."""
         pt = self._entry(p)
         f, nu = pt.form, self.nu(p)
-        if self.floquet == "hill" and self.scalar:
-            el = f.elements[0]
-            S = dead_zone(np.ascontiguousarray(x, dtype=float), el, self.dbasis)[1]
-            return hill_floquet(_centred(el.C, 2 * self.H), S, nu, self.H)
         if self.floquet == "hill":
             _, nu, J, _, _ = self._core(x, p, True)
             nd, M = self.basis.dofs, self.M
@@ -485,12 +490,7 @@ class HBEquations:
                 Cop += np.kron(np.outer(el.W, el.V), real_operator_kernel(toeplitz(el.C, self.H), self.H))
             K1 = 2.0 * nu * np.kron(np.eye(nd), self.D1) + Cop
             return system_hill_floquet(J, K1, self.elastic, nu, self.H, -f.mean_trace())
-        els = f.elements
-        G = [g0 + nu * nu * g2 for g0, g2 in zip(f.G0, f.G2)]
-        return monodromy_floquet(
-            nu, self.state(x, p), f.A, f.B, np.array([e.W for e in els]), np.array([e.V for e in els]),
-            [e.C for e in els], [e.K for e in els], [e.E for e in els], G, [e.gap for e in els], P=self.elastic,
-        )  # fmt: skip
+        return monodromy_floquet(f, nu, self.state(x, p), self.elastic)
 
     # ------------------------------------------------------------------ measures
     def extremes(self, x: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:

@@ -1,31 +1,14 @@
 """The frequency response of an HB branch in the format of ``geardyn response``: up and down sweeps, jumps at
-the folds, hysteresis between them.
+the folds, hysteresis between them (``docs/hb.md``).
 
-A brute-force response follows the attractor a simulation reaches from the previous point.  Here the
-same paths are read off one continued branch (:func:`~geardyn.analysis.hb.continuation.hb_continuation`
-from the lowest to the highest ω):
-
-* the branch is cut into its **stable segments** (runs of points with every |μ| < 1 and a resolved
-  Hill stability), each extended to the located fold, period doubling or Neimark–Sacker point that
-  ends it, and each monotone in ω;
-* the **up sweep** starts on the stable segment that the branch starts on (the attractor reached
-  by simulation from rest at the lowest ω), follows it to its end; at a fold it **jumps** to the
-  stable segment that continues beyond that ω with the nearest amplitude; at a period doubling or
-  Neimark–Sacker point it leaves the period-n solutions (the attractor goes on nearby: a period-2n or
-  quasi-periodic response) until the next stable segment begins; the **down sweep** does the same
-  from the highest ω downwards, starting on the segment nearest the branch's end;
-* where no stable segment covers an ω the sweep has no stable period-n solution: its points carry
-  ``Status.UNRESOLVED`` (motion "unresolved", NaN values) — a period doubling, a quasi-periodic or a
-  chaotic response, which harmonic balance of period n cannot tell apart;
-* the **jumps** are at the exact fold values (``omega``; ``omega_from``/``omega_to`` is the grid step
-  that contains it), the **hysteresis** intervals are the exact ω intervals where the two sweeps are on
-  different stable segments, or where one is on a stable segment and the other on none (between the
-  folds; a period-doubling interval inside the loop does not interrupt it).
-
-On the grid every point is solved by Newton from the segment's interpolated coefficients, so the
-values are those of harmonic balance at that ω, not an interpolation.  Which attractor a jump lands
-on is the nearest stable segment in amplitude; with more than two coexisting stable solutions the
-simulated sweep may land on another one.
+The paths of a brute-force response are read off one branch continued in ω from the lowest to the highest ω: the
+branch is cut into its **stable segments** (each extended to the located fold, period doubling or Neimark–Sacker
+point that ends it, monotone in ω); the **up sweep** starts on the segment the branch starts on and, at a fold,
+**jumps** to the stable segment continuing beyond it with the nearest amplitude; at a period doubling or
+Neimark–Sacker point it leaves the period-n solutions until the next segment begins; the **down sweep** likewise
+from the top.  Where no segment covers an ω the points are ``Status.UNRESOLVED`` with NaN values.  The jumps are at
+the exact fold values, the **hysteresis** intervals where the two sweeps are on different stable segments.  Every
+grid point is solved by Newton at its ω from the segment's interpolated coefficients.
 """
 
 from __future__ import annotations
@@ -283,29 +266,19 @@ def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
     return None
 
 
-class _Reader:
-    """What the response reads off a branch's solutions: Newton at ω from a segment's coefficients, and the
-    reference element's deflection δ (the pair's u) as real coefficients on ``basis``."""
-
-    def __init__(self, res: HBContinuation):
-        self.eq = HBEquations(res.model, res.harmonics, res.period, param="omega", samples=res.samples)
-        self.basis, self.D = self.eq.dbasis, float(res.gaps[res.reference])
-        self.gauge = np.zeros(self.eq.basis.rigid)
-
-    def newton(self, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
-        a, st, _its, _r = self.eq.newton(np.concatenate([guess, self.gauge]), w)
-        return a, st
-
-    def signal(self, a: np.ndarray, w: float) -> np.ndarray:
-        """Coefficients of the reference element's δ of the unknowns ``a`` (or of a segment's coefficients)."""
-        x = a if a.size == self.eq.basis.size else np.concatenate([a, self.gauge])
-        return self.eq.deflection(x, self.eq.reference, w)
-
-    def nu(self, w: float, n: int) -> float:
-        return self.eq.nu(w)
+def _newton(eq: HBEquations, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
+    """Newton at ω = w from a segment's coefficients (the gauge multipliers appended)."""
+    a, st, _its, _r = eq.newton(np.concatenate([guess, np.zeros(eq.basis.rigid)]), w)
+    return a, st
 
 
-def _walk(rd: _Reader, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
+def _signal(eq: HBEquations, a: np.ndarray, w: float) -> np.ndarray:
+    """Coefficients of the reference element's δ of the unknowns ``a`` (or of a segment's coefficients)."""
+    x = a if a.size == eq.basis.size else np.concatenate([a, np.zeros(eq.basis.rigid)])
+    return eq.deflection(x, eq.reference, w)
+
+
+def _walk(rd: HBEquations, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
     """The segment's solution at ω = x by natural continuation from its nearest point, in WALK_STEPS equal steps
     of ω (then four times as many), each Newton started from the previous solution."""
     k = int(np.argmin(np.abs(seg.omega - x)))
@@ -314,7 +287,7 @@ def _walk(rd: _Reader, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
     for steps in (WALK_STEPS, 4 * WALK_STEPS):
         a = seg.coefficients[k]
         for w in np.linspace(float(seg.omega[k]), x, steps + 1)[1:]:
-            a, st = rd.newton(a[:ncoef], float(w))
+            a, st = _newton(rd, a[:ncoef], float(w))
             if st is not Status.OK:
                 break
         if st is Status.OK:
@@ -384,8 +357,8 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                     seg.omega[k] = x
     paths = sweep_paths(segs, lo, hi)
     n, H = res.period, res.harmonics
-    rd = _Reader(res)
-    D, basis = rd.D, rd.basis
+    rd = HBEquations(res.model, H, n, param="omega", samples=res.samples)
+    D, basis = float(res.gaps[res.reference]), rd.dbasis
     phis = 2.0 * np.pi * np.arange(n) / n
     shape = (2, w.size)
     f = {k: np.full(shape, np.nan) for k in MEASURES}
@@ -399,7 +372,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     def solve(seg: Segment, x: float) -> tuple[np.ndarray, Status]:
         key = (seg.index, float(x))
         if key not in solved:
-            a, st = rd.newton(seg.guess(x), x)
+            a, st = _newton(rd, seg.guess(x), x)
             if st is not Status.OK:  # the interpolated guess is too far: walk there from the nearest branch point
                 a, st = _walk(rd, seg, x)
             solved[key] = (a, st)
@@ -415,12 +388,12 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 status[r, k] = int(st)
                 if st is not Status.OK:
                     continue
-                u = rd.signal(a, float(x))
+                u = _signal(rd, a, float(x))
                 vals = _measures(basis, u)
                 for key, v in vals.items():
                     f[key][r, k] = v
                 pu[r, k] = basis.evaluate(u, phis)
-                pv[r, k] = rd.nu(float(x), n) * basis.evaluate(u, phis, 1)
+                pv[r, k] = rd.nu(float(x)) * basis.evaluate(u, phis, 1)
                 period[r, k] = _minimal_period(pu[r, k], pv[r, k], n)
                 motion[r, k] = MOTION_PERIODIC
                 impact[r, k] = impact_state(vals["u_min"], D)
@@ -435,8 +408,8 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 a_to, st = solve(segs[s1], x)
                 if st is not Status.OK:
                     continue
-                m_from = _measures(basis, rd.signal(end, x))[measure]
-                m_to = _measures(basis, rd.signal(a_to, x))[measure]
+                m_from = _measures(basis, _signal(rd, end, x))[measure]
+                m_to = _measures(basis, _signal(rd, a_to, x))[measure]
                 if lab == "up":
                     before, after = w[w <= x], w[w > x]
                     g_from = float(before[-1]) if before.size else x
