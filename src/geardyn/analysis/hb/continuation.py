@@ -20,11 +20,7 @@ safeguarded secant along the chord (each trial corrected onto the branch):
 
 Points whose multipliers are unresolved carry ``Status.UNRESOLVED`` and take no part in the multiplier tests.
 
-Step rules (:class:`StepRules`): a scalar form (the pair: two multipliers) limits the step by how far the
-multipliers move in the complex plane and caps it while a real multiplier is within 0.1 of −1 or the pair within
-0.1 of the unit circle; a form with more coordinates measures only the moduli (a lightly damped mode's pair turns
-by ω_d ΔT when the period changes, which no test sees) and caps near the circle within 0.01 (the bevel pair's
-bearing modes keep 0.968 <= |μ| <= 0.984 over its whole response).  See ``docs/hb.md``.
+The step follows the multipliers (:class:`StepRules`, ``docs/hb.md`` "Continuation and events").
 
 References
 ----------
@@ -90,17 +86,10 @@ NEUTRAL_TOL = 1e-6
 
 @dataclass(frozen=True)
 class StepRules:
-    """How the step follows the multipliers (module docstring).
-
-    Attributes
-    ----------
-    radial : bool
-        Measure the multipliers' motion by their moduli (Hausdorff distance of the sets) instead of their positions.
-    band : float
-        A complex pair within this of the unit circle caps the step.
-    ds_max : float
-        The default largest step.
-    """
+    """How the step follows the multipliers: ``radial`` measures their motion by the moduli (Hausdorff distance of the
+    sets; a lightly damped mode's pair turns by ω_d ΔT when the period changes, which no test sees) instead of the
+    positions; a complex pair within ``band`` of the unit circle caps the step; ``ds_max`` is the default largest
+    step."""
 
     radial: bool
     band: float

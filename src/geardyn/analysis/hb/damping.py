@@ -1,23 +1,16 @@
 """Whether harmonic balance can decide the stability of a system's solutions: its damping and its free modes.
 
-By Liouville's formula the Floquet multipliers of a period T multiply to exp(T·mean trace of the Jacobian), the
-mean trace being −Σ damping (:meth:`~geardyn.system.System.mean_trace`; −2ξ0 for the 1-DOF pair).  Without damping
-(a *conservative* system) their product is 1: they lie on the unit circle or in pairs μ, 1/μ off it.  The test
-|μ| < 1 then reads rounding, and |μ_i μ_j| − 1 of a pair on the circle is zero up to rounding, so no Neimark–Sacker
-test can be made.  What works on the circle are det(I − M) (a multiplier through +1: the fold, from the tangent)
-and det(I + M) = Π(μ_i + 1) (a multiplier through −1: the period doubling, where a pair meets at −1 and leaves the
-circle along the real axis, as at the boundaries of a Mathieu tongue); a point is then *neutrally* stable when
-every |μ| <= 1 + :data:`~geardyn.analysis.hb.continuation.NEUTRAL_TOL`.  :func:`require_decidable` says whether a
-system is conservative.
-
-It refuses only where harmonic balance cannot decide at all: a free coordinate it cannot fix.  A direction of zero
-mean stiffness that is not a free rigid-body mode (one with no damping and no load along it, which the gauge of
-:mod:`.equations` fixes) leaves the harmonic-0 equations singular: with a load along it the motion drifts and has
-no periodic solution, without one every shift along it is another solution.
-
-A system can also be damped as a whole and still have elastic modes of its mean linear system that no damper
-moves (C̄φ = 0 for a mode φ of K̄φ = λM̃φ): their multipliers stay on the unit circle; :func:`undamped_modes`
-names them for a warning.
+By Liouville's formula the Floquet multipliers of a period T multiply to exp(T·mean trace of the Jacobian), the mean
+trace being −Σ damping.  Without damping (a *conservative* system, :func:`require_decidable`) they lie on the unit
+circle or in pairs μ, 1/μ off it: |μ| < 1 reads rounding, and |μ_i μ_j| − 1 of a pair on the circle is zero up to
+rounding, so no Neimark–Sacker test can be made.  What works on the circle are det(I − M) (a multiplier through +1:
+the fold) and det(I + M) (through −1: the period doubling, as at the boundaries of a Mathieu tongue); a point is then
+*neutrally* stable when every |μ| <= 1 + :data:`~geardyn.analysis.hb.continuation.NEUTRAL_TOL`.  Harmonic balance
+cannot decide at all only where a coordinate moves freely and the gauge of :mod:`.equations` cannot fix it: a
+direction of zero mean stiffness that is not a free rigid-body mode (a damping or a load acts along it) leaves the
+harmonic-0 equations singular — with a load the motion drifts and has no periodic solution, without one every shift
+along it is another solution.  A damped system can still have elastic modes that no damper moves (C̄φ = 0);
+:func:`undamped_modes` names them for a warning.
 """
 
 from __future__ import annotations

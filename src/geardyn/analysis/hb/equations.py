@@ -390,15 +390,7 @@ class HBEquations:
             R, J = residual_kernel(a, nu, C, K, Fh, *rest, bool(jacobian))
             return R, (J if jacobian else None)
         (R2, R1, R0), nu, J, _, _ = self._core(x, p, jacobian)
-        N0, r = self.basis.size - self.basis.rigid, self.basis.rigid
-        R = (nu * nu * R2 + nu * R1 + R0).ravel()
-        if r:
-            R = np.concatenate([R + self.left @ x[N0:], self.gauge.T @ x[:N0]])
-        if not jacobian:
-            return R, None
-        if r:
-            J = np.block([[J, self.left], [self.gauge.T, np.zeros((r, r))]])
-        return R, J
+        return self._finish(x, nu * nu * R2 + nu * R1 + R0, J)
 
     def dR_dp(self, x: np.ndarray, p: float) -> np.ndarray:
         """Derivative of the residual in the parameter at fixed unknowns (analytic for ω, else a central
@@ -434,12 +426,13 @@ class HBEquations:
         A[:-1, -1] = scale * self.dR_dp(x, p)
         return R, A
 
-    def _finish(self, x: np.ndarray, Rq: np.ndarray, J: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _finish(self, x: np.ndarray, Rq: np.ndarray, J: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        """R and J with the gauge rows and columns of the rigid-body modes."""
         N0, r = self.basis.size - self.basis.rigid, self.basis.rigid
         R = Rq.ravel()
         if r:
             R = np.concatenate([R + self.left @ x[N0:], self.gauge.T @ x[:N0]])
-            J = np.block([[J, self.left], [self.gauge.T, np.zeros((r, r))]])
+            J = None if J is None else np.block([[J, self.left], [self.gauge.T, np.zeros((r, r))]])
         return R, J
 
     def newton(
