@@ -651,12 +651,18 @@ def hb_continuation(
         Unknown parameter, start/stop outside the parameter's valid range, incommensurate meshes, or a system
         whose stability harmonic balance cannot decide (:func:`~geardyn.analysis.hb.damping.require_decidable`).
 
+    References
+    ----------
+    R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
+    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
+    (pseudo-arclength continuation, test functions of folds, period doublings and Neimark–Sacker points).
+
     Examples
     --------
-    >>> from geardyn.model import GearModel
-    >>> res = hb_continuation(GearModel(xi0=0.08, fp=5.0), "omega", 0.3, 0.4, harmonics=4, guess="linear")
-    >>> res.converged, bool(res.stable.all()), res.end
-    (True, True, 'reached the end of the interval')
+    >>> from geardyn import GearModel, hb_continuation
+    >>> res = hb_continuation(GearModel(), "omega", 0.5, 0.6, harmonics=8)
+    >>> res.converged, float(res.values[0]), res.end
+    (True, 0.5, 'reached the end of the interval')
     """
     param = param_name(model, param)
     start, stop = float(start), float(stop)

@@ -158,6 +158,11 @@ def spread(cf: np.ndarray, ratio: float, periods: int) -> np.ndarray:
     return z
 
 
+def _law(element: Any) -> str:
+    """The name of a System element's law (:class:`geardyn.system.Law`)."""
+    return element.law.name
+
+
 def pair_form(model: Any, period: int = 1) -> HBForm:
     """The :class:`HBForm` of the 1-DOF pair (:class:`~geardyn.model.GearModel`) for a period-n response.
 
@@ -184,7 +189,9 @@ def pair_form(model: Any, period: int = 1) -> HBForm:
     G0 = np.zeros_like(G2)
     G0[0, (G0.shape[1] - 1) // 2] = model.fp
     one = np.ones(1)
-    el = FormElement("mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp))
+    el = FormElement(
+        "mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp), _law(model.elements[0])
+    )
     return HBForm(
         P * n, P, np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), G0, G2, (el,), np.zeros((1, 0)), 0,
         n * (int(model.n_harmonics) + 2), ("u",),
@@ -216,7 +223,7 @@ def system_form(model: Any, period: int = 1) -> HBForm:
     periods = int(period) * require_periodic(model, "harmonic balance")
     Mi = np.asarray(model.Mi, dtype=float)
     fs = static_mesh_forces(model)
-    law = {e.name: str(getattr(e, "law", "dead_zone")) for e in model.elements}
+    law = {e.name: _law(e) for e in model.elements}
     els = []
     for i, m in enumerate(model.meshes):
         cf = m.coefficients()

@@ -199,12 +199,18 @@ def hb_solve(
     ModelError
         For incommensurate meshes, bad ``harmonics``/``period`` or a guess of the wrong shape.
 
+    References
+    ----------
+    T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
+    steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
+    A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517 (Hill's multipliers).
+
     Examples
     --------
-    >>> from geardyn.model import GearModel
-    >>> sol = hb_solve(GearModel(omega=0.4, fp=5.0), harmonics=8, guess="linear")
-    >>> sol.status.label, sol.stable
-    ('ok', True)
+    >>> from geardyn import GearModel, hb_solve
+    >>> sol = hb_solve(GearModel(omega=0.8), 8)  # 8 harmonics
+    >>> sol.converged, sol.period, round(sol.amplitude, 3)
+    (True, 1, 0.927)
     """
     eq = HBEquations(model, harmonics, period, samples=samples, floquet=floquet)
     Q0 = start_coefficients(eq, guess, state0)
