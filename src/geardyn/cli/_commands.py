@@ -120,11 +120,12 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "hb": (
         "hb",
         (
-            "Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of "
-            "period-n responses\n"
-            "continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and\n"
-            "grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting "
-            "branch\n"
+            "Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch "
+            "of\n"
+            "period-n responses continued in any parameter through its folds, with folds, period doublings, "
+            "Neimark–Sacker\n"
+            "points and grazing located; with --out the figure shows it stable solid and unstable dashed (over the "
+            "shooting branch\n"
             "with --compare-shooting).  With --system the branch is the system's (every DOF's harmonics, the elastic\n"
             "multipliers; --param takes its parameter names).  Without damping the multipliers lie on the unit circle: "
             "folds\n"

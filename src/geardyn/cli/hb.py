@@ -6,7 +6,6 @@ from typing import Annotated, Any
 
 import typer
 
-from ..errors import ModelError
 from ..model import DEFAULT_DTAU
 from . import render
 from .app import EXIT_FAILURE, console, say_error
@@ -81,7 +80,8 @@ def hb(
         float | None,
         typer.Option(
             "--start",
-            help="Parameter value where the branch starts (the first solution from the attractor reached by simulation from rest there).",
+            help="Parameter value where the branch starts (the first solution from the attractor reached by "
+            "simulation from rest there).",
         ),
     ] = None,
     stop: StopOpt = None,
@@ -89,7 +89,9 @@ def hb(
         int | None,
         typer.Option(
             "--harmonics",
-            help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an --excitation of P mesh cycles (harmonics of ω/(P n)) the larger of 16·P and n times the excitation's harmonics, at most 1024.",
+            help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an "
+            "--excitation of P mesh cycles (harmonics of ω/(P n)) the larger of 16·P and n times the "
+            "excitation's harmonics, at most 1024.",
         ),
     ] = None,
     period: Annotated[
@@ -102,21 +104,24 @@ def hb(
         bool,
         typer.Option(
             "--compare-shooting",
-            help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.",
+            help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in "
+            "the JSON.",
         ),
     ] = False,
     ds_max: Annotated[
         float | None,
         typer.Option(
             "--ds-max",
-            help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02 for the pair, 0.2 for a --system).",
+            help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02 for the pair, 0.2 for a "
+            "--system).",
         ),
     ] = None,
     floquet: Annotated[
         str,
         typer.Option(
             "--floquet",
-            help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, refined by a Newton step; the default) or 'hill' (Hill's method).",
+            help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, "
+            "refined by a Newton step; the default) or 'hill' (Hill's method).",
         ),
     ] = "monodromy",
     max_points: Annotated[
@@ -127,9 +132,9 @@ def hb(
         ),
     ] = 3000,
 ) -> None:
-    """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of period-n responses
-    continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and
-    grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch
+    """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of
+    period-n responses continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker
+    points and grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch
     with --compare-shooting).  With --system the branch is the system's (every DOF's harmonics, the elastic
     multipliers; --param takes its parameter names).  Without damping the multipliers lie on the unit circle: folds
     and period doublings are located by det(I - M) and det(I + M) and stable means neutrally stable; a branch whose
