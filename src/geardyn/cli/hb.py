@@ -134,8 +134,8 @@ def hb(
 ) -> None:
     """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of
     period-n responses continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker
-    points and grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch
-    with --compare-shooting).  With --system the branch is the system's (every DOF's harmonics, the elastic
+    points and grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting
+    branch with --compare-shooting).  With --system the branch is the system's (every DOF's harmonics, the elastic
     multipliers; --param takes its parameter names).  Without damping the multipliers lie on the unit circle: folds
     and period doublings are located by det(I - M) and det(I + M) and stable means neutrally stable; a branch whose
     first solution does not converge exits with code 1 and writes nothing."""
