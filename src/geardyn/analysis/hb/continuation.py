@@ -41,10 +41,11 @@ from typing import Any
 import numpy as np
 
 from ...errors import ModelError
+from ...grid import param_name
 from ...status import Status, flag_attrs
 from ..secant import illinois_on_chord
 from .damping import require_decidable
-from .equations import HBEquations, param_name, single_thread_blas, solve
+from .equations import HBEquations, single_thread_blas, solve
 from .hill import HillResult
 from .solve import hb_solve
 
@@ -111,51 +112,29 @@ def step_rules(eq: HBEquations) -> StepRules:
     return PAIR_RULES if eq.form.scalar else SYSTEM_RULES
 
 
+@dataclass(eq=False)
 class _Pt:
-    """A corrected branch point; its Hill stability is computed when first asked for (a point whose
-    step is refused by the turn of the tangent, or a trial of a fold or grazing location, needs none)."""
+    """A corrected branch point; its stability is computed when first asked for (a point whose step is refused by
+    the turn of the tangent, or a trial of a fold or grazing location, needs none)."""
 
-    __slots__ = ("y", "t", "u_min", "u_max", "iters", "_stability", "_hill")
+    y: np.ndarray
+    t: np.ndarray
+    u_min: float
+    u_max: float
+    stability: Callable[[], HillResult]
+    iters: int = 0
 
-    def __init__(
-        self,
-        y: np.ndarray,
-        t: np.ndarray,
-        u_min: float,
-        u_max: float,
-        stability: Callable[[], HillResult],
-        iters: int = 0,
-    ):
-        self.y, self.t, self.u_min, self.u_max, self.iters = y, t, u_min, u_max, iters
-        self._stability = stability
-        self._hill: HillResult | None = None
-
-    @property
+    @functools.cached_property
     def hill(self) -> HillResult:
-        if self._hill is None:
-            self._hill = self._stability()
-        return self._hill
+        return self.stability()
 
 
 @dataclass
 class HBBifurcation:
-    """A located event on an HB branch.
-
-    Attributes
-    ----------
-    type : str
-        ``fold``, ``period-doubling``, ``neimark-sacker`` or ``grazing``.
-    value : float
-        Parameter value.
-    u_min, u_max : float
-        Extremes of u there.
-    multipliers : complex ndarray (2,)
-    detail : str
-    located : bool
-        The location iteration met its tolerance.
-    coefficients : ndarray
-        Harmonic coefficients of the solution at the event (empty when not recorded).
-    """
+    """A located event on an HB branch: its ``type`` (``fold``, ``period-doubling``, ``neimark-sacker``,
+    ``grazing``), parameter ``value``, the reference element's extremes ``u_min``, ``u_max`` there, the
+    ``multipliers``, a ``detail``, whether the location met its tolerance (``located``) and the unknowns of the
+    solution at the event (``coefficients``; empty when not recorded)."""
 
     type: str
     value: float
@@ -278,6 +257,26 @@ class HBContinuation:
     def of_type(self, typ: str) -> list[HBBifurcation]:
         return [b for b in self.bifurcations if b.type == typ]
 
+    def bifurcations_json(self) -> list[dict[str, Any]]:
+        """The bifurcations as :meth:`to_json` gives them (the parameter under its own name)."""
+        return [
+            {"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
+            for b in self.bifurcations
+        ]
+
+    def attrs(self, kind: str, options: Any = None, **extra: Any) -> dict[str, str]:
+        """The global attributes of a result of this branch (:func:`~geardyn.io.result_attrs`), ``model`` with the
+        reference element's D and ξ0 (a system's has only its ω) for the figures."""
+        from ...io import result_attrs
+
+        attrs = result_attrs(kind, self.model, options, **extra)
+        ref = json.loads(attrs["model"])
+        el = self.model.hb_form().elements[self.reference]
+        ref.setdefault("D", self.gaps[self.reference])
+        ref.setdefault("xi0", 0.5 * float(el.C[(len(el.C) - 1) // 2].real))
+        attrs["model"] = json.dumps(ref)
+        return attrs
+
     def to_json(self) -> dict[str, Any]:
         """Plain-dict summary: ``branch`` points (the reference element's ``amplitude``, ``u_min``, ``u_max``,
         ``stable``, ``status``, ``multipliers``), ``bifurcations``, ``harmonics``, ``converged``, ``end``, and
@@ -303,10 +302,7 @@ class HBContinuation:
                 self.values, self.u_min, self.u_max, self.stable, self.status, self.multipliers
             )
         ]
-        bifs = [
-            {"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
-            for b in self.bifurcations
-        ]
+        bifs = self.bifurcations_json()
         rows: dict[str, list[dict[str, Any]]] = {"mesh": [], "clearance": []}
         m = 0
         for e, (nm, kind) in enumerate(zip(self.elements, self.kinds)):
@@ -356,13 +352,12 @@ class HBContinuation:
         ``bifurcations`` and the whole :meth:`to_json` as ``summary``."""
         import xarray as xr
 
-        from ...io import annotate, result_attrs
+        from ...io import annotate
 
         P, nd = self.values.size, len(self.labels)
         summary = self.to_json()
-        attrs = result_attrs(
+        attrs = self.attrs(
             KIND,
-            self.model,
             param=self.param,
             harmonics=self.harmonics,
             period=self.period,
@@ -374,10 +369,6 @@ class HBContinuation:
             bifurcations=json.dumps(summary["bifurcations"]),
             summary=json.dumps(summary),
         )
-        ref = json.loads(attrs["model"])  # a system's: its ω; the reference element's D and ξ0 for the figure
-        ref.setdefault("D", self.gaps[self.reference])
-        ref.setdefault("xi0", _xi0(self.model, self.reference))
-        attrs["model"] = json.dumps(ref)
         ds = xr.Dataset(
             {
                 self.param: ("point", self.values),
@@ -405,12 +396,6 @@ class HBContinuation:
         return annotate(ds)
 
 
-def _xi0(model: Any, e: int) -> float:
-    """ξ0 of element e: half its mean damping in the form."""
-    el = model.hb_form().elements[e]
-    return 0.5 * float(el.C[(len(el.C) - 1) // 2].real)
-
-
 def _pairs(mu: np.ndarray) -> np.ndarray:
     """Products μ_i μ_j of the complex-conjugate pairs: μ_i with Im > 0 whose nearest other multiplier is
     closer to conj(μ_i) than Im μ_i (Hill's real multipliers carry small spurious imaginary parts)."""
@@ -436,27 +421,19 @@ _SIDES = {
 class _Tracer:
     """The equations with their test functions and step rules."""
 
-    #: Test function → (event type, detail) of :meth:`events` (the reference element's grazing as ``graze_*``).
-    labels = {
-        "turn": ("fold", "turning point: a multiplier through +1 (det(I − M) = 0)"),
-        "pd": ("period-doubling", "real multiplier through −1"),
-        "ns": ("neimark-sacker", "complex pair through the unit circle"),
-        "graze_min_plus": ("grazing", "u_min = +D (drive-side contact loss)"),
-        "graze_min_minus": ("grazing", "u_min = −D (back-side contact)"),
-        "graze_max_plus": ("grazing", "u_max = +D (drive-side contact)"),
-        "graze_max_minus": ("grazing", "u_max = −D"),
-    }
-
     def __init__(self, eq: HBEquations, lo: float, hi: float, ps: float, conservative: bool):
         self.s, self.lo, self.hi, self.ps = eq, lo, hi, ps
         self.M = eq.basis.size
         self.rules = step_rules(eq)
         self.conservative = conservative
-        self.labels = dict(_Tracer.labels)
-        self.labels.update({f"ns{k}": self.labels["ns"] for k in range(2, eq.basis.dofs - eq.basis.rigid + 1)})
+        # test function → (event type, detail) of :meth:`events`; the reference element's grazing is ``graze_*``
+        ns = ("neimark-sacker", "complex pair through the unit circle")
+        self.labels = {"turn": ("fold", "turning point: a multiplier through +1 (det(I − M) = 0)")}
+        self.labels.update(pd=("period-doubling", "real multiplier through −1"), ns=ns)
+        self.labels.update({f"ns{k}": ns for k in range(2, eq.basis.dofs - eq.basis.rigid + 1)})
         for e, nm in enumerate(eq.elements):
-            if e != eq.reference:
-                self.labels.update({f"graze{e}_{k}": ("grazing", f"{nm}: {v}") for k, v in _SIDES.items()})
+            pre, who = ("graze", "") if e == eq.reference else (f"graze{e}", f"{nm}: ")
+            self.labels.update({f"{pre}_{k}": ("grazing", f"{who}{v}") for k, v in _SIDES.items()})
 
     def p(self, y: np.ndarray) -> float:
         return float(y[-1] * self.ps)
@@ -651,12 +628,6 @@ def hb_continuation(
         Unknown parameter, start/stop outside the parameter's valid range, incommensurate meshes, or a system
         whose stability harmonic balance cannot decide (:func:`~geardyn.analysis.hb.damping.require_decidable`).
 
-    References
-    ----------
-    R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
-    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
-    (pseudo-arclength continuation, test functions of folds, period doublings and Neimark–Sacker points).
-
     Examples
     --------
     >>> from geardyn import GearModel, hb_continuation
@@ -664,7 +635,7 @@ def hb_continuation(
     >>> res.converged, float(res.values[0]), res.end
     (True, 0.5, 'reached the end of the interval')
     """
-    param = param_name(model, param)
+    param = param_name(param)
     start, stop = float(start), float(stop)
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise ModelError("start, stop: must be finite and different")

@@ -48,9 +48,9 @@ from scipy.linalg.lapack import dgesv
 from threadpoolctl import threadpool_limits
 
 from ...errors import ModelError
+from ...grid import param_name
 from ...integrate import start_state
 from ...model import DEFAULT_DTAU, IntegrationOptions
-from ...params import canonical_param
 from ...status import Status
 from ._aftkernel import bordered_nu_kernel, real_operator_kernel, residual_kernel
 from .aft import (
@@ -146,16 +146,6 @@ def default_harmonics(model: Any, period: int = 1) -> int:
     return H
 
 
-def param_name(model: Any, name: str | None) -> str | None:
-    """The canonical spelling of a parameter of ``model`` (a system's ``<element>.<name>`` as given)."""
-    if name is None or name in model.parameters():
-        return name
-    try:
-        return canonical_param(name)
-    except ModelError:
-        return name
-
-
 class Layout(NamedTuple):
     """The unknown vector: ``dofs`` blocks of 2H + 1 real coefficients, then ``rigid`` multipliers."""
 
@@ -215,7 +205,7 @@ class HBEquations:
         if int(harmonics) < 1:
             raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
         self.base, self.n, self.H = model, int(period), int(harmonics)
-        self.param = param_name(model, param)
+        self.param = None if param is None else param_name(param)
         self.floquet = check_floquet(floquet)
         form = self.form = model.hb_form(self.n)
         self.periods = form.periods
@@ -370,17 +360,8 @@ class HBEquations:
         return J
 
     def residual(self, x: np.ndarray, p: float | None = None, jacobian: bool = True):
-        """Residual (length ``basis.size``: the HB equations, then the gauge rows) and its Jacobian (or None).
-
-        Parameters
-        ----------
-        x : ndarray
-            The unknown vector (coefficients coordinate by coordinate, then the gauge multipliers).
-        p : float, optional
-            Parameter value.
-        jacobian : bool
-            Also return the (bordered) Jacobian.
-        """
+        """Residual (length ``basis.size``: the HB equations, then the gauge rows) of the unknowns ``x`` at parameter
+        value ``p`` and, if ``jacobian``, its (bordered) Jacobian, else None."""
         x = np.asarray(x, dtype=float)
         if self.scalar:
             pt = self._entry(p)

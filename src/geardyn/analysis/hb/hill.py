@@ -106,13 +106,7 @@ def hill_floquet(c_hat: np.ndarray, s_hat: np.ndarray, nu: float, H: int) -> Hil
     Returns
     -------
     HillResult
-        The two selected exponents (sorting by centrality, one per multiplier) and their checks.
-
-    References
-    ----------
-    .. [1] A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517.
-    .. [2] A. H. Nayfeh and D. T. Mook, *Nonlinear Oscillations*, Wiley, 1979 (Floquet theory and
-       Hill's determinant).
+        The two selected exponents (the rule of the module docstring, one elastic coordinate) and their checks.
     """
     H = int(H)
     c_hat, s_hat = np.asarray(c_hat, dtype=complex), np.asarray(s_hat, dtype=complex)

@@ -23,7 +23,7 @@ import numpy as np
 from ...errors import ModelError
 from ...status import Status
 from .aft import signal_extrema
-from .continuation import HBBifurcation, HBContinuation, _xi0, hb_continuation
+from .continuation import HBBifurcation, HBContinuation, hb_continuation
 from .equations import HBEquations, single_thread_blas
 
 __all__ = [
@@ -108,22 +108,9 @@ def _resolved_after(resolved: np.ndarray, i: int) -> int:
 
 
 def decided_stability(res: HBContinuation) -> np.ndarray:
-    """Stability per branch point, a point whose multipliers were not resolved taking its neighbours' when they
-    are both stable and no stability event is located between them.
-
-    A point of undecided stability is a solution like the others (its coefficients converged); only its Floquet
-    multipliers failed.  Stability changes only at a fold, a period doubling or a Neimark–Sacker point, so between
-    two stable points with none of them located in between the branch is stable throughout.  Elsewhere the
-    undecided point is counted unstable (no sweep stays on it).
-
-    Parameters
-    ----------
-    res : HBContinuation
-
-    Returns
-    -------
-    ndarray of bool (P,)
-    """
+    """Stability per branch point of ``res``, a point whose multipliers were not resolved taking its neighbours'
+    when they are both stable and no stability event is located between them (stability changes only at a fold,
+    a period doubling or a Neimark–Sacker point); elsewhere such a point counts as unstable."""
     st = np.array(res.stable, dtype=bool)
     resolved = res.status == int(Status.OK)
     P = st.size
@@ -142,17 +129,7 @@ def decided_stability(res: HBContinuation) -> np.ndarray:
 
 
 def stable_segments(res: HBContinuation) -> list[Segment]:
-    """The stable segments of a branch in ω (see the module docstring), in branch order.
-
-    Parameters
-    ----------
-    res : HBContinuation
-        A branch continued in ω.
-
-    Returns
-    -------
-    list of Segment
-    """
+    """The stable segments (:class:`Segment`) of a branch in ω (see the module docstring), in branch order."""
     if res.param != "omega":
         raise ModelError(f"param: a frequency response needs a branch in omega, got {res.param}")
     st = decided_stability(res)
@@ -203,20 +180,9 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
 
 
 def sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list[tuple[float, float, int | None]]]:
-    """The pieces (ω_a, ω_b, segment index or None) the up and down sweeps follow, in sweep order.
-
-    Parameters
-    ----------
-    segments : list of Segment
-    lo, hi : float
-        The ω interval.
-
-    Returns
-    -------
-    dict
-        ``{"up": [...], "down": [...]}``; consecutive pieces on two segments are a jump at their
-        common end, a piece with None has no stable solution.
-    """
+    """``{"up": [...], "down": [...]}``: the pieces (ω_a, ω_b, segment index or None) the sweeps over [lo, hi]
+    follow, in sweep order; consecutive pieces on two segments are a jump at their common end, a piece with None
+    has no stable solution."""
     out = {}
     for lab, d in (("up", 1.0), ("down", -1.0)):
         start, stop = (lo, hi) if d > 0 else (hi, lo)
@@ -319,7 +285,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
 
     Parameters
     ----------
-    res : HBContinuation or HBSystemContinuation
+    res : HBContinuation
         A branch continued in ω over (at least) the grid's interval (a system's: the reference mesh's δ).
     omegas : array_like
         Increasing ω grid.
@@ -443,35 +409,20 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
             "poincare_v": (("sweep", "omega", "section"), pv),
         },
         coords={"sweep": ["up", "down"], "omega": w, "section": np.arange(n)},
-        attrs=_attrs(
-            res,
+        attrs=res.attrs(
+            "response",
             {"method": "hb", "harmonics": H, "period": n, "samples": res.samples},
-            dict(
-                param="omega",
-                mode="harmonic balance",
-                sweep="both",
-                method="hb",
-                measure=measure,
-                jumps=json.dumps(jumps),
-                hysteresis=json.dumps(hyst),
-                bifurcations=json.dumps(res.to_json()["bifurcations"]),
-            ),
+            param="omega",
+            mode="harmonic balance",
+            sweep="both",
+            method="hb",
+            measure=measure,
+            jumps=json.dumps(jumps),
+            hysteresis=json.dumps(hyst),
+            bifurcations=json.dumps(res.bifurcations_json()),
         ),
     )
     return annotate(ds)
-
-
-def _attrs(res: HBContinuation, options: dict[str, Any], extra: dict[str, Any]) -> dict[str, str]:
-    """A response's attributes (:func:`~geardyn.io.result_attrs`; ``model`` with the reference element's D and ξ0,
-    as the ``hb`` Dataset has)."""
-    from ...io import result_attrs
-
-    attrs = result_attrs("response", res.model, options, **extra)
-    ref = json.loads(attrs["model"])
-    ref.setdefault("D", res.gaps[res.reference])
-    ref.setdefault("xi0", _xi0(res.model, res.reference))
-    attrs["model"] = json.dumps(ref)
-    return attrs
 
 
 def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list[list[float]]:

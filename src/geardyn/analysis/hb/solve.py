@@ -199,12 +199,6 @@ def hb_solve(
     ModelError
         For incommensurate meshes, bad ``harmonics``/``period`` or a guess of the wrong shape.
 
-    References
-    ----------
-    T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
-    steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
-    A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517 (Hill's multipliers).
-
     Examples
     --------
     >>> from geardyn import GearModel, hb_solve
