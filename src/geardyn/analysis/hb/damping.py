@@ -29,14 +29,16 @@ __all__ = ["require_decidable", "undamped_modes"]
 RTOL = 1e-9
 
 
-def _mean_operators(form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M̃, K̄ and C̄ of a form's mean linear system (every element in contact at its mean stiffness)."""
+def _modes(form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Eigenvalues λ and modes φ of K̄φ = λM̃φ of a form's mean linear system (every element in contact at its mean
+    stiffness), and its mean damping C̄."""
     Mt = np.linalg.inv(form.Mi)
     K, C = Mt @ form.A, Mt @ form.B
     for e in form.elements:
         K = K + float(e.K[(len(e.K) - 1) // 2].real) * np.outer(e.V, e.V)
         C = C + float(e.C[(len(e.C) - 1) // 2].real) * np.outer(e.V, e.V)
-    return 0.5 * (Mt + Mt.T), 0.5 * (K + K.T), 0.5 * (C + C.T)
+    lam, phi = eigh(0.5 * (K + K.T), 0.5 * (Mt + Mt.T))
+    return lam, phi, 0.5 * (C + C.T)
 
 
 def require_decidable(
@@ -66,16 +68,19 @@ def require_decidable(
     """
     ends = [model] if param is None else [model.with_param(param, v) for v in (start, stop)]
     form = model.hb_form()
-    Mt, K, _C = _mean_operators(form)
-    lam, phi = eigh(K, Mt)
+    lam, phi, _C = _modes(form)
     zero = np.abs(lam) <= RTOL * max(1.0, float(np.max(np.abs(lam))))
     if int(np.count_nonzero(zero)) > form.rigid.shape[1]:
         v = phi[:, np.argmax(zero)]
-        lab = form.labels[int(np.argmax(np.abs(v)))]
+        v /= np.linalg.norm(v)
+        load = float(np.real(np.linalg.inv(form.Mi) @ form.G0[:, (form.G0.shape[1] - 1) // 2]) @ v)
+        damp = float(np.linalg.norm(np.linalg.inv(form.Mi) @ form.B @ v))
+        why = f"a load along it (F·φ = {load:.3g})" if abs(load) > 0 else f"a damping along it (|C̃φ| = {damp:.3g})"
         raise ModelError(
-            f"system: the coordinate {lab} moves freely (zero mean stiffness) but with damping or a load along it, so "
-            f"it is not a rigid-body mode the gauge can fix: its mean is undetermined or drifts and harmonic balance "
-            f"has no isolated periodic solution; support it (a bearing stiffness) or remove its load"
+            f"system: the coordinate {form.labels[int(np.argmax(np.abs(v)))]} moves freely (zero mean stiffness) "
+            f"but with {why}, so it is not a rigid-body mode the gauge can fix: its mean drifts or is undetermined "
+            f"and harmonic balance has no isolated periodic solution; support it (a bearing stiffness) or balance "
+            f"its load"
         )
     return all(float(m.mean_trace()) == 0.0 for m in ends)
 
@@ -95,8 +100,7 @@ def undamped_modes(model: Any) -> list[float]:
         elastic mode is damped.
     """
     form = model.hb_form()
-    Mt, K, C = _mean_operators(form)
-    lam, phi = eigh(K, Mt)
+    lam, phi, C = _modes(form)
     scale = max(float(np.max(np.abs(lam))), 1e-300)
     ctol = RTOL * max(float(np.max(np.abs(C))), 1e-300)
     hz = form.hz if math.isfinite(form.hz) else 1.0

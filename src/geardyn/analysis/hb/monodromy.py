@@ -7,7 +7,7 @@ The equation of the form (:mod:`.form`) is integrated over the response period f
 the steps cut at the contact switches located on the trajectory, steps of at most :data:`STEP_ANGLE`/ρ in τ, ρ the
 fastest rate of the linearised motion).  The period is integrated twice: from the HB state (steps
 :data:`FIRST_STEP_FACTOR` times longer), then from the state corrected by one Newton step of shooting on the elastic
-part, x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (:data:`REFINE`; skipped when it is more than :data:`REFINE_GAIN` times the
+part, x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (skipped when it is more than :data:`REFINE_GAIN` times the
 gap it closes, next to a fold).  The multipliers are the eigenvalues of QᵀΦQ, Q = diag(P, P) an orthonormal basis of
 the complement of the rigid-body modes, so the rigid modes' multipliers 1 are left out; the exponents their
 principal logarithms over T.  ``UNRESOLVED`` when Liouville's formula fails by more than
@@ -30,7 +30,6 @@ __all__ = [
     "CLOSURE_TOL",
     "FIRST_STEP_FACTOR",
     "FLOQUET_METHODS",
-    "REFINE",
     "REFINE_GAIN",
     "STEP_ANGLE",
     "SWITCH_TOL",
@@ -49,10 +48,9 @@ SWITCH_TOL = 1e-14
 #: farther, the HB solution is too far from an orbit for its multipliers to mean anything: ``UNRESOLVED``.
 #: (Paper defaults at ω = 0.58, 0.7, 0.9: 0.02–0.05 at H = 2, below 1e-2 from H = 4, about 6e-5 at H = 16.)
 CLOSURE_TOL = 1e-2
-#: Start the period again from the state corrected by one Newton step of shooting (see the module notes)...
-REFINE = True
-#: ... unless the step is more than REFINE_GAIN times the closure gap (QᵀΦQ − I nearly singular: a multiplier
-#: within about 1/REFINE_GAIN of 1, next to a fold, where the step would leave for another orbit).
+#: The period is started again from the state corrected by one Newton step of shooting (module notes), unless the
+#: step is more than REFINE_GAIN times the closure gap (QᵀΦQ − I nearly singular: a multiplier within about
+#: 1/REFINE_GAIN of 1, next to a fold, where the step would leave for another orbit).
 REFINE_GAIN = 20.0
 #: The first period, which only gives the Newton step, is integrated in steps this many times longer.
 FIRST_STEP_FACTOR = 2.0
@@ -142,35 +140,29 @@ def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None
         Phi = Q.T @ Y
         return None if steps < 0 or not (np.all(np.isfinite(Phi)) and np.all(np.isfinite(xe))) else (xe, Phi)
 
-    refine = REFINE
-    first = period(x_start, FIRST_STEP_FACTOR * hmax if refine else hmax)
+    first = period(x_start, FIRST_STEP_FACTOR * hmax)
     if first is None:
         return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
     x, Phi = first
     # one Newton step of shooting on the elastic part: the period is started again from the corrected state
-    # (the HB state's error moves the switch instants, and with them the multipliers, to first order)
+    # (the HB state's error moves the switch instants, and with them the multipliers, to first order); without
+    # it (a step more than REFINE_GAIN times the gap) the first period again, at the full accuracy
     gap = Q.T @ (x - x_start)
-    scale = 1.0 + float(np.linalg.norm(Q.T @ x_start))
-    closure = float(np.linalg.norm(gap)) / scale
-    refined = False
-    if refine and closure <= CLOSURE_TOL:
+    closure = float(np.linalg.norm(gap)) / (1.0 + float(np.linalg.norm(Q.T @ x_start)))
+    start = x_start
+    if closure <= CLOSURE_TOL:
         try:
             dz = np.linalg.solve(Phi - np.eye(count), -gap)
         except np.linalg.LinAlgError:
-            dz = None
-        if (
-            dz is not None
-            and np.all(np.isfinite(dz))
-            and float(np.linalg.norm(dz)) <= REFINE_GAIN * float(np.linalg.norm(gap))
-        ):
-            again = period(x_start + Q @ dz, hmax)
-            if again is not None:
-                Phi, refined = again[1], True
-    if refine and not refined:  # the multipliers of the first period, integrated again at the full accuracy
+            dz = np.full(count, math.nan)
+        if np.all(np.isfinite(dz)) and float(np.linalg.norm(dz)) <= REFINE_GAIN * float(np.linalg.norm(gap)):
+            start = x_start + Q @ dz
+    again = period(start, hmax)
+    if again is None and start is not x_start:
         again = period(x_start, hmax)
-        if again is None:
-            return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
-        Phi = again[1]
+    if again is None:
+        return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
+    Phi = again[1]
     T = 2.0 * math.pi / nu
     trace = -form.mean_trace()
     mu = np.linalg.eigvals(Phi).astype(complex)
