@@ -264,6 +264,9 @@ def test_failed_start_exits_1_and_writes_no_figure(tmp_path):
 
 def test_hb_response_that_resolves_no_point_exits_1_and_writes_nothing(tmp_path, monkeypatch):
     import geardyn.analysis.hb as hb
+    import geardyn.sweep.progress as P
+
+    monkeypatch.setattr(P, "PROGRESS_DELAY", 1e9)  # no progress lines on a loaded machine: only the error
 
     real = hb.hb_response
 
