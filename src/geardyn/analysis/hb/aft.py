@@ -43,8 +43,18 @@ ROOT_TOL = 1e-13
 
 
 def time_samples(H: int, n: int = 1, model_harmonics: int = 0) -> int:
-    """Number N of equispaced samples per response period bracketing the contact switches: the smallest power of
-    two with N >= 8(2H + 1), N > 2(H + n·model_harmonics) (model_harmonics: of the series, in θ) and N >= 64."""
+    """Number N of equispaced samples per response period bracketing the contact switches.
+
+    Parameters
+    ----------
+    H, n, model_harmonics : int
+        Harmonics retained, a factor of ``model_harmonics`` (the series' largest harmonic, in θ).
+
+    Returns
+    -------
+    int
+        The smallest power of two with N >= 8(2H + 1), N > 2(H + n·model_harmonics) and N >= 64.
+    """
     need = max(OVERSAMPLE * (2 * H + 1), 2 * (H + n * model_harmonics) + 1, MIN_SAMPLES)
     return 1 << int(math.ceil(math.log2(need)))
 
@@ -166,8 +176,18 @@ class DeadZoneTerms(NamedTuple):
 
 
 def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float) -> DeadZoneTerms:
-    """Exact Galerkin projection of K(θ) f(u; D) (u of real coefficients ``a``, K a centred series in φ, D >= 0)
-    with the contact switches located on the time grid of ``basis``."""
+    """Exact Galerkin projection of K(θ) f(u; D) with the contact switches located on the time grid.
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    a : ndarray (2H + 1,)
+        Real coefficients of u.
+    K : complex ndarray
+        Centred coefficients of the stiffness in φ.
+    D : float
+        Half gap (>= 0).
+    """
     G, S, phis = dead_zone_kernel(
         np.ascontiguousarray(a, dtype=float),
         np.ascontiguousarray(K, dtype=complex),
@@ -182,6 +202,13 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
 
 
 def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:
-    """(u_min, u_max, φ_min, φ_max) of u (real coefficients ``a``) over the period, refined by Newton on u_φ = 0."""
+    """(u_min, u_max, φ_min, φ_max) of u over the period, refined by Newton on u_φ = 0.
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    a : ndarray
+        Real coefficients of u.
+    """
     r = extrema_kernel(np.ascontiguousarray(a, dtype=float), basis.H, basis.cos_table, basis.sin_table, ROOT_MAX_ITER)
     return float(r[0]), float(r[1]), float(r[2]), float(r[3])

@@ -20,7 +20,7 @@ safeguarded secant along the chord (each trial corrected onto the branch):
 
 Points whose multipliers are unresolved carry ``Status.UNRESOLVED`` and take no part in the multiplier tests.
 
-The step follows the multipliers (:class:`StepRules`, ``docs/hb.md`` "Continuation and events").
+The step follows the multipliers (:class:`_StepRules`, ``docs/hb.md`` "Continuation and events").
 
 References
 ----------
@@ -43,6 +43,7 @@ import numpy as np
 from ...errors import ModelError
 from ...grid import param_name
 from ...status import Status, flag_attrs
+from ..periodic.arclength import _span_reporter
 from ..secant import illinois_on_chord
 from .damping import require_decidable
 from .equations import HBEquations, single_thread_blas, solve
@@ -53,11 +54,7 @@ __all__ = [
     "KIND",
     "HBBifurcation",
     "HBContinuation",
-    "StepRules",
     "hb_continuation",
-    "max_points_end",
-    "span_reporter",
-    "trace_branch",
 ]
 
 #: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
@@ -86,11 +83,10 @@ NEUTRAL_TOL = 1e-6
 
 
 @dataclass(frozen=True)
-class StepRules:
-    """How the step follows the multipliers: ``radial`` measures their motion by the moduli (Hausdorff distance of the
-    sets; a lightly damped mode's pair turns by ω_d ΔT when the period changes, which no test sees) instead of the
-    positions; a complex pair within ``band`` of the unit circle caps the step; ``ds_max`` is the default largest
-    step."""
+class _StepRules:
+    """How the step follows the multipliers: ``radial`` measures their motion by the moduli (the Hausdorff distance
+    of the sets: a lightly damped mode's pair turns by ω_d ΔT when the period changes, which no test sees) instead of
+    the positions; a complex pair within ``band`` of the unit circle caps the step; ``ds_max`` is the default."""
 
     radial: bool
     band: float
@@ -101,13 +97,13 @@ class StepRules:
 #: coordinate's 2H + 1 coefficients, so the default largest step is larger; near a critical multiplier it is
 #: NEAR_CRITICAL_DS·0.2 = 0.02, shooting's largest step; events are located, not bracketed, so their values do not
 #: depend on it: on the bevel pair ds_max = 0.02 and 0.2 agree to 1e-9).
-PAIR_RULES = StepRules(False, NEAR_CRITICAL, 0.02)
-SYSTEM_RULES = StepRules(True, 0.01, 0.2)
+PAIR_RULES = _StepRules(False, NEAR_CRITICAL, 0.02)
+SYSTEM_RULES = _StepRules(True, 0.01, 0.2)
 #: The largest steps by default (``geardyn hb --ds-max``).
 DS_MAX, SYSTEM_DS_MAX = PAIR_RULES.ds_max, SYSTEM_RULES.ds_max
 
 
-def step_rules(eq: HBEquations) -> StepRules:
+def step_rules(eq: HBEquations) -> _StepRules:
     """:data:`PAIR_RULES` for a scalar form, else :data:`SYSTEM_RULES`."""
     return PAIR_RULES if eq.form.scalar else SYSTEM_RULES
 
@@ -131,10 +127,23 @@ class _Pt:
 
 @dataclass
 class HBBifurcation:
-    """A located event on an HB branch: its ``type`` (``fold``, ``period-doubling``, ``neimark-sacker``,
-    ``grazing``), parameter ``value``, the reference element's extremes ``u_min``, ``u_max`` there, the
-    ``multipliers``, a ``detail``, whether the location met its tolerance (``located``) and the unknowns of the
-    solution at the event (``coefficients``; empty when not recorded)."""
+    """A located event on an HB branch.
+
+    Attributes
+    ----------
+    type : str
+        ``fold``, ``period-doubling``, ``neimark-sacker`` or ``grazing``.
+    value : float
+        Parameter value.
+    u_min, u_max : float
+        The reference element's extremes there.
+    multipliers : complex ndarray
+    detail : str
+    located : bool
+        The location met its tolerance.
+    coefficients : ndarray
+        The unknowns of the solution at the event (empty when not recorded).
+    """
 
     type: str
     value: float
@@ -489,7 +498,7 @@ class _Tracer:
 
     def multiplier_step(self, a: HillResult, b: HillResult) -> float:
         """How far the multipliers moved between two resolved points (0 if either is not): their positions (the
-        pairing that moves least), or the Hausdorff distance of their moduli (:attr:`StepRules.radial`)."""
+        pairing that moves least), or the Hausdorff distance of their moduli (:attr:`_StepRules.radial`)."""
         if a.status is not Status.OK or b.status is not Status.OK or not a.multipliers.size:
             return 0.0
         ma, mb = a.multipliers, b.multipliers
@@ -606,7 +615,7 @@ def hb_continuation(
         Time samples per response period.
     ds, ds_max : float
         Initial and largest arclength step in (x, p/|stop − start|) (``ds_max`` default: the form's
-        :class:`StepRules`, 0.02 for the pair, 0.2 for other systems).
+        :class:`_StepRules`, 0.02 for the pair, 0.2 for other systems).
     max_points : int
         Largest number of branch points (the branch then ends with ``end`` saying so).
     state0 : (u0, v0) or a full state, optional
@@ -642,7 +651,9 @@ def hb_continuation(
     m0 = model.with_param(param, start)
     model.with_param(param, stop)
     conservative = require_decidable(model, param, start, stop)
-    report = span_reporter(progress, start, stop)
+    report = None if progress is None else _span_reporter(progress, start, stop)  # the one of shooting's branches
+    if progress is not None:
+        progress(0.0, abs(stop - start))
     eq = HBEquations(model, harmonics, period, param=param, samples=samples, floquet=floquet)
     ds_max = step_rules(eq).ds_max if ds_max is None else float(ds_max)
     sol = hb_solve(m0, eq.H, period, guess, samples=eq.N, stability=False, state0=state0)
@@ -665,7 +676,7 @@ def hb_continuation(
     y = np.concatenate([sol.unknowns, [start / ps]])
     ref = np.zeros(eq.basis.size + 1)
     ref[-1] = 1.0 if stop > start else -1.0
-    pts, bifs, end = trace_branch(tr, y, ref, ds, ds_max, max_points, report)
+    pts, bifs, end = _trace_branch(tr, y, ref, ds, ds_max, max_points, report)
     vals = np.array([tr.p(q.y) for q in pts])
     if len(f.elements) == 1:  # the reference element's extremes are the points' own
         ext = np.array([[[q.u_min, q.u_max]] for q in pts])
@@ -679,28 +690,7 @@ def hb_continuation(
     )  # fmt: skip
 
 
-def span_reporter(
-    progress: Callable[[float, float], None] | None, start: float, stop: float
-) -> Callable[[float], None] | None:
-    """A branch point's parameter → ``progress(farthest distance from start towards stop, |stop − start|)``
-    (called once with 0 now, then whenever the distance grows); None without ``progress``."""
-    if progress is None:
-        return None
-    total = abs(stop - start)
-    sign = 1.0 if stop >= start else -1.0
-    farthest = [0.0]
-    progress(0.0, total)
-
-    def on_point(p: float) -> None:
-        d = min(max(sign * (p - start), 0.0), total)
-        if d > farthest[0]:
-            farthest[0] = d
-            progress(d, total)
-
-    return on_point
-
-
-def max_points_end(max_points: int) -> str:
+def _max_points_end(max_points: int) -> str:
     """The ``end`` of a branch stopped by the point limit."""
     return (
         f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
@@ -708,7 +698,7 @@ def max_points_end(max_points: int) -> str:
     )
 
 
-def trace_branch(
+def _trace_branch(
     tr: _Tracer,
     y: np.ndarray,
     ref: np.ndarray,
@@ -726,7 +716,7 @@ def trace_branch(
         pts = [first]
         bifs: list[HBBifurcation] = []
         h = float(ds)
-        end = max_points_end(max_points)
+        end = _max_points_end(max_points)
         while len(pts) < max_points:
             cur = pts[-1]
             nxt = None

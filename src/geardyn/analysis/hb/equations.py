@@ -24,12 +24,8 @@ D₁, D₂ the derivative operators in real coefficients, T(·) the Toeplitz (mu
 coordinate and one dead-zone element without linear terms (:attr:`HBForm.scalar <.form.HBForm.scalar>`: the 1-DOF
 pair) is evaluated by compiled kernels of the same equations (``benchmarks/hb_speed.py --general`` times both).
 
-Rigid-body modes
-----------------
-A free rigid-body mode R (no stiffness, damping or load along it) leaves the mean of the rigid coordinate
-undetermined: J has the right null vectors R and the left null vectors M̃R in the harmonic-0 slots.  The gauge
-Rᵀa_0 = 0 is imposed in a bordered system with one Lagrange multiplier λ per mode,
-[[J, L], [Nᵀ, 0]] (N = R, L = M̃R in harmonic 0), square and nonsingular (λ converges to zero).
+A free rigid-body mode R (no stiffness, damping or load along it) leaves the mean of the rigid coordinate undetermined:
+the gauge Rᵀa_0 = 0 is imposed with one Lagrange multiplier per mode (``docs/hb.md``, "Rigid-body modes").
 
 References
 ----------
@@ -65,7 +61,7 @@ from .aft import (
 )
 from .form import FormElement, HBForm
 from .hill import HillResult, system_hill_floquet
-from .monodromy import check_floquet, monodromy_floquet
+from .monodromy import _check_floquet, monodromy_floquet
 
 __all__ = ["HBEquations", "default_harmonics", "single_thread_blas", "solve", "DEFAULT_HARMONICS", "NEWTON_TOL"]
 
@@ -100,6 +96,11 @@ def single_thread_blas() -> Iterator[None]:
 def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     """x with A x = b by LAPACK ``dgesv`` (``numpy.linalg.solve`` costs ten times the factorisation here).
 
+    Parameters
+    ----------
+    A : ndarray (m, m)
+    b : ndarray (m,)
+
     Raises
     ------
     numpy.linalg.LinAlgError
@@ -124,6 +125,12 @@ LAW_TERMS = {"dead_zone": dead_zone}
 def default_harmonics(model: Any, period: int = 1) -> int:
     """H when none is given: :data:`DEFAULT_HARMONICS`, or for an excitation of P > 1 mesh cycles (harmonics of
     ω/(P n)) the larger of P·:data:`DEFAULT_HARMONICS` and n times the excitation's harmonics.
+
+    Parameters
+    ----------
+    model : System
+    period : int
+        n, forcing periods per response period.
 
     Raises
     ------
@@ -206,7 +213,7 @@ class HBEquations:
             raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
         self.base, self.n, self.H = model, int(period), int(harmonics)
         self.param = None if param is None else param_name(param)
-        self.floquet = check_floquet(floquet)
+        self.floquet = _check_floquet(floquet)
         form = self.form = model.hb_form(self.n)
         self.periods = form.periods
         H = self.H
@@ -307,14 +314,6 @@ class HBEquations:
     def _split(self, x: np.ndarray) -> np.ndarray:
         return np.asarray(x, dtype=float)[: self.basis.dofs * self.M].reshape(self.basis.dofs, self.M)
 
-    def _d1(self, Q: np.ndarray) -> np.ndarray:
-        """φ-derivative of real coefficient rows."""
-        H = self.H
-        out = np.zeros_like(Q)
-        out[..., 1 : H + 1] = self._k * Q[..., H + 1 :]
-        out[..., H + 1 :] = -self._k * Q[..., 1 : H + 1]
-        return out
-
     def deflection(self, x: np.ndarray, e: int, p: float | None = None) -> np.ndarray:
         """Real coefficients (δ basis of ``Hd`` harmonics) of element e's deflection δ_e = V_e·q − E_e."""
         pt = self._entry(p)
@@ -334,7 +333,7 @@ class HBEquations:
         Q = self._split(x)
         H, Hd = self.H, self.Hd
         R2 = -self._k2 * Q - pt.G2
-        R1 = pt.form.B @ self._d1(Q)
+        R1 = pt.form.B @ (Q @ self.D1.T)  # the φ-derivative of every row
         R0 = pt.form.A @ Q - pt.G0
         Ss = []
         for el, E in zip(pt.form.elements, pt.E):

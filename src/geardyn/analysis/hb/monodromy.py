@@ -33,7 +33,6 @@ __all__ = [
     "REFINE_GAIN",
     "STEP_ANGLE",
     "SWITCH_TOL",
-    "check_floquet",
     "monodromy_floquet",
 ]
 
@@ -56,7 +55,7 @@ REFINE_GAIN = 20.0
 FIRST_STEP_FACTOR = 2.0
 
 
-def check_floquet(floquet: str) -> str:
+def _check_floquet(floquet: str) -> str:
     """``floquet`` if it names a method of :data:`FLOQUET_METHODS`; else a one-line :class:`ModelError`."""
     from ...errors import ModelError
 

@@ -33,7 +33,6 @@ __all__ = [
     "hb_response",
     "response_from_branch",
     "stable_segments",
-    "sweep_paths",
 ]
 
 #: Response measures (as :data:`geardyn.analysis.response.MEASURES`).
@@ -108,9 +107,14 @@ def _resolved_after(resolved: np.ndarray, i: int) -> int:
 
 
 def decided_stability(res: HBContinuation) -> np.ndarray:
-    """Stability per branch point of ``res``, a point whose multipliers were not resolved taking its neighbours'
-    when they are both stable and no stability event is located between them (stability changes only at a fold,
-    a period doubling or a Neimark–Sacker point); elsewhere such a point counts as unstable."""
+    """Stability per branch point, a point whose multipliers were not resolved taking its neighbours' when they are
+    both stable and no stability event is located between them (stability changes only at a fold, a period
+    doubling or a Neimark–Sacker point); elsewhere such a point counts as unstable.
+
+    Parameters
+    ----------
+    res : HBContinuation
+    """
     st = np.array(res.stable, dtype=bool)
     resolved = res.status == int(Status.OK)
     P = st.size
@@ -129,7 +133,12 @@ def decided_stability(res: HBContinuation) -> np.ndarray:
 
 
 def stable_segments(res: HBContinuation) -> list[Segment]:
-    """The stable segments (:class:`Segment`) of a branch in ω (see the module docstring), in branch order."""
+    """The stable segments (:class:`Segment`) of a branch in ω (see the module docstring), in branch order.
+
+    Parameters
+    ----------
+    res : HBContinuation
+    """
     if res.param != "omega":
         raise ModelError(f"param: a frequency response needs a branch in omega, got {res.param}")
     st = decided_stability(res)
@@ -179,7 +188,7 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     return out
 
 
-def sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list[tuple[float, float, int | None]]]:
+def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list[tuple[float, float, int | None]]]:
     """``{"up": [...], "down": [...]}``: the pieces (ω_a, ω_b, segment index or None) the sweeps over [lo, hi]
     follow, in sweep order; consecutive pieces on two segments are a jump at their common end, a piece with None
     has no stable solution."""
@@ -321,7 +330,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
             for x in (lo, hi):
                 if seg.omega[k] != x and abs(seg.omega[k] - x) <= 8.0 * math.ulp(x):
                     seg.omega[k] = x
-    paths = sweep_paths(segs, lo, hi)
+    paths = _sweep_paths(segs, lo, hi)
     n, H = res.period, res.harmonics
     rd = HBEquations(res.model, H, n, param="omega", samples=res.samples)
     D, basis = float(res.gaps[res.reference]), rd.dbasis

@@ -1,14 +1,7 @@
 """Harmonic balance at one parameter value: :func:`hb_solve` on any system (the equations: :mod:`.equations`).
 
-For a period-n response the unknown holds H harmonics of ν = ω/(p n) per coordinate (p base periods per forcing
-period: the pair's ``cycles``, a system's period multiple); Newton on the HB equations with the analytic Jacobian
-gives an :class:`HBSolution` with a :class:`~geardyn.status.Status` and, when converged, the Floquet multipliers.
-
-References
-----------
-T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
-steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
-A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517 (Hill's multipliers).
+Newton on the HB equations with the analytic Jacobian gives an :class:`HBSolution` with a
+:class:`~geardyn.status.Status` and, when converged, the elastic Floquet multipliers.
 """
 
 from __future__ import annotations
@@ -35,7 +28,6 @@ from .hill import HillResult
 __all__ = [
     "HBSolution",
     "hb_solve",
-    "start_coefficients",
     "default_harmonics",
     "DEFAULT_HARMONICS",
     "MAX_DEFAULT_HARMONICS",
@@ -124,7 +116,7 @@ class HBSolution:
         return self.equations.state(self.unknowns)
 
 
-def start_coefficients(eq: HBEquations, guess: Any = None, state0: Any = None) -> np.ndarray:
+def _start_coefficients(eq: HBEquations, guess: Any = None, state0: Any = None) -> np.ndarray:
     """The start (dofs, 2H + 1) of Newton: ``guess`` as coefficients, ``"linear"``, or ``"simulate"`` (the attractor
     reached by simulation from ``state0``; the linear response when that diverges).  None is ``"simulate"``, or
     ``"linear"`` for a system without damping (it has no attractor: a simulation keeps its transient for ever).
@@ -207,7 +199,7 @@ def hb_solve(
     (True, 1, 0.927)
     """
     eq = HBEquations(model, harmonics, period, samples=samples, floquet=floquet)
-    Q0 = start_coefficients(eq, guess, state0)
+    Q0 = _start_coefficients(eq, guess, state0)
     with single_thread_blas():
         x, status, its, r = eq.newton(eq.unknowns(Q0), None, tol=tol, max_iter=max_iter)
         Q = eq._split(x).copy()
