@@ -9,7 +9,8 @@ in the slow angle φ = ντ of a period-n response, ν = ω/``periods`` (``perio
 forcing period).  f_e is the element's law (:data:`LAWS`; the dead zone f(δ; D) = δ − clamp(δ, −D, D)), C_e, K_e
 and E_e are centred complex Fourier series in φ, A = M̃⁻¹K̃_b, B = M̃⁻¹C̃_b, W_e = M̃⁻¹V_e, and the forcing G is
 already multiplied by M̃⁻¹.  The 1-DOF pair is the form with one coordinate q = u and one element, V = W = [1],
-A = B = 0, E = 0 and G = f_p + ω² Σ l² ε_l cos(lθ + φ_el) (the STE as an inertial load, hence ν²); a mesh-vector
+A = B = 0, E = 0 and G = f_p + ω² Σ l² ε_l cos(lθ + φ_el) (the STE as an inertial load, hence ν²) plus its torque
+orders (constant amplitudes); a mesh-vector
 system (:mod:`geardyn.systems`) has G0 = M̃⁻¹F̃ constant, G2 = 0 and its STE in E_e.
 
 :func:`pair_form` and :func:`system_form` build the form; ``GearModel.hb_form`` and ``SystemModel.hb_form`` call
@@ -75,7 +76,8 @@ class HBForm:
     periods : int
         Base periods of θ = ωτ per response period: ν = ω/periods.
     cycles : int
-        Mesh cycles per forcing period whose settling a start simulation waits for (the pair's ``cycles``).
+        Mesh cycles per forcing period (the pair's period multiple; 1 for a system, whose series are in its own
+        forcing period): a start simulation's transient counts one-cycle periods.
     Mi, A, B : ndarray (dofs, dofs)
         M̃⁻¹, M̃⁻¹K̃_b, M̃⁻¹C̃_b.
     G0, G2 : complex ndarray (dofs, 2L + 1)
@@ -176,24 +178,21 @@ def pair_form(model: Any, period: int = 1) -> HBForm:
     -------
     HBForm
     """
-    n, P = int(period), int(model.cycles)
+    n, M = int(period), int(model.period_multiple())  # the series are harmonics of the forcing frequency ω/M
+    s = M // int(model.cycles)  # harmonic j of the mesh series is harmonic j·s of ω/M
     cf = model.coefficients()
     C, K = spread(cf[0], 1, n), spread(cf[1], 1, n)
-    sts = np.zeros_like(cf[2])
-    j = np.arange(1, cf.shape[1])
-    eps, ph = np.zeros(j.size), np.zeros(j.size)
-    eps[: len(model.eps)], ph[: len(model.phi_e)] = model.eps, model.phi_e
-    sts[1:, 0] = n * n * j * j * eps * np.cos(ph)  # ω_f² = (n ν)²: the STE's inertial load per ν²
-    sts[1:, 1] = -n * n * j * j * eps * np.sin(ph)
+    sts = np.zeros_like(cf[2])  # the STE's inertial load per ν²: its (ω/P)² is (n s ν)²
+    for j, (e, ph) in enumerate(zip(model.eps, model.phi_e), start=1):
+        sts[j * s] = (n * s * j) ** 2 * e * np.array([math.cos(ph), -math.sin(ph)])
     G2 = spread(sts, 1, n)[None, :]
-    G0 = np.zeros_like(G2)
-    G0[0, (G0.shape[1] - 1) // 2] = model.fp
+    G0 = spread(model.replace(eps=(), phi_e=()).coefficients(cf.shape[1] - 1)[2], 1, n)[None, :]  # f_p, torque orders
     one = np.ones(1)
     el = FormElement(
         "mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp), _law(model.elements[0])
     )
     return HBForm(
-        P * n, P, np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), G0, G2, (el,), np.zeros((1, 0)), 0,
+        M * n, M, np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), G0, G2, (el,), np.zeros((1, 0)), 0,
         n * (int(model.n_harmonics) + 2), ("u",),
     )  # fmt: skip
 
