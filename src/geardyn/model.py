@@ -349,6 +349,13 @@ class GearModel:
         """Mean trace of the Jacobian over a period: −2ξ0 (the damping harmonics average to zero)."""
         return -2.0 * self.xi0
 
+    def hb_form(self, period: int = 1) -> Any:
+        """The equation for harmonic balance (:func:`geardyn.analysis.hb.form.pair_form`): one coordinate u, one
+        element with V = [[1]]."""
+        from .analysis.hb.form import pair_form
+
+        return pair_form(self, period)
+
     def report(
         self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None
     ) -> dict[str, Any]:

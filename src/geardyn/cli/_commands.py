@@ -120,14 +120,19 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "hb": (
         "hb",
         (
-            "Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of "
-            "period-n responses\n"
-            "continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and\n"
-            "grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting "
-            "branch\n"
-            "with --compare-shooting).  A model or system without damping is refused (no stability can be decided); "
-            "a\n"
-            "branch whose first solution does not converge exits with code 1 and writes nothing."
+            "Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch "
+            "of\n"
+            "period-n responses continued in any parameter through its folds, with folds, period doublings, "
+            "Neimark–Sacker\n"
+            "points and grazing located; with --out the figure shows it stable solid and unstable dashed (over the "
+            "shooting\n"
+            "branch with --compare-shooting).  With --system the branch is the system's (every DOF's harmonics, the "
+            "elastic\n"
+            "multipliers; --param takes its parameter names).  Without damping the multipliers lie on the unit circle: "
+            "folds\n"
+            "and period doublings are located by det(I - M) and det(I + M) and stable means neutrally stable; a branch "
+            "whose\n"
+            "first solution does not converge exits with code 1 and writes nothing."
         ),
     ),
     "modes": (

@@ -47,7 +47,7 @@ CoordsOpt = Annotated[
 ]
 
 #: Commands that take ``--system``.
-SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins")
+SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins", "hb")
 _NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
 
 

@@ -512,6 +512,12 @@ class SystemModel:
         """Mean trace of the Jacobian over a forcing period, :func:`geardyn.systems.elements.mean_trace`."""
         return _el.mean_trace(self)
 
+    def hb_form(self, period: int = 1) -> Any:
+        """The equation for harmonic balance in mesh-vector form (:func:`geardyn.analysis.hb.form.system_form`)."""
+        from ..analysis.hb.form import system_form
+
+        return system_form(self, period)
+
     def report(
         self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None
     ) -> dict[str, Any]:
