@@ -11,11 +11,11 @@ import pytest
 
 from geardyn.analysis.lyapunov import lyapunov_spectrum
 from geardyn.analysis.periodic import shoot
-from geardyn.analysis.periodic.orbit import require_periodic
 from geardyn.analysis.steady import simulate
 from geardyn.errors import ModelError
 from geardyn.integrate import forcing_period, integrate_batch, period_map, trajectory
 from geardyn.model import GearModel, IntegrationOptions
+from geardyn.system import require_periodic
 from geardyn.systems import Scaling, SystemModel, assemble, load_description, load_system
 from geardyn.systems.assemble import MeshND
 

@@ -90,6 +90,8 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
+from .errors import ModelError
+
 __all__ = [
     "System",
     "Element",
@@ -102,6 +104,7 @@ __all__ = [
     "build_models",
     "state_names",
     "element_names",
+    "require_periodic",
 ]
 
 #: The most counters a law keeps in a run's statistics (the slots the kernels reserve per element).
@@ -496,3 +499,31 @@ def element_names(model: Any, n: int) -> list[str]:
     """
     els = [e.name for e in model.elements] if model is not None else []
     return els if len(els) == n else [str(i) for i in range(n)]
+
+
+def require_periodic(model: Any, what: str = "the periodic tools") -> int:
+    """The forcing-period multiple p of a system, refusing a quasi-periodic forcing.
+
+    Parameters
+    ----------
+    model : System
+    what : str
+        The tools named in the error message.
+
+    Returns
+    -------
+    int
+        p = ``model.period_multiple()``: the forcing repeats after p base periods (1 for the pair).
+
+    Raises
+    ------
+    ModelError
+        If the forcing frequencies are incommensurate (no common period).
+    """
+    p = model.period_multiple()
+    if p is None:
+        raise ModelError(
+            f"system: {what} need a periodic forcing, but the mesh-frequency ratios are "
+            f"incommensurate; use simulate or lyapunov"
+        )
+    return p

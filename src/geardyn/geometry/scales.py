@@ -16,8 +16,6 @@ from typing import Any
 
 import numpy as np
 
-from ..model import GearModel
-
 __all__ = ["PhysicalScales", "SCALES_ATTR"]
 
 #: Name of the Dataset attribute that stores :class:`PhysicalScales` as JSON.
@@ -337,7 +335,7 @@ class PhysicalScales:
         return np.asarray(kappa, dtype=float) * self.k0_N_per_m
 
     # ------------------------------------------------------------------ a model's operating point
-    def operating_point(self, model: GearModel) -> dict[str, float]:
+    def operating_point(self, model: Any) -> dict[str, float]:
         """Speed, frequencies, torque and static force of a model (JSON-ready).
 
         Parameters

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import ModelError
+from ...system import require_periodic
 
 __all__ = ["FormElement", "HBForm", "LAWS", "pair_form", "system_form"]
 
@@ -217,7 +218,6 @@ def system_form(model: Any, period: int = 1) -> HBForm:
     """
     from ...systems.elements import rigid_modes
     from ...systems.report import static_mesh_forces
-    from ..periodic.orbit import require_periodic
 
     periods = int(period) * require_periodic(model, "harmonic balance")
     Mi = np.asarray(model.Mi, dtype=float)
