@@ -177,3 +177,31 @@ def test_a_result_reopens_as_its_system(kind):
         assert back == model
     else:
         assert back.to_attrs() == model.to_attrs()
+
+
+def test_one_scales_for_the_pair_and_its_system():
+    """The torsional system is the paper's pair as a 2-DOF system: its scales (those of its reference mesh) are the
+    pair's, every conversion agrees, and the operating points have the same keys (a system has no single torque)."""
+    from geardyn.config import load_config
+    from geardyn.geometry.scales import PhysicalScales, Scales
+    from geardyn.systems import load_system
+    from geardyn.systems.report import physical_scales
+
+    pair = load_config().scales()
+    s = load_system(TORS)
+    sys_sc = physical_scales(s)
+    assert PhysicalScales is Scales and type(pair) is type(sys_sc) is Scales
+    for k in ("b_c_m", "k0_N_per_m", "m_e_kg", "omega_n_rad_s", "z1", "D"):
+        assert getattr(sys_sc, k) == pytest.approx(getattr(pair, k), rel=1e-12), k
+    for f, x in (("rpm_from_omega", 0.8), ("hz_from_omega", 0.8), ("um_from_u", 1.5), ("N_from_force", 0.3)):
+        assert float(getattr(sys_sc, f)(x)) == pytest.approx(float(getattr(pair, f)(x)), rel=1e-12), f
+    a, b = pair.operating_point(GearModel(omega=0.8)), sys_sc.operating_point(s.with_param("omega", 0.8))
+    assert a.keys() == b.keys() and b["torque_N_m"] is None and b["fp"] is None
+    assert b["rpm"] == pytest.approx(a["rpm"], rel=1e-12)
+    assert b["static_force_N"] == pytest.approx(a["static_force_N"], rel=1e-9)
+    assert Scales.from_json(sys_sc.to_json()) == sys_sc and Scales.from_json(pair.to_json()) == pair
+    nt = Scales.of_reference_mesh("m", 1e8, 2.0, 1e-5, (1e-5,), None)
+    assert np.isnan(nt.rpm_from_omega(1.0))
+    with pytest.raises(Exception, match="teeth"):
+        nt.omega_from_rpm(1000.0)
+    assert float(Scales.dynamic_factor(3.0, 2.0)) == 1.5 and np.isnan(Scales.dynamic_factor(1.0, 0.0))

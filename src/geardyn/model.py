@@ -290,6 +290,10 @@ class GearModel:
         """The state (u0, v0)."""
         return np.array([u0, v0], dtype=float)
 
+    def static_force(self) -> float:
+        """The static mesh force: the mean load f_p."""
+        return self.fp
+
     def mean_trace(self) -> float:
         """Mean trace of the Jacobian over a period: −2ξ0 (the damping harmonics average to zero)."""
         return -2.0 * self.xi0

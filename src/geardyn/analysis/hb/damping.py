@@ -108,7 +108,7 @@ def undamped_modes(model: Any) -> list[float]:
             E = phi[:, i:j]
             E = np.linalg.qr(E)[0]
             d = np.linalg.eigvalsh(E.T @ C @ E)
-            f = math.sqrt(lam[i]) * model.scaling.omega_n / (2.0 * math.pi)
+            f = math.sqrt(lam[i]) * model.scaling.omega_n_rad_s / (2.0 * math.pi)
             out.extend([f] * int(np.count_nonzero(d <= ctol)))
         i = j
     return out
