@@ -187,7 +187,7 @@ def test_one_scales_for_the_pair_and_its_system():
     from geardyn.systems import load_system
     from geardyn.systems.report import physical_scales
 
-    pair = load_config().scales()
+    pair = load_config().scales
     s = load_system(TORS)
     sys_sc = physical_scales(s)
     assert PhysicalScales is Scales and type(pair) is type(sys_sc) is Scales

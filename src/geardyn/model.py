@@ -41,7 +41,6 @@ __all__ = [
     "PAPER_DEFAULTS",
     "PARAMETER_HELP",
     "canonical_param",
-    "stiffness_minimum",
 ]
 
 #: Default non-dimensional step Δτ (the paper's value).
@@ -153,7 +152,7 @@ class GearModel:
         harmonics of the forcing frequency ω/P (member j is mesh order j/P, at most
         ``MAX_HARMONICS``·P of them), the forcing period is P·2π/ω (:attr:`sampling_period`,
         :meth:`period_multiple`) and the stiffness must be positive for every θ (Σ|κ_j| < 1, or a
-        certified minimum > 0: :func:`stiffness_minimum`).
+        certified minimum > 0: :func:`geardyn.pairpack.stiffness_minimum`).
     evaluation : str
         ``"series"`` (default): the kernels evaluate the series κ, ε.  ``"table"``: the accurate mode
         evaluates ``table`` as given (piecewise linear, with its jumps; :mod:`geardyn.meshtable`) and ends

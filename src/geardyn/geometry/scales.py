@@ -227,7 +227,7 @@ class Scales:
         Examples
         --------
         >>> sc = Scales.of_reference_mesh("m", 1e8, 2.0, 1e-5, (1e-5, 1e-5), 20)
-        >>> round(float(sc.omega_n_rad_s), 6), sc.force_scale_N
+        >>> round(sc.omega_n_rad_s, 6), round(sc.force_scale_N, 9)
         (7071.067812, 1000.0)
         """
         return cls(

@@ -70,7 +70,8 @@ import numpy as np
 from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry.scales import Scales
-from ..model import Boundary, stiffness_minimum
+from ..model import Boundary
+from ..pairpack import stiffness_minimum
 from ..params import MAX_HARMONICS, canonical_param, slot
 from ..system import Element
 from . import elements as _el
