@@ -47,7 +47,7 @@ def table1(**changes) -> SpiralBevelGearPair:
     "z1,z2,sigma_deg", [(23, 47, 90), (11, 41, 90), (20, 20, 90), (17, 43, 60), (15, 31, 120), (9, 50, 75)]
 )
 def test_pitch_cone_angles_sum_to_shaft_angle(z1, z2, sigma_deg):
-    p = table1(z1=z1, z2=z2, Sigma=sigma_deg * DEG, r1=None, r2=None)
+    p = table1(z1=z1, z2=z2, Sigma=sigma_deg * DEG, r1=None, r2=None, face_width=None)
     assert p.delta1 + p.delta2 == pytest.approx(sigma_deg * DEG, abs=1e-14)
     # tan δ1 = sin Σ / (z2/z1 + cos Σ) and the symmetric relation for δ2
     S = sigma_deg * DEG
@@ -158,8 +158,10 @@ def test_drive_side_from_rotation_is_consistent_with_vectors(hand, rotation):
 def test_equivalent_mass_is_the_two_inertia_eigenfrequency():
     """The nonzero natural frequency of the two-inertia torsional system with mesh stiffness k0
     along the line of action equals √(k0/m_e)."""
-    for I1, I2, r1, r2 in ((1.772, 1.873, 0.1255, 0.256), (8e-4, 0.05, 0.0247, 0.092), (0.3, 3.0, 0.05, 0.2)):
-        p = table1(I1=I1, I2=I2, r1=r1, r2=r2)
+    cases = ((23, 47, 1.772, 1.873, 0.1255, 0.256), (11, 41, 8e-4, 0.05, 0.0247, 0.092), (12, 48, 0.3, 3.0, 0.05, 0.2))
+    for z1, z2, I1, I2, r1, r2 in cases:  # radii at the mean pitch point of a pair of those teeth (module from r1)
+        m = 2 * r1 * math.cos(35 * DEG) / z1
+        p = table1(z1=z1, z2=z2, m_mn=m, I1=I1, I2=I2, r1=r1, r2=r2, face_width=None)
         R1, R2, k0 = p.R1, p.R2, p.k0_mean
         K = k0 * np.array([[R1 * R1, -R1 * R2], [-R1 * R2, R2 * R2]])
         M = np.diag([I1, I2])

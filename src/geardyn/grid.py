@@ -195,6 +195,15 @@ class Grid:
     kind : str
     names : tuple of str
     axes : tuple of ndarray
+
+    Examples
+    --------
+    >>> from geardyn import Grid
+    >>> g = Grid.linspace("omega", 0.5, 1.5, 3)
+    >>> g, g.values("omega").tolist()
+    (Grid.range(omega[3]), [0.5, 1.0, 1.5])
+    >>> Grid.product(("omega", [0.6, 0.8]), ("xi0", [0.05, 0.1])).points().tolist()
+    [[0.6, 0.05], [0.6, 0.1], [0.8, 0.05], [0.8, 0.1]]
     """
 
     def __init__(self, kind: str, names: Sequence[str], axes: Sequence[np.ndarray]) -> None:

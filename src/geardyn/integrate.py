@@ -554,6 +554,14 @@ def integrate_batch(
     ModelError
         For an empty batch, a step not below a sampling period, a bad initial state, ``steps`` or
         ``threads``.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, integrate_batch
+    >>> models = [GearModel(omega=0.6), GearModel(omega=0.8)]
+    >>> res = integrate_batch(models, (0.0, 0.0), IntegrationOptions(transient=50, periods=4))
+    >>> res.poincare.shape, res.ok.tolist()
+    ((2, 4, 2), [True, True])
     """
     models, backend, packed, nsteps = _prepare(models, options, steps)
     s0 = _states(models, state0)
@@ -671,6 +679,13 @@ def trajectory(
     ------
     ModelError
         For a step not below the sampling period, a bad initial state or ``steps``.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, trajectory
+    >>> tr = trajectory(GearModel(omega=0.8), (0.0, 0.0), IntegrationOptions(transient=50, periods=4))
+    >>> tr.poincare.shape  # the Poincaré points (u, u') of the 4 recorded periods
+    (4, 2)
     """
     models, backend, packed, nsteps = _prepare([model], options, steps)
     hp = int(min(max(history_periods, 1), options.periods))
@@ -743,6 +758,13 @@ def period_map(
     ------
     ModelError
         For a step not below the sampling period, a bad state or ``steps``.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, period_map
+    >>> x, jac, stats, ok = period_map(GearModel(omega=0.8), (0.0, 0.0), 1)
+    >>> x.shape, jac.shape, bool(ok)
+    ((1, 2), (2, 2), True)
     """
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=int(n), accurate=accurate)
     models, backend, packed, nsteps = _prepare([model], opts, steps)

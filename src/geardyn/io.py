@@ -179,6 +179,22 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
         "tau": _v("non-dimensional time τ = ω_n t at the middle of a speed block"),
         "time_s": _v("time at the middle of a speed block", "s"),
     },
+    "rattle": {
+        "impact": _v("index of the impact"),
+        "impact_time": _v("time τ of an impact (start of a contact)"),
+        "impact_flank": _v("flank of an impact", flags={1: "drive", -1: "back"}),
+        "impact_velocity": _v("relative velocity du/dτ at an impact"),
+    },
+    "rattle_map": {
+        "amplitude_scale": _v("scale of the torque orders' amplitudes"),
+        "impacts_drive": _v("drive-flank impacts per forcing cycle"),
+        "impacts_back": _v("back-flank impacts per forcing cycle"),
+        "impact_velocity_max": _v("largest relative impact velocity |du/dτ|"),
+        "impact_velocity_max_m_s": _v("largest relative impact velocity", "m/s"),
+        "rattle_index": _v("rattle index: impact kinetic-energy loss per cycle (k b_c²)"),
+        "rattle_index_J": _v("rattle index: impact kinetic-energy loss per cycle", "J"),
+        "status": _v("point status (0 ok, 1 diverged)"),
+    },
     "hb": {
         "coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
         "coefficient": _v("index of the Fourier coefficient"),
@@ -724,12 +740,87 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     -------
     Path
         ``path``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geardyn import GearModel, IntegrationOptions, read_netcdf, simulate, write_netcdf
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> path = write_netcdf(ds, pathlib.Path(tempfile.mkdtemp()) / "simulate.nc")
+    >>> read_netcdf(path)["poincare_u"].shape == ds["poincare_u"].shape
+    True
     """
     data = write_netcdf_bytes(lambda buf: annotate(ds).to_netcdf(buf, engine="h5netcdf"))
     return atomic_write_bytes(path, data)
 
 
 def read_netcdf(path: str | Path) -> xr.Dataset:
-    """Read a geardyn NetCDF file fully into memory, in today's schema (:func:`upgrade`)."""
+    """Read a geardyn NetCDF file fully into memory, in today's schema (:func:`upgrade`).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geardyn import GearModel, IntegrationOptions, read_netcdf, simulate, write_netcdf
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> again = read_netcdf(write_netcdf(ds, pathlib.Path(tempfile.mkdtemp()) / "simulate.nc"))
+    >>> again.attrs["geardyn_kind"], again.geardyn.model.omega
+    ('simulate', 0.8)
+    """
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         return upgrade(ds.load())
+
+
+#: Dimensions of the variables a figure draws, by result kind (a variable of another shape is refused).
+RESULT_DIMS: dict[str, dict[str, tuple[str, ...]]] = {
+    "simulate": {
+        "u": ("tau",),
+        "v": ("tau",),
+        "tau": ("tau",),
+        "poincare_u": ("section",),
+        "poincare_v": ("section",),
+        "spectrum": ("order",),
+        "order": ("order",),
+    },
+}
+#: Variables that must share their dimensions in every kind (a point's u beside its v).
+SAME_DIMS = (("u", "v"), ("poincare_u", "poincare_v"))
+#: Coordinates that hold names (text) in a result.
+TEXT_COORDINATES = ("element", "state", "mesh", "coordinate", "body", "dof", "side", "variable", "claim")
+
+
+def result_variables(ds: Any, where: str = "", error: type[Exception] = ModelError) -> None:
+    """Every registered variable of a result read back has a numeric type and the dimensions it is drawn on.
+
+    A NetCDF file edited by hand (a variable turned to text, an array of another shape) is refused before
+    anything is drawn or computed from it.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result.
+    where : str
+        The file, named in the message (none by default).
+    error : type
+        The error raised.
+
+    Raises
+    ------
+    ModelError (or ``error``)
+        ``<file>: variable <name> ...`` naming what was expected.
+    """
+    where = f"{where}: " if where else ""
+    kind = ds.attrs.get("geardyn_kind") if hasattr(ds, "attrs") else None
+    registered = set(VARIABLES) | set(SYSTEM_VARIABLES) | set(KIND_VARIABLES.get(str(kind), {}))
+    for name, var in ds.variables.items():
+        name = str(name)
+        if name not in registered or name in TEXT_COORDINATES:
+            continue
+        if getattr(var.dtype, "kind", "O") not in "biuf":
+            raise error(f"{where}variable {name!r} holds {var.dtype} values; a geardyn result stores numbers there")
+    expected = RESULT_DIMS.get(str(kind), {})
+    for name, dims in expected.items():
+        if name in ds.variables and tuple(ds[name].dims) != dims:
+            raise error(f"{where}variable {name!r} has dimensions {tuple(ds[name].dims)}, expected {dims}")
+    for a, b in SAME_DIMS:
+        if a in ds.variables and b in ds.variables and ds[a].shape != ds[b].shape:
+            raise error(f"{where}variables {a!r} {tuple(ds[a].dims)} and {b!r} {tuple(ds[b].dims)} must have one shape")

@@ -32,6 +32,9 @@ from .meshtable import EVALUATIONS, check_table, table_values
 from .pairpack import MAX_KAPPA_SUM, pack_models, stiffness_minimum
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
 from .system import Element
+from .torque_orders import normalise as _normalise_orders
+from .torque_orders import period_multiple as _orders_multiple
+from .torque_orders import to_dicts as _orders_to_dicts
 
 __all__ = [
     "Boundary",
@@ -160,8 +163,27 @@ class GearModel:
     table : (phase, k, e)
         With ``evaluation = "table"``: node phases in mesh cycles over [0, ``cycles``), k/k0 and e/b_c
         (e may be empty).
+    torque_orders : tuple of (order, amplitude, phase)
+        Torque orders (:mod:`geardyn.torque_orders`): forcing terms a cos(qθ + φ) of constant amplitude a
+        (non-dimensional like f_p) at q times the mesh frequency, q a positive rational (a ``Fraction``, an
+        integer, a decimal or ``"a/b"``; order k of the pinion's speed is q = k/z1), φ in rad.  The forcing
+        period becomes the least common multiple of ``cycles`` and the orders' denominators, in mesh cycles
+        (:meth:`period_multiple`); the series ξ, κ, ε keep their meaning.  Default none.
 
     The defaults are the paper's Table 1 values with ω = 1.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> m = GearModel(omega=0.8)
+    >>> m.omega, m.xi0, m.kappa, m.eps, m.fp, m.D
+    (0.8, 0.1, (0.2,), (0.5,), 0.2, 1.0)
+    >>> m.with_param("kappa2", 0.1).kappa
+    (0.2, 0.1)
+    >>> GearModel(omega=0.0)
+    Traceback (most recent call last):
+        ...
+    geardyn.errors.ModelError: omega: ...
     """
 
     omega: float = FAMILIES["omega"].default
@@ -177,6 +199,7 @@ class GearModel:
     cycles: int = 1
     evaluation: str = "series"
     table: tuple = ()
+    torque_orders: tuple = ()
 
     #: Dimension of the state (u, u') — the 1-DOF model's physics: one relative coordinate.
     state_dim: ClassVar[int] = 2
@@ -212,6 +235,14 @@ class GearModel:
             raise ModelError('table: evaluation = "table" takes a table (phase, k, e), and a table needs it')
         if self.table:
             set_(self, "table", check_table(self.table, self.cycles))
+        set_(self, "torque_orders", _normalise_orders(self.torque_orders))
+        if self.torque_orders:
+            M = _orders_multiple(self.torque_orders, self.cycles)
+            if self.table and M != self.cycles:
+                raise ModelError(
+                    f"torque_orders: a table evaluated as given spans {self.cycles} mesh cycle(s); orders whose "
+                    f"forcing period is {M} mesh cycles need the series evaluation"
+                )
         if sum(abs(k) for k in self.kappa) >= MAX_KAPPA_SUM and not (
             (self.cycles > 1 or self.table) and stiffness_minimum(self.kappa, self.phi_k) > 0.0
         ):
@@ -228,7 +259,11 @@ class GearModel:
 
     @property
     def forcing_omega(self) -> float:
-        """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1)."""
+        """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1); with torque
+        orders ω/M, M the mesh cycles of the forcing period (:meth:`period_multiple`)."""
+        if self.torque_orders:
+            M = self.period_multiple()
+            return self.omega if M == 1 else self.omega / M
         return self.omega if self.cycles == 1 else self.omega / self.cycles
 
     def forcing_model(self) -> GearModel:
@@ -237,12 +272,29 @@ class GearModel:
         For tools written for one-cycle models (the 1-DOF harmonic balance): its ω is the forcing frequency
         ω/P, so a value of ``omega`` there is P times smaller than the mesh frequency.
         """
+        if self.torque_orders:
+            M = self.period_multiple()
+            if M == 1:
+                return self
+            s = M // self.cycles
+            spread = {}
+            for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
+                row = [0.0] * (s * len(getattr(self, k)))
+                row[s - 1 :: s] = getattr(self, k)
+                spread[k] = tuple(row)
+            orders = tuple((q * M, a, p) for q, a, p in self.torque_orders)
+            return self.replace(omega=self.forcing_omega, cycles=1, torque_orders=orders, **spread)
         return self if self.cycles == 1 else self.replace(omega=self.forcing_omega, cycles=1)
 
     @property
     def n_harmonics(self) -> int:
-        """Largest number of harmonics among the damping, stiffness and STE series."""
-        return max(len(self.xi), len(self.kappa), len(self.eps), 0)
+        """Largest number of harmonics among the damping, stiffness and STE series (with torque orders: the
+        highest harmonic of the forcing frequency ω/M that any series or order reaches)."""
+        n = max(len(self.xi), len(self.kappa), len(self.eps), 0)
+        if self.torque_orders:
+            M = self.period_multiple()
+            return max(n * (M // self.cycles), max(int(q * M) for q, _, _ in self.torque_orders))
+        return n
 
     # ------------------------------------------------------------------ the system protocol
     def parameters(self) -> dict[str, float]:
@@ -266,7 +318,10 @@ class GearModel:
         return 2.0 * math.pi / self.forcing_omega
 
     def period_multiple(self) -> int:
-        """The forcing repeats after P = ``cycles`` mesh periods (1 unless an excitation spans several)."""
+        """The forcing repeats after P = ``cycles`` mesh periods (1 unless an excitation spans several); with
+        torque orders after M, the least common multiple of P and the orders' denominators."""
+        if self.torque_orders:
+            return _orders_multiple(self.torque_orders, self.cycles)
         return self.cycles
 
     @property
@@ -359,6 +414,8 @@ class GearModel:
         :attr:`forcing_omega` (ω/P; the mesh phase when ``cycles`` is 1).
         """
         H = self.n_harmonics if n_harmonics is None else n_harmonics
+        if self.torque_orders:
+            return self._coefficients_with_orders(H)
         c = np.zeros((3, H + 1, 2))
         c[0, 0, 0] = 2.0 * self.xi0
         c[1, 0, 0] = 1.0
@@ -374,6 +431,32 @@ class GearModel:
                 j = j0 + 1
                 c[i, j, 0] = scale(j) * a * math.cos(ph)
                 c[i, j, 1] = -scale(j) * a * math.sin(ph)
+        return c
+
+    def _coefficients_with_orders(self, H: int) -> np.ndarray:
+        """:meth:`coefficients` of a model with torque orders: harmonics of ω/M, M = :meth:`period_multiple`."""
+        M = self.period_multiple()
+        s = M // self.cycles  # series harmonic j (of ω/P) is harmonic j·s of ω/M
+        c = np.zeros((3, H + 1, 2))
+        c[0, 0, 0] = 2.0 * self.xi0
+        c[1, 0, 0] = 1.0
+        c[2, 0, 0] = self.fp
+        wf = self.omega if self.cycles == 1 else self.omega / self.cycles
+        w2 = wf**2
+        series = (
+            (0, self.xi, self.phi_c, lambda j: 2.0),
+            (1, self.kappa, self.phi_k, lambda j: 1.0),
+            (2, self.eps, self.phi_e, lambda j: w2 * j * j),
+        )
+        for i, amps, phases, scale in series:
+            for j0, (a, ph) in enumerate(zip(amps, phases)):
+                j = j0 + 1
+                c[i, j * s, 0] = scale(j) * a * math.cos(ph)
+                c[i, j * s, 1] = -scale(j) * a * math.sin(ph)
+        for q, a, ph in self.torque_orders:
+            idx = int(q * M)
+            c[2, idx, 0] += a * math.cos(ph)
+            c[2, idx, 1] -= a * math.sin(ph)
         return c
 
     def restoring(self, u: np.ndarray | float) -> np.ndarray:
@@ -403,6 +486,10 @@ class GearModel:
             del d["evaluation"], d["table"]
         elif d["table"]:
             d["table"] = [list(c) for c in d["table"]]
+        if d["torque_orders"]:
+            d["torque_orders"] = _orders_to_dicts(self.torque_orders)
+        else:  # the form of every model without torque orders
+            del d["torque_orders"]
         return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
 
     def to_json(self) -> str:
@@ -469,6 +556,14 @@ class IntegrationOptions:
         Tolerance of the adaptive transient: the estimated distance of a Poincaré point to its
         cycle (the Aitken estimate d²/(e − d) of two successive n-period differences e, d), relative
         to max(1, |u|, |u'|).
+
+    Examples
+    --------
+    >>> from geardyn import IntegrationOptions
+    >>> IntegrationOptions(transient=100, periods=50)
+    IntegrationOptions(dtau=0.01, transient=100, periods=50, accurate=False, adaptive=False)
+    >>> IntegrationOptions(periods=50).replace(accurate=True).accurate
+    True
     """
 
     #: Tolerance of the adaptive transient (estimated distance to the cycle, relative to max(1, |point|)).

@@ -173,6 +173,15 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
     ModelError
         For no point, or a point the model refuses (ω <= 0, D < 0, Σ|κ_r| >= 1, a non-finite value).
     """
+    if base.torque_orders:  # the forcing's harmonics are those of ω/M: packed through the models themselves
+        pts = np.asarray(points, dtype=float).reshape(-1, len(names))
+        models = []
+        for row in pts:
+            m = base
+            for p, v in zip(names, row):
+                m = m.with_param(p, float(v))
+            models.append(m)
+        return pack_models(models)
     if base.evaluation != "series":
         raise ModelError(
             'evaluation "table": a parameter grid evaluates series models only; the table is '
@@ -324,6 +333,13 @@ class PointModels(Batch):
 
     def reference_gaps(self) -> np.ndarray:
         return self.D
+
+    def mean_traces(self) -> np.ndarray:
+        """−2ξ0 of every point, from its ξ0 column where ξ0 is swept (no model built)."""
+        cols = [j for j, n in enumerate(self.names) if slot(n)[0] == "xi0"]
+        if not cols:
+            return np.full(len(self), float(self.base.mean_trace()))
+        return -2.0 * self.points[:, cols[-1]]
 
     def reference_section(self, poincare: np.ndarray) -> np.ndarray:
         """The state (u, u') is the mesh's (δ, δ'): the points as they are."""

@@ -218,7 +218,18 @@ class Element:
 
 @runtime_checkable
 class System(Protocol):
-    """What an analysis may ask of a model (see the module docstring)."""
+    """What an analysis may ask of a model (see the module docstring).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, System, load_system
+    >>> pair = GearModel(omega=0.8)
+    >>> isinstance(pair, System), pair.state_dim, [e.name for e in pair.elements]
+    (True, 2, ['mesh'])
+    >>> system = load_system("examples/systems/paper_torsional.toml")
+    >>> isinstance(system, System), system.state_dim, system.rigid_basis().shape
+    (True, 4, (2, 1))
+    """
 
     state_dim: int
 
@@ -352,6 +363,10 @@ class Batch(Sequence):
     def reference_gaps(self) -> np.ndarray:
         """The reference element's gap of every point (P,)."""
         return self.element_gaps()[:, self.reference]
+
+    def mean_traces(self) -> np.ndarray:
+        """The mean trace of the Jacobian of every point (P,): the sum of its Lyapunov exponents."""
+        return np.array([float(self[i].mean_trace()) for i in range(len(self))])
 
     def reference_section(self, poincare: np.ndarray) -> np.ndarray:
         """The reference element's (δ, δ') at Poincaré points (P, n, d) of the batch: (P, n, 2)."""

@@ -316,6 +316,14 @@ def bifurcation(
     ----------
     R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010 (brute-force
     bifurcation diagrams and natural-parameter continuation of attractors).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, bifurcation
+    >>> ds = bifurcation(GearModel(), "omega", [0.6, 0.8], options=IntegrationOptions(transient=50, periods=8),
+    ...                  progress=False)
+    >>> ds["period"].values.ravel().tolist()
+    [1, 2]
     """
     name = param_name(param)
     if mode not in MODES:

@@ -12,7 +12,8 @@ Motion classes (:func:`classify_motion`, thresholds below, explained in ``docs/a
 - **quasi-periodic**: not periodic, and the largest Lyapunov exponent is zero within its
   uncertainty: |λ1| <= :data:`LLE_SIGMAS`·σ + :data:`LLE_FLOOR`; the Poincaré points then lie on
   closed curves, whose number :func:`count_loops` reports (the "n" of the paper's
-  "quasi-n-periodic");
+  "quasi-n-periodic").  Never for a model whose structure forbids it
+  (:func:`quasi_periodic_allowed`: the pair with ξ0 > 0, whose period map contracts every area);
 - **chaotic**: not periodic and λ1 > :data:`LLE_SIGMAS`·σ + :data:`LLE_FLOOR`;
 - **diverged**: the trajectory left |u|, |u'| < DIVERGENCE_BOUND or became non-finite;
 - **unresolved**: not periodic within the limits although λ1 is significantly negative (a stable
@@ -57,10 +58,51 @@ from ..labels import (  # noqa: F401  (the vocabulary, re-exported for the class
 PERIOD_TOL = 1.0e-6
 #: Fraction of the recorded Poincaré points (the latest ones) examined for periodicity.
 PERIOD_WINDOW = 0.5
+#: A period n found over the window is refused while the sequence still converges onto a cycle of a
+#: proper divisor m of n: the median of |P_{i+m} − P_i| over the window's second half at most this
+#: fraction of its median over the first half (see :func:`converging_to_divisor`).  A slowly converging
+#: period-2 orbit whose multiplier is near −1 repeats after 4 periods to within the tolerance long before it
+#: repeats after 2; its differences over 2 periods still shrink.  A true period-n cycle has stationary
+#: differences over its divisors (a ratio of 1 to within the tolerance).
+CONVERGING_RATIO = 0.8
+
+
+def _divisors(n: int) -> list[int]:
+    return [m for m in range(1, n) if n % m == 0]
+
+
+def converging_to_divisor(points: np.ndarray, n: int, window: int) -> bool:
+    """True when the last ``window`` points of a sequence found periodic with period ``n`` are still
+    converging onto a cycle of a proper divisor of ``n`` (:data:`CONVERGING_RATIO`).
+
+    Parameters
+    ----------
+    points : ndarray (m, d)
+        The Poincaré sequence.
+    n : int
+        The period found.
+    window : int
+        How many of the latest points the period was found over.
+    """
+    pts = np.asarray(points, dtype=float)
+    m_pts = pts.shape[0]
+    for m in _divisors(int(n)):
+        w = min(window, m_pts - m)
+        half = w // 2
+        if half < max(2, m):
+            continue
+        d = np.max(np.abs(pts[m_pts - w :] - pts[m_pts - w - m : m_pts - m]).reshape(w, -1), axis=1)
+        early, late = float(np.median(d[:half])), float(np.median(d[-half:]))
+        if early > 0.0 and late <= CONVERGING_RATIO * early:
+            return True
+    return False
 
 
 def detect_period(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float = PERIOD_TOL) -> int:
     """Smallest n <= ``max_period`` with P_{i+n} = P_i over the latest recorded Poincaré points.
+
+    A period n is not reported while the points still converge onto a cycle of a proper divisor of n
+    (:func:`converging_to_divisor`): the sequence is then not yet periodic (0), and a sweep settles it further.
 
     Parameters
     ----------
@@ -85,7 +127,7 @@ def detect_period(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float =
         a = pts[m - w :]
         b = pts[m - w - n : m - n]
         if float(np.max(np.abs(a - b))) <= tol * scale:
-            return n
+            return 0 if converging_to_divisor(pts, n, window) else n
     return 0
 
 
@@ -127,7 +169,10 @@ def detect_periods(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float 
         sub = pts[todo]
         d = np.max(np.abs(sub[:, m - w :] - sub[:, m - w - n : m - n]).reshape(todo.size, -1), axis=1)
         hit = d <= tol * scale[todo]
-        out[todo[hit]] = n
+        found = todo[hit]
+        if n > 1 and found.size:  # still converging onto a cycle of a divisor of n: not yet periodic
+            found = np.array([i for i in found if not converging_to_divisor(pts[i], n, window)], dtype=np.int64)
+        out[found] = n
         todo = todo[~hit]
     return out
 
@@ -186,8 +231,50 @@ CURVE_DIM_RANGE = (0.8, 1.5)
 CURVE_DIM_RADII = (4.0, 32.0)
 
 
+def quasi_periodic_allowed(model: Any) -> bool:
+    """Whether the structure of a System admits a quasi-periodic attractor at all.
+
+    The period map of a system with a two-dimensional state and no rigid-body mode is a homeomorphism of
+    the plane whose Jacobian determinant is exp(mean_trace · T) over a period T (Liouville).  With a
+    negative mean trace (the pair: −2ξ0, so det = exp(−4πξ0/ω) < 1 for ξ0 > 0) it contracts every area by
+    that factor; an invariant closed curve (or a cycle of n of them, invariant under the n-th iterate)
+    would bound a region mapped onto itself, of unchanged area.  So such a system has no quasi-periodic
+    attractor, and :func:`classify_motion` never labels one of its points quasi-periodic.
+
+    Parameters
+    ----------
+    model : System
+        The point.
+
+    Returns
+    -------
+    bool
+        False for a planar state, no rigid-body mode and a negative mean trace; True otherwise.
+    """
+    return not (_planar(model) and float(model.mean_trace()) < 0.0)
+
+
+def _planar(model: Any) -> bool:
+    """A two-dimensional state without rigid-body modes: a period map of the plane."""
+    return int(model.state_dim) == 2 and np.asarray(model.rigid_basis()).shape[-1] == 0
+
+
+def quasi_periodic_allowed_batch(batch: Any) -> np.ndarray:
+    """:func:`quasi_periodic_allowed` of every point of a :class:`~geardyn.system.Batch` (P,), its mean traces
+    read from the batch (a grid of the pair builds no model per point)."""
+    if not _planar(batch[0]):
+        return np.ones(len(batch), dtype=bool)
+    return ~(np.asarray(batch.mean_traces()) < 0.0)
+
+
 def classify_motion(
-    period: Any, lle: Any, lle_err: Any, ok: Any = True, curve_dim: Any = np.nan, settle_ratio: Any = np.nan
+    period: Any,
+    lle: Any,
+    lle_err: Any,
+    ok: Any = True,
+    curve_dim: Any = np.nan,
+    settle_ratio: Any = np.nan,
+    quasi_allowed: Any = True,
 ) -> np.ndarray:
     """Motion codes from the period, the largest exponent and its uncertainty (element-wise).
 
@@ -204,14 +291,19 @@ def classify_motion(
         closed-curve test.
     settle_ratio : float or array
         :func:`settling_ratio` of the Poincaré sequence; NaN skips the stationarity test.
+    quasi_allowed : bool or array
+        False where the model's structure forbids a quasi-periodic attractor
+        (:func:`quasi_periodic_allowed`): such a point is never labelled quasi-periodic, it is unresolved
+        (a slowly converging orbit, or one of period above the limit) until settled further.
 
     Returns
     -------
     ndarray of int
         ``MOTION_*`` codes: periodic when n > 0; else chaotic when λ1 > LLE_SIGMAS·σ + LLE_FLOOR,
-        quasi-periodic when |λ1| <= LLE_SIGMAS·σ + LLE_FLOOR and the section is a stationary set of
-        closed curves, unresolved otherwise (λ1 significantly negative; zero but the section not
-        stationary closed curves; or not available).
+        quasi-periodic when |λ1| <= LLE_SIGMAS·σ + LLE_FLOOR, the section is a stationary set of
+        closed curves and the model admits a quasi-periodic attractor, unresolved otherwise (λ1
+        significantly negative; zero but the section not stationary closed curves, or the structure
+        forbids it; or not available).
     """
     n = np.asarray(period, dtype=np.int64)
     lam = np.asarray(lle, dtype=float)
@@ -226,7 +318,8 @@ def classify_motion(
     lo, hi = CURVE_DIM_RANGE
     ratio = np.asarray(settle_ratio, dtype=float)
     off_curve = (np.isfinite(dim) & ((dim < lo) | (dim > hi))) | (np.isfinite(ratio) & (ratio < STATIONARY_RATIO))
-    code = np.where((code == MOTION_QUASIPERIODIC) & off_curve, MOTION_UNRESOLVED, code)
+    forbidden = ~np.asarray(quasi_allowed, dtype=bool)
+    code = np.where((code == MOTION_QUASIPERIODIC) & (off_curve | forbidden), MOTION_UNRESOLVED, code)
     code = np.where(np.isfinite(lam), code, MOTION_UNRESOLVED)
     code = np.where(n > 0, MOTION_PERIODIC, code)
     code = np.where(good, code, MOTION_DIVERGED)
@@ -234,10 +327,16 @@ def classify_motion(
 
 
 def motion_class(
-    period: int, lle: float, lle_err: float, ok: bool = True, curve_dim: float = np.nan, settle_ratio: float = np.nan
+    period: int,
+    lle: float,
+    lle_err: float,
+    ok: bool = True,
+    curve_dim: float = np.nan,
+    settle_ratio: float = np.nan,
+    quasi_allowed: bool = True,
 ) -> int:
     """Scalar form of :func:`classify_motion`."""
-    return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio))
+    return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio, quasi_allowed))
 
 
 def count_loops(points: np.ndarray, gap: float = LOOP_GAP) -> int:
@@ -372,6 +471,7 @@ def classify_points(
     lle_err: np.ndarray,
     ok: np.ndarray,
     sections: Sequence[np.ndarray],
+    quasi_allowed: Any = True,
 ) -> dict[str, np.ndarray]:
     """Motion class, section dimension, settling ratio and loop count of a batch of points.
 
@@ -388,6 +488,8 @@ def classify_points(
         False where the trajectory diverged.
     sections : sequence of ndarray (m, 2)
         The Poincaré section of each point (for a settled point, that of its last settling pass).
+    quasi_allowed : bool or ndarray of bool (P,)
+        :func:`quasi_periodic_allowed` of each point's model.
 
     Returns
     -------
@@ -413,7 +515,7 @@ def classify_points(
             ratio[idx] = settling_ratios(np.stack([np.asarray(sections[i]) for i in idx]))
         else:
             ratio[idx] = [settling_ratio(sections[i]) for i in idx]
-    motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio)
+    motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio, quasi_allowed)
     loops = np.zeros(P, dtype=np.int64)
     for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):
         loops[i] = count_loops(sections[i])

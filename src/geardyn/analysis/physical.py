@@ -40,6 +40,7 @@ xr = lazy_module("xarray")
 
 __all__ = [
     "add_physical",
+    "contact_force",
     "mesh_force",
     "physical_json",
     "simulate_physical",
@@ -90,6 +91,34 @@ def mesh_force(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) 
     else:
         C, K = series_values(model.coefficients(), th, (0, 1))
     return C * v + K * model.restoring(u)
+
+
+def contact_force(model: GearModel, tau: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Non-dimensional elastic contact force K(θ) f(u; D) at θ = ω τ (units k0 b_c).
+
+    The force the teeth carry through contact: positive on the drive flank (u > D), zero in separation
+    (|u| <= D), negative only on the back flank (u < −D).  :func:`mesh_force` adds the viscous term C(θ) u′,
+    which the model applies also in separation (where it is no contact force and can be negative).
+
+    Parameters
+    ----------
+    model : GearModel
+    tau, u : ndarray
+        Non-dimensional time (θ = ω τ) and displacement.
+
+    Returns
+    -------
+    ndarray
+    """
+    tau, u = (np.asarray(x, dtype=float) for x in (tau, u))
+    th = model.forcing_omega * tau
+    if model.evaluation == "table":
+        from ..meshtable import table_values
+
+        K = table_values(model.table, model.cycles, th)[0]
+    else:
+        (K,) = series_values(model.coefficients(), th, (1,))
+    return K * model.restoring(u)
 
 
 def spectrum_peaks(
@@ -177,11 +206,23 @@ def simulate_physical(ds: xr.Dataset, scales: Any = None) -> dict[str, Any]:
     dict
         ``omega``, ``rpm``, ``mesh_frequency_Hz``, ``natural_frequency_Hz``, ``fp``,
         ``torque_N_m``, ``static_force_N``; ``dynamic_factor`` (max mesh force / F_p; ``None`` if
-        F_p <= 0), ``mesh_force_max_N``, ``mesh_force_min_N``, ``mesh_force_mean_N``;
+        F_p <= 0), ``mesh_force_max_N``, ``mesh_force_min_N``, ``mesh_force_mean_N`` (the model's mesh force,
+        elastic and viscous: its minimum can be negative in separation), ``contact_force_max_N``,
+        ``contact_force_min_N`` (the elastic contact force, negative only in back-flank contact);
         ``dte_rms_um``, ``dte_amplitude_um``, ``dte_mean_um``, ``dte_min_um``, ``dte_max_um``,
         ``backlash_um`` (half backlash D b_c); ``spectrum_peaks``; ``history_periods`` (how many
         periods the force extremes are taken over); ``pair`` (the statement of the pair and its
-        k0) and ``assumed``.  ``None`` for values of a diverged run.
+        k0) and ``assumed``.  ``None`` for values of a diverged run.  A model without a gear pair
+        (unit scales, :attr:`~geardyn.units.PhysicalScales.nondimensional`) gets only ``pair`` and
+        ``physical`` = None: no speed, torque, force or length exists to report.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, add_physical, load_config, simulate, simulate_physical
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> out = simulate_physical(add_physical(ds, load_config()))
+    >>> round(out["rpm"]), round(out["static_force_N"]), round(out["dynamic_factor"], 2)
+    (2395, 20000, 3.78)
     """
     return _simulate_summary(
         _resolve_scales(ds, scales),
@@ -243,6 +284,8 @@ def _simulate_summary(
     spectrum: np.ndarray,
     history_periods: int,
 ) -> dict[str, Any]:
+    if getattr(sc, "nondimensional", False):  # no gear pair: no physical value exists to report
+        return {"pair": sc.statement(), "physical": None}
     force = mesh_force(model, tau, u, v)
     ok = bool(np.all(np.isfinite(force))) and summ.get("status", "ok") == "ok"
     fmax = float(np.max(force)) if ok else None
@@ -251,6 +294,9 @@ def _simulate_summary(
     out["mesh_force_max_N"] = float(sc.N_from_force(fmax)) if ok else None
     out["mesh_force_min_N"] = float(sc.N_from_force(np.min(force))) if ok else None
     out["mesh_force_mean_N"] = float(sc.N_from_force(np.mean(force[:-1]))) if ok else None
+    contact = contact_force(model, tau, u)
+    out["contact_force_max_N"] = float(sc.N_from_force(np.max(contact))) if ok else None
+    out["contact_force_min_N"] = float(sc.N_from_force(np.min(contact))) if ok else None
     for key, nd in (
         ("dte_rms_um", "rms"),
         ("dte_amplitude_um", "amplitude"),
@@ -309,10 +355,20 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
     -------
     xarray.Dataset
         The copy (the data of ``ds`` shared, not copied).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, add_physical, load_config, simulate
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> ds = add_physical(ds, load_config())  # the paper's pair: µm, N, rpm
+    >>> ds["dte_um"].attrs["units"], ds["mesh_force_N"].attrs["units"]
+    ('µm', 'N')
     """
     from ._converted import Converted
 
     sc = _resolve_scales(ds, scales)
+    if getattr(sc, "nondimensional", False):  # no gear pair: nothing physical to add
+        return ds.copy()
 
     def per_point(values: np.ndarray, fn: Any) -> Any:
         return Converted(values, fn) if lazy else fn(values)
@@ -463,6 +519,8 @@ def physical_json(
         The swept parameter, if any.
     """
     sc = scales_of(scales)
+    if getattr(sc, "nondimensional", False):  # no gear pair: the physical values would repeat ω, f_p and u
+        return {**summary, "physical": None}
     out = _walk(summary, sc, param)
     phys = dict(sc.operating_point(model))
     phys["pair"] = sc.statement()

@@ -31,6 +31,7 @@ from .classify import (
     is_settling,
     motion_label,
     period_label,
+    quasi_periodic_allowed_batch,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
 
@@ -179,7 +180,7 @@ def classify_batch(
     lam[bad] = np.nan
     err[bad] = np.nan
     sections = _Sections(section, out["poincare"])
-    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections)
+    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections, quasi_periodic_allowed_batch(models))
     out.update(
         motion=cls["motion"],
         lle=lam[:, 0].copy(),
@@ -243,6 +244,13 @@ class SteadyState:
         The classification and the reference element's measures.
     extra : dict
         What the system adds (``System.report``: per-mesh entries of a mesh-vector system; empty for the pair).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, SteadyState, simulate
+    >>> res = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8))
+    >>> isinstance(res, SteadyState), res.summary["period"], sorted(res.to_dataset().data_vars)[:2]
+    (True, 2, ['poincare_u', 'poincare_v'])
     """
 
     model: Any
@@ -361,6 +369,13 @@ def simulate(
     SteadyState
         Its ``to_json`` has the keys of ``geardyn simulate --json`` (the reference element's measures; the
         period in forcing periods of the base frequency) plus what ``model.report`` adds.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, simulate
+    >>> res = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8))
+    >>> res.summary["motion"], res.summary["impact"]
+    ('period-2', 'single-sided impact')
     """
     s0 = start_state(model, state0)
     t = trajectory(model, s0, options, history_periods=history_periods, progress=progress)

@@ -13,10 +13,17 @@ app with every command registered.
 
 from __future__ import annotations
 
+import os
+import sys
 from importlib import import_module
 from typing import Any
 
-from .app import EXIT_INTERRUPTED, main
+if os.path.basename(sys.argv[0] if sys.argv else "") in ("geardyn", "geardyn.exe"):  # the program itself:
+    from .guard import leave_on_signals_while_starting  # a signal while it imports leaves at once (130/143)
+
+    leave_on_signals_while_starting()
+
+from .app import EXIT_INTERRUPTED, main  # noqa: E402
 
 del app  # noqa: F821  (the submodule's name, bound by the import above: ``app`` is the typer app, below)
 

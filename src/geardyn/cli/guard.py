@@ -28,7 +28,16 @@ from typing import Any
 
 # ctypes, json and unicodedata are imported where they are used: every command imports this module.
 
-__all__ = ["GRACE", "STOP", "check_stop", "prepare_streams", "quiet_broken_pipe", "run_guarded", "strict_json"]
+__all__ = [
+    "GRACE",
+    "STOP",
+    "check_stop",
+    "leave_on_signals_while_starting",
+    "prepare_streams",
+    "quiet_broken_pipe",
+    "run_guarded",
+    "strict_json",
+]
 
 #: Seconds a command is given to stop by itself after SIGINT or SIGTERM (finish its current chunk
 #: writes, raise its own "interrupted" message) before the process leaves anyway.
@@ -367,11 +376,41 @@ def _interrupted_message(exc: BaseException | None) -> str:
 
     dirs = active_checkpoints()
     if dirs:
+        saved = len(list(dirs[-1].glob("chunk-*.npz")))
+        if saved == 0:
+            return f"interrupted before any chunk of the sweep finished: nothing is saved in {dirs[-1]}"
         return (
-            f"interrupted: the finished chunks are saved in {dirs[-1]}; run the same command again with "
-            f"--resume to complete the sweep"
+            f"interrupted: {saved} finished chunk{'s' if saved > 1 else ''} saved in {dirs[-1]}; run the same "
+            f"command again with --resume to complete the sweep"
         )
     return "interrupted"
+
+
+def _early_handler(signum: int, frame: Any) -> None:
+    """Before a command runs (its modules still importing): nothing to keep, nothing to clean but worker
+    processes; leave at once with the signal's exit code."""
+    _leave(SIGNAL_EXIT.get(signum, 130), "interrupted")
+
+
+def leave_on_signals_while_starting() -> bool:
+    """In the ``geardyn`` program, SIGINT and SIGTERM leave at once (130, 143, one line) from the first
+    instant, while the command's modules are still being imported; :func:`run_guarded` takes over once the
+    command runs.  Only where the process still has Python's default handlers, on the main thread.
+
+    Returns
+    -------
+    bool
+        Whether the handlers were installed.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return False
+    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        return False
+    if signal.getsignal(signal.SIGTERM) not in (signal.SIG_DFL, None):
+        return False
+    for s in SIGNAL_EXIT:
+        signal.signal(s, _early_handler)
+    return True
 
 
 def run_guarded(body: Callable[[], int]) -> int:

@@ -84,6 +84,15 @@ class SpiralBevelGearPair:
     assumed : sequence of (str, str)
         ``(parameter name, source)`` pairs for given values that are themselves assumptions
         (e.g. a face width chosen by the user); they appear in :attr:`assumed`.
+
+    Examples
+    --------
+    >>> import math
+    >>> from geardyn import SpiralBevelGearPair
+    >>> pair = SpiralBevelGearPair(z1=23, z2=47, m_mn=7.28e-3, beta_m=math.radians(35), alpha_n=math.radians(20),
+    ...                            j_n=0.1e-3, I1=1.772, I2=1.873, r1=0.1255, r2=0.256)
+    >>> round(pair.mesh_frequency(3000) / (2 * math.pi), 6)  # ω_e = 2π z1 n1 / 60 (rad/s), in Hz
+    1150.0
     """
 
     z1: int
@@ -142,6 +151,20 @@ class SpiralBevelGearPair:
             raise ModelError(
                 f"drive_side: must be one of {', '.join(SIDES)} (loaded pinion flank), got {self.drive_side!r}"
             )
+        from ..plausible import pair_geometry
+
+        pair_geometry(
+            z1=self.z1,
+            z2=self.z2,
+            m_mn=self.m_mn,
+            beta_m=self.beta_m,
+            alpha_n=self.alpha_n,
+            j_n=self.j_n,
+            r1=self.r1,
+            r2=self.r2,
+            face_width=self.face_width,
+            delta1=self.delta1,
+        )
         assumed = tuple((str(n), str(s)) for n, s in (self.assumed or ()))
         known = {f.name for f in fields(self)} - {"name", "assumed"}
         for n, _ in assumed:

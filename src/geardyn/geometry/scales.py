@@ -44,12 +44,6 @@ class Scales:
     with :meth:`to_json` and read it back with :meth:`from_json` (results keep it in their
     ``physical_scales`` attribute).  Every conversion accepts floats or NumPy arrays.
 
-    Examples
-    --------
-    >>> sc = Scales.unit()
-    >>> float(sc.rpm_from_omega(0.8)), float(sc.um_from_u(2.0)), float(sc.N_from_force(0.5))
-    (0.8, 2.0, 0.5)
-
     Attributes
     ----------
     title : str
@@ -84,6 +78,18 @@ class Scales:
 
     A system's scales have no pinion radii (R1_m, R2_m None: a system has no single pinion torque) and,
     when its reference mesh gives no teeth, z1 = 0 (speeds in rpm are then NaN, and refused as input).
+
+    Examples
+    --------
+    >>> from geardyn import load_config
+    >>> sc = load_config().scales
+    >>> sc.z1, round(sc.k0_N_per_m / 1e6), round(sc.b_c_m * 1e6)  # teeth, k0 in N/µm, b_c in µm
+    (23, 2000, 50)
+    >>> round(float(sc.omega_from_rpm(3000)), 4), round(float(sc.rpm_from_omega(1.0)), 1)
+    (1.002, 2993.9)
+    >>> sc = Scales.unit()
+    >>> float(sc.rpm_from_omega(0.8)), float(sc.um_from_u(2.0)), float(sc.N_from_force(0.5))
+    (0.8, 2.0, 0.5)
     """
 
     title: str

@@ -55,6 +55,11 @@ def geometry_summary(
             f"r1/sin δ1 = {cone1 * 1e3:.4g} mm and r2/sin δ2 = {cone2 * 1e3:.4g} mm differ by {100 * mismatch:.2g} %: "
             "each gear's mesh-point vector is placed on the common pitch generatrix at its own cone distance"
         )
+    from ..plausible import undercut_note
+
+    undercut = undercut_note(pair.z1, pair.delta1, pair.beta_m, pair.alpha_n)
+    if undercut:
+        notes.append(undercut)
     out: dict[str, Any] = {
         "name": pair.name,
         "z1": pair.z1,

@@ -160,6 +160,9 @@ def read_table(path: str | Path, *, cycles: int | None = None, points: int | Non
     if not p.is_file():
         raise ConfigError(f"{where}: excitation file not found")
     suffix = p.suffix.lower()
+    from ..plausible import MAX_TABLE_BYTES, file_size
+
+    file_size(p, MAX_TABLE_BYTES, "excitation table", "resample the table to fewer phases")
     try:
         if suffix == ".nc":
             import xarray as xr

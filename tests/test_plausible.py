@@ -1,0 +1,213 @@
+"""Physical plausibility at every door: impossible input is refused with one line naming the key and its bound.
+
+One test per finding of the hostile round (bevel geometry, excitation tables, result files, physical values
+of a non-dimensional run, the contact force); the bounds are those of ``geardyn.plausible``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from cli_run import run_cli
+
+from geardyn import plausible
+from geardyn.config import packaged_config_path
+from geardyn.errors import ConfigError, ModelError
+from geardyn.geometry import SpiralBevelGearPair
+from geardyn.geometry.summary import geometry_summary
+
+DEG = math.pi / 180
+PAPER = packaged_config_path().read_text()
+
+
+def table1(**changes):
+    kw = dict(
+        z1=23,
+        z2=47,
+        m_mn=7.28e-3,
+        beta_m=35 * DEG,
+        alpha_n=20 * DEG,
+        j_n=0.1e-3,
+        I1=1.772,
+        I2=1.873,
+        r1=0.1255,
+        r2=0.256,
+        face_width=0.1,
+    )
+    kw.update(changes)
+    return SpiralBevelGearPair(**kw)
+
+
+def one_line_exit_2(code: int, err: str, *words: str) -> None:
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    for w in words:
+        assert w in lines[0], (w, err)
+
+
+# ------------------------------------------------------------------------------------------ bevel geometry
+@pytest.mark.parametrize(
+    "change,key,bound",
+    [
+        (dict(alpha_n=89.9 * DEG), "alpha_n", "[10, 40] deg"),
+        (dict(alpha_n=5 * DEG), "alpha_n", "[10, 40] deg"),
+        (dict(beta_m=85 * DEG), "beta_m", "70 deg"),
+        (dict(r2=0.1255), "r2", "z2/z1"),  # r2/r1 = 1 for a 23/47 pair
+        (dict(r2=0.3), "r2", "z2/z1"),  # r2/r1 = 2.39 > 47/23 (1.05 tolerance)
+        (dict(j_n=5.0), "j_n", "0.5 x the module"),
+        (dict(face_width=50.0), "face_width", "outer cone distance"),
+        (dict(m_mn=7.28, r1=None, r2=None, face_width=None), "m_mn", "mm"),
+        (dict(r1=0.01, r2=0.0204), "r1", "mean pitch radius"),
+    ],
+)
+def test_implausible_bevel_geometry_is_refused(change, key, bound):
+    with pytest.raises(ModelError) as e:
+        table1(**change)
+    msg = str(e.value)
+    assert msg.startswith(f"{key}:") and bound in msg and "\n" not in msg
+
+
+def test_the_paper_pair_and_a_hypoid_pass():
+    table1()
+    # a hypoid's pitch radii are in the ratio z2/z1 times cos β_m1/cos β_m2 (ISO/TR 10300-30 sample 2: 13/42,
+    # β_m1 = 50°, β_m2 = 38.61°): inside the rule's band
+    q = math.cos(50 * DEG) / math.cos(38.61 * DEG)
+    r1 = 2.64e-3 * 13 / (2 * math.cos(50 * DEG))
+    SpiralBevelGearPair(
+        z1=13, z2=42, m_mn=2.64e-3, beta_m=50 * DEG, alpha_n=20 * DEG, j_n=1e-4, I1=1, I2=1, r1=r1, r2=r1 * 42 / 13 * q
+    )
+
+
+def test_an_undercut_pinion_gets_a_note():
+    """A 5-tooth spiral bevel pinion (5/47, β_m = 35°, α_n = 20°): z_vn = 5/(cos δ1 cos³β_m) ≈ 9.2 is below the
+    undercut limit 2/sin²20° ≈ 17.1 of full-depth teeth."""
+    p = table1(z1=5, r1=None, r2=None, face_width=None)
+    zvn = 5 / (math.cos(math.atan(5 / 47)) * math.cos(35 * DEG) ** 3)
+    assert zvn == pytest.approx(9.15, abs=0.01) and 2 / math.sin(20 * DEG) ** 2 == pytest.approx(17.1, abs=0.01)
+    notes = geometry_summary(p)["notes"]
+    assert any("undercut" in n and "9.15" in n for n in notes)
+    assert not any("undercut" in n for n in geometry_summary(table1())["notes"])
+
+
+@pytest.mark.parametrize(
+    "old,new,key",
+    [
+        ('alpha_n = "20 deg"', 'alpha_n = "89.9 deg"', "alpha_n"),
+        ('r2 = "256 mm"', 'r2 = "125.5 mm"', "r2"),
+        ('j_n = "0.1 mm"', 'j_n = "5 m"', "j_n"),
+        ('value = "100 mm"', 'value = "50 m"', "face_width"),
+    ],
+)
+def test_geometry_command_refuses_in_one_line(tmp_path, old, new, key):
+    cfg = tmp_path / "c.toml"
+    assert old in PAPER
+    cfg.write_text(PAPER.replace(old, new))
+    code, out, err = run_cli(["geometry", "--config", cfg])
+    one_line_exit_2(code, err, key, str(cfg))
+
+
+# ------------------------------------------------------------------------------------------ excitation tables
+def _csv(path, k, e):
+    n = len(k)
+    path.write_text(
+        "phase_cycles,stiffness_N_per_m,ste_m\n" + "".join(f"{i / n},{k[i]!r},{e[i]!r}\n" for i in range(n))
+    )
+    return path
+
+
+@pytest.mark.parametrize(
+    "k,e,word",
+    [
+        (2e9, 1e300, "|STE|"),
+        (2e9, 2e-3, "|STE|"),
+        (1e20, 1e-6, "stiffness"),
+        (1e-3, 1e-6, "stiffness"),
+    ],
+)
+def test_an_excitation_table_outside_the_physical_range_is_refused(tmp_path, k, e, word):
+    f = _csv(tmp_path / "t.csv", [k] * 16, [e] * 16)
+    code, out, err = run_cli(["simulate", "--excitation", f, "--transient", "2", "--periods", "2"])
+    one_line_exit_2(code, err, word, "t.csv")
+    from geardyn.tooth.excitation import Excitation
+
+    with pytest.raises(ModelError, match="excitation"):
+        Excitation(np.full(16, k), np.full(16, e))
+
+
+def test_an_excitation_table_over_the_size_limit_is_refused_before_reading(tmp_path):
+    """A table file of 150 MB (10⁷ rows) is refused from its size, before it is parsed."""
+    f = tmp_path / "big.csv"
+    with open(f, "wb") as fh:  # a sparse file: its size without writing 150 MB
+        fh.write(b"phase_cycles,stiffness_N_per_m,ste_m\n")
+        fh.truncate(150_000_000)
+    code, out, err = run_cli(["simulate", "--excitation", f])
+    one_line_exit_2(code, err, "big.csv", "150.0 MB", "64 MB")
+    with pytest.raises(ConfigError):
+        plausible.file_size(f, plausible.MAX_TABLE_BYTES, "excitation table")
+
+
+# ------------------------------------------------------------------------------------------ result files
+@pytest.fixture(scope="module")
+def simulate_file(tmp_path_factory):
+    d = tmp_path_factory.mktemp("sim")
+    code, out, err = run_cli(["simulate", "--omega", "0.8", "--transient", "20", "--periods", "8", "--out", d])
+    assert code == 0, err
+    return d / "simulate.nc"
+
+
+def test_a_result_variable_turned_to_text_is_refused(simulate_file, tmp_path):
+    import xarray as xr
+
+    ds = xr.open_dataset(simulate_file).load()
+    ds["u"] = ds["u"].astype(str)
+    bad = tmp_path / "bad.nc"
+    ds.to_netcdf(bad)
+    code, out, err = run_cli(["plot", bad, "--out", tmp_path / "figs"])
+    one_line_exit_2(code, err, "'u'", "bad.nc")
+    assert not (tmp_path / "figs").exists() or not list((tmp_path / "figs").iterdir())
+
+
+def test_a_result_variable_of_another_shape_is_refused(simulate_file, tmp_path):
+    import xarray as xr
+
+    ds = xr.open_dataset(simulate_file).load()
+    ds["v"] = (("tau", "copy"), np.stack([ds["v"].values] * 2, axis=1))
+    bad = tmp_path / "bad.nc"
+    ds.to_netcdf(bad)
+    code, out, err = run_cli(["plot", bad, "--out", tmp_path / "figs"])
+    one_line_exit_2(code, err, "'v'", "('tau',)")
+
+
+# ------------------------------------------------------------------------------------------ physical values
+def test_a_non_dimensional_run_reports_no_physical_values(tmp_path):
+    cfg = tmp_path / "nd.toml"
+    cfg.write_text('title = "non-dimensional"\n[mesh]\nxi0 = 0.1\n')
+    code, out, err = run_cli(["simulate", "--config", cfg, "--transient", "20", "--periods", "8", "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    invented = {"rpm", "torque_N_m", "dte_rms_um", "backlash_um", "mesh_force_max_N", "mesh_force_min_N"}
+    assert not invented & set(d), invented & set(d)
+    assert d["physical"] is None and d["omega"] == 1.0
+
+
+def test_the_contact_force_is_not_negative_without_back_flank_contact():
+    """ω = 0.8 (paper defaults): single-sided impacts.  The model's mesh force (elastic + viscous) dips below 0
+    in separation through its viscous term; the contact force K f(u) is 0 there and never negative."""
+    from geardyn.analysis.physical import steady_physical
+    from geardyn.analysis.steady import simulate
+    from geardyn.model import GearModel
+
+    res = simulate(GearModel(omega=0.8))
+    assert res.summary["impact"] == "single-sided impact"
+    s = steady_physical(res, None)
+    assert s["mesh_force_min_N"] < 0.0
+    assert s["contact_force_min_N"] == 0.0  # separation: no contact force
+    assert 0.0 < s["contact_force_max_N"] <= s["mesh_force_max_N"] * 1.5
+    # with back-flank contact the contact force does go negative (D = 0.3 at ω = 0.8)
+    res = simulate(GearModel(omega=0.8, D=0.3))
+    assert res.summary["impact"] == "double-sided impact"
+    assert steady_physical(res, None)["contact_force_min_N"] < 0.0
