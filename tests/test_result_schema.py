@@ -205,3 +205,76 @@ def test_one_scales_for_the_pair_and_its_system():
     with pytest.raises(Exception, match="teeth"):
         nt.omega_from_rpm(1000.0)
     assert float(Scales.dynamic_factor(3.0, 2.0)) == 1.5 and np.isnan(Scales.dynamic_factor(1.0, 0.0))
+
+
+def test_a_rolling_element_bearing_is_one_more_law():
+    """The law interface takes the gearbox's nonlinear bearing as a value: a radial Hertzian bearing of Z rolling
+    elements, force K Σ_j max(δ cos ψ_j − c, 0)^n (ψ_j = 2πj/Z), written as a :class:`Law` subclass here, is
+    carried by an element and names its own counters in a run's statistics; nothing else changes."""
+    from dataclasses import dataclass
+    from typing import ClassVar
+
+    from geardyn.backend import NSTAT, S_LAW, S_N
+    from geardyn.integrate import BatchResult
+    from geardyn.system import Element, Law, ModelList
+
+    @dataclass(frozen=True)
+    class Hertz(Law):
+        K: float
+        c: float
+        n: float
+        Z: int
+
+        code: ClassVar[int] = 1
+        name: ClassVar[str] = "hertz_bearing"
+        counters: ClassVar[tuple[str, ...]] = ("loaded", "unloaded")
+
+        def _psi(self):
+            return 2 * np.pi * np.arange(self.Z) / self.Z
+
+        def params(self):
+            return (self.K, self.c, self.n, float(self.Z))
+
+        def force(self, delta):
+            d = np.asarray(delta, dtype=float)[..., None] * np.cos(self._psi())
+            return self.K * np.sum(np.maximum(d - self.c, 0.0) ** self.n * np.cos(self._psi()), axis=-1)
+
+        def stiffness(self, delta):
+            d = np.asarray(delta, dtype=float)[..., None] * np.cos(self._psi())
+            act = d > self.c
+            g = self.n * np.where(act, np.maximum(d - self.c, 0.0), 0.0) ** (self.n - 1)
+            return self.K * np.sum(np.where(act, g, 0.0) * np.cos(self._psi()) ** 2, axis=-1)
+
+        def surfaces(self):
+            return (self.c,)
+
+        def counter(self, delta):
+            return np.where(np.abs(np.asarray(delta, dtype=float)) > self.c, 0, 1)
+
+    law = Hertz(K=2.0, c=0.1, n=1.5, Z=4)
+    el = Element("bearing", 0.1, "clearance", law)
+    assert el.law is law and el.law.code != Element("mesh", 0.1).law.code
+    # δ = 0.5 along ψ = 0: only the element at ψ = 0 is loaded (ψ = π/2, 3π/2 at δ cos ψ = 0, ψ = π unloaded)
+    assert float(law.force(0.5)) == pytest.approx(2.0 * 0.4**1.5, rel=1e-12)
+    h = 1e-6
+    assert float(law.stiffness(0.5)) == pytest.approx(float(law.force(0.5 + h) - law.force(0.5 - h)) / (2 * h), 1e-6)
+
+    class _Point:
+        elements = (el,)
+        reference = 0
+
+    stats = np.zeros((1, 1, NSTAT))
+    stats[0, 0, S_LAW : S_LAW + 2] = (30.0, 70.0)
+    stats[0, 0, S_N] = 100.0
+    res = BatchResult(
+        ModelList([_Point()]),
+        IntegrationOptions(),
+        np.zeros((1, 1, 2)),
+        np.zeros((1, 2)),
+        np.zeros(1, dtype=np.int64),
+        stats,
+        np.ones(1, dtype=np.int64),
+        elements=("bearing",),
+        laws=(law,),
+    )
+    assert {k: float(v[0]) for k, v in res.law_fractions().items()} == {"loaded": 0.3, "unloaded": 0.7}

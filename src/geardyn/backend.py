@@ -113,7 +113,8 @@ class RawRun:
     poincare : ndarray (P, record or 0, d)
     end_state : ndarray (P, d)
     stats : ndarray (P, E, NSTAT)
-        Streaming statistics of every element's deflection over the recorded periods.
+        Streaming statistics of every element's deflection over the recorded periods: the deflection's and its
+        rate's (``S_UMIN`` … ``S_VMAX``), the element law's counters from :data:`S_LAW`, the sample count ``S_N``.
     tan_log : ndarray (P, record or 0, d)
     tangent : ndarray (P, d, d)
     status : ndarray (P,) int64
