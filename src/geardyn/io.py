@@ -784,8 +784,21 @@ RESULT_DIMS: dict[str, dict[str, tuple[str, ...]]] = {
 }
 #: Variables that must share their dimensions in every kind (a point's u beside its v).
 SAME_DIMS = (("u", "v"), ("poincare_u", "poincare_v"))
-#: Coordinates that hold names (text) in a result.
-TEXT_COORDINATES = ("element", "state", "mesh", "coordinate", "body", "dof", "side", "variable", "claim")
+#: Coordinates and variables that hold names (text) in a result.
+TEXT_COORDINATES = (
+    "element",
+    "state",
+    "mesh",
+    "coordinate",
+    "body",
+    "dof",
+    "side",
+    "variable",
+    "claim",
+    "sweep",
+    "bifurcation_type",
+    "bifurcation_detail",
+)
 
 
 def result_variables(ds: Any, where: str = "", error: type[Exception] = ModelError) -> None:
