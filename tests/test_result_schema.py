@@ -280,3 +280,22 @@ def test_a_rolling_element_bearing_is_one_more_law():
         laws=(law,),
     )
     assert {k: float(v[0]) for k, v in res.law_fractions().items()} == {"loaded": 0.3, "unloaded": 0.7}
+
+
+def test_a_systems_physical_mesh_force_is_its_reference_meshs():
+    """``add_physical`` of a system's ``simulate`` result draws the force its reference mesh transmits (from every
+    element's deflection and the system it reopens as); for the torsional system, the paper's pair as a 2-DOF
+    system, that is the pair's mesh force (the two integrations agree to about 1e-10)."""
+    from geardyn.analysis.physical import add_physical
+    from geardyn.analysis.steady import simulate
+    from geardyn.config import load_config
+    from geardyn.systems import load_system
+    from geardyn.systems.report import physical_scales
+
+    s = load_system(TORS, omega=0.8)
+    opts = IntegrationOptions(transient=300, periods=8)
+    a = add_physical(simulate(s, opts, history_periods=2).to_dataset(), physical_scales(s))
+    b = add_physical(simulate(GearModel(omega=0.8), opts, history_periods=2).to_dataset(), load_config())
+    np.testing.assert_allclose(a["mesh_force"].values, b["mesh_force"].values, atol=1e-8)
+    scale = physical_scales(s).force_scale_N
+    np.testing.assert_allclose(a["mesh_force_N"].values, b["mesh_force_N"].values, atol=1e-8 * scale)

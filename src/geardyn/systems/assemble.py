@@ -481,6 +481,12 @@ class SystemModel:
         """Mean trace of the Jacobian over a forcing period, :func:`geardyn.systems.elements.mean_trace`."""
         return _el.mean_trace(self)
 
+    def element_forces(self, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
+        """The mesh forces (K, meshes) in units k_ref b_c, :func:`geardyn.systems.report.mesh_forces`."""
+        from .report import mesh_forces
+
+        return mesh_forces(self, tau, deltas)
+
     def static_force(self) -> float:
         """The reference mesh's static force, :func:`geardyn.systems.report.static_mesh_forces`."""
         from .report import static_mesh_forces
