@@ -66,6 +66,11 @@ def test_the_contract(system):
     assert back.parameters() == system.parameters() and back.elements == system.elements
     np.testing.assert_array_equal(back.initial_state(0.25, -0.5), x)
     assert math.isfinite(system.static_force())
+    # the mesh forces from the elements' deflections: one column per mesh, the reference mesh's among them
+    tau = np.linspace(0.0, system.sampling_period, 5)
+    deltas = np.stack([system.element_series(x, t) for t in tau])
+    f = system.element_forces(tau, deltas)
+    assert f.shape[0] == tau.size and f.shape[1] >= 1 and np.all(np.isfinite(f[:, system.reference]))
 
 
 def test_one_batch_result_with_an_element_axis(system):
