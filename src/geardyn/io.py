@@ -798,6 +798,8 @@ TEXT_COORDINATES = (
     "sweep",
     "bifurcation_type",
     "bifurcation_detail",
+    "line_label",
+    "crossing_modes",
 )
 
 
