@@ -18,7 +18,8 @@ import pytest
 
 from geardyn.errors import GeardynError, ModelError
 from geardyn.integrate import trajectory
-from geardyn.model import GearModel, IntegrationOptions, pack_models, pack_points
+from geardyn.model import GearModel, IntegrationOptions
+from geardyn.pairpack import pack_models, pack_points
 from geardyn.torque_orders import MAX_ORDER_PERIOD, normalise, parse_cli
 
 ROOT = Path(__file__).resolve().parents[1]
