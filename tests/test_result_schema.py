@@ -166,6 +166,22 @@ def test_the_dead_zone_law_is_the_pairs_restoring_function_and_names_its_counter
     np.testing.assert_array_equal(res.contact_fractions[0], [fr[k][0] for k in fr])
 
 
+def test_a_simulate_result_has_the_same_variables_for_the_pair_and_a_system():
+    """``simulate`` of the pair and of the torsional system: the same variables over the same dimensions (every
+    element's deflection and the full Poincaré states over ``element`` and ``state``); the pair's are its (u, u')."""
+    from geardyn.analysis.steady import simulate
+    from geardyn.systems import load_system
+
+    opts = IntegrationOptions(transient=3, periods=4)
+    a = simulate(GearModel(omega=0.8), opts, history_periods=2).to_dataset()
+    b = simulate(load_system(TORS, omega=0.8), opts, history_periods=2).to_dataset()
+    assert {k: a[k].dims for k in a.variables} == {k: b[k].dims for k in b.variables}
+    np.testing.assert_array_equal(a["delta"].sel(element="mesh"), a["u"])
+    np.testing.assert_array_equal(a["delta_rate"].sel(element="mesh"), a["v"])
+    np.testing.assert_array_equal(a["poincare"].sel(state="u"), a["poincare_u"])
+    assert list(a["state"].values) == ["u", "u'"]
+
+
 @pytest.mark.parametrize("kind", ["pair", "system"])
 def test_a_result_reopens_as_its_system(kind):
     from geardyn.analysis.steady import simulate

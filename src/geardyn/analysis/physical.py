@@ -415,7 +415,7 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
             _set(out, "frequency_Hz", ("order",), sc.hz_from_omega(model.omega * out["order"].values), coord=True)
         if "spectrum" in out.data_vars:
             _set(out, "spectrum_um", ("order",), sc.um_from_u(out["spectrum"].values))
-        if "delta" not in out.variables:  # a system's physical summary is its System.report, in "summary"
+        if "fp" in model.parameters():  # the pair's (a system's physical summary is its System.report, in "summary")
             out.attrs["physical_summary"] = json.dumps(simulate_physical(out, sc), sort_keys=True)
     return out
 
