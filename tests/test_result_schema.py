@@ -296,6 +296,17 @@ def test_a_rolling_element_bearing_is_one_more_law():
         laws=(law,),
     )
     assert {k: float(v[0]) for k, v in res.law_fractions().items()} == {"loaded": 0.3, "unloaded": 0.7}
+    # until a kernel has its branch, the door refuses it in one line (never integrated as a dead zone)
+    from geardyn.errors import ModelError
+    from geardyn.integrate import integrate_batch
+
+    class WithBearing(GearModel):
+        @property
+        def elements(self):
+            return (Element("mesh", self.D, "mesh", law),)
+
+    with pytest.raises(ModelError, match=r"^element 'mesh': law hertz_bearing: the pair kernel does not implement it"):
+        integrate_batch([WithBearing()], None, IntegrationOptions(transient=1, periods=1))
 
 
 def test_a_systems_physical_mesh_force_is_its_reference_meshs():
