@@ -19,9 +19,10 @@ from geardyn.analysis.hb import hb_continuation, hb_solve
 from geardyn.analysis.hb.equations import HBEquations
 from geardyn.analysis.periodic import shoot
 from geardyn.cli import app
+from geardyn.geometry.scales import Scales
 from geardyn.model import GearModel
 from geardyn.status import Status
-from geardyn.systems import Scaling, SystemModel, load_system
+from geardyn.systems import SystemModel, load_system
 from geardyn.systems.assemble import MeshND
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
@@ -57,7 +58,7 @@ def _four_dof(omega, D=0.5, kappa=(0.2,), xi=(0.02,), eps=(0.3,), clearance=True
         meshes=(mesh,),
         F=np.array(fp),
         omega=omega,
-        scaling=Scaling("m0", 1.0, 1.0, 1.0, 1.0, (1.0,) * 4, None),
+        scaling=Scales.of_reference_mesh("m0", 1.0, 1.0, 1.0, (1.0,) * 4, None),
         **extra,
     )
 

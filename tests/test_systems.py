@@ -62,7 +62,7 @@ def test_omega_from_rpm_matches_the_1dof_configuration_and_can_be_overridden():
     cfg = load_config()
     s = load_system(TORSIONAL)
     assert s.scaling.rpm_from_omega(s.omega) == pytest.approx(cfg.rpm, rel=1e-12)
-    assert s.scaling.omega_n == pytest.approx(cfg.pair.omega_n, rel=1e-12)
+    assert s.scaling.omega_n_rad_s == pytest.approx(cfg.pair.omega_n, rel=1e-12)
     assert load_system(TORSIONAL, omega=0.8).omega == 0.8
 
 

@@ -321,6 +321,8 @@ def variable(name: str, kind: str | None = None) -> Variable | None:
         return meta
     if _is_parameter(name):
         return _v(*describe(name))
+    if name.startswith("fraction_"):  # a counter of another element law than the dead zone
+        return _v(f"time fraction counted as {name[len('fraction_') :]} by the reference element's law")
     if name.startswith("bifurcation_") and _is_parameter(name[len("bifurcation_") :]):
         return _v(f"parameter {name[len('bifurcation_') :]} at the bifurcation")
     if name.endswith(PHYSICAL_SUFFIX):
@@ -631,7 +633,9 @@ def system_attrs(model: Any, kind: str, options: Any = None, extra: dict[str, An
     }
     sc = getattr(model, "scaling", None)
     if sc is not None:  # the scales of the physical units (µm, N, rpm)
-        sysinfo.update(b_c_um=sc.b_c * 1e6, force_scale_N=sc.force_scale, omega_n=sc.omega_n, teeth=sc.teeth)
+        sysinfo.update(
+            b_c_um=sc.b_c_m * 1e6, force_scale_N=sc.force_scale_N, omega_n=sc.omega_n_rad_s, teeth=sc.z1 or None
+        )
     attrs = {
         "geardyn_kind": kind,
         "geardyn_version": __version__,
@@ -782,8 +786,23 @@ RESULT_DIMS: dict[str, dict[str, tuple[str, ...]]] = {
 }
 #: Variables that must share their dimensions in every kind (a point's u beside its v).
 SAME_DIMS = (("u", "v"), ("poincare_u", "poincare_v"))
-#: Coordinates that hold names (text) in a result.
-TEXT_COORDINATES = ("element", "state", "mesh", "coordinate", "body", "dof", "side", "variable", "claim")
+#: Coordinates and variables that hold names (text) in a result.
+TEXT_COORDINATES = (
+    "element",
+    "state",
+    "mesh",
+    "coordinate",
+    "body",
+    "dof",
+    "side",
+    "variable",
+    "claim",
+    "sweep",
+    "bifurcation_type",
+    "bifurcation_detail",
+    "line_label",
+    "crossing_modes",
+)
 
 
 def result_variables(ds: Any, where: str = "", error: type[Exception] = ModelError) -> None:

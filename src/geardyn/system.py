@@ -36,6 +36,13 @@ rigid_basis()
     r = 0 for the pair.
 initial_state(u0, v0)
     The state at θ = 0 with the reference element at (u0, v0) (and every other mesh at rest).
+element_forces(tau, deltas)
+    The forces (K, meshes) the meshes transmit at times τ given every element's (δ, δ') (:meth:`element_series`),
+    in the units of the reference mesh's k b_c; column :attr:`reference` is the reference mesh's.
+static_force()
+    The static force of the reference element (non-dimensional): the pair's mean load f_p, a system's reference
+    mesh force at its static equilibrium; the reference of dynamic factors and of :meth:`Scales.operating_point
+    <geardyn.geometry.scales.Scales.operating_point>`.
 mean_trace()
     The mean over a forcing period of the trace of ∂F/∂x (the sum of the Lyapunov exponents; negative:
     the period map contracts every volume).
@@ -256,6 +263,10 @@ class System(Protocol):
     def initial_state(self, u0: float = 0.0, v0: float = 0.0) -> np.ndarray: ...
 
     def mean_trace(self) -> float: ...
+
+    def element_forces(self, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray: ...
+
+    def static_force(self) -> float: ...
 
     def report(
         self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None

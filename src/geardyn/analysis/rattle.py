@@ -93,13 +93,11 @@ class RattleScales:
 
     @classmethod
     def of(cls, scales: Any) -> RattleScales | None:
-        """From :class:`geardyn.units.PhysicalScales` (a configured pair) or a system's ``Scaling``; None for the
-        unit scales of a non-dimensional configuration."""
+        """From :class:`geardyn.geometry.scales.Scales` (a configured pair's, or a system's ``scaling``); None for
+        the unit scales of a non-dimensional configuration."""
         if scales is None or getattr(scales, "nondimensional", False):
             return None
-        if hasattr(scales, "k0_N_per_m"):
-            return cls(scales.b_c_m, scales.omega_n_rad_s, scales.k0_N_per_m, int(scales.z1))
-        return cls(scales.b_c, scales.omega_n, scales.k_ref, scales.teeth)
+        return cls(scales.b_c_m, scales.omega_n_rad_s, scales.k0_N_per_m, int(scales.z1) or None)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -343,7 +341,7 @@ def rattle(
         :data:`RATTLE_OPTIONS` (accurate mode).
     state0 : (u, u'), optional
         Start (default the middle of the backlash at rest, u = 0).
-    scales : PhysicalScales, Scaling or RattleScales, optional
+    scales : Scales or RattleScales, optional
         For the physical values (m/s, J, rpm).
 
     Returns

@@ -152,7 +152,7 @@ def mesh_summary(
     elif result is not None:
         ext = [b.extrema for b in result.branches if b.extrema is not None]
         ext = np.concatenate(ext) if ext else np.zeros((0, len(s.elements), 2))
-        um = s.scaling.b_c * 1e6
+        um = s.scaling.b_c_m * 1e6
         summary["meshes"] = [
             {
                 "name": e.name,

@@ -284,7 +284,7 @@ def system_acquire(
     m = _mesh(system, mesh)
     z1, _z2, _body = mesh_shafts(system, mesh)
     i = list(system.labels).index(dof)
-    f_mesh = m.ratio * system.omega * sc.omega_n / (2.0 * math.pi)
+    f_mesh = m.ratio * system.omega * sc.omega_n_rad_s / (2.0 * math.pi)
     rpm = 60.0 * f_mesh / z1
     if fs < 8 * f_mesh:
         raise ModelError(f"fs: {fs:g} Hz is below 8 samples per mesh period (mesh frequency {f_mesh:g} Hz)")
@@ -298,8 +298,8 @@ def system_acquire(
     v = tr.x[:, system.n + i]
     if not np.all(np.isfinite(v)):
         raise ModelError("signature: the simulation diverged")
-    t_sim = (tr.tau - tr.tau[0]) / sc.omega_n
-    a = CubicSpline(t_sim, v).derivative()(t_sim) * sc.s[i] * sc.omega_n  # d²q/dt² = s ω_n d(q̃′)/dt
+    t_sim = (tr.tau - tr.tau[0]) / sc.omega_n_rad_s
+    a = CubicSpline(t_sim, v).derivative()(t_sim) * sc.dof_scales[i] * sc.omega_n_rad_s  # d²q/dt² = s ω_n d(q̃′)/dt
     return sampled(t_sim, a, rpm=rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, z1=z1, z2=int(z2 or z1))
 
 
@@ -355,7 +355,7 @@ def system_signature(
         )
     dof = default_sensor(system, mesh) if dof is None else dof
     m = _mesh(system, mesh)
-    f_mesh = m.ratio * system.omega * system.scaling.omega_n / (2.0 * math.pi)
+    f_mesh = m.ratio * system.omega * system.scaling.omega_n_rad_s / (2.0 * math.pi)
     if revolutions is None:
         revolutions = max(10, 2 * z2 // math.gcd(z1, z2))
     if fs is None:
@@ -377,7 +377,7 @@ def system_signature(
         "omega_model": sm.ratio * system.omega,
         "omega_mesh": m.ratio * system.omega,
         "omega": system.omega,
-        "omega_n_rad_s": system.scaling.omega_n,
+        "omega_n_rad_s": system.scaling.omega_n_rad_s,
         "k0_N_per_m": float(m.stiffness),
         "indicators": ind,
         "faults": [],
