@@ -139,7 +139,7 @@ def test_commensurate_and_incommensurate_mesh_frequencies():
     q = assemble(_two_mesh(math.sqrt(2)))
     assert q.period_multiple() is None and not q.is_periodic()
     with pytest.raises(ModelError, match="incommensurate") as e:
-        q.forcing_period
+        _ = q.forcing_period
     assert "\n" not in str(e.value)
 
 

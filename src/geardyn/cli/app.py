@@ -213,7 +213,10 @@ def _import_help_renderer() -> None:
     for module, name in (("rich.markdown", "Markdown"), ("rich.traceback", "Traceback")):
         if module not in sys.modules:
             stand_ins[module] = ModuleType(module)
-            real = lambda module=module, name=name: getattr(import_module(module), name)
+
+            def real(module=module, name=name):
+                return getattr(import_module(module), name)
+
             setattr(stand_ins[module], name, _OnFirstUse(name, (), {"real": staticmethod(real)}))
     sys.modules.update(stand_ins)
     try:

@@ -18,7 +18,8 @@ JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 
 @command("geometry", CONFIG, [RPM, TORQUE], JSON_ONLY)
 def geometry(inp: Inputs) -> None:
-    """Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed values marked)."""
+    """Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed
+    values marked)."""
     from ..config import load_config
     from ..geometry import summary_rows
 
@@ -50,7 +51,8 @@ def plot_cmd(
     inp: Inputs,
     file: Annotated[Path, typer.Argument(help="A NetCDF result written by a geardyn command (--out) or by Python.")],
 ) -> None:
-    """Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation, response, map, basins, orbit, continuation, ...)."""
+    """Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation,
+    response, map, basins, orbit, continuation, ...)."""
     from ..io import read_netcdf
     from ..plot import save_figures
 
@@ -61,7 +63,7 @@ def plot_cmd(
     except (OSError, ValueError, TypeError, KeyError, RuntimeError) as e:
         raise fail(
             f"file: cannot read {file} as a NetCDF result ({type(e).__name__}: {' '.join(str(e).split())[:200]})"
-        )
+        ) from None
     _check_attributes(file, ds)
     try:
         if inp.physical or inp.config is not None:
@@ -70,7 +72,7 @@ def plot_cmd(
             ds = add_physical(ds, None if (inp.config is None and "physical_scales" in ds.attrs) else inp.scales())
         files = [str(p) for p in save_figures(ds, inp.out if inp.out is not None else file.parent, **inp.figures())]
     except GeardynError as e:
-        raise fail(f"{file}: {e}")
+        raise fail(f"{file}: {e}") from None
     except OSError:
         raise
     except (KeyError, IndexError, TypeError, ValueError, AttributeError, RecursionError) as e:
@@ -78,7 +80,7 @@ def plot_cmd(
         raise fail(
             f"{file}: not a complete geardyn{' ' + str(kind) if isinstance(kind, str) else ''} result "
             f"({type(e).__name__}: {' '.join(str(e).split())[:120]}); it cannot be drawn"
-        )
+        ) from None
     if inp.json_out:
         emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
         return
@@ -119,7 +121,10 @@ def reproduce(
         bool,
         typer.Option(
             "--quick",
-            help="A reduced run (coarse grids, short runs) that exercises every study; its report and summary say so, and its verdicts may differ from the full run's.",
+            help=(
+                "A reduced run (coarse grids, short runs) that exercises every study; its report and summary say "
+                "so, and its verdicts may differ from the full run's."
+            ),
         ),
     ] = False,
     workers: Annotated[int, typer.Option("--workers", help="Worker processes for the sweeps.")] = 2,

@@ -510,7 +510,8 @@ def log_stems(ax: Axes, x: np.ndarray, amp: np.ndarray) -> None:
     axis for a line spectrum, one line for a dense (broadband) one.
 
     The floor is the decade under that of the smallest amplitude within six decades of the peak (at lowest the
-    decade six decades under the peak); components below it (the rounding between the harmonics of a periodic response) are
+    decade six decades under the peak); components below it (the rounding between the harmonics of a periodic
+    response) are
     not drawn.  A spectrum with more
     than :data:`STEM_MAX` components above the floor is drawn as a line: stems that close together would fill the
     axis down to the floor like bars.
