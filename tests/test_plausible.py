@@ -132,10 +132,10 @@ def test_an_excitation_table_outside_the_physical_range_is_refused(tmp_path, k, 
     f = _csv(tmp_path / "t.csv", [k] * 16, [e] * 16)
     code, out, err = run_cli(["simulate", "--excitation", f, "--transient", "2", "--periods", "2"])
     one_line_exit_2(code, err, word, "t.csv")
-    from geardyn.tooth.excitation import Excitation
+    from geardyn.tooth.table import read_table
 
-    with pytest.raises(ModelError, match="excitation"):
-        Excitation(np.full(16, k), np.full(16, e))
+    with pytest.raises(ConfigError, match="t.csv"):
+        read_table(f)
 
 
 def test_an_excitation_table_over_the_size_limit_is_refused_before_reading(tmp_path):

@@ -335,3 +335,32 @@ def test_terminal_summary_prints_each_claims_statement_beside_its_verdict_and_sa
     buf.truncate(0), buf.seek(0)
     render.claims({"claims": claims, "paths": {"html": "r/report.html"}, "seconds": 3.0, "run": _run_info("full")})
     assert "Quick" not in buf.getvalue() and "Totals (2 claims)" in re.sub(r"\s+", " ", buf.getvalue())
+
+
+def test_totals_under_one_reading_per_table_come_first_and_count_each_group_at_one_reading(tmp_path):
+    """Table 3's rows and the backlash study's claims come from one setting in the paper: under one reading for
+    the group, only the claims that hold under that one reading count (here the reading two of them share)."""
+    from geardyn.paper.report import Finding, Section, one_reading_text, one_reading_totals, render_markdown
+
+    r = "ω = 1.30, D = b/(2 mm)"
+    claims = [
+        Finding("T3-1", "Table 3, row 1", "s", "c", "reproduced"),
+        Finding("T3-2", "Table 3, row 2", "s", "c", "reproduced under a reading", reading="ω = 1.05"),
+        Finding("T3-3", "Table 3, row 3", "s", "c", "reproduced under a reading", reading=r),
+        Finding("BL-IMPACT", "text", "s", "c", "reproduced under a reading", reading=r),
+        Finding("BL-AMP", "text", "s", "c", "contradicted"),
+        Finding("FORMULA", "formula", "s", "c", "reproduced under a reading", reading="φ = π"),
+    ]
+    t = one_reading_totals(claims)
+    assert t["groups"]["Table 3 and the backlash study"] == (r, 2, 5)
+    assert t["reproduced under the group's reading"] == 3  # T3-3, BL-IMPACT, and FORMULA alone in its group
+    assert t["not reproduced"] == 3 and t["reproduced"] == 0
+    # a reading chosen for the whole table counts the rows that hold under it
+    claims[0].table_reading, claims[0].table_holds = "best", True
+    claims[1].table_reading, claims[1].table_holds = "best", True
+    claims[2].table_reading, claims[2].table_holds = "best", True
+    assert one_reading_totals(claims)["groups"]["Table 3 and the backlash study"] == ("best", 3, 5)
+    page = render_markdown("t", [], [Section("s", claims=claims)])
+    first = one_reading_text(claims)
+    assert first.startswith("Totals under one reading per table or study (6 claims, 2 groups)")
+    assert page.index(first) < page.index("Per claim, each under its own nearest reading")

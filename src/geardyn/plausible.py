@@ -292,12 +292,46 @@ RESULT_DIMS: dict[str, dict[str, tuple[str, ...]]] = {
 }
 #: Variables that must share their dimensions in every kind (a point's u beside its v).
 SAME_DIMS = (("u", "v"), ("poincare_u", "poincare_v"))
-#: Coordinates that hold names (text) in a result.
-TEXT_COORDINATES = ("element", "state", "mesh", "coordinate", "body", "dof", "side", "variable", "claim")
+#: Variables of a result that hold numbers whatever its kind (those the figures draw and the summaries read).
+NUMERIC_VARIABLES = (
+    "u",
+    "v",
+    "tau",
+    "poincare_u",
+    "poincare_v",
+    "spectrum",
+    "order",
+    "section",
+    "amplitude",
+    "rms",
+    "mean",
+    "u_min",
+    "u_max",
+    "amplitude_up",
+    "amplitude_down",
+    "lle",
+    "lle_err",
+    "period",
+    "motion",
+    "impact",
+    "status",
+    "omega",
+    "fp",
+    "D",
+    "delta",
+    "delta_rate",
+    "mesh_force",
+    "mesh_force_N",
+    "poincare",
+    "end_u",
+    "end_v",
+    "exponents",
+)
 
 
 def result_variables(ds: Any, where: str = "", error: type[Exception] = ConfigError) -> None:
-    """Every registered variable of a result read back has a numeric type and the dimensions it is drawn on.
+    """The variables of a result read back have a numeric type (:data:`NUMERIC_VARIABLES`) and the dimensions
+    they are drawn on (:data:`RESULT_DIMS`, :data:`SAME_DIMS`).
 
     A NetCDF file edited by hand (a variable turned to text, an array of another shape) is refused before
     anything is drawn or computed from it.
@@ -316,15 +350,12 @@ def result_variables(ds: Any, where: str = "", error: type[Exception] = ConfigEr
     ConfigError
         ``<file>: variable <name> ...`` naming what was expected.
     """
-    from .io import KIND_VARIABLES, SYSTEM_VARIABLES, VARIABLES
-
     where = f"{where}: " if where else ""
     kind = ds.attrs.get("geardyn_kind") if hasattr(ds, "attrs") else None
-    registered = set(VARIABLES) | set(SYSTEM_VARIABLES) | set(KIND_VARIABLES.get(str(kind), {}))
-    for name, var in ds.variables.items():
-        name = str(name)
-        if name not in registered or name in TEXT_COORDINATES:
+    for name in NUMERIC_VARIABLES:
+        if name not in ds.variables:
             continue
+        var = ds.variables[name]
         if getattr(var.dtype, "kind", "O") not in "biuf":
             raise error(f"{where}variable {name!r} holds {var.dtype} values; a geardyn result stores numbers there")
     expected = RESULT_DIMS.get(str(kind), {})
