@@ -1,7 +1,8 @@
 """Start-up cost: short ``geardyn`` commands against ``python -c "import numpy"``, side by side in one run.
 
-Commands, each a fresh process of this interpreter running this checkout (``src`` first on ``PYTHONPATH``)
-through the console script's entry point (:func:`geardyn.cli.main`):
+Commands, each a fresh process running this checkout (``src`` first on ``PYTHONPATH``) through the console
+script ``geardyn`` that pip installed beside this interpreter, as a user runs it (the entry point
+:func:`geardyn.cli.main` run by this interpreter where there is no such script):
 
 * ``numpy``: ``python -c "import numpy"`` (the reference);
 * ``help``: ``geardyn --help``;
@@ -52,11 +53,19 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 ENTRY = "import sys; from geardyn.cli import main; sys.argv[0] = 'geardyn'; sys.exit(main())"
+#: The console script pip installed beside this interpreter (what a user types), else the entry point run by it.
+SCRIPT = (
+    [str(Path(sys.executable).with_name("geardyn"))]
+    if Path(sys.executable).with_name("geardyn").is_file()
+    else [sys.executable, "-c", ENTRY]
+)
 COMMANDS = {
     "numpy": [sys.executable, "-c", "import numpy"],
-    "help": [sys.executable, "-c", ENTRY, "--help"],
-    "simulate": [sys.executable, "-c", ENTRY, "simulate", "--omega", "0.8", "--json"],
+    "help": [*SCRIPT, "--help"],
+    "simulate": [*SCRIPT, "simulate", "--omega", "0.8", "--json"],
 }
+#: The arguments of a geardyn command (after the script).
+ARGS = {name: cmd[len(SCRIPT) :] for name, cmd in COMMANDS.items() if name != "numpy"}
 TARGETS = {"help": 2.0, "simulate": 5.0}
 FLOOR_KERNEL = "from numba import njit\n\n\n@njit(cache=True)\ndef f(x):\n    return x + 1.0\n"
 #: Import groups of ``--where``: a module's group is the first whose prefix its name has.
@@ -212,7 +221,7 @@ def where(runs: int, env: dict[str, str]) -> dict:
     for _ in range(runs):
         start.append(_run([sys.executable, "-c", "pass"], env)[0])
         for name in TARGETS:
-            cmd = [sys.executable, "-X", "importtime", "-c", PROBE + "\n" + ENTRY, *COMMANDS[name][3:]]
+            cmd = [sys.executable, "-X", "importtime", "-c", PROBE + "\n" + ENTRY, *ARGS[name]]
             w, p = _where_run(cmd, env)
             walls[name].append(w)
             parts[name].append(p)
@@ -265,7 +274,7 @@ def main() -> None:
         out.parent.mkdir(parents=True, exist_ok=True)
         out.write_text(json.dumps(result, indent=2) + "\n")
         for name, r in result.items():
-            print(f"geardyn {' '.join(COMMANDS[name][3:])}: {r['wall_median_s']:.3f} s wall (median; under importtime)")
+            print(f"geardyn {' '.join(ARGS[name])}: {r['wall_median_s']:.3f} s wall (median; under importtime)")
             for part, sec in sorted(r["parts_s"].items(), key=lambda kv: -kv[1]):
                 print(f"  {sec * 1000:7.1f} ms  {part}")
         print(f"written {out}")
@@ -309,7 +318,7 @@ def main() -> None:
         "rounds": args.rounds,
         "before": args.before is not None,  # another checkout timed beside (its path not recorded)
         "commands": {
-            k: " ".join(["python", *v[1:]]) if k == "numpy" else "geardyn " + " ".join(v[3:])
+            k: " ".join(["python", *v[1:]]) if k == "numpy" else "geardyn " + " ".join(v[len(SCRIPT) :])
             for k, v in COMMANDS.items()
         },
         "wall_s": {k: _stats(v) for k, v in wall.items()},

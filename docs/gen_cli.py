@@ -30,8 +30,9 @@ Conventions shared by the commands:
   [model.md](model.md) and `examples/`); without `--config` the paper's Table 1 values are used.
 * **Physical front-end**: `--rpm` (pinion speed) sets ω and `--torque` (pinion torque in N·m,
   balanced) sets f_p through the scales of the configured gear pair; sweeps over ω accept
-  `--rpm-start/--rpm-stop` instead of a range in ω. Without `--config` the gear pair is the paper's
-  Table 1 pair with its assumed mean mesh stiffness k0 = 2000 N/µm (face width 100 mm ×
+  `--rpm-start/--rpm-stop` instead of a range in ω. Without `--config` the gear pair is the pair of
+  a tooth-pair `--excitation` file (its z1, mean mesh stiffness and torque; [excitation.md](excitation.md)),
+  else the paper's Table 1 pair with its assumed mean mesh stiffness k0 = 2000 N/µm (face width 100 mm ×
   c_γ = 20 N/(mm·µm)). `--rpm` cannot be combined with `--omega`, nor `--torque` with `--fp`.
   The JSON summaries give physical values alongside the non-dimensional ones (`rpm` next to every
   `omega`, `*_um` next to displacements, `*_per_s` next to Lyapunov exponents, and a `physical`

@@ -16,7 +16,8 @@ from geardyn.analysis.steady import summarize_batch
 from geardyn.integrate import integrate_batch
 from geardyn.io import result_attrs
 from geardyn.model import GearModel, IntegrationOptions
-from geardyn.sweep import Chunk, chunked, concat_results, grid_models, run_chunks
+from geardyn.sweep import Chunk, chunked, concat_results, run_chunks
+from geardyn.system import build_models
 
 #: Options of the test sweeps: short, so that a chunk of one point takes a fraction of a second.
 FAST = IntegrationOptions(transient=40, periods=16)
@@ -59,7 +60,7 @@ def make_chunks(
     chunk_points: int = 2,
     base: GearModel = GearModel(),
 ) -> list[Chunk]:
-    models = grid_models(base, [param], [values])
+    models = build_models(base, [param], np.asarray(values, float)[:, None])
     return [Chunk(i, steady_chunk, (models[s], options)) for i, s in enumerate(chunked(len(models), chunk_points))]
 
 

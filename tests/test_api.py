@@ -35,9 +35,8 @@ FORWARDING = {
     "geardyn.analysis.response.frequency_response": "geardyn.sweep.SweepOptions.merge",
     "geardyn.analysis.points.sweep_function": "the decorator's keyword check",
     "geardyn.analysis.points.result_dataset": "geardyn.io.result_attrs",
-    "geardyn.validate.model": "geardyn.params.slot",
     "geardyn.sweep.engine.run_chunks": "geardyn.sweep.SweepOptions.merge",
-    "geardyn.cli.options.build_model": "geardyn.validate.model",
+    "geardyn.cli.options.build_model": "its own check of the registry's option names",
     "geardyn.plot.common.new_figure": "matplotlib.figure.Figure",
     "geardyn.plot.common.panels": "matplotlib.pyplot.subplots",
 }
@@ -208,12 +207,11 @@ def test_unknown_keyword_is_refused(call) -> None:
         call()
 
 
-def test_validate_model_refuses_an_unknown_parameter() -> None:
+def test_a_model_refuses_an_unknown_parameter() -> None:
     from geardyn.errors import ModelError
-    from geardyn.validate import model
 
     with pytest.raises(ModelError, match="speed"):
-        model(speed=1.0)
+        GearModel().with_param("speed", 1.0)
 
 
 def _test_names(module: str) -> list[str]:

@@ -1,31 +1,120 @@
-"""The kernel packages' numba cache follows every source file of the package, not only the worker's."""
+"""numba's cache of geardyn's functions: keyed on the sources of their directory, kept where it can be written.
+
+Each test compiles a one-line function in a package laid out in a temporary directory that stands for geardyn's
+(``ROOT`` monkeypatched), in a fresh interpreter, and reads numba's own counters of cache hits and misses.
+"""
 
 from __future__ import annotations
 
-from geardyn._cache_guard import STAMP, refresh
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import geardyn._cache_guard as guard
+
+PROBE = textwrap.dedent(
+    """
+    import json, sys
+    from pathlib import Path
+    import geardyn._cache_guard as guard
+    guard.ROOT = Path(sys.argv[1]).resolve()
+    if len(sys.argv) > 2:
+        guard._writable = lambda d: False
+    guard.WHAT = (("kern", "the test kernel"),)
+    guard.install()
+    seen = []
+    guard.on_compile(seen.append)
+    sys.path.insert(0, str(guard.ROOT.parent))
+    from kern.work import f
+    assert f(2.0) == 3.0
+    stats = f.stats
+    print(json.dumps({"hits": sum(stats.cache_hits.values()), "misses": sum(stats.cache_misses.values()),
+                      "announced": seen, "compile_s": guard.compile_seconds()}))
+    """
+)
 
 
-def test_stale_cache_is_removed_when_any_source_changes(tmp_path, monkeypatch):
-    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
-    pkg = tmp_path / "kern"
-    (pkg / "__pycache__").mkdir(parents=True)
-    (pkg / "__init__.py").write_text("x = 1\n")
-    (pkg / "core.py").write_text("def f(): return 1\n")
-    cached = [pkg / "__pycache__" / "worker.w-10.py311.nbi", pkg / "__pycache__" / "worker.w-10.py311.1.nbc"]
-    for f in cached:
-        f.write_bytes(b"machine code")
-    assert refresh(str(pkg / "__init__.py")) is True  # no stamp yet: the cache is not trusted
-    assert not any(f.exists() for f in cached) and (pkg / "__pycache__" / STAMP).exists()
-    for f in cached:
-        f.write_bytes(b"fresh machine code")
-    assert refresh(str(pkg / "__init__.py")) is False  # unchanged sources: the cache is kept
-    assert all(f.exists() for f in cached)
-    (pkg / "core.py").write_text("def f(): return 2\n")  # a change in a file the workers inline
-    assert refresh(str(pkg / "__init__.py")) is True
-    assert not any(f.exists() for f in cached)
+def _package(tmp_path: Path) -> Path:
+    pkg = tmp_path / "src" / "kern"
+    pkg.mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "helpers.py").write_text("ONE = 1.0\n")
+    (pkg / "work.py").write_text(
+        "from numba import njit\n\n\n@njit(cache=True)\ndef f(x):\n    return x + 1.0\n",
+    )
+    return pkg
 
 
-def test_a_cache_kept_elsewhere_is_left_to_numba(tmp_path, monkeypatch):
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "elsewhere"))
-    (tmp_path / "__init__.py").write_text("")
-    assert refresh(str(tmp_path / "__init__.py")) is False
+def _probe(pkg: Path, env: dict[str, str], readonly: bool = False) -> dict:
+    args = [sys.executable, "-c", PROBE, str(pkg)] + (["ro"] if readonly else [])
+    out = subprocess.run(args, env=env, capture_output=True, text=True, check=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def _env(tmp_path: Path) -> dict[str, str]:
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "usercache"))
+    env.pop("NUMBA_CACHE_DIR", None)
+    return env
+
+
+def test_compiled_once_then_read_from_the_cache_and_recompiled_when_any_sibling_source_changes(tmp_path):
+    pkg, env = _package(tmp_path), _env(tmp_path)
+    first = _probe(pkg, env)
+    assert first["misses"] == 1 and first["hits"] == 0
+    assert first["announced"] == ["the test kernel"]  # named by its module's prefix
+    assert first["compile_s"] > 0.0
+    assert list((pkg / "__pycache__").glob("work.f-*.nbi"))
+    second = _probe(pkg, env)
+    assert second == {**second, "hits": 1, "misses": 0, "announced": [], "compile_s": 0.0}
+    (pkg / "helpers.py").write_text("ONE = 2.0\n")  # a file the function does not even import
+    third = _probe(pkg, env)
+    assert third["misses"] == 1 and third["hits"] == 0
+
+
+def test_a_byte_identical_copy_reads_the_cache_compiled_for_the_original(tmp_path):
+    import shutil
+
+    pkg, env = _package(tmp_path), _env(tmp_path)
+    assert _probe(pkg, env)["misses"] == 1
+    copy = tmp_path / "installed" / "kern"
+    shutil.copytree(pkg, copy)  # new modification times, same contents: what an install of the wheel does
+    os.utime(copy / "work.py", (1.0, 1.0))
+    assert _probe(copy, env)["hits"] == 1
+
+
+def test_a_read_only_install_keeps_its_cache_under_the_user_cache_home_seeded_from_the_shipped_one(tmp_path):
+    pkg, env = _package(tmp_path), _env(tmp_path)
+    assert _probe(pkg, env)["misses"] == 1  # the "shipped" cache, written at install
+    ro = _probe(pkg, env, readonly=True)
+    assert ro["hits"] == 1 and ro["misses"] == 0  # read from the seeded copy
+    user = list((tmp_path / "usercache" / "geardyn" / "numba").rglob("work.f-*.nbi"))
+    assert len(user) == 1
+    for f in (pkg / "__pycache__").glob("*.nb*"):
+        f.unlink()  # nothing shipped: compiled once, saved in the user's cache, read from there next time
+    for f in user[0].parent.glob("*.nb*"):
+        f.unlink()
+    assert _probe(pkg, env, readonly=True)["misses"] == 1
+    assert _probe(pkg, env, readonly=True)["hits"] == 1
+
+
+def test_the_user_cache_root_names_this_copy_of_the_package(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    root = guard.user_cache_root()
+    assert root.parent == tmp_path / "geardyn" / "numba" and len(root.name) == 12
+    monkeypatch.setattr(guard, "ROOT", tmp_path / "another")
+    assert guard.user_cache_root() != root
+
+
+def test_functions_outside_geardyn_keep_numbas_own_locator(tmp_path):
+    guard.install()
+    from numba.core import caching
+
+    ours = caching.CacheImpl._locator_classes[1]
+    assert ours.__name__ == "PackageCacheLocator"
+    (tmp_path / "m.py").write_text("def g():\n    return 1\n")
+    ns: dict = {}
+    exec(compile((tmp_path / "m.py").read_text(), str(tmp_path / "m.py"), "exec"), ns)
+    assert ours.from_function(ns["g"], str(tmp_path / "m.py")) is None

@@ -24,10 +24,10 @@ def test_which_labels_are_re_examined():
 def test_a_closed_curve_label_is_never_kept_for_positive_damping():
     # ξ0 = 0.028, ω = 1: a 200-period run after a 300-period transient labels it quasi-periodic (5 loops)
     m = TABLE1_MODEL.replace(xi0=0.028)
-    from geardyn.grid import integrate_points
+    from geardyn.integrate import integrate_batch
     from geardyn.model import IntegrationOptions
 
-    res = integrate_points([m], (0.0, 0.0), IntegrationOptions(transient=300, periods=200))
+    res = integrate_batch([m], (0.0, 0.0), IntegrationOptions(transient=300, periods=200))
     r = confirm_point(m, res.end_state[0], res.poincare[0], MOTION_QUASIPERIODIC, 0, 0.0055, 0.002, long_periods=1500)
     assert r["motion"] != MOTION_QUASIPERIODIC  # F1: no invariant closed curve exists for ξ0 > 0
     assert r["confirmed"] != CONFIRM_NONE

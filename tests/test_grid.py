@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from geardyn.grid import Grid, build_models, grid_models, linspace_values
+from geardyn.grid import Grid, build_models, linspace_values
 from geardyn.model import GearModel, IntegrationOptions, ModelError
 from geardyn.sweep import SweepOptions
 
@@ -37,7 +37,7 @@ def test_linspace_messages():
         linspace_values(0.0, 1.0, 0, label="u0")
 
 
-def test_product_is_row_major_and_matches_grid_models():
+def test_product_is_row_major_and_matches_the_models_of_its_points():
     g = Grid.product(("xi0", [0.05, 0.1]), ("omega", [0.8, 0.9, 1.0]))
     assert g.shape == (2, 3) and g.size == 6
     pts = g.points()
@@ -45,7 +45,8 @@ def test_product_is_row_major_and_matches_grid_models():
     np.testing.assert_array_equal(pts[:, 1], [0.8, 0.9, 1.0] * 2)
     np.testing.assert_array_equal(g.points(slice(2, 5)), pts[2:5])
     base = GearModel()
-    assert g.models(base) == grid_models(base, ["xi0", "omega"], [[0.05, 0.1], [0.8, 0.9, 1.0]])
+    want = [base.with_param("xi0", x).with_param("omega", w) for x in (0.05, 0.1) for w in (0.8, 0.9, 1.0)]
+    assert g.models(base) == want
     assert [s.indices(6) for s in g.slices(4)] == [(0, 4, 1), (4, 6, 1)]
     with pytest.raises(ModelError, match="at most once"):
         Grid.product(("omega", [1.0]), ("omega", [2.0]))
@@ -126,7 +127,9 @@ def test_grid_over_a_systems_mesh_parameters():
     base with the two parameters set (what ``with_param`` gives), the other meshes untouched."""
     from pathlib import Path
 
-    from geardyn.grid import PointModels, param_name, point_models
+    from geardyn.grid import param_name, point_models
+    from geardyn.pairpack import PointModels
+    from geardyn.system import ModelList
     from geardyn.systems import load_system
 
     base = load_system(Path(__file__).resolve().parents[1] / "examples" / "systems" / "planetary_lin_parker_1999.toml")
@@ -150,7 +153,7 @@ def test_grid_over_a_systems_mesh_parameters():
     assert g.lazy_models(base)[5].get("ring_planet1.kappa2") == 0.1
     np.testing.assert_array_equal(g.omegas(base), [0.4] * 3 + [0.5] * 3)
     pm = point_models(base, g.names, g.points())
-    assert isinstance(pm, list) and [m.get("omega") for m in pm] == [m.omega for m in ms]
+    assert isinstance(pm, ModelList) and [m.get("omega") for m in pm] == [m.omega for m in ms]
     assert isinstance(point_models(GearModel(), ["omega"], np.array([[0.9]])), PointModels)
     with pytest.raises(ModelError):
         Grid.range("no_such_mesh.kappa1", [0.1]).check(base)

@@ -10,9 +10,10 @@ from geardyn.analysis.bifurcation import fixed_chunk, grid_chunk
 from geardyn.analysis.classify import detect_period, detect_periods, impact_state, impact_states
 from geardyn.analysis.maps import MAP_VARIABLES, parameter_map
 from geardyn.analysis.points import RowSink, concat_rows
-from geardyn.grid import Grid, PointModels, build_models, integrate_points
+from geardyn.grid import Grid, build_models
 from geardyn.integrate import integrate_batch
-from geardyn.model import GearModel, IntegrationOptions, ModelError, pack_models, pack_points
+from geardyn.model import GearModel, IntegrationOptions, ModelError
+from geardyn.pairpack import PointModels, pack_models, pack_points
 from geardyn.sweep import Chunk, run_chunks
 
 SHORT = IntegrationOptions(transient=5, periods=12)
@@ -78,7 +79,7 @@ def test_point_models_integrate_and_index_like_models():
     assert list(pm[5:8]) == models[5:8]
     for lyap in (False, True):
         a = integrate_batch(models, (0.1, 0.0), SHORT, lyapunov=lyap)
-        b = integrate_points(pm, (0.1, 0.0), SHORT, lyapunov=lyap)
+        b = integrate_batch(pm, (0.1, 0.0), SHORT, lyapunov=lyap)
         for k in ("poincare", "end_state", "stats", "status", "nsteps"):
             _same(getattr(a, k), getattr(b, k))
     ra = fixed_chunk(models, (0.0, 0.0), SHORT, False, 50)

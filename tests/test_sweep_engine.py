@@ -19,7 +19,8 @@ from geardyn import sweep as S
 from geardyn.errors import SweepError
 from geardyn.io import read_netcdf
 from geardyn.model import GearModel, IntegrationOptions, ModelError
-from geardyn.sweep import Chunk, SweepInterrupted, checkpoint_dir, chunked, grid_models, run_chunks
+from geardyn.sweep import Chunk, SweepInterrupted, checkpoint_dir, chunked, run_chunks
+from geardyn.system import build_models
 
 OMEGAS = np.linspace(0.6, 1.4, 6)
 #: A chunk of one point under these options takes ~0.1 s: long enough to interrupt a sweep mid-run.
@@ -120,7 +121,7 @@ def test_ctrl_c_in_process_keeps_finished_chunks_and_resumes(tmp_path, reference
     ck = tmp_path / "ck"
     flag = tmp_path / "stop"
     flag.touch()
-    models = grid_models(GearModel(), ["omega"], [OMEGAS])
+    models = build_models(GearModel(), ["omega"], np.asarray(OMEGAS, float)[:, None])
     chunks = [
         Chunk(i, F.interrupt_at_chunk, (str(flag), 2, i, models[s], F.FAST))
         for i, s in enumerate(chunked(len(models), 2))
@@ -138,7 +139,7 @@ def test_ctrl_c_in_process_keeps_finished_chunks_and_resumes(tmp_path, reference
 
 
 def test_lost_local_worker_process_does_not_lose_the_sweep(tmp_path, reference):
-    models = grid_models(GearModel(), ["omega"], [OMEGAS])
+    models = build_models(GearModel(), ["omega"], np.asarray(OMEGAS, float)[:, None])
     marker = str(tmp_path / "crashed")
     chunks = [Chunk(i, F.crash_once_chunk, (marker, models[s], F.FAST)) for i, s in enumerate(chunked(len(models), 2))]
     out = run_chunks(chunks, workers=2, processes=True)

@@ -244,8 +244,9 @@ def test_sweep_any_parameter_and_down_direction():
     ds = bifurcation(GearModel(omega=0.8), "backlash", [0.5, 1.0], mode="continue", sweep="down", options=FAST)
     assert "D" in ds.dims and list(ds["sweep"].values) == ["down"]
     # the down sweep starts at the largest value from (u0, v0) and continues to the smaller one
-    assert np.allclose(ds["start_u"].sel(D=1.0), 0.0)
-    assert np.allclose(ds["start_u"].sel(D=0.5), ds["end_u"].sel(D=1.0))
+    assert list(ds["state"].values) == ["u", "u'"]
+    assert np.allclose(ds["start_state"].sel(D=1.0), 0.0)
+    np.testing.assert_array_equal(ds["start_state"].sel(D=0.5), ds["end_state"].sel(D=1.0))
     ds = bifurcation(GearModel(), "phi_k1", [0.0, 1.0], options=FAST)
     assert ds["phi_k1"].attrs["units"] == "rad"
     with pytest.raises(ModelError, match="mode"):

@@ -6,12 +6,15 @@ Sources and what is checked against each (``docs/excitation.md`` §2 gives the t
   of a tooth with a straight root crack, as used by Chen & Shao (2011), Eng. Fail. Anal. 18, 2149-2164,
   for a crack through the face: every section of the cracked tooth whose half thickness h_x exceeds the
   half thickness h_q at the crack tip keeps the thickness h_q + h_x (I_x = (h_q + h_x)³/12, A_x = h_q + h_x
-  per unit width), the others 2 h_x.  ``test_cracked_tooth_compliances_are_the_published_integrals``
-  evaluates the published bending, shear and axial integrals of that section law independently (adaptive
-  quadrature over the profile radius, SciPy ``quad`` to 1e-11, breakpoints at the base circle and where
-  h_x = h_q) and asserts geardyn's compliances equal them to 2e-4: geardyn integrates by the trapezoidal
-  rule on 801 sections (error O(Δy²), observed ≤ 6e-5 on these pairs), so 2e-4 bounds the discretisation
-  and nothing else.
+  per unit width), the others 2 h_x.  That law is discontinuous at depth 0 wherever a section above the
+  crack is thicker than the crack's start h_c (the flank between the root and base circles): it drops
+  h_x − h_c there with no crack at all.  geardyn drops only the band h_q < x < h_c (so a section keeps
+  2 h_x − max(0, min(h_x, h_c) − h_q)), which is the published law in every section with h_x ≤ h_c.
+  ``test_cracked_tooth_compliances_are_the_published_integrals`` evaluates the bending, shear and axial
+  integrals of that section law independently (adaptive quadrature over the profile radius, SciPy
+  ``quad`` to 1e-11, breakpoints at the base circle and where h_x = h_q or h_c) and asserts geardyn's
+  compliances equal them to 2e-4: geardyn integrates by the trapezoidal rule on 801 sections (error
+  O(Δy²), observed ≤ 6e-5 on these pairs), so 2e-4 bounds the discretisation and nothing else.
 * Monotone in depth, and largest in single contact (the qualitative result reported throughout the
   cracked-gear literature; in the one summary with numbers read here: "the maximum reduction occurs when a
   single tooth with cracks engages"): ``test_reduction_is_monotone_in_depth_and_largest_in_single_contact``.
@@ -79,8 +82,10 @@ def _published_crack_integrals(z, m, r_f, r_c, depth):
 
     h_q = None if depth is None else (1.0 - depth) * h(r_f)
 
-    def w(p):
-        return 2 * h(p) if h_q is None else h(p) + min(h(p), h_q)
+    h_c = h(r_f)
+
+    def w(p):  # the band h_q < x < h_c in the crack's shadow carries no load
+        return 2 * h(p) if h_q is None else 2 * h(p) - max(0.0, min(h(p), h_c) - h_q)
 
     a1 = math.acos(r_b / r_c) - psi(r_c)
     d, h_l = y(r_c), h(r_c)
@@ -91,6 +96,8 @@ def _published_crack_integrals(z, m, r_f, r_c, depth):
         g = np.linspace(r_f, r_c, 400)
         f = np.array([h(p) - h_q for p in g])
         pts += [brentq(lambda p: h(p) - h_q, g[i], g[i + 1]) for i in np.nonzero(np.diff(np.sign(f)))[0]]
+        f = np.array([h(p) - h_c for p in g])
+        pts += [brentq(lambda p: h(p) - h_c, g[i], g[i + 1]) for i in np.nonzero(np.diff(np.sign(f)))[0]]
     kw = dict(points=sorted(pts) or None, epsabs=0.0, epsrel=1e-11, limit=200)
     kb = quad(lambda p: (c * (d - y(p)) - s * h_l) ** 2 / (E * w(p) ** 3 / 12) * dy(p), r_f, r_c, **kw)[0]
     ks = quad(lambda p: 1.2 * c * c / (G * w(p)) * dy(p), r_f, r_c, **kw)[0]
@@ -105,7 +112,7 @@ def test_cracked_tooth_compliances_are_the_published_integrals(z1, z2, m):
     rho = geo.contact_radius(0, np.array([geo.s_A, 0.5 * (geo.s_A + geo.s_E), geo.s_E]))
     healthy = tooth_compliance(geo, 0, rho)
     for depth in (None, 0.1, 0.5, 0.75, 0.9):
-        tc = tooth_compliance(geo, 0, rho, crack_h=None if depth is None else (1 - depth) * float(sec.h[0]))
+        tc = tooth_compliance(geo, 0, rho, crack_depth=depth)
         for i, rc in enumerate(rho):
             kb, ks, ka = _published_crack_integrals(z1, m, geo.r_f[0], float(rc), depth)
             assert tc.bending[i] == pytest.approx(kb, rel=2e-4)

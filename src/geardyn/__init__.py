@@ -1,71 +1,90 @@
-"""geardyn: nonlinear dynamics of gear pairs with backlash.
+"""geardyn: nonlinear dynamics of gear pairs and gear systems with backlash.
 
-The main entry points, importable from here:
+The public API is :data:`__all__`; every callable in it has a numpydoc ``Examples`` section that runs as a
+doctest (``tests/test_doctests.py``).  Everything else is private by convention.
 
-* the non-dimensional model: :class:`GearModel`, :class:`IntegrationOptions`, :class:`ModelError`;
-* the gear pair and its units: :class:`SpiralBevelGearPair`, :func:`load_config`,
-  :class:`PhysicalScales`;
-* analyses: :func:`simulate` (steady response), :func:`trajectory`, :func:`integrate_batch`,
-  :func:`period_map`, :class:`PeriodMap`, :func:`lyapunov_spectrum`, :func:`bifurcation`,
-  :func:`shoot`, :func:`continuation`;
+* the models and their contract: :class:`System` (what every analysis is written against),
+  :class:`GearModel` (the paper's 1-DOF pair), :class:`SystemModel` and :func:`load_system` (multi-DOF
+  systems from a TOML file), :class:`IntegrationOptions`, :class:`ModelError`, :data:`PAPER_DEFAULTS`;
+* the gear pair and its units: :class:`SpiralBevelGearPair`, :class:`MeshHarmonics`, :func:`load_config`,
+  :class:`LoadedConfig`, :class:`PhysicalScales`;
+* parameter points: :class:`Grid`;
+* integration: :func:`trajectory`, :func:`integrate_batch`, :func:`period_map`;
+* analyses, for any System: :func:`simulate` (:class:`SteadyState`), :func:`lyapunov_spectrum`,
+  :func:`bifurcation`, :func:`frequency_response`, :func:`parameter_map`, :func:`basins`, :func:`shoot`,
+  :func:`continuation`, :class:`PeriodMap`, :func:`hb_solve`, :func:`hb_continuation`, :func:`runup`;
 * physical outputs: :func:`add_physical`, :func:`simulate_physical`;
-* results on disk: :func:`read_netcdf`, :func:`write_netcdf`; every result Dataset has the
-  ``ds.geardyn`` accessor (``ds.geardyn.plot()``).
+* results on disk: :func:`read_netcdf`, :func:`write_netcdf`; every result Dataset has the ``ds.geardyn``
+  accessor (``ds.geardyn.plot()``).
 
-Nothing heavy is imported with the package: the model (and NumPy with it), xarray, the numba
-kernel, pint and matplotlib are imported on first use, so that ``geardyn --help`` imports none of them.  The ``ds.geardyn`` accessor is registered when xarray is
-imported, by whoever imports it.
+Nothing heavy is imported with the package: each public name is imported on first use (and NumPy, xarray,
+the numba kernels, pint and matplotlib with it), so that ``geardyn --help`` imports none of them.  The
+``ds.geardyn`` accessor is registered when xarray is imported, by whoever imports it.
 """
 
 from __future__ import annotations
 
-from importlib import import_module
-from typing import Any
+from importlib import import_module as _import_module
+
+from ._accessor_hook import register_accessor as _register_accessor
 
 __version__ = "0.1.0"
-
-from ._accessor_hook import register_accessor as _register_accessor  # noqa: E402
-from .errors import ModelError  # noqa: E402
 
 _register_accessor()  # ds.geardyn: now if xarray is imported, else as soon as it is
 
 #: Public names imported on first access: name -> module.
 _LAZY = {
+    # the models and their contract
+    "System": ".system",
     "GearModel": ".model",
+    "SystemModel": ".systems",
+    "load_system": ".systems",
     "IntegrationOptions": ".model",
     "PAPER_DEFAULTS": ".model",
+    "ModelError": ".errors",
+    # the gear pair and its units
     "SpiralBevelGearPair": ".geometry",
     "MeshHarmonics": ".geometry",
     "load_config": ".config",
     "LoadedConfig": ".config",
     "PhysicalScales": ".units",
-    "simulate": ".analysis.steady",
-    "SteadyState": ".analysis.steady",
+    # parameter points and integration
+    "Grid": ".grid",
     "trajectory": ".integrate",
     "integrate_batch": ".integrate",
     "period_map": ".integrate",
+    # analyses
+    "simulate": ".analysis.steady",
+    "SteadyState": ".analysis.steady",
     "lyapunov_spectrum": ".analysis.lyapunov",
     "bifurcation": ".analysis.bifurcation",
+    "frequency_response": ".analysis.response",
+    "parameter_map": ".analysis.maps",
+    "basins": ".analysis.basins",
     "shoot": ".analysis.periodic",
     "continuation": ".analysis.periodic",
     "PeriodMap": ".analysis.periodic",
+    "hb_solve": ".analysis.hb",
+    "hb_continuation": ".analysis.hb",
+    "runup": ".analysis.runup",
+    # physical outputs and results on disk
     "add_physical": ".analysis.physical",
     "simulate_physical": ".analysis.physical",
     "read_netcdf": ".io",
     "write_netcdf": ".io",
 }
 
-__all__ = ["ModelError", "__version__", *_LAZY]
+__all__ = ["__version__", *_LAZY]
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str):
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'geardyn' has no attribute {name!r}")
-    value = getattr(import_module(module, __name__), name)
+    value = getattr(_import_module(module, __name__), name)
     globals()[name] = value
     return value
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(__all__)

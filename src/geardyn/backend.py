@@ -9,7 +9,12 @@ turns it into one batch result.  A new kind of system is a new backend, not a ne
 The contract
 ------------
 ``pack(models)``
-    The kernel arrays of a batch (the models' own ``pack``).
+    The kernel arrays of a batch (the models' own ``pack``; the pair's :func:`geardyn.pairpack.pack_models`).
+``points(base, names, points)``
+    The :class:`~geardyn.system.Batch` of a grid's parameter points: a :class:`~geardyn.system.ModelList` of
+    their systems, or the pair's :class:`~geardyn.pairpack.PointModels` packed straight from the array.
+    :func:`geardyn.system.as_batch` makes a list of systems a batch; every analysis hands batches to
+    :mod:`geardyn.integrate` and asks them (sampling periods, gaps, reference section) what it needs.
 ``natural_steps(models, packed, dtau)``
     N = ceil(T_f/Δτ) RK4 steps per sampling period for each point.
 ``run(models, packed, nsteps, state0, transient, record, mode, accurate, ...)``
@@ -21,6 +26,12 @@ The contract
     until each recorded period writes its row (every kernel writes every row of a point, or NaN in all of
     them when it diverges, so the fill changes no result), so that another thread can follow a long run
     (:func:`geardyn.integrate.integrate_batch` with ``progress``).
+Statistics
+    ``RawRun.stats`` holds per point and element :data:`NSTAT` numbers over the recorded samples: the
+    deflection's extremes, sum and sum of squares and the rate's extremes (``S_UMIN`` … ``S_VMAX``, the same
+    for every law), then the element law's counters from :data:`S_LAW` (:attr:`geardyn.system.Law.counters`,
+    at most :data:`geardyn.system.LAW_COUNTERS`: for the dead zone drive, separation and back contact),
+    then the sample count ``S_N``.  Nothing here names a law's counters: a law names them itself.
 ``restarts_exactly(accurate)``
     Whether the state at a period's end is all the kernel carries from one period to the next when no
     period is recorded: then ``k`` transient periods followed by a run from their end state equal one run,
@@ -44,9 +55,7 @@ from ._kernel import (  # the statistics' indices, statuses and bound: the same 
     DIVERGENCE_BOUND,
     NSTAT,
     S_N,
-    S_NBACK,
     S_NDRIVE,
-    S_NSEP,
     S_UMAX,
     S_UMIN,
     S_USQ,
@@ -58,6 +67,8 @@ from ._kernel import (  # the statistics' indices, statuses and bound: the same 
 )
 from .errors import ModelError
 from .labels import MAX_PERIOD
+from .pairpack import PointModels, pack_models
+from .system import Batch, ModelList, build_models
 
 __all__ = [
     "RawRun",
@@ -74,15 +85,16 @@ __all__ = [
     "S_USQ",
     "S_VMIN",
     "S_VMAX",
-    "S_NDRIVE",
-    "S_NSEP",
-    "S_NBACK",
+    "S_LAW",
     "S_N",
     "NSTAT",
     "ST_OK",
     "ST_DIVERGED",
     "DIVERGENCE_BOUND",
 ]
+
+#: The first of an element law's counters in a run's statistics (the dead zone's drive, separation, back).
+S_LAW = S_NDRIVE
 
 #: Integration modes of :meth:`Backend.run`.
 MODES = ("none", "lyapunov", "monodromy", "continue")
@@ -143,6 +155,16 @@ class Backend(abc.ABC):
         models = list(models)
         return type(models[0]).pack(models)
 
+    def points(self, base: Any, names: Sequence[str], points: np.ndarray) -> Batch:
+        """The :class:`~geardyn.system.Batch` of parameter points (``base`` with ``names[j]`` = ``points[i, j]``).
+
+        Raises
+        ------
+        ModelError
+            For a point the model refuses.
+        """
+        return ModelList(build_models(base, names, points))
+
     def natural_steps(self, models: Sequence[Any], packed: Any, dtau: float) -> np.ndarray:
         """RK4 steps per sampling period N = ceil(T_f/Δτ) of every point (int64, (P,))."""
         T = np.array([m.sampling_period for m in models], dtype=float)
@@ -183,11 +205,20 @@ class PairBackend(Backend):
     name = "pair"
     coords = "(u0, v0)"
 
+    @staticmethod
+    def pack(models: Sequence[Any]) -> Any:
+        """:func:`geardyn.pairpack.pack_models`."""
+        return pack_models(models)
+
+    def points(self, base: Any, names: Sequence[str], points: np.ndarray) -> Batch:
+        """The pair's points packed straight from the array (:class:`~geardyn.pairpack.PointModels`)."""
+        return PointModels(base, names, points)
+
     def initial_states(self, models: Sequence[Any]) -> np.ndarray:
         return np.zeros((len(models), 2))  # every pair's initial_state() is (0, 0)
 
     def natural_steps(self, models: Sequence[Any], packed: Any, dtau: float) -> np.ndarray:
-        T = 2.0 * np.pi / np.asarray(packed[2], dtype=float)  # as geardyn.model.steps_per_period
+        T = 2.0 * np.pi / np.asarray(packed[2], dtype=float)  # as geardyn.pairpack.steps_per_period
         return np.ceil(T / dtau).astype(np.int64)
 
     def restarts_exactly(self, accurate: bool) -> bool:

@@ -26,7 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._docfill import attributes
-from .model import GearModel, IntegrationOptions, ModelError, steps_per_period
+from .model import GearModel, IntegrationOptions, ModelError
+from .pairpack import steps_per_period
 
 __all__ = ["WORKLOADS", "DEFAULT_REPEATS", "Workload", "workload", "time_workload", "run_benchmarks", "machine_info"]
 

@@ -73,6 +73,7 @@ from ._config_values import (
     _choice,
     _Ctx,
     _Key,
+    _parse_scalar,
     _parse_value,
     parse_quantity,
     parse_toml,
@@ -254,6 +255,14 @@ class LoadedConfig:
         The ISO 10300-1 inputs of ``[gear_pair]`` (:data:`~geardyn.geometry.iso.ISO_KEYS`, SI units).
     k0_method : str
         How k0 was obtained: ``"given"``, ``"iso"`` (c_γ b_v,eff) or ``"face_width"`` (c_γ × b).
+
+    Examples
+    --------
+    >>> from geardyn import load_config
+    >>> cfg = load_config()
+    >>> slower = cfg.at(rpm=2000, torque=1000)
+    >>> slower.rpm, round(slower.model.omega, 4), round(slower.model.fp, 4)
+    (2000.0, 0.668, 0.1035)
     """
 
     source: str
@@ -400,6 +409,13 @@ def load_config(path: str | Path | None = None) -> LoadedConfig:
         file, the line when known and the key.
     ModelError
         For a value out of range for the gear pair or the model, with the same kind of message.
+
+    Examples
+    --------
+    >>> from geardyn import load_config
+    >>> cfg = load_config()  # the paper's Table 1 pair, packaged with geardyn
+    >>> cfg.pair.z1, cfg.pair.z2, cfg.rpm, round(cfg.model.omega, 4)
+    (23, 47, 3000.0, 1.002)
     """
     if path is None:
         res = packaged_config_path()
@@ -431,8 +447,50 @@ def _load_text(text: str, source: str) -> LoadedConfig:
             )
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
     exc = _read_section(ctx, data, "excitation")[0] if "excitation" in data else {}
+    data, orders = _pop_orders(ctx, data)
     cfg = _load_sections(ctx, {k: v for k, v in data.items() if k != "excitation"})
-    return _with_excitation(ctx, cfg, exc) if exc else cfg
+    cfg = _with_excitation(ctx, cfg, exc) if exc else cfg
+    return _with_orders(ctx, cfg, orders) if orders is not None else cfg
+
+
+def _pop_orders(ctx: _Ctx, data: dict[str, Any]) -> tuple[dict[str, Any], Any]:
+    """``data`` without ``[model] torque_orders``, and that key's value (None when absent)."""
+    mo = data.get("model")
+    if not isinstance(mo, dict) or "torque_orders" not in mo:
+        return data, None
+    return {**data, "model": {k: v for k, v in mo.items() if k != "torque_orders"}}, mo["torque_orders"]
+
+
+def _with_orders(ctx: _Ctx, cfg: LoadedConfig, raw: Any) -> LoadedConfig:
+    """``cfg`` with ``[model] torque_orders`` (:mod:`geardyn.torque_orders`): with a gear pair, orders of the
+    pinion's speed and amplitudes of a pinion torque (N·m); without one, mesh orders and non-dimensional amplitudes."""
+    from .torque_orders import order_fraction
+
+    if not isinstance(raw, list) or not all(isinstance(e, dict) for e in raw):
+        raise ctx.error("model", "torque_orders", "expected a list of tables {order, amplitude, phase}")
+    physical = cfg.pair is not None
+    out = []
+    for i, entry in enumerate(raw):
+        unknown = set(entry) - {"order", "amplitude", "phase"}
+        if unknown or "order" not in entry or "amplitude" not in entry:
+            raise ctx.error("model", "torque_orders", f"element {i}: keys order, amplitude and optionally phase")
+        try:
+            q = order_fraction(entry["order"], f"element {i}: order")
+        except ModelError as e:
+            raise ctx.error("model", "torque_orders", str(e), ModelError) from None
+        kind = _TORQUE if physical else _NUMBER
+        a = _parse_scalar(ctx, "model", "torque_orders", kind, entry["amplitude"], i)
+        ph = _parse_scalar(ctx, "model", "torque_orders", _PHASE, entry.get("phase", 0.0), i)
+        if physical:
+            q = q / cfg.pair.z1
+            a = cfg.pair.fp_from_torques(a, 0.0, cfg.b_c)
+        out.append((q, a, ph))
+    try:
+        model = cfg.model.replace(torque_orders=cfg.model.torque_orders + tuple(out))
+    except ModelError as e:
+        raise ctx.error("model", "torque_orders", str(e), ModelError) from None
+    what = "orders of the pinion speed, pinion torque amplitudes" if physical else "mesh orders"
+    return replace(cfg, model=model, notes=cfg.notes + (f"[model] torque_orders: {len(out)} {what}",))
 
 
 def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> LoadedConfig:

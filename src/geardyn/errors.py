@@ -32,7 +32,17 @@ class GeardynError(Exception):
 
 
 class ModelError(GeardynError, ValueError):
-    """An invalid model parameter or option; the message names the parameter and what is allowed."""
+    """An invalid model parameter or option; the message names the parameter and what is allowed.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, ModelError
+    >>> try:
+    ...     GearModel(omega=-1.0)
+    ... except ModelError as e:
+    ...     print(str(e).split(":")[0])
+    omega
+    """
 
 
 class ConfigError(GeardynError, ValueError):

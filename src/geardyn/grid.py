@@ -18,7 +18,6 @@ builds the models of a slice (:meth:`Grid.models`), inside the worker.
 
 from __future__ import annotations
 
-import math
 from collections import abc
 from collections.abc import Sequence
 from typing import Any
@@ -26,17 +25,15 @@ from typing import Any
 import numpy as np
 
 from ._docfill import fill
-from .model import GearModel, IntegrationOptions, ModelError, canonical_param, pack_points
+from .model import GearModel, ModelError, canonical_param
+from .system import Batch, build_models
 
 __all__ = [
     "GRID_KINDS",
     "Grid",
     "GridModels",
-    "PointModels",
     "build_models",
     "chunked",
-    "grid_models",
-    "integrate_points",
     "linspace_values",
     "param_name",
     "point_models",
@@ -150,8 +147,10 @@ def _axis_values(name: str, values: Sequence[float] | np.ndarray, unique: bool) 
 
 
 @fill(_BASE, _NAMES, _POINTS)
-def build_models(base: Any, names: Sequence[str], points: np.ndarray) -> list[Any]:
-    """The models of parameter points: ``base`` with ``names[j]`` set to ``points[i, j]`` in that order.
+def point_models(base: Any, names: Sequence[str], points: np.ndarray) -> Batch:
+    """The :class:`~geardyn.system.Batch` of parameter points that ``base``'s backend supplies
+    (:meth:`geardyn.backend.Backend.points`): the pair's points packed straight from the array, bit for bit the
+    models' kernel arrays without a model object per point; a :class:`~geardyn.system.ModelList` otherwise.
 
     Parameters
     ----------
@@ -159,145 +158,21 @@ def build_models(base: Any, names: Sequence[str], points: np.ndarray) -> list[An
 
     Returns
     -------
-    list of System
-    """
-    pts = np.asarray(points, dtype=float).reshape(-1, len(names))
-    out = []
-    for row in pts:
-        m = base
-        for p, v in zip(names, row):
-            m = m.with_param(p, float(v))
-        out.append(m)
-    return out
-
-
-@fill(_BASE, _NAMES, _POINTS)
-class PointModels(abc.Sequence):
-    """The models of a chunk's parameter points, packed for the kernel without a model object per point.
-
-    A sequence of :class:`GearModel` (``base`` with ``names[j]`` set to ``points[i, j]``, as
-    :func:`build_models`) that holds the kernel arrays of :func:`geardyn.model.pack_points` and
-    builds a model only when one is indexed; a slice or an index array gives the
-    :class:`PointModels` of those points.  :func:`integrate_points` integrates it straight from
-    its arrays.
-
-    Parameters
-    ----------
-    {{base, names, points}}
-
-    Attributes
-    ----------
-    base, names, points
-        As given (``points`` as a float array).
-    coef, D, omega : ndarray
-        The kernel arrays (:func:`geardyn.model.pack_models` of the models).
+    Batch
 
     Raises
     ------
     ModelError
         For no point or a point the model refuses.
+
+    Examples
+    --------
+    >>> from geardyn.model import GearModel
+    >>> b = point_models(GearModel(), ["omega"], [[0.5], [0.9]])
+    >>> len(b), b[1].omega
+    (2, 0.9)
     """
-
-    state_dim = GearModel.state_dim
-
-    def __init__(self, base: GearModel, names: Sequence[str], points: np.ndarray) -> None:
-        self.base = base
-        self.names = tuple(str(n) for n in names)
-        self.points = np.asarray(points, dtype=float).reshape(-1, len(self.names))
-        self.coef, self.D, self.omega = pack_points(base, self.names, self.points)
-
-    def __len__(self) -> int:
-        return int(self.points.shape[0])
-
-    def __getitem__(self, i: Any) -> Any:
-        if isinstance(i, (int, np.integer)):
-            return build_models(self.base, self.names, self.points[[int(i)]])[0]
-        idx = np.arange(len(self))[i]
-        sub = object.__new__(PointModels)  # the rows of arrays already packed and validated
-        sub.base, sub.names, sub.points = self.base, self.names, self.points[idx]
-        sub.coef, sub.D, sub.omega = self.coef[idx], self.D[idx], self.omega[idx]
-        return sub
-
-    def __repr__(self) -> str:
-        return f"PointModels({len(self)} points of {', '.join(self.names)})"
-
-    @property
-    def period(self) -> np.ndarray:
-        """Forcing periods T = 2π/ω of the points."""
-        return 2.0 * math.pi / self.omega
-
-    def packed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The kernel arrays ``(coef, D, omega)``."""
-        return self.coef, self.D, self.omega
-
-
-@fill(_BASE, _NAMES, _POINTS)
-def point_models(base: Any, names: Sequence[str], points: np.ndarray) -> Sequence[Any]:
-    """The models of parameter points: a :class:`PointModels` for the pair (its fast path, bit for bit the
-    models' kernel arrays without a model object per point), the list of :func:`build_models` otherwise.
-
-    Parameters
-    ----------
-    {{base, names, points}}
-
-    Returns
-    -------
-    PointModels or list of System
-    """
-    if isinstance(base, GearModel):
-        return PointModels(base, names, points)
-    return build_models(base, names, points)
-
-
-def integrate_points(
-    models: Sequence[GearModel],
-    state0: Sequence[float] | np.ndarray | None = None,
-    options: IntegrationOptions = IntegrationOptions(),
-    *,
-    lyapunov: bool = False,
-    record_poincare: bool = True,
-    threads: int | None = None,
-) -> Any:
-    """:func:`geardyn.integrate.integrate_batch` of ``models``, straight from the arrays of a :class:`PointModels`.
-
-    Parameters
-    ----------
-    models : PointModels or sequence of GearModel
-        The points (any other sequence goes to ``integrate_batch`` as it is).
-    state0, options, lyapunov, record_poincare, threads
-        As for :func:`geardyn.integrate.integrate_batch`.
-
-    Returns
-    -------
-    geardyn.integrate.BatchResult
-        Bit for bit that of ``integrate_batch`` on the same models; its ``models`` is ``models``.
-
-    Raises
-    ------
-    ModelError
-        As ``integrate_batch``.
-    """
-    from . import integrate as itg
-    from .model import steps_per_period
-
-    if not isinstance(models, PointModels):
-        return itg.integrate_batch(
-            models, state0, options, lyapunov=lyapunov, record_poincare=record_poincare, threads=threads
-        )
-    coef, D, omega = models.packed()
-    too_long = options.dtau >= 2.0 * math.pi / omega
-    if np.any(too_long):
-        options.check_for(float(omega[int(np.argmax(too_long))]))
-    return itg.integrate_packed(
-        models,
-        (coef, D, omega),
-        steps_per_period(omega, options.dtau),
-        state0,
-        options,
-        lyapunov=lyapunov,
-        record_poincare=record_poincare,
-        threads=threads,
-    )
+    return base.backend.points(base, names, points)
 
 
 class Grid:
@@ -320,6 +195,15 @@ class Grid:
     kind : str
     names : tuple of str
     axes : tuple of ndarray
+
+    Examples
+    --------
+    >>> from geardyn import Grid
+    >>> g = Grid.linspace("omega", 0.5, 1.5, 3)
+    >>> g, g.values("omega").tolist()
+    (Grid.range(omega[3]), [0.5, 1.0, 1.5])
+    >>> Grid.product(("omega", [0.6, 0.8]), ("xi0", [0.05, 0.1])).points().tolist()
+    [[0.6, 0.05], [0.6, 0.1], [0.8, 0.05], [0.8, 0.1]]
     """
 
     def __init__(self, kind: str, names: Sequence[str], axes: Sequence[np.ndarray]) -> None:
@@ -543,7 +427,7 @@ class Grid:
         ----------
         {{base}}
         block : int
-            Points packed at a time (:func:`geardyn.model.pack_points`).
+            Points checked at a time (the batch of :func:`point_models`: the pair's packed arrays).
 
         Raises
         ------
@@ -553,10 +437,7 @@ class Grid:
         if self.kind == "states":
             raise ModelError("grid: a grid of initial states has no parameter points")
         for sl in chunked(self.size, block):
-            if isinstance(base, GearModel):
-                pack_points(base, self.names, self.points(sl))
-            else:  # a system validates in with_param
-                build_models(base, self.names, self.points(sl))
+            point_models(base, self.names, self.points(sl))
 
     @fill(_BASE)
     def lazy_models(self, base: Any) -> GridModels:
@@ -614,7 +495,7 @@ class Grid:
         -------
         ndarray of int64 (size,)
         """
-        from .model import steps_per_period
+        from .pairpack import steps_per_period
 
         return np.asarray(steps_per_period(self.omegas(base) / (base.period_multiple() or 1), dtau), dtype=np.int64)
 
@@ -689,38 +570,3 @@ class GridModels(abc.Sequence):
 
     def __repr__(self) -> str:
         return f"GridModels({self.grid!r})"
-
-
-@fill(_BASE)
-def grid_models(base: GearModel, params: Sequence[str], values: Sequence[Sequence[float]]) -> list[GearModel]:
-    """Models for the Cartesian grid of ``values`` over ``params`` (last parameter fastest, values as given).
-
-    Parameters
-    ----------
-    {{base}}
-    params : sequence of str
-        Parameter names (as the model accepts them).
-    values : sequence of sequence of float
-        The values of each parameter.
-
-    Returns
-    -------
-    list of GearModel
-        One per grid point, in row-major order.
-
-    Raises
-    ------
-    ModelError
-        For no parameter, a count mismatch, an empty or non-finite axis.
-    """
-    if not params:
-        raise ModelError("empty parameter grid: give at least one parameter")
-    if len(params) != len(values):
-        raise ModelError(f"parameter grid: {len(params)} parameters but {len(values)} value lists")
-    arrays = [np.asarray(v, dtype=float).ravel() for v in values]
-    for p, a in zip(params, arrays):
-        if a.size == 0:
-            raise ModelError(f"{p}: empty grid (num must be >= 1)")
-        if not np.all(np.isfinite(a)):
-            raise ModelError(f"{p}: grid values must be finite numbers")
-    return Grid("product", list(params), arrays).models(base)

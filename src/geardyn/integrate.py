@@ -34,10 +34,8 @@ import numpy as np
 
 from .backend import (
     DIVERGENCE_BOUND,
+    S_LAW,
     S_N,
-    S_NBACK,
-    S_NDRIVE,
-    S_NSEP,
     S_UMAX,
     S_UMIN,
     S_USQ,
@@ -49,12 +47,12 @@ from .backend import (
     RawRun,
 )
 from .model import IntegrationOptions, ModelError
+from .system import LAW_COUNTERS, Batch, as_batch
 
 __all__ = [
     "BatchResult",
     "Trajectory",
     "integrate_batch",
-    "integrate_packed",
     "trajectory",
     "period_map",
     "set_threads",
@@ -102,7 +100,7 @@ def natural_steps(model: Any, dtau: float) -> int:
     Returns
     -------
     int
-        N = ceil(T_f/Δτ), so that h = T_f/N <= Δτ (for the pair :func:`geardyn.model.steps_per_period`).
+        N = ceil(T_f/Δτ), so that h = T_f/N <= Δτ (for the pair :func:`geardyn.pairpack.steps_per_period`).
     """
     return int(math.ceil(model.sampling_period / dtau))
 
@@ -223,8 +221,9 @@ class BatchResult:
 
     Attributes
     ----------
-    models : list of System
-        The points, in batch order.
+    models : Batch
+        The points, in batch order (:class:`~geardyn.system.Batch`: the one integrated, or the
+        :class:`~geardyn.system.ModelList` of the systems given).
     options : IntegrationOptions
         The options they were integrated with.
     poincare : ndarray (P, periods, d)
@@ -235,7 +234,7 @@ class BatchResult:
         ``ST_OK`` or ``ST_DIVERGED``.
     stats : ndarray (P, elements, NSTAT)
         Streaming statistics of every element's deflection over the recorded periods, sampled at every
-        step (one element, the mesh, for the pair).
+        step (one element, the mesh, for the pair), its law's counters among them (:mod:`geardyn.backend`).
     nsteps : ndarray (P,)
         RK4 steps per sampling period.
     lyapunov_log : ndarray (P, periods, d) or None
@@ -244,12 +243,14 @@ class BatchResult:
         Final tangent matrix: the monodromy over the recorded periods in monodromy mode.
     elements : tuple of str
         Names of the elements of ``stats``.
+    laws : tuple of Law
+        The law of each element (:class:`~geardyn.system.Law`; names its counters).
     reference : int
         Index of the reference element (whose deflection is the 1-DOF model's u): ``u_min``, ``u_max``,
         ``amplitude``, ``mean``, ``rms`` and ``contact_fractions`` are its.
     """
 
-    models: list
+    models: Batch
     options: IntegrationOptions
     poincare: np.ndarray
     end_state: np.ndarray
@@ -260,6 +261,7 @@ class BatchResult:
     tangent: np.ndarray | None = None
     elements: tuple[str, ...] = ("mesh",)
     reference: int = 0
+    laws: tuple[Any, ...] = ()
 
     @property
     def ok(self) -> np.ndarray:
@@ -303,9 +305,18 @@ class BatchResult:
         return np.sqrt(np.maximum(self._per_sample(S_USQ, e) - m * m, 0.0))
 
     def element_fractions(self, e: int | None = None) -> np.ndarray:
-        """(P, 3) (or (P, elements, 3)) time fractions in drive contact, separation, back contact."""
-        f = np.stack([self._per_sample(k, None) for k in (S_NDRIVE, S_NSEP, S_NBACK)], axis=-1)
+        """(P, LAW_COUNTERS) (or (P, elements, LAW_COUNTERS)) time fractions of the law's counters (the dead
+        zone's: drive contact, separation, back contact); a law with fewer counters leaves the rest 0."""
+        f = np.stack([self._per_sample(S_LAW + k, None) for k in range(LAW_COUNTERS)], axis=-1)
         return f if e is None else f[:, e]
+
+    def law_fractions(self, e: int | None = None) -> dict[str, np.ndarray]:
+        """The time fractions (P,) of the counters of element e's law (default the reference element), by the
+        names the law gives them (:attr:`geardyn.system.Law.counters`; the dead zone's ``drive``,
+        ``separation``, ``back``)."""
+        e = self.reference if e is None else e
+        f = self.element_fractions(e)
+        return {name: f[:, k] for k, name in enumerate(self.laws[e].counters)}
 
     u_min = _statistic(S_UMIN, "Smallest u over the recorded periods (P,); NaN where diverged.")
     u_max = _statistic(S_UMAX, "Largest u over the recorded periods (P,); NaN where diverged.")
@@ -329,7 +340,8 @@ class BatchResult:
 
     @property
     def contact_fractions(self) -> np.ndarray:
-        """(P, 3) time fractions in drive-side contact, separation and back-side contact."""
+        """(P, LAW_COUNTERS) time fractions of the reference element's law counters (the dead zone's drive-side
+        contact, separation and back-side contact)."""
         return self.element_fractions(self.reference)
 
 
@@ -350,12 +362,12 @@ def _state_array(
     return np.ascontiguousarray(s, dtype=float)
 
 
-def _states(models: list, state0: Any) -> np.ndarray:
+def _states(models: Batch, state0: Any) -> np.ndarray:
     """The initial states of a batch: given ones checked, or each system's :meth:`initial_state`."""
-    backend = models[0].backend
+    backend = models.backend
     if state0 is None:
         return backend.initial_states(models)
-    return _state_array(state0, len(models), models[0].state_dim, backend.coords)
+    return _state_array(state0, len(models), models.state_dim, backend.coords)
 
 
 def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
@@ -377,17 +389,16 @@ def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
 
 
 def _prepare(models: Sequence[Any], options: IntegrationOptions, steps: int | Sequence[int] | np.ndarray | None = None):
-    """The models as a list, their backend, packed arrays and steps per sampling period."""
-    models = list(models)
-    if not models:
+    """The models as a :class:`~geardyn.system.Batch`, their backend, packed arrays and steps per sampling
+    period."""
+    models = as_batch(models)
+    if not len(models):
         raise ModelError("empty parameter grid: no model to integrate")
-    backend = models[0].backend
-    packed = backend.pack(models)
+    backend = models.backend
+    packed = models.packed()
     if steps is None:
-        for m in models:
-            T = m.sampling_period
-            options.check_for(m.omega if T == m.period else 2.0 * math.pi / T)
-        nsteps = backend.natural_steps(models, packed, options.dtau)
+        models.check_step(options)
+        nsteps = models.natural_steps(options.dtau)
     else:
         nsteps = _steps_array(steps, len(models))
     return models, backend, packed, nsteps
@@ -398,7 +409,7 @@ PROGRESS_POLL = 0.25
 
 
 def _run(
-    models: list,
+    models: Batch,
     backend: Any,
     packed: Any,
     nsteps: np.ndarray,
@@ -462,7 +473,7 @@ def _run(
 
 
 def _result(
-    models: list, options: IntegrationOptions, raw: RawRun, nsteps: np.ndarray, lyapunov: bool, monodromy: bool
+    models: Batch, options: IntegrationOptions, raw: RawRun, nsteps: np.ndarray, lyapunov: bool, monodromy: bool
 ) -> BatchResult:
     m = models[0]
     return BatchResult(
@@ -477,55 +488,8 @@ def _result(
         tangent=raw.tangent if (lyapunov or monodromy) else None,
         elements=tuple(e.name for e in m.elements),
         reference=int(m.reference),
+        laws=tuple(e.law for e in m.elements),
     )
-
-
-def integrate_packed(
-    models: Sequence[Any],
-    packed: Any,
-    nsteps: np.ndarray,
-    state0: Any,
-    options: IntegrationOptions,
-    *,
-    lyapunov: bool = False,
-    record_poincare: bool = True,
-    threads: int | None = None,
-) -> BatchResult:
-    """:func:`integrate_batch` of a batch whose kernel arrays are already packed (the grid's fast path).
-
-    Parameters
-    ----------
-    models : sequence of System
-        The points (any sequence with a length whose first item is one of them, e.g. a
-        :class:`geardyn.grid.PointModels`); it becomes the result's ``models``.
-    packed : kernel arrays
-        ``models[0].pack(models)``, bit for bit.
-    nsteps : (P,) int64
-        RK4 steps per sampling period.
-    state0, options, lyapunov, record_poincare, threads
-        As :func:`integrate_batch`.
-
-    Returns
-    -------
-    BatchResult
-    """
-    m0 = models[0]
-    s0 = _state_array(state0, len(models), m0.state_dim, m0.backend.coords)
-    raw = _run(
-        models,
-        m0.backend,
-        packed,
-        nsteps,
-        s0,
-        options.transient,
-        options.periods,
-        "lyapunov" if lyapunov else "none",
-        options.accurate,
-        record_poincare=record_poincare,
-        threads=threads,
-        adaptive=options.adaptive,
-    )
-    return _result(models, options, raw, nsteps, lyapunov, False)
 
 
 def integrate_batch(
@@ -545,9 +509,10 @@ def integrate_batch(
 
     Parameters
     ----------
-    models : sequence of System
+    models : Batch or sequence of System
         One model per point, all of one kind (GearModels may differ in their harmonic counts; systems
-        must share their structure).
+        must share their structure); a :class:`~geardyn.system.Batch` (e.g. a grid's points from
+        :func:`geardyn.grid.point_models`) is integrated from its own kernel arrays.
     state0 : (d,) or (P, d), optional
         Initial state at θ = 0 (non-dimensional); by default each system's ``initial_state()`` (zeros
         for the pair).
@@ -589,6 +554,14 @@ def integrate_batch(
     ModelError
         For an empty batch, a step not below a sampling period, a bad initial state, ``steps`` or
         ``threads``.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, integrate_batch
+    >>> models = [GearModel(omega=0.6), GearModel(omega=0.8)]
+    >>> res = integrate_batch(models, (0.0, 0.0), IntegrationOptions(transient=50, periods=4))
+    >>> res.poincare.shape, res.ok.tolist()
+    ((2, 4, 2), [True, True])
     """
     models, backend, packed, nsteps = _prepare(models, options, steps)
     s0 = _states(models, state0)
@@ -596,7 +569,7 @@ def integrate_batch(
     if tangent0 is not None:
         if not lyapunov:
             raise ModelError("tangent0: a starting tangent basis needs lyapunov=True")
-        d = models[0].state_dim
+        d = models.state_dim
         tangent0 = np.asarray(tangent0, dtype=float).reshape(len(models), d, d)
         mode = "continue"
     raw = _run(
@@ -706,6 +679,13 @@ def trajectory(
     ------
     ModelError
         For a step not below the sampling period, a bad initial state or ``steps``.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, trajectory
+    >>> tr = trajectory(GearModel(omega=0.8), (0.0, 0.0), IntegrationOptions(transient=50, periods=4))
+    >>> tr.poincare.shape  # the Poincaré points (u, u') of the 4 recorded periods
+    (4, 2)
     """
     models, backend, packed, nsteps = _prepare([model], options, steps)
     hp = int(min(max(history_periods, 1), options.periods))
@@ -778,6 +758,13 @@ def period_map(
     ------
     ModelError
         For a step not below the sampling period, a bad state or ``steps``.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, period_map
+    >>> x, jac, stats, ok = period_map(GearModel(omega=0.8), (0.0, 0.0), 1)
+    >>> x.shape, jac.shape, bool(ok)
+    ((1, 2), (2, 2), True)
     """
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=int(n), accurate=accurate)
     models, backend, packed, nsteps = _prepare([model], opts, steps)

@@ -89,10 +89,9 @@ VARIABLES: dict[str, Variable] = {
     "curve_dim": _v("correlation dimension of the Poincaré section of a non-periodic point (1: closed curves)"),
     # sweeps
     "restarted": _v("1 where a continuation restarted from the initial state after a diverged point"),
-    "start_u": _v("initial displacement u of the point"),
-    "start_v": _v("initial velocity u' of the point"),
-    "end_u": _v("final displacement u (start of the next continuation point)"),
-    "end_v": _v("final velocity u'"),
+    "start_state": _v("initial state of the point ((u, u') for the pair, (q̃, q̃') for a system)"),
+    "end_state": _v("final state of the point (the start of the next continuation point)"),
+    "state": _v("state coordinate ((u, u') for the pair, (q̃, q̃') for a system)"),
     "sweep": _v("sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)"),
     # model parameters: their long names and units come from the registry (geardyn.params, see variable())
     # Lyapunov spectrum
@@ -180,6 +179,22 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
         "tau": _v("non-dimensional time τ = ω_n t at the middle of a speed block"),
         "time_s": _v("time at the middle of a speed block", "s"),
     },
+    "rattle": {
+        "impact": _v("index of the impact"),
+        "impact_time": _v("time τ of an impact (start of a contact)"),
+        "impact_flank": _v("flank of an impact", flags={1: "drive", -1: "back"}),
+        "impact_velocity": _v("relative velocity du/dτ at an impact"),
+    },
+    "rattle_map": {
+        "amplitude_scale": _v("scale of the torque orders' amplitudes"),
+        "impacts_drive": _v("drive-flank impacts per forcing cycle"),
+        "impacts_back": _v("back-flank impacts per forcing cycle"),
+        "impact_velocity_max": _v("largest relative impact velocity |du/dτ|"),
+        "impact_velocity_max_m_s": _v("largest relative impact velocity", "m/s"),
+        "rattle_index": _v("rattle index: impact kinetic-energy loss per cycle (k b_c²)"),
+        "rattle_index_J": _v("rattle index: impact kinetic-energy loss per cycle", "J"),
+        "status": _v("point status (0 ok, 1 diverged)"),
+    },
     "hb": {
         "coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
         "coefficient": _v("index of the Fourier coefficient"),
@@ -206,7 +221,6 @@ SYSTEM_VARIABLES: dict[str, Variable] = {
     "elastic": _V("elastic multiplier index (largest modulus first)"),
     "elastic_re": _V("elastic Floquet multiplier, real part"),
     "elastic_im": _V("elastic Floquet multiplier, imaginary part"),
-    "end_state": _V("final state (q̃, q̃') of the point"),
     "poincare_u": _V("Poincaré section δ of the reference mesh at θ ≡ 0"),
     "poincare_v": _V("Poincaré section dδ/dτ of the reference mesh at θ ≡ 0"),
     "poincare_coordinate": _V("Poincaré section of the chosen state coordinate"),
@@ -228,7 +242,6 @@ SYSTEM_VARIABLES.update(
         "element_mean": _V("mean deflection δ of the element"),
         "element_rms": _V("RMS of δ of the element about its mean"),
         "element_impact": _V("impact state of the element (0 none, 1 single-sided, 2 double-sided)"),
-        "start_state": _V("initial state (q̃, q̃') of the point"),
     }
 )
 #: The kinds the previous versions wrote for systems (``system_<analysis>``); their files stay readable.
@@ -249,13 +262,10 @@ _SYSTEM_ONLY = (
     "element",
     "mesh",
     "coordinate",
-    "state",
     "delta",
     "delta_rate",
     "mesh_force",
     "mesh_force_N",
-    "end_state",
-    "start_state",
     "element_u_min",
     "element_u_max",
     "element_mean",
@@ -324,9 +334,10 @@ def physical_long_name(long_name: str) -> str:
 
 
 def json_attr(obj: Any) -> str:
-    """Serialise a model, options dataclass or plain value to a JSON attribute string."""
-    if isinstance(obj, GearModel):
-        return obj.to_json()
+    """Serialise a System (its ``to_attrs``), options dataclass or plain value to a JSON attribute string."""
+    to_attrs = getattr(obj, "to_attrs", None)
+    if callable(to_attrs):
+        return to_attrs()
     if is_dataclass(obj):
         return json.dumps(asdict(obj), sort_keys=True, default=_default)
     return json.dumps(obj, sort_keys=True, default=_default)
@@ -556,16 +567,24 @@ def summary_json(ds: xr.Dataset, variables: Any = None) -> dict[str, Any]:
 
 
 def result_attrs(kind: str, model: Any, options: Any = None, **extra: Any) -> dict[str, str]:
-    """Standard global attributes: kind, model and options as JSON, and any extra JSON values.
+    """Standard global attributes of a result computed on any System.
 
-    The pair's model is stored whole; a system of meshes (any other System) as :func:`system_attrs` stores it
-    (``system``: labels, meshes, reference mesh, title, source; ``model``: its ω).
+    ``geardyn_kind``, ``geardyn_version``, ``geardyn_system`` (the name of the System's backend: ``pair`` or
+    ``mesh``; :func:`model_from_attrs` rebuilds the System from it), the options and ``extra`` as JSON, and the
+    System: the pair's model whole in ``model``; a system's as :func:`system_attrs` stores it.
+
+    Examples
+    --------
+    >>> from geardyn.model import GearModel
+    >>> a = result_attrs("simulate", GearModel())
+    >>> a["geardyn_kind"], a["geardyn_system"]
+    ('simulate', 'pair')
     """
     from . import __version__
 
-    if not isinstance(model, GearModel):
+    if model.backend.name != "pair":
         return system_attrs(model, kind, options, extra)
-    attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "model": json_attr(model)}
+    attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "geardyn_system": "pair", "model": model.to_attrs()}
     if options is not None:
         attrs["options"] = json_attr(options)
     for k, v in extra.items():
@@ -574,12 +593,16 @@ def result_attrs(kind: str, model: Any, options: Any = None, **extra: Any) -> di
 
 
 def system_attrs(model: Any, kind: str, options: Any = None, extra: dict[str, Any] | None = None) -> dict[str, str]:
-    """Global attributes of a system result: kind, the system (file, labels, meshes) and options as JSON.
+    """Global attributes of a system result: kind, the system whole and described, and options as JSON.
+
+    ``system_model`` is the non-dimensional system whole (its ``to_attrs``: what :func:`model_from_attrs`
+    rebuilds), ``system`` describes it for the figures and summaries (file, title, labels, meshes, elements,
+    scales), ``model`` gives its ω and the reference element's gap.
 
     Parameters
     ----------
     model : SystemModel
-        A system of meshes (its labels, meshes, clearances and reference mesh go into ``system``).
+        A system of meshes.
     kind : str
         ``geardyn_kind``.
     options : IntegrationOptions, optional
@@ -610,7 +633,9 @@ def system_attrs(model: Any, kind: str, options: Any = None, extra: dict[str, An
     attrs = {
         "geardyn_kind": kind,
         "geardyn_version": __version__,
+        "geardyn_system": model.backend.name,
         "system": json.dumps(sysinfo),
+        "system_model": model.to_attrs(),
         "model": json.dumps({"omega": model.omega, "D": model.elements[model.reference].gap}),
     }
     if options is not None:
@@ -620,9 +645,75 @@ def system_attrs(model: Any, kind: str, options: Any = None, extra: dict[str, An
     return attrs
 
 
-def model_from_attrs(ds: xr.Dataset) -> GearModel:
-    """The model stored in a Dataset's ``model`` attribute."""
-    return GearModel.from_dict(json.loads(ds.attrs["model"]))
+def model_from_attrs(ds: xr.Dataset) -> Any:
+    """The System a result was computed on, rebuilt from its attributes.
+
+    A :class:`~geardyn.model.GearModel` for the pair's results (``model``), a
+    :class:`~geardyn.systems.SystemModel` for a system's (``system_model``; without its physical description).
+
+    Raises
+    ------
+    ModelError
+        For a system result written before the system was stored with it (0.1.x), or no model at all.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> from geardyn.model import GearModel
+    >>> ds = xr.Dataset(attrs=result_attrs("simulate", GearModel(omega=0.8)))
+    >>> model_from_attrs(ds) == GearModel(omega=0.8)
+    True
+    """
+    attrs = ds.attrs
+    kind = attrs.get("geardyn_system") or ("mesh" if "system" in attrs else "pair")
+    if kind == "pair":
+        if "model" not in attrs:
+            raise ModelError("model: the result stores no model (not a geardyn result?)")
+        return GearModel.from_attrs(attrs["model"])
+    if "system_model" not in attrs:
+        src = json.loads(attrs.get("system", "{}")).get("source")
+        raise ModelError(
+            "model: this system result was written by an earlier geardyn, which did not store the system; "
+            f"load it with geardyn.load_system({src!r})"
+        )
+    from .systems.assemble import SystemModel
+
+    return SystemModel.from_attrs(attrs["system_model"])
+
+
+#: The names of the full start and end states of a sweep's points in results written by 0.1.0, where the
+#: pair's were written as components (read as ``start_state``/``end_state`` over ``state`` = u, u').
+LEGACY_STATES = {"start_state": ("start_u", "start_v"), "end_state": ("end_u", "end_v")}
+
+
+def upgrade(ds: xr.Dataset) -> xr.Dataset:
+    """A result written by an earlier geardyn in today's schema (itself when it already is).
+
+    The pair's ``start_u``, ``start_v``, ``end_u``, ``end_v`` of 0.1.0 become ``start_state`` and
+    ``end_state`` over ``state`` = (u, u'), in the main Dataset and in the Datasets attached to it.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> old = xr.Dataset({k: ("D", np.zeros(2)) for k in ("start_u", "start_v", "end_u", "end_v")})
+    >>> new = upgrade(old)
+    >>> sorted(new.data_vars), new["state"].values.tolist()
+    (['end_state', 'start_state'], ['u', "u'"])
+    """
+    prefixes = [""] + [f"{n}{CONTEXT_SEPARATOR}" for n in _contexts(ds)]
+    out = ds
+    for pre in prefixes:
+        for new, (a, b) in LEGACY_STATES.items():
+            if pre + a not in out.variables or pre + b not in out.variables:
+                continue
+            state = f"{pre}state"
+            st = xr.concat([out[pre + a], out[pre + b]], dim=state).transpose(..., state)
+            st.attrs = dict(VARIABLES[new].attrs())
+            out = out.drop_vars([pre + a, pre + b]).assign({pre + new: st})
+            if state not in out.coords:
+                out = out.assign_coords({state: ["u", "u'"]})
+                out[state].attrs = dict(VARIABLES["state"].attrs())
+    return out
 
 
 _atomic = atomic_write  # (the name the writers of this package use)
@@ -645,12 +736,121 @@ def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:
     -------
     Path
         ``path``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geardyn import GearModel, IntegrationOptions, read_netcdf, simulate, write_netcdf
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> path = write_netcdf(ds, pathlib.Path(tempfile.mkdtemp()) / "simulate.nc")
+    >>> read_netcdf(path)["poincare_u"].shape == ds["poincare_u"].shape
+    True
     """
     data = write_netcdf_bytes(lambda buf: annotate(ds).to_netcdf(buf, engine="h5netcdf"))
     return atomic_write_bytes(path, data)
 
 
 def read_netcdf(path: str | Path) -> xr.Dataset:
-    """Read a geardyn NetCDF file fully into memory."""
+    """Read a geardyn NetCDF file fully into memory, in today's schema (:func:`upgrade`).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geardyn import GearModel, IntegrationOptions, read_netcdf, simulate, write_netcdf
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> again = read_netcdf(write_netcdf(ds, pathlib.Path(tempfile.mkdtemp()) / "simulate.nc"))
+    >>> again.attrs["geardyn_kind"], again.geardyn.model.omega
+    ('simulate', 0.8)
+    """
     with xr.open_dataset(path, engine="h5netcdf") as ds:
-        return ds.load()
+        return upgrade(ds.load())
+
+
+#: Dimensions of the variables a figure draws, by result kind (a variable of another shape is refused).
+RESULT_DIMS: dict[str, dict[str, tuple[str, ...]]] = {
+    "simulate": {
+        "u": ("tau",),
+        "v": ("tau",),
+        "tau": ("tau",),
+        "poincare_u": ("section",),
+        "poincare_v": ("section",),
+        "spectrum": ("order",),
+        "order": ("order",),
+    },
+}
+#: Variables that must share their dimensions in every kind (a point's u beside its v).
+SAME_DIMS = (("u", "v"), ("poincare_u", "poincare_v"))
+#: Variables of a result that hold numbers whatever its kind (those the figures draw and the summaries read);
+#: other registered variables may hold text (``bifurcation_type``, names).
+NUMERIC_VARIABLES = (
+    "u",
+    "v",
+    "tau",
+    "poincare_u",
+    "poincare_v",
+    "spectrum",
+    "order",
+    "section",
+    "amplitude",
+    "rms",
+    "mean",
+    "u_min",
+    "u_max",
+    "amplitude_up",
+    "amplitude_down",
+    "lle",
+    "lle_err",
+    "period",
+    "motion",
+    "impact",
+    "status",
+    "omega",
+    "fp",
+    "D",
+    "delta",
+    "delta_rate",
+    "mesh_force",
+    "mesh_force_N",
+    "poincare",
+    "end_u",
+    "end_v",
+    "exponents",
+)
+
+
+def result_variables(ds: Any, where: str = "", error: type[Exception] = ModelError) -> None:
+    """The variables of a result read back have a numeric type (:data:`NUMERIC_VARIABLES`) and the dimensions
+    they are drawn on (:data:`RESULT_DIMS`, :data:`SAME_DIMS`).
+
+    A NetCDF file edited by hand (a variable turned to text, an array of another shape) is refused before
+    anything is drawn or computed from it.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result.
+    where : str
+        The file, named in the message (none by default).
+    error : type
+        The error raised.
+
+    Raises
+    ------
+    ModelError (or ``error``)
+        ``<file>: variable <name> ...`` naming what was expected.
+    """
+    where = f"{where}: " if where else ""
+    kind = ds.attrs.get("geardyn_kind") if hasattr(ds, "attrs") else None
+    for name in NUMERIC_VARIABLES:
+        if name not in ds.variables:
+            continue
+        var = ds.variables[name]
+        if getattr(var.dtype, "kind", "O") not in "biuf":
+            raise error(f"{where}variable {name!r} holds {var.dtype} values; a geardyn result stores numbers there")
+    expected = RESULT_DIMS.get(str(kind), {})
+    for name, dims in expected.items():
+        if name in ds.variables and tuple(ds[name].dims) != dims:
+            raise error(f"{where}variable {name!r} has dimensions {tuple(ds[name].dims)}, expected {dims}")
+    for a, b in SAME_DIMS:
+        if a in ds.variables and b in ds.variables and ds[a].shape != ds[b].shape:
+            raise error(f"{where}variables {a!r} {tuple(ds[a].dims)} and {b!r} {tuple(ds[b].dims)} must have one shape")

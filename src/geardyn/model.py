@@ -28,9 +28,13 @@ import numpy as np
 
 from ._docfill import attributes
 from .errors import ModelError
-from .meshtable import EVALUATIONS, check_table, kernel_table, table_values
+from .meshtable import EVALUATIONS, check_table, table_values
+from .pairpack import MAX_KAPPA_SUM, pack_models, stiffness_minimum
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
 from .system import Element
+from .torque_orders import normalise as _normalise_orders
+from .torque_orders import period_multiple as _orders_multiple
+from .torque_orders import to_dicts as _orders_to_dicts
 
 __all__ = [
     "Boundary",
@@ -40,9 +44,7 @@ __all__ = [
     "PAPER_DEFAULTS",
     "PARAMETER_HELP",
     "canonical_param",
-    "pack_models",
-    "pack_points",
-    "steps_per_period",
+    "stiffness_minimum",
 ]
 
 #: Default non-dimensional step Δτ (the paper's value).
@@ -51,8 +53,6 @@ DEFAULT_DTAU = 0.01
 DEFAULT_TRANSIENT = 300
 #: Default number of forcing periods recorded (Poincaré points).
 DEFAULT_PERIODS = 200
-#: Largest Σ|κ_r| accepted: the mesh stiffness 1 + Σ κ_r cos(...) must stay positive.
-MAX_KAPPA_SUM = 1.0
 
 
 def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: Any = repr) -> float:
@@ -107,36 +107,6 @@ def _as_tuple(name: str, values: Any, cycles: int = 1) -> tuple[float, ...]:
             + (f" (mesh orders up to {MAX_HARMONICS} over a period of {cycles} mesh cycles)" if cycles > 1 else "")
         )
     return out
-
-
-def stiffness_minimum(kappa: Sequence[float], phi_k: Sequence[float]) -> float:
-    """A certified lower bound of the relative stiffness 1 + Σ_j κ_j cos(jθ + φ_j) over a period.
-
-    The series is sampled at M ≥ 8H equally spaced angles (an FFT, exact to rounding); between two
-    samples it departs from the nearer by at most max|K′|·π/M ≤ (Σ j|κ_j|)·π/M, which is subtracted.
-    M is chosen so that this margin is at most 0.02.
-
-    Parameters
-    ----------
-    kappa, phi_k : sequence of float
-        Amplitudes and phases (rad), j = 1 …
-
-    Returns
-    -------
-    float
-        min over the samples − the margin (> 0 proves the stiffness positive for every θ).
-    """
-    a = np.asarray(kappa, dtype=float)
-    if a.size == 0:
-        return 1.0
-    p = np.asarray(phi_k, dtype=float)
-    slope = float(np.sum(np.arange(1, a.size + 1) * np.abs(a)))
-    M = 1 << int(math.ceil(math.log2(max(8 * a.size + 8, 50.0 * math.pi * slope, 64.0))))
-    X = np.zeros(M // 2 + 1, dtype=complex)
-    X[0] = M
-    X[1 : a.size + 1] = 0.5 * M * a * np.exp(1j * p)
-    values = np.fft.irfft(X, M)
-    return float(values.min()) - slope * math.pi / M
 
 
 @dataclass(frozen=True)
@@ -194,8 +164,27 @@ class GearModel:
     table : (phase, k, e)
         With ``evaluation = "table"``: node phases in mesh cycles over [0, ``cycles``), k/k0 and e/b_c
         (e may be empty).
+    torque_orders : tuple of (order, amplitude, phase)
+        Torque orders (:mod:`geardyn.torque_orders`): forcing terms a cos(qθ + φ) of constant amplitude a
+        (non-dimensional like f_p) at q times the mesh frequency, q a positive rational (a ``Fraction``, an
+        integer, a decimal or ``"a/b"``; order k of the pinion's speed is q = k/z1), φ in rad.  The forcing
+        period becomes the least common multiple of ``cycles`` and the orders' denominators, in mesh cycles
+        (:meth:`period_multiple`); the series ξ, κ, ε keep their meaning.  Default none.
 
     The defaults are the paper's Table 1 values with ω = 1.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> m = GearModel(omega=0.8)
+    >>> m.omega, m.xi0, m.kappa, m.eps, m.fp, m.D
+    (0.8, 0.1, (0.2,), (0.5,), 0.2, 1.0)
+    >>> m.with_param("kappa2", 0.1).kappa
+    (0.2, 0.1)
+    >>> GearModel(omega=0.0)
+    Traceback (most recent call last):
+        ...
+    geardyn.errors.ModelError: omega: ...
     """
 
     omega: float = FAMILIES["omega"].default
@@ -211,9 +200,12 @@ class GearModel:
     cycles: int = 1
     evaluation: str = "series"
     table: tuple = ()
+    torque_orders: tuple = ()
 
     #: Dimension of the state (u, u') — the 1-DOF model's physics: one relative coordinate.
     state_dim: ClassVar[int] = 2
+    #: Names of the state's coordinates (a result's ``state`` coordinate).
+    state_labels: ClassVar[tuple[str, str]] = ("u", "u'")
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -244,6 +236,14 @@ class GearModel:
             raise ModelError('table: evaluation = "table" takes a table (phase, k, e), and a table needs it')
         if self.table:
             set_(self, "table", check_table(self.table, self.cycles))
+        set_(self, "torque_orders", _normalise_orders(self.torque_orders))
+        if self.torque_orders:
+            M = _orders_multiple(self.torque_orders, self.cycles)
+            if self.table and M != self.cycles:
+                raise ModelError(
+                    f"torque_orders: a table evaluated as given spans {self.cycles} mesh cycle(s); orders whose "
+                    f"forcing period is {M} mesh cycles need the series evaluation"
+                )
         if sum(abs(k) for k in self.kappa) >= MAX_KAPPA_SUM and not (
             (self.cycles > 1 or self.table) and stiffness_minimum(self.kappa, self.phi_k) > 0.0
         ):
@@ -260,7 +260,11 @@ class GearModel:
 
     @property
     def forcing_omega(self) -> float:
-        """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1)."""
+        """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1); with torque
+        orders ω/M, M the mesh cycles of the forcing period (:meth:`period_multiple`)."""
+        if self.torque_orders:
+            M = self.period_multiple()
+            return self.omega if M == 1 else self.omega / M
         return self.omega if self.cycles == 1 else self.omega / self.cycles
 
     def forcing_model(self) -> GearModel:
@@ -269,12 +273,29 @@ class GearModel:
         For tools written for one-cycle models (the 1-DOF harmonic balance): its ω is the forcing frequency
         ω/P, so a value of ``omega`` there is P times smaller than the mesh frequency.
         """
+        if self.torque_orders:
+            M = self.period_multiple()
+            if M == 1:
+                return self
+            s = M // self.cycles
+            spread = {}
+            for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
+                row = [0.0] * (s * len(getattr(self, k)))
+                row[s - 1 :: s] = getattr(self, k)
+                spread[k] = tuple(row)
+            orders = tuple((q * M, a, p) for q, a, p in self.torque_orders)
+            return self.replace(omega=self.forcing_omega, cycles=1, torque_orders=orders, **spread)
         return self if self.cycles == 1 else self.replace(omega=self.forcing_omega, cycles=1)
 
     @property
     def n_harmonics(self) -> int:
-        """Largest number of harmonics among the damping, stiffness and STE series."""
-        return max(len(self.xi), len(self.kappa), len(self.eps), 0)
+        """Largest number of harmonics among the damping, stiffness and STE series (with torque orders: the
+        highest harmonic of the forcing frequency ω/M that any series or order reaches)."""
+        n = max(len(self.xi), len(self.kappa), len(self.eps), 0)
+        if self.torque_orders:
+            M = self.period_multiple()
+            return max(n * (M // self.cycles), max(int(q * M) for q, _, _ in self.torque_orders))
+        return n
 
     # ------------------------------------------------------------------ the system protocol
     def parameters(self) -> dict[str, float]:
@@ -298,7 +319,10 @@ class GearModel:
         return 2.0 * math.pi / self.forcing_omega
 
     def period_multiple(self) -> int:
-        """The forcing repeats after P = ``cycles`` mesh periods (1 unless an excitation spans several)."""
+        """The forcing repeats after P = ``cycles`` mesh periods (1 unless an excitation spans several); with
+        torque orders after M, the least common multiple of P and the orders' denominators."""
+        if self.torque_orders:
+            return _orders_multiple(self.torque_orders, self.cycles)
         return self.cycles
 
     @property
@@ -387,6 +411,8 @@ class GearModel:
         :attr:`forcing_omega` (ω/P; the mesh phase when ``cycles`` is 1).
         """
         H = self.n_harmonics if n_harmonics is None else n_harmonics
+        if self.torque_orders:
+            return self._coefficients_with_orders(H)
         c = np.zeros((3, H + 1, 2))
         c[0, 0, 0] = 2.0 * self.xi0
         c[1, 0, 0] = 1.0
@@ -402,6 +428,32 @@ class GearModel:
                 j = j0 + 1
                 c[i, j, 0] = scale(j) * a * math.cos(ph)
                 c[i, j, 1] = -scale(j) * a * math.sin(ph)
+        return c
+
+    def _coefficients_with_orders(self, H: int) -> np.ndarray:
+        """:meth:`coefficients` of a model with torque orders: harmonics of ω/M, M = :meth:`period_multiple`."""
+        M = self.period_multiple()
+        s = M // self.cycles  # series harmonic j (of ω/P) is harmonic j·s of ω/M
+        c = np.zeros((3, H + 1, 2))
+        c[0, 0, 0] = 2.0 * self.xi0
+        c[1, 0, 0] = 1.0
+        c[2, 0, 0] = self.fp
+        wf = self.omega if self.cycles == 1 else self.omega / self.cycles
+        w2 = wf**2
+        series = (
+            (0, self.xi, self.phi_c, lambda j: 2.0),
+            (1, self.kappa, self.phi_k, lambda j: 1.0),
+            (2, self.eps, self.phi_e, lambda j: w2 * j * j),
+        )
+        for i, amps, phases, scale in series:
+            for j0, (a, ph) in enumerate(zip(amps, phases)):
+                j = j0 + 1
+                c[i, j * s, 0] = scale(j) * a * math.cos(ph)
+                c[i, j * s, 1] = -scale(j) * a * math.sin(ph)
+        for q, a, ph in self.torque_orders:
+            idx = int(q * M)
+            c[2, idx, 0] += a * math.cos(ph)
+            c[2, idx, 1] -= a * math.sin(ph)
         return c
 
     def restoring(self, u: np.ndarray | float) -> np.ndarray:
@@ -431,10 +483,30 @@ class GearModel:
             del d["evaluation"], d["table"]
         elif d["table"]:
             d["table"] = [list(c) for c in d["table"]]
+        if d["torque_orders"]:
+            d["torque_orders"] = _orders_to_dicts(self.torque_orders)
+        else:  # the form of every model without torque orders
+            del d["torque_orders"]
         return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), sort_keys=True)
+
+    def to_attrs(self) -> str:
+        """The model as a result stores it (its JSON, :meth:`to_json`); :meth:`from_attrs` is the inverse."""
+        return self.to_json()
+
+    @classmethod
+    def from_attrs(cls, text: str) -> GearModel:
+        """The model of :meth:`to_attrs` text.
+
+        Examples
+        --------
+        >>> m = GearModel(omega=0.8, kappa=(0.2, 0.05))
+        >>> GearModel.from_attrs(m.to_attrs()) == m
+        True
+        """
+        return cls.from_dict(json.loads(text))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> GearModel:
@@ -447,25 +519,6 @@ class GearModel:
 
 #: The paper's Table 1 non-dimensional values (ω not given there).
 PAPER_DEFAULTS = GearModel()
-
-
-def steps_per_period(omega: float | np.ndarray, dtau: float) -> np.ndarray:
-    """Number of RK4 steps per forcing period, N = ceil(T/Δτ) with T = 2π/ω, so h = T/N <= Δτ.
-
-    Parameters
-    ----------
-    omega : float or ndarray
-        Mesh frequencies ω.
-    dtau : float
-        Target step Δτ.
-
-    Returns
-    -------
-    ndarray of int64
-        N per frequency (0-d for a scalar ω).
-    """
-    T = 2.0 * np.pi / np.asarray(omega, dtype=float)
-    return np.ceil(T / dtau).astype(np.int64)
 
 
 @dataclass(frozen=True)
@@ -500,6 +553,14 @@ class IntegrationOptions:
         Tolerance of the adaptive transient: the estimated distance of a Poincaré point to its
         cycle (the Aitken estimate d²/(e − d) of two successive n-period differences e, d), relative
         to max(1, |u|, |u'|).
+
+    Examples
+    --------
+    >>> from geardyn import IntegrationOptions
+    >>> IntegrationOptions(transient=100, periods=50)
+    IntegrationOptions(dtau=0.01, transient=100, periods=50, accurate=False, adaptive=False)
+    >>> IntegrationOptions(periods=50).replace(accurate=True).accurate
+    True
     """
 
     #: Tolerance of the adaptive transient (estimated distance to the cycle, relative to max(1, |point|)).
@@ -542,159 +603,3 @@ class IntegrationOptions:
         d = asdict(self)
         d.update(changes)
         return IntegrationOptions(**d)
-
-
-def pack_models(models: Iterable[GearModel]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Pack models into kernel arrays.
-
-    Parameters
-    ----------
-    models : iterable of GearModel
-        The points of a batch.
-
-    Returns
-    -------
-    coef : ndarray (P, 3, H+1, 2)
-        As in :meth:`GearModel.coefficients`, H the largest harmonic count (zero-padded).
-    D : ndarray (P,)
-        Half backlashes.
-    omega : ndarray (P,)
-        Forcing frequencies ω/P (:attr:`GearModel.forcing_omega`; the mesh frequencies when P = 1).
-    table : (ndarray (P, M, 7), ndarray (P,)), only when a model is evaluated as a table
-        Its :func:`geardyn.meshtable.kernel_table` rows (zero-padded) and node counts (0: series); the
-        stiffness and STE series of such a model are left out of ``coef`` (K = 0, F = f_p).
-
-    Raises
-    ------
-    ModelError
-        For no model.
-    """
-    models = list(models)
-    if not models:
-        raise ModelError("empty parameter grid: no model to integrate")
-    H = max(m.n_harmonics for m in models)
-    coef = np.stack([m.coefficients(H) for m in models])
-    D = np.array([m.D for m in models])
-    omega = np.array([m.forcing_omega for m in models])
-    if all(m.evaluation == "series" for m in models):
-        return np.ascontiguousarray(coef), D, omega
-    rows = [kernel_table(m.table, m.cycles) if m.table else np.zeros((0, 7)) for m in models]
-    tab = np.zeros((len(models), max(r.shape[0] for r in rows), 7))
-    for i, r in enumerate(rows):
-        tab[i, : r.shape[0]] = r
-        if r.shape[0]:
-            coef[i, 1] = 0.0
-            coef[i, 2, 1:] = 0.0
-    return np.ascontiguousarray(coef), D, omega, (tab, np.array([max(r.shape[0] - 1, 0) for r in rows]))
-
-
-def _per_value(fn, x: np.ndarray) -> np.ndarray:
-    """``fn`` (a ``math`` function) of every entry of ``x``, evaluated once per distinct value.
-
-    The kernel arrays must hold the bits :meth:`GearModel.coefficients` computes with ``math``
-    (libm), which NumPy's vectorised ``cos``/``sin`` do not promise; a swept column holds few
-    distinct values.  A signed zero keeps its sign (``np.unique`` merges -0.0 and 0.0).
-    """
-    u, inv = np.unique(x, return_inverse=True)
-    out = np.array([fn(float(v)) for v in u], dtype=float)[inv.ravel()]
-    return np.where(x == 0.0, fn(0.0) if fn is not math.sin else x, out)
-
-
-def _square(w: float) -> float:
-    """ω² as :meth:`GearModel.coefficients` computes it (``w**2``), infinite where it overflows."""
-    try:
-        return w**2
-    except OverflowError:
-        return math.inf
-
-
-def pack_points(base: GearModel, names: Sequence[str], points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Kernel arrays of parameter points without a :class:`GearModel` per point.
-
-    Bit for bit ``pack_models(build_models(base, names, points))`` (:func:`geardyn.grid.build_models`):
-    ``base`` with ``names[j]`` set to ``points[i, j]`` in that order, validated as the model
-    validates (a refused point raises the model's own error, for the first such point).
-
-    Parameters
-    ----------
-    base : GearModel
-        The model every point starts from.
-    names : sequence of str
-        Parameter names (any alias), one per column of ``points``.
-    points : ndarray (P, len(names))
-        The parameter values of each point.
-
-    Returns
-    -------
-    coef, D, omega : ndarray
-        As :func:`pack_models` (``omega`` the forcing frequencies ω/P of a multi-cycle ``base``).
-
-    Raises
-    ------
-    ModelError
-        For no point, or a point the model refuses (ω <= 0, D < 0, Σ|κ_r| >= 1, a non-finite value).
-    """
-    if base.evaluation != "series":
-        raise ModelError(
-            'evaluation "table": a parameter grid evaluates series models only; the table is '
-            "evaluated as given by simulate, orbit and lyapunov with --accurate"
-        )
-    names = list(names)
-    pts = np.asarray(points, dtype=float).reshape(-1, len(names))
-    P = pts.shape[0]
-    if P == 0:
-        raise ModelError("empty parameter grid: no model to integrate")
-    proto = base  # the first point's model: validates it and fixes which harmonics exist (the same for all)
-    for p, v in zip(names, pts[0]):
-        proto = proto.with_param(p, float(v))
-    H = proto.n_harmonics
-    # the fields of every point, in the structure of the first (series zero-padded as with_param pads them)
-    val = {k: np.full(P, float(getattr(base, k))) for k in ("omega", "xi0", "fp", "D")}
-    for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
-        row = np.zeros(len(getattr(proto, k)))
-        row[: len(getattr(base, k))] = getattr(base, k)
-        val[k] = np.tile(row, (P, 1)).reshape(P, row.size)
-    ok = np.ones(P, dtype=bool)
-    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-        for j, p in enumerate(names):  # validated after every assignment, as each with_param validates its model
-            attr, idx = slot(p)
-            if idx is None:
-                val[attr][:] = pts[:, j]
-            else:
-                val[attr][:, idx] = pts[:, j]
-            ok &= np.isfinite(pts[:, j]) & (val["omega"] > 0) & np.isfinite(2.0 * math.pi / val["omega"])
-            ok &= ~(val["D"] < 0)
-            ksum = np.zeros(P)
-            for r in range(val["kappa"].shape[1]):
-                ksum = ksum + np.abs(val["kappa"][:, r])
-            if base.cycles > 1 and np.any(ksum >= MAX_KAPPA_SUM):  # the model's certified minimum, per distinct row
-                rows = np.hstack([val["kappa"], val["phi_k"]])
-                uniq, inv = np.unique(rows, axis=0, return_inverse=True)
-                H0 = val["kappa"].shape[1]
-                cert = np.array([stiffness_minimum(r[:H0], r[H0:]) > 0.0 for r in uniq])[inv.ravel()]
-                ok &= (ksum < MAX_KAPPA_SUM) | cert
-            else:
-                ok &= ksum < MAX_KAPPA_SUM
-    if not np.all(ok):
-        bad = int(np.argmin(ok))
-        m = base
-        for p, v in zip(names, pts[bad]):
-            m = m.with_param(p, float(v))  # raises the model's own error
-        raise ModelError(f"point {bad}: refused by the model")  # pragma: no cover - the checks above are the model's
-    coef = np.zeros((P, 3, H + 1, 2))
-    if base.cycles != 1:  # the series are harmonics of the forcing frequency ω/P
-        val["omega"] = val["omega"] / base.cycles
-    w2 = _per_value(_square, val["omega"])
-    with np.errstate(over="ignore", invalid="ignore"):  # a value so large that it overflows: the point diverges
-        coef[:, 0, 0, 0] = 2.0 * val["xi0"]
-        coef[:, 1, 0, 0] = 1.0
-        coef[:, 2, 0, 0] = val["fp"]
-        for i, amp, ph in ((0, "xi", "phi_c"), (1, "kappa", "phi_k"), (2, "eps", "phi_e")):
-            for j0 in range(val[amp].shape[1]):
-                j = j0 + 1
-                scale = 2.0 if i == 0 else (1.0 if i == 1 else w2 * j * j)
-                a = val[amp][:, j0]
-                phase = val[ph][:, j0]
-                coef[:, i, j, 0] = scale * a * _per_value(math.cos, phase)
-                coef[:, i, j, 1] = -scale * a * _per_value(math.sin, phase)
-    return np.ascontiguousarray(coef), val["D"].copy(), val["omega"].copy()

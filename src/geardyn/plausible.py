@@ -5,8 +5,9 @@ of 50 m, a transmission error of 1e300 m.  Each rule below is a function that re
 or raises the package's typed error (:class:`~geardyn.errors.ModelError` for a model input,
 :class:`~geardyn.errors.ConfigError` for a file) with one line naming the key, the value and the bound.
 The pair's geometry (:class:`~geardyn.geometry.SpiralBevelGearPair`, also behind a system's bevel mesh),
-excitation tables (:class:`~geardyn.tooth.excitation.Excitation`, every file format), result files read
-back (:func:`result_variables`) and the run budgets (:func:`budget`) call them.
+excitation tables (:class:`~geardyn.tooth.excitation.Excitation`, every file format) and the run budgets
+(:func:`budget`) call them; result files read back are checked beside the variable registry
+(:func:`geardyn.io.result_variables`).
 
 The bounds are those of gears that are made, not of the formulas: ``docs/engineering.md`` lists them with
 their reasons.  What is unusual but possible (an undercut pinion) is a note, not a refusal
@@ -38,7 +39,6 @@ __all__ = [
     "pair_geometry",
     "excitation_table",
     "file_size",
-    "result_variables",
     "undercut_note",
 ]
 
@@ -278,90 +278,3 @@ def budget(what: str, estimate: float, limit: float, unit: str = "bytes", key: s
     )
 
 
-#: Dimensions of the variables a figure draws, by result kind (a variable of another shape is refused).
-RESULT_DIMS: dict[str, dict[str, tuple[str, ...]]] = {
-    "simulate": {
-        "u": ("tau",),
-        "v": ("tau",),
-        "tau": ("tau",),
-        "poincare_u": ("section",),
-        "poincare_v": ("section",),
-        "spectrum": ("order",),
-        "order": ("order",),
-    },
-}
-#: Variables that must share their dimensions in every kind (a point's u beside its v).
-SAME_DIMS = (("u", "v"), ("poincare_u", "poincare_v"))
-#: Variables of a result that hold numbers whatever its kind (those the figures draw and the summaries read).
-NUMERIC_VARIABLES = (
-    "u",
-    "v",
-    "tau",
-    "poincare_u",
-    "poincare_v",
-    "spectrum",
-    "order",
-    "section",
-    "amplitude",
-    "rms",
-    "mean",
-    "u_min",
-    "u_max",
-    "amplitude_up",
-    "amplitude_down",
-    "lle",
-    "lle_err",
-    "period",
-    "motion",
-    "impact",
-    "status",
-    "omega",
-    "fp",
-    "D",
-    "delta",
-    "delta_rate",
-    "mesh_force",
-    "mesh_force_N",
-    "poincare",
-    "end_u",
-    "end_v",
-    "exponents",
-)
-
-
-def result_variables(ds: Any, where: str = "", error: type[Exception] = ConfigError) -> None:
-    """The variables of a result read back have a numeric type (:data:`NUMERIC_VARIABLES`) and the dimensions
-    they are drawn on (:data:`RESULT_DIMS`, :data:`SAME_DIMS`).
-
-    A NetCDF file edited by hand (a variable turned to text, an array of another shape) is refused before
-    anything is drawn or computed from it.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        The result.
-    where : str
-        The file, named in the message (none by default).
-    error : type
-        The error raised.
-
-    Raises
-    ------
-    ConfigError
-        ``<file>: variable <name> ...`` naming what was expected.
-    """
-    where = f"{where}: " if where else ""
-    kind = ds.attrs.get("geardyn_kind") if hasattr(ds, "attrs") else None
-    for name in NUMERIC_VARIABLES:
-        if name not in ds.variables:
-            continue
-        var = ds.variables[name]
-        if getattr(var.dtype, "kind", "O") not in "biuf":
-            raise error(f"{where}variable {name!r} holds {var.dtype} values; a geardyn result stores numbers there")
-    expected = RESULT_DIMS.get(str(kind), {})
-    for name, dims in expected.items():
-        if name in ds.variables and tuple(ds[name].dims) != dims:
-            raise error(f"{where}variable {name!r} has dimensions {tuple(ds[name].dims)}, expected {dims}")
-    for a, b in SAME_DIMS:
-        if a in ds.variables and b in ds.variables and ds[a].shape != ds[b].shape:
-            raise error(f"{where}variables {a!r} {tuple(ds[a].dims)} and {b!r} {tuple(ds[b].dims)} must have one shape")

@@ -1,10 +1,11 @@
 """The system contract every analysis is written against.
 
 A *system* is a frozen description of a periodically forced, piecewise-smooth ODE ``x' = F(θ, x)`` with
-``θ = ω τ``, whose non-smooth elements are dead zones ``δ ↦ δ − clamp(δ, −D, D)`` of linear functions δ of
-the state.  The analyses (integration, steady responses, Poincaré sections, Lyapunov spectra, the period map
-and everything on it, sweeps) use only what this protocol gives, never the fields of one model, and reach
-the kernels only through :mod:`geardyn.integrate`, which hands a batch to the system's :attr:`backend`.
+``θ = ω τ``, whose non-smooth elements are linear functions δ = V x of the state acted on by an element
+*law* (:class:`Law`; the dead zone ``δ ↦ δ − clamp(δ, −D, D)`` of half gap D is the default).  The analyses
+(integration, steady responses, Poincaré sections, Lyapunov spectra, the period map and everything on it,
+sweeps) use only what this protocol gives, never the fields of one model, and reach the kernels only through
+:mod:`geardyn.integrate`, which hands a :class:`Batch` to the system's :attr:`backend`.
 
 Implementations: :class:`~geardyn.model.GearModel` (the 1-DOF mesh, state (u, u'), one element, no
 rigid-body mode; backend :data:`geardyn.backend.PAIR`) and :class:`~geardyn.systems.SystemModel`
@@ -26,7 +27,7 @@ sampling_period : float
 period_multiple()
     p, or None when the forcing is quasi-periodic (the periodic tools then refuse).
 elements, reference
-    The non-smooth elements (:class:`Element`: name, half gap, kind) and the index of the reference
+    The non-smooth elements (:class:`Element`: name, gap, kind, law) and the index of the reference
     element, whose deflection is the 1-DOF model's u.
 element_series(x, tau)
     δ and δ' of every element for states x at times τ, shape (..., elements, 2).
@@ -36,7 +37,8 @@ rigid_basis()
 initial_state(u0, v0)
     The state at θ = 0 with the reference element at (u0, v0) (and every other mesh at rest).
 mean_trace()
-    The mean over a forcing period of the trace of ∂F/∂x (the sum of the Lyapunov exponents).
+    The mean over a forcing period of the trace of ∂F/∂x (the sum of the Lyapunov exponents; negative:
+    the period map contracts every volume).
 report(res, point, tau, deltas, extrema)
     What the kind adds to an analysis summary beyond the reference element's keys (nothing for the pair;
     per-mesh DTE, forces and dynamic factors for a mesh-vector system).
@@ -44,45 +46,186 @@ get(name), with_param(name, value), parameters()
     Parameters by their canonical names.
 contact_boundaries()
     The switching surfaces of the non-smooth elements (:class:`~geardyn.model.Boundary`).
+to_attrs(), from_attrs(attrs)
+    The system as JSON text for a result's attributes, and back: ``from_attrs(to_attrs())`` is the same
+    system (:func:`geardyn.io.model_from_attrs` picks the class by :attr:`backend`'s name).
 pack(systems)
     The kernel arrays of a batch of systems of one kind.
 backend
-    The :class:`geardyn.backend.Backend` that integrates a packed batch.
+    The :class:`geardyn.backend.Backend` that integrates a batch: it packs it, supplies the
+    :class:`Batch` of a list of systems or of a grid's parameter points (:meth:`Backend.points`), and
+    runs its kernel.
+
+Element laws
+------------
+An element's law (:class:`Law`) maps its deflection δ to the force it transmits.  A law is a small frozen
+value: an integer :attr:`~Law.code` (the branch a kernel takes; kernels receive it in their packed arrays)
+and its parameters (:meth:`~Law.params`), and it provides, in plain NumPy for references and tools:
+
+``force(delta)``, ``stiffness(delta)``
+    The restoring function f(δ) (unit stiffness; the element's own stiffness multiplies it) and df/dδ.
+``surfaces()``
+    The deflections where the law switches branch (event surfaces of the accurate mode and of grazing in
+    continuation): (−D, D) for the dead zone.
+``counters``, ``counter(delta)``
+    The names of the law's per-sample counters in a run's statistics (at most :data:`LAW_COUNTERS`) and the
+    counter one sample of δ counts in: for the dead zone ``drive`` (δ > D), ``separation``, ``back``
+    (δ < −D).  A kernel's statistics hold, per element, the deflection's extremes, sums and the rate's
+    extremes (law independent), then the law's counters, then the sample count
+    (:data:`geardyn.backend.S_LAW`); :meth:`geardyn.integrate.BatchResult.law_fractions` turns the counters
+    into time fractions named by the law.
+
+A new law is a subclass with a new ``code`` (a rolling-element bearing, force
+K·Σ_j max(δ_j − c, 0)^n over its rolling elements: parameters (K, c, n, element angles), counters such as
+``loaded``/``unloaded``), one kernel branch per backend, and nothing in the analyses.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+import abc
+import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["System", "Element", "state_names", "element_names"]
+__all__ = [
+    "System",
+    "Element",
+    "Law",
+    "DeadZone",
+    "LAW_COUNTERS",
+    "Batch",
+    "ModelList",
+    "as_batch",
+    "build_models",
+    "state_names",
+    "element_names",
+]
+
+#: The most counters a law keeps in a run's statistics (the slots the kernels reserve per element).
+LAW_COUNTERS = 3
+
+
+class Law(abc.ABC):
+    """The law of a non-smooth element: the force it transmits as a function of its deflection δ.
+
+    See the module docstring.  Subclasses are frozen dataclasses with a class-level :attr:`code`,
+    :attr:`name` and :attr:`counters`.
+    """
+
+    #: The kernel branch of the law (an integer in the packed arrays).
+    code: ClassVar[int]
+    #: The law's name, as results and messages give it.
+    name: ClassVar[str]
+    #: Names of its per-sample counters in a run's statistics (at most :data:`LAW_COUNTERS`).
+    counters: ClassVar[tuple[str, ...]]
+
+    @abc.abstractmethod
+    def params(self) -> tuple[float, ...]:
+        """The law's parameters, in the order its kernel branch reads them."""
+
+    @abc.abstractmethod
+    def force(self, delta: np.ndarray | float) -> np.ndarray:
+        """The restoring function f(δ) (unit stiffness)."""
+
+    @abc.abstractmethod
+    def stiffness(self, delta: np.ndarray | float) -> np.ndarray:
+        """df/dδ (away from the switching surfaces)."""
+
+    @abc.abstractmethod
+    def surfaces(self) -> tuple[float, ...]:
+        """The deflections where the law switches branch."""
+
+    @abc.abstractmethod
+    def counter(self, delta: np.ndarray | float) -> np.ndarray:
+        """The index into :attr:`counters` a sample of δ counts in."""
+
+
+@dataclass(frozen=True)
+class DeadZone(Law):
+    """The dead zone (backlash, clearance) of half gap D: f(δ) = δ − clamp(δ, −D, D).
+
+    Examples
+    --------
+    >>> law = DeadZone(1.0)
+    >>> law.force([-2.0, 0.5, 3.0]).tolist()
+    [-1.0, 0.0, 2.0]
+    >>> law.counters, law.counter([2.0, 0.0, -2.0]).tolist()
+    (('drive', 'separation', 'back'), [0, 1, 2])
+    """
+
+    gap: float
+
+    code: ClassVar[int] = 0
+    name: ClassVar[str] = "dead_zone"
+    counters: ClassVar[tuple[str, ...]] = ("drive", "separation", "back")
+
+    def params(self) -> tuple[float, ...]:
+        return (float(self.gap),)
+
+    def force(self, delta: np.ndarray | float) -> np.ndarray:
+        d = np.asarray(delta, dtype=float)
+        return d - np.clip(d, -self.gap, self.gap)
+
+    def stiffness(self, delta: np.ndarray | float) -> np.ndarray:
+        return (np.abs(np.asarray(delta, dtype=float)) > self.gap).astype(float)
+
+    def surfaces(self) -> tuple[float, ...]:
+        return (-float(self.gap), float(self.gap))
+
+    def counter(self, delta: np.ndarray | float) -> np.ndarray:
+        d = np.asarray(delta, dtype=float)
+        return np.where(d > self.gap, 0, np.where(d < -self.gap, 2, 1))
 
 
 @dataclass(frozen=True)
 class Element:
-    """A non-smooth element of a system: a dead zone of half gap ``gap`` in the deflection δ.
+    """A non-smooth element of a system: its deflection δ acted on by a :class:`Law`.
 
     Attributes
     ----------
     name : str
         Its name (``mesh`` for the pair; the mesh or clearance name of a system).
     gap : float
-        Half gap D (contact boundaries at δ = ±D, non-dimensional).
+        Half gap D: the deflection where contact begins (non-dimensional); the impact states of the
+        analyses compare the deflection's extremes with it.
     kind : str
         ``"mesh"`` or ``"clearance"``.
+    law : Law
+        The element's law; default the dead zone of half gap ``gap``.
+
+    Examples
+    --------
+    >>> Element("mesh", 1.0).law
+    DeadZone(gap=1.0)
     """
 
     name: str
     gap: float
     kind: str = "mesh"
+    law: Law | None = None
+
+    def __post_init__(self) -> None:
+        if self.law is None:
+            object.__setattr__(self, "law", DeadZone(float(self.gap)))
 
 
 @runtime_checkable
 class System(Protocol):
-    """What an analysis may ask of a model (see the module docstring)."""
+    """What an analysis may ask of a model (see the module docstring).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, System, load_system
+    >>> pair = GearModel(omega=0.8)
+    >>> isinstance(pair, System), pair.state_dim, [e.name for e in pair.elements]
+    (True, 2, ['mesh'])
+    >>> system = load_system("examples/systems/paper_torsional.toml")
+    >>> isinstance(system, System), system.state_dim, system.rigid_basis().shape
+    (True, 4, (2, 1))
+    """
 
     state_dim: int
 
@@ -123,6 +266,8 @@ class System(Protocol):
 
     def contact_boundaries(self) -> tuple[Any, ...]: ...
 
+    def to_attrs(self) -> str: ...
+
     @staticmethod
     def pack(systems: Iterable[Any]) -> Any: ...
 
@@ -130,8 +275,178 @@ class System(Protocol):
     def backend(self) -> Any: ...
 
 
+def build_models(base: Any, names: Sequence[str], points: np.ndarray) -> list[Any]:
+    """The systems of parameter points: ``base`` with ``names[j]`` set to ``points[i, j]`` in that order.
+
+    Parameters
+    ----------
+    base : System
+        The system every point starts from.
+    names : sequence of str
+        Parameter names, one per column of ``points``.
+    points : ndarray (P, len(names))
+        The parameter values of each point.
+
+    Returns
+    -------
+    list of System
+
+    Examples
+    --------
+    >>> from geardyn.model import GearModel
+    >>> [m.omega for m in build_models(GearModel(), ["omega"], [[0.5], [0.75]])]
+    [0.5, 0.75]
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, len(names))
+    out = []
+    for row in pts:
+        m = base
+        for p, v in zip(names, row):
+            m = m.with_param(p, float(v))
+        out.append(m)
+    return out
+
+
+class Batch(Sequence):
+    """The points of one kind of system integrated together, as the system's backend supplies them.
+
+    A sequence of systems (an integer index gives one system, a slice or an index array the
+    :class:`Batch` of those points) that also answers what the analyses ask of a whole batch, so that
+    none of them asks which kind it holds: its kernel arrays (:meth:`packed`), sampling periods, the gaps
+    of its elements, the reference element's section and the steps per period.  Two implementations:
+    :class:`ModelList` (any list of systems) and the pair's points packed straight from a grid
+    (:class:`geardyn.pairpack.PointModels`); a backend supplies them (:meth:`geardyn.backend.Backend.points`,
+    :func:`as_batch`).
+    """
+
+    @property
+    @abc.abstractmethod
+    def backend(self) -> Any:
+        """The backend that integrates the batch."""
+
+    @property
+    @abc.abstractmethod
+    def state_dim(self) -> int:
+        """The state dimension d of its points."""
+
+    @abc.abstractmethod
+    def packed(self) -> Any:
+        """The kernel arrays of the batch (bit for bit ``backend.pack`` of its systems)."""
+
+    @abc.abstractmethod
+    def sampling_periods(self) -> np.ndarray:
+        """The sampling period T_f of every point (P,)."""
+
+    @abc.abstractmethod
+    def natural_steps(self, dtau: float) -> np.ndarray:
+        """RK4 steps per sampling period N = ceil(T_f/Δτ) of every point (int64, (P,))."""
+
+    @abc.abstractmethod
+    def check_step(self, options: Any) -> None:
+        """Refuse a step Δτ that is not smaller than a point's sampling period (:class:`~geardyn.errors.ModelError`)."""
+
+    @abc.abstractmethod
+    def element_gaps(self) -> np.ndarray:
+        """The gap of every element of every point (P, elements)."""
+
+    @property
+    def reference(self) -> int:
+        """The index of the reference element (the same for every point of a batch)."""
+        return int(self[0].reference)
+
+    def reference_gaps(self) -> np.ndarray:
+        """The reference element's gap of every point (P,)."""
+        return self.element_gaps()[:, self.reference]
+
+    def mean_traces(self) -> np.ndarray:
+        """The mean trace of the Jacobian of every point (P,): the sum of its Lyapunov exponents."""
+        return np.array([float(self[i].mean_trace()) for i in range(len(self))])
+
+    def reference_section(self, poincare: np.ndarray) -> np.ndarray:
+        """The reference element's (δ, δ') at Poincaré points (P, n, d) of the batch: (P, n, 2)."""
+        out = np.empty(poincare.shape[:2] + (2,))
+        for i in range(len(self)):
+            m = self[i]
+            out[i] = m.element_series(poincare[i], 0.0)[:, m.reference, :]
+        return out
+
+
+class ModelList(Batch):
+    """A :class:`Batch` of systems given one by one (any kind; all of one kind and structure).
+
+    Parameters
+    ----------
+    models : iterable of System
+        The points.
+
+    Examples
+    --------
+    >>> from geardyn.model import GearModel
+    >>> b = ModelList([GearModel(omega=0.5), GearModel(omega=1.0)])
+    >>> len(b), b.reference_gaps().tolist()
+    (2, [1.0, 1.0])
+    """
+
+    def __init__(self, models: Iterable[Any]) -> None:
+        self.models = list(models)
+        self._packed: Any = None
+
+    def __len__(self) -> int:
+        return len(self.models)
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, (int, np.integer)):
+            return self.models[int(i)]
+        if isinstance(i, slice):
+            return ModelList(self.models[i])
+        return ModelList([self.models[int(k)] for k in np.arange(len(self.models))[i]])
+
+    def __repr__(self) -> str:
+        return f"ModelList({len(self)} systems)"
+
+    @property
+    def backend(self) -> Any:
+        return self.models[0].backend
+
+    @property
+    def state_dim(self) -> int:
+        return int(self.models[0].state_dim)
+
+    def packed(self) -> Any:
+        if self._packed is None:
+            self._packed = self.backend.pack(self.models)
+        return self._packed
+
+    def sampling_periods(self) -> np.ndarray:
+        return np.array([m.sampling_period for m in self.models], dtype=float)
+
+    def natural_steps(self, dtau: float) -> np.ndarray:
+        return self.backend.natural_steps(self.models, self.packed(), dtau)
+
+    def check_step(self, options: Any) -> None:
+        for m in self.models:
+            T = m.sampling_period
+            options.check_for(m.omega if T == m.period else 2.0 * math.pi / T)
+
+    def element_gaps(self) -> np.ndarray:
+        return np.array([[e.gap for e in m.elements] for m in self.models], dtype=float).reshape(len(self), -1)
+
+
+def as_batch(models: Iterable[Any]) -> Batch:
+    """``models`` as a :class:`Batch`: itself if it is one, else a :class:`ModelList` of its systems.
+
+    Examples
+    --------
+    >>> from geardyn.model import GearModel
+    >>> as_batch([GearModel()])
+    ModelList(1 systems)
+    """
+    return models if isinstance(models, Batch) else ModelList(models)
+
+
 def state_names(model: Any, d: int) -> list[str]:
-    """Names of the d state coordinates of a system (its DOF labels, then their rates), else their indices.
+    """Names of the d state coordinates of a system (its ``state_labels``, else its DOF labels then their rates),
+    else their indices.
 
     Parameters
     ----------
@@ -148,8 +463,11 @@ def state_names(model: Any, d: int) -> list[str]:
     --------
     >>> from geardyn.model import GearModel
     >>> state_names(GearModel(), 2)
-    ['0', '1']
+    ['u', "u'"]
     """
+    names = list(getattr(model, "state_labels", ()) or ())
+    if len(names) == d:
+        return names
     labels = list(getattr(model, "labels", ()) or ())
     if 2 * len(labels) == d:
         return labels + [f"{lab}'" for lab in labels]

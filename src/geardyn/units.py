@@ -24,12 +24,11 @@ from typing import Any
 
 from .geometry.inputs import _finite
 from .geometry.scales import SCALES_ATTR, PhysicalScales
-from .model import GearModel, ModelError
+from .model import ModelError
 
 __all__ = [
     "PhysicalScales",
     "SCALES_ATTR",
-    "apply_operating_point",
     "configured_pair",
     "omega_range",
     "operating_overrides",
@@ -159,31 +158,6 @@ def operating_overrides(
             raise ModelError("torque: give the load either as --torque (pinion torque) or as --fp, not both")
         out["fp"] = float(scales.fp_from_torque(_finite("torque", torque, "N*m", of_unit=True)))
     return out
-
-
-def apply_operating_point(
-    model: GearModel, scales: PhysicalScales, *, rpm: float | None = None, torque: float | None = None
-) -> GearModel:
-    """``model`` with ω from the pinion speed ``rpm`` and f_p from the pinion torque ``torque``.
-
-    Parameters
-    ----------
-    model : GearModel
-        The model to change.
-    scales : PhysicalScales
-        The gear pair's scales.
-    rpm : float, optional
-        Pinion speed (rpm, > 0).
-    torque : float, optional
-        Pinion torque T1 (N·m, balanced).
-
-    Returns
-    -------
-    GearModel
-        ``model`` itself when neither is given.
-    """
-    ch = operating_overrides(scales, rpm=rpm, torque=torque)
-    return model.replace(**ch) if ch else model
 
 
 def omega_range(scales: PhysicalScales, rpm_start: float, rpm_stop: float) -> tuple[float, float]:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import numbers
 import re
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -34,22 +34,21 @@ from .model import (
     _check_finite,
     canonical_param,
 )
-from .params import FAMILIES, slot
 
 __all__ = [
     "MAX_GRID_POINTS",
+    "MAX_PERIOD_CONTRACTION",
     "MAX_PERIODS",
     "MAX_STEPS_PER_PERIOD",
     "axis",
     "chunk_points",
     "config_file",
     "dpi",
+    "exponents_computable",
     "figure_formats",
     "grid",
     "initial_state",
     "integer",
-    "model",
-    "nonnegative",
     "number",
     "options",
     "positive",
@@ -131,25 +130,6 @@ def positive(name: str, value: Any, what: str = "") -> float:
     return x
 
 
-def nonnegative(name: str, value: Any, what: str = "") -> float:
-    """A finite number >= 0.
-
-    Parameters
-    ----------
-    name, value, what
-        As for :func:`positive` (``what`` is appended to "must be >= 0").
-
-    Returns
-    -------
-    float
-        The number; a negative or non-finite value raises :class:`ModelError`.
-    """
-    x = number(name, value)
-    if x < 0:
-        raise ModelError(f"{name}: must be >= 0{what}, got {_describe(value)}")
-    return x
-
-
 def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
     """An integer in [lo, hi] (an integral float such as 3.0 is accepted).
 
@@ -190,73 +170,6 @@ def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
         allowed = f">= {lo}" if hi is None else f">= {lo} and <= {hi}"
         raise ModelError(f"{name}: must be an integer {allowed}, got {_describe(value)}")
     return n
-
-
-def model(base: GearModel | None = None, **params: Any) -> GearModel:
-    """``base`` (default: the paper's model) with parameters set by name, validated once at the end.
-
-    Parameters
-    ----------
-    base : GearModel, optional
-        The model to start from.
-    **params
-        Values by sweep name (``omega``, ``xi0``, ``xi1``, ``kappa2``, ``fp``, ``eps1`` or ``fe``,
-        ``D`` or ``backlash``, ``phi_c1``, …), all non-dimensional; a phase for a harmonic not
-        yet present adds that harmonic with amplitude 0.
-
-    Returns
-    -------
-    GearModel
-        The new model (``base`` is unchanged).
-
-    Raises
-    ------
-    ModelError
-        For an unknown parameter name, a value that is not a finite number or a model the
-        parameters make invalid.
-    """
-    m = base if base is not None else GearModel()
-    if not isinstance(m, GearModel):
-        raise ModelError(f"base: expected a GearModel, got {_describe(m)}")
-    d: dict[str, Any] = {k: (list(v) if isinstance(v, list) else v) for k, v in m.to_dict().items()}
-    for name, value in params.items():
-        attr, idx = slot(str(name))  # refuses an unknown name before its value is looked at
-        x = number(str(name), value)
-        if idx is None:
-            d[attr] = x
-            continue
-        seq = d[attr]
-        seq.extend([0.0] * (idx + 1 - len(seq)))
-        seq[idx] = x
-        amp = FAMILIES[attr].amplitude
-        if amp is not None and len(d[amp]) < len(seq):
-            d[amp].extend([0.0] * (len(seq) - len(d[amp])))
-    return GearModel(**{k: tuple(v) if isinstance(v, list) else v for k, v in d.items()})
-
-
-def model_params(values: Mapping[str, Any], base: GearModel | None = None) -> GearModel:
-    """:func:`model` from a mapping (e.g. a table of a configuration file).
-
-    Parameters
-    ----------
-    values : mapping
-        Parameter values by name.
-    base : GearModel, optional
-        The model to start from (default: the paper's model).
-
-    Returns
-    -------
-    GearModel
-        ``base`` with the values set.
-
-    Raises
-    ------
-    ModelError
-        For a value that is not a mapping, or as :func:`model`.
-    """
-    if not isinstance(values, Mapping):
-        raise ModelError(f"model parameters: expected a table of name = value, got {_describe(values)}")
-    return model(base, **{str(k): v for k, v in values.items()})
 
 
 def options(
@@ -596,3 +509,38 @@ def config_file(path: Any) -> Path:
     if not p.is_file():
         raise ModelError(f"{p}: configuration file not found")
     return p
+
+
+#: Largest contraction (as a power of e) of the perturbations over one forcing period for which
+#: Lyapunov exponents are computed: e^-700 is still a normal double (the smallest is e^-708).
+MAX_PERIOD_CONTRACTION = 700.0
+
+
+def exponents_computable(model: Any, omegas: Any) -> None:
+    """Refuse Lyapunov exponents where the damping contracts the perturbations below double precision within one
+    forcing period (e^(-2 ξ0 T) < e^-:data:`MAX_PERIOD_CONTRACTION`, T = 2π/ω): their Gram–Schmidt
+    normalisation would divide by zero.
+
+    Parameters
+    ----------
+    model : System
+        The system (its mean damping is −mean trace / state dimension: the pair's ξ0).
+    omegas : sequence of float
+        Every forcing frequency the exponents are computed at.
+
+    Raises
+    ------
+    ModelError
+        Naming ω and the smallest ω allowed.
+    """
+    xi = -float(model.mean_trace()) / model.state_dim  # the mean damping (the pair's ξ0): harmonics average out
+    ws = np.asarray(omegas, dtype=float).ravel()
+    if xi <= 0 or not ws.size:
+        return
+    w_min = 4.0 * math.pi * xi / MAX_PERIOD_CONTRACTION
+    w = float(np.min(ws))
+    if w < w_min:
+        raise ModelError(
+            f"omega: Lyapunov exponents need ω >= {w_min:.4g} with this damping (ξ0 = {xi:g}): at ω = {w:.4g} the "
+            f"perturbations shrink by e^-{4 * math.pi * xi / w:.0f} in one forcing period, below double precision"
+        )

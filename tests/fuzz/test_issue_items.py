@@ -19,7 +19,8 @@ import xarray as xr
 from fuzz_helpers import EXAMPLES, check_contract, child_env, run, run_child, strict_json
 
 from geardyn.model import GearModel, IntegrationOptions
-from geardyn.sweep import Chunk, chunked, grid_models, run_chunks
+from geardyn.sweep import Chunk, chunked, run_chunks
+from geardyn.system import build_models
 
 FAST = IntegrationOptions(transient=20, periods=8)
 SIM = ["simulate", "--transient", "3", "--periods", "4"]
@@ -66,7 +67,7 @@ def _chunk(models, options):
 
 
 def _chunks(values):
-    models = grid_models(GearModel(), ["omega"], [values])
+    models = build_models(GearModel(), ["omega"], np.asarray(values, float)[:, None])
     return [Chunk(i, _chunk, (models[s], FAST)) for i, s in enumerate(chunked(len(models), 2))]
 
 

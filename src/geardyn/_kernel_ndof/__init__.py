@@ -49,6 +49,7 @@ from .core import (
     TAN_MONODROMY,
     TAN_NONE,
 )
+from .simd import LANE_BLOCK
 from .step import CROSSING_TOL, HERMITE_SAMPLES, MAX_SPLITS
 from .worker import ndof_worker
 
@@ -80,7 +81,7 @@ __all__ = [
     "THREAD_MIN_WORK",
 ]
 
-#: Batches with less work than this (RK4 steps × DOFs²) run on the calling thread only.
+#: Batches with less work than this (RK4 steps × the plain step's multiply-adds) run on the calling thread only.
 THREAD_MIN_WORK = 2_000_000
 
 
@@ -94,6 +95,122 @@ def derived(arrays):
     g = c(np.einsum("pij,pj->pi", Mi, arrays.F))
     Wc = c(np.einsum("pij,pmj->pmi", Mi, arrays.Vc)) if arrays.Vc.shape[1] else c(np.zeros_like(arrays.Vc))
     return A, B, W, g, Wc
+
+
+def _rows(mask):
+    """Compressed rows of a boolean (R, C) pattern: (row pointers (R+1,), column indices ascending)."""
+    ptr = np.zeros(mask.shape[0] + 1, dtype=np.int64)
+    ptr[1:] = np.cumsum(mask.sum(axis=1))
+    return ptr, np.ascontiguousarray(np.nonzero(mask)[1].astype(np.int64))
+
+
+def sparse_arrays(arrays):
+    """The kernel's sparse arrays of a packed batch (the patterns: the union over its points).
+
+    Returns
+    -------
+    sp : tuple
+        ``(abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g)`` (values with a leading point axis; see
+        :mod:`geardyn._kernel_ndof.core`).
+    jt : tuple
+        ``(gp, gj, Ag, Bg, cp, ce, cw, cv)``: the Jacobian's pattern (:func:`.core.jac_values`).
+    blk : tuple
+        ``(bcp, bcj, ATs, BTs, bep, bej, WTs, gPs)``: the plain step's blocks of ``LANE_BLOCK`` rows; block b's
+        columns ``bcj[bcp[b]:bcp[b+1]]`` (those where a row of the block has an entry of A or B) with the values
+        ``ATs[p, k, r] = A[p, b·L + r, bcj[k]]`` (``BTs`` alike), its elements ``bej[bep[b]:bep[b+1]]`` (those
+        whose force reaches a row of the block) with ``WTs[p, k, r]`` the force row's entries, and ``gPs`` g
+        padded to a multiple of ``LANE_BLOCK`` (the padding zero).
+    """
+    A, B, W, g, Wc = derived(arrays)
+    P, n = g.shape
+    E_V = np.concatenate([arrays.V, arrays.Vc], axis=1)  # (P, E, n)
+    E_W = np.concatenate([W, Wc], axis=1)
+    ab = np.any(A != 0.0, axis=0) | np.any(B != 0.0, axis=0)
+    abp, abj = _rows(ab)
+    rows_ab = np.repeat(np.arange(n), np.diff(abp))
+    ev = np.any(E_V != 0.0, axis=0)
+    ep, ej = _rows(ev)
+    rows_e = np.repeat(np.arange(ev.shape[0]), np.diff(ep))
+    ew = np.any(E_W != 0.0, axis=0)
+    wp, wi = _rows(ew)
+    rows_w = np.repeat(np.arange(ew.shape[0]), np.diff(wp))
+    c = np.ascontiguousarray
+    # the Jacobian's pattern: A and B, and W[e, i] V[e, j] of every element
+    gmask = ab.copy()
+    for e in range(ev.shape[0]):
+        gmask |= np.outer(ew[e], ev[e])
+    gp, gj = _rows(gmask)
+    rows_g = np.repeat(np.arange(n), np.diff(gp))
+    gidx = np.full((n, n), -1, dtype=np.int64)
+    gidx[rows_g, gj] = np.arange(gj.shape[0])
+    parts = []  # (entry, element, index in Wv, index in Ev) of every product W[e, i] V[e, j]
+    for e in range(ev.shape[0]):
+        kw = np.arange(wp[e], wp[e + 1])
+        kv = np.arange(ep[e], ep[e + 1])
+        KW, KV = np.meshgrid(kw, kv, indexing="ij")
+        KW, KV = KW.ravel(), KV.ravel()
+        parts.append(np.stack([gidx[wi[KW], ej[KV]], np.full(KW.shape, e), KW, KV]))
+    allp = np.concatenate(parts, axis=1) if parts else np.zeros((4, 0), dtype=np.int64)
+    allp = allp[:, np.lexsort((allp[1], allp[0]))]
+    cp = np.zeros(gj.shape[0] + 1, dtype=np.int64)
+    cp[1:] = np.cumsum(np.bincount(allp[0], minlength=gj.shape[0]))
+    ce, cw, cv = allp[1], allp[2], allp[3]
+    i64 = np.int64
+    jt = (
+        gp,
+        gj,
+        c(A[:, rows_g, gj]),
+        c(B[:, rows_g, gj]),
+        cp,
+        c(ce, dtype=i64),
+        c(cw, dtype=i64),
+        c(cv, dtype=i64),
+    )
+    sp = (
+        abp,
+        abj,
+        c(A[:, rows_ab, abj]),
+        c(B[:, rows_ab, abj]),
+        ep,
+        ej,
+        c(E_V[:, rows_e, ej]),
+        wp,
+        wi,
+        c(E_W[:, rows_w, wi]),
+        c(g),
+    )
+    L = LANE_BLOCK
+    nb = -(-n // L)
+    NP = nb * L
+    pad = np.zeros((nb * L, n), dtype=bool)
+    pad[:n] = ab
+    bmask = pad.reshape(nb, L, n).any(axis=1)  # (blocks, columns)
+    bcp, bcj = _rows(bmask)
+    bl = np.repeat(np.arange(nb), np.diff(bcp))
+    Ap = np.zeros((P, NP, n))
+    Bp = np.zeros((P, NP, n))
+    Ap[:, :n] = A
+    Bp[:, :n] = B
+    ri = bl[:, None] * L + np.arange(L)[None, :]  # (cols, L) row of each lane
+    ATs = c(Ap[:, ri, bcj[:, None]])
+    BTs = c(Bp[:, ri, bcj[:, None]])
+    Wp = np.zeros((P, ew.shape[0], NP))
+    Wp[:, :, :n] = E_W
+    wpad = np.zeros((ew.shape[0], NP), dtype=bool)
+    wpad[:, :n] = ew
+    emask = wpad.reshape(ew.shape[0], nb, L).any(axis=2).T  # (blocks, elements)
+    bep, bej = _rows(emask)
+    be = np.repeat(np.arange(nb), np.diff(bep))
+    ri_e = be[:, None] * L + np.arange(L)[None, :]
+    WTs = c(Wp[:, bej[:, None], ri_e])
+    gPs = np.zeros((P, NP))
+    gPs[:, :n] = g
+    return sp, jt, (bcp, bcj, ATs, BTs, bep, bej, WTs, gPs)
+
+
+def plain_cost(blk):
+    """Multiply-adds of one evaluation of the plain step's accelerations (all blocks, all lanes)."""
+    return LANE_BLOCK * (int(blk[1].shape[0]) + int(blk[5].shape[0]))
 
 
 def run_batch(
@@ -112,6 +229,7 @@ def run_batch(
     tan_out,
     status,
     hist,
+    tangent0=None,
 ):
     """Advance a batch of P points of one system structure; results are written into the outputs.
 
@@ -138,23 +256,30 @@ def run_batch(
         Out: final state.
     stats : float64[P, elements, NSTAT]
         Out: statistics of every element's δ over the recorded periods.
-    tan_log : float64[P, n_record or 0, 2n]
+    tan_log : float64[P, n_record or 0, k]
         Out (Lyapunov mode).
-    tan_out : float64[P, 2n, 2n]
-        Out: final tangent matrix.
+    tan_out : float64[P, 2n, k]
+        Out: final tangent columns (k of them: the columns of ``tan_out``).
     status : int64[P]
         Out: ``ST_OK`` or ``ST_DIVERGED``.
     hist : float64[P, K, 2n]
         Out: if K > 0 the state at every step of the last (K − 1)/N periods.
+    tangent0 : float64[P, 2n, k], optional
+        The initial tangent columns (default the first k columns of the identity).
     """
     P = arrays.Mi.shape[0]
     if P == 0:
         return
-    A, B, W, g, Wc = derived(arrays)
+    sp, jt, blk = sparse_arrays(arrays)
+    d = 2 * arrays.Mi.shape[1]
+    k = int(tan_out.shape[2]) if tangent != TAN_NONE else 0
+    if tangent0 is None:
+        tangent0 = np.zeros((P, d, k))
+        tangent0[:, np.arange(k), np.arange(k)] = 1.0
+    tangent0 = np.ascontiguousarray(tangent0, dtype=np.float64)
     order = np.argsort(-np.asarray(nsteps, dtype=np.int64), kind="stable").astype(np.int64)
     counter = np.zeros(1, dtype=np.int64)
-    n = arrays.Mi.shape[1]
-    work = float(np.sum(nsteps)) * (int(n_transient) + int(n_record)) * n * n
+    work = float(np.sum(nsteps)) * (int(n_transient) + int(n_record)) * plain_cost(blk)
     nw = min(n_threads(), P) if work >= THREAD_MIN_WORK else 1
     a = arrays
 
@@ -162,16 +287,12 @@ def run_batch(
         ndof_worker(
             order,
             counter,
-            A,
-            B,
-            W,
-            a.V,
+            *sp,
+            *jt,
+            *blk,
             a.coef,
             a.D,
             a.ratio,
-            g,
-            Wc,
-            a.Vc,
             a.kc,
             a.cc,
             a.Dc,
@@ -182,6 +303,8 @@ def run_batch(
             int(n_transient),
             int(n_record),
             int(tangent),
+            k,
+            tangent0,
             bool(accurate),
             poincare,
             end_state,

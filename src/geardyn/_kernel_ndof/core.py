@@ -8,9 +8,24 @@ The system (non-dimensional, see :mod:`geardyn.systems.assemble`) in first-order
     s_c = cc_c δ_c' + kc_c f(δ_c; Dc_c),          δ_c = Vc[c]·q,
 
 with ``A = M̃⁻¹K̃_b``, ``B = M̃⁻¹C̃_b``, ``W[m] = M̃⁻¹V[m]``, ``Wc[c] = M̃⁻¹Vc[c]``, ``g = M̃⁻¹F̃`` formed once
-per point by the caller.  ``mode`` arrays select, per element, the dead zone (``LOCK_FREE``) or
+per batch by the caller.  ``mode`` arrays select, per element, the dead zone (``LOCK_FREE``) or
 one branch of it locked (``-1, 0, +1``: back contact, separation, drive contact) for the
 accurate mode's sub-steps.
+
+Sparse storage (:func:`geardyn._kernel_ndof.sparse_arrays`): the matrices are kept by their nonzeros only, in
+two tuples per point,
+
+``sp = (abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g)``
+    rows of A and B in compressed-row form over the union of their patterns (row i: columns
+    ``abj[abp[i]:abp[i+1]]`` ascending, values ``Av``, ``Bv``); the element vectors V[m] then Vc[c] as rows
+    ``ej[ep[e]:ep[e+1]]`` (values ``Ev``); the element forces' rows W[m] then Wc[c] (``wi[wp[e]:wp[e+1]]``,
+    values ``Wv``); g dense;
+``el = (M, D, kc, cc, Dc)``
+    the meshes' count and half backlashes, the clearances' stiffness, damping and half gaps.
+
+Every sum runs over the same terms in the same order as the dense sums it replaces, the zero terms left out
+(adding a product with a zero factor changes no finite value), so the state's arithmetic is the dense one's,
+bit for bit; so is the tangent's, whose Jacobian is formed on its sparse pattern (:func:`jac_values`).
 """
 
 from __future__ import annotations
@@ -79,85 +94,100 @@ def coef_at(coef, ratio, theta, out):
         out[m, 3] = ed
 
 
+@njit(nogil=True, inline="always")
+def _element_force(e, d, dv, cf, el, mode):
+    """The force s_e of element e at its (δ, δ') with δ_m' (meshes: δ and δ' without E_m, E_m' subtracted)."""
+    M, D, kc, cc, Dc = el
+    if e < M:
+        d -= cf[e, 2]
+        return cf[e, 0] * dv + cf[e, 1] * _flock(d, D[e], mode[e])
+    c = e - M
+    return cc[c] * dv + kc[c] * _flock(d, Dc[c], mode[e])
+
+
 @njit(nogil=True)
-def field(x, cf, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, out):
+def field(x, cf, sp, el, omega, mode, out):
     """out = x' at coefficients cf (meshes, 4); ``mode`` per element (meshes then clearances)."""
+    abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g = sp
+    M = el[0]
     n = g.shape[0]
-    M = V.shape[0]
     for i in range(n):
         out[i] = x[n + i]
     for i in range(n):
         acc = g[i]
-        for j in range(n):
-            acc -= A[i, j] * x[j] + B[i, j] * x[n + j]
+        for k in range(abp[i], abp[i + 1]):
+            j = abj[k]
+            acc -= Av[k] * x[j] + Bv[k] * x[n + j]
         out[n + i] = acc
-    for m in range(M):
+    for e in range(ep.shape[0] - 1):
         d = 0.0
         dv = 0.0
-        for j in range(n):
-            d += V[m, j] * x[j]
-            dv += V[m, j] * x[n + j]
-        d -= cf[m, 2]
-        dv -= omega * cf[m, 3]
-        s = cf[m, 0] * dv + cf[m, 1] * _flock(d, D[m], mode[m])
-        for i in range(n):
-            out[n + i] -= W[m, i] * s
-    for c in range(Vc.shape[0]):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += Vc[c, j] * x[j]
-            dv += Vc[c, j] * x[n + j]
-        s = cc[c] * dv + kc[c] * _flock(d, Dc[c], mode[M + c])
-        for i in range(n):
-            out[n + i] -= Wc[c, i] * s
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * x[j]
+            dv += Ev[k] * x[n + j]
+        if e < M:
+            dv -= omega * cf[e, 3]
+        s = _element_force(e, d, dv, cf, el, mode)
+        for k in range(wp[e], wp[e + 1]):
+            out[n + wi[k]] -= Wv[k] * s
 
 
 @njit(nogil=True)
-def jac_blocks(x, cf, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv):
-    """The lower blocks of the Jacobian at x: q''-part = −Gq dq − Gv dq'."""
-    n = A.shape[0]
-    M = V.shape[0]
-    for i in range(n):
-        for j in range(n):
-            Gq[i, j] = A[i, j]
-            Gv[i, j] = B[i, j]
-    for m in range(M):
-        d = -cf[m, 2]
-        for j in range(n):
-            d += V[m, j] * x[j]
-        gk = cf[m, 1] * _slope(d, D[m], mode[m])
-        gc = cf[m, 0]
-        for i in range(n):
-            wi = W[m, i]
-            for j in range(n):
-                Gq[i, j] += gk * wi * V[m, j]
-                Gv[i, j] += gc * wi * V[m, j]
-    for c in range(Vc.shape[0]):
-        d = 0.0
-        for j in range(n):
-            d += Vc[c, j] * x[j]
-        gk = kc[c] * _slope(d, Dc[c], mode[M + c])
-        gc = cc[c]
-        for i in range(n):
-            wi = Wc[c, i]
-            for j in range(n):
-                Gq[i, j] += gk * wi * Vc[c, j]
-                Gv[i, j] += gc * wi * Vc[c, j]
+def slopes(x, cf, sp, el, mode, gk, gc):
+    """d s_e/dδ_e and d s_e/dδ_e' of every element at x into gk, gc."""
+    abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g = sp
+    M, D, kc, cc, Dc = el
+    for e in range(ep.shape[0] - 1):
+        d = -cf[e, 2] if e < M else 0.0
+        for k in range(ep[e], ep[e + 1]):
+            d += Ev[k] * x[ej[k]]
+        if e < M:
+            gk[e] = cf[e, 1] * _slope(d, D[e], mode[e])
+            gc[e] = cf[e, 0]
+        else:
+            c = e - M
+            gk[e] = kc[c] * _slope(d, Dc[c], mode[e])
+            gc[e] = cc[c]
 
 
 @njit(nogil=True)
-def tan_field(Y, Gq, Gv, out):
-    """out = J Y for the tangent columns Y (2n, k)."""
-    n = Gq.shape[0]
-    k = Y.shape[1]
-    for c in range(k):
+def jac_values(sp, jt, gk, gc, Gq, Gv):
+    """The Jacobian's lower blocks on their sparse pattern: q''-part = −Gq dq − Gv dq'.
+
+    ``jt = (gp, gj, Ag, Bg, cp, ce, cw, cv)``: entry k of the pattern (row i, column ``gj[k]``) starts from
+    A[i, j] (``Ag[k]``), B[i, j], and adds ``gk[e] W[e, i] V[e, j]`` for its elements e = ``ce[l]`` ascending
+    (l = cp[k] … cp[k+1]−1; ``cw``, ``cv`` the indices of W[e, i] and V[e, j] in ``Wv``, ``Ev``): the dense
+    Jacobian's sums, term by term, without its zero terms."""
+    Ev, Wv = sp[6], sp[9]
+    gp, gj, Ag, Bg, cp, ce, cw, cv = jt
+    for k in range(gj.shape[0]):
+        a = Ag[k]
+        b = Bg[k]
+        for m in range(cp[k], cp[k + 1]):
+            e = ce[m]
+            wv = Wv[cw[m]]
+            vv = Ev[cv[m]]
+            a += gk[e] * wv * vv
+            b += gc[e] * wv * vv
+        Gq[k] = a
+        Gv[k] = b
+
+
+@njit(nogil=True)
+def tan_field(Y, jt, Gq, Gv, out):
+    """out = J Y for the tangent columns Y (2n, k), the Jacobian's values Gq, Gv of :func:`jac_values`."""
+    gp = jt[0]
+    gj = jt[1]
+    n = gp.shape[0] - 1
+    for c in range(Y.shape[1]):
         for i in range(n):
             out[i, c] = Y[n + i, c]
         for i in range(n):
             acc = 0.0
-            for j in range(n):
-                acc += Gq[i, j] * Y[j, c] + Gv[i, j] * Y[n + j, c]
+            for k in range(gp[i], gp[i + 1]):
+                j = gj[k]
+                acc += Gq[k] * Y[j, c] + Gv[k] * Y[n + j, c]
             out[n + i, c] = -acc
 
 
@@ -190,26 +220,23 @@ def diverged_state(x):
 
 
 @njit(nogil=True, inline="always")
-def element_values(q, v, vo, cf, V, Vc, omega, out):
+def element_values(q, v, vo, cf, sp, el, omega, out):
     """δ, δ' of every element (meshes then clearances) into out[e, 0:2]; q̃ = q[0:n], q̃' = v[vo:vo+n]."""
-    n = V.shape[1]
-    M = V.shape[0]
-    for m in range(M):
-        d = -cf[m, 2]
-        dv = -omega * cf[m, 3]
-        for j in range(n):
-            d += V[m, j] * q[j]
-            dv += V[m, j] * v[vo + j]
-        out[m, 0] = d
-        out[m, 1] = dv
-    for c in range(Vc.shape[0]):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += Vc[c, j] * q[j]
-            dv += Vc[c, j] * v[vo + j]
-        out[M + c, 0] = d
-        out[M + c, 1] = dv
+    ep, ej, Ev = sp[4], sp[5], sp[6]
+    M = el[0]
+    for e in range(ep.shape[0] - 1):
+        if e < M:
+            d = -cf[e, 2]
+            dv = -omega * cf[e, 3]
+        else:
+            d = 0.0
+            dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * q[j]
+            dv += Ev[k] * v[vo + j]
+        out[e, 0] = d
+        out[e, 1] = dv
 
 
 @njit(nogil=True, inline="always")
@@ -243,24 +270,22 @@ def accumulate(st, ev, gaps):
 
 
 @njit(nogil=True, inline="always")
-def forces_tab(q, v, tab, r, V, D, Vc, kc, cc, Dc, omega, s):
+def forces_tab(q, v, tab, r, sp, el, omega, s):
     """Element forces s[e] of :func:`field` (default mode) at (q̃, q̃') = (q[0:n], v[0:n]), coefficients
     from row r of a table (T, meshes, 4); meshes, then clearances, in :func:`field`'s arithmetic."""
-    n = V.shape[1]
-    M = V.shape[0]
-    for m in range(M):
+    ep, ej, Ev = sp[4], sp[5], sp[6]
+    M, D, kc, cc, Dc = el
+    for e in range(ep.shape[0] - 1):
         d = 0.0
         dv = 0.0
-        for j in range(n):
-            d += V[m, j] * q[j]
-            dv += V[m, j] * v[j]
-        d -= tab[r, m, 2]
-        dv -= omega * tab[r, m, 3]
-        s[m] = tab[r, m, 0] * dv + tab[r, m, 1] * _fz(d, D[m])
-    for c in range(Vc.shape[0]):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += Vc[c, j] * q[j]
-            dv += Vc[c, j] * v[j]
-        s[M + c] = cc[c] * dv + kc[c] * _fz(d, Dc[c])
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * q[j]
+            dv += Ev[k] * v[j]
+        if e < M:
+            d -= tab[r, e, 2]
+            dv -= omega * tab[r, e, 3]
+            s[e] = tab[r, e, 0] * dv + tab[r, e, 1] * _fz(d, D[e])
+        else:
+            c = e - M
+            s[e] = cc[c] * dv + kc[c] * _fz(d, Dc[c])

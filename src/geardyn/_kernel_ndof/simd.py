@@ -64,53 +64,64 @@ def _splat(builder, x):
 
 
 def _accel(context, builder, tys, vals, i0):
-    """The block's acceleration vector: g − Σ_j (AT[j] q_j + BT[j] v_j) − Σ_e WT[e] s_e."""
-    (tA, tB, tg, tW, ts, tq, tv), (AT, BT, gP, WT, s, q, v) = tys, vals
+    """The block's acceleration vector: g − Σ_k (AT[k] q_j + BT[k] v_j) − Σ_k WT[k] s_e over the block's columns
+    j = cj[k] (k = lo … hi−1) and elements e = ej[k] (k = elo … ehi−1), ascending."""
+    (tA, tB, tcj, _tlo, _thi, tg, tW, tej, _telo, _tehi, ts, tq, tv) = tys
+    (AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v) = vals
+    zero = ir.Constant(lo.type, 0)
+    one = ir.Constant(lo.type, 1)
     acc = cgutils.alloca_once(builder, _vty())
     builder.store(_vload(context, builder, tg, gP, [i0]), acc)
-    with cgutils.for_range(builder, _rows(context, builder, tA, AT)) as loop:
-        j = loop.index
+    with cgutils.for_range_slice(builder, lo, hi, one, intp=lo.type) as (k, _c):
+        j = builder.load(_ptr(context, builder, tcj, cj, [k]))
         qj = _splat(builder, builder.load(_ptr(context, builder, tq, q, [j])))
         vj = _splat(builder, builder.load(_ptr(context, builder, tv, v, [j])))
         t = builder.fadd(
-            builder.fmul(_vload(context, builder, tA, AT, [j, i0]), qj),
-            builder.fmul(_vload(context, builder, tB, BT, [j, i0]), vj),
+            builder.fmul(_vload(context, builder, tA, AT, [k, zero]), qj),
+            builder.fmul(_vload(context, builder, tB, BT, [k, zero]), vj),
         )
         builder.store(builder.fsub(builder.load(acc), t), acc)
-    with cgutils.for_range(builder, _rows(context, builder, tW, WT)) as loop:
-        e = loop.index
+    with cgutils.for_range_slice(builder, elo, ehi, one, intp=lo.type) as (k, _c):
+        e = builder.load(_ptr(context, builder, tej, ej, [k]))
         se = _splat(builder, builder.load(_ptr(context, builder, ts, s, [e])))
-        builder.store(builder.fsub(builder.load(acc), builder.fmul(_vload(context, builder, tW, WT, [e, i0]), se)), acc)
+        builder.store(
+            builder.fsub(builder.load(acc), builder.fmul(_vload(context, builder, tW, WT, [k, zero]), se)), acc
+        )
     return builder.load(acc)
 
 
+#: Arguments of the acceleration (:func:`_accel`) at the head of both intrinsics.
+NACC = 13
+
+
 @intrinsic
-def stage_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0):
+def stage_block(typingctx, AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, c, k, qn, vn, i0):
     """Rows i0 … i0+LANE_BLOCK−1 of one stage at (q, v): k = acceleration, qn = q0 + c v, vn = v0 + c k."""
-    sig = types.void(AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0)
+    sig = types.void(AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, c, k, qn, vn, i0)
 
     def codegen(context, builder, signature, args):
         t = signature.args
-        acc = _accel(context, builder, t[:7], args[:7], args[13])
-        i0v = args[13]
-        cv = _splat(builder, args[9])
-        _vstore(context, builder, t[10], args[10], [i0v], acc)
-        qs = _vload(context, builder, t[6], args[6], [i0v])
+        b = NACC - 7  # the arguments below are those of the dense version, shifted by b
+        i0v = args[13 + b]
+        acc = _accel(context, builder, t[:NACC], args[:NACC], i0v)
+        cv = _splat(builder, args[9 + b])
+        _vstore(context, builder, t[10 + b], args[10 + b], [i0v], acc)
+        qs = _vload(context, builder, t[6 + b], args[6 + b], [i0v])
         _vstore(
             context,
             builder,
-            t[11],
-            args[11],
+            t[11 + b],
+            args[11 + b],
             [i0v],
-            builder.fadd(_vload(context, builder, t[7], args[7], [i0v]), builder.fmul(cv, qs)),
+            builder.fadd(_vload(context, builder, t[7 + b], args[7 + b], [i0v]), builder.fmul(cv, qs)),
         )
         _vstore(
             context,
             builder,
-            t[12],
-            args[12],
+            t[12 + b],
+            args[12 + b],
             [i0v],
-            builder.fadd(_vload(context, builder, t[8], args[8], [i0v]), builder.fmul(cv, acc)),
+            builder.fadd(_vload(context, builder, t[8 + b], args[8 + b], [i0v]), builder.fmul(cv, acc)),
         )
         return context.get_dummy_value()
 
@@ -118,19 +129,20 @@ def stage_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0):
 
 
 @intrinsic
-def final_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0):
+def final_block(typingctx, AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0):
     """Rows i0 … of the last stage at (q, v) = (q4, v4), then the RK4 update of (q0, v0) in place."""
-    sig = types.void(AT, BT, gP, WT, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0)
+    sig = types.void(AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0)
 
     def codegen(context, builder, signature, args):
         t = signature.args
-        i0v = args[15]
-        k4 = _accel(context, builder, t[:7], args[:7], i0v)
+        b = NACC - 7
+        i0v = args[15 + b]
+        k4 = _accel(context, builder, t[:NACC], args[:NACC], i0v)
 
         def ld(a):
-            return _vload(context, builder, t[a], args[a], [i0v])
+            return _vload(context, builder, t[a + b], args[a + b], [i0v])
 
-        hv = _splat(builder, args[9])
+        hv = _splat(builder, args[9 + b])
         two = ir.Constant(_vty(), [2.0] * LANE_BLOCK)
 
         def comb(a1, a2, a3, a4):
@@ -140,8 +152,8 @@ def final_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, h6, k1, k2, k3, v2, 
         v0v = ld(8)
         qnew = builder.fadd(ld(7), builder.fmul(hv, comb(v0v, ld(13), ld(14), ld(6))))
         vnew = builder.fadd(v0v, builder.fmul(hv, comb(ld(10), ld(11), ld(12), k4)))
-        _vstore(context, builder, t[7], args[7], [i0v], qnew)
-        _vstore(context, builder, t[8], args[8], [i0v], vnew)
+        _vstore(context, builder, t[7 + b], args[7 + b], [i0v], qnew)
+        _vstore(context, builder, t[8 + b], args[8 + b], [i0v], vnew)
         return context.get_dummy_value()
 
     return sig, codegen

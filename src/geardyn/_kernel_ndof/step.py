@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .core import coef_at, element_values, field, forces_tab, jac_blocks, tan_field
+from .core import coef_at, element_values, field, forces_tab, jac_values, slopes, tan_field
 from .simd import LANE_BLOCK, final_block, stage_block
 
 #: Largest number of sub-steps one step is split into (accurate mode).
@@ -30,10 +30,11 @@ CROSSING_TOL = 1e-13
 
 
 @njit(nogil=True)
-def rk4(x, h, cf0, cf1, cf2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, tangent, Y, wk, wt, Gq, Gv):
+def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt, Gq, Gv):
     """Advance x (and the columns Y when ``tangent``) by one RK4 step of length h, in place.
 
-    wk : (6, 2n) workspace (k1..k4, stage state, start state); wt : (5, 2n, k) tangent workspace.
+    wk : (6, 2n) workspace (k1..k4, stage state, start state); wt : (5, 2n, k) tangent workspace;
+    gk, gc : (elements,) workspace (the element slopes); jt the Jacobian's pattern, Gq, Gv its values (workspace).
     """
     d = x.shape[0]
     hh = 0.5 * h
@@ -43,40 +44,44 @@ def rk4(x, h, cf0, cf1, cf2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, 
     k3 = wk[2]
     k4 = wk[3]
     xs = wk[4]
-    field(x, cf0, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, k1)
+    field(x, cf0, sp, el, omega, mode, k1)
     if tangent:
-        jac_blocks(x, cf0, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv)
-        tan_field(Y, Gq, Gv, wt[0])
+        slopes(x, cf0, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        tan_field(Y, jt, Gq, Gv, wt[0])
     for i in range(d):
         xs[i] = x[i] + hh * k1[i]
-    field(xs, cf1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, k2)
+    field(xs, cf1, sp, el, omega, mode, k2)
     if tangent:
-        jac_blocks(xs, cf1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv)
+        slopes(xs, cf1, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
         Ys = wt[4]
         for i in range(d):
             for c in range(Y.shape[1]):
                 Ys[i, c] = Y[i, c] + hh * wt[0][i, c]
-        tan_field(Ys, Gq, Gv, wt[1])
+        tan_field(Ys, jt, Gq, Gv, wt[1])
     for i in range(d):
         xs[i] = x[i] + hh * k2[i]
-    field(xs, cf1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, k3)
+    field(xs, cf1, sp, el, omega, mode, k3)
     if tangent:
-        jac_blocks(xs, cf1, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv)
+        slopes(xs, cf1, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
         Ys = wt[4]
         for i in range(d):
             for c in range(Y.shape[1]):
                 Ys[i, c] = Y[i, c] + hh * wt[1][i, c]
-        tan_field(Ys, Gq, Gv, wt[2])
+        tan_field(Ys, jt, Gq, Gv, wt[2])
     for i in range(d):
         xs[i] = x[i] + h * k3[i]
-    field(xs, cf2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, k4)
+    field(xs, cf2, sp, el, omega, mode, k4)
     if tangent:
-        jac_blocks(xs, cf2, A, B, W, V, D, Wc, Vc, kc, cc, Dc, mode, Gq, Gv)
+        slopes(xs, cf2, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
         Ys = wt[4]
         for i in range(d):
             for c in range(Y.shape[1]):
                 Ys[i, c] = Y[i, c] + h * wt[2][i, c]
-        tan_field(Ys, Gq, Gv, wt[3])
+        tan_field(Ys, jt, Gq, Gv, wt[3])
         for i in range(d):
             for c in range(Y.shape[1]):
                 Y[i, c] += h6 * (wt[0][i, c] + 2.0 * wt[1][i, c] + 2.0 * wt[2][i, c] + wt[3][i, c])
@@ -114,23 +119,21 @@ def _gfun(d, D, m):
 
 
 @njit(nogil=True)
-def _locked(
-    x0, t, s, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv, tangent, Y
-):
+def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y):
     """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``)."""
     for i in range(x0.shape[0]):
         xo[i] = x0[i]
     coef_at(coef, ratio, omega * t, cfa[0])
     coef_at(coef, ratio, omega * (t + 0.5 * s), cfa[1])
     coef_at(coef, ratio, omega * (t + s), cfa[2])
-    rk4(xo, s, cfa[0], cfa[1], cfa[2], A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, omega, mode, tangent, Y, wk, wt, Gq, Gv)
+    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt[0], jt[1], jt[2])
 
 
 @njit(nogil=True)
-def _worst(x, t, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev):
+def _worst(x, t, coef, ratio, omega, sp, el, gaps, mode, cfa, ev):
     """Smallest locked-branch distance over the elements at state x, time t, and its element."""
     coef_at(coef, ratio, omega * t, cfa[3])
-    element_values(x, x, V.shape[1], cfa[3], V, Vc, omega, ev)
+    element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
     best = np.inf
     who = -1
     for e in range(ev.shape[0]):
@@ -149,37 +152,31 @@ def accurate_step(
     coef,
     ratio,
     omega,
-    A,
-    B,
-    W,
-    V,
-    D,
-    Wc,
-    Vc,
-    kc,
-    cc,
-    Dc,
-    g,
+    sp,
+    el,
     gaps,
     mode,
     xo,
     cfa,
     wk,
     wt,
-    Gq,
-    Gv,
+    gk,
+    gc,
+    jt,
     tangent,
     Y,
     Ysave,
     ev,
 ):
-    """Advance x (and Y) by one step of length h split at every contact-boundary crossing."""
+    """Advance x (and Y) by one step of length h split at every contact-boundary crossing.
+
+    ``jt`` is (the Jacobian's pattern, its values Gq, Gv) of :func:`rk4`."""
     d = x.shape[0]
     rem = h
     tt = t
     for _split in range(MAX_SPLITS):
         coef_at(coef, ratio, omega * tt, cfa[3])
-        element_values(x, x, V.shape[1], cfa[3], V, Vc, omega, ev)
+        element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
         _regions(ev, gaps, mode)
         if tangent:
             for i in range(d):
@@ -192,28 +189,20 @@ def accurate_step(
             coef,
             ratio,
             omega,
-            A,
-            B,
-            W,
-            V,
-            D,
-            Wc,
-            Vc,
-            kc,
-            cc,
-            Dc,
-            g,
+            sp,
+            el,
             mode,
             xo,
             cfa,
             wk,
             wt,
-            Gq,
-            Gv,
+            gk,
+            gc,
+            jt,
             tangent,
             Y,
         )
-        gend, _w = _worst(xo, tt + rem, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
+        gend, _w = _worst(xo, tt + rem, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
         hi = rem
         ghi = gend
         if gend >= 0.0:
@@ -227,31 +216,23 @@ def accurate_step(
                     coef,
                     ratio,
                     omega,
-                    A,
-                    B,
-                    W,
-                    V,
-                    D,
-                    Wc,
-                    Vc,
-                    kc,
-                    cc,
-                    Dc,
-                    g,
+                    sp,
+                    el,
                     mode,
                     wk[5],
                     cfa,
                     wk,
                     wt,
-                    Gq,
-                    Gv,
+                    gk,
+                    gc,
+                    jt,
                     False,
                     Y,
                 )
-                gk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
-                if gk < 0.0:
+                gsk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+                if gsk < 0.0:
                     hi = sk
-                    ghi = gk
+                    ghi = gsk
                     break
         if ghi >= 0.0:
             for i in range(d):
@@ -259,7 +240,7 @@ def accurate_step(
             return
         # bracket [lo, hi] with g(lo) >= 0 > g(hi): Illinois
         lo = 0.0
-        glo, _w = _worst(x, tt, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
+        glo, _w = _worst(x, tt, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
         if glo < 0.0:
             glo = 0.0
         side = 0
@@ -276,28 +257,20 @@ def accurate_step(
                 coef,
                 ratio,
                 omega,
-                A,
-                B,
-                W,
-                V,
-                D,
-                Wc,
-                Vc,
-                kc,
-                cc,
-                Dc,
-                g,
+                sp,
+                el,
                 mode,
                 wk[5],
                 cfa,
                 wk,
                 wt,
-                Gq,
-                Gv,
+                gk,
+                gc,
+                jt,
                 False,
                 Y,
             )
-            gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, V, Vc, gaps, mode, cfa, ev)
+            gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
             if gs == 0.0:
                 lo = s
                 hi = s
@@ -326,24 +299,16 @@ def accurate_step(
             coef,
             ratio,
             omega,
-            A,
-            B,
-            W,
-            V,
-            D,
-            Wc,
-            Vc,
-            kc,
-            cc,
-            Dc,
-            g,
+            sp,
+            el,
             mode,
             xo,
             cfa,
             wk,
             wt,
-            Gq,
-            Gv,
+            gk,
+            gc,
+            jt,
             tangent,
             Y,
         )
@@ -355,10 +320,10 @@ def accurate_step(
             return
     # split limit reached: finish the step unsplit
     coef_at(coef, ratio, omega * tt, cfa[3])
-    element_values(x, x, V.shape[1], cfa[3], V, Vc, omega, ev)
+    element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
     _regions(ev, gaps, mode)
     _locked(
-        x, tt, rem, coef, ratio, omega, A, B, W, V, D, Wc, Vc, kc, cc, Dc, g, mode, xo, cfa, wk, wt, Gq, Gv, tangent, Y
+        x, tt, rem, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y
     )
     for i in range(d):
         x[i] = xo[i]
@@ -384,32 +349,38 @@ def aligned_zeros(rows, cols):
 
 
 @njit(nogil=True)
-def pad_point(A, B, g, W, Wc, AT, BT, gP, WT):
-    """The plain step's padded transposed matrices of one point (AT, BT (n, NP), gP (NP,), WT (E, NP))."""
-    n = A.shape[0]
-    M = W.shape[0]
-    AT[:, :] = 0.0
-    BT[:, :] = 0.0
-    gP[:] = 0.0
-    WT[:, :] = 0.0
-    for i in range(n):
-        gP[i] = g[i]
-        for j in range(n):
-            AT[j, i] = A[i, j]
-            BT[j, i] = B[i, j]
-        for m in range(M):
-            WT[m, i] = W[m, i]
-        for c in range(Wc.shape[0]):
-            WT[M + c, i] = Wc[c, i]
+def pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP):
+    """Copy point p's block-sparse matrices into the aligned buffers AT, BT (cols, LANE_BLOCK), WT, gP; the
+    tuple of the plain step's block arrays."""
+    nc = bcj.shape[0]
+    ne = bej.shape[0]
+    for k in range(nc):
+        for r in range(LANE_BLOCK):
+            AT[k, r] = ATs[p, k, r]
+            BT[k, r] = BTs[p, k, r]
+    for k in range(ne):
+        for r in range(LANE_BLOCK):
+            WT[k, r] = WTs[p, k, r]
+    for i in range(gP.shape[0]):
+        gP[i] = gPs[p, i]
+    return (bcp, bcj, AT[:nc], BT[:nc], bep, bej, WT[:ne], gP)
 
 
 @njit(nogil=True, inline="always")
-def rk4_plain(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega):
+def _stages(X, blk, s, q, v, q0, v0, c, k, qn, vn):
+    bcp, bcj, AT, BT, bep, bej, WT, gP = blk
+    for b in range(bcp.shape[0] - 1):
+        stage_block(AT, BT, bcj, bcp[b], bcp[b + 1], gP, WT, bej, bep[b], bep[b + 1], s, q, v, q0, v0, c, k, qn, vn, b * LANE_BLOCK)
+
+
+@njit(nogil=True, inline="always")
+def rk4_plain(X, s, h, tab, j, blk, sp, el, omega):
     """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
 
-    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace.
-    Coefficients from the table rows 2j..2j+2; the arithmetic is :func:`rk4` with :func:`field`'s,
-    operation by operation (see :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows.
+    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace;
+    ``blk`` the point's block-sparse arrays (:func:`pad_point`).  Coefficients from the table rows 2j..2j+2; the
+    arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see :mod:`geardyn._kernel_ndof.simd`),
+    vectorised over blocks of rows.
     """
     hh = 0.5 * h
     h6 = h / 6.0
@@ -426,15 +397,16 @@ def rk4_plain(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega):
         X[XQ4],
         X[XV4],
     )
-    forces_tab(q, v, tab, 2 * j, V, D, Vc, kc, cc, Dc, omega, s)
-    for b in range(0, X.shape[1], LANE_BLOCK):
-        stage_block(AT, BT, gP, WT, s, q, v, q, v, hh, k1, q2, v2, b)
-    forces_tab(q2, v2, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
-    for b in range(0, X.shape[1], LANE_BLOCK):
-        stage_block(AT, BT, gP, WT, s, q2, v2, q, v, hh, k2, q3, v3, b)
-    forces_tab(q3, v3, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
-    for b in range(0, X.shape[1], LANE_BLOCK):
-        stage_block(AT, BT, gP, WT, s, q3, v3, q, v, h, k3, q4, v4, b)
-    forces_tab(q4, v4, tab, 2 * j + 2, V, D, Vc, kc, cc, Dc, omega, s)
-    for b in range(0, X.shape[1], LANE_BLOCK):
-        final_block(AT, BT, gP, WT, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3, b)
+    forces_tab(q, v, tab, 2 * j, sp, el, omega, s)
+    _stages(X, blk, s, q, v, q, v, hh, k1, q2, v2)
+    forces_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s)
+    _stages(X, blk, s, q2, v2, q, v, hh, k2, q3, v3)
+    forces_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s)
+    _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    forces_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s)
+    bcp, bcj, AT, BT, bep, bej, WT, gP = blk
+    for b in range(bcp.shape[0] - 1):
+        final_block(
+            AT, BT, bcj, bcp[b], bcp[b + 1], gP, WT, bej, bep[b], bep[b + 1], s, q4, v4, q, v, h6, k1, k2, k3, v2, v3,
+            b * LANE_BLOCK,
+        )

@@ -46,16 +46,36 @@ def _store_hist(hist, p, s, q, v, vo):
 def ndof_worker(
     order,
     counter,
-    A,
-    B,
-    W,
-    V,
+    abp,
+    abj,
+    Av,
+    Bv,
+    ep,
+    ej,
+    Ev,
+    wp,
+    wi,
+    Wv,
+    g,
+    gp,
+    gj,
+    Ag,
+    Bg,
+    cp,
+    ce,
+    cw,
+    cv,
+    bcp,
+    bcj,
+    ATs,
+    BTs,
+    bep,
+    bej,
+    WTs,
+    gPs,
     coef,
     D,
     ratio,
-    g,
-    Wc,
-    Vc,
     kc,
     cc,
     Dc,
@@ -66,6 +86,8 @@ def ndof_worker(
     n_transient,
     n_record,
     tangent,
+    ntan,
+    tangent0,
     accurate,
     poincare,
     end_state,
@@ -78,31 +100,33 @@ def ndof_worker(
     P = order.shape[0]
     d = state0.shape[1]
     n = d // 2
-    M = V.shape[1]
-    C = Vc.shape[1]
+    M = D.shape[1]
+    C = Dc.shape[1]
     E = M + C
-    ktan = d if tangent != TAN_NONE else 0
+    ktan = ntan if tangent != TAN_NONE else 0
     x = np.empty(d)
     xo = np.empty(d)
     wk = np.empty((6, d))
     wt = np.empty((5, d, max(ktan, 1)))
     Y = np.zeros((d, max(ktan, 1)))
     Ysave = np.zeros((d, max(ktan, 1)))
-    Gq = np.empty((n, n))
-    Gv = np.empty((n, n))
+    Gq = np.empty(max(gj.shape[0], 1))
+    Gv = np.empty(max(gj.shape[0], 1))
+    gk = np.empty(max(E, 1))
+    gc = np.empty(max(E, 1))
     ev = np.empty((E, 2))
     cfa = np.empty((4, M, 4))
     mode = np.full(E, LOCK_FREE, dtype=np.int64)
     logs = np.empty(max(ktan, 1))
     st = np.zeros((E, NSTAT))
     hl = hist.shape[1]
-    NP = ((n + LANE_BLOCK - 1) // LANE_BLOCK) * LANE_BLOCK
+    NP = gPs.shape[1]
     X = aligned_zeros(XROWS, NP)
-    AT = aligned_zeros(n, NP)
-    BT = aligned_zeros(n, NP)
+    AT = aligned_zeros(max(bcj.shape[0], 1), LANE_BLOCK)
+    BT = aligned_zeros(max(bcj.shape[0], 1), LANE_BLOCK)
+    WT = aligned_zeros(max(bej.shape[0], 1), LANE_BLOCK)
     gP = aligned_zeros(1, NP)[0]
-    WT = aligned_zeros(E, NP)
-    sf = np.zeros(E)
+    sf = np.zeros(max(E, 1))
     while True:
         k = _fetch_add(counter, 1)
         if k >= P:
@@ -112,8 +136,11 @@ def ndof_worker(
         Tf = tperiod[p]
         h = Tf / N
         om = omega[p]
-        Vp, Dp, Vcp, kcp, ccp, Dcp = V[p], D[p], Vc[p], kc[p], cc[p], Dc[p]
-        pad_point(A[p], B[p], g[p], W[p], Wc[p], AT, BT, gP, WT)
+        sp = (abp, abj, Av[p], Bv[p], ep, ej, Ev[p], wp, wi, Wv[p], g[p])
+        el = (M, D[p], kc[p], cc[p], Dc[p])
+        jt = (gp, gj, Ag[p], Bg[p], cp, ce, cw, cv)
+        jw = (jt, Gq, Gv)
+        blk = pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP)
         gaps = np.empty(E)
         for m in range(M):
             gaps[m] = D[p, m]
@@ -127,9 +154,9 @@ def ndof_worker(
         for i in range(d):
             x[i] = state0[p, i]
         st[:, :] = 0.0
-        Y[:, :] = 0.0
-        for i in range(ktan):
-            Y[i, i] = 1.0
+        for i in range(d):
+            for c in range(ktan):
+                Y[i, c] = tangent0[p, i, c]
         bad = False
         total = n_transient + n_record
         hstart = total * N - (hl - 1)
@@ -148,9 +175,9 @@ def ndof_worker(
                     q[i] = x[i]
                     v[i] = x[n + i]
                 for j in range(N):
-                    rk4_plain(X, sf, h, tab, j, AT, BT, gP, WT, Vp, Dp, Vcp, kcp, ccp, Dcp, om)
+                    rk4_plain(X, sf, h, tab, j, blk, sp, el, om)
                     if rec:
-                        element_values(q, v, 0, tab[2 * j + 2], Vp, Vcp, om, ev)
+                        element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
                         accumulate(st, ev, gaps)
                     if hl > 0:
                         _store_hist(hist, p, per * N + j + 1 - hstart, q, v, 0)
@@ -167,25 +194,17 @@ def ndof_worker(
                             coef[p],
                             ratio[p],
                             om,
-                            A[p],
-                            B[p],
-                            W[p],
-                            V[p],
-                            D[p],
-                            Wc[p],
-                            Vc[p],
-                            kc[p],
-                            cc[p],
-                            Dc[p],
-                            g[p],
+                            sp,
+                            el,
                             gaps,
                             mode,
                             xo,
                             cfa,
                             wk,
                             wt,
-                            Gq,
-                            Gv,
+                            gk,
+                            gc,
+                            jw,
                             tan_on,
                             Y,
                             Ysave,
@@ -198,32 +217,26 @@ def ndof_worker(
                             tab[2 * j],
                             tab[2 * j + 1],
                             tab[2 * j + 2],
-                            A[p],
-                            B[p],
-                            W[p],
-                            V[p],
-                            D[p],
-                            Wc[p],
-                            Vc[p],
-                            kc[p],
-                            cc[p],
-                            Dc[p],
-                            g[p],
+                            sp,
+                            el,
                             om,
                             mode,
                             tan_on,
                             Y,
                             wk,
                             wt,
+                            gk,
+                            gc,
+                            jt,
                             Gq,
                             Gv,
                         )
                     if rec:
                         if accurate:
                             coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
-                            element_values(x, x, n, cfa[3], V[p], Vc[p], om, ev)
+                            element_values(x, x, n, cfa[3], sp, el, om, ev)
                         else:
-                            element_values(x, x, n, tab[2 * j + 2], Vp, Vcp, om, ev)
+                            element_values(x, x, n, tab[2 * j + 2], sp, el, om, ev)
                         accumulate(st, ev, gaps)
                     if hl > 0:
                         _store_hist(hist, p, per * N + j + 1 - hstart, x, x, n)

@@ -173,6 +173,14 @@ def basins(
         When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
     TypeError
         For a keyword that is not an engine option.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, basins
+    >>> ds = basins(GearModel(omega=0.8), (-1, 1), (-1, 1), 2, 2, options=IntegrationOptions(transient=50, periods=64),
+    ...             progress=False)
+    >>> ds["period"].shape
+    (2, 2)
     """
     options.check_for(model.omega)
     u0 = linspace_values(*u_range, nu, label="u0")

@@ -25,14 +25,14 @@ import numpy as np
 import xarray as xr
 
 from .._docfill import parameters, result_of
-from ..grid import Grid, PointModels, build_models, integrate_points, linspace_values, param_name, point_models
+from ..grid import Grid, build_models, linspace_values, param_name, point_models
 from ..integrate import ST_OK, integrate_batch
 from ..io import annotate, json_values, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 from ..params import FAMILIES, slot
 from ..sweep import Chunk, chunk_slices, run_chunks
 from ..sweep.progress import counts_points, tick
-from ..system import element_names, state_names
+from ..system import as_batch, element_names, state_names
 from .classify import SETTLE_PERIODS
 from .points import initial_state, run_slices, sweep_function
 from .steady import classify_batch
@@ -94,20 +94,6 @@ ELEMENT_VARIABLES = {
 }
 
 
-def reference_section(models: Sequence[Any], poincare: np.ndarray) -> np.ndarray:
-    """The reference element's (δ, δ') at the Poincaré points (P, n, d) of a batch: (P, n, 2).
-
-    The pair's state is (u, u') itself (its packed points are returned as they are); a system's section
-    points are mapped through each point's :meth:`~geardyn.system.System.element_series`.
-    """
-    if isinstance(models, PointModels):
-        return poincare
-    out = np.empty(poincare.shape[:2] + (2,))
-    for i, m in enumerate(models):
-        out[i] = m.element_series(poincare[i], 0.0)[:, m.reference, :]
-    return out
-
-
 def _rows(
     out: dict[str, np.ndarray],
     start: np.ndarray,
@@ -121,7 +107,7 @@ def _rows(
     r.update({k: np.asarray(out[k], dtype=t) for k, t in ELEMENT_VARIABLES.items() if k in out})
     r["restarted"] = np.zeros(n, np.int64) if restarted is None else restarted.astype(np.int64)
     pc = np.asarray(out["poincare"], dtype=float)
-    r["poincare"] = pc if models is None else reference_section(models, pc)
+    r["poincare"] = pc if models is None else as_batch(models).reference_section(pc)
     r["start"] = np.asarray(start, dtype=float).reshape(n, -1)
     r["end"] = np.asarray(out["end_state"], dtype=float)
     return r
@@ -139,7 +125,7 @@ def fixed_chunk(
 
     Parameters
     ----------
-    models : sequence of GearModel
+    models : Batch or sequence of System
         The points.
     state0 : ndarray (d,) or (P, d)
         One initial state for all points or one per point, d = ``state_dim``.
@@ -156,9 +142,9 @@ def fixed_chunk(
         One row per point: the scalars of :func:`~geardyn.analysis.steady.classify_batch`,
         ``restarted``, ``poincare``, ``start`` and ``end`` states.
     """
-    models = models if isinstance(models, PointModels) else list(models)
-    s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), models[0].state_dim)).copy()
-    res = integrate_points(models, s0, options, lyapunov=lyapunov)
+    models = as_batch(models)
+    s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), models.state_dim)).copy()
+    res = integrate_batch(models, s0, options, lyapunov=lyapunov)
     out = _rows(classify_batch(res, settle_periods=settle_periods), s0, models=models)
     tick(len(models))
     return out
@@ -249,7 +235,7 @@ def grid_chunk(
     """
     if continuation:
         r = continuation_chunk(build_models(model, names, points), state0, options, lyapunov, settle_periods)
-    else:  # the pair's kernel arrays straight from the points (no model object per point)
+    else:  # the backend's batch of the points (the pair's: kernel arrays straight from them)
         r = fixed_chunk(point_models(model, names, points), state0, options, lyapunov, settle_periods)
     return r if keep is None else {k: r[k] for k in keep if k in r}
 
@@ -308,7 +294,9 @@ def bifurcation(
         Dimensions ``sweep``, ``<param>``, ``section`` (recorded Poincaré points); variables
         ``poincare_u``, ``poincare_v`` (sweep, param, section); ``period``, ``motion``, ``impact``,
         ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, contact fractions, ``lle``,
-        ``lle_err``, ``lambda2``, ``loops``, ``status``, start and end states (sweep, param).
+        ``lle_err``, ``lambda2``, ``loops``, ``status`` (sweep, param); the full start and end states
+        ``start_state``, ``end_state`` (sweep, param, state), the same for every System (the pair's state
+        coordinates ``u``, ``u'``).
 
     Raises
     ------
@@ -324,6 +312,14 @@ def bifurcation(
     ----------
     R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010 (brute-force
     bifurcation diagrams and natural-parameter continuation of attractors).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, bifurcation
+    >>> ds = bifurcation(GearModel(), "omega", [0.6, 0.8], options=IntegrationOptions(transient=50, periods=8),
+    ...                  progress=False)
+    >>> ds["period"].values.ravel().tolist()
+    [1, 2]
     """
     name = param_name(param)
     if mode not in MODES:
@@ -391,7 +387,7 @@ def points_dataset(
     per_sweep : sequence of dict of ndarray
         The rows of each sweep (chunk results joined), in the order of ``values``.
     model : System, optional
-        The base model: names the ``element`` and ``state`` coordinates of a system.
+        The base model: names the ``element`` and ``state`` coordinates.
 
     Returns
     -------
@@ -411,14 +407,9 @@ def points_dataset(
     data["poincare_u"] = (dims + ("section",), pc[..., 0])
     data["poincare_v"] = (dims + ("section",), pc[..., 1])
     coords: dict[str, Any] = {"sweep": list(labels), name: np.asarray(values, float), "section": np.arange(pc.shape[2])}
-    st, en = stack("start"), stack("end")
-    if st.shape[-1] == 2:  # the pair: (u, u')
-        data.update(
-            start_u=(dims, st[..., 0]), start_v=(dims, st[..., 1]), end_u=(dims, en[..., 0]), end_v=(dims, en[..., 1])
-        )
-    else:  # a system: the full states
-        data.update(start_state=(dims + ("state",), st), end_state=(dims + ("state",), en))
-        coords["state"] = state_names(model, st.shape[-1])
+    st, en = stack("start"), stack("end")  # the full states, (u, u') for the pair
+    data.update(start_state=(dims + ("state",), st), end_state=(dims + ("state",), en))
+    coords["state"] = state_names(model, st.shape[-1])
     for k in ELEMENT_VARIABLES:
         if k in per_sweep[0]:
             data[k] = (dims + ("element",), stack(k))

@@ -251,9 +251,20 @@ def quasi_periodic_allowed(model: Any) -> bool:
     bool
         False for a planar state, no rigid-body mode and a negative mean trace; True otherwise.
     """
-    if int(model.state_dim) != 2 or np.asarray(model.rigid_basis()).shape[-1] != 0:
-        return True
-    return not float(model.mean_trace()) < 0.0
+    return not (_planar(model) and float(model.mean_trace()) < 0.0)
+
+
+def _planar(model: Any) -> bool:
+    """A two-dimensional state without rigid-body modes: a period map of the plane."""
+    return int(model.state_dim) == 2 and np.asarray(model.rigid_basis()).shape[-1] == 0
+
+
+def quasi_periodic_allowed_batch(batch: Any) -> np.ndarray:
+    """:func:`quasi_periodic_allowed` of every point of a :class:`~geardyn.system.Batch` (P,), its mean traces
+    read from the batch (a grid of the pair builds no model per point)."""
+    if not _planar(batch[0]):
+        return np.ones(len(batch), dtype=bool)
+    return ~(np.asarray(batch.mean_traces()) < 0.0)
 
 
 def classify_motion(

@@ -1,7 +1,8 @@
 """Classification that respects F1: a longer exponent run or shooting decides the doubtful labels.
 
-The divergence of the model's vector field is −2c(θ) whatever the state, so the period map
-contracts every area by the same factor exp(−4πξ0/ω) < 1 for ξ0 > 0 (F1).  A planar map that
+The divergence of the pair's vector field is −2c(θ) whatever the state, so the period map
+contracts every area by the same factor exp(−4πξ0/ω) < 1 for ξ0 > 0 (F1; for any System of a planar
+state: its :meth:`~geardyn.system.System.mean_trace` < 0, which is −2ξ0 for the pair).  A planar map that
 shrinks every area has no invariant closed curve (the disc it bounds would be mapped onto itself
 with a smaller area), hence no quasi-periodic attractor.  A sweep's label is therefore re-examined
 where it can be wrong:
@@ -10,13 +11,13 @@ where it can be wrong:
   :data:`LONG_PERIODS` further periods with exponents from the end state decides: periodic if its
   section is, chaotic if λ1 is significantly positive; otherwise shooting from the section points
   (periods 1 … :data:`SHOOT_MAX_PERIOD`) looks for a stable orbit; what is left is unresolved,
-  never quasi-periodic (for ξ0 > 0);
+  never quasi-periodic (for ξ0 > 0, the pair's contracting map);
 - **period-2n**: shooting for period n from the section points; a stable period-n orbit wins (a
   slowly converging period-n orbit next to its flip looks period-2n after a short transient).
 
 :func:`confirm_point` judges one point, :func:`confirm_sweep` every point of a bifurcation-like
-Dataset (any sweep with ``motion``, ``period``, ``lle``, ``lle_err``, ``end_u``, ``end_v`` and
-the Poincaré points), so the same rules serve every sweep.
+Dataset (any sweep with ``motion``, ``period``, ``lle``, ``lle_err``, ``end_state`` and the
+Poincaré points), so the same rules serve every sweep.
 """
 
 from __future__ import annotations
@@ -27,8 +28,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..grid import integrate_points
-from ..model import GearModel, IntegrationOptions
+from ..integrate import integrate_batch
+from ..model import IntegrationOptions
 from .classify import (
     LLE_FLOOR,
     LLE_SIGMAS,
@@ -87,7 +88,7 @@ def needs_confirmation(motion: int, period: int, lle: float) -> bool:
     return motion == MOTION_CHAOTIC and np.isfinite(lle) and abs(lle) <= NEAR_ZERO
 
 
-def _stable_orbit(model: GearModel, n: int, guesses: Sequence[np.ndarray]) -> int:
+def _stable_orbit(model: Any, n: int, guesses: Sequence[np.ndarray]) -> int:
     """The minimal period of a stable period-n orbit shot from one of ``guesses``, or 0."""
     for g in guesses:
         if not np.all(np.isfinite(g)):
@@ -99,7 +100,7 @@ def _stable_orbit(model: GearModel, n: int, guesses: Sequence[np.ndarray]) -> in
 
 
 def confirm_point(
-    model: GearModel,
+    model: Any,
     end_state: Sequence[float],
     section: np.ndarray,
     motion: int,
@@ -113,12 +114,13 @@ def confirm_point(
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         The point's model.
     end_state : sequence of float
-        Its state at the end of the sweep's run (θ ≡ 0).
+        Its full state at the end of the sweep's run (θ ≡ 0).
     section : ndarray (m, 2)
-        Its recorded Poincaré points.
+        Its recorded Poincaré points: the reference element's (δ, δ') (the pair's state); shooting starts
+        from the states :meth:`~geardyn.system.System.initial_state` gives them.
     motion, period : int
         The sweep's label.
     lle, lle_err : float
@@ -141,7 +143,8 @@ def confirm_point(
     }
     if not needs_confirmation(motion, period, lle):
         return out
-    pts = np.asarray(section, dtype=float).reshape(-1, 2)
+    pts = np.array([model.initial_state(u, v) for u, v in np.asarray(section, dtype=float).reshape(-1, 2)])
+    pts = pts.reshape(-1, model.state_dim)
     if motion == MOTION_PERIODIC:
         p = int(period)
         while p >= 2 and p % 2 == 0:
@@ -152,7 +155,7 @@ def confirm_point(
         if p != period:
             out.update(period=p, confirmed=CONFIRM_HALVED)
         return out
-    res = integrate_points(
+    res = integrate_batch(
         [model], np.asarray(end_state, float), IntegrationOptions(transient=0, periods=long_periods), lyapunov=True
     )
     c = classify_batch(res, settle_periods=0)
@@ -170,19 +173,21 @@ def confirm_point(
         if found:
             out.update(motion=MOTION_PERIODIC, period=found, confirmed=CONFIRM_SHOOT)
             return out
-    # F1: for ξ0 > 0 no quasi-periodic attractor exists; what neither test decided stays unresolved
-    out.update(motion=MOTION_UNRESOLVED if model.xi0 > 0 else int(motion), period=0)
+    # F1: a planar map that contracts every area (mean trace < 0: ξ0 > 0 for the pair) has no quasi-periodic
+    # attractor; what neither test decided stays unresolved
+    planar_contracting = model.state_dim == 2 and model.mean_trace() < 0
+    out.update(motion=MOTION_UNRESOLVED if planar_contracting else int(motion), period=0)
     return out
 
 
-def confirm_sweep(ds: xr.Dataset, model: GearModel, param: str, *, long_periods: int = LONG_PERIODS) -> xr.Dataset:
+def confirm_sweep(ds: xr.Dataset, model: Any, param: str, *, long_periods: int = LONG_PERIODS) -> xr.Dataset:
     """Every doubtful label of a one-parameter sweep re-examined by :func:`confirm_point`.
 
     Parameters
     ----------
     ds : xarray.Dataset
         A bifurcation-like result over ``param`` (dims ``sweep``, ``param``).
-    model : GearModel
+    model : System
         Its base model (``param`` set at each point).
     param : str
         The swept parameter.
@@ -204,14 +209,14 @@ def confirm_sweep(ds: xr.Dataset, model: GearModel, param: str, *, long_periods:
     new = {k: v.copy() for k, v in (("motion", motion), ("period", period), ("lle", lle), ("lle_err", err))}
     code = np.zeros(motion.shape, dtype=np.int64)
     pu, pv = ds["poincare_u"].values, ds["poincare_v"].values
-    eu, ev = ds["end_u"].values, ds["end_v"].values
+    end = ds["end_state"].values
     for s in range(motion.shape[0]):
         for i in range(x.size):
             if not needs_confirmation(motion[s, i], period[s, i], lle[s, i]):
                 continue
             r = confirm_point(
                 model.with_param(param, float(x[i])),
-                (eu[s, i], ev[s, i]),
+                end[s, i],
                 np.column_stack([pu[s, i], pv[s, i]]),
                 motion[s, i],
                 period[s, i],

@@ -300,7 +300,19 @@ def lyapunov_spectrum(
     ----------
     Benettin et al. (1980), as for :func:`lyapunov_batch`: tangent vectors re-orthonormalised by
     Gram–Schmidt once per forcing period.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, lyapunov_spectrum
+    >>> ly = lyapunov_spectrum(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=100))
+    >>> ly.motion["motion"], ly.expected_sum  # the exponents sum to the mean trace, -2 ξ0
+    ('period-2', -0.2)
+    >>> abs(float(ly.exponents.sum()) - ly.expected_sum) < 1e-9
+    True
     """
+    from ..validate import exponents_computable
+
+    exponents_computable(model, [model.omega])  # below double precision within a period: refused
     state0 = start_state(model, state0)
     out = _spectra(integrate_batch([model], state0, options, lyapunov=True, progress=progress), blocks)
     res = out["result"]

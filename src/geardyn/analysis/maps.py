@@ -91,6 +91,14 @@ def parameter_map(
         When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
     TypeError
         For a keyword that is not an engine option.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, parameter_map
+    >>> ds = parameter_map(GearModel(), "omega", [0.6, 0.8], "xi0", [0.05, 0.1],
+    ...                    options=IntegrationOptions(transient=50, periods=8), progress=False)
+    >>> ds["period"].values.tolist()
+    [[1, 2], [1, 2]]
     """
     xn, yn = param_name(x_param), param_name(y_param)
     if xn == yn:

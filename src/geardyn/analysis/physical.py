@@ -215,6 +215,14 @@ def simulate_physical(ds: xr.Dataset, scales: Any = None) -> dict[str, Any]:
         k0) and ``assumed``.  ``None`` for values of a diverged run.  A model without a gear pair
         (unit scales, :attr:`~geardyn.units.PhysicalScales.nondimensional`) gets only ``pair`` and
         ``physical`` = None: no speed, torque, force or length exists to report.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, add_physical, load_config, simulate, simulate_physical
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> out = simulate_physical(add_physical(ds, load_config()))
+    >>> round(out["rpm"]), round(out["static_force_N"]), round(out["dynamic_factor"], 2)
+    (2395, 20000, 3.78)
     """
     return _simulate_summary(
         _resolve_scales(ds, scales),
@@ -347,6 +355,14 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
     -------
     xarray.Dataset
         The copy (the data of ``ds`` shared, not copied).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, add_physical, load_config, simulate
+    >>> ds = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8)).to_dataset()
+    >>> ds = add_physical(ds, load_config())  # the paper's pair: µm, N, rpm
+    >>> ds["dte_um"].attrs["units"], ds["mesh_force_N"].attrs["units"]
+    ('µm', 'N')
     """
     from ._converted import Converted
 

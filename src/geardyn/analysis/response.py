@@ -120,6 +120,14 @@ def frequency_response(
         When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
     TypeError
         For a keyword that is not an engine option.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, frequency_response
+    >>> ds = frequency_response(GearModel(), 0.6, 0.8, 3, options=IntegrationOptions(transient=50, periods=8),
+    ...                         progress=False)
+    >>> dict(ds.sizes)
+    {'sweep': 2, 'omega': 3, 'section': 8}
     """
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")

@@ -240,6 +240,13 @@ def runup(
     ModelError
         For non-positive speeds or duration, equal speeds, a step not below a block's period, a block that is
         not a whole number of forcing periods, or more than :data:`MAX_CYCLES` mesh cycles.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, runup
+    >>> res = runup(GearModel(), 0.5, 0.6, 200.0)  # ω from 0.5 to 0.6 over τ = 200
+    >>> res.omega_start, res.omega_stop, bool(res.diverged)
+    (0.5, 0.6, False)
     """
     w0, w1, T = float(omega_start), float(omega_stop), float(duration)
     for name, v in (("omega_start", w0), ("omega_stop", w1), ("duration", T)):

@@ -9,7 +9,6 @@ integration with the tangent equations) and classifies them (:mod:`geardyn.analy
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -17,7 +16,6 @@ from typing import Any
 import numpy as np
 
 from .._lazy import lazy_module
-from ..grid import PointModels, integrate_points
 from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, start_state, trajectory
 from ..io import annotate, result_attrs
 from ..model import IntegrationOptions
@@ -33,7 +31,7 @@ from .classify import (
     is_settling,
     motion_label,
     period_label,
-    quasi_periodic_allowed,
+    quasi_periodic_allowed_batch,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
 
@@ -43,17 +41,6 @@ xr = lazy_module("xarray")
 HISTORY_PERIODS = 32
 #: Highest mesh order kept in the spectrum.
 SPECTRUM_MAX_ORDER = 10.0
-
-
-def _periods_gaps(models: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Sampling periods and the reference element's half gaps of a batch's models (from the arrays of a
-    PointModels)."""
-    if isinstance(models, PointModels):
-        return 2.0 * math.pi / models.omega, models.D
-    return (
-        np.array([m.sampling_period for m in models], dtype=float),
-        np.array([m.elements[m.reference].gap for m in models], dtype=float),
-    )
 
 
 def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
@@ -68,14 +55,14 @@ def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
     -------
     dict of ndarray
         ``period`` (:func:`~geardyn.analysis.classify.detect_period`, -1 where not ok), ``impact``,
-        ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, the three contact fractions, ``status`` (all of
+        ``amplitude``, ``rms``, ``mean``, ``u_min``, ``u_max``, ``fraction_<counter>`` for each counter of its
+        law (the dead zone's ``fraction_drive``, ``fraction_separation``, ``fraction_back``), ``status`` (all of
         the reference element); for a system of several elements also ``element_u_min``, ``element_u_max``,
         ``element_mean``, ``element_rms`` and ``element_impact`` (P, elements).
     """
     period = np.where(res.status == ST_OK, detect_periods(res.poincare), -1).astype(np.int64)
     u_min = res.u_min
-    impact = impact_states(u_min, _periods_gaps(res.models)[1])
-    fr = res.contact_fractions
+    impact = impact_states(u_min, res.models.reference_gaps())
     out = {
         "period": period,
         "impact": impact,
@@ -84,14 +71,12 @@ def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
         "mean": res.mean,
         "u_min": u_min,
         "u_max": res.u_max,
-        "fraction_drive": fr[:, 0],
-        "fraction_separation": fr[:, 1],
-        "fraction_back": fr[:, 2],
+        **{f"fraction_{name}": f for name, f in res.law_fractions().items()},
         "status": res.status.astype(np.int64),
     }
     if res.stats.shape[1] > 1:  # every element of a system with several
         lo = res.element_u_min()
-        gaps = np.array([[e.gap for e in m.elements] for m in res.models], dtype=float)
+        gaps = res.models.element_gaps()
         out.update(
             element_u_min=lo,
             element_u_max=res.element_u_max(),
@@ -119,10 +104,9 @@ def classify_batch(
     settle_periods : int
         Points whose Poincaré sequence is not periodic are integrated this many further periods
         from their end state with the tangent equations (repeated, up to
-        :data:`~geardyn.analysis.classify.SETTLE_ROUNDS` passes, while
-        :func:`~geardyn.analysis.classify.is_settling`); their period, amplitudes, Poincaré points, end state
-        and exponents are then those of the last pass (0: no such pass; the motion of a
-        non-periodic point without exponents is then 'unresolved').
+        :data:`~geardyn.analysis.classify.SETTLE_ROUNDS` passes, while :func:`~geardyn.analysis.classify.is_settling`);
+        their period, amplitudes, Poincaré points, end state and exponents are then those of the last pass
+        (0: no such pass; the motion of a non-periodic point without exponents is then 'unresolved').
     blocks : int, optional
         Blocks for the exponents' uncertainty (default :data:`geardyn.analysis.lyapunov.DEFAULT_BLOCKS`).
     progress : callable, optional
@@ -136,14 +120,14 @@ def classify_batch(
         The keys of :func:`summarize_batch` plus ``motion`` (codes),
         ``lle``, ``lle_err``, ``lambda2`` (NaN where not computed), ``curve_dim`` (correlation
         dimension of the section of non-periodic points, else NaN), ``settle_ratio``
-        (:func:`~geardyn.analysis.classify.settling_ratio` of non-periodic points, else NaN), ``loops``
-        (closed curves of a quasi-periodic section, else 0), ``settled`` (number of settling passes run),
+        (:func:`~geardyn.analysis.classify.settling_ratio` of non-periodic points, else NaN), ``loops`` (closed
+        curves of a quasi-periodic section, else 0), ``settled`` (number of settling passes run),
         ``poincare`` (P, n, 2) and ``end_state`` (P, 2).
     """
     nb = DEFAULT_BLOCKS if blocks is None else blocks
-    models = res.models if isinstance(res.models, PointModels) else list(res.models)
+    models = res.models
     P = len(models)
-    T = _periods_gaps(models)[0]
+    T = models.sampling_periods()
     out = summarize_batch(res)
     out["poincare"] = res.poincare.copy()
     out["end_state"] = res.end_state.copy()
@@ -159,13 +143,13 @@ def classify_batch(
     rounds = 0
     while settle_periods > 0 and need.size and rounds < SETTLE_ROUNDS:
         opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
-        sub = models[need] if isinstance(models, PointModels) else [models[i] for i in need]
+        sub = models[need]
         if progress is None:
-            r2 = integrate_points(sub, out["end_state"][need], opts, lyapunov=True)
-        else:  # the same numbers as integrate_points (a PointModels' models are the GearModels it holds)
+            r2 = integrate_batch(sub, out["end_state"][need], opts, lyapunov=True)
+        else:
             ran = rounds * opts.periods
             r2 = integrate_batch(
-                list(sub),
+                sub,
                 out["end_state"][need],
                 opts,
                 lyapunov=True,
@@ -196,7 +180,7 @@ def classify_batch(
     lam[bad] = np.nan
     err[bad] = np.nan
     sections = _Sections(section, out["poincare"])
-    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections, _quasi_allowed(models))
+    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections, quasi_periodic_allowed_batch(models))
     out.update(
         motion=cls["motion"],
         lle=lam[:, 0].copy(),
@@ -208,17 +192,6 @@ def classify_batch(
         settled=settled,
     )
     return out
-
-
-def _quasi_allowed(models: Any) -> np.ndarray:
-    """:func:`~geardyn.analysis.classify.quasi_periodic_allowed` of each model of a batch (a PointModels'
-    from its base and, when ξ0 is swept, its ξ0 column: the pair's mean trace is −2ξ0)."""
-    if isinstance(models, PointModels):
-        if "xi0" not in models.names:
-            return np.full(len(models), quasi_periodic_allowed(models.base))
-        xi0 = models.points[:, models.names.index("xi0")]
-        return ~(xi0 > 0.0)
-    return np.array([quasi_periodic_allowed(m) for m in models], dtype=bool)
 
 
 class _Sections:
@@ -271,6 +244,13 @@ class SteadyState:
         The classification and the reference element's measures.
     extra : dict
         What the system adds (``System.report``: per-mesh entries of a mesh-vector system; empty for the pair).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, SteadyState, simulate
+    >>> res = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8))
+    >>> isinstance(res, SteadyState), res.summary["period"], sorted(res.to_dataset().data_vars)[:2]
+    (True, 2, ['poincare_u', 'poincare_v'])
     """
 
     model: Any
@@ -389,6 +369,13 @@ def simulate(
     SteadyState
         Its ``to_json`` has the keys of ``geardyn simulate --json`` (the reference element's measures; the
         period in forcing periods of the base frequency) plus what ``model.report`` adds.
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions, simulate
+    >>> res = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8))
+    >>> res.summary["motion"], res.summary["impact"]
+    ('period-2', 'single-sided impact')
     """
     s0 = start_state(model, state0)
     t = trajectory(model, s0, options, history_periods=history_periods, progress=progress)
@@ -422,11 +409,7 @@ def simulate(
         "mean": f("mean"),
         "u_min": f("u_min"),
         "u_max": f("u_max"),
-        "contact_fractions": {
-            "drive": f("fraction_drive"),
-            "separation": f("fraction_separation"),
-            "back": f("fraction_back"),
-        },
+        "contact_fractions": {name: f(f"fraction_{name}") for name in model.elements[model.reference].law.counters},
         "status": "ok" if ok else "diverged",
         "lle": float(cls["lle"][0]) if cls is not None and np.isfinite(cls["lle"][0]) else None,
         "lle_err": float(cls["lle_err"][0]) if cls is not None and np.isfinite(cls["lle_err"][0]) else None,

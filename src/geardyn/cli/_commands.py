@@ -19,8 +19,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "simulate": (
         "point",
         (
-            "Integrate one operating point and report its steady response (Poincaré points, period, impact, amplitudes),\n"
-            "with physical values for the configured gear pair: pinion speed, dynamic transmission error (µm), dynamic mesh\n"
+            "Integrate one operating point and report its steady response (Poincaré points, period, impact, "
+            "amplitudes),\n"
+            "with physical values for the configured gear pair: pinion speed, dynamic transmission error (µm), dynamic "
+            "mesh\n"
             "force (N), dynamic factor, spectrum peaks in Hz and mesh orders."
         ),
     ),
@@ -34,7 +36,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "orbit": (
         "point",
         (
-            "Find a period-n orbit by shooting (Newton on the n-period map, Jacobian = monodromy matrix) and report its\n"
+            "Find a period-n orbit by shooting (Newton on the n-period map, Jacobian = monodromy matrix) and report "
+            "its\n"
             "section points, Floquet multipliers, stability, extremes and impact state."
         ),
     ),
@@ -42,21 +45,25 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "point",
         (
             "Pseudo-arclength continuation of periodic orbits in any parameter: stable and unstable branches, folds,\n"
-            "period doublings (with branch switching), Neimark–Sacker points and grazing; with --out the figure shows the\n"
+            "period doublings (with branch switching), Neimark–Sacker points and grazing; with --out the figure shows "
+            "the\n"
             "branches over the brute-force up/down sweep."
         ),
     ),
     "bifurcation": (
         "sweeps",
         (
-            "Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and amplitudes\n"
-            "per point (and the largest Lyapunov exponent with --lyapunov); fixed initial state or continuation, up/down/both."
+            "Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and "
+            "amplitudes\n"
+            "per point (and the largest Lyapunov exponent with --lyapunov); fixed initial state or continuation, "
+            "up/down/both."
         ),
     ),
     "response": (
         "sweeps",
         (
-            "Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)\n"
+            "Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, "
+            "sweep)\n"
             "and hysteresis intervals where the sweeps end on different attractors (or, with --method hb, from one\n"
             "harmonic-balance branch: jumps at its folds)."
         ),
@@ -68,23 +75,29 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "basins": (
         "sweeps",
         (
-            "Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it reaches\n"
+            "Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it "
+            "reaches\n"
             "(attractors identified by their Poincaré cycles)."
         ),
     ),
     "geometry": (
         "tools",
         (
-            "Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed values marked)."
+            "Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed "
+            "values marked)."
         ),
     ),
     "plot": (
         "tools",
         (
-            "Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation, response, map, basins, orbit, continuation, ...)."
+            "Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation, "
+            "response, map, basins, orbit, continuation, ...)."
         ),
     ),
-    "reproduce": ("tools", ("Run every study of the paper on its Table 1 pair and write a report judging each claim.")),
+    "reproduce": (
+        "tools",
+        ("Run every study of the paper on its Table 1 pair and write a report judging each claim."),
+    ),
     "bench": (
         "tools",
         ("Time the integrator on the standard workloads (in-process, after JIT warm-up, minimum of the runs)."),
@@ -92,7 +105,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "te": (
         "engineering",
         (
-            "Measured transmission error: mesh-order harmonics with phases, shaft-order sidebands, hunting period, and a\n"
+            "Measured transmission error: mesh-order harmonics with phases, shaft-order sidebands, hunting period, and "
+            "a\n"
             "[mesh] section (mesh orders only) the other commands accept."
         ),
     ),
@@ -106,10 +120,13 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "hb": (
         "hb",
         (
-            "Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of period-n responses\n"
+            "Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of "
+            "period-n responses\n"
             "continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and\n"
-            "grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch\n"
-            "with --compare-shooting).  A model or system without damping is refused (no stability can be decided); a\n"
+            "grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting "
+            "branch\n"
+            "with --compare-shooting).  A model or system without damping is refused (no stability can be decided); "
+            "a\n"
             "branch whose first solution does not converge exits with code 1 and writes nothing."
         ),
     ),
@@ -117,8 +134,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "systems",
         (
             "Natural frequencies (Hz, ascending; modes numbered from 1, rigid-body modes 0 Hz), M-orthonormal mode\n"
-            "shapes and modal strain-energy fractions per element at mean mesh stiffness, and the Campbell diagram with\n"
-            "the crossings of the mesh orders (against pinion speed, or against the mesh frequency when the reference\n"
+            "shapes and modal strain-energy fractions per element at mean mesh stiffness, and the Campbell diagram "
+            "with\n"
+            "the crossings of the mesh orders (against pinion speed, or against the mesh frequency when the "
+            "reference\n"
             "mesh gives no teeth); --out writes modes.nc and the Campbell figure."
         ),
     ),
@@ -133,9 +152,12 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "signature": (
         "diagnostics",
         (
-            "Vibration signature of a pair: the acceleration along the line of action sampled with a once-per-revolution\n"
-            "tachometer, order spectrum, TSA per shaft, regular/residual/difference signals and the condition indicators;\n"
-            "healthy beside faulty with two files; indicators against crack depth with --sweep-depths. With --system: the\n"
+            "Vibration signature of a pair: the acceleration along the line of action sampled with a "
+            "once-per-revolution\n"
+            "tachometer, order spectrum, TSA per shaft, regular/residual/difference signals and the condition "
+            "indicators;\n"
+            "healthy beside faulty with two files; indicators against crack depth with --sweep-depths. With --system: "
+            "the\n"
             "same for a bearing sensor (a translational DOF) of a multi-DOF system."
         ),
     ),

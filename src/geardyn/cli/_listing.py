@@ -36,6 +36,41 @@ def table() -> dict[str, tuple[str, str]]:
     }
 
 
+#: Longest line of the generated list (the line length of ``ruff format``).
+LINE_LENGTH = 120
+
+
+def _quoted(text: str) -> str:
+    """``text`` as a double-quoted Python literal (as ``ruff format`` writes it)."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+
+
+def _pieces(help_: str) -> list[str]:
+    """The help text as string literals of at most :data:`LINE_LENGTH` characters once indented, cut after spaces
+    (their implicit concatenation is the text)."""
+    width = LINE_LENGTH - 12
+    out: list[str] = []
+    for line in help_.splitlines(True):
+        piece = ""
+        for word in line.split(" "):
+            cand = word if not piece else piece + " " + word
+            if piece and len(_quoted(cand + " ")) > width:
+                out.append(_quoted(piece + " "))
+                piece = word
+            else:
+                piece = cand
+        out.append(_quoted(piece))
+    return out
+
+
+def _help_rows(help_: str) -> str:
+    """The parenthesised help text of one command, laid out as ``ruff format`` lays it out."""
+    pieces = _pieces(help_)
+    if len(pieces) == 1 and 11 + len(pieces[0]) <= LINE_LENGTH:
+        return f"        ({pieces[0]}),\n"
+    return "        (\n" + "".join(f"            {p}\n" for p in pieces) + "        ),\n"
+
+
 def write() -> bool:
     """Rewrite :data:`._commands.COMMANDS` in its file from the commands (:func:`table`); True if the file changed."""
     path = Path(_commands.__file__)
@@ -43,9 +78,7 @@ def write() -> bool:
     head, rest = text.split(_BEGIN, 1)
     _, tail = rest.split(_END, 1)
     rows = "".join(
-        f"    {name!r}: ({module!r}, (\n"
-        + "".join(f"        {line!r}\n" for line in help_.splitlines(True))
-        + "    )),\n"
+        f"    {_quoted(name)}: (\n        {_quoted(module)},\n{_help_rows(help_)}    ),\n"
         for name, (module, help_) in table().items()
     )
     new = head + _BEGIN + rows + _END + tail

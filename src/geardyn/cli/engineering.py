@@ -129,19 +129,17 @@ def _show_te(s: dict[str, Any], files: list[str]) -> None:
         console.print(f"wrote {f}", markup=False, highlight=False)
 
 
-def attach_iso_kv(config: Path | None, model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+def attach_iso_kv(cfg: Any, model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
     """Add the ISO K_v-B curve (JSON ``iso_kv``, Dataset attribute ``iso_kv``) to a frequency response over ω.
 
-    Only when the configured pair has the ISO inputs K_v needs (``f_pt`` among its ``[gear_pair]`` keys); the
-    response is returned unchanged otherwise.
+    Only when the configured pair (``cfg``, a loaded configuration; None for a tooth pair's own run) has the ISO
+    inputs K_v needs (``f_pt`` among its ``[gear_pair]`` keys); the response is returned unchanged otherwise.
     """
     import json
 
-    from ..config import load_config
     from ..geometry.iso import iso_kv_block
 
-    cfg = load_config(config)
-    if cfg.pair is None or "f_pt" not in cfg.iso_inputs or "rpm" not in ds.coords:
+    if cfg is None or cfg.pair is None or "f_pt" not in cfg.iso_inputs or "rpm" not in ds.coords:
         return ds, summary
     sc = cfg.scales
     u_max = {str(s): ds["u_max"].sel(sweep=s).values for s in ds["sweep"].values}

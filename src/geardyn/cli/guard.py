@@ -376,9 +376,12 @@ def _interrupted_message(exc: BaseException | None) -> str:
 
     dirs = active_checkpoints()
     if dirs:
+        saved = len(list(dirs[-1].glob("chunk-*.npz")))
+        if saved == 0:
+            return f"interrupted before any chunk of the sweep finished: nothing is saved in {dirs[-1]}"
         return (
-            f"interrupted: the finished chunks are saved in {dirs[-1]}; run the same command again with "
-            f"--resume to complete the sweep"
+            f"interrupted: {saved} finished chunk{'s' if saved > 1 else ''} saved in {dirs[-1]}; run the same "
+            f"command again with --resume to complete the sweep"
         )
     return "interrupted"
 

@@ -117,8 +117,8 @@ RPM = option(
     None,
     "--rpm",
     panel=PHYSICAL_PANEL,
-    help="Pinion speed in rpm (sets ω for the gear pair of --config; default pair: the paper's Table 1, "
-    "k0 = 2000 N/µm assumed).",
+    help="Pinion speed in rpm (sets ω for the gear pair of --config, else of a tooth-pair --excitation file; "
+    "default pair: the paper's Table 1, k0 = 2000 N/µm assumed).",
 )
 TORQUE = option(
     "torque",
@@ -126,7 +126,28 @@ TORQUE = option(
     None,
     "--torque",
     panel=PHYSICAL_PANEL,
-    help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config).",
+    help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config, else of a tooth-pair "
+    "--excitation file).",
+)
+TORQUE_ORDER = _P(
+    "torque_order",
+    _P.KEYWORD_ONLY,
+    default=None,
+    annotation=Annotated[
+        Optional[list[str]],
+        typer.Option(
+            "--torque-order",
+            metavar="ORDER:AMPLITUDE[:PHASE]",
+            rich_help_panel=PHYSICAL_PANEL,
+            help=(
+                "A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic "
+                "of constant amplitude. With --config of a gear pair: ORDER of the pinion speed (frequency "
+                "ORDER/z1 of the mesh frequency), AMPLITUDE a pinion torque in N·m (the gear's torque steady). "
+                "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
+                "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp."
+            ),
+        ),
+    ],
 )
 EXCITATION = option(
     "excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP
@@ -173,7 +194,7 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     -------
     list of inspect.Parameter
     """
-    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE]
+    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE, TORQUE_ORDER]
     for o in params.cli_options():
         if o.param == "omega" and not omega:
             continue
@@ -312,25 +333,6 @@ OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
-def base_model(
-    config: Path | None, excitation: Path | None = None, given: Any = None, evaluation: str | None = None
-) -> GearModel:
-    """The model of ``--config`` (or the paper's defaults) and ``--excitation`` (:mod:`geardyn.tooth.table`)."""
-    if config is None and excitation is None and evaluation is None:
-        return GearModel()
-    from ..config import configured_model
-
-    return configured_model(config, excitation, given or {}, evaluation)
-
-
-def pair_scales(config: Path | None):
-    """Physical scales of the gear pair of the configuration file ``config`` (default: the paper's Table 1 pair, k0
-    assumed)."""
-    from ..units import PhysicalScales, configured_pair
-
-    return PhysicalScales.from_config(configured_pair(config))
-
-
 def build_model(
     config: Path | None = None,
     *,
@@ -338,21 +340,26 @@ def build_model(
     torque: float | None = None,
     excitation: Path | None = None,
     evaluation: str | None = None,
+    torque_orders: Any = None,
     **values: float | None,
 ) -> GearModel:
-    """The config's model (with the ``excitation`` table) with the command-line values applied on top (validated).
+    """The model of a configuration and excitation file with the command-line values applied on top (validated):
+    :meth:`geardyn.inputs.PairInputs.model`.
 
     Parameters
     ----------
     config : Path, optional
-        Configuration file (default: the paper's Table 1).
+        Configuration file (default: the paper's Table 1, or the pair of a tooth-pair ``excitation``).
     rpm, torque : float, optional
         Pinion speed and pinion torque (N·m, balanced): they set ω and f_p through the scales of the
-        configured gear pair and cannot be combined with ``omega`` / ``fp``.
+        run's gear pair and cannot be combined with ``omega`` / ``fp``.
     excitation : Path, optional
         A mesh excitation table (``docs/excitation.md``) in place of the config's stiffness and STE series.
     evaluation : str, optional
         ``"series"`` or ``"table"``: how the excitation table is evaluated (default: the configuration's, else series).
+    torque_orders : list of str, optional
+        ``--torque-order`` texts ``ORDER:AMPLITUDE[:PHASE]`` (:func:`geardyn.torque_orders.parse_cli`), added to the
+        configuration's: pinion orders and torques (N·m) for a gear pair, else mesh orders, non-dimensional.
     **values
         The registry's model options by keyword (``omega``, ``xi0``, …); ``None`` keeps the config's value.
 
@@ -361,27 +368,11 @@ def build_model(
     ModelError
         For an unknown keyword or an invalid value.
     """
-    by_dest = {o.dest: o.param for o in params.cli_options()}
-    unknown = set(values) - set(by_dest)
-    if unknown:
-        raise ModelError(f"model options: unknown {sorted(unknown)}; allowed: {sorted(by_dest)}")
-    m = base_model(config, excitation, values, evaluation)
-    if rpm is not None or torque is not None:
-        from ..units import operating_overrides
+    from ..inputs import PairInputs
 
-        phys = operating_overrides(
-            pair_scales(config), rpm=rpm, torque=torque, omega=values.get("omega"), fp=values.get("fp")
-        )
-        values = {**values, "omega": phys.get("omega", values.get("omega")), "fp": phys.get("fp", values.get("fp"))}
-    for dest, param in by_dest.items():
-        if values.get(dest) is not None:
-            m = m.with_param(param, values[dest])
-    return m
-
-
-#: Largest contraction (as a power of e) of the perturbations over one forcing period for which
-#: Lyapunov exponents are computed: e^-700 is still a normal double (the smallest is e^-708).
-MAX_PERIOD_CONTRACTION = 700.0
+    return PairInputs(config, excitation, evaluation).model(
+        rpm=rpm, torque=torque, torque_orders=torque_orders, **values
+    )
 
 
 class Inputs:
@@ -397,6 +388,8 @@ class Inputs:
 
     def __init__(self, values: dict[str, Any]) -> None:
         self.values = values
+        self._pair: Any = None
+        self._systems: dict[tuple, Any] = {}
 
     def __getattr__(self, name: str) -> Any:
         try:
@@ -419,29 +412,40 @@ class Inputs:
             For an invalid value or a conflicting ``--rpm`` / ``--torque``.
         """
         v = self.values
+        if v.get("system") is not None and v.get("torque_order"):
+            raise ModelError(
+                "--torque-order: applies to the pair; with --system write orders = [{order, amplitude, phase}] "
+                "on a drive or load of the system file"
+            )
         if v.get("system") is not None:  # the system of the file, the options applied to its reference mesh
-            from .system_input import load_cli_system
+            key = tuple(sorted((k, x) for k, x in fixed.items() if x is not None))
+            if key not in self._systems:  # one system (and one read of its file) per set of fixed values
+                from .system_input import load_cli_system
 
-            return load_cli_system({**v, **{k: x for k, x in fixed.items() if x is not None}})
+                self._systems[key] = load_cli_system({**v, **dict(key)})
+            return self._systems[key]
         dests = {o.dest for o in params.cli_options()}
         given = {k: v.get(k) for k in dests}
         given.update(fixed)
-        return build_model(
-            v.get("config"),
-            rpm=v.get("rpm"),
-            torque=v.get("torque"),
-            excitation=v.get("excitation"),
-            evaluation=v.get("excitation_evaluation"),
-            **given,
-        )
+        return self.pair().model(rpm=v.get("rpm"), torque=v.get("torque"), torque_orders=v.get("torque_order"), **given)
+
+    def pair(self) -> Any:
+        """The gear pair's files of ``--config`` and ``--excitation``, each read once for the command
+        (:class:`geardyn.inputs.PairInputs`)."""
+        if self._pair is None:
+            from ..inputs import PairInputs
+
+            v = self.values
+            self._pair = PairInputs(v.get("config"), v.get("excitation"), v.get("excitation_evaluation"))
+        return self._pair
 
     def scales(self):
-        """The physical scales of the configured gear pair (of a system's reference mesh with ``--system``)."""
+        """The physical scales of the run's gear pair (of a system's reference mesh with ``--system``)."""
         if self.values.get("system") is not None:
             from ..systems.report import physical_scales
 
             return physical_scales(self.model())
-        return pair_scales(self.values.get("config"))
+        return self.pair().scales()
 
     def options(
         self, omega: float | None = None, *, periods: int | None = None, omegas: Any = (), points: int = 1
@@ -482,35 +486,16 @@ class Inputs:
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
 
     def exponents_computable(self, model: GearModel, omegas: Any) -> None:
-        """Refuse Lyapunov exponents where the damping contracts the perturbations below double precision
-        within one forcing period (e^(-2 ξ0 T) < e^-:data:`MAX_PERIOD_CONTRACTION`, T = 2π/ω): their
-        Gram–Schmidt normalisation would divide by zero.
+        """:func:`geardyn.validate.exponents_computable`: the precision limit of Lyapunov exponents.
 
         Parameters
         ----------
         model : System
         omegas : sequence of float
-
-        Raises
-        ------
-        ModelError
-            Naming ω and the smallest ω allowed.
         """
-        import math
+        from .. import validate
 
-        import numpy as np
-
-        xi = -float(model.mean_trace()) / model.state_dim  # the mean damping (the pair's ξ0): harmonics average out
-        ws = np.asarray(omegas, dtype=float).ravel()
-        if xi <= 0 or not ws.size:
-            return
-        w_min = 4.0 * math.pi * xi / MAX_PERIOD_CONTRACTION
-        if float(np.min(ws)) < w_min:
-            raise ModelError(
-                f"omega: Lyapunov exponents need ω >= {w_min:.4g} with this damping (ξ0 = {xi:g}): at "
-                f"ω = {float(np.min(ws)):.4g} the perturbations shrink by e^-{4 * math.pi * xi / float(np.min(ws)):.0f} "
-                f"in one forcing period, below double precision"
-            )
+        validate.exponents_computable(model, omegas)
 
     def param_range(
         self, param: str | None, start: float | None, stop: float | None, *, what: str = "swept"
@@ -682,6 +667,9 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
     *extra : object
         Further arguments of ``show``.
     """
+    pair = inp.__dict__.get("_pair")
+    if pair is not None and pair.summary() is not None:  # a tooth-pair excitation drives the scales: that pair
+        summary["tooth_pair"] = pair.summary()
     if inp.json_out:
         summary["files"] = paths
         emit_json(summary)

@@ -7,7 +7,6 @@ from typing import Annotated
 import typer
 
 from ..errors import ModelError
-from ..model import IntegrationOptions
 from . import render
 from .options import (
     MODEL,
@@ -33,9 +32,8 @@ GuessOpt = Annotated[
         help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state reached by simulating --transient periods from --u0, --v0).",
     ),
 ]
-#: Points of the brute-force up/down sweep drawn under a continuation figure, and its recorded periods.
+#: Points of the brute-force up/down sweep drawn under a continuation figure (:mod:`geardyn.analysis.context`).
 CONTINUATION_SWEEP_NUM = 101
-CONTINUATION_SWEEP_PERIODS = 32
 
 
 def parse_guess(text: str | None, d: int = 2) -> tuple[float, ...] | None:
@@ -245,18 +243,18 @@ def continuation(
         )
     sweep_ds = None
     if inp.out is not None and nsw > 0:
-        from ..analysis.bifurcation import bifurcation, sweep_values
+        from ..analysis.context import continuation_context
 
-        sweep_ds = bifurcation(
+        sweep_ds = continuation_context(
             model,
             name,
-            sweep_values(start_v, stop_v, nsw),
-            mode="continue",
-            sweep="both",
+            start_v,
+            stop_v,
+            num=nsw,
+            dtau=opts.dtau,
+            transient=opts.transient,
             state0=state0,
-            options=IntegrationOptions(dtau=opts.dtau, transient=opts.transient, periods=CONTINUATION_SWEEP_PERIODS),
             progress=not inp.json_out,
-            description=f"up/down sweep {sym}",
         )
     paths: list[str] = []
     if inp.out is not None:

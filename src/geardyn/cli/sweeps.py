@@ -217,7 +217,7 @@ def response(
     if inp.system is None:
         from .engineering import attach_iso_kv  # the ISO K_v-B curve beside the response, when the pair has its inputs
 
-        ds, summary = attach_iso_kv(inp.config, model, ds, summary)
+        ds, summary = attach_iso_kv(inp.pair().loaded, model, ds, summary)
     elif method == "sweep":
         summary = _system(inp, model, summary, ds)
     _sweep_json(inp, summary, ds, "response", engine, render.response)
@@ -266,9 +266,7 @@ def parameter_map(
     # an axis in physical units: pinion speed (rpm) for ω, pinion torque (N·m, balanced) for f_p
     physical = {"rpm": ("omega", scales.omega_from_rpm), "torque": ("fp", scales.fp_from_torque)}
 
-    def in_model_units(
-        name: str, a: float | None, b: float | None
-    ) -> tuple[str, float | None, float | None]:
+    def in_model_units(name: str, a: float | None, b: float | None) -> tuple[str, float | None, float | None]:
         if name not in physical or a is None or b is None:
             return name, a, b
         param, convert = physical[name]

@@ -84,6 +84,15 @@ class SpiralBevelGearPair:
     assumed : sequence of (str, str)
         ``(parameter name, source)`` pairs for given values that are themselves assumptions
         (e.g. a face width chosen by the user); they appear in :attr:`assumed`.
+
+    Examples
+    --------
+    >>> import math
+    >>> from geardyn import SpiralBevelGearPair
+    >>> pair = SpiralBevelGearPair(z1=23, z2=47, m_mn=7.28e-3, beta_m=math.radians(35), alpha_n=math.radians(20),
+    ...                            j_n=0.1e-3, I1=1.772, I2=1.873, r1=0.1255, r2=0.256)
+    >>> round(pair.mesh_frequency(3000) / (2 * math.pi), 6)  # ω_e = 2π z1 n1 / 60 (rad/s), in Hz
+    1150.0
     """
 
     z1: int

@@ -39,6 +39,14 @@ class MeshHarmonics:
         STE harmonics e_l (m).
     phi_e : sequence of float
         Phases φ_el (rad).
+
+    Examples
+    --------
+    >>> from geardyn import MeshHarmonics
+    >>> h = MeshHarmonics(xi=(0.05,), kappa=(0.2,), eps=(0.5,))
+    >>> nd = h.nondimensional(1.0, 1.0, 1.0, 1.0)
+    >>> nd["kappa"], nd["eps"]
+    ((0.2,), (0.5,))
     """
 
     xi: tuple[float, ...] = ()

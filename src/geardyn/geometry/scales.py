@@ -62,6 +62,15 @@ class PhysicalScales:
     nondimensional : bool
         ``True`` for the unit scales of a configuration without ``[gear_pair]`` (:meth:`unit`): every
         "physical" value then repeats its non-dimensional one, and a speed or torque cannot be given.
+
+    Examples
+    --------
+    >>> from geardyn import load_config
+    >>> sc = load_config().scales
+    >>> sc.z1, round(sc.k0_N_per_m / 1e6), round(sc.b_c_m * 1e6)  # teeth, k0 in N/µm, b_c in µm
+    (23, 2000, 50)
+    >>> round(float(sc.omega_from_rpm(3000)), 4), round(float(sc.rpm_from_omega(1.0)), 1)
+    (1.002, 2993.9)
     """
 
     title: str

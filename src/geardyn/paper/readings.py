@@ -28,7 +28,8 @@ from ..analysis.bifurcation import grid_chunk
 from ..analysis.points import run_slices
 from ..analysis.response import detect_jumps
 from ..analysis.steady import summarize_batch
-from ..grid import Grid, PointModels, integrate_points
+from ..grid import Grid, point_models
+from ..integrate import integrate_batch
 from ..model import GearModel, IntegrationOptions
 from ..sweep import Chunk, SweepOptions, chunk_slices, run_chunks
 from .verdicts import section_spread
@@ -246,8 +247,8 @@ def lockstep_chunk(
         for i in order:
             bad = ~np.all(np.isfinite(state), axis=1)
             state[bad] = 0.0
-            pm = PointModels(base, full, np.column_stack([pts, np.full(R, omegas[i])]))
-            res = integrate_points(pm, state, options)
+            pm = point_models(base, full, np.column_stack([pts, np.full(R, omegas[i])]))
+            res = integrate_batch(pm, state, options)
             summ = summarize_batch(res)
             out["amplitude"][:, s, i] = summ["amplitude"]
             out["u_min"][:, s, i] = summ["u_min"]

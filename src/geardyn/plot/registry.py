@@ -31,6 +31,7 @@ from . import (
     modes,
     periodic,
     physical,
+    rattle,
     reproduce,
     response,
     runup,
@@ -156,6 +157,8 @@ register(
     FigureSpec("signature", signature_system.system_signals, when=signature_system.is_system),
 )
 register("signature_sweep", FigureSpec("indicators", tooth.indicator_sweep))
+register("rattle", FigureSpec("rattle", rattle.rattle_history))
+register("rattle_map", FigureSpec("rattle_map", rattle.rattle_map_figure))
 
 
 def _kind(ds: Any) -> str:
@@ -179,9 +182,9 @@ def figures_for(ds: xr.Dataset) -> list[FigureSpec]:
     ------
     PlotError
         If ``ds`` is not a geardyn result or its kind has no figures, or a variable has another type or shape
-        than geardyn writes (:func:`geardyn.plausible.result_variables`).
+        than geardyn writes (:func:`geardyn.io.result_variables`).
     """
-    from ..plausible import result_variables
+    from ..io import result_variables
 
     kind = _kind(ds)
     result_variables(ds, error=PlotError)  # a variable of another type or shape is refused before drawing

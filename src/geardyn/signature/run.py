@@ -20,6 +20,8 @@ from .signals import order_spectrum, split_tsa, tsa
 
 __all__ = [
     "INDICATORS",
+    "default_fs",
+    "per_rev",
     "SIGNATURE_HARMONICS",
     "combine",
     "indicators",
@@ -69,8 +71,41 @@ def indicators(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, floa
     }
 
 
-def _per_rev(z1: int, z2: int) -> int:
-    return int(2 ** math.ceil(math.log2(8 * max(z1, z2))))
+def per_rev(z: int, top_order: float = 0.0) -> int:
+    """Angle-domain points per revolution of a shaft with ``z`` teeth: at least 16 per mesh period, and at
+    least 4 per period of the highest mesh harmonic ``top_order`` the model holds (twice its Nyquist rate),
+    rounded up to a power of 2.  Each shaft gets its own: one count for both would resolve the gear with
+    more teeth too coarsely and fold its mesh harmonics into its difference signal.
+
+    Parameters
+    ----------
+    z : int
+        Teeth of the shaft's gear.
+    top_order : float
+        Highest mesh order in the model's excitation (harmonics / cycles of its period).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> per_rev(19), per_rev(48), per_rev(48, top_order=32.0)
+    (512, 1024, 8192)
+    """
+    return int(2 ** math.ceil(math.log2(max(16.0 * z, 4.0 * z * top_order))))
+
+
+def default_fs(f_mesh: float, top_order: float = 0.0) -> float:
+    """The default sampling rate: 20 samples per mesh period and 2.5 per period of the highest mesh harmonic
+    the model holds, rounded up to 1 kHz (Hz).
+
+    Examples
+    --------
+    >>> default_fs(950.0), default_fs(950.0, top_order=32.0)
+    (19000.0, 76000.0)
+    """
+    return 1000.0 * math.ceil(max(20.0, 2.5 * top_order) * f_mesh / 1000.0)
 
 
 def signature(
@@ -125,10 +160,11 @@ def signature(
     g = math.gcd(z1, z2)
     if revolutions is None:
         revolutions = max(10, 2 * z2 // g)
+    top = H / ms.cycles
     if fs is None:
-        fs = 1000.0 * math.ceil(20 * rpm / 60.0 * z1 / 1000.0)
+        fs = default_fs(rpm / 60.0 * z1, top)
     acq = acquire(model, sc, revolutions, fs, noise=noise, seed=seed, dtau=dtau)
-    ds, ind = record(acq, z2, "acceleration along the line of action")
+    ds, ind = record(acq, z2, "relative acceleration along the line of action", top)
     summary = {
         "label": label,
         "rpm": float(rpm),
@@ -150,7 +186,9 @@ def signature(
     return labelled(ds, summary, label)
 
 
-def record(acq: Acquisition, z2: int | None, what: str) -> tuple[xr.Dataset, dict[str, dict[str, float]]]:
+def record(
+    acq: Acquisition, z2: int | None, what: str, top_order: float = 0.0
+) -> tuple[xr.Dataset, dict[str, dict[str, float]]]:
     """The variables of a ``signature`` result from a record, and the indicators of each shaft's TSA.
 
     Parameters
@@ -161,6 +199,8 @@ def record(acq: Acquisition, z2: int | None, what: str) -> tuple[xr.Dataset, dic
         The wheel's teeth (None: no wheel TSA).
     what : str
         What the acceleration is (its ``long_name``).
+    top_order : float
+        Highest mesh order of the model's excitation (for :func:`per_rev`).
 
     Returns
     -------
@@ -170,14 +210,15 @@ def record(acq: Acquisition, z2: int | None, what: str) -> tuple[xr.Dataset, dic
         ``angle_pinion``, ``tsa_wheel`` over ``angle_wheel``; shaft → indicator name → value.
     """
     z1, rpm = acq.z1, acq.rpm
-    N = _per_rev(z1, z2 or z1)
+    N = per_rev(z1, top_order)
     orders, amp = order_spectrum(acq, N)
     t1 = tsa(acq, N)
     p1 = split_tsa(t1, z1)
     ind = {"pinion": indicators(t1, z1)}
     if z2:
         try:
-            t2 = tsa(acq, N, z1 / z2)
+            N2 = per_rev(z2, top_order)
+            t2 = tsa(acq, N2, z1 / z2)
         except ModelError:
             revs = int(round(acq.time[-1] * rpm / 60.0))
             raise ModelError(
@@ -207,7 +248,7 @@ def record(acq: Acquisition, z2: int | None, what: str) -> tuple[xr.Dataset, dic
         ds["tsa_wheel"] = xr.DataArray(
             t2, dims="angle_wheel", attrs={"units": "m/s^2", "long_name": "TSA of the wheel"}
         )
-        ds = ds.assign_coords(angle_wheel=("angle_wheel", 360.0 * np.arange(N) / N, {"units": "deg"}))
+        ds = ds.assign_coords(angle_wheel=("angle_wheel", 360.0 * np.arange(N2) / N2, {"units": "deg"}))
     return ds, ind
 
 

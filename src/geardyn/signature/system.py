@@ -361,8 +361,8 @@ def system_signature(
     if fs is None:
         fs = default_rate(system, f_mesh)
     acq = system_acquire(system, dof, revolutions, fs, mesh=mesh, z2=z2, noise=noise, seed=seed, dtau=dtau)
-    ds, ind = record(acq, z2, f"acceleration of {dof}")
     sm = system.mesh(m.name)
+    ds, ind = record(acq, z2, f"acceleration of {dof}", sm.n_harmonics / sm.cycles)
     summary = {
         "label": label,
         "rpm": acq.rpm,

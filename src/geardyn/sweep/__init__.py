@@ -44,7 +44,7 @@ s, as are an unusable checkpoint directory, a resume of another sweep and an unr
 from __future__ import annotations
 
 from ..errors import SweepError
-from ..grid import Grid, grid_models
+from ..grid import Grid
 from .checkpoints import MANIFEST, CheckpointStore, checkpoint_dir, fingerprint, prepare_checkpoint, remove_checkpoint
 from .engine import (
     CHUNK_SECONDS,
@@ -103,7 +103,6 @@ __all__ = [
     "dask_executor",
     "divergence_summary",
     "fingerprint",
-    "grid_models",
     "local_pool",
     "prepare_checkpoint",
     "remove_checkpoint",

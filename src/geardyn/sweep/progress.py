@@ -31,6 +31,8 @@ from typing import Any
 
 import numpy as np
 
+from .. import _cache_guard
+
 __all__ = [
     "PLAIN_INTERVAL",
     "PROGRESS_DELAY",
@@ -223,8 +225,23 @@ class _DelayedBar(ABC):
         self._closed = False
         self._stop = threading.Event()
         self._t0 = time.monotonic()
+        self._c0 = _cache_guard.compile_seconds()  # ETAs leave out the time numba spends compiling
         self._timer = threading.Timer(PROGRESS_DELAY, self._start)
         self._timer.daemon = True
+        self._unwatch = _cache_guard.on_compile(self._compiling)
+
+    def _compiling(self, what: str) -> None:
+        """Say, once, that a kernel compiles (a first run: the cache has no code for it yet)."""
+        self._unwatch()
+        if getattr(self, "_announced", False):
+            return
+        self._announced = True
+        console = _stderr_console()
+        console.print(f"compiling {what}, first run only", markup=False, highlight=False)
+        try:
+            console.file.flush()
+        except (OSError, ValueError):
+            pass
 
     def _begin(self) -> None:
         if PROGRESS_DELAY > 0:
@@ -293,7 +310,8 @@ class _DelayedBar(ABC):
         sec = time.monotonic() - self._t0
         text = f"{self._description}: {self._numbers(done, total)}, elapsed {_clock(sec)}"
         if total and 0 < done < total:
-            text += f", ETA {_clock(sec * (total - done) / done)}"
+            busy = max(0.0, sec - (_cache_guard.compile_seconds() - self._c0))
+            text += f", ETA {_clock(busy * (total - done) / done)}"
         self._plain.print(text, markup=False, highlight=False, soft_wrap=True)
         try:
             self._plain.file.flush()
@@ -316,6 +334,7 @@ class _DelayedBar(ABC):
 
     def close(self) -> None:
         """Stop the bar (or its pending start), drawing its last state."""
+        self._unwatch()
         self._timer.cancel()
         self._stop.set()
         self._redraw()

@@ -278,11 +278,26 @@ class SystemModel:
         Clearance stiffness, damping and half gaps (non-dimensional).
     description : SystemDescription or None
         The physical description it was assembled from.
+    orders : tuple of (Fraction, ndarray (n,), float)
+        Torque orders of the loads: frequency r over the base frequency ω, the load vector's amplitude (scaled
+        like ``F``) and the phase (rad); the forcing adds Σ F̃_o cos(r_o θ + φ_o).  The forcing period counts
+        their denominators (:meth:`period_multiple`).  The mesh-vector kernel takes no time-varying load: a
+        system with orders is refused by :meth:`arrays` (a two-gear torsional system runs as its pair,
+        :func:`geardyn.analysis.rattle.pair_of_system`).
 
     Raises
     ------
     ModelError
         If an array has the wrong shape, ω is not positive, or a clearance gap is negative.
+
+    Examples
+    --------
+    >>> from geardyn import SystemModel, load_system
+    >>> system = load_system("examples/systems/paper_torsional.toml")
+    >>> isinstance(system, SystemModel), system.labels
+    (True, ('pinion.theta', 'gear.theta'))
+    >>> round(system.omega, 6), system.with_param("omega", 0.8).omega
+    (1.002046, 0.8)
     """
 
     labels: tuple[str, ...]
@@ -300,6 +315,7 @@ class SystemModel:
     cc: tuple[float, ...] = ()
     Dc: tuple[float, ...] = ()
     description: SystemDescription | None = None
+    orders: tuple = ()
 
     def __post_init__(self) -> None:
         n = len(self.labels)
@@ -351,6 +367,8 @@ class SystemModel:
             if abs(float(f) - m.ratio) > RATIO_RTOL * m.ratio:
                 return None
             p = p * f.denominator // math.gcd(p, f.denominator)
+        for r, _, _ in self.orders:
+            p = p * r.denominator // math.gcd(p, r.denominator)
         return p
 
     def is_periodic(self) -> bool:
@@ -515,6 +533,11 @@ class SystemModel:
 
     def arrays(self, n_harmonics: int | None = None) -> SystemArrays:
         """The kernel arrays of this system (see the module docstring for the contract)."""
+        if self.orders:
+            raise ModelError(
+                "orders: the mesh-vector kernel takes no time-varying load yet; a system with torque orders runs "
+                "when it is two gears on their rotations (geardyn rattle --system), else remove the orders"
+            )
         H = self.n_harmonics if n_harmonics is None else n_harmonics
         c = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
         return SystemArrays(
@@ -555,6 +578,48 @@ class SystemModel:
         return SystemArrays(
             *(np.ascontiguousarray(np.stack([getattr(a, f) for a in each])) for f in SystemArrays._fields)
         )
+
+    # ------------------------------------------------------------------ a result's attributes
+    def to_attrs(self) -> str:
+        """The non-dimensional system as JSON text (a result's ``system_model`` attribute): its DOF labels,
+        matrices, meshes, loads, ω, scales and clearances, every float exactly.  :meth:`from_attrs` is the
+        inverse (without the physical description, which is not stored)."""
+        import json
+        from dataclasses import asdict
+
+        d = {
+            "labels": list(self.labels),
+            "Mi": self.Mi.tolist(),
+            "Kb": self.Kb.tolist(),
+            "Cb": self.Cb.tolist(),
+            "V": self.V.tolist(),
+            "meshes": [asdict(m) for m in self.meshes],
+            "F": self.F.tolist(),
+            "omega": self.omega,
+            "scaling": asdict(self.scaling),
+            "clearance_names": list(self.clearance_names),
+            "Vc": self.Vc.tolist(),
+            "kc": list(self.kc),
+            "cc": list(self.cc),
+            "Dc": list(self.Dc),
+        }
+        return json.dumps(d)
+
+    @classmethod
+    def from_attrs(cls, text: str) -> SystemModel:
+        """The system of :meth:`to_attrs` text (``description`` None)."""
+        import json
+
+        d = json.loads(text)
+        sc = d.pop("scaling")
+        sc["s"] = tuple(sc["s"])
+        d["scaling"] = Scaling(**sc)
+        d["meshes"] = tuple(MeshND(**m) for m in d["meshes"])
+        d["labels"] = tuple(d["labels"])
+        d["clearance_names"] = tuple(d["clearance_names"])
+        n = len(d["labels"])
+        d["Vc"] = np.reshape(np.array(d["Vc"], dtype=float), (len(d["clearance_names"]), n))
+        return cls(**d)
 
     # ------------------------------------------------------------------ checks and helpers
     def relative_coefficients(self, mesh: str | None = None) -> dict[str, float]:
@@ -652,6 +717,13 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     Cbt = S @ Cb @ S * omega_n / den
     V = np.array([s * desc.vector(m) / b_c for m in desc.meshes])
     F = s * desc.load_vector() / den
+    idx = desc.index()
+    orders = []
+    for ld in desc.loads:
+        for k, amp, ph in ld.orders:
+            vec = np.zeros(desc.n)
+            vec[idx[(ld.body, ld.dof)]] = s[idx[(ld.body, ld.dof)]] * amp / den
+            orders.append((k * ld.speed, _ro(vec), float(ph)))
     meshes = tuple(_mesh_nd(desc, m, k_ref, m_ref, b_c) for m in desc.meshes)
     cl = desc.clearances
     Vc = np.array([s * desc.vector(c) / b_c for c in cl]).reshape(len(cl), desc.n)
@@ -681,6 +753,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         cc=cc,
         Dc=Dc,
         description=desc,
+        orders=tuple(orders),
     )
     check_balance(model, desc)  # loads on a free rigid-body motion: refused, the balancing load named
     return model

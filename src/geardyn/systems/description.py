@@ -14,7 +14,8 @@ frozen and checked on construction (:meth:`SystemDescription.validate`).  Its pi
   ``v·q − e(t)``: direction cosines on translations, directional radii n·(j × r) on rotations),
   half backlash, mean stiffness, and the Fourier series of stiffness, damping and static
   transmission error with phases, and its frequency as a multiple (``ratio``) of the base frequency.
-* :class:`Load` — a mean force (N) or torque (N·m) on one DOF.
+* :class:`Load` — a mean force (N) or torque (N·m) on one DOF, with torque orders: harmonics of constant
+  amplitude at orders of that body's shaft speed (:mod:`geardyn.torque_orders`).
 
 Units: forces N, lengths m, angles rad, masses kg, inertias kg·m², translational stiffness N/m,
 torsional N·m/rad (mixed entries of a matrix in N/rad), damping likewise with an extra s.
@@ -364,12 +365,12 @@ class Mesh(_AlongVector):
 @dataclass(frozen=True)
 @attributes
 class Load:
-    """A mean force (N, on a translation) or torque (N·m, on ``theta``) on one DOF.
+    """A mean force (N, on a translation) or torque (N·m, on ``theta``) on one DOF, and its torque orders.
 
     Raises
     ------
     ModelError
-        If ``value`` is not finite.
+        If ``value`` is not finite, an order is not a positive number, or orders are given without ``speed``.
     """
 
     #: Name of the body loaded.
@@ -378,9 +379,31 @@ class Load:
     dof: str
     #: The force in N or torque in N·m.
     value: float
+    #: Torque orders (order k of the body's shaft speed as a ``Fraction``, amplitude in N·m or N, phase in rad):
+    #: the load adds Σ amplitude cos(k Ω t + phase), Ω the body's speed.
+    orders: tuple = ()
+    #: The body's shaft speed over the base frequency ω (a ``Fraction``; θ = ω τ): order k runs at k·speed·θ.
+    speed: object = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "value", _finite(f"load on {self.body}.{self.dof}", self.value))
+        from fractions import Fraction
+
+        from ..torque_orders import normalise
+
+        who = f"load on {self.body}.{self.dof}"
+        object.__setattr__(self, "value", _finite(who, self.value))
+        try:
+            orders = normalise(self.orders)
+        except ModelError as e:
+            raise ModelError(f"{who}: orders: {e}") from None
+        object.__setattr__(self, "orders", orders)
+        if orders:
+            if self.speed is None:
+                raise ModelError(f"{who}: orders: the speed of body {self.body!r} is unknown (no mesh gives its teeth)")
+            sp = Fraction(self.speed)
+            if sp <= 0:
+                raise ModelError(f"{who}: orders: the body's speed ratio must be > 0, got {self.speed!r}")
+            object.__setattr__(self, "speed", sp)
 
 
 @dataclass(frozen=True)

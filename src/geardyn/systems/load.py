@@ -173,7 +173,15 @@ _MESH_BEVEL = {
     "hand": "text",
     "drive_side": "text",
 }
-_LOAD_KEYS = {"body": "text", "dof": "text", "force": "force", "torque": "torque", "mesh": "text", "fp": "number"}
+_LOAD_KEYS = {
+    "body": "text",
+    "dof": "text",
+    "force": "force",
+    "torque": "torque",
+    "mesh": "text",
+    "fp": "number",
+    "orders": "orders",
+}
 _SECTIONS = {
     "system": {"reference": "text", "characteristic_length": "length", "equivalent_mass": "text"},
     "operating": {"rpm": "speed", "omega": "number"},
@@ -601,11 +609,67 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
         raise blk.wrap(err) from None
 
 
-def _loads(ctx: _Ctx, i: int, data: dict, meshes: dict[str, Mesh], k_ref: float, b_c: float) -> list[Load]:
+def _orders(blk: _Block) -> tuple:
+    """``orders = [{ order = 2, amplitude = "40 N*m", phase = "0 deg" }, ...]`` of a load: (k, N·m, rad) tuples."""
+    from ..torque_orders import order_fraction
+
+    if not blk.has("orders"):
+        return ()
+    raw = blk.data["orders"]
+    if not isinstance(raw, list) or not raw or not all(isinstance(e, dict) for e in raw):
+        raise blk.cerr("orders", 'expected a list of tables { order = 2, amplitude = "40 N*m", phase = "0 deg" }')
+    out = []
+    for i, e in enumerate(raw):
+        unknown = set(e) - {"order", "amplitude", "phase"}
+        if unknown or "order" not in e or "amplitude" not in e:
+            raise blk.cerr("orders", f"element {i + 1}: keys order, amplitude and optionally phase")
+        try:
+            k = order_fraction(e["order"], f"element {i + 1}: order")
+        except ModelError as err:
+            raise blk.merr("orders", str(err)) from None
+        a = blk._scalar("orders", "torque", e["amplitude"], i + 1)
+        ph = blk._scalar("orders", "angle", e["phase"], i + 1) if "phase" in e else 0.0
+        out.append((k, a, ph))
+    return tuple(out)
+
+
+def _body_speed(body: str, mesh_data: list, meshes: dict[str, Mesh]):
+    """The shaft speed of ``body`` over the base frequency, from a mesh whose pinion or gear it is and whose
+    teeth on that body are given (spur: ``teeth`` of the pinion; bevel: z1, z2): Ω/ω = ratio/z."""
+    from fractions import Fraction
+
+    from .assemble import MAX_RATIO_DENOMINATOR
+
+    for i, t in enumerate(mesh_data):
+        if not isinstance(t, dict):
+            continue
+        name = t.get("name", f"mesh{i + 1}")
+        m = meshes.get(name)
+        if m is None:
+            continue
+        teeth = {}
+        if t.get("pinion") is not None:
+            z1 = t.get("z1", t.get("teeth"))
+            teeth[t["pinion"]] = z1.get("value") if isinstance(z1, dict) else z1
+        if t.get("gear") is not None and t.get("z2") is not None:
+            z2 = t["z2"]
+            teeth[t["gear"]] = z2.get("value") if isinstance(z2, dict) else z2
+        z = teeth.get(body)
+        if isinstance(z, int) and not isinstance(z, bool) and z > 0:
+            return Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR) / z
+    raise ModelError(
+        f"load on {body}.theta: orders: the speed of body {body!r} is unknown: give the teeth of a mesh on it "
+        "(teeth of the pinion of a spur mesh, z1/z2 of a bevel mesh)"
+    )
+
+
+def _loads(
+    ctx: _Ctx, i: int, data: dict, meshes: dict[str, Mesh], k_ref: float, b_c: float, mesh_data: list = ()
+) -> list[Load]:
     where = data.get("body") or data.get("mesh")
     blk = _Block(ctx, "load", i, data, _LOAD_KEYS, where if isinstance(where, str) else None)
     if blk.has("mesh"):
-        if not blk.has("fp") or any(blk.has(k) for k in ("body", "dof", "force", "torque")):
+        if not blk.has("fp") or any(blk.has(k) for k in ("body", "dof", "force", "torque", "orders")):
             raise blk.cerr(None, 'a load on a mesh is given as mesh = "..." and fp = <number> only')
         mname = blk.get("mesh")
         if mname not in meshes:
@@ -617,10 +681,18 @@ def _loads(ctx: _Ctx, i: int, data: dict, meshes: dict[str, Mesh], k_ref: float,
         raise blk.cerr(None, 'a load needs body = "..." and torque = "... N*m" (or dof and force)')
     if blk.has("torque") == blk.has("force"):
         raise blk.cerr(None, 'give torque (on theta) or force (with dof = "x", "y" or "z")')
+    if blk.has("orders") and not blk.has("torque"):
+        raise blk.cerr("orders", 'torque orders act on a torque load: give torque = "... N*m" (its mean, may be 0)')
     if blk.has("torque"):
         if blk.get("dof", default="theta") != "theta":
             raise blk.cerr("dof", "a torque acts on theta")
-        return [Load(blk.get("body"), "theta", blk.get("torque"))]
+        body = blk.get("body")
+        orders = _orders(blk)
+        try:
+            speed = _body_speed(body, mesh_data, meshes) if orders else None
+            return [Load(body, "theta", blk.get("torque"), orders, speed)]
+        except ModelError as e:
+            raise blk.merr("orders", str(e).split(": orders: ", 1)[-1]) from None
     dof = blk.get("dof")
     if dof not in ("x", "y", "z"):
         raise blk.cerr("dof", f"a force acts on x, y or z, got {dof!r}")
@@ -721,7 +793,7 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
     _unique(ctx, "connection", [getattr(c, "name", None) for c in conns + clears])
     mmap = {m.name: m for m in meshes}
     k_ref = mmap[ref].stiffness if ref in mmap else meshes[0].stiffness
-    loads = [ld for i, t in enumerate(data.get("load", [])) for ld in _loads(ctx, i, t, mmap, k_ref, b_c)]
+    loads = [ld for i, t in enumerate(data.get("load", [])) for ld in _loads(ctx, i, t, mmap, k_ref, b_c, mesh_data)]
     rpm = opb.get("rpm")
     omega = opb.get("omega")
     if rpm is None and omega is None:
@@ -792,6 +864,10 @@ def load_description(path: str | Path) -> SystemDescription:
     ctx = _Ctx(source, text)
     data = parse_toml(text, source)
     try:
+        if isinstance(data, dict) and "shaft" in data:  # a gearbox from its geometry: geardyn.gearbox.build
+            from ..gearbox.build import build_description
+
+            return build_description(ctx, data, _Block, _body, _element_line)
         return _build(ctx, data)
     except GeardynError:
         raise
@@ -813,6 +889,13 @@ def load_system(path: str | Path, omega: float | None = None) -> SystemModel:
     ------
     ConfigError, ModelError
         As :func:`load_description`.
+
+    Examples
+    --------
+    >>> from geardyn import load_system
+    >>> system = load_system("examples/systems/paper_torsional.toml", omega=0.8)
+    >>> system.omega, system.state_dim, [e.name for e in system.elements]
+    (0.8, 4, ['mesh'])
     """
     desc = load_description(path)
     try:

@@ -2,7 +2,8 @@
 
 Sections and keys (units in the key names)::
 
-    [tooth_pair]       z1, z2, z_virtual ([z_v1, z_v2] of a bevel pair's virtual cylindrical gears), m_n_mm, alpha_n_deg (20), beta_deg (0), face_width_mm, x1, x2 (0),
+    [tooth_pair]       z1, z2, z_virtual ([z_v1, z_v2] of a bevel pair's virtual cylindrical gears), m_n_mm,
+                       alpha_n_deg (20), beta_deg (0), face_width_mm, x1, x2 (0),
                        h_a (1), h_f (1.25), E_GPa (206), nu (0.3), bore1_mm, bore2_mm (0.5 r_f), torque_Nm
     [modifications]    tip_relief_um, tip_length_mm, root_relief_um, root_length_mm (pairs: pinion, wheel),
                        shape ("linear" | "parabolic"), crowning_um
@@ -77,6 +78,31 @@ class ToothCase:
     faults: list = field(default_factory=list)
     mesh: dict[str, Any] = field(default_factory=dict)
     signature: dict[str, Any] = field(default_factory=dict)
+
+    def mesh_stiffness(self, cycles: int | None = None, points: int | None = None) -> Any:
+        """The pair's mesh stiffness and STE (:func:`geardyn.tooth.mesh.mesh_stiffness`) at its torque.
+
+        Parameters
+        ----------
+        cycles, points : int, optional
+            Mesh cycles and phases per cycle (default the file's ``[mesh]`` values, else the hunting
+            period's cycles and 64 points).
+
+        Returns
+        -------
+        MeshStiffness
+        """
+        from .mesh import mesh_stiffness
+
+        return mesh_stiffness(
+            self.geometry,
+            self.torque,
+            faults=self.faults,
+            modifications=self.modifications,
+            cycles=cycles if cycles is not None else self.mesh.get("cycles"),
+            points=int(points if points is not None else self.mesh.get("points", 64)),
+            slices=self.mesh.get("slices"),
+        )
 
 
 def _si(d: dict[str, Any]) -> dict[str, Any]:

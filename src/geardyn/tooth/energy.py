@@ -24,11 +24,15 @@ with u_f the distance from the root circle to the point where the line of the fo
 centre line, S_f = 2 r_f θ_f the root thickness, and each X* = A/θ_f² + B h_f² + C h_f/θ_f + D/θ_f
 + E h_f + F of θ_f (half angle at the root) and h_f = r_f / r_int.
 
-A root crack (Wu, Zuo & Parey 2008, J. Sound Vib. 317, 608-624, and Chen & Shao 2011, Eng. Fail.
-Anal. 18, 2149-2164, with a straight crack): a crack from the root of one flank whose tip lies at
-the half thickness h_q from the centre line leaves, in every section above the crack's root, the
-thickness h(y) + min(h(y), h_q): the material beyond the crack line carries no load.  The fillet
-foundation term is kept as for the healthy tooth (as Chen & Shao do).
+A root crack (after Wu, Zuo & Parey 2008, J. Sound Vib. 317, 608-624, and Chen & Shao 2011, Eng. Fail.
+Anal. 18, 2149-2164, with a straight crack): a crack that starts on one flank at the section y_c of half
+thickness h_c and reaches the half thickness h_q = (1 − depth) h_c from the centre line makes the band
+h_q < x < h_c of every section above y_c carry no load (the crack's shadow along the centre line):
+the section keeps the thickness h(y) + h(y) − max(0, min(h(y), h_c) − h_q).  Where h(y) ≤ h_c this is
+the published law h + min(h, h_q); in sections thicker than the crack's start the published law would
+also drop the material beyond h_c, so that a crack of depth 0 would already soften the tooth.  The
+band law is continuous: depth 0 is the healthy tooth.  The fillet foundation term is kept as for the
+healthy tooth (as Chen & Shao do).
 """
 
 from __future__ import annotations
@@ -182,7 +186,9 @@ def load_point(sec: Section, rho: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     return rho * np.cos(psi), rho * np.sin(psi), a_rho - psi
 
 
-def tooth_compliance(geo: PairGeometry, gear: int, rho: np.ndarray, *, crack_h: float | None = None) -> ToothCompliance:
+def tooth_compliance(
+    geo: PairGeometry, gear: int, rho: np.ndarray, *, crack_depth: float | None = None
+) -> ToothCompliance:
     """Compliances (per unit face width) of a tooth of ``gear`` loaded at the radii ``rho``.
 
     Parameters
@@ -193,8 +199,9 @@ def tooth_compliance(geo: PairGeometry, gear: int, rho: np.ndarray, *, crack_h: 
         0 pinion, 1 wheel.
     rho : ndarray
         Contact radii.
-    crack_h : float, optional
-        Half thickness h_q at the crack tip (m) on the cracked side; None for a healthy tooth.
+    crack_depth : float, optional
+        Depth of a root crack as a fraction of the half thickness h_c of the section where it starts
+        (:attr:`Section.crack_start`); None (or 0) for a healthy tooth.
 
     Returns
     -------
@@ -203,7 +210,13 @@ def tooth_compliance(geo: PairGeometry, gear: int, rho: np.ndarray, *, crack_h: 
     sec = geo.sections[gear]
     blank = geo.gears[gear]
     d, h_l, a1 = load_point(sec, rho)
-    w = sec.h + (sec.h if crack_h is None else np.minimum(sec.h, max(crack_h, 0.0)))
+    w = sec.h + sec.h
+    if crack_depth:
+        i = sec.crack_start
+        h_c = float(sec.h[i])
+        lost = np.clip(np.minimum(sec.h[i:], h_c) - (1.0 - crack_depth) * h_c, 0.0, None)
+        w = w.copy()
+        w[i:] -= lost
     w = np.maximum(w, 1e-3 * float(sec.h.max()))
     kb, ks, ka = cantilever_compliance(sec.y, w, d, h_l, a1, blank.E, blank.nu)
     u_f = d - h_l * np.tan(a1) - sec.r_f

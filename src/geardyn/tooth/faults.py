@@ -107,8 +107,13 @@ class Spall:
         _fraction("spall", "at", self.at)
         _fraction("spall", "y0", self.y0)
         for name in ("length", "width", "depth"):
-            if not getattr(self, name) > 0:
-                raise ModelError(f"spall: {name} must be > 0 (m), got {getattr(self, name)!r}")
+            if not getattr(self, name) >= 0:
+                raise ModelError(f"spall: {name} must be >= 0 (m), got {getattr(self, name)!r}")
+
+    @property
+    def empty(self) -> bool:
+        """A spall of zero length, width or depth: the healthy flank."""
+        return self.length == 0 or self.width == 0 or self.depth == 0
 
 
 @dataclass(frozen=True)

@@ -93,6 +93,8 @@ class Section:
     theta_f: float
     #: Half angle at the reference circle parameters: π/(2z) + 2 x tan α_t / z + inv α_t.
     psi0: float
+    #: Index of the section where a root crack starts.
+    crack_start: int = 0
 
     def half_angle(self, rho: np.ndarray) -> np.ndarray:
         """Half angle ψ(ρ) of the tooth at radius ρ (≥ r_b: involute; below: constant ψ_b)."""

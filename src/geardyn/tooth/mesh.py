@@ -129,7 +129,8 @@ class MeshStiffness:
     modifications : Modifications
         The modifications.
     components : dict
-        A healthy single pair's compliances by term along the path (``s``, ``hertz``, ``bending``, ``shear``, ``axial``, ``fillet``, ``pair``).
+        A healthy single pair's compliances by term along the path (``s``, ``hertz``, ``bending``,
+        ``shear``, ``axial``, ``fillet``, ``pair``).
     """
 
     geometry: PairGeometry
@@ -252,10 +253,9 @@ def mesh_stiffness(
         if isinstance(f, Crack):
             sel = on & inside & (yy <= f.length * b + 1e-12)
             if sel.any():
-                h_root = float(geo.sections[g].h[0])
                 rho = geo.contact_radius(g, sc[sel])
-                comp[g][sel] = tooth_compliance(geo, g, rho, crack_h=(1.0 - f.depth) * h_root).total
-        elif isinstance(f, Spall):
+                comp[g][sel] = tooth_compliance(geo, g, rho, crack_depth=f.depth).total
+        elif isinstance(f, Spall) and not f.empty:
             frac = _profile_fraction(geo, g, sc) * (geo.s_E - geo.s_A)
             centre = f.at * (geo.s_E - geo.s_A)
             y0 = f.y0 * b

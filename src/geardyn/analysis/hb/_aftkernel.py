@@ -15,7 +15,12 @@ import math
 import numpy as np
 from numba import njit
 
+from ..._cache_guard import install as _install_cache
+
 __all__ = ["dead_zone_kernel", "extrema_kernel"]
+
+
+_install_cache()  # the cache follows this directory's sources (see geardyn._cache_guard)
 
 
 @njit(cache=True)

@@ -14,9 +14,13 @@ import math
 import numpy as np
 from numba import njit
 
+from ..._cache_guard import install as _install_cache
 from ._aftkernel import real_operator_kernel
 
 __all__ = ["hill_real_matrix", "hill_select"]
+
+
+_install_cache()  # the cache follows this directory's sources (see geardyn._cache_guard)
 
 
 @njit(cache=True)

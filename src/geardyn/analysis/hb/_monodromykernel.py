@@ -19,11 +19,16 @@ import math
 import numpy as np
 from numba import njit
 
+from ..._cache_guard import install as _install_cache
+
 __all__ = ["monodromy_kernel"]
 
 SWITCH_MAX_ITER = 60
 #: More contact switches than this in one period: the integration is abandoned (chattering on a boundary).
 MAX_SWITCHES = 100_000
+
+
+_install_cache()  # the cache follows this directory's sources (see geardyn._cache_guard)
 
 
 @njit(cache=True)

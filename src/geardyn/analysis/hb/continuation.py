@@ -509,6 +509,13 @@ def hb_continuation(
     R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
     Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
     (pseudo-arclength continuation, test functions of folds, period doublings and Neimark–Sacker points).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, hb_continuation
+    >>> res = hb_continuation(GearModel(), "omega", 0.5, 0.6, harmonics=8)
+    >>> res.converged, float(res.values[0]), res.end
+    (True, 0.5, 'reached the end of the interval')
     """
     param = canonical_param(param)
     start, stop = float(start), float(stop)

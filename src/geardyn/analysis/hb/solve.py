@@ -611,6 +611,13 @@ def hb_solve(
     T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
     steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
     A. Lazarus, O. Thomas, C. R. Mécanique 338 (2010) 510–517 (Hill's multipliers).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, hb_solve
+    >>> sol = hb_solve(GearModel(omega=0.8), 8)  # 8 harmonics
+    >>> sol.converged, sol.period, round(sol.amplitude, 3)
+    (True, 1, 0.927)
     """
     sysm = HBSystem(model, harmonics, period, samples=samples, floquet=floquet)
     H = sysm.H

@@ -383,6 +383,13 @@ def continuation(
     R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
     Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
     (numerical analysis of bifurcations).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, continuation
+    >>> res = continuation(GearModel(), "omega", 0.5, 0.6, 1)
+    >>> [(b.type, round(b.value, 3)) for b in res.bifurcations]  # the drive side loses contact
+    [('grazing', 0.565)]
     """
     param = canonical_param(param)
     for name, val in (("start", start), ("stop", stop)):

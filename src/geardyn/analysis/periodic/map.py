@@ -110,6 +110,15 @@ class PeriodMap:
     T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer,
     1989 (the Poincaré map of a periodically forced system and its Jacobian by variational
     equations).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geardyn import GearModel, PeriodMap
+    >>> P = PeriodMap(GearModel(omega=0.8), 1)
+    >>> e = P.evaluate(np.zeros(2))  # one forcing period from (u, u') = (0, 0)
+    >>> e.points.shape, e.monodromy.shape, e.ok
+    ((1, 2), (2, 2), True)
     """
 
     __slots__ = ("model", "n", "dtau", "accurate", "_steps", "_fixed")

@@ -660,6 +660,13 @@ def shoot(
     ----------
     T. S. Parker and L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*, Springer,
     1989 (shooting for periodic solutions of forced systems).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, shoot
+    >>> orb = shoot(GearModel(omega=0.8), 2)  # Newton on the 2-period map
+    >>> orb.converged, orb.stable, [round(float(abs(m)), 3) for m in orb.multipliers]
+    (True, True, [0.72, 0.06])
     """
     require_periodic(model, "shooting and Floquet multipliers")
     n = int(n)

@@ -19,7 +19,7 @@ import xarray as xr
 
 from ...analysis.classify import IMPACT_LABELS, impact_states
 from ...analysis.periodic.map import PeriodMap
-from ...grid import integrate_points
+from ...integrate import integrate_batch
 from ...io import json_attr
 from ...model import IntegrationOptions
 from ..report import Section
@@ -81,7 +81,7 @@ def f1_check(base, transient: int = 300) -> list[dict[str, float]]:
     out = []
     for xi0, w, ph in F1_POINTS:
         m = base.replace(xi0=xi0, omega=w).with_param("phi_c1", ph)
-        res = integrate_points([m], (0.0, 0.0), IntegrationOptions(transient=transient, periods=1))
+        res = integrate_batch([m], (0.0, 0.0), IntegrationOptions(transient=transient, periods=1))
         x = res.end_state[0]
         J = PeriodMap(m, 1).jacobian(x)
         det, th = float(np.linalg.det(J)), math.exp(-4 * math.pi * xi0 / w)
@@ -115,7 +115,7 @@ def f2_check(base, transient: int = 400, periods: int = 64) -> dict[str, np.ndar
     """
     models = [base.replace(omega=F2_OMEGA, D=d) for d in F2_D]
     s0 = np.array([[d, 0.0] for d in F2_D])
-    res = integrate_points(models, s0, IntegrationOptions(transient=transient, periods=periods))
+    res = integrate_batch(models, s0, IntegrationOptions(transient=transient, periods=periods))
     D = np.asarray(F2_D)
     return {
         "D": D,

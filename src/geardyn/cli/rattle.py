@@ -1,0 +1,175 @@
+"""The ``rattle`` command: impacts of an unloaded gear pair driven by torque orders, and the rattle map."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+from rich.table import Table
+
+from ..errors import ModelError
+from .app import console
+from .options import MODEL, OUTPUT, RPM_RANGE, Inputs, command, finish, option
+from .system_input import SYSTEM
+
+RUN_PANEL = "Integration"
+#: Defaults of a rattle run: the free flight is lightly damped and the forcing period long, so a short transient
+#: in forcing periods and a coarser step than the pair's (the contact oscillation still has ~300 steps).
+RATTLE_RUN = [
+    option("dtau", float, 0.02, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).", panel=RUN_PANEL),
+    option("transient", int, 30, "--transient", help="Forcing periods discarded before recording.", panel=RUN_PANEL),
+    option("periods", int, 10, "--periods", help="Forcing periods (cycles) recorded.", panel=RUN_PANEL),
+    option(
+        "accurate",
+        bool,
+        True,
+        "--accurate/--no-accurate",
+        help="Split steps at the contact crossings u = ±D (default on: the impacts are the result).",
+        panel=RUN_PANEL,
+    ),
+]
+MAP_PANEL = "Rattle map"
+
+
+def _scales(inp: Inputs, model: Any) -> Any:
+    """The physical scales: a system's, or the configured pair's (none without --config / --system)."""
+    if inp.system is not None:
+        return model.scaling
+    if inp.config is None:
+        return None
+    sc = inp.scales()
+    return None if getattr(sc, "nondimensional", False) else sc
+
+
+@command("rattle", MODEL, SYSTEM, RATTLE_RUN, RPM_RANGE, OUTPUT)
+def rattle(
+    inp: Inputs,
+    map_points: Annotated[
+        int,
+        typer.Option(
+            "--map-points",
+            rich_help_panel=MAP_PANEL,
+            help="Speeds of the rattle map (0: no map): from --rpm-start to --rpm-stop, or --start to --stop in ω "
+            "(default 0.5 to 2 times the model's ω).",
+        ),
+    ] = 0,
+    start: Annotated[
+        float | None, typer.Option("--start", rich_help_panel=MAP_PANEL, help="First mesh frequency ω of the map.")
+    ] = None,
+    stop: Annotated[
+        float | None, typer.Option("--stop", rich_help_panel=MAP_PANEL, help="Last mesh frequency ω of the map.")
+    ] = None,
+    scale_max: Annotated[
+        float,
+        typer.Option(
+            "--scale-max", rich_help_panel=MAP_PANEL, help="Largest scale of the torque orders' amplitudes on the map."
+        ),
+    ] = 2.0,
+    scale_points: Annotated[
+        int,
+        typer.Option(
+            "--scale-points",
+            rich_help_panel=MAP_PANEL,
+            help="Amplitude scales of the map: scale_max/n, 2 scale_max/n, … scale_max.",
+        ),
+    ] = 4,
+) -> None:
+    """Gear rattle of an unloaded (loose) gear pair driven by torque orders (--torque-order, [model] torque_orders,
+    or orders on a load of a --system file of two gears): impacts per cycle on the drive and back flanks, impact
+    velocities, and the rattle index (impact kinetic-energy loss per cycle); with --map-points a rattle map over
+    speed × torque-order amplitude."""
+    from .. import validate
+    from ..analysis.rattle import pair_of_system, rattle_map
+    from ..analysis.rattle import rattle as run_rattle
+    from ..sweep.progress import task_progress
+    from ..units import sweep_range
+
+    system = inp.model()
+    model = pair_of_system(system)
+    if not model.torque_orders:
+        raise ModelError(
+            "torque_orders: rattle needs a torque order (--torque-order ORDER:AMPLITUDE, [model] torque_orders, "
+            "or orders on a load of the system file)"
+        )
+    scales = _scales(inp, system)
+    opts = inp.options(model.forcing_omega)
+    res = run_rattle(model, opts, (0.0, 0.0), scales=scales)
+    summary = res.to_json()
+    paths: list[str] = []
+    if inp.out is not None:
+        paths += inp.write(res.to_dataset(), "rattle")
+    n = validate.integer("map_points", map_points, 0, 1000)
+    if n:
+        ns = validate.integer("scale_points", scale_points, 1, 1000)
+        smax = validate.number("scale_max", scale_max)
+        if not smax > 0:
+            raise ModelError(f"scale_max: must be > 0, got {scale_max!r}")
+        if inp.rpm_start is not None or inp.rpm_stop is not None:
+            if scales is None:
+                raise ModelError("rpm_start: a speed range in rpm needs --config of a gear pair or --system")
+            if start is not None or stop is not None:
+                raise ModelError("start: give the map's speeds in rpm (--rpm-start/--rpm-stop) or in ω, not both")
+            sc = inp.scales() if inp.system is None else None
+            if sc is not None:
+                lo, hi = sweep_range(sc, inp.rpm_start, inp.rpm_stop, None, None, param="omega")
+            else:
+                if inp.rpm_start is None or inp.rpm_stop is None:
+                    raise ModelError("rpm_stop: give both --rpm-start and --rpm-stop")
+                lo, hi = (scales.omega_from_rpm(float(r)) for r in (inp.rpm_start, inp.rpm_stop))
+        else:
+            lo = 0.5 * model.omega if start is None else validate.number("start", start)
+            hi = 2.0 * model.omega if stop is None else validate.number("stop", stop)
+        if not 0 < lo < hi:
+            raise ModelError(f"start: the map's speeds must satisfy 0 < start < stop, got {lo:g} and {hi:g}")
+        omegas = np.linspace(lo, hi, n)
+        amps = smax * np.arange(1, ns + 1) / ns
+        opts_map = inp.options(omegas=omegas / model.period_multiple())
+        with task_progress("rattle map", unit="points", fmt=".0f", enabled=not inp.json_out) as bar:
+            ds = rattle_map(model, omegas, amps, opts_map, scales=scales, progress=bar)
+        summary["map"] = {
+            "omega": omegas.tolist(),
+            "amplitude_scale": amps.tolist(),
+            "rattle_index": [
+                [None if not np.isfinite(x) else float(x) for x in row] for row in ds["rattle_index"].values
+            ],
+        }
+        if "rpm" in ds.coords:
+            summary["map"]["rpm"] = ds["rpm"].values.tolist()
+        if inp.out is not None:
+            paths += inp.write(ds, "rattle_map")
+    finish(summary, paths, inp, _show)
+
+
+def _show(s: dict[str, Any], paths: list[str]) -> None:
+    from . import render
+
+    console.print(
+        f"ω = {s['omega']:.6g}"
+        + (f" ({s['rpm']:.6g} rpm)" if s.get("rpm") is not None else "")
+        + f", cycle = {s['cycle_mesh_periods']} mesh periods, {s['cycles']} cycles recorded: {s.get('regime')}",
+        markup=False,
+        highlight=False,
+    )
+    if s.get("status") != "ok":
+        console.print(f"status: {s.get('status')}", markup=False, highlight=False)
+        render.files(paths)
+        return
+    t = Table(title="Rattle")
+    for col in ("flank", "impacts / cycle", "impact velocity mean", "max", "m/s max"):
+        t.add_column(col)
+    for name in ("drive", "back"):
+        f = s["flanks"][name]
+        t.add_row(
+            name,
+            f"{f['impacts_per_cycle']:g}",
+            "—" if f["impact_velocity_mean"] is None else f"{f['impact_velocity_mean']:.4g}",
+            "—" if f["impact_velocity_max"] is None else f"{f['impact_velocity_max']:.4g}",
+            "—" if f.get("impact_velocity_max_m_s") is None else f"{f['impact_velocity_max_m_s']:.4g}",
+        )
+    console.print(t)
+    ri = f"rattle index (impact kinetic-energy loss per cycle): {s['rattle_index']:.4g} (k b_c²)"
+    if s.get("rattle_index_J") is not None:
+        ri += f" = {s['rattle_index_J']:.4g} J"
+    console.print(ri, markup=False, highlight=False)
+    render.files(paths)

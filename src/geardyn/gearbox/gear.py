@@ -1,0 +1,113 @@
+"""Gears on shafts: tooth data, radii and the inertia of the blank.
+
+A cylindrical gear (spur when β = 0) has ``teeth`` z, normal module m_n, normal pressure angle α_n, helix
+angle β, face width b and profile shift x.  Its transverse module is m_t = m_n/cos β, the reference radius
+r = z m_t/2, the transverse pressure angle α_t = atan(tan α_n/cos β) and the base radius r_b = r cos α_t.
+
+Unless mass and inertias are given, the blank is a solid disk of the reference radius r and width b on a
+bore of the shaft's outer diameter d_s at the gear (a standard approximation of a solid gear body):
+
+    m = ρ π (r² − (d_s/2)²) b,    I_p = m (r² + (d_s/2)²)/2,    I_d = m ((r² + (d_s/2)²)/4 + b²/12),
+
+the mass, polar and diametral moments of inertia.  A gear with a web and a rim gives ``web_width`` and
+``rim_inner_diameter``: the rim (from that diameter to r, width b) and the web (from the bore to it, width
+``web_width``) are added as two such disks.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..errors import ModelError
+
+__all__ = ["Gear", "disk"]
+
+
+def disk(rho: float, r_out: float, r_in: float, width: float) -> tuple[float, float, float]:
+    """(mass, polar inertia, diametral inertia about its centre) of an annular disk."""
+    m = rho * math.pi * (r_out**2 - r_in**2) * width
+    ip = 0.5 * m * (r_out**2 + r_in**2)
+    idia = m * ((r_out**2 + r_in**2) / 4.0 + width**2 / 12.0)
+    return m, ip, idia
+
+
+@dataclass(frozen=True)
+class Gear:
+    """A cylindrical gear on a shaft (SI units, angles in rad)."""
+
+    name: str
+    shaft: str
+    position: float
+    teeth: int
+    module: float
+    face_width: float
+    pressure_angle: float = math.radians(20.0)
+    helix_angle: float = 0.0
+    profile_shift: float = 0.0
+    hand: str = "right"
+    mass: float | None = None
+    inertia: float | None = None
+    diametral_inertia: float | None = None
+    web_width: float | None = None
+    rim_inner_diameter: float | None = None
+
+    def __post_init__(self) -> None:
+        who = f"gear {self.name!r}"
+        if isinstance(self.teeth, bool) or not float(self.teeth).is_integer() or self.teeth < 1:
+            raise ModelError(f"{who}: teeth: must be an integer >= 1, got {self.teeth!r}")
+        for key in ("module", "face_width"):
+            v = getattr(self, key)
+            if not (math.isfinite(v) and v > 0):
+                raise ModelError(f"{who}: {key}: must be > 0 m, got {v!r}")
+        if not 0 < self.pressure_angle < math.radians(45):
+            raise ModelError(
+                f"{who}: pressure_angle: must be in (0, 45) deg, got {math.degrees(self.pressure_angle):g} deg"
+            )
+        if not 0 <= self.helix_angle < math.radians(60):
+            raise ModelError(f"{who}: helix_angle: must be in [0, 60) deg, got {math.degrees(self.helix_angle):g} deg")
+        if self.hand not in ("right", "left"):
+            raise ModelError(f"{who}: hand: must be 'right' or 'left', got {self.hand!r}")
+        for key in ("mass", "inertia", "diametral_inertia"):
+            v = getattr(self, key)
+            if v is not None and not (math.isfinite(v) and v > 0):
+                raise ModelError(f"{who}: {key}: must be > 0, got {v!r}")
+
+    @property
+    def transverse_pressure_angle(self) -> float:
+        return math.atan(math.tan(self.pressure_angle) / math.cos(self.helix_angle))
+
+    @property
+    def reference_radius(self) -> float:
+        return self.teeth * self.module / (2.0 * math.cos(self.helix_angle))
+
+    @property
+    def base_radius(self) -> float:
+        return self.reference_radius * math.cos(self.transverse_pressure_angle)
+
+    def blank(self, rho: float, bore_diameter: float) -> tuple[float, float, float]:
+        """(mass, polar inertia, diametral inertia) of the gear: given, or from the blank (module docstring)."""
+        r, rb, b = self.reference_radius, bore_diameter / 2.0, self.face_width
+        if rb >= r:
+            raise ModelError(
+                f"gear {self.name!r}: the shaft's diameter {bore_diameter * 1e3:g} mm is not inside the gear's "
+                f"reference diameter {2 * r * 1e3:g} mm"
+            )
+        if self.rim_inner_diameter is not None or self.web_width is not None:
+            if self.rim_inner_diameter is None or self.web_width is None:
+                raise ModelError(f"gear {self.name!r}: a web and rim blank needs web_width and rim_inner_diameter")
+            ri = self.rim_inner_diameter / 2.0
+            if not rb < ri < r:
+                raise ModelError(
+                    f"gear {self.name!r}: rim_inner_diameter: must lie between the bore {2 * rb * 1e3:g} mm and "
+                    f"the reference diameter {2 * r * 1e3:g} mm"
+                )
+            parts = [disk(rho, r, ri, b), disk(rho, ri, rb, self.web_width)]
+            m, ip, idia = (sum(p[k] for p in parts) for k in range(3))
+        else:
+            m, ip, idia = disk(rho, r, rb, b)
+        return (
+            self.mass if self.mass is not None else m,
+            self.inertia if self.inertia is not None else ip,
+            self.diametral_inertia if self.diametral_inertia is not None else idia,
+        )

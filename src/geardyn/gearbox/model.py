@@ -1,0 +1,97 @@
+"""The gearbox as a :class:`~geardyn.systems.description.SystemDescription`.
+
+Each shaft node is a body with the six DOFs ``x, y, z, rx, ry, theta`` (:data:`~geardyn.gearbox.shaft.NODE_DOFS`);
+its own mass matrix (diagonal) holds the diagonal of the shaft's consistent mass matrix at the node plus the
+gear mounted there (mass on x, y, z, diametral inertia on rx, ry, polar inertia on θ).  The shaft's
+stiffness (and its Rayleigh damping β K) is one linear connection over all its nodes, named after the shaft,
+so that the modal strain energy is reported per shaft, per bearing and per mesh.  The off-diagonal part of
+the consistent mass matrix couples the nodes of a shaft; :meth:`GearboxDescription.mass_matrix` adds it to
+the block-diagonal matrix of the bodies.  Everything downstream — assembly, scaling, kernels, every
+analysis — sees an ordinary mesh-vector system.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from ..systems.description import Body, SystemDescription
+from .shaft import NODE_DOFS, Material, Section
+
+__all__ = ["NodeBody", "ShaftModel", "GearboxDescription"]
+
+
+@dataclass(frozen=True)
+class NodeBody(Body):
+    """A shaft node: a body with the DOFs ``x, y, z, rx, ry, theta`` and a diagonal mass matrix."""
+
+    def __post_init__(self) -> None:
+        if tuple(self.dofs) != NODE_DOFS or self.mass_matrix is None:
+            raise ModelError(f"shaft node {self.name!r}: needs the DOFs {NODE_DOFS} and a mass matrix")
+        mm = np.array(self.mass_matrix, dtype=float)
+        if mm.shape != (6, 6) or not np.all(np.isfinite(mm)) or np.any(np.diag(mm) <= 0):
+            raise ModelError(f"shaft node {self.name!r}: mass matrix must be 6x6, finite, with a positive diagonal")
+        object.__setattr__(self, "dofs", NODE_DOFS)
+        object.__setattr__(self, "mass_matrix", tuple(tuple(float(v) for v in row) for row in mm))
+
+
+@dataclass(frozen=True, eq=False)
+class ShaftModel:
+    """One discretised shaft."""
+
+    name: str
+    #: Node positions along the shaft (m) and the body name of each node.
+    positions: tuple[float, ...]
+    nodes: tuple[str, ...]
+    #: Section of each element.
+    sections: tuple[Section, ...]
+    material: Material
+    #: Consistent mass, stiffness and gyroscopic matrices over the nodes' DOFs (SI).
+    M: np.ndarray = field(repr=False)
+    K: np.ndarray = field(repr=False)
+    G: np.ndarray = field(repr=False)
+    #: Speed relative to the reference shaft (exact) and running sense (+1 counterclockwise about +z).
+    speed: Fraction = Fraction(1)
+    sense: int = 1
+    #: What sits at each node (gear, bearing and coupling names).
+    features: tuple[tuple[str, ...], ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "name": self.name,
+            "speed_ratio": str(self.speed),
+            "sense": "counterclockwise" if self.sense > 0 else "clockwise",
+            "elements": len(self.sections),
+            "nodes": [
+                {"name": n, "position_m": p, "features": list(f)}
+                for n, p, f in zip(self.nodes, self.positions, self.features or [()] * len(self.nodes))
+            ],
+        }
+
+
+@dataclass(frozen=True)
+class GearboxDescription(SystemDescription):
+    """A :class:`SystemDescription` whose bodies are shaft nodes (and any rigid bodies, a motor, a load)."""
+
+    shafts: tuple[ShaftModel, ...] = field(default=(), compare=False)
+    #: Exact kinematics: shaft speeds, mesh ratios (as strings of fractions) and the forcing period.
+    kinematics: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    def mass_matrix(self) -> np.ndarray:
+        """M (SI): the bodies' blocks plus the off-diagonal part of each shaft's consistent mass matrix."""
+        M = super().mass_matrix()
+        idx = self.index()
+        for s in self.shafts:
+            ii = [idx[(n, d)] for n in s.nodes for d in NODE_DOFS]
+            M[np.ix_(ii, ii)] += s.M - np.diag(np.diag(s.M))
+        return M
+
+    def shaft_of(self, node: str) -> ShaftModel | None:
+        for s in self.shafts:
+            if node in s.nodes:
+                return s
+        return None
