@@ -24,8 +24,8 @@ from geardyn.analysis.classify import (
 )
 from geardyn.analysis.periodic import shoot
 from geardyn.analysis.steady import simulate
-from geardyn.pairpack import PointModels
 from geardyn.model import GearModel
+from geardyn.pairpack import PointModels
 
 
 def test_structure_forbids_quasi_periodicity_of_the_damped_pair():
