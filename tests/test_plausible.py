@@ -211,3 +211,22 @@ def test_the_contact_force_is_not_negative_without_back_flank_contact():
     res = simulate(GearModel(omega=0.8, D=0.3))
     assert res.summary["impact"] == "double-sided impact"
     assert steady_physical(res, None)["contact_force_min_N"] < 0.0
+
+
+# ------------------------------------------------------------------------------------------ budgets
+def test_a_modal_analysis_over_its_memory_budget_is_refused_before_it_runs(monkeypatch):
+    """The estimate is (E + 3) n² 8 bytes of dense matrices plus n² report entries of 100 bytes: for the 8-DOF
+    bevel pair (n = 8, E = 3 elements) 6·64·8 + 6400 = 9472 bytes; a budget below it refuses the run in one
+    line with the estimate (a 1000-body system, 4000 DOFs, needs 130 GB against the 2 GB budget)."""
+    from pathlib import Path
+
+    from geardyn.systems import load_description, modes
+
+    desc = load_description(Path(__file__).parents[1] / "examples" / "systems" / "paper_bevel_8dof.toml")
+    assert len(desc.labels) == 8
+    n, e = 8, len(desc.connections) + len(desc.meshes) + len(desc.clearances)
+    assert modes.modes_budget(desc) == (e + 3) * n * n * 8.0 + n * n * 100.0
+    monkeypatch.setattr(modes, "MODES_MEMORY_BUDGET", 1000.0)
+    with pytest.raises(ModelError, match=r"^system: a modal analysis of 8 DOFs .* would need .* above the budget"):
+        modes.modal_analysis(desc)
+    assert (4 * 1000) ** 2 * (1001 + 3) * 8 > 2e9 * 60  # the 1000-body case is refused by a wide margin
