@@ -230,3 +230,24 @@ def test_a_modal_analysis_over_its_memory_budget_is_refused_before_it_runs(monke
     with pytest.raises(ModelError, match=r"^system: a modal analysis of 8 DOFs .* would need .* above the budget"):
         modes.modal_analysis(desc)
     assert (4 * 1000) ** 2 * (1001 + 3) * 8 > 2e9 * 60  # the 1000-body case is refused by a wide margin
+
+
+# ------------------------------------------------------------------------------------------ the Python API
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda g: g.simulate(None),
+        lambda g: g.lyapunov_spectrum("omega"),
+        lambda g: g.bifurcation(None, "omega", [1.0]),
+        lambda g: g.shoot(3, 1),
+        lambda g: g.trajectory(None, (0.0, 0.0)),
+        lambda g: g.period_map({}, (0.0, 0.0)),
+        lambda g: g.integrate_batch([None]),
+        lambda g: g.integrate_batch([]),
+    ],
+)
+def test_public_functions_refuse_a_model_that_is_no_system_in_one_line(call):
+    import geardyn
+
+    with pytest.raises(ModelError, match=r"^models?: expected "):
+        call(geardyn)

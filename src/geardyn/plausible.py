@@ -36,6 +36,8 @@ __all__ = [
     "STE_MAX_M",
     "UNDERCUT_ADDENDUM",
     "budget",
+    "system",
+    "taking_a_system",
     "pair_geometry",
     "excitation_table",
     "file_size",
@@ -227,6 +229,22 @@ def excitation_table(stiffness: Any, ste: Any = None, *, where: str = "excitatio
 def file_size(path: Any, limit: int, what: str, hint: str = "") -> int:
     """The size of a file to be read whole, refused above ``limit`` bytes before it is read.
 
+    Parameters
+    ----------
+    path : str or Path
+        The file (a missing one gives 0: its reader says what is wrong).
+    limit : int
+        Largest size read (bytes).
+    what : str
+        What the file holds, for the message (``"excitation table"``).
+    hint : str
+        What to do instead, appended in parentheses.
+
+    Returns
+    -------
+    int
+        The size (bytes).
+
     Raises
     ------
     ConfigError
@@ -278,3 +296,62 @@ def budget(what: str, estimate: float, limit: float, unit: str = "bytes", key: s
     )
 
 
+def system(obj: Any, key: str = "model") -> Any:
+    """``obj`` if it is a System (:class:`geardyn.system.System`: a GearModel, a SystemModel), else a ModelError.
+
+    Parameters
+    ----------
+    obj : object
+        What a public function was given as its model.
+    key : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    System
+
+    Raises
+    ------
+    ModelError
+        ``model: expected a geardyn System (GearModel or SystemModel), got NoneType``.
+    """
+    from .system import System
+
+    if not isinstance(obj, System):
+        raise ModelError(
+            f"{key}: expected a geardyn System (GearModel or SystemModel, e.g. geardyn.GearModel()), "
+            f"got {type(obj).__name__}"
+        )
+    return obj
+
+
+def taking_a_system(fn: Any, many: bool = False) -> Any:
+    """``fn`` checking that its first argument (``model``) is a System (``many``: a sequence of them) first.
+
+    Parameters
+    ----------
+    fn : callable
+        A public function whose first argument is a model.
+    many : bool
+        The first argument is a sequence of models (``integrate_batch``).
+
+    Returns
+    -------
+    callable
+        ``fn`` with the check, its name and docstring kept.
+    """
+    import functools
+
+    @functools.wraps(fn)
+    def checked(*args: Any, **kwargs: Any) -> Any:
+        first = args[0] if args else kwargs.get("model", kwargs.get("models"))
+        if many and isinstance(first, (list, tuple)):
+            if not first:
+                raise ModelError("models: expected at least one System")
+            for m in first:
+                system(m, "models")
+        elif not many or not hasattr(first, "__len__"):
+            system(first, "models" if many else "model")
+        return fn(*args, **kwargs)
+
+    return checked
