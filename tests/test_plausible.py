@@ -251,3 +251,23 @@ def test_public_functions_refuse_a_model_that_is_no_system_in_one_line(call):
 
     with pytest.raises(ModelError, match=r"^models?: expected "):
         call(geardyn)
+
+
+# ------------------------------------------------------------------------------------------ help screens
+def test_help_descriptions_are_reflowed_and_arguments_named_in_capitals():
+    code, out, err = run_cli(["--help"])
+    assert code == 0
+    # the simulate line of the listing: its source breaks after "amplitudes)," are joined, so the terminal
+    # wraps the text as a whole (no line ending right after the comma with the next words on a short line)
+    from geardyn.cli.app import _reflowed
+
+    assert _reflowed("a b,\nc d\n\n e\nf ") == "a b, c d\n\ne f"
+    code, out, err = run_cli(["te", "--help"])
+    assert code == 0 and "Usage: geardyn te [OPTIONS] FILE" in out and "{file}" not in out
+
+
+def test_gitignore_ignores_virtual_environments():
+    from pathlib import Path
+
+    lines = (Path(__file__).parents[1] / ".gitignore").read_text().split()
+    assert ".venv/" in lines and "venv/" in lines
