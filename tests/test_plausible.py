@@ -271,3 +271,34 @@ def test_gitignore_ignores_virtual_environments():
 
     lines = (Path(__file__).parents[1] / ".gitignore").read_text().split()
     assert ".venv/" in lines and "venv/" in lines
+
+
+# ------------------------------------------------------------------------------------------ uniform sweep options
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["response", "--param", "omega", "--start", "0.9", "--stop", "1.0", "--num", "3"],
+        ["response", "--omega-start", "0.9", "--omega-stop", "1.0", "--num", "3"],
+        ["bifurcation", "--omega-start", "0.9", "--omega-stop", "1.0", "--num", "3"],
+        ["bifurcation", "--param", "omega", "--start", "0.9", "--stop", "1.0", "--num", "3"],
+    ],
+)
+def test_every_sweep_command_accepts_both_spellings_of_its_range(argv):
+    code, out, err = run_cli([*argv, "--transient", "20", "--periods", "10", "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    assert min(d.get("values") or d.get("omega") or [0.9]) == pytest.approx(0.9)
+
+
+@pytest.mark.parametrize(
+    "argv,key",
+    [
+        (["response", "--param", "xi0", "--start", "0.1", "--stop", "0.2"], "param"),
+        (["bifurcation", "--omega-start", "0.9", "--omega-stop", "1", "--start", "1", "--stop", "2"], "omega_start"),
+        (["bifurcation", "--param", "xi0", "--omega-start", "0.9", "--omega-stop", "1"], "param"),
+        (["continuation", "--omega-start", "0.9", "--stop", "1"], "omega_start"),
+    ],
+)
+def test_mixed_or_wrong_spellings_are_refused(argv, key):
+    code, out, err = run_cli(argv)
+    one_line_exit_2(code, err, key)
