@@ -302,3 +302,27 @@ def test_every_sweep_command_accepts_both_spellings_of_its_range(argv):
 def test_mixed_or_wrong_spellings_are_refused(argv, key):
     code, out, err = run_cli(argv)
     one_line_exit_2(code, err, key)
+
+
+# ------------------------------------------------------------------------------------------ figures
+def test_a_sweep_of_separate_settings_is_drawn_as_separate_cells_and_markers():
+    """Table 3's three backlash values are separate settings: no band or line joins them (the bands are cells
+    with gaps, λ1 markers with ±3σ bars, the contact boundaries a mark at each D); a dense grid keeps its bands."""
+    import matplotlib.collections as mc
+
+    import geardyn
+    from geardyn.model import IntegrationOptions
+    from geardyn.plot.bifurcation import is_discrete
+    from geardyn.plot.registry import draw
+
+    assert is_discrete(np.array([0.1, 0.35, 0.75])) and not is_discrete(np.linspace(0.5, 1.5, 101))
+    ds = geardyn.bifurcation(
+        geardyn.GearModel(), "D", [0.1, 0.35, 0.75], lyapunov=True, options=IntegrationOptions(transient=50, periods=20)
+    )
+    art = draw(ds, "bifurcation")
+    fig = art.figure if hasattr(art, "figure") else art.fig
+    axes = fig.axes
+    assert not any(isinstance(c, mc.QuadMesh) for a in axes for c in a.collections)  # no continuous band
+    assert not any(isinstance(c, mc.PolyCollection) for a in axes for c in a.collections)  # no filled σ band
+    contact = [ln for ln in axes[0].lines if ln.get_gid() == "contact"]
+    assert contact and all(ln.get_linestyle() in ("None", "none", "") for ln in contact)

@@ -364,3 +364,36 @@ def test_totals_under_one_reading_per_table_come_first_and_count_each_group_at_o
     first = one_reading_text(claims)
     assert first.startswith("Totals under one reading per table or study (6 claims, 2 groups)")
     assert page.index(first) < page.index("Per claim, each under its own nearest reading")
+
+
+def test_report_leftovers_times_command_digits_and_source():
+    """The report's time is the one the command prints; its command line shows only what was typed; values judged
+    strictly increasing print unequal; the source is stated as the text gives it (title only)."""
+    from geardyn.paper.run import INTRO, settings_section
+    from geardyn.paper.settings import Settings
+    from geardyn.paper.verdicts import distinct_text
+
+    text = " ".join(settings_section(Settings.quick(), 145.6, 178.3).paragraphs)
+    assert "145.6 s for the studies, 178.3 s with their data and figures (the time the command reports)" in text
+    assert distinct_text([0.0085, 0.0091, 0.0094]) == ["0.0085", "0.0091", "0.0094"]
+    assert distinct_text([0.009, 0.003, 0.0]) == ["0.009", "0.003", "0.000"]
+    assert any("names no authors, journal, year or DOI" in p for p in INTRO)
+
+
+def test_reproduce_command_line_shows_only_typed_options(tmp_path, monkeypatch):
+    import geardyn.reproduce as rep
+    from cli_run import run_cli
+
+    seen = {}
+
+    def fake_run(out, settings, log=None, command=None):
+        seen["command"] = command
+        raise KeyboardInterrupt  # stop before any study runs
+
+    monkeypatch.setattr(rep, "run", fake_run)
+    try:
+        run_cli(["reproduce", "--out", tmp_path / "r", "--quick"])
+    except KeyboardInterrupt:
+        pass
+    assert "command" in seen, seen
+    assert "--workers" not in seen["command"] and "--quick" in seen["command"]
