@@ -381,8 +381,9 @@ def test_report_leftovers_times_command_digits_and_source():
 
 
 def test_reproduce_command_line_shows_only_typed_options(tmp_path, monkeypatch):
-    import geardyn.reproduce as rep
     from cli_run import run_cli
+
+    import geardyn.reproduce as rep
 
     seen = {}
 
