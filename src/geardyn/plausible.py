@@ -118,18 +118,24 @@ def pair_geometry(
     a = math.degrees(alpha_n)
     lo, hi = ALPHA_N_DEG
     if not lo <= a <= hi:
-        raise _bad(error, "alpha_n", f"normal pressure angle {a:.6g} deg is outside [{lo:g}, {hi:g}] deg of cut gears")
+        raise _bad(
+            error,
+            "alpha_n",
+            f"normal pressure angle alpha_n = {a:.6g} deg is outside [{lo:g}, {hi:g}] deg of cut gears",
+        )
     b = math.degrees(beta_m)
     if b > BETA_M_MAX_DEG:
-        raise _bad(error, "beta_m", f"mean spiral angle {b:.6g} deg is above {BETA_M_MAX_DEG:g} deg")
+        raise _bad(error, "beta_m", f"mean spiral angle beta_m = {b:.6g} deg is above {BETA_M_MAX_DEG:g} deg")
     lo, hi = MODULE_M
     if not lo <= m_mn <= hi:
-        raise _bad(error, "m_mn", f"mean normal module {m_mn * 1e3:.6g} mm is outside [{lo * 1e3:g}, {hi * 1e3:g}] mm")
+        raise _bad(
+            error, "m_mn", f"mean normal module m_mn = {m_mn * 1e3:.6g} mm is outside [{lo * 1e3:g}, {hi * 1e3:g}] mm"
+        )
     if j_n > BACKLASH_MAX_MODULES * m_mn:
         raise _bad(
             error,
             "j_n",
-            f"normal backlash {j_n * 1e3:.6g} mm is above {BACKLASH_MAX_MODULES:g} x the module "
+            f"normal backlash j_n = {j_n * 1e3:.6g} mm is above {BACKLASH_MAX_MODULES:g} x the module m_mn "
             f"({BACKLASH_MAX_MODULES * m_mn * 1e3:.6g} mm)",
         )
     pitch = [m_mn * z / (2.0 * math.cos(beta_m)) for z in (z1, z2)]
@@ -139,7 +145,7 @@ def pair_geometry(
             raise _bad(
                 error,
                 key,
-                f"{r * 1e3:.6g} mm is outside [{flo:g}, {fhi:g}] x the mean pitch radius m_mn z/(2 cos beta_m) "
+                f"{key} = {r * 1e3:.6g} mm is outside [{flo:g}, {fhi:g}] x the mean pitch radius m_mn z/(2 cos beta_m) "
                 f"= {rp * 1e3:.6g} mm",
             )
     if r1 is not None and r2 is not None:
@@ -160,7 +166,7 @@ def pair_geometry(
             raise _bad(
                 error,
                 "face_width",
-                f"{face_width * 1e3:.6g} mm is above {FACE_WIDTH_MAX_CONE:g} x the outer cone distance "
+                f"face_width = {face_width * 1e3:.6g} mm is above {FACE_WIDTH_MAX_CONE:g} x the outer cone distance "
                 f"R_e = {r_e * 1e3:.6g} mm",
             )
 
