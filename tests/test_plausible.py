@@ -326,3 +326,26 @@ def test_a_sweep_of_separate_settings_is_drawn_as_separate_cells_and_markers():
     assert not any(isinstance(c, mc.PolyCollection) for a in axes for c in a.collections)  # no filled σ band
     contact = [ln for ln in axes[0].lines if ln.get_gid() == "contact"]
     assert contact and all(ln.get_linestyle() in ("None", "none", "") for ln in contact)
+
+
+def test_a_rescaled_figure_names_its_pair_and_a_fixed_sweep_has_no_legend():
+    from pathlib import Path
+
+    import geardyn
+    from geardyn.analysis.physical import add_physical
+    from geardyn.model import IntegrationOptions
+    from geardyn.plot.registry import draw, figures_for
+    from geardyn.units import scales_of
+
+    cfg = Path(__file__).parents[1] / "examples" / "automotive_hypoid_like.toml"
+    ds = geardyn.bifurcation(
+        geardyn.GearModel(), "omega", np.linspace(0.8, 1.0, 15), options=IntegrationOptions(transient=20, periods=10)
+    )
+    sc = scales_of(cfg)
+    phys = add_physical(ds, sc)
+    stem = next(f.stem for f in figures_for(phys) if "rpm" in f.stem)
+    art = draw(phys, stem)
+    fig = art.figure if hasattr(art, "figure") else art.fig
+    ax = fig.axes[0]
+    assert sc.title and sc.title in ax.get_title()
+    assert ax.get_legend() is None  # one fixed sweep: no "sweep = fixed" legend
