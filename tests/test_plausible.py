@@ -349,3 +349,14 @@ def test_a_rescaled_figure_names_its_pair_and_a_fixed_sweep_has_no_legend():
     ax = fig.axes[0]
     assert sc.title and sc.title in ax.get_title()
     assert ax.get_legend() is None  # one fixed sweep: no "sweep = fixed" legend
+
+
+def test_a_system_file_too_large_for_a_modal_analysis_is_refused_before_it_is_loaded(tmp_path):
+    """A 1000-body file (4 DOFs each, a bearing each, one mesh): (1001 + 3)·4000²·8 + 4000²·100 bytes = 130 GB
+    against the 2 GB budget, refused from the file's own tables in one line (before 1000 bodies are built)."""
+    body = '[[body]]\nname = "b{i}"\ndofs = ["x", "y", "z", "theta"]\nmass = "50 kg"\ninertia = "1 kg*m^2"\n\n'
+    conn = '[[connection]]\nname = "c{i}"\nbody = "b{i}"\nkx = "1e9 N/m"\n\n'
+    f = tmp_path / "big.toml"
+    f.write_text("".join(body.format(i=i) + conn.format(i=i) for i in range(1000)) + '[[mesh]]\nname = "m"\n')
+    code, out, err = run_cli(["modes", "--system", f])
+    one_line_exit_2(code, err, "system:", "4000 DOFs", "1001 elements", "130 GB", "2 GB")
