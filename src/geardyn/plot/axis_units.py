@@ -29,5 +29,15 @@ _SUB = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
 
 def subscripts(text: str) -> str:
     """``ξ_1`` → ``ξ₁``: an index written after an underscore as subscript digits (a figure shows no literal
-    underscore)."""
+    underscore).
+
+    Parameters
+    ----------
+    text : str
+        A label.
+
+    Returns
+    -------
+    str
+    """
     return re.sub(r"_\{?(\d+)\}?", lambda m: m.group(1).translate(_SUB), text)
