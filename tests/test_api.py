@@ -55,6 +55,7 @@ COVERED_BY = {
     "geardyn.integrate": "test_core.py",
     "geardyn.model": "test_core.py",
     "geardyn.units": "test_physical.py",
+    "geardyn.torque_orders": "test_orders.py",
     "geardyn.validate": "test_bad_input.py",
     "geardyn._kernel": "test_core.py",
     "geardyn._kernel_ndof": "test_ndof.py",

@@ -100,6 +100,12 @@ _TAKE_A_SYSTEM = (
 def __getattr__(name: str):
     module = _LAZY.get(name)
     if module is None:
+        if not name.startswith("__"):  # a subpackage or module, as ``import geardyn.name`` would give it
+            try:
+                return _import_module(f".{name}", __name__)
+            except ModuleNotFoundError as e:
+                if e.name != f"{__name__}.{name}":
+                    raise
         raise AttributeError(f"module 'geardyn' has no attribute {name!r}")
     value = getattr(_import_module(module, __name__), name)
     if name in _TAKE_A_SYSTEM:

@@ -11,7 +11,7 @@ from __future__ import annotations
 __all__ = ["COMMANDS", "MODULES"]
 
 #: The modules that define commands, in the order their commands are registered (and listed).
-MODULES = ("point", "sweeps", "tools", "engineering", "hb", "systems", "diagnostics")
+MODULES = ("point", "sweeps", "tools", "engineering", "hb", "systems", "diagnostics", "rattle")
 
 #: name -> (module in :mod:`geardyn.cli`, help text), in the order of ``geardyn --help``.
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -159,6 +159,18 @@ COMMANDS: dict[str, tuple[str, str]] = {
             "healthy beside faulty with two files; indicators against crack depth with --sweep-depths. With --system: "
             "the\n"
             "same for a bearing sensor (a translational DOF) of a multi-DOF system."
+        ),
+    ),
+    "rattle": (
+        "rattle",
+        (
+            "Gear rattle of an unloaded (loose) gear pair driven by torque orders (--torque-order, [model] "
+            "torque_orders,\n"
+            "or orders on a load of a --system file of two gears): impacts per cycle on the drive and back flanks, "
+            "impact\n"
+            "velocities, and the rattle index (impact kinetic-energy loss per cycle); with --map-points a rattle map "
+            "over\n"
+            "speed × torque-order amplitude."
         ),
     ),
     # generated: end

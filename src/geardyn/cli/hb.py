@@ -202,7 +202,7 @@ def hb(
     n = validate.integer("period", period, 1, MAX_PERIOD)
     mp = validate.integer("max-points", max_points, 2, MAX_POINTS_LIMIT)
     model = system_model(system, inp)
-    multi = system is None and model.cycles > 1  # an excitation of several mesh cycles: harmonics of ω/(P n)
+    multi = system is None and model.period_multiple() > 1  # a forcing period of P > 1 mesh cycles: ω/(P n)
     if harmonics is None:
         H = default_harmonics(model, n) if multi else DEFAULT_HARMONICS
     else:

@@ -526,7 +526,8 @@ class SystemDescription:
             if ev.min() <= 1e-12 * max(abs(ev.max()), 1e-300):
                 key = "mass_matrix" if b.mass_matrix is not None else "mass"
                 raise ModelError(
-                    f"body {b.name!r}: {key}: the mass matrix is singular or not positive definite (eigenvalues {ev.tolist()})"
+                    f"body {b.name!r}: {key}: the mass matrix is singular or not positive definite (eigenvalues "
+                    f"{ev.tolist()})"
                 )
         if self.reference is not None and self.reference not in {m.name for m in self.meshes}:
             raise ModelError(

@@ -89,7 +89,7 @@ def default_harmonics(model: GearModel, period: int = 1) -> int:
     ModelError
         When that is more than :data:`MAX_DEFAULT_HARMONICS` (give the harmonics explicitly).
     """
-    P = int(getattr(model, "cycles", 1))
+    P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period (excitation, torque orders)
     if P == 1:
         return DEFAULT_HARMONICS
     H = max(P * DEFAULT_HARMONICS, int(period) * int(model.n_harmonics))
@@ -148,11 +148,13 @@ class HBSystem:
         if int(harmonics) < 1:
             raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
         self.base = model
-        self.P = int(getattr(model, "cycles", 1))
+        self.P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period (excitation, torque orders)
         self.n = int(period)
         self.H = int(harmonics)
         self.floquet = check_floquet(floquet)
         self.param = canonical_param(param) if param is not None else None
+        # ω's fast path builds F from f_p and the STE alone; torque orders take the model's own series
+        self._omega_fast = self.param == "omega" and not getattr(model, "torque_orders", ())
         N = samples or time_samples(self.H, self.n, model.n_harmonics + 2)
         self.basis = HarmonicBasis(self.H, N)
         self._cache: dict[float | None, tuple[GearModel, tuple[np.ndarray, ...]]] = {}
@@ -175,7 +177,7 @@ class HBSystem:
         if e is None:
             if len(self._cache) > 32:
                 self._cache.clear()
-            if key is not None and self.param == "omega" and key > 0 and math.isfinite(2.0 * math.pi / key):
+            if key is not None and self._omega_fast and key > 0 and math.isfinite(2.0 * math.pi / key):
                 # only the forcing depends on ω: skip building and validating a model per value
                 C, K, _F = self._base_series()
                 e = self._cache[key] = (_AtOmega(key, self.base.D), (C, K, self._forcing(self.forcing(key))))
@@ -215,7 +217,7 @@ class HBSystem:
         ModelError
             When ``p`` is not a valid value of the parameter.
         """
-        if p is not None and self.param == "omega":
+        if p is not None and self._omega_fast:
             w = float(p)
             if w > 0 and math.isfinite(2.0 * math.pi / w):
                 C, K, _F = self._base_series()
@@ -229,7 +231,7 @@ class HBSystem:
 
     def nu(self, p: float | None = None) -> float:
         """ν = ω/(P n), the fundamental frequency of the response at ``p``."""
-        if p is not None and self.param == "omega":
+        if p is not None and self._omega_fast:
             return self.forcing(float(p)) / self.n
         return self.forcing(self._entry(p)[0].omega) / self.n
 
@@ -297,7 +299,7 @@ class HBSystem:
         linearly: ξ_k, κ_r, ε_l, f_p)."""
         if self.param is None:
             raise ModelError("dR_dp: the system has no continuation parameter")
-        if self.param == "omega":
+        if self._omega_fast:
             m, (C, K, F) = self._entry(p)
             w = self.forcing(m.omega)
             Rw = dR_domega_kernel(
@@ -329,7 +331,7 @@ class HBSystem:
         ModelError
             When the system has no continuation parameter.
         """
-        if self.param == "omega":
+        if self._omega_fast:
             w, D, C, K = self._at(p)
             b = self.basis
             fp, eps, phi_e, n, Hm = self._forcing_args()
@@ -524,7 +526,7 @@ def guess_from_simulation(
     from ...integrate import trajectory
 
     n, H = int(period), int(harmonics)
-    P = int(getattr(model, "cycles", 1))
+    P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period (excitation, torque orders)
     if P > 1:  # the same settling time as a one-cycle model's: the transient counts forcing periods of P cycles
         transient = -(-int(transient) // P)
     opts = IntegrationOptions(dtau=dtau, transient=int(transient), periods=n)
