@@ -43,6 +43,8 @@ FORWARDING = {
 
 # Modules whose tests live in a file named after what they test rather than after the module.
 COVERED_BY = {
+    "geardyn._forkserver_quiet": "test_signals_start.py",
+    "geardyn.cli.ranges": "test_plausible.py",
     "geardyn.accessor": "test_plot_cli.py",
     "geardyn._accessor_hook": "test_plot_cli.py",
     "geardyn._lazy": "test_plot_cli.py",

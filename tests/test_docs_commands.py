@@ -99,6 +99,9 @@ QUOTED: dict[str, Run | str] = {
     "geardyn hb --param omega --start 0.3 --stop 1.0 --xi0 0.08 [--harmonics 16] [--period 1] "
     "[--floquet monodromy|hill]": Run({"--harmonics": "6"}),
     "geardyn hb --floquet": _FRAGMENT,
+    "geardyn bifurcation --param omega --start 0.5 --stop 1.5 --num 2000 --scheduler tcp://HOST:8786": (
+        "needs a running Dask scheduler and worker (tests/test_dask.py runs sweeps on a local cluster)"
+    ),
     "geardyn hb --floquet hill": _FRAGMENT,
     # excitation.md
     "geardyn stiffness examples/tooth_healthy_spur.toml --out out/healthy": AS_QUOTED,

@@ -42,6 +42,8 @@ def test_simulate_system_reduces_exactly():
         "dte_mean_um",
         "dte_rms_um",
         "mesh_force_mean_N",
+        "contact_force_max_N",
+        "contact_force_min_N",
     } <= set(a)
     for e in a["meshes"]:
         assert {"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} <= set(e)

@@ -786,7 +786,7 @@ RESULT_DIMS: dict[str, dict[str, tuple[str, ...]]] = {
 }
 #: Variables that must share their dimensions in every kind (a point's u beside its v).
 SAME_DIMS = (("u", "v"), ("poincare_u", "poincare_v"))
-#: Coordinates and variables that hold names (text) in a result.
+#: Coordinates that hold names (text) in a result (variables that do are marked ``text`` in the registry).
 TEXT_COORDINATES = (
     "element",
     "state",
@@ -797,16 +797,12 @@ TEXT_COORDINATES = (
     "side",
     "variable",
     "claim",
-    "sweep",
-    "bifurcation_type",
-    "bifurcation_detail",
-    "line_label",
-    "crossing_modes",
 )
 
 
 def result_variables(ds: Any, where: str = "", error: type[Exception] = ModelError) -> None:
-    """Every registered variable of a result read back has a numeric type and the dimensions it is drawn on.
+    """The variables of a result read back have a numeric type (:data:`NUMERIC_VARIABLES`) and the dimensions
+    they are drawn on (:data:`RESULT_DIMS`, :data:`SAME_DIMS`).
 
     A NetCDF file edited by hand (a variable turned to text, an array of another shape) is refused before
     anything is drawn or computed from it.

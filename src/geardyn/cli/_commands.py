@@ -83,14 +83,15 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "geometry": (
         "tools",
         (
-            "Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed "
+            "Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force "
+            "(assumed\n"
             "values marked)."
         ),
     ),
     "plot": (
         "tools",
         (
-            "Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation, "
+            "Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation,\n"
             "response, map, basins, orbit, continuation, ...)."
         ),
     ),

@@ -10,6 +10,7 @@ from ..model import DEFAULT_DTAU
 from . import render
 from .app import EXIT_FAILURE, console, say_error
 from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option
+from .ranges import OMEGA_RANGE, both_spellings
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 
@@ -72,7 +73,7 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
     render.files(paths)
 
 
-@command("hb", RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
+@command("hb", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
 def hb(
     inp: Inputs,
     param: ContinuationParamOpt = None,
@@ -145,6 +146,7 @@ def hb(
     from ..analysis.hb.equations import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
     from ..analysis.physical import add_physical, physical_json
 
+    param, start, stop = both_spellings(param, start, stop, inp.omega_start, inp.omega_stop)  # either spelling
     n = validate.integer("period", period, 1, MAX_PERIOD)
     mp = validate.integer("max-points", max_points, 2, MAX_POINTS_LIMIT)
     model = inp.model()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Optional
@@ -141,10 +142,12 @@ def reproduce(
     import shlex
     from dataclasses import asdict
 
-    command = shlex.join(
-        ["geardyn", "reproduce", "--out", str(out)]
+    typed = _typed_options()
+    command = shlex.join(  # the command as typed: an option left at its default is not shown
+        ["geardyn", "reproduce"]
+        + ["--out", str(out)] * ("out" in typed)
         + ["--quick"] * quick
-        + ["--workers", str(workers)]
+        + ["--workers", str(workers)] * ("workers" in typed)
         + ["--json"] * inp.json_out
     )
     res = run(out, settings, log=log, command=command)
@@ -162,6 +165,20 @@ def reproduce(
         )
         return
     render.claims(res)
+
+
+def _typed_options() -> set[str]:
+    """The parameters of the running command given on its command line (not left at their defaults); every
+    parameter when that cannot be told."""
+    try:
+        import typer
+
+        core = sys.modules[typer.BadParameter.__module__.rsplit(".", 1)[0] + ".core"]
+        globs = sys.modules[typer.BadParameter.__module__.rsplit(".", 1)[0] + ".globals"]
+        ctx = globs.get_current_context()
+        return {n for n in ctx.params if ctx.get_parameter_source(n) == core.ParameterSource.COMMANDLINE}
+    except (KeyError, AttributeError, RuntimeError):
+        return {"out", "workers"}
 
 
 #: Most timed runs of ``bench`` per workload (each workload takes about a second).

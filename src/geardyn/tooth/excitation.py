@@ -166,9 +166,6 @@ class Excitation:
         object.__setattr__(self, "cycles", int(P))
         if k.ndim != 1 or k.size < 2 or not np.all(np.isfinite(k)) or np.any(k <= 0):
             raise ModelError("excitation: the stiffness table needs at least 2 finite values > 0")
-        from ..plausible import excitation_table  # the physical range of tables (every file format)
-
-        excitation_table(k, self.ste)
         if self.phase is not None:
             from ..meshtable import check_table
 
