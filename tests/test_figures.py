@@ -253,7 +253,18 @@ def _synthetic():
         "readings_map": readings,
         "response_overlay": overlay(),
         **_tooth_synthetic(),
+        **_rattle_synthetic(),
     }
+
+
+def _rattle_synthetic():
+    """Short ``rattle`` and ``rattle_map`` results of a pair driven by a torque order (geardyn.analysis.rattle)."""
+    from geardyn.analysis.rattle import rattle, rattle_map
+    from geardyn.model import GearModel, IntegrationOptions
+
+    m = GearModel(omega=0.5, xi0=0.02, xi=(), eps=(), fp=0.002, torque_orders=(("1/4", 0.02, 0.0),))
+    opts = IntegrationOptions(dtau=0.05, transient=2, periods=1, accurate=True)
+    return {"rattle": rattle(m, opts).to_dataset(), "rattle_map": rattle_map(m, [0.4, 0.5], [0.5, 1.0], opts)}
 
 
 def _tooth_synthetic():

@@ -285,14 +285,16 @@ def system_acquire(
     m = _mesh(system, mesh)
     z1, _z2, _body = mesh_shafts(system, mesh)
     i = list(system.labels).index(dof)
-    f_mesh = m.ratio * system.omega * sc.omega_n / (2.0 * math.pi)
+    f_mesh = m.ratio * system.omega * sc.omega_n_rad_s / (2.0 * math.pi)
 
     def sensor(tr):
         v = tr.x[:, system.n + i]
-        t_sim = (tr.tau - tr.tau[0]) / sc.omega_n
+        t_sim = (tr.tau - tr.tau[0]) / sc.omega_n_rad_s
         if not np.all(np.isfinite(v)):
             return t_sim, v
-        return t_sim, CubicSpline(t_sim, v).derivative()(t_sim) * sc.s[i] * sc.omega_n  # d²q/dt² = s ω_n d(q̃′)/dt
+        return t_sim, CubicSpline(t_sim, v).derivative()(t_sim) * sc.dof_scales[
+            i
+        ] * sc.omega_n_rad_s  # d²q/dt² = s ω_n d(q̃′)/dt
 
     return record_system(
         system,
@@ -362,7 +364,7 @@ def system_signature(
         )
     dof = default_sensor(system, mesh) if dof is None else dof
     m = _mesh(system, mesh)
-    f_mesh = m.ratio * system.omega * system.scaling.omega_n / (2.0 * math.pi)
+    f_mesh = m.ratio * system.omega * system.scaling.omega_n_rad_s / (2.0 * math.pi)
     if revolutions is None:
         revolutions = max(10, 2 * z2 // math.gcd(z1, z2))
     if fs is None:
@@ -384,7 +386,7 @@ def system_signature(
         "omega_model": sm.ratio * system.omega,
         "omega_mesh": m.ratio * system.omega,
         "omega": system.omega,
-        "omega_n_rad_s": system.scaling.omega_n,
+        "omega_n_rad_s": system.scaling.omega_n_rad_s,
         "k0_N_per_m": float(m.stiffness),
         "indicators": ind,
         "faults": [],

@@ -32,14 +32,14 @@ MODES_VARIABLES: dict[str, Variable] = {
     "shape": _V("M-orthonormal mode shape (SI coordinates: m and rad)"),
     "energy_fraction": _V("modal strain-energy fraction of the element"),
     "line": _V("index of the Campbell line"),
-    "line_label": _V("mesh orders of the Campbell line"),
+    "line_label": Variable("1", "mesh orders of the Campbell line", text=True),
     "line_harmonic": _V("line frequency as a multiple of the base mesh frequency (k r_m)"),
     "line_slope": _V("line frequency per unit of the Campbell axis (Hz per rpm, or per Hz)"),
     "crossing": _V("index of the crossing of a Campbell line with a natural frequency"),
     "crossing_x": _V("crossing on the Campbell axis (pinion speed in rpm, or mesh frequency in Hz)"),
     "crossing_frequency_Hz": _V("natural frequency of the crossing", "Hz"),
     "crossing_mode": _V("first mode number of the crossing"),
-    "crossing_modes": _V("mode numbers of the crossing (a degenerate frequency lists several)"),
+    "crossing_modes": Variable("1", "mode numbers of the crossing (a degenerate frequency lists several)", text=True),
     "crossing_line": _V("Campbell line of the crossing (index along line)"),
 }
 KIND_VARIABLES.setdefault("modes", {}).update(MODES_VARIABLES)

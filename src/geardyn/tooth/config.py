@@ -90,6 +90,7 @@ SIGNATURE_KEYS: dict[str, tuple[_Key, str | None, float]] = {
     "backlash": (_Key(_LENGTH), "backlash_um", 1e-6),
     "b_c": (_Key(_LENGTH), "b_c_um", 1e-6),
     "xi0": (_Key(_NUMBER), None, 1.0),
+    "seed": (_Key(_INT), None, 1.0),
 }
 #: [[fault]] keys: lengths of spalls and wear with units (or in m as plain numbers; or with _mm / _um).
 FAULT_KEYS: dict[str, tuple[_Key, str | None, float]] = {
@@ -105,6 +106,8 @@ FAULT_KEYS: dict[str, tuple[_Key, str | None, float]] = {
     "remaining": (_Key(_NUMBER), None, 1.0),
 }
 _FAULT_LENGTHS = {"spall": ("length", "width", "depth"), "wear": ("depth",)}
+#: Top-level text keys a tooth-pair file may hold beside its sections.
+_TOP_TEXT = ("title", "description")
 _SUFFIX = {"_mm": 1e-3, "_um": 1e-6}
 
 
@@ -192,35 +195,36 @@ def _section(ctx: _Ctx, doc: dict[str, Any], name: str, keys: dict[str, tuple[_K
 
 
 def _fault(ctx: _Ctx, i: int, raw: Any) -> Any:
-    where = f"fault {i + 1}"
     if not isinstance(raw, dict):
-        raise ctx.error(None, "fault", f"{where}: expected a table")
-    d: dict[str, Any] = {}
-    kind = raw.get("kind")
+        raise ctx.error(None, "fault", "write each fault as a [[fault]] table")
+    kind = raw.get("kind") if isinstance(raw.get("kind"), str) else None
+    where = {"index": i, "element": kind}
     lengths = _FAULT_LENGTHS.get(kind, ())
+    d: dict[str, Any] = {}
     for k, v in raw.items():
         base, factor = k, None
         for suf, f in _SUFFIX.items():
             if k.endswith(suf):
                 base, factor = k[: -len(suf)], f
-        if base in ("kind",) and isinstance(v, str):
+        if base == "kind":
             d[base] = v
-            continue
-        if base in lengths:
+        elif base in lengths:
             if factor is not None or not isinstance(v, str):
-                val, _ = _parse_value(ctx, "fault", k, _Key(_NUMBER), v)
+                val, _ = _parse_value(ctx, "fault", k, _Key(_NUMBER), v, **where)
                 d[base] = val * (factor or 1.0)
             else:
-                d[base], _ = _parse_value(ctx, "fault", k, _Key(_LENGTH), v)
+                d[base], _ = _parse_value(ctx, "fault", k, _Key(_LENGTH), v, **where)
         elif base in FAULT_KEYS and factor is None:
             spec = FAULT_KEYS[base][0]
-            if spec.kind is _LENGTH:  # width of a crack's face share is not a fault key: lengths only above
-                spec = _Key(_NUMBER)
-            val, _ = _parse_value(ctx, "fault", k, spec, v)
+            spec = _Key(_NUMBER) if spec.kind is _LENGTH else spec
+            val, _ = _parse_value(ctx, "fault", k, spec, v, **where)
             d[base] = int(val) if base in ("gear", "tooth") and float(val).is_integer() else val
         else:
-            raise ctx.error(None, "fault", f"{where}: unknown key {k!r}; allowed: {', '.join(sorted(FAULT_KEYS))}")
-    return fault_from_dict(d)
+            raise ctx.error("fault", k, f"unknown key; allowed: {', '.join(sorted(FAULT_KEYS))}", **where)
+    try:
+        return fault_from_dict(d)
+    except ModelError as e:
+        raise ctx.error("fault", None, str(e), ModelError, **where) from None
 
 
 def load_case(path: str | Path) -> ToothCase:
@@ -254,13 +258,18 @@ def load_case(path: str | Path) -> ToothCase:
     ctx = _Ctx(source, text)
     if not isinstance(doc.get("tooth_pair"), dict):
         raise ConfigError(f"{source}: no [tooth_pair] section")
-    unknown = set(doc) - {"tooth_pair", "modifications", "fault", "mesh", "signature"}
-    if unknown:
-        raise ctx.error(
-            sorted(unknown)[0],
-            "",
-            "unknown section; allowed: [tooth_pair], [modifications], [[fault]], [mesh], [signature]",
-        )
+    sections = ("tooth_pair", "modifications", "mesh", "signature")
+    for key, val in doc.items():
+        if key in _TOP_TEXT:
+            if not isinstance(val, str):
+                raise ctx.error(None, key, f"expected a string, got {val!r}")
+        elif key not in sections and key != "fault":
+            allowed = ", ".join([f"[{s}]" for s in sections] + ["[[fault]]", *_TOP_TEXT])
+            raise ctx.error(
+                key if isinstance(val, dict) else None,
+                None if isinstance(val, dict) else key,
+                f"unknown section or key {key!r}; allowed: {allowed}",
+            )
     tp = _section(ctx, doc, "tooth_pair", PAIR_KEYS)
     for req in ("z1", "z2", "m_n", "face_width", "torque"):
         if req not in tp:
@@ -274,6 +283,8 @@ def load_case(path: str | Path) -> ToothCase:
     if not isinstance(faults_raw, list):
         raise ctx.error(None, "fault", "write faults as [[fault]] tables")
     zv = tp.get("z_virtual")
+    if zv is not None and len(zv) != 2:
+        raise ctx.error("tooth_pair", "z_virtual", f"expected two numbers [z_v1, z_v2], got {len(zv)}")
     try:
         geo = pair_geometry(
             *(zv if zv else (tp["z1"], tp["z2"])),
@@ -296,13 +307,17 @@ def load_case(path: str | Path) -> ToothCase:
             nu=tp.get("nu", 0.3),
             teeth=(tp["z1"], tp["z2"]) if zv else None,
         )
+    except (ModelError, TypeError) as exc:
+        raise ctx.error("tooth_pair", None, str(exc), ModelError) from None
+    try:
         mods = Modifications(**md)
-        faults = [_fault(ctx, i, f) for i, f in enumerate(faults_raw)]
+    except (ModelError, TypeError) as exc:
+        raise ctx.error("modifications", None, str(exc), ModelError) from None
+    faults = [_fault(ctx, i, f) for i, f in enumerate(faults_raw)]
+    try:
         check_plausible(geo, float(tp["torque"]), mods, faults)
     except ModelError as exc:
-        raise type(exc)(f"{source}: {exc}") from None
-    except TypeError as exc:
-        raise ConfigError(f"{source}: {exc}") from None
+        raise ctx.error(None, None, str(exc), ModelError) from None
     return ToothCase(
         name=str(tp.get("name", Path(path).stem)),
         geometry=geo,
