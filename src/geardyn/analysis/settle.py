@@ -141,7 +141,7 @@ def decay_rate(model: Any) -> float:
     sigma = float(np.min(-lam.real))
     if not sigma > tol:
         raise ModelError(
-            f"transient: auto needs every mode damped; the least damped has decay rate {sigma:.3g} "
+            f"transient: auto needs every mode damped; the least damped has decay rate {max(sigma, 0.0):.3g} "
             "(give --transient as a number of forcing periods)"
         )
     return sigma

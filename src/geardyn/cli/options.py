@@ -507,7 +507,9 @@ class Inputs:
 
             ws = np.atleast_1d(np.asarray(omegas, dtype=float))
             s = settle_periods(self.model(), ws if ws.size else None)
-            say_error(s.note())
+            if self.__dict__.get("_settle_note") != s.note():  # said once, where a command asks twice
+                self.__dict__["_settle_note"] = s.note()
+                say_error(s.note())
             return s.periods
         try:
             return int(t.strip())
