@@ -118,6 +118,12 @@ class Cluster:
                 p.wait()
 
 
+def shown(path: str) -> str:
+    """A path as the result shows it: relative to this checkout, else its name only (no machine paths)."""
+    p = Path(path).resolve()
+    return str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else f"(another copy) {p.name}"
+
+
 def model_and_grid(a: argparse.Namespace):
     """The gearbox model, its ω grid from the rpm range and the integration options."""
     from geardyn import IntegrationOptions, load_system
@@ -211,7 +217,7 @@ def main(argv: list[str] | None = None) -> None:
     codes, counts = np.unique(np.asarray(ds["local"]["motion"].values).ravel(), return_counts=True)
     out = {
         "what": "geardyn response over rpm of a gearbox system: one process vs a local 2-worker Dask cluster",
-        "system": a.system,
+        "system": shown(a.system),
         "src": str(SRC.relative_to(ROOT)) if SRC.is_relative_to(ROOT) else "another checkout (--src)",
         "num": a.num,
         "rpm": [a.rpm_start, a.rpm_stop],
@@ -219,7 +225,7 @@ def main(argv: list[str] | None = None) -> None:
         "options": {"dtau": opts.dtau, "transient": opts.transient, "periods": opts.periods, "settle": a.settle},
         "transient_given": a.transient,
         "command": (
-            f"geardyn response --system {a.system} --rpm-start {a.rpm_start:g} --rpm-stop {a.rpm_stop:g} "
+            f"geardyn response --system {shown(a.system)} --rpm-start {a.rpm_start:g} --rpm-stop {a.rpm_stop:g} "
             f"--num {a.num} --dtau {a.dtau:g} --transient {opts.transient} --periods {a.periods} --settle {a.settle} "
             "[--scheduler tcp://127.0.0.1:PORT]"
         ),
