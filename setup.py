@@ -19,7 +19,9 @@ class BuildPyCompiled(build_py):
         super().run()
         if self.dry_run or getattr(self, "editable_mode", False) or os.environ.get("GEARDYN_NO_PRECOMPILE"):
             return
-        env = dict(os.environ, PYTHONPATH=os.path.abspath(self.build_lib))
+        # the built copy first, then what pip's isolated build environment puts on the path (its packages)
+        path = [os.path.abspath(self.build_lib), *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep))]
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join(path))
         env.pop("NUMBA_CACHE_DIR", None)
         cmd = [sys.executable, "-m", "geardyn._precompile", "--examples", os.path.abspath("examples")]
         try:

@@ -137,9 +137,16 @@ def test_a_configuration_of_another_pair_beside_a_tooth_file_is_refused_in_one_l
 
 
 def test_the_lyapunov_precision_limit_holds_for_a_python_caller():
+    from geardyn import bifurcation
+
     # e^(-2 ξ0 2π/ω) below e^-700: ω < 4π ξ0 / 700 = 0.0017952 for ξ0 = 0.1
     with pytest.raises(ModelError, match=r"^omega: Lyapunov exponents need ω >= 0\.001795"):
         lyapunov_spectrum(GearModel(omega=1e-3), IntegrationOptions(transient=1, periods=2))
+    with pytest.raises(ModelError, match=r"^omega: Lyapunov exponents need ω >= 0\.001795"):
+        bifurcation(
+            GearModel(), "omega", [1e-3, 0.5], lyapunov=True, options=IntegrationOptions(transient=1, periods=2)
+        )
+    lyapunov_spectrum(GearModel(omega=0.0018), IntegrationOptions(transient=1, periods=2))  # just above: computed
 
 
 def test_continuation_draws_the_librarys_context_sweep(tmp_path):

@@ -40,6 +40,10 @@ _DAMP = _Kind("damping coefficient", "N*s/m", '"5e4 N*s/m"')
 _SPEED = _Kind("rotational speed", "rpm", '"3000 rpm" or "314 rad/s"')
 _TORQUE = _Kind("torque", "N*m", '"1500 N*m"')
 _DENSITY = _Kind("density", "kg/m^3", '"7860 kg/m^3"')
+_MASS = _Kind("mass", "kg", '"225 kg"')
+_TSTIFF = _Kind("torsional stiffness", "N*m/radian", '"330 N*m/rad"')
+_TDAMP = _Kind("torsional damping", "N*m*s/radian", '"23 N*m*s/rad"')
+_FORCE = _Kind("force", "N", '"100 N"')
 
 
 def _choice(options: tuple[str, ...]) -> _Kind:
@@ -169,34 +173,82 @@ def parse_quantity(text: str, unit: str) -> float:
 
 
 # ---------------------------------------------------------------------------- error context
+_HEADER = re.compile(r"^\s*(\[\[?)\s*([^\[\]]+?)\s*\]\]?\s*(#.*)?$")
+
+
 class _Ctx:
-    """Where a value comes from, to build one-line error messages."""
+    """Where a value of a TOML file comes from: the one line locator and message builder of every file geardyn
+    reads (configurations, system files, tooth-pair files).
+
+    A place is a section (``[name]``, or the ``index``-th ``[[name]]`` table; ``None`` for the top level) and a
+    key in it; messages are one line, ``SOURCE: line N: [section] key: problem`` (``[[section]] 'element' key:``
+    for an element of an array of tables).
+    """
 
     def __init__(self, source: str, text: str):
         self.source = source
         self.lines = text.splitlines()
 
-    def line_of(self, section: str | None, key: str) -> int | None:
-        current: str | None = None
-        key_re = re.compile(rf"^\s*(?:{re.escape(key)}|\"{re.escape(key)}\"|'{re.escape(key)}')\s*=")
-        header = re.compile(r"^\s*\[\s*([^\[\]]+?)\s*\]\s*(#.*)?$")
-        for i, line in enumerate(self.lines, start=1):
-            m = header.match(line)
+    def line(self, section: str | None, index: int | None = None, key: str | None = None, fallback: bool = True):
+        """The line of ``key`` in ``section`` (its ``index``-th table when it repeats), else, with ``fallback``,
+        the section's header (or None); the header's line when no key is given."""
+        key_re = (
+            re.compile(rf"^\s*(?:{re.escape(key)}|\"{re.escape(key)}\"|'{re.escape(key)}')\s*(=|\.)") if key else None
+        )
+        count, inside, start = -1, section is None, None
+        for i, text in enumerate(self.lines, start=1):
+            m = _HEADER.match(text)
             if m:
-                current = m.group(1)
-                if section is not None and key == "" and current == section:
-                    return i
+                if inside and start is not None and section is not None:
+                    break
+                if m.group(2) == section:
+                    count += 1
+                    if index is None or count == index:
+                        inside, start = True, i
+                        if key_re is None:
+                            return i
+                        continue
+                inside = False
                 continue
-            if current == section and key and key_re.match(line):
+            if inside and key_re is not None and key_re.match(text):
                 return i
-        return None
+        return start if fallback else None
 
-    def error(self, section: str | None, key: str, problem: str, cls: type[GeardynError] = ConfigError) -> GeardynError:
+    def line_of(self, section: str | None, key: str) -> int | None:
+        """The line of ``key`` in the table ``section`` (its header's for ``key = ""``), or None."""
+        return self.line(section, None, key or None, fallback=False)
+
+    def where(
+        self,
+        section: str | None,
+        key: str | None,
+        *,
+        index: int | None = None,
+        element: str | None = None,
+        fallback: bool = False,
+    ) -> str:
+        """The message prefix of a place: ``SOURCE: line N: [section] key: `` (as much as is known)."""
+        ln = self.line(section, index, key or None, fallback=fallback or index is not None)
+        head = f"{self.source}: " + (f"line {ln}: " if ln else "")
+        if section is None:
+            return head + (f"{_shown(key)}: " if key else "")
+        sec = f"[[{_shown(section)}]]" if index is not None else f"[{_shown(section)}]"
+        sec += f" {element!r}" if element else ""
+        return head + sec + (f" {_shown(key)}: " if key else ": ")
+
+    def error(
+        self,
+        section: str | None,
+        key: str | None,
+        problem: str,
+        cls: type[GeardynError] = ConfigError,
+        *,
+        index: int | None = None,
+        element: str | None = None,
+        fallback: bool = False,
+    ) -> GeardynError:
         """The error ``cls`` (a file problem by default) with the file, line, section and key in its message."""
-        line = self.line_of(section, key)
-        where = f"{self.source}: " + (f"line {line}: " if line else "")
-        what = (f"[{_shown(section)}] " if section else "") + (f"{_shown(key)}: " if key else "")
-        return cls(f"{where}{what}{problem}")
+        return cls(self.where(section, key, index=index, element=element, fallback=fallback) + problem)
 
 
 #: Largest integer a configuration value may hold (tooth counts and the like are far below it).
@@ -206,6 +258,8 @@ MIN_MAGNITUDE = 1e-30
 MAX_MAGNITUDE = 1e30
 #: Largest number of teeth of a gear (a bevel or hypoid gear has at most a few hundred).
 MAX_TEETH = 1000
+#: Keys that hold a number of teeth (checked against :data:`MAX_TEETH`).
+TEETH_KEYS = ("z1", "z2", "teeth")
 
 
 def _clip(raw: Any, n: int = 60) -> str:
@@ -220,9 +274,27 @@ def _shown(name: str) -> str:
 
 
 # ---------------------------------------------------------------------------- value parsing
-def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, index: int | None = None) -> Any:
+def _parse_scalar(
+    ctx: _Ctx,
+    section: str | None,
+    key: str,
+    kind: _Kind,
+    raw: Any,
+    item: int | None = None,
+    *,
+    index: int | None = None,
+    element: str | None = None,
+    nonnegative: bool = False,
+) -> Any:
+    """One value of a file in its kind's unit (the one validator of every TOML file geardyn reads).
+
+    ``item`` is the place of the value in a list (messages say "element ``item``"), ``index`` and ``element`` the
+    table of an array of tables it is in; ``nonnegative`` refuses a negative value (a mass, a stiffness).
+    """
+
     def bad(problem: str, cls: type[GeardynError] = ConfigError) -> GeardynError:
-        return ctx.error(section, key, (f"element {index}: " if index is not None else "") + problem, cls)
+        text = (f"element {item}: " if item is not None else "") + problem
+        return ctx.error(section, key, text, cls, index=index, element=element)
 
     if kind is _TEXT:
         if not isinstance(raw, str):
@@ -241,7 +313,7 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
             raise bad(f"expected an integer, got {_clip(raw)}")
         if abs(raw) > MAX_INTEGER:
             raise bad(f"must be at most {MAX_INTEGER} in size, got {_clip(raw)}")
-        if key in ("z1", "z2") and not 1 <= raw <= MAX_TEETH:
+        if key in TEETH_KEYS and not 1 <= raw <= MAX_TEETH:
             raise bad(f"a number of teeth must be from 1 to {MAX_TEETH}, got {raw}", ModelError)
         return raw
     if kind.unit is None or (kind is _PHASE and isinstance(raw, (int, float))):
@@ -288,6 +360,8 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
     x = float(q.to(kind.unit).magnitude)
     if not math.isfinite(x):
         raise bad(f"must be finite, got {_clip(raw)}")
+    if nonnegative and x < 0:
+        raise bad(f"must be >= 0 (a negative {kind.label} has no physical meaning), got {raw!r}", ModelError)
     if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
         raise bad(
             f"{_clip(raw)} is outside the range of physical values, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} {kind.unit}",
@@ -296,8 +370,9 @@ def _parse_scalar(ctx: _Ctx, section: str, key: str, kind: _Kind, raw: Any, inde
     return x
 
 
-def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any) -> tuple[Any, str | None]:
-    """Return (value in SI, assumed-source or None)."""
+def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any, **where: Any) -> tuple[Any, str | None]:
+    """(value in SI, assumed-source or None) of a value written plainly or as ``{ value = ..., assumed = "..." }``;
+    ``where`` (``index``, ``element``, ``nonnegative``) as :func:`_parse_scalar`."""
     assumed = None
     if isinstance(raw, dict):
         extra = set(raw) - {"value", "assumed"}
@@ -307,18 +382,26 @@ def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any) -> tup
                 key,
                 "an inline table must have the keys 'value' and optionally 'assumed' "
                 f'(e.g. {{ value = {spec.kind.example}, assumed = "typical value" }}), got keys {sorted(raw)}',
+                index=where.get("index"),
+                element=where.get("element"),
             )
         assumed = raw.get("assumed")
         if assumed is not None and (not isinstance(assumed, str) or not assumed.strip()):
-            raise ctx.error(section, key, "'assumed' must be a non-empty string giving the source or reason")
+            raise ctx.error(
+                section,
+                key,
+                "'assumed' must be a non-empty string giving the source or reason",
+                index=where.get("index"),
+                element=where.get("element"),
+            )
         raw = raw["value"]
     if spec.series:
         if not isinstance(raw, list):
             raw = [raw]
         if not raw:
             return (), assumed
-        return tuple(_parse_scalar(ctx, section, key, spec.kind, r, i + 1) for i, r in enumerate(raw)), assumed
-    return _parse_scalar(ctx, section, key, spec.kind, raw), assumed
+        return tuple(_parse_scalar(ctx, section, key, spec.kind, r, i + 1, **where) for i, r in enumerate(raw)), assumed
+    return _parse_scalar(ctx, section, key, spec.kind, raw, **where), assumed
 
 
 def regular_file_size(source: str, what: str) -> int:

@@ -523,34 +523,6 @@ def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> Loade
     return replace(cfg, model=model, notes=cfg.notes + (note,))
 
 
-def configured_model(
-    config: str | Path | None, excitation: str | Path | None, given: Mapping[str, Any], evaluation: str | None = None
-) -> GearModel:
-    """The model of a configuration (None: the paper's pair) with an excitation file applied (its STE over b_c).
-
-    ``given`` holds the command-line model options by keyword: the series options are refused beside a
-    table (``excitation`` or the configuration's ``[excitation]``; :mod:`geardyn.tooth.table`).  ``evaluation``
-    (``"series"`` or ``"table"``; default the configuration's ``[excitation] evaluation``, else series) is how the
-    ``excitation`` table is evaluated.
-    """
-    from .tooth.table import apply_excitation, refuse_series_options
-
-    cfg = load_config(config)
-    if evaluation is not None and excitation is None and evaluation != cfg.model.evaluation:
-        raise ModelError(
-            f"--excitation-evaluation {evaluation}: needs an excitation table (--excitation FILE, or "
-            '[excitation] of the configuration with evaluation = "table")'
-        )
-    m = (
-        cfg.model
-        if excitation is None
-        else apply_excitation(cfg.model, excitation, b_c=cfg.b_c, evaluation=evaluation or "series")
-    )
-    if excitation is not None or m.cycles != 1:
-        refuse_series_options(given)
-    return m
-
-
 def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
     source = ctx.source
     data, kappa_geometry = _kappa_word(ctx, data)
@@ -606,7 +578,7 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
     title = data.get("title") or gp.get("name", "")
     try:
         pair = SpiralBevelGearPair(**gp, assumed=tuple(gp_assumed.items()))
-        pair.resolved  # applies defaults and validates them
+        _ = pair.resolved  # applies defaults and validates them
     except ModelError as e:
         section = "mesh" if _key_of_message(str(e)) in ("xi0", "c0", "xi0/c0") else "gear_pair"
         raise _wrap(ctx, section, e) from None
@@ -759,7 +731,8 @@ def _kappa_word(ctx: _Ctx, data: dict[str, Any]) -> tuple[dict[str, Any], bool]:
 
 
 def _load_nondimensional(ctx: _Ctx, data: Mapping[str, Any]) -> LoadedConfig:
-    """A configuration without ``[gear_pair]``: the non-dimensional model of ``[mesh]``, ``[operating]`` and ``[model]``."""
+    """A configuration without ``[gear_pair]``: the non-dimensional model of ``[mesh]``, ``[operating]`` and
+    ``[model]``."""
     mesh, mesh_assumed = _read_section(ctx, data, "mesh")
     op, op_assumed = _read_section(ctx, data, "operating")
     mo, mo_assumed = _read_section(ctx, data, "model")
@@ -779,9 +752,8 @@ def _load_nondimensional(ctx: _Ctx, data: Mapping[str, Any]) -> LoadedConfig:
         "xi0": mesh.pop("xi0", default.xi0),
         "fp": mesh.pop("fp", default.fp),
     }
-    for name, key, section in (("ω", "omega", op), ("ξ0", "xi0", None), ("f_p", "fp", None)):
-        if section is not None and key not in section:
-            notes.append(f"no [operating] omega: ω = {kw[key]:g} (GearModel default)")
+    if "omega" not in op:
+        notes.append(f"no [operating] omega: ω = {kw['omega']:g} (GearModel default)")
     try:
         harmonics = MeshHarmonics(**mesh)
         model = GearModel(**kw, **harmonics.nondimensional(1.0, 1.0, 1.0, 1.0))

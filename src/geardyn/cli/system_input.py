@@ -47,7 +47,7 @@ CoordsOpt = Annotated[
 ]
 
 #: Commands that take ``--system``.
-SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins")
+SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins", "hb")
 _NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
 
 
@@ -183,7 +183,7 @@ def mesh_summary(
     elif result is not None:
         ext = [b.extrema for b in result.branches if b.extrema is not None]
         ext = np.concatenate(ext) if ext else np.zeros((0, len(s.elements), 2))
-        um = s.scaling.b_c * 1e6
+        um = s.scaling.b_c_m * 1e6
         summary["meshes"] = [
             {
                 "name": e.name,

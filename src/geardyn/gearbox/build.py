@@ -76,7 +76,7 @@ from typing import Any
 
 import numpy as np
 
-from .._config_values import quantity
+from .._config_values import _Kind, _parse_scalar
 from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
 from ..systems.description import Connection, Mesh
@@ -194,17 +194,11 @@ def is_gearbox(data: dict) -> bool:
 def _classes(ctx_cls: type, block_cls: type) -> tuple[type, type]:
     """The file reader's context and block classes, extended for a gearbox (more sections and value kinds)."""
 
-    class GCtx(ctx_cls):
-        def where(self, section, index, key, element) -> str:
-            ln = self.line(section, index, key)
-            head = f"{self.source}: " + (f"line {ln}: " if ln else "")
-            if section is None:
-                return head
-            sec = f"[[{section}]]" if section in _ARRAYS else f"[{section}]"
-            return head + sec + (f" {element!r}" if element else "") + ": " + (f"{key}: " if key else "")
+    class GCtx(ctx_cls):  # the one locator (geardyn._config_values._Ctx) places [[shaft]] ... as any array
+        pass
 
     class GBlock(block_cls):
-        def _scalar(self, key: str, kind: str, raw: Any, index: int | None = None) -> Any:
+        def _scalar(self, key: str, kind: str, raw: Any, index_: int | None = None) -> Any:
             if kind == "bool":
                 if not isinstance(raw, bool):
                     raise self.cerr(key, f"expected true or false, got {raw!r}")
@@ -212,17 +206,10 @@ def _classes(ctx_cls: type, block_cls: type) -> tuple[type, type]:
             if kind == "any":
                 return raw
             if kind not in _EXTRA_UNITS:
-                return super()._scalar(key, kind, raw, index)
-            unit, example = _EXTRA_UNITS[kind]
-            if not isinstance(raw, str):
-                raise self.cerr(key, f"expected a {kind} with its unit, as a string (e.g. {example}), got {raw!r}")
-            try:
-                x = float(quantity(raw).to(unit).magnitude)
-            except Exception:
-                raise self.cerr(key, f"cannot read {raw[:60]!r} as a {kind}; write e.g. {example}") from None
-            if not (math.isfinite(x) and x >= 0):
-                raise self.merr(key, f"must be finite and >= 0, got {raw!r}")
-            return x
+                return super()._scalar(key, kind, raw, index_)
+            unit, example = _EXTRA_UNITS[kind]  # through the one validator of every file
+            where = {"index": self.index, "element": self.element, "nonnegative": True}
+            return _parse_scalar(self.ctx, self.section, key, _Kind(kind, unit, example), raw, index_, **where)
 
         def need(self, *keys: str) -> None:
             missing = [k for k in keys if not self.has(k)]

@@ -186,7 +186,8 @@ _LIST: tuple[Claim, ...] = (
     Claim(
         "JUMP-FLUCT",
         "text, jump study",
-        "After the first jump the amplitude fluctuates; fluctuations weaken with higher ξ0 and intensify with higher ξ1.",
+        "After the first jump the amplitude fluctuates; fluctuations weaken with higher ξ0 and intensify with higher "
+        "ξ1.",
     ),
     Claim("JUMP-057", "text, backlash jumps", "Jumps occur near ω = 0.57 for all backlash values.", {"omega": 0.57}),
     Claim(

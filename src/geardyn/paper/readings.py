@@ -299,7 +299,8 @@ def lockstep_responses(
 
 
 def response_jumps(omega: np.ndarray, amplitude: np.ndarray) -> list[dict[str, Any]]:
-    """The jumps of one lockstep response (up and down amplitudes) by the rule of :func:`geardyn.analysis.response.detect_jumps`.
+    """The jumps of one lockstep response (up and down amplitudes) by the rule of
+    :func:`geardyn.analysis.response.detect_jumps`.
 
     Parameters
     ----------

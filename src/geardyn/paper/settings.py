@@ -325,7 +325,8 @@ class Context:
         return self.base.replace(xi0=key[0], xi=(key[1],), D=key[2])
 
     def save(self, name: str, ds: xr.Dataset, label: str | None = None, *, figures: bool = True) -> str:
-        """Register a Dataset for ``data/<name>.nc`` and its figures; written by :func:`geardyn.paper.run.write_outputs`.
+        """Register a Dataset for ``data/<name>.nc`` and its figures; written by
+        :func:`geardyn.paper.run.write_outputs`.
 
         Parameters
         ----------

@@ -159,6 +159,11 @@ register(
     FigureSpec("signature", signature_system.system_signals, when=signature_system.is_system),
 )
 register("signature_sweep", FigureSpec("indicators", tooth.indicator_sweep))
+register(
+    "tooth_fe",
+    FigureSpec("tooth_fe_compliance", tooth.fe_compliance_figure),
+    FigureSpec("tooth_fe_crack", tooth.fe_crack_figure),
+)
 register("rattle", FigureSpec("rattle", rattle.rattle_history))
 register("rattle_map", FigureSpec("rattle_map", rattle.rattle_map_figure))
 

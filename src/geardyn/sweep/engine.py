@@ -123,7 +123,17 @@ def chunk_slices(
     Returns
     -------
     list of slice
+
+    Raises
+    ------
+    ModelError
+        With ``lyapunov``, where the damping contracts the perturbations below double precision within a
+        forcing period at some ω of the grid (:func:`geardyn.validate.exponents_computable`).
     """
+    if lyapunov:
+        from ..validate import exponents_computable
+
+        exponents_computable(base, grid.omegas(base))
     if engine.chunk_points is not None or default is not None:
         return grid.slices(engine.points_per_chunk(default if default is not None else DEFAULT_CHUNK_POINTS))
     n = grid.steps_per_period(base, options.dtau).astype(float)

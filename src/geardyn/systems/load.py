@@ -65,24 +65,14 @@ the element.
 
 from __future__ import annotations
 
-import math
 import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .._config_values import (
-    _ANGLE_UNITS,
-    MAX_INTEGER,
-    MAX_MAGNITUDE,
-    MAX_TEETH,
-    MIN_MAGNITUDE,
-    _clip,
-    parse_toml,
-    quantity,
-    read_toml,
-)
+from .. import _config_values as cv
+from .._config_values import _Key, parse_toml, read_toml
 from ..errors import ConfigError, GeardynError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
 from .assemble import SystemModel, assemble
@@ -91,23 +81,23 @@ from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
 
 __all__ = ["load_description", "load_system"]
 
-# kind: (target unit or None for a plain number, example)
+#: The value kinds of a system file (:mod:`geardyn._config_values`, the validator of every file): name -> kind.
 _K = {
-    "number": (None, "0.1"),
-    "int": (None, "23"),
-    "text": (None, '"pinion"'),
-    "mass": ("kg", '"225 kg"'),
-    "inertia": ("kg*m^2", '"1.772 kg*m^2"'),
-    "length": ("m", '"0.1 mm"'),
-    "angle": ("radian", '"20 deg"'),
-    "phase": ("radian", '"30 deg" or 0.5'),
-    "stiffness": ("N/m", '"1e9 N/m"'),
-    "tstiffness": ("N*m/radian", '"330 N*m/rad"'),
-    "damping": ("N*s/m", '"2e4 N*s/m"'),
-    "tdamping": ("N*m*s/radian", '"23 N*m*s/rad"'),
-    "force": ("N", '"100 N"'),
-    "torque": ("N*m", '"1500 N*m"'),
-    "speed": ("rpm", '"3000 rpm"'),
+    "number": cv._NUMBER,
+    "int": cv._INT,
+    "text": cv._TEXT,
+    "mass": cv._MASS,
+    "inertia": cv._INERTIA,
+    "length": cv._LENGTH,
+    "angle": cv._ANGLE,
+    "phase": cv._PHASE,
+    "stiffness": cv._STIFF,
+    "tstiffness": cv._TSTIFF,
+    "damping": cv._DAMP,
+    "tdamping": cv._TDAMP,
+    "force": cv._FORCE,
+    "torque": cv._TORQUE,
+    "speed": cv._SPEED,
 }
 
 _NONNEGATIVE = frozenset({"mass", "inertia", "stiffness", "tstiffness", "damping", "tdamping"})
@@ -186,44 +176,21 @@ _SECTIONS = {
     "system": {"reference": "text", "characteristic_length": "length", "equivalent_mass": "text"},
     "operating": {"rpm": "speed", "omega": "number"},
 }
+#: The arrays of tables of a system file, in the order they are read.
 _ARRAYS = ("body", "connection", "mesh", "load")
 _TOP_TEXT = ("title", "description")
 
 
-class _Ctx:
-    """Where a value comes from: file, section, block index; builds one-line messages."""
+class _Ctx(cv._Ctx):
+    """The file's place finder (:class:`geardyn._config_values._Ctx`) with the assumptions made while reading."""
 
     def __init__(self, source: str, text: str):
-        self.source = source
-        self.lines = text.splitlines()
+        super().__init__(source, text)
         self.assumptions: list[Assumption] = []
 
     def assume(self, a: Assumption) -> None:
         if all(x.name != a.name for x in self.assumptions):
             self.assumptions.append(a)
-
-    def line(self, section: str | None, index: int | None, key: str | None) -> int | None:
-        header = re.compile(r"^\s*(\[\[?)\s*([^\[\]]+?)\s*\]\]?\s*(#.*)?$")
-        key_re = re.compile(rf"^\s*[\"']?{re.escape(key)}[\"']?\s*(=|\.)") if key else None
-        count, inside, start = -1, section is None, None
-        for i, text in enumerate(self.lines, start=1):
-            m = header.match(text)
-            if m:
-                if inside and start is not None and section is not None:
-                    break
-                name = m.group(2)
-                if name == section:
-                    count += 1
-                    if index is None or count == index:
-                        inside, start = True, i
-                        if key is None:
-                            return i
-                        continue
-                inside = False
-                continue
-            if inside and key_re is not None and key_re.match(text):
-                return i
-        return start
 
     def line_containing(self, section: str, index: int, text: str) -> int | None:
         """First line of block ``index`` of ``[[section]]`` that contains ``text`` (quoted)."""
@@ -238,19 +205,11 @@ class _Ctx:
                 return i + 1
         return None
 
-    def where(self, section: str | None, index: int | None, key: str | None, element: str | None) -> str:
-        ln = self.line(section, index, key)
-        head = f"{self.source}: " + (f"line {ln}: " if ln else "")
-        if section is None:
-            return head
-        sec = f"[[{section}]]" if section in _ARRAYS else f"[{section}]"
-        return head + sec + (f" {element!r}" if element else "") + ": " + (f"{key}: " if key else "")
-
     def config(self, section, index, key, element, problem) -> ConfigError:
-        return ConfigError(self.where(section, index, key, element) + problem)
+        return self.error(section, key, problem, ConfigError, index=index, element=element, fallback=True)
 
     def model(self, section, index, key, element, problem) -> ModelError:
-        return ModelError(self.where(section, index, key, element) + problem)
+        return self.error(section, key, problem, ModelError, index=index, element=element, fallback=True)
 
 
 def _strip(msg: str, element: str | None) -> tuple[str | None, str]:
@@ -264,7 +223,8 @@ def _strip(msg: str, element: str | None) -> tuple[str | None, str]:
 
 
 class _Block:
-    """One table of the file, with its place, for reading values."""
+    """One table of the file, with its place, for reading values (through the one validator,
+    :func:`geardyn._config_values._parse_value`)."""
 
     def __init__(self, ctx: _Ctx, section: str, index: int | None, data: dict, schema: dict, element: str | None):
         self.ctx, self.section, self.index, self.data, self.schema = ctx, section, index, data, schema
@@ -295,35 +255,37 @@ class _Block:
     def has(self, key: str) -> bool:
         return key in self.data
 
+    def _where(self, key: str, kind: str) -> dict[str, Any]:
+        return {
+            "index": self.index,
+            "element": self.element,
+            "nonnegative": kind in _NONNEGATIVE or key == "backlash",
+        }
+
     def get(self, key: str, kind: str | None = None, default: Any = None, assumed: str | None = None) -> Any:
         """The value of ``key`` in SI (``default`` marked assumed with ``assumed`` when missing)."""
         kind = kind or self.schema[key]
+        base = kind.rstrip("*")
+        unit = _K[base].unit or "" if base in _K else ""
         if key not in self.data:
             if assumed is not None:
-                self.ctx.assume(
-                    Assumption(
-                        f"{self.label}.{key}",
-                        default if not isinstance(default, tuple) else list(default),
-                        _K.get(kind.rstrip("*"), (None,))[0] or "",
-                        assumed,
-                    )
-                )
+                shown = default if not isinstance(default, tuple) else list(default)
+                self.ctx.assume(Assumption(f"{self.label}.{key}", shown, unit, assumed))
             return default
         raw = self.data[key]
-        if isinstance(raw, dict) and kind != "table":
-            extra = set(raw) - {"value", "assumed"}
-            if "value" not in raw or extra:
+        if base in _K:
+            spec = _Key(_K[base], kind.endswith("*"))
+            value, src = cv._parse_value(self.ctx, self.section, key, spec, raw, **self._where(key, base))
+        elif isinstance(raw, dict) and kind != "table":
+            value, src = self._parse(key, kind, raw.get("value")), raw.get("assumed")
+            if set(raw) - {"value", "assumed"} or "value" not in raw:
                 raise self.cerr(key, "an inline table must have the keys 'value' and optionally 'assumed'")
-            src = raw.get("assumed")
-            if src is not None and (not isinstance(src, str) or not src.strip()):
-                raise self.cerr(key, "'assumed' must be a non-empty string giving the source")
-            value = self._parse(key, kind, raw["value"])
-            if src:
-                unit = _K.get(kind.rstrip("*"), (None,))[0] or ""
-                shown = list(value) if isinstance(value, tuple) else value
-                self.ctx.assume(Assumption(f"{self.label}.{key}", shown, unit, src))
-            return value
-        return self._parse(key, kind, raw)
+        else:
+            value, src = self._parse(key, kind, raw), None
+        if src:
+            shown = list(value) if isinstance(value, tuple) else value
+            self.ctx.assume(Assumption(f"{self.label}.{key}", shown, unit, src))
+        return value
 
     def _parse(self, key: str, kind: str, raw: Any) -> Any:
         if kind.endswith("*"):
@@ -347,66 +309,8 @@ class _Block:
             return raw
         return self._scalar(key, kind, raw)
 
-    def _scalar(self, key: str, kind: str, raw: Any, index: int | None = None) -> Any:
-        el = f"element {index}: " if index is not None else ""
-        unit, example = _K[kind]
-        if kind == "text":
-            if not isinstance(raw, str):
-                raise self.cerr(key, f"{el}expected a string, got {raw!r}")
-            return raw
-        if isinstance(raw, (bool, list, dict)):
-            raise self.cerr(key, f"{el}expected a {kind} (e.g. {example}), got {raw!r}")
-        if kind == "int":
-            if isinstance(raw, float) and raw.is_integer():
-                raw = int(raw)
-            if not isinstance(raw, int):
-                raise self.cerr(key, f"{el}expected an integer, got {_clip(raw)}")
-            if abs(raw) > MAX_INTEGER:
-                raise self.cerr(key, f"{el}must be at most {MAX_INTEGER} in size, got {_clip(raw)}")
-            if key in ("z1", "z2", "teeth") and not 1 <= raw <= MAX_TEETH:
-                raise self.merr(key, f"{el}a number of teeth must be from 1 to {MAX_TEETH}, got {raw}")
-            return raw
-        if unit is None or (kind == "phase" and isinstance(raw, (int, float))):
-            if not isinstance(raw, (int, float)):
-                raise self.cerr(key, f"{el}expected a plain number (e.g. {example}), got {raw!r}")
-            try:
-                x = float(raw)
-            except OverflowError:
-                x = math.inf
-            if not math.isfinite(x):
-                raise self.cerr(key, f"{el}must be a finite number, got {_clip(raw)}")
-            return x
-        if not isinstance(raw, str):
-            raise self.cerr(key, f"{el}expected a {kind} with its unit, as a string (e.g. {example}), got {raw!r}")
-        try:
-            q = quantity(raw)
-        except ValueError as e:
-            raise self.cerr(key, f"{el}cannot read {raw[:60]!r} ({e}); write e.g. {example}") from None
-        except Exception as e:  # pint raises several types for a bad unit string
-            raise self.cerr(key, f"{el}cannot read {raw[:60]!r} ({type(e).__name__}); write e.g. {example}") from None
-        units = str(q.units)
-        if kind in ("angle", "phase") and units not in _ANGLE_UNITS:
-            raise self.cerr(key, f"{el}expected an angle with its unit (e.g. {example}), got {raw!r}")
-        if kind == "speed" and not any(w in units for w in ("revolution", "radian", "turn", "rpm")):
-            raise self.cerr(key, f"{el}expected a rotational speed (e.g. {example}), got {raw!r}")
-        if not q.is_compatible_with(unit) or (q.unitless and kind not in ("angle", "phase")):
-            raise self.cerr(key, f"{el}wrong unit: expected {kind} in {unit} (e.g. {example}), got {raw!r}")
-        x = float(q.to(unit).magnitude)
-        if not math.isfinite(x):
-            raise self.cerr(key, f"{el}must be finite, got {raw!r}")
-        return self._in_range(key, kind, x, el, raw)
-
-    def _in_range(self, key: str, kind: str, x: float, el: str, raw: Any) -> float:
-        """``x`` if a ``kind`` may be it: not negative (see :data:`_NONNEGATIVE`), magnitude within the SI range."""
-        if kind in _NONNEGATIVE or key == "backlash":
-            if x < 0:
-                what = "backlash" if key == "backlash" else kind
-                raise self.merr(key, f"{el}must be >= 0 (a negative {what} has no physical meaning), got {raw!r}")
-        if x != 0 and not MIN_MAGNITUDE <= abs(x) <= MAX_MAGNITUDE:
-            raise self.merr(
-                key, f"{el}{raw!r} is outside the physical range, {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g} SI"
-            )
-        return x
+    def _scalar(self, key: str, kind: str, raw: Any, item: int | None = None) -> Any:
+        return cv._parse_scalar(self.ctx, self.section, key, _K[kind], raw, item, **self._where(key, kind))
 
 
 # ---------------------------------------------------------------------------- elements

@@ -5,8 +5,7 @@ Modes are numbered from 1 (coordinate ``mode``), as in the report's tables and J
 lines and crossings are variables along ``line`` and ``crossing``; the diagram's axis (pinion speed,
 or the mesh frequency when the reference mesh gives no ``teeth``) is in the attributes
 ``campbell_x``, ``campbell_x_label`` and ``campbell_x_range``.  A system without a Campbell diagram
-gives the modes alone.  Names are attributes (JSON lists): ``line_labels`` (the mesh orders of each line) and
-``crossing_modes`` (the mode numbers of each crossing).  A gearbox adds its shaft nodes along ``node``
+gives the modes alone.  A gearbox adds its shaft nodes along ``node``
 (``node_shaft``, an index into the attribute ``shafts``, ``node_position``, ``node_radius``; their names in the
 attribute ``nodes``) and each element's kind (``element_kind``), from which the figure of the deflection along
 each shaft is drawn.
@@ -36,12 +35,14 @@ MODES_VARIABLES: dict[str, Variable] = {
     "shape": _V("M-orthonormal mode shape (SI coordinates: m and rad)"),
     "energy_fraction": _V("modal strain-energy fraction of the element"),
     "line": _V("index of the Campbell line"),
+    "line_label": Variable("1", "mesh orders of the Campbell line", text=True),
     "line_harmonic": _V("line frequency as a multiple of the base mesh frequency (k r_m)"),
     "line_slope": _V("line frequency per unit of the Campbell axis (Hz per rpm, or per Hz)"),
     "crossing": _V("index of the crossing of a Campbell line with a natural frequency"),
     "crossing_x": _V("crossing on the Campbell axis (pinion speed in rpm, or mesh frequency in Hz)"),
     "crossing_frequency_Hz": _V("natural frequency of the crossing", "Hz"),
     "crossing_mode": _V("first mode number of the crossing"),
+    "crossing_modes": Variable("1", "mode numbers of the crossing (a degenerate frequency lists several)", text=True),
     "crossing_line": _V("Campbell line of the crossing (index along line)"),
     "node_shaft": _V("shaft of the node (index into the attribute 'shafts')"),
     "node_position": _V("position of the node along its shaft", "m"),
@@ -121,11 +122,13 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         coords["crossing"] = np.arange(len(cr))
         data.update(
             {
+                "line_label": ("line", np.array([ln["label"] for ln in lines], dtype=object)),
                 "line_harmonic": ("line", np.array([ln["harmonic"] for ln in lines], dtype=float)),
                 "line_slope": ("line", np.array([ln["hz_per_x"] for ln in lines], dtype=float)),
                 "crossing_x": ("crossing", np.array([c["x"] for c in cr], dtype=float)),
                 "crossing_frequency_Hz": ("crossing", np.array([c["frequency_hz"] for c in cr], dtype=float)),
                 "crossing_mode": ("crossing", np.array([c["mode"] for c in cr], dtype=np.int64)),
+                "crossing_modes": ("crossing", np.array([", ".join(map(str, c["modes"])) for c in cr], dtype=object)),
                 "crossing_line": ("crossing", np.array([c["line"] for c in cr], dtype=np.int64)),
             }
         )
@@ -134,8 +137,6 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
                 "campbell_x": camp["x"],
                 "campbell_x_label": camp["x_label"],
                 "campbell_x_range": json.dumps(list(camp["x_range"])),
-                "line_labels": json.dumps([ln["label"] for ln in lines]),
-                "crossing_modes": json.dumps([c["modes"] for c in cr]),
             }
         )
         if camp.get("teeth") is not None:

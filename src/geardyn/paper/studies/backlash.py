@@ -108,7 +108,8 @@ def study_backlash(ctx: Context) -> Section:
         "Backlash (Table 3)",
         [
             f"The paper pairs b = {', '.join(f'{b:g}' for b in bs)} mm with D = {', '.join(f'{d:g}' for d in Ds)}, "
-            f"i.e. D = b/(2 mm) with f_p and ε1 fixed (a fixed length scale b_c = 1 mm, not b_c = b_n); this study uses "
+            "i.e. D = b/(2 mm) with f_p and ε1 fixed (a fixed length scale b_c = 1 mm, not b_c = b_n); this study "
+            "uses "
             f"that reading at ω = {s.omega_damping:g}. Amplitude = half peak-to-peak of u over the recorded periods."
         ],
         [

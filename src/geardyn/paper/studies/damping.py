@@ -237,7 +237,8 @@ def study_xi0(ctx: Context) -> Section:
         "Mean damping ξ0 (Table 2, rows 1–3)",
         [
             f"Bifurcation diagram over ξ0 at ω = {s.omega_damping:g} (the paper does not state ω; see Settings), every "
-            f"point from u = u' = 0, {s.transient} transient and {s.periods} recorded periods, exponents on every point. "
+            f"point from u = u' = 0, {s.transient} transient and {s.periods} recorded periods, exponents on every "
+            "point. "
             f"The grid is fine over ξ0 ∈ [{lo:g}, {hi:g}], where the motions change, and coarse above; the diagram is "
             f"shown whole and over that interval.",
             "Mapping of the paper's words: " + _WORDS,
@@ -272,7 +273,8 @@ def study_xi1(ctx: Context) -> Section:
     ends = [c.verdict for c in claims]
     claims.append(
         CLAIMS["XI1-CHAOS"].judge(
-            f"at ω = {s.omega_damping:g}, motion along ξ1: {runs_text(motion_runs(ds, 'xi1'))}. The sequence's ends are "
+            f"at ω = {s.omega_damping:g}, motion along ξ1: {runs_text(motion_runs(ds, 'xi1'))}. The sequence's ends "
+            "are "
             f"Table 2 rows 4 and 5: regular at low ξ1 (T2-4) {ends[0]}, chaotic at high ξ1 (T2-5) {ends[1]}.",
             of_claims(ends),
             ev,
@@ -289,7 +291,8 @@ def study_xi1(ctx: Context) -> Section:
         [
             (
                 ev[1],
-                f"Bifurcation diagram over ξ1 with the largest Lyapunov exponent, {model_text(ctx.base, skip=('xi1',))}",
+                "Bifurcation diagram over ξ1 with the largest Lyapunov exponent, "
+                f"{model_text(ctx.base, skip=('xi1',))}",
             ),
         ],
         claims,

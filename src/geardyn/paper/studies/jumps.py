@@ -20,7 +20,7 @@ from ..claims import CLAIMS, claim_ids
 from ..report import Finding, Section
 from ..settings import Context, model_text
 from ..table1 import TABLE1
-from ..verdicts import count_text, fluctuation_trend, jump_holds, jump_type_at, parts, section_spread
+from ..verdicts import count_text, distinct_text, fluctuation_trend, jump_holds, jump_type_at, parts, section_spread
 
 __all__ = [
     "JUMP_NEAR",
@@ -106,7 +106,8 @@ def first_up_jump(ds: xr.Dataset, above: float = LOW_OMEGA) -> dict[str, Any] | 
 
 
 def fluctuation(ds: xr.Dataset, after: float) -> float:
-    """Mean spread of the Poincaré points (:func:`geardyn.paper.verdicts.section_spread`) over the up sweep above ``after``.
+    """Mean spread of the Poincaré points (:func:`geardyn.paper.verdicts.section_spread`) over the up sweep above
+    ``after``.
 
     Zero where every point is period-1; it measures fluctuation (multi-periodic or irregular motion),
     not the height of the resonance peak.
@@ -350,7 +351,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             "; ".join(f"{j['omega']:.3f} {j['direction']} {j['size']:.3f} ({j['sweep']})" for j in jumps_of(ds))
             or "none"
         )
-        hs = ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in hysteresis_of(ds)) or "none"
+        hs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in hysteresis_of(ds)) or "none"  # as the jumps
         table.append([f"{xi0:g}", f"{xi1:g}", f"{D:g}", js, hs])
 
     # steady below ω = 0.5
@@ -391,7 +392,8 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         claims.append(
             CLAIMS[cid].judge(
                 txt + f"; parts holding: {count_text(exists + ok, 2, '')}; an upward jump in each response: "
-                f"{'yes' if exists else 'no'} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} with "
+                f"{'yes' if exists else 'no'} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} "
+                "with "
                 f"{lab}: {'yes' if ok else 'no'}.",
                 parts(exists, ok),
                 jd.ev(*keys),
@@ -404,9 +406,9 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     claims.append(
         CLAIMS["JUMP-FLUCT"].judge(
             "fluctuation after the first jump (mean spread of the Poincaré points over the up sweep): ξ0 = "
-            + ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0))
+            + ", ".join(f"{k[0]:g}: {f}" for k, f in zip(s.xi0_set, distinct_text(fl0, 4)))
             + f" ({why0}); ξ1 = "
-            + ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1))
+            + ", ".join(f"{k[1]:g}: {f}" for k, f in zip(s.xi1_set, distinct_text(fl1, 4)))
             + f" ({why1}); both parts required.",
             parts(ok0, ok1),
             jd.ev(*s.xi0_set, *s.xi1_set),
@@ -476,10 +478,12 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         [
             f"Up and down sweeps over ω ∈ [{s.response_omega[0]:g}, {s.response_omega[1]:g}] ({s.response_num} points, "
             f"each starting from the previous end state, {s.response_options.transient} transient and "
-            f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step of the "
+            f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step "
+            "of the "
             "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
             "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm), the default "
-            f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = {base_xi0:g} unless varied."
+            f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = "
+            f"{base_xi0:g} unless varied."
         ],
         overlays
         + [
@@ -529,7 +533,8 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         v = parts(amp_ok, kind_ok)
         txt = (
             f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
-            f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: {jump_type_at(jumps_of(ds), omega, TABLE4_NEAR)}); parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
+            f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: "
+            f"{jump_type_at(jumps_of(ds), omega, TABLE4_NEAR)}); parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
             f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {'yes' if amp_ok else 'no'}, jump type "
             f"'{kind}': {'yes' if kind_ok else 'no'}"
         )
@@ -552,7 +557,8 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         "Table 4: amplitude and jump type at five operating points",
         [
             f"Read from the frequency responses of the jump study at the grid ω nearest each row. Amplitude counts as "
-            f"matching within {100 * TABLE4_AMP_REL:.0f} % (either sweep); the jump type when a jump of that direction lies "
+            f"matching within {100 * TABLE4_AMP_REL:.0f} % (either sweep); the jump type when a jump of that "
+            "direction lies "
             f"within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."
         ],
         [],

@@ -33,7 +33,7 @@ from ..settings import Context
 from ..table1 import TABLE1
 from ..verdicts import MATCH_REPRODUCED, length_fraction, motion_rule, range_of
 
-__all__ = ["ReadingRow", "ScreenData", "apply_rows", "damping_readings", "intervals_text", "run_screen"]
+__all__ = ["ReadingRow", "ScreenData", "damping_readings", "intervals_text", "run_screen"]
 
 #: ξ0 probes of the screen and the claims they test: (ξ0, claim ids).
 XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
@@ -137,7 +137,8 @@ class ScreenData:
     omegas : ndarray
         The ω grid.
     pairs_full, pairs_one : list of (float, float)
-        The phase pairs of the damping claims (:data:`FULL_PHASES`) and of the backlash claims (each phase varied alone).
+        The phase pairs of the damping claims (:data:`FULL_PHASES`) and of the backlash claims (each phase varied
+        alone).
     xi0, xi1 : dict of ndarray
         Per variable, (probe, phase pair, ω) for the ξ0 and ξ1 probes.
     bl : dict of ndarray
@@ -175,7 +176,7 @@ def run_screen(ctx: Context) -> ScreenData:
         rows += [[w, a, b, x0, xi1_t, 1.0] for (a, b) in full for w in W]
     for x1, _ in XI1_PROBES:
         rows += [[w, a, b, xi0_t, x1, 1.0] for (a, b) in full for w in W]
-    for key, scale in BACKLASH_READINGS.items():
+    for scale in BACKLASH_READINGS.values():
         for bmm in TABLE3_B:
             rows += [[w, a, b, xi0_t, xi1_t, bmm / scale] for (a, b) in one for w in W]
     pts = np.asarray(rows, dtype=float)
@@ -322,7 +323,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     cands: dict[str, list[tuple[float, tuple[float, float], str]]] = {}
     okmap: dict[str, list[np.ndarray]] = {}  # claim -> per reading family, where the screen holds over ω
     # Table 2, XI0-BIF, XI1-CHAOS: per phase pair, the ω where every probe of the claim holds
-    for group, probes, var in (("xi0", XI0_PROBES, data.xi0), ("xi1", XI1_PROBES, data.xi1)):
+    for probes, var in ((XI0_PROBES, data.xi0), (XI1_PROBES, data.xi1)):
         cids = sorted({c for _, cs in probes for c in cs}, key=list(CLAIMS).index)
         for cid in cids:
             rows[cid], cands[cid] = [], []

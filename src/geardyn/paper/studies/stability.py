@@ -61,14 +61,15 @@ def study_stability(ctx: Context) -> Section:
         "The stability condition ξ0 = ½√(1 − κ1²)",
         [
             "The critical mean damping above which the period-1 response (full model) and the zero solution of the "
-            "linear contact model (D = 0, unforced) are stable, from Floquet multipliers, against the paper's closed form."
+            "linear contact model (D = 0, unforced) are stable, from Floquet multipliers, against the paper's closed "
+            "form."
         ],
         [
             (
                 ev[1],
                 f"Floquet stability boundaries in ξ0 against the paper's condition, ω ∈ [{min(s.stability_omegas):g}, "
-                f"{max(s.stability_omegas):g}], {model_text(ctx.base, skip=('omega', 'xi0'), only=('xi1', 'D', 'fp', 'kappa1'))}. "
-                + gaps_text(ds),
+                f"{max(s.stability_omegas):g}], "
+                f"{model_text(ctx.base, skip=('omega', 'xi0'), only=('xi1', 'D', 'fp', 'kappa1'))}. " + gaps_text(ds),
             )
         ],
         [c],

@@ -157,8 +157,9 @@ def study_tables(
             (claim_ids("T3-"), best3, [r[-1] == "yes" for r in t3[1:]]),
             (t4ids, best4, [r[-1].endswith("yes") for r in t4[1:]]),
         ):
-            for cid in ids:
+            for cid, h in zip(ids, holds, strict=False):
                 if cid in findings:
+                    findings[cid].table_reading, findings[cid].table_holds = best.text, bool(h)
                     findings[cid].deciding += (
                         f"; under one reading for the whole table, the best ({best.text}) holds "
                         f"{sum(holds)} of {len(holds)} rows"
@@ -167,8 +168,10 @@ def study_tables(
         Section(
             "Table 2 recomputed",
             [
-                "The paper's Table 2 beside geardyn's diagrams over ξ0 and ξ1: at the default reading (the study's full "
-                "diagrams) and at the (ω, phases) where most rows hold on the screen, recomputed in full on the same grids. "
+                "The paper's Table 2 beside geardyn's diagrams over ξ0 and ξ1: at the default reading (the study's "
+                "full "
+                "diagrams) and at the (ω, phases) where most rows hold on the screen, recomputed in full on the same "
+                "grids. "
                 "A row holds when its motion covers at least 80 % of its interval's length."
             ],
             [],
@@ -179,7 +182,8 @@ def study_tables(
             "Table 3 recomputed",
             [
                 "The paper's Table 3 beside geardyn's points: at the default reading and at the (ω, phases, backlash "
-                "reading) where most rows hold on the screen, recomputed with long exponent runs. A row holds when both the "
+                "reading) where most rows hold on the screen, recomputed with long exponent runs. A row holds when "
+                "both the "
                 "motion and the sign of λ1 hold."
             ],
             [],
@@ -189,8 +193,10 @@ def study_tables(
         Section(
             "Table 4 recomputed",
             [
-                f"The paper's Table 4 beside the lockstep frequency responses at the default reading and at the reading "
-                f"where most rows hold ({score[i_best]} of {len(t4ids)}). A row holds when the amplitude (up or down sweep) "
+                "The paper's Table 4 beside the lockstep frequency responses at the default reading and at the "
+                "reading "
+                f"where most rows hold ({score[i_best]} of {len(t4ids)}). A row holds when the amplitude (up or down "
+                "sweep) "
                 "is within 25 % and the nearest jump within ±0.05 has the claimed direction (none for 'none')."
             ],
             [],
