@@ -99,7 +99,7 @@ def lean_cmd(num: int, out: Path) -> list[str]:
 def map_steps(num: int, transient: int = 20, periods: int = 10) -> int:
     import numpy as np
 
-    from geardyn.model import steps_per_period
+    from geardyn.pairpack import steps_per_period
 
     return int(steps_per_period(np.linspace(0.5, 0.75, num), 0.01).sum()) * num * (transient + periods)
 

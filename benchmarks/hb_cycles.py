@@ -30,7 +30,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from geardyn.analysis.hb import hb_continuation, hb_solve  # noqa: E402
-from geardyn.analysis.hb.solve import guess_from_simulation  # noqa: E402
+from geardyn.analysis.hb.equations import HBEquations  # noqa: E402
 from geardyn.analysis.periodic import continuation  # noqa: E402
 from geardyn.analysis.periodic.orbit import shoot  # noqa: E402
 from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, pair_model  # noqa: E402
@@ -67,7 +67,7 @@ def main() -> None:
         mu_ref = np.sort_complex(np.linalg.eigvals(ref.monodromy))
         amp_ref = 0.5 * (ref.u_max - ref.u_min)
         for H in (160, 320, 640, 1024):
-            g, tg, cg = timed(lambda: guess_from_simulation(m, H))
+            g, tg, cg = timed(lambda: HBEquations(m, H).simulated_guess()[0])
             s, tn, cn = timed(lambda: hb_solve(m, harmonics=H, guess=g, stability=False))
             st, tt, ct = timed(lambda: hb_solve(m, harmonics=H, guess=s.coefficients))
             points.append(

@@ -4,7 +4,7 @@ Case: ``examples/systems/paper_bevel_8dof.toml`` (the paper's Table 1 pair with 
 on bearings; one rigid-body mode, the rotation of the pair), period-1 branch continued in ω from 0.6 to
 1.2 through its folds (pseudo-arclength both ways, so one run gives the up and the down response):
 
-* HB: :func:`geardyn.analysis.hb.system_continuation.hb_system_continuation` at ``--harmonics`` (each DOF),
+* HB: :func:`geardyn.analysis.hb.continuation.hb_continuation` at ``--harmonics`` (each DOF),
   with the systems' default largest step ds_max = SYSTEM_DS_MAX (0.2) and with the 1-DOF default DS_MAX (0.02);
 * shooting: :func:`geardyn.analysis.periodic.continuation` at its defaults (accurate mode,
   Δτ = 0.01, ds_max = 0.02; events bracketed to one step, not located);
@@ -29,8 +29,7 @@ from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from geardyn.analysis.hb.continuation import DS_MAX  # noqa: E402
-from geardyn.analysis.hb.system_continuation import SYSTEM_DS_MAX, hb_system_continuation  # noqa: E402
+from geardyn.analysis.hb.continuation import DS_MAX, SYSTEM_DS_MAX, hb_continuation  # noqa: E402
 from geardyn.analysis.periodic import continuation as system_continuation  # noqa: E402
 from geardyn.systems import load_system  # noqa: E402
 
@@ -41,7 +40,7 @@ LO, HI = 0.6, 1.2
 
 def _hb(model, H: int, ds_max: float, floquet: str) -> dict:
     t, c = time.perf_counter(), time.process_time()
-    r = hb_system_continuation(model, "omega", LO, HI, harmonics=H, ds_max=ds_max, floquet=floquet)
+    r = hb_continuation(model, "omega", LO, HI, harmonics=H, ds_max=ds_max, floquet=floquet)
     wall, cpu = time.perf_counter() - t, time.process_time() - c
     return {
         "method": "hb",
@@ -111,7 +110,7 @@ def main() -> None:
     args = ap.parse_args()
     model = load_system(SYSTEM)
     for floquet in ("monodromy", "hill"):  # compile the kernels outside the timing
-        hb_system_continuation(model, "omega", LO, LO + 0.01, harmonics=4, floquet=floquet)
+        hb_continuation(model, "omega", LO, LO + 0.01, harmonics=4, floquet=floquet)
     runs = [("monodromy", SYSTEM_DS_MAX), ("hill", SYSTEM_DS_MAX)] + (
         [("monodromy", DS_MAX)] if args.small_step else []
     )

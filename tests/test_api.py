@@ -43,6 +43,8 @@ FORWARDING = {
 
 # Modules whose tests live in a file named after what they test rather than after the module.
 COVERED_BY = {
+    "geardyn._forkserver_quiet": "test_signals_start.py",
+    "geardyn.cli.ranges": "test_plausible.py",
     "geardyn.accessor": "test_plot_cli.py",
     "geardyn._accessor_hook": "test_plot_cli.py",
     "geardyn._lazy": "test_plot_cli.py",
@@ -53,6 +55,7 @@ COVERED_BY = {
     "geardyn.integrate": "test_core.py",
     "geardyn.model": "test_core.py",
     "geardyn.units": "test_physical.py",
+    "geardyn.torque_orders": "test_orders.py",
     "geardyn.validate": "test_bad_input.py",
     "geardyn._kernel": "test_core.py",
     "geardyn._kernel_ndof": "test_ndof.py",

@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 from geardyn import validate
 from geardyn.config import LoadedConfig, load_config, packaged_config_path
 from geardyn.errors import ConfigError
+from geardyn.grid import param_name
 from geardyn.model import GearModel, IntegrationOptions, ModelError, canonical_param
 
 SETTINGS = settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -159,7 +160,16 @@ def test_sweep_axis_accepted_or_refused_by_name(param, start, stop, num):
         assert head in ("param", "start", "stop", "num", "start/stop") or "unknown parameter" in str(e), str(e)
         return
     assert values.size == int(num) >= 1 and np.all(np.isfinite(values))
-    assert name == canonical_param(param)
+    assert name == param_name(param)  # the pair's canonical name, or a system's <element>.<name>
+    if "." in param:  # both parts given (not ".", "a." or ".b")
+        elem, _, p = param.rpartition(".")
+        assert elem.strip() and p.strip(), param
+
+
+@pytest.mark.parametrize("param", [".", "a.", ".kappa1", " . ", "m 1.kappa1"])
+def test_a_qualified_name_needs_both_parts(param):
+    with pytest.raises(ModelError, match="^param: "):
+        validate.axis(param, 3, 3, 3)
 
 
 @SETTINGS

@@ -20,11 +20,12 @@ from geardyn.analysis.classify import (
     detect_period,
     detect_periods,
     quasi_periodic_allowed,
+    quasi_periodic_allowed_batch,
 )
 from geardyn.analysis.periodic import shoot
-from geardyn.analysis.steady import _quasi_allowed, simulate
-from geardyn.grid import PointModels
+from geardyn.analysis.steady import simulate
 from geardyn.model import GearModel
+from geardyn.pairpack import PointModels
 
 
 def test_structure_forbids_quasi_periodicity_of_the_damped_pair():
@@ -32,9 +33,9 @@ def test_structure_forbids_quasi_periodicity_of_the_damped_pair():
     assert quasi_periodic_allowed(GearModel(xi0=0.0))  # conservative in the mean: a torus is possible
     assert quasi_periodic_allowed(GearModel(xi0=-0.1))
     pm = PointModels(GearModel(), ("omega", "xi0"), np.array([[1.0, 0.1], [1.0, 0.0], [1.2, 0.05]]))
-    assert _quasi_allowed(pm).tolist() == [False, True, False]
+    assert quasi_periodic_allowed_batch(pm).tolist() == [False, True, False]
     pm = PointModels(GearModel(), ("omega",), np.array([[1.0], [1.3]]))
-    assert _quasi_allowed(pm).tolist() == [False, False]
+    assert quasi_periodic_allowed_batch(pm).tolist() == [False, False]
 
 
 def test_a_forbidden_quasi_periodic_label_is_unresolved():

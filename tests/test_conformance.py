@@ -17,7 +17,7 @@ import pytest
 from geardyn.backend import Backend
 from geardyn.integrate import integrate_batch, period_map, trajectory
 from geardyn.model import GearModel, IntegrationOptions
-from geardyn.system import Element, System
+from geardyn.system import LAW_COUNTERS, DeadZone, Element, Law, System
 from geardyn.systems import load_system
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
@@ -57,6 +57,20 @@ def test_the_contract(system):
     R = system.rigid_basis()
     assert R.shape[0] == d // 2
     np.testing.assert_allclose(R.T @ R, np.eye(R.shape[1]), atol=1e-12)
+    # every element carries a law (the dead zone of its gap, today) whose counters fit the kernels' slots
+    assert all(isinstance(e.law, Law) and len(e.law.counters) <= LAW_COUNTERS for e in els)
+    assert all(e.law == DeadZone(e.gap) for e in els)
+    # the system a result stores is the system: the same class, parameters and numbers
+    back = type(system).from_attrs(system.to_attrs())
+    assert type(back) is type(system) and back.to_attrs() == system.to_attrs()
+    assert back.parameters() == system.parameters() and back.elements == system.elements
+    np.testing.assert_array_equal(back.initial_state(0.25, -0.5), x)
+    assert math.isfinite(system.static_force())
+    # the mesh forces from the elements' deflections: one column per mesh, the reference mesh's among them
+    tau = np.linspace(0.0, system.sampling_period, 5)
+    deltas = np.stack([system.element_series(x, t) for t in tau])
+    f = system.element_forces(tau, deltas)
+    assert f.shape[0] == tau.size and f.shape[1] >= 1 and np.all(np.isfinite(f[:, system.reference]))
 
 
 def test_one_batch_result_with_an_element_axis(system):

@@ -99,6 +99,9 @@ QUOTED: dict[str, Run | str] = {
     "geardyn hb --param omega --start 0.3 --stop 1.0 --xi0 0.08 [--harmonics 16] [--period 1] "
     "[--floquet monodromy|hill]": Run({"--harmonics": "6"}),
     "geardyn hb --floquet": _FRAGMENT,
+    "geardyn bifurcation --param omega --start 0.5 --stop 1.5 --num 2000 --scheduler tcp://HOST:8786": (
+        "needs a running Dask scheduler and worker (tests/test_dask.py runs sweeps on a local cluster)"
+    ),
     "geardyn hb --floquet hill": _FRAGMENT,
     # excitation.md
     "geardyn stiffness examples/tooth_healthy_spur.toml --out out/healthy": AS_QUOTED,
@@ -183,6 +186,24 @@ QUOTED: dict[str, Run | str] = {
     "geardyn plot bif/bifurcation.nc --config examples/automotive_hypoid_like.toml --out bif_hypoid": AS_QUOTED,
     "geardyn reproduce --out results": "every study with its full settings takes hours; tests/test_reproduce.py "
     "runs them with the quick settings",
+    # rattle.md
+    "geardyn rattle --system examples/gearbox/rattle_idle.toml --json": Run(
+        {"--transient": "3", "--periods": "2", "--dtau": "0.05"}
+    ),
+    "geardyn rattle --system examples/gearbox/rattle_idle.toml --map-points 9 --scale-points 4 --rpm-start 600 "
+    "--rpm-stop 1400 --out rattle": Run(
+        {"--map-points": "2", "--scale-points": "1", "--transient": "3", "--periods": "1", "--dtau": "0.05"}
+    ),
+    "geardyn rattle --fp 0.002 --xi0 0.02 --xi1 0 --kappa1 0.1 --fe 0 --omega 0.5 --torque-order 1/4:0.02 --json": Run(
+        {"--transient": "10", "--periods": "2"}
+    ),
+    "geardyn rattle --system": _FRAGMENT,
+    "geardyn plot rattle_map.nc": Run(
+        before=(
+            "geardyn rattle --system examples/gearbox/rattle_idle.toml --map-points 2 --scale-points 1 "
+            "--transient 3 --periods 1 --dtau 0.05 --out .",
+        )
+    ),
     # systems.md (the numbers: test_systems_* below)
     "geardyn modes --system examples/systems/paper_bevel_8dof.toml --json": AS_QUOTED,
     "geardyn modes --system examples/systems/paper_bevel_8dof.toml --rpm-max 5000 --out results/bevel8": AS_QUOTED,
@@ -195,6 +216,19 @@ QUOTED: dict[str, Run | str] = {
     "geardyn simulate --system examples/systems/paper_torsional.toml --omega 0.8 --accurate --json": AS_QUOTED,
     "geardyn simulate --omega 0.8 --accurate --json": Run(SHORT),
     "geardyn plot results/bevel8/modes.nc": AS_QUOTED,
+    # gearbox.md (the numbers: tests/test_gearbox.py)
+    "geardyn modes --system examples/gearbox/two_stage_helical.toml --json": AS_QUOTED,
+    "geardyn modes --system examples/gearbox/two_stage_helical.toml --rpm-max 3000 --out results/gearbox": AS_QUOTED,
+    "geardyn plot results/gearbox/modes.nc": AS_QUOTED,
+    "geardyn simulate --system examples/gearbox/two_stage_helical.toml --transient 60 --periods 4 --dtau 0.05 "
+    "--out results/gearbox_sim": "64 forcing periods of 77 121 RK4 steps on 220 states (about a minute); "
+    "tests/test_gearbox.py::test_a_gearbox_simulation_settles_on_its_static_deflection simulates a gearbox",
+    "geardyn signature --system examples/gearbox/two_stage_helical.toml --sensor in_A.x --revolutions 20 "
+    "--out results/gearbox_signature": "0.8 s of a 110-DOF gearbox sampled at 1.2 MHz (about two minutes); "
+    "tests/test_signature_system.py runs the system signature on the small examples",
+    "geardyn response --system examples/gearbox/two_stage_helical.toml --rpm-start 13000 --rpm-stop 17000 --num 5 "
+    "--transient 60 --periods 4 --dtau 0.05 --settle 0 --json": "ten points of 64 forcing periods of 8 000 RK4 "
+    "steps on 220 states (about a minute and a half); the response sweep is the systems' (tests/test_systems_cli.py)",
     # README.md
     "geardyn simulate --omega 1.2 --out sim12": Run(SHORT),
     "geardyn simulate --rpm 2400 --torque 1500 --json": AS_QUOTED,

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from geardyn.analysis.hb.system import hb_system_solve
+from geardyn.analysis.hb import hb_solve
 from geardyn.analysis.lyapunov import lyapunov_spectrum
 from geardyn.analysis.periodic import continuation
 from geardyn.analysis.periodic.orbit import shoot
@@ -55,7 +55,7 @@ def test_poincare_section_shooting_and_lyapunov(system):
 
 def test_continuation_and_harmonic_balance(system):
     orb = shoot(system, 1, dtau=0.005)
-    hb = hb_system_solve(system, harmonics=4 * P)  # the stiffness's 64 harmonics of omega/16 (mesh orders to 4)
+    hb = hb_solve(system, harmonics=4 * P)  # the stiffness's 64 harmonics of omega/16 (mesh orders to 4)
     assert hb.converged
     # the mesh deflection and the velocities at theta = 0 agree with shooting's (the free rotation's angle is
     # arbitrary); HB truncates the response at mesh order 4, shooting resolves the steps

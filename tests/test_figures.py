@@ -253,7 +253,18 @@ def _synthetic():
         "readings_map": readings,
         "response_overlay": overlay(),
         **_tooth_synthetic(),
+        **_rattle_synthetic(),
     }
+
+
+def _rattle_synthetic():
+    """Short ``rattle`` and ``rattle_map`` results of a pair driven by a torque order (geardyn.analysis.rattle)."""
+    from geardyn.analysis.rattle import rattle, rattle_map
+    from geardyn.model import GearModel, IntegrationOptions
+
+    m = GearModel(omega=0.5, xi0=0.02, xi=(), eps=(), fp=0.002, torque_orders=(("1/4", 0.02, 0.0),))
+    opts = IntegrationOptions(dtau=0.05, transient=2, periods=1, accurate=True)
+    return {"rattle": rattle(m, opts).to_dataset(), "rattle_map": rattle_map(m, [0.4, 0.5], [0.5, 1.0], opts)}
 
 
 def _tooth_synthetic():
@@ -285,7 +296,21 @@ def _tooth_synthetic():
         coords={"size": [0.0, 0.5], "shaft": ["pinion", "wheel"]},
         attrs={"geardyn_kind": "signature_sweep"},
     )
-    return {"stiffness": stiff, "signature": sig, "signature_sweep": sweep}
+    pts, lv = np.arange(7), np.array([0.5, 1.0])
+    c = 30.0 + 5.0 * pts
+    fe = xr.Dataset(
+        {
+            "radius": (("tooth", "point"), [28.0 + pts]),
+            "compliance_geardyn": (("tooth", "point"), [c]),
+            "compliance_fe": (("tooth", "point"), [1.02 * c]),
+            "compliance_fe_level": (("tooth", "level", "point"), [[1.01 * c, 1.02 * c]]),
+            "crack_ratio_geardyn": (("crack", "point"), [1.0 + 0.01 * pts]),
+            "crack_ratio_fe": (("crack", "point"), [1.0 + 0.012 * pts]),
+        },
+        coords={"tooth": ["a pinion"], "point": pts, "level": lv, "crack": ["a 25 %"]},
+        attrs={"geardyn_kind": "tooth_fe", "summary": "{}"},
+    )
+    return {"stiffness": stiff, "signature": sig, "signature_sweep": sweep, "tooth_fe": fe}
 
 
 def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):

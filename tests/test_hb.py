@@ -24,8 +24,9 @@ from scipy.linalg import expm
 from scipy.optimize import brentq
 from scipy.special import mathieu_a, mathieu_b
 
+from geardyn.analysis.hb.equations import HBEquations
 from geardyn.analysis.hb.hill import hill_floquet
-from geardyn.analysis.hb.solve import HBSystem, hb_solve
+from geardyn.analysis.hb.solve import hb_solve
 from geardyn.model import GearModel
 from geardyn.status import Status
 
@@ -71,7 +72,7 @@ def _mathieu_boundary(kappa: float, zeta: float, m: int, kind: str, bracket: tup
 def _gear_mathieu(omega: float, kappa: float, zeta: float, H: int, floquet: str = "hill"):
     """The gear model reduced to the damped Mathieu equation: D = 0, no load, no STE, u = 0."""
     m = GearModel(omega=omega, xi0=zeta, xi=(), kappa=(kappa,), eps=(), fp=0.0, D=0.0)
-    return HBSystem(m, H, floquet=floquet).stability(np.zeros(2 * H + 1))
+    return HBEquations(m, H, floquet=floquet).stability(np.zeros(2 * H + 1))
 
 
 @pytest.mark.parametrize("floquet", ["hill", "monodromy"])

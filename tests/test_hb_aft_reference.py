@@ -12,7 +12,8 @@ import numpy as np
 
 from geardyn.analysis.hb import aft
 from geardyn.analysis.hb.aft import ROOT_MAX_ITER, ROOT_TOL, DeadZoneTerms, HarmonicBasis, convolve, toeplitz
-from geardyn.analysis.hb.solve import HBSystem, hb_solve
+from geardyn.analysis.hb.equations import HBEquations as HBSystem
+from geardyn.analysis.hb.solve import hb_solve
 from geardyn.model import GearModel
 
 
@@ -82,7 +83,7 @@ def dead_zone_terms_numpy(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D:
     H, N = basis.H, basis.N
     L = (len(K) - 1) // 2
     c = basis.to_complex(a)
-    u = basis.samples(a)
+    u = samples(basis, a)
     state = np.where(u > D, 1, np.where(u < -D, -1, 0))
     # events: (angle, new state); a jump of two levels inside one step has two switches
     j = np.nonzero(state != np.roll(state, -1))[0] if D > 0.0 else np.zeros(0, dtype=int)
@@ -145,7 +146,7 @@ def signal_extrema_numpy(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, fl
     -------
     (u_min, u_max, phi_min, phi_max) : floats
     """
-    u = basis.samples(a)
+    u = samples(basis, a)
     h = 2.0 * np.pi / basis.N
     out = []
     for j in (int(np.argmin(u)), int(np.argmax(u))):
@@ -168,35 +169,85 @@ def signal_extrema_numpy(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, fl
     return umin, umax, pmin, pmax
 
 
+def samples(basis: HarmonicBasis, a: np.ndarray) -> np.ndarray:
+    """u(φ_j) at the N time samples of ``basis`` (inverse real FFT)."""
+    H, N = basis.H, basis.N
+    X = np.zeros(N // 2 + 1, dtype=complex)
+    X[0] = a[0] * N
+    X[1 : H + 1] = 0.5 * N * (a[1 : H + 1] - 1j * a[H + 1 :])
+    return np.fft.irfft(X, N)
+
+
+def real_operator(basis: HarmonicBasis, A: np.ndarray) -> np.ndarray:
+    """The real (2H + 1)² matrix Wi A W of a complex operator on the c_k of real signals (a = Wi c)."""
+    H, M = basis.H, 2 * basis.H + 1
+    Wi = np.zeros((M, M), dtype=complex)
+    Wi[0, H] = 1.0
+    for k in range(1, H + 1):
+        Wi[k, H + k], Wi[k, H - k] = 1.0, 1.0
+        Wi[H + k, H + k], Wi[H + k, H - k] = 1.0j, -1.0j
+    return (Wi @ A @ basis.W).real
+
+
+def model_series(model: GearModel, n: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Centred complex coefficients in φ = θ/n of the pair's C, K and F from ``GearModel.coefficients``."""
+    cf = model.coefficients()
+    Hm = cf.shape[1] - 1
+    L = n * Hm
+    out = []
+    for i in range(3):
+        z = np.zeros(2 * L + 1, dtype=complex)
+        z[L] = cf[i, 0, 0]
+        for j in range(1, Hm + 1):
+            z[L + n * j] = 0.5 * (cf[i, j, 0] - 1j * cf[i, j, 1])
+            z[L - n * j] = 0.5 * (cf[i, j, 0] + 1j * cf[i, j, 1])
+        out.append(z)
+    return out[0], out[1], out[2]
+
+
+def centred(z: np.ndarray, L: int) -> np.ndarray:
+    """Centred coefficients cut or zero-padded to half-length L."""
+    Lz = (len(z) - 1) // 2
+    m = min(L, Lz)
+    out = np.zeros(2 * L + 1, dtype=complex)
+    out[L - m : L + m + 1] = z[Lz - m : Lz + m + 1]
+    return out
+
+
+def pair_series(sysm: HBSystem, p: float | None):
+    """ν, C, K, F (at that ν) and D of the pair's form at parameter ``p``."""
+    f = sysm._entry(p).form
+    el, nu = f.elements[0], sysm.nu(p)
+    return nu, el.C, el.K, f.G0[0] + nu * nu * f.G2[0], el.gap
+
+
 def residual_numpy(
     sysm: HBSystem, a: np.ndarray, p: float | None = None, jacobian: bool = True
 ) -> tuple[np.ndarray, np.ndarray | None]:
-    """``HBSystem.residual`` in NumPy."""
-    m, (C, K, F) = sysm._entry(p)
-    H, b = sysm.H, sysm.basis
-    nu = m.omega / sysm.n
+    """``HBEquations.residual`` of the pair in NumPy."""
+    nu, C, K, F, D = pair_series(sysm, p)
+    H, b = sysm.H, sysm.dbasis
     k = b.k
     c = b.to_complex(a)
-    dz = dead_zone_terms_numpy(b, a, K, m.D)
+    dz = dead_zone_terms_numpy(b, a, K, D)
     TcOm = toeplitz(C, H) * (1j * k)[None, :]
-    Rc = -((nu * k) ** 2) * c + nu * (TcOm @ c) + dz.G - sysm._centred(F, H)
+    Rc = -((nu * k) ** 2) * c + nu * (TcOm @ c) + dz.G - centred(F, H)
     R = b.to_real(Rc)
     if not jacobian:
         return R, None
     Jc = np.diag(-((nu * k) ** 2)).astype(complex) + nu * TcOm + toeplitz(dz.S, H)
-    return R, b.real_operator(Jc)
+    return R, real_operator(b, Jc)
 
 
 def dR_domega_numpy(sysm: HBSystem, a: np.ndarray, p: float) -> np.ndarray:
-    """``HBSystem.dR_dp`` for ω in NumPy."""
-    m, (C, K, F) = sysm._entry(p)
-    b, H = sysm.basis, sysm.H
-    nu = m.omega / sysm.n
+    """``HBEquations.dR_dp`` of the pair for ω in NumPy."""
+    nu, C, K, F, D = pair_series(sysm, p)
+    b, H = sysm.dbasis, sysm.H
     k = b.k
     c = b.to_complex(a)
-    Fh = sysm._centred(F, H)
+    Fh = centred(F, H)
     Fh[H] = 0.0  # f_p does not depend on ω; the STE harmonics go as ω²
-    dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / sysm.n - 2.0 / m.omega * Fh
+    dRc = (-2.0 * nu * k**2 * c + toeplitz(C, H) @ (1j * k * c)) / sysm.periods - 2.0 / p * Fh
     return b.to_real(dRc)
 
 
@@ -207,15 +258,15 @@ def test_compiled_aft_matches_numpy():
         s = HBSystem(m.with_param("D", D), H)
         sol = hb_solve(s.base, H, stability=False)
         assert sol.converged
-        _mm, (_C, K, _F) = s._entry(None)
+        K = s.form.elements[0].K
         for a in (sol.coefficients, sol.coefficients * 1.3 + 0.05):
-            x, y = aft.dead_zone_terms(s.basis, a, K, D), dead_zone_terms_numpy(s.basis, a, K, D)
+            x, y = aft.dead_zone_terms(s.dbasis, a, K, D), dead_zone_terms_numpy(s.dbasis, a, K, D)
             assert x.switches.size == y.switches.size
             np.testing.assert_allclose(np.sort(x.switches), np.sort(y.switches), rtol=0, atol=1e-12)
             np.testing.assert_allclose(x.G, y.G, rtol=0, atol=1e-12)
             np.testing.assert_allclose(x.S, y.S, rtol=0, atol=1e-12)
             np.testing.assert_allclose(
-                aft.signal_extrema(s.basis, a), signal_extrema_numpy(s.basis, a), rtol=0, atol=1e-12
+                aft.signal_extrema(s.dbasis, a), signal_extrema_numpy(s.dbasis, a), rtol=0, atol=1e-12
             )
             R, J = s.residual(a)
             R2, J2 = residual_numpy(s, a)
@@ -227,7 +278,8 @@ def test_compiled_aft_matches_numpy():
     for w in (0.3, 0.7123456789, 1.9):
         for n in (1, 2):
             sn = HBSystem(m, 8, n, param="omega")
-            ref = aft.model_series(m.with_param("omega", w), n)
-            got = sn._entry(w)[1]
-            assert all(np.array_equal(g, r) for g, r in zip(got, ref))
+            ref = model_series(m.with_param("omega", w), n)
+            got = pair_series(sn, w)[1:4]
+            assert np.array_equal(got[0], ref[0]) and np.array_equal(got[1], ref[1])
+            np.testing.assert_allclose(got[2], ref[2], rtol=0, atol=1e-14 * np.abs(ref[2]).max())
             assert sn.model_at(w) == m.with_param("omega", w)

@@ -92,16 +92,16 @@ def test_grid_point_whose_newton_fails_is_reached_from_the_branch(branch, monkey
     """Newton from the interpolated coefficients failing at a grid point (as it did in the middle of a stable
     branch) no longer leaves it empty: the point is reached from the nearest branch point in small steps."""
     ref = R.response_from_branch(branch, GRID)
-    newton = R._Reader.newton
+    newton = R._newton
     failed = []
 
-    def flaky(self, guess, w):
+    def flaky(eq, guess, w):
         if w in GRID[5:25:4] and w not in failed:
             failed.append(w)
             return guess, Status.NOT_CONVERGED
-        return newton(self, guess, w)
+        return newton(eq, guess, w)
 
-    monkeypatch.setattr(R._Reader, "newton", flaky)
+    monkeypatch.setattr(R, "_newton", flaky)
     ds = R.response_from_branch(branch, GRID)
     assert len(failed) == 5
     _same_response(ds, ref)
@@ -111,11 +111,11 @@ def test_grid_point_whose_newton_fails_is_reached_from_the_branch(branch, monkey
 def test_bevel_pair_with_hill_multipliers_jumps_at_its_folds():
     """The issue's case: the 8-DOF bevel pair's branch with Hill's multipliers has points of undecided stability
     inside its stable segments (ω ≈ 0.900 and 0.923 at H = 16); the jumps are at its two folds all the same."""
-    from geardyn.analysis.hb.system_continuation import hb_system_continuation
+    from geardyn.analysis.hb import hb_continuation
     from geardyn.systems import load_system
 
     s = load_system(Path(__file__).resolve().parents[1] / "examples" / "systems" / "paper_bevel_8dof.toml")
-    res = hb_system_continuation(s, "omega", 0.6, 1.2, harmonics=16, floquet="hill")
+    res = hb_continuation(s, "omega", 0.6, 1.2, harmonics=16, floquet="hill")
     assert np.any(res.status == int(Status.UNRESOLVED))
     ds = R.response_from_branch(res, np.linspace(0.6, 1.2, 61))
     folds = sorted(b.value for b in res.of_type("fold"))

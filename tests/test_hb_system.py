@@ -16,13 +16,13 @@ import pytest
 from typer.testing import CliRunner
 
 from geardyn.analysis.hb import hb_continuation, hb_solve
-from geardyn.analysis.hb.system import HBSystemEquations, hb_system_solve
-from geardyn.analysis.hb.system_continuation import hb_system_continuation
+from geardyn.analysis.hb.equations import HBEquations
 from geardyn.analysis.periodic import shoot
 from geardyn.cli import app
+from geardyn.geometry.scales import Scales
 from geardyn.model import GearModel
 from geardyn.status import Status
-from geardyn.systems import Scaling, SystemModel, load_system
+from geardyn.systems import SystemModel, load_system
 from geardyn.systems.assemble import MeshND
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
@@ -58,7 +58,7 @@ def _four_dof(omega, D=0.5, kappa=(0.2,), xi=(0.02,), eps=(0.3,), clearance=True
         meshes=(mesh,),
         F=np.array(fp),
         omega=omega,
-        scaling=Scaling("m0", 1.0, 1.0, 1.0, 1.0, (1.0,) * 4, None),
+        scaling=Scales.of_reference_mesh("m0", 1.0, 1.0, 1.0, (1.0,) * 4, None),
         **extra,
     )
 
@@ -71,7 +71,7 @@ def torsional():
 # ---------------------------------------------------------------------------- the 1-DOF reduction
 @pytest.fixture(scope="module")
 def torsional_branch(torsional):
-    return hb_system_continuation(torsional, "omega", 0.5, 0.8, harmonics=16, floquet="hill")
+    return hb_continuation(torsional, "omega", 0.5, 0.8, harmonics=16, floquet="hill")
 
 
 def test_torsional_branch_reproduces_the_1dof_hb(torsional_branch, torsional):
@@ -84,11 +84,11 @@ def test_torsional_branch_reproduces_the_1dof_hb(torsional_branch, torsional):
     """
     res = torsional_branch
     assert res.converged and res.rigid == 1 and res.multipliers.shape[1] == 2
-    eq = HBSystemEquations(res.model, res.harmonics, res.period, param="omega")
+    eq = HBEquations(res.model, res.harmonics, res.period, param="omega")
     assert eq.N == res.samples
     worst = {"u": 0.0, "mu": 0.0}
     for w, x, lo, hi, st in zip(res.values, res.coefficients, res.u_min, res.u_max, res.status):
-        sysw = hb_system_solve(
+        sysw = hb_solve(
             torsional.with_param("omega", w), res.harmonics, guess=x.reshape(2, -1), tol=1e-13, floquet="hill"
         )
         d = eq.deflection(sysw.unknowns, eq.reference, w)  # the mesh's u, a guess for the 1-DOF HB
@@ -115,7 +115,7 @@ def test_torsional_monodromy_multipliers_are_the_1dof_ones(torsional):
     the same equation integrated with different steps (the rates differ), so equal to RK4's error, below 1e-7
     each (docs/hb.md); and both within Hill's truncation (1e-3 at H = 16) of Hill's multipliers."""
     for w in (0.55, 0.7, 0.9):
-        sysw = hb_system_solve(torsional.with_param("omega", w), 16)
+        sysw = hb_solve(torsional.with_param("omega", w), 16)
         eq = sysw.equations
         one = hb_solve(
             GearModel().with_param("omega", w),
@@ -164,7 +164,7 @@ def test_in_contact_constant_stiffness_h1_is_the_frequency_domain_solution(case,
     else:
         D, fp = (0.0, (0.0, 0.15, 0.0, -0.1)) if case == "4dof" else (0.5, (0.0, 3.0, 0.0, -2.0))
         model = _four_dof(omega, D=D, kappa=(), xi=(), clearance=False, fp=fp)
-    sol = hb_system_solve(model, 1, guess="linear", floquet=floquet)
+    sol = hb_solve(model, 1, guess="linear", floquet=floquet)
     assert sol.converged
     q0, Q, mu = _frequency_domain(model, omega)
     if case == "4dof_preloaded":
@@ -200,7 +200,7 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
     assert ref["u_min"] < model.meshes[0].D < ref["u_max"]  # the mesh loses contact: a nonlinear orbit
     errs, mono = [], []
     for H in (16, 32):
-        sol = hb_system_solve(model, H, floquet="hill")
+        sol = hb_solve(model, H, floquet="hill")
         assert sol.converged and sol.hill.status is Status.OK
         np.testing.assert_allclose(sol.state()[:4] - orb.state[:4], 0.0, atol=1e-3)
         errs.append(
@@ -211,7 +211,7 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
                 _conj_close(sol.multipliers, mu_ref),
             )
         )
-        m = hb_system_solve(model, H, guess=sol.coefficients)  # the monodromy (default)
+        m = hb_solve(model, H, guess=sol.coefficients)  # the monodromy (default)
         assert m.hill.status is Status.OK
         mono.append(_conj_close(m.multipliers, mu_ref))
     (u16, m16), (u32, m32) = errs
@@ -225,8 +225,8 @@ def test_nonlinear_4dof_orbit_agrees_with_shooting():
 # ---------------------------------------------------------------------------- the analytic derivatives
 def test_jacobian_and_domega_match_central_differences():
     model = _four_dof(0.9)
-    eq = HBSystemEquations(model, 8, param="omega")
-    sol = hb_system_solve(model, 8)
+    eq = HBEquations(model, 8, param="omega")
+    sol = hb_solve(model, 8)
     x = sol.unknowns + 1e-3 * np.random.default_rng(1).standard_normal(sol.unknowns.size)
     R, J = eq.residual(x, 0.9)
     h = 1e-6
@@ -252,13 +252,14 @@ def test_cli_system_json_and_files(tmp_path):
     one = json.loads(CliRunner().invoke(app, ["hb", *SMALL, "--json"]).stdout)
     assert set(one) - {"physical"} <= set(s)
     assert {"branch", "bifurcations", "harmonics", "converged", "meshes"} <= set(s)
-    lib = hb_system_continuation(load_system(TORSIONAL), "omega", 0.55, 0.65, harmonics=8)
+    lib = hb_continuation(load_system(TORSIONAL), "omega", 0.55, 0.65, harmonics=8)
     assert len(s["branch"]) == lib.values.size and s["converged"] is True
     for p, v, lo, hi in zip(s["branch"], lib.values, lib.u_min, lib.u_max):
         assert {"omega", "amplitude", "u_min", "u_max", "stable", "multipliers"} <= set(p)
         assert p["omega"] == v and p["u_min"] == lo and p["u_max"] == hi
     (m,) = s["meshes"]
-    assert set(m) == {"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} and m["name"] == "mesh"
+    phys = {"u_min_um", "u_max_um", "amplitude_um"}  # the physical values beside the non-dimensional ones
+    assert set(m) - phys == {"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} and m["name"] == "mesh"
     assert m["u_min"] == [p["u_min"] for p in s["branch"]]
     assert m["impact"][0] == "no impact" and len(m["dynamic_factor"]) == len(s["branch"])
     assert sorted(b["type"] for b in s["bifurcations"]) == sorted(b["type"] for b in one["bifurcations"])

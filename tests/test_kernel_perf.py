@@ -16,7 +16,8 @@ import pytest
 
 from geardyn import _kernel as K
 from geardyn import integrate as I
-from geardyn.model import GearModel, IntegrationOptions, steps_per_period
+from geardyn.model import GearModel, IntegrationOptions
+from geardyn.pairpack import steps_per_period
 
 #: ω of the W1 grid (numpy.linspace(0.5, 1.5, 200)) whose steady motion is periodic (period 1 or 2).
 W1_GRID = np.linspace(0.5, 1.5, 200)

@@ -11,12 +11,13 @@ import pytest
 
 from geardyn.analysis.lyapunov import lyapunov_spectrum
 from geardyn.analysis.periodic import shoot
-from geardyn.analysis.periodic.orbit import require_periodic
 from geardyn.analysis.steady import simulate
 from geardyn.errors import ModelError
+from geardyn.geometry.scales import Scales
 from geardyn.integrate import forcing_period, integrate_batch, period_map, trajectory
 from geardyn.model import GearModel, IntegrationOptions
-from geardyn.systems import Scaling, SystemModel, assemble, load_description, load_system
+from geardyn.system import require_periodic
+from geardyn.systems import SystemModel, assemble, load_description, load_system
 from geardyn.systems.assemble import MeshND
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "systems"
@@ -29,7 +30,7 @@ def torsional():
 
 
 def _model(n, Mi, Kb, Cb, V, meshes, F, omega=1.0, Vc=None, kc=(), cc=(), Dc=(), names=()):
-    sc = Scaling("m0", 1.0, 1.0, 1.0, 1.0, (1.0,) * n, None)
+    sc = Scales.of_reference_mesh("m0", 1.0, 1.0, 1.0, (1.0,) * n, None)
     return SystemModel(
         labels=tuple(f"b{i}.x" for i in range(n)),
         Mi=Mi,

@@ -18,7 +18,8 @@ import pytest
 
 from geardyn.errors import GeardynError, ModelError
 from geardyn.integrate import trajectory
-from geardyn.model import GearModel, IntegrationOptions, pack_models, pack_points
+from geardyn.model import GearModel, IntegrationOptions
+from geardyn.pairpack import pack_models, pack_points
 from geardyn.torque_orders import MAX_ORDER_PERIOD, normalise, parse_cli
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -77,6 +78,10 @@ def test_hb_equals_simulation_on_the_linear_case():
     from geardyn.analysis.hb.solve import hb_solve
 
     m = LINEAR
+    direct = hb_solve(m, harmonics=16, guess="linear", stability=False)  # harmonics of ω/M, M = 2 mesh cycles
+    assert direct.converged
+    tau, u = direct.signal(256)
+    assert np.max(np.abs(u - exact_linear(m, tau))) < 1e-9
     f = m.forcing_model()  # one forcing period as its unit: ω/2, orders 1 and 6, the STE harmonic 2
     assert f.period_multiple() == 1 and f.omega == m.omega / 2
     sol = hb_solve(f, harmonics=8, guess="linear", stability=False)
@@ -245,3 +250,45 @@ def test_cli_bad_torque_order_exits_2(args, key):
     code, out, err = run_cli(["simulate", "--json", "--periods", "2", "--transient", "0", *args])
     assert code == 2
     assert key in err and len(err.strip().splitlines()) == 1
+
+
+def test_config_orders_change_the_response(tmp_path):
+    base = "[mesh]\nxi0 = 0.1\nxi = [0.05]\nkappa = [0.2]\neps = [0.5]\nfp = 0.2\n[operating]\nomega = 1.0\n"
+    plain, forced = tmp_path / "plain.toml", tmp_path / "forced.toml"
+    plain.write_text(base)
+    forced.write_text(base + '[model]\ntorque_orders = [{ order = "1/2", amplitude = 0.05, phase = "30 deg" }]\n')
+    a = _simulate("--config", str(plain))
+    b = _simulate("--config", str(forced))
+    assert a["rms"] != b["rms"] and a["amplitude"] != b["amplitude"]
+
+
+def test_hb_continuation_in_omega_keeps_the_orders():
+    """A branch over ω of the linear case: every point's coefficients are the exact steady state at its ω (the
+    orders' amplitudes do not depend on ω, the STE's grow as ω²)."""
+    from geardyn.analysis.hb.aft import HarmonicBasis
+    from geardyn.analysis.hb.continuation import hb_continuation
+
+    br = hb_continuation(LINEAR, "omega", 0.7, 0.705, harmonics=8, guess="linear", max_points=40)
+    assert br.values.size >= 5 and br.values.max() > 0.703
+    for w, a in zip(br.values, br.coefficients):
+        m = LINEAR.replace(omega=float(w))
+        tau = np.linspace(0.0, m.sampling_period, 40)
+        u = HarmonicBasis(8, 64).evaluate(a, m.forcing_omega * tau)
+        # to the corrector's tolerance (the orders' terms are 0.05 and 0.04: leaving them out fails by ~0.1)
+        assert np.max(np.abs(u - exact_linear(m, tau))) < 1e-6
+
+
+def test_shooting_finds_the_exact_orbit():
+    """Shooting on the forcing period (two mesh periods for the half order): the orbit's state at θ = 0 is the
+    exact steady state's, and its multipliers are those of the linear oscillator over that period."""
+    from geardyn.analysis.periodic import shoot
+
+    m = LINEAR
+    orb = shoot(m, 1, guess=(m.D + m.fp, 0.0), dtau=0.002)
+    assert orb.converged
+    u0 = exact_linear(m, np.array([0.0]))[0]
+    h = 1e-6
+    v0 = (exact_linear(m, np.array([h]))[0] - exact_linear(m, np.array([-h]))[0]) / (2 * h)
+    assert abs(orb.state[0] - u0) < 1e-8 and abs(orb.state[1] - v0) < 1e-6
+    T = m.sampling_period  # |μ| = exp(−ξ0 T) for the underdamped linear oscillator of unit frequency
+    assert np.allclose(np.abs(orb.multipliers), math.exp(-m.xi0 * T), rtol=1e-6)

@@ -200,9 +200,9 @@ def test_simulate_json_builds_no_dataset_and_says_the_same_as_with_out(tmp_path)
     summary is the one computed from the written Dataset (every key, every value)."""
     args = ["simulate", "--omega", "0.8", "--transient", "40", "--periods", "8", "--json"]
     code = (
-        "import sys; from geardyn.cli import main; main(%r); "
+        f"import sys; from geardyn.cli import main; main({args!r}); "
         "print(sorted(m for m in ('xarray', 'pandas', 'dask', 'matplotlib', 'pint') if m in sys.modules), "
-        "file=sys.stderr)" % (args,)
+        "file=sys.stderr)"
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert r.stderr.strip().splitlines()[-1] == "[]"

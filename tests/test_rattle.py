@@ -195,6 +195,10 @@ def test_cli_rattle_example(tmp_path):
     names = sorted(Path(f).name for f in s["files"])
     assert names == ["rattle.nc", "rattle.png", "rattle_map.nc", "rattle_map.png"]
     assert s["map"]["rpm"] == pytest.approx([700.0, 900.0], rel=1e-9)
+    redraw = tmp_path / "redraw"
+    code, out, err = run_cli(["plot", tmp_path / "rattle_map.nc", "--out", redraw, "--json"])
+    assert code == 0, err
+    assert sorted(p.name for p in redraw.iterdir()) == ["rattle_map.png"]
 
 
 @pytest.mark.parametrize(

@@ -335,3 +335,66 @@ def test_terminal_summary_prints_each_claims_statement_beside_its_verdict_and_sa
     buf.truncate(0), buf.seek(0)
     render.claims({"claims": claims, "paths": {"html": "r/report.html"}, "seconds": 3.0, "run": _run_info("full")})
     assert "Quick" not in buf.getvalue() and "Totals (2 claims)" in re.sub(r"\s+", " ", buf.getvalue())
+
+
+def test_totals_under_one_reading_per_table_come_first_and_count_each_group_at_one_reading(tmp_path):
+    """Table 3's rows and the backlash study's claims come from one setting in the paper: under one reading for
+    the group, only the claims that hold under that one reading count (here the reading two of them share)."""
+    from geardyn.paper.report import Finding, Section, one_reading_text, one_reading_totals, render_markdown
+
+    r = "ω = 1.30, D = b/(2 mm)"
+    claims = [
+        Finding("T3-1", "Table 3, row 1", "s", "c", "reproduced"),
+        Finding("T3-2", "Table 3, row 2", "s", "c", "reproduced under a reading", reading="ω = 1.05"),
+        Finding("T3-3", "Table 3, row 3", "s", "c", "reproduced under a reading", reading=r),
+        Finding("BL-IMPACT", "text", "s", "c", "reproduced under a reading", reading=r),
+        Finding("BL-AMP", "text", "s", "c", "contradicted"),
+        Finding("FORMULA", "formula", "s", "c", "reproduced under a reading", reading="φ = π"),
+    ]
+    t = one_reading_totals(claims)
+    assert t["groups"]["Table 3 and the backlash study"] == (r, 2, 5)
+    assert t["reproduced under the group's reading"] == 3  # T3-3, BL-IMPACT, and FORMULA alone in its group
+    assert t["not reproduced"] == 3 and t["reproduced"] == 0
+    # a reading chosen for the whole table counts the rows that hold under it
+    claims[0].table_reading, claims[0].table_holds = "best", True
+    claims[1].table_reading, claims[1].table_holds = "best", True
+    claims[2].table_reading, claims[2].table_holds = "best", True
+    assert one_reading_totals(claims)["groups"]["Table 3 and the backlash study"] == ("best", 3, 5)
+    page = render_markdown("t", [], [Section("s", claims=claims)])
+    first = one_reading_text(claims)
+    assert first.startswith("Totals under one reading per table or study (6 claims, 2 groups)")
+    assert page.index(first) < page.index("Per claim, each under its own nearest reading")
+
+
+def test_report_leftovers_times_command_digits_and_source():
+    """The report's time is the one the command prints; its command line shows only what was typed; values judged
+    strictly increasing print unequal; the source is stated as the text gives it (title only)."""
+    from geardyn.paper.run import INTRO, settings_section
+    from geardyn.paper.settings import Settings
+    from geardyn.paper.verdicts import distinct_text
+
+    text = " ".join(settings_section(Settings.quick(), 145.6, 178.3).paragraphs)
+    assert "145.6 s for the studies, 178.3 s with their data and figures (the time the command reports)" in text
+    assert distinct_text([0.0085, 0.0091, 0.0094]) == ["0.0085", "0.0091", "0.0094"]
+    assert distinct_text([0.009, 0.003, 0.0]) == ["0.009", "0.003", "0.000"]
+    assert any("names no authors, journal, year or DOI" in p for p in INTRO)
+
+
+def test_reproduce_command_line_shows_only_typed_options(tmp_path, monkeypatch):
+    from cli_run import run_cli
+
+    import geardyn.reproduce as rep
+
+    seen = {}
+
+    def fake_run(out, settings, log=None, command=None):
+        seen["command"] = command
+        raise KeyboardInterrupt  # stop before any study runs
+
+    monkeypatch.setattr(rep, "run", fake_run)
+    try:
+        run_cli(["reproduce", "--out", tmp_path / "r", "--quick"])
+    except KeyboardInterrupt:
+        pass
+    assert "command" in seen, seen
+    assert "--workers" not in seen["command"] and "--quick" in seen["command"]

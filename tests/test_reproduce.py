@@ -51,6 +51,8 @@ def test_report_files_and_claims(report_dir):
             "deciding",
             "reading",
             "found",
+            "table_reading",
+            "table_holds",
         }
         assert c["verdict"] in ("reproduced", "reproduced under a reading", "contradicted", "not testable")
         # every claim shows the readings it was judged under, with its result under each, and why the verdict

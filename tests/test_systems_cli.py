@@ -42,6 +42,8 @@ def test_simulate_system_reduces_exactly():
         "dte_mean_um",
         "dte_rms_um",
         "mesh_force_mean_N",
+        "contact_force_max_N",
+        "contact_force_min_N",
     } <= set(a)
     for e in a["meshes"]:
         assert {"name", "u_min", "u_max", "amplitude", "impact", "dynamic_factor"} <= set(e)
@@ -451,7 +453,7 @@ def test_system_figures_name_the_mesh_and_draw_its_backlash_an_rpm_axis_and_coex
     tops = [a for ax in art.figure.axes for a in ax.child_axes]
     assert any(t.get_xlabel() == "pinion speed of mesh 'mesh' [rpm]" for t in tops)
     sec = tops[0]
-    per = s.scaling.omega_n * 60.0 / (2.0 * math.pi * s.scaling.teeth)
+    per = s.scaling.omega_n_rad_s * 60.0 / (2.0 * math.pi * s.scaling.z1)
     assert sec._functions[0](1.0) == pytest.approx(per, rel=1e-12)
     ds.attrs["coexistence"] = json.dumps([[0.75, 0.85]])
     art = draw(ds, "response")

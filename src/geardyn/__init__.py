@@ -77,6 +77,26 @@ _LAZY = {
 __all__ = ["__version__", *_LAZY]
 
 
+#: Public functions whose first argument is a System (``integrate_batch``: a sequence of them): anything else
+#: is refused with a ModelError naming ``model`` (:func:`geardyn.plausible.system`), not an AttributeError.
+_TAKE_A_SYSTEM = (
+    "trajectory",
+    "period_map",
+    "simulate",
+    "lyapunov_spectrum",
+    "bifurcation",
+    "frequency_response",
+    "parameter_map",
+    "basins",
+    "shoot",
+    "continuation",
+    "hb_solve",
+    "hb_continuation",
+    "runup",
+    "integrate_batch",
+)
+
+
 def __getattr__(name: str):
     module = _LAZY.get(name)
     if module is None:
@@ -88,6 +108,10 @@ def __getattr__(name: str):
                     raise
         raise AttributeError(f"module 'geardyn' has no attribute {name!r}")
     value = getattr(_import_module(module, __name__), name)
+    if name in _TAKE_A_SYSTEM:
+        from .plausible import taking_a_system
+
+        value = taking_a_system(value, many=name == "integrate_batch")
     globals()[name] = value
     return value
 

@@ -5,7 +5,7 @@ Importing :mod:`geardyn` registers it::
     import geardyn, xarray as xr
     ds = geardyn.read_netcdf("results/simulate.nc")
     ds.geardyn.kind            # "simulate"
-    ds.geardyn.model           # the GearModel that produced it
+    ds.geardyn.model           # the System it was computed on (a GearModel, or a SystemModel)
     ds.geardyn.physical()      # a copy with rpm, µm, N variables (scales of the paper's pair by default)
     ds.geardyn.plot("figs")    # the figures of ``geardyn plot``, as PNG files
     ds.geardyn.figures         # their names, e.g. ["time_history", "phase_portrait", ...]
@@ -45,14 +45,16 @@ class GeardynAccessor:
 
     @property
     def model(self):
-        """The :class:`~geardyn.model.GearModel` stored with the result."""
+        """The System the result was computed on, rebuilt from its attributes (:func:`geardyn.io.model_from_attrs`):
+        a :class:`~geardyn.model.GearModel` for the pair's results, a :class:`~geardyn.systems.SystemModel` for a
+        system's."""
         from .io import model_from_attrs
 
         return model_from_attrs(self._ds)
 
     @property
     def scales(self):
-        """The :class:`~geardyn.units.PhysicalScales` stored with the result, or ``None``."""
+        """The :class:`~geardyn.geometry.scales.Scales` stored with the result, or ``None``."""
         from .units import PhysicalScales
 
         return PhysicalScales.from_attrs(self._ds.attrs)

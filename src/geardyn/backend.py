@@ -36,6 +36,8 @@ Statistics
     for every law), then the element law's counters from :data:`S_LAW` (:attr:`geardyn.system.Law.counters`,
     at most :data:`geardyn.system.LAW_COUNTERS`: for the dead zone drive, separation and back contact),
     then the sample count ``S_N``.  Nothing here names a law's counters: a law names them itself.
+``laws``
+    The codes of the element laws the kernel implements; a kernel that gains a law's branch adds its code.
 ``restarts_exactly(accurate)``
     Whether the state at a period's end is all the kernel carries from one period to the next when no
     period is recorded: then ``k`` transient periods followed by a run from their end state equal one run,
@@ -118,7 +120,8 @@ class RawRun:
     poincare : ndarray (P, record or 0, d)
     end_state : ndarray (P, d)
     stats : ndarray (P, E, NSTAT)
-        Streaming statistics of every element's deflection over the recorded periods.
+        Streaming statistics of every element's deflection over the recorded periods: the deflection's and its
+        rate's (``S_UMIN`` … ``S_VMAX``), the element law's counters from :data:`S_LAW`, the sample count ``S_N``.
     tan_log : ndarray (P, record or 0, d)
     tangent : ndarray (P, d, d)
     status : ndarray (P,) int64
@@ -159,6 +162,9 @@ class Backend(abc.ABC):
 
     #: The backend's name.
     name = ""
+    #: The codes of the element laws its kernel implements (:attr:`geardyn.system.Law.code`; the dead zone is 0):
+    #: :mod:`geardyn.integrate` refuses a batch with an element of another law before anything runs.
+    laws: frozenset[int] = frozenset({0})
     #: The state's coordinates, as messages name them.
     coords = "x"
 

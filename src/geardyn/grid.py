@@ -123,10 +123,15 @@ def param_name(name: str) -> str:
     Raises
     ------
     ModelError
-        For an unqualified name outside the pair's grammar.
+        For an unqualified name outside the pair's grammar, or a qualified one with an empty part or spaces.
     """
     if isinstance(name, str) and "." in name:
         elem, p = name.rsplit(".", 1)
+        if not (elem.strip() and p.strip()) or not all(c.isprintable() and not c.isspace() for c in name):
+            raise ModelError(
+                f"param: {name!r} is not <element>.<name>: give a mesh or clearance and one of its parameters "
+                "(e.g. m2.kappa2), without spaces"
+            )
         try:
             p = canonical_param(p)
         except ModelError:

@@ -395,6 +395,9 @@ def _prepare(models: Sequence[Any], options: IntegrationOptions, steps: int | Se
     if not len(models):
         raise ModelError("empty parameter grid: no model to integrate")
     backend = models.backend
+    for e in models[0].elements:  # the door refuses a law the kernel has no branch for
+        if e.law.code not in backend.laws:
+            raise ModelError(f"element {e.name!r}: law {e.law.name}: the {backend.name} kernel does not implement it")
     packed = models.packed()
     if steps is None:
         models.check_step(options)

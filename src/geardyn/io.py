@@ -29,12 +29,14 @@ xr = lazy_module("xarray")
 
 
 class Variable(NamedTuple):
-    """Metadata of one variable: ``units`` ("1" = non-dimensional), ``long_name`` and, for coded
-    variables, ``flags`` (code → meaning, written as CF ``flag_values``/``flag_meanings``)."""
+    """Metadata of one variable: ``units`` ("1" = non-dimensional), ``long_name``, for coded
+    variables ``flags`` (code → meaning, written as CF ``flag_values``/``flag_meanings``), and ``text``
+    for a variable that holds names (a sweep's direction, a bifurcation's type), not numbers."""
 
     units: str
     long_name: str
     flags: Mapping[int, str] | None = None
+    text: bool = False
 
     def attrs(self) -> dict[str, Any]:
         """The variable's attributes as geardyn writes them."""
@@ -49,8 +51,8 @@ _STATUS_FLAGS = {int(s): s.label for s in Status}
 _ONE = "1"
 
 
-def _v(long_name: str, units: str = _ONE, flags: Mapping[int, str] | None = None) -> Variable:
-    return Variable(units, long_name, flags)
+def _v(long_name: str, units: str = _ONE, flags: Mapping[int, str] | None = None, text: bool = False) -> Variable:
+    return Variable(units, long_name, flags, text)
 
 
 #: Every variable and coordinate geardyn writes, by name (kinds that mean something else by a name
@@ -92,7 +94,7 @@ VARIABLES: dict[str, Variable] = {
     "start_state": _v("initial state of the point ((u, u') for the pair, (q̃, q̃') for a system)"),
     "end_state": _v("final state of the point (the start of the next continuation point)"),
     "state": _v("state coordinate ((u, u') for the pair, (q̃, q̃') for a system)"),
-    "sweep": _v("sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)"),
+    "sweep": _v("sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)", text=True),
     # model parameters: their long names and units come from the registry (geardyn.params, see variable())
     # Lyapunov spectrum
     "log_r": _v("log of the Gram–Schmidt diagonal per forcing period"),
@@ -124,13 +126,13 @@ VARIABLES: dict[str, Variable] = {
     "stable": _v("orbit stable (1) or unstable (0)"),
     "point": _v("index of the branch point"),
     "bifurcation": _v("index of the bifurcation"),
-    "bifurcation_type": _v("bifurcation type"),
+    "bifurcation_type": _v("bifurcation type", text=True),
     "bifurcation_period": _v("period of the branch the bifurcation lies on"),
     "bifurcation_branch": _v("branch index of the bifurcation"),
     "bifurcation_u": _v("orbit u at θ = 0 at the bifurcation"),
     "bifurcation_v": _v("orbit du/dτ at θ = 0 at the bifurcation"),
     "bifurcation_amplitude": _v("orbit amplitude at the bifurcation"),
-    "bifurcation_detail": _v("which multiplier or boundary"),
+    "bifurcation_detail": _v("which multiplier or boundary", text=True),
     # stability boundaries
     "xi0_critical": _v("ξ0 below which the period-n response loses stability"),
     "xi0_critical_linear": _v("ξ0 above which the linear contact model (D = 0, unforced) is stable"),
@@ -166,8 +168,8 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
         "poincare_v": _v("section points du/dτ of the orbit (θ ≡ 0)"),
         "status": _v("point status (0 ok)", flags=_STATUS_FLAGS),
     },
-    "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary")},
-    "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary")},
+    "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
+    "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
     "mathieu_boundary": {"xi0_critical": _v("ξ0 above which the linear contact model is stable")},
     "runup": {
         "order_amplitude": _v("order-tracked DTE amplitude |u_l| over a speed block"),
@@ -319,6 +321,8 @@ def variable(name: str, kind: str | None = None) -> Variable | None:
         return meta
     if _is_parameter(name):
         return _v(*describe(name))
+    if name.startswith("fraction_"):  # a counter of another element law than the dead zone
+        return _v(f"time fraction counted as {name[len('fraction_') :]} by the reference element's law")
     if name.startswith("bifurcation_") and _is_parameter(name[len("bifurcation_") :]):
         return _v(f"parameter {name[len('bifurcation_') :]} at the bifurcation")
     if name.endswith(PHYSICAL_SUFFIX):
@@ -629,7 +633,9 @@ def system_attrs(model: Any, kind: str, options: Any = None, extra: dict[str, An
     }
     sc = getattr(model, "scaling", None)
     if sc is not None:  # the scales of the physical units (µm, N, rpm)
-        sysinfo.update(b_c_um=sc.b_c * 1e6, force_scale_N=sc.force_scale, omega_n=sc.omega_n, teeth=sc.teeth)
+        sysinfo.update(
+            b_c_um=sc.b_c_m * 1e6, force_scale_N=sc.force_scale_N, omega_n=sc.omega_n_rad_s, teeth=sc.z1 or None
+        )
     attrs = {
         "geardyn_kind": kind,
         "geardyn_version": __version__,
@@ -780,12 +786,23 @@ RESULT_DIMS: dict[str, dict[str, tuple[str, ...]]] = {
 }
 #: Variables that must share their dimensions in every kind (a point's u beside its v).
 SAME_DIMS = (("u", "v"), ("poincare_u", "poincare_v"))
-#: Coordinates that hold names (text) in a result.
-TEXT_COORDINATES = ("element", "state", "mesh", "coordinate", "body", "dof", "side", "variable", "claim")
+#: Coordinates that hold names (text) in a result (variables that do are marked ``text`` in the registry).
+TEXT_COORDINATES = (
+    "element",
+    "state",
+    "mesh",
+    "coordinate",
+    "body",
+    "dof",
+    "side",
+    "variable",
+    "claim",
+)
 
 
 def result_variables(ds: Any, where: str = "", error: type[Exception] = ModelError) -> None:
-    """Every registered variable of a result read back has a numeric type and the dimensions it is drawn on.
+    """The variables of a result read back have a numeric type (:data:`NUMERIC_VARIABLES`) and the dimensions
+    they are drawn on (:data:`RESULT_DIMS`, :data:`SAME_DIMS`).
 
     A NetCDF file edited by hand (a variable turned to text, an array of another shape) is refused before
     anything is drawn or computed from it.
@@ -806,10 +823,10 @@ def result_variables(ds: Any, where: str = "", error: type[Exception] = ModelErr
     """
     where = f"{where}: " if where else ""
     kind = ds.attrs.get("geardyn_kind") if hasattr(ds, "attrs") else None
-    registered = set(VARIABLES) | set(SYSTEM_VARIABLES) | set(KIND_VARIABLES.get(str(kind), {}))
+    registered = {**VARIABLES, **SYSTEM_VARIABLES, **KIND_VARIABLES.get(str(kind), {})}
     for name, var in ds.variables.items():
         name = str(name)
-        if name not in registered or name in TEXT_COORDINATES:
+        if name not in registered or registered[name].text or name in TEXT_COORDINATES:
             continue
         if getattr(var.dtype, "kind", "O") not in "biuf":
             raise error(f"{where}variable {name!r} holds {var.dtype} values; a geardyn result stores numbers there")

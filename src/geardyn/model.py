@@ -31,6 +31,7 @@ from .errors import ModelError
 from .meshtable import EVALUATIONS, check_table, table_values
 from .pairpack import MAX_KAPPA_SUM, pack_models, stiffness_minimum
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
+from .series import series_values
 from .system import Element
 from .torque_orders import normalise as _normalise_orders
 from .torque_orders import period_multiple as _orders_multiple
@@ -44,7 +45,6 @@ __all__ = [
     "PAPER_DEFAULTS",
     "PARAMETER_HELP",
     "canonical_param",
-    "stiffness_minimum",
 ]
 
 #: Default non-dimensional step Δτ (the paper's value).
@@ -156,7 +156,7 @@ class GearModel:
         harmonics of the forcing frequency ω/P (member j is mesh order j/P, at most
         ``MAX_HARMONICS``·P of them), the forcing period is P·2π/ω (:attr:`sampling_period`,
         :meth:`period_multiple`) and the stiffness must be positive for every θ (Σ|κ_j| < 1, or a
-        certified minimum > 0: :func:`stiffness_minimum`).
+        certified minimum > 0: :func:`geardyn.pairpack.stiffness_minimum`).
     evaluation : str
         ``"series"`` (default): the kernels evaluate the series κ, ε.  ``"table"``: the accurate mode
         evaluates ``table`` as given (piecewise linear, with its jumps; :mod:`geardyn.meshtable`) and ends
@@ -345,9 +345,46 @@ class GearModel:
         """The state (u0, v0)."""
         return np.array([u0, v0], dtype=float)
 
+    def element_forces(self, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
+        """The mesh force F_n/(k0 b_c) = C(θ) u′ + K(θ) f(u; D) at θ = ω τ, from (u, u') of the mesh.
+
+        Parameters
+        ----------
+        tau : ndarray (K,)
+            Times τ, with θ ≡ 0 at τ = 0.
+        deltas : ndarray (K, 1, 2)
+            u and u′ at those times (:meth:`element_series`).
+
+        Returns
+        -------
+        ndarray (K, 1)
+            The force in units of k0 b_c (a table evaluated as given where the model has one).
+        """
+        tau = np.asarray(tau, dtype=float)
+        d = np.asarray(deltas, dtype=float)
+        u, v = d[:, 0, 0], d[:, 0, 1]
+        th = self.forcing_omega * tau
+        if self.evaluation == "table":  # the stiffness the accurate mode evaluates: the table as given
+            (C,) = series_values(self.coefficients(), th, (0,))
+            K = table_values(self.table, self.cycles, th)[0]
+        else:
+            C, K = series_values(self.coefficients(), th, (0, 1))
+        return (C * v + K * self.restoring(u))[:, None]
+
+    def static_force(self) -> float:
+        """The static mesh force: the mean load f_p."""
+        return self.fp
+
     def mean_trace(self) -> float:
         """Mean trace of the Jacobian over a period: −2ξ0 (the damping harmonics average to zero)."""
         return -2.0 * self.xi0
+
+    def hb_form(self, period: int = 1) -> Any:
+        """The equation for harmonic balance (:func:`geardyn.analysis.hb.form.pair_form`): one coordinate u, one
+        element with V = [[1]]."""
+        from .analysis.hb.form import pair_form
+
+        return pair_form(self, period)
 
     def report(
         self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None

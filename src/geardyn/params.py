@@ -197,7 +197,8 @@ PARAMETER_HELP: Mapping[str, str] = MappingProxyType(
 
 def parameter_names() -> str:
     """The parameter names a sweep or a continuation takes, for a help text: each family's pattern in
-    :data:`LISTING_ORDER`, its :data:`ALIASES` in parentheses (``"omega, xi0, xiK, …, epsL (fe), D (backlash, b), …"``)."""
+    :data:`LISTING_ORDER`, its :data:`ALIASES` in parentheses
+    (``"omega, xi0, xiK, …, epsL (fe), D (backlash, b), …"``)."""
 
     def aliases(f: Family) -> str:
         names = [a for a, target in ALIASES.items() if family_of(target) is f]

@@ -36,6 +36,8 @@ __all__ = [
     "STE_MAX_M",
     "UNDERCUT_ADDENDUM",
     "budget",
+    "system",
+    "taking_a_system",
     "pair_geometry",
     "excitation_table",
     "file_size",
@@ -116,18 +118,24 @@ def pair_geometry(
     a = math.degrees(alpha_n)
     lo, hi = ALPHA_N_DEG
     if not lo <= a <= hi:
-        raise _bad(error, "alpha_n", f"normal pressure angle {a:.6g} deg is outside [{lo:g}, {hi:g}] deg of cut gears")
+        raise _bad(
+            error,
+            "alpha_n",
+            f"normal pressure angle alpha_n = {a:.6g} deg is outside [{lo:g}, {hi:g}] deg of cut gears",
+        )
     b = math.degrees(beta_m)
     if b > BETA_M_MAX_DEG:
-        raise _bad(error, "beta_m", f"mean spiral angle {b:.6g} deg is above {BETA_M_MAX_DEG:g} deg")
+        raise _bad(error, "beta_m", f"mean spiral angle beta_m = {b:.6g} deg is above {BETA_M_MAX_DEG:g} deg")
     lo, hi = MODULE_M
     if not lo <= m_mn <= hi:
-        raise _bad(error, "m_mn", f"mean normal module {m_mn * 1e3:.6g} mm is outside [{lo * 1e3:g}, {hi * 1e3:g}] mm")
+        raise _bad(
+            error, "m_mn", f"mean normal module m_mn = {m_mn * 1e3:.6g} mm is outside [{lo * 1e3:g}, {hi * 1e3:g}] mm"
+        )
     if j_n > BACKLASH_MAX_MODULES * m_mn:
         raise _bad(
             error,
             "j_n",
-            f"normal backlash {j_n * 1e3:.6g} mm is above {BACKLASH_MAX_MODULES:g} x the module "
+            f"normal backlash j_n = {j_n * 1e3:.6g} mm is above {BACKLASH_MAX_MODULES:g} x the module m_mn "
             f"({BACKLASH_MAX_MODULES * m_mn * 1e3:.6g} mm)",
         )
     pitch = [m_mn * z / (2.0 * math.cos(beta_m)) for z in (z1, z2)]
@@ -137,7 +145,7 @@ def pair_geometry(
             raise _bad(
                 error,
                 key,
-                f"{r * 1e3:.6g} mm is outside [{flo:g}, {fhi:g}] x the mean pitch radius m_mn z/(2 cos beta_m) "
+                f"{key} = {r * 1e3:.6g} mm is outside [{flo:g}, {fhi:g}] x the mean pitch radius m_mn z/(2 cos beta_m) "
                 f"= {rp * 1e3:.6g} mm",
             )
     if r1 is not None and r2 is not None:
@@ -158,7 +166,7 @@ def pair_geometry(
             raise _bad(
                 error,
                 "face_width",
-                f"{face_width * 1e3:.6g} mm is above {FACE_WIDTH_MAX_CONE:g} x the outer cone distance "
+                f"face_width = {face_width * 1e3:.6g} mm is above {FACE_WIDTH_MAX_CONE:g} x the outer cone distance "
                 f"R_e = {r_e * 1e3:.6g} mm",
             )
 
@@ -227,6 +235,22 @@ def excitation_table(stiffness: Any, ste: Any = None, *, where: str = "excitatio
 def file_size(path: Any, limit: int, what: str, hint: str = "") -> int:
     """The size of a file to be read whole, refused above ``limit`` bytes before it is read.
 
+    Parameters
+    ----------
+    path : str or Path
+        The file (a missing one gives 0: its reader says what is wrong).
+    limit : int
+        Largest size read (bytes).
+    what : str
+        What the file holds, for the message (``"excitation table"``).
+    hint : str
+        What to do instead, appended in parentheses.
+
+    Returns
+    -------
+    int
+        The size (bytes).
+
     Raises
     ------
     ConfigError
@@ -278,3 +302,62 @@ def budget(what: str, estimate: float, limit: float, unit: str = "bytes", key: s
     )
 
 
+def system(obj: Any, key: str = "model") -> Any:
+    """``obj`` if it is a System (:class:`geardyn.system.System`: a GearModel, a SystemModel), else a ModelError.
+
+    Parameters
+    ----------
+    obj : object
+        What a public function was given as its model.
+    key : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    System
+
+    Raises
+    ------
+    ModelError
+        ``model: expected a geardyn System (GearModel or SystemModel), got NoneType``.
+    """
+    from .system import System
+
+    if not isinstance(obj, System):
+        raise ModelError(
+            f"{key}: expected a geardyn System (GearModel or SystemModel, e.g. geardyn.GearModel()), "
+            f"got {type(obj).__name__}"
+        )
+    return obj
+
+
+def taking_a_system(fn: Any, many: bool = False) -> Any:
+    """``fn`` checking that its first argument (``model``) is a System (``many``: a sequence of them) first.
+
+    Parameters
+    ----------
+    fn : callable
+        A public function whose first argument is a model.
+    many : bool
+        The first argument is a sequence of models (``integrate_batch``).
+
+    Returns
+    -------
+    callable
+        ``fn`` with the check, its name and docstring kept.
+    """
+    import functools
+
+    @functools.wraps(fn)
+    def checked(*args: Any, **kwargs: Any) -> Any:
+        first = args[0] if args else kwargs.get("model", kwargs.get("models"))
+        if many and isinstance(first, (list, tuple)):
+            if not first:
+                raise ModelError("models: expected at least one System")
+            for m in first:
+                system(m, "models")
+        elif not many or not hasattr(first, "__len__"):
+            system(first, "models" if many else "model")
+        return fn(*args, **kwargs)
+
+    return checked

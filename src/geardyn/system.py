@@ -36,6 +36,13 @@ rigid_basis()
     r = 0 for the pair.
 initial_state(u0, v0)
     The state at θ = 0 with the reference element at (u0, v0) (and every other mesh at rest).
+element_forces(tau, deltas)
+    The forces (K, meshes) the meshes transmit at times τ given every element's (δ, δ') (:meth:`element_series`),
+    in the units of the reference mesh's k b_c; column :attr:`reference` is the reference mesh's.
+static_force()
+    The static force of the reference element (non-dimensional): the pair's mean load f_p, a system's reference
+    mesh force at its static equilibrium; the reference of dynamic factors and of :meth:`Scales.operating_point
+    <geardyn.geometry.scales.Scales.operating_point>`.
 mean_trace()
     The mean over a forcing period of the trace of ∂F/∂x (the sum of the Lyapunov exponents; negative:
     the period map contracts every volume).
@@ -90,6 +97,8 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
+from .errors import ModelError
+
 __all__ = [
     "System",
     "Element",
@@ -102,6 +111,7 @@ __all__ = [
     "build_models",
     "state_names",
     "element_names",
+    "require_periodic",
 ]
 
 #: The most counters a law keeps in a run's statistics (the slots the kernels reserve per element).
@@ -253,6 +263,10 @@ class System(Protocol):
     def initial_state(self, u0: float = 0.0, v0: float = 0.0) -> np.ndarray: ...
 
     def mean_trace(self) -> float: ...
+
+    def element_forces(self, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray: ...
+
+    def static_force(self) -> float: ...
 
     def report(
         self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None
@@ -496,3 +510,31 @@ def element_names(model: Any, n: int) -> list[str]:
     """
     els = [e.name for e in model.elements] if model is not None else []
     return els if len(els) == n else [str(i) for i in range(n)]
+
+
+def require_periodic(model: Any, what: str = "the periodic tools") -> int:
+    """The forcing-period multiple p of a system, refusing a quasi-periodic forcing.
+
+    Parameters
+    ----------
+    model : System
+    what : str
+        The tools named in the error message.
+
+    Returns
+    -------
+    int
+        p = ``model.period_multiple()``: the forcing repeats after p base periods (1 for the pair).
+
+    Raises
+    ------
+    ModelError
+        If the forcing frequencies are incommensurate (no common period).
+    """
+    p = model.period_multiple()
+    if p is None:
+        raise ModelError(
+            f"system: {what} need a periodic forcing, but the mesh-frequency ratios are "
+            f"incommensurate; use simulate or lyapunov"
+        )
+    return p

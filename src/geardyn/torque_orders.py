@@ -52,6 +52,17 @@ TorqueOrder = tuple[Fraction, float, float]
 def order_fraction(value: Any, name: str = "torque_orders.order") -> Fraction:
     """A positive order as an exact fraction: an integer, a decimal number or a text ``"a/b"``.
 
+    Parameters
+    ----------
+    value : int, float, Fraction or str
+        The order.
+    name : str
+        The key named in a message.
+
+    Returns
+    -------
+    Fraction
+
     Raises
     ------
     ModelError
@@ -99,6 +110,20 @@ def normalise(orders: Any) -> tuple[TorqueOrder, ...]:
     Each entry is a sequence ``(order, amplitude[, phase])`` or a mapping with the keys ``order``,
     ``amplitude`` and optionally ``phase`` (rad), the order in mesh orders.  Two entries of the same order
     are refused (write one amplitude and phase).
+
+    Parameters
+    ----------
+    orders : iterable or None
+        The entries.
+
+    Returns
+    -------
+    tuple of (Fraction, float, float)
+
+    Raises
+    ------
+    ModelError
+        For an entry of another form, a bad order, amplitude or phase, or an order given twice.
     """
     if orders is None:
         return ()
@@ -131,6 +156,17 @@ def normalise(orders: Any) -> tuple[TorqueOrder, ...]:
 def period_multiple(orders: tuple[TorqueOrder, ...], cycles: int = 1) -> int:
     """Mesh cycles of the forcing period: the least common multiple of ``cycles`` and the orders' denominators.
 
+    Parameters
+    ----------
+    orders : tuple of (Fraction, float, float)
+        Normalised orders (:func:`normalise`).
+    cycles : int
+        The model's own period in mesh cycles.
+
+    Returns
+    -------
+    int
+
     Raises
     ------
     ModelError
@@ -148,7 +184,17 @@ def period_multiple(orders: tuple[TorqueOrder, ...], cycles: int = 1) -> int:
 
 
 def to_dicts(orders: tuple[TorqueOrder, ...]) -> list[dict[str, Any]]:
-    """JSON form: ``order`` an integer or a text ``"a/b"``, ``amplitude``, ``phase`` (rad)."""
+    """JSON form: ``order`` an integer or a text ``"a/b"``, ``amplitude``, ``phase`` (rad).
+
+    Parameters
+    ----------
+    orders : tuple of (Fraction, float, float)
+        Normalised orders.
+
+    Returns
+    -------
+    list of dict
+    """
     return [
         {"order": int(q) if q.denominator == 1 else f"{q.numerator}/{q.denominator}", "amplitude": a, "phase": p}
         for q, a, p in orders
@@ -157,6 +203,15 @@ def to_dicts(orders: tuple[TorqueOrder, ...]) -> list[dict[str, Any]]:
 
 def parse_cli(text: str) -> tuple[Fraction, float, float]:
     """``ORDER:AMPLITUDE[:PHASE]`` of ``--torque-order`` (PHASE in rad, default 0).
+
+    Parameters
+    ----------
+    text : str
+        The option's value.
+
+    Returns
+    -------
+    (Fraction, float, float)
 
     Raises
     ------

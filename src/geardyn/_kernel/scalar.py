@@ -129,7 +129,7 @@ def _point_scalar(
             hi = 1
         c = 1.0
         s = 0.0
-        for k in range(N):
+        for _k in range(N):
             c1, s1 = _rot_small(c, s, cm1, sa)
             c2, s2 = _rot_small(c1, s1, cm1, sa)
             if fast:

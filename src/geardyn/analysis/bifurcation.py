@@ -80,6 +80,9 @@ _SCALARS = {
     "settle_ratio": float,
 }
 
+#: Prefix of the time fractions of the reference element's law counters (``fraction_drive`` … of the dead zone).
+FRACTION = "fraction_"
+
 #: Evenly spaced values start … stop (num >= 1), validated: :func:`geardyn.grid.linspace_values`.
 sweep_values = linspace_values
 
@@ -104,6 +107,7 @@ def _rows(
     reference element's (δ, δ'), the start and end states the full states."""
     n = out["period"].shape[0]
     r = {k: np.asarray(out[k], dtype=t) for k, t in _SCALARS.items() if k in out}
+    r.update({k: np.asarray(v, dtype=float) for k, v in out.items() if k.startswith(FRACTION) and k not in r})
     r.update({k: np.asarray(out[k], dtype=t) for k, t in ELEMENT_VARIABLES.items() if k in out})
     r["restarted"] = np.zeros(n, np.int64) if restarted is None else restarted.astype(np.int64)
     pc = np.asarray(out["poincare"], dtype=float)
@@ -400,7 +404,7 @@ def points_dataset(
         return np.stack([r[k] for r in per_sweep])
 
     data: dict[str, Any] = {}
-    for k in _SCALARS:
+    for k in list(_SCALARS) + sorted(k for k in per_sweep[0] if k.startswith(FRACTION) and k not in _SCALARS):
         if k in per_sweep[0]:
             data[k] = (dims, stack(k))
     pc = stack("poincare")

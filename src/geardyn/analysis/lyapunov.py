@@ -165,7 +165,7 @@ def lyapunov_batch(
 
 def _spectra(res: BatchResult, blocks: int) -> dict[str, Any]:
     """The dict of :func:`lyapunov_batch` from a Lyapunov-mode batch result."""
-    T = np.array([m.sampling_period for m in res.models])
+    T = res.models.sampling_periods()
     lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=blocks)
     bad = res.status != ST_OK
     lam[bad] = np.nan

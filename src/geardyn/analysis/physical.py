@@ -81,16 +81,8 @@ def mesh_force(model: GearModel, tau: np.ndarray, u: np.ndarray, v: np.ndarray) 
     ndarray
         The force in units of k0 b_c (multiply by :attr:`PhysicalScales.force_scale_N` for N).
     """
-    tau, u, v = (np.asarray(x, dtype=float) for x in (tau, u, v))
-    th = model.forcing_omega * tau
-    if model.evaluation == "table":  # the stiffness the accurate mode evaluates: the table as given
-        from ..meshtable import table_values
-
-        (C,) = series_values(model.coefficients(), th, (0,))
-        K = table_values(model.table, model.cycles, th)[0]
-    else:
-        C, K = series_values(model.coefficients(), th, (0, 1))
-    return C * v + K * model.restoring(u)
+    u, v = (np.asarray(x, dtype=float) for x in (u, v))
+    return model.element_forces(tau, np.stack([u, v], axis=-1)[:, None, :])[:, 0]
 
 
 def contact_force(model: GearModel, tau: np.ndarray, u: np.ndarray) -> np.ndarray:
@@ -410,7 +402,11 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
     if out.attrs.get("geardyn_kind") == "simulate" and {"tau", "u", "v"} <= set(out.variables):
         model = model_from_attrs(out)
         tau = out["tau"].values
-        f = mesh_force(model, tau, out["u"].values, out["v"].values)
+        if "delta" in out.variables:  # every element's deflection: the reference mesh's force among the meshes'
+            deltas = np.stack([out["delta"].values, out["delta_rate"].values], axis=-1)
+            f = model.element_forces(tau, deltas)[:, model.reference]
+        else:
+            f = mesh_force(model, tau, out["u"].values, out["v"].values)
         _set(out, "time_s", ("tau",), sc.s_from_tau(tau), coord=True)
         _set(out, "dte_um", ("tau",), sc.um_from_u(out["u"].values))
         _set(out, "mesh_force", ("tau",), f)
@@ -419,7 +415,8 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
             _set(out, "frequency_Hz", ("order",), sc.hz_from_omega(model.omega * out["order"].values), coord=True)
         if "spectrum" in out.data_vars:
             _set(out, "spectrum_um", ("order",), sc.um_from_u(out["spectrum"].values))
-        out.attrs["physical_summary"] = json.dumps(simulate_physical(out, sc), sort_keys=True)
+        if "fp" in model.parameters():  # the pair's (a system's physical summary is its System.report, in "summary")
+            out.attrs["physical_summary"] = json.dumps(simulate_physical(out, sc), sort_keys=True)
     return out
 
 

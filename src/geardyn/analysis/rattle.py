@@ -16,8 +16,8 @@ mesh periods; :attr:`RattleResult.cycle_mesh_periods`):
 * the **rattle index**: the kinetic energy of the relative motion lost in the impacts per cycle,
   R = Σ_i ½ (v_in,i² − v_out,i²) / cycles (non-dimensional in k b_c², in J with the pair's scales), the
   impact kinetic-energy loss of the restitution picture of rattle, ½ m_e (1 − e²) v_in² per impact
-  (C. Padmanabhan, R. C. Barlow, T. E. Rook, R. Singh, "Computational issues associated with gear rattle
-  analysis", J. Mech. Des. 117 (1995) 185–192, model rattle impacts with a coefficient of restitution);
+  with the impact kinetic energy Σ_i ½ v_in,i² / cycles beside it (the index is negative where the mesh's own
+  excitation, STE or varying stiffness, does more work during the contacts than the damping takes);
 * the regime: no impact, single-sided (drive flank only) or double-sided rattle.
 
 The crossings are located on the stored steps by the cubic Hermite interpolant of (u, u') and Newton, so a
@@ -48,14 +48,27 @@ __all__ = ["RattleResult", "RattleScales", "crossings", "pair_of_system", "rattl
 #: Default options of a rattle run: the accurate mode (4th order through the impacts), a long transient (the
 #: free flight is lightly damped) and a few recorded cycles.
 RATTLE_OPTIONS = IntegrationOptions(dtau=0.005, transient=200, periods=20, accurate=True)
+#: Largest number of samples of the history a ``rattle`` Dataset keeps.
+HISTORY_SAMPLES = 20_000
 #: Newton iterations on the Hermite interpolant of a step.
 _NEWTON = 30
 
 
 @dataclass(frozen=True)
 class RattleScales:
-    """The physical scales of a rattle result: b_c (m), ω_n (rad/s), the mesh stiffness k (N/m) and the teeth z
-    of the gear whose speed sets the mesh frequency (for rpm; None when unknown)."""
+    """The physical scales of a rattle result.
+
+    Parameters
+    ----------
+    b_c_m : float
+        Characteristic length b_c (m).
+    omega_n_rad_s : float
+        ω_n (rad/s).
+    k_N_per_m : float
+        Mean mesh stiffness k (N/m).
+    teeth : int, optional
+        Teeth of the gear whose speed sets the mesh frequency (for rpm; None when unknown).
+    """
 
     b_c_m: float
     omega_n_rad_s: float
@@ -80,13 +93,11 @@ class RattleScales:
 
     @classmethod
     def of(cls, scales: Any) -> RattleScales | None:
-        """From :class:`geardyn.units.PhysicalScales` (a configured pair) or a system's ``Scaling``; None for the
-        unit scales of a non-dimensional configuration."""
+        """From :class:`geardyn.geometry.scales.Scales` (a configured pair's, or a system's ``scaling``); None for
+        the unit scales of a non-dimensional configuration."""
         if scales is None or getattr(scales, "nondimensional", False):
             return None
-        if hasattr(scales, "k0_N_per_m"):
-            return cls(scales.b_c_m, scales.omega_n_rad_s, scales.k0_N_per_m, int(scales.z1))
-        return cls(scales.b_c, scales.omega_n, scales.k_ref, scales.teeth)
+        return cls(scales.b_c_m, scales.omega_n_rad_s, scales.k0_N_per_m, int(scales.z1) or None)
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -190,6 +201,8 @@ class RattleResult:
     scales : RattleScales or None
     status : str
         ``"ok"`` or ``"diverged"``.
+    extra : dict
+        Further keys of the JSON summary.
     """
 
     model: GearModel
@@ -264,10 +277,12 @@ class RattleResult:
             per[name] = d
         out["flanks"] = per
         out["impacts_per_cycle"] = float(self.events["time"].size / self.cycles)
+        out["impact_energy"] = 0.5 * float(np.sum(self.events["velocity"] ** 2)) / self.cycles
         out["rattle_index"] = self.rattle_index()
         out["rattle_index_definition"] = "impact kinetic-energy loss per cycle, sum of (v_in^2 - v_out^2)/2 / cycles"
         if sc is not None:
             out["rattle_index_J"] = self.rattle_index() * sc.energy_J
+            out["impact_energy_J"] = out["impact_energy"] * sc.energy_J
             out["scales"] = sc.to_dict()
             r = sc.rpm(self.model.omega)
             if r is not None:
@@ -276,21 +291,23 @@ class RattleResult:
         return out
 
     def to_dataset(self) -> Any:
-        """Dataset of kind ``rattle``: the history u, u' over τ and the impacts."""
+        """Dataset of kind ``rattle``: the history u, u' over τ (every k-th step, at most :data:`HISTORY_SAMPLES`
+        samples) and every impact (located on the full history)."""
         import xarray as xr
 
         from ..io import annotate, result_attrs
 
         e = self.events
+        k = max(1, -(-self.tau.size // HISTORY_SAMPLES))
         ds = xr.Dataset(
             {
-                "u": ("tau", self.u),
-                "v": ("tau", self.v),
+                "u": ("tau", self.u[::k]),
+                "v": ("tau", self.v[::k]),
                 "impact_time": ("impact", e["time"]),
                 "impact_flank": ("impact", e["flank"].astype(np.int8)),
                 "impact_velocity": ("impact", e["velocity"]),
             },
-            coords={"tau": self.tau, "impact": np.arange(e["time"].size)},
+            coords={"tau": self.tau[::k], "impact": np.arange(e["time"].size)},
         )
         import json
 
@@ -299,7 +316,7 @@ class RattleResult:
 
 
 def _check(model: Any) -> GearModel:
-    if not isinstance(model, GearModel):
+    if not hasattr(model, "torque_orders") or model.state_dim != 2:
         raise ModelError("rattle: takes the pair (a GearModel); a system of two gears: see pair_of_system")
     if not model.D > 0:
         raise ModelError(f"D (backlash): rattle needs a backlash, D > 0, got {model.D!r}")
@@ -324,7 +341,7 @@ def rattle(
         :data:`RATTLE_OPTIONS` (accurate mode).
     state0 : (u, u'), optional
         Start (default the middle of the backlash at rest, u = 0).
-    scales : PhysicalScales, Scaling or RattleScales, optional
+    scales : Scales or RattleScales, optional
         For the physical values (m/s, J, rpm).
 
     Returns
@@ -440,6 +457,15 @@ def pair_of_system(system: Any) -> GearModel:
     With ``a = V M̃⁻¹ Vᵀ`` the relative coordinate u = V q̃ − E obeys u'' + a(C u' + K f(u)) = V M̃⁻¹ F − E'' (the
     loads and their torque orders projected by V M̃⁻¹), the pair's equation when a·k = 1 (a reference mesh
     between two rotations).
+
+    Parameters
+    ----------
+    system : SystemModel or GearModel
+        The system (a pair is returned as it is).
+
+    Returns
+    -------
+    GearModel
 
     Raises
     ------

@@ -106,7 +106,7 @@ class RunupResult:
         """The mesh orders j/P of :attr:`spectrum` (empty when it is None)."""
         if self.spectrum is None:
             return np.zeros(0)
-        P = int(getattr(self.model, "cycles", 1))
+        P = int(self.model.period_multiple() or 1)
         return np.arange(1, self.spectrum.shape[1] + 1) / P
 
     @property
@@ -262,7 +262,7 @@ def runup(
         )
     if orders < 1:
         raise ModelError(f"orders: must be >= 1, got {orders!r}")
-    P = int(getattr(model, "cycles", 1))
+    P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period (excitation, torque orders)
     m = int(cycles_per_block) if cycles_per_block is not None else max(1, math.ceil(total / max(1, max_blocks)))
     if m < 1:
         raise ModelError(f"cycles_per_block: must be >= 1, got {cycles_per_block!r}")
@@ -393,7 +393,7 @@ def steady_response(
         ``dynamic_factor`` per point (None where diverged), measured as in :func:`runup`.
     """
     w = np.asarray(omegas, dtype=float)
-    P = int(getattr(model, "cycles", 1))
+    P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period (excitation, torque orders)
     opts = IntegrationOptions(
         dtau=dtau, transient=-(-int(transient) // P), periods=-(-int(periods) // P), accurate=accurate
     )

@@ -19,6 +19,7 @@ from .._lazy import lazy_module
 from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, start_state, trajectory
 from ..io import annotate, result_attrs
 from ..model import IntegrationOptions
+from ..system import state_names
 from .classify import (
     IMPACT_LABELS,
     LLE_FLOOR,
@@ -311,15 +312,13 @@ class SteadyState:
             "spectrum": ("order", spec),
         }
         coords: dict[str, Any] = {"tau": t.tau, "section": np.arange(pc.shape[0]), "order": order}
-        if pc.shape[1] != 2 or t.deltas.shape[1] > 1:  # a system: every element's δ, δ' and the full states
-            from ..system import state_names
-
-            data.update(
-                delta=(("tau", "element"), t.deltas[:, :, 0]),
-                delta_rate=(("tau", "element"), t.deltas[:, :, 1]),
-                poincare=(("section", "state"), pc),
-            )
-            coords.update(element=[e.name for e in m.elements], state=state_names(m, pc.shape[1]))
+        # every element's δ, δ' and the full states, for every System (the pair's: its mesh's (u, u'))
+        data.update(
+            delta=(("tau", "element"), t.deltas[:, :, 0]),
+            delta_rate=(("tau", "element"), t.deltas[:, :, 1]),
+            poincare=(("section", "state"), pc),
+        )
+        coords.update(element=[e.name for e in m.elements], state=state_names(m, pc.shape[1]))
         ds = xr.Dataset(
             data,
             coords=coords,

@@ -11,7 +11,7 @@ from __future__ import annotations
 __all__ = ["COMMANDS", "MODULES"]
 
 #: The modules that define commands, in the order their commands are registered (and listed).
-MODULES = ("point", "sweeps", "tools", "engineering", "hb", "systems", "diagnostics")
+MODULES = ("point", "sweeps", "tools", "engineering", "hb", "systems", "diagnostics", "rattle")
 
 #: name -> (module in :mod:`geardyn.cli`, help text), in the order of ``geardyn --help``.
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -83,14 +83,15 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "geometry": (
         "tools",
         (
-            "Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed "
+            "Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force "
+            "(assumed\n"
             "values marked)."
         ),
     ),
     "plot": (
         "tools",
         (
-            "Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation, "
+            "Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation,\n"
             "response, map, basins, orbit, continuation, ...)."
         ),
     ),
@@ -120,14 +121,19 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "hb": (
         "hb",
         (
-            "Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of "
-            "period-n responses\n"
-            "continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and\n"
-            "grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting "
-            "branch\n"
-            "with --compare-shooting).  A model or system without damping is refused (no stability can be decided); "
-            "a\n"
-            "branch whose first solution does not converge exits with code 1 and writes nothing."
+            "Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch "
+            "of\n"
+            "period-n responses continued in any parameter through its folds, with folds, period doublings, "
+            "Neimark–Sacker\n"
+            "points and grazing located; with --out the figure shows it stable solid and unstable dashed (over the "
+            "shooting\n"
+            "branch with --compare-shooting).  With --system the branch is the system's (every DOF's harmonics, the "
+            "elastic\n"
+            "multipliers; --param takes its parameter names).  Without damping the multipliers lie on the unit circle: "
+            "folds\n"
+            "and period doublings are located by det(I - M) and det(I + M) and stable means neutrally stable; a branch "
+            "whose\n"
+            "first solution does not converge exits with code 1 and writes nothing."
         ),
     ),
     "modes": (
@@ -159,6 +165,18 @@ COMMANDS: dict[str, tuple[str, str]] = {
             "healthy beside faulty with two files; indicators against crack depth with --sweep-depths. With --system: "
             "the\n"
             "same for a bearing sensor (a translational DOF) of a multi-DOF system."
+        ),
+    ),
+    "rattle": (
+        "rattle",
+        (
+            "Gear rattle of an unloaded (loose) gear pair driven by torque orders (--torque-order, [model] "
+            "torque_orders,\n"
+            "or orders on a load of a --system file of two gears): impacts per cycle on the drive and back flanks, "
+            "impact\n"
+            "velocities, and the rattle index (impact kinetic-energy loss per cycle); with --map-points a rattle map "
+            "over\n"
+            "speed × torque-order amplitude."
         ),
     ),
     # generated: end

@@ -45,6 +45,9 @@ class _HelpScreen:
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)  # type: ignore[call-arg]
         _direct_values(self.params)  # type: ignore[attr-defined]
+        for p in self.params:  # type: ignore[attr-defined]
+            if getattr(p, "param_type_name", "") == "argument" and p.name:
+                p._usage_display_name = _usage_name(p)  # FILE, [FILE] optional, not typer's {file}
 
     def get_help_option(self, ctx: Any) -> Any:
         opt = super().get_help_option(ctx)  # type: ignore[misc]
@@ -61,11 +64,28 @@ class _HelpScreen:
         saved = [(o, o.help) for o in objs if getattr(o, "help", None)]
         try:
             for o, text in saved:
-                o.help = escape(text)
+                o.help = escape(_reflowed(text))
             super().format_help(ctx, formatter)  # type: ignore[misc]
         finally:
             for o, text in saved:
                 o.help = text
+
+
+def _usage_name(p: Any) -> Callable[[], str]:
+    """The usage line's name of an argument: its name in capitals (``FILE``; ``[FILE]`` when optional)."""
+
+    def name() -> str:
+        text = (p.metavar or p.name).upper()
+        text = text if p.required else f"[{text}]"
+        return text + ("..." if p.nargs != 1 else "")
+
+    return name
+
+
+def _reflowed(text: str) -> str:
+    """A help text as the terminal should wrap it: the line breaks of its source joined within each paragraph
+    (paragraphs, separated by a blank line, kept)."""
+    return "\n\n".join(" ".join(p.split()) for p in re.split(r"\n\s*\n", text.strip()) if p.strip())
 
 
 class GeardynCommand(_HelpScreen, TyperCommand):
@@ -213,7 +233,10 @@ def _import_help_renderer() -> None:
     for module, name in (("rich.markdown", "Markdown"), ("rich.traceback", "Traceback")):
         if module not in sys.modules:
             stand_ins[module] = ModuleType(module)
-            real = lambda module=module, name=name: getattr(import_module(module), name)
+
+            def real(module: str = module, name: str = name) -> Any:
+                return getattr(import_module(module), name)
+
             setattr(stand_ins[module], name, _OnFirstUse(name, (), {"real": staticmethod(real)}))
     sys.modules.update(stand_ins)
     try:

@@ -172,6 +172,9 @@ RUNUP_OPTIONS = [
         "omega_start", Optional[float], None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."
     ),
     option("omega_stop", Optional[float], None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
+    option("param", Optional[str], None, "--param", help="The ramped parameter: omega only (with --start/--stop)."),
+    option("start", Optional[float], None, "--start", help="Start of the ramp as ω (as --omega-start)."),
+    option("stop", Optional[float], None, "--stop", help="End of the ramp as ω (as --omega-stop)."),
     option(
         "tau_duration",
         Optional[float],
@@ -203,9 +206,19 @@ RUNUP_OPTIONS = [
 
 
 def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
+    from .ranges import both_spellings
+
     scales = inp.scales()
+    _, omega_start, omega_stop = both_spellings(
+        inp.values.get("param"),
+        inp.values.get("start"),
+        inp.values.get("stop"),
+        inp.omega_start,
+        inp.omega_stop,
+        "omega",
+    )
     given_rpm = inp.ru_rpm_start is not None or inp.ru_rpm_stop is not None
-    given_w = inp.omega_start is not None or inp.omega_stop is not None
+    given_w = omega_start is not None or omega_stop is not None
     if given_rpm == given_w:
         raise ModelError("rpm_start: give the ramp either as --rpm-start/--rpm-stop or as --omega-start/--omega-stop")
     if given_rpm:
@@ -215,9 +228,9 @@ def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
             raise ModelError("rpm_start: give both --rpm-start and --rpm-stop")
         w0, w1 = omega_range(scales, inp.ru_rpm_start, inp.ru_rpm_stop)
     else:
-        if inp.omega_start is None or inp.omega_stop is None:
-            raise ModelError("omega_start: give both --omega-start and --omega-stop")
-        w0, w1 = inp.omega_start, inp.omega_stop
+        if omega_start is None or omega_stop is None:
+            raise ModelError("omega_start: give both --omega-start and --omega-stop (or --start and --stop)")
+        w0, w1 = omega_start, omega_stop
     if (inp.duration is None) == (inp.tau_duration is None):
         raise ModelError("duration: give the ramp's duration as --duration (s) or --tau-duration (τ), one of them")
     if inp.duration is not None:

@@ -332,6 +332,31 @@ def _inject(thread: threading.Thread, exc: type[BaseException]) -> None:
     ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(thread.ident), ctypes.py_object(exc))
 
 
+#: Seconds the worker processes of a stopped command are given to end after SIGTERM, before the process leaves.
+CHILDREN_GRACE = 0.15
+
+
+def _stop_children() -> None:
+    """Terminate the worker processes this process started, wait for them a moment (:data:`CHILDREN_GRACE`),
+    and release the semaphores their pools hold (their finalizers), so that no worker starting up meets a
+    semaphore already gone (a traceback on the shared stderr) and the resource tracker finds nothing leaked."""
+    if "multiprocessing" not in sys.modules:
+        return
+    try:
+        import multiprocessing
+        import multiprocessing.util
+
+        children = multiprocessing.active_children()
+        for p in children:
+            p.terminate()
+        deadline = time.monotonic() + CHILDREN_GRACE
+        for p in children:
+            p.join(max(0.0, deadline - time.monotonic()))
+        multiprocessing.util._run_finalizers(0)  # unlink and unregister the pools' semaphores
+    except Exception:  # noqa: BLE001  (leaving anyway)
+        pass
+
+
 def _leave(code: int, message: str) -> None:
     """Clean up what a stopped command leaves (temporary files, worker processes), say ``message`` on stderr
     and end the process with ``code`` at once."""
@@ -341,13 +366,7 @@ def _leave(code: int, message: str) -> None:
         discard_temporaries()
     except Exception:  # noqa: BLE001  (leaving anyway)
         pass
-    try:
-        import multiprocessing
-
-        for p in multiprocessing.active_children():
-            p.terminate()
-    except Exception:  # noqa: BLE001
-        pass
+    _stop_children()
     try:
         err = sys.stderr
         if err is not None:

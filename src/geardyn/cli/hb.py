@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
-from ..errors import ModelError
 from ..model import DEFAULT_DTAU
 from . import render
 from .app import EXIT_FAILURE, console, say_error
 from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option
+from .ranges import OMEGA_RANGE, both_spellings
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 
@@ -41,57 +40,6 @@ SHOOTING_RUN = [
         "default integration mode.",
     ),
 ]
-
-
-def system_model(path: Path | None, inp: Inputs) -> Any:
-    """The model HB runs on: the 1-DOF model of the common options, or the multi-DOF system of ``--system``
-    (with ``--omega``/``--rpm`` and the mesh options applied to its reference mesh).
-
-    Raises
-    ------
-    ModelError
-        For a bad system file, or options that do not apply to a system (``--config``, ``--torque``, ``--fp``).
-    """
-    if path is None:
-        return inp.model()
-    from .system_input import load_cli_system
-
-    return load_cli_system(dict(inp.values, system=path))
-
-
-def system_range(
-    s: Any, inp: Inputs, param: str | None, start: float | None, stop: float | None
-) -> tuple[str, float, float]:
-    """The continued parameter of a system (a system parameter name, ω by default with an rpm range) and its range
-    (``--rpm-start/--rpm-stop`` converted with the system's reference mesh).
-
-    Raises
-    ------
-    ModelError
-        For a missing or incomplete range, an unknown parameter or an rpm range for another parameter.
-    """
-    from .. import validate
-
-    rpm = (inp.values.get("rpm_start"), inp.values.get("rpm_stop"))
-    if any(v is not None for v in rpm):
-        if None in rpm or start is not None or stop is not None or (param or "omega") != "omega":
-            raise ModelError("rpm-start: give both --rpm-start and --rpm-stop, for omega, instead of --start/--stop")
-        param, (start, stop) = (
-            "omega",
-            (
-                s.scaling.omega_from_rpm(validate.number("rpm-start", rpm[0])),
-                s.scaling.omega_from_rpm(validate.number("rpm-stop", rpm[1])),
-            ),
-        )
-    if param is None:
-        raise ModelError(
-            "param: give the continuation parameter (--param), or a pinion-speed range (--rpm-start/--rpm-stop)"
-        )
-    if start is None or stop is None:
-        raise ModelError("start: give the parameter range (--start and --stop)")
-    start, stop = validate.number("start", start), validate.number("stop", stop)
-    s.with_param(param, start)
-    return param, start, stop
 
 
 def show(s: dict[str, Any], paths: list[str]) -> None:
@@ -125,7 +73,7 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
     render.files(paths)
 
 
-@command("hb", RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
+@command("hb", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
 def hb(
     inp: Inputs,
     param: ContinuationParamOpt = None,
@@ -133,7 +81,8 @@ def hb(
         float | None,
         typer.Option(
             "--start",
-            help="Parameter value where the branch starts (the first solution from the attractor reached by simulation from rest there).",
+            help="Parameter value where the branch starts (the first solution from the attractor reached by "
+            "simulation from rest there).",
         ),
     ] = None,
     stop: StopOpt = None,
@@ -141,7 +90,9 @@ def hb(
         int | None,
         typer.Option(
             "--harmonics",
-            help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an --excitation of P mesh cycles (harmonics of ω/(P n)) the larger of 16·P and n times the excitation's harmonics, at most 1024.",
+            help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an "
+            "--excitation of P mesh cycles (harmonics of ω/(P n)) the larger of 16·P and n times the "
+            "excitation's harmonics, at most 1024.",
         ),
     ] = None,
     period: Annotated[
@@ -150,32 +101,28 @@ def hb(
             "--period", help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n)."
         ),
     ] = 1,
-    system: Annotated[
-        Path | None,
-        typer.Option(
-            "--system",
-            help="A multi-DOF system file (examples/systems/*.toml) instead of the 1-DOF model: every DOF's harmonics, the elastic multipliers (rigid-body modes left out); --param takes the system's parameter names (omega, mesh.xi0, ...); the JSON adds 'meshes'.",
-        ),
-    ] = None,
     compare_shooting: Annotated[
         bool,
         typer.Option(
             "--compare-shooting",
-            help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in the JSON.",
+            help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in "
+            "the JSON.",
         ),
     ] = False,
     ds_max: Annotated[
         float | None,
         typer.Option(
             "--ds-max",
-            help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02; 0.2 with --system).",
+            help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02 for the pair, 0.2 for a "
+            "--system).",
         ),
     ] = None,
     floquet: Annotated[
         str,
         typer.Option(
             "--floquet",
-            help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, refined by a Newton step; the default) or 'hill' (Hill's method).",
+            help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, "
+            "refined by a Newton step; the default) or 'hill' (Hill's method).",
         ),
     ] = "monodromy",
     max_points: Annotated[
@@ -186,35 +133,39 @@ def hb(
         ),
     ] = 3000,
 ) -> None:
-    """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of period-n responses
-    continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker points and
-    grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting branch
-    with --compare-shooting).  A model or system without damping is refused (no stability can be decided); a
-    branch whose first solution does not converge exits with code 1 and writes nothing."""
+    """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of
+    period-n responses continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker
+    points and grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting
+    branch with --compare-shooting).  With --system the branch is the system's (every DOF's harmonics, the elastic
+    multipliers; --param takes its parameter names).  Without damping the multipliers lie on the unit circle: folds
+    and period doublings are located by det(I - M) and det(I + M) and stable means neutrally stable; a branch whose
+    first solution does not converge exits with code 1 and writes nothing."""
     from .. import validate
     from ..analysis.hb import hb_continuation
-    from ..analysis.hb.continuation import DS_MAX
-    from ..analysis.hb.solve import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
+    from ..analysis.hb.damping import undamped_modes
+    from ..analysis.hb.equations import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
     from ..analysis.physical import add_physical, physical_json
 
+    param, start, stop = both_spellings(param, start, stop, inp.omega_start, inp.omega_stop)  # either spelling
     n = validate.integer("period", period, 1, MAX_PERIOD)
     mp = validate.integer("max-points", max_points, 2, MAX_POINTS_LIMIT)
-    model = system_model(system, inp)
-    multi = system is None and model.cycles > 1  # an excitation of several mesh cycles: harmonics of ω/(P n)
+    model = inp.model()
+    multi = model.hb_form(n).cycles > 1  # an excitation of several mesh cycles: harmonics of ω/(P n)
     if harmonics is None:
         H = default_harmonics(model, n) if multi else DEFAULT_HARMONICS
     else:
         H = validate.integer("harmonics", harmonics, 1, MAX_DEFAULT_HARMONICS if multi else MAX_HARMONICS)
-    if system is not None:
-        from ..analysis.hb.system_continuation import SYSTEM_DS_MAX
-
-        dsm = SYSTEM_DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
-        return _hb_system(
-            inp, model, system_range(model, inp, param, start, stop), H, n, dsm, compare_shooting, floquet, mp
-        )
-    dsm = DS_MAX if ds_max is None else validate.positive("ds-max", ds_max)
+    dsm = None if ds_max is None else validate.positive("ds-max", ds_max)
     scales = inp.scales()
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
+    free = undamped_modes(model) if model.mean_trace() != 0 else []
+    if free:
+        say_error(
+            f"warning: {len(free)} elastic mode(s) of the system have no damping (at "
+            f"{', '.join(f'{f:.6g}' for f in sorted(set(free)))} Hz): their Floquet multipliers stay on the "
+            f"unit circle, so no point is asymptotically stable and pairs grazing the circle are reported as "
+            f"Neimark–Sacker points"
+        )
     with _progress(inp, name) as bar:
         res = hb_continuation(
             model,
@@ -224,6 +175,7 @@ def hb(
             harmonics=H,
             period=n,
             ds_max=dsm,
+            state0=inp.state0(),
             floquet=floquet,
             max_points=mp,
             progress=bar,
@@ -251,7 +203,7 @@ def hb(
             )
         shoot_ds = sres.to_dataset()
         summary["shooting"] = {
-            "bifurcations": [b.to_json() for b in sres.bifurcations],
+            "bifurcations": sres.to_json()["bifurcations"],
             "dtau": opts.dtau,
             "accurate": opts.accurate,
         }
@@ -295,69 +247,3 @@ def _check_result(res: Any, start: float) -> None:
             f"warning: the branch stopped at {res.values.size} points (--max-points) at {res.param} = "
             f"{res.values[-1]:.6g}, before the end of the interval; raise --max-points or --ds-max"
         )
-
-
-def _hb_system(
-    inp: Inputs,
-    s: Any,
-    rng: tuple[str, float, float],
-    H: int,
-    n: int,
-    dsm: float,
-    compare_shooting: bool,
-    floquet: str = "monodromy",
-    mp: int = 3000,
-) -> None:
-    """``geardyn hb --system``: the branch of the system (per-point values of the reference mesh, ``meshes`` per
-    mesh); with ``--compare-shooting`` the shooting continuation's bifurcations in the JSON and its branch in
-    ``hb.nc`` and on the figure."""
-    from .. import validate
-    from ..analysis.hb.damping import require_damping, undamped_modes
-    from ..analysis.hb.system_continuation import hb_system_continuation
-
-    name, start_v, stop_v = rng
-    require_damping(s, name, start_v, stop_v)
-    free = undamped_modes(s)
-    if free:
-        say_error(
-            f"warning: {len(free)} elastic mode(s) of the system have no damping (at "
-            f"{', '.join(f'{f:.6g}' for f in sorted(set(free)))} Hz): their Floquet multipliers stay on the "
-            f"unit circle, so no point is asymptotically stable and pairs grazing the circle are reported as "
-            f"Neimark–Sacker points"
-        )
-    with _progress(inp, name) as bar:
-        res = hb_system_continuation(
-            s,
-            name,
-            start_v,
-            stop_v,
-            harmonics=H,
-            period=n,
-            ds_max=dsm,
-            state0=inp.state0(),
-            floquet=floquet,
-            max_points=mp,
-            progress=bar,
-        )
-    _check_result(res, start_v)
-    summary = res.to_json()
-    if compare_shooting:
-        from ..analysis.periodic import continuation
-
-        opts = validate.options(inp.dtau, 0, 1, inp.accurate, [])
-        sres = continuation(s, name, start_v, stop_v, n, dtau=opts.dtau, accurate=opts.accurate, state0=inp.state0())
-        summary["shooting"] = {
-            "bifurcations": sres.to_json()["bifurcations"],
-            "dtau": opts.dtau,
-            "accurate": opts.accurate,
-        }
-    paths: list[str] = []
-    if inp.out is not None:
-        from ..io import attach
-        from ..plot.hb import SHOOTING_CONTEXT
-
-        ds = res.to_dataset()
-        if compare_shooting:
-            ds = attach(ds, SHOOTING_CONTEXT, sres.to_dataset())  # the file redraws the figure with shooting
-        paths = inp.write(ds, "hb")
-    finish(summary, paths, inp, show)

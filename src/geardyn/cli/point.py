@@ -21,6 +21,7 @@ from .options import (
     integration,
     option,
 )
+from .ranges import OMEGA_RANGE, both_spellings
 
 PeriodOpt = Annotated[
     int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")
@@ -29,7 +30,8 @@ GuessOpt = Annotated[
     str | None,
     typer.Option(
         "--guess",
-        help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state reached by simulating --transient periods from --u0, --v0).",
+        help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state "
+        "reached by simulating --transient periods from --u0, --v0).",
     ),
 ]
 #: Points of the brute-force up/down sweep drawn under a continuation figure (:mod:`geardyn.analysis.context`).
@@ -180,13 +182,14 @@ CONTINUATION_RUN = integration(
         True,
         "--accurate/--default-mode",
         panel="Integration",
-        help="Accurate mode (steps split at u = ±D; the default here, since its Floquet multipliers vary smoothly along "
-        "a branch) or the default integration mode (faster; multipliers jump by O(Δτ) where RK4 stages cross ±D).",
+        help="Accurate mode (steps split at u = ±D; the default here, since its Floquet multipliers vary smoothly "
+        "along a branch) or the default integration mode (faster; multipliers jump by O(Δτ) where RK4 stages "
+        "cross ±D).",
     ),
 )
 
 
-@command("continuation", RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT)
+@command("continuation", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT)
 def continuation(
     inp: Inputs,
     param: ContinuationParamOpt = None,
@@ -210,7 +213,8 @@ def continuation(
         float | None,
         typer.Option(
             "--ds-max",
-            help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the interval).",
+            help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the "
+            "interval).",
         ),
     ] = None,
     sweep_num: Annotated[
@@ -231,6 +235,7 @@ def continuation(
 
     model = inp.model()
     scales = inp.scales()
+    param, start, stop = both_spellings(param, start, stop, inp.omega_start, inp.omega_stop)
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
     opts = inp.options(model.with_param(name, start_v).omega, periods=1)
     opts.check_for(model.with_param(name, stop_v).omega)

@@ -341,13 +341,14 @@ def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
 def claims(res: dict[str, Any]) -> None:
     """The verdicts of ``geardyn reproduce``: a reduced run said first, the totals, then per claim the paper's
     statement beside its verdict (the deciding evidence is in the report)."""
-    from ..paper.report import totals_text
+    from ..paper.report import one_reading_text, totals_text
 
     style = {"reproduced": "green", "reproduced under a reading": "cyan", "contradicted": "red", "not testable": "dim"}
     run = res.get("run")
     if run is not None and run.reduced:
         console.print(f"[bold yellow]{escape(run.banner('listed in the report'))}[/]")
-    t = Table(title=escape(totals_text(res["claims"], run)))
+    console.print(escape(one_reading_text(res["claims"], run)), style="bold", highlight=False)
+    t = Table(title=escape("Per claim, each under its own nearest reading: " + totals_text(res["claims"], run)))
     t.add_column("id", no_wrap=True)
     t.add_column("the paper says", overflow="fold", ratio=3)
     t.add_column("verdict", overflow="fold", ratio=2)

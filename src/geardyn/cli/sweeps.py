@@ -25,6 +25,7 @@ from .options import (
     param_option,
     sweep_range,
 )
+from .ranges import OMEGA_RANGE, both_spellings
 from .system_input import CoordsOpt
 
 ModeOpt = Annotated[
@@ -45,7 +46,8 @@ SettleOpt = Annotated[
     int,
     typer.Option(
         "--settle",
-        help="Further periods (with exponents) for points not periodic after the transient, before classification (0: none).",
+        help="Further periods (with exponents) for points not periodic after the transient, before classification "
+        "(0: none).",
     ),
 ]
 ChunkOpt = Annotated[
@@ -73,7 +75,7 @@ def _system(inp: Inputs, model: Any, summary: dict[str, Any], ds: Any) -> dict[s
     return mesh_summary(model, summary, ds, state0=(inp.values.get("u0") or 0.0, inp.values.get("v0") or 0.0))
 
 
-@command("bifurcation", RPM_RANGE, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
+@command("bifurcation", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
 def bifurcation(
     inp: Inputs,
     param: ParamOpt = None,
@@ -95,6 +97,7 @@ def bifurcation(
 
     model = inp.model()
     scales = inp.scales()
+    param, start, stop = both_spellings(param, start, stop, inp.omega_start, inp.omega_stop)
     name, start, stop = inp.param_range(param, start, stop)
     name, values = validate.axis(name, start, stop, num)
     # the budgets first: building a grid of 10^8 models alone takes minutes
@@ -133,6 +136,9 @@ def bifurcation(
 RESPONSE_RANGE = [
     option("omega_start", Optional[float], None, "--omega-start", help="Lowest ω of the sweeps."),
     option("omega_stop", Optional[float], None, "--omega-stop", help="Highest ω of the sweeps."),
+    option("param", Optional[str], None, "--param", help="The swept parameter: omega only (with --start/--stop)."),
+    option("start", Optional[float], None, "--start", help="Lowest ω of the sweeps (as --omega-start)."),
+    option("stop", Optional[float], None, "--stop", help="Highest ω of the sweeps (as --omega-stop)."),
     *RPM_RANGE,
 ]
 
@@ -155,7 +161,9 @@ def response(
         str,
         typer.Option(
             "--method",
-            help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16; for an --excitation of P mesh cycles at least 16·P harmonics of ω/P) with Floquet stability, jumps at the exact folds (integration and engine options unused).",
+            help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16; for an "
+            "--excitation of P mesh cycles at least 16·P harmonics of ω/P) with Floquet stability, jumps at the exact "
+            "folds (integration and engine options unused).",
         ),
     ] = "sweep",
 ) -> None:
@@ -168,7 +176,15 @@ def response(
 
     model = inp.model()
     scales = inp.scales()
-    omega_start, omega_stop = sweep_range(inp, inp.omega_start, inp.omega_stop)
+    _, w0, w1 = both_spellings(
+        inp.values.get("param"),
+        inp.values.get("start"),
+        inp.values.get("stop"),
+        inp.omega_start,
+        inp.omega_stop,
+        "omega",
+    )
+    omega_start, omega_stop = sweep_range(inp, w0, w1)
     if omega_start is None or omega_stop is None:
         raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
     _, values = validate.axis("omega", omega_start, omega_stop, num)

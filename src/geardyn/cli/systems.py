@@ -91,8 +91,10 @@ def modes(
     mesh gives no teeth); --out writes modes.nc and the Campbell figure."""
     from .. import validate
     from ..systems import load_description, modes_report
+    from ..systems.modes import modes_budget_of_file
     from .options import choice
 
+    modes_budget_of_file(system)  # a system too large is refused before its file is loaded
     desc = load_description(system)
     hi = validate.positive("rpm-max", rpm_max)
     hz = None if hz_max is None else (0.0, validate.positive("hz-max", hz_max))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Optional
@@ -18,7 +19,8 @@ JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 
 @command("geometry", CONFIG, [RPM, TORQUE], JSON_ONLY)
 def geometry(inp: Inputs) -> None:
-    """Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed values marked)."""
+    """Gear pair geometry: pitch cones, directional radii, equivalent mass, k0, ω_n, static mesh force (assumed
+    values marked)."""
     from ..config import load_config
     from ..geometry import summary_rows
 
@@ -50,7 +52,8 @@ def plot_cmd(
     inp: Inputs,
     file: Annotated[Path, typer.Argument(help="A NetCDF result written by a geardyn command (--out) or by Python.")],
 ) -> None:
-    """Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation, response, map, basins, orbit, continuation, ...)."""
+    """Redraw the figures of a saved result from its NetCDF file, chosen by its kind (simulate, bifurcation,
+    response, map, basins, orbit, continuation, ...)."""
     from ..io import read_netcdf
     from ..plot import save_figures
 
@@ -61,7 +64,7 @@ def plot_cmd(
     except (OSError, ValueError, TypeError, KeyError, RuntimeError) as e:
         raise fail(
             f"file: cannot read {file} as a NetCDF result ({type(e).__name__}: {' '.join(str(e).split())[:200]})"
-        )
+        ) from None
     _check_attributes(file, ds)
     try:
         if inp.physical or inp.config is not None:
@@ -70,7 +73,7 @@ def plot_cmd(
             ds = add_physical(ds, None if (inp.config is None and "physical_scales" in ds.attrs) else inp.scales())
         files = [str(p) for p in save_figures(ds, inp.out if inp.out is not None else file.parent, **inp.figures())]
     except GeardynError as e:
-        raise fail(f"{file}: {e}")
+        raise fail(f"{file}: {e}") from None
     except OSError:
         raise
     except (KeyError, IndexError, TypeError, ValueError, AttributeError, RecursionError) as e:
@@ -78,7 +81,7 @@ def plot_cmd(
         raise fail(
             f"{file}: not a complete geardyn{' ' + str(kind) if isinstance(kind, str) else ''} result "
             f"({type(e).__name__}: {' '.join(str(e).split())[:120]}); it cannot be drawn"
-        )
+        ) from None
     if inp.json_out:
         emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
         return
@@ -119,7 +122,10 @@ def reproduce(
         bool,
         typer.Option(
             "--quick",
-            help="A reduced run (coarse grids, short runs) that exercises every study; its report and summary say so, and its verdicts may differ from the full run's.",
+            help=(
+                "A reduced run (coarse grids, short runs) that exercises every study; its report and summary say "
+                "so, and its verdicts may differ from the full run's."
+            ),
         ),
     ] = False,
     workers: Annotated[int, typer.Option("--workers", help="Worker processes for the sweeps.")] = 2,
@@ -136,10 +142,12 @@ def reproduce(
     import shlex
     from dataclasses import asdict
 
-    command = shlex.join(
-        ["geardyn", "reproduce", "--out", str(out)]
+    typed = _typed_options()
+    command = shlex.join(  # the command as typed: an option left at its default is not shown
+        ["geardyn", "reproduce"]
+        + ["--out", str(out)] * ("out" in typed)
         + ["--quick"] * quick
-        + ["--workers", str(workers)]
+        + ["--workers", str(workers)] * ("workers" in typed)
         + ["--json"] * inp.json_out
     )
     res = run(out, settings, log=log, command=command)
@@ -157,6 +165,20 @@ def reproduce(
         )
         return
     render.claims(res)
+
+
+def _typed_options() -> set[str]:
+    """The parameters of the running command given on its command line (not left at their defaults); every
+    parameter when that cannot be told."""
+    try:
+        import typer
+
+        core = sys.modules[typer.BadParameter.__module__.rsplit(".", 1)[0] + ".core"]
+        globs = sys.modules[typer.BadParameter.__module__.rsplit(".", 1)[0] + ".globals"]
+        ctx = globs.get_current_context()
+        return {n for n in ctx.params if ctx.get_parameter_source(n) == core.ParameterSource.COMMANDLINE}
+    except (KeyError, AttributeError, RuntimeError):
+        return {"out", "workers"}
 
 
 #: Most timed runs of ``bench`` per workload (each workload takes about a second).

@@ -1,10 +1,12 @@
-"""The scales between the non-dimensional model and one gear pair, and every conversion between them.
+"""The scales between a non-dimensional System and its physical units, and every conversion between them.
 
 The scales (``docs/model.md`` §3): length b_c, time 1/ω_n, force k0 b_c, frequency ω_n, with
 ω = ω_e/ω_n, ω_e = 2π z1 n1/60 for a pinion speed n1 in rpm, f_p = F_p/(k0 b_c) and, for
-balanced torques, F_p = T1/R1.  :class:`PhysicalScales` holds them as plain numbers so that they
-can be stored with a result (the ``physical_scales`` attribute of a Dataset) and used again when
-the result is read back, without the gear pair or its configuration file.
+balanced torques, F_p = T1/R1.  For a system of meshes they are those of its reference mesh (k0 its
+mean stiffness, m_e its equivalent mass, z1 its pinion's teeth), with the scale of every DOF
+(q_i = s_i q̃_i).  :class:`Scales` holds them as plain numbers, for the pair and every system alike, so
+that they can be stored with a result (the ``physical_scales`` attribute of a Dataset) and used again when
+the result is read back, without the gear pair, the system or their files.
 """
 
 from __future__ import annotations
@@ -16,24 +18,31 @@ from typing import Any
 
 import numpy as np
 
-from ..model import GearModel
+from ..errors import ModelError
 
-__all__ = ["PhysicalScales", "SCALES_ATTR"]
+__all__ = ["Scales", "PhysicalScales", "SCALES_ATTR"]
 
-#: Name of the Dataset attribute that stores :class:`PhysicalScales` as JSON.
+#: Name of the Dataset attribute that stores :class:`Scales` as JSON.
 SCALES_ATTR = "physical_scales"
 #: Assumptions of a configuration that concern its operating point, not the scales.
 _OPERATING_KEYS = ("rpm", "torque", "torque2")
 
 
+def _number(x: Any) -> float | None:
+    """A finite number as float, else None (JSON has no NaN)."""
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
 @dataclass(frozen=True)
-class PhysicalScales:
-    """The scales between the non-dimensional model and one gear pair, as plain numbers.
+class Scales:
+    """The scales between a non-dimensional System and its physical units, as plain numbers.
 
     Build it from a pair (:meth:`SpiralBevelGearPair.scales <geardyn.geometry.SpiralBevelGearPair.scales>`,
-    :meth:`from_pair`) or a loaded configuration (:meth:`from_config`); store it with :meth:`to_json`
-    and read it back with :meth:`from_json` (results keep it in their ``physical_scales``
-    attribute).  Every conversion accepts floats or NumPy arrays.
+    :meth:`from_pair`), a loaded configuration (:meth:`from_config`) or a system's reference mesh
+    (:meth:`of_reference_mesh`; a :class:`~geardyn.systems.SystemModel` keeps them as its ``scaling``); store it
+    with :meth:`to_json` and read it back with :meth:`from_json` (results keep it in their
+    ``physical_scales`` attribute).  Every conversion accepts floats or NumPy arrays.
 
     Attributes
     ----------
@@ -62,6 +71,13 @@ class PhysicalScales:
     nondimensional : bool
         ``True`` for the unit scales of a configuration without ``[gear_pair]`` (:meth:`unit`): every
         "physical" value then repeats its non-dimensional one, and a speed or torque cannot be given.
+    reference : str
+        The reference mesh of a system ("" for the pair).
+    dof_scales : tuple of float
+        The scale s_i of every DOF of a system (q_i = s_i q̃_i, m or rad; empty for the pair).
+
+    A system's scales have no pinion radii (R1_m, R2_m None: a system has no single pinion torque) and,
+    when its reference mesh gives no teeth, z1 = 0 (speeds in rpm are then NaN, and refused as input).
 
     Examples
     --------
@@ -71,6 +87,9 @@ class PhysicalScales:
     (23, 2000, 50)
     >>> round(float(sc.omega_from_rpm(3000)), 4), round(float(sc.rpm_from_omega(1.0)), 1)
     (1.002, 2993.9)
+    >>> sc = Scales.unit()
+    >>> float(sc.rpm_from_omega(0.8)), float(sc.um_from_u(2.0)), float(sc.N_from_force(0.5))
+    (0.8, 2.0, 0.5)
     """
 
     title: str
@@ -80,18 +99,20 @@ class PhysicalScales:
     k0_N_per_m: float
     m_e_kg: float
     omega_n_rad_s: float
-    R1_m: float
-    R2_m: float
+    R1_m: float | None
+    R2_m: float | None
     D: float
     assumed: tuple[str, ...] = field(default=())
     k0_source: str = ""
     nondimensional: bool = False
+    reference: str = ""
+    dof_scales: tuple[float, ...] = field(default=())
 
     # ------------------------------------------------------------------ construction, storage
     @classmethod
     def from_pair(
         cls, pair: Any, b_c: float, *, title: str | None = None, source: str = "", assumptions: Any = None
-    ) -> PhysicalScales:
+    ) -> Scales:
         """Scales of a gear pair with the characteristic length ``b_c``.
 
         Parameters
@@ -110,7 +131,7 @@ class PhysicalScales:
 
         Returns
         -------
-        PhysicalScales
+        Scales
         """
         assumptions = tuple(pair.assumptions if assumptions is None else assumptions)
         k0_src = "given"
@@ -136,7 +157,7 @@ class PhysicalScales:
         )
 
     @classmethod
-    def unit(cls, *, title: str = "", source: str = "", D: float = 1.0) -> PhysicalScales:
+    def unit(cls, *, title: str = "", source: str = "", D: float = 1.0) -> Scales:
         """Unit scales of a non-dimensional configuration (no ``[gear_pair]``).
 
         With ω_n = 2π rad/s, z1 = 60, b_c = 1 µm, k0 = 1 N/µm and R1 = R2 = 1 m, a "speed in rpm"
@@ -153,7 +174,7 @@ class PhysicalScales:
 
         Returns
         -------
-        PhysicalScales
+        Scales
         """
         w = 2.0 * math.pi
         return cls(
@@ -173,7 +194,66 @@ class PhysicalScales:
         )
 
     @classmethod
-    def from_config(cls, cfg: Any) -> PhysicalScales:
+    def of_reference_mesh(
+        cls,
+        reference: str,
+        k_ref: float,
+        m_ref: float,
+        b_c: float,
+        dof_scales: tuple[float, ...],
+        teeth: int | None,
+        *,
+        D: float = 1.0,
+        title: str = "system",
+        source: str = "",
+    ) -> Scales:
+        """The scales of a system of meshes: those of its reference mesh.
+
+        Parameters
+        ----------
+        reference : str
+            The reference mesh.
+        k_ref, m_ref : float
+            Its mean stiffness (N/m) and equivalent mass (kg); ω_n = √(k_ref/m_ref).
+        b_c : float
+            The characteristic length (m).
+        dof_scales : tuple of float
+            The scale of every DOF (q_i = s_i q̃_i).
+        teeth : int or None
+            Teeth of the reference mesh's pinion (None: unknown).
+        D : float
+            The reference mesh's half gap (non-dimensional).
+        title, source : str
+            The system's title and file.
+
+        Returns
+        -------
+        Scales
+
+        Examples
+        --------
+        >>> sc = Scales.of_reference_mesh("m", 1e8, 2.0, 1e-5, (1e-5, 1e-5), 20)
+        >>> round(sc.omega_n_rad_s, 6), round(sc.force_scale_N, 9)
+        (7071.067812, 1000.0)
+        """
+        return cls(
+            title=title,
+            source=source,
+            z1=int(teeth or 0),
+            b_c_m=float(b_c),
+            k0_N_per_m=float(k_ref),
+            m_e_kg=float(m_ref),
+            omega_n_rad_s=math.sqrt(k_ref / m_ref),
+            R1_m=None,
+            R2_m=None,
+            D=float(D),
+            k0_source="reference mesh of the system",
+            reference=reference,
+            dof_scales=tuple(float(x) for x in dof_scales),
+        )
+
+    @classmethod
+    def from_config(cls, cfg: Any) -> Scales:
         """Scales of a loaded configuration (its pair, characteristic length, title and source).
 
         Parameters
@@ -183,7 +263,7 @@ class PhysicalScales:
 
         Returns
         -------
-        PhysicalScales
+        Scales
             :meth:`unit` scales for a configuration without a gear pair.
         """
         if cfg.pair is None:
@@ -196,6 +276,7 @@ class PhysicalScales:
         """The scales as a JSON-ready dict (the field names as keys)."""
         d = asdict(self)
         d["assumed"] = list(self.assumed)
+        d["dof_scales"] = list(self.dof_scales)
         return d
 
     def to_json(self) -> str:
@@ -203,7 +284,7 @@ class PhysicalScales:
         return json.dumps(self.to_dict(), sort_keys=True)
 
     @classmethod
-    def from_json(cls, text: str) -> PhysicalScales:
+    def from_json(cls, text: str) -> Scales:
         """Scales from the JSON of :meth:`to_json`.
 
         Parameters
@@ -213,14 +294,15 @@ class PhysicalScales:
 
         Returns
         -------
-        PhysicalScales
+        Scales
         """
         d = json.loads(text)
         d["assumed"] = tuple(d.get("assumed", ()))
+        d["dof_scales"] = tuple(d.get("dof_scales", ()))
         return cls(**d)
 
     @classmethod
-    def from_attrs(cls, attrs: dict[str, Any]) -> PhysicalScales | None:
+    def from_attrs(cls, attrs: dict[str, Any]) -> Scales | None:
         """The scales stored in a Dataset's attributes (:data:`SCALES_ATTR`), or ``None`` when there are none.
 
         Parameters
@@ -230,7 +312,7 @@ class PhysicalScales:
 
         Returns
         -------
-        PhysicalScales or None
+        Scales or None
         """
         text = attrs.get(SCALES_ATTR)
         return cls.from_json(text) if text else None
@@ -257,11 +339,21 @@ class PhysicalScales:
 
     # ------------------------------------------------------------------ speed and frequency
     def omega_from_rpm(self, rpm: Any) -> Any:
-        """ω = 2π z1 n1 / (60 ω_n) (non-dimensional) from the pinion speed n1 (rpm)."""
+        """ω = 2π z1 n1 / (60 ω_n) (non-dimensional) from the pinion speed n1 (rpm).
+
+        Raises
+        ------
+        ModelError
+            Without the pinion's teeth (a system whose reference mesh gives none).
+        """
+        if not self.z1:
+            raise ModelError(f"mesh {self.reference!r}: teeth: needed to convert a speed in rpm to ω; give ω (--omega)")
         return 2.0 * np.pi * self.z1 * np.asarray(rpm, dtype=float) / 60.0 / self.omega_n_rad_s
 
     def rpm_from_omega(self, omega: Any) -> Any:
-        """Pinion speed (rpm) from ω."""
+        """Pinion speed (rpm) from ω (NaN without the pinion's teeth)."""
+        if not self.z1:
+            return np.asarray(omega, dtype=float) * np.nan
         return np.asarray(omega, dtype=float) * self.omega_n_rad_s * 60.0 / (2.0 * np.pi * self.z1)
 
     def hz_from_omega(self, omega: Any) -> Any:
@@ -312,12 +404,28 @@ class PhysicalScales:
 
         For unbalanced torques use :meth:`SpiralBevelGearPair.fp_from_torques
         <geardyn.geometry.SpiralBevelGearPair.fp_from_torques>`, which needs the inertias.
+
+        Raises
+        ------
+        ModelError
+            For scales without a pinion radius (a system: its loads are given in its file).
         """
+        if self.R1_m is None:
+            raise ModelError(f"torque: {self.title} has no single pinion torque; give the loads in its file")
         return np.asarray(torque, dtype=float) / self.R1_m / self.force_scale_N
 
     def torque_from_fp(self, fp: Any) -> Any:
-        """Pinion torque T1 (N·m) giving f_p with balanced torques: T1 = f_p k0 b_c R1."""
+        """Pinion torque T1 (N·m) giving f_p with balanced torques: T1 = f_p k0 b_c R1 (NaN without R1)."""
+        if self.R1_m is None:
+            return np.asarray(fp, dtype=float) * np.nan
         return np.asarray(fp, dtype=float) * self.force_scale_N * self.R1_m
+
+    @staticmethod
+    def dynamic_factor(max_force: Any, static_force: Any) -> Any:
+        """The dynamic factor max F / F_static of a force over its static value (NaN where that is not > 0)."""
+        f, s0 = np.asarray(max_force, dtype=float), np.asarray(static_force, dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(s0 > 0, f / np.where(s0 > 0, s0, 1.0), np.nan)
 
     # ------------------------------------------------------------------ mesh coefficients
     def xi_from_c(self, c: Any) -> Any:
@@ -337,26 +445,34 @@ class PhysicalScales:
         return np.asarray(kappa, dtype=float) * self.k0_N_per_m
 
     # ------------------------------------------------------------------ a model's operating point
-    def operating_point(self, model: GearModel) -> dict[str, float]:
-        """Speed, frequencies, torque and static force of a model (JSON-ready).
+    def operating_point(self, model: Any) -> dict[str, float | None]:
+        """Speed, frequencies, torque and static force of a System (JSON-ready).
 
         Parameters
         ----------
-        model : GearModel
-            The non-dimensional model.
+        model : System
+            The non-dimensional system (its ``fp`` parameter, where it has one, and its
+            :meth:`~geardyn.system.System.static_force`).
 
         Returns
         -------
         dict
-            ``omega``, ``rpm``, ``mesh_frequency_Hz``, ``natural_frequency_Hz``, ``fp``,
-            ``torque_N_m`` (pinion, balanced), ``static_force_N`` (F_p = f_p k0 b_c).
+            ``omega``, ``rpm`` (None without teeth), ``mesh_frequency_Hz``, ``natural_frequency_Hz``, ``fp``
+            and ``torque_N_m`` (pinion, balanced; None for a system, which has no single one),
+            ``static_force_N`` (the reference element's static force: F_p = f_p k0 b_c for the pair).
         """
+        fp = model.parameters().get("fp")
+        torque = None if fp is None else _number(self.torque_from_fp(fp))
         return {
             "omega": float(model.omega),
-            "rpm": float(self.rpm_from_omega(model.omega)),
+            "rpm": _number(self.rpm_from_omega(model.omega)),
             "mesh_frequency_Hz": float(self.hz_from_omega(model.omega)),
             "natural_frequency_Hz": self.natural_frequency_Hz,
-            "fp": float(model.fp),
-            "torque_N_m": float(self.torque_from_fp(model.fp)),
-            "static_force_N": float(self.N_from_force(model.fp)),
+            "fp": None if fp is None else float(fp),
+            "torque_N_m": torque,
+            "static_force_N": _number(self.N_from_force(model.static_force())),
         }
+
+
+#: The name the pair's front end and the package's API give :class:`Scales`.
+PhysicalScales = Scales

@@ -108,6 +108,9 @@ class Finding:
         The reading that reproduces it (verdict "reproduced under a reading"), else empty.
     found : str
         What geardyn finds, in one line for the summary (default: the start of ``computed``).
+    table_reading, table_holds : str, bool or None
+        The one reading chosen for the claim's whole table (the best for the table as a whole) and whether
+        the claim holds under it (None: not computed).
 
     Raises
     ------
@@ -125,6 +128,8 @@ class Finding:
     deciding: str = ""
     reading: str = ""
     found: str = ""
+    table_reading: str = ""
+    table_holds: bool | None = None
 
     def __post_init__(self) -> None:
         if self.verdict not in VERDICTS:
@@ -208,6 +213,105 @@ def totals_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
     return f"Totals ({len(claims)} claims): {text}."
 
 
+#: Claims the paper states from one setting (a table, or a study's text beside its table): judged together
+#: under one reading (:func:`one_reading_totals`).  A claim in no group is a group of its own.
+CLAIM_GROUPS: dict[str, tuple[str, ...]] = {
+    "Table 2 and the damping study": ("T2-1", "T2-2", "T2-3", "T2-4", "T2-5", "XI0-BIF", "XI1-CHAOS"),
+    "Table 3 and the backlash study": ("T3-1", "T3-2", "T3-3", "BL-IMPACT", "BL-AMP"),
+    "the jump study": ("JUMP-LOW", "JUMP-XI0", "JUMP-XI1", "JUMP-FLUCT"),
+    "the backlash jumps": ("JUMP-057", "JUMP-082", "JUMP-095"),
+    "Table 4": ("T4-1", "T4-2", "T4-3", "T4-4", "T4-5"),
+}
+DEFAULT_READING = "the default reading"
+
+
+def one_reading(claims: Sequence[Finding]) -> tuple[str, list[bool]]:
+    """The one reading of a group of claims under which most of them hold, and which hold under it.
+
+    The candidates are the default reading (the claims reproduced there), each reading a claim of the group
+    was confirmed under (the claims confirmed under exactly that reading) and the reading chosen for the
+    whole table (the claims that hold under it).  A claim counts under a reading only where it was confirmed
+    under that reading, so the count is a lower bound.
+
+    Parameters
+    ----------
+    claims : sequence of Finding
+        One group.
+
+    Returns
+    -------
+    (str, list of bool)
+        The reading (:data:`DEFAULT_READING` on a tie) and, per claim, whether it holds under it.
+    """
+    cands: dict[str, list[bool]] = {DEFAULT_READING: [c.verdict == "reproduced" for c in claims]}
+    for c in claims:
+        if c.verdict == "reproduced under a reading" and c.reading and c.reading not in cands:
+            cands[c.reading] = [d.verdict == "reproduced under a reading" and d.reading == c.reading for d in claims]
+        if c.table_reading:
+            hold = cands.setdefault(c.table_reading, [False] * len(claims))
+            for i, d in enumerate(claims):
+                hold[i] = hold[i] or (d.table_reading == c.table_reading and bool(d.table_holds))
+    best = max(cands, key=lambda r: (sum(cands[r]), r == DEFAULT_READING))
+    return best, cands[best]
+
+
+def one_reading_totals(claims: Sequence[Finding]) -> dict[str, Any]:
+    """Totals with one reading per table or study (:data:`CLAIM_GROUPS`), the reading chosen per group.
+
+    Returns
+    -------
+    dict
+        ``reproduced`` (at the default reading), ``reproduced under the group's reading``, ``not reproduced``
+        (contradicted, or confirmed only under another reading than the group's), ``not testable``, and
+        ``groups``: group name → (reading, claims holding, claims).
+    """
+    ids = {c.id: c for c in claims}
+    groups: list[tuple[str, list[Finding]]] = []
+    seen: set[str] = set()
+    for name, members in CLAIM_GROUPS.items():
+        group = [ids[m] for m in members if m in ids]
+        if group:
+            groups.append((name, group))
+            seen |= {c.id for c in group}
+    groups += [(c.id, [c]) for c in claims if c.id not in seen]
+    out: dict[str, Any] = {
+        "reproduced": 0,
+        "reproduced under the group's reading": 0,
+        "not reproduced": 0,
+        "not testable": 0,
+        "groups": {},
+    }
+    for name, group in groups:
+        reading, holds = one_reading(group)
+        for c, h in zip(group, holds, strict=True):
+            if c.verdict == "not testable":
+                out["not testable"] += 1
+            elif h:
+                out["reproduced" if reading == DEFAULT_READING else "reproduced under the group's reading"] += 1
+            else:
+                out["not reproduced"] += 1
+        out["groups"][name] = (reading, sum(holds), len(group))
+    return out
+
+
+def one_reading_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
+    """``"Totals under one reading per table or study (26 claims, 10 groups): …"``, said before the per-claim
+    totals (:func:`totals_text`)."""
+    t = one_reading_totals(claims)
+    counts = ", ".join(f"{t[k]} {k}" for k in ("reproduced", "reproduced under the group's reading", "not reproduced"))
+    counts += f", {t['not testable']} not testable"
+    where = f" of this {RUN_NAMES.get(run.kind, run.kind)}" if run is not None and run.reduced else ""
+    head = f"Totals{where} under one reading per table or study ({len(claims)} claims, {len(t['groups'])} groups)"
+    return f"{head}: {counts}."
+
+
+def one_reading_details(claims: Sequence[Finding]) -> str:
+    """The reading chosen for each group of several claims, in one paragraph."""
+    t = one_reading_totals(claims)
+    parts = [f"{name}: {reading} ({k} of {n})" for name, (reading, k, n) in t["groups"].items() if n > 1]
+    return "One reading per group: " + "; ".join(parts) + "." if parts else ""
+
+
 #: Column headers of the summary table.
 SUMMARY_COLUMNS = ("id", "source", "paper says", "we find", "verdict", "deciding evidence")
 
@@ -287,7 +391,11 @@ def render_markdown(
     out += [
         "## Claims and verdicts",
         "",
-        totals_text(claims, run),
+        f"**{one_reading_text(claims, run)}**",
+        "",
+        one_reading_details(claims),
+        "",
+        "Per claim, each under its own nearest reading: " + totals_text(claims, run),
         "",
         "| " + " | ".join(SUMMARY_COLUMNS) + " |",
         "|" + "---|" * len(SUMMARY_COLUMNS),
@@ -424,7 +532,9 @@ def render_html(
             )
     out += [f"<p>{e(p)}</p>" for p in intro]
     out.append("<h2>Claims and verdicts</h2>")
-    out.append(f"<p class='totals'><b>{e(totals_text(claims, run))}</b></p>")
+    out.append(f"<p class='totals'><b>{e(one_reading_text(claims, run))}</b></p>")
+    out.append(f"<p>{e(one_reading_details(claims))}</p>")
+    out.append(f"<p class='totals'>Per claim, each under its own nearest reading: {e(totals_text(claims, run))}</p>")
     out.append("<table class='summary'><tr>" + "".join(f"<th>{e(h)}</th>" for h in SUMMARY_COLUMNS) + "</tr>")
     for c in claims:
         out.append(
@@ -502,7 +612,13 @@ def write_report(
     atomic_write_bytes(paths["html"], render_html(title, intro, sections, d, labels, run).encode())
     atomic_write_bytes(paths["claims"], json.dumps(claims, indent=2, default=str).encode())
     if run is not None:
-        meta = {"run": asdict(run), "totals": totals_text([c for s in sections for c in s.claims], run), **(meta or {})}
+        every = [c for s in sections for c in s.claims]
+        meta = {
+            "run": asdict(run),
+            "totals_one_reading": one_reading_text(every, run),
+            "totals": totals_text(every, run),
+            **(meta or {}),
+        }
     if meta:
         paths["meta"] = d / "run.json"
         atomic_write_bytes(paths["meta"], json.dumps(meta, indent=2, default=str).encode())

@@ -37,6 +37,7 @@ KINDS = VERDICTS
 __all__ = [
     "FORMULA_R2_PARTLY",
     "FORMULA_R2_REPRODUCED",
+    "distinct_text",
     "MATCH_PARTLY",
     "MATCH_REPRODUCED",
     "STABILITY_REL",
@@ -285,6 +286,29 @@ def fluctuation_trend(values: Sequence[float], decreasing: bool) -> tuple[bool, 
     return ok, ("strictly " + ("decreasing" if decreasing else "increasing")) if ok else (
         "not strictly " + ("decreasing" if decreasing else "increasing")
     )
+
+
+def distinct_text(values: Sequence[float], decimals: int = 3) -> list[str]:
+    """The values with at least ``decimals`` decimals, and as many more as it takes for unequal neighbours to
+    print unequal (a trend judged on the values is seen in their text: 0.0085, 0.0091, 0.0094, not 0.008,
+    0.009, 0.009).
+
+    Parameters
+    ----------
+    values : sequence of float
+    decimals : int
+        The fewest decimals.
+
+    Returns
+    -------
+    list of str
+    """
+    v = [float(x) for x in values]
+    for d in range(decimals, 17):
+        t = [f"{x:.{d}f}" for x in v]
+        if all(t[i] != t[i + 1] or v[i] == v[i + 1] for i in range(len(v) - 1)):
+            return t
+    return [repr(x) for x in v]
 
 
 def jump_type_at(jumps: Sequence[Mapping[str, object]], omega: float, tol: float) -> str:

@@ -29,6 +29,20 @@ def _param(ds: xr.Dataset) -> str:
     return str(ds.attrs.get("param", [d for d in ds["motion"].dims if d != "sweep"][0]))
 
 
+#: A sweep of at most this many values, or of unequal steps, is a set of separate settings (Table 3's three
+#: backlash values): drawn as separate cells and markers, not joined by bands and lines.
+DISCRETE_MAX = 12
+
+
+def is_discrete(x: np.ndarray) -> bool:
+    """Whether the values of a sweep are separate settings rather than a grid (few, or unequally spaced)."""
+    x = np.asarray(x, dtype=float)
+    if x.size <= 1:
+        return True
+    d = np.diff(x)
+    return x.size <= DISCRETE_MAX or not np.allclose(d, d[0], rtol=1e-6, atol=0.0)
+
+
 def category_band(ax, x: np.ndarray, codes: np.ndarray, colors: dict[int, str], names: dict[int, str], title: str):
     """A one-row categorical strip of ``codes`` against ``x`` with a legend of the codes present.
 
@@ -53,11 +67,14 @@ def category_band(ax, x: np.ndarray, codes: np.ndarray, colors: dict[int, str], 
     keys = sorted(colors)
     cmap = ListedColormap([colors[k] for k in keys])
     idx = np.array([keys.index(int(c)) if int(c) in keys else 0 for c in codes])[None, :]
-    if x.size > 1:
-        edges = np.concatenate([[x[0] - 0.5 * (x[1] - x[0])], 0.5 * (x[1:] + x[:-1]), [x[-1] + 0.5 * (x[-1] - x[-2])]])
+    if is_discrete(x):  # separate settings: one cell per value, with gaps between them
+        half = 0.3 * (float(np.min(np.diff(np.sort(x)))) if x.size > 1 else 1.0)
+        mesh = None
+        for xi, k in zip(x, idx[0], strict=True):
+            mesh = ax.bar(xi, 1.0, width=2 * half, bottom=0.0, color=cmap(int(k)), lw=0)
     else:
-        edges = np.array([x[0] - 0.5, x[0] + 0.5])
-    mesh = ax.pcolormesh(edges, [0, 1], idx, cmap=cmap, vmin=-0.5, vmax=len(keys) - 0.5, shading="flat")
+        edges = np.concatenate([[x[0] - 0.5 * (x[1] - x[0])], 0.5 * (x[1:] + x[:-1]), [x[-1] + 0.5 * (x[-1] - x[-2])]])
+        mesh = ax.pcolormesh(edges, [0, 1], idx, cmap=cmap, vmin=-0.5, vmax=len(keys) - 0.5, shading="flat")
     ax.set_yticks([])
     ax.set_ylabel(title, rotation=0, ha="right", va="center", fontsize=8)
     present = sorted({int(c) for c in codes})
@@ -130,16 +147,20 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
         ax.scatter(
             xx.ravel(),
             pu.ravel(),
-            s=POINT_SIZE,
+            s=12 if is_discrete(x) else POINT_SIZE,
             color=SWEEP_COLORS.get(s, "k"),
             lw=0,
             label=f"sweep {s}" if len(sweeps) > 1 or s != "fixed" else "Poincaré points",
         )
-    lines = contact_lines(ax, ds, name, x, lw=0.7, ls="--")
+    if is_discrete(x) and name in ("D", "backlash", "b"):  # u = ±D at each setting, not a line joining them
+        lines = [ax.plot(x, sgn * x, "_", color="0.6", ms=14, mew=1.2, gid="contact")[0] for sgn in (1, -1)]
+    else:
+        lines = contact_lines(ax, ds, name, x, lw=0.7, ls="--")
     if lines:
         lines[0].set_label(of_mesh("contact u = ±D", ds))
     ax.set_ylabel(of_mesh("Poincaré section u (θ ≡ 0)", ds))
-    ax.legend(loc="best", fontsize=8, markerscale=8)  # where it covers the fewest Poincaré points
+    # where it covers the fewest Poincaré points (their dots enlarged in the legend on a dense grid)
+    ax.legend(loc="best", fontsize=8, markerscale=1 if is_discrete(x) else 8)
     mode = ds.attrs.get("mode", "")
     set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds, exclude=[name])
     rpm_axis(ax, ds, name)
@@ -151,6 +172,9 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
                 lle = ds["lle"].sel(sweep=s).values
                 err = ds["lle_err"].sel(sweep=s).values if "lle_err" in ds else None
                 c = SWEEP_COLORS.get(s, "k")
+                if is_discrete(x):  # separate settings: markers with their ±3σ bars, nothing joining them
+                    ax2.errorbar(x, lle, yerr=None if err is None else 3 * err, fmt="o", color=c, ms=4, capsize=3)
+                    continue
                 ax2.plot(x, lle, ".-", color=c, ms=3, lw=0.7)
                 if err is not None:
                     ax2.fill_between(x, lle - 3 * err, lle + 3 * err, color=c, alpha=0.15, lw=0)

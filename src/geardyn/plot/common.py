@@ -203,8 +203,12 @@ def label(da: xr.DataArray, fallback: str | None = None) -> str:
     -------
     str
     """
-    name = da.attrs.get("long_name", fallback or str(da.name))
+    from .axis_units import IN_B_C, subscripts
+
+    name = subscripts(str(da.attrs.get("long_name", fallback or str(da.name))))
     units = da.attrs.get("units")
+    if units == "1" and str(da.name) in IN_B_C:  # a displacement of the non-dimensional model: in units of b_c
+        return f"{name} [b_c]"
     return f"{name} [{units}]" if units and units != "1" else name
 
 
@@ -510,8 +514,8 @@ def log_stems(ax: Axes, x: np.ndarray, amp: np.ndarray) -> None:
     axis for a line spectrum, one line for a dense (broadband) one.
 
     The floor is the decade under that of the smallest amplitude within six decades of the peak (at lowest the
-    decade six decades under the peak); components below it (the rounding between the harmonics of a periodic response) are
-    not drawn.  A spectrum with more
+    decade six decades under the peak); components below it (the rounding between the harmonics of a periodic
+    response) are not drawn.  A spectrum with more
     than :data:`STEM_MAX` components above the floor is drawn as a line: stems that close together would fill the
     axis down to the floor like bars.
 

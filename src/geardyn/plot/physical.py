@@ -8,6 +8,7 @@ and ``long_name`` attributes.
 from __future__ import annotations
 
 import json
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -36,6 +37,14 @@ LEGEND_CURVES = 4
 #: Most curves :func:`rpm_curve` draws: of more rows, this many evenly spaced ones are drawn (the first
 #: and the last among them; the title says so), since hundreds of overlapping marked lines show no more.
 MAX_CURVES = 32
+
+
+def _pair_title(ax: Axes, text: str, ds: xr.Dataset, *args: Any, **kwargs: Any) -> Any:
+    """:func:`~geardyn.plot.common.set_title` with the gear pair whose scales the physical values were drawn with
+    (a result rescaled with ``geardyn plot --physical --config`` names the pair it was rescaled to)."""
+    sc = json.loads(ds.attrs.get("physical_scales", "{}") or "{}")
+    name = sc.get("title") if isinstance(sc, dict) else None
+    return set_title(ax, f"{text} — {name}" if name else text, ds, *args, **kwargs)
 
 
 @plot_function(
@@ -72,7 +81,7 @@ def time_history(ds: xr.Dataset, ax: Axes = None) -> None:
     title = f"{summ.get('rpm', float('nan')):.6g} rpm"
     if summ.get("dynamic_factor") is not None:
         title += f", dynamic factor {summ['dynamic_factor']:.3g}"
-    set_title(a1, title, ds)
+    _pair_title(a1, title, ds)
 
 
 @plot_function("simulate", (7, 4))
@@ -88,7 +97,7 @@ def spectrum_hz(ds: xr.Dataset, ax: Axes = None) -> None:
         hz_per_order = f[1] / order[1]
         sec = ax.secondary_xaxis("top", functions=(lambda x: x / hz_per_order, lambda o: o * hz_per_order))
         sec.set_xlabel("order of the mesh frequency")
-    set_title(ax, ds["spectrum_um"].attrs.get("long_name", "Amplitude spectrum of the DTE"), ds)
+    _pair_title(ax, ds["spectrum_um"].attrs.get("long_name", "Amplitude spectrum of the DTE"), ds)
 
 
 def rpm_curve_variable(ds: xr.Dataset) -> str | None:
@@ -144,7 +153,7 @@ def rpm_curve(ds: xr.Dataset, name: str | None = None, ax: Axes = None) -> None:
     what = da.attrs.get("long_name", name)
     title = f"{what[:1].upper()}{what[1:]} against pinion speed"
     if not others:
-        set_title(ax, title, ds, exclude=[dim, "omega"])
+        _pair_title(ax, title, ds, exclude=[dim, "omega"])
         ax.plot(rpm.values, da.values, ".-", ms=4, lw=0.8)
         return
     flat = da.stack(_line=others).transpose(dim, "_line")
@@ -153,7 +162,7 @@ def rpm_curve(ds: xr.Dataset, name: str | None = None, ax: Axes = None) -> None:
     if drawn.size < count:
         rows = f"{symbol(others[0])} values" if len(others) == 1 else "curves"
         title += f" ({drawn.size} of {count} {rows}, evenly spaced)"
-    set_title(ax, title, ds, exclude=[dim, "omega", *others])
+    _pair_title(ax, title, ds, exclude=[dim, "omega", *others])
     x, lines = rpm.values, flat.values  # read once (a lazily opened file is read again at every access)
     values = [np.atleast_1d(v) for v in flat["_line"].values]
     colour_by = (
@@ -163,16 +172,30 @@ def rpm_curve(ds: xr.Dataset, name: str | None = None, ax: Axes = None) -> None:
         z = np.asarray(flat[others[0]].values, dtype=float)
         mappable = ScalarMappable(Normalize(np.nanmin(z), np.nanmax(z)), "viridis")
     for i in drawn:
-        lab = ", ".join(
-            f"{symbol(k)} = {v:.4g}" if isinstance(v, (int, float, np.number)) else f"{k} = {v}"
-            for k, v in zip(others, values[i])
-        )
+        lab = _curve_label(others, values[i])
         colour = mappable.to_rgba(z[i]) if colour_by else f"C{i % 10}"
-        ax.plot(x, lines[:, i], ".-", ms=4, lw=0.8, color=colour, label=lab if count <= LEGEND_CURVES else None)
+        ax.plot(
+            x, lines[:, i], ".-", ms=4, lw=0.8, color=colour, label=(lab or None) if count <= LEGEND_CURVES else None
+        )
     if colour_by:
         ax.figure.colorbar(mappable, ax=ax, label=label(ds[others[0]], others[0]))
-    elif count <= LEGEND_CURVES:
+    elif count <= LEGEND_CURVES and ax.get_legend_handles_labels()[1]:
         ax.legend(fontsize=8, loc="best")
+
+
+def _curve_label(dims: list[str], values: Any) -> str:
+    """A curve's legend entry from the values of its other dimensions: ``ξ0 = 0.1``, ``sweep up``; a fixed sweep
+    (one curve, no direction) is no name at all."""
+    parts = []
+    for k, v in zip(dims, values, strict=False):
+        if k == "sweep":
+            if str(v) != "fixed":
+                parts.append(f"sweep {v}")
+        elif isinstance(v, (int, float, np.number)):
+            parts.append(f"{symbol(k)} = {v:.4g}")
+        else:
+            parts.append(f"{k} = {v}")
+    return ", ".join(parts)
 
 
 @plot_function("response", (8.5, 4.8))
@@ -199,7 +222,7 @@ def response_rpm(ds: xr.Dataset, ax: Axes = None) -> None:
     sc = json.loads(ds.attrs.get("physical_scales", "{}"))
     k0 = sc.get("k0_N_per_m")
     k0_text = f" (k0 = {k0 * 1e-6:.4g} N/µm{', assumed' if 'k0' in sc.get('assumed', []) else ''})" if k0 else ""
-    set_title(
+    _pair_title(
         ax,
         "Frequency response against pinion speed"
         + k0_text

@@ -99,7 +99,7 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
     if one:
         place_labels(drawn[0], ends)
         drawn[0].set_xlabel("mesh frequency ω = ω_e/ω_n")
-        drawn[0].set_ylabel("amplitude (half peak-to-peak of u)")
+        drawn[0].set_ylabel("amplitude (half peak-to-peak of u) [b_c]")
     else:
         drawn[0].legend(fontsize=7, loc="upper left")
         cols = drawn[0].get_gridspec().ncols if drawn[0].get_gridspec() is not None else 1
@@ -107,7 +107,7 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
             if k >= len(drawn) - cols:
                 x.set_xlabel("ω = ω_e/ω_n")
             if k % cols == 0:
-                x.set_ylabel("amplitude (½ p-p of u)")
+                x.set_ylabel("amplitude (½ p-p of u) [b_c]")
     head = f"Amplitude formula fit: R² = {float(ds.attrs['r2']):.3f} (markers: computed, lines: fit)"
     params = parameter_text(ds, exclude=["omega", "xi0", "D"])
     if one:
@@ -203,7 +203,7 @@ def _zoom_on_jumps(zoom: Axes, w: np.ndarray, amp: np.ndarray, firsts: list[dict
         zoom.set_ylim(float(vals.min()) - pad, float(vals.max()) + pad)
     zoom.set_xlim(lo, hi)
     zoom.set_title("zoom on the first upward jumps (up sweeps)", fontsize=9)
-    zoom.set_ylabel("amplitude", fontsize=8)
+    zoom.set_ylabel("amplitude [b_c]", fontsize=8)
     zoom.grid(alpha=0.3)
 
 
@@ -429,7 +429,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     handles, _ = amp_ax.get_legend_handles_labels()
     amp_ax.legend(handles=handles + proxies, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     end_labels(amp_ax, ends)
-    amp_ax.set_ylabel("amplitude (half peak-to-peak of u)")
+    amp_ax.set_ylabel("amplitude (half peak-to-peak of u) [b_c]")
     amp_ax.grid(alpha=0.3)
     set_title(amp_ax, f"Frequency responses compared over {symbol(param)}", ds, exclude=["omega", param])
     if fl_ax is not None:

@@ -166,7 +166,10 @@ def register_all(register, FigureSpec, bifurcation, response, maps, basins) -> N
     def has(name):
         return lambda ds: name in ds
 
-    register("simulate", FigureSpec("element_deflections", element_deflections, when=has("delta")))
+    register(  # beside the reference mesh's time history where there are several elements
+        "simulate",
+        FigureSpec("element_deflections", element_deflections, when=lambda ds: ds.sizes.get("element", 0) > 1),
+    )
     register(
         "lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum, when=lambda ds: ds.sizes.get("exponent", 0) > 2)
     )

@@ -85,7 +85,13 @@ PIPELINE = 2
 #: temporaries of chunks run on several threads do not stay resident in per-thread heaps.
 MMAP_THRESHOLD = 64 * 1024
 #: Modules the local worker processes import before they are forked (forkserver start method).
-POOL_PRELOAD = ("geardyn.integrate", "geardyn.sweep", "geardyn.analysis.steady", "geardyn.analysis.bifurcation")
+POOL_PRELOAD = (
+    "geardyn._forkserver_quiet",
+    "geardyn.integrate",
+    "geardyn.sweep",
+    "geardyn.analysis.steady",
+    "geardyn.analysis.bifurcation",
+)
 
 Finished = Callable[[object, dict], None]
 
@@ -366,10 +372,29 @@ def _pool_context():
     return multiprocessing.get_context("spawn")
 
 
-def _start_forkserver() -> None:
-    with _sigint_ignored():  # the server, and so every worker forked from it, ignores SIGINT
-        from multiprocessing import forkserver
+@contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    """Block SIGINT in this thread while the block runs (any thread): a process started meanwhile inherits the
+    blocked signal from its first instruction (its interpreter's start-up included) and never sees a Ctrl-C."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
+
+def _start_forkserver() -> None:
+    """Start the fork server with SIGINT blocked (and ignored where this is the main thread): the server, its
+    interpreter's start-up and imports, and every worker forked from it never see the terminal's Ctrl-C; the
+    main process handles it and stops them.  The resource tracker is started first (its own start unblocks
+    SIGINT in this thread)."""
+    from multiprocessing import forkserver, resource_tracker
+
+    resource_tracker.ensure_running()
+    with _sigint_ignored(), _sigint_blocked():
         forkserver.ensure_running()
 
 

@@ -11,7 +11,7 @@
   Campbell diagrams (:func:`modal_analysis`, :func:`campbell`, :func:`modes_report`).
 """
 
-from .assemble import MeshND, Scaling, SystemArrays, SystemModel, assemble
+from .assemble import MeshND, SystemArrays, SystemModel, assemble
 from .description import DOFS, Body, Clearance, Connection, Load, Mesh, SystemDescription
 from .load import load_description, load_system
 from .modes import ModalResult, campbell, modal_analysis, modes_report
@@ -27,7 +27,6 @@ __all__ = sorted(
         "Mesh",
         "SystemDescription",
         "MeshND",
-        "Scaling",
         "SystemArrays",
         "SystemModel",
         "assemble",

@@ -69,14 +69,16 @@ import numpy as np
 
 from .._docfill import attributes
 from ..errors import ModelError
-from ..model import Boundary, stiffness_minimum
+from ..geometry.scales import Scales
+from ..model import Boundary
+from ..pairpack import stiffness_minimum
 from ..params import MAX_HARMONICS, canonical_param, slot
 from ..system import Element
 from . import elements as _el
 from .balance import check_balance
 from .description import Mesh, SystemDescription
 
-__all__ = ["MeshND", "Scaling", "SystemArrays", "SystemModel", "assemble"]
+__all__ = ["MeshND", "SystemArrays", "SystemModel", "assemble"]
 
 #: Largest denominator tried when reading a mesh-frequency ratio as a fraction.
 MAX_RATIO_DENOMINATOR = 1000
@@ -153,40 +155,6 @@ class MeshND:
                 c[i, j0 + 1, 0] = scale * a * math.cos(ph)
                 c[i, j0 + 1, 1] = -scale * a * math.sin(ph)
         return c
-
-
-@dataclass(frozen=True)
-@attributes
-class Scaling:
-    """The scales between the physical and the non-dimensional system."""
-
-    #: Reference mesh.
-    reference: str
-    #: Its mean stiffness (N/m), equivalent mass (kg), ω_n (rad/s), and the characteristic length (m).
-    k_ref: float
-    m_ref: float
-    omega_n: float
-    b_c: float
-    #: Per-DOF scale: q_i = s_i q̃_i (m, or rad).
-    s: tuple[float, ...]
-    #: Teeth of the reference mesh's pinion (rpm ↔ ω).
-    teeth: int | None
-
-    @property
-    def force_scale(self) -> float:
-        """k_ref b_c (N)."""
-        return self.k_ref * self.b_c
-
-    def omega_from_rpm(self, rpm: float) -> float:
-        """ω = 2π z rpm / (60 ω_n) with z the reference pinion's teeth."""
-        if self.teeth is None:
-            raise ModelError(f"mesh {self.reference!r}: teeth: needed to convert a speed in rpm to ω")
-        return 2.0 * math.pi * self.teeth * rpm / 60.0 / self.omega_n
-
-    def rpm_from_omega(self, omega: float) -> float:
-        if self.teeth is None:
-            raise ModelError(f"mesh {self.reference!r}: teeth: needed to convert ω to a speed in rpm")
-        return omega * self.omega_n * 60.0 / (2.0 * math.pi * self.teeth)
 
 
 class SystemArrays(NamedTuple):
@@ -268,8 +236,9 @@ class SystemModel:
         Mean loads.
     omega : float
         Base frequency ω = ω_e/ω_n (> 0).
-    scaling : Scaling
-        The scales (m_ref, k_ref, ω_n, b_c, reference mesh) linking to SI units.
+    scaling : Scales
+        The scales linking to SI units: those of the reference mesh (k0, m_e, ω_n, b_c, its pinion's teeth),
+        and the scale of every DOF (:class:`~geardyn.geometry.scales.Scales`, the pair's kind of scales).
     clearance_names : tuple of str
         Names of the clearance elements.
     Vc : ndarray (clearances, n)
@@ -308,7 +277,7 @@ class SystemModel:
     meshes: tuple[MeshND, ...]
     F: np.ndarray
     omega: float
-    scaling: Scaling
+    scaling: Scales
     clearance_names: tuple[str, ...] = ()
     Vc: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     kc: tuple[float, ...] = ()
@@ -512,6 +481,24 @@ class SystemModel:
         """Mean trace of the Jacobian over a forcing period, :func:`geardyn.systems.elements.mean_trace`."""
         return _el.mean_trace(self)
 
+    def hb_form(self, period: int = 1) -> Any:
+        """The equation for harmonic balance in mesh-vector form (:func:`geardyn.analysis.hb.form.system_form`)."""
+        from ..analysis.hb.form import system_form
+
+        return system_form(self, period)
+
+    def element_forces(self, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
+        """The mesh forces (K, meshes) in units k_ref b_c, :func:`geardyn.systems.report.mesh_forces`."""
+        from .report import mesh_forces
+
+        return mesh_forces(self, tau, deltas)
+
+    def static_force(self) -> float:
+        """The reference mesh's static force, :func:`geardyn.systems.report.static_mesh_forces`."""
+        from .report import static_mesh_forces
+
+        return float(static_mesh_forces(self)[self.reference])
+
     def report(
         self, res: Any = None, point: int = 0, tau: Any = None, deltas: Any = None, extrema: Any = None
     ) -> dict[str, Any]:
@@ -611,9 +598,7 @@ class SystemModel:
         import json
 
         d = json.loads(text)
-        sc = d.pop("scaling")
-        sc["s"] = tuple(sc["s"])
-        d["scaling"] = Scaling(**sc)
+        d["scaling"] = Scales.from_json(json.dumps(d.pop("scaling")))
         d["meshes"] = tuple(MeshND(**m) for m in d["meshes"])
         d["labels"] = tuple(d["labels"])
         d["clearance_names"] = tuple(d["clearance_names"])
@@ -706,7 +691,17 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     omega_n = math.sqrt(k_ref / m_ref)
     b_c = desc.b_c
     s = _dof_scales(desc, b_c)
-    scaling = Scaling(ref.name, k_ref, m_ref, omega_n, b_c, tuple(float(x) for x in s), ref.teeth)
+    scaling = Scales.of_reference_mesh(
+        ref.name,
+        k_ref,
+        m_ref,
+        b_c,
+        tuple(float(x) for x in s),
+        ref.teeth,
+        D=ref.backlash / 2.0 / b_c,
+        title=desc.title or "system",
+        source=str(desc.source or ""),
+    )
     S = np.diag(s)
     Kb, Cb = desc.bearing_matrices()
     den = k_ref * b_c**2

@@ -91,7 +91,7 @@ def check_balance(model: Any, desc: Any) -> None:
     F = np.asarray(model.F)
     if not R.shape[1] or np.linalg.norm(F @ R) <= LOAD_RTOL * np.linalg.norm(np.abs(F) @ np.abs(R)):
         return
-    s = np.asarray(model.scaling.s)
+    s = np.asarray(model.scaling.dof_scales)
     phi = s[:, None] * R  # the motions in SI coordinates (m, rad)
     F = desc.load_vector()  # SI
     M = desc.mass_matrix()

@@ -54,7 +54,7 @@ def _finite(what: str, value, unit: str = "") -> float:
 
 
 def _positive(kappa: tuple[float, ...], phi_k: tuple[float, ...]) -> bool:
-    from ..model import stiffness_minimum
+    from ..pairpack import stiffness_minimum
 
     return stiffness_minimum(kappa, phi_k) > 0.0
 
@@ -267,7 +267,7 @@ class Mesh(_AlongVector):
     #: P, the mesh cycles of the series' period (an excitation table over a tooth fault or the hunting
     #: period, :mod:`geardyn.tooth.table`): with P > 1 the harmonics of ``kappa``, ``e`` and the damping
     #: are of θ_m/P (member j is mesh order j/P), and the stiffness must stay positive (Σ|κ| < 1 or a
-    #: certified minimum > 0, :func:`geardyn.model.stiffness_minimum`).
+    #: certified minimum > 0, :func:`geardyn.pairpack.stiffness_minimum`).
     cycles: int = 1
     #: An excitation file (:func:`geardyn.tooth.table.read_table`) giving ``stiffness``, ``kappa``, ``phi_k``,
     #: ``e``, ``phi_e`` and ``cycles`` (then not given); damping harmonic k (mesh order k) becomes member k·P.

@@ -45,6 +45,8 @@ __all__ = ["ModalResult", "campbell", "modal_analysis", "modes_report"]
 
 #: Relative tolerance (on ω²/max ω²) below which a mode is a rigid-body mode.
 RIGID_RTOL = 1e-9
+#: The groups of a gearbox's strain energy, by element kind.
+_GROUPS = {"shaft": "shafts", "bearing": "bearings", "coupling": "couplings", "mesh": "meshes"}
 #: Relative tolerance for two frequencies to count as one repeated (degenerate) frequency.
 DEGENERATE_RTOL = 1e-6
 
@@ -124,6 +126,79 @@ def _element_stiffness(desc: SystemDescription, clearances: str) -> tuple[list[s
     return names, mats, meshes
 
 
+#: Memory a modal analysis may take (bytes): its dense matrices (one stiffness matrix per element, K, M and the
+#: mode shapes) and the report's table of mode shapes.
+MODES_MEMORY_BUDGET = 2.0e9
+
+
+def modes_budget(desc: SystemDescription, clearances: str = "contact") -> float:
+    """The memory a modal analysis of ``desc`` takes, refused above :data:`MODES_MEMORY_BUDGET` before it starts.
+
+    n DOFs and E elements: E + 3 dense n × n matrices of 8 bytes, and n² mode-shape entries in the report
+    (about 100 bytes each).
+
+    Returns
+    -------
+    float
+        The estimate (bytes).
+
+    Raises
+    ------
+    ModelError
+        ``system: a modal analysis of n DOFs and E elements would need X GB, above the budget of 2 GB``.
+    """
+    from ..plausible import budget
+
+    n = len(desc.labels)
+    elements = len(desc.connections) + len(desc.meshes) + (len(desc.clearances) if clearances == "contact" else 0)
+    estimate = (elements + 3) * n * n * 8.0 + n * n * 100.0
+    budget(
+        f"a modal analysis of {n} DOFs and {elements} elements (dense matrices)",
+        estimate,
+        MODES_MEMORY_BUDGET,
+        key="system",
+    )
+    return estimate
+
+
+def modes_budget_of_file(path: Any) -> None:
+    """The budget of :func:`modes_budget` checked on a system file's own tables before the file is loaded (its
+    units parsed, its bodies built: about 15 ms per body): the DOFs its ``[[body]]`` tables list and its
+    ``[[connection]]``, ``[[mesh]]`` and ``[[clearance]]`` elements, a lower bound of the loaded system's.
+    A file that cannot be read this way is left to the loader, which says what is wrong with it.
+
+    Parameters
+    ----------
+    path : str or Path
+        The system file.
+
+    Raises
+    ------
+    ModelError
+        As :func:`modes_budget`.
+    """
+    import tomllib
+
+    from ..plausible import budget
+
+    try:
+        with open(path, "rb") as f:
+            data = tomllib.load(f)
+        bodies = data.get("body", [])
+        n = sum(len(b.get("dofs", ())) for b in bodies if isinstance(b, dict) and isinstance(b.get("dofs"), list))
+        elements = sum(
+            len(data.get(k, [])) for k in ("connection", "mesh", "clearance") if isinstance(data.get(k), list)
+        )
+    except (OSError, ValueError, TypeError, AttributeError):
+        return
+    budget(
+        f"a modal analysis of {n} DOFs and {elements} elements (dense matrices)",
+        (elements + 3) * n * n * 8.0 + n * n * 100.0,
+        MODES_MEMORY_BUDGET,
+        key="system",
+    )
+
+
 def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> ModalResult:
     """Natural frequencies, M-orthonormal mode shapes and strain-energy fractions at mean stiffness.
 
@@ -148,6 +223,7 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> Moda
     J. Lin, R. G. Parker, J. Vib. Acoust. 121 (1999) 316–321 (the published natural frequencies and
     mode types of a planetary gear, which this analysis reproduces).
     """
+    modes_budget(desc, clearances)
     M = desc.mass_matrix()
     names, mats, meshes = _element_stiffness(desc, clearances)
     K = np.sum(mats, axis=0) if mats else np.zeros_like(M)
@@ -345,7 +421,10 @@ def modes_report(
         "shape": {dof: value}}``), ``energy_fractions`` (per mode: ``{element: fraction}``),
         ``degenerate`` (groups of mode numbers), ``campbell`` (:func:`campbell`, or ``None`` with a
         ``campbell_note`` when the system has no mesh; a ``campbell_note`` also says when it is drawn
-        against the mesh frequency), ``assumed`` (the assumptions as dicts).
+        against the mesh frequency), ``assumed`` (the assumptions as dicts).  A gearbox
+        (:class:`~geardyn.gearbox.model.GearboxDescription`) adds to each mode ``energy``: its strain-energy
+        fractions grouped as ``shafts``, ``bearings``, ``couplings`` and ``meshes``, and ``gearbox``: the
+        shafts (their nodes and positions, speed ratios) and the exact kinematics.
     """
     res = modal_analysis(desc, clearances)
     dom = res.mesh_dominated
@@ -372,6 +451,14 @@ def modes_report(
         "degenerate": [[i + 1 for i in g] for g in res.degenerate_groups()],
         "assumed": [a.to_dict() for a in desc.assumptions],
     }
+    kinds = getattr(desc, "element_kinds", None)
+    if kinds:  # a gearbox: each mode's strain energy per shaft, bearing, coupling and mesh; the shafts' nodes
+        for m, e in zip(modes, out["energy_fractions"]):
+            grouped: dict[str, dict[str, float]] = {}
+            for name, frac in e.items():
+                grouped.setdefault(_GROUPS.get(kinds.get(name, ""), "others"), {})[name] = frac
+            m["energy"] = grouped
+        out["gearbox"] = desc.gearbox_summary()
     if not desc.meshes:
         out["campbell"] = None
         out["campbell_note"] = "the system has no mesh: no Campbell diagram"

@@ -80,15 +80,16 @@ def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
     return np.stack(out, axis=1) if out else np.zeros((tau.size, 0))
 
 
-def _fractions(fr: np.ndarray) -> dict[str, float | None]:
-    return {"drive": _num(fr[0]), "separation": _num(fr[1]), "back": _num(fr[2])}
+def _fractions(res: Any, e: int, point: int) -> dict[str, float | None]:
+    """The time fractions of element e's law counters at one point, by the law's names."""
+    return {name: _num(f[point]) for name, f in res.law_fractions(e).items()}
 
 
 def _mesh_entries(
     model: Any, res: Any, point: int, tau: np.ndarray | None, deltas: np.ndarray | None, extrema: np.ndarray | None
 ) -> list[dict[str, Any]]:
     sc = model.scaling
-    um = sc.b_c * 1e6
+    um = sc.b_c_m * 1e6
     fs = static_mesh_forces(model)
     ok = bool(res.ok[point]) if res is not None else extrema is not None
     force = (
@@ -114,19 +115,19 @@ def _mesh_entries(
             e.update(
                 rms=_num(res.element_rms(i)[point]),
                 mean=_num(res.element_mean(i)[point]),
-                contact_fractions=_fractions(res.element_fractions(i)[point]),
+                contact_fractions=_fractions(res, i, point),
                 dte_min_um=_num(lo * um),
                 dte_max_um=_num(hi * um),
             )
         e["dte_amplitude_um"] = _num(0.5 * (hi - lo) * um)
         if res is not None:
-            e.update(static_force_N=_num(fs[i] * sc.force_scale), dynamic_factor=None)
+            e.update(static_force_N=_num(sc.N_from_force(fs[i])), dynamic_factor=None)
         if force is not None:
             fmax = float(np.max(force[:, i]))
-            e["mesh_force_max_N"] = _num(fmax * sc.force_scale)
+            e["mesh_force_max_N"] = _num(sc.N_from_force(fmax))
             if res is not None:
-                e["mesh_force_min_N"] = _num(np.min(force[:, i]) * sc.force_scale)
-            e["dynamic_factor"] = _num(fmax / fs[i]) if fs[i] > 0 else None
+                e["mesh_force_min_N"] = _num(sc.N_from_force(np.min(force[:, i])))
+            e["dynamic_factor"] = _num(sc.dynamic_factor(fmax, fs[i]))
         elif extrema is not None:
             e.update(mesh_force_max_N=None, dynamic_factor=None)
         out.append(e)
@@ -146,7 +147,7 @@ def _clearance_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]
                 "u_max": _num(hi),
                 "amplitude": _num(0.5 * (hi - lo)),
                 "impact": IMPACT_LABELS[impact_state(lo, model.Dc[c])],
-                "contact_fractions": _fractions(res.element_fractions(e)[point]),
+                "contact_fractions": _fractions(res, e, point),
             }
         )
     return out
@@ -257,14 +258,12 @@ def result_meshes(ds: Any) -> list[dict[str, Any]]:
 
 
 def physical_scales(model: Any) -> Any:
-    """The physical scales of a system's reference mesh, in the form the pair's physical summaries take them.
+    """The physical scales of a system: its :class:`~geardyn.geometry.scales.Scales` (those of its reference mesh)
+    with D the reference element's half gap now, so that :func:`geardyn.analysis.physical.add_physical` and
+    :func:`~geardyn.analysis.physical.physical_json` give a system's results the pair's physical keys (rpm, µm, N).
 
-    :class:`~geardyn.geometry.scales.PhysicalScales` with z1 the reference pinion's teeth, b_c, k_ref, m_ref and
-    ω_n of the system's :class:`~geardyn.systems.assemble.Scaling` and D the reference mesh's half gap, so that
-    :func:`geardyn.analysis.physical.add_physical` and :func:`~geardyn.analysis.physical.physical_json` give a
-    system's results the pair's physical keys (rpm, µm, N).  Without teeth on the reference mesh the speeds are
-    NaN; a system has no single pinion torque (``fp``, ``torque_N_m`` None) and its static force is the
-    reference mesh's (:func:`static_mesh_forces`).
+    Without teeth on the reference mesh the speeds are NaN; a system has no single pinion torque (``fp``,
+    ``torque_N_m`` None) and its static force is the reference mesh's (:func:`static_mesh_forces`).
 
     Parameters
     ----------
@@ -272,50 +271,8 @@ def physical_scales(model: Any) -> Any:
 
     Returns
     -------
-    PhysicalScales
+    Scales
     """
-    from dataclasses import dataclass
+    from dataclasses import replace
 
-    from ..geometry.scales import PhysicalScales
-
-    @dataclass(frozen=True)
-    class SystemScales(PhysicalScales):
-        def rpm_from_omega(self, omega: Any) -> Any:
-            return super().rpm_from_omega(omega) if self.z1 else np.asarray(omega, dtype=float) * np.nan
-
-        def omega_from_rpm(self, rpm: Any) -> Any:
-            if not self.z1:
-                from ..errors import ModelError
-
-                raise ModelError(f"rpm: the reference mesh of {self.title} gives no teeth; give ω (--omega)")
-            return super().omega_from_rpm(rpm)
-
-        def torque_from_fp(self, fp: Any) -> Any:
-            return np.asarray(fp, dtype=float) * np.nan
-
-        def operating_point(self, m: Any) -> dict[str, Any]:
-            return {
-                "omega": float(m.omega),
-                "rpm": _num(self.rpm_from_omega(m.omega)),
-                "mesh_frequency_Hz": float(self.hz_from_omega(m.omega)),
-                "natural_frequency_Hz": self.natural_frequency_Hz,
-                "fp": None,
-                "torque_N_m": None,
-                "static_force_N": _num(static_mesh_forces(m)[m.reference] * m.scaling.force_scale),
-            }
-
-    sc = model.scaling
-    desc = getattr(model, "description", None)
-    return SystemScales(
-        title=getattr(desc, "title", None) or "system",
-        source=str(getattr(desc, "source", "") or ""),
-        z1=int(sc.teeth or 0),
-        b_c_m=sc.b_c,
-        k0_N_per_m=sc.k_ref,
-        m_e_kg=sc.m_ref,
-        omega_n_rad_s=sc.omega_n,
-        R1_m=None,
-        R2_m=None,
-        D=float(model.elements[model.reference].gap),
-        k0_source="reference mesh of the system",
-    )
+    return replace(model.scaling, D=float(model.elements[model.reference].gap))

@@ -25,7 +25,7 @@ P·2π/ω is the sampling period of every analysis (Poincaré sections, shooting
 continuation; a system's HB through its period multiple).  A damping harmonic ξ_k of a base model is
 mesh order k, so it becomes member k·P.  Limits: at most MAX_HARMONICS·P harmonics (mesh orders up to
 64); the stiffness must stay positive: Σ|κ_j| < 1, or, for P > 1, a certified minimum
-(:func:`geardyn.model.stiffness_minimum`).
+(:func:`geardyn.pairpack.stiffness_minimum`).
 
 **Files** (:func:`read_table`, :func:`load_excitation`): the NetCDF that ``geardyn stiffness --out
 FILE.nc`` writes, the CSV/JSON tables of ``geardyn stiffness --table FILE.csv|.json`` (columns or keys
@@ -166,9 +166,6 @@ class Excitation:
         object.__setattr__(self, "cycles", int(P))
         if k.ndim != 1 or k.size < 2 or not np.all(np.isfinite(k)) or np.any(k <= 0):
             raise ModelError("excitation: the stiffness table needs at least 2 finite values > 0")
-        from ..plausible import excitation_table  # the physical range of tables (every file format)
-
-        excitation_table(k, self.ste)
         if self.phase is not None:
             from ..meshtable import check_table
 

@@ -136,6 +136,37 @@ def _phased(
 
 
 def read_table(path: str | Path, *, cycles: int | None = None, points: int | None = None) -> Excitation:
+    """The excitation table of a file (the formats of the module docstring), within the physical ranges of
+    :func:`geardyn.plausible.excitation_table` (stiffness in N/m, STE in m).
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.nc``, ``.csv``, ``.json`` or ``.toml`` (a tooth-pair file).
+    cycles, points : int, optional
+        For a tooth-pair file: mesh cycles and phases per cycle (see :func:`_read_table`).
+
+    Returns
+    -------
+    Excitation
+
+    Raises
+    ------
+    ConfigError
+        For a missing, unreadable or too large file, an unknown suffix, a malformed table or values outside
+        the physical ranges (one line naming the file).
+    """
+    from ..plausible import excitation_table
+
+    exc = _read_table(path, cycles=cycles, points=points)
+    try:
+        excitation_table(exc.stiffness, exc.ste, where="excitation")
+    except ModelError as e:
+        raise ConfigError(f"{path}: {e}") from None
+    return exc
+
+
+def _read_table(path: str | Path, *, cycles: int | None = None, points: int | None = None) -> Excitation:
     """The excitation table of a file (the formats of the module docstring).
 
     Parameters

@@ -294,9 +294,17 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
 
 
 @njit(cache=True)
-def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
-    """∂R/∂ω at fixed coefficients (f_p does not depend on ω; the STE harmonics go as ω²)."""
+def bordered_nu_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, scale):
+    """R and the bordered matrix [[∂R/∂a, scale·∂R/∂ν], [0 … 0]] at ν for the forcing G0 + ν² G2 (centred series of
+    one length; the last row left for the caller)."""
     M = 2 * H + 1
+    Lf = (G0.shape[0] - 1) // 2
+    Fh = np.zeros(M, dtype=np.complex128)
+    G2h = np.zeros(M, dtype=np.complex128)
+    for m in range(-min(H, Lf), min(H, Lf) + 1):
+        Fh[H + m] = G0[Lf + m] + nu * nu * G2[Lf + m]
+        G2h[H + m] = G2[Lf + m]
+    R, J = residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, True)
     c = _to_complex(a, H)
     Lc = (C.shape[0] - 1) // 2
     dRc = np.empty(M, dtype=np.complex128)
@@ -307,45 +315,11 @@ def dR_domega_kernel(a, nu, omega, n, C, Fh, H):
             d = r - l
             if -Lc <= d <= Lc:
                 acc += C[d + Lc] * (1j * (l - H) * c[l])
-        f = Fh[r] if r != H else 0.0
-        dRc[r] = (-2.0 * nu * k**2 * c[r] + acc) / n - 2.0 / omega * f
-    R = _to_real(dRc, H)
-    return R
-
-
-@njit(cache=True)
-def forcing_kernel(omega, fp, eps, phi_e, n, Hm):
-    """Centred coefficients in φ = θ/n (length 2n·Hm + 1) of F = f_p + ω² Σ l² ε_l cos(lθ + φ_el), with the
-    operations of ``GearModel.coefficients`` and ``model_series`` (so the same values)."""
-    L = n * Hm
-    z = np.zeros(2 * L + 1, dtype=np.complex128)
-    z[L] = fp
-    w2 = omega**2
-    for j0 in range(eps.shape[0]):
-        j = j0 + 1
-        sc = w2 * j * j
-        c0 = sc * eps[j0] * math.cos(phi_e[j0])
-        c1 = -sc * eps[j0] * math.sin(phi_e[j0])
-        z[L + n * j] = complex(0.5 * c0, 0.5 * (0.0 - c1))
-        z[L - n * j] = complex(0.5 * c0, 0.5 * (0.0 + c1))
-    return z
-
-
-@njit(cache=True)
-def bordered_omega_kernel(a, omega, n, C, K, fp, eps, phi_e, Hm, D, cos_t, sin_t, H, max_iter, tol, scale):
-    """R and the bordered matrix [[∂R/∂a, scale·∂R/∂ω], [0 … 0]] at ω (the last row left for the caller)."""
-    M = 2 * H + 1
-    F = forcing_kernel(omega, fp, eps, phi_e, n, Hm)
-    Lf = (F.shape[0] - 1) // 2
-    Fh = np.zeros(M, dtype=np.complex128)
-    for m in range(-min(H, Lf), min(H, Lf) + 1):
-        Fh[H + m] = F[Lf + m]
-    nu = omega / n
-    R, J = residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, True)
-    Rw = dR_domega_kernel(a, nu, omega, n, C, Fh, H)
+        dRc[r] = -2.0 * nu * k**2 * c[r] + acc - 2.0 * nu * G2h[r]
+    Rn = _to_real(dRc, H)
     A = np.zeros((M + 1, M + 1))
     for r in range(M):
         for col in range(M):
             A[r, col] = J[r, col]
-        A[r, M] = Rw[r] * scale
+        A[r, M] = Rn[r] * scale
     return R, A

@@ -1,41 +1,19 @@
-"""Alternating frequency/time (AFT) evaluation of the gear equation's terms for harmonic balance.
+"""Fourier coefficients, time samples and the dead zone's exact projection for harmonic balance (``docs/hb.md``).
 
-The unknown is the truncated Fourier series of a period-n response in the slow angle φ = θ/n
-(θ = ω τ the mesh angle), i.e. H harmonics of the frequency ν = ω/n::
+A coordinate's response over the response period is a truncated Fourier series in the slow angle φ::
 
-    u(φ) = a_0 + Σ_{k=1..H} a_k cos(kφ) + b_k sin(kφ)     (real coefficients, vector of length 2H + 1)
+    u(φ) = a_0 + Σ_{k=1..H} a_k cos(kφ) + b_k sin(kφ)     (real coefficients ``[a_0, a_1 … a_H, b_1 … b_H]``)
 
-stored as ``[a_0, a_1 … a_H, b_1 … b_H]``.  Internally the complex coefficients c_k (k = −H … H,
-u = Σ c_k e^{ikφ}) are used: c_0 = a_0, c_{±k} = (a_k ∓ i b_k)/2.
+with the complex coefficients c_0 = a_0, c_{±k} = (a_k ∓ i b_k)/2 used internally (:class:`HarmonicBasis`).
 
-How each term is evaluated
---------------------------
-* The damping, stiffness and forcing series C(θ), K(θ), F(θ) of :meth:`GearModel.coefficients` are
-  trigonometric polynomials; in φ their harmonic j becomes harmonic n·j.  Their products with the
-  truncated u are evaluated exactly by convolution of coefficients (equivalently, by an alias-free
-  AFT with more than 2H + n·H_model samples).
-* The dead zone f(u; D) is where the time grid is needed.  The trigonometric polynomial u is sampled
-  at N equispaced angles φ_j = 2πj/N (see :func:`time_samples`); a change of contact state between
-  two samples (u > D drive-side contact, |u| <= D gap, u < −D back-side contact) brackets a contact
-  switch, which is then located to machine precision by a safeguarded Newton iteration on u(φ) = ±D.
-  On each contact interval the integrand K(θ)(u ∓ D) is again a trigonometric polynomial, so its
-  Fourier coefficients over the interval are integrated in closed form.  The Galerkin projection of
-  K f(u) is therefore exact for the truncated u: there is no aliasing and no quadrature error from
-  the kink of f, and the residual is continuously differentiable in the coefficients (the integrand
-  vanishes at the switches, so moving a switch adds nothing to the derivative).  Its Jacobian is the
-  multiplication (Toeplitz) operator of K(θ)·χ(φ), χ the indicator of contact — the same operator
-  that enters Hill's matrix, so a fold of the HB branch is exactly a Hill exponent at zero.
-
-Number of time samples
-----------------------
-:func:`time_samples` uses N = the smallest power of two with N >= 8(2H + 1) and N >= 64 (FFT-friendly,
-and at least 16 samples per period of the highest retained harmonic).  The samples only serve to
-bracket the switches, so what N must resolve is the shortest contact or gap interval: a switch pair
-closer than the spacing 2π/N is missed only when u just grazes ±D between two samples, i.e. with a
-penetration depth δ <= max|u_φφ| (2π/N)²/8; such a contact lasts O(√δ) and contributes O(δ^{3/2}) =
-O(N^{-3}) to the projection, below the truncation error of the series at that H (see ``docs/hb.md``).
-The grazing events of a continuation are located from the extrema of u (refined by Newton on u_φ = 0),
-not from the samples, so they do not depend on N.
+The dead zone f(u; D) is where a time grid is needed (:func:`dead_zone_terms`): u is sampled at N equispaced angles
+(:func:`time_samples`), a change of contact state between two samples brackets a switch, located to machine
+precision by a safeguarded Newton iteration on u(φ) = ±D; on each contact interval K(θ)(u ∓ D) is a trigonometric
+polynomial whose Fourier coefficients over the interval are integrated in closed form.  The Galerkin projection is
+therefore exact for the truncated u (no aliasing, no quadrature error at the kink), the residual is C¹ and its
+Jacobian is the multiplication operator of K(θ)·χ(φ), χ the indicator of contact — the operator of Hill's matrix.
+N: the smallest power of two with N >= 8(2H + 1) and N >= 64; a switch pair closer than 2π/N is missed only at a
+graze of depth O(N⁻²), which contributes O(N⁻³) (``docs/hb.md``).
 
 References
 ----------
@@ -48,13 +26,13 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
-from ...model import GearModel
 from ._aftkernel import dead_zone_kernel, extrema_kernel
 
-__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "model_series", "dead_zone_terms", "signal_extrema"]
+__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "dead_zone_terms", "signal_extrema"]
 
 #: Samples per retained Fourier coefficient (N >= OVERSAMPLE·(2H + 1)) and the smallest N.
 OVERSAMPLE = 8
@@ -65,16 +43,12 @@ ROOT_TOL = 1e-13
 
 
 def time_samples(H: int, n: int = 1, model_harmonics: int = 0) -> int:
-    """Number N of equispaced samples per response period used to bracket the contact switches.
+    """Number N of equispaced samples per response period bracketing the contact switches.
 
     Parameters
     ----------
-    H : int
-        Harmonics of ν = ω/n retained.
-    n : int
-        Period of the response in forcing periods.
-    model_harmonics : int
-        Largest harmonic of the model's C, K, F series (in θ).
+    H, n, model_harmonics : int
+        Harmonics retained, a factor of ``model_harmonics`` (the series' largest harmonic, in θ).
 
     Returns
     -------
@@ -83,34 +57,6 @@ def time_samples(H: int, n: int = 1, model_harmonics: int = 0) -> int:
     """
     need = max(OVERSAMPLE * (2 * H + 1), 2 * (H + n * model_harmonics) + 1, MIN_SAMPLES)
     return 1 << int(math.ceil(math.log2(need)))
-
-
-def model_series(model: GearModel, n: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Complex Fourier coefficients in φ = θ/n of the damping C, stiffness K and forcing F.
-
-    Parameters
-    ----------
-    model : GearModel
-    n : int
-        Response period in forcing periods.
-
-    Returns
-    -------
-    (C, K, F) : three complex arrays of length 2L + 1, L = n·model.n_harmonics, index m + L holding
-        the coefficient of e^{imφ} (nonzero only for m a multiple of n).
-    """
-    cf = model.coefficients()
-    Hm = cf.shape[1] - 1
-    L = n * Hm
-    out = []
-    for i in range(3):
-        z = np.zeros(2 * L + 1, dtype=complex)
-        z[L] = cf[i, 0, 0]
-        for j in range(1, Hm + 1):
-            z[L + n * j] = 0.5 * (cf[i, j, 0] - 1j * cf[i, j, 1])
-            z[L - n * j] = 0.5 * (cf[i, j, 0] + 1j * cf[i, j, 1])
-        out.append(z)
-    return out[0], out[1], out[2]
 
 
 @dataclass
@@ -146,12 +92,6 @@ class HarmonicBasis:
             W[H + k, k], W[H + k, H + k] = 0.5, -0.5j
             W[H - k, k], W[H - k, H + k] = 0.5, 0.5j
         self.W = W
-        Wi = np.zeros((M, M), dtype=complex)  # a = Wi c (real part)
-        Wi[0, H] = 1.0
-        for k in range(1, H + 1):
-            Wi[k, H + k], Wi[k, H - k] = 1.0, 1.0
-            Wi[H + k, H + k], Wi[H + k, H - k] = 1.0j, -1.0j
-        self.Wi = Wi
         arg = np.multiply.outer(self.phi, np.arange(1, H + 1))
         self.cos_table = np.ascontiguousarray(np.cos(arg))  # cos(kφ_j), k = 1 … H
         self.sin_table = np.ascontiguousarray(np.sin(arg))
@@ -176,31 +116,6 @@ class HarmonicBasis:
         H = self.H
         pos, neg = c[H + 1 :], c[H - 1 :: -1]
         return np.concatenate([[c[H].real], (pos + neg).real, (1j * (pos - neg)).real])
-
-    def real_operator(self, A: np.ndarray) -> np.ndarray:
-        """The real (2H+1)² matrix of a complex operator acting on the c_k of real signals
-        (``Wi @ A @ W`` written out, without a matrix product)."""
-        H = self.H
-        AW = np.empty_like(A)
-        AW[:, 0] = A[:, H]
-        P, Nn = A[:, H + 1 :], A[:, H - 1 :: -1]
-        AW[:, 1 : H + 1] = 0.5 * (P + Nn)
-        AW[:, H + 1 :] = 0.5j * (Nn - P)
-        out = np.empty(A.shape, dtype=float)
-        out[0] = AW[H].real
-        Pr, Nr = AW[H + 1 :], AW[H - 1 :: -1]
-        out[1 : H + 1] = (Pr + Nr).real
-        out[H + 1 :] = (1j * (Pr - Nr)).real
-        return out
-
-    def samples(self, a: np.ndarray) -> np.ndarray:
-        """u(φ_j) at the N time samples (inverse real FFT)."""
-        a = np.asarray(a, dtype=float)
-        H, N = self.H, self.N
-        X = np.zeros(N // 2 + 1, dtype=complex)
-        X[0] = a[0] * N
-        X[1 : H + 1] = 0.5 * N * (a[1 : H + 1] - 1j * a[H + 1 :])
-        return np.fft.irfft(X, N)
 
     def evaluate(self, a: np.ndarray, phi: np.ndarray, derivative: int = 0) -> np.ndarray:
         """u or its φ-derivative of order 0, 1 or 2 at arbitrary angles ``phi``."""
@@ -241,8 +156,7 @@ def convolve(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.convolve(x, y)
 
 
-@dataclass
-class DeadZoneTerms:
+class DeadZoneTerms(NamedTuple):
     """The dead-zone term K(θ) f(u; D) projected on the harmonics, and its derivative.
 
     Attributes
@@ -270,13 +184,9 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
     a : ndarray (2H + 1,)
         Real coefficients of u.
     K : complex ndarray
-        Centred coefficients of the stiffness in φ (from :func:`model_series`).
+        Centred coefficients of the stiffness in φ.
     D : float
-        Half backlash (>= 0).
-
-    Returns
-    -------
-    DeadZoneTerms
+        Half gap (>= 0).
     """
     G, S, phis = dead_zone_kernel(
         np.ascontiguousarray(a, dtype=float),
@@ -292,17 +202,13 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
 
 
 def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:
-    """Smallest and largest u over the period and where (φ_min, φ_max), refined by Newton on u_φ = 0.
+    """(u_min, u_max, φ_min, φ_max) of u over the period, refined by Newton on u_φ = 0.
 
     Parameters
     ----------
     basis : HarmonicBasis
     a : ndarray
         Real coefficients of u.
-
-    Returns
-    -------
-    (u_min, u_max, phi_min, phi_max) : floats
     """
     r = extrema_kernel(np.ascontiguousarray(a, dtype=float), basis.H, basis.cos_table, basis.sin_table, ROOT_MAX_ITER)
     return float(r[0]), float(r[1]), float(r[2]), float(r[3])

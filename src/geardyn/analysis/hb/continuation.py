@@ -1,35 +1,38 @@
-"""Pseudo-arclength continuation of harmonic-balance solutions, with bifurcation detection.
+"""Pseudo-arclength continuation of harmonic-balance solutions of any system, with bifurcation detection.
 
-The branch is traced in y = (a, p/p_s): the 2H + 1 real coefficients and the parameter scaled by
-p_s = |stop − start| (so that the interval has length 1).  Predictor: a step ds along the unit
-tangent (null vector of [∂R/∂a, ∂R/∂p], oriented by the previous one); corrector: Newton on
-R(a, p) = 0 in the hyperplane normal to the tangent through the predicted point.  The step grows
-after fast corrections and shrinks after slow or failed ones and after large turns of the tangent.
+The branch is traced in y = (x, p/p_s): the unknowns of :class:`~geardyn.analysis.hb.equations.HBEquations` (every
+coordinate's coefficients, then the gauge multipliers) and the parameter scaled by p_s = |stop − start|.
+Predictor: a step ds along the unit tangent (null vector of [∂R/∂x, ∂R/∂p], oriented by the previous one);
+corrector: Newton on R = 0 in the hyperplane normal to the tangent through the predicted point.  The step grows
+after fast corrections and shrinks after slow or failed ones, large turns of the tangent and large moves of the
+multipliers.
 
 Events between consecutive points are detected by sign changes of test functions and located by a
 safeguarded secant along the chord (each trial corrected onto the branch):
 
-* ``fold`` — the parameter component of the tangent changes sign (a Hill exponent through 0,
-  μ through +1; the Jacobian is singular there);
-* ``period-doubling`` — (μ₁ + 1)(μ₂ + 1) from Hill's multipliers changes sign (μ through −1);
-* ``neimark-sacker`` — |μ₁μ₂| − 1 changes sign while the pair is complex (impossible for ξ0 > 0
-  by Liouville, |μ₁μ₂| = exp(−2ξ0 nT), but reported when the damping is continued through zero);
-* ``grazing`` — u_min or u_max of the reconstructed time signal crosses +D or −D.
+* ``fold`` — the parameter component of the tangent changes sign (a multiplier through +1: det(I − M) = 0,
+  the Jacobian is singular there);
+* ``period-doubling`` — det(I + M) = Π(μ_i + 1) over the elastic multipliers changes sign (μ through −1);
+* ``neimark-sacker`` — |μ_i μ_j| − 1 of the k-th complex pair changes sign (``ns``, ``ns2``, …); left out for a
+  system without damping, whose multipliers multiply to 1 (Liouville) so that a pair on the unit circle has
+  |μ μ̄| − 1 = 0 up to rounding: there det(I ± M), which work on the circle, are the tests;
+* ``grazing`` — δ_min or δ_max of an element with a gap crosses ±D (the reference element's u_min, u_max).
 
-Points where Hill's multipliers are unresolved carry ``Status.UNRESOLVED`` and take no part in
-the multiplier tests.
+Points whose multipliers are unresolved carry ``Status.UNRESOLVED`` and take no part in the multiplier tests.
+
+The step follows the multipliers (:class:`_StepRules`, ``docs/hb.md`` "Continuation and events").
 
 References
 ----------
 R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
 Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
 (pseudo-arclength continuation, test functions of folds, period doublings and Neimark–Sacker points).
-T. M. Cameron and J. H. Griffin, "An alternating frequency/time domain method for calculating the
-steady-state response of nonlinear dynamic systems", J. Appl. Mech. 56 (1989) 149–154.
 """
 
 from __future__ import annotations
 
+import functools
+import json
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -37,30 +40,28 @@ from typing import Any
 
 import numpy as np
 
-from ...model import GearModel, ModelError, canonical_param
+from ...errors import ModelError
+from ...grid import param_name
 from ...status import Status, flag_attrs
+from ..periodic.arclength import _span_reporter
 from ..secant import illinois_on_chord
-from ._blas import single_thread_blas, solve
-from .aft import signal_extrema
-from .damping import require_damping
+from .damping import require_decidable
+from .equations import HBEquations, single_thread_blas, solve
 from .hill import HillResult
-from .solve import HBSystem, hb_solve
+from .solve import hb_solve
 
 __all__ = [
     "KIND",
     "HBBifurcation",
     "HBContinuation",
     "hb_continuation",
-    "max_points_end",
-    "span_reporter",
-    "trace_branch",
 ]
 
 #: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
 KIND = "hb"
 
-#: Arclength steps in (a, p/p_s): initial, largest, smallest.
-DS_INIT, DS_MAX, DS_MIN = 0.005, 0.02, 1e-7
+#: Arclength steps in (x, p/p_s): initial, smallest.
+DS_INIT, DS_MIN = 0.005, 1e-7
 CORRECTOR_TOL = 1e-10
 CORRECTOR_MAX_ITER = 10
 MAX_TURN_DEG = 20.0
@@ -68,42 +69,60 @@ MAX_POINTS = 3000
 #: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER.
 LOCATE_REL_TOL = 1e-9
 LOCATE_MAX_ITER = 40
-#: While a real multiplier is within NEAR_CRITICAL of −1 (or a complex pair of the unit circle), the
-#: step is at most NEAR_CRITICAL_DS·ds_max, so that two events close together (a period-doubling
+#: While a real multiplier is within NEAR_CRITICAL of −1 (or a complex pair within the rules' band of the unit
+#: circle) the step is at most NEAR_CRITICAL_DS·ds_max, so that two events close together (a period-doubling
 #: interval a few thousandths wide) are not stepped over with no net sign change of their test.
 NEAR_CRITICAL = 0.1
 NEAR_CRITICAL_DS = 0.1
-#: A step is refused (and halved) when a resolved multiplier moves farther than this in the complex plane.
+#: A step is refused (and halved) when a resolved multiplier moves farther than this.
 MAX_MULTIPLIER_STEP = 0.1
-#: The next step is at most the last one times MULTIPLIER_STEP_TARGET / (its largest multiplier move), so that
-#: steps are seldom refused for a multiplier move above MAX_MULTIPLIER_STEP.
+#: The next step is at most the last one times MULTIPLIER_STEP_TARGET / (its largest multiplier move).
 MULTIPLIER_STEP_TARGET = 0.09
+#: A system without damping: a multiplier counts as on the unit circle (neutrally stable) within this.
+NEUTRAL_TOL = 1e-6
 
 
+@dataclass(frozen=True)
+class _StepRules:
+    """How the step follows the multipliers: ``radial`` measures their motion by the moduli (the Hausdorff distance
+    of the sets: a lightly damped mode's pair turns by ω_d ΔT when the period changes, which no test sees) instead of
+    the positions; a complex pair within ``band`` of the unit circle caps the step; ``ds_max`` is the default."""
+
+    radial: bool
+    band: float
+    ds_max: float
+
+
+#: The pair's rules (two multipliers) and those of every other form (the arclength then runs over every
+#: coordinate's 2H + 1 coefficients, so the default largest step is larger; near a critical multiplier it is
+#: NEAR_CRITICAL_DS·0.2 = 0.02, shooting's largest step; events are located, not bracketed, so their values do not
+#: depend on it: on the bevel pair ds_max = 0.02 and 0.2 agree to 1e-9).
+PAIR_RULES = _StepRules(False, NEAR_CRITICAL, 0.02)
+SYSTEM_RULES = _StepRules(True, 0.01, 0.2)
+#: The largest steps by default (``geardyn hb --ds-max``).
+DS_MAX, SYSTEM_DS_MAX = PAIR_RULES.ds_max, SYSTEM_RULES.ds_max
+
+
+def step_rules(eq: HBEquations) -> _StepRules:
+    """:data:`PAIR_RULES` for a scalar form, else :data:`SYSTEM_RULES`."""
+    return PAIR_RULES if eq.form.scalar else SYSTEM_RULES
+
+
+@dataclass(eq=False)
 class _Pt:
-    """A corrected branch point; its Hill stability is computed when first asked for (a point whose
-    step is refused by the turn of the tangent, or a trial of a fold or grazing location, needs none)."""
+    """A corrected branch point; its stability is computed when first asked for (a point whose step is refused by
+    the turn of the tangent, or a trial of a fold or grazing location, needs none)."""
 
-    __slots__ = ("y", "t", "u_min", "u_max", "iters", "_stability", "_hill")
+    y: np.ndarray
+    t: np.ndarray
+    u_min: float
+    u_max: float
+    stability: Callable[[], HillResult]
+    iters: int = 0
 
-    def __init__(
-        self,
-        y: np.ndarray,
-        t: np.ndarray,
-        u_min: float,
-        u_max: float,
-        stability: Callable[[], HillResult],
-        iters: int = 0,
-    ):
-        self.y, self.t, self.u_min, self.u_max, self.iters = y, t, u_min, u_max, iters
-        self._stability = stability
-        self._hill: HillResult | None = None
-
-    @property
+    @functools.cached_property
     def hill(self) -> HillResult:
-        if self._hill is None:
-            self._hill = self._stability()
-        return self._hill
+        return self.stability()
 
 
 @dataclass
@@ -117,13 +136,13 @@ class HBBifurcation:
     value : float
         Parameter value.
     u_min, u_max : float
-        Extremes of u there.
-    multipliers : complex ndarray (2,)
+        The reference element's extremes there.
+    multipliers : complex ndarray
     detail : str
     located : bool
-        The location iteration met its tolerance.
+        The location met its tolerance.
     coefficients : ndarray
-        Harmonic coefficients of the solution at the event (empty when not recorded).
+        The unknowns of the solution at the event (empty when not recorded).
     """
 
     type: str
@@ -149,30 +168,49 @@ class HBBifurcation:
 
 @dataclass
 class HBContinuation:
-    """A continued harmonic-balance branch.
+    """A continued harmonic-balance branch of a system.
 
     Attributes
     ----------
-    model : GearModel
+    model : System
         Base model (``param`` varies along the branch).
     param : str
     harmonics, period, samples : int
-        H, n and the time samples N per response period.
+        H per coordinate, n and the time samples N per response period.
     values : ndarray (P,)
         Parameter values along the branch.
-    coefficients : ndarray (P, 2H + 1)
+    coefficients : ndarray (P, dofs(2H + 1))
+        Every coordinate's coefficients, coordinate by coordinate (the pair: u's 2H + 1).
     u_min, u_max : ndarray (P,)
-    multipliers : complex ndarray (P, 2)
+        Extremes of the reference element's deflection (the pair's u).
+    multipliers : complex ndarray (P, 2(dofs − rigid))
+        The elastic Floquet multipliers.
     status : ndarray of int (P,)
-        :class:`~geardyn.status.Status` per point (``OK`` or ``UNRESOLVED`` for points whose
-        multipliers Hill's method could not resolve; a start that failed is one ``NOT_CONVERGED``/
-        ``DIVERGED`` point with NaN values).
+        :class:`~geardyn.status.Status` per point (``OK`` or ``UNRESOLVED`` for points whose multipliers could
+        not be resolved; a start that failed is one ``NOT_CONVERGED``/``DIVERGED`` point with NaN values).
     bifurcations : list of HBBifurcation
     end : str
         Why the continuation stopped.
+    elements, kinds : tuple of str
+        Element names and kinds (``mesh``, ``clearance``).
+    gaps : tuple of float
+        Every element's half gap D.
+    element_u_min, element_u_max : ndarray (P, elements)
+        Every element's δ extremes.
+    equations : HBEquations
+        The equations of the branch (for :attr:`dynamic_factor`).
+    rigid : int
+        Rigid-body modes (their multipliers, exactly 1, left out).
+    reference : int
+        Index of the reference element.
+    labels : tuple of str
+        Coordinate names.
+    conservative : bool
+        No damping: the multipliers multiply to 1, a point is stable when every |μ| <= 1 + :data:`NEUTRAL_TOL`
+        (neutrally, not asymptotically).
     """
 
-    model: GearModel
+    model: Any
     param: str
     harmonics: int
     period: int
@@ -185,15 +223,39 @@ class HBContinuation:
     status: np.ndarray
     bifurcations: list[HBBifurcation]
     end: str
+    elements: tuple[str, ...] = ("mesh",)
+    kinds: tuple[str, ...] = ("mesh",)
+    gaps: tuple[float, ...] = (0.0,)
+    element_u_min: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
+    element_u_max: np.ndarray = field(default_factory=lambda: np.zeros((0, 1)))
+    equations: Any = field(default=None, repr=False, compare=False)
+    rigid: int = 0
+    reference: int = 0
+    labels: tuple[str, ...] = ("u",)
+    conservative: bool = False
 
     @property
     def amplitude(self) -> np.ndarray:
         return 0.5 * (self.u_max - self.u_min)
 
+    @functools.cached_property
+    def dynamic_factor(self) -> np.ndarray:
+        """(P, meshes): largest mesh force over the period / static mesh force (NaN where the static force is 0 or
+        the point did not converge), computed when first asked for."""
+        eq, P = self.equations, self.values.size
+        out = np.full((P, sum(k == "mesh" for k in self.kinds)), math.nan)
+        g = np.zeros(self.rigid)
+        for i, (c, v, s) in enumerate(zip(self.coefficients, self.values, self.status)):
+            if eq is not None and int(s) in (int(Status.OK), int(Status.UNRESOLVED)):
+                out[i] = eq.dynamic_factors(np.concatenate([c, g]), float(v))
+        return out
+
     @property
     def stable(self) -> np.ndarray:
-        """True where the point is resolved and all |μ| < 1."""
-        return (self.status == int(Status.OK)) & np.all(np.abs(self.multipliers) < 1.0, axis=1)
+        """True where the point is resolved and all |μ| < 1 (<= 1 + NEUTRAL_TOL without damping)."""
+        mu = np.abs(self.multipliers)
+        inside = mu <= 1.0 + NEUTRAL_TOL if self.conservative else mu < 1.0
+        return (self.status == int(Status.OK)) & np.all(inside, axis=1)
 
     @property
     def converged(self) -> bool:
@@ -204,8 +266,33 @@ class HBContinuation:
     def of_type(self, typ: str) -> list[HBBifurcation]:
         return [b for b in self.bifurcations if b.type == typ]
 
+    def bifurcations_json(self) -> list[dict[str, Any]]:
+        """The bifurcations as :meth:`to_json` gives them (the parameter under its own name)."""
+        return [
+            {"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
+            for b in self.bifurcations
+        ]
+
+    def attrs(self, kind: str, options: Any = None, **extra: Any) -> dict[str, str]:
+        """The global attributes of a result of this branch (:func:`~geardyn.io.result_attrs`), ``model`` with the
+        reference element's D and ξ0 (a system's has only its ω) for the figures."""
+        from ...io import result_attrs
+
+        attrs = result_attrs(kind, self.model, options, **extra)
+        ref = json.loads(attrs["model"])
+        el = self.model.hb_form().elements[self.reference]
+        ref.setdefault("D", self.gaps[self.reference])
+        ref.setdefault("xi0", 0.5 * float(el.C[(len(el.C) - 1) // 2].real))
+        attrs["model"] = json.dumps(ref)
+        return attrs
+
     def to_json(self) -> dict[str, Any]:
-        """Plain-dict summary: ``branch`` points, ``bifurcations``, ``harmonics``, ``converged``."""
+        """Plain-dict summary: ``branch`` points (the reference element's ``amplitude``, ``u_min``, ``u_max``,
+        ``stable``, ``status``, ``multipliers``), ``bifurcations``, ``harmonics``, ``converged``, ``end``, and
+        per element (``meshes``, ``clearances``: ``name`` and per point ``u_min``, ``u_max``, ``amplitude``,
+        ``impact``, a mesh's ``dynamic_factor``), ``labels``, ``reference_mesh``, ``rigid_body_modes``,
+        ``conservative`` and ``notes``."""
+        from ..classify import IMPACT_LABELS, impact_state
 
         def num(x: float) -> float | None:
             return float(x) if np.isfinite(x) else None
@@ -224,10 +311,32 @@ class HBContinuation:
                 self.values, self.u_min, self.u_max, self.stable, self.status, self.multipliers
             )
         ]
-        bifs = [
-            {"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
-            for b in self.bifurcations
-        ]
+        bifs = self.bifurcations_json()
+        rows: dict[str, list[dict[str, Any]]] = {"mesh": [], "clearance": []}
+        m = 0
+        for e, (nm, kind) in enumerate(zip(self.elements, self.kinds)):
+            lo, hi = self.element_u_min[:, e], self.element_u_max[:, e]
+            row = {
+                "name": nm,
+                "u_min": [num(v) for v in lo],
+                "u_max": [num(v) for v in hi],
+                "amplitude": [num(0.5 * (b - a)) for a, b in zip(lo, hi)],
+                "impact": [IMPACT_LABELS[impact_state(v, self.gaps[e])] if np.isfinite(v) else None for v in lo],
+            }
+            if kind == "mesh":
+                row["dynamic_factor"] = [num(v) for v in self.dynamic_factor[:, m]]
+                m += 1
+            rows.setdefault(kind, []).append(row)
+        notes = [
+            f"{2 * self.rigid} Floquet multipliers equal to 1 belong to the {self.rigid} rigid-body mode(s) and are "
+            f"left out; the multipliers listed are the elastic ones"
+        ] * bool(self.rigid)
+        if self.conservative:
+            notes.append(
+                "no damping: the multipliers multiply to 1 and lie on or off the unit circle; stable means every "
+                f"|μ| <= 1 + {NEUTRAL_TOL:g} (neutrally stable); folds and period doublings are located by det(I − M) "
+                "and det(I + M), no Neimark–Sacker test is made"
+            )
         return {
             "param": self.param,
             "branch": pts,
@@ -237,17 +346,38 @@ class HBContinuation:
             "samples": self.samples,
             "converged": self.converged,
             "end": self.end,
+            "meshes": rows["mesh"],
+            "clearances": rows["clearance"],
+            "labels": list(self.labels),
+            "reference_mesh": self.elements[self.reference],
+            "rigid_body_modes": self.rigid,
+            "conservative": self.conservative,
+            "notes": notes,
         }
 
     def to_dataset(self):
-        """The branch as an :class:`xarray.Dataset` over ``point`` (kind ``hb``; the bifurcations as the JSON
-        attribute ``bifurcations``, keyed like ``to_json()``)."""
-        import json
-
+        """The branch as an :class:`xarray.Dataset` over ``point`` (kind ``hb``): the reference element's values,
+        every coordinate's coefficients, every element's extremes; the bifurcations as the JSON attribute
+        ``bifurcations`` and the whole :meth:`to_json` as ``summary``."""
         import xarray as xr
 
-        from ...io import annotate, result_attrs
+        from ...io import annotate
 
+        P, nd = self.values.size, len(self.labels)
+        summary = self.to_json()
+        attrs = self.attrs(
+            KIND,
+            param=self.param,
+            harmonics=self.harmonics,
+            period=self.period,
+            samples=self.samples,
+            end=self.end,
+            rigid_body_modes=self.rigid,
+            coefficient_layout="[a0, a1..aH, b1..bH] per coordinate of q(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
+            "φ = ωτ/(n p)",
+            bifurcations=json.dumps(summary["bifurcations"]),
+            summary=json.dumps(summary),
+        )
         ds = xr.Dataset(
             {
                 self.param: ("point", self.values),
@@ -257,55 +387,72 @@ class HBContinuation:
                 "stable": ("point", self.stable.astype(np.int8)),
                 "multiplier_re": (("point", "multiplier"), self.multipliers.real),
                 "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
-                "coefficients": (("point", "coefficient"), self.coefficients),
+                "coefficients": (("point", "dof", "coefficient"), self.coefficients.reshape(P, nd, -1)),
+                "element_u_min": (("point", "element"), self.element_u_min),
+                "element_u_max": (("point", "element"), self.element_u_max),
                 "status": ("point", self.status.astype(np.int64)),
             },
             coords={
-                "point": np.arange(self.values.size),
-                "multiplier": [0, 1],
+                "point": np.arange(P),
+                "multiplier": np.arange(self.multipliers.shape[1]),
+                "dof": list(self.labels),
                 "coefficient": np.arange(2 * self.harmonics + 1),
+                "element": list(self.elements),
             },
-            attrs=result_attrs(
-                KIND,
-                self.model,
-                param=self.param,
-                harmonics=self.harmonics,
-                period=self.period,
-                samples=self.samples,
-                end=self.end,
-                coefficient_layout="[a0, a1..aH, b1..bH] of u(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, φ = ωτ/n",
-                bifurcations=json.dumps(self.to_json()["bifurcations"]),
-            ),
+            attrs=attrs,
         )
         ds["status"].attrs.update(flag_attrs())
         return annotate(ds)
 
 
-class _Tracer:
-    #: Test function → (event type, detail) of :meth:`events`.
-    labels = {
-        "turn": ("fold", "turning point: a Hill exponent through 0 (μ through +1)"),
-        "pd": ("period-doubling", "real multiplier through −1"),
-        "ns": ("neimark-sacker", "complex pair through the unit circle"),
-        "graze_min_plus": ("grazing", "u_min = +D (drive-side contact loss)"),
-        "graze_min_minus": ("grazing", "u_min = −D (back-side contact)"),
-        "graze_max_plus": ("grazing", "u_max = +D (drive-side contact)"),
-        "graze_max_minus": ("grazing", "u_max = −D"),
-    }
+def _pairs(mu: np.ndarray) -> np.ndarray:
+    """Products μ_i μ_j of the complex-conjugate pairs: μ_i with Im > 0 whose nearest other multiplier is
+    closer to conj(μ_i) than Im μ_i (Hill's real multipliers carry small spurious imaginary parts)."""
+    out = []
+    for i in np.nonzero(mu.imag > 1e-9 * np.abs(mu))[0]:
+        d = np.abs(mu - np.conj(mu[i]))
+        d[i] = np.inf
+        j = int(np.argmin(d))
+        if d[j] < mu[i].imag:
+            out.append(mu[i] * mu[j])
+    return np.array(out)
 
-    def __init__(self, sysm: HBSystem, lo: float, hi: float, ps: float):
-        self.s, self.lo, self.hi, self.ps = sysm, lo, hi, ps
-        self.M = sysm.basis.size
+
+#: Side of a grazing test → its description.
+_SIDES = {
+    "min_plus": "δ_min = +D (drive-side contact loss)",
+    "min_minus": "δ_min = −D (back-side contact)",
+    "max_plus": "δ_max = +D (drive-side contact)",
+    "max_minus": "δ_max = −D",
+}
+
+
+class _Tracer:
+    """The equations with their test functions and step rules."""
+
+    def __init__(self, eq: HBEquations, lo: float, hi: float, ps: float, conservative: bool):
+        self.s, self.lo, self.hi, self.ps = eq, lo, hi, ps
+        self.M = eq.basis.size
+        self.rules = step_rules(eq)
+        self.conservative = conservative
+        # test function → (event type, detail) of :meth:`events`; the reference element's grazing is ``graze_*``
+        ns = ("neimark-sacker", "complex pair through the unit circle")
+        self.labels = {"turn": ("fold", "turning point: a multiplier through +1 (det(I − M) = 0)")}
+        self.labels.update(pd=("period-doubling", "real multiplier through −1"), ns=ns)
+        self.labels.update({f"ns{k}": ns for k in range(2, eq.basis.dofs - eq.basis.rigid + 1)})
+        for e, nm in enumerate(eq.elements):
+            pre, who = ("graze", "") if e == eq.reference else (f"graze{e}", f"{nm}: ")
+            self.labels.update({f"{pre}_{k}": ("grazing", f"{who}{v}") for k, v in _SIDES.items()})
 
     def p(self, y: np.ndarray) -> float:
         return float(y[-1] * self.ps)
 
     def _aug(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """R and [[∂R/∂a, ∂R/∂(p/p_s)], [0]] at ``y``."""
+        """R and [[∂R/∂x, ∂R/∂(p/p_s)], [0]] at ``y``."""
         return self.s.bordered(y[:-1], self.p(y), self.ps)
 
     def tangent(self, y: np.ndarray, ref: np.ndarray, aug: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
-        """Unit null vector of [∂R/∂a, ∂R/∂p] at ``y`` oriented like ``ref`` (``aug``: :meth:`_aug` at ``y``,
+        """Unit null vector of [∂R/∂x, ∂R/∂p] at ``y`` oriented like ``ref`` (``aug``: :meth:`_aug` at ``y``,
         if already evaluated; its matrix is overwritten)."""
         _R, A = self._aug(y) if aug is None else aug
         A[-1] = ref
@@ -346,43 +493,57 @@ class _Tracer:
     ) -> _Pt:
         t = self.tangent(y, ref_t, aug)
         a, p = y[:-1], self.p(y)
-        umin, umax = self.extremes(a, p)
+        umin, umax = self.s.extremes(a, p)
         return _Pt(y, t, umin, umax, lambda: self.s.stability(a, p), iters)
 
-    def extremes(self, a: np.ndarray, p: float) -> tuple[float, float]:
-        """(u_min, u_max) of the solution ``a`` at parameter ``p``."""
-        umin, umax, _, _ = signal_extrema(self.s.basis, a)
-        return umin, umax
-
     def multiplier_step(self, a: HillResult, b: HillResult) -> float:
-        """How far the multipliers moved between two points (:func:`_multiplier_step`)."""
-        return _multiplier_step(a, b)
+        """How far the multipliers moved between two resolved points (0 if either is not): their positions (the
+        pairing that moves least), or the Hausdorff distance of their moduli (:attr:`_StepRules.radial`)."""
+        if a.status is not Status.OK or b.status is not Status.OK or not a.multipliers.size:
+            return 0.0
+        ma, mb = a.multipliers, b.multipliers
+        if not self.rules.radial:
+            return float(min(np.max(np.abs(ma - mb)), np.max(np.abs(ma - mb[::-1]))))
+        d = np.abs(np.abs(ma)[:, None] - np.abs(mb)[None, :])
+        return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
 
     def near_critical(self, h: HillResult) -> bool:
-        """Whether the step is to be capped near a critical multiplier (:func:`_near_critical`)."""
-        return _near_critical(h)
+        """A resolved real multiplier close to −1, or a complex pair close to the unit circle (folds, where a
+        multiplier passes +1, are found from the tangent, whose turn limits the step already; without damping
+        every pair is on the circle and only −1 counts)."""
+        if h.status is not Status.OK or not h.multipliers.size:
+            return False
+        mu = h.multipliers
+        if not self.rules.radial and not self.conservative and np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
+            return bool(abs(abs(mu[0]) - 1.0) < self.rules.band)
+        near_pair = not self.conservative and np.any(np.abs(np.sqrt(np.abs(_pairs(mu))) - 1.0) < self.rules.band)
+        return bool(near_pair or np.any(np.abs(mu + 1.0) < NEAR_CRITICAL))
 
     # ---------------------------------------------------------------- tests and events
     def tests(self, pt: _Pt, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
-        """Test functions at ``pt`` (the tangent oriented along ``chord``): all of them, or only ``key``'s
-        kind (then Hill's multipliers are computed only for the multiplier tests)."""
-        D = self.s._at(self.p(pt.y))[1]
-        t = pt.t if chord is None or pt.t @ chord >= 0 else -pt.t
-        out = {"turn": float(t[-1])}
-        if key is None or key in ("pd", "ns"):
+        """Test functions at ``pt`` (the tangent oriented along ``chord``): all of them, or only ``key``'s kind
+        (then the multipliers are computed only for the multiplier tests)."""
+        flip = chord is not None and pt.t @ chord < 0
+        out = {"turn": float(-pt.t[-1] if flip else pt.t[-1])}
+        if key is None or key.startswith(("pd", "ns")):
             h = pt.hill
-            if h.status is Status.OK:
+            if h.status is Status.OK and h.multipliers.size:
                 mu = h.multipliers
-                out["pd"] = float(np.real((mu[0] + 1) * (mu[1] + 1)))
-                if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
-                    out["ns"] = float(abs(mu[0] * mu[1]) - 1.0)
-        if D > 0 and (key is None or key.startswith("graze")):
-            out.update(
-                graze_min_plus=pt.u_min - D,
-                graze_min_minus=pt.u_min + D,
-                graze_max_plus=pt.u_max - D,
-                graze_max_minus=pt.u_max + D,
-            )
+                out["pd"] = float(np.real(np.prod(mu + 1.0)))
+                if not self.conservative:
+                    for k, v in enumerate(np.sort(np.abs(_pairs(mu)))[::-1]):  # the k-th largest |μ_i μ_j| − 1
+                        out["ns" if k == 0 else f"ns{k + 1}"] = float(v) - 1.0
+        if key is None or key.startswith("graze"):
+            p = self.p(pt.y)
+            gaps = [el.gap for el in self.s._entry(p).form.elements]
+            ref = self.s.reference
+            ext = self.s.element_extremes(pt.y[:-1], p) if len(gaps) > 1 else np.array([[pt.u_min, pt.u_max]])
+            for e, D in enumerate(gaps):
+                if D <= 0:
+                    continue
+                pre = "graze" if e == ref else f"graze{e}"
+                for side, v in (("min", ext[e, 0]), ("max", ext[e, 1])):
+                    out[f"{pre}_{side}_plus"], out[f"{pre}_{side}_minus"] = v - D, v + D
         return out
 
     def locate(self, a: _Pt, b: _Pt, key: str) -> tuple[_Pt, bool]:
@@ -407,47 +568,16 @@ class _Tracer:
         for key, (typ, detail) in self.labels.items():
             if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
                 pt, ok = self.locate(a, b, key)
-                out.append(
-                    (
-                        float((pt.y - a.y) @ d),
-                        HBBifurcation(
-                            typ,
-                            self.p(pt.y),
-                            pt.u_min,
-                            pt.u_max,
-                            pt.hill.multipliers.copy(),
-                            detail,
-                            ok,
-                            pt.y[:-1].copy(),
-                        ),
-                    )
+                bif = HBBifurcation(
+                    typ, self.p(pt.y), pt.u_min, pt.u_max, pt.hill.multipliers.copy(), detail, ok, pt.y[:-1].copy()
                 )
+                out.append((float((pt.y - a.y) @ d), bif))
         out.sort(key=lambda e: e[0])
         return [b for _s, b in out]
 
 
-def _multiplier_step(a: HillResult, b: HillResult) -> float:
-    """Largest move of a multiplier between two resolved points (the pairing that moves least; 0 if either
-    point is unresolved)."""
-    if a.status is not Status.OK or b.status is not Status.OK:
-        return 0.0
-    ma, mb = a.multipliers, b.multipliers
-    return float(min(np.max(np.abs(ma - mb)), np.max(np.abs(ma - mb[::-1]))))
-
-
-def _near_critical(h: HillResult) -> bool:
-    """A resolved real multiplier close to −1, or a complex pair close to the unit circle (folds, where a
-    multiplier passes +1, are found from the tangent, whose turn limits the step already)."""
-    if h.status is not Status.OK:
-        return False
-    mu = h.multipliers
-    if np.any(np.abs(mu.imag) > 1e-9 * np.abs(mu)):
-        return bool(abs(abs(mu[0]) - 1.0) < NEAR_CRITICAL)
-    return bool(np.any(np.abs(mu.real + 1.0) < NEAR_CRITICAL))
-
-
 def hb_continuation(
-    model: GearModel,
+    model: Any,
     param: str,
     start: float,
     stop: float,
@@ -457,38 +587,41 @@ def hb_continuation(
     guess: Any = None,
     samples: int | None = None,
     ds: float = DS_INIT,
-    ds_max: float = DS_MAX,
+    ds_max: float | None = None,
     max_points: int = MAX_POINTS,
+    state0: Any = None,
     floquet: str = "monodromy",
     progress: Callable[[float, float], None] | None = None,
 ) -> HBContinuation:
-    """Continue the period-n harmonic-balance solution of ``model`` in ``param`` from ``start`` to ``stop``.
+    """Continue the period-n harmonic-balance solution of a system in ``param`` from ``start`` to ``stop``.
 
     Parameters
     ----------
-    model : GearModel
-        Base model (its value of ``param`` is replaced).
+    model : System
+        The pair (:class:`~geardyn.model.GearModel`) or a multi-DOF system (its value of ``param`` is replaced).
     param : str
-        Any model parameter name (``omega``, ``xi0``, ``kappa1``, ``fp``, ``D``, ``eps1`` …).
+        Any parameter of the system (``omega``, ``xi0``, ``kappa1``, ``fp``, ``D`` …; a system's ``omega``,
+        ``<mesh>.xi0``, ``<clearance>.D`` …).
     start, stop : float
         The branch starts at ``start`` and is followed (through folds) until the parameter leaves the
         interval between ``start`` and ``stop``.
-    harmonics : int
-        H, harmonics of ν = ω/(P n) (default :func:`~geardyn.analysis.hb.solve.default_harmonics`: 16 for a
-        one-cycle model).
+    harmonics : int, optional
+        H per coordinate (default :func:`~geardyn.analysis.hb.equations.default_harmonics`).
     period : int
         n, the response period in forcing periods.
     guess : coefficients, "simulate" or "linear", optional
-        Start guess at ``start`` (default: the attractor reached by simulation from rest).
+        Start guess at ``start`` (default: the attractor reached by simulation from ``state0``).
     samples : int, optional
-        Time samples per response period (default from H, see :mod:`.aft`).
+        Time samples per response period.
     ds, ds_max : float
-        Initial and largest arclength step in (a, p/|stop − start|).
+        Initial and largest arclength step in (x, p/|stop − start|) (``ds_max`` default: the form's
+        :class:`_StepRules`, 0.02 for the pair, 0.2 for other systems).
     max_points : int
         Largest number of branch points (the branch then ends with ``end`` saying so).
+    state0 : (u0, v0) or a full state, optional
+        Start of the simulation of the default guess.
     floquet : str
-        How the multipliers are computed: ``"monodromy"`` (default, :mod:`.monodromy`) or ``"hill"``
-        (Hill's method, :mod:`.hill`).
+        ``"monodromy"`` (default, :mod:`.monodromy`) or ``"hill"`` (:mod:`.hill`).
     progress : callable, optional
         Called as ``progress(done, total)`` with the parameter distance covered towards ``stop`` (the farthest
         point so far) and |stop − start|.
@@ -501,14 +634,8 @@ def hb_continuation(
     Raises
     ------
     ModelError
-        Unknown parameter, start/stop outside the parameter's valid range, or a model without damping
-        (:func:`~geardyn.analysis.hb.damping.require_damping`: no stability can be decided).
-
-    References
-    ----------
-    R. Seydel, *Practical Bifurcation and Stability Analysis*, 3rd ed., Springer, 2010;
-    Yu. A. Kuznetsov, *Elements of Applied Bifurcation Theory*, 3rd ed., Springer, 2004
-    (pseudo-arclength continuation, test functions of folds, period doublings and Neimark–Sacker points).
+        Unknown parameter, start/stop outside the parameter's valid range, incommensurate meshes, or a system
+        whose stability harmonic balance cannot decide (:func:`~geardyn.analysis.hb.damping.require_decidable`).
 
     Examples
     --------
@@ -517,112 +644,61 @@ def hb_continuation(
     >>> res.converged, float(res.values[0]), res.end
     (True, 0.5, 'reached the end of the interval')
     """
-    param = canonical_param(param)
+    param = param_name(param)
     start, stop = float(start), float(stop)
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise ModelError("start, stop: must be finite and different")
     m0 = model.with_param(param, start)
     model.with_param(param, stop)
-    require_damping(model, param, start, stop)
-    report = span_reporter(progress, start, stop)
-    sysm = HBSystem(model, harmonics, period, param=param, samples=samples, floquet=floquet)
-    H = sysm.H
-    sol = hb_solve(m0, H, period, guess, samples=sysm.basis.N, stability=False)  # Hill: at the first point
-    nanmu = np.full((1, 2), complex(math.nan, math.nan))
+    conservative = require_decidable(model, param, start, stop)
+    report = None if progress is None else _span_reporter(progress, start, stop)  # the one of shooting's branches
+    if progress is not None:
+        progress(0.0, abs(stop - start))
+    eq = HBEquations(model, harmonics, period, param=param, samples=samples, floquet=floquet)
+    ds_max = step_rules(eq).ds_max if ds_max is None else float(ds_max)
+    sol = hb_solve(m0, eq.H, period, guess, samples=eq.N, stability=False, state0=state0)
+    f, N0 = eq.form, eq.basis.size - eq.basis.rigid
+    common = dict(
+        elements=eq.elements, kinds=tuple(e.kind for e in f.elements), gaps=tuple(e.gap for e in f.elements),
+        rigid=eq.basis.rigid, reference=eq.reference, labels=f.labels, conservative=conservative, equations=eq,
+    )  # fmt: skip
     if not sol.converged:
+        nan = np.full((1, len(f.elements)), math.nan)
         return HBContinuation(
-            model,
-            param,
-            H,
-            sysm.n,
-            sysm.basis.N,
-            np.array([start]),
-            sol.coefficients[None, :],
-            np.array([math.nan]),
-            np.array([math.nan]),
-            nanmu,
-            np.array([int(sol.status)]),
-            [],
-            f"start: {sol.status.label}",
-        )
-    ps = abs(stop - start)
-    direction = 1.0 if stop > start else -1.0
-    lo, hi = min(start, stop), max(start, stop)
-    tr = _Tracer(sysm, lo, hi, ps)
-    y = np.concatenate([sol.coefficients, [start / ps]])
-    ref = np.zeros(sysm.basis.size + 1)
-    ref[-1] = direction
-    pts, bifs, end = trace_branch(tr, y, ref, ds, ds_max, max_points, report)
+            model, param, eq.H, eq.n, eq.N, np.array([start]), sol.unknowns[None, :N0], np.array([math.nan]),
+            np.array([math.nan]), np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan)),
+            np.array([int(sol.status)]), [], f"start: {sol.status.label}", element_u_min=nan, element_u_max=nan,
+            **common,
+        )  # fmt: skip
+    lo, hi = sorted((start, stop))
+    ps = hi - lo
+    tr = _Tracer(eq, lo, hi, ps, conservative)
+    y = np.concatenate([sol.unknowns, [start / ps]])
+    ref = np.zeros(eq.basis.size + 1)
+    ref[-1] = 1.0 if stop > start else -1.0
+    pts, bifs, end = _trace_branch(tr, y, ref, ds, ds_max, max_points, report)
     vals = np.array([tr.p(q.y) for q in pts])
+    if len(f.elements) == 1:  # the reference element's extremes are the points' own
+        ext = np.array([[[q.u_min, q.u_max]] for q in pts])
+    else:
+        ext = np.array([eq.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
     return HBContinuation(
-        model,
-        param,
-        H,
-        sysm.n,
-        sysm.basis.N,
-        vals,
-        np.array([q.y[:-1] for q in pts]),
-        np.array([q.u_min for q in pts]),
-        np.array([q.u_max for q in pts]),
-        np.array([q.hill.multipliers for q in pts]),
-        np.array([int(q.hill.status) for q in pts]),
-        bifs,
-        end,
-    )
+        model, param, eq.H, eq.n, eq.N, vals, np.array([q.y[:N0] for q in pts]), np.array([q.u_min for q in pts]),
+        np.array([q.u_max for q in pts]), np.array([q.hill.multipliers for q in pts]),
+        np.array([int(q.hill.status) for q in pts]), bifs, end, element_u_min=ext[:, :, 0],
+        element_u_max=ext[:, :, 1], **common,
+    )  # fmt: skip
 
 
-def span_reporter(
-    progress: Callable[[float, float], None] | None, start: float, stop: float
-) -> Callable[[float], None] | None:
-    """A branch point's parameter → ``progress(farthest distance from start towards stop, |stop − start|)``.
-
-    Parameters
-    ----------
-    progress : callable or None
-        ``progress(done, total)``; called once with 0 now, then whenever the distance grows.
-    start, stop : float
-        The continuation's interval.
-
-    Returns
-    -------
-    callable or None
-        The callback of each branch point's parameter; None without ``progress``.
-    """
-    if progress is None:
-        return None
-    total = abs(stop - start)
-    sign = 1.0 if stop >= start else -1.0
-    farthest = [0.0]
-    progress(0.0, total)
-
-    def on_point(p: float) -> None:
-        d = min(max(sign * (p - start), 0.0), total)
-        if d > farthest[0]:
-            farthest[0] = d
-            progress(d, total)
-
-    return on_point
-
-
-def max_points_end(max_points: int) -> str:
-    """The ``end`` of a branch stopped by the point limit.
-
-    Parameters
-    ----------
-    max_points : int
-        The limit.
-
-    Returns
-    -------
-    str
-    """
+def _max_points_end(max_points: int) -> str:
+    """The ``end`` of a branch stopped by the point limit."""
     return (
         f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
         f"a larger ds_max)"
     )
 
 
-def trace_branch(
+def _trace_branch(
     tr: _Tracer,
     y: np.ndarray,
     ref: np.ndarray,
@@ -631,34 +707,16 @@ def trace_branch(
     max_points: int,
     on_point: Callable[[float], None] | None = None,
 ) -> tuple[list[_Pt], list[HBBifurcation], str]:
-    """The pseudo-arclength loop of :func:`hb_continuation` on any tracer (the 1-DOF one or a subclass).
-
-    Parameters
-    ----------
-    tr : _Tracer
-        The equations with their tests; its ``lo``, ``hi`` bound the parameter.
-    y : ndarray
-        The first solution (unknowns, then p/p_s).
-    ref : ndarray
-        Direction the first tangent is oriented by.
-    ds, ds_max : float
-        Initial and largest arclength step.
-    max_points : int
-        Largest number of points.
-    on_point : callable, optional
-        Called with the parameter of each point added (the progress, :func:`span_reporter`).
-
-    Returns
-    -------
-    (points, bifurcations, end)
-    """
+    """The pseudo-arclength loop from the solution ``y`` (unknowns, then p/p_s), the first tangent oriented like
+    ``ref``, steps ``ds`` up to ``ds_max``, at most ``max_points``; ``on_point`` gets each point's parameter.
+    Returns (points, bifurcations, end)."""
     lo, hi = tr.lo, tr.hi
     with single_thread_blas():
         first = tr._finish(y, ref, 0)
         pts = [first]
         bifs: list[HBBifurcation] = []
         h = float(ds)
-        end = max_points_end(max_points)
+        end = _max_points_end(max_points)
         while len(pts) < max_points:
             cur = pts[-1]
             nxt = None

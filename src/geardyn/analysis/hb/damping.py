@@ -1,15 +1,15 @@
-"""Whether harmonic balance can decide stability on a model: its damping.
+"""Whether harmonic balance can decide the stability of a system's solutions: its damping and its free modes.
 
-By Liouville's formula the Floquet multipliers of a period T multiply to exp(T·mean trace of the Jacobian), the
-mean trace being −Σ damping (:meth:`~geardyn.system.System.mean_trace`; −2ξ0 for the 1-DOF pair).  Without
-damping their product is 1: a multiplier outside the unit circle, or all of them on it.  No solution is then
-asymptotically stable, the stability test |μ| < 1 only reads rounding, and every pair grazing the circle is
-reported as a Neimark–Sacker point: a branch of an undamped system (the planetary example, undamped and unforced)
-costs hours and says nothing.  :func:`require_damping` refuses such a model in one line.
-
-A system can also be damped as a whole and still have elastic modes of its mean linear system that no damper
-moves (C̄φ = 0 for a mode φ of K̄φ = λM̃φ: then e^{i√λ τ}φ solves the damped linear system too, and conversely an
-undamped solution dissipates nothing, so C̄φ = 0).  Their multipliers stay on the unit circle;
+By Liouville's formula the Floquet multipliers of a period T multiply to exp(T·mean trace of the Jacobian), the mean
+trace being −Σ damping.  Without damping (a *conservative* system, :func:`require_decidable`) they lie on the unit
+circle or in pairs μ, 1/μ off it: |μ| < 1 reads rounding, and |μ_i μ_j| − 1 of a pair on the circle is zero up to
+rounding, so no Neimark–Sacker test can be made.  What works on the circle are det(I − M) (a multiplier through +1:
+the fold) and det(I + M) (through −1: the period doubling, as at the boundaries of a Mathieu tongue); a point is then
+*neutrally* stable when every |μ| <= 1 + :data:`~geardyn.analysis.hb.continuation.NEUTRAL_TOL`.  Harmonic balance
+cannot decide at all only where a coordinate moves freely and the gauge of :mod:`.equations` cannot fix it: a
+direction of zero mean stiffness that is not a free rigid-body mode (a damping or a load acts along it) leaves the
+harmonic-0 equations singular — with a load the motion drifts and has no periodic solution, without one every shift
+along it is another solution.  A damped system can still have elastic modes that no damper moves (C̄φ = 0);
 :func:`undamped_modes` names them for a warning.
 """
 
@@ -19,85 +19,91 @@ import math
 from typing import Any
 
 import numpy as np
+from scipy.linalg import eigh
 
 from ...errors import ModelError
 
-__all__ = ["require_damping", "undamped_modes"]
+__all__ = ["require_decidable", "undamped_modes"]
 
-#: Relative size below which a damping or an eigenvalue gap counts as zero.
+#: Relative size below which a damping or an eigenvalue counts as zero.
 RTOL = 1e-9
 
 
-def _undamped(model: Any) -> bool:
-    return float(model.mean_trace()) == 0.0
+def _modes(form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Eigenvalues λ and modes φ of K̄φ = λM̃φ of a form's mean linear system (every element in contact at its mean
+    stiffness), and its mean damping C̄."""
+    Mt = np.linalg.inv(form.Mi)
+    K, C = Mt @ form.A, Mt @ form.B
+    for e in form.elements:
+        K = K + float(e.K[(len(e.K) - 1) // 2].real) * np.outer(e.V, e.V)
+        C = C + float(e.C[(len(e.C) - 1) // 2].real) * np.outer(e.V, e.V)
+    lam, phi = eigh(0.5 * (K + K.T), 0.5 * (Mt + Mt.T))
+    return lam, phi, 0.5 * (C + C.T)
 
 
-def require_damping(
+def require_decidable(
     model: Any, param: str | None = None, start: float | None = None, stop: float | None = None
-) -> None:
-    """Refuse a model without damping (at both ends of the parameter range, when one is given).
+) -> bool:
+    """Whether the system is conservative (no damping at either end of the range), refusing one whose stability
+    harmonic balance cannot decide.
 
     Parameters
     ----------
     model : System
     param : str, optional
-        The continued parameter; with ``start`` and ``stop`` the model is refused only when it has no damping at
-        either end (a damping continued through zero is allowed).
+        The continued parameter; with ``start`` and ``stop`` the system counts as conservative only when it has
+        no damping at either end (a damping continued through zero keeps the damped tests).
     start, stop : float, optional
+
+    Returns
+    -------
+    bool
+        True for a conservative system.
 
     Raises
     ------
     ModelError
-        One line: the model has no damping, so no stability can be decided.
+        One line naming the free direction, when the mean stiffness has a zero direction that is not a free
+        rigid-body mode.
     """
     ends = [model] if param is None else [model.with_param(param, v) for v in (start, stop)]
-    if not all(_undamped(m) for m in ends):
-        return
-    if hasattr(model, "meshes"):
-        what = (
-            "the system has no damping (every mesh's xi0 and every connection's damping are 0)",
-            "give the meshes xi0 > 0 or damping to the connections",
+    form = model.hb_form()
+    lam, phi, _C = _modes(form)
+    zero = np.abs(lam) <= RTOL * max(1.0, float(np.max(np.abs(lam))))
+    if int(np.count_nonzero(zero)) > form.rigid.shape[1]:
+        v = phi[:, np.argmax(zero)]
+        v /= np.linalg.norm(v)
+        load = float(np.real(np.linalg.inv(form.Mi) @ form.G0[:, (form.G0.shape[1] - 1) // 2]) @ v)
+        damp = float(np.linalg.norm(np.linalg.inv(form.Mi) @ form.B @ v))
+        why = f"a load along it (F·φ = {load:.3g})" if abs(load) > 0 else f"a damping along it (|C̃φ| = {damp:.3g})"
+        raise ModelError(
+            f"system: the coordinate {form.labels[int(np.argmax(np.abs(v)))]} moves freely (zero mean stiffness) "
+            f"but with {why}, so it is not a rigid-body mode the gauge can fix: its mean drifts or is undetermined "
+            f"and harmonic balance has no isolated periodic solution; support it (a bearing stiffness) or balance "
+            f"its load"
         )
-    else:
-        what = ("the model has no damping (xi0 = 0)", "give --xi0 > 0")
-    raise ModelError(
-        f"{what[0]}: every Floquet multiplier then lies on or outside the unit circle (Liouville), "
-        f"so harmonic balance can decide no stability and would report every pair grazing the circle "
-        f"as a bifurcation; {what[1]}"
-    )
+    return all(float(m.mean_trace()) == 0.0 for m in ends)
 
 
 def undamped_modes(model: Any) -> list[float]:
-    """Natural frequencies (Hz) of the elastic modes of a system's mean linear system that no damping acts on.
+    """Natural frequencies (Hz; non-dimensional ω for a model without physical scales) of the elastic modes of a
+    system's mean linear system that no damping acts on.
 
     Parameters
     ----------
     model : System
-        (A 1-DOF model has one mode, damped unless ξ0 = 0: see :func:`require_damping`.)
 
     Returns
     -------
     list of float
         One frequency per undamped mode (a degenerate frequency once per mode), ascending; empty when every
-        elastic mode is damped or the model is not a system.
+        elastic mode is damped.
     """
-    if not hasattr(model, "meshes"):
-        return []
-    from scipy.linalg import eigh
-
-    Mt = np.linalg.inv(np.asarray(model.Mi))
-    Mt = 0.5 * (Mt + Mt.T)
-    K = np.array(model.Kb, dtype=float)
-    C = np.array(model.Cb, dtype=float)
-    for i, m in enumerate(model.meshes):
-        K += m.k * np.outer(model.V[i], model.V[i])
-        C += 2.0 * m.xi0 * np.outer(model.V[i], model.V[i])
-    for i, (k, c) in enumerate(zip(model.kc, model.cc)):
-        K += k * np.outer(model.Vc[i], model.Vc[i])
-        C += c * np.outer(model.Vc[i], model.Vc[i])
-    lam, phi = eigh(K, Mt)
+    form = model.hb_form()
+    lam, phi, C = _modes(form)
     scale = max(float(np.max(np.abs(lam))), 1e-300)
     ctol = RTOL * max(float(np.max(np.abs(C))), 1e-300)
+    hz = form.hz if math.isfinite(form.hz) else 1.0
     out: list[float] = []
     i = 0
     while i < lam.size:
@@ -105,10 +111,8 @@ def undamped_modes(model: Any) -> list[float]:
         while j < lam.size and lam[j] - lam[i] <= RTOL * scale:
             j += 1
         if lam[i] > RTOL * scale:  # elastic (the rigid-body modes are left out of the stability test)
-            E = phi[:, i:j]
-            E = np.linalg.qr(E)[0]
+            E = np.linalg.qr(phi[:, i:j])[0]
             d = np.linalg.eigvalsh(E.T @ C @ E)
-            f = math.sqrt(lam[i]) * model.scaling.omega_n / (2.0 * math.pi)
-            out.extend([f] * int(np.count_nonzero(d <= ctol)))
+            out.extend([math.sqrt(lam[i]) * hz] * int(np.count_nonzero(d <= ctol)))
         i = j
     return out

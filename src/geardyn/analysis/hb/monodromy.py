@@ -1,48 +1,24 @@
-"""Floquet multipliers of a harmonic-balance solution from the monodromy matrix of one period.
+"""Floquet multipliers of a harmonic-balance solution from the monodromy matrix of one period (``docs/hb.md``,
+"Floquet multipliers from the monodromy matrix").
 
-The equation (one DOF: u'' + C(θ)u' + K(θ)f(u) = F(θ); a system: q'' = g − Aq − Bq' − Σ_e W[e](C_e δ_e' +
-K_e f(δ_e)), δ_e = V[e]·q − E_e(θ)) is integrated over the response period from the state of the HB solution at
-φ = 0, together with the columns of a fundamental matrix of its variational equation (stiffness K_e χ_e,
-χ_e = 1 in contact): :func:`~._monodromykernel.monodromy_kernel`, the classic RK4 with every element locked to
-its contact region on a step and the steps cut at the contact switches (located on the trajectory by an
-Illinois iteration on the step length), so the method keeps its fourth order through the switches.  The
-step is at most :data:`STEP_ANGLE`/ρ in τ, ρ = √(spectral radius of the largest stiffness) + ‖largest
-damping‖_F (the fastest rate of the linearised motion): the relative error of the multipliers is about
-T ρ STEP_ANGLE⁴/120, e.g. 1e-7 for T ρ = 18 (measured 2e-8 for the linear response at ω = 0.4).
-
-Why along a trajectory, and refined: the multipliers depend on the switch instants to first order (the
-stiffness jumps there).  Along the HB signal u_H(φ), truncated, the switches are misplaced by the truncation
-error — on the paper's defaults at ω = 0.7 the monodromy along u_H was 4e-3 off at H = 16.  A trajectory
-switches where the equation says, but one started on the HB state is an orbit only to the HB error (it closes
-to about 6e-5 at H = 16; its multipliers were 2.5e-4 off).  So the period is integrated twice: from the HB
-state (in steps :data:`FIRST_STEP_FACTOR` times longer: it only gives the Newton step), then from the state
-corrected by one Newton step of shooting on the elastic part,
-x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (:data:`REFINE`), whose error is the square of the first's plus the
-coarser step's.  The multipliers then agree with shooting's (accurate mode, Δτ = 0.0005) to 7e-8 at H = 8, 16
-and 32 (2e-9 with the first period at the full step, for 30 % more time),
-where Hill's method is 3.6e-3, 1.9e-4 and 2.3e-6 off (defaults, ω = 0.7).  The correction is skipped (the
-first period's multipliers kept) when it is more than :data:`REFINE_GAIN` times the gap it closes: a
-multiplier next to 1 (a fold), where QᵀΦQ − I is nearly singular and the step would leave for another orbit.
-
-The multipliers are the eigenvalues of the monodromy matrix Φ.  With rigid-body modes R (a system whose pair
-rotates freely) the subspace spanned by (R, 0) and (0, R) is invariant, and only the quotient map is taken:
-Φ is applied to an orthonormal basis Q = diag(P, P) of the complement and projected back, QᵀΦQ, whose
-eigenvalues are the 2(n − r) elastic multipliers (as in :mod:`.system_hill`).  Exponents are λ = log μ / T
-(principal logarithm: |Im λ| ≤ ν/2, the central copy of Hill's method).  Two checks give ``UNRESOLVED``:
-Liouville's formula Π μ = exp(−∫ tr 𝒞 dτ) beyond :data:`~.hill.LIOUVILLE_TOL` (the integration), and a
-trajectory that does not return to within :data:`CLOSURE_TOL` of its start (an HB solution too far from an
-orbit, e.g. too few harmonics).
-
-Against Hill's method (:mod:`.hill`, :mod:`.system_hill`): no eigenvectors to sort and no copies to reject,
-no truncation of the eigenvectors (the stiffness jumps at the switches, so Hill's method converges like H⁻³),
-and a cost that does not grow with H: two periods of 2(n − r) columns of n-DOF RK4 steps instead of the
-eigen-decomposition of a 2(n − r)(2H + 1)-row matrix (350 rows for the 8-DOF bevel pair at H = 12).
+The equation of the form (:mod:`.form`) is integrated over the response period from the state of the HB solution at
+φ = 0 together with the columns of a fundamental matrix of its variational equation
+(:func:`~._monodromykernel.monodromy_kernel`: classic RK4 with every element locked to its contact region on a step,
+the steps cut at the contact switches located on the trajectory, steps of at most :data:`STEP_ANGLE`/ρ in τ, ρ the
+fastest rate of the linearised motion).  The period is integrated twice: from the HB state (steps
+:data:`FIRST_STEP_FACTOR` times longer), then from the state corrected by one Newton step of shooting on the elastic
+part, x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (skipped when it is more than :data:`REFINE_GAIN` times the
+gap it closes, next to a fold).  The multipliers are the eigenvalues of QᵀΦQ, Q = diag(P, P) an orthonormal basis of
+the complement of the rigid-body modes, so the rigid modes' multipliers 1 are left out; the exponents their
+principal logarithms over T.  ``UNRESOLVED`` when Liouville's formula fails by more than
+:data:`~.hill.LIOUVILLE_TOL` or the first period does not return to within :data:`CLOSURE_TOL` of its start.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -54,11 +30,9 @@ __all__ = [
     "CLOSURE_TOL",
     "FIRST_STEP_FACTOR",
     "FLOQUET_METHODS",
-    "REFINE",
     "REFINE_GAIN",
     "STEP_ANGLE",
     "SWITCH_TOL",
-    "check_floquet",
     "monodromy_floquet",
 ]
 
@@ -73,32 +47,16 @@ SWITCH_TOL = 1e-14
 #: farther, the HB solution is too far from an orbit for its multipliers to mean anything: ``UNRESOLVED``.
 #: (Paper defaults at ω = 0.58, 0.7, 0.9: 0.02–0.05 at H = 2, below 1e-2 from H = 4, about 6e-5 at H = 16.)
 CLOSURE_TOL = 1e-2
-#: Start the period again from the state corrected by one Newton step of shooting (see the module notes)...
-REFINE = True
-#: ... unless the step is more than REFINE_GAIN times the closure gap (QᵀΦQ − I nearly singular: a multiplier
-#: within about 1/REFINE_GAIN of 1, next to a fold, where the step would leave for another orbit).
+#: The period is started again from the state corrected by one Newton step of shooting (module notes), unless the
+#: step is more than REFINE_GAIN times the closure gap (QᵀΦQ − I nearly singular: a multiplier within about
+#: 1/REFINE_GAIN of 1, next to a fold, where the step would leave for another orbit).
 REFINE_GAIN = 20.0
 #: The first period, which only gives the Newton step, is integrated in steps this many times longer.
 FIRST_STEP_FACTOR = 2.0
 
 
-def check_floquet(floquet: str) -> str:
-    """``floquet`` if it names a method of :data:`FLOQUET_METHODS`.
-
-    Parameters
-    ----------
-    floquet : str
-        ``"monodromy"`` or ``"hill"``.
-
-    Returns
-    -------
-    str
-
-    Raises
-    ------
-    ModelError
-        For any other value.
-    """
+def _check_floquet(floquet: str) -> str:
+    """``floquet`` if it names a method of :data:`FLOQUET_METHODS`; else a one-line :class:`ModelError`."""
     from ...errors import ModelError
 
     if floquet not in FLOQUET_METHODS:
@@ -115,43 +73,19 @@ def _pack(series: Sequence[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     return out, L
 
 
-def monodromy_floquet(
-    nu: float,
-    x0: np.ndarray,
-    A: np.ndarray,
-    B: np.ndarray,
-    W: np.ndarray,
-    V: np.ndarray,
-    C: Sequence[np.ndarray],
-    K: Sequence[np.ndarray],
-    E: Sequence[np.ndarray],
-    G: Sequence[np.ndarray],
-    D: Sequence[float],
-    P: np.ndarray | None = None,
-    trace: float | None = None,
-) -> HillResult:
+def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None = None) -> HillResult:
     """Floquet exponents and multipliers from the monodromy matrix of one period started on the HB solution.
 
     Parameters
     ----------
+    form : HBForm
+        The system's equation (:class:`~geardyn.analysis.hb.form.HBForm`).
     nu : float
         Fundamental frequency of the solution (period T = 2π/ν), φ = ντ.
     x0 : ndarray (2n,)
         The solution's state (q, q') at φ = 0 (τ-derivatives).
-    A, B : ndarray (n, n)
-        Constant stiffness and damping (mass-normalised).
-    W, V : ndarray (elements, n)
-        Each element's force direction (mass-normalised) and deflection direction.
-    C, K, E : sequences of complex ndarray
-        Each element's damping, stiffness and STE (δ_e = V[e]·q − E_e) as centred Fourier coefficients in φ.
-    G : sequence of complex ndarray
-        The forcing of each DOF (mass-normalised), centred Fourier coefficients in φ.
-    D : sequence of float
-        Each element's half clearance (0: always in contact).
     P : ndarray (n, n − r), optional
         Orthonormal basis of the complement of the rigid-body modes (default: none, the identity).
-    trace : float, optional
-        Mean over the period of tr 𝒞 (default from B and the elements' mean damping).
 
     Returns
     -------
@@ -159,6 +93,12 @@ def monodromy_floquet(
         2(n − r) exponents and multipliers (largest modulus first), centralities 0 (no eigenvectors are
         sorted), Liouville's error and the status (``DIVERGED`` if the period could not be integrated).
     """
+    els = form.elements
+    A, B = form.A, form.B
+    W = np.array([e.W for e in els], dtype=float)
+    V = np.array([e.V for e in els], dtype=float)
+    C, K, E, D = [e.C for e in els], [e.K for e in els], [e.E for e in els], [e.gap for e in els]
+    G = [g0 + nu * nu * g2 for g0, g2 in zip(form.G0, form.G2)]
     A = np.ascontiguousarray(A, dtype=float)
     B = np.ascontiguousarray(B, dtype=float)
     n = A.shape[0]
@@ -199,38 +139,31 @@ def monodromy_floquet(
         Phi = Q.T @ Y
         return None if steps < 0 or not (np.all(np.isfinite(Phi)) and np.all(np.isfinite(xe))) else (xe, Phi)
 
-    refine = REFINE
-    first = period(x_start, FIRST_STEP_FACTOR * hmax if refine else hmax)
+    first = period(x_start, FIRST_STEP_FACTOR * hmax)
     if first is None:
         return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
     x, Phi = first
     # one Newton step of shooting on the elastic part: the period is started again from the corrected state
-    # (the HB state's error moves the switch instants, and with them the multipliers, to first order)
+    # (the HB state's error moves the switch instants, and with them the multipliers, to first order); without
+    # it (a step more than REFINE_GAIN times the gap) the first period again, at the full accuracy
     gap = Q.T @ (x - x_start)
-    scale = 1.0 + float(np.linalg.norm(Q.T @ x_start))
-    closure = float(np.linalg.norm(gap)) / scale
-    refined = False
-    if refine and closure <= CLOSURE_TOL:
+    closure = float(np.linalg.norm(gap)) / (1.0 + float(np.linalg.norm(Q.T @ x_start)))
+    start = x_start
+    if closure <= CLOSURE_TOL:
         try:
             dz = np.linalg.solve(Phi - np.eye(count), -gap)
         except np.linalg.LinAlgError:
-            dz = None
-        if (
-            dz is not None
-            and np.all(np.isfinite(dz))
-            and float(np.linalg.norm(dz)) <= REFINE_GAIN * float(np.linalg.norm(gap))
-        ):
-            again = period(x_start + Q @ dz, hmax)
-            if again is not None:
-                Phi, refined = again[1], True
-    if refine and not refined:  # the multipliers of the first period, integrated again at the full accuracy
+            dz = np.full(count, math.nan)
+        if np.all(np.isfinite(dz)) and float(np.linalg.norm(dz)) <= REFINE_GAIN * float(np.linalg.norm(gap)):
+            start = x_start + Q @ dz
+    again = period(start, hmax)
+    if again is None and start is not x_start:
         again = period(x_start, hmax)
-        if again is None:
-            return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
-        Phi = again[1]
+    if again is None:
+        return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
+    Phi = again[1]
     T = 2.0 * math.pi / nu
-    if trace is None:
-        trace = float(np.trace(B)) + float(sum(float(v @ w) * z[(len(z) - 1) // 2].real for v, w, z in zip(V, W, C)))
+    trace = -form.mean_trace()
     mu = np.linalg.eigvals(Phi).astype(complex)
     mu = mu[np.argsort(-np.abs(mu), kind="stable")]
     with np.errstate(divide="ignore"):

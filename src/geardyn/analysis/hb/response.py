@@ -1,31 +1,14 @@
 """The frequency response of an HB branch in the format of ``geardyn response``: up and down sweeps, jumps at
-the folds, hysteresis between them.
+the folds, hysteresis between them (``docs/hb.md``).
 
-A brute-force response follows the attractor a simulation reaches from the previous point.  Here the
-same paths are read off one continued branch (:func:`~geardyn.analysis.hb.continuation.hb_continuation`
-from the lowest to the highest ω):
-
-* the branch is cut into its **stable segments** (runs of points with every |μ| < 1 and a resolved
-  Hill stability), each extended to the located fold, period doubling or Neimark–Sacker point that
-  ends it, and each monotone in ω;
-* the **up sweep** starts on the stable segment that the branch starts on (the attractor reached
-  by simulation from rest at the lowest ω), follows it to its end; at a fold it **jumps** to the
-  stable segment that continues beyond that ω with the nearest amplitude; at a period doubling or
-  Neimark–Sacker point it leaves the period-n solutions (the attractor goes on nearby: a period-2n or
-  quasi-periodic response) until the next stable segment begins; the **down sweep** does the same
-  from the highest ω downwards, starting on the segment nearest the branch's end;
-* where no stable segment covers an ω the sweep has no stable period-n solution: its points carry
-  ``Status.UNRESOLVED`` (motion "unresolved", NaN values) — a period doubling, a quasi-periodic or a
-  chaotic response, which harmonic balance of period n cannot tell apart;
-* the **jumps** are at the exact fold values (``omega``; ``omega_from``/``omega_to`` is the grid step
-  that contains it), the **hysteresis** intervals are the exact ω intervals where the two sweeps are on
-  different stable segments, or where one is on a stable segment and the other on none (between the
-  folds; a period-doubling interval inside the loop does not interrupt it).
-
-On the grid every point is solved by Newton from the segment's interpolated coefficients, so the
-values are those of harmonic balance at that ω, not an interpolation.  Which attractor a jump lands
-on is the nearest stable segment in amplitude; with more than two coexisting stable solutions the
-simulated sweep may land on another one.
+The paths of a brute-force response are read off one branch continued in ω from the lowest to the highest ω: the
+branch is cut into its **stable segments** (each extended to the located fold, period doubling or Neimark–Sacker
+point that ends it, monotone in ω); the **up sweep** starts on the segment the branch starts on and, at a fold,
+**jumps** to the stable segment continuing beyond it with the nearest amplitude; at a period doubling or
+Neimark–Sacker point it leaves the period-n solutions until the next segment begins; the **down sweep** likewise
+from the top.  Where no segment covers an ω the points are ``Status.UNRESOLVED`` with NaN values.  The jumps are at
+the exact fold values, the **hysteresis** intervals where the two sweeps are on different stable segments.  Every
+grid point is solved by Newton at its ω from the segment's interpolated coefficients.
 """
 
 from __future__ import annotations
@@ -37,12 +20,11 @@ from typing import Any
 
 import numpy as np
 
-from ...model import GearModel, ModelError
+from ...errors import ModelError
 from ...status import Status
-from ._blas import single_thread_blas
 from .aft import signal_extrema
 from .continuation import HBBifurcation, HBContinuation, hb_continuation
-from .solve import DEFAULT_HARMONICS, HBSystem
+from .equations import HBEquations, single_thread_blas
 
 __all__ = [
     "MEASURES",
@@ -51,7 +33,6 @@ __all__ = [
     "hb_response",
     "response_from_branch",
     "stable_segments",
-    "sweep_paths",
 ]
 
 #: Response measures (as :data:`geardyn.analysis.response.MEASURES`).
@@ -126,21 +107,13 @@ def _resolved_after(resolved: np.ndarray, i: int) -> int:
 
 
 def decided_stability(res: HBContinuation) -> np.ndarray:
-    """Stability per branch point, a point whose multipliers were not resolved taking its neighbours' when they
-    are both stable and no stability event is located between them.
-
-    A point of undecided stability is a solution like the others (its coefficients converged); only its Floquet
-    multipliers failed.  Stability changes only at a fold, a period doubling or a Neimark–Sacker point, so between
-    two stable points with none of them located in between the branch is stable throughout.  Elsewhere the
-    undecided point is counted unstable (no sweep stays on it).
+    """Stability per branch point, a point whose multipliers were not resolved taking its neighbours' when they are
+    both stable and no stability event is located between them (stability changes only at a fold, a period
+    doubling or a Neimark–Sacker point); elsewhere such a point counts as unstable.
 
     Parameters
     ----------
     res : HBContinuation
-
-    Returns
-    -------
-    ndarray of bool (P,)
     """
     st = np.array(res.stable, dtype=bool)
     resolved = res.status == int(Status.OK)
@@ -160,16 +133,11 @@ def decided_stability(res: HBContinuation) -> np.ndarray:
 
 
 def stable_segments(res: HBContinuation) -> list[Segment]:
-    """The stable segments of a branch in ω (see the module docstring), in branch order.
+    """The stable segments (:class:`Segment`) of a branch in ω (see the module docstring), in branch order.
 
     Parameters
     ----------
     res : HBContinuation
-        A branch continued in ω.
-
-    Returns
-    -------
-    list of Segment
     """
     if res.param != "omega":
         raise ModelError(f"param: a frequency response needs a branch in omega, got {res.param}")
@@ -220,21 +188,10 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     return out
 
 
-def sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list[tuple[float, float, int | None]]]:
-    """The pieces (ω_a, ω_b, segment index or None) the up and down sweeps follow, in sweep order.
-
-    Parameters
-    ----------
-    segments : list of Segment
-    lo, hi : float
-        The ω interval.
-
-    Returns
-    -------
-    dict
-        ``{"up": [...], "down": [...]}``; consecutive pieces on two segments are a jump at their
-        common end, a piece with None has no stable solution.
-    """
+def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list[tuple[float, float, int | None]]]:
+    """``{"up": [...], "down": [...]}``: the pieces (ω_a, ω_b, segment index or None) the sweeps over [lo, hi]
+    follow, in sweep order; consecutive pieces on two segments are a jump at their common end, a piece with None
+    has no stable solution."""
     out = {}
     for lab, d in (("up", 1.0), ("down", -1.0)):
         start, stop = (lo, hi) if d > 0 else (hi, lo)
@@ -284,48 +241,19 @@ def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
     return None
 
 
-def _is_system(res: HBContinuation) -> bool:
-    from .system_continuation import HBSystemContinuation
-
-    return isinstance(res, HBSystemContinuation)
-
-
-class _Reader:
-    """What the response reads off a branch's solutions: Newton at ω from a segment's coefficients, and the
-    signal u (the 1-DOF model's u; a system's reference-mesh deflection δ) as real coefficients on ``basis``."""
-
-    def __init__(self, res: HBContinuation):
-        n, H = res.period, res.harmonics
-        self.system = _is_system(res)
-        if self.system:
-            from .system import HBSystemEquations
-
-            self.eq = HBSystemEquations(res.model, H, n, param="omega", samples=res.samples)
-            self.basis, self.D = self.eq.dbasis, float(res.model.meshes[res.reference].D)
-            self.gauge = np.zeros(self.eq.basis.rigid)
-        else:
-            self.eq = HBSystem(res.model, H, n, param="omega", samples=res.samples)
-            self.basis, self.D = self.eq.basis, float(res.model.D)
-        self.reference = res.reference if self.system else 0
-
-    def newton(self, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
-        x0 = np.concatenate([guess, self.gauge]) if self.system else guess
-        a, st, _its, _r = self.eq.newton(x0, w)
-        return a, st
-
-    def signal(self, a: np.ndarray, w: float) -> np.ndarray:
-        """Coefficients of u (of the reference mesh's δ for a system) of the unknowns ``a``; ``a`` itself for one
-        DOF, or a segment's coefficients (then the gauge multipliers are appended)."""
-        if not self.system:
-            return a
-        x = a if a.size == self.eq.basis.size else np.concatenate([a, self.gauge])
-        return self.eq.deflection(x, self.reference, w)
-
-    def nu(self, w: float, n: int) -> float:
-        return self.eq.nu(w) if self.system else self.eq.forcing(w) / n
+def _newton(eq: HBEquations, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
+    """Newton at ω = w from a segment's coefficients (the gauge multipliers appended)."""
+    a, st, _its, _r = eq.newton(np.concatenate([guess, np.zeros(eq.basis.rigid)]), w)
+    return a, st
 
 
-def _walk(rd: _Reader, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
+def _signal(eq: HBEquations, a: np.ndarray, w: float) -> np.ndarray:
+    """Coefficients of the reference element's δ of the unknowns ``a`` (or of a segment's coefficients)."""
+    x = a if a.size == eq.basis.size else np.concatenate([a, np.zeros(eq.basis.rigid)])
+    return eq.deflection(x, eq.reference, w)
+
+
+def _walk(rd: HBEquations, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
     """The segment's solution at ω = x by natural continuation from its nearest point, in WALK_STEPS equal steps
     of ω (then four times as many), each Newton started from the previous solution."""
     k = int(np.argmin(np.abs(seg.omega - x)))
@@ -334,7 +262,7 @@ def _walk(rd: _Reader, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
     for steps in (WALK_STEPS, 4 * WALK_STEPS):
         a = seg.coefficients[k]
         for w in np.linspace(float(seg.omega[k]), x, steps + 1)[1:]:
-            a, st = rd.newton(a[:ncoef], float(w))
+            a, st = _newton(rd, a[:ncoef], float(w))
             if st is not Status.OK:
                 break
         if st is Status.OK:
@@ -366,7 +294,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
 
     Parameters
     ----------
-    res : HBContinuation or HBSystemContinuation
+    res : HBContinuation
         A branch continued in ω over (at least) the grid's interval (a system's: the reference mesh's δ).
     omegas : array_like
         Increasing ω grid.
@@ -402,10 +330,10 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
             for x in (lo, hi):
                 if seg.omega[k] != x and abs(seg.omega[k] - x) <= 8.0 * math.ulp(x):
                     seg.omega[k] = x
-    paths = sweep_paths(segs, lo, hi)
+    paths = _sweep_paths(segs, lo, hi)
     n, H = res.period, res.harmonics
-    rd = _Reader(res)
-    D, basis = rd.D, rd.basis
+    rd = HBEquations(res.model, H, n, param="omega", samples=res.samples)
+    D, basis = float(res.gaps[res.reference]), rd.dbasis
     phis = 2.0 * np.pi * np.arange(n) / n
     shape = (2, w.size)
     f = {k: np.full(shape, np.nan) for k in MEASURES}
@@ -419,7 +347,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     def solve(seg: Segment, x: float) -> tuple[np.ndarray, Status]:
         key = (seg.index, float(x))
         if key not in solved:
-            a, st = rd.newton(seg.guess(x), x)
+            a, st = _newton(rd, seg.guess(x), x)
             if st is not Status.OK:  # the interpolated guess is too far: walk there from the nearest branch point
                 a, st = _walk(rd, seg, x)
             solved[key] = (a, st)
@@ -435,19 +363,19 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 status[r, k] = int(st)
                 if st is not Status.OK:
                     continue
-                u = rd.signal(a, float(x))
+                u = _signal(rd, a, float(x))
                 vals = _measures(basis, u)
                 for key, v in vals.items():
                     f[key][r, k] = v
                 pu[r, k] = basis.evaluate(u, phis)
-                pv[r, k] = rd.nu(float(x), n) * basis.evaluate(u, phis, 1)
+                pv[r, k] = rd.nu(float(x)) * basis.evaluate(u, phis, 1)
                 period[r, k] = _minimal_period(pu[r, k], pv[r, k], n)
                 motion[r, k] = MOTION_PERIODIC
                 impact[r, k] = impact_state(vals["u_min"], D)
         jumps = []
         for lab in ("up", "down"):
             pieces = paths[lab]
-            for (a0, b0, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
+            for (_a0, b0, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
                 if s0 is None or s1 is None:
                     continue
                 x = float(b0)
@@ -455,8 +383,8 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 a_to, st = solve(segs[s1], x)
                 if st is not Status.OK:
                     continue
-                m_from = _measures(basis, rd.signal(end, x))[measure]
-                m_to = _measures(basis, rd.signal(a_to, x))[measure]
+                m_from = _measures(basis, _signal(rd, end, x))[measure]
+                m_to = _measures(basis, _signal(rd, a_to, x))[measure]
                 if lab == "up":
                     before, after = w[w <= x], w[w > x]
                     g_from = float(before[-1]) if before.size else x
@@ -490,40 +418,20 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
             "poincare_v": (("sweep", "omega", "section"), pv),
         },
         coords={"sweep": ["up", "down"], "omega": w, "section": np.arange(n)},
-        attrs=_attrs(
-            res,
+        attrs=res.attrs(
+            "response",
             {"method": "hb", "harmonics": H, "period": n, "samples": res.samples},
-            dict(
-                param="omega",
-                mode="harmonic balance",
-                sweep="both",
-                method="hb",
-                measure=measure,
-                jumps=json.dumps(jumps),
-                hysteresis=json.dumps(hyst),
-                bifurcations=json.dumps(res.to_json()["bifurcations"]),
-            ),
+            param="omega",
+            mode="harmonic balance",
+            sweep="both",
+            method="hb",
+            measure=measure,
+            jumps=json.dumps(jumps),
+            hysteresis=json.dumps(hyst),
+            bifurcations=json.dumps(res.bifurcations_json()),
         ),
     )
     return annotate(ds)
-
-
-def _attrs(res: HBContinuation, options: dict[str, Any], extra: dict[str, Any]) -> dict[str, str]:
-    """A response's attributes: the 1-DOF model's, or a system's (:func:`~geardyn.io.system_attrs`
-    with ``model`` its reference mesh's ω, D and ξ0, as the system's ``hb`` Dataset has)."""
-    from ...io import json_attr, result_attrs, system_attrs
-
-    if not _is_system(res):
-        return result_attrs("response", res.model, options, **extra)
-    attrs = system_attrs(
-        res.model,
-        "response",
-        None,
-        {**extra, "options": json_attr(options), "reference_mesh": res.elements[res.reference]},
-    )
-    ref = res.model.meshes[res.reference]
-    attrs["model"] = json.dumps({"omega": res.model.omega, "D": ref.D, "xi0": ref.xi0})
-    return attrs
 
 
 def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list[list[float]]:
@@ -543,7 +451,7 @@ def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list
 
 
 def hb_response(
-    model: GearModel,
+    model: Any,
     omega_start: float,
     omega_stop: float,
     num: int,
@@ -561,8 +469,7 @@ def hb_response(
     Parameters
     ----------
     model : System
-        The model, or a multi-DOF system (then the response is its reference mesh's, from
-        :func:`~geardyn.analysis.hb.system_continuation.hb_system_continuation`); ω is varied.
+        The pair or a multi-DOF system (then the response is its reference mesh's); ω is varied.
     omega_start, omega_stop : float
         The ω interval (> 0); the branch is continued from the lower end.
     num : int
@@ -575,8 +482,7 @@ def hb_response(
     guess : optional
         Start guess at the lower end (as :func:`~geardyn.analysis.hb.continuation.hb_continuation`).
     state0 : optional
-        A system's start of the simulation of the default guess (as
-        :func:`~geardyn.analysis.hb.system_continuation.hb_system_continuation`; unused for the 1-DOF model).
+        Start of the simulation of the default guess (as :func:`~geardyn.analysis.hb.continuation.hb_continuation`).
     progress : bool
         Show the progress of the continuation on stderr (:func:`geardyn.sweep.progress.task_progress`).
 
@@ -601,22 +507,9 @@ def hb_response(
     if measure not in MEASURES:
         raise ModelError(f"measure: must be one of {', '.join(MEASURES)}, got {measure!r}")
     with task_progress("response ω (HB)", unit="Δω traced", enabled=progress) as bar:
-        if isinstance(model, GearModel):
-            res = hb_continuation(model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess, progress=bar)
-        else:
-            from .system_continuation import hb_system_continuation
-
-            res = hb_system_continuation(
-                model,
-                "omega",
-                lo,
-                hi,
-                period=period,
-                guess=guess,
-                harmonics=DEFAULT_HARMONICS if harmonics is None else harmonics,
-                state0=state0,
-                progress=bar,
-            )
+        res = hb_continuation(
+            model, "omega", lo, hi, harmonics=harmonics, period=period, guess=guess, state0=state0, progress=bar
+        )
     if not res.converged:
         raise ModelError(f"omega_start: harmonic balance at omega = {lo:g} did not converge ({res.end})")
     return response_from_branch(res, np.linspace(lo, hi, int(num)), measure)

@@ -592,7 +592,7 @@ class _Continuer:
             if self.detect:
                 evs = self.detect_events(a, new, branch_index)
                 stop_here = None
-                for s, bif, bpt in evs:
+                for _s, bif, bpt in evs:
                     if bif.type == "merge":
                         bifs.append(bif)
                         return pts, bifs, "merged into the period-n/2 branch at its period doubling"

@@ -20,13 +20,13 @@ from ...integrate import integrate_batch, start_state
 from ...labels import IMPACT_LABELS, impact_state
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError
 from ...status import Status
+from ...system import require_periodic
 from .floquet import Floquet, floquet
 from .map import MAP_THREADS, MapEvaluation, PeriodMap
 
 __all__ = [
     "PeriodicOrbit",
     "shoot",
-    "require_periodic",
     "elastic_basis",
     "elastic_multipliers",
     "guess_from_simulation",
@@ -156,34 +156,6 @@ def orbit_extrema(
 
 def _impact_label(u_min: float, D: float) -> str:
     return IMPACT_LABELS[impact_state(u_min, D)]
-
-
-def require_periodic(model: Any, what: str = "the periodic tools") -> int:
-    """The forcing-period multiple p of a system, refusing a quasi-periodic forcing.
-
-    Parameters
-    ----------
-    model : System
-    what : str
-        The tools named in the error message.
-
-    Returns
-    -------
-    int
-        p = ``model.period_multiple()``: the forcing repeats after p base periods (1 for the pair).
-
-    Raises
-    ------
-    ModelError
-        If the forcing frequencies are incommensurate (no common period).
-    """
-    p = model.period_multiple()
-    if p is None:
-        raise ModelError(
-            f"system: {what} need a periodic forcing, but the mesh-frequency ratios are "
-            f"incommensurate; use simulate or lyapunov"
-        )
-    return p
 
 
 def elastic_basis(model: Any) -> np.ndarray | None:

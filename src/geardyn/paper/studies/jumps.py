@@ -20,7 +20,7 @@ from ..claims import CLAIMS, claim_ids
 from ..report import Finding, Section
 from ..settings import Context, model_text
 from ..table1 import TABLE1
-from ..verdicts import count_text, fluctuation_trend, jump_holds, jump_type_at, parts, section_spread
+from ..verdicts import count_text, distinct_text, fluctuation_trend, jump_holds, jump_type_at, parts, section_spread
 
 __all__ = [
     "JUMP_NEAR",
@@ -351,7 +351,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             "; ".join(f"{j['omega']:.3f} {j['direction']} {j['size']:.3f} ({j['sweep']})" for j in jumps_of(ds))
             or "none"
         )
-        hs = ", ".join(f"[{a:.2f}, {b:.2f}]" for a, b in hysteresis_of(ds)) or "none"
+        hs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in hysteresis_of(ds)) or "none"  # as the jumps
         table.append([f"{xi0:g}", f"{xi1:g}", f"{D:g}", js, hs])
 
     # steady below ω = 0.5
@@ -406,9 +406,9 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     claims.append(
         CLAIMS["JUMP-FLUCT"].judge(
             "fluctuation after the first jump (mean spread of the Poincaré points over the up sweep): ξ0 = "
-            + ", ".join(f"{k[0]:g}: {f:.4f}" for k, f in zip(s.xi0_set, fl0))
+            + ", ".join(f"{k[0]:g}: {f}" for k, f in zip(s.xi0_set, distinct_text(fl0, 4)))
             + f" ({why0}); ξ1 = "
-            + ", ".join(f"{k[1]:g}: {f:.4f}" for k, f in zip(s.xi1_set, fl1))
+            + ", ".join(f"{k[1]:g}: {f}" for k, f in zip(s.xi1_set, distinct_text(fl1, 4)))
             + f" ({why1}); both parts required.",
             parts(ok0, ok1),
             jd.ev(*s.xi0_set, *s.xi1_set),

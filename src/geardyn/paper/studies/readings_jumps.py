@@ -23,7 +23,7 @@ from ..readings import BACKLASH_READINGS, Reading, lockstep_responses, phase_pai
 from ..report import Finding
 from ..settings import Context
 from ..table1 import TABLE1
-from ..verdicts import FORMULA_R2_REPRODUCED, fluctuation_trend, jump_holds, jump_type_at
+from ..verdicts import FORMULA_R2_REPRODUCED, distinct_text, fluctuation_trend, jump_holds, jump_type_at
 from .formula import fit_formula
 from .jumps import FLUCT_AFTER, JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR
 
@@ -201,7 +201,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
                 return False, f"an upward jump above ω = {LOW_OMEGA:g} in {sum(map(bool, js))} of {len(js)} responses"
             sz = [j["size"] for j in js]  # type: ignore[index]
             ok = bool(np.all(np.diff(sz) < 0) if decreasing else np.all(np.diff(sz) > 0))
-            return ok, "sizes " + ", ".join(f"{lab} = {k[pos]:g}: {v:.3f}" for k, v in zip(keys, sz))
+            return ok, "sizes " + ", ".join(f"{lab} = {k[pos]:g}: {v}" for k, v in zip(keys, distinct_text(sz)))
 
         return t
 
@@ -212,9 +212,9 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
         ok1, why1 = fluctuation_trend(f1, False)
         return ok0 and ok1, (
             "spread over ξ0 "
-            + ", ".join(f"{v:.3f}" for v in f0)
+            + ", ".join(distinct_text(f0))
             + f" ({why0}); over ξ1 "
-            + ", ".join(f"{v:.3f}" for v in f1)
+            + ", ".join(distinct_text(f1))
             + f" ({why1})"
         )
 

@@ -157,8 +157,9 @@ def study_tables(
             (claim_ids("T3-"), best3, [r[-1] == "yes" for r in t3[1:]]),
             (t4ids, best4, [r[-1].endswith("yes") for r in t4[1:]]),
         ):
-            for cid in ids:
+            for cid, h in zip(ids, holds, strict=False):
                 if cid in findings:
+                    findings[cid].table_reading, findings[cid].table_holds = best.text, bool(h)
                     findings[cid].deciding += (
                         f"; under one reading for the whole table, the best ({best.text}) holds "
                         f"{sum(holds)} of {len(holds)} rows"

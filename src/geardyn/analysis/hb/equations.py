@@ -1,0 +1,582 @@
+"""The harmonic-balance equations of any system: residual, analytic Jacobian, Newton, Floquet multipliers.
+
+The system is given by its :class:`~geardyn.analysis.hb.form.HBForm` (``model.hb_form(n)``)::
+
+    q'' + B q' + A q + Σ_e W_e s_e = G0 + ν² G2,      s_e = C_e δ_e' + K_e f_e(δ_e),      δ_e = V_e·q − E_e,
+
+a period-n response sought as H harmonics of ν = ω/periods in φ = ντ for every coordinate: the unknown is the
+(dofs, 2H + 1) array of real coefficients ``[a_0, a_1 … a_H, b_1 … b_H]`` per coordinate, flattened coordinate by
+coordinate, then one gauge multiplier per rigid-body mode.
+
+How each term is evaluated
+--------------------------
+Every element's deflection δ_e is a trigonometric polynomial (E_e with its own harmonics when they exceed H).
+Its force K_e f_e(δ_e) is projected by the element's law (:data:`LAW_TERMS`; the dead zone by
+:func:`~geardyn.analysis.hb.aft.dead_zone_terms`' kernel: the contact switches located on a time grid and refined
+by Newton, the interval integrals in closed form — exact for the truncated δ_e, no aliasing, a C¹ residual whose
+Jacobian is the multiplication operator of K_e f_e'(δ_e), the operator Hill's matrix needs).  A law is one
+function returning the projection G and the series S of K_e f_e'(δ_e).  The damping products and linear terms are
+exact convolutions.  The Jacobian is analytic::
+
+    J = −ν² I⊗D₂ + A⊗I + ν B⊗D₁ + Σ_e (W_e V_eᵀ) ⊗ Re[ν T(Ĉ_e) diag(ik) + T(Ŝ_e)],
+
+D₁, D₂ the derivative operators in real coefficients, T(·) the Toeplitz (multiplication) matrix.  A form with one
+coordinate and one dead-zone element without linear terms (:attr:`HBForm.scalar <.form.HBForm.scalar>`: the 1-DOF
+pair) is evaluated by compiled kernels of the same equations (``benchmarks/hb_speed.py --general`` times both).
+
+A free rigid-body mode R (no stiffness, damping or load along it) leaves the mean of the rigid coordinate undetermined:
+the gauge Rᵀa_0 = 0 is imposed with one Lagrange multiplier per mode (``docs/hb.md``, "Rigid-body modes").
+
+References
+----------
+T. M. Cameron and J. H. Griffin, J. Appl. Mech. 56 (1989) 149–154 (AFT); G. W. Hill, Acta Math. 8 (1886) 1–36.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any, NamedTuple
+
+import numpy as np
+from scipy.linalg.lapack import dgesv
+from threadpoolctl import threadpool_limits
+
+from ...errors import ModelError
+from ...grid import param_name
+from ...integrate import start_state
+from ...model import DEFAULT_DTAU, IntegrationOptions
+from ...status import Status
+from ._aftkernel import bordered_nu_kernel, real_operator_kernel, residual_kernel
+from .aft import (
+    ROOT_MAX_ITER,
+    ROOT_TOL,
+    DeadZoneTerms,
+    HarmonicBasis,
+    dead_zone_terms,
+    signal_extrema,
+    time_samples,
+    toeplitz,
+)
+from .form import FormElement, HBForm
+from .hill import HillResult, system_hill_floquet
+from .monodromy import _check_floquet, monodromy_floquet
+
+__all__ = ["HBEquations", "default_harmonics", "single_thread_blas", "solve", "DEFAULT_HARMONICS", "NEWTON_TOL"]
+
+#: Default harmonics of ν (see ``docs/hb.md`` for the convergence study behind it).
+DEFAULT_HARMONICS = 16
+#: The most harmonics the default of a multi-cycle excitation takes (the Jacobian's LU costs about (2H + 1)³).
+MAX_DEFAULT_HARMONICS = 1024
+#: Newton converges when ||R|| <= NEWTON_TOL·(1 + ||a||).
+NEWTON_TOL = 1e-11
+NEWTON_MAX_ITER = 40
+NEWTON_MIN_DAMPING = 2.0**-12
+#: Unknown vectors larger than this count as diverged.
+DIVERGED_NORM = 1e8
+#: Relative step of the central difference for the derivative of R in a parameter other than ω.
+FD_REL_STEP = 1e-6
+#: Start simulation: forcing periods discarded and the step.
+GUESS_TRANSIENT = 400
+GUESS_DTAU = DEFAULT_DTAU
+#: Samples per response period of the mesh forces for the dynamic factor (times the HB samples N).
+FORCE_OVERSAMPLE = 4
+#: Use the compiled kernels of a scalar form (``benchmarks/hb_speed.py --general`` switches them off).
+SPECIALISE = True
+
+
+@contextmanager
+def single_thread_blas() -> Iterator[None]:
+    """Limit the BLAS of NumPy and SciPy to one thread inside the block: the matrices are small and many."""
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
+def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x with A x = b by LAPACK ``dgesv`` (``numpy.linalg.solve`` costs ten times the factorisation here).
+
+    Parameters
+    ----------
+    A : ndarray (m, m)
+    b : ndarray (m,)
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        When A is exactly singular.
+    """
+    _lu, _piv, x, info = dgesv(A, b)
+    if info != 0:
+        raise np.linalg.LinAlgError("Singular matrix" if info > 0 else f"dgesv: illegal argument {-info}")
+    return x
+
+
+def dead_zone(d: np.ndarray, el: FormElement, basis: HarmonicBasis) -> DeadZoneTerms:
+    """The dead zone's K f(δ; D) projected on ``basis`` and the series S of K f'(δ) (:func:`.aft.dead_zone_terms`)."""
+    return dead_zone_terms(basis, d, el.K, el.gap)
+
+
+#: Element law → its projection G of K f(δ) and the series S of K f'(δ), whose Toeplitz matrix is the Jacobian: a
+#: new law is one such function.
+LAW_TERMS = {"dead_zone": dead_zone}
+
+
+def default_harmonics(model: Any, period: int = 1) -> int:
+    """H when none is given: :data:`DEFAULT_HARMONICS`, or for an excitation of P > 1 mesh cycles (harmonics of
+    ω/(P n)) the larger of P·:data:`DEFAULT_HARMONICS` and n times the excitation's harmonics.
+
+    Parameters
+    ----------
+    model : System
+    period : int
+        n, forcing periods per response period.
+
+    Raises
+    ------
+    ModelError
+        When that is more than :data:`MAX_DEFAULT_HARMONICS` (give the harmonics explicitly).
+    """
+    f = model.hb_form(int(period))
+    P, n = f.cycles, int(period)
+    if P == 1:
+        return DEFAULT_HARMONICS
+    mh = f.span // n - 2
+    H = max(P * DEFAULT_HARMONICS, n * mh)
+    if H > MAX_DEFAULT_HARMONICS:
+        raise ModelError(
+            f"harmonics: the excitation spans {P} mesh cycles (harmonics of ω/{P * n}); the default would take {H} "
+            f"({P}·{DEFAULT_HARMONICS} for mesh orders up to {DEFAULT_HARMONICS}, and the excitation's {mh} per "
+            f"forcing period), more than {MAX_DEFAULT_HARMONICS}: give the harmonics explicitly (the cost grows as "
+            f"H³), or use shooting"
+        )
+    return H
+
+
+class Layout(NamedTuple):
+    """The unknown vector: ``dofs`` blocks of 2H + 1 real coefficients, then ``rigid`` multipliers."""
+
+    size: int
+    dofs: int
+    H: int
+    rigid: int
+
+
+class _Point(NamedTuple):
+    model: Any
+    form: HBForm
+    E: tuple[np.ndarray, ...]  # every element's E on the δ basis (real coefficients)
+    G0: np.ndarray  # (dofs, 2H + 1) real coefficients of the forcing
+    G2: np.ndarray
+
+
+class HBEquations:
+    """Residual, Jacobian, Newton and Floquet multipliers of the HB equations of a system (module docstring).
+
+    Parameters
+    ----------
+    model : System
+        The system at its base point (a value of ``param`` given to a method replaces that parameter).
+    harmonics : int, optional
+        H per coordinate (default :func:`default_harmonics`).
+    period : int
+        n forcing periods per response period.
+    param : str, optional
+        A parameter of the system (``omega``, ``xi0``, ``<mesh>.xi0``, ``<clearance>.D`` ...) for :meth:`residual`
+        and :meth:`dR_dp`.
+    samples : int, optional
+        Time samples N per response period (default :func:`~geardyn.analysis.hb.aft.time_samples`).
+    floquet : str
+        ``"monodromy"`` (default, :mod:`.monodromy`) or ``"hill"`` (Hill's method, :mod:`.hill`).
+
+    Raises
+    ------
+    ModelError
+        For incommensurate mesh frequencies, a bad H or n.
+    """
+
+    def __init__(
+        self,
+        model: Any,
+        harmonics: int | None = None,
+        period: int = 1,
+        param: str | None = None,
+        samples: int | None = None,
+        *,
+        floquet: str = "monodromy",
+    ):
+        if int(period) < 1:
+            raise ModelError(f"period: must be an integer >= 1, got {period!r}")
+        if harmonics is None:
+            harmonics = default_harmonics(model, int(period))
+        if int(harmonics) < 1:
+            raise ModelError(f"harmonics: must be an integer >= 1, got {harmonics!r}")
+        self.base, self.n, self.H = model, int(period), int(harmonics)
+        self.param = None if param is None else param_name(param)
+        self.floquet = _check_floquet(floquet)
+        form = self.form = model.hb_form(self.n)
+        self.periods = form.periods
+        H = self.H
+        self.M = M = 2 * H + 1
+        R = form.rigid
+        nd, r = form.dofs, R.shape[1]
+        self.elastic = np.linalg.svd(R.T)[2][r:].T if r else np.eye(nd)  # orthonormal complement (n, n − r)
+        self.basis = Layout(nd * M + r, nd, H, r)
+        self.gauge = np.zeros((nd * M, r))
+        self.gauge[np.arange(nd) * M, :] = R
+        left = np.linalg.inv(form.Mi) @ R
+        self.left = np.zeros((nd * M, r))
+        self.left[np.arange(nd) * M, :] = left / np.maximum(np.linalg.norm(left, axis=0), 1e-300)
+        self.Hd = max(H, self._ste_harmonics(form))
+        self.N = int(samples) if samples else time_samples(self.Hd, 1, form.span)
+        self.dbasis = HarmonicBasis(self.Hd, self.N)
+        self.hbasis = HarmonicBasis(H, 2 * H + 2)
+        self._pad = np.concatenate([np.arange(H + 1), self.Hd + 1 + np.arange(H)])
+        self._k = kk = np.arange(1, H + 1, dtype=float)
+        self._k2 = np.concatenate([[0.0], kk**2, kk**2])
+        self.D1 = np.zeros((M, M))
+        self.D1[np.arange(1, H + 1), H + 1 + np.arange(H)] = kk
+        self.D1[H + 1 + np.arange(H), np.arange(1, H + 1)] = -kk
+        self._ik = 1j * np.arange(-H, H + 1)
+        self._ikd = 1j * np.arange(-self.Hd, self.Hd + 1)
+        self.reference = form.reference
+        self._scalar = form.scalar
+        self._cache: dict[float | None, _Point] = {}
+
+    @property
+    def scalar(self) -> bool:
+        """Whether the compiled kernels of the 1-DOF equation evaluate the residual (:attr:`HBForm.scalar`)."""
+        return SPECIALISE and self._scalar
+
+    @property
+    def elements(self) -> tuple[str, ...]:
+        """Element names (the form's order: meshes, then clearances)."""
+        return tuple(e.name for e in self.form.elements)
+
+    # ------------------------------------------------------------------ the system at one parameter value
+    @staticmethod
+    def _ste_harmonics(form: HBForm) -> int:
+        """Largest harmonic of φ with a nonzero coefficient in the elements' E series."""
+        out = 0
+        for e in form.elements:
+            nz = np.nonzero(np.abs(e.E) > 0)[0]
+            if nz.size:
+                out = max(out, int(np.max(np.abs(nz - (len(e.E) - 1) // 2))))
+        return out
+
+    def model_at(self, p: float | None = None) -> Any:
+        """The system at parameter value ``p`` (the base system when ``p`` is None)."""
+        m = self._entry(p).model
+        return self.base.with_param(self.param, float(p)) if m is None else m
+
+    def check(self, p: float) -> None:
+        """Raise :class:`ModelError` when ``p`` is not a valid value of the parameter."""
+        self._entry(p)
+
+    def _point(self, m: Any, f: HBForm) -> _Point:
+        cut = self.hbasis.to_real
+        E = tuple(self.dbasis.to_real(_centred(e.E, self.Hd)) for e in f.elements)
+        G0 = np.array([cut(_centred(g, self.H)) for g in f.G0])
+        G2 = np.array([cut(_centred(g, self.H)) for g in f.G2])
+        return _Point(m, f, E, G0, G2)
+
+    def _entry(self, p: float | None) -> _Point:
+        key = None if (p is None or self.param is None) else float(p)
+        e = self._cache.get(key)
+        if e is not None:
+            return e
+        if len(self._cache) > 32:
+            self._cache.clear()
+        if key is None:
+            e = self._cache[None] = self._point(self.base, self.form)
+            return e
+        if self.param == "omega" and key > 0 and math.isfinite(2.0 * math.pi / key):
+            # the form does not depend on ω (the forcing's ω² is ν²·periods²): no model is built per value
+            e = self._cache[key] = self._entry(None)._replace(model=None)
+            return e
+        m = self.base.with_param(self.param, key)
+        f = m.hb_form(self.n)
+        if self._ste_harmonics(f) > self.Hd:
+            raise ModelError(
+                f"{self.param}: the STE reaches harmonic {self._ste_harmonics(f)} of ν, above the {self.Hd} this "
+                f"harmonic balance was set up with"
+            )
+        e = self._cache[key] = self._point(m, f)
+        return e
+
+    def nu(self, p: float | None = None) -> float:
+        """ν = ω/periods at ``p``."""
+        if p is not None and self.param == "omega":
+            return float(p) / self.periods
+        return self.model_at(p).omega / self.periods
+
+    # ------------------------------------------------------------------ evaluation
+    def _split(self, x: np.ndarray) -> np.ndarray:
+        return np.asarray(x, dtype=float)[: self.basis.dofs * self.M].reshape(self.basis.dofs, self.M)
+
+    def deflection(self, x: np.ndarray, e: int, p: float | None = None) -> np.ndarray:
+        """Real coefficients (δ basis of ``Hd`` harmonics) of element e's deflection δ_e = V_e·q − E_e."""
+        pt = self._entry(p)
+        d = np.zeros(2 * self.Hd + 1)
+        d[self._pad] = pt.form.elements[e].V @ self._split(x)
+        return d - pt.E[e]
+
+    def _scalar_args(self, pt: _Point, x: np.ndarray) -> tuple:
+        el, b = pt.form.elements[0], self.dbasis
+        return (np.ascontiguousarray(x, dtype=float), el.C, el.K, pt.form.G0[0], pt.form.G2[0], el.gap,
+                b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL)  # fmt: skip
+
+    def _core(self, x: np.ndarray, p: float | None, jacobian: bool):
+        """R (dofs, M) split as ν² R2 + ν R1 + R0, the Jacobian (or None) and every element's S series."""
+        pt = self._entry(p)
+        nu = self.nu(p)
+        Q = self._split(x)
+        H, Hd = self.H, self.Hd
+        R2 = -self._k2 * Q - pt.G2
+        R1 = pt.form.B @ (Q @ self.D1.T)  # the φ-derivative of every row
+        R0 = pt.form.A @ Q - pt.G0
+        Ss = []
+        for el, E in zip(pt.form.elements, pt.E):
+            d = np.zeros(2 * Hd + 1)
+            d[self._pad] = el.V @ Q
+            d -= E
+            G, S, _ = LAW_TERMS[el.law](d, el, self.dbasis)
+            Lc = (len(el.C) - 1) // 2
+            damp = np.convolve(el.C, self._ikd * self.dbasis.to_complex(d))[Lc + Hd - H : Lc + Hd + H + 1]
+            R1 += np.outer(el.W, self.hbasis.to_real(damp))
+            R0 += np.outer(el.W, self.hbasis.to_real(G[Hd - H : Hd + H + 1]))
+            Ss.append(S)
+        J = self._jacobian(pt, nu, Ss) if jacobian else None
+        return (R2, R1, R0), nu, J, Ss, pt
+
+    def _jacobian(self, pt: _Point, nu: float, Ss: list[np.ndarray]) -> np.ndarray:
+        H, M, nd = self.H, self.M, self.basis.dofs
+        f = pt.form
+        J = np.kron(np.eye(nd), np.diag(-(nu**2) * self._k2)) + np.kron(f.A, np.eye(M)) + nu * np.kron(f.B, self.D1)
+        for el, S in zip(f.elements, Ss):
+            op = real_operator_kernel(nu * toeplitz(el.C, H) * self._ik[None, :] + toeplitz(S, H), H)
+            J += np.kron(np.outer(el.W, el.V), op)
+        return J
+
+    def residual(self, x: np.ndarray, p: float | None = None, jacobian: bool = True):
+        """Residual (length ``basis.size``: the HB equations, then the gauge rows) of the unknowns ``x`` at parameter
+        value ``p`` and, if ``jacobian``, its (bordered) Jacobian, else None."""
+        x = np.asarray(x, dtype=float)
+        if self.scalar:
+            pt = self._entry(p)
+            nu = self.nu(p)
+            a, C, K, G0, G2, *rest = self._scalar_args(pt, x)
+            Fh = _centred(G0, self.H) + nu * nu * _centred(G2, self.H)
+            R, J = residual_kernel(a, nu, C, K, Fh, *rest, bool(jacobian))
+            return R, (J if jacobian else None)
+        (R2, R1, R0), nu, J, _, _ = self._core(x, p, jacobian)
+        return self._finish(x, nu * nu * R2 + nu * R1 + R0, J)
+
+    def dR_dp(self, x: np.ndarray, p: float) -> np.ndarray:
+        """Derivative of the residual in the parameter at fixed unknowns (analytic for ω, else a central
+        difference, exact to rounding for parameters entering linearly)."""
+        if self.param is None:
+            raise ModelError("dR_dp: the system has no continuation parameter")
+        if self.param != "omega":
+            d = FD_REL_STEP * max(1.0, abs(p))
+            vals = []
+            for q in (p + d, p - d):
+                try:
+                    vals.append((q, self.residual(x, q, jacobian=False)[0]))
+                except ModelError:
+                    vals.append((p, self.residual(x, p, jacobian=False)[0]))
+            (q1, r1), (q2, r2) = vals
+            return (r1 - r2) / (q1 - q2)
+        return self.bordered(x, p)[1][:-1, -1]
+
+    def bordered(self, x: np.ndarray, p: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+        """R and [[∂R/∂x, scale·∂R/∂p], [0 … 0]] for the continuation (the last row left for the caller)."""
+        if self.param == "omega" and self.scalar:
+            a, *rest = self._scalar_args(self._entry(p), x)
+            return bordered_nu_kernel(a, self.nu(p), *rest, float(scale) / self.periods)
+        if self.param == "omega":
+            (R2, R1, R0), nu, J, _, _ = self._core(x, p, True)
+            d = ((2.0 * nu * R2 + R1) / self.periods).ravel()
+            R, J = self._finish(x, nu * nu * R2 + nu * R1 + R0, J)
+            A = np.pad(J, ((0, 1), (0, 1)))
+            A[: d.size, -1] = scale * d
+            return R, A
+        R, J = self.residual(x, p)
+        A = np.pad(J, ((0, 1), (0, 1)))
+        A[:-1, -1] = scale * self.dR_dp(x, p)
+        return R, A
+
+    def _finish(self, x: np.ndarray, Rq: np.ndarray, J: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        """R and J with the gauge rows and columns of the rigid-body modes."""
+        N0, r = self.basis.size - self.basis.rigid, self.basis.rigid
+        R = Rq.ravel()
+        if r:
+            R = np.concatenate([R + self.left @ x[N0:], self.gauge.T @ x[:N0]])
+            J = None if J is None else np.block([[J, self.left], [self.gauge.T, np.zeros((r, r))]])
+        return R, J
+
+    def newton(
+        self, x0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL, max_iter: int = NEWTON_MAX_ITER
+    ):
+        """Damped Newton on R(x) = 0 at fixed parameter: (x, status, iterations, residual norm)."""
+        a = np.asarray(x0, dtype=float).copy()
+        if a.shape != (self.basis.size,) or not np.all(np.isfinite(a)):
+            return a, Status.DIVERGED, 0, math.inf
+        R, J = self.residual(a, p)
+        r = float(np.linalg.norm(R))
+        for it in range(max_iter + 1):
+            if r <= tol * (1.0 + float(np.linalg.norm(a))):
+                return a, Status.OK, it, r
+            if it == max_iter:
+                break
+            try:
+                da = solve(J, -R)
+            except np.linalg.LinAlgError:
+                da = np.linalg.lstsq(J, -R, rcond=None)[0]
+            lam = 1.0
+            while lam >= NEWTON_MIN_DAMPING:
+                trial = a + lam * da
+                if not np.all(np.isfinite(trial)) or np.linalg.norm(trial) > DIVERGED_NORM:
+                    lam *= 0.5
+                    continue
+                Rt, Jt = self.residual(trial, p)
+                rt = float(np.linalg.norm(Rt))
+                if rt < (1.0 - 1e-4 * lam) * r:
+                    a, R, J, r = trial, Rt, Jt, rt
+                    break
+                lam *= 0.5
+            else:
+                return a, Status.NOT_CONVERGED, it + 1, r
+        return a, Status.NOT_CONVERGED, max_iter, r
+
+    # ------------------------------------------------------------------ stability
+    def stability(self, x: np.ndarray, p: float | None = None) -> HillResult:
+        """The elastic Floquet multipliers of the solution ``x`` (rigid-body modes left out): from the monodromy
+        matrix of one period started on it (:mod:`.monodromy`) or by Hill's method (:mod:`.hill`)."""
+        pt = self._entry(p)
+        f, nu = pt.form, self.nu(p)
+        if self.floquet == "hill":
+            _, nu, J, _, _ = self._core(x, p, True)
+            nd, M = self.basis.dofs, self.M
+            Cop = np.kron(f.B, np.eye(M))
+            for el in f.elements:
+                Cop += np.kron(np.outer(el.W, el.V), real_operator_kernel(toeplitz(el.C, self.H), self.H))
+            K1 = 2.0 * nu * np.kron(np.eye(nd), self.D1) + Cop
+            return system_hill_floquet(J, K1, self.elastic, nu, self.H, -f.mean_trace())
+        return monodromy_floquet(f, nu, self.state(x, p), self.elastic)
+
+    # ------------------------------------------------------------------ measures
+    def extremes(self, x: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:
+        """(δ_min, δ_max) over the period of element ``e`` (default the reference element)."""
+        lo, hi, _, _ = signal_extrema(self.dbasis, self.deflection(x, self.reference if e is None else e, p))
+        return lo, hi
+
+    def element_extremes(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
+        """(elements, 2): δ_min, δ_max of every element."""
+        return np.array([self.extremes(x, p, e) for e in range(len(self.form.elements))])
+
+    def dynamic_factors(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
+        """Largest mesh force C δ' + K f(δ) over the period (from FORCE_OVERSAMPLE·N samples) over the static
+        force, per mesh element (NaN where the static force is 0 or unknown)."""
+        pt = self._entry(p)
+        nu, Ns = self.nu(p), FORCE_OVERSAMPLE * self.N
+        out = []
+        for e, el in enumerate(pt.form.elements):
+            if el.kind != "mesh":
+                continue
+            c = self.dbasis.to_complex(self.deflection(x, e, p))
+            u, v = _samples(c, Ns), _samples(nu * self._ikd * c, Ns)
+            fm = float(np.max(_samples(el.C, Ns) * v + _samples(el.K, Ns) * (u - np.clip(u, -el.gap, el.gap))))
+            s = el.static_force
+            out.append(fm / s if s > 0 and math.isfinite(fm) else math.nan)
+        return np.array(out)
+
+    def state(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
+        """(q, q') at θ = 0, comparable with a shooting orbit's state (up to the rigid-body position)."""
+        Q = self._split(x)
+        H = self.H
+        return np.concatenate([Q[:, 0] + Q[:, 1 : H + 1].sum(axis=1), self.nu(p) * (Q[:, H + 1 :] @ self._k)])
+
+    def project(self, Q: np.ndarray) -> np.ndarray:
+        """Coefficients with the rigid-body part removed (the gauge Rᵀa_0 = 0, no rigid momentum elsewhere)."""
+        Q = np.array(Q, dtype=float)
+        R = self.form.rigid
+        if R.shape[1] == 0:
+            return Q
+        Mt = np.linalg.inv(self.form.Mi)
+        Pm = R @ np.linalg.solve(R.T @ Mt @ R, R.T @ Mt)
+        Q[:, 1:] -= Pm @ Q[:, 1:]
+        Q[:, 0] -= R @ (R.T @ Q[:, 0])
+        return Q
+
+    def unknowns(self, Q: np.ndarray) -> np.ndarray:
+        """The unknown vector of coefficients Q (dofs, 2H + 1), gauge multipliers zero."""
+        return np.concatenate([np.asarray(Q, dtype=float).ravel(), np.zeros(self.basis.rigid)])
+
+    # ------------------------------------------------------------------ start guesses
+    def linear_guess(self, p: float | None = None) -> np.ndarray:
+        """Coefficients (dofs, 2H + 1) of the linearised, permanently meshing response (meshes in drive contact
+        at their mean stiffness and damping, clearances closed only without gap): K̄ a_0 = F̃ + Σ k_m D_m V_m and
+        (K̄ − (νk)²M̃ + iνk C̄) ĉ_k = M̃ Ĝ_k + Σ_m V_m (k_m + iνk c_m) Ê_m,k."""
+        pt = self._entry(p)
+        f = pt.form
+        Mt = np.linalg.inv(f.Mi)
+        Kt, Ct = Mt @ f.A, Mt @ f.B
+        G = f.G0 + self.nu(p) ** 2 * f.G2
+        L = (G.shape[1] - 1) // 2
+        rhs0 = (Mt @ G[:, L]).real
+        meshes = []
+        for el in f.elements:
+            k0, c0 = el.K[(len(el.K) - 1) // 2].real, el.C[(len(el.C) - 1) // 2].real
+            if el.kind == "mesh" or el.gap <= 0:
+                Kt, Ct = Kt + k0 * np.outer(el.V, el.V), Ct + c0 * np.outer(el.V, el.V)
+                rhs0 = rhs0 + k0 * el.gap * el.V
+            if el.kind == "mesh":
+                meshes.append((el, k0, c0, _centred(el.E, self.Hd)))
+        H, nu, nd = self.H, self.nu(p), f.dofs
+        c = np.zeros((nd, 2 * H + 1), dtype=complex)
+        c[:, H] = np.linalg.lstsq(Kt, rhs0, rcond=1e-12)[0]
+        for k in range(1, H + 1):
+            rhs = Mt @ G[:, L + k] if k <= L else np.zeros(nd, dtype=complex)
+            for el, k0, c0, E in meshes:
+                rhs = rhs + el.V * (k0 + 1j * nu * k * c0) * E[self.Hd + k]
+            if np.any(rhs != 0):
+                c[:, H + k] = np.linalg.solve(Kt - (nu * k) ** 2 * Mt + 1j * nu * k * Ct, rhs)
+                c[:, H - k] = np.conj(c[:, H + k])
+        return self.project(np.array([self.hbasis.to_real(row) for row in c]))
+
+    def simulated_guess(self, state0: Any = None, *, transient: int = GUESS_TRANSIENT, dtau: float = GUESS_DTAU):
+        """Coefficients (dofs, 2H + 1) of the attractor reached by simulation from ``state0`` (n forcing periods
+        after ``transient``, counted in one-cycle periods), the rigid-body part removed; None if it diverged."""
+        from ...integrate import trajectory
+
+        m, n, H = self.base, self.n, self.H
+        opts = IntegrationOptions(dtau=dtau, transient=-(-int(transient) // self.form.cycles), periods=n)
+        tr = trajectory(m, start_state(m, state0), opts, history_periods=n)
+        q = tr.x[:-1, : self.form.dofs]
+        if not np.all(np.isfinite(q)):
+            return None
+        X = np.fft.rfft(q, axis=0) / q.shape[0]
+        a = np.zeros((q.shape[1], 2 * H + 1))
+        a[:, 0] = X[0].real
+        k = min(H, X.shape[0] - 1)
+        a[:, 1 : k + 1] = 2.0 * X[1 : k + 1].real.T
+        a[:, H + 1 : H + 1 + k] = -2.0 * X[1 : k + 1].imag.T
+        return self.project(a)
+
+
+def _centred(z: np.ndarray, L: int) -> np.ndarray:
+    """Centred coefficients cut or zero-padded to half-length L."""
+    Lz = (len(z) - 1) // 2
+    m = min(L, Lz)
+    out = np.zeros(2 * L + 1, dtype=complex)
+    out[L - m : L + m + 1] = z[Lz - m : Lz + m + 1]
+    return out
+
+
+def _samples(z: np.ndarray, Ns: int) -> np.ndarray:
+    """Values at φ_j = 2πj/Ns of the real trigonometric polynomial with centred coefficients z (L < Ns/2)."""
+    L = (len(z) - 1) // 2
+    arr = np.zeros(Ns, dtype=complex)
+    arr[np.arange(-L, L + 1) % Ns] = z
+    return (np.fft.ifft(arr) * Ns).real
