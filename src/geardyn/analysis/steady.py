@@ -40,8 +40,9 @@ xr = lazy_module("xarray")
 
 #: Periods of time history kept by :func:`simulate` (also the spectrum's length: resolution 1/32 order).
 HISTORY_PERIODS = 32
-#: Tangent vectors of the settling passes: the motion class needs the largest exponent and the second.
-CLASSIFY_TANGENTS = 2
+#: Tangent vectors of the settling passes: the motion class needs the largest exponent only (a system's λ2 is then
+#: not computed, NaN; ``lyapunov`` gives the spectrum; the pair's kernel always propagates both of its two).
+CLASSIFY_TANGENTS = 1
 #: Highest mesh order kept in the spectrum.
 SPECTRUM_MAX_ORDER = 10.0
 
@@ -166,7 +167,7 @@ def classify_batch(
             out["poincare"][need] = r2.poincare[:, -n_rec:, :]
         out["end_state"][need] = r2.end_state
         l2, e2 = spectrum_from_log(r2.lyapunov_log, T[need], blocks=nb)
-        lam[need] = np.nan  # the leading exponents only (CLASSIFY_TANGENTS of them)
+        lam[need] = np.nan  # the leading exponent(s) only (CLASSIFY_TANGENTS; the pair: both)
         err[need] = np.nan
         lam[need, : l2.shape[1]] = l2
         err[need, : e2.shape[1]] = e2
@@ -370,7 +371,7 @@ def simulate(
         without it, bit for bit.
     classify : bool
         Whether a response found not periodic is classified (:func:`classify_batch`: further periods with the
-        two leading tangent vectors); False leaves its motion 'not periodic' (a plain run).
+        leading tangent vector); False leaves its motion 'not periodic' (a plain run).
 
     Returns
     -------

@@ -69,7 +69,7 @@ def simulate(
         typer.Option(
             "--no-classify",
             help="Report a response that is not periodic as it is (motion 'not periodic'), without the further "
-            "periods the motion class integrates with the two leading tangent vectors (chaos, quasi-periodic).",
+            "periods the motion class integrates with the leading tangent vector (chaos, quasi-periodic).",
         ),
     ] = False,
 ) -> None:
@@ -133,7 +133,7 @@ def lyapunov(
         typer.echo(
             f"lyapunov: the full spectrum integrates {model.state_dim} tangent vectors with the state over the "
             f"{opts.periods} recorded periods, about {ratio:.0f}x the work of a plain run of the same {total} "
-            "periods (simulate classifies with the two leading vectors)",
+            "periods (simulate classifies with the leading one)",
             err=True,
         )
     with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
