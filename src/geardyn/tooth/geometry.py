@@ -79,6 +79,8 @@ class Section:
         Half angle at the root circle (rad).
     psi0 : float
         π/(2z) + 2 x tan α_t / z + inv α_t.
+    crack_start : int
+        Index of the section where a root crack starts.
     """
 
     #: Centre-line coordinate from the gear centre (m), increasing from the root to the tip.
