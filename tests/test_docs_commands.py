@@ -115,9 +115,8 @@ QUOTED: dict[str, Run | str] = {
     ),
     "geardyn signature --system examples/systems/spur_bending_torsional.toml examples/tooth_luo_healthy.toml "
     "examples/tooth_luo_crack50.toml --out out/syssig": Run({"--revolutions": "5", "--rpm": "6000"}),
-    "geardyn signature --system examples/systems/spur_crack50.toml --sweep-depths 0,0.1,0.25,0.5 --out out/syssweep": Run(
-        {"--revolutions": "5", "--rpm": "6000", "--sweep-depths": "0,0.5"}
-    ),
+    "geardyn signature --system examples/systems/spur_crack50.toml --sweep-depths 0,0.1,0.25,0.5 "
+    "--out out/syssweep": Run({"--revolutions": "5", "--rpm": "6000", "--sweep-depths": "0,0.5"}),
     "geardyn signature --system examples/systems/spur_healthy.toml --system examples/systems/spur_crack50.toml "
     "--rpm 6000": Run({"--revolutions": "5"}),
     "geardyn stiffness FILE.toml --out x.nc": Run(subs={"FILE.toml": "examples/tooth_healthy_spur.toml"}),
@@ -135,13 +134,15 @@ QUOTED: dict[str, Run | str] = {
     "geardyn bifurcation --excitation c50.csv --param omega --start 0.6 --stop 1.0 --num 5 --transient 20 "
     "--periods 8": Run({"--num": "2"}, before=(_C50,)),
     "geardyn hb --excitation c50.csv --param omega --start 0.8 --stop 0.82": Run({"--max-points": "3"}, before=(_C50,)),
-    "geardyn response --method hb --excitation c50.csv --omega-start 0.8 --omega-stop 0.82 --num 5": "about 50 s of CPU (50 branch points, each with the monodromy of a pinion revolution); "
-    "tests/test_hb_cycles.py runs response --method hb with an excitation table over 3 cycles",
+    "geardyn response --method hb --excitation c50.csv --omega-start 0.8 --omega-stop 0.82 --num 5": "about 50 s "
+    "of CPU (50 branch points, each with the monodromy of a pinion revolution); tests/test_hb_cycles.py runs "
+    "response --method hb with an excitation table over 3 cycles",
     "geardyn runup --excitation c50.csv --omega-start 0.5 --omega-stop 0.7 --tau-duration 4000 --num 5": Run(
         {"--tau-duration": "800", "--num": "0"}, before=(_C50,)
     ),
-    "geardyn simulate --system examples/systems/spur_crack50.toml --transient 30 --periods 10": "one forcing period is about 1e5 RK4 steps (ω = 0.093); tests/test_excitation_system.py loads the file and "
-    "runs the same kind of system at ω = 0.8",
+    "geardyn simulate --system examples/systems/spur_crack50.toml --transient 30 --periods 10": "one forcing "
+    "period is about 1e5 RK4 steps (ω = 0.093); tests/test_excitation_system.py loads the file and runs the "
+    "same kind of system at ω = 0.8",
     "geardyn response --method hb --omega-start 0.3 --omega-stop 1.0 --xi0 0.08 [--num 71] [--json] [--out DIR]": Run(
         {"--num": "6"}
     ),

@@ -29,8 +29,8 @@ SYSTEM = [
             typer.Option(
                 "--system",
                 rich_help_panel=SYSTEM_PANEL,
-                help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis runs "
-                "on it, and the JSON summary adds one entry per mesh under 'meshes'.",
+                help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis "
+                "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
             ),
         ],
     )
@@ -120,9 +120,11 @@ def coordinates(s: Any, text: str | None, n: int) -> list[int] | None:
 def mesh_summary(
     s: Any, summary: dict[str, Any], ds: Any = None, result: Any = None, state0: Any = (0.0, 0.0)
 ) -> dict[str, Any]:
-    """``summary`` with what a system adds: ``meshes`` of a sweep's Dataset (:func:`geardyn.systems.report.result_meshes`)
-    or of a continuation's branches, the reference mesh's forces and dynamic factor for one point, and a note on a
-    system without excitation.
+    """``summary`` with what a system adds.
+
+    That is ``meshes`` of a sweep's Dataset (:func:`geardyn.systems.report.result_meshes`) or of a continuation's
+    branches, the reference mesh's forces and dynamic factor for one point, and a note on a system without
+    excitation.
 
     Parameters
     ----------

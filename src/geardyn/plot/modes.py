@@ -1,4 +1,6 @@
-"""The Campbell diagram of a ``modes`` result (``geardyn modes --out``, :func:`geardyn.systems.modes_data.modes_dataset`).
+"""The Campbell diagram of a ``modes`` result.
+
+It is drawn from ``geardyn modes --out`` (:func:`geardyn.systems.modes_data.modes_dataset`).
 
 One horizontal line per natural frequency, labelled at the right edge with its mode numbers (a
 degenerate frequency is one line naming its modes), one line per distinct mesh order (meshes of
