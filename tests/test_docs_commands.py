@@ -103,6 +103,9 @@ QUOTED: dict[str, Run | str] = {
         "needs a running Dask scheduler and worker (tests/test_dask.py runs sweeps on a local cluster)"
     ),
     "geardyn hb --floquet hill": _FRAGMENT,
+    "geardyn hb --param omega --start 1.8 --stop 2.2 --xi0 0 --xi1 0 --kappa1 0.2 --fp 0.5 --fe 0 --backlash 1": (
+        "tests/test_hb_safety.py runs it and checks the tongue's boundaries against Mathieu's characteristic values"
+    ),
     # excitation.md
     "geardyn stiffness examples/tooth_healthy_spur.toml --out out/healthy": AS_QUOTED,
     "geardyn stiffness examples/tooth_crack_50.toml --out out/crack50": AS_QUOTED,
