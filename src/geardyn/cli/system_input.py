@@ -182,6 +182,8 @@ def mesh_summary(
             "dynamic_factor",
             "mesh_force_max_N",
             "mesh_force_min_N",
+            "contact_force_max_N",
+            "contact_force_min_N",
             "static_force_N",
             "dte_min_um",
             "dte_max_um",
