@@ -205,3 +205,21 @@ def test_lost_scheduler_stops_the_sweep_in_one_line_keeping_finished_chunks(tmp_
     assert str(e).startswith(f"sweep stopped: lost the Dask scheduler {c.address}") and "\n" not in str(e)
     assert "--resume" in str(e) and 1 <= e.finished < e.total == KILL_OMEGAS.size
     assert len(list(ck.glob("chunk-*.npz"))) == e.finished
+
+
+def test_gearbox_response_on_the_cluster_equals_one_process(cluster, tmp_path):
+    """A two-stage gearbox built from its geometry (shafts as beams, 120 states), its response over speed up
+    and down: the Dask cluster's Dataset is the one of one process, every attribute included."""
+    from test_gearbox import _file
+
+    from geardyn import load_system
+    from geardyn.analysis.response import frequency_response
+
+    model = load_system(_file(tmp_path, z=(23, 40, 40, 56)))  # stage 2 at 40/40 of stage 1: forcing period 1
+    opts = IntegrationOptions(dtau=0.05, transient=2, periods=2)
+    kw = dict(options=opts, state0=model.initial_state(), lyapunov=False, settle_periods=0, progress=False)
+    w = model.omega
+    local = frequency_response(model, 0.9 * w, 1.1 * w, 3, workers=1, **kw)
+    remote = frequency_response(model, 0.9 * w, 1.1 * w, 3, scheduler=cluster.address, **kw)
+    assert np.isfinite(local["amplitude"].values).all()  # integrated, not diverged
+    xr.testing.assert_identical(local, remote)

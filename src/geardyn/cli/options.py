@@ -251,10 +251,11 @@ def integration(
         ),
         option(
             "transient",
-            int,
-            DEFAULT_TRANSIENT,
+            str,
+            str(DEFAULT_TRANSIENT),
             "--transient",
-            help="Forcing periods discarded before recording.",
+            help="Forcing periods discarded before recording, or auto: as many as the least damped mode of the "
+            "linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md).",
             panel=RUN_PANEL,
         ),
     ]
@@ -480,10 +481,40 @@ class Inputs:
         v = self.values
         n = periods if periods is not None else v.get("periods", 1)
         ws = omegas if omega is None else (*omegas, omega)  # a sweep's array passed as it is, not as a list
-        opts = validate.options(v["dtau"], v["transient"], n, v["accurate"], ws)
+        opts = validate.options(v["dtau"], self.transient(ws), n, v["accurate"], ws)
         validate.recorded(points, opts.periods)
         check_budget(opts, ws, points)
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
+
+    def transient(self, omegas: Any = ()) -> Any:
+        """``--transient`` as a number of forcing periods: ``auto`` is the count of
+        :func:`geardyn.analysis.settle.settle_periods` for the run's model at the highest of ``omegas`` (said on
+        stderr); a number is passed on as given, checked by :func:`geardyn.validate.options`.
+
+        Raises
+        ------
+        ModelError
+            For a text that is neither a whole number nor ``auto``, or ``auto`` for a model without damping.
+        """
+        t = self.values.get("transient", DEFAULT_TRANSIENT)
+        if not isinstance(t, str):
+            return t
+        if t.strip().lower() == "auto":
+            import numpy as np
+
+            from ..analysis.settle import settle_periods
+            from .app import say_error
+
+            ws = np.atleast_1d(np.asarray(omegas, dtype=float))
+            s = settle_periods(self.model(), ws if ws.size else None)
+            if self.__dict__.get("_settle_note") != s.note():  # said once, where a command asks twice
+                self.__dict__["_settle_note"] = s.note()
+                say_error(s.note())
+            return s.periods
+        try:
+            return int(t.strip())
+        except ValueError:
+            raise ModelError(f"--transient: must be an integer (forcing periods, >= 0) or auto, got {t!r}") from None
 
     def exponents_computable(self, model: GearModel, omegas: Any) -> None:
         """:func:`geardyn.validate.exponents_computable`: the precision limit of Lyapunov exponents.

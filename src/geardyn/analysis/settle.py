@@ -1,0 +1,189 @@
+"""The transient from the physics: the decay time of the least damped mode of the linearised system.
+
+``--transient auto`` (:func:`settle_periods`) discards, before recording, the forcing periods in which the
+slowest free vibration of the system linearised at its mean stiffness and damping has decayed by e^-K
+(:data:`DECAY_EFOLDS` = 12, a factor 6.1e-6), in place of a fixed count.
+
+The linearisation: the state matrix A = [[0, I], [−M̃⁻¹K̄, −M̃⁻¹C̄]] with K̄, C̄ the mean stiffness and damping:
+the connections (bearings, shafts, couplings), every mesh at its mean stiffness k and damping 2ξ0 in contact,
+every clearance in contact.  Its eigenvalues λ give the decay rates σ = −Re λ of the free vibrations; the
+eigenvalues at 0 (the free drift of a rigid-body mode, which never decays and is not a transient of the
+response) are left out.  The least damped mode's rate σ_min sets the time t = K/σ_min (τ units).  For the gear
+pair (u'' + 2ξ0 u' + u in its own scaling, ω_n = 1) σ_min = ξ0 (ζ ω_n) when ξ0 < 1; a deflection then decays as
+e^(−ξ0 τ) exactly.  The count is ceil(t / T_f) forcing periods T_f = p·2π/ω at the highest ω of the run
+(the count grows with ω), at least :data:`FLOOR_PERIODS` and at most :data:`CAP_PERIODS`.
+
+Where it is sound: the decay of a *linear* transient.  A nonlinear response (contact loss, impacts, a
+rattling clearance) can settle onto its attractor more slowly than the linearised modes decay, or not at all
+(chaos); the classification then keeps its own adaptive passes after the transient (``response --settle``,
+``geardyn.analysis.classify``), which integrate further periods for points not yet periodic.  A mode without
+damping (σ_min = 0 with a non-zero λ) gives no decay time: ``auto`` is refused for it.  The rate is that of the
+model's parameters as given: a sweep of a damping parameter gets the count of the run's base model.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+
+__all__ = ["CAP_PERIODS", "DECAY_EFOLDS", "FLOOR_PERIODS", "Settling", "decay_rate", "settle_periods"]
+
+#: e-folds of decay of the least damped mode before recording (e^-12 = 6.1e-6).
+DECAY_EFOLDS = 12.0
+#: Fewest forcing periods of an automatic transient.
+FLOOR_PERIODS = 4
+#: Most forcing periods of an automatic transient (a longer decay is capped, and the cap is said).
+CAP_PERIODS = 20_000
+#: Eigenvalues of A with |λ| below this times max(1, max |λ|) are a rigid-body drift, not a transient.
+RIGID_RTOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Settling:
+    """An automatic transient.
+
+    Attributes
+    ----------
+    periods : int
+        Forcing periods to discard.
+    rate : float
+        σ_min, the decay rate of the least damped mode per unit τ.
+    time : float
+        K/σ_min, the decay time in τ units.
+    forcing_period : float
+        The forcing period T_f (τ units) the count is for (at the highest ω).
+    capped, floored : bool
+        Whether the count was raised to :data:`FLOOR_PERIODS` or cut to :data:`CAP_PERIODS`.
+    """
+
+    periods: int
+    rate: float
+    time: float
+    forcing_period: float
+    capped: bool = False
+    floored: bool = False
+
+    def note(self) -> str:
+        """One line for stderr."""
+        s = (
+            f"transient auto: {self.periods} forcing periods (the least damped mode decays as e^(-{self.rate:.4g} τ): "
+            f"e^-{DECAY_EFOLDS:g} after τ = {self.time:.4g}, forcing period {self.forcing_period:.4g})"
+        )
+        if self.capped:
+            s += f"; capped at {CAP_PERIODS}: the slowest mode has not decayed by e^-{DECAY_EFOLDS:g}"
+        return s
+
+
+def _mean_matrices(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """M̃⁻¹, K̄, C̄ of the model linearised at its mean stiffness and damping (contact everywhere)."""
+    if hasattr(model, "Mi"):  # a mesh-vector system
+        Mi = np.asarray(model.Mi, dtype=float)
+        K = np.array(model.Kb, dtype=float)
+        C = np.array(model.Cb, dtype=float)
+        for i, m in enumerate(model.meshes):
+            vv = np.outer(model.V[i], model.V[i])
+            K += m.k * vv
+            C += 2.0 * m.xi0 * vv
+        for i, (k, c) in enumerate(zip(model.kc, model.cc)):
+            vv = np.outer(model.Vc[i], model.Vc[i])
+            K += k * vv
+            C += c * vv
+        return Mi, K, C
+    xi0 = getattr(model, "xi0", None)
+    if xi0 is None:
+        raise ModelError(f"transient: auto needs a gear pair or a mesh-vector system, not {type(model).__name__}")
+    return np.eye(1), np.eye(1), np.array([[2.0 * float(xi0)]])
+
+
+def decay_rate(model: Any) -> float:
+    """σ_min: the smallest decay rate −Re λ of the model's linearised free vibrations (rigid drift left out).
+
+    Parameters
+    ----------
+    model : GearModel or SystemModel
+
+    Returns
+    -------
+    float
+        Per unit τ; for the gear pair ξ0 when ξ0 < 1, ξ0 − √(ξ0² − 1) when overdamped.
+
+    Raises
+    ------
+    ModelError
+        When a mode is undamped (no decay time) or grows.
+    """
+    Mi, K, C = _mean_matrices(model)
+    n = Mi.shape[0]
+    # Coordinates y = Qᵀx with Q = [R, N], R the null space of K̄ (rigid-body directions): the positions a along
+    # R enter no force, so they are left out of the state (their r eigenvalues are exactly 0, a drift).
+    w, Q = np.linalg.eigh(0.5 * (K + K.T))
+    rigid = np.abs(w) <= RIGID_RTOL * max(1.0, float(np.max(np.abs(w))))
+    Q = np.concatenate([Q[:, rigid], Q[:, ~rigid]], axis=1)
+    r = int(np.sum(rigid))
+    G = Q.T @ Mi @ K @ Q
+    H = Q.T @ Mi @ C @ Q
+    m = n - r
+    A = np.zeros((m + n, m + n))  # state (b, y'): b the elastic coordinates, y' all velocities
+    A[:m, m + r :] = np.eye(m)
+    A[m:, :m] = -G[:, r:]
+    A[m:, m:] = -H
+    lam = np.linalg.eigvals(A)
+    tol = RIGID_RTOL * max(1.0, float(np.max(np.abs(lam))))
+    lam = lam[np.abs(lam) > tol]  # an undamped rigid velocity (a free constant speed) is no transient either
+    if lam.size == 0:
+        raise ModelError("transient: auto needs a mode that decays; the linearised system has none")
+    sigma = float(np.min(-lam.real))
+    if not sigma > tol:
+        raise ModelError(
+            f"transient: auto needs every mode damped; the least damped has decay rate {max(sigma, 0.0):.3g} "
+            "(give --transient as a number of forcing periods)"
+        )
+    return sigma
+
+
+def settle_periods(
+    model: Any,
+    omegas: Iterable[float] | None = None,
+    *,
+    decay: float = DECAY_EFOLDS,
+    floor: int = FLOOR_PERIODS,
+    cap: int = CAP_PERIODS,
+) -> Settling:
+    """The forcing periods in which the least damped linearised mode decays by e^-``decay``.
+
+    Parameters
+    ----------
+    model : GearModel or SystemModel
+        The run's model (its forcing period at its own ω scales as 1/ω).
+    omegas : iterable of float, optional
+        The frequencies of the run; the count is that of the highest (default: the model's ω).
+    decay : float
+        e-folds K of decay.
+    floor, cap : int
+        Fewest and most periods.
+
+    Returns
+    -------
+    Settling
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> s = settle_periods(GearModel(omega=0.8, xi0=0.05))
+    >>> round(s.rate, 12), s.periods  # 12/0.05 = 240 τ over T = 2π/0.8 = 7.854: 30.6 periods
+    (0.05, 31)
+    """
+    sigma = decay_rate(model)
+    w0 = float(model.omega)
+    ws = [w0] if omegas is None else [float(w) for w in np.atleast_1d(np.asarray(list(omegas) or [w0], dtype=float))]
+    T = float(model.sampling_period) * w0 / max(ws)
+    t = float(decay) / sigma
+    raw = math.ceil(t / T - 1e-9)
+    n = min(max(raw, int(floor)), int(cap))
+    return Settling(n, sigma, t, T, capped=raw > cap, floored=raw < floor)
