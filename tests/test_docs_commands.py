@@ -233,6 +233,10 @@ QUOTED: dict[str, Run | str] = {
     "geardyn response --system examples/gearbox/two_stage_helical.toml --rpm-start 13000 --rpm-stop 17000 --num 5 "
     "--transient 60 --periods 4 --dtau 0.05 --settle 0 --json": "ten points of 64 forcing periods of 8 000 RK4 "
     "steps on 220 states (about a minute and a half); the response sweep is the systems' (tests/test_systems_cli.py)",
+    "geardyn response --system examples/gearbox/two_stage_helical.toml --rpm-start 1000 --rpm-stop 3000 --num 200": (
+        "the workload of benchmarks/dask_gearbox.py (200 speeds of the 110-DOF gearbox, minutes); tests/test_dask.py "
+        "runs sweeps on a local cluster"
+    ),
     # README.md
     "geardyn simulate --omega 1.2 --out sim12": Run(SHORT),
     "geardyn simulate --rpm 2400 --torque 1500 --json": AS_QUOTED,
