@@ -350,6 +350,16 @@ def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):
             .assign_coords(element=["m1", "m2"])
             .assign_attrs(system=json.dumps(sysinfo))
         )
+    one = datasets["system_simulate"]  # a system of two elements: their deflections beside the time history
+    sysinfo = json.loads(one.attrs["system"])
+    sysinfo["elements"] = [{"name": n, "kind": "mesh", "gap": 1.0} for n in ("m1", "m2")]
+    per_element = [v for v in one.data_vars if "element" in one[v].dims]
+    variants.append(
+        one.drop_dims("element")
+        .assign({v: xr.concat([one[v], 0.5 * one[v]], dim="element").transpose(*one[v].dims) for v in per_element})
+        .assign_coords(element=["m1", "m2"])
+        .assign_attrs(system=json.dumps(sysinfo))
+    )
     checked = set()
     for ds in list(datasets.values()) + variants:
         for spec in figures_for(ds):
@@ -419,7 +429,8 @@ def test_variable_registry_gives_every_variable_its_metadata(runs, name):
 
 
 def test_parameters_without_an_entry_are_named_by_rule():
-    assert variable("phi_e1") == ("rad", "phase of STE harmonic 1", None)  # names from the parameter registry
+    # names from the parameter registry (a number, not text: Variable.text marks the variables that hold names)
+    assert variable("phi_e1") == ("rad", "phase of STE harmonic 1", None, False)
     assert variable("kappa1").long_name == "stiffness harmonic κ_1"
     assert variable("xi1", "continuation").long_name == "damping harmonic ξ_1"
     assert variable("bifurcation_xi0", "continuation").long_name == "parameter xi0 at the bifurcation"
