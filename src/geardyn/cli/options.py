@@ -254,8 +254,9 @@ def integration(
             str,
             str(DEFAULT_TRANSIENT),
             "--transient",
-            help="Forcing periods discarded before recording, or auto: as many as the least damped mode of the "
-            "linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md).",
+            help="Forcing periods discarded before recording; or N followed by 'cycles' (e.g. 3000cycles): N "
+            "reference mesh cycles, rounded up to whole forcing periods; or auto: as many as the least damped mode "
+            "of the linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md).",
             panel=RUN_PANEL,
         ),
     ]
@@ -376,6 +377,46 @@ def build_model(
     )
 
 
+#: The suffix of ``--transient`` meaning reference mesh cycles (``--transient 3000cycles``).
+CYCLES_SUFFIX = "cycles"
+
+
+def transient_cycles(text: str) -> int | None:
+    """The count of reference mesh cycles of a ``--transient`` text ``Ncycles``; ``None`` for a text
+    without a letter (a count of forcing periods) or ``auto``.
+
+    Raises
+    ------
+    ModelError
+        For any other suffix, or a count that is not a whole number >= 0 (one line naming ``--transient``).
+    """
+    t = text.strip().lower()
+    if t == "auto" or not any(c.isalpha() for c in t):
+        return None
+    head = t[: -len(CYCLES_SUFFIX)].strip() if t.endswith(CYCLES_SUFFIX) else None
+    if head is None or not head.isdigit():
+        raise ModelError(
+            f"--transient: must be an integer (forcing periods, >= 0), Ncycles (reference mesh cycles, N >= 0, "
+            f"e.g. 3000cycles) or auto, got {text!r}"
+        )
+    return int(head)
+
+
+def cycles_to_periods(cycles: int, model: Any) -> int:
+    """Forcing periods covering ``cycles`` reference mesh cycles: ceil(cycles / P), P =
+    ``model.period_multiple()`` (1 for the pair with a one-period excitation).
+
+    Raises
+    ------
+    ModelError
+        For a quasi-periodic system (no forcing period).
+    """
+    from ..system import require_periodic
+
+    p = require_periodic(model, "--transient in mesh cycles")
+    return -(-int(cycles) // int(p))
+
+
 class Inputs:
     """The values of a command's shared option groups, with the checked objects built from them.
 
@@ -489,16 +530,28 @@ class Inputs:
     def transient(self, omegas: Any = ()) -> Any:
         """``--transient`` as a number of forcing periods: ``auto`` is the count of
         :func:`geardyn.analysis.settle.settle_periods` for the run's model at the highest of ``omegas`` (said on
-        stderr); a number is passed on as given, checked by :func:`geardyn.validate.options`.
+        stderr); ``Ncycles`` is N reference mesh cycles, :func:`cycles_to_periods` of the run's model (said on
+        stderr, not with ``--json``); a number is passed on as given, checked by :func:`geardyn.validate.options`.
 
         Raises
         ------
         ModelError
-            For a text that is neither a whole number nor ``auto``, or ``auto`` for a model without damping.
+            For a text that is neither a whole number, ``Ncycles`` nor ``auto``, ``auto`` for a model without
+            damping, or ``Ncycles`` for a quasi-periodic system.
         """
         t = self.values.get("transient", DEFAULT_TRANSIENT)
         if not isinstance(t, str):
             return t
+        cycles = transient_cycles(t)
+        if cycles is not None:
+            from .app import say_error
+
+            n = cycles_to_periods(cycles, self.model())
+            note = f"transient: {cycles} reference mesh cycles = {n} forcing periods"
+            if not self.values.get("json_out") and self.__dict__.get("_cycles_note") != note:  # once per command
+                self.__dict__["_cycles_note"] = note
+                say_error(note)
+            return n
         if t.strip().lower() == "auto":
             import numpy as np
 
@@ -514,7 +567,10 @@ class Inputs:
         try:
             return int(t.strip())
         except ValueError:
-            raise ModelError(f"--transient: must be an integer (forcing periods, >= 0) or auto, got {t!r}") from None
+            raise ModelError(
+                f"--transient: must be an integer (forcing periods, >= 0), Ncycles (reference mesh cycles) or auto, "
+                f"got {t!r}"
+            ) from None
 
     def exponents_computable(self, model: GearModel, omegas: Any) -> None:
         """:func:`geardyn.validate.exponents_computable`: the precision limit of Lyapunov exponents.

@@ -115,10 +115,27 @@ def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
     if dtau:
         steps = math.ceil(p * 2.0 * math.pi / s.omega / float(dtau))
         text += f"; at omega = {s.omega:.4g}, {steps:,} RK4 steps per forcing period (dtau = {float(dtau):g})"
-        n = sum(int(values.get(k) or 0) for k in ("transient", "periods"))
+        n = _periods_given(values, p)
         if n:
             text += f", {steps * n:,} for --transient + --periods = {n} forcing periods"
     say_error(text)
+
+
+def _periods_given(values: dict[str, Any], p: int) -> int:
+    """--transient + --periods in forcing periods (``Ncycles`` converted with ``p``); 0 when the transient is
+    ``auto`` or not yet known."""
+    from .options import transient_cycles
+
+    t = values.get("transient") or 0
+    if isinstance(t, str):
+        cycles = transient_cycles(t)
+        if cycles is not None:
+            t = -(-cycles // p)
+        elif t.strip().isdigit():
+            t = int(t.strip())
+        else:
+            return 0
+    return int(t) + int(values.get("periods") or 0)
 
 
 def coordinates(s: Any, text: str | None, n: int) -> list[int] | None:
