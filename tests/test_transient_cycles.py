@@ -89,7 +89,6 @@ def test_cli_pair_cycles_is_the_run_with_that_count_and_says_it_once():
     assert json.loads(cyc.stdout) == json.loads(fixed.stdout)
 
 
-@pytest.mark.slow
 def test_cli_gearbox_64_cycles_is_one_forcing_period_bit_for_bit():
     """two_stage_helical.toml: stage 2 at 19/64 of stage 1, so P = 64 stage-1 mesh cycles per forcing period."""
     args = ["simulate", "--system", str(GEARBOX), "--periods", "1", "--dtau", "0.2", "--json"]
@@ -98,3 +97,13 @@ def test_cli_gearbox_64_cycles_is_one_forcing_period_bit_for_bit():
     one = _cli(*args, "--transient", "1")
     assert one.returncode == 0, one.stderr
     assert cyc.stdout == one.stdout
+
+
+def test_forcing_period_note_counts_cycles_and_skips_auto():
+    """The gearbox's note on the RK4 steps of --transient + --periods takes Ncycles in forcing periods and leaves
+    out auto (not yet known) instead of failing on it."""
+    from geardyn.cli.system_input import _periods_given
+
+    assert _periods_given({"transient": "65cycles", "periods": 1}, 64) == 3
+    assert _periods_given({"transient": "auto", "periods": 1}, 64) == 0
+    assert _periods_given({"transient": "5", "periods": 1}, 64) == 6
