@@ -118,3 +118,12 @@ def test_functions_outside_geardyn_keep_numbas_own_locator(tmp_path):
     ns: dict = {}
     exec(compile((tmp_path / "m.py").read_text(), str(tmp_path / "m.py"), "exec"), ns)
     assert ours.from_function(ns["g"], str(tmp_path / "m.py")) is None
+
+
+def test_the_install_time_compile_has_every_runtime_dependency():
+    """setup.py runs the commands of geardyn._precompile in pip's build environment: a runtime dependency
+    missing there makes a command fail, and its kernels compile at the user's first run instead."""
+    import tomllib
+
+    meta = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
+    assert set(meta["project"]["dependencies"]) <= set(meta["build-system"]["requires"])

@@ -216,6 +216,19 @@ QUOTED: dict[str, Run | str] = {
     "geardyn simulate --system examples/systems/paper_torsional.toml --omega 0.8 --accurate --json": AS_QUOTED,
     "geardyn simulate --omega 0.8 --accurate --json": Run(SHORT),
     "geardyn plot results/bevel8/modes.nc": AS_QUOTED,
+    # gearbox.md (the numbers: tests/test_gearbox.py)
+    "geardyn modes --system examples/gearbox/two_stage_helical.toml --json": AS_QUOTED,
+    "geardyn modes --system examples/gearbox/two_stage_helical.toml --rpm-max 3000 --out results/gearbox": AS_QUOTED,
+    "geardyn plot results/gearbox/modes.nc": AS_QUOTED,
+    "geardyn simulate --system examples/gearbox/two_stage_helical.toml --transient 60 --periods 4 --dtau 0.05 "
+    "--out results/gearbox_sim": "64 forcing periods of 77 121 RK4 steps on 220 states (about a minute); "
+    "tests/test_gearbox.py::test_a_gearbox_simulation_settles_on_its_static_deflection simulates a gearbox",
+    "geardyn signature --system examples/gearbox/two_stage_helical.toml --sensor in_A.x --revolutions 20 "
+    "--out results/gearbox_signature": "0.8 s of a 110-DOF gearbox sampled at 1.2 MHz (about two minutes); "
+    "tests/test_signature_system.py runs the system signature on the small examples",
+    "geardyn response --system examples/gearbox/two_stage_helical.toml --rpm-start 13000 --rpm-stop 17000 --num 5 "
+    "--transient 60 --periods 4 --dtau 0.05 --settle 0 --json": "ten points of 64 forcing periods of 8 000 RK4 "
+    "steps on 220 states (about a minute and a half); the response sweep is the systems' (tests/test_systems_cli.py)",
     # README.md
     "geardyn simulate --omega 1.2 --out sim12": Run(SHORT),
     "geardyn simulate --rpm 2400 --torque 1500 --json": AS_QUOTED,

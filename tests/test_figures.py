@@ -296,7 +296,21 @@ def _tooth_synthetic():
         coords={"size": [0.0, 0.5], "shaft": ["pinion", "wheel"]},
         attrs={"geardyn_kind": "signature_sweep"},
     )
-    return {"stiffness": stiff, "signature": sig, "signature_sweep": sweep}
+    pts, lv = np.arange(7), np.array([0.5, 1.0])
+    c = 30.0 + 5.0 * pts
+    fe = xr.Dataset(
+        {
+            "radius": (("tooth", "point"), [28.0 + pts]),
+            "compliance_geardyn": (("tooth", "point"), [c]),
+            "compliance_fe": (("tooth", "point"), [1.02 * c]),
+            "compliance_fe_level": (("tooth", "level", "point"), [[1.01 * c, 1.02 * c]]),
+            "crack_ratio_geardyn": (("crack", "point"), [1.0 + 0.01 * pts]),
+            "crack_ratio_fe": (("crack", "point"), [1.0 + 0.012 * pts]),
+        },
+        coords={"tooth": ["a pinion"], "point": pts, "level": lv, "crack": ["a 25 %"]},
+        attrs={"geardyn_kind": "tooth_fe", "summary": "{}"},
+    )
+    return {"stiffness": stiff, "signature": sig, "signature_sweep": sweep, "tooth_fe": fe}
 
 
 def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):

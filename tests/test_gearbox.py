@@ -101,6 +101,9 @@ position = "0 mm"
 kx = "2e8 N/m"
 ky = "2e8 N/m"
 kz = "1e8 N/m"
+cx = "3000 N*s/m"
+cy = "3000 N*s/m"
+cz = "3000 N*s/m"
 
 [[bearing]]
 name = "{s}_B"
@@ -108,6 +111,8 @@ shaft = "{s}"
 position = "200 mm"
 kx = "2e8 N/m"
 ky = "2e8 N/m"
+cx = "3000 N*s/m"
+cy = "3000 N*s/m"
 """
 
 
@@ -236,3 +241,90 @@ def test_modes_json_of_the_shipped_gearbox():
         assert name in e
     assert sum(e.values()) == pytest.approx(1.0, abs=1e-9)
     assert out["frequencies_hz"][0] == 0.0 and out["frequencies_hz"][1] > 0  # one rigid rotation of the train
+    # each mode's energy grouped per shaft, bearing, coupling and mesh; the shafts' nodes and the kinematics
+    g = out["modes"][5]["energy"]
+    assert set(g) == {"shafts", "bearings", "couplings", "meshes"}
+    assert set(g["shafts"]) == {"input", "intermediate", "output"} and len(g["bearings"]) == 6
+    assert set(g["meshes"]) == {"stage1", "stage2"}
+    assert sum(sum(x.values()) for x in g.values()) == pytest.approx(1.0, abs=1e-9)
+    gb = out["gearbox"]
+    assert [s["name"] for s in gb["shafts"]] == ["input", "intermediate", "output"]
+    assert all(s["elements"] >= 4 for s in gb["shafts"])
+    assert gb["kinematics"]["mesh_ratios"] == {"stage1": "1", "stage2": "19/64"}
+    assert len(out["modes"][5]["shape"]) == n
+
+
+def test_modes_figures_of_the_gearbox_redraw(tmp_path):
+    r = _cli(
+        "modes", "--system", "examples/gearbox/two_stage_helical.toml", "--rpm-max", "3000", "--out", str(tmp_path)
+    )
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "mode_shapes.png").stat().st_size > 10_000 and (tmp_path / "campbell.png").exists()
+    import xarray as xr
+
+    ds = xr.open_dataset(tmp_path / "modes.nc")
+    assert ds.sizes["node"] == 18 and sorted(set(ds["element_kind"].values.tolist())) == [1, 2, 3, 4]
+    assert json.loads(ds.attrs["shafts"]) == ["input", "intermediate", "output"]
+    (tmp_path / "mode_shapes.png").unlink()
+    r = _cli("plot", str(tmp_path / "modes.nc"), "--out", str(tmp_path))
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "mode_shapes.png").exists()
+
+
+def test_torque_orders_on_a_gearbox_enter_the_forcing_period_and_the_model(tmp_path):
+    """The shipped motor's 6th order (commented out in the file) runs at 6/23 of the stage-1 mesh frequency: with
+    the meshes' 64 cycles the forcing repeats after lcm(64, 23) = 1472 cycles, above the default bound 1000."""
+    ex = tmp_path / "orders.toml"
+    text = (ROOT / "examples/gearbox/two_stage_helical.toml").read_text()
+    assert '# orders = [{ order = 6, amplitude = "4.5 N*m"' in text
+    ex.write_text(text.replace("# orders = [", "orders = ["))
+    d = load_description(ex)
+    assert d.kinematics["order_ratios"] == {"order 6 of motor": "6/23"}
+    assert d.kinematics["forcing_period_mesh_cycles"] == 1472
+    motor = next(ld for ld in d.loads if ld.body == "motor")
+    assert motor.orders == ((Fraction(6), 4.5, 0.0),) and motor.speed == Fraction(1, 23)
+    s = load_system(ex)
+    assert s.period_multiple() == 1472
+    text = ex.read_text().replace("max_period = 1500", "max_period = 1000")
+    f = tmp_path / "bound.toml"
+    f.write_text(text)
+    with pytest.raises(
+        ModelError,
+        match=r"is 1472 cycles of mesh 'stage1', above the bound max_period = 1000 "
+        r"\(mesh 'stage2' at 19/64, order 6 of motor at 6/23 of",
+    ):
+        load_description(f)
+
+
+def test_a_gearbox_simulation_settles_on_its_static_deflection(tmp_path):
+    """Linear meshes (no backlash, constant stiffness) and a balanced torque: the simulated steady deflection of
+    every mesh is the static one, K q = F solved on the SI matrices (the rigid rotation left free)."""
+    f = _file(
+        tmp_path,
+        z=(20, 40, 20, 40),  # stage 2 at 1/2 of stage 1: a forcing period of 2 cycles
+        beta1="15 deg",
+        mesh1_extra="xi0 = 0.1",
+        mesh2_extra="xi0 = 0.1",
+        gearbox='[system]\ncharacteristic_length = "10 um"\n'
+        '[[load]]\ngear = "p1"\ntorque = "100 N*m"\n[[load]]\ngear = "w2"\ntorque = "balance"',
+    )
+    text = f.read_text().replace('backlash = "0.1 mm"', 'backlash = "0 mm"')
+    f.write_text(text)
+    d = load_description(f)
+    K, _ = d.bearing_matrices()
+    for m in d.meshes:
+        v = d.vector(m)
+        K = K + m.stiffness * np.outer(v, v)
+    q = np.linalg.lstsq(K, d.load_vector(), rcond=None)[0]
+    static = np.array([d.vector(m) @ q for m in d.meshes]) / d.b_c
+    from geardyn.integrate import IntegrationOptions, integrate_batch
+
+    s = load_system(f).with_param("omega", 0.5)
+    assert s.period_multiple() == 2
+    # 600 forcing periods: the shafts' torsion within a shaft has little damping (Rayleigh β K only)
+    r = integrate_batch([s], options=IntegrationOptions(dtau=0.05, transient=600, periods=4))
+    assert int(np.asarray(r.status)[0]) == 0
+    means = r.element_mean()[0]
+    spread = r.element_u_max()[0] - r.element_u_min()[0]
+    assert np.allclose(means, static, rtol=1e-6), (means, static)
+    assert np.all(spread < 1e-6 * np.abs(static))

@@ -77,8 +77,8 @@ def test_a_toml_syntax_error_is_one_line_with_its_line_in_every_file(tmp_path, k
 
 
 def test_a_tooth_pair_value_of_the_wrong_type_and_a_tooth_count_out_of_range(tmp_path):
-    msg, line = _refused(tmp_path, "tooth", _sub(TOOTH, "m_n_mm = 3.0", 'm_n_mm = "three"'))
-    assert line.startswith("m_n_mm") and "[tooth_pair] m_n_mm:" in msg, msg
+    msg, line = _refused(tmp_path, "tooth", _sub(TOOTH, 'm_n = "3.0 mm"', 'm_n = "three"'))
+    assert line.startswith("m_n") and "[tooth_pair] m_n:" in msg, msg
     msg, line = _refused(tmp_path, "tooth", _sub(TOOTH, "z1 = 20", "z1 = 2000"), ModelError)
     assert line.startswith("z1") and "from 1 to 1000" in msg, msg
 

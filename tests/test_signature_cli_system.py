@@ -1,8 +1,11 @@
-"""Signatures of a system from the command line, and healthy against 25 % and 50 % root cracks on a system.
+"""Signatures of a system from the command line, and healthy against 50 % and 75 % root cracks on a system.
 
 The system is ``examples/systems/spur_bending_torsional.toml`` (Luo et al. 2019's spur pair, 16/48 teeth, on
 compliant bearings) with its mesh's stiffness and STE from the potential-energy tables of the pair healthy and
-with a root crack of 25 % and 50 % on pinion tooth 0 (16 mesh cycles, 32 phases each, 64 harmonics of the
+with a root crack of 50 % and 75 % on pinion tooth 0 (depths as shares of the half thickness at the fillet's
+30° point; they lose about what 25 % and 50 % of the root-circle half thickness lost in the earlier section
+law: mean stiffness over the cracked tooth's two cycles −4.3 % and −9.0 % on a 20/40 pair, against −2.5 % and
+−5.7 %) (16 mesh cycles, 32 phases each, 64 harmonics of the
 pinion revolution: mesh orders up to 4), at the file's 1800 rpm, sensor ``pinion.y`` (the default: the
 pinion's translation most nearly along the line of action), 6 pinion revolutions, 2 % noise.
 """
@@ -25,7 +28,7 @@ ROOT = Path(__file__).resolve().parents[1]
 EX = ROOT / "examples"
 SYSTEM = EX / "systems/spur_bending_torsional.toml"
 GEO = pair_geometry(16, 48, 3.175e-3, face_width=0.016)
-DEPTHS = (0.0, 0.25, 0.5)
+DEPTHS = (0.0, 0.5, 0.75)
 
 
 def _mesh(depth, points=32):
@@ -80,16 +83,18 @@ def test_the_crack_raises_the_shaft_order_sidebands_around_the_mesh_orders(runs)
     for mesh in (16, 32, 48):
         idx = [int(np.argmin(np.abs(o - (mesh + side)))) for side in (-2, -1, 1, 2)]
         sums += [a[idx].sum() for a in amp]
-    assert np.all(np.diff(sums) > 0), sums  # healthy < 25 % < 50 %
+    assert np.all(np.diff(sums) > 0), sums  # healthy < 50 % < 75 %
     idx = [int(np.argmin(np.abs(o - (48 + side)))) for side in (-2, -1, 1, 2)]
     # around mesh order 3 (1440 Hz, between the bearing modes at 1.2-1.3 kHz and the mesh mode at 6.4 kHz) every
-    # sideband of the 50 % crack stands 5 times over the noise, and their sum is 4 times the healthy one
+    # sideband of the 75 % crack stands 5 times over the noise, and their sum is 4 times the healthy one
     assert np.all(amp[2][idx] > 5 * floor), (amp[2][idx], floor)
     assert amp[2][idx].sum() > 4 * amp[0][idx].sum() and amp[1][idx].sum() > 2 * amp[0][idx].sum()
 
 
-def test_fm4_and_kurtosis_rise_with_crack_depth_on_the_system(runs):
-    for name in ("fm4", "kurtosis", "na4", "energy_ratio"):
+def test_fm4_na4_and_energy_ratio_rise_with_crack_depth_on_the_system(runs):
+    # (the raw record's kurtosis at this bearing sensor is that of its mesh tones, 5.7-5.8 at every depth: the
+    # crack's event shows in the indicators of the TSA's difference and residual signals)
+    for name in ("fm4", "na4", "energy_ratio"):
         v = [_ind(r, name) for r in runs]
         assert np.all(np.diff(v) > 0), (name, v)
     assert _ind(runs[2], "fm4") > 5 * _ind(runs[0], "fm4")
@@ -99,11 +104,11 @@ def test_fm4_is_a_shape_the_crack_keeps_so_it_saturates_where_the_event_dominate
     # FM4 is the normalised fourth moment of the difference signal: it does not grow with the amplitude of the
     # cracked tooth's event, only with its peakedness.  The stiffness loss's own FM4 falls slightly with depth
     # (the deeper crack weakens the tooth over more of its path of contact) ...
-    k = [np.asarray(_mesh(d).stiffness) for d in (0.1, 0.25, 0.5)]
+    k = [np.asarray(_mesh(d).stiffness) for d in (0.25, 0.5, 0.75)]
     own = [fm4(split_tsa(x, 16)["difference"]) for x in k]
-    assert own[0] > own[1] > own[2] > 7.5, own
+    assert own[0] > own[1] > own[2] > 6.0, own
     # ... and at 9667 rpm (ω = 0.5, mesh 2.58 kHz), without noise, where the event fills more of the revolution,
-    # the sensor's FM4 follows it: lower at 50 % than at 25 %, while the energy ratio keeps rising
+    # the sensor's FM4 follows it: lower at 75 % than at 50 %, while the energy ratio keeps rising
     fast = _runs(tables, 9667.0, 0.0)
     f = [_ind(r, "fm4") for r in fast]
     assert f[1] > 3 * f[0] and f[2] < f[1], f

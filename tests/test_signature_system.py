@@ -17,7 +17,7 @@ from geardyn.systems.load import load_system
 from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, table_of, write_table
 
 ROOT = Path(__file__).resolve().parents[1]
-DEPTHS = (0.0, 0.25, 0.5)
+DEPTHS = (0.0, 0.5, 0.75)  # shares of the half thickness at the fillet's 30° point
 
 
 @pytest.fixture(scope="module")

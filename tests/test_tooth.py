@@ -110,7 +110,7 @@ def test_faults_enter_as_data_on_any_tooth():
     geo = pair_geometry(20, 40, 0.003, face_width=0.02)
     healthy = mesh_stiffness(geo, 100.0, cycles=40, points=32, slices=10)
     faults = [
-        Crack(0, 3, 0.5, length=0.5),
+        Crack(0, 3, 0.8, length=0.5),
         Spall(1, 7, at=0.5, length=1e-3, width=5e-3, depth=1e-3),
         Broken(0, 11, remaining=0.7),
         Wear(1, 2e-6, kind="sliding"),

@@ -1,6 +1,5 @@
 """The excitation as a table over one or several mesh cycles through the model's Fourier inputs."""
 
-
 import numpy as np
 import pytest
 
@@ -65,10 +64,11 @@ def test_multi_cycle_excitation_is_the_same_equation():
     kappa, phi_k, eps, phi_e = (0.2, 0.05), (0.4, 1.0), (0.3, 0.05), (0.2, -0.3)
     one = BASE.replace(kappa=kappa, phi_k=phi_k, eps=eps, phi_e=phi_e)
     N, P = 16, 3
-    k1 = series_table(1.0, np.array(kappa), np.array(phi_k), N)
-    e1 = series_table(0.0, np.array(eps), np.array(phi_e), N)
+    k0, b_c = 3.0e8, 10e-6  # a physical table (N/m, m): the model takes k/k0 and e/b_c
+    k1 = series_table(k0, k0 * np.array(kappa), np.array(phi_k), N)
+    e1 = series_table(0.0, b_c * np.array(eps), np.array(phi_e), N)
     exc = Excitation(np.tile(k1, P), np.tile(e1, P), cycles=P)
-    three = excitation_model(BASE, exc)
+    three = excitation_model(BASE, exc, b_c=b_c)
     assert three.omega == BASE.omega and three.cycles == P and three.period_multiple() == P
     assert three.sampling_period == pytest.approx(P * one.period, rel=1e-15)
     np.testing.assert_allclose(three.kappa[2::3][:2], kappa, atol=1e-15)
@@ -98,8 +98,8 @@ def test_hunting_excitation_of_a_cracked_pinion_tooth_runs():
 
 
 def test_a_stiffness_that_is_not_positive_is_refused():
-    k = np.full(64, 1.0)
-    k[:8] = 0.02  # the interpolant rings below zero next to the drop
+    k = np.full(64, 3.0e8)
+    k[:8] = 6.0e6  # the interpolant rings below zero next to the drop
     with pytest.raises(ModelError, match="sum of"):
         excitation_model(BASE, Excitation(k, None, cycles=4))
 

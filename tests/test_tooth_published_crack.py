@@ -15,6 +15,8 @@ Sources and what is checked against each (``docs/excitation.md`` §2 gives the t
   ``quad`` to 1e-11, breakpoints at the base circle and where h_x = h_q or h_c) and asserts geardyn's
   compliances equal them to 2e-4: geardyn integrates by the trapezoidal rule on 801 sections (error
   O(Δy²), observed ≤ 6e-5 on these pairs), so 2e-4 bounds the discretisation and nothing else.
+  (geardyn's default crack is the cracked section's flexibility of fracture mechanics, checked against
+  finite elements in ``tests/test_tooth_fe.py``; the section law is kept as ``crack_model="section"``.)
 * Monotone in depth, and largest in single contact (the qualitative result reported throughout the
   cracked-gear literature; in the one summary with numbers read here: "the maximum reduction occurs when a
   single tooth with cracks engages"): ``test_reduction_is_monotone_in_depth_and_largest_in_single_contact``.
@@ -26,9 +28,10 @@ Sources and what is checked against each (``docs/excitation.md`` §2 gives the t
   foundation term and its averaging window are not stated, so no tolerance on the magnitudes can be
   justified; ``test_secondary_helical_summary_trend_and_documented_gap`` checks the trend that survives
   those differences (monotone, growing from step to step, the reduction at 80 % several times that at
-  20 %) and pins the documented gap (geardyn's reductions are 6.3-12.5 times smaller on a helical pair;
-  asserted 4-15) so that a change of the crack model shows up here and in the docs together.  This last
-  assertion records a disagreement; it is not a validation.
+  20 %) and pins the documented gap (geardyn's reductions, with its cracked-section flexibility, are
+  5.6-32 times smaller on a helical pair with the radial-flank tooth; asserted 4-40) so that a change of
+  the crack model shows up here and in the docs together.  This last assertion records a disagreement;
+  it is not a validation.
 """
 
 import math
@@ -107,12 +110,12 @@ def _published_crack_integrals(z, m, r_f, r_c, depth):
 
 @pytest.mark.parametrize("z1, z2, m", [(20, 40, 0.003), (19, 48, 0.003175), (40, 60, 0.006)])
 def test_cracked_tooth_compliances_are_the_published_integrals(z1, z2, m):
-    geo = pair_geometry(z1, z2, m, face_width=0.02, E=E, nu=NU)
+    geo = pair_geometry(z1, z2, m, face_width=0.02, E=E, nu=NU, root="radial")
     sec = geo.sections[0]
     rho = geo.contact_radius(0, np.array([geo.s_A, 0.5 * (geo.s_A + geo.s_E), geo.s_E]))
     healthy = tooth_compliance(geo, 0, rho)
     for depth in (None, 0.1, 0.5, 0.75, 0.9):
-        tc = tooth_compliance(geo, 0, rho, crack_depth=depth)
+        tc = tooth_compliance(geo, 0, rho, crack_depth=depth, crack_model="section")
         for i, rc in enumerate(rho):
             kb, ks, ka = _published_crack_integrals(z1, m, geo.r_f[0], float(rc), depth)
             assert tc.bending[i] == pytest.approx(kb, rel=2e-4)
@@ -143,7 +146,7 @@ def _reductions(geo, torque, depths, cycles, points=64):
 
 @pytest.mark.parametrize("z1, z2, m, b", [(20, 40, 0.003, 0.02), (19, 48, 0.003175, 0.016)])
 def test_reduction_is_monotone_in_depth_and_largest_in_single_contact(z1, z2, m, b):
-    geo = pair_geometry(z1, z2, m, face_width=b)
+    geo = pair_geometry(z1, z2, m, face_width=b, root="radial")
     mean, low = _reductions(geo, 100.0, DEPTHS, cycles=2)
     assert mean[0] == 0.0 and low[0] == 0.0
     assert np.all(np.diff(mean) < 0) and np.all(np.diff(low) < 0)
@@ -163,7 +166,7 @@ def test_secondary_helical_summary_trend_and_documented_gap():
     published = 1.0 - np.cumprod(1.0 - np.array(_SUMMARY_STEPS) / 100.0)  # cumulative against uncracked
     np.testing.assert_allclose(100 * published, [4.31, 9.78, 19.93, 35.01], atol=0.006)
     # a helical pair (examples/tooth_helical.toml without crowning), through crack on pinion tooth 0
-    geo = pair_geometry(23, 47, 0.0025, beta=math.radians(15.0), face_width=0.025, x1=0.2, x2=-0.2)
+    geo = pair_geometry(23, 47, 0.0025, beta=math.radians(15.0), face_width=0.025, x1=0.2, x2=-0.2, root="radial")
     mean, _ = _reductions(geo, 120.0, (0.0,) + _SUMMARY_DEPTHS, cycles=3, points=32)
     ours = -mean[1:]
     # the trend both show: monotone, each step larger than the one before, 80 % several times 20 %
@@ -172,6 +175,6 @@ def test_secondary_helical_summary_trend_and_documented_gap():
     assert np.all(steps_pub > 0) and np.all(steps_ours > 0)
     assert np.all(np.diff(steps_pub) > 0) and np.all(np.diff(steps_ours) > 0)
     assert published[3] / published[1] > 3 and ours[3] / ours[1] > 3
-    # the documented disagreement (docs/excitation.md §2): geardyn 6.3-12.5 times smaller at these depths
+    # the documented disagreement (docs/excitation.md §2): geardyn 5.6-32 times smaller at these depths
     ratio = published / ours
-    assert np.all((ratio > 4.0) & (ratio < 15.0))
+    assert np.all((ratio > 4.0) & (ratio < 40.0))

@@ -83,11 +83,15 @@ def stiffness_cmd(
     """Mesh stiffness and static transmission error of a spur or helical pair by the potential-energy method,
     healthy or with tooth faults, over the mesh cycle or the hunting period: table, Fourier harmonics, and
     ISO 6336-1 c′ and c_γ beside it."""
-    from ..tooth.mesh import mesh_stiffness
+    from ..tooth.mesh import default_cycles, mesh_stiffness
     from ..tooth.result import stiffness_dataset, stiffness_summary
 
     case = _case(file, inp)
     cycles = inp.cycles if inp.cycles is not None else case.mesh.get("cycles")
+    z = (case.geometry.gears[0].teeth, case.geometry.gears[1].teeth)
+    n = (cycles or default_cycles(*z, case.faults)) * int(case.mesh.get("points", inp.points))
+    if not 1 <= inp.harmonics <= n // 2:
+        raise ModelError(f"harmonics: from 1 to {n // 2} (half the {n} phases computed), got {inp.harmonics}")
     ms = mesh_stiffness(
         case.geometry,
         case.torque,
@@ -165,10 +169,13 @@ SIGNATURE_OPTIONS = [
         Optional[float],
         None,
         "--fs",
-        help="Sampling rate (Hz; default about 20 samples per mesh period; with --system also 5 per period of "
-        "the system's highest natural frequency).",
+        help="Sampling rate (Hz; default 20 samples per mesh period and 2.5 per period of the highest mesh "
+        "harmonic the model holds; with --system 20 per mesh period and 5 per period of the system's highest "
+        "natural frequency).",
     ),
-    option("noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02)."),
+    option(
+        "noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."
+    ),
     option(
         "sweep",
         Optional[str],
@@ -215,9 +222,13 @@ SIGNATURE_OPTIONS = [
 
 def _depths(text: str) -> list[float]:
     try:
-        return [float(x) for x in text.split(",")]
+        depths = [float(x) for x in text.split(",")]
     except ValueError:
         raise ModelError(f"sweep-depths: comma-separated numbers, got {text!r}") from None
+    for d in depths:
+        if not 0.0 <= d <= 0.95:  # (a nan fails too)
+            raise ModelError(f"sweep-depths: crack depths in [0, 0.95], got {d!r}")
+    return depths
 
 
 def _sweep_crack(case: Any, period: int) -> tuple[Any, list[Any], int]:
@@ -299,7 +310,7 @@ def signature_cmd(
         crack, others, period = _sweep_crack(case, period)
 
         def make(d):
-            return mesh_of(case, others + ([dataclasses.replace(crack, depth=d)] if d > 0 else []))
+            return mesh_of(case, others + [dataclasses.replace(crack, depth=d)])
 
         ds = signature_sweep(make, depths, rpm, **kw)
         summary = json.loads(ds.attrs["summary"])
@@ -454,7 +465,7 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
             crack, others, period = _sweep_crack(case, period)
 
             def make(d):
-                return excited(case, others + ([dataclasses.replace(crack, depth=d)] if d > 0 else []), f"d{d:g}")
+                return excited(case, others + [dataclasses.replace(crack, depth=d)], f"d{d:g}")
 
             ds = system_signature_sweep(make, depths, dof=dof, mesh=mesh, **kw)
             summary = json.loads(ds.attrs["summary"])

@@ -87,7 +87,38 @@ def load_cli_system(values: dict[str, Any]):
         v = values.get(o.dest)
         if v is not None and o.dest not in _NOT_MODEL and o.param not in ("omega", "fp"):
             s = s.with_param(o.param, float(v))
+    _forcing_period_note(s, values)
     return s
+
+
+def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
+    """Before a run, one line on stderr when the forcing period spans several reference mesh cycles: how many, and
+    the RK4 steps that makes (a gearbox's stages repeat together only after their least common period)."""
+    import math
+    from fractions import Fraction
+
+    from ..systems.assemble import MAX_RATIO_DENOMINATOR
+    from .app import say_error
+
+    p = s.period_multiple()
+    if p is None or p <= 1:
+        return
+    ratios = ", ".join(
+        f"{m.name} at {Fraction(m.ratio * m.cycles).limit_denominator(MAX_RATIO_DENOMINATOR)}"
+        for m in s.meshes
+        if m.name != s.scaling.reference
+    )
+    orders = ", ".join(f"order at {r}" for r, _, _ in getattr(s, "orders", ()))
+    text = f"forcing period: {p} cycles of mesh {s.scaling.reference!r} (the least common period; {ratios}"
+    text += f", {orders})" if orders else ")"
+    dtau = values.get("dtau")
+    if dtau:
+        steps = math.ceil(p * 2.0 * math.pi / s.omega / float(dtau))
+        text += f"; at omega = {s.omega:.4g}, {steps:,} RK4 steps per forcing period (dtau = {float(dtau):g})"
+        n = sum(int(values.get(k) or 0) for k in ("transient", "periods"))
+        if n:
+            text += f", {steps * n:,} for --transient + --periods = {n} forcing periods"
+    say_error(text)
 
 
 def coordinates(s: Any, text: str | None, n: int) -> list[int] | None:

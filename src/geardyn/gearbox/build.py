@@ -12,7 +12,7 @@ A system file with ``[[shaft]]`` tables is a gearbox (``geardyn.systems.load`` h
     material = { E = "210 GPa", nu = 0.3, rho = "7850 kg/m^3" }   # default steel
     segments = [{ length = "60 mm", outer = "40 mm" }, { length = "80 mm", outer = "50 mm", inner = "10 mm" }]
     elements_per_segment = 2      # elements between two neighbouring nodes of interest (default 2)
-    rayleigh_beta = "2e-6 s"      # stiffness-proportional damping β K of the shaft (default 2e-6 s, assumed)
+    rayleigh_beta = "1e-7 s"      # stiffness-proportional damping β K of the shaft (default 1e-7 s, assumed)
 
     [[gear]]
     name = "pinion1"
@@ -61,6 +61,7 @@ A system file with ``[[shaft]]`` tables is a gearbox (``geardyn.systems.load`` h
     [[load]]
     body = "motor"                # or gear = "..."
     torque = "100 N*m"            # or "balance": the torque that balances the others at the exact speeds
+    orders = [{ order = 6, amplitude = "3 N*m", phase = "0 deg" }]   # torque orders of the body's shaft speed
 
 Every shaft gets a node at each segment end and at every gear, bearing and coupling; each interval between
 neighbouring nodes is cut into ``elements_per_segment`` Timoshenko elements (:mod:`.shaft`).
@@ -78,12 +79,23 @@ import numpy as np
 from .._config_values import _Kind, _parse_scalar
 from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
-from ..systems.description import Connection, Load, Mesh
+from ..systems.description import Connection, Mesh
 from .gear import Gear
 from .kinematics import DEFAULT_MAX_PERIOD, forcing_period, round_ratio, solve_speeds
 from .mesh import mesh_vector, pair_geometry_of, tooth_excitation
 from .model import GearboxDescription, NodeBody, ShaftModel
-from .shaft import NODE_DOFS, STEEL, Material, Section, ShaftMesh, shaft_matrices
+from .reading import (
+    _bearing,
+    _check_radius,
+    _discretise,
+    _drive_power,
+    _loads,
+    _material,
+    _order_ratios,
+    _section_at,
+    _segments,
+)
+from .shaft import NODE_DOFS, ShaftMesh, shaft_matrices
 
 __all__ = ["build_description", "is_gearbox"]
 
@@ -164,13 +176,12 @@ _COUPLING = {
     "ktheta": "tstiffness",
     "ctheta": "tdamping",
 }
-_LOAD = {"body": "text", "gear": "text", "torque": "any"}
 _EXTRA_UNITS = {"pressure": ("Pa", '"210 GPa"'), "density": ("kg/m^3", '"7850 kg/m^3"'), "time": ("s", '"2e-6 s"')}
-#: Default stiffness-proportional damping of a shaft (s): ζ = β ω/2, 0.6 % at 1 kHz.
-DEFAULT_RAYLEIGH_BETA = 2e-6
-#: Relative tolerance for a given ratio and for given radii to agree with the teeth.
+#: Default stiffness-proportional damping of a shaft (s): ζ = β ω/2, 0.03 % at 1 kHz, 3 % at 100 kHz (the high
+#: element modes stay underdamped, so that the explicit RK4 step is not limited by them).
+DEFAULT_RAYLEIGH_BETA = 1e-7
+#: Relative tolerance for a given ratio to agree with the teeth.
 RATIO_RTOL = 1e-9
-RADIUS_RTOL = 1e-4
 #: An equivalent STE below this (m) from the tooth model is round-off (perfect involutes have none).
 STE_FLOOR = 1e-12
 
@@ -220,73 +231,6 @@ def _blocks(ctx, data: dict, section: str, schema: dict) -> list:
         if n in names[:i]:
             raise ctx.config(section, i, "name", None, f"duplicate {section} name {n!r}; names must be unique")
     return out
-
-
-# ---------------------------------------------------------------------------- shafts
-def _material(blk) -> Material:
-    tbl = blk.get("material", default=None)
-    if tbl is None:
-        blk.ctx.assume(
-            Assumption(f"{blk.element}.material", "steel", "", "not given: E 210 GPa, nu 0.3, rho 7850 kg/m^3")
-        )
-        return STEEL
-    extra = set(tbl) - {"E", "nu", "rho"}
-    if extra:
-        raise blk.cerr("material", f"unknown key {sorted(extra)[0]!r}; allowed: E, nu, rho")
-    try:
-        return Material(
-            E=blk._scalar("material", "pressure", tbl["E"]) if "E" in tbl else STEEL.E,
-            nu=blk._scalar("material", "number", tbl["nu"]) if "nu" in tbl else STEEL.nu,
-            rho=blk._scalar("material", "density", tbl["rho"]) if "rho" in tbl else STEEL.rho,
-        )
-    except ModelError as e:
-        raise blk.merr("material", str(e).split(": ", 1)[-1]) from None
-
-
-def _segments(blk) -> list[tuple[float, Section]]:
-    segs = blk.get("segments", default=None)
-    if not isinstance(segs, list) or not segs or not all(isinstance(s, dict) for s in segs):
-        raise blk.cerr("segments", 'expected a list of tables, e.g. [{ length = "100 mm", outer = "40 mm" }]')
-    out = []
-    for k, s in enumerate(segs, start=1):
-        extra = set(s) - {"length", "outer", "inner"}
-        if extra or "length" not in s or "outer" not in s:
-            raise blk.cerr("segments", f"segment {k}: needs length and outer (inner optional), got keys {sorted(s)}")
-        length = blk._scalar("segments", "length", s["length"], k)
-        outer = blk._scalar("segments", "length", s["outer"], k)
-        inner = blk._scalar("segments", "length", s.get("inner", "0 m"), k)
-        if not length > 0:
-            raise blk.merr("segments", f"segment {k}: length must be > 0, got {s['length']!r}")
-        try:
-            out.append((length, Section(outer, inner)))
-        except ModelError as e:
-            raise blk.merr("segments", f"segment {k}: {e}") from None
-    return out
-
-
-def _discretise(segs, features: dict[float, list[str]], per: int):
-    """Node positions and element sections: nodes at segment ends and features, ``per`` elements between."""
-    ends = np.concatenate([[0.0], np.cumsum([s[0] for s in segs])])
-    pts = sorted(set(ends.tolist()) | set(features))
-    merged: list[float] = []
-    for p in pts:
-        if merged and p - merged[-1] < 1e-9:
-            continue
-        merged.append(p)
-    nodes, secs = [merged[0]], []
-    for a, b in zip(merged[:-1], merged[1:]):
-        mid = 0.5 * (a + b)
-        seg = min(int(np.searchsorted(ends, mid)) - 1, len(segs) - 1)
-        for j in range(1, per + 1):
-            nodes.append(a + (b - a) * j / per)
-            secs.append(segs[seg][1])
-    return nodes, secs
-
-
-def _section_at(segs, x: float) -> Section:
-    ends = np.cumsum([s[0] for s in segs])
-    i = min(int(np.searchsorted(ends, x - 1e-12)), len(segs) - 1)
-    return segs[i][1]
 
 
 # ---------------------------------------------------------------------------- the file
@@ -389,25 +333,41 @@ def _build(ctx, data: dict) -> GearboxDescription:
         raise ctx.model("mesh", None, None, None, str(e)) from None
     zref = pairs[ref_i][3] * speeds[pairs[ref_i][1]]
     ratios = {nm: sp_z * speeds[sp] / zref for (nm, sp, _, sp_z, _) in pairs}
+    body_speed: dict[str, Fraction] = {}
+    for blk in cblocks:
+        if blk.has("body") and blk.has("shaft") and blk.get("shaft") in speeds:
+            body_speed[blk.get("body")] = speeds[blk.get("shaft")]
+    loads_raw = list(enumerate(data.get("load", []) or []))
+    order_ratios = _order_ratios(ctx, loads_raw, gears, speeds, body_speed, zref)
     bound = gbb.get("max_period", default=DEFAULT_MAX_PERIOD)
     if not 1 <= bound <= 10**6:
         raise gbb.merr("max_period", f"must be from 1 to 1000000 reference mesh cycles, got {bound}")
-    period = forcing_period(ratios.values())
+    period = forcing_period([*ratios.values(), *order_ratios.values()])
     rounded = False
     if period > bound:
         if not gbb.get("round_ratios", default=False):
-            worst = max(ratios, key=lambda k: ratios[k].denominator)
+            every = {**{f"mesh {k!r}": v for k, v in ratios.items()}, **order_ratios}
+            causes = ", ".join(f"{k} at {v}" for k, v in every.items() if v.denominator > 1)
             raise ctx.model(
                 "gearbox" if "gearbox" in data else "mesh",
                 None,
                 None,
                 None,
                 f"the forcing period (the meshes' hunting period) is {period} cycles of mesh {ref!r}, above the "
-                f"bound max_period = {bound} (mesh {worst!r} runs at {ratios[worst]} of it); raise [gearbox] "
+                f"bound max_period = {bound} ({causes} of its frequency); raise [gearbox] "
                 "max_period or set round_ratios = true",
             )
+        if order_ratios and forcing_period(order_ratios.values()) > bound:
+            raise ctx.model(
+                "load",
+                None,
+                None,
+                None,
+                f"the torque orders alone repeat only after {forcing_period(order_ratios.values())} cycles of mesh "
+                f"{ref!r}, above max_period = {bound}; rounding changes mesh ratios, not orders: raise max_period",
+            )
         ratios = {k: round_ratio(v, bound) for k, v in ratios.items()}
-        period = forcing_period(ratios.values())
+        period = forcing_period([*ratios.values(), *order_ratios.values()])
         rounded = True
         ctx.assume(Assumption("gearbox.round_ratios", True, "", f"mesh ratios rounded to the denominator {bound}"))
 
@@ -444,7 +404,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
         beta = blk.get(
             "rayleigh_beta",
             default=DEFAULT_RAYLEIGH_BETA,
-            assumed="not given: stiffness-proportional shaft damping beta = 2e-6 s (0.6 % of critical at 1 kHz)",
+            assumed="not given: stiffness-proportional shaft damping beta = 1e-7 s (0.03 % of critical at 1 kHz)",
         )
         pos_list, secs = _discretise(segs, feats[name], per)
         K, M, G = shaft_matrices(ShaftMesh(tuple(pos_list), tuple(secs)), mat)
@@ -469,6 +429,11 @@ def _build(ctx, data: dict) -> GearboxDescription:
                 m, ip, idia = g.blank(mat.rho, _section_at(segs, g.position).outer)
                 blockm += np.diag([m, m, m, idia, idia, ip])
             bodies.append(NodeBody(nn, NODE_DOFS, mass_matrix=tuple(map(tuple, blockm))))
+        radii = []
+        for k in range(len(pos_list)):
+            gr = [gears[n].reference_radius for n in node_feats[k] if n in gears]
+            near = [secs[e].outer / 2 for e in (k - 1, k) if 0 <= e < len(secs)]
+            radii.append(max(gr) if gr else max(near))
         dofs = tuple((nn, d) for nn in node_names for d in NODE_DOFS)
         conns.append(Connection(name, dofs, K, beta * K))
         shafts.append(
@@ -484,6 +449,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
                 speeds[name],
                 senses[name],
                 tuple(node_feats),
+                tuple(radii),
             )
         )
 
@@ -494,7 +460,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
             conns.append(_bearing(blk, node))
         except ModelError as e:
             raise blk.wrap(e) from None
-    body_speed: dict[str, Fraction] = {}
     for blk in cblocks:
         node = node_at[where[blk.element]]
         blk.need("body", "ktheta")
@@ -515,7 +480,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
         if not jn > 0:
             raise blk.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
         b_c = jn / 2.0
-    loads_raw = list(enumerate(data.get("load", []) or []))
     power = _drive_power(ctx, loads_raw, gears, speeds, body_speed)
     meshes = []
     for blk, (nm, sp, *_) in zip(mblocks, pairs):
@@ -538,7 +502,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
             )
         except ModelError as e:
             raise blk.wrap(e) from None
-    loads = _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap)
+    loads = _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap, zref)
     rpm, omega = opb.get("rpm"), opb.get("omega")
     if rpm is None and omega is None:
         ctx.assume(Assumption("operating.omega", 1.0, "", "no operating point given: ω = 1"))
@@ -550,9 +514,12 @@ def _build(ctx, data: dict) -> GearboxDescription:
         "reference_shaft": pairs[ref_i][1],
         "shaft_speed_ratios": {s: str(v) for s, v in speeds.items()},
         "mesh_ratios": {k: str(v) for k, v in ratios.items()},
+        "order_ratios": {k: str(v) for k, v in order_ratios.items()},
         "forcing_period_mesh_cycles": period,
         "rounded": rounded,
     }
+    kinds = {s.name: "shaft" for s in shafts} | {b.element: "bearing" for b in bblocks}
+    kinds |= {b.element: "coupling" for b in cblocks} | {m.name: "mesh" for m in meshes}
     return GearboxDescription(
         bodies=tuple(bodies) + tuple(rigid),
         meshes=tuple(meshes),
@@ -568,97 +535,8 @@ def _build(ctx, data: dict) -> GearboxDescription:
         assumptions=tuple(ctx.assumptions),
         shafts=tuple(shafts),
         kinematics=kin,
+        element_kinds=kinds,
     )
-
-
-def _check_radius(blk, key: str, given: float, exact: float, g: Gear) -> None:
-    if abs(given - exact) > RADIUS_RTOL * exact:
-        raise blk.merr(
-            key,
-            f"{given * 1e3:.6g} mm given, but {g.teeth} teeth of module {g.module * 1e3:g} mm "
-            f"(helix {math.degrees(g.helix_angle):g} deg) give {exact * 1e3:.6g} mm",
-        )
-
-
-def _bearing(blk, node: str) -> Connection:
-    if blk.has("stiffness_matrix"):
-        blk.need("dofs")
-        dofs = blk.get("dofs")
-        bad = [d for d in dofs if d not in NODE_DOFS[:5]]
-        if bad:
-            raise blk.cerr("dofs", f"unknown DOF {bad[0]!r}; a bearing acts on x, y, z, rx, ry")
-        return Connection(
-            blk.element, tuple((node, d) for d in dofs), blk.get("stiffness_matrix"), blk.get("damping_matrix")
-        )
-    k = {d: blk.get(f"k{d}") for d in NODE_DOFS[:5] if blk.has(f"k{d}")}
-    c = {d: blk.get(f"c{d}") for d in NODE_DOFS[:5] if blk.has(f"c{d}")}
-    if not k:
-        raise blk.cerr(None, "a bearing needs a stiffness (kx, ky, kz, krx, kry) or a stiffness_matrix")
-    dofs = [d for d in NODE_DOFS[:5] if d in k or d in c]
-    return Connection(
-        blk.element,
-        tuple((node, d) for d in dofs),
-        np.diag([k.get(d, 0.0) for d in dofs]),
-        np.diag([c.get(d, 0.0) for d in dofs]),
-    )
-
-
-def _load_target(blk, gears, node_at, where, speeds, body_speed, rmap):
-    if blk.has("gear") == blk.has("body"):
-        raise blk.cerr(None, 'a load acts on one gear = "..." or one body = "..."')
-    if blk.has("gear"):
-        g = blk.get("gear")
-        if g not in gears:
-            raise blk.merr("gear", f"unknown gear {g!r}; gears: {', '.join(gears)}")
-        return node_at[where[g]], speeds[gears[g].shaft]
-    b = blk.get("body")
-    if b not in rmap:
-        raise blk.merr("body", f"unknown body {b!r}; bodies: {', '.join(rmap) or '(none)'}")
-    if b not in body_speed:
-        raise blk.merr("body", f"body {b!r} is coupled to no shaft ([[coupling]]): its speed is unknown")
-    return b, body_speed[b]
-
-
-def _drive_power(ctx, loads_raw, gears, speeds, body_speed) -> float:
-    """Σ T n over the loads with a positive torque given (in N·m × the reference shaft's speed)."""
-    p = 0.0
-    for i, t in loads_raw:
-        if not isinstance(t, dict):
-            continue
-        tq = t.get("torque")
-        if tq == "balance" or tq is None:
-            continue
-        blk = ctx.Block(ctx, "load", i, t, _LOAD, t.get("body") or t.get("gear"))
-        T = blk._scalar("torque", "torque", tq)
-        if T > 0:
-            if "gear" in t and t["gear"] in gears:
-                p += T * float(speeds[gears[t["gear"]].shaft])
-            elif "body" in t and t["body"] in body_speed:
-                p += T * float(body_speed[t["body"]])
-    return p
-
-
-def _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap) -> list[Load]:
-    out: list[tuple[str, Fraction, float | None, Any]] = []
-    for i, t in loads_raw:
-        if not isinstance(t, dict):
-            raise ConfigError(f"{ctx.source}: [[load]] {i + 1}: must be a table")
-        blk = ctx.Block(ctx, "load", i, t, _LOAD, t.get("body") or t.get("gear"))
-        blk.need("torque")
-        target, n = _load_target(blk, gears, node_at, where, speeds, body_speed, rmap)
-        raw = t["torque"]
-        T = None if raw == "balance" else blk.get("torque", "torque")
-        out.append((target, n, T, blk))
-    free = [x for x in out if x[2] is None]
-    if len(free) > 1:
-        raise free[1][3].cerr("torque", 'only one load may be "balance"')
-    if free:
-        target, n, _, blk = free[0]
-        P = sum(T * Fraction(nn) for _, nn, T, _ in out if T is not None)
-        Tb = -float(P) / float(n)
-        ctx.assume(Assumption(f"load.{target}.torque", Tb, "N*m", "balances the other loads at the exact speeds"))
-        out = [(a, b, Tb if T is None else T, c) for a, b, T, c in out]
-    return [Load(target, "theta", T) for target, _, T, _ in out]
 
 
 def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_default, shafts) -> Mesh:

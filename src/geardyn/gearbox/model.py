@@ -59,6 +59,8 @@ class ShaftModel:
     sense: int = 1
     #: What sits at each node (gear, bearing and coupling names).
     features: tuple[tuple[str, ...], ...] = ()
+    #: Radius of each node (m): the reference radius of its gear, else the shaft's outer radius there.
+    radii: tuple[float, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -67,8 +69,8 @@ class ShaftModel:
             "sense": "counterclockwise" if self.sense > 0 else "clockwise",
             "elements": len(self.sections),
             "nodes": [
-                {"name": n, "position_m": p, "features": list(f)}
-                for n, p, f in zip(self.nodes, self.positions, self.features or [()] * len(self.nodes))
+                {"name": n, "position_m": p, "radius_m": r, "features": list(f)}
+                for n, p, r, f in zip(self.nodes, self.positions, self.radii, self.features)
             ],
         }
 
@@ -80,6 +82,8 @@ class GearboxDescription(SystemDescription):
     shafts: tuple[ShaftModel, ...] = field(default=(), compare=False)
     #: Exact kinematics: shaft speeds, mesh ratios (as strings of fractions) and the forcing period.
     kinematics: dict[str, Any] = field(default_factory=dict, compare=False)
+    #: The kind of each named element: ``"shaft"``, ``"bearing"``, ``"coupling"`` or ``"mesh"``.
+    element_kinds: dict[str, str] = field(default_factory=dict, compare=False)
 
     def mass_matrix(self) -> np.ndarray:
         """M (SI): the bodies' blocks plus the off-diagonal part of each shaft's consistent mass matrix."""
@@ -89,6 +93,10 @@ class GearboxDescription(SystemDescription):
             ii = [idx[(n, d)] for n in s.nodes for d in NODE_DOFS]
             M[np.ix_(ii, ii)] += s.M - np.diag(np.diag(s.M))
         return M
+
+    def gearbox_summary(self) -> dict[str, Any]:
+        """The shafts (nodes, positions, speeds) and the exact kinematics, for reports."""
+        return {"shafts": [s.to_dict() for s in self.shafts], "kinematics": dict(self.kinematics)}
 
     def shaft_of(self, node: str) -> ShaftModel | None:
         for s in self.shafts:

@@ -1,6 +1,8 @@
-"""The Campbell diagram of a ``modes`` result (``geardyn modes --out``, :func:`geardyn.systems.modes_data.modes_dataset`).
+"""The Campbell diagram of a ``modes`` result (``geardyn modes --out``,
+:func:`geardyn.systems.modes_data.modes_dataset`).
 
-One horizontal line per natural frequency, labelled at the right edge with its mode numbers (a
+One horizontal line per natural frequency up to 1.25 times the highest order line's frequency at the top
+speed (a finite-element model's higher modes are left out), labelled at the right edge with its mode numbers (a
 degenerate frequency is one line naming its modes), one line per distinct mesh order (meshes of
 equal frequency share it), the crossings as dots, and the legend below the axes, off the data.
 """
@@ -19,6 +21,9 @@ __all__ = ["campbell", "has_campbell"]
 
 #: Relative tolerance for two natural frequencies to be one line.
 SAME_FREQUENCY_RTOL = 1e-6
+#: The diagram reaches this multiple of the highest order line's frequency at the top speed, or the highest
+#: natural frequency (+8 %) if that is lower; the natural frequencies above are not drawn.
+ORDER_REACH = 1.25
 #: Smallest vertical distance (points) between two mode labels.
 LABEL_GAP_PT = 10.0
 
@@ -69,10 +74,16 @@ def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
     groups = frequency_lines(ds)
     fmax = max(f for f, _ in groups)
     top = 1.08 * fmax if fmax > 0 else 1.0
+    # natural frequencies far above every order line (a finite-element model's) are left out of the drawing
+    reach = ORDER_REACH * float(np.max(ds["line_slope"].values)) * hi
+    if reach < top:
+        top = reach
+        groups = [(f, m) for f, m in groups if f <= top]
     for f, _ in groups:
         if f > 0:
             ax.axhline(f, color="0.6", lw=0.8, zorder=1)
-    for j, (slope, text) in enumerate(zip(ds["line_slope"].values, ds["line_label"].values)):
+    labels = [str(x) for x in ds["line_label"].values]
+    for j, (slope, text) in enumerate(zip(ds["line_slope"].values, labels)):
         x1 = min(hi, top / slope)
         ax.plot([lo, x1], [slope * lo, slope * x1], color=f"C{j}", lw=1.4, zorder=2, label=str(text))
     if ds.sizes.get("crossing", 0):

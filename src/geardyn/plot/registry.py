@@ -26,6 +26,7 @@ from . import (
     basins,
     bifurcation,
     engineering,
+    gearbox,
     lyapunov,
     maps,
     modes,
@@ -146,6 +147,7 @@ def register(kind: str, *specs: FigureSpec) -> None:
 register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=engineering.has_iso_kv))
 register("runup", FigureSpec("runup", runup.runup_figure))
 register("modes", FigureSpec("campbell", modes.campbell, when=modes.has_campbell))
+register("modes", FigureSpec("mode_shapes", gearbox.mode_shapes, when=gearbox.has_shafts))
 systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
 register(
     "stiffness", FigureSpec("stiffness", tooth.stiffness_figure), FigureSpec("compliance", tooth.compliance_figure)
@@ -157,6 +159,11 @@ register(
     FigureSpec("signature", signature_system.system_signals, when=signature_system.is_system),
 )
 register("signature_sweep", FigureSpec("indicators", tooth.indicator_sweep))
+register(
+    "tooth_fe",
+    FigureSpec("tooth_fe_compliance", tooth.fe_compliance_figure),
+    FigureSpec("tooth_fe_crack", tooth.fe_crack_figure),
+)
 register("rattle", FigureSpec("rattle", rattle.rattle_history))
 register("rattle_map", FigureSpec("rattle_map", rattle.rattle_map_figure))
 

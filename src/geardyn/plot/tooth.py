@@ -10,7 +10,15 @@ import xarray as xr
 
 from .common import PlotArtists, one_axes, panels, result, snapshot
 
-__all__ = ["compliance_figure", "indicator_sweep", "order_spectrum", "signature_signals", "stiffness_figure"]
+__all__ = [
+    "compliance_figure",
+    "fe_compliance_figure",
+    "fe_crack_figure",
+    "indicator_sweep",
+    "order_spectrum",
+    "signature_signals",
+    "stiffness_figure",
+]
 
 
 def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
@@ -28,7 +36,9 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     PlotArtists
         The figure, its Axes and the artists drawn.
     """
-    fig, axes, _ = panels(ax, 3, (8.5, 8.0), sharex=True)
+    fig, axes, new = panels(ax, 3, (11.0, 8.0), sharex=True)
+    if new:
+        fig.subplots_adjust(right=0.7)
     before = snapshot(axes)
     s = json.loads(ds.attrs["summary"])
     ph = ds["phase"].values
@@ -48,7 +58,7 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         )
     a0.axhline(s["k_mean_N_per_um"], color="C2", lw=1.0, ls="-.", label=f"mean {s['k_mean_N_per_um']:.4g} N/µm")
     a0.set_ylabel("mesh stiffness [N/µm]")
-    a0.legend(fontsize=8, loc="lower right")
+    a0.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the curve: no segment hidden
     faults = ", ".join(f"{f['kind']} g{f['gear']}t{f.get('tooth')}" for f in s["faults"]) or "healthy"
     a0.set_title(
         f"z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, b = {bw:g} mm, ε_α = {s['eps_alpha']:.3f}, "
@@ -60,12 +70,12 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         if np.nanmax(np.abs(ds["ste_noload"].values)) > 0:
             a1.plot(ph, ds["ste_noload"], "C1--", lw=1.0, label="no-load TE (modifications, faults)")
         a1.set_ylabel("STE [µm]")
-        a1.legend(fontsize=8)
+        a1.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     if a2 is not None:
         for j in range(ds.sizes["pair"]):
             a2.plot(ph, ds["load_share"].isel(pair=j), lw=1.0, label=f"pair m = ⌊θ⌋ − {j}")
         a2.set_ylabel("load share [1]")
-        a2.legend(fontsize=8, loc="upper right")
+        a2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     (a2 or a0).set_xlabel("mesh phase θ [mesh cycles]")
     return result(fig, axes, before)
 
@@ -139,9 +149,9 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
                     o = m + sgn * j
                     i = int(np.argmin(np.abs(order - o)))
                     a.plot(order[i], max(amp[i], 1e-12), "v", color="C0", ms=4)
-                if k == 1:
-                    a.text(m + j, amp[int(np.argmin(np.abs(order - m - j)))] * 1.8, f"+{j}", color="C0", fontsize=7)
-                    a.text(m - j, amp[int(np.argmin(np.abs(order - m + j)))] * 1.8, f"−{j}", color="C0", fontsize=7)
+            if k == 1:  # one label per side, under the axis top, clear of the mesh label and of each other
+                a.text(m - 1.5, top * 0.35, "−1 −2", color="C0", fontsize=7, ha="right")
+                a.text(m + 1.5, top * 0.35, "+1 +2", color="C0", fontsize=7, ha="left")
             for j in (1,):
                 for sgn in (-1, 1):
                     o = m + sgn * j * z1 / z2
@@ -201,8 +211,12 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
             label=f"{name}: FM4 {ind['fm4']:.3g}, NA4 {ind['na4']:.3g}, M6A {ind['m6a']:.3g}",
         )
     a0.set_xlabel("time [ms]")
-    a0.set_ylabel("accel. [m/s²]")
-    a0.set_title("acceleration along the line of action, sampled with a once-per-revolution tachometer", fontsize=9)
+    a0.set_ylabel("relative accel. along LoA [m/s²]")
+    a0.set_title(
+        "relative acceleration of the two gears along the line of action (no bearing sensor), sampled with a "
+        "once-per-revolution tachometer",
+        fontsize=9,
+    )
     for a, what in ((a1, "TSA (pinion)"), (a2, "residual"), (a3, "difference")):
         if a is not None:
             a.set_ylabel(f"{what} [m/s²]")
@@ -242,3 +256,65 @@ def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     for a in [a for a in axes if a is not None][-2:]:
         a.set_xlabel(ds["size"].attrs.get("long_name", "fault size"))
     return result(fig, axes, before)
+
+
+def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Tooth compliance along the contact path, geardyn against finite elements, with the FE mesh levels.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``tooth_fe`` result (``benchmarks/tooth_fe.py``).
+    ax : Axes or sequence of Axes, optional
+        Where to draw (one Axes per tooth); a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    n = ds.sizes["tooth"]
+    fig, axes, new = panels(ax, n, (10.0, 2.9 * ((n + 1) // 2) + 0.6), nrows=(n + 1) // 2, ncols=2)
+    if new:
+        fig.subplots_adjust(hspace=0.5)
+    before = snapshot(axes)
+    for a, t in zip(axes, ds["tooth"].values):
+        if a is None:
+            continue
+        r = ds["radius"].sel(tooth=t).values
+        a.plot(r, ds["compliance_geardyn"].sel(tooth=t), "k-o", ms=3, lw=1.2, label="geardyn")
+        for lv in ds["level"].values:
+            a.plot(r, ds["compliance_fe_level"].sel(tooth=t, level=lv), "--", lw=0.9, label=f"FE level {lv:g}")
+        a.set_title(str(t), fontsize=8)
+        a.set_ylabel("compliance [1e-12 m²/N]", fontsize=8)
+        a.set_xlabel("contact radius [mm]", fontsize=8)
+        a.legend(fontsize=6)
+    return result(fig, axes, before)
+
+
+def fe_crack_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
+    """Compliance of the cracked pinion tooth over the healthy one along its contact, geardyn against FE.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``tooth_fe`` result.
+    ax : Axes, optional
+        Where to draw; a new figure if omitted.
+
+    Returns
+    -------
+    PlotArtists
+        The figure, its Axes and the artists drawn.
+    """
+    fig, a, _ = one_axes(ax, (7.5, 4.5))
+    before = snapshot([a])
+    x = ds["point"].values + 1
+    for i, c in enumerate(ds["crack"].values):
+        a.plot(x, ds["crack_ratio_geardyn"].sel(crack=c), "-o", color=f"C{i}", ms=3, label=f"{c} geardyn")
+        a.plot(x, ds["crack_ratio_fe"].sel(crack=c), "--s", color=f"C{i}", ms=3, label=f"{c} FE")
+    a.set_xlabel("load point along the pinion's contact (1: start of contact, 7: tip)")
+    a.set_ylabel("compliance, cracked / healthy")
+    a.set_title("root crack at the fillet's 30° point: potential energy against finite elements", fontsize=9)
+    a.legend(fontsize=6, ncol=2)
+    return result(fig, [a], before)

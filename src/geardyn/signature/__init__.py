@@ -1,5 +1,6 @@
-"""Vibration signatures of a gear pair or a system (a translational DOF as the sensor, :mod:`.system`): DAQ-like sampling with a tachometer, order tracking, order
-spectrum, time-synchronous average, regular/residual/difference signals and condition indicators
+"""Vibration signatures of a gear pair or a system (a translational DOF as the sensor, :mod:`.system`):
+DAQ-like sampling with a tachometer, order tracking with each shaft resampled for its own mesh harmonics,
+order spectrum, time-synchronous average, regular/residual/difference signals and condition indicators
 (``docs/excitation.md``)."""
 
 from .acquire import Acquisition, acceleration, acquire

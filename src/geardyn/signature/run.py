@@ -30,6 +30,7 @@ __all__ = [
     "signature",
     "signature_sweep",
     "sweep_dataset",
+    "sweep_runs",
 ]
 
 #: Harmonics of the excitation's period a signature run keeps by default (the full table: ``harmonics=``).
@@ -72,10 +73,10 @@ def indicators(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, floa
 
 
 def per_rev(z: int, top_order: float = 0.0) -> int:
-    """Angle-domain points per revolution of a shaft with ``z`` teeth: at least 16 per mesh period, and at
-    least 4 per period of the highest mesh harmonic ``top_order`` the model holds (twice its Nyquist rate),
-    rounded up to a power of 2.  Each shaft gets its own: one count for both would resolve the gear with
-    more teeth too coarsely and fold its mesh harmonics into its difference signal.
+    """Angle-domain points per revolution of a shaft with ``z`` teeth: at least 16 per period of every mesh
+    harmonic the model holds (the highest, ``top_order`` mesh orders, and the mesh frequency itself), rounded up
+    to a power of 2.  Each shaft gets its own: one count for both would resolve the gear with more teeth too
+    coarsely and fold its mesh harmonics into its difference signal.
 
     Parameters
     ----------
@@ -90,10 +91,10 @@ def per_rev(z: int, top_order: float = 0.0) -> int:
 
     Examples
     --------
-    >>> per_rev(19), per_rev(48), per_rev(48, top_order=32.0)
-    (512, 1024, 8192)
+    >>> per_rev(19), per_rev(48), per_rev(48, top_order=3.37)
+    (512, 1024, 4096)
     """
-    return int(2 ** math.ceil(math.log2(max(16.0 * z, 4.0 * z * top_order))))
+    return int(2 ** math.ceil(math.log2(16.0 * z * max(1.0, top_order))))
 
 
 def default_fs(f_mesh: float, top_order: float = 0.0) -> float:
@@ -335,11 +336,10 @@ def signature_sweep(
     xarray.Dataset
         ``geardyn_kind = "signature_sweep"``: one variable per indicator over (``size``, ``shaft``).
     """
-    rows = []
-    for s in sizes:
-        ms = make(float(s))
-        ds = signature(
-            ms,
+
+    def run(size: float) -> xr.Dataset:
+        return signature(
+            make(size),
             rpm,
             revolutions=revolutions,
             fs=fs,
@@ -351,8 +351,39 @@ def signature_sweep(
             xi0=xi0,
             dtau=dtau,
         )
-        rows.append(json.loads(ds.attrs["summary"])["runs"][0]["indicators"])
-    return sweep_dataset(rows, sizes, {"size_name": name, "rpm": rpm})
+
+    return sweep_runs(run, sizes, name, lambda last: {"rpm": rpm})
+
+
+def sweep_runs(
+    run: Callable[[float], xr.Dataset],
+    sizes: Sequence[float],
+    name: str,
+    extra: Callable[[dict[str, Any]], dict[str, Any]],
+) -> xr.Dataset:
+    """A ``signature_sweep`` result from one ``signature`` run per fault size: the one sweep of the pair and
+    of every system.
+
+    Parameters
+    ----------
+    run : callable
+        ``run(size) -> xarray.Dataset``, a ``signature`` result.
+    sizes : sequence of float
+        The fault sizes.
+    name : str
+        What the size is.
+    extra : callable
+        ``extra(last_run_summary) -> dict``: what the sweep's summary adds (``rpm``, ``sensor`` …).
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    rows, last = [], {}
+    for size in sizes:
+        last = json.loads(run(float(size)).attrs["summary"])["runs"][0]
+        rows.append(last["indicators"])
+    return sweep_dataset(rows, sizes, {"size_name": name, **extra(last)})
 
 
 def sweep_dataset(

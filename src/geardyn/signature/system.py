@@ -1,6 +1,11 @@
 """The vibration signature of a multi-DOF system: the acceleration of a translational DOF (a bearing or
 housing sensor), sampled like a data acquisition with the pinion's once-per-revolution tachometer.
 
+A system is recorded by the same acquisition as the pair (:func:`geardyn.signature.acquire.record_system`,
+any system of the contract with a sensor) and read by the same order tracking, TSA and indicators
+(:func:`geardyn.signature.run.record`); this module holds only what a system adds: its sensor (a DOF) and
+its shafts (a mesh).
+
 The state history of :func:`geardyn.integrate.trajectory` holds q̃' at every RK4 step; the sensor's
 acceleration is its derivative, a = s_i ω_n² d q̃'_i/dτ (s_i = b_c on a translation), taken from the
 cubic spline through the history (the step is < 1/200 of a mesh period, so the spline's derivative is
@@ -16,7 +21,6 @@ sensor is the translation of the mesh's pinion most nearly along the line of act
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -27,9 +31,7 @@ import xarray as xr
 from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
-from ..integrate import trajectory
-from ..model import IntegrationOptions
-from .acquire import Acquisition, sampled
+from .acquire import Acquisition, record_system
 
 __all__ = [
     "check_sensor",
@@ -249,7 +251,8 @@ def system_acquire(
     dtau: float = 0.01,
     settle: float | None = None,
 ) -> Acquisition:
-    """Simulate a system and sample the acceleration of one translational DOF and the pinion's tachometer.
+    """A system with its sensor, the acceleration of one translational DOF, through the one acquisition
+    :func:`geardyn.signature.acquire.record_system`.
 
     Parameters
     ----------
@@ -279,28 +282,34 @@ def system_acquire(
     """
     sc = system.scaling
     check_sensor(system, dof)
-    if int(revolutions) < 1:
-        raise ModelError(f"revolutions: at least 1, got {revolutions!r}")
     m = _mesh(system, mesh)
     z1, _z2, _body = mesh_shafts(system, mesh)
     i = list(system.labels).index(dof)
     f_mesh = m.ratio * system.omega * sc.omega_n_rad_s / (2.0 * math.pi)
-    rpm = 60.0 * f_mesh / z1
-    if fs < 8 * f_mesh:
-        raise ModelError(f"fs: {fs:g} Hz is below 8 samples per mesh period (mesh frequency {f_mesh:g} Hz)")
-    Tf = system.sampling_period
-    periods = int(math.ceil(revolutions * z1 * system.period / m.ratio / Tf)) + 1
-    settle = settle_time(system) if settle is None else settle
-    transient = max(2, int(math.ceil(settle / Tf)))
-    tr = trajectory(
-        system, None, IntegrationOptions(dtau=dtau, transient=transient, periods=periods), history_periods=periods
+
+    def sensor(tr):
+        v = tr.x[:, system.n + i]
+        t_sim = (tr.tau - tr.tau[0]) / sc.omega_n_rad_s
+        if not np.all(np.isfinite(v)):
+            return t_sim, v
+        return t_sim, CubicSpline(t_sim, v).derivative()(t_sim) * sc.dof_scales[
+            i
+        ] * sc.omega_n_rad_s  # d²q/dt² = s ω_n d(q̃′)/dt
+
+    return record_system(
+        system,
+        sensor,
+        tau_per_rev=z1 * system.period / m.ratio,
+        rpm=60.0 * f_mesh / z1,
+        z1=z1,
+        z2=int(z2 or z1),
+        revolutions=revolutions,
+        fs=fs,
+        noise=noise,
+        seed=seed,
+        dtau=dtau,
+        settle=settle_time(system) if settle is None else settle,
     )
-    v = tr.x[:, system.n + i]
-    if not np.all(np.isfinite(v)):
-        raise ModelError("signature: the simulation diverged")
-    t_sim = (tr.tau - tr.tau[0]) / sc.omega_n_rad_s
-    a = CubicSpline(t_sim, v).derivative()(t_sim) * sc.dof_scales[i] * sc.omega_n_rad_s  # d²q/dt² = s ω_n d(q̃′)/dt
-    return sampled(t_sim, a, rpm=rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, z1=z1, z2=int(z2 or z1))
 
 
 def system_signature(
@@ -422,18 +431,15 @@ def system_signature_sweep(
     xarray.Dataset
         ``geardyn_kind = "signature_sweep"`` as the pair's; the summary adds ``sensor`` and ``mesh``.
     """
-    from .run import sweep_dataset
+    from .run import sweep_runs
 
-    rows, rpm = [], None
-    for s in sizes:
-        system = make(float(s))
-        dof = default_sensor(system, mesh) if dof is None else dof
-        r = json.loads(
-            system_signature(
-                system, dof, mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise, seed=seed, dtau=dtau
-            ).attrs["summary"]
-        )["runs"][0]
-        rows.append(r["indicators"])
-        rpm = r["rpm"]
-        mname = r["mesh"]
-    return sweep_dataset(rows, sizes, {"size_name": name, "rpm": rpm, "sensor": dof, "mesh": mname})
+    def run(size: float) -> xr.Dataset:
+        system = make(size)
+        sensor = default_sensor(system, mesh) if dof is None else dof
+        return system_signature(
+            system, sensor, mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise, seed=seed, dtau=dtau
+        )
+
+    return sweep_runs(
+        run, sizes, name, lambda last: {"rpm": last["rpm"], "sensor": last["sensor"], "mesh": last["mesh"]}
+    )

@@ -45,6 +45,8 @@ __all__ = ["ModalResult", "campbell", "modal_analysis", "modes_report"]
 
 #: Relative tolerance (on ω²/max ω²) below which a mode is a rigid-body mode.
 RIGID_RTOL = 1e-9
+#: The groups of a gearbox's strain energy, by element kind.
+_GROUPS = {"shaft": "shafts", "bearing": "bearings", "coupling": "couplings", "mesh": "meshes"}
 #: Relative tolerance for two frequencies to count as one repeated (degenerate) frequency.
 DEGENERATE_RTOL = 1e-6
 
@@ -419,7 +421,10 @@ def modes_report(
         "shape": {dof: value}}``), ``energy_fractions`` (per mode: ``{element: fraction}``),
         ``degenerate`` (groups of mode numbers), ``campbell`` (:func:`campbell`, or ``None`` with a
         ``campbell_note`` when the system has no mesh; a ``campbell_note`` also says when it is drawn
-        against the mesh frequency), ``assumed`` (the assumptions as dicts).
+        against the mesh frequency), ``assumed`` (the assumptions as dicts).  A gearbox
+        (:class:`~geardyn.gearbox.model.GearboxDescription`) adds to each mode ``energy``: its strain-energy
+        fractions grouped as ``shafts``, ``bearings``, ``couplings`` and ``meshes``, and ``gearbox``: the
+        shafts (their nodes and positions, speed ratios) and the exact kinematics.
     """
     res = modal_analysis(desc, clearances)
     dom = res.mesh_dominated
@@ -446,6 +451,14 @@ def modes_report(
         "degenerate": [[i + 1 for i in g] for g in res.degenerate_groups()],
         "assumed": [a.to_dict() for a in desc.assumptions],
     }
+    kinds = getattr(desc, "element_kinds", None)
+    if kinds:  # a gearbox: each mode's strain energy per shaft, bearing, coupling and mesh; the shafts' nodes
+        for m, e in zip(modes, out["energy_fractions"]):
+            grouped: dict[str, dict[str, float]] = {}
+            for name, frac in e.items():
+                grouped.setdefault(_GROUPS.get(kinds.get(name, ""), "others"), {})[name] = frac
+            m["energy"] = grouped
+        out["gearbox"] = desc.gearbox_summary()
     if not desc.meshes:
         out["campbell"] = None
         out["campbell_note"] = "the system has no mesh: no Campbell diagram"

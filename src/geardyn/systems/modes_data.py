@@ -5,7 +5,10 @@ Modes are numbered from 1 (coordinate ``mode``), as in the report's tables and J
 lines and crossings are variables along ``line`` and ``crossing``; the diagram's axis (pinion speed,
 or the mesh frequency when the reference mesh gives no ``teeth``) is in the attributes
 ``campbell_x``, ``campbell_x_label`` and ``campbell_x_range``.  A system without a Campbell diagram
-gives the modes alone.
+gives the modes alone.  A gearbox adds its shaft nodes along ``node``
+(``node_shaft``, an index into the attribute ``shafts``, ``node_position``, ``node_radius``; their names in the
+attribute ``nodes``) and each element's kind (``element_kind``), from which the figure of the deflection along
+each shaft is drawn.
 """
 
 from __future__ import annotations
@@ -41,6 +44,12 @@ MODES_VARIABLES: dict[str, Variable] = {
     "crossing_mode": _V("first mode number of the crossing"),
     "crossing_modes": Variable("1", "mode numbers of the crossing (a degenerate frequency lists several)", text=True),
     "crossing_line": _V("Campbell line of the crossing (index along line)"),
+    "node_shaft": _V("shaft of the node (index into the attribute 'shafts')"),
+    "node_position": _V("position of the node along its shaft", "m"),
+    "node_radius": _V("radius of the node: its gear's reference radius, else the shaft's outer radius", "m"),
+    "element_kind": Variable(
+        "1", "kind of the element (a gearbox)", {0: "other", 1: "shaft", 2: "bearing", 3: "coupling", 4: "mesh"}
+    ),
 }
 KIND_VARIABLES.setdefault("modes", {}).update(MODES_VARIABLES)
 
@@ -91,6 +100,21 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         "source": report.get("source") or "",
         "summary": json_attr(report),
     }
+    gb = report.get("gearbox")
+    if gb:  # a gearbox: its shaft nodes (names in the attributes), for the deflection along each shaft
+        shafts = [s["name"] for s in gb["shafts"]]
+        nodes = [(k, n) for k, s in enumerate(gb["shafts"]) for n in s["nodes"]]
+        data["node_shaft"] = ("node", np.array([k for k, _ in nodes], dtype=np.int64))
+        data["node_position"] = ("node", np.array([n["position_m"] for _, n in nodes], dtype=float))
+        data["node_radius"] = ("node", np.array([n["radius_m"] for _, n in nodes], dtype=float))
+        codes = {v: k for k, v in MODES_VARIABLES["element_kind"].flags.items()}
+        kinds: dict[str, int] = {}
+        for m in modes[:1]:
+            for group, members in m.get("energy", {}).items():
+                kinds.update({name: codes[{"meshes": "mesh"}.get(group, group[:-1])] for name in members})
+        data["element_kind"] = ("element", np.array([kinds.get(e, 0) for e in elements], dtype=np.int8))
+        attrs["shafts"] = json.dumps(shafts)
+        attrs["nodes"] = json.dumps([n["name"] for _, n in nodes])
     camp = report.get("campbell")
     if camp:
         lines, cr = camp["lines"], camp["crossings"]

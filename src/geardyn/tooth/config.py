@@ -1,72 +1,114 @@
 """A tooth pair, its modifications, its faults and its run from a TOML file (``examples/tooth_*.toml``).
 
-Sections and keys (units in the key names)::
-
-    [tooth_pair]       z1, z2, z_virtual ([z_v1, z_v2] of a bevel pair's virtual cylindrical gears), m_n_mm,
-                       alpha_n_deg (20), beta_deg (0), face_width_mm, x1, x2 (0), h_a (1), h_f (1.25),
-                       E_GPa (206), nu (0.3), bore1_mm, bore2_mm (0.5 r_f), torque_Nm, name
-    [modifications]    tip_relief_um, tip_length_mm, root_relief_um, root_length_mm (pairs: pinion, wheel),
-                       shape ("linear" | "parabolic"), crowning_um
-    [[fault]]          kind = "crack" | "spall" | "wear" | "broken" and the fields of that fault
-                       (lengths in m as in :mod:`geardyn.tooth.faults`, or with _mm / _um suffixes)
-    [mesh]             cycles, points, slices
-    [signature]        rpm, revolutions, fs_Hz, noise, backlash_um, b_c_um, xi0
-
-The file is read and checked by the one reader and validator of geardyn's TOML files
-(:mod:`geardyn._config_values`): a missing, oversized or malformed file, an unknown section or key and a value of
-the wrong type are refused in one line naming the file, the line and the key.
+Values carry their units, as in every other file (``m_n = "3.2 mm"``), read by the configuration's value
+parser (:mod:`geardyn._config_values`: one-line errors naming the file, line, section and key).  The
+keys and their defaults are the table of ``docs/excitation.md`` (:data:`PAIR_KEYS`, :data:`MOD_KEYS`,
+:data:`SIGNATURE_KEYS`, :data:`MESH_KEYS`, :data:`FAULT_KEYS`).  The earlier keys with the unit in their
+name (``m_n_mm = 3.2``, ``face_width_mm``, ``torque_Nm``, ``tip_relief_um``, ``fs_Hz`` …) are still read,
+as plain numbers in that unit; a key given both ways is refused.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .. import _config_values as cv
-from .._config_values import _Key
+from .._config_values import (
+    _ANGLE,
+    _INT,
+    _LENGTH,
+    _NUMBER,
+    _SPEED,
+    _TEXT,
+    _TORQUE,
+    _choice,
+    _Ctx,
+    _Key,
+    _Kind,
+    _parse_value,
+    parse_toml,
+    read_toml,
+)
 from ..errors import ConfigError, ModelError
-from .faults import FAULT_KINDS, Modifications, fault_from_dict
-from .geometry import PairGeometry, pair_geometry
+from .faults import Modifications, fault_from_dict
+from .geometry import ISO53_RACKS, PairGeometry, pair_geometry
+from .mesh import check_plausible
 
-__all__ = ["ToothCase", "load_case"]
+__all__ = ["FAULT_KEYS", "MESH_KEYS", "MOD_KEYS", "PAIR_KEYS", "SIGNATURE_KEYS", "ToothCase", "load_case"]
 
-_N, _I = _Key(cv._NUMBER), _Key(cv._INT)
-#: The sections of a tooth-pair file and their keys (plain numbers: the units are in the key names).
-_SCHEMA: dict[str, dict[str, _Key]] = {
-    "tooth_pair": {
-        "name": _Key(cv._TEXT),
-        "z1": _I,
-        "z2": _I,
-        "z_virtual": _Key(cv._NUMBER, True),
-        **{k: _N for k in ("m_n_mm", "alpha_n_deg", "beta_deg", "face_width_mm", "x1", "x2", "h_a", "h_f")},
-        **{k: _N for k in ("E_GPa", "nu", "bore1_mm", "bore2_mm", "torque_Nm")},
-    },
-    "modifications": {
-        **{
-            f"{k}{u}": _Key(cv._NUMBER, True)
-            for k in ("tip_relief", "tip_length", "root_relief", "root_length")
-            for u in ("", "_mm", "_um")
-        },
-        **{f"crowning{u}": _N for u in ("", "_mm", "_um")},
-        "shape": _Key(cv._choice(("linear", "parabolic"))),
-    },
-    "mesh": {"cycles": _I, "points": _I, "slices": _I},
-    "signature": {
-        "rpm": _N,
-        "revolutions": _I,
-        "fs_Hz": _N,
-        "noise": _N,
-        "backlash_um": _N,
-        "b_c_um": _N,
-        "xi0": _N,
-        "seed": _I,
-    },
+_MODULUS = _Kind("Young's modulus", "Pa", '"206 GPa"')
+_FREQUENCY = _Kind("frequency", "Hz", '"40 kHz"')
+
+#: [tooth_pair] keys: (kind, old key with its unit in the name, factor of the old key's number to SI).
+PAIR_KEYS: dict[str, tuple[_Key, str | None, float]] = {
+    "name": (_Key(_TEXT), None, 1.0),
+    "z1": (_Key(_INT), None, 1.0),
+    "z2": (_Key(_INT), None, 1.0),
+    "z_virtual": (_Key(_NUMBER, series=True), None, 1.0),
+    "m_n": (_Key(_LENGTH), "m_n_mm", 1e-3),
+    "alpha_n": (_Key(_ANGLE), "alpha_n_deg", math.pi / 180.0),
+    "beta": (_Key(_ANGLE), "beta_deg", math.pi / 180.0),
+    "face_width": (_Key(_LENGTH), "face_width_mm", 1e-3),
+    "x1": (_Key(_NUMBER), None, 1.0),
+    "x2": (_Key(_NUMBER), None, 1.0),
+    "h_a": (_Key(_NUMBER), None, 1.0),
+    "h_f": (_Key(_NUMBER), None, 1.0),
+    "rack": (_Key(_choice(tuple(ISO53_RACKS))), None, 1.0),
+    "rho_f": (_Key(_NUMBER), None, 1.0),
+    "root": (_Key(_choice(("trochoid", "radial"))), None, 1.0),
+    "E": (_Key(_MODULUS), "E_GPa", 1e9),
+    "nu": (_Key(_NUMBER), None, 1.0),
+    "bore1": (_Key(_LENGTH), "bore1_mm", 1e-3),
+    "bore2": (_Key(_LENGTH), "bore2_mm", 1e-3),
+    "rim1": (_Key(_LENGTH), "rim1_mm", 1e-3),
+    "rim2": (_Key(_LENGTH), "rim2_mm", 1e-3),
+    "torque": (_Key(_TORQUE), "torque_Nm", 1.0),
 }
-_REQUIRED = ("z1", "z2", "m_n_mm", "face_width_mm", "torque_Nm")
+#: [modifications] keys.
+MOD_KEYS: dict[str, tuple[_Key, str | None, float]] = {
+    "tip_relief": (_Key(_LENGTH, series=True), "tip_relief_um", 1e-6),
+    "tip_length": (_Key(_LENGTH, series=True), "tip_length_mm", 1e-3),
+    "root_relief": (_Key(_LENGTH, series=True), "root_relief_um", 1e-6),
+    "root_length": (_Key(_LENGTH, series=True), "root_length_mm", 1e-3),
+    "shape": (_Key(_choice(("linear", "parabolic"))), None, 1.0),
+    "crowning": (_Key(_LENGTH), "crowning_um", 1e-6),
+}
+#: [mesh] keys.
+MESH_KEYS: dict[str, tuple[_Key, str | None, float]] = {
+    "cycles": (_Key(_INT), None, 1.0),
+    "points": (_Key(_INT), None, 1.0),
+    "slices": (_Key(_INT), None, 1.0),
+}
+#: [signature] keys (``rpm`` also as a plain number in rpm).
+SIGNATURE_KEYS: dict[str, tuple[_Key, str | None, float]] = {
+    "rpm": (_Key(_SPEED), None, 1.0),
+    "revolutions": (_Key(_INT), None, 1.0),
+    "fs": (_Key(_FREQUENCY), "fs_Hz", 1.0),
+    "noise": (_Key(_NUMBER), None, 1.0),
+    "backlash": (_Key(_LENGTH), "backlash_um", 1e-6),
+    "b_c": (_Key(_LENGTH), "b_c_um", 1e-6),
+    "xi0": (_Key(_NUMBER), None, 1.0),
+    "seed": (_Key(_INT), None, 1.0),
+}
+#: [[fault]] keys: lengths of spalls and wear with units (or in m as plain numbers; or with _mm / _um).
+FAULT_KEYS: dict[str, tuple[_Key, str | None, float]] = {
+    "kind": (_Key(_choice(("crack", "spall", "wear", "broken"))), None, 1.0),
+    "gear": (_Key(_INT), None, 1.0),
+    "tooth": (_Key(_INT), None, 1.0),
+    "depth": (_Key(_NUMBER), None, 1.0),
+    "angle_deg": (_Key(_NUMBER), None, 1.0),
+    "length": (_Key(_NUMBER), None, 1.0),
+    "at": (_Key(_NUMBER), None, 1.0),
+    "width": (_Key(_LENGTH), None, 1.0),
+    "y0": (_Key(_NUMBER), None, 1.0),
+    "remaining": (_Key(_NUMBER), None, 1.0),
+}
+_FAULT_LENGTHS = {"spall": ("length", "width", "depth"), "wear": ("depth",)}
+#: Top-level text keys a tooth-pair file may hold beside its sections.
 _TOP_TEXT = ("title", "description")
-_SCALE = {"_mm": 1e-3, "_um": 1e-6}
+_SUFFIX = {"_mm": 1e-3, "_um": 1e-6}
 
 
 @dataclass
@@ -88,7 +130,7 @@ class ToothCase:
     mesh : dict
         ``[mesh]`` options (cycles, points, slices).
     signature : dict
-        ``[signature]`` options in SI units.
+        ``[signature]`` options in SI units (``fs`` also as ``fs_Hz``; rpm in rpm).
     """
 
     name: str
@@ -125,50 +167,64 @@ class ToothCase:
         )
 
 
-def _si(d: dict[str, Any]) -> dict[str, Any]:
-    out = {}
-    for k, v in d.items():
-        for suf, f in _SCALE.items():
-            if k.endswith(suf):
-                k, v = k[: -len(suf)], (v * f if not isinstance(v, list | tuple) else [x * f for x in v])
-                break
-        out[k] = v
-    return out
-
-
-def _section(ctx: cv._Ctx, doc: dict[str, Any], name: str) -> dict[str, Any]:
-    """The checked values of ``[name]`` (an empty table when absent)."""
+def _section(ctx: _Ctx, doc: dict[str, Any], name: str, keys: dict[str, tuple[_Key, str | None, float]]) -> dict:
     raw = doc.get(name, {})
     if not isinstance(raw, dict):
-        raise ctx.error(None, name, f"must be a table ([{name}])")
-    schema, out = _SCHEMA[name], {}
-    for key, val in raw.items():
-        if key not in schema:
-            raise ctx.error(name, key, f"unknown key; allowed: {', '.join(schema)}")
-        out[key] = cv._parse_value(ctx, name, key, schema[key], val)[0]
+        raise ctx.error(name, "", "expected a table")
+    old = {o: (k, f) for k, (_, o, f) in keys.items() if o}
+    unknown = set(raw) - set(keys) - set(old)
+    if unknown:
+        k = sorted(unknown)[0]
+        raise ctx.error(name, k, f"unknown key; allowed: {', '.join(sorted(keys))}")
+    out: dict[str, Any] = {}
+    for k, v in raw.items():
+        if k in old:
+            new, factor = old[k]
+            if new in raw:
+                raise ctx.error(name, k, f"given twice, as {new} and {k}; keep {new} (with its unit)")
+            spec = keys[new][0]
+            plain = _Key(_NUMBER, series=spec.series)
+            val, _ = _parse_value(ctx, name, k, plain, v)
+            out[new] = tuple(x * factor for x in val) if spec.series else val * factor
+        else:
+            spec = keys[k][0]
+            if spec.kind is _SPEED and isinstance(v, (int, float)) and not isinstance(v, bool):
+                v = f"{v!r} rpm"
+            out[k], _ = _parse_value(ctx, name, k, spec, v)
     return out
 
 
-def _faults(ctx: cv._Ctx, doc: dict[str, Any]) -> list:
-    raw = doc.get("fault", [])
-    if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
+def _fault(ctx: _Ctx, i: int, raw: Any) -> Any:
+    if not isinstance(raw, dict):
         raise ctx.error(None, "fault", "write each fault as a [[fault]] table")
-    out = []
-    for i, t in enumerate(raw):
-        kind = t.get("kind") if isinstance(t.get("kind"), str) else None
-        types = {f.name: str(f.type) for f in fields(FAULT_KINDS[kind])} if kind in FAULT_KINDS else {}
-        for key, val in t.items():
-            base = next((key[: -len(u)] for u in _SCALE if key.endswith(u)), key)
-            if key == "kind" or base not in types:  # the fault's constructor names what it does not know
-                continue
-            typ = types[base]
-            kind_of = cv._TEXT if typ.startswith("str") else cv._INT if typ.startswith("int") else cv._NUMBER
-            cv._parse_value(ctx, "fault", key, _Key(kind_of), val, index=i, element=kind)
-        try:
-            out.append(fault_from_dict(_si(t)))
-        except ModelError as e:
-            raise ctx.error("fault", None, str(e), ModelError, index=i, element=kind) from None
-    return out
+    kind = raw.get("kind") if isinstance(raw.get("kind"), str) else None
+    where = {"index": i, "element": kind}
+    lengths = _FAULT_LENGTHS.get(kind, ())
+    d: dict[str, Any] = {}
+    for k, v in raw.items():
+        base, factor = k, None
+        for suf, f in _SUFFIX.items():
+            if k.endswith(suf):
+                base, factor = k[: -len(suf)], f
+        if base == "kind":
+            d[base] = v
+        elif base in lengths:
+            if factor is not None or not isinstance(v, str):
+                val, _ = _parse_value(ctx, "fault", k, _Key(_NUMBER), v, **where)
+                d[base] = val * (factor or 1.0)
+            else:
+                d[base], _ = _parse_value(ctx, "fault", k, _Key(_LENGTH), v, **where)
+        elif base in FAULT_KEYS and factor is None:
+            spec = FAULT_KEYS[base][0]
+            spec = _Key(_NUMBER) if spec.kind is _LENGTH else spec
+            val, _ = _parse_value(ctx, "fault", k, spec, v, **where)
+            d[base] = int(val) if base in ("gear", "tooth") and float(val).is_integer() else val
+        else:
+            raise ctx.error("fault", k, f"unknown key; allowed: {', '.join(sorted(FAULT_KEYS))}", **where)
+    try:
+        return fault_from_dict(d)
+    except ModelError as e:
+        raise ctx.error("fault", None, str(e), ModelError, **where) from None
 
 
 def load_case(path: str | Path) -> ToothCase:
@@ -186,67 +242,88 @@ def load_case(path: str | Path) -> ToothCase:
     Raises
     ------
     ConfigError
-        For a missing file, invalid TOML, an unknown section or key, a value of the wrong type or a missing
-        required key (one line naming the file, the line and the key).
+        For a missing file, invalid TOML, unknown keys, values without their unit or missing required keys
+        (one line naming the file, line and key).
     ModelError
-        For a pair or a fault the geometry refuses (one line naming the file).
+        For a physically impossible pair (one line naming the key and the bound).
+
+    Examples
+    --------
+    >>> case = load_case("examples/tooth_19_48.toml")
+    >>> case.geometry.gears[0].teeth, round(case.geometry.m_n * 1e3, 3)
+    (19, 3.2)
     """
-    p = Path(path)
-    source, text = cv.read_toml(p, "tooth-pair file")
-    ctx = cv._Ctx(source, text)
-    doc = cv.parse_toml(text, source)
+    source, text = read_toml(path, "tooth-pair file")
+    doc = parse_toml(text, source)
+    ctx = _Ctx(source, text)
+    if not isinstance(doc.get("tooth_pair"), dict):
+        raise ConfigError(f"{source}: no [tooth_pair] section")
+    sections = ("tooth_pair", "modifications", "mesh", "signature")
     for key, val in doc.items():
         if key in _TOP_TEXT:
             if not isinstance(val, str):
                 raise ctx.error(None, key, f"expected a string, got {val!r}")
-        elif key not in _SCHEMA and key != "fault":
-            allowed = ", ".join([f"[{s}]" for s in _SCHEMA] + ["[[fault]]", *_TOP_TEXT])
+        elif key not in sections and key != "fault":
+            allowed = ", ".join([f"[{s}]" for s in sections] + ["[[fault]]", *_TOP_TEXT])
             raise ctx.error(
                 key if isinstance(val, dict) else None,
                 None if isinstance(val, dict) else key,
                 f"unknown section or key {key!r}; allowed: {allowed}",
             )
-    if not isinstance(doc.get("tooth_pair"), dict):
-        raise ConfigError(f"{source}: no [tooth_pair] section")
-    tp = _section(ctx, doc, "tooth_pair")
-    missing = [k for k in _REQUIRED if k not in tp]
-    if missing:
-        raise ctx.error("tooth_pair", None, f"needs the key(s) {', '.join(missing)}")
+    tp = _section(ctx, doc, "tooth_pair", PAIR_KEYS)
+    for req in ("z1", "z2", "m_n", "face_width", "torque"):
+        if req not in tp:
+            raise ctx.error("tooth_pair", "", f"needs {req} (e.g. {PAIR_KEYS[req][0].kind.example})")
+    md = _section(ctx, doc, "modifications", MOD_KEYS)
+    mesh = _section(ctx, doc, "mesh", MESH_KEYS)
+    sig = _section(ctx, doc, "signature", SIGNATURE_KEYS)
+    if "fs" in sig:
+        sig["fs_Hz"] = sig["fs"]
+    faults_raw = doc.get("fault", [])
+    if not isinstance(faults_raw, list):
+        raise ctx.error(None, "fault", "write faults as [[fault]] tables")
     zv = tp.get("z_virtual")
     if zv is not None and len(zv) != 2:
         raise ctx.error("tooth_pair", "z_virtual", f"expected two numbers [z_v1, z_v2], got {len(zv)}")
-    md = _si(_section(ctx, doc, "modifications"))
-    mesh, sig = _section(ctx, doc, "mesh"), _section(ctx, doc, "signature")
     try:
         geo = pair_geometry(
-            *(zv if zv is not None else (tp["z1"], tp["z2"])),
-            tp["m_n_mm"] * 1e-3,
-            alpha_n=math.radians(tp.get("alpha_n_deg", 20.0)),
-            beta=math.radians(tp.get("beta_deg", 0.0)),
-            face_width=tp["face_width_mm"] * 1e-3,
+            *(zv if zv else (tp["z1"], tp["z2"])),
+            tp["m_n"],
+            alpha_n=tp.get("alpha_n", math.radians(20.0)),
+            beta=tp.get("beta", 0.0),
+            face_width=tp["face_width"],
             x1=tp.get("x1", 0.0),
             x2=tp.get("x2", 0.0),
             h_a=tp.get("h_a", 1.0),
-            h_f=tp.get("h_f", 1.25),
-            bore1=tp["bore1_mm"] * 1e-3 if "bore1_mm" in tp else None,
-            bore2=tp["bore2_mm"] * 1e-3 if "bore2_mm" in tp else None,
-            E=tp.get("E_GPa", 206.0) * 1e9,
+            h_f=tp.get("h_f"),
+            rack=tp.get("rack", "A"),
+            rho_f=tp.get("rho_f"),
+            root=tp.get("root", "trochoid"),
+            bore1=tp.get("bore1"),
+            bore2=tp.get("bore2"),
+            rim1=tp.get("rim1"),
+            rim2=tp.get("rim2"),
+            E=tp.get("E", 206e9),
             nu=tp.get("nu", 0.3),
-            teeth=(tp["z1"], tp["z2"]) if zv is not None else None,
+            teeth=(tp["z1"], tp["z2"]) if zv else None,
         )
     except (ModelError, TypeError) as exc:
         raise ctx.error("tooth_pair", None, str(exc), ModelError) from None
     try:
-        mods = Modifications(**{k: tuple(v) if isinstance(v, tuple | list) else v for k, v in md.items()})
+        mods = Modifications(**md)
     except (ModelError, TypeError) as exc:
         raise ctx.error("modifications", None, str(exc), ModelError) from None
-    faults = _faults(ctx, doc)
+    faults = [_fault(ctx, i, f) for i, f in enumerate(faults_raw)]
+    try:
+        check_plausible(geo, float(tp["torque"]), mods, faults)
+    except ModelError as exc:
+        raise ctx.error(None, None, str(exc), ModelError) from None
     return ToothCase(
-        name=str(tp.get("name", p.stem)),
+        name=str(tp.get("name", Path(path).stem)),
         geometry=geo,
-        torque=float(tp["torque_Nm"]),
+        torque=float(tp["torque"]),
         modifications=mods,
         faults=faults,
         mesh=mesh,
-        signature=_si(sig),
+        signature=sig,
     )

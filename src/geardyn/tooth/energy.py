@@ -20,19 +20,33 @@ Table 1)::
 
     1/k_f = cos² α1 / (E L) {L* (u_f/S_f)² + M* (u_f/S_f) + P* (1 + Q* tan² α1)}
 
-with u_f the distance from the root circle to the point where the line of the force crosses the
-centre line, S_f = 2 r_f θ_f the root thickness, and each X* = A/θ_f² + B h_f² + C h_f/θ_f + D/θ_f
-+ E h_f + F of θ_f (half angle at the root) and h_f = r_f / r_int.
+with u_f the distance from the root circle to the contact point's height on the centre line (the
+convention of Ma et al. 2014-2015; the lever of the root moment, to where the force line crosses the
+centre line, gives 4-8 % less tooth compliance and departs further from the finite-element check of
+``benchmarks/tooth_fe.py``, docs/excitation.md), S_f = 2 r_f θ_f the root thickness, and each
+X* = A/θ_f² + B h_f² + C h_f/θ_f + D/θ_f + E h_f + F of θ_f (half angle at the root) and h_f = r_f / r_int.
 
-A root crack (after Wu, Zuo & Parey 2008, J. Sound Vib. 317, 608-624, and Chen & Shao 2011, Eng. Fail.
-Anal. 18, 2149-2164, with a straight crack): a crack that starts on one flank at the section y_c of half
-thickness h_c and reaches the half thickness h_q = (1 − depth) h_c from the centre line makes the band
-h_q < x < h_c of every section above y_c carry no load (the crack's shadow along the centre line):
-the section keeps the thickness h(y) + h(y) − max(0, min(h(y), h_c) − h_q).  Where h(y) ≤ h_c this is
-the published law h + min(h, h_q); in sections thicker than the crack's start the published law would
-also drop the material beyond h_c, so that a crack of depth 0 would already soften the tooth.  The
-band law is continuous: depth 0 is the healthy tooth.  The fillet foundation term is kept as for the
-healthy tooth (as Chen & Shao do).
+A root crack (``crack_model="fracture"``, the default): a straight crack at the section y_c where it starts
+(the fillet's 30° point, :attr:`Section.crack_start`), of half thickness h_c, running from the loaded flank
+into the tooth to the depth a = depth · h_c, perpendicular to the centre line.  It adds the local
+flexibility of a cracked section of fracture mechanics (the energy release of an edge crack, Tada, Paris &
+Irwin, *The Stress Analysis of Cracks Handbook*, 3rd ed. 2000, and the local flexibility of Dimarogonas &
+Paipetis, *Analytical Methods in Rotor Dynamics*, 1983): with the section's width W = 2 h_c, the moment
+M = cos α1 (d − y_c) − sin α1 h_l, the normal force N = −sin α1 and the shear force V = cos α1 per unit
+load, K_I = √(πa) (6 M / W² F_M(a/W) + N / W F_N(a/W)) and K_II = √(πa) V / W F_V, and
+
+    1/k_crack = (2 / E) ∫_0^a (K_I² + K_II²) da
+
+(plane stress), with Tada's F_M = 1.122 − 1.40ξ + 7.33ξ² − 13.08ξ³ + 14.0ξ⁴ (bending),
+F_N = 1.12 − 0.231ξ + 10.55ξ² − 21.72ξ³ + 30.39ξ⁴ (tension), both within 0.5 % for ξ = a/W ≤ 0.6 (a crack
+to 95 % of h_c has ξ ≤ 0.475), and F_V = 1.122 (an edge crack in shear, small ξ).  Depth 0 is the healthy
+tooth.  The finite-element check of ``benchmarks/tooth_fe.py`` compares it with a slit in a 2-D model.
+
+``crack_model="section"`` is the section law after Wu, Zuo & Parey (2008), J. Sound Vib. 317, 608-624,
+and Chen & Shao (2011), Eng. Fail. Anal. 18, 2149-2164: the crack makes the band h_q < x < h_c
+(h_q = (1 − depth) h_c) of every section above y_c carry no load, the section keeping the thickness
+2 h(y) − max(0, min(h(y), h_c) − h_q) (the published law h + min(h, h_q) wherever h ≤ h_c, continuous at
+depth 0), the fillet foundation kept as for the healthy tooth.
 """
 
 from __future__ import annotations
@@ -46,8 +60,12 @@ from .geometry import PairGeometry, Section
 
 __all__ = [
     "SAINSOT",
+    "TADA_BENDING",
+    "TADA_SHEAR",
+    "TADA_TENSION",
     "ToothCompliance",
     "cantilever_compliance",
+    "crack_compliance",
     "fillet_compliance",
     "hertz_compliance",
     "tooth_compliance",
@@ -78,10 +96,11 @@ class ToothCompliance:
     shear: np.ndarray
     axial: np.ndarray
     fillet: np.ndarray
+    crack: np.ndarray | float = 0.0
 
     @property
     def total(self) -> np.ndarray:
-        return self.bending + self.shear + self.axial + self.fillet
+        return self.bending + self.shear + self.axial + self.fillet + self.crack
 
 
 def _cumtrapz(f: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -155,7 +174,7 @@ def fillet_compliance(
     alpha1 : ndarray
         Angle of the force to the perpendicular of the centre line (rad).
     u_f : ndarray
-        Distance from the root circle to where the force line crosses the centre line (m).
+        Distance from the root circle to the load point's height on the centre line (m).
     r_f : float
         Root radius (m).
     theta_f : float
@@ -187,7 +206,7 @@ def load_point(sec: Section, rho: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
 
 
 def tooth_compliance(
-    geo: PairGeometry, gear: int, rho: np.ndarray, *, crack_depth: float | None = None
+    geo: PairGeometry, gear: int, rho: np.ndarray, *, crack_depth: float | None = None, crack_model: str = "fracture"
 ) -> ToothCompliance:
     """Compliances (per unit face width) of a tooth of ``gear`` loaded at the radii ``rho``.
 
@@ -202,6 +221,8 @@ def tooth_compliance(
     crack_depth : float, optional
         Depth of a root crack as a fraction of the half thickness h_c of the section where it starts
         (:attr:`Section.crack_start`); None (or 0) for a healthy tooth.
+    crack_model : str
+        ``"fracture"`` (the cracked section's local flexibility) or ``"section"`` (the band law).
 
     Returns
     -------
@@ -211,7 +232,9 @@ def tooth_compliance(
     blank = geo.gears[gear]
     d, h_l, a1 = load_point(sec, rho)
     w = sec.h + sec.h
-    if crack_depth:
+    if crack_model not in ("fracture", "section"):
+        raise ValueError(f"crack_model: 'fracture' or 'section', got {crack_model!r}")
+    if crack_depth and crack_model == "section":
         i = sec.crack_start
         h_c = float(sec.h[i])
         lost = np.clip(np.minimum(sec.h[i:], h_c) - (1.0 - crack_depth) * h_c, 0.0, None)
@@ -219,6 +242,56 @@ def tooth_compliance(
         w[i:] -= lost
     w = np.maximum(w, 1e-3 * float(sec.h.max()))
     kb, ks, ka = cantilever_compliance(sec.y, w, d, h_l, a1, blank.E, blank.nu)
-    u_f = d - h_l * np.tan(a1) - sec.r_f
+    u_f = d - sec.r_f
     kf = fillet_compliance(a1, u_f, sec.r_f, sec.theta_f, blank.bore_radius, blank.E)
-    return ToothCompliance(bending=kb, shear=ks, axial=ka, fillet=kf)
+    kc = 0.0
+    if crack_depth and crack_model == "fracture":
+        i = sec.crack_start
+        kc = crack_compliance(crack_depth, float(sec.y[i]), float(sec.h[i]), d, h_l, a1, blank.E)
+    return ToothCompliance(bending=kb, shear=ks, axial=ka, fillet=kf, crack=kc)
+
+
+#: Tada, Paris & Irwin (2000): geometry factors of an edge crack in a strip, ξ = a/W, in increasing powers.
+TADA_BENDING = np.array([1.122, -1.40, 7.33, -13.08, 14.0])
+TADA_TENSION = np.array([1.12, -0.231, 10.55, -21.72, 30.39])
+TADA_SHEAR = np.array([1.122])
+
+
+def _xi_integral(f: np.ndarray, g: np.ndarray, xi: float) -> float:
+    """∫_0^ξ t f(t) g(t) dt of two polynomials (coefficients in increasing powers)."""
+    p = np.polynomial.polynomial.polymul(np.polynomial.polynomial.polymul(f, g), [0.0, 1.0])
+    return float(np.polynomial.polynomial.polyval(xi, np.polynomial.polynomial.polyint(p)))
+
+
+def crack_compliance(
+    depth: float, y_c: float, h_c: float, d: np.ndarray, h_l: np.ndarray, alpha1: np.ndarray, E: float
+) -> np.ndarray:
+    """Local flexibility (per unit width) of an edge crack of depth ``depth`` · h_c at the section y_c.
+
+    Parameters
+    ----------
+    depth : float
+        Crack depth as a share of the half thickness h_c of its section (0 … 0.95).
+    y_c, h_c : float
+        Centre-line coordinate and half thickness of the cracked section (m).
+    d, h_l, alpha1 : ndarray
+        Load points as :func:`load_point`.
+    E : float
+        Young's modulus.
+
+    Returns
+    -------
+    ndarray
+        1/k_crack of the module docstring (m²/N).
+    """
+    W = 2.0 * h_c
+    xi = depth * h_c / W
+    M = np.cos(alpha1) * (d - y_c) - np.sin(alpha1) * h_l
+    N, V = -np.sin(alpha1), np.cos(alpha1)
+    bm, tn = 6.0 * M / W**2, N / W
+    I_mm = _xi_integral(TADA_BENDING, TADA_BENDING, xi)
+    I_mn = _xi_integral(TADA_BENDING, TADA_TENSION, xi)
+    I_nn = _xi_integral(TADA_TENSION, TADA_TENSION, xi)
+    I_vv = _xi_integral(TADA_SHEAR, TADA_SHEAR, xi)
+    # ∫_0^a π a (…)² da = π W² ∫_0^ξ t (…)² dt
+    return 2.0 * math.pi * W**2 / E * (bm * bm * I_mm + 2 * bm * tn * I_mn + tn * tn * I_nn + (V / W) ** 2 * I_vv)

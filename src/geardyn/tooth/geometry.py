@@ -4,13 +4,28 @@ Everything is in SI units (m, rad, Pa).  The tooth is described in the transvers
 as a cantilever along its centre line (coordinate ``y`` measured from the gear centre) with the half
 thickness ``h(y)`` of its profile:
 
-* above the base circle (radius ρ ≥ r_b) the involute, at the half angle
-  ``ψ(ρ) = π/(2z) + 2 x tan α_t / z + inv α_t − inv α_ρ`` with ``cos α_ρ = r_b/ρ``, so
-  ``y = ρ cos ψ``, ``h = ρ sin ψ`` (e.g. Litvin & Fuentes, *Gear Geometry and Applied Theory*, 2004);
-* below the base circle, down to the root circle r_f, a radial straight line at the base-circle half
-  angle ψ_b (the model of Liang, Zuo & Pandey 2014 and Ma et al. 2015 for z < 42 at α = 20°, where the
-  root circle lies inside the base circle);
+* the involute, at the half angle ``ψ(ρ) = π/(2z) + 2 x tan α_t / z + inv α_t − inv α_ρ`` with
+  ``cos α_ρ = r_b/ρ``, so ``y = ρ cos ψ``, ``h = ρ sin ψ`` (e.g. Litvin & Fuentes, *Gear Geometry and
+  Applied Theory*, 2004), from the radius r_L where the straight flank of the generating rack stops
+  cutting it;
+* below r_L, down to the root circle r_f, the root fillet as it is cut (``root="trochoid"``, the
+  default): the envelope of the rack's tip rounding of radius ρ_fP (ISO 53 basic rack profiles A–D)
+  rolling on the generating pitch line at the profile shift x m.  The rack point at the centre of the
+  rounding, (X_c, Y_c) = ((π/4 − h_fP tan α − ρ_fP tan(π/4 − α/2)) m, r + x m − (h_fP − ρ_fP) m), moves
+  to X_c + r φ while the gear turns by φ; the point it cuts lies on the rounding along the line from
+  the pitch point (0, r) through the centre (the normal of an enveloping surface passes through the
+  instantaneous centre of the relative motion), turned back by φ into the gear.  When the straight
+  flank would generate the involute below the base circle (t_L = r sin α − u_T / sin α < 0, u_T the
+  depth of the rounding's tangent point below the pitch line) the tooth is undercut: the trochoid cuts
+  into the involute above r_b and the profile is the thinner of the two.  The root half angle θ_f is
+  that of the fillet on the root circle;
+* or (``root="radial"``) below the base circle a radial straight line at the base-circle half angle
+  ψ_b (the model of Liang, Zuo & Pandey 2014 and Ma et al. 2015 for z < 42 at α = 20°), the earlier
+  model, kept for comparison;
 * the body under the root circle is the fillet foundation of Sainsot, Velex & Duverger (2004).
+
+A helical pair's fillet is that of its transverse section, with the rack's tip radius taken as ρ_fP
+m_n in the transverse plane (the transverse section of the rounding is an ellipse of that height).
 
 The pair (:class:`PairGeometry`) adds the working centre distance and pressure angle (ISO 21771 /
 ISO 6336-1, from the profile shifts), the line of action T1T2, the start A and end E of the active
@@ -28,7 +43,7 @@ import numpy as np
 from ..errors import ModelError
 from ..standards.iso6336 import _inverse_involute, involute
 
-__all__ = ["GearBlank", "PairGeometry", "Section", "pair_geometry"]
+__all__ = ["ISO53_RACKS", "GearBlank", "PairGeometry", "Section", "pair_geometry", "trochoid"]
 
 #: Points of the tabulated tooth section (from the root circle to the tip).
 SECTION_POINTS = 801
@@ -79,6 +94,12 @@ class Section:
         Half angle at the root circle (rad).
     psi0 : float
         π/(2z) + 2 x tan α_t / z + inv α_t.
+    crack_start : int
+        Index of the section where a root crack starts: the point of the fillet whose tangent makes
+        30° with the centre line (the critical section of ISO 6336-3); the root circle for the
+        radial model.
+    r_L : float
+        Radius where the involute starts (the form radius of the generated flank).
     """
 
     #: Centre-line coordinate from the gear centre (m), increasing from the root to the tip.
@@ -95,6 +116,8 @@ class Section:
     psi0: float
     #: Index of the section where a root crack starts.
     crack_start: int = 0
+    #: Radius where the involute starts.
+    r_L: float = 0.0
 
     def half_angle(self, rho: np.ndarray) -> np.ndarray:
         """Half angle ψ(ρ) of the tooth at radius ρ (≥ r_b: involute; below: constant ψ_b)."""
@@ -166,18 +189,101 @@ class PairGeometry:
         return self.r_b[0] * math.tan(self.alpha_wt)
 
 
-def _section(z: float, x: float, m_t: float, alpha_t: float, r_f: float, r_a: float) -> Section:
+#: ISO 53:1998 basic rack profiles: (dedendum h_fP / m, root fillet radius ρ_fP / m); α_P = 20°, h_aP = 1 m.
+ISO53_RACKS = {"A": (1.25, 0.38), "B": (1.25, 0.30), "C": (1.25, 0.25), "D": (1.40, 0.39)}
+
+#: Points of the tabulated fillet (from the root circle to where the involute starts).
+FILLET_POINTS = 401
+
+
+def trochoid(
+    z: float, x: float, m_t: float, alpha_t: float, h_fP: float, rho_fP: float, n: int = FILLET_POINTS
+) -> tuple[np.ndarray, np.ndarray]:
+    """The root fillet cut by a rack's tip rounding: radius ρ and half angle ψ of the tooth, root circle first.
+
+    Parameters
+    ----------
+    z, x : float
+        Teeth and profile shift coefficient.
+    m_t, alpha_t : float
+        Transverse module (m) and pressure angle (rad) of the rack.
+    h_fP, rho_fP : float
+        The rack's addendum (the gear's dedendum) and tip radius, in modules.
+    n : int
+        Points.
+
+    Returns
+    -------
+    (rho, psi) : ndarray
+        From the root circle (ψ = θ_f) to the tangent point of the rounding with the rack's straight flank.
+    """
+    r = 0.5 * z * m_t
+    rho = rho_fP * m_t
+    Yc = r + (x - h_fP + rho_fP) * m_t
+    Xc = (0.25 * math.pi - h_fP * math.tan(alpha_t) - rho_fP * math.tan(0.25 * math.pi - 0.5 * alpha_t)) * m_t
+    phi = np.linspace(-Xc / r, ((r - Yc) / math.tan(alpha_t) - Xc) / r, n)
+    dx, dy = Xc + r * phi, np.full_like(phi, Yc - r)
+    L = np.hypot(dx, dy)
+    qx, qy = Xc + r * phi + rho * dx / L, Yc + rho * dy / L
+    gx = qx * np.cos(phi) - qy * np.sin(phi)
+    gy = qx * np.sin(phi) + qy * np.cos(phi)
+    return np.hypot(gx, gy), math.pi / z - np.arctan2(gx, gy)
+
+
+def _section(
+    z: float,
+    x: float,
+    m_t: float,
+    alpha_t: float,
+    r_f: float,
+    r_a: float,
+    *,
+    h_fP: float = 1.25,
+    rho_fP: float = 0.38,
+    root: str = "trochoid",
+    m_n: float | None = None,
+) -> Section:
     r = 0.5 * z * m_t
     r_b = r * math.cos(alpha_t)
     psi0 = math.pi / (2 * z) + 2.0 * x * math.tan(alpha_t) / z + involute(alpha_t)
-    rho = np.linspace(r_f, r_a, SECTION_POINTS)
-    a = np.arccos(np.clip(r_b / np.maximum(rho, r_b), -1.0, 1.0))
-    psi = psi0 - (np.tan(a) - a)
+
+    def inv_psi(rho):
+        a = np.arccos(np.clip(r_b / np.maximum(rho, r_b), -1.0, 1.0))
+        return psi0 - (np.tan(a) - a)
+
+    if root == "radial":
+        rho = np.linspace(r_f, r_a, SECTION_POINTS)
+        psi = inv_psi(rho)
+        r_L, start = max(r_f, r_b), 0
+    else:
+        m_n = m_t if m_n is None else m_n
+        # the rack in the transverse plane: heights in m_n, the tooth thickness in m_t
+        rho_t, psi_t = trochoid(z, x, m_t, alpha_t, h_fP * m_n / m_t, rho_fP * m_n / m_t)
+        u_T = (h_fP - rho_fP * (1.0 - math.sin(alpha_t)) - x) * m_n
+        t_L = r * math.sin(alpha_t) - u_T / math.sin(alpha_t)
+        if t_L >= 0:  # the involute from r_L, the fillet below
+            r_L = math.hypot(r_b, t_L)
+        else:  # undercut: the fillet cuts into the involute above the base circle
+            r_L = r_b
+            over = rho_t > r_b
+            psi_t = np.where(over, np.minimum(psi_t, inv_psi(rho_t)), psi_t)
+        top = float(rho_t[-1])
+        rho_i = np.linspace(max(top, r_L), r_a, SECTION_POINTS)
+        rho = np.concatenate([rho_t, rho_i[1:] if rho_i[0] <= top else rho_i])
+        psi = np.concatenate([psi_t, inv_psi(rho_i[1:] if rho_i[0] <= top else rho_i)])
+        start = 0
     if psi[-1] <= 0:
         raise ModelError(f"tooth of z = {z:g}: pointed (zero thickness below the tip circle); reduce x or h_a")
     y, h = rho * np.cos(psi), rho * np.sin(psi)
-    theta_f = float(psi[0])
-    return Section(y=y, h=h, r_f=r_f, r_b=r_b, r_a=r_a, theta_f=theta_f, psi0=psi0)
+    if np.any(np.diff(y) <= 0):
+        raise ModelError(f"tooth of z = {z:g}: the root fillet folds back on itself (rack tip radius too large)")
+    if root != "radial":
+        slope = -np.diff(h) / np.diff(y)  # the fillet's tangent against the centre line: tan of its angle
+        crit = np.flatnonzero(slope <= math.tan(math.radians(30.0)))
+        start = int(crit[0]) if crit.size else 0
+    return Section(
+        y=y, h=h, r_f=r_f, r_b=r_b, r_a=r_a, theta_f=float(psi[0]), psi0=psi0, crack_start=start, r_L=float(r_L)
+    )
 
 
 def pair_geometry(
@@ -191,12 +297,17 @@ def pair_geometry(
     x1: float = 0.0,
     x2: float = 0.0,
     h_a: float = 1.0,
-    h_f: float = 1.25,
+    h_f: float | None = None,
     bore1: float | None = None,
     bore2: float | None = None,
     E: float = 206.0e9,
     nu: float = 0.3,
     teeth: tuple[int, int] | None = None,
+    rack: str = "A",
+    rho_f: float | None = None,
+    root: str = "trochoid",
+    rim1: float | None = None,
+    rim2: float | None = None,
 ) -> PairGeometry:
     """The geometry of an external spur (β = 0) or helical pair.
 
@@ -213,9 +324,18 @@ def pair_geometry(
     x1, x2 : float
         Profile shift coefficients.
     h_a, h_f : float
-        Addendum and dedendum coefficients (ISO 53 profile A: 1 and 1.25).
+        Addendum and dedendum coefficients (h_f: the rack's h_fP, default that of ``rack``).
     bore1, bore2 : float, optional
         Bore radii (m); default 0.5 r_f (h_f = 2, inside the range Sainsot et al. fitted).
+    rack : str
+        ISO 53 basic rack profile ``"A"`` … ``"D"`` (h_fP, ρ_fP): A (1.25, 0.38), B (1.25, 0.30),
+        C (1.25, 0.25), D (1.40, 0.39).
+    rho_f : float, optional
+        The rack's tip radius ρ_fP in modules (default that of ``rack``).
+    root : str
+        ``"trochoid"`` (the fillet as cut, default) or ``"radial"`` (a radial flank below the base circle).
+    rim1, rim2 : float, optional
+        Rim thickness s_R under the root circle (m): the bore radius r_f − s_R (instead of bore1, bore2).
     E, nu : float
         Young's modulus and Poisson's ratio of both gears.
     teeth : (int, int), optional
@@ -241,12 +361,35 @@ def pair_geometry(
     for name, v in (("m_n", m_n), ("face_width", face_width), ("E", E)):
         if not (math.isfinite(v) and v > 0):
             raise ModelError(f"{name}: must be > 0, got {v!r}")
+    if not 0.05e-3 <= m_n <= 0.1:
+        raise ModelError(f"m_n: module from 0.05 to 100 mm, got {m_n * 1e3:g} mm")
+    if face_width > 100.0 * m_n:
+        raise ModelError(f"face_width: at most 100 m_n = {100 * m_n * 1e3:g} mm, got {face_width * 1e3:g} mm")
     if not 0.0 <= nu < 0.5:
         raise ModelError(f"nu: Poisson's ratio in [0, 0.5), got {nu!r}")
     if not math.radians(10.0) <= alpha_n <= math.radians(35.0):
         raise ModelError(f"alpha_n: between 10 and 35 deg, got {math.degrees(alpha_n):g} deg")
     if not 0.0 <= beta < math.radians(45.0):
         raise ModelError(f"beta: between 0 and 45 deg, got {math.degrees(beta):g} deg")
+    if rack not in ISO53_RACKS:
+        raise ModelError(f"rack: an ISO 53 basic rack profile A, B, C or D, got {rack!r}")
+    if root not in ("trochoid", "radial"):
+        raise ModelError(f"root: 'trochoid' or 'radial', got {root!r}")
+    h_f = ISO53_RACKS[rack][0] if h_f is None else h_f
+    rho_f = ISO53_RACKS[rack][1] if rho_f is None else rho_f
+    if not (math.isfinite(h_a) and 0.5 <= h_a <= 1.5):
+        raise ModelError(f"h_a: addendum coefficient in [0.5, 1.5], got {h_a!r}")
+    if not (math.isfinite(h_f) and h_a < h_f <= 2.0):
+        raise ModelError(f"h_f: dedendum coefficient in (h_a = {h_a:g}, 2], got {h_f!r}")
+    for name, x in (("x1", x1), ("x2", x2)):
+        if not (math.isfinite(x) and -1.0 <= x <= 1.5):
+            raise ModelError(f"{name}: profile shift coefficient in [-1, 1.5], got {x!r}")
+    rho_max = (0.25 * math.pi - h_f * math.tan(alpha_n)) / math.tan(0.25 * math.pi - 0.5 * alpha_n)
+    if not (math.isfinite(rho_f) and 0.0 <= rho_f <= rho_max):
+        raise ModelError(
+            f"rho_f: rack tip radius in [0, {rho_max:.4g}] modules (the rounding within the rack's tooth tip), "
+            f"got {rho_f!r}"
+        )
     z1, z2 = float(z1), float(z2)
     n1, n2 = (int(round(z1)), int(round(z2))) if teeth is None else (int(teeth[0]), int(teeth[1]))
     alpha_t = math.atan(math.tan(alpha_n) / math.cos(beta))
@@ -263,6 +406,14 @@ def pair_geometry(
     s_E = math.sqrt(r_a[0] ** 2 - r_b[0] ** 2)
     s_A = T1T2 - math.sqrt(r_a[1] ** 2 - r_b[1] ** 2)
     p_bt = math.pi * m_t * math.cos(alpha_t)
+    for g, (rf, rim) in enumerate(zip(r_f, (rim1, rim2))):
+        if rim is not None:
+            if (bore1, bore2)[g] is not None:
+                raise ModelError(f"rim{g + 1}: give a rim thickness or a bore radius, not both")
+            if not (math.isfinite(rim) and 0.0 < rim < rf):
+                raise ModelError(f"rim{g + 1}: rim thickness in (0, r_f = {rf:g} m), got {rim!r}")
+    bore1 = r_f[0] - rim1 if rim1 is not None else bore1
+    bore2 = r_f[1] - rim2 if rim2 is not None else bore2
     if s_A < 0:
         raise ModelError("geometry: the wheel's tip reaches past the pinion's base circle (interference)")
     eps_alpha = (s_E - s_A) / p_bt
@@ -276,7 +427,19 @@ def pair_geometry(
     for g, rf in zip(gears, r_f):
         if not 0 < g.bore_radius < rf:
             raise ModelError(f"bore radius of z = {g.z:g}: must lie between 0 and the root radius {rf:g} m")
-    sections = (_section(z1, x1, m_t, alpha_t, r_f[0], r_a[0]), _section(z2, x2, m_t, alpha_t, r_f[1], r_a[1]))
+    kw = {"h_fP": h_f, "rho_fP": rho_f, "root": root, "m_n": m_n}
+    sections = (
+        _section(z1, x1, m_t, alpha_t, r_f[0], r_a[0], **kw),
+        _section(z2, x2, m_t, alpha_t, r_f[1], r_a[1], **kw),
+    )
+    for g, sec in enumerate(sections):
+        s_low = s_A if g == 0 else T1T2 - s_E
+        if math.hypot(r_b[g], s_low) < sec.r_L * (1.0 - 1e-9):
+            raise ModelError(
+                f"geometry: contact reaches below the involute of gear {g + 1} (radius "
+                f"{math.hypot(r_b[g], s_low) * 1e3:.4g} mm < form radius {sec.r_L * 1e3:.4g} mm: undercut or "
+                f"root interference); use a profile shift"
+            )
     return PairGeometry(
         gears=gears,
         m_n=m_n,

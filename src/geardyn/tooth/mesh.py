@@ -35,11 +35,12 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
+from ..plausible import budget
 from .energy import hertz_compliance, tooth_compliance
 from .faults import Broken, Crack, Modifications, Spall, Wear, fault_to_dict
 from .geometry import PairGeometry
 
-__all__ = ["MeshStiffness", "default_cycles", "mesh_stiffness", "share_load"]
+__all__ = ["MeshStiffness", "check_plausible", "default_cycles", "mesh_stiffness", "share_load"]
 
 
 def share_load(k: np.ndarray, e: np.ndarray, F: float) -> np.ndarray:
@@ -154,6 +155,81 @@ class MeshStiffness:
         return float(np.mean(self.stiffness))
 
 
+#: Largest memory a mesh computation may plan for (bytes); larger requests are refused before computing.
+MAX_MESH_BYTES = 2_000_000_000
+#: Arrays of the (phase, pair, slice) size a mesh computation holds at once (an upper estimate).
+_MESH_ARRAYS = 24
+
+#: Largest line load F_bt / b a pair may carry (N/m): 100 000 N/mm, some 30 times what case-hardened steel
+#: teeth carry at their bending and pitting limits.
+MAX_LINE_LOAD = 1e8
+
+
+def check_plausible(
+    geo: PairGeometry, torque1: float, modifications: Modifications | None = None, faults: Sequence[Any] = ()
+) -> None:
+    """Refuse a load, modification or fault the pair cannot have, in one line naming the key and the bound.
+
+    The torque's line load at most :data:`MAX_LINE_LOAD`; reliefs no deeper than the tooth's half thickness
+    at its tip and no longer than the path of contact; crowning at most m_n / 2; spalls within the active
+    profile and the face and shallower than the half tooth at the tip; wear shallower than that.
+
+    Parameters
+    ----------
+    geo : PairGeometry
+    torque1 : float
+        Pinion torque (N·m).
+    modifications : Modifications, optional
+    faults : sequence
+
+    Raises
+    ------
+    ModelError
+    """
+    if not (math.isfinite(torque1) and torque1 > 0):
+        raise ModelError(f"torque: must be > 0 N·m, got {torque1!r}")
+    w = torque1 / geo.r_b[0] / geo.face_width
+    if w > MAX_LINE_LOAD:
+        raise ModelError(
+            f"torque: {torque1:g} N·m gives a line load of {w / 1e3:.4g} N/mm; at most {MAX_LINE_LOAD / 1e3:g} N/mm"
+        )
+    path = geo.s_E - geo.s_A
+    half_tip = [float(sec.h[-1]) for sec in geo.sections]
+    mods = modifications or Modifications()
+    for name in ("tip_relief", "root_relief"):
+        for g, c in enumerate(getattr(mods, name)):
+            if c > half_tip[g]:
+                raise ModelError(
+                    f"{name}: {c * 1e6:g} um on gear {g}; at most the half tooth thickness at the tip, "
+                    f"{half_tip[g] * 1e6:.4g} um"
+                )
+    for name in ("tip_length", "root_length"):
+        for g, length in enumerate(getattr(mods, name)):
+            if length > path * (1 + 1e-12):
+                raise ModelError(
+                    f"{name}: {length * 1e3:g} mm on gear {g}; at most the path of contact, {path * 1e3:.4g} mm"
+                )
+    if mods.crowning > 0.5 * geo.m_n:
+        raise ModelError(f"crowning: {mods.crowning * 1e6:g} um; at most m_n / 2 = {0.5 * geo.m_n * 1e6:.4g} um")
+    for f in faults:
+        if isinstance(f, Spall):
+            room = (1.0 - f.y0) * geo.face_width
+            if f.length > path * (1 + 1e-12):
+                raise ModelError(
+                    f"spall: length {f.length * 1e3:g} mm; at most the path of contact, {path * 1e3:.4g} mm"
+                )
+            if f.width > room * (1 + 1e-12):
+                raise ModelError(
+                    f"spall: width {f.width * 1e3:g} mm from y0 = {f.y0:g}; at most the face left, {room * 1e3:.4g} mm"
+                )
+        if isinstance(f, (Spall, Wear)) and f.depth > half_tip[f.gear]:
+            kind = "spall" if isinstance(f, Spall) else "wear"
+            raise ModelError(
+                f"{kind}: depth {f.depth * 1e6:g} um on gear {f.gear}; less than the half tooth thickness at the "
+                f"tip, {half_tip[f.gear] * 1e6:.4g} um"
+            )
+
+
 def _relief(mods: Modifications, geo: PairGeometry, s: np.ndarray, y: np.ndarray) -> np.ndarray:
     n = mods.exponent
     e = np.zeros_like(s)
@@ -219,13 +295,22 @@ def mesh_stiffness(
         z = (z1, z2)[f.gear]
         if getattr(f, "tooth", None) is not None and f.tooth >= z:
             raise ModelError(f"fault: tooth {f.tooth} of gear {f.gear} does not exist (z = {z})")
-    if not (math.isfinite(torque1) and torque1 > 0):
-        raise ModelError(f"torque: must be > 0 N·m, got {torque1!r}")
+    check_plausible(geo, torque1, mods, faults)
     P = default_cycles(z1, z2, faults) if cycles is None else int(cycles)
-    if P < 1 or points < 4:
-        raise ModelError(f"cycles >= 1 and points >= 4 per cycle, got {P}, {points}")
+    if P < 1:
+        raise ModelError(f"cycles: at least 1, got {P}")
+    if int(points) != points or points < 4:
+        raise ModelError(f"points: a whole number of at least 4 per mesh cycle, got {points!r}")
+    if slices is not None and (int(slices) != slices or slices < 1):
+        raise ModelError(f"slices: a whole number of at least 1, got {slices!r}")
     partial = any(isinstance(f, Spall) or (isinstance(f, Crack) and f.length < 1.0) for f in faults)
     S = int(slices) if slices else (40 if (geo.beta > 0 or mods.crowning > 0 or partial) else 1)
+    J_est = int(math.ceil(geo.eps_alpha + geo.face_width * math.tan(geo.beta_b) / geo.p_bt)) + 1
+    M_est = P * int(points) if phases is None else int(np.size(phases))
+    need = _MESH_ARRAYS * 8.0 * M_est * J_est * S
+    budget(
+        f"memory of {M_est} phases x {J_est} pairs x {S} slices", need, MAX_MESH_BYTES, key="points x cycles x slices"
+    )
     F = torque1 / geo.r_b[0]
     b = geo.face_width
     tanb = math.tan(geo.beta_b)
