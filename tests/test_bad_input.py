@@ -102,6 +102,26 @@ def _by_name(values: dict) -> GearModel:
     return m
 
 
+@pytest.mark.parametrize(
+    "amp, ph, label", [("xi", "phi_c", "xi"), ("kappa", "phi_k", "kappa"), ("eps", "phi_e", "eps")]
+)
+def test_phases_for_fewer_harmonics_than_amplitudes_are_refused(amp, ph, label):
+    with pytest.raises(ModelError, match=rf"^{ph}: 1 phases given for 2 {label} harmonics") as e:
+        GearModel(**{amp: (0.2, 0.1), ph: (0.0,)})
+    assert "\n" not in str(e.value)
+
+
+def test_phases_left_out_are_zero_and_follow_the_amplitudes_a_copy_changes():
+    assert GearModel(kappa=(0.2, 0.1)).phi_k == (0.0, 0.0)  # none given: every phase 0
+    m = GearModel(kappa=(0.2, 0.1), phi_k=(0.3, -0.4))
+    assert m.replace(kappa=(0.1, 0.05, 0.02)).phi_k == (0.3, -0.4, 0.0)  # kept, the new harmonic at 0
+    assert GearModel().replace(kappa=(0.2, 0.1)).phi_k == (0.0, 0.0)
+    assert GearModel(kappa=(0.2, 0.1)).replace(kappa=(0.3,)).phi_k == (0.0,)  # zero phases cut with their harmonic
+    with pytest.raises(ModelError, match="^phi_k: 2 phases given for 1 kappa harmonics"):
+        m.replace(kappa=(0.3,))  # a phase of its own is never dropped silently
+    assert GearModel().with_param("kappa3", 0.05).phi_k == (0.0, 0.0, 0.0)
+
+
 # ---------------------------------------------------------------------------------- property tests
 @SETTINGS
 @given(st.dictionaries(st.one_of(st.sampled_from(VALID_NAMES), TEXT), ANY_VALUE, max_size=4))
@@ -362,6 +382,7 @@ def configs(tmp_path_factory) -> dict[str, Path]:
         "negative_backlash": paper.replace('j_n = "0.1 mm"', 'j_n = "-0.1 mm"'),
         "bad_model_omega": paper + "\n[model]\nomega = -1\n",
         "bad_model_key": paper + "\n[model]\nomegaa = 1\n",
+        "short_phases": paper.replace("kappa = [0.2] ", "kappa = [0.2, 0.1]"),
     }
     out = {}
     for k, text in files.items():
@@ -448,6 +469,7 @@ CONFIG_CASES = {
     "negative_backlash": ["j_n"],
     "bad_model_omega": ["[model]", "omega", "> 0"],
     "bad_model_key": ["[model]", "omegaa", "unknown key"],
+    "short_phases": ["[mesh]", "phi_k", "1 phases given for 2 kappa harmonics"],
 }
 
 

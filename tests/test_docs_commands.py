@@ -103,6 +103,9 @@ QUOTED: dict[str, Run | str] = {
         "needs a running Dask scheduler and worker (tests/test_dask.py runs sweeps on a local cluster)"
     ),
     "geardyn hb --floquet hill": _FRAGMENT,
+    "geardyn hb --param omega --start 1.8 --stop 2.2 --xi0 0 --xi1 0 --kappa1 0.2 --fp 0.5 --fe 0 --backlash 1": (
+        "tests/test_hb_safety.py runs it and checks the tongue's boundaries against Mathieu's characteristic values"
+    ),
     # excitation.md
     "geardyn stiffness examples/tooth_healthy_spur.toml --out out/healthy": AS_QUOTED,
     "geardyn stiffness examples/tooth_crack_50.toml --out out/crack50": AS_QUOTED,
@@ -115,9 +118,8 @@ QUOTED: dict[str, Run | str] = {
     ),
     "geardyn signature --system examples/systems/spur_bending_torsional.toml examples/tooth_luo_healthy.toml "
     "examples/tooth_luo_crack50.toml --out out/syssig": Run({"--revolutions": "5", "--rpm": "6000"}),
-    "geardyn signature --system examples/systems/spur_crack50.toml --sweep-depths 0,0.1,0.25,0.5 --out out/syssweep": Run(
-        {"--revolutions": "5", "--rpm": "6000", "--sweep-depths": "0,0.5"}
-    ),
+    "geardyn signature --system examples/systems/spur_crack50.toml --sweep-depths 0,0.1,0.25,0.5 "
+    "--out out/syssweep": Run({"--revolutions": "5", "--rpm": "6000", "--sweep-depths": "0,0.5"}),
     "geardyn signature --system examples/systems/spur_healthy.toml --system examples/systems/spur_crack50.toml "
     "--rpm 6000": Run({"--revolutions": "5"}),
     "geardyn stiffness FILE.toml --out x.nc": Run(subs={"FILE.toml": "examples/tooth_healthy_spur.toml"}),
@@ -135,13 +137,15 @@ QUOTED: dict[str, Run | str] = {
     "geardyn bifurcation --excitation c50.csv --param omega --start 0.6 --stop 1.0 --num 5 --transient 20 "
     "--periods 8": Run({"--num": "2"}, before=(_C50,)),
     "geardyn hb --excitation c50.csv --param omega --start 0.8 --stop 0.82": Run({"--max-points": "3"}, before=(_C50,)),
-    "geardyn response --method hb --excitation c50.csv --omega-start 0.8 --omega-stop 0.82 --num 5": "about 50 s of CPU (50 branch points, each with the monodromy of a pinion revolution); "
-    "tests/test_hb_cycles.py runs response --method hb with an excitation table over 3 cycles",
+    "geardyn response --method hb --excitation c50.csv --omega-start 0.8 --omega-stop 0.82 --num 5": "about 50 s "
+    "of CPU (50 branch points, each with the monodromy of a pinion revolution); tests/test_hb_cycles.py runs "
+    "response --method hb with an excitation table over 3 cycles",
     "geardyn runup --excitation c50.csv --omega-start 0.5 --omega-stop 0.7 --tau-duration 4000 --num 5": Run(
         {"--tau-duration": "800", "--num": "0"}, before=(_C50,)
     ),
-    "geardyn simulate --system examples/systems/spur_crack50.toml --transient 30 --periods 10": "one forcing period is about 1e5 RK4 steps (ω = 0.093); tests/test_excitation_system.py loads the file and "
-    "runs the same kind of system at ω = 0.8",
+    "geardyn simulate --system examples/systems/spur_crack50.toml --transient 30 --periods 10": "one forcing "
+    "period is about 1e5 RK4 steps (ω = 0.093); tests/test_excitation_system.py loads the file and runs the "
+    "same kind of system at ω = 0.8",
     "geardyn response --method hb --omega-start 0.3 --omega-stop 1.0 --xi0 0.08 [--num 71] [--json] [--out DIR]": Run(
         {"--num": "6"}
     ),
@@ -229,6 +233,10 @@ QUOTED: dict[str, Run | str] = {
     "geardyn response --system examples/gearbox/two_stage_helical.toml --rpm-start 13000 --rpm-stop 17000 --num 5 "
     "--transient 60 --periods 4 --dtau 0.05 --settle 0 --json": "ten points of 64 forcing periods of 8 000 RK4 "
     "steps on 220 states (about a minute and a half); the response sweep is the systems' (tests/test_systems_cli.py)",
+    "geardyn response --system examples/gearbox/two_stage_helical.toml --rpm-start 1000 --rpm-stop 3000 --num 200": (
+        "the workload of benchmarks/dask_gearbox.py (200 speeds of the 110-DOF gearbox, minutes); tests/test_dask.py "
+        "runs sweeps on a local cluster"
+    ),
     # README.md
     "geardyn simulate --omega 1.2 --out sim12": Run(SHORT),
     "geardyn simulate --rpm 2400 --torque 1500 --json": AS_QUOTED,

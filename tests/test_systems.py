@@ -239,6 +239,12 @@ BAD = {
         "'mesh'",
     ),
     "TOML syntax": (_MIN.replace('name = "mesh"', 'name = "mesh'), ConfigError, 'name = "mesh', "TOML"),
+    "phases for fewer harmonics": (
+        _MIN.replace('stiffness = "1e8 N/m"', 'stiffness = "1e8 N/m"\nkappa = [0.2, 0.1]\nphi_k = ["0 deg"]'),
+        ModelError,
+        "phi_k",
+        "1 phases for 2 kappa harmonics",
+    ),
 }
 
 

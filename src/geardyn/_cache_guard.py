@@ -207,7 +207,14 @@ def install() -> None:
 
 
 def refresh(package_file: str) -> None:
-    """Make the cache of a kernel package follow all its sources (:func:`install`); called before its workers."""
+    """Make the cache of a kernel package follow all its sources (:func:`install`); called before its workers.
+
+    Parameters
+    ----------
+    package_file : str
+        The ``__file__`` of the kernel package asking.  Every geardyn function is keyed on the sources of its
+        own directory once :func:`install` has run, so the file only names the caller; it selects nothing.
+    """
     install()
 
 

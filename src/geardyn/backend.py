@@ -21,6 +21,10 @@ The contract
     Integrate ``transient`` sampling periods, then record ``record``; ``mode`` is one of :data:`MODES`:
     ``"none"``, ``"lyapunov"`` (Gram–Schmidt logs per recorded period), ``"monodromy"`` (the raw tangent
     product over the recorded periods), ``"continue"`` (Lyapunov from a given tangent basis; pair only).
+    ``tangents=k`` in Lyapunov mode asks for the k leading exponents only (``tan_log`` and ``tangent`` then have k
+    columns; a backend may give more, the pair always gives its two).  A mesh-vector system's leading exponents
+    are those of its motion modulo its rigid-body modes (``rigid_basis``: a free rotation's tangent grows linearly,
+    a finite-time exponent ln(t)/t > 0 that would read as chaos), which the full spectrum keeps.
     The kernels' arithmetic is theirs: a backend only allocates the outputs and calls ``run_batch``.
     ``watch(poincare)``, when given, receives the Poincaré output before the kernel runs, filled with NaN
     until each recorded period writes its row (every kernel writes every row of a point, or NaN in all of
@@ -81,6 +85,7 @@ __all__ = [
     "MESH",
     "MODES",
     "run_followed",
+    "tangent_work",
     "S_UMIN",
     "S_UMAX",
     "S_USUM",
@@ -133,15 +138,23 @@ class RawRun:
     hist: np.ndarray
 
 
-def _buffers(P: int, d: int, record: int, record_poincare: bool, lyapunov: bool, hist_len: int):
+def _buffers(P: int, d: int, record: int, record_poincare: bool, lyapunov: bool, hist_len: int, k: int | None = None):
+    k = d if k is None else k
     return (
         np.zeros((P, record if record_poincare else 0, d)),
         np.zeros((P, d)),
-        np.zeros((P, record if lyapunov else 0, d)),
-        np.zeros((P, d, d)),
+        np.zeros((P, record if lyapunov else 0, k)),
+        np.zeros((P, d, k)),
         np.zeros(P, dtype=np.int64),
         np.zeros((P, hist_len, d)),
     )
+
+
+def leading_basis(d: int, k: int) -> np.ndarray:
+    """A fixed orthonormal (d, k) basis in general position: the start of k leading tangent vectors (seeded, so
+    that a run is reproducible; no column lies in a coordinate subspace a decoupled part of a system could keep)."""
+    q, _r = np.linalg.qr(np.random.default_rng(20261205).standard_normal((d, k)))
+    return np.ascontiguousarray(q)
 
 
 class Backend(abc.ABC):
@@ -201,6 +214,7 @@ class Backend(abc.ABC):
         adaptive_tol: float = 0.0,
         tangent0: np.ndarray | None = None,
         watch: Callable[[np.ndarray], None] | None = None,
+        tangents: int | None = None,
     ) -> RawRun:
         """Run the batch in ``mode`` and return its raw arrays (each backend calls its own kernel)."""
 
@@ -250,6 +264,7 @@ class PairBackend(Backend):
         adaptive_tol=0.0,
         tangent0=None,
         watch=None,
+        tangents=None,
     ) -> RawRun:
         K = _K1
         coef, D, omega = packed[:3]
@@ -325,6 +340,7 @@ class MeshBackend(Backend):
         adaptive_tol=0.0,
         tangent0=None,
         watch=None,
+        tangents=None,
     ) -> RawRun:
         from . import _kernel_ndof as K  # imported by the first mesh-vector run: a pair never needs it
 
@@ -333,9 +349,20 @@ class MeshBackend(Backend):
         P, d = len(models), models[0].state_dim
         E = len(models[0].elements)
         lyapunov = mode == "lyapunov"
+        k = d if (not lyapunov or tangents is None) else max(1, min(int(tangents), d))
         poincare, end_state, tan_log, tan_out, status, hist = _buffers(
-            P, d, record, record_poincare, lyapunov, hist_len
+            P, d, record, record_poincare, lyapunov, hist_len, k
         )
+        basis = rigid = None
+        if k < d:  # leading exponents: a fixed generic orthonormal start, modulo the rigid-body motions
+            R = np.asarray(models[0].rigid_basis(), dtype=float)
+            n, r = d // 2, R.shape[1]
+            rigid = np.zeros((d, 2 * r))
+            rigid[:n, :r] = R
+            rigid[n:, r:] = R
+            b0 = leading_basis(d, k)
+            b0 = np.linalg.qr(b0 - rigid @ (rigid.T @ b0))[0]
+            basis = np.broadcast_to(b0, (P, d, k))
         stats = np.zeros((P, E, K.NSTAT))
         tper = np.array([m.sampling_period for m in models], dtype=float)
         tan = {"none": K.TAN_NONE, "lyapunov": K.TAN_LYAPUNOV, "monodromy": K.TAN_MONODROMY}[mode]
@@ -358,8 +385,44 @@ class MeshBackend(Backend):
             tan_out,
             status,
             hist,
+            tangent0=basis,
+            rigid=rigid,
         )
         return RawRun(poincare, end_state, stats, tan_log, tan_out, status, hist)
+
+
+def tangent_work(models: Sequence[Any], tangents: int | None = None) -> float:
+    """The work of a mesh-vector run with ``tangents`` tangent vectors (default all 2n: the full spectrum) over that
+    of a plain run of the same periods, counted in multiply-adds per RK4 step from the kernel's sparse patterns
+    (an estimate of the cost, printed before a full spectrum; the classification's two leading vectors run beside
+    the plain step instead, :func:`geardyn._kernel_ndof.core.tan_free`).
+
+    Parameters
+    ----------
+    models : sequence of SystemModel
+        The run's systems; the first one's sparse patterns are counted (a batch shares its structure).
+    tangents : int, optional
+        Tangent vectors integrated beside the state, clipped to 1 … 2n (None: all 2n).
+
+    Returns
+    -------
+    float
+        The ratio of the two counts (the tangent run's over the plain run's).
+    """
+    from . import _kernel_ndof as K
+
+    arrays = type(models[0]).pack(list(models)[:1])
+    sp, jt, blk = K.sparse_arrays(arrays)
+    n = int(sp[10].shape[1])
+    d = 2 * n
+    k = d if tangents is None else max(1, min(int(tangents), d))
+    ne, nab, nw = int(sp[5].shape[0]), int(sp[1].shape[0]), int(sp[8].shape[0])
+    ng, nct = int(jt[1].shape[0]), int(jt[5].shape[0])
+    plain = 4 * (K.plain_cost(blk) + 2 * ne) + ne
+    state = 4 * (2 * nab + 2 * ne + nw + n)
+    jac = 4 * (ne + 2 * nct + 2 * ng) if k == d else 4 * ne
+    cols = 4 * k * ((2 * ng + 2 * n) if k == d else (2 * nab + 2 * ne + nw + n)) + 4 * d * k
+    return float((state if k == d else plain) + jac + cols) / float(plain)
 
 
 #: The backend of :class:`~geardyn.model.GearModel`.

@@ -12,7 +12,8 @@ start u = u' = 0; classic RK4 with h = T/ceil(T/0.01)):
 Each workload is timed in-process after a warm-up run (JIT compilation or cache load excluded);
 the reported wall time is the minimum over ``repeats`` runs of one ``integrate_batch`` call (the
 parameter points are built once beforehand; packing them is timed) plus, for W3, the exponents.
-These are the workloads of the C reference in ``benchmarks/``; compare the two only within one run (see ``docs/performance.md``).
+These are the workloads of the C reference in ``benchmarks/``; compare the two only within one run (see
+``docs/performance.md``).
 """
 
 from __future__ import annotations

@@ -428,6 +428,7 @@ def _run(
     adaptive: bool = False,
     tangent0: np.ndarray | None = None,
     progress: Callable[[int, int], None] | None = None,
+    tangents: int | None = None,
 ) -> RawRun:
     if not accurate and getattr(models[0], "evaluation", "series") == "table":
         raise ModelError(
@@ -455,6 +456,7 @@ def _run(
                 hist_len=hist_len,
                 adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0,
                 tangent0=tangent0,
+                **({} if tangents is None else {"tangents": tangents}),
                 **({} if watch is None else {"watch": watch}),
             )
 
@@ -507,6 +509,7 @@ def integrate_batch(
     monodromy: bool = False,
     tangent0: np.ndarray | None = None,
     progress: Callable[[int, int], None] | None = None,
+    tangents: int | None = None,
 ) -> BatchResult:
     """Integrate P points of one kind of system through ``options.transient + options.periods`` periods.
 
@@ -546,6 +549,9 @@ def integrate_batch(
         mesh-vector system, the pair's default mode; not the adaptive transient); otherwise it counts once
         recording begins.  The recorded periods run in one kernel call in a thread, the rows it has written
         counted every :data:`PROGRESS_POLL` s.
+    tangents : int, optional
+        With ``lyapunov``: propagate only this many tangent vectors (the leading exponents; a backend may
+        propagate more: the pair always takes both), from a fixed generic orthonormal basis; default all d.
 
     Returns
     -------
@@ -590,6 +596,7 @@ def integrate_batch(
         adaptive=options.adaptive,
         tangent0=tangent0,
         progress=progress,
+        tangents=tangents if lyapunov else None,
     )
     return _result(models, options, raw, nsteps, lyapunov, monodromy)
 

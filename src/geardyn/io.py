@@ -200,6 +200,7 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
     "hb": {
         "coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
         "coefficient": _v("index of the Fourier coefficient"),
+        "dof": _v("coordinate whose Fourier coefficients these are (u for the pair, q̃ for a system)", text=True),
         "stable": _v("solution stable (1) or unstable (0) by Hill's multipliers"),
     },
 }

@@ -140,7 +140,8 @@ def kernel_table(table: Sequence[Any], cycles: int) -> np.ndarray:
     -------
     ndarray (m + 1, TABLE_COLUMNS)
         The breakpoints only (a node where neither k nor e jumps or changes slope is dropped, the
-        first node kept), so a sub-step ends only where the right-hand side is not smooth.  Row j: θ_j = 2π·phase_j/P, k_j⁻, k_j⁺, e_j⁻, e_j⁺ and the slopes s_j, σ_j (per radian of θ) of the
+        first node kept), so a sub-step ends only where the right-hand side is not smooth.  Row j:
+        θ_j = 2π·phase_j/P, k_j⁻, k_j⁺, e_j⁻, e_j⁺ and the slopes s_j, σ_j (per radian of θ) of the
         segment from θ_j; row m repeats row 0 with θ_0 + 2π.
     """
     phase, k, e = (np.asarray(c, dtype=float) for c in table)

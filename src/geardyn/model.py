@@ -224,9 +224,10 @@ class GearModel:
         for amp, ph, label in (("xi", "phi_c", "xi"), ("kappa", "phi_k", "kappa"), ("eps", "phi_e", "eps")):
             a = _as_tuple(label, getattr(self, amp), self.cycles)
             p = _as_tuple(ph, getattr(self, ph), self.cycles)
-            if len(p) > len(a):
+            if len(p) > len(a) or 0 < len(p) < len(a):
                 raise ModelError(
-                    f"{ph}: {len(p)} phases given for {len(a)} {label} harmonics; give at most one phase per harmonic"
+                    f"{ph}: {len(p)} phases given for {len(a)} {label} harmonics; give one phase per harmonic, "
+                    "or none (all 0)"
                 )
             set_(self, amp, a)
             set_(self, ph, p + (0.0,) * (len(a) - len(p)))
@@ -405,8 +406,22 @@ class GearModel:
         return pack_models(models)
 
     def replace(self, **changes: Any) -> GearModel:
-        """Return a copy with fields changed (validated anew)."""
+        """Return a copy with fields changed (validated anew).
+
+        A series whose amplitudes change while its phases do not keeps its phases, extended by zeros to the new
+        harmonic count (or cut to it where the phases cut off are all zero): the phases a model holds were
+        padded for its amplitudes, not given for the new ones.
+        """
         d = {f.name: getattr(self, f.name) for f in fields(self)}
+        for amp, ph in (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e")):
+            if amp in changes and ph not in changes:
+                v = changes[amp]
+                n = 0 if v is None else 1 if np.isscalar(v) else len(v)
+                old = d[ph]
+                if n >= len(old):
+                    d[ph] = tuple(old) + (0.0,) * (n - len(old))
+                elif not any(old[n:]):
+                    d[ph] = tuple(old[:n])
         d.update(changes)
         return GearModel(**d)
 

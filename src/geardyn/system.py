@@ -157,6 +157,11 @@ class Law(abc.ABC):
 class DeadZone(Law):
     """The dead zone (backlash, clearance) of half gap D: f(δ) = δ − clamp(δ, −D, D).
 
+    Attributes
+    ----------
+    gap : float
+        The half gap D (in the system's displacement unit), ≥ 0: the force is zero for |δ| ≤ D.
+
     Examples
     --------
     >>> law = DeadZone(1.0)
@@ -448,6 +453,15 @@ class ModelList(Batch):
 
 def as_batch(models: Iterable[Any]) -> Batch:
     """``models`` as a :class:`Batch`: itself if it is one, else a :class:`ModelList` of its systems.
+
+    Parameters
+    ----------
+    models : Batch or iterable of System
+        A batch (returned as it is) or the systems to batch, in order.
+
+    Returns
+    -------
+    Batch
 
     Examples
     --------

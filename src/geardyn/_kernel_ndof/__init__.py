@@ -1,19 +1,26 @@
 """The N-DOF integrator kernel: numba functions on the arrays of :meth:`geardyn.systems.SystemModel.pack`.
 
-Only :mod:`geardyn.backend` (its ``MESH`` backend, behind :mod:`geardyn.integrate`) imports this package.  :func:`run_batch` advances a batch of
-parameter points of one system structure through ``n_transient + n_record`` forcing periods with
-classic fixed-step RK4 (h = T_f/N, T_f the forcing period, so the stroboscopic samples are exact)
-and serves every analysis: Poincaré points of the full state, streaming statistics per element
-(each mesh's deflection δ_m = V[m]·q̃ − E_m(θ), then each clearance's), time histories, Lyapunov
-spectra (all 2n tangent vectors, Gram–Schmidt each recorded period) and monodromy matrices.
+Only :mod:`geardyn.backend` (its ``MESH`` backend, behind :mod:`geardyn.integrate`) imports this package.
+:func:`run_batch` advances a batch of parameter points of one system structure through
+``n_transient + n_record`` forcing periods with classic fixed-step RK4 (h = T_f/N, T_f the forcing period, so the
+stroboscopic samples are exact) and serves every analysis: Poincaré points of the full state, streaming statistics
+per element (each mesh's deflection δ_m = V[m]·q̃ − E_m(θ), then each clearance's), time histories, Lyapunov
+spectra (all 2n tangent vectors, or the k leading ones, Gram–Schmidt each recorded period) and monodromy matrices.
 The accurate mode splits every step at each element's contact boundary (δ = ±D) inside it.
 
-The default mode's plain step (no tangents) keeps the state in a padded layout with the
-matrices transposed once per point and advances blocks of rows as SIMD vectors, column by column:
-the same operations in the same order as the row-by-row :func:`.core.field`, so bit-identical.
+Sparse: the cost of a step follows the nonzeros, not n².  :func:`sparse_arrays` keeps A, B, the element vectors
+and their force rows by their nonzeros (the union of the batch's patterns; :mod:`.core` lists the layout), and
+forms the Jacobian only on its pattern.  Every sum keeps the dense order without its zero terms, so the numbers are
+those of the dense kernel, bit for bit.  The k < 2n leading tangent vectors of a classification take their
+Jacobian-vector products straight from the sparse rows (:func:`.core.tan_free`) beside the plain step.
+
+The default mode's plain step (no tangents) keeps the state in a padded layout and advances blocks of
+``LANE_BLOCK`` rows as SIMD vectors over the columns a block touches only (:mod:`.simd`), column by column: the
+same operations in the same order as the row-by-row :func:`.core.field`, so bit-identical.  A system of one block
+(n <= LANE_BLOCK) takes the dense step of :mod:`.dense`, for which index lists cost more than they save.
 
 Layout: :mod:`.core` (vector field, Jacobian, statistics), :mod:`.step` (RK4 step, split steps,
-the plain step), :mod:`.simd` (one stage of the plain step on a block of rows, as LLVM vectors),
+the plain step), :mod:`.simd` (one stage of the plain step on a block of rows, as LLVM vectors), :mod:`.dense`,
 :mod:`.worker` (one point at a time from a shared queue; ``nogil``, ``cache=True``).  Threads: the
 1-DOF kernel's pool (:func:`geardyn._kernel._executor`), as many workers as numba's thread setting.
 numba keys a cache entry on the worker's source file only, so this package calls
@@ -230,6 +237,7 @@ def run_batch(
     status,
     hist,
     tangent0=None,
+    rigid=None,
 ):
     """Advance a batch of P points of one system structure; results are written into the outputs.
 
@@ -266,6 +274,10 @@ def run_batch(
         Out: if K > 0 the state at every step of the last (K − 1)/N periods.
     tangent0 : float64[P, 2n, k], optional
         The initial tangent columns (default the first k columns of the identity).
+    rigid : float64[2n, r], optional
+        Orthonormal columns spanning an invariant subspace (the rigid-body modes' positions and velocities) removed
+        from the tangent columns before each Gram–Schmidt (Lyapunov mode): the exponents are then those of the
+        dynamics modulo it.
     """
     P = arrays.Mi.shape[0]
     if P == 0:
@@ -277,11 +289,19 @@ def run_batch(
         tangent0 = np.zeros((P, d, k))
         tangent0[:, np.arange(k), np.arange(k)] = 1.0
     tangent0 = np.ascontiguousarray(tangent0, dtype=np.float64)
+    rigid = np.zeros((d, 0)) if rigid is None else np.ascontiguousarray(rigid, dtype=np.float64)
     order = np.argsort(-np.asarray(nsteps, dtype=np.int64), kind="stable").astype(np.int64)
     counter = np.zeros(1, dtype=np.int64)
     work = float(np.sum(nsteps)) * (int(n_transient) + int(n_record)) * plain_cost(blk)
     nw = min(n_threads(), P) if work >= THREAD_MIN_WORK else 1
     a = arrays
+    dense = blk[7].shape[1] == LANE_BLOCK  # one block of rows: the dense plain step (see .worker)
+    if dense:
+        A, B, W, _g, Wc = derived(arrays)
+        Vd, Vcd = a.V, a.Vc
+    else:
+        A = B = np.zeros((P, 0, 0))
+        W = Wc = Vd = Vcd = np.zeros((P, 0, 0))
 
     def job():
         ndof_worker(
@@ -290,6 +310,13 @@ def run_batch(
             *sp,
             *jt,
             *blk,
+            dense,
+            A,
+            B,
+            W,
+            Wc,
+            np.ascontiguousarray(Vd),
+            np.ascontiguousarray(Vcd),
             a.coef,
             a.D,
             a.ratio,
@@ -305,6 +332,7 @@ def run_batch(
             int(tangent),
             k,
             tangent0,
+            rigid,
             bool(accurate),
             poincare,
             end_state,

@@ -191,6 +191,34 @@ def tan_field(Y, jt, Gq, Gv, out):
             out[n + i, c] = -acc
 
 
+@njit(nogil=True, inline="always")
+def tan_free(Y, sp, gk, gc, out):
+    """out = J Y for a few tangent columns Y (2n, k) without forming J: the rows of A and B, then every element's
+    W[e] (gk[e] V[e]·y + gc[e] V[e]·y') (the leading exponents' products; their sums run in another order than
+    :func:`tan_field`'s)."""
+    abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g = sp
+    n = g.shape[0]
+    for c in range(Y.shape[1]):
+        for i in range(n):
+            out[i, c] = Y[n + i, c]
+        for i in range(n):
+            acc = 0.0
+            for k in range(abp[i], abp[i + 1]):
+                j = abj[k]
+                acc += Av[k] * Y[j, c] + Bv[k] * Y[n + j, c]
+            out[n + i, c] = -acc
+        for e in range(ep.shape[0] - 1):
+            pq = 0.0
+            pv = 0.0
+            for k in range(ep[e], ep[e + 1]):
+                j = ej[k]
+                pq += Ev[k] * Y[j, c]
+                pv += Ev[k] * Y[n + j, c]
+            t = gk[e] * pq + gc[e] * pv
+            for k in range(wp[e], wp[e + 1]):
+                out[n + wi[k], c] -= Wv[k] * t
+
+
 @njit(nogil=True)
 def gram_schmidt(Y, logs):
     """Modified Gram–Schmidt on the columns of Y in place; logs[k] = log r_kk."""
@@ -289,3 +317,28 @@ def forces_tab(q, v, tab, r, sp, el, omega, s):
         else:
             c = e - M
             s[e] = cc[c] * dv + kc[c] * _fz(d, Dc[c])
+
+
+@njit(nogil=True, inline="always")
+def forces_slopes_tab(q, v, tab, r, sp, el, omega, s, gk, gc):
+    """:func:`forces_tab` and the element slopes gk, gc of :func:`slopes` (default mode) at the same state."""
+    ep, ej, Ev = sp[4], sp[5], sp[6]
+    M, D, kc, cc, Dc = el
+    for e in range(ep.shape[0] - 1):
+        d = 0.0
+        dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * q[j]
+            dv += Ev[k] * v[j]
+        if e < M:
+            d -= tab[r, e, 2]
+            dv -= omega * tab[r, e, 3]
+            s[e] = tab[r, e, 0] * dv + tab[r, e, 1] * _fz(d, D[e])
+            gk[e] = tab[r, e, 1] * _slope(d, D[e], LOCK_FREE)
+            gc[e] = tab[r, e, 0]
+        else:
+            c = e - M
+            s[e] = cc[c] * dv + kc[c] * _fz(d, Dc[c])
+            gk[e] = kc[c] * _slope(d, Dc[c], LOCK_FREE)
+            gc[e] = cc[c]

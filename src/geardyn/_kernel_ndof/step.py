@@ -16,7 +16,17 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .core import coef_at, element_values, field, forces_tab, jac_values, slopes, tan_field
+from .core import (
+    coef_at,
+    element_values,
+    field,
+    forces_slopes_tab,
+    forces_tab,
+    jac_values,
+    slopes,
+    tan_field,
+    tan_free,
+)
 from .simd import LANE_BLOCK, final_block, stage_block
 
 #: Largest number of sub-steps one step is split into (accurate mode).
@@ -322,9 +332,7 @@ def accurate_step(
     coef_at(coef, ratio, omega * tt, cfa[3])
     element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
     _regions(ev, gaps, mode)
-    _locked(
-        x, tt, rem, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y
-    )
+    _locked(x, tt, rem, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y)
     for i in range(d):
         x[i] = xo[i]
 
@@ -363,14 +371,35 @@ def pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP):
             WT[k, r] = WTs[p, k, r]
     for i in range(gP.shape[0]):
         gP[i] = gPs[p, i]
-    return (bcp, bcj, AT[:nc], BT[:nc], bep, bej, WT[:ne], gP)
+    return (bcp, bcj, AT, BT, bep, bej, WT, gP)
 
 
 @njit(nogil=True, inline="always")
 def _stages(X, blk, s, q, v, q0, v0, c, k, qn, vn):
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):
-        stage_block(AT, BT, bcj, bcp[b], bcp[b + 1], gP, WT, bej, bep[b], bep[b + 1], s, q, v, q0, v0, c, k, qn, vn, b * LANE_BLOCK)
+        stage_block(
+            AT,
+            BT,
+            bcj,
+            bcp[b],
+            bcp[b + 1],
+            gP,
+            WT,
+            bej,
+            bep[b],
+            bep[b + 1],
+            s,
+            q,
+            v,
+            q0,
+            v0,
+            c,
+            k,
+            qn,
+            vn,
+            b * LANE_BLOCK,
+        )
 
 
 @njit(nogil=True, inline="always")
@@ -407,6 +436,99 @@ def rk4_plain(X, s, h, tab, j, blk, sp, el, omega):
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):
         final_block(
-            AT, BT, bcj, bcp[b], bcp[b + 1], gP, WT, bej, bep[b], bep[b + 1], s, q4, v4, q, v, h6, k1, k2, k3, v2, v3,
+            AT,
+            BT,
+            bcj,
+            bcp[b],
+            bcp[b + 1],
+            gP,
+            WT,
+            bej,
+            bep[b],
+            bep[b + 1],
+            s,
+            q4,
+            v4,
+            q,
+            v,
+            h6,
+            k1,
+            k2,
+            k3,
+            v2,
+            v3,
             b * LANE_BLOCK,
         )
+
+
+@njit(nogil=True, inline="always")
+def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
+    """Ys = Y + c Kp (c = 0: Y itself), then Kout = J Ys."""
+    if c == 0.0:
+        tan_free(Y, sp, gk, gc, Kout)
+        return
+    for i in range(Y.shape[0]):
+        for k in range(Y.shape[1]):
+            Ys[i, k] = Y[i, k] + c * Kp[i, k]
+    tan_free(Ys, sp, gk, gc, Kout)
+
+
+@njit(nogil=True)
+def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc):
+    """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
+    the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state."""
+    hh = 0.5 * h
+    h6 = h / 6.0
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = (
+        X[XQ],
+        X[XV],
+        X[XK1],
+        X[XK2],
+        X[XK3],
+        X[XQ2],
+        X[XV2],
+        X[XQ3],
+        X[XV3],
+        X[XQ4],
+        X[XV4],
+    )
+    forces_slopes_tab(q, v, tab, 2 * j, sp, el, omega, s, gk, gc)
+    _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
+    _stages(X, blk, s, q, v, q, v, hh, k1, q2, v2)
+    forces_slopes_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s, gk, gc)
+    _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
+    _stages(X, blk, s, q2, v2, q, v, hh, k2, q3, v3)
+    forces_slopes_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s, gk, gc)
+    _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
+    _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    forces_slopes_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, gk, gc)
+    _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
+    bcp, bcj, AT, BT, bep, bej, WT, gP = blk
+    for b in range(bcp.shape[0] - 1):
+        final_block(
+            AT,
+            BT,
+            bcj,
+            bcp[b],
+            bcp[b + 1],
+            gP,
+            WT,
+            bej,
+            bep[b],
+            bep[b + 1],
+            s,
+            q4,
+            v4,
+            q,
+            v,
+            h6,
+            k1,
+            k2,
+            k3,
+            v2,
+            v3,
+            b * LANE_BLOCK,
+        )
+    for i in range(Y.shape[0]):
+        for k in range(Y.shape[1]):
+            Y[i, k] += h6 * (wt[0][i, k] + 2.0 * wt[1][i, k] + 2.0 * wt[2][i, k] + wt[3][i, k])

@@ -1,5 +1,8 @@
 """The N-DOF worker: one parameter point at a time from a shared queue (nogil, compiled once, cached).
 
+A batch of one block of rows (n <= LANE_BLOCK, ``dense``) takes the plain step on dense matrices
+(:mod:`geardyn._kernel_ndof.dense`), any other the sparse one; both give the same numbers.
+
 Per point: the derived matrices are given by the caller; in the default mode the coefficients of
 one forcing period are tabulated at the 2N + 1 half-step angles (the forcing is periodic in that
 period, so the table serves every period: no trigonometric call in the step loop); the accurate
@@ -28,8 +31,9 @@ from .core import (
     element_values,
     gram_schmidt,
 )
+from .dense import element_values_dense, pad_dense, rk4_plain_dense
 from .simd import LANE_BLOCK
-from .step import XQ, XROWS, XV, accurate_step, aligned_zeros, pad_point, rk4, rk4_plain
+from .step import XQ, XROWS, XV, accurate_step, aligned_zeros, pad_point, rk4, rk4_plain, rk4_plain_tan
 
 
 @njit(nogil=True)
@@ -40,6 +44,61 @@ def _store_hist(hist, p, s, q, v, vo):
         for i in range(n):
             hist[p, s, i] = q[i]
             hist[p, s, n + i] = v[vo + i]
+
+
+@njit(nogil=True)
+def _quotient(Y, R):
+    """Y −= R (Rᵀ Y): the tangent columns modulo the invariant rigid-body subspace (orthonormal columns R, (d, r);
+    r = 0: nothing), so that the leading exponents are the elastic ones, not the secular drift of a free rotation."""
+    for c in range(Y.shape[1]):
+        for b in range(R.shape[1]):
+            r = 0.0
+            for i in range(Y.shape[0]):
+                r += R[i, b] * Y[i, c]
+            for i in range(Y.shape[0]):
+                Y[i, c] -= r * R[i, b]
+
+
+@njit(nogil=True)
+def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0):
+    """N plain steps on the padded state X (statistics when ``rec``; history samples b0 + j)."""
+    q = X[XQ]
+    v = X[XV]
+    for j in range(N):
+        rk4_plain(X, sf, h, tab, j, blk, sp, el, om)
+        if rec:
+            element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
+            accumulate(st, ev, gaps)
+        if hist.shape[1] > 0:
+            _store_hist(hist, p, b0 + j, q, v, 0)
+
+
+@njit(nogil=True)
+def _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0):
+    """:func:`_period_sparse` with a few tangent columns Y."""
+    q = X[XQ]
+    v = X[XV]
+    for j in range(N):
+        rk4_plain_tan(X, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc)
+        if rec:
+            element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
+            accumulate(st, ev, gaps)
+        if hist.shape[1] > 0:
+            _store_hist(hist, p, b0 + j, q, v, 0)
+
+
+@njit(nogil=True)
+def _period_dense(X, sf, h, tab, N, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om, rec, st, ev, gaps, hist, p, b0):
+    """:func:`_period_sparse` on dense matrices (:mod:`.dense`)."""
+    q = X[XQ]
+    v = X[XV]
+    for j in range(N):
+        rk4_plain_dense(X, sf, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om)
+        if rec:
+            element_values_dense(q, v, 0, tab[2 * j + 2], V, Vc, om, ev)
+            accumulate(st, ev, gaps)
+        if hist.shape[1] > 0:
+            _store_hist(hist, p, b0 + j, q, v, 0)
 
 
 @njit(nogil=True, cache=True)
@@ -73,6 +132,13 @@ def ndof_worker(
     bej,
     WTs,
     gPs,
+    dense,
+    Ad,
+    Bd,
+    Wd,
+    Wcd,
+    Vd,
+    Vcd,
     coef,
     D,
     ratio,
@@ -88,6 +154,7 @@ def ndof_worker(
     tangent,
     ntan,
     tangent0,
+    rigid,
     accurate,
     poincare,
     end_state,
@@ -127,6 +194,10 @@ def ndof_worker(
     WT = aligned_zeros(max(bej.shape[0], 1), LANE_BLOCK)
     gP = aligned_zeros(1, NP)[0]
     sf = np.zeros(max(E, 1))
+    nd = n if dense else 0
+    ATd = aligned_zeros(max(nd, 1), NP)
+    BTd = aligned_zeros(max(nd, 1), NP)
+    WTd = aligned_zeros(max(E if dense else 0, 1), NP)
     while True:
         k = _fetch_add(counter, 1)
         if k >= P:
@@ -141,6 +212,8 @@ def ndof_worker(
         jt = (gp, gj, Ag[p], Bg[p], cp, ce, cw, cv)
         jw = (jt, Gq, Gv)
         blk = pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP)
+        if dense:
+            pad_dense(Ad[p], Bd[p], g[p], Wd[p], Wcd[p], ATd, BTd, gP, WTd)
         gaps = np.empty(E)
         for m in range(M):
             gaps[m] = D[p, m]
@@ -166,21 +239,45 @@ def ndof_worker(
         for per in range(total):
             rec = per >= n_transient
             tan_on = rec and ktan > 0
-            if not accurate and not tan_on:
-                # the plain step on the padded state (padding zero)
+            if not accurate and (not tan_on or ktan < d):
+                # the plain step on the padded state (padding zero); a few tangent columns alongside
                 X[:, :] = 0.0
                 q = X[XQ]
                 v = X[XV]
                 for i in range(n):
                     q[i] = x[i]
                     v[i] = x[n + i]
-                for j in range(N):
-                    rk4_plain(X, sf, h, tab, j, blk, sp, el, om)
-                    if rec:
-                        element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
-                        accumulate(st, ev, gaps)
-                    if hl > 0:
-                        _store_hist(hist, p, per * N + j + 1 - hstart, q, v, 0)
+                b0 = per * N + 1 - hstart
+                if tan_on:
+                    _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0)
+                elif dense:
+                    _period_dense(
+                        X,
+                        sf,
+                        h,
+                        tab,
+                        N,
+                        ATd,
+                        BTd,
+                        gP,
+                        WTd,
+                        Vd[p],
+                        D[p],
+                        Vcd[p],
+                        kc[p],
+                        cc[p],
+                        Dc[p],
+                        om,
+                        rec,
+                        st,
+                        ev,
+                        gaps,
+                        hist,
+                        p,
+                        b0,
+                    )
+                else:
+                    _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0)
                 for i in range(n):
                     x[i] = q[i]
                     x[n + i] = v[i]
@@ -249,6 +346,7 @@ def ndof_worker(
                     for i in range(d):
                         poincare[p, r, i] = x[i]
                 if tangent == TAN_LYAPUNOV:
+                    _quotient(Y, rigid)
                     gram_schmidt(Y, logs)
                     for i in range(ktan):
                         tan_log[p, r, i] = logs[i]

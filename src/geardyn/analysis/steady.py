@@ -40,6 +40,9 @@ xr = lazy_module("xarray")
 
 #: Periods of time history kept by :func:`simulate` (also the spectrum's length: resolution 1/32 order).
 HISTORY_PERIODS = 32
+#: Tangent vectors of the settling passes: the motion class needs the largest exponent only (a system's λ2 is then
+#: not computed, NaN; ``lyapunov`` gives the spectrum; the pair's kernel always propagates both of its two).
+CLASSIFY_TANGENTS = 1
 #: Highest mesh order kept in the spectrum.
 SPECTRUM_MAX_ORDER = 10.0
 
@@ -146,7 +149,7 @@ def classify_batch(
         opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
         sub = models[need]
         if progress is None:
-            r2 = integrate_batch(sub, out["end_state"][need], opts, lyapunov=True)
+            r2 = integrate_batch(sub, out["end_state"][need], opts, lyapunov=True, tangents=CLASSIFY_TANGENTS)
         else:
             ran = rounds * opts.periods
             r2 = integrate_batch(
@@ -155,6 +158,7 @@ def classify_batch(
                 opts,
                 lyapunov=True,
                 progress=lambda d, n, ran=ran: progress(ran + d, ran + n),
+                tangents=CLASSIFY_TANGENTS,
             )
         s2 = summarize_batch(r2)
         for k, v in s2.items():
@@ -163,8 +167,10 @@ def classify_batch(
             out["poincare"][need] = r2.poincare[:, -n_rec:, :]
         out["end_state"][need] = r2.end_state
         l2, e2 = spectrum_from_log(r2.lyapunov_log, T[need], blocks=nb)
-        lam[need] = l2
-        err[need] = e2
+        lam[need] = np.nan  # the leading exponent(s) only (CLASSIFY_TANGENTS; the pair: both)
+        err[need] = np.nan
+        lam[need, : l2.shape[1]] = l2
+        err[need, : e2.shape[1]] = e2
         settled[need] += 1
         rounds += 1
         again = []
@@ -343,6 +349,7 @@ def simulate(
     *,
     history_periods: int = HISTORY_PERIODS,
     progress: Callable[[int, int], None] | None = None,
+    classify: bool = True,
 ) -> SteadyState:
     """Integrate one point of any System and summarise its steady response.
 
@@ -362,6 +369,9 @@ def simulate(
         plus the recorded periods, and grows by a settling pass's periods when the response is not periodic and
         :func:`classify_batch` integrates on (:func:`~geardyn.integrate.trajectory`); the result is that of a call
         without it, bit for bit.
+    classify : bool
+        Whether a response found not periodic is classified (:func:`classify_batch`: further periods with the
+        leading tangent vector); False leaves its motion 'not periodic' (a plain run).
 
     Returns
     -------
@@ -386,7 +396,7 @@ def simulate(
     base = int(options.transient) + int(options.periods)
     cls = (
         classify_batch(t.summary, progress=None if progress is None else (lambda d, n: progress(base + d, base + n)))
-        if ok and period == 0
+        if ok and period == 0 and classify
         else None
     )
     if cls is not None:

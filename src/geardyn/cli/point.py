@@ -62,7 +62,17 @@ def _system(inp: Inputs, model, summary: dict, **kw) -> dict:
 
 
 @command("simulate", MODEL, STATE, integration(), OUTPUT)
-def simulate(inp: Inputs) -> None:
+def simulate(
+    inp: Inputs,
+    no_classify: Annotated[
+        bool,
+        typer.Option(
+            "--no-classify",
+            help="Report a response that is not periodic as it is (motion 'not periodic'), without the further "
+            "periods the motion class integrates with the leading tangent vector (chaos, quasi-periodic).",
+        ),
+    ] = False,
+) -> None:
     """Integrate one operating point and report its steady response (Poincaré points, period, impact, amplitudes),
     with physical values for the configured gear pair: pinion speed, dynamic transmission error (µm), dynamic mesh
     force (N), dynamic factor, spectrum peaks in Hz and mesh orders."""
@@ -73,7 +83,7 @@ def simulate(inp: Inputs) -> None:
     model = inp.model()
     opts = inp.options(model.omega)
     with task_progress("simulate", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
-        res = run_simulate(model, opts, inp.state0(), progress=bar)
+        res = run_simulate(model, opts, inp.state0(), progress=bar, classify=not no_classify)
     summary = res.to_json()
     if inp.system is not None:  # a system: the reference mesh's physical values and every mesh's
         summary = {**_system(inp, model, summary), **inp.scales().operating_point(model)}
@@ -115,6 +125,17 @@ def lyapunov(
         )
     from ..sweep.progress import task_progress
 
+    if model.state_dim > 2:  # a system: say what the full spectrum costs before it runs
+        from ..backend import tangent_work
+
+        total = opts.transient + opts.periods
+        ratio = (opts.transient + opts.periods * tangent_work([model])) / max(total, 1)
+        typer.echo(
+            f"lyapunov: the full spectrum integrates {model.state_dim} tangent vectors with the state over the "
+            f"{opts.periods} recorded periods, about {ratio:.0f}x the work of a plain run of the same {total} "
+            "periods (simulate classifies with the leading one)",
+            err=True,
+        )
     with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
         res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar)
     paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []

@@ -29,8 +29,8 @@ SYSTEM = [
             typer.Option(
                 "--system",
                 rich_help_panel=SYSTEM_PANEL,
-                help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis runs "
-                "on it, and the JSON summary adds one entry per mesh under 'meshes'.",
+                help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis "
+                "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
             ),
         ],
     )
@@ -151,9 +151,11 @@ def coordinates(s: Any, text: str | None, n: int) -> list[int] | None:
 def mesh_summary(
     s: Any, summary: dict[str, Any], ds: Any = None, result: Any = None, state0: Any = (0.0, 0.0)
 ) -> dict[str, Any]:
-    """``summary`` with what a system adds: ``meshes`` of a sweep's Dataset (:func:`geardyn.systems.report.result_meshes`)
-    or of a continuation's branches, the reference mesh's forces and dynamic factor for one point, and a note on a
-    system without excitation.
+    """``summary`` with what a system adds.
+
+    That is ``meshes`` of a sweep's Dataset (:func:`geardyn.systems.report.result_meshes`) or of a continuation's
+    branches, the reference mesh's forces and dynamic factor for one point, and a note on a system without
+    excitation.
 
     Parameters
     ----------
@@ -211,6 +213,8 @@ def mesh_summary(
             "dynamic_factor",
             "mesh_force_max_N",
             "mesh_force_min_N",
+            "contact_force_max_N",
+            "contact_force_min_N",
             "static_force_N",
             "dte_min_um",
             "dte_max_um",

@@ -75,7 +75,8 @@ def modes(
         float | None,
         typer.Option(
             "--hz-max",
-            help="Upper end of the reference mesh frequency (Hz) of a Campbell diagram drawn against it (a reference mesh without teeth); default 1.2 times where the lowest order meets the highest mode.",
+            help="Upper end of the reference mesh frequency (Hz) of a Campbell diagram drawn against it (a "
+            "reference mesh without teeth); default 1.2 times where the lowest order meets the highest mode.",
         ),
     ] = None,
     orders: Annotated[

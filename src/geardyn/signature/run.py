@@ -101,6 +101,18 @@ def default_fs(f_mesh: float, top_order: float = 0.0) -> float:
     """The default sampling rate: 20 samples per mesh period and 2.5 per period of the highest mesh harmonic
     the model holds, rounded up to 1 kHz (Hz).
 
+    Parameters
+    ----------
+    f_mesh : float
+        The mesh frequency (Hz).
+    top_order : float, optional
+        The highest mesh harmonic the model holds (0: only the 20 samples per mesh period apply).
+
+    Returns
+    -------
+    float
+        The sampling rate (Hz).
+
     Examples
     --------
     >>> default_fs(950.0), default_fs(950.0, top_order=32.0)

@@ -309,12 +309,18 @@ class Mesh(_AlongVector):
                 set_(self, name, v)
         for amp, ph in (("kappa", "phi_k"), ("e", "phi_e")):
             a, p = getattr(self, amp), getattr(self, ph)
-            if len(p) > len(a):
-                raise ModelError(f"{who}: {ph}: {len(p)} phases for {len(a)} {amp} harmonics")
+            if len(p) > len(a) or 0 < len(p) < len(a):
+                raise ModelError(
+                    f"{who}: {ph}: {len(p)} phases for {len(a)} {amp} harmonics; give one phase per harmonic, "
+                    "or none (all 0)"
+                )
             set_(self, ph, p + (0.0,) * (len(a) - len(p)))
         n_damp = len(self.xi if self.xi is not None else (self.c or ()))
-        if len(self.phi_c) > n_damp:
-            raise ModelError(f"{who}: phi_c: {len(self.phi_c)} phases for {n_damp} damping harmonics")
+        if len(self.phi_c) > n_damp or 0 < len(self.phi_c) < n_damp:
+            raise ModelError(
+                f"{who}: phi_c: {len(self.phi_c)} phases for {n_damp} damping harmonics; give one phase per "
+                "harmonic, or none (all 0)"
+            )
         set_(self, "phi_c", self.phi_c + (0.0,) * (n_damp - len(self.phi_c)))
         P = self.cycles
         if isinstance(P, bool) or not isinstance(P, (int, float, np.integer)) or not float(P).is_integer() or P < 1:

@@ -80,6 +80,18 @@ def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
     return np.stack(out, axis=1) if out else np.zeros((tau.size, 0))
 
 
+def _contact_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
+    """Elastic contact forces K_m(θ) f(δ_m; D_m) (K, meshes) in units k_ref b_c: :func:`mesh_forces` without its
+    viscous term, which acts in separation too (the pair's :func:`geardyn.analysis.physical.contact_force`)."""
+    th = model.omega * np.asarray(tau, dtype=float)
+    out = []
+    for i, m in enumerate(model.meshes):
+        (Kk,) = series_values(m.coefficients(), th, (1,), ratio=m.ratio)
+        d = deltas[:, i, 0]
+        out.append(Kk * (d - np.clip(d, -m.D, m.D)))
+    return np.stack(out, axis=1) if out else np.zeros((th.size, 0))
+
+
 def _fractions(res: Any, e: int, point: int) -> dict[str, float | None]:
     """The time fractions of element e's law counters at one point, by the law's names."""
     return {name: _num(f[point]) for name, f in res.law_fractions(e).items()}
@@ -97,6 +109,7 @@ def _mesh_entries(
         if (tau is not None and deltas is not None and ok and np.all(np.isfinite(deltas)))
         else None
     )
+    contact = _contact_forces(model, tau, deltas) if force is not None and res is not None else None
     out = []
     for i, m in enumerate(model.meshes):
         if extrema is not None:
@@ -128,6 +141,9 @@ def _mesh_entries(
             if res is not None:
                 e["mesh_force_min_N"] = _num(sc.N_from_force(np.min(force[:, i])))
             e["dynamic_factor"] = _num(sc.dynamic_factor(fmax, fs[i]))
+        if contact is not None:
+            e["contact_force_max_N"] = _num(sc.N_from_force(np.max(contact[:, i])))
+            e["contact_force_min_N"] = _num(sc.N_from_force(np.min(contact[:, i])))
         elif extrema is not None:
             e.update(mesh_force_max_N=None, dynamic_factor=None)
         out.append(e)

@@ -244,5 +244,5 @@ def system_form(model: Any, period: int = 1) -> HBForm:
         periods, 1, Mi, Mi @ np.asarray(model.Kb, dtype=float), Mi @ np.asarray(model.Cb, dtype=float), G0,
         np.zeros_like(G0), tuple(els), rigid_modes(model),
         names.index(model.scaling.reference) if model.scaling.reference in names else 0,
-        periods * (int(math.ceil(mh)) + 2), tuple(model.labels), model.scaling.omega_n / (2.0 * math.pi),
+        periods * (int(math.ceil(mh)) + 2), tuple(model.labels), model.scaling.omega_n_rad_s / (2.0 * math.pi),
     )  # fmt: skip

@@ -1,0 +1,207 @@
+"""The plain step on dense matrices: the kernel's step for systems of one block of rows (n <= LANE_BLOCK), where
+the sparse form saves no multiplications and its index lists would cost more than they save.
+
+The same arithmetic as the sparse step, operation by operation (the sparse sums are these without their zero
+terms): the transposed, padded matrices ``AT[j, i] = A[i, j]``, ``BT``, ``WT[e, i]`` (meshes, then clearances),
+every column of a block (see :mod:`geardyn._kernel_ndof.simd`), and the element sums over every DOF.
+"""
+
+from __future__ import annotations
+
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+from .core import _fz
+from .simd import LANE_BLOCK, _ptr, _rows, _splat, _vload, _vstore, _vty
+
+XQ, XV, XK1, XK2, XK3, XQ2, XV2, XQ3, XV3, XQ4, XV4 = range(11)
+
+
+def _accel_dense(context, builder, tys, vals, i0):
+    """The block's acceleration vector: g − Σ_j (AT[j] q_j + BT[j] v_j) − Σ_e WT[e] s_e."""
+    (tA, tB, tg, tW, ts, tq, tv), (AT, BT, gP, WT, s, q, v) = tys, vals
+    acc = cgutils.alloca_once(builder, _vty())
+    builder.store(_vload(context, builder, tg, gP, [i0]), acc)
+    with cgutils.for_range(builder, _rows(context, builder, tA, AT)) as loop:
+        j = loop.index
+        qj = _splat(builder, builder.load(_ptr(context, builder, tq, q, [j])))
+        vj = _splat(builder, builder.load(_ptr(context, builder, tv, v, [j])))
+        t = builder.fadd(
+            builder.fmul(_vload(context, builder, tA, AT, [j, i0]), qj),
+            builder.fmul(_vload(context, builder, tB, BT, [j, i0]), vj),
+        )
+        builder.store(builder.fsub(builder.load(acc), t), acc)
+    with cgutils.for_range(builder, _rows(context, builder, tW, WT)) as loop:
+        e = loop.index
+        se = _splat(builder, builder.load(_ptr(context, builder, ts, s, [e])))
+        builder.store(builder.fsub(builder.load(acc), builder.fmul(_vload(context, builder, tW, WT, [e, i0]), se)), acc)
+    return builder.load(acc)
+
+
+@intrinsic
+def dense_stage_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0):
+    """Rows i0 … i0+LANE_BLOCK−1 of one stage at (q, v): k = acceleration, qn = q0 + c v, vn = v0 + c k."""
+    sig = types.void(AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0)
+
+    def codegen(context, builder, signature, args):
+        t = signature.args
+        acc = _accel_dense(context, builder, t[:7], args[:7], args[13])
+        i0v = args[13]
+        cv = _splat(builder, args[9])
+        _vstore(context, builder, t[10], args[10], [i0v], acc)
+        qs = _vload(context, builder, t[6], args[6], [i0v])
+        _vstore(
+            context,
+            builder,
+            t[11],
+            args[11],
+            [i0v],
+            builder.fadd(_vload(context, builder, t[7], args[7], [i0v]), builder.fmul(cv, qs)),
+        )
+        _vstore(
+            context,
+            builder,
+            t[12],
+            args[12],
+            [i0v],
+            builder.fadd(_vload(context, builder, t[8], args[8], [i0v]), builder.fmul(cv, acc)),
+        )
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def dense_final_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0):
+    """Rows i0 … of the last stage at (q, v) = (q4, v4), then the RK4 update of (q0, v0) in place."""
+    sig = types.void(AT, BT, gP, WT, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0)
+
+    def codegen(context, builder, signature, args):
+        t = signature.args
+        i0v = args[15]
+        k4 = _accel_dense(context, builder, t[:7], args[:7], i0v)
+
+        def ld(a):
+            return _vload(context, builder, t[a], args[a], [i0v])
+
+        hv = _splat(builder, args[9])
+        two = ir.Constant(_vty(), [2.0] * LANE_BLOCK)
+
+        def comb(a1, a2, a3, a4):
+            s12 = builder.fadd(a1, builder.fmul(two, a2))
+            return builder.fadd(builder.fadd(s12, builder.fmul(two, a3)), a4)
+
+        v0v = ld(8)
+        qnew = builder.fadd(ld(7), builder.fmul(hv, comb(v0v, ld(13), ld(14), ld(6))))
+        vnew = builder.fadd(v0v, builder.fmul(hv, comb(ld(10), ld(11), ld(12), k4)))
+        _vstore(context, builder, t[7], args[7], [i0v], qnew)
+        _vstore(context, builder, t[8], args[8], [i0v], vnew)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@njit(nogil=True, inline="always")
+def forces_dense(q, v, tab, r, V, D, Vc, kc, cc, Dc, omega, s):
+    """Element forces s[e] of :func:`field` (default mode) at (q̃, q̃') = (q[0:n], v[0:n]), coefficients
+    from row r of a table (T, meshes, 4); meshes, then clearances, in :func:`field`'s arithmetic."""
+    n = V.shape[1]
+    M = V.shape[0]
+    for m in range(M):
+        d = 0.0
+        dv = 0.0
+        for j in range(n):
+            d += V[m, j] * q[j]
+            dv += V[m, j] * v[j]
+        d -= tab[r, m, 2]
+        dv -= omega * tab[r, m, 3]
+        s[m] = tab[r, m, 0] * dv + tab[r, m, 1] * _fz(d, D[m])
+    for c in range(Vc.shape[0]):
+        d = 0.0
+        dv = 0.0
+        for j in range(n):
+            d += Vc[c, j] * q[j]
+            dv += Vc[c, j] * v[j]
+        s[M + c] = cc[c] * dv + kc[c] * _fz(d, Dc[c])
+
+
+@njit(nogil=True, inline="always")
+def element_values_dense(q, v, vo, cf, V, Vc, omega, out):
+    """δ, δ' of every element (meshes then clearances) into out[e, 0:2]; q̃ = q[0:n], q̃' = v[vo:vo+n]."""
+    n = V.shape[1]
+    M = V.shape[0]
+    for m in range(M):
+        d = -cf[m, 2]
+        dv = -omega * cf[m, 3]
+        for j in range(n):
+            d += V[m, j] * q[j]
+            dv += V[m, j] * v[vo + j]
+        out[m, 0] = d
+        out[m, 1] = dv
+    for c in range(Vc.shape[0]):
+        d = 0.0
+        dv = 0.0
+        for j in range(n):
+            d += Vc[c, j] * q[j]
+            dv += Vc[c, j] * v[vo + j]
+        out[M + c, 0] = d
+        out[M + c, 1] = dv
+
+
+@njit(nogil=True)
+def pad_dense(A, B, g, W, Wc, AT, BT, gP, WT):
+    """The plain step's padded transposed matrices of one point (AT, BT (n, NP), gP (NP,), WT (E, NP))."""
+    n = A.shape[0]
+    M = W.shape[0]
+    AT[:, :] = 0.0
+    BT[:, :] = 0.0
+    gP[:] = 0.0
+    WT[:, :] = 0.0
+    for i in range(n):
+        gP[i] = g[i]
+        for j in range(n):
+            AT[j, i] = A[i, j]
+            BT[j, i] = B[i, j]
+        for m in range(M):
+            WT[m, i] = W[m, i]
+        for c in range(Wc.shape[0]):
+            WT[M + c, i] = Wc[c, i]
+
+
+@njit(nogil=True, inline="always")
+def rk4_plain_dense(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega):
+    """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
+
+    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace.
+    Coefficients from the table rows 2j..2j+2; the arithmetic is :func:`rk4` with :func:`field`'s,
+    operation by operation (see :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows.
+    """
+    hh = 0.5 * h
+    h6 = h / 6.0
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = (
+        X[XQ],
+        X[XV],
+        X[XK1],
+        X[XK2],
+        X[XK3],
+        X[XQ2],
+        X[XV2],
+        X[XQ3],
+        X[XV3],
+        X[XQ4],
+        X[XV4],
+    )
+    forces_dense(q, v, tab, 2 * j, V, D, Vc, kc, cc, Dc, omega, s)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        dense_stage_block(AT, BT, gP, WT, s, q, v, q, v, hh, k1, q2, v2, b)
+    forces_dense(q2, v2, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        dense_stage_block(AT, BT, gP, WT, s, q2, v2, q, v, hh, k2, q3, v3, b)
+    forces_dense(q3, v3, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        dense_stage_block(AT, BT, gP, WT, s, q3, v3, q, v, h, k3, q4, v4, b)
+    forces_dense(q4, v4, tab, 2 * j + 2, V, D, Vc, kc, cc, Dc, omega, s)
+    for b in range(0, X.shape[1], LANE_BLOCK):
+        dense_final_block(AT, BT, gP, WT, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3, b)

@@ -1,0 +1,115 @@
+"""The N-DOF kernel's sparse form and the leading exponents of a classification.
+
+The sparse arrays must hold exactly the dense matrices (every nonzero, nothing else); the state's arithmetic is the
+dense kernel's bit for bit (the recorded numbers of ``tests/test_system_pins.py`` and ``benchmarks/ndof_scaling.py``'s
+checksums check it against the dense code).  The leading exponents are those of the motion modulo the rigid-body
+modes: for the torsional pair (one free rotation, d = 4) the two of them are the elastic pair of the full spectrum,
+whose sum is the mean trace of the Jacobian (−2ξ0 = −0.2 for the paper's pair: Liouville's formula, exact).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from geardyn.model import IntegrationOptions
+from geardyn.systems import SystemModel, load_system
+
+ROOT = Path(__file__).resolve().parents[1]
+EX = ROOT / "examples" / "systems"
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+
+def _dense_from(ptr, idx, vals, rows, cols):
+    out = np.zeros((rows, cols))
+    for r in range(rows):
+        for k in range(ptr[r], ptr[r + 1]):
+            out[r, idx[k]] = vals[k]
+    return out
+
+
+@pytest.mark.parametrize("path", ["paper_bevel_8dof.toml", "spur_bending_torsional.toml", "chain"])
+def test_sparse_arrays_hold_the_dense_matrices(path, tmp_path):
+    from geardyn import _kernel_ndof as K
+
+    if path == "chain":
+        from ndof_scaling import chain_toml
+
+        s = load_system(chain_toml(3, tmp_path / "chain.toml"))
+    else:
+        s = load_system(EX / path)
+    a = SystemModel.pack([s, s.with_param("omega", 0.7)])
+    A, B, W, g, Wc = K.derived(a)
+    sp, jt, blk = K.sparse_arrays(a)
+    abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, gs = sp
+    n = s.n
+    E_V = np.concatenate([a.V, a.Vc], axis=1)
+    E_W = np.concatenate([W, Wc], axis=1)
+    for p in range(2):
+        np.testing.assert_array_equal(_dense_from(abp, abj, Av[p], n, n), A[p])
+        np.testing.assert_array_equal(_dense_from(abp, abj, Bv[p], n, n), B[p])
+        np.testing.assert_array_equal(_dense_from(ep, ej, Ev[p], E_V.shape[1], n), E_V[p])
+        np.testing.assert_array_equal(_dense_from(wp, wi, Wv[p], E_W.shape[1], n), E_W[p])
+        np.testing.assert_array_equal(gs[p], g[p])
+    # the blocks of the plain step: every nonzero of A and B lies in a column its block lists
+    bcp, bcj = blk[0], blk[1]
+    L = K.LANE_BLOCK
+    for b in range(len(bcp) - 1):
+        rows = slice(b * L, min((b + 1) * L, n))
+        used = np.flatnonzero(np.any(A[:, rows] != 0, axis=(0, 1)) | np.any(B[:, rows] != 0, axis=(0, 1)))
+        assert set(used) <= set(bcj[bcp[b] : bcp[b + 1]])
+    # the Jacobian's pattern covers A + Σ W Vᵀ
+    G = np.abs(A[0]) + np.abs(E_W[0]).T @ np.abs(E_V[0])
+    pat = _dense_from(jt[0], jt[1], np.ones(jt[1].size), n, n)
+    assert np.all(pat[G != 0] == 1)
+
+
+def test_leading_exponents_are_the_elastic_ones():
+    from geardyn.analysis.lyapunov import lyapunov_spectrum, spectrum_from_log
+    from geardyn.integrate import integrate_batch
+
+    t = load_system(EX / "paper_torsional.toml").with_param("omega", 0.8)
+    opts = IntegrationOptions(transient=50, periods=200)
+    full = lyapunov_spectrum(t, opts).exponents  # [~0, ~0 (the free rotation), λ_a, λ_b]
+    r = integrate_batch([t], None, opts, lyapunov=True, tangents=2)
+    lam, _err = spectrum_from_log(r.lyapunov_log, np.array([t.sampling_period]))
+    assert r.lyapunov_log.shape[2] == 2
+    assert lam[0].sum() == pytest.approx(t.mean_trace(), abs=1e-9)  # Liouville: the trace of the quotient
+    assert t.mean_trace() == pytest.approx(-0.2, abs=1e-12)
+    np.testing.assert_allclose(lam[0], full[2:], atol=2e-3)
+
+
+def test_lyapunov_of_a_system_prints_the_cost_of_its_full_spectrum():
+    from cli_run import run_cli
+
+    code, out, err = run_cli(
+        [
+            "lyapunov",
+            "--system",
+            EX / "paper_torsional.toml",
+            "--omega",
+            "0.8",
+            "--transient",
+            "5",
+            "--periods",
+            "40",
+            "--blocks",
+            "4",
+            "--json",
+        ]
+    )
+    assert code == 0, err
+    assert "the full spectrum integrates 4 tangent vectors" in err and "x the work of a plain run" in err
+
+
+def test_work_of_the_leading_vectors_is_a_small_multiple_of_a_plain_run(tmp_path):
+    from ndof_scaling import chain_toml
+
+    from geardyn.backend import tangent_work
+
+    s = load_system(chain_toml(4, tmp_path / "c.toml"))
+    assert 1.0 < tangent_work([s], 2) < 4.0
+    assert tangent_work([s]) > 10 * tangent_work([s], 2)
