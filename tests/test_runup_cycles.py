@@ -71,8 +71,8 @@ def test_steady_response_counts_mesh_periods():
 def test_cracked_tooth_runup_shows_shaft_order_sidebands():
     # a 75 % root crack on pinion tooth 0 (20 teeth; a depth is a share of the half-thickness where the crack starts,
     # a milder crack at one depth than the section model's, so the test takes a deeper one): the excitation repeats
-    # every revolution, P = 20; beside the healthy pair's series written over the same 20 cycles, the sidebands 1 ± 1/20, 1 ± 2/20 of mesh order 1 rise
-    # from the ramp's leakage to a share of the mesh order's amplitude
+    # every revolution, P = 20; beside the healthy pair's series written over the same 20 cycles, the sidebands
+    # 1 ± 1/20, 1 ± 2/20 of mesh order 1 rise from the ramp's leakage to a share of the mesh order's amplitude
     geo = pair_geometry(20, 40, 0.003, face_width=0.02)
     crack, _ = pair_model(mesh_stiffness(geo, 100.0, faults=[Crack(0, 0, 0.75)], points=16), 1000.0, harmonics=64)
     healthy, _ = pair_model(mesh_stiffness(geo, 100.0, points=16), 1000.0)
