@@ -125,6 +125,14 @@ COMMANDS["system_basins"] = [
     "0",
 ]
 COMMANDS["modes"] = ["modes", "--system", _SYSTEM]
+#: (a gearbox's modes: its shafts' mode shapes beside the Campbell diagram)
+COMMANDS["gearbox_modes"] = [
+    "modes",
+    "--system",
+    str(Path(__file__).resolve().parents[1] / "examples" / "gearbox" / "two_stage_helical.toml"),
+    "--rpm-max",
+    "3000",
+]
 #: (a system's continuation over a brute-force sweep of two points)
 COMMANDS["system_continuation"] = [
     "continuation",
@@ -157,6 +165,11 @@ def runs(tmp_path_factory):
     return out
 
 
+def _file_stem(name):
+    """The file a run writes: its command's name (``system_bifurcation``, ``gearbox_modes``: the same command)."""
+    return name.removeprefix("system_").removeprefix("gearbox_")
+
+
 def _figures_in(directory):
     return {p.name for p in directory.iterdir() if p.suffix == ".png"}
 
@@ -167,7 +180,7 @@ def test_plot_redraws_the_figures_the_command_drew(runs, name, tmp_path):
     drawn = _figures_in(d)
     assert drawn, f"{name} --out wrote no figure"
     assert {p.split("/")[-1] for p in summary["files"] if p.endswith(".png")} == drawn
-    nc = d / f"{name.removeprefix('system_')}.nc"
+    nc = d / f"{_file_stem(name)}.nc"
     r = CliRunner().invoke(app, ["plot", str(nc), "--out", str(tmp_path), "--json"])
     assert r.exit_code == 0, r.output
     assert _figures_in(tmp_path) == drawn
@@ -314,7 +327,7 @@ def _tooth_synthetic():
 
 
 def test_every_registered_figure_takes_ax_and_returns_its_artists(runs):
-    datasets = {k: read_netcdf(d / f"{k.removeprefix('system_')}.nc") for k, (d, _) in runs.items()} | _synthetic()
+    datasets = {k: read_netcdf(d / f"{_file_stem(k)}.nc") for k, (d, _) in runs.items()} | _synthetic()
     old = Path(__file__).resolve().parent / "data" / "system_kinds"  # the system_* kinds earlier versions wrote
     datasets |= {f"earlier_{f.stem}": read_netcdf(f) for f in old.glob("system_*.nc")}
     assert set(FIGURES) <= set(datasets), "a registered kind without a test Dataset"

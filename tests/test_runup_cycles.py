@@ -69,11 +69,12 @@ def test_steady_response_counts_mesh_periods():
 
 
 def test_cracked_tooth_runup_shows_shaft_order_sidebands():
-    # a 50 % root crack on pinion tooth 0 (20 teeth): the excitation repeats every revolution, P = 20; beside the
-    # healthy pair's series written over the same 20 cycles, the sidebands 1 ± 1/20, 1 ± 2/20 of mesh order 1 rise
-    # from the ramp's leakage to a share of the mesh order's amplitude
+    # a 75 % root crack on pinion tooth 0 (20 teeth; a depth is a share of the half-thickness where the crack starts,
+    # a milder crack at one depth than the section model's, so the test takes a deeper one): the excitation repeats
+    # every revolution, P = 20; beside the healthy pair's series written over the same 20 cycles, the sidebands
+    # 1 ± 1/20, 1 ± 2/20 of mesh order 1 rise from the ramp's leakage to a share of the mesh order's amplitude
     geo = pair_geometry(20, 40, 0.003, face_width=0.02)
-    crack, _ = pair_model(mesh_stiffness(geo, 100.0, faults=[Crack(0, 0, 0.5)], points=16), 1000.0, harmonics=64)
+    crack, _ = pair_model(mesh_stiffness(geo, 100.0, faults=[Crack(0, 0, 0.75)], points=16), 1000.0, harmonics=64)
     healthy, _ = pair_model(mesh_stiffness(geo, 100.0, points=16), 1000.0)
     healthy = repeated(healthy, 20)
     assert crack.cycles == healthy.cycles == 20
@@ -88,10 +89,8 @@ def test_cracked_tooth_runup_shows_shaft_order_sidebands():
     sc = rc.spectrum[:, side].sum(axis=1)
     sh = rh.spectrum[:, side].sum(axis=1)
     # the healthy pair's leakage is largest in the first blocks (the ramp's start); the crack's sidebands are above
-    # it in every block, twice it in all but at most two and ten times it in most (the crack's shadow is the band
-    # between its tip and its start since the tooth model's correction: a smaller stiffness loss, and the second
-    # block, where the healthy leakage peaks, is at 1.9 times it)
-    assert np.all(sc > sh) and np.sum(sc <= 2 * sh) <= 2 and np.median(sc / sh) > 10
+    # it in every block and ten times it in most
+    assert np.all(sc > 2 * sh) and np.median(sc / sh) > 10
     assert np.median(sc / rc.order_amplitude[:, 0]) > 0.05
 
 

@@ -395,7 +395,20 @@ def tangent_work(models: Sequence[Any], tangents: int | None = None) -> float:
     """The work of a mesh-vector run with ``tangents`` tangent vectors (default all 2n: the full spectrum) over that
     of a plain run of the same periods, counted in multiply-adds per RK4 step from the kernel's sparse patterns
     (an estimate of the cost, printed before a full spectrum; the classification's two leading vectors run beside
-    the plain step instead, :func:`geardyn._kernel_ndof.core.tan_free`)."""
+    the plain step instead, :func:`geardyn._kernel_ndof.core.tan_free`).
+
+    Parameters
+    ----------
+    models : sequence of SystemModel
+        The run's systems; the first one's sparse patterns are counted (a batch shares its structure).
+    tangents : int, optional
+        Tangent vectors integrated beside the state, clipped to 1 … 2n (None: all 2n).
+
+    Returns
+    -------
+    float
+        The ratio of the two counts (the tangent run's over the plain run's).
+    """
     from . import _kernel_ndof as K
 
     arrays = type(models[0]).pack(list(models)[:1])

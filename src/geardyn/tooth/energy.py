@@ -90,6 +90,8 @@ class ToothCompliance:
     ----------
     bending, shear, axial, fillet : ndarray
         The four compliances per unit width at each contact point.
+    crack : ndarray or float
+        The compliance a root crack adds at each contact point (0 for a healthy tooth).
     """
 
     bending: np.ndarray
