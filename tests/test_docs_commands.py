@@ -237,6 +237,10 @@ QUOTED: dict[str, Run | str] = {
         "the workload of benchmarks/dask_gearbox.py (200 speeds of the 110-DOF gearbox, minutes); tests/test_dask.py "
         "runs sweeps on a local cluster"
     ),
+    "geardyn simulate --system CHAIN_96DOF.toml --omega 0.8 --json": (
+        "the workload of benchmarks/ndof_scaling.py --classify (a 96-DOF chain the benchmark generates); "
+        "tests/test_kernel_sparse.py checks the leading exponents against the full spectrum"
+    ),
     # README.md
     "geardyn simulate --omega 1.2 --out sim12": Run(SHORT),
     "geardyn simulate --rpm 2400 --torque 1500 --json": AS_QUOTED,
