@@ -187,7 +187,13 @@ STE_FLOOR = 1e-12
 
 
 def is_gearbox(data: dict) -> bool:
-    """Whether a parsed system file describes a gearbox (it has ``[[shaft]]`` tables)."""
+    """Whether a parsed system file describes a gearbox (it has ``[[shaft]]`` tables).
+
+    Parameters
+    ----------
+    data : dict
+        The parsed TOML of a system file.
+    """
     return isinstance(data, dict) and "shaft" in data
 
 
@@ -240,6 +246,20 @@ def build_description(ctx, data: dict, block: type, body, place) -> GearboxDescr
     ``ctx`` is the system-file reader's context (file name and text), ``block`` its class reading one table
     with units, ``body`` its reader of a ``[[body]]`` and ``place`` the function that puts a system-level
     error on its element's line (:mod:`geardyn.systems.load` passes them, so both formats read values alike).
+
+    Parameters
+    ----------
+    ctx
+        The system-file reader's context (its ``source`` file name and ``lines`` of text).
+    data : dict
+        The parsed TOML of the gearbox file.
+    block : type
+        The reader's class reading one table with units (extended here for the gearbox's value kinds).
+    body
+        The reader's function of a ``[[body]]`` table, called as ``body(ctx, index, table)``.
+    place
+        The function ``place(ctx, data, error)`` returning a system-level :class:`ModelError` as a
+        configuration error placed on its element's line.
     """
     ctx_cls, block_cls = _classes(type(ctx), block)
     gctx = ctx_cls(ctx.source, "\n".join(ctx.lines))

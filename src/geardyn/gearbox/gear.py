@@ -25,7 +25,22 @@ __all__ = ["Gear", "disk"]
 
 
 def disk(rho: float, r_out: float, r_in: float, width: float) -> tuple[float, float, float]:
-    """(mass, polar inertia, diametral inertia about its centre) of an annular disk."""
+    """(mass, polar inertia, diametral inertia about its centre) of an annular disk.
+
+    Parameters
+    ----------
+    rho : float
+        Density (kg/m³).
+    r_out, r_in : float
+        Outer and inner radius (m).
+    width : float
+        Axial width (m).
+
+    Returns
+    -------
+    tuple of float
+        Mass (kg), polar and diametral moments of inertia (kg·m²).
+    """
     m = rho * math.pi * (r_out**2 - r_in**2) * width
     ip = 0.5 * m * (r_out**2 + r_in**2)
     idia = m * ((r_out**2 + r_in**2) / 4.0 + width**2 / 12.0)
@@ -34,7 +49,41 @@ def disk(rho: float, r_out: float, r_in: float, width: float) -> tuple[float, fl
 
 @dataclass(frozen=True)
 class Gear:
-    """A cylindrical gear on a shaft (SI units, angles in rad)."""
+    """A cylindrical gear on a shaft (SI units, angles in rad).
+
+    Attributes
+    ----------
+    name : str
+        Unique name of the gear.
+    shaft : str
+        Name of the shaft it is mounted on.
+    position : float
+        Position along the shaft from its start (m).
+    teeth : int
+        Number of teeth z (>= 1).
+    module : float
+        Normal module m_n (m, > 0).
+    face_width : float
+        Face width b (m, > 0).
+    pressure_angle : float
+        Normal pressure angle α_n (rad, in (0, 45) deg); default 20 deg.
+    helix_angle : float
+        Helix angle β (rad, in [0, 60) deg); 0 (default) is a spur gear.
+    profile_shift : float
+        Profile shift coefficient x (dimensionless); default 0.
+    hand : str
+        Hand of the helix, ``"right"`` (default) or ``"left"``.
+    mass : float | None
+        Mass (kg, > 0); from the blank when None.
+    inertia : float | None
+        Polar moment of inertia (kg·m², > 0); from the blank when None.
+    diametral_inertia : float | None
+        Diametral moment of inertia (kg·m², > 0); from the blank when None.
+    web_width : float | None
+        Width of the web (m) of a web-and-rim blank; given together with ``rim_inner_diameter``.
+    rim_inner_diameter : float | None
+        Inner diameter of the rim (m) of a web-and-rim blank, between the bore and the reference diameter.
+    """
 
     name: str
     shaft: str

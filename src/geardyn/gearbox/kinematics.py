@@ -28,7 +28,19 @@ DEFAULT_MAX_PERIOD = 1000
 
 @dataclass(frozen=True)
 class Kinematics:
-    """Speeds of the shafts and frequency ratios of the meshes, exact."""
+    """Speeds of the shafts and frequency ratios of the meshes, exact.
+
+    Attributes
+    ----------
+    speeds : dict[str, Fraction]
+        Speed of each shaft relative to the reference shaft.
+    senses : dict[str, int]
+        Running sense of each shaft: +1 counterclockwise seen from +z, −1 clockwise.
+    ratios : dict[str, Fraction]
+        Mesh frequency / reference mesh frequency of each mesh.
+    period : int
+        The least common period of the meshes, in reference mesh cycles.
+    """
 
     #: Speed of each shaft relative to the reference shaft.
     speeds: dict[str, Fraction]
@@ -47,6 +59,23 @@ def solve_speeds(
     reference_sense: int = 1,
 ) -> tuple[dict[str, Fraction], dict[str, int]]:
     """Shaft speeds from the meshes ``(name, pinion shaft, gear shaft, z_pinion, z_gear)``.
+
+    Parameters
+    ----------
+    shafts : list of str
+        Names of all shafts; each must be reached from the reference shaft through the meshes.
+    meshes : list of tuple
+        ``(name, pinion shaft, gear shaft, z_pinion, z_gear)`` of each mesh.
+    reference_shaft : str
+        The shaft whose speed is 1.
+    reference_sense : int
+        Running sense of the reference shaft (+1 counterclockwise seen from +z, −1 clockwise); default +1.
+
+    Returns
+    -------
+    speeds, senses : dict
+        Each shaft's speed relative to the reference shaft (exact :class:`~fractions.Fraction`) and its
+        running sense (±1, alternating across each mesh).
 
     Raises
     ------
@@ -79,7 +108,14 @@ def solve_speeds(
 
 
 def forcing_period(ratios) -> int:
-    """The least common multiple of the denominators of the exact ratios (reference mesh cycles)."""
+    """The least common multiple of the denominators of the exact ratios (reference mesh cycles).
+
+    Parameters
+    ----------
+    ratios : iterable of Fraction, int or str
+        The exact frequency ratios to the reference mesh frequency (anything :class:`~fractions.Fraction`
+        accepts).
+    """
     p = 1
     for r in ratios:
         d = Fraction(r).denominator
@@ -88,6 +124,14 @@ def forcing_period(ratios) -> int:
 
 
 def round_ratio(r: Fraction, denominator: int) -> Fraction:
-    """The nearest fraction with the given denominator (never 0)."""
+    """The nearest fraction with the given denominator (never 0).
+
+    Parameters
+    ----------
+    r : Fraction
+        The exact ratio (positive).
+    denominator : int
+        The denominator of the result (the ``max_period`` of rounding), >= 1.
+    """
     q = Fraction(round(r * denominator), denominator)
     return q if q > 0 else Fraction(1, denominator)

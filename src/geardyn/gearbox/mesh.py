@@ -43,7 +43,14 @@ def _inv(a: float) -> float:
 
 
 def working_pressure_angle(g1: Gear, g2: Gear) -> float:
-    """α_wt of the pair (the involute function inverted by Newton's method)."""
+    """α_wt of the pair (the involute function inverted by Newton's method), in rad.
+
+    Parameters
+    ----------
+    g1, g2 : Gear
+        Pinion and gear (their normal pressure angle, helix angle, teeth and profile shifts; ``g1``'s
+        pressure and helix angles are used for the pair).
+    """
     at = g1.transverse_pressure_angle
     target = _inv(at) + 2.0 * math.tan(g1.pressure_angle) * (g1.profile_shift + g2.profile_shift) / (
         g1.teeth + g2.teeth
@@ -60,7 +67,20 @@ def working_pressure_angle(g1: Gear, g2: Gear) -> float:
 
 
 def pair_geometry_of(mesh: str, g1: Gear, g2: Gear) -> dict[str, float]:
-    """Check that the two gears can mesh and return α_wt, β_b, the base and working pitch radii, a_w."""
+    """Check that the two gears can mesh and return α_wt, β_b, the base and working pitch radii, a_w.
+
+    Parameters
+    ----------
+    mesh : str
+        Name of the mesh (for error messages).
+    g1, g2 : Gear
+        Pinion and gear; they need the same module, pressure and helix angles and (helical) opposite hands.
+
+    Returns
+    -------
+    dict[str, float]
+        ``alpha_wt`` and ``beta_b`` (rad), ``rb1``, ``rb2``, ``rw1``, ``rw2`` and ``a_w`` (m).
+    """
     who = f"mesh {mesh!r}"
     for key in ("module", "pressure_angle", "helix_angle"):
         a, b = getattr(g1, key), getattr(g2, key)
@@ -92,7 +112,19 @@ def pair_geometry_of(mesh: str, g1: Gear, g2: Gear) -> dict[str, float]:
 def mesh_vector(
     geo: dict[str, float], center_angle: float, sense1: int, sense2: int, hand1: str
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The two nodes' entries of the mesh vector over ``x, y, z, rx, ry, theta`` (pinion, gear)."""
+    """The two nodes' entries of the mesh vector over ``x, y, z, rx, ry, theta`` (pinion, gear).
+
+    Parameters
+    ----------
+    geo : dict[str, float]
+        The pair geometry of :func:`pair_geometry_of` (``alpha_wt``, ``beta_b`` in rad, ``rw1``, ``rw2`` in m).
+    center_angle : float
+        Angle ψ of the line of centres, pinion to gear, from +x (rad).
+    sense1, sense2 : int
+        Running senses of the pinion's and the gear's shafts (+1 counterclockwise about +z, −1 clockwise).
+    hand1 : str
+        Hand of the pinion's helix, ``"right"`` or ``"left"``.
+    """
     ec = np.array([math.cos(center_angle), math.sin(center_angle), 0.0])
     ez = np.array([0.0, 0.0, 1.0])
     a, bb = geo["alpha_wt"], geo["beta_b"]
@@ -113,6 +145,21 @@ def tooth_excitation(
     The pair's stiffness and equivalent STE over one mesh cycle (:func:`geardyn.tooth.mesh.mesh_stiffness`,
     the pinion torque ``torque`` in N·m) as Fourier series of the mesh phase, converted to the normal
     direction (module docstring).
+
+    Parameters
+    ----------
+    g1, g2 : Gear
+        Pinion and gear.
+    geo : dict[str, float]
+        The pair geometry of :func:`pair_geometry_of` (its ``beta_b``, rad, converts to the normal direction).
+    torque : float
+        Pinion torque (N·m, > 0).
+    harmonics : int
+        Number of Fourier harmonics kept.
+    E : float
+        Young's modulus of the gears (Pa).
+    nu : float
+        Poisson's ratio of the gears.
     """
     from ..tooth.geometry import pair_geometry
     from ..tooth.mesh import mesh_stiffness

@@ -27,7 +27,22 @@ __all__ = ["NodeBody", "ShaftModel", "GearboxDescription"]
 
 @dataclass(frozen=True)
 class NodeBody(Body):
-    """A shaft node: a body with the DOFs ``x, y, z, rx, ry, theta`` and a diagonal mass matrix."""
+    """A shaft node: a body with the DOFs ``x, y, z, rx, ry, theta`` and a diagonal mass matrix.
+
+    Attributes
+    ----------
+    name : str
+        Unique name of the node's body.
+    dofs : tuple[str, ...]
+        Must be ``NODE_DOFS`` (``x, y, z, rx, ry, theta``).
+    mass : float | None
+        Unused by a node (its ``mass_matrix`` holds the masses); as in :class:`~geardyn.systems.description.Body`.
+    inertia : float | None
+        Unused by a node; as in :class:`~geardyn.systems.description.Body`.
+    mass_matrix : tuple[tuple[float, ...], ...]
+        The 6 × 6 mass matrix over ``dofs`` (SI: kg on translations, kg·m² on rotations), finite with a positive
+        diagonal; required.
+    """
 
     def __post_init__(self) -> None:
         if tuple(self.dofs) != NODE_DOFS or self.mass_matrix is None:
@@ -41,7 +56,31 @@ class NodeBody(Body):
 
 @dataclass(frozen=True, eq=False)
 class ShaftModel:
-    """One discretised shaft."""
+    """One discretised shaft.
+
+    Attributes
+    ----------
+    name : str
+        Name of the shaft.
+    positions : tuple[float, ...]
+        Node positions along the shaft (m).
+    nodes : tuple[str, ...]
+        The body name of each node.
+    sections : tuple[Section, ...]
+        Section of each element.
+    material : Material
+        The shaft's material.
+    M, K, G : ndarray
+        Consistent mass, stiffness and gyroscopic matrices over the nodes' DOFs (SI; G per unit spin speed).
+    speed : Fraction
+        Speed relative to the reference shaft (exact); default 1.
+    sense : int
+        Running sense: +1 counterclockwise about +z (default), −1 clockwise.
+    features : tuple[tuple[str, ...], ...]
+        What sits at each node (gear, bearing and coupling names).
+    radii : tuple[float, ...]
+        Radius of each node (m): the reference radius of its gear, else the shaft's outer radius there.
+    """
 
     name: str
     #: Node positions along the shaft (m) and the body name of each node.
@@ -77,7 +116,21 @@ class ShaftModel:
 
 @dataclass(frozen=True)
 class GearboxDescription(SystemDescription):
-    """A :class:`SystemDescription` whose bodies are shaft nodes (and any rigid bodies, a motor, a load)."""
+    """A :class:`SystemDescription` whose bodies are shaft nodes (and any rigid bodies, a motor, a load).
+
+    Parameters
+    ----------
+    bodies, connections, clearances, meshes, loads : tuples of the element classes
+        The elements, as in :class:`~geardyn.systems.description.SystemDescription`.
+    reference, characteristic_length, rpm, omega, equivalent_mass, title, source, assumptions
+        As in :class:`~geardyn.systems.description.SystemDescription`.
+    shafts : tuple[ShaftModel, ...]
+        The discretised shafts (their consistent mass matrices' off-diagonal parts enter :meth:`mass_matrix`).
+    kinematics : dict[str, Any]
+        Exact kinematics: shaft speeds, mesh ratios (as strings of fractions) and the forcing period.
+    element_kinds : dict[str, str]
+        The kind of each named element: ``"shaft"``, ``"bearing"``, ``"coupling"`` or ``"mesh"``.
+    """
 
     shafts: tuple[ShaftModel, ...] = field(default=(), compare=False)
     #: Exact kinematics: shaft speeds, mesh ratios (as strings of fractions) and the forcing period.

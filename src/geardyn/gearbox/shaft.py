@@ -60,7 +60,17 @@ _X, _Y, _Z, _RX, _RY, _T = range(6)
 
 @dataclass(frozen=True)
 class Material:
-    """An isotropic elastic material: Young's modulus E (Pa), Poisson's ratio ν, density ρ (kg/m³)."""
+    """An isotropic elastic material: Young's modulus E (Pa), Poisson's ratio ν, density ρ (kg/m³).
+
+    Attributes
+    ----------
+    E : float
+        Young's modulus (Pa, > 0); default 210 GPa.
+    nu : float
+        Poisson's ratio, in (−1, 0.5); default 0.3.
+    rho : float
+        Density (kg/m³, > 0); default 7850.
+    """
 
     E: float = 2.1e11
     nu: float = 0.3
@@ -85,14 +95,32 @@ STEEL = Material()
 
 
 def shear_coefficient(nu: float, outer: float, inner: float = 0.0) -> float:
-    """Cowper's (1966) shear coefficient κ of a hollow circular section (see the module docstring)."""
+    """Cowper's (1966) shear coefficient κ of a hollow circular section (see the module docstring).
+
+    Parameters
+    ----------
+    nu : float
+        Poisson's ratio ν.
+    outer : float
+        Outer diameter d_o (m, > 0).
+    inner : float
+        Inner diameter d_i (m, same unit as ``outer``); 0 (default) for a solid section.
+    """
     m2 = (inner / outer) ** 2
     return 6.0 * (1.0 + nu) * (1.0 + m2) ** 2 / ((7.0 + 6.0 * nu) * (1.0 + m2) ** 2 + (20.0 + 12.0 * nu) * m2)
 
 
 @dataclass(frozen=True)
 class Section:
-    """A uniform hollow circular section: outer and inner diameter (m)."""
+    """A uniform hollow circular section: outer and inner diameter (m).
+
+    Attributes
+    ----------
+    outer : float
+        Outer diameter d_o (m, > 0).
+    inner : float
+        Inner diameter d_i (m, >= 0 and < ``outer``); 0 (default) for a solid section.
+    """
 
     outer: float
     inner: float = 0.0
@@ -210,7 +238,15 @@ def element_matrices(
 
 @dataclass(frozen=True)
 class ShaftMesh:
-    """The finite-element mesh of a shaft: node positions along the axis and the elements' sections."""
+    """The finite-element mesh of a shaft: node positions along the axis and the elements' sections.
+
+    Attributes
+    ----------
+    nodes : tuple[float, ...]
+        Node positions along the shaft (m), increasing.
+    sections : tuple[Section, ...]
+        Section of each element (between node i and i+1).
+    """
 
     #: Node positions along the shaft (m), increasing.
     nodes: tuple[float, ...]
@@ -219,7 +255,15 @@ class ShaftMesh:
 
 
 def shaft_matrices(mesh: ShaftMesh, material: Material = STEEL) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Assembled K, M, G (6N × 6N) of a shaft over its nodes' DOFs (node by node, ``NODE_DOFS`` each)."""
+    """Assembled K, M, G (6N × 6N) of a shaft over its nodes' DOFs (node by node, ``NODE_DOFS`` each).
+
+    Parameters
+    ----------
+    mesh : ShaftMesh
+        Node positions (m) and the elements' sections.
+    material : Material
+        The shaft's material (default steel).
+    """
     n = len(mesh.nodes)
     K = np.zeros((6 * n, 6 * n))
     M = np.zeros_like(K)

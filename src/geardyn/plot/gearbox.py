@@ -24,7 +24,13 @@ SHAPE_PANELS = 6
 
 
 def has_shafts(ds: xr.Dataset) -> bool:
-    """Whether a ``modes`` result is a gearbox's (it has shaft nodes)."""
+    """Whether a ``modes`` result is a gearbox's (it has shaft nodes).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A ``modes`` result.
+    """
     return "node_position" in ds and ds.sizes.get("node", 0) > 0
 
 

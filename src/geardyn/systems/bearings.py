@@ -156,7 +156,23 @@ def bearing_forces(x, y, cage_angle, Z: int, K: float, n: float, c: float) -> tu
 
 
 def bearing_stiffness(x, y, cage_angle, Z: int, K: float, n: float, c: float) -> np.ndarray:
-    """−∂F/∂(x, y): the bearing's tangent stiffness matrix (…, 2, 2), K n Σ_j δ_j^(n−1) (cos, sin)ᵀ(cos, sin)."""
+    """−∂F/∂(x, y): the bearing's tangent stiffness matrix (…, 2, 2), K n Σ_j δ_j^(n−1) (cos, sin)ᵀ(cos, sin).
+
+    Parameters
+    ----------
+    x, y : float or array
+        Shaft centre relative to the housing (any consistent length unit: SI, or non-dimensional with K̃, c̃).
+    cage_angle : float or array
+        The cage's angle φ_0 (rad; element j at φ_0 + 2πj/Z); broadcast with x, y.
+    Z : int
+        Number of rolling elements.
+    K : float
+        Load–deflection constant (N/m^n in SI, or K̃).
+    n : float
+        Load–deflection exponent (3/2 ball, 10/9 roller).
+    c : float
+        Radial clearance (same length unit as x, y).
+    """
     phi = _angles(cage_angle, Z)
     cs, sn = np.cos(phi), np.sin(phi)
     xx = np.asarray(x, dtype=float)[..., None]
@@ -171,7 +187,19 @@ def bearing_stiffness(x, y, cage_angle, Z: int, K: float, n: float, c: float) ->
 
 
 def loaded_elements(x, y, cage_angle, Z: int, c: float) -> np.ndarray:
-    """How many elements carry load (δ_j > 0)."""
+    """How many elements carry load (δ_j > 0).
+
+    Parameters
+    ----------
+    x, y : float or array
+        Shaft centre relative to the housing (any consistent length unit).
+    cage_angle : float or array
+        The cage's angle φ_0 (rad; element j at φ_0 + 2πj/Z); broadcast with x, y.
+    Z : int
+        Number of rolling elements.
+    c : float
+        Radial clearance (same length unit as x, y).
+    """
     phi = _angles(cage_angle, Z)
     xx = np.asarray(x, dtype=float)[..., None]
     yy = np.asarray(y, dtype=float)[..., None]
@@ -185,6 +213,24 @@ def ball_bearing_forces(
 
     The cage angle is ω_cage t + ``phase`` with ω_cage = ``shaft_speed`` × :attr:`RollingBearing.cage_ratio`; x, y
     in m.  For roller bearings too (the name follows the common case).
+
+    Parameters
+    ----------
+    bearing : RollingBearing
+        The bearing (elements, stiffness, exponent, clearance and cage ratio, SI).
+    x, y : float or array
+        Shaft centre relative to the housing (m).
+    t : float or array
+        Time (s); broadcast with x, y.
+    shaft_speed : float
+        Speed of the inner ring, i.e. the shaft (rad/s).
+    phase : float
+        Cage angle at t = 0 (rad); default 0.
+
+    Returns
+    -------
+    F_x, F_y : ndarray
+        The force on the shaft (N).
     """
     cage = bearing.cage_ratio * shaft_speed * np.asarray(t, dtype=float) + phase
     return bearing_forces(x, y, cage, bearing.elements, bearing.stiffness, float(bearing.exponent), bearing.clearance)  # type: ignore[arg-type]
