@@ -73,7 +73,11 @@ def test_lyapunov_on_a_system_draws_progress_unless_json(monkeypatch):
     argv = ["lyapunov", "--system", TORS, "--omega", "0.8", "--transient", "200", "--periods", "400"]
     code, out, err = _cli(argv)
     assert code == 0, err
-    lines = [ln for ln in err.splitlines() if ln.startswith("lyapunov: ")]
+    cost = (
+        "lyapunov: the full spectrum integrates"  # a system's cost line, printed before the run (docs/performance.md)
+    )
+    assert err.splitlines()[0].startswith(cost)
+    lines = [ln for ln in err.splitlines() if ln.startswith("lyapunov: ") and not ln.startswith(cost)]
     assert lines[0].startswith("lyapunov: starting") and lines[-1].startswith("lyapunov: 600/600 periods (100%)")
     assert "\x1b[" not in err
     counts = [int(m.group(1)) for ln in lines if (m := re.match(r"lyapunov: (\d+)/600 periods", ln))]

@@ -124,7 +124,7 @@ def test_harmonics_and_phases_match_plain_rk4(threads):
     opts = IntegrationOptions(transient=15, periods=5)
     base = dict(
         xi=(0.05, 0.01, 0.005),
-        phi_c=(0.3, -0.2),
+        phi_c=(0.3, -0.2, 0.0),
         kappa=(0.2, 0.05),
         phi_k=(0.0, 1.1),
         eps=(0.5, 0.1, 0.0, 0.02),

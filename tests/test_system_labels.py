@@ -106,7 +106,7 @@ def test_the_labels_of_a_systems_time_history_and_bifurcation_diagram(results):
     spec = {s.stem: s for s in figures_for(ds)}
     art = spec["time_history"](ds)
     ax = art.axes[0]
-    assert " ".join(ax.get_ylabel().split()) == "dynamic transmission error u of mesh 'bevel' (non-dimensional)"
+    assert " ".join(ax.get_ylabel().split()) == ("dynamic transmission error u of mesh 'bevel' (non-dimensional) [b_c]")
     assert "u of mesh 'bevel'" in [t.get_text() for t in ax.get_legend().get_texts()]
     art = spec["spectrum"](ds)
     assert art.axes[0].get_ylabel() == "amplitude of u of mesh 'bevel'"

@@ -257,7 +257,7 @@ class SteadyState:
     >>> from geardyn import GearModel, IntegrationOptions, SteadyState, simulate
     >>> res = simulate(GearModel(omega=0.8), IntegrationOptions(transient=50, periods=8))
     >>> isinstance(res, SteadyState), res.summary["period"], sorted(res.to_dataset().data_vars)[:2]
-    (True, 2, ['poincare_u', 'poincare_v'])
+    (True, 2, ['delta', 'delta_rate'])
     """
 
     model: Any

@@ -125,7 +125,7 @@ def lyapunov(
         )
     from ..sweep.progress import task_progress
 
-    if model.state_dim > 2:  # a system: say what the full spectrum costs before it runs
+    if model.state_dim > 2 and not inp.json_out:  # a system: say what the full spectrum costs before it runs
         from ..backend import tangent_work
 
         total = opts.transient + opts.periods

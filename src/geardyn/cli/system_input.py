@@ -87,6 +87,8 @@ def load_cli_system(values: dict[str, Any]):
         v = values.get(o.dest)
         if v is not None and o.dest not in _NOT_MODEL and o.param not in ("omega", "fp"):
             s = s.with_param(o.param, float(v))
+    if getattr(s, "orders", ()):
+        s.arrays()  # the kernel refuses torque orders: in one line, before the forcing period note of a run
     _forcing_period_note(s, values)
     return s
 
@@ -103,14 +105,13 @@ def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
     p = s.period_multiple()
     if p is None or p <= 1:
         return
-    ratios = ", ".join(
+    parts = [
         f"{m.name} at {Fraction(m.ratio * m.cycles).limit_denominator(MAX_RATIO_DENOMINATOR)}"
         for m in s.meshes
         if m.name != s.scaling.reference
-    )
-    orders = ", ".join(f"order at {r}" for r, _, _ in getattr(s, "orders", ()))
-    text = f"forcing period: {p} cycles of mesh {s.scaling.reference!r} (the least common period; {ratios}"
-    text += f", {orders})" if orders else ")"
+    ]
+    parts += [f"order at {r}" for r, _, _ in getattr(s, "orders", ())]
+    text = f"forcing period: {p} cycles of mesh {s.scaling.reference!r} (the least common period; {', '.join(parts)})"
     dtau = values.get("dtau")
     if dtau:
         steps = math.ceil(p * 2.0 * math.pi / s.omega / float(dtau))

@@ -87,7 +87,8 @@ class Scales:
     (23, 2000, 50)
     >>> round(float(sc.omega_from_rpm(3000)), 4), round(float(sc.rpm_from_omega(1.0)), 1)
     (1.002, 2993.9)
-    >>> sc = Scales.unit()
+    >>> from geardyn import PhysicalScales
+    >>> sc = PhysicalScales.unit()
     >>> float(sc.rpm_from_omega(0.8)), float(sc.um_from_u(2.0)), float(sc.N_from_force(0.5))
     (0.8, 2.0, 0.5)
     """

@@ -141,11 +141,11 @@ def _mesh_entries(
             if res is not None:
                 e["mesh_force_min_N"] = _num(sc.N_from_force(np.min(force[:, i])))
             e["dynamic_factor"] = _num(sc.dynamic_factor(fmax, fs[i]))
+        elif extrema is not None:
+            e.update(mesh_force_max_N=None, dynamic_factor=None)
         if contact is not None:
             e["contact_force_max_N"] = _num(sc.N_from_force(np.max(contact[:, i])))
             e["contact_force_min_N"] = _num(sc.N_from_force(np.min(contact[:, i])))
-        elif extrema is not None:
-            e.update(mesh_force_max_N=None, dynamic_factor=None)
         out.append(e)
     return out
 
