@@ -11,7 +11,8 @@ from pathlib import Path
 import pytest
 
 from geardyn import GearModel
-from geardyn.cli.options import Inputs, cycles_to_periods, transient_cycles
+from geardyn.analysis.settle import cycles_to_periods, transient_cycles
+from geardyn.cli.options import Inputs
 from geardyn.errors import ModelError
 from geardyn.systems import Body, Mesh, SystemDescription, assemble
 

@@ -31,8 +31,19 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
+from ..system import require_periodic
 
-__all__ = ["CAP_PERIODS", "DECAY_EFOLDS", "FLOOR_PERIODS", "Settling", "decay_rate", "settle_periods"]
+__all__ = [
+    "CAP_PERIODS",
+    "CYCLES_SUFFIX",
+    "DECAY_EFOLDS",
+    "FLOOR_PERIODS",
+    "Settling",
+    "cycles_to_periods",
+    "decay_rate",
+    "settle_periods",
+    "transient_cycles",
+]
 
 #: e-folds of decay of the least damped mode before recording (e^-12 = 6.1e-6).
 DECAY_EFOLDS = 12.0
@@ -187,3 +198,61 @@ def settle_periods(
     raw = math.ceil(t / T - 1e-9)
     n = min(max(raw, int(floor)), int(cap))
     return Settling(n, sigma, t, T, capped=raw > cap, floored=raw < floor)
+
+
+#: The suffix of ``--transient`` meaning reference mesh cycles (``--transient 3000cycles``).
+CYCLES_SUFFIX = "cycles"
+
+
+def transient_cycles(text: str) -> int | None:
+    """The count of reference mesh cycles of a ``--transient`` text ``Ncycles``; ``None`` for a text
+    without a letter (a count of forcing periods) or ``auto``.
+
+    Parameters
+    ----------
+    text : str
+        The option's text (``"3000cycles"``, ``"300"``, ``"auto"``; case and surrounding spaces ignored).
+
+    Returns
+    -------
+    int or None
+
+    Raises
+    ------
+    ModelError
+        For any other suffix, or a count that is not a whole number >= 0 (one line naming ``--transient``).
+    """
+    t = text.strip().lower()
+    if t == "auto" or not any(c.isalpha() for c in t):
+        return None
+    head = t[: -len(CYCLES_SUFFIX)].strip() if t.endswith(CYCLES_SUFFIX) else None
+    if head is None or not head.isdigit():
+        raise ModelError(
+            f"--transient: must be an integer (forcing periods, >= 0), Ncycles (reference mesh cycles, N >= 0, "
+            f"e.g. 3000cycles) or auto, got {text!r}"
+        )
+    return int(head)
+
+
+def cycles_to_periods(cycles: int, model: Any) -> int:
+    """Forcing periods covering ``cycles`` reference mesh cycles: ceil(cycles / P), P =
+    ``model.period_multiple()`` (1 for the pair with a one-period excitation).
+
+    Parameters
+    ----------
+    cycles : int
+        Reference mesh cycles (>= 0).
+    model : System
+        The run's system.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ModelError
+        For a quasi-periodic system (no forcing period).
+    """
+    p = require_periodic(model, "--transient in mesh cycles")
+    return -(-int(cycles) // int(p))

@@ -377,46 +377,6 @@ def build_model(
     )
 
 
-#: The suffix of ``--transient`` meaning reference mesh cycles (``--transient 3000cycles``).
-CYCLES_SUFFIX = "cycles"
-
-
-def transient_cycles(text: str) -> int | None:
-    """The count of reference mesh cycles of a ``--transient`` text ``Ncycles``; ``None`` for a text
-    without a letter (a count of forcing periods) or ``auto``.
-
-    Raises
-    ------
-    ModelError
-        For any other suffix, or a count that is not a whole number >= 0 (one line naming ``--transient``).
-    """
-    t = text.strip().lower()
-    if t == "auto" or not any(c.isalpha() for c in t):
-        return None
-    head = t[: -len(CYCLES_SUFFIX)].strip() if t.endswith(CYCLES_SUFFIX) else None
-    if head is None or not head.isdigit():
-        raise ModelError(
-            f"--transient: must be an integer (forcing periods, >= 0), Ncycles (reference mesh cycles, N >= 0, "
-            f"e.g. 3000cycles) or auto, got {text!r}"
-        )
-    return int(head)
-
-
-def cycles_to_periods(cycles: int, model: Any) -> int:
-    """Forcing periods covering ``cycles`` reference mesh cycles: ceil(cycles / P), P =
-    ``model.period_multiple()`` (1 for the pair with a one-period excitation).
-
-    Raises
-    ------
-    ModelError
-        For a quasi-periodic system (no forcing period).
-    """
-    from ..system import require_periodic
-
-    p = require_periodic(model, "--transient in mesh cycles")
-    return -(-int(cycles) // int(p))
-
-
 class Inputs:
     """The values of a command's shared option groups, with the checked objects built from them.
 
@@ -530,8 +490,9 @@ class Inputs:
     def transient(self, omegas: Any = ()) -> Any:
         """``--transient`` as a number of forcing periods: ``auto`` is the count of
         :func:`geardyn.analysis.settle.settle_periods` for the run's model at the highest of ``omegas`` (said on
-        stderr); ``Ncycles`` is N reference mesh cycles, :func:`cycles_to_periods` of the run's model (said on
-        stderr, not with ``--json``); a number is passed on as given, checked by :func:`geardyn.validate.options`.
+        stderr); ``Ncycles`` is N reference mesh cycles, :func:`geardyn.analysis.settle.cycles_to_periods` of the
+        run's model (said on stderr, not with ``--json``); a number is passed on as given, checked by
+        :func:`geardyn.validate.options`.
 
         Raises
         ------
@@ -539,6 +500,8 @@ class Inputs:
             For a text that is neither a whole number, ``Ncycles`` nor ``auto``, ``auto`` for a model without
             damping, or ``Ncycles`` for a quasi-periodic system.
         """
+        from ..analysis.settle import cycles_to_periods, transient_cycles
+
         t = self.values.get("transient", DEFAULT_TRANSIENT)
         if not isinstance(t, str):
             return t

@@ -123,7 +123,7 @@ def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
 def _periods_given(values: dict[str, Any], p: int) -> int:
     """--transient + --periods in forcing periods (``Ncycles`` converted with ``p``); 0 when the transient is
     ``auto`` or not yet known."""
-    from .options import transient_cycles
+    from ..analysis.settle import transient_cycles
 
     t = values.get("transient") or 0
     if isinstance(t, str):
