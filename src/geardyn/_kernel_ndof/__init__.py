@@ -7,6 +7,8 @@ stroboscopic samples are exact) and serves every analysis: Poincaré points of t
 per element (each mesh's deflection δ_m = V[m]·q̃ − E_m(θ), then each clearance's), time histories, Lyapunov
 spectra (all 2n tangent vectors, or the k leading ones, Gram–Schmidt each recorded period) and monodromy matrices.
 The accurate mode splits every step at each element's contact boundary (δ = ±D) inside it.
+Torque orders make the load time-varying: g = M̃⁻¹F̃ becomes g + Σ_o M̃⁻¹F̃_o cos(r_o θ + φ_o), refilled before
+each RK4 stage (:func:`.step.load_at`); a system without orders keeps g as it is, bit for bit.
 
 Sparse: the cost of a step follows the nonzeros, not n².  :func:`sparse_arrays` keeps A, B, the element vectors
 and their force rows by their nonzeros (the union of the batch's patterns; :mod:`.core` lists the layout), and
@@ -102,6 +104,14 @@ def derived(arrays):
     g = c(np.einsum("pij,pj->pi", Mi, arrays.F))
     Wc = c(np.einsum("pij,pmj->pmi", Mi, arrays.Vc)) if arrays.Vc.shape[1] else c(np.zeros_like(arrays.Vc))
     return A, B, W, g, Wc
+
+
+def order_loads(arrays):
+    """(go, ro, po): the torque orders' load rows M̃⁻¹F̃_o (P, orders, n), their frequencies over ω and phases
+    (P, orders): g(θ) = g + Σ_o go[o] cos(ro[o] θ + po[o])."""
+    c = np.ascontiguousarray
+    go = c(np.einsum("pij,poj->poi", arrays.Mi, arrays.Fo))
+    return go, c(arrays.ro, dtype=np.float64), c(arrays.po, dtype=np.float64)
 
 
 def _rows(mask):
@@ -295,6 +305,7 @@ def run_batch(
     work = float(np.sum(nsteps)) * (int(n_transient) + int(n_record)) * plain_cost(blk)
     nw = min(n_threads(), P) if work >= THREAD_MIN_WORK else 1
     a = arrays
+    loads = order_loads(arrays)
     dense = blk[7].shape[1] == LANE_BLOCK  # one block of rows: the dense plain step (see .worker)
     if dense:
         A, B, W, _g, Wc = derived(arrays)
@@ -324,6 +335,7 @@ def run_batch(
             a.cc,
             a.Dc,
             a.omega,
+            *loads,
             np.ascontiguousarray(tperiod, dtype=np.float64),
             np.ascontiguousarray(nsteps, dtype=np.int64),
             np.ascontiguousarray(state0, dtype=np.float64),

@@ -9,9 +9,16 @@ length by a safeguarded secant (Illinois) iteration on the locked step and split
 the vector field is continuous, so the split keeps RK4 fourth order and no saltation is needed.
 :func:`rk4_plain` is the default mode's step without tangents on the padded layout of
 :mod:`geardyn._kernel_ndof.simd` (:func:`pad_point` prepares a point's matrices).
+
+Torque orders: every step takes ``ld = (gb, go, ct)``, the constant load row gb = M̃⁻¹F̃, the orders' rows go
+(orders, n) and a table ct of cos(r_o θ + φ_o) at the stage times; :func:`load_at` writes
+g(θ) = gb + Σ_o ct[r, o] go[o] into the load the stage reads (g of ``sp``, or the padded gP of the plain step)
+before the stages at a new time.  Without orders it writes nothing: g keeps its value, bit for bit.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
@@ -39,12 +46,35 @@ ROOT_ITERS = 60
 CROSSING_TOL = 1e-13
 
 
+@njit(nogil=True, inline="always")
+def load_at(dst, ld, r):
+    """dst[0:n] = gb + Σ_o ct[r, o] go[o] of ``ld = (gb, go, ct)``: the load at the time of row r of ct; without
+    orders nothing is written."""
+    gb, go, ct = ld
+    O = go.shape[0]
+    if O == 0:
+        return
+    for i in range(gb.shape[0]):
+        acc = gb[i]
+        for o in range(O):
+            acc += ct[r, o] * go[o, i]
+        dst[i] = acc
+
+
 @njit(nogil=True)
-def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt, Gq, Gv):
+def order_cosines(ro, po, theta, ct, r):
+    """ct[r, o] = cos(ro[o] θ + po[o]) of every order."""
+    for o in range(ro.shape[0]):
+        ct[r, o] = math.cos(ro[o] * theta + po[o])
+
+
+@njit(nogil=True)
+def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt, Gq, Gv, ld, r):
     """Advance x (and the columns Y when ``tangent``) by one RK4 step of length h, in place.
 
     wk : (6, 2n) workspace (k1..k4, stage state, start state); wt : (5, 2n, k) tangent workspace;
-    gk, gc : (elements,) workspace (the element slopes); jt the Jacobian's pattern, Gq, Gv its values (workspace).
+    gk, gc : (elements,) workspace (the element slopes); jt the Jacobian's pattern, Gq, Gv its values (workspace);
+    ``ld`` the loads (module docstring), rows r, r + 1, r + 2 of its table at the start, midpoint and end.
     """
     d = x.shape[0]
     hh = 0.5 * h
@@ -54,6 +84,8 @@ def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt
     k3 = wk[2]
     k4 = wk[3]
     xs = wk[4]
+    g = sp[10]
+    load_at(g, ld, r)
     field(x, cf0, sp, el, omega, mode, k1)
     if tangent:
         slopes(x, cf0, sp, el, mode, gk, gc)
@@ -61,6 +93,7 @@ def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt
         tan_field(Y, jt, Gq, Gv, wt[0])
     for i in range(d):
         xs[i] = x[i] + hh * k1[i]
+    load_at(g, ld, r + 1)
     field(xs, cf1, sp, el, omega, mode, k2)
     if tangent:
         slopes(xs, cf1, sp, el, mode, gk, gc)
@@ -83,6 +116,7 @@ def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt
         tan_field(Ys, jt, Gq, Gv, wt[2])
     for i in range(d):
         xs[i] = x[i] + h * k3[i]
+    load_at(g, ld, r + 2)
     field(xs, cf2, sp, el, omega, mode, k4)
     if tangent:
         slopes(xs, cf2, sp, el, mode, gk, gc)
@@ -129,14 +163,20 @@ def _gfun(d, D, m):
 
 
 @njit(nogil=True)
-def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y):
-    """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``)."""
+def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds):
+    """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``lds = (ld, ro, po)``
+    the loads (their table ct the rows of this step's three times)."""
     for i in range(x0.shape[0]):
         xo[i] = x0[i]
     coef_at(coef, ratio, omega * t, cfa[0])
     coef_at(coef, ratio, omega * (t + 0.5 * s), cfa[1])
     coef_at(coef, ratio, omega * (t + s), cfa[2])
-    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt[0], jt[1], jt[2])
+    ld, ro, po = lds
+    ct = ld[2]
+    order_cosines(ro, po, omega * t, ct, 0)
+    order_cosines(ro, po, omega * (t + 0.5 * s), ct, 1)
+    order_cosines(ro, po, omega * (t + s), ct, 2)
+    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt[0], jt[1], jt[2], ld, 0)
 
 
 @njit(nogil=True)
@@ -177,10 +217,11 @@ def accurate_step(
     Y,
     Ysave,
     ev,
+    lds,
 ):
     """Advance x (and Y) by one step of length h split at every contact-boundary crossing.
 
-    ``jt`` is (the Jacobian's pattern, its values Gq, Gv) of :func:`rk4`."""
+    ``jt`` is (the Jacobian's pattern, its values Gq, Gv) of :func:`rk4`; ``lds`` the loads of :func:`_locked`."""
     d = x.shape[0]
     rem = h
     tt = t
@@ -211,6 +252,7 @@ def accurate_step(
             jt,
             tangent,
             Y,
+            lds,
         )
         gend, _w = _worst(xo, tt + rem, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
         hi = rem
@@ -238,6 +280,7 @@ def accurate_step(
                     jt,
                     False,
                     Y,
+                    lds,
                 )
                 gsk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
                 if gsk < 0.0:
@@ -279,6 +322,7 @@ def accurate_step(
                 jt,
                 False,
                 Y,
+                lds,
             )
             gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
             if gs == 0.0:
@@ -321,6 +365,7 @@ def accurate_step(
             jt,
             tangent,
             Y,
+            lds,
         )
         for i in range(d):
             x[i] = xo[i]
@@ -332,7 +377,7 @@ def accurate_step(
     coef_at(coef, ratio, omega * tt, cfa[3])
     element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
     _regions(ev, gaps, mode)
-    _locked(x, tt, rem, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y)
+    _locked(x, tt, rem, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds)
     for i in range(d):
         x[i] = xo[i]
 
@@ -403,13 +448,13 @@ def _stages(X, blk, s, q, v, q0, v0, c, k, qn, vn):
 
 
 @njit(nogil=True, inline="always")
-def rk4_plain(X, s, h, tab, j, blk, sp, el, omega):
+def rk4_plain(X, s, h, tab, j, blk, sp, el, omega, ld):
     """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
 
     X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace;
-    ``blk`` the point's block-sparse arrays (:func:`pad_point`).  Coefficients from the table rows 2j..2j+2; the
-    arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see :mod:`geardyn._kernel_ndof.simd`),
-    vectorised over blocks of rows.
+    ``blk`` the point's block-sparse arrays (:func:`pad_point`).  Coefficients (and the loads ``ld``, into blk's gP)
+    from the table rows 2j..2j+2; the arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see
+    :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows.
     """
     hh = 0.5 * h
     h6 = h / 6.0
@@ -426,12 +471,16 @@ def rk4_plain(X, s, h, tab, j, blk, sp, el, omega):
         X[XQ4],
         X[XV4],
     )
+    gP = blk[7]
+    load_at(gP, ld, 2 * j)
     forces_tab(q, v, tab, 2 * j, sp, el, omega, s)
     _stages(X, blk, s, q, v, q, v, hh, k1, q2, v2)
+    load_at(gP, ld, 2 * j + 1)
     forces_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s)
     _stages(X, blk, s, q2, v2, q, v, hh, k2, q3, v3)
     forces_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s)
     _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    load_at(gP, ld, 2 * j + 2)
     forces_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s)
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):
@@ -474,7 +523,7 @@ def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
 
 
 @njit(nogil=True)
-def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc):
+def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld):
     """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
     the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state."""
     hh = 0.5 * h
@@ -492,15 +541,19 @@ def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc):
         X[XQ4],
         X[XV4],
     )
+    gP = blk[7]
+    load_at(gP, ld, 2 * j)
     forces_slopes_tab(q, v, tab, 2 * j, sp, el, omega, s, gk, gc)
     _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
     _stages(X, blk, s, q, v, q, v, hh, k1, q2, v2)
+    load_at(gP, ld, 2 * j + 1)
     forces_slopes_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s, gk, gc)
     _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
     _stages(X, blk, s, q2, v2, q, v, hh, k2, q3, v3)
     forces_slopes_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s, gk, gc)
     _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
     _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    load_at(gP, ld, 2 * j + 2)
     forces_slopes_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, gk, gc)
     _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk

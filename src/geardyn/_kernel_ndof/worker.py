@@ -6,7 +6,8 @@ A batch of one block of rows (n <= LANE_BLOCK, ``dense``) takes the plain step o
 Per point: the derived matrices are given by the caller; in the default mode the coefficients of
 one forcing period are tabulated at the 2N + 1 half-step angles (the forcing is periodic in that
 period, so the table serves every period: no trigonometric call in the step loop); the accurate
-mode evaluates them where its split sub-steps need them.  Periods without tangents in the default
+mode evaluates them where its split sub-steps need them; so are the torque orders' cosines (the load g(θ) of every
+stage, :func:`geardyn._kernel_ndof.step.load_at`).  Periods without tangents in the default
 mode run the plain step (:func:`geardyn._kernel_ndof.step.rk4_plain`) on the padded state, copied
 from and back to the state at the period's start and end.  The stroboscopic samples are exact:
 h = T_f/N with T_f the forcing period.
@@ -33,7 +34,18 @@ from .core import (
 )
 from .dense import element_values_dense, pad_dense, rk4_plain_dense
 from .simd import LANE_BLOCK
-from .step import XQ, XROWS, XV, accurate_step, aligned_zeros, pad_point, rk4, rk4_plain, rk4_plain_tan
+from .step import (
+    XQ,
+    XROWS,
+    XV,
+    accurate_step,
+    aligned_zeros,
+    order_cosines,
+    pad_point,
+    rk4,
+    rk4_plain,
+    rk4_plain_tan,
+)
 
 
 @njit(nogil=True)
@@ -60,12 +72,12 @@ def _quotient(Y, R):
 
 
 @njit(nogil=True)
-def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0):
-    """N plain steps on the padded state X (statistics when ``rec``; history samples b0 + j)."""
+def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld):
+    """N plain steps on the padded state X (statistics when ``rec``; history samples b0 + j; the loads ``ld``)."""
     q = X[XQ]
     v = X[XV]
     for j in range(N):
-        rk4_plain(X, sf, h, tab, j, blk, sp, el, om)
+        rk4_plain(X, sf, h, tab, j, blk, sp, el, om, ld)
         if rec:
             element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
             accumulate(st, ev, gaps)
@@ -74,12 +86,12 @@ def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p
 
 
 @njit(nogil=True)
-def _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0):
+def _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld):
     """:func:`_period_sparse` with a few tangent columns Y."""
     q = X[XQ]
     v = X[XV]
     for j in range(N):
-        rk4_plain_tan(X, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc)
+        rk4_plain_tan(X, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld)
         if rec:
             element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
             accumulate(st, ev, gaps)
@@ -88,12 +100,12 @@ def _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, g
 
 
 @njit(nogil=True)
-def _period_dense(X, sf, h, tab, N, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om, rec, st, ev, gaps, hist, p, b0):
+def _period_dense(X, sf, h, tab, N, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om, rec, st, ev, gaps, hist, p, b0, ld):
     """:func:`_period_sparse` on dense matrices (:mod:`.dense`)."""
     q = X[XQ]
     v = X[XV]
     for j in range(N):
-        rk4_plain_dense(X, sf, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om)
+        rk4_plain_dense(X, sf, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om, ld)
         if rec:
             element_values_dense(q, v, 0, tab[2 * j + 2], V, Vc, om, ev)
             accumulate(st, ev, gaps)
@@ -146,6 +158,9 @@ def ndof_worker(
     cc,
     Dc,
     omega,
+    go,
+    ro,
+    po,
     tperiod,
     nsteps,
     state0,
@@ -198,6 +213,9 @@ def ndof_worker(
     ATd = aligned_zeros(max(nd, 1), NP)
     BTd = aligned_zeros(max(nd, 1), NP)
     WTd = aligned_zeros(max(E if dense else 0, 1), NP)
+    O = go.shape[1]
+    gw = np.empty(n)  # the load g(θ) the full step's stages read (sp's g)
+    ocs = np.empty((3, O))  # the accurate mode's cos(r_o θ + φ_o) at a step's three times
     while True:
         k = _fetch_add(counter, 1)
         if k >= P:
@@ -207,7 +225,9 @@ def ndof_worker(
         Tf = tperiod[p]
         h = Tf / N
         om = omega[p]
-        sp = (abp, abj, Av[p], Bv[p], ep, ej, Ev[p], wp, wi, Wv[p], g[p])
+        for i in range(n):
+            gw[i] = g[p, i]
+        sp = (abp, abj, Av[p], Bv[p], ep, ej, Ev[p], wp, wi, Wv[p], gw)
         el = (M, D[p], kc[p], cc[p], Dc[p])
         jt = (gp, gj, Ag[p], Bg[p], cp, ce, cw, cv)
         jw = (jt, Gq, Gv)
@@ -220,10 +240,15 @@ def ndof_worker(
         for c in range(C):
             gaps[M + c] = Dc[p, c]
         tab = np.empty((0, M, 4))
+        otab = ocs
         if not accurate:
             tab = np.empty((2 * N + 1, M, 4))
+            otab = np.empty((2 * N + 1, O))
             for i in range(2 * N + 1):
                 coef_at(coef[p], ratio[p], om * (0.5 * h * i), tab[i])
+                order_cosines(ro[p], po[p], om * (0.5 * h * i), otab, i)
+        ld = (g[p], go[p], otab)  # the loads at the table's times (module docstring of .step)
+        lds = ((g[p], go[p], ocs), ro[p], po[p])  # the accurate mode's
         for i in range(d):
             x[i] = state0[p, i]
         st[:, :] = 0.0
@@ -249,7 +274,7 @@ def ndof_worker(
                     v[i] = x[n + i]
                 b0 = per * N + 1 - hstart
                 if tan_on:
-                    _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0)
+                    _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld)
                 elif dense:
                     _period_dense(
                         X,
@@ -275,9 +300,10 @@ def ndof_worker(
                         hist,
                         p,
                         b0,
+                        ld,
                     )
                 else:
-                    _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0)
+                    _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld)
                 for i in range(n):
                     x[i] = q[i]
                     x[n + i] = v[i]
@@ -306,6 +332,7 @@ def ndof_worker(
                             Y,
                             Ysave,
                             ev,
+                            lds,
                         )
                     else:
                         rk4(
@@ -327,6 +354,8 @@ def ndof_worker(
                             jt,
                             Gq,
                             Gv,
+                            ld,
+                            2 * j,
                         )
                     if rec:
                         if accurate:

@@ -87,8 +87,7 @@ def load_cli_system(values: dict[str, Any]):
         v = values.get(o.dest)
         if v is not None and o.dest not in _NOT_MODEL and o.param not in ("omega", "fp"):
             s = s.with_param(o.param, float(v))
-    if not getattr(s, "orders", ()):  # torque orders: refused in one line by the kernel, run by geardyn rattle
-        _forcing_period_note(s, values)
+    _forcing_period_note(s, values)
     return s
 
 
@@ -109,6 +108,7 @@ def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
         for m in s.meshes
         if m.name != s.scaling.reference
     ]
+    parts += [f"order at {r}" for r, _, _ in getattr(s, "orders", ())]
     text = f"forcing period: {p} cycles of mesh {s.scaling.reference!r} (the least common period; {', '.join(parts)})"
     dtau = values.get("dtau")
     if dtau:

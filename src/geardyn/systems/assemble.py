@@ -49,6 +49,9 @@ Vc        (clearances, n)       clearance vectors (rows), scaled like V
 kc, cc    (clearances,)         clearance stiffness and damping (non-dimensional)
 Dc        (clearances,)         half gaps / b_c (SI magnitudes: f is homogeneous)
 omega     ()                    base frequency ω; the stroboscopic section is θ ≡ 0 mod 2π
+Fo        (orders, n)           torque orders' load amplitudes, scaled like F: the load is
+                                F + Σ_o Fo[o] cos(ro[o] θ + po[o])
+ro, po    (orders,)             the orders' frequencies over ω and phases (rad)
 ========  ====================  ===========================================================
 
 The state is ``x = (q̃, q̃')`` (length 2n).  With several meshes the forcing is periodic in the base
@@ -187,6 +190,10 @@ class SystemArrays(NamedTuple):
         Half gaps / b_c.
     omega : ndarray ()
         Base frequency ω.
+    Fo : ndarray (orders, n)
+        Torque orders' load amplitudes (scaled like F).
+    ro, po : ndarray (orders,)
+        Their frequencies over ω and phases (rad).
     """
 
     Mi: np.ndarray
@@ -202,6 +209,9 @@ class SystemArrays(NamedTuple):
     cc: np.ndarray
     Dc: np.ndarray
     omega: np.ndarray
+    Fo: np.ndarray
+    ro: np.ndarray
+    po: np.ndarray
 
 
 def _ro(a) -> np.ndarray:
@@ -250,9 +260,7 @@ class SystemModel:
     orders : tuple of (Fraction, ndarray (n,), float)
         Torque orders of the loads: frequency r over the base frequency ω, the load vector's amplitude (scaled
         like ``F``) and the phase (rad); the forcing adds Σ F̃_o cos(r_o θ + φ_o).  The forcing period counts
-        their denominators (:meth:`period_multiple`).  The mesh-vector kernel takes no time-varying load: a
-        system with orders is refused by :meth:`arrays` (a two-gear torsional system runs as its pair,
-        :func:`geardyn.analysis.rattle.pair_of_system`).
+        their denominators (:meth:`period_multiple`).  The kernel evaluates the load at every RK4 stage's time.
 
     Raises
     ------
@@ -520,11 +528,6 @@ class SystemModel:
 
     def arrays(self, n_harmonics: int | None = None) -> SystemArrays:
         """The kernel arrays of this system (see the module docstring for the contract)."""
-        if self.orders:
-            raise ModelError(
-                "orders: the mesh-vector kernel takes no time-varying load yet; a system with torque orders runs "
-                "when it is two gears on their rotations (geardyn rattle --system), else remove the orders"
-            )
         H = self.n_harmonics if n_harmonics is None else n_harmonics
         c = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
         return SystemArrays(
@@ -541,6 +544,9 @@ class SystemModel:
             cc=c(self.cc),
             Dc=c(self.Dc),
             omega=np.float64(self.omega),
+            Fo=c(np.reshape([F for _, F, _ in self.orders], (len(self.orders), self.n))),
+            ro=c([float(r) for r, _, _ in self.orders]),
+            po=c([ph for _, _, ph in self.orders]),
         )
 
     @staticmethod
@@ -556,10 +562,12 @@ class SystemModel:
         if not systems:
             raise ModelError("empty parameter grid: no system to integrate")
         s0 = systems[0]
-        key = (s0.labels, tuple(m.name for m in s0.meshes), s0.clearance_names)
+        key = (s0.labels, tuple(m.name for m in s0.meshes), s0.clearance_names, len(s0.orders))
         for s in systems[1:]:
-            if (s.labels, tuple(m.name for m in s.meshes), s.clearance_names) != key:
-                raise ModelError("pack: every system of a batch must have the same DOFs, meshes and clearances")
+            if (s.labels, tuple(m.name for m in s.meshes), s.clearance_names, len(s.orders)) != key:
+                raise ModelError(
+                    "pack: every system of a batch must have the same DOFs, meshes, clearances and torque orders"
+                )
         H = max(s.n_harmonics for s in systems)
         each = [s.arrays(H) for s in systems]
         return SystemArrays(
@@ -569,8 +577,8 @@ class SystemModel:
     # ------------------------------------------------------------------ a result's attributes
     def to_attrs(self) -> str:
         """The non-dimensional system as JSON text (a result's ``system_model`` attribute): its DOF labels,
-        matrices, meshes, loads, ω, scales and clearances, every float exactly.  :meth:`from_attrs` is the
-        inverse (without the physical description, which is not stored)."""
+        matrices, meshes, loads (with their torque orders), ω, scales and clearances, every float exactly.
+        :meth:`from_attrs` is the inverse (without the physical description, which is not stored)."""
         import json
         from dataclasses import asdict
 
@@ -590,6 +598,8 @@ class SystemModel:
             "cc": list(self.cc),
             "Dc": list(self.Dc),
         }
+        if self.orders:  # [numerator, denominator] of the ratio, the load vector, the phase
+            d["orders"] = [[[r.numerator, r.denominator], F.tolist(), ph] for r, F, ph in self.orders]
         return json.dumps(d)
 
     @classmethod
@@ -604,6 +614,7 @@ class SystemModel:
         d["clearance_names"] = tuple(d["clearance_names"])
         n = len(d["labels"])
         d["Vc"] = np.reshape(np.array(d["Vc"], dtype=float), (len(d["clearance_names"]), n))
+        d["orders"] = tuple((Fraction(*r), _ro(F), float(ph)) for r, F, ph in d.get("orders", ()))
         return cls(**d)
 
     # ------------------------------------------------------------------ checks and helpers

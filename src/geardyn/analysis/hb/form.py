@@ -11,7 +11,8 @@ and E_e are centred complex Fourier series in φ, A = M̃⁻¹K̃_b, B = M̃⁻�
 already multiplied by M̃⁻¹.  The 1-DOF pair is the form with one coordinate q = u and one element, V = W = [1],
 A = B = 0, E = 0 and G = f_p + ω² Σ l² ε_l cos(lθ + φ_el) (the STE as an inertial load, hence ν²) plus its torque
 orders (constant amplitudes); a mesh-vector
-system (:mod:`geardyn.systems`) has G0 = M̃⁻¹F̃ constant, G2 = 0 and its STE in E_e.
+system (:mod:`geardyn.systems`) has G0 = M̃⁻¹(F̃ + Σ_o F̃_o cos(r_o θ + φ_o)) (its loads and their torque orders,
+harmonic r_o·periods of φ), G2 = 0 and its STE in E_e.
 
 :func:`pair_form` and :func:`system_form` build the form; ``GearModel.hb_form`` and ``SystemModel.hb_form`` call
 them, and :mod:`.equations` is written against :class:`HBForm` only.
@@ -198,6 +199,22 @@ def pair_form(model: Any, period: int = 1) -> HBForm:
     )  # fmt: skip
 
 
+def _system_loads(model: Any, Mi: np.ndarray, periods: int) -> np.ndarray:
+    """G0 (dofs, 2L + 1): M̃⁻¹F̃ and every torque order's M̃⁻¹F̃_o cos(r_o θ + φ_o), harmonic q = r_o·periods of φ
+    (an integer: the forcing period counts the orders' denominators), split as ½ e^{±iφ_o} at ±q."""
+    qs = [r * periods for r, _, _ in model.orders]
+    if any(q.denominator != 1 for q in qs):
+        raise ModelError(f"orders: a torque order is not a harmonic of {periods} base periods")
+    L = max((int(q) for q in qs), default=0)
+    G0 = np.zeros((model.n, 2 * L + 1), dtype=complex)
+    G0[:, L] = Mi @ np.asarray(model.F, dtype=float)
+    for q, (_, Fo, ph) in zip(qs, model.orders):
+        half = 0.5 * (Mi @ np.asarray(Fo, dtype=float)) * complex(math.cos(ph), math.sin(ph))
+        G0[:, L + int(q)] += half
+        G0[:, L - int(q)] += np.conj(half)
+    return G0
+
+
 def system_form(model: Any, period: int = 1) -> HBForm:
     """The :class:`HBForm` of a mesh-vector system (:class:`~geardyn.systems.SystemModel`) for a period-n response.
 
@@ -239,7 +256,8 @@ def system_form(model: Any, period: int = 1) -> HBForm:
             raise ModelError(f"{e.name}: harmonic balance has no element law {e.law!r} (it knows {', '.join(LAWS)})")
     names = [m.name for m in model.meshes]
     mh = max((m.n_harmonics * m.ratio for m in model.meshes), default=0.0)
-    G0 = (Mi @ np.asarray(model.F, dtype=float)).astype(complex)[:, None]
+    G0 = _system_loads(model, Mi, periods)
+    mh = max([mh] + [float(r) for r, _, _ in model.orders])
     return HBForm(
         periods, 1, Mi, Mi @ np.asarray(model.Kb, dtype=float), Mi @ np.asarray(model.Cb, dtype=float), G0,
         np.zeros_like(G0), tuple(els), rigid_modes(model),
