@@ -249,7 +249,7 @@ def tooth_compliance(
     kc = 0.0
     if crack_depth and crack_model == "fracture":
         i = sec.crack_start
-        kc = crack_compliance(crack_depth, float(sec.y[i]), float(sec.h[i]), d, h_l, a1, blank.E)
+        kc = crack_compliance(crack_depth, float(sec.y[i]), float(sec.h[i]), d, h_l, a1, blank.E, sec.rho_F)
     return ToothCompliance(bending=kb, shear=ks, axial=ka, fillet=kf, crack=kc)
 
 
@@ -265,8 +265,44 @@ def _xi_integral(f: np.ndarray, g: np.ndarray, xi: float) -> float:
     return float(np.polynomial.polynomial.polyval(xi, np.polynomial.polynomial.polyint(p)))
 
 
+def stress_correction(s_Fn: float, h_Fe: np.ndarray, rho_F: float) -> np.ndarray:
+    """ISO 6336-3 (Method B) stress correction factor Y_S of a tooth's root fillet.
+
+    Y_S = (1.2 + 0.13 L) q_s^(1 / (1.21 + 2.3 / L)), L = s_Fn / h_Fe, q_s = s_Fn / (2 ρ_F) (held in ISO's range
+    1 … 8): the fillet's peak stress over the nominal bending stress 6 M / s_Fn² at the 30° section.
+
+    Parameters
+    ----------
+    s_Fn : float
+        Chord of the 30° section (m).
+    h_Fe : ndarray
+        Lever of the bending moment at that section: the distance along the centre line from it to where the
+        force line crosses the centre line (m, > 0).
+    rho_F : float
+        Fillet radius at the 30° point (m).
+
+    Returns
+    -------
+    ndarray
+    """
+    L = s_Fn / np.asarray(h_Fe, dtype=float)
+    q_s = min(max(s_Fn / (2.0 * rho_F), 1.0), 8.0)
+    return (1.2 + 0.13 * L) * q_s ** (1.0 / (1.21 + 2.3 / L))
+
+
+#: Composite Gauss-Legendre rule over the crack depth (panels × points) for the notch's short-crack term.
+_PANELS, _GAUSS = 48, np.polynomial.legendre.leggauss(4)
+
+
 def crack_compliance(
-    depth: float, y_c: float, h_c: float, d: np.ndarray, h_l: np.ndarray, alpha1: np.ndarray, E: float
+    depth: float,
+    y_c: float,
+    h_c: float,
+    d: np.ndarray,
+    h_l: np.ndarray,
+    alpha1: np.ndarray,
+    E: float,
+    rho_F: float = 0.0,
 ) -> np.ndarray:
     """Local flexibility (per unit width) of an edge crack of depth ``depth`` · h_c at the section y_c.
 
@@ -280,6 +316,8 @@ def crack_compliance(
         Load points as :func:`load_point`.
     E : float
         Young's modulus.
+    rho_F : float
+        Radius of the root fillet where the crack starts (m); 0: no notch (the strip's factors alone).
 
     Returns
     -------
@@ -291,8 +329,25 @@ def crack_compliance(
     M = np.cos(alpha1) * (d - y_c) - np.sin(alpha1) * h_l
     N, V = -np.sin(alpha1), np.cos(alpha1)
     bm, tn = 6.0 * M / W**2, N / W
-    I_mm = _xi_integral(TADA_BENDING, TADA_BENDING, xi)
-    I_mn = _xi_integral(TADA_BENDING, TADA_TENSION, xi)
+    if rho_F > 0 and xi > 0:
+        # the bending factor of the crack at the fillet: the larger of the strip's F_M and the short crack at
+        # the notch, 1.12 Y_S / sqrt(1 + 4.5 a / rho_F) (Lukas 1987)
+        # Y_S's lever h_Fe = M / cos α1: to where the force line crosses the centre line
+        shape = np.shape(M)
+        h_Fe = np.maximum(np.ravel(M / np.cos(alpha1)), 1e-6 * W)
+        K_t = stress_correction(W, h_Fe, rho_F)
+        x, w = _GAUSS
+        edges = np.linspace(0.0, xi, _PANELS + 1)
+        half = 0.5 * (edges[1] - edges[0])
+        t = (0.5 * (edges[:-1] + edges[1:])[:, None] + half * x[None, :]).ravel()
+        wt = np.tile(half * w, _PANELS) * t  # ∫_0^ξ t g(t) dt = wt @ g
+        P = np.polynomial.polynomial.polyval
+        F_b = np.maximum(P(t, TADA_BENDING)[None, :], 1.12 * K_t[:, None] / np.sqrt(1.0 + 4.5 * W * t / rho_F))
+        I_mm = ((F_b * F_b) @ wt).reshape(shape)
+        I_mn = ((F_b * P(t, TADA_TENSION)[None, :]) @ wt).reshape(shape)
+    else:
+        I_mm = _xi_integral(TADA_BENDING, TADA_BENDING, xi)
+        I_mn = _xi_integral(TADA_BENDING, TADA_TENSION, xi)
     I_nn = _xi_integral(TADA_TENSION, TADA_TENSION, xi)
     I_vv = _xi_integral(TADA_SHEAR, TADA_SHEAR, xi)
     # ∫_0^a π a (…)² da = π W² ∫_0^ξ t (…)² dt
