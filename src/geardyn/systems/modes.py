@@ -23,7 +23,8 @@ GearboxDescription.gyroscopic_matrix`): at the reference shaft's speed Ω (rad/s
 exactly: in the standstill modes Φ (``Φᵀ M Φ = I``, ``Φᵀ K Φ = Λ``) the elastic coordinates η obey
 ``η'' + Ω Φᵀ G Φ η' + Λ η = 0``, whose first-order form in ``z = (Λ^½ η, η')`` is ``z' = A z`` with A real
 skew-symmetric: ``i A`` is Hermitian and ``scipy.linalg.eigh`` gives the frequencies ω (``A z = iω z``) to
-round-off (the rigid-body modes, torsional, are not coupled by G, which only couples the two bending planes).
+round-off, the rigid-body modes (Λ = 0) included: they stay at 0 unless G couples them (a shaft free to tilt
+precesses).
 Each mode's whirl is measured on the shafts' nodes: ``w = Σ σ_s 2 Im(a b̄) / Σ (|a|² + |b|²)`` over the pairs
 (a, b) = (x, y) and r (ry, −rx) of the complex shape (r the node's radius, σ_s the shaft's running sense), +1
 a circular orbit turning with the shaft (forward whirl), −1 against it (backward); a mode without lateral
@@ -284,20 +285,16 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: fl
     return ModalResult(desc.labels, f, w2, phi, rigid, tuple(names), tuple(meshes), energy)
 
 
-#: Relative size (to the gyroscopic coupling of the elastic modes) below which G leaves the rigid-body modes alone.
-RIGID_GYRO_RTOL = 1e-9
-
-
 def gyroscopic_eigen(
     omega2: np.ndarray, shapes: np.ndarray, G: np.ndarray, spin: float, vectors: bool = True
 ) -> tuple[np.ndarray, np.ndarray | None]:
-    """The elastic modes of ``M q'' + Ω G q' + K q = 0`` from the standstill ones (the module docstring).
+    """The modes of ``M q'' + Ω G q' + K q = 0`` from the standstill ones (the module docstring).
 
     Parameters
     ----------
-    omega2 : ndarray (ne,)
-        The standstill eigenvalues ω² (> 0) of the elastic modes.
-    shapes : ndarray (n, ne)
+    omega2 : ndarray (n,)
+        The standstill eigenvalues ω² (0 for a rigid-body mode).
+    shapes : ndarray (n, n)
         Their M-orthonormal shapes Φ.
     G : ndarray (n, n)
         The gyroscopic matrix (skew-symmetric, per unit of ``spin``).
@@ -308,30 +305,40 @@ def gyroscopic_eigen(
 
     Returns
     -------
-    omega : ndarray (ne,)
-        The natural frequencies (rad/s), ascending.
-    shapes : ndarray (n, ne), complex
+    omega : ndarray (n,)
+        The natural frequencies (rad/s), ascending; 0 for the rigid-body modes (at or below
+        √RIGID_RTOL times the highest), which come first.
+    shapes : ndarray (n, n), complex
         The mode shapes, ``q(t) = Re(φ e^{iωt})``, normalised to ``φᴴ M φ = 1`` with their largest component real
-        and positive.
+        and positive; a rigid-body mode's shape is its standstill shape (the first columns of ``shapes`` whose
+        ω² is 0).
     """
-    ne = len(omega2)
-    w = np.sqrt(omega2)
+    n = len(omega2)
+    w = np.sqrt(np.clip(omega2, 0.0, None))
     Ge = shapes.T @ G @ shapes
-    A = np.zeros((2 * ne, 2 * ne))
-    A[:ne, ne:] = np.diag(w)
-    A[ne:, :ne] = -np.diag(w)
-    A[ne:, ne:] = -spin * Ge
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.diag(w)
+    A[n:, :n] = -np.diag(w)
+    A[n:, n:] = -spin * Ge
+    H = -1j * A  # A z = iω z: the Hermitian -iA has the eigenvalues ω, in ± pairs (0 for a rigid-body mode)
     if not vectors:
-        return np.sort(scipy.linalg.eigh(-1j * A, eigvals_only=True))[ne:], None
-    lam, Z = scipy.linalg.eigh(-1j * A)  # A z = iω z: the Hermitian -iA has the eigenvalues ω, in ± pairs
-    pos = np.argsort(lam)[ne:]  # the ne positive ones, ascending
+        lam = np.sort(scipy.linalg.eigh(H, eigvals_only=True))[n:]
+        return np.where(lam <= math.sqrt(RIGID_RTOL) * max(float(lam[-1]), 1e-300), 0.0, lam), None
+    lam, Z = scipy.linalg.eigh(H)
+    pos = np.argsort(lam)[n:]  # the n largest: the positive ones and half the zeros
     wk = lam[pos]
-    eta = Z[ne:, pos] / (1j * wk)  # η' = iω η
-    norm = np.sqrt(np.sum(np.abs(eta) ** 2, axis=0))  # Φ is M-orthonormal: φᴴ M φ = |η|²
-    out = shapes @ (eta / norm)
-    k = np.argmax(np.abs(out), axis=0)
-    top = out[k, np.arange(ne)]
-    return wk, out * (np.abs(top) / top)
+    zero = wk <= math.sqrt(RIGID_RTOL) * max(float(wk[-1]), 1e-300)
+    out = np.zeros((shapes.shape[0], n), dtype=complex)
+    nr = int(np.sum(zero))
+    out[:, :nr] = shapes[:, np.flatnonzero(omega2 <= 0.0)[:nr]] if nr else out[:, :0]
+    el = pos[~zero]
+    eta = Z[n:, el] / (1j * lam[el])  # η' = iω η
+    eta = eta / np.sqrt(np.sum(np.abs(eta) ** 2, axis=0))  # Φ is M-orthonormal: φᴴ M φ = |η|²
+    v = shapes @ eta
+    k = np.argmax(np.abs(v), axis=0)
+    top = v[k, np.arange(v.shape[1])]
+    out[:, nr:] = v * (np.abs(top) / top)
+    return np.where(zero, 0.0, wk), out
 
 
 class _Spinning:
@@ -341,34 +348,19 @@ class _Spinning:
         self.desc, self.G = desc, G
         self.pairs = _whirl_pairs(desc)
         self.base = base = modal_analysis(desc, clearances)
-        phi, rigid = base.shapes, base.rigid
-        Ge = phi[:, ~rigid].T @ G @ phi[:, ~rigid]
-        Gre = phi[:, rigid].T @ G @ phi
-        top = max(float(np.max(np.abs(Ge), initial=0.0)), 1e-300)
-        if Gre.size and np.max(np.abs(Gre)) > RIGID_GYRO_RTOL * top:
-            raise ModelError(
-                "gyroscopic: a rigid-body mode is coupled by the gyroscopic terms (a shaft free to tilt); support "
-                "the shafts in bending with bearings"
-            )
+        self.omega2 = np.where(base.rigid, 0.0, base.omega2)
 
     def frequencies(self, rpm: float) -> np.ndarray:
         """The natural frequencies (Hz, the rigid-body modes first at 0) at the reference shaft's ``rpm``."""
         return self.at(rpm, whirl=False)[0]
 
-    def at(self, rpm: float, whirl: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    def at(self, rpm: float, whirl: bool = True) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
         """(frequencies in Hz with the rigid-body modes first at 0, complex shapes, whirl measures) at ``rpm``."""
-        base = self.base
-        rigid = base.rigid
-        wk, shapes_e = gyroscopic_eigen(
-            base.omega2[~rigid], base.shapes[:, ~rigid], self.G, 2.0 * math.pi * rpm / 60.0, vectors=whirl
-        )
-        nr = int(np.sum(rigid))
-        f = np.concatenate([np.zeros(nr), wk / (2.0 * math.pi)])
-        if shapes_e is None:
+        wk, shapes = gyroscopic_eigen(self.omega2, self.base.shapes, self.G, 2.0 * math.pi * rpm / 60.0, vectors=whirl)
+        f = wk / (2.0 * math.pi)
+        if shapes is None:
             return f, None, None
-        shapes = np.concatenate([base.shapes[:, rigid].astype(complex), shapes_e], axis=1)
-        w = np.concatenate([np.zeros(nr), _whirl(self.desc, shapes_e, self.pairs)])
-        return f, shapes, w
+        return f, shapes, np.where(f > 0, _whirl(self.desc, shapes, self.pairs), 0.0)
 
 
 def _gyroscopic_modes(desc: SystemDescription, clearances: str, rpm: float, G: np.ndarray) -> ModalResult:
@@ -376,7 +368,7 @@ def _gyroscopic_modes(desc: SystemDescription, clearances: str, rpm: float, G: n
     sp = _Spinning(desc, clearances, G)
     f, shapes, whirl = sp.at(rpm)
     names, mats, _ = _element_stiffness(desc, clearances)
-    nr = int(np.sum(sp.base.rigid))
+    nr = int(np.sum(f == 0))
     energy = np.zeros((len(f), len(names)))
     for i in range(nr, len(f)):
         v = shapes[:, i]
@@ -386,7 +378,7 @@ def _gyroscopic_modes(desc: SystemDescription, clearances: str, rpm: float, G: n
     return ModalResult(
         desc.labels,
         f,
-        np.concatenate([sp.base.omega2[sp.base.rigid], (2.0 * math.pi * f[nr:]) ** 2]),
+        (2.0 * math.pi * f) ** 2,
         shapes,
         np.arange(len(f)) < nr,
         tuple(names),
@@ -622,8 +614,10 @@ def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slop
 
     out = []
     xtol = CROSSING_XTOL * float(grid[-1] - grid[0])
-    for i in np.flatnonzero(~spinning.base.rigid):
+    for i in range(F.shape[1]):
         g = F[:, i] - slope * grid
+        if not np.all(F[:, i] > 0):
+            continue
         spline = None
         for j in range(len(grid) - 1):
             if not (g[j] > 0 >= g[j + 1] or g[j] >= 0 > g[j + 1]):
