@@ -341,3 +341,44 @@ def test_without_the_option_nothing_changes(tmp_path):
     assert np.array_equal(r_off.frequencies_hz, r_abs.frequencies_hz)
     rep = modes_report(off, (0.0, 5000.0))
     assert "gyroscopic" not in rep and "branches" not in rep["campbell"]
+
+
+# ---------------------------------------------------------------------------- the command line
+def test_modes_command_writes_the_branches_and_plot_redraws_them(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+    from geardyn.io import read_netcdf
+
+    path = _file(tmp_path, OFFSET)
+    out = tmp_path / "out"
+    run = CliRunner().invoke(
+        app, ["modes", "--system", str(path), "--rpm-max", "20000", "--orders", "1", "--json", "--out", str(out)]
+    )
+    assert run.exit_code == 0, run.output
+    r = json.loads(run.stdout)
+    assert r["gyroscopic"] is True and r["campbell"]["gyroscopic"] is True
+    ds = read_netcdf(out / "modes.nc")
+    np.testing.assert_array_equal(ds["branch_frequency_Hz"].values, r["campbell"]["branches"]["frequencies_hz"])
+    assert ds["branch_frequency_Hz"].dims == ("speed", "mode") and ds["speed"].values[-1] == 20000.0
+    codes = {"forward": 1, "backward": -1, "none": 0}
+    assert list(ds["crossing_whirl"].values) == [codes[c["whirl"]] for c in r["campbell"]["crossings"]]
+    again = tmp_path / "again"
+    p = CliRunner().invoke(app, ["plot", str(out / "modes.nc"), "--out", str(again), "--json"])
+    assert p.exit_code == 0 and (again / "campbell.png").stat().st_size > 10_000
+    text = CliRunner().invoke(app, ["modes", "--system", str(path), "--rpm-max", "20000", "--orders", "1"]).stdout
+    assert "gyroscopic terms on" in text and "forward" in text and "backward" in text
+
+
+def test_a_gyroscopic_value_that_is_not_a_boolean_is_refused_in_one_line(tmp_path):
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    path = _file(tmp_path, OFFSET, gyro='gyroscopic = "yes"')
+    run = CliRunner().invoke(app, ["modes", "--system", str(path), "--json"])
+    assert run.exit_code == 2
+    lines = [ln for ln in run.output.strip().splitlines() if ln.strip()]
+    assert len(lines) == 1 and "gyroscopic" in lines[0] and "true or false" in lines[0], run.output
