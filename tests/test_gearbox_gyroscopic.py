@@ -382,3 +382,22 @@ def test_a_gyroscopic_value_that_is_not_a_boolean_is_refused_in_one_line(tmp_pat
     assert run.exit_code == 2
     lines = [ln for ln in run.output.strip().splitlines() if ln.strip()]
     assert len(lines) == 1 and "gyroscopic" in lines[0] and "true or false" in lines[0], run.output
+
+
+def test_each_shaft_at_its_own_speed_and_sense_with_its_gears_polar_inertia(tmp_path):
+    from geardyn.gearbox.shaft import element_matrices
+
+    desc = load_description(_file(tmp_path, OFFSET))
+    G, idx = desc.gyroscopic_matrix(), desc.index()
+    rotor, other = desc.shafts
+    # the wheel (20 teeth) turns twice as fast as the 40-tooth disc, the other way round
+    ii = [idx[(n, d)] for n in other.nodes for d in ("x", "y", "z", "rx", "ry", "theta")]
+    np.testing.assert_array_equal(G[np.ix_(ii, ii)], -2.0 * other.G)
+    # the disc's own term I_p on its tilts, beside the shaft element's
+    mat = Material(E=2.1e17, nu=0.3, rho=7850.0)
+    ge = element_matrices(L, Section(outer=D), mat)[2]
+    a, b = idx[("disc1", "rx")], idx[("disc1", "ry")]
+    assert G[a, b] - ge[3, 4] == pytest.approx(OFFSET["ip1"], rel=1e-12)
+    assert G[b, a] == -G[a, b]
+    a, b = idx[("disc2", "rx")], idx[("disc2", "ry")]
+    assert G[a, b] - ge[9, 10] == pytest.approx(OFFSET["ip2"], rel=1e-12)
