@@ -450,6 +450,7 @@ def campbell(
     orders: Sequence[int] = (1, 2, 3),
     mesh_hz_range: tuple[float, float] | None = None,
     speeds: int | None = None,
+    clearances: str = "contact",
 ) -> dict[str, Any]:
     """Campbell diagram: the mesh-order lines and their crossings with the natural frequencies.
 
@@ -473,6 +474,8 @@ def campbell(
     speeds : int
         With gyroscopic terms: the number of speeds, evenly spaced over ``rpm_range``, at which the modes are
         solved for the branches (default :data:`BRANCH_SPEEDS`).
+    clearances : {"contact", "open"}
+        The clearance elements of those modes (see :func:`modal_analysis`).
 
     Returns
     -------
@@ -520,7 +523,7 @@ def campbell(
         raise ModelError(f"{what}: must be 0 <= low < high, got {(lo, hi)!r}")
     names = [m.name for m in desc.meshes]
     G = desc.gyroscopic_matrix() if hasattr(desc, "gyroscopic_matrix") else None
-    spinning = _Spinning(desc, "contact", G) if G is not None and z is not None else None
+    spinning = _Spinning(desc, clearances, G) if G is not None and z is not None else None
     if spinning is not None:
         n_sp = BRANCH_SPEEDS if speeds is None else int(speeds)
         if not 2 <= n_sp <= 10000:
@@ -727,7 +730,7 @@ def modes_report(
         out["campbell"] = None
         out["campbell_note"] = "the system has no mesh: no Campbell diagram"
         return out
-    out["campbell"] = campbell(desc, res, rpm_range, orders, mesh_hz_range)
+    out["campbell"] = campbell(desc, res, rpm_range, orders, mesh_hz_range, clearances=clearances)
     if out["campbell"].get("gyroscopic"):
         out["gyroscopic"] = True
     if desc.reference_mesh.teeth is None:
