@@ -19,12 +19,12 @@ inertia on its two tilts (:func:`disc_gyroscopic`): with the tilts rx, ry of a s
     I_d rx'' + Ω I_p ry' = M_x,    I_d ry'' − Ω I_p rx' = M_y,
 
 the rate of change of the angular momentum I_p Ω (ry, −rx, 1) + I_d (rx', ry', 0) of the tilted disc
-(Friswell et al. 2010, §5.3: G = [[0, I_p], [−I_p, 0]] over the rotations (θ, ψ) about x and y).
+(Friswell et al. 2010, ch. 5: G = [[0, I_p], [−I_p, 0]] over the rotations (θ, ψ) about x and y).
 
 References
 ----------
 .. [1] M. I. Friswell, J. E. T. Penny, S. D. Garvey, A. W. Lees, *Dynamics of Rotating Machines*,
-   Cambridge University Press, 2010, §5.3 (the rigid disc and its gyroscopic matrix).
+   Cambridge University Press, 2010, ch. 5 (the rigid disc and its gyroscopic matrix).
 """
 
 from __future__ import annotations
