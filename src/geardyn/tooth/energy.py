@@ -309,6 +309,8 @@ def stress_correction(s_Fn: float, h_Fe: np.ndarray, rho_F: float) -> np.ndarray
 
 #: Composite Gauss-Legendre rule over the crack depth (panels × points) for the notch's short-crack term.
 _PANELS, _GAUSS = 48, np.polynomial.legendre.leggauss(4)
+#: Load points per block of that quadrature.
+_CHUNK = 4096
 
 
 def crack_compliance(
@@ -359,9 +361,17 @@ def crack_compliance(
         t = (0.5 * (edges[:-1] + edges[1:])[:, None] + half * x[None, :]).ravel()
         wt = np.tile(half * w, _PANELS) * t  # ∫_0^ξ t g(t) dt = wt @ g
         P = np.polynomial.polynomial.polyval
-        F_b = np.maximum(P(t, TADA_BENDING)[None, :], 1.12 * K_t[:, None] / np.sqrt(1.0 + 4.5 * W * t / rho_F))
-        I_mm = ((F_b * F_b) @ wt).reshape(shape)
-        I_mn = ((F_b * P(t, TADA_TENSION)[None, :]) @ wt).reshape(shape)
+        f_m, f_n, notch = (
+            P(t, TADA_BENDING)[None, :],
+            P(t, TADA_TENSION)[None, :],
+            1.12 / np.sqrt(1.0 + 4.5 * W * t / rho_F),
+        )
+        I_mm, I_mn = np.empty(K_t.size), np.empty(K_t.size)
+        for i in range(0, K_t.size, _CHUNK):  # in blocks: (points × quadrature nodes) stays small
+            F_b = np.maximum(f_m, K_t[i : i + _CHUNK, None] * notch[None, :])
+            I_mm[i : i + _CHUNK] = (F_b * F_b) @ wt
+            I_mn[i : i + _CHUNK] = (F_b * f_n) @ wt
+        I_mm, I_mn = I_mm.reshape(shape), I_mn.reshape(shape)
     else:
         I_mm = _xi_integral(TADA_BENDING, TADA_BENDING, xi)
         I_mn = _xi_integral(TADA_BENDING, TADA_TENSION, xi)
