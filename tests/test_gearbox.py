@@ -272,17 +272,14 @@ def test_modes_figures_of_the_gearbox_redraw(tmp_path):
 
 
 def test_torque_orders_on_a_gearbox_enter_the_forcing_period_and_the_model(tmp_path):
-    """The shipped motor's 6th order (commented out in the file) runs at 6/23 of the stage-1 mesh frequency: with
-    the meshes' 64 cycles the forcing repeats after lcm(64, 23) = 1472 cycles, above the default bound 1000."""
-    ex = tmp_path / "orders.toml"
-    text = (ROOT / "examples/gearbox/two_stage_helical.toml").read_text()
-    assert '# orders = [{ order = 6, amplitude = "4.5 N*m"' in text
-    ex.write_text(text.replace("# orders = [", "orders = ["))
+    """The shipped motor's 2nd order (an engine's firing order) runs at 2/23 of the stage-1 mesh frequency: with
+    the meshes' 64 cycles the forcing repeats after lcm(64, 23/2) = 1472 cycles, above the default bound 1000."""
+    ex = ROOT / "examples/gearbox/two_stage_helical.toml"
     d = load_description(ex)
-    assert d.kinematics["order_ratios"] == {"order 6 of motor": "6/23"}
+    assert d.kinematics["order_ratios"] == {"order 2 of motor": "2/23"}
     assert d.kinematics["forcing_period_mesh_cycles"] == 1472
     motor = next(ld for ld in d.loads if ld.body == "motor")
-    assert motor.orders == ((Fraction(6), 4.5, 0.0),) and motor.speed == Fraction(1, 23)
+    assert motor.orders == ((Fraction(2), 30.0, 0.0),) and motor.speed == Fraction(1, 23)
     s = load_system(ex)
     assert s.period_multiple() == 1472
     text = ex.read_text().replace("max_period = 1500", "max_period = 1000")
@@ -291,7 +288,7 @@ def test_torque_orders_on_a_gearbox_enter_the_forcing_period_and_the_model(tmp_p
     with pytest.raises(
         ModelError,
         match=r"is 1472 cycles of mesh 'stage1', above the bound max_period = 1000 "
-        r"\(mesh 'stage2' at 19/64, order 6 of motor at 6/23 of",
+        r"\(mesh 'stage2' at 19/64, order 2 of motor at 2/23 of",
     ):
         load_description(f)
 
