@@ -1,4 +1,4 @@
-r"""Run-up and run-down: the gear pair driven through a speed ramp, order-tracked.
+r"""Run-up and run-down: a System (the gear pair, or any system file) driven through a speed ramp, order-tracked.
 
 During a ramp the mesh frequency changes with time and the forcing is no longer periodic: the mesh
 angle is the integral of the speed, θ(τ) = ∫ ω(s) ds.  The ramp is integrated here with the same
@@ -27,15 +27,17 @@ blocks, a few hundred, is in Python).  The error of the piecewise-constant speed
 :func:`block_error` against a reference that steps the speed every mesh cycle.
 
 Per block the result holds the order-tracked DTE (amplitude of mesh orders 1 … L of u over the
-block, by a DFT over its whole periods), the half peak-to-peak amplitude of u, and the dynamic
-factor max F_n / F_p (the mesh force of :func:`geardyn.analysis.physical.mesh_force` over the static
-force f_p).  With a slow enough ramp these equal the steady (quasi-static) frequency response at
-the block's speed; faster ramps delay the jumps of a run-up past those of the steady sweep.
+block, by a DFT over its whole periods; u the reference element's deflection, the pair's DTE), the half
+peak-to-peak amplitude of u, and the dynamic factor max F_n / F_p (the reference element's force,
+``System.element_forces``, over its static force ``System.static_force``).  A system's forcing period spans
+``period_multiple()`` reference mesh cycles (its meshes' and torque orders' least common period): the blocks are
+whole forcing periods as for a pair's excitation of P cycles.  With a slow enough ramp these equal the steady
+(quasi-static) frequency response at the block's speed; faster ramps delay the jumps of a run-up past those of the
+steady sweep.
 """
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -46,7 +48,7 @@ import xarray as xr
 
 from ..errors import ModelError
 from ..integrate import integrate_batch, trajectory
-from ..model import DEFAULT_DTAU, GearModel, IntegrationOptions
+from ..model import DEFAULT_DTAU, IntegrationOptions
 
 __all__ = ["MAX_BLOCKS", "RunupResult", "block_error", "runup", "steady_response"]
 
@@ -62,7 +64,7 @@ class RunupResult:
 
     Attributes
     ----------
-    model : GearModel
+    model : System
         The model (its ω is replaced by the ramp's).
     omega : numpy.ndarray
         Speed ω_b of each block.
@@ -87,7 +89,7 @@ class RunupResult:
         The integration options the ramp used.
     """
 
-    model: GearModel
+    model: Any
     omega: np.ndarray
     tau: np.ndarray
     cycles: int
@@ -134,13 +136,13 @@ class RunupResult:
                 "duration_tau": self.duration,
                 "ramp_rate_per_tau": self.ramp_rate,
                 "diverged": int(self.diverged),
-                "model": json.dumps(self.model.to_dict()),
+                **_model_attrs(self.model),
             },
         )
         if self.spectrum is not None:
             ds["spectrum"] = (("block", "spectrum_order"), self.spectrum)
             ds = ds.assign_coords(spectrum_order=("spectrum_order", self.spectrum_orders))
-            ds.attrs["excitation_cycles"] = int(self.model.cycles)
+            ds.attrs["excitation_cycles"] = int(self.model.period_multiple() or 1)
         annotate(ds)
         return ds
 
@@ -165,7 +167,7 @@ class RunupResult:
             "diverged": self.diverged,
         }
         if self.spectrum is not None:
-            out["excitation_cycles"] = int(self.model.cycles)
+            out["excitation_cycles"] = int(self.model.period_multiple() or 1)
             out["spectrum_orders"] = lst(self.spectrum_orders)
             out["spectrum"] = [lst(self.spectrum[:, j]) for j in range(self.spectrum.shape[1])]
         return out
@@ -187,7 +189,7 @@ def _block_speeds(w0: float, w1: float, duration: float, cycles: int) -> tuple[n
 
 
 def runup(
-    model: GearModel,
+    model: Any,
     omega_start: float,
     omega_stop: float,
     duration: float,
@@ -198,15 +200,15 @@ def runup(
     dtau: float = DEFAULT_DTAU,
     accurate: bool = False,
     settle: int = 200,
-    state0: tuple[float, float] = (0.0, 0.0),
+    state0: Any = (0.0, 0.0),
     progress: Callable[[int, int], None] | None = None,
 ) -> RunupResult:
     """Integrate the model through a linear speed ramp ω(τ) from ``omega_start`` to ``omega_stop``.
 
     Parameters
     ----------
-    model : GearModel
-        The model (its ω is not used).
+    model : System
+        The model (its ω is not used): the pair, or a system (its reference mesh's cycles count).
     omega_start, omega_stop : float
         Speeds at the start and end of the ramp (> 0; a run-down has omega_stop < omega_start).
     duration : float
@@ -225,8 +227,8 @@ def runup(
     settle : int
         Mesh periods integrated at ``omega_start`` before the ramp, so that it starts on a steady state (rounded
         up to whole forcing periods of P mesh periods).
-    state0 : (u0, u0')
-        State at the start of the settling.
+    state0 : (u0, u0') or a full state
+        State at the start of the settling (the reference element's (u0, u0'): ``model.initial_state(u0, u0')``).
     progress : callable, optional
         Called as ``progress(done, total)`` in blocks: (0, blocks) once the settling is done, then after each
         block (and (blocks, blocks) at the end, also after a divergence); the result does not depend on it.
@@ -276,16 +278,17 @@ def runup(
             )
     speeds, mids = _block_speeds(w0, w1, T, m)
     IntegrationOptions(dtau=dtau).check_for(max(w0, w1))
+    state0 = _state(model, state0)
     if P == 1:
         start = integrate_batch(
-            [model.replace(omega=w0)],
+            [model.with_param("omega", w0)],
             state0,
             IntegrationOptions(dtau=dtau, transient=max(int(settle), 0), periods=1, accurate=accurate),
             record_poincare=False,
         )
     else:  # settle mesh periods rounded up to forcing periods, at the one-cycle model's step
         start = integrate_batch(
-            [model.replace(omega=w0)],
+            [model.with_param("omega", w0)],
             state0,
             IntegrationOptions(dtau=dtau, transient=-(-max(int(settle), 0) // P), periods=1, accurate=accurate),
             record_poincare=False,
@@ -304,7 +307,7 @@ def runup(
     for b in range(nb):
         if diverged:
             break
-        out = _block(model.replace(omega=float(speeds[b])), state, opts, m, orders, spec is not None)
+        out = _block(model.with_param("omega", float(speeds[b])), state, opts, m, orders, spec is not None)
         if out is None:
             diverged = True
             break
@@ -338,22 +341,38 @@ def _steps(omega: float, dtau: float, P: int) -> int | None:
     return None if P == 1 else P * int(math.ceil(2.0 * math.pi / omega / dtau))
 
 
-def _block(mb: GearModel, state: np.ndarray, opts: IntegrationOptions, m: int, orders: int, spectrum: bool = False):
+def _model_attrs(model: Any) -> dict[str, str]:
+    """The model as a run-up result stores it: the pair's ``model``, a system's ``system_model`` (its backend's)."""
+    from ..io import result_attrs
+
+    a = result_attrs("runup", model, IntegrationOptions())
+    return {k: a[k] for k in ("model", "system_model", "geardyn_system") if k in a}
+
+
+def _state(model: Any, state0: Any) -> np.ndarray:
+    """The full start state: ``state0`` itself, or the reference element's (u0, u0') of ``model.initial_state``."""
+    s = np.asarray(state0, dtype=float).ravel()
+    if s.size == 2 and model.state_dim != 2:
+        return model.initial_state(float(s[0]), float(s[1]))
+    return s
+
+
+def _block(mb: Any, state: np.ndarray, opts: IntegrationOptions, m: int, orders: int, spectrum: bool = False):
     """Order amplitudes, half peak-to-peak, dynamic factor and end state of m recorded mesh periods (None: diverged);
     with ``spectrum`` also the amplitudes of the orders j/P, j = 1 … (orders + 1)P − 1."""
-    from .physical import mesh_force
-
-    P = int(getattr(mb, "cycles", 1))
+    P = int(round(mb.sampling_period * mb.omega / (2.0 * math.pi)))  # mesh cycles of a sampling period
     k = m // P  # forcing periods
     tr = trajectory(mb, tuple(state), opts, history_periods=k, steps=_steps(mb.omega, opts.dtau, P))
-    u, v = tr.u[:-1], tr.v[:-1]
+    u = tr.u[:-1]
     if not np.all(np.isfinite(u)):
         return None
     n = u.size
     theta = 2.0 * np.pi * m * np.arange(n) / n  # the mesh phase
     amp_o = 2.0 * np.abs(np.exp(-1j * np.outer(np.arange(1, orders + 1), theta)) @ u) / n
-    kdyn = float(np.max(mesh_force(mb, tr.tau[:-1], u, v))) / mb.fp if mb.fp > 0 else np.nan
-    out = (amp_o, 0.5 * (u.max() - u.min()), kdyn, np.array([tr.u[-1], tr.v[-1]]))
+    f0 = float(mb.static_force())
+    force = mb.element_forces(tr.tau[:-1], tr.deltas[:-1])
+    kdyn = float(np.max(force[:, tr.summary.reference])) / f0 if f0 > 0 else np.nan
+    out = (amp_o, 0.5 * (u.max() - u.min()), kdyn, np.array(tr.x[-1]))
     if spectrum:  # order j/P is the DFT bin j·k of the k forcing periods
         X = np.fft.rfft(u)
         out += (2.0 * np.abs(X[k * np.arange(1, (orders + 1) * P)]) / n,)
@@ -361,7 +380,7 @@ def _block(mb: GearModel, state: np.ndarray, opts: IntegrationOptions, m: int, o
 
 
 def steady_response(
-    model: GearModel,
+    model: Any,
     omegas: Any,
     *,
     orders: int = 3,
@@ -375,7 +394,7 @@ def steady_response(
 
     Parameters
     ----------
-    model : GearModel
+    model : System
         The model.
     omegas : array_like
         Speeds ω (increasing).
@@ -401,15 +420,15 @@ def steady_response(
     done = 0
     for lab, seq in (("up", range(w.size)), ("down", range(w.size - 1, -1, -1))):
         rows: dict[int, Any] = {}
-        state = np.zeros(2)
+        state = model.initial_state()
         for i in seq:
-            r = _block(model.replace(omega=float(w[i])), state, opts, opts.periods * P, orders)
+            r = _block(model.with_param("omega", float(w[i])), state, opts, opts.periods * P, orders)
             rows[i] = r
             done += 1
             if progress is not None:
                 progress(done, 2 * w.size)
             if r is None:
-                state = np.zeros(2)
+                state = model.initial_state()
             else:
                 state = r[3]
 

@@ -115,7 +115,9 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "engineering",
         (
             "Run-up / run-down through a linear speed ramp: order-tracked DTE, amplitude and dynamic factor against\n"
-            "speed, beside the quasi-static (steady) response swept up and down."
+            "speed, beside the quasi-static (steady) response swept up and down; with --system those of the "
+            "reference\n"
+            "mesh of any system file."
         ),
     ),
     "hb": (

@@ -159,7 +159,13 @@ def attach_iso_kv(cfg: Any, model: Any, ds: Any, summary: dict[str, Any]) -> tup
 
 
 RUNUP_OPTIONS = [
-    option("ru_rpm_start", Optional[float], None, "--rpm-start", help="Pinion speed at the start of the ramp (rpm)."),
+    option(
+        "ru_rpm_start",
+        Optional[float],
+        None,
+        "--rpm-start",
+        help="Pinion speed at the start of the ramp (rpm; with --system the reference mesh's pinion).",
+    ),
     option(
         "ru_rpm_stop",
         Optional[float],
@@ -188,7 +194,8 @@ RUNUP_OPTIONS = [
         None,
         "--cycles-per-block",
         help="Mesh cycles per constant-speed block (default: about 400 blocks); with an --excitation of P mesh cycles "
-        "a multiple of P (blocks of whole forcing periods).",
+        "(or a system whose forcing period is P reference mesh cycles) a multiple of P (blocks of whole forcing "
+        "periods).",
     ),
     option("orders", int, 3, "--orders", help="Mesh orders tracked."),
     option("qs_num", int, 21, "--num", help="Speeds of the quasi-static (steady) response beside the ramp (0: none)."),
@@ -267,7 +274,8 @@ def _check_ramp_steps(inp: Inputs, w0: float, w1: float, T: float) -> None:
 @command("runup", RUNUP_OPTIONS, model_group(omega=False, rpm=False), OUTPUT)
 def runup_cmd(inp: Inputs) -> None:
     """Run-up / run-down through a linear speed ramp: order-tracked DTE, amplitude and dynamic factor against
-    speed, beside the quasi-static (steady) response swept up and down."""
+    speed, beside the quasi-static (steady) response swept up and down; with --system those of the reference
+    mesh of any system file."""
     import json
 
     import numpy as np
@@ -316,7 +324,10 @@ def runup_cmd(inp: Inputs) -> None:
             "duration_s": float(sc.s_from_tau(T)),
             "amplitude_um": [None if not np.isfinite(x) else float(x) for x in ds["amplitude_um"].values],
             "pair": sc.statement(),
-            "model": model.to_dict(),
+            # the pair's model whole; a system's file and reference mesh (its matrices are in the Dataset)
+            "model": json.loads(model.to_attrs())
+            if model.backend.name == "pair"
+            else {"system": str(inp.values["system"]), "reference_mesh": sc.reference, "dofs": model.n},
         }
     )
     if nq >= 2:

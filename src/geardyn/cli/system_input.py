@@ -47,7 +47,18 @@ CoordsOpt = Annotated[
 ]
 
 #: Commands that take ``--system``.
-SYSTEM_COMMANDS = ("simulate", "lyapunov", "orbit", "continuation", "bifurcation", "response", "map", "basins", "hb")
+SYSTEM_COMMANDS = (
+    "simulate",
+    "lyapunov",
+    "orbit",
+    "continuation",
+    "bifurcation",
+    "response",
+    "map",
+    "basins",
+    "hb",
+    "runup",
+)
 _NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
 
 
