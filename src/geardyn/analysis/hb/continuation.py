@@ -50,12 +50,7 @@ from .equations import HBEquations, single_thread_blas, solve
 from .hill import HillResult
 from .solve import hb_solve
 
-__all__ = [
-    "KIND",
-    "HBBifurcation",
-    "HBContinuation",
-    "hb_continuation",
-]
+__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation"]
 
 #: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
 KIND = "hb"
@@ -458,7 +453,7 @@ class _Tracer:
         A[-1] = ref
         rhs = np.zeros(self.M + 1)
         rhs[-1] = 1.0
-        t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else solve(A, rhs)
+        t = solve(A, rhs, robust=True)
         t /= np.linalg.norm(t)
         return t if t @ ref >= 0 else -t
 

@@ -25,14 +25,7 @@ from .equations import (
 )
 from .hill import HillResult
 
-__all__ = [
-    "HBSolution",
-    "hb_solve",
-    "default_harmonics",
-    "DEFAULT_HARMONICS",
-    "MAX_DEFAULT_HARMONICS",
-    "NEWTON_TOL",
-]
+__all__ = ["HBSolution", "hb_solve", "default_harmonics", "DEFAULT_HARMONICS", "MAX_DEFAULT_HARMONICS", "NEWTON_TOL"]
 
 
 @dataclass
