@@ -54,7 +54,7 @@ def test_sparse_jacobian_is_the_dense_one_and_gives_the_same_solution(chain, spa
     R2, J2 = dense_eq.residual(x)
     assert isinstance(J2, np.ndarray)
     np.testing.assert_array_equal(R, R2)
-    assert np.abs(J.toarray() - J2).max() <= 1e-14 * np.abs(J2).max()
+    assert np.abs(np.asarray(J) - J2).max() <= 1e-14 * np.abs(J2).max()
     # Newton from the same starts with the dense Jacobian and LAPACK, and with the sparse one: the linear response
     # (it leads to another of the three orbits between the folds at ω = 0.724 and 0.775) and the solution disturbed
     starts = [eq.unknowns(eq.linear_guess()), x + 1e-3 * np.random.default_rng(3).standard_normal(x.size)]
@@ -67,15 +67,11 @@ def test_sparse_jacobian_is_the_dense_one_and_gives_the_same_solution(chain, spa
     assert np.abs(sparse[1][0] - x).max() <= 1e-10 * np.abs(x).max()
 
 
-def test_chain_hb_is_the_simulated_orbit_with_its_multipliers(chain, sparse_solution):
+def test_chain_hb_is_the_simulated_orbit(chain, sparse_solution):
     """HB at H = 16 against simulation (RK4, accurate mode, Δτ = 0.004, 60 forcing periods from the HB state): the
-    reference mesh's extremes and the state at θ = 0; the elastic Floquet multipliers against the period map's
-    monodromy at the simulated point (Δτ = 0.002; halving it changes them by 2e-12).
-
-    Measured: 2.2e-6 in δ_min/δ_max (the series' truncation at the kink of the dead zone, docs/hb.md; 3.5e-7 at
-    H = 32), 2.4e-6 in the elastic positions, 2.1e-5 in the velocities, 7.5e-4 in the multipliers (the complex
-    pairs of modulus 0.4; the same at H = 24 and 32 and with a third of the monodromy's step: the monodromy's
-    start, not the series or the step).  Asserted: 2e-5, 3e-5, 2e-4 and 2e-3."""
+    reference mesh's extremes and the state at θ = 0.  Measured: 2.2e-6 in δ_min/δ_max (the series' truncation at
+    the kink of the dead zone, docs/hb.md; 3.5e-7 at H = 32), 2.4e-6 in the elastic positions, 2.1e-5 in the
+    velocities.  Asserted: 2e-5, 3e-5 and 2e-4."""
     sol = sparse_solution
     x0, n = sol.state(), chain.n
     run = integrate_batch([chain], x0, IntegrationOptions(dtau=0.004, transient=60, periods=1, accurate=True))
@@ -85,8 +81,19 @@ def test_chain_hb_is_the_simulated_orbit_with_its_multipliers(chain, sparse_solu
     assert abs(sol.u_min - run.element_u_min(0)[0]) < 2e-5 and abs(sol.u_max - run.element_u_max(0)[0]) < 2e-5
     assert np.abs(sol.equations.elastic.T @ (x0[:n] - xs[:n])).max() < 3e-5  # up to the rigid-body rotation
     assert np.abs(x0[n:] - xs[n:]).max() < 2e-4
-    mu, r = elastic_multipliers(chain, PeriodMap(chain, 1, dtau=0.002, accurate=True).jacobian(xs))
-    assert r == sol.rigid == 1 and mu.size == sol.multipliers.size == 2 * (n - 1)
+
+
+def test_chain_multipliers_are_the_period_maps(chain):
+    """The elastic Floquet multipliers of the monodromy kernel (its sums over the nonzeros) against the period
+    map's monodromy (Δτ = 0.002, accurate mode) at the simulated point, at ω = 0.62 where every mesh stays in
+    contact.  Measured 3e-9; asserted 1e-6.  (Where a mesh leaves contact for a few thousandths of D, as at
+    ω = 0.7 to 0.78 here, the multipliers of either method move by up to 3e-3 with the start state: the length of
+    so shallow a gap excursion is ill-conditioned.)"""
+    model = chain.with_param("omega", 0.62)
+    sol = hb_solve(model, 16)
+    assert sol.converged and sol.hill.status is Status.OK and sol.u_min > model.meshes[0].D
+    run = integrate_batch([model], sol.state(), IntegrationOptions(dtau=0.004, transient=20, periods=1))
+    mu, r = elastic_multipliers(model, PeriodMap(model, 1, dtau=0.002, accurate=True).jacobian(run.poincare[0, -1]))
+    assert r == sol.rigid == 1 and mu.size == sol.multipliers.size == 2 * (model.n - 1)
     d = np.abs(sol.multipliers[:, None] - mu[None, :])
-    assert max(d.min(axis=0).max(), d.min(axis=1).max()) < 2e-3
-    assert sol.stable and np.max(np.abs(mu)) < 1.0
+    assert max(d.min(axis=0).max(), d.min(axis=1).max()) < 1e-6

@@ -189,25 +189,11 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
     m = Y.shape[1]
     ne = W.shape[0]
     inv_nu = 1.0 / nu
-    s1 = np.empty(n2)
-    s2 = np.empty(n2)
-    s3 = np.empty(n2)
-    s4 = np.empty(n2)
-    st = np.empty(n2)
-    xe = np.empty(n2)
-    xt = np.empty(n2)
-    k1 = np.empty((n2, m))
-    k2 = np.empty((n2, m))
-    k3 = np.empty((n2, m))
-    k4 = np.empty((n2, m))
-    tmp = np.empty((n2, m))
+    sv, kv, cv = np.empty((7, n2)), np.empty((5, n2, m)), np.empty((5, 5, max(A.shape[0], ne)))
+    s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
+    k1, k2, k3, k4, tmp = kv[0], kv[1], kv[2], kv[3], kv[4]
+    c0, c1, c2, t1, t2 = cv[0], cv[1], cv[2], cv[3], cv[4]
     vy = np.empty((3, m))
-    width = max(A.shape[0], ne)
-    c0 = np.empty((5, width))
-    c1 = np.empty((5, width))
-    c2 = np.empty((5, width))
-    t1 = np.empty((5, width))
-    t2 = np.empty((5, width))
     reg = np.empty(ne, dtype=np.int64)
     for e in range(ne):
         reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], Ez, Le, 0.0), D[e])

@@ -34,7 +34,6 @@ T. M. Cameron and J. H. Griffin, J. Appl. Mech. 56 (1989) 149–154 (AFT); G. W.
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -100,30 +99,20 @@ def single_thread_blas() -> Iterator[None]:
         yield
 
 
-class Pattern:
-    """Where the entries of a sparse Jacobian go: row and column of each value, in the order the values are made,
-    and the compressed-column slot of each (duplicates summed)."""
-
-    def __init__(self, rows: np.ndarray, cols: np.ndarray, n: int):
-        key, self.n = np.asarray(cols, dtype=np.int64) * n + np.asarray(rows, dtype=np.int64), n
-        uniq, self.slot = np.unique(key, return_inverse=True)
-        self.rows, self.cols, self.indices = rows, cols, (uniq % n).astype(np.int32)
-        self.indptr = np.concatenate([[0], np.cumsum(np.bincount(uniq // n, minlength=n))]).astype(np.int32)
-
-    @functools.cached_property
-    def bordered(self) -> Pattern:
-        """This pattern with a full last column and row (the continuation's border) added."""
-        n, full = self.n, np.arange(self.n + 1)
-        return Pattern(np.concatenate([self.rows, full[:-1], np.full(n + 1, n)]),
-                       np.concatenate([self.cols, np.full(n, n), full]), n + 1)  # fmt: skip
+def _slots(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple:
+    """The compressed-column slot of each entry (rows[i], cols[i]) of an n×n matrix (duplicates summed), the row
+    indices and the column pointers: (slot, indices, indptr, n)."""
+    uniq, slot = np.unique(np.asarray(cols, dtype=np.int64) * n + rows, return_inverse=True)
+    return slot, (uniq % n).astype(np.int32), np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32), n
 
 
 class SparseJacobian:
-    """A Jacobian assembled sparse (forms of more than :data:`SPARSE_DOFS` coordinates): its values in a
-    :class:`Pattern`, a dense last column ``col`` and row (set by ``A[-1] = row``) when bordered, factorised by
-    SuperLU (COLAMD ordering, threshold pivoting, one step of iterative refinement)."""
+    """A Jacobian assembled sparse (forms of more than :data:`SPARSE_DOFS` coordinates): its values at the entries
+    of ``pattern`` (:meth:`HBEquations._pattern`: the matrix's, then the bordered one's), a dense last column
+    ``col`` and row (``A[-1] = row``) when bordered; solved by SuperLU (COLAMD, threshold pivoting, one step of
+    iterative refinement).  ``numpy.asarray`` gives it dense."""
 
-    def __init__(self, pattern: Pattern, values: np.ndarray, col: np.ndarray | None = None):
+    def __init__(self, pattern: tuple, values: np.ndarray, col: np.ndarray | None = None):
         self.pattern, self.values, self.col = pattern, values, col
         self.row = None if col is None else np.zeros(col.size + 1)
 
@@ -131,14 +120,13 @@ class SparseJacobian:
         self.row[:] = row
 
     def tocsc(self) -> sparse.csc_matrix:
-        p, v = self.pattern, self.values
-        if self.col is not None:
-            p, v = p.bordered, np.concatenate([v, self.col, self.row])
-        m = sparse.csc_matrix((np.bincount(p.slot, v, p.indices.size), p.indices, p.indptr), (p.n, p.n), copy=True)
+        (slot, indices, indptr, n), v = self.pattern[self.col is not None], self.values
+        v = v if self.col is None else np.concatenate([v, self.col, self.row])
+        m = sparse.csc_matrix((np.bincount(slot, v, indices.size), indices, indptr), (n, n), copy=True)
         m.eliminate_zeros()  # (in the copy: the pattern's arrays are kept)
         return m
 
-    def toarray(self) -> np.ndarray:
+    def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
         return self.tocsc().toarray()
 
     def solve(self, b: np.ndarray) -> np.ndarray:
@@ -151,11 +139,6 @@ class SparseJacobian:
             raise np.linalg.LinAlgError(str(err)) from None
         x = lu.solve(b)
         return x + lu.solve(b - m @ x)
-
-
-def dense(A: np.ndarray | SparseJacobian) -> np.ndarray:
-    """A as a dense array."""
-    return A.toarray() if isinstance(A, SparseJacobian) else A
 
 
 def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -> np.ndarray:
@@ -238,7 +221,7 @@ class _Point(NamedTuple):
     E: tuple[np.ndarray, ...]  # every element's E on the δ basis (real coefficients)
     G0: np.ndarray  # (dofs, 2H + 1) real coefficients of the forcing
     G2: np.ndarray
-    pattern: Pattern | None  # of the sparse Jacobian (None: dense)
+    pattern: tuple | None  # of the sparse Jacobian and the bordered one (None: dense)
 
 
 class HBEquations:
@@ -352,7 +335,7 @@ class HBEquations:
         G2 = np.array([cut(_centred(g, self.H)) for g in f.G2])
         return _Point(m, f, E, G0, G2, self._pattern(f) if f.dofs > SPARSE_DOFS else None)
 
-    def _pattern(self, f: HBForm) -> Pattern:
+    def _pattern(self, f: HBForm) -> tuple:
         """The entries of the sparse Jacobian in the order :meth:`_jacobian` makes them: the blocks of I⊗D₂, A⊗I,
         B⊗D₁ and (W_e V_eᵀ)⊗op_e at the nonzeros of the DOF matrix, then the gauge columns and rows."""
         M, N0 = self.M, f.dofs * self.M
@@ -361,7 +344,9 @@ class HBEquations:
         parts += [_kron_index(np.outer(el.W, el.V), ei, ej, M) for el in f.elements]
         (gi, gk), (hi, hk) = np.nonzero(self.left), np.nonzero(self.gauge)
         rows, cols = (np.concatenate(x) for x in zip(*parts, (gi, N0 + gk), (N0 + hk, hi)))
-        return Pattern(rows, cols, self.basis.size)
+        n, full = self.basis.size, np.arange(self.basis.size + 1)
+        border = np.concatenate([rows, full[:-1], np.full(n + 1, n)]), np.concatenate([cols, np.full(n, n), full])
+        return _slots(rows, cols, n), _slots(*border, n + 1)
 
     def _entry(self, p: float | None) -> _Point:
         key = None if (p is None or self.param is None) else float(p)
@@ -526,7 +511,7 @@ class HBEquations:
             try:
                 da = solve(J, -R)
             except np.linalg.LinAlgError:
-                da = np.linalg.lstsq(dense(J), -R, rcond=None)[0]
+                da = np.linalg.lstsq(J, -R, rcond=None)[0]
             lam = 1.0
             while lam >= NEWTON_MIN_DAMPING:
                 trial = a + lam * da
@@ -552,7 +537,7 @@ class HBEquations:
         if self.floquet == "hill":
             _, nu, J, _, _ = self._core(x, p, True)
             nd, M = self.basis.dofs, self.M
-            J = dense(J)[: nd * M, : nd * M]
+            J = np.asarray(J)[: nd * M, : nd * M]
             Cop = np.kron(f.B, np.eye(M))
             for el in f.elements:
                 Cop += np.kron(np.outer(el.W, el.V), real_operator_kernel(toeplitz(el.C, self.H), self.H))
