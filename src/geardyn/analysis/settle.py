@@ -41,8 +41,10 @@ __all__ = [
     "Settling",
     "cycles_to_periods",
     "decay_rate",
+    "decay_rates",
     "settle_periods",
     "transient_cycles",
+    "unsettled_note",
 ]
 
 #: e-folds of decay of the least damped mode before recording (e^-12 = 6.1e-6).
@@ -158,6 +160,38 @@ def decay_rate(model: Any) -> float:
     return sigma
 
 
+def decay_rates(models: Any, which: Iterable[int]) -> np.ndarray:
+    """σ_min (:func:`decay_rate`) of the points ``which`` of a batch, NaN at every other point and where a mode
+    is undamped or grows (no decay rate: such a model does not hide a torus, see
+    :func:`geardyn.analysis.classify.decay_hides_torus`).
+
+    Parameters
+    ----------
+    models : Batch
+        The points.
+    which : iterable of int
+        The points to compute.
+
+    Returns
+    -------
+    ndarray (P,)
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> from geardyn.system import ModelList
+    >>> np.round(decay_rates(ModelList([GearModel(xi0=0.05), GearModel(xi0=0.1)]), [1]), 12).tolist()
+    [nan, 0.1]
+    """
+    out = np.full(len(models), np.nan)
+    for i in which:
+        try:
+            out[int(i)] = decay_rate(models[int(i)])
+        except ModelError:
+            pass
+    return out
+
+
 def settle_periods(
     model: Any,
     omegas: Iterable[float] | None = None,
@@ -198,6 +232,46 @@ def settle_periods(
     raw = math.ceil(t / T - 1e-9)
     n = min(max(raw, int(floor)), int(cap))
     return Settling(n, sigma, t, T, capped=raw > cap, floored=raw < floor)
+
+
+def unsettled_note(model: Any, transient: int) -> str | None:
+    """One line when ``transient`` forcing periods leave the least damped linearised mode undecayed (less than
+    e^-:data:`DECAY_EFOLDS`): its decay, how far the transient takes it and the count ``auto`` would take; None
+    when the transient suffices or no mode has a decay time.
+
+    Parameters
+    ----------
+    model : System
+        The run's model.
+    transient : int
+        Forcing periods discarded before recording.
+
+    Returns
+    -------
+    str or None
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> print(unsettled_note(GearModel(omega=0.8, xi0=0.001), 300))  # doctest: +NORMALIZE_WHITESPACE
+    transient: 300 forcing periods decay the least damped mode (e^(-0.001 τ)) to e^-2.36 only; e^-12 needs 1528
+    (--transient auto)
+    >>> unsettled_note(GearModel(omega=0.8), 300) is None
+    True
+    """
+    try:
+        sigma = decay_rate(model)
+    except ModelError:
+        return None
+    T = float(model.sampling_period)
+    folds = sigma * T * int(transient)
+    if folds >= DECAY_EFOLDS:
+        return None
+    need = math.ceil(DECAY_EFOLDS / (sigma * T) - 1e-9)
+    return (
+        f"transient: {int(transient)} forcing periods decay the least damped mode (e^(-{sigma:.3g} τ)) to "
+        f"e^-{folds:.3g} only; e^-{DECAY_EFOLDS:g} needs {need} (--transient auto)"
+    )
 
 
 #: The suffix of ``--transient`` meaning reference mesh cycles (``--transient 3000cycles``).

@@ -34,7 +34,7 @@ name      shape                 meaning
 ========  ====================  ===========================================================
 Mi        (n, n)                M̃⁻¹, symmetric positive definite
 Kb        (n, n)                K̃_b, linear connections (symmetric)
-Cb        (n, n)                C̃_b, linear connections (symmetric)
+Cb        (n, n)                C̃_b, linear connections (symmetric), plus ω G̃ with gyroscopic terms
 V         (meshes, n)           mesh vectors Ṽ_m (rows)
 coef      (meshes, 3, H+1, 2)   X_m(θ) = Σ_j coef[m,i,j,0] cos(j r_m θ) + coef[m,i,j,1] sin(j r_m θ)
                                 for i = 0: C_m (the full damping coefficient, 2ξ for the
@@ -55,6 +55,12 @@ The state is ``x = (q̃, q̃')`` (length 2n).  With several meshes the forcing i
 period T = 2π/ω only if every r_m is an integer; :meth:`SystemModel.period_multiple` gives the
 smallest p with p·r_m integer for all m (the forcing period is p·T), or ``None`` when the ratios
 are incommensurate.
+
+Gyroscopic terms (a gearbox with ``[gearbox] gyroscopic = true``): the description's
+``gyroscopic_matrix()`` G (SI, per rad/s of the reference shaft, each shaft at its exact speed ratio) adds
+``Ω G`` to the damping, Ω = ω_e/z the reference shaft's speed (z the reference mesh's pinion teeth), so
+``Cb = C̃_b + ω G̃`` with ``G̃ = S G S ω_n²/(z k_ref b_c²)`` (skew-symmetric, :attr:`SystemModel.gyro`); a change
+of ω (:meth:`SystemModel.with_param`) moves that term with it.
 """
 
 from __future__ import annotations
@@ -247,6 +253,11 @@ class SystemModel:
         Clearance stiffness, damping and half gaps (non-dimensional).
     description : SystemDescription or None
         The physical description it was assembled from.
+    gyro : ndarray (n, n) or None
+        G̃, the gyroscopic matrix per unit ω (skew-symmetric; see the module docstring): ``Cb`` is
+        ``damping_static + omega * gyro``; None (default) without gyroscopic terms.
+    damping_static : ndarray (n, n) or None
+        C̃_b without the gyroscopic term (given with ``gyro``).
     orders : tuple of (Fraction, ndarray (n,), float)
         Torque orders of the loads: frequency r over the base frequency ω, the load vector's amplitude (scaled
         like ``F``) and the phase (rad); the forcing adds Σ F̃_o cos(r_o θ + φ_o).  The forcing period counts
@@ -285,6 +296,8 @@ class SystemModel:
     Dc: tuple[float, ...] = ()
     description: SystemDescription | None = None
     orders: tuple = ()
+    gyro: np.ndarray | None = None
+    damping_static: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = len(self.labels)
@@ -306,6 +319,14 @@ class SystemModel:
         object.__setattr__(self, "omega", om)
         if any(d < 0 for d in self.Dc):
             raise ModelError("clearance D: must be >= 0")
+        if (self.gyro is None) != (self.damping_static is None):
+            raise ModelError("gyro: give it together with damping_static (the damping without it)")
+        for name in ("gyro", "damping_static"):
+            if getattr(self, name) is not None:
+                a = _ro(getattr(self, name))
+                if a.shape != (n, n):
+                    raise ModelError(f"{name}: expected shape {(n, n)}, got {a.shape}")
+                object.__setattr__(self, name, a)
 
     # ------------------------------------------------------------------ the system protocol
     @property
@@ -395,6 +416,8 @@ class SystemModel:
     def with_param(self, name: str, value: float) -> SystemModel:
         """Copy with one parameter changed (validated anew)."""
         if name == "omega":
+            if self.gyro is not None:  # the gyroscopic damping follows the speed
+                return replace(self, omega=value, Cb=self.damping_static + float(value) * self.gyro)
             return replace(self, omega=value)
         elem, p = self._split(name)
         if elem in self.clearance_names:
@@ -590,6 +613,9 @@ class SystemModel:
             "cc": list(self.cc),
             "Dc": list(self.Dc),
         }
+        if self.gyro is not None:
+            d["gyro"] = self.gyro.tolist()
+            d["damping_static"] = self.damping_static.tolist()
         return json.dumps(d)
 
     @classmethod
@@ -604,6 +630,9 @@ class SystemModel:
         d["clearance_names"] = tuple(d["clearance_names"])
         n = len(d["labels"])
         d["Vc"] = np.reshape(np.array(d["Vc"], dtype=float), (len(d["clearance_names"]), n))
+        for key in ("gyro", "damping_static"):
+            if key in d:
+                d[key] = np.array(d[key], dtype=float)
         return cls(**d)
 
     # ------------------------------------------------------------------ checks and helpers
@@ -732,6 +761,13 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
             omega = scaling.omega_from_rpm(desc.rpm)
         else:
             omega = 1.0
+    gyro = static = None
+    G = desc.gyroscopic_matrix() if hasattr(desc, "gyroscopic_matrix") else None
+    if G is not None:  # Ω G with Ω = ω ω_n / z the reference shaft's speed (rad/s)
+        if ref.teeth is None:
+            raise ModelError(f"gyroscopic: the reference mesh {ref.name!r} needs teeth to give the shaft speed")
+        gyro = S @ G @ S * omega_n**2 / (den * ref.teeth)
+        static, Cbt = Cbt, Cbt + float(omega) * gyro
     model = SystemModel(
         labels=desc.labels,
         Mi=Mi,
@@ -749,6 +785,8 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         Dc=Dc,
         description=desc,
         orders=tuple(orders),
+        gyro=gyro,
+        damping_static=static,
     )
     check_balance(model, desc)  # loads on a free rigid-body motion: refused, the balancing load named
     return model
