@@ -16,7 +16,8 @@ change), after a compile run on a short interval; the two systems and the two ch
 The CPU time of the continuation (process time: the work, whatever else shares the machine) is divided by the
 branch's points and by its Jacobian evaluations (Newton iterations, tangents and event trials alike); the ratio
 chain/pair per point is the figure of merit (issue: at most 5).  ``--profile`` adds where the chain's time goes
-(cProfile: the Jacobian's assembly, the linear solves, the AFT, the Floquet multipliers).
+(cProfile in CPU time, cumulative per function: the Jacobian's assembly, its compressed-column matrix, SuperLU's
+factorisation, the linear solves as a whole, the AFT, the Floquet multipliers and their compiled kernel).
 
     python benchmarks/hb_scaling.py [--before ../hb-before/src] [--repeat 2] [--profile]
                                     [--json benchmarks/results/hb_scaling.json]
@@ -56,7 +57,7 @@ for name, key in (("_jacobian", "jacobians"), ("stability", "stability")):
         calls[_k] += 1
         return _f(*a, **k)
     setattr(equations.HBEquations, name, counted)
-pr = cProfile.Profile() if profile else None
+pr = cProfile.Profile(time.process_time) if profile else None
 t = time.process_time()
 if pr: pr.enable()
 r = continuation.hb_continuation(m, "omega", lo, hi, harmonics=H)
@@ -67,10 +68,12 @@ out = {"cpu_s": cpu, "points": int(r.values.size), "dofs": int(r.equations.basis
        "amplitude_max": float(max(r.amplitude))}
 if pr:
     st = pstats.Stats(pr).stats
-    parts = {"jacobian_assembly": "_jacobian", "linear_solve": "solve", "aft": "dead_zone_terms",
-             "floquet": "monodromy_floquet", "tangent_kernel": "monodromy_kernel"}
-    out["profile_cumulative_s"] = {k: sum(v[3] for (f, _l, fn), v in st.items() if fn == name and "geardyn" in f)
-                                   for k, name in parts.items()}
+    parts = {"jacobian_assembly": ("equations.py", "_jacobian"), "csc_matrix": ("equations.py", "tocsc"),
+             "sparse_lu": ("linsolve.py", "splu"), "linear_solve": ("equations.py", "solve"),
+             "aft": ("aft.py", "dead_zone_terms"), "floquet": ("monodromy.py", "monodromy_floquet"),
+             "tangent_kernel": ("_monodromykernel.py", "monodromy_kernel")}
+    out["profile_cumulative_s"] = {k: max([v[3] for (f, _l, fn), v in st.items() if fn == name and f.endswith(mod)],
+                                          default=0.0) for k, (mod, name) in parts.items()}
     out["profile_total_s"] = sum(v[2] for v in st.values())
 print("RESULT " + json.dumps(out))
 """
