@@ -11,6 +11,18 @@ from .hill import HillResult, hill_floquet, system_hill_floquet
 from .response import hb_response, response_from_branch
 from .solve import HBSolution, hb_solve
 
-__all__ = ["DEFAULT_HARMONICS", "HBBifurcation", "HBContinuation", "HBEquations", "HBForm", "HBSolution",
-           "HillResult", "hb_continuation", "hb_response", "hb_solve", "hill_floquet", "response_from_branch",
-           "system_hill_floquet"]  # fmt: skip
+__all__ = [
+    "DEFAULT_HARMONICS",
+    "HBBifurcation",
+    "HBContinuation",
+    "HBEquations",
+    "HBForm",
+    "HBSolution",
+    "HillResult",
+    "hb_continuation",
+    "hb_response",
+    "hb_solve",
+    "hill_floquet",
+    "response_from_branch",
+    "system_hill_floquet",
+]

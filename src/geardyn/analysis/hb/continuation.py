@@ -150,9 +150,15 @@ class HBBifurcation:
     coefficients: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
 
     def to_json(self) -> dict[str, Any]:
-        return {"type": self.type, "value": self.value, "u_min": self.u_min, "u_max": self.u_max,
-                "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers], "detail": self.detail,
-                "located": self.located}  # fmt: skip
+        return {
+            "type": self.type,
+            "value": self.value,
+            "u_min": self.u_min,
+            "u_max": self.u_max,
+            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
+            "detail": self.detail,
+            "located": self.located,
+        }
 
 
 @dataclass
@@ -286,11 +292,20 @@ class HBContinuation:
         def num(x: float) -> float | None:
             return float(x) if np.isfinite(x) else None
 
-        pts = [{self.param: float(v), "amplitude": num(0.5 * (hi - lo)), "u_min": num(lo), "u_max": num(hi),
-                "stable": bool(st) if int(s) == int(Status.OK) else None, "status": Status(int(s)).label,
-                "multipliers": [[num(m.real), num(m.imag)] for m in mu]}
-               for v, lo, hi, st, s, mu in zip(self.values, self.u_min, self.u_max, self.stable, self.status,
-                                               self.multipliers)]  # fmt: skip
+        pts = [
+            {
+                self.param: float(v),
+                "amplitude": num(0.5 * (hi - lo)),
+                "u_min": num(lo),
+                "u_max": num(hi),
+                "stable": bool(st) if int(s) == int(Status.OK) else None,
+                "status": Status(int(s)).label,
+                "multipliers": [[num(m.real), num(m.imag)] for m in mu],
+            }
+            for v, lo, hi, st, s, mu in zip(
+                self.values, self.u_min, self.u_max, self.stable, self.status, self.multipliers
+            )
+        ]
         bifs = self.bifurcations_json()
         rows: dict[str, list[dict[str, Any]]] = {"mesh": [], "clearance": []}
         m = 0
@@ -317,11 +332,23 @@ class HBContinuation:
                 f"|μ| <= 1 + {NEUTRAL_TOL:g} (neutrally stable); folds and period doublings are located by det(I − M) "
                 "and det(I + M), no Neimark–Sacker test is made"
             )
-        return {"param": self.param, "branch": pts, "bifurcations": bifs, "harmonics": self.harmonics,
-                "period": self.period, "samples": self.samples, "converged": self.converged, "end": self.end,
-                "meshes": rows["mesh"], "clearances": rows["clearance"], "labels": list(self.labels),
-                "reference_mesh": self.elements[self.reference], "rigid_body_modes": self.rigid,
-                "conservative": self.conservative, "notes": notes}  # fmt: skip
+        return {
+            "param": self.param,
+            "branch": pts,
+            "bifurcations": bifs,
+            "harmonics": self.harmonics,
+            "period": self.period,
+            "samples": self.samples,
+            "converged": self.converged,
+            "end": self.end,
+            "meshes": rows["mesh"],
+            "clearances": rows["clearance"],
+            "labels": list(self.labels),
+            "reference_mesh": self.elements[self.reference],
+            "rigid_body_modes": self.rigid,
+            "conservative": self.conservative,
+            "notes": notes,
+        }
 
     def to_dataset(self):
         """The branch as an :class:`xarray.Dataset` over ``point`` (kind ``hb``): the reference element's values,
@@ -334,24 +361,42 @@ class HBContinuation:
         P, nd = self.values.size, len(self.labels)
         summary = self.to_json()
         attrs = self.attrs(
-            KIND, param=self.param, harmonics=self.harmonics, period=self.period, samples=self.samples, end=self.end,
+            KIND,
+            param=self.param,
+            harmonics=self.harmonics,
+            period=self.period,
+            samples=self.samples,
+            end=self.end,
             rigid_body_modes=self.rigid,
             coefficient_layout="[a0, a1..aH, b1..bH] per coordinate of q(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
             "φ = ωτ/(n p)",
-            bifurcations=json.dumps(summary["bifurcations"]), summary=json.dumps(summary),
-        )  # fmt: skip
+            bifurcations=json.dumps(summary["bifurcations"]),
+            summary=json.dumps(summary),
+        )
         pm, el = ("point", "multiplier"), ("point", "element")
         ds = xr.Dataset(
-            {self.param: ("point", self.values), "u_min": ("point", self.u_min), "u_max": ("point", self.u_max),
-             "amplitude": ("point", self.amplitude), "stable": ("point", self.stable.astype(np.int8)),
-             "multiplier_re": (pm, self.multipliers.real), "multiplier_im": (pm, self.multipliers.imag),
-             "coefficients": (("point", "dof", "coefficient"), self.coefficients.reshape(P, nd, -1)),
-             "element_u_min": (el, self.element_u_min), "element_u_max": (el, self.element_u_max),
-             "status": ("point", self.status.astype(np.int64))},
-            coords={"point": np.arange(P), "multiplier": np.arange(self.multipliers.shape[1]), "dof": list(self.labels),
-                    "coefficient": np.arange(2 * self.harmonics + 1), "element": list(self.elements)},
+            {
+                self.param: ("point", self.values),
+                "u_min": ("point", self.u_min),
+                "u_max": ("point", self.u_max),
+                "amplitude": ("point", self.amplitude),
+                "stable": ("point", self.stable.astype(np.int8)),
+                "multiplier_re": (pm, self.multipliers.real),
+                "multiplier_im": (pm, self.multipliers.imag),
+                "coefficients": (("point", "dof", "coefficient"), self.coefficients.reshape(P, nd, -1)),
+                "element_u_min": (el, self.element_u_min),
+                "element_u_max": (el, self.element_u_max),
+                "status": ("point", self.status.astype(np.int64)),
+            },
+            coords={
+                "point": np.arange(P),
+                "multiplier": np.arange(self.multipliers.shape[1]),
+                "dof": list(self.labels),
+                "coefficient": np.arange(2 * self.harmonics + 1),
+                "element": list(self.elements),
+            },
             attrs=attrs,
-        )  # fmt: skip
+        )
         ds["status"].attrs.update(flag_attrs())
         return annotate(ds)
 
@@ -370,8 +415,12 @@ def _pairs(mu: np.ndarray) -> np.ndarray:
 
 
 #: Side of a grazing test → its description.
-_SIDES = {"min_plus": "δ_min = +D (drive-side contact loss)", "min_minus": "δ_min = −D (back-side contact)",
-          "max_plus": "δ_max = +D (drive-side contact)", "max_minus": "δ_max = −D"}  # fmt: skip
+_SIDES = {
+    "min_plus": "δ_min = +D (drive-side contact loss)",
+    "min_minus": "δ_min = −D (back-side contact)",
+    "max_plus": "δ_max = +D (drive-side contact)",
+    "max_minus": "δ_max = −D",
+}
 
 
 class _Tracer:
@@ -606,17 +655,35 @@ def hb_continuation(
     sol = hb_solve(m0, eq.H, period, guess, samples=eq.N, stability=False, state0=state0)
     f, N0 = eq.form, eq.basis.size - eq.basis.rigid
     common = dict(
-        elements=eq.elements, kinds=tuple(e.kind for e in f.elements), gaps=tuple(e.gap for e in f.elements),
-        rigid=eq.basis.rigid, reference=eq.reference, labels=f.labels, conservative=conservative, equations=eq,
-    )  # fmt: skip
+        elements=eq.elements,
+        kinds=tuple(e.kind for e in f.elements),
+        gaps=tuple(e.gap for e in f.elements),
+        rigid=eq.basis.rigid,
+        reference=eq.reference,
+        labels=f.labels,
+        conservative=conservative,
+        equations=eq,
+    )
     if not sol.converged:
         nan = np.full((1, len(f.elements)), math.nan)
         return HBContinuation(
-            model, param, eq.H, eq.n, eq.N, np.array([start]), sol.unknowns[None, :N0], np.array([math.nan]),
-            np.array([math.nan]), np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan)),
-            np.array([int(sol.status)]), [], f"start: {sol.status.label}", element_u_min=nan, element_u_max=nan,
+            model,
+            param,
+            eq.H,
+            eq.n,
+            eq.N,
+            np.array([start]),
+            sol.unknowns[None, :N0],
+            np.array([math.nan]),
+            np.array([math.nan]),
+            np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan)),
+            np.array([int(sol.status)]),
+            [],
+            f"start: {sol.status.label}",
+            element_u_min=nan,
+            element_u_max=nan,
             **common,
-        )  # fmt: skip
+        )
     lo, hi = sorted((start, stop))
     ps = hi - lo
     tr = _Tracer(eq, lo, hi, ps, conservative)
@@ -630,11 +697,23 @@ def hb_continuation(
     else:
         ext = np.array([eq.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
     return HBContinuation(
-        model, param, eq.H, eq.n, eq.N, vals, np.array([q.y[:N0] for q in pts]), np.array([q.u_min for q in pts]),
-        np.array([q.u_max for q in pts]), np.array([q.hill.multipliers for q in pts]),
-        np.array([int(q.hill.status) for q in pts]), bifs, end, element_u_min=ext[:, :, 0],
-        element_u_max=ext[:, :, 1], **common,
-    )  # fmt: skip
+        model,
+        param,
+        eq.H,
+        eq.n,
+        eq.N,
+        vals,
+        np.array([q.y[:N0] for q in pts]),
+        np.array([q.u_min for q in pts]),
+        np.array([q.u_max for q in pts]),
+        np.array([q.hill.multipliers for q in pts]),
+        np.array([int(q.hill.status) for q in pts]),
+        bifs,
+        end,
+        element_u_min=ext[:, :, 0],
+        element_u_max=ext[:, :, 1],
+        **common,
+    )
 
 
 def _max_points_end(max_points: int) -> str:

@@ -391,8 +391,19 @@ class HBEquations:
 
     def _scalar_args(self, pt: _Point, x: np.ndarray) -> tuple:
         el, b = pt.form.elements[0], self.dbasis
-        return (np.ascontiguousarray(x, dtype=float), el.C, el.K, pt.form.G0[0], pt.form.G2[0], el.gap,
-                b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL)  # fmt: skip
+        return (
+            np.ascontiguousarray(x, dtype=float),
+            el.C,
+            el.K,
+            pt.form.G0[0],
+            pt.form.G2[0],
+            el.gap,
+            b.cos_table,
+            b.sin_table,
+            self.H,
+            ROOT_MAX_ITER,
+            ROOT_TOL,
+        )
 
     def _core(self, x: np.ndarray, p: float | None, jacobian: bool):
         """R (dofs, M) split as ν² R2 + ν R1 + R0, the Jacobian (or None) and every element's S series."""
@@ -420,8 +431,10 @@ class HBEquations:
     def _jacobian(self, pt: _Point, nu: float, Ss: list[np.ndarray]) -> np.ndarray | SparseJacobian:
         H, M, nd = self.H, self.M, self.basis.dofs
         f = pt.form
-        ops = [real_operator_kernel(nu * toeplitz(el.C, H) * self._ik[None, :] + toeplitz(S, H), H)
-               for el, S in zip(f.elements, Ss)]  # fmt: skip
+        ops = [
+            real_operator_kernel(nu * toeplitz(el.C, H) * self._ik[None, :] + toeplitz(S, H), H)
+            for el, S in zip(f.elements, Ss)
+        ]
         if pt.pattern is not None:
             v = [_kron_values(np.eye(nd), -(nu**2) * self._k2), _kron_values(f.A, np.ones(M))]
             v += [_kron_values(nu * f.B, self.D1[self._d1])]

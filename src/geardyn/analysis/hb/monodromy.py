@@ -26,8 +26,15 @@ from ...status import Status
 from ._monodromykernel import monodromy_kernel
 from .hill import LIOUVILLE_TOL, HillResult
 
-__all__ = ["CLOSURE_TOL", "FIRST_STEP_FACTOR", "FLOQUET_METHODS", "REFINE_GAIN", "STEP_ANGLE", "SWITCH_TOL",
-           "monodromy_floquet"]  # fmt: skip
+__all__ = [
+    "CLOSURE_TOL",
+    "FIRST_STEP_FACTOR",
+    "FLOQUET_METHODS",
+    "REFINE_GAIN",
+    "STEP_ANGLE",
+    "SWITCH_TOL",
+    "monodromy_floquet",
+]
 
 #: The ways of computing Floquet multipliers of an HB solution: ``"monodromy"`` (this module, the default)
 #: and ``"hill"`` (Hill's method, :mod:`.hill` and :mod:`.system_hill`).

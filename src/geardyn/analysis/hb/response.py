@@ -26,8 +26,14 @@ from .aft import signal_extrema
 from .continuation import HBBifurcation, HBContinuation, hb_continuation
 from .equations import HBEquations, single_thread_blas
 
-__all__ = ["MEASURES", "STABILITY_EVENTS", "decided_stability", "hb_response", "response_from_branch",
-           "stable_segments"]  # fmt: skip
+__all__ = [
+    "MEASURES",
+    "STABILITY_EVENTS",
+    "decided_stability",
+    "hb_response",
+    "response_from_branch",
+    "stable_segments",
+]
 
 #: Response measures (as :data:`geardyn.analysis.response.MEASURES`).
 MEASURES = ("amplitude", "rms", "u_max", "u_min", "mean")
@@ -402,16 +408,30 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     hyst = _hysteresis(paths)
     sw, ss = ("sweep", "omega"), ("sweep", "omega", "section")
     ds = xr.Dataset(
-        {"period": (sw, period), "motion": (sw, motion), "impact": (sw, impact), "status": (sw, status),
-         **{k: (sw, f[k]) for k in MEASURES}, "lle": (sw, np.full(shape, np.nan)), "poincare_u": (ss, pu),
-         "poincare_v": (ss, pv)},
+        {
+            "period": (sw, period),
+            "motion": (sw, motion),
+            "impact": (sw, impact),
+            "status": (sw, status),
+            **{k: (sw, f[k]) for k in MEASURES},
+            "lle": (sw, np.full(shape, np.nan)),
+            "poincare_u": (ss, pu),
+            "poincare_v": (ss, pv),
+        },
         coords={"sweep": ["up", "down"], "omega": w, "section": np.arange(n)},
         attrs=res.attrs(
-            "response", {"method": "hb", "harmonics": H, "period": n, "samples": res.samples}, param="omega",
-            mode="harmonic balance", sweep="both", method="hb", measure=measure, jumps=json.dumps(jumps),
-            hysteresis=json.dumps(hyst), bifurcations=json.dumps(res.bifurcations_json()),
+            "response",
+            {"method": "hb", "harmonics": H, "period": n, "samples": res.samples},
+            param="omega",
+            mode="harmonic balance",
+            sweep="both",
+            method="hb",
+            measure=measure,
+            jumps=json.dumps(jumps),
+            hysteresis=json.dumps(hyst),
+            bifurcations=json.dumps(res.bifurcations_json()),
         ),
-    )  # fmt: skip
+    )
     return annotate(ds)
 
 
