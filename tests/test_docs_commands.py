@@ -226,15 +226,19 @@ QUOTED: dict[str, Run | str] = {
     "geardyn plot results/gearbox/modes.nc": AS_QUOTED,
     "geardyn modes --system examples/gearbox/geared_rotor_gyroscopic.toml --rpm-max 12000 --orders 1 "
     "--out results/gearbox_gyro": AS_QUOTED,
-    "geardyn simulate --system examples/gearbox/two_stage_helical.toml --transient 60 --periods 4 --dtau 0.05 "
-    "--out results/gearbox_sim": "64 forcing periods of 77 121 RK4 steps on 220 states (about a minute); "
-    "tests/test_gearbox.py::test_a_gearbox_simulation_settles_on_its_static_deflection simulates a gearbox",
+    "geardyn simulate --system examples/gearbox/two_stage_helical.toml --transient 1 --periods 1 --dtau 0.05 "
+    "--no-classify --json": "two forcing periods of 1 866 939 RK4 steps on 220 states (about 20 s, 3.7 GB of time "
+    "history); tests/test_gearbox.py::test_a_gearbox_simulation_settles_on_its_static_deflection simulates a gearbox "
+    "and tests/test_system_orders.py systems with torque orders",
     "geardyn signature --system examples/gearbox/two_stage_helical.toml --sensor in_A.x --revolutions 20 "
     "--out results/gearbox_signature": "0.8 s of a 110-DOF gearbox sampled at 1.2 MHz (about two minutes); "
     "tests/test_signature_system.py runs the system signature on the small examples",
     "geardyn response --system examples/gearbox/two_stage_helical.toml --rpm-start 13000 --rpm-stop 17000 --num 5 "
-    "--transient 60 --periods 4 --dtau 0.05 --settle 0 --json": "ten points of 64 forcing periods of 8 000 RK4 "
-    "steps on 220 states (about a minute and a half); the response sweep is the systems' (tests/test_systems_cli.py)",
+    "--transient 3 --periods 2 --dtau 0.05 --settle 0 --json": "ten points of 5 forcing periods of about 190 000 RK4 "
+    "steps on 220 states (minutes); the response sweep is the systems' (tests/test_systems_cli.py)",
+    "geardyn runup --system examples/gearbox/two_stage_helical.toml --rpm-start 2000 --rpm-stop 6000 --duration 5 "
+    "--num 0 --out results/gearbox_runup": "a ramp of 7700 stage-1 mesh cycles in blocks of one forcing period "
+    "(minutes); tests/test_runup_system.py runs the run-up of a system file",
     "geardyn response --system examples/gearbox/two_stage_helical.toml --rpm-start 1000 --rpm-stop 3000 --num 200": (
         "the workload of benchmarks/dask_gearbox.py (200 speeds of the 110-DOF gearbox, minutes); tests/test_dask.py "
         "runs sweeps on a local cluster"
