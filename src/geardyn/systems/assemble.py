@@ -49,7 +49,14 @@ Vc        (clearances, n)       clearance vectors (rows), scaled like V
 kc, cc    (clearances,)         clearance stiffness and damping (non-dimensional)
 Dc        (clearances,)         half gaps / b_c (SI magnitudes: f is homogeneous)
 omega     ()                    base frequency ω; the stroboscopic section is θ ≡ 0 mod 2π
+Vb        (2·bearings, n)       rolling bearings' x and y vectors (rows 2b, 2b+1), scaled like V
+bq        (bearings, 8)         their parameters: Z, K̃, n, c̃, cx̃, cỹ, cage radians per radian of θ,
+                                cage phase (:mod:`geardyn._kernel_ndof.core`, ``BQ_Z`` …)
 ========  ====================  ===========================================================
+
+Rolling bearings (:mod:`geardyn.systems.rolling`) are the second element law: bearing b is the elements
+``<name>.x`` and ``<name>.y`` after the meshes and clearances, with force
+``K̃ Σ_j max(δ_j, 0)^n (cos ψ_j, sin ψ_j) + (cx̃ δ_x', cỹ δ_y')`` (δ_j = δ_x cos ψ_j + δ_y sin ψ_j − c̃).
 
 The state is ``x = (q̃, q̃')`` (length 2n).  With several meshes the forcing is periodic in the base
 period T = 2π/ω only if every r_m is an integer; :meth:`SystemModel.period_multiple` gives the
@@ -77,6 +84,7 @@ from ..system import Element
 from . import elements as _el
 from .balance import check_balance
 from .description import Mesh, SystemDescription
+from .rolling import BearingND
 
 __all__ = ["MeshND", "SystemArrays", "SystemModel", "assemble"]
 
@@ -187,6 +195,10 @@ class SystemArrays(NamedTuple):
         Half gaps / b_c.
     omega : ndarray ()
         Base frequency ω.
+    Vb : ndarray (2·bearings, n)
+        Rolling bearings' x and y vectors.
+    bq : ndarray (bearings, 8)
+        Rolling bearings' kernel parameters (:meth:`~geardyn.systems.rolling.BearingND.row`).
     """
 
     Mi: np.ndarray
@@ -202,6 +214,8 @@ class SystemArrays(NamedTuple):
     cc: np.ndarray
     Dc: np.ndarray
     omega: np.ndarray
+    Vb: np.ndarray
+    bq: np.ndarray
 
 
 def _ro(a) -> np.ndarray:
@@ -253,6 +267,11 @@ class SystemModel:
         their denominators (:meth:`period_multiple`).  The mesh-vector kernel takes no time-varying load: a
         system with orders is refused by :meth:`arrays` (a two-gear torsional system runs as its pair,
         :func:`geardyn.analysis.rattle.pair_of_system`).
+    bearings : tuple of BearingND
+        Rolling-element bearings (:mod:`geardyn.systems.rolling`); their ball-pass ratios count in the forcing
+        period like the meshes' ratios.
+    Vb : ndarray (2·bearings, n)
+        Their x and y vectors (rows 2b, 2b+1).
 
     Raises
     ------
@@ -285,6 +304,8 @@ class SystemModel:
     Dc: tuple[float, ...] = ()
     description: SystemDescription | None = None
     orders: tuple = ()
+    bearings: tuple[BearingND, ...] = ()
+    Vb: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     def __post_init__(self) -> None:
         n = len(self.labels)
@@ -295,6 +316,8 @@ class SystemModel:
             object.__setattr__(self, name, a)
         nc = len(self.clearance_names)
         object.__setattr__(self, "Vc", _ro(np.reshape(self.Vc, (nc, n))))
+        object.__setattr__(self, "bearings", tuple(self.bearings))
+        object.__setattr__(self, "Vb", _ro(np.reshape(self.Vb, (2 * len(self.bearings), n))))
         for name in ("kc", "cc", "Dc"):
             v = tuple(float(x) for x in getattr(self, name))
             if len(v) != nc:
@@ -331,7 +354,7 @@ class SystemModel:
         periodic tools (shooting, continuation) cannot be used.
         """
         p = 1
-        for m in self.meshes:
+        for m in (*self.meshes, *self.bearings):  # a bearing's ratio: its ball-pass frequency
             f = Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR)
             if abs(float(f) - m.ratio) > RATIO_RTOL * m.ratio:
                 return None
@@ -454,10 +477,19 @@ class SystemModel:
 
     @property
     def elements(self) -> tuple[Element, ...]:
-        """The meshes, then the clearances."""
-        return tuple(Element(m.name, m.D, "mesh") for m in self.meshes) + tuple(
+        """The meshes, then the clearances, then each rolling bearing's x and y rows."""
+        from ..system import RollingBearingLaw
+
+        out = tuple(Element(m.name, m.D, "mesh") for m in self.meshes) + tuple(
             Element(n, d, "clearance") for n, d in zip(self.clearance_names, self.Dc)
         )
+        for b in self.bearings:
+            law = RollingBearingLaw(b.elements, b.exponent, b.clearance, b.ratio, b.phase)
+            out += (
+                Element(f"{b.name}.x", b.clearance, "bearing", law),
+                Element(f"{b.name}.y", b.clearance, "bearing", law),
+            )
+        return out
 
     @property
     def reference(self) -> int:
@@ -541,6 +573,8 @@ class SystemModel:
             cc=c(self.cc),
             Dc=c(self.Dc),
             omega=np.float64(self.omega),
+            Vb=c(self.Vb),
+            bq=c(np.reshape([b.row() for b in self.bearings], (len(self.bearings), 8))),
         )
 
     @staticmethod
@@ -556,10 +590,15 @@ class SystemModel:
         if not systems:
             raise ModelError("empty parameter grid: no system to integrate")
         s0 = systems[0]
-        key = (s0.labels, tuple(m.name for m in s0.meshes), s0.clearance_names)
+
+        def key(s):
+            return (s.labels, tuple(m.name for m in s.meshes), s.clearance_names, tuple(b.name for b in s.bearings))
+
         for s in systems[1:]:
-            if (s.labels, tuple(m.name for m in s.meshes), s.clearance_names) != key:
-                raise ModelError("pack: every system of a batch must have the same DOFs, meshes and clearances")
+            if key(s) != key(s0):
+                raise ModelError(
+                    "pack: every system of a batch must have the same DOFs, meshes, clearances and bearings"
+                )
         H = max(s.n_harmonics for s in systems)
         each = [s.arrays(H) for s in systems]
         return SystemArrays(
@@ -590,6 +629,9 @@ class SystemModel:
             "cc": list(self.cc),
             "Dc": list(self.Dc),
         }
+        if self.bearings:
+            d["bearings"] = [asdict(b) for b in self.bearings]
+            d["Vb"] = self.Vb.tolist()
         return json.dumps(d)
 
     @classmethod
@@ -604,6 +646,9 @@ class SystemModel:
         d["clearance_names"] = tuple(d["clearance_names"])
         n = len(d["labels"])
         d["Vc"] = np.reshape(np.array(d["Vc"], dtype=float), (len(d["clearance_names"]), n))
+        if "bearings" in d:
+            d["bearings"] = tuple(BearingND(**b) for b in d["bearings"])
+            d["Vb"] = np.reshape(np.array(d["Vb"], dtype=float), (2 * len(d["bearings"]), n))
         return cls(**d)
 
     # ------------------------------------------------------------------ checks and helpers
@@ -725,6 +770,27 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     kc = tuple(c.stiffness / k_ref for c in cl)
     cc = tuple(c.damping * omega_n / k_ref for c in cl)
     Dc = tuple(c.gap / b_c for c in cl)
+    bearings, Vb = [], []
+    idx_ = desc.index()
+    for rb in desc.rolling_bearings:
+        br = rb.bearing
+        K, cl_ = br.nondimensional(b_c, k_ref)
+        bearings.append(
+            BearingND(
+                name=rb.name,
+                kind=br.kind,
+                elements=br.elements,
+                K=K,
+                exponent=float(br.exponent),
+                clearance=cl_,
+                cx=rb.cx * omega_n / k_ref,
+                cy=rb.cy * omega_n / k_ref,
+                ratio=float(rb.ratio),
+                phase=rb.phase,
+            )
+        )
+        Vb.append(s * rb.vectors(idx_) / b_c)
+    Vb = np.concatenate(Vb) if Vb else np.zeros((0, desc.n))
     if omega is None:
         if desc.omega is not None:
             omega = desc.omega
@@ -749,6 +815,8 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         Dc=Dc,
         description=desc,
         orders=tuple(orders),
+        bearings=tuple(bearings),
+        Vb=Vb,
     )
     check_balance(model, desc)  # loads on a free rigid-body motion: refused, the balancing load named
     return model
