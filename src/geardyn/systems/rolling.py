@@ -326,10 +326,17 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
     try:
         n_ = float(n) if n is not None else (1.5 if typ == "ball" else 10.0 / 9.0)
         raw = blk.data["load_deflection"]
+        src = raw.get("assumed") if isinstance(raw, dict) else None
+        if isinstance(raw, dict) and (set(raw) - {"value", "assumed"} or "value" not in raw):
+            raise blk.cerr("load_deflection", "an inline table must have the keys 'value' and optionally 'assumed'")
         raw = raw.get("value") if isinstance(raw, dict) else raw
         K = parse_load_deflection(raw, n_)
     except ValueError as e:
         raise blk.merr("load_deflection", str(e)) from None
+    if src:
+        from ..geometry import Assumption
+
+        blk.ctx.assume(Assumption(f"{blk.element}.load_deflection", K, f"N/m^{n_:.6g}", str(src)))
     db = blk.get("element_diameter", "length")
     c = blk.get("radial_clearance", "length")
     if db > 0 and c > MAX_CLEARANCE_FRACTION * db:
