@@ -13,7 +13,10 @@ Motion classes (:func:`classify_motion`, thresholds below, explained in ``docs/a
   uncertainty: |λ1| <= :data:`LLE_SIGMAS`·σ + :data:`LLE_FLOOR`; the Poincaré points then lie on
   closed curves, whose number :func:`count_loops` reports (the "n" of the paper's
   "quasi-n-periodic").  Never for a model whose structure forbids it
-  (:func:`quasi_periodic_allowed`: the pair with ξ0 > 0, whose period map contracts every area);
+  (:func:`quasi_periodic_allowed`: the pair with ξ0 > 0, whose period map contracts every area), nor
+  where the least damped mode of the linearised system decays more slowly than that band resolves
+  (0 < σ_min <= LLE_SIGMAS·σ + LLE_FLOOR, :func:`decay_hides_torus`): its exponent −σ_min is then zero within
+  the band too, so a neutral λ1 cannot tell a torus from that mode's transient;
 - **chaotic**: not periodic and λ1 > :data:`LLE_SIGMAS`·σ + :data:`LLE_FLOOR`;
 - **diverged**: the trajectory left |u|, |u'| < DIVERGENCE_BOUND or became non-finite;
 - **unresolved**: not periodic within the limits although λ1 is significantly negative (a stable
@@ -275,6 +278,7 @@ def classify_motion(
     curve_dim: Any = np.nan,
     settle_ratio: Any = np.nan,
     quasi_allowed: Any = True,
+    decay: Any = np.nan,
 ) -> np.ndarray:
     """Motion codes from the period, the largest exponent and its uncertainty (element-wise).
 
@@ -295,6 +299,10 @@ def classify_motion(
         False where the model's structure forbids a quasi-periodic attractor
         (:func:`quasi_periodic_allowed`): such a point is never labelled quasi-periodic, it is unresolved
         (a slowly converging orbit, or one of period above the limit) until settled further.
+    decay : float or array
+        σ_min, the decay rate per unit τ of the least damped mode of the model linearised in contact
+        (:func:`geardyn.analysis.settle.decay_rate`; NaN: not known or a mode undamped).  A point with
+        0 < σ_min <= LLE_SIGMAS·σ + LLE_FLOOR is never quasi-periodic (:func:`decay_hides_torus`).
 
     Returns
     -------
@@ -318,12 +326,42 @@ def classify_motion(
     lo, hi = CURVE_DIM_RANGE
     ratio = np.asarray(settle_ratio, dtype=float)
     off_curve = (np.isfinite(dim) & ((dim < lo) | (dim > hi))) | (np.isfinite(ratio) & (ratio < STATIONARY_RATIO))
-    forbidden = ~np.asarray(quasi_allowed, dtype=bool)
+    forbidden = ~np.asarray(quasi_allowed, dtype=bool) | decay_hides_torus(decay, band)
     code = np.where((code == MOTION_QUASIPERIODIC) & (off_curve | forbidden), MOTION_UNRESOLVED, code)
     code = np.where(np.isfinite(lam), code, MOTION_UNRESOLVED)
     code = np.where(n > 0, MOTION_PERIODIC, code)
     code = np.where(good, code, MOTION_DIVERGED)
     return code.astype(np.int64)
+
+
+def decay_hides_torus(decay: Any, band: Any) -> np.ndarray:
+    """Where the least damped linearised mode decays too slowly for a neutral exponent to mean a torus.
+
+    A stable orbit of a lightly damped system has a Floquet exponent near −σ_min (the mode that the
+    nonlinear elements barely touch keeps its linear decay); when 0 < σ_min <= the band within which λ1
+    counts as zero, a λ1 in that band is as well that mode's slow transient as a neutral direction, so
+    the point is unresolved, not quasi-periodic.  An undamped mode (σ_min = 0, or NaN: unknown) does
+    not forbid it.
+
+    Parameters
+    ----------
+    decay : float or array
+        σ_min per unit τ (NaN: unknown).
+    band : float or array
+        LLE_SIGMAS·σ + LLE_FLOOR of each point.
+
+    Returns
+    -------
+    ndarray of bool
+
+    Examples
+    --------
+    >>> decay_hides_torus([3e-7, 0.05, np.nan], 1e-4).tolist()
+    [True, False, False]
+    """
+    s = np.asarray(decay, dtype=float)
+    with np.errstate(invalid="ignore"):
+        return np.asarray((s > 0.0) & (s <= np.asarray(band, dtype=float)))
 
 
 def motion_class(
@@ -334,9 +372,10 @@ def motion_class(
     curve_dim: float = np.nan,
     settle_ratio: float = np.nan,
     quasi_allowed: bool = True,
+    decay: float = np.nan,
 ) -> int:
     """Scalar form of :func:`classify_motion`."""
-    return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio, quasi_allowed))
+    return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio, quasi_allowed, decay))
 
 
 def count_loops(points: np.ndarray, gap: float = LOOP_GAP) -> int:
@@ -472,6 +511,7 @@ def classify_points(
     ok: np.ndarray,
     sections: Sequence[np.ndarray],
     quasi_allowed: Any = True,
+    decay: Any = np.nan,
 ) -> dict[str, np.ndarray]:
     """Motion class, section dimension, settling ratio and loop count of a batch of points.
 
@@ -490,6 +530,8 @@ def classify_points(
         The Poincaré section of each point (for a settled point, that of its last settling pass).
     quasi_allowed : bool or ndarray of bool (P,)
         :func:`quasi_periodic_allowed` of each point's model.
+    decay : float or ndarray (P,)
+        σ_min of each point's model (:func:`classify_motion`; NaN: unknown).
 
     Returns
     -------
@@ -515,7 +557,7 @@ def classify_points(
             ratio[idx] = settling_ratios(np.stack([np.asarray(sections[i]) for i in idx]))
         else:
             ratio[idx] = [settling_ratio(sections[i]) for i in idx]
-    motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio, quasi_allowed)
+    motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio, quasi_allowed, decay)
     loops = np.zeros(P, dtype=np.int64)
     for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):
         loops[i] = count_loops(sections[i])

@@ -331,8 +331,12 @@ def lyapunov_spectrum(
         pc = res.poincare[0]
         n = detect_period(pc) if ok else -1
         dim, ratio = (curve_dimension(pc), settling_ratio(pc)) if n == 0 else (np.nan, np.nan)
+        from ..system import ModelList
+        from .settle import decay_rates
+
+        decay = decay_rates(ModelList([model]), [0] if n == 0 and ok else [])[0]
         code = motion_class(
-            n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio, quasi_periodic_allowed(model)
+            n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio, quasi_periodic_allowed(model), decay
         )
         motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
     return LyapunovResult(

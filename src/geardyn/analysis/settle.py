@@ -41,6 +41,7 @@ __all__ = [
     "Settling",
     "cycles_to_periods",
     "decay_rate",
+    "decay_rates",
     "settle_periods",
     "transient_cycles",
 ]
@@ -156,6 +157,38 @@ def decay_rate(model: Any) -> float:
             "(give --transient as a number of forcing periods)"
         )
     return sigma
+
+
+def decay_rates(models: Any, which: Iterable[int]) -> np.ndarray:
+    """σ_min (:func:`decay_rate`) of the points ``which`` of a batch, NaN at every other point and where a mode
+    is undamped or grows (no decay rate: such a model does not hide a torus, see
+    :func:`geardyn.analysis.classify.decay_hides_torus`).
+
+    Parameters
+    ----------
+    models : Batch
+        The points.
+    which : iterable of int
+        The points to compute.
+
+    Returns
+    -------
+    ndarray (P,)
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> from geardyn.system import ModelList
+    >>> np.round(decay_rates(ModelList([GearModel(xi0=0.05), GearModel(xi0=0.1)]), [1]), 12).tolist()
+    [nan, 0.1]
+    """
+    out = np.full(len(models), np.nan)
+    for i in which:
+        try:
+            out[int(i)] = decay_rate(models[int(i)])
+        except ModelError:
+            pass
+    return out
 
 
 def settle_periods(

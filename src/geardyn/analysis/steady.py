@@ -35,6 +35,7 @@ from .classify import (
     quasi_periodic_allowed_batch,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
+from .settle import decay_rates
 
 xr = lazy_module("xarray")
 
@@ -187,7 +188,11 @@ def classify_batch(
     lam[bad] = np.nan
     err[bad] = np.nan
     sections = _Sections(section, out["poincare"])
-    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections, quasi_periodic_allowed_batch(models))
+    allowed = quasi_periodic_allowed_batch(models)
+    with np.errstate(invalid="ignore"):  # a neutral λ1 where a torus is allowed: is it the slowest mode's decay?
+        neutral = ~bad & (out["period"] == 0) & allowed & (np.abs(lam[:, 0]) <= LLE_SIGMAS * err[:, 0] + LLE_FLOOR)
+    decay = decay_rates(models, np.flatnonzero(neutral))
+    cls = classify_points(out["period"], lam[:, 0], err[:, 0], ~bad, sections, allowed, decay)
     out.update(
         motion=cls["motion"],
         lle=lam[:, 0].copy(),
