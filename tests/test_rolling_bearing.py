@@ -82,7 +82,7 @@ def test_trajectory_agrees_with_dop853_of_the_same_equations():
     x, y = BC * tr.x[:, 0], BC * tr.x[:, 1]
     scale = np.max(np.abs(ref[1]))
     err = max(np.max(np.abs(x - ref[0])), np.max(np.abs(y - ref[1]))) / scale
-    assert err < 1e-6, err
+    assert err < 1e-6, err  # measured 5.8e-8
     # the accurate mode takes the bearing as smooth (no split): the same trajectory to the same accuracy
     tra = trajectory(m, None, IntegrationOptions(dtau=0.005, transient=0, periods=2, accurate=True), history_periods=2)
     assert np.max(np.abs(BC * tra.x[:, 1] - ref[1])) / scale < 1e-6
@@ -141,12 +141,13 @@ def test_static_deflection_agrees_with_harris():
     load_angle = math.atan2(u[1], u[0])
     k = np.arange(0, d.size, max(1, d.size // 97))
     qs = np.array([_discrete_static(F, c - load_angle) for c in cage[k]])
-    assert np.max(np.abs(d[k] - qs)) / np.mean(qs) < 2e-4
+    assert np.max(np.abs(d[k] - qs)) / np.mean(qs) < 2e-5  # measured 5.0e-6
     # Harris: the load distribution of the cage-averaged bearing
     dr = brentq(lambda x: harris_radial_load(x) - F, CLEAR * 1.0001, 1e-3, xtol=1e-16)
-    assert np.mean(d) == pytest.approx(dr, rel=2e-3)
-    assert np.max(d) == pytest.approx(_discrete_static(F, math.pi / Z), rel=2e-4)
-    assert np.min(d) == pytest.approx(_discrete_static(F, 0.0), rel=2e-4)
+    # the discrete bearing's mean deflection over a ball pass against the continuous distribution: 3.5e-4
+    assert np.mean(d) == pytest.approx(dr, rel=1e-3)
+    assert np.max(d) == pytest.approx(_discrete_static(F, math.pi / Z), rel=1e-6)  # measured 1.3e-8
+    assert np.min(d) == pytest.approx(_discrete_static(F, 0.0), rel=1e-6)  # measured 2.5e-8
 
 
 def test_the_varying_compliance_frequency_is_the_ball_pass_frequency():
