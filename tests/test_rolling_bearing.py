@@ -208,3 +208,68 @@ def test_harmonic_balance_refuses_a_rolling_bearing():
     with pytest.raises(ModelError) as e:
         m.hb_form()
     assert "rolling" in str(e.value) and "\n" not in str(e.value)
+
+
+def _settled(m, periods=10):
+    tr = trajectory(m, None, IntegrationOptions(dtau=0.01, transient=periods, periods=1), history_periods=1)
+    return tr.x[-1]
+
+
+def test_monodromy_is_the_derivative_of_the_period_map():
+    """The tangent of the kernel (the bearing's 2 × 2 stiffness with its cross terms in the Jacobian) is the
+    derivative of the discrete period map: against central differences of the map (the shaft on its balls, the
+    mesh in contact)."""
+    from geardyn.integrate import period_map
+
+    m = load_system(FILE)
+    x0 = _settled(m)
+    _, J, _, ok = period_map(m, x0, 1, dtau=0.01)
+    assert ok
+    d = x0.size
+    fd = np.empty((d, d))
+    for j in range(d):
+        h = 1e-6 * max(1.0, abs(x0[j]))
+        xp, xm = x0.copy(), x0.copy()
+        xp[j] += h
+        xm[j] -= h
+        fd[:, j] = (period_map(m, xp, 1, dtau=0.01)[0][-1] - period_map(m, xm, 1, dtau=0.01)[0][-1]) / (2 * h)
+    b = np.ix_([0, 1, 4, 5], [0, 1, 4, 5])  # the shaft's (x, y, x', y'): the bearing's block
+    err = np.max(np.abs(J - fd)[b]) / np.max(np.abs(J[b]))
+    assert err < 1e-6, err  # measured 3.0e-7
+    assert np.max(np.abs(J - fd)) < 1e-6 * np.max(np.abs(J))
+    # the bearing's cross terms matter: x and y are coupled in the map
+    assert abs(J[0, 1]) > 0.05 * abs(J[0, 0]) and abs(J[1, 0]) > 0.05 * abs(J[1, 1])
+
+
+def test_leading_exponent_with_few_vectors_is_the_largest_floquet_multiplier():
+    """The leading exponent from one tangent vector beside the plain step (its Jacobian–vector products from the
+    sparse rows, the bearing's cross terms included) is log|μ| / T_f of the largest elastic Floquet multiplier of
+    the settled periodic orbit (from the full monodromy of the other tangent path)."""
+    from geardyn.analysis.lyapunov import spectrum_from_log
+    from geardyn.integrate import integrate_batch, period_map
+
+    m = load_system(FILE)
+    x0 = _settled(m, 30)
+    x1, J, _, _ = period_map(m, x0, 1, dtau=0.01)
+    assert np.max(np.abs(x1[-1] - x0)) < 1e-9  # the orbit is periodic with the forcing
+    mu = np.linalg.eigvals(J)
+    elastic = mu[np.abs(mu - 1.0) > 1e-6]
+    lam_floquet = math.log(np.max(np.abs(elastic))) / m.sampling_period
+    r = integrate_batch(
+        [m], x0[None, :], IntegrationOptions(dtau=0.01, transient=0, periods=60), lyapunov=True, tangents=1
+    )
+    lam, _ = spectrum_from_log(r.lyapunov_log, np.array([m.sampling_period]))
+    assert lam[0, 0] == pytest.approx(lam_floquet, rel=2e-2)
+
+
+def test_a_bad_bearing_exits_2_in_one_line_from_the_command_line(tmp_path):
+    from typer.testing import CliRunner
+
+    from geardyn.cli import app
+
+    p = tmp_path / "bad.toml"
+    p.write_text(open(FILE).read().replace('radial_clearance = "5 um"', 'radial_clearance = "-5 um"'))
+    r = CliRunner().invoke(app, ["simulate", "--system", str(p), "--json"])
+    assert r.exit_code == 2
+    lines = [ln for ln in r.output.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "radial_clearance" in lines[0], r.output

@@ -356,9 +356,11 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
             K,
             n,
         )
-    except ModelError as e:
+    except ModelError as e:  # RollingBearing names its fields; the file names its keys
         msg = str(e)
-        key = next((k for k in ROLLING_KEYS if msg.startswith(f"bearing {k}:")), None)
+        keys = {"clearance": "radial_clearance", "stiffness": "load_deflection", "type": "type"}
+        field = next((k for k in (*ROLLING_KEYS, *keys) if msg.startswith(f"bearing {k}:")), None)
+        key = keys.get(field, field)
         raise blk.merr(key, msg.split(": ", 1)[-1] if key else msg) from None
     exact = float(br.ball_pass_ratio * Fraction(speed))
     ratio = round_to(exact)
