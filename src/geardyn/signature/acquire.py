@@ -173,7 +173,13 @@ def record_system(
     periods = int(math.ceil(revolutions * tau_per_rev / Tf * (1.0 - 1e-12))) + 1
     transient = max(2, int(math.ceil(settle / Tf)))
     steps = (periods + transient) * Tf / dtau
-    budget(f"{revolutions} pinion revolutions", steps, MAX_STEPS, "integration steps", "revolutions")
+    what = f"{revolutions} pinion revolutions"
+    if transient > periods:  # the settling dominates: say so (a lightly damped mode decays slowly)
+        what += (
+            f" after settling for τ = {transient * Tf:.3g} (the least damped mode's decay; the record: "
+            f"{periods * Tf:.3g})"
+        )
+    budget(what, steps, MAX_STEPS, "integration steps", "revolutions")
     tr = trajectory(
         system, state0, IntegrationOptions(dtau=dtau, transient=transient, periods=periods), history_periods=periods
     )

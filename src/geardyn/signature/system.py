@@ -204,7 +204,8 @@ def default_rate(system: Any, f_mesh: float) -> float:
 def settle_time(system: Any, decays: float = 10.0, least: float = 300.0) -> float:
     """The non-dimensional time integrated and discarded before a record: ``decays`` time constants of the
     slowest-decaying mode of the system linearised with the teeth and clearances in contact (mean stiffness and
-    damping of each mesh), at least ``least``; rigid-body modes are left out.
+    damping of each mesh, :func:`geardyn.analysis.settle.decay_rate`), at least ``least``; rigid-body modes are
+    left out, and a system with an undamped mode gets ``least``.
 
     Parameters
     ----------
@@ -219,23 +220,13 @@ def settle_time(system: Any, decays: float = 10.0, least: float = 300.0) -> floa
     float
         Δτ.
     """
-    n = system.n
-    Mi = np.asarray(system.Mi, dtype=float)
-    K = np.array(system.Kb, dtype=float)
-    C = np.array(system.Cb, dtype=float)
-    for i, m in enumerate(system.meshes):
-        v = np.asarray(system.V[i], dtype=float)
-        K += m.k * np.outer(v, v)
-        C += 2.0 * m.xi0 * np.outer(v, v)
-    for i, (k, c) in enumerate(zip(system.kc, system.cc)):
-        v = np.asarray(system.Vc[i], dtype=float)
-        K += k * np.outer(v, v)
-        C += c * np.outer(v, v)
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Mi @ K, -Mi @ C]])
-    lam = np.linalg.eigvals(A)
-    lam = lam[np.abs(lam) > 1e-8 * max(1.0, float(np.max(np.abs(lam))))]
-    decay = float(np.min(-lam.real)) if lam.size else 0.0
-    return max(least, decays / decay) if decay > 0 else least
+    from ..analysis.settle import decay_rate
+
+    try:
+        decay = decay_rate(system)
+    except ModelError:  # a mode undamped: no decay time
+        return least
+    return max(least, decays / decay)
 
 
 def system_acquire(
