@@ -169,6 +169,26 @@ def _clearance_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]
     return out
 
 
+def _bearing_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
+    """Per rolling bearing: its rows' displacement extremes (non-dimensional and µm) and how often each row's
+    deflection is beyond the clearance (the law's counters ``plus``, ``free``, ``minus``)."""
+    e0 = len(model.meshes) + len(model.clearance_names)
+    bc_um = float(model.scaling.b_c_m) * 1e6
+    out = []
+    for b, br in enumerate(model.bearings):
+        entry: dict[str, Any] = {"name": br.name, "type": br.kind, "radial_clearance_um": _num(br.clearance * bc_um)}
+        for k, axis in enumerate("xy"):
+            e = e0 + 2 * b + k
+            lo, hi = float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
+            entry[axis] = {
+                "min_um": _num(lo * bc_um),
+                "max_um": _num(hi * bc_um),
+                "fractions": {n: _num(float(v[point])) for n, v in res.law_fractions(e).items()},
+            }
+        out.append(entry)
+    return out
+
+
 def report(
     model: Any,
     res: Any = None,
@@ -194,7 +214,8 @@ def report(
     Returns
     -------
     dict
-        ``reference_mesh``, ``labels``, ``forcing_period_multiple``, ``meshes`` and (with ``res``) ``clearances``.
+        ``reference_mesh``, ``labels``, ``forcing_period_multiple``, ``meshes`` and (with ``res``) ``clearances``
+        and, for a system with rolling bearings, ``bearings``.
     """
     out: dict[str, Any] = {
         "reference_mesh": model.meshes[model.reference].name,
@@ -204,6 +225,8 @@ def report(
     }
     if res is not None:
         out["clearances"] = _clearance_entries(model, res, point)
+        if getattr(model, "bearings", ()):
+            out["bearings"] = _bearing_entries(model, res, point)
     return out
 
 
