@@ -4,9 +4,11 @@ Only :mod:`geardyn.backend` (its ``MESH`` backend, behind :mod:`geardyn.integrat
 :func:`run_batch` advances a batch of parameter points of one system structure through
 ``n_transient + n_record`` forcing periods with classic fixed-step RK4 (h = T_f/N, T_f the forcing period, so the
 stroboscopic samples are exact) and serves every analysis: Poincaré points of the full state, streaming statistics
-per element (each mesh's deflection δ_m = V[m]·q̃ − E_m(θ), then each clearance's), time histories, Lyapunov
+per element (each mesh's deflection δ_m = V[m]·q̃ − E_m(θ), then each clearance's, then each rolling bearing's x
+and y rows: :mod:`.core`), time histories, Lyapunov
 spectra (all 2n tangent vectors, or the k leading ones, Gram–Schmidt each recorded period) and monodromy matrices.
-The accurate mode splits every step at each element's contact boundary (δ = ±D) inside it.
+The accurate mode splits every step at each dead zone's contact boundary (δ = ±D) inside it (a rolling bearing is
+smooth: no split, :mod:`.step`).  A batch with rolling bearings takes the sparse plain step (not the dense one).
 
 Sparse: the cost of a step follows the nonzeros, not n².  :func:`sparse_arrays` keeps A, B, the element vectors
 and their force rows by their nonzeros (the union of the batch's patterns; :mod:`.core` lists the layout), and
