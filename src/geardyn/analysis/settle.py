@@ -44,6 +44,7 @@ __all__ = [
     "decay_rates",
     "settle_periods",
     "transient_cycles",
+    "unsettled_note",
 ]
 
 #: e-folds of decay of the least damped mode before recording (e^-12 = 6.1e-6).
@@ -231,6 +232,46 @@ def settle_periods(
     raw = math.ceil(t / T - 1e-9)
     n = min(max(raw, int(floor)), int(cap))
     return Settling(n, sigma, t, T, capped=raw > cap, floored=raw < floor)
+
+
+def unsettled_note(model: Any, transient: int) -> str | None:
+    """One line when ``transient`` forcing periods leave the least damped linearised mode undecayed (less than
+    e^-:data:`DECAY_EFOLDS`): its decay, how far the transient takes it and the count ``auto`` would take; None
+    when the transient suffices or no mode has a decay time.
+
+    Parameters
+    ----------
+    model : System
+        The run's model.
+    transient : int
+        Forcing periods discarded before recording.
+
+    Returns
+    -------
+    str or None
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> print(unsettled_note(GearModel(omega=0.8, xi0=0.001), 300))  # doctest: +NORMALIZE_WHITESPACE
+    transient: 300 forcing periods decay the least damped mode (e^(-0.001 τ)) to e^-2.36 only; e^-12 needs 1528
+    (--transient auto)
+    >>> unsettled_note(GearModel(omega=0.8), 300) is None
+    True
+    """
+    try:
+        sigma = decay_rate(model)
+    except ModelError:
+        return None
+    T = float(model.sampling_period)
+    folds = sigma * T * int(transient)
+    if folds >= DECAY_EFOLDS:
+        return None
+    need = math.ceil(DECAY_EFOLDS / (sigma * T) - 1e-9)
+    return (
+        f"transient: {int(transient)} forcing periods decay the least damped mode (e^(-{sigma:.3g} τ)) to "
+        f"e^-{folds:.3g} only; e^-{DECAY_EFOLDS:g} needs {need} (--transient auto)"
+    )
 
 
 #: The suffix of ``--transient`` meaning reference mesh cycles (``--transient 3000cycles``).

@@ -47,18 +47,28 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
     camp = summary.get("campbell")
     if summary.get("campbell_note"):
         c.print(summary["campbell_note"], markup=False, highlight=False)
+    if camp and camp.get("gyroscopic"):
+        c.print(
+            "gyroscopic terms on: the table gives the modes at standstill; the Campbell diagram solves them at "
+            "each speed (branches, forward and backward whirl)",
+            markup=False,
+            highlight=False,
+        )
     if camp and camp["crossings"]:
         rpm = camp["x"] == "rpm"
+        gyro = bool(camp.get("gyroscopic"))
         x = Table(title="Campbell crossings")
-        for col in ("pinion speed (rpm)" if rpm else "mesh frequency (Hz)", "frequency (Hz)", "modes", "line"):
+        cols = ["pinion speed (rpm)" if rpm else "mesh frequency (Hz)", "frequency (Hz)", "modes", "line"]
+        for col in cols + (["whirl"] if gyro else []):
             x.add_column(col)
         for cr in camp["crossings"]:
-            x.add_row(
+            row = [
                 f"{cr['x']:.6g}",
                 f"{cr['frequency_hz']:.6g}",
                 ", ".join(map(str, cr["modes"])),
                 camp["lines"][cr["line"]]["label"],
-            )
+            ]
+            x.add_row(*(row + ([cr["whirl"]] if gyro else [])))
         c.print(x)
     for p in paths:
         c.print(f"wrote {p}", markup=False, highlight=False)

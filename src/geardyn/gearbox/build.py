@@ -6,6 +6,7 @@ A system file with ``[[shaft]]`` tables is a gearbox (``geardyn.systems.load`` h
     max_period = 1000             # bound on the forcing period, in reference mesh cycles (default 1000)
     round_ratios = false          # true: round the mesh ratios to that denominator instead of refusing
     input_rotation = "counterclockwise"   # running sense of the reference shaft seen from +z
+    gyroscopic = false            # true: the shafts' and gears' gyroscopic terms (each shaft at its own speed)
 
     [[shaft]]
     name = "input"
@@ -81,7 +82,7 @@ from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
 from ..systems.description import Connection, Mesh
 from ..systems.rolling import ROLLING_KEYS, read_rolling
-from .gear import Gear
+from .gear import Gear, disc_gyroscopic
 from .kinematics import DEFAULT_MAX_PERIOD, forcing_period, round_ratio, solve_speeds
 from .mesh import mesh_vector, pair_geometry_of, tooth_excitation
 from .model import GearboxDescription, NodeBody, ShaftModel
@@ -105,7 +106,7 @@ _TOP_TEXT = ("title", "description")
 _SECTIONS = {
     "system": {"reference": "text", "characteristic_length": "length", "equivalent_mass": "text"},
     "operating": {"rpm": "speed", "omega": "number"},
-    "gearbox": {"max_period": "int", "round_ratios": "bool", "input_rotation": "text"},
+    "gearbox": {"max_period": "int", "round_ratios": "bool", "input_rotation": "text", "gyroscopic": "bool"},
 }
 _SHAFT = {
     "name": "text",
@@ -450,6 +451,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
             for g in (gears[n] for n in node_feats[k] if n in gears):
                 m, ip, idia = g.blank(mat.rho, _section_at(segs, g.position).outer)
                 blockm += np.diag([m, m, m, idia, idia, ip])
+                G[6 * k : 6 * k + 6, 6 * k : 6 * k + 6] += disc_gyroscopic(ip)
             bodies.append(NodeBody(nn, NODE_DOFS, mass_matrix=tuple(map(tuple, blockm))))
         radii = []
         for k in range(len(pos_list)):
@@ -576,6 +578,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
         kinematics=kin,
         element_kinds=kinds,
         rolling_bearings=tuple(rolling),
+        gyroscopic=gbb.get("gyroscopic", default=False),
     )
 
 

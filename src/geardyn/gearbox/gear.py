@@ -12,6 +12,19 @@ bore of the shaft's outer diameter d_s at the gear (a standard approximation of 
 the mass, polar and diametral moments of inertia.  A gear with a web and a rim gives ``web_width`` and
 ``rim_inner_diameter``: the rim (from that diameter to r, width b) and the web (from the bore to it, width
 ``web_width``) are added as two such disks.
+
+A gear spinning at Ω about the shaft's axis (+z) is a rigid disc with the gyroscopic moment of its polar
+inertia on its two tilts (:func:`disc_gyroscopic`): with the tilts rx, ry of a shaft node,
+
+    I_d rx'' + Ω I_p ry' = M_x,    I_d ry'' − Ω I_p rx' = M_y,
+
+the rate of change of the angular momentum I_p Ω (ry, −rx, 1) + I_d (rx', ry', 0) of the tilted disc
+(Friswell et al. 2010, ch. 5: G = [[0, I_p], [−I_p, 0]] over the rotations (θ, ψ) about x and y).
+
+References
+----------
+.. [1] M. I. Friswell, J. E. T. Penny, S. D. Garvey, A. W. Lees, *Dynamics of Rotating Machines*,
+   Cambridge University Press, 2010, ch. 5 (the rigid disc and its gyroscopic matrix).
 """
 
 from __future__ import annotations
@@ -19,9 +32,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..errors import ModelError
 
-__all__ = ["Gear", "disk"]
+__all__ = ["Gear", "disk", "disc_gyroscopic"]
 
 
 def disk(rho: float, r_out: float, r_in: float, width: float) -> tuple[float, float, float]:
@@ -45,6 +60,23 @@ def disk(rho: float, r_out: float, r_in: float, width: float) -> tuple[float, fl
     ip = 0.5 * m * (r_out**2 + r_in**2)
     idia = m * ((r_out**2 + r_in**2) / 4.0 + width**2 / 12.0)
     return m, ip, idia
+
+
+def disc_gyroscopic(polar_inertia: float) -> np.ndarray:
+    """The gyroscopic matrix (6 × 6, per unit spin speed in rad/s about +z) of a rigid disc at a shaft node.
+
+    Over the node's DOFs ``x, y, z, rx, ry, theta`` (:data:`geardyn.gearbox.shaft.NODE_DOFS`): ``G[rx, ry] = I_p``
+    and ``G[ry, rx] = −I_p``, the rest 0 (see the module docstring); it enters ``M q'' + Ω G q' + K q = f``.
+
+    Parameters
+    ----------
+    polar_inertia : float
+        The disc's polar moment of inertia I_p (kg·m²).
+    """
+    G = np.zeros((6, 6))
+    G[3, 4] = polar_inertia
+    G[4, 3] = -polar_inertia
+    return G
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,10 @@ gear mounted there (mass on x, y, z, diametral inertia on rx, ry, polar inertia 
 stiffness (and its Rayleigh damping β K) is one linear connection over all its nodes, named after the shaft,
 so that the modal strain energy is reported per shaft, per bearing and per mesh.  The off-diagonal part of
 the consistent mass matrix couples the nodes of a shaft; :meth:`GearboxDescription.mass_matrix` adds it to
-the block-diagonal matrix of the bodies.  Everything downstream — assembly, scaling, kernels, every
+the block-diagonal matrix of the bodies.  With ``[gearbox] gyroscopic = true`` the shafts' gyroscopic matrices
+(:meth:`GearboxDescription.gyroscopic_matrix`, each shaft at its own exact speed) enter the damping of the
+equations of motion at a running speed (:func:`geardyn.systems.assemble.assemble`) and the modes of a
+Campbell diagram (:func:`geardyn.systems.modes.campbell`).  Everything downstream — assembly, scaling, kernels, every
 analysis — sees an ordinary mesh-vector system.
 """
 
@@ -71,7 +74,8 @@ class ShaftModel:
     material : Material
         The shaft's material.
     M, K, G : ndarray
-        Consistent mass, stiffness and gyroscopic matrices over the nodes' DOFs (SI; G per unit spin speed).
+        Consistent mass, stiffness and gyroscopic matrices over the nodes' DOFs (SI; G per unit spin speed
+        in rad/s about +z: the shaft's elements and the polar inertia of its gears).
     speed : Fraction
         Speed relative to the reference shaft (exact); default 1.
     sense : int
@@ -130,6 +134,8 @@ class GearboxDescription(SystemDescription):
         Exact kinematics: shaft speeds, mesh ratios (as strings of fractions) and the forcing period.
     element_kinds : dict[str, str]
         The kind of each named element: ``"shaft"``, ``"bearing"``, ``"coupling"`` or ``"mesh"``.
+    gyroscopic : bool
+        Whether the shafts' gyroscopic terms enter (``[gearbox] gyroscopic``); default False.
     """
 
     shafts: tuple[ShaftModel, ...] = field(default=(), compare=False)
@@ -137,6 +143,8 @@ class GearboxDescription(SystemDescription):
     kinematics: dict[str, Any] = field(default_factory=dict, compare=False)
     #: The kind of each named element: ``"shaft"``, ``"bearing"``, ``"coupling"`` or ``"mesh"``.
     element_kinds: dict[str, str] = field(default_factory=dict, compare=False)
+    #: Whether the shafts' gyroscopic terms enter (``[gearbox] gyroscopic``).
+    gyroscopic: bool = field(default=False, compare=False)
 
     def mass_matrix(self) -> np.ndarray:
         """M (SI): the bodies' blocks plus the off-diagonal part of each shaft's consistent mass matrix."""
@@ -146,6 +154,22 @@ class GearboxDescription(SystemDescription):
             ii = [idx[(n, d)] for n in s.nodes for d in NODE_DOFS]
             M[np.ix_(ii, ii)] += s.M - np.diag(np.diag(s.M))
         return M
+
+    def gyroscopic_matrix(self) -> np.ndarray | None:
+        """Σ_s σ_s n_s G_s (SI) over the system's DOFs, or None when the gyroscopic terms are off.
+
+        Shaft s turns at n_s times the reference shaft's speed (exact, from the teeth) in the sense σ_s = ±1
+        about +z, so at the reference shaft's speed Ω (rad/s, in its running sense) the equations of motion are
+        ``M q'' + (C + Ω G) q' + K q = f`` with this G (skew-symmetric).
+        """
+        if not self.gyroscopic:
+            return None
+        G = np.zeros((self.n, self.n))
+        idx = self.index()
+        for s in self.shafts:
+            ii = [idx[(n, d)] for n in s.nodes for d in NODE_DOFS]
+            G[np.ix_(ii, ii)] += (s.sense * float(s.speed)) * s.G
+        return G
 
     def gearbox_summary(self) -> dict[str, Any]:
         """The shafts (nodes, positions, speeds) and the exact kinematics, for reports."""

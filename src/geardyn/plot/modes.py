@@ -4,7 +4,10 @@
 One horizontal line per natural frequency up to 1.25 times the highest order line's frequency at the top
 speed (a finite-element model's higher modes are left out), labelled at the right edge with its mode numbers (a
 degenerate frequency is one line naming its modes), one line per distinct mesh order (meshes of
-equal frequency share it), the crossings as dots, and the legend below the axes, off the data.
+equal frequency share it), the crossings as dots, and the legend below the axes, off the data.  With gyroscopic
+terms each natural frequency is a branch over speed instead of a horizontal line: solid where its mode whirls
+forward, dashed where it whirls backward (thin grey without whirl: a torsional or axial mode), labelled with its
+frequency at the top speed.
 """
 
 from __future__ import annotations
@@ -43,10 +46,12 @@ def has_campbell(ds: xr.Dataset) -> bool:
     return "line_slope" in ds and ds.sizes.get("line", 0) > 0
 
 
-def frequency_lines(ds: xr.Dataset) -> list[tuple[float, list[int]]]:
-    """The distinct natural frequencies (Hz, ascending) with the numbers of the modes at each."""
+def frequency_lines(ds: xr.Dataset, values: np.ndarray | None = None) -> list[tuple[float, list[int]]]:
+    """The distinct natural frequencies (Hz, ascending; ``values`` instead of ``frequency_Hz`` when given) with the
+    numbers of the modes at each."""
     out: list[tuple[float, list[int]]] = []
-    for f, m in zip(ds["frequency_Hz"].values, ds["mode"].values):
+    vals = ds["frequency_Hz"].values if values is None else values
+    for f, m in zip(vals, ds["mode"].values):
         if out and abs(f - out[-1][0]) <= SAME_FREQUENCY_RTOL * max(abs(f), 1e-300):
             out[-1][1].append(int(m))
         else:
@@ -71,7 +76,8 @@ def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
     """Campbell diagram: the natural frequencies (labelled with their mode numbers), the mesh-order lines and
     their crossings against pinion speed (or the mesh frequency when the file gives no tooth count)."""
     lo, hi = json.loads(ds.attrs["campbell_x_range"])
-    groups = frequency_lines(ds)
+    branches = "branch_frequency_Hz" in ds
+    groups = frequency_lines(ds, ds["branch_frequency_Hz"].values[-1] if branches else None)
     fmax = max(f for f, _ in groups)
     top = 1.08 * fmax if fmax > 0 else 1.0
     # natural frequencies far above every order line (a finite-element model's) are left out of the drawing
@@ -79,9 +85,12 @@ def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
     if reach < top:
         top = reach
         groups = [(f, m) for f, m in groups if f <= top]
-    for f, _ in groups:
-        if f > 0:
-            ax.axhline(f, color="0.6", lw=0.8, zorder=1)
+    if branches:
+        _branches(ax, ds, top)
+    else:
+        for f, _ in groups:
+            if f > 0:
+                ax.axhline(f, color="0.6", lw=0.8, zorder=1)
     labels = [str(x) for x in ds["line_label"].values]
     for j, (slope, text) in enumerate(zip(ds["line_slope"].values, labels)):
         x1 = min(hi, top / slope)
@@ -122,5 +131,39 @@ def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
             arrowprops=dict(arrowstyle="-", lw=0.5, color="0.5", shrinkA=0, shrinkB=1),
         )
     ax.legend(
-        loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=min(4, ds.sizes["line"] + 1), fontsize=8, frameon=False
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.12),
+        ncol=min(4, ds.sizes["line"] + 1 + 2 * branches),
+        fontsize=8,
+        frameon=False,
     )
+
+
+#: |whirl measure| below this draws a branch segment without whirl.
+WHIRL_NONE = 1e-3
+
+
+def _branches(ax: Axes, ds: xr.Dataset, top: float) -> None:
+    """The natural frequencies over speed, solid where forward, dashed where backward (the module docstring)."""
+    from matplotlib.collections import LineCollection
+    from matplotlib.lines import Line2D
+
+    x = ds["speed"].values
+    F = ds["branch_frequency_Hz"].values
+    W = ds["branch_whirl"].values
+    styles = {1: ("0.1", "solid", 1.0), -1: ("0.1", (0, (4, 2)), 1.0), 0: ("0.6", "solid", 0.7)}
+    segs: dict[int, list] = {1: [], -1: [], 0: []}
+    for j in range(F.shape[1]):
+        if F[0, j] <= 0 or np.min(F[:, j]) > top:
+            continue
+        for i in range(len(x) - 1):
+            w = 0.5 * (W[i, j] + W[i + 1, j])
+            segs[1 if w > WHIRL_NONE else -1 if w < -WHIRL_NONE else 0].append(
+                [(x[i], F[i, j]), (x[i + 1], F[i + 1, j])]
+            )
+    for k, (color, ls, lw) in styles.items():
+        if segs[k]:
+            ax.add_collection(LineCollection(segs[k], colors=color, linestyles=ls, linewidths=lw, zorder=1))
+    for k, text in ((1, "forward whirl"), (-1, "backward whirl")):
+        color, ls, lw = styles[k]
+        ax.add_line(Line2D([], [], color=color, ls=ls, lw=lw, label=text))

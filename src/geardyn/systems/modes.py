@@ -19,6 +19,20 @@ reference mesh frequency f_ref itself: order k of mesh m is ``k r_m f_ref``, cro
 ``f_ref = f_i/(k r_m)``.  Orders of meshes with the same ``k r_m`` are one line, and modes of one
 (degenerate) frequency one crossing.
 
+Gyroscopic terms (a gearbox with ``[gearbox] gyroscopic = true``, :meth:`~geardyn.gearbox.model.
+GearboxDescription.gyroscopic_matrix`): at the reference shaft's speed Ω (rad/s) the undamped equations are
+``M q'' + Ω G q' + K q = 0`` with G skew-symmetric, and :func:`modal_analysis` at a speed (``rpm``) solves them
+exactly: in the standstill modes Φ (``Φᵀ M Φ = I``, ``Φᵀ K Φ = Λ``) the elastic coordinates η obey
+``η'' + Ω Φᵀ G Φ η' + Λ η = 0``, whose first-order form in ``z = (Λ^½ η, η')`` is ``z' = A z`` with A real
+skew-symmetric: ``i A`` is Hermitian and ``scipy.linalg.eigh`` gives the frequencies ω (``A z = iω z``) to
+round-off, the rigid-body modes (Λ = 0) included: they stay at 0 unless G couples them (a shaft free to tilt
+precesses).
+Each mode's whirl is measured on the shafts' nodes: ``w = Σ σ_s 2 Im(a b̄) / Σ (|a|² + |b|²)`` over the pairs
+(a, b) = (x, y) and r (ry, −rx) of the complex shape (r the node's radius, σ_s the shaft's running sense), +1
+a circular orbit turning with the shaft (forward whirl), −1 against it (backward); a mode without lateral
+motion has w = 0.  The Campbell diagram then draws each natural frequency against speed (a branch, the modes
+sorted by frequency at each speed) and finds its crossings with the order lines on the branches.
+
 Modes are numbered from 1 in ascending frequency (the rigid-body modes first) wherever they are
 shown: tables, crossings, JSON, figures; the arrays of :class:`ModalResult` are indexed from 0 (mode
 ``i`` is column ``i - 1``).
@@ -39,11 +53,12 @@ from typing import Any
 
 import numpy as np
 import scipy.linalg
+from threadpoolctl import threadpool_limits
 
 from ..errors import ModelError
 from .description import SystemDescription
 
-__all__ = ["ModalResult", "campbell", "modal_analysis", "modes_report"]
+__all__ = ["ModalResult", "campbell", "gyroscopic_eigen", "modal_analysis", "modes_report"]
 
 #: Relative tolerance (on ω²/max ω²) below which a mode is a rigid-body mode.
 RIGID_RTOL = 1e-9
@@ -75,6 +90,11 @@ class ModalResult:
         The meshes among them.
     energy : ndarray, shape (n, elements)
         Modal strain-energy fraction per element (rows of rigid-body modes are 0).
+    rpm : float or None
+        The reference shaft's speed (rpm) of modes with gyroscopic terms; None at standstill (no gyroscopic
+        terms): then ``shapes`` are real, else complex (``q(t) = Re(φ e^{iωt})``, normalised to ``φᴴ M φ = 1``).
+    whirl : ndarray, shape (n,), or None
+        With gyroscopic terms, the whirl measure of each mode (the module docstring): > 0 forward, < 0 backward.
     """
 
     labels: tuple[str, ...]
@@ -85,6 +105,8 @@ class ModalResult:
     elements: tuple[str, ...]
     mesh_elements: tuple[str, ...]
     energy: np.ndarray
+    rpm: float | None = None
+    whirl: np.ndarray | None = None
 
     @property
     def mesh_dominated(self) -> np.ndarray:
@@ -209,7 +231,7 @@ def modes_budget_of_file(path: Any) -> None:
     )
 
 
-def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> ModalResult:
+def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: float | None = None) -> ModalResult:
     """Natural frequencies, M-orthonormal mode shapes and strain-energy fractions at mean stiffness.
 
     Parameters
@@ -218,6 +240,9 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> Moda
         The system.
     clearances : {"contact", "open"}
         Clearance elements in contact (their stiffness counts) or open (left out).
+    rpm : float, optional
+        The reference shaft's speed (rpm, >= 0) of a system with gyroscopic terms: the modes of
+        ``M q'' + Ω G q' + K q = 0`` (the module docstring).  Ignored (the standstill modes) without them.
 
     Returns
     -------
@@ -234,6 +259,11 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> Moda
     mode types of a planetary gear, which this analysis reproduces).
     """
     modes_budget(desc, clearances)
+    G = desc.gyroscopic_matrix() if rpm is not None and hasattr(desc, "gyroscopic_matrix") else None
+    if G is not None:
+        if not (math.isfinite(rpm) and rpm >= 0):
+            raise ModelError(f"rpm: must be >= 0, got {rpm!r}")
+        return _gyroscopic_modes(desc, clearances, float(rpm), G)
     M = desc.mass_matrix()
     names, mats, meshes = _element_stiffness(desc, clearances)
     K = np.sum(mats, axis=0) if mats else np.zeros_like(M)
@@ -265,6 +295,141 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact") -> Moda
     return ModalResult(desc.labels, f, w2, phi, rigid, tuple(names), tuple(meshes), energy)
 
 
+def gyroscopic_eigen(
+    omega2: np.ndarray, shapes: np.ndarray, G: np.ndarray, spin: float, vectors: bool = True
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """The modes of ``M q'' + Ω G q' + K q = 0`` from the standstill ones (the module docstring).
+
+    Parameters
+    ----------
+    omega2 : ndarray (n,)
+        The standstill eigenvalues ω² (0 for a rigid-body mode).
+    shapes : ndarray (n, n)
+        Their M-orthonormal shapes Φ.
+    G : ndarray (n, n)
+        The gyroscopic matrix (skew-symmetric, per unit of ``spin``).
+    spin : float
+        The speed Ω (rad/s).
+    vectors : bool
+        Whether to compute the shapes (default True); else ``shapes`` is None.
+
+    Returns
+    -------
+    omega : ndarray (n,)
+        The natural frequencies (rad/s), ascending; 0 for the rigid-body modes (at or below
+        √RIGID_RTOL times the highest), which come first.
+    shapes : ndarray (n, n), complex
+        The mode shapes, ``q(t) = Re(φ e^{iωt})``, normalised to ``φᴴ M φ = 1`` with their largest component real
+        and positive; a rigid-body mode's shape is its standstill shape (the first columns of ``shapes`` whose
+        ω² is 0).
+    """
+    n = len(omega2)
+    w = np.sqrt(np.clip(omega2, 0.0, None))
+    Ge = shapes.T @ G @ shapes
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.diag(w)
+    A[n:, :n] = -np.diag(w)
+    A[n:, n:] = -spin * Ge
+    H = -1j * A  # A z = iω z: the Hermitian -iA has the eigenvalues ω, in ± pairs (0 for a rigid-body mode)
+    if not vectors:
+        lam = np.sort(scipy.linalg.eigh(H, eigvals_only=True))[n:]
+        return np.where(lam <= math.sqrt(RIGID_RTOL) * max(float(lam[-1]), 1e-300), 0.0, lam), None
+    lam, Z = scipy.linalg.eigh(H)
+    pos = np.argsort(lam)[n:]  # the n largest: the positive ones and half the zeros
+    wk = lam[pos]
+    zero = wk <= math.sqrt(RIGID_RTOL) * max(float(wk[-1]), 1e-300)
+    out = np.zeros((shapes.shape[0], n), dtype=complex)
+    nr = int(np.sum(zero))
+    out[:, :nr] = shapes[:, np.flatnonzero(omega2 <= 0.0)[:nr]] if nr else out[:, :0]
+    el = pos[~zero]
+    eta = Z[n:, el] / (1j * lam[el])  # η' = iω η
+    eta = eta / np.sqrt(np.sum(np.abs(eta) ** 2, axis=0))  # Φ is M-orthonormal: φᴴ M φ = |η|²
+    v = shapes @ eta
+    k = np.argmax(np.abs(v), axis=0)
+    top = v[k, np.arange(v.shape[1])]
+    out[:, nr:] = v * (np.abs(top) / top)
+    return np.where(zero, 0.0, wk), out
+
+
+class _Spinning:
+    """The standstill modes of a system with gyroscopic terms, solved again at any speed."""
+
+    def __init__(self, desc: SystemDescription, clearances: str, G: np.ndarray):
+        self.desc, self.G = desc, G
+        self.pairs = _whirl_pairs(desc)
+        self.base = base = modal_analysis(desc, clearances)
+        self.omega2 = np.where(base.rigid, 0.0, base.omega2)
+
+    def frequencies(self, rpm: float) -> np.ndarray:
+        """The natural frequencies (Hz, the rigid-body modes first at 0) at the reference shaft's ``rpm``."""
+        return self.at(rpm, whirl=False)[0]
+
+    def at(self, rpm: float, whirl: bool = True) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+        """(frequencies in Hz with the rigid-body modes first at 0, complex shapes, whirl measures) at ``rpm``."""
+        wk, shapes = gyroscopic_eigen(self.omega2, self.base.shapes, self.G, 2.0 * math.pi * rpm / 60.0, vectors=whirl)
+        f = wk / (2.0 * math.pi)
+        if shapes is None:
+            return f, None, None
+        return f, shapes, np.where(f > 0, _whirl(self.desc, shapes, self.pairs), 0.0)
+
+
+def _gyroscopic_modes(desc: SystemDescription, clearances: str, rpm: float, G: np.ndarray) -> ModalResult:
+    """The modes of ``M q'' + Ω G q' + K q = 0`` at the reference shaft's speed (the module docstring)."""
+    sp = _Spinning(desc, clearances, G)
+    f, shapes, whirl = sp.at(rpm)
+    names, mats, _ = _element_stiffness(desc, clearances)
+    nr = int(np.sum(f == 0))
+    energy = np.zeros((len(f), len(names)))
+    for i in range(nr, len(f)):
+        v = shapes[:, i]
+        e = np.array([float(np.real(np.conj(v) @ Ke @ v)) for Ke in mats])
+        tot = e.sum()
+        energy[i] = e / tot if tot > 0 else 0.0
+    return ModalResult(
+        desc.labels,
+        f,
+        (2.0 * math.pi * f) ** 2,
+        shapes,
+        np.arange(len(f)) < nr,
+        tuple(names),
+        sp.base.mesh_elements,
+        energy,
+        rpm=rpm,
+        whirl=whirl,
+    )
+
+
+#: Share of a mode's lateral motion (of the squared shape) below which it has no whirl (w = 0).
+WHIRL_FLOOR = 1e-12
+
+
+def _whirl_pairs(desc: SystemDescription) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Row indices a, b, the factors of (a, b) and the senses of the whirl pairs (x, y) and r (ry, −rx) of every
+    shaft node (the module docstring)."""
+    idx = desc.index()
+    ia, ib, fa, fb, sense = [], [], [], [], []
+    for s in getattr(desc, "shafts", ()):
+        for node, r in zip(s.nodes, s.radii):
+            ia += [idx[(node, "x")], idx[(node, "ry")]]
+            ib += [idx[(node, "y")], idx[(node, "rx")]]
+            fa += [1.0, r]
+            fb += [1.0, -r]
+            sense += [s.sense, s.sense]
+    return np.array(ia, dtype=int), np.array(ib, dtype=int), np.array(fa), np.array(fb), np.array(sense, float)
+
+
+def _whirl(desc: SystemDescription, v: np.ndarray, pairs=None) -> np.ndarray:
+    """The whirl measures w of complex mode shapes (columns of ``v``; the module docstring)."""
+    ia, ib, fa, fb, sense = pairs if pairs is not None else _whirl_pairs(desc)
+    v = v.reshape(v.shape[0], -1)
+    a, b = fa[:, None] * v[ia], fb[:, None] * v[ib]
+    num = np.sum(sense[:, None] * 2.0 * np.imag(a * np.conj(b)), axis=0)
+    den = np.sum(np.abs(a) ** 2 + np.abs(b) ** 2, axis=0)
+    total = np.sum(np.abs(v) ** 2, axis=0)
+    ok = (den > WHIRL_FLOOR * total) & (den > 0)
+    return np.where(ok, num / np.where(ok, den, 1.0), 0.0)
+
+
 def _frequency_groups(res: ModalResult) -> list[tuple[float, list[int]]]:
     """The distinct non-zero natural frequencies with the numbers (from 1) of the modes at each."""
     degenerate = {g[0]: g for g in res.degenerate_groups()}
@@ -294,6 +459,8 @@ def campbell(
     rpm_range: tuple[float, float] = (0.0, 10000.0),
     orders: Sequence[int] = (1, 2, 3),
     mesh_hz_range: tuple[float, float] | None = None,
+    speeds: int | None = None,
+    clearances: str = "contact",
 ) -> dict[str, Any]:
     """Campbell diagram: the mesh-order lines and their crossings with the natural frequencies.
 
@@ -314,6 +481,11 @@ def campbell(
     mesh_hz_range : (float, float), optional
         Range of the reference mesh frequency (Hz) of the diagram without ``teeth`` (default up to
         1.2 times the frequency at which the lowest line crosses the highest mode).
+    speeds : int
+        With gyroscopic terms: the number of speeds, evenly spaced over ``rpm_range``, at which the modes are
+        solved for the branches (default :data:`BRANCH_SPEEDS`).
+    clearances : {"contact", "open"}
+        The clearance elements of those modes (see :func:`modal_analysis`).
 
     Returns
     -------
@@ -322,7 +494,12 @@ def campbell(
         ``lines``: per distinct line ``{"label", "harmonic" (multiple of the reference mesh frequency),
         "hz_per_x", "order", "mesh", "meshes", "orders"}``; ``crossings``: ``{"x", "mode", "modes",
         "order", "mesh", "meshes", "line", "frequency_hz"}`` sorted by ``x`` (``"rpm"`` too against
-        speed), modes numbered from 1; ``rpm_range`` against speed.
+        speed), modes numbered from 1; ``rpm_range`` against speed.  With gyroscopic terms (a gearbox with
+        ``gyroscopic = true``) also ``gyroscopic``: True and ``branches``: ``{"rpm": the speeds,
+        "frequencies_hz": per speed the natural frequencies of every mode (ascending), "whirl": per speed each
+        mode's whirl measure (> 0 forward, < 0 backward)}``; the crossings are then those of the lines with the
+        branches (``mode`` the branch, numbered from 1 like the modes; ``whirl``: ``"forward"``, ``"backward"``
+        or ``"none"``), each solved to :data:`CROSSING_XTOL` of the speed range.
 
     Raises
     ------
@@ -355,6 +532,17 @@ def campbell(
     if not (0 <= lo < hi and math.isfinite(hi)):
         raise ModelError(f"{what}: must be 0 <= low < high, got {(lo, hi)!r}")
     names = [m.name for m in desc.meshes]
+    G = desc.gyroscopic_matrix() if hasattr(desc, "gyroscopic_matrix") else None
+    spinning = _Spinning(desc, clearances, G) if G is not None and z is not None else None
+    if spinning is not None:
+        n_sp = BRANCH_SPEEDS if speeds is None else int(speeds)
+        if not 2 <= n_sp <= 10000:
+            raise ModelError(f"speeds: must be from 2 to 10000, got {n_sp}")
+        grid = np.linspace(lo, hi, n_sp)
+        with threadpool_limits(limits=1, user_api="blas"):  # small dense eigenproblems, many of them
+            solved = [spinning.at(float(x)) for x in grid]
+        F = np.array([f for f, _, _ in solved])
+        W = np.array([w for _, _, w in solved])
     lines, crossings = [], []
     for n, (h, pairs) in enumerate(sorted(harmonics.items())):
         label = _line_label(pairs, names)
@@ -370,6 +558,10 @@ def campbell(
                 "orders": [p[1] for p in pairs],
             }
         )
+        if spinning is not None:
+            with threadpool_limits(limits=1, user_api="blas"):
+                crossings += _branch_crossings(spinning, grid, F, slope, n, pairs)
+            continue
         for f, modes in groups:
             x = f / slope
             if lo <= x <= hi:
@@ -403,6 +595,81 @@ def campbell(
     }
     if z is not None:
         out["rpm_range"] = [lo, hi]
+    if spinning is not None:
+        out["gyroscopic"] = True
+        out["branches"] = {
+            "rpm": [float(x) for x in grid],
+            "frequencies_hz": F.tolist(),
+            "whirl": W.tolist(),
+        }
+    return out
+
+
+#: Speeds (evenly spaced over the diagram's range) at which the branches of a Campbell diagram with gyroscopic
+#: terms are solved.
+BRANCH_SPEEDS = 41
+#: A crossing of an order line with a branch is solved to this fraction of the speed range.
+CROSSING_XTOL = 1e-10
+#: |w| below this is no whirl (a torsional or axial mode).
+WHIRL_NONE = 1e-3
+
+
+def _whirl_word(w: float) -> str:
+    return "forward" if w > WHIRL_NONE else "backward" if w < -WHIRL_NONE else "none"
+
+
+def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slope: float, line: int, pairs) -> list:
+    """The crossings of the line ``f = slope x`` with each elastic branch: bracketed on the grid, started from
+    the branch's cubic spline and solved on the branch itself by Newton steps with the spline's slope (bisection
+    of the bracket if a step leaves it), to :data:`CROSSING_XTOL` of the speed range."""
+    from scipy.interpolate import CubicSpline
+    from scipy.optimize import brentq
+
+    out = []
+    xtol = CROSSING_XTOL * float(grid[-1] - grid[0])
+    for i in range(F.shape[1]):
+        g = F[:, i] - slope * grid
+        if not np.all(F[:, i] > 0):
+            continue
+        spline = None
+        for j in range(len(grid) - 1):
+            if not (g[j] > 0 >= g[j + 1] or g[j] >= 0 > g[j + 1]):
+                continue
+            a, b = float(grid[j]), float(grid[j + 1])
+            if spline is None:
+                spline = CubicSpline(grid, F[:, i])
+            d = spline.derivative()
+            fs = lambda s: float(spline(s)) - slope * s  # noqa: E731
+            x = brentq(fs, a, b) if fs(a) * fs(b) < 0 else a - g[j] * (b - a) / (g[j + 1] - g[j])
+            for _ in range(20):
+                gx = spinning.frequencies(x)[i] - slope * x
+                if gx > 0:
+                    a = max(a, x)
+                elif gx < 0:
+                    b = min(b, x)
+                step = -gx / (float(d(x)) - slope)
+                x_new = x + step
+                if not a <= x_new <= b:
+                    x_new = 0.5 * (a + b)
+                if abs(x_new - x) <= xtol or gx == 0:
+                    x = x_new if gx != 0 else x
+                    break
+                x = x_new
+            _, _, w = spinning.at(x)
+            out.append(
+                {
+                    "x": x,
+                    "mode": int(i) + 1,
+                    "modes": [int(i) + 1],
+                    "order": pairs[0][1],
+                    "mesh": pairs[0][0],
+                    "meshes": [p[0] for p in pairs],
+                    "line": line,
+                    "frequency_hz": slope * x,
+                    "rpm": x,
+                    "whirl": _whirl_word(float(w[i])),
+                }
+            )
     return out
 
 
@@ -473,7 +740,9 @@ def modes_report(
         out["campbell"] = None
         out["campbell_note"] = "the system has no mesh: no Campbell diagram"
         return out
-    out["campbell"] = campbell(desc, res, rpm_range, orders, mesh_hz_range)
+    out["campbell"] = campbell(desc, res, rpm_range, orders, mesh_hz_range, clearances=clearances)
+    if out["campbell"].get("gyroscopic"):
+        out["gyroscopic"] = True
     if desc.reference_mesh.teeth is None:
         out["campbell_note"] = (
             f"mesh {desc.reference_mesh.name!r} gives no teeth: the Campbell diagram is "

@@ -44,6 +44,12 @@ MODES_VARIABLES: dict[str, Variable] = {
     "crossing_mode": _V("first mode number of the crossing"),
     "crossing_modes": Variable("1", "mode numbers of the crossing (a degenerate frequency lists several)", text=True),
     "crossing_line": _V("Campbell line of the crossing (index along line)"),
+    "crossing_whirl": Variable(
+        "1", "whirl of the crossing's mode (gyroscopic terms)", {-1: "backward", 0: "none", 1: "forward"}
+    ),
+    "speed": _V("reference shaft speed of the Campbell branches (gyroscopic terms)", "rpm"),
+    "branch_frequency_Hz": _V("natural frequency of each mode at each speed (gyroscopic terms)", "Hz"),
+    "branch_whirl": _V("whirl measure of each mode at each speed: +1 circular forward, -1 circular backward"),
     "node_shaft": _V("shaft of the node (index into the attribute 'shafts')"),
     "node_position": _V("position of the node along its shaft", "m"),
     "node_radius": _V("radius of the node: its gear's reference radius, else the shaft's outer radius", "m"),
@@ -141,6 +147,13 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         )
         if camp.get("teeth") is not None:
             attrs["teeth"] = int(camp["teeth"])
+        br = camp.get("branches")
+        if br:
+            coords["speed"] = np.array(br["rpm"], dtype=float)
+            data["branch_frequency_Hz"] = (("speed", "mode"), np.array(br["frequencies_hz"], dtype=float))
+            data["branch_whirl"] = (("speed", "mode"), np.array(br["whirl"], dtype=float))
+            codes = {"backward": -1, "none": 0, "forward": 1}
+            data["crossing_whirl"] = ("crossing", np.array([codes[c["whirl"]] for c in cr], dtype=np.int8))
     if report.get("campbell_note"):
         attrs["campbell_note"] = report["campbell_note"]
     return xr.Dataset(data, coords=coords, attrs=attrs)
