@@ -293,3 +293,22 @@ def test_a_bad_bearing_exits_2_in_one_line_from_the_command_line(tmp_path):
     assert r.exit_code == 2
     lines = [ln for ln in r.output.splitlines() if ln.strip()]
     assert len(lines) == 1 and "radial_clearance" in lines[0], r.output
+
+
+def test_bearing_parameters_by_name_and_a_batch_over_the_clearance():
+    """``brg.clearance`` (c̃) is a parameter like a mesh's: a batch of two clearances runs in one call and each
+    point is the system of its own clearance, bit for bit."""
+    from geardyn.integrate import integrate_batch
+
+    m = load_system(FILE)
+    assert m.get("brg.clearance") == pytest.approx(CLEAR / BC, rel=1e-14)
+    assert set(m.parameters()) >= {"brg.clearance", "brg.K", "brg.cx", "brg.cy"}
+    with pytest.raises(ModelError, match="brg.exponent: a rolling bearing's parameters"):
+        m.get("brg.exponent")
+    pts = [m.with_param("brg.clearance", c) for c in (0.0, 0.4)]
+    opts = IntegrationOptions(dtau=0.01, transient=2, periods=1)
+    both = integrate_batch(pts, None, opts)
+    for i, p in enumerate(pts):
+        one = integrate_batch([p], None, opts)
+        assert np.array_equal(both.end_state[i], one.end_state[0])
+    assert not np.allclose(both.end_state[0], both.end_state[1])

@@ -231,6 +231,8 @@ def _ro(a) -> np.ndarray:
 
 
 _MESH_PARAMS = ("k", "xi0", "D", "ratio")
+#: A rolling bearing's parameters by name (``<bearing>.clearance`` …; non-dimensional, :class:`BearingND`).
+_BEARING_PARAMS = ("clearance", "K", "cx", "cy")
 
 
 @dataclass(frozen=True, eq=False)
@@ -240,7 +242,8 @@ class SystemModel:
     Build it with :func:`assemble` (or :func:`geardyn.systems.load_system`).  Parameters by name:
     ``omega``; per mesh ``<mesh>.<p>`` with p one of ``k``, ``xi0``, ``xiK``, ``kappaK``, ``epsK``,
     ``phi_cK``, ``phi_kK``, ``phi_eK``, ``D`` (alias ``backlash``, ``fe`` = ``eps1``), ``ratio``; per
-    clearance ``<name>.D``.  An unqualified mesh parameter (``kappa1``) means the reference mesh's.
+    clearance ``<name>.D``; per rolling bearing ``<bearing>.clearance`` (c̃), ``.K`` (K̃), ``.cx``, ``.cy``.  An
+    unqualified mesh parameter (``kappa1``) means the reference mesh's.
 
     Attributes
     ----------
@@ -429,6 +432,9 @@ class SystemModel:
             if p != "D":
                 raise ModelError(f"{name}: a clearance has only the parameter D")
             return self.Dc[self.clearance_names.index(elem)]
+        b = self._bearing(elem, p)
+        if b is not None:
+            return getattr(b, p)
         m = self.mesh(elem)
         attr, idx = self._mesh_slot(p)
         if idx is None:
@@ -449,6 +455,10 @@ class SystemModel:
             Dc = list(self.Dc)
             Dc[self.clearance_names.index(elem)] = value
             return replace(self, Dc=tuple(Dc))
+        b = self._bearing(elem, p)
+        if b is not None:
+            new_b = replace(b, **{p: value})
+            return replace(self, bearings=tuple(new_b if x.name == b.name else x for x in self.bearings))
         m = self.mesh(elem)
         attr, idx = self._mesh_slot(p)
         if idx is None:
@@ -477,7 +487,17 @@ class SystemModel:
                     out[f"{m.name}.{series}{k + 1}"] = v
         for name, D in zip(self.clearance_names, self.Dc):
             out[f"{name}.D"] = D
+        for b in self.bearings:
+            for p in _BEARING_PARAMS:
+                out[f"{b.name}.{p}"] = getattr(b, p)
         return out
+
+    def _bearing(self, elem: str, p: str) -> BearingND | None:
+        """The rolling bearing ``elem`` (None if it is none), refusing a parameter it does not have."""
+        b = next((x for x in self.bearings if x.name == elem), None)
+        if b is not None and p not in _BEARING_PARAMS:
+            raise ModelError(f"{elem}.{p}: a rolling bearing's parameters are {', '.join(_BEARING_PARAMS)}")
+        return b
 
     def contact_boundaries(self) -> tuple[Boundary, ...]:
         """One boundary per mesh and per clearance: ``vector·x = ±gap`` with vector = (V[m], 0…0).
