@@ -312,3 +312,47 @@ def test_bearing_parameters_by_name_and_a_batch_over_the_clearance():
         one = integrate_batch([p], None, opts)
         assert np.array_equal(both.end_state[i], one.end_state[0])
     assert not np.allclose(both.end_state[0], both.end_state[1])
+
+
+GEARBOX = "examples/gearbox/two_stage_helical.toml"
+
+
+def test_the_shipped_gearbox_has_two_ball_bearings_and_keeps_its_period_bound(tmp_path):
+    """in_B (input shaft, a 6207 size) and mid_B (intermediate, 6208 size) are ball bearings with 10 µm clearance;
+    their ball-pass frequencies (Z (1 − d/D_p)/2 times the shaft's speed 1 and 23/64 of the input's, over the
+    stage-1 mesh frequency of 23 per input revolution) are taken to the nearest multiple of 1/1472, so the forcing
+    period (1472 stage-1 mesh cycles) stays within max_period = 1500."""
+    from fractions import Fraction
+
+    from geardyn.systems import load_description
+
+    d = load_description(GEARBOX)
+    names = [b.name for b in d.rolling_bearings]
+    assert names == ["in_B", "mid_B"]
+    exact = {
+        "in_B": 9 * (1 - 11.112 / 53.5) / 2 / 23,
+        "mid_B": 9 * (1 - 12.7 / 60) / 2 * Fraction(23, 64) / 23,
+    }
+    for b in d.rolling_bearings:
+        assert 1472 % b.ratio.denominator == 0
+        assert abs(float(b.ratio) - float(exact[b.name])) <= 0.5 / 1472 + 1e-15
+        assert b.bearing.clearance == pytest.approx(10e-6, rel=1e-12)
+    assert d.kinematics["forcing_period_mesh_cycles"] == 1472
+    assert load_system(GEARBOX).period_multiple() == 1472
+    text = open(GEARBOX).read()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(
+        text.replace(
+            'type = "ball"\nelements = 9\npitch_diameter = "53.5 mm"',
+            'type = "ball"\nkx = "1e8 N/m"\nelements = 9\npitch_diameter = "53.5 mm"',
+        )
+    )
+    with pytest.raises(ConfigError, match="kx: not allowed in a rolling bearing"):
+        load_description(bad)
+    bad.write_text(
+        text.replace(
+            'type = "ball"\nelements = 9\npitch_diameter = "53.5 mm"', 'elements = 9\npitch_diameter = "53.5 mm"', 1
+        )
+    )
+    with pytest.raises(ConfigError, match='give type = "ball" or "roller"'):
+        load_description(bad)
