@@ -38,7 +38,8 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     Returns
     -------
     ndarray (meshes,)
-        k_m (V_m·q̃ − D_m) at the static equilibrium K̄ q̃ = F̃ + Σ k_m D_m V_m (least-norm solution); a force
+        k_m (V_m·q̃ − D_m) at the static equilibrium K̄ q̃ = F̃ + Σ k_m D_m V_m (least-norm solution; with rolling
+        bearings their forces at the cage's θ = 0 angle join K̄ q̃, solved by Newton's method); a force
         within the rounding of that solve (1e-9 of the largest k_m max(D_m, 1) or |F̃|) is 0: an unloaded mesh.
     """
     Kt = np.array(model.Kb, dtype=float)
@@ -46,7 +47,16 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     for i, m in enumerate(model.meshes):
         Kt += m.k * np.outer(model.V[i], model.V[i])
         rhs += m.k * m.D * model.V[i]
-    q = np.linalg.lstsq(Kt, rhs, rcond=1e-12)[0]
+    if getattr(model, "bearings", ()):  # rolling bearings: the nonlinear static problem, cage at θ = 0
+        from .rolling import static_deflection
+
+        items = [
+            (model.Vb[2 * b : 2 * b + 2], br.elements, br.K, br.exponent, br.clearance, br.phase)
+            for b, br in enumerate(model.bearings)
+        ]
+        q = static_deflection(Kt, rhs, items)[0]
+    else:
+        q = np.linalg.lstsq(Kt, rhs, rcond=1e-12)[0]
     f = np.array([m.k * (model.V[i] @ q - m.D) for i, m in enumerate(model.meshes)])
     scale = max([1.0, float(np.max(np.abs(model.F), initial=0.0))] + [m.k * max(m.D, 1.0) for m in model.meshes])
     f[np.abs(f) <= 1e-9 * scale] = 0.0

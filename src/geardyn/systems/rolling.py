@@ -28,7 +28,7 @@ from .._docfill import attributes
 from ..errors import ModelError
 from .bearings import RollingBearing, bearing_forces, bearing_stiffness
 
-__all__ = ["BearingND", "RollingElementBearing", "round_ball_pass", "static_bearing_stiffness"]
+__all__ = ["BearingND", "RollingElementBearing", "round_ball_pass", "static_bearing_stiffness", "static_deflection"]
 
 #: Largest denominator of a ball-pass ratio read from a system file (as the meshes' ratios are read).
 BALL_PASS_DENOMINATOR = 1000
@@ -154,10 +154,81 @@ def round_ball_pass(exact: float, denominator: int = BALL_PASS_DENOMINATOR) -> F
     return f if f > 0 else Fraction(1, denominator)
 
 
+def static_deflection(K: np.ndarray, F: np.ndarray, items, iterations: int = 100) -> tuple[np.ndarray, list]:
+    """The static deflection q of ``K q + Σ_b V_bᵀ F_b(V_b q) = F`` and each bearing's tangent stiffness there.
+
+    Newton's method from the bearings as linear springs (their stiffness at twice the clearance), the
+    least-squares step where rigid-body rotations leave the matrix singular, with backtracking.  Any consistent
+    units (SI, or a system's non-dimensional ones).
+
+    Parameters
+    ----------
+    K : ndarray (n, n)
+        The linear stiffness.
+    F : ndarray (n,)
+        The loads.
+    items : sequence of (V, Z, K_b, n, c, cage)
+        Each bearing: its x and y rows V (2, n), elements, load–deflection constant, exponent, clearance and cage
+        angle.
+    iterations : int
+        The most Newton steps.
+
+    Returns
+    -------
+    q : ndarray (n,)
+    mats : list of ndarray (n, n)
+        Each bearing's tangent stiffness Vᵀ k₂ V at q.
+
+    Raises
+    ------
+    ModelError
+        If Newton's method does not converge (a bearing carries no load and nothing else holds its body).
+    """
+    K = np.asarray(K, dtype=float)
+    F = np.asarray(F, dtype=float)
+
+    def parts(q):
+        f = np.zeros_like(q)
+        Kt = K.copy()
+        mats = []
+        for V, Z, Kb, n, c, cage in items:
+            dx, dy = V @ q
+            fx, fy = bearing_forces(dx, dy, cage, Z, Kb, n, c)
+            f -= V.T @ np.array([float(fx), float(fy)])
+            kb = V.T @ bearing_stiffness(dx, dy, cage, Z, Kb, n, c) @ V
+            mats.append(kb)
+            Kt = Kt + kb
+        return f, Kt, mats
+
+    K0 = K.copy()
+    for V, Z, Kb, n, c, _cage in items:
+        d = 2.0 * c + 1e-6 * max(c, 1e-12) if c > 0 else 1e-3
+        K0 = K0 + Kb * n * Z / 2.0 * d ** (n - 1.0) * V.T @ V
+    q = np.linalg.lstsq(K0, F, rcond=None)[0]
+    scale = max(float(np.max(np.abs(F), initial=0.0)), 1e-300)
+    for _ in range(iterations):
+        f, Kt, mats = parts(q)
+        r = K @ q + f - F
+        n0 = float(np.linalg.norm(r))
+        if float(np.max(np.abs(r))) <= 1e-10 * scale:
+            return q, mats
+        dq = np.linalg.lstsq(Kt, -r, rcond=None)[0]
+        lam = 1.0
+        for _ls in range(40):  # backtracking keeps the step inside the region it improves
+            f2, _, _ = parts(q + lam * dq)
+            if np.linalg.norm(K @ (q + lam * dq) + f2 - F) < n0:
+                break
+            lam *= 0.5
+        q = q + lam * dq
+    raise ModelError(
+        "bearing: the static deflection under the mean loads did not converge (a rolling bearing without load "
+        "has no stiffness); load the bearings or use linear bearings"
+    )
+
+
 def static_bearing_stiffness(desc, linear_stiffness: np.ndarray, iterations: int = 100) -> list[np.ndarray]:
     """The tangent stiffness (n × n, SI) of every rolling bearing of ``desc`` at the static deflection under
-    the mean loads, cage at its θ = 0 angle (Newton's method on ``K q + Σ_b F_b(q) = F``, the least-squares step
-    where the rigid-body rotations leave K singular).
+    the mean loads, cage at its θ = 0 angle (:func:`static_deflection`).
 
     Parameters
     ----------
@@ -172,59 +243,13 @@ def static_bearing_stiffness(desc, linear_stiffness: np.ndarray, iterations: int
     -------
     list of ndarray (n, n)
         One matrix per rolling bearing, in order.
-
-    Raises
-    ------
-    ModelError
-        If Newton's method does not converge (a bearing carries no load and the system is then singular).
     """
     idx = desc.index()
-    F = desc.load_vector()
-    brs = desc.rolling_bearings
-    Vs = [b.vectors(idx) for b in brs]
-
-    def parts(q):
-        f = np.zeros_like(q)
-        K = np.array(linear_stiffness, dtype=float)
-        mats = []
-        for b, V in zip(brs, Vs):
-            br = b.bearing
-            dx, dy = V @ q
-            fx, fy = bearing_forces(dx, dy, b.phase, br.elements, br.stiffness, br.exponent, br.clearance)
-            f -= V.T @ np.array([float(fx), float(fy)])
-            k2 = bearing_stiffness(dx, dy, b.phase, br.elements, br.stiffness, br.exponent, br.clearance)
-            kb = V.T @ k2 @ V
-            mats.append(kb)
-            K = K + kb
-        return f, K, mats
-
-    # start from the bearings as linear springs of the stiffness at a deflection of twice the clearance
-    K0 = np.array(linear_stiffness, dtype=float)
-    for b, V in zip(brs, Vs):
-        br = b.bearing
-        d = 2.0 * br.clearance + 1e-6
-        k = br.stiffness * br.exponent * br.elements / 2.0 * d ** (br.exponent - 1.0)
-        K0 = K0 + k * V.T @ V
-    q = np.linalg.lstsq(K0, F, rcond=None)[0]
-    scale = max(float(np.max(np.abs(F))), 1.0)
-    for _ in range(iterations):
-        f, K, mats = parts(q)
-        r = linear_stiffness @ q + f - F
-        if float(np.max(np.abs(r))) <= 1e-9 * scale:
-            return mats
-        dq = np.linalg.lstsq(K, -r, rcond=None)[0]
-        lam = 1.0
-        n0 = float(np.linalg.norm(r))
-        for _ls in range(30):  # backtracking keeps the step inside the region it improves
-            f2, _, _ = parts(q + lam * dq)
-            if np.linalg.norm(linear_stiffness @ (q + lam * dq) + f2 - F) < n0:
-                break
-            lam *= 0.5
-        q = q + lam * dq
-    raise ModelError(
-        "bearing: the static deflection under the mean loads did not converge (a rolling bearing without load "
-        "has no stiffness); load the bearings or use linear bearings for modes"
-    )
+    items = [
+        (b.vectors(idx), b.bearing.elements, b.bearing.stiffness, b.bearing.exponent, b.bearing.clearance, b.phase)
+        for b in desc.rolling_bearings
+    ]
+    return static_deflection(linear_stiffness, desc.load_vector(), items, iterations)[1]
 
 
 _LOAD_DEFLECTION = re.compile(
