@@ -226,6 +226,9 @@ QUOTED: dict[str, Run | str] = {
     "geardyn plot results/gearbox/modes.nc": AS_QUOTED,
     "geardyn modes --system examples/gearbox/geared_rotor_gyroscopic.toml --rpm-max 12000 --orders 1 "
     "--out results/gearbox_gyro": AS_QUOTED,
+    "geardyn simulate --system examples/gearbox/two_stage_helical.toml --json --transient 1 --periods 1 --dtau 0.05 "
+    "--no-classify": "two forcing periods of 1 866 939 RK4 steps on 220 states (about a minute); "
+    "tests/test_rolling_bearing.py simulates the ball bearing on its own",
     "geardyn simulate --system examples/gearbox/two_stage_helical.toml --transient 60 --periods 4 --dtau 0.05 "
     "--out results/gearbox_sim": "64 forcing periods of 77 121 RK4 steps on 220 states (about a minute); "
     "tests/test_gearbox.py::test_a_gearbox_simulation_settles_on_its_static_deflection simulates a gearbox",
