@@ -69,6 +69,8 @@ def test_the_file_reads_the_bearing_and_its_ball_pass_ratio():
     assert b.K == pytest.approx(K * BC**0.5 / K_MESH, rel=1e-14)
     assert b.clearance == pytest.approx(CLEAR / BC, rel=1e-14)
     assert m.scaling.omega_n_rad_s == pytest.approx(_scales(), rel=1e-14)
+    # the static mesh force (the nonlinear static problem with the bearing): the shaft's 30 N·m on its 30 mm radius
+    assert m.static_force() * K_MESH * BC == pytest.approx(30.0 / R1, rel=1e-9)
 
 
 def test_trajectory_agrees_with_dop853_of_the_same_equations():
