@@ -11,7 +11,9 @@ The pairs are the tooth-pair files examples/tooth_19_48.toml, tooth_23_47.toml a
 1. mean mesh stiffness per face width: geardyn, the quadrature reference, ISO 6336-1 c_γα; curve shape RMS;
 2. tooth compliance (bending + shear + axial + foundation) at seven points along each gear's contact path:
    geardyn against FE (plane stress, the section displacement along the force), with mesh convergence;
-3. the stiffness reduction of a root crack of 25 % and 50 % on the pinion, geardyn against FE;
+3. the stiffness reduction of a root crack of 25 % and 50 % on the pinion, geardyn (and the strip's factors alone,
+   without the fillet's notch) against FE, the slit's tip refined; the crack's FE convergence and its
+   compliance against depth (19/48);
 4. how the bore radius and a thin rim move the mean stiffness (geardyn, FE at the pitch point, ISO's C_R).
 """
 
@@ -33,7 +35,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from tooth_fe_model import Gear, build_mesh, crack_depth_of, fe_compliance, pair_stiffness  # noqa: E402
 
 from geardyn.tooth.config import load_case  # noqa: E402
-from geardyn.tooth.energy import hertz_compliance, tooth_compliance  # noqa: E402
+from geardyn.tooth.energy import crack_compliance, hertz_compliance, load_point, tooth_compliance  # noqa: E402
 from geardyn.tooth.faults import Crack  # noqa: E402
 from geardyn.tooth.geometry import pair_geometry  # noqa: E402
 from geardyn.tooth.mesh import mesh_stiffness  # noqa: E402
@@ -42,6 +44,8 @@ from geardyn.tooth.result import iso_beside  # noqa: E402
 PAIRS = ("tooth_19_48", "tooth_23_47", "tooth_30_30")
 BEGIN, END = "<!-- tooth_fe:begin -->", "<!-- tooth_fe:end -->"
 N_LOAD = 7
+#: Halvings of the cells at the FE slit's tip in the crack runs (converged: the crack convergence table).
+TIP = 4
 
 
 def _gears(geo):
@@ -78,10 +82,19 @@ def geardyn_compliance(geo, gear, radii, crack=None):
     return tooth_compliance(geo, gear, radii, crack_depth=crack).total  # bending + shear + axial + fillet (+ crack)
 
 
-def fe_run(geo, gear, level, crack=0.0):
+def strip_compliance(geo, gear, radii, crack):
+    """geardyn's cracked tooth with the strip's factors alone (no notch): the crack model before the notch."""
+    sec = geo.sections[gear]
+    i = sec.crack_start
+    d, h_l, a1 = load_point(sec, radii)
+    t = tooth_compliance(geo, gear, radii)
+    return t.total + crack_compliance(crack, float(sec.y[i]), float(sec.h[i]), d, h_l, a1, geo.gears[gear].E)
+
+
+def fe_run(geo, gear, level, crack=0.0, tip=0):
     fg_gear = _gears(geo)[gear]
     radii, _ = load_radii(geo, gear)
-    fg = build_mesh(fg_gear, radii, level=level, crack=crack)
+    fg = build_mesh(fg_gear, radii, level=level, crack=crack, tip=tip)
     t0 = time.perf_counter()
     c = fe_compliance(fg, radii)
     depth = crack_depth_of(fg, crack) if crack else 0.0
@@ -133,15 +146,27 @@ def main() -> None:
         w_fe = fe_tab[-1][5]
         ch = hertz_compliance(geo.gears[0].E, geo.gears[0].nu, geo.gears[1].E, geo.gears[1].nu)
         for depth in (0.25, 0.5):
-            fe_c, d_fe, _, _ = fe_run(geo, 0, 1.0, crack=depth)
+            fe_c, d_fe, _, _ = fe_run(geo, 0, 1.0, crack=depth, tip=TIP)
             cg = geardyn_compliance(geo, 0, radii, crack=d_fe)
+            cs = strip_compliance(geo, 0, radii, d_fe)
             # single-pair stiffness along the path, healthy and cracked, each model with its own wheel tooth
             red_g = 1 - (1 / (cg + w_r + ch)) / (1 / (c0 + w_r + ch))
+            red_s = 1 - (1 / (cs + w_r + ch)) / (1 / (c0 + w_r + ch))
             red_fe = 1 - (1 / (fe_c + w_fe + ch)) / (1 / (fe0 + w_fe + ch))
             ms_h = mesh_stiffness(geo, 100.0, cycles=z[0], points=32)
             ms_c = mesh_stiffness(geo, 100.0, faults=[Crack(0, 0, d_fe)], cycles=z[0], points=32)
             crack_tab.append(
-                (name, depth, d_fe, cg / c0, fe_c / fe0, red_g, red_fe, ms_c.mean_stiffness / ms_h.mean_stiffness)
+                (
+                    name,
+                    depth,
+                    d_fe,
+                    cg / c0,
+                    fe_c / fe0,
+                    red_g,
+                    red_fe,
+                    ms_c.mean_stiffness / ms_h.mean_stiffness,
+                    red_s,
+                )
             )
             data[f"{name}_crack{int(depth * 100)}_geardyn"] = cg / c0
             data[f"{name}_crack{int(depth * 100)}_fe"] = fe_c / fe0
@@ -151,6 +176,7 @@ def main() -> None:
                 f"FE {red_fe.mean() * 100:.2f} %",
                 flush=True,
             )
+    crack_conv, release = ([], []) if a.quick else crack_studies()
     # bore and rim of the 19/48 pair
     case = load_case(ROOT / "examples" / "tooth_19_48.toml")
     g0 = case.geometry
@@ -192,7 +218,7 @@ def main() -> None:
 
     figs = save_figures(ds, ROOT / "docs" / "figures" / "tooth_fe")
     print("figures:", ", ".join(str(Path(f).relative_to(ROOT)) for f in figs))
-    text = _markdown(rows_pe, fe_tab, conv_tab, crack_tab, sens_tab, levels)
+    text = _markdown(rows_pe, fe_tab, conv_tab, crack_tab, sens_tab, levels, crack_conv, release)
     print(text)
     if not a.no_docs:
         doc = ROOT / "docs" / "excitation.md"
@@ -200,6 +226,31 @@ def main() -> None:
         i, j = d.index(BEGIN) + len(BEGIN), d.index(END)
         doc.write_text(d[:i] + "\n" + text + "\n" + d[j:])
         print(f"wrote {doc.relative_to(ROOT)}")
+
+
+def crack_studies():
+    """On the 19/48 pinion: the FE crack increment's convergence with the tip's refinement and the level, and the
+    crack increment against depth (FE, geardyn, the strip alone) at the lowest and the highest load point."""
+    case = load_case(ROOT / "examples" / "tooth_19_48.toml")
+    geo = case.geometry
+    radii, _ = load_radii(geo, 0)
+    conv = []
+    healthy = {lv: fe_run(geo, 0, lv)[0] for lv in (1.0, 2.0)}
+    for depth in (0.25, 0.5):
+        for level, tip in ((1.0, 0), (1.0, 2), (1.0, 4), (1.0, 6), (2.0, 4)):
+            c0 = healthy[level]
+            c1, d_fe, nodes, _ = fe_run(geo, 0, level, crack=depth, tip=tip)
+            conv.append((depth, d_fe, level, tip, nodes, c1 - c0))
+            print(f"  crack {d_fe:.3f} level {level:g} tip {tip}: FE increment {np.round((c1 - c0) * 1e12, 3)}")
+    c0 = healthy[1.0]
+    g0 = geardyn_compliance(geo, 0, radii)
+    release = []
+    for j in range(1, 7):
+        c1, d_fe, _, _ = fe_run(geo, 0, 1.0, crack=j / 8, tip=TIP)
+        release.append(
+            (d_fe, c1 - c0, geardyn_compliance(geo, 0, radii, d_fe) - g0, strip_compliance(geo, 0, radii, d_fe) - g0)
+        )
+    return conv, release
 
 
 def _dataset(fe_tab, crack_tab, conv_tab, rows_pe) -> xr.Dataset:
@@ -263,7 +314,7 @@ def _tooth(name: str, gear: int) -> str:
     return f"{name.split('_', 1)[1].replace('_', '/')} {'pinion' if gear == 0 else 'wheel'}"
 
 
-def _markdown(rows_pe, fe_tab, conv_tab, crack_tab, sens_tab, levels) -> str:
+def _markdown(rows_pe, fe_tab, conv_tab, crack_tab, sens_tab, levels, crack_conv=(), release=()) -> str:
     out = ["Written by `PYTHONPATH=src python benchmarks/tooth_fe.py` (do not edit by hand).", ""]
     out += [
         "**Mean mesh stiffness per face width** (N/(mm·µm); steel, 20°, profile A, bore radius 0.25 r; 64 phases "
@@ -302,19 +353,56 @@ def _markdown(rows_pe, fe_tab, conv_tab, crack_tab, sens_tab, levels) -> str:
     out += [
         "",
         "**Root crack on the pinion** (slit at the fillet's 30° point; depth as a share of that section's half "
-        "thickness, the FE node nearest to 25 % and 50 %): tooth compliance ratio cracked / healthy at the seven "
-        "points, and the single-pair stiffness reduction averaged over the path:",
+        f"thickness, the FE node nearest to 25 % and 50 %; FE level 1 with {TIP} halvings at the slit's tip): "
+        "tooth compliance ratio cracked / healthy at the seven points, and the single-pair stiffness reduction "
+        "averaged over the path (geardyn; the strip's factors alone, without the notch; FE):",
         "",
-        "| pair | depth | geardyn ratio | FE ratio | pair reduction geardyn | pair reduction FE | geardyn / FE "
-        "| mesh mean, cracked / healthy (geardyn) |",
-        "|---|---|---|---|---|---|---|---|",
+        "| pair | depth | geardyn ratio | FE ratio | pair reduction geardyn | strip alone | FE | geardyn / FE "
+        "| strip alone / FE | mesh mean, cracked / healthy (geardyn) |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for name, _d, dfe, rg, rf, redg, redf, mm in crack_tab:
+    for name, _d, dfe, rg, rf, redg, redf, mm, reds in crack_tab:
         out.append(
             f"| {name.split('_', 1)[1].replace('_', '/')} | {dfe * 100:.1f} % | {' '.join(f'{x:.3f}' for x in rg)} | "
-            f"{' '.join(f'{x:.3f}' for x in rf)} | {redg.mean() * 100:.2f} % | {redf.mean() * 100:.2f} % | "
-            f"{redg.mean() / redf.mean():.2f} | {mm:.4f} |"
+            f"{' '.join(f'{x:.3f}' for x in rf)} | {redg.mean() * 100:.2f} % | {reds.mean() * 100:.2f} % | "
+            f"{redf.mean() * 100:.2f} % | {redg.mean() / redf.mean():.2f} | {reds.mean() / redf.mean():.2f} | "
+            f"{mm:.4f} |"
         )
+    if crack_conv:
+        out += [
+            "",
+            "**FE convergence of the crack** (19/48 pinion; the compliance the slit adds, 10⁻¹² m²/N, at the seven "
+            "points; tip: halvings of the cells at the slit's tip across and along the tooth):",
+            "",
+            "| depth | level | tip | nodes | " + " | ".join(f"point {i + 1}" for i in range(N_LOAD)) + " |",
+            "|---|---|---|---|" + "---|" * N_LOAD,
+        ]
+        for _d, dfe, lv, tip, n, dc in crack_conv:
+            out.append(
+                f"| {dfe * 100:.1f} % | {lv:g} | {tip} | {n} | " + " | ".join(f"{x * 1e12:.3f}" for x in dc) + " |"
+            )
+    if release:
+        out += [
+            "",
+            "**The crack's compliance against its depth** (19/48 pinion, 10⁻¹² m²/N, at the lowest and the highest "
+            "load point: FE / geardyn / the strip alone), and the rate of growth between successive depths, "
+            "d(ΔC)/da ∝ K², of geardyn and of the strip alone over the FE's:",
+            "",
+            "| depth | point 1: FE / geardyn / strip | point 7: FE / geardyn / strip | rate point 1: geardyn, strip "
+            "| rate point 7: geardyn, strip |",
+            "|---|---|---|---|---|",
+        ]
+        prev = (0.0, np.zeros(N_LOAD), np.zeros(N_LOAD), np.zeros(N_LOAD))
+        for dfe, f, g, st in release:
+            rate = [
+                (x[i] - p[i]) / (f[i] - prev[1][i]) for i in (0, N_LOAD - 1) for x, p in ((g, prev[2]), (st, prev[3]))
+            ]
+            out.append(
+                f"| {dfe * 100:.1f} % | {f[0] * 1e12:.3f} / {g[0] * 1e12:.3f} / {st[0] * 1e12:.3f} | "
+                f"{f[-1] * 1e12:.3f} / {g[-1] * 1e12:.3f} / {st[-1] * 1e12:.3f} | {rate[0]:.2f}, {rate[1]:.2f} | "
+                f"{rate[2]:.2f}, {rate[3]:.2f} |"
+            )
+            prev = (dfe, f, g, st)
     out += [
         "",
         "**Bore and rim** (19/48 m 3.2; mean stiffness per width; pinion tooth compliance at the pitch point, "

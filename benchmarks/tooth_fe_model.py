@@ -220,11 +220,28 @@ class FEGear:
     rows_rho: np.ndarray
     bore_nodes: np.ndarray
     crack_row: int
+    frac: np.ndarray = None  # the loaded tooth's columns as fractions of its half angle (−1 … 1)
+    j_tip: int = -1  # the column of the slit's tip
 
 
-def build_mesh(gear: Gear, load_radii, *, level: float = 1.0, crack: float = 0.0) -> FEGear:
+def _graded(x: np.ndarray, i: int, halvings: int) -> tuple[np.ndarray, int]:
+    """``x`` with nodes added at x[i] ± (its neighbouring cell) / 2, / 4, … (``halvings`` on each side); the new
+    index of x[i]."""
+    if halvings <= 0:
+        return x, i
+    extra = []
+    for nb in (i - 1, i + 1):
+        if 0 <= nb < x.size:
+            extra += [x[i] + (x[nb] - x[i]) / 2**k for k in range(1, halvings + 1)]
+    out = np.unique(np.concatenate([x, extra]))
+    return out, int(np.argmin(np.abs(out - x[i])))
+
+
+def build_mesh(gear: Gear, load_radii, *, level: float = 1.0, crack: float = 0.0, tip: int = 0) -> FEGear:
     """The mapped mesh of the whole gear; the loaded tooth is tooth 0 (centred on +Y), it and its two neighbours
-    on each side finely meshed; ``crack`` the slit depth (fraction of the critical section's half thickness)."""
+    on each side finely meshed; ``crack`` the slit depth (fraction of the critical section's half thickness);
+    ``tip`` halvings of the cells at the slit's tip, across the tooth and along it (a geometric grading towards
+    the tip)."""
     z = gear.z
     n_s = 4 * max(1, int(round(2 * level)))  # cells across a half tooth (a multiple of 4: 25 % steps)
     n_fil = max(6, int(round(16 * level)))
@@ -238,6 +255,11 @@ def build_mesh(gear: Gear, load_radii, *, level: float = 1.0, crack: float = 0.0
         rho_c = math.hypot(Xc, Yc)
         crack_row = int(np.argmin(np.abs(rows[1:-1] - rho_c))) + 1
         rows[crack_row] = rho_c
+        rows, crack_row = _graded(rows, crack_row, tip)
+    frac0 = np.linspace(-1.0, 1.0, 2 * n_s + 1)  # the loaded tooth's columns, as fractions of its half angle
+    j_tip = -1
+    if crack > 0:
+        frac0, j_tip = _graded(frac0, 2 * n_s - int(round(crack * n_s)), tip)
     th_f = gear.theta_f
     pitch = 2 * math.pi / z
 
@@ -246,16 +268,17 @@ def build_mesh(gear: Gear, load_radii, *, level: float = 1.0, crack: float = 0.0
 
     coarse_rows = np.concatenate([rows[: n_fil + 1 : 4], rows[n_fil + 1 :: 6], [rows[-1]]])
     coarse_rows = np.unique(coarse_rows)
-    ang, starts, ns = [], [], []
+    ang, starts, fracs = [], [], []
     count = 0
     for k in range(z):
         c = k * pitch
         nk, gk = (n_s, n_gap) if near(k) else (2, 2)
+        fk = frac0 if k == 0 else np.linspace(-1.0, 1.0, 2 * nk + 1)
         starts.append(count)
-        ns.append(nk)
-        ang.append(c + np.linspace(-th_f, th_f, 2 * nk + 1)[:-1])
+        fracs.append(fk)
+        ang.append(c + th_f * fk[:-1])
         ang.append(c + np.linspace(th_f, pitch - th_f, gk + 1)[:-1])
-        count += 2 * nk + gk
+        count += fk.size - 1 + gk
     ang = np.concatenate(ang)
     na = ang.size
     q = np.linspace(0, 1, n_rim + 1)
@@ -272,18 +295,18 @@ def build_mesh(gear: Gear, load_radii, *, level: float = 1.0, crack: float = 0.0
     tooth_rows = []
     for k in range(z):
         c = k * pitch
-        nk = ns[k]
-        idx = (starts[k] + np.arange(2 * nk + 1)) % na
+        fk = fracs[k]
+        idx = (starts[k] + np.arange(fk.size)) % na
         prev = top[idx]
         if k == 0:
             tooth_rows.append(prev)
         for rho in (rows if near(k) else coarse_rows)[1:]:
             psi = gear.psi_at(min(rho, gear.r_a))
-            a = c + np.linspace(-psi, psi, 2 * nk + 1)
+            a = c + psi * fk
             ids = n0 + np.arange(a.size)
             n0 += a.size
             P.append(np.vstack([rho * np.sin(a), rho * np.cos(a)]))
-            for j in range(2 * nk):
+            for j in range(fk.size - 1):
                 T.append([prev[j], prev[j + 1], ids[j + 1], ids[j]])
             if k == 0:
                 tooth_rows.append(ids)
@@ -293,24 +316,19 @@ def build_mesh(gear: Gear, load_radii, *, level: float = 1.0, crack: float = 0.0
     if crack > 0:
         # slit along the row from the +X flank inwards: its nodes doubled, the cells above take the copies
         ids = tooth_rows[crack_row]
-        j_tip = 2 * n_s - int(round(crack * n_s))
         dup = {n: p.shape[1] + i for i, n in enumerate(ids[j_tip + 1 :])}
         p = np.hstack([p, p[:, list(dup)]])
         above = set(tooth_rows[crack_row + 1].tolist())
         for e in range(t.shape[1]):
             if any(int(n) in above for n in t[:, e]):
                 t[:, e] = [dup.get(int(n), int(n)) for n in t[:, e]]
-    return FEGear(gear, p, t, tooth_rows, rows, rim_id[0], crack_row)
+    return FEGear(gear, p, t, tooth_rows, rows, rim_id[0], crack_row, frac0, j_tip)
 
 
 def crack_depth_of(fg: FEGear, crack: float) -> float:
     """The slit's depth as a fraction of its section's half thickness (the node grid's nearest to ``crack``)."""
-    ids = fg.tooth_rows[fg.crack_row]
-    n_s = (ids.size - 1) // 2
-    j_tip = 2 * n_s - int(round(crack * n_s))
     psi = fg.gear.psi_at(fg.rows_rho[fg.crack_row])
-    a = np.linspace(-psi, psi, ids.size)
-    return float(1.0 - math.sin(a[j_tip]) / math.sin(psi))
+    return float(1.0 - math.sin(psi * fg.frac[fg.j_tip]) / math.sin(psi))
 
 
 def fe_compliance(fg: FEGear, load_radii, plane: str = "stress") -> np.ndarray:
@@ -349,7 +367,7 @@ def fe_compliance(fg: FEGear, load_radii, plane: str = "stress") -> np.ndarray:
         u[free] = lu.solve(F[free])
         ux, uy = u[nodal[0, ids]], u[nodal[1, ids]]
         d = ux * f_dir[0] + uy * f_dir[1]
-        w = np.ones(ids.size)
-        w[0] = w[-1] = 0.5
+        f = fg.frac  # trapezoidal weights over the section (its arc)
+        w = np.diff(np.concatenate([[f[0]], 0.5 * (f[1:] + f[:-1]), [f[-1]]]))
         out.append(float(np.sum(w * d) / np.sum(w)))
     return np.array(out)

@@ -1,13 +1,12 @@
-"""Signatures of a system from the command line, and healthy against 50 % and 75 % root cracks on a system.
+"""Signatures of a system from the command line, and healthy against 25 %, 50 % and 75 % root cracks on a system.
 
 The system is ``examples/systems/spur_bending_torsional.toml`` (Luo et al. 2019's spur pair, 16/48 teeth, on
 compliant bearings) with its mesh's stiffness and STE from the potential-energy tables of the pair healthy and
-with a root crack of 50 % and 75 % on pinion tooth 0 (depths as shares of the half thickness at the fillet's
-30° point; they lose about what 25 % and 50 % of the root-circle half thickness lost in the earlier section
-law: mean stiffness over the cracked tooth's two cycles −4.3 % and −9.0 % on a 20/40 pair, against −2.5 % and
-−5.7 %) (16 mesh cycles, 32 phases each, 64 harmonics of the
-pinion revolution: mesh orders up to 4), at the file's 1800 rpm, sensor ``pinion.y`` (the default: the
-pinion's translation most nearly along the line of action), 6 pinion revolutions, 2 % noise.
+with a root crack of 25 %, 50 % and 75 % on pinion tooth 0 (depths as shares of the half thickness at the
+fillet's 30° point; the 25 % and 50 % cracks' stiffness reduction is checked against finite elements in
+``tests/test_tooth_fe.py``) (16 mesh cycles, 32 phases each, 64 harmonics of the pinion revolution: mesh orders
+up to 4), at the file's 1800 rpm, sensor ``pinion.y`` (the default: the pinion's translation most nearly along
+the line of action), 6 pinion revolutions, 2 % noise.
 """
 
 import json
@@ -28,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 EX = ROOT / "examples"
 SYSTEM = EX / "systems/spur_bending_torsional.toml"
 GEO = pair_geometry(16, 48, 3.175e-3, face_width=0.016)
-DEPTHS = (0.0, 0.5, 0.75)
+DEPTHS = (0.0, 0.25, 0.5, 0.75)
 
 
 def _mesh(depth, points=32):
@@ -79,22 +78,25 @@ def test_the_crack_raises_the_shaft_order_sidebands_around_the_mesh_orders(runs)
     o = runs[0]["order"].values
     amp = [r["order_amplitude"].values[0] for r in runs]
     floor = np.median(amp[0][o % 1 != 0])  # the 2 % noise between the orders
-    sums = np.zeros(3)
+    sums = np.zeros(len(runs))
     for mesh in (16, 32, 48):
         idx = [int(np.argmin(np.abs(o - (mesh + side)))) for side in (-2, -1, 1, 2)]
         sums += [a[idx].sum() for a in amp]
-    assert np.all(np.diff(sums) > 0), sums  # healthy < 50 % < 75 %
+    assert np.all(np.diff(sums) > 0), sums  # healthy < 25 % < 50 % < 75 %
     idx = [int(np.argmin(np.abs(o - (48 + side)))) for side in (-2, -1, 1, 2)]
+    s48 = [a[idx].sum() for a in amp]
     # around mesh order 3 (1440 Hz, between the bearing modes at 1.2-1.3 kHz and the mesh mode at 6.4 kHz) every
-    # sideband of the 75 % crack stands 5 times over the noise, and their sum is 4 times the healthy one
-    assert np.all(amp[2][idx] > 5 * floor), (amp[2][idx], floor)
-    assert amp[2][idx].sum() > 4 * amp[0][idx].sum() and amp[1][idx].sum() > 2 * amp[0][idx].sum()
+    # sideband of the 75 % crack stands 5 times over the noise (observed 7.8), the sum of the 50 % crack's is 4
+    # times the healthy one (observed 4.7); the 25 % crack's is 1.5 times it (observed 1.7).  The crack's part
+    # of the sidebands scales with the cracked tooth's stiffness loss: 2.0 % over its two mesh cycles at 25 %
+    # (within 10 % of the finite elements' reduction), where the crack of the section law this test was first
+    # written for (25 % of the root circle's half thickness) lost 2.5 % and was held to 2 times.
+    assert np.all(amp[3][idx] > 5 * floor), (amp[3][idx], floor)
+    assert s48[2] > 4 * s48[0] and s48[1] > 1.5 * s48[0], s48
 
 
-def test_fm4_na4_and_energy_ratio_rise_with_crack_depth_on_the_system(runs):
-    # (the raw record's kurtosis at this bearing sensor is that of its mesh tones, 5.7-5.8 at every depth: the
-    # crack's event shows in the indicators of the TSA's difference and residual signals)
-    for name in ("fm4", "na4", "energy_ratio"):
+def test_fm4_kurtosis_na4_and_energy_ratio_rise_with_crack_depth_on_the_system(runs):
+    for name in ("fm4", "kurtosis", "na4", "energy_ratio"):
         v = [_ind(r, name) for r in runs]
         assert np.all(np.diff(v) > 0), (name, v)
     assert _ind(runs[2], "fm4") > 5 * _ind(runs[0], "fm4")
@@ -102,16 +104,24 @@ def test_fm4_na4_and_energy_ratio_rise_with_crack_depth_on_the_system(runs):
 
 def test_fm4_is_a_shape_the_crack_keeps_so_it_saturates_where_the_event_dominates(tables):
     # FM4 is the normalised fourth moment of the difference signal: it does not grow with the amplitude of the
-    # cracked tooth's event, only with its peakedness.  The stiffness loss's own FM4 falls slightly with depth
-    # (the deeper crack weakens the tooth over more of its path of contact) ...
-    k = [np.asarray(_mesh(d).stiffness) for d in (0.25, 0.5, 0.75)]
-    own = [fm4(split_tsa(x, 16)["difference"]) for x in k]
-    assert own[0] > own[1] > own[2] > 6.0, own
+    # cracked tooth's event, only with its peakedness.  The stiffness loss's own FM4 stays within 10 % from 10 %
+    # to 75 % depth (observed 5.7-6.1) while the loss grows more than tenfold.  (The floor of 7.5 this test once
+    # held came from the earlier section law; with the strip's crack factors alone, before the fillet's notch,
+    # the own FM4 fell from 7.8 at 10 % to 6.2 at 75 %.  That crack softened the tooth mostly near the tip of its
+    # contact — on the 19/48 pinion at 25 % depth its compliance grew 2.1 times as much at the tip as at the
+    # lowest point, where the finite elements give 1.6 times and the crack with the notch 1.3 times
+    # (docs/excitation.md) — so its event was more peaked than the finite elements' tooth makes it.)
+    k = [np.asarray(_mesh(d).stiffness) for d in (0.0, 0.1, 0.25, 0.5, 0.75)]
+    own = [fm4(split_tsa(x, 16)["difference"]) for x in k[1:]]
+    loss = [k[0].mean() - x.mean() for x in k[1:]]
+    assert max(own) < 1.1 * min(own) and min(own) > 5.0, own
+    assert loss[-1] > 10 * loss[0], loss
     # ... and at 9667 rpm (ω = 0.5, mesh 2.58 kHz), without noise, where the event fills more of the revolution,
-    # the sensor's FM4 follows it: lower at 75 % than at 50 %, while the energy ratio keeps rising
+    # the sensor's FM4 jumps with the crack and then stays within 5 % (observed 19.0-19.7), while the energy
+    # ratio keeps rising
     fast = _runs(tables, 9667.0, 0.0)
     f = [_ind(r, "fm4") for r in fast]
-    assert f[1] > 3 * f[0] and f[2] < f[1], f
+    assert f[1] > 3 * f[0] and max(f[1:]) < 1.05 * min(f[1:]), f
     e = [_ind(r, "energy_ratio") for r in fast]
     assert np.all(np.diff(e) > 0), e
 

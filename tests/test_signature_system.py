@@ -1,8 +1,9 @@
 """Healthy against cracked pinion teeth on a system: the bearing sensor's order spectrum and indicators.
 
 The spur pair with compliant bearings of ``examples/systems/spur_bending_torsional.toml`` with its mesh's
-stiffness and STE from the potential-energy tables of a pinion tooth with a root crack of depth 0, 25 % and
-50 % (16 mesh cycles, one pinion revolution), at ω = 0.5, the sensor on the pinion's y translation.
+stiffness and STE from the potential-energy tables of a pinion tooth with a root crack of depth 0, 25 %, 50 %
+and 75 % (shares of the half thickness at the fillet's 30° point; 16 mesh cycles, one pinion revolution), at
+ω = 0.5, the sensor on the pinion's y translation.
 """
 
 import json
@@ -17,7 +18,7 @@ from geardyn.systems.load import load_system
 from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, table_of, write_table
 
 ROOT = Path(__file__).resolve().parents[1]
-DEPTHS = (0.0, 0.5, 0.75)  # shares of the half thickness at the fillet's 30° point
+DEPTHS = (0.0, 0.25, 0.5, 0.75)  # shares of the half thickness at the fillet's 30° point
 
 
 @pytest.fixture(scope="module")
@@ -42,16 +43,24 @@ def _ind(ds, name):
 
 
 def test_the_crack_raises_the_shaft_order_sidebands_around_the_mesh_orders(runs):
-    h, c = runs[0], runs[-1]
-    o = h["order"].values
-    total = np.zeros(2)
+    o = runs[0]["order"].values
+    amp = [r["order_amplitude"].values[0] for r in runs]
+    floor = np.median(amp[0][o % 1 != 0])  # the 2 % noise between the orders
+    sb = {}
     for mesh in (16, 32, 48):  # the sidebands +-1, +-2 of each mesh order
         idx = [int(np.argmin(np.abs(o - (mesh + side)))) for side in (-2, -1, 1, 2)]
-        sb = np.array([h["order_amplitude"].values[0, idx].sum(), c["order_amplitude"].values[0, idx].sum()])
-        assert sb[1] > 1.5 * sb[0], (mesh, sb)
-        total += sb
-    assert total[1] > 5 * total[0], total
-    assert json.loads(c.attrs["summary"])["runs"][0]["excitation_cycles"] == 16
+        sb[mesh] = np.array([a[idx].sum() for a in amp])
+        assert sb[mesh][3] > 1.5 * sb[mesh][0], (mesh, sb[mesh])  # 75 %
+        if mesh > 16:
+            assert sb[mesh][2] > 1.5 * sb[mesh][0], (mesh, sb[mesh])  # 50 %
+        else:
+            # around mesh order 1 the sidebands of the 25 % and 50 % cracks lie in the noise at this sensor and
+            # speed (the smallest of them 0.8 and 0.5 of the noise floor), those of the 75 % crack stand 2 times
+            # over it
+            assert np.all(amp[3][idx] > 1.5 * floor), (amp[3][idx], floor)
+    total = sum(sb.values())
+    assert total[2] > 5 * total[0] and total[1] > 2 * total[0], total
+    assert json.loads(runs[-1].attrs["summary"])["runs"][0]["excitation_cycles"] == 16
 
 
 def test_kurtosis_rises_with_crack_depth_and_fm4_with_the_crack(runs):
@@ -59,5 +68,5 @@ def test_kurtosis_rises_with_crack_depth_and_fm4_with_the_crack(runs):
     assert np.all(np.diff(k) > 0), k
     fm4 = [_ind(r, "fm4") for r in runs]
     # FM4 (the kurtosis of the difference signal) jumps with the crack and then saturates: the cracked
-    # tooth's event is as isolated at 25 % as at 50 % depth
+    # tooth's event is as isolated at 25 % as at 50 % and 75 % depth
     assert min(fm4[1:]) > 2.5 * fm4[0], fm4

@@ -376,6 +376,10 @@ def sweep_runs(
     """A ``signature_sweep`` result from one ``signature`` run per fault size: the one sweep of the pair and
     of every system.
 
+    The sizes in the order given are a run's history: each record's NA4 takes as its denominator the residual
+    signal's variance averaged over the records up to it (Zakrajsek, Townsend & Decker 1993), as NA4 was
+    defined for a trend; a single record's NA4 is its residual's kurtosis.
+
     Parameters
     ----------
     run : callable
@@ -392,9 +396,20 @@ def sweep_runs(
     xarray.Dataset
     """
     rows, last = [], {}
+    history: dict[str, list[np.ndarray]] = {"pinion": [], "wheel": []}
     for size in sizes:
-        last = json.loads(run(float(size)).attrs["summary"])["runs"][0]
-        rows.append(last["indicators"])
+        ds = run(float(size))
+        last = json.loads(ds.attrs["summary"])["runs"][0]
+        ind = last["indicators"]
+        residual = {"pinion": np.asarray(ds["residual"].values[0], dtype=float)}
+        if "wheel" in ind and "tsa_wheel" in ds:
+            residual["wheel"] = split_tsa(np.asarray(ds["tsa_wheel"].values[0], dtype=float), int(last["z2"]))[
+                "residual"
+            ]
+        for shaft, r in residual.items():
+            ind[shaft]["na4"] = na4(r, history[shaft])
+            history[shaft].append(r)
+        rows.append(ind)
     return sweep_dataset(rows, sizes, {"size_name": name, **extra(last)})
 
 

@@ -118,6 +118,8 @@ class Section:
     crack_start: int = 0
     #: Radius where the involute starts.
     r_L: float = 0.0
+    #: Radius of curvature of the root fillet at the crack's start (m); 0 for the radial model (no fillet).
+    rho_F: float = 0.0
 
     def half_angle(self, rho: np.ndarray) -> np.ndarray:
         """Half angle ψ(ρ) of the tooth at radius ρ (≥ r_b: involute; below: constant ψ_b)."""
@@ -277,13 +279,32 @@ def _section(
     y, h = rho * np.cos(psi), rho * np.sin(psi)
     if np.any(np.diff(y) <= 0):
         raise ModelError(f"tooth of z = {z:g}: the root fillet folds back on itself (rack tip radius too large)")
+    rho_F = 0.0
     if root != "radial":
         slope = -np.diff(h) / np.diff(y)  # the fillet's tangent against the centre line: tan of its angle
         crit = np.flatnonzero(slope <= math.tan(math.radians(30.0)))
         start = int(crit[0]) if crit.size else 0
+        rho_F = _curvature_radius(y[: rho_t.size], h[: rho_t.size], min(start, rho_t.size - 2))
     return Section(
-        y=y, h=h, r_f=r_f, r_b=r_b, r_a=r_a, theta_f=float(psi[0]), psi0=psi0, crack_start=start, r_L=float(r_L)
+        y=y,
+        h=h,
+        r_f=r_f,
+        r_b=r_b,
+        r_a=r_a,
+        theta_f=float(psi[0]),
+        psi0=psi0,
+        crack_start=start,
+        r_L=float(r_L),
+        rho_F=rho_F,
     )
+
+
+def _curvature_radius(x: np.ndarray, y: np.ndarray, i: int) -> float:
+    """Radius of curvature of the tabulated curve (x, y) at its point i (central differences in the index)."""
+    x1, y1 = np.gradient(x), np.gradient(y)
+    x2, y2 = np.gradient(x1), np.gradient(y1)
+    k = abs(x1[i] * y2[i] - y1[i] * x2[i]) / (x1[i] ** 2 + y1[i] ** 2) ** 1.5
+    return float(1.0 / k) if k > 0 else math.inf
 
 
 def pair_geometry(

@@ -49,11 +49,10 @@ def _region(d, D):
 
 
 @njit(cache=True)
-def _deflection(x, e, V, Ez, Le, phi):
-    nd = V.shape[1]
+def _deflection(x, e, V, vp, vi, Ez, Le, phi):
     d = 0.0
-    for s in range(nd):
-        d += V[e, s] * x[s]
+    for q in range(vp[e], vp[e + 1]):
+        d += V[e, vi[q]] * x[vi[q]]
     return d - _series(Ez[e], Le[e], phi)
 
 
@@ -70,19 +69,22 @@ def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, out):
 
 
 @njit(cache=True)
-def _state_rhs(x, out, A, B, W, V, cf, D, reg, inv_nu, nu):
+def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu):
     nd = A.shape[0]
     ne = W.shape[0]
+    rp, ri, vp, vi = sp
     for r in range(nd):
         out[r] = x[nd + r] * inv_nu
         acc = cf[0, r]
-        for s in range(nd):
+        for q in range(rp[r], rp[r + 1]):
+            s = ri[q]
             acc -= A[r, s] * x[s] + B[r, s] * x[nd + s]
         out[nd + r] = acc
     for e in range(ne):
         d = -cf[3, e]
         dv = -nu * cf[4, e]
-        for s in range(nd):
+        for q in range(vp[e], vp[e + 1]):
+            s = vi[q]
             d += V[e, s] * x[s]
             dv += V[e, s] * x[nd + s]
         f = 0.0
@@ -96,109 +98,105 @@ def _state_rhs(x, out, A, B, W, V, cf, D, reg, inv_nu, nu):
 
 
 @njit(cache=True)
-def _tangent_rhs(Y, out, A, B, W, V, cf, reg, inv_nu, vy):
+def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, inv_nu, vy):
+    """The rows in the order of the dense sums over the nonzeros only (``sp``: the union pattern of A and B and
+    the pattern of V, row pointers and columns), so that the sums are those of the dense loops bit for bit."""
     nd = A.shape[0]
     m = Y.shape[1]
     ne = W.shape[0]
+    rp, ri, vp, vi = sp
+    acc, b = vy[1], vy[2]
     for r in range(nd):
+        acc[:] = 0.0
+        for q in range(rp[r], rp[r + 1]):
+            s = ri[q]
+            ar, br = A[r, s], B[r, s]
+            for j in range(m):
+                acc[j] += ar * Y[s, j] + br * Y[nd + s, j]
         for j in range(m):
             out[r, j] = Y[nd + r, j] * inv_nu
-            acc = 0.0
-            for s in range(nd):
-                acc += A[r, s] * Y[s, j] + B[r, s] * Y[nd + s, j]
-            out[nd + r, j] = -acc
+            out[nd + r, j] = -acc[j]
     for e in range(ne):
         c = cf[1, e]
         k = cf[2, e] if reg[e] != 0 else 0.0
+        acc[:] = 0.0
+        b[:] = 0.0
+        for q in range(vp[e], vp[e + 1]):
+            s = vi[q]
+            v = V[e, s]
+            for j in range(m):
+                acc[j] += v * Y[s, j]
+                b[j] += v * Y[nd + s, j]
         for j in range(m):
-            a = 0.0
-            b = 0.0
-            for s in range(nd):
-                a += V[e, s] * Y[s, j]
-                b += V[e, s] * Y[nd + s, j]
-            vy[j] = k * a + c * b
+            vy[0, j] = k * acc[j] + c * b[j]
         for r in range(nd):
             w = W[e, r]
             if w != 0.0:
                 for j in range(m):
-                    out[nd + r, j] -= w * vy[j]
+                    out[nd + r, j] -= w * vy[0, j]
     for r in range(nd):
         for j in range(m):
             out[nd + r, j] *= inv_nu
 
 
 @njit(cache=True)
-def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, c0, c1, c2, D, reg, inv_nu, nu):
+def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu):
     """One locked RK4 step of the state from ``x`` into ``out``; c0, c1, c2: the series at the step's start,
     middle and end."""
     n2 = x.shape[0]
-    _state_rhs(x, k1, A, B, W, V, c0, D, reg, inv_nu, nu)
+    _state_rhs(x, k1, A, B, W, V, sp, c0, D, reg, inv_nu, nu)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k1[r]
-    _state_rhs(tmp, k2, A, B, W, V, c1, D, reg, inv_nu, nu)
+    _state_rhs(tmp, k2, A, B, W, V, sp, c1, D, reg, inv_nu, nu)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k2[r]
-    _state_rhs(tmp, k3, A, B, W, V, c1, D, reg, inv_nu, nu)
+    _state_rhs(tmp, k3, A, B, W, V, sp, c1, D, reg, inv_nu, nu)
     for r in range(n2):
         tmp[r] = x[r] + h * k3[r]
-    _state_rhs(tmp, k4, A, B, W, V, c2, D, reg, inv_nu, nu)
+    _state_rhs(tmp, k4, A, B, W, V, sp, c2, D, reg, inv_nu, nu)
     for r in range(n2):
         out[r] = x[r] + h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r])
 
 
 @njit(cache=True)
-def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, c0, c1, c2, reg, inv_nu, vy):
+def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy):
     """One locked RK4 step of the fundamental matrix, in place (the stiffness does not depend on the state
     inside a region)."""
     n2, m = Y.shape
-    _tangent_rhs(Y, k1, A, B, W, V, c0, reg, inv_nu, vy)
+    _tangent_rhs(Y, k1, A, B, W, V, sp, c0, reg, inv_nu, vy)
     for r in range(n2):
         for j in range(m):
             tmp[r, j] = Y[r, j] + 0.5 * h * k1[r, j]
-    _tangent_rhs(tmp, k2, A, B, W, V, c1, reg, inv_nu, vy)
+    _tangent_rhs(tmp, k2, A, B, W, V, sp, c1, reg, inv_nu, vy)
     for r in range(n2):
         for j in range(m):
             tmp[r, j] = Y[r, j] + 0.5 * h * k2[r, j]
-    _tangent_rhs(tmp, k3, A, B, W, V, c1, reg, inv_nu, vy)
+    _tangent_rhs(tmp, k3, A, B, W, V, sp, c1, reg, inv_nu, vy)
     for r in range(n2):
         for j in range(m):
             tmp[r, j] = Y[r, j] + h * k3[r, j]
-    _tangent_rhs(tmp, k4, A, B, W, V, c2, reg, inv_nu, vy)
+    _tangent_rhs(tmp, k4, A, B, W, V, sp, c2, reg, inv_nu, vy)
     for r in range(n2):
         for j in range(m):
             Y[r, j] += h / 6.0 * (k1[r, j] + 2.0 * k2[r, j] + 2.0 * k3[r, j] + k4[r, j])
 
 
 @njit(cache=True)
-def monodromy_kernel(x, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol):
+def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol):
     """Advance the state ``x`` (2n) and the columns ``Y`` (2n, m) in place over φ ∈ [0, 2π]; returns
     (steps, switches) taken, or (−1, switches) if the state stopped being finite."""
     n2 = x.shape[0]
     m = Y.shape[1]
     ne = W.shape[0]
     inv_nu = 1.0 / nu
-    s1 = np.empty(n2)
-    s2 = np.empty(n2)
-    s3 = np.empty(n2)
-    s4 = np.empty(n2)
-    st = np.empty(n2)
-    xe = np.empty(n2)
-    xt = np.empty(n2)
-    k1 = np.empty((n2, m))
-    k2 = np.empty((n2, m))
-    k3 = np.empty((n2, m))
-    k4 = np.empty((n2, m))
-    tmp = np.empty((n2, m))
-    vy = np.empty(m)
-    width = max(A.shape[0], ne)
-    c0 = np.empty((5, width))
-    c1 = np.empty((5, width))
-    c2 = np.empty((5, width))
-    t1 = np.empty((5, width))
-    t2 = np.empty((5, width))
+    sv, kv, cv = np.empty((7, n2)), np.empty((5, n2, m)), np.empty((5, 5, max(A.shape[0], ne)))
+    s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
+    k1, k2, k3, k4, tmp = kv[0], kv[1], kv[2], kv[3], kv[4]
+    c0, c1, c2, t1, t2 = cv[0], cv[1], cv[2], cv[3], cv[4]
+    vy = np.empty((3, m))
     reg = np.empty(ne, dtype=np.int64)
     for e in range(ne):
-        reg[e] = _region(_deflection(x, e, V, Ez, Le, 0.0), D[e])
+        reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], Ez, Le, 0.0), D[e])
     end = 2.0 * math.pi
     phi = 0.0
     steps = 0
@@ -210,7 +208,7 @@ def monodromy_kernel(x, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, h
         _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c0)
         _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c1)
         _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c2)
-        _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, c0, c1, c2, D, reg, inv_nu, nu)
+        _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu)
         for r in range(n2):
             if not math.isfinite(xe[r]):
                 return -1, switches
@@ -221,10 +219,10 @@ def monodromy_kernel(x, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, h
         for e in range(ne):
             if D[e] == 0.0:
                 continue
-            d1 = _deflection(xe, e, V, Ez, Le, phi + h)
+            d1 = _deflection(xe, e, V, sp[2], sp[3], Ez, Le, phi + h)
             if _region(d1, D[e]) == reg[e]:
                 continue
-            d0 = _deflection(x, e, V, Ez, Le, phi)
+            d0 = _deflection(x, e, V, sp[2], sp[3], Ez, Le, phi)
             if reg[e] == 1:
                 level = D[e]
             elif reg[e] == -1:
@@ -241,8 +239,8 @@ def monodromy_kernel(x, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, h
                     c = 0.5 * (a + b)
                 _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, t1)
                 _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, t2)
-                _state_step(c, x, xt, s1, s2, s3, s4, st, A, B, W, V, c0, t1, t2, D, reg, inv_nu, nu)
-                fc = _deflection(xt, e, V, Ez, Le, phi + c) - level
+                _state_step(c, x, xt, s1, s2, s3, s4, st, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu)
+                fc = _deflection(xt, e, V, sp[2], sp[3], Ez, Le, phi + c) - level
                 if fc == 0.0 or b - a <= tol * (1.0 + phi):
                     break
                 if (fc > 0.0) == (fa > 0.0):
@@ -268,8 +266,8 @@ def monodromy_kernel(x, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, h
         if first >= 0:
             _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c1)
             _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c2)
-            _state_step(hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, c0, c1, c2, D, reg, inv_nu, nu)
-        _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, c0, c1, c2, reg, inv_nu, vy)
+            _state_step(hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu)
+        _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy)
         for r in range(n2):
             x[r] = xe[r]
         if first >= 0:

@@ -50,12 +50,7 @@ from .equations import HBEquations, single_thread_blas, solve
 from .hill import HillResult
 from .solve import hb_solve
 
-__all__ = [
-    "KIND",
-    "HBBifurcation",
-    "HBContinuation",
-    "hb_continuation",
-]
+__all__ = ["KIND", "HBBifurcation", "HBContinuation", "hb_continuation"]
 
 #: ``geardyn_kind`` of a continued HB branch (its figures: :mod:`geardyn.plot.hb`).
 KIND = "hb"
@@ -378,6 +373,7 @@ class HBContinuation:
             bifurcations=json.dumps(summary["bifurcations"]),
             summary=json.dumps(summary),
         )
+        pm, el = ("point", "multiplier"), ("point", "element")
         ds = xr.Dataset(
             {
                 self.param: ("point", self.values),
@@ -385,11 +381,11 @@ class HBContinuation:
                 "u_max": ("point", self.u_max),
                 "amplitude": ("point", self.amplitude),
                 "stable": ("point", self.stable.astype(np.int8)),
-                "multiplier_re": (("point", "multiplier"), self.multipliers.real),
-                "multiplier_im": (("point", "multiplier"), self.multipliers.imag),
+                "multiplier_re": (pm, self.multipliers.real),
+                "multiplier_im": (pm, self.multipliers.imag),
                 "coefficients": (("point", "dof", "coefficient"), self.coefficients.reshape(P, nd, -1)),
-                "element_u_min": (("point", "element"), self.element_u_min),
-                "element_u_max": (("point", "element"), self.element_u_max),
+                "element_u_min": (el, self.element_u_min),
+                "element_u_max": (el, self.element_u_max),
                 "status": ("point", self.status.astype(np.int64)),
             },
             coords={
@@ -458,7 +454,7 @@ class _Tracer:
         A[-1] = ref
         rhs = np.zeros(self.M + 1)
         rhs[-1] = 1.0
-        t = np.linalg.lstsq(A, rhs, rcond=None)[0] if not np.all(np.isfinite(A)) else solve(A, rhs)
+        t = solve(A, rhs, robust=True)
         t /= np.linalg.norm(t)
         return t if t @ ref >= 0 else -t
 
@@ -659,17 +655,35 @@ def hb_continuation(
     sol = hb_solve(m0, eq.H, period, guess, samples=eq.N, stability=False, state0=state0)
     f, N0 = eq.form, eq.basis.size - eq.basis.rigid
     common = dict(
-        elements=eq.elements, kinds=tuple(e.kind for e in f.elements), gaps=tuple(e.gap for e in f.elements),
-        rigid=eq.basis.rigid, reference=eq.reference, labels=f.labels, conservative=conservative, equations=eq,
-    )  # fmt: skip
+        elements=eq.elements,
+        kinds=tuple(e.kind for e in f.elements),
+        gaps=tuple(e.gap for e in f.elements),
+        rigid=eq.basis.rigid,
+        reference=eq.reference,
+        labels=f.labels,
+        conservative=conservative,
+        equations=eq,
+    )
     if not sol.converged:
         nan = np.full((1, len(f.elements)), math.nan)
         return HBContinuation(
-            model, param, eq.H, eq.n, eq.N, np.array([start]), sol.unknowns[None, :N0], np.array([math.nan]),
-            np.array([math.nan]), np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan)),
-            np.array([int(sol.status)]), [], f"start: {sol.status.label}", element_u_min=nan, element_u_max=nan,
+            model,
+            param,
+            eq.H,
+            eq.n,
+            eq.N,
+            np.array([start]),
+            sol.unknowns[None, :N0],
+            np.array([math.nan]),
+            np.array([math.nan]),
+            np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan)),
+            np.array([int(sol.status)]),
+            [],
+            f"start: {sol.status.label}",
+            element_u_min=nan,
+            element_u_max=nan,
             **common,
-        )  # fmt: skip
+        )
     lo, hi = sorted((start, stop))
     ps = hi - lo
     tr = _Tracer(eq, lo, hi, ps, conservative)
@@ -683,11 +697,23 @@ def hb_continuation(
     else:
         ext = np.array([eq.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
     return HBContinuation(
-        model, param, eq.H, eq.n, eq.N, vals, np.array([q.y[:N0] for q in pts]), np.array([q.u_min for q in pts]),
-        np.array([q.u_max for q in pts]), np.array([q.hill.multipliers for q in pts]),
-        np.array([int(q.hill.status) for q in pts]), bifs, end, element_u_min=ext[:, :, 0],
-        element_u_max=ext[:, :, 1], **common,
-    )  # fmt: skip
+        model,
+        param,
+        eq.H,
+        eq.n,
+        eq.N,
+        vals,
+        np.array([q.y[:N0] for q in pts]),
+        np.array([q.u_min for q in pts]),
+        np.array([q.u_max for q in pts]),
+        np.array([q.hill.multipliers for q in pts]),
+        np.array([int(q.hill.status) for q in pts]),
+        bifs,
+        end,
+        element_u_min=ext[:, :, 0],
+        element_u_max=ext[:, :, 1],
+        **common,
+    )
 
 
 def _max_points_end(max_points: int) -> str:

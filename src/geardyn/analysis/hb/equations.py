@@ -40,7 +40,9 @@ from contextlib import contextmanager
 from typing import Any, NamedTuple
 
 import numpy as np
+from scipy import sparse
 from scipy.linalg.lapack import dgesv
+from scipy.sparse.linalg import splu
 from threadpoolctl import threadpool_limits
 
 from ...errors import ModelError
@@ -82,6 +84,10 @@ GUESS_TRANSIENT = 400
 GUESS_DTAU = DEFAULT_DTAU
 #: Samples per response period of the mesh forces for the dynamic factor (times the HB samples N).
 FORCE_OVERSAMPLE = 4
+#: Forms of more coordinates assemble the Jacobian sparse (:class:`SparseJacobian`; ``benchmarks/hb_scaling.py``).
+SPARSE_DOFS = 8
+#: SuperLU's pivot threshold: a diagonal pivot is kept while at least this times the column's largest entry.
+PIVOT_THRESH = 0.01
 #: Use the compiled kernels of a scalar form (``benchmarks/hb_speed.py --general`` switches them off).
 SPECIALISE = True
 
@@ -93,8 +99,51 @@ def single_thread_blas() -> Iterator[None]:
         yield
 
 
-def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """x with A x = b by LAPACK ``dgesv`` (``numpy.linalg.solve`` costs ten times the factorisation here).
+def _slots(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple:
+    """The compressed-column slot of each entry (rows[i], cols[i]) of an n×n matrix (duplicates summed), the row
+    indices and the column pointers: (slot, indices, indptr, n)."""
+    uniq, slot = np.unique(np.asarray(cols, dtype=np.int64) * n + rows, return_inverse=True)
+    return slot, (uniq % n).astype(np.int32), np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32), n
+
+
+class SparseJacobian:
+    """A Jacobian assembled sparse (forms of more than :data:`SPARSE_DOFS` coordinates): its values at the entries
+    of ``pattern`` (:meth:`HBEquations._pattern`: the matrix's, then the bordered one's), a dense last column
+    ``col`` and row (``A[-1] = row``) when bordered; solved by SuperLU (COLAMD, threshold pivoting, one step of
+    iterative refinement).  ``numpy.asarray`` gives it dense."""
+
+    def __init__(self, pattern: tuple, values: np.ndarray, col: np.ndarray | None = None):
+        self.pattern, self.values, self.col = pattern, values, col
+        self.row = None if col is None else np.zeros(col.size + 1)
+
+    def __setitem__(self, index: int, row: np.ndarray) -> None:
+        self.row[:] = row
+
+    def tocsc(self) -> sparse.csc_matrix:
+        (slot, indices, indptr, n), v = self.pattern[self.col is not None], self.values
+        v = v if self.col is None else np.concatenate([v, self.col, self.row])
+        m = sparse.csc_matrix((np.bincount(slot, v, indices.size), indices, indptr), (n, n), copy=True)
+        m.eliminate_zeros()  # (in the copy: the pattern's arrays are kept)
+        return m
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
+        return self.tocsc().toarray()
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        m = self.tocsc()
+        if not np.all(np.isfinite(m.data)):
+            return np.linalg.lstsq(m.toarray(), b, rcond=None)[0]
+        try:
+            lu = splu(m, permc_spec="COLAMD", diag_pivot_thresh=PIVOT_THRESH)
+        except RuntimeError as err:  # "Factor is exactly singular"
+            raise np.linalg.LinAlgError(str(err)) from None
+        x = lu.solve(b)
+        return x + lu.solve(b - m @ x)
+
+
+def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -> np.ndarray:
+    """x with A x = b by LAPACK ``dgesv`` (``numpy.linalg.solve`` costs ten times the factorisation here), or a
+    :class:`SparseJacobian`'s SuperLU.
 
     Parameters
     ----------
@@ -106,6 +155,10 @@ def solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     numpy.linalg.LinAlgError
         When A is exactly singular.
     """
+    if isinstance(A, SparseJacobian):
+        return A.solve(b)
+    if robust and not np.all(np.isfinite(A)):  # the least-squares answer of a matrix that is not finite
+        return np.linalg.lstsq(A, b, rcond=None)[0]
     _lu, _piv, x, info = dgesv(A, b)
     if info != 0:
         raise np.linalg.LinAlgError("Singular matrix" if info > 0 else f"dgesv: illegal argument {-info}")
@@ -168,6 +221,7 @@ class _Point(NamedTuple):
     E: tuple[np.ndarray, ...]  # every element's E on the δ basis (real coefficients)
     G0: np.ndarray  # (dofs, 2H + 1) real coefficients of the forcing
     G2: np.ndarray
+    pattern: tuple | None  # of the sparse Jacobian and the bordered one (None: dense)
 
 
 class HBEquations:
@@ -238,6 +292,7 @@ class HBEquations:
         self.D1[np.arange(1, H + 1), H + 1 + np.arange(H)] = kk
         self.D1[H + 1 + np.arange(H), np.arange(1, H + 1)] = -kk
         self._ik = 1j * np.arange(-H, H + 1)
+        self._d1 = np.nonzero(self.D1)
         self._ikd = 1j * np.arange(-self.Hd, self.Hd + 1)
         self.reference = form.reference
         self._scalar = form.scalar
@@ -278,15 +333,28 @@ class HBEquations:
         E = tuple(self.dbasis.to_real(_centred(e.E, self.Hd)) for e in f.elements)
         G0 = np.array([cut(_centred(g, self.H)) for g in f.G0])
         G2 = np.array([cut(_centred(g, self.H)) for g in f.G2])
-        return _Point(m, f, E, G0, G2)
+        return _Point(m, f, E, G0, G2, self._pattern(f) if f.dofs > SPARSE_DOFS else None)
+
+    def _pattern(self, f: HBForm) -> tuple:
+        """The entries of the sparse Jacobian in the order :meth:`_jacobian` makes them: the blocks of I⊗D₂, A⊗I,
+        B⊗D₁ and (W_e V_eᵀ)⊗op_e at the nonzeros of the DOF matrix, then the gauge columns and rows."""
+        M, N0 = self.M, f.dofs * self.M
+        c, (di, dj), (ei, ej) = np.arange(M), self._d1, np.divmod(np.arange(M * M), M)
+        parts = [_kron_index(np.eye(f.dofs), c, c, M), _kron_index(f.A, c, c, M), _kron_index(f.B, di, dj, M)]
+        parts += [_kron_index(np.outer(el.W, el.V), ei, ej, M) for el in f.elements]
+        (gi, gk), (hi, hk) = np.nonzero(self.left), np.nonzero(self.gauge)
+        rows, cols = (np.concatenate(x) for x in zip(*parts, (gi, N0 + gk), (N0 + hk, hi)))
+        n, full = self.basis.size, np.arange(self.basis.size + 1)
+        border = np.concatenate([rows, full[:-1], np.full(n + 1, n)]), np.concatenate([cols, np.full(n, n), full])
+        return _slots(rows, cols, n), _slots(*border, n + 1)
 
     def _entry(self, p: float | None) -> _Point:
         key = None if (p is None or self.param is None) else float(p)
         e = self._cache.get(key)
         if e is not None:
             return e
-        if len(self._cache) > 32:
-            self._cache.clear()
+        if len(self._cache) > 32:  # (the base point kept: its Jacobian's pattern)
+            self._cache = {k: v for k, v in self._cache.items() if k is None}
         if key is None:
             e = self._cache[None] = self._point(self.base, self.form)
             return e
@@ -323,8 +391,19 @@ class HBEquations:
 
     def _scalar_args(self, pt: _Point, x: np.ndarray) -> tuple:
         el, b = pt.form.elements[0], self.dbasis
-        return (np.ascontiguousarray(x, dtype=float), el.C, el.K, pt.form.G0[0], pt.form.G2[0], el.gap,
-                b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL)  # fmt: skip
+        return (
+            np.ascontiguousarray(x, dtype=float),
+            el.C,
+            el.K,
+            pt.form.G0[0],
+            pt.form.G2[0],
+            el.gap,
+            b.cos_table,
+            b.sin_table,
+            self.H,
+            ROOT_MAX_ITER,
+            ROOT_TOL,
+        )
 
     def _core(self, x: np.ndarray, p: float | None, jacobian: bool):
         """R (dofs, M) split as ν² R2 + ν R1 + R0, the Jacobian (or None) and every element's S series."""
@@ -349,12 +428,21 @@ class HBEquations:
         J = self._jacobian(pt, nu, Ss) if jacobian else None
         return (R2, R1, R0), nu, J, Ss, pt
 
-    def _jacobian(self, pt: _Point, nu: float, Ss: list[np.ndarray]) -> np.ndarray:
+    def _jacobian(self, pt: _Point, nu: float, Ss: list[np.ndarray]) -> np.ndarray | SparseJacobian:
         H, M, nd = self.H, self.M, self.basis.dofs
         f = pt.form
+        ops = [
+            real_operator_kernel(nu * toeplitz(el.C, H) * self._ik[None, :] + toeplitz(S, H), H)
+            for el, S in zip(f.elements, Ss)
+        ]
+        if pt.pattern is not None:
+            v = [_kron_values(np.eye(nd), -(nu**2) * self._k2), _kron_values(f.A, np.ones(M))]
+            v += [_kron_values(nu * f.B, self.D1[self._d1])]
+            v += [_kron_values(np.outer(el.W, el.V), op.ravel()) for el, op in zip(f.elements, ops)]
+            v += [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)]]
+            return SparseJacobian(pt.pattern, np.concatenate(v))
         J = np.kron(np.eye(nd), np.diag(-(nu**2) * self._k2)) + np.kron(f.A, np.eye(M)) + nu * np.kron(f.B, self.D1)
-        for el, S in zip(f.elements, Ss):
-            op = real_operator_kernel(nu * toeplitz(el.C, H) * self._ik[None, :] + toeplitz(S, H), H)
+        for el, op in zip(f.elements, ops):
             J += np.kron(np.outer(el.W, el.V), op)
         return J
 
@@ -387,7 +475,8 @@ class HBEquations:
                     vals.append((p, self.residual(x, p, jacobian=False)[0]))
             (q1, r1), (q2, r2) = vals
             return (r1 - r2) / (q1 - q2)
-        return self.bordered(x, p)[1][:-1, -1]
+        A = self.bordered(x, p)[1]
+        return A.col if isinstance(A, SparseJacobian) else A[:-1, -1]
 
     def bordered(self, x: np.ndarray, p: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
         """R and [[∂R/∂x, scale·∂R/∂p], [0 … 0]] for the continuation (the last row left for the caller)."""
@@ -398,12 +487,14 @@ class HBEquations:
             (R2, R1, R0), nu, J, _, _ = self._core(x, p, True)
             d = ((2.0 * nu * R2 + R1) / self.periods).ravel()
             R, J = self._finish(x, nu * nu * R2 + nu * R1 + R0, J)
-            A = np.pad(J, ((0, 1), (0, 1)))
-            A[: d.size, -1] = scale * d
-            return R, A
-        R, J = self.residual(x, p)
+        else:
+            (R, J), d = self.residual(x, p), self.dR_dp(x, p)
+        col = np.zeros(R.size)
+        col[: d.size] = scale * d
+        if isinstance(J, SparseJacobian):
+            return R, SparseJacobian(J.pattern, J.values, col)
         A = np.pad(J, ((0, 1), (0, 1)))
-        A[:-1, -1] = scale * self.dR_dp(x, p)
+        A[:-1, -1] = col
         return R, A
 
     def _finish(self, x: np.ndarray, Rq: np.ndarray, J: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
@@ -412,7 +503,8 @@ class HBEquations:
         R = Rq.ravel()
         if r:
             R = np.concatenate([R + self.left @ x[N0:], self.gauge.T @ x[:N0]])
-            J = None if J is None else np.block([[J, self.left], [self.gauge.T, np.zeros((r, r))]])
+            if J is not None and not isinstance(J, SparseJacobian):  # (the sparse pattern has them)
+                J = np.block([[J, self.left], [self.gauge.T, np.zeros((r, r))]])
         return R, J
 
     def newton(
@@ -458,6 +550,7 @@ class HBEquations:
         if self.floquet == "hill":
             _, nu, J, _, _ = self._core(x, p, True)
             nd, M = self.basis.dofs, self.M
+            J = np.asarray(J)[: nd * M, : nd * M]
             Cop = np.kron(f.B, np.eye(M))
             for el in f.elements:
                 Cop += np.kron(np.outer(el.W, el.V), real_operator_kernel(toeplitz(el.C, self.H), self.H))
@@ -563,6 +656,17 @@ class HBEquations:
         a[:, 1 : k + 1] = 2.0 * X[1 : k + 1].real.T
         a[:, H + 1 : H + 1 + k] = -2.0 * X[1 : k + 1].imag.T
         return self.project(a)
+
+
+def _kron_index(m: np.ndarray, bi: np.ndarray, bj: np.ndarray, M: int) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and columns of the entries (bi, bj) of an M×M block at each nonzero of ``m`` (of m ⊗ block)."""
+    i, j = np.nonzero(m)
+    return (i[:, None] * M + bi).ravel(), (j[:, None] * M + bj).ravel()
+
+
+def _kron_values(m: np.ndarray, block: np.ndarray) -> np.ndarray:
+    """The values of m ⊗ block at :func:`_kron_index`'s entries (``block``: the values at (bi, bj))."""
+    return (m[np.nonzero(m)][:, None] * block).ravel()
 
 
 def _centred(z: np.ndarray, L: int) -> np.ndarray:

@@ -193,9 +193,19 @@ def pair_form(model: Any, period: int = 1) -> HBForm:
         "mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp), _law(model.elements[0])
     )
     return HBForm(
-        M * n, M, np.eye(1), np.zeros((1, 1)), np.zeros((1, 1)), G0, G2, (el,), np.zeros((1, 0)), 0,
-        n * (int(model.n_harmonics) + 2), ("u",),
-    )  # fmt: skip
+        M * n,
+        M,
+        np.eye(1),
+        np.zeros((1, 1)),
+        np.zeros((1, 1)),
+        G0,
+        G2,
+        (el,),
+        np.zeros((1, 0)),
+        0,
+        n * (int(model.n_harmonics) + 2),
+        ("u",),
+    )
 
 
 def system_form(model: Any, period: int = 1) -> HBForm:
@@ -237,8 +247,9 @@ def system_form(model: Any, period: int = 1) -> HBForm:
     for i, nm in enumerate(model.clearance_names):
         V = np.asarray(model.Vc[i], dtype=float)
         C, K = np.array([model.cc[i]], dtype=complex), np.array([model.kc[i]], dtype=complex)
-        els.append(FormElement(nm, "clearance", V, Mi @ V, C, K, np.zeros(1, complex), float(model.Dc[i]),
-                               law=law.get(nm, "")))  # fmt: skip
+        els.append(
+            FormElement(nm, "clearance", V, Mi @ V, C, K, np.zeros(1, complex), float(model.Dc[i]), law=law.get(nm, ""))
+        )
     for e in els:
         if e.law not in LAWS:
             raise ModelError(f"{e.name}: harmonic balance has no element law {e.law!r} (it knows {', '.join(LAWS)})")
@@ -246,8 +257,17 @@ def system_form(model: Any, period: int = 1) -> HBForm:
     mh = max((m.n_harmonics * m.ratio for m in model.meshes), default=0.0)
     G0 = (Mi @ np.asarray(model.F, dtype=float)).astype(complex)[:, None]
     return HBForm(
-        periods, 1, Mi, Mi @ np.asarray(model.Kb, dtype=float), Mi @ np.asarray(model.Cb, dtype=float), G0,
-        np.zeros_like(G0), tuple(els), rigid_modes(model),
+        periods,
+        1,
+        Mi,
+        Mi @ np.asarray(model.Kb, dtype=float),
+        Mi @ np.asarray(model.Cb, dtype=float),
+        G0,
+        np.zeros_like(G0),
+        tuple(els),
+        rigid_modes(model),
         names.index(model.scaling.reference) if model.scaling.reference in names else 0,
-        periods * (int(math.ceil(mh)) + 2), tuple(model.labels), model.scaling.omega_n_rad_s / (2.0 * math.pi),
-    )  # fmt: skip
+        periods * (int(math.ceil(mh)) + 2),
+        tuple(model.labels),
+        model.scaling.omega_n_rad_s / (2.0 * math.pi),
+    )

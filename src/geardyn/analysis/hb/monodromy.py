@@ -73,6 +73,11 @@ def _pack(series: Sequence[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     return out, L
 
 
+def _rows(nz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row pointers and column indices of the True entries of ``nz`` (compressed sparse rows)."""
+    return np.concatenate([[0], np.cumsum(nz.sum(axis=1))]).astype(np.int64), np.nonzero(nz)[1].astype(np.int64)
+
+
 def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None = None) -> HillResult:
     """Floquet exponents and multipliers from the monodromy matrix of one period started on the HB solution.
 
@@ -128,13 +133,14 @@ def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None
     Q[:n, :ne] = P
     Q[n:, ne:] = P
     Dv = np.asarray(D, dtype=float)
+    sp = (*_rows(np.logical_or(A != 0, B != 0)), *_rows(V != 0))  # the nonzeros the kernel sums over
 
     def period(start: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray] | None:
         """(end state, QᵀΦQ) of the period from ``start`` in steps of at most ``h``, or None if it could not be
         integrated."""
         xe, Y = start.copy(), Q.copy()
         steps, _switches = monodromy_kernel(
-            xe, Y, A, B, W, V, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, Dv, h, float(nu), SWITCH_TOL
+            xe, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, Dv, h, float(nu), SWITCH_TOL
         )
         Phi = Q.T @ Y
         return None if steps < 0 or not (np.all(np.isfinite(Phi)) and np.all(np.isfinite(xe))) else (xe, Phi)

@@ -406,16 +406,17 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                     }
                 )
     hyst = _hysteresis(paths)
+    sw, ss = ("sweep", "omega"), ("sweep", "omega", "section")
     ds = xr.Dataset(
         {
-            "period": (("sweep", "omega"), period),
-            "motion": (("sweep", "omega"), motion),
-            "impact": (("sweep", "omega"), impact),
-            "status": (("sweep", "omega"), status),
-            **{k: (("sweep", "omega"), f[k]) for k in MEASURES},
-            "lle": (("sweep", "omega"), np.full(shape, np.nan)),
-            "poincare_u": (("sweep", "omega", "section"), pu),
-            "poincare_v": (("sweep", "omega", "section"), pv),
+            "period": (sw, period),
+            "motion": (sw, motion),
+            "impact": (sw, impact),
+            "status": (sw, status),
+            **{k: (sw, f[k]) for k in MEASURES},
+            "lle": (sw, np.full(shape, np.nan)),
+            "poincare_u": (ss, pu),
+            "poincare_v": (ss, pv),
         },
         coords={"sweep": ["up", "down"], "omega": w, "section": np.arange(n)},
         attrs=res.attrs(

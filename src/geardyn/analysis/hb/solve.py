@@ -25,14 +25,7 @@ from .equations import (
 )
 from .hill import HillResult
 
-__all__ = [
-    "HBSolution",
-    "hb_solve",
-    "default_harmonics",
-    "DEFAULT_HARMONICS",
-    "MAX_DEFAULT_HARMONICS",
-    "NEWTON_TOL",
-]
+__all__ = ["HBSolution", "hb_solve", "default_harmonics", "DEFAULT_HARMONICS", "MAX_DEFAULT_HARMONICS", "NEWTON_TOL"]
 
 
 @dataclass
@@ -204,9 +197,18 @@ def hb_solve(
         x, status, its, r = eq.newton(eq.unknowns(Q0), None, tol=tol, max_iter=max_iter)
         Q = eq._split(x).copy()
         sol = HBSolution(
-            model, eq.H, eq.n, eq.N, Q[0] if eq.basis.dofs == 1 else Q, status, its, r,
-            equations=eq, unknowns=x, rigid=eq.basis.rigid,
-        )  # fmt: skip
+            model,
+            eq.H,
+            eq.n,
+            eq.N,
+            Q[0] if eq.basis.dofs == 1 else Q,
+            status,
+            its,
+            r,
+            equations=eq,
+            unknowns=x,
+            rigid=eq.basis.rigid,
+        )
         if status is Status.OK:
             sol.u_min, sol.u_max = eq.extremes(x)
             sol.element_extremes = eq.element_extremes(x)
