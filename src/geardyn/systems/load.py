@@ -200,7 +200,11 @@ class _Ctx(cv._Ctx):
         super().__init__(source, text)
         self.assumptions: list[Assumption] = []
 
-    def assume(self, a: Assumption) -> None:
+    def assume(self, a: Assumption | str, *fields: Any) -> None:
+        """Record an assumed input: an :class:`~geardyn.geometry.Assumption`, or its fields (name, value, unit,
+        source), so that a reader elsewhere need not import the geometry package."""
+        if isinstance(a, str):
+            a = Assumption(a, *fields)
         if all(x.name != a.name for x in self.assumptions):
             self.assumptions.append(a)
 

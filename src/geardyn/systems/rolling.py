@@ -359,9 +359,7 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
     except ValueError as e:
         raise blk.merr("load_deflection", str(e)) from None
     if src:
-        from ..geometry import Assumption
-
-        blk.ctx.assume(Assumption(f"{blk.element}.load_deflection", K, f"N/m^{n_:.6g}", str(src)))
+        blk.ctx.assume(f"{blk.element}.load_deflection", K, f"N/m^{n_:.6g}", str(src))
     db = blk.get("element_diameter", "length")
     c = blk.get("radial_clearance", "length")
     if db > 0 and c > MAX_CLEARANCE_FRACTION * db:
@@ -390,16 +388,12 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
     exact = float(br.ball_pass_ratio * Fraction(speed))
     ratio = round_to(exact)
     if abs(float(ratio) - exact) > 1e-12 * exact:
-        from ..geometry import Assumption
-
         blk.ctx.assume(
-            Assumption(
-                f"{blk.element}.ball_pass_ratio",
-                str(ratio),
-                "",
-                f"the geometry's ball-pass frequency {exact:.12g} of the base frequency, as the fraction "
-                f"{ratio} (relative change {float(ratio) / exact - 1:+.2e}) so that the forcing stays periodic",
-            )
+            f"{blk.element}.ball_pass_ratio",
+            str(ratio),
+            "",
+            f"the geometry's ball-pass frequency {exact:.12g} of the base frequency, as the fraction "
+            f"{ratio} (relative change {float(ratio) / exact - 1:+.2e}) so that the forcing stays periodic",
         )
     try:
         return RollingElementBearing(
