@@ -318,6 +318,8 @@ class MeshBackend(Backend):
 
     name = "mesh"
     coords = "(q̃, q̃')"
+    #: The dead zone and the rolling-element bearing (:class:`geardyn.system.RollingBearingLaw`).
+    laws: frozenset[int] = frozenset({0, 1})
 
     def restarts_exactly(self, accurate: bool) -> bool:
         """Both modes carry the state only: the default mode's coefficient table is the same every period and the

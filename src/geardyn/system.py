@@ -82,9 +82,12 @@ and its parameters (:meth:`~Law.params`), and it provides, in plain NumPy for re
     (:data:`geardyn.backend.S_LAW`); :meth:`geardyn.integrate.BatchResult.law_fractions` turns the counters
     into time fractions named by the law.
 
-A new law is a subclass with a new ``code`` (a rolling-element bearing, force
-K·Σ_j max(δ_j − c, 0)^n over its rolling elements: parameters (K, c, n, element angles), counters such as
-``loaded``/``unloaded``), one kernel branch per backend, and nothing in the analyses.
+A new law is a subclass with a new ``code``, one kernel branch per backend, and nothing in the analyses.
+The second law is the rolling-element bearing (:class:`RollingBearingLaw`, code 1): it acts on two element rows
+of a system (a body's x and y translation relative to ground or another body), whose forces it gives jointly,
+K·Σ_j max(δ_j, 0)^n (cos ψ_j, sin ψ_j) with δ_j = δ_x cos ψ_j + δ_y sin ψ_j − c over its rolling elements at
+the cage angles ψ_j (θ) — a smooth law (C¹ at contact for n > 1: no switching surface).  A backend declares
+the codes its kernel takes (:attr:`geardyn.backend.Backend.laws`).
 """
 
 from __future__ import annotations
@@ -104,6 +107,7 @@ __all__ = [
     "Element",
     "Law",
     "DeadZone",
+    "RollingBearingLaw",
     "LAW_COUNTERS",
     "Batch",
     "ModelList",
@@ -196,6 +200,84 @@ class DeadZone(Law):
 
 
 @dataclass(frozen=True)
+class RollingBearingLaw(Law):
+    """The rolling-element bearing: Z elements of exponent n and radial clearance c, on two element rows (x, y).
+
+    The force (unit load–deflection constant: the bearing's K multiplies it) on the two rows at (δ_x, δ_y) and
+    cage angle ψ is ``Σ_j max(δ_j, 0)^n (cos ψ_j, sin ψ_j)``, ``δ_j = δ_x cos ψ_j + δ_y sin ψ_j − c``,
+    ``ψ_j = ψ + phase + 2πj/Z`` (:func:`geardyn.systems.bearings.bearing_forces`, the shaft's restoring force);
+    the cage turns at ``ratio/Z`` radians per radian of the base angle θ, so the stiffness varies at the
+    ball-pass frequency ``ratio·ω``.  The law is C¹ at contact (n > 1): it has no switching surface, and the
+    accurate mode splits no step at it.  Its counters classify each row's deflection against the clearance
+    (``plus``: δ > c, ``free``: |δ| <= c, ``minus``: δ < −c), as the kernels' statistics count it.
+
+    Attributes
+    ----------
+    elements : int
+        Z, the number of rolling elements.
+    exponent : float
+        n (3/2 ball, 10/9 roller).
+    clearance : float
+        The radial clearance c (the system's displacement unit).
+    ratio : float
+        The ball-pass frequency over the base frequency (Z times the cage's speed over it).
+    phase : float
+        The cage angle at θ = 0 (rad).
+
+    Examples
+    --------
+    >>> law = RollingBearingLaw(elements=4, exponent=1.5, clearance=0.5, ratio=1.0)
+    >>> [round(v, 12) for v in law.force([2.5, 0.0]).tolist()]
+    [2.828427124746, 0.0]
+    >>> law.counters, law.counter([1.0, 0.0, -1.0]).tolist()
+    (('plus', 'free', 'minus'), [0, 1, 2])
+    """
+
+    elements: int
+    exponent: float
+    clearance: float
+    ratio: float
+    phase: float = 0.0
+
+    code: ClassVar[int] = 1
+    name: ClassVar[str] = "rolling_bearing"
+    counters: ClassVar[tuple[str, ...]] = ("plus", "free", "minus")
+
+    def params(self) -> tuple[float, ...]:
+        return (float(self.elements), float(self.exponent), float(self.clearance), float(self.ratio), self.phase)
+
+    def cage_angle(self, theta: np.ndarray | float) -> np.ndarray:
+        """The cage angle ψ at base angles θ (rad)."""
+        return self.ratio / self.elements * np.asarray(theta, dtype=float) + self.phase
+
+    def force(self, delta: np.ndarray | float, theta: np.ndarray | float = 0.0) -> np.ndarray:
+        """The rows' forces (..., 2) at deflections δ = (δ_x, δ_y) (..., 2) and base angle θ (unit K)."""
+        from .systems.bearings import bearing_forces
+
+        d = np.asarray(delta, dtype=float)
+        fx, fy = bearing_forces(
+            d[..., 0], d[..., 1], self.cage_angle(theta), self.elements, 1.0, self.exponent, self.clearance
+        )
+        return -np.stack([fx, fy], axis=-1)
+
+    def stiffness(self, delta: np.ndarray | float, theta: np.ndarray | float = 0.0) -> np.ndarray:
+        """The tangent stiffness (..., 2, 2) at δ = (δ_x, δ_y) (..., 2) and θ (unit K)."""
+        from .systems.bearings import bearing_stiffness
+
+        d = np.asarray(delta, dtype=float)
+        return bearing_stiffness(
+            d[..., 0], d[..., 1], self.cage_angle(theta), self.elements, 1.0, self.exponent, self.clearance
+        )
+
+    def surfaces(self) -> tuple[float, ...]:
+        return ()
+
+    def counter(self, delta: np.ndarray | float) -> np.ndarray:
+        d = np.asarray(delta, dtype=float)
+        return np.where(d > self.clearance, 0, np.where(d < -self.clearance, 2, 1))
+
+
+@dataclass(frozen=True)
 class Element:
     """A non-smooth element of a system: its deflection δ acted on by a :class:`Law`.
 
@@ -207,7 +289,7 @@ class Element:
         Half gap D: the deflection where contact begins (non-dimensional); the impact states of the
         analyses compare the deflection's extremes with it.
     kind : str
-        ``"mesh"`` or ``"clearance"``.
+        ``"mesh"``, ``"clearance"`` or ``"bearing"`` (one of a rolling bearing's two rows, x then y).
     law : Law
         The element's law; default the dead zone of half gap ``gap``.
 

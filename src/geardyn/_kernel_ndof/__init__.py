@@ -4,9 +4,11 @@ Only :mod:`geardyn.backend` (its ``MESH`` backend, behind :mod:`geardyn.integrat
 :func:`run_batch` advances a batch of parameter points of one system structure through
 ``n_transient + n_record`` forcing periods with classic fixed-step RK4 (h = T_f/N, T_f the forcing period, so the
 stroboscopic samples are exact) and serves every analysis: Poincaré points of the full state, streaming statistics
-per element (each mesh's deflection δ_m = V[m]·q̃ − E_m(θ), then each clearance's), time histories, Lyapunov
+per element (each mesh's deflection δ_m = V[m]·q̃ − E_m(θ), then each clearance's, then each rolling bearing's x
+and y rows: :mod:`.core`), time histories, Lyapunov
 spectra (all 2n tangent vectors, or the k leading ones, Gram–Schmidt each recorded period) and monodromy matrices.
-The accurate mode splits every step at each element's contact boundary (δ = ±D) inside it.
+The accurate mode splits every step at each dead zone's contact boundary (δ = ±D) inside it (a rolling bearing is
+smooth: no split, :mod:`.step`).  A batch with rolling bearings takes the sparse plain step (not the dense one).
 Torque orders make the load time-varying: g = M̃⁻¹F̃ becomes g + Σ_o M̃⁻¹F̃_o cos(r_o θ + φ_o), refilled before
 each RK4 stage (:func:`.step.load_at`); a system without orders keeps g as it is, bit for bit.
 
@@ -40,6 +42,7 @@ import numpy as np
 
 from .._kernel import _executor, n_threads
 from .core import (
+    BQ_RHO,
     DIVERGENCE_BOUND,
     NSTAT,
     S_N,
@@ -142,6 +145,12 @@ def sparse_arrays(arrays):
     P, n = g.shape
     E_V = np.concatenate([arrays.V, arrays.Vc], axis=1)  # (P, E, n)
     E_W = np.concatenate([W, Wc], axis=1)
+    NB = arrays.bq.shape[1]
+    if NB:  # rolling bearings: two element rows each (x, y), after the meshes and clearances
+        Wb = np.ascontiguousarray(np.einsum("pij,pmj->pmi", arrays.Mi, arrays.Vb))
+        E_V = np.concatenate([E_V, arrays.Vb], axis=1)
+        E_W = np.concatenate([E_W, Wb], axis=1)
+    NE = E_V.shape[1]
     ab = np.any(A != 0.0, axis=0) | np.any(B != 0.0, axis=0)
     abp, abj = _rows(ab)
     rows_ab = np.repeat(np.arange(n), np.diff(abp))
@@ -156,6 +165,13 @@ def sparse_arrays(arrays):
     gmask = ab.copy()
     for e in range(ev.shape[0]):
         gmask |= np.outer(ew[e], ev[e])
+    e0 = NE - 2 * NB
+    cross = []  # (slot, force row, deflection row) of every bearing's cross terms W_x V_y, W_y V_x
+    for b in range(NB):
+        ex = e0 + 2 * b
+        cross += [(NE + 2 * b, ex, ex + 1), (NE + 2 * b + 1, ex + 1, ex)]
+    for _, ew_, ev_ in cross:
+        gmask |= np.outer(ew[ew_], ev[ev_])
     gp, gj = _rows(gmask)
     rows_g = np.repeat(np.arange(n), np.diff(gp))
     gidx = np.full((n, n), -1, dtype=np.int64)
@@ -167,6 +183,12 @@ def sparse_arrays(arrays):
         KW, KV = np.meshgrid(kw, kv, indexing="ij")
         KW, KV = KW.ravel(), KV.ravel()
         parts.append(np.stack([gidx[wi[KW], ej[KV]], np.full(KW.shape, e), KW, KV]))
+    for slot, ew_, ev_ in cross:
+        kw = np.arange(wp[ew_], wp[ew_ + 1])
+        kv = np.arange(ep[ev_], ep[ev_ + 1])
+        KW, KV = np.meshgrid(kw, kv, indexing="ij")
+        KW, KV = KW.ravel(), KV.ravel()
+        parts.append(np.stack([gidx[wi[KW], ej[KV]], np.full(KW.shape, slot), KW, KV]))
     allp = np.concatenate(parts, axis=1) if parts else np.zeros((4, 0), dtype=np.int64)
     allp = allp[:, np.lexsort((allp[1], allp[0]))]
     cp = np.zeros(gj.shape[0] + 1, dtype=np.int64)
@@ -306,7 +328,10 @@ def run_batch(
     nw = min(n_threads(), P) if work >= THREAD_MIN_WORK else 1
     a = arrays
     loads = order_loads(arrays)
-    dense = blk[7].shape[1] == LANE_BLOCK  # one block of rows: the dense plain step (see .worker)
+    NB = arrays.bq.shape[1]
+    # one block of rows: the dense plain step (see .worker); rolling bearings take the sparse one
+    dense = blk[7].shape[1] == LANE_BLOCK and NB == 0
+    ratio = np.ascontiguousarray(np.concatenate([a.ratio, a.bq[:, :, BQ_RHO]], axis=1)) if NB else a.ratio
     if dense:
         A, B, W, _g, Wc = derived(arrays)
         Vd, Vcd = a.V, a.Vc
@@ -330,11 +355,12 @@ def run_batch(
             np.ascontiguousarray(Vcd),
             a.coef,
             a.D,
-            a.ratio,
+            ratio,
             a.kc,
             a.cc,
             a.Dc,
             a.omega,
+            np.ascontiguousarray(a.bq, dtype=np.float64),
             *loads,
             np.ascontiguousarray(tperiod, dtype=np.float64),
             np.ascontiguousarray(nsteps, dtype=np.int64),

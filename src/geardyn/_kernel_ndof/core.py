@@ -20,8 +20,22 @@ two tuples per point,
     ``abj[abp[i]:abp[i+1]]`` ascending, values ``Av``, ``Bv``); the element vectors V[m] then Vc[c] as rows
     ``ej[ep[e]:ep[e+1]]`` (values ``Ev``); the element forces' rows W[m] then Wc[c] (``wi[wp[e]:wp[e+1]]``,
     values ``Wv``); g dense;
-``el = (M, D, kc, cc, Dc)``
-    the meshes' count and half backlashes, the clearances' stiffness, damping and half gaps.
+``el = (M, D, kc, cc, Dc, bq)``
+    the meshes' count and half backlashes, the clearances' stiffness, damping and half gaps, and the rolling
+    bearings' parameters ``bq`` (bearings, NBQ) (:data:`BQ_Z` … :data:`BQ_PHASE`).
+
+Rolling-element bearings (the second element law, :class:`geardyn.system.RollingBearingLaw`): bearing b is the two
+element rows ``ex = M + C + 2b`` (its x vector V_x and force row W_x) and ``ey = ex + 1`` (y), after the meshes and
+the C clearances.  Their forces are computed jointly from (δ_x, δ_y),
+
+    s_x = cx δ_x' + K Σ_j max(δ_j, 0)^n cos ψ_j,   s_y = cy δ_y' + K Σ_j max(δ_j, 0)^n sin ψ_j,
+    δ_j = δ_x cos ψ_j + δ_y sin ψ_j − c,   ψ_j = ψ(θ) + φ0 + 2πj/Z,
+
+with the cage angle ψ(θ) = ρ θ (ρ the cage's radians per radian of the base angle) in row M + b of the
+coefficients (:func:`coef_at`, which fills rows M … of ``out`` from ``ratio[M + b]`` = ρ_b).  The Jacobian adds the
+2×2 cross terms: the slopes ``gk`` hold one slot per element row, then two per bearing (``E + 2b``: ∂s_x/∂δ_y,
+``E + 2b + 1``: ∂s_y/∂δ_x, E the element rows), so ``gk`` and ``gc`` have E + 2B entries (:func:`tan_free` reads B
+from that length).  Without bearings every loop below is the one it was, term by term.
 
 Every sum runs over the same terms in the same order as the dense sums it replaces, the zero terms left out
 (adding a product with a zero factor changes no finite value), so the state's arithmetic is the dense one's,
@@ -42,6 +56,10 @@ ST_OK, ST_DIVERGED = 0, 1
 DIVERGENCE_BOUND = 1.0e6
 #: Mode value of an element whose dead zone is evaluated as it is (default mode).
 LOCK_FREE = 2
+#: Columns of a bearing's parameter row ``bq[b]``: elements Z, load–deflection constant K̃, exponent n, radial
+#: clearance c̃, dampings cx̃, cỹ, cage radians per base radian ρ, cage phase φ0 (rad).
+BQ_Z, BQ_K, BQ_N, BQ_C, BQ_CX, BQ_CY, BQ_RHO, BQ_PHASE = range(8)
+NBQ = 8
 
 
 @njit(inline="always")
@@ -72,7 +90,8 @@ def _slope(u, D, mode):
 
 @njit(nogil=True)
 def coef_at(coef, ratio, theta, out):
-    """C_m, K_m, E_m, E_m' (= dE_m/dθ) of every mesh at the base angle θ into out[m, 0:4]."""
+    """C_m, K_m, E_m, E_m' (= dE_m/dθ) of every mesh at the base angle θ into out[m, 0:4]; then, for rows
+    M + b of ``out`` (bearings), the cage angle ``ratio[M + b] θ`` into out[M + b, 0]."""
     M = coef.shape[0]
     H = coef.shape[2] - 1
     for m in range(M):
@@ -92,17 +111,128 @@ def coef_at(coef, ratio, theta, out):
         out[m, 1] = k0
         out[m, 2] = e0
         out[m, 3] = ed
+    for b in range(M, out.shape[0]):  # rolling bearings: the cage angle ρ_b θ
+        out[b, 0] = ratio[b] * theta
 
 
 @njit(nogil=True, inline="always")
 def _element_force(e, d, dv, cf, el, mode):
-    """The force s_e of element e at its (δ, δ') with δ_m' (meshes: δ and δ' without E_m, E_m' subtracted)."""
-    M, D, kc, cc, Dc = el
+    """The force s_e of element e (a mesh or a clearance) at its (δ, δ') (meshes: δ without E_m)."""
+    M, D, kc, cc, Dc = el[0], el[1], el[2], el[3], el[4]
     if e < M:
         d -= cf[e, 2]
         return cf[e, 0] * dv + cf[e, 1] * _flock(d, D[e], mode[e])
     c = e - M
     return cc[c] * dv + kc[c] * _flock(d, Dc[c], mode[e])
+
+
+@njit(nogil=True, inline="always")
+def _row(ep, ej, Ev, x, vo, e):
+    """(V[e]·q̃, V[e]·q̃') of element row e; q̃ = x[0:n], q̃' = x[vo:vo+n]."""
+    d = 0.0
+    dv = 0.0
+    for k in range(ep[e], ep[e + 1]):
+        j = ej[k]
+        d += Ev[k] * x[j]
+        dv += Ev[k] * x[vo + j]
+    return d, dv
+
+
+@njit(nogil=True, inline="always")
+def bearing_force(dx, dy, vx, vy, psi, bq, b):
+    """(s_x, s_y) of bearing b at (δ_x, δ_y), rates (vx, vy), cage angle ψ (see the module docstring)."""
+    Z = int(bq[b, BQ_Z])
+    K = bq[b, BQ_K]
+    n = bq[b, BQ_N]
+    c = bq[b, BQ_C]
+    a0 = psi + bq[b, BQ_PHASE]
+    step = 2.0 * math.pi / Z
+    fx = 0.0
+    fy = 0.0
+    for j in range(Z):
+        a = a0 + step * j
+        ca = math.cos(a)
+        sa = math.sin(a)
+        d = dx * ca + dy * sa - c
+        if d > 0.0:
+            f = K * d**n
+            fx += f * ca
+            fy += f * sa
+    return bq[b, BQ_CX] * vx + fx, bq[b, BQ_CY] * vy + fy
+
+
+@njit(nogil=True, inline="always")
+def bearing_slopes(dx, dy, psi, bq, b):
+    """(k_xx, k_xy, k_yy) = ∂(s_x, s_y)/∂(δ_x, δ_y) of bearing b (the damping's slopes are cx, cy)."""
+    Z = int(bq[b, BQ_Z])
+    K = bq[b, BQ_K]
+    n = bq[b, BQ_N]
+    c = bq[b, BQ_C]
+    a0 = psi + bq[b, BQ_PHASE]
+    step = 2.0 * math.pi / Z
+    kxx = 0.0
+    kxy = 0.0
+    kyy = 0.0
+    for j in range(Z):
+        a = a0 + step * j
+        ca = math.cos(a)
+        sa = math.sin(a)
+        d = dx * ca + dy * sa - c
+        if d > 0.0:
+            w = K * n * d ** (n - 1.0)
+            kxx += w * ca * ca
+            kxy += w * ca * sa
+            kyy += w * sa * sa
+    return kxx, kxy, kyy
+
+
+@njit(nogil=True, inline="always")
+def _bearing_slots(sp, el, cf, q, vo, gk, gc):
+    """The slopes of every bearing at (q̃, q̃') into gk, gc (its rows' and its two cross slots)."""
+    ep, ej, Ev = sp[4], sp[5], sp[6]
+    M = el[0]
+    bq = el[5]
+    E = ep.shape[0] - 1
+    e0 = M + el[4].shape[0]
+    for b in range(bq.shape[0]):
+        ex = e0 + 2 * b
+        dx, vx = _row(ep, ej, Ev, q, vo, ex)
+        dy, vy = _row(ep, ej, Ev, q, vo, ex + 1)
+        kxx, kxy, kyy = bearing_slopes(dx, dy, cf[M + b, 0], bq, b)
+        gk[ex] = kxx
+        gk[ex + 1] = kyy
+        gk[E + 2 * b] = kxy
+        gk[E + 2 * b + 1] = kxy
+        gc[ex] = bq[b, BQ_CX]
+        gc[ex + 1] = bq[b, BQ_CY]
+        gc[E + 2 * b] = 0.0
+        gc[E + 2 * b + 1] = 0.0
+
+
+@njit(nogil=True, inline="always")
+def _bearing_forces(sp, el, cf, q, v, s):
+    """The forces s[ex], s[ey] of every bearing at (q̃, q̃') = (q[0:n], v[0:n])."""
+    ep, ej, Ev = sp[4], sp[5], sp[6]
+    M = el[0]
+    bq = el[5]
+    e0 = M + el[4].shape[0]
+    for b in range(bq.shape[0]):
+        ex = e0 + 2 * b
+        dx = 0.0
+        vx = 0.0
+        for k in range(ep[ex], ep[ex + 1]):
+            j = ej[k]
+            dx += Ev[k] * q[j]
+            vx += Ev[k] * v[j]
+        dy = 0.0
+        vy = 0.0
+        for k in range(ep[ex + 1], ep[ex + 2]):
+            j = ej[k]
+            dy += Ev[k] * q[j]
+            vy += Ev[k] * v[j]
+        sx, sy = bearing_force(dx, dy, vx, vy, cf[M + b, 0], bq, b)
+        s[ex] = sx
+        s[ex + 1] = sy
 
 
 @njit(nogil=True)
@@ -119,7 +249,9 @@ def field(x, cf, sp, el, omega, mode, out):
             j = abj[k]
             acc -= Av[k] * x[j] + Bv[k] * x[n + j]
         out[n + i] = acc
-    for e in range(ep.shape[0] - 1):
+    bq = el[5]
+    e0 = M + el[4].shape[0]
+    for e in range(e0):
         d = 0.0
         dv = 0.0
         for k in range(ep[e], ep[e + 1]):
@@ -131,14 +263,24 @@ def field(x, cf, sp, el, omega, mode, out):
         s = _element_force(e, d, dv, cf, el, mode)
         for k in range(wp[e], wp[e + 1]):
             out[n + wi[k]] -= Wv[k] * s
+    for b in range(bq.shape[0]):
+        ex = e0 + 2 * b
+        dx, vx = _row(ep, ej, Ev, x, n, ex)
+        dy, vy = _row(ep, ej, Ev, x, n, ex + 1)
+        sx, sy = bearing_force(dx, dy, vx, vy, cf[M + b, 0], bq, b)
+        for k in range(wp[ex], wp[ex + 1]):
+            out[n + wi[k]] -= Wv[k] * sx
+        for k in range(wp[ex + 1], wp[ex + 2]):
+            out[n + wi[k]] -= Wv[k] * sy
 
 
 @njit(nogil=True)
 def slopes(x, cf, sp, el, mode, gk, gc):
-    """d s_e/dδ_e and d s_e/dδ_e' of every element at x into gk, gc."""
+    """d s_e/dδ_e and d s_e/dδ_e' of every element at x into gk, gc (bearings: also their cross slots)."""
     abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g = sp
-    M, D, kc, cc, Dc = el
-    for e in range(ep.shape[0] - 1):
+    M, D, kc, cc, Dc = el[0], el[1], el[2], el[3], el[4]
+    e0 = M + Dc.shape[0]
+    for e in range(e0):
         d = -cf[e, 2] if e < M else 0.0
         for k in range(ep[e], ep[e + 1]):
             d += Ev[k] * x[ej[k]]
@@ -149,6 +291,7 @@ def slopes(x, cf, sp, el, mode, gk, gc):
             c = e - M
             gk[e] = kc[c] * _slope(d, Dc[c], mode[e])
             gc[e] = cc[c]
+    _bearing_slots(sp, el, cf, x, g.shape[0], gk, gc)
 
 
 @njit(nogil=True)
@@ -198,6 +341,9 @@ def tan_free(Y, sp, gk, gc, out):
     :func:`tan_field`'s)."""
     abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g = sp
     n = g.shape[0]
+    E = ep.shape[0] - 1
+    B2 = gk.shape[0] - E  # two cross slots per bearing
+    e0 = E - B2
     for c in range(Y.shape[1]):
         for i in range(n):
             out[i, c] = Y[n + i, c]
@@ -207,7 +353,7 @@ def tan_free(Y, sp, gk, gc, out):
                 j = abj[k]
                 acc += Av[k] * Y[j, c] + Bv[k] * Y[n + j, c]
             out[n + i, c] = -acc
-        for e in range(ep.shape[0] - 1):
+        for e in range(e0):
             pq = 0.0
             pv = 0.0
             for k in range(ep[e], ep[e + 1]):
@@ -217,6 +363,26 @@ def tan_free(Y, sp, gk, gc, out):
             t = gk[e] * pq + gc[e] * pv
             for k in range(wp[e], wp[e + 1]):
                 out[n + wi[k], c] -= Wv[k] * t
+        for b in range(B2 // 2):
+            ex = e0 + 2 * b
+            qx = 0.0
+            vx = 0.0
+            for k in range(ep[ex], ep[ex + 1]):
+                j = ej[k]
+                qx += Ev[k] * Y[j, c]
+                vx += Ev[k] * Y[n + j, c]
+            qy = 0.0
+            vy = 0.0
+            for k in range(ep[ex + 1], ep[ex + 2]):
+                j = ej[k]
+                qy += Ev[k] * Y[j, c]
+                vy += Ev[k] * Y[n + j, c]
+            tx = gk[ex] * qx + gk[E + 2 * b] * qy + gc[ex] * vx
+            ty = gk[ex + 1] * qy + gk[E + 2 * b + 1] * qx + gc[ex + 1] * vy
+            for k in range(wp[ex], wp[ex + 1]):
+                out[n + wi[k], c] -= Wv[k] * tx
+            for k in range(wp[ex + 1], wp[ex + 2]):
+                out[n + wi[k], c] -= Wv[k] * ty
 
 
 @njit(nogil=True)
@@ -302,8 +468,8 @@ def forces_tab(q, v, tab, r, sp, el, omega, s):
     """Element forces s[e] of :func:`field` (default mode) at (q̃, q̃') = (q[0:n], v[0:n]), coefficients
     from row r of a table (T, meshes, 4); meshes, then clearances, in :func:`field`'s arithmetic."""
     ep, ej, Ev = sp[4], sp[5], sp[6]
-    M, D, kc, cc, Dc = el
-    for e in range(ep.shape[0] - 1):
+    M, D, kc, cc, Dc = el[0], el[1], el[2], el[3], el[4]
+    for e in range(M + Dc.shape[0]):
         d = 0.0
         dv = 0.0
         for k in range(ep[e], ep[e + 1]):
@@ -317,14 +483,15 @@ def forces_tab(q, v, tab, r, sp, el, omega, s):
         else:
             c = e - M
             s[e] = cc[c] * dv + kc[c] * _fz(d, Dc[c])
+    _bearing_forces(sp, el, tab[r], q, v, s)
 
 
 @njit(nogil=True, inline="always")
 def forces_slopes_tab(q, v, tab, r, sp, el, omega, s, gk, gc):
     """:func:`forces_tab` and the element slopes gk, gc of :func:`slopes` (default mode) at the same state."""
     ep, ej, Ev = sp[4], sp[5], sp[6]
-    M, D, kc, cc, Dc = el
-    for e in range(ep.shape[0] - 1):
+    M, D, kc, cc, Dc = el[0], el[1], el[2], el[3], el[4]
+    for e in range(M + Dc.shape[0]):
         d = 0.0
         dv = 0.0
         for k in range(ep[e], ep[e + 1]):
@@ -342,3 +509,5 @@ def forces_slopes_tab(q, v, tab, r, sp, el, omega, s, gk, gc):
             s[e] = cc[c] * dv + kc[c] * _fz(d, Dc[c])
             gk[e] = kc[c] * _slope(d, Dc[c], LOCK_FREE)
             gc[e] = cc[c]
+    _bearing_forces(sp, el, tab[r], q, v, s)
+    _bearing_slots(sp, el, tab[r], q, 0, gk, gc)

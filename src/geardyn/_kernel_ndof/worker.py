@@ -158,6 +158,7 @@ def ndof_worker(
     cc,
     Dc,
     omega,
+    bq,
     go,
     ro,
     po,
@@ -184,7 +185,8 @@ def ndof_worker(
     n = d // 2
     M = D.shape[1]
     C = Dc.shape[1]
-    E = M + C
+    NB = bq.shape[1]
+    E = M + C + 2 * NB  # element rows: meshes, clearances, then two per rolling bearing
     ktan = ntan if tangent != TAN_NONE else 0
     x = np.empty(d)
     xo = np.empty(d)
@@ -194,10 +196,10 @@ def ndof_worker(
     Ysave = np.zeros((d, max(ktan, 1)))
     Gq = np.empty(max(gj.shape[0], 1))
     Gv = np.empty(max(gj.shape[0], 1))
-    gk = np.empty(max(E, 1))
-    gc = np.empty(max(E, 1))
+    gk = np.empty(max(E + 2 * NB, 1))  # a slope per element row, then two cross slots per bearing (.core)
+    gc = np.empty(max(E + 2 * NB, 1))
     ev = np.empty((E, 2))
-    cfa = np.empty((4, M, 4))
+    cfa = np.empty((4, M + NB, 4))
     mode = np.full(E, LOCK_FREE, dtype=np.int64)
     logs = np.empty(max(ktan, 1))
     st = np.zeros((E, NSTAT))
@@ -228,7 +230,7 @@ def ndof_worker(
         for i in range(n):
             gw[i] = g[p, i]
         sp = (abp, abj, Av[p], Bv[p], ep, ej, Ev[p], wp, wi, Wv[p], gw)
-        el = (M, D[p], kc[p], cc[p], Dc[p])
+        el = (M, D[p], kc[p], cc[p], Dc[p], bq[p])
         jt = (gp, gj, Ag[p], Bg[p], cp, ce, cw, cv)
         jw = (jt, Gq, Gv)
         blk = pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP)
@@ -239,10 +241,17 @@ def ndof_worker(
             gaps[m] = D[p, m]
         for c in range(C):
             gaps[M + c] = Dc[p, c]
-        tab = np.empty((0, M, 4))
+        # the accurate mode splits no step at a bearing (its force is C¹ at contact): a gap 0 never switches
+        agaps = gaps.copy()
+        for b in range(NB):
+            gaps[M + C + 2 * b] = bq[p, b, 3]
+            gaps[M + C + 2 * b + 1] = bq[p, b, 3]
+            agaps[M + C + 2 * b] = 0.0
+            agaps[M + C + 2 * b + 1] = 0.0
+        tab = np.empty((0, M + NB, 4))
         otab = ocs
         if not accurate:
-            tab = np.empty((2 * N + 1, M, 4))
+            tab = np.empty((2 * N + 1, M + NB, 4))
             otab = np.empty((2 * N + 1, O))
             for i in range(2 * N + 1):
                 coef_at(coef[p], ratio[p], om * (0.5 * h * i), tab[i])
@@ -319,7 +328,7 @@ def ndof_worker(
                             om,
                             sp,
                             el,
-                            gaps,
+                            agaps,
                             mode,
                             xo,
                             cfa,

@@ -120,6 +120,10 @@ def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
         if m.name != s.scaling.reference
     ]
     parts += [f"order at {r}" for r, _, _ in getattr(s, "orders", ())]
+    parts += [  # rolling bearings: their ball-pass frequency
+        f"ball pass of {b.name} at {Fraction(b.ratio).limit_denominator(MAX_RATIO_DENOMINATOR)}"
+        for b in getattr(s, "bearings", ())
+    ]
     text = f"forcing period: {p} cycles of mesh {s.scaling.reference!r} (the least common period; {', '.join(parts)})"
     dtau = values.get("dtau")
     if dtau:

@@ -81,6 +81,7 @@ from .._config_values import _Kind, _parse_scalar
 from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
 from ..systems.description import Connection, Mesh
+from ..systems.rolling import ROLLING_KEYS, read_rolling
 from .gear import Gear, disc_gyroscopic
 from .kinematics import DEFAULT_MAX_PERIOD, forcing_period, round_ratio, solve_speeds
 from .mesh import mesh_vector, pair_geometry_of, tooth_excitation
@@ -168,6 +169,7 @@ _BEARING = (
     | {f"k{d}": "tstiffness" for d in _TILT}
     | {f"c{d}": "damping" for d in _TRANS}
     | {f"c{d}": "tdamping" for d in _TILT}
+    | ROLLING_KEYS
 )
 _COUPLING = {
     "name": "text",
@@ -476,12 +478,28 @@ def _build(ctx, data: dict) -> GearboxDescription:
         )
 
     # bearings and couplings
+    rolling = []
+    # a rolling bearing's ball-pass ratio: the nearest multiple of 1/L, L the largest multiple of the forcing
+    # period of the meshes and orders within max_period, so the forcing period stays within max_period
+    grain = period * max(1, bound // period)
     for blk in bblocks:
         node = node_at[where[blk.element]]
+        if blk.has("type"):
+            linear = [k for k in blk.data if k not in ROLLING_KEYS and k not in ("shaft", "position")]
+            if linear:
+                raise blk.cerr(linear[0], "not allowed in a rolling bearing (type = 'ball' or 'roller')")
+            sp = speeds[where[blk.element][0]] / zref
+            rolling.append(read_rolling(blk, node, None, sp, lambda x: round_ratio(Fraction(x), grain)))
+            continue
+        extra = [k for k in ROLLING_KEYS if blk.has(k) and k not in ("name", "cx", "cy")]
+        if extra:
+            raise blk.cerr(extra[0], 'a rolling-bearing key: give type = "ball" or "roller"')
         try:
             conns.append(_bearing(blk, node))
         except ModelError as e:
             raise blk.wrap(e) from None
+    if rolling:
+        period = forcing_period([*ratios.values(), *order_ratios.values(), *(b.ratio for b in rolling)])
     for blk in cblocks:
         node = node_at[where[blk.element]]
         blk.need("body", "ktheta")
@@ -537,6 +555,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
         "shaft_speed_ratios": {s: str(v) for s, v in speeds.items()},
         "mesh_ratios": {k: str(v) for k, v in ratios.items()},
         "order_ratios": {k: str(v) for k, v in order_ratios.items()},
+        "ball_pass_ratios": {b.name: str(b.ratio) for b in rolling},
         "forcing_period_mesh_cycles": period,
         "rounded": rounded,
     }
@@ -558,6 +577,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
         shafts=tuple(shafts),
         kinematics=kin,
         element_kinds=kinds,
+        rolling_bearings=tuple(rolling),
         gyroscopic=gbb.get("gyroscopic", default=False),
     )
 

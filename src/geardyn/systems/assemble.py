@@ -52,7 +52,14 @@ omega     ()                    base frequency ω; the stroboscopic section is �
 Fo        (orders, n)           torque orders' load amplitudes, scaled like F: the load is
                                 F + Σ_o Fo[o] cos(ro[o] θ + po[o])
 ro, po    (orders,)             the orders' frequencies over ω and phases (rad)
+Vb        (2·bearings, n)       rolling bearings' x and y vectors (rows 2b, 2b+1), scaled like V
+bq        (bearings, 8)         their parameters: Z, K̃, n, c̃, cx̃, cỹ, cage radians per radian of θ,
+                                cage phase (:mod:`geardyn._kernel_ndof.core`, ``BQ_Z`` …)
 ========  ====================  ===========================================================
+
+Rolling bearings (:mod:`geardyn.systems.rolling`) are the second element law: bearing b is the elements
+``<name>.x`` and ``<name>.y`` after the meshes and clearances, with force
+``K̃ Σ_j max(δ_j, 0)^n (cos ψ_j, sin ψ_j) + (cx̃ δ_x', cỹ δ_y')`` (δ_j = δ_x cos ψ_j + δ_y sin ψ_j − c̃).
 
 The state is ``x = (q̃, q̃')`` (length 2n).  With several meshes the forcing is periodic in the base
 period T = 2π/ω only if every r_m is an integer; :meth:`SystemModel.period_multiple` gives the
@@ -86,6 +93,7 @@ from ..system import Element
 from . import elements as _el
 from .balance import check_balance
 from .description import Mesh, SystemDescription
+from .rolling import BearingND
 
 __all__ = ["MeshND", "SystemArrays", "SystemModel", "assemble"]
 
@@ -200,6 +208,10 @@ class SystemArrays(NamedTuple):
         Torque orders' load amplitudes (scaled like F).
     ro, po : ndarray (orders,)
         Their frequencies over ω and phases (rad).
+    Vb : ndarray (2·bearings, n)
+        Rolling bearings' x and y vectors.
+    bq : ndarray (bearings, 8)
+        Rolling bearings' kernel parameters (:meth:`~geardyn.systems.rolling.BearingND.row`).
     """
 
     Mi: np.ndarray
@@ -218,6 +230,8 @@ class SystemArrays(NamedTuple):
     Fo: np.ndarray
     ro: np.ndarray
     po: np.ndarray
+    Vb: np.ndarray
+    bq: np.ndarray
 
 
 def _ro(a) -> np.ndarray:
@@ -227,6 +241,8 @@ def _ro(a) -> np.ndarray:
 
 
 _MESH_PARAMS = ("k", "xi0", "D", "ratio")
+#: A rolling bearing's parameters by name (``<bearing>.clearance`` …; non-dimensional, :class:`BearingND`).
+_BEARING_PARAMS = ("clearance", "K", "cx", "cy")
 
 
 @dataclass(frozen=True, eq=False)
@@ -236,7 +252,8 @@ class SystemModel:
     Build it with :func:`assemble` (or :func:`geardyn.systems.load_system`).  Parameters by name:
     ``omega``; per mesh ``<mesh>.<p>`` with p one of ``k``, ``xi0``, ``xiK``, ``kappaK``, ``epsK``,
     ``phi_cK``, ``phi_kK``, ``phi_eK``, ``D`` (alias ``backlash``, ``fe`` = ``eps1``), ``ratio``; per
-    clearance ``<name>.D``.  An unqualified mesh parameter (``kappa1``) means the reference mesh's.
+    clearance ``<name>.D``; per rolling bearing ``<bearing>.clearance`` (c̃), ``.K`` (K̃), ``.cx``, ``.cy``.  An
+    unqualified mesh parameter (``kappa1``) means the reference mesh's.
 
     Attributes
     ----------
@@ -272,6 +289,11 @@ class SystemModel:
         Torque orders of the loads: frequency r over the base frequency ω, the load vector's amplitude (scaled
         like ``F``) and the phase (rad); the forcing adds Σ F̃_o cos(r_o θ + φ_o).  The forcing period counts
         their denominators (:meth:`period_multiple`).  The kernel evaluates the load at every RK4 stage's time.
+    bearings : tuple of BearingND
+        Rolling-element bearings (:mod:`geardyn.systems.rolling`); their ball-pass ratios count in the forcing
+        period like the meshes' ratios.
+    Vb : ndarray (2·bearings, n)
+        Their x and y vectors (rows 2b, 2b+1).
 
     Raises
     ------
@@ -304,6 +326,8 @@ class SystemModel:
     Dc: tuple[float, ...] = ()
     description: SystemDescription | None = None
     orders: tuple = ()
+    bearings: tuple[BearingND, ...] = ()
+    Vb: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     gyro: np.ndarray | None = None
     damping_static: np.ndarray | None = None
 
@@ -316,6 +340,8 @@ class SystemModel:
             object.__setattr__(self, name, a)
         nc = len(self.clearance_names)
         object.__setattr__(self, "Vc", _ro(np.reshape(self.Vc, (nc, n))))
+        object.__setattr__(self, "bearings", tuple(self.bearings))
+        object.__setattr__(self, "Vb", _ro(np.reshape(self.Vb, (2 * len(self.bearings), n))))
         for name in ("kc", "cc", "Dc"):
             v = tuple(float(x) for x in getattr(self, name))
             if len(v) != nc:
@@ -360,7 +386,7 @@ class SystemModel:
         periodic tools (shooting, continuation) cannot be used.
         """
         p = 1
-        for m in self.meshes:
+        for m in (*self.meshes, *self.bearings):  # a bearing's ratio: its ball-pass frequency
             f = Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR)
             if abs(float(f) - m.ratio) > RATIO_RTOL * m.ratio:
                 return None
@@ -414,6 +440,9 @@ class SystemModel:
             if p != "D":
                 raise ModelError(f"{name}: a clearance has only the parameter D")
             return self.Dc[self.clearance_names.index(elem)]
+        b = self._bearing(elem, p)
+        if b is not None:
+            return getattr(b, p)
         m = self.mesh(elem)
         attr, idx = self._mesh_slot(p)
         if idx is None:
@@ -434,6 +463,10 @@ class SystemModel:
             Dc = list(self.Dc)
             Dc[self.clearance_names.index(elem)] = value
             return replace(self, Dc=tuple(Dc))
+        b = self._bearing(elem, p)
+        if b is not None:
+            new_b = replace(b, **{p: value})
+            return replace(self, bearings=tuple(new_b if x.name == b.name else x for x in self.bearings))
         m = self.mesh(elem)
         attr, idx = self._mesh_slot(p)
         if idx is None:
@@ -462,7 +495,17 @@ class SystemModel:
                     out[f"{m.name}.{series}{k + 1}"] = v
         for name, D in zip(self.clearance_names, self.Dc):
             out[f"{name}.D"] = D
+        for b in self.bearings:
+            for p in _BEARING_PARAMS:
+                out[f"{b.name}.{p}"] = getattr(b, p)
         return out
+
+    def _bearing(self, elem: str, p: str) -> BearingND | None:
+        """The rolling bearing ``elem`` (None if it is none), refusing a parameter it does not have."""
+        b = next((x for x in self.bearings if x.name == elem), None)
+        if b is not None and p not in _BEARING_PARAMS:
+            raise ModelError(f"{elem}.{p}: a rolling bearing's parameters are {', '.join(_BEARING_PARAMS)}")
+        return b
 
     def contact_boundaries(self) -> tuple[Boundary, ...]:
         """One boundary per mesh and per clearance: ``vector·x = ±gap`` with vector = (V[m], 0…0).
@@ -485,10 +528,19 @@ class SystemModel:
 
     @property
     def elements(self) -> tuple[Element, ...]:
-        """The meshes, then the clearances."""
-        return tuple(Element(m.name, m.D, "mesh") for m in self.meshes) + tuple(
+        """The meshes, then the clearances, then each rolling bearing's x and y rows."""
+        from ..system import RollingBearingLaw
+
+        out = tuple(Element(m.name, m.D, "mesh") for m in self.meshes) + tuple(
             Element(n, d, "clearance") for n, d in zip(self.clearance_names, self.Dc)
         )
+        for b in self.bearings:
+            law = RollingBearingLaw(b.elements, b.exponent, b.clearance, b.ratio, b.phase)
+            out += (
+                Element(f"{b.name}.x", b.clearance, "bearing", law),
+                Element(f"{b.name}.y", b.clearance, "bearing", law),
+            )
+        return out
 
     @property
     def reference(self) -> int:
@@ -570,6 +622,8 @@ class SystemModel:
             Fo=c(np.reshape([F for _, F, _ in self.orders], (len(self.orders), self.n))),
             ro=c([float(r) for r, _, _ in self.orders]),
             po=c([ph for _, _, ph in self.orders]),
+            Vb=c(self.Vb),
+            bq=c(np.reshape([b.row() for b in self.bearings], (len(self.bearings), 8))),
         )
 
     @staticmethod
@@ -585,11 +639,21 @@ class SystemModel:
         if not systems:
             raise ModelError("empty parameter grid: no system to integrate")
         s0 = systems[0]
-        key = (s0.labels, tuple(m.name for m in s0.meshes), s0.clearance_names, len(s0.orders))
+
+        def key(s):
+            return (
+                s.labels,
+                tuple(m.name for m in s.meshes),
+                s.clearance_names,
+                tuple(b.name for b in s.bearings),
+                len(s.orders),
+            )
+
         for s in systems[1:]:
-            if (s.labels, tuple(m.name for m in s.meshes), s.clearance_names, len(s.orders)) != key:
+            if key(s) != key(s0):
                 raise ModelError(
-                    "pack: every system of a batch must have the same DOFs, meshes, clearances and torque orders"
+                    "pack: every system of a batch must have the same DOFs, meshes, clearances, bearings and torque "
+                    "orders"
                 )
         H = max(s.n_harmonics for s in systems)
         each = [s.arrays(H) for s in systems]
@@ -623,6 +687,9 @@ class SystemModel:
         }
         if self.orders:  # [numerator, denominator] of the ratio, the load vector, the phase
             d["orders"] = [[[r.numerator, r.denominator], F.tolist(), ph] for r, F, ph in self.orders]
+        if self.bearings:
+            d["bearings"] = [asdict(b) for b in self.bearings]
+            d["Vb"] = self.Vb.tolist()
         if self.gyro is not None:
             d["gyro"] = self.gyro.tolist()
             d["damping_static"] = self.damping_static.tolist()
@@ -641,6 +708,9 @@ class SystemModel:
         n = len(d["labels"])
         d["Vc"] = np.reshape(np.array(d["Vc"], dtype=float), (len(d["clearance_names"]), n))
         d["orders"] = tuple((Fraction(*r), _ro(F), float(ph)) for r, F, ph in d.get("orders", ()))
+        if "bearings" in d:
+            d["bearings"] = tuple(BearingND(**b) for b in d["bearings"])
+            d["Vb"] = np.reshape(np.array(d["Vb"], dtype=float), (2 * len(d["bearings"]), n))
         for key in ("gyro", "damping_static"):
             if key in d:
                 d[key] = np.array(d[key], dtype=float)
@@ -765,6 +835,27 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     kc = tuple(c.stiffness / k_ref for c in cl)
     cc = tuple(c.damping * omega_n / k_ref for c in cl)
     Dc = tuple(c.gap / b_c for c in cl)
+    bearings, Vb = [], []
+    idx_ = desc.index()
+    for rb in desc.rolling_bearings:
+        br = rb.bearing
+        K, cl_ = br.nondimensional(b_c, k_ref)
+        bearings.append(
+            BearingND(
+                name=rb.name,
+                kind=br.kind,
+                elements=br.elements,
+                K=K,
+                exponent=float(br.exponent),
+                clearance=cl_,
+                cx=rb.cx * omega_n / k_ref,
+                cy=rb.cy * omega_n / k_ref,
+                ratio=float(rb.ratio),
+                phase=rb.phase,
+            )
+        )
+        Vb.append(s * rb.vectors(idx_) / b_c)
+    Vb = np.concatenate(Vb) if Vb else np.zeros((0, desc.n))
     if omega is None:
         if desc.omega is not None:
             omega = desc.omega
@@ -796,6 +887,8 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         Dc=Dc,
         description=desc,
         orders=tuple(orders),
+        bearings=tuple(bearings),
+        Vb=Vb,
         gyro=gyro,
         damping_static=static,
     )

@@ -459,9 +459,11 @@ class SystemDescription:
     title: str = ""
     source: str = ""
     assumptions: tuple[Assumption, ...] = field(default=())
+    #: Rolling-element bearings (:class:`geardyn.systems.rolling.RollingElementBearing`), the second element law.
+    rolling_bearings: tuple = ()
 
     def __post_init__(self) -> None:
-        for name in ("bodies", "meshes", "connections", "clearances", "loads", "assumptions"):
+        for name in ("bodies", "meshes", "connections", "clearances", "loads", "assumptions", "rolling_bearings"):
             object.__setattr__(self, name, tuple(getattr(self, name)))
         self.validate()
 
@@ -498,7 +500,7 @@ class SystemDescription:
             raise ModelError("system: no bodies")
         if not self.meshes:
             raise ModelError("system: no gear mesh; a system needs at least one [[mesh]]")
-        elems = [e.name for e in (*self.connections, *self.clearances, *self.meshes)]
+        elems = [e.name for e in (*self.connections, *self.clearances, *self.meshes, *self.rolling_bearings)]
         dup = sorted({n for n in elems if elems.count(n) > 1})
         if dup:
             raise ModelError(
@@ -507,7 +509,12 @@ class SystemDescription:
         idx = self.index()
         bodies = {b.name: b for b in self.bodies}
         used: set[str] = set()
-        kinds = (("connection", self.connections), ("clearance", self.clearances), ("mesh", self.meshes))
+        kinds = (
+            ("connection", self.connections),
+            ("clearance", self.clearances),
+            ("mesh", self.meshes),
+            ("bearing", self.rolling_bearings),
+        )
         for kind, items in kinds:
             for e in items:
                 for b, d in e.dofs:

@@ -33,7 +33,7 @@ def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.nda
     Returns
     -------
     ndarray (..., elements, 2)
-        δ and δ' of the meshes, then the clearances.
+        δ and δ' of the meshes, then the clearances, then each rolling bearing's x and y.
     """
     x = np.asarray(x, dtype=float)
     n = model.n
@@ -45,6 +45,8 @@ def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.nda
         out.append(np.stack([q @ model.V[i] - E, v @ model.V[i] - model.omega * Ed], axis=-1))
     for i in range(len(model.clearance_names)):
         out.append(np.stack([q @ model.Vc[i], v @ model.Vc[i]], axis=-1))
+    for i in range(2 * len(getattr(model, "bearings", ()))):  # rolling bearings: x, y relative displacements
+        out.append(np.stack([q @ model.Vb[i], v @ model.Vb[i]], axis=-1))
     return np.stack(out, axis=-2)
 
 
@@ -100,6 +102,8 @@ def rigid_modes(model: Any, rtol: float = 1e-9) -> np.ndarray:
         Kt += m.k * np.outer(model.V[i], model.V[i])
     for i, k in enumerate(model.kc):
         Kt += k * np.outer(model.Vc[i], model.Vc[i])
+    for b, br in enumerate(getattr(model, "bearings", ())):  # a rolling bearing holds its body's x and y
+        Kt += br.K * (np.outer(model.Vb[2 * b], model.Vb[2 * b]) + np.outer(model.Vb[2 * b + 1], model.Vb[2 * b + 1]))
     w, U = np.linalg.eigh(Kt)
     tol = rtol * max(1.0, float(np.max(np.abs(w))))
     R = U[:, np.abs(w) <= tol]
@@ -114,8 +118,8 @@ def mean_trace(model: Any) -> float:
     """−mean over a forcing period of trace(M̃⁻¹C̃(θ)): the mean trace of the Jacobian, the sum of the
     Lyapunov exponents.
 
-    C̃ = C̃_b + Σ C_m(θ) V_m V_mᵀ + Σ cc Vc Vcᵀ; the mesh-damping harmonics average to zero, so only
-    their mean 2ξ0 enters.  For the paper's 1-DOF pair this is −2ξ0.
+    C̃ = C̃_b + Σ C_m(θ) V_m V_mᵀ + Σ cc Vc Vcᵀ (+ the rolling bearings' dampers); the mesh-damping harmonics
+    average to zero, so only their mean 2ξ0 enters.  For the paper's 1-DOF pair this is −2ξ0.
 
     Parameters
     ----------
@@ -132,4 +136,8 @@ def mean_trace(model: Any) -> float:
         tr += 2.0 * m.xi0 * float(model.V[i] @ Mi @ model.V[i])  # harmonics average to 0
     for i, c in enumerate(model.cc):
         tr += c * float(model.Vc[i] @ Mi @ model.Vc[i])
+    for b, br in enumerate(getattr(model, "bearings", ())):
+        tr += br.cx * float(model.Vb[2 * b] @ Mi @ model.Vb[2 * b]) + br.cy * float(
+            model.Vb[2 * b + 1] @ Mi @ model.Vb[2 * b + 1]
+        )
     return -tr

@@ -55,6 +55,18 @@ A file has the top-level strings ``title`` and ``description`` and these tables 
     mesh = "mesh"                 # or: f_p in units of k_ref b_c, applied as the balanced
     fp = 0.2                      # torques ±F_p R_l on the mesh's rotations
 
+    [[bearing]]                   # a rolling-element bearing on a body's x and y (geardyn.systems.rolling)
+    name = "brg"
+    type = "ball"                 # or "roller" (exponent 10/9)
+    body = "pinion"               # its inner ring (the cage turns with it); body2 = "housing" (default ground)
+    elements = 8                  # Z
+    pitch_diameter = "40 mm"
+    element_diameter = "10 mm"
+    contact_angle = "0 deg"
+    radial_clearance = "5 um"
+    load_deflection = "8e9 N/m^1.5"   # Hertzian K (N/m^n, n = 3/2 ball, 10/9 roller)
+    cx = "200 N*s/m"              # dampers per direction
+
 Any value may be written ``{ value = ..., assumed = "source" }``; every value geardyn assumes is listed
 with its source in :attr:`SystemDescription.assumptions`.  A problem with the file (missing, TOML
 syntax, unknown section or key, wrong type or unit) raises :class:`~geardyn.errors.ConfigError`; a
@@ -177,7 +189,7 @@ _SECTIONS = {
     "operating": {"rpm": "speed", "omega": "number"},
 }
 #: The arrays of tables of a system file, in the order they are read.
-_ARRAYS = ("body", "connection", "mesh", "load")
+_ARRAYS = ("body", "connection", "mesh", "load", "bearing")
 _TOP_TEXT = ("title", "description")
 
 
@@ -188,7 +200,11 @@ class _Ctx(cv._Ctx):
         super().__init__(source, text)
         self.assumptions: list[Assumption] = []
 
-    def assume(self, a: Assumption) -> None:
+    def assume(self, a: Assumption | str, *fields: Any) -> None:
+        """Record an assumed input: an :class:`~geardyn.geometry.Assumption`, or its fields (name, value, unit,
+        source), so that a reader elsewhere need not import the geometry package."""
+        if isinstance(a, str):
+            a = Assumption(a, *fields)
         if all(x.name != a.name for x in self.assumptions):
             self.assumptions.append(a)
 
@@ -603,6 +619,24 @@ def _loads(
     return [Load(blk.get("body"), dof, blk.get("force"))]
 
 
+def _rolling(ctx: _Ctx, i: int, data: dict, mesh_data: list, meshes: dict[str, Mesh]):
+    """A ``[[bearing]]``: a rolling-element bearing on a body's x and y (:mod:`geardyn.systems.rolling`)."""
+    from .rolling import ROLLING_KEYS, read_rolling, round_ball_pass
+
+    name = data.get("name") if isinstance(data.get("name"), str) else f"bearing{i + 1}"
+    blk = _Block(ctx, "bearing", i, data, ROLLING_KEYS | {"body": "text", "body2": "text"}, name)
+    if not blk.has("body"):
+        raise blk.cerr(None, 'a bearing needs body = "..." (the body on its inner ring, with x and y)')
+    body = blk.get("body")
+    try:
+        speed = _body_speed(body, mesh_data, meshes)
+    except ModelError:
+        raise blk.merr(
+            "body", f"the speed of body {body!r} is unknown: give the teeth of a mesh on it (the cage turns with it)"
+        ) from None
+    return read_rolling(blk, body, blk.get("body2"), speed, round_ball_pass)
+
+
 # ---------------------------------------------------------------------------- the file
 def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
     """Place a system-level ModelError ("kind 'name': ...") on its element's block."""
@@ -698,6 +732,8 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
     mmap = {m.name: m for m in meshes}
     k_ref = mmap[ref].stiffness if ref in mmap else meshes[0].stiffness
     loads = [ld for i, t in enumerate(data.get("load", [])) for ld in _loads(ctx, i, t, mmap, k_ref, b_c, mesh_data)]
+    rolling = [_rolling(ctx, i, t, mesh_data, mmap) for i, t in enumerate(data.get("bearing", []))]
+    _unique(ctx, "bearing", [b.name for b in rolling])
     rpm = opb.get("rpm")
     omega = opb.get("omega")
     if rpm is None and omega is None:
@@ -720,6 +756,7 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
             title=str(data.get("title", "")),
             source=ctx.source,
             assumptions=tuple(ctx.assumptions),
+            rolling_bearings=tuple(rolling),
         )
     except ModelError as e:
         raise _element_line(ctx, data, e) from None

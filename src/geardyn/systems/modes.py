@@ -3,6 +3,8 @@
 The undamped linear system ``M q'' + K q = 0`` with
 
     K = K_b + Σ_m k_m0 v_m v_mᵀ (+ Σ_c k_c w_c w_cᵀ, clearance elements in contact by default)
+        (+ Σ_b K_b,lin: each rolling bearing's tangent stiffness at the static deflection under the mean loads,
+         the cage at its θ = 0 angle, :func:`geardyn.systems.rolling.static_bearing_stiffness`)
 
 is solved as the generalised symmetric eigenproblem ``K φ = ω² M φ`` (``scipy.linalg.eigh``): the
 mode shapes are M-orthonormal (``Φᵀ M Φ = I``).  Rigid-body modes (ω² below a relative tolerance of
@@ -145,6 +147,13 @@ def _element_stiffness(desc: SystemDescription, clearances: str) -> tuple[list[s
         names.append(m.name)
         meshes.append(m.name)
         mats.append(m.stiffness * np.outer(v, v))
+    rolling = getattr(desc, "rolling_bearings", ())
+    if rolling:  # linearised about the static deflection under the mean loads
+        from .rolling import static_bearing_stiffness
+
+        for b, kb in zip(rolling, static_bearing_stiffness(desc, np.sum(mats, axis=0))):
+            names.append(b.name)
+            mats.append(kb)
     return names, mats, meshes
 
 
@@ -173,6 +182,7 @@ def modes_budget(desc: SystemDescription, clearances: str = "contact") -> float:
 
     n = len(desc.labels)
     elements = len(desc.connections) + len(desc.meshes) + (len(desc.clearances) if clearances == "contact" else 0)
+    elements += len(getattr(desc, "rolling_bearings", ()))
     estimate = (elements + 3) * n * n * 8.0 + n * n * 100.0
     budget(
         f"a modal analysis of {n} DOFs and {elements} elements (dense matrices)",

@@ -38,7 +38,8 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     Returns
     -------
     ndarray (meshes,)
-        k_m (V_m·q̃ − D_m) at the static equilibrium K̄ q̃ = F̃ + Σ k_m D_m V_m (least-norm solution); a force
+        k_m (V_m·q̃ − D_m) at the static equilibrium K̄ q̃ = F̃ + Σ k_m D_m V_m (least-norm solution; with rolling
+        bearings their forces at the cage's θ = 0 angle join K̄ q̃, solved by Newton's method); a force
         within the rounding of that solve (1e-9 of the largest k_m max(D_m, 1) or |F̃|) is 0: an unloaded mesh.
     """
     Kt = np.array(model.Kb, dtype=float)
@@ -46,7 +47,16 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     for i, m in enumerate(model.meshes):
         Kt += m.k * np.outer(model.V[i], model.V[i])
         rhs += m.k * m.D * model.V[i]
-    q = np.linalg.lstsq(Kt, rhs, rcond=1e-12)[0]
+    if getattr(model, "bearings", ()):  # rolling bearings: the nonlinear static problem, cage at θ = 0
+        from .rolling import static_deflection
+
+        items = [
+            (model.Vb[2 * b : 2 * b + 2], br.elements, br.K, br.exponent, br.clearance, br.phase)
+            for b, br in enumerate(model.bearings)
+        ]
+        q = static_deflection(Kt, rhs, items)[0]
+    else:
+        q = np.linalg.lstsq(Kt, rhs, rcond=1e-12)[0]
     f = np.array([m.k * (model.V[i] @ q - m.D) for i, m in enumerate(model.meshes)])
     scale = max([1.0, float(np.max(np.abs(model.F), initial=0.0))] + [m.k * max(m.D, 1.0) for m in model.meshes])
     f[np.abs(f) <= 1e-9 * scale] = 0.0
@@ -169,6 +179,26 @@ def _clearance_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]
     return out
 
 
+def _bearing_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
+    """Per rolling bearing: its rows' displacement extremes (non-dimensional and µm) and how often each row's
+    deflection is beyond the clearance (the law's counters ``plus``, ``free``, ``minus``)."""
+    e0 = len(model.meshes) + len(model.clearance_names)
+    bc_um = float(model.scaling.b_c_m) * 1e6
+    out = []
+    for b, br in enumerate(model.bearings):
+        entry: dict[str, Any] = {"name": br.name, "type": br.kind, "radial_clearance_um": _num(br.clearance * bc_um)}
+        for k, axis in enumerate("xy"):
+            e = e0 + 2 * b + k
+            lo, hi = float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
+            entry[axis] = {
+                "min_um": _num(lo * bc_um),
+                "max_um": _num(hi * bc_um),
+                "fractions": {n: _num(float(v[point])) for n, v in res.law_fractions(e).items()},
+            }
+        out.append(entry)
+    return out
+
+
 def report(
     model: Any,
     res: Any = None,
@@ -194,7 +224,8 @@ def report(
     Returns
     -------
     dict
-        ``reference_mesh``, ``labels``, ``forcing_period_multiple``, ``meshes`` and (with ``res``) ``clearances``.
+        ``reference_mesh``, ``labels``, ``forcing_period_multiple``, ``meshes`` and (with ``res``) ``clearances``
+        and, for a system with rolling bearings, ``bearings``.
     """
     out: dict[str, Any] = {
         "reference_mesh": model.meshes[model.reference].name,
@@ -204,6 +235,8 @@ def report(
     }
     if res is not None:
         out["clearances"] = _clearance_entries(model, res, point)
+        if getattr(model, "bearings", ()):
+            out["bearings"] = _bearing_entries(model, res, point)
     return out
 
 

@@ -246,6 +246,11 @@ def system_form(model: Any, period: int = 1) -> HBForm:
     from ...systems.elements import rigid_modes
     from ...systems.report import static_mesh_forces
 
+    if getattr(model, "bearings", ()):
+        raise ModelError(
+            f"harmonic balance: the rolling bearing {model.bearings[0].name!r} (a rolling-element law) is not in its "
+            "form yet; use simulate, orbit or continuation (time domain) for a system with rolling bearings"
+        )
     periods = int(period) * require_periodic(model, "harmonic balance")
     Mi = np.asarray(model.Mi, dtype=float)
     fs = static_mesh_forces(model)
