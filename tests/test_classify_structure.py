@@ -164,3 +164,24 @@ def test_a_slowly_decaying_mode_is_not_a_torus(tmp_path):
     # the same exponent on a model without the slow mode's σ (unknown) is labelled quasi-periodic by the band alone
     assert classify_motion(0, lle, err, True, 1.0, 1.0) == MOTION_QUASIPERIODIC
     assert decay_hides_torus(sigma, LLE_FLOOR)
+
+
+def test_a_short_transient_on_a_slow_mode_is_said_before_the_run(tmp_path):
+    """The CLI says, before the run, that the transient leaves the least damped mode undecayed: σ_min · T_f · N
+    e-folds (T_f = 2π/ω, one mesh cycle), and the count ``auto`` needs for e^-12."""
+    import math
+
+    from cli_run import run_cli
+
+    from geardyn.analysis.settle import decay_rate
+    from geardyn.systems import load_system
+
+    f = tmp_path / "three.toml"
+    f.write_text(_THREE_INERTIAS)
+    sigma = decay_rate(load_system(f).with_param("omega", 0.8))
+    code, _out, err = run_cli(["simulate", "--system", str(f), "--omega", "0.8", "--transient", "5", "--periods", "4"])
+    assert code == 0
+    folds = sigma * 5 * 2.0 * math.pi / 0.8
+    need = math.ceil(12.0 / (sigma * 2.0 * math.pi / 0.8))
+    assert f"5 forcing periods decay the least damped mode (e^(-{sigma:.3g} τ)) to e^-{folds:.3g} only" in err
+    assert f"e^-12 needs {need} (--transient auto)" in err

@@ -99,7 +99,25 @@ def load_cli_system(values: dict[str, Any]):
         if v is not None and o.dest not in _NOT_MODEL and o.param not in ("omega", "fp"):
             s = s.with_param(o.param, float(v))
     _forcing_period_note(s, values)
+    _unsettled_note(s, values)
     return s
+
+
+def _unsettled_note(s: Any, values: dict[str, Any]) -> None:
+    """Before a run, one line on stderr when the transient (a count, not ``auto``) leaves the least damped mode
+    undecayed (:func:`geardyn.analysis.settle.unsettled_note`)."""
+    from ..analysis.settle import unsettled_note
+    from .app import say_error
+
+    p = s.period_multiple()
+    if p is None or values.get("transient") is None:
+        return
+    n = _periods_given({"transient": values["transient"]}, p)
+    if n <= 0:
+        return
+    note = unsettled_note(s, n)
+    if note:
+        say_error(note)
 
 
 def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
