@@ -202,6 +202,7 @@ QUOTED: dict[str, Run | str] = {
         {"--transient": "10", "--periods": "2"}
     ),
     "geardyn rattle --system": _FRAGMENT,
+    "geardyn runup --system": _FRAGMENT,
     "geardyn plot rattle_map.nc": Run(
         before=(
             "geardyn rattle --system examples/gearbox/rattle_idle.toml --map-points 2 --scale-points 1 "
