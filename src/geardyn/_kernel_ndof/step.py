@@ -453,7 +453,7 @@ def _stages(X, blk, s, q, v, q0, v0, c, k, qn, vn):
 
 
 @njit(nogil=True, inline="always")
-def rk4_plain(X, s, h, tab, j, blk, sp, el, omega, ld):
+def rk4_plain(X, s, h, tab, j, blk, sp, el, omega, ld, bear):
     """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
 
     X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace;
@@ -478,15 +478,15 @@ def rk4_plain(X, s, h, tab, j, blk, sp, el, omega, ld):
     )
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    forces_tab(q, v, tab, 2 * j, sp, el, omega, s)
+    forces_tab(q, v, tab, 2 * j, sp, el, omega, s, bear)
     _stages(X, blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    forces_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s)
+    forces_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s, bear)
     _stages(X, blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    forces_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s)
+    forces_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s, bear)
     _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    forces_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s)
+    forces_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, bear)
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):
         final_block(
@@ -528,7 +528,7 @@ def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
 
 
 @njit(nogil=True)
-def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld):
+def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear):
     """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
     the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state."""
     hh = 0.5 * h
@@ -548,18 +548,18 @@ def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld):
     )
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    forces_slopes_tab(q, v, tab, 2 * j, sp, el, omega, s, gk, gc)
+    forces_slopes_tab(q, v, tab, 2 * j, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
     _stages(X, blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    forces_slopes_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s, gk, gc)
+    forces_slopes_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
     _stages(X, blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    forces_slopes_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s, gk, gc)
+    forces_slopes_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
     _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    forces_slopes_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, gk, gc)
+    forces_slopes_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):

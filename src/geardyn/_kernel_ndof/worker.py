@@ -72,12 +72,12 @@ def _quotient(Y, R):
 
 
 @njit(nogil=True)
-def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld):
+def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld, bear):
     """N plain steps on the padded state X (statistics when ``rec``; history samples b0 + j; the loads ``ld``)."""
     q = X[XQ]
     v = X[XV]
     for j in range(N):
-        rk4_plain(X, sf, h, tab, j, blk, sp, el, om, ld)
+        rk4_plain(X, sf, h, tab, j, blk, sp, el, om, ld, bear)
         if rec:
             element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
             accumulate(st, ev, gaps)
@@ -86,12 +86,12 @@ def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p
 
 
 @njit(nogil=True)
-def _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld):
+def _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bear):
     """:func:`_period_sparse` with a few tangent columns Y."""
     q = X[XQ]
     v = X[XV]
     for j in range(N):
-        rk4_plain_tan(X, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld)
+        rk4_plain_tan(X, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear)
         if rec:
             element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
             accumulate(st, ev, gaps)
@@ -282,8 +282,15 @@ def ndof_worker(
                     q[i] = x[i]
                     v[i] = x[n + i]
                 b0 = per * N + 1 - hstart
-                if tan_on:
-                    _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld)
+                # bearings: the step compiled with their code; without, given None, compiled without it (.core)
+                if tan_on and NB > 0:
+                    _period_tan(
+                        X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bq
+                    )
+                elif tan_on:
+                    _period_tan(
+                        X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, None
+                    )
                 elif dense:
                     _period_dense(
                         X,
@@ -311,8 +318,10 @@ def ndof_worker(
                         b0,
                         ld,
                     )
+                elif NB > 0:
+                    _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld, bq)
                 else:
-                    _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld)
+                    _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld, None)
                 for i in range(n):
                     x[i] = q[i]
                     x[n + i] = v[i]
