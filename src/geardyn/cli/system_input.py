@@ -104,13 +104,13 @@ def load_cli_system(values: dict[str, Any]):
 
 
 def _unsettled_note(s: Any, values: dict[str, Any]) -> None:
-    """Before a run, one line on stderr when the transient (a count, not ``auto``) leaves the least damped mode
-    undecayed (:func:`geardyn.analysis.settle.unsettled_note`)."""
+    """Before a run (not with ``--json``), one line on stderr when the transient (a count, not ``auto``) leaves the
+    least damped mode undecayed (:func:`geardyn.analysis.settle.unsettled_note`)."""
     from ..analysis.settle import unsettled_note
     from .app import say_error
 
     p = s.period_multiple()
-    if p is None or values.get("transient") is None:
+    if p is None or values.get("transient") is None or values.get("json_out"):
         return
     n = _periods_given({"transient": values["transient"]}, p)
     if n <= 0:

@@ -124,7 +124,7 @@ class GearboxDescription(SystemDescription):
 
     Parameters
     ----------
-    bodies, connections, clearances, meshes, loads : tuples of the element classes
+    bodies, connections, clearances, meshes, loads, rolling_bearings : tuples of the element classes
         The elements, as in :class:`~geardyn.systems.description.SystemDescription`.
     reference, characteristic_length, rpm, omega, equivalent_mass, title, source, assumptions
         As in :class:`~geardyn.systems.description.SystemDescription`.

@@ -438,6 +438,8 @@ class SystemDescription:
         For reports.
     assumptions : tuple of Assumption
         Every value the description assumes, with its source.
+    rolling_bearings : tuple of RollingElementBearing
+        The rolling-element bearings (:mod:`geardyn.systems.rolling`), the second element law.
 
     Raises
     ------

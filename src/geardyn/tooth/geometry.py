@@ -100,6 +100,8 @@ class Section:
         radial model.
     r_L : float
         Radius where the involute starts (the form radius of the generated flank).
+    rho_F : float
+        Radius of curvature of the root fillet at the crack's start (m); 0 for the radial model.
     """
 
     #: Centre-line coordinate from the gear centre (m), increasing from the root to the tip.

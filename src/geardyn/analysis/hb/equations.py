@@ -147,8 +147,10 @@ def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -
 
     Parameters
     ----------
-    A : ndarray (m, m)
+    A : ndarray (m, m) or SparseJacobian
     b : ndarray (m,)
+    robust : bool
+        When True, a dense A that is not finite gives the least-squares answer instead of an error.
 
     Raises
     ------
