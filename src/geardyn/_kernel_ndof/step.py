@@ -453,6 +453,37 @@ def _stages(X, blk, s, q, v, q0, v0, c, k, qn, vn):
 
 
 @njit(nogil=True, inline="always")
+def _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3):
+    """The last stage of every block at (q4, v4) and the RK4 update of (q, v) (:func:`.simd.final_block`)."""
+    bcp, bcj, AT, BT, bep, bej, WT, gP = blk
+    for b in range(bcp.shape[0] - 1):
+        final_block(
+            AT,
+            BT,
+            bcj,
+            bcp[b],
+            bcp[b + 1],
+            gP,
+            WT,
+            bej,
+            bep[b],
+            bep[b + 1],
+            s,
+            q4,
+            v4,
+            q,
+            v,
+            h6,
+            k1,
+            k2,
+            k3,
+            v2,
+            v3,
+            b * LANE_BLOCK,
+        )
+
+
+@njit(nogil=True, inline="always")
 def rk4_plain(X, s, h, tab, j, blk, sp, el, omega, ld, bear):
     """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
 
@@ -487,32 +518,7 @@ def rk4_plain(X, s, h, tab, j, blk, sp, el, omega, ld, bear):
     _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
     forces_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, bear)
-    bcp, bcj, AT, BT, bep, bej, WT, gP = blk
-    for b in range(bcp.shape[0] - 1):
-        final_block(
-            AT,
-            BT,
-            bcj,
-            bcp[b],
-            bcp[b + 1],
-            gP,
-            WT,
-            bej,
-            bep[b],
-            bep[b + 1],
-            s,
-            q4,
-            v4,
-            q,
-            v,
-            h6,
-            k1,
-            k2,
-            k3,
-            v2,
-            v3,
-            b * LANE_BLOCK,
-        )
+    _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
 
 
 @njit(nogil=True, inline="always")
@@ -561,32 +567,7 @@ def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear):
     load_at(gP, ld, 2 * j + 2)
     forces_slopes_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
-    bcp, bcj, AT, BT, bep, bej, WT, gP = blk
-    for b in range(bcp.shape[0] - 1):
-        final_block(
-            AT,
-            BT,
-            bcj,
-            bcp[b],
-            bcp[b + 1],
-            gP,
-            WT,
-            bej,
-            bep[b],
-            bep[b + 1],
-            s,
-            q4,
-            v4,
-            q,
-            v,
-            h6,
-            k1,
-            k2,
-            k3,
-            v2,
-            v3,
-            b * LANE_BLOCK,
-        )
+    _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
     for i in range(Y.shape[0]):
         for k in range(Y.shape[1]):
             Y[i, k] += h6 * (wt[0][i, k] + 2.0 * wt[1][i, k] + 2.0 * wt[2][i, k] + wt[3][i, k])
