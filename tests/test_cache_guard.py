@@ -13,6 +13,8 @@ import sys
 import textwrap
 from pathlib import Path
 
+import pytest
+
 import geardyn._cache_guard as guard
 
 PROBE = textwrap.dedent(
@@ -112,7 +114,7 @@ def test_functions_outside_geardyn_keep_numbas_own_locator(tmp_path):
     guard.install()
     from numba.core import caching
 
-    ours = caching.CacheImpl._locator_classes[1]
+    ours = caching.CacheImpl._locator_classes[0]
     assert ours.__name__ == "PackageCacheLocator"
     (tmp_path / "m.py").write_text("def g():\n    return 1\n")
     ns: dict = {}
@@ -127,3 +129,93 @@ def test_the_install_time_compile_has_every_runtime_dependency():
 
     meta = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
     assert set(meta["project"]["dependencies"]) <= set(meta["build-system"]["requires"])
+
+
+def _save_many(args):
+    """One of several processes saving 60 entries into one cache directory at once."""
+    path, who = args
+    from numba.core import caching
+
+    guard.install()
+    guard._SAFE_PATHS.add(path)
+    f = caching.IndexDataCacheFile(cache_path=path, filename_base="f-1.py311", source_stamp="s")
+    for i in range(60):
+        f.save((who, i), ("data", who, i))
+
+
+def test_processes_saving_at_once_lose_no_entry_and_no_file_holds_another_keys_data(tmp_path):
+    """numba's counter names let two processes take one file name for two keys, and its unlocked index loses
+    the entries of one of them (184 of 240 were kept in a run of this test on numba's own files)."""
+    import multiprocessing
+
+    from numba.core import caching
+
+    path = str(tmp_path)
+    with multiprocessing.get_context("spawn").Pool(4) as pool:
+        pool.map(_save_many, [(path, w) for w in range(4)])
+    guard.install()
+    guard._SAFE_PATHS.add(path)
+    f = caching.IndexDataCacheFile(cache_path=path, filename_base="f-1.py311", source_stamp="s")
+    index = f._load_index()
+    assert sorted(index) == [(w, i) for w in range(4) for i in range(60)]
+    assert all(f.load(k) == ("data", *k) for k in index)
+    # an entry naming another key's file (as numba's counter can leave it) is a miss, not that key's code
+    index[(0, 0)] = index[(1, 1)]
+    f._save_index(index)
+    assert f.load((0, 0)) is None and f.load((1, 1)) == ("data", 1, 1)
+
+
+def test_every_compiled_function_of_geardyn_has_a_name_of_its_own():
+    """numba names a compiled function's symbol by its qualified name, a per-process counter and its argument
+    types: two closures of one factory with one name, compiled in two processes, can get the same symbol, and a
+    cached caller then runs the other's code (the lanes worker of the general kind ran the first-harmonic
+    chunk kernel: tests/test_simd.py failed once the kernels were compiled by several test workers)."""
+    import gc
+    import importlib
+
+    from numba.core.registry import CPUDispatcher
+
+    src = Path(guard.ROOT)
+    for f in sorted(src.rglob("*.py")):  # every module that compiles (some are imported lazily by their package)
+        if "njit" in f.read_text() and f.name != "_cache_guard.py":
+            importlib.import_module(".".join(("geardyn", *f.relative_to(src).with_suffix("").parts)))
+
+    names: dict[tuple[str, str], object] = {}
+    for obj in gc.get_objects():
+        if isinstance(obj, CPUDispatcher) and obj.py_func.__module__.startswith("geardyn"):
+            key = (obj.py_func.__module__, obj.py_func.__qualname__)
+            assert names.setdefault(key, obj.py_func) is obj.py_func, f"two compiled functions named {key}"
+    assert len(names) > 40
+    assert ("geardyn._kernel.lanes", "_make_chunk.chunk_kind_2_mode_1") in names
+
+
+@pytest.mark.slow
+def test_kernels_compiled_by_two_processes_run_their_own_code(tmp_path):
+    """The failure itself: one process compiles the cosine kind's lanes worker at width 0, another at the same
+    time the general kind's at width 512, into one cache; a third loads both and must match the scalar
+    worker (before each closure had a name of its own, the general kind was wrong by 0.97)."""
+    probe = textwrap.dedent(
+        """
+        import json, sys
+        import numpy as np
+        sys.path.insert(0, sys.argv[1])
+        from test_simd import _batch, _run, _run_scalar, MODES
+        n_tr, n_rec, tan, _ = MODES["statistics"]
+        out = {}
+        for step in sys.argv[2].split(","):
+            kind, width = step.split(":")
+            arrays = _batch(kind)
+            got = _run(int(width), arrays, n_tr, n_rec, tan)["poincare"]
+            ref = _run_scalar(arrays, n_tr, n_rec, tan)["poincare"]
+            ok = np.arange(len(arrays[0])) != 11
+            out[step] = float(np.max(np.abs(got[ok] - ref[ok])))
+        print(json.dumps(out))
+        """
+    )
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    tests = str(Path(__file__).resolve().parent)
+    run = [sys.executable, "-c", probe, tests]
+    first = [subprocess.Popen([*run, s], env=env, stdout=subprocess.PIPE) for s in ("cos:0", "gen:512")]
+    assert all(p.wait() == 0 for p in first)
+    out = subprocess.run([*run, "cos:0,gen:512"], env=env, capture_output=True, text=True, check=True).stdout
+    assert json.loads(out.strip().splitlines()[-1]) == {"cos:0": 0.0, "gen:512": 0.0}

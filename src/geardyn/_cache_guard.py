@@ -1,19 +1,32 @@
-"""numba's on-disk cache of geardyn's kernels: keyed on their sources, kept where it can be written, and announced.
+"""numba's on-disk cache of geardyn's kernels: keyed on their sources, safe between processes, kept where it can
+be written, and announced.
 
 **Keyed on the sources.**  numba keys a cached function on the modification time of the file it is defined in,
 so a worker compiled from ``lanes.py`` that inlines functions of ``core.py`` would not be recompiled when only
 ``core.py`` changes, and a copy of the package (an install) would never find the code compiled for it.
 :func:`install` puts :class:`PackageCacheLocator` in front of numba's own locators for every function defined
-in geardyn: its source stamp is the SHA-256 of every source file of the function's directory, so a change to
-any of them makes numba compile afresh (a stale index is ignored and its data files overwritten), and code
-compiled for one copy of the sources is valid for any byte-identical copy.  That is what lets ``pip install``
-compile the kernels once, at install time (``setup.py``: the wheel ships the cache; :mod:`geardyn._precompile`).
+in geardyn: its source stamp is the SHA-256 of every source file of the function's directory and of the
+directories whose compiled functions it calls (:data:`DEPENDS`), so a change to any of them makes numba compile
+afresh (a stale index is ignored), and code compiled for one copy of the sources is valid for any
+byte-identical copy.  That is what lets ``pip install`` compile the kernels once, at install time
+(``setup.py``: the wheel ships the cache; :mod:`geardyn._precompile`).
 
-**Kept where it can be written.**  The cache lives in the ``__pycache__`` beside the sources.  Where that cannot
-be written (a package installed read-only, in a user's site-packages), it lives under the user's cache home
-(``$XDG_CACHE_HOME/geardyn/numba``, ``~/.cache/geardyn/numba``), seeded from the cache shipped with the
-package; numba's ``NUMBA_CACHE_DIR`` still takes precedence.  A cache that can be kept nowhere costs a compile,
-never a failure.
+**Safe between processes.**  Two processes compiling at once (two test workers, two commands, a dask
+cluster) write one cache.  numba names a function's data files by a counter (``f.1.nbc``, ``f.2.nbc``, ...)
+chosen from the index it has just read, and rewrites the index unlocked: two processes can take one number
+for two signatures (the index then names one and the file holds the other's code), and one loses the other's
+entries.  :class:`SafeIndexFile` names each file by a hash of its key (signature, target, the function's
+bytecode) and of the source stamp, so a file only ever holds the code of the key it is named for; it updates
+the index under a lock of the directory, and reads no file it did not name that way.  numba also names a
+compiled function's symbol by its qualified name, a per-process counter and its argument types, so closures
+of one factory compiled in two processes can share a symbol, and a cached caller then links to the other's
+code: :func:`own_name` gives each such closure a name of its own.
+
+**Kept where it can be written.**  The cache lives in the ``__pycache__`` beside the sources, or under numba's
+``NUMBA_CACHE_DIR`` when that is set.  Where the ``__pycache__`` cannot be written (a package installed
+read-only, in a user's site-packages), it lives under the user's cache home (``$XDG_CACHE_HOME/geardyn/numba``,
+``~/.cache/geardyn/numba``), seeded from the cache shipped with the package.  A cache that can be kept nowhere
+costs a compile, never a failure.
 
 **Announced.**  A compile of a geardyn function (the cache missed) is reported to the callbacks of
 :func:`on_compile` ("compiling the integrator, first run only": progress bars print it), and
@@ -22,16 +35,18 @@ never a failure.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import os
+import pickle
 import shutil
 import threading
 import time
 from collections.abc import Callable
 from pathlib import Path
 
-__all__ = ["compile_seconds", "fast_loads", "install", "on_compile", "refresh", "user_cache_root"]
+__all__ = ["compile_seconds", "fast_loads", "install", "on_compile", "own_name", "refresh", "user_cache_root"]
 
 #: The geardyn package directory: functions defined below it use :class:`PackageCacheLocator`.
 ROOT = Path(__file__).resolve().parent
@@ -43,6 +58,10 @@ WHAT = (
     ("geardyn.analysis.hb", "the harmonic-balance kernels"),
     ("geardyn", "geardyn's kernels"),
 )
+
+#: Directories (relative to :data:`ROOT`) whose compiled functions call those of other directories: their
+#: cache is stamped with the sources of both.
+DEPENDS = {"_kernel_ndof": ("_kernel",)}
 
 _lock = threading.RLock()
 _installed = False
@@ -60,6 +79,16 @@ def _digest(directory: str) -> str:
         h.update(src.name.encode())
         h.update(src.read_bytes())
     return h.hexdigest()
+
+
+def _stamp(directory: Path) -> str:
+    """The source stamp of the functions of ``directory``: its sources and those of the directories it calls."""
+    try:
+        rel = directory.relative_to(ROOT).as_posix()
+    except ValueError:
+        rel = ""
+    parts = [_digest(str(directory))] + [_digest(str(ROOT / dep)) for dep in DEPENDS.get(rel, ())]
+    return parts[0] if len(parts) == 1 else hashlib.sha256("".join(parts).encode()).hexdigest()
 
 
 def _writable(directory: Path) -> bool:
@@ -99,8 +128,14 @@ def _seed(shipped: Path, target: Path) -> None:
         pass
 
 
+#: Cache directories of geardyn's functions (their index files are :class:`SafeIndexFile`).
+_SAFE_PATHS: set[str] = set()
+#: The lock file of a cache directory, held while its index files are updated.
+LOCK_NAME = "geardyn-cache.lock"
+
+
 def _locator_class():
-    from numba.core import caching
+    from numba.core import caching, config
 
     class PackageCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):
         """numba's locator for a function defined in geardyn: stamped by its directory's sources."""
@@ -110,18 +145,22 @@ def _locator_class():
             self._lineno = py_func.__code__.co_firstlineno
             here = Path(py_file).resolve().parent
             shipped = here / "__pycache__"
-            if _writable(shipped):
+            if config.CACHE_DIR:
+                sub = caching.UserProvidedCacheLocator.get_suitable_cache_subpath(py_file)
+                self._cache_path = os.path.join(config.CACHE_DIR, sub)
+            elif _writable(shipped):
                 self._cache_path = str(shipped)
             else:
                 target = user_cache_root() / here.relative_to(ROOT)
                 _seed(shipped, target)
                 self._cache_path = str(target)
+            _SAFE_PATHS.add(self._cache_path)
 
         def get_cache_path(self):
             return self._cache_path
 
         def get_source_stamp(self):
-            return _digest(str(Path(self._py_file).resolve().parent))
+            return _stamp(Path(self._py_file).resolve().parent)
 
         @classmethod
         def from_function(cls, py_func, py_file):
@@ -139,6 +178,116 @@ def _locator_class():
             return self
 
     return PackageCacheLocator
+
+
+def _index_file_class():
+    from numba.core import caching
+
+    class SafeIndexFile(caching.IndexDataCacheFile):
+        """numba's index and data files of one function, with each data file named by its key.
+
+        The name is a hash of the key (signature, target, bytecode) and of the source stamp, so a data file
+        only ever holds the code compiled for the key it is named for, whatever other processes write at the
+        same time; the index is updated under a lock of the directory (where the platform has one), after
+        the data file is in place; a key whose index entry names another file is a miss.
+        """
+
+        def __init__(self, cache_path, filename_base, source_stamp):
+            super().__init__(cache_path, filename_base, source_stamp)
+            self._base = filename_base
+
+        def name_for(self, key) -> str:
+            digest = hashlib.sha256(repr((key, self._source_stamp)).encode()).hexdigest()[:24]
+            return f"{self._base}.{digest}.nbc"
+
+        @contextlib.contextmanager
+        def _locked(self):
+            try:
+                handle = open(os.path.join(self._cache_path, LOCK_NAME), "ab")  # noqa: SIM115
+            except OSError:
+                yield
+                return
+            with handle:
+                try:
+                    import fcntl
+
+                    fcntl.flock(handle, fcntl.LOCK_EX)
+                except (ImportError, OSError):  # no lock here: names alone keep the code right
+                    pass
+                yield
+
+        def _stale_files(self) -> list[str]:
+            """The data files named by an index written for other sources (none if it is for these)."""
+            try:
+                with open(self._index_path, "rb") as f:
+                    pickle.load(f)
+                    stamp, overloads = pickle.loads(f.read())
+            except Exception:  # noqa: BLE001  (no index, another numba's, unreadable: nothing to remove)
+                return []
+            return [] if stamp == self._source_stamp else list(overloads.values())
+
+        def save(self, key, data):
+            name = self.name_for(key)
+            self._save_data(name, data)
+            with self._locked():
+                for stale in self._stale_files():
+                    if stale != name:
+                        with contextlib.suppress(OSError):
+                            os.remove(self._data_path(stale))
+                overloads = self._load_index()
+                foreign = [k for k, n in overloads.items() if n != self.name_for(k)]  # numba's counter names
+                for k in foreign:
+                    with contextlib.suppress(OSError):
+                        os.remove(self._data_path(overloads.pop(k)))
+                if foreign or overloads.get(key) != name:
+                    overloads[key] = name
+                    self._save_index(overloads)
+
+        def load(self, key):
+            name = self._load_index().get(key)
+            if name is None or name != self.name_for(key):
+                return None
+            try:
+                return self._load_data(name)
+            except OSError:
+                return None
+
+    return SafeIndexFile
+
+
+def own_name(*tags: object) -> Callable[[Callable], Callable]:
+    """Give a function built by a factory a qualified name of its own; apply it under ``@njit``.
+
+    numba names a compiled function's symbol by its qualified name, a counter of the compiling process and
+    its argument types.  Closures built by one factory share the qualified name; compiled in two processes
+    (two test workers, two commands) they can get the same counter, and a cached caller compiled in one
+    process then links to the other's code once both are loaded: the lanes worker of the general kind ran
+    the first-harmonic chunk kernel, with no error.  A name of its own per closure (the factory's arguments
+    in ``tags``) makes the symbols differ.
+
+    Parameters
+    ----------
+    *tags : object
+        What distinguishes this closure from the factory's others (kind, mode, width), joined into the name.
+
+    Examples
+    --------
+    >>> def make(k):
+    ...     @own_name("kind", k)
+    ...     def f(x):
+    ...         return x + k
+    ...     return f
+    >>> make(2).__qualname__
+    'make.f_kind_2'
+    """
+    suffix = "_".join(str(t) for t in tags)
+
+    def rename(fn: Callable) -> Callable:
+        fn.__qualname__ = f"{fn.__qualname__.replace('<locals>.', '')}_{suffix}"
+        fn.__name__ = f"{fn.__name__}_{suffix}"
+        return fn
+
+    return rename
 
 
 def _what(module: str) -> str | None:
@@ -185,7 +334,7 @@ def install() -> None:
     """Key numba's cache of geardyn's functions on their sources, and watch their compiles (once per process).
 
     Called by every module that defines cached numba functions, before it defines them.  Where numba's cache
-    is kept elsewhere (``NUMBA_CACHE_DIR``) numba's own locator is used.
+    is kept elsewhere (``NUMBA_CACHE_DIR``) geardyn's functions are cached there, keyed and named the same way.
 
     Examples
     --------
@@ -199,9 +348,14 @@ def install() -> None:
         from numba.core import caching, event
 
         locators = caching.CacheImpl._locator_classes
-        # after numba's NUMBA_CACHE_DIR locator, in front of its in-tree one
-        pos = 1 if locators and locators[0] is caching.UserProvidedCacheLocator else 0
-        locators.insert(pos, _locator_class())
+        locators.insert(0, _locator_class())  # NUMBA_CACHE_DIR is honoured by the locator itself
+        numbas, safe = caching.IndexDataCacheFile, _index_file_class()
+
+        def index_file(cache_path, filename_base, source_stamp):
+            cls = safe if cache_path in _SAFE_PATHS else numbas
+            return cls(cache_path=cache_path, filename_base=filename_base, source_stamp=source_stamp)
+
+        caching.IndexDataCacheFile = index_file
         event.register("numba:compile", _watcher())
         _installed = True
 

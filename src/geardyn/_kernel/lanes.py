@@ -24,6 +24,7 @@ from numba import njit
 from numba.core import types
 from numba.extending import overload
 
+from .._cache_guard import own_name
 from .core import (
     DIVERGENCE_BOUND,
     NSNAP,
@@ -134,6 +135,7 @@ def _make_chunk(kind, mode):
     with_tan = mode == MODE_TAN
 
     @njit(nogil=True)
+    @own_name("kind", kind, "mode", mode)  # closures of one name collide once cached (see own_name)
     def chunk(S, CF, m, H1, ng):
         for _it in range(m):
             if general:
@@ -341,6 +343,7 @@ def _chunk(token, mode, S, CF, m, H1, ng):
 def _chunk_impl(token, mode, S, CF, m, H1, ng):
     k_plain, k_stats, k_tan = _KERNELS[_WIDTH_OF_NDIM[token.ndim]][_KIND_OF_DTYPE[token.dtype]]
 
+    @own_name(token.dtype, token.ndim)  # one implementation per token type (see own_name)
     def impl(token, mode, S, CF, m, H1, ng):
         if mode == MODE_PLAIN:
             k_plain(S, CF, m, H1, ng)
@@ -359,7 +362,12 @@ def _is_general(token):
 @overload(_is_general)
 def _is_general_impl(token):
     general = token.dtype == types.int32
-    return lambda token: general
+
+    @own_name(token.dtype, token.ndim)
+    def impl(token):
+        return general
+
+    return impl
 
 
 # ----------------------------------------------------------------------------- lane scheduler

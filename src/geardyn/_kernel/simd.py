@@ -36,6 +36,8 @@ from numba import njit
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
+from .._cache_guard import own_name
+
 # The lane-state field indices are those of :mod:`geardyn._kernel.lanes`, passed in by the caller
 # (``fields``) so that the imports go one way (lanes imports this module).
 
@@ -231,13 +233,17 @@ def make_vector_chunks(kind_sin, mode, width, L, fields):
     assert L % V == 0
     k = _vector_chunk(kind_sin, mode, V, width, L, fields)
 
+    tags = ("sin" if kind_sin else "cos", "mode", mode, "width", width)
+
     @njit(nogil=True)
+    @own_name(*tags)  # closures of one name collide once cached (see own_name)
     def block(S, m, nb):
         k(S, m, nb)
 
     BLOCKS[(bool(kind_sin), mode, width)] = block
 
     @njit(nogil=True)
+    @own_name(*tags)
     def chunk(S, CF, m, H1, ng):
         if m > 0:
             block(S, m, (ng * 4 + V - 1) // V)
