@@ -54,13 +54,33 @@ def test_sparse_arrays_hold_the_dense_matrices(path, tmp_path):
         np.testing.assert_array_equal(_dense_from(ep, ej, Ev[p], E_V.shape[1], n), E_V[p])
         np.testing.assert_array_equal(_dense_from(wp, wi, Wv[p], E_W.shape[1], n), E_W[p])
         np.testing.assert_array_equal(gs[p], g[p])
-    # the blocks of the plain step: every nonzero of A and B lies in a column its block lists
-    bcp, bcj = blk[0], blk[1]
+    # the blocks of the plain step: their diagonals hold A and B, every nonzero once, and nothing else
+    bcp, bcj, ATs, BTs = blk[0], blk[1], blk[2], blk[3]
     L = K.LANE_BLOCK
-    for b in range(len(bcp) - 1):
-        rows = slice(b * L, min((b + 1) * L, n))
-        used = np.flatnonzero(np.any(A[:, rows] != 0, axis=(0, 1)) | np.any(B[:, rows] != 0, axis=(0, 1)))
-        assert set(used) <= set(bcj[bcp[b] : bcp[b + 1]])
+    for p in range(2):
+        Ab = np.zeros((n, n))
+        Bb = np.zeros((n, n))
+        for b in range(len(bcp) - 1):
+            assert np.all(np.diff(bcj[bcp[b] : bcp[b + 1]]) > 0)  # ascending: each row meets its columns in order
+            for k in range(bcp[b], bcp[b + 1]):
+                for r in range(L):
+                    i, j = b * L + r, b * L + r + bcj[k]
+                    if 0 <= i < n and 0 <= j < n:
+                        Ab[i, j] += ATs[p, k, r]
+                        Bb[i, j] += BTs[p, k, r]
+                    else:
+                        assert ATs[p, k, r] == 0.0 and BTs[p, k, r] == 0.0
+        np.testing.assert_array_equal(Ab, A[p])
+        np.testing.assert_array_equal(Bb, B[p])
+    assert blk[10] >= np.max(np.abs(bcj), initial=0) and blk[10] % L == 0  # the state's margin
+    # the element groups: lane l of group G is element G·L + l, its terms in order (padding: value 0)
+    EI, EVs = blk[8], blk[9]
+    for p in range(2):
+        for e in range(E_V.shape[1]):
+            k = np.arange(ep[e], ep[e + 1])
+            np.testing.assert_array_equal(EI[e // L, : k.size, e % L], ej[k])
+            np.testing.assert_array_equal(EVs[p, e // L, : k.size, e % L], Ev[p, k])
+            assert np.all(EVs[p, e // L, k.size :, e % L] == 0.0)
     # the Jacobian's pattern covers A + Σ W Vᵀ
     G = np.abs(A[0]) + np.abs(E_W[0]).T @ np.abs(E_V[0])
     pat = _dense_from(jt[0], jt[1], np.ones(jt[1].size), n, n)
