@@ -1,0 +1,125 @@
+"""Harmonic balance on a system with a rolling-element bearing, against independent references.
+
+The system is ``examples/systems/ball_bearing.toml``: a shaft (x, y, θ) on a ball bearing of 8 balls with radial
+clearance under a constant radial load, driving a gear through a torsional mesh.  The mesh acts on the rotations
+only, so the shaft's (x, y) obey on their own, in SI,
+
+    m x'' = F_x − c x' − K Σ_j max(δ_j, 0)^n cos ψ_j,   m y'' = F_y − c y' − K Σ_j max(δ_j, 0)^n sin ψ_j,
+    δ_j = x cos ψ_j + y sin ψ_j − c_r,   ψ_j = Ω_c t + 2πj/Z,   Ω_c = Ω (1 − d_b/d_m)/2,
+
+periodic in the forcing period (20 mesh cycles: the balls pass the load line at 3/20 of the mesh frequency).  The
+reference writes these equations and their variational equation from the file's numbers and finds the periodic
+orbit by Newton's method on the period map of SciPy's DOP853 (rtol 1e-12), with its monodromy matrix: none of it
+is the code under test.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from geardyn import hb_solve, load_system
+
+FILE = "examples/systems/ball_bearing.toml"
+# the file's numbers (SI)
+MASS, Z, K, N_EXP, CLEAR = 2.0, 8, 8e9, 1.5, 5e-6
+DM, DB = 0.040, 0.010
+FX, FY, DAMP = 500.0, -2000.0, 200.0
+K_MESH, R1, R2, I1, I2, TEETH = 2e8, 0.030, 0.060, 1e-3, 4e-3, 20
+BC = 0.05e-3  # half the backlash: the unit of length
+WN = math.sqrt(K_MESH * (R1**2 / I1 + R2**2 / I2))  # ω_n (rad/s) of the mesh's equivalent mass
+
+
+def _orbit(omega: float, clearance: float = CLEAR, fx: float = FX, fy: float = FY, settle: int = 8):
+    """The shaft's periodic (x, y, x', y') at θ = 0 (SI) and its monodromy matrix, by DOP853 (module docstring)."""
+    cage = omega * WN / TEETH * (1.0 - DB / DM) / 2.0
+    T = TEETH * 2.0 * math.pi / (omega * WN)  # the forcing period: 20 mesh cycles
+    ang = 2.0 * np.pi * np.arange(Z) / Z
+
+    def rhs(t, s):
+        x, y, vx, vy = s[:4]
+        c, sn = np.cos(cage * t + ang), np.sin(cage * t + ang)
+        d = x * c + y * sn - clearance
+        dp = np.maximum(d, 0.0)
+        q = K * dp**N_EXP
+        w = np.where(d > 0.0, K * N_EXP * dp ** (N_EXP - 1.0), 0.0)
+        kxx, kxy, kyy = np.sum(w * c * c), np.sum(w * c * sn), np.sum(w * sn * sn)
+        A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [-kxx, -kxy, -DAMP, 0], [-kxy, -kyy, 0, -DAMP]])
+        A[2:] /= MASS
+        f = [vx, vy, (fx - DAMP * vx - np.sum(q * c)) / MASS, (fy - DAMP * vy - np.sum(q * sn)) / MASS]
+        return np.concatenate([f, (A @ s[4:].reshape(4, 4)).ravel()])
+
+    def period(s):
+        y = solve_ivp(rhs, (0.0, T), np.concatenate([s, np.eye(4).ravel()]), "DOP853", rtol=1e-12, atol=1e-16).y
+        return y[:4, -1], y[4:, -1].reshape(4, 4)
+
+    s = np.zeros(4)
+    for _ in range(settle):
+        s = period(s)[0]
+    for _ in range(6):
+        e, J = period(s)
+        ds = np.linalg.solve(J - np.eye(4), s - e)
+        s = s + ds
+        if np.max(np.abs(ds[:2])) < 1e-15 * BC * 1e3:
+            break
+    return s, period(s)[1]
+
+
+def _shaft_state(sol) -> np.ndarray:
+    """HB's (x, y, x', y') of the shaft at θ = 0 in SI."""
+    st = sol.state()
+    n = st.size // 2
+    return np.array([st[0], st[1], st[n] * WN, st[n + 1] * WN]) * BC
+
+
+def _nearest(mu: np.ndarray, ref: np.ndarray) -> float:
+    return float(max(np.min(np.abs(mu - z)) for z in ref))
+
+
+def test_hb_on_the_ball_bearing_is_the_dop853_orbit():
+    """H = 160 harmonics of the forcing period (N = 4096 samples) from the linear start (the bearing at its static
+    deflection): the shaft's position at θ = 0 is the DOP853 orbit's to 1.9e-9 relative and its velocity to 7.5e-7
+    (H = 60, 100, 240, 320: positions 1.8e-7, 5.5e-9, 7.1e-10, 3.2e-10; velocities 3.7e-5, 7.3e-6, 4.7e-7, 2.9e-8),
+    and its Floquet multipliers from the monodromy of one period are the DOP853 monodromy's."""
+    m = load_system(FILE)
+    ref, Jref = _orbit(m.omega)
+    sol = hb_solve(m, 160, guess="linear")
+    assert sol.converged and sol.samples == 4096
+    mine = _shaft_state(sol)
+    scale = np.abs(ref)
+    assert np.max(np.abs(mine[:2] - ref[:2]) / scale[:2].max()) < 1e-7  # measured 1.9e-9
+    assert np.max(np.abs(mine[2:] - ref[2:]) / scale[2:].max()) < 2e-6  # measured 7.5e-7
+    # the shaft's four multipliers (two complex pairs, |μ| = exp(-c T/2m) each: 0.5157) are among HB's six
+    mu_ref = np.linalg.eigvals(Jref)
+    assert np.allclose(np.abs(mu_ref), math.exp(-DAMP / (2 * MASS) * TEETH * 2 * math.pi / (m.omega * WN)), rtol=1e-9)
+    assert sol.hill.status.name == "OK" and sol.stable
+    assert _nearest(sol.multipliers, mu_ref) < 1e-5  # measured 1.3e-6
+
+
+def test_hills_method_takes_the_bearing_too():
+    """Hill's method (the Jacobian's bearing blocks, with their cross terms) gives the same multipliers."""
+    m = load_system(FILE)
+    _, Jref = _orbit(m.omega)
+    sol = hb_solve(m, 60, guess="linear", floquet="hill")
+    assert sol.converged and sol.hill.status.name == "OK"
+    assert _nearest(sol.multipliers, np.linalg.eigvals(Jref)) < 2e-4  # measured 6.0e-5 (monodromy: 1.3e-6)
+
+
+def test_zero_clearance(tmp_path):
+    """No clearance: the balls on the load side are always loaded, the load zone's edges are where a ball carries
+    nothing, and the bearing is nearly linear (its two pairs of multipliers nearly equal, 0.4537 ± 0.2452i and
+    0.4516 ± 0.2489i): at H = 100 the shaft's position is the DOP853 orbit's to 5.3e-8 and its velocity (only the
+    varying compliance moves it, 1e-4 m/s) to 7.8e-5 of its size (H = 40, 60: 1.1e-2, 1.4e-3)."""
+    text = open(FILE).read().replace('radial_clearance = "5 um"', 'radial_clearance = "0 um"')
+    p = tmp_path / "no_clearance.toml"
+    p.write_text(text)
+    m = load_system(p)
+    ref, Jref = _orbit(m.omega, 0.0)
+    sol = hb_solve(m, 100, guess="linear")
+    assert sol.converged
+    mine = _shaft_state(sol)
+    assert np.max(np.abs(mine[:2] - ref[:2])) / np.max(np.abs(ref[:2])) < 1e-6
+    assert np.max(np.abs(mine[2:] - ref[2:])) / np.max(np.abs(ref[2:])) < 3e-4
+    assert _nearest(sol.multipliers, np.linalg.eigvals(Jref)) < 1e-5  # measured 3.4e-6
