@@ -148,3 +148,50 @@ def test_the_jacobian_with_the_bearings_cross_blocks_is_the_derivative_of_the_re
     R2, J2 = E.HBEquations(m, 24).residual(x)
     assert isinstance(J2, E.SparseJacobian)
     assert np.array_equal(R2, R) and np.array_equal(np.asarray(J2), J)
+
+
+def test_a_larger_clearance_keeps_its_static_deflection_and_its_branch():
+    """With 15 µm clearance the linear-spring start of the static problem lies inside the clearance (no stiffness
+    there): it is pushed out and Newton finds the shaft's static (x, y), against SciPy's root of the two force
+    equations written here (cage at 0); the HB branch in the clearance then runs from 5 to 25 µm."""
+    from scipy.optimize import root
+
+    from geardyn import hb_continuation
+
+    m = load_system(FILE).with_param("brg.clearance", 0.3)  # 0.3 b_c = 15 µm
+    psi = 2.0 * np.pi * np.arange(Z) / Z
+    c = 0.3 * BC
+
+    def balance(s):
+        d = np.maximum(s[0] * np.cos(psi) + s[1] * np.sin(psi) - c, 0.0)
+        return [(K * np.sum(d**N_EXP * np.cos(psi)) - FX) / 1e3, (K * np.sum(d**N_EXP * np.sin(psi)) - FY) / 1e3]
+
+    sol = root(balance, [2 * c, -4 * c], tol=1e-14)
+    assert sol.success
+    from geardyn.systems.rolling import static_deflection
+
+    Kt = np.array(m.Kb) + sum(me.k * np.outer(v, v) for me, v in zip(m.meshes, m.V))
+    F = np.array(m.F) + sum(me.k * me.D * v for me, v in zip(m.meshes, m.V))
+    b = m.bearings[0]
+    q, _ = static_deflection(Kt, F, [(m.Vb, b.elements, b.K, b.exponent, b.clearance, b.phase)])
+    assert np.max(np.abs(q[:2] * BC - sol.x)) < 1e-9 * np.max(np.abs(sol.x))
+    res = hb_continuation(load_system(FILE), "brg.clearance", 0.1, 0.5, harmonics=60, guess="linear")
+    assert res.converged and res.values[-1] >= 0.5
+
+
+def test_the_whole_state_is_on_the_kernels_orbit_with_its_multipliers():
+    """All four DOFs (the torsional mesh too): the N-DOF kernel's period map (RK4, Δτ = 0.005) started on HB's state
+    (H = 100) returns to it to 4.3e-8, and the kernel's monodromy there has HB's six elastic multipliers (its two
+    rigid-body ones are 1) within 1.6e-6."""
+    from geardyn.integrate import period_map
+
+    m = load_system(FILE)
+    sol = hb_solve(m, 100, guess="linear")
+    x0 = sol.state()
+    x1, J, _, ok = period_map(m, x0, 1, dtau=0.005)
+    assert ok
+    assert np.max(np.abs(x1[-1] - x0)) < 1e-6 * np.max(np.abs(x0))
+    mu = np.linalg.eigvals(J)
+    rigid = np.abs(mu - 1.0) < 1e-9
+    assert rigid.sum() == 2
+    assert _nearest(sol.multipliers, mu[~rigid]) < 1e-5 and _nearest(mu[~rigid], sol.multipliers) < 1e-5
