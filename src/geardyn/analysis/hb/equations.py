@@ -14,11 +14,12 @@ Every element's deflection δ_e is a trigonometric polynomial (E_e with its own 
 Its force K_e f_e(δ_e) is projected by the element's law (:data:`LAW_TERMS`; the dead zone by
 :func:`~geardyn.analysis.hb.aft.dead_zone_terms`' kernel: the contact switches located on a time grid and refined
 by Newton, the interval integrals in closed form — exact for the truncated δ_e, no aliasing, a C¹ residual whose
-Jacobian is the multiplication operator of K_e f_e'(δ_e), the operator Hill's matrix needs).  A law is one
-function returning the projection G and the series S of K_e f_e'(δ_e).  The damping products and linear terms are
-exact convolutions.  The Jacobian is analytic::
+Jacobian is the multiplication operator of K_e f_e'(δ_e), the operator Hill's matrix needs; a rolling bearing's
+two rows by the System's law sampled on the time grid, :func:`~geardyn.analysis.hb.aft.sampled_terms`, with the
+cross blocks of its 2×2 stiffness).  A law is one function returning the projections G and the series S_ij.  The
+damping products and linear terms are exact convolutions.  The Jacobian is analytic::
 
-    J = −ν² I⊗D₂ + A⊗I + ν B⊗D₁ + Σ_e (W_e V_eᵀ) ⊗ Re[ν T(Ĉ_e) diag(ik) + T(Ŝ_e)],
+    J = −ν² I⊗D₂ + A⊗I + ν B⊗D₁ + Σ_e (W_e V_eᵀ) ⊗ Re[ν T(Ĉ_e) diag(ik) + T(Ŝ_e)] + Σ_{i≠j} (W_i V_jᵀ) ⊗ T(Ŝ_ij),
 
 D₁, D₂ the derivative operators in real coefficients, T(·) the Toeplitz (multiplication) matrix.  A form with one
 coordinate and one dead-zone element without linear terms (:attr:`HBForm.scalar <.form.HBForm.scalar>`: the 1-DOF

@@ -12,7 +12,8 @@ already multiplied by M̃⁻¹.  The 1-DOF pair is the form with one coordinate 
 A = B = 0, E = 0 and G = f_p + ω² Σ l² ε_l cos(lθ + φ_el) (the STE as an inertial load, hence ν²) plus its torque
 orders (constant amplitudes); a mesh-vector
 system (:mod:`geardyn.systems`) has G0 = M̃⁻¹(F̃ + Σ_o F̃_o cos(r_o θ + φ_o)) (its loads and their torque orders,
-harmonic r_o·periods of φ), G2 = 0 and its STE in E_e.
+harmonic r_o·periods of φ), G2 = 0 and its STE in E_e; a rolling bearing is two rows (its x and y, C = its dampers,
+K = K̃, E = 0) whose forces are one law of (δ_x, δ_y) and of the base angle θ = periods·φ (``rule``).
 
 :func:`pair_form` and :func:`system_form` build the form; ``GearModel.hb_form`` and ``SystemModel.hb_form`` call
 them, and :mod:`.equations` is written against :class:`HBForm` only.
