@@ -449,7 +449,7 @@ class Inputs:
                 from .system_input import load_cli_system
 
                 # the notes before the run leave a default transient and record to the long-run plan (options())
-                at_default = {"transient_default": "transient" in self._defaults}
+                at_default = {"transient_default": self._fixed_default("transient", DEFAULT_TRANSIENT)}
                 self._systems[key] = load_cli_system({**v, **dict(key), **at_default})
             return self._systems[key]
         dests = {o.dest for o in params.cli_options()}
@@ -535,8 +535,8 @@ class Inputs:
         geardyn.analysis.settle.LongRun or None
         """
         v = self.values
-        t_default = "transient" in self._defaults
-        p_default = periods is None and "periods" in v and "periods" in self._defaults
+        t_default = self._fixed_default("transient", DEFAULT_TRANSIENT)
+        p_default = periods is None and self._fixed_default("periods", DEFAULT_PERIODS)
         if not (t_default or p_default) or not isinstance(v.get("dtau"), (int, float)):
             return None
         model = self.model()
@@ -570,6 +570,11 @@ class Inputs:
             for line in plan.note().splitlines():
                 say_error(line)
         return plan
+
+    def _fixed_default(self, name: str, value: int) -> bool:
+        """Whether option ``name`` was not given and its default is the fixed count ``value`` (a command with its
+        own default, as ``rattle``'s transient or ``lyapunov``'s periods, keeps it)."""
+        return name in self._defaults and str(self.values.get(name)).strip() == str(value)
 
     def transient(self, omegas: Any = ()) -> Any:
         """``--transient`` as a number of forcing periods: ``auto`` is the count of
