@@ -257,7 +257,9 @@ def integration(
             "--transient",
             help="Forcing periods discarded before recording; or N followed by 'cycles' (e.g. 3000cycles): N "
             "reference mesh cycles, rounded up to whole forcing periods; or auto: as many as the least damped mode "
-            "of the linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md).",
+            "of the linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md). Not "
+            "given, with a forcing period of several reference mesh cycles: auto's count (at least 1), and the "
+            "default --periods in mesh cycles (at least 4 forcing periods), said before the run.",
             panel=RUN_PANEL,
         ),
     ]
