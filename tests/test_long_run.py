@@ -144,3 +144,24 @@ def test_two_stage_default_simulate_completes_and_says_its_forcing_period_and_es
     if out["motion"].startswith("period-"):  # checked over the record: period in mesh cycles
         assert out["period"] % 64 == 0
     assert np.isfinite(out["amplitude"])
+
+
+def test_history_of_a_long_forcing_period_is_bounded_in_memory():
+    """32 forcing periods of the 12-DOF file's history would be 13.1e6 steps of 24 states and 2 meshes' δ, δ'
+    (2.9 GB); simulate keeps the last whole stage-1 mesh cycles within HISTORY_BYTES."""
+    from geardyn.analysis.steady import HISTORY_BYTES, HISTORY_PERIODS, history_budget
+    from geardyn.integrate import natural_steps
+    from geardyn.model import IntegrationOptions
+    from geardyn.systems import load_system
+
+    s = load_system(TWO_STAGE)
+    p = s.period_multiple()
+    opts = IntegrationOptions(transient=2, periods=40)
+    N = natural_steps(s, opts.dtau)
+    per_sample = 8 * (s.state_dim + 2 * len(s.elements))
+    steps, cycles = history_budget(s, opts, HISTORY_PERIODS)
+    assert steps * per_sample <= HISTORY_BYTES + per_sample  # within the budget (to the rounding of one step)
+    assert (steps + N / p) * per_sample > HISTORY_BYTES - per_sample  # and the most whole mesh cycles that fit
+    assert abs(cycles - round(cycles)) <= p / N  # whole mesh cycles, to one step
+    assert history_budget(s, IntegrationOptions(transient=2, periods=1, dtau=0.5), HISTORY_PERIODS) == (None, None)
+    assert history_budget(GearModel(omega=0.8, cycles=1000), opts, HISTORY_PERIODS) == (None, None)  # the pair
