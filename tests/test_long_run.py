@@ -165,3 +165,28 @@ def test_history_of_a_long_forcing_period_is_bounded_in_memory():
     assert abs(cycles - round(cycles)) <= p / N  # whole mesh cycles, to one step
     assert history_budget(s, IntegrationOptions(transient=2, periods=1, dtau=0.5), HISTORY_PERIODS) == (None, None)
     assert history_budget(GearModel(omega=0.8, cycles=1000), opts, HISTORY_PERIODS) == (None, None)  # the pair
+
+
+def test_partial_history_is_the_end_of_the_full_one(monkeypatch):
+    """With a small memory budget simulate keeps the last whole mesh cycles: the same samples as the end of the full
+    history (the same trajectory, bit for bit), and a spectrum in mesh orders whose stage-1 mesh line (order 1) is
+    that of the full history's to 2 %."""
+    from geardyn.analysis import steady
+    from geardyn.model import IntegrationOptions
+    from geardyn.systems import load_system
+
+    s = load_system(TWO_STAGE)
+    opts = IntegrationOptions(transient=2, periods=4)
+    full = steady.simulate(s, opts, history_periods=1)
+    monkeypatch.setattr(steady, "HISTORY_BYTES", 2 * 2**20)
+    part = steady.simulate(s, opts, history_periods=1)
+    L = part.traj.u.size
+    assert part.history_cycles is not None and L < full.traj.u.size
+    assert np.array_equal(part.traj.u, full.traj.u[-L:])
+    assert any("time history: the last" in n for n in part.summary["notes"]) and "notes" not in full.summary
+    assert part.summary["amplitude"] == full.summary["amplitude"]  # the statistics stream over the whole record
+    dp, df = part.to_dataset(), full.to_dataset()
+    assert float(dp.attrs["history_cycles"]) == pytest.approx(part.history_cycles, rel=1e-5)
+    a_part = float(dp["spectrum"].sel(order=1.0, method="nearest"))
+    a_full = float(df["spectrum"].sel(order=1.0, method="nearest"))
+    assert a_part == pytest.approx(a_full, rel=0.02)
