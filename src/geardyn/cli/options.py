@@ -505,8 +505,6 @@ class Inputs:
         ModelError
             For an invalid step, transient or period count, or too much memory.
         """
-        import numpy as np
-
         from .. import validate
 
         v = self.values
@@ -519,9 +517,7 @@ class Inputs:
             v["dtau"], plan.transient if plan is not None else self.transient(ws), n, v["accurate"], ws
         )
         validate.recorded(points, opts.periods)
-        # the time budget counts the steps of a forcing period: P mesh periods 2π/ω when it spans P mesh cycles
-        cycles = plan.cycles if plan is not None else self._cycles()
-        check_budget(opts, ws if cycles <= 1 else np.asarray(ws, dtype=float) / cycles, points)
+        check_budget(opts, ws, points)
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
 
     def long_run(self, omegas: Any = (), periods: int | None = None) -> Any:
@@ -576,17 +572,6 @@ class Inputs:
             for line in plan.note().splitlines():
                 say_error(line)
         return plan
-
-    def _cycles(self) -> int:
-        """P, the reference mesh cycles of the run's forcing period (1 when not periodic or for a pair without
-        one); the model is built only where it is anyway (a system, or a pair with torque orders)."""
-        v = self.values
-        if not any(v.get(k) for k in ("system", "torque_order", "config", "excitation")):
-            return 1
-        try:
-            return int(self.model().period_multiple() or 1)
-        except GeardynError:  # the command's own checks say what is wrong with its model
-            return 1
 
     def _fixed_default(self, name: str, value: int) -> bool:
         """Whether option ``name`` was not given and its default is the fixed count ``value`` (a command with its
