@@ -190,3 +190,24 @@ def test_partial_history_is_the_end_of_the_full_one(monkeypatch):
     a_part = float(dp["spectrum"].sel(order=1.0, method="nearest"))
     a_full = float(df["spectrum"].sel(order=1.0, method="nearest"))
     assert a_part == pytest.approx(a_full, rel=0.02)
+
+
+def test_budget_ending_before_a_class_is_said_and_nothing_unchecked_is_periodic(monkeypatch):
+    """A pair with a forcing period of 2 mesh cycles, no transient and 4 recorded periods: still decaying
+    (e^(-ξ0 τ), e^-1.57 per forcing period at ω = 0.8), so not periodic; one classification pass of 4 forcing
+    periods (a budget made small here) cannot settle it either: the motion is 'unresolved' and a note says the
+    budget ended; no period is claimed."""
+    from geardyn.analysis import steady
+    from geardyn.model import IntegrationOptions
+
+    monkeypatch.setattr(steady, "classify_budget", lambda model: (4, 1))
+    res = steady.simulate(GearModel(omega=0.8, cycles=2), IntegrationOptions(transient=0, periods=4))
+    s = res.summary
+    assert s["motion"] == "unresolved" and s["period"] is None
+    assert s["lle"] is not None and s["lle"] < 0  # the decay: significantly negative, no class
+    (note,) = s["notes"]
+    assert note.startswith("unresolved: the classification's budget ended before a class was found (1 pass(es) of 4")
+    assert "notes" in res.to_json()
+    # the pair's own budget (P = 1) says nothing of the kind
+    one = steady.simulate(GearModel(omega=0.8), IntegrationOptions(transient=300, periods=8))
+    assert one.summary["motion"] == "period-2" and "notes" not in one.summary
