@@ -412,19 +412,32 @@ class LongRun:
     classify_periods: int
     classify_rounds: int
 
-    def note(self) -> str:
-        """The lines said before the run (stderr)."""
+    def note(self, classify: bool = True, per_point: bool = False) -> str:
+        """The lines said before the run (stderr).
+
+        Parameters
+        ----------
+        classify : bool
+            Add the classification's budget (``simulate``: :func:`classify_budget`).
+        per_point : bool
+            The estimate is per point (a sweep).
+        """
         P, N = self.cycles, self.steps
         run = (self.transient + self.periods) * N
         extra = self.classify_periods * self.classify_rounds
-        return (
+        text = (
             f"transient: {self.transient} forcing periods ({self.transient * P:,} mesh cycles): {self.transient_why}\n"
             f"record: {self.periods} forcing periods ({self.periods * P:,} mesh cycles): {self.periods_why}\n"
-            f"estimate: {run:,} RK4 steps ({self.transient + self.periods} forcing periods of {N:,}); a response "
-            f"not found periodic is classified over at most {extra} more forcing periods ({extra * N:,} steps with a "
-            f"tangent vector; {self.classify_rounds} pass(es) of {self.classify_periods}), and reported unresolved "
-            "if that budget ends first"
+            f"estimate: {run:,} RK4 steps{' per point' if per_point else ''} ({self.transient + self.periods} "
+            f"forcing periods of {N:,})"
         )
+        if classify:
+            text += (
+                f"; a response not found periodic is classified over at most {extra} more forcing periods "
+                f"({extra * N:,} steps with a tangent vector; {self.classify_rounds} pass(es) of "
+                f"{self.classify_periods}), and reported unresolved if that budget ends first"
+            )
+        return text
 
 
 def long_run(

@@ -338,16 +338,16 @@ OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
-def _at_default(values: dict[str, Any]) -> set[str]:
+def _at_default(values: dict[str, Any]) -> tuple[set[str], str | None]:
     """The options of ``values`` the user did not give (their source the default), from the running command's
-    context; none outside a command (every value counts as given)."""
+    context, and the command's name; none outside a command (every value counts as given)."""
     import importlib
 
     base = typer.Context.__mro__[1]  # the click Context typer runs on (its own vendored copy in newer typer)
     core = sys.modules[base.__module__]
     ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
     if ctx is None:
-        return set()
+        return set(), None
     ParameterSource = core.ParameterSource
     out = set()
     for name in values:
@@ -357,7 +357,7 @@ def _at_default(values: dict[str, Any]) -> set[str]:
             src = None
         if src in (ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP):
             out.add(name)
-    return out
+    return out, ctx.info_name
 
 
 def build_model(
@@ -417,7 +417,7 @@ class Inputs:
         self.values = values
         self._pair: Any = None
         self._systems: dict[tuple, Any] = {}
-        self._defaults = _at_default(values)
+        self._defaults, self._command = _at_default(values)
 
     def __getattr__(self, name: str) -> Any:
         try:
@@ -563,13 +563,15 @@ class Inputs:
             default_periods=v.get("periods") if p_default else None,
             omegas=ws if ws.size else None,
         )
-        if plan is not None and self.__dict__.get("_plan_note") != plan.note():  # said once per command
+        # simulate classifies within the plan's budget; a sweep's points are classified by its --settle
+        note = plan.note(classify=self._command == "simulate", per_point=ws.size > 1) if plan is not None else None
+        if note is not None and self.__dict__.get("_plan_note") != note:  # said once per command
             from .app import say_error
 
-            self.__dict__["_plan_note"] = plan.note()
+            self.__dict__["_plan_note"] = note
             if v.get("system") is None:  # a system's file note says the forcing period already
                 say_error(f"forcing period: {plan.cycles} mesh cycles; {plan.steps:,} RK4 steps each (dtau = {dtau:g})")
-            for line in plan.note().splitlines():
+            for line in note.splitlines():
                 say_error(line)
         return plan
 
