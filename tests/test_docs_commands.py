@@ -231,6 +231,9 @@ QUOTED: dict[str, Run | str] = {
     "--no-classify": "two forcing periods of 1 866 939 RK4 steps on 220 states (about a minute); "
     "tests/test_rolling_bearing.py simulates the ball bearing on its own, tests/test_system_orders.py systems with "
     "torque orders",
+    "geardyn simulate --system examples/gearbox/two_stage_helical.toml --rpm 1500 --json": "the default settings "
+    "on the 110-DOF gearbox: 5 forcing periods of 9 334 692 RK4 steps (about 20 minutes); tests/test_long_run.py "
+    "runs the default simulate of the 12-DOF two-stage file (23/64-19/56, 64 mesh cycles per forcing period)",
     "geardyn signature --system examples/gearbox/two_stage_helical.toml --sensor in_A.x --revolutions 20 "
     "--out results/gearbox_signature": "0.8 s of a 110-DOF gearbox sampled at 1.2 MHz (about two minutes); "
     "tests/test_signature_system.py runs the system signature on the small examples",

@@ -225,11 +225,14 @@ def test_attrs_round_trip_keeps_the_bearing():
         assert np.array_equal(getattr(a, f), getattr(b, f)), f
 
 
-def test_harmonic_balance_refuses_a_rolling_bearing():
+def test_harmonic_balance_takes_the_bearing_as_two_rows_of_one_law():
+    """The HB form has the bearing's x and y rows with the System's own law (tests/test_hb_rolling.py solves it)."""
     m = load_system(FILE)
-    with pytest.raises(ModelError) as e:
-        m.hb_form()
-    assert "rolling" in str(e.value) and "\n" not in str(e.value)
+    f = m.hb_form()
+    rows = [e for e in f.elements if e.kind == "bearing"]
+    assert [e.name for e in rows] == ["brg.x", "brg.y"]
+    assert all(e.law == "rolling_bearing" and e.rule == m.elements[1].law for e in rows)
+    assert np.array_equal(rows[0].V, m.Vb[0]) and np.array_equal(rows[1].V, m.Vb[1])
 
 
 def _settled(m, periods=10):

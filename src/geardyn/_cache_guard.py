@@ -61,7 +61,7 @@ WHAT = (
 
 #: Directories (relative to :data:`ROOT`) whose compiled functions call those of other directories: their
 #: cache is stamped with the sources of both.
-DEPENDS = {"_kernel_ndof": ("_kernel",)}
+DEPENDS = {"_kernel_ndof": ("_kernel",), "analysis/hb": ("_kernel_ndof",)}
 
 _lock = threading.RLock()
 _installed = False

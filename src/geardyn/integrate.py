@@ -659,6 +659,7 @@ def trajectory(
     steps: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    history_steps: int | None = None,
 ) -> Trajectory:
     """Integrate one point and keep the state at every step of its last ``history_periods`` periods.
 
@@ -679,6 +680,9 @@ def trajectory(
     progress : callable, optional
         Called as ``progress(done, total)`` in sampling periods while the point runs, as by
         :func:`integrate_batch`; the numbers are those of a call without it, bit for bit.
+    history_steps : int, optional
+        Keep only the last ``history_steps`` steps (fewer than ``history_periods`` periods' worth; a mesh-vector
+        system only): a long forcing period's history within a memory budget.
 
     Returns
     -------
@@ -700,6 +704,9 @@ def trajectory(
     models, backend, packed, nsteps = _prepare([model], options, steps)
     hp = int(min(max(history_periods, 1), options.periods))
     N = int(nsteps[0])
+    K = hp * N + 1
+    if history_steps is not None and 1 <= int(history_steps) < hp * N and int(model.state_dim) > 2:
+        K = int(history_steps) + 1
     s0 = _states(models, state0)
     raw = _run(
         models,
@@ -711,12 +718,12 @@ def trajectory(
         options.periods,
         "none",
         options.accurate,
-        hist_len=hp * N + 1,
+        hist_len=K,
         threads=threads,
         progress=progress,
     )
     summary = _result(models, options, raw, nsteps, False, False)
-    tau = np.arange(hp * N + 1) * (model.sampling_period / N)
+    tau = np.arange(K) * (model.sampling_period / N)
     x = raw.hist[0]
     if raw.status[0] != ST_OK:
         x = np.full_like(x, np.nan)

@@ -1,6 +1,8 @@
 """The N-DOF integrator kernel: numba functions on the arrays of :meth:`geardyn.systems.SystemModel.pack`.
 
-Only :mod:`geardyn.backend` (its ``MESH`` backend, behind :mod:`geardyn.integrate`) imports this package.
+Only :mod:`geardyn.backend` (its ``MESH`` backend, behind :mod:`geardyn.integrate`) imports this package, and the
+harmonic-balance monodromy kernel its rolling bearing's force and stiffness (:func:`.core.bearing_force`,
+:func:`.core.bearing_slopes`).
 :func:`run_batch` advances a batch of parameter points of one system structure through
 ``n_transient + n_record`` forcing periods with classic fixed-step RK4 (h = T_f/N, T_f the forcing period, so the
 stroboscopic samples are exact) and serves every analysis: Poincaré points of the full state, streaming statistics

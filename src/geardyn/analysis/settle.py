@@ -35,10 +35,16 @@ from ..system import require_periodic
 
 __all__ = [
     "CAP_PERIODS",
+    "CLASSIFY_CYCLES",
+    "CLASSIFY_SECTION",
     "CYCLES_SUFFIX",
     "DECAY_EFOLDS",
     "FLOOR_PERIODS",
+    "LongRun",
+    "RECORD_FLOOR",
     "Settling",
+    "classify_budget",
+    "long_run",
     "cycles_to_periods",
     "decay_rate",
     "decay_rates",
@@ -330,3 +336,195 @@ def cycles_to_periods(cycles: int, model: Any) -> int:
     """
     p = require_periodic(model, "--transient in mesh cycles")
     return -(-int(cycles) // int(p))
+
+
+# ---------------------------------------------------------------- the defaults of a long forcing period
+#: Fewest forcing periods recorded by default when a forcing period spans several reference mesh cycles: with 4
+#: Poincaré points the period test (:func:`geardyn.analysis.classify.detect_period`, over the latest half) compares
+#: every point of a period-1 or period-2 cycle with its repeat.
+RECORD_FLOOR = 4
+#: Forcing periods of one classification pass when a forcing period spans several mesh cycles: the fewest with which
+#: the section tests of a non-periodic class run (the correlation dimension needs 16 points, the settling ratio 8).
+CLASSIFY_SECTION = 16
+#: The classification's extension of a record in reference mesh cycles: the pair's SETTLE_ROUNDS passes of
+#: SETTLE_PERIODS periods (4 × 1000); a long forcing period takes as many passes as fit (at least one).
+CLASSIFY_CYCLES = 4000
+
+
+def classify_budget(model: Any) -> tuple[int, int]:
+    """The classification's passes of a point not found periodic: forcing periods per pass and the most passes.
+
+    A forcing period of one mesh cycle (the pair, P = 1, or a system without a forcing period) keeps
+    :data:`~geardyn.analysis.classify.SETTLE_PERIODS` × :data:`~geardyn.analysis.classify.SETTLE_ROUNDS`.  A forcing
+    period of P > 1 reference mesh cycles takes passes of max(:data:`CLASSIFY_SECTION`, ceil(SETTLE_PERIODS / P))
+    forcing periods, as many as fit in :data:`CLASSIFY_CYCLES` mesh cycles, and at least one.
+
+    Parameters
+    ----------
+    model : System
+
+    Returns
+    -------
+    (periods, rounds) : tuple of int
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> classify_budget(GearModel())
+    (1000, 4)
+    >>> classify_budget(GearModel(cycles=64)), classify_budget(GearModel(cycles=1472))
+    ((16, 3), (16, 1))
+    """
+    from .classify import SETTLE_PERIODS, SETTLE_ROUNDS
+
+    p = model.period_multiple()
+    if not p or int(p) <= 1:
+        return SETTLE_PERIODS, SETTLE_ROUNDS
+    p = int(p)
+    n = max(CLASSIFY_SECTION, -(-SETTLE_PERIODS // p))
+    return n, max(1, CLASSIFY_CYCLES // (n * p))
+
+
+@dataclass(frozen=True)
+class LongRun:
+    """The counts of a run whose forcing period spans several reference mesh cycles (:func:`long_run`).
+
+    Attributes
+    ----------
+    cycles : int
+        P, reference mesh cycles per forcing period.
+    steps : int
+        RK4 steps per forcing period at the run's ω.
+    transient, periods : int
+        Forcing periods discarded and recorded.
+    transient_why, periods_why : str
+        Where each count comes from.
+    classify_periods, classify_rounds : int
+        The classification's budget (:func:`classify_budget`) for a point not found periodic.
+    """
+
+    cycles: int
+    steps: int
+    transient: int
+    periods: int
+    transient_why: str
+    periods_why: str
+    classify_periods: int
+    classify_rounds: int
+
+    def note(self, classify: bool = True, per_point: bool = False) -> str:
+        """The lines said before the run (stderr).
+
+        Parameters
+        ----------
+        classify : bool
+            Add the classification's budget (``simulate``: :func:`classify_budget`).
+        per_point : bool
+            The estimate is per point (a sweep).
+        """
+        P, N = self.cycles, self.steps
+        run = (self.transient + self.periods) * N
+        extra = self.classify_periods * self.classify_rounds
+        text = (
+            f"transient: {self.transient} forcing periods ({self.transient * P:,} mesh cycles): {self.transient_why}\n"
+            f"record: {self.periods} forcing periods ({self.periods * P:,} mesh cycles): {self.periods_why}\n"
+            f"estimate: {run:,} RK4 steps{' per point' if per_point else ''} ({self.transient + self.periods} "
+            f"forcing periods of {N:,})"
+        )
+        if classify:
+            text += (
+                f"; a response not found periodic is classified over at most {extra} more forcing periods "
+                f"({extra * N:,} steps with a tangent vector; {self.classify_rounds} pass(es) of "
+                f"{self.classify_periods}), and reported unresolved if that budget ends first"
+            )
+        return text
+
+
+def long_run(
+    model: Any,
+    dtau: float,
+    *,
+    transient: int | None = None,
+    periods: int | None = None,
+    default_transient: int | None = None,
+    default_periods: int | None = None,
+    omegas: Iterable[float] | None = None,
+) -> LongRun | None:
+    """The default transient and record of a run whose forcing period spans P > 1 reference mesh cycles; None for
+    P <= 1 or no forcing period (the fixed defaults stand, bit for bit).
+
+    The fixed defaults count forcing periods (300 + 200 at P = 1: 500 mesh cycles); at P cycles per forcing period they
+    would be P times as long.  When not given:
+
+    - the **transient** is the physics' (:func:`settle_periods`, at least 1 forcing period, at most the fixed
+      default): the forcing periods in which the least damped linearised mode decays by e^-:data:`DECAY_EFOLDS`.  A
+      model with a mode that has no decay time falls back to the fixed count in mesh cycles, ceil(300 / P) forcing
+      periods (the pair's 300 periods are 300 mesh cycles);
+    - the **record** is the fixed default in mesh cycles, ceil(200 / P) forcing periods, at least
+      :data:`RECORD_FLOOR`.
+
+    Parameters
+    ----------
+    model : System
+        The run's model (at its ω).
+    dtau : float
+        Target RK4 step.
+    transient, periods : int, optional
+        The counts given by the user (kept as given); None: the defaults above.
+    default_transient, default_periods : int, optional
+        The command's fixed defaults (:data:`~geardyn.model.DEFAULT_TRANSIENT`,
+        :data:`~geardyn.model.DEFAULT_PERIODS` when not given).
+    omegas : iterable of float, optional
+        Every frequency of a sweep: the transient is that of the highest (:func:`settle_periods`).
+
+    Returns
+    -------
+    LongRun or None
+
+    Examples
+    --------
+    >>> from geardyn import GearModel
+    >>> long_run(GearModel(omega=0.8), 0.01) is None
+    True
+    >>> r = long_run(GearModel(omega=0.8, cycles=64), 0.01)  # σ = ξ0 = 0.1: 120 τ, less than one forcing period
+    >>> r.transient, r.periods, r.steps  # 4 recorded (the floor); ceil(64·2π/0.8 / 0.01) steps each
+    (1, 4, 50266)
+    """
+    from ..integrate import natural_steps
+    from ..model import DEFAULT_PERIODS, DEFAULT_TRANSIENT
+
+    p = model.period_multiple()
+    if not p or int(p) <= 1:
+        return None
+    p = int(p)
+    dt = DEFAULT_TRANSIENT if default_transient is None else int(default_transient)
+    dp = DEFAULT_PERIODS if default_periods is None else int(default_periods)
+    if transient is not None:
+        tr, why_t = int(transient), "as given"
+    else:
+        try:
+            s = settle_periods(model, omegas, floor=1, cap=dt)
+            tr = s.periods
+            why_t = (
+                f"the least damped mode decays as e^(-{s.rate:.4g} τ), by e^-{DECAY_EFOLDS:g} after τ = {s.time:.4g}; "
+                f"one forcing period is τ = {s.forcing_period:.4g} (the fixed default, {dt} forcing periods, would be "
+                f"{dt * p:,} mesh cycles; --transient N or Ncycles sets it)"
+            )
+            if s.capped:
+                why_t += f"; capped at the fixed default {dt}: the mode has not decayed by e^-{DECAY_EFOLDS:g}"
+        except ModelError as e:
+            tr = max(1, -(-dt // p))
+            cause = e.args[0].split(";")[0].removeprefix("transient: auto needs ")
+            why_t = (
+                f"no decay time ({cause}): the fixed default's {dt} mesh cycles, rounded up to whole forcing periods"
+            )
+    if periods is not None:
+        pe, why_p = int(periods), "as given"
+    else:
+        pe = max(RECORD_FLOOR, -(-dp // p))
+        why_p = (
+            f"the default's {dp} mesh cycles, at least {RECORD_FLOOR} Poincaré points (one per forcing period) for the "
+            "period test"
+        )
+    n_pass, rounds = classify_budget(model)
+    return LongRun(p, natural_steps(model, dtau), tr, pe, why_t, why_p, n_pass, rounds)

@@ -24,6 +24,7 @@ from .classify import (
     IMPACT_LABELS,
     LLE_FLOOR,
     LLE_SIGMAS,
+    MOTION_UNRESOLVED,
     SETTLE_PERIODS,
     SETTLE_ROUNDS,
     classify_points,
@@ -35,7 +36,7 @@ from .classify import (
     quasi_periodic_allowed_batch,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
-from .settle import decay_rates
+from .settle import classify_budget, decay_rates
 
 xr = lazy_module("xarray")
 
@@ -46,6 +47,48 @@ HISTORY_PERIODS = 32
 CLASSIFY_TANGENTS = 1
 #: Highest mesh order kept in the spectrum.
 SPECTRUM_MAX_ORDER = 10.0
+#: Memory the time history of a mesh-vector system's :func:`simulate` may take (its states and element deflections,
+#: bytes): a longer history keeps its last whole reference mesh cycles that fit (a long forcing period's
+#: :data:`HISTORY_PERIODS` would take hundreds of GB).
+HISTORY_BYTES = 256 * 2**20
+
+
+def history_budget(model: Any, options: IntegrationOptions, history_periods: int) -> tuple[int | None, float | None]:
+    """The steps of history :func:`simulate` keeps when ``history_periods`` forcing periods exceed
+    :data:`HISTORY_BYTES`: the last whole reference mesh cycles that fit (at least one).
+
+    Parameters
+    ----------
+    model : System
+    options : IntegrationOptions
+    history_periods : int
+        Forcing periods of history asked for.
+
+    Returns
+    -------
+    (steps, cycles) : tuple
+        ``(None, None)`` when the whole periods fit (or for the pair, whose state is two numbers); else the steps
+        kept and the reference mesh cycles they span (steps × P / N, N the steps per forcing period).
+
+    Examples
+    --------
+    >>> from geardyn import GearModel, IntegrationOptions
+    >>> history_budget(GearModel(), IntegrationOptions(), HISTORY_PERIODS)
+    (None, None)
+    """
+    from ..integrate import natural_steps
+
+    if int(model.state_dim) <= 2:
+        return None, None
+    hp = int(min(max(history_periods, 1), options.periods))
+    N = natural_steps(model, options.dtau)
+    per_sample = 8 * (int(model.state_dim) + 2 * len(model.elements))
+    if hp * N * per_sample <= HISTORY_BYTES:
+        return None, None
+    P = int(model.period_multiple() or 1)
+    cycles = max(1, int(HISTORY_BYTES // per_sample * P // N))
+    steps = min(hp * N - 1, max(1, round(cycles * N / P)))
+    return steps, steps * P / N
 
 
 def summarize_batch(res: BatchResult) -> dict[str, np.ndarray]:
@@ -98,6 +141,7 @@ def classify_batch(
     settle_periods: int = SETTLE_PERIODS,
     blocks: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    rounds: int = SETTLE_ROUNDS,
 ) -> dict[str, np.ndarray]:
     """Full per-point classification of a batch: period, motion, impact, amplitudes, exponents.
 
@@ -118,6 +162,9 @@ def classify_batch(
         Called as ``progress(done, total)`` in periods (per point) of the settling passes while they run,
         ``total`` being the periods of the passes begun so far (it grows as a pass begins); the numbers are
         those of a call without it, bit for bit (:func:`~geardyn.integrate.integrate_batch`).
+    rounds : int
+        The most settling passes (default :data:`~geardyn.analysis.classify.SETTLE_ROUNDS`; a long forcing period's
+        budget: :func:`geardyn.analysis.settle.classify_budget`).
 
     Returns
     -------
@@ -127,6 +174,7 @@ def classify_batch(
         dimension of the section of non-periodic points, else NaN), ``settle_ratio``
         (:func:`~geardyn.analysis.classify.settling_ratio` of non-periodic points, else NaN), ``loops`` (closed
         curves of a quasi-periodic section, else 0), ``settled`` (number of settling passes run),
+        ``unsettled`` (bool: the passes ran out while the section still contracted onto a cycle),
         ``poincare`` (P, n, 2) and ``end_state`` (P, 2).
     """
     nb = DEFAULT_BLOCKS if blocks is None else blocks
@@ -145,8 +193,9 @@ def classify_batch(
     section: dict[int, np.ndarray] = {}
     need = np.flatnonzero((out["status"] == ST_OK) & (out["period"] == 0))
     n_rec = res.poincare.shape[1]
+    max_rounds = int(rounds)
     rounds = 0
-    while settle_periods > 0 and need.size and rounds < SETTLE_ROUNDS:
+    while settle_periods > 0 and need.size and rounds < max_rounds:
         opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
         sub = models[need]
         if progress is None:
@@ -184,6 +233,9 @@ def classify_batch(
             if is_settling(r2.poincare[j]):
                 again.append(i)
         need = np.asarray(again, dtype=np.int64)
+    unsettled = np.zeros(P, dtype=bool)
+    if rounds:  # still contracting onto a cycle when the passes ran out
+        unsettled[need] = True
     bad = out["status"] != ST_OK
     lam[bad] = np.nan
     err[bad] = np.nan
@@ -202,6 +254,7 @@ def classify_batch(
         settle_ratio=cls["settle_ratio"],
         loops=cls["loops"],
         settled=settled,
+        unsettled=unsettled,
     )
     return out
 
@@ -219,14 +272,16 @@ class _Sections:
         return self.settled.get(int(i), self.recorded[i])
 
 
-def amplitude_spectrum(u: np.ndarray, periods: int) -> tuple[np.ndarray, np.ndarray]:
+def amplitude_spectrum(u: np.ndarray, periods: float, closed: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Single-sided amplitude spectrum of u sampled uniformly over a whole number of forcing periods.
 
     Returns ``(order, amplitude)``: frequencies in orders of the mesh frequency (resolution
-    1/``periods``) and the amplitude of each cosine component (the mean at order 0).
+    1/``periods``) and the amplitude of each cosine component (the mean at order 0).  ``closed``: whether the
+    last sample repeats the first (dropped); by default when the length is one more than a multiple of ``periods``.
     """
     x = np.asarray(u, dtype=float)
-    if x.size > 1 and np.isfinite(x[0]) and x.size % periods == 1:
+    drop = x.size % periods == 1 if closed is None else closed
+    if x.size > 1 and np.isfinite(x[0]) and drop:
         x = x[:-1]  # drop the closing sample that repeats the first period boundary
     n = x.size
     spec = np.abs(np.fft.rfft(x)) / n
@@ -256,6 +311,9 @@ class SteadyState:
         The classification and the reference element's measures.
     extra : dict
         What the system adds (``System.report``: per-mesh entries of a mesh-vector system; empty for the pair).
+    history_cycles : float, optional
+        The reference mesh cycles the kept history spans when it is shorter than whole forcing periods
+        (:func:`history_budget`); None: ``traj.history_periods`` forcing periods.
 
     Examples
     --------
@@ -271,6 +329,7 @@ class SteadyState:
     traj: Trajectory
     summary: dict[str, Any]
     extra: dict[str, Any] = field(default_factory=dict)
+    history_cycles: float | None = None
 
     @property
     def poincare(self) -> np.ndarray:
@@ -300,6 +359,7 @@ class SteadyState:
             "u_max": s["u_max"],
             "contact_fractions": s["contact_fractions"],
             "status": s["status"],
+            **({"notes": s["notes"]} if s.get("notes") else {}),
             **self.extra,
         }
 
@@ -307,7 +367,10 @@ class SteadyState:
         """Time history (last periods), Poincaré points and spectrum with the model and options as attributes."""
         t = self.traj
         m = self.model
-        order, spec = amplitude_spectrum(t.u, t.history_periods * (m.period_multiple() or 1))
+        if self.history_cycles is None:
+            order, spec = amplitude_spectrum(t.u, t.history_periods * (m.period_multiple() or 1))
+        else:
+            order, spec = amplitude_spectrum(t.u, self.history_cycles, closed=True)
         pc = self.poincare
         sec = m.element_series(pc, 0.0)[:, m.reference, :]  # the reference element's (δ, δ') (the pair's (u, u'))
         data: dict[str, Any] = {
@@ -335,6 +398,7 @@ class SteadyState:
                 state0=list(self.state0),
                 summary=_jsonable(self.summary),
                 history_periods=str(t.history_periods),
+                **({} if self.history_cycles is None else {"history_cycles": f"{self.history_cycles:.6g}"}),
             ),
         )
         return annotate(
@@ -392,15 +456,22 @@ def simulate(
     ('period-2', 'single-sided impact')
     """
     s0 = start_state(model, state0)
-    t = trajectory(model, s0, options, history_periods=history_periods, progress=progress)
+    hist_steps, hist_cycles = history_budget(model, options, history_periods)
+    t = trajectory(model, s0, options, history_periods=history_periods, progress=progress, history_steps=hist_steps)
     arr = summarize_batch(t.summary)
     period = int(arr["period"][0])
     ok = int(arr["status"][0]) == ST_OK
     # Full motion classification; the Lyapunov spectrum is computed (by integrating on from the
     # end state) only when no period was found.
     base = int(options.transient) + int(options.periods)
+    n_pass, rounds = classify_budget(model)  # the pair's 4 × 1000 periods; a long forcing period's in mesh cycles
     cls = (
-        classify_batch(t.summary, progress=None if progress is None else (lambda d, n: progress(base + d, base + n)))
+        classify_batch(
+            t.summary,
+            settle_periods=n_pass,
+            rounds=rounds,
+            progress=None if progress is None else (lambda d, n: progress(base + d, base + n)),
+        )
         if ok and period == 0 and classify
         else None
     )
@@ -428,5 +499,22 @@ def simulate(
         "lle": float(cls["lle"][0]) if cls is not None and np.isfinite(cls["lle"][0]) else None,
         "lle_err": float(cls["lle_err"][0]) if cls is not None and np.isfinite(cls["lle_err"][0]) else None,
     }
+    P = int(model.period_multiple() or 1)
+    notes = []
+    if cls is not None and P > 1 and summary["motion"] == motion_label(MOTION_UNRESOLVED, 0):
+        passes = int(cls["settled"][0])
+        notes.append(
+            f"unresolved: the classification's budget ended before a class was found ({passes} pass(es) of {n_pass} "
+            f"forcing periods, {passes * n_pass * P:,} mesh cycles, at most {rounds})"
+            + (": the section still contracted onto a cycle" if bool(cls["unsettled"][0]) else "")
+            + "; a longer --transient or --periods settles it further"
+        )
+    if hist_cycles is not None:
+        notes.append(
+            f"time history: the last {hist_cycles:.6g} reference mesh cycles ({hist_steps:,} steps; "
+            f"{HISTORY_BYTES // 2**20} MB at most), not {t.history_periods} forcing periods"
+        )
+    if notes:
+        summary["notes"] = notes
     extra = model.report(t.summary, 0, t.tau, t.deltas)
-    return SteadyState(model, options, tuple(float(x) for x in s0), t, summary, extra)
+    return SteadyState(model, options, tuple(float(x) for x in s0), t, summary, extra, hist_cycles)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import functools
 import inspect
+import sys
 import typing
 from collections.abc import Callable
 from pathlib import Path
@@ -256,7 +257,9 @@ def integration(
             "--transient",
             help="Forcing periods discarded before recording; or N followed by 'cycles' (e.g. 3000cycles): N "
             "reference mesh cycles, rounded up to whole forcing periods; or auto: as many as the least damped mode "
-            "of the linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md).",
+            "of the linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md). Not "
+            "given, with a forcing period of several reference mesh cycles: auto's count (at least 1), and the "
+            "default --periods in mesh cycles (at least 4 forcing periods), said before the run.",
             panel=RUN_PANEL,
         ),
     ]
@@ -335,6 +338,28 @@ OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
+def _at_default(values: dict[str, Any]) -> tuple[set[str], str | None]:
+    """The options of ``values`` the user did not give (their source the default), from the running command's
+    context, and the command's name; none outside a command (every value counts as given)."""
+    import importlib
+
+    base = typer.Context.__mro__[1]  # the click Context typer runs on (its own vendored copy in newer typer)
+    core = sys.modules[base.__module__]
+    ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
+    if ctx is None:
+        return set(), None
+    ParameterSource = core.ParameterSource
+    out = set()
+    for name in values:
+        try:
+            src = ctx.get_parameter_source(name)
+        except Exception:  # noqa: BLE001 - a name the context does not know counts as given
+            src = None
+        if src in (ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP):
+            out.add(name)
+    return out, ctx.info_name
+
+
 def build_model(
     config: Path | None = None,
     *,
@@ -392,6 +417,7 @@ class Inputs:
         self.values = values
         self._pair: Any = None
         self._systems: dict[tuple, Any] = {}
+        self._defaults, self._command = _at_default(values)
 
     def __getattr__(self, name: str) -> Any:
         try:
@@ -424,7 +450,9 @@ class Inputs:
             if key not in self._systems:  # one system (and one read of its file) per set of fixed values
                 from .system_input import load_cli_system
 
-                self._systems[key] = load_cli_system({**v, **dict(key)})
+                # the notes before the run leave a default transient and record to the long-run plan (options())
+                at_default = {"transient_default": self._fixed_default("transient", DEFAULT_TRANSIENT)}
+                self._systems[key] = load_cli_system({**v, **dict(key), **at_default})
             return self._systems[key]
         dests = {o.dest for o in params.cli_options()}
         given = {k: v.get(k) for k in dests}
@@ -482,10 +510,75 @@ class Inputs:
         v = self.values
         n = periods if periods is not None else v.get("periods", 1)
         ws = omegas if omega is None else (*omegas, omega)  # a sweep's array passed as it is, not as a list
-        opts = validate.options(v["dtau"], self.transient(ws), n, v["accurate"], ws)
+        plan = self.long_run(ws, periods)
+        if plan is not None:
+            n = plan.periods if periods is None and "periods" in v else n
+        opts = validate.options(
+            v["dtau"], plan.transient if plan is not None else self.transient(ws), n, v["accurate"], ws
+        )
         validate.recorded(points, opts.periods)
         check_budget(opts, ws, points)
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
+
+    def long_run(self, omegas: Any = (), periods: int | None = None) -> Any:
+        """The counts of a run whose forcing period spans several reference mesh cycles when ``--transient`` or
+        ``--periods`` was not given (:func:`geardyn.analysis.settle.long_run`), said once on stderr before the run;
+        None when both were given, or the forcing period is one mesh cycle (the fixed defaults stand).
+
+        Parameters
+        ----------
+        omegas : sequence of float
+            The run's frequencies (the transient is that of the highest).
+        periods : int, optional
+            Recorded periods set by the command (not ``--periods``).
+
+        Returns
+        -------
+        geardyn.analysis.settle.LongRun or None
+        """
+        v = self.values
+        t_default = self._fixed_default("transient", DEFAULT_TRANSIENT)
+        p_default = periods is None and self._fixed_default("periods", DEFAULT_PERIODS)
+        if not (t_default or p_default) or not isinstance(v.get("dtau"), (int, float)):
+            return None
+        model = self.model()
+        p = model.period_multiple()
+        if not p or int(p) <= 1:
+            return None
+        import numpy as np
+
+        from .. import validate
+        from ..analysis.settle import long_run
+
+        dtau = validate.positive("dtau", v["dtau"])
+        ws = np.atleast_1d(np.asarray(omegas, dtype=float))
+        given_t = None if t_default else self.transient(omegas)
+        given_p = (periods if periods is not None else v.get("periods")) if not p_default else None
+        plan = long_run(
+            model,
+            dtau,
+            transient=given_t,
+            periods=given_p,
+            default_transient=int(str(v.get("transient", DEFAULT_TRANSIENT)).strip()) if t_default else None,
+            default_periods=v.get("periods") if p_default else None,
+            omegas=ws if ws.size else None,
+        )
+        # simulate classifies within the plan's budget; a sweep's points are classified by its --settle
+        note = plan.note(classify=self._command == "simulate", per_point=ws.size > 1) if plan is not None else None
+        if note is not None and self.__dict__.get("_plan_note") != note:  # said once per command
+            from .app import say_error
+
+            self.__dict__["_plan_note"] = note
+            if v.get("system") is None:  # a system's file note says the forcing period already
+                say_error(f"forcing period: {plan.cycles} mesh cycles; {plan.steps:,} RK4 steps each (dtau = {dtau:g})")
+            for line in note.splitlines():
+                say_error(line)
+        return plan
+
+    def _fixed_default(self, name: str, value: int) -> bool:
+        """Whether option ``name`` was not given and its default is the fixed count ``value`` (a command with its
+        own default, as ``rattle``'s transient or ``lyapunov``'s periods, keeps it)."""
+        return name in self._defaults and str(self.values.get(name)).strip() == str(value)
 
     def transient(self, omegas: Any = ()) -> Any:
         """``--transient`` as a number of forcing periods: ``auto`` is the count of

@@ -168,6 +168,8 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
     console.print(t)
     if "pair" in s:
         console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
+    for note in s.get("notes", []):  # a long forcing period's classification budget, its shortened history
+        console.print(f"note: {note}", markup=False, highlight=False)
     files(paths)
 
 

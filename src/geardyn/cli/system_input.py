@@ -112,6 +112,8 @@ def _unsettled_note(s: Any, values: dict[str, Any]) -> None:
     p = s.period_multiple()
     if p is None or values.get("transient") is None or values.get("json_out"):
         return
+    if values.get("transient_default") and p > 1:  # the long-run plan settles by the physics (Inputs.long_run)
+        return
     n = _periods_given({"transient": values["transient"]}, p)
     if n <= 0:
         return
@@ -155,9 +157,11 @@ def _forcing_period_note(s: Any, values: dict[str, Any]) -> None:
 
 def _periods_given(values: dict[str, Any], p: int) -> int:
     """--transient + --periods in forcing periods (``Ncycles`` converted with ``p``); 0 when the transient is
-    ``auto`` or not yet known."""
+    ``auto`` or not yet known (not given, with a forcing period of several cycles: the long-run plan says it)."""
     from ..analysis.settle import transient_cycles
 
+    if values.get("transient_default") and p > 1:
+        return 0
     t = values.get("transient") or 0
     if isinstance(t, str):
         cycles = transient_cycles(t)

@@ -80,7 +80,7 @@ import numpy as np
 from .._config_values import _Kind, _parse_scalar
 from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
-from ..systems.description import Connection, Mesh
+from ..systems.description import MESH_SERIES_KEYS, Connection, Mesh
 from ..systems.rolling import ROLLING_KEYS, read_rolling
 from .gear import Gear, disc_gyroscopic
 from .kinematics import DEFAULT_MAX_PERIOD, forcing_period, round_ratio, solve_speeds
@@ -134,32 +134,12 @@ _GEAR = {
     "reference_radius": "length",
     "base_radius": "length",
 }
-_MESH = {
-    "name": "text",
-    "pinion": "text",
-    "gear": "text",
-    "center_angle": "angle",
-    "stiffness": "stiffness",
-    "torque": "torque",
-    "harmonics": "int",
-    "backlash": "length",
-    "kappa": "number*",
-    "k": "stiffness*",
-    "phi_k": "phase*",
-    "xi0": "number",
-    "xi": "number*",
-    "c0": "damping",
-    "c": "damping*",
-    "phi_c": "phase*",
-    "eps": "number*",
-    "e": "length*",
-    "phi_e": "phase*",
-    "ratio": "number",
-    "base_radius1": "length",
-    "base_radius2": "length",
-    "excitation": "text",
-    "excitation_harmonics": "int",
-}
+_MESH = (
+    {"name": "text", "pinion": "text", "gear": "text", "center_angle": "angle", "stiffness": "stiffness"}
+    | {"torque": "torque", "harmonics": "int"}
+    | MESH_SERIES_KEYS
+    | {"base_radius1": "length", "base_radius2": "length", "excitation": "text", "excitation_harmonics": "int"}
+)
 _TRANS = ("x", "y", "z")
 _TILT = ("rx", "ry")
 _BEARING = (

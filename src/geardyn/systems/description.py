@@ -33,12 +33,29 @@ from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry import Assumption
 
-__all__ = ["DOFS", "Dof", "Body", "Clearance", "Connection", "Load", "Mesh", "SystemDescription"]
+__all__ = ["DOFS", "MESH_SERIES_KEYS", "Dof", "Body", "Clearance", "Connection", "Load", "Mesh", "SystemDescription"]
 
 #: The degrees of freedom a body may have, in their canonical order.
 DOFS = ("x", "y", "z", "theta")
 #: A degree of freedom: (body name, DOF name).
 Dof = tuple[str, str]
+#: The keys of a mesh's backlash and its stiffness, damping and error series in a system or gearbox file, with
+#: the kind of value each takes (the files' one reading of them).
+MESH_SERIES_KEYS = {
+    "backlash": "length",
+    "kappa": "number*",
+    "k": "stiffness*",
+    "phi_k": "phase*",
+    "xi0": "number",
+    "xi": "number*",
+    "c0": "damping",
+    "c": "damping*",
+    "phi_c": "phase*",
+    "eps": "number*",
+    "e": "length*",
+    "phi_e": "phase*",
+    "ratio": "number",
+}
 
 
 def _finite(what: str, value, unit: str = "") -> float:

@@ -88,7 +88,7 @@ from .._config_values import _Key, parse_toml, read_toml
 from ..errors import ConfigError, GeardynError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
 from .assemble import SystemModel, assemble
-from .description import DOFS, Body, Clearance, Connection, Load, Mesh, SystemDescription
+from .description import DOFS, MESH_SERIES_KEYS, Body, Clearance, Connection, Load, Mesh, SystemDescription
 from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
 
 __all__ = ["load_description", "load_system"]
@@ -130,30 +130,11 @@ _CONN_KEYS = {
     "stiffness_matrix": "matrix",
     "damping_matrix": "matrix",
 } | _BEARING_KEYS
-_MESH_COMMON = {
-    "name": "text",
-    "pinion": "text",
-    "gear": "text",
-    "type": "text",
-    "stiffness": "stiffness",
-    "backlash": "length",
-    "kappa": "number*",
-    "k": "stiffness*",
-    "phi_k": "phase*",
-    "xi0": "number",
-    "xi": "number*",
-    "c0": "damping",
-    "c": "damping*",
-    "phi_c": "phase*",
-    "eps": "number*",
-    "e": "length*",
-    "phi_e": "phase*",
-    "ratio": "number",
-    "teeth": "int",
-    "vector": "table",
-    "excitation": "text",
-    "excitation_harmonics": "int",
-}
+_MESH_COMMON = (
+    {"name": "text", "pinion": "text", "gear": "text", "type": "text", "stiffness": "stiffness"}
+    | MESH_SERIES_KEYS
+    | {"teeth": "int", "vector": "table", "excitation": "text", "excitation_harmonics": "int"}
+)
 _MESH_SPUR = {
     "pressure_angle": "angle",
     "helix_angle": "angle",

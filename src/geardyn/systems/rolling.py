@@ -204,22 +204,29 @@ def static_deflection(K: np.ndarray, F: np.ndarray, items, iterations: int = 100
     for V, Z, Kb, n, c, _cage in items:
         d = 2.0 * c + 1e-6 * max(c, 1e-12) if c > 0 else 1e-3
         K0 = K0 + Kb * n * Z / 2.0 * d ** (n - 1.0) * V.T @ V
-    q = np.linalg.lstsq(K0, F, rcond=None)[0]
+    q0 = np.linalg.lstsq(K0, F, rcond=None)[0]
     scale = max(float(np.max(np.abs(F), initial=0.0)), 1e-300)
-    for _ in range(iterations):
-        f, Kt, mats = parts(q)
-        r = K @ q + f - F
-        n0 = float(np.linalg.norm(r))
-        if float(np.max(np.abs(r))) <= 1e-10 * scale:
-            return q, mats
-        dq = np.linalg.lstsq(Kt, -r, rcond=None)[0]
-        lam = 1.0
-        for _ls in range(40):  # backtracking keeps the step inside the region it improves
-            f2, _, _ = parts(q + lam * dq)
-            if np.linalg.norm(K @ (q + lam * dq) + f2 - F) < n0:
-                break
-            lam *= 0.5
-        q = q + lam * dq
+    for _attempt in range(2):  # the second from a start pushed out of the clearances
+        q = q0
+        for _ in range(iterations):
+            f, Kt, mats = parts(q)
+            r = K @ q + f - F
+            n0 = float(np.linalg.norm(r))
+            if float(np.max(np.abs(r))) <= 1e-10 * scale:
+                return q, mats
+            dq = np.linalg.lstsq(Kt, -r, rcond=None)[0]
+            lam = 1.0
+            for _ls in range(40):  # backtracking keeps the step inside the region it improves
+                f2, _, _ = parts(q + lam * dq)
+                if np.linalg.norm(K @ (q + lam * dq) + f2 - F) < n0:
+                    break
+                lam *= 0.5
+            q = q + lam * dq
+        for V, _Z, _Kb, _n, c, _cage in items:  # a start inside a clearance has no stiffness there: out to 2c
+            d = V @ q0
+            rad = float(np.hypot(d[0], d[1]))
+            if 0.0 < rad < 2.0 * c:
+                q0 = q0 + np.linalg.lstsq(V, (2.0 * c / rad - 1.0) * d, rcond=None)[0]
     raise ModelError(
         "bearing: the static deflection under the mean loads did not converge (a rolling bearing without load "
         "has no stiffness); load the bearings or use linear bearings"

@@ -10,6 +10,12 @@ to the contact region (drive contact, gap, back contact) it is in at the step's 
 field is smooth on the step; a step at whose end an element is in another region is shortened to end on
 the boundary (the step length found by an Illinois iteration on the locked step), so RK4 keeps its
 fourth order through the contact switches.  All series are centred complex coefficients in φ.
+
+A rolling bearing (``bq``: the N-DOF kernel's parameter rows, :data:`geardyn._kernel_ndof.core.BQ_Z` …, its cage
+radians per radian of φ in ``BQ_RHO``; ``bx``: its x row, the y row next) is smooth: its two rows carry no series of
+their own (C = K = 0, D = 0: no switch), and its joint force and 2×2 stiffness are the N-DOF kernel's own
+(:func:`~geardyn._kernel_ndof.core.bearing_force`, :func:`~geardyn._kernel_ndof.core.bearing_slopes`), the
+stiffness at each RK4 stage's state (``stages``).
 """
 
 from __future__ import annotations
@@ -20,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from ..._cache_guard import install as _install_cache
+from ..._kernel_ndof.core import BQ_CX, BQ_CY, BQ_RHO, bearing_force, bearing_slopes
 
 __all__ = ["monodromy_kernel"]
 
@@ -57,8 +64,11 @@ def _deflection(x, e, V, vp, vi, Ez, Le, phi):
 
 
 @njit(cache=True)
-def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, out):
-    """The series at φ: out[0, :nd] = G, out[1, :ne] = C, out[2] = K, out[3] = E, out[4] = dE/dφ."""
+def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, out):
+    """The series at φ: out[0, :nd] = G, out[1, :ne] = C, out[2] = K, out[3] = E, out[4] = dE/dφ, out[5, b] the
+    cage angle of bearing b."""
+    for b in range(bq.shape[0]):
+        out[5, b] = bq[b, BQ_RHO] * phi
     for r in range(Gz.shape[0]):
         out[0, r] = _series(Gz[r], Lg[r], phi)
     for e in range(Cz.shape[0]):
@@ -69,7 +79,19 @@ def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, out):
 
 
 @njit(cache=True)
-def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu):
+def _bearing_rows(x, V, vp, vi, e, off):
+    """(δ_x, δ_y) of the bearing whose x row is e, from x[off:] (off = nd: their rates)."""
+    dx = 0.0
+    dy = 0.0
+    for q in range(vp[e], vp[e + 1]):
+        dx += V[e, vi[q]] * x[off + vi[q]]
+    for q in range(vp[e + 1], vp[e + 2]):
+        dy += V[e + 1, vi[q]] * x[off + vi[q]]
+    return dx, dy
+
+
+@njit(cache=True)
+def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
     nd = A.shape[0]
     ne = W.shape[0]
     rp, ri, vp, vi = sp
@@ -93,12 +115,19 @@ def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu):
         force = cf[1, e] * dv + cf[2, e] * f
         for r in range(nd):
             out[nd + r] -= W[e, r] * force
+    for b in range(bq.shape[0]):
+        e = bx[b]
+        dx, dy = _bearing_rows(x, V, vp, vi, e, 0)
+        vx, vy = _bearing_rows(x, V, vp, vi, e, nd)
+        sx, sy = bearing_force(dx, dy, vx, vy, cf[5, b], bq, b)
+        for r in range(nd):
+            out[nd + r] -= W[e, r] * sx + W[e + 1, r] * sy
     for r in range(nd):
         out[nd + r] *= inv_nu
 
 
 @njit(cache=True)
-def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, inv_nu, vy):
+def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, inv_nu, vy, bq, bx, xs):
     """The rows in the order of the dense sums over the nonzeros only (``sp``: the union pattern of A and B and
     the pattern of V, row pointers and columns), so that the sums are those of the dense loops bit for bit."""
     nd = A.shape[0]
@@ -134,66 +163,90 @@ def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, inv_nu, vy):
             if w != 0.0:
                 for j in range(m):
                     out[nd + r, j] -= w * vy[0, j]
+    for b in range(bq.shape[0]):  # the bearing's 2×2 stiffness at the stage's state xs, its dampers cx, cy
+        e = bx[b]
+        dx, dy = _bearing_rows(xs, V, vp, vi, e, 0)
+        kxx, kxy, kyy = bearing_slopes(dx, dy, cf[5, b], bq, b)
+        vy[3:] = 0.0
+        for k in range(2):
+            for q in range(vp[e + k], vp[e + k + 1]):
+                s = vi[q]
+                v = V[e + k, s]
+                for j in range(m):
+                    vy[3 + k, j] += v * Y[s, j]
+                    vy[5 + k, j] += v * Y[nd + s, j]
+        for r in range(nd):
+            wx, wy = W[e, r], W[e + 1, r]
+            if wx != 0.0 or wy != 0.0:
+                for j in range(m):
+                    fx = kxx * vy[3, j] + kxy * vy[4, j] + bq[b, BQ_CX] * vy[5, j]
+                    fy = kxy * vy[3, j] + kyy * vy[4, j] + bq[b, BQ_CY] * vy[6, j]
+                    out[nd + r, j] -= wx * fx + wy * fy
     for r in range(nd):
         for j in range(m):
             out[nd + r, j] *= inv_nu
 
 
 @njit(cache=True)
-def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu):
+def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages):
     """One locked RK4 step of the state from ``x`` into ``out``; c0, c1, c2: the series at the step's start,
-    middle and end."""
+    middle and end; the four stages' states into ``stages`` (for the bearings' stiffness of the tangent step)."""
     n2 = x.shape[0]
-    _state_rhs(x, k1, A, B, W, V, sp, c0, D, reg, inv_nu, nu)
+    stages[0] = x
+    _state_rhs(x, k1, A, B, W, V, sp, c0, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k1[r]
-    _state_rhs(tmp, k2, A, B, W, V, sp, c1, D, reg, inv_nu, nu)
+    stages[1] = tmp
+    _state_rhs(tmp, k2, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k2[r]
-    _state_rhs(tmp, k3, A, B, W, V, sp, c1, D, reg, inv_nu, nu)
+    stages[2] = tmp
+    _state_rhs(tmp, k3, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + h * k3[r]
-    _state_rhs(tmp, k4, A, B, W, V, sp, c2, D, reg, inv_nu, nu)
+    stages[3] = tmp
+    _state_rhs(tmp, k4, A, B, W, V, sp, c2, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         out[r] = x[r] + h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r])
 
 
 @njit(cache=True)
-def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy):
-    """One locked RK4 step of the fundamental matrix, in place (the stiffness does not depend on the state
-    inside a region)."""
+def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
+    """One locked RK4 step of the fundamental matrix, in place (the dead zones' stiffness does not depend on the
+    state inside a region; the bearings' is taken at the ``stages`` of the state's step)."""
     n2, m = Y.shape
-    _tangent_rhs(Y, k1, A, B, W, V, sp, c0, reg, inv_nu, vy)
+    _tangent_rhs(Y, k1, A, B, W, V, sp, c0, reg, inv_nu, vy, bq, bx, stages[0])
     for r in range(n2):
         for j in range(m):
             tmp[r, j] = Y[r, j] + 0.5 * h * k1[r, j]
-    _tangent_rhs(tmp, k2, A, B, W, V, sp, c1, reg, inv_nu, vy)
+    _tangent_rhs(tmp, k2, A, B, W, V, sp, c1, reg, inv_nu, vy, bq, bx, stages[1])
     for r in range(n2):
         for j in range(m):
             tmp[r, j] = Y[r, j] + 0.5 * h * k2[r, j]
-    _tangent_rhs(tmp, k3, A, B, W, V, sp, c1, reg, inv_nu, vy)
+    _tangent_rhs(tmp, k3, A, B, W, V, sp, c1, reg, inv_nu, vy, bq, bx, stages[2])
     for r in range(n2):
         for j in range(m):
             tmp[r, j] = Y[r, j] + h * k3[r, j]
-    _tangent_rhs(tmp, k4, A, B, W, V, sp, c2, reg, inv_nu, vy)
+    _tangent_rhs(tmp, k4, A, B, W, V, sp, c2, reg, inv_nu, vy, bq, bx, stages[3])
     for r in range(n2):
         for j in range(m):
             Y[r, j] += h / 6.0 * (k1[r, j] + 2.0 * k2[r, j] + 2.0 * k3[r, j] + k4[r, j])
 
 
 @njit(cache=True)
-def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol):
+def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol, bq, bx):
     """Advance the state ``x`` (2n) and the columns ``Y`` (2n, m) in place over φ ∈ [0, 2π]; returns
     (steps, switches) taken, or (−1, switches) if the state stopped being finite."""
     n2 = x.shape[0]
     m = Y.shape[1]
     ne = W.shape[0]
     inv_nu = 1.0 / nu
-    sv, kv, cv = np.empty((7, n2)), np.empty((5, n2, m)), np.empty((5, 5, max(A.shape[0], ne)))
+    sv, kv, cv = np.empty((7, n2)), np.empty((5, n2, m)), np.empty((5, 6, max(A.shape[0], ne)))
+    stages = np.empty((4, n2))
     s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
     k1, k2, k3, k4, tmp = kv[0], kv[1], kv[2], kv[3], kv[4]
     c0, c1, c2, t1, t2 = cv[0], cv[1], cv[2], cv[3], cv[4]
-    vy = np.empty((3, m))
+    vy = np.empty((7, m))
     reg = np.empty(ne, dtype=np.int64)
     for e in range(ne):
         reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], Ez, Le, 0.0), D[e])
@@ -205,10 +258,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
         h = min(hmax, end - phi)
         if end - (phi + h) < 1e-12 * end:
             h = end - phi
-        _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c0)
-        _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c1)
-        _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c2)
-        _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu)
+        _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0)
+        _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1)
+        _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2)
+        _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
         for r in range(n2):
             if not math.isfinite(xe[r]):
                 return -1, switches
@@ -237,9 +290,11 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
                 if not (a < c < b):
                     c = 0.5 * (a + b)
-                _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, t1)
-                _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, t2)
-                _state_step(c, x, xt, s1, s2, s3, s4, st, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu)
+                _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1)
+                _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t2)
+                _state_step(
+                    c, x, xt, s1, s2, s3, s4, st, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu, bq, bx, stages
+                )
                 fc = _deflection(xt, e, V, sp[2], sp[3], Ez, Le, phi + c) - level
                 if fc == 0.0 or b - a <= tol * (1.0 + phi):
                     break
@@ -264,10 +319,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 return -1, switches
             continue
         if first >= 0:
-            _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c1)
-            _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, c2)
-            _state_step(hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu)
-        _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy)
+            _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1)
+            _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2)
+            _state_step(hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
+        _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
         for r in range(n2):
             x[r] = xe[r]
         if first >= 0:

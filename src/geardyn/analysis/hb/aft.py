@@ -32,7 +32,7 @@ import numpy as np
 
 from ._aftkernel import dead_zone_kernel, extrema_kernel
 
-__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "dead_zone_terms", "signal_extrema"]
+__all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "dead_zone_terms", "sampled_terms", "signal_extrema"]
 
 #: Samples per retained Fourier coefficient (N >= OVERSAMPLE·(2H + 1)) and the smallest N.
 OVERSAMPLE = 8
@@ -199,6 +199,35 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
         ROOT_TOL,
     )
     return DeadZoneTerms(G, S, phis)
+
+
+def sampled_terms(basis: HarmonicBasis, ds: list, rule, K: float, periods: int) -> tuple[list, dict]:
+    """AFT of a law of several rows evaluated on the time grid (a rolling bearing's, C¹: no switch to locate).
+
+    The rows' deflections are sampled at the N angles φ_j, the law (``rule.force``, ``rule.stiffness``: the System's
+    own, :class:`~geardyn.system.RollingBearingLaw`) evaluated there at the base angle θ_j = periods·φ_j, and the
+    samples of K f_i and K ∂f_i/∂δ_j transformed: G_i (2H + 1 coefficients) and S_ij (4H + 1, ``toeplitz(S_ij, H)``
+    the exact derivative of the sampled G_i in δ_j, since 2H < N/2).
+
+    Parameters
+    ----------
+    basis : HarmonicBasis
+    ds : list of ndarray (2H + 1,)
+        Real coefficients of each row's deflection.
+    rule : Law
+        The law, ``force(δ, θ)`` (N, rows) and ``stiffness(δ, θ)`` (N, rows, rows) at deflections δ (N, rows).
+    K : float
+        Its load–deflection constant.
+    periods : int
+        Base periods per response period.
+    """
+    H, N = basis.H, basis.N
+    X = np.stack([a[0] + basis.cos_table @ a[1 : H + 1] + basis.sin_table @ a[H + 1 :] for a in ds], axis=-1)
+    theta = periods * basis.phi
+    G = np.fft.fft(K * rule.force(X, theta), axis=0)[np.arange(-H, H + 1) % N] / N
+    S = np.fft.fft(K * rule.stiffness(X, theta), axis=0)[np.arange(-2 * H, 2 * H + 1) % N] / N
+    r = len(ds)
+    return [G[:, i] for i in range(r)], {(i, j): S[:, i, j] for i in range(r) for j in range(r)}
 
 
 def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:

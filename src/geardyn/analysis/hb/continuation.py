@@ -284,9 +284,9 @@ class HBContinuation:
     def to_json(self) -> dict[str, Any]:
         """Plain-dict summary: ``branch`` points (the reference element's ``amplitude``, ``u_min``, ``u_max``,
         ``stable``, ``status``, ``multipliers``), ``bifurcations``, ``harmonics``, ``converged``, ``end``, and
-        per element (``meshes``, ``clearances``: ``name`` and per point ``u_min``, ``u_max``, ``amplitude``,
-        ``impact``, a mesh's ``dynamic_factor``), ``labels``, ``reference_mesh``, ``rigid_body_modes``,
-        ``conservative`` and ``notes``."""
+        per element (``meshes``, ``clearances``, a rolling bearing's x and y rows in ``bearings``: ``name`` and per
+        point ``u_min``, ``u_max``, ``amplitude``, ``impact``, a mesh's ``dynamic_factor``), ``labels``,
+        ``reference_mesh``, ``rigid_body_modes``, ``conservative`` and ``notes``."""
         from ..classify import IMPACT_LABELS, impact_state
 
         def num(x: float) -> float | None:
@@ -343,6 +343,7 @@ class HBContinuation:
             "end": self.end,
             "meshes": rows["mesh"],
             "clearances": rows["clearance"],
+            **({"bearings": rows["bearing"]} if "bearing" in rows else {}),
             "labels": list(self.labels),
             "reference_mesh": self.elements[self.reference],
             "rigid_body_modes": self.rigid,
@@ -531,7 +532,7 @@ class _Tracer:
                         out["ns" if k == 0 else f"ns{k + 1}"] = float(v) - 1.0
         if key is None or key.startswith("graze"):
             p = self.p(pt.y)
-            gaps = [el.gap for el in self.s._entry(p).form.elements]
+            gaps = [el.gap if el.rule is None else 0.0 for el in self.s._entry(p).form.elements]  # (a bearing: smooth)
             ref = self.s.reference
             ext = self.s.element_extremes(pt.y[:-1], p) if len(gaps) > 1 else np.array([[pt.u_min, pt.u_max]])
             for e, D in enumerate(gaps):

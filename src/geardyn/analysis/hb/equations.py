@@ -14,11 +14,12 @@ Every element's deflection δ_e is a trigonometric polynomial (E_e with its own 
 Its force K_e f_e(δ_e) is projected by the element's law (:data:`LAW_TERMS`; the dead zone by
 :func:`~geardyn.analysis.hb.aft.dead_zone_terms`' kernel: the contact switches located on a time grid and refined
 by Newton, the interval integrals in closed form — exact for the truncated δ_e, no aliasing, a C¹ residual whose
-Jacobian is the multiplication operator of K_e f_e'(δ_e), the operator Hill's matrix needs).  A law is one
-function returning the projection G and the series S of K_e f_e'(δ_e).  The damping products and linear terms are
-exact convolutions.  The Jacobian is analytic::
+Jacobian is the multiplication operator of K_e f_e'(δ_e), the operator Hill's matrix needs; a rolling bearing's
+two rows by the System's law sampled on the time grid, :func:`~geardyn.analysis.hb.aft.sampled_terms`, with the
+cross blocks of its 2×2 stiffness).  A law is one function returning the projections G and the series S_ij.  The
+damping products and linear terms are exact convolutions.  The Jacobian is analytic::
 
-    J = −ν² I⊗D₂ + A⊗I + ν B⊗D₁ + Σ_e (W_e V_eᵀ) ⊗ Re[ν T(Ĉ_e) diag(ik) + T(Ŝ_e)],
+    J = −ν² I⊗D₂ + A⊗I + ν B⊗D₁ + Σ_e (W_e V_eᵀ) ⊗ Re[ν T(Ĉ_e) diag(ik) + T(Ŝ_e)] + Σ_{i≠j} (W_i V_jᵀ) ⊗ T(Ŝ_ij),
 
 D₁, D₂ the derivative operators in real coefficients, T(·) the Toeplitz (multiplication) matrix.  A form with one
 coordinate and one dead-zone element without linear terms (:attr:`HBForm.scalar <.form.HBForm.scalar>`: the 1-DOF
@@ -50,20 +51,21 @@ from ...grid import param_name
 from ...integrate import start_state
 from ...model import DEFAULT_DTAU, IntegrationOptions
 from ...status import Status
+from ...systems.rolling import static_deflection
 from ._aftkernel import bordered_nu_kernel, real_operator_kernel, residual_kernel
 from .aft import (
     ROOT_MAX_ITER,
     ROOT_TOL,
-    DeadZoneTerms,
     HarmonicBasis,
     dead_zone_terms,
+    sampled_terms,
     signal_extrema,
     time_samples,
     toeplitz,
 )
-from .form import FormElement, HBForm
+from .form import LAWS, FormElement, HBForm
 from .hill import HillResult, system_hill_floquet
-from .monodromy import _check_floquet, monodromy_floquet
+from .monodromy import _check_floquet, bearing_rows, monodromy_floquet
 
 __all__ = ["HBEquations", "default_harmonics", "single_thread_blas", "solve", "DEFAULT_HARMONICS", "NEWTON_TOL"]
 
@@ -167,14 +169,20 @@ def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -
     return x
 
 
-def dead_zone(d: np.ndarray, el: FormElement, basis: HarmonicBasis) -> DeadZoneTerms:
+def dead_zone(ds: list[np.ndarray], els: tuple[FormElement, ...], basis: HarmonicBasis, periods: int) -> tuple:
     """The dead zone's K f(δ; D) projected on ``basis`` and the series S of K f'(δ) (:func:`.aft.dead_zone_terms`)."""
-    return dead_zone_terms(basis, d, el.K, el.gap)
+    G, S, _ = dead_zone_terms(basis, ds[0], els[0].K, els[0].gap)
+    return [G], {(0, 0): S}
 
 
-#: Element law → its projection G of K f(δ) and the series S of K f'(δ), whose Toeplitz matrix is the Jacobian: a
-#: new law is one such function.
-LAW_TERMS = {"dead_zone": dead_zone}
+def sampled(ds: list[np.ndarray], els: tuple[FormElement, ...], basis: HarmonicBasis, periods: int) -> tuple:
+    """A law sampled on the time grid (its ``rule``, :func:`.aft.sampled_terms`), acting on its rows jointly."""
+    return sampled_terms(basis, ds, els[0].rule, float(els[0].K[0].real), periods)
+
+
+#: Element law → the projections G_i of its rows' forces K f_i(δ) and the series S_ij of K ∂f_i/∂δ_j (local row
+#: indices), whose Toeplitz matrices are the Jacobian's blocks: a new law is one such function (its rows: ``LAWS``).
+LAW_TERMS = {"dead_zone": dead_zone, "rolling_bearing": sampled}
 
 
 def default_harmonics(model: Any, period: int = 1) -> int:
@@ -344,6 +352,7 @@ class HBEquations:
         c, (di, dj), (ei, ej) = np.arange(M), self._d1, np.divmod(np.arange(M * M), M)
         parts = [_kron_index(np.eye(f.dofs), c, c, M), _kron_index(f.A, c, c, M), _kron_index(f.B, di, dj, M)]
         parts += [_kron_index(np.outer(el.W, el.V), ei, ej, M) for el in f.elements]
+        parts += [_kron_index(np.outer(f.elements[i].W, f.elements[j].V), ei, ej, M) for i, j in _cross(f)]
         (gi, gk), (hi, hk) = np.nonzero(self.left), np.nonzero(self.gauge)
         rows, cols = (np.concatenate(x) for x in zip(*parts, (gi, N0 + gk), (N0 + hk, hi)))
         n, full = self.basis.size, np.arange(self.basis.size + 1)
@@ -416,36 +425,46 @@ class HBEquations:
         R2 = -self._k2 * Q - pt.G2
         R1 = pt.form.B @ (Q @ self.D1.T)  # the φ-derivative of every row
         R0 = pt.form.A @ Q - pt.G0
-        Ss = []
-        for el, E in zip(pt.form.elements, pt.E):
-            d = np.zeros(2 * Hd + 1)
-            d[self._pad] = el.V @ Q
-            d -= E
-            G, S, _ = LAW_TERMS[el.law](d, el, self.dbasis)
-            Lc = (len(el.C) - 1) // 2
-            damp = np.convolve(el.C, self._ikd * self.dbasis.to_complex(d))[Lc + Hd - H : Lc + Hd + H + 1]
-            R1 += np.outer(el.W, self.hbasis.to_real(damp))
-            R0 += np.outer(el.W, self.hbasis.to_real(G[Hd - H : Hd + H + 1]))
-            Ss.append(S)
+        Ss = {}
+        els = pt.form.elements
+        for e0, r in _units(pt.form):
+            ds = []
+            for el, E in zip(els[e0 : e0 + r], pt.E[e0 : e0 + r]):
+                d = np.zeros(2 * Hd + 1)
+                d[self._pad] = el.V @ Q
+                ds.append(d - E)
+            Gs, S = LAW_TERMS[els[e0].law](ds, els[e0 : e0 + r], self.dbasis, self.periods)
+            for el, d, G in zip(els[e0 : e0 + r], ds, Gs):
+                Lc = (len(el.C) - 1) // 2
+                damp = np.convolve(el.C, self._ikd * self.dbasis.to_complex(d))[Lc + Hd - H : Lc + Hd + H + 1]
+                R1 += np.outer(el.W, self.hbasis.to_real(damp))
+                R0 += np.outer(el.W, self.hbasis.to_real(G[Hd - H : Hd + H + 1]))
+            Ss.update({(e0 + i, e0 + j): v for (i, j), v in S.items()})
         J = self._jacobian(pt, nu, Ss) if jacobian else None
         return (R2, R1, R0), nu, J, Ss, pt
 
-    def _jacobian(self, pt: _Point, nu: float, Ss: list[np.ndarray]) -> np.ndarray | SparseJacobian:
+    def _jacobian(self, pt: _Point, nu: float, Ss: dict) -> np.ndarray | SparseJacobian:
+        """Its blocks: every element's own (damping and S_ee), then the cross blocks S_ij of a law on several rows."""
         H, M, nd = self.H, self.M, self.basis.dofs
         f = pt.form
         ops = [
-            real_operator_kernel(nu * toeplitz(el.C, H) * self._ik[None, :] + toeplitz(S, H), H)
-            for el, S in zip(f.elements, Ss)
+            real_operator_kernel(nu * toeplitz(el.C, H) * self._ik[None, :] + toeplitz(Ss[e, e], H), H)
+            for e, el in enumerate(f.elements)
         ]
+        pairs = _cross(f)
+        mats = [np.outer(el.W, el.V) for el in f.elements] + [
+            np.outer(f.elements[i].W, f.elements[j].V) for i, j in pairs
+        ]
+        ops += [real_operator_kernel(toeplitz(Ss[i, j], H), H) for i, j in pairs]
         if pt.pattern is not None:
             v = [_kron_values(np.eye(nd), -(nu**2) * self._k2), _kron_values(f.A, np.ones(M))]
             v += [_kron_values(nu * f.B, self.D1[self._d1])]
-            v += [_kron_values(np.outer(el.W, el.V), op.ravel()) for el, op in zip(f.elements, ops)]
+            v += [_kron_values(m, op.ravel()) for m, op in zip(mats, ops)]
             v += [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)]]
             return SparseJacobian(pt.pattern, np.concatenate(v))
         J = np.kron(np.eye(nd), np.diag(-(nu**2) * self._k2)) + np.kron(f.A, np.eye(M)) + nu * np.kron(f.B, self.D1)
-        for el, op in zip(f.elements, ops):
-            J += np.kron(np.outer(el.W, el.V), op)
+        for m, op in zip(mats, ops):
+            J += np.kron(m, op)
         return J
 
     def residual(self, x: np.ndarray, p: float | None = None, jacobian: bool = True):
@@ -558,7 +577,11 @@ class HBEquations:
                 Cop += np.kron(np.outer(el.W, el.V), real_operator_kernel(toeplitz(el.C, self.H), self.H))
             K1 = 2.0 * nu * np.kron(np.eye(nd), self.D1) + Cop
             return system_hill_floquet(J, K1, self.elastic, nu, self.H, -f.mean_trace())
-        return monodromy_floquet(f, nu, self.state(x, p), self.elastic)
+        stiff = None
+        if any(el.rule is not None for el in f.elements):  # a bound of a sampled law's stiffness: its trace's
+            Ss = self._core(x, p, False)[3]
+            stiff = {e: float(np.abs(Ss[e, e]).sum() + np.abs(Ss[e + 1, e + 1]).sum()) for e in bearing_rows(f)[1]}
+        return monodromy_floquet(f, nu, self.state(x, p), self.elastic, stiff)
 
     # ------------------------------------------------------------------ measures
     def extremes(self, x: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:
@@ -612,7 +635,8 @@ class HBEquations:
     def linear_guess(self, p: float | None = None) -> np.ndarray:
         """Coefficients (dofs, 2H + 1) of the linearised, permanently meshing response (meshes in drive contact
         at their mean stiffness and damping, clearances closed only without gap): K̄ a_0 = F̃ + Σ k_m D_m V_m and
-        (K̄ − (νk)²M̃ + iνk C̄) ĉ_k = M̃ Ĝ_k + Σ_m V_m (k_m + iνk c_m) Ê_m,k."""
+        (K̄ − (νk)²M̃ + iνk C̄) ĉ_k = M̃ Ĝ_k + Σ_m V_m (k_m + iνk c_m) Ê_m,k; a rolling bearing at its static
+        deflection (:func:`geardyn.systems.rolling.static_deflection`, a_0) and its tangent stiffness there (in K̄)."""
         pt = self._entry(p)
         f = pt.form
         Mt = np.linalg.inv(f.Mi)
@@ -620,17 +644,26 @@ class HBEquations:
         G = f.G0 + self.nu(p) ** 2 * f.G2
         L = (G.shape[1] - 1) // 2
         rhs0 = (Mt @ G[:, L]).real
-        meshes = []
-        for el in f.elements:
+        meshes, items = [], []
+        for e, el in enumerate(f.elements):
             k0, c0 = el.K[(len(el.K) - 1) // 2].real, el.C[(len(el.C) - 1) // 2].real
-            if el.kind == "mesh" or el.gap <= 0:
+            if el.rule is not None:  # a rolling bearing: its dampers, and its stiffness at the static deflection
+                Ct = Ct + c0 * np.outer(el.V, el.V)
+                if el.name.endswith(".x"):
+                    Z, n, cl, _, phase = el.rule.params()
+                    items.append((np.array([el.V, f.elements[e + 1].V]), int(Z), k0, n, cl, phase))
+            elif el.kind == "mesh" or el.gap <= 0:
                 Kt, Ct = Kt + k0 * np.outer(el.V, el.V), Ct + c0 * np.outer(el.V, el.V)
                 rhs0 = rhs0 + k0 * el.gap * el.V
             if el.kind == "mesh":
                 meshes.append((el, k0, c0, _centred(el.E, self.Hd)))
         H, nu, nd = self.H, self.nu(p), f.dofs
         c = np.zeros((nd, 2 * H + 1), dtype=complex)
-        c[:, H] = np.linalg.lstsq(Kt, rhs0, rcond=1e-12)[0]
+        if items:
+            q0, mats = static_deflection(Kt, rhs0, items)
+            c[:, H], Kt = q0, Kt + sum(mats)
+        else:
+            c[:, H] = np.linalg.lstsq(Kt, rhs0, rcond=1e-12)[0]
         for k in range(1, H + 1):
             rhs = Mt @ G[:, L + k] if k <= L else np.zeros(nd, dtype=complex)
             for el, k0, c0, E in meshes:
@@ -658,6 +691,20 @@ class HBEquations:
         a[:, 1 : k + 1] = 2.0 * X[1 : k + 1].real.T
         a[:, H + 1 : H + 1 + k] = -2.0 * X[1 : k + 1].imag.T
         return self.project(a)
+
+
+def _units(f: HBForm) -> Iterator[tuple[int, int]]:
+    """(first row, rows) of every law of the form: a dead zone one row, a rolling bearing its x and y rows."""
+    e = 0
+    while e < len(f.elements):
+        r = LAWS[f.elements[e].law]
+        yield e, r
+        e += r
+
+
+def _cross(f: HBForm) -> list[tuple[int, int]]:
+    """The element pairs (i, j), i ≠ j, of the Jacobian's cross blocks: the rows of one law on several rows."""
+    return [(e + i, e + j) for e, r in _units(f) for i in range(r) for j in range(r) if i != j]
 
 
 def _kron_index(m: np.ndarray, bi: np.ndarray, bj: np.ndarray, M: int) -> tuple[np.ndarray, np.ndarray]:

@@ -12,7 +12,8 @@ already multiplied by M̃⁻¹.  The 1-DOF pair is the form with one coordinate 
 A = B = 0, E = 0 and G = f_p + ω² Σ l² ε_l cos(lθ + φ_el) (the STE as an inertial load, hence ν²) plus its torque
 orders (constant amplitudes); a mesh-vector
 system (:mod:`geardyn.systems`) has G0 = M̃⁻¹(F̃ + Σ_o F̃_o cos(r_o θ + φ_o)) (its loads and their torque orders,
-harmonic r_o·periods of φ), G2 = 0 and its STE in E_e.
+harmonic r_o·periods of φ), G2 = 0 and its STE in E_e; a rolling bearing is two rows (its x and y, C = its dampers,
+K = K̃, E = 0) whose forces are one law of (δ_x, δ_y) and of the base angle θ = periods·φ (``rule``).
 
 :func:`pair_form` and :func:`system_form` build the form; ``GearModel.hb_form`` and ``SystemModel.hb_form`` call
 them, and :mod:`.equations` is written against :class:`HBForm` only.
@@ -31,8 +32,9 @@ from ...system import require_periodic
 
 __all__ = ["FormElement", "HBForm", "LAWS", "pair_form", "system_form"]
 
-#: Element laws harmonic balance can evaluate (each one function and its Jacobian in :mod:`.equations`).
-LAWS = ("dead_zone",)
+#: Element laws harmonic balance can evaluate (each one function and its Jacobian in :mod:`.equations`) and the
+#: element rows each acts on jointly (a rolling bearing: its x then its y row).
+LAWS = {"dead_zone": 1, "rolling_bearing": 2}
 #: A harmonic j r_e n p of a mesh series counts as an integer within this (relative) tolerance.
 HARMONIC_RTOL = 1e-9
 
@@ -55,6 +57,9 @@ class FormElement:
         The static force of a mesh (units of the form; NaN for an element without one), for dynamic factors.
     law : str
         One of :data:`LAWS`.
+    rule : Law, optional
+        The System's law of a law that is sampled on the time grid (a rolling bearing's
+        :class:`~geardyn.system.RollingBearingLaw`, its forces at the base angle θ = periods·φ, times K).
     """
 
     name: str
@@ -67,6 +72,7 @@ class FormElement:
     gap: float
     static_force: float = math.nan
     law: str = "dead_zone"
+    rule: Any = None
 
 
 @dataclass(frozen=True)
@@ -246,11 +252,6 @@ def system_form(model: Any, period: int = 1) -> HBForm:
     from ...systems.elements import rigid_modes
     from ...systems.report import static_mesh_forces
 
-    if getattr(model, "bearings", ()):
-        raise ModelError(
-            f"harmonic balance: the rolling bearing {model.bearings[0].name!r} (a rolling-element law) is not in its "
-            "form yet; use simulate, orbit or continuation (time domain) for a system with rolling bearings"
-        )
     periods = int(period) * require_periodic(model, "harmonic balance")
     Mi = np.asarray(model.Mi, dtype=float)
     fs = static_mesh_forces(model)
@@ -267,6 +268,14 @@ def system_form(model: Any, period: int = 1) -> HBForm:
         els.append(
             FormElement(nm, "clearance", V, Mi @ V, C, K, np.zeros(1, complex), float(model.Dc[i]), law=law.get(nm, ""))
         )
+    rows = {e.name: e for e in model.elements}
+    for b, br in enumerate(model.bearings):  # its x and y rows, s = c δ' + K̃ f(δ_x, δ_y; θ) jointly
+        for k, (nm, c) in enumerate(((f"{br.name}.x", br.cx), (f"{br.name}.y", br.cy))):
+            V = np.asarray(model.Vb[2 * b + k], dtype=float)
+            C, K, z = np.array([c], dtype=complex), np.array([br.K], dtype=complex), np.zeros(1, complex)
+            els.append(
+                FormElement(nm, "bearing", V, Mi @ V, C, K, z, br.clearance, law=_law(rows[nm]), rule=rows[nm].law)
+            )
     for e in els:
         if e.law not in LAWS:
             raise ModelError(f"{e.name}: harmonic balance has no element law {e.law!r} (it knows {', '.join(LAWS)})")

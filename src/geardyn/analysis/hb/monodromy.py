@@ -78,7 +78,22 @@ def _rows(nz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate([[0], np.cumsum(nz.sum(axis=1))]).astype(np.int64), np.nonzero(nz)[1].astype(np.int64)
 
 
-def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None = None) -> HillResult:
+def bearing_rows(form: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The rolling bearings of a form as the N-DOF kernel's parameter rows (:data:`geardyn._kernel_ndof.core.BQ_Z`
+    …; the cage's radians per radian of φ in ``BQ_RHO``) and the index of each one's x row."""
+    els = form.elements
+    bx = [e for e, el in enumerate(els) if el.law == "rolling_bearing" and el.name.endswith(".x")]
+    rows = []
+    for e in bx:
+        Z, n, c, ratio, phase = els[e].rule.params()
+        rho = ratio / Z * form.periods
+        rows.append([Z, els[e].K[0].real, n, c, els[e].C[0].real, els[e + 1].C[0].real, rho, phase])
+    return np.reshape(np.array(rows, dtype=float), (len(bx), 8)), np.array(bx, dtype=np.int64)
+
+
+def monodromy_floquet(
+    form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None = None, stiff: dict | None = None
+) -> HillResult:
     """Floquet exponents and multipliers from the monodromy matrix of one period started on the HB solution.
 
     Parameters
@@ -91,6 +106,9 @@ def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None
         The solution's state (q, q') at φ = 0 (τ-derivatives).
     P : ndarray (n, n − r), optional
         Orthonormal basis of the complement of the rigid-body modes (default: none, the identity).
+    stiff : dict, optional
+        A bound of the stiffness of each rolling bearing's x row over the period (for the step; its rows' own
+        series are the kernel's bearing law, :func:`bearing_rows`).
 
     Returns
     -------
@@ -102,7 +120,11 @@ def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None
     A, B = form.A, form.B
     W = np.array([e.W for e in els], dtype=float)
     V = np.array([e.V for e in els], dtype=float)
+    bq, bx = bearing_rows(form)
     C, K, E, D = [e.C for e in els], [e.K for e in els], [e.E for e in els], [e.gap for e in els]
+    for e in bx:  # its rows are the kernel's law: no series of their own, no switch
+        C[e] = C[e + 1] = K[e] = K[e + 1] = np.zeros(1, complex)
+        D[e] = D[e + 1] = 0.0
     G = [g0 + nu * nu * g2 for g0, g2 in zip(form.G0, form.G2)]
     A = np.ascontiguousarray(A, dtype=float)
     B = np.ascontiguousarray(B, dtype=float)
@@ -124,8 +146,12 @@ def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None
     x_start = np.array(x0, dtype=float)
     if not (math.isfinite(nu) and nu > 0 and all(np.all(np.isfinite(z)) for z in (Cz, Kz, Ez, Gz, x_start))):
         return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
-    kmax = A + (np.abs(Kz).sum(axis=1)[:, None] * W).T @ V  # the largest stiffness and damping (bounds)
-    cmax = B + (np.abs(Cz).sum(axis=1)[:, None] * W).T @ V
+    kb, cb = np.abs(Kz).sum(axis=1), np.abs(Cz).sum(axis=1)
+    for i, e in enumerate(bx):
+        kb[e] = kb[e + 1] = (stiff or {}).get(e, 0.0)
+        cb[e], cb[e + 1] = bq[i, 4:6]
+    kmax = A + (kb[:, None] * W).T @ V  # the largest stiffness and damping (bounds)
+    cmax = B + (cb[:, None] * W).T @ V
     krad = abs(float(kmax[0, 0])) if n == 1 else float(np.max(np.abs(np.linalg.eigvals(kmax))))
     rate = math.sqrt(krad) + float(np.sqrt(np.sum(cmax * cmax)))
     hmax = STEP_ANGLE * nu / max(rate, 1e-12)  # in φ
@@ -140,7 +166,7 @@ def monodromy_floquet(form: Any, nu: float, x0: np.ndarray, P: np.ndarray | None
         integrated."""
         xe, Y = start.copy(), Q.copy()
         steps, _switches = monodromy_kernel(
-            xe, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, Dv, h, float(nu), SWITCH_TOL
+            xe, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, Dv, h, float(nu), SWITCH_TOL, bq, bx
         )
         Phi = Q.T @ Y
         return None if steps < 0 or not (np.all(np.isfinite(Phi)) and np.all(np.isfinite(xe))) else (xe, Phi)
