@@ -218,6 +218,27 @@ def _group_sums(context, builder, tys, vals, d0, v0):
     return builder.load(dacc), builder.load(vacc)
 
 
+def _group_forces(context, builder, tys, vals):
+    """(first lane's index, δ, D, s) of an element group: the force of :func:`forces_group`."""
+    tEI, tEV, tq, tv, tTB, _tr, tD, _tom, tg = tys
+    EIv, EVv, qv, vv, TBv, rv, Dv, om, gv = vals
+    g0 = builder.mul(gv, ir.Constant(gv.type, LANE_BLOCK))
+    z = ir.Constant(_vty(), [0.0] * LANE_BLOCK)
+    d, dv = _group_sums(context, builder, (tEI, tEV, tq, tv, tg), (EIv, EVv, qv, vv, gv), z, z)
+
+    def tb(c):
+        return _vload(context, builder, tTB, TBv, [rv, ir.Constant(rv.type, c), g0])
+
+    d = builder.fsub(d, tb(2))
+    dv = builder.fsub(dv, builder.fmul(_splat(builder, om), tb(3)))
+    D = _vload(context, builder, tD, Dv, [g0])
+    nD = builder.fneg(D)
+    c1 = builder.select(builder.fcmp_ordered(">", nD, d), nD, d)  # max(δ, −D) as numba's max
+    c2 = builder.select(builder.fcmp_ordered("<", D, c1), D, c1)  # min(…, D) as numba's min
+    f = builder.fadd(builder.fmul(tb(0), dv), builder.fmul(tb(1), builder.fsub(d, c2)))
+    return g0, d, D, f, tb
+
+
 @intrinsic
 def forces_group(typingctx, EI, EV, q, v, TB, r, Dp, omega, s, g):
     """The forces s[G·L … G·L + L−1] of element group G = ``g`` at (q̃, q̃') = (q, v): lane l sums
@@ -226,23 +247,32 @@ def forces_group(typingctx, EI, EV, q, v, TB, r, Dp, omega, s, g):
     sig = types.void(EI, EV, q, v, TB, r, Dp, omega, s, g)
 
     def codegen(context, builder, signature, args):
-        tEI, tEV, tq, tv, tTB, _tr, tD, _tom, ts, tg = signature.args
-        EIv, EVv, qv, vv, TBv, rv, Dv, om, sv, gv = args
-        g0 = builder.mul(gv, ir.Constant(gv.type, LANE_BLOCK))
-        z = ir.Constant(_vty(), [0.0] * LANE_BLOCK)
-        d, dv = _group_sums(context, builder, (tEI, tEV, tq, tv, tg), (EIv, EVv, qv, vv, gv), z, z)
+        t = signature.args
+        g0, _d, _D, f, _tb = _group_forces(context, builder, t[:8] + t[9:], args[:8] + args[9:])
+        _vstore(context, builder, t[8], args[8], [g0], f)
+        return context.get_dummy_value()
 
-        def tb(c):
-            return _vload(context, builder, tTB, TBv, [rv, ir.Constant(rv.type, c), g0])
+    return sig, codegen
 
-        d = builder.fsub(d, tb(2))
-        dv = builder.fsub(dv, builder.fmul(_splat(builder, om), tb(3)))
-        D = _vload(context, builder, tD, Dv, [g0])
-        nD = builder.fneg(D)
-        c1 = builder.select(builder.fcmp_ordered(">", nD, d), nD, d)  # max(δ, −D) as numba's max
-        c2 = builder.select(builder.fcmp_ordered("<", D, c1), D, c1)  # min(…, D) as numba's min
-        f = builder.fadd(builder.fmul(tb(0), dv), builder.fmul(tb(1), builder.fsub(d, c2)))
-        _vstore(context, builder, ts, sv, [g0], f)
+
+@intrinsic
+def forces_slopes_group(typingctx, EI, EV, q, v, TB, r, Dp, omega, s, gk, gc, g):
+    """:func:`forces_group` and the slopes of :func:`geardyn._kernel_ndof.core.forces_slopes_tab`:
+    gk = K · (1 if D = 0 or |δ| > D else 0), gc = C, into gk[G·L …], gc[G·L …]."""
+    sig = types.void(EI, EV, q, v, TB, r, Dp, omega, s, gk, gc, g)
+
+    def codegen(context, builder, signature, args):
+        t = signature.args
+        g0, d, D, f, tb = _group_forces(context, builder, t[:8] + t[11:], args[:8] + args[11:])
+        _vstore(context, builder, t[8], args[8], [g0], f)
+        zero = ir.Constant(_vty(), [0.0] * LANE_BLOCK)
+        contact = builder.or_(
+            builder.fcmp_ordered("==", D, zero),
+            builder.or_(builder.fcmp_ordered(">", d, D), builder.fcmp_ordered(">", builder.fneg(d), D)),
+        )  # D == 0 or |δ| > D
+        sl = builder.select(contact, ir.Constant(_vty(), [1.0] * LANE_BLOCK), zero)
+        _vstore(context, builder, t[9], args[9], [g0], builder.fmul(tb(1), sl))
+        _vstore(context, builder, t[10], args[10], [g0], tb(0))
         return context.get_dummy_value()
 
     return sig, codegen

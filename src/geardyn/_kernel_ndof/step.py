@@ -30,16 +30,16 @@ from numba import njit
 
 from .core import (
     _bearing_forces,
+    _bearing_slots,
     coef_at,
     element_values,
     field,
-    forces_slopes_tab,
     jac_values,
     slopes,
     tan_field,
     tan_free,
 )
-from .simd import LANE_BLOCK, final_block, forces_group, stage_block, values_group
+from .simd import LANE_BLOCK, final_block, forces_group, forces_slopes_group, stage_block, values_group
 
 #: Largest number of sub-steps one step is split into (accurate mode).
 MAX_SPLITS = 64
@@ -504,6 +504,23 @@ def forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear):
 
 
 @njit(nogil=True, inline="always")
+def forces_slopes_vec(q, v, tab, r, ef, sw, sp, el, omega, s, gk, gc, bear):
+    """:func:`.core.forces_slopes_tab` (the same numbers) with the meshes and clearances L at a time
+    (:func:`.simd.forces_slopes_group`, their slopes through ``sw = (gkv, gcv)``, (groups·L,) each); then the
+    rolling bearings' forces and slopes unless ``bear`` is None."""
+    EI, EV, TB, Dp = ef
+    gkv, gcv = sw
+    for G in range(EI.shape[0]):
+        forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, gkv, gcv, G)
+    for e in range(el[0] + el[4].shape[0]):
+        gk[e] = gkv[e]
+        gc[e] = gcv[e]
+    if bear is not None:
+        _bearing_forces(sp, el, tab[r], q, v, s)
+        _bearing_slots(sp, el, tab[r], q, 0, gk, gc)
+
+
+@njit(nogil=True, inline="always")
 def _stages(R, blk, s, q, v, q0, v0, c, k, qn, vn):
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):
@@ -602,26 +619,27 @@ def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
 
 
 @njit(nogil=True)
-def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear):
+def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear, ef, sw):
     """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
-    the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state."""
+    the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state; the
+    element forces and slopes by groups (:func:`forces_slopes_vec`)."""
     hh = 0.5 * h
     h6 = h / 6.0
     q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    forces_slopes_tab(q, v, tab, 2 * j, sp, el, omega, s, gk, gc, bear)
+    forces_slopes_vec(q, v, tab, 2 * j, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
     _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    forces_slopes_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s, gk, gc, bear)
+    forces_slopes_vec(q2, v2, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
     _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    forces_slopes_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s, gk, gc, bear)
+    forces_slopes_vec(q3, v3, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
     _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    forces_slopes_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, gk, gc, bear)
+    forces_slopes_vec(q4, v4, tab, 2 * j + 2, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
     _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
     for i in range(Y.shape[0]):

@@ -92,12 +92,12 @@ def _period_sparse(R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hi
 
 
 @njit(nogil=True)
-def _period_tan(R, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bear):
+def _period_tan(R, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bear, ef, sw):
     """:func:`_period_sparse` with a few tangent columns Y."""
     q = R[0]
     v = R[1]
     for j in range(N):
-        rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear)
+        rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear, ef, sw)
         if rec:
             element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
             accumulate(st, ev, gaps)
@@ -225,6 +225,8 @@ def ndof_worker(
     Dp = aligned_zeros(1, max(EP, 1))[0]
     sf = aligned_zeros(1, max(E, EP, 1))[0]
     evs = aligned_zeros(2, max(EP, 1))  # the statistics' samples of the element groups
+    gks = aligned_zeros(2, max(EP, 1))  # their slopes (the tangent step)
+    sw = (gks[0], gks[1])
     nd = n if dense else 0
     ATd = aligned_zeros(max(nd, 1), NP)
     BTd = aligned_zeros(max(nd, 1), NP)
@@ -368,11 +370,57 @@ def ndof_worker(
                     # bearings: the step compiled with their code; without, given None, compiled without it (.core)
                     if tan_on and NB > 0:
                         _period_tan(
-                            R, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bq
+                            R,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            blk,
+                            sp,
+                            el,
+                            om,
+                            Y,
+                            wt,
+                            gk,
+                            gc,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            ld,
+                            bq,
+                            ef,
+                            sw,
                         )
                     elif tan_on:
                         _period_tan(
-                            R, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, None
+                            R,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            blk,
+                            sp,
+                            el,
+                            om,
+                            Y,
+                            wt,
+                            gk,
+                            gc,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            ld,
+                            None,
+                            ef,
+                            sw,
                         )
                     elif NB > 0:
                         _period_sparse(
