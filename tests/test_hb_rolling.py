@@ -195,3 +195,26 @@ def test_the_whole_state_is_on_the_kernels_orbit_with_its_multipliers():
     rigid = np.abs(mu - 1.0) < 1e-9
     assert rigid.sum() == 2
     assert _nearest(sol.multipliers, mu[~rigid]) < 1e-5 and _nearest(mu[~rigid], sol.multipliers) < 1e-5
+
+
+def test_the_default_harmonics_reach_the_mesh_frequency_of_a_long_forcing_period():
+    """The ball pass makes the forcing period 20 mesh cycles (T in ``_orbit``): the mesh is harmonic 20 of
+    ω/20, so the default takes 16 mesh harmonics, 20·16 = 320 (16, the pair's default, would leave the mesh out
+    of the balance); the shipped gearbox's 1472 cycles would need 23 552 and are refused in one line."""
+    import pytest
+
+    from geardyn.analysis.hb.equations import default_harmonics
+    from geardyn.errors import ModelError
+
+    assert default_harmonics(load_system(FILE)) == 20 * 16
+    with pytest.raises(ModelError, match="spans 1472 mesh cycles"):
+        default_harmonics(load_system("examples/gearbox/two_stage_helical.toml"))
+
+
+def test_harmonics_below_the_mesh_frequency_are_said(tmp_path):
+    import subprocess
+    import sys
+
+    args = ["hb", "--system", FILE, "--param", "omega", "--start", "0.5", "--stop", "0.5005", "--harmonics", "12"]
+    run = subprocess.run([sys.executable, "-m", "geardyn.cli", *args, "--json"], capture_output=True, text=True)
+    assert "warning: --harmonics 12 stops below the mesh frequency (harmonic 20 of ω/20" in run.stderr

@@ -91,8 +91,9 @@ def hb(
         typer.Option(
             "--harmonics",
             help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an "
-            "--excitation of P mesh cycles (harmonics of ω/(P n)) the larger of 16·P and n times the "
-            "excitation's harmonics, at most 1024.",
+            "forcing period of P mesh cycles (harmonics of ω/(P n): an --excitation of several cycles, torque orders, "
+            "a system's mesh ratios or rolling bearings) the larger of 16·P and n times the excitation's harmonics, "
+            "at most 1024; below P·n the mesh frequency is not resolved (a warning says so).",
         ),
     ] = None,
     period: Annotated[
@@ -150,11 +151,17 @@ def hb(
     n = validate.integer("period", period, 1, MAX_PERIOD)
     mp = validate.integer("max-points", max_points, 2, MAX_POINTS_LIMIT)
     model = inp.model()
-    multi = model.hb_form(n).cycles > 1  # an excitation of several mesh cycles: harmonics of ω/(P n)
+    P = model.hb_form(n).periods // n  # a forcing period of P mesh cycles: harmonics of ω/(P n)
     if harmonics is None:
-        H = default_harmonics(model, n) if multi else DEFAULT_HARMONICS
+        H = default_harmonics(model, n) if P > 1 else DEFAULT_HARMONICS
     else:
-        H = validate.integer("harmonics", harmonics, 1, MAX_DEFAULT_HARMONICS if multi else MAX_HARMONICS)
+        H = validate.integer("harmonics", harmonics, 1, MAX_DEFAULT_HARMONICS if P > 1 else MAX_HARMONICS)
+        if H < P * n:
+            say_error(
+                f"warning: --harmonics {H} stops below the mesh frequency (harmonic {P * n} of ω/{P * n}: the forcing "
+                f"period spans {P} mesh cycles), so the mesh stiffness's variation is not in the balance; the default "
+                f"takes {P}·{DEFAULT_HARMONICS}"
+            )
     dsm = None if ds_max is None else validate.positive("ds-max", ds_max)
     scales = inp.scales()
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")

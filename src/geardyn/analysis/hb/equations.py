@@ -186,8 +186,9 @@ LAW_TERMS = {"dead_zone": dead_zone, "rolling_bearing": sampled}
 
 
 def default_harmonics(model: Any, period: int = 1) -> int:
-    """H when none is given: :data:`DEFAULT_HARMONICS`, or for an excitation of P > 1 mesh cycles (harmonics of
-    ω/(P n)) the larger of P·:data:`DEFAULT_HARMONICS` and n times the excitation's harmonics.
+    """H when none is given: :data:`DEFAULT_HARMONICS`, or for a forcing period of P > 1 mesh cycles (harmonics of
+    ω/(P n): a pair's excitation of several cycles or torque orders; a system's mesh ratios, orders or rolling
+    bearings) the larger of P·:data:`DEFAULT_HARMONICS` and n times the excitation's harmonics.
 
     Parameters
     ----------
@@ -201,7 +202,8 @@ def default_harmonics(model: Any, period: int = 1) -> int:
         When that is more than :data:`MAX_DEFAULT_HARMONICS` (give the harmonics explicitly).
     """
     f = model.hb_form(int(period))
-    P, n = f.cycles, int(period)
+    n = int(period)
+    P = f.periods // n  # mesh cycles per forcing period: the (reference) mesh frequency is harmonic P·j of ω/(P n)
     if P == 1:
         return DEFAULT_HARMONICS
     mh = f.span // n - 2
