@@ -156,7 +156,7 @@ def hb(
         H = default_harmonics(model, n) if P > 1 else DEFAULT_HARMONICS
     else:
         H = validate.integer("harmonics", harmonics, 1, MAX_DEFAULT_HARMONICS if P > 1 else MAX_HARMONICS)
-        if H < P * n:
+        if 1 < P and H < P * n:
             say_error(
                 f"warning: --harmonics {H} stops below the mesh frequency (harmonic {P * n} of ω/{P * n}: the forcing "
                 f"period spans {P} mesh cycles), so the mesh stiffness's variation is not in the balance; the default "
