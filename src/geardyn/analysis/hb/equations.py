@@ -135,14 +135,20 @@ class SparseJacobian:
     def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
         return self.tocsc().toarray()
 
-    def solve(self, b: np.ndarray) -> np.ndarray:
+    def solve(self, b: np.ndarray, lu: Any = None) -> np.ndarray:
+        """x with A x = b; ``lu``: the factors of another matrix of the same pattern to use instead of factorising
+        this one (a chord step: x = LU⁻¹b refined once with this matrix's residual).  The factors used are left in
+        :attr:`lu` (None after the least-squares answer of a matrix that is not finite)."""
         m = self.tocsc()
+        self.lu = None
         if not np.all(np.isfinite(m.data)):
             return np.linalg.lstsq(m.toarray(), b, rcond=None)[0]
-        try:
-            lu = splu(m, permc_spec=PERMC_SPEC, diag_pivot_thresh=PIVOT_THRESH)
-        except RuntimeError as err:  # "Factor is exactly singular"
-            raise np.linalg.LinAlgError(str(err)) from None
+        if lu is None:
+            try:
+                lu = splu(m, permc_spec=PERMC_SPEC, diag_pivot_thresh=PIVOT_THRESH)
+            except RuntimeError as err:  # "Factor is exactly singular"
+                raise np.linalg.LinAlgError(str(err)) from None
+        self.lu = lu
         x = lu.solve(b)
         return x + lu.solve(b - m @ x)
 
