@@ -2,15 +2,21 @@
 
 The systems: a generated chain of ``n`` 1:1 spur stages (:func:`chain_toml`: each gear with x, y and θ on linear
 bearings, a torsional coupling between one stage's gear and the next stage's pinion; 6n DOF), and the 8-DOF bevel
-pair of workload W4 (``examples/systems/paper_bevel_8dof.toml``, a batch of ω as in ``benchmarks/w4.py``).  Each
-size is timed in a fresh subprocess for each checkout (``--before``: the source tree of the code before the change,
-e.g. a ``git worktree`` of main; the code here otherwise), the two interleaved and repeated, one thread, after a
-compile run.  The time per period is the difference of the CPU times (one thread: the work, whatever else
-shares the machine) of a run of 2p and of p periods over p, which leaves out the per-call setup (packing the
-arrays; reported as ``setup``); the median of the repeats is shown.
+pair of workload W4 (``examples/systems/paper_bevel_8dof.toml``, a batch of ω as in ``benchmarks/w4.py``).  Both
+checkouts are timed the same way, side by side in one run (``--before``: the root of a checkout of the code before
+the change, e.g. a ``git worktree`` of main; the code here otherwise):
 
-    python benchmarks/ndof_scaling.py --before ../kernel-before [--stages 1 8 16 32] [--repeat 3]
-                                      [--json benchmarks/results/ndof_scaling.json]
+- each size in a fresh subprocess per checkout, one thread, the two checkouts interleaved (``--rounds`` rounds,
+  before then after, then after then before, …);
+- in each subprocess: a warm-up run (the compile or cache load, first-call costs), then p periods chosen from a
+  second warm-up so that a run of p periods takes about ``--target`` seconds of work (the per-call setup, packing
+  the arrays, is then small beside it); then ``--repeat`` pairs of runs of p and 2p periods, each pair giving
+  (CPU(2p) − CPU(p)) / p: the setup cancels; the median of the pairs;
+- CPU time of the process (one thread: the work, whatever else shares the machine); the median over rounds, and
+  the range, are printed and written.
+
+    python benchmarks/ndof_scaling.py --before ../kernel-before [--stages 1 8 16 32] [--rounds 3] [--repeat 3]
+                                      [--target 0.4] [--json benchmarks/results/ndof_scaling.json]
 
 ``--classify`` measures instead what classifying a point that is not periodic costs: ``geardyn simulate --system
 CHAIN_96DOF.toml --omega 0.8 --json`` (16 stages, the generator's defaults: 10 N·m, 20 µm of STE, a chaotic point)
@@ -121,31 +127,37 @@ def chain_toml(stages: int, path: str | Path, *, fp_torque: float = 10.0, eps_um
 
 
 _CHILD = r"""
-import json, sys, time
+import json, math, statistics, sys, time
 import numpy as np
 from geardyn.systems import load_system
 from geardyn.integrate import integrate_batch
 from geardyn.model import IntegrationOptions
-path, points, periods = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+path, points, target, repeat = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4])
 s = load_system(path)
 models = [s.with_param("omega", w) for w in np.linspace(0.5, 1.5, points)] if points > 1 else [s]
-integrate_batch(models[:1], None, IntegrationOptions(transient=0, periods=1), record_poincare=False, threads=1)
 def run(k):
     t = time.process_time()
     r = integrate_batch(models, None, IntegrationOptions(transient=0, periods=k), record_poincare=False, threads=1)
     return time.process_time() - t, r
-t1, r = run(periods)
-t2, r = run(2 * periods)
-per = (t2 - t1) / (periods * len(models))
-print(json.dumps({"s_per_period": per, "setup_s": t1 - per * periods * len(models), "n": s.n,
-                  "steps": int(np.sum(r.nsteps)) // len(models), "check": float(np.sum(r.element_u_max(0)))}))
+run(2)  # warm-up: compile or cache load, first-call costs
+t0, r4 = run(4)  # a second warm-up: an upper bound of the cost of a period (setup included); the checksum's run
+p = max(2, math.ceil(target / max(t0 / 4, 1e-6)))
+per, setup = [], []
+for _ in range(repeat):
+    t1, r = run(p)
+    t2, r = run(2 * p)
+    per.append((t2 - t1) / (p * len(models)))
+    setup.append(t1 - per[-1] * p * len(models))
+print(json.dumps({"s_per_period": statistics.median(per), "pairs": per, "setup_s": statistics.median(setup),
+                  "periods": p, "n": s.n, "steps": int(np.sum(r.nsteps)) // len(models),
+                  "check": float(np.sum(r4.element_u_max(0)))}))
 """
 
 
-def _time(src: Path, system: Path, points: int, periods: int) -> dict:
+def _time(src: Path, system: Path, points: int, target: float, repeat: int) -> dict:
     env = dict(os.environ, PYTHONPATH=str(src), NUMBA_NUM_THREADS="1")
     out = subprocess.run(
-        [sys.executable, "-c", _CHILD, str(system), str(points), str(periods)],
+        [sys.executable, "-c", _CHILD, str(system), str(points), str(target), str(repeat)],
         env=env,
         check=True,
         capture_output=True,
@@ -202,31 +214,35 @@ def main() -> None:
     ap.add_argument("--before", type=Path, default=None, help="root of the checkout before the change")
     ap.add_argument("--classify", action="store_true", help="the classification's cost instead (see above)")
     ap.add_argument("--stages", type=int, nargs="+", default=[1, 8, 16, 32])
-    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--rounds", type=int, default=3, help="fresh processes per checkout and size, interleaved")
+    ap.add_argument("--repeat", type=int, default=3, help="pairs of runs (p and 2p periods) in each process")
+    ap.add_argument("--target", type=float, default=0.4, help="CPU seconds of a run of p periods")
     ap.add_argument("--json", type=Path, default=None)
     a = ap.parse_args()
     if a.classify:
         classify_cost(a.stages[0] if a.stages != [1, 8, 16, 32] else 16, a.repeat, a.json)
         return
     if a.before is None:
-        ap.error("--before is required (the checkout to compare with)")
+        ap.error("--before is required (the root of the checkout to compare with)")
     after_src, before_src = ROOT / "src", a.before.resolve() / "src"
+    if not (before_src / "geardyn").is_dir():
+        ap.error(f"--before: no src/geardyn under {a.before} (give the checkout's root)")
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        cases = [("W4 bevel", BEVEL, 8, 40)]
+        cases = [("W4 bevel", BEVEL, 8)]
         for n in a.stages:
             # the scaling's chains: 40 N·m, 10 µm of STE (the step's cost does not depend on them)
             f = chain_toml(n, Path(tmp) / f"chain{n}.toml", fp_torque=40.0, eps_um=10.0)
-            cases.append((f"chain {n}", f, 1, max(10, 400 // n)))
-        for name, path, points, periods in cases:
-            tb, ta, sb, sa = [], [], [], []
-            for _ in range(a.repeat):  # interleaved: before, after, before, after, ...
-                rb = _time(before_src, path, points, periods)
-                ra = _time(after_src, path, points, periods)
-                tb.append(rb["s_per_period"])
-                ta.append(ra["s_per_period"])
-                sb.append(rb["setup_s"])
-                sa.append(ra["setup_s"])
+            cases.append((f"chain {n}", f, 1))
+        for name, path, points in cases:
+            res = {"before": [], "after": []}
+            for k in range(a.rounds):  # interleaved: before, after; after, before; ...
+                for which in ("before", "after") if k % 2 == 0 else ("after", "before"):
+                    src = before_src if which == "before" else after_src
+                    res[which].append(_time(src, path, points, a.target, a.repeat))
+            tb = [r["s_per_period"] for r in res["before"]]
+            ta = [r["s_per_period"] for r in res["after"]]
+            ra = res["after"][-1]
             row = {
                 "case": name,
                 "dof": ra["n"],
@@ -234,19 +250,32 @@ def main() -> None:
                 "before_ms_per_period": 1e3 * statistics.median(tb),
                 "after_ms_per_period": 1e3 * statistics.median(ta),
                 "speedup": statistics.median(tb) / statistics.median(ta),
-                "before_setup_ms": 1e3 * statistics.median(sb),
-                "after_setup_ms": 1e3 * statistics.median(sa),
-                "same_result": rb["check"] == ra["check"],
+                "before_ms_range": [1e3 * min(tb), 1e3 * max(tb)],
+                "after_ms_range": [1e3 * min(ta), 1e3 * max(ta)],
+                "before_periods_timed": res["before"][-1]["periods"],
+                "after_periods_timed": ra["periods"],
+                "before_setup_ms": 1e3 * statistics.median([r["setup_s"] for r in res["before"]]),
+                "after_setup_ms": 1e3 * statistics.median([r["setup_s"] for r in res["after"]]),
+                "same_result": all(r["check"] == res["before"][0]["check"] for r in res["before"] + res["after"]),
             }
             rows.append(row)
             print(
-                f"{name:10s} {row['dof']:4d} DOF  before {row['before_ms_per_period']:9.3f} ms/period  "
-                f"after {row['after_ms_per_period']:9.3f} ms/period  speed-up {row['speedup']:6.2f}x  "
-                f"same numbers: {row['same_result']}  "
+                f"{name:10s} {row['dof']:4d} DOF  before {row['before_ms_per_period']:9.3f} ms/period "
+                f"({row['before_ms_range'][0]:.3f}-{row['before_ms_range'][1]:.3f})  "
+                f"after {row['after_ms_per_period']:8.3f} "
+                f"({row['after_ms_range'][0]:.3f}-{row['after_ms_range'][1]:.3f})"
+                f"  speed-up {row['speedup']:6.2f}x  same numbers: {row['same_result']}  "
                 f"(setup {row['before_setup_ms']:.0f} / {row['after_setup_ms']:.0f} ms)",
                 flush=True,
             )
-    res = {"rows": rows, "repeat": a.repeat, "threads": 1, "loadavg": os.getloadavg()}
+    res = {
+        "rows": rows,
+        "rounds": a.rounds,
+        "repeat": a.repeat,
+        "target_s": a.target,
+        "threads": 1,
+        "loadavg": os.getloadavg(),
+    }
     if a.json is not None:
         a.json.write_text(json.dumps(res, indent=2) + "\n")
 

@@ -201,6 +201,11 @@ QUOTED: dict[str, Run | str] = {
     "geardyn rattle --fp 0.002 --xi0 0.02 --xi1 0 --kappa1 0.1 --fe 0 --omega 0.5 --torque-order 1/4:0.02 --json": Run(
         {"--transient": "10", "--periods": "2"}
     ),
+    "geardyn hb --system": _FRAGMENT,
+    "geardyn hb --system examples/systems/ball_bearing.toml --param omega --start 0.5 --stop 0.52 --harmonics 60": (
+        "14 points at H = 60 after a simulated start (about 40 s of CPU); tests/test_hb_rolling.py solves the ball "
+        "bearing's harmonic balance and runs this command at H = 12"
+    ),
     "geardyn rattle --system": _FRAGMENT,
     "geardyn runup --system": _FRAGMENT,
     "geardyn plot rattle_map.nc": Run(

@@ -54,13 +54,33 @@ def test_sparse_arrays_hold_the_dense_matrices(path, tmp_path):
         np.testing.assert_array_equal(_dense_from(ep, ej, Ev[p], E_V.shape[1], n), E_V[p])
         np.testing.assert_array_equal(_dense_from(wp, wi, Wv[p], E_W.shape[1], n), E_W[p])
         np.testing.assert_array_equal(gs[p], g[p])
-    # the blocks of the plain step: every nonzero of A and B lies in a column its block lists
-    bcp, bcj = blk[0], blk[1]
+    # the blocks of the plain step: their diagonals hold A and B, every nonzero once, and nothing else
+    bcp, bcj, ATs, BTs = blk[0], blk[1], blk[2], blk[3]
     L = K.LANE_BLOCK
-    for b in range(len(bcp) - 1):
-        rows = slice(b * L, min((b + 1) * L, n))
-        used = np.flatnonzero(np.any(A[:, rows] != 0, axis=(0, 1)) | np.any(B[:, rows] != 0, axis=(0, 1)))
-        assert set(used) <= set(bcj[bcp[b] : bcp[b + 1]])
+    for p in range(2):
+        Ab = np.zeros((n, n))
+        Bb = np.zeros((n, n))
+        for b in range(len(bcp) - 1):
+            assert np.all(np.diff(bcj[bcp[b] : bcp[b + 1]]) > 0)  # ascending: each row meets its columns in order
+            for k in range(bcp[b], bcp[b + 1]):
+                for r in range(L):
+                    i, j = b * L + r, b * L + r + bcj[k]
+                    if 0 <= i < n and 0 <= j < n:
+                        Ab[i, j] += ATs[p, k, r]
+                        Bb[i, j] += BTs[p, k, r]
+                    else:
+                        assert ATs[p, k, r] == 0.0 and BTs[p, k, r] == 0.0
+        np.testing.assert_array_equal(Ab, A[p])
+        np.testing.assert_array_equal(Bb, B[p])
+    assert blk[10] >= np.max(np.abs(bcj), initial=0) and blk[10] % L == 0  # the state's margin
+    # the element groups: lane l of group G is element G·L + l, its terms in order (padding: value 0)
+    EI, EVs = blk[8], blk[9]
+    for p in range(2):
+        for e in range(E_V.shape[1]):
+            k = np.arange(ep[e], ep[e + 1])
+            np.testing.assert_array_equal(EI[e // L, : k.size, e % L], ej[k])
+            np.testing.assert_array_equal(EVs[p, e // L, : k.size, e % L], Ev[p, k])
+            assert np.all(EVs[p, e // L, k.size :, e % L] == 0.0)
     # the Jacobian's pattern covers A + Σ W Vᵀ
     G = np.abs(A[0]) + np.abs(E_W[0]).T @ np.abs(E_V[0])
     pat = _dense_from(jt[0], jt[1], np.ones(jt[1].size), n, n)
@@ -112,3 +132,55 @@ def test_work_of_the_leading_vectors_is_a_small_multiple_of_a_plain_run(tmp_path
     s = load_system(chain_toml(4, tmp_path / "c.toml"))
     assert 1.0 < tangent_work([s], 2) < 4.0
     assert tangent_work([s]) > 10 * tangent_work([s], 2)
+
+
+def _chain_with_bearing_and_order(tmp_path):
+    """A 2-stage chain (12 DOF: the grouped sparse step) with a ball bearing on the first pinion and a torque order
+    at the mesh order on its drive."""
+    from ndof_scaling import chain_toml
+
+    f = chain_toml(2, tmp_path / "chain.toml", fp_torque=100.0)  # the pinion's bearing deflection beyond 5 µm
+    text = f.read_text().replace(
+        'body = "p1"\ntorque = "100.0 N*m"\n',
+        'body = "p1"\ntorque = "100.0 N*m"\norders = [{ order = 32, amplitude = "30 N*m", phase = "10 deg" }]\n',
+    )
+    assert "orders" in text
+    text += """
+[[bearing]]
+name = "brg"
+type = "ball"
+body = "p1"
+elements = 8
+pitch_diameter = "40 mm"
+element_diameter = "10 mm"
+contact_angle = "0 deg"
+radial_clearance = "5 um"
+load_deflection = { value = "8e9 N/m^1.5", assumed = "a small deep-groove ball bearing" }
+cx = "200 N*s/m"
+cy = "200 N*s/m"
+"""
+    f.write_text(text)
+    return f
+
+
+@pytest.mark.parametrize("which", ["chain", "bearing_order"])
+def test_grouped_plain_step_is_the_row_by_row_step_bit_for_bit(which, tmp_path):
+    """The plain step (diagonal blocks, element groups) against the step of the full spectrum, which sums row by row
+    and element by element (``core.field``): the same trajectory and statistics, bit for bit."""
+    from ndof_scaling import chain_toml
+
+    from geardyn.integrate import integrate_batch
+
+    if which == "chain":
+        s = load_system(chain_toml(3, tmp_path / "chain.toml", fp_torque=2.0, eps_um=40.0))  # 18 DOF
+    else:
+        s = load_system(_chain_with_bearing_and_order(tmp_path))
+    assert s.n > 8  # the sparse step (one block of rows takes the dense one)
+    ms = [s.with_param("omega", w) for w in (0.7, 1.1)]
+    opts = IntegrationOptions(transient=0, periods=3)
+    plain = integrate_batch(ms, None, opts, threads=1)
+    full = integrate_batch(ms, None, opts, threads=1, lyapunov=True)  # all 2n tangents: the row-by-row step
+    assert np.asarray(plain.poincare).tobytes() == np.asarray(full.poincare).tobytes()
+    for e in range(len(s.elements)):
+        np.testing.assert_array_equal(plain.element_u_max(e), full.element_u_max(e))
+        np.testing.assert_array_equal(plain.element_u_min(e), full.element_u_min(e))

@@ -21,9 +21,12 @@ those of the dense kernel, bit for bit.  The k < 2n leading tangent vectors of a
 Jacobian-vector products straight from the sparse rows (:func:`.core.tan_free`) beside the plain step.
 
 The default mode's plain step (no tangents) keeps the state in a padded layout and advances blocks of
-``LANE_BLOCK`` rows as SIMD vectors over the columns a block touches only (:mod:`.simd`), column by column: the
-same operations in the same order as the row-by-row :func:`.core.field`, so bit-identical.  A system of one block
-(n <= LANE_BLOCK) takes the dense step of :mod:`.dense`, for which index lists cost more than they save.
+``LANE_BLOCK`` rows as SIMD vectors over the diagonals a block touches only (:mod:`.simd`), diagonal by diagonal:
+each row meets its columns in the order of the row-by-row :func:`.core.field`, so bit-identical.  The element
+forces (and the statistics' deflections) of the meshes and clearances are computed ``LANE_BLOCK`` elements at a
+time, their terms gathered (:func:`.simd.forces_group`), each element's sums in their scalar order.  A system of
+one block (n <= LANE_BLOCK) takes the dense step of :mod:`.dense`, for which index lists cost more than they
+save.
 
 Layout: :mod:`.core` (vector field, Jacobian, statistics), :mod:`.step` (RK4 step, split steps,
 the plain step), :mod:`.simd` (one stage of the plain step on a block of rows, as LLVM vectors), :mod:`.dense`,
@@ -137,11 +140,14 @@ def sparse_arrays(arrays):
     jt : tuple
         ``(gp, gj, Ag, Bg, cp, ce, cw, cv)``: the Jacobian's pattern (:func:`.core.jac_values`).
     blk : tuple
-        ``(bcp, bcj, ATs, BTs, bep, bej, WTs, gPs)``: the plain step's blocks of ``LANE_BLOCK`` rows; block b's
-        columns ``bcj[bcp[b]:bcp[b+1]]`` (those where a row of the block has an entry of A or B) with the values
-        ``ATs[p, k, r] = A[p, b·L + r, bcj[k]]`` (``BTs`` alike), its elements ``bej[bep[b]:bep[b+1]]`` (those
-        whose force reaches a row of the block) with ``WTs[p, k, r]`` the force row's entries, and ``gPs`` g
-        padded to a multiple of ``LANE_BLOCK`` (the padding zero).
+        ``(bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, EI, EVs, margin)``: the plain step's blocks of ``LANE_BLOCK``
+        rows; block b's diagonals ``bcj[bcp[b]:bcp[b+1]]`` (the offsets o = j − i, ascending, of its rows' entries
+        of A or B) with the values ``ATs[p, k, r] = A[p, b·L + r, b·L + r + o]`` (zero outside the matrix;
+        ``BTs`` alike), its elements ``bej[bep[b]:bep[b+1]]`` (those whose force reaches a row of the block) with
+        ``WTs[p, k, r]`` the force row's entries, ``gPs`` g padded to a multiple of ``LANE_BLOCK`` (the padding
+        zero); the meshes' and clearances' vectors L elements at a time (``EI[G, t, l]`` the column of term t of
+        element G·L + l, ``EVs[p, G, t, l]`` its value; padding: column 0, value 0); ``margin`` the zero columns
+        the padded state needs on either side (the largest offset, rounded up to ``LANE_BLOCK``).
     """
     A, B, W, g, Wc = derived(arrays)
     P, n = g.shape
@@ -223,18 +229,25 @@ def sparse_arrays(arrays):
     L = LANE_BLOCK
     nb = -(-n // L)
     NP = nb * L
-    pad = np.zeros((nb * L, n), dtype=bool)
+    pad = np.zeros((NP, n), dtype=bool)
     pad[:n] = ab
-    bmask = pad.reshape(nb, L, n).any(axis=1)  # (blocks, columns)
-    bcp, bcj = _rows(bmask)
+    # the blocks' diagonals: block b's offsets o = j − i of its nonzeros (i a row of the block), ascending, so that
+    # every row meets its columns in ascending order; ATs[p, k, r] = A[p, b·L + r, b·L + r + o] (zero outside)
+    bo = []
+    for b in range(nb):
+        r_, j_ = np.nonzero(pad[b * L : (b + 1) * L])
+        bo.append(np.unique(j_ - (b * L + r_)))
+    bcp = np.zeros(nb + 1, dtype=np.int64)
+    bcp[1:] = np.cumsum([len(o) for o in bo])
+    bcj = np.ascontiguousarray(np.concatenate(bo).astype(np.int64)) if nb else np.zeros(0, dtype=np.int64)
     bl = np.repeat(np.arange(nb), np.diff(bcp))
-    Ap = np.zeros((P, NP, n))
-    Bp = np.zeros((P, NP, n))
-    Ap[:, :n] = A
-    Bp[:, :n] = B
-    ri = bl[:, None] * L + np.arange(L)[None, :]  # (cols, L) row of each lane
-    ATs = c(Ap[:, ri, bcj[:, None]])
-    BTs = c(Bp[:, ri, bcj[:, None]])
+    ri = bl[:, None] * L + np.arange(L)[None, :]  # (terms, L) row of each lane
+    ci = ri + bcj[:, None]  # its column
+    inside = (ri < n) & (ci >= 0) & (ci < n)
+    rr, cc_ = np.where(inside, ri, 0), np.where(inside, ci, 0)
+    ATs = c(np.where(inside[None], A[:, rr, cc_], 0.0))
+    BTs = c(np.where(inside[None], B[:, rr, cc_], 0.0))
+    margin = int(L * -(-int(np.max(np.abs(bcj), initial=0)) // L))
     Wp = np.zeros((P, ew.shape[0], NP))
     Wp[:, :, :n] = E_W
     wpad = np.zeros((ew.shape[0], NP), dtype=bool)
@@ -246,11 +259,23 @@ def sparse_arrays(arrays):
     WTs = c(Wp[:, bej[:, None], ri_e])
     gPs = np.zeros((P, NP))
     gPs[:, :n] = g
-    return sp, jt, (bcp, bcj, ATs, BTs, bep, bej, WTs, gPs)
+    # the element forces of the meshes and clearances, L at a time (lane l of group G: element G·L + l): term t
+    # of each, EI[G, t, l] its column, EVs[p, G, t, l] its value (padding: column 0, value 0, after the terms)
+    e1 = NE - 2 * NB
+    EG = -(-e1 // L)
+    T = int(np.max(np.diff(ep[: e1 + 1]), initial=0))
+    EI = np.zeros((EG, T, L), dtype=np.int64)
+    EVs = np.zeros((P, EG, T, L))
+    for e in range(e1):
+        k = np.arange(ep[e], ep[e + 1])
+        EI[e // L, : k.size, e % L] = ej[k]
+        EVs[:, e // L, : k.size, e % L] = E_V[:, e, ej[k]]
+    return sp, jt, (bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, EI, EVs, margin)
 
 
 def plain_cost(blk):
-    """Multiply-adds of one evaluation of the plain step's accelerations (all blocks, all lanes)."""
+    """Multiply-adds of one evaluation of the plain step's accelerations (all blocks' diagonals and elements, all
+    lanes)."""
     return LANE_BLOCK * (int(blk[1].shape[0]) + int(blk[5].shape[0]))
 
 

@@ -176,9 +176,10 @@ def rk4_plain_dense(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega
     """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
 
     X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace.
-    Coefficients (and the loads ``ld`` into gP, :func:`geardyn._kernel_ndof.step.load_at`) from the table rows
-    2j..2j+2; the arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see
-    :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows.
+    Coefficients (and the loads ``ld`` into gP, :func:`geardyn._kernel_ndof.step.load_at`; None without torque
+    orders: the step then compiles without the refill) from the table rows 2j..2j+2; the arithmetic is
+    :func:`rk4` with :func:`field`'s, operation by operation (see :mod:`geardyn._kernel_ndof.simd`), vectorised
+    over blocks of rows.
     """
     hh = 0.5 * h
     h6 = h / 6.0
@@ -195,18 +196,21 @@ def rk4_plain_dense(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega
         X[XQ4],
         X[XV4],
     )
-    load_at(gP, ld, 2 * j)
+    if ld is not None:  # None: no torque orders, compiled without the refill
+        load_at(gP, ld, 2 * j)
     forces_dense(q, v, tab, 2 * j, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         dense_stage_block(AT, BT, gP, WT, s, q, v, q, v, hh, k1, q2, v2, b)
-    load_at(gP, ld, 2 * j + 1)
+    if ld is not None:  # None: no torque orders, compiled without the refill
+        load_at(gP, ld, 2 * j + 1)
     forces_dense(q2, v2, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         dense_stage_block(AT, BT, gP, WT, s, q2, v2, q, v, hh, k2, q3, v3, b)
     forces_dense(q3, v3, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         dense_stage_block(AT, BT, gP, WT, s, q3, v3, q, v, h, k3, q4, v4, b)
-    load_at(gP, ld, 2 * j + 2)
+    if ld is not None:  # None: no torque orders, compiled without the refill
+        load_at(gP, ld, 2 * j + 2)
     forces_dense(q4, v4, tab, 2 * j + 2, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         dense_final_block(AT, BT, gP, WT, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3, b)

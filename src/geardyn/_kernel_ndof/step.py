@@ -29,17 +29,17 @@ import numpy as np
 from numba import njit
 
 from .core import (
+    _bearing_forces,
+    _bearing_slots,
     coef_at,
     element_values,
     field,
-    forces_slopes_tab,
-    forces_tab,
     jac_values,
     slopes,
     tan_field,
     tan_free,
 )
-from .simd import LANE_BLOCK, final_block, stage_block
+from .simd import LANE_BLOCK, final_block, forces_group, forces_slopes_group, stage_block, values_group
 
 #: Largest number of sub-steps one step is split into (accurate mode).
 MAX_SPLITS = 64
@@ -408,7 +408,7 @@ def aligned_zeros(rows, cols):
 
 @njit(nogil=True)
 def pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP):
-    """Copy point p's block-sparse matrices into the aligned buffers AT, BT (cols, LANE_BLOCK), WT, gP; the
+    """Copy point p's block-sparse matrices into the aligned buffers AT, BT (diagonals, LANE_BLOCK), WT, gP; the
     tuple of the plain step's block arrays."""
     nc = bcj.shape[0]
     ne = bej.shape[0]
@@ -425,7 +425,103 @@ def pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP):
 
 
 @njit(nogil=True, inline="always")
-def _stages(X, blk, s, q, v, q0, v0, c, k, qn, vn):
+def state_rows(X, m, NP):
+    """The plain step's rows (q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4): X[r, m : m + NP], X (XROWS, NP + 2m)
+    zero outside them (the ``margin`` m of the blocks' diagonals, :func:`geardyn._kernel_ndof.sparse_arrays`)."""
+    e = m + NP
+    return (
+        X[XQ, m:e],
+        X[XV, m:e],
+        X[XK1, m:e],
+        X[XK2, m:e],
+        X[XK3, m:e],
+        X[XQ2, m:e],
+        X[XV2, m:e],
+        X[XQ3, m:e],
+        X[XV3, m:e],
+        X[XQ4, m:e],
+        X[XV4, m:e],
+    )
+
+
+@njit(nogil=True)
+def element_table(tab, M, kc, cc, D, Dc, omega, TB, Dp):
+    """The element groups' coefficients (:func:`.simd.forces_group`, :func:`.simd.values_group`): TB[i, 0:4, e] =
+    tab[i, e, 0:4] of the meshes (C, K, E, E'), (cc, kc, 0, 0) of the clearances; TB[i, 4, e] = −E, TB[i, 5, e] =
+    −ω E' of the meshes, +0 of the clearances (:func:`.core.element_values`' starting values); after them zero;
+    Dp their half backlashes and gaps."""
+    C = Dc.shape[0]
+    TB[:, :, :] = 0.0
+    Dp[:] = 0.0
+    for i in range(TB.shape[0]):
+        for e in range(M):
+            for c in range(4):
+                TB[i, c, e] = tab[i, e, c]
+            TB[i, 4, e] = -tab[i, e, 2]
+            TB[i, 5, e] = -omega * tab[i, e, 3]
+        for c in range(C):
+            TB[i, 0, M + c] = cc[c]
+            TB[i, 1, M + c] = kc[c]
+    for e in range(M):
+        Dp[e] = D[e]
+    for c in range(C):
+        Dp[M + c] = Dc[c]
+
+
+@njit(nogil=True, inline="always")
+def values_vec(q, v, r, ef, sp, el, ev, evs):
+    """:func:`.core.element_values` (the same numbers) at (q̃, q̃') = (q[0:n], v[0:n]), table row r: the meshes and
+    clearances L at a time (:func:`.simd.values_group`, through ``evs`` (2, groups·L)), then the rolling bearings'
+    rows one by one."""
+    EI, EV, TB, Dp = ef
+    for G in range(EI.shape[0]):
+        values_group(EI, EV, q, v, TB, r, evs, G)
+    ep, ej, Ev = sp[4], sp[5], sp[6]
+    e1 = el[0] + el[4].shape[0]
+    for e in range(e1):
+        ev[e, 0] = evs[0, e]
+        ev[e, 1] = evs[1, e]
+    for e in range(e1, ep.shape[0] - 1):
+        d = 0.0
+        dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * q[j]
+            dv += Ev[k] * v[j]
+        ev[e, 0] = d
+        ev[e, 1] = dv
+
+
+@njit(nogil=True, inline="always")
+def forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear):
+    """:func:`.core.forces_tab` (the same numbers) with the meshes and clearances L at a time
+    (:func:`.simd.forces_group`; ``ef = (EI, EV, TB, Dp)``); then the rolling bearings' unless ``bear`` is None."""
+    EI, EV, TB, Dp = ef
+    for G in range(EI.shape[0]):
+        forces_group(EI, EV, q, v, TB, r, Dp, omega, s, G)
+    if bear is not None:
+        _bearing_forces(sp, el, tab[r], q, v, s)
+
+
+@njit(nogil=True, inline="always")
+def forces_slopes_vec(q, v, tab, r, ef, sw, sp, el, omega, s, gk, gc, bear):
+    """:func:`.core.forces_slopes_tab` (the same numbers) with the meshes and clearances L at a time
+    (:func:`.simd.forces_slopes_group`, their slopes through ``sw = (gkv, gcv)``, (groups·L,) each); then the
+    rolling bearings' forces and slopes unless ``bear`` is None."""
+    EI, EV, TB, Dp = ef
+    gkv, gcv = sw
+    for G in range(EI.shape[0]):
+        forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, gkv, gcv, G)
+    for e in range(el[0] + el[4].shape[0]):
+        gk[e] = gkv[e]
+        gc[e] = gcv[e]
+    if bear is not None:
+        _bearing_forces(sp, el, tab[r], q, v, s)
+        _bearing_slots(sp, el, tab[r], q, 0, gk, gc)
+
+
+@njit(nogil=True, inline="always")
+def _stages(R, blk, s, q, v, q0, v0, c, k, qn, vn):
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):
         stage_block(
@@ -484,40 +580,29 @@ def _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3):
 
 
 @njit(nogil=True, inline="always")
-def rk4_plain(X, s, h, tab, j, blk, sp, el, omega, ld, bear):
-    """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
+def rk4_plain(R, s, h, tab, j, blk, sp, el, omega, ld, bear, ef):
+    """One default-mode RK4 step without tangents (the hot loop) on the padded state R[0], R[1].
 
-    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace;
-    ``blk`` the point's block-sparse arrays (:func:`pad_point`).  Coefficients (and the loads ``ld``, into blk's gP)
-    from the table rows 2j..2j+2; the arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see
-    :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows.
+    R : the rows of :func:`state_rows` (NP values each, NP a multiple of LANE_BLOCK, the padding zero);
+    s : (elements,) workspace; ``blk`` the point's block-sparse arrays (:func:`pad_point`), ``ef`` its element
+    groups (:func:`forces_vec`).  Coefficients (and the loads ``ld``, into blk's gP) from the table rows 2j..2j+2;
+    the arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see
+    :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows and groups of elements.
     """
     hh = 0.5 * h
     h6 = h / 6.0
-    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = (
-        X[XQ],
-        X[XV],
-        X[XK1],
-        X[XK2],
-        X[XK3],
-        X[XQ2],
-        X[XV2],
-        X[XQ3],
-        X[XV3],
-        X[XQ4],
-        X[XV4],
-    )
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    forces_tab(q, v, tab, 2 * j, sp, el, omega, s, bear)
-    _stages(X, blk, s, q, v, q, v, hh, k1, q2, v2)
+    forces_vec(q, v, tab, 2 * j, ef, sp, el, omega, s, bear)
+    _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    forces_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s, bear)
-    _stages(X, blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    forces_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s, bear)
-    _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    forces_vec(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
+    _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
+    forces_vec(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
+    _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    forces_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, bear)
+    forces_vec(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear)
     _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
 
 
@@ -534,38 +619,27 @@ def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
 
 
 @njit(nogil=True)
-def rk4_plain_tan(X, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear):
+def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear, ef, sw):
     """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
-    the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state."""
+    the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state; the
+    element forces and slopes by groups (:func:`forces_slopes_vec`)."""
     hh = 0.5 * h
     h6 = h / 6.0
-    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = (
-        X[XQ],
-        X[XV],
-        X[XK1],
-        X[XK2],
-        X[XK3],
-        X[XQ2],
-        X[XV2],
-        X[XQ3],
-        X[XV3],
-        X[XQ4],
-        X[XV4],
-    )
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    forces_slopes_tab(q, v, tab, 2 * j, sp, el, omega, s, gk, gc, bear)
+    forces_slopes_vec(q, v, tab, 2 * j, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
-    _stages(X, blk, s, q, v, q, v, hh, k1, q2, v2)
+    _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    forces_slopes_tab(q2, v2, tab, 2 * j + 1, sp, el, omega, s, gk, gc, bear)
+    forces_slopes_vec(q2, v2, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
-    _stages(X, blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    forces_slopes_tab(q3, v3, tab, 2 * j + 1, sp, el, omega, s, gk, gc, bear)
+    _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
+    forces_slopes_vec(q3, v3, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
-    _stages(X, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    forces_slopes_tab(q4, v4, tab, 2 * j + 2, sp, el, omega, s, gk, gc, bear)
+    forces_slopes_vec(q4, v4, tab, 2 * j + 2, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
     _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
     for i in range(Y.shape[0]):

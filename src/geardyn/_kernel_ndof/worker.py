@@ -8,8 +8,10 @@ one forcing period are tabulated at the 2N + 1 half-step angles (the forcing is 
 period, so the table serves every period: no trigonometric call in the step loop); the accurate
 mode evaluates them where its split sub-steps need them; so are the torque orders' cosines (the load g(θ) of every
 stage, :func:`geardyn._kernel_ndof.step.load_at`).  Periods without tangents in the default
-mode run the plain step (:func:`geardyn._kernel_ndof.step.rk4_plain`) on the padded state, copied
-from and back to the state at the period's start and end.  The stroboscopic samples are exact:
+mode run the plain step (:func:`geardyn._kernel_ndof.step.rk4_plain`) on the padded state (with a margin of
+zeros either side for the blocks' diagonals), copied from and back to the state at the period's start and end; its
+element forces and statistics take the period's coefficients transposed into element groups
+(:func:`geardyn._kernel_ndof.step.element_table`).  The stroboscopic samples are exact:
 h = T_f/N with T_f the forcing period.
 """
 
@@ -40,11 +42,14 @@ from .step import (
     XV,
     accurate_step,
     aligned_zeros,
+    element_table,
     order_cosines,
     pad_point,
     rk4,
     rk4_plain,
     rk4_plain_tan,
+    state_rows,
+    values_vec,
 )
 
 
@@ -72,26 +77,27 @@ def _quotient(Y, R):
 
 
 @njit(nogil=True)
-def _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld, bear):
-    """N plain steps on the padded state X (statistics when ``rec``; history samples b0 + j; the loads ``ld``)."""
-    q = X[XQ]
-    v = X[XV]
+def _period_sparse(R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, bear, ef):
+    """N plain steps on the padded state R (:func:`.step.state_rows`; statistics when ``rec``, ``evs`` their
+    workspace; history samples b0 + j; the loads ``ld``; the element groups ``ef``)."""
+    q = R[0]
+    v = R[1]
     for j in range(N):
-        rk4_plain(X, sf, h, tab, j, blk, sp, el, om, ld, bear)
+        rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef)
         if rec:
-            element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
+            values_vec(q, v, 2 * j + 2, ef, sp, el, ev, evs)
             accumulate(st, ev, gaps)
         if hist.shape[1] > 0:
             _store_hist(hist, p, b0 + j, q, v, 0)
 
 
 @njit(nogil=True)
-def _period_tan(X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bear):
+def _period_tan(R, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bear, ef, sw):
     """:func:`_period_sparse` with a few tangent columns Y."""
-    q = X[XQ]
-    v = X[XV]
+    q = R[0]
+    v = R[1]
     for j in range(N):
-        rk4_plain_tan(X, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear)
+        rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear, ef, sw)
         if rec:
             element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
             accumulate(st, ev, gaps)
@@ -144,6 +150,9 @@ def ndof_worker(
     bej,
     WTs,
     gPs,
+    EI,
+    EVs,
+    margin,
     dense,
     Ad,
     Bd,
@@ -210,7 +219,14 @@ def ndof_worker(
     BT = aligned_zeros(max(bcj.shape[0], 1), LANE_BLOCK)
     WT = aligned_zeros(max(bej.shape[0], 1), LANE_BLOCK)
     gP = aligned_zeros(1, NP)[0]
-    sf = np.zeros(max(E, 1))
+    Xs = aligned_zeros(XROWS, NP + 2 * margin)  # the sparse step's rows, a margin of zeros either side
+    R = state_rows(Xs, margin, NP)
+    EP = EI.shape[0] * LANE_BLOCK
+    Dp = aligned_zeros(1, max(EP, 1))[0]
+    sf = aligned_zeros(1, max(E, EP, 1))[0]
+    evs = aligned_zeros(2, max(EP, 1))  # the statistics' samples of the element groups
+    gks = aligned_zeros(2, max(EP, 1))  # their slopes (the tangent step)
+    sw = (gks[0], gks[1])
     nd = n if dense else 0
     ATd = aligned_zeros(max(nd, 1), NP)
     BTd = aligned_zeros(max(nd, 1), NP)
@@ -249,6 +265,7 @@ def ndof_worker(
             agaps[M + C + 2 * b] = 0.0
             agaps[M + C + 2 * b + 1] = 0.0
         tab = np.empty((0, M + NB, 4))
+        TB = np.empty((0, 6, EP))
         otab = ocs
         if not accurate:
             tab = np.empty((2 * N + 1, M + NB, 4))
@@ -256,6 +273,9 @@ def ndof_worker(
             for i in range(2 * N + 1):
                 coef_at(coef[p], ratio[p], om * (0.5 * h * i), tab[i])
                 order_cosines(ro[p], po[p], om * (0.5 * h * i), otab, i)
+            TB = np.empty((2 * N + 1, 6, EP))
+            element_table(tab, M, kc[p], cc[p], D[p], Dc[p], om, TB, Dp)
+        ef = (EI, EVs[p], TB, Dp)
         ld = (g[p], go[p], otab)  # the loads at the table's times (module docstring of .step)
         lds = ((g[p], go[p], ocs), ro[p], po[p])  # the accurate mode's
         for i in range(d):
@@ -275,56 +295,144 @@ def ndof_worker(
             tan_on = rec and ktan > 0
             if not accurate and (not tan_on or ktan < d):
                 # the plain step on the padded state (padding zero); a few tangent columns alongside
-                X[:, :] = 0.0
-                q = X[XQ]
-                v = X[XV]
-                for i in range(n):
-                    q[i] = x[i]
-                    v[i] = x[n + i]
                 b0 = per * N + 1 - hstart
-                # bearings: the step compiled with their code; without, given None, compiled without it (.core)
-                if tan_on and NB > 0:
-                    _period_tan(
-                        X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bq
-                    )
-                elif tan_on:
-                    _period_tan(
-                        X, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, None
-                    )
-                elif dense:
-                    _period_dense(
-                        X,
-                        sf,
-                        h,
-                        tab,
-                        N,
-                        ATd,
-                        BTd,
-                        gP,
-                        WTd,
-                        Vd[p],
-                        D[p],
-                        Vcd[p],
-                        kc[p],
-                        cc[p],
-                        Dc[p],
-                        om,
-                        rec,
-                        st,
-                        ev,
-                        gaps,
-                        hist,
-                        p,
-                        b0,
-                        ld,
-                    )
-                elif NB > 0:
-                    _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld, bq)
+                if dense and not tan_on:
+                    X[:, :] = 0.0
+                    qd = X[XQ]
+                    vd = X[XV]
+                    for i in range(n):
+                        qd[i] = x[i]
+                        vd[i] = x[n + i]
+                    if O > 0:
+                        _period_dense(
+                            X,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            ATd,
+                            BTd,
+                            gP,
+                            WTd,
+                            Vd[p],
+                            D[p],
+                            Vcd[p],
+                            kc[p],
+                            cc[p],
+                            Dc[p],
+                            om,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            ld,
+                        )
+                    else:  # no orders: the step compiled without the load's refill
+                        _period_dense(
+                            X,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            ATd,
+                            BTd,
+                            gP,
+                            WTd,
+                            Vd[p],
+                            D[p],
+                            Vcd[p],
+                            kc[p],
+                            cc[p],
+                            Dc[p],
+                            om,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            None,
+                        )
+                    for i in range(n):
+                        x[i] = qd[i]
+                        x[n + i] = vd[i]
                 else:
-                    _period_sparse(X, sf, h, tab, N, blk, sp, el, om, rec, st, ev, gaps, hist, p, b0, ld, None)
-                for i in range(n):
-                    x[i] = q[i]
-                    x[n + i] = v[i]
+                    Xs[:, :] = 0.0
+                    q = R[0]
+                    v = R[1]
+                    for i in range(n):
+                        q[i] = x[i]
+                        v[i] = x[n + i]
+                    # bearings: the step compiled with their code; without, given None, compiled without it (.core)
+                    if tan_on and NB > 0:
+                        _period_tan(
+                            R,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            blk,
+                            sp,
+                            el,
+                            om,
+                            Y,
+                            wt,
+                            gk,
+                            gc,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            ld,
+                            bq,
+                            ef,
+                            sw,
+                        )
+                    elif tan_on:
+                        _period_tan(
+                            R,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            blk,
+                            sp,
+                            el,
+                            om,
+                            Y,
+                            wt,
+                            gk,
+                            gc,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            ld,
+                            None,
+                            ef,
+                            sw,
+                        )
+                    elif NB > 0:
+                        _period_sparse(
+                            R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, bq, ef
+                        )
+                    else:
+                        _period_sparse(
+                            R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, None, ef
+                        )
+                    for i in range(n):
+                        x[i] = q[i]
+                        x[n + i] = v[i]
             else:
                 for j in range(N):
                     if accurate:
