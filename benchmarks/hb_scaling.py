@@ -18,8 +18,11 @@ branch's points and by its Jacobian evaluations (Newton iterations, tangents and
 chain/pair per point is the figure of merit (issue: at most 5).  ``--profile`` adds where the chain's time goes
 (cProfile in CPU time, cumulative per function: the Jacobian's assembly, its compressed-column matrix, SuperLU's
 factorisation, the linear solves as a whole, the AFT, the Floquet multipliers and their compiled kernel).
+``--leading`` adds the chain's multipliers at ω = 0.6 and 0.75 (their moduli) and the cost of leading ones computed
+matrix-free: the kernel's time per period against its number of tangent columns, and ARPACK's matrix-vector products
+for the 4 and 8 leading eigenvalues of the monodromy matrix (each would be one period of the kernel).
 
-    python benchmarks/hb_scaling.py [--before ../hb-before/src] [--repeat 2] [--profile]
+    python benchmarks/hb_scaling.py [--before ../hb-before/src] [--repeat 2] [--profile] [--leading]
                                     [--json benchmarks/results/hb_scaling.json]
 """
 
@@ -78,6 +81,67 @@ if pr:
 print("RESULT " + json.dumps(out))
 """
 
+_LEADING = r"""
+import json, sys, time
+import numpy as np
+import scipy.sparse.linalg as sla
+from geardyn.systems import load_system
+from geardyn.analysis.hb import monodromy
+from geardyn.analysis.hb.solve import hb_solve
+path, H = sys.argv[1], int(sys.argv[2])
+calls = []
+kernel = monodromy.monodromy_kernel
+def recording(*a):
+    x0, Y0 = a[0].copy(), a[1].copy()
+    r = kernel(*a)
+    calls.append((x0, Y0, a[1].copy(), a))
+    return r
+monodromy.monodromy_kernel = recording
+out = {}
+for omega in (0.6, 0.75):
+    calls.clear()
+    sol = hb_solve(load_system(path).with_param("omega", omega), H)
+    x0, Q, Y, args = calls[-1]  # the period the multipliers come from
+    Phi = Q.T @ Y
+    mu = np.linalg.eigvals(Phi)
+    mu = mu[np.argsort(-np.abs(mu), kind="stable")]
+    cpu = {}
+    for m in (1, 4, 16, Q.shape[1]):
+        a = list(args)
+        a[0], a[1] = x0.copy(), np.ascontiguousarray(Q[:, :m])
+        t = time.process_time()
+        for _ in range(3):
+            a[0], a[1] = x0.copy(), np.ascontiguousarray(Q[:, :m])
+            kernel(*a)
+        cpu[m] = (time.process_time() - t) / 3
+    arnoldi = {}
+    for k in (4, 8):
+        count = [0]
+        def mv(v):
+            count[0] += 1
+            return Phi @ v
+        L = sla.LinearOperator(Phi.shape, matvec=mv, dtype=float)
+        w = sla.eigs(L, k=k, which="LM", tol=1e-10, return_eigenvectors=False)
+        w = np.sort(np.abs(w))[::-1]
+        arnoldi[k] = {"matvecs": count[0], "modulus_error": float(np.max(np.abs(w - np.abs(mu[:k]))))}
+    out[str(omega)] = {"multipliers": int(mu.size), "modulus_largest": float(abs(mu[0])),
+                       "modulus_smallest": float(abs(mu[-1])),
+                       "moduli_above": {str(r): int(np.sum(np.abs(mu) > r)) for r in (0.9, 0.5, 0.3)},
+                       "kernel_cpu_s_by_columns": {str(m): v for m, v in cpu.items()},
+                       "arnoldi_leading": {str(k): v for k, v in arnoldi.items()}}
+print("RESULT " + json.dumps(out))
+"""
+
+
+def leading(system: Path) -> dict:
+    """The chain's spectrum of multipliers and what leading multipliers computed matrix-free would cost: the
+    moduli, the monodromy kernel's CPU time per period with 1, 4, 16 and all tangent columns, and the matrix-vector
+    products ARPACK (``scipy.sparse.linalg.eigs``) takes for the 4 and 8 leading eigenvalues of the monodromy matrix."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"), OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+    out = subprocess.run([sys.executable, "-c", _LEADING, str(system), str(H)], env=env, check=True,
+                         capture_output=True, text=True)  # fmt: skip
+    return json.loads([ln for ln in out.stdout.splitlines() if ln.startswith("RESULT ")][-1][7:])
+
 
 def _run(src: Path, system: Path, lo: float, hi: float, profile: bool = False) -> dict:
     env = dict(os.environ, PYTHONPATH=str(src), OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", NUMBA_NUM_THREADS="1")
@@ -98,6 +162,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=2)
     ap.add_argument("--before-repeat", type=int, default=1, help="repeats of the (slow) code before the change")
     ap.add_argument("--profile", action="store_true", help="also profile the chain once (cProfile)")
+    ap.add_argument("--leading", action="store_true", help="also measure the chain's multipliers (leading ones)")
     ap.add_argument("--json", type=Path, default=HERE / "results" / "hb_scaling.json")
     a = ap.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
@@ -116,6 +181,9 @@ def main(argv: list[str] | None = None) -> int:
                           f"{r['stability']:4d} Floquet  {r['cpu_s']:8.2f} s CPU  {1e3 * r['s_per_point']:8.1f} "
                           f"ms/point  {1e3 * r['s_per_jacobian']:7.2f} ms/Jacobian", flush=True)  # fmt: skip
         profile = _run(ROOT / "src", systems["chain_48dof"], *CASES["chain_48dof"], profile=True) if a.profile else None
+        lead = leading(systems["chain_48dof"]) if a.leading else None
+        if lead:
+            print(json.dumps(lead, indent=1))
     summary = {}
     for tree, cases in runs.items():
         med = {c: {k: statistics.median(r[k] for r in rs) for k in ("s_per_point", "s_per_jacobian", "cpu_s")}
@@ -139,6 +207,7 @@ def main(argv: list[str] | None = None) -> int:
         "runs": runs,
         "summary": summary,
         "profile_chain": profile,
+        "leading_multipliers_chain": lead,
     }
     a.json.parent.mkdir(parents=True, exist_ok=True)
     a.json.write_text(json.dumps(out, indent=1) + "\n")

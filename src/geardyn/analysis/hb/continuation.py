@@ -46,7 +46,7 @@ from ...status import Status, flag_attrs
 from ..periodic.arclength import _span_reporter
 from ..secant import illinois_on_chord
 from .damping import require_decidable
-from .equations import HBEquations, single_thread_blas, solve
+from .equations import HBEquations, SparseJacobian, single_thread_blas, solve
 from .hill import HillResult
 from .solve import hb_solve
 
@@ -73,6 +73,10 @@ NEAR_CRITICAL_DS = 0.1
 MAX_MULTIPLIER_STEP = 0.1
 #: The next step is at most the last one times MULTIPLIER_STEP_TARGET / (its largest multiplier move).
 MULTIPLIER_STEP_TARGET = 0.09
+#: The corrector of a sparse Jacobian (forms of more than ``SPARSE_DOFS`` coordinates) solves with the factors of an
+#: earlier iteration (a chord step, refined once with the current matrix) while the residual falls at least by this
+#: factor an iteration; else it factorises the current matrix.  (Dense Jacobians: Newton, factorised every time.)
+CHORD_RATE = 0.25
 #: A system without damping: a multiplier counts as on the unit circle (neutrally stable) within this.
 NEUTRAL_TOL = 1e-6
 
@@ -448,20 +452,26 @@ class _Tracer:
         """R and [[∂R/∂x, ∂R/∂(p/p_s)], [0]] at ``y``."""
         return self.s.bordered(y[:-1], self.p(y), self.ps)
 
-    def tangent(self, y: np.ndarray, ref: np.ndarray, aug: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    def tangent(
+        self, y: np.ndarray, ref: np.ndarray, aug: tuple[np.ndarray, np.ndarray] | None = None, lu: Any = None
+    ) -> np.ndarray:
         """Unit null vector of [∂R/∂x, ∂R/∂p] at ``y`` oriented like ``ref`` (``aug``: :meth:`_aug` at ``y``,
-        if already evaluated; its matrix is overwritten)."""
+        if already evaluated; its matrix is overwritten; ``lu``: a sparse Jacobian's factors at a nearby point
+        bordered by ``ref`` itself, the corrector's last, used as in a chord step)."""
         _R, A = self._aug(y) if aug is None else aug
         A[-1] = ref
         rhs = np.zeros(self.M + 1)
         rhs[-1] = 1.0
-        t = solve(A, rhs, robust=True)
+        t = A.solve(rhs, lu) if isinstance(A, SparseJacobian) else solve(A, rhs, robust=True)
         t /= np.linalg.norm(t)
         return t if t @ ref >= 0 else -t
 
     def correct(self, y0: np.ndarray, normal: np.ndarray, ref_t: np.ndarray) -> _Pt | None:
+        """The point of the branch in the hyperplane through ``y0`` normal to ``normal`` (Newton; a sparse Jacobian's
+        factors are kept while the residual falls by CHORD_RATE an iteration), or None."""
         y = y0.copy()
         F = np.empty(self.M + 1)
+        lu, r_last = None, math.inf
         for it in range(CORRECTOR_MAX_ITER):
             try:
                 self.s.check(self.p(y))
@@ -469,26 +479,36 @@ class _Tracer:
                 return None
             aug = R, A = self._aug(y)
             g = float(normal @ (y - y0))
-            if math.sqrt(R @ R) <= CORRECTOR_TOL * (1 + math.sqrt(y @ y)) and abs(g) <= 1e-12:
-                return self._finish(y, ref_t, it, aug)
+            r = math.sqrt(R @ R)
+            if r <= CORRECTOR_TOL * (1 + math.sqrt(y @ y)) and abs(g) <= 1e-12:
+                return self._finish(y, ref_t, it, aug, lu if normal is ref_t else None)
             F[:-1] = R
             F[-1] = g
             A[-1] = normal
             try:
-                dy = solve(A, -F)
+                if isinstance(A, SparseJacobian):
+                    dy = A.solve(-F, lu if r <= CHORD_RATE * r_last else None)
+                    lu, r_last = A.lu, r
+                else:
+                    dy = solve(A, -F)
             except np.linalg.LinAlgError:
                 return None
             y = y + dy
             if not np.all(np.isfinite(y)):
                 return None
             if math.sqrt(dy @ dy) <= 1e-13 * (1 + math.sqrt(y @ y)):
-                return self._finish(y, ref_t, it + 1)
+                return self._finish(y, ref_t, it + 1, None, lu if normal is ref_t else None)
         return None
 
     def _finish(
-        self, y: np.ndarray, ref_t: np.ndarray, iters: int, aug: tuple[np.ndarray, np.ndarray] | None = None
+        self,
+        y: np.ndarray,
+        ref_t: np.ndarray,
+        iters: int,
+        aug: tuple[np.ndarray, np.ndarray] | None = None,
+        lu: Any = None,
     ) -> _Pt:
-        t = self.tangent(y, ref_t, aug)
+        t = self.tangent(y, ref_t, aug, lu)
         a, p = y[:-1], self.p(y)
         umin, umax = self.s.extremes(a, p)
         return _Pt(y, t, umin, umax, lambda: self.s.stability(a, p), iters)
