@@ -211,3 +211,17 @@ def test_budget_ending_before_a_class_is_said_and_nothing_unchecked_is_periodic(
     # the pair's own budget (P = 1) says nothing of the kind
     one = steady.simulate(GearModel(omega=0.8), IntegrationOptions(transient=300, periods=8))
     assert one.summary["motion"] == "period-2" and "notes" not in one.summary
+
+
+def test_a_sweeps_default_settling_pass_follows_the_forcing_period():
+    """``--settle`` not given: 1000 forcing periods of one mesh cycle (the pair: unchanged), max(16, ⌈1000/P⌉) of
+    P > 1 mesh cycles (the 12-DOF two-stage file: P = 64, 16 forcing periods = 1024 mesh cycles, where 1000 were
+    64 000); a value given is taken as given."""
+    from geardyn import GearModel, load_system
+    from geardyn.cli.sweeps import _settle
+
+    two_stage = load_system(str(TWO_STAGE))
+    assert two_stage.period_multiple() == 64
+    assert (_settle(None, GearModel()), _settle(None, two_stage)) == (1000, 16)
+    assert (_settle(None, GearModel(cycles=8)), _settle(None, GearModel(cycles=1472))) == (125, 16)
+    assert _settle(500, two_stage) == 500

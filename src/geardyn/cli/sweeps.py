@@ -43,11 +43,13 @@ LyapunovFlagOpt = Annotated[
     ),
 ]
 SettleOpt = Annotated[
-    int,
+    int | None,
     typer.Option(
         "--settle",
-        help="Further periods (with exponents) for points not periodic after the transient, before classification "
-        "(0: none).",
+        help="Further forcing periods (with exponents) for points not periodic after the transient, before "
+        "classification, a pass of up to 4 (0: none). Default 1000; for a forcing period of P > 1 mesh cycles "
+        "max(16, ceil(1000/P)).",
+        show_default=False,
     ),
 ]
 ChunkOpt = Annotated[
@@ -58,6 +60,16 @@ ChunkOpt = Annotated[
     ),
 ]
 ParamOpt = param_option("Swept parameter")
+
+
+def _settle(settle: int | None, model: Any) -> int:
+    """``--settle``: as given, else the classification's pass of the model's forcing period
+    (:func:`~geardyn.analysis.settle.classify_budget`: 1000 forcing periods of one mesh cycle, max(16, ⌈1000/P⌉) of
+    P > 1 mesh cycles)."""
+    from .. import validate
+    from ..analysis.settle import classify_budget
+
+    return classify_budget(model)[0] if settle is None else validate.integer("settle", settle, 0, validate.MAX_PERIODS)
 
 
 def _sweep_json(
@@ -85,7 +97,7 @@ def bifurcation(
     mode: ModeOpt = "fixed",
     sweep: SweepDirOpt = "up",
     lyap: LyapunovFlagOpt = False,
-    settle: SettleOpt = 1000,
+    settle: SettleOpt = None,
     chunk_size: ChunkOpt = None,
 ) -> None:
     """Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and amplitudes
@@ -113,7 +125,7 @@ def bifurcation(
             f"sweep: --sweep {sweep} applies to --mode continue; in fixed mode every point starts from "
             "(u0, v0), so the direction changes nothing"
         )
-    nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
+    nset = _settle(settle, model)
     engine = inp.engine("bifurcation")
     ds = run_bifurcation(
         model,
@@ -156,7 +168,7 @@ def response(
         typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean."),
     ] = "amplitude",
     lyap: LyapunovFlagOpt = False,
-    settle: SettleOpt = 1000,
+    settle: SettleOpt = None,
     method: Annotated[
         str,
         typer.Option(
@@ -193,7 +205,7 @@ def response(
     if lyap:
         inp.exponents_computable(model, values)
     choice("measure", measure, MEASURES)
-    nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
+    nset = _settle(settle, model)
     engine = inp.engine("response")
     if choice("method", method, ("sweep", "hb")) == "hb":
         from ..analysis.hb import hb_response
@@ -264,7 +276,7 @@ def parameter_map(
     inp: Inputs,
     mode: ModeOpt = "fixed",
     lyap: LyapunovFlagOpt = False,
-    settle: SettleOpt = 1000,
+    settle: SettleOpt = None,
     chunk_size: ChunkOpt = None,
 ) -> None:
     """2-D parameter map (e.g. ω × ξ0, ω × D) of motion class, impact state, amplitude and largest exponent."""
@@ -313,7 +325,7 @@ def parameter_map(
         inp.exponents_computable(model, axis_omegas)
     validate.grid(model, [(yn, yv), (xn, xv)], opts)
     choice("mode", mode, MODES)
-    nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
+    nset = _settle(settle, model)
     engine = inp.engine("map")
     ds = run_map(
         model,
@@ -367,7 +379,7 @@ def basins(
     v_max: Annotated[float, typer.Option("--v-max", help="Largest initial velocity v0.")] = 3.0,
     nu: Annotated[int, typer.Option("--nu", help="Grid points along u0.")] = 41,
     nv: Annotated[int, typer.Option("--nv", help="Grid points along v0.")] = 41,
-    settle: SettleOpt = 1000,
+    settle: SettleOpt = None,
     chunk_size: Annotated[int, typer.Option("--chunk-size", help="Initial states per chunk.")] = 64,
     coords: CoordsOpt = None,
 ) -> None:
@@ -384,7 +396,7 @@ def basins(
     lo_v, hi_v = validate.number("v-min", v_min), validate.number("v-max", v_max)
     n_u, n_v = validate.integer("nu", nu, 1, 100_000), validate.integer("nv", nv, 1, 100_000)
     opts = inp.options(model.omega, points=n_u * n_v)
-    nset = validate.integer("settle", settle, 0, validate.MAX_PERIODS)
+    nset = _settle(settle, model)
     engine = inp.engine("basins")
     c = None
     if inp.system is not None:  # a slice of two state coordinates (default the reference mesh's δ, δ')
