@@ -220,7 +220,7 @@ def default_harmonics(model: Any, period: int = 1) -> int:
     H = max(P * DEFAULT_HARMONICS, n * mh)
     if H > MAX_DEFAULT_HARMONICS:
         raise ModelError(
-            f"harmonics: the excitation spans {P} mesh cycles (harmonics of ω/{P * n}); the default would take {H} "
+            f"harmonics: the forcing period spans {P} mesh cycles (harmonics of ω/{P * n}); the default would take {H} "
             f"({P}·{DEFAULT_HARMONICS} for mesh orders up to {DEFAULT_HARMONICS}, and the excitation's {mh} per "
             f"forcing period), more than {MAX_DEFAULT_HARMONICS}: give the harmonics explicitly (the cost grows as "
             f"H³), or use shooting"

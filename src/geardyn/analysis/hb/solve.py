@@ -156,8 +156,8 @@ def hb_solve(
     model : System
         The pair (:class:`~geardyn.model.GearModel`) or a multi-DOF system (its forcing must be periodic).
     harmonics : int, optional
-        H per coordinate (default :func:`~geardyn.analysis.hb.equations.default_harmonics`: 16 unless an
-        excitation spans several mesh cycles).
+        H per coordinate (default :func:`~geardyn.analysis.hb.equations.default_harmonics`: 16 unless the
+        forcing period spans several mesh cycles).
     period : int
         n: the response repeats after n forcing periods (n = 1 harmonic, n > 1 subharmonic).
     guess : ndarray, "simulate", "linear" or None
