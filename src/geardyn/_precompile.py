@@ -23,30 +23,20 @@ import time
 from pathlib import Path
 
 #: The commands whose kernels are compiled at install time (``{bevel}``: the 8-DOF bevel pair's system file).
-COMMANDS: tuple[tuple[str, ...], ...] = (
-    ("simulate", "--omega", "0.8", "--json"),
-    ("simulate", "--omega", "0.8", "--accurate", "--json"),
-    ("lyapunov", "--omega", "0.8", "--json"),
-    ("orbit", "--omega", "0.8", "--json"),
-    ("bifurcation", "--param", "omega", "--start", "0.5", "--stop", "1.5", "--json"),
-    ("response", "--omega-start", "0.5", "--omega-stop", "1.5", "--num", "21", "--json"),
-    ("hb", "--param", "omega", "--start", "0.5", "--stop", "1.5", "--json"),
-    ("simulate", "--system", "{bevel}", "--json"),
-    (
-        "bifurcation",
-        "--system",
-        "{bevel}",
-        "--param",
-        "omega",
-        "--start",
-        "0.8",
-        "--stop",
-        "0.9",
-        "--num",
-        "4",
-        "--json",
-    ),
-    ("hb", "--system", "{bevel}", "--param", "omega", "--start", "0.8", "--stop", "0.9", "--json"),
+COMMANDS: tuple[tuple[str, ...], ...] = tuple(
+    tuple(c.split())
+    for c in (
+        "simulate --omega 0.8 --json",
+        "simulate --omega 0.8 --accurate --json",
+        "lyapunov --omega 0.8 --json",
+        "orbit --omega 0.8 --json",
+        "bifurcation --param omega --start 0.5 --stop 1.5 --json",
+        "response --omega-start 0.5 --omega-stop 1.5 --num 21 --json",
+        "hb --param omega --start 0.5 --stop 1.5 --json",
+        "simulate --system {bevel} --json",
+        "bifurcation --system {bevel} --param omega --start 0.8 --stop 0.9 --num 4 --json",
+        "hb --system {bevel} --param omega --start 0.8 --stop 0.9 --json",
+    )
 )
 
 
