@@ -184,14 +184,8 @@ def sparse_arrays(arrays):
     rows_g = np.repeat(np.arange(n), np.diff(gp))
     gidx = np.full((n, n), -1, dtype=np.int64)
     gidx[rows_g, gj] = np.arange(gj.shape[0])
-    parts = []  # (entry, element, index in Wv, index in Ev) of every product W[e, i] V[e, j]
-    for e in range(ev.shape[0]):
-        kw = np.arange(wp[e], wp[e + 1])
-        kv = np.arange(ep[e], ep[e + 1])
-        KW, KV = np.meshgrid(kw, kv, indexing="ij")
-        KW, KV = KW.ravel(), KV.ravel()
-        parts.append(np.stack([gidx[wi[KW], ej[KV]], np.full(KW.shape, e), KW, KV]))
-    for slot, ew_, ev_ in cross:
+    parts = []  # (entry, element or cross slot, index in Wv, index in Ev) of every product W[e, i] V[e, j]
+    for slot, ew_, ev_ in [(e, e, e) for e in range(ev.shape[0])] + cross:
         kw = np.arange(wp[ew_], wp[ew_ + 1])
         kv = np.arange(ep[ev_], ep[ev_ + 1])
         KW, KV = np.meshgrid(kw, kv, indexing="ij")

@@ -8,16 +8,13 @@ every column of a block (see :mod:`geardyn._kernel_ndof.simd`), and the element 
 
 from __future__ import annotations
 
-from llvmlite import ir
 from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
 from .core import _fz
-from .simd import LANE_BLOCK, _ptr, _rows, _splat, _vload, _vstore, _vty
-from .step import load_at
-
-XQ, XV, XK1, XK2, XK3, XQ2, XV2, XQ3, XV3, XQ4, XV4 = range(11)
+from .simd import LANE_BLOCK, _finish_final, _finish_stage, _ptr, _rows, _splat, _vload, _vty
+from .step import load_at, state_rows
 
 
 def _accel_dense(context, builder, tys, vals, i0):
@@ -49,26 +46,7 @@ def dense_stage_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, 
     def codegen(context, builder, signature, args):
         t = signature.args
         acc = _accel_dense(context, builder, t[:7], args[:7], args[13])
-        i0v = args[13]
-        cv = _splat(builder, args[9])
-        _vstore(context, builder, t[10], args[10], [i0v], acc)
-        qs = _vload(context, builder, t[6], args[6], [i0v])
-        _vstore(
-            context,
-            builder,
-            t[11],
-            args[11],
-            [i0v],
-            builder.fadd(_vload(context, builder, t[7], args[7], [i0v]), builder.fmul(cv, qs)),
-        )
-        _vstore(
-            context,
-            builder,
-            t[12],
-            args[12],
-            [i0v],
-            builder.fadd(_vload(context, builder, t[8], args[8], [i0v]), builder.fmul(cv, acc)),
-        )
+        _finish_stage(context, builder, t, args, 0, acc)
         return context.get_dummy_value()
 
     return sig, codegen
@@ -81,74 +59,45 @@ def dense_final_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, h6, k1, k2, k3
 
     def codegen(context, builder, signature, args):
         t = signature.args
-        i0v = args[15]
-        k4 = _accel_dense(context, builder, t[:7], args[:7], i0v)
-
-        def ld(a):
-            return _vload(context, builder, t[a], args[a], [i0v])
-
-        hv = _splat(builder, args[9])
-        two = ir.Constant(_vty(), [2.0] * LANE_BLOCK)
-
-        def comb(a1, a2, a3, a4):
-            s12 = builder.fadd(a1, builder.fmul(two, a2))
-            return builder.fadd(builder.fadd(s12, builder.fmul(two, a3)), a4)
-
-        v0v = ld(8)
-        qnew = builder.fadd(ld(7), builder.fmul(hv, comb(v0v, ld(13), ld(14), ld(6))))
-        vnew = builder.fadd(v0v, builder.fmul(hv, comb(ld(10), ld(11), ld(12), k4)))
-        _vstore(context, builder, t[7], args[7], [i0v], qnew)
-        _vstore(context, builder, t[8], args[8], [i0v], vnew)
+        k4 = _accel_dense(context, builder, t[:7], args[:7], args[15])
+        _finish_final(context, builder, t, args, 0, k4)
         return context.get_dummy_value()
 
     return sig, codegen
 
 
 @njit(nogil=True, inline="always")
+def _drow(V, m, q, v, vo, d, dv):
+    """(d + V[m]·q̃, dv + V[m]·q̃') over every DOF in order; q̃ = q[0:n], q̃' = v[vo:vo+n]."""
+    for j in range(V.shape[1]):
+        d += V[m, j] * q[j]
+        dv += V[m, j] * v[vo + j]
+    return d, dv
+
+
+@njit(nogil=True, inline="always")
 def forces_dense(q, v, tab, r, V, D, Vc, kc, cc, Dc, omega, s):
     """Element forces s[e] of :func:`field` (default mode) at (q̃, q̃') = (q[0:n], v[0:n]), coefficients
     from row r of a table (T, meshes, 4); meshes, then clearances, in :func:`field`'s arithmetic."""
-    n = V.shape[1]
     M = V.shape[0]
     for m in range(M):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += V[m, j] * q[j]
-            dv += V[m, j] * v[j]
+        d, dv = _drow(V, m, q, v, 0, 0.0, 0.0)
         d -= tab[r, m, 2]
         dv -= omega * tab[r, m, 3]
         s[m] = tab[r, m, 0] * dv + tab[r, m, 1] * _fz(d, D[m])
     for c in range(Vc.shape[0]):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += Vc[c, j] * q[j]
-            dv += Vc[c, j] * v[j]
+        d, dv = _drow(Vc, c, q, v, 0, 0.0, 0.0)
         s[M + c] = cc[c] * dv + kc[c] * _fz(d, Dc[c])
 
 
 @njit(nogil=True, inline="always")
 def element_values_dense(q, v, vo, cf, V, Vc, omega, out):
     """δ, δ' of every element (meshes then clearances) into out[e, 0:2]; q̃ = q[0:n], q̃' = v[vo:vo+n]."""
-    n = V.shape[1]
     M = V.shape[0]
     for m in range(M):
-        d = -cf[m, 2]
-        dv = -omega * cf[m, 3]
-        for j in range(n):
-            d += V[m, j] * q[j]
-            dv += V[m, j] * v[vo + j]
-        out[m, 0] = d
-        out[m, 1] = dv
+        out[m, 0], out[m, 1] = _drow(V, m, q, v, vo, -cf[m, 2], -omega * cf[m, 3])
     for c in range(Vc.shape[0]):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += Vc[c, j] * q[j]
-            dv += Vc[c, j] * v[vo + j]
-        out[M + c, 0] = d
-        out[M + c, 1] = dv
+        out[M + c, 0], out[M + c, 1] = _drow(Vc, c, q, v, vo, 0.0, 0.0)
 
 
 @njit(nogil=True)
@@ -160,42 +109,28 @@ def pad_dense(A, B, g, W, Wc, AT, BT, gP, WT):
     BT[:, :] = 0.0
     gP[:] = 0.0
     WT[:, :] = 0.0
-    for i in range(n):
-        gP[i] = g[i]
-        for j in range(n):
-            AT[j, i] = A[i, j]
-            BT[j, i] = B[i, j]
-        for m in range(M):
-            WT[m, i] = W[m, i]
-        for c in range(Wc.shape[0]):
-            WT[M + c, i] = Wc[c, i]
+    gP[:n] = g
+    AT[:n, :n] = A.T
+    BT[:n, :n] = B.T
+    WT[:M, :n] = W
+    WT[M : M + Wc.shape[0], :n] = Wc
 
 
 @njit(nogil=True, inline="always")
-def rk4_plain_dense(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega, ld):
+def rk4_plain_dense(X, s, h, tab, j, dm, omega, ld):
     """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
 
-    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace.
+    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace;
+    ``dm = (AT, BT, gP, WT, V, D, Vc, kc, cc, Dc)`` the point's padded matrices (:func:`pad_dense`) and elements.
     Coefficients (and the loads ``ld`` into gP, :func:`geardyn._kernel_ndof.step.load_at`; None without torque
     orders: the step then compiles without the refill) from the table rows 2j..2j+2; the arithmetic is
     :func:`rk4` with :func:`field`'s, operation by operation (see :mod:`geardyn._kernel_ndof.simd`), vectorised
     over blocks of rows.
     """
+    AT, BT, gP, WT, V, D, Vc, kc, cc, Dc = dm
     hh = 0.5 * h
     h6 = h / 6.0
-    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = (
-        X[XQ],
-        X[XV],
-        X[XK1],
-        X[XK2],
-        X[XK3],
-        X[XQ2],
-        X[XV2],
-        X[XQ3],
-        X[XV3],
-        X[XQ4],
-        X[XV4],
-    )
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = state_rows(X, 0, X.shape[1])
     if ld is not None:  # None: no torque orders, compiled without the refill
         load_at(gP, ld, 2 * j)
     forces_dense(q, v, tab, 2 * j, V, D, Vc, kc, cc, Dc, omega, s)

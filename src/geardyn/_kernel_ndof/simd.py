@@ -21,7 +21,7 @@ here as LLVM IR (:func:`numba.extending.intrinsic`).
 ``q0 += h6 (((v0 + 2 v2) + 2 v3) + v4)``, ``v0 += h6 (((k1 + 2 k2) + 2 k3) + k4)``.
 
 :func:`forces_group` computes the forces of L meshes or clearances at once, one per lane (their terms gathered from
-q and q'), in the arithmetic of :func:`geardyn._kernel_ndof.core.forces_tab`: each lane's sums run over its terms
+q and q'), in the arithmetic of :func:`geardyn._kernel_ndof.core.field`: each lane's sums run over its terms
 in the same order, the padding terms (value 0) after them; :func:`values_group` their δ and δ' (the statistics'
 samples) in that of :func:`geardyn._kernel_ndof.core.element_values`.
 """
@@ -65,7 +65,8 @@ def _vstore(context, builder, aty, aval, inds, value):
 
 
 def _splat(builder, x):
-    vty = _vty()
+    """The vector of LANE_BLOCK copies of the scalar x (a float64 or an integer)."""
+    vty = ir.VectorType(x.type, LANE_BLOCK)
     u = builder.insert_element(ir.Constant(vty, ir.Undefined), x, ir.Constant(ir.IntType(32), 0))
     mask = ir.Constant(ir.VectorType(ir.IntType(32), LANE_BLOCK), [0] * LANE_BLOCK)
     return builder.shuffle_vector(u, ir.Constant(vty, ir.Undefined), mask)
@@ -102,6 +103,46 @@ def _accel(context, builder, tys, vals, i0):
 NACC = 13
 
 
+def _finish_stage(context, builder, t, args, b, acc):
+    """Store a stage's acceleration ``acc`` into k, and qn = q0 + c q', vn = v0 + c k (the arguments (q', q0, v0,
+    c, k, qn, vn, i0) at 6 + b … 13 + b: b = 0 for the dense stage, the sparse one's extra arguments before)."""
+    i0v = args[13 + b]
+    cv = _splat(builder, args[9 + b])
+
+    def ld(a):
+        return _vload(context, builder, t[a + b], args[a + b], [i0v])
+
+    def st(a, value):
+        _vstore(context, builder, t[a + b], args[a + b], [i0v], value)
+
+    st(10, acc)
+    qs = ld(6)
+    st(11, builder.fadd(ld(7), builder.fmul(cv, qs)))
+    st(12, builder.fadd(ld(8), builder.fmul(cv, acc)))
+
+
+def _finish_final(context, builder, t, args, b, k4):
+    """The RK4 update of (q0, v0) from the last stage's acceleration ``k4`` (the arguments (q4, v4, q0, v0, h6, k1,
+    k2, k3, v2, v3, i0) at 5 + b … 15 + b, as :func:`_finish_stage`)."""
+    i0v = args[15 + b]
+
+    def ld(a):
+        return _vload(context, builder, t[a + b], args[a + b], [i0v])
+
+    hv = _splat(builder, args[9 + b])
+    two = ir.Constant(_vty(), [2.0] * LANE_BLOCK)
+
+    def comb(a1, a2, a3, a4):
+        s12 = builder.fadd(a1, builder.fmul(two, a2))
+        return builder.fadd(builder.fadd(s12, builder.fmul(two, a3)), a4)
+
+    v0v = ld(8)
+    qnew = builder.fadd(ld(7), builder.fmul(hv, comb(v0v, ld(13), ld(14), ld(6))))
+    vnew = builder.fadd(v0v, builder.fmul(hv, comb(ld(10), ld(11), ld(12), k4)))
+    _vstore(context, builder, t[7 + b], args[7 + b], [i0v], qnew)
+    _vstore(context, builder, t[8 + b], args[8 + b], [i0v], vnew)
+
+
 @intrinsic
 def stage_block(typingctx, AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, c, k, qn, vn, i0):
     """Rows i0 … i0+LANE_BLOCK−1 of one stage at (q, v): k = acceleration, qn = q0 + c v, vn = v0 + c k."""
@@ -110,27 +151,8 @@ def stage_block(typingctx, AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0
     def codegen(context, builder, signature, args):
         t = signature.args
         b = NACC - 7  # the arguments below are those of the dense version, shifted by b
-        i0v = args[13 + b]
-        acc = _accel(context, builder, t[:NACC], args[:NACC], i0v)
-        cv = _splat(builder, args[9 + b])
-        _vstore(context, builder, t[10 + b], args[10 + b], [i0v], acc)
-        qs = _vload(context, builder, t[6 + b], args[6 + b], [i0v])
-        _vstore(
-            context,
-            builder,
-            t[11 + b],
-            args[11 + b],
-            [i0v],
-            builder.fadd(_vload(context, builder, t[7 + b], args[7 + b], [i0v]), builder.fmul(cv, qs)),
-        )
-        _vstore(
-            context,
-            builder,
-            t[12 + b],
-            args[12 + b],
-            [i0v],
-            builder.fadd(_vload(context, builder, t[8 + b], args[8 + b], [i0v]), builder.fmul(cv, acc)),
-        )
+        acc = _accel(context, builder, t[:NACC], args[:NACC], args[13 + b])
+        _finish_stage(context, builder, t, args, b, acc)
         return context.get_dummy_value()
 
     return sig, codegen
@@ -144,34 +166,11 @@ def final_block(typingctx, AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0
     def codegen(context, builder, signature, args):
         t = signature.args
         b = NACC - 7
-        i0v = args[15 + b]
-        k4 = _accel(context, builder, t[:NACC], args[:NACC], i0v)
-
-        def ld(a):
-            return _vload(context, builder, t[a + b], args[a + b], [i0v])
-
-        hv = _splat(builder, args[9 + b])
-        two = ir.Constant(_vty(), [2.0] * LANE_BLOCK)
-
-        def comb(a1, a2, a3, a4):
-            s12 = builder.fadd(a1, builder.fmul(two, a2))
-            return builder.fadd(builder.fadd(s12, builder.fmul(two, a3)), a4)
-
-        v0v = ld(8)
-        qnew = builder.fadd(ld(7), builder.fmul(hv, comb(v0v, ld(13), ld(14), ld(6))))
-        vnew = builder.fadd(v0v, builder.fmul(hv, comb(ld(10), ld(11), ld(12), k4)))
-        _vstore(context, builder, t[7 + b], args[7 + b], [i0v], qnew)
-        _vstore(context, builder, t[8 + b], args[8 + b], [i0v], vnew)
+        k4 = _accel(context, builder, t[:NACC], args[:NACC], args[15 + b])
+        _finish_final(context, builder, t, args, b, k4)
         return context.get_dummy_value()
 
     return sig, codegen
-
-
-def _splat_i(builder, x):
-    vty = ir.VectorType(x.type, LANE_BLOCK)
-    u = builder.insert_element(ir.Constant(vty, ir.Undefined), x, ir.Constant(ir.IntType(32), 0))
-    mask = ir.Constant(ir.VectorType(ir.IntType(32), LANE_BLOCK), [0] * LANE_BLOCK)
-    return builder.shuffle_vector(u, ir.Constant(vty, ir.Undefined), mask)
 
 
 def _gather(builder, base, idx):
@@ -179,7 +178,7 @@ def _gather(builder, base, idx):
     i64 = ir.IntType(64)
     iv = ir.VectorType(i64, LANE_BLOCK)
     addr = builder.add(
-        _splat_i(builder, builder.ptrtoint(base, i64)), builder.shl(idx, ir.Constant(iv, [3] * LANE_BLOCK))
+        _splat(builder, builder.ptrtoint(base, i64)), builder.shl(idx, ir.Constant(iv, [3] * LANE_BLOCK))
     )
     pty = ir.VectorType(base.type, LANE_BLOCK)
     mty = ir.VectorType(ir.IntType(1), LANE_BLOCK)
@@ -257,7 +256,7 @@ def forces_group(typingctx, EI, EV, q, v, TB, r, Dp, omega, s, g):
 
 @intrinsic
 def forces_slopes_group(typingctx, EI, EV, q, v, TB, r, Dp, omega, s, gk, gc, g):
-    """:func:`forces_group` and the slopes of :func:`geardyn._kernel_ndof.core.forces_slopes_tab`:
+    """:func:`forces_group` and the slopes of :func:`geardyn._kernel_ndof.core.slopes` (default mode):
     gk = K · (1 if D = 0 or |δ| > D else 0), gc = C, into gk[G·L …], gc[G·L …]."""
     sig = types.void(EI, EV, q, v, TB, r, Dp, omega, s, gk, gc, g)
 
