@@ -14,7 +14,6 @@ The jump claims are judged on lockstep frequency responses (:mod:`geardyn.paper.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -635,13 +634,3 @@ def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]
                     sub[k][i] = c[k]
         out.append(v.judge(sub))
     return out
-
-
-def readings_rows_text(rows: Sequence[ReadingRow]) -> list[list[str]]:
-    """A readings table as the report's rows (header first)."""
-    return [["reading", "result", "holds"]] + [[r.reading, r.result, r.holds] for r in rows]
-
-
-def omega_grid_text(ws: np.ndarray) -> str:
-    """``"ω ∈ [0.50, 1.60], step 0.01"``."""
-    return f"ω ∈ [{ws[0]:.2f}, {ws[-1]:.2f}], step {float(np.min(np.diff(ws))) if ws.size > 1 else math.nan:.2f}"
