@@ -36,7 +36,7 @@ from ..secant import illinois_on_chord
 from .branch import Bifurcation, Branch
 from .floquet import REAL_MULTIPLIER_TOL
 from .map import MapEvaluation, PeriodMap
-from .orbit import PeriodicOrbit, _hermite_extrema, _map_extrema, _minimal_period, elastic_basis
+from .orbit import PeriodicOrbit, _map_extrema, _minimal_period, _trajectory_extrema, elastic_basis
 
 __all__ = ["continue_branch", "element_extrema", "MAX_BRANCH_POINTS", "DS_MAX", "DS_INIT", "DS_MIN"]
 
@@ -153,12 +153,7 @@ def element_extrema(pmap: PeriodMap, x: np.ndarray) -> np.ndarray:
     m = pmap.model
     if len(m.elements) == 1:
         return np.array([_map_extrema(pmap, x)])
-    tr = pmap.trajectory(x)
-    out = np.full((len(m.elements), 2), np.nan)
-    if np.all(np.isfinite(tr.x)):
-        for e in range(out.shape[0]):
-            out[e] = _hermite_extrema(tr.deltas[:, e, 0], tr.deltas[:, e, 1], pmap.step)
-    return out
+    return _trajectory_extrema(pmap.trajectory(x), len(m.elements), pmap.step)
 
 
 def _axis(dim: int) -> np.ndarray:
