@@ -318,18 +318,8 @@ def _disagreeing_runs(ds: xr.Dataset, a: str, b: str) -> list[tuple[int, int]]:
     x = ds[_param(ds)].values
     sa, sb, rng = _sweep_arrays(ds, a), _sweep_arrays(ds, b), _amplitude_range(ds)
     differ = [_same(sa, sb, k, rng, ATTRACTOR_TOL, NONPERIODIC_TOL) is False for k in range(x.size)]
-    runs: list[tuple[int, int]] = []
-    k = 0
-    while k < x.size:
-        if differ[k]:
-            j = k
-            while j + 1 < x.size and differ[j + 1]:
-                j += 1
-            runs.append((k, j))
-            k = j + 1
-        else:
-            k += 1
-    return runs
+    edges = np.diff(np.concatenate([[0], np.asarray(differ, dtype=int), [0]]))
+    return [(int(k), int(j) - 1) for k, j in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1))]
 
 
 def _leaving_jumps(
