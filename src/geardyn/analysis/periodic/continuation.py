@@ -20,6 +20,7 @@ from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, ca
 from ...status import Status
 from .arclength import MAX_BRANCH_POINTS, continue_branch, element_extrema
 from .branch import Bifurcation, Branch
+from .floquet import pairs
 from .map import PeriodMap
 from .orbit import (
     GUESS_TRANSIENT,
@@ -172,7 +173,7 @@ class ContinuationResult:
                         self.param: float(br.values[i]),
                         "amplitude": float(br.amplitude[i]),
                         "stable": bool(st[i]),
-                        "multipliers": [[float(m.real), float(m.imag)] for m in mu[i]],
+                        "multipliers": pairs(mu[i]),
                         "period": int(br.n),
                         "branch": int(br.index),
                         "state": [float(s) for s in br.states[i]],

@@ -21,7 +21,7 @@ from ...labels import IMPACT_LABELS, impact_state
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError
 from ...status import Status
 from ...system import require_periodic
-from .floquet import Floquet, floquet
+from .floquet import Floquet, floquet, pairs
 from .map import MAP_THREADS, MapEvaluation, PeriodMap
 
 __all__ = [
@@ -366,7 +366,7 @@ class PeriodicOrbit:
             "multipliers": fl.pairs(),
             "multiplier_moduli": [float(abs(m)) for m in fl.multipliers],
             "floquet_exponents": [num(e) for e in fl.exponents],
-            "elastic_multipliers": [[float(m.real), float(m.imag)] for m in mu],
+            "elastic_multipliers": pairs(mu),
             "rigid_body_modes": r,
             "rigid_body_note": (
                 f"{2 * r} multipliers equal to 1 belong to the {r} rigid-body mode(s) "
