@@ -70,10 +70,6 @@ PERIOD_WINDOW = 0.5
 CONVERGING_RATIO = 0.8
 
 
-def _divisors(n: int) -> list[int]:
-    return [m for m in range(1, n) if n % m == 0]
-
-
 def converging_to_divisor(points: np.ndarray, n: int, window: int) -> bool:
     """True when the last ``window`` points of a sequence found periodic with period ``n`` are still
     converging onto a cycle of a proper divisor of ``n`` (:data:`CONVERGING_RATIO`).
@@ -89,7 +85,9 @@ def converging_to_divisor(points: np.ndarray, n: int, window: int) -> bool:
     """
     pts = np.asarray(points, dtype=float)
     m_pts = pts.shape[0]
-    for m in _divisors(int(n)):
+    for m in range(1, int(n)):
+        if int(n) % m:
+            continue  # the proper divisors of n only
         w = min(window, m_pts - m)
         half = w // 2
         if half < max(2, m):

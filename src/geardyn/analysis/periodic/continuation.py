@@ -467,7 +467,9 @@ def continuation(
                     direction=away,
                     progress=span_done.branch(),
                 )
-                nb = _prepend_source(nb, b, model, dtau, accurate)
+                # the period-doubling point (the period-n orbit traversed twice) at the head of the switched
+                # branch, so that the period-2n branch is drawn from where it is born
+                _add_point(nb, b, model, dtau, accurate, end=False)
                 nb = _append_merge(nb, br, model, dtau, accurate, span)
                 branches.append(nb)
                 seen.append((2 * br.n, b.value, b.state.copy()))
@@ -521,13 +523,6 @@ def _append_merge(br: Branch, parent: Branch, model: GearModel, dtau: float, acc
     if M is not None:
         Uc = br.elastic
         mb.multipliers = np.sort_complex(np.linalg.eigvals(M if Uc is None else Uc.T @ M @ Uc))[::-1]
-    return br
-
-
-def _prepend_source(br: Branch, src: Bifurcation, model: GearModel, dtau: float, accurate: bool) -> Branch:
-    """Put the period-doubling point (the period-n orbit traversed twice) at the head of a switched branch,
-    so that the period-2n branch is drawn from where it is born."""
-    _add_point(br, src, model, dtau, accurate, end=False)
     return br
 
 
