@@ -579,29 +579,6 @@ class _Continuer:
         return pts, bifs, end
 
 
-def _make_branch(
-    index: int, prob: _Family, pts: list[_Point], end: str, origin: Bifurcation | None, bifs: list[Bifurcation]
-) -> Branch:
-    n = prob.n
-    return Branch(
-        index=index,
-        param=prob.param,
-        n=n,
-        values=np.array([q.p for q in pts]),
-        states=np.array([q.y[:-1] for q in pts]),
-        points=np.array([np.vstack([q.y[None, :-1], q.ev.points[:-1]]) for q in pts]).reshape(len(pts), n, prob.dim),
-        monodromy=np.array([q.M for q in pts]),
-        u_min=np.array([q.u_min for q in pts]),
-        u_max=np.array([q.u_max for q in pts]),
-        steps=np.array([q.ev.steps for q in pts], dtype=np.int64),
-        end=end,
-        origin=origin,
-        bifurcations=bifs,
-        elastic=prob.elastic_basis,
-        extrema=np.array([q.ext for q in pts]).reshape(len(pts), len(prob.names), 2),
-    )
-
-
 def continue_branch(
     orbit: PeriodicOrbit,
     param: str,
@@ -697,7 +674,25 @@ def continue_branch(
         progress(total, total)
     if not prob.accurate:
         bifs = _drop_discretization_noise(bifs, span)
-    return _make_branch(index, prob, pts, end, origin, bifs)
+    return Branch(
+        index=index,
+        param=prob.param,
+        n=prob.n,
+        values=np.array([q.p for q in pts]),
+        states=np.array([q.y[:-1] for q in pts]),
+        points=np.array([np.vstack([q.y[None, :-1], q.ev.points[:-1]]) for q in pts]).reshape(
+            len(pts), prob.n, prob.dim
+        ),
+        monodromy=np.array([q.M for q in pts]),
+        u_min=np.array([q.u_min for q in pts]),
+        u_max=np.array([q.u_max for q in pts]),
+        steps=np.array([q.ev.steps for q in pts], dtype=np.int64),
+        end=end,
+        origin=origin,
+        bifurcations=bifs,
+        elastic=prob.elastic_basis,
+        extrema=np.array([q.ext for q in pts]).reshape(len(pts), len(prob.names), 2),
+    )
 
 
 def _span_reporter(progress: Callable[[float, float], None], p0: float, stop: float) -> Callable[[float], None]:
