@@ -11,6 +11,7 @@ from rich.table import Table
 from ..errors import ModelError
 from .app import console, emit_json
 from .options import OUTPUT, Inputs, command, finish, model_group, option
+from .render import files, plain
 
 JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 
@@ -81,20 +82,20 @@ def te(
     summary = res.to_json()
     summary["abscissa"] = sig.abscissa
     summary["mesh_section"] = section
-    files = []
+    paths = []
     if inp.te_out is not None:
         from ..atomic import atomic_write_bytes
 
         atomic_write_bytes(inp.te_out, section.encode("utf-8"))
-        files.append(str(inp.te_out))
+        paths.append(str(inp.te_out))
     if inp.json_out:
-        summary["files"] = files
+        summary["files"] = paths
         emit_json(summary)
         return
-    _show_te(summary, files)
+    _show_te(summary, paths)
 
 
-def _show_te(s: dict[str, Any], files: list[str]) -> None:
+def _show_te(s: dict[str, Any], paths: list[str]) -> None:
     t = Table(title=f"Mesh harmonics of {s['source']} (z1 = {s['z1']}, z2 = {s['z2']})")
     for col in ("l", "pinion order", "amplitude (µm)", "phase (deg)"):
         t.add_column(col, justify="right")
@@ -122,11 +123,9 @@ def _show_te(s: dict[str, Any], files: list[str]) -> None:
         f"residual: {100 * s['residual_share']:.3g} % of the signal's RMS",
         *[f"left out: {x}" for x in s["left_out"]],
     ]
-    for line in lines:
-        console.print(line, markup=False, highlight=False)
+    plain(*lines)
     console.print(s["mesh_section"], markup=False, highlight=False, soft_wrap=True)
-    for f in files:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    files(paths)
 
 
 def attach_iso_kv(cfg: Any, model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
@@ -355,12 +354,10 @@ def runup_cmd(inp: Inputs) -> None:
 
 def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
     what = "run-up" if s["omega_stop"] > s["omega_start"] else "run-down"
-    console.print(
+    plain(
         f"{what}: {s['rpm'][0]:.6g} → {s['rpm'][-1]:.6g} rpm in {s['duration_s']:.4g} s "
         f"({s['ramp_rate_rpm_per_s']:.4g} rpm/s), {s['blocks']} blocks of {s['cycles_per_block']} mesh cycles"
-        + ("; DIVERGED" if s["diverged"] else ""),
-        markup=False,
-        highlight=False,
+        + ("; DIVERGED" if s["diverged"] else "")
     )
     t = Table(title="Order-tracked DTE (every tenth block)")
     for col in ("rpm", "ω", "mesh order 1 (µm)", "half p-p (µm)", "dynamic factor"):
@@ -377,6 +374,5 @@ def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
             "n/a" if s["dynamic_factor"][i] is None else f"{s['dynamic_factor'][i]:.4g}",
         )
     console.print(t)
-    console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
-    for f in paths:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    plain(f"gear pair: {s['pair']}")
+    files(paths)

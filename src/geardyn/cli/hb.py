@@ -49,12 +49,10 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
     p = s["param"]
     vals = [b[p] for b in s["branch"]]
     n_st = sum(1 for b in s["branch"] if b["stable"])
-    console.print(
+    render.plain(
         f"HB branch in {p}: {len(vals)} points from {min(vals):.6g} to {max(vals):.6g} "
         f"(H = {s['harmonics']}, period {s['period']}, N = {s['samples']}; {n_st} stable); "
-        f"converged: {s['converged']}; end: {s['end']}",
-        markup=False,
-        highlight=False,
+        f"converged: {s['converged']}; end: {s['end']}"
     )
     t = Table(title="Bifurcations")
     for col in ("type", p, "u_min", "u_max", "multipliers", "detail"):
@@ -65,11 +63,7 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
     console.print(t)
     sh = s.get("shooting")
     if sh:
-        console.print(
-            "shooting: " + ", ".join(f"{b['type']} {b[p]:.6f}" for b in sh["bifurcations"]),
-            markup=False,
-            highlight=False,
-        )
+        render.plain("shooting: " + ", ".join(f"{b['type']} {b[p]:.6f}" for b in sh["bifurcations"]))
     render.files(paths)
 
 

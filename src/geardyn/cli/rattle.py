@@ -144,15 +144,13 @@ def rattle(
 def _show(s: dict[str, Any], paths: list[str]) -> None:
     from . import render
 
-    console.print(
+    render.plain(
         f"ω = {s['omega']:.6g}"
         + (f" ({s['rpm']:.6g} rpm)" if s.get("rpm") is not None else "")
-        + f", cycle = {s['cycle_mesh_periods']} mesh periods, {s['cycles']} cycles recorded: {s.get('regime')}",
-        markup=False,
-        highlight=False,
+        + f", cycle = {s['cycle_mesh_periods']} mesh periods, {s['cycles']} cycles recorded: {s.get('regime')}"
     )
     if s.get("status") != "ok":
-        console.print(f"status: {s.get('status')}", markup=False, highlight=False)
+        render.plain(f"status: {s.get('status')}")
         render.files(paths)
         return
     t = Table(title="Rattle")
@@ -171,5 +169,5 @@ def _show(s: dict[str, Any], paths: list[str]) -> None:
     ri = f"rattle index (impact kinetic-energy loss per cycle): {s['rattle_index']:.4g} (k b_c²)"
     if s.get("rattle_index_J") is not None:
         ri += f" = {s['rattle_index_J']:.4g} J"
-    console.print(ri, markup=False, highlight=False)
+    render.plain(ri)
     render.files(paths)

@@ -104,7 +104,13 @@ def meshes(s: dict[str, Any]) -> None:
         t.add_row(h, *(_cell(m.get(k)) for m in rows))
     console.print(t)
     if s.get("note"):
-        console.print(f"note: {s['note']}", markup=False, highlight=False)
+        plain(f"note: {s['note']}")
+
+
+def plain(*lines: str) -> None:
+    """Print each line as it is (no markup, no highlighting)."""
+    for line in lines:
+        console.print(line, markup=False, highlight=False)
 
 
 def files(paths: list[str]) -> None:
@@ -115,8 +121,7 @@ def files(paths: list[str]) -> None:
     paths : list of str
         The files written.
     """
-    for f in paths:
-        console.print(f"wrote {f}")
+    plain(*(f"wrote {f}" for f in paths))
 
 
 @_summary_doc
@@ -167,9 +172,8 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
             )
     console.print(t)
     if "pair" in s:
-        console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
-    for note in s.get("notes", []):  # a long forcing period's classification budget, its shortened history
-        console.print(f"note: {note}", markup=False, highlight=False)
+        plain(f"gear pair: {s['pair']}")
+    plain(*(f"note: {n}" for n in s.get("notes", [])))  # a long forcing period's classification budget, its history
     files(paths)
 
 
@@ -185,9 +189,7 @@ def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> 
     for a in summary["assumptions"]:
         v = f"{a['value']:.6g}" if isinstance(a["value"], (int, float)) else str(a["value"])
         lines.append(f"assumed {a['name']} = {v}{' ' + a['unit'] if a['unit'] else ''}: {a['source']}")
-    lines += [f"note: {n}" for n in summary["notes"]]
-    for line in lines:
-        console.print(line, markup=False, highlight=False)
+    plain(*lines, *(f"note: {n}" for n in summary["notes"]))
 
 
 @_summary_doc
@@ -236,8 +238,7 @@ def continuation(s: dict[str, Any], paths: list[str]) -> None:
             b["type"], f"{b[p]:.6f}", str(b["period"]), str(b["branch"]), f"{b['amplitude']:.4f}", mus, b["detail"]
         )
     console.print(t)
-    for note in s.get("notes", []):
-        console.print(f"note: {note}", markup=False, highlight=False)
+    plain(*(f"note: {n}" for n in s.get("notes", [])))
     files(paths)
 
 
@@ -300,15 +301,11 @@ def response(s: dict[str, Any], paths: list[str]) -> None:
     console.print(t)
     hy = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["hysteresis"]) or "none"
     hy_rpm = ", ".join(f"[{a:.1f}, {b:.1f}]" for a, b in s.get("hysteresis_rpm", [])) or "none"
-    console.print(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}", markup=False, highlight=False)
+    plain(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}")
     if s.get("coexistence"):
         co = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["coexistence"])
-        console.print(
-            f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}",
-            markup=False,
-            highlight=False,
-        )
-    console.print(f"gear pair: {s['physical']['pair']}", markup=False, highlight=False)
+        plain(f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}")
+    plain(f"gear pair: {s['physical']['pair']}")
     files(paths)
 
 
@@ -361,11 +358,7 @@ def claims(res: dict[str, Any]) -> None:
     if run is not None:
         console.print(escape(run.provenance()), style="dim", highlight=False)
     more = "; verdicts may differ from the full run's" if run is not None and run.reduced else ""
-    console.print(
-        f"report (deciding evidence, readings, figures): {res['paths']['html']} ({res['seconds']:.1f} s{more})",
-        markup=False,
-        highlight=False,
-    )
+    plain(f"report (deciding evidence, readings, figures): {res['paths']['html']} ({res['seconds']:.1f} s{more})")
 
 
 def bench(res: dict[str, Any]) -> None:
@@ -377,6 +370,4 @@ def bench(res: dict[str, Any]) -> None:
         t.add_row(name, f"{r['wall_s']:.4f}", f"{r['steps']:,}", f"{r['ns_per_step']:.2f}")
     console.print(t)
     m = res["machine"]
-    console.print(
-        f"{m['cpu']}, {m['cores']} cores, load average {m.get('load_average', 'n/a')}", markup=False, highlight=False
-    )
+    plain(f"{m['cpu']}, {m['cores']} cores, load average {m.get('load_average', 'n/a')}")

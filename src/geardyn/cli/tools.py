@@ -11,7 +11,7 @@ import typer
 
 from ..errors import GeardynError
 from . import render
-from .app import console, emit_json, err_console, fail
+from .app import emit_json, err_console, fail
 from .options import CONFIG, FIGURE_OPTIONS, OUTPUT, RPM, TORQUE, Inputs, command, option
 
 JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
@@ -85,8 +85,7 @@ def plot_cmd(
     if inp.json_out:
         emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
         return
-    for f in files:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    render.files(files)
 
 
 #: Largest attribute of a result file drawn by ``plot`` (characters of a string, elements of an array).
