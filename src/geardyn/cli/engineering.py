@@ -212,17 +212,10 @@ RUNUP_OPTIONS = [
 
 
 def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
-    from .ranges import both_spellings
+    from .ranges import omega_only
 
     scales = inp.scales()
-    _, omega_start, omega_stop = both_spellings(
-        inp.values.get("param"),
-        inp.values.get("start"),
-        inp.values.get("stop"),
-        inp.omega_start,
-        inp.omega_stop,
-        "omega",
-    )
+    _, omega_start, omega_stop = omega_only(inp)
     given_rpm = inp.ru_rpm_start is not None or inp.ru_rpm_stop is not None
     given_w = omega_start is not None or omega_stop is not None
     if given_rpm == given_w:

@@ -233,15 +233,6 @@ def quiet_broken_pipe() -> None:
         pass
 
 
-def stream_encoding_is_utf(stream: Any) -> bool:
-    """Whether ``stream`` writes UTF-8 (else the help text is given in ASCII)."""
-    enc = getattr(stream, "encoding", None) or "utf-8"
-    try:
-        return codecs.lookup(enc).name.startswith("utf")
-    except LookupError:
-        return False
-
-
 # ---------------------------------------------------------------- JSON
 def strict_json(obj: Any) -> str:
     """``obj`` as indented RFC 8259 JSON: NumPy values as plain numbers and lists, every non-finite

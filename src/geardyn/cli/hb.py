@@ -147,7 +147,7 @@ def hb(
     model = inp.model()
     P = model.hb_form(n).periods // n  # a forcing period of P mesh cycles: harmonics of ω/(P n)
     if harmonics is None:
-        H = default_harmonics(model, n) if P > 1 else DEFAULT_HARMONICS
+        H = default_harmonics(model, n)
     else:
         H = validate.integer("harmonics", harmonics, 1, MAX_DEFAULT_HARMONICS if P > 1 else MAX_HARMONICS)
         if 1 < P and H < P * n:

@@ -628,18 +628,6 @@ class Inputs:
                 f"got {t!r}"
             ) from None
 
-    def exponents_computable(self, model: GearModel, omegas: Any) -> None:
-        """:func:`geardyn.validate.exponents_computable`: the precision limit of Lyapunov exponents.
-
-        Parameters
-        ----------
-        model : System
-        omegas : sequence of float
-        """
-        from .. import validate
-
-        validate.exponents_computable(model, omegas)
-
     def param_range(
         self, param: str | None, start: float | None, stop: float | None, *, what: str = "swept"
     ) -> tuple[str, float, float]:

@@ -116,7 +116,7 @@ def lyapunov(
     model = inp.model()
     scales = inp.scales()
     opts = inp.options(model.omega)
-    inp.exponents_computable(model, [model.omega])
+    validate.exponents_computable(model, [model.omega])
     nb = validate.integer("blocks", blocks, 2, validate.MAX_PERIODS)
     if opts.periods < nb:
         raise ModelError(

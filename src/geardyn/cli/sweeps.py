@@ -25,7 +25,7 @@ from .options import (
     param_option,
     sweep_range,
 )
-from .ranges import OMEGA_RANGE, both_spellings
+from .ranges import OMEGA_RANGE, both_spellings, omega_only
 from .system_input import CoordsOpt
 
 ModeOpt = Annotated[
@@ -72,12 +72,6 @@ def _settle(settle: int | None, model: Any) -> int:
     return classify_budget(model)[0] if settle is None else validate.integer("settle", settle, 0, validate.MAX_PERIODS)
 
 
-def _sweep_json(
-    inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine: dict[str, Any], show: Any, *extra: Any
-) -> None:
-    finish(summary, inp.write(ds, stem, engine), inp, show, *extra)
-
-
 def _system(inp: Inputs, model: Any, summary: dict[str, Any], ds: Any) -> dict[str, Any]:
     """A system's summary with its ``meshes`` (:func:`geardyn.cli.system_input.mesh_summary`); the pair's as it is."""
     if inp.system is None:
@@ -117,7 +111,7 @@ def bifurcation(
     models = validate.grid(model, [(name, values)])
     opts = inp.options(omegas=[m.omega for m in models], points=len(models) * (2 if sweep == "both" else 1))
     if lyap:
-        inp.exponents_computable(model, [m.omega for m in models])
+        validate.exponents_computable(model, [m.omega for m in models])
     choice("mode", mode, MODES)
     choice("sweep", sweep, SWEEPS)
     if mode == "fixed" and sweep != "up":
@@ -142,7 +136,7 @@ def bifurcation(
     )
     ds = add_physical(ds, scales)
     summary = _system(inp, model, physical_json(bifurcation_json(ds), model, scales, param=name), ds)
-    _sweep_json(inp, summary, ds, "bifurcation", engine, render.intervals)
+    finish(summary, inp.write(ds, "bifurcation", engine), inp, render.intervals)
 
 
 RESPONSE_RANGE = [
@@ -188,14 +182,7 @@ def response(
 
     model = inp.model()
     scales = inp.scales()
-    _, w0, w1 = both_spellings(
-        inp.values.get("param"),
-        inp.values.get("start"),
-        inp.values.get("stop"),
-        inp.omega_start,
-        inp.omega_stop,
-        "omega",
-    )
+    _, w0, w1 = omega_only(inp)
     omega_start, omega_stop = sweep_range(inp, w0, w1)
     if omega_start is None or omega_stop is None:
         raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
@@ -203,7 +190,7 @@ def response(
     opts = inp.options(omegas=values, points=2 * values.size)
     validate.grid(model, [("omega", values)])
     if lyap:
-        inp.exponents_computable(model, values)
+        validate.exponents_computable(model, values)
     choice("measure", measure, MEASURES)
     nset = _settle(settle, model)
     engine = inp.engine("response")
@@ -248,7 +235,7 @@ def response(
         ds, summary = attach_iso_kv(inp.pair().loaded, model, ds, summary)
     elif method == "sweep":
         summary = _system(inp, model, summary, ds)
-    _sweep_json(inp, summary, ds, "response", engine, render.response)
+    finish(summary, inp.write(ds, "response", engine), inp, render.response)
 
 
 MAP_AXES = [
@@ -322,7 +309,7 @@ def parameter_map(
     axis_omegas = xv if xn == "omega" else yv if yn == "omega" else [model.omega]
     opts = inp.options(omegas=axis_omegas, points=xv.size * yv.size)
     if lyap:
-        inp.exponents_computable(model, axis_omegas)
+        validate.exponents_computable(model, axis_omegas)
     validate.grid(model, [(yn, yv), (xn, xv)], opts)
     choice("mode", mode, MODES)
     nset = _settle(settle, model)
@@ -421,4 +408,4 @@ def basins(
     )
     ds = add_physical(ds, scales)
     summary = _system(inp, model, physical_json(basins_json(ds), model, scales), ds)
-    _sweep_json(inp, summary, ds, "basins", engine, render.basins, n_u, n_v)
+    finish(summary, inp.write(ds, "basins", engine), inp, render.basins, n_u, n_v)

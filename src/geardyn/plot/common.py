@@ -544,6 +544,32 @@ def log_stems(ax: Axes, x: np.ndarray, amp: np.ndarray) -> None:
     ax.set_ylim(floor, top * 2)
 
 
+def branch_lines(
+    ax: Axes,
+    x: np.ndarray,
+    ys: list[np.ndarray],
+    stable: np.ndarray,
+    name: str,
+    seen: set[str],
+    widths=(1.7, 1.2),
+    **style,
+) -> None:
+    """A branch of periodic solutions: stable runs solid, unstable dashed (runs overlap by one point so the line is
+    unbroken), labelled ``name`` + "stable" / "unstable" once per Axes (``seen`` holds the labels given)."""
+    i0 = 0
+    for i in range(1, stable.size + 1):
+        if i < stable.size and stable[i] == stable[i0]:
+            continue
+        st = bool(stable[i0])
+        j = slice(i0, min(i, x.size - 1) + 1)
+        lab = name + ("stable" if st else "unstable")
+        for y in ys:
+            kw = {"lw": widths[0] if st else widths[1], **style}
+            ax.plot(x[j], y[j], ls="-" if st else "--", label=None if lab in seen else lab, **kw)
+            seen.add(lab)
+        i0 = i
+
+
 def _renderer(fig: Figure) -> Any:
     get = getattr(fig.canvas, "get_renderer", None)
     return get() if get is not None else fig._get_renderer()

@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import PlotArtists, label, mesh_labels, of_mesh, panels, result, snapshot
+from .common import PlotArtists, branch_lines, label, mesh_labels, of_mesh, panels, result, snapshot
 
 __all__ = ["HB_STYLE", "SHOOTING_CONTEXT", "SHOOTING_STYLE", "hb_figure"]
 
@@ -27,37 +27,6 @@ EVENT_MARKERS = {
     "neimark-sacker": ("D", "C4"),
     "grazing": ("^", "0.3"),
 }
-
-
-def _runs(mask: np.ndarray) -> list[tuple[int, int, bool]]:
-    """Contiguous runs (first, last index, value) of a boolean array."""
-    out, i0 = [], 0
-    for i in range(1, mask.size + 1):
-        if i == mask.size or mask[i] != mask[i0]:
-            out.append((i0, i - 1, bool(mask[i0])))
-            i0 = i
-    return out
-
-
-def _branch(
-    ax, x: np.ndarray, ys: list[np.ndarray], stable: np.ndarray, name: str, style: dict, seen: set[str]
-) -> None:
-    """One branch: stable runs solid, unstable dashed (runs overlap by one point so the line is unbroken)."""
-    for i0, i1, st in _runs(stable):
-        j1 = min(i1 + 1, x.size - 1)
-        lab = f"{name}, {'stable' if st else 'unstable'}"
-        for y in ys:
-            kw = dict(style)
-            kw.setdefault("lw", 1.7 if st else 1.2)
-            ax.plot(
-                x[i0 : j1 + 1],
-                y[i0 : j1 + 1],
-                ls="-" if st else "--",
-                label=None if lab in seen else lab,
-                zorder=3 if name.startswith("HB") else 2,
-                **kw,
-            )
-            seen.add(lab)
 
 
 def _events(ax, bifs: list[dict], param: str, what: str, seen: set[str]) -> None:
@@ -141,9 +110,9 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
             for b in np.unique(sc["branch"]):
                 sel = sc["branch"] == b
                 ys = [sc["amplitude"][sel]] if what == "amplitude" else [sc["u_min"][sel], sc["u_max"][sel]]
-                _branch(a, sc["x"][sel], ys, sst[sel], "shooting", SHOOTING_STYLE, seen)
+                branch_lines(a, sc["x"][sel], ys, sst[sel], "shooting, ", seen, zorder=2, **SHOOTING_STYLE)
         ys = [ds["amplitude"].values] if what == "amplitude" else [ds["u_min"].values, ds["u_max"].values]
-        _branch(a, x, ys, stable, f"HB (H = {H})", HB_STYLE, seen)
+        branch_lines(a, x, ys, stable, f"HB (H = {H}), ", seen, zorder=3, **HB_STYLE)
         if np.any(~ok):
             for y in ys:
                 a.plot(

@@ -98,9 +98,10 @@ def compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     fig, a, _ = one_axes(ax, (7.5, 4.5))
     before = snapshot([a])
     x = ds["path"].values
-    for k, c in (("hertz", "C0"), ("bending", "C1"), ("shear", "C2"), ("axial", "C4"), ("fillet", "C3")):
+    terms = {"hertz": "C0", "bending": "C1", "shear": "C2", "axial": "C4", "fillet": "C3"}
+    for k, c in terms.items():
         a.plot(x, ds[f"compliance_{k}"], color=c, lw=1.2, label=k)
-    total = sum(ds[f"compliance_{k}"].values for k in ("hertz", "bending", "shear", "axial", "fillet"))
+    total = sum(ds[f"compliance_{k}"].values for k in terms)
     a.plot(x, total, "k-", lw=1.8, label="total (1/single-pair stiffness per width)")
     a.set_xlabel("contact position from A [base pitches]")
     a.set_ylabel("compliance per unit width [mm·µm/N]")
@@ -144,19 +145,15 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
             m = k * z1
             a.axvline(m, color="C3", lw=0.8, alpha=0.6)
             a.text(m, top * 1.5, f"{k}× mesh", color="C3", fontsize=7, ha="center")
-            for j in (1, 2):
-                for sgn in (-1, 1):
-                    o = m + sgn * j
-                    i = int(np.argmin(np.abs(order - o)))
-                    a.plot(order[i], max(amp[i], 1e-12), "v", color="C0", ms=4)
+            # the pinion's shaft-order sidebands ±1, ±2 and the wheel's ±z1/z2
+            for o, mk, c in [(m + s * j, "v", "C0") for j in (1, 2) for s in (-1, 1)] + [
+                (m + s * z1 / z2, "^", "C2") for s in (-1, 1)
+            ]:
+                i = int(np.argmin(np.abs(order - o)))
+                a.plot(order[i], max(amp[i], 1e-12), mk, color=c, ms=4)
             if k == 1:  # one label per side, under the axis top, clear of the mesh label and of each other
                 a.text(m - 1.5, top * 0.35, "−1 −2", color="C0", fontsize=7, ha="right")
                 a.text(m + 1.5, top * 0.35, "+1 +2", color="C0", fontsize=7, ha="left")
-            for j in (1,):
-                for sgn in (-1, 1):
-                    o = m + sgn * j * z1 / z2
-                    i = int(np.argmin(np.abs(order - o)))
-                    a.plot(order[i], max(amp[i], 1e-12), "^", color="C2", ms=4)
         ind = s["indicators"]["pinion"]
         a.set_title(
             f"{name}: order spectrum (▼ pinion shaft-order sidebands ±1, ±2; ▲ wheel ±{z1}/{z2}); "
