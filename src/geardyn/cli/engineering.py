@@ -280,9 +280,7 @@ def runup_cmd(inp: Inputs) -> None:
     _check_ramp_steps(inp, w0, w1, T)
     nq = validate.integer("num", inp.qs_num, 0, 2001)
     orders = validate.integer("orders", inp.orders, 1, 50)
-    from ..sweep.progress import task_progress
-
-    with task_progress("runup", unit="blocks", fmt=".0f", enabled=not inp.json_out) as bar:
+    with inp.progress("runup", "blocks") as bar:
         res = runup(
             model,
             w0,
@@ -324,9 +322,7 @@ def runup_cmd(inp: Inputs) -> None:
     )
     if nq >= 2:
         lo, hi = sorted((w0, w1))
-        with task_progress(
-            "runup: quasi-static sweep up and down", unit="points", fmt=".0f", enabled=not inp.json_out
-        ) as bar:
+        with inp.progress("runup: quasi-static sweep up and down", "points") as bar:
             qs = steady_response(
                 model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate, progress=bar
             )

@@ -167,7 +167,7 @@ def hb(
             f"unit circle, so no point is asymptotically stable and pairs grazing the circle are reported as "
             f"Neimark–Sacker points"
         )
-    with _progress(inp, name) as bar:
+    with inp.progress("hb", param=name) as bar:
         res = hb_continuation(
             model,
             name,
@@ -189,7 +189,7 @@ def hb(
 
         ws = [model.with_param(name, v).omega for v in (start_v, stop_v)]
         opts = validate.options(inp.dtau, 0, 1, inp.accurate, ws)
-        with _progress(inp, name, "shooting") as bar:
+        with inp.progress("shooting", param=name) as bar:
             sres = shooting(
                 model,
                 name,
@@ -218,18 +218,6 @@ def hb(
             ds = attach(ds, SHOOTING_CONTEXT, shoot_ds)  # the file redraws the figure with the shooting branch
         paths = inp.write(ds, "hb")
     finish(summary, paths, inp, show)
-
-
-def _progress(inp: Inputs, name: str, what: str = "hb") -> Any:
-    """The progress display of a continuation (none with ``--json``)."""
-    from ..analysis.bifurcation import param_symbol
-    from ..sweep.progress import task_progress
-
-    try:
-        sym = param_symbol(name)
-    except (KeyError, ValueError):  # a system's parameter (<mesh>.xi0, ...) by its name
-        sym = name
-    return task_progress(f"{what} {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out)
 
 
 def _check_result(res: Any, start: float) -> None:

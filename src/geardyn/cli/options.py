@@ -628,6 +628,32 @@ class Inputs:
                 f"got {t!r}"
             ) from None
 
+    def system_summary(self, model: Any, summary: dict[str, Any], ds: Any = None, result: Any = None) -> dict:
+        """``summary`` with what a ``--system`` adds (:func:`geardyn.cli.system_input.mesh_summary`: ``meshes`` of a
+        sweep's ``ds`` or a continuation's ``result``, ...); the pair's as it is."""
+        v = self.values
+        if v.get("system") is None:
+            return summary
+        from .system_input import mesh_summary
+
+        return mesh_summary(model, summary, ds, result, state0=(v.get("u0") or 0.0, v.get("v0") or 0.0))
+
+    def progress(self, what: str, unit: str = "", *, param: str | None = None, on: bool = True) -> Any:
+        """A progress bar on stderr (:func:`geardyn.sweep.progress.task_progress`, counts), none with ``--json``;
+        with ``param`` that of a continuation in it (``"what ω"``, ``Δω`` traced)."""
+        from ..sweep.progress import task_progress
+
+        fmt = ".0f"
+        if param is not None:
+            from ..analysis.bifurcation import param_symbol
+
+            try:
+                sym = param_symbol(param)
+            except (KeyError, ValueError):  # a system's parameter (<mesh>.xi0, ...) by its name
+                sym = param
+            what, unit, fmt = f"{what} {sym}", f"Δ{sym} traced", ".4g"
+        return task_progress(what, unit=unit, fmt=fmt, enabled=on and not self.json_out)
+
     def param_range(
         self, param: str | None, start: float | None, stop: float | None, *, what: str = "swept"
     ) -> tuple[str, float, float]:

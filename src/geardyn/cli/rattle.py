@@ -82,7 +82,6 @@ def rattle(
     from .. import validate
     from ..analysis.rattle import pair_of_system, rattle_map
     from ..analysis.rattle import rattle as run_rattle
-    from ..sweep.progress import task_progress
     from ..units import sweep_range
 
     system = inp.model()
@@ -125,7 +124,7 @@ def rattle(
         omegas = np.linspace(lo, hi, n)
         amps = smax * np.arange(1, ns + 1) / ns
         opts_map = inp.options(omegas=omegas / model.period_multiple())
-        with task_progress("rattle map", unit="points", fmt=".0f", enabled=not inp.json_out) as bar:
+        with inp.progress("rattle map", "points") as bar:
             ds = rattle_map(model, omegas, amps, opts_map, scales=scales, progress=bar)
         summary["map"] = {
             "omega": omegas.tolist(),

@@ -72,15 +72,6 @@ def _settle(settle: int | None, model: Any) -> int:
     return classify_budget(model)[0] if settle is None else validate.integer("settle", settle, 0, validate.MAX_PERIODS)
 
 
-def _system(inp: Inputs, model: Any, summary: dict[str, Any], ds: Any) -> dict[str, Any]:
-    """A system's summary with its ``meshes`` (:func:`geardyn.cli.system_input.mesh_summary`); the pair's as it is."""
-    if inp.system is None:
-        return summary
-    from .system_input import mesh_summary
-
-    return mesh_summary(model, summary, ds, state0=(inp.values.get("u0") or 0.0, inp.values.get("v0") or 0.0))
-
-
 @command("bifurcation", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
 def bifurcation(
     inp: Inputs,
@@ -135,7 +126,7 @@ def bifurcation(
         **engine,
     )
     ds = add_physical(ds, scales)
-    summary = _system(inp, model, physical_json(bifurcation_json(ds), model, scales, param=name), ds)
+    summary = inp.system_summary(model, physical_json(bifurcation_json(ds), model, scales, param=name), ds)
     finish(summary, inp.write(ds, "bifurcation", engine), inp, render.intervals)
 
 
@@ -234,7 +225,7 @@ def response(
 
         ds, summary = attach_iso_kv(inp.pair().loaded, model, ds, summary)
     elif method == "sweep":
-        summary = _system(inp, model, summary, ds)
+        summary = inp.system_summary(model, summary, ds)
     finish(summary, inp.write(ds, "response", engine), inp, render.response)
 
 
@@ -329,7 +320,9 @@ def parameter_map(
         **engine,
     )
     ds = add_physical(ds, scales, lazy=True)
-    summary = _system(inp, model, physical_json(map_json(ds), model, scales) if inp.json_out else _map_counts(ds), ds)
+    summary = inp.system_summary(
+        model, physical_json(map_json(ds), model, scales) if inp.json_out else _map_counts(ds), ds
+    )
     finish(summary, inp.write(ds, "map", engine, release=True), inp, render.parameter_map)
 
 
@@ -407,5 +400,5 @@ def basins(
         **engine,
     )
     ds = add_physical(ds, scales)
-    summary = _system(inp, model, physical_json(basins_json(ds), model, scales), ds)
+    summary = inp.system_summary(model, physical_json(basins_json(ds), model, scales), ds)
     finish(summary, inp.write(ds, "basins", engine), inp, render.basins, n_u, n_v)

@@ -202,9 +202,7 @@ def bench(
     if threads is not None:
         validate.integer("threads", threads, 1, validate.MAX_WORKERS)
     validate.integer("repeats", repeats, 1, MAX_REPEATS)
-    from ..sweep.progress import task_progress
-
-    with task_progress("bench", unit="runs", fmt=".0f", enabled=not inp.json_out) as bar:
+    with inp.progress("bench", "runs") as bar:
         res = run_benchmarks(names, threads=threads, repeats=repeats, progress=bar)
     if inp.json_out:
         emit_json(res)
