@@ -12,7 +12,6 @@ from __future__ import annotations
 import functools
 import inspect
 import io as _io
-import json
 import math
 import sys
 import textwrap
@@ -31,7 +30,7 @@ from matplotlib.figure import Figure
 from .._docfill import RESULT, parameters
 from ..errors import GeardynError, PlotError
 from ..params import FAMILIES, LISTING_ORDER, canonical_param, slot
-from .mesh_names import MESH_VARIABLES, mesh_labels, of_mesh, reference_mesh, system_info
+from .mesh_names import MESH_VARIABLES, json_attr, mesh_labels, of_mesh, reference_mesh, system_info
 
 __all__ = [
     "DPI",
@@ -258,10 +257,7 @@ def model_of(ds: xr.Dataset) -> dict:
     dict
         ``GearModel.to_dict()`` of the result's model, or ``{}``.
     """
-    try:
-        return dict(json.loads(ds.attrs["model"]))
-    except (KeyError, ValueError, TypeError):
-        return {}
+    return json_attr(ds, "model")
 
 
 def symbol(name: str) -> str:
@@ -451,14 +447,8 @@ def rpm_axis(ax: Axes, ds: xr.Dataset, param: str) -> Any:
 def speed_text(ds: xr.Dataset) -> str:
     """``" (2400 rpm)"`` for a result at one ω with a physical gear pair, else ``""``."""
     scale = rpm_per_omega(ds)
-    model = ds.attrs.get("model")
-    if not scale or not model:
-        return ""
-    try:
-        omega = float(json.loads(model)["omega"])
-    except (ValueError, KeyError, TypeError):
-        return ""
-    return f" ({omega * scale:.0f} rpm)"
+    omega = model_of(ds).get("omega")
+    return f" ({float(omega) * scale:.0f} rpm)" if scale and isinstance(omega, (int, float)) else ""
 
 
 # ------------------------------------------------------------------------------------ drawing
