@@ -715,17 +715,6 @@ class Inputs:
 
         return validate.initial_state(self.values["u0"], self.values["v0"])
 
-    def nc(self, stem: str) -> Path | None:
-        """The NetCDF file of ``--out`` (None without it).
-
-        Parameters
-        ----------
-        stem : str
-            File stem inside an ``--out`` directory.
-        """
-        out = self.values.get("out")
-        return out_paths(out, stem)[0] if out is not None else None
-
     def engine(self, stem: str) -> dict[str, Any]:
         """Validated keyword arguments of :func:`geardyn.sweep.run_chunks` from the sweep-engine options
         (:func:`geardyn.cli.output.engine_keywords`); call :meth:`write` with them once the result is complete.

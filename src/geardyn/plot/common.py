@@ -170,12 +170,6 @@ def panels(ax: Any, n: int, figsize: tuple[float, float], **subplots: Any) -> tu
     return axes[0].figure, axes, False
 
 
-def one_axes(ax: Any, figsize: tuple[float, float]) -> tuple[Figure, Axes, bool]:
-    """(figure, Axes, new) of a one-panel figure: ``ax`` itself, or a new figure of ``figsize``."""
-    fig, axes, new = panels(ax, 1, figsize)
-    return fig, axes[0], new  # type: ignore[return-value]
-
-
 def snapshot(axes: Sequence[Axes | None]) -> dict[int, set[Artist]]:
     """The children of each Axes now, to find later what a function added (see :func:`result`)."""
     return {id(a): set(a.get_children()) for a in axes if a is not None}

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .common import PlotArtists, one_axes, result, snapshot
+from .common import plot_function
 
 __all__ = ["has_iso_kv", "kv_overlay"]
 
@@ -30,23 +30,10 @@ def has_iso_kv(ds: xr.Dataset) -> bool:
     return bool(ds.attrs.get("iso_kv"))
 
 
-def kv_overlay(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Simulated dynamic factor per sweep and ISO K_v (Method B) against pinion speed, sectors shaded.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``response`` result with the ``iso_kv`` attribute (``geardyn response`` of a pair with ISO inputs).
-    ax : matplotlib.axes.Axes, optional
-        Where to draw; a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, ax, _ = one_axes(ax, (8.5, 4.8))
-    before = snapshot([ax])
+@plot_function("response", (8.5, 4.8))
+def kv_overlay(ds: xr.Dataset, ax: Any = None) -> None:
+    """Simulated dynamic factor per sweep and ISO K_v (Method B) against pinion speed, sectors shaded (a response
+    with the ``iso_kv`` attribute: ``geardyn response`` of a pair with ISO inputs)."""
     b = json.loads(ds.attrs["iso_kv"])
     rpm = np.asarray(b["rpm"], dtype=float)
     n_e1 = b["resonance_speed_rpm"]
@@ -76,4 +63,3 @@ def kv_overlay(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     ax.set_title(f"Dynamic factor: simulation vs ISO 10300-1 K_v-B (T1 = {b['torque_N_m']:.4g} N·m)", fontsize=10)
     ax.legend(fontsize=7, loc="upper left", framealpha=0.85)
     ax.grid(True, alpha=0.3)
-    return result(fig, [ax], before)
