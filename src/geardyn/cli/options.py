@@ -338,17 +338,22 @@ OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
+def click_context() -> tuple[Any, Any]:
+    """The running command's click context (None outside a command) and click's ``ParameterSource``, of the click
+    typer runs on (its own vendored copy in newer typer)."""
+    import importlib
+
+    core = sys.modules[typer.Context.__mro__[1].__module__]
+    ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
+    return ctx, core.ParameterSource
+
+
 def _at_default(values: dict[str, Any]) -> tuple[set[str], str | None]:
     """The options of ``values`` the user did not give (their source the default), from the running command's
     context, and the command's name; none outside a command (every value counts as given)."""
-    import importlib
-
-    base = typer.Context.__mro__[1]  # the click Context typer runs on (its own vendored copy in newer typer)
-    core = sys.modules[base.__module__]
-    ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
+    ctx, ParameterSource = click_context()
     if ctx is None:
         return set(), None
-    ParameterSource = core.ParameterSource
     out = set()
     for name in values:
         try:

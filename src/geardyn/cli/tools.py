@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Optional
@@ -169,15 +168,12 @@ def reproduce(
 def _typed_options() -> set[str]:
     """The parameters of the running command given on its command line (not left at their defaults); every
     parameter when that cannot be told."""
-    try:
-        import typer
+    from .options import click_context
 
-        core = sys.modules[typer.BadParameter.__module__.rsplit(".", 1)[0] + ".core"]
-        globs = sys.modules[typer.BadParameter.__module__.rsplit(".", 1)[0] + ".globals"]
-        ctx = globs.get_current_context()
-        return {n for n in ctx.params if ctx.get_parameter_source(n) == core.ParameterSource.COMMANDLINE}
-    except (KeyError, AttributeError, RuntimeError):
+    ctx, source = click_context()
+    if ctx is None:
         return {"out", "workers"}
+    return {n for n in ctx.params if ctx.get_parameter_source(n) == source.COMMANDLINE}
 
 
 #: Most timed runs of ``bench`` per workload (each workload takes about a second).
