@@ -22,8 +22,10 @@ def _orders(text: str) -> tuple[int, ...]:
 
 
 def _render(summary: dict[str, Any], paths: list[str]) -> None:
-    from rich.console import Console
     from rich.table import Table
+
+    from .render import console as c
+    from .render import files, plain
 
     t = Table(title=f"modes — {summary.get('title') or ''}")
     for col in ("mode", "frequency (Hz)", "mesh-dominated", "largest strain energy"):
@@ -36,7 +38,6 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
             "yes" if m["mesh_dominated"] else "no",
             "—" if m["rigid"] else f"{top[0]} {top[1]:.3f}",
         )
-    c = Console()
     c.print(t)
     if summary.get("degenerate"):
         c.print(
@@ -46,13 +47,11 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
         )
     camp = summary.get("campbell")
     if summary.get("campbell_note"):
-        c.print(summary["campbell_note"], markup=False, highlight=False)
+        plain(summary["campbell_note"])
     if camp and camp.get("gyroscopic"):
-        c.print(
+        plain(
             "gyroscopic terms on: the table gives the modes at standstill; the Campbell diagram solves them at "
-            "each speed (branches, forward and backward whirl)",
-            markup=False,
-            highlight=False,
+            "each speed (branches, forward and backward whirl)"
         )
     if camp and camp["crossings"]:
         rpm = camp["x"] == "rpm"
@@ -70,8 +69,7 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
             ]
             x.add_row(*(row + ([cr["whirl"]] if gyro else [])))
         c.print(x)
-    for p in paths:
-        c.print(f"wrote {p}", markup=False, highlight=False)
+    files(paths)
 
 
 @command("modes", OUTPUT)
