@@ -62,14 +62,18 @@ ChunkOpt = Annotated[
 ParamOpt = param_option("Swept parameter")
 
 
-def _settle(settle: int | None, model: Any) -> int:
-    """``--settle``: as given, else the classification's pass of the model's forcing period
-    (:func:`~geardyn.analysis.settle.classify_budget`: 1000 forcing periods of one mesh cycle, max(16, ⌈1000/P⌉) of
-    P > 1 mesh cycles)."""
+def _engine(inp: Inputs, stem: str, model: Any, settle: int | None, chunk_size: int | None = None) -> dict[str, Any]:
+    """The sweep's keywords: ``settle_periods`` of ``--settle`` (as given, else the classification's pass of the
+    model's forcing period, :func:`~geardyn.analysis.settle.classify_budget`: 1000 forcing periods of one mesh cycle,
+    max(16, ⌈1000/P⌉) of P > 1 mesh cycles), the engine's (:meth:`Inputs.engine`) and ``chunk_points`` if given."""
     from .. import validate
     from ..analysis.settle import classify_budget
 
-    return classify_budget(model)[0] if settle is None else validate.integer("settle", settle, 0, validate.MAX_PERIODS)
+    n = classify_budget(model)[0] if settle is None else validate.integer("settle", settle, 0, validate.MAX_PERIODS)
+    kw = {"settle_periods": n, **inp.engine(stem)}
+    if chunk_size is not None:
+        kw["chunk_points"] = validate.chunk_points(chunk_size)
+    return kw
 
 
 @command("bifurcation", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
@@ -110,8 +114,7 @@ def bifurcation(
             f"sweep: --sweep {sweep} applies to --mode continue; in fixed mode every point starts from "
             "(u0, v0), so the direction changes nothing"
         )
-    nset = _settle(settle, model)
-    engine = inp.engine("bifurcation")
+    engine = _engine(inp, "bifurcation", model, settle, chunk_size)
     ds = run_bifurcation(
         model,
         name,
@@ -121,8 +124,6 @@ def bifurcation(
         state0=inp.state0(),
         options=opts,
         lyapunov=lyap,
-        settle_periods=nset,
-        chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
         **engine,
     )
     ds = add_physical(ds, scales)
@@ -183,8 +184,7 @@ def response(
     if lyap:
         validate.exponents_computable(model, values)
     choice("measure", measure, MEASURES)
-    nset = _settle(settle, model)
-    engine = inp.engine("response")
+    engine = _engine(inp, "response", model, settle)
     if choice("method", method, ("sweep", "hb")) == "hb":
         from ..analysis.hb import hb_response
 
@@ -215,7 +215,6 @@ def response(
             state0=inp.state0(),
             measure=measure,
             lyapunov=lyap,
-            settle_periods=nset,
             **engine,
         )
     ds = add_physical(ds, scales)
@@ -303,8 +302,7 @@ def parameter_map(
         validate.exponents_computable(model, axis_omegas)
     validate.grid(model, [(yn, yv), (xn, xv)], opts)
     choice("mode", mode, MODES)
-    nset = _settle(settle, model)
-    engine = inp.engine("map")
+    engine = _engine(inp, "map", model, settle, chunk_size)
     ds = run_map(
         model,
         xn,
@@ -315,8 +313,6 @@ def parameter_map(
         state0=inp.state0(),
         options=opts,
         lyapunov=lyap,
-        settle_periods=nset,
-        chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
         **engine,
     )
     ds = add_physical(ds, scales, lazy=True)
@@ -376,8 +372,7 @@ def basins(
     lo_v, hi_v = validate.number("v-min", v_min), validate.number("v-max", v_max)
     n_u, n_v = validate.integer("nu", nu, 1, 100_000), validate.integer("nv", nv, 1, 100_000)
     opts = inp.options(model.omega, points=n_u * n_v)
-    nset = _settle(settle, model)
-    engine = inp.engine("basins")
+    engine = _engine(inp, "basins", model, settle, chunk_size)
     c = None
     if inp.system is not None:  # a slice of two state coordinates (default the reference mesh's δ, δ')
         from .system_input import coordinates
@@ -395,8 +390,6 @@ def basins(
         n_v,
         coordinates=None if c is None else (c[0], c[1]),
         options=opts,
-        settle_periods=nset,
-        chunk_points=validate.chunk_points(chunk_size),
         **engine,
     )
     ds = add_physical(ds, scales)
