@@ -11,7 +11,7 @@ from rich.table import Table
 from ..errors import ModelError
 from .app import console
 from .options import OUTPUT, Inputs, command, finish, option
-from .render import files, plain
+from .render import files, plain, table
 
 STIFFNESS_OPTIONS = [
     option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
@@ -120,9 +120,7 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
         f"b = {s['face_width_mm']:g} mm, ε_α = {s['eps_alpha']:.4f}, ε_β = {s['eps_beta']:.4f}, "
         f"F = {s['force_N']:.5g} N, {s['cycles']} mesh cycle(s), {len(s['faults'])} fault(s)"
     )
-    t = Table(title="Mesh stiffness and STE")
-    for col in ("quantity", "value"):
-        t.add_column(col)
+    t = table("Mesh stiffness and STE", "quantity", "value")
     rows = [
         ("mean k_m (N/µm)", s["k_mean_N_per_um"]),
         ("min / max k_m (N/µm)", f"{s['k_min_N_per_um']:.5g} / {s['k_max_N_per_um']:.5g}"),
@@ -143,9 +141,15 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
             else str(v),
         )
     console.print(t)
-    h = Table(title=f"Fourier harmonics (orders of the mesh frequency; Σ|κ| over all = {s['kappa_abs_sum_all']:.4g})")
-    for col in ("mesh order", "κ", "φ_k (rad)", "STE e_eq (µm)", "φ_e (rad)"):
-        h.add_column(col, justify="right")
+    h = table(
+        f"Fourier harmonics (orders of the mesh frequency; Σ|κ| over all = {s['kappa_abs_sum_all']:.4g})",
+        "mesh order",
+        "κ",
+        "φ_k (rad)",
+        "STE e_eq (µm)",
+        "φ_e (rad)",
+        justify="right",
+    )
     for o, k, pk, e, pe in zip(s["harmonic_order_of_mesh"], s["kappa"], s["phi_k"], s["ste_harmonics_um"], s["phi_e"]):
         h.add_row(f"{o:.4g}", f"{k:.5g}", f"{pk:.4g}", f"{e:.4g}", f"{pe:.4g}")
     console.print(h)

@@ -6,12 +6,11 @@ from pathlib import Path
 from typing import Annotated, Any, Optional
 
 import typer
-from rich.table import Table
 
 from ..errors import ModelError
 from .app import console, emit_json
 from .options import OUTPUT, Inputs, command, finish, model_group, option
-from .render import files, plain
+from .render import files, plain, table
 
 JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 
@@ -96,16 +95,19 @@ def te(
 
 
 def _show_te(s: dict[str, Any], paths: list[str]) -> None:
-    t = Table(title=f"Mesh harmonics of {s['source']} (z1 = {s['z1']}, z2 = {s['z2']})")
-    for col in ("l", "pinion order", "amplitude (µm)", "phase (deg)"):
-        t.add_column(col, justify="right")
+    t = table(
+        f"Mesh harmonics of {s['source']} (z1 = {s['z1']}, z2 = {s['z2']})",
+        "l",
+        "pinion order",
+        "amplitude (µm)",
+        "phase (deg)",
+        justify="right",
+    )
     for r in s["mesh_harmonics"]:
         t.add_row(str(r["mesh_harmonic"]), f"{r['order']:.6g}", f"{r['amplitude_um']:.5g}", f"{r['phase_deg']:.4g}")
     console.print(t)
     side = sorted(s["sidebands"], key=lambda r: -r["amplitude_um"])[:8]
-    t = Table(title="Largest shaft orders and sidebands")
-    for col in ("kind", "shaft", "pinion order", "amplitude (µm)", "phase (deg)"):
-        t.add_column(col)
+    t = table("Largest shaft orders and sidebands", "kind", "shaft", "pinion order", "amplitude (µm)", "phase (deg)")
     for r in side:
         t.add_row(
             r["kind"], r.get("shaft", ""), f"{r['order']:.6g}", f"{r['amplitude_um']:.5g}", f"{r['phase_deg']:.4g}"
@@ -348,9 +350,15 @@ def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
         f"({s['ramp_rate_rpm_per_s']:.4g} rpm/s), {s['blocks']} blocks of {s['cycles_per_block']} mesh cycles"
         + ("; DIVERGED" if s["diverged"] else "")
     )
-    t = Table(title="Order-tracked DTE (every tenth block)")
-    for col in ("rpm", "ω", "mesh order 1 (µm)", "half p-p (µm)", "dynamic factor"):
-        t.add_column(col, justify="right")
+    t = table(
+        "Order-tracked DTE (every tenth block)",
+        "rpm",
+        "ω",
+        "mesh order 1 (µm)",
+        "half p-p (µm)",
+        "dynamic factor",
+        justify="right",
+    )
     um = [None if a is None or b is None else b / a for a, b in zip(s["amplitude"], s["amplitude_um"])]
     scale = next((x for x in um if x), 1.0)
     for i in range(0, s["blocks"], max(1, s["blocks"] // 10)):

@@ -44,7 +44,7 @@ SHOOTING_RUN = [
 
 def show(s: dict[str, Any], paths: list[str]) -> None:
     """The branch and its bifurcations for people."""
-    from rich.table import Table
+    from .render import table
 
     p = s["param"]
     vals = [b[p] for b in s["branch"]]
@@ -54,9 +54,7 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
         f"(H = {s['harmonics']}, period {s['period']}, N = {s['samples']}; {n_st} stable); "
         f"converged: {s['converged']}; end: {s['end']}"
     )
-    t = Table(title="Bifurcations")
-    for col in ("type", p, "u_min", "u_max", "multipliers", "detail"):
-        t.add_column(col)
+    t = table("Bifurcations", "type", p, "u_min", "u_max", "multipliers", "detail")
     for b in s["bifurcations"]:
         mus = ", ".join("n/a" if m[0] is None else f"{complex(*m):.4f}" for m in b["multipliers"])
         t.add_row(b["type"], f"{b[p]:.6f}", f"{b['u_min']:.4f}", f"{b['u_max']:.4f}", mus, b["detail"])

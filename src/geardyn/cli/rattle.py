@@ -6,7 +6,6 @@ from typing import Annotated, Any
 
 import numpy as np
 import typer
-from rich.table import Table
 
 from ..errors import ModelError
 from .app import console
@@ -152,9 +151,7 @@ def _show(s: dict[str, Any], paths: list[str]) -> None:
         render.plain(f"status: {s.get('status')}")
         render.files(paths)
         return
-    t = Table(title="Rattle")
-    for col in ("flank", "impacts / cycle", "impact velocity mean", "max", "m/s max"):
-        t.add_column(col)
+    t = render.table("Rattle", "flank", "impacts / cycle", "impact velocity mean", "max", "m/s max")
     for name in ("drive", "back"):
         f = s["flanks"][name]
         t.add_row(

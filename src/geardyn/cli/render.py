@@ -107,6 +107,14 @@ def meshes(s: dict[str, Any]) -> None:
         plain(f"note: {s['note']}")
 
 
+def table(title: str, *columns: str, **column: Any) -> Table:
+    """A table titled ``title`` with ``columns`` (each with the keywords ``column`` of ``Table.add_column``)."""
+    t = Table(title=title)
+    for c in columns:
+        t.add_column(c, **column)
+    return t
+
+
 def plain(*lines: str) -> None:
     """Print each line as it is (no markup, no highlighting)."""
     for line in lines:
@@ -179,9 +187,14 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
 
 def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> None:
     """The gear pair table of ``geardyn geometry`` with its assumed inputs and notes."""
-    t = Table(title=f"Gear pair geometry: {summary['title'] or summary['source']}")
-    for col in ("quantity", "value", "unit", "note"):
-        t.add_column(col, overflow="fold")
+    t = table(
+        f"Gear pair geometry: {summary['title'] or summary['source']}",
+        "quantity",
+        "value",
+        "unit",
+        "note",
+        overflow="fold",
+    )
     for q, v, u, note in rows:
         t.add_row(q, v, u, note, style="yellow" if note.startswith("assumed") else None)
     console.print(t)
@@ -222,16 +235,12 @@ def orbit(s: dict[str, Any], paths: list[str]) -> None:
 def continuation(s: dict[str, Any], paths: list[str]) -> None:
     """Branches and bifurcations of a continuation."""
     p = s["param"]
-    t = Table(title=f"Branches in {p} from {s['start']:g} to {s['stop']:g}")
-    for col in ("branch", "period", "points", "from", "end"):
-        t.add_column(col)
+    t = table(f"Branches in {p} from {s['start']:g} to {s['stop']:g}", "branch", "period", "points", "from", "end")
     for b in s["branches"]:
         src = "" if b["from"] is None else f"{b['from']['type']} at {p} = {b['from'][p]:.6g}"
         t.add_row(str(b["branch"]), str(b["period"]), str(b["points"]), src, b["end"])
     console.print(t)
-    t = Table(title="Bifurcations")
-    for col in ("type", p, "period", "branch", "amplitude", "multipliers", "detail"):
-        t.add_column(col)
+    t = table("Bifurcations", "type", p, "period", "branch", "amplitude", "multipliers", "detail")
     for b in s["bifurcations"]:
         mus = ", ".join(f"{complex(*m):.4f}" for m in b["multipliers"])
         t.add_row(
@@ -273,9 +282,14 @@ def intervals(s: dict[str, Any], paths: list[str]) -> None:
         return f"{float(np.interp(w, s['values'], rpm)):.1f}"
 
     for lab, rows in groups.items():
-        t = Table(title=f"Motion over {s['param']} ({lab})")
-        for col in ("from", "to") + (("from (rpm)", "to (rpm)") if rpm else ()) + ("points", "motion"):
-            t.add_column(col)
+        t = table(
+            f"Motion over {s['param']} ({lab})",
+            "from",
+            "to",
+            *(("from (rpm)", "to (rpm)") if rpm else ()),
+            "points",
+            "motion",
+        )
         for r in rows:
             cells = [f"{r['from']:.6g}", f"{r['to']:.6g}"] + ([speed(r["from"]), speed(r["to"])] if rpm else [])
             t.add_row(*cells, str(r["points"]), r["motion"])
@@ -285,9 +299,7 @@ def intervals(s: dict[str, Any], paths: list[str]) -> None:
 
 def response(s: dict[str, Any], paths: list[str]) -> None:
     """Jumps and hysteresis intervals of a frequency response."""
-    t = Table(title="Jumps")
-    for col in ("sweep", "ω (midpoint)", "from → to", "direction", "size", "pinion speed (rpm)", "size (µm)"):
-        t.add_column(col)
+    t = table("Jumps", "sweep", "ω (midpoint)", "from → to", "direction", "size", "pinion speed (rpm)", "size (µm)")
     for j in s["jumps"]:
         t.add_row(
             j["sweep"],
@@ -319,13 +331,12 @@ def parameter_map(s: dict[str, Any], paths: list[str]) -> None:
 def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
     """The attractors of a basin computation and their basin shares."""
     speed = f", {s['rpm']:.1f} rpm" if "rpm" in s else ""
-    t = Table(title=f"Attractors at ω = {s['omega']:g}{speed} ({n_u} × {n_v} initial states)")
-    for col in (
-        ("label", "motion", "basin share", "amplitude")
-        + (("amplitude (µm)",) if speed else ())
-        + ("Poincaré points (u, u')",)
-    ):
-        t.add_column(col)
+    t = table(
+        f"Attractors at ω = {s['omega']:g}{speed} ({n_u} × {n_v} initial states)",
+        *("label", "motion", "basin share", "amplitude"),
+        *(("amplitude (µm)",) if speed else ()),
+        "Poincaré points (u, u')",
+    )
     for a in s["attractors"]:
         pts = a["points"][:4]
         txt = "; ".join(f"({p[0]:.4f}, {p[1]:.4f})" for p in pts) + (" …" if len(a["points"]) > 4 else "")

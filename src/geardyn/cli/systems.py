@@ -22,14 +22,13 @@ def _orders(text: str) -> tuple[int, ...]:
 
 
 def _render(summary: dict[str, Any], paths: list[str]) -> None:
-    from rich.table import Table
 
     from .render import console as c
-    from .render import files, plain
+    from .render import files, plain, table
 
-    t = Table(title=f"modes — {summary.get('title') or ''}")
-    for col in ("mode", "frequency (Hz)", "mesh-dominated", "largest strain energy"):
-        t.add_column(col)
+    t = table(
+        f"modes — {summary.get('title') or ''}", "mode", "frequency (Hz)", "mesh-dominated", "largest strain energy"
+    )
     for m, e in zip(summary["modes"], summary["energy_fractions"]):
         top = max(e.items(), key=lambda kv: kv[1]) if e else ("—", 0.0)
         t.add_row(
@@ -56,10 +55,8 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
     if camp and camp["crossings"]:
         rpm = camp["x"] == "rpm"
         gyro = bool(camp.get("gyroscopic"))
-        x = Table(title="Campbell crossings")
         cols = ["pinion speed (rpm)" if rpm else "mesh frequency (Hz)", "frequency (Hz)", "modes", "line"]
-        for col in cols + (["whirl"] if gyro else []):
-            x.add_column(col)
+        x = table("Campbell crossings", *cols, *(["whirl"] if gyro else []))
         for cr in camp["crossings"]:
             row = [
                 f"{cr['x']:.6g}",
