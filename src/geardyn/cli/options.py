@@ -698,21 +698,15 @@ class Inputs:
         ModelError
             If the option of one of them (or ``--rpm`` / ``--torque`` for ω / f_p) was given.
         """
-        flags = {o.param: o for o in params.cli_options()}
+        flags = {o.param: (o.dest, o.flag) for o in params.cli_options()}
         physical = {"omega": ("rpm", "--rpm"), "fp": ("torque", "--torque")}
         for name in names:
-            o = flags.get(name)
-            if o is not None and self.values.get(o.dest) is not None:
-                raise ModelError(
-                    f"{o.flag.lstrip('-')}: {o.flag} {self.values[o.dest]:g} conflicts with the swept "
-                    f"parameter {name}; give its range instead"
-                )
-            if name in physical and self.values.get(physical[name][0]) is not None:
-                dest, flag = physical[name]
-                raise ModelError(
-                    f"{dest}: {flag} {self.values[dest]:g} conflicts with the swept parameter {name}; "
-                    f"give its range instead"
-                )
+            for dest, flag in filter(None, (flags.get(name), physical.get(name))):
+                if self.values.get(dest) is not None:
+                    raise ModelError(
+                        f"{flag.lstrip('-')}: {flag} {self.values[dest]:g} conflicts with the swept "
+                        f"parameter {name}; give its range instead"
+                    )
 
     def state0(self) -> tuple[float, float]:
         """The initial state (u0, v0)."""
