@@ -570,15 +570,19 @@ class Inputs:
         )
         # simulate classifies within the plan's budget; a sweep's points are classified by its --settle
         note = plan.note(classify=self._command == "simulate", per_point=ws.size > 1) if plan is not None else None
-        if note is not None and self.__dict__.get("_plan_note") != note:  # said once per command
+        if note is not None and self._new(note):
             from .app import say_error
 
-            self.__dict__["_plan_note"] = note
             if v.get("system") is None:  # a system's file note says the forcing period already
                 say_error(f"forcing period: {plan.cycles} mesh cycles; {plan.steps:,} RK4 steps each (dtau = {dtau:g})")
             for line in note.splitlines():
                 say_error(line)
         return plan
+
+    def _new(self, note: str) -> bool:
+        """Whether ``note`` is not yet said on stderr by this command (a command may ask twice); it counts as said."""
+        said = self.__dict__.setdefault("_said", set())
+        return note not in said and not said.add(note)
 
     def _fixed_default(self, name: str, value: int) -> bool:
         """Whether option ``name`` was not given and its default is the fixed count ``value`` (a command with its
@@ -609,8 +613,7 @@ class Inputs:
 
             n = cycles_to_periods(cycles, self.model())
             note = f"transient: {cycles} reference mesh cycles = {n} forcing periods"
-            if not self.values.get("json_out") and self.__dict__.get("_cycles_note") != note:  # once per command
-                self.__dict__["_cycles_note"] = note
+            if not self.values.get("json_out") and self._new(note):
                 say_error(note)
             return n
         if t.strip().lower() == "auto":
@@ -621,8 +624,7 @@ class Inputs:
 
             ws = np.atleast_1d(np.asarray(omegas, dtype=float))
             s = settle_periods(self.model(), ws if ws.size else None)
-            if self.__dict__.get("_settle_note") != s.note():  # said once, where a command asks twice
-                self.__dict__["_settle_note"] = s.note()
+            if self._new(s.note()):
                 say_error(s.note())
             return s.periods
         try:
