@@ -267,9 +267,7 @@ def _finite(o: Any, where: str, bad: list[str]) -> Any:
         return {str(k): _finite(v, f"{where}.{k}" if where else str(k), bad) for k, v in o.items()}
     if isinstance(o, (list, tuple)):
         return [_finite(v, f"{where}[{i}]", bad) for i, v in enumerate(o)]
-    if isinstance(o, bool) or o is None or isinstance(o, str):
-        return o
-    if isinstance(o, int):
+    if o is None or isinstance(o, (str, int)):  # bool among the int
         return o
     if isinstance(o, float):
         if math.isfinite(o):
