@@ -108,15 +108,17 @@ def _period_sparse(pa, rs, bear, tan):
 
 
 @njit(nogil=True)
-def _period_dense(X, sf, h, tab, N, dm, om, rs, ld):
-    """:func:`_period_sparse` on dense matrices (:mod:`.dense`; ``dm`` of :func:`.dense.rk4_plain_dense`)."""
+def _period_dense(X, sf, h, tab, N, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om, rec, st, ev, gaps, hist, p, b0, ld):
+    """:func:`_period_sparse` on dense matrices (:mod:`.dense`)."""
     q = X[XQ]
     v = X[XV]
     for j in range(N):
-        rk4_plain_dense(X, sf, h, tab, j, dm, om, ld)
-        if rs[0]:
-            element_values_dense(q, v, 0, tab[2 * j + 2], dm[4], dm[6], om, rs[2])
-        _record(j, q, v, rs)
+        rk4_plain_dense(X, sf, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om, ld)
+        if rec:
+            element_values_dense(q, v, 0, tab[2 * j + 2], V, Vc, om, ev)
+            accumulate(st, ev, gaps)
+        if hist.shape[1] > 0:
+            _store_hist(hist, p, b0 + j, q, v, 0)
 
 
 @njit(nogil=True, cache=True)
@@ -295,11 +297,60 @@ def ndof_worker(
                     vd = X[XV]
                     qd[:n] = x[:n]
                     vd[:n] = x[n:]
-                    dm = (ATd, BTd, gP, WTd, Vd[p], D[p], Vcd[p], kc[p], cc[p], Dc[p])
                     if O > 0:
-                        _period_dense(X, sf, h, tab, N, dm, om, rs, ld)
+                        _period_dense(
+                            X,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            ATd,
+                            BTd,
+                            gP,
+                            WTd,
+                            Vd[p],
+                            D[p],
+                            Vcd[p],
+                            kc[p],
+                            cc[p],
+                            Dc[p],
+                            om,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            ld,
+                        )
                     else:  # no orders: the step compiled without the load's refill
-                        _period_dense(X, sf, h, tab, N, dm, om, rs, None)
+                        _period_dense(
+                            X,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            ATd,
+                            BTd,
+                            gP,
+                            WTd,
+                            Vd[p],
+                            D[p],
+                            Vcd[p],
+                            kc[p],
+                            cc[p],
+                            Dc[p],
+                            om,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            None,
+                        )
                     x[:n] = qd[:n]
                     x[n:] = vd[:n]
                 else:
