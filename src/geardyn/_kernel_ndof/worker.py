@@ -76,35 +76,27 @@ def _quotient(Y, R):
                 Y[i, c] -= r * R[i, b]
 
 
-@njit(nogil=True, inline="always")
-def _record(j, q, v, rs):
-    """After step j of a period: the statistics of ``rs = (rec, st, ev, gaps, hist, p, b0)`` from the elements'
-    (δ, δ') in ev (when rec), the history sample b0 + j."""
-    rec, st, ev, gaps, hist, p, b0 = rs
-    if rec:
-        accumulate(st, ev, gaps)
-    if hist.shape[1] > 0:
-        _store_hist(hist, p, b0 + j, q, v, 0)
-
-
 @njit(nogil=True)
 def _period_sparse(pa, rs, bear, tan):
     """N plain steps on the padded state R (:func:`.step.state_rows`) of ``pa = (R, sf, h, tab, N, blk, sp, el,
-    om, ld, ef, evs)`` (the loads ``ld``, the element groups ``ef``, ``evs`` the statistics' workspace), recorded
-    by :func:`_record`; with the tangent columns of ``tan = (Y, wt, gk, gc, sw)`` unless it is None (the step then
-    compiled without them), the bearings' code unless ``bear`` is None."""
+    om, ld, ef, evs)`` (the loads ``ld``, the element groups ``ef``, ``evs`` the statistics' workspace), statistics
+    and history samples b0 + j of ``rs = (rec, st, ev, gaps, hist, p, b0)``; with the tangent columns of
+    ``tan = (Y, wt, gk, gc, sw)`` unless it is None (the step then compiled without them), the bearings' code unless
+    ``bear`` is None."""
     R, sf, h, tab, N, blk, sp, el, om, ld, ef, evs = pa
+    rec, st, ev, gaps, hist, p, b0 = rs
     q = R[0]
     v = R[1]
-    ev = rs[2]
     for j in range(N):
         rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef, tan)
-        if rs[0]:
+        if rec:
             if tan is None:
                 values_vec(q, v, 2 * j + 2, ef, sp, el, ev, evs)
             else:
                 element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
-        _record(j, q, v, rs)
+            accumulate(st, ev, gaps)
+        if hist.shape[1] > 0:
+            _store_hist(hist, p, b0 + j, q, v, 0)
 
 
 @njit(nogil=True)
