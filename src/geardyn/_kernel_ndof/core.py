@@ -127,32 +127,15 @@ def _element_force(e, d, dv, cf, el, mode):
 
 
 @njit(nogil=True, inline="always")
-def _row(sp, q, v, vo, e, d, dv):
-    """(d + V[e]·q̃, dv + V[e]·q̃') of element row e, its terms added in ascending column order; q̃ = q[0:n],
-    q̃' = v[vo:vo+n]."""
-    ep, ej, Ev = sp[4], sp[5], sp[6]
+def _row(ep, ej, Ev, x, vo, e):
+    """(V[e]·q̃, V[e]·q̃') of element row e; q̃ = x[0:n], q̃' = x[vo:vo+n]."""
+    d = 0.0
+    dv = 0.0
     for k in range(ep[e], ep[e + 1]):
         j = ej[k]
-        d += Ev[k] * q[j]
-        dv += Ev[k] * v[vo + j]
+        d += Ev[k] * x[j]
+        dv += Ev[k] * x[vo + j]
     return d, dv
-
-
-@njit(nogil=True, inline="always")
-def _sub_row(sp, e, s, out, o):
-    """out[o + i] −= W[e, i] s over the nonzeros of element e's force row."""
-    wp, wi, Wv = sp[7], sp[8], sp[9]
-    for k in range(wp[e], wp[e + 1]):
-        out[o + wi[k]] -= Wv[k] * s
-
-
-@njit(nogil=True, inline="always")
-def _bearing_at(sp, el, q, v, vo, b):
-    """Bearing b's x row ex and its (δ_x, δ_x', δ_y, δ_y') at (q̃, q̃') (:func:`_row`)."""
-    ex = el[0] + el[4].shape[0] + 2 * b
-    dx, vx = _row(sp, q, v, vo, ex, 0.0, 0.0)
-    dy, vy = _row(sp, q, v, vo, ex + 1, 0.0, 0.0)
-    return ex, dx, vx, dy, vy
 
 
 @njit(nogil=True, inline="always")
@@ -206,11 +189,15 @@ def bearing_slopes(dx, dy, psi, bq, b):
 @njit(nogil=True, inline="always")
 def _bearing_slots(sp, el, cf, q, vo, gk, gc):
     """The slopes of every bearing at (q̃, q̃') into gk, gc (its rows' and its two cross slots)."""
+    ep, ej, Ev = sp[4], sp[5], sp[6]
     M = el[0]
     bq = el[5]
-    E = sp[4].shape[0] - 1
+    E = ep.shape[0] - 1
+    e0 = M + el[4].shape[0]
     for b in range(bq.shape[0]):
-        ex, dx, _vx, dy, _vy = _bearing_at(sp, el, q, q, vo, b)
+        ex = e0 + 2 * b
+        dx, vx = _row(ep, ej, Ev, q, vo, ex)
+        dy, vy = _row(ep, ej, Ev, q, vo, ex + 1)
         kxx, kxy, kyy = bearing_slopes(dx, dy, cf[M + b, 0], bq, b)
         gk[ex] = kxx
         gk[ex + 1] = kyy
@@ -225,17 +212,33 @@ def _bearing_slots(sp, el, cf, q, vo, gk, gc):
 @njit(nogil=True, inline="always")
 def _bearing_forces(sp, el, cf, q, v, s):
     """The forces s[ex], s[ey] of every bearing at (q̃, q̃') = (q[0:n], v[0:n])."""
+    ep, ej, Ev = sp[4], sp[5], sp[6]
+    M = el[0]
     bq = el[5]
+    e0 = M + el[4].shape[0]
     for b in range(bq.shape[0]):
-        ex, dx, vx, dy, vy = _bearing_at(sp, el, q, v, 0, b)
-        s[ex], s[ex + 1] = bearing_force(dx, dy, vx, vy, cf[el[0] + b, 0], bq, b)
+        ex = e0 + 2 * b
+        dx = 0.0
+        vx = 0.0
+        for k in range(ep[ex], ep[ex + 1]):
+            j = ej[k]
+            dx += Ev[k] * q[j]
+            vx += Ev[k] * v[j]
+        dy = 0.0
+        vy = 0.0
+        for k in range(ep[ex + 1], ep[ex + 2]):
+            j = ej[k]
+            dy += Ev[k] * q[j]
+            vy += Ev[k] * v[j]
+        sx, sy = bearing_force(dx, dy, vx, vy, cf[M + b, 0], bq, b)
+        s[ex] = sx
+        s[ex + 1] = sy
 
 
 @njit(nogil=True)
 def field(x, cf, sp, el, omega, mode, out):
     """out = x' at coefficients cf (meshes, 4); ``mode`` per element (meshes then clearances)."""
-    abp, abj, Av, Bv = sp[:4]
-    g = sp[10]
+    abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g = sp
     M = el[0]
     n = g.shape[0]
     for i in range(n):
@@ -247,24 +250,40 @@ def field(x, cf, sp, el, omega, mode, out):
             acc -= Av[k] * x[j] + Bv[k] * x[n + j]
         out[n + i] = acc
     bq = el[5]
-    for e in range(M + el[4].shape[0]):
-        d, dv = _row(sp, x, x, n, e, 0.0, 0.0)
+    e0 = M + el[4].shape[0]
+    for e in range(e0):
+        d = 0.0
+        dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * x[j]
+            dv += Ev[k] * x[n + j]
         if e < M:
             dv -= omega * cf[e, 3]
-        _sub_row(sp, e, _element_force(e, d, dv, cf, el, mode), out, n)
+        s = _element_force(e, d, dv, cf, el, mode)
+        for k in range(wp[e], wp[e + 1]):
+            out[n + wi[k]] -= Wv[k] * s
     for b in range(bq.shape[0]):
-        ex, dx, vx, dy, vy = _bearing_at(sp, el, x, x, n, b)
+        ex = e0 + 2 * b
+        dx, vx = _row(ep, ej, Ev, x, n, ex)
+        dy, vy = _row(ep, ej, Ev, x, n, ex + 1)
         sx, sy = bearing_force(dx, dy, vx, vy, cf[M + b, 0], bq, b)
-        _sub_row(sp, ex, sx, out, n)
-        _sub_row(sp, ex + 1, sy, out, n)
+        for k in range(wp[ex], wp[ex + 1]):
+            out[n + wi[k]] -= Wv[k] * sx
+        for k in range(wp[ex + 1], wp[ex + 2]):
+            out[n + wi[k]] -= Wv[k] * sy
 
 
 @njit(nogil=True)
 def slopes(x, cf, sp, el, mode, gk, gc):
     """d s_e/dδ_e and d s_e/dδ_e' of every element at x into gk, gc (bearings: also their cross slots)."""
+    abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g = sp
     M, D, kc, cc, Dc = el[0], el[1], el[2], el[3], el[4]
-    for e in range(M + Dc.shape[0]):
-        d, _dv = _row(sp, x, x, 0, e, -cf[e, 2] if e < M else 0.0, 0.0)
+    e0 = M + Dc.shape[0]
+    for e in range(e0):
+        d = -cf[e, 2] if e < M else 0.0
+        for k in range(ep[e], ep[e + 1]):
+            d += Ev[k] * x[ej[k]]
         if e < M:
             gk[e] = cf[e, 1] * _slope(d, D[e], mode[e])
             gc[e] = cf[e, 0]
@@ -272,7 +291,7 @@ def slopes(x, cf, sp, el, mode, gk, gc):
             c = e - M
             gk[e] = kc[c] * _slope(d, Dc[c], mode[e])
             gc[e] = cc[c]
-    _bearing_slots(sp, el, cf, x, sp[10].shape[0], gk, gc)
+    _bearing_slots(sp, el, cf, x, g.shape[0], gk, gc)
 
 
 @njit(nogil=True)
@@ -320,31 +339,50 @@ def tan_free(Y, sp, gk, gc, out):
     """out = J Y for a few tangent columns Y (2n, k) without forming J: the rows of A and B, then every element's
     W[e] (gk[e] V[e]·y + gc[e] V[e]·y') (the leading exponents' products; their sums run in another order than
     :func:`tan_field`'s)."""
-    abp, abj, Av, Bv = sp[:4]
-    n = sp[10].shape[0]
-    E = sp[4].shape[0] - 1
+    abp, abj, Av, Bv, ep, ej, Ev, wp, wi, Wv, g = sp
+    n = g.shape[0]
+    E = ep.shape[0] - 1
     B2 = gk.shape[0] - E  # two cross slots per bearing
     e0 = E - B2
     for c in range(Y.shape[1]):
-        y = Y[:, c]
-        o = out[:, c]
         for i in range(n):
-            o[i] = y[n + i]
+            out[i, c] = Y[n + i, c]
         for i in range(n):
             acc = 0.0
             for k in range(abp[i], abp[i + 1]):
                 j = abj[k]
-                acc += Av[k] * y[j] + Bv[k] * y[n + j]
-            o[n + i] = -acc
+                acc += Av[k] * Y[j, c] + Bv[k] * Y[n + j, c]
+            out[n + i, c] = -acc
         for e in range(e0):
-            pq, pv = _row(sp, y, y, n, e, 0.0, 0.0)
-            _sub_row(sp, e, gk[e] * pq + gc[e] * pv, o, n)
+            pq = 0.0
+            pv = 0.0
+            for k in range(ep[e], ep[e + 1]):
+                j = ej[k]
+                pq += Ev[k] * Y[j, c]
+                pv += Ev[k] * Y[n + j, c]
+            t = gk[e] * pq + gc[e] * pv
+            for k in range(wp[e], wp[e + 1]):
+                out[n + wi[k], c] -= Wv[k] * t
         for b in range(B2 // 2):
             ex = e0 + 2 * b
-            qx, vx = _row(sp, y, y, n, ex, 0.0, 0.0)
-            qy, vy = _row(sp, y, y, n, ex + 1, 0.0, 0.0)
-            _sub_row(sp, ex, gk[ex] * qx + gk[E + 2 * b] * qy + gc[ex] * vx, o, n)
-            _sub_row(sp, ex + 1, gk[ex + 1] * qy + gk[E + 2 * b + 1] * qx + gc[ex + 1] * vy, o, n)
+            qx = 0.0
+            vx = 0.0
+            for k in range(ep[ex], ep[ex + 1]):
+                j = ej[k]
+                qx += Ev[k] * Y[j, c]
+                vx += Ev[k] * Y[n + j, c]
+            qy = 0.0
+            vy = 0.0
+            for k in range(ep[ex + 1], ep[ex + 2]):
+                j = ej[k]
+                qy += Ev[k] * Y[j, c]
+                vy += Ev[k] * Y[n + j, c]
+            tx = gk[ex] * qx + gk[E + 2 * b] * qy + gc[ex] * vx
+            ty = gk[ex + 1] * qy + gk[E + 2 * b + 1] * qx + gc[ex + 1] * vy
+            for k in range(wp[ex], wp[ex + 1]):
+                out[n + wi[k], c] -= Wv[k] * tx
+            for k in range(wp[ex + 1], wp[ex + 2]):
+                out[n + wi[k], c] -= Wv[k] * ty
 
 
 @njit(nogil=True)
@@ -378,12 +416,21 @@ def diverged_state(x):
 @njit(nogil=True, inline="always")
 def element_values(q, v, vo, cf, sp, el, omega, out):
     """δ, δ' of every element (meshes then clearances) into out[e, 0:2]; q̃ = q[0:n], q̃' = v[vo:vo+n]."""
+    ep, ej, Ev = sp[4], sp[5], sp[6]
     M = el[0]
-    for e in range(sp[4].shape[0] - 1):
+    for e in range(ep.shape[0] - 1):
         if e < M:
-            out[e, 0], out[e, 1] = _row(sp, q, v, vo, e, -cf[e, 2], -omega * cf[e, 3])
+            d = -cf[e, 2]
+            dv = -omega * cf[e, 3]
         else:
-            out[e, 0], out[e, 1] = _row(sp, q, v, vo, e, 0.0, 0.0)
+            d = 0.0
+            dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * q[j]
+            dv += Ev[k] * v[vo + j]
+        out[e, 0] = d
+        out[e, 1] = dv
 
 
 @njit(nogil=True, inline="always")

@@ -31,7 +31,6 @@ from numba import njit
 from .core import (
     _bearing_forces,
     _bearing_slots,
-    _row,
     coef_at,
     element_values,
     field,
@@ -74,26 +73,6 @@ def order_cosines(ro, po, theta, ct, r):
         ct[r, o] = math.cos(ro[o] * theta + po[o])
 
 
-@njit(nogil=True, inline="always")
-def _shift(Y, c, K, Ys):
-    """Y itself if c = 0, else Ys = Y + c K, entry by entry (C-contiguous arrays of one shape)."""
-    if c == 0.0:
-        return Y
-    y, k, ys = Y.reshape(Y.size), K.reshape(Y.size), Ys.reshape(Y.size)
-    for i in range(Y.size):
-        ys[i] = y[i] + c * k[i]
-    return Ys
-
-
-@njit(nogil=True, inline="always")
-def _rk4_sum(Y, h6, K):
-    """Y += h6 (K[0] + 2 K[1] + 2 K[2] + K[3]) entry by entry: the RK4 update from the stage slopes K[0:4]."""
-    y = Y.reshape(Y.size)
-    k = K.reshape((K.shape[0], Y.size))
-    for i in range(Y.size):
-        y[i] += h6 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
-
-
 @njit(nogil=True)
 def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt, Gq, Gv, ld, r):
     """Advance x (and the columns Y when ``tangent``) by one RK4 step of length h, in place.
@@ -102,19 +81,61 @@ def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt
     gk, gc : (elements,) workspace (the element slopes); jt the Jacobian's pattern, Gq, Gv its values (workspace);
     ``ld`` the loads (module docstring), rows r, r + 1, r + 2 of its table at the start, midpoint and end.
     """
-    cs = (0.0, 0.5 * h, 0.5 * h, h)
-    cfs = (cf0, cf1, cf1, cf2)
-    for k in range(4):  # stage k at x + cs[k] k_(k−1) (the first at x itself), its slope into wk[k]
-        xs = _shift(x, cs[k], wk[k - 1], wk[4])
-        load_at(sp[10], ld, r + (k + 1) // 2)
-        field(xs, cfs[k], sp, el, omega, mode, wk[k])
-        if tangent:
-            slopes(xs, cfs[k], sp, el, mode, gk, gc)
-            jac_values(sp, jt, gk, gc, Gq, Gv)
-            tan_field(_shift(Y, cs[k], wt[k - 1], wt[4]), jt, Gq, Gv, wt[k])
+    d = x.shape[0]
+    hh = 0.5 * h
+    h6 = h / 6.0
+    k1 = wk[0]
+    k2 = wk[1]
+    k3 = wk[2]
+    k4 = wk[3]
+    xs = wk[4]
+    g = sp[10]
+    load_at(g, ld, r)
+    field(x, cf0, sp, el, omega, mode, k1)
     if tangent:
-        _rk4_sum(Y, h / 6.0, wt)
-    _rk4_sum(x, h / 6.0, wk)
+        slopes(x, cf0, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        tan_field(Y, jt, Gq, Gv, wt[0])
+    for i in range(d):
+        xs[i] = x[i] + hh * k1[i]
+    load_at(g, ld, r + 1)
+    field(xs, cf1, sp, el, omega, mode, k2)
+    if tangent:
+        slopes(xs, cf1, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + hh * wt[0][i, c]
+        tan_field(Ys, jt, Gq, Gv, wt[1])
+    for i in range(d):
+        xs[i] = x[i] + hh * k2[i]
+    field(xs, cf1, sp, el, omega, mode, k3)
+    if tangent:
+        slopes(xs, cf1, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + hh * wt[1][i, c]
+        tan_field(Ys, jt, Gq, Gv, wt[2])
+    for i in range(d):
+        xs[i] = x[i] + h * k3[i]
+    load_at(g, ld, r + 2)
+    field(xs, cf2, sp, el, omega, mode, k4)
+    if tangent:
+        slopes(xs, cf2, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + h * wt[2][i, c]
+        tan_field(Ys, jt, Gq, Gv, wt[3])
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Y[i, c] += h6 * (wt[0][i, c] + 2.0 * wt[1][i, c] + 2.0 * wt[2][i, c] + wt[3][i, c])
+    for i in range(d):
+        x[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
 # ----------------------------------------------------------------------------- accurate mode
@@ -147,77 +168,137 @@ def _gfun(d, D, m):
 
 
 @njit(nogil=True)
-def _locked(x0, t, s, xo, tangent, ctx):
-    """xo = locked RK4 step of length s from x0 at time t (ctx's Y advanced when ``tangent``; ``ctx`` of
-    :func:`accurate_step`); the loads' table ct takes the rows of this step's three times."""
-    coef, ratio, omega, sp, el, _gaps, mode, cfa, wk, wt, gk, gc, jw, Y, lds, _ev = ctx
+def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds):
+    """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``lds = (ld, ro, po)``
+    the loads (their table ct the rows of this step's three times)."""
     for i in range(x0.shape[0]):
         xo[i] = x0[i]
+    coef_at(coef, ratio, omega * t, cfa[0])
+    coef_at(coef, ratio, omega * (t + 0.5 * s), cfa[1])
+    coef_at(coef, ratio, omega * (t + s), cfa[2])
     ld, ro, po = lds
-    ts = (t, t + 0.5 * s, t + s)
-    for k in range(3):
-        coef_at(coef, ratio, omega * ts[k], cfa[k])
-        order_cosines(ro, po, omega * ts[k], ld[2], k)
-    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jw[0], jw[1], jw[2], ld, 0)
+    ct = ld[2]
+    order_cosines(ro, po, omega * t, ct, 0)
+    order_cosines(ro, po, omega * (t + 0.5 * s), ct, 1)
+    order_cosines(ro, po, omega * (t + s), ct, 2)
+    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt[0], jt[1], jt[2], ld, 0)
 
 
 @njit(nogil=True)
-def values_at(x, t, ctx):
-    """Every element's (δ, δ') at state x, time t, into ctx's ``ev`` (returned)."""
-    coef, ratio, omega, sp, el = ctx[:5]
-    cfa = ctx[7]
-    ev = ctx[15]
+def _worst(x, t, coef, ratio, omega, sp, el, gaps, mode, cfa, ev):
+    """Smallest locked-branch distance over the elements at state x, time t, and its element."""
     coef_at(coef, ratio, omega * t, cfa[3])
     element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
-    return ev
-
-
-@njit(nogil=True)
-def _worst(x, t, ctx):
-    """Smallest locked-branch distance over the elements at state x, time t."""
-    ev = values_at(x, t, ctx)
-    gaps, mode = ctx[5], ctx[6]
     best = np.inf
+    who = -1
     for e in range(ev.shape[0]):
         gv = _gfun(ev[e, 0], gaps[e], mode[e])
         if gv < best:
             best = gv
-    return best
+            who = e
+    return best, who
 
 
 @njit(nogil=True)
-def accurate_step(x, t, h, xo, tangent, Ysave, ctx):
+def accurate_step(
+    x,
+    t,
+    h,
+    coef,
+    ratio,
+    omega,
+    sp,
+    el,
+    gaps,
+    mode,
+    xo,
+    cfa,
+    wk,
+    wt,
+    gk,
+    gc,
+    jt,
+    tangent,
+    Y,
+    Ysave,
+    ev,
+    lds,
+):
     """Advance x (and Y) by one step of length h split at every contact-boundary crossing.
 
-    ``ctx = (coef, ratio, omega, sp, el, gaps, mode, cfa, wk, wt, gk, gc, jw, Y, lds, ev)``: the point's
-    coefficients, elements, gaps and workspaces; ``jw`` is (the Jacobian's pattern, its values Gq, Gv) of
-    :func:`rk4`, ``lds = (ld, ro, po)`` the loads (their table ct the rows of a locked step's three times)."""
-    gaps, mode, wk, Y = ctx[5], ctx[6], ctx[8], ctx[13]
+    ``jt`` is (the Jacobian's pattern, its values Gq, Gv) of :func:`rk4`; ``lds`` the loads of :func:`_locked`."""
+    d = x.shape[0]
     rem = h
     tt = t
     for _split in range(MAX_SPLITS):
-        _regions(values_at(x, tt, ctx), gaps, mode)
+        coef_at(coef, ratio, omega * tt, cfa[3])
+        element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
+        _regions(ev, gaps, mode)
         if tangent:
-            Ysave[:, :] = Y
-        _locked(x, tt, rem, xo, tangent, ctx)
+            for i in range(d):
+                for c in range(Y.shape[1]):
+                    Ysave[i, c] = Y[i, c]
+        _locked(
+            x,
+            tt,
+            rem,
+            coef,
+            ratio,
+            omega,
+            sp,
+            el,
+            mode,
+            xo,
+            cfa,
+            wk,
+            wt,
+            gk,
+            gc,
+            jt,
+            tangent,
+            Y,
+            lds,
+        )
+        gend, _w = _worst(xo, tt + rem, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
         hi = rem
-        ghi = _worst(xo, tt + rem, ctx)
-        if ghi >= 0.0:
+        ghi = gend
+        if gend >= 0.0:
             # a crossing out and back inside the sub-step: check a few locked sub-lengths
             for k in range(1, HERMITE_SAMPLES + 1):
                 sk = rem * k / (HERMITE_SAMPLES + 1)
-                _locked(x, tt, sk, wk[5], False, ctx)
-                gsk = _worst(wk[5], tt + sk, ctx)
+                _locked(
+                    x,
+                    tt,
+                    sk,
+                    coef,
+                    ratio,
+                    omega,
+                    sp,
+                    el,
+                    mode,
+                    wk[5],
+                    cfa,
+                    wk,
+                    wt,
+                    gk,
+                    gc,
+                    jt,
+                    False,
+                    Y,
+                    lds,
+                )
+                gsk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
                 if gsk < 0.0:
                     hi = sk
                     ghi = gsk
                     break
         if ghi >= 0.0:
-            x[:] = xo
+            for i in range(d):
+                x[i] = xo[i]
             return
         # bracket [lo, hi] with g(lo) >= 0 > g(hi): Illinois
         lo = 0.0
-        glo = _worst(x, tt, ctx)
+        glo, _w = _worst(x, tt, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
         if glo < 0.0:
             glo = 0.0
         side = 0
@@ -227,8 +308,28 @@ def accurate_step(x, t, h, xo, tangent, Ysave, ctx):
             s = hi - ghi * (hi - lo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
             if not (s > lo and s < hi):
                 s = 0.5 * (lo + hi)
-            _locked(x, tt, s, wk[5], False, ctx)
-            gs = _worst(wk[5], tt + s, ctx)
+            _locked(
+                x,
+                tt,
+                s,
+                coef,
+                ratio,
+                omega,
+                sp,
+                el,
+                mode,
+                wk[5],
+                cfa,
+                wk,
+                wt,
+                gk,
+                gc,
+                jt,
+                False,
+                Y,
+                lds,
+            )
+            gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
             if gs == 0.0:
                 lo = s
                 hi = s
@@ -247,17 +348,43 @@ def accurate_step(x, t, h, xo, tangent, Ysave, ctx):
                 side = -1
         s = hi
         if tangent:
-            Y[:, :] = Ysave
-        _locked(x, tt, s, xo, tangent, ctx)
-        x[:] = xo
+            for i in range(d):
+                for c in range(Y.shape[1]):
+                    Y[i, c] = Ysave[i, c]
+        _locked(
+            x,
+            tt,
+            s,
+            coef,
+            ratio,
+            omega,
+            sp,
+            el,
+            mode,
+            xo,
+            cfa,
+            wk,
+            wt,
+            gk,
+            gc,
+            jt,
+            tangent,
+            Y,
+            lds,
+        )
+        for i in range(d):
+            x[i] = xo[i]
         tt += s
         rem -= s
         if rem <= 0.0:
             return
     # split limit reached: finish the step unsplit
-    _regions(values_at(x, tt, ctx), gaps, mode)
-    _locked(x, tt, rem, xo, tangent, ctx)
-    x[:] = xo
+    coef_at(coef, ratio, omega * tt, cfa[3])
+    element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
+    _regions(ev, gaps, mode)
+    _locked(x, tt, rem, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds)
+    for i in range(d):
+        x[i] = xo[i]
 
 
 # ----------------------------------------------------------------------------- plain step (padded layout)
@@ -283,10 +410,17 @@ def aligned_zeros(rows, cols):
 def pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP):
     """Copy point p's block-sparse matrices into the aligned buffers AT, BT (diagonals, LANE_BLOCK), WT, gP; the
     tuple of the plain step's block arrays."""
-    AT[: bcj.shape[0]] = ATs[p]
-    BT[: bcj.shape[0]] = BTs[p]
-    WT[: bej.shape[0]] = WTs[p]
-    gP[:] = gPs[p]
+    nc = bcj.shape[0]
+    ne = bej.shape[0]
+    for k in range(nc):
+        for r in range(LANE_BLOCK):
+            AT[k, r] = ATs[p, k, r]
+            BT[k, r] = BTs[p, k, r]
+    for k in range(ne):
+        for r in range(LANE_BLOCK):
+            WT[k, r] = WTs[p, k, r]
+    for i in range(gP.shape[0]):
+        gP[i] = gPs[p, i]
     return (bcp, bcj, AT, BT, bep, bej, WT, gP)
 
 
@@ -342,12 +476,20 @@ def values_vec(q, v, r, ef, sp, el, ev, evs):
     EI, EV, TB, Dp = ef
     for G in range(EI.shape[0]):
         values_group(EI, EV, q, v, TB, r, evs, G)
+    ep, ej, Ev = sp[4], sp[5], sp[6]
     e1 = el[0] + el[4].shape[0]
     for e in range(e1):
         ev[e, 0] = evs[0, e]
         ev[e, 1] = evs[1, e]
-    for e in range(e1, sp[4].shape[0] - 1):
-        ev[e, 0], ev[e, 1] = _row(sp, q, v, 0, e, 0.0, 0.0)
+    for e in range(e1, ep.shape[0] - 1):
+        d = 0.0
+        dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * q[j]
+            dv += Ev[k] * v[j]
+        ev[e, 0] = d
+        ev[e, 1] = dv
 
 
 @njit(nogil=True, inline="always")
@@ -442,46 +584,68 @@ def _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3):
 
 
 @njit(nogil=True, inline="always")
-def _forces(q, v, tab, r, ef, sp, el, omega, s, bear, tan, c, kp, kout):
-    """A stage's element forces at (q, v) (:func:`forces_vec`); with the tangent columns ``tan = (Y, wt, gk, gc,
-    sw)`` also their slopes (:func:`forces_slopes_vec`) and the columns' stage slope wt[kout] = J (Y + c wt[kp])
-    from the sparse rows (:func:`.core.tan_free`)."""
-    if tan is None:
-        forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear)
-    else:
-        Y, wt, gk, gc, sw = tan
-        forces_slopes_vec(q, v, tab, r, ef, sw, sp, el, omega, s, gk, gc, bear)
-        tan_free(_shift(Y, c, wt[kp], wt[4]), sp, gk, gc, wt[kout])
-
-
-@njit(nogil=True, inline="always")
-def rk4_plain(R, s, h, tab, j, blk, sp, el, omega, ld, bear, ef, tan):
-    """One default-mode RK4 step (the hot loop) on the padded state R[0], R[1]; with a few tangent columns Y (2n, k)
-    of ``tan = (Y, wt, gk, gc, sw)`` advanced by RK4 alongside unless it is None (compiled without them).
+def rk4_plain(R, s, h, tab, j, blk, sp, el, omega, ld, bear, ef):
+    """One default-mode RK4 step without tangents (the hot loop) on the padded state R[0], R[1].
 
     R : the rows of :func:`state_rows` (NP values each, NP a multiple of LANE_BLOCK, the padding zero);
     s : (elements,) workspace; ``blk`` the point's block-sparse arrays (:func:`pad_point`), ``ef`` its element
     groups (:func:`forces_vec`).  Coefficients (and the loads ``ld``, into blk's gP) from the table rows 2j..2j+2;
     the arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see
-    :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows and groups of elements.  The tangent columns
-    take their Jacobian-vector products from the sparse rows (:func:`.core.tan_free`) at each stage's state, the
-    element forces and slopes by groups (:func:`forces_slopes_vec`; the state bit for bit that of the step
-    without them).
+    :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows and groups of elements.
     """
     hh = 0.5 * h
     h6 = h / 6.0
     q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    _forces(q, v, tab, 2 * j, ef, sp, el, omega, s, bear, tan, 0.0, 0, 0)
+    forces_vec(q, v, tab, 2 * j, ef, sp, el, omega, s, bear)
     _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    _forces(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear, tan, hh, 0, 1)
+    forces_vec(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
     _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    _forces(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear, tan, hh, 1, 2)
+    forces_vec(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
     _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    _forces(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear, tan, h, 2, 3)
+    forces_vec(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear)
     _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
-    if tan is not None:
-        _rk4_sum(tan[0], h6, tan[1])
+
+
+@njit(nogil=True, inline="always")
+def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
+    """Ys = Y + c Kp (c = 0: Y itself), then Kout = J Ys."""
+    if c == 0.0:
+        tan_free(Y, sp, gk, gc, Kout)
+        return
+    for i in range(Y.shape[0]):
+        for k in range(Y.shape[1]):
+            Ys[i, k] = Y[i, k] + c * Kp[i, k]
+    tan_free(Ys, sp, gk, gc, Kout)
+
+
+@njit(nogil=True)
+def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear, ef, sw):
+    """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
+    the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state; the
+    element forces and slopes by groups (:func:`forces_slopes_vec`)."""
+    hh = 0.5 * h
+    h6 = h / 6.0
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
+    gP = blk[7]
+    load_at(gP, ld, 2 * j)
+    forces_slopes_vec(q, v, tab, 2 * j, ef, sw, sp, el, omega, s, gk, gc, bear)
+    _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
+    _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
+    load_at(gP, ld, 2 * j + 1)
+    forces_slopes_vec(q2, v2, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
+    _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
+    _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
+    forces_slopes_vec(q3, v3, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
+    _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
+    _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    load_at(gP, ld, 2 * j + 2)
+    forces_slopes_vec(q4, v4, tab, 2 * j + 2, ef, sw, sp, el, omega, s, gk, gc, bear)
+    _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
+    _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
+    for i in range(Y.shape[0]):
+        for k in range(Y.shape[1]):
+            Y[i, k] += h6 * (wt[0][i, k] + 2.0 * wt[1][i, k] + 2.0 * wt[2][i, k] + wt[3][i, k])

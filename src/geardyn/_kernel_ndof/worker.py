@@ -47,8 +47,8 @@ from .step import (
     pad_point,
     rk4,
     rk4_plain,
+    rk4_plain_tan,
     state_rows,
-    values_at,
     values_vec,
 )
 
@@ -77,23 +77,29 @@ def _quotient(Y, R):
 
 
 @njit(nogil=True)
-def _period_sparse(pa, rs, bear, tan):
-    """N plain steps on the padded state R (:func:`.step.state_rows`) of ``pa = (R, sf, h, tab, N, blk, sp, el,
-    om, ld, ef, evs)`` (the loads ``ld``, the element groups ``ef``, ``evs`` the statistics' workspace), statistics
-    and history samples b0 + j of ``rs = (rec, st, ev, gaps, hist, p, b0)``; with the tangent columns of
-    ``tan = (Y, wt, gk, gc, sw)`` unless it is None (the step then compiled without them), the bearings' code unless
-    ``bear`` is None."""
-    R, sf, h, tab, N, blk, sp, el, om, ld, ef, evs = pa
-    rec, st, ev, gaps, hist, p, b0 = rs
+def _period_sparse(R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, bear, ef):
+    """N plain steps on the padded state R (:func:`.step.state_rows`; statistics when ``rec``, ``evs`` their
+    workspace; history samples b0 + j; the loads ``ld``; the element groups ``ef``)."""
     q = R[0]
     v = R[1]
     for j in range(N):
-        rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef, tan)
+        rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef)
         if rec:
-            if tan is None:
-                values_vec(q, v, 2 * j + 2, ef, sp, el, ev, evs)
-            else:
-                element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
+            values_vec(q, v, 2 * j + 2, ef, sp, el, ev, evs)
+            accumulate(st, ev, gaps)
+        if hist.shape[1] > 0:
+            _store_hist(hist, p, b0 + j, q, v, 0)
+
+
+@njit(nogil=True)
+def _period_tan(R, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bear, ef, sw):
+    """:func:`_period_sparse` with a few tangent columns Y."""
+    q = R[0]
+    v = R[1]
+    for j in range(N):
+        rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear, ef, sw)
+        if rec:
+            element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
             accumulate(st, ev, gaps)
         if hist.shape[1] > 0:
             _store_hist(hist, p, b0 + j, q, v, 0)
@@ -237,21 +243,27 @@ def ndof_worker(
         Tf = tperiod[p]
         h = Tf / N
         om = omega[p]
-        gw[:] = g[p]
+        for i in range(n):
+            gw[i] = g[p, i]
         sp = (abp, abj, Av[p], Bv[p], ep, ej, Ev[p], wp, wi, Wv[p], gw)
         el = (M, D[p], kc[p], cc[p], Dc[p], bq[p])
         jt = (gp, gj, Ag[p], Bg[p], cp, ce, cw, cv)
+        jw = (jt, Gq, Gv)
         blk = pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP)
         if dense:
             pad_dense(Ad[p], Bd[p], g[p], Wd[p], Wcd[p], ATd, BTd, gP, WTd)
         gaps = np.empty(E)
-        gaps[:M] = D[p]
-        gaps[M : M + C] = Dc[p]
+        for m in range(M):
+            gaps[m] = D[p, m]
+        for c in range(C):
+            gaps[M + c] = Dc[p, c]
         # the accurate mode splits no step at a bearing (its force is C¹ at contact): a gap 0 never switches
         agaps = gaps.copy()
-        agaps[M + C :] = 0.0
         for b in range(NB):
-            gaps[M + C + 2 * b : M + C + 2 * b + 2] = bq[p, b, 3]
+            gaps[M + C + 2 * b] = bq[p, b, 3]
+            gaps[M + C + 2 * b + 1] = bq[p, b, 3]
+            agaps[M + C + 2 * b] = 0.0
+            agaps[M + C + 2 * b + 1] = 0.0
         tab = np.empty((0, M + NB, 4))
         TB = np.empty((0, 6, EP))
         otab = ocs
@@ -266,10 +278,12 @@ def ndof_worker(
         ef = (EI, EVs[p], TB, Dp)
         ld = (g[p], go[p], otab)  # the loads at the table's times (module docstring of .step)
         lds = ((g[p], go[p], ocs), ro[p], po[p])  # the accurate mode's
-        actx = (coef[p], ratio[p], om, sp, el, agaps, mode, cfa, wk, wt, gk, gc, (jt, Gq, Gv), Y, lds, ev)
-        x[:] = state0[p]
+        for i in range(d):
+            x[i] = state0[p, i]
         st[:, :] = 0.0
-        Y[:, :ktan] = tangent0[p, :, :ktan]
+        for i in range(d):
+            for c in range(ktan):
+                Y[i, c] = tangent0[p, i, c]
         bad = False
         total = n_transient + n_record
         hstart = total * N - (hl - 1)
@@ -282,13 +296,13 @@ def ndof_worker(
             if not accurate and (not tan_on or ktan < d):
                 # the plain step on the padded state (padding zero); a few tangent columns alongside
                 b0 = per * N + 1 - hstart
-                rs = (rec, st, ev, gaps, hist, p, b0)
                 if dense and not tan_on:
                     X[:, :] = 0.0
                     qd = X[XQ]
                     vd = X[XV]
-                    qd[:n] = x[:n]
-                    vd[:n] = x[n:]
+                    for i in range(n):
+                        qd[i] = x[i]
+                        vd[i] = x[n + i]
                     if O > 0:
                         _period_dense(
                             X,
@@ -343,31 +357,109 @@ def ndof_worker(
                             b0,
                             None,
                         )
-                    x[:n] = qd[:n]
-                    x[n:] = vd[:n]
+                    for i in range(n):
+                        x[i] = qd[i]
+                        x[n + i] = vd[i]
                 else:
                     Xs[:, :] = 0.0
                     q = R[0]
                     v = R[1]
-                    q[:n] = x[:n]
-                    v[:n] = x[n:]
-                    pa = (R, sf, h, tab, N, blk, sp, el, om, ld, ef, evs)
-                    tn = (Y, wt, gk, gc, sw)
+                    for i in range(n):
+                        q[i] = x[i]
+                        v[i] = x[n + i]
                     # bearings: the step compiled with their code; without, given None, compiled without it (.core)
                     if tan_on and NB > 0:
-                        _period_sparse(pa, rs, bq, tn)
+                        _period_tan(
+                            R,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            blk,
+                            sp,
+                            el,
+                            om,
+                            Y,
+                            wt,
+                            gk,
+                            gc,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            ld,
+                            bq,
+                            ef,
+                            sw,
+                        )
                     elif tan_on:
-                        _period_sparse(pa, rs, None, tn)
+                        _period_tan(
+                            R,
+                            sf,
+                            h,
+                            tab,
+                            N,
+                            blk,
+                            sp,
+                            el,
+                            om,
+                            Y,
+                            wt,
+                            gk,
+                            gc,
+                            rec,
+                            st,
+                            ev,
+                            gaps,
+                            hist,
+                            p,
+                            b0,
+                            ld,
+                            None,
+                            ef,
+                            sw,
+                        )
                     elif NB > 0:
-                        _period_sparse(pa, rs, bq, None)
+                        _period_sparse(
+                            R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, bq, ef
+                        )
                     else:
-                        _period_sparse(pa, rs, None, None)
-                    x[:n] = q[:n]
-                    x[n:] = v[:n]
+                        _period_sparse(
+                            R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, None, ef
+                        )
+                    for i in range(n):
+                        x[i] = q[i]
+                        x[n + i] = v[i]
             else:
                 for j in range(N):
                     if accurate:
-                        accurate_step(x, j * h, h, xo, tan_on, Ysave, actx)
+                        accurate_step(
+                            x,
+                            j * h,
+                            h,
+                            coef[p],
+                            ratio[p],
+                            om,
+                            sp,
+                            el,
+                            agaps,
+                            mode,
+                            xo,
+                            cfa,
+                            wk,
+                            wt,
+                            gk,
+                            gc,
+                            jw,
+                            tan_on,
+                            Y,
+                            Ysave,
+                            ev,
+                            lds,
+                        )
                     else:
                         rk4(
                             x,
@@ -393,7 +485,8 @@ def ndof_worker(
                         )
                     if rec:
                         if accurate:
-                            values_at(x, (j + 1) * h, actx)
+                            coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
+                            element_values(x, x, n, cfa[3], sp, el, om, ev)
                         else:
                             element_values(x, x, n, tab[2 * j + 2], sp, el, om, ev)
                         accumulate(st, ev, gaps)
@@ -405,18 +498,28 @@ def ndof_worker(
             if rec:
                 r = per - n_transient
                 if poincare.shape[1] > 0:
-                    poincare[p, r] = x
+                    for i in range(d):
+                        poincare[p, r, i] = x[i]
                 if tangent == TAN_LYAPUNOV:
                     _quotient(Y, rigid)
                     gram_schmidt(Y, logs)
-                    tan_log[p, r, :ktan] = logs[:ktan]
-        stats[p] = st
+                    for i in range(ktan):
+                        tan_log[p, r, i] = logs[i]
+        for e in range(E):
+            for s in range(NSTAT):
+                stats[p, e, s] = st[e, s]
         if bad:
             status[p] = ST_DIVERGED
-            poincare[p] = np.nan
-            end_state[p] = np.nan
+            for r in range(poincare.shape[1]):
+                for i in range(d):
+                    poincare[p, r, i] = np.nan
+            for i in range(d):
+                end_state[p, i] = np.nan
         else:
             status[p] = ST_OK
-            end_state[p] = x
+            for i in range(d):
+                end_state[p, i] = x[i]
         if tangent != TAN_NONE:
-            tan_out[p, :, :ktan] = Y[:, :ktan]
+            for i in range(d):
+                for c in range(ktan):
+                    tan_out[p, i, c] = Y[i, c]
