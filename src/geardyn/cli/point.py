@@ -154,9 +154,7 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
             transient=opts.transient,
             progress=bar,
         )
-    paths: list[str] = []
-    if inp.out is not None:
-        paths = inp.write(add_physical(res.to_dataset(), scales), "orbit")
+    paths = inp.write(add_physical(res.to_dataset(), scales), "orbit") if inp.out is not None else []
     finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, render.orbit)
 
 
