@@ -268,12 +268,6 @@ class BatchResult:
         """Whether each point finished without diverging (P,)."""
         return self.status == ST_OK
 
-    @property
-    def total_steps(self) -> int:
-        """RK4 steps the batch took, transient included."""
-        o = self.options
-        return int(np.sum(self.nsteps) * (o.transient + o.periods))
-
     def _el(self, k: int, e: int | None) -> np.ndarray:
         x = self.stats[:, :, k]
         x = np.where(self.ok[:, None], x, np.nan)

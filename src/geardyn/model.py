@@ -463,28 +463,7 @@ class GearModel:
         :attr:`forcing_omega` (ω/P; the mesh phase when ``cycles`` is 1).
         """
         H = self.n_harmonics if n_harmonics is None else n_harmonics
-        if self.torque_orders:
-            return self._coefficients_with_orders(H)
-        c = np.zeros((3, H + 1, 2))
-        c[0, 0, 0] = 2.0 * self.xi0
-        c[1, 0, 0] = 1.0
-        c[2, 0, 0] = self.fp
-        w2 = self.forcing_omega**2
-        series = (
-            (0, self.xi, self.phi_c, lambda j: 2.0),
-            (1, self.kappa, self.phi_k, lambda j: 1.0),
-            (2, self.eps, self.phi_e, lambda j: w2 * j * j),
-        )
-        for i, amps, phases, scale in series:
-            for j0, (a, ph) in enumerate(zip(amps, phases)):
-                j = j0 + 1
-                c[i, j, 0] = scale(j) * a * math.cos(ph)
-                c[i, j, 1] = -scale(j) * a * math.sin(ph)
-        return c
-
-    def _coefficients_with_orders(self, H: int) -> np.ndarray:
-        """:meth:`coefficients` of a model with torque orders: harmonics of ω/M, M = :meth:`period_multiple`."""
-        M = self.period_multiple()
+        M = self.period_multiple()  # with torque orders the harmonics are of ω/M, M = period_multiple()
         s = M // self.cycles  # series harmonic j (of ω/P) is harmonic j·s of ω/M
         c = np.zeros((3, H + 1, 2))
         c[0, 0, 0] = 2.0 * self.xi0

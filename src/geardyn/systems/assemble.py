@@ -395,10 +395,6 @@ class SystemModel:
             p = p * r.denominator // math.gcd(p, r.denominator)
         return p
 
-    def is_periodic(self) -> bool:
-        """Whether the forcing is periodic (commensurate mesh frequencies)."""
-        return self.period_multiple() is not None
-
     @property
     def forcing_period(self) -> float:
         """The forcing period p·T; raises :class:`ModelError` for incommensurate mesh frequencies."""
@@ -715,24 +711,6 @@ class SystemModel:
             if key in d:
                 d[key] = np.array(d[key], dtype=float)
         return cls(**d)
-
-    # ------------------------------------------------------------------ checks and helpers
-    def relative_coefficients(self, mesh: str | None = None) -> dict[str, float]:
-        """Coefficients of a mesh's relative coordinate u = V[m]·q̃ − E_m when the system is that mesh alone.
-
-        Valid when the mesh's deflection decouples (no bearings on its DOFs, one mesh): then
-        ``u'' + a C_m(θ) u' + a K_m(θ) f(u) = V Mi F − E_m''`` with ``a = V Mi Vᵀ``.  Returns the
-        1-DOF model's values ``xi0, xi1…, kappa1…, eps1…, fp, D`` and ``a``.
-        """
-        m = self.mesh(mesh or self.scaling.reference)
-        i = self.meshes.index(m)
-        v = self.V[i]
-        a = float(v @ self.Mi @ v)
-        out = {"a": a, "xi0": a * m.xi0, "fp": float(v @ self.Mi @ self.F), "D": m.D, "k": a * m.k}
-        out.update({f"xi{k + 1}": a * x for k, x in enumerate(m.xi)})
-        out.update({f"kappa{k + 1}": x for k, x in enumerate(m.kappa)})
-        out.update({f"eps{k + 1}": x for k, x in enumerate(m.eps)})
-        return out
 
 
 # ---------------------------------------------------------------------------- assembly

@@ -465,49 +465,59 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                         ctx.assume(Assumption(f"{name}.{a.name}", a.value, a.unit, a.source))
                 vector = bevel_mesh_vector(pair, p, g, d1, d2)
                 teeth = pair.z1 if teeth is None else teeth
-        kappa = blk.get("kappa", default=())
-        k0 = blk.get("stiffness")
-        if blk.has("k"):
-            if blk.has("kappa"):
-                raise blk.cerr("k", "give kappa (relative) or k (N/m), not both")
-            kappa = tuple(x / k0 for x in blk.get("k"))
-        e = blk.get("e", default=())
-        if blk.has("eps"):
-            if blk.has("e"):
-                raise blk.cerr("eps", "give eps (relative to b_c) or e (a length), not both")
-            e = tuple(x * b_c for x in blk.get("eps"))  # b_c is known: see _build
-        damping: dict[str, Any] = {}
-        if any(blk.has(k) for k in ("c0", "c")):
-            damping = {"c0": blk.get("c0", default=0.0), "c": blk.get("c", default=())}
-        else:
-            damping = {
-                "xi0": blk.get("xi0", default=0.1, assumed="not given: geardyn's default mean mesh damping ratio 0.1"),
-                "xi": blk.get("xi", default=()),
-            }
+        series = mesh_series(blk, b_c) | mesh_damping(blk)  # b_c is known: see _build
         return Mesh(
             name=name,
             vector=vector,
-            stiffness=k0,
             backlash=backlash,
-            kappa=kappa,
-            phi_k=blk.get("phi_k", default=()),
             phi_c=blk.get("phi_c", default=()),
-            e=e,
-            phi_e=blk.get("phi_e", default=()),
             ratio=blk.get("ratio", default=1.0),
             teeth=teeth,
-            **damping,
-            **(
-                {
-                    "excitation": str(Path(ctx.source).parent / blk.get("excitation")),
-                    "excitation_harmonics": blk.get("excitation_harmonics"),
-                }
-                if blk.has("excitation")
-                else {}
-            ),
+            **series,
+            **(excitation_table(blk) if blk.has("excitation") else {}),
         )
     except ModelError as err:
         raise blk.wrap(err) from None
+
+
+def mesh_series(blk: _Block, b_c: float) -> dict[str, Any]:
+    """The mean stiffness and the stiffness and STE harmonics of a ``[[mesh]]`` written out (kappa or k, eps or e)."""
+    kappa = blk.get("kappa", default=())
+    k0 = blk.get("stiffness")
+    if blk.has("k"):
+        if blk.has("kappa"):
+            raise blk.cerr("k", "give kappa (relative) or k (N/m), not both")
+        kappa = tuple(x / k0 for x in blk.get("k"))
+    e = blk.get("e", default=())
+    if blk.has("eps"):
+        if blk.has("e"):
+            raise blk.cerr("eps", "give eps (relative to b_c) or e (a length), not both")
+        e = tuple(x * b_c for x in blk.get("eps"))
+    return {
+        "stiffness": k0,
+        "kappa": kappa,
+        "phi_k": blk.get("phi_k", default=()),
+        "e": e,
+        "phi_e": blk.get("phi_e", default=()),
+    }
+
+
+def excitation_table(blk: _Block) -> dict[str, Any]:
+    """A ``[[mesh]]``'s excitation table (its path beside the file) and the harmonics kept of it."""
+    return {
+        "excitation": str(Path(blk.ctx.source).parent / blk.get("excitation")),
+        "excitation_harmonics": blk.get("excitation_harmonics"),
+    }
+
+
+def mesh_damping(blk: _Block) -> dict[str, Any]:
+    """A ``[[mesh]]``'s damping: c0 and c (N·s/m) when given, else the ratios xi0 (default 0.1) and xi."""
+    if any(blk.has(k) for k in ("c0", "c")):
+        return {"c0": blk.get("c0", default=0.0), "c": blk.get("c", default=())}
+    return {
+        "xi0": blk.get("xi0", default=0.1, assumed="not given: geardyn's default mean mesh damping ratio 0.1"),
+        "xi": blk.get("xi", default=()),
+    }
 
 
 def _orders(blk: _Block) -> tuple:
@@ -646,21 +656,28 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
     return ModelError(f"{ctx.source}: {msg}")
 
 
-def _build(ctx: _Ctx, data: dict) -> SystemDescription:
+def check_top(ctx: _Ctx, data: dict, sections: dict, arrays: tuple[str, ...], gearbox: bool = False) -> None:
+    """Refuse a top-level key of a system (or ``gearbox``) file that is none of its sections, arrays of tables
+    and texts, or of the wrong type."""
     for key, val in data.items():
         if key in _TOP_TEXT:
             if not isinstance(val, str):
                 raise ctx.config(None, None, None, None, f"{key}: expected a string")
-        elif key in _ARRAYS:
+        elif key in arrays:
             if not isinstance(val, list):
-                raise ConfigError(
-                    f"{ctx.source}: line {ctx.line(key, None, None) or '?'}: {key}: write [[{key}]] tables"
-                )
-        elif key not in _SECTIONS:
-            allowed = ", ".join([f"[{s}]" for s in _SECTIONS] + [f"[[{s}]]" for s in _ARRAYS] + list(_TOP_TEXT))
+                at = "" if gearbox else f"line {ctx.line(key, None, None) or '?'}: "
+                raise ConfigError(f"{ctx.source}: {at}{key}: write [[{key}]] tables")
+        elif key not in sections:
+            allowed = ", ".join([f"[{s}]" for s in sections] + [f"[[{s}]]" for s in arrays] + list(_TOP_TEXT))
+            if gearbox:
+                raise ConfigError(f"{ctx.source}: unknown section or key {key!r} in a gearbox file; allowed: {allowed}")
             raise ConfigError(
                 f"{ctx.source}: line {_top_line(ctx, key) or '?'}: unknown section or key {key!r}; allowed: {allowed}"
             )
+
+
+def _build(ctx: _Ctx, data: dict) -> SystemDescription:
+    check_top(ctx, data, _SECTIONS, _ARRAYS)
     sysb = _Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
     opb = _Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
     bodies = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []))]
@@ -702,8 +719,6 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
             if rb.has("backlash")
             else 0.0
         )
-        if jn < 0:
-            raise rb.merr("backlash", f"must be >= 0, got {jn:g} m")
         if not jn > 0:
             raise rb.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
         b_c = jn / 2.0
@@ -715,13 +730,7 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
     loads = [ld for i, t in enumerate(data.get("load", [])) for ld in _loads(ctx, i, t, mmap, k_ref, b_c, mesh_data)]
     rolling = [_rolling(ctx, i, t, mesh_data, mmap) for i, t in enumerate(data.get("bearing", []))]
     _unique(ctx, "bearing", [b.name for b in rolling])
-    rpm = opb.get("rpm")
-    omega = opb.get("omega")
-    if rpm is None and omega is None:
-        ctx.assume(Assumption("operating.omega", 1.0, "", "no operating point given: ω = 1"))
-    for key, v in (("rpm", rpm), ("omega", omega)):
-        if v is not None and not v > 0:
-            raise opb.merr(key, f"must be > 0, got {v:g}")
+    common = described(ctx, data, sysb, opb, ref)
     try:
         return SystemDescription(
             bodies=tuple(bodies),
@@ -729,18 +738,32 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
             connections=tuple(conns),
             clearances=tuple(clears),
             loads=tuple(loads),
-            reference=ref,
-            characteristic_length=sysb.get("characteristic_length"),
-            rpm=rpm,
-            omega=omega,
-            equivalent_mass=sysb.get("equivalent_mass", default="rotational"),
-            title=str(data.get("title", "")),
-            source=ctx.source,
-            assumptions=tuple(ctx.assumptions),
             rolling_bearings=tuple(rolling),
+            **common,
         )
     except ModelError as e:
         raise _element_line(ctx, data, e) from None
+
+
+def described(ctx: _Ctx, data: dict, sysb: _Block, opb: _Block, ref: str | None) -> dict[str, Any]:
+    """What every system file gives its description besides the elements: the [system] and [operating] values
+    (a speed must be > 0; ω = 1 assumed when none is given), the title, the file and the assumptions made."""
+    rpm, omega = opb.get("rpm"), opb.get("omega")
+    if rpm is None and omega is None:
+        ctx.assume(Assumption("operating.omega", 1.0, "", "no operating point given: ω = 1"))
+    for key, v in (("rpm", rpm), ("omega", omega)):
+        if v is not None and not v > 0:
+            raise opb.merr(key, f"must be > 0, got {v:g}")
+    return {
+        "reference": ref,
+        "characteristic_length": sysb.get("characteristic_length"),
+        "rpm": rpm,
+        "omega": omega,
+        "equivalent_mass": sysb.get("equivalent_mass", default="rotational"),
+        "title": str(data.get("title", "")),
+        "source": ctx.source,
+        "assumptions": tuple(ctx.assumptions),
+    }
 
 
 def _unique(ctx: _Ctx, section: str, names: list) -> None:
@@ -789,7 +812,7 @@ def load_description(path: str | Path) -> SystemDescription:
         if isinstance(data, dict) and "shaft" in data:  # a gearbox from its geometry: geardyn.gearbox.build
             from ..gearbox.build import build_description
 
-            return build_description(ctx, data, _Block, _body, _element_line)
+            return build_description(ctx, data)
         return _build(ctx, data)
     except GeardynError:
         raise

@@ -63,7 +63,7 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     return f
 
 
-def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
+def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray, viscous: bool = True) -> np.ndarray:
     """Mesh forces s_m = C_m(θ) δ_m' + K_m(θ) f(δ_m; D_m) from the element deflections.
 
     Parameters
@@ -73,32 +73,22 @@ def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
         Times τ.
     deltas : ndarray (K, elements, 2)
         Deflection δ and its rate δ' of every element (meshes first) at those times.
+    viscous : bool
+        False: the elastic contact forces K_m(θ) f(δ_m; D_m) alone, without the viscous term, which acts in
+        separation too (the pair's :func:`geardyn.analysis.physical.contact_force`).
 
     Returns
     -------
     ndarray (K, meshes)
         Mesh forces in units k_ref b_c.
     """
-    tau = np.asarray(tau, dtype=float)
-    th = model.omega * tau
+    th = model.omega * np.asarray(tau, dtype=float)
     out = []
     for i, m in enumerate(model.meshes):
         C, Kk = series_values(m.coefficients(), th, (0, 1), ratio=m.ratio)
         d = deltas[:, i, 0]
-        f = d - np.clip(d, -m.D, m.D)
-        out.append(C * deltas[:, i, 1] + Kk * f)
-    return np.stack(out, axis=1) if out else np.zeros((tau.size, 0))
-
-
-def _contact_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
-    """Elastic contact forces K_m(θ) f(δ_m; D_m) (K, meshes) in units k_ref b_c: :func:`mesh_forces` without its
-    viscous term, which acts in separation too (the pair's :func:`geardyn.analysis.physical.contact_force`)."""
-    th = model.omega * np.asarray(tau, dtype=float)
-    out = []
-    for i, m in enumerate(model.meshes):
-        (Kk,) = series_values(m.coefficients(), th, (1,), ratio=m.ratio)
-        d = deltas[:, i, 0]
-        out.append(Kk * (d - np.clip(d, -m.D, m.D)))
+        f = Kk * (d - np.clip(d, -m.D, m.D))
+        out.append(C * deltas[:, i, 1] + f if viscous else f)
     return np.stack(out, axis=1) if out else np.zeros((th.size, 0))
 
 
@@ -119,7 +109,7 @@ def _mesh_entries(
         if (tau is not None and deltas is not None and ok and np.all(np.isfinite(deltas)))
         else None
     )
-    contact = _contact_forces(model, tau, deltas) if force is not None and res is not None else None
+    contact = mesh_forces(model, tau, deltas, False) if force is not None and res is not None else None
     out = []
     for i, m in enumerate(model.meshes):
         if extrema is not None:
