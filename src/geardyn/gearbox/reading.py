@@ -31,7 +31,7 @@ _EXTRA_UNITS = {"pressure": ("Pa", '"210 GPa"'), "density": ("kg/m^3", '"7850 kg
 
 class Block(_Block):
     """A table of a gearbox file: a system file's block (:mod:`geardyn.systems.load`) with more value kinds
-    (``bool``, ``any``, a pressure, a density, a time) and :meth:`need`."""
+    (``bool``, ``any``, a pressure, a density, a time)."""
 
     def _scalar(self, key: str, kind: str, raw: Any, index_: int | None = None) -> Any:
         if kind == "bool":
@@ -45,12 +45,6 @@ class Block(_Block):
         unit, example = _EXTRA_UNITS[kind]  # through the one validator of every file
         where = {"index": self.index, "element": self.element, "nonnegative": True}
         return _parse_scalar(self.ctx, self.section, key, _Kind(kind, unit, example), raw, index_, **where)
-
-    def need(self, *keys: str) -> None:
-        """Refuse the table unless it has all ``keys``."""
-        missing = [k for k in keys if not self.has(k)]
-        if missing:
-            raise self.cerr(None, f"missing key(s) {', '.join(missing)}")
 
 
 def _load_block(ctx, i: int, t: dict) -> Block:

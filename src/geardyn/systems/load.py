@@ -252,6 +252,12 @@ class _Block:
     def has(self, key: str) -> bool:
         return key in self.data
 
+    def need(self, *keys: str) -> None:
+        """Refuse the table unless it has all ``keys``."""
+        missing = [k for k in keys if not self.has(k)]
+        if missing:
+            raise self.cerr(None, f"missing key(s) {', '.join(missing)}")
+
     def _where(self, key: str, kind: str) -> dict[str, Any]:
         return {
             "index": self.index,
@@ -442,21 +448,13 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                     ),
                 )
             else:
-                missing = [k for k in ("z1", "z2", "m_mn", "beta_m", "alpha_n") if not blk.has(k)]
-                if missing:
-                    raise blk.cerr(None, f"missing key(s) {', '.join(missing)}")
-                I1 = bodies[p].inertia or 1.0
-                I2 = bodies[g].inertia or 1.0
-                kw = {k: blk.get(k) for k in ("Sigma", "r1", "r2", "hand", "drive_side") if blk.has(k)}
+                blk.need("z1", "z2", "m_mn", "beta_m", "alpha_n")
+                keys = ("Sigma", "r1", "r2", "hand", "drive_side", "z1", "z2", "m_mn", "beta_m", "alpha_n")
+                kw = {k: blk.get(k) for k in keys if blk.has(k)}
                 pair = SpiralBevelGearPair(
-                    z1=blk.get("z1"),
-                    z2=blk.get("z2"),
-                    m_mn=blk.get("m_mn"),
-                    beta_m=blk.get("beta_m"),
-                    alpha_n=blk.get("alpha_n"),
                     j_n=backlash,
-                    I1=I1,
-                    I2=I2,
+                    I1=bodies[p].inertia or 1.0,
+                    I2=bodies[g].inertia or 1.0,
                     k0=blk.get("stiffness"),
                     **kw,
                 )
