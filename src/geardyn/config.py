@@ -682,10 +682,11 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
     for key, src in iso_declared.items():
         v = iso_in.get(key, k0_method)
         assumptions.append(Assumption(key, v, _SCHEMA["gear_pair"][key].kind.unit or "", src))
-    units = {"rpm": "rpm", "torque": "N*m", "torque2": "N*m"}
-    for key, src in op_assumed.items():
-        assumptions.append(Assumption(key, op[key], units[key], src))
-    for section, declared, values in (("mesh", mesh_assumed, mesh_given), ("model", mo_assumed, mo)):
+    for section, declared, values in (
+        ("operating", op_assumed, op),
+        ("mesh", mesh_assumed, mesh_given),
+        ("model", mo_assumed, mo),
+    ):
         for key, src in declared.items():
             v = values[key]
             v = list(v) if isinstance(v, tuple) else v

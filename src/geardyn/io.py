@@ -18,7 +18,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ._lazy import lazy_module
-from .atomic import atomic_write, atomic_write_bytes, write_netcdf_bytes
+from .atomic import atomic_write_bytes, write_netcdf_bytes
 from .errors import ModelError
 from .labels import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .model import GearModel, canonical_param
@@ -690,9 +690,6 @@ def upgrade(ds: xr.Dataset) -> xr.Dataset:
                 out = out.assign_coords({state: ["u", "u'"]})
                 out[state].attrs = dict(VARIABLES["state"].attrs())
     return out
-
-
-_atomic = atomic_write  # (the name the writers of this package use)
 
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:

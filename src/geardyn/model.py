@@ -263,10 +263,8 @@ class GearModel:
     def forcing_omega(self) -> float:
         """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1); with torque
         orders ω/M, M the mesh cycles of the forcing period (:meth:`period_multiple`)."""
-        if self.torque_orders:
-            M = self.period_multiple()
-            return self.omega if M == 1 else self.omega / M
-        return self.omega if self.cycles == 1 else self.omega / self.cycles
+        M = self.period_multiple()
+        return self.omega if M == 1 else self.omega / M
 
     def forcing_model(self) -> GearModel:
         """The same equation with one forcing period as its unit: frequency ω/P, ``cycles`` 1 (itself when P = 1).

@@ -112,18 +112,8 @@ def _mesh_entries(
     contact = mesh_forces(model, tau, deltas, False) if force is not None and res is not None else None
     out = []
     for i, m in enumerate(model.meshes):
-        if extrema is not None:
-            lo, hi = float(extrema[i, 0]), float(extrema[i, 1])
-        else:
-            lo, hi = float(res.element_u_min(i)[point]), float(res.element_u_max(i)[point])
-        e: dict[str, Any] = {
-            "name": m.name,
-            "backlash_um": _num(m.D * um),
-            "u_min": _num(lo),
-            "u_max": _num(hi),
-            "amplitude": _num(0.5 * (hi - lo)),
-            "impact": IMPACT_LABELS[impact_state(lo, m.D)],
-        }
+        lo, hi = (float(extrema[i, 0]), float(extrema[i, 1])) if extrema is not None else _extremes(res, i, point)
+        e: dict[str, Any] = {"name": m.name, "backlash_um": _num(m.D * um), **_span(lo, hi, m.D)}
         if res is not None:
             e.update(
                 rms=_num(res.element_rms(i)[point]),
@@ -155,18 +145,24 @@ def _clearance_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]
     out = []
     for c, name in enumerate(model.clearance_names):
         e = M + c
-        lo, hi = float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
-        out.append(
-            {
-                "name": name,
-                "u_min": _num(lo),
-                "u_max": _num(hi),
-                "amplitude": _num(0.5 * (hi - lo)),
-                "impact": IMPACT_LABELS[impact_state(lo, model.Dc[c])],
-                "contact_fractions": _fractions(res, e, point),
-            }
-        )
+        span = _span(*_extremes(res, e, point), model.Dc[c])
+        out.append({"name": name, **span, "contact_fractions": _fractions(res, e, point)})
     return out
+
+
+def _extremes(res: Any, e: int, point: int) -> tuple[float, float]:
+    """Element e's smallest and largest deflection at one point."""
+    return float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
+
+
+def _span(lo: float, hi: float, D: float) -> dict[str, Any]:
+    """The entries of an element's deflection range: its extremes, half their difference, the impact state."""
+    return {
+        "u_min": _num(lo),
+        "u_max": _num(hi),
+        "amplitude": _num(0.5 * (hi - lo)),
+        "impact": IMPACT_LABELS[impact_state(lo, D)],
+    }
 
 
 def _bearing_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
@@ -179,7 +175,7 @@ def _bearing_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
         entry: dict[str, Any] = {"name": br.name, "type": br.kind, "radial_clearance_um": _num(br.clearance * bc_um)}
         for k, axis in enumerate("xy"):
             e = e0 + 2 * b + k
-            lo, hi = float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
+            lo, hi = _extremes(res, e, point)
             entry[axis] = {
                 "min_um": _num(lo * bc_um),
                 "max_um": _num(hi * bc_um),
