@@ -94,6 +94,20 @@ def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: A
     return x
 
 
+def series_change(obj: Any, attr: str, idx: int, value: float) -> dict[str, tuple[float, ...]]:
+    """The changes that set member ``idx`` of the series ``attr`` of ``obj`` (a model or a mesh) to ``value``: the
+    series extended by zeros, and for a phase of a harmonic not yet present that harmonic with amplitude 0."""
+    seq = list(getattr(obj, attr))
+    seq.extend([0.0] * (idx + 1 - len(seq)))
+    seq[idx] = value
+    changes = {attr: tuple(seq)}
+    amp_name = FAMILIES[attr].amplitude
+    if amp_name is not None and len(getattr(obj, amp_name)) < len(seq):
+        amp = list(getattr(obj, amp_name))
+        changes[amp_name] = tuple(amp + [0.0] * (len(seq) - len(amp)))
+    return changes
+
+
 def _as_tuple(name: str, values: Any, cycles: int = 1) -> tuple[float, ...]:
     if values is None:
         return ()
@@ -435,20 +449,7 @@ class GearModel:
     def with_param(self, name: str, value: float) -> GearModel:
         """Copy with the parameter ``name`` set to ``value`` (harmonic series extended as needed)."""
         attr, idx = slot(name)
-        if idx is None:
-            return self.replace(**{attr: value})
-        seq = list(getattr(self, attr))
-        if idx >= len(seq):
-            seq.extend([0.0] * (idx + 1 - len(seq)))
-        seq[idx] = value
-        changes = {attr: tuple(seq)}
-        amp_name = FAMILIES[attr].amplitude
-        if amp_name is not None:  # a phase for a harmonic not yet present: add that harmonic with amplitude 0
-            amp = list(getattr(self, amp_name))
-            if len(amp) < len(seq):
-                amp.extend([0.0] * (len(seq) - len(amp)))
-                changes[amp_name] = tuple(amp)
-        return self.replace(**changes)
+        return self.replace(**({attr: value} if idx is None else series_change(self, attr, idx, value)))
 
     # ------------------------------------------------------------------ evaluation
     def coefficients(self, n_harmonics: int | None = None) -> np.ndarray:

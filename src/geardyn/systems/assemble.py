@@ -86,7 +86,7 @@ import numpy as np
 from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry.scales import Scales
-from ..model import Boundary
+from ..model import Boundary, series_change
 from ..pairpack import stiffness_minimum
 from ..params import MAX_HARMONICS, canonical_param, slot
 from ..system import Element
@@ -465,18 +465,7 @@ class SystemModel:
             return replace(self, bearings=tuple(new_b if x.name == b.name else x for x in self.bearings))
         m = self.mesh(elem)
         attr, idx = self._mesh_slot(p)
-        if idx is None:
-            new = replace(m, **{attr: value})
-        else:
-            seq = list(getattr(m, attr))
-            seq.extend([0.0] * (idx + 1 - len(seq)))
-            seq[idx] = value
-            changes: dict[str, Any] = {attr: tuple(seq)}
-            amp = {"phi_c": "xi", "phi_k": "kappa", "phi_e": "eps"}.get(attr)
-            if amp is not None and len(getattr(m, amp)) < len(seq):
-                a = list(getattr(m, amp))
-                changes[amp] = tuple(a + [0.0] * (len(seq) - len(a)))
-            new = replace(m, **changes)
+        new = replace(m, **({attr: value} if idx is None else series_change(m, attr, idx, value)))
         meshes = tuple(new if x.name == m.name else x for x in self.meshes)
         return replace(self, meshes=meshes)
 

@@ -44,10 +44,8 @@ def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.nda
     for i, m in enumerate(model.meshes):
         E, Ed = series_values(m.coefficients(), theta, (2,), ratio=m.ratio, derivative=True)
         out.append(np.stack([q @ model.V[i] - E, v @ model.V[i] - model.omega * Ed], axis=-1))
-    for i in range(len(model.clearance_names)):
-        out.append(np.stack([q @ model.Vc[i], v @ model.Vc[i]], axis=-1))
-    for i in range(2 * len(getattr(model, "bearings", ()))):  # rolling bearings: x, y relative displacements
-        out.append(np.stack([q @ model.Vb[i], v @ model.Vb[i]], axis=-1))
+    for w in (*model.Vc, *model.Vb):  # the clearances, the rolling bearings' x and y relative displacements
+        out.append(np.stack([q @ w, v @ w], axis=-1))
     return np.stack(out, axis=-2)
 
 
