@@ -432,10 +432,9 @@ class SystemModel:
         if name == "omega":
             return self.omega
         elem, p = self._split(name)
-        if elem in self.clearance_names:
-            if p != "D":
-                raise ModelError(f"{name}: a clearance has only the parameter D")
-            return self.Dc[self.clearance_names.index(elem)]
+        c = self._clearance(name, elem, p)
+        if c is not None:
+            return self.Dc[c]
         b = self._bearing(elem, p)
         if b is not None:
             return getattr(b, p)
@@ -453,12 +452,9 @@ class SystemModel:
                 return replace(self, omega=value, Cb=self.damping_static + float(value) * self.gyro)
             return replace(self, omega=value)
         elem, p = self._split(name)
-        if elem in self.clearance_names:
-            if p != "D":
-                raise ModelError(f"{name}: a clearance has only the parameter D")
-            Dc = list(self.Dc)
-            Dc[self.clearance_names.index(elem)] = value
-            return replace(self, Dc=tuple(Dc))
+        c = self._clearance(name, elem, p)
+        if c is not None:
+            return replace(self, Dc=self.Dc[:c] + (value,) + self.Dc[c + 1 :])
         b = self._bearing(elem, p)
         if b is not None:
             new_b = replace(b, **{p: value})
@@ -484,6 +480,14 @@ class SystemModel:
             for p in _BEARING_PARAMS:
                 out[f"{b.name}.{p}"] = getattr(b, p)
         return out
+
+    def _clearance(self, name: str, elem: str, p: str) -> int | None:
+        """The index of the clearance ``elem`` (None if it is none), refusing a parameter other than D."""
+        if elem not in self.clearance_names:
+            return None
+        if p != "D":
+            raise ModelError(f"{name}: a clearance has only the parameter D")
+        return self.clearance_names.index(elem)
 
     def _bearing(self, elem: str, p: str) -> BearingND | None:
         """The rolling bearing ``elem`` (None if it is none), refusing a parameter it does not have."""
@@ -803,7 +807,6 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     cc = tuple(c.damping * omega_n / k_ref for c in cl)
     Dc = tuple(c.gap / b_c for c in cl)
     bearings, Vb = [], []
-    idx_ = desc.index()
     for rb in desc.rolling_bearings:
         br = rb.bearing
         K, cl_ = br.nondimensional(b_c, k_ref)
@@ -821,7 +824,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
                 phase=rb.phase,
             )
         )
-        Vb.append(s * rb.vectors(idx_) / b_c)
+        Vb.append(s * rb.vectors(idx) / b_c)
     Vb = np.concatenate(Vb) if Vb else np.zeros((0, desc.n))
     if omega is None:
         if desc.omega is not None:
