@@ -432,9 +432,10 @@ class SystemModel:
         if name == "omega":
             return self.omega
         elem, p = self._split(name)
-        c = self._clearance(name, elem, p)
-        if c is not None:
-            return self.Dc[c]
+        if elem in self.clearance_names:
+            if p != "D":
+                raise ModelError(f"{name}: a clearance has only the parameter D")
+            return self.Dc[self.clearance_names.index(elem)]
         b = self._bearing(elem, p)
         if b is not None:
             return getattr(b, p)
@@ -452,9 +453,12 @@ class SystemModel:
                 return replace(self, omega=value, Cb=self.damping_static + float(value) * self.gyro)
             return replace(self, omega=value)
         elem, p = self._split(name)
-        c = self._clearance(name, elem, p)
-        if c is not None:
-            return replace(self, Dc=self.Dc[:c] + (value,) + self.Dc[c + 1 :])
+        if elem in self.clearance_names:
+            if p != "D":
+                raise ModelError(f"{name}: a clearance has only the parameter D")
+            Dc = list(self.Dc)
+            Dc[self.clearance_names.index(elem)] = value
+            return replace(self, Dc=tuple(Dc))
         b = self._bearing(elem, p)
         if b is not None:
             new_b = replace(b, **{p: value})
@@ -480,14 +484,6 @@ class SystemModel:
             for p in _BEARING_PARAMS:
                 out[f"{b.name}.{p}"] = getattr(b, p)
         return out
-
-    def _clearance(self, name: str, elem: str, p: str) -> int | None:
-        """The index of the clearance ``elem`` (None if it is none), refusing a parameter other than D."""
-        if elem not in self.clearance_names:
-            return None
-        if p != "D":
-            raise ModelError(f"{name}: a clearance has only the parameter D")
-        return self.clearance_names.index(elem)
 
     def _bearing(self, elem: str, p: str) -> BearingND | None:
         """The rolling bearing ``elem`` (None if it is none), refusing a parameter it does not have."""
