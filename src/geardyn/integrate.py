@@ -450,8 +450,8 @@ def _run(
                 hist_len=hist_len,
                 adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0,
                 tangent0=tangent0,
-                **({} if tangents is None else {"tangents": tangents}),
-                **({} if watch is None else {"watch": watch}),
+                tangents=tangents,
+                watch=watch,
             )
 
     if progress is None:

@@ -656,19 +656,14 @@ class SystemModel:
 
         d = {
             "labels": list(self.labels),
-            "Mi": self.Mi.tolist(),
-            "Kb": self.Kb.tolist(),
-            "Cb": self.Cb.tolist(),
-            "V": self.V.tolist(),
+            **{k: getattr(self, k).tolist() for k in ("Mi", "Kb", "Cb", "V")},
             "meshes": [asdict(m) for m in self.meshes],
             "F": self.F.tolist(),
             "omega": self.omega,
             "scaling": asdict(self.scaling),
             "clearance_names": list(self.clearance_names),
             "Vc": self.Vc.tolist(),
-            "kc": list(self.kc),
-            "cc": list(self.cc),
-            "Dc": list(self.Dc),
+            **{k: list(getattr(self, k)) for k in ("kc", "cc", "Dc")},
         }
         if self.orders:  # [numerator, denominator] of the ratio, the load vector, the phase
             d["orders"] = [[[r.numerator, r.denominator], F.tolist(), ph] for r, F, ph in self.orders]

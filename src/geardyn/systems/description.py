@@ -322,8 +322,7 @@ class Mesh(_AlongVector):
                 set_(self, name, _series(f"{who}: {name}", getattr(self, name)))
         for name in ("xi0", "c0"):
             if getattr(self, name) is not None:
-                v = _finite(f"{who}: {name}", getattr(self, name))
-                set_(self, name, v)
+                set_(self, name, _finite(f"{who}: {name}", getattr(self, name)))
         damping = self.xi if self.xi is not None else (self.c or ())
         for amp, a, ph in (("kappa", self.kappa, "phi_k"), ("e", self.e, "phi_e"), ("damping", damping, "phi_c")):
             p = getattr(self, ph)
