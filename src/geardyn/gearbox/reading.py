@@ -16,7 +16,7 @@ from .._config_values import _Kind, _parse_scalar
 from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
 from ..systems.description import Connection, Load
-from ..systems.load import _Block, _orders
+from ..systems.load import _Block, _orders, springs
 from .gear import Gear
 from .shaft import NODE_DOFS, STEEL, Material, Section
 
@@ -136,17 +136,10 @@ def _bearing(blk, node: str) -> Connection:
         return Connection(
             blk.element, tuple((node, d) for d in dofs), blk.get("stiffness_matrix"), blk.get("damping_matrix")
         )
-    k = {d: blk.get(f"k{d}") for d in NODE_DOFS[:5] if blk.has(f"k{d}")}
-    c = {d: blk.get(f"c{d}") for d in NODE_DOFS[:5] if blk.has(f"c{d}")}
+    k, c = springs(blk, NODE_DOFS[:5])
     if not k:
         raise blk.cerr(None, "a bearing needs a stiffness (kx, ky, kz, krx, kry) or a stiffness_matrix")
-    dofs = [d for d in NODE_DOFS[:5] if d in k or d in c]
-    return Connection(
-        blk.element,
-        tuple((node, d) for d in dofs),
-        np.diag([k.get(d, 0.0) for d in dofs]),
-        np.diag([c.get(d, 0.0) for d in dofs]),
-    )
+    return Connection.diagonal(blk.element, node, k, c, NODE_DOFS)
 
 
 def _load_target(blk, gears, node_at, where, speeds, body_speed, rmap):

@@ -186,10 +186,12 @@ class Connection:
         return cls(name, dofs, np.outer(w, w) * float(stiffness), np.outer(w, w) * float(damping))
 
     @classmethod
-    def diagonal(cls, name: str, body: str, stiffness: dict[str, float], damping: dict[str, float] | None = None):
-        """A bearing to ground with independent springs on some of one body's DOFs."""
+    def diagonal(
+        cls, name: str, body: str, stiffness: dict[str, float], damping: dict[str, float] | None = None, order=DOFS
+    ):
+        """A bearing to ground with independent springs on some of one body's DOFs (taken in ``order``)."""
         damping = damping or {}
-        dofs = tuple(d for d in DOFS if d in stiffness or d in damping)
+        dofs = tuple(d for d in order if d in stiffness or d in damping)
         return cls(
             name,
             tuple((body, d) for d in dofs),

@@ -335,6 +335,11 @@ def _dof_ref(blk: _Block, key: str, text: str) -> tuple[str, str]:
     return b, d
 
 
+def springs(blk: _Block, dofs: tuple[str, ...]) -> tuple[dict[str, float], dict[str, float]]:
+    """A bearing table's stiffnesses ``k<dof>`` and dampers ``c<dof>`` given on ``dofs``."""
+    return tuple({d: blk.get(f"{x}{d}") for d in dofs if blk.has(f"{x}{d}")} for x in "kc")
+
+
 def _vector(blk: _Block, table: dict, translational: bool) -> dict[tuple[str, str], float]:
     out: dict[tuple[str, str], float] = {}
     for body, comps in table.items():
@@ -366,8 +371,7 @@ def _connection(ctx: _Ctx, i: int, data: dict):
             if bad:
                 raise blk.cerr(bad[0], "not allowed in a bearing given by body (use kx, ky, kz, ktheta, cx, ...)")
             body = blk.get("body")
-            k = {d: blk.get(f"k{d}") for d in DOFS if blk.has(f"k{d}")}
-            c = {d: blk.get(f"c{d}") for d in DOFS if blk.has(f"c{d}")}
+            k, c = springs(blk, DOFS)
             if not k:
                 raise blk.cerr(None, "a bearing needs at least one stiffness (kx, ky, kz or ktheta)")
             return Connection.diagonal(name, body, k, c)
