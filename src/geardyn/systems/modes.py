@@ -360,10 +360,6 @@ class _Spinning:
         self.base = base = modal_analysis(desc, clearances)
         self.omega2 = np.where(base.rigid, 0.0, base.omega2)
 
-    def frequencies(self, rpm: float) -> np.ndarray:
-        """The natural frequencies (Hz, the rigid-body modes first at 0) at the reference shaft's ``rpm``."""
-        return self.at(rpm, whirl=False)[0]
-
     def at(self, rpm: float, whirl: bool = True) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
         """(frequencies in Hz with the rigid-body modes first at 0, complex shapes, whirl measures) at ``rpm``."""
         wk, shapes = gyroscopic_eigen(self.omega2, self.base.shapes, self.G, 2.0 * math.pi * rpm / 60.0, vectors=whirl)
@@ -627,7 +623,7 @@ def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slop
             fs = lambda s: float(spline(s)) - slope * s  # noqa: E731
             x = brentq(fs, a, b) if fs(a) * fs(b) < 0 else a - g[j] * (b - a) / (g[j + 1] - g[j])
             for _ in range(20):
-                gx = spinning.frequencies(x)[i] - slope * x
+                gx = spinning.at(x, whirl=False)[0][i] - slope * x  # the frequencies alone
                 if gx > 0:
                     a = max(a, x)
                 elif gx < 0:
