@@ -61,9 +61,17 @@ CORRECTOR_TOL = 1e-10
 CORRECTOR_MAX_ITER = 10
 MAX_TURN_DEG = 20.0
 MAX_POINTS = 3000
-#: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER.
+#: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER, or
+#: when the test function is below ROOT_REL_TOL times its change over the chord (a root to rounding).  Events whose
+#: test functions are that small at a point located already in the step (meshes of the same loads grazing
+#: together) are that point.
 LOCATE_REL_TOL = 1e-9
 LOCATE_MAX_ITER = 40
+ROOT_REL_TOL = 1e-12
+#: The multipliers' tests (period doubling, Neimark–Sacker) are located to this relative bracket: the multipliers
+#: carry RK4's error and move with the switch instants of the monodromy's period (about 1e-7 here, and their test
+#: functions are no smoother), so a narrower bracket only adds trials, each with its monodromy matrix.
+MULTIPLIER_LOCATE_TOL = 1e-6
 #: While a real multiplier is within NEAR_CRITICAL of −1 (or a complex pair within the rules' band of the unit
 #: circle) the step is at most NEAR_CRITICAL_DS·ds_max, so that two events close together (a period-doubling
 #: interval a few thousandths wide) are not stepped over with no net sign change of their test.
@@ -563,28 +571,33 @@ class _Tracer:
                     out[f"{pre}_{side}_plus"], out[f"{pre}_{side}_minus"] = v - D, v + D
         return out
 
-    def locate(self, a: _Pt, b: _Pt, key: str) -> tuple[_Pt, bool]:
+    def locate(self, a: _Pt, b: _Pt, key: str, fa: float, fb: float) -> tuple[_Pt, bool]:
+        """The zero of test ``key`` (``fa``, ``fb`` at a and b) on the chord from a to b (:data:`LOCATE_REL_TOL`, or
+        :data:`MULTIPLIER_LOCATE_TOL` for the multipliers' tests)."""
         d = b.y - a.y
-        L = float(np.linalg.norm(d))
-        e = d / L
-        fa, fb = self.tests(a, d)[key], self.tests(b, d)[key]
+        e = d / float(np.linalg.norm(d))
+        zero = ROOT_REL_TOL * abs(fb - fa)
 
         def trial(s: float, lo: float, hi: float) -> tuple[float, _Pt, float] | None:
             pt = self.correct(a.y + s * d, e, a.t)
             if pt is None:
                 return None
             f = self.tests(pt, d, key).get(key, math.nan)
-            return (s, pt, f) if math.isfinite(f) else None
+            return (s, pt, 0.0 if abs(f) <= zero else f) if math.isfinite(f) else None
 
-        return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, LOCATE_REL_TOL, LOCATE_MAX_ITER)
+        tol = MULTIPLIER_LOCATE_TOL if key.startswith(("pd", "ns")) else LOCATE_REL_TOL
+        return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, tol, LOCATE_MAX_ITER)
 
     def events(self, a: _Pt, b: _Pt) -> list[HBBifurcation]:
         d = b.y - a.y
         ta, tb = self.tests(a, d), self.tests(b, d)
-        out = []
+        out, found = [], []
         for key, (typ, detail) in self.labels.items():
             if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
-                pt, ok = self.locate(a, b, key)
+                zero = LOCATE_REL_TOL * abs(tb[key] - ta[key])  # the root within the bracket of a location
+                same = [q for q in found if abs(self.tests(q[0], d, key).get(key, math.inf)) <= zero]
+                pt, ok = same[0] if same else self.locate(a, b, key, ta[key], tb[key])
+                found.append((pt, ok))
                 bif = HBBifurcation(
                     typ, self.p(pt.y), pt.u_min, pt.u_max, pt.hill.multipliers.copy(), detail, ok, pt.y[:-1].copy()
                 )

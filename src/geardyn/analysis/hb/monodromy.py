@@ -152,8 +152,9 @@ def monodromy_floquet(
         cb[e], cb[e + 1] = bq[i, 4:6]
     kmax = A + (kb[:, None] * W).T @ V  # the largest stiffness and damping (bounds)
     cmax = B + (cb[:, None] * W).T @ V
-    krad = abs(float(kmax[0, 0])) if n == 1 else float(np.max(np.abs(np.linalg.eigvals(kmax))))
-    rate = math.sqrt(krad) + float(np.sqrt(np.sum(cmax * cmax)))
+    krad, crad = (abs(float(kmax[0, 0])), abs(float(cmax[0, 0]))) if n == 1 else (
+        float(np.max(np.abs(np.linalg.eigvals(kmax)))), float(np.linalg.norm(cmax, 2)))  # fmt: skip
+    rate = math.sqrt(krad) + crad
     hmax = STEP_ANGLE * nu / max(rate, 1e-12)  # in φ
     Q = np.zeros((2 * n, count))
     Q[:n, :ne] = P
