@@ -117,15 +117,20 @@ def step_rules(eq: HBEquations) -> _StepRules:
 
 @dataclass(eq=False)
 class _Pt:
-    """A corrected branch point; its stability is computed when first asked for (a point whose step is refused by
-    the turn of the tangent, or a trial of a fold or grazing location, needs none)."""
+    """A corrected branch point; its tangent and stability are computed when first asked for (a point whose step is
+    refused by the turn of the tangent, or a trial of a fold or grazing location, needs no stability; a trial of a
+    grazing or a multiplier test no tangent)."""
 
     y: np.ndarray
-    t: np.ndarray
+    tangent: Callable[[], np.ndarray]
     u_min: float
     u_max: float
     stability: Callable[[], HillResult]
     iters: int = 0
+
+    @functools.cached_property
+    def t(self) -> np.ndarray:
+        return self.tangent()
 
     @functools.cached_property
     def hill(self) -> HillResult:
@@ -516,10 +521,9 @@ class _Tracer:
         aug: tuple[np.ndarray, np.ndarray] | None = None,
         lu: Any = None,
     ) -> _Pt:
-        t = self.tangent(y, ref_t, aug, lu)
         a, p = y[:-1], self.p(y)
         umin, umax = self.s.extremes(a, p)
-        return _Pt(y, t, umin, umax, lambda: self.s.stability(a, p), iters)
+        return _Pt(y, lambda: self.tangent(y, ref_t, aug, lu), umin, umax, lambda: self.s.stability(a, p), iters)
 
     def multiplier_step(self, a: HillResult, b: HillResult) -> float:
         """How far the multipliers moved between two resolved points (0 if either is not): their positions (the
@@ -548,8 +552,9 @@ class _Tracer:
     def tests(self, pt: _Pt, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
         """Test functions at ``pt`` (the tangent oriented along ``chord``): all of them, or only ``key``'s kind
         (then the multipliers are computed only for the multiplier tests)."""
-        flip = chord is not None and pt.t @ chord < 0
-        out = {"turn": float(-pt.t[-1] if flip else pt.t[-1])}
+        out = {}
+        if key is None or key == "turn":
+            out["turn"] = float(-pt.t[-1] if chord is not None and pt.t @ chord < 0 else pt.t[-1])
         if key is None or key.startswith(("pd", "ns")):
             h = pt.hill
             if h.status is Status.OK and h.multipliers.size:
