@@ -62,12 +62,13 @@ CORRECTOR_MAX_ITER = 10
 MAX_TURN_DEG = 20.0
 MAX_POINTS = 3000
 #: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER, or
-#: when the test function is below ROOT_REL_TOL times its change over the chord (a root to rounding).  Events whose
-#: test functions are that small at a point located already in the step (meshes of the same loads grazing
-#: together) are that point.
+#: when the test function is below ROOT_REL_TOL times its change over the chord (a root to rounding).  An event
+#: whose test function is below SHARED_REL_TOL times its change over the chord at a point located already in the
+#: step (meshes of the same loads grazing together) is that point.
 LOCATE_REL_TOL = 1e-9
 LOCATE_MAX_ITER = 40
 ROOT_REL_TOL = 1e-12
+SHARED_REL_TOL = LOCATE_REL_TOL
 #: The multipliers' tests (period doubling, Neimark–Sacker) are located to this relative bracket: the multipliers
 #: carry RK4's error and move with the switch instants of the monodromy's period (about 1e-7 here, and their test
 #: functions are no smoother), so a narrower bracket only adds trials, each with its monodromy matrix.
@@ -599,7 +600,7 @@ class _Tracer:
         out, found = [], []
         for key, (typ, detail) in self.labels.items():
             if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
-                zero = LOCATE_REL_TOL * abs(tb[key] - ta[key])  # the root within the bracket of a location
+                zero = SHARED_REL_TOL * abs(tb[key] - ta[key])  # the root within the bracket of a location
                 same = [q for q in found if abs(self.tests(q[0], d, key).get(key, math.inf)) <= zero]
                 pt, ok = same[0] if same else self.locate(a, b, key, ta[key], tb[key])
                 found.append((pt, ok))

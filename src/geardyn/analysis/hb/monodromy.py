@@ -4,8 +4,8 @@
 The equation of the form (:mod:`.form`) is integrated over the response period from the state of the HB solution at
 φ = 0 together with the columns of a fundamental matrix of its variational equation
 (:func:`~._monodromykernel.monodromy_kernel`: classic RK4 with every element locked to its contact region on a step,
-the steps cut at the contact switches located on the trajectory, steps of at most :data:`STEP_ANGLE`/ρ in τ, ρ the
-fastest rate of the linearised motion).  The period is integrated twice: from the HB state (steps
+the steps cut at the contact switches located on the trajectory, steps of at most :data:`STEP_ANGLE`/ρ in τ,
+ρ = √ρ(K) + ‖C‖₂ of the largest stiffness and damping, a bound of the fastest rate of the linearised motion).  The period is integrated twice: from the HB state (steps
 :data:`FIRST_STEP_FACTOR` times longer), then from the state corrected by one Newton step of shooting on the elastic
 part, x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (skipped when it is more than :data:`REFINE_GAIN` times the
 gap it closes, next to a fold).  The multipliers are the eigenvalues of QᵀΦQ, Q = diag(P, P) an orthonormal basis of
