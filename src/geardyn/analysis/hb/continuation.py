@@ -704,56 +704,28 @@ def hb_continuation(
         conservative=conservative,
         equations=eq,
     )
-    if not sol.converged:
-        nan = np.full((1, len(f.elements)), math.nan)
-        return HBContinuation(
-            model,
-            param,
-            eq.H,
-            eq.n,
-            eq.N,
-            np.array([start]),
-            sol.unknowns[None, :N0],
-            np.array([math.nan]),
-            np.array([math.nan]),
-            np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan)),
-            np.array([int(sol.status)]),
-            [],
-            f"start: {sol.status.label}",
-            element_u_min=nan,
-            element_u_max=nan,
-            **common,
-        )
-    lo, hi = sorted((start, stop))
-    ps = hi - lo
-    tr = _Tracer(eq, lo, hi, ps, conservative)
-    y = np.concatenate([sol.unknowns, [start / ps]])
-    ref = np.zeros(eq.basis.size + 1)
-    ref[-1] = 1.0 if stop > start else -1.0
-    pts, bifs, end = _trace_branch(tr, y, ref, ds, ds_max, max_points, report)
-    vals = np.array([tr.p(q.y) for q in pts])
-    if len(f.elements) == 1:  # the reference element's extremes are the points' own
-        ext = np.array([[[q.u_min, q.u_max]] for q in pts])
+    if not sol.converged:  # one point, the start that failed
+        ext = np.full((1, len(f.elements), 2), math.nan)
+        mu = np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan))
+        cols = [[start], sol.unknowns[None, :N0], [math.nan], [math.nan], mu, [int(sol.status)]]
+        bifs, end = [], f"start: {sol.status.label}"
     else:
-        ext = np.array([eq.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
-    return HBContinuation(
-        model,
-        param,
-        eq.H,
-        eq.n,
-        eq.N,
-        vals,
-        np.array([q.y[:N0] for q in pts]),
-        np.array([q.u_min for q in pts]),
-        np.array([q.u_max for q in pts]),
-        np.array([q.hill.multipliers for q in pts]),
-        np.array([int(q.hill.status) for q in pts]),
-        bifs,
-        end,
-        element_u_min=ext[:, :, 0],
-        element_u_max=ext[:, :, 1],
-        **common,
-    )
+        lo, hi = sorted((start, stop))
+        ps = hi - lo
+        tr = _Tracer(eq, lo, hi, ps, conservative)
+        y = np.concatenate([sol.unknowns, [start / ps]])
+        ref = np.zeros(eq.basis.size + 1)
+        ref[-1] = 1.0 if stop > start else -1.0
+        pts, bifs, end = _trace_branch(tr, y, ref, ds, ds_max, max_points, report)
+        vals = np.array([tr.p(q.y) for q in pts])
+        if len(f.elements) == 1:  # the reference element's extremes are the points' own
+            ext = np.array([[[q.u_min, q.u_max]] for q in pts])
+        else:
+            ext = np.array([eq.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
+        cols = [vals, [q.y[:N0] for q in pts], [q.u_min for q in pts], [q.u_max for q in pts],
+                [q.hill.multipliers for q in pts], [int(q.hill.status) for q in pts]]  # fmt: skip
+    return HBContinuation(model, param, eq.H, eq.n, eq.N, *map(np.array, cols), bifs, end,
+                          element_u_min=ext[:, :, 0], element_u_max=ext[:, :, 1], **common)  # fmt: skip
 
 
 def _max_points_end(max_points: int) -> str:
