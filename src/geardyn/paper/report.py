@@ -52,11 +52,6 @@ class RunInfo:
     changes: list[str] = field(default_factory=list)
 
     @property
-    def name(self) -> str:
-        """What the run is called (:data:`RUN_NAMES`, e.g. "quick run")."""
-        return RUN_NAMES.get(self.kind, self.kind)
-
-    @property
     def reduced(self) -> bool:
         """Whether the run is not the full reproduction."""
         return self.kind != "full"
@@ -86,7 +81,7 @@ class RunInfo:
             else "settings that differ from the full reproduction"
         )
         return (
-            f"{self.name.capitalize()}: {what} ({len(self.changes)} settings, {where})"
+            f"{RUN_NAMES.get(self.kind, self.kind).capitalize()}: {what} ({len(self.changes)} settings, {where})"
             ". Its verdicts and totals may differ from the full run's (geardyn reproduce without --quick)."
         )
 
@@ -211,7 +206,10 @@ def totals_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
     counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
     text = ", ".join(f"{n} {v}" for v, n in counts.items())
     if run is not None and run.reduced:
-        return f"Totals of this {run.name} ({len(claims)} claims): {text} (may differ from the full run)."
+        return (
+            f"Totals of this {RUN_NAMES.get(run.kind, run.kind)} ({len(claims)} claims): {text} "
+            "(may differ from the full run)."
+        )
     return f"Totals ({len(claims)} claims): {text}."
 
 
@@ -302,7 +300,7 @@ def one_reading_text(claims: Sequence[Finding], run: RunInfo | None = None) -> s
     t = one_reading_totals(claims)
     counts = ", ".join(f"{t[k]} {k}" for k in ("reproduced", "reproduced under the group's reading", "not reproduced"))
     counts += f", {t['not testable']} not testable"
-    where = f" of this {run.name}" if run is not None and run.reduced else ""
+    where = f" of this {RUN_NAMES.get(run.kind, run.kind)}" if run is not None and run.reduced else ""
     head = f"Totals{where} under one reading per table or study ({len(claims)} claims, {len(t['groups'])} groups)"
     return f"{head}: {counts}."
 
@@ -434,7 +432,7 @@ def render_markdown(
 
 
 def _title(title: str, run: RunInfo | None) -> str:
-    return f"{title} ({run.name})" if run is not None and run.reduced else title
+    return f"{title} ({RUN_NAMES.get(run.kind, run.kind)})" if run is not None and run.reduced else title
 
 
 _CSS = """
