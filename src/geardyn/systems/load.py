@@ -84,14 +84,13 @@ from typing import Any
 import numpy as np
 
 from .. import _config_values as cv
-from .._config_values import _Key, parse_toml, read_toml
-from ..errors import ConfigError, GeardynError, ModelError
+from .._config_values import _Key
+from ..errors import ConfigError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
-from .assemble import SystemModel, assemble
 from .description import DOFS, MESH_SERIES_KEYS, Body, Clearance, Connection, Load, Mesh, SystemDescription
 from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
 
-__all__ = ["load_description", "load_system"]
+__all__ = ["build"]
 
 #: The value kinds of a system file (:mod:`geardyn._config_values`, the validator of every file): name -> kind.
 _K = {
@@ -467,7 +466,7 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                         ctx.assume(Assumption(f"{name}.{a.name}", a.value, a.unit, a.source))
                 vector = bevel_mesh_vector(pair, p, g, d1, d2)
                 teeth = pair.z1 if teeth is None else teeth
-        series = mesh_series(blk, b_c) | mesh_damping(blk)  # b_c is known: see _build
+        series = mesh_series(blk, b_c) | mesh_damping(blk)  # b_c is known: see build
         return Mesh(
             name=name,
             vector=vector,
@@ -678,7 +677,9 @@ def check_top(ctx: _Ctx, data: dict, sections: dict, arrays: tuple[str, ...], ge
             )
 
 
-def _build(ctx: _Ctx, data: dict) -> SystemDescription:
+def build(ctx: _Ctx, data: dict) -> SystemDescription:
+    """The description of a parsed system file of bodies (a file with ``[[shaft]]`` tables is a gearbox:
+    :func:`geardyn.systems.files.load_description` dispatches)."""
     check_top(ctx, data, _SECTIONS, _ARRAYS)
     sysb = _Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
     opb = _Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
@@ -786,66 +787,3 @@ def _top_line(ctx: _Ctx, key: str) -> int | None:
         if pat.match(line):
             return i
     return None
-
-
-def load_description(path: str | Path) -> SystemDescription:
-    """Read and check a system file.
-
-    Parameters
-    ----------
-    path : str or Path
-        The TOML file (format: the module docstring).
-
-    Returns
-    -------
-    SystemDescription
-
-    Raises
-    ------
-    ConfigError
-        Missing or unreadable file, TOML syntax, unknown sections or keys, wrong types or units.
-    ModelError
-        Bad values: non-positive masses, unknown bodies, singular mass matrices, unconnected bodies.
-    """
-    source, text = read_toml(path, "system file")
-    ctx = _Ctx(source, text)
-    data = parse_toml(text, source)
-    try:
-        if isinstance(data, dict) and "shaft" in data:  # a gearbox from its geometry: geardyn.gearbox.build
-            from ..gearbox.build import build_description
-
-            return build_description(ctx, data)
-        return _build(ctx, data)
-    except GeardynError:
-        raise
-    except (TypeError, KeyError, AttributeError, IndexError) as e:  # malformed structure the checks missed
-        raise ConfigError(f"{source}: malformed system file ({type(e).__name__}: {e})") from None
-
-
-def load_system(path: str | Path, omega: float | None = None) -> SystemModel:
-    """Read a system file and assemble its non-dimensional :class:`SystemModel`.
-
-    Parameters
-    ----------
-    path : str or Path
-        The TOML file.
-    omega : float, optional
-        Base frequency ω (default: the file's operating point, else 1).
-
-    Raises
-    ------
-    ConfigError, ModelError
-        As :func:`load_description`.
-
-    Examples
-    --------
-    >>> from geardyn import load_system
-    >>> system = load_system("examples/systems/paper_torsional.toml", omega=0.8)
-    >>> system.omega, system.state_dim, [e.name for e in system.elements]
-    (0.8, 4, ['mesh'])
-    """
-    desc = load_description(path)
-    try:
-        return assemble(desc, omega)
-    except ModelError as e:
-        raise ModelError(f"{desc.source}: {e}") from None
