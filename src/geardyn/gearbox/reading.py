@@ -31,7 +31,23 @@ _EXTRA_UNITS = {"pressure": ("Pa", '"210 GPa"'), "density": ("kg/m^3", '"7850 kg
 
 class Block(_Block):
     """A table of a gearbox file: a system file's block (:mod:`geardyn.systems.load`) with more value kinds
-    (``bool``, ``any``, a pressure, a density, a time)."""
+    (``bool``, ``any``, a pressure, a density, a time).
+
+    Parameters
+    ----------
+    ctx : geardyn.systems.load._Ctx
+        The file's locator (its source and lines).
+    section : str
+        The table's section (``shaft``, ``gear``, ...).
+    index : int or None
+        Its place in an array of tables (None for a single table).
+    data : dict
+        The table as parsed.
+    schema : dict
+        Its keys and their value kinds.
+    element : str or None
+        The element's name, for messages.
+    """
 
     def _scalar(self, key: str, kind: str, raw: Any, index_: int | None = None) -> Any:
         if kind == "bool":

@@ -679,7 +679,19 @@ def check_top(ctx: _Ctx, data: dict, sections: dict, arrays: tuple[str, ...], ge
 
 def build(ctx: _Ctx, data: dict) -> SystemDescription:
     """The description of a parsed system file of bodies (a file with ``[[shaft]]`` tables is a gearbox:
-    :func:`geardyn.systems.files.load_description` dispatches)."""
+    :func:`geardyn.systems.files.load_description` dispatches).
+
+    Parameters
+    ----------
+    ctx : _Ctx
+        The file's locator (its source and lines).
+    data : dict
+        The parsed file.
+
+    Returns
+    -------
+    SystemDescription
+    """
     check_top(ctx, data, _SECTIONS, _ARRAYS)
     sysb = _Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
     opb = _Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
