@@ -35,8 +35,7 @@ def _modes(form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Mt = np.linalg.inv(form.Mi)
     K, C = Mt @ form.A, Mt @ form.B
     for e in form.elements:
-        K = K + float(e.K[(len(e.K) - 1) // 2].real) * np.outer(e.V, e.V)
-        C = C + float(e.C[(len(e.C) - 1) // 2].real) * np.outer(e.V, e.V)
+        K, C = K + e.k0 * np.outer(e.V, e.V), C + e.c0 * np.outer(e.V, e.V)
     lam, phi = eigh(0.5 * (K + K.T), 0.5 * (Mt + Mt.T))
     return lam, phi, 0.5 * (C + C.T)
 
