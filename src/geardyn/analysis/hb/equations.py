@@ -229,11 +229,10 @@ def default_harmonics(model: Any, period: int = 1) -> int:
 
 
 class Layout(NamedTuple):
-    """The unknown vector: ``dofs`` blocks of 2H + 1 real coefficients, then ``rigid`` multipliers."""
+    """The unknown vector, ``size`` long: ``dofs`` blocks of 2H + 1 real coefficients, then ``rigid`` multipliers."""
 
     size: int
     dofs: int
-    H: int
     rigid: int
 
 
@@ -297,12 +296,10 @@ class HBEquations:
         R = form.rigid
         nd, r = form.dofs, R.shape[1]
         self.elastic = np.linalg.svd(R.T)[2][r:].T if r else np.eye(nd)  # orthonormal complement (n, n − r)
-        self.basis = Layout(nd * M + r, nd, H, r)
-        self.gauge = np.zeros((nd * M, r))
-        self.gauge[np.arange(nd) * M, :] = R
+        self.basis = Layout(nd * M + r, nd, r)
         left = np.linalg.inv(form.Mi) @ R
-        self.left = np.zeros((nd * M, r))
-        self.left[np.arange(nd) * M, :] = left / np.maximum(np.linalg.norm(left, axis=0), 1e-300)
+        self.gauge, self.left = np.zeros((2, nd * M, r))  # the gauge rows Rᵀa_0 and the multipliers' columns
+        self.gauge[::M], self.left[::M] = R, left / np.maximum(np.linalg.norm(left, axis=0), 1e-300)
         self.Hd = max(H, self._ste_harmonics(form))
         self.N = int(samples) if samples else time_samples(self.Hd, form.span)
         self.dbasis = HarmonicBasis(self.Hd, self.N)

@@ -108,20 +108,16 @@ def decided_stability(res: HBContinuation) -> np.ndarray:
     res : HBContinuation
     """
     st = np.array(res.stable, dtype=bool)
-    resolved = res.status == int(Status.OK)
-    P = st.size
-    i = 0
-    while i < P:
-        if resolved[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < P and not resolved[j + 1]:
-            j += 1
-        if i > 0 and j + 1 < P and st[i - 1] and st[j + 1] and _event_between(res, i - 1, j + 1) is None:
+    for i, j in _runs(res.status != int(Status.OK)):
+        if i > 0 and j + 1 < st.size and st[i - 1] and st[j + 1] and _event_between(res, i - 1, j + 1) is None:
             st[i : j + 1] = True
-        i = j + 1
     return st
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) index of every maximal run of True in ``mask``."""
+    d = np.diff(np.concatenate([[0], np.asarray(mask, dtype=int), [0]]))
+    return [(int(i), int(j) - 1) for i, j in zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1))]
 
 
 def stable_segments(res: HBContinuation) -> list[Segment]:
@@ -136,21 +132,14 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     st = decided_stability(res)
     P = res.values.size
     resolved = res.status == int(Status.OK)
-    runs, i = [], 0
-    while i < P:
-        if not st[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < P and st[j + 1]:
-            j += 1
+    runs = []
+    for i, j in _runs(st):
         k0 = i  # split where the branch turns in ω (a stable segment does not, generically)
         for k in range(i + 1, j):
             if (res.values[k] - res.values[k - 1]) * (res.values[k + 1] - res.values[k]) < 0:
                 runs.append((k0, k))
                 k0 = k
         runs.append((k0, j))
-        i = j + 1
     out = []
     for i0, i1 in runs:
         w = list(res.values[i0 : i1 + 1])
