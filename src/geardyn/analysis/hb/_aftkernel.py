@@ -106,7 +106,7 @@ def _crossing(a, H, level, lo, hi, max_iter, tol):
 
 @njit(cache=True)
 def _convolved(K, x, t0, n):
-    """Entries t0 … t0 + n − 1 of the full convolution K * x (entry t = Σ_i K[i] x[t − i])."""
+    """Entries t0 … t0 + n − 1 of the full convolution K * x (entry t = Σ_i K[i] x[t − i], i ascending)."""
     out = np.empty(n, dtype=np.complex128)
     for m in range(n):
         t = t0 + m
@@ -174,12 +174,7 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
             sig[Q] = float(s)
     mid = L + Q
     S = _convolved(K, chi, mid - 2 * H, 4 * H + 1)  # S_m = (K * chi)[mid + m], |m| <= 2H
-    G = np.zeros(M, dtype=np.complex128)
-    for k in range(M):
-        acc = 0.0 + 0.0j
-        for l in range(M):
-            acc += S[k - l + 2 * H] * c[l]
-        G[k] = acc
+    G = _convolved(c, S, 2 * H, M)  # G_k = Σ_l S_{k−l} c_l
     if D > 0.0:
         G -= D * _convolved(K, sig, mid - H, M)
     return G, S, phis
@@ -284,16 +279,10 @@ def bordered_nu_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, s
     for the caller)."""
     M = 2 * H + 1
     R, J = residual_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, True)
-    G2h = _centred(G2, H)
     c = _to_complex(a, H)
-    Lc = (C.shape[0] - 1) // 2
-    dRc = np.empty(M, dtype=np.complex128)
-    for r in range(M):
-        k = r - H
-        acc = 0.0 + 0.0j
-        for l in range(max(0, r - Lc), min(M - 1, r + Lc) + 1):
-            acc += C[r - l + Lc] * (1j * (l - H) * c[l])
-        dRc[r] = -2.0 * nu * k**2 * c[r] + acc - 2.0 * nu * G2h[r]
+    k = np.arange(-H, H + 1)
+    dC = _convolved(1j * k * c, C, (C.shape[0] - 1) // 2, M)  # the damping's C (ik c)
+    dRc = -2.0 * nu * k**2 * c + dC - 2.0 * nu * _centred(G2, H)
     A = np.zeros((M + 1, M + 1))
     A[:M, :M] = J
     A[:M, M] = _to_real(dRc, H) * scale

@@ -217,4 +217,4 @@ def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, f
         Real coefficients of u.
     """
     r = extrema_kernel(np.ascontiguousarray(a, dtype=float), basis.H, basis.cos_table, basis.sin_table, ROOT_MAX_ITER)
-    return float(r[0]), float(r[1]), float(r[2]), float(r[3])
+    return tuple(map(float, r))

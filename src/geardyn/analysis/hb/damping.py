@@ -22,6 +22,7 @@ import numpy as np
 from scipy.linalg import eigh
 
 from ...errors import ModelError
+from .form import mean
 
 __all__ = ["require_decidable", "undamped_modes"]
 
@@ -35,7 +36,7 @@ def _modes(form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Mt = np.linalg.inv(form.Mi)
     K, C = Mt @ form.A, Mt @ form.B
     for e in form.elements:
-        K, C = K + e.k0 * np.outer(e.V, e.V), C + e.c0 * np.outer(e.V, e.V)
+        K, C = K + mean(e.K) * np.outer(e.V, e.V), C + mean(e.C) * np.outer(e.V, e.V)
     lam, phi = eigh(0.5 * (K + K.T), 0.5 * (Mt + Mt.T))
     return lam, phi, 0.5 * (C + C.T)
 

@@ -63,7 +63,7 @@ from .aft import (
     time_samples,
     toeplitz,
 )
-from .form import LAWS, FormElement, HBForm
+from .form import LAWS, FormElement, HBForm, mean
 from .hill import HillResult, system_hill_floquet
 from .monodromy import _check_floquet, bearing_rows, monodromy_floquet
 
@@ -307,9 +307,8 @@ class HBEquations:
         self._pad = np.concatenate([np.arange(H + 1), self.Hd + 1 + np.arange(H)])
         self._k = kk = np.arange(1, H + 1, dtype=float)
         self._k2 = np.concatenate([[0.0], kk**2, kk**2])
-        self.D1 = np.zeros((M, M))
-        self.D1[np.arange(1, H + 1), H + 1 + np.arange(H)] = kk
-        self.D1[H + 1 + np.arange(H), np.arange(1, H + 1)] = -kk
+        self.D1, i = np.zeros((M, M)), np.arange(1, H + 1)
+        self.D1[i, H + i], self.D1[H + i, i] = kk, -kk
         self._ik = 1j * np.arange(-H, H + 1)
         self._d1 = np.nonzero(self.D1)
         self._ikd = 1j * np.arange(-self.Hd, self.Hd + 1)
@@ -563,8 +562,7 @@ class HBEquations:
     # ------------------------------------------------------------------ measures
     def extremes(self, x: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:
         """(δ_min, δ_max) over the period of element ``e`` (default the reference element)."""
-        lo, hi, _, _ = signal_extrema(self.dbasis, self.deflection(x, self.reference if e is None else e, p))
-        return lo, hi
+        return signal_extrema(self.dbasis, self.deflection(x, self.reference if e is None else e, p))[:2]
 
     def element_extremes(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
         """(elements, 2): δ_min, δ_max of every element."""
@@ -623,7 +621,7 @@ class HBEquations:
         rhs0 = (Mt @ G[:, L]).real
         meshes, items = [], []
         for e, el in enumerate(f.elements):
-            k0, c0 = el.k0, el.c0
+            k0, c0 = mean(el.K), mean(el.C)
             if el.rule is not None:  # a rolling bearing: its dampers, and its stiffness at the static deflection
                 Ct = Ct + c0 * np.outer(el.V, el.V)
                 if el.name.endswith(".x"):

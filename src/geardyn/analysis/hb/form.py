@@ -30,7 +30,7 @@ import numpy as np
 from ...errors import ModelError
 from ...system import require_periodic
 
-__all__ = ["FormElement", "HBForm", "LAWS", "pair_form", "system_form"]
+__all__ = ["FormElement", "HBForm", "LAWS", "mean", "pair_form", "system_form"]
 
 #: Element laws harmonic balance can evaluate (each one function and its Jacobian in :mod:`.equations`) and the
 #: element rows each acts on jointly (a rolling bearing: its x then its y row).
@@ -73,16 +73,6 @@ class FormElement:
     static_force: float = math.nan
     law: str = "dead_zone"
     rule: Any = None
-
-    @property
-    def k0(self) -> float:
-        """The mean of K."""
-        return float(self.K[(len(self.K) - 1) // 2].real)
-
-    @property
-    def c0(self) -> float:
-        """The mean of C."""
-        return float(self.C[(len(self.C) - 1) // 2].real)
 
 
 @dataclass(frozen=True)
@@ -152,8 +142,13 @@ class HBForm:
         """Mean over the period of the trace of the first-order Jacobian: −tr B − Σ_e (V_e·W_e) C̄_e."""
         tr = float(np.trace(self.B))
         for e in self.elements:
-            tr += float(e.V @ e.W) * e.c0
+            tr += float(e.V @ e.W) * mean(e.C)
         return -tr
+
+
+def mean(z: np.ndarray) -> float:
+    """The mean (centre coefficient) of the centred series ``z``."""
+    return float(z[(len(z) - 1) // 2].real)
 
 
 def spread(cf: np.ndarray, ratio: float, periods: int) -> np.ndarray:
@@ -200,19 +195,8 @@ def pair_form(model: Any, period: int = 1) -> HBForm:
         sts[j * s] = (n * s * j) ** 2 * e * np.array([math.cos(ph), -math.sin(ph)])
     G2 = spread(sts, 1, n)[None, :]
     G0 = spread(model.replace(eps=(), phi_e=()).coefficients(cf.shape[1] - 1)[2], 1, n)[None, :]  # f_p, torque orders
-    one = np.ones(1)
-    el = FormElement(
-        "mesh",
-        "mesh",
-        one,
-        one,
-        C,
-        K,
-        np.zeros(1, complex),
-        float(model.D),
-        float(model.fp),
-        model.elements[0].law.name,
-    )
+    one, law = np.ones(1), model.elements[0].law.name
+    el = FormElement("mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp), law)
     return HBForm(
         M * n,
         M,

@@ -221,10 +221,16 @@ def _signal(eq: HBEquations, a: np.ndarray, w: float) -> np.ndarray:
     return eq.deflection(x, eq.reference, w)
 
 
+def _newton(eq: HBEquations, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
+    """Newton at ω = w from a segment's coefficients (the gauge multipliers appended)."""
+    a, st, _its, _r = eq.newton(np.concatenate([guess, np.zeros(eq.basis.rigid)]), w)
+    return a, st
+
+
 def _solution(rd: HBEquations, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
     """The segment's solution at ω = x: Newton from its coefficients interpolated at x or, when that fails (too far
     from it), natural continuation from its nearest point in WALK_STEPS equal steps of ω (then four times as many),
-    each Newton started from the previous solution (the gauge multipliers appended)."""
+    each Newton started from the previous solution."""
     k = int(np.argmin(np.abs(seg.omega - x)))
     ncoef = seg.coefficients.shape[1]
     walks = [
@@ -232,7 +238,7 @@ def _solution(rd: HBEquations, seg: Segment, x: float) -> tuple[np.ndarray, Stat
     ]
     for a, ws in [(seg.guess(x), [x]), *walks]:
         for w in ws:
-            a, st, _its, _r = rd.newton(np.concatenate([a[:ncoef], np.zeros(rd.basis.rigid)]), float(w))
+            a, st = _newton(rd, a[:ncoef], float(w))
             if st is not Status.OK:
                 break
         if st is Status.OK:
@@ -309,7 +315,6 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     f = {k: np.full(shape, np.nan) for k in MEASURES}
     pu, pv = np.full(shape + (n,), np.nan), np.full(shape + (n,), np.nan)
     period = np.zeros(shape, dtype=np.int64)
-    motion = np.full(shape, MOTION_UNRESOLVED, dtype=np.int64)
     impact = np.full(shape, -1, dtype=np.int64)
     status = np.full(shape, int(Status.UNRESOLVED), dtype=np.int64)
     solved: dict[tuple[int, float], tuple[np.ndarray, Status]] = {}
@@ -322,22 +327,21 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
 
     with single_thread_blas():
         for r, lab in enumerate(("up", "down")):
-            for k, x in enumerate(w):
-                s = _on(paths[lab], float(x))
+            for k, x in enumerate(w.tolist()):
+                s = _on(paths[lab], x)
                 if s is None:
                     continue
-                a, st = solve(segs[s], float(x))
+                a, st = solve(segs[s], x)
                 status[r, k] = int(st)
                 if st is not Status.OK:
                     continue
-                u = _signal(rd, a, float(x))
+                u = _signal(rd, a, x)
                 vals = _measures(basis, u)
                 for key, v in vals.items():
                     f[key][r, k] = v
                 pu[r, k] = basis.evaluate(u, phis)
-                pv[r, k] = rd.nu(float(x)) * basis.evaluate(u, phis, 1)
+                pv[r, k] = rd.nu(x) * basis.evaluate(u, phis, 1)
                 period[r, k] = _minimal_period(pu[r, k], pv[r, k], n)
-                motion[r, k] = MOTION_PERIODIC
                 impact[r, k] = impact_state(vals["u_min"], D)
         jumps = []
         for lab in ("up", "down"):
@@ -369,6 +373,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                     }
                 )
     hyst = _hysteresis(paths)
+    motion = np.where(status == int(Status.OK), MOTION_PERIODIC, MOTION_UNRESOLVED).astype(np.int64)
     sw, ss = ("sweep", "omega"), ("sweep", "omega", "section")
     ds = xr.Dataset(
         {
