@@ -89,7 +89,7 @@ def _crossing(a, H, level, lo, hi, max_iter, tol):
         f -= level
         if f == 0.0:
             return x
-        step = f / d if d != 0.0 else (math.inf if f > 0 else -math.inf) * (1.0 if d >= 0 else -1.0)
+        step = f / d if d != 0.0 else math.copysign(math.inf, f)
         if math.isfinite(step) and abs(step) <= tol * (1.0 + abs(x)):
             return x - step
         if np.sign(f) == np.sign(flo):

@@ -211,8 +211,8 @@ def default_harmonics(model: Any, period: int = 1) -> int:
     ModelError
         When that is more than :data:`MAX_DEFAULT_HARMONICS` (give the harmonics explicitly).
     """
-    f = model.hb_form(int(period))
     n = int(period)
+    f = model.hb_form(n)
     P = f.periods // n  # mesh cycles per forcing period: the (reference) mesh frequency is harmonic P·j of ω/(P n)
     if P == 1:
         return DEFAULT_HARMONICS

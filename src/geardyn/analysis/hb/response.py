@@ -215,15 +215,9 @@ def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
     return None
 
 
-def _signal(eq: HBEquations, a: np.ndarray, w: float) -> np.ndarray:
-    """Coefficients of the reference element's δ of the unknowns ``a`` (or of a segment's coefficients)."""
-    x = a if a.size == eq.basis.size else np.concatenate([a, np.zeros(eq.basis.rigid)])
-    return eq.deflection(x, eq.reference, w)
-
-
 def _newton(eq: HBEquations, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
     """Newton at ω = w from a segment's coefficients (the gauge multipliers appended)."""
-    a, st, _its, _r = eq.newton(np.concatenate([guess, np.zeros(eq.basis.rigid)]), w)
+    a, st, _its, _r = eq.newton(eq.unknowns(guess), w)
     return a, st
 
 
@@ -335,7 +329,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 status[r, k] = int(st)
                 if st is not Status.OK:
                     continue
-                u = _signal(rd, a, x)
+                u = rd.deflection(a, rd.reference, x)
                 vals = _measures(basis, u)
                 for key, v in vals.items():
                     f[key][r, k] = v
@@ -354,8 +348,8 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 a_to, st = solve(segs[s1], x)
                 if st is not Status.OK:
                     continue
-                m_from = _measures(basis, _signal(rd, end, x))[measure]
-                m_to = _measures(basis, _signal(rd, a_to, x))[measure]
+                m_from = _measures(basis, rd.deflection(end, rd.reference, x))[measure]
+                m_to = _measures(basis, rd.deflection(a_to, rd.reference, x))[measure]
                 d = 1.0 if lab == "up" else -1.0  # the grid points on either side, in the sweep's direction
                 before, after = w[d * w <= d * x], w[d * w > d * x]
                 g_from = float(before[np.argmax(d * before)]) if before.size else x

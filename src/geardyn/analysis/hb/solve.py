@@ -194,19 +194,8 @@ def hb_solve(
     with single_thread_blas():
         x, status, its, r = eq.newton(eq.unknowns(Q0), None, tol=tol, max_iter=max_iter)
         Q = eq._split(x).copy()
-        sol = HBSolution(
-            model,
-            eq.H,
-            eq.n,
-            eq.N,
-            Q[0] if eq.basis.dofs == 1 else Q,
-            status,
-            its,
-            r,
-            equations=eq,
-            unknowns=x,
-            rigid=eq.basis.rigid,
-        )
+        Q = Q[0] if eq.basis.dofs == 1 else Q
+        sol = HBSolution(model, eq.H, eq.n, eq.N, Q, status, its, r, equations=eq, unknowns=x, rigid=eq.basis.rigid)
         if status is Status.OK:
             sol.u_min, sol.u_max = eq.extremes(x)
             sol.element_extremes = eq.element_extremes(x)
