@@ -87,7 +87,7 @@ def _event_between(res: HBContinuation, i: int, j: int) -> HBBifurcation | None:
         d = float(np.linalg.norm(bc - ai) + np.linalg.norm(bc - aj))
         if d < dbest:
             best, dbest = b, d
-    return best if best is not None and dbest <= 1.5 * chord + 1e-12 else None
+    return best if dbest <= 1.5 * chord + 1e-12 else None
 
 
 def _resolved_next(resolved: np.ndarray, i: int, step: int) -> int:
@@ -298,7 +298,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     for seg in segs:  # a branch's first value is start/p_s·p_s: within rounding of the grid's end, it is that end
         for k in (0, -1):
             for x in (lo, hi):
-                if seg.omega[k] != x and abs(seg.omega[k] - x) <= 8.0 * math.ulp(x):
+                if abs(seg.omega[k] - x) <= 8.0 * math.ulp(x):
                     seg.omega[k] = x
     paths = _sweep_paths(segs, lo, hi)
     n, H = res.period, res.harmonics
