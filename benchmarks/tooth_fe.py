@@ -11,9 +11,10 @@ The pairs are the tooth-pair files examples/tooth_19_48.toml, tooth_23_47.toml a
 1. mean mesh stiffness per face width: geardyn, the quadrature reference, ISO 6336-1 c_γα; curve shape RMS;
 2. tooth compliance (bending + shear + axial + foundation) at seven points along each gear's contact path:
    geardyn against FE (plane stress, the section displacement along the force), with mesh convergence;
-3. the stiffness reduction of a root crack of 25 % and 50 % on the pinion, geardyn (and the strip's factors alone,
-   without the fillet's notch) against FE, the slit's tip refined; the crack's FE convergence and its
-   compliance against depth (19/48);
+3. the stiffness reduction of a root crack of 25 % and 50 % on the pinion against FE, the slit's tip refined:
+   geardyn, and for comparison the strip's factors alone (without the fillet's notch), the section law and the
+   limiting-line section laws (to the tooth's tip, to the load point); where the crack starts in both models;
+   the crack's FE convergence and its compliance and reduction against depth (19/48);
 4. how the bore radius and a thin rim move the mean stiffness (geardyn, FE at the pitch point, ISO's C_R).
 """
 
@@ -35,7 +36,14 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from tooth_fe_model import Gear, build_mesh, crack_depth_of, fe_compliance, pair_stiffness  # noqa: E402
 
 from geardyn.tooth.config import load_case  # noqa: E402
-from geardyn.tooth.energy import crack_compliance, hertz_compliance, load_point, tooth_compliance  # noqa: E402
+from geardyn.tooth.energy import (  # noqa: E402
+    cantilever_compliance,
+    crack_compliance,
+    fillet_compliance,
+    hertz_compliance,
+    load_point,
+    tooth_compliance,
+)
 from geardyn.tooth.faults import Crack  # noqa: E402
 from geardyn.tooth.geometry import pair_geometry  # noqa: E402
 from geardyn.tooth.mesh import mesh_stiffness  # noqa: E402
@@ -89,6 +97,57 @@ def strip_compliance(geo, gear, radii, crack):
     d, h_l, a1 = load_point(sec, radii)
     t = tooth_compliance(geo, gear, radii)
     return t.total + crack_compliance(crack, float(sec.y[i]), float(sec.h[i]), d, h_l, a1, geo.gears[gear].E)
+
+
+def limiting_compliance(geo, gear, radii, crack, to="tip"):
+    """geardyn's tooth with a section law of the limiting line instead of the fracture term: the band between the
+    loaded flank and a straight line from the crack's tip (h_q = (1 − crack) h_c at y_c) to the loaded flank at
+    the tooth's tip (``to="tip"``, the limiting line of Mohammed, Rantatalo & Aidanpää 2013) or at the load point
+    (``to="load"``) carries no load in every section above the crack; the foundation unchanged."""
+    sec = geo.sections[gear]
+    blank = geo.gears[gear]
+    d, h_l, a1 = load_point(sec, radii)
+    i = sec.crack_start
+    y_c, h_q = float(sec.y[i]), (1.0 - crack) * float(sec.h[i])
+    out = np.empty(len(d))
+    for k in range(len(d)):
+        y1, x1 = (float(sec.y[-1]), float(sec.h[-1])) if to == "tip" else (float(d[k]), float(h_l[k]))
+        line = h_q + (x1 - h_q) * (sec.y - y_c) / (y1 - y_c)
+        lost = np.where((sec.y >= y_c) & (sec.y <= y1), np.clip(sec.h - line, 0.0, None), 0.0)
+        pt = slice(k, k + 1)
+        kb, ks, ka = cantilever_compliance(sec.y, 2 * sec.h - lost, d[pt], h_l[pt], a1[pt], blank.E, blank.nu)
+        kf = fillet_compliance(a1[pt], d[pt] - sec.r_f, sec.r_f, sec.theta_f, blank.bore_radius, blank.E)
+        out[k] = (kb + ks + ka + kf)[0]
+    return out
+
+
+#: The crack models compared with the FE slit (the pinion's compliance with a crack of depth d).
+CRACK_MODELS = {
+    "geardyn": lambda geo, r, d: geardyn_compliance(geo, 0, r, crack=d),
+    "strip alone": lambda geo, r, d: strip_compliance(geo, 0, r, d),
+    "section law": lambda geo, r, d: tooth_compliance(geo, 0, r, crack_depth=d, crack_model="section").total,
+    "limiting line, tip": lambda geo, r, d: limiting_compliance(geo, 0, r, d, "tip"),
+    "limiting line, load point": lambda geo, r, d: limiting_compliance(geo, 0, r, d, "load"),
+}
+
+
+def crack_models(geo, radii, depth):
+    return {k: f(geo, radii, depth) for k, f in CRACK_MODELS.items()}
+
+
+def pair_reduction(c1, c0, w, ch):
+    """The single-pair stiffness reduction of a tooth compliance c0 → c1 with the mating tooth w and Hertz ch,
+    averaged over the load points."""
+    return float(np.mean(1 - (c0 + w + ch) / (c1 + w + ch)))
+
+
+def crack_start(geo):
+    """Where the crack starts on the pinion: (radius, half thickness) of the FE slit's row (the fillet point
+    whose tangent makes 30° with the centre line, in closed form) and of geardyn's crack section (m)."""
+    _, X, Y = _gears(geo)[0].critical()
+    sec = geo.sections[0]
+    i = sec.crack_start
+    return math.hypot(X, Y), X, math.hypot(float(sec.y[i]), float(sec.h[i])), float(sec.h[i])
 
 
 def fe_run(geo, gear, level, crack=0.0, tip=0):
@@ -145,35 +204,25 @@ def main() -> None:
         w_r = geardyn_compliance(geo, 1, geo.contact_radius(1, s))
         w_fe = fe_tab[-1][5]
         ch = hertz_compliance(geo.gears[0].E, geo.gears[0].nu, geo.gears[1].E, geo.gears[1].nu)
+        start = crack_start(geo)
         for depth in (0.25, 0.5):
             fe_c, d_fe, _, _ = fe_run(geo, 0, 1.0, crack=depth, tip=TIP)
-            cg = geardyn_compliance(geo, 0, radii, crack=d_fe)
-            cs = strip_compliance(geo, 0, radii, d_fe)
+            models = crack_models(geo, radii, d_fe)
             # single-pair stiffness along the path, healthy and cracked, each model with its own wheel tooth
-            red_g = 1 - (1 / (cg + w_r + ch)) / (1 / (c0 + w_r + ch))
-            red_s = 1 - (1 / (cs + w_r + ch)) / (1 / (c0 + w_r + ch))
-            red_fe = 1 - (1 / (fe_c + w_fe + ch)) / (1 / (fe0 + w_fe + ch))
+            red = {k: pair_reduction(c, c0, w_r, ch) for k, c in models.items()}
+            red_fe = pair_reduction(fe_c, fe0, w_fe, ch)
             ms_h = mesh_stiffness(geo, 100.0, cycles=z[0], points=32)
             ms_c = mesh_stiffness(geo, 100.0, faults=[Crack(0, 0, d_fe)], cycles=z[0], points=32)
+            cg = models["geardyn"]
             crack_tab.append(
-                (
-                    name,
-                    depth,
-                    d_fe,
-                    cg / c0,
-                    fe_c / fe0,
-                    red_g,
-                    red_fe,
-                    ms_c.mean_stiffness / ms_h.mean_stiffness,
-                    red_s,
-                )
+                (name, depth, d_fe, cg / c0, fe_c / fe0, red, red_fe, ms_c.mean_stiffness / ms_h.mean_stiffness, start)
             )
             data[f"{name}_crack{int(depth * 100)}_geardyn"] = cg / c0
             data[f"{name}_crack{int(depth * 100)}_fe"] = fe_c / fe0
             print(
                 f"  crack {d_fe:.3f}: compliance ratio geardyn {np.round(cg / c0, 3)}, FE {np.round(fe_c / fe0, 3)}; "
-                f"pair stiffness reduction (mean over the path) geardyn {red_g.mean() * 100:.2f} %, "
-                f"FE {red_fe.mean() * 100:.2f} %",
+                f"pair stiffness reduction (mean over the path) FE {red_fe * 100:.2f} %, over the FE's: "
+                + ", ".join(f"{k} {v / red_fe:.3f}" for k, v in red.items()),
                 flush=True,
             )
     crack_conv, release = ([], []) if a.quick else crack_studies()
@@ -244,11 +293,25 @@ def crack_studies():
             print(f"  crack {d_fe:.3f} level {level:g} tip {tip}: FE increment {np.round((c1 - c0) * 1e12, 3)}")
     c0 = healthy[1.0]
     g0 = geardyn_compliance(geo, 0, radii)
+    _, s = load_radii(geo, 0)
+    w_r = geardyn_compliance(geo, 1, geo.contact_radius(1, s))
+    w_fe = fe_run(geo, 1, 1.0)[0]
+    ch = hertz_compliance(geo.gears[0].E, geo.gears[0].nu, geo.gears[1].E, geo.gears[1].nu)
     release = []
     for j in range(1, 7):
         c1, d_fe, _, _ = fe_run(geo, 0, 1.0, crack=j / 8, tip=TIP)
+        models = crack_models(geo, radii, d_fe)
+        red_fe = pair_reduction(c1, c0, w_fe, ch)
+        ratio = {k: pair_reduction(c, g0, w_r, ch) / red_fe for k, c in models.items()}
         release.append(
-            (d_fe, c1 - c0, geardyn_compliance(geo, 0, radii, d_fe) - g0, strip_compliance(geo, 0, radii, d_fe) - g0)
+            (
+                d_fe,
+                c1 - c0,
+                models["geardyn"] - g0,
+                models["strip alone"] - g0,
+                models["limiting line, tip"] - g0,
+                ratio,
+            )
         )
     return conv, release
 
@@ -353,20 +416,39 @@ def _markdown(rows_pe, fe_tab, conv_tab, crack_tab, sens_tab, levels, crack_conv
     out += [
         "",
         "**Root crack on the pinion** (slit at the fillet's 30° point; depth as a share of that section's half "
-        f"thickness, the FE node nearest to 25 % and 50 %; FE level 1 with {TIP} halvings at the slit's tip): "
-        "tooth compliance ratio cracked / healthy at the seven points, and the single-pair stiffness reduction "
-        "averaged over the path (geardyn; the strip's factors alone, without the notch; FE):",
+        f"thickness, the FE node nearest to 25 % and 50 %; FE level 1 with {TIP} halvings at the slit's tip): where "
+        "the crack starts (radius and half thickness of the FE slit's row and of geardyn's crack section), and the "
+        "tooth compliance ratio cracked / healthy at the seven points:",
         "",
-        "| pair | depth | geardyn ratio | FE ratio | pair reduction geardyn | strip alone | FE | geardyn / FE "
-        "| strip alone / FE | mesh mean, cracked / healthy (geardyn) |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| pair | depth | start, FE: radius / h_c (mm) | start, geardyn | geardyn ratio | FE ratio "
+        "| mesh mean, cracked / healthy (geardyn) |",
+        "|---|---|---|---|---|---|---|",
     ]
-    for name, _d, dfe, rg, rf, redg, redf, mm, reds in crack_tab:
+    for name, _d, dfe, rg, rf, _red, _redf, mm, st in crack_tab:
         out.append(
-            f"| {name.split('_', 1)[1].replace('_', '/')} | {dfe * 100:.1f} % | {' '.join(f'{x:.3f}' for x in rg)} | "
-            f"{' '.join(f'{x:.3f}' for x in rf)} | {redg.mean() * 100:.2f} % | {reds.mean() * 100:.2f} % | "
-            f"{redf.mean() * 100:.2f} % | {redg.mean() / redf.mean():.2f} | {reds.mean() / redf.mean():.2f} | "
-            f"{mm:.4f} |"
+            f"| {name.split('_', 1)[1].replace('_', '/')} | {dfe * 100:.1f} % | "
+            f"{st[0] * 1e3:.3f} / {st[1] * 1e3:.3f} | {st[2] * 1e3:.3f} / {st[3] * 1e3:.3f} | "
+            f"{' '.join(f'{x:.3f}' for x in rg)} | "
+            f"{' '.join(f'{x:.3f}' for x in rf)} | {mm:.4f} |"
+        )
+    keys = list(CRACK_MODELS)
+    out += [
+        "",
+        "**The crack's single-pair stiffness reduction** (averaged over the path; each model with its own healthy "
+        "tooth and wheel tooth) and, in brackets, its ratio to the FE's: geardyn (the fracture term with the "
+        "fillet's notch); the strip's factors alone (without the notch); the section law (`crack_model=\"section\"`, "
+        "Wu, Zuo & Parey 2008, Chen & Shao 2011); the limiting line from the crack's tip to the loaded flank at the "
+        "tooth's tip (Mohammed, Rantatalo & Aidanpää 2013) and to the load point (the last three: sections above "
+        "the crack lose the band between the flank and that line, no fracture term):",
+        "",
+        "| pair | depth | FE | " + " | ".join(keys) + " |",
+        "|---|---|---|" + "---|" * len(keys),
+    ]
+    for name, _d, dfe, _rg, _rf, red, redf, *_ in crack_tab:
+        out.append(
+            f"| {name.split('_', 1)[1].replace('_', '/')} | {dfe * 100:.1f} % | {redf * 100:.2f} % | "
+            + " | ".join(f"{red[k] * 100:.2f} % ({red[k] / redf:.2f})" for k in keys)
+            + " |"
         )
     if crack_conv:
         out += [
@@ -385,22 +467,23 @@ def _markdown(rows_pe, fe_tab, conv_tab, crack_tab, sens_tab, levels, crack_conv
         out += [
             "",
             "**The crack's compliance against its depth** (19/48 pinion, 10⁻¹² m²/N, at the lowest and the highest "
-            "load point: FE / geardyn / the strip alone), and the rate of growth between successive depths, "
-            "d(ΔC)/da ∝ K², of geardyn and of the strip alone over the FE's:",
+            "load point: FE / geardyn / the strip alone / the limiting line to the tip), the rate of growth between "
+            "successive depths, d(ΔC)/da ∝ K², of geardyn and of the strip alone over the FE's, and each model's "
+            "single-pair stiffness reduction over the FE's (the order of the table above):",
             "",
-            "| depth | point 1: FE / geardyn / strip | point 7: FE / geardyn / strip | rate point 1: geardyn, strip "
-            "| rate point 7: geardyn, strip |",
-            "|---|---|---|---|---|",
+            "| depth | point 1: FE / geardyn / strip / limiting | point 7: FE / geardyn / strip / limiting "
+            "| rate point 1: geardyn, strip | rate point 7: geardyn, strip | reduction over the FE's |",
+            "|---|---|---|---|---|---|",
         ]
         prev = (0.0, np.zeros(N_LOAD), np.zeros(N_LOAD), np.zeros(N_LOAD))
-        for dfe, f, g, st in release:
+        for dfe, f, g, st, lim, ratio in release:
             rate = [
                 (x[i] - p[i]) / (f[i] - prev[1][i]) for i in (0, N_LOAD - 1) for x, p in ((g, prev[2]), (st, prev[3]))
             ]
+            cells = [" / ".join(f"{x[i] * 1e12:.3f}" for x in (f, g, st, lim)) for i in (0, N_LOAD - 1)]
             out.append(
-                f"| {dfe * 100:.1f} % | {f[0] * 1e12:.3f} / {g[0] * 1e12:.3f} / {st[0] * 1e12:.3f} | "
-                f"{f[-1] * 1e12:.3f} / {g[-1] * 1e12:.3f} / {st[-1] * 1e12:.3f} | {rate[0]:.2f}, {rate[1]:.2f} | "
-                f"{rate[2]:.2f}, {rate[3]:.2f} |"
+                f"| {dfe * 100:.1f} % | {cells[0]} | {cells[1]} | {rate[0]:.2f}, {rate[1]:.2f} | "
+                f"{rate[2]:.2f}, {rate[3]:.2f} | {' / '.join(f'{v:.2f}' for v in ratio.values())} |"
             )
             prev = (dfe, f, g, st)
     out += [

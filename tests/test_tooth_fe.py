@@ -11,7 +11,8 @@ examples/tooth_*.toml):
   (observed ≤ 3.8 %); the single-pair stiffness reduction of a root crack of 25 % and of 50 % within 20 % of
   the FE's (the slit's tip refined by four halvings, converged to 0.2 %: ``docs/excitation.md``).  The
   crack's stress intensity at the fillet is the larger of the strip's and the notch's short-crack one; with
-  the strip's alone the reduction at 25 % is 0.6-0.7 of the FE's (the table in ``docs/excitation.md``).
+  the strip's alone the reduction at 25 % is 0.6-0.7 of the FE's (the table in ``docs/excitation.md``).  The
+  same tolerance holds from 37.5 % to 75 % depth on the 19/48 pinion.
 """
 
 import sys
@@ -82,3 +83,26 @@ def test_compliance_and_crack_against_finite_elements(name):
         ratio[depth] = red_g / red_f
     assert abs(ratio[0.25] - 1.0) < 0.20, ratio
     assert abs(ratio[0.5] - 1.0) < 0.20, ratio
+
+
+@pytest.mark.slow
+def test_crack_reduction_follows_the_finite_elements_with_depth():
+    # beyond the issue's two depths: the same tolerance at 37.5 %, 62.5 % and 75 % of h_c on the 19/48 pinion
+    # (observed 1.05-1.06 of the FE's; the section laws fall with depth against it, docs/excitation.md)
+    pytest.importorskip("skfem")
+    from tooth_fe_model import build_mesh, crack_depth_of, fe_compliance
+
+    geo = _geo("tooth_19_48")
+    s = np.linspace(geo.s_A, geo.s_E, 7)
+    radii, wheel = geo.contact_radius(0, s), geo.contact_radius(1, s)
+    g0, g1 = _gears(geo)
+    ch = hertz_compliance(geo.gears[0].E, geo.gears[0].nu, geo.gears[1].E, geo.gears[1].nu)
+    f0, wf = fe_compliance(build_mesh(g0, radii), radii), fe_compliance(build_mesh(g1, wheel), wheel)
+    c0, w = tooth_compliance(geo, 0, radii).total, tooth_compliance(geo, 1, wheel).total
+    for depth in (0.375, 0.625, 0.75):
+        fg = build_mesh(g0, radii, crack=depth, tip=4)
+        d = crack_depth_of(fg, depth)
+        assert d == pytest.approx(depth, abs=0.002)
+        red_f = np.mean(1 - (f0 + wf + ch) / (fe_compliance(fg, radii) + wf + ch))
+        red_g = np.mean(1 - (c0 + w + ch) / (tooth_compliance(geo, 0, radii, crack_depth=d).total + w + ch))
+        assert abs(red_g / red_f - 1.0) < 0.20, (depth, red_g / red_f)

@@ -199,11 +199,9 @@ def basins(
     dims = grid.names
     A = len(atts)
     width = max([a["points"].shape[0] for a in atts], default=1)
-    au = np.full((A, width), np.nan)
-    av = np.full((A, width), np.nan)
+    auv = np.full((A, width, 2), np.nan)
     for k, a in enumerate(atts):
-        au[k, : a["points"].shape[0]] = a["points"][:, 0]
-        av[k, : a["points"].shape[0]] = a["points"][:, 1]
+        auv[k, : a["points"].shape[0]] = a["points"][:, :2]
     total = float(labels.size)
     data = {"attractor": (dims, labels.reshape(shape))}
     data.update({k: (dims, rows[k].reshape(shape)) for k in ("period", "motion", "impact", "amplitude", "status")})
@@ -212,23 +210,22 @@ def basins(
         if k in rows:
             data[k] = (dims + ("element",), rows[k].reshape(shape + rows[k].shape[1:]))
             extra["element"] = element_names(model, rows[k].shape[1])
+    extra_attrs = {}
     if full is not None:
         names = state_names(model, model.state_dim)
-        extra_attrs = {
-            "coordinates": [names[c] for c in coordinates]
+        extra_attrs["coordinates"] = (
+            [names[c] for c in coordinates]
             if coordinates is not None
             else ["δ (reference element)", "δ' (reference element)"]
-        }
-    else:
-        extra_attrs = {}
+        )
     data.update(
         {
             "attractor_period": ("attractor_index", np.array([a["period"] for a in atts], dtype=np.int64)),
             "attractor_motion": ("attractor_index", np.array([a["motion"] for a in atts], dtype=np.int64)),
             "attractor_fraction": ("attractor_index", np.array([a["count"] / total for a in atts])),
             "attractor_amplitude": ("attractor_index", np.array([a["amplitude"] for a in atts])),
-            "attractor_u": (("attractor_index", "cycle_point"), au),
-            "attractor_v": (("attractor_index", "cycle_point"), av),
+            "attractor_u": (("attractor_index", "cycle_point"), auv[..., 0]),
+            "attractor_v": (("attractor_index", "cycle_point"), auv[..., 1]),
         }
     )
     coords = {"v0": v0, "u0": u0, "attractor_index": np.arange(A), "cycle_point": np.arange(width), **extra}

@@ -253,11 +253,6 @@ def param_symbol(name: str) -> str:
     return sym.replace("_{k}", "{k}").replace("{k}", str(idx + 1)) if idx is not None else sym
 
 
-def _check_options(models: Sequence[GearModel], options: IntegrationOptions) -> None:
-    for m in models:
-        options.check_for(m.omega)
-
-
 @sweep_function("bifurcation")
 def bifurcation(
     model: GearModel,
@@ -333,7 +328,8 @@ def bifurcation(
     grid = Grid.range(name, values)
     vals = grid.values(name)
     models = grid.models(model)
-    _check_options(models, options)
+    for m in models:
+        options.check_for(m.omega)
     s0t = initial_state(model, state0)
     label = description if description is not None else f"bifurcation {param_symbol(name)}"
 

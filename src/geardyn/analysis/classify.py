@@ -70,10 +70,6 @@ PERIOD_WINDOW = 0.5
 CONVERGING_RATIO = 0.8
 
 
-def _divisors(n: int) -> list[int]:
-    return [m for m in range(1, n) if n % m == 0]
-
-
 def converging_to_divisor(points: np.ndarray, n: int, window: int) -> bool:
     """True when the last ``window`` points of a sequence found periodic with period ``n`` are still
     converging onto a cycle of a proper divisor of ``n`` (:data:`CONVERGING_RATIO`).
@@ -89,7 +85,9 @@ def converging_to_divisor(points: np.ndarray, n: int, window: int) -> bool:
     """
     pts = np.asarray(points, dtype=float)
     m_pts = pts.shape[0]
-    for m in _divisors(int(n)):
+    for m in range(1, int(n)):
+        if int(n) % m:
+            continue  # the proper divisors of n only
         w = min(window, m_pts - m)
         half = w // 2
         if half < max(2, m):
@@ -117,21 +115,7 @@ def detect_period(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float =
         The period n, 0 if the sequence is not periodic with n <= ``max_period`` (or too short to
         tell), -1 if it holds non-finite values (diverged).
     """
-    pts = np.asarray(points, dtype=float)
-    m = pts.shape[0]
-    if m == 0 or not np.all(np.isfinite(pts)):
-        return -1
-    window = max(int(np.ceil(PERIOD_WINDOW * m)), 2)
-    scale = max(1.0, float(np.max(np.abs(pts[-window:]))))
-    for n in range(1, max_period + 1):
-        w = min(window, m - n)
-        if w < max(2, n):  # need every point of the cycle compared at least once
-            break
-        a = pts[m - w :]
-        b = pts[m - w - n : m - n]
-        if float(np.max(np.abs(a - b))) <= tol * scale:
-            return 0 if converging_to_divisor(pts, n, window) else n
-    return 0
+    return int(detect_periods(np.asarray(points, dtype=float)[None], max_period, tol)[0])
 
 
 def detect_periods(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float = PERIOD_TOL) -> np.ndarray:
@@ -447,20 +431,7 @@ def settling_ratio(points: np.ndarray, max_period: int = MAX_PERIOD) -> float:
     well below 1 while it still contracts onto a cycle.  NaN for fewer than 8 finite points or an
     exactly repeating sequence.
     """
-    pts = np.asarray(points, dtype=float)
-    m = pts.shape[0]
-    if m < 8 or not np.all(np.isfinite(pts)):
-        return float("nan")
-    q = m // 4
-    best_late, best_early = np.inf, np.nan
-    for n in range(1, min(max_period, m - 2 * q) + 1):
-        d = np.max(np.abs(pts[n:] - pts[:-n]), axis=1)
-        late = float(np.median(d[-q:]))
-        if late < best_late:
-            best_late, best_early = late, float(np.median(d[:q]))
-    if not best_early > 0.0:
-        return float("nan")
-    return best_late / best_early
+    return float(settling_ratios(np.asarray(points, dtype=float)[None], max_period)[0])
 
 
 def settling_ratios(points: np.ndarray, max_period: int = MAX_PERIOD) -> np.ndarray:

@@ -121,22 +121,14 @@ def parameter_map(
     s0t = initial_state(model, state0)
     common = (s0t, options, lyapunov, settle_periods)
     description = f"map {yn} × {xn}"
-    if mode == "fixed":
-        cat = run_slices(
-            grid_chunk,
-            lambda sl: (model, grid.names, grid.points(sl)) + common + (False, _KEEP),
-            chunk_slices(grid, model, options, engine, lyapunov=lyapunov),
-            engine,
-            description,
-        )
-    else:  # one continuation row per chunk, x increasing
-        cat = run_slices(
-            grid_chunk,
-            lambda sl: (model, grid.names, grid.points(sl)) + common + (True, _KEEP),
-            grid.slices(xv.size),
-            engine,
-            description,
-        )
+    cont = mode != "fixed"  # one continuation row per chunk, x increasing
+    cat = run_slices(
+        grid_chunk,
+        lambda sl: (model, grid.names, grid.points(sl)) + common + (cont, _KEEP),
+        grid.slices(xv.size) if cont else chunk_slices(grid, model, options, engine, lyapunov=lyapunov),
+        engine,
+        description,
+    )
     shape = (yv.size, xv.size)
     coords: dict[str, Any] = {yn: yv, xn: xv}
     data = {}

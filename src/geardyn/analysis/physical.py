@@ -280,15 +280,17 @@ def _simulate_summary(
         return {"pair": sc.statement(), "physical": None}
     force = mesh_force(model, tau, u, v)
     ok = bool(np.all(np.isfinite(force))) and summ.get("status", "ok") == "ok"
-    fmax = float(np.max(force)) if ok else None
     out: dict[str, Any] = dict(sc.operating_point(model))
-    out["dynamic_factor"] = (fmax / model.fp) if (ok and model.fp > 0) else None
-    out["mesh_force_max_N"] = float(sc.N_from_force(fmax)) if ok else None
-    out["mesh_force_min_N"] = float(sc.N_from_force(np.min(force))) if ok else None
-    out["mesh_force_mean_N"] = float(sc.N_from_force(np.mean(force[:-1]))) if ok else None
+    out["dynamic_factor"] = (float(np.max(force)) / model.fp) if (ok and model.fp > 0) else None
     contact = contact_force(model, tau, u)
-    out["contact_force_max_N"] = float(sc.N_from_force(np.max(contact))) if ok else None
-    out["contact_force_min_N"] = float(sc.N_from_force(np.min(contact))) if ok else None
+    for key, f, a in (
+        ("mesh_force_max_N", np.max, force),
+        ("mesh_force_min_N", np.min, force),
+        ("mesh_force_mean_N", np.mean, force[:-1]),
+        ("contact_force_max_N", np.max, contact),
+        ("contact_force_min_N", np.min, contact),
+    ):
+        out[key] = float(sc.N_from_force(f(a))) if ok else None
     for key, nd in (
         ("dte_rms_um", "rms"),
         ("dte_amplitude_um", "amplitude"),

@@ -109,10 +109,6 @@ SWEEP_KEYWORDS: dict[str, SweepKeyword] = {
 }
 
 
-def _indent(text: str, prefix: str) -> str:
-    return "\n".join(prefix + line if line else line for line in text.splitlines())
-
-
 def _document(doc: str, entries: Sequence[SweepKeyword]) -> str:
     """``doc`` with the entries of the shared keywords it does not document inserted before ``Returns``."""
     marker = "\n    Returns\n"
@@ -120,7 +116,7 @@ def _document(doc: str, entries: Sequence[SweepKeyword]) -> str:
     if not missing or marker not in doc:
         return doc
     head, tail = doc.split(marker, 1)
-    block = "\n".join(_indent(k.doc, "    ") for k in missing)
+    block = "\n".join("    " + line if line else line for k in missing for line in k.doc.splitlines())
     return f"{head.rstrip()}\n{block}\n{marker}{tail}"
 
 

@@ -43,7 +43,7 @@ from ..errors import ModelError
 from ..integrate import trajectory
 from ..model import GearModel, IntegrationOptions
 
-__all__ = ["RattleResult", "RattleScales", "crossings", "pair_of_system", "rattle", "rattle_map"]
+__all__ = ["RattleResult", "crossings", "pair_of_system", "rattle", "rattle_map"]
 
 #: Default options of a rattle run: the accurate mode (4th order through the impacts), a long transient (the
 #: free flight is lightly damped) and a few recorded cycles.
@@ -54,58 +54,21 @@ HISTORY_SAMPLES = 20_000
 _NEWTON = 30
 
 
-@dataclass(frozen=True)
-class RattleScales:
-    """The physical scales of a rattle result.
+def _physical(scales: Any) -> Any:
+    """The scales of the physical values (:class:`geardyn.geometry.scales.Scales`, a configured pair's or a
+    system's ``scaling``), or None: none given, or the unit scales of a non-dimensional configuration."""
+    return None if scales is None or getattr(scales, "nondimensional", False) else scales
 
-    Parameters
-    ----------
-    b_c_m : float
-        Characteristic length b_c (m).
-    omega_n_rad_s : float
-        ω_n (rad/s).
-    k_N_per_m : float
-        Mean mesh stiffness k (N/m).
-    teeth : int, optional
-        Teeth of the gear whose speed sets the mesh frequency (for rpm; None when unknown).
-    """
 
-    b_c_m: float
-    omega_n_rad_s: float
-    k_N_per_m: float
-    teeth: int | None = None
-
-    @property
-    def velocity_m_s(self) -> float:
-        """Relative velocity of u' = 1 in m/s: b_c ω_n."""
-        return self.b_c_m * self.omega_n_rad_s
-
-    @property
-    def energy_J(self) -> float:
-        """Energy of ½u'² = 1 … in J: k b_c² (m_e (b_c ω_n)² = k b_c²)."""
-        return self.k_N_per_m * self.b_c_m**2
-
-    def rpm(self, omega: Any) -> Any:
-        """Pinion speed (rpm) of the mesh frequency ω."""
-        if self.teeth is None:
-            return None
-        return np.asarray(omega, dtype=float) * self.omega_n_rad_s * 60.0 / (2.0 * math.pi * self.teeth)
-
-    @classmethod
-    def of(cls, scales: Any) -> RattleScales | None:
-        """From :class:`geardyn.geometry.scales.Scales` (a configured pair's, or a system's ``scaling``); None for
-        the unit scales of a non-dimensional configuration."""
-        if scales is None or getattr(scales, "nondimensional", False):
-            return None
-        return cls(scales.b_c_m, scales.omega_n_rad_s, scales.k0_N_per_m, int(scales.z1) or None)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "b_c_m": self.b_c_m,
-            "omega_n_rad_s": self.omega_n_rad_s,
-            "k_N_per_m": self.k_N_per_m,
-            "teeth": self.teeth,
-        }
+def _scales_dict(sc: Any) -> dict[str, Any]:
+    """The scales a rattle result states: b_c, ω_n, the mean mesh stiffness k and the teeth of the gear whose
+    speed sets the mesh frequency (None when unknown)."""
+    return {
+        "b_c_m": sc.b_c_m,
+        "omega_n_rad_s": sc.omega_n_rad_s,
+        "k_N_per_m": sc.k0_N_per_m,
+        "teeth": int(sc.z1) or None,
+    }
 
 
 # ---------------------------------------------------------------------------- crossings
@@ -198,7 +161,8 @@ class RattleResult:
         Forcing periods recorded.
     cycle_mesh_periods : int
         Mesh periods of one forcing period (a cycle).
-    scales : RattleScales or None
+    scales : Scales or None
+        Physical scales (velocities in m/s = b_c ω_n u', energies in J = k b_c² · ½u'², speeds in rpm).
     status : str
         ``"ok"`` or ``"diverged"``.
     extra : dict
@@ -213,7 +177,7 @@ class RattleResult:
     events: dict[str, np.ndarray]
     cycles: int
     cycle_mesh_periods: int
-    scales: RattleScales | None = None
+    scales: Any = None
     status: str = "ok"
     extra: dict[str, Any] = field(default_factory=dict)
 
@@ -273,7 +237,7 @@ class RattleResult:
             }
             if sc is not None:
                 for k in ("impact_velocity_mean", "impact_velocity_max", "rebound_velocity_mean"):
-                    d[k + "_m_s"] = None if d[k] is None else d[k] * sc.velocity_m_s
+                    d[k + "_m_s"] = None if d[k] is None else d[k] * (sc.b_c_m * sc.omega_n_rad_s)
             per[name] = d
         out["flanks"] = per
         out["impacts_per_cycle"] = float(self.events["time"].size / self.cycles)
@@ -281,12 +245,12 @@ class RattleResult:
         out["rattle_index"] = self.rattle_index()
         out["rattle_index_definition"] = "impact kinetic-energy loss per cycle, sum of (v_in^2 - v_out^2)/2 / cycles"
         if sc is not None:
-            out["rattle_index_J"] = self.rattle_index() * sc.energy_J
-            out["impact_energy_J"] = out["impact_energy"] * sc.energy_J
-            out["scales"] = sc.to_dict()
-            r = sc.rpm(self.model.omega)
-            if r is not None:
-                out["rpm"] = float(r)
+            energy = sc.k0_N_per_m * sc.b_c_m**2
+            out["rattle_index_J"] = self.rattle_index() * energy
+            out["impact_energy_J"] = out["impact_energy"] * energy
+            out["scales"] = _scales_dict(sc)
+            if sc.z1:
+                out["rpm"] = float(sc.rpm_from_omega(self.model.omega))
         out.update(self.extra)
         return out
 
@@ -341,7 +305,7 @@ def rattle(
         :data:`RATTLE_OPTIONS` (accurate mode).
     state0 : (u, u'), optional
         Start (default the middle of the backlash at rest, u = 0).
-    scales : Scales or RattleScales, optional
+    scales : Scales, optional
         For the physical values (m/s, J, rpm).
 
     Returns
@@ -349,7 +313,7 @@ def rattle(
     RattleResult
     """
     model = _check(model)
-    sc = scales if isinstance(scales, RattleScales) or scales is None else RattleScales.of(scales)
+    sc = _physical(scales)
     tr = trajectory(model, state0, options, history_periods=options.periods)
     M = int(model.period_multiple())
     if not np.all(np.isfinite(tr.x)):
@@ -410,7 +374,7 @@ def rattle_map(
         raise ModelError("omega: the speeds of a rattle map must be > 0")
     if not np.all(np.isfinite(sa)) or np.any(sa < 0):
         raise ModelError("amplitude_scale: the amplitude scales of a rattle map must be finite and >= 0")
-    sc = scales if isinstance(scales, RattleScales) or scales is None else RattleScales.of(scales)
+    sc = _physical(scales)
     shape = (om.size, sa.size)
     vals = {k: np.full(shape, np.nan) for k in ("impacts_drive", "impacts_back", "impact_velocity_max", "rattle_index")}
     status = np.zeros(shape, dtype=np.int8)
@@ -434,18 +398,17 @@ def rattle_map(
     ds = xr.Dataset({k: (dims, a) for k, a in vals.items()}, coords={"omega": om, "amplitude_scale": sa})
     ds["status"] = (dims, status)
     if sc is not None:
-        ds["impact_velocity_max_m_s"] = ds["impact_velocity_max"] * sc.velocity_m_s
-        ds["rattle_index_J"] = ds["rattle_index"] * sc.energy_J
-        r = sc.rpm(om)
-        if r is not None:
-            ds = ds.assign_coords(rpm=("omega", r))
+        ds["impact_velocity_max_m_s"] = ds["impact_velocity_max"] * (sc.b_c_m * sc.omega_n_rad_s)
+        ds["rattle_index_J"] = ds["rattle_index"] * (sc.k0_N_per_m * sc.b_c_m**2)
+        if sc.z1:
+            ds = ds.assign_coords(rpm=("omega", sc.rpm_from_omega(om)))
     import json
 
     from ..torque_orders import to_dicts
 
     extra = {"torque_orders": json.dumps(to_dicts(model.torque_orders))}
     if sc is not None:
-        extra["rattle_scales"] = json.dumps(sc.to_dict())
+        extra["rattle_scales"] = json.dumps(_scales_dict(sc))
     ds.attrs.update(result_attrs("rattle_map", model, options, **extra))
     return annotate(ds, "rattle_map")
 

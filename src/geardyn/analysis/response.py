@@ -34,10 +34,9 @@ import xarray as xr
 from .._docfill import parameters, result_of
 from ..io import json_values
 from ..model import GearModel, ModelError
-from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor
+from .attractors import CYCLE_TOL, NONPERIODIC_TOL, Attractor, attractor_of
 from .attractors import same_attractor as _same_attractor
 from .bifurcation import bifurcation, point_labels, sweep_values
-from .classify import MOTION_PERIODIC
 from .points import sweep_function
 
 __all__ = [
@@ -257,9 +256,8 @@ def _amplitude_range(ds: xr.Dataset) -> float:
 
 def _attractor(s: dict[str, np.ndarray], k: int) -> Attractor:
     """The attractor reached at grid index ``k`` of one sweep (its cycle, or its amplitude and mean)."""
-    n = int(s["period"][k]) if int(s["motion"][k]) == MOTION_PERIODIC else 0
-    cycle = np.column_stack([s["poincare_u"][k, -n:], s["poincare_v"][k, -n:]]) if n > 0 else np.empty((0, 2))
-    return Attractor(n, int(s["motion"][k]), cycle, np.array([s["amplitude"][k], s["mean"][k]]))
+    section = np.column_stack([s["poincare_u"][k], s["poincare_v"][k]])
+    return attractor_of(s["period"][k], s["motion"][k], section, np.array([s["amplitude"][k], s["mean"][k]]))
 
 
 def _same(
@@ -318,18 +316,8 @@ def _disagreeing_runs(ds: xr.Dataset, a: str, b: str) -> list[tuple[int, int]]:
     x = ds[_param(ds)].values
     sa, sb, rng = _sweep_arrays(ds, a), _sweep_arrays(ds, b), _amplitude_range(ds)
     differ = [_same(sa, sb, k, rng, ATTRACTOR_TOL, NONPERIODIC_TOL) is False for k in range(x.size)]
-    runs: list[tuple[int, int]] = []
-    k = 0
-    while k < x.size:
-        if differ[k]:
-            j = k
-            while j + 1 < x.size and differ[j + 1]:
-                j += 1
-            runs.append((k, j))
-            k = j + 1
-        else:
-            k += 1
-    return runs
+    edges = np.diff(np.concatenate([[0], np.asarray(differ, dtype=int), [0]]))
+    return [(int(k), int(j) - 1) for k, j in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1))]
 
 
 def _leaving_jumps(

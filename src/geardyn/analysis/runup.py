@@ -163,13 +163,13 @@ class RunupResult:
             "tau": lst(self.tau),
             "amplitude": lst(self.amplitude),
             "dynamic_factor": lst(self.dynamic_factor),
-            "order_amplitude": [lst(self.order_amplitude[:, j]) for j in range(self.order_amplitude.shape[1])],
+            "order_amplitude": [lst(a) for a in self.order_amplitude.T],
             "diverged": self.diverged,
         }
         if self.spectrum is not None:
             out["excitation_cycles"] = int(self.model.period_multiple() or 1)
             out["spectrum_orders"] = lst(self.spectrum_orders)
-            out["spectrum"] = [lst(self.spectrum[:, j]) for j in range(self.spectrum.shape[1])]
+            out["spectrum"] = [lst(a) for a in self.spectrum.T]
         return out
 
 
@@ -279,21 +279,13 @@ def runup(
     speeds, mids = _block_speeds(w0, w1, T, m)
     IntegrationOptions(dtau=dtau).check_for(max(w0, w1))
     state0 = _state(model, state0)
-    if P == 1:
-        start = integrate_batch(
-            [model.with_param("omega", w0)],
-            state0,
-            IntegrationOptions(dtau=dtau, transient=max(int(settle), 0), periods=1, accurate=accurate),
-            record_poincare=False,
-        )
-    else:  # settle mesh periods rounded up to forcing periods, at the one-cycle model's step
-        start = integrate_batch(
-            [model.with_param("omega", w0)],
-            state0,
-            IntegrationOptions(dtau=dtau, transient=-(-max(int(settle), 0) // P), periods=1, accurate=accurate),
-            record_poincare=False,
-            steps=_steps(w0, dtau, P),
-        )
+    start = integrate_batch(  # settle mesh periods rounded up to forcing periods, at the one-cycle model's step
+        [model.with_param("omega", w0)],
+        state0,
+        IntegrationOptions(dtau=dtau, transient=-(-max(int(settle), 0) // P), periods=1, accurate=accurate),
+        record_poincare=False,
+        steps=_steps(w0, dtau, P),
+    )
     state = np.asarray(start.end_state[0], dtype=float)
     nb = speeds.size
     amp_o = np.full((nb, orders), np.nan)
@@ -427,10 +419,7 @@ def steady_response(
             done += 1
             if progress is not None:
                 progress(done, 2 * w.size)
-            if r is None:
-                state = model.initial_state()
-            else:
-                state = r[3]
+            state = model.initial_state() if r is None else r[3]
 
         def col(k: int, j: int | None = None) -> list[float | None]:
             vals = []

@@ -105,12 +105,9 @@ def _mean_matrices(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         Mi = np.asarray(model.Mi, dtype=float)
         K = np.array(model.Kb, dtype=float)
         C = np.array(model.Cb, dtype=float)
-        for i, m in enumerate(model.meshes):
-            vv = np.outer(model.V[i], model.V[i])
-            K += m.k * vv
-            C += 2.0 * m.xi0 * vv
-        for i, (k, c) in enumerate(zip(model.kc, model.cc)):
-            vv = np.outer(model.Vc[i], model.Vc[i])
+        meshes = [(model.V[i], m.k, 2.0 * m.xi0) for i, m in enumerate(model.meshes)]
+        for v, k, c in meshes + [(model.Vc[i], k, c) for i, (k, c) in enumerate(zip(model.kc, model.cc))]:
+            vv = np.outer(v, v)
             K += k * vv
             C += c * vv
         return Mi, K, C

@@ -197,19 +197,15 @@ def classify_batch(
     rounds = 0
     while settle_periods > 0 and need.size and rounds < max_rounds:
         opts = res.options.replace(transient=0, periods=max(int(settle_periods), n_rec))
-        sub = models[need]
-        if progress is None:
-            r2 = integrate_batch(sub, out["end_state"][need], opts, lyapunov=True, tangents=CLASSIFY_TANGENTS)
-        else:
-            ran = rounds * opts.periods
-            r2 = integrate_batch(
-                sub,
-                out["end_state"][need],
-                opts,
-                lyapunov=True,
-                progress=lambda d, n, ran=ran: progress(ran + d, ran + n),
-                tangents=CLASSIFY_TANGENTS,
-            )
+        ran = rounds * opts.periods
+        r2 = integrate_batch(
+            models[need],
+            out["end_state"][need],
+            opts,
+            lyapunov=True,
+            progress=None if progress is None else (lambda d, n, ran=ran: progress(ran + d, ran + n)),
+            tangents=CLASSIFY_TANGENTS,
+        )
         s2 = summarize_batch(r2)
         for k, v in s2.items():
             out[k][need] = v
@@ -481,8 +477,8 @@ def simulate(
         motion_label(int(cls["motion"][0]), period) if cls is not None else (period_label(period) if ok else "diverged")
     )
 
-    def f(key: str) -> float | None:
-        x = float(arr[key][0])
+    def f(key: str, d: dict[str, np.ndarray] = arr) -> float | None:
+        x = float(d[key][0])
         return x if np.isfinite(x) else None
 
     summary = {
@@ -496,8 +492,8 @@ def simulate(
         "u_max": f("u_max"),
         "contact_fractions": {name: f(f"fraction_{name}") for name in model.elements[model.reference].law.counters},
         "status": "ok" if ok else "diverged",
-        "lle": float(cls["lle"][0]) if cls is not None and np.isfinite(cls["lle"][0]) else None,
-        "lle_err": float(cls["lle_err"][0]) if cls is not None and np.isfinite(cls["lle_err"][0]) else None,
+        "lle": None if cls is None else f("lle", cls),
+        "lle_err": None if cls is None else f("lle_err", cls),
     }
     P = int(model.period_multiple() or 1)
     notes = []

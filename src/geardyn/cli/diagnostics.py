@@ -11,6 +11,7 @@ from rich.table import Table
 from ..errors import ModelError
 from .app import console
 from .options import OUTPUT, Inputs, command, finish, option
+from .render import files, plain, table
 
 STIFFNESS_OPTIONS = [
     option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
@@ -114,16 +115,12 @@ def stiffness_cmd(
 
 def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
     iso = s["iso6336"]
-    console.print(
+    plain(
         f"{s['name']}: z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, β = {s['beta_deg']:g}°, "
         f"b = {s['face_width_mm']:g} mm, ε_α = {s['eps_alpha']:.4f}, ε_β = {s['eps_beta']:.4f}, "
-        f"F = {s['force_N']:.5g} N, {s['cycles']} mesh cycle(s), {len(s['faults'])} fault(s)",
-        markup=False,
-        highlight=False,
+        f"F = {s['force_N']:.5g} N, {s['cycles']} mesh cycle(s), {len(s['faults'])} fault(s)"
     )
-    t = Table(title="Mesh stiffness and STE")
-    for col in ("quantity", "value"):
-        t.add_column(col)
+    t = table("Mesh stiffness and STE", "quantity", "value")
     rows = [
         ("mean k_m (N/µm)", s["k_mean_N_per_um"]),
         ("min / max k_m (N/µm)", f"{s['k_min_N_per_um']:.5g} / {s['k_max_N_per_um']:.5g}"),
@@ -144,14 +141,19 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
             else str(v),
         )
     console.print(t)
-    h = Table(title=f"Fourier harmonics (orders of the mesh frequency; Σ|κ| over all = {s['kappa_abs_sum_all']:.4g})")
-    for col in ("mesh order", "κ", "φ_k (rad)", "STE e_eq (µm)", "φ_e (rad)"):
-        h.add_column(col, justify="right")
+    h = table(
+        f"Fourier harmonics (orders of the mesh frequency; Σ|κ| over all = {s['kappa_abs_sum_all']:.4g})",
+        "mesh order",
+        "κ",
+        "φ_k (rad)",
+        "STE e_eq (µm)",
+        "φ_e (rad)",
+        justify="right",
+    )
     for o, k, pk, e, pe in zip(s["harmonic_order_of_mesh"], s["kappa"], s["phi_k"], s["ste_harmonics_um"], s["phi_e"]):
         h.add_row(f"{o:.4g}", f"{k:.5g}", f"{pk:.4g}", f"{e:.4g}", f"{pe:.4g}")
     console.print(h)
-    for f in paths:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    files(paths)
 
 
 SIGNATURE_OPTIONS = [
@@ -270,7 +272,6 @@ def signature_cmd(
     import json
 
     from ..signature.run import combine, signature, signature_sweep
-    from ..tooth.mesh import mesh_stiffness
 
     files = list(files or [])
     if inp.system:
@@ -284,45 +285,53 @@ def signature_cmd(
     cases = [_case(f, inp) for f in files]
     first = cases[0].signature
     rpm = inp.rpm if inp.rpm is not None else float(first.get("rpm", 3000.0))
-    kw = {
-        "revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
-        "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
-        "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02)),
-    }
-    for key in ("backlash", "b_c", "xi0"):
-        if key in first:
-            kw[key] = float(first[key])
+    kw = _record(inp, first)
+    kw.update({key: float(first[key]) for key in ("backlash", "b_c", "xi0") if key in first})
     period = _period(cases)
-
-    def mesh_of(case, faults=None):
-        return mesh_stiffness(
-            case.geometry,
-            case.torque,
-            faults=case.faults if faults is None else faults,
-            modifications=case.modifications,
-            cycles=period,
-            points=inp.points,
-        )
-
     if inp.sweep:
         depths = _depths(inp.sweep)
         case = cases[-1]
         crack, others, period = _sweep_crack(case, period)
 
         def make(d):
-            return mesh_of(case, others + [dataclasses.replace(crack, depth=d)])
+            return _mesh(case, others + [dataclasses.replace(crack, depth=d)], period, inp.points)
 
-        ds = signature_sweep(make, depths, rpm, **kw)
-        summary = json.loads(ds.attrs["summary"])
-        summary["indicators"] = {
-            k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values] for sh in ("pinion", "wheel")} for k in ds.data_vars
-        }
-        finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
+        _finish_sweep(inp, signature_sweep(make, depths, rpm, **kw))
         return
-    runs = [signature(mesh_of(c), rpm, label=c.name, **kw) for c in cases]
+    runs = [signature(_mesh(c, c.faults, period, inp.points), rpm, label=c.name, **kw) for c in cases]
     ds = combine(runs) if len(runs) > 1 else runs[0]
     summary = json.loads(ds.attrs["summary"])
     finish(summary, inp.write(ds, "signature"), inp, _show_signature)
+
+
+def _record(inp: Inputs, first: dict[str, Any]) -> dict[str, Any]:
+    """The recording keywords of a signature run: the options, else the first file's ``[signature]`` values."""
+    return {
+        "revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
+        "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
+        "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02)),
+    }
+
+
+def _mesh(case: Any, faults: list[Any], period: int, points: int) -> Any:
+    """The mesh stiffness of a tooth-pair case with ``faults`` over ``period`` mesh cycles."""
+    from ..tooth.mesh import mesh_stiffness
+
+    return mesh_stiffness(
+        case.geometry, case.torque, faults=faults, modifications=case.modifications, cycles=period, points=points
+    )
+
+
+def _finish_sweep(inp: Inputs, ds: Any, **keys: str) -> None:
+    """Report a crack-depth sweep: its summary (with ``keys``) and the indicators of each shaft."""
+    import json
+
+    summary = {**json.loads(ds.attrs["summary"]), **keys}
+    ds.attrs["summary"] = json.dumps(summary)
+    summary["indicators"] = {
+        k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values] for sh in ds["shaft"].values} for k in ds.data_vars
+    }
+    finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
 
 
 def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
@@ -330,12 +339,10 @@ def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
 
     r0 = s["runs"][0]
     where = f"sensor {r0['sensor']} (mesh {r0['mesh']!r}), " if "sensor" in r0 else ""
-    console.print(
+    plain(
         f"{where}z = {r0['z1']}/{r0['z2']} at {r0['rpm']:.6g} rpm (mesh {r0['mesh_frequency_Hz']:.5g} Hz), "
         f"fs = {r0['fs_Hz']:g} Hz, {r0['revolutions']} pinion revolutions, excitation period "
-        f"{r0['excitation_cycles']} mesh cycles ({r0['harmonics']} harmonics)",
-        markup=False,
-        highlight=False,
+        f"{r0['excitation_cycles']} mesh cycles ({r0['harmonics']} harmonics)"
     )
     wheel = all("wheel" in r["indicators"] for r in s["runs"])
     t = Table(
@@ -355,8 +362,7 @@ def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
             ],
         )
     console.print(t)
-    for f in paths:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    files(paths)
 
 
 def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
@@ -369,8 +375,7 @@ def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
     for i, d in enumerate(s["sizes"]):
         t.add_row(f"{d:g}", *[f"{s['indicators'][n]['pinion'][i]:.4g}" for n in names])
     console.print(t)
-    for f in paths:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    files(paths)
 
 
 def _system_signature(inp: Inputs, files: list[Path]) -> None:
@@ -391,7 +396,6 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     )
     from ..systems.load import load_system
     from ..tooth.faults import fault_to_dict
-    from ..tooth.mesh import mesh_stiffness
     from ..tooth.table import read_table, table_of, write_table
 
     paths = list(inp.system)
@@ -435,26 +439,13 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
                 f"{z1}/{z2 if z2 is not None else '?'} teeth"
             )
         z2 = zc[1]
-    first = next(iter(cases.values())).signature if cases else {}
-    kw = {
-        "revolutions": inp.revolutions if inp.revolutions is not None else first.get("revolutions"),
-        "fs": inp.fs if inp.fs is not None else first.get("fs_Hz"),
-        "noise": inp.noise if inp.noise is not None else float(first.get("noise", 0.02)),
-        "z2": z2,
-    }
+    kw = {**_record(inp, next(iter(cases.values())).signature if cases else {}), "z2": z2}
     period = _period(list(cases.values()))
     H = None if desc_mesh.excitation_harmonics is not None else SIGNATURE_HARMONICS
     tmp = tempfile.TemporaryDirectory()
 
     def excited(case, faults, name):
-        ms = mesh_stiffness(
-            case.geometry,
-            case.torque,
-            faults=faults,
-            modifications=case.modifications,
-            cycles=period,
-            points=inp.points,
-        )
+        ms = _mesh(case, faults, period, inp.points)
         path = write_table(table_of(ms), Path(tmp.name) / f"{name}.csv")
         return with_excitation(s0, mesh, path, None if H is None else min(H, ms.stiffness.size // 2))
 
@@ -468,14 +459,7 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
                 return excited(case, others + [dataclasses.replace(crack, depth=d)], f"d{d:g}")
 
             ds = system_signature_sweep(make, depths, dof=dof, mesh=mesh, **kw)
-            summary = json.loads(ds.attrs["summary"])
-            summary.update(system=str(paths[0]), excitation=str(tooth[-1]))
-            ds.attrs["summary"] = json.dumps(summary)
-            summary["indicators"] = {
-                k: {sh: [float(v) for v in ds[k].sel(shaft=sh).values] for sh in ds["shaft"].values}
-                for k in ds.data_vars
-            }
-            finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
+            _finish_sweep(inp, ds, system=str(paths[0]), excitation=str(tooth[-1]))
             return
         runs_in = []  # (system, label, summary keys)
         if files:

@@ -6,11 +6,11 @@ from pathlib import Path
 from typing import Annotated, Any, Optional
 
 import typer
-from rich.table import Table
 
 from ..errors import ModelError
 from .app import console, emit_json
 from .options import OUTPUT, Inputs, command, finish, model_group, option
+from .render import files, plain, table
 
 JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 
@@ -81,30 +81,33 @@ def te(
     summary = res.to_json()
     summary["abscissa"] = sig.abscissa
     summary["mesh_section"] = section
-    files = []
+    paths = []
     if inp.te_out is not None:
         from ..atomic import atomic_write_bytes
 
         atomic_write_bytes(inp.te_out, section.encode("utf-8"))
-        files.append(str(inp.te_out))
+        paths.append(str(inp.te_out))
     if inp.json_out:
-        summary["files"] = files
+        summary["files"] = paths
         emit_json(summary)
         return
-    _show_te(summary, files)
+    _show_te(summary, paths)
 
 
-def _show_te(s: dict[str, Any], files: list[str]) -> None:
-    t = Table(title=f"Mesh harmonics of {s['source']} (z1 = {s['z1']}, z2 = {s['z2']})")
-    for col in ("l", "pinion order", "amplitude (µm)", "phase (deg)"):
-        t.add_column(col, justify="right")
+def _show_te(s: dict[str, Any], paths: list[str]) -> None:
+    t = table(
+        f"Mesh harmonics of {s['source']} (z1 = {s['z1']}, z2 = {s['z2']})",
+        "l",
+        "pinion order",
+        "amplitude (µm)",
+        "phase (deg)",
+        justify="right",
+    )
     for r in s["mesh_harmonics"]:
         t.add_row(str(r["mesh_harmonic"]), f"{r['order']:.6g}", f"{r['amplitude_um']:.5g}", f"{r['phase_deg']:.4g}")
     console.print(t)
     side = sorted(s["sidebands"], key=lambda r: -r["amplitude_um"])[:8]
-    t = Table(title="Largest shaft orders and sidebands")
-    for col in ("kind", "shaft", "pinion order", "amplitude (µm)", "phase (deg)"):
-        t.add_column(col)
+    t = table("Largest shaft orders and sidebands", "kind", "shaft", "pinion order", "amplitude (µm)", "phase (deg)")
     for r in side:
         t.add_row(
             r["kind"], r.get("shaft", ""), f"{r['order']:.6g}", f"{r['amplitude_um']:.5g}", f"{r['phase_deg']:.4g}"
@@ -122,11 +125,9 @@ def _show_te(s: dict[str, Any], files: list[str]) -> None:
         f"residual: {100 * s['residual_share']:.3g} % of the signal's RMS",
         *[f"left out: {x}" for x in s["left_out"]],
     ]
-    for line in lines:
-        console.print(line, markup=False, highlight=False)
+    plain(*lines)
     console.print(s["mesh_section"], markup=False, highlight=False, soft_wrap=True)
-    for f in files:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    files(paths)
 
 
 def attach_iso_kv(cfg: Any, model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
@@ -213,17 +214,10 @@ RUNUP_OPTIONS = [
 
 
 def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
-    from .ranges import both_spellings
+    from .ranges import omega_only
 
     scales = inp.scales()
-    _, omega_start, omega_stop = both_spellings(
-        inp.values.get("param"),
-        inp.values.get("start"),
-        inp.values.get("stop"),
-        inp.omega_start,
-        inp.omega_stop,
-        "omega",
-    )
+    _, omega_start, omega_stop = omega_only(inp)
     given_rpm = inp.ru_rpm_start is not None or inp.ru_rpm_stop is not None
     given_w = omega_start is not None or omega_stop is not None
     if given_rpm == given_w:
@@ -288,9 +282,7 @@ def runup_cmd(inp: Inputs) -> None:
     _check_ramp_steps(inp, w0, w1, T)
     nq = validate.integer("num", inp.qs_num, 0, 2001)
     orders = validate.integer("orders", inp.orders, 1, 50)
-    from ..sweep.progress import task_progress
-
-    with task_progress("runup", unit="blocks", fmt=".0f", enabled=not inp.json_out) as bar:
+    with inp.progress("runup", "blocks") as bar:
         res = runup(
             model,
             w0,
@@ -332,9 +324,7 @@ def runup_cmd(inp: Inputs) -> None:
     )
     if nq >= 2:
         lo, hi = sorted((w0, w1))
-        with task_progress(
-            "runup: quasi-static sweep up and down", unit="points", fmt=".0f", enabled=not inp.json_out
-        ) as bar:
+        with inp.progress("runup: quasi-static sweep up and down", "points") as bar:
             qs = steady_response(
                 model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate, progress=bar
             )
@@ -355,16 +345,20 @@ def runup_cmd(inp: Inputs) -> None:
 
 def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
     what = "run-up" if s["omega_stop"] > s["omega_start"] else "run-down"
-    console.print(
+    plain(
         f"{what}: {s['rpm'][0]:.6g} → {s['rpm'][-1]:.6g} rpm in {s['duration_s']:.4g} s "
         f"({s['ramp_rate_rpm_per_s']:.4g} rpm/s), {s['blocks']} blocks of {s['cycles_per_block']} mesh cycles"
-        + ("; DIVERGED" if s["diverged"] else ""),
-        markup=False,
-        highlight=False,
+        + ("; DIVERGED" if s["diverged"] else "")
     )
-    t = Table(title="Order-tracked DTE (every tenth block)")
-    for col in ("rpm", "ω", "mesh order 1 (µm)", "half p-p (µm)", "dynamic factor"):
-        t.add_column(col, justify="right")
+    t = table(
+        "Order-tracked DTE (every tenth block)",
+        "rpm",
+        "ω",
+        "mesh order 1 (µm)",
+        "half p-p (µm)",
+        "dynamic factor",
+        justify="right",
+    )
     um = [None if a is None or b is None else b / a for a, b in zip(s["amplitude"], s["amplitude_um"])]
     scale = next((x for x in um if x), 1.0)
     for i in range(0, s["blocks"], max(1, s["blocks"] // 10)):
@@ -377,6 +371,5 @@ def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
             "n/a" if s["dynamic_factor"][i] is None else f"{s['dynamic_factor'][i]:.4g}",
         )
     console.print(t)
-    console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
-    for f in paths:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    plain(f"gear pair: {s['pair']}")
+    files(paths)

@@ -233,15 +233,6 @@ def quiet_broken_pipe() -> None:
         pass
 
 
-def stream_encoding_is_utf(stream: Any) -> bool:
-    """Whether ``stream`` writes UTF-8 (else the help text is given in ASCII)."""
-    enc = getattr(stream, "encoding", None) or "utf-8"
-    try:
-        return codecs.lookup(enc).name.startswith("utf")
-    except LookupError:
-        return False
-
-
 # ---------------------------------------------------------------- JSON
 def strict_json(obj: Any) -> str:
     """``obj`` as indented RFC 8259 JSON: NumPy values as plain numbers and lists, every non-finite
@@ -276,9 +267,7 @@ def _finite(o: Any, where: str, bad: list[str]) -> Any:
         return {str(k): _finite(v, f"{where}.{k}" if where else str(k), bad) for k, v in o.items()}
     if isinstance(o, (list, tuple)):
         return [_finite(v, f"{where}[{i}]", bad) for i, v in enumerate(o)]
-    if isinstance(o, bool) or o is None or isinstance(o, str):
-        return o
-    if isinstance(o, int):
+    if o is None or isinstance(o, (str, int)):  # bool among the int
         return o
     if isinstance(o, float):
         if math.isfinite(o):

@@ -44,32 +44,24 @@ SHOOTING_RUN = [
 
 def show(s: dict[str, Any], paths: list[str]) -> None:
     """The branch and its bifurcations for people."""
-    from rich.table import Table
+    from .render import table
 
     p = s["param"]
     vals = [b[p] for b in s["branch"]]
     n_st = sum(1 for b in s["branch"] if b["stable"])
-    console.print(
+    render.plain(
         f"HB branch in {p}: {len(vals)} points from {min(vals):.6g} to {max(vals):.6g} "
         f"(H = {s['harmonics']}, period {s['period']}, N = {s['samples']}; {n_st} stable); "
-        f"converged: {s['converged']}; end: {s['end']}",
-        markup=False,
-        highlight=False,
+        f"converged: {s['converged']}; end: {s['end']}"
     )
-    t = Table(title="Bifurcations")
-    for col in ("type", p, "u_min", "u_max", "multipliers", "detail"):
-        t.add_column(col)
+    t = table("Bifurcations", "type", p, "u_min", "u_max", "multipliers", "detail")
     for b in s["bifurcations"]:
         mus = ", ".join("n/a" if m[0] is None else f"{complex(*m):.4f}" for m in b["multipliers"])
         t.add_row(b["type"], f"{b[p]:.6f}", f"{b['u_min']:.4f}", f"{b['u_max']:.4f}", mus, b["detail"])
     console.print(t)
     sh = s.get("shooting")
     if sh:
-        console.print(
-            "shooting: " + ", ".join(f"{b['type']} {b[p]:.6f}" for b in sh["bifurcations"]),
-            markup=False,
-            highlight=False,
-        )
+        render.plain("shooting: " + ", ".join(f"{b['type']} {b[p]:.6f}" for b in sh["bifurcations"]))
     render.files(paths)
 
 
@@ -153,7 +145,7 @@ def hb(
     model = inp.model()
     P = model.hb_form(n).periods // n  # a forcing period of P mesh cycles: harmonics of ω/(P n)
     if harmonics is None:
-        H = default_harmonics(model, n) if P > 1 else DEFAULT_HARMONICS
+        H = default_harmonics(model, n)
     else:
         H = validate.integer("harmonics", harmonics, 1, MAX_DEFAULT_HARMONICS if P > 1 else MAX_HARMONICS)
         if 1 < P and H < P * n:
@@ -173,7 +165,7 @@ def hb(
             f"unit circle, so no point is asymptotically stable and pairs grazing the circle are reported as "
             f"Neimark–Sacker points"
         )
-    with _progress(inp, name) as bar:
+    with inp.progress("hb", param=name) as bar:
         res = hb_continuation(
             model,
             name,
@@ -195,7 +187,7 @@ def hb(
 
         ws = [model.with_param(name, v).omega for v in (start_v, stop_v)]
         opts = validate.options(inp.dtau, 0, 1, inp.accurate, ws)
-        with _progress(inp, name, "shooting") as bar:
+        with inp.progress("shooting", param=name) as bar:
             sres = shooting(
                 model,
                 name,
@@ -224,18 +216,6 @@ def hb(
             ds = attach(ds, SHOOTING_CONTEXT, shoot_ds)  # the file redraws the figure with the shooting branch
         paths = inp.write(ds, "hb")
     finish(summary, paths, inp, show)
-
-
-def _progress(inp: Inputs, name: str, what: str = "hb") -> Any:
-    """The progress display of a continuation (none with ``--json``)."""
-    from ..analysis.bifurcation import param_symbol
-    from ..sweep.progress import task_progress
-
-    try:
-        sym = param_symbol(name)
-    except (KeyError, ValueError):  # a system's parameter (<mesh>.xi0, ...) by its name
-        sym = name
-    return task_progress(f"{what} {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out)
 
 
 def _check_result(res: Any, start: float) -> None:

@@ -338,17 +338,22 @@ OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
+def click_context() -> tuple[Any, Any]:
+    """The running command's click context (None outside a command) and click's ``ParameterSource``, of the click
+    typer runs on (its own vendored copy in newer typer)."""
+    import importlib
+
+    core = sys.modules[typer.Context.__mro__[1].__module__]
+    ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
+    return ctx, core.ParameterSource
+
+
 def _at_default(values: dict[str, Any]) -> tuple[set[str], str | None]:
     """The options of ``values`` the user did not give (their source the default), from the running command's
     context, and the command's name; none outside a command (every value counts as given)."""
-    import importlib
-
-    base = typer.Context.__mro__[1]  # the click Context typer runs on (its own vendored copy in newer typer)
-    core = sys.modules[base.__module__]
-    ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
+    ctx, ParameterSource = click_context()
     if ctx is None:
         return set(), None
-    ParameterSource = core.ParameterSource
     out = set()
     for name in values:
         try:
@@ -565,15 +570,19 @@ class Inputs:
         )
         # simulate classifies within the plan's budget; a sweep's points are classified by its --settle
         note = plan.note(classify=self._command == "simulate", per_point=ws.size > 1) if plan is not None else None
-        if note is not None and self.__dict__.get("_plan_note") != note:  # said once per command
+        if note is not None and self._new(note):
             from .app import say_error
 
-            self.__dict__["_plan_note"] = note
             if v.get("system") is None:  # a system's file note says the forcing period already
                 say_error(f"forcing period: {plan.cycles} mesh cycles; {plan.steps:,} RK4 steps each (dtau = {dtau:g})")
             for line in note.splitlines():
                 say_error(line)
         return plan
+
+    def _new(self, note: str) -> bool:
+        """Whether ``note`` is not yet said on stderr by this command (a command may ask twice); it counts as said."""
+        said = self.__dict__.setdefault("_said", set())
+        return note not in said and not said.add(note)
 
     def _fixed_default(self, name: str, value: int) -> bool:
         """Whether option ``name`` was not given and its default is the fixed count ``value`` (a command with its
@@ -604,8 +613,7 @@ class Inputs:
 
             n = cycles_to_periods(cycles, self.model())
             note = f"transient: {cycles} reference mesh cycles = {n} forcing periods"
-            if not self.values.get("json_out") and self.__dict__.get("_cycles_note") != note:  # once per command
-                self.__dict__["_cycles_note"] = note
+            if not self.values.get("json_out") and self._new(note):
                 say_error(note)
             return n
         if t.strip().lower() == "auto":
@@ -616,8 +624,7 @@ class Inputs:
 
             ws = np.atleast_1d(np.asarray(omegas, dtype=float))
             s = settle_periods(self.model(), ws if ws.size else None)
-            if self.__dict__.get("_settle_note") != s.note():  # said once, where a command asks twice
-                self.__dict__["_settle_note"] = s.note()
+            if self._new(s.note()):
                 say_error(s.note())
             return s.periods
         try:
@@ -628,17 +635,31 @@ class Inputs:
                 f"got {t!r}"
             ) from None
 
-    def exponents_computable(self, model: GearModel, omegas: Any) -> None:
-        """:func:`geardyn.validate.exponents_computable`: the precision limit of Lyapunov exponents.
+    def system_summary(self, model: Any, summary: dict[str, Any], ds: Any = None, result: Any = None) -> dict:
+        """``summary`` with what a ``--system`` adds (:func:`geardyn.cli.system_input.mesh_summary`: ``meshes`` of a
+        sweep's ``ds`` or a continuation's ``result``, ...); the pair's as it is."""
+        v = self.values
+        if v.get("system") is None:
+            return summary
+        from .system_input import mesh_summary
 
-        Parameters
-        ----------
-        model : System
-        omegas : sequence of float
-        """
-        from .. import validate
+        return mesh_summary(model, summary, ds, result, state0=(v.get("u0") or 0.0, v.get("v0") or 0.0))
 
-        validate.exponents_computable(model, omegas)
+    def progress(self, what: str, unit: str = "", *, param: str | None = None, on: bool = True) -> Any:
+        """A progress bar on stderr (:func:`geardyn.sweep.progress.task_progress`, counts), none with ``--json``;
+        with ``param`` that of a continuation in it (``"what ω"``, ``Δω`` traced)."""
+        from ..sweep.progress import task_progress
+
+        fmt = ".0f"
+        if param is not None:
+            from ..analysis.bifurcation import param_symbol
+
+            try:
+                sym = param_symbol(param)
+            except (KeyError, ValueError):  # a system's parameter (<mesh>.xi0, ...) by its name
+                sym = param
+            what, unit, fmt = f"{what} {sym}", f"Δ{sym} traced", ".4g"
+        return task_progress(what, unit=unit, fmt=fmt, enabled=on and not self.json_out)
 
     def param_range(
         self, param: str | None, start: float | None, stop: float | None, *, what: str = "swept"
@@ -679,38 +700,21 @@ class Inputs:
         ModelError
             If the option of one of them (or ``--rpm`` / ``--torque`` for ω / f_p) was given.
         """
-        flags = {o.param: o for o in params.cli_options()}
+        flags = {o.param: (o.dest, o.flag) for o in params.cli_options()}
         physical = {"omega": ("rpm", "--rpm"), "fp": ("torque", "--torque")}
         for name in names:
-            o = flags.get(name)
-            if o is not None and self.values.get(o.dest) is not None:
-                raise ModelError(
-                    f"{o.flag.lstrip('-')}: {o.flag} {self.values[o.dest]:g} conflicts with the swept "
-                    f"parameter {name}; give its range instead"
-                )
-            if name in physical and self.values.get(physical[name][0]) is not None:
-                dest, flag = physical[name]
-                raise ModelError(
-                    f"{dest}: {flag} {self.values[dest]:g} conflicts with the swept parameter {name}; "
-                    f"give its range instead"
-                )
+            for dest, flag in filter(None, (flags.get(name), physical.get(name))):
+                if self.values.get(dest) is not None:
+                    raise ModelError(
+                        f"{flag.lstrip('-')}: {flag} {self.values[dest]:g} conflicts with the swept "
+                        f"parameter {name}; give its range instead"
+                    )
 
     def state0(self) -> tuple[float, float]:
         """The initial state (u0, v0)."""
         from .. import validate
 
         return validate.initial_state(self.values["u0"], self.values["v0"])
-
-    def nc(self, stem: str) -> Path | None:
-        """The NetCDF file of ``--out`` (None without it).
-
-        Parameters
-        ----------
-        stem : str
-            File stem inside an ``--out`` directory.
-        """
-        out = self.values.get("out")
-        return out_paths(out, stem)[0] if out is not None else None
 
     def engine(self, stem: str) -> dict[str, Any]:
         """Validated keyword arguments of :func:`geardyn.sweep.run_chunks` from the sweep-engine options

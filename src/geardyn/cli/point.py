@@ -52,15 +52,6 @@ def parse_guess(text: str | None, d: int = 2) -> tuple[float, ...] | None:
     return vals
 
 
-def _system(inp: Inputs, model, summary: dict, **kw) -> dict:
-    """What a system's summary adds (``meshes``; :func:`geardyn.cli.system_input.mesh_summary`); the pair's as it is."""
-    if inp.system is None:
-        return summary
-    from .system_input import mesh_summary
-
-    return mesh_summary(model, summary, state0=inp.state0(), **kw)
-
-
 @command("simulate", MODEL, STATE, integration(), OUTPUT)
 def simulate(
     inp: Inputs,
@@ -78,15 +69,14 @@ def simulate(
     force (N), dynamic factor, spectrum peaks in Hz and mesh orders."""
     from ..analysis.physical import add_physical, simulate_physical, steady_physical
     from ..analysis.steady import simulate as run_simulate
-    from ..sweep.progress import task_progress
 
     model = inp.model()
     opts = inp.options(model.omega)
-    with task_progress("simulate", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
+    with inp.progress("simulate", "periods") as bar:
         res = run_simulate(model, opts, inp.state0(), progress=bar, classify=not no_classify)
     summary = res.to_json()
     if inp.system is not None:  # a system: the reference mesh's physical values and every mesh's
-        summary = {**_system(inp, model, summary), **inp.scales().operating_point(model)}
+        summary = {**inp.system_summary(model, summary), **inp.scales().operating_point(model)}
         paths = inp.write(res.to_dataset(), "simulate") if inp.out is not None else []
     elif inp.out is None:  # nothing to write: the same summary without building the Dataset
         paths: list[str] = []
@@ -116,15 +106,13 @@ def lyapunov(
     model = inp.model()
     scales = inp.scales()
     opts = inp.options(model.omega)
-    inp.exponents_computable(model, [model.omega])
+    validate.exponents_computable(model, [model.omega])
     nb = validate.integer("blocks", blocks, 2, validate.MAX_PERIODS)
     if opts.periods < nb:
         raise ModelError(
             f"periods: {opts.periods} periods cannot be cut into --blocks {nb} blocks; give at least "
             f"{nb} periods (or fewer blocks, >= 2)"
         )
-    from ..sweep.progress import task_progress
-
     if model.state_dim > 2 and not inp.json_out:  # a system: say what the full spectrum costs before it runs
         from ..backend import tangent_work
 
@@ -136,10 +124,10 @@ def lyapunov(
             "periods (simulate classifies with the leading one)",
             err=True,
         )
-    with task_progress("lyapunov", unit="periods", fmt=".0f", enabled=not inp.json_out) as bar:
+    with inp.progress("lyapunov", "periods") as bar:
         res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar)
     paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []
-    finish(_system(inp, model, physical_json(res.to_json(), model, scales)), paths, inp, render.lyapunov)
+    finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, render.lyapunov)
 
 
 @command("orbit", MODEL, STATE, integration(periods=None), OUTPUT)
@@ -155,9 +143,7 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
     opts = inp.options(model.omega, periods=1)
     n = validate.integer("period", period, 1, 1024)
     g = parse_guess(guess, model.state_dim)
-    from ..sweep.progress import task_progress
-
-    with task_progress("orbit", unit="periods", fmt=".0f", enabled=not inp.json_out and g is None) as bar:
+    with inp.progress("orbit", "periods", on=g is None) as bar:
         res = shoot(
             model,
             n,
@@ -171,7 +157,7 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
     paths: list[str] = []
     if inp.out is not None:
         paths = inp.write(add_physical(res.to_dataset(), scales), "orbit")
-    finish(_system(inp, model, physical_json(res.to_json(), model, scales)), paths, inp, render.orbit)
+    finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, render.orbit)
 
 
 CONTINUATION_RUN = integration(
@@ -246,11 +232,7 @@ def continuation(
         validate.positive("ds-max", ds_max)
     g = parse_guess(guess, model.state_dim)
     state0 = inp.state0()
-    from ..analysis.bifurcation import param_symbol
-    from ..sweep.progress import task_progress
-
-    sym = param_symbol(name)
-    with task_progress(f"continuation {sym}", unit=f"Δ{sym} traced", enabled=not inp.json_out) as bar:
+    with inp.progress("continuation", param=name) as bar:
         res = run_continuation(
             model,
             name,
@@ -298,7 +280,7 @@ def continuation(
             paths.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
         paths += [str(p) for p in save_figures(ds, figdir)]
     finish(
-        _system(inp, model, physical_json(res.to_json(), model, scales, param=name), result=res),
+        inp.system_summary(model, physical_json(res.to_json(), model, scales, param=name), result=res),
         paths,
         inp,
         render.continuation,

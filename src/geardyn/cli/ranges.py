@@ -3,12 +3,12 @@
 
 from __future__ import annotations
 
-from typing import Optional
+from typing import Any, Optional
 
 from ..errors import ModelError
 from .options import option
 
-__all__ = ["OMEGA_RANGE", "both_spellings"]
+__all__ = ["OMEGA_RANGE", "both_spellings", "omega_only"]
 
 #: The other spelling of a sweep over ω, accepted by the commands that take --param/--start/--stop.
 OMEGA_RANGE = [
@@ -60,3 +60,9 @@ def both_spellings(
         if canonical_param(param) != only:
             raise ModelError(f"param: this command sweeps {only} only, got {param!r}")
     return param, start, stop
+
+
+def omega_only(inp: Any) -> tuple[str | None, float | None, float | None]:
+    """:func:`both_spellings` of a command that sweeps or ramps ω only, from its inputs."""
+    v = inp.values
+    return both_spellings(v.get("param"), v.get("start"), v.get("stop"), inp.omega_start, inp.omega_stop, "omega")

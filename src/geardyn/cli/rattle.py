@@ -6,7 +6,6 @@ from typing import Annotated, Any
 
 import numpy as np
 import typer
-from rich.table import Table
 
 from ..errors import ModelError
 from .app import console
@@ -82,7 +81,6 @@ def rattle(
     from .. import validate
     from ..analysis.rattle import pair_of_system, rattle_map
     from ..analysis.rattle import rattle as run_rattle
-    from ..sweep.progress import task_progress
     from ..units import sweep_range
 
     system = inp.model()
@@ -125,7 +123,7 @@ def rattle(
         omegas = np.linspace(lo, hi, n)
         amps = smax * np.arange(1, ns + 1) / ns
         opts_map = inp.options(omegas=omegas / model.period_multiple())
-        with task_progress("rattle map", unit="points", fmt=".0f", enabled=not inp.json_out) as bar:
+        with inp.progress("rattle map", "points") as bar:
             ds = rattle_map(model, omegas, amps, opts_map, scales=scales, progress=bar)
         summary["map"] = {
             "omega": omegas.tolist(),
@@ -144,20 +142,16 @@ def rattle(
 def _show(s: dict[str, Any], paths: list[str]) -> None:
     from . import render
 
-    console.print(
+    render.plain(
         f"ω = {s['omega']:.6g}"
         + (f" ({s['rpm']:.6g} rpm)" if s.get("rpm") is not None else "")
-        + f", cycle = {s['cycle_mesh_periods']} mesh periods, {s['cycles']} cycles recorded: {s.get('regime')}",
-        markup=False,
-        highlight=False,
+        + f", cycle = {s['cycle_mesh_periods']} mesh periods, {s['cycles']} cycles recorded: {s.get('regime')}"
     )
     if s.get("status") != "ok":
-        console.print(f"status: {s.get('status')}", markup=False, highlight=False)
+        render.plain(f"status: {s.get('status')}")
         render.files(paths)
         return
-    t = Table(title="Rattle")
-    for col in ("flank", "impacts / cycle", "impact velocity mean", "max", "m/s max"):
-        t.add_column(col)
+    t = render.table("Rattle", "flank", "impacts / cycle", "impact velocity mean", "max", "m/s max")
     for name in ("drive", "back"):
         f = s["flanks"][name]
         t.add_row(
@@ -171,5 +165,5 @@ def _show(s: dict[str, Any], paths: list[str]) -> None:
     ri = f"rattle index (impact kinetic-energy loss per cycle): {s['rattle_index']:.4g} (k b_c²)"
     if s.get("rattle_index_J") is not None:
         ri += f" = {s['rattle_index_J']:.4g} J"
-    console.print(ri, markup=False, highlight=False)
+    render.plain(ri)
     render.files(paths)

@@ -104,7 +104,21 @@ def meshes(s: dict[str, Any]) -> None:
         t.add_row(h, *(_cell(m.get(k)) for m in rows))
     console.print(t)
     if s.get("note"):
-        console.print(f"note: {s['note']}", markup=False, highlight=False)
+        plain(f"note: {s['note']}")
+
+
+def table(title: str, *columns: str, **column: Any) -> Table:
+    """A table titled ``title`` with ``columns`` (each with the keywords ``column`` of ``Table.add_column``)."""
+    t = Table(title=title)
+    for c in columns:
+        t.add_column(c, **column)
+    return t
+
+
+def plain(*lines: str) -> None:
+    """Print each line as it is (no markup, no highlighting)."""
+    for line in lines:
+        console.print(line, markup=False, highlight=False)
 
 
 def files(paths: list[str]) -> None:
@@ -115,8 +129,7 @@ def files(paths: list[str]) -> None:
     paths : list of str
         The files written.
     """
-    for f in paths:
-        console.print(f"wrote {f}")
+    plain(*(f"wrote {f}" for f in paths))
 
 
 @_summary_doc
@@ -167,17 +180,21 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
             )
     console.print(t)
     if "pair" in s:
-        console.print(f"gear pair: {s['pair']}", markup=False, highlight=False)
-    for note in s.get("notes", []):  # a long forcing period's classification budget, its shortened history
-        console.print(f"note: {note}", markup=False, highlight=False)
+        plain(f"gear pair: {s['pair']}")
+    plain(*(f"note: {n}" for n in s.get("notes", [])))  # a long forcing period's classification budget, its history
     files(paths)
 
 
 def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> None:
     """The gear pair table of ``geardyn geometry`` with its assumed inputs and notes."""
-    t = Table(title=f"Gear pair geometry: {summary['title'] or summary['source']}")
-    for col in ("quantity", "value", "unit", "note"):
-        t.add_column(col, overflow="fold")
+    t = table(
+        f"Gear pair geometry: {summary['title'] or summary['source']}",
+        "quantity",
+        "value",
+        "unit",
+        "note",
+        overflow="fold",
+    )
     for q, v, u, note in rows:
         t.add_row(q, v, u, note, style="yellow" if note.startswith("assumed") else None)
     console.print(t)
@@ -185,9 +202,7 @@ def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> 
     for a in summary["assumptions"]:
         v = f"{a['value']:.6g}" if isinstance(a["value"], (int, float)) else str(a["value"])
         lines.append(f"assumed {a['name']} = {v}{' ' + a['unit'] if a['unit'] else ''}: {a['source']}")
-    lines += [f"note: {n}" for n in summary["notes"]]
-    for line in lines:
-        console.print(line, markup=False, highlight=False)
+    plain(*lines, *(f"note: {n}" for n in summary["notes"]))
 
 
 @_summary_doc
@@ -220,24 +235,19 @@ def orbit(s: dict[str, Any], paths: list[str]) -> None:
 def continuation(s: dict[str, Any], paths: list[str]) -> None:
     """Branches and bifurcations of a continuation."""
     p = s["param"]
-    t = Table(title=f"Branches in {p} from {s['start']:g} to {s['stop']:g}")
-    for col in ("branch", "period", "points", "from", "end"):
-        t.add_column(col)
+    t = table(f"Branches in {p} from {s['start']:g} to {s['stop']:g}", "branch", "period", "points", "from", "end")
     for b in s["branches"]:
         src = "" if b["from"] is None else f"{b['from']['type']} at {p} = {b['from'][p]:.6g}"
         t.add_row(str(b["branch"]), str(b["period"]), str(b["points"]), src, b["end"])
     console.print(t)
-    t = Table(title="Bifurcations")
-    for col in ("type", p, "period", "branch", "amplitude", "multipliers", "detail"):
-        t.add_column(col)
+    t = table("Bifurcations", "type", p, "period", "branch", "amplitude", "multipliers", "detail")
     for b in s["bifurcations"]:
         mus = ", ".join(f"{complex(*m):.4f}" for m in b["multipliers"])
         t.add_row(
             b["type"], f"{b[p]:.6f}", str(b["period"]), str(b["branch"]), f"{b['amplitude']:.4f}", mus, b["detail"]
         )
     console.print(t)
-    for note in s.get("notes", []):
-        console.print(f"note: {note}", markup=False, highlight=False)
+    plain(*(f"note: {n}" for n in s.get("notes", [])))
     files(paths)
 
 
@@ -272,9 +282,14 @@ def intervals(s: dict[str, Any], paths: list[str]) -> None:
         return f"{float(np.interp(w, s['values'], rpm)):.1f}"
 
     for lab, rows in groups.items():
-        t = Table(title=f"Motion over {s['param']} ({lab})")
-        for col in ("from", "to") + (("from (rpm)", "to (rpm)") if rpm else ()) + ("points", "motion"):
-            t.add_column(col)
+        t = table(
+            f"Motion over {s['param']} ({lab})",
+            "from",
+            "to",
+            *(("from (rpm)", "to (rpm)") if rpm else ()),
+            "points",
+            "motion",
+        )
         for r in rows:
             cells = [f"{r['from']:.6g}", f"{r['to']:.6g}"] + ([speed(r["from"]), speed(r["to"])] if rpm else [])
             t.add_row(*cells, str(r["points"]), r["motion"])
@@ -284,9 +299,7 @@ def intervals(s: dict[str, Any], paths: list[str]) -> None:
 
 def response(s: dict[str, Any], paths: list[str]) -> None:
     """Jumps and hysteresis intervals of a frequency response."""
-    t = Table(title="Jumps")
-    for col in ("sweep", "ω (midpoint)", "from → to", "direction", "size", "pinion speed (rpm)", "size (µm)"):
-        t.add_column(col)
+    t = table("Jumps", "sweep", "ω (midpoint)", "from → to", "direction", "size", "pinion speed (rpm)", "size (µm)")
     for j in s["jumps"]:
         t.add_row(
             j["sweep"],
@@ -300,15 +313,11 @@ def response(s: dict[str, Any], paths: list[str]) -> None:
     console.print(t)
     hy = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["hysteresis"]) or "none"
     hy_rpm = ", ".join(f"[{a:.1f}, {b:.1f}]" for a, b in s.get("hysteresis_rpm", [])) or "none"
-    console.print(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}", markup=False, highlight=False)
+    plain(f"hysteresis (coexisting attractors): ω {hy}; rpm {hy_rpm}")
     if s.get("coexistence"):
         co = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["coexistence"])
-        console.print(
-            f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}",
-            markup=False,
-            highlight=False,
-        )
-    console.print(f"gear pair: {s['physical']['pair']}", markup=False, highlight=False)
+        plain(f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}")
+    plain(f"gear pair: {s['physical']['pair']}")
     files(paths)
 
 
@@ -322,13 +331,12 @@ def parameter_map(s: dict[str, Any], paths: list[str]) -> None:
 def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
     """The attractors of a basin computation and their basin shares."""
     speed = f", {s['rpm']:.1f} rpm" if "rpm" in s else ""
-    t = Table(title=f"Attractors at ω = {s['omega']:g}{speed} ({n_u} × {n_v} initial states)")
-    for col in (
-        ("label", "motion", "basin share", "amplitude")
-        + (("amplitude (µm)",) if speed else ())
-        + ("Poincaré points (u, u')",)
-    ):
-        t.add_column(col)
+    t = table(
+        f"Attractors at ω = {s['omega']:g}{speed} ({n_u} × {n_v} initial states)",
+        *("label", "motion", "basin share", "amplitude"),
+        *(("amplitude (µm)",) if speed else ()),
+        "Poincaré points (u, u')",
+    )
     for a in s["attractors"]:
         pts = a["points"][:4]
         txt = "; ".join(f"({p[0]:.4f}, {p[1]:.4f})" for p in pts) + (" …" if len(a["points"]) > 4 else "")
@@ -361,11 +369,7 @@ def claims(res: dict[str, Any]) -> None:
     if run is not None:
         console.print(escape(run.provenance()), style="dim", highlight=False)
     more = "; verdicts may differ from the full run's" if run is not None and run.reduced else ""
-    console.print(
-        f"report (deciding evidence, readings, figures): {res['paths']['html']} ({res['seconds']:.1f} s{more})",
-        markup=False,
-        highlight=False,
-    )
+    plain(f"report (deciding evidence, readings, figures): {res['paths']['html']} ({res['seconds']:.1f} s{more})")
 
 
 def bench(res: dict[str, Any]) -> None:
@@ -377,6 +381,4 @@ def bench(res: dict[str, Any]) -> None:
         t.add_row(name, f"{r['wall_s']:.4f}", f"{r['steps']:,}", f"{r['ns_per_step']:.2f}")
     console.print(t)
     m = res["machine"]
-    console.print(
-        f"{m['cpu']}, {m['cores']} cores, load average {m.get('load_average', 'n/a')}", markup=False, highlight=False
-    )
+    plain(f"{m['cpu']}, {m['cores']} cores, load average {m.get('load_average', 'n/a')}")

@@ -25,7 +25,7 @@ from .options import (
     param_option,
     sweep_range,
 )
-from .ranges import OMEGA_RANGE, both_spellings
+from .ranges import OMEGA_RANGE, both_spellings, omega_only
 from .system_input import CoordsOpt
 
 ModeOpt = Annotated[
@@ -62,29 +62,18 @@ ChunkOpt = Annotated[
 ParamOpt = param_option("Swept parameter")
 
 
-def _settle(settle: int | None, model: Any) -> int:
-    """``--settle``: as given, else the classification's pass of the model's forcing period
-    (:func:`~geardyn.analysis.settle.classify_budget`: 1000 forcing periods of one mesh cycle, max(16, ⌈1000/P⌉) of
-    P > 1 mesh cycles)."""
+def _engine(inp: Inputs, stem: str, model: Any, settle: int | None, chunk_size: int | None = None) -> dict[str, Any]:
+    """The sweep's keywords: ``settle_periods`` of ``--settle`` (as given, else the classification's pass of the
+    model's forcing period, :func:`~geardyn.analysis.settle.classify_budget`: 1000 forcing periods of one mesh cycle,
+    max(16, ⌈1000/P⌉) of P > 1 mesh cycles), the engine's (:meth:`Inputs.engine`) and ``chunk_points`` if given."""
     from .. import validate
     from ..analysis.settle import classify_budget
 
-    return classify_budget(model)[0] if settle is None else validate.integer("settle", settle, 0, validate.MAX_PERIODS)
-
-
-def _sweep_json(
-    inp: Inputs, summary: dict[str, Any], ds: Any, stem: str, engine: dict[str, Any], show: Any, *extra: Any
-) -> None:
-    finish(summary, inp.write(ds, stem, engine), inp, show, *extra)
-
-
-def _system(inp: Inputs, model: Any, summary: dict[str, Any], ds: Any) -> dict[str, Any]:
-    """A system's summary with its ``meshes`` (:func:`geardyn.cli.system_input.mesh_summary`); the pair's as it is."""
-    if inp.system is None:
-        return summary
-    from .system_input import mesh_summary
-
-    return mesh_summary(model, summary, ds, state0=(inp.values.get("u0") or 0.0, inp.values.get("v0") or 0.0))
+    n = classify_budget(model)[0] if settle is None else validate.integer("settle", settle, 0, validate.MAX_PERIODS)
+    kw = {"settle_periods": n, **inp.engine(stem)}
+    if chunk_size is not None:
+        kw["chunk_points"] = validate.chunk_points(chunk_size)
+    return kw
 
 
 @command("bifurcation", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
@@ -117,7 +106,7 @@ def bifurcation(
     models = validate.grid(model, [(name, values)])
     opts = inp.options(omegas=[m.omega for m in models], points=len(models) * (2 if sweep == "both" else 1))
     if lyap:
-        inp.exponents_computable(model, [m.omega for m in models])
+        validate.exponents_computable(model, [m.omega for m in models])
     choice("mode", mode, MODES)
     choice("sweep", sweep, SWEEPS)
     if mode == "fixed" and sweep != "up":
@@ -125,8 +114,7 @@ def bifurcation(
             f"sweep: --sweep {sweep} applies to --mode continue; in fixed mode every point starts from "
             "(u0, v0), so the direction changes nothing"
         )
-    nset = _settle(settle, model)
-    engine = inp.engine("bifurcation")
+    engine = _engine(inp, "bifurcation", model, settle, chunk_size)
     ds = run_bifurcation(
         model,
         name,
@@ -136,13 +124,11 @@ def bifurcation(
         state0=inp.state0(),
         options=opts,
         lyapunov=lyap,
-        settle_periods=nset,
-        chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
         **engine,
     )
     ds = add_physical(ds, scales)
-    summary = _system(inp, model, physical_json(bifurcation_json(ds), model, scales, param=name), ds)
-    _sweep_json(inp, summary, ds, "bifurcation", engine, render.intervals)
+    summary = inp.system_summary(model, physical_json(bifurcation_json(ds), model, scales, param=name), ds)
+    finish(summary, inp.write(ds, "bifurcation", engine), inp, render.intervals)
 
 
 RESPONSE_RANGE = [
@@ -188,14 +174,7 @@ def response(
 
     model = inp.model()
     scales = inp.scales()
-    _, w0, w1 = both_spellings(
-        inp.values.get("param"),
-        inp.values.get("start"),
-        inp.values.get("stop"),
-        inp.omega_start,
-        inp.omega_stop,
-        "omega",
-    )
+    _, w0, w1 = omega_only(inp)
     omega_start, omega_stop = sweep_range(inp, w0, w1)
     if omega_start is None or omega_stop is None:
         raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
@@ -203,10 +182,9 @@ def response(
     opts = inp.options(omegas=values, points=2 * values.size)
     validate.grid(model, [("omega", values)])
     if lyap:
-        inp.exponents_computable(model, values)
+        validate.exponents_computable(model, values)
     choice("measure", measure, MEASURES)
-    nset = _settle(settle, model)
-    engine = inp.engine("response")
+    engine = _engine(inp, "response", model, settle)
     if choice("method", method, ("sweep", "hb")) == "hb":
         from ..analysis.hb import hb_response
 
@@ -237,7 +215,6 @@ def response(
             state0=inp.state0(),
             measure=measure,
             lyapunov=lyap,
-            settle_periods=nset,
             **engine,
         )
     ds = add_physical(ds, scales)
@@ -247,8 +224,8 @@ def response(
 
         ds, summary = attach_iso_kv(inp.pair().loaded, model, ds, summary)
     elif method == "sweep":
-        summary = _system(inp, model, summary, ds)
-    _sweep_json(inp, summary, ds, "response", engine, render.response)
+        summary = inp.system_summary(model, summary, ds)
+    finish(summary, inp.write(ds, "response", engine), inp, render.response)
 
 
 MAP_AXES = [
@@ -322,11 +299,10 @@ def parameter_map(
     axis_omegas = xv if xn == "omega" else yv if yn == "omega" else [model.omega]
     opts = inp.options(omegas=axis_omegas, points=xv.size * yv.size)
     if lyap:
-        inp.exponents_computable(model, axis_omegas)
+        validate.exponents_computable(model, axis_omegas)
     validate.grid(model, [(yn, yv), (xn, xv)], opts)
     choice("mode", mode, MODES)
-    nset = _settle(settle, model)
-    engine = inp.engine("map")
+    engine = _engine(inp, "map", model, settle, chunk_size)
     ds = run_map(
         model,
         xn,
@@ -337,12 +313,12 @@ def parameter_map(
         state0=inp.state0(),
         options=opts,
         lyapunov=lyap,
-        settle_periods=nset,
-        chunk_points=None if chunk_size is None else validate.chunk_points(chunk_size),
         **engine,
     )
     ds = add_physical(ds, scales, lazy=True)
-    summary = _system(inp, model, physical_json(map_json(ds), model, scales) if inp.json_out else _map_counts(ds), ds)
+    summary = inp.system_summary(
+        model, physical_json(map_json(ds), model, scales) if inp.json_out else _map_counts(ds), ds
+    )
     finish(summary, inp.write(ds, "map", engine, release=True), inp, render.parameter_map)
 
 
@@ -396,8 +372,7 @@ def basins(
     lo_v, hi_v = validate.number("v-min", v_min), validate.number("v-max", v_max)
     n_u, n_v = validate.integer("nu", nu, 1, 100_000), validate.integer("nv", nv, 1, 100_000)
     opts = inp.options(model.omega, points=n_u * n_v)
-    nset = _settle(settle, model)
-    engine = inp.engine("basins")
+    engine = _engine(inp, "basins", model, settle, chunk_size)
     c = None
     if inp.system is not None:  # a slice of two state coordinates (default the reference mesh's δ, δ')
         from .system_input import coordinates
@@ -415,10 +390,8 @@ def basins(
         n_v,
         coordinates=None if c is None else (c[0], c[1]),
         options=opts,
-        settle_periods=nset,
-        chunk_points=validate.chunk_points(chunk_size),
         **engine,
     )
     ds = add_physical(ds, scales)
-    summary = _system(inp, model, physical_json(basins_json(ds), model, scales), ds)
-    _sweep_json(inp, summary, ds, "basins", engine, render.basins, n_u, n_v)
+    summary = inp.system_summary(model, physical_json(basins_json(ds), model, scales), ds)
+    finish(summary, inp.write(ds, "basins", engine), inp, render.basins, n_u, n_v)

@@ -22,12 +22,13 @@ def _orders(text: str) -> tuple[int, ...]:
 
 
 def _render(summary: dict[str, Any], paths: list[str]) -> None:
-    from rich.console import Console
-    from rich.table import Table
 
-    t = Table(title=f"modes — {summary.get('title') or ''}")
-    for col in ("mode", "frequency (Hz)", "mesh-dominated", "largest strain energy"):
-        t.add_column(col)
+    from .render import console as c
+    from .render import files, plain, table
+
+    t = table(
+        f"modes — {summary.get('title') or ''}", "mode", "frequency (Hz)", "mesh-dominated", "largest strain energy"
+    )
     for m, e in zip(summary["modes"], summary["energy_fractions"]):
         top = max(e.items(), key=lambda kv: kv[1]) if e else ("—", 0.0)
         t.add_row(
@@ -36,7 +37,6 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
             "yes" if m["mesh_dominated"] else "no",
             "—" if m["rigid"] else f"{top[0]} {top[1]:.3f}",
         )
-    c = Console()
     c.print(t)
     if summary.get("degenerate"):
         c.print(
@@ -46,21 +46,17 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
         )
     camp = summary.get("campbell")
     if summary.get("campbell_note"):
-        c.print(summary["campbell_note"], markup=False, highlight=False)
+        plain(summary["campbell_note"])
     if camp and camp.get("gyroscopic"):
-        c.print(
+        plain(
             "gyroscopic terms on: the table gives the modes at standstill; the Campbell diagram solves them at "
-            "each speed (branches, forward and backward whirl)",
-            markup=False,
-            highlight=False,
+            "each speed (branches, forward and backward whirl)"
         )
     if camp and camp["crossings"]:
         rpm = camp["x"] == "rpm"
         gyro = bool(camp.get("gyroscopic"))
-        x = Table(title="Campbell crossings")
         cols = ["pinion speed (rpm)" if rpm else "mesh frequency (Hz)", "frequency (Hz)", "modes", "line"]
-        for col in cols + (["whirl"] if gyro else []):
-            x.add_column(col)
+        x = table("Campbell crossings", *cols, *(["whirl"] if gyro else []))
         for cr in camp["crossings"]:
             row = [
                 f"{cr['x']:.6g}",
@@ -70,8 +66,7 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
             ]
             x.add_row(*(row + ([cr["whirl"]] if gyro else [])))
         c.print(x)
-    for p in paths:
-        c.print(f"wrote {p}", markup=False, highlight=False)
+    files(paths)
 
 
 @command("modes", OUTPUT)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Annotated, Optional
@@ -11,7 +10,7 @@ import typer
 
 from ..errors import GeardynError
 from . import render
-from .app import console, emit_json, err_console, fail
+from .app import emit_json, err_console, fail
 from .options import CONFIG, FIGURE_OPTIONS, OUTPUT, RPM, TORQUE, Inputs, command, option
 
 JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
@@ -85,8 +84,7 @@ def plot_cmd(
     if inp.json_out:
         emit_json({"kind": ds.attrs.get("geardyn_kind"), "files": files})
         return
-    for f in files:
-        console.print(f"wrote {f}", markup=False, highlight=False)
+    render.files(files)
 
 
 #: Largest attribute of a result file drawn by ``plot`` (characters of a string, elements of an array).
@@ -170,15 +168,12 @@ def reproduce(
 def _typed_options() -> set[str]:
     """The parameters of the running command given on its command line (not left at their defaults); every
     parameter when that cannot be told."""
-    try:
-        import typer
+    from .options import click_context
 
-        core = sys.modules[typer.BadParameter.__module__.rsplit(".", 1)[0] + ".core"]
-        globs = sys.modules[typer.BadParameter.__module__.rsplit(".", 1)[0] + ".globals"]
-        ctx = globs.get_current_context()
-        return {n for n in ctx.params if ctx.get_parameter_source(n) == core.ParameterSource.COMMANDLINE}
-    except (KeyError, AttributeError, RuntimeError):
+    ctx, source = click_context()
+    if ctx is None:
         return {"out", "workers"}
+    return {n for n in ctx.params if ctx.get_parameter_source(n) == source.COMMANDLINE}
 
 
 #: Most timed runs of ``bench`` per workload (each workload takes about a second).
@@ -203,9 +198,7 @@ def bench(
     if threads is not None:
         validate.integer("threads", threads, 1, validate.MAX_WORKERS)
     validate.integer("repeats", repeats, 1, MAX_REPEATS)
-    from ..sweep.progress import task_progress
-
-    with task_progress("bench", unit="runs", fmt=".0f", enabled=not inp.json_out) as bar:
+    with inp.progress("bench", "runs") as bar:
         res = run_benchmarks(names, threads=threads, repeats=repeats, progress=bar)
     if inp.json_out:
         emit_json(res)

@@ -250,13 +250,12 @@ def lockstep_chunk(
             pm = point_models(base, full, np.column_stack([pts, np.full(R, omegas[i])]))
             res = integrate_batch(pm, state, options)
             summ = summarize_batch(res)
-            out["amplitude"][:, s, i] = summ["amplitude"]
-            out["u_min"][:, s, i] = summ["u_min"]
-            out["period"][:, s, i] = summ["period"]
+            for k in ("amplitude", "u_min", "period"):
+                out[k][:, s, i] = summ[k]
             pc = res.poincare
             out["spread"][:, s, i] = [section_spread(pc[r]) for r in range(R)]
             state = res.end_state.copy()
-    return {k: v.reshape(R, -1) if k != "period" else v.reshape(R, -1) for k, v in out.items()}
+    return {k: v.reshape(R, -1) for k, v in out.items()}
 
 
 def lockstep_responses(

@@ -13,7 +13,7 @@ from types import MappingProxyType
 
 from ..model import PAPER_DEFAULTS, GearModel
 
-__all__ = ["TABLE1", "TABLE1_MODEL", "table1_config"]
+__all__ = ["TABLE1", "TABLE1_MODEL"]
 
 #: The non-dimensional model of Table 1 (ω = 1, the paper gives none).
 TABLE1_MODEL: GearModel = PAPER_DEFAULTS
@@ -29,16 +29,3 @@ TABLE1: Mapping[str, float] = MappingProxyType(
         "D": TABLE1_MODEL.D,
     }
 )
-
-
-def table1_config():
-    """The packaged configuration of the Table 1 gear pair (a traversable file).
-
-    Returns
-    -------
-    importlib.resources.abc.Traversable
-        ``geardyn/data/paper_table1.toml``; read it with :func:`geardyn.config.load_config`.
-    """
-    from ..config import PAPER_CONFIG, packaged_config_path
-
-    return packaged_config_path(PAPER_CONFIG)

@@ -183,21 +183,12 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
         k = 2
     for s in sweeps:
         if axes[k] is not None:
-            category_band(
-                axes[k],
-                x,
-                ds["motion"].sel(sweep=s).values,
-                MOTION_COLORS,
-                MOTION_LABELS,
-                f"motion ({s})" if len(sweeps) > 1 else "motion",
-            )
-            category_band(
-                axes[k + 1],
-                x,
-                ds["impact"].sel(sweep=s).values,
-                IMPACT_COLORS,
-                IMPACT_LABELS,
-                f"impact ({s})" if len(sweeps) > 1 else "impact",
-            )
+            for a, var, colors, names in (
+                (axes[k], "motion", MOTION_COLORS, MOTION_LABELS),
+                (axes[k + 1], "impact", IMPACT_COLORS, IMPACT_LABELS),
+            ):
+                category_band(
+                    a, x, ds[var].sel(sweep=s).values, colors, names, f"{var} ({s})" if len(sweeps) > 1 else var
+                )
         k += 2
     [a for a in axes if a is not None][-1].set_xlabel(label(ds[name], name))

@@ -12,7 +12,6 @@ from __future__ import annotations
 import functools
 import inspect
 import io as _io
-import json
 import math
 import sys
 import textwrap
@@ -31,7 +30,7 @@ from matplotlib.figure import Figure
 from .._docfill import RESULT, parameters
 from ..errors import GeardynError, PlotError
 from ..params import FAMILIES, LISTING_ORDER, canonical_param, slot
-from .mesh_names import MESH_VARIABLES, mesh_labels, of_mesh, reference_mesh, system_info
+from .mesh_names import MESH_VARIABLES, json_attr, mesh_labels, of_mesh, reference_mesh, system_info
 
 __all__ = [
     "DPI",
@@ -171,12 +170,6 @@ def panels(ax: Any, n: int, figsize: tuple[float, float], **subplots: Any) -> tu
     return axes[0].figure, axes, False
 
 
-def one_axes(ax: Any, figsize: tuple[float, float]) -> tuple[Figure, Axes, bool]:
-    """(figure, Axes, new) of a one-panel figure: ``ax`` itself, or a new figure of ``figsize``."""
-    fig, axes, new = panels(ax, 1, figsize)
-    return fig, axes[0], new  # type: ignore[return-value]
-
-
 def snapshot(axes: Sequence[Axes | None]) -> dict[int, set[Artist]]:
     """The children of each Axes now, to find later what a function added (see :func:`result`)."""
     return {id(a): set(a.get_children()) for a in axes if a is not None}
@@ -258,10 +251,7 @@ def model_of(ds: xr.Dataset) -> dict:
     dict
         ``GearModel.to_dict()`` of the result's model, or ``{}``.
     """
-    try:
-        return dict(json.loads(ds.attrs["model"]))
-    except (KeyError, ValueError, TypeError):
-        return {}
+    return json_attr(ds, "model")
 
 
 def symbol(name: str) -> str:
@@ -451,14 +441,8 @@ def rpm_axis(ax: Axes, ds: xr.Dataset, param: str) -> Any:
 def speed_text(ds: xr.Dataset) -> str:
     """``" (2400 rpm)"`` for a result at one ω with a physical gear pair, else ``""``."""
     scale = rpm_per_omega(ds)
-    model = ds.attrs.get("model")
-    if not scale or not model:
-        return ""
-    try:
-        omega = float(json.loads(model)["omega"])
-    except (ValueError, KeyError, TypeError):
-        return ""
-    return f" ({omega * scale:.0f} rpm)"
+    omega = model_of(ds).get("omega")
+    return f" ({float(omega) * scale:.0f} rpm)" if scale and isinstance(omega, (int, float)) else ""
 
 
 # ------------------------------------------------------------------------------------ drawing
@@ -542,6 +526,32 @@ def log_stems(ax: Axes, x: np.ndarray, amp: np.ndarray) -> None:
         ax.vlines(f[shown], floor, a[shown], color="C0", lw=1.0, gid="spectrum")
         ax.plot(f[shown], a[shown], "o", color="C0", ms=3, gid="spectrum-peaks")
     ax.set_ylim(floor, top * 2)
+
+
+def branch_lines(
+    ax: Axes,
+    x: np.ndarray,
+    ys: list[np.ndarray],
+    stable: np.ndarray,
+    name: str,
+    seen: set[str],
+    widths=(1.7, 1.2),
+    **style,
+) -> None:
+    """A branch of periodic solutions: stable runs solid, unstable dashed (runs overlap by one point so the line is
+    unbroken), labelled ``name`` + "stable" / "unstable" once per Axes (``seen`` holds the labels given)."""
+    i0 = 0
+    for i in range(1, stable.size + 1):
+        if i < stable.size and stable[i] == stable[i0]:
+            continue
+        st = bool(stable[i0])
+        j = slice(i0, min(i, x.size - 1) + 1)
+        lab = name + ("stable" if st else "unstable")
+        for y in ys:
+            kw = {"lw": widths[0] if st else widths[1], **style}
+            ax.plot(x[j], y[j], ls="-" if st else "--", label=None if lab in seen else lab, **kw)
+            seen.add(lab)
+        i0 = i
 
 
 def _renderer(fig: Figure) -> Any:

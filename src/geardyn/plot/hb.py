@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import PlotArtists, label, mesh_labels, of_mesh, panels, result, snapshot
+from .common import branch_lines, label, of_mesh, plot_function
 
 __all__ = ["HB_STYLE", "SHOOTING_CONTEXT", "SHOOTING_STYLE", "hb_figure"]
 
@@ -27,37 +27,6 @@ EVENT_MARKERS = {
     "neimark-sacker": ("D", "C4"),
     "grazing": ("^", "0.3"),
 }
-
-
-def _runs(mask: np.ndarray) -> list[tuple[int, int, bool]]:
-    """Contiguous runs (first, last index, value) of a boolean array."""
-    out, i0 = [], 0
-    for i in range(1, mask.size + 1):
-        if i == mask.size or mask[i] != mask[i0]:
-            out.append((i0, i - 1, bool(mask[i0])))
-            i0 = i
-    return out
-
-
-def _branch(
-    ax, x: np.ndarray, ys: list[np.ndarray], stable: np.ndarray, name: str, style: dict, seen: set[str]
-) -> None:
-    """One branch: stable runs solid, unstable dashed (runs overlap by one point so the line is unbroken)."""
-    for i0, i1, st in _runs(stable):
-        j1 = min(i1 + 1, x.size - 1)
-        lab = f"{name}, {'stable' if st else 'unstable'}"
-        for y in ys:
-            kw = dict(style)
-            kw.setdefault("lw", 1.7 if st else 1.2)
-            ax.plot(
-                x[i0 : j1 + 1],
-                y[i0 : j1 + 1],
-                ls="-" if st else "--",
-                label=None if lab in seen else lab,
-                zorder=3 if name.startswith("HB") else 2,
-                **kw,
-            )
-            seen.add(lab)
 
 
 def _events(ax, bifs: list[dict], param: str, what: str, seen: set[str]) -> None:
@@ -98,34 +67,31 @@ def _shooting_curves(shooting: xr.Dataset, ds: xr.Dataset, param: str) -> dict[s
     }
 
 
-def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None) -> PlotArtists:
-    """An HB branch (stable solid, unstable dashed) with its bifurcations, over the shooting branch when given.
-    Top: amplitude (u_max − u_min)/2; bottom: u_min and u_max with ±D.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        An ``hb`` result (:meth:`geardyn.analysis.hb.HBContinuation.to_dataset`).
-    shooting : xarray.Dataset, optional
-        A ``continuation`` result of the same parameter (shooting), or a ``system_continuation`` one for a
-        system's branch (drawn at its reference mesh); default the one attached to ``ds`` under
-        :data:`SHOOTING_CONTEXT`, if any.
-    ax : matplotlib.axes.Axes or sequence of two Axes, optional
-        One Axes: the amplitude panel only; two: amplitude and extremes; omitted: a new figure.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
+@plot_function(
+    "hb",
+    (10, 8),
+    n=2,
+    subplots={"sharex": True},
+    tight=True,
+    params="""
+               shooting : xarray.Dataset, optional
+                   A ``continuation`` result of the same parameter (shooting), or a ``system_continuation`` one for a
+                   system's branch (drawn at its reference mesh); default the one attached to ``ds`` under
+                   :data:`SHOOTING_CONTEXT`, if any.""",
+    ax_doc="""
+               ax : matplotlib.axes.Axes or sequence of two Axes, optional
+                   One Axes: the amplitude panel only; two: amplitude and extremes; omitted: a new figure.""",
+)
+def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None) -> None:
+    """An HB branch (stable solid, unstable dashed) with its bifurcations, over the shooting branch when given
+    (:meth:`geardyn.analysis.hb.HBContinuation.to_dataset`).  Top: amplitude (u_max − u_min)/2; bottom: u_min and
+    u_max with ±D."""
     if shooting is None:
         shooting = attached(ds, SHOOTING_CONTEXT)
-    ds = mesh_labels(ds)  # a system's labels name its reference mesh
+    axes = ax
     param = str(ds.attrs["param"])
     model = json.loads(ds.attrs["model"])
     D = float(model.get("D", 0.0))
-    fig, axes, new = panels(ax, 2, (10, 8), sharex=True)
-    before = snapshot(axes)
     x = ds[param].values
     ok = ds["status"].values == 0
     stable = ds["stable"].values.astype(bool) & ok
@@ -141,9 +107,9 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
             for b in np.unique(sc["branch"]):
                 sel = sc["branch"] == b
                 ys = [sc["amplitude"][sel]] if what == "amplitude" else [sc["u_min"][sel], sc["u_max"][sel]]
-                _branch(a, sc["x"][sel], ys, sst[sel], "shooting", SHOOTING_STYLE, seen)
+                branch_lines(a, sc["x"][sel], ys, sst[sel], "shooting, ", seen, zorder=2, **SHOOTING_STYLE)
         ys = [ds["amplitude"].values] if what == "amplitude" else [ds["u_min"].values, ds["u_max"].values]
-        _branch(a, x, ys, stable, f"HB (H = {H})", HB_STYLE, seen)
+        branch_lines(a, x, ys, stable, f"HB (H = {H}), ", seen, zorder=3, **HB_STYLE)
         if np.any(~ok):
             for y in ys:
                 a.plot(
@@ -170,6 +136,3 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
     fixed = ", ".join(f"{k} = {model[k]:g}" for k in ("xi0", "fp", "D") if k != param and k in model)
     over = " over the shooting branch" if shooting is not None else ""
     axes[0].set_title(f"Harmonic balance in {param}, period {n} ({fixed}){over}")
-    if new:
-        fig.tight_layout()
-    return result(fig, axes, before)

@@ -31,8 +31,13 @@ def system_info(ds: xr.Dataset) -> dict:
     -------
     dict
     """
+    return json_attr(ds, "system")
+
+
+def json_attr(ds: xr.Dataset, name: str) -> dict:
+    """The JSON object of attribute ``name`` of a result, ``{}`` when it has none (or not an object)."""
     try:
-        return dict(json.loads(ds.attrs["system"]))
+        return dict(json.loads(ds.attrs[name]))
     except (KeyError, ValueError, TypeError):
         return {}
 

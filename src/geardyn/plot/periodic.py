@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import contact_lines, label, model_of, plot_function, rpm_axis, set_title, symbol
+from .common import branch_lines, contact_lines, label, model_of, plot_function, rpm_axis, set_title, symbol
 
 __all__ = [
     "BIFURCATION_STYLE",
@@ -116,19 +116,6 @@ def _multipliers(ax, ds: xr.Dataset, summary: dict) -> None:
 
 
 # ------------------------------------------------------------------------------ continuation
-def _runs(mask: np.ndarray) -> list[tuple[int, int, bool]]:
-    """Contiguous runs (i0, i1 inclusive, value) of a boolean array."""
-    out = []
-    if mask.size == 0:
-        return out
-    i0 = 0
-    for i in range(1, mask.size + 1):
-        if i == mask.size or mask[i] != mask[i0]:
-            out.append((i0, i - 1, bool(mask[i0])))
-            i0 = i
-    return out
-
-
 def _draw_branches(ax, ds: xr.Dataset, param: str, what: str) -> None:
     """Branches of a continuation Dataset, stable solid and unstable dashed (runs overlap by one point)."""
     x_all = ds[param].values
@@ -142,20 +129,7 @@ def _draw_branches(ax, ds: xr.Dataset, param: str, what: str) -> None:
             ys = [ds["amplitude"].values[sel]]
         else:
             ys = [ds["poincare_u"].values[sel, k] for k in range(n)]
-        for i0, i1, st in _runs(stable):
-            j1 = min(i1 + 1, len(sel) - 1)
-            lab = f"period-{n} {'stable' if st else 'unstable'}"
-            for y in ys:
-                ax.plot(
-                    x[i0 : j1 + 1],
-                    y[i0 : j1 + 1],
-                    ls="-" if st else "--",
-                    lw=1.6 if st else 1.1,
-                    color=_colour(n),
-                    label=None if lab in seen_labels else lab,
-                    zorder=3,
-                )
-                seen_labels.add(lab)
+        branch_lines(ax, x, ys, stable, f"period-{n} ", seen_labels, (1.6, 1.1), color=_colour(n), zorder=3)
 
 
 def _draw_sweep(ax, sweep: xr.Dataset, param: str, what: str) -> None:
@@ -251,32 +225,29 @@ def _stability_gaps(ax, om: np.ndarray, kinds: np.ndarray, crit: np.ndarray, xi0
     low = f"{float(xi0_low):g}" if xi0_low is not None else "the end of the scan"
     stable = (kinds == "stable") & ~np.isfinite(crit)
     undecided = ~np.isfinite(crit) & ~stable
-    if stable.any():
-        ax.plot(
-            om[stable],
-            np.full(stable.sum(), 0.03),
-            ls="none",
-            marker="v",
-            color="0.45",
-            mfc="none",
-            clip_on=False,
-            transform=ax.get_xaxis_transform(),
-            gid="gap",
-            label=f"gap: full model stays stable down to ξ0 = {low} (no boundary above it)",
-        )
-    if undecided.any():
-        why = sorted({str(k) for k in kinds[undecided] if str(k)}) or ["not computed"]
-        ax.plot(
-            om[undecided],
-            np.full(undecided.sum(), 0.03),
-            ls="none",
-            marker="x",
-            color="k",
-            clip_on=False,
-            transform=ax.get_xaxis_transform(),
-            gid="gap",
-            label="gap: stability not decided (" + "; ".join(why) + ")",
-        )
+    why = sorted({str(k) for k in kinds[undecided] if str(k)}) or ["not computed"]
+    for sel, style in (
+        (
+            stable,
+            dict(
+                marker="v",
+                color="0.45",
+                mfc="none",
+                label=f"gap: full model stays stable down to ξ0 = {low} (no boundary above it)",
+            ),
+        ),
+        (undecided, dict(marker="x", color="k", label="gap: stability not decided (" + "; ".join(why) + ")")),
+    ):
+        if sel.any():
+            ax.plot(
+                om[sel],
+                np.full(sel.sum(), 0.03),
+                ls="none",
+                clip_on=False,
+                transform=ax.get_xaxis_transform(),
+                gid="gap",
+                **style,
+            )
 
 
 @plot_function("stability_comparison", (8, 5.5), tight=True)

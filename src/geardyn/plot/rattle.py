@@ -44,11 +44,7 @@ def rattle_history(ds: xr.Dataset, ax: Axes = None) -> None:
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=4, fontsize=8, frameon=False)
 
 
-def _panels(ds: xr.Dataset) -> int:
-    return 3
-
-
-@plot_function("rattle_map", (13, 4.2), n=_panels, subplots={"nrows": 1, "ncols": 3}, tight=True)
+@plot_function("rattle_map", (13, 4.2), n=3, subplots={"nrows": 1, "ncols": 3}, tight=True)
 def rattle_map_figure(ds: xr.Dataset, ax: list = None) -> None:
     """The rattle map: the rattle index (impact kinetic-energy loss per cycle), the drive- and back-flank impacts
     per cycle over the speed (rpm when known, else ω) and the scale of the torque orders' amplitude."""

@@ -17,7 +17,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import xarray as xr
 
 from .._docfill import RESULT, attributes, parameters
@@ -71,10 +70,6 @@ class FigureSpec:
         return self.draw(ds, ax=ax, **dict(self.kwargs))
 
 
-def _lle_computed(ds: xr.Dataset) -> bool:
-    return "lle" in ds and bool(np.any(np.isfinite(ds["lle"].values)))
-
-
 def _orbit_converged(ds: xr.Dataset) -> bool:
     return bool(json.loads(ds.attrs.get("summary", "{}")).get("converged", True))
 
@@ -95,7 +90,7 @@ FIGURES: dict[str, tuple[FigureSpec, ...]] = {
         FigureSpec("map_motion", maps.motion_map),
         FigureSpec("map_impact", maps.impact_map),
         FigureSpec("map_amplitude", maps.continuous_map, kwargs={"var": "amplitude"}),
-        FigureSpec("map_lle", maps.continuous_map, when=_lle_computed, kwargs={"var": "lle"}),
+        FigureSpec("map_lle", maps.continuous_map, when=bifurcation._has_lle, kwargs={"var": "lle"}),
     ),
     "basins": (FigureSpec("basins", basins.basin_figure),),
     "orbit": (FigureSpec("orbit", periodic.orbit_figure, when=_orbit_converged),),

@@ -307,9 +307,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
             target.plot(
                 w,
                 down,
-                ls=st["ls"],
-                marker=st["marker"],
-                color=st["color"],
+                **st,
                 ms=7,
                 lw=0.7,
                 mfc="none",
@@ -320,9 +318,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
             target.plot(
                 w,
                 up,
-                ls=st["ls"],
-                marker=st["marker"],
-                color=st["color"],
+                **st,
                 ms=3.5,
                 lw=1.4,
                 markevery=every if full else None,
@@ -334,9 +330,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
             fl_ax.plot(
                 w,
                 ds["fluctuation"].values[i],
-                ls=st["ls"],
-                marker=st["marker"],
-                color=st["color"],
+                **st,
                 ms=3.5,
                 lw=1.2,
                 markevery=every,

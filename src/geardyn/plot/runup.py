@@ -87,18 +87,16 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         a.plot(x, y, "k-", lw=1.5, label=what)
         if qs is not None:
             for lab, marker, colour in (("up", "^", "C0"), ("down", "v", "C3")):
-                if lab in qs:
-                    key = var if var in qs[lab] else None
-                    if key is not None:
-                        a.plot(
-                            qs["x"],
-                            [np.nan if v is None else v for v in qs[lab][key]],
-                            marker=marker,
-                            ls="none",
-                            color=colour,
-                            ms=4,
-                            label=f"steady response, sweep {lab}",
-                        )
+                if var in qs.get(lab, ()):
+                    a.plot(
+                        qs["x"],
+                        np.array(qs[lab][var], dtype=float),  # None: nan
+                        marker=marker,
+                        ls="none",
+                        color=colour,
+                        ms=4,
+                        label=f"steady response, sweep {lab}",
+                    )
         a.set_ylabel(ylab)
         a.grid(True, alpha=0.3)
         a.legend(fontsize=7, loc="upper left")

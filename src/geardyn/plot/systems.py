@@ -10,13 +10,11 @@ amplitude of each mesh along a sweep — each drawn when the Dataset holds it, a
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import label, of_mesh, plot_function, rpm_axis, symbol
+from .common import label, of_mesh, plot_function, rpm_axis, symbol, system_info
 
 __all__ = [
     "element_deflections",
@@ -29,20 +27,13 @@ __all__ = [
 ]
 
 
-def _sysinfo(ds: xr.Dataset) -> dict:
-    try:
-        return json.loads(ds.attrs.get("system", "{}"))
-    except ValueError:
-        return {}
-
-
 def _finish(ax: Axes, ds: xr.Dataset, text: str, xlabel: str, ylabel: str, legend: dict | None = None) -> None:
     """Axis labels, the legend (with these options, if any) and the title ``text`` over the system's title."""
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     if legend is not None:
         ax.legend(**legend)
-    sub = _sysinfo(ds).get("title") or ""
+    sub = system_info(ds).get("title") or ""
     ax.set_title(f"{text}\n{sub}" if sub else text, fontsize=9)
 
 
@@ -100,7 +91,7 @@ def mesh_amplitudes(ds: xr.Dataset, ax: Axes = None) -> None:
     if "mesh_amplitude" in ds:  # a system_* file of an earlier version
         names, amp = ds["mesh"].values, ds["mesh_amplitude"]
     else:
-        kinds = {e["name"]: e["kind"] for e in _sysinfo(ds).get("elements", [])}
+        kinds = {e["name"]: e["kind"] for e in system_info(ds).get("elements", [])}
         names = [str(n) for n in ds["element"].values if kinds.get(str(n), "mesh") == "mesh"]
         amp = 0.5 * (ds["element_u_max"] - ds["element_u_min"]).sel(element=names)
     for e, name in enumerate(names):

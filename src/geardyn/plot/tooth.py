@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .common import PlotArtists, one_axes, panels, result, snapshot
+from .common import PlotArtists, panels, plot_function, result, snapshot
 
 __all__ = [
     "compliance_figure",
@@ -80,33 +80,20 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     return result(fig, axes, before)
 
 
-def compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """A healthy pair's compliances by term (per unit face width) along the path of contact.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``stiffness`` result.
-    ax : Axes or sequence of Axes, optional
-        Where to draw (as many Axes as panels); a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, a, _ = one_axes(ax, (7.5, 4.5))
-    before = snapshot([a])
+@plot_function("stiffness", (7.5, 4.5))
+def compliance_figure(ds: xr.Dataset, ax: Any = None) -> None:
+    """A healthy pair's compliances by term (per unit face width) along the path of contact."""
+    a = ax
     x = ds["path"].values
-    for k, c in (("hertz", "C0"), ("bending", "C1"), ("shear", "C2"), ("axial", "C4"), ("fillet", "C3")):
+    terms = {"hertz": "C0", "bending": "C1", "shear": "C2", "axial": "C4", "fillet": "C3"}
+    for k, c in terms.items():
         a.plot(x, ds[f"compliance_{k}"], color=c, lw=1.2, label=k)
-    total = sum(ds[f"compliance_{k}"].values for k in ("hertz", "bending", "shear", "axial", "fillet"))
+    total = sum(ds[f"compliance_{k}"].values for k in terms)
     a.plot(x, total, "k-", lw=1.8, label="total (1/single-pair stiffness per width)")
     a.set_xlabel("contact position from A [base pitches]")
     a.set_ylabel("compliance per unit width [mm·µm/N]")
     a.set_title("one tooth pair: potential-energy terms (pinion + wheel)", fontsize=10)
     a.legend(fontsize=8)
-    return result(fig, [a], before)
 
 
 def _runs(ds: xr.Dataset) -> list[tuple[str, dict]]:
@@ -144,19 +131,15 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
             m = k * z1
             a.axvline(m, color="C3", lw=0.8, alpha=0.6)
             a.text(m, top * 1.5, f"{k}× mesh", color="C3", fontsize=7, ha="center")
-            for j in (1, 2):
-                for sgn in (-1, 1):
-                    o = m + sgn * j
-                    i = int(np.argmin(np.abs(order - o)))
-                    a.plot(order[i], max(amp[i], 1e-12), "v", color="C0", ms=4)
+            # the pinion's shaft-order sidebands ±1, ±2 and the wheel's ±z1/z2
+            for o, mk, c in [(m + s * j, "v", "C0") for j in (1, 2) for s in (-1, 1)] + [
+                (m + s * z1 / z2, "^", "C2") for s in (-1, 1)
+            ]:
+                i = int(np.argmin(np.abs(order - o)))
+                a.plot(order[i], max(amp[i], 1e-12), mk, color=c, ms=4)
             if k == 1:  # one label per side, under the axis top, clear of the mesh label and of each other
                 a.text(m - 1.5, top * 0.35, "−1 −2", color="C0", fontsize=7, ha="right")
                 a.text(m + 1.5, top * 0.35, "+1 +2", color="C0", fontsize=7, ha="left")
-            for j in (1,):
-                for sgn in (-1, 1):
-                    o = m + sgn * j * z1 / z2
-                    i = int(np.argmin(np.abs(order - o)))
-                    a.plot(order[i], max(amp[i], 1e-12), "^", color="C2", ms=4)
         ind = s["indicators"]["pinion"]
         a.set_title(
             f"{name}: order spectrum (▼ pinion shaft-order sidebands ±1, ±2; ▲ wheel ±{z1}/{z2}); "
@@ -227,35 +210,28 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     return result(fig, axes, before)
 
 
-def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Condition indicators of pinion and wheel against the fault size.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``signature_sweep`` result.
-    ax : Axes or sequence of Axes, optional
-        Where to draw (as many Axes as panels); a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
+@plot_function(
+    "signature_sweep",
+    (9.0, 10.0),
+    n=8,
+    subplots={"nrows": 4, "ncols": 2, "sharex": True},
+    ax_doc="""
+               ax : Axes or sequence of Axes, optional
+                   Where to draw (as many Axes as panels); a new figure if omitted.""",
+)
+def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> None:
+    """Condition indicators of pinion and wheel against the fault size."""
     names = ("kurtosis", "fm4", "na4", "m6a", "fm0", "energy_ratio", "sideband_level", "crest_factor")
-    fig, axes, _ = panels(ax, len(names), (9.0, 10.0), nrows=4, ncols=2, sharex=True)
-    before = snapshot(axes)
     x = ds["size"].values
-    for a, n in zip(axes, names):
+    for a, n in zip(ax, names):
         if a is None:
             continue
         for sh, mk in (("pinion", "o-"), ("wheel", "s--")):
             a.plot(x, ds[n].sel(shaft=sh), mk, ms=4, label=sh)
         a.set_ylabel(n)
         a.legend(fontsize=7)
-    for a in [a for a in axes if a is not None][-2:]:
+    for a in [a for a in ax if a is not None][-2:]:
         a.set_xlabel(ds["size"].attrs.get("long_name", "fault size"))
-    return result(fig, axes, before)
 
 
 def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
@@ -292,23 +268,10 @@ def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     return result(fig, axes, before)
 
 
-def fe_crack_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Compliance of the cracked pinion tooth over the healthy one along its contact, geardyn against FE.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``tooth_fe`` result.
-    ax : Axes, optional
-        Where to draw; a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, a, _ = one_axes(ax, (7.5, 4.5))
-    before = snapshot([a])
+@plot_function("tooth_fe", (7.5, 4.5))
+def fe_crack_figure(ds: xr.Dataset, ax: Any = None) -> None:
+    """Compliance of the cracked pinion tooth over the healthy one along its contact, geardyn against FE."""
+    a = ax
     x = ds["point"].values + 1
     for i, c in enumerate(ds["crack"].values):
         a.plot(x, ds["crack_ratio_geardyn"].sel(crack=c), "-o", color=f"C{i}", ms=3, label=f"{c} geardyn")
@@ -317,4 +280,3 @@ def fe_crack_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     a.set_ylabel("compliance, cracked / healthy")
     a.set_title("root crack at the fillet's 30° point: potential energy against finite elements", fontsize=9)
     a.legend(fontsize=6, ncol=2)
-    return result(fig, [a], before)

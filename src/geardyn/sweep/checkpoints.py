@@ -25,7 +25,7 @@ import queue
 import sys
 import threading
 import zipfile
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -321,13 +321,14 @@ class CheckpointStore:
         SweepError
             See :func:`prepare_checkpoint`.
         """
-        done = prepare_checkpoint(self.directory, chunks, self.resume)
-        out: dict[int, dict[str, np.ndarray]] = {}
-        for i in sorted(done):
+        return dict(self.finished(chunks))
+
+    def finished(self, chunks: Sequence[Any]) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+        """:meth:`open`, one finished chunk at a time: (index, result) of each readable one, in index order."""
+        for i in sorted(prepare_checkpoint(self.directory, chunks, self.resume)):
             r = _load_chunk(self.directory, i)
             if r is not None:
-                out[i] = r
-        return out
+                yield i, r
 
     def save(self, index: int, result: dict[str, np.ndarray]) -> None:
         """Write one finished chunk durably.

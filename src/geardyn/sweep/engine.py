@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -12,7 +12,7 @@ from ..errors import SweepError, SweepFailed, SweepInterrupted  # noqa: F401  (r
 from ..grid import Grid
 from ..grid import chunked as _chunked
 from ..model import GearModel, IntegrationOptions, ModelError
-from .checkpoints import CheckpointStore, _load_chunk, prepare_checkpoint
+from .checkpoints import CheckpointStore
 from .executors import SchedulerLost, run_on_dask, run_on_executor, run_on_pool, run_on_threads
 from .options import SweepOptions
 from .progress import Progress, print_summary
@@ -164,14 +164,6 @@ def concat_results(results: Sequence[dict[str, np.ndarray]]) -> dict[str, np.nda
     return {k: np.concatenate([r[k] for r in results], axis=0) for k in keys}
 
 
-def _finished_chunks(store: CheckpointStore, chunks: Sequence[Chunk]) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
-    """Prepare the checkpoint of ``chunks``; yield (index, result) of each readable finished chunk, one at a time."""
-    for i in sorted(prepare_checkpoint(store.directory, chunks, store.resume)):
-        r = _load_chunk(store.directory, i)
-        if r is not None:
-            yield i, r
-
-
 def run_chunks(
     chunks: Sequence[Chunk],
     engine: SweepOptions | None = None,
@@ -248,7 +240,7 @@ def run_chunks(
             statuses.append({"status": np.asarray(r["status"], dtype=np.int8)})  # small codes, 1 byte a point
 
     if store is not None:
-        for i, r in _finished_chunks(store, chunks):
+        for i, r in store.finished(chunks):
             accept(i, r)
     todo = [c for c in chunks if c.index not in done]
     bar = Progress.for_chunks(chunks, done, description) if opts.progress else None

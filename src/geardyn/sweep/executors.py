@@ -272,7 +272,7 @@ def run_on_executor(executor: Executor, todo: Sequence, finished: Finished) -> N
     finished : callable
         ``finished(chunk, result)`` for each result.
     """
-    if _is_dask_executor(executor):
+    if type(executor).__module__.startswith("distributed."):  # a Dask executor
         _run_dask_policy(executor, todo, finished, address=None)
         return
     drain(executor, submit_all(executor, todo), finished)
@@ -528,10 +528,6 @@ def _pool_thread_quiet() -> Iterator[None]:
 
 
 # ------------------------------------------------------------------------------ Dask
-def _is_dask_executor(executor: Executor) -> bool:
-    return type(executor).__module__.startswith("distributed.")
-
-
 def _dask_client(address: str):
     try:
         from distributed import Client

@@ -267,8 +267,7 @@ class _DelayedBar(ABC):
                     if task.finished_time is None or task.start_time is None
                     else (task.start_time + task.finished_time)
                 )
-                sec = max(0, int(end - t0))
-                return Text(f"{sec // 3600}:{sec // 60 % 60:02d}:{sec % 60:02d}", style="progress.elapsed")
+                return Text(_clock(end - t0), style="progress.elapsed")
 
         return Elapsed()
 

@@ -58,6 +58,10 @@ a slit in a 2-D model (docs/excitation.md): the strip's factors alone give 0.66-
 reduction at 25 % depth, the FE's energy release rate under a load at the tip running 1.45 times the strip's
 over the first eighth of h_c, 1.2 times over the second and equal to it from about 40 %; with the notch,
 1.04-1.09 of the FE's at 25 % and 50 %.
+Section laws without the fracture term miss the local flexibility at the crack's tip: the one below gives
+0.59-0.65 of the FE's reduction at 25 % and 0.76-0.77 at 50 %; a limiting line from the crack's tip to the
+loaded flank at the tooth's tip (Mohammed, Rantatalo & Aidanpää 2013) 1.16-1.19 and 0.86-0.87, falling
+with depth against the FE's (2.2 at 12.5 %, 0.80 at 75 %).
 
 ``crack_model="section"`` is the section law after Wu, Zuo & Parey (2008), J. Sound Vib. 317, 608-624,
 and Chen & Shao (2011), Eng. Fail. Anal. 18, 2149-2164: the crack makes the band h_q < x < h_c

@@ -36,7 +36,7 @@ from ..secant import illinois_on_chord
 from .branch import Bifurcation, Branch
 from .floquet import REAL_MULTIPLIER_TOL
 from .map import MapEvaluation, PeriodMap
-from .orbit import PeriodicOrbit, _hermite_extrema, _map_extrema, _minimal_period, elastic_basis
+from .orbit import PeriodicOrbit, _map_extrema, _minimal_period, _trajectory_extrema, elastic_basis
 
 __all__ = ["continue_branch", "element_extrema", "MAX_BRANCH_POINTS", "DS_MAX", "DS_INIT", "DS_MIN"]
 
@@ -75,38 +75,6 @@ NOISE_PARAM_REL = 1.0e-3
 MERGE_STEP_FACTOR = 10.0
 
 
-@dataclass
-class _Eval:
-    """One evaluation of P^n at (x, p) with N steps per period."""
-
-    p: float
-    e: MapEvaluation
-
-    @property
-    def x(self) -> np.ndarray:
-        return self.e.x
-
-    @property
-    def points(self) -> np.ndarray:
-        return self.e.points
-
-    @property
-    def M(self) -> np.ndarray:
-        return self.e.monodromy
-
-    @property
-    def ok(self) -> bool:
-        return self.e.ok
-
-    @property
-    def N(self) -> int:
-        return self.e.steps
-
-    @property
-    def G(self) -> np.ndarray:
-        return self.e.residual
-
-
 class _Family:
     """The maps P^n(·; p) of one branch in its parameter (the fixed-point problem P^n(x; p) = x)."""
 
@@ -131,6 +99,11 @@ class _Family:
         U = self.elastic_basis
         return M if U is None else U.T @ M @ U
 
+    def multipliers(self, M: np.ndarray) -> np.ndarray:
+        """The multipliers of the elastic monodromy, largest modulus first."""
+        mu = np.linalg.eigvals(self.elastic(M))
+        return mu[np.argsort(-np.abs(mu), kind="stable")]
+
     def gaps_at(self, p: float) -> list[float]:
         """The half gaps of the elements at parameter p."""
         return [e.gap for e in self.model_at(p).elements]
@@ -151,8 +124,8 @@ class _Family:
         """ceil(T/Δτ) at parameter p."""
         return self.map_at(p).natural_steps
 
-    def evaluate(self, x: np.ndarray, p: float, N: int) -> _Eval:
-        return _Eval(p, self.map_at(p).with_steps(N).evaluate(x))
+    def evaluate(self, x: np.ndarray, p: float, N: int) -> MapEvaluation:
+        return self.map_at(p).with_steps(N).evaluate(x)
 
     def dG_dp(self, x: np.ndarray, p: float, N: int) -> np.ndarray | None:
         """∂P^n/∂p at fixed x and fixed N (None where it cannot be formed)."""
@@ -180,12 +153,7 @@ def element_extrema(pmap: PeriodMap, x: np.ndarray) -> np.ndarray:
     m = pmap.model
     if len(m.elements) == 1:
         return np.array([_map_extrema(pmap, x)])
-    tr = pmap.trajectory(x)
-    out = np.full((len(m.elements), 2), np.nan)
-    if np.all(np.isfinite(tr.x)):
-        for e in range(out.shape[0]):
-            out[e] = _hermite_extrema(tr.deltas[:, e, 0], tr.deltas[:, e, 1], pmap.step)
-    return out
+    return _trajectory_extrema(pmap.trajectory(x), len(m.elements), pmap.step)
 
 
 def _axis(dim: int) -> np.ndarray:
@@ -198,8 +166,8 @@ def _axis(dim: int) -> np.ndarray:
 @dataclass
 class _Point:
     y: np.ndarray  # (x, p/ps): the parameter scaled by the continuation's parameter scale ps
-    ev: _Eval
-    Gq: np.ndarray  # ∂P^n/∂(p/ps)
+    ev: MapEvaluation
+    p: float
     tangent: np.ndarray
     ext: np.ndarray  # (elements, 2): the extremes of every element's δ
     ref: int
@@ -214,12 +182,8 @@ class _Point:
         return float(self.ext[self.ref, 1])
 
     @property
-    def p(self) -> float:
-        return float(self.ev.p)
-
-    @property
     def M(self) -> np.ndarray:
-        return self.ev.M
+        return self.ev.monodromy
 
 
 def _null_vector(Ja: np.ndarray) -> np.ndarray:
@@ -261,17 +225,19 @@ class _Continuer:
         self.on_point: Callable[[float], None] | None = None  # told the parameter of every new branch point
 
     # -------------------------------------------------------------- building blocks
-    def _finish_point(self, ev: _Eval, Gq: np.ndarray, t_ref: np.ndarray | None, iters: int) -> _Point:
+    def _finish_point(
+        self, ev: MapEvaluation, p: float, Gq: np.ndarray, t_ref: np.ndarray | None, iters: int
+    ) -> _Point:
         prob = self.prob
-        J = np.hstack([ev.M - np.eye(prob.dim), Gq[:, None]])
+        J = np.hstack([ev.monodromy - np.eye(prob.dim), Gq[:, None]])
         if prob.gauge.shape[0]:
             J = np.vstack([J, prob.gauge])
         t = _null_vector(J)
         if t_ref is not None and float(t @ t_ref) < 0:
             t = -t
-        ext = prob.extrema(ev.x, ev.p, ev.N)
-        y = np.append(ev.x, ev.p / self.ps)
-        return _Point(y, ev, Gq, t, ext, prob.reference, iters)
+        ext = prob.extrema(ev.x, p, ev.steps)
+        y = np.append(ev.x, p / self.ps)
+        return _Point(y, ev, p, t, ext, prob.reference, iters)
 
     def correct(
         self, y0: np.ndarray, normal: np.ndarray, t_ref: np.ndarray | None, N: int | None = None
@@ -292,13 +258,13 @@ class _Continuer:
                 ev = prob.evaluate(y[:-1], p, N)
                 if not ev.ok:
                     return None
-                G = ev.G
+                G = ev.residual
                 r = float(np.linalg.norm(G))
                 if r <= CORRECTOR_TOL * (1.0 + float(np.linalg.norm(y[:-1]))) and last_dy <= CORRECTOR_STEP_TOL:
                     Gp = prob.dG_dp(y[:-1], p, N)
                     if Gp is None:
                         return None
-                    return self._finish_point(ev, Gp * ps, t_ref, it)
+                    return self._finish_point(ev, p, Gp * ps, t_ref, it)
                 if it == CORRECTOR_MAX_ITER:
                     return None
                 if Gq is None:
@@ -308,7 +274,7 @@ class _Continuer:
                     Gq = Gp * ps
                 d = prob.dim
                 J = np.zeros((d + 1, d + 1))
-                J[:d, :d] = ev.M - np.eye(d)
+                J[:d, :d] = ev.monodromy - np.eye(d)
                 J[:d, d] = Gq
                 J[d, :] = normal
                 F = np.concatenate([G, [float(normal @ (y - y0))]])
@@ -332,15 +298,19 @@ class _Continuer:
     def correct_natural(self, pt: _Point, t_ref: np.ndarray | None) -> _Point:
         """Re-solve at the N that belongs to the converged parameter (only changes anything for ω)."""
         N = self.prob.steps(pt.p)
-        if N == pt.ev.N:
+        if N == pt.ev.steps:
             return pt
         again = self.correct(pt.y, pt.tangent, t_ref, N)
         return again if again is not None else pt
 
-    def at_parameter(self, y_guess: np.ndarray, p: float, t_ref: np.ndarray | None) -> _Point | None:
-        """The branch point with the parameter exactly p (natural step count), from a nearby guess."""
-        y0 = np.append(y_guess[:-1], p / self.ps)
-        return self.correct(y0, _axis(self.prob.dim), t_ref, self.prob.steps(p))
+    def land(self, a: _Point, y: np.ndarray, p: float, hi: float) -> _Point | None:
+        """The branch point on the bound of the interval (the upper one when p > hi) that the step from a to
+        (y, p) crosses, exactly at the bound's parameter (natural step count), from the interpolated guess."""
+        bound = self.hi if p > hi else self.lo
+        frac = (bound - a.p) / (p - a.p) if p != a.p else 1.0
+        y0 = a.y + frac * (y - a.y)
+        y0[-1] = bound / self.ps
+        return self.correct(y0, _axis(self.prob.dim), a.tangent, self.prob.steps(bound))
 
     # -------------------------------------------------------------- test functions
     def _separation(self, pt: _Point) -> np.ndarray | None:
@@ -397,10 +367,10 @@ class _Continuer:
         fa, fb = self._test_at(name, a, d), self._test_at(name, b, d)
 
         def trial(s: float, lo: float, hi: float) -> tuple[float, _Point, float] | None:
-            pt = self.correct(a.y + s * d, e, a.tangent, a.ev.N)
+            pt = self.correct(a.y + s * d, e, a.tangent, a.ev.steps)
             if pt is None:  # fall back to bisection
                 s = 0.5 * (lo + hi)
-                pt = self.correct(a.y + s * d, e, a.tangent, a.ev.N)
+                pt = self.correct(a.y + s * d, e, a.tangent, a.ev.steps)
                 if pt is None:
                     return None
             return s, pt, self._test_at(name, pt, d)
@@ -440,8 +410,7 @@ class _Continuer:
         ):
             fa, fb = ta["merge"], tb["merge"]
             sig = fa / (fa - fb)
-            mu = np.linalg.eigvals(self.prob.elastic(a.M + sig * (b.M - a.M)))
-            mu = mu[np.argsort(-np.abs(mu), kind="stable")]
+            mu = self.prob.multipliers(a.M + sig * (b.M - a.M))
             s_merge = sig * float(np.linalg.norm(d))
             x_m = a.ev.x + sig * (b.ev.x - a.ev.x)
             events.append(
@@ -495,8 +464,7 @@ class _Continuer:
                 pt, ok = self.locate_event(a, b, key)
             else:
                 pt, ok = (a if abs(ta[key]) <= abs(tb[key]) else b), False
-            mu = np.linalg.eigvals(self.prob.elastic(pt.M))
-            mu = mu[np.argsort(-np.abs(mu), kind="stable")]
+            mu = self.prob.multipliers(pt.M)
             if typ == "neimark-sacker" and np.all(np.abs(mu.imag) <= REAL_MULTIPLIER_TOL * np.abs(mu)):
                 continue  # a real pair with product 1 (neutral saddle), not a bifurcation
             if typ == "fold":
@@ -521,8 +489,8 @@ class _Continuer:
                         pt.u_max,
                         detail,
                         ok,
-                        bool(np.max(np.abs(np.linalg.eigvals(self.prob.elastic(a.M)))) < 1.0),
-                        bool(np.max(np.abs(np.linalg.eigvals(self.prob.elastic(b.M)))) < 1.0),
+                        bool(abs(self.prob.multipliers(a.M)[0]) < 1.0),
+                        bool(abs(self.prob.multipliers(b.M)[0]) < 1.0),
                         key,
                     ),
                     pt,
@@ -558,9 +526,7 @@ class _Continuer:
                 if (p_pred < lo or p_pred > hi) and abs(float(a.tangent[-1])) >= DIRECT_LANDING_MIN_TP:
                     # the step would leave the interval (perhaps where the model is not defined, such as
                     # D < 0) while the branch runs mainly along the parameter: land on the bound directly
-                    bound = self.hi if p_pred > hi else self.lo
-                    frac = (bound - a.p) / (p_pred - a.p) if p_pred != a.p else 1.0
-                    landed = self.at_parameter(a.y + frac * (y_pred - a.y), bound, a.tangent)
+                    landed = self.land(a, y_pred, p_pred, hi)
                     if landed is not None and float(landed.tangent @ a.tangent) >= self.cos_max_turn:
                         new = landed
                         at_bound = True
@@ -580,13 +546,7 @@ class _Continuer:
             p = new.p
             outside = at_bound or p < lo or p > hi
             if outside and not at_bound:
-                bound = self.hi if p > hi else self.lo
-                # interpolate to the bound along the step and land on it exactly
-                frac = (bound - a.p) / (p - a.p) if p != a.p else 1.0
-                guess = a.y + frac * (new.y - a.y)
-                landed = self.at_parameter(guess, bound, a.tangent)
-                if landed is not None:
-                    new = landed
+                new = self.land(a, new.y, p, hi) or new  # interpolated to the bound and landed on it exactly
             if outside:
                 end = "reached the end of the parameter interval"
             if self.detect:
@@ -617,29 +577,6 @@ class _Continuer:
             elif new.iters >= SLOW_CORRECTOR_ITERS:
                 ds = max(ds * DS_SHRINK, self.ds_min)
         return pts, bifs, end
-
-
-def _make_branch(
-    index: int, prob: _Family, pts: list[_Point], end: str, origin: Bifurcation | None, bifs: list[Bifurcation]
-) -> Branch:
-    n = prob.n
-    return Branch(
-        index=index,
-        param=prob.param,
-        n=n,
-        values=np.array([q.p for q in pts]),
-        states=np.array([q.y[:-1] for q in pts]),
-        points=np.array([np.vstack([q.y[None, :-1], q.ev.points[:-1]]) for q in pts]).reshape(len(pts), n, prob.dim),
-        monodromy=np.array([q.M for q in pts]),
-        u_min=np.array([q.u_min for q in pts]),
-        u_max=np.array([q.u_max for q in pts]),
-        steps=np.array([q.ev.N for q in pts], dtype=np.int64),
-        end=end,
-        origin=origin,
-        bifurcations=bifs,
-        elastic=prob.elastic_basis,
-        extrema=np.array([q.ext for q in pts]).reshape(len(pts), len(prob.names), 2),
-    )
 
 
 def continue_branch(
@@ -737,7 +674,25 @@ def continue_branch(
         progress(total, total)
     if not prob.accurate:
         bifs = _drop_discretization_noise(bifs, span)
-    return _make_branch(index, prob, pts, end, origin, bifs)
+    return Branch(
+        index=index,
+        param=prob.param,
+        n=prob.n,
+        values=np.array([q.p for q in pts]),
+        states=np.array([q.y[:-1] for q in pts]),
+        points=np.array([np.vstack([q.y[None, :-1], q.ev.points[:-1]]) for q in pts]).reshape(
+            len(pts), prob.n, prob.dim
+        ),
+        monodromy=np.array([q.M for q in pts]),
+        u_min=np.array([q.u_min for q in pts]),
+        u_max=np.array([q.u_max for q in pts]),
+        steps=np.array([q.ev.steps for q in pts], dtype=np.int64),
+        end=end,
+        origin=origin,
+        bifurcations=bifs,
+        elastic=prob.elastic_basis,
+        extrema=np.array([q.ext for q in pts]).reshape(len(pts), len(prob.names), 2),
+    )
 
 
 def _span_reporter(progress: Callable[[float, float], None], p0: float, stop: float) -> Callable[[float], None]:

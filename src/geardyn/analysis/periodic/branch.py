@@ -7,6 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from .floquet import pairs
+
 __all__ = ["Bifurcation", "Branch", "BIFURCATION_TYPES"]
 
 #: Bifurcation (event) types reported by :func:`~geardyn.analysis.periodic.continuation`.
@@ -86,7 +88,7 @@ class Bifurcation:
             "amplitude": float(self.amplitude),
             "u_min": float(self.u_min),
             "u_max": float(self.u_max),
-            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
+            "multipliers": pairs(self.multipliers),
             "detail": self.detail,
             "located": bool(self.located),
         }

@@ -20,6 +20,7 @@ from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, ca
 from ...status import Status
 from .arclength import MAX_BRANCH_POINTS, continue_branch, element_extrema
 from .branch import Bifurcation, Branch
+from .floquet import pairs
 from .map import PeriodMap
 from .orbit import (
     GUESS_TRANSIENT,
@@ -92,16 +93,12 @@ def switch_at_period_doubling(
     e = e / np.linalg.norm(e)
     delta = SWITCH_PARAM_REL * abs(stop - start)
     lo, hi = min(start, stop), max(start, stop)
-    sides = []
+    first = 1.0
     if bif.stable_before is not None and bif.stable_after is not None and bif.stable_before != bif.stable_after:
         # the side where the period-n orbit is unstable first
-        direction = 1.0 if stop >= start else -1.0
-        unstable_dir = direction if bif.stable_before else -direction
-        sides = [unstable_dir, -unstable_dir]
-    else:
-        sides = [1.0, -1.0]
+        first = (1.0 if stop >= start else -1.0) * (1.0 if bif.stable_before else -1.0)
     scale = 1.0 + float(np.linalg.norm(bif.state))
-    for sgn in sides:
+    for sgn in (first, -first):
         p = bif.value + sgn * delta
         if not (lo - 1e-12 <= p <= hi + 1e-12):
             continue
@@ -176,7 +173,7 @@ class ContinuationResult:
                         self.param: float(br.values[i]),
                         "amplitude": float(br.amplitude[i]),
                         "stable": bool(st[i]),
-                        "multipliers": [[float(m.real), float(m.imag)] for m in mu[i]],
+                        "multipliers": pairs(mu[i]),
                         "period": int(br.n),
                         "branch": int(br.index),
                         "state": [float(s) for s in br.states[i]],
@@ -470,7 +467,9 @@ def continuation(
                     direction=away,
                     progress=span_done.branch(),
                 )
-                nb = _prepend_source(nb, b, model, dtau, accurate)
+                # the period-doubling point (the period-n orbit traversed twice) at the head of the switched
+                # branch, so that the period-2n branch is drawn from where it is born
+                _add_point(nb, b, model, dtau, accurate, end=False)
                 nb = _append_merge(nb, br, model, dtau, accurate, span)
                 branches.append(nb)
                 seen.append((2 * br.n, b.value, b.state.copy()))
@@ -520,42 +519,34 @@ def _append_merge(br: Branch, parent: Branch, model: GearModel, dtau: float, acc
     if abs(pd.value - mb.value) > SAME_EVENT_PARAM_REL * span + 1e-12:
         return br
     mb.value, mb.state, mb.u_min, mb.u_max, mb.located = pd.value, pd.state.copy(), pd.u_min, pd.u_max, pd.located
-    pmap = PeriodMap(model.with_param(br.param, pd.value), br.n, dtau=dtau, accurate=accurate)
-    ev = pmap.evaluate(pd.state)
-    if not ev.ok:
-        return br
-    pts, M = ev.points, ev.monodromy
-    Uc = br.elastic
-    mb.multipliers = np.sort_complex(np.linalg.eigvals(M if Uc is None else Uc.T @ M @ Uc))[::-1]
-    sec = np.vstack([pd.state[None, :], pts[:-1]])
-    br.values = np.concatenate([br.values, [pd.value]])
-    br.states = np.vstack([br.states, pd.state[None, :]])
-    br.points = np.concatenate([br.points, sec[None]])
-    br.monodromy = np.concatenate([br.monodromy, M[None]])
-    br.u_min = np.concatenate([br.u_min, [pd.u_min]])
-    br.u_max = np.concatenate([br.u_max, [pd.u_max]])
-    br.steps = np.concatenate([br.steps, [pmap.steps]])
-    if br.extrema is not None:
-        br.extrema = np.concatenate([br.extrema, element_extrema(pmap, pd.state)[None]])
+    M = _add_point(br, pd, model, dtau, accurate, end=True)
+    if M is not None:
+        Uc = br.elastic
+        mb.multipliers = np.sort_complex(np.linalg.eigvals(M if Uc is None else Uc.T @ M @ Uc))[::-1]
     return br
 
 
-def _prepend_source(br: Branch, src: Bifurcation, model: GearModel, dtau: float, accurate: bool) -> Branch:
-    """Put the period-doubling point (the period-n orbit traversed twice) at the head of a switched branch,
-    so that the period-2n branch is drawn from where it is born."""
-    pmap = PeriodMap(model.with_param(br.param, src.value), br.n, dtau=dtau, accurate=accurate)
-    ev = pmap.evaluate(src.state)
+def _add_point(
+    br: Branch, b: Bifurcation, model: GearModel, dtau: float, accurate: bool, end: bool
+) -> np.ndarray | None:
+    """Add the orbit at an event (its value and state) to the branch's end (or head); its monodromy (None, and
+    nothing added, where the map fails there)."""
+    pmap = PeriodMap(model.with_param(br.param, b.value), br.n, dtau=dtau, accurate=accurate)
+    ev = pmap.evaluate(b.state)
     if not ev.ok:
-        return br
-    pts, M = ev.points, ev.monodromy
-    sec = np.vstack([src.state[None, :], pts[:-1]])
-    br.values = np.concatenate([[src.value], br.values])
-    br.states = np.vstack([src.state[None, :], br.states])
-    br.points = np.concatenate([sec[None], br.points])
-    br.monodromy = np.concatenate([M[None], br.monodromy])
-    br.u_min = np.concatenate([[src.u_min], br.u_min])
-    br.u_max = np.concatenate([[src.u_max], br.u_max])
-    br.steps = np.concatenate([[pmap.steps], br.steps])
+        return None
+    new = {
+        "values": [b.value],
+        "states": b.state[None, :],
+        "points": np.vstack([b.state[None, :], ev.points[:-1]])[None],
+        "monodromy": ev.monodromy[None],
+        "u_min": [b.u_min],
+        "u_max": [b.u_max],
+        "steps": [pmap.steps],
+    }
     if br.extrema is not None:
-        br.extrema = np.concatenate([element_extrema(pmap, src.state)[None], br.extrema])
-    return br
+        new["extrema"] = element_extrema(pmap, b.state)[None]
+    for k, v in new.items():
+        old = getattr(br, k)
+        setattr(br, k, np.concatenate([old, v] if end else [v, old]))
+    return ev.monodromy

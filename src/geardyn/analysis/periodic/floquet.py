@@ -72,7 +72,12 @@ class Floquet:
 
     def pairs(self) -> list[list[float]]:
         """Multipliers as [[re, im], ...] (the JSON form)."""
-        return [[float(m.real), float(m.imag)] for m in self.multipliers]
+        return pairs(self.multipliers)
+
+
+def pairs(mu: np.ndarray) -> list[list[float]]:
+    """Complex multipliers as JSON pairs [re, im]."""
+    return [[float(m.real), float(m.imag)] for m in mu]
 
 
 def floquet(monodromy: np.ndarray, n: int, period: float) -> Floquet:

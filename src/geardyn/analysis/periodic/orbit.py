@@ -21,7 +21,7 @@ from ...labels import IMPACT_LABELS, impact_state
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError
 from ...status import Status
 from ...system import require_periodic
-from .floquet import Floquet, floquet
+from .floquet import Floquet, floquet, pairs
 from .map import MAP_THREADS, MapEvaluation, PeriodMap
 
 __all__ = [
@@ -84,15 +84,12 @@ def _hermite_extrema(u: np.ndarray, v: np.ndarray, h: float) -> tuple[float, flo
         A = 6 * a0 + 3 * b0 - 6 * a1 + 3 * b1
         B = -6 * a0 - 4 * b0 + 6 * a1 - 2 * b1
         C = b0
-        xs = []
         with np.errstate(divide="ignore", invalid="ignore"):
             disc = np.sqrt(np.maximum(B * B - 4 * A * C, 0.0))
             quad = np.abs(A) > 1e-14 * (np.abs(B) + np.abs(C) + 1e-300)
             r1 = np.where(quad, (-B + disc) / (2 * A), -C / B)
             r2 = np.where(quad, (-B - disc) / (2 * A), -C / B)
         for r in (r1, r2):
-            xs.append(r)
-        for r in xs:
             ok = np.isfinite(r) & (r >= 0.0) & (r <= 1.0)
             if not np.any(ok):
                 continue
@@ -154,8 +151,14 @@ def orbit_extrema(
     return _map_extrema(PeriodMap(model, n, dtau=dtau, accurate=accurate, steps=steps), state)
 
 
-def _impact_label(u_min: float, D: float) -> str:
-    return IMPACT_LABELS[impact_state(u_min, D)]
+def _trajectory_extrema(tr: Any, elements: int, h: float) -> np.ndarray:
+    """(elements, 2): every element's extremes of δ along a trajectory of step h (Hermite-refined; NaN if it
+    diverged)."""
+    out = np.full((elements, 2), np.nan)
+    if np.all(np.isfinite(tr.x)):
+        for e in range(elements):
+            out[e] = _hermite_extrema(tr.deltas[:, e, 0], tr.deltas[:, e, 1], h)
+    return out
 
 
 def elastic_basis(model: Any) -> np.ndarray | None:
@@ -204,11 +207,14 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
     """
     Uc = elastic_basis(model)
     M = np.asarray(monodromy, float)
-    if Uc is None or not np.all(np.isfinite(M)):
-        mu = np.linalg.eigvals(M) if np.all(np.isfinite(M)) else np.full(M.shape[0], np.nan + 0j)
-        return mu[np.argsort(-np.abs(mu), kind="stable")], 0
-    mu = np.linalg.eigvals(Uc.T @ M @ Uc)
-    return mu[np.argsort(-np.abs(mu), kind="stable")], (M.shape[0] - Uc.shape[1]) // 2
+    r = 0
+    if not np.all(np.isfinite(M)):
+        mu = np.full(M.shape[0], np.nan + 0j)
+    elif Uc is None:
+        mu = np.linalg.eigvals(M)
+    else:
+        mu, r = np.linalg.eigvals(Uc.T @ M @ Uc), (M.shape[0] - Uc.shape[1]) // 2
+    return mu[np.argsort(-np.abs(mu), kind="stable")], r
 
 
 def _minimal_period(points: np.ndarray, n: int) -> int:
@@ -337,7 +343,7 @@ class PeriodicOrbit:
     def impact(self) -> str:
         """Impact state from u_min (``no impact``, ``single-sided``, ``double-sided``, ...)."""
         m = self.model
-        return _impact_label(self.u_min, m.elements[m.reference].gap)
+        return IMPACT_LABELS[impact_state(self.u_min, m.elements[m.reference].gap)]
 
     def history(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(τ, u, u') at every step over the n periods of the orbit, starting at ``state``."""
@@ -360,7 +366,7 @@ class PeriodicOrbit:
             "multipliers": fl.pairs(),
             "multiplier_moduli": [float(abs(m)) for m in fl.multipliers],
             "floquet_exponents": [num(e) for e in fl.exponents],
-            "elastic_multipliers": [[float(m.real), float(m.imag)] for m in mu],
+            "elastic_multipliers": pairs(mu),
             "rigid_body_modes": r,
             "rigid_body_note": (
                 f"{2 * r} multipliers equal to 1 belong to the {r} rigid-body mode(s) "
@@ -683,10 +689,7 @@ def _orbit_from_eval(
     pts = np.vstack([ev.x[None, :], ev.points[:-1]])
     m = pmap.model
     tr = pmap.trajectory(ev.x)
-    ext = np.full((len(m.elements), 2), np.nan)
-    if np.all(np.isfinite(tr.x)):
-        for e in range(ext.shape[0]):
-            ext[e] = _hermite_extrema(tr.deltas[:, e, 0], tr.deltas[:, e, 1], pmap.step)
+    ext = _trajectory_extrema(tr, len(m.elements), pmap.step)
     umin, umax = (float(ext[m.reference, 0]), float(ext[m.reference, 1]))
     extra = m.report(tau=tr.tau, deltas=tr.deltas, extrema=ext)
     return PeriodicOrbit(

@@ -262,7 +262,7 @@ def compare_stability_condition(
     nl = stability_boundary(model, om, xi0_high=xi0_high, xi0_low=xi0_low, dtau=dtau)
     lin = mathieu_boundary(model, om, dtau=dtau)
     paper = paper_stability_damping(model.get("kappa1"))
-    ds = nl.rename({"xi0_critical": "xi0_critical", "bifurcation_type": "bifurcation_type"})
+    ds = nl
     ds["xi0_critical_linear"] = ("omega", lin["xi0_critical"].values)
     ds["xi0_paper"] = xr.DataArray(paper)
 
@@ -275,9 +275,7 @@ def compare_stability_condition(
     mx, wmx = argmax(nl["xi0_critical"].values)
     ml, wml = argmax(lin["xi0_critical"].values)
     ds.attrs["xi0_paper"] = str(paper)
-    ds.attrs["max_xi0_critical"] = "null" if mx is None else str(mx)
-    ds.attrs["max_xi0_critical_at_omega"] = "null" if wmx is None else str(wmx)
-    ds.attrs["max_xi0_critical_linear"] = "null" if ml is None else str(ml)
-    ds.attrs["max_xi0_critical_linear_at_omega"] = "null" if wml is None else str(wml)
+    for key, v in (("", mx), ("_at_omega", wmx), ("_linear", ml), ("_linear_at_omega", wml)):
+        ds.attrs["max_xi0_critical" + key] = "null" if v is None else str(v)
     ds.attrs["geardyn_kind"] = "stability_comparison"
     return annotate(ds, names=["xi0_critical_linear", "xi0_paper"])

@@ -20,10 +20,6 @@ from .readings import lle_sign_holds
 __all__ = ["study_backlash"]
 
 
-def _sign_ok(word: str, lle: float, err: float) -> bool:
-    return lle_sign_holds(word, lle, err)
-
-
 def study_backlash(ctx: Context) -> Section:
     """Table 3 (motion and exponent sign at three backlash values), BL-IMPACT and BL-AMP.
 
@@ -78,7 +74,7 @@ def study_backlash(ctx: Context) -> Section:
             ]
         )
         ok_state = preds[i](int(m[i]), int(n[i]), int(l[i]))
-        ok_sign = bool(_sign_ok(sign, lle[i], err[i]))
+        ok_sign = bool(lle_sign_holds(sign, lle[i], err[i]))
         claims.append(
             r.judge(
                 f"at ω = {s.omega_damping:g}: {desc}, λ1 = {lle[i]:+.4f} ± {err[i]:.1e} (claimed {sign}); "

@@ -139,11 +139,6 @@ def judge_ranges(ctx: Context, ds: xr.Dataset, rows: Sequence[RangeTest], eviden
     return claims
 
 
-def _count(fraction: float, n: int) -> int:
-    """The number of matching points behind a matching fraction of ``n`` points."""
-    return int(round(fraction * n)) if n else 0
-
-
 #: The report's symbols for the swept damping parameters.
 SYMBOL = {"xi0": "ξ0", "xi1": "ξ1", "D": "D", "omega": "ω"}
 

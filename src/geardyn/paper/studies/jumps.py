@@ -87,13 +87,13 @@ def hysteresis_of(ds: xr.Dataset) -> list[list[float]]:
     return json.loads(ds.attrs["hysteresis"])
 
 
-def first_up_jump(ds: xr.Dataset, above: float = LOW_OMEGA) -> dict[str, Any] | None:
+def first_up_jump(ds: xr.Dataset | list[dict[str, Any]], above: float = LOW_OMEGA) -> dict[str, Any] | None:
     """The first upward jump above ``above`` in the up sweep, or ``None``.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A frequency response.
+    ds : xarray.Dataset or list of dict
+        A frequency response, or its jumps (:func:`jumps_of`).
     above : float
         The ω above which to look.
 
@@ -101,7 +101,8 @@ def first_up_jump(ds: xr.Dataset, above: float = LOW_OMEGA) -> dict[str, Any] | 
     -------
     dict or None
     """
-    js = [j for j in jumps_of(ds) if j["sweep"] == "up" and j["direction"] == "up" and j["omega"] > above]
+    js = jumps_of(ds) if isinstance(ds, xr.Dataset) else ds
+    js = [j for j in js if j["sweep"] == "up" and j["direction"] == "up" and j["omega"] > above]
     return min(js, key=lambda j: j["omega"]) if js else None
 
 
@@ -124,13 +125,18 @@ def fluctuation(ds: xr.Dataset, after: float) -> float:
     float
         NaN if no grid point lies above ``after``.
     """
-    x = ds["omega"].values
-    up = ds.sel(sweep="up")
-    pu, pv = up["poincare_u"].values, up["poincare_v"].values
-    sel = np.flatnonzero(x > after)
+    sel = np.flatnonzero(ds["omega"].values > after)
     if sel.size == 0:
         return float("nan")
-    return float(np.nanmean([section_spread(np.column_stack([pu[i], pv[i]])) for i in sel]))
+    return float(np.nanmean(_up_spread(ds, sel)))
+
+
+def _up_spread(ds: xr.Dataset, idx: Sequence[int]) -> list[float]:
+    """The spread of the up sweep's Poincaré points (:func:`geardyn.paper.verdicts.section_spread`) at the grid
+    points ``idx``."""
+    up = ds.sel(sweep="up")
+    pu, pv = up["poincare_u"].values, up["poincare_v"].values
+    return [section_spread(np.column_stack([pu[i], pv[i]])) for i in idx]
 
 
 @dataclass
@@ -241,11 +247,7 @@ def response_overlay(jd: JumpData, keys: Sequence[tuple[float, float, float]], p
     first = jd.responses[keys[0]]
     omega = first["omega"].values
     amp = np.stack([jd.responses[k]["amplitude"].sel(sweep=["up", "down"]).values for k in keys])
-    spread = []
-    for k in keys:
-        up = jd.responses[k].sel(sweep="up")
-        pu, pv = up["poincare_u"].values, up["poincare_v"].values
-        spread.append([section_spread(np.column_stack([pu[i], pv[i]])) for i in range(omega.size)])
+    spread = [_up_spread(jd.responses[k], range(omega.size)) for k in keys]
     marks = [[LOW_OMEGA, f"ω = {LOW_OMEGA:g}: steady below, upward jumps above (paper)"]]
     if param == "D":
         for cid in ("JUMP-057", "JUMP-082", "JUMP-095"):
@@ -370,18 +372,11 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         )
     )
 
-    def size_series(keys: Sequence[tuple[float, float, float]]) -> list[float]:
-        out = []
-        for k in keys:
-            j = first_up_jump(R[k])
-            out.append(j["size"] if j else float("nan"))
-        return out
-
     above = CLAIMS["JUMP-XI0"].numbers["omega"]
     for cid, keys, lab, dec in (("JUMP-XI0", s.xi0_set, "ξ0", True), ("JUMP-XI1", s.xi1_set, "ξ1", False)):
-        sizes = size_series(keys)
         vals = [k[0] if lab == "ξ0" else k[1] for k in keys]
         locs = [first_up_jump(R[k]) for k in keys]
+        sizes = [j["size"] if j else float("nan") for j in locs]
         txt = f"first upward jump above ω = {above:g} (up sweep): " + ", ".join(
             f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none")
             for v, sz, j in zip(vals, sizes, locs)
@@ -400,8 +395,10 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             )
         )
 
-    fl0 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi0_set]
-    fl1 = [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in s.xi1_set]
+    fl0, fl1 = (
+        [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in keys]
+        for keys in (s.xi0_set, s.xi1_set)
+    )
     (ok0, why0), (ok1, why1) = fluctuation_trend(fl0, True), fluctuation_trend(fl1, False)
     claims.append(
         CLAIMS["JUMP-FLUCT"].judge(

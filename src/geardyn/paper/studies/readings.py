@@ -14,7 +14,6 @@ The jump claims are judged on lockstep frequency responses (:mod:`geardyn.paper.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -27,7 +26,7 @@ from ...analysis.confirm import confirm_point, needs_confirmation
 from ...io import json_attr
 from ...model import IntegrationOptions
 from ..claims import CLAIMS, claim_ids
-from ..readings import BACKLASH_READINGS, DEFAULT_BACKLASH, Reading, phase_pairs, screen
+from ..readings import BACKLASH_READINGS, DEFAULT_BACKLASH, Reading, phase_pairs, phase_text, screen
 from ..report import Finding
 from ..settings import Context
 from ..table1 import TABLE1
@@ -54,6 +53,8 @@ HIGH_CHAOS_FROM = 0.5
 #: claim its interval's grid), at least one and at most VERIFY_MAX.
 VERIFY_POINTS = 60
 VERIFY_MAX = 6
+#: The impact label of BL-IMPACT (single-sided).
+SINGLE_SIDED = [k for k, v in IMPACT_LABELS.items() if v == CLAIMS["BL-IMPACT"].numbers["impact"]][0]
 #: |λ1| "near zero" (Table 3): within max(3σ + LLE_BAND_FLOOR, LLE_NEAR) …
 LLE_NEAR = 0.01
 LLE_BAND_FLOOR = 1e-3
@@ -338,7 +339,9 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 okmap.setdefault(cid, []).append(ok)
                 rows[cid].append(
                     ReadingRow(
-                        f"φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}", f"probes hold {at_omegas(ws)}", "screen"
+                        f"φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}",
+                        f"probes hold {at_omegas(ws)}",
+                        "screen",
                     )
                 )
                 cands[cid] += [(float(w), pair, "") for w in ws]
@@ -359,7 +362,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 okmap.setdefault(cid, []).append(ok)
                 rows[cid].append(
                     ReadingRow(
-                        f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}",
+                        _bl_reading(key, pair),
                         f"motion holds {at_omegas(ws)}",
                         "screen",
                     )
@@ -464,12 +467,9 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
 def _best_t2(data: ScreenData) -> Reading:
     """The (ω, phases) where most Table 2 rows hold on the screen (ties: nearest the default)."""
     score = np.zeros((len(data.pairs_full), data.omegas.size))
-    for i, (_, cs) in enumerate(XI0_PROBES[:3]):
-        p = _pred(cs[0])
-        score += np.vectorize(lambda m, n: p(m, n))(data.xi0["motion"][i], data.xi0["period"][i])
-    for i, (_, cs) in enumerate(XI1_PROBES):
-        p = _pred(cs[0])
-        score += np.vectorize(lambda m, n: p(m, n))(data.xi1["motion"][i], data.xi1["period"][i])
+    for probes, var in ((XI0_PROBES[:3], data.xi0), (XI1_PROBES, data.xi1)):
+        for i, (_, cs) in enumerate(probes):
+            score += np.vectorize(_pred(cs[0]))(var["motion"][i], var["period"][i])
     cands = [(float(data.omegas[w]), data.pairs_full[j], "") for j, w in zip(*np.nonzero(score == score.max()))]
     w, pair, _ = _order(cands)[0]
     return Reading(pair[0], pair[1], "", w)
@@ -479,17 +479,16 @@ def _best_t3(data: ScreenData) -> Reading:
     """The (backlash reading, phases, ω) where most Table 3 rows hold on the screen (ties: nearest the default)."""
     preds = [_pred(c) for c in claim_ids("T3-")]
     m, n = data.bl["motion"], data.bl["period"]
-    score = sum(np.vectorize(lambda a, b: p(a, b))(m[:, k], n[:, k]) for k, p in enumerate(preds))
+    score = sum(np.vectorize(p)(m[:, k], n[:, k]) for k, p in enumerate(preds))
     keys = list(BACKLASH_READINGS)
     cands = [(float(data.omegas[w]), data.pairs_one[j], keys[r]) for r, j, w in zip(*np.nonzero(score == score.max()))]
     w, pair, key = _order(cands)[0]
     return Reading(pair[0], pair[1], key, w)
 
 
-def _pt(x: float) -> str:
-    from ..readings import phase_text
-
-    return phase_text(x)
+def _bl_reading(key: str, pair: tuple[float, float]) -> str:
+    """A backlash reading with a phase pair, as its table row names it."""
+    return f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
 
 
 def _probe_word(cid: str, i: int, probes: Sequence[tuple[float, tuple[str, ...]]]) -> Callable[[int, int], bool]:
@@ -504,12 +503,11 @@ def _probe_word(cid: str, i: int, probes: Sequence[tuple[float, tuple[str, ...]]
 
 
 def _bl_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
-    single = [k for k, v in IMPACT_LABELS.items() if v == CLAIMS["BL-IMPACT"].numbers["impact"]][0]
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
         if cid == "BL-IMPACT":
             imp = [IMPACT_LABELS[int(i)] for i in r["impact"]]
-            return all(int(i) == single for i in r["impact"]), "impacts " + ", ".join(imp)
+            return all(int(i) == SINGLE_SIDED for i in r["impact"]), "impacts " + ", ".join(imp)
         a = np.asarray(r["amplitude"], dtype=float)
         return bool(np.all(np.diff(a) > 0)), "amplitudes " + ", ".join(f"{v:.3f}" for v in a)
 
@@ -534,7 +532,6 @@ def _backlash_rows(
 ) -> dict[str, str]:
     """BL-IMPACT and BL-AMP rows, and the joint test with the Table 3 sequence (by F2 it cannot hold)."""
     W = data.omegas
-    single = [k for k, v in IMPACT_LABELS.items() if v == CLAIMS["BL-IMPACT"].numbers["impact"]][0]
     preds = [_pred(c) for c in claim_ids("T3-")]
     rows["BL-IMPACT"], rows["BL-AMP"] = [], []
     cands["BL-IMPACT"], cands["BL-AMP"] = [], []
@@ -543,7 +540,7 @@ def _backlash_rows(
         for j, pair in enumerate(data.pairs_one):
             imp = data.bl["impact"][r, :, j, :]  # (b, ω)
             amp = data.bl["amplitude"][r, :, j, :]
-            ok_imp = np.all(imp == single, axis=0)
+            ok_imp = np.all(imp == SINGLE_SIDED, axis=0)
             ok_amp = np.all(np.diff(amp, axis=0) > 0, axis=0)
             seq = np.all(
                 [
@@ -554,7 +551,7 @@ def _backlash_rows(
             )
             n_joint += int(np.sum(seq & ok_imp))
             n_seq += int(np.sum(seq))
-            lab = f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {_pt(pair[0])}, φ_k1 = {_pt(pair[1])}"
+            lab = _bl_reading(key, pair)
             okmap.setdefault("BL-IMPACT", []).append(ok_imp)
             okmap.setdefault("BL-AMP", []).append(ok_amp)
             cands["BL-IMPACT"] += [(float(w), pair, key) for w in W[ok_imp]]
@@ -635,13 +632,3 @@ def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]
                     sub[k][i] = c[k]
         out.append(v.judge(sub))
     return out
-
-
-def readings_rows_text(rows: Sequence[ReadingRow]) -> list[list[str]]:
-    """A readings table as the report's rows (header first)."""
-    return [["reading", "result", "holds"]] + [[r.reading, r.result, r.holds] for r in rows]
-
-
-def omega_grid_text(ws: np.ndarray) -> str:
-    """``"ω ∈ [0.50, 1.60], step 0.01"``."""
-    return f"ω ∈ [{ws[0]:.2f}, {ws[-1]:.2f}], step {float(np.min(np.diff(ws))) if ws.size > 1 else math.nan:.2f}"

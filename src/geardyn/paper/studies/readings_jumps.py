@@ -25,7 +25,7 @@ from ..settings import Context
 from ..table1 import TABLE1
 from ..verdicts import FORMULA_R2_REPRODUCED, distinct_text, fluctuation_trend, jump_holds, jump_type_at
 from .formula import fit_formula
-from .jumps import FLUCT_AFTER, JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR
+from .jumps import FLUCT_AFTER, JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR, _monotone, first_up_jump
 
 __all__ = ["JUMP_KEYS", "JumpReadings", "jump_readings", "run_lockstep"]
 
@@ -164,13 +164,8 @@ def run_lockstep(
     return JumpReadings(W, readings, amp, spread, jumps)
 
 
-def _first_up(js: list[dict[str, Any]]) -> dict[str, Any] | None:
-    c = [j for j in js if j["sweep"] == "up" and j["direction"] == "up" and j["omega"] > LOW_OMEGA]
-    return min(c, key=lambda j: j["omega"]) if c else None
-
-
 def _fluct(jr: JumpReadings, i: int, k: int) -> float:
-    j = _first_up(jr.jumps[i][k])
+    j = first_up_jump(jr.jumps[i][k])
     after = (j["omega"] if j else LOW_OMEGA) + FLUCT_AFTER
     sel = jr.omega > after
     v = jr.spread[i, k, 0, sel]
@@ -196,11 +191,11 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
 
     def sizes(keys, decreasing: bool, lab: str, pos: int) -> Callable[[int], tuple[bool, str]]:
         def t(i: int) -> tuple[bool, str]:
-            js = [_first_up(jr.jumps[i][K(k)]) for k in keys]
+            js = [first_up_jump(jr.jumps[i][K(k)]) for k in keys]
             if not all(js):
                 return False, f"an upward jump above ω = {LOW_OMEGA:g} in {sum(map(bool, js))} of {len(js)} responses"
             sz = [j["size"] for j in js]  # type: ignore[index]
-            ok = bool(np.all(np.diff(sz) < 0) if decreasing else np.all(np.diff(sz) > 0))
+            ok = _monotone(sz, decreasing)
             return ok, "sizes " + ", ".join(f"{lab} = {k[pos]:g}: {v}" for k, v in zip(keys, distinct_text(sz)))
 
         return t
@@ -220,7 +215,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
 
     def at057(i: int) -> tuple[bool, str]:
         at = CLAIMS["JUMP-057"].numbers["omega"]
-        js = [_first_up(jr.jumps[i][K(k)]) for k in B_KEYS]
+        js = [first_up_jump(jr.jumps[i][K(k)]) for k in B_KEYS]
         ok = all(j is not None and abs(j["omega"] - at) <= JUMP_NEAR for j in js)
         return ok, "first upward jumps at ω = " + ", ".join(f"{j['omega']:.3f}" if j else "–" for j in js)
 

@@ -43,10 +43,10 @@ def study_stability(ctx: Context) -> Section:
         f"Floquet stability boundaries over ω ({model_text(ctx.base, skip=('omega', 'xi0'))})",
     )
     paper = float(ds.attrs["xi0_paper"])
-    mx = ds.attrs.get("max_xi0_critical")
-    ml = ds.attrs.get("max_xi0_critical_linear")
-    mxv = float(mx) if mx not in (None, "null") else float("nan")
-    mlv = float(ml) if ml not in (None, "null") else float("nan")
+    mxv, mlv = (
+        float(v) if v not in (None, "null") else float("nan")
+        for v in (ds.attrs.get("max_xi0_critical"), ds.attrs.get("max_xi0_critical_linear"))
+    )
     close = any(np.isfinite(m) and abs(m - paper) <= STABILITY_REL * paper for m in (mxv, mlv))
     ev = [rel, ctx.figure("stability_condition")]
     c = CLAIMS["STABILITY"].judge(

@@ -12,6 +12,7 @@ from ..claims import CLAIMS, claim_ids
 from ..report import Section
 from ..settings import Context
 from ..verdicts import describe_motion, length_fraction, motion_fields, motion_rule, motion_runs, range_of, runs_text
+from .readings import claim_range
 from .readings_jumps import JumpReadings
 
 __all__ = ["study_tables"]
@@ -32,9 +33,7 @@ def _default_t2(ctx: Context, cid: str) -> str:
     ds = ctx.pending.get(f"{param}_bifurcation")
     if ds is None:
         return "–"
-    lo, hi, lo_open, hi_open = range_of(CLAIMS[cid].numbers)
-    if cid == "T2-3":
-        hi, hi_open = CLAIMS["XI0-BIF"].numbers["points"][1], True
+    lo, hi, lo_open, hi_open = claim_range(cid)
     pred, _ = motion_rule(CLAIMS[cid].numbers["motion"])
     x = ds[param].values
     m, n, l = motion_fields(ds)
