@@ -4,8 +4,9 @@ The functions here are the scalar loops behind :func:`~geardyn.analysis.hb.aft.d
 :func:`~geardyn.analysis.hb.aft.signal_extrema`: sampling u on the time grid, locating the contact
 switches by safeguarded Newton, the closed-form interval integrals of the contact indicator and
 the convolutions with the stiffness series, the residual with its Jacobian, ∂R/∂ω and the forcing
-series.  ``tests/test_hb_aft_reference.py`` holds the same method in vectorised NumPy and checks
-that the two agree to rounding.
+series, and the real ↔ complex coefficient maps of :class:`~geardyn.analysis.hb.aft.HarmonicBasis`.
+``tests/test_hb_aft_reference.py`` holds the same method in vectorised NumPy and checks that the two
+agree to rounding.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from numba import njit
 
 from ..._cache_guard import install as _install_cache
 
-__all__ = ["dead_zone_kernel", "extrema_kernel"]
+__all__ = ["dead_zone_kernel", "extrema_kernel", "residual_kernel", "bordered_nu_kernel", "to_complex", "to_real"]
 
 
 _install_cache()  # the cache follows this directory's sources (see geardyn._cache_guard)
@@ -38,7 +39,7 @@ def _value(a, H, x):
 
 
 @njit(cache=True)
-def _to_complex(a, H):
+def to_complex(a, H):
     """Complex coefficients c_k (k = −H … H) of the real coefficient vector ``a``."""
     c = np.empty(2 * H + 1, dtype=np.complex128)
     c[H] = a[0]
@@ -50,7 +51,7 @@ def _to_complex(a, H):
 
 
 @njit(cache=True)
-def _to_real(z, H):
+def to_real(z, H):
     """Real coefficient vector of the complex coefficients ``z`` of a real signal (imaginary residue dropped)."""
     out = np.empty(2 * H + 1)
     out[0] = z[H].real
@@ -123,7 +124,7 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
     N = cos_t.shape[0]
     L = (K.shape[0] - 1) // 2
     M = 2 * H + 1
-    c = _to_complex(a, H)
+    c = to_complex(a, H)
     u = _samples(a, H, cos_t, sin_t)
     state = np.empty(N, dtype=np.int64)
     for j in range(N):
@@ -231,7 +232,7 @@ def real_operator_kernel(A, H):
 
 
 @njit(cache=True)
-def _centred(z, H):
+def centred(z, H):
     """The centred series ``z`` cut or zero-padded to harmonics −H … H."""
     L = (z.shape[0] - 1) // 2
     out = np.zeros(2 * H + 1, dtype=np.complex128)
@@ -246,8 +247,8 @@ def residual_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, jac)
     its Jacobian (else a 0×0 array)."""
     M = 2 * H + 1
     G, S, _phis = dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol)
-    Fh = _centred(G0, H) + nu * nu * _centred(G2, H)
-    c = _to_complex(a, H)
+    Fh = centred(G0, H) + nu * nu * centred(G2, H)
+    c = to_complex(a, H)
     Lc = (C.shape[0] - 1) // 2
     TcOm = np.zeros((M, M), dtype=np.complex128)
     for r in range(M):
@@ -262,7 +263,7 @@ def residual_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, jac)
         for l in range(M):
             acc += TcOm[r, l] * c[l]
         Rc[r] = -((nu * k) ** 2) * c[r] + nu * acc + G[r] - Fh[r]
-    R = _to_real(Rc, H)
+    R = to_real(Rc, H)
     if not jac:
         return R, np.empty((0, 0))
     Jc = np.empty((M, M), dtype=np.complex128)
@@ -279,11 +280,11 @@ def bordered_nu_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, s
     for the caller)."""
     M = 2 * H + 1
     R, J = residual_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, True)
-    c = _to_complex(a, H)
+    c = to_complex(a, H)
     k = np.arange(-H, H + 1)
     dC = _convolved(1j * k * c, C, (C.shape[0] - 1) // 2, M)  # the damping's C (ik c)
-    dRc = -2.0 * nu * k**2 * c + dC - 2.0 * nu * _centred(G2, H)
+    dRc = -2.0 * nu * k**2 * c + dC - 2.0 * nu * centred(G2, H)
     A = np.zeros((M + 1, M + 1))
     A[:M, :M] = J
-    A[:M, M] = _to_real(dRc, H) * scale
+    A[:M, M] = to_real(dRc, H) * scale
     return R, A

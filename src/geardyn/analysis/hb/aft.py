@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._aftkernel import _to_complex, _to_real, dead_zone_kernel, extrema_kernel
+from ._aftkernel import dead_zone_kernel, extrema_kernel, to_complex, to_real
 
 __all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "dead_zone_terms", "sampled_terms", "signal_extrema"]
 
@@ -93,11 +93,11 @@ class HarmonicBasis:
 
     def to_complex(self, a: np.ndarray) -> np.ndarray:
         """Complex coefficients c_k, k = −H … H, of the real coefficient vector ``a``."""
-        return _to_complex(np.asarray(a, dtype=float), self.H)
+        return to_complex(np.asarray(a, dtype=float), self.H)
 
     def to_real(self, c: np.ndarray) -> np.ndarray:
         """Real coefficient vector of the complex coefficients ``c`` (imaginary residue dropped)."""
-        return _to_real(np.asarray(c, dtype=complex), self.H)
+        return to_real(np.asarray(c, dtype=complex), self.H)
 
     def evaluate(self, a: np.ndarray, phi: np.ndarray, derivative: int = 0) -> np.ndarray:
         """u or its φ-derivative of order 0, 1 or 2 at arbitrary angles ``phi``."""

@@ -52,7 +52,7 @@ from ...integrate import start_state
 from ...model import DEFAULT_DTAU, IntegrationOptions
 from ...status import Status
 from ...systems.rolling import static_deflection
-from ._aftkernel import _centred, bordered_nu_kernel, real_operator_kernel, residual_kernel
+from ._aftkernel import bordered_nu_kernel, centred, real_operator_kernel, residual_kernel
 from .aft import (
     ROOT_MAX_ITER,
     ROOT_TOL,
@@ -380,9 +380,9 @@ class HBEquations:
                 f"harmonic balance was set up with"
             )
         cut = self.hbasis.to_real
-        E = tuple(self.dbasis.to_real(_centred(e.E, self.Hd)) for e in f.elements)
-        G0 = np.array([cut(_centred(g, self.H)) for g in f.G0])
-        G2 = np.array([cut(_centred(g, self.H)) for g in f.G2])
+        E = tuple(self.dbasis.to_real(centred(e.E, self.Hd)) for e in f.elements)
+        G0 = np.array([cut(centred(g, self.H)) for g in f.G0])
+        G2 = np.array([cut(centred(g, self.H)) for g in f.G2])
         return _Point(m, f, E, G0, G2, self._pattern(f) if f.dofs > SPARSE_DOFS else None)
 
     def nu(self, p: float | None = None) -> float:
@@ -631,7 +631,7 @@ class HBEquations:
                 Kt, Ct = Kt + k0 * np.outer(el.V, el.V), Ct + c0 * np.outer(el.V, el.V)
                 rhs0 = rhs0 + k0 * el.gap * el.V
             if el.kind == "mesh":
-                meshes.append((el, k0, c0, _centred(el.E, self.Hd)))
+                meshes.append((el, k0, c0, centred(el.E, self.Hd)))
         H, nu, nd = self.H, self.nu(p), f.dofs
         c = np.zeros((nd, 2 * H + 1), dtype=complex)
         if items:
