@@ -330,12 +330,8 @@ class HBEquations:
     @staticmethod
     def _ste_harmonics(form: HBForm) -> int:
         """Largest harmonic of φ with a nonzero coefficient in the elements' E series."""
-        out = 0
-        for e in form.elements:
-            nz = np.nonzero(np.abs(e.E) > 0)[0]
-            if nz.size:
-                out = max(out, int(np.max(np.abs(nz - (len(e.E) - 1) // 2))))
-        return out
+        hs = [np.abs(np.flatnonzero(np.abs(e.E) > 0) - (len(e.E) - 1) // 2) for e in form.elements]
+        return max((int(h.max(initial=0)) for h in hs), default=0)
 
     def model_at(self, p: float | None = None) -> Any:
         """The system at parameter value ``p`` (the base system when ``p`` is None)."""
@@ -616,7 +612,8 @@ class HBEquations:
         f = pt.form
         Mt = np.linalg.inv(f.Mi)
         Kt, Ct = Mt @ f.A, Mt @ f.B
-        G = f.G0 + self.nu(p) ** 2 * f.G2
+        H, nu, nd = self.H, self.nu(p), f.dofs
+        G = f.G0 + nu**2 * f.G2
         L = (G.shape[1] - 1) // 2
         rhs0 = (Mt @ G[:, L]).real
         meshes, items = [], []
@@ -632,7 +629,6 @@ class HBEquations:
                 rhs0 = rhs0 + k0 * el.gap * el.V
             if el.kind == "mesh":
                 meshes.append((el, k0, c0, centred(el.E, self.Hd)))
-        H, nu, nd = self.H, self.nu(p), f.dofs
         c = np.zeros((nd, 2 * H + 1), dtype=complex)
         if items:
             q0, mats = static_deflection(Kt, rhs0, items)
