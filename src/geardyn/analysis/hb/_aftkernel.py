@@ -190,8 +190,7 @@ def extrema_kernel(a, H, cos_t, sin_t, max_iter):
     jmin = np.argmin(u)
     jmax = np.argmax(u)
     out = np.empty(4)
-    for w in range(2):
-        j = jmin if w == 0 else jmax
+    for w, j in enumerate((jmin, jmax)):
         x = 2.0 * math.pi * j / N
         lo, hi = x - h, x + h
         for _ in range(max_iter):

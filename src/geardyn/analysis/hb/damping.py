@@ -73,8 +73,9 @@ def require_decidable(
     if int(np.count_nonzero(zero)) > form.rigid.shape[1]:
         v = phi[:, np.argmax(zero)]
         v /= np.linalg.norm(v)
-        load = float(np.real(np.linalg.inv(form.Mi) @ form.G0[:, (form.G0.shape[1] - 1) // 2]) @ v)
-        damp = float(np.linalg.norm(np.linalg.inv(form.Mi) @ form.B @ v))
+        Mt = np.linalg.inv(form.Mi)
+        load = float(np.real(Mt @ form.G0[:, (form.G0.shape[1] - 1) // 2]) @ v)
+        damp = float(np.linalg.norm(Mt @ form.B @ v))
         why = f"a load along it (F·φ = {load:.3g})" if abs(load) > 0 else f"a damping along it (|C̃φ| = {damp:.3g})"
         raise ModelError(
             f"system: the coordinate {form.labels[int(np.argmax(np.abs(v)))]} moves freely (zero mean stiffness) "

@@ -13,6 +13,7 @@ grid point is solved by Newton at its ω from the segment's interpolated coeffic
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from dataclasses import dataclass
@@ -311,13 +312,10 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     period = np.zeros(shape, dtype=np.int64)
     impact = np.full(shape, -1, dtype=np.int64)
     status = np.full(shape, int(Status.UNRESOLVED), dtype=np.int64)
-    solved: dict[tuple[int, float], tuple[np.ndarray, Status]] = {}
 
-    def solve(seg: Segment, x: float) -> tuple[np.ndarray, Status]:
-        key = (seg.index, float(x))
-        if key not in solved:
-            solved[key] = _solution(rd, seg, x)
-        return solved[key]
+    @functools.cache
+    def solve(s: int, x: float) -> tuple[np.ndarray, Status]:  # (each point once: the sweeps and jumps share it)
+        return _solution(rd, segs[s], x)
 
     with single_thread_blas():
         for r, lab in enumerate(("up", "down")):
@@ -325,7 +323,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 s = _on(paths[lab], x)
                 if s is None:
                     continue
-                a, st = solve(segs[s], x)
+                a, st = solve(s, x)
                 status[r, k] = int(st)
                 if st is not Status.OK:
                     continue
@@ -345,7 +343,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                     continue
                 x = float(b0)
                 end = segs[s0].coefficients[-1] if lab == "up" else segs[s0].coefficients[0]
-                a_to, st = solve(segs[s1], x)
+                a_to, st = solve(s1, x)
                 if st is not Status.OK:
                     continue
                 m_from = _measures(basis, rd.deflection(end, rd.reference, x))[measure]
