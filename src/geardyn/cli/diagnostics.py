@@ -394,7 +394,7 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
         system_signature_sweep,
         with_excitation,
     )
-    from ..systems.load import load_system
+    from ..systems import load_system
     from ..tooth.faults import fault_to_dict
     from ..tooth.table import read_table, table_of, write_table
 

@@ -39,12 +39,13 @@ _install_cache()  # the cache follows this directory's sources (see geardyn._cac
 
 
 @njit(cache=True)
-def _series(z, L, phi):
-    """Value at φ of the real trigonometric polynomial with centred complex coefficients z[0 … 2L]."""
+def _series(z, L, trig):
+    """Value of the real trigonometric polynomial with centred complex coefficients z[0 … 2L] at the φ of
+    ``trig`` (cos kφ, sin kφ in its rows)."""
     v = z[L].real
     for k in range(1, L + 1):
         c = z[L + k]
-        v += 2.0 * (c.real * math.cos(k * phi) - c.imag * math.sin(k * phi))
+        v += 2.0 * (c.real * trig[0, k] - c.imag * trig[1, k])
     return v
 
 
@@ -56,26 +57,30 @@ def _region(d, D):
 
 
 @njit(cache=True)
-def _deflection(x, e, V, vp, vi, Ez, Le, phi):
+def _deflection(x, e, V, vp, vi, cf):
+    """δ_e of the state x, E_e from the series at its φ (``cf``, :func:`_coefficients`)."""
     d = 0.0
     for q in range(vp[e], vp[e + 1]):
         d += V[e, vi[q]] * x[vi[q]]
-    return d - _series(Ez[e], Le[e], phi)
+    return d - cf[3, e]
 
 
 @njit(cache=True)
-def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, out):
+def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, out, trig):
     """The series at φ: out[0, :nd] = G, out[1, :ne] = C, out[2] = K, out[3] = E, out[4] = dE/dφ, out[5, b] the
-    cage angle of bearing b."""
+    cage angle of bearing b (``trig``: room for cos kφ and sin kφ up to the longest series)."""
+    for k in range(1, trig.shape[1]):
+        trig[0, k] = math.cos(k * phi)
+        trig[1, k] = math.sin(k * phi)
     for b in range(bq.shape[0]):
         out[5, b] = bq[b, BQ_RHO] * phi
     for r in range(Gz.shape[0]):
-        out[0, r] = _series(Gz[r], Lg[r], phi)
+        out[0, r] = _series(Gz[r], Lg[r], trig)
     for e in range(Cz.shape[0]):
-        out[1, e] = _series(Cz[e], Lc[e], phi)
-        out[2, e] = _series(Kz[e], Lk[e], phi)
-        out[3, e] = _series(Ez[e], Le[e], phi)
-        out[4, e] = _series(dEz[e], Le[e], phi)
+        out[1, e] = _series(Cz[e], Lc[e], trig)
+        out[2, e] = _series(Kz[e], Lk[e], trig)
+        out[3, e] = _series(Ez[e], Le[e], trig)
+        out[4, e] = _series(dEz[e], Le[e], trig)
 
 
 @njit(cache=True)
@@ -188,49 +193,38 @@ def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, inv_nu, vy, bq, bx, xs):
 
 
 @njit(cache=True)
-def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages):
+def _state_step(h, x, out, k, tmp, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages):
     """One locked RK4 step of the state from ``x`` into ``out``; c0, c1, c2: the series at the step's start,
-    middle and end; the four stages' states into ``stages`` (for the bearings' stiffness of the tangent step)."""
+    middle and end; the stages' slopes into k[0 … 3], their states into ``stages`` (for the bearings' stiffness
+    of the tangent step)."""
     n2 = x.shape[0]
     stages[0] = x
-    _state_rhs(x, k1, A, B, W, V, sp, c0, D, reg, inv_nu, nu, bq, bx)
+    _state_rhs(x, k[0], A, B, W, V, sp, c0, D, reg, inv_nu, nu, bq, bx)
+    for i in range(1, 4):  # at x + h/2 k1, x + h/2 k2, x + h k3
+        a = h if i == 3 else 0.5 * h
+        for r in range(n2):
+            tmp[r] = x[r] + a * k[i - 1, r]
+        stages[i] = tmp
+        _state_rhs(tmp, k[i], A, B, W, V, sp, c2 if i == 3 else c1, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
-        tmp[r] = x[r] + 0.5 * h * k1[r]
-    stages[1] = tmp
-    _state_rhs(tmp, k2, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
-    for r in range(n2):
-        tmp[r] = x[r] + 0.5 * h * k2[r]
-    stages[2] = tmp
-    _state_rhs(tmp, k3, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
-    for r in range(n2):
-        tmp[r] = x[r] + h * k3[r]
-    stages[3] = tmp
-    _state_rhs(tmp, k4, A, B, W, V, sp, c2, D, reg, inv_nu, nu, bq, bx)
-    for r in range(n2):
-        out[r] = x[r] + h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r])
+        out[r] = x[r] + h / 6.0 * (k[0, r] + 2.0 * k[1, r] + 2.0 * k[2, r] + k[3, r])
 
 
 @njit(cache=True)
-def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
+def _tangent_step(h, Y, k, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
     """One locked RK4 step of the fundamental matrix, in place (the dead zones' stiffness does not depend on the
     state inside a region; the bearings' is taken at the ``stages`` of the state's step)."""
     n2, m = Y.shape
-    _tangent_rhs(Y, k1, A, B, W, V, sp, c0, reg, inv_nu, vy, bq, bx, stages[0])
+    _tangent_rhs(Y, k[0], A, B, W, V, sp, c0, reg, inv_nu, vy, bq, bx, stages[0])
+    for i in range(1, 4):
+        a = h if i == 3 else 0.5 * h
+        for r in range(n2):
+            for j in range(m):
+                tmp[r, j] = Y[r, j] + a * k[i - 1, r, j]
+        _tangent_rhs(tmp, k[i], A, B, W, V, sp, c2 if i == 3 else c1, reg, inv_nu, vy, bq, bx, stages[i])
     for r in range(n2):
         for j in range(m):
-            tmp[r, j] = Y[r, j] + 0.5 * h * k1[r, j]
-    _tangent_rhs(tmp, k2, A, B, W, V, sp, c1, reg, inv_nu, vy, bq, bx, stages[1])
-    for r in range(n2):
-        for j in range(m):
-            tmp[r, j] = Y[r, j] + 0.5 * h * k2[r, j]
-    _tangent_rhs(tmp, k3, A, B, W, V, sp, c1, reg, inv_nu, vy, bq, bx, stages[2])
-    for r in range(n2):
-        for j in range(m):
-            tmp[r, j] = Y[r, j] + h * k3[r, j]
-    _tangent_rhs(tmp, k4, A, B, W, V, sp, c2, reg, inv_nu, vy, bq, bx, stages[3])
-    for r in range(n2):
-        for j in range(m):
-            Y[r, j] += h / 6.0 * (k1[r, j] + 2.0 * k2[r, j] + 2.0 * k3[r, j] + k4[r, j])
+            Y[r, j] += h / 6.0 * (k[0, r, j] + 2.0 * k[1, r, j] + 2.0 * k[2, r, j] + k[3, r, j])
 
 
 @njit(cache=True)
@@ -243,13 +237,14 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
     inv_nu = 1.0 / nu
     sv, kv, cv = np.empty((7, n2)), np.empty((5, n2, m)), np.empty((5, 6, max(A.shape[0], ne)))
     stages = np.empty((4, n2))
-    s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
-    k1, k2, k3, k4, tmp = kv[0], kv[1], kv[2], kv[3], kv[4]
+    st, xe, xt, tmp = sv[4], sv[5], sv[6], kv[4]
     c0, c1, c2, t1, t2 = cv[0], cv[1], cv[2], cv[3], cv[4]
     vy = np.empty((7, m))
+    trig = np.empty((2, 1 + max(Cz.shape[1], Kz.shape[1], Ez.shape[1], Gz.shape[1]) // 2))
     reg = np.empty(ne, dtype=np.int64)
+    _coefficients(0.0, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
     for e in range(ne):
-        reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], Ez, Le, 0.0), D[e])
+        reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], c0), D[e])
     end = 2.0 * math.pi
     phi = 0.0
     steps = 0
@@ -258,10 +253,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
         h = min(hmax, end - phi)
         if end - (phi + h) < 1e-12 * end:
             h = end - phi
-        _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0)
-        _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1)
-        _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2)
-        _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
+        _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
+        _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
+        _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
+        _state_step(h, x, xe, sv, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
         for r in range(n2):
             if not math.isfinite(xe[r]):
                 return -1, switches
@@ -272,10 +267,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
         for e in range(ne):
             if D[e] == 0.0:
                 continue
-            d1 = _deflection(xe, e, V, sp[2], sp[3], Ez, Le, phi + h)
+            d1 = _deflection(xe, e, V, sp[2], sp[3], c2)
             if _region(d1, D[e]) == reg[e]:
                 continue
-            d0 = _deflection(x, e, V, sp[2], sp[3], Ez, Le, phi)
+            d0 = _deflection(x, e, V, sp[2], sp[3], c0)
             if reg[e] == 1:
                 level = D[e]
             elif reg[e] == -1:
@@ -290,12 +285,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
                 if not (a < c < b):
                     c = 0.5 * (a + b)
-                _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1)
-                _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t2)
-                _state_step(
-                    c, x, xt, s1, s2, s3, s4, st, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu, bq, bx, stages
-                )
-                fc = _deflection(xt, e, V, sp[2], sp[3], Ez, Le, phi + c) - level
+                _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1, trig)
+                _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t2, trig)
+                _state_step(c, x, xt, sv, st, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu, bq, bx, stages)
+                fc = _deflection(xt, e, V, sp[2], sp[3], t2) - level
                 if fc == 0.0 or b - a <= tol * (1.0 + phi):
                     break
                 if (fc > 0.0) == (fa > 0.0):
@@ -319,10 +312,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 return -1, switches
             continue
         if first >= 0:
-            _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1)
-            _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2)
-            _state_step(hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
-        _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
+            _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
+            _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
+            _state_step(hs, x, xe, sv, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
+        _tangent_step(hs, Y, kv, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
         for r in range(n2):
             x[r] = xe[r]
         if first >= 0:
