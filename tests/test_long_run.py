@@ -218,7 +218,14 @@ def test_a_sweeps_default_settling_pass_follows_the_forcing_period():
     P > 1 mesh cycles (the 12-DOF two-stage file: P = 64, 16 forcing periods = 1024 mesh cycles, where 1000 were
     64 000); a value given is taken as given."""
     from geardyn import GearModel, load_system
-    from geardyn.cli.sweeps import _settle
+    from geardyn.cli.sweeps import _engine
+
+    class _Inputs:  # the sweep command's inputs: only the engine's keywords are asked for
+        def engine(self, stem):
+            return {}
+
+    def _settle(settle, model):
+        return _engine(_Inputs(), "bifurcation", model, settle)["settle_periods"]
 
     two_stage = load_system(str(TWO_STAGE))
     assert two_stage.period_multiple() == 64
