@@ -69,7 +69,8 @@ Every command keeps the same contract, whatever it is given:
   (`geardyn ... --json >&-`) or a reader that stops (`| head`) ends the command quietly.
 * **Bounded work.** Before computing, every run is checked against a memory budget (half of the
   machine's memory) and a time budget (1 hour of estimated computing, or `GEARDYN_TIME_BUDGET`
-  seconds); a refusal states the estimate. Counts have upper bounds stated in their messages.
+  seconds; a system's steps are counted per forcing period and weighted by its degrees of freedom);
+  a refusal states the estimate. Counts have upper bounds stated in their messages.
   Configuration and system files are read up to 4 MB and 16 levels of nesting; unit strings are
   `[number] unit` with unit names, `*`, `/`, parentheses (4 deep) and whole exponents (at most 12):
   nothing is evaluated (`"9**9**9 mm"` is refused). Physical values are range-checked (no negative

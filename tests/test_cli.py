@@ -201,9 +201,10 @@ def test_map_takes_pinion_speed_and_torque_axes():
     )
     assert code == 0, err
     s = json.loads(out)
-    from geardyn.units import PhysicalScales, configured_pair
+    from geardyn.config import load_config
+    from geardyn.units import PhysicalScales
 
-    sc = PhysicalScales.from_config(configured_pair(None))
+    sc = PhysicalScales.from_config(load_config(None))
     assert (s["x"], s["y"]) == ("omega", "fp")
     assert s["x_values"][0] == pytest.approx(sc.omega_from_rpm(1500.0), rel=1e-12)
     assert s["x_values_rpm"][-1] == pytest.approx(3000.0, rel=1e-12)

@@ -13,7 +13,7 @@ from geardyn.analysis.periodic import continuation
 from geardyn.analysis.periodic.orbit import shoot
 from geardyn.integrate import trajectory
 from geardyn.model import IntegrationOptions
-from geardyn.systems.load import load_system
+from geardyn.systems import load_system
 from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, table_of, write_table
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from geardyn.analysis.hb import aft
-from geardyn.analysis.hb.aft import ROOT_MAX_ITER, ROOT_TOL, DeadZoneTerms, HarmonicBasis, convolve, toeplitz
+from geardyn.analysis.hb.aft import ROOT_MAX_ITER, ROOT_TOL, DeadZoneTerms, HarmonicBasis, toeplitz
 from geardyn.analysis.hb.equations import HBEquations as HBSystem
 from geardyn.analysis.hb.solve import hb_solve
 from geardyn.model import GearModel
@@ -123,12 +123,12 @@ def dead_zone_terms_numpy(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D:
         if s != 0:
             chi[Q] = 1.0
             sig[Q] = float(s)
-    S_full = convolve(K, chi)  # centred at L + Q
+    S_full = np.convolve(K, chi)  # centred at L + Q
     mid = L + Q
     S = S_full[mid - 2 * H : mid + 2 * H + 1]
     G = toeplitz(S, H) @ c
     if D > 0.0:
-        Ks = convolve(K, sig)
+        Ks = np.convolve(K, sig)
         G = G - D * Ks[mid - H : mid + H + 1]
     return DeadZoneTerms(G, S, phis)
 

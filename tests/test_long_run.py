@@ -218,10 +218,39 @@ def test_a_sweeps_default_settling_pass_follows_the_forcing_period():
     P > 1 mesh cycles (the 12-DOF two-stage file: P = 64, 16 forcing periods = 1024 mesh cycles, where 1000 were
     64 000); a value given is taken as given."""
     from geardyn import GearModel, load_system
-    from geardyn.cli.sweeps import _settle
+    from geardyn.cli.sweeps import _engine
+
+    class _Inputs:  # the sweep command's inputs: only the engine's keywords are asked for
+        def engine(self, stem):
+            return {}
+
+    def _settle(settle, model):
+        return _engine(_Inputs(), "bifurcation", model, settle)["settle_periods"]
 
     two_stage = load_system(str(TWO_STAGE))
     assert two_stage.period_multiple() == 64
     assert (_settle(None, GearModel()), _settle(None, two_stage)) == (1000, 16)
     assert (_settle(None, GearModel(cycles=8)), _settle(None, GearModel(cycles=1472))) == (125, 16)
     assert _settle(500, two_stage) == 500
+
+
+def test_the_time_budget_counts_steps_per_forcing_period_and_the_system_size():
+    """The estimate before a run: N = ceil(P·2π/(ω Δτ)) steps per forcing period of P mesh cycles, each costing
+    in proportion to the DOFs; the same run counted per mesh cycle of the pair (the old estimate) passes."""
+    from geardyn.cli.output import SYSTEM_STEP_SECONDS_PER_DOF, check_budget
+    from geardyn.errors import ModelError
+    from geardyn.integrate import IntegrationOptions
+
+    opts = IntegrationOptions(dtau=0.05, transient=1, periods=1)
+    w, points, p, dofs = 0.1, 400, 1472, 110
+    steps = math.ceil(p * 2 * math.pi / w / 0.05)
+    check_budget(opts, [w], points)  # one mesh cycle of the 1-DOF pair's lanes: seconds
+    with pytest.raises(ModelError) as err:
+        check_budget(opts, [w], points, cycles=p, dofs=dofs)
+    msg = str(err.value)
+    assert f"{steps:.3g} steps per forcing period (110 DOF)" in msg
+    assert f"{points * 2 * steps:.3g} RK4 steps" in msg
+    import numba
+
+    seconds = points * 2 * steps * SYSTEM_STEP_SECONDS_PER_DOF * dofs / max(1, numba.config.NUMBA_NUM_THREADS)
+    assert seconds > 3600  # the default budget: refused before computing

@@ -20,7 +20,7 @@ from geardyn.cli import app
 from geardyn.signature.indicators import fm4
 from geardyn.signature.signals import split_tsa
 from geardyn.signature.system import default_sensor, mesh_shafts, settle_time, system_signature, with_excitation
-from geardyn.systems.load import load_system
+from geardyn.systems import load_system
 from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, table_of, write_table
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from geardyn.signature.system import system_signature
-from geardyn.systems.load import load_system
+from geardyn.systems import load_system
 from geardyn.tooth import Crack, mesh_stiffness, pair_geometry, table_of, write_table
 
 ROOT = Path(__file__).resolve().parents[1]

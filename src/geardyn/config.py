@@ -107,81 +107,78 @@ NOTE_RTOL = 1e-9
 #: ``[mesh] kappa`` written as this word takes κ_r and φ_k from the contact ratios (ISO 10300-1).
 KAPPA_FROM_GEOMETRY = "geometry"
 
+
+def _keys(series: tuple[str, ...] = (), **kinds: Any) -> Mapping[str, _Key]:
+    """A section's keys and their kinds (those in ``series`` take a list of values), read-only."""
+    return MappingProxyType({k: _Key(kind, k in series) for k, kind in kinds.items()})
+
+
 _SCHEMA: Mapping[str, Mapping[str, _Key]] = MappingProxyType(
     {
-        "gear_pair": MappingProxyType(
-            {
-                "name": _Key(_TEXT),
-                "z1": _Key(_INT),
-                "z2": _Key(_INT),
-                "m_mn": _Key(_LENGTH),
-                "beta_m": _Key(_ANGLE),
-                "alpha_n": _Key(_ANGLE),
-                "Sigma": _Key(_ANGLE),
-                "j_n": _Key(_LENGTH),
-                "I1": _Key(_INERTIA),
-                "I2": _Key(_INERTIA),
-                "r1": _Key(_LENGTH),
-                "r2": _Key(_LENGTH),
-                "hand": _Key(_choice(HANDS)),
-                "drive_side": _Key(_choice(SIDES)),
-                "pinion_rotation": _Key(_choice(ROTATIONS)),
-                "face_width": _Key(_LENGTH),
-                "c_gamma": _Key(_STIFF_W),
-                "k0": _Key(_STIFF),
-                "k0_method": _Key(_choice(K0_METHODS)),
-                # ISO 23509 mean-point data and rating inputs read by geardyn.geometry.iso (ISO 10300-1)
-                "beta_m2": _Key(_ANGLE),
-                "alpha_lim": _Key(_ANGLE),
-                "d_m1": _Key(_LENGTH),
-                "d_m2": _Key(_LENGTH),
-                "delta1": _Key(_ANGLE),
-                "delta2": _Key(_ANGLE),
-                "h_am1": _Key(_LENGTH),
-                "h_am2": _Key(_LENGTH),
-                "x_hm1": _Key(_NUMBER),
-                "offset": _Key(_LENGTH),
-                "zeta_mp": _Key(_ANGLE),
-                "zeta_m": _Key(_ANGLE),
-                "b2_eff": _Key(_LENGTH),
-                "K_A": _Key(_NUMBER),
-                "f_pt": _Key(_LENGTH),
-                "density": _Key(_DENSITY),
-            }
+        "gear_pair": _keys(
+            name=_TEXT,
+            z1=_INT,
+            z2=_INT,
+            m_mn=_LENGTH,
+            beta_m=_ANGLE,
+            alpha_n=_ANGLE,
+            Sigma=_ANGLE,
+            j_n=_LENGTH,
+            I1=_INERTIA,
+            I2=_INERTIA,
+            r1=_LENGTH,
+            r2=_LENGTH,
+            hand=_choice(HANDS),
+            drive_side=_choice(SIDES),
+            pinion_rotation=_choice(ROTATIONS),
+            face_width=_LENGTH,
+            c_gamma=_STIFF_W,
+            k0=_STIFF,
+            k0_method=_choice(K0_METHODS),
+            # ISO 23509 mean-point data and rating inputs read by geardyn.geometry.iso (ISO 10300-1)
+            beta_m2=_ANGLE,
+            alpha_lim=_ANGLE,
+            d_m1=_LENGTH,
+            d_m2=_LENGTH,
+            delta1=_ANGLE,
+            delta2=_ANGLE,
+            h_am1=_LENGTH,
+            h_am2=_LENGTH,
+            x_hm1=_NUMBER,
+            offset=_LENGTH,
+            zeta_mp=_ANGLE,
+            zeta_m=_ANGLE,
+            b2_eff=_LENGTH,
+            K_A=_NUMBER,
+            f_pt=_LENGTH,
+            density=_DENSITY,
         ),
-        "mesh": MappingProxyType(
-            {
-                "xi0": _Key(_NUMBER),
-                "c0": _Key(_DAMP),
-                "xi": _Key(_NUMBER, True),
-                "c": _Key(_DAMP, True),
-                "phi_c": _Key(_PHASE, True),
-                "kappa": _Key(_NUMBER, True),
-                "k": _Key(_STIFF, True),
-                "phi_k": _Key(_PHASE, True),
-                "eps": _Key(_NUMBER, True),
-                "e": _Key(_LENGTH, True),
-                "phi_e": _Key(_PHASE, True),
-                "fp": _Key(_NUMBER),
-                "characteristic_length": _Key(_LENGTH),
-            }
+        "mesh": _keys(
+            ("xi", "c", "phi_c", "kappa", "k", "phi_k", "eps", "e", "phi_e"),
+            xi0=_NUMBER,
+            c0=_DAMP,
+            xi=_NUMBER,
+            c=_DAMP,
+            phi_c=_PHASE,
+            kappa=_NUMBER,
+            k=_STIFF,
+            phi_k=_PHASE,
+            eps=_NUMBER,
+            e=_LENGTH,
+            phi_e=_PHASE,
+            fp=_NUMBER,
+            characteristic_length=_LENGTH,
         ),
-        "operating": MappingProxyType(
-            {
-                "rpm": _Key(_SPEED),
-                "torque": _Key(_TORQUE),
-                "torque2": _Key(_TORQUE),
-                "omega": _Key(_NUMBER),
-            }
+        "operating": _keys(
+            rpm=_SPEED,
+            torque=_TORQUE,
+            torque2=_TORQUE,
+            omega=_NUMBER,
         ),
-        # the non-dimensional model's parameters, one key per family of the registry (geardyn.params)
         "model": MappingProxyType(
             {f.name: _Key(_PHASE if f.units == "rad" else _NUMBER, f.series) for f in FAMILIES.values()}
         ),
-        # a mesh stiffness and STE table over P mesh cycles (geardyn.tooth.table; docs/excitation.md)
-        "excitation": MappingProxyType(
-            {"file": _Key(_TEXT), "b_c": _Key(_LENGTH), "harmonics": _Key(_INT), "evaluation": _Key(_TEXT)}
-        ),
+        "excitation": _keys(file=_TEXT, b_c=_LENGTH, harmonics=_INT, evaluation=_TEXT),
     }
 )
 _TOP_LEVEL_TEXT = ("title", "description")
@@ -685,10 +682,11 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
     for key, src in iso_declared.items():
         v = iso_in.get(key, k0_method)
         assumptions.append(Assumption(key, v, _SCHEMA["gear_pair"][key].kind.unit or "", src))
-    units = {"rpm": "rpm", "torque": "N*m", "torque2": "N*m"}
-    for key, src in op_assumed.items():
-        assumptions.append(Assumption(key, op[key], units[key], src))
-    for section, declared, values in (("mesh", mesh_assumed, mesh_given), ("model", mo_assumed, mo)):
+    for section, declared, values in (
+        ("operating", op_assumed, op),
+        ("mesh", mesh_assumed, mesh_given),
+        ("model", mo_assumed, mo),
+    ):
         for key, src in declared.items():
             v = values[key]
             v = list(v) if isinstance(v, tuple) else v

@@ -49,8 +49,6 @@ _POINTS = """points : ndarray (P, len(names))
 
 #: The kinds of grid.
 GRID_KINDS = ("range", "product", "curve", "states")
-#: Names of the axes of an initial-state grid, in the order of the state vector.
-STATE_NAMES = ("u0", "v0")
 
 
 def linspace_values(start: float, stop: float, num: int, label: str = "") -> np.ndarray:

@@ -268,12 +268,6 @@ class BatchResult:
         """Whether each point finished without diverging (P,)."""
         return self.status == ST_OK
 
-    @property
-    def total_steps(self) -> int:
-        """RK4 steps the batch took, transient included."""
-        o = self.options
-        return int(np.sum(self.nsteps) * (o.transient + o.periods))
-
     def _el(self, k: int, e: int | None) -> np.ndarray:
         x = self.stats[:, :, k]
         x = np.where(self.ok[:, None], x, np.nan)
@@ -456,8 +450,8 @@ def _run(
                 hist_len=hist_len,
                 adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0,
                 tangent0=tangent0,
-                **({} if tangents is None else {"tangents": tangents}),
-                **({} if watch is None else {"watch": watch}),
+                tangents=tangents,
+                watch=watch,
             )
 
     if progress is None:

@@ -18,7 +18,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ._lazy import lazy_module
-from .atomic import atomic_write, atomic_write_bytes, write_netcdf_bytes
+from .atomic import atomic_write_bytes, write_netcdf_bytes
 from .errors import ModelError
 from .labels import IMPACT_LABELS, MOTION_LABELS, motion_label
 from .model import GearModel, canonical_param
@@ -205,48 +205,43 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
     },
 }
 
-_V = lambda ln, u="1": Variable(u, ln)  # noqa: E731
 #: Metadata of the variables of the results of mesh-vector systems (entered in :data:`KIND_VARIABLES` for
 #: every ``system_*`` kind, so that :func:`annotate` fills them in).
 SYSTEM_VARIABLES: dict[str, Variable] = {
-    "element": _V("element (meshes, then clearances)"),
-    "mesh": _V("gear mesh"),
-    "coordinate": _V("state coordinate (q̃, then q̃')"),
-    "state": _V("state coordinate (q̃, then q̃')"),
-    "delta": _V("deflection δ of the element (DTE over b_c for a mesh)"),
-    "delta_rate": _V("rate dδ/dτ of the element"),
-    "u": _V("deflection δ of the reference mesh"),
-    "v": _V("rate dδ/dτ of the reference mesh"),
-    "mesh_force": _V("mesh force over k_ref b_c"),
-    "mesh_force_N": _V("dynamic mesh force", "N"),
-    "poincare": _V("Poincaré points of the full state at θ ≡ 0"),
-    "points": _V("section points of the orbit (full state)"),
-    "elastic": _V("elastic multiplier index (largest modulus first)"),
-    "elastic_re": _V("elastic Floquet multiplier, real part"),
-    "elastic_im": _V("elastic Floquet multiplier, imaginary part"),
-    "poincare_u": _V("Poincaré section δ of the reference mesh at θ ≡ 0"),
-    "poincare_v": _V("Poincaré section dδ/dτ of the reference mesh at θ ≡ 0"),
-    "poincare_coordinate": _V("Poincaré section of the chosen state coordinate"),
-    "mesh_u_min": _V("smallest deflection δ of the mesh"),
-    "mesh_u_max": _V("largest deflection δ of the mesh"),
-    "mesh_amplitude": _V("half peak-to-peak deflection δ of the mesh"),
-    "mesh_impact": _V("impact state of the mesh (0 none, 1 single-sided, 2 double-sided)"),
-    "mesh_mean": _V("mean deflection δ of the mesh"),
-    "mesh_rms": _V("RMS of δ of the mesh about its mean"),
-    "u0": _V("initial value of the first slice coordinate at θ = 0"),
-    "v0": _V("initial value of the second slice coordinate at θ = 0"),
-    "value": _V("continuation parameter value"),
-    "element_u_min": _V("smallest deflection δ of the element"),
-    "element_u_max": _V("largest deflection δ of the element"),
-    "bifurcation_value": _V("continuation parameter at the bifurcation"),
+    "element": _v("element (meshes, then clearances)"),
+    "mesh": _v("gear mesh"),
+    "coordinate": _v("state coordinate (q̃, then q̃')"),
+    "state": _v("state coordinate (q̃, then q̃')"),
+    "delta": _v("deflection δ of the element (DTE over b_c for a mesh)"),
+    "delta_rate": _v("rate dδ/dτ of the element"),
+    "u": _v("deflection δ of the reference mesh"),
+    "v": _v("rate dδ/dτ of the reference mesh"),
+    "mesh_force": _v("mesh force over k_ref b_c"),
+    "mesh_force_N": _v("dynamic mesh force", "N"),
+    "poincare": _v("Poincaré points of the full state at θ ≡ 0"),
+    "points": _v("section points of the orbit (full state)"),
+    "elastic": _v("elastic multiplier index (largest modulus first)"),
+    "elastic_re": _v("elastic Floquet multiplier, real part"),
+    "elastic_im": _v("elastic Floquet multiplier, imaginary part"),
+    "poincare_u": _v("Poincaré section δ of the reference mesh at θ ≡ 0"),
+    "poincare_v": _v("Poincaré section dδ/dτ of the reference mesh at θ ≡ 0"),
+    "poincare_coordinate": _v("Poincaré section of the chosen state coordinate"),
+    "mesh_u_min": _v("smallest deflection δ of the mesh"),
+    "mesh_u_max": _v("largest deflection δ of the mesh"),
+    "mesh_amplitude": _v("half peak-to-peak deflection δ of the mesh"),
+    "mesh_impact": _v("impact state of the mesh (0 none, 1 single-sided, 2 double-sided)"),
+    "mesh_mean": _v("mean deflection δ of the mesh"),
+    "mesh_rms": _v("RMS of δ of the mesh about its mean"),
+    "u0": _v("initial value of the first slice coordinate at θ = 0"),
+    "v0": _v("initial value of the second slice coordinate at θ = 0"),
+    "value": _v("continuation parameter value"),
+    "element_u_min": _v("smallest deflection δ of the element"),
+    "element_u_max": _v("largest deflection δ of the element"),
+    "bifurcation_value": _v("continuation parameter at the bifurcation"),
+    "element_mean": _v("mean deflection δ of the element"),
+    "element_rms": _v("RMS of δ of the element about its mean"),
+    "element_impact": _v("impact state of the element (0 none, 1 single-sided, 2 double-sided)"),
 }
-SYSTEM_VARIABLES.update(
-    {
-        "element_mean": _V("mean deflection δ of the element"),
-        "element_rms": _V("RMS of δ of the element about its mean"),
-        "element_impact": _V("impact state of the element (0 none, 1 single-sided, 2 double-sided)"),
-    }
-)
 #: The kinds the previous versions wrote for systems (``system_<analysis>``); their files stay readable.
 SYSTEM_KINDS = (
     "system_simulate",
@@ -576,7 +571,7 @@ def result_attrs(kind: str, model: Any, options: Any = None, **extra: Any) -> di
 
     ``geardyn_kind``, ``geardyn_version``, ``geardyn_system`` (the name of the System's backend: ``pair`` or
     ``mesh``; :func:`model_from_attrs` rebuilds the System from it), the options and ``extra`` as JSON, and the
-    System: the pair's model whole in ``model``; a system's as :func:`system_attrs` stores it.
+    System: the pair's model whole in ``model``; a system's as :func:`_system_attrs` stores it.
 
     Examples
     --------
@@ -587,9 +582,8 @@ def result_attrs(kind: str, model: Any, options: Any = None, **extra: Any) -> di
     """
     from . import __version__
 
-    if model.backend.name != "pair":
-        return system_attrs(model, kind, options, extra)
-    attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "geardyn_system": "pair", "model": model.to_attrs()}
+    attrs = {"geardyn_kind": kind, "geardyn_version": __version__, "geardyn_system": model.backend.name}
+    attrs |= {"model": model.to_attrs()} if model.backend.name == "pair" else _system_attrs(model)
     if options is not None:
         attrs["options"] = json_attr(options)
     for k, v in extra.items():
@@ -597,30 +591,13 @@ def result_attrs(kind: str, model: Any, options: Any = None, **extra: Any) -> di
     return attrs
 
 
-def system_attrs(model: Any, kind: str, options: Any = None, extra: dict[str, Any] | None = None) -> dict[str, str]:
-    """Global attributes of a system result: kind, the system whole and described, and options as JSON.
+def _system_attrs(model: Any) -> dict[str, str]:
+    """A system result's own attributes: the system whole and described.
 
     ``system_model`` is the non-dimensional system whole (its ``to_attrs``: what :func:`model_from_attrs`
     rebuilds), ``system`` describes it for the figures and summaries (file, title, labels, meshes, elements,
     scales), ``model`` gives its ω and the reference element's gap.
-
-    Parameters
-    ----------
-    model : SystemModel
-        A system of meshes.
-    kind : str
-        ``geardyn_kind``.
-    options : IntegrationOptions, optional
-    extra : dict, optional
-        Further attributes (strings kept, other values as JSON).
-
-    Returns
-    -------
-    dict of str
     """
-    from . import __version__
-
-    extra = dict(extra or {})
     desc = model.description
     sysinfo = {
         "labels": list(model.labels),
@@ -637,19 +614,11 @@ def system_attrs(model: Any, kind: str, options: Any = None, extra: dict[str, An
         sysinfo.update(
             b_c_um=sc.b_c_m * 1e6, force_scale_N=sc.force_scale_N, omega_n=sc.omega_n_rad_s, teeth=sc.z1 or None
         )
-    attrs = {
-        "geardyn_kind": kind,
-        "geardyn_version": __version__,
-        "geardyn_system": model.backend.name,
+    return {
         "system": json.dumps(sysinfo),
         "system_model": model.to_attrs(),
         "model": json.dumps({"omega": model.omega, "D": model.elements[model.reference].gap}),
     }
-    if options is not None:
-        attrs["options"] = json_attr(options)
-    for k, v in extra.items():
-        attrs[k] = v if isinstance(v, str) else json_attr(v)
-    return attrs
 
 
 def model_from_attrs(ds: xr.Dataset) -> Any:
@@ -721,9 +690,6 @@ def upgrade(ds: xr.Dataset) -> xr.Dataset:
                 out = out.assign_coords({state: ["u", "u'"]})
                 out[state].attrs = dict(VARIABLES["state"].attrs())
     return out
-
-
-_atomic = atomic_write  # (the name the writers of this package use)
 
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> Path:

@@ -94,6 +94,20 @@ def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: A
     return x
 
 
+def series_change(obj: Any, attr: str, idx: int, value: float) -> dict[str, tuple[float, ...]]:
+    """The changes that set member ``idx`` of the series ``attr`` of ``obj`` (a model or a mesh) to ``value``: the
+    series extended by zeros, and for a phase of a harmonic not yet present that harmonic with amplitude 0."""
+    seq = list(getattr(obj, attr))
+    seq.extend([0.0] * (idx + 1 - len(seq)))
+    seq[idx] = value
+    changes = {attr: tuple(seq)}
+    amp_name = FAMILIES[attr].amplitude
+    if amp_name is not None and len(getattr(obj, amp_name)) < len(seq):
+        amp = list(getattr(obj, amp_name))
+        changes[amp_name] = tuple(amp + [0.0] * (len(seq) - len(amp)))
+    return changes
+
+
 def _as_tuple(name: str, values: Any, cycles: int = 1) -> tuple[float, ...]:
     if values is None:
         return ()
@@ -263,10 +277,8 @@ class GearModel:
     def forcing_omega(self) -> float:
         """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1); with torque
         orders ω/M, M the mesh cycles of the forcing period (:meth:`period_multiple`)."""
-        if self.torque_orders:
-            M = self.period_multiple()
-            return self.omega if M == 1 else self.omega / M
-        return self.omega if self.cycles == 1 else self.omega / self.cycles
+        M = self.period_multiple()
+        return self.omega if M == 1 else self.omega / M
 
     def forcing_model(self) -> GearModel:
         """The same equation with one forcing period as its unit: frequency ω/P, ``cycles`` 1 (itself when P = 1).
@@ -437,20 +449,7 @@ class GearModel:
     def with_param(self, name: str, value: float) -> GearModel:
         """Copy with the parameter ``name`` set to ``value`` (harmonic series extended as needed)."""
         attr, idx = slot(name)
-        if idx is None:
-            return self.replace(**{attr: value})
-        seq = list(getattr(self, attr))
-        if idx >= len(seq):
-            seq.extend([0.0] * (idx + 1 - len(seq)))
-        seq[idx] = value
-        changes = {attr: tuple(seq)}
-        amp_name = FAMILIES[attr].amplitude
-        if amp_name is not None:  # a phase for a harmonic not yet present: add that harmonic with amplitude 0
-            amp = list(getattr(self, amp_name))
-            if len(amp) < len(seq):
-                amp.extend([0.0] * (len(seq) - len(amp)))
-                changes[amp_name] = tuple(amp)
-        return self.replace(**changes)
+        return self.replace(**({attr: value} if idx is None else series_change(self, attr, idx, value)))
 
     # ------------------------------------------------------------------ evaluation
     def coefficients(self, n_harmonics: int | None = None) -> np.ndarray:
@@ -463,28 +462,7 @@ class GearModel:
         :attr:`forcing_omega` (ω/P; the mesh phase when ``cycles`` is 1).
         """
         H = self.n_harmonics if n_harmonics is None else n_harmonics
-        if self.torque_orders:
-            return self._coefficients_with_orders(H)
-        c = np.zeros((3, H + 1, 2))
-        c[0, 0, 0] = 2.0 * self.xi0
-        c[1, 0, 0] = 1.0
-        c[2, 0, 0] = self.fp
-        w2 = self.forcing_omega**2
-        series = (
-            (0, self.xi, self.phi_c, lambda j: 2.0),
-            (1, self.kappa, self.phi_k, lambda j: 1.0),
-            (2, self.eps, self.phi_e, lambda j: w2 * j * j),
-        )
-        for i, amps, phases, scale in series:
-            for j0, (a, ph) in enumerate(zip(amps, phases)):
-                j = j0 + 1
-                c[i, j, 0] = scale(j) * a * math.cos(ph)
-                c[i, j, 1] = -scale(j) * a * math.sin(ph)
-        return c
-
-    def _coefficients_with_orders(self, H: int) -> np.ndarray:
-        """:meth:`coefficients` of a model with torque orders: harmonics of ω/M, M = :meth:`period_multiple`."""
-        M = self.period_multiple()
+        M = self.period_multiple()  # with torque orders the harmonics are of ω/M, M = period_multiple()
         s = M // self.cycles  # series harmonic j (of ω/P) is harmonic j·s of ω/M
         c = np.zeros((3, H + 1, 2))
         c[0, 0, 0] = 2.0 * self.xi0

@@ -174,14 +174,7 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
         For no point, or a point the model refuses (ω <= 0, D < 0, Σ|κ_r| >= 1, a non-finite value).
     """
     if base.torque_orders:  # the forcing's harmonics are those of ω/M: packed through the models themselves
-        pts = np.asarray(points, dtype=float).reshape(-1, len(names))
-        models = []
-        for row in pts:
-            m = base
-            for p, v in zip(names, row):
-                m = m.with_param(p, float(v))
-            models.append(m)
-        return pack_models(models)
+        return pack_models(build_models(base, names, points))
     if base.evaluation != "series":
         raise ModelError(
             'evaluation "table": a parameter grid evaluates series models only; the table is '
@@ -192,9 +185,8 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
     P = pts.shape[0]
     if P == 0:
         raise ModelError("empty parameter grid: no model to integrate")
-    proto = base  # the first point's model: validates it and fixes which harmonics exist (the same for all)
-    for p, v in zip(names, pts[0]):
-        proto = proto.with_param(p, float(v))
+    # the first point's model: validates it and fixes which harmonics exist (the same for all)
+    proto = build_models(base, names, pts[:1])[0]
     H = proto.n_harmonics
     # the fields of every point, in the structure of the first (series zero-padded as with_param pads them)
     val = {k: np.full(P, float(getattr(base, k))) for k in ("omega", "xi0", "fp", "D")}
@@ -225,9 +217,7 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
                 ok &= ksum < MAX_KAPPA_SUM
     if not np.all(ok):
         bad = int(np.argmin(ok))
-        m = base
-        for p, v in zip(names, pts[bad]):
-            m = m.with_param(p, float(v))  # raises the model's own error
+        build_models(base, names, pts[bad : bad + 1])  # raises the model's own error
         raise ModelError(f"point {bad}: refused by the model")  # pragma: no cover - the checks above are the model's
     coef = np.zeros((P, 3, H + 1, 2))
     if base.cycles != 1:  # the series are harmonics of the forcing frequency ω/P

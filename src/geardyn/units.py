@@ -29,7 +29,6 @@ from .model import ModelError
 __all__ = [
     "PhysicalScales",
     "SCALES_ATTR",
-    "configured_pair",
     "omega_range",
     "operating_overrides",
     "scales_of",
@@ -70,24 +69,6 @@ def _physical_needed(scales: Any, name: str | None) -> None:
         )
 
 
-def configured_pair(config: str | Path | None = None) -> Any:
-    """The gear pair of a configuration file; ``None`` gives the paper's Table 1 pair (k0 assumed).
-
-    Parameters
-    ----------
-    config : str or Path, optional
-        TOML configuration (see :mod:`geardyn.config`).
-
-    Returns
-    -------
-    LoadedConfig
-        As :func:`geardyn.config.load_config` returns it.
-    """
-    from .config import load_config
-
-    return load_config(config)
-
-
 def scales_of(obj: Any) -> PhysicalScales:
     """:class:`PhysicalScales` from a LoadedConfig, a PhysicalScales, a JSON string or ``None`` (paper pair).
 
@@ -108,14 +89,14 @@ def scales_of(obj: Any) -> PhysicalScales:
     ModelError
         For an object of another type, or invalid values in the configuration.
     """
+    from .config import load_config
+
     if isinstance(obj, PhysicalScales):
         return obj
-    if obj is None:
-        return PhysicalScales.from_config(configured_pair(None))
     if isinstance(obj, str) and obj.lstrip().startswith("{"):
         return PhysicalScales.from_json(obj)
-    if isinstance(obj, (str, Path)):
-        return PhysicalScales.from_config(configured_pair(obj))
+    if obj is None or isinstance(obj, (str, Path)):
+        return PhysicalScales.from_config(load_config(obj))
     if hasattr(obj, "pair") and hasattr(obj, "b_c"):
         return PhysicalScales.from_config(obj)
     raise ModelError(f"scales: expected a configuration, PhysicalScales or None, got {type(obj).__name__}")

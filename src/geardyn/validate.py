@@ -18,7 +18,6 @@ import math
 import numbers
 import re
 from collections.abc import Iterable, Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -42,7 +41,6 @@ __all__ = [
     "MAX_STEPS_PER_PERIOD",
     "axis",
     "chunk_points",
-    "config_file",
     "dpi",
     "exponents_computable",
     "figure_formats",
@@ -482,33 +480,6 @@ def scheduler(address: Any) -> str | None:
     if m is None or (m.group(3) is not None and not 0 < int(m.group(3)) < 65536):
         raise ModelError(f"scheduler: expected an address like tcp://HOST:PORT, got {_describe(address)}")
     return a
-
-
-def config_file(path: Any) -> Path:
-    """An existing, readable configuration file.
-
-    Parameters
-    ----------
-    path : str or Path
-        The file name.
-
-    Returns
-    -------
-    Path
-
-    Raises
-    ------
-    ModelError
-        For a missing file or a directory.
-    """
-    if not isinstance(path, (str, Path)) or not str(path):
-        raise ModelError(f"config: expected a file name, got {_describe(path)}")
-    p = Path(path)
-    if p.is_dir():
-        raise ModelError(f"{p}: configuration file not found (it is a directory)")
-    if not p.is_file():
-        raise ModelError(f"{p}: configuration file not found")
-    return p
 
 
 #: Largest contraction (as a power of e) of the perturbations over one forcing period for which

@@ -383,11 +383,7 @@ def count_loops(points: np.ndarray, gap: float = LOOP_GAP) -> int:
         return 1
     pairs = cKDTree(pts).query_pairs(gap * extent, output_type="ndarray")
     m = pts.shape[0]
-    g = (
-        coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(m, m))
-        if len(pairs)
-        else coo_matrix((m, m))
-    )
+    g = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(m, m))
     return int(connected_components(g, directed=False)[0])
 
 

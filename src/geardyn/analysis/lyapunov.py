@@ -30,7 +30,7 @@ import numpy as np
 
 from .._lazy import lazy_module
 from ..integrate import ST_OK, BatchResult, integrate_batch, start_state
-from ..io import annotate, result_attrs
+from ..io import annotate, json_number, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 
 xr = lazy_module("xarray")
@@ -222,14 +222,11 @@ class LyapunovResult:
     def to_json(self) -> dict[str, Any]:
         """The ``lyapunov --json`` summary (DESIGN §5 keys ``exponents`` and ``uncertainty``)."""
 
-        def f(x: float) -> float | None:
-            return float(x) if np.isfinite(x) else None
-
         return {
             "omega": self.model.omega,
-            "exponents": [f(x) for x in self.exponents],
-            "uncertainty": [f(x) for x in self.uncertainty],
-            "sum": f(self.exponents.sum()),
+            "exponents": [json_number(x) for x in self.exponents],
+            "uncertainty": [json_number(x) for x in self.uncertainty],
+            "sum": json_number(self.exponents.sum()),
             "expected_sum": self.expected_sum,
             "periods": int(self.log.shape[0]),
             "blocks": self.blocks,

@@ -48,6 +48,7 @@ import xarray as xr
 
 from ..errors import ModelError
 from ..integrate import integrate_batch, trajectory
+from ..io import json_number
 from ..model import DEFAULT_DTAU, IntegrationOptions
 
 __all__ = ["MAX_BLOCKS", "RunupResult", "block_error", "runup", "steady_response"]
@@ -150,7 +151,7 @@ class RunupResult:
         """JSON summary (lists per block)."""
 
         def lst(a: np.ndarray) -> list[float | None]:
-            return [float(x) if np.isfinite(x) else None for x in np.asarray(a, dtype=float).ravel()]
+            return [json_number(x) for x in np.asarray(a, dtype=float).ravel()]
 
         out = {
             "omega_start": self.omega_start,

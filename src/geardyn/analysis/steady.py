@@ -17,7 +17,7 @@ import numpy as np
 
 from .._lazy import lazy_module
 from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, start_state, trajectory
-from ..io import annotate, result_attrs
+from ..io import annotate, json_number, result_attrs
 from ..model import IntegrationOptions
 from ..system import state_names
 from .classify import (
@@ -478,8 +478,7 @@ def simulate(
     )
 
     def f(key: str, d: dict[str, np.ndarray] = arr) -> float | None:
-        x = float(d[key][0])
-        return x if np.isfinite(x) else None
+        return json_number(d[key][0])
 
     summary = {
         "period": period * (model.period_multiple() or 1) if period > 0 else None,

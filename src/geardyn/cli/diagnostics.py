@@ -66,6 +66,11 @@ def _fault(text: str) -> Any:
     return fault_from_dict(d)
 
 
+def _teeth(case: Any) -> tuple[int, int]:
+    """The teeth of a tooth-pair case's pinion and wheel."""
+    return case.geometry.gears[0].teeth, case.geometry.gears[1].teeth
+
+
 def _case(file: Path, inp: Inputs):
     from ..tooth.config import load_case
 
@@ -89,8 +94,7 @@ def stiffness_cmd(
 
     case = _case(file, inp)
     cycles = inp.cycles if inp.cycles is not None else case.mesh.get("cycles")
-    z = (case.geometry.gears[0].teeth, case.geometry.gears[1].teeth)
-    n = (cycles or default_cycles(*z, case.faults)) * int(case.mesh.get("points", inp.points))
+    n = (cycles or default_cycles(*_teeth(case), case.faults)) * int(case.mesh.get("points", inp.points))
     if not 1 <= inp.harmonics <= n // 2:
         raise ModelError(f"harmonics: from 1 to {n // 2} (half the {n} phases computed), got {inp.harmonics}")
     ms = mesh_stiffness(
@@ -238,8 +242,7 @@ def _sweep_crack(case: Any, period: int) -> tuple[Any, list[Any], int]:
     from ..tooth.faults import Crack
 
     crack = next((f for f in case.faults if isinstance(f, Crack)), Crack(0, 0, 0.0))
-    z1, z2 = case.geometry.gears[0].teeth, case.geometry.gears[1].teeth
-    return crack, [f for f in case.faults if f is not crack], max(period, z1 if crack.gear == 0 else z2)
+    return crack, [f for f in case.faults if f is not crack], max(period, _teeth(case)[crack.gear])
 
 
 def _period(cases: list[Any]) -> int:
@@ -248,9 +251,8 @@ def _period(cases: list[Any]) -> int:
 
     if not cases:
         return 1
-    z1, z2 = cases[0].geometry.gears[0].teeth, cases[0].geometry.gears[1].teeth
     period = max(1, *[c.mesh.get("cycles", 0) or 0 for c in cases])
-    return max(period, *[default_cycles(z1, z2, c.faults) for c in cases])
+    return max(period, *[default_cycles(*_teeth(cases[0]), c.faults) for c in cases])
 
 
 @command("signature", SIGNATURE_OPTIONS)
@@ -394,7 +396,7 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
         system_signature_sweep,
         with_excitation,
     )
-    from ..systems.load import load_system
+    from ..systems import load_system
     from ..tooth.faults import fault_to_dict
     from ..tooth.table import read_table, table_of, write_table
 
@@ -432,7 +434,7 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
         raise ModelError("fault: --fault and --torque apply to tooth-pair files")
     cases = {f: _case(f, inp) for f in tooth}
     for f, c in cases.items():
-        zc = (c.geometry.gears[0].teeth, c.geometry.gears[1].teeth)
+        zc = _teeth(c)
         if zc[0] != z1 or (z2 is not None and zc[1] != z2):
             raise ModelError(
                 f"{f}: z = {zc[0]}/{zc[1]}, but mesh {desc_mesh.name!r} of the system has "

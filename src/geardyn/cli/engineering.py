@@ -8,7 +8,7 @@ from typing import Annotated, Any, Optional
 import typer
 
 from ..errors import ModelError
-from .app import console, emit_json
+from .app import console
 from .options import OUTPUT, Inputs, command, finish, model_group, option
 from .render import files, plain, table
 
@@ -87,11 +87,7 @@ def te(
 
         atomic_write_bytes(inp.te_out, section.encode("utf-8"))
         paths.append(str(inp.te_out))
-    if inp.json_out:
-        summary["files"] = paths
-        emit_json(summary)
-        return
-    _show_te(summary, paths)
+    finish(summary, paths, inp, _show_te)
 
 
 def _show_te(s: dict[str, Any], paths: list[str]) -> None:

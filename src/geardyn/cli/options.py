@@ -522,7 +522,14 @@ class Inputs:
             v["dtau"], plan.transient if plan is not None else self.transient(ws), n, v["accurate"], ws
         )
         validate.recorded(points, opts.periods)
-        check_budget(opts, ws, points)
+        model = self.model() if v.get("system") is not None else None  # the pair: one mesh cycle, 1 DOF
+        check_budget(
+            opts,
+            ws,
+            points,
+            cycles=(model.period_multiple() or 1) if model else 1,
+            dofs=model.state_dim // 2 if model else 1,
+        )
         return opts.replace(adaptive=True) if v.get("adaptive") else opts
 
     def long_run(self, omegas: Any = (), periods: int | None = None) -> Any:

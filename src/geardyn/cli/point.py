@@ -154,9 +154,7 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
             transient=opts.transient,
             progress=bar,
         )
-    paths: list[str] = []
-    if inp.out is not None:
-        paths = inp.write(add_physical(res.to_dataset(), scales), "orbit")
+    paths = inp.write(add_physical(res.to_dataset(), scales), "orbit") if inp.out is not None else []
     finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, render.orbit)
 
 
@@ -267,18 +265,16 @@ def continuation(
     paths: list[str] = []
     if inp.out is not None:
         from ..io import attach
-        from ..plot import save_figures
         from ..plot.periodic import SWEEP_CONTEXT
 
-        nc, figdir = out_paths(inp.out, "continuation")
         ds = add_physical(res.to_dataset(), scales)
         if sweep_ds is not None:
             sweep_ds = add_physical(sweep_ds, scales)
             ds = attach(ds, SWEEP_CONTEXT, sweep_ds)  # the file redraws the figure with its sweep
-        paths = [str(write_netcdf(ds, nc))]
-        if sweep_ds is not None:
-            paths.append(str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
-        paths += [str(p) for p in save_figures(ds, figdir)]
+        paths = inp.write(ds, "continuation")
+        if sweep_ds is not None:  # beside the result's file, listed after it
+            nc = out_paths(inp.out, "continuation")[0]
+            paths.insert(1, str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
     finish(
         inp.system_summary(model, physical_json(res.to_json(), model, scales, param=name), result=res),
         paths,

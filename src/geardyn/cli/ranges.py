@@ -63,6 +63,17 @@ def both_spellings(
 
 
 def omega_only(inp: Any) -> tuple[str | None, float | None, float | None]:
-    """:func:`both_spellings` of a command that sweeps or ramps ω only, from its inputs."""
+    """:func:`both_spellings` of a command that sweeps or ramps ω only, from its inputs.
+
+    Parameters
+    ----------
+    inp : geardyn.cli.options.Inputs
+        The command's inputs (``--param/--start/--stop`` and ``--omega-start/--omega-stop``).
+
+    Returns
+    -------
+    tuple
+        The parameter's name (None or ``"omega"``), its start and its stop.
+    """
     v = inp.values
     return both_spellings(v.get("param"), v.get("start"), v.get("stop"), inp.omega_start, inp.omega_stop, "omega")

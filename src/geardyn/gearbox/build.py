@@ -72,21 +72,21 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from .._config_values import _Kind, _parse_scalar
 from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
 from ..systems.description import MESH_SERIES_KEYS, Connection, Mesh
+from ..systems.load import _SECTIONS as SYSTEM_SECTIONS
+from ..systems.load import _body, _element_line, check_top, described, excitation_table, mesh_damping, mesh_series
 from ..systems.rolling import ROLLING_KEYS, read_rolling
 from .gear import Gear, disc_gyroscopic
 from .kinematics import DEFAULT_MAX_PERIOD, forcing_period, round_ratio, solve_speeds
 from .mesh import mesh_vector, pair_geometry_of, tooth_excitation
 from .model import GearboxDescription, NodeBody, ShaftModel
 from .reading import (
+    Block,
     _bearing,
     _check_radius,
     _discretise,
@@ -99,13 +99,10 @@ from .reading import (
 )
 from .shaft import NODE_DOFS, ShaftMesh, shaft_matrices
 
-__all__ = ["build_description", "is_gearbox"]
+__all__ = ["build_description"]
 
 _ARRAYS = ("shaft", "gear", "mesh", "bearing", "coupling", "body", "load")
-_TOP_TEXT = ("title", "description")
-_SECTIONS = {
-    "system": {"reference": "text", "characteristic_length": "length", "equivalent_mass": "text"},
-    "operating": {"rpm": "speed", "omega": "number"},
+_SECTIONS = SYSTEM_SECTIONS | {
     "gearbox": {"max_period": "int", "round_ratios": "bool", "input_rotation": "text", "gyroscopic": "bool"},
 }
 _SHAFT = {
@@ -159,7 +156,6 @@ _COUPLING = {
     "ktheta": "tstiffness",
     "ctheta": "tdamping",
 }
-_EXTRA_UNITS = {"pressure": ("Pa", '"210 GPa"'), "density": ("kg/m^3", '"7850 kg/m^3"'), "time": ("s", '"2e-6 s"')}
 #: Default stiffness-proportional damping of a shaft (s): ζ = β ω/2, 0.03 % at 1 kHz, 3 % at 100 kHz (the high
 #: element modes stay underdamped, so that the explicit RK4 step is not limited by them).
 DEFAULT_RAYLEIGH_BETA = 1e-7
@@ -169,52 +165,13 @@ RATIO_RTOL = 1e-9
 STE_FLOOR = 1e-12
 
 
-def is_gearbox(data: dict) -> bool:
-    """Whether a parsed system file describes a gearbox (it has ``[[shaft]]`` tables).
-
-    Parameters
-    ----------
-    data : dict
-        The parsed TOML of a system file.
-    """
-    return isinstance(data, dict) and "shaft" in data
-
-
-def _classes(ctx_cls: type, block_cls: type) -> tuple[type, type]:
-    """The file reader's context and block classes, extended for a gearbox (more sections and value kinds)."""
-
-    class GCtx(ctx_cls):  # the one locator (geardyn._config_values._Ctx) places [[shaft]] ... as any array
-        pass
-
-    class GBlock(block_cls):
-        def _scalar(self, key: str, kind: str, raw: Any, index_: int | None = None) -> Any:
-            if kind == "bool":
-                if not isinstance(raw, bool):
-                    raise self.cerr(key, f"expected true or false, got {raw!r}")
-                return raw
-            if kind == "any":
-                return raw
-            if kind not in _EXTRA_UNITS:
-                return super()._scalar(key, kind, raw, index_)
-            unit, example = _EXTRA_UNITS[kind]  # through the one validator of every file
-            where = {"index": self.index, "element": self.element, "nonnegative": True}
-            return _parse_scalar(self.ctx, self.section, key, _Kind(kind, unit, example), raw, index_, **where)
-
-        def need(self, *keys: str) -> None:
-            missing = [k for k in keys if not self.has(k)]
-            if missing:
-                raise self.cerr(None, f"missing key(s) {', '.join(missing)}")
-
-    return GCtx, GBlock
-
-
 def _blocks(ctx, data: dict, section: str, schema: dict) -> list:
     out = []
     for i, t in enumerate(data.get(section, []) or []):
         if not isinstance(t, dict):
             raise ConfigError(f"{ctx.source}: [[{section}]] {i + 1}: must be a table")
         name = t.get("name") if isinstance(t.get("name"), str) else f"{section}{i + 1}"
-        out.append(ctx.Block(ctx, section, i, t, schema, name))
+        out.append(Block(ctx, section, i, t, schema, name))
     names = [b.element for b in out]
     for i, n in enumerate(names):
         if n in names[:i]:
@@ -223,12 +180,12 @@ def _blocks(ctx, data: dict, section: str, schema: dict) -> list:
 
 
 # ---------------------------------------------------------------------------- the file
-def build_description(ctx, data: dict, block: type, body, place) -> GearboxDescription:
+def build_description(ctx, data: dict) -> GearboxDescription:
     """The :class:`GearboxDescription` of a parsed gearbox file (see the module docstring).
 
-    ``ctx`` is the system-file reader's context (file name and text), ``block`` its class reading one table
-    with units, ``body`` its reader of a ``[[body]]`` and ``place`` the function that puts a system-level
-    error on its element's line (:mod:`geardyn.systems.load` passes them, so both formats read values alike).
+    Its tables are read as a system file's (:mod:`geardyn.systems.load`: its bodies, its blocks extended by
+    :class:`geardyn.gearbox.reading.Block`, its placing of a system-level error on its element's line), so that
+    both formats read values alike.
 
     Parameters
     ----------
@@ -236,39 +193,20 @@ def build_description(ctx, data: dict, block: type, body, place) -> GearboxDescr
         The system-file reader's context (its ``source`` file name and ``lines`` of text).
     data : dict
         The parsed TOML of the gearbox file.
-    block : type
-        The reader's class reading one table with units (extended here for the gearbox's value kinds).
-    body
-        The reader's function of a ``[[body]]`` table, called as ``body(ctx, index, table)``.
-    place
-        The function ``place(ctx, data, error)`` returning a system-level :class:`ModelError` as a
-        configuration error placed on its element's line.
     """
-    ctx_cls, block_cls = _classes(type(ctx), block)
-    gctx = ctx_cls(ctx.source, "\n".join(ctx.lines))
-    gctx.Block, gctx.body = block_cls, body
     try:
-        return _build(gctx, data)
+        return _build(ctx, data)
     except ModelError as e:
         if str(e).startswith(f"{ctx.source}: "):
             raise
-        raise place(gctx, data, e) from None
+        raise _element_line(ctx, data, e) from None
 
 
 def _build(ctx, data: dict) -> GearboxDescription:
-    for key, val in data.items():
-        if key in _TOP_TEXT:
-            if not isinstance(val, str):
-                raise ctx.config(None, None, None, None, f"{key}: expected a string")
-        elif key in _ARRAYS:
-            if not isinstance(val, list):
-                raise ConfigError(f"{ctx.source}: {key}: write [[{key}]] tables")
-        elif key not in _SECTIONS:
-            allowed = ", ".join([f"[{s}]" for s in _SECTIONS] + [f"[[{s}]]" for s in _ARRAYS] + list(_TOP_TEXT))
-            raise ConfigError(f"{ctx.source}: unknown section or key {key!r} in a gearbox file; allowed: {allowed}")
-    sysb = ctx.Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
-    opb = ctx.Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
-    gbb = ctx.Block(ctx, "gearbox", None, data.get("gearbox", {}), _SECTIONS["gearbox"], None)
+    check_top(ctx, data, _SECTIONS, _ARRAYS, gearbox=True)
+    sysb = Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
+    opb = Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
+    gbb = Block(ctx, "gearbox", None, data.get("gearbox", {}), _SECTIONS["gearbox"], None)
     sblocks = _blocks(ctx, data, "shaft", _SHAFT)
     gblocks = _blocks(ctx, data, "gear", _GEAR)
     mblocks = _blocks(ctx, data, "mesh", _MESH)
@@ -276,7 +214,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
     cblocks = _blocks(ctx, data, "coupling", _COUPLING)
     if not mblocks:
         raise ConfigError(f"{ctx.source}: no [[mesh]]: a gearbox needs at least one mesh")
-    rigid = [ctx.body(ctx, i, t) for i, t in enumerate(data.get("body", []) or [])]
+    rigid = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []) or [])]
     rmap = {b.name: b for b in rigid}
 
     # gears
@@ -523,12 +461,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
         except ModelError as e:
             raise blk.wrap(e) from None
     loads = _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap, zref)
-    rpm, omega = opb.get("rpm"), opb.get("omega")
-    if rpm is None and omega is None:
-        ctx.assume(Assumption("operating.omega", 1.0, "", "no operating point given: ω = 1"))
-    for key, v in (("rpm", rpm), ("omega", omega)):
-        if v is not None and not v > 0:
-            raise opb.merr(key, f"must be > 0, got {v:g}")
+    common = described(ctx, data, sysb, opb, ref)
     kin = {
         "reference_mesh": ref,
         "reference_shaft": pairs[ref_i][1],
@@ -546,19 +479,12 @@ def _build(ctx, data: dict) -> GearboxDescription:
         meshes=tuple(meshes),
         connections=tuple(conns),
         loads=tuple(loads),
-        reference=ref,
-        characteristic_length=sysb.get("characteristic_length"),
-        rpm=rpm,
-        omega=omega,
-        equivalent_mass=sysb.get("equivalent_mass", default="rotational"),
-        title=str(data.get("title", "")),
-        source=ctx.source,
-        assumptions=tuple(ctx.assumptions),
         shafts=tuple(shafts),
         kinematics=kin,
         element_kinds=kinds,
         rolling_bearings=tuple(rolling),
         gyroscopic=gbb.get("gyroscopic", default=False),
+        **common,
     )
 
 
@@ -584,34 +510,12 @@ def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_defau
         ((n2, d), float(c)) for d, c in zip(NODE_DOFS, v2) if c != 0.0
     )
     backlash = blk.get("backlash", default=0.0, assumed="no backlash given: 0 (a linear mesh)")
-    series: dict[str, Any] = {}
     if blk.has("excitation"):
         if blk.has("stiffness"):
             raise blk.cerr("excitation", "give the table or stiffness, not both")
-        series = {
-            "stiffness": None,
-            "excitation": str(Path(blk.ctx.source).parent / blk.get("excitation")),
-            "excitation_harmonics": blk.get("excitation_harmonics"),
-        }
+        series = {"stiffness": None} | excitation_table(blk)
     elif blk.has("stiffness"):
-        k0 = blk.get("stiffness")
-        kappa = blk.get("kappa", default=())
-        if blk.has("k"):
-            if blk.has("kappa"):
-                raise blk.cerr("k", "give kappa (relative) or k (N/m), not both")
-            kappa = tuple(x / k0 for x in blk.get("k"))
-        e = blk.get("e", default=())
-        if blk.has("eps"):
-            if blk.has("e"):
-                raise blk.cerr("eps", "give eps (relative to b_c) or e (a length), not both")
-            e = tuple(x * b_c for x in blk.get("eps"))
-        series = {
-            "stiffness": k0,
-            "kappa": kappa,
-            "phi_k": blk.get("phi_k", default=()),
-            "e": e,
-            "phi_e": blk.get("phi_e", default=()),
-        }
+        series = mesh_series(blk, b_c)
     else:
         for key in ("kappa", "k", "eps", "e", "phi_k", "phi_e"):
             if blk.has(key):
@@ -629,13 +533,7 @@ def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_defau
         series = {k: te[k] for k in ("stiffness", "kappa", "phi_k", "e", "phi_e")}
         if max(map(abs, series["e"]), default=0.0) < STE_FLOOR:  # unmodified involutes: e_eq is round-off
             series["e"], series["phi_e"] = (), ()
-    if any(blk.has(k) for k in ("c0", "c")):
-        damping = {"c0": blk.get("c0", default=0.0), "c": blk.get("c", default=())}
-    else:
-        damping = {
-            "xi0": blk.get("xi0", default=0.1, assumed="not given: geardyn's default mean mesh damping ratio 0.1"),
-            "xi": blk.get("xi", default=()),
-        }
+    damping = mesh_damping(blk)
     return Mesh(
         name=name,
         vector=vector,

@@ -15,41 +15,14 @@ round: each ratio is then replaced by the nearest fraction with the denominator 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from fractions import Fraction
 
 from ..errors import ModelError
 
-__all__ = ["Kinematics", "solve_speeds", "forcing_period", "round_ratio"]
+__all__ = ["solve_speeds", "forcing_period", "round_ratio"]
 
 #: Default bound on the forcing period, in reference mesh cycles (the denominators a system's ratio may have).
 DEFAULT_MAX_PERIOD = 1000
-
-
-@dataclass(frozen=True)
-class Kinematics:
-    """Speeds of the shafts and frequency ratios of the meshes, exact.
-
-    Attributes
-    ----------
-    speeds : dict[str, Fraction]
-        Speed of each shaft relative to the reference shaft.
-    senses : dict[str, int]
-        Running sense of each shaft: +1 counterclockwise seen from +z, −1 clockwise.
-    ratios : dict[str, Fraction]
-        Mesh frequency / reference mesh frequency of each mesh.
-    period : int
-        The least common period of the meshes, in reference mesh cycles.
-    """
-
-    #: Speed of each shaft relative to the reference shaft.
-    speeds: dict[str, Fraction]
-    #: Running sense of each shaft: +1 counterclockwise seen from +z, −1 clockwise.
-    senses: dict[str, int]
-    #: Mesh frequency / reference mesh frequency of each mesh.
-    ratios: dict[str, Fraction]
-    #: The least common period of the meshes, in reference mesh cycles.
-    period: int
 
 
 def solve_speeds(

@@ -12,18 +12,59 @@ from typing import Any
 
 import numpy as np
 
+from .._config_values import _Kind, _parse_scalar
 from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
 from ..systems.description import Connection, Load
+from ..systems.load import _Block, _orders, springs
 from .gear import Gear
 from .shaft import NODE_DOFS, STEEL, Material, Section
 
-__all__ = ["LOAD_KEYS", "RADIUS_RTOL"]
+__all__ = ["Block", "LOAD_KEYS", "RADIUS_RTOL"]
 
 #: Keys of a ``[[load]]`` of a gearbox.
 LOAD_KEYS = {"body": "text", "gear": "text", "torque": "any", "orders": "any"}
 #: Relative tolerance for given radii to agree with the teeth.
 RADIUS_RTOL = 1e-4
+_EXTRA_UNITS = {"pressure": ("Pa", '"210 GPa"'), "density": ("kg/m^3", '"7850 kg/m^3"'), "time": ("s", '"2e-6 s"')}
+
+
+class Block(_Block):
+    """A table of a gearbox file: a system file's block (:mod:`geardyn.systems.load`) with more value kinds
+    (``bool``, ``any``, a pressure, a density, a time).
+
+    Parameters
+    ----------
+    ctx : geardyn.systems.load._Ctx
+        The file's locator (its source and lines).
+    section : str
+        The table's section (``shaft``, ``gear``, ...).
+    index : int or None
+        Its place in an array of tables (None for a single table).
+    data : dict
+        The table as parsed.
+    schema : dict
+        Its keys and their value kinds.
+    element : str or None
+        The element's name, for messages.
+    """
+
+    def _scalar(self, key: str, kind: str, raw: Any, index_: int | None = None) -> Any:
+        if kind == "bool":
+            if not isinstance(raw, bool):
+                raise self.cerr(key, f"expected true or false, got {raw!r}")
+            return raw
+        if kind == "any":
+            return raw
+        if kind not in _EXTRA_UNITS:
+            return super()._scalar(key, kind, raw, index_)
+        unit, example = _EXTRA_UNITS[kind]  # through the one validator of every file
+        where = {"index": self.index, "element": self.element, "nonnegative": True}
+        return _parse_scalar(self.ctx, self.section, key, _Kind(kind, unit, example), raw, index_, **where)
+
+
+def _load_block(ctx, i: int, t: dict) -> Block:
+    return Block(ctx, "load", i, t, LOAD_KEYS, t.get("body") or t.get("gear"))
 
 
 def _material(blk) -> Material:
@@ -111,17 +152,10 @@ def _bearing(blk, node: str) -> Connection:
         return Connection(
             blk.element, tuple((node, d) for d in dofs), blk.get("stiffness_matrix"), blk.get("damping_matrix")
         )
-    k = {d: blk.get(f"k{d}") for d in NODE_DOFS[:5] if blk.has(f"k{d}")}
-    c = {d: blk.get(f"c{d}") for d in NODE_DOFS[:5] if blk.has(f"c{d}")}
+    k, c = springs(blk, NODE_DOFS[:5])
     if not k:
         raise blk.cerr(None, "a bearing needs a stiffness (kx, ky, kz, krx, kry) or a stiffness_matrix")
-    dofs = [d for d in NODE_DOFS[:5] if d in k or d in c]
-    return Connection(
-        blk.element,
-        tuple((node, d) for d in dofs),
-        np.diag([k.get(d, 0.0) for d in dofs]),
-        np.diag([c.get(d, 0.0) for d in dofs]),
-    )
+    return Connection.diagonal(blk.element, node, k, c, NODE_DOFS)
 
 
 def _load_target(blk, gears, node_at, where, speeds, body_speed, rmap):
@@ -149,37 +183,19 @@ def _drive_power(ctx, loads_raw, gears, speeds, body_speed) -> float:
         tq = t.get("torque")
         if tq == "balance" or tq is None:
             continue
-        blk = ctx.Block(ctx, "load", i, t, LOAD_KEYS, t.get("body") or t.get("gear"))
+        blk = _load_block(ctx, i, t)
         T = blk._scalar("torque", "torque", tq)
-        if T > 0:
-            if "gear" in t and t["gear"] in gears:
-                p += T * float(speeds[gears[t["gear"]].shaft])
-            elif "body" in t and t["body"] in body_speed:
-                p += T * float(body_speed[t["body"]])
+        n = _speed_of(t, gears, speeds, body_speed) if T > 0 else None
+        if n is not None:
+            p += T * float(n)
     return p
 
 
-def _orders(blk) -> tuple:
-    """``orders = [{ order = 2, amplitude = "40 N*m", phase = "0 deg" }, ...]``: (order, N·m, rad) tuples."""
-    from ..torque_orders import order_fraction
-
-    if not blk.has("orders"):
-        return ()
-    raw = blk.data["orders"]
-    if not isinstance(raw, list) or not raw or not all(isinstance(e, dict) for e in raw):
-        raise blk.cerr("orders", 'expected a list of tables { order = 2, amplitude = "40 N*m", phase = "0 deg" }')
-    out = []
-    for i, e in enumerate(raw):
-        if set(e) - {"order", "amplitude", "phase"} or "order" not in e or "amplitude" not in e:
-            raise blk.cerr("orders", f"element {i + 1}: keys order, amplitude and optionally phase")
-        try:
-            k = order_fraction(e["order"], f"element {i + 1}: order")
-        except ModelError as err:
-            raise blk.merr("orders", str(err)) from None
-        a = blk._scalar("orders", "torque", e["amplitude"], i + 1)
-        ph = blk._scalar("orders", "angle", e["phase"], i + 1) if "phase" in e else 0.0
-        out.append((k, a, ph))
-    return tuple(out)
+def _speed_of(t: dict, gears, speeds, body_speed) -> Fraction | None:
+    """The shaft speed of a ``[[load]]``'s gear or body (None when it is unknown)."""
+    if "gear" in t and t["gear"] in gears:
+        return speeds[gears[t["gear"]].shaft]
+    return body_speed.get(t.get("body"))
 
 
 def _order_ratios(ctx, loads_raw, gears, speeds, body_speed, zref) -> dict[str, Fraction]:
@@ -188,12 +204,9 @@ def _order_ratios(ctx, loads_raw, gears, speeds, body_speed, zref) -> dict[str, 
     for i, t in loads_raw:
         if not isinstance(t, dict) or "orders" not in t:
             continue
-        blk = ctx.Block(ctx, "load", i, t, LOAD_KEYS, t.get("body") or t.get("gear"))
-        if "gear" in t and t["gear"] in gears:
-            n = speeds[gears[t["gear"]].shaft]
-        elif t.get("body") in body_speed:
-            n = body_speed[t["body"]]
-        else:
+        blk = _load_block(ctx, i, t)
+        n = _speed_of(t, gears, speeds, body_speed)
+        if n is None:
             continue  # refused with its message when the loads are read
         for k, _, _ in _orders(blk):
             out[f"order {k} of {blk.element}"] = k * n / zref
@@ -205,7 +218,7 @@ def _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap, zref
     for i, t in loads_raw:
         if not isinstance(t, dict):
             raise ConfigError(f"{ctx.source}: [[load]] {i + 1}: must be a table")
-        blk = ctx.Block(ctx, "load", i, t, LOAD_KEYS, t.get("body") or t.get("gear"))
+        blk = _load_block(ctx, i, t)
         blk.need("torque")
         target, n = _load_target(blk, gears, node_at, where, speeds, body_speed, rmap)
         raw = t["torque"]

@@ -65,10 +65,6 @@ _SOURCE_XI0 = "not given; ξ0 = 0.1 (the paper's Table 1 value, within the range
 _SOURCE_R = "not given; mesh point taken at the mean pitch point, r_l = m_mn z_l / (2 cos β_m)"
 
 
-def _deg(x: float) -> float:
-    return math.degrees(x)
-
-
 def _finite(name: str, value: Any, unit: str = "", of_unit: bool = False) -> float:
     """``value`` as a finite float, else a ModelError naming ``name`` (and ``unit`` if ``of_unit``)."""
     try:

@@ -375,14 +375,6 @@ class Scales:
         return np.asarray(rate, dtype=float) * self.omega_n_rad_s
 
     # ------------------------------------------------------------------ length
-    def u_from_m(self, x: Any) -> Any:
-        """Non-dimensional displacement from metres."""
-        return np.asarray(x, dtype=float) / self.b_c_m
-
-    def m_from_u(self, u: Any) -> Any:
-        """Metres from a non-dimensional displacement u (u_n = u b_c)."""
-        return np.asarray(u, dtype=float) * self.b_c_m
-
     def u_from_um(self, x: Any) -> Any:
         """Non-dimensional displacement from micrometres."""
         return np.asarray(x, dtype=float) * 1e-6 / self.b_c_m

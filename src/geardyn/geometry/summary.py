@@ -6,7 +6,7 @@ import math
 from typing import Any
 
 from .bevel import SpiralBevelGearPair
-from .inputs import CONE_DISTANCE_NOTE_TOL, _deg
+from .inputs import CONE_DISTANCE_NOTE_TOL
 from .iso import iso_rows
 
 __all__ = ["geometry_summary", "summary_rows"]
@@ -65,9 +65,9 @@ def geometry_summary(
         "z1": pair.z1,
         "z2": pair.z2,
         "ratio": pair.ratio,
-        "delta1_deg": _deg(pair.delta1),
-        "delta2_deg": _deg(pair.delta2),
-        "Sigma_deg": _deg(pair.Sigma),
+        "delta1_deg": math.degrees(pair.delta1),
+        "delta2_deg": math.degrees(pair.delta2),
+        "Sigma_deg": math.degrees(pair.Sigma),
         "r1_m": rv.r1,
         "r2_m": rv.r2,
         "R1_m": pair.R1,

@@ -629,6 +629,7 @@ def plot_function(
     ax_doc: str = ONE_AXES,
     params: str = "",
     tight: bool = False,
+    adjust: dict | None = None,
 ) -> Callable[[Callable[..., Any]], Callable[..., PlotArtists]]:
     """Make ``fn(ds, ..., ax)`` drawing into given Axes a plot function ``fn(ds, ..., ax=None) -> PlotArtists``.
 
@@ -652,6 +653,8 @@ def plot_function(
         Documentation of the parameters between ``ds`` and ``ax`` (numpydoc, dedented).
     tight : bool
         Apply :meth:`~matplotlib.figure.Figure.tight_layout` to a new figure.
+    adjust : dict, optional
+        Keywords of :meth:`~matplotlib.figure.Figure.subplots_adjust` applied to a new figure before drawing.
 
     Returns
     -------
@@ -673,6 +676,8 @@ def plot_function(
             fig, axes, new = panels(
                 bound.arguments["ax"], count, size, **((subplots(ds) if callable(subplots) else subplots) or {})
             )
+            if new and adjust:
+                fig.subplots_adjust(**adjust)
             before = snapshot(axes)
             bound.arguments["ax"] = axes[0] if count == 1 else axes
             fn(*bound.args, **bound.kwargs)

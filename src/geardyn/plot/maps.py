@@ -43,11 +43,9 @@ MOTION_CATEGORIES = [
 def _motion_index(motion: np.ndarray, period: np.ndarray) -> np.ndarray:
     names = [n for n, _ in MOTION_CATEGORIES]
     m, p = motion, period
-    out = np.where(
-        m == MOTION_DIVERGED, names.index(MOTION_LABELS[MOTION_DIVERGED]), names.index(MOTION_LABELS[MOTION_UNRESOLVED])
-    )
-    out = np.where(m == MOTION_QUASIPERIODIC, names.index(MOTION_LABELS[MOTION_QUASIPERIODIC]), out)
-    out = np.where(m == MOTION_CHAOTIC, names.index(MOTION_LABELS[MOTION_CHAOTIC]), out)
+    out = names.index(MOTION_LABELS[MOTION_UNRESOLVED])
+    for code in (MOTION_DIVERGED, MOTION_QUASIPERIODIC, MOTION_CHAOTIC):
+        out = np.where(m == code, names.index(MOTION_LABELS[code]), out)
     shown = range(1, SHOWN_PERIODS + 1)
     per = np.select(
         [p == k for k in shown],

@@ -13,29 +13,24 @@ import numpy as np
 import xarray as xr
 from matplotlib.colors import LogNorm
 
-from .common import PlotArtists, panels, result, snapshot
+from .common import plot_function
 
 __all__ = ["runup_figure"]
 
 
-def runup_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Order map of the DTE and the run-up amplitude and dynamic factor against speed, with the steady response.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``runup`` result (``geardyn runup``); its attribute ``quasi_static`` (JSON) holds the steady
-        response when it was computed.
-    ax : matplotlib.axes.Axes or sequence of 3 Axes, optional
-        Where to draw (one Axes: the order map only); a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, axes, _ = panels(ax, 3, (8.5, 9.0), sharex=True)
-    before = snapshot(axes)
+@plot_function(
+    "runup",
+    (8.5, 9.0),
+    n=3,
+    subplots={"sharex": True},
+    ax_doc="""
+               ax : matplotlib.axes.Axes or sequence of 3 Axes, optional
+                   Where to draw (one Axes: the order map only); a new figure if omitted.""",
+)
+def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
+    """Order map of the DTE and the run-up amplitude and dynamic factor against speed, with the steady response
+    (of ``geardyn runup``; its attribute ``quasi_static`` (JSON) holds the steady response when it was computed)."""
+    axes = ax
     phys = "rpm" in ds.coords
     x = ds["rpm"].values if phys else ds["omega"].values
     xlab = "pinion speed n1 [rpm]" if phys else "ω [1]"
@@ -66,7 +61,7 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         a0.set_ylabel("mesh order")
         a0.set_yticks(orders)
     # the colour bar beside the panel, not taken out of it: the three panels keep one width and one x scale
-    fig.colorbar(mesh, cax=a0.inset_axes((1.015, 0.0, 0.025, 1.0)), label=f"order amplitude [{unit}]")
+    a0.figure.colorbar(mesh, cax=a0.inset_axes((1.015, 0.0, 0.025, 1.0)), label=f"order amplitude [{unit}]")
     rate = float(ds.attrs.get("ramp_rate_rpm_per_s", np.nan))
     what = "run-up" if float(ds.attrs["omega_stop"]) > float(ds.attrs["omega_start"]) else "run-down"
     a0.set_title(
@@ -101,4 +96,3 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         a.grid(True, alpha=0.3)
         a.legend(fontsize=7, loc="upper left")
     (a2 or a1 or a0).set_xlabel(xlab)
-    return result(fig, axes, before)

@@ -10,6 +10,11 @@ import xarray as xr
 
 from .common import PlotArtists, panels, plot_function, result, snapshot
 
+#: Documentation of ``ax`` for a figure of several panels.
+_PANELS = """
+           ax : Axes or sequence of Axes, optional
+               Where to draw (as many Axes as panels); a new figure if omitted."""
+
 __all__ = [
     "compliance_figure",
     "fe_compliance_figure",
@@ -21,28 +26,12 @@ __all__ = [
 ]
 
 
-def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Mesh stiffness, STE and load shares over the mesh phase of a ``stiffness`` result.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``stiffness`` result (``geardyn stiffness``).
-    ax : Axes or sequence of Axes, optional
-        Where to draw (as many Axes as panels); a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, axes, new = panels(ax, 3, (11.0, 8.0), sharex=True)
-    if new:
-        fig.subplots_adjust(right=0.7)
-    before = snapshot(axes)
+@plot_function("stiffness", (11.0, 8.0), n=3, subplots={"sharex": True}, adjust={"right": 0.7}, ax_doc=_PANELS)
+def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> None:
+    """Mesh stiffness, STE and load shares over the mesh phase of a ``stiffness`` result (``geardyn stiffness``)."""
     s = json.loads(ds.attrs["summary"])
     ph = ds["phase"].values
-    a0, a1, a2 = axes
+    a0, a1, a2 = ax
     a0.plot(ph, ds["mesh_stiffness"], "k-", lw=1.2, label="k_m (loaded pairs)")
     if not np.allclose(ds["mesh_stiffness"], ds["mesh_stiffness_unmodified"]):
         a0.plot(ph, ds["mesh_stiffness_unmodified"], "C0--", lw=1.0, label="pairs in geometric contact")
@@ -77,7 +66,6 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         a2.set_ylabel("load share [1]")
         a2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     (a2 or a0).set_xlabel("mesh phase θ [mesh cycles]")
-    return result(fig, axes, before)
 
 
 @plot_function("stiffness", (7.5, 4.5))
@@ -152,26 +140,10 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     return result(fig, axes, before)
 
 
-def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Record with tachometer, pinion TSA, residual and difference signals of each run.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``signature`` result.
-    ax : Axes or sequence of Axes, optional
-        Where to draw (as many Axes as panels); a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    fig, axes, new = panels(ax, 4, (9.0, 10.5))
-    if new:
-        fig.subplots_adjust(hspace=0.4)
-    before = snapshot(axes)
-    a0, a1, a2, a3 = axes
+@plot_function("signature", (9.0, 10.5), n=4, adjust={"hspace": 0.4}, ax_doc=_PANELS)
+def signature_signals(ds: xr.Dataset, ax: Any = None) -> None:
+    """Record with tachometer, pinion TSA, residual and difference signals of each run."""
+    a0, a1, a2, a3 = ax
     for i, (name, s) in enumerate(_runs(ds)):
         c = f"C{i}"
         t = ds["time"].values * 1e3
@@ -207,7 +179,6 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     a0.legend(fontsize=7, loc="upper right")
     if a3 is not None:
         a3.set_xlabel("pinion angle [deg]")
-    return result(fig, axes, before)
 
 
 @plot_function(
@@ -215,9 +186,7 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
     (9.0, 10.0),
     n=8,
     subplots={"nrows": 4, "ncols": 2, "sharex": True},
-    ax_doc="""
-               ax : Axes or sequence of Axes, optional
-                   Where to draw (as many Axes as panels); a new figure if omitted.""",
+    ax_doc=_PANELS,
 )
 def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> None:
     """Condition indicators of pinion and wheel against the fault size."""

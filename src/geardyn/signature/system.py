@@ -57,6 +57,11 @@ def _mesh(system: Any, mesh: str | None) -> Any:
     raise ModelError(f"mesh: {name!r} is not a mesh of the system; meshes: {', '.join(m.name for m in desc.meshes)}")
 
 
+def _translations(system: Any) -> list[str]:
+    """The system's translational DOFs (accelerometer positions)."""
+    return [lab for lab in system.labels if lab.rsplit(".", 1)[-1] in _TRANSLATIONS]
+
+
 def mesh_shafts(system: Any, mesh: str | None = None) -> tuple[int, int | None, str | None]:
     """The pinion's teeth, the wheel's teeth (``None`` if the mesh vector does not give them) and the pinion body.
 
@@ -107,7 +112,7 @@ def default_sensor(system: Any, mesh: str | None = None) -> str:
         own = [(lab, c) for lab, c in trans if lab.startswith(body + ".") and lab in labels]
         if own:
             return max(own, key=lambda t: t[1])[0]
-    anyt = [lab for lab in labels if lab.rsplit(".", 1)[-1] in _TRANSLATIONS]
+    anyt = _translations(system)
     if not anyt:
         raise ModelError(
             f"sensor: the system has no translational DOF (x, y or z) for an accelerometer; DOFs: {', '.join(labels)}"
@@ -124,7 +129,7 @@ def check_sensor(system: Any, dof: str) -> None:
     dof : str
         A DOF label (``"pinion.y"``).
     """
-    trans = [lab for lab in system.labels if lab.rsplit(".", 1)[-1] in _TRANSLATIONS]
+    trans = _translations(system)
     if dof not in trans:
         what = "a rotation, not a translation" if dof in system.labels else "not a DOF of the system"
         raise ModelError(

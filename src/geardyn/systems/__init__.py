@@ -2,7 +2,7 @@
 
 * :mod:`~geardyn.systems.description` — the physical description (SI): :class:`Body`,
   :class:`Connection`, :class:`Clearance`, :class:`Mesh`, :class:`Load`, :class:`SystemDescription`.
-* :mod:`~geardyn.systems.load` — system files in TOML with units (:func:`load_description`,
+* :mod:`~geardyn.systems.files` — system files in TOML with units (:func:`load_description`,
   :func:`load_system`).
 * :mod:`~geardyn.systems.assemble` — :func:`assemble` → :class:`SystemModel`, the frozen
   non-dimensional system (the :class:`geardyn.system.System` protocol) and its kernel arrays
@@ -13,7 +13,7 @@
 
 from .assemble import MeshND, SystemArrays, SystemModel, assemble
 from .description import DOFS, Body, Clearance, Connection, Load, Mesh, SystemDescription
-from .load import load_description, load_system
+from .files import load_description, load_system
 from .modes import ModalResult, campbell, modal_analysis, modes_report
 from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
 

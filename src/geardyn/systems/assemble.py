@@ -86,7 +86,7 @@ import numpy as np
 from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry.scales import Scales
-from ..model import Boundary
+from ..model import Boundary, series_change
 from ..pairpack import stiffness_minimum
 from ..params import MAX_HARMONICS, canonical_param, slot
 from ..system import Element
@@ -395,10 +395,6 @@ class SystemModel:
             p = p * r.denominator // math.gcd(p, r.denominator)
         return p
 
-    def is_periodic(self) -> bool:
-        """Whether the forcing is periodic (commensurate mesh frequencies)."""
-        return self.period_multiple() is not None
-
     @property
     def forcing_period(self) -> float:
         """The forcing period p·T; raises :class:`ModelError` for incommensurate mesh frequencies."""
@@ -469,18 +465,7 @@ class SystemModel:
             return replace(self, bearings=tuple(new_b if x.name == b.name else x for x in self.bearings))
         m = self.mesh(elem)
         attr, idx = self._mesh_slot(p)
-        if idx is None:
-            new = replace(m, **{attr: value})
-        else:
-            seq = list(getattr(m, attr))
-            seq.extend([0.0] * (idx + 1 - len(seq)))
-            seq[idx] = value
-            changes: dict[str, Any] = {attr: tuple(seq)}
-            amp = {"phi_c": "xi", "phi_k": "kappa", "phi_e": "eps"}.get(attr)
-            if amp is not None and len(getattr(m, amp)) < len(seq):
-                a = list(getattr(m, amp))
-                changes[amp] = tuple(a + [0.0] * (len(seq) - len(a)))
-            new = replace(m, **changes)
+        new = replace(m, **({attr: value} if idx is None else series_change(m, attr, idx, value)))
         meshes = tuple(new if x.name == m.name else x for x in self.meshes)
         return replace(self, meshes=meshes)
 
@@ -671,19 +656,14 @@ class SystemModel:
 
         d = {
             "labels": list(self.labels),
-            "Mi": self.Mi.tolist(),
-            "Kb": self.Kb.tolist(),
-            "Cb": self.Cb.tolist(),
-            "V": self.V.tolist(),
+            **{k: getattr(self, k).tolist() for k in ("Mi", "Kb", "Cb", "V")},
             "meshes": [asdict(m) for m in self.meshes],
             "F": self.F.tolist(),
             "omega": self.omega,
             "scaling": asdict(self.scaling),
             "clearance_names": list(self.clearance_names),
             "Vc": self.Vc.tolist(),
-            "kc": list(self.kc),
-            "cc": list(self.cc),
-            "Dc": list(self.Dc),
+            **{k: list(getattr(self, k)) for k in ("kc", "cc", "Dc")},
         }
         if self.orders:  # [numerator, denominator] of the ratio, the load vector, the phase
             d["orders"] = [[[r.numerator, r.denominator], F.tolist(), ph] for r, F, ph in self.orders]
@@ -715,24 +695,6 @@ class SystemModel:
             if key in d:
                 d[key] = np.array(d[key], dtype=float)
         return cls(**d)
-
-    # ------------------------------------------------------------------ checks and helpers
-    def relative_coefficients(self, mesh: str | None = None) -> dict[str, float]:
-        """Coefficients of a mesh's relative coordinate u = V[m]·q̃ − E_m when the system is that mesh alone.
-
-        Valid when the mesh's deflection decouples (no bearings on its DOFs, one mesh): then
-        ``u'' + a C_m(θ) u' + a K_m(θ) f(u) = V Mi F − E_m''`` with ``a = V Mi Vᵀ``.  Returns the
-        1-DOF model's values ``xi0, xi1…, kappa1…, eps1…, fp, D`` and ``a``.
-        """
-        m = self.mesh(mesh or self.scaling.reference)
-        i = self.meshes.index(m)
-        v = self.V[i]
-        a = float(v @ self.Mi @ v)
-        out = {"a": a, "xi0": a * m.xi0, "fp": float(v @ self.Mi @ self.F), "D": m.D, "k": a * m.k}
-        out.update({f"xi{k + 1}": a * x for k, x in enumerate(m.xi)})
-        out.update({f"kappa{k + 1}": x for k, x in enumerate(m.kappa)})
-        out.update({f"eps{k + 1}": x for k, x in enumerate(m.eps)})
-        return out
 
 
 # ---------------------------------------------------------------------------- assembly
@@ -836,7 +798,6 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     cc = tuple(c.damping * omega_n / k_ref for c in cl)
     Dc = tuple(c.gap / b_c for c in cl)
     bearings, Vb = [], []
-    idx_ = desc.index()
     for rb in desc.rolling_bearings:
         br = rb.bearing
         K, cl_ = br.nondimensional(b_c, k_ref)
@@ -854,7 +815,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
                 phase=rb.phase,
             )
         )
-        Vb.append(s * rb.vectors(idx_) / b_c)
+        Vb.append(s * rb.vectors(idx) / b_c)
     Vb = np.concatenate(Vb) if Vb else np.zeros((0, desc.n))
     if omega is None:
         if desc.omega is not None:

@@ -48,7 +48,8 @@ def free_motions(Kt: np.ndarray) -> np.ndarray:
     return U[:, np.abs(w) <= tol]
 
 
-def _mean_stiffness(model: Any) -> np.ndarray:
+def mean_stiffness(model: Any) -> np.ndarray:
+    """K̃_b + Σ k_m V_m V_mᵀ + Σ kc Vc Vcᵀ (+ the rolling bearings' K̃ on their rows): the mean stiffness."""
     Kt = np.array(model.Kb, dtype=float)
     for i, m in enumerate(model.meshes):
         Kt += m.k * np.outer(model.V[i], model.V[i])
@@ -90,7 +91,7 @@ def check_balance(model: Any, desc: Any) -> None:
         "the loads drive the free rotation of <bodies> (...); a torque of X N·m on <body>.theta would balance
         them".
     """
-    R = free_motions(_mean_stiffness(model))
+    R = free_motions(mean_stiffness(model))
     F = np.asarray(model.F)
     if not R.shape[1] or np.linalg.norm(F @ R) <= LOAD_RTOL * np.linalg.norm(np.abs(F) @ np.abs(R)):
         return

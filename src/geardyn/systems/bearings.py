@@ -129,9 +129,11 @@ class RollingBearing:
         return self.stiffness * b_c ** (n - 1.0) / k_ref, self.clearance / b_c
 
 
-def _angles(cage_angle, Z: int) -> np.ndarray:
-    a = np.asarray(cage_angle, dtype=float)
-    return a[..., None] + 2.0 * np.pi * np.arange(Z) / Z
+def _compression(x, y, cage_angle, Z: int, c: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """δ_j = x cos φ_j + y sin φ_j − c of every element (last axis), with cos φ_j and sin φ_j."""
+    phi = np.asarray(cage_angle, dtype=float)[..., None] + 2.0 * np.pi * np.arange(Z) / Z
+    cs, sn = np.cos(phi), np.sin(phi)
+    return np.asarray(x, dtype=float)[..., None] * cs + np.asarray(y, dtype=float)[..., None] * sn - c, cs, sn
 
 
 def bearing_forces(x, y, cage_angle, Z: int, K: float, n: float, c: float) -> tuple[np.ndarray, np.ndarray]:
@@ -146,12 +148,8 @@ def bearing_forces(x, y, cage_angle, Z: int, K: float, n: float, c: float) -> tu
     Z, K, n, c
         Elements, load–deflection constant, exponent, radial clearance.
     """
-    phi = _angles(cage_angle, Z)
-    cs, sn = np.cos(phi), np.sin(phi)
-    xx = np.asarray(x, dtype=float)[..., None]
-    yy = np.asarray(y, dtype=float)[..., None]
-    d = np.maximum(xx * cs + yy * sn - c, 0.0)
-    q = K * d**n
+    d, cs, sn = _compression(x, y, cage_angle, Z, c)
+    q = K * np.maximum(d, 0.0) ** n
     return -np.sum(q * cs, axis=-1), -np.sum(q * sn, axis=-1)
 
 
@@ -173,13 +171,9 @@ def bearing_stiffness(x, y, cage_angle, Z: int, K: float, n: float, c: float) ->
     c : float
         Radial clearance (same length unit as x, y).
     """
-    phi = _angles(cage_angle, Z)
-    cs, sn = np.cos(phi), np.sin(phi)
-    xx = np.asarray(x, dtype=float)[..., None]
-    yy = np.asarray(y, dtype=float)[..., None]
-    d = xx * cs + yy * sn - c
+    d, cs, sn = _compression(x, y, cage_angle, Z, c)
     w = np.where(d > 0.0, K * n * np.maximum(d, 0.0) ** (n - 1.0), 0.0)
-    out = np.empty(np.broadcast(xx, yy, phi).shape[:-1] + (2, 2))
+    out = np.empty(d.shape[:-1] + (2, 2))
     out[..., 0, 0] = np.sum(w * cs * cs, axis=-1)
     out[..., 0, 1] = out[..., 1, 0] = np.sum(w * cs * sn, axis=-1)
     out[..., 1, 1] = np.sum(w * sn * sn, axis=-1)
@@ -200,10 +194,7 @@ def loaded_elements(x, y, cage_angle, Z: int, c: float) -> np.ndarray:
     c : float
         Radial clearance (same length unit as x, y).
     """
-    phi = _angles(cage_angle, Z)
-    xx = np.asarray(x, dtype=float)[..., None]
-    yy = np.asarray(y, dtype=float)[..., None]
-    return np.sum(xx * np.cos(phi) + yy * np.sin(phi) - c > 0.0, axis=-1)
+    return np.sum(_compression(x, y, cage_angle, Z, c)[0] > 0.0, axis=-1)
 
 
 def ball_bearing_forces(

@@ -186,10 +186,12 @@ class Connection:
         return cls(name, dofs, np.outer(w, w) * float(stiffness), np.outer(w, w) * float(damping))
 
     @classmethod
-    def diagonal(cls, name: str, body: str, stiffness: dict[str, float], damping: dict[str, float] | None = None):
-        """A bearing to ground with independent springs on some of one body's DOFs."""
+    def diagonal(
+        cls, name: str, body: str, stiffness: dict[str, float], damping: dict[str, float] | None = None, order=DOFS
+    ):
+        """A bearing to ground with independent springs on some of one body's DOFs (taken in ``order``)."""
         damping = damping or {}
-        dofs = tuple(d for d in DOFS if d in stiffness or d in damping)
+        dofs = tuple(d for d in order if d in stiffness or d in damping)
         return cls(
             name,
             tuple((body, d) for d in dofs),
@@ -322,23 +324,16 @@ class Mesh(_AlongVector):
                 set_(self, name, _series(f"{who}: {name}", getattr(self, name)))
         for name in ("xi0", "c0"):
             if getattr(self, name) is not None:
-                v = _finite(f"{who}: {name}", getattr(self, name))
-                set_(self, name, v)
-        for amp, ph in (("kappa", "phi_k"), ("e", "phi_e")):
-            a, p = getattr(self, amp), getattr(self, ph)
+                set_(self, name, _finite(f"{who}: {name}", getattr(self, name)))
+        damping = self.xi if self.xi is not None else (self.c or ())
+        for amp, a, ph in (("kappa", self.kappa, "phi_k"), ("e", self.e, "phi_e"), ("damping", damping, "phi_c")):
+            p = getattr(self, ph)
             if len(p) > len(a) or 0 < len(p) < len(a):
                 raise ModelError(
                     f"{who}: {ph}: {len(p)} phases for {len(a)} {amp} harmonics; give one phase per harmonic, "
                     "or none (all 0)"
                 )
             set_(self, ph, p + (0.0,) * (len(a) - len(p)))
-        n_damp = len(self.xi if self.xi is not None else (self.c or ()))
-        if len(self.phi_c) > n_damp or 0 < len(self.phi_c) < n_damp:
-            raise ModelError(
-                f"{who}: phi_c: {len(self.phi_c)} phases for {n_damp} damping harmonics; give one phase per "
-                "harmonic, or none (all 0)"
-            )
-        set_(self, "phi_c", self.phi_c + (0.0,) * (n_damp - len(self.phi_c)))
         P = self.cycles
         if isinstance(P, bool) or not isinstance(P, (int, float, np.integer)) or not float(P).is_integer() or P < 1:
             raise ModelError(f"{who}: cycles: must be an integer >= 1, got {P!r}")

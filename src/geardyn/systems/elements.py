@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from ..series import series_values
+from .balance import mean_stiffness
 
 __all__ = ["element_series", "initial_state", "rigid_modes", "mean_trace"]
 
@@ -43,10 +44,8 @@ def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.nda
     for i, m in enumerate(model.meshes):
         E, Ed = series_values(m.coefficients(), theta, (2,), ratio=m.ratio, derivative=True)
         out.append(np.stack([q @ model.V[i] - E, v @ model.V[i] - model.omega * Ed], axis=-1))
-    for i in range(len(model.clearance_names)):
-        out.append(np.stack([q @ model.Vc[i], v @ model.Vc[i]], axis=-1))
-    for i in range(2 * len(getattr(model, "bearings", ()))):  # rolling bearings: x, y relative displacements
-        out.append(np.stack([q @ model.Vb[i], v @ model.Vb[i]], axis=-1))
+    for w in (*model.Vc, *model.Vb):  # the clearances, the rolling bearings' x and y relative displacements
+        out.append(np.stack([q @ w, v @ w], axis=-1))
     return np.stack(out, axis=-2)
 
 
@@ -97,14 +96,7 @@ def rigid_modes(model: Any, rtol: float = 1e-9) -> np.ndarray:
     ndarray (n, r)
         Orthonormal columns; r = 0 when no zero-stiffness direction is also free of damping and load.
     """
-    Kt = np.array(model.Kb, dtype=float)
-    for i, m in enumerate(model.meshes):
-        Kt += m.k * np.outer(model.V[i], model.V[i])
-    for i, k in enumerate(model.kc):
-        Kt += k * np.outer(model.Vc[i], model.Vc[i])
-    for b, br in enumerate(getattr(model, "bearings", ())):  # a rolling bearing holds its body's x and y
-        Kt += br.K * (np.outer(model.Vb[2 * b], model.Vb[2 * b]) + np.outer(model.Vb[2 * b + 1], model.Vb[2 * b + 1]))
-    w, U = np.linalg.eigh(Kt)
+    w, U = np.linalg.eigh(mean_stiffness(model))
     tol = rtol * max(1.0, float(np.max(np.abs(w))))
     R = U[:, np.abs(w) <= tol]
     if R.shape[1] and (

@@ -84,14 +84,13 @@ from typing import Any
 import numpy as np
 
 from .. import _config_values as cv
-from .._config_values import _Key, parse_toml, read_toml
-from ..errors import ConfigError, GeardynError, ModelError
+from .._config_values import _Key
+from ..errors import ConfigError, ModelError
 from ..geometry import Assumption, SpiralBevelGearPair
-from .assemble import SystemModel, assemble
 from .description import DOFS, MESH_SERIES_KEYS, Body, Clearance, Connection, Load, Mesh, SystemDescription
 from .vectors import bevel_mesh_vector, cylindrical_mesh_vector
 
-__all__ = ["load_description", "load_system"]
+__all__ = ["build"]
 
 #: The value kinds of a system file (:mod:`geardyn._config_values`, the validator of every file): name -> kind.
 _K = {
@@ -252,6 +251,12 @@ class _Block:
     def has(self, key: str) -> bool:
         return key in self.data
 
+    def need(self, *keys: str) -> None:
+        """Refuse the table unless it has all ``keys``."""
+        missing = [k for k in keys if not self.has(k)]
+        if missing:
+            raise self.cerr(None, f"missing key(s) {', '.join(missing)}")
+
     def _where(self, key: str, kind: str) -> dict[str, Any]:
         return {
             "index": self.index,
@@ -329,6 +334,11 @@ def _dof_ref(blk: _Block, key: str, text: str) -> tuple[str, str]:
     return b, d
 
 
+def springs(blk: _Block, dofs: tuple[str, ...]) -> tuple[dict[str, float], dict[str, float]]:
+    """A bearing table's stiffnesses ``k<dof>`` and dampers ``c<dof>`` given on ``dofs``."""
+    return tuple({d: blk.get(f"{x}{d}") for d in dofs if blk.has(f"{x}{d}")} for x in "kc")
+
+
 def _vector(blk: _Block, table: dict, translational: bool) -> dict[tuple[str, str], float]:
     out: dict[tuple[str, str], float] = {}
     for body, comps in table.items():
@@ -360,8 +370,7 @@ def _connection(ctx: _Ctx, i: int, data: dict):
             if bad:
                 raise blk.cerr(bad[0], "not allowed in a bearing given by body (use kx, ky, kz, ktheta, cx, ...)")
             body = blk.get("body")
-            k = {d: blk.get(f"k{d}") for d in DOFS if blk.has(f"k{d}")}
-            c = {d: blk.get(f"c{d}") for d in DOFS if blk.has(f"c{d}")}
+            k, c = springs(blk, DOFS)
             if not k:
                 raise blk.cerr(None, "a bearing needs at least one stiffness (kx, ky, kz or ktheta)")
             return Connection.diagonal(name, body, k, c)
@@ -442,21 +451,13 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                     ),
                 )
             else:
-                missing = [k for k in ("z1", "z2", "m_mn", "beta_m", "alpha_n") if not blk.has(k)]
-                if missing:
-                    raise blk.cerr(None, f"missing key(s) {', '.join(missing)}")
-                I1 = bodies[p].inertia or 1.0
-                I2 = bodies[g].inertia or 1.0
-                kw = {k: blk.get(k) for k in ("Sigma", "r1", "r2", "hand", "drive_side") if blk.has(k)}
+                blk.need("z1", "z2", "m_mn", "beta_m", "alpha_n")
+                keys = ("Sigma", "r1", "r2", "hand", "drive_side", "z1", "z2", "m_mn", "beta_m", "alpha_n")
+                kw = {k: blk.get(k) for k in keys if blk.has(k)}
                 pair = SpiralBevelGearPair(
-                    z1=blk.get("z1"),
-                    z2=blk.get("z2"),
-                    m_mn=blk.get("m_mn"),
-                    beta_m=blk.get("beta_m"),
-                    alpha_n=blk.get("alpha_n"),
                     j_n=backlash,
-                    I1=I1,
-                    I2=I2,
+                    I1=bodies[p].inertia or 1.0,
+                    I2=bodies[g].inertia or 1.0,
                     k0=blk.get("stiffness"),
                     **kw,
                 )
@@ -465,49 +466,59 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                         ctx.assume(Assumption(f"{name}.{a.name}", a.value, a.unit, a.source))
                 vector = bevel_mesh_vector(pair, p, g, d1, d2)
                 teeth = pair.z1 if teeth is None else teeth
-        kappa = blk.get("kappa", default=())
-        k0 = blk.get("stiffness")
-        if blk.has("k"):
-            if blk.has("kappa"):
-                raise blk.cerr("k", "give kappa (relative) or k (N/m), not both")
-            kappa = tuple(x / k0 for x in blk.get("k"))
-        e = blk.get("e", default=())
-        if blk.has("eps"):
-            if blk.has("e"):
-                raise blk.cerr("eps", "give eps (relative to b_c) or e (a length), not both")
-            e = tuple(x * b_c for x in blk.get("eps"))  # b_c is known: see _build
-        damping: dict[str, Any] = {}
-        if any(blk.has(k) for k in ("c0", "c")):
-            damping = {"c0": blk.get("c0", default=0.0), "c": blk.get("c", default=())}
-        else:
-            damping = {
-                "xi0": blk.get("xi0", default=0.1, assumed="not given: geardyn's default mean mesh damping ratio 0.1"),
-                "xi": blk.get("xi", default=()),
-            }
+        series = mesh_series(blk, b_c) | mesh_damping(blk)  # b_c is known: see build
         return Mesh(
             name=name,
             vector=vector,
-            stiffness=k0,
             backlash=backlash,
-            kappa=kappa,
-            phi_k=blk.get("phi_k", default=()),
             phi_c=blk.get("phi_c", default=()),
-            e=e,
-            phi_e=blk.get("phi_e", default=()),
             ratio=blk.get("ratio", default=1.0),
             teeth=teeth,
-            **damping,
-            **(
-                {
-                    "excitation": str(Path(ctx.source).parent / blk.get("excitation")),
-                    "excitation_harmonics": blk.get("excitation_harmonics"),
-                }
-                if blk.has("excitation")
-                else {}
-            ),
+            **series,
+            **(excitation_table(blk) if blk.has("excitation") else {}),
         )
     except ModelError as err:
         raise blk.wrap(err) from None
+
+
+def mesh_series(blk: _Block, b_c: float) -> dict[str, Any]:
+    """The mean stiffness and the stiffness and STE harmonics of a ``[[mesh]]`` written out (kappa or k, eps or e)."""
+    kappa = blk.get("kappa", default=())
+    k0 = blk.get("stiffness")
+    if blk.has("k"):
+        if blk.has("kappa"):
+            raise blk.cerr("k", "give kappa (relative) or k (N/m), not both")
+        kappa = tuple(x / k0 for x in blk.get("k"))
+    e = blk.get("e", default=())
+    if blk.has("eps"):
+        if blk.has("e"):
+            raise blk.cerr("eps", "give eps (relative to b_c) or e (a length), not both")
+        e = tuple(x * b_c for x in blk.get("eps"))
+    return {
+        "stiffness": k0,
+        "kappa": kappa,
+        "phi_k": blk.get("phi_k", default=()),
+        "e": e,
+        "phi_e": blk.get("phi_e", default=()),
+    }
+
+
+def excitation_table(blk: _Block) -> dict[str, Any]:
+    """A ``[[mesh]]``'s excitation table (its path beside the file) and the harmonics kept of it."""
+    return {
+        "excitation": str(Path(blk.ctx.source).parent / blk.get("excitation")),
+        "excitation_harmonics": blk.get("excitation_harmonics"),
+    }
+
+
+def mesh_damping(blk: _Block) -> dict[str, Any]:
+    """A ``[[mesh]]``'s damping: c0 and c (N·s/m) when given, else the ratios xi0 (default 0.1) and xi."""
+    if any(blk.has(k) for k in ("c0", "c")):
+        return {"c0": blk.get("c0", default=0.0), "c": blk.get("c", default=())}
+    return {
+        "xi0": blk.get("xi0", default=0.1, assumed="not given: geardyn's default mean mesh damping ratio 0.1"),
+        "xi": blk.get("xi", default=()),
+    }
 
 
 def _orders(blk: _Block) -> tuple:
@@ -646,21 +657,42 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
     return ModelError(f"{ctx.source}: {msg}")
 
 
-def _build(ctx: _Ctx, data: dict) -> SystemDescription:
+def check_top(ctx: _Ctx, data: dict, sections: dict, arrays: tuple[str, ...], gearbox: bool = False) -> None:
+    """Refuse a top-level key of a system (or ``gearbox``) file that is none of its sections, arrays of tables
+    and texts, or of the wrong type."""
     for key, val in data.items():
         if key in _TOP_TEXT:
             if not isinstance(val, str):
                 raise ctx.config(None, None, None, None, f"{key}: expected a string")
-        elif key in _ARRAYS:
+        elif key in arrays:
             if not isinstance(val, list):
-                raise ConfigError(
-                    f"{ctx.source}: line {ctx.line(key, None, None) or '?'}: {key}: write [[{key}]] tables"
-                )
-        elif key not in _SECTIONS:
-            allowed = ", ".join([f"[{s}]" for s in _SECTIONS] + [f"[[{s}]]" for s in _ARRAYS] + list(_TOP_TEXT))
+                at = "" if gearbox else f"line {ctx.line(key, None, None) or '?'}: "
+                raise ConfigError(f"{ctx.source}: {at}{key}: write [[{key}]] tables")
+        elif key not in sections:
+            allowed = ", ".join([f"[{s}]" for s in sections] + [f"[[{s}]]" for s in arrays] + list(_TOP_TEXT))
+            if gearbox:
+                raise ConfigError(f"{ctx.source}: unknown section or key {key!r} in a gearbox file; allowed: {allowed}")
             raise ConfigError(
                 f"{ctx.source}: line {_top_line(ctx, key) or '?'}: unknown section or key {key!r}; allowed: {allowed}"
             )
+
+
+def build(ctx: _Ctx, data: dict) -> SystemDescription:
+    """The description of a parsed system file of bodies (a file with ``[[shaft]]`` tables is a gearbox:
+    :func:`geardyn.systems.files.load_description` dispatches).
+
+    Parameters
+    ----------
+    ctx : _Ctx
+        The file's locator (its source and lines).
+    data : dict
+        The parsed file.
+
+    Returns
+    -------
+    SystemDescription
+    """
+    check_top(ctx, data, _SECTIONS, _ARRAYS)
     sysb = _Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
     opb = _Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
     bodies = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []))]
@@ -702,8 +734,6 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
             if rb.has("backlash")
             else 0.0
         )
-        if jn < 0:
-            raise rb.merr("backlash", f"must be >= 0, got {jn:g} m")
         if not jn > 0:
             raise rb.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
         b_c = jn / 2.0
@@ -715,13 +745,7 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
     loads = [ld for i, t in enumerate(data.get("load", [])) for ld in _loads(ctx, i, t, mmap, k_ref, b_c, mesh_data)]
     rolling = [_rolling(ctx, i, t, mesh_data, mmap) for i, t in enumerate(data.get("bearing", []))]
     _unique(ctx, "bearing", [b.name for b in rolling])
-    rpm = opb.get("rpm")
-    omega = opb.get("omega")
-    if rpm is None and omega is None:
-        ctx.assume(Assumption("operating.omega", 1.0, "", "no operating point given: ω = 1"))
-    for key, v in (("rpm", rpm), ("omega", omega)):
-        if v is not None and not v > 0:
-            raise opb.merr(key, f"must be > 0, got {v:g}")
+    common = described(ctx, data, sysb, opb, ref)
     try:
         return SystemDescription(
             bodies=tuple(bodies),
@@ -729,18 +753,32 @@ def _build(ctx: _Ctx, data: dict) -> SystemDescription:
             connections=tuple(conns),
             clearances=tuple(clears),
             loads=tuple(loads),
-            reference=ref,
-            characteristic_length=sysb.get("characteristic_length"),
-            rpm=rpm,
-            omega=omega,
-            equivalent_mass=sysb.get("equivalent_mass", default="rotational"),
-            title=str(data.get("title", "")),
-            source=ctx.source,
-            assumptions=tuple(ctx.assumptions),
             rolling_bearings=tuple(rolling),
+            **common,
         )
     except ModelError as e:
         raise _element_line(ctx, data, e) from None
+
+
+def described(ctx: _Ctx, data: dict, sysb: _Block, opb: _Block, ref: str | None) -> dict[str, Any]:
+    """What every system file gives its description besides the elements: the [system] and [operating] values
+    (a speed must be > 0; ω = 1 assumed when none is given), the title, the file and the assumptions made."""
+    rpm, omega = opb.get("rpm"), opb.get("omega")
+    if rpm is None and omega is None:
+        ctx.assume(Assumption("operating.omega", 1.0, "", "no operating point given: ω = 1"))
+    for key, v in (("rpm", rpm), ("omega", omega)):
+        if v is not None and not v > 0:
+            raise opb.merr(key, f"must be > 0, got {v:g}")
+    return {
+        "reference": ref,
+        "characteristic_length": sysb.get("characteristic_length"),
+        "rpm": rpm,
+        "omega": omega,
+        "equivalent_mass": sysb.get("equivalent_mass", default="rotational"),
+        "title": str(data.get("title", "")),
+        "source": ctx.source,
+        "assumptions": tuple(ctx.assumptions),
+    }
 
 
 def _unique(ctx: _Ctx, section: str, names: list) -> None:
@@ -761,66 +799,3 @@ def _top_line(ctx: _Ctx, key: str) -> int | None:
         if pat.match(line):
             return i
     return None
-
-
-def load_description(path: str | Path) -> SystemDescription:
-    """Read and check a system file.
-
-    Parameters
-    ----------
-    path : str or Path
-        The TOML file (format: the module docstring).
-
-    Returns
-    -------
-    SystemDescription
-
-    Raises
-    ------
-    ConfigError
-        Missing or unreadable file, TOML syntax, unknown sections or keys, wrong types or units.
-    ModelError
-        Bad values: non-positive masses, unknown bodies, singular mass matrices, unconnected bodies.
-    """
-    source, text = read_toml(path, "system file")
-    ctx = _Ctx(source, text)
-    data = parse_toml(text, source)
-    try:
-        if isinstance(data, dict) and "shaft" in data:  # a gearbox from its geometry: geardyn.gearbox.build
-            from ..gearbox.build import build_description
-
-            return build_description(ctx, data, _Block, _body, _element_line)
-        return _build(ctx, data)
-    except GeardynError:
-        raise
-    except (TypeError, KeyError, AttributeError, IndexError) as e:  # malformed structure the checks missed
-        raise ConfigError(f"{source}: malformed system file ({type(e).__name__}: {e})") from None
-
-
-def load_system(path: str | Path, omega: float | None = None) -> SystemModel:
-    """Read a system file and assemble its non-dimensional :class:`SystemModel`.
-
-    Parameters
-    ----------
-    path : str or Path
-        The TOML file.
-    omega : float, optional
-        Base frequency ω (default: the file's operating point, else 1).
-
-    Raises
-    ------
-    ConfigError, ModelError
-        As :func:`load_description`.
-
-    Examples
-    --------
-    >>> from geardyn import load_system
-    >>> system = load_system("examples/systems/paper_torsional.toml", omega=0.8)
-    >>> system.omega, system.state_dim, [e.name for e in system.elements]
-    (0.8, 4, ['mesh'])
-    """
-    desc = load_description(path)
-    try:
-        return assemble(desc, omega)
-    except ModelError as e:
-        raise ModelError(f"{desc.source}: {e}") from None

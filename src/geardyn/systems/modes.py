@@ -178,11 +178,14 @@ def modes_budget(desc: SystemDescription, clearances: str = "contact") -> float:
     ModelError
         ``system: a modal analysis of n DOFs and E elements would need X GB, above the budget of 2 GB``.
     """
-    from ..plausible import budget
-
     n = len(desc.labels)
     elements = len(desc.connections) + len(desc.meshes) + (len(desc.clearances) if clearances == "contact" else 0)
-    elements += len(getattr(desc, "rolling_bearings", ()))
+    return _budget(n, elements + len(getattr(desc, "rolling_bearings", ())))
+
+
+def _budget(n: int, elements: int) -> float:
+    from ..plausible import budget
+
     estimate = (elements + 3) * n * n * 8.0 + n * n * 100.0
     budget(
         f"a modal analysis of {n} DOFs and {elements} elements (dense matrices)",
@@ -211,8 +214,6 @@ def modes_budget_of_file(path: Any) -> None:
     """
     import tomllib
 
-    from ..plausible import budget
-
     try:
         with open(path, "rb") as f:
             data = tomllib.load(f)
@@ -223,12 +224,7 @@ def modes_budget_of_file(path: Any) -> None:
         )
     except (OSError, ValueError, TypeError, AttributeError):
         return
-    budget(
-        f"a modal analysis of {n} DOFs and {elements} elements (dense matrices)",
-        (elements + 3) * n * n * 8.0 + n * n * 100.0,
-        MODES_MEMORY_BUDGET,
-        key="system",
-    )
+    _budget(n, elements)
 
 
 def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: float | None = None) -> ModalResult:
@@ -285,14 +281,18 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: fl
         k = int(np.argmax(np.abs(phi[:, i])))
         if phi[k, i] < 0:
             phi[:, i] = -phi[:, i]
-    energy = np.zeros((len(f), len(names)))
-    for i in range(len(f)):
-        if rigid[i]:
-            continue
-        e = np.array([phi[:, i] @ Ke @ phi[:, i] for Ke in mats])
+    return ModalResult(desc.labels, f, w2, phi, rigid, tuple(names), tuple(meshes), _energy(phi, mats, rigid))
+
+
+def _energy(shapes: np.ndarray, mats: list[np.ndarray], rigid: np.ndarray) -> np.ndarray:
+    """Each mode's strain-energy fractions φᴴ K_e φ / Σ (modes, elements); 0 for the rigid-body modes."""
+    energy = np.zeros((shapes.shape[1], len(mats)))
+    for i in np.flatnonzero(~rigid):
+        v = shapes[:, i]
+        e = np.array([float(np.real(np.conj(v) @ Ke @ v)) for Ke in mats])
         tot = e.sum()
         energy[i] = e / tot if tot > 0 else 0.0
-    return ModalResult(desc.labels, f, w2, phi, rigid, tuple(names), tuple(meshes), energy)
+    return energy
 
 
 def gyroscopic_eigen(
@@ -360,10 +360,6 @@ class _Spinning:
         self.base = base = modal_analysis(desc, clearances)
         self.omega2 = np.where(base.rigid, 0.0, base.omega2)
 
-    def frequencies(self, rpm: float) -> np.ndarray:
-        """The natural frequencies (Hz, the rigid-body modes first at 0) at the reference shaft's ``rpm``."""
-        return self.at(rpm, whirl=False)[0]
-
     def at(self, rpm: float, whirl: bool = True) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
         """(frequencies in Hz with the rigid-body modes first at 0, complex shapes, whirl measures) at ``rpm``."""
         wk, shapes = gyroscopic_eigen(self.omega2, self.base.shapes, self.G, 2.0 * math.pi * rpm / 60.0, vectors=whirl)
@@ -378,22 +374,16 @@ def _gyroscopic_modes(desc: SystemDescription, clearances: str, rpm: float, G: n
     sp = _Spinning(desc, clearances, G)
     f, shapes, whirl = sp.at(rpm)
     names, mats, _ = _element_stiffness(desc, clearances)
-    nr = int(np.sum(f == 0))
-    energy = np.zeros((len(f), len(names)))
-    for i in range(nr, len(f)):
-        v = shapes[:, i]
-        e = np.array([float(np.real(np.conj(v) @ Ke @ v)) for Ke in mats])
-        tot = e.sum()
-        energy[i] = e / tot if tot > 0 else 0.0
+    rigid = np.arange(len(f)) < int(np.sum(f == 0))
     return ModalResult(
         desc.labels,
         f,
         (2.0 * math.pi * f) ** 2,
         shapes,
-        np.arange(len(f)) < nr,
+        rigid,
         tuple(names),
         sp.base.mesh_elements,
-        energy,
+        _energy(shapes, mats, rigid),
         rpm=rpm,
         whirl=whirl,
     )
@@ -565,16 +555,7 @@ def campbell(
         for f, modes in groups:
             x = f / slope
             if lo <= x <= hi:
-                c = {
-                    "x": x,
-                    "mode": modes[0],
-                    "modes": modes,
-                    "order": pairs[0][1],
-                    "mesh": pairs[0][0],
-                    "meshes": [p[0] for p in pairs],
-                    "line": n,
-                    "frequency_hz": f,
-                }
+                c = _crossing(x, modes, pairs, n, f)
                 if z is not None:
                     c["rpm"] = x
                 crossings.append(c)
@@ -642,7 +623,7 @@ def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slop
             fs = lambda s: float(spline(s)) - slope * s  # noqa: E731
             x = brentq(fs, a, b) if fs(a) * fs(b) < 0 else a - g[j] * (b - a) / (g[j + 1] - g[j])
             for _ in range(20):
-                gx = spinning.frequencies(x)[i] - slope * x
+                gx = spinning.at(x, whirl=False)[0][i] - slope * x  # the frequencies alone
                 if gx > 0:
                     a = max(a, x)
                 elif gx < 0:
@@ -656,21 +637,23 @@ def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slop
                     break
                 x = x_new
             _, _, w = spinning.at(x)
-            out.append(
-                {
-                    "x": x,
-                    "mode": int(i) + 1,
-                    "modes": [int(i) + 1],
-                    "order": pairs[0][1],
-                    "mesh": pairs[0][0],
-                    "meshes": [p[0] for p in pairs],
-                    "line": line,
-                    "frequency_hz": slope * x,
-                    "rpm": x,
-                    "whirl": _whirl_word(float(w[i])),
-                }
-            )
+            out.append(_crossing(x, [int(i) + 1], pairs, line, slope * x, rpm=x, whirl=_whirl_word(float(w[i]))))
     return out
+
+
+def _crossing(x: float, modes: list[int], pairs, line: int, f: float, **more: Any) -> dict[str, Any]:
+    """A crossing of line ``line`` (its (mesh, order) ``pairs``) with the modes ``modes`` at x, frequency f."""
+    return {
+        "x": x,
+        "mode": modes[0],
+        "modes": modes,
+        "order": pairs[0][1],
+        "mesh": pairs[0][0],
+        "meshes": [p[0] for p in pairs],
+        "line": line,
+        "frequency_hz": f,
+        **more,
+    }
 
 
 def modes_report(

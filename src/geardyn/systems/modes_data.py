@@ -20,10 +20,10 @@ import numpy as np
 import xarray as xr
 
 from ..io import KIND_VARIABLES, Variable, json_attr
+from ..io import _v as _V
 
 __all__ = ["MODES_VARIABLES", "modes_dataset"]
 
-_V = lambda ln, u="1": Variable(u, ln)  # noqa: E731
 #: Metadata of the variables of a ``modes`` result (entered in :data:`geardyn.io.KIND_VARIABLES`).
 MODES_VARIABLES: dict[str, Variable] = {
     "mode": _V("mode number (from 1, ascending frequency; rigid-body modes first)"),
@@ -35,14 +35,14 @@ MODES_VARIABLES: dict[str, Variable] = {
     "shape": _V("M-orthonormal mode shape (SI coordinates: m and rad)"),
     "energy_fraction": _V("modal strain-energy fraction of the element"),
     "line": _V("index of the Campbell line"),
-    "line_label": Variable("1", "mesh orders of the Campbell line", text=True),
+    "line_label": _V("mesh orders of the Campbell line", text=True),
     "line_harmonic": _V("line frequency as a multiple of the base mesh frequency (k r_m)"),
     "line_slope": _V("line frequency per unit of the Campbell axis (Hz per rpm, or per Hz)"),
     "crossing": _V("index of the crossing of a Campbell line with a natural frequency"),
     "crossing_x": _V("crossing on the Campbell axis (pinion speed in rpm, or mesh frequency in Hz)"),
     "crossing_frequency_Hz": _V("natural frequency of the crossing", "Hz"),
     "crossing_mode": _V("first mode number of the crossing"),
-    "crossing_modes": Variable("1", "mode numbers of the crossing (a degenerate frequency lists several)", text=True),
+    "crossing_modes": _V("mode numbers of the crossing (a degenerate frequency lists several)", text=True),
     "crossing_line": _V("Campbell line of the crossing (index along line)"),
     "crossing_whirl": Variable(
         "1", "whirl of the crossing's mode (gyroscopic terms)", {-1: "backward", 0: "none", 1: "forward"}
@@ -58,6 +58,11 @@ MODES_VARIABLES: dict[str, Variable] = {
     ),
 }
 KIND_VARIABLES.setdefault("modes", {}).update(MODES_VARIABLES)
+
+
+def _col(dim: str, rows: list[dict[str, Any]], key: str, dtype: Any = float) -> tuple[str, np.ndarray]:
+    """The variable over ``dim`` of entry ``key`` of each row."""
+    return dim, np.array([r[key] for r in rows], dtype=dtype)
 
 
 def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
@@ -84,8 +89,8 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
     n = len(modes)
     data: dict[str, Any] = {
         "frequency_Hz": ("mode", np.array(report["frequencies_hz"], dtype=float)),
-        "rigid": ("mode", np.array([m["rigid"] for m in modes], dtype=np.int8)),
-        "mesh_dominated": ("mode", np.array([m["mesh_dominated"] for m in modes], dtype=np.int8)),
+        "rigid": _col("mode", modes, "rigid", np.int8),
+        "mesh_dominated": _col("mode", modes, "mesh_dominated", np.int8),
         "shape": (("dof", "mode"), np.array([[m["shape"][d] for m in modes] for d in dofs], dtype=float)),
         "energy_fraction": (
             ("mode", "element"),
@@ -111,8 +116,8 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         shafts = [s["name"] for s in gb["shafts"]]
         nodes = [(k, n) for k, s in enumerate(gb["shafts"]) for n in s["nodes"]]
         data["node_shaft"] = ("node", np.array([k for k, _ in nodes], dtype=np.int64))
-        data["node_position"] = ("node", np.array([n["position_m"] for _, n in nodes], dtype=float))
-        data["node_radius"] = ("node", np.array([n["radius_m"] for _, n in nodes], dtype=float))
+        data["node_position"] = _col("node", [n for _, n in nodes], "position_m")
+        data["node_radius"] = _col("node", [n for _, n in nodes], "radius_m")
         codes = {v: k for k, v in MODES_VARIABLES["element_kind"].flags.items()}
         kinds: dict[str, int] = {}
         for m in modes[:1]:
@@ -128,14 +133,14 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
         coords["crossing"] = np.arange(len(cr))
         data.update(
             {
-                "line_label": ("line", np.array([ln["label"] for ln in lines], dtype=object)),
-                "line_harmonic": ("line", np.array([ln["harmonic"] for ln in lines], dtype=float)),
-                "line_slope": ("line", np.array([ln["hz_per_x"] for ln in lines], dtype=float)),
-                "crossing_x": ("crossing", np.array([c["x"] for c in cr], dtype=float)),
-                "crossing_frequency_Hz": ("crossing", np.array([c["frequency_hz"] for c in cr], dtype=float)),
-                "crossing_mode": ("crossing", np.array([c["mode"] for c in cr], dtype=np.int64)),
+                "line_label": _col("line", lines, "label", object),
+                "line_harmonic": _col("line", lines, "harmonic"),
+                "line_slope": _col("line", lines, "hz_per_x"),
+                "crossing_x": _col("crossing", cr, "x"),
+                "crossing_frequency_Hz": _col("crossing", cr, "frequency_hz"),
+                "crossing_mode": _col("crossing", cr, "mode", np.int64),
                 "crossing_modes": ("crossing", np.array([", ".join(map(str, c["modes"])) for c in cr], dtype=object)),
-                "crossing_line": ("crossing", np.array([c["line"] for c in cr], dtype=np.int64)),
+                "crossing_line": _col("crossing", cr, "line", np.int64),
             }
         )
         attrs.update(

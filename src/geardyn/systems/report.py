@@ -63,7 +63,7 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     return f
 
 
-def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
+def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray, viscous: bool = True) -> np.ndarray:
     """Mesh forces s_m = C_m(θ) δ_m' + K_m(θ) f(δ_m; D_m) from the element deflections.
 
     Parameters
@@ -73,32 +73,22 @@ def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
         Times τ.
     deltas : ndarray (K, elements, 2)
         Deflection δ and its rate δ' of every element (meshes first) at those times.
+    viscous : bool
+        False: the elastic contact forces K_m(θ) f(δ_m; D_m) alone, without the viscous term, which acts in
+        separation too (the pair's :func:`geardyn.analysis.physical.contact_force`).
 
     Returns
     -------
     ndarray (K, meshes)
         Mesh forces in units k_ref b_c.
     """
-    tau = np.asarray(tau, dtype=float)
-    th = model.omega * tau
+    th = model.omega * np.asarray(tau, dtype=float)
     out = []
     for i, m in enumerate(model.meshes):
         C, Kk = series_values(m.coefficients(), th, (0, 1), ratio=m.ratio)
         d = deltas[:, i, 0]
-        f = d - np.clip(d, -m.D, m.D)
-        out.append(C * deltas[:, i, 1] + Kk * f)
-    return np.stack(out, axis=1) if out else np.zeros((tau.size, 0))
-
-
-def _contact_forces(model: Any, tau: np.ndarray, deltas: np.ndarray) -> np.ndarray:
-    """Elastic contact forces K_m(θ) f(δ_m; D_m) (K, meshes) in units k_ref b_c: :func:`mesh_forces` without its
-    viscous term, which acts in separation too (the pair's :func:`geardyn.analysis.physical.contact_force`)."""
-    th = model.omega * np.asarray(tau, dtype=float)
-    out = []
-    for i, m in enumerate(model.meshes):
-        (Kk,) = series_values(m.coefficients(), th, (1,), ratio=m.ratio)
-        d = deltas[:, i, 0]
-        out.append(Kk * (d - np.clip(d, -m.D, m.D)))
+        f = Kk * (d - np.clip(d, -m.D, m.D))
+        out.append(C * deltas[:, i, 1] + f if viscous else f)
     return np.stack(out, axis=1) if out else np.zeros((th.size, 0))
 
 
@@ -119,21 +109,11 @@ def _mesh_entries(
         if (tau is not None and deltas is not None and ok and np.all(np.isfinite(deltas)))
         else None
     )
-    contact = _contact_forces(model, tau, deltas) if force is not None and res is not None else None
+    contact = mesh_forces(model, tau, deltas, False) if force is not None and res is not None else None
     out = []
     for i, m in enumerate(model.meshes):
-        if extrema is not None:
-            lo, hi = float(extrema[i, 0]), float(extrema[i, 1])
-        else:
-            lo, hi = float(res.element_u_min(i)[point]), float(res.element_u_max(i)[point])
-        e: dict[str, Any] = {
-            "name": m.name,
-            "backlash_um": _num(m.D * um),
-            "u_min": _num(lo),
-            "u_max": _num(hi),
-            "amplitude": _num(0.5 * (hi - lo)),
-            "impact": IMPACT_LABELS[impact_state(lo, m.D)],
-        }
+        lo, hi = (float(extrema[i, 0]), float(extrema[i, 1])) if extrema is not None else _extremes(res, i, point)
+        e: dict[str, Any] = {"name": m.name, "backlash_um": _num(m.D * um), **_span(lo, hi, m.D)}
         if res is not None:
             e.update(
                 rms=_num(res.element_rms(i)[point]),
@@ -165,18 +145,24 @@ def _clearance_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]
     out = []
     for c, name in enumerate(model.clearance_names):
         e = M + c
-        lo, hi = float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
-        out.append(
-            {
-                "name": name,
-                "u_min": _num(lo),
-                "u_max": _num(hi),
-                "amplitude": _num(0.5 * (hi - lo)),
-                "impact": IMPACT_LABELS[impact_state(lo, model.Dc[c])],
-                "contact_fractions": _fractions(res, e, point),
-            }
-        )
+        span = _span(*_extremes(res, e, point), model.Dc[c])
+        out.append({"name": name, **span, "contact_fractions": _fractions(res, e, point)})
     return out
+
+
+def _extremes(res: Any, e: int, point: int) -> tuple[float, float]:
+    """Element e's smallest and largest deflection at one point."""
+    return float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
+
+
+def _span(lo: float, hi: float, D: float) -> dict[str, Any]:
+    """The entries of an element's deflection range: its extremes, half their difference, the impact state."""
+    return {
+        "u_min": _num(lo),
+        "u_max": _num(hi),
+        "amplitude": _num(0.5 * (hi - lo)),
+        "impact": IMPACT_LABELS[impact_state(lo, D)],
+    }
 
 
 def _bearing_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
@@ -189,7 +175,7 @@ def _bearing_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
         entry: dict[str, Any] = {"name": br.name, "type": br.kind, "radial_clearance_um": _num(br.clearance * bc_um)}
         for k, axis in enumerate("xy"):
             e = e0 + 2 * b + k
-            lo, hi = float(res.element_u_min(e)[point]), float(res.element_u_max(e)[point])
+            lo, hi = _extremes(res, e, point)
             entry[axis] = {
                 "min_um": _num(lo * bc_um),
                 "max_um": _num(hi * bc_um),

@@ -4,8 +4,9 @@ The functions here are the scalar loops behind :func:`~geardyn.analysis.hb.aft.d
 :func:`~geardyn.analysis.hb.aft.signal_extrema`: sampling u on the time grid, locating the contact
 switches by safeguarded Newton, the closed-form interval integrals of the contact indicator and
 the convolutions with the stiffness series, the residual with its Jacobian, ∂R/∂ω and the forcing
-series.  ``tests/test_hb_aft_reference.py`` holds the same method in vectorised NumPy and checks
-that the two agree to rounding.
+series, and the real ↔ complex coefficient maps of :class:`~geardyn.analysis.hb.aft.HarmonicBasis`.
+``tests/test_hb_aft_reference.py`` holds the same method in vectorised NumPy and checks that the two
+agree to rounding.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from numba import njit
 
 from ..._cache_guard import install as _install_cache
 
-__all__ = ["dead_zone_kernel", "extrema_kernel"]
+__all__ = ["dead_zone_kernel", "extrema_kernel", "residual_kernel", "bordered_nu_kernel", "to_complex", "to_real"]
 
 
 _install_cache()  # the cache follows this directory's sources (see geardyn._cache_guard)
@@ -25,36 +26,20 @@ _install_cache()  # the cache follows this directory's sources (see geardyn._cac
 
 @njit(cache=True)
 def _value(a, H, x):
-    s = a[0]
-    for k in range(1, H + 1):
-        s += a[k] * math.cos(k * x) + a[H + k] * math.sin(k * x)
-    return s
-
-
-@njit(cache=True)
-def _value_slope(a, H, x):
+    """u, u_φ and u_φφ at the angle x."""
     u = a[0]
-    d = 0.0
-    for k in range(1, H + 1):
-        c, s = math.cos(k * x), math.sin(k * x)
-        u += a[k] * c + a[H + k] * s
-        d += k * (a[H + k] * c - a[k] * s)
-    return u, d
-
-
-@njit(cache=True)
-def _slope_curv(a, H, x):
     d1 = 0.0
     d2 = 0.0
     for k in range(1, H + 1):
         c, s = math.cos(k * x), math.sin(k * x)
+        u += a[k] * c + a[H + k] * s
         d1 += k * (a[H + k] * c - a[k] * s)
         d2 -= k * k * (a[k] * c + a[H + k] * s)
-    return d1, d2
+    return u, d1, d2
 
 
 @njit(cache=True)
-def _to_complex(a, H):
+def to_complex(a, H):
     """Complex coefficients c_k (k = −H … H) of the real coefficient vector ``a``."""
     c = np.empty(2 * H + 1, dtype=np.complex128)
     c[H] = a[0]
@@ -66,7 +51,7 @@ def _to_complex(a, H):
 
 
 @njit(cache=True)
-def _to_real(z, H):
+def to_real(z, H):
     """Real coefficient vector of the complex coefficients ``z`` of a real signal (imaginary residue dropped)."""
     out = np.empty(2 * H + 1)
     out[0] = z[H].real
@@ -92,8 +77,8 @@ def _samples(a, H, cos_t, sin_t):
 @njit(cache=True)
 def _crossing(a, H, level, lo, hi, max_iter, tol):
     """Root of u = level in [lo, hi] (sign change assumed): Newton kept in the bracket, else bisection."""
-    flo = _value(a, H, lo) - level
-    fhi = _value(a, H, hi) - level
+    flo = _value(a, H, lo)[0] - level
+    fhi = _value(a, H, hi)[0] - level
     den = fhi - flo
     x = 0.5 * (lo + hi)
     if den != 0.0:
@@ -101,11 +86,11 @@ def _crossing(a, H, level, lo, hi, max_iter, tol):
         if math.isfinite(xi) and xi > lo and xi < hi:
             x = xi
     for _ in range(max_iter):
-        f, d = _value_slope(a, H, x)
+        f, d, _ = _value(a, H, x)
         f -= level
         if f == 0.0:
             return x
-        step = f / d if d != 0.0 else (math.inf if f > 0 else -math.inf) * (1.0 if d >= 0 else -1.0)
+        step = f / d if d != 0.0 else math.copysign(math.inf, f)
         if math.isfinite(step) and abs(step) <= tol * (1.0 + abs(x)):
             return x - step
         if np.sign(f) == np.sign(flo):
@@ -121,12 +106,25 @@ def _crossing(a, H, level, lo, hi, max_iter, tol):
 
 
 @njit(cache=True)
+def _convolved(K, x, t0, n):
+    """Entries t0 … t0 + n − 1 of the full convolution K * x (entry t = Σ_i K[i] x[t − i], i ascending)."""
+    out = np.empty(n, dtype=np.complex128)
+    for m in range(n):
+        t = t0 + m
+        acc = 0.0 + 0.0j
+        for i in range(max(0, t - x.shape[0] + 1), min(K.shape[0] - 1, t) + 1):
+            acc += K[i] * x[t - i]
+        out[m] = acc
+    return out
+
+
+@njit(cache=True)
 def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
     """G (2H + 1), S (4H + 1) and the switch angles of K(θ) f(u; D) for real coefficients ``a``."""
     N = cos_t.shape[0]
     L = (K.shape[0] - 1) // 2
     M = 2 * H + 1
-    c = _to_complex(a, H)
+    c = to_complex(a, H)
     u = _samples(a, H, cos_t, sin_t)
     state = np.empty(N, dtype=np.int64)
     for j in range(N):
@@ -136,22 +134,15 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
     ev_phi = np.empty(2 * N)
     ev_new = np.empty(2 * N, dtype=np.int64)
     if D > 0.0:
-        for lev in range(2):
-            level = D if lev == 0 else -D
-            side = 1 if lev == 0 else -1
+        for side in (1, -1):
             for j in range(N):
                 s0, s1 = state[j], state[(j + 1) % N]
                 if s0 == s1 or not (s0 == side or s1 == side):
                     continue
                 lo = 2.0 * math.pi * j / N
-                x = _crossing(a, H, level, lo, lo + h, max_iter, tol)
-                _u, d = _value_slope(a, H, x)
-                up = d > 0
+                x = _crossing(a, H, side * D, lo, lo + h, max_iter, tol)
                 ev_phi[nev] = x
-                if level > 0:
-                    ev_new[nev] = 1 if up else 0
-                else:
-                    ev_new[nev] = 0 if up else -1
+                ev_new[nev] = side if (_value(a, H, x)[1] > 0) == (side > 0) else 0  # the state just after it
                 nev += 1
     Q = 2 * H + L
     chi = np.zeros(2 * Q + 1, dtype=np.complex128)
@@ -159,24 +150,19 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
     phis = np.empty(nev)
     if nev > 0:
         order = np.argsort(ev_phi[:nev])
-        news = np.empty(nev, dtype=np.int64)
-        for i in range(nev):
-            phis[i] = ev_phi[order[i]]
-            news[i] = ev_new[order[i]]
+        phis, news = ev_phi[order], ev_new[order]
         prev = news[nev - 1]
         start = 0.0
         for i in range(nev + 1):
             end = phis[i] if i < nev else 2.0 * math.pi
             if prev != 0:
                 sv = float(prev)
-                v0 = (end - start) / (2.0 * math.pi)
-                chi[Q] += v0
-                sig[Q] += sv * v0
                 for qi in range(2 * Q + 1):
                     q = qi - Q
                     if q == 0:
-                        continue
-                    v = (np.exp(-1j * q * end) - np.exp(-1j * q * start)) / (-2j * math.pi * q)
+                        v = (end - start) / (2.0 * math.pi) + 0j
+                    else:
+                        v = (np.exp(-1j * q * end) - np.exp(-1j * q * start)) / (-2j * math.pi * q)
                     chi[qi] += v
                     sig[qi] += sv * v
             if i < nev:
@@ -188,27 +174,10 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
             chi[Q] = 1.0
             sig[Q] = float(s)
     mid = L + Q
-    # S_m = (K * chi)[mid + m], |m| <= 2H; full convolution index i + j with K index i, chi index j
-    S = np.zeros(4 * H + 1, dtype=np.complex128)
-    for mi in range(4 * H + 1):
-        t = mid - 2 * H + mi
-        acc = 0.0 + 0.0j
-        for i in range(max(0, t - 2 * Q), min(2 * L, t) + 1):
-            acc += K[i] * chi[t - i]
-        S[mi] = acc
-    G = np.zeros(M, dtype=np.complex128)
-    for k in range(M):
-        acc = 0.0 + 0.0j
-        for l in range(M):
-            acc += S[k - l + 2 * H] * c[l]
-        G[k] = acc
+    S = _convolved(K, chi, mid - 2 * H, 4 * H + 1)  # S_m = (K * chi)[mid + m], |m| <= 2H
+    G = _convolved(c, S, 2 * H, M)  # G_k = Σ_l S_{k−l} c_l
     if D > 0.0:
-        for k in range(M):
-            t = mid - H + k
-            acc = 0.0 + 0.0j
-            for i in range(max(0, t - 2 * Q), min(2 * L, t) + 1):
-                acc += K[i] * sig[t - i]
-            G[k] -= D * acc
+        G -= D * _convolved(K, sig, mid - H, M)
     return G, S, phis
 
 
@@ -221,12 +190,11 @@ def extrema_kernel(a, H, cos_t, sin_t, max_iter):
     jmin = np.argmin(u)
     jmax = np.argmax(u)
     out = np.empty(4)
-    for w in range(2):
-        j = jmin if w == 0 else jmax
+    for w, j in enumerate((jmin, jmax)):
         x = 2.0 * math.pi * j / N
         lo, hi = x - h, x + h
         for _ in range(max_iter):
-            d1, d2 = _slope_curv(a, H, x)
+            _, d1, d2 = _value(a, H, x)
             xn = x - d1 / d2 if d2 != 0.0 else x
             if not (lo <= xn <= hi):
                 break
@@ -234,7 +202,7 @@ def extrema_kernel(a, H, cos_t, sin_t, max_iter):
                 x = xn
                 break
             x = xn
-        out[w] = _value(a, H, x)
+        out[w] = _value(a, H, x)[0]
         out[2 + w] = x
     out[0] = min(out[0], u[jmin])
     out[1] = max(out[1], u[jmax])
@@ -263,11 +231,23 @@ def real_operator_kernel(A, H):
 
 
 @njit(cache=True)
-def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
-    """Real residual R (2H + 1) of the HB equations and, when ``jac``, its Jacobian (else a 0×0 array)."""
+def centred(z, H):
+    """The centred series ``z`` cut or zero-padded to harmonics −H … H."""
+    L = (z.shape[0] - 1) // 2
+    out = np.zeros(2 * H + 1, dtype=np.complex128)
+    for m in range(-min(H, L), min(H, L) + 1):
+        out[H + m] = z[L + m]
+    return out
+
+
+@njit(cache=True)
+def residual_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, jac):
+    """Real residual R (2H + 1) of the HB equations for the forcing G0 + ν² G2 (centred series) and, when ``jac``,
+    its Jacobian (else a 0×0 array)."""
     M = 2 * H + 1
     G, S, _phis = dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol)
-    c = _to_complex(a, H)
+    Fh = centred(G0, H) + nu * nu * centred(G2, H)
+    c = to_complex(a, H)
     Lc = (C.shape[0] - 1) // 2
     TcOm = np.zeros((M, M), dtype=np.complex128)
     for r in range(M):
@@ -282,7 +262,7 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
         for l in range(M):
             acc += TcOm[r, l] * c[l]
         Rc[r] = -((nu * k) ** 2) * c[r] + nu * acc + G[r] - Fh[r]
-    R = _to_real(Rc, H)
+    R = to_real(Rc, H)
     if not jac:
         return R, np.empty((0, 0))
     Jc = np.empty((M, M), dtype=np.complex128)
@@ -295,31 +275,15 @@ def residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, jac):
 
 @njit(cache=True)
 def bordered_nu_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, scale):
-    """R and the bordered matrix [[∂R/∂a, scale·∂R/∂ν], [0 … 0]] at ν for the forcing G0 + ν² G2 (centred series of
-    one length; the last row left for the caller)."""
+    """R and the bordered matrix [[∂R/∂a, scale·∂R/∂ν], [0 … 0]] at ν for the forcing G0 + ν² G2 (the last row left
+    for the caller)."""
     M = 2 * H + 1
-    Lf = (G0.shape[0] - 1) // 2
-    Fh = np.zeros(M, dtype=np.complex128)
-    G2h = np.zeros(M, dtype=np.complex128)
-    for m in range(-min(H, Lf), min(H, Lf) + 1):
-        Fh[H + m] = G0[Lf + m] + nu * nu * G2[Lf + m]
-        G2h[H + m] = G2[Lf + m]
-    R, J = residual_kernel(a, nu, C, K, Fh, D, cos_t, sin_t, H, max_iter, tol, True)
-    c = _to_complex(a, H)
-    Lc = (C.shape[0] - 1) // 2
-    dRc = np.empty(M, dtype=np.complex128)
-    for r in range(M):
-        k = r - H
-        acc = 0.0 + 0.0j
-        for l in range(M):
-            d = r - l
-            if -Lc <= d <= Lc:
-                acc += C[d + Lc] * (1j * (l - H) * c[l])
-        dRc[r] = -2.0 * nu * k**2 * c[r] + acc - 2.0 * nu * G2h[r]
-    Rn = _to_real(dRc, H)
+    R, J = residual_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, True)
+    c = to_complex(a, H)
+    k = np.arange(-H, H + 1)
+    dC = _convolved(1j * k * c, C, (C.shape[0] - 1) // 2, M)  # the damping's C (ik c)
+    dRc = -2.0 * nu * k**2 * c + dC - 2.0 * nu * centred(G2, H)
     A = np.zeros((M + 1, M + 1))
-    for r in range(M):
-        for col in range(M):
-            A[r, col] = J[r, col]
-        A[r, M] = Rn[r] * scale
+    A[:M, :M] = J
+    A[:M, M] = to_real(dRc, H) * scale
     return R, A

@@ -39,12 +39,13 @@ _install_cache()  # the cache follows this directory's sources (see geardyn._cac
 
 
 @njit(cache=True)
-def _series(z, L, phi):
-    """Value at φ of the real trigonometric polynomial with centred complex coefficients z[0 … 2L]."""
+def _series(z, L, trig):
+    """Value of the real trigonometric polynomial with centred complex coefficients z[0 … 2L] at the φ of
+    ``trig`` (cos kφ, sin kφ in its rows)."""
     v = z[L].real
     for k in range(1, L + 1):
         c = z[L + k]
-        v += 2.0 * (c.real * math.cos(k * phi) - c.imag * math.sin(k * phi))
+        v += 2.0 * (c.real * trig[0, k] - c.imag * trig[1, k])
     return v
 
 
@@ -56,26 +57,30 @@ def _region(d, D):
 
 
 @njit(cache=True)
-def _deflection(x, e, V, vp, vi, Ez, Le, phi):
+def _deflection(x, e, V, vp, vi, cf):
+    """δ_e of the state x, E_e from the series at its φ (``cf``, :func:`_coefficients`)."""
     d = 0.0
     for q in range(vp[e], vp[e + 1]):
         d += V[e, vi[q]] * x[vi[q]]
-    return d - _series(Ez[e], Le[e], phi)
+    return d - cf[3, e]
 
 
 @njit(cache=True)
-def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, out):
+def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, out, trig):
     """The series at φ: out[0, :nd] = G, out[1, :ne] = C, out[2] = K, out[3] = E, out[4] = dE/dφ, out[5, b] the
-    cage angle of bearing b."""
+    cage angle of bearing b (``trig``: room for cos kφ and sin kφ up to the longest series)."""
+    for k in range(1, trig.shape[1]):
+        trig[0, k] = math.cos(k * phi)
+        trig[1, k] = math.sin(k * phi)
     for b in range(bq.shape[0]):
         out[5, b] = bq[b, BQ_RHO] * phi
     for r in range(Gz.shape[0]):
-        out[0, r] = _series(Gz[r], Lg[r], phi)
+        out[0, r] = _series(Gz[r], Lg[r], trig)
     for e in range(Cz.shape[0]):
-        out[1, e] = _series(Cz[e], Lc[e], phi)
-        out[2, e] = _series(Kz[e], Lk[e], phi)
-        out[3, e] = _series(Ez[e], Le[e], phi)
-        out[4, e] = _series(dEz[e], Le[e], phi)
+        out[1, e] = _series(Cz[e], Lc[e], trig)
+        out[2, e] = _series(Kz[e], Lk[e], trig)
+        out[3, e] = _series(Ez[e], Le[e], trig)
+        out[4, e] = _series(dEz[e], Le[e], trig)
 
 
 @njit(cache=True)
@@ -247,9 +252,11 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
     k1, k2, k3, k4, tmp = kv[0], kv[1], kv[2], kv[3], kv[4]
     c0, c1, c2, t1, t2 = cv[0], cv[1], cv[2], cv[3], cv[4]
     vy = np.empty((7, m))
+    trig = np.empty((2, 1 + max(Cz.shape[1], Kz.shape[1], Ez.shape[1], Gz.shape[1]) // 2))
     reg = np.empty(ne, dtype=np.int64)
+    _coefficients(0.0, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
     for e in range(ne):
-        reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], Ez, Le, 0.0), D[e])
+        reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], c0), D[e])
     end = 2.0 * math.pi
     phi = 0.0
     steps = 0
@@ -258,9 +265,9 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
         h = min(hmax, end - phi)
         if end - (phi + h) < 1e-12 * end:
             h = end - phi
-        _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0)
-        _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1)
-        _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2)
+        _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
+        _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
+        _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
         _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
         for r in range(n2):
             if not math.isfinite(xe[r]):
@@ -272,10 +279,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
         for e in range(ne):
             if D[e] == 0.0:
                 continue
-            d1 = _deflection(xe, e, V, sp[2], sp[3], Ez, Le, phi + h)
+            d1 = _deflection(xe, e, V, sp[2], sp[3], c2)
             if _region(d1, D[e]) == reg[e]:
                 continue
-            d0 = _deflection(x, e, V, sp[2], sp[3], Ez, Le, phi)
+            d0 = _deflection(x, e, V, sp[2], sp[3], c0)
             if reg[e] == 1:
                 level = D[e]
             elif reg[e] == -1:
@@ -290,12 +297,12 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
                 if not (a < c < b):
                     c = 0.5 * (a + b)
-                _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1)
-                _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t2)
+                _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1, trig)
+                _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t2, trig)
                 _state_step(
                     c, x, xt, s1, s2, s3, s4, st, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu, bq, bx, stages
                 )
-                fc = _deflection(xt, e, V, sp[2], sp[3], Ez, Le, phi + c) - level
+                fc = _deflection(xt, e, V, sp[2], sp[3], t2) - level
                 if fc == 0.0 or b - a <= tol * (1.0 + phi):
                     break
                 if (fc > 0.0) == (fa > 0.0):
@@ -319,8 +326,8 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 return -1, switches
             continue
         if first >= 0:
-            _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1)
-            _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2)
+            _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
+            _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
             _state_step(hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
         _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
         for r in range(n2):

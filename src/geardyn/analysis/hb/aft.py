@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._aftkernel import dead_zone_kernel, extrema_kernel
+from ._aftkernel import dead_zone_kernel, extrema_kernel, to_complex, to_real
 
 __all__ = ["HarmonicBasis", "DeadZoneTerms", "time_samples", "dead_zone_terms", "sampled_terms", "signal_extrema"]
 
@@ -42,20 +42,21 @@ ROOT_MAX_ITER = 60
 ROOT_TOL = 1e-13
 
 
-def time_samples(H: int, n: int = 1, model_harmonics: int = 0) -> int:
+def time_samples(H: int, span: int = 0) -> int:
     """Number N of equispaced samples per response period bracketing the contact switches.
 
     Parameters
     ----------
-    H, n, model_harmonics : int
-        Harmonics retained, a factor of ``model_harmonics`` (the series' largest harmonic, in θ).
+    H, span : int
+        Harmonics retained and a bound of the harmonics (in φ) of the series that multiply the response
+        (:attr:`~geardyn.analysis.hb.form.HBForm.span`).
 
     Returns
     -------
     int
-        The smallest power of two with N >= 8(2H + 1), N > 2(H + n·model_harmonics) and N >= 64.
+        The smallest power of two with N >= 8(2H + 1), N > 2(H + span) and N >= 64.
     """
-    need = max(OVERSAMPLE * (2 * H + 1), 2 * (H + n * model_harmonics) + 1, MIN_SAMPLES)
+    need = max(OVERSAMPLE * (2 * H + 1), 2 * (H + span) + 1, MIN_SAMPLES)
     return 1 << int(math.ceil(math.log2(need)))
 
 
@@ -85,37 +86,18 @@ class HarmonicBasis:
             raise ValueError(f"samples: need N > 2H + 1 = {2 * H + 1}, got {self.N}")
         self.k = np.arange(-H, H + 1)
         self.phi = 2.0 * np.pi * np.arange(self.N) / self.N
-        M = 2 * H + 1
-        W = np.zeros((M, M), dtype=complex)  # c = W a
-        W[H, 0] = 1.0
-        for k in range(1, H + 1):
-            W[H + k, k], W[H + k, H + k] = 0.5, -0.5j
-            W[H - k, k], W[H - k, H + k] = 0.5, 0.5j
-        self.W = W
+        self.W = np.array([self.to_complex(e) for e in np.eye(2 * H + 1)]).T  # c = W a
         arg = np.multiply.outer(self.phi, np.arange(1, H + 1))
         self.cos_table = np.ascontiguousarray(np.cos(arg))  # cos(kφ_j), k = 1 … H
         self.sin_table = np.ascontiguousarray(np.sin(arg))
 
-    @property
-    def size(self) -> int:
-        return 2 * self.H + 1
-
     def to_complex(self, a: np.ndarray) -> np.ndarray:
         """Complex coefficients c_k, k = −H … H, of the real coefficient vector ``a``."""
-        a = np.asarray(a, dtype=float)
-        H = self.H
-        c = np.empty(2 * H + 1, dtype=complex)
-        c[H] = a[0]
-        z = 0.5 * (a[1 : H + 1] - 1j * a[H + 1 :])
-        c[H + 1 :] = z
-        c[:H] = np.conj(z[::-1])
-        return c
+        return to_complex(np.asarray(a, dtype=float), self.H)
 
     def to_real(self, c: np.ndarray) -> np.ndarray:
         """Real coefficient vector of the complex coefficients ``c`` (imaginary residue dropped)."""
-        H = self.H
-        pos, neg = c[H + 1 :], c[H - 1 :: -1]
-        return np.concatenate([[c[H].real], (pos + neg).real, (1j * (pos - neg)).real])
+        return to_real(np.asarray(c, dtype=complex), self.H)
 
     def evaluate(self, a: np.ndarray, phi: np.ndarray, derivative: int = 0) -> np.ndarray:
         """u or its φ-derivative of order 0, 1 or 2 at arbitrary angles ``phi``."""
@@ -149,11 +131,6 @@ def _toeplitz_index(L: int, H: int) -> tuple[np.ndarray, np.ndarray]:
     d = k[:, None] - k[None, :]
     ok = np.abs(d) <= L
     return ok, d[ok] + L
-
-
-def convolve(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Coefficients of the product of two trigonometric polynomials (centred arrays)."""
-    return np.convolve(x, y)
 
 
 class DeadZoneTerms(NamedTuple):
@@ -240,4 +217,4 @@ def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, f
         Real coefficients of u.
     """
     r = extrema_kernel(np.ascontiguousarray(a, dtype=float), basis.H, basis.cos_table, basis.sin_table, ROOT_MAX_ITER)
-    return float(r[0]), float(r[1]), float(r[2]), float(r[3])
+    return tuple(map(float, r))

@@ -61,9 +61,18 @@ CORRECTOR_TOL = 1e-10
 CORRECTOR_MAX_ITER = 10
 MAX_TURN_DEG = 20.0
 MAX_POINTS = 3000
-#: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER.
+#: Event location: stop when the chord bracket is below this (relative to the chord) or after LOCATE_MAX_ITER, or
+#: when the test function is below ROOT_REL_TOL times its change over the chord (a root to rounding).  An event
+#: whose test function is below SHARED_REL_TOL times its change over the chord at a point located already in the
+#: step (meshes of the same loads grazing together) is that point.
 LOCATE_REL_TOL = 1e-9
 LOCATE_MAX_ITER = 40
+ROOT_REL_TOL = 1e-12
+SHARED_REL_TOL = LOCATE_REL_TOL
+#: The multipliers' tests (period doubling, Neimark–Sacker) are located to this relative bracket: the multipliers
+#: carry RK4's error and move with the switch instants of the monodromy's period (about 1e-7 here, and their test
+#: functions are no smoother), so a narrower bracket only adds trials, each with its monodromy matrix.
+MULTIPLIER_LOCATE_TOL = 1e-6
 #: While a real multiplier is within NEAR_CRITICAL of −1 (or a complex pair within the rules' band of the unit
 #: circle) the step is at most NEAR_CRITICAL_DS·ds_max, so that two events close together (a period-doubling
 #: interval a few thousandths wide) are not stepped over with no net sign change of their test.
@@ -109,15 +118,20 @@ def step_rules(eq: HBEquations) -> _StepRules:
 
 @dataclass(eq=False)
 class _Pt:
-    """A corrected branch point; its stability is computed when first asked for (a point whose step is refused by
-    the turn of the tangent, or a trial of a fold or grazing location, needs none)."""
+    """A corrected branch point; its tangent and stability are computed when first asked for (a point whose step is
+    refused by the turn of the tangent, or a trial of a fold or grazing location, needs no stability; a trial of a
+    grazing or a multiplier test no tangent)."""
 
     y: np.ndarray
-    t: np.ndarray
+    tangent: Callable[[], np.ndarray]
     u_min: float
     u_max: float
     stability: Callable[[], HillResult]
     iters: int = 0
+
+    @functools.cached_property
+    def t(self) -> np.ndarray:
+        return self.tangent()
 
     @functools.cached_property
     def hill(self) -> HillResult:
@@ -508,10 +522,9 @@ class _Tracer:
         aug: tuple[np.ndarray, np.ndarray] | None = None,
         lu: Any = None,
     ) -> _Pt:
-        t = self.tangent(y, ref_t, aug, lu)
         a, p = y[:-1], self.p(y)
         umin, umax = self.s.extremes(a, p)
-        return _Pt(y, t, umin, umax, lambda: self.s.stability(a, p), iters)
+        return _Pt(y, lambda: self.tangent(y, ref_t, aug, lu), umin, umax, lambda: self.s.stability(a, p), iters)
 
     def multiplier_step(self, a: HillResult, b: HillResult) -> float:
         """How far the multipliers moved between two resolved points (0 if either is not): their positions (the
@@ -540,8 +553,9 @@ class _Tracer:
     def tests(self, pt: _Pt, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
         """Test functions at ``pt`` (the tangent oriented along ``chord``): all of them, or only ``key``'s kind
         (then the multipliers are computed only for the multiplier tests)."""
-        flip = chord is not None and pt.t @ chord < 0
-        out = {"turn": float(-pt.t[-1] if flip else pt.t[-1])}
+        out = {}
+        if key is None or key == "turn":
+            out["turn"] = float(-pt.t[-1] if chord is not None and pt.t @ chord < 0 else pt.t[-1])
         if key is None or key.startswith(("pd", "ns")):
             h = pt.hill
             if h.status is Status.OK and h.multipliers.size:
@@ -563,28 +577,33 @@ class _Tracer:
                     out[f"{pre}_{side}_plus"], out[f"{pre}_{side}_minus"] = v - D, v + D
         return out
 
-    def locate(self, a: _Pt, b: _Pt, key: str) -> tuple[_Pt, bool]:
+    def locate(self, a: _Pt, b: _Pt, key: str, fa: float, fb: float) -> tuple[_Pt, bool]:
+        """The zero of test ``key`` (``fa``, ``fb`` at a and b) on the chord from a to b (:data:`LOCATE_REL_TOL`, or
+        :data:`MULTIPLIER_LOCATE_TOL` for the multipliers' tests)."""
         d = b.y - a.y
-        L = float(np.linalg.norm(d))
-        e = d / L
-        fa, fb = self.tests(a, d)[key], self.tests(b, d)[key]
+        e = d / float(np.linalg.norm(d))
+        zero = ROOT_REL_TOL * abs(fb - fa)
 
         def trial(s: float, lo: float, hi: float) -> tuple[float, _Pt, float] | None:
             pt = self.correct(a.y + s * d, e, a.t)
             if pt is None:
                 return None
             f = self.tests(pt, d, key).get(key, math.nan)
-            return (s, pt, f) if math.isfinite(f) else None
+            return (s, pt, 0.0 if abs(f) <= zero else f) if math.isfinite(f) else None
 
-        return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, LOCATE_REL_TOL, LOCATE_MAX_ITER)
+        tol = MULTIPLIER_LOCATE_TOL if key.startswith(("pd", "ns")) else LOCATE_REL_TOL
+        return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, tol, LOCATE_MAX_ITER)
 
     def events(self, a: _Pt, b: _Pt) -> list[HBBifurcation]:
         d = b.y - a.y
         ta, tb = self.tests(a, d), self.tests(b, d)
-        out = []
+        out, found = [], []
         for key, (typ, detail) in self.labels.items():
             if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
-                pt, ok = self.locate(a, b, key)
+                zero = SHARED_REL_TOL * abs(tb[key] - ta[key])  # the root within the bracket of a location
+                same = [q for q in found if abs(self.tests(q[0], d, key).get(key, math.inf)) <= zero]
+                pt, ok = same[0] if same else self.locate(a, b, key, ta[key], tb[key])
+                found.append((pt, ok))
                 bif = HBBifurcation(
                     typ, self.p(pt.y), pt.u_min, pt.u_max, pt.hill.multipliers.copy(), detail, ok, pt.y[:-1].copy()
                 )
@@ -685,56 +704,28 @@ def hb_continuation(
         conservative=conservative,
         equations=eq,
     )
-    if not sol.converged:
-        nan = np.full((1, len(f.elements)), math.nan)
-        return HBContinuation(
-            model,
-            param,
-            eq.H,
-            eq.n,
-            eq.N,
-            np.array([start]),
-            sol.unknowns[None, :N0],
-            np.array([math.nan]),
-            np.array([math.nan]),
-            np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan)),
-            np.array([int(sol.status)]),
-            [],
-            f"start: {sol.status.label}",
-            element_u_min=nan,
-            element_u_max=nan,
-            **common,
-        )
-    lo, hi = sorted((start, stop))
-    ps = hi - lo
-    tr = _Tracer(eq, lo, hi, ps, conservative)
-    y = np.concatenate([sol.unknowns, [start / ps]])
-    ref = np.zeros(eq.basis.size + 1)
-    ref[-1] = 1.0 if stop > start else -1.0
-    pts, bifs, end = _trace_branch(tr, y, ref, ds, ds_max, max_points, report)
-    vals = np.array([tr.p(q.y) for q in pts])
-    if len(f.elements) == 1:  # the reference element's extremes are the points' own
-        ext = np.array([[[q.u_min, q.u_max]] for q in pts])
+    if not sol.converged:  # one point, the start that failed
+        ext = np.full((1, len(f.elements), 2), math.nan)
+        mu = np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan))
+        cols = [[start], sol.unknowns[None, :N0], [math.nan], [math.nan], mu, [int(sol.status)]]
+        bifs, end = [], f"start: {sol.status.label}"
     else:
-        ext = np.array([eq.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
-    return HBContinuation(
-        model,
-        param,
-        eq.H,
-        eq.n,
-        eq.N,
-        vals,
-        np.array([q.y[:N0] for q in pts]),
-        np.array([q.u_min for q in pts]),
-        np.array([q.u_max for q in pts]),
-        np.array([q.hill.multipliers for q in pts]),
-        np.array([int(q.hill.status) for q in pts]),
-        bifs,
-        end,
-        element_u_min=ext[:, :, 0],
-        element_u_max=ext[:, :, 1],
-        **common,
-    )
+        lo, hi = sorted((start, stop))
+        ps = hi - lo
+        tr = _Tracer(eq, lo, hi, ps, conservative)
+        y = np.concatenate([sol.unknowns, [start / ps]])
+        ref = np.zeros(eq.basis.size + 1)
+        ref[-1] = 1.0 if stop > start else -1.0
+        pts, bifs, end = _trace_branch(tr, y, ref, ds, ds_max, max_points, report)
+        vals = np.array([tr.p(q.y) for q in pts])
+        if len(f.elements) == 1:  # the reference element's extremes are the points' own
+            ext = np.array([[[q.u_min, q.u_max]] for q in pts])
+        else:
+            ext = np.array([eq.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
+        cols = [vals, [q.y[:N0] for q in pts], [q.u_min for q in pts], [q.u_max for q in pts],
+                [q.hill.multipliers for q in pts], [int(q.hill.status) for q in pts]]  # fmt: skip
+    return HBContinuation(model, param, eq.H, eq.n, eq.N, *map(np.array, cols), bifs, end,
+                          element_u_min=ext[:, :, 0], element_u_max=ext[:, :, 1], **common)  # fmt: skip
 
 
 def _max_points_end(max_points: int) -> str:

@@ -22,6 +22,7 @@ import numpy as np
 from scipy.linalg import eigh
 
 from ...errors import ModelError
+from .form import mean
 
 __all__ = ["require_decidable", "undamped_modes"]
 
@@ -35,8 +36,7 @@ def _modes(form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Mt = np.linalg.inv(form.Mi)
     K, C = Mt @ form.A, Mt @ form.B
     for e in form.elements:
-        K = K + float(e.K[(len(e.K) - 1) // 2].real) * np.outer(e.V, e.V)
-        C = C + float(e.C[(len(e.C) - 1) // 2].real) * np.outer(e.V, e.V)
+        K, C = K + mean(e.K) * np.outer(e.V, e.V), C + mean(e.C) * np.outer(e.V, e.V)
     lam, phi = eigh(0.5 * (K + K.T), 0.5 * (Mt + Mt.T))
     return lam, phi, 0.5 * (C + C.T)
 
@@ -73,8 +73,9 @@ def require_decidable(
     if int(np.count_nonzero(zero)) > form.rigid.shape[1]:
         v = phi[:, np.argmax(zero)]
         v /= np.linalg.norm(v)
-        load = float(np.real(np.linalg.inv(form.Mi) @ form.G0[:, (form.G0.shape[1] - 1) // 2]) @ v)
-        damp = float(np.linalg.norm(np.linalg.inv(form.Mi) @ form.B @ v))
+        Mt = np.linalg.inv(form.Mi)
+        load = float(np.real(Mt @ form.G0[:, (form.G0.shape[1] - 1) // 2]) @ v)
+        damp = float(np.linalg.norm(Mt @ form.B @ v))
         why = f"a load along it (F·φ = {load:.3g})" if abs(load) > 0 else f"a damping along it (|C̃φ| = {damp:.3g})"
         raise ModelError(
             f"system: the coordinate {form.labels[int(np.argmax(np.abs(v)))]} moves freely (zero mean stiffness) "

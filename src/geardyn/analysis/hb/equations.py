@@ -52,7 +52,7 @@ from ...integrate import start_state
 from ...model import DEFAULT_DTAU, IntegrationOptions
 from ...status import Status
 from ...systems.rolling import static_deflection
-from ._aftkernel import bordered_nu_kernel, real_operator_kernel, residual_kernel
+from ._aftkernel import bordered_nu_kernel, centred, real_operator_kernel, residual_kernel
 from .aft import (
     ROOT_MAX_ITER,
     ROOT_TOL,
@@ -63,7 +63,7 @@ from .aft import (
     time_samples,
     toeplitz,
 )
-from .form import LAWS, FormElement, HBForm
+from .form import LAWS, FormElement, HBForm, mean
 from .hill import HillResult, system_hill_floquet
 from .monodromy import _check_floquet, bearing_rows, monodromy_floquet
 
@@ -211,8 +211,8 @@ def default_harmonics(model: Any, period: int = 1) -> int:
     ModelError
         When that is more than :data:`MAX_DEFAULT_HARMONICS` (give the harmonics explicitly).
     """
-    f = model.hb_form(int(period))
     n = int(period)
+    f = model.hb_form(n)
     P = f.periods // n  # mesh cycles per forcing period: the (reference) mesh frequency is harmonic P·j of ω/(P n)
     if P == 1:
         return DEFAULT_HARMONICS
@@ -229,11 +229,10 @@ def default_harmonics(model: Any, period: int = 1) -> int:
 
 
 class Layout(NamedTuple):
-    """The unknown vector: ``dofs`` blocks of 2H + 1 real coefficients, then ``rigid`` multipliers."""
+    """The unknown vector, ``size`` long: ``dofs`` blocks of 2H + 1 real coefficients, then ``rigid`` multipliers."""
 
     size: int
     dofs: int
-    H: int
     rigid: int
 
 
@@ -297,22 +296,19 @@ class HBEquations:
         R = form.rigid
         nd, r = form.dofs, R.shape[1]
         self.elastic = np.linalg.svd(R.T)[2][r:].T if r else np.eye(nd)  # orthonormal complement (n, n − r)
-        self.basis = Layout(nd * M + r, nd, H, r)
-        self.gauge = np.zeros((nd * M, r))
-        self.gauge[np.arange(nd) * M, :] = R
+        self.basis = Layout(nd * M + r, nd, r)
         left = np.linalg.inv(form.Mi) @ R
-        self.left = np.zeros((nd * M, r))
-        self.left[np.arange(nd) * M, :] = left / np.maximum(np.linalg.norm(left, axis=0), 1e-300)
+        self.gauge, self.left = np.zeros((2, nd * M, r))  # the gauge rows Rᵀa_0 and the multipliers' columns
+        self.gauge[::M], self.left[::M] = R, left / np.maximum(np.linalg.norm(left, axis=0), 1e-300)
         self.Hd = max(H, self._ste_harmonics(form))
-        self.N = int(samples) if samples else time_samples(self.Hd, 1, form.span)
+        self.N = int(samples) if samples else time_samples(self.Hd, form.span)
         self.dbasis = HarmonicBasis(self.Hd, self.N)
         self.hbasis = HarmonicBasis(H, 2 * H + 2)
         self._pad = np.concatenate([np.arange(H + 1), self.Hd + 1 + np.arange(H)])
         self._k = kk = np.arange(1, H + 1, dtype=float)
         self._k2 = np.concatenate([[0.0], kk**2, kk**2])
-        self.D1 = np.zeros((M, M))
-        self.D1[np.arange(1, H + 1), H + 1 + np.arange(H)] = kk
-        self.D1[H + 1 + np.arange(H), np.arange(1, H + 1)] = -kk
+        self.D1, i = np.zeros((M, M)), np.arange(1, H + 1)
+        self.D1[i, H + i], self.D1[H + i, i] = kk, -kk
         self._ik = 1j * np.arange(-H, H + 1)
         self._d1 = np.nonzero(self.D1)
         self._ikd = 1j * np.arange(-self.Hd, self.Hd + 1)
@@ -334,12 +330,8 @@ class HBEquations:
     @staticmethod
     def _ste_harmonics(form: HBForm) -> int:
         """Largest harmonic of φ with a nonzero coefficient in the elements' E series."""
-        out = 0
-        for e in form.elements:
-            nz = np.nonzero(np.abs(e.E) > 0)[0]
-            if nz.size:
-                out = max(out, int(np.max(np.abs(nz - (len(e.E) - 1) // 2))))
-        return out
+        hs = [np.abs(np.flatnonzero(np.abs(e.E) > 0) - (len(e.E) - 1) // 2) for e in form.elements]
+        return max((int(h.max(initial=0)) for h in hs), default=0)
 
     def model_at(self, p: float | None = None) -> Any:
         """The system at parameter value ``p`` (the base system when ``p`` is None)."""
@@ -350,21 +342,13 @@ class HBEquations:
         """Raise :class:`ModelError` when ``p`` is not a valid value of the parameter."""
         self._entry(p)
 
-    def _point(self, m: Any, f: HBForm) -> _Point:
-        cut = self.hbasis.to_real
-        E = tuple(self.dbasis.to_real(_centred(e.E, self.Hd)) for e in f.elements)
-        G0 = np.array([cut(_centred(g, self.H)) for g in f.G0])
-        G2 = np.array([cut(_centred(g, self.H)) for g in f.G2])
-        return _Point(m, f, E, G0, G2, self._pattern(f) if f.dofs > SPARSE_DOFS else None)
-
     def _pattern(self, f: HBForm) -> tuple:
         """The entries of the sparse Jacobian in the order :meth:`_jacobian` makes them: the blocks of I⊗D₂, A⊗I,
         B⊗D₁ and (W_e V_eᵀ)⊗op_e at the nonzeros of the DOF matrix, then the gauge columns and rows."""
         M, N0 = self.M, f.dofs * self.M
         c, (di, dj), (ei, ej) = np.arange(M), self._d1, np.divmod(np.arange(M * M), M)
         parts = [_kron_index(np.eye(f.dofs), c, c, M), _kron_index(f.A, c, c, M), _kron_index(f.B, di, dj, M)]
-        parts += [_kron_index(np.outer(el.W, el.V), ei, ej, M) for el in f.elements]
-        parts += [_kron_index(np.outer(f.elements[i].W, f.elements[j].V), ei, ej, M) for i, j in _cross(f)]
+        parts += [_kron_index(np.outer(f.elements[i].W, f.elements[j].V), ei, ej, M) for i, j in _couplings(f)]
         (gi, gk), (hi, hk) = np.nonzero(self.left), np.nonzero(self.gauge)
         rows, cols = (np.concatenate(x) for x in zip(*parts, (gi, N0 + gk), (N0 + hk, hi)))
         n, full = self.basis.size, np.arange(self.basis.size + 1)
@@ -373,27 +357,29 @@ class HBEquations:
 
     def _entry(self, p: float | None) -> _Point:
         key = None if (p is None or self.param is None) else float(p)
-        e = self._cache.get(key)
-        if e is not None:
-            return e
-        if len(self._cache) > 32:  # (the base point kept: its Jacobian's pattern)
-            self._cache = {k: v for k, v in self._cache.items() if k is None}
-        if key is None:
-            e = self._cache[None] = self._point(self.base, self.form)
-            return e
-        if self.param == "omega" and key > 0 and math.isfinite(2.0 * math.pi / key):
+        if key not in self._cache:
+            if len(self._cache) > 32:  # (the base point kept: its Jacobian's pattern)
+                self._cache = {k: v for k, v in self._cache.items() if k is None}
+            self._cache[key] = self._point(key)
+        return self._cache[key]
+
+    def _point(self, key: float | None) -> _Point:
+        """The system, its form and their coefficients at the parameter value ``key`` (None: the base point)."""
+        if key is not None and self.param == "omega" and key > 0 and math.isfinite(2.0 * math.pi / key):
             # the form does not depend on ω (the forcing's ω² is ν²·periods²): no model is built per value
-            e = self._cache[key] = self._entry(None)._replace(model=None)
-            return e
-        m = self.base.with_param(self.param, key)
-        f = m.hb_form(self.n)
+            return self._entry(None)._replace(model=None)
+        m = self.base if key is None else self.base.with_param(self.param, key)
+        f = self.form if key is None else m.hb_form(self.n)
         if self._ste_harmonics(f) > self.Hd:
             raise ModelError(
                 f"{self.param}: the STE reaches harmonic {self._ste_harmonics(f)} of ν, above the {self.Hd} this "
                 f"harmonic balance was set up with"
             )
-        e = self._cache[key] = self._point(m, f)
-        return e
+        cut = self.hbasis.to_real
+        E = tuple(self.dbasis.to_real(centred(e.E, self.Hd)) for e in f.elements)
+        G0 = np.array([cut(centred(g, self.H)) for g in f.G0])
+        G2 = np.array([cut(centred(g, self.H)) for g in f.G2])
+        return _Point(m, f, E, G0, G2, self._pattern(f) if f.dofs > SPARSE_DOFS else None)
 
     def nu(self, p: float | None = None) -> float:
         """ν = ω/periods at ``p``."""
@@ -407,29 +393,22 @@ class HBEquations:
 
     def deflection(self, x: np.ndarray, e: int, p: float | None = None) -> np.ndarray:
         """Real coefficients (δ basis of ``Hd`` harmonics) of element e's deflection δ_e = V_e·q − E_e."""
-        pt = self._entry(p)
+        return self._delta(self._entry(p), e, self._split(x))
+
+    def _delta(self, pt: _Point, e: int, Q: np.ndarray) -> np.ndarray:
         d = np.zeros(2 * self.Hd + 1)
-        d[self._pad] = pt.form.elements[e].V @ self._split(x)
+        d[self._pad] = pt.form.elements[e].V @ Q
         return d - pt.E[e]
 
-    def _scalar_args(self, pt: _Point, x: np.ndarray) -> tuple:
-        el, b = pt.form.elements[0], self.dbasis
-        return (
-            np.ascontiguousarray(x, dtype=float),
-            el.C,
-            el.K,
-            pt.form.G0[0],
-            pt.form.G2[0],
-            el.gap,
-            b.cos_table,
-            b.sin_table,
-            self.H,
-            ROOT_MAX_ITER,
-            ROOT_TOL,
-        )
+    def _kernel_args(self, p: float | None) -> tuple:
+        """The arguments after (a, ν) of the compiled kernels of a scalar form."""
+        f, b = self._entry(p).form, self.dbasis
+        el = f.elements[0]
+        return (el.C, el.K, f.G0[0], f.G2[0], el.gap, b.cos_table, b.sin_table, self.H, ROOT_MAX_ITER, ROOT_TOL)
 
     def _core(self, x: np.ndarray, p: float | None, jacobian: bool):
-        """R (dofs, M) split as ν² R2 + ν R1 + R0, the Jacobian (or None) and every element's S series."""
+        """R and the Jacobian (or None) with the gauge rows and columns of the rigid-body modes, ν, the parts R2, R1
+        (dofs, M) of R = ν² R2 + ν R1 + R0 and every element's S series."""
         pt = self._entry(p)
         nu = self.nu(p)
         Q = self._split(x)
@@ -440,11 +419,7 @@ class HBEquations:
         Ss = {}
         els = pt.form.elements
         for e0, r in _units(pt.form):
-            ds = []
-            for el, E in zip(els[e0 : e0 + r], pt.E[e0 : e0 + r]):
-                d = np.zeros(2 * Hd + 1)
-                d[self._pad] = el.V @ Q
-                ds.append(d - E)
+            ds = [self._delta(pt, e, Q) for e in range(e0, e0 + r)]
             Gs, S = LAW_TERMS[els[e0].law](ds, els[e0 : e0 + r], self.dbasis, self.periods)
             for el, d, G in zip(els[e0 : e0 + r], ds, Gs):
                 Lc = (len(el.C) - 1) // 2
@@ -453,21 +428,23 @@ class HBEquations:
                 R0 += np.outer(el.W, self.hbasis.to_real(G[Hd - H : Hd + H + 1]))
             Ss.update({(e0 + i, e0 + j): v for (i, j), v in S.items()})
         J = self._jacobian(pt, nu, Ss) if jacobian else None
-        return (R2, R1, R0), nu, J, Ss, pt
+        N0, r = self.basis.size - self.basis.rigid, self.basis.rigid
+        R = (nu * nu * R2 + nu * R1 + R0).ravel()
+        if r:
+            R = np.concatenate([R + self.left @ x[N0:], self.gauge.T @ x[:N0]])
+            if J is not None and not isinstance(J, SparseJacobian):  # (the sparse pattern has them)
+                J = np.block([[J, self.left], [self.gauge.T, np.zeros((r, r))]])
+        return R, J, nu, (R2, R1), Ss
 
     def _jacobian(self, pt: _Point, nu: float, Ss: dict) -> np.ndarray | SparseJacobian:
         """Its blocks: every element's own (damping and S_ee), then the cross blocks S_ij of a law on several rows."""
         H, M, nd = self.H, self.M, self.basis.dofs
         f = pt.form
-        ops = [
-            real_operator_kernel(nu * toeplitz(el.C, H) * self._ik[None, :] + toeplitz(Ss[e, e], H), H)
-            for e, el in enumerate(f.elements)
-        ]
-        pairs = _cross(f)
-        mats = [np.outer(el.W, el.V) for el in f.elements] + [
-            np.outer(f.elements[i].W, f.elements[j].V) for i, j in pairs
-        ]
-        ops += [real_operator_kernel(toeplitz(Ss[i, j], H), H) for i, j in pairs]
+        ops, mats = [], []
+        for i, j in _couplings(f):
+            T = toeplitz(Ss[i, j], H)
+            ops.append(real_operator_kernel(T + nu * toeplitz(f.elements[i].C, H) * self._ik if i == j else T, H))
+            mats.append(np.outer(f.elements[i].W, f.elements[j].V))
         if pt.pattern is not None:
             v = [_kron_values(np.eye(nd), -(nu**2) * self._k2), _kron_values(f.A, np.ones(M))]
             v += [_kron_values(nu * f.B, self.D1[self._d1])]
@@ -484,14 +461,9 @@ class HBEquations:
         value ``p`` and, if ``jacobian``, its (bordered) Jacobian, else None."""
         x = np.asarray(x, dtype=float)
         if self.scalar:
-            pt = self._entry(p)
-            nu = self.nu(p)
-            a, C, K, G0, G2, *rest = self._scalar_args(pt, x)
-            Fh = _centred(G0, self.H) + nu * nu * _centred(G2, self.H)
-            R, J = residual_kernel(a, nu, C, K, Fh, *rest, bool(jacobian))
+            R, J = residual_kernel(np.ascontiguousarray(x), self.nu(p), *self._kernel_args(p), bool(jacobian))
             return R, (J if jacobian else None)
-        (R2, R1, R0), nu, J, _, _ = self._core(x, p, jacobian)
-        return self._finish(x, nu * nu * R2 + nu * R1 + R0, J)
+        return self._core(x, p, jacobian)[:2]
 
     def dR_dp(self, x: np.ndarray, p: float) -> np.ndarray:
         """Derivative of the residual in the parameter at fixed unknowns (analytic for ω, else a central
@@ -514,12 +486,11 @@ class HBEquations:
     def bordered(self, x: np.ndarray, p: float, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
         """R and [[∂R/∂x, scale·∂R/∂p], [0 … 0]] for the continuation (the last row left for the caller)."""
         if self.param == "omega" and self.scalar:
-            a, *rest = self._scalar_args(self._entry(p), x)
-            return bordered_nu_kernel(a, self.nu(p), *rest, float(scale) / self.periods)
+            a = np.ascontiguousarray(x, dtype=float)
+            return bordered_nu_kernel(a, self.nu(p), *self._kernel_args(p), float(scale) / self.periods)
         if self.param == "omega":
-            (R2, R1, R0), nu, J, _, _ = self._core(x, p, True)
+            R, J, nu, (R2, R1), _ = self._core(x, p, True)
             d = ((2.0 * nu * R2 + R1) / self.periods).ravel()
-            R, J = self._finish(x, nu * nu * R2 + nu * R1 + R0, J)
         else:
             (R, J), d = self.residual(x, p), self.dR_dp(x, p)
         col = np.zeros(R.size)
@@ -529,16 +500,6 @@ class HBEquations:
         A = np.pad(J, ((0, 1), (0, 1)))
         A[:-1, -1] = col
         return R, A
-
-    def _finish(self, x: np.ndarray, Rq: np.ndarray, J: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
-        """R and J with the gauge rows and columns of the rigid-body modes."""
-        N0, r = self.basis.size - self.basis.rigid, self.basis.rigid
-        R = Rq.ravel()
-        if r:
-            R = np.concatenate([R + self.left @ x[N0:], self.gauge.T @ x[:N0]])
-            if J is not None and not isinstance(J, SparseJacobian):  # (the sparse pattern has them)
-                J = np.block([[J, self.left], [self.gauge.T, np.zeros((r, r))]])
-        return R, J
 
     def newton(
         self, x0: np.ndarray, p: float | None = None, *, tol: float = NEWTON_TOL, max_iter: int = NEWTON_MAX_ITER
@@ -581,9 +542,8 @@ class HBEquations:
         pt = self._entry(p)
         f, nu = pt.form, self.nu(p)
         if self.floquet == "hill":
-            _, nu, J, _, _ = self._core(x, p, True)
             nd, M = self.basis.dofs, self.M
-            J = np.asarray(J)[: nd * M, : nd * M]
+            J = np.asarray(self._core(x, p, True)[1])[: nd * M, : nd * M]
             Cop = np.kron(f.B, np.eye(M))
             for el in f.elements:
                 Cop += np.kron(np.outer(el.W, el.V), real_operator_kernel(toeplitz(el.C, self.H), self.H))
@@ -591,15 +551,14 @@ class HBEquations:
             return system_hill_floquet(J, K1, self.elastic, nu, self.H, -f.mean_trace())
         stiff = None
         if any(el.rule is not None for el in f.elements):  # a bound of a sampled law's stiffness: its trace's
-            Ss = self._core(x, p, False)[3]
+            Ss = self._core(x, p, False)[4]
             stiff = {e: float(np.abs(Ss[e, e]).sum() + np.abs(Ss[e + 1, e + 1]).sum()) for e in bearing_rows(f)[1]}
         return monodromy_floquet(f, nu, self.state(x, p), self.elastic, stiff)
 
     # ------------------------------------------------------------------ measures
     def extremes(self, x: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:
         """(δ_min, δ_max) over the period of element ``e`` (default the reference element)."""
-        lo, hi, _, _ = signal_extrema(self.dbasis, self.deflection(x, self.reference if e is None else e, p))
-        return lo, hi
+        return signal_extrema(self.dbasis, self.deflection(x, self.reference if e is None else e, p))[:2]
 
     def element_extremes(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
         """(elements, 2): δ_min, δ_max of every element."""
@@ -653,12 +612,13 @@ class HBEquations:
         f = pt.form
         Mt = np.linalg.inv(f.Mi)
         Kt, Ct = Mt @ f.A, Mt @ f.B
-        G = f.G0 + self.nu(p) ** 2 * f.G2
+        H, nu, nd = self.H, self.nu(p), f.dofs
+        G = f.G0 + nu**2 * f.G2
         L = (G.shape[1] - 1) // 2
         rhs0 = (Mt @ G[:, L]).real
         meshes, items = [], []
         for e, el in enumerate(f.elements):
-            k0, c0 = el.K[(len(el.K) - 1) // 2].real, el.C[(len(el.C) - 1) // 2].real
+            k0, c0 = mean(el.K), mean(el.C)
             if el.rule is not None:  # a rolling bearing: its dampers, and its stiffness at the static deflection
                 Ct = Ct + c0 * np.outer(el.V, el.V)
                 if el.name.endswith(".x"):
@@ -668,8 +628,7 @@ class HBEquations:
                 Kt, Ct = Kt + k0 * np.outer(el.V, el.V), Ct + c0 * np.outer(el.V, el.V)
                 rhs0 = rhs0 + k0 * el.gap * el.V
             if el.kind == "mesh":
-                meshes.append((el, k0, c0, _centred(el.E, self.Hd)))
-        H, nu, nd = self.H, self.nu(p), f.dofs
+                meshes.append((el, k0, c0, centred(el.E, self.Hd)))
         c = np.zeros((nd, 2 * H + 1), dtype=complex)
         if items:
             q0, mats = static_deflection(Kt, rhs0, items)
@@ -714,9 +673,11 @@ def _units(f: HBForm) -> Iterator[tuple[int, int]]:
         e += r
 
 
-def _cross(f: HBForm) -> list[tuple[int, int]]:
-    """The element pairs (i, j), i ≠ j, of the Jacobian's cross blocks: the rows of one law on several rows."""
-    return [(e + i, e + j) for e, r in _units(f) for i in range(r) for j in range(r) if i != j]
+def _couplings(f: HBForm) -> list[tuple[int, int]]:
+    """The element pairs (i, j) of the Jacobian's blocks (W_i V_jᵀ) ⊗ op_ij: every element's own, then the cross
+    pairs i ≠ j of a law on several rows."""
+    own = [(e, e) for e in range(len(f.elements))]
+    return own + [(e + i, e + j) for e, r in _units(f) for i in range(r) for j in range(r) if i != j]
 
 
 def _kron_index(m: np.ndarray, bi: np.ndarray, bj: np.ndarray, M: int) -> tuple[np.ndarray, np.ndarray]:
@@ -728,15 +689,6 @@ def _kron_index(m: np.ndarray, bi: np.ndarray, bj: np.ndarray, M: int) -> tuple[
 def _kron_values(m: np.ndarray, block: np.ndarray) -> np.ndarray:
     """The values of m ⊗ block at :func:`_kron_index`'s entries (``block``: the values at (bi, bj))."""
     return (m[np.nonzero(m)][:, None] * block).ravel()
-
-
-def _centred(z: np.ndarray, L: int) -> np.ndarray:
-    """Centred coefficients cut or zero-padded to half-length L."""
-    Lz = (len(z) - 1) // 2
-    m = min(L, Lz)
-    out = np.zeros(2 * L + 1, dtype=complex)
-    out[L - m : L + m + 1] = z[Lz - m : Lz + m + 1]
-    return out
 
 
 def _samples(z: np.ndarray, Ns: int) -> np.ndarray:

@@ -30,7 +30,7 @@ import numpy as np
 from ...errors import ModelError
 from ...system import require_periodic
 
-__all__ = ["FormElement", "HBForm", "LAWS", "pair_form", "system_form"]
+__all__ = ["FormElement", "HBForm", "LAWS", "mean", "pair_form", "system_form"]
 
 #: Element laws harmonic balance can evaluate (each one function and its Jacobian in :mod:`.equations`) and the
 #: element rows each acts on jointly (a rolling bearing: its x then its y row).
@@ -142,8 +142,13 @@ class HBForm:
         """Mean over the period of the trace of the first-order Jacobian: −tr B − Σ_e (V_e·W_e) C̄_e."""
         tr = float(np.trace(self.B))
         for e in self.elements:
-            tr += float(e.V @ e.W) * float(e.C[(len(e.C) - 1) // 2].real)
+            tr += float(e.V @ e.W) * mean(e.C)
         return -tr
+
+
+def mean(z: np.ndarray) -> float:
+    """The mean (centre coefficient) of the centred series ``z``."""
+    return float(z[(len(z) - 1) // 2].real)
 
 
 def spread(cf: np.ndarray, ratio: float, periods: int) -> np.ndarray:
@@ -168,11 +173,6 @@ def spread(cf: np.ndarray, ratio: float, periods: int) -> np.ndarray:
     return z
 
 
-def _law(element: Any) -> str:
-    """The name of a System element's law (:class:`geardyn.system.Law`)."""
-    return element.law.name
-
-
 def pair_form(model: Any, period: int = 1) -> HBForm:
     """The :class:`HBForm` of the 1-DOF pair (:class:`~geardyn.model.GearModel`) for a period-n response.
 
@@ -195,10 +195,8 @@ def pair_form(model: Any, period: int = 1) -> HBForm:
         sts[j * s] = (n * s * j) ** 2 * e * np.array([math.cos(ph), -math.sin(ph)])
     G2 = spread(sts, 1, n)[None, :]
     G0 = spread(model.replace(eps=(), phi_e=()).coefficients(cf.shape[1] - 1)[2], 1, n)[None, :]  # f_p, torque orders
-    one = np.ones(1)
-    el = FormElement(
-        "mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp), _law(model.elements[0])
-    )
+    one, law = np.ones(1), model.elements[0].law.name
+    el = FormElement("mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp), law)
     return HBForm(
         M * n,
         M,
@@ -254,35 +252,33 @@ def system_form(model: Any, period: int = 1) -> HBForm:
 
     periods = int(period) * require_periodic(model, "harmonic balance")
     Mi = np.asarray(model.Mi, dtype=float)
-    fs = static_mesh_forces(model)
-    law = {e.name: _law(e) for e in model.elements}
+    forces = static_mesh_forces(model)
+    rows = {e.name: e for e in model.elements}
     els = []
+
+    def add(name: str, kind: str, V: Any, C: Any, K: Any, gap: float, E: Any = None, fs: float = math.nan) -> None:
+        """The element ``name`` (C, K: a series or a constant; its System element's law, a rolling bearing's
+        sampled by its ``rule``)."""
+        V, row = np.asarray(V, dtype=float), rows.get(name)
+        law, rule = (row.law.name, row.law if kind == "bearing" else None) if row else ("", None)
+        if law not in LAWS:
+            raise ModelError(f"{name}: harmonic balance has no element law {law!r} (it knows {', '.join(LAWS)})")
+        C, K = (np.atleast_1d(np.asarray(z, dtype=complex)) for z in (C, K))
+        E = np.zeros(1, complex) if E is None else E
+        els.append(FormElement(name, kind, V, Mi @ V, C, K, E, float(gap), fs, law, rule))
+
     for i, m in enumerate(model.meshes):
         cf = m.coefficients()
         C, K, E = (spread(cf[r], m.ratio, periods) for r in range(3))
-        V = np.asarray(model.V[i], dtype=float)
-        els.append(FormElement(m.name, "mesh", V, Mi @ V, C, K, E, float(m.D), float(fs[i]), law.get(m.name, "")))
+        add(m.name, "mesh", model.V[i], C, K, m.D, E, float(forces[i]))
     for i, nm in enumerate(model.clearance_names):
-        V = np.asarray(model.Vc[i], dtype=float)
-        C, K = np.array([model.cc[i]], dtype=complex), np.array([model.kc[i]], dtype=complex)
-        els.append(
-            FormElement(nm, "clearance", V, Mi @ V, C, K, np.zeros(1, complex), float(model.Dc[i]), law=law.get(nm, ""))
-        )
-    rows = {e.name: e for e in model.elements}
+        add(nm, "clearance", model.Vc[i], model.cc[i], model.kc[i], model.Dc[i])
     for b, br in enumerate(model.bearings):  # its x and y rows, s = c δ' + K̃ f(δ_x, δ_y; θ) jointly
         for k, (nm, c) in enumerate(((f"{br.name}.x", br.cx), (f"{br.name}.y", br.cy))):
-            V = np.asarray(model.Vb[2 * b + k], dtype=float)
-            C, K, z = np.array([c], dtype=complex), np.array([br.K], dtype=complex), np.zeros(1, complex)
-            els.append(
-                FormElement(nm, "bearing", V, Mi @ V, C, K, z, br.clearance, law=_law(rows[nm]), rule=rows[nm].law)
-            )
-    for e in els:
-        if e.law not in LAWS:
-            raise ModelError(f"{e.name}: harmonic balance has no element law {e.law!r} (it knows {', '.join(LAWS)})")
+            add(nm, "bearing", model.Vb[2 * b + k], c, br.K, br.clearance)
     names = [m.name for m in model.meshes]
-    mh = max((m.n_harmonics * m.ratio for m in model.meshes), default=0.0)
+    mh = max([m.n_harmonics * m.ratio for m in model.meshes] + [float(r) for r, _, _ in model.orders], default=0.0)
     G0 = _system_loads(model, Mi, periods)
-    mh = max([mh] + [float(r) for r, _, _ in model.orders])
     return HBForm(
         periods,
         1,

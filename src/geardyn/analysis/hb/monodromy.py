@@ -4,13 +4,13 @@
 The equation of the form (:mod:`.form`) is integrated over the response period from the state of the HB solution at
 φ = 0 together with the columns of a fundamental matrix of its variational equation
 (:func:`~._monodromykernel.monodromy_kernel`: classic RK4 with every element locked to its contact region on a step,
-the steps cut at the contact switches located on the trajectory, steps of at most :data:`STEP_ANGLE`/ρ in τ, ρ the
-fastest rate of the linearised motion).  The period is integrated twice: from the HB state (steps
-:data:`FIRST_STEP_FACTOR` times longer), then from the state corrected by one Newton step of shooting on the elastic
-part, x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (skipped when it is more than :data:`REFINE_GAIN` times the
-gap it closes, next to a fold).  The multipliers are the eigenvalues of QᵀΦQ, Q = diag(P, P) an orthonormal basis of
-the complement of the rigid-body modes, so the rigid modes' multipliers 1 are left out; the exponents their
-principal logarithms over T.  ``UNRESOLVED`` when Liouville's formula fails by more than
+the steps cut at the contact switches located on the trajectory, steps of at most :data:`STEP_ANGLE`/ρ in τ,
+ρ = √ρ(K) + ‖C‖₂ of the largest stiffness and damping, a bound of the fastest rate of the linearised motion).  The
+period is integrated twice: from the HB state (steps :data:`FIRST_STEP_FACTOR` times longer), then from the state
+corrected by one Newton step of shooting on the elastic part, x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (skipped when it is
+more than :data:`REFINE_GAIN` times the gap it closes, next to a fold).  The multipliers are the eigenvalues of QᵀΦQ,
+Q = diag(P, P) an orthonormal basis of the complement of the rigid-body modes, so the rigid modes' multipliers 1 are
+left out; the exponents their principal logarithms over T.  ``UNRESOLVED`` when Liouville's formula fails by more than
 :data:`~.hill.LIOUVILLE_TOL` or the first period does not return to within :data:`CLOSURE_TOL` of its start.
 """
 
@@ -152,8 +152,9 @@ def monodromy_floquet(
         cb[e], cb[e + 1] = bq[i, 4:6]
     kmax = A + (kb[:, None] * W).T @ V  # the largest stiffness and damping (bounds)
     cmax = B + (cb[:, None] * W).T @ V
-    krad = abs(float(kmax[0, 0])) if n == 1 else float(np.max(np.abs(np.linalg.eigvals(kmax))))
-    rate = math.sqrt(krad) + float(np.sqrt(np.sum(cmax * cmax)))
+    krad, crad = (abs(float(kmax[0, 0])), abs(float(cmax[0, 0]))) if n == 1 else (
+        float(np.max(np.abs(np.linalg.eigvals(kmax)))), float(np.linalg.norm(cmax, 2)))  # fmt: skip
+    rate = math.sqrt(krad) + crad
     hmax = STEP_ANGLE * nu / max(rate, 1e-12)  # in φ
     Q = np.zeros((2 * n, count))
     Q[:n, :ne] = P

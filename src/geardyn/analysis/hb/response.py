@@ -13,6 +13,7 @@ grid point is solved by Newton at its ω from the segment's interpolated coeffic
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from dataclasses import dataclass
@@ -64,9 +65,9 @@ class Segment:
 
     def guess(self, w: float) -> np.ndarray:
         """Coefficients interpolated linearly in ω."""
-        j = int(np.clip(np.searchsorted(self.omega, w) - 1, 0, self.omega.size - 2)) if self.omega.size > 1 else 0
         if self.omega.size == 1:
             return self.coefficients[0].copy()
+        j = int(np.clip(np.searchsorted(self.omega, w) - 1, 0, self.omega.size - 2))
         w0, w1 = self.omega[j], self.omega[j + 1]
         t = 0.0 if w1 == w0 else (w - w0) / (w1 - w0)
         return (1 - t) * self.coefficients[j] + t * self.coefficients[j + 1]
@@ -87,23 +88,15 @@ def _event_between(res: HBContinuation, i: int, j: int) -> HBBifurcation | None:
         d = float(np.linalg.norm(bc - ai) + np.linalg.norm(bc - aj))
         if d < dbest:
             best, dbest = b, d
-    return best if best is not None and dbest <= 1.5 * chord + 1e-12 else None
+    return best if dbest <= 1.5 * chord + 1e-12 else None
 
 
-def _resolved_before(resolved: np.ndarray, i: int) -> int:
-    """The last point before i whose stability is decided (i − 1 if none is)."""
-    j = i - 1
-    while j > 0 and not resolved[j]:
-        j -= 1
-    return j if resolved[j] else i - 1
-
-
-def _resolved_after(resolved: np.ndarray, i: int) -> int:
-    """The first point after i whose stability is decided (i + 1 if none is)."""
-    j = i + 1
-    while j < resolved.size - 1 and not resolved[j]:
-        j += 1
-    return j if resolved[j] else i + 1
+def _resolved_next(resolved: np.ndarray, i: int, step: int) -> int:
+    """The nearest point past i in the direction ``step`` (±1) whose stability is decided (i + step if none is)."""
+    j = i + step
+    while 0 < j < resolved.size - 1 and not resolved[j]:
+        j += step
+    return j if resolved[j] else i + step
 
 
 def decided_stability(res: HBContinuation) -> np.ndarray:
@@ -116,20 +109,16 @@ def decided_stability(res: HBContinuation) -> np.ndarray:
     res : HBContinuation
     """
     st = np.array(res.stable, dtype=bool)
-    resolved = res.status == int(Status.OK)
-    P = st.size
-    i = 0
-    while i < P:
-        if resolved[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < P and not resolved[j + 1]:
-            j += 1
-        if i > 0 and j + 1 < P and st[i - 1] and st[j + 1] and _event_between(res, i - 1, j + 1) is None:
+    for i, j in _runs(res.status != int(Status.OK)):
+        if i > 0 and j + 1 < st.size and st[i - 1] and st[j + 1] and _event_between(res, i - 1, j + 1) is None:
             st[i : j + 1] = True
-        i = j + 1
     return st
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) index of every maximal run of True in ``mask``."""
+    d = np.diff(np.concatenate([[0], np.asarray(mask, dtype=int), [0]]))
+    return [(int(i), int(j) - 1) for i, j in zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1))]
 
 
 def stable_segments(res: HBContinuation) -> list[Segment]:
@@ -144,45 +133,32 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     st = decided_stability(res)
     P = res.values.size
     resolved = res.status == int(Status.OK)
-    runs, i = [], 0
-    while i < P:
-        if not st[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < P and st[j + 1]:
-            j += 1
+    runs = []
+    for i, j in _runs(st):
         k0 = i  # split where the branch turns in ω (a stable segment does not, generically)
         for k in range(i + 1, j):
             if (res.values[k] - res.values[k - 1]) * (res.values[k + 1] - res.values[k]) < 0:
                 runs.append((k0, k))
                 k0 = k
         runs.append((k0, j))
-        i = j + 1
     out = []
     for i0, i1 in runs:
         w = list(res.values[i0 : i1 + 1])
         a = list(res.coefficients[i0 : i1 + 1])
         amp = list(res.amplitude[i0 : i1 + 1])
-        first = _event_between(res, _resolved_before(resolved, i0), i0) if i0 > 0 and not st[i0 - 1] else None
-        last = _event_between(res, i1, _resolved_after(resolved, i1)) if i1 + 1 < P and not st[i1 + 1] else None
-        rising = w[-1] >= w[0] if len(w) > 1 else True
+        first = _event_between(res, _resolved_next(resolved, i0, -1), i0) if i0 > 0 and not st[i0 - 1] else None
+        last = _event_between(res, i1, _resolved_next(resolved, i1, 1)) if i1 + 1 < P and not st[i1 + 1] else None
+        rising = w[-1] >= w[0]
         for b, at_start in ((first, True), (last, False)):
-            if b is None:
-                continue
             edge = w[0] if at_start else w[-1]
-            beyond = (b.value <= edge) if (at_start == rising) else (b.value >= edge)
-            if not beyond:
-                continue
-            amp_b = 0.5 * (b.u_max - b.u_min)
-            bc = b.coefficients[: res.coefficients.shape[1]]
-            if at_start:
-                w.insert(0, b.value), a.insert(0, bc), amp.insert(0, amp_b)
-            else:
-                w.append(b.value), a.append(bc), amp.append(amp_b)
+            if b is None or not ((b.value <= edge) if (at_start == rising) else (b.value >= edge)):
+                continue  # (an event beyond the segment's end extends it)
+            k = 0 if at_start else len(w)
+            w.insert(k, b.value), a.insert(k, b.coefficients[: res.coefficients.shape[1]])
+            amp.insert(k, 0.5 * (b.u_max - b.u_min))
         W, A, M = np.array(w), np.array(a), np.array(amp)
         ends = (first, last)
-        if W.size > 1 and W[-1] < W[0]:
+        if W[-1] < W[0]:
             W, A, M, ends = W[::-1], A[::-1], M[::-1], (last, first)
         out.append(Segment(len(out), W, A, M, ends))
     return out
@@ -194,28 +170,27 @@ def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, lis
     has no stable solution."""
     out = {}
     for lab, d in (("up", 1.0), ("down", -1.0)):
-        start, stop = (lo, hi) if d > 0 else (hi, lo)
+        # in the sweep's coordinate d·ω, increasing along the sweep: every segment spans [a, b)
+        span = {s.index: sorted((d * s.lo, d * s.hi)) for s in segments}
+        x, stop = sorted((d * lo, d * hi))
 
         def ahead(x: float, exclude: int | None = None) -> list[Segment]:
             """Segments that continue from x in the sweep direction."""
-            return [s for s in segments if s.index != exclude and ((s.lo <= x < s.hi) if d > 0 else (s.lo < x <= s.hi))]
+            return [s for s in segments if s.index != exclude and span[s.index][0] <= x < span[s.index][1]]
 
         pieces: list[tuple[float, float, int | None]] = []
-        x = start
         cands = ahead(x)
         cur = (min if d > 0 else max)(cands, key=lambda s: s.index) if cands else None
-        while (x < stop) if d > 0 else (x > stop):
+        while x < stop:
             if cur is None:
-                starts = [s.lo if d > 0 else s.hi for s in segments]
-                nxt = [v for v in starts if (v > x if d > 0 else v < x) and (v < stop if d > 0 else v > stop)]
-                e = (min(nxt) if d > 0 else max(nxt)) if nxt else stop
-                pieces.append((x, e, None))
+                e = min([a for a, _ in span.values() if x < a < stop], default=stop)
+                pieces.append((d * x, d * e, None))
                 x = e
-                cands = [s for s in ahead(x) if (s.lo if d > 0 else s.hi) == x]  # the segment that starts here
+                cands = [s for s in ahead(x) if span[s.index][0] == x]  # the segment that starts here
                 cur = cands[0] if cands else None
                 continue
-            e = min(cur.hi, stop) if d > 0 else max(cur.lo, stop)
-            pieces.append((x, e, cur.index))
+            e = min(span[cur.index][1], stop)
+            pieces.append((d * x, d * e, cur.index))
             x = e
             if x == stop:
                 break
@@ -226,9 +201,9 @@ def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, lis
                 # jump is placed only at a fold
                 cur = None
                 continue
-            amp = cur.amplitude_at(x)
+            amp = cur.amplitude_at(d * x)
             cands = ahead(x, cur.index)
-            cur = min(cands, key=lambda s: abs(s.amplitude_at(x) - amp)) if cands else None
+            cur = min(cands, key=lambda s: abs(s.amplitude_at(d * x) - amp)) if cands else None
         out[lab] = pieces
     return out
 
@@ -243,25 +218,21 @@ def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
 
 def _newton(eq: HBEquations, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
     """Newton at ω = w from a segment's coefficients (the gauge multipliers appended)."""
-    a, st, _its, _r = eq.newton(np.concatenate([guess, np.zeros(eq.basis.rigid)]), w)
+    a, st, _its, _r = eq.newton(eq.unknowns(guess), w)
     return a, st
 
 
-def _signal(eq: HBEquations, a: np.ndarray, w: float) -> np.ndarray:
-    """Coefficients of the reference element's δ of the unknowns ``a`` (or of a segment's coefficients)."""
-    x = a if a.size == eq.basis.size else np.concatenate([a, np.zeros(eq.basis.rigid)])
-    return eq.deflection(x, eq.reference, w)
-
-
-def _walk(rd: HBEquations, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
-    """The segment's solution at ω = x by natural continuation from its nearest point, in WALK_STEPS equal steps
-    of ω (then four times as many), each Newton started from the previous solution."""
+def _solution(rd: HBEquations, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
+    """The segment's solution at ω = x: Newton from its coefficients interpolated at x or, when that fails (too far
+    from it), natural continuation from its nearest point in WALK_STEPS equal steps of ω (then four times as many),
+    each Newton started from the previous solution."""
     k = int(np.argmin(np.abs(seg.omega - x)))
     ncoef = seg.coefficients.shape[1]
-    a, st = seg.coefficients[k], Status.NOT_CONVERGED
-    for steps in (WALK_STEPS, 4 * WALK_STEPS):
-        a = seg.coefficients[k]
-        for w in np.linspace(float(seg.omega[k]), x, steps + 1)[1:]:
+    walks = [
+        (seg.coefficients[k], np.linspace(float(seg.omega[k]), x, s + 1)[1:]) for s in (WALK_STEPS, 4 * WALK_STEPS)
+    ]
+    for a, ws in [(seg.guess(x), [x]), *walks]:
+        for w in ws:
             a, st = _newton(rd, a[:ncoef], float(w))
             if st is not Status.OK:
                 break
@@ -328,7 +299,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     for seg in segs:  # a branch's first value is start/p_s·p_s: within rounding of the grid's end, it is that end
         for k in (0, -1):
             for x in (lo, hi):
-                if seg.omega[k] != x and abs(seg.omega[k] - x) <= 8.0 * math.ulp(x):
+                if abs(seg.omega[k] - x) <= 8.0 * math.ulp(x):
                     seg.omega[k] = x
     paths = _sweep_paths(segs, lo, hi)
     n, H = res.period, res.harmonics
@@ -339,38 +310,30 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     f = {k: np.full(shape, np.nan) for k in MEASURES}
     pu, pv = np.full(shape + (n,), np.nan), np.full(shape + (n,), np.nan)
     period = np.zeros(shape, dtype=np.int64)
-    motion = np.full(shape, MOTION_UNRESOLVED, dtype=np.int64)
     impact = np.full(shape, -1, dtype=np.int64)
     status = np.full(shape, int(Status.UNRESOLVED), dtype=np.int64)
-    solved: dict[tuple[int, float], tuple[np.ndarray, Status]] = {}
 
-    def solve(seg: Segment, x: float) -> tuple[np.ndarray, Status]:
-        key = (seg.index, float(x))
-        if key not in solved:
-            a, st = _newton(rd, seg.guess(x), x)
-            if st is not Status.OK:  # the interpolated guess is too far: walk there from the nearest branch point
-                a, st = _walk(rd, seg, x)
-            solved[key] = (a, st)
-        return solved[key]
+    @functools.cache
+    def solve(s: int, x: float) -> tuple[np.ndarray, Status]:  # (each point once: the sweeps and jumps share it)
+        return _solution(rd, segs[s], x)
 
     with single_thread_blas():
         for r, lab in enumerate(("up", "down")):
-            for k, x in enumerate(w):
-                s = _on(paths[lab], float(x))
+            for k, x in enumerate(w.tolist()):
+                s = _on(paths[lab], x)
                 if s is None:
                     continue
-                a, st = solve(segs[s], float(x))
+                a, st = solve(s, x)
                 status[r, k] = int(st)
                 if st is not Status.OK:
                     continue
-                u = _signal(rd, a, float(x))
+                u = rd.deflection(a, rd.reference, x)
                 vals = _measures(basis, u)
                 for key, v in vals.items():
                     f[key][r, k] = v
                 pu[r, k] = basis.evaluate(u, phis)
-                pv[r, k] = rd.nu(float(x)) * basis.evaluate(u, phis, 1)
+                pv[r, k] = rd.nu(x) * basis.evaluate(u, phis, 1)
                 period[r, k] = _minimal_period(pu[r, k], pv[r, k], n)
-                motion[r, k] = MOTION_PERIODIC
                 impact[r, k] = impact_state(vals["u_min"], D)
         jumps = []
         for lab in ("up", "down"):
@@ -380,19 +343,15 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                     continue
                 x = float(b0)
                 end = segs[s0].coefficients[-1] if lab == "up" else segs[s0].coefficients[0]
-                a_to, st = solve(segs[s1], x)
+                a_to, st = solve(s1, x)
                 if st is not Status.OK:
                     continue
-                m_from = _measures(basis, _signal(rd, end, x))[measure]
-                m_to = _measures(basis, _signal(rd, a_to, x))[measure]
-                if lab == "up":
-                    before, after = w[w <= x], w[w > x]
-                    g_from = float(before[-1]) if before.size else x
-                    g_to = float(after[0]) if after.size else x
-                else:
-                    before, after = w[w >= x], w[w < x]
-                    g_from = float(before[0]) if before.size else x
-                    g_to = float(after[-1]) if after.size else x
+                m_from = _measures(basis, rd.deflection(end, rd.reference, x))[measure]
+                m_to = _measures(basis, rd.deflection(a_to, rd.reference, x))[measure]
+                d = 1.0 if lab == "up" else -1.0  # the grid points on either side, in the sweep's direction
+                before, after = w[d * w <= d * x], w[d * w > d * x]
+                g_from = float(before[np.argmax(d * before)]) if before.size else x
+                g_to = float(after[np.argmin(d * after)]) if after.size else x
                 jumps.append(
                     {
                         "omega": x,
@@ -406,6 +365,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                     }
                 )
     hyst = _hysteresis(paths)
+    motion = np.where(status == int(Status.OK), MOTION_PERIODIC, MOTION_UNRESOLVED).astype(np.int64)
     sw, ss = ("sweep", "omega"), ("sweep", "omega", "section")
     ds = xr.Dataset(
         {

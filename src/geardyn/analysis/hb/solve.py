@@ -120,15 +120,13 @@ def _start_coefficients(eq: HBEquations, guess: Any = None, state0: Any = None) 
         For another string, or coefficients of the wrong size.
     """
     nd, M = eq.basis.dofs, eq.M
-    if guess is None and eq.form.mean_trace() == 0.0:
-        guess = "linear"
-    if guess is None or (isinstance(guess, str) and guess == "simulate"):
-        Q0 = eq.simulated_guess(state0)
-        return eq.linear_guess() if Q0 is None else Q0
-    if isinstance(guess, str) and guess == "linear":
-        return eq.linear_guess()
+    if guess is None:
+        guess = "linear" if eq.form.mean_trace() == 0.0 else "simulate"
     if isinstance(guess, str):
-        raise ModelError(f"guess: expected coefficients, 'simulate' or 'linear', got {guess!r}")
+        if guess not in ("simulate", "linear"):
+            raise ModelError(f"guess: expected coefficients, 'simulate' or 'linear', got {guess!r}")
+        Q0 = eq.simulated_guess(state0) if guess == "simulate" else None
+        return eq.linear_guess() if Q0 is None else Q0
     Q0 = np.asarray(guess, dtype=float)
     if Q0.size != nd * M or Q0.ndim > 2 or (Q0.ndim == 2 and Q0.shape != (nd, M)):
         want = f"{M} coefficients" if nd == 1 else f"coefficients of shape ({nd}, {M})"
@@ -196,19 +194,8 @@ def hb_solve(
     with single_thread_blas():
         x, status, its, r = eq.newton(eq.unknowns(Q0), None, tol=tol, max_iter=max_iter)
         Q = eq._split(x).copy()
-        sol = HBSolution(
-            model,
-            eq.H,
-            eq.n,
-            eq.N,
-            Q[0] if eq.basis.dofs == 1 else Q,
-            status,
-            its,
-            r,
-            equations=eq,
-            unknowns=x,
-            rigid=eq.basis.rigid,
-        )
+        Q = Q[0] if eq.basis.dofs == 1 else Q
+        sol = HBSolution(model, eq.H, eq.n, eq.N, Q, status, its, r, equations=eq, unknowns=x, rigid=eq.basis.rigid)
         if status is Status.OK:
             sol.u_min, sol.u_max = eq.extremes(x)
             sol.element_extremes = eq.element_extremes(x)

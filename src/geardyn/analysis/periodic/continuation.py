@@ -243,6 +243,8 @@ class ContinuationResult:
         P = self.param
         bifs = self.bifurcations
         dim = self.branches[0].multipliers.shape[1] if self.branches else self.model.state_dim
+        n_points = sum(len(b) for b in self.branches)
+        bsec = np.array([m.element_series(b.state, 0.0)[m.reference] for b in bifs], dtype=float).reshape(-1, 2)
         ds = xr.Dataset(
             {
                 P: ("point", cat("value")),
@@ -258,24 +260,18 @@ class ContinuationResult:
                 "multiplier_im": (("point", "multiplier"), cat("mim").reshape(-1, dim)),
                 "poincare_u": (("point", "section"), cat("pu").reshape(-1, nmax)),
                 "poincare_v": (("point", "section"), cat("pv").reshape(-1, nmax)),
-                "status": ("point", np.zeros(sum(len(b) for b in self.branches), dtype=np.int64)),
+                "status": ("point", np.zeros(n_points, dtype=np.int64)),
                 "bifurcation_type": ("bifurcation", np.array([b.type for b in bifs], dtype=object)),
                 f"bifurcation_{P}": ("bifurcation", np.array([b.value for b in bifs], dtype=float)),
                 "bifurcation_period": ("bifurcation", np.array([b.n for b in bifs], dtype=np.int64)),
                 "bifurcation_branch": ("bifurcation", np.array([b.branch for b in bifs], dtype=np.int64)),
-                "bifurcation_u": (
-                    "bifurcation",
-                    np.array([m.element_series(b.state, 0.0)[m.reference, 0] for b in bifs], dtype=float),
-                ),
-                "bifurcation_v": (
-                    "bifurcation",
-                    np.array([m.element_series(b.state, 0.0)[m.reference, 1] for b in bifs], dtype=float),
-                ),
+                "bifurcation_u": ("bifurcation", bsec[:, 0]),
+                "bifurcation_v": ("bifurcation", bsec[:, 1]),
                 "bifurcation_amplitude": ("bifurcation", np.array([b.amplitude for b in bifs], dtype=float)),
                 "bifurcation_detail": ("bifurcation", np.array([b.detail for b in bifs], dtype=object)),
             },
             coords={
-                "point": np.arange(sum(len(b) for b in self.branches)),
+                "point": np.arange(n_points),
                 "multiplier": np.arange(dim),
                 "section": np.arange(nmax),
                 "bifurcation": np.arange(len(bifs)),

@@ -17,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from ...integrate import integrate_batch, start_state
+from ...io import json_number
 from ...labels import IMPACT_LABELS, impact_state
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError
 from ...status import Status
@@ -354,9 +355,6 @@ class PeriodicOrbit:
         fl = self.floquet
         mu, r = self.elastic
 
-        def num(x: float) -> float | None:
-            return float(x) if np.isfinite(x) else None
-
         return {
             "omega": self.model.omega,
             "state": [float(s) for s in self.state],
@@ -365,7 +363,7 @@ class PeriodicOrbit:
             "requested_period": self.n,
             "multipliers": fl.pairs(),
             "multiplier_moduli": [float(abs(m)) for m in fl.multipliers],
-            "floquet_exponents": [num(e) for e in fl.exponents],
+            "floquet_exponents": [json_number(e) for e in fl.exponents],
             "elastic_multipliers": pairs(mu),
             "rigid_body_modes": r,
             "rigid_body_note": (
@@ -379,12 +377,12 @@ class PeriodicOrbit:
             "converged": bool(self.converged),
             "status": self.status_label,
             "iterations": self.iterations,
-            "residual": num(self.residual),
-            "u_min": num(self.u_min),
-            "u_max": num(self.u_max),
-            "amplitude": num(self.amplitude),
+            "residual": json_number(self.residual),
+            "u_min": json_number(self.u_min),
+            "u_max": json_number(self.u_max),
+            "amplitude": json_number(self.amplitude),
             "impact": self.impact,
-            "determinant": num(fl.determinant),
+            "determinant": json_number(fl.determinant),
             "accurate": self.accurate,
             **self.extra,
         }
