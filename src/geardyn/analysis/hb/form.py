@@ -147,7 +147,13 @@ class HBForm:
 
 
 def mean(z: np.ndarray) -> float:
-    """The mean (centre coefficient) of the centred series ``z``."""
+    """The mean (centre coefficient) of the centred series ``z``.
+
+    Parameters
+    ----------
+    z : numpy.ndarray
+        Centred complex coefficients, c₋ₗ … cₗ.
+    """
     return float(z[(len(z) - 1) // 2].real)
 
 
