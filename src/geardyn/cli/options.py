@@ -522,7 +522,7 @@ class Inputs:
             v["dtau"], plan.transient if plan is not None else self.transient(ws), n, v["accurate"], ws
         )
         validate.recorded(points, opts.periods)
-        model = self.model() if v.get("system") is not None else None  # the pair: one mesh cycle, 1 DOF
+        model = self.model() if v.get("system") is not None else None  # the pair: its own per-period constants
         check_budget(
             opts,
             ws,
