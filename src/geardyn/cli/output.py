@@ -98,9 +98,11 @@ def check_budget(opts: Any, omegas: Any, points: int, *, cycles: int = 1, dofs: 
         return
     steps = float(np.mean(np.ceil(max(1, int(cycles)) * 2.0 * math.pi / ws / opts.dtau)))
     total = steps * (tr + pe) * points
-    import numba
+    threads = 1
+    if points > 1:  # a single trajectory runs on one thread: no need to import numba here
+        import numba
 
-    threads = 1 if points == 1 else max(1, int(numba.config.NUMBA_NUM_THREADS))
+        threads = max(1, int(numba.config.NUMBA_NUM_THREADS))
     if dofs > 1:
         step_s = SYSTEM_STEP_SECONDS_PER_DOF * dofs
     elif points == 1:
