@@ -242,7 +242,7 @@ class Settings:
 
 
 #: The model's parameters as the report names them, in the order it gives them.
-_SYMBOLS = (("omega", "ω"), ("xi0", "ξ0"), ("xi1", "ξ1"), ("D", "D"), ("fp", "f_p"), ("kappa1", "κ1"), ("eps1", "ε1"))
+SYMBOLS = {"omega": "ω", "xi0": "ξ0", "xi1": "ξ1", "D": "D", "fp": "f_p", "kappa1": "κ1", "eps1": "ε1"}
 
 
 def model_text(model: GearModel, *, skip: Sequence[str] = (), only: Sequence[str] | None = None) -> str:
@@ -260,17 +260,8 @@ def model_text(model: GearModel, *, skip: Sequence[str] = (), only: Sequence[str
     -------
     str
     """
-    values = {
-        "omega": model.omega,
-        "xi0": model.xi0,
-        "xi1": model.xi[0] if model.xi else 0.0,
-        "D": model.D,
-        "fp": model.fp,
-        "kappa1": model.kappa[0] if model.kappa else 0.0,
-        "eps1": model.eps[0] if model.eps else 0.0,
-    }
-    names = ("omega", "xi0", "xi1", "D") if only is None else tuple(only)
-    return ", ".join(f"{sym} = {values[k]:g}" for k, sym in _SYMBOLS if k in names and k not in skip)
+    only = ("omega", "xi0", "xi1", "D") if only is None else only
+    return ", ".join(f"{sym} = {model.get(k):g}" for k, sym in SYMBOLS.items() if k in only and k not in skip)
 
 
 @dataclass
