@@ -66,6 +66,8 @@ __all__ = [
     "jump_type_at",
     "length_fraction",
     "section_spread",
+    "strictly_monotone",
+    "yes_no",
 ]
 
 #: Fraction of a claim's parameter interval (by length) where it must hold to hold.
@@ -281,11 +283,39 @@ def fluctuation_trend(values: Sequence[float], decreasing: bool) -> tuple[bool, 
         return False, "not measured at every setting"
     if float(v.max()) < FLUCT_MIN:
         return False, f"no fluctuation at these settings (largest {float(v.max()):.1e} < {FLUCT_MIN:g})"
+    ok = strictly_monotone(v, decreasing)
+    return ok, ("strictly " if ok else "not strictly ") + ("decreasing" if decreasing else "increasing")
+
+
+def strictly_monotone(values: Sequence[float], decreasing: bool) -> bool:
+    """Whether at least two values, all finite, strictly decrease (``decreasing``) or strictly increase.
+
+    Parameters
+    ----------
+    values : sequence of float
+    decreasing : bool
+
+    Returns
+    -------
+    bool
+    """
+    v = np.asarray(values, dtype=float)
     d = np.diff(v)
-    ok = bool(np.all(d < 0) if decreasing else np.all(d > 0))
-    return ok, ("strictly " + ("decreasing" if decreasing else "increasing")) if ok else (
-        "not strictly " + ("decreasing" if decreasing else "increasing")
-    )
+    return bool(v.size >= 2 and np.all(np.isfinite(v)) and np.all(d < 0 if decreasing else d > 0))
+
+
+def yes_no(ok: bool) -> str:
+    """``"yes"`` or ``"no"``, as the report's tables and texts answer.
+
+    Parameters
+    ----------
+    ok : bool
+
+    Returns
+    -------
+    str
+    """
+    return "yes" if ok else "no"
 
 
 def distinct_text(values: Sequence[float], decimals: int = 3) -> list[str]:

@@ -18,9 +18,19 @@ import xarray as xr
 from ...analysis.response import frequency_response
 from ..claims import CLAIMS, claim_ids
 from ..report import Finding, Section
-from ..settings import Context, model_text
+from ..settings import SYMBOLS, Context, model_text
 from ..table1 import TABLE1
-from ..verdicts import count_text, distinct_text, fluctuation_trend, jump_holds, jump_type_at, parts, section_spread
+from ..verdicts import (
+    count_text,
+    distinct_text,
+    fluctuation_trend,
+    jump_holds,
+    jump_type_at,
+    parts,
+    section_spread,
+    strictly_monotone,
+    yes_no,
+)
 
 __all__ = [
     "JUMP_NEAR",
@@ -106,6 +116,23 @@ def first_up_jump(ds: xr.Dataset | list[dict[str, Any]], above: float = LOW_OMEG
     return min(js, key=lambda j: j["omega"]) if js else None
 
 
+def after_jump(jumps: list[dict[str, Any]]) -> float:
+    """Where the fluctuation "after the first jump" is measured from: :data:`FLUCT_AFTER` above the first upward
+    jump (:func:`first_up_jump`), or above :data:`LOW_OMEGA` when there is none.
+
+    Parameters
+    ----------
+    jumps : list of dict
+        The jumps of a response (:func:`jumps_of`).
+
+    Returns
+    -------
+    float
+    """
+    j = first_up_jump(jumps)
+    return (j["omega"] if j else LOW_OMEGA) + FLUCT_AFTER
+
+
 def fluctuation(ds: xr.Dataset, after: float) -> float:
     """Mean spread of the Poincaré points (:func:`geardyn.paper.verdicts.section_spread`) over the up sweep above
     ``after``.
@@ -152,11 +179,14 @@ class JumpData:
     overlays : dict
         Claim id → the figure references of the overlays it compares responses on
         (:func:`save_overlays`).
+    overlay_figures : list of (str, str)
+        The overlays' figure references with their captions, for the jump study's section.
     """
 
     responses: dict[tuple[float, float, float], xr.Dataset]
     evidence: dict[tuple[float, float, float], list[str]]
     overlays: dict[str, list[str]] = field(default_factory=dict)
+    overlay_figures: list[tuple[str, str]] = field(default_factory=list)
 
     def with_overlays(self, claims: Sequence[Finding]) -> None:
         """Put the overlays each claim compares responses on first in its evidence (in place)."""
@@ -308,26 +338,26 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
         rel = ctx.save(
             name,
             response_overlay(jd, keys, param),
-            f"frequency responses at {_SYMBOL[param]} = {values} overlaid ({fixed})",
+            f"frequency responses at {SYMBOLS[param]} = {values} overlaid ({fixed})",
         )
         for cid in cids + ("JUMP-LOW",):
             out.setdefault(cid, []).extend([ctx.figure(name), rel])
+        up = any(j["sweep"] == "up" and j["direction"] == "up" for k in keys for j in jumps_of(jd.responses[k]))
+        jd.overlay_figures.append(
+            (
+                ctx.figure(name),
+                f"Overlay of the up and down sweeps at {SYMBOLS[param]} = {values} ({fixed}): amplitude (top; up sweep "
+                "thick with small filled markers, down sweep thin with large open markers, first upward jump "
+                f"starred{', zoomed on in the middle panel' if up else ''}) and "
+                "fluctuation, the spread of the Poincaré points of the up sweep (bottom); the ω the paper names "
+                "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.",
+            )
+        )
     return out
-
-
-_SYMBOL = {"xi0": "ξ0", "xi1": "ξ1", "D": "D"}
 
 
 def _key_text(key: tuple[float, float, float]) -> str:
     return f"ξ0 = {key[0]:g}, ξ1 = {key[1]:g}, D = {key[2]:g}"
-
-
-def _monotone(values: Sequence[float], decreasing: bool) -> bool:
-    v = np.asarray(values, dtype=float)
-    if v.size < 2 or not np.all(np.isfinite(v)):
-        return False
-    d = np.diff(v)
-    return bool(np.all(d < 0) if decreasing else np.all(d > 0))
 
 
 def study_jumps(ctx: Context, jd: JumpData) -> Section:
@@ -381,24 +411,21 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none")
             for v, sz, j in zip(vals, sizes, locs)
         )
-        ok = _monotone(sizes, dec)
+        ok = strictly_monotone(sizes, dec)
         n_found = sum(j is not None for j in locs)
         exists = n_found == len(locs)
         claims.append(
             CLAIMS[cid].judge(
                 txt + f"; parts holding: {count_text(exists + ok, 2, '')}; an upward jump in each response: "
-                f"{'yes' if exists else 'no'} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} "
+                f"{yes_no(exists)} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} "
                 "with "
-                f"{lab}: {'yes' if ok else 'no'}.",
+                f"{lab}: {yes_no(ok)}.",
                 parts(exists, ok),
                 jd.ev(*keys),
             )
         )
 
-    fl0, fl1 = (
-        [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in keys]
-        for keys in (s.xi0_set, s.xi1_set)
-    )
+    fl0, fl1 = ([fluctuation(R[k], after_jump(jumps_of(R[k]))) for k in keys] for keys in (s.xi0_set, s.xi1_set))
     (ok0, why0), (ok1, why1) = fluctuation_trend(fl0, True), fluctuation_trend(fl1, False)
     claims.append(
         CLAIMS["JUMP-FLUCT"].judge(
@@ -452,24 +479,6 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
 
     jd.with_overlays(claims)
 
-    def zoomed(keys: Sequence[tuple[float, float, float]]) -> str:
-        up = any(j["sweep"] == "up" and j["direction"] == "up" for k in keys for j in jumps_of(R[k]))
-        return ", zoomed on in the middle panel" if up else ""
-
-    overlays = [
-        (
-            ctx.figure(overlay_key(p)),
-            f"Overlay of the up and down sweeps at {_SYMBOL[p]} = "
-            + ", ".join(f"{k[i]:g}" for k in getattr(s, attr))
-            + f" ({model_text(ctx.model_at(getattr(s, attr)[0]), skip=('omega', p))}): amplitude (top; up sweep "
-            "thick with small filled markers, down sweep thin with large open markers, first upward jump "
-            f"starred{zoomed(getattr(s, attr))}) and "
-            "fluctuation, the spread of the Poincaré points of the up sweep (bottom); the ω the paper names "
-            "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.",
-        )
-        for p, i, attr, _ in OVERLAYS
-        if len(getattr(s, attr)) >= 2
-    ]
     return Section(
         "Jumps and fluctuations of the amplitude-frequency response",
         [
@@ -482,7 +491,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = "
             f"{base_xi0:g} unless varied."
         ],
-        overlays
+        jd.overlay_figures
         + [
             (
                 jd.evidence[k][1],
@@ -532,8 +541,8 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
             f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
             f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: "
             f"{jump_type_at(jumps_of(ds), omega, TABLE4_NEAR)}); parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
-            f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {'yes' if amp_ok else 'no'}, jump type "
-            f"'{kind}': {'yes' if kind_ok else 'no'}"
+            f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {yes_no(amp_ok)}, jump type "
+            f"'{kind}': {yes_no(kind_ok)}"
         )
         ev = list(jd.evidence[key])
         if alt in R:

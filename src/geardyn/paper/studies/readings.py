@@ -30,7 +30,7 @@ from ..readings import BACKLASH_READINGS, DEFAULT_BACKLASH, Reading, phase_pairs
 from ..report import Finding
 from ..settings import Context
 from ..table1 import TABLE1
-from ..verdicts import MATCH_REPRODUCED, length_fraction, motion_rule, range_of
+from ..verdicts import MATCH_REPRODUCED, length_fraction, match_fraction, motion_rule, range_of, yes_no
 
 __all__ = ["ReadingRow", "ScreenData", "damping_readings", "intervals_text", "run_screen"]
 
@@ -245,6 +245,26 @@ def claim_range(cid: str) -> tuple[float, float, bool, bool]:
     return lo, hi, lo_open, hi_open
 
 
+def range_match(ds: xr.Dataset, cid: str) -> tuple[float, int]:
+    """A range claim on a diagram: the fraction of its interval's length (:func:`claim_range`) where its motion
+    holds, and the number of grid points in the interval (:func:`geardyn.paper.verdicts.match_fraction`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A bifurcation diagram over the claim's parameter.
+    cid : str
+        A row of Table 2.
+
+    Returns
+    -------
+    (float, int)
+    """
+    lo, hi, lo_open, hi_open = claim_range(cid)
+    pred = motion_rule(CLAIMS[cid].numbers["motion"])[0]
+    return match_fraction(ds, str(CLAIMS[cid].numbers["param"]), lo, hi, pred, lo_open=lo_open, hi_open=hi_open)
+
+
 def in_range(cid: str, grid: Sequence[float]) -> list[float]:
     """The grid values in a range claim's interval, with one neighbour beyond each end (whose cell is cut to it)."""
     lo, hi, _, _ = claim_range(cid)
@@ -295,7 +315,7 @@ def _t3_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
         lab = f"period-{n}" if m == MOTION_PERIODIC else {MOTION_CHAOTIC: "chaotic"}.get(m, "unresolved")
         return (
             ok_m and ok_s,
-            f"{lab}, λ1 = {lam:+.4f} ± {err:.1e} (motion {'yes' if ok_m else 'no'}, sign {'yes' if ok_s else 'no'})",
+            f"{lab}, λ1 = {lam:+.4f} ± {err:.1e} (motion {yes_no(ok_m)}, sign {yes_no(ok_s)})",
         )
 
     return judge
@@ -396,7 +416,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 ("BL-IMPACT", ok_imp, "single-sided at all three b"),
                 ("BL-AMP", ok_amp, "amplitude grows with b"),
             ):
-                tab.add(cid, lab, what, ok, pair, key, "yes" if ok.any() else "no")
+                tab.add(cid, lab, what, ok, pair, key, yes_no(ok.any()))
     joint = (
         f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided "
         f"impacts hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not "
@@ -448,7 +468,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
         head = ReadingRow(
             "default: ω = 1, φ_c1 = 0, φ_k1 = 0" + (", D = b/(2 mm)" if cid.startswith(("T3", "BL")) else ""),
             "see the study (full computation)",
-            "yes" if f.verdict == "reproduced" else "no",
+            yes_no(f.verdict == "reproduced"),
         )
         f.readings = [["reading", "result", "holds"]] + [[r.reading, r.result, r.holds] for r in [head] + rs]
         if f.verdict == "reproduced":

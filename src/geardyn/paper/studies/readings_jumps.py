@@ -23,26 +23,25 @@ from ..readings import BACKLASH_READINGS, Reading, lockstep_responses, phase_pai
 from ..report import Finding
 from ..settings import Context
 from ..table1 import TABLE1
-from ..verdicts import FORMULA_R2_REPRODUCED, distinct_text, fluctuation_trend, jump_holds, jump_type_at
-from .formula import fit_formula
-from .jumps import FLUCT_AFTER, JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR, _monotone, first_up_jump
+from ..verdicts import (
+    FORMULA_R2_REPRODUCED,
+    distinct_text,
+    fluctuation_trend,
+    jump_holds,
+    jump_type_at,
+    strictly_monotone,
+    yes_no,
+)
+from .formula import fit_responses
+from .jumps import JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR, after_jump, first_up_jump
 
 __all__ = ["JUMP_KEYS", "JumpReadings", "jump_readings", "run_lockstep"]
 
-#: The responses of each reading: (ξ0, ξ1, b in mm).
-JUMP_KEYS: tuple[tuple[float, float, float], ...] = (
-    (0.08, 0.05, 0.5),
-    (0.1, 0.05, 0.5),
-    (0.15, 0.05, 0.5),
-    (0.08, 0.03, 0.5),
-    (0.08, 0.08, 0.5),
-    (0.08, 0.05, 0.2),
-    (0.08, 0.05, 0.7),
-    (0.08, 0.05, 1.5),
-)
 XI0_KEYS = ((0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5))
 XI1_KEYS = ((0.08, 0.03, 0.5), (0.08, 0.05, 0.5), (0.08, 0.08, 0.5))
 B_KEYS = ((0.08, 0.05, 0.2), (0.08, 0.05, 0.5), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
+#: The responses of each reading: (ξ0, ξ1, b in mm), those with ξ0, ξ1 and b varied, each once.
+JUMP_KEYS: tuple[tuple[float, float, float], ...] = tuple(dict.fromkeys(XI0_KEYS + XI1_KEYS + B_KEYS))
 
 
 def _claim_keys() -> dict[str, set[int]]:
@@ -165,10 +164,7 @@ def run_lockstep(
 
 
 def _fluct(jr: JumpReadings, i: int, k: int) -> float:
-    j = first_up_jump(jr.jumps[i][k])
-    after = (j["omega"] if j else LOW_OMEGA) + FLUCT_AFTER
-    sel = jr.omega > after
-    v = jr.spread[i, k, 0, sel]
+    v = jr.spread[i, k, 0, jr.omega > after_jump(jr.jumps[i][k])]
     return float(np.nanmean(v)) if v.size else float("nan")
 
 
@@ -195,7 +191,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
             if not all(js):
                 return False, f"an upward jump above ω = {LOW_OMEGA:g} in {sum(map(bool, js))} of {len(js)} responses"
             sz = [j["size"] for j in js]  # type: ignore[index]
-            ok = _monotone(sz, decreasing)
+            ok = strictly_monotone(sz, decreasing)
             return ok, "sizes " + ", ".join(f"{lab} = {k[pos]:g}: {v}" for k, v in zip(keys, distinct_text(sz)))
 
         return t
@@ -246,15 +242,8 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
         return t
 
     def formula(i: int) -> tuple[bool, str]:
-        rows = []
-        rd = jr.readings[i]
-        for k, (x0, x1, b) in enumerate(JUMP_KEYS):
-            if x1 != TABLE1["xi1"]:
-                continue
-            rows.append(np.column_stack([W, np.full_like(W, x0), np.full_like(W, b), jr.amplitude[i, k, 0]]))
-        d = np.vstack(rows)
-        fit = fit_formula(d[:, 0], d[:, 1], d[:, 2], d[:, 3])
-        return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({rd.backlash})"
+        _, fit = fit_responses((*key, W, jr.amplitude[i, k, 0]) for k, key in enumerate(JUMP_KEYS))
+        return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({jr.readings[i].backlash})"
 
     tests = {
         "JUMP-LOW": low,
@@ -299,7 +288,7 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
         f = findings[cid]
         f.evidence.append(ctx.datasets["readings_responses"])
         f.readings = [["reading", "result", "holds"]] + [
-            [rd.text + (" (default)" if rd.is_default else ""), txt, "yes" if ok else "no"]
+            [rd.text + (" (default)" if rd.is_default else ""), txt, yes_no(ok)]
             for rd, (ok, txt) in zip(jr.readings, res)
         ]
         i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
