@@ -14,7 +14,6 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
-from ...analysis.classify import MOTION_CHAOTIC
 from ...analysis.confirm import confirm_sweep
 from ..claims import CLAIMS
 from ..report import Finding, Section
@@ -32,16 +31,9 @@ from ..verdicts import (
     verdict_of,
     yes_no,
 )
-from .readings import range_match
+from .readings import BIF_NEAR, HIGH_CHAOS_FROM, LOW_CHAOS_BELOW, bif_points, range_match
 
 __all__ = ["judge_ranges", "study_xi0", "study_xi1"]
-
-#: XI0-BIF: the chaos below this ξ0 ends at the first bifurcation point ...
-LOW_CHAOS_BELOW = 0.3
-#: ... and chaos from this ξ0 on is the return to chaos at the second.
-HIGH_CHAOS_FROM = 0.5
-#: XI0-BIF: largest distances (in ξ0) of the computed points from the paper's first and second point.
-BIF_NEAR = (0.02, 0.1)
 
 _WORDS = (
     "'quasi-n-periodic' = a period-n orbit (by F1 no quasi-periodic torus exists for ξ0 > 0); 'chaotic' = "
@@ -116,12 +108,7 @@ def study_xi0(ctx: Context) -> Section:
     first, second = CLAIMS["XI0-BIF"].numbers["points"]
     # Table 2 leaves ξ0 > 0.1 open above; the text ends that motion at the second bifurcation point (claim_range)
     claims = judge_ranges(ctx, ds, ["T2-1", "T2-2", "T2-3"], ev)
-    x = ds["xi0"].values
-    m, _, _ = motion_fields(ds)
-    chaotic = x[m == MOTION_CHAOTIC]
-    low = chaotic < LOW_CHAOS_BELOW
-    last_low_chaos = float(chaotic[low].max()) if np.any(low) else float("nan")
-    high_chaos = chaotic[chaotic >= HIGH_CHAOS_FROM]
+    last_low_chaos, high_chaos, first_ok, second_ok = bif_points(ds["xi0"].values, motion_fields(ds)[0])
     text = (
         f"at ω = {s.omega_damping:g}: largest chaotic ξ0 below {LOW_CHAOS_BELOW:g} is {last_low_chaos:.3g}"
         if np.isfinite(last_low_chaos)
@@ -132,8 +119,6 @@ def study_xi0(ctx: Context) -> Section:
         if high_chaos.size
         else f"; no chaos for ξ0 ≥ {HIGH_CHAOS_FROM:g} (the high-damping response is periodic)"
     )
-    first_ok = bool(np.isfinite(last_low_chaos) and abs(last_low_chaos - first) <= BIF_NEAR[0])
-    second_ok = bool(np.any(np.abs(high_chaos - second) <= BIF_NEAR[1]))
     text += (
         f". Bifurcation points found: {count_text(first_ok + second_ok, 2, '')}; within ±{BIF_NEAR[0]:g} "
         f"of ξ0 = {first:g}: {yes_no(first_ok)}, within ±{BIF_NEAR[1]:g} of ξ0 = {second:g}: {yes_no(second_ok)}"

@@ -403,13 +403,12 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     )
 
     above = CLAIMS["JUMP-XI0"].numbers["omega"]
-    for cid, keys, lab, dec in (("JUMP-XI0", s.xi0_set, "ξ0", True), ("JUMP-XI1", s.xi1_set, "ξ1", False)):
-        vals = [k[0] if lab == "ξ0" else k[1] for k in keys]
+    for cid, keys, lab, i, dec in (("JUMP-XI0", s.xi0_set, "ξ0", 0, True), ("JUMP-XI1", s.xi1_set, "ξ1", 1, False)):
         locs = [first_up_jump(R[k]) for k in keys]
         sizes = [j["size"] if j else float("nan") for j in locs]
         txt = f"first upward jump above ω = {above:g} (up sweep): " + ", ".join(
-            f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none")
-            for v, sz, j in zip(vals, sizes, locs)
+            f"{lab} = {k[i]:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none")
+            for k, sz, j in zip(keys, sizes, locs)
         )
         ok = strictly_monotone(sizes, dec)
         n_found = sum(j is not None for j in locs)
@@ -505,6 +504,16 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     )
 
 
+def _read_at(ds: xr.Dataset, omega: float) -> tuple[float, float, float, list[str]]:
+    """A response read at the grid ω nearest ``omega``: that ω, the up and down amplitudes there, and the
+    directions of the jumps within :data:`TABLE4_NEAR` of ``omega``."""
+    x = ds["omega"].values
+    k = int(np.argmin(np.abs(x - omega)))
+    amp = ds["amplitude"]
+    kinds = sorted({j["direction"] + "ward" for j in jumps_of(ds) if abs(j["omega"] - omega) <= TABLE4_NEAR})
+    return x[k], float(amp.sel(sweep="up").values[k]), float(amp.sel(sweep="down").values[k]), kinds
+
+
 def study_table4(ctx: Context, jd: JumpData) -> Section:
     """Table 4: amplitude and jump type at five operating points, read from the jump study's responses.
 
@@ -528,17 +537,12 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         key = (xi0, TABLE1["xi1"], b / 2)
         alt = (xi0, TABLE1["xi1"], b)
         ds = R[key]
-        x = ds["omega"].values
-        k = int(np.argmin(np.abs(x - omega)))
-        a_up = float(ds["amplitude"].sel(sweep="up").values[k])
-        a_dn = float(ds["amplitude"].sel(sweep="down").values[k])
-        js = [j for j in jumps_of(ds) if abs(j["omega"] - omega) <= TABLE4_NEAR]
-        kinds = sorted({j["direction"] + "ward" for j in js})
+        w, a_up, a_dn, kinds = _read_at(ds, omega)
         kind_ok = jump_holds(jumps_of(ds), omega, kind, TABLE4_NEAR)
         amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
         v = parts(amp_ok, kind_ok)
         txt = (
-            f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
+            f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {w:.3f}; jumps within "
             f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: "
             f"{jump_type_at(jumps_of(ds), omega, TABLE4_NEAR)}); parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
             f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {yes_no(amp_ok)}, jump type "
@@ -546,13 +550,8 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         )
         ev = list(jd.evidence[key])
         if alt in R:
-            da = R[alt]
-            ka = int(np.argmin(np.abs(da["omega"].values - omega)))
-            ja = sorted({j["direction"] + "ward" for j in jumps_of(da) if abs(j["omega"] - omega) <= TABLE4_NEAR})
-            txt += (
-                f". Read as D = b = {b:g}: A = {float(da['amplitude'].sel(sweep='up').values[ka]):.3f} (up), "
-                f"jumps: {', '.join(ja) or 'none'}"
-            )
+            _, a_alt, _, ja = _read_at(R[alt], omega)
+            txt += f". Read as D = b = {b:g}: A = {a_alt:.3f} (up), jumps: {', '.join(ja) or 'none'}"
             ev += jd.evidence[alt]
         claims.append(CLAIMS[cid].judge(txt + ".", v, ev))
         table.append(

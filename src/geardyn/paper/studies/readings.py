@@ -47,8 +47,12 @@ XI1_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = ((0.01, ("T2-4", "XI1-CH
 TABLE3_B: tuple[float, ...] = tuple(CLAIMS[c].numbers["b"] for c in claim_ids("T3-"))
 #: All 16 phase pairs for the damping claims (False: each phase varied alone, 7 pairs, as for the others).
 FULL_PHASES = False
-#: XI0-BIF: the return to chaos is sought from this ξ0 on.
+#: XI0-BIF: the chaos below this ξ0 ends at the first bifurcation point ...
+LOW_CHAOS_BELOW = 0.3
+#: ... and chaos from this ξ0 on is the return to chaos at the second.
 HIGH_CHAOS_FROM = 0.5
+#: XI0-BIF: largest distances (in ξ0) of the computed points from the paper's first and second point.
+BIF_NEAR = (0.02, 0.1)
 #: Candidates confirmed per claim: as many as fit in this many points (a point of Table 3 is one, a range
 #: claim its interval's grid), at least one and at most VERIFY_MAX.
 VERIFY_POINTS = 60
@@ -288,17 +292,40 @@ def _range_judge(cid: str, values: Sequence[float]) -> Callable[[dict[str, np.nd
     return judge
 
 
-def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def bif_points(x: Sequence[float], motion: Sequence[int]) -> tuple[float, np.ndarray, bool, bool]:
+    """The bifurcation points of XI0-BIF on a grid of ξ0: the last chaos below :data:`LOW_CHAOS_BELOW`, the chaos
+    from :data:`HIGH_CHAOS_FROM` on, and whether each lies within :data:`BIF_NEAR` of the paper's point.
+
+    Parameters
+    ----------
+    x : sequence of float
+        The ξ0 grid.
+    motion : sequence of int
+        The motion code at each point.
+
+    Returns
+    -------
+    (float, ndarray, bool, bool)
+        The largest chaotic ξ0 below :data:`LOW_CHAOS_BELOW` (NaN: none), the chaotic ξ0 from
+        :data:`HIGH_CHAOS_FROM` on, and whether the first and the second point are found.
+    """
     first, second = CLAIMS["XI0-BIF"].numbers["points"]
-    x = np.asarray(values)
+    ch = np.asarray(x)[np.asarray(motion) == MOTION_CHAOTIC]
+    low = ch[ch < LOW_CHAOS_BELOW]
+    last = float(low.max()) if low.size else float("nan")
+    high = ch[ch >= HIGH_CHAOS_FROM]
+    return (
+        last,
+        high,
+        bool(np.isfinite(last) and abs(last - first) <= BIF_NEAR[0]),
+        bool(np.any(np.abs(high - second) <= BIF_NEAR[1])),
+    )
+
+
+def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
-        ch = x[np.asarray(r["motion"]) == MOTION_CHAOTIC]
-        low = ch[ch < 0.3]
-        last = float(low.max()) if low.size else float("nan")
-        high = ch[ch >= HIGH_CHAOS_FROM]
-        ok1 = bool(np.isfinite(last) and abs(last - first) <= 0.02)
-        ok2 = bool(np.any(np.abs(high - second) <= 0.1))
+        last, high, ok1, ok2 = bif_points(values, r["motion"])
         return ok1 and ok2, (f"last low chaos at ξ0 = {last:.3g}" if np.isfinite(last) else "no low chaos") + (
             f", chaos again at ξ0 = {high.min():.3g}" if high.size else ", no chaos at high ξ0"
         )
