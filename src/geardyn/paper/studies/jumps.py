@@ -18,7 +18,7 @@ import xarray as xr
 from ...analysis.response import frequency_response
 from ..claims import CLAIMS, claim_ids
 from ..report import Finding, Section
-from ..settings import SYMBOLS, Context, model_text
+from ..settings import SYMBOLS, Context, ResponseKey, model_text
 from ..table1 import TABLE1
 from ..verdicts import (
     count_text,
@@ -183,8 +183,8 @@ class JumpData:
         The overlays' figure references with their captions, for the jump study's section.
     """
 
-    responses: dict[tuple[float, float, float], xr.Dataset]
-    evidence: dict[tuple[float, float, float], list[str]]
+    responses: dict[ResponseKey, xr.Dataset]
+    evidence: dict[ResponseKey, list[str]]
     overlays: dict[str, list[str]] = field(default_factory=dict)
     overlay_figures: list[tuple[str, str]] = field(default_factory=list)
 
@@ -193,7 +193,7 @@ class JumpData:
         for c in claims:
             c.evidence = list(dict.fromkeys(self.overlays.get(c.id, []) + list(c.evidence)))
 
-    def ev(self, *keys: tuple[float, float, float]) -> list[str]:
+    def ev(self, *keys: ResponseKey) -> list[str]:
         """The evidence of the responses at ``keys``, in order."""
         return list(dict.fromkeys(e for k in keys for e in self.evidence[k]))
 
@@ -212,8 +212,8 @@ def compute_responses(ctx: Context) -> JumpData:
         Every response with its evidence.
     """
     s = ctx.settings
-    out: dict[tuple[float, float, float], xr.Dataset] = {}
-    ev: dict[tuple[float, float, float], list[str]] = {}
+    out: dict[ResponseKey, xr.Dataset] = {}
+    ev: dict[ResponseKey, list[str]] = {}
     for key in s.response_sets:
         xi0, xi1, D = key
         ctx.log(f"frequency response ξ0 = {xi0:g}, ξ1 = {xi1:g}, D = {D:g}")
@@ -250,7 +250,7 @@ def overlay_key(param: str) -> str:
     return f"responses_over_{param}"
 
 
-def response_overlay(jd: JumpData, keys: Sequence[tuple[float, float, float]], param: str) -> xr.Dataset:
+def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> xr.Dataset:
     """The frequency responses at ``keys`` (one parameter varied) on one ω grid, for one figure that
     compares them (kind ``response_overlay``): amplitude of both sweeps, fluctuation of the up sweep,
     each response's jumps and hysteresis, and the ω and amplitudes the paper's claims name.
@@ -356,7 +356,7 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
     return out
 
 
-def _key_text(key: tuple[float, float, float]) -> str:
+def _key_text(key: ResponseKey) -> str:
     return f"ξ0 = {key[0]:g}, ξ1 = {key[1]:g}, D = {key[2]:g}"
 
 

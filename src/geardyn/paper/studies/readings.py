@@ -34,6 +34,11 @@ from ..verdicts import MATCH_REPRODUCED, length_fraction, match_fraction, motion
 
 __all__ = ["ReadingRow", "ScreenData", "damping_readings", "intervals_text", "run_screen"]
 
+#: How a confirmation is judged: its results (a variable per point) → (holds, result).
+Judge = Callable[[dict[str, np.ndarray]], tuple[bool, str]]
+#: A candidate reading on the screen: (ω, phase pair, backlash reading).
+Candidate = tuple[float, tuple[float, float], str]
+
 #: ξ0 probes of the screen and the claims they test: (ξ0, claim ids).
 XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
     (0.05, ("T2-1", "XI0-BIF")),
@@ -224,7 +229,7 @@ def _pred(cid: str) -> Callable[[int, int], bool]:
     return lambda m, n: bool(f(int(m), int(n), 0))
 
 
-def _order(cands: list[tuple[float, tuple[float, float], str]]) -> list[tuple[float, tuple[float, float], str]]:
+def _order(cands: list[Candidate]) -> list[Candidate]:
     """Candidates nearest the default first: default phases and backlash reading, then ω nearest 1."""
     return sorted(cands, key=lambda c: (c[1] != (0.0, 0.0), c[2] not in ("", DEFAULT_BACKLASH), abs(c[0] - 1.0)))
 
@@ -237,7 +242,7 @@ class Verification:
     reading: Reading
     param: str
     values: list[float]
-    judge: Callable[[dict[str, np.ndarray]], tuple[bool, str]]
+    judge: Judge
     start: int = 0
 
 
@@ -280,7 +285,7 @@ def in_range(cid: str, grid: Sequence[float]) -> list[float]:
     return [float(v) for v in x[a : b + 1]]
 
 
-def _range_judge(cid: str, values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def _range_judge(cid: str, values: Sequence[float]) -> Judge:
     lo, hi, lo_open, hi_open = claim_range(cid)
     pred = _pred(cid)
 
@@ -322,7 +327,7 @@ def bif_points(x: Sequence[float], motion: Sequence[int]) -> tuple[float, np.nda
     )
 
 
-def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def _xi0_bif_judge(values: Sequence[float]) -> Judge:
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
         last, high, ok1, ok2 = bif_points(values, r["motion"])
@@ -333,7 +338,7 @@ def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]],
     return judge
 
 
-def _t3_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def _t3_judge(cid: str) -> Judge:
     pred, word = _pred(cid), CLAIMS[cid].numbers["lyapunov"]
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
@@ -354,7 +359,7 @@ class _Screened:
 
     omegas: np.ndarray
     rows: dict[str, list[ReadingRow]] = field(default_factory=dict)
-    cands: dict[str, list[tuple[float, tuple[float, float], str]]] = field(default_factory=dict)
+    cands: dict[str, list[Candidate]] = field(default_factory=dict)
     okmap: dict[str, list[np.ndarray]] = field(default_factory=dict)  # claim -> per reading family, ok over ω
 
     def add(
@@ -558,7 +563,7 @@ def _probe_word(cid: str, cs: Sequence[str]) -> Callable[[int, int], bool]:
     return _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
 
 
-def _bl_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def _bl_judge(cid: str) -> Judge:
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
         if cid == "BL-IMPACT":
@@ -570,7 +575,7 @@ def _bl_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
     return judge
 
 
-def _xi1_chaos_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def _xi1_chaos_judge(values: Sequence[float]) -> Judge:
     low, high = _range_judge("T2-4", values), _range_judge("T2-5", values)
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:

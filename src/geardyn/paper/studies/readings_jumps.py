@@ -21,7 +21,7 @@ from ...io import json_attr
 from ..claims import CLAIMS, claim_ids
 from ..readings import BACKLASH_READINGS, Reading, lockstep_responses, phase_pairs, response_jumps
 from ..report import Finding
-from ..settings import Context
+from ..settings import Context, ResponseKey
 from ..table1 import TABLE1
 from ..verdicts import (
     FORMULA_R2_REPRODUCED,
@@ -37,11 +37,14 @@ from .jumps import JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR, after_jump
 
 __all__ = ["JUMP_KEYS", "JumpReadings", "jump_readings", "run_lockstep"]
 
+#: A claim's test under reading i of the lockstep responses: (holds, result).
+Test = Callable[[int], tuple[bool, str]]
+
 XI0_KEYS = ((0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5))
 XI1_KEYS = ((0.08, 0.03, 0.5), (0.08, 0.05, 0.5), (0.08, 0.08, 0.5))
 B_KEYS = ((0.08, 0.05, 0.2), (0.08, 0.05, 0.5), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
 #: The responses of each reading: (ξ0, ξ1, b in mm), those with ξ0, ξ1 and b varied, each once.
-JUMP_KEYS: tuple[tuple[float, float, float], ...] = tuple(dict.fromkeys(XI0_KEYS + XI1_KEYS + B_KEYS))
+JUMP_KEYS: tuple[ResponseKey, ...] = tuple(dict.fromkeys(XI0_KEYS + XI1_KEYS + B_KEYS))
 
 
 def _claim_keys() -> dict[str, set[int]]:
@@ -93,7 +96,7 @@ class JumpReadings:
     spread: np.ndarray
     jumps: list[list[list[dict[str, Any]]]]  # [reading][key] -> jumps
 
-    def key(self, k: tuple[float, float, float]) -> int:
+    def key(self, k: ResponseKey) -> int:
         return JUMP_KEYS.index(k)
 
 
@@ -168,7 +171,7 @@ def _fluct(jr: JumpReadings, i: int, k: int) -> float:
     return float(np.nanmean(v)) if v.size else float("nan")
 
 
-def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
+def _tests(jr: JumpReadings) -> dict[str, Test]:
     """Claim id → the test of the claim under reading i: (holds, result)."""
     K = jr.key
     W = jr.omega
@@ -185,7 +188,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
                 bad.append(k)
         return not bad, f"steady below ω = {LOW_OMEGA:g} in {len(JUMP_KEYS) - len(bad)} of {len(JUMP_KEYS)} responses"
 
-    def sizes(keys, decreasing: bool, lab: str, pos: int) -> Callable[[int], tuple[bool, str]]:
+    def sizes(keys, decreasing: bool, lab: str, pos: int) -> Test:
         def t(i: int) -> tuple[bool, str]:
             js = [first_up_jump(jr.jumps[i][K(k)]) for k in keys]
             if not all(js):
@@ -215,7 +218,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
         ok = all(j is not None and abs(j["omega"] - at) <= JUMP_NEAR for j in js)
         return ok, "first upward jumps at ω = " + ", ".join(f"{j['omega']:.3f}" if j else "–" for j in js)
 
-    def located(cid: str) -> Callable[[int], tuple[bool, str]]:
+    def located(cid: str) -> Test:
         b, w, d = (CLAIMS[cid].numbers[k] for k in ("b", "omega", "direction"))
         k = K((0.08, TABLE1["xi1"], b))
 
@@ -227,7 +230,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
 
         return t
 
-    def table4(cid: str) -> Callable[[int], tuple[bool, str]]:
+    def table4(cid: str) -> Test:
         w, x0, b, A, kind = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A", "jump"))
         k = K((x0, TABLE1["xi1"], b))
         g = int(np.argmin(np.abs(W - w)))
