@@ -164,9 +164,8 @@ def _md_escape_cell(s: str) -> str:
 
 
 def _md_table(rows: Sequence[Sequence[str]]) -> list[str]:
-    out = ["| " + " | ".join(_md_escape_cell(h) for h in rows[0]) + " |", "|" + "---|" * len(rows[0])]
-    out += ["| " + " | ".join(_md_escape_cell(x) for x in row) + " |" for row in rows[1:]]
-    return out + [""]
+    lines = ["| " + " | ".join(_md_escape_cell(x) for x in row) + " |" for row in rows]
+    return [lines[0], "|" + "---|" * len(rows[0]), *lines[1:], ""]
 
 
 #: The summary's "we find" is cut at the first sentence end after this many characters at most.
@@ -266,14 +265,9 @@ def one_reading_totals(claims: Sequence[Finding]) -> dict[str, Any]:
         ``groups``: group name → (reading, claims holding, claims).
     """
     ids = {c.id: c for c in claims}
-    groups: list[tuple[str, list[Finding]]] = []
-    seen: set[str] = set()
-    for name, members in CLAIM_GROUPS.items():
-        group = [ids[m] for m in members if m in ids]
-        if group:
-            groups.append((name, group))
-            seen |= {c.id for c in group}
-    groups += [(c.id, [c]) for c in claims if c.id not in seen]
+    groups = [(name, g) for name, members in CLAIM_GROUPS.items() if (g := [ids[m] for m in members if m in ids])]
+    grouped = {m for members in CLAIM_GROUPS.values() for m in members}
+    groups += [(c.id, [c]) for c in claims if c.id not in grouped]
     out: dict[str, Any] = {
         "reproduced": 0,
         "reproduced under the group's reading": 0,
@@ -455,12 +449,7 @@ code{background:#f2f2f2;padding:0 3px}
 
 
 def _vclass(v: str) -> str:
-    return {
-        "reproduced": "v-reproduced",
-        "reproduced under a reading": "v-reading",
-        "contradicted": "v-contradicted",
-        "not testable": "v-untestable",
-    }[v]
+    return "v-" + {"reproduced under a reading": "reading", "not testable": "untestable"}.get(v, v)
 
 
 def _html_table(rows: Sequence[Sequence[str]], cls: str = "") -> str:
@@ -606,13 +595,12 @@ def write_report(
     """
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
-    claims = [asdict(c) for s in sections for c in s.claims]
+    every = [c for s in sections for c in s.claims]
     paths = {"md": d / "report.md", "html": d / "report.html", "claims": d / "claims.json"}
     atomic_write_bytes(paths["md"], render_markdown(title, intro, sections, labels, run).encode())
     atomic_write_bytes(paths["html"], render_html(title, intro, sections, d, labels, run).encode())
-    atomic_write_bytes(paths["claims"], json.dumps(claims, indent=2, default=str).encode())
+    atomic_write_bytes(paths["claims"], json.dumps([asdict(c) for c in every], indent=2, default=str).encode())
     if run is not None:
-        every = [c for s in sections for c in s.claims]
         meta = {
             "run": asdict(run),
             "totals_one_reading": one_reading_text(every, run),

@@ -360,10 +360,10 @@ def jump_type_at(jumps: Sequence[Mapping[str, object]], omega: float, tol: float
         when jumps of both directions are equally near (neither direction is then shown).
     """
     near = [
-        (abs(float(j["omega"]) - omega), str(j["direction"]))
-        for j in jumps  # type: ignore[arg-type]
-        if abs(float(j["omega"]) - omega) <= tol + 1e-12
-    ]  # type: ignore[arg-type]
+        (d, str(j["direction"]))
+        for j in jumps
+        if (d := abs(float(j["omega"]) - omega)) <= tol + 1e-12  # type: ignore[arg-type]
+    ]
     if not near:
         return "none"
     dmin = min(d for d, _ in near)
@@ -582,7 +582,7 @@ def match_fraction(
     """
     x = ds[param].values
     m, n, l = motion_fields(ds)
-    ok = np.array([pred(int(m[i]), int(n[i]), int(l[i])) for i in range(x.size)], dtype=bool)
+    ok = np.array([pred(int(a), int(b), int(c)) for a, b, c in zip(m, n, l)], dtype=bool)
     frac, _ = length_fraction(x, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
     sel = ((x > lo) if lo_open else (x >= lo - 1e-12)) & ((x < hi) if hi_open else (x <= hi + 1e-12))
     return frac, int(sel.sum())
@@ -627,8 +627,4 @@ def runs_text(runs: Sequence[tuple[float, float, str]], fmt: str = "{:.3g}") -> 
     -------
     str
     """
-    parts = []
-    for a, b, d in runs:
-        rng = fmt.format(a) if a == b else f"{fmt.format(a)}–{fmt.format(b)}"
-        parts.append(f"{rng}: {d}")
-    return "; ".join(parts)
+    return "; ".join(f"{fmt.format(a)}{'' if a == b else '–' + fmt.format(b)}: {d}" for a, b, d in runs)
