@@ -12,7 +12,7 @@ from __future__ import annotations
 import base64
 import html
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -336,12 +336,17 @@ def is_figure(path: str) -> bool:
     return path.startswith("figures/") and path.endswith(".png")
 
 
-def _evidence_groups(evidence: Sequence[str], labels: Mapping[str, str]) -> list[tuple[str, list[tuple[str, str]]]]:
-    """Evidence grouped by Dataset: (label, [(kind, path)]) in first-cited order."""
+def _evidence(
+    evidence: Sequence[str], labels: Mapping[str, str], link: Callable[[str, str], str], text: Callable[[str], str]
+) -> str:
+    """Evidence grouped by Dataset in first-cited order, each as its label (``text``) and links (``link(kind,
+    path)``): ``"label (figure, data); label (data)"``."""
     groups: dict[str, list[tuple[str, str]]] = {}
     for p in dict.fromkeys(evidence):
         groups.setdefault(dataset_of(p), []).append(("figure" if is_figure(p) else "data", p))
-    return [(labels.get(n, n), items) for n, items in groups.items()]
+    return "; ".join(
+        f"{text(labels.get(n, n))} (" + ", ".join(link(k, p) for k, p in items) + ")" for n, items in groups.items()
+    )
 
 
 def _anchor(path: str) -> str:
@@ -406,10 +411,7 @@ def render_markdown(
         if s.table:
             out += _md_table(s.table)
         for c in s.claims:
-            ev = "; ".join(
-                f"{lab} (" + ", ".join(f"[{k}]({p})" for k, p in items) + ")"
-                for lab, items in _evidence_groups(c.evidence, labels)
-            )
+            ev = _evidence(c.evidence, labels, lambda k, p: f"[{k}]({p})", str)
             out += [
                 f"**{c.id}** ({c.source}). *Paper:* {c.statement}",
                 "",
@@ -543,10 +545,7 @@ def render_html(
         if s.table:
             out.append(_html_table(s.table))
         for c in s.claims:
-            ev = "; ".join(
-                f"{e(lab)} (" + ", ".join(link(k, p) for k, p in items) + ")"
-                for lab, items in _evidence_groups(c.evidence, labels)
-            )
+            ev = _evidence(c.evidence, labels, link, e)
             out.append(
                 f"<div class='claim' id='{e(c.id)}'><b>{e(c.id)}</b> ({e(c.source)})<br><i>Paper:</i> {e(c.statement)}"
                 f"<br><i>geardyn:</i> {e(c.computed)}<br><i>Verdict:</i> <span class='{_vclass(c.verdict)}'>"

@@ -273,7 +273,7 @@ def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> x
         ``hysteresis`` (a list per case), ``marks`` (the claimed ω: [ω, text]) and ``table4`` (the
         paper's Table 4 amplitudes at these responses: [case, ω, A, text]).
     """
-    index = {"xi0": 0, "xi1": 1, "D": 2}[param]
+    index = ("xi0", "xi1", "D").index(param)
     first = jd.responses[keys[0]]
     omega = first["omega"].values
     amp = np.stack([jd.responses[k]["amplitude"].sel(sweep=["up", "down"]).values for k in keys])
@@ -291,7 +291,6 @@ def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> x
         for i, k in enumerate(keys):
             if k == (xi0, TABLE1["xi1"], b / 2):
                 table4.append([i, omega4, A, cid])
-    model = dict(json.loads(first.attrs["model"]))
     return xr.Dataset(
         {
             "amplitude": (("case", "sweep", "omega"), amp),
@@ -302,7 +301,7 @@ def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> x
         attrs={
             "geardyn_kind": "response_overlay",
             "param": param,
-            "model": json.dumps(model),
+            "model": first.attrs["model"],
             "jumps": json.dumps([jumps_of(jd.responses[k]) for k in keys]),
             "hysteresis": json.dumps([hysteresis_of(jd.responses[k]) for k in keys]),
             "marks": json.dumps(marks),

@@ -177,16 +177,13 @@ def _tests(jr: JumpReadings) -> dict[str, Test]:
     W = jr.omega
 
     def low(i: int) -> tuple[bool, str]:
-        bad = []
-        for k in range(len(JUMP_KEYS)):
-            js = [j for j in jr.jumps[i][k] if j["omega"] < LOW_OMEGA]
-            a = jr.amplitude[i, k]
+        sel, bad = W < LOW_OMEGA, 0
+        for js, a in zip(jr.jumps[i], jr.amplitude[i]):
             rng = float(np.nanmax(a) - np.nanmin(a)) or 1.0
-            sel = W < LOW_OMEGA
-            dis = bool(np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * rng))
-            if js or dis:
-                bad.append(k)
-        return not bad, f"steady below ω = {LOW_OMEGA:g} in {len(JUMP_KEYS) - len(bad)} of {len(JUMP_KEYS)} responses"
+            bad += any(j["omega"] < LOW_OMEGA for j in js) or bool(
+                np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * rng)
+            )
+        return not bad, f"steady below ω = {LOW_OMEGA:g} in {len(JUMP_KEYS) - bad} of {len(JUMP_KEYS)} responses"
 
     def sizes(keys, decreasing: bool, lab: str, pos: int) -> Test:
         def t(i: int) -> tuple[bool, str]:
