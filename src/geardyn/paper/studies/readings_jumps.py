@@ -282,6 +282,7 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
     """
     out = {}
     need: dict[str, list[int]] = {}
+    i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
     for cid, test in _tests(jr).items():
         res = [test(i) for i in range(len(jr.readings))]
         out[cid] = res
@@ -291,15 +292,10 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
             [rd.text + (" (default)" if rd.is_default else ""), txt, yes_no(ok)]
             for rd, (ok, txt) in zip(jr.readings, res)
         ]
-        i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
         # at the default reading the study's full responses decide; the lockstep rows are the other readings
-        full_default = f.verdict == "reproduced"
         holding = [i for i, (ok, _) in enumerate(res) if ok and i != i_def]
-        if full_default:
-            f.verdict, f.deciding = (
-                "reproduced",
-                f"holds at the default reading (full responses); lockstep: {res[i_def][1]}",
-            )
+        if f.verdict == "reproduced":
+            f.deciding = f"holds at the default reading (full responses); lockstep: {res[i_def][1]}"
         elif holding:
             need[cid] = holding[: CONFIRM_SINGLE if len(CLAIM_KEYS[cid]) <= 2 else 1]
             f.deciding = f"{len(holding)} of {len(res) - 1} other readings hold in the lockstep responses"
