@@ -539,6 +539,14 @@ def branch_lines(
         i0 = i
 
 
+def cell_edges(x: np.ndarray, half: float = 0.005) -> np.ndarray:
+    """Edges of cells centred on the ascending values ``x``: midway between neighbours, the end cells as wide as
+    their neighbours' (``half`` either side of a single value)."""
+    if x.size < 2:
+        return np.array([x[0] - half, x[0] + half])
+    return np.concatenate([[x[0] - (x[1] - x[0]) / 2], 0.5 * (x[1:] + x[:-1]), [x[-1] + (x[-1] - x[-2]) / 2]])
+
+
 def _renderer(fig: Figure) -> Any:
     get = getattr(fig.canvas, "get_renderer", None)
     return get() if get is not None else fig._get_renderer()

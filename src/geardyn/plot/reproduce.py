@@ -9,7 +9,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import parameter_text, place_labels, plot_function, set_title, symbol
+from .common import cell_edges, parameter_text, place_labels, plot_function, set_title, symbol
 
 __all__ = ["CURVE_STYLES", "curve_style", "end_labels", "formula_fit", "readings_map", "response_overlay", "search_map"]
 
@@ -171,10 +171,7 @@ def readings_map(ds: xr.Dataset, ax: Axes = None) -> None:
     (a result of the reproduction report); the default ω dashed."""
     f = ds["hold_fraction"].values
     w = ds["omega"].values
-    mid = 0.5 * (w[1:] + w[:-1])
-    half = float(w[1] - w[0]) / 2 if w.size > 1 else 0.005
-    edges = np.concatenate([[w[0] - half], mid, [w[-1] + (float(w[-1] - w[-2]) / 2 if w.size > 1 else half)]])
-    im = ax.pcolormesh(edges, np.arange(f.shape[0] + 1) - 0.5, f, vmin=0, vmax=1, cmap="viridis")
+    im = ax.pcolormesh(cell_edges(w), np.arange(f.shape[0] + 1) - 0.5, f, vmin=0, vmax=1, cmap="viridis")
     ax.set_yticks(range(f.shape[0]), [str(c) for c in ds["claim"].values])
     ax.axvline(float(ds.attrs.get("default_omega", 1.0)), color="w", ls="--", lw=0.8)
     ax.set_xlabel("mesh frequency ω = ω_e/ω_n (dashed: the default reading)")

@@ -14,6 +14,7 @@ import xarray as xr
 from matplotlib.colors import LogNorm
 
 from .common import plot_function
+from .response import SWEEP_STYLE
 
 __all__ = ["runup_figure"]
 
@@ -81,7 +82,7 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
         y = ds[f"{var}_um"].values if (var == "amplitude" and unit == "µm") else ds[var].values
         a.plot(x, y, "k-", lw=1.5, label=what)
         if qs is not None:
-            for lab, marker, colour in (("up", "^", "C0"), ("down", "v", "C3")):
+            for lab, (marker, colour) in SWEEP_STYLE.items():
                 if var in qs.get(lab, ()):
                     a.plot(
                         qs["x"],
