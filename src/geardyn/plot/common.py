@@ -609,10 +609,6 @@ _RETURNS = "Returns\n-------\nPlotArtists\n    The figure, its Axes and the arti
 ONE_AXES = "ax : matplotlib.axes.Axes, optional\n    Where to draw; a new figure if omitted."
 
 
-def _doc(text: str) -> str:
-    return textwrap.dedent(text).strip("\n")
-
-
 def plot_function(
     kind: str,
     figsize: Any,
@@ -680,7 +676,7 @@ def plot_function(
             return PlotArtists(fig, drawn, [c for a, b in zip(drawn, before) for c in a.get_children() if c not in b])
 
         sections = ["Parameters", "----------", "ds : xarray.Dataset", f"    A ``{kind}`` result."]
-        sections += [_doc(t) for t in (params, ax_doc) if t]
+        sections += [textwrap.dedent(t).strip("\n") for t in (params, ax_doc) if t]
         plot.__doc__ = inspect.cleandoc(fn.__doc__ or "") + "\n\n" + "\n".join(sections) + "\n\n" + _RETURNS
         return plot
 

@@ -71,17 +71,16 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> None:
 @plot_function("stiffness", (7.5, 4.5))
 def compliance_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """A healthy pair's compliances by term (per unit face width) along the path of contact."""
-    a = ax
     x = ds["path"].values
     terms = {"hertz": "C0", "bending": "C1", "shear": "C2", "axial": "C4", "fillet": "C3"}
     for k, c in terms.items():
-        a.plot(x, ds[f"compliance_{k}"], color=c, lw=1.2, label=k)
+        ax.plot(x, ds[f"compliance_{k}"], color=c, lw=1.2, label=k)
     total = sum(ds[f"compliance_{k}"].values for k in terms)
-    a.plot(x, total, "k-", lw=1.8, label="total (1/single-pair stiffness per width)")
-    a.set_xlabel("contact position from A [base pitches]")
-    a.set_ylabel("compliance per unit width [mm·µm/N]")
-    a.set_title("one tooth pair: potential-energy terms (pinion + wheel)", fontsize=10)
-    a.legend(fontsize=8)
+    ax.plot(x, total, "k-", lw=1.8, label="total (1/single-pair stiffness per width)")
+    ax.set_xlabel("contact position from A [base pitches]")
+    ax.set_ylabel("compliance per unit width [mm·µm/N]")
+    ax.set_title("one tooth pair: potential-energy terms (pinion + wheel)", fontsize=10)
+    ax.legend(fontsize=8)
 
 
 def _runs(ds: xr.Dataset) -> list[tuple[str, dict]]:
@@ -225,12 +224,11 @@ def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> None:
 @plot_function("tooth_fe", (7.5, 4.5))
 def fe_crack_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Compliance of the cracked pinion tooth over the healthy one along its contact, geardyn against FE."""
-    a = ax
     x = ds["point"].values + 1
     for i, c in enumerate(ds["crack"].values):
-        a.plot(x, ds["crack_ratio_geardyn"].sel(crack=c), "-o", color=f"C{i}", ms=3, label=f"{c} geardyn")
-        a.plot(x, ds["crack_ratio_fe"].sel(crack=c), "--s", color=f"C{i}", ms=3, label=f"{c} FE")
-    a.set_xlabel("load point along the pinion's contact (1: start of contact, 7: tip)")
-    a.set_ylabel("compliance, cracked / healthy")
-    a.set_title("root crack at the fillet's 30° point: potential energy against finite elements", fontsize=9)
-    a.legend(fontsize=6, ncol=2)
+        ax.plot(x, ds["crack_ratio_geardyn"].sel(crack=c), "-o", color=f"C{i}", ms=3, label=f"{c} geardyn")
+        ax.plot(x, ds["crack_ratio_fe"].sel(crack=c), "--s", color=f"C{i}", ms=3, label=f"{c} FE")
+    ax.set_xlabel("load point along the pinion's contact (1: start of contact, 7: tip)")
+    ax.set_ylabel("compliance, cracked / healthy")
+    ax.set_title("root crack at the fillet's 30° point: potential energy against finite elements", fontsize=9)
+    ax.legend(fontsize=6, ncol=2)
