@@ -208,7 +208,7 @@ class _Ctx(cv._Ctx):
         return self.error(section, key, problem, ModelError, index=index, element=element, fallback=True)
 
 
-def _strip(msg: str, element: str | None) -> tuple[str | None, str]:
+def _strip(msg: str) -> tuple[str | None, str]:
     """Split a ModelError message "kind 'name': key: problem" into (key, problem)."""
     m = re.match(r"^(?:body|connection|clearance|mesh|load on \S+) ?(?:'[^']*')?: (.*)$", msg)
     rest = m.group(1) if m else msg
@@ -244,7 +244,7 @@ class _Block:
     def wrap(self, err: ModelError) -> ModelError:
         if str(err).startswith(f"{self.ctx.source}: "):  # already placed in the file
             return err
-        key, problem = _strip(str(err), self.element)
+        key, problem = _strip(str(err))
         key = key if key in self.data else None
         return self.merr(key, problem)
 
@@ -396,11 +396,19 @@ def _connection(ctx: _Ctx, i: int, data: dict):
         raise blk.wrap(e) from None
 
 
+def _mesh_block(ctx: _Ctx, i: int, data: Any) -> _Block:
+    """A ``[[mesh]]`` table's block: the keys of every mesh and those of its type."""
+    d = data if isinstance(data, dict) else {}
+    name = d.get("name") if isinstance(d.get("name"), str) else f"mesh{i + 1}"
+    return _Block(
+        ctx, "mesh", i, data, _MESH_COMMON | {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(d.get("type"), {}), name
+    )
+
+
 def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | None) -> Mesh:
-    name = data.get("name") if isinstance(data.get("name"), str) else f"mesh{i + 1}"
     typ = data.get("type", "vector")
-    extra = {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {})
-    blk = _Block(ctx, "mesh", i, data, _MESH_COMMON | extra, name)
+    blk = _mesh_block(ctx, i, data)
+    name = blk.element
     if typ not in ("vector", "spur", "bevel"):
         raise blk.cerr("type", f"must be 'vector', 'spur' or 'bevel', got {typ!r}")
     if not (blk.has("stiffness") or blk.has("excitation")):
@@ -640,7 +648,7 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
         for sec in [sections] if sections else ["connection", "mesh"]:
             for i, tbl in enumerate(data.get(sec, []) or []):
                 if isinstance(tbl, dict) and tbl.get("name", f"{sec}{i + 1}") == name:
-                    key, problem = _strip(rest, None)
+                    key, problem = _strip(rest)
                     key = key if key in tbl else None
                     um = re.search(r"unknown body '([^']*)'", rest)
                     if um and key is None:
@@ -716,21 +724,10 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
                 "system", None, "reference", None, f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}"
             )
         j = names.index(ref) if ref is not None else 0
-        typ = mesh_data[j].get("type") if isinstance(mesh_data[j], dict) else None
-        rb = _Block(
-            ctx,
-            "mesh",
-            j,
-            mesh_data[j],
-            _MESH_COMMON | {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {}),
-            names[j],
-        )
+        rb = _mesh_block(ctx, j, mesh_data[j])
+        raw = rb.data.get("backlash", 0.0)
         jn = (
-            rb._parse(
-                "backlash",
-                "length",
-                rb.data["backlash"]["value"] if isinstance(rb.data.get("backlash"), dict) else rb.data["backlash"],
-            )
+            rb._parse("backlash", "length", raw["value"] if isinstance(raw, dict) else raw)
             if rb.has("backlash")
             else 0.0
         )
