@@ -79,7 +79,16 @@ from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
 from ..systems.description import MESH_SERIES_KEYS, Connection, Mesh
 from ..systems.load import _SECTIONS as SYSTEM_SECTIONS
-from ..systems.load import _body, _element_line, check_top, described, excitation_table, mesh_damping, mesh_series
+from ..systems.load import (
+    _body,
+    _element_line,
+    check_top,
+    described,
+    excitation_table,
+    half_backlash,
+    mesh_damping,
+    mesh_series,
+)
 from ..systems.rolling import ROLLING_KEYS, read_rolling
 from .gear import Gear, disc_gyroscopic
 from .kinematics import DEFAULT_MAX_PERIOD, forcing_period, round_ratio, solve_speeds
@@ -246,9 +255,8 @@ def _build(ctx, data: dict) -> GearboxDescription:
             )
         except ModelError as e:
             raise blk.wrap(e) from None
-        for key, exact in (("reference_radius", g.reference_radius), ("base_radius", g.base_radius)):
-            if blk.has(key):
-                _check_radius(blk, key, blk.get(key), exact, g)
+        _check_radius(blk, "reference_radius", g.reference_radius, g)
+        _check_radius(blk, "base_radius", g.base_radius, g)
         gears[g.name] = g
 
     # kinematics, exact
@@ -433,11 +441,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
     # meshes
     b_c = sysb.get("characteristic_length")
     if b_c is None:
-        blk = mblocks[ref_i]
-        jn = blk.get("backlash", default=0.0)
-        if not jn > 0:
-            raise blk.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
-        b_c = jn / 2.0
+        b_c = half_backlash(mblocks[ref_i], mblocks[ref_i].get("backlash", default=0.0))
     power = _drive_power(ctx, loads_raw, gears, speeds, body_speed)
     meshes = []
     for blk, (nm, sp, *_) in zip(mblocks, pairs):
@@ -491,9 +495,8 @@ def _build(ctx, data: dict) -> GearboxDescription:
 def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_default, shafts) -> Mesh:
     name = blk.element
     geo = pair_geometry_of(name, gp, gg)
-    for key, g, rb in (("base_radius1", gp, geo["rb1"]), ("base_radius2", gg, geo["rb2"])):
-        if blk.has(key):
-            _check_radius(blk, key, blk.get(key), rb, g)
+    _check_radius(blk, "base_radius1", geo["rb1"], gp)
+    _check_radius(blk, "base_radius2", geo["rb2"], gg)
     if blk.has("ratio"):
         given = blk.get("ratio")
         if rounded or abs(given - float(ratio)) > RATIO_RTOL * float(ratio):
@@ -506,9 +509,7 @@ def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_defau
     psi = blk.get("center_angle", default=0.0, assumed="not given: the line of centres from pinion to gear along +x")
     v1, v2 = mesh_vector(geo, psi, s1, s2, gp.hand)
     n1, n2 = node_at[where[gp.name]], node_at[where[gg.name]]
-    vector = tuple(((n1, d), float(c)) for d, c in zip(NODE_DOFS, v1) if c != 0.0) + tuple(
-        ((n2, d), float(c)) for d, c in zip(NODE_DOFS, v2) if c != 0.0
-    )
+    vector = tuple(((n, d), float(c)) for n, v in ((n1, v1), (n2, v2)) for d, c in zip(NODE_DOFS, v) if c != 0.0)
     backlash = blk.get("backlash", default=0.0, assumed="no backlash given: 0 (a linear mesh)")
     if blk.has("excitation"):
         if blk.has("stiffness"):

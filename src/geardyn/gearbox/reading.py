@@ -133,11 +133,12 @@ def _section_at(segs, x: float) -> Section:
     return segs[i][1]
 
 
-def _check_radius(blk, key: str, given: float, exact: float, g: Gear) -> None:
-    if abs(given - exact) > RADIUS_RTOL * exact:
+def _check_radius(blk, key: str, exact: float, g: Gear) -> None:
+    """Refuse a radius ``key`` the table gives that is not the ``exact`` one of gear ``g``'s teeth."""
+    if blk.has(key) and abs(blk.get(key) - exact) > RADIUS_RTOL * exact:
         raise blk.merr(
             key,
-            f"{given * 1e3:.6g} mm given, but {g.teeth} teeth of module {g.module * 1e3:g} mm "
+            f"{blk.get(key) * 1e3:.6g} mm given, but {g.teeth} teeth of module {g.module * 1e3:g} mm "
             f"(helix {math.degrees(g.helix_angle):g} deg) give {exact * 1e3:.6g} mm",
         )
 

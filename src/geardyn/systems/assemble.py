@@ -329,11 +329,15 @@ class SystemModel:
 
     def __post_init__(self) -> None:
         n = len(self.labels)
-        for name, shape in (("Mi", (n, n)), ("Kb", (n, n)), ("Cb", (n, n)), ("V", (len(self.meshes), n)), ("F", (n,))):
+
+        def shaped(name: str, shape: tuple) -> None:
             a = _ro(getattr(self, name))
             if a.shape != shape:
                 raise ModelError(f"{name}: expected shape {shape}, got {a.shape}")
             object.__setattr__(self, name, a)
+
+        for name, shape in (("Mi", (n, n)), ("Kb", (n, n)), ("Cb", (n, n)), ("V", (len(self.meshes), n)), ("F", (n,))):
+            shaped(name, shape)
         nc = len(self.clearance_names)
         object.__setattr__(self, "Vc", _ro(np.reshape(self.Vc, (nc, n))))
         object.__setattr__(self, "bearings", tuple(self.bearings))
@@ -353,10 +357,7 @@ class SystemModel:
             raise ModelError("gyro: give it together with damping_static (the damping without it)")
         for name in ("gyro", "damping_static"):
             if getattr(self, name) is not None:
-                a = _ro(getattr(self, name))
-                if a.shape != (n, n):
-                    raise ModelError(f"{name}: expected shape {(n, n)}, got {a.shape}")
-                object.__setattr__(self, name, a)
+                shaped(name, (n, n))
 
     # ------------------------------------------------------------------ the system protocol
     @property
@@ -684,15 +685,9 @@ class SystemModel:
         d["meshes"] = tuple(MeshND(**m) for m in d["meshes"])
         d["labels"] = tuple(d["labels"])
         d["clearance_names"] = tuple(d["clearance_names"])
-        n = len(d["labels"])
-        d["Vc"] = np.reshape(np.array(d["Vc"], dtype=float), (len(d["clearance_names"]), n))
         d["orders"] = tuple((Fraction(*r), _ro(F), float(ph)) for r, F, ph in d.get("orders", ()))
         if "bearings" in d:
             d["bearings"] = tuple(BearingND(**b) for b in d["bearings"])
-            d["Vb"] = np.reshape(np.array(d["Vb"], dtype=float), (2 * len(d["bearings"]), n))
-        for key in ("gyro", "damping_static"):
-            if key in d:
-                d[key] = np.array(d[key], dtype=float)
         return cls(**d)
 
 
@@ -786,9 +781,10 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     idx = desc.index()
     orders = []
     for ld in desc.loads:
+        j = idx[(ld.body, ld.dof)]
         for k, amp, ph in ld.orders:
             vec = np.zeros(desc.n)
-            vec[idx[(ld.body, ld.dof)]] = s[idx[(ld.body, ld.dof)]] * amp / den
+            vec[j] = s[j] * amp / den
             orders.append((k * ld.speed, _ro(vec), float(ph)))
     meshes = tuple(_mesh_nd(desc, m, k_ref, m_ref, b_c) for m in desc.meshes)
     cl = desc.clearances
@@ -802,16 +798,16 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         K, cl_ = br.nondimensional(b_c, k_ref)
         bearings.append(
             BearingND(
-                name=rb.name,
-                kind=br.kind,
-                elements=br.elements,
-                K=K,
-                exponent=float(br.exponent),
-                clearance=cl_,
-                cx=rb.cx * omega_n / k_ref,
-                cy=rb.cy * omega_n / k_ref,
-                ratio=float(rb.ratio),
-                phase=rb.phase,
+                rb.name,
+                br.kind,
+                br.elements,
+                K,
+                float(br.exponent),
+                cl_,
+                rb.cx * omega_n / k_ref,
+                rb.cy * omega_n / k_ref,
+                float(rb.ratio),
+                rb.phase,
             )
         )
         Vb.append(s * rb.vectors(idx) / b_c)

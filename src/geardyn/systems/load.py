@@ -725,15 +725,9 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
             )
         j = names.index(ref) if ref is not None else 0
         rb = _mesh_block(ctx, j, mesh_data[j])
-        raw = rb.data.get("backlash", 0.0)
-        jn = (
-            rb._parse("backlash", "length", raw["value"] if isinstance(raw, dict) else raw)
-            if rb.has("backlash")
-            else 0.0
-        )
-        if not jn > 0:
-            raise rb.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
-        b_c = jn / 2.0
+        raw = rb.data.get("backlash")
+        raw = raw["value"] if isinstance(raw, dict) else raw
+        b_c = half_backlash(rb, rb._parse("backlash", "length", raw) if rb.has("backlash") else 0.0)
     meshes = [_mesh(ctx, i, t, bmap, b_c) for i, t in enumerate(mesh_data)]
     _unique(ctx, "mesh", [m.name for m in meshes])
     _unique(ctx, "connection", [getattr(c, "name", None) for c in conns + clears])
@@ -755,6 +749,13 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
         )
     except ModelError as e:
         raise _element_line(ctx, data, e) from None
+
+
+def half_backlash(blk: _Block, jn: float) -> float:
+    """The default characteristic length: half the reference mesh's backlash ``jn`` (refused when it is 0)."""
+    if not jn > 0:
+        raise blk.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
+    return jn / 2.0
 
 
 def described(ctx: _Ctx, data: dict, sysb: _Block, opb: _Block, ref: str | None) -> dict[str, Any]:

@@ -147,11 +147,10 @@ def _element_stiffness(desc: SystemDescription, clearances: str) -> tuple[list[s
         names.append(m.name)
         meshes.append(m.name)
         mats.append(m.stiffness * np.outer(v, v))
-    rolling = getattr(desc, "rolling_bearings", ())
-    if rolling:  # linearised about the static deflection under the mean loads
+    if desc.rolling_bearings:  # linearised about the static deflection under the mean loads
         from .rolling import static_bearing_stiffness
 
-        for b, kb in zip(rolling, static_bearing_stiffness(desc, np.sum(mats, axis=0))):
+        for b, kb in zip(desc.rolling_bearings, static_bearing_stiffness(desc, np.sum(mats, axis=0))):
             names.append(b.name)
             mats.append(kb)
     return names, mats, meshes
@@ -180,7 +179,7 @@ def modes_budget(desc: SystemDescription, clearances: str = "contact") -> float:
     """
     n = len(desc.labels)
     elements = len(desc.connections) + len(desc.meshes) + (len(desc.clearances) if clearances == "contact" else 0)
-    return _budget(n, elements + len(getattr(desc, "rolling_bearings", ())))
+    return _budget(n, elements + len(desc.rolling_bearings))
 
 
 def _budget(n: int, elements: int) -> float:
@@ -277,10 +276,7 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: fl
     order = np.argsort(f, kind="stable")
     f, w2, phi, rigid = f[order], w2[order], phi[:, order], rigid[order]
     # a sign convention: the largest component of each shape is positive
-    for i in range(phi.shape[1]):
-        k = int(np.argmax(np.abs(phi[:, i])))
-        if phi[k, i] < 0:
-            phi[:, i] = -phi[:, i]
+    phi = phi * np.where(phi[np.argmax(np.abs(phi), axis=0), np.arange(phi.shape[1])] < 0, -1.0, 1.0)
     return ModalResult(desc.labels, f, w2, phi, rigid, tuple(names), tuple(meshes), _energy(phi, mats, rigid))
 
 
@@ -538,15 +534,7 @@ def campbell(
         label = _line_label(pairs, names)
         slope = h * per_x
         lines.append(
-            {
-                "label": label,
-                "harmonic": h,
-                "hz_per_x": slope,
-                "order": pairs[0][1],
-                "mesh": pairs[0][0],
-                "meshes": [p[0] for p in pairs],
-                "orders": [p[1] for p in pairs],
-            }
+            {"label": label, "harmonic": h, "hz_per_x": slope, **_line(pairs), "orders": [p[1] for p in pairs]}
         )
         if spinning is not None:
             with threadpool_limits(limits=1, user_api="blas"):
@@ -641,15 +629,18 @@ def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slop
     return out
 
 
+def _line(pairs) -> dict[str, Any]:
+    """The first (mesh, order) of a line's ``pairs`` and its meshes."""
+    return {"order": pairs[0][1], "mesh": pairs[0][0], "meshes": [p[0] for p in pairs]}
+
+
 def _crossing(x: float, modes: list[int], pairs, line: int, f: float, **more: Any) -> dict[str, Any]:
     """A crossing of line ``line`` (its (mesh, order) ``pairs``) with the modes ``modes`` at x, frequency f."""
     return {
         "x": x,
         "mode": modes[0],
         "modes": modes,
-        "order": pairs[0][1],
-        "mesh": pairs[0][0],
-        "meshes": [p[0] for p in pairs],
+        **_line(pairs),
         "line": line,
         "frequency_hz": f,
         **more,
