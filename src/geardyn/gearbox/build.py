@@ -70,7 +70,6 @@ neighbouring nodes is cut into ``elements_per_segment`` Timoshenko elements (:mo
 
 from __future__ import annotations
 
-import math
 from fractions import Fraction
 
 import numpy as np
@@ -184,7 +183,7 @@ def _blocks(ctx, data: dict, section: str, schema: dict) -> list:
     names = [b.element for b in out]
     for i, n in enumerate(names):
         if n in names[:i]:
-            raise ctx.config(section, i, "name", None, f"duplicate {section} name {n!r}; names must be unique")
+            raise ctx.config(section, f"duplicate {section} name {n!r}; names must be unique", i, "name")
     return out
 
 
@@ -236,22 +235,16 @@ def _build(ctx, data: dict) -> GearboxDescription:
             raise blk.merr("shaft", f"unknown shaft {sh!r}; shafts: {', '.join(shaft_names)}")
         helix = blk.get("helix_angle", default=0.0)
         try:
-            g = Gear(
+            g = Gear(  # a key not given takes the Gear's default
                 name=blk.element,
                 shaft=sh,
-                position=blk.get("position"),
-                teeth=blk.get("teeth"),
-                module=blk.get("module"),
-                face_width=blk.get("face_width"),
-                pressure_angle=blk.get("pressure_angle", default=math.radians(20.0)),
                 helix_angle=helix,
+                **{
+                    k: blk.get(k) for k in ("position", "teeth", "module", "face_width", "pressure_angle") if blk.has(k)
+                },
                 profile_shift=blk.get("profile_shift", default=0.0),
                 hand=blk.get("hand", default="right", assumed="not given: right hand" if helix > 0 else None),
-                mass=blk.get("mass"),
-                inertia=blk.get("inertia"),
-                diametral_inertia=blk.get("diametral_inertia"),
-                web_width=blk.get("web_width"),
-                rim_inner_diameter=blk.get("rim_inner_diameter"),
+                **{k: blk.get(k) for k in ("mass", "inertia", "diametral_inertia", "web_width", "rim_inner_diameter")},
             )
         except ModelError as e:
             raise blk.wrap(e) from None
@@ -279,7 +272,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
     try:
         speeds, senses = solve_speeds(shaft_names, pairs, pairs[ref_i][1], 1 if rot == "counterclockwise" else -1)
     except ModelError as e:
-        raise ctx.model("mesh", None, None, None, str(e)) from None
+        raise ctx.model("mesh", str(e)) from None
     zref = pairs[ref_i][3] * speeds[pairs[ref_i][1]]
     ratios = {nm: sp_z * speeds[sp] / zref for (nm, sp, _, sp_z, _) in pairs}
     body_speed: dict[str, Fraction] = {}
@@ -299,9 +292,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
             causes = ", ".join(f"{k} at {v}" for k, v in every.items() if v.denominator > 1)
             raise ctx.model(
                 "gearbox" if "gearbox" in data else "mesh",
-                None,
-                None,
-                None,
                 f"the forcing period (the meshes' hunting period) is {period} cycles of mesh {ref!r}, above the "
                 f"bound max_period = {bound} ({causes} of its frequency); raise [gearbox] "
                 "max_period or set round_ratios = true",
@@ -309,9 +299,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
         if order_ratios and forcing_period(order_ratios.values()) > bound:
             raise ctx.model(
                 "load",
-                None,
-                None,
-                None,
                 f"the torque orders alone repeat only after {forcing_period(order_ratios.values())} cycles of mesh "
                 f"{ref!r}, above max_period = {bound}; rounding changes mesh ratios, not orders: raise max_period",
             )

@@ -201,11 +201,13 @@ class _Ctx(cv._Ctx):
                 return i + 1
         return None
 
-    def config(self, section, index, key, element, problem) -> ConfigError:
-        return self.error(section, key, problem, ConfigError, index=index, element=element, fallback=True)
+    def config(self, section, problem, index=None, key=None, element=None, cls=ConfigError) -> ConfigError:
+        """A file problem placed on its line: at ``key`` of block ``index`` of ``section``, else at the block."""
+        return self.error(section, key, problem, cls, index=index, element=element, fallback=True)
 
-    def model(self, section, index, key, element, problem) -> ModelError:
-        return self.error(section, key, problem, ModelError, index=index, element=element, fallback=True)
+    def model(self, section, problem, index=None, key=None, element=None) -> ModelError:
+        """A bad value placed on its line, as :meth:`config`."""
+        return self.config(section, problem, index, key, element, ModelError)
 
 
 def _strip(msg: str) -> tuple[str | None, str]:
@@ -236,10 +238,10 @@ class _Block:
         return self.element or self.section
 
     def cerr(self, key, problem) -> ConfigError:
-        return self.ctx.config(self.section, self.index, key, self.element, problem)
+        return self.ctx.config(self.section, problem, self.index, key, self.element)
 
     def merr(self, key, problem) -> ModelError:
-        return self.ctx.model(self.section, self.index, key, self.element, problem)
+        return self.ctx.model(self.section, problem, self.index, key, self.element)
 
     def wrap(self, err: ModelError) -> ModelError:
         if str(err).startswith(f"{self.ctx.source}: "):  # already placed in the file
@@ -567,16 +569,10 @@ def _body_speed(body: str, mesh_data: list, meshes: dict[str, Mesh]):
         m = meshes.get(name)
         if m is None:
             continue
-        teeth = {}
-        if t.get("pinion") is not None:
-            z1 = t.get("z1", t.get("teeth"))
-            teeth[t["pinion"]] = z1.get("value") if isinstance(z1, dict) else z1
-        if t.get("gear") is not None and t.get("z2") is not None:
-            z2 = t["z2"]
-            teeth[t["gear"]] = z2.get("value") if isinstance(z2, dict) else z2
-        z = teeth.get(body)
-        if isinstance(z, int) and not isinstance(z, bool) and z > 0:
-            return Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR) / z
+        for role, z in (("gear", t.get("z2")), ("pinion", t.get("z1", t.get("teeth")))):
+            z = z.get("value") if isinstance(z, dict) else z
+            if t.get(role) == body and isinstance(z, int) and not isinstance(z, bool) and z > 0:
+                return Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR) / z
     raise ModelError(
         f"load on {body}.theta: orders: the speed of body {body!r} is unknown: give the teeth of a mesh on it "
         "(teeth of the pinion of a spur mesh, z1/z2 of a bevel mesh)"
@@ -658,10 +654,10 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
                     if key is None and "name" in tbl:  # point at the element's name
                         ln = ctx.line(sec, i, "name")
                         return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
-                    return ctx.model(sec, i, key, name, problem if key else rest)
+                    return ctx.model(sec, problem if key else rest, i, key, name)
     m = re.match(r"^(reference|characteristic_length): (.*)$", msg)
     if m:
-        return ctx.model("system", None, m.group(1), None, m.group(2))
+        return ctx.model("system", m.group(2), key=m.group(1))
     return ModelError(f"{ctx.source}: {msg}")
 
 
@@ -671,7 +667,7 @@ def check_top(ctx: _Ctx, data: dict, sections: dict, arrays: tuple[str, ...], ge
     for key, val in data.items():
         if key in _TOP_TEXT:
             if not isinstance(val, str):
-                raise ctx.config(None, None, None, None, f"{key}: expected a string")
+                raise ctx.config(None, f"{key}: expected a string")
         elif key in arrays:
             if not isinstance(val, list):
                 at = "" if gearbox else f"line {ctx.line(key, None, None) or '?'}: "
@@ -720,9 +716,7 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
     if b_c is None:  # half the reference mesh's backlash, read first so that eps can be converted
         names = [t.get("name", f"mesh{i + 1}") if isinstance(t, dict) else None for i, t in enumerate(mesh_data)]
         if ref is not None and ref not in names:
-            raise ctx.model(
-                "system", None, "reference", None, f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}"
-            )
+            raise ctx.model("system", f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}", key="reference")
         j = names.index(ref) if ref is not None else 0
         rb = _mesh_block(ctx, j, mesh_data[j])
         raw = rb.data.get("backlash")
@@ -785,9 +779,7 @@ def _unique(ctx: _Ctx, section: str, names: list) -> None:
     for i, n in enumerate(names):
         if n is not None and n in seen:
             at = f"line {ctx.line(section, seen[n], 'name')}"
-            raise ctx.config(
-                section, i, "name", None, f"duplicate {section} name {n!r} (also at {at}); names must be unique"
-            )
+            raise ctx.config(section, f"duplicate {section} name {n!r} (also at {at}); names must be unique", i, "name")
         seen[n] = i
 
 
