@@ -346,11 +346,11 @@ def _build(ctx, data: dict) -> GearboxDescription:
         K, M, G = shaft_matrices(ShaftMesh(tuple(pos_list), tuple(secs)), mat)
         K = 0.5 * (K + K.T)
         M = 0.5 * (M + M.T)
-        node_names, node_feats = [], []
+        node_names, node_feats, radii = [], [], []
         for k, p in enumerate(pos_list):
             here = next((items for q, items in feats[name].items() if abs(q - p) < 1e-9), [])
-            gear_here = [n for n in here if n in gears]
-            nn = (gear_here or here or [f"{name}_{k}"])[0]
+            gs = [gears[n] for n in here if n in gears]
+            nn = ([g.name for g in gs] or here or [f"{name}_{k}"])[0]
             if nn in body_names:
                 nn = f"{name}_{k}"
             body_names.add(nn)
@@ -359,18 +359,14 @@ def _build(ctx, data: dict) -> GearboxDescription:
             for q in feats[name]:
                 if abs(q - p) < 1e-9:
                     node_at[(name, q)] = nn
-        for k, nn in enumerate(node_names):
             blockm = np.diag(np.diag(M[6 * k : 6 * k + 6, 6 * k : 6 * k + 6])).copy()
-            for g in (gears[n] for n in node_feats[k] if n in gears):
+            for g in gs:
                 m, ip, idia = g.blank(mat.rho, _section_at(segs, g.position).outer)
                 blockm += np.diag([m, m, m, idia, idia, ip])
                 G[6 * k : 6 * k + 6, 6 * k : 6 * k + 6] += disc_gyroscopic(ip)
             bodies.append(NodeBody(nn, NODE_DOFS, mass_matrix=tuple(map(tuple, blockm))))
-        radii = []
-        for k in range(len(pos_list)):
-            gr = [gears[n].reference_radius for n in node_feats[k] if n in gears]
-            near = [secs[e].outer / 2 for e in (k - 1, k) if 0 <= e < len(secs)]
-            radii.append(max(gr) if gr else max(near))
+            # the node's radius: its gear's reference radius, else the shaft's outer radius beside it
+            radii.append(max([g.reference_radius for g in gs] or [s.outer / 2 for s in secs[max(k - 1, 0) : k + 1]]))
         dofs = tuple((nn, d) for nn in node_names for d in NODE_DOFS)
         conns.append(Connection(name, dofs, K, beta * K))
         shafts.append(

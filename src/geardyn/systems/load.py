@@ -233,10 +233,6 @@ class _Block:
             if key not in schema:
                 raise self.cerr(key, f"unknown key; allowed: {', '.join(schema)}")
 
-    @property
-    def label(self) -> str:
-        return self.element or self.section
-
     def cerr(self, key, problem) -> ConfigError:
         return self.ctx.config(self.section, problem, self.index, key, self.element)
 
@@ -271,13 +267,10 @@ class _Block:
         kind = kind or self.schema[key]
         base = kind.rstrip("*")
         unit = _K[base].unit or "" if base in _K else ""
+        raw = self.data.get(key)
         if key not in self.data:
-            if assumed is not None:
-                shown = default if not isinstance(default, tuple) else list(default)
-                self.ctx.assume(Assumption(f"{self.label}.{key}", shown, unit, assumed))
-            return default
-        raw = self.data[key]
-        if base in _K:
+            value, src = default, assumed
+        elif base in _K:
             spec = _Key(_K[base], kind.endswith("*"))
             value, src = cv._parse_value(self.ctx, self.section, key, spec, raw, **self._where(key, base))
         elif isinstance(raw, dict) and kind != "table":
@@ -288,7 +281,7 @@ class _Block:
             value, src = self._parse(key, kind, raw), None
         if src:
             shown = list(value) if isinstance(value, tuple) else value
-            self.ctx.assume(Assumption(f"{self.label}.{key}", shown, unit, src))
+            self.ctx.assume(Assumption(f"{self.element or self.section}.{key}", shown, unit, src))
         return value
 
     def _parse(self, key: str, kind: str, raw: Any) -> Any:
@@ -332,8 +325,7 @@ def _body(ctx: _Ctx, i: int, data: dict) -> Body:
 def _dof_ref(blk: _Block, key: str, text: str) -> tuple[str, str]:
     if not isinstance(text, str) or text.count(".") != 1:
         raise blk.cerr(key, f"a DOF is written 'body.dof' (e.g. 'pinion.x'), got {text!r}")
-    b, d = text.split(".")
-    return b, d
+    return tuple(text.split("."))
 
 
 def springs(blk: _Block, dofs: tuple[str, ...]) -> tuple[dict[str, float], dict[str, float]]:

@@ -583,10 +583,6 @@ CROSSING_XTOL = 1e-10
 WHIRL_NONE = 1e-3
 
 
-def _whirl_word(w: float) -> str:
-    return "forward" if w > WHIRL_NONE else "backward" if w < -WHIRL_NONE else "none"
-
-
 def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slope: float, line: int, pairs) -> list:
     """The crossings of the line ``f = slope x`` with each elastic branch: bracketed on the grid, started from
     the branch's cubic spline and solved on the branch itself by Newton steps with the spline's slope (bisection
@@ -624,8 +620,9 @@ def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slop
                     x = x_new if gx != 0 else x
                     break
                 x = x_new
-            _, _, w = spinning.at(x)
-            out.append(_crossing(x, [int(i) + 1], pairs, line, slope * x, rpm=x, whirl=_whirl_word(float(w[i]))))
+            w = float(spinning.at(x)[2][i])
+            word = "forward" if w > WHIRL_NONE else "backward" if w < -WHIRL_NONE else "none"
+            out.append(_crossing(x, [int(i) + 1], pairs, line, slope * x, rpm=x, whirl=word))
     return out
 
 
