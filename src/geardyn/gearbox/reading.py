@@ -222,8 +222,7 @@ def _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap, zref
         blk = _load_block(ctx, i, t)
         blk.need("torque")
         target, n = _load_target(blk, gears, node_at, where, speeds, body_speed, rmap)
-        raw = t["torque"]
-        T = None if raw == "balance" else blk.get("torque", "torque")
+        T = None if t["torque"] == "balance" else blk.get("torque", "torque")
         out.append((target, n, T, blk, _orders(blk)))
     free = [x for x in out if x[2] is None]
     if len(free) > 1:

@@ -634,12 +634,10 @@ class SystemModel:
                 len(s.orders),
             )
 
-        for s in systems[1:]:
-            if key(s) != key(s0):
-                raise ModelError(
-                    "pack: every system of a batch must have the same DOFs, meshes, clearances, bearings and torque "
-                    "orders"
-                )
+        if any(key(s) != key(s0) for s in systems[1:]):
+            raise ModelError(
+                "pack: every system of a batch must have the same DOFs, meshes, clearances, bearings and torque orders"
+            )
         H = max(s.n_harmonics for s in systems)
         each = [s.arrays(H) for s in systems]
         return SystemArrays(

@@ -531,10 +531,15 @@ def campbell(
         W = np.array([w for _, _, w in solved])
     lines, crossings = [], []
     for n, (h, pairs) in enumerate(sorted(harmonics.items())):
-        label = _line_label(pairs, names)
         slope = h * per_x
         lines.append(
-            {"label": label, "harmonic": h, "hz_per_x": slope, **_line(pairs), "orders": [p[1] for p in pairs]}
+            {
+                "label": _line_label(pairs, names),
+                "harmonic": h,
+                "hz_per_x": slope,
+                **_line(pairs),
+                "orders": [p[1] for p in pairs],
+            }
         )
         if spinning is not None:
             with threadpool_limits(limits=1, user_api="blas"):
