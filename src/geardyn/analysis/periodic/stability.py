@@ -20,6 +20,7 @@ import xarray as xr
 from ...io import annotate, result_attrs
 from ...model import DEFAULT_DTAU, GearModel, ModelError
 from .arclength import continue_branch
+from .branch import STABILITY_LOSSES
 from .map import PeriodMap
 from .orbit import shoot
 
@@ -135,11 +136,7 @@ def stability_boundary(
             kinds[i] = "start orbit not found" if not orb.converged else "start orbit unstable"
             continue
         br = continue_branch(orb, "xi0", xi0_low, start_bound=xi0_high, stop_on_instability=True)
-        lost = [
-            b
-            for b in br.bifurcations
-            if b.type in ("fold", "period-doubling", "neimark-sacker", "branch-point") and b.stable_before
-        ]
+        lost = [b for b in br.bifurcations if b.type in STABILITY_LOSSES and b.stable_before]
         if lost:
             crit[i] = lost[0].value
             kinds[i] = lost[0].type
