@@ -30,7 +30,6 @@ from .orbit import (
     _minimal_period,
     _newton,
     _orbit_from_eval,
-    newton_step_for,
     shoot,
 )
 
@@ -109,7 +108,9 @@ def switch_at_period_doubling(
         for a in SWITCH_AMPLITUDES:
             for s_e in (1.0, -1.0):
                 x0 = bif.state + s_e * a * scale * e
-                ev, conv, its, res, _status = _newton(pmap, x0, SHOOT_TOL, SHOOT_MAX_ITER, newton_step_for(model))
+                ev, conv, its, res, _status = _newton(
+                    pmap, x0, SHOOT_TOL, SHOOT_MAX_ITER, bool(model.rigid_basis().shape[1])
+                )
                 if not conv:
                     continue
                 if _minimal_period(ev.points, n2) == n2:
@@ -207,59 +208,44 @@ class ContinuationResult:
         ``section`` (section points, NaN-padded to the longest period), ``bifurcation``."""
         from ...io import annotate, result_attrs
 
-        nmax = max([b.n for b in self.branches] + [1])
-        rows = []
-        m = self.model
-        for b in self.branches:
-            K = len(b)
-            pu = np.full((K, nmax), np.nan)
-            pv = np.full((K, nmax), np.nan)
-            sec = m.element_series(b.points, 0.0)[..., m.reference, :]  # the reference element's (δ, δ')
-            pu[:, : b.n] = sec[..., 0]
-            pv[:, : b.n] = sec[..., 1]
-            mu = b.multipliers
-            # the reference element's (δ, δ') at θ = 0 (the 1-DOF model's state (u, u')) are the variables u and v
-            rows.append(
-                dict(
-                    value=b.values,
-                    branch=np.full(K, b.index),
-                    period=np.full(K, b.n),
-                    u0=sec[:, 0, 0],
-                    v0=sec[:, 0, 1],
-                    amplitude=b.amplitude,
-                    u_min=b.u_min,
-                    u_max=b.u_max,
-                    stable=b.stable.astype(np.int8),
-                    mre=mu.real,
-                    mim=mu.imag,
-                    pu=pu,
-                    pv=pv,
+        m, P, bifs, brs = self.model, self.param, self.bifurcations, self.branches
+        nmax = max([b.n for b in brs] + [1])
+        dim = brs[0].multipliers.shape[1] if brs else m.state_dim
+        n_points = sum(len(b) for b in brs)
+        # the reference element's (δ, δ') at the section points, NaN-padded to nmax (at θ = 0, the 1-DOF model's
+        # state (u, u'), the variables u and v)
+        sec = np.concatenate(
+            [
+                np.pad(
+                    m.element_series(b.points, 0.0)[..., m.reference, :],
+                    ((0, 0), (0, nmax - b.n), (0, 0)),
+                    constant_values=np.nan,
                 )
-            )
+                for b in brs
+            ]
+            or [np.zeros((0, nmax, 2))]
+        )
+        mu = np.concatenate([b.multipliers for b in brs] or [np.zeros((0, dim))])
 
-        def cat(k: str) -> np.ndarray:
-            return np.concatenate([r[k] for r in rows]) if rows else np.zeros(0)
+        def cat(f: Callable[[Branch], Any], dtype: Any = float) -> np.ndarray:
+            return np.concatenate([np.broadcast_to(f(b), len(b)) for b in brs] or [np.zeros(0)]).astype(dtype)
 
-        P = self.param
-        bifs = self.bifurcations
-        dim = self.branches[0].multipliers.shape[1] if self.branches else self.model.state_dim
-        n_points = sum(len(b) for b in self.branches)
         bsec = np.array([m.element_series(b.state, 0.0)[m.reference] for b in bifs], dtype=float).reshape(-1, 2)
         ds = xr.Dataset(
             {
-                P: ("point", cat("value")),
-                "branch": ("point", cat("branch").astype(np.int64)),
-                "period": ("point", cat("period").astype(np.int64)),
-                "u": ("point", cat("u0")),
-                "v": ("point", cat("v0")),
-                "amplitude": ("point", cat("amplitude")),
-                "u_min": ("point", cat("u_min")),
-                "u_max": ("point", cat("u_max")),
-                "stable": ("point", cat("stable").astype(np.int8)),
-                "multiplier_re": (("point", "multiplier"), cat("mre").reshape(-1, dim)),
-                "multiplier_im": (("point", "multiplier"), cat("mim").reshape(-1, dim)),
-                "poincare_u": (("point", "section"), cat("pu").reshape(-1, nmax)),
-                "poincare_v": (("point", "section"), cat("pv").reshape(-1, nmax)),
+                P: ("point", cat(lambda b: b.values)),
+                "branch": ("point", cat(lambda b: b.index, np.int64)),
+                "period": ("point", cat(lambda b: b.n, np.int64)),
+                "u": ("point", sec[:, 0, 0]),
+                "v": ("point", sec[:, 0, 1]),
+                "amplitude": ("point", cat(lambda b: b.amplitude)),
+                "u_min": ("point", cat(lambda b: b.u_min)),
+                "u_max": ("point", cat(lambda b: b.u_max)),
+                "stable": ("point", cat(lambda b: b.stable, np.int8)),
+                "multiplier_re": (("point", "multiplier"), mu.real),
+                "multiplier_im": (("point", "multiplier"), mu.imag),
+                "poincare_u": (("point", "section"), sec[..., 0]),
+                "poincare_v": (("point", "section"), sec[..., 1]),
                 "status": ("point", np.zeros(n_points, dtype=np.int64)),
                 "bifurcation_type": ("bifurcation", np.array([b.type for b in bifs], dtype=object)),
                 f"bifurcation_{P}": ("bifurcation", np.array([b.value for b in bifs], dtype=float)),
