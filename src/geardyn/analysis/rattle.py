@@ -123,7 +123,7 @@ def crossings(tau: np.ndarray, u: np.ndarray, v: np.ndarray, D: float) -> dict[s
         contacts (u crossing back into |u| <= D).
     """
     tau, u, v = (np.asarray(a, dtype=float) for a in (tau, u, v))
-    out = {k: [] for k in ("time", "flank", "velocity", "rebound_time", "rebound_flank", "rebound_velocity")}
+    out = {p + k: [] for p in ("", "rebound_") for k in ("time", "flank", "velocity")}
     for level, flank in ((D, 1), (-D, -1)):
         inside = (u > D) if flank > 0 else (u < -D)
         change = np.flatnonzero(inside[1:] != inside[:-1])
@@ -315,13 +315,10 @@ def rattle(
     model = _check(model)
     sc = _physical(scales)
     tr = trajectory(model, state0, options, history_periods=options.periods)
+    ok = np.all(np.isfinite(tr.x))
+    ev = crossings(*((tr.tau, tr.u, tr.v) if ok else ([],) * 3), model.D)  # a diverged run: no events
     M = int(model.period_multiple())
-    if not np.all(np.isfinite(tr.x)):
-        nan = np.array([])
-        ev = {k: nan for k in ("time", "flank", "velocity", "rebound_time", "rebound_flank", "rebound_velocity")}
-        return RattleResult(model, options, tr.tau, tr.u, tr.v, ev, options.periods, M, sc, "diverged")
-    ev = crossings(tr.tau, tr.u, tr.v, model.D)
-    return RattleResult(model, options, tr.tau, tr.u, tr.v, ev, options.periods, M, sc)
+    return RattleResult(model, options, tr.tau, tr.u, tr.v, ev, options.periods, M, sc, "ok" if ok else "diverged")
 
 
 # ---------------------------------------------------------------------------- the map

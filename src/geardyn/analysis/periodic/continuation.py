@@ -393,21 +393,23 @@ def continuation(
     if orbit.minimal_period < n:
         notes.append(f"the starting orbit has minimal period {orbit.minimal_period} < {n}")
     span_done = _SpanProgress(progress)
-    branches = [
-        continue_branch(
+
+    def trace(orbit: PeriodicOrbit, stop: float, **kw: Any) -> Branch:
+        return continue_branch(
             orbit,
             param,
             stop,
-            start_bound=start,
-            index=0,
             ds=ds,
             ds_max=ds_max,
             max_points=max_points,
             locate=locate,
             progress=span_done.branch(),
+            **kw,
         )
-    ]
+
+    branches = [trace(orbit, stop, start_bound=start, index=0)]
     span = abs(stop - start)
+    lo, hi = sorted((start, stop))
     if switch:
         queue = [0]
         seen: list[tuple[int, float, np.ndarray]] = []  # (period, value, state) of merge points / sources
@@ -434,21 +436,8 @@ def continuation(
                     continue
                 p_new = new.model.get(param)
                 away = 1.0 if p_new >= b.value else -1.0
-                far, near = (max(start, stop), min(start, stop)) if away > 0 else (min(start, stop), max(start, stop))
-                nb = continue_branch(
-                    new,
-                    param,
-                    far,
-                    start_bound=near,
-                    index=len(branches),
-                    ds=ds,
-                    ds_max=ds_max,
-                    max_points=max_points,
-                    locate=locate,
-                    origin=b,
-                    direction=away,
-                    progress=span_done.branch(),
-                )
+                far, near = (hi, lo) if away > 0 else (lo, hi)
+                nb = trace(new, far, start_bound=near, index=len(branches), origin=b, direction=away)
                 # the period-doubling point (the period-n orbit traversed twice) at the head of the switched
                 # branch, so that the period-2n branch is drawn from where it is born
                 _add_point(nb, b, model, dtau, accurate, end=False)
