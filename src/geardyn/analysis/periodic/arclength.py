@@ -36,7 +36,7 @@ from ..secant import illinois_on_chord
 from .branch import STABILITY_LOSSES, Bifurcation, Branch
 from .floquet import REAL_MULTIPLIER_TOL
 from .map import MapEvaluation, PeriodMap
-from .orbit import PeriodicOrbit, _map_extrema, _minimal_period, _trajectory_extrema, elastic_basis
+from .orbit import PeriodicOrbit, _minimal_period, _trajectory_extrema, elastic_basis
 
 __all__ = ["continue_branch", "element_extrema", "MAX_BRANCH_POINTS", "DS_MAX", "DS_INIT", "DS_MIN"]
 
@@ -154,10 +154,7 @@ def element_extrema(pmap: PeriodMap, x: np.ndarray) -> np.ndarray:
     ndarray (elements, 2)
         NaN if the trajectory diverged.
     """
-    m = pmap.model
-    if len(m.elements) == 1:
-        return np.array([_map_extrema(pmap, x)])
-    return _trajectory_extrema(pmap.trajectory(x), len(m.elements), pmap.step)
+    return _trajectory_extrema(pmap.trajectory(x), len(pmap.model.elements), pmap.step)
 
 
 @dataclass

@@ -107,14 +107,6 @@ def _hermite_extrema(u: np.ndarray, v: np.ndarray, h: float) -> tuple[float, flo
     return min(cand_min), max(cand_max)
 
 
-def _map_extrema(pmap: PeriodMap, state: np.ndarray) -> tuple[float, float]:
-    """Extremes of u over one iteration of ``pmap`` from ``state`` (Hermite-refined)."""
-    _tau, u, v = pmap.history(state)
-    if not np.all(np.isfinite(u)):
-        return math.nan, math.nan
-    return _hermite_extrema(u, v, pmap.step)
-
-
 def orbit_extrema(
     model: GearModel,
     state: Sequence[float],
@@ -149,7 +141,9 @@ def orbit_extrema(
     (u_min, u_max) : tuple of float
         NaN if the trajectory diverged.
     """
-    return _map_extrema(PeriodMap(model, n, dtau=dtau, accurate=accurate, steps=steps), state)
+    pmap = PeriodMap(model, n, dtau=dtau, accurate=accurate, steps=steps)
+    lo, hi = _trajectory_extrema(pmap.trajectory(state), len(model.elements), pmap.step)[model.reference]
+    return float(lo), float(hi)
 
 
 def _trajectory_extrema(tr: Any, elements: int, h: float) -> np.ndarray:
