@@ -369,14 +369,9 @@ class _Continuer:
         # it by the period doubling of the period-n/2 branch it belongs to.
         s_merge = math.inf
         sep_b = self._separation(b)
-        if (
-            sign_change("merge")
-            and sep_a is not None
-            and sep_b is not None
-            and (
-                float(np.linalg.norm(sep_a)) + float(np.linalg.norm(sep_b))
-                <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
-            )
+        if sign_change("merge") and (  # (both separations exist: the merge test is there)
+            float(np.linalg.norm(sep_a)) + float(np.linalg.norm(sep_b))
+            <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
         ):
             fa, fb = ta["merge"], tb["merge"]
             sig = fa / (fa - fb)

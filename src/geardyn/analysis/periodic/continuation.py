@@ -227,34 +227,39 @@ class ContinuationResult:
         )
         mu = np.concatenate([b.multipliers for b in brs] or [np.zeros((0, dim))])
 
-        def cat(f: Callable[[Branch], Any], dtype: Any = float) -> np.ndarray:
-            return np.concatenate([np.broadcast_to(f(b), len(b)) for b in brs] or [np.zeros(0)]).astype(dtype)
+        def cat(k: str, dtype: Any = float) -> tuple[str, np.ndarray]:  # a branch attribute at every point
+            return "point", np.concatenate(
+                [np.broadcast_to(getattr(b, k), len(b)) for b in brs] or [np.zeros(0)]
+            ).astype(dtype)
+
+        def col(k: str, dtype: Any = float) -> tuple[str, np.ndarray]:  # an attribute of every event
+            return "bifurcation", np.array([getattr(b, k) for b in bifs], dtype=dtype)
 
         bsec = np.array([m.element_series(b.state, 0.0)[m.reference] for b in bifs], dtype=float).reshape(-1, 2)
         ds = xr.Dataset(
             {
-                P: ("point", cat(lambda b: b.values)),
-                "branch": ("point", cat(lambda b: b.index, np.int64)),
-                "period": ("point", cat(lambda b: b.n, np.int64)),
+                P: cat("values"),
+                "branch": cat("index", np.int64),
+                "period": cat("n", np.int64),
                 "u": ("point", sec[:, 0, 0]),
                 "v": ("point", sec[:, 0, 1]),
-                "amplitude": ("point", cat(lambda b: b.amplitude)),
-                "u_min": ("point", cat(lambda b: b.u_min)),
-                "u_max": ("point", cat(lambda b: b.u_max)),
-                "stable": ("point", cat(lambda b: b.stable, np.int8)),
+                "amplitude": cat("amplitude"),
+                "u_min": cat("u_min"),
+                "u_max": cat("u_max"),
+                "stable": cat("stable", np.int8),
                 "multiplier_re": (("point", "multiplier"), mu.real),
                 "multiplier_im": (("point", "multiplier"), mu.imag),
                 "poincare_u": (("point", "section"), sec[..., 0]),
                 "poincare_v": (("point", "section"), sec[..., 1]),
                 "status": ("point", np.zeros(n_points, dtype=np.int64)),
-                "bifurcation_type": ("bifurcation", np.array([b.type for b in bifs], dtype=object)),
-                f"bifurcation_{P}": ("bifurcation", np.array([b.value for b in bifs], dtype=float)),
-                "bifurcation_period": ("bifurcation", np.array([b.n for b in bifs], dtype=np.int64)),
-                "bifurcation_branch": ("bifurcation", np.array([b.branch for b in bifs], dtype=np.int64)),
+                "bifurcation_type": col("type", object),
+                f"bifurcation_{P}": col("value"),
+                "bifurcation_period": col("n", np.int64),
+                "bifurcation_branch": col("branch", np.int64),
                 "bifurcation_u": ("bifurcation", bsec[:, 0]),
                 "bifurcation_v": ("bifurcation", bsec[:, 1]),
-                "bifurcation_amplitude": ("bifurcation", np.array([b.amplitude for b in bifs], dtype=float)),
-                "bifurcation_detail": ("bifurcation", np.array([b.detail for b in bifs], dtype=object)),
+                "bifurcation_amplitude": col("amplitude"),
+                "bifurcation_detail": col("detail", object),
             },
             coords={
                 "point": np.arange(n_points),
