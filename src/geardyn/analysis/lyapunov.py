@@ -116,13 +116,6 @@ def spectrum_from_log(
     return lam, err
 
 
-def running_estimate(log: np.ndarray, period: float) -> np.ndarray:
-    """Running (cumulative) exponent estimates after each period, shape (m, 2), per unit τ."""
-    a = np.asarray(log, dtype=float)
-    k = np.arange(1, a.shape[0] + 1)[:, None]
-    return np.cumsum(a, axis=0) / (k * period)
-
-
 def lyapunov_batch(
     models: Sequence[GearModel],
     state0: Sequence[float] | np.ndarray | None = None,
@@ -238,9 +231,9 @@ class LyapunovResult:
 
     def to_dataset(self) -> xr.Dataset:
         """Per-period logs and running estimates, with the final exponents as attributes."""
-        T = self.model.sampling_period
         m = self.log.shape[0]
-        run = running_estimate(self.log, T) if m else np.zeros((0, len(self.exponents)))
+        # the running (cumulative) estimates after each period, per unit τ
+        run = np.cumsum(self.log, axis=0) / (np.arange(1, m + 1)[:, None] * self.model.sampling_period)
         ds = xr.Dataset(
             {
                 "log_r": (("section", "exponent"), self.log),
