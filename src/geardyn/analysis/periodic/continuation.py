@@ -8,7 +8,6 @@ events and writes the ``continuation --json`` summary and the NetCDF Dataset.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -18,6 +17,7 @@ import xarray as xr
 
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
+from ...validate import number
 from .arclength import MAX_BRANCH_POINTS, continue_branch, element_extrema
 from .branch import Bifurcation, Branch
 from .floquet import pairs
@@ -376,9 +376,8 @@ def continuation(
     [('grazing', 0.565)]
     """
     param = canonical_param(param)
-    for name, val in (("start", start), ("stop", stop)):
-        if not math.isfinite(float(val)):
-            raise ModelError(f"{name}: must be a finite number, got {val!r}")
+    number("start", start)
+    number("stop", stop)
     if start == stop:
         raise ModelError("stop: must differ from start")
     if max_period < n:
