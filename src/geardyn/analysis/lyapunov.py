@@ -308,27 +308,18 @@ def lyapunov_spectrum(
     res = out["result"]
     motion: dict[str, Any] = {}
     if classify:
-        from .classify import (
-            curve_dimension,
-            detect_period,
-            motion_class,
-            motion_label,
-            quasi_periodic_allowed,
-            settling_ratio,
-        )
-
-        ok = res.status[0] == ST_OK
-        pc = res.poincare[0]
-        n = detect_period(pc) if ok else -1
-        dim, ratio = (curve_dimension(pc), settling_ratio(pc)) if n == 0 else (np.nan, np.nan)
         from ..system import ModelList
+        from .classify import classify_points, detect_period, motion_label, quasi_periodic_allowed
         from .settle import decay_rates
 
-        decay = decay_rates(ModelList([model]), [0] if n == 0 and ok else [])[0]
-        code = motion_class(
-            n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio, quasi_periodic_allowed(model), decay
+        ok = res.status[0] == ST_OK
+        n = detect_period(res.poincare[0]) if ok else -1
+        lam, err = out["exponents"][:1, 0], out["uncertainty"][:1, 0]
+        decay = decay_rates(ModelList([model]), [0] if n == 0 else [])
+        code = classify_points(
+            np.array([n]), lam, err, np.array([ok]), res.poincare, quasi_periodic_allowed(model), decay
         )
-        motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
+        motion = {"motion": motion_label(int(code["motion"][0]), n), "period": n if n > 0 else None}
     return LyapunovResult(
         model,
         options,

@@ -263,16 +263,10 @@ def compare_stability_condition(
     ds["xi0_critical_linear"] = ("omega", lin["xi0_critical"].values)
     ds["xi0_paper"] = xr.DataArray(paper)
 
-    def argmax(a: np.ndarray) -> tuple[float | None, float | None]:
-        if not np.any(np.isfinite(a)):
-            return None, None
-        i = int(np.nanargmax(a))
-        return float(a[i]), float(om[i])
-
-    mx, wmx = argmax(nl["xi0_critical"].values)
-    ml, wml = argmax(lin["xi0_critical"].values)
     ds.attrs["xi0_paper"] = str(paper)
-    for key, v in (("", mx), ("_at_omega", wmx), ("_linear", ml), ("_linear_at_omega", wml)):
-        ds.attrs["max_xi0_critical" + key] = "null" if v is None else str(v)
+    for key, crit in (("", nl["xi0_critical"].values), ("_linear", lin["xi0_critical"].values)):
+        i = int(np.nanargmax(crit)) if np.any(np.isfinite(crit)) else None  # the largest critical value and its ω
+        for k, v in ((key, crit), (key + "_at_omega", om)):
+            ds.attrs["max_xi0_critical" + k] = "null" if i is None else str(float(v[i]))
     ds.attrs["geardyn_kind"] = "stability_comparison"
     return annotate(ds, names=["xi0_critical_linear", "xi0_paper"])
