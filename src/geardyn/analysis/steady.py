@@ -360,24 +360,25 @@ class SteadyState:
             order, spec = amplitude_spectrum(t.u, self.history_cycles, closed=True)
         pc = self.poincare
         sec = m.element_series(pc, 0.0)[:, m.reference, :]  # the reference element's (δ, δ') (the pair's (u, u'))
-        data: dict[str, Any] = {
-            "u": ("tau", t.u),
-            "v": ("tau", t.v),
-            "poincare_u": ("section", sec[:, 0]),
-            "poincare_v": ("section", sec[:, 1]),
-            "spectrum": ("order", spec),
-        }
-        coords: dict[str, Any] = {"tau": t.tau, "section": np.arange(pc.shape[0]), "order": order}
-        # every element's δ, δ' and the full states, for every System (the pair's: its mesh's (u, u'))
-        data.update(
-            delta=(("tau", "element"), t.deltas[:, :, 0]),
-            delta_rate=(("tau", "element"), t.deltas[:, :, 1]),
-            poincare=(("section", "state"), pc),
-        )
-        coords.update(element=[e.name for e in m.elements], state=state_names(m, pc.shape[1]))
         ds = xr.Dataset(
-            data,
-            coords=coords,
+            {
+                "u": ("tau", t.u),
+                "v": ("tau", t.v),
+                "poincare_u": ("section", sec[:, 0]),
+                "poincare_v": ("section", sec[:, 1]),
+                "spectrum": ("order", spec),
+                # every element's δ, δ' and the full states, for every System (the pair's: its mesh's (u, u'))
+                "delta": (("tau", "element"), t.deltas[:, :, 0]),
+                "delta_rate": (("tau", "element"), t.deltas[:, :, 1]),
+                "poincare": (("section", "state"), pc),
+            },
+            coords={
+                "tau": t.tau,
+                "section": np.arange(pc.shape[0]),
+                "order": order,
+                "element": [e.name for e in m.elements],
+                "state": state_names(m, pc.shape[1]),
+            },
             attrs=result_attrs(
                 "simulate",
                 self.model,
@@ -388,10 +389,7 @@ class SteadyState:
                 **({} if self.history_cycles is None else {"history_cycles": f"{self.history_cycles:.6g}"}),
             ),
         )
-        return annotate(
-            ds,
-            names=[n for n in ("section", "element", "state", "delta", "delta_rate", "poincare") if n in ds.variables],
-        )
+        return annotate(ds, names=["section", "element", "state", "delta", "delta_rate", "poincare"])
 
 
 def _jsonable(d: dict[str, Any]) -> dict[str, Any]:

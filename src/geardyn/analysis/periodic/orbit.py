@@ -415,25 +415,23 @@ class PeriodicOrbit:
                 summary=self.to_json(),
             ),
         )
+        names = [
+            "multiplier_re",
+            "multiplier_im",
+            "floquet_exponent",
+            "monodromy",
+            "section",
+            "multiplier",
+            "row",
+            "col",
+        ]
         if d != 2:  # a system: the full section states
             from ...system import state_names
 
             ds["points"] = (("section", "state"), np.asarray(self.points, float))
             ds = ds.assign_coords(state=state_names(m, d))
-        annotate(
-            ds,
-            names=[n for n in ("points", "state") if n in ds.variables]
-            + [
-                "multiplier_re",
-                "multiplier_im",
-                "floquet_exponent",
-                "monodromy",
-                "section",
-                "multiplier",
-                "row",
-                "col",
-            ],
-        )
+            names += ["points", "state"]
+        annotate(ds, names=names)
         ds.attrs["status"] = self.status_label
         return ds
 
