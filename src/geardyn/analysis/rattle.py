@@ -375,7 +375,6 @@ def rattle_map(
     shape = (om.size, sa.size)
     vals = {k: np.full(shape, np.nan) for k in ("impacts_drive", "impacts_back", "impact_velocity_max", "rattle_index")}
     status = np.zeros(shape, dtype=np.int8)
-    total, done = om.size * sa.size, 0
     for i, w in enumerate(om):
         for j, f in enumerate(sa):
             m = model.replace(omega=float(w), torque_orders=tuple((q, a * f, p) for q, a, p in model.torque_orders))
@@ -388,9 +387,8 @@ def rattle_map(
                 v = np.abs(r.events["velocity"])
                 vals["impact_velocity_max"][i, j] = float(v.max()) if v.size else 0.0
                 vals["rattle_index"][i, j] = r.rattle_index()
-            done += 1
             if progress is not None:
-                progress(done, total)
+                progress(i * sa.size + j + 1, om.size * sa.size)
     dims = ("omega", "amplitude_scale")
     ds = xr.Dataset({k: (dims, a) for k, a in vals.items()}, coords={"omega": om, "amplitude_scale": sa})
     ds["status"] = (dims, status)

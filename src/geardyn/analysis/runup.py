@@ -295,11 +295,9 @@ def runup(
     spec = np.full((nb, (orders + 1) * P - 1), np.nan) if P > 1 else None
     diverged = not np.all(np.isfinite(state))
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=m // P, accurate=accurate)
-    if progress is not None:
-        progress(0, nb)
-    for b in range(nb):
-        if diverged:
-            break
+    report = progress or (lambda done, total: None)
+    report(0, nb)
+    for b in range(0 if diverged else nb):
         out = _block(model.with_param("omega", float(speeds[b])), state, opts, m, orders, spec is not None)
         if out is None:
             diverged = True
@@ -307,10 +305,8 @@ def runup(
         amp_o[b], amp[b], kdyn[b], state = out[:4]
         if spec is not None:
             spec[b] = out[4]
-        if progress is not None:
-            progress(b + 1, nb)
-    if progress is not None:
-        progress(nb, nb)
+        report(b + 1, nb)
+    report(nb, nb)
     return RunupResult(
         model=model,
         omega=speeds,
