@@ -128,18 +128,6 @@ class _Family:
         """ceil(T/Δτ) at parameter p."""
         return self.map_at(p).natural_steps
 
-    def evaluate(self, x: np.ndarray, p: float, N: int) -> MapEvaluation:
-        return self.map_at(p).with_steps(N).evaluate(x)
-
-    def dG_dp(self, x: np.ndarray, p: float, N: int) -> np.ndarray | None:
-        """∂P^n/∂p at fixed x and fixed N (None where it cannot be formed)."""
-        g = self.map_at(p).with_steps(N).param_derivative(x, self.param)
-        return g if np.all(np.isfinite(g)) else None
-
-    def extrema(self, x: np.ndarray, p: float, N: int) -> np.ndarray:
-        """(elements, 2): every element's extremes of δ over the orbit from x (Hermite-refined)."""
-        return element_extrema(self.map_at(p).with_steps(N), x)
-
 
 def element_extrema(pmap: PeriodMap, x: np.ndarray) -> np.ndarray:
     """(elements, 2): every element's extremes of δ over one iteration of ``pmap`` from x (Hermite-refined).
@@ -222,7 +210,7 @@ class _Continuer:
         t = vt[-1] / np.linalg.norm(vt[-1])
         if t_ref is not None and float(t @ t_ref) < 0:
             t = -t
-        ext = prob.extrema(ev.x, p, ev.steps)
+        ext = element_extrema(prob.map_at(p).with_steps(ev.steps), ev.x)
         y = np.append(ev.x, p / self.ps)
         return _Point(y, ev, p, t, ext, prob.reference, iters)
 
@@ -242,7 +230,8 @@ class _Continuer:
             Gq = None
             for it in range(CORRECTOR_MAX_ITER + 1):
                 p = float(y[-1] * ps)
-                ev = prob.evaluate(y[:-1], p, N)
+                pmap = prob.map_at(p).with_steps(N)
+                ev = pmap.evaluate(y[:-1])
                 if not ev.ok:
                     return None
                 G = ev.residual
@@ -251,8 +240,8 @@ class _Continuer:
                 if not done and it == CORRECTOR_MAX_ITER:
                     return None
                 if done or Gq is None:
-                    Gp = prob.dG_dp(y[:-1], p, N)
-                    if Gp is None:
+                    Gp = pmap.param_derivative(y[:-1], prob.param)  # ∂P^n/∂p at fixed x and N
+                    if not np.all(np.isfinite(Gp)):
                         return None
                     Gq = Gp * ps
                     if done:
