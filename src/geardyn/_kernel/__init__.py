@@ -95,9 +95,7 @@ from .core import (
     DIVERGENCE_BOUND,
     NSTAT,
     S_N,
-    S_NBACK,
     S_NDRIVE,
-    S_NSEP,
     S_UMAX,
     S_UMIN,
     S_USQ,
@@ -115,40 +113,17 @@ from .scalar import _scalar_worker
 
 _fast_loads(_scalar_worker)  # read from numba's cache without setting up its compiler (see fast_loads)
 
-#: Names of the lanes and accurate modules, imported on first use: a run imports the worker it runs
-#: (``simulate`` one point at a time: the scalar worker only, not the lanes' chunk kernels).
-_LAZY = {
-    **dict.fromkeys(("CROSSING_TOL", "HERMITE_SAMPLES", "MAX_SPLITS", "NEWTON_ITERS", "_accurate_worker"), ".accurate"),
-    **dict.fromkeys(
-        (
-            "ALIGN_BYTES",
-            "GROUP",
-            "KIND_COS",
-            "KIND_GEN",
-            "KIND_SIN",
-            "LANES",
-            "MODE_PLAIN",
-            "MODE_STATS",
-            "MODE_TAN",
-            "_KIND_TOKENS",
-            "_kind_token",
-            "_lanes_kind",
-            "_lanes_worker",
-            "native_simd_width",
-            "simd_width",
-        ),
-        ".lanes",
-    ),
-}
+#: Names of the lanes module, imported on first use: a run imports the worker it runs (``simulate`` one point at
+#: a time: the scalar worker only, not the lanes' chunk kernels).
+_LAZY = ("KIND_COS", "KIND_GEN", "KIND_SIN", "LANES", "simd_width")
 
 
 def __getattr__(name: str):
-    module = _LAZY.get(name)
-    if module is None:
+    if name not in _LAZY:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
+    from . import lanes
 
-    return getattr(importlib.import_module(module, __name__), name)
+    return getattr(lanes, name)
 
 
 __all__ = [
@@ -161,8 +136,6 @@ __all__ = [
     "S_VMIN",
     "S_VMAX",
     "S_NDRIVE",
-    "S_NSEP",
-    "S_NBACK",
     "S_N",
     "NSTAT",
     "TAN_NONE",
@@ -172,23 +145,12 @@ __all__ = [
     "ST_OK",
     "ST_DIVERGED",
     "DIVERGENCE_BOUND",
-    "MAX_SPLITS",
-    "HERMITE_SAMPLES",
-    "NEWTON_ITERS",
-    "CROSSING_TOL",
-    "GROUP",
     "LANES",
-    "LANE_MIN_POINTS",
     "THREAD_MIN_STEPS",
-    "ALIGN_BYTES",
     "KIND_COS",
     "KIND_SIN",
     "KIND_GEN",
-    "MODE_PLAIN",
-    "MODE_STATS",
-    "MODE_TAN",
     "simd_width",
-    "native_simd_width",
 ]
 
 
@@ -341,84 +303,27 @@ def run_batch(
     order = _queue_order(nsteps)
     counter = np.zeros(1, dtype=np.int64)
     lanes = not scalar_only and tangent != TAN_CONTINUE and P >= LANE_MIN_POINTS * nw
+    # the workers' shared arguments, between each worker's own leading and trailing ones
+    mid = (order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent)
+    mid += (poincare, end_state, stats, tan_log, tan_out, status)
     if accurate:
-        from .accurate import _accurate_worker
+        from .accurate import _accurate_worker as worker
 
-        _fast_loads(_accurate_worker)
+        args = (*mid, hist, tab, ntab)
     elif lanes:
-        from .lanes import _kind_token, _lanes_kind, _lanes_worker
+        from .lanes import _kind_token, _lanes_kind
+        from .lanes import _lanes_worker as worker
 
-        _fast_loads(_lanes_worker)
-    token = _kind_token(_lanes_kind(coef, order)) if lanes else None
+        args = (_kind_token(_lanes_kind(coef, order)), *mid, adapt_tol, max_period)
+    else:
+        worker, args = _scalar_worker, (*mid, hist, adapt_tol, max_period)
+    _fast_loads(worker)
+    _run_workers(lambda: worker(*args), nw)
 
-    def work():
-        if accurate:
-            _accurate_worker(
-                order,
-                counter,
-                coef,
-                D,
-                omega,
-                nsteps,
-                state0,
-                n_transient,
-                n_record,
-                tangent,
-                poincare,
-                end_state,
-                stats,
-                tan_log,
-                tan_out,
-                status,
-                hist,
-                tab,
-                ntab,
-            )
-        elif lanes:
-            _lanes_worker(
-                token,
-                order,
-                counter,
-                coef,
-                D,
-                omega,
-                nsteps,
-                state0,
-                n_transient,
-                n_record,
-                tangent,
-                poincare,
-                end_state,
-                stats,
-                tan_log,
-                tan_out,
-                status,
-                adapt_tol,
-                max_period,
-            )
-        else:
-            _scalar_worker(
-                order,
-                counter,
-                coef,
-                D,
-                omega,
-                nsteps,
-                state0,
-                n_transient,
-                n_record,
-                tangent,
-                poincare,
-                end_state,
-                stats,
-                tan_log,
-                tan_out,
-                status,
-                hist,
-                adapt_tol,
-                max_period,
-            )
 
+def _run_workers(work, nw: int) -> None:
+    """Run ``work`` on the calling thread (``nw`` 1) or on ``nw`` threads of the kernel's pool, each a worker
+    taking points from the batch's shared queue; errors are raised here."""
     if nw == 1:
         work()
         return

@@ -294,40 +294,18 @@ def _make_chunk(kind, mode):
     return chunk
 
 
-_chunk_c0 = _make_chunk(KIND_COS, MODE_PLAIN)
-_chunk_c1 = _make_chunk(KIND_COS, MODE_STATS)
-_chunk_c2 = _make_chunk(KIND_COS, MODE_TAN)
-_chunk_s0 = _make_chunk(KIND_SIN, MODE_PLAIN)
-_chunk_s1 = _make_chunk(KIND_SIN, MODE_STATS)
-_chunk_s2 = _make_chunk(KIND_SIN, MODE_TAN)
-_chunk_g0 = _make_chunk(KIND_GEN, MODE_PLAIN)
-_chunk_g1 = _make_chunk(KIND_GEN, MODE_STATS)
-_chunk_g2 = _make_chunk(KIND_GEN, MODE_TAN)
-
 _FIELDS = {name[2:]: value for name, value in globals().items() if name.startswith("F_") and name != "F_"}
-
-
-def _vector_kernels(width):
-    """The explicit-SIMD chunk kernels (:mod:`.simd`) of the first-harmonic kinds at one width."""
-    return {
-        kind: tuple(
-            make_vector_chunks(kind == KIND_SIN, mode, width, LANES, _FIELDS)
-            for mode in (MODE_PLAIN, MODE_STATS, MODE_TAN)
-        )
+_MODES = (MODE_PLAIN, MODE_STATS, MODE_TAN)
+#: Chunk kernels per register width (0: the template's compiler-vectorised loops) and kind, each a tuple over
+#: ``_MODES``: at 256 and 512 bits the explicit-SIMD chunk kernels (:mod:`.simd`) of the first-harmonic kinds;
+#: the general kind always runs the template.
+_KERNELS = {0: {kind: tuple(_make_chunk(kind, mode) for mode in _MODES) for kind in (KIND_COS, KIND_SIN, KIND_GEN)}}
+for _w in (256, 512):
+    _KERNELS[_w] = {
+        kind: tuple(make_vector_chunks(kind == KIND_SIN, mode, _w, LANES, _FIELDS) for mode in _MODES)
         for kind in (KIND_COS, KIND_SIN)
     }
-
-
-_TEMPLATE_KERNELS = {
-    KIND_COS: (_chunk_c0, _chunk_c1, _chunk_c2),
-    KIND_SIN: (_chunk_s0, _chunk_s1, _chunk_s2),
-    KIND_GEN: (_chunk_g0, _chunk_g1, _chunk_g2),
-}
-#: Chunk kernels per register width (0: the template's compiler-vectorised loops) and kind.  The
-#: general kind always runs the template.
-_KERNELS = {0: _TEMPLATE_KERNELS}
-for _w in (256, 512):
-    _KERNELS[_w] = {**_vector_kernels(_w), KIND_GEN: _TEMPLATE_KERNELS[KIND_GEN]}
+    _KERNELS[_w][KIND_GEN] = _KERNELS[0][KIND_GEN]
 
 #: Widths a lanes worker can be compiled for, by the number of dimensions of its token.
 _WIDTH_OF_NDIM = {1: 0, 2: 256, 3: 512}
@@ -519,7 +497,7 @@ def _lanes_worker(
     finished lane with the next point of the queue (shared through ``counter`` with the other
     workers of the batch).
 
-    ``token`` (an empty array from ``_KIND_TOKENS``) selects the chunk kind by its type.  With
+    ``token`` (an empty array from ``_kind_token``) selects the chunk kind by its type.  With
     ``adapt_tol`` > 0 the transient is adaptive (``core._adapt_check``, periods up to
     ``max_period``): each lane has its own transient length ``tend`` and recorded length ``rlen``,
     and a converged lane is freed (and refilled) as soon as it has recorded its cycle.
@@ -780,7 +758,3 @@ def _set_simd_width(width: int) -> int:
 def _kind_token(kind: int) -> np.ndarray:
     """The type token of the lanes worker for ``kind`` at the current width."""
     return _TOKENS[(kind, _simd_width)]
-
-
-#: Type tokens of the kinds at the width chosen at import (kept for callers that index by kind).
-_KIND_TOKENS = {kind: _TOKENS[(kind, _simd_width)] for kind in _KIND_DTYPES}

@@ -31,7 +31,7 @@ save.
 Layout: :mod:`.core` (vector field, Jacobian, statistics), :mod:`.step` (RK4 step, split steps,
 the plain step), :mod:`.simd` (one stage of the plain step on a block of rows, as LLVM vectors), :mod:`.dense`,
 :mod:`.worker` (one point at a time from a shared queue; ``nogil``, ``cache=True``).  Threads: the
-1-DOF kernel's pool (:func:`geardyn._kernel._executor`), as many workers as numba's thread setting.
+1-DOF kernel's pool (:func:`geardyn._kernel._run_workers`), as many workers as numba's thread setting.
 numba keys a cache entry on the worker's source file only, so this package calls
 :func:`geardyn._cache_guard.refresh` first: a change to any of its sources recompiles the workers.
 """
@@ -45,58 +45,14 @@ _refresh_cache(__file__)  # before the cached workers are imported (see geardyn.
 
 import numpy as np
 
-from .._kernel import _executor, n_threads
-from .core import (
-    BQ_RHO,
-    DIVERGENCE_BOUND,
-    NSTAT,
-    S_N,
-    S_NBACK,
-    S_NDRIVE,
-    S_NSEP,
-    S_UMAX,
-    S_UMIN,
-    S_USQ,
-    S_USUM,
-    S_VMAX,
-    S_VMIN,
-    ST_DIVERGED,
-    ST_OK,
-    TAN_LYAPUNOV,
-    TAN_MONODROMY,
-    TAN_NONE,
-)
+from .._kernel import _queue_order, _run_workers, n_threads
+from .core import BQ_RHO, NSTAT, TAN_LYAPUNOV, TAN_MONODROMY, TAN_NONE
 from .simd import LANE_BLOCK
-from .step import CROSSING_TOL, HERMITE_SAMPLES, MAX_SPLITS
 from .worker import ndof_worker
 
 _fast_loads(ndof_worker)  # read from numba's cache without setting up its compiler (see geardyn._cache_guard)
 
-__all__ = [
-    "run_batch",
-    "n_threads",
-    "S_UMIN",
-    "S_UMAX",
-    "S_USUM",
-    "S_USQ",
-    "S_VMIN",
-    "S_VMAX",
-    "S_NDRIVE",
-    "S_NSEP",
-    "S_NBACK",
-    "S_N",
-    "NSTAT",
-    "TAN_NONE",
-    "TAN_LYAPUNOV",
-    "TAN_MONODROMY",
-    "ST_OK",
-    "ST_DIVERGED",
-    "DIVERGENCE_BOUND",
-    "MAX_SPLITS",
-    "HERMITE_SAMPLES",
-    "CROSSING_TOL",
-    "THREAD_MIN_WORK",
-]
+__all__ = ["run_batch", "n_threads", "NSTAT", "TAN_NONE", "TAN_LYAPUNOV", "TAN_MONODROMY", "THREAD_MIN_WORK"]
 
 #: Batches with less work than this (RK4 steps × the plain step's multiply-adds) run on the calling thread only.
 THREAD_MIN_WORK = 2_000_000
@@ -108,25 +64,29 @@ def derived(arrays):
     c = np.ascontiguousarray
     A = c(Mi @ arrays.Kb)
     B = c(Mi @ arrays.Cb)
-    W = c(np.einsum("pij,pmj->pmi", Mi, arrays.V))
     g = c(np.einsum("pij,pj->pi", Mi, arrays.F))
-    Wc = c(np.einsum("pij,pmj->pmi", Mi, arrays.Vc)) if arrays.Vc.shape[1] else c(np.zeros_like(arrays.Vc))
-    return A, B, W, g, Wc
+    return A, B, _times_rows(Mi, arrays.V), g, _times_rows(Mi, arrays.Vc)
+
+
+def _times_rows(Mi, V):
+    """The rows M̃⁻¹V[m] of a (P, rows, n) stack of row vectors."""
+    return np.ascontiguousarray(np.einsum("pij,pmj->pmi", Mi, V))
 
 
 def order_loads(arrays):
     """(go, ro, po): the torque orders' load rows M̃⁻¹F̃_o (P, orders, n), their frequencies over ω and phases
     (P, orders): g(θ) = g + Σ_o go[o] cos(ro[o] θ + po[o])."""
     c = np.ascontiguousarray
-    go = c(np.einsum("pij,poj->poi", arrays.Mi, arrays.Fo))
-    return go, c(arrays.ro, dtype=np.float64), c(arrays.po, dtype=np.float64)
+    return _times_rows(arrays.Mi, arrays.Fo), c(arrays.ro, dtype=np.float64), c(arrays.po, dtype=np.float64)
 
 
 def _rows(mask):
-    """Compressed rows of a boolean (R, C) pattern: (row pointers (R+1,), column indices ascending)."""
+    """Compressed rows of a boolean (R, C) pattern: (row pointers (R+1,), column indices ascending, the row of each
+    entry)."""
     ptr = np.zeros(mask.shape[0] + 1, dtype=np.int64)
     ptr[1:] = np.cumsum(mask.sum(axis=1))
-    return ptr, np.ascontiguousarray(np.nonzero(mask)[1].astype(np.int64))
+    rows, cols = np.nonzero(mask)
+    return ptr, np.ascontiguousarray(cols.astype(np.int64)), rows
 
 
 def sparse_arrays(arrays):
@@ -155,19 +115,15 @@ def sparse_arrays(arrays):
     E_W = np.concatenate([W, Wc], axis=1)
     NB = arrays.bq.shape[1]
     if NB:  # rolling bearings: two element rows each (x, y), after the meshes and clearances
-        Wb = np.ascontiguousarray(np.einsum("pij,pmj->pmi", arrays.Mi, arrays.Vb))
         E_V = np.concatenate([E_V, arrays.Vb], axis=1)
-        E_W = np.concatenate([E_W, Wb], axis=1)
+        E_W = np.concatenate([E_W, _times_rows(arrays.Mi, arrays.Vb)], axis=1)
     NE = E_V.shape[1]
     ab = np.any(A != 0.0, axis=0) | np.any(B != 0.0, axis=0)
-    abp, abj = _rows(ab)
-    rows_ab = np.repeat(np.arange(n), np.diff(abp))
+    abp, abj, rows_ab = _rows(ab)
     ev = np.any(E_V != 0.0, axis=0)
-    ep, ej = _rows(ev)
-    rows_e = np.repeat(np.arange(ev.shape[0]), np.diff(ep))
+    ep, ej, rows_e = _rows(ev)
     ew = np.any(E_W != 0.0, axis=0)
-    wp, wi = _rows(ew)
-    rows_w = np.repeat(np.arange(ew.shape[0]), np.diff(wp))
+    wp, wi, rows_w = _rows(ew)
     c = np.ascontiguousarray
     # the Jacobian's pattern: A and B, and W[e, i] V[e, j] of every element
     gmask = ab.copy()
@@ -180,8 +136,7 @@ def sparse_arrays(arrays):
         cross += [(NE + 2 * b, ex, ex + 1), (NE + 2 * b + 1, ex + 1, ex)]
     for _, ew_, ev_ in cross:
         gmask |= np.outer(ew[ew_], ev[ev_])
-    gp, gj = _rows(gmask)
-    rows_g = np.repeat(np.arange(n), np.diff(gp))
+    gp, gj, rows_g = _rows(gmask)
     gidx = np.full((n, n), -1, dtype=np.int64)
     gidx[rows_g, gj] = np.arange(gj.shape[0])
     parts = []  # (entry, element or cross slot, index in Wv, index in Ev) of every product W[e, i] V[e, j]
@@ -247,8 +202,7 @@ def sparse_arrays(arrays):
     wpad = np.zeros((ew.shape[0], NP), dtype=bool)
     wpad[:, :n] = ew
     emask = wpad.reshape(ew.shape[0], nb, L).any(axis=2).T  # (blocks, elements)
-    bep, bej = _rows(emask)
-    be = np.repeat(np.arange(nb), np.diff(bep))
+    bep, bej, be = _rows(emask)
     ri_e = be[:, None] * L + np.arange(L)[None, :]
     WTs = c(Wp[:, bej[:, None], ri_e])
     gPs = np.zeros((P, NP))
@@ -343,7 +297,7 @@ def run_batch(
         tangent0[:, np.arange(k), np.arange(k)] = 1.0
     tangent0 = np.ascontiguousarray(tangent0, dtype=np.float64)
     rigid = np.zeros((d, 0)) if rigid is None else np.ascontiguousarray(rigid, dtype=np.float64)
-    order = np.argsort(-np.asarray(nsteps, dtype=np.int64), kind="stable").astype(np.int64)
+    order = _queue_order(nsteps)
     counter = np.zeros(1, dtype=np.int64)
     work = float(np.sum(nsteps)) * (int(n_transient) + int(n_record)) * plain_cost(blk)
     nw = min(n_threads(), P) if work >= THREAD_MIN_WORK else 1
@@ -402,9 +356,4 @@ def run_batch(
             hist,
         )
 
-    if nw == 1:
-        job()
-        return
-    pool = _executor()
-    for f in [pool.submit(job) for _ in range(nw)]:
-        f.result()
+    _run_workers(job, nw)

@@ -22,7 +22,7 @@ two tuples per point,
     values ``Wv``); g dense;
 ``el = (M, D, kc, cc, Dc, bq)``
     the meshes' count and half backlashes, the clearances' stiffness, damping and half gaps, and the rolling
-    bearings' parameters ``bq`` (bearings, NBQ) (:data:`BQ_Z` … :data:`BQ_PHASE`).
+    bearings' parameters ``bq`` (bearings, 8) (:data:`BQ_Z` … :data:`BQ_PHASE`).
 
 Rolling-element bearings (the second element law, :class:`geardyn.system.RollingBearingLaw`): bearing b is the two
 element rows ``ex = M + C + 2b`` (its x vector V_x and force row W_x) and ``ey = ex + 1`` (y), after the meshes and
@@ -48,24 +48,34 @@ import math
 
 from numba import njit
 
-# Layout of the per-element statistics (sampled at every step end of the recorded periods).
-S_UMIN, S_UMAX, S_USUM, S_USQ, S_VMIN, S_VMAX, S_NDRIVE, S_NSEP, S_NBACK, S_N = range(10)
-NSTAT = 10
-TAN_NONE, TAN_LYAPUNOV, TAN_MONODROMY = 0, 1, 2
-ST_OK, ST_DIVERGED = 0, 1
-DIVERGENCE_BOUND = 1.0e6
+# The layout of the per-element statistics (sampled at every step end of the recorded periods), the tangent modes,
+# the statuses and the divergence bound are the 1-DOF kernel's, as is its dead zone.
+from .._kernel.core import (  # noqa: F401
+    DIVERGENCE_BOUND,
+    NSTAT,
+    S_N,
+    S_NBACK,
+    S_NDRIVE,
+    S_NSEP,
+    S_UMAX,
+    S_UMIN,
+    S_USQ,
+    S_USUM,
+    S_VMAX,
+    S_VMIN,
+    ST_DIVERGED,
+    ST_OK,
+    TAN_LYAPUNOV,
+    TAN_MONODROMY,
+    TAN_NONE,
+    _fz,
+)
+
 #: Mode value of an element whose dead zone is evaluated as it is (default mode).
 LOCK_FREE = 2
 #: Columns of a bearing's parameter row ``bq[b]``: elements Z, load–deflection constant K̃, exponent n, radial
 #: clearance c̃, dampings cx̃, cỹ, cage radians per base radian ρ, cage phase φ0 (rad).
 BQ_Z, BQ_K, BQ_N, BQ_C, BQ_CX, BQ_CY, BQ_RHO, BQ_PHASE = range(8)
-NBQ = 8
-
-
-@njit(inline="always")
-def _fz(u, D):
-    c = min(max(u, -D), D)
-    return u - c
 
 
 @njit(inline="always")
