@@ -275,17 +275,6 @@ def _step_table(cf, tab, m, t, te, last, omega, u, v, D, r, Y, tangent, jn, seg,
 
 
 # ----------------------------------------------------------------------------- one point, the worker
-@njit(inline="always")
-def _gram_schmidt(Y):
-    """Modified Gram–Schmidt on the columns of Y in place; returns (log r11, log r22)."""
-    a1, b1, a2, b2, l1, l2 = _gs(Y[0, 0], Y[1, 0], Y[0, 1], Y[1, 1])
-    Y[0, 0] = a1
-    Y[1, 0] = b1
-    Y[0, 1] = a2
-    Y[1, 1] = b2
-    return l1, l2
-
-
 @njit(nogil=True)
 def _point_accurate(
     p,
@@ -387,9 +376,10 @@ def _point_accurate(
                 poincare[p, j, 0] = u
                 poincare[p, j, 1] = v
             if tangent == TAN_LYAPUNOV:
-                l1, l2 = _gram_schmidt(Y)
-                tan_log[p, j, 0] = l1
-                tan_log[p, j, 1] = l2
+                # modified Gram–Schmidt on the columns of Y in place, the logs of r11, r22 logged
+                Y[0, 0], Y[1, 0], Y[0, 1], Y[1, 1], tan_log[p, j, 0], tan_log[p, j, 1] = _gs(
+                    Y[0, 0], Y[1, 0], Y[0, 1], Y[1, 1]
+                )
     end_state[p, 0] = u
     end_state[p, 1] = v
     if tangent != TAN_NONE:
