@@ -13,7 +13,7 @@ import xarray as xr
 
 from ..errors import ModelError
 from ..tooth.excitation import pair_model
-from ..tooth.mesh import MeshStiffness
+from ..tooth.mesh import MeshStiffness, faults_json
 from .acquire import Acquisition, acquire
 from .indicators import crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4, rms, sideband_level
 from .signals import order_spectrum, split_tsa, tsa
@@ -194,7 +194,7 @@ def signature(
         "omega_n_rad_s": sc["omega_n"],
         "k0_N_per_m": sc["k0"],
         "indicators": ind,
-        "faults": [_fault(f) for f in ms.faults],
+        "faults": faults_json(ms.faults),
     }
     return labelled(ds, summary, label)
 
@@ -304,12 +304,6 @@ def combine(runs: Sequence[xr.Dataset]) -> xr.Dataset:
         summary=json.dumps({"runs": [json.loads(r.attrs["summary"])["runs"][0] for r in runs]}),
     )
     return ds
-
-
-def _fault(f: Any) -> dict[str, Any]:
-    from ..tooth.faults import fault_to_dict
-
-    return fault_to_dict(f)
 
 
 def signature_sweep(

@@ -366,8 +366,7 @@ def mesh_stiffness(
     noload = np.where(kf > 0, ef, np.inf).min(axis=1)
     # a single healthy pair along the path, by term (for the record and the figure)
     sp = np.linspace(geo.s_A, geo.s_E, 201)
-    t1 = tooth_compliance(geo, 0, geo.contact_radius(0, sp))
-    t2 = tooth_compliance(geo, 1, geo.contact_radius(1, sp))
+    t1, t2 = (tooth_compliance(geo, g, geo.contact_radius(g, sp)) for g in (0, 1))
     comps = {"s": sp, "hertz": np.full_like(sp, ch)}
     for name in ("bending", "shear", "axial", "fillet"):
         comps[name] = getattr(t1, name) + getattr(t2, name)
@@ -377,7 +376,7 @@ def mesh_stiffness(
         force=F,
         phase=theta,
         stiffness=km,
-        stiffness_unmodified=k.reshape(M, -1).sum(1),
+        stiffness_unmodified=kf.sum(1),
         ste=delta,
         ste_noload=noload,
         ste_equivalent=delta - F / km,

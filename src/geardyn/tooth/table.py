@@ -235,19 +235,8 @@ def _read_table(path: str | Path, *, cycles: int | None = None, points: int | No
             return Excitation(k, e, P)
         if suffix == ".toml":
             from .config import load_case
-            from .mesh import mesh_stiffness
 
-            case = load_case(p)
-            ms = mesh_stiffness(
-                case.geometry,
-                case.torque,
-                faults=case.faults,
-                modifications=case.modifications,
-                cycles=cycles if cycles is not None else case.mesh.get("cycles"),
-                points=int(points if points is not None else case.mesh.get("points", 64)),
-                slices=case.mesh.get("slices"),
-            )
-            return table_of(ms)
+            return table_of(load_case(p).mesh_stiffness(cycles, points))
     except ConfigError:
         raise
     except (OSError, ValueError, TypeError, KeyError, ModelError) as exc:
