@@ -235,7 +235,9 @@ class SpiralBevelGearPair:
             k0 = b * c_gamma
             assumed.append(Assumption("k0", k0, "N/m", _SOURCE_K0))
         if self.c0 is not None:
-            xi0 = self.c0 / (2.0 * self._m_e_from(r1, r2) * math.sqrt(k0 / self._m_e_from(r1, r2)))
+            lam = math.cos(self.alpha_n) * math.cos(self.beta_m)
+            m_e = self._m_e_from(lam * r1, lam * r2)
+            xi0 = self.c0 / (2.0 * m_e * math.sqrt(k0 / m_e))
             note("c0", self.c0, "N*s/m", None)
         else:
             xi0 = self.xi0 if self.xi0 is not None else DEFAULT_XI0
@@ -295,16 +297,13 @@ class SpiralBevelGearPair:
         """Directional radius of the gear R2 = n·(j2 × r2) (m); equals r2 cos α_n cos β_m."""
         return self._R[1]
 
-    def _m_e_from(self, r1: float, r2: float) -> float:
-        lam = math.cos(self.alpha_n) * math.cos(self.beta_m)
-        R1, R2 = lam * r1, lam * r2
+    def _m_e_from(self, R1: float, R2: float) -> float:
         return self.I1 * self.I2 / (self.I2 * R1**2 + self.I1 * R2**2)
 
     @property
     def m_e(self) -> float:
         """Equivalent mass m_e = I1 I2 / (I2 R1² + I1 R2²) (kg)."""
-        R1, R2 = self._R
-        return self.I1 * self.I2 / (self.I2 * R1**2 + self.I1 * R2**2)
+        return self._m_e_from(*self._R)
 
     @property
     def k0_mean(self) -> float:

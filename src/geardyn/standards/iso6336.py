@@ -39,7 +39,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from ..errors import ModelError
-from ._common import AssumedInput, check_angle, check_positive
+from ._common import AssumedInput, check_angle, check_positive, defaults
 
 __all__ = [
     "C_LOW_LOAD_LINE_LOAD",
@@ -327,13 +327,7 @@ def cylindrical_mesh(
     ISO 6336-1:2006, clauses 6 and 9.
     """
     assumed: list[AssumedInput] = []
-
-    def default(name, value, given, unit, source):
-        if given is None:
-            assumed.append(AssumedInput(name, value, unit, source))
-            return value
-        return given
-
+    default = defaults(assumed)
     if int(z1) != z1 or int(z2) != z2 or z1 < 5 or z2 < 5:
         raise ModelError(f"z1, z2: must be whole numbers of teeth >= 5, got {z1!r}, {z2!r}")
     m_n = check_positive("m_n", m_n, "m")

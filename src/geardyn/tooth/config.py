@@ -285,27 +285,11 @@ def load_case(path: str | Path) -> ToothCase:
     zv = tp.get("z_virtual")
     if zv is not None and len(zv) != 2:
         raise ctx.error("tooth_pair", "z_virtual", f"expected two numbers [z_v1, z_v2], got {len(zv)}")
-    try:
+    try:  # every other [tooth_pair] key is a keyword of pair_geometry, whose defaults are the file's
         geo = pair_geometry(
-            *(zv if zv else (tp["z1"], tp["z2"])),
-            tp["m_n"],
-            alpha_n=tp.get("alpha_n", math.radians(20.0)),
-            beta=tp.get("beta", 0.0),
-            face_width=tp["face_width"],
-            x1=tp.get("x1", 0.0),
-            x2=tp.get("x2", 0.0),
-            h_a=tp.get("h_a", 1.0),
-            h_f=tp.get("h_f"),
-            rack=tp.get("rack", "A"),
-            rho_f=tp.get("rho_f"),
-            root=tp.get("root", "trochoid"),
-            bore1=tp.get("bore1"),
-            bore2=tp.get("bore2"),
-            rim1=tp.get("rim1"),
-            rim2=tp.get("rim2"),
-            E=tp.get("E", 206e9),
-            nu=tp.get("nu", 0.3),
+            *(zv or (tp["z1"], tp["z2"])),
             teeth=(tp["z1"], tp["z2"]) if zv else None,
+            **{k: v for k, v in tp.items() if k not in ("name", "z1", "z2", "z_virtual", "torque")},
         )
     except (ModelError, TypeError) as exc:
         raise ctx.error("tooth_pair", None, str(exc), ModelError) from None

@@ -305,20 +305,16 @@ def mesh_stiffness(
         raise ModelError(f"slices: a whole number of at least 1, got {slices!r}")
     partial = any(isinstance(f, Spall) or (isinstance(f, Crack) and f.length < 1.0) for f in faults)
     S = int(slices) if slices else (40 if (geo.beta > 0 or mods.crowning > 0 or partial) else 1)
-    J_est = int(math.ceil(geo.eps_alpha + geo.face_width * math.tan(geo.beta_b) / geo.p_bt)) + 1
-    M_est = P * int(points) if phases is None else int(np.size(phases))
-    need = _MESH_ARRAYS * 8.0 * M_est * J_est * S
-    budget(
-        f"memory of {M_est} phases x {J_est} pairs x {S} slices", need, MAX_MESH_BYTES, key="points x cycles x slices"
-    )
-    F = torque1 / geo.r_b[0]
     b = geo.face_width
     tanb = math.tan(geo.beta_b)
+    J = int(math.ceil(geo.eps_alpha + b * tanb / geo.p_bt)) + 1  # pairs that can be in contact at once
+    M_est = P * int(points) if phases is None else int(np.size(phases))
+    need = _MESH_ARRAYS * 8.0 * M_est * J * S
+    budget(f"memory of {M_est} phases x {J} pairs x {S} slices", need, MAX_MESH_BYTES, key="points x cycles x slices")
+    F = torque1 / geo.r_b[0]
     theta = np.arange(P * points) / points if phases is None else np.atleast_1d(np.asarray(phases, dtype=float))
     M = theta.size
     y = (np.arange(S) + 0.5) * b / S
-    span = geo.eps_alpha + b * tanb / geo.p_bt
-    J = int(math.ceil(span)) + 1
     base = np.floor(theta).astype(np.int64)
     m = base[:, None, None] - np.arange(J)[None, :, None]  # (M, J, 1) pair index
     s = geo.s_A + (theta[:, None, None] - m) * geo.p_bt - y[None, None, :] * tanb  # (M, J, S)
