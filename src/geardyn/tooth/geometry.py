@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from ..standards.iso6336 import _inverse_involute, involute
+from ..standards.iso6336 import _transverse, involute
 
 __all__ = ["ISO53_RACKS", "GearBlank", "PairGeometry", "Section", "pair_geometry", "trochoid"]
 
@@ -413,15 +413,11 @@ def pair_geometry(
         )
     z1, z2 = float(z1), float(z2)
     n1, n2 = (int(round(z1)), int(round(z2))) if teeth is None else (int(teeth[0]), int(teeth[1]))
-    alpha_t = math.atan(math.tan(alpha_n) / math.cos(beta))
-    beta_b = math.asin(math.sin(beta) * math.cos(alpha_n))
-    m_t = m_n / math.cos(beta)
+    alpha_t, beta_b, m_t, alpha_wt = _transverse(alpha_n, beta, m_n, x1, x2, z1, z2)
     r = (0.5 * z1 * m_t, 0.5 * z2 * m_t)
     r_b = (r[0] * math.cos(alpha_t), r[1] * math.cos(alpha_t))
     r_a = (r[0] + m_n * (h_a + x1), r[1] + m_n * (h_a + x2))
     r_f = (r[0] - m_n * (h_f - x1), r[1] - m_n * (h_f - x2))
-    inv_wt = involute(alpha_t) + 2.0 * math.tan(alpha_n) * (x1 + x2) / (z1 + z2)
-    alpha_wt = _inverse_involute(inv_wt)
     a_w = (r[0] + r[1]) * math.cos(alpha_t) / math.cos(alpha_wt)
     T1T2 = a_w * math.sin(alpha_wt)
     s_E = math.sqrt(r_a[0] ** 2 - r_b[0] ** 2)
