@@ -92,13 +92,7 @@ def default_cycles(z1: int, z2: int, faults: Sequence[Any]) -> int:
     int
     """
     gears = {f.gear for f in faults if not (isinstance(f, Wear) and f.tooth is None)}
-    if not gears:
-        return 1
-    if gears == {0}:
-        return z1
-    if gears == {1}:
-        return z2
-    return math.lcm(z1, z2)
+    return math.lcm(*(z for g, z in enumerate((z1, z2)) if g in gears))  # lcm() = 1
 
 
 @dataclass

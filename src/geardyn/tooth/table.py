@@ -209,7 +209,7 @@ def _read_table(path: str | Path, *, cycles: int | None = None, points: int | No
             with p.open(newline="", encoding="utf-8") as fh:
                 rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
             head = tuple(c.strip() for c in rows[0]) if rows else ()
-            if head[:2] != _CSV_HEADER[:2] or (len(head) > 2 and head[2] != _CSV_HEADER[2]) or len(head) > 3:
+            if head not in (_CSV_HEADER[:2], _CSV_HEADER):
                 raise ConfigError(
                     f"{where}: the header must be {','.join(_CSV_HEADER)} (ste_m optional), got {','.join(head)!r}"
                 )
