@@ -170,9 +170,8 @@ def signature(
     z1, z2 = geo.gears[0].teeth, geo.gears[1].teeth
     H = min(SIGNATURE_HARMONICS, ms.stiffness.size // 2) if harmonics is None else harmonics
     model, sc = pair_model(ms, rpm, b_c=b_c, backlash=backlash, xi0=xi0, harmonics=H)
-    g = math.gcd(z1, z2)
     if revolutions is None:
-        revolutions = max(10, 2 * z2 // g)
+        revolutions = max(10, 2 * z2 // math.gcd(z1, z2))
     top = H / ms.cycles
     if fs is None:
         fs = default_fs(rpm / 60.0 * z1, top)

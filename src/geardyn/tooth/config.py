@@ -191,10 +191,9 @@ def _section(ctx: _Ctx, doc: dict[str, Any], name: str, keys: _Keys) -> dict:
             new, factor = old[k]
             if new in raw:
                 raise ctx.error(name, k, f"given twice, as {new} and {k}; keep {new} (with its unit)")
-            spec = keys[new][0]
-            plain = _Key(_NUMBER, series=spec.series)
-            val, _ = _parse_value(ctx, name, k, plain, v)
-            out[new] = tuple(x * factor for x in val) if spec.series else val * factor
+            series = keys[new][0].series
+            val, _ = _parse_value(ctx, name, k, _Key(_NUMBER, series), v)
+            out[new] = tuple(x * factor for x in val) if series else val * factor
         else:
             spec = keys[k][0]
             if spec.kind is _SPEED and isinstance(v, (int, float)) and not isinstance(v, bool):
