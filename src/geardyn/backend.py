@@ -73,7 +73,7 @@ from ._kernel import (  # the statistics' indices, statuses and bound: the same 
 )
 from .errors import ModelError
 from .labels import MAX_PERIOD
-from .pairpack import PointModels, pack_models
+from .pairpack import PointModels
 from .system import Batch, ModelList, build_models
 
 __all__ = [
@@ -244,11 +244,6 @@ class PairBackend(Backend):
 
     name = "pair"
     coords = "(u0, v0)"
-
-    @staticmethod
-    def pack(models: Sequence[Any]) -> Any:
-        """:func:`geardyn.pairpack.pack_models`."""
-        return pack_models(models)
 
     def points(self, base: Any, names: Sequence[str], points: np.ndarray) -> Batch:
         """The pair's points packed straight from the array (:class:`~geardyn.pairpack.PointModels`)."""

@@ -212,8 +212,7 @@ def _wrap(ctx: _Ctx, section: str, err: ModelError, keymap: Mapping[str, str] | 
     key = _key_of_message(msg)
     key = (keymap or {}).get(key, key)
     key = re.sub(r"\d+$", "", key) if key not in _SCHEMA.get(section, {}) else key
-    line = ctx.line_of(section, key)
-    return ModelError(f"{ctx.source}: " + (f"line {line}: " if line else "") + f"[{section}] {msg}")
+    return ModelError(ctx.head(ctx.line_of(section, key)) + f"[{section}] {msg}")
 
 
 # ---------------------------------------------------------------------------- loaded config
@@ -313,8 +312,7 @@ class LoadedConfig:
             out["torque"] = float(torque)
             out["torque2"] = None
         # a speed or torque given here is no longer the configuration's assumed operating point
-        dropped = {k for k in ("rpm", "torque", "torque2") if k in out}
-        assumptions = tuple(a for a in self.assumptions if a.name not in dropped)
+        assumptions = tuple(a for a in self.assumptions if a.name not in out)
         # notes on how the configuration's own speed or torque came about no longer hold
         stale = (("pinion speed", "no [operating] rpm") if rpm is not None else ()) + (
             ("pinion torque T1", "no [operating] torque", "[mesh] fp =") if torque is not None else ()
@@ -436,10 +434,8 @@ def _load_text(text: str, source: str) -> LoadedConfig:
             continue
         allowed = ", ".join([f"[{s}]" for s in _SCHEMA] + list(_TOP_LEVEL_TEXT))
         if isinstance(val, dict):
-            line = ctx.line_of(key, "")
             raise ConfigError(
-                f"{source}: "
-                + (f"line {line}: " if line else "")
+                ctx.head(ctx.line_of(key, ""))
                 + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}"
             )
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
@@ -537,10 +533,7 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
 
     missing = [k for k in _REQUIRED_PAIR if k not in gp]
     if missing:
-        line = ctx.line_of("gear_pair", "")
-        raise ConfigError(
-            f"{source}: " + (f"line {line}: " if line else "") + f"[gear_pair] missing key(s) {', '.join(missing)}"
-        )
+        raise ConfigError(ctx.head(ctx.line_of("gear_pair", "")) + f"[gear_pair] missing key(s) {', '.join(missing)}")
 
     # ---- the ISO 10300-1 inputs and the way to k0
     k0_method = gp.pop("k0_method", None)
@@ -679,10 +672,8 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
         notes.append(f"pinion speed {rpm_final:.6g} rpm follows from ω = {model.omega:g}")
 
     assumptions = list(pair.assumptions) + iso_assumptions
-    for key, src in iso_declared.items():
-        v = iso_in.get(key, k0_method)
-        assumptions.append(Assumption(key, v, _SCHEMA["gear_pair"][key].kind.unit or "", src))
     for section, declared, values in (
+        ("gear_pair", iso_declared, {**iso_in, "k0_method": k0_method}),
         ("operating", op_assumed, op),
         ("mesh", mesh_assumed, mesh_given),
         ("model", mo_assumed, mo),
