@@ -613,11 +613,8 @@ def _system_attrs(model: Any) -> dict[str, str]:
         "source": str(getattr(desc, "source", "") or "") or None,
         "elements": [{"name": e.name, "kind": e.kind, "gap": e.gap} for e in model.elements],
     }
-    sc = getattr(model, "scaling", None)
-    if sc is not None:  # the scales of the physical units (µm, N, rpm)
-        sysinfo.update(
-            b_c_um=sc.b_c_m * 1e6, force_scale_N=sc.force_scale_N, omega_n=sc.omega_n_rad_s, teeth=sc.z1 or None
-        )
+    sc = model.scaling  # the scales of the physical units (µm, N, rpm)
+    sysinfo.update(b_c_um=sc.b_c_m * 1e6, force_scale_N=sc.force_scale_N, omega_n=sc.omega_n_rad_s, teeth=sc.z1 or None)
     return {
         "system": json.dumps(sysinfo),
         "system_model": model.to_attrs(),
