@@ -317,7 +317,7 @@ class LoadedConfig:
         stale = (("pinion speed", "no [operating] rpm") if rpm is not None else ()) + (
             ("pinion torque T1", "no [operating] torque", "[mesh] fp =") if torque is not None else ()
         )
-        notes = [n for n in self.notes if not n.startswith(stale)] if stale else list(self.notes)
+        notes = [n for n in self.notes if not n.startswith(stale)]  # (no prefix: every note kept)
         if rpm is not None:
             notes.append(f"pinion speed {float(rpm):.6g} rpm given for this run sets ω = {changes['omega']:.6g}")
         if torque is not None:
@@ -517,7 +517,6 @@ def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> Loade
 
 
 def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
-    source = ctx.source
     data, kappa_geometry = _kappa_word(ctx, data)
     if "gear_pair" not in data:
         if kappa_geometry:
@@ -685,7 +684,7 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
             assumptions.append(Assumption(f"model.{key}" if section == "model" else key, v, unit, src))
 
     return LoadedConfig(
-        source=source,
+        source=ctx.source,
         title=str(title),
         pair=pair,
         mesh=harmonics,
