@@ -73,7 +73,7 @@ from ._kernel import (  # the statistics' indices, statuses and bound: the same 
 )
 from .errors import ModelError
 from .labels import MAX_PERIOD
-from .pairpack import PointModels
+from .pairpack import PointModels, steps_per_period
 from .system import Batch, ModelList, build_models
 
 __all__ = [
@@ -253,8 +253,7 @@ class PairBackend(Backend):
         return np.zeros((len(models), 2))  # every pair's initial_state() is (0, 0)
 
     def natural_steps(self, models: Sequence[Any], packed: Any, dtau: float) -> np.ndarray:
-        T = 2.0 * np.pi / np.asarray(packed[2], dtype=float)  # as geardyn.pairpack.steps_per_period
-        return np.ceil(T / dtau).astype(np.int64)
+        return steps_per_period(packed[2], dtau)
 
     def restarts_exactly(self, accurate: bool) -> bool:
         """The default mode carries (u, u') only (the rotation is re-seeded at every period's start, tangents and

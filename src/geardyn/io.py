@@ -555,11 +555,11 @@ def summary_json(ds: xr.Dataset, variables: Any = None) -> dict[str, Any]:
     dims = ds["status"].dims if "status" in ds.variables else ()
     if variables is None:
         variables = [str(k) for k, v in ds.data_vars.items() if v.dims == dims and dims]
-    period = ds["period"].values if "period" in ds.variables else None
-    points = {}
-    for k in variables:
-        per = period if k == "motion" and period is not None and ds["period"].shape == ds[k].shape else None
-        points[str(k)] = json_values(ds[k], kind, period=per)
+    period = ds["period"] if "period" in ds.variables else None
+    motion = period is not None and "motion" in ds.variables and period.shape == ds["motion"].shape
+    points = {
+        str(k): json_values(ds[k], kind, period=period.values if k == "motion" and motion else None) for k in variables
+    }
     return {
         "kind": kind,
         "model": json.loads(ds.attrs["model"]) if "model" in ds.attrs else None,
