@@ -359,13 +359,15 @@ class LoadedConfig:
                     f"the model's κ1 = {k_model:.4g} is {k_model / k_geo:.3g} × the κ1 = {k_geo:.4g} "
                     "the contact ratios imply"
                 )
-        s["source"] = self.source
-        s["title"] = self.title
-        s["backlash_reading"] = self.backlash_reading
-        s["assumed"] = self.assumed
-        s["assumptions"] = [a.to_dict() for a in self.assumptions]
-        s["notes"] = list(s.get("notes", [])) + list(self.notes) + iso_notes
-        s["model"] = self.model.to_dict()
+        s.update(
+            source=self.source,
+            title=self.title,
+            backlash_reading=self.backlash_reading,
+            assumed=self.assumed,
+            assumptions=[a.to_dict() for a in self.assumptions],
+            notes=list(s.get("notes", [])) + list(self.notes) + iso_notes,
+            model=self.model.to_dict(),
+        )
         return s
 
 
