@@ -441,14 +441,14 @@ def _load_text(text: str, source: str) -> LoadedConfig:
                 + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}"
             )
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
-    exc = _read_section(ctx, data, "excitation")[0] if "excitation" in data else {}
-    data, orders = _pop_orders(ctx, data)
+    exc = _read_section(ctx, data, "excitation")[0]  # {} without [excitation]
+    data, orders = _pop_orders(data)
     cfg = _load_sections(ctx, {k: v for k, v in data.items() if k != "excitation"})
     cfg = _with_excitation(ctx, cfg, exc) if exc else cfg
     return _with_orders(ctx, cfg, orders) if orders is not None else cfg
 
 
-def _pop_orders(ctx: _Ctx, data: dict[str, Any]) -> tuple[dict[str, Any], Any]:
+def _pop_orders(data: dict[str, Any]) -> tuple[dict[str, Any], Any]:
     """``data`` without ``[model] torque_orders``, and that key's value (None when absent)."""
     mo = data.get("model")
     if not isinstance(mo, dict) or "torque_orders" not in mo:
