@@ -348,20 +348,6 @@ def decay_hides_torus(decay: Any, band: Any) -> np.ndarray:
         return np.asarray((s > 0.0) & (s <= np.asarray(band, dtype=float)))
 
 
-def motion_class(
-    period: int,
-    lle: float,
-    lle_err: float,
-    ok: bool = True,
-    curve_dim: float = np.nan,
-    settle_ratio: float = np.nan,
-    quasi_allowed: bool = True,
-    decay: float = np.nan,
-) -> int:
-    """Scalar form of :func:`classify_motion`."""
-    return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio, quasi_allowed, decay))
-
-
 def count_loops(points: np.ndarray, gap: float = LOOP_GAP) -> int:
     """Number of separate groups (closed curves or cycle points) in a Poincaré point set.
 
@@ -519,11 +505,8 @@ def classify_points(
         by_length.setdefault(sec.shape, []).append(int(i))
         if sec.shape[0] >= 16:  # fewer points: NaN (see curve_dimension)
             curve_dim[i] = curve_dimension(sec)
-    for shape, idx in by_length.items():  # the settling ratio of sequences of one length at once
-        if len(shape) == 2:
-            ratio[idx] = settling_ratios(np.stack([np.asarray(sections[i]) for i in idx]))
-        else:
-            ratio[idx] = [settling_ratio(sections[i]) for i in idx]
+    for idx in by_length.values():  # the settling ratio of sequences of one length at once
+        ratio[idx] = settling_ratios(np.stack([np.asarray(sections[i]) for i in idx]))
     motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio, quasi_allowed, decay)
     loops = np.zeros(P, dtype=np.int64)
     for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):
