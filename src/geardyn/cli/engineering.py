@@ -9,10 +9,8 @@ import typer
 
 from ..errors import ModelError
 from .app import console
-from .options import OUTPUT, Inputs, command, finish, model_group, option
+from .options import JSON_ONLY, OUTPUT, Inputs, command, finish, model_group, option
 from .render import files, plain, table
-
-JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 
 TE_OPTIONS = [
     option("teeth", str, ..., "--teeth", help="Teeth of pinion and gear, z1,z2 (e.g. 14,39)."),
@@ -359,13 +357,8 @@ def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
     scale = next((x for x in um if x), 1.0)
     for i in range(0, s["blocks"], max(1, s["blocks"] // 10)):
         a1 = s["order_amplitude"][0][i]
-        t.add_row(
-            f"{s['rpm'][i]:.6g}",
-            f"{s['omega'][i]:.5g}",
-            "n/a" if a1 is None else f"{a1 * scale:.4g}",
-            "n/a" if s["amplitude_um"][i] is None else f"{s['amplitude_um'][i]:.4g}",
-            "n/a" if s["dynamic_factor"][i] is None else f"{s['dynamic_factor'][i]:.4g}",
-        )
+        cells = (None if a1 is None else a1 * scale, s["amplitude_um"][i], s["dynamic_factor"][i])
+        t.add_row(f"{s['rpm'][i]:.6g}", f"{s['omega'][i]:.5g}", *("n/a" if v is None else f"{v:.4g}" for v in cells))
     console.print(t)
     plain(f"gear pair: {s['pair']}")
     files(paths)

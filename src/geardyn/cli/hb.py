@@ -8,7 +8,7 @@ import typer
 
 from ..model import DEFAULT_DTAU
 from . import render
-from .app import EXIT_FAILURE, console, say_error
+from .app import EXIT_FAILURE, console, fail, say_error
 from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option
 from .ranges import OMEGA_RANGE, both_spellings
 
@@ -227,8 +227,7 @@ def _check_result(res: Any, start: float) -> None:
             if not res.converged
             else f"no second point ({res.end}); try a smaller --ds-max or another --start"
         )
-        say_error(f"error: harmonic balance gave no branch: at {res.param} = {start:.6g}, {why}")
-        raise typer.Exit(code=EXIT_FAILURE)
+        raise fail(f"harmonic balance gave no branch: at {res.param} = {start:.6g}, {why}", EXIT_FAILURE)
     if res.end.startswith("max points"):
         say_error(
             f"warning: the branch stopped at {res.values.size} points (--max-points) at {res.param} = "

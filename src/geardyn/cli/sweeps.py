@@ -198,13 +198,13 @@ def response(
             **({"state0": inp.state0()} if inp.system is not None else {}),
         )
         if not np.isfinite(np.asarray(ds[measure].values, dtype=float)).any():  # no point resolved: nothing to show
-            from .app import EXIT_FAILURE, say_error
+            from .app import EXIT_FAILURE, fail
 
-            say_error(
-                f"error: harmonic balance resolved no point of the response from ω = {values[0]:.6g} to "
-                f"{values[-1]:.6g}; nothing written"
+            raise fail(
+                f"harmonic balance resolved no point of the response from ω = {values[0]:.6g} to "
+                f"{values[-1]:.6g}; nothing written",
+                EXIT_FAILURE,
             )
-            raise typer.Exit(code=EXIT_FAILURE)
     else:
         ds = frequency_response(
             model,
