@@ -8,26 +8,31 @@ the summary adds ``meshes`` (:func:`mesh_summary`), printed as one more table (:
 
 from __future__ import annotations
 
+import inspect
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
 from ..errors import ModelError
-from .options import option
 
 __all__ = ["SYSTEM", "SYSTEM_COMMANDS", "CoordsOpt", "load_cli_system", "coordinates", "mesh_summary"]
 
 SYSTEM_PANEL = "Multi-DOF system"
 SYSTEM = [
-    option(
+    inspect.Parameter(
         "system",
-        Path | None,
-        None,
-        "--system",
-        panel=SYSTEM_PANEL,
-        help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis "
-        "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
+        inspect.Parameter.KEYWORD_ONLY,
+        default=None,
+        annotation=Annotated[
+            Path | None,
+            typer.Option(
+                "--system",
+                rich_help_panel=SYSTEM_PANEL,
+                help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis "
+                "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
+            ),
+        ],
     )
 ]
 #: ``basins --coords``: the two state coordinates of a system's slice.
