@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
@@ -13,17 +13,17 @@ from .options import OUTPUT, Inputs, command, finish, option
 from .render import files, plain, table
 
 STIFFNESS_OPTIONS = [
-    option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
+    option("torque", float | None, None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
     option(
         "fault",
-        Optional[list[str]],
+        list[str] | None,
         None,
         "--fault",
         help="Add a fault: KIND:key=value,... e.g. crack:gear=0,tooth=0,depth=0.5 (repeatable; lengths in m).",
     ),
     option(
         "cycles",
-        Optional[int],
+        int | None,
         None,
         "--cycles",
         help="Mesh cycles computed (default: 1 healthy, z1 or z2 with faults on one gear, the hunting period "
@@ -32,7 +32,7 @@ STIFFNESS_OPTIONS = [
     option("points", int, 64, "--points", help="Mesh phases per mesh cycle."),
     option(
         "slices",
-        Optional[int],
+        int | None,
         None,
         "--slices",
         help="Slices across the face width (default 1 spur, 40 helical, crowned or with partial faults).",
@@ -40,7 +40,7 @@ STIFFNESS_OPTIONS = [
     option("harmonics", int, 8, "--harmonics", help="Fourier harmonics of the excitation's period listed."),
     option(
         "table",
-        Optional[Path],
+        Path | None,
         None,
         "--table",
         help="Also write the stiffness and STE table as .csv or .json (an --excitation file for the analyses).",
@@ -162,16 +162,16 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
 SIGNATURE_OPTIONS = [
     option(
         "rpm",
-        Optional[float],
+        float | None,
         None,
         "--rpm",
         help="Pinion speed (rpm; default the file's [signature] rpm, else 3000; with --system the system's "
         "operating point).",
     ),
-    option("revolutions", Optional[int], None, "--revolutions", help="Pinion revolutions recorded."),
+    option("revolutions", int | None, None, "--revolutions", help="Pinion revolutions recorded."),
     option(
         "fs",
-        Optional[float],
+        float | None,
         None,
         "--fs",
         help="Sampling rate (Hz; default 20 samples per mesh period and 2.5 per period of the highest mesh "
@@ -179,22 +179,22 @@ SIGNATURE_OPTIONS = [
         "natural frequency).",
     ),
     option(
-        "noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."
+        "noise", float | None, None, "--noise", help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."
     ),
     option(
         "sweep",
-        Optional[str],
+        str | None,
         None,
         "--sweep-depths",
         help="Crack depths d1,d2,... : indicators against the depth of the file's first crack (or a crack on "
         "pinion tooth 0).",
     ),
-    option("fault", Optional[list[str]], None, "--fault", help="Add a fault (as for stiffness)."),
-    option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's."),
+    option("fault", list[str] | None, None, "--fault", help="Add a fault (as for stiffness)."),
+    option("torque", float | None, None, "--torque", help="Pinion torque (N·m) instead of the file's."),
     option("points", int, 32, "--points", help="Mesh phases per mesh cycle of the excitation table."),
     option(
         "system",
-        Optional[list[Path]],
+        list[Path] | None,
         None,
         "--system",
         panel="Multi-DOF system",
@@ -205,7 +205,7 @@ SIGNATURE_OPTIONS = [
     ),
     option(
         "sensor",
-        Optional[str],
+        str | None,
         None,
         "--sensor",
         panel="Multi-DOF system",
@@ -214,7 +214,7 @@ SIGNATURE_OPTIONS = [
     ),
     option(
         "mesh",
-        Optional[str],
+        str | None,
         None,
         "--mesh",
         panel="Multi-DOF system",

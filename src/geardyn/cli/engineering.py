@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
@@ -24,20 +24,20 @@ TE_OPTIONS = [
     ),
     option(
         "x_unit",
-        Optional[str],
+        str | None,
         None,
         "--x-unit",
         help="Unit of the first column when the header does not state it: deg, rad, rev (angle) or s, ms, us (time).",
     ),
     option(
         "te_unit",
-        Optional[str],
+        str | None,
         None,
         "--te-unit",
         help="Unit of the TE column when the header does not state it: um, mm, nm, m.",
     ),
-    option("te_rpm", Optional[float], None, "--rpm", help="Pinion speed (rpm) of a time record."),
-    option("te_out", Optional[Path], None, "--out", help="Write the [mesh] section (TOML) to this file."),
+    option("te_rpm", float | None, None, "--rpm", help="Pinion speed (rpm) of a time record."),
+    option("te_out", Path | None, None, "--out", help="Write the [mesh] section (TOML) to this file."),
     *JSON_ONLY,
 ]
 
@@ -156,36 +156,34 @@ def attach_iso_kv(cfg: Any, model: Any, ds: Any, summary: dict[str, Any]) -> tup
 RUNUP_OPTIONS = [
     option(
         "ru_rpm_start",
-        Optional[float],
+        float | None,
         None,
         "--rpm-start",
         help="Pinion speed at the start of the ramp (rpm; with --system the reference mesh's pinion).",
     ),
     option(
         "ru_rpm_stop",
-        Optional[float],
+        float | None,
         None,
         "--rpm-stop",
         help="Pinion speed at the end of the ramp (rpm; below --rpm-start for a run-down).",
     ),
-    option("duration", Optional[float], None, "--duration", help="Duration of the ramp (s)."),
-    option(
-        "omega_start", Optional[float], None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."
-    ),
-    option("omega_stop", Optional[float], None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
-    option("param", Optional[str], None, "--param", help="The ramped parameter: omega only (with --start/--stop)."),
-    option("start", Optional[float], None, "--start", help="Start of the ramp as ω (as --omega-start)."),
-    option("stop", Optional[float], None, "--stop", help="End of the ramp as ω (as --omega-stop)."),
+    option("duration", float | None, None, "--duration", help="Duration of the ramp (s)."),
+    option("omega_start", float | None, None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."),
+    option("omega_stop", float | None, None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
+    option("param", str | None, None, "--param", help="The ramped parameter: omega only (with --start/--stop)."),
+    option("start", float | None, None, "--start", help="Start of the ramp as ω (as --omega-start)."),
+    option("stop", float | None, None, "--stop", help="End of the ramp as ω (as --omega-stop)."),
     option(
         "tau_duration",
-        Optional[float],
+        float | None,
         None,
         "--tau-duration",
         help="Duration of the ramp in τ (instead of --duration).",
     ),
     option(
         "cycles_per_block",
-        Optional[int],
+        int | None,
         None,
         "--cycles-per-block",
         help="Mesh cycles per constant-speed block (default: about 400 blocks); with an --excitation of P mesh cycles "

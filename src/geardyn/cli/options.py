@@ -21,7 +21,7 @@ import sys
 import typing
 from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
@@ -72,7 +72,7 @@ def option(
     dest : str
         The keyword the command function receives.
     kind : type
-        The option's type annotation (``float``, ``Optional[Path]``, ``bool`` for a flag ...).
+        The option's type annotation (``float``, ``Path | None``, ``bool`` for a flag ...).
     default : object
         The value when the option is not given.
     *flags : str
@@ -110,7 +110,7 @@ def _flags_take_no_value(p: inspect.Parameter) -> inspect.Parameter:
 CONFIG = [
     option(
         "config",
-        Optional[Path],
+        Path | None,
         None,
         "--config",
         panel=PHYSICAL_PANEL,
@@ -119,7 +119,7 @@ CONFIG = [
 ]
 RPM = option(
     "rpm",
-    Optional[float],
+    float | None,
     None,
     "--rpm",
     panel=PHYSICAL_PANEL,
@@ -128,7 +128,7 @@ RPM = option(
 )
 TORQUE = option(
     "torque",
-    Optional[float],
+    float | None,
     None,
     "--torque",
     panel=PHYSICAL_PANEL,
@@ -137,7 +137,7 @@ TORQUE = option(
 )
 TORQUE_ORDER = option(
     "torque_order",
-    Optional[list[str]],
+    list[str] | None,
     None,
     "--torque-order",
     metavar="ORDER:AMPLITUDE[:PHASE]",
@@ -148,12 +148,10 @@ TORQUE_ORDER = option(
     "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
     "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp.",
 )
-EXCITATION = option(
-    "excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP
-)
+EXCITATION = option("excitation", Path | None, None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
 EVALUATION = option(
     "excitation_evaluation",
-    Optional[str],
+    str | None,
     None,
     "--excitation-evaluation",
     panel=PHYSICAL_PANEL,
@@ -162,7 +160,7 @@ EVALUATION = option(
 RPM_RANGE = [
     option(
         "rpm_start",
-        Optional[float],
+        float | None,
         None,
         "--rpm-start",
         panel=PHYSICAL_PANEL,
@@ -170,7 +168,7 @@ RPM_RANGE = [
     ),
     option(
         "rpm_stop",
-        Optional[float],
+        float | None,
         None,
         "--rpm-stop",
         panel=PHYSICAL_PANEL,
@@ -197,7 +195,7 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     for o in params.cli_options():
         if o.param == "omega" and not omega:
             continue
-        group.append(option(o.dest, Optional[float], None, o.flag, help=o.help, panel=MODEL_PANEL))
+        group.append(option(o.dest, float | None, None, o.flag, help=o.help, panel=MODEL_PANEL))
     return group
 
 
@@ -294,7 +292,7 @@ ENGINE = [
     ),
     option(
         "scheduler",
-        Optional[str],
+        str | None,
         None,
         "--scheduler",
         panel=ENGINE_PANEL,
@@ -313,7 +311,7 @@ OUTPUT = [
     option("json_out", bool, False, "--json", help="Print a machine-readable summary on stdout.", panel=OUTPUT_PANEL),
     option(
         "out",
-        Optional[Path],
+        Path | None,
         None,
         "--out",
         help="Directory (or .nc file) for NetCDF data and figures.",
@@ -564,7 +562,7 @@ class Inputs:
             dtau,
             transient=given_t,
             periods=given_p,
-            default_transient=int(str(v.get("transient", DEFAULT_TRANSIENT)).strip()) if t_default else None,
+            default_transient=DEFAULT_TRANSIENT if t_default else None,
             default_periods=v.get("periods") if p_default else None,
             omegas=ws if ws.size else None,
         )
@@ -891,7 +889,7 @@ def param_option(what: str) -> Any:
     Returns
     -------
     typing.Annotated
-        ``Optional[str]`` with its ``typer.Option``.
+        ``str | None`` with its ``typer.Option``.
     """
     return Annotated[
         str | None,

@@ -218,8 +218,6 @@ def continuation(
     from .. import validate
     from ..analysis.periodic import continuation as run_continuation
     from ..analysis.physical import add_physical, physical_json
-    from ..io import write_netcdf
-    from .output import out_paths
 
     model = inp.model()
     scales = inp.scales()
@@ -251,26 +249,26 @@ def continuation(
             transient=opts.transient,
             progress=bar,
         )
-    sweep_ds = None
-    if inp.out is not None and nsw > 0:
-        from ..analysis.context import continuation_context
-
-        sweep_ds = continuation_context(
-            model,
-            name,
-            start_v,
-            stop_v,
-            num=nsw,
-            dtau=opts.dtau,
-            transient=opts.transient,
-            state0=state0,
-            progress=not inp.json_out,
-        )
     paths: list[str] = []
     if inp.out is not None:
-        from ..io import attach
+        from ..analysis.context import continuation_context
+        from ..io import attach, write_netcdf
         from ..plot.periodic import SWEEP_CONTEXT
+        from .output import out_paths
 
+        sweep_ds = None
+        if nsw > 0:
+            sweep_ds = continuation_context(
+                model,
+                name,
+                start_v,
+                stop_v,
+                num=nsw,
+                dtau=opts.dtau,
+                transient=opts.transient,
+                state0=state0,
+                progress=not inp.json_out,
+            )
         ds = add_physical(res.to_dataset(), scales)
         if sweep_ds is not None:
             sweep_ds = add_physical(sweep_ds, scales)

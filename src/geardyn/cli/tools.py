@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 
@@ -29,7 +29,7 @@ def geometry(inp: Inputs) -> None:
 
 
 PLOT_OPTIONS = [
-    option("out", Optional[Path], None, "--out", help="Directory for the figures (default: the file's directory)."),
+    option("out", Path | None, None, "--out", help="Directory for the figures (default: the file's directory)."),
     *FIGURE_OPTIONS,
     option(
         "physical",
