@@ -12,7 +12,7 @@ from __future__ import annotations
 import base64
 import html
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -164,9 +164,8 @@ def _md_escape_cell(s: str) -> str:
 
 
 def _md_table(rows: Sequence[Sequence[str]]) -> list[str]:
-    out = ["| " + " | ".join(_md_escape_cell(h) for h in rows[0]) + " |", "|" + "---|" * len(rows[0])]
-    out += ["| " + " | ".join(_md_escape_cell(x) for x in row) + " |" for row in rows[1:]]
-    return out + [""]
+    lines = ["| " + " | ".join(_md_escape_cell(x) for x in row) + " |" for row in rows]
+    return [lines[0], "|" + "---|" * len(rows[0]), *lines[1:], ""]
 
 
 #: The summary's "we find" is cut at the first sentence end after this many characters at most.
@@ -266,14 +265,9 @@ def one_reading_totals(claims: Sequence[Finding]) -> dict[str, Any]:
         ``groups``: group name → (reading, claims holding, claims).
     """
     ids = {c.id: c for c in claims}
-    groups: list[tuple[str, list[Finding]]] = []
-    seen: set[str] = set()
-    for name, members in CLAIM_GROUPS.items():
-        group = [ids[m] for m in members if m in ids]
-        if group:
-            groups.append((name, group))
-            seen |= {c.id for c in group}
-    groups += [(c.id, [c]) for c in claims if c.id not in seen]
+    groups = [(name, g) for name, members in CLAIM_GROUPS.items() if (g := [ids[m] for m in members if m in ids])]
+    grouped = {m for members in CLAIM_GROUPS.values() for m in members}
+    groups += [(c.id, [c]) for c in claims if c.id not in grouped]
     out: dict[str, Any] = {
         "reproduced": 0,
         "reproduced under the group's reading": 0,
@@ -342,12 +336,17 @@ def is_figure(path: str) -> bool:
     return path.startswith("figures/") and path.endswith(".png")
 
 
-def _evidence_groups(evidence: Sequence[str], labels: Mapping[str, str]) -> list[tuple[str, list[tuple[str, str]]]]:
-    """Evidence grouped by Dataset: (label, [(kind, path)]) in first-cited order."""
+def _evidence(
+    evidence: Sequence[str], labels: Mapping[str, str], link: Callable[[str, str], str], text: Callable[[str], str]
+) -> str:
+    """Evidence grouped by Dataset in first-cited order, each as its label (``text``) and links (``link(kind,
+    path)``): ``"label (figure, data); label (data)"``."""
     groups: dict[str, list[tuple[str, str]]] = {}
     for p in dict.fromkeys(evidence):
         groups.setdefault(dataset_of(p), []).append(("figure" if is_figure(p) else "data", p))
-    return [(labels.get(n, n), items) for n, items in groups.items()]
+    return "; ".join(
+        f"{text(labels.get(n, n))} (" + ", ".join(link(k, p) for k, p in items) + ")" for n, items in groups.items()
+    )
 
 
 def _anchor(path: str) -> str:
@@ -412,10 +411,7 @@ def render_markdown(
         if s.table:
             out += _md_table(s.table)
         for c in s.claims:
-            ev = "; ".join(
-                f"{lab} (" + ", ".join(f"[{k}]({p})" for k, p in items) + ")"
-                for lab, items in _evidence_groups(c.evidence, labels)
-            )
+            ev = _evidence(c.evidence, labels, lambda k, p: f"[{k}]({p})", str)
             out += [
                 f"**{c.id}** ({c.source}). *Paper:* {c.statement}",
                 "",
@@ -455,12 +451,7 @@ code{background:#f2f2f2;padding:0 3px}
 
 
 def _vclass(v: str) -> str:
-    return {
-        "reproduced": "v-reproduced",
-        "reproduced under a reading": "v-reading",
-        "contradicted": "v-contradicted",
-        "not testable": "v-untestable",
-    }[v]
+    return "v-" + {"reproduced under a reading": "reading", "not testable": "untestable"}.get(v, v)
 
 
 def _html_table(rows: Sequence[Sequence[str]], cls: str = "") -> str:
@@ -554,10 +545,7 @@ def render_html(
         if s.table:
             out.append(_html_table(s.table))
         for c in s.claims:
-            ev = "; ".join(
-                f"{e(lab)} (" + ", ".join(link(k, p) for k, p in items) + ")"
-                for lab, items in _evidence_groups(c.evidence, labels)
-            )
+            ev = _evidence(c.evidence, labels, link, e)
             out.append(
                 f"<div class='claim' id='{e(c.id)}'><b>{e(c.id)}</b> ({e(c.source)})<br><i>Paper:</i> {e(c.statement)}"
                 f"<br><i>geardyn:</i> {e(c.computed)}<br><i>Verdict:</i> <span class='{_vclass(c.verdict)}'>"
@@ -606,13 +594,12 @@ def write_report(
     """
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
-    claims = [asdict(c) for s in sections for c in s.claims]
+    every = [c for s in sections for c in s.claims]
     paths = {"md": d / "report.md", "html": d / "report.html", "claims": d / "claims.json"}
     atomic_write_bytes(paths["md"], render_markdown(title, intro, sections, labels, run).encode())
     atomic_write_bytes(paths["html"], render_html(title, intro, sections, d, labels, run).encode())
-    atomic_write_bytes(paths["claims"], json.dumps(claims, indent=2, default=str).encode())
+    atomic_write_bytes(paths["claims"], json.dumps([asdict(c) for c in every], indent=2, default=str).encode())
     if run is not None:
-        every = [c for s in sections for c in s.claims]
         meta = {
             "run": asdict(run),
             "totals_one_reading": one_reading_text(every, run),

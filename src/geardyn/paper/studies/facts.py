@@ -24,6 +24,7 @@ from ...io import json_attr
 from ...model import IntegrationOptions
 from ..report import Section
 from ..settings import Context
+from ..verdicts import yes_no
 
 __all__ = ["F1_TEXT", "F2_TEXT", "F2_D", "f1_check", "f2_check", "study_facts"]
 
@@ -186,7 +187,7 @@ def study_facts(ctx: Context) -> list[Section]:
                 f"{f2['u_max_rel'][i]:.12f}",
                 f"{f2['u_min'][i]:.4f}",
                 IMPACT_LABELS[int(f2["impact"][i])],
-                "yes" if f2["back"][i] else "no",
+                yes_no(f2["back"][i]),
             ]
         )
     text = [

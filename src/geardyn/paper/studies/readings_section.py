@@ -7,6 +7,7 @@ from collections.abc import Mapping
 from ..readings import BACKLASH_READINGS, PHASES, phase_text
 from ..report import VERDICTS, Finding, Section
 from ..settings import Context
+from ..verdicts import yes_no
 
 __all__ = ["fixed_readings", "readings_section"]
 
@@ -27,7 +28,7 @@ def fixed_readings(findings: Mapping[str, Finding]) -> None:
             [
                 "the paper's κ1 = 0.2 (no phase, backlash or ω enters the closed form)",
                 f.computed,
-                "yes" if f.verdict == "reproduced" else "no",
+                yes_no(f.verdict == "reproduced"),
             ],
         ]
         f.deciding = f.deciding or (
