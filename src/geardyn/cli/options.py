@@ -63,7 +63,7 @@ OUTPUT_PANEL = "Output"
 
 
 def option(
-    dest: str, kind: Any, default: Any, *flags: str, help: str, panel: str | None = None, **extra: Any
+    dest: str, kind: Any, default: Any, *flags: str, help: str, panel: str | None = None, metavar: str | None = None
 ) -> inspect.Parameter:
     """One keyword-only typer option as a signature parameter.
 
@@ -81,8 +81,8 @@ def option(
         The help text.
     panel : str, optional
         The ``--help`` panel it is listed in.
-    **extra
-        Further keywords of ``typer.Option`` (``metavar``).
+    metavar : str, optional
+        The value's placeholder in ``--help`` (default: typer's).
 
     Returns
     -------
@@ -93,7 +93,7 @@ def option(
         dest,
         _P.KEYWORD_ONLY,
         default=default,
-        annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel, **extra)],
+        annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel, metavar=metavar)],
     )
 
 
