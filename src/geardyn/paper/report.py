@@ -12,7 +12,7 @@ from __future__ import annotations
 import base64
 import html
 import json
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -52,6 +52,11 @@ class RunInfo:
     changes: list[str] = field(default_factory=list)
 
     @property
+    def name(self) -> str:
+        """What the run is called (:data:`RUN_NAMES`; the kind itself for the full run)."""
+        return RUN_NAMES.get(self.kind, self.kind)
+
+    @property
     def reduced(self) -> bool:
         """Whether the run is not the full reproduction."""
         return self.kind != "full"
@@ -81,7 +86,7 @@ class RunInfo:
             else "settings that differ from the full reproduction"
         )
         return (
-            f"{RUN_NAMES.get(self.kind, self.kind).capitalize()}: {what} ({len(self.changes)} settings, {where})"
+            f"{self.name.capitalize()}: {what} ({len(self.changes)} settings, {where})"
             ". Its verdicts and totals may differ from the full run's (geardyn reproduce without --quick)."
         )
 
@@ -187,6 +192,21 @@ def _verdict_text(c: Finding) -> str:
     return f"{c.verdict}: {c.reading}" if c.reading and c.verdict == "reproduced under a reading" else c.verdict
 
 
+def verdict_counts(claims: Iterable[Finding]) -> str:
+    """``"4 reproduced, 7 reproduced under a reading, 15 contradicted, 0 not testable"``: the claims of each verdict.
+
+    Parameters
+    ----------
+    claims : iterable of Finding
+
+    Returns
+    -------
+    str
+    """
+    verdicts = [c.verdict for c in claims]
+    return ", ".join(f"{verdicts.count(v)} {v}" for v in VERDICTS)
+
+
 def totals_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
     """``"Totals (26 claims): 4 reproduced, 7 reproduced under a reading, 15 contradicted, 0 not testable."``;
     for a run that is not the full reproduction ``"Totals of this quick run (26 claims): … (may differ
@@ -202,13 +222,9 @@ def totals_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
     -------
     str
     """
-    counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
-    text = ", ".join(f"{n} {v}" for v, n in counts.items())
+    text = verdict_counts(claims)
     if run is not None and run.reduced:
-        return (
-            f"Totals of this {RUN_NAMES.get(run.kind, run.kind)} ({len(claims)} claims): {text} "
-            "(may differ from the full run)."
-        )
+        return f"Totals of this {run.name} ({len(claims)} claims): {text} (may differ from the full run)."
     return f"Totals ({len(claims)} claims): {text}."
 
 
@@ -294,7 +310,7 @@ def one_reading_text(claims: Sequence[Finding], run: RunInfo | None = None) -> s
     t = one_reading_totals(claims)
     counts = ", ".join(f"{t[k]} {k}" for k in ("reproduced", "reproduced under the group's reading", "not reproduced"))
     counts += f", {t['not testable']} not testable"
-    where = f" of this {RUN_NAMES.get(run.kind, run.kind)}" if run is not None and run.reduced else ""
+    where = f" of this {run.name}" if run is not None and run.reduced else ""
     head = f"Totals{where} under one reading per table or study ({len(claims)} claims, {len(t['groups'])} groups)"
     return f"{head}: {counts}."
 
@@ -428,7 +444,7 @@ def render_markdown(
 
 
 def _title(title: str, run: RunInfo | None) -> str:
-    return f"{title} ({RUN_NAMES.get(run.kind, run.kind)})" if run is not None and run.reduced else title
+    return f"{title} ({run.name})" if run is not None and run.reduced else title
 
 
 _CSS = """

@@ -155,7 +155,7 @@ def combine(both_ok: bool, either_ok: bool) -> str:
     -------
     str
     """
-    return "reproduced" if both_ok else "contradicted"
+    return parts(both_ok)
 
 
 def elsewhere(verdict: str, holds_elsewhere: bool) -> str:
@@ -188,7 +188,7 @@ def of_claims(verdicts: Sequence[str]) -> str:
     -------
     str
     """
-    return "reproduced" if verdicts and all(v == "reproduced" for v in verdicts) else "contradicted"
+    return parts(*(v == "reproduced" for v in verdicts))
 
 
 def length_fraction(

@@ -36,7 +36,7 @@ def _default_t2(ctx: Context, cid: str) -> str:
     lo, hi, _, _ = claim_range(cid)
     frac, _ = range_match(ds, cid)
     x = ds[param].values
-    inside = (x >= max(lo, x.min()) - 1e-12) & (x <= min(hi, x.max()) + 1e-12)
+    inside = (x >= lo - 1e-12) & (x <= hi + 1e-12)
     sub = ds.isel({param: np.flatnonzero(inside)}) if inside.any() else ds
     return f"{100 * frac:.0f} % of the length; {runs_text(motion_runs(sub, param))}"
 
