@@ -44,8 +44,6 @@ SHOOTING_RUN = [
 
 def show(s: dict[str, Any], paths: list[str]) -> None:
     """The branch and its bifurcations for people."""
-    from .render import table
-
     p = s["param"]
     vals = [b[p] for b in s["branch"]]
     n_st = sum(1 for b in s["branch"] if b["stable"])
@@ -54,7 +52,7 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
         f"(H = {s['harmonics']}, period {s['period']}, N = {s['samples']}; {n_st} stable); "
         f"converged: {s['converged']}; end: {s['end']}"
     )
-    t = table("Bifurcations", "type", p, "u_min", "u_max", "multipliers", "detail")
+    t = render.table("Bifurcations", "type", p, "u_min", "u_max", "multipliers", "detail")
     for b in s["bifurcations"]:
         mus = ", ".join("n/a" if m[0] is None else f"{complex(*m):.4f}" for m in b["multipliers"])
         t.add_row(b["type"], f"{b[p]:.6f}", f"{b['u_min']:.4f}", f"{b['u_max']:.4f}", mus, b["detail"])
