@@ -333,7 +333,10 @@ def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
     speed = f", {s['rpm']:.1f} rpm" if "rpm" in s else ""
     t = table(
         f"Attractors at ω = {s['omega']:g}{speed} ({n_u} × {n_v} initial states)",
-        *("label", "motion", "basin share", "amplitude"),
+        "label",
+        "motion",
+        "basin share",
+        "amplitude",
         *(("amplitude (µm)",) if speed else ()),
         "Poincaré points (u, u')",
     )
