@@ -327,11 +327,6 @@ def emit_json(obj: Any) -> None:
     sys.stdout.flush()
 
 
-def is_stop(e: BaseException) -> bool:
-    """A sweep stopped from outside (Ctrl-C, a lost scheduler): not an input error, :func:`main` reports it."""
-    return isinstance(e, (SweepInterrupted, SweepFailed))
-
-
 #: Exit codes: success, a runtime or I/O failure, bad input or usage, interrupted by SIGINT / SIGTERM.
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE, EXIT_TERMINATED = 0, 1, 2, 143
 

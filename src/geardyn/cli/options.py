@@ -26,9 +26,9 @@ from typing import Annotated, Any
 import typer
 
 from .. import params
-from ..errors import GeardynError, ModelError
+from ..errors import GeardynError, ModelError, SweepFailed, SweepInterrupted
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
-from .app import GeardynCommand, app, emit_json, fail, is_stop, say_error
+from .app import GeardynCommand, app, emit_json, fail, say_error
 from .output import check_budget, check_out, engine_keywords, out_paths, write_released
 
 __all__ = [
@@ -805,7 +805,7 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
     *extra : object
         Further arguments of ``show``.
     """
-    pair = inp.__dict__.get("_pair")
+    pair = inp._pair
     if pair is not None and pair.summary() is not None:  # a tooth-pair excitation drives the scales: that pair
         summary["tooth_pair"] = pair.summary()
     if inp.json_out:
@@ -961,7 +961,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
                         check_out(inp.values["out"], file_suffixes=OUT_FILES.get(name, (".nc",)))
                     return fn(inp, **kw)
                 except GeardynError as e:
-                    if is_stop(e):
+                    if isinstance(e, (SweepInterrupted, SweepFailed)):  # stopped from outside: main reports it
                         raise
                     raise fail(str(e)) from None
 
