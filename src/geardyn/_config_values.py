@@ -214,6 +214,10 @@ class _Ctx:
                 return i
         return start if fallback else None
 
+    def head(self, ln: int | None) -> str:
+        """The start of a message about line ``ln`` (None: the file only): ``SOURCE: line N: ``."""
+        return f"{self.source}: " + (f"line {ln}: " if ln else "")
+
     def line_of(self, section: str | None, key: str) -> int | None:
         """The line of ``key`` in the table ``section`` (its header's for ``key = ""``), or None."""
         return self.line(section, None, key or None, fallback=False)
@@ -228,8 +232,7 @@ class _Ctx:
         fallback: bool = False,
     ) -> str:
         """The message prefix of a place: ``SOURCE: line N: [section] key: `` (as much as is known)."""
-        ln = self.line(section, index, key or None, fallback=fallback or index is not None)
-        head = f"{self.source}: " + (f"line {ln}: " if ln else "")
+        head = self.head(self.line(section, index, key or None, fallback=fallback or index is not None))
         if section is None:
             return head + (f"{_shown(key)}: " if key else "")
         sec = f"[[{_shown(section)}]]" if index is not None else f"[{_shown(section)}]"
@@ -443,13 +446,12 @@ def read_toml(path: str | Path, what: str) -> tuple[str, str]:
     ConfigError
         If the file is missing, a directory, or unreadable as UTF-8 text.
     """
-    p = Path(path)
     source = str(path)
     size = regular_file_size(source, what)
     if size > MAX_TOML_BYTES:
         raise ConfigError(f"{source}: {what} of {size} bytes; at most {MAX_TOML_BYTES} allowed")
     try:
-        with open(p, "rb") as f:
+        with open(path, "rb") as f:
             data = f.read(MAX_TOML_BYTES + 1)
         if len(data) > MAX_TOML_BYTES:
             raise ConfigError(f"{source}: {what} larger than {MAX_TOML_BYTES} bytes")

@@ -25,10 +25,6 @@ __all__ = [
     "fill",
     "parameters",
     "result_of",
-    "MODEL",
-    "SYSTEM",
-    "POINT",
-    "OPTIONS",
     "RESULT",
     "SUMMARY",
     "PATHS",
@@ -40,18 +36,6 @@ _SECTION = re.compile(r"^(Returns|Yields|Raises|Warns|Attributes|See Also|Notes|
 
 _PLACEHOLDER = re.compile(r"^(?P<indent>[ \t]*)\{\{(?P<names>\w+(?:, *\w+)*)\}\}[ \t]*$", re.M)
 
-#: ``model`` of a function that takes either kind of model.
-MODEL = """model : SystemModel or GearModel
-    The model."""
-#: ``model`` of a function of a multi-DOF system.
-SYSTEM = """model : SystemModel
-    The system."""
-#: ``model`` of the result of one system point.
-POINT = """model : SystemModel
-    The system point."""
-#: ``options`` of a result: the integration options it was computed with.
-OPTIONS = """options : IntegrationOptions
-    The integration options used."""
 #: ``ds`` of a function of any geardyn result.
 RESULT = """ds : xarray.Dataset
     A geardyn result."""

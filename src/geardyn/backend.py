@@ -73,7 +73,7 @@ from ._kernel import (  # the statistics' indices, statuses and bound: the same 
 )
 from .errors import ModelError
 from .labels import MAX_PERIOD
-from .pairpack import PointModels, pack_models
+from .pairpack import PointModels, steps_per_period
 from .system import Batch, ModelList, build_models
 
 __all__ = [
@@ -105,6 +105,8 @@ S_LAW = S_NDRIVE
 
 #: Integration modes of :meth:`Backend.run`.
 MODES = ("none", "lyapunov", "monodromy", "continue")
+#: Their codes in the kernels (the same in both; the mesh-vector kernel has no "continue").
+_TAN = dict(zip(MODES, (_K1.TAN_NONE, _K1.TAN_LYAPUNOV, _K1.TAN_MONODROMY, _K1.TAN_CONTINUE)))
 #: Seconds one piece of a transient run in pieces by :func:`run_followed` aims at (its periods follow the speed seen).
 PIECE_SECONDS = 0.25
 #: RK4 steps (summed over the points) of the first such piece.
@@ -136,18 +138,6 @@ class RawRun:
     tangent: np.ndarray
     status: np.ndarray
     hist: np.ndarray
-
-
-def _buffers(P: int, d: int, record: int, record_poincare: bool, lyapunov: bool, hist_len: int, k: int | None = None):
-    k = d if k is None else k
-    return (
-        np.zeros((P, record if record_poincare else 0, d)),
-        np.zeros((P, d)),
-        np.zeros((P, record if lyapunov else 0, k)),
-        np.zeros((P, d, k)),
-        np.zeros(P, dtype=np.int64),
-        np.zeros((P, hist_len, d)),
-    )
 
 
 def leading_basis(d: int, k: int) -> np.ndarray:
@@ -197,7 +187,11 @@ class Backend(abc.ABC):
         """Whether a transient run from a period's end state continues it bit for bit (see the module docstring)."""
         return False
 
-    @abc.abstractmethod
+    def tangent_count(self, mode: str, d: int, tangents: int | None) -> int:
+        """The tangent vectors a run in ``mode`` propagates (``tangents`` asked for in Lyapunov mode, else None):
+        all d here (the pair always takes both); a backend that runs the leading ones only says so."""
+        return d
+
     def run(
         self,
         models: Sequence[Any],
@@ -216,7 +210,33 @@ class Backend(abc.ABC):
         watch: Callable[[np.ndarray], None] | None = None,
         tangents: int | None = None,
     ) -> RawRun:
-        """Run the batch in ``mode`` and return its raw arrays (each backend calls its own kernel)."""
+        """Run the batch in ``mode`` and return its raw arrays: allocated here, the same for every kernel, and
+        filled by the backend's own kernel (:meth:`kernel`)."""
+        P, d = len(models), int(models[0].state_dim)
+        lyapunov = mode in ("lyapunov", "continue")
+        k = self.tangent_count(mode, d, tangents if lyapunov else None)
+        raw = RawRun(
+            np.zeros((P, record if record_poincare else 0, d)),
+            np.zeros((P, d)),
+            np.zeros((P, len(models[0].elements), NSTAT)),
+            np.zeros((P, record if lyapunov else 0, k)),
+            np.zeros((P, d, k)),
+            np.zeros(P, dtype=np.int64),
+            np.zeros((P, hist_len, d)),
+        )
+        if tangent0 is not None:  # mode "continue": the kernel starts the tangent basis from these
+            raw.tangent[:] = tangent0
+        if watch is not None:  # every recorded row is written by the kernel (NaN after a divergence)
+            raw.poincare.fill(np.nan)
+            watch(raw.poincare)
+        head = (nsteps, state0, int(transient), int(record), int(_TAN[mode]), bool(accurate))
+        self.kernel(models, packed, head, raw, adaptive_tol)
+        return raw
+
+    @abc.abstractmethod
+    def kernel(self, models: Any, packed: Any, head: tuple, raw: RawRun, adaptive_tol: float) -> None:
+        """Fill ``raw`` by the backend's kernel: its ``run_batch`` with the batch's arrays, ``head`` (steps per
+        period, start states, transient and recorded periods, tangent mode, accurate mode) and ``raw``'s outputs."""
 
 
 class PairBackend(Backend):
@@ -224,11 +244,6 @@ class PairBackend(Backend):
 
     name = "pair"
     coords = "(u0, v0)"
-
-    @staticmethod
-    def pack(models: Sequence[Any]) -> Any:
-        """:func:`geardyn.pairpack.pack_models`."""
-        return pack_models(models)
 
     def points(self, base: Any, names: Sequence[str], points: np.ndarray) -> Batch:
         """The pair's points packed straight from the array (:class:`~geardyn.pairpack.PointModels`)."""
@@ -238,8 +253,7 @@ class PairBackend(Backend):
         return np.zeros((len(models), 2))  # every pair's initial_state() is (0, 0)
 
     def natural_steps(self, models: Sequence[Any], packed: Any, dtau: float) -> np.ndarray:
-        T = 2.0 * np.pi / np.asarray(packed[2], dtype=float)  # as geardyn.pairpack.steps_per_period
-        return np.ceil(T / dtau).astype(np.int64)
+        return steps_per_period(packed[2], dtau)
 
     def restarts_exactly(self, accurate: bool) -> bool:
         """The default mode carries (u, u') only (the rotation is re-seeded at every period's start, tangents and
@@ -248,67 +262,11 @@ class PairBackend(Backend):
         step used up its splits)."""
         return not accurate
 
-    def run(
-        self,
-        models,
-        packed,
-        nsteps,
-        state0,
-        transient,
-        record,
-        mode,
-        accurate,
-        *,
-        record_poincare=True,
-        hist_len=0,
-        adaptive_tol=0.0,
-        tangent0=None,
-        watch=None,
-        tangents=None,
-    ) -> RawRun:
-        K = _K1
+    def kernel(self, models, packed, head, raw, adaptive_tol) -> None:
         coef, D, omega = packed[:3]
         table = packed[3] if len(packed) > 3 else None  # models evaluated as tables (accurate mode)
-        P, d = coef.shape[0], 2
-        lyapunov = mode in ("lyapunov", "continue")
-        poincare, end_state, tan_log, tan_out, status, hist = _buffers(
-            P, d, record, record_poincare, lyapunov, hist_len
-        )
-        stats = np.zeros((P, K.NSTAT))
-        if tangent0 is not None:  # K.TAN_CONTINUE: the kernel starts the tangent basis from these
-            tan_out[:] = tangent0
-        tan = {
-            "none": K.TAN_NONE,
-            "lyapunov": K.TAN_LYAPUNOV,
-            "monodromy": K.TAN_MONODROMY,
-            "continue": K.TAN_CONTINUE,
-        }[mode]
-        if watch is not None:  # every recorded row is written by the kernel (NaN after a divergence)
-            poincare.fill(np.nan)
-            watch(poincare)
-        args = (
-            coef,
-            D,
-            omega,
-            nsteps,
-            state0,
-            int(transient),
-            int(record),
-            int(tan),
-            bool(accurate),
-            poincare,
-            end_state,
-            stats,
-            tan_log,
-            tan_out,
-            status,
-            hist,
-        )
-        if adaptive_tol > 0.0:  # the adaptive transient, seeking cycles up to MAX_PERIOD
-            K.run_batch(*args, float(adaptive_tol), MAX_PERIOD, table=table)
-        else:
-            K.run_batch(*args, table=table)
-        return RawRun(poincare, end_state, stats[:, None, :], tan_log, tan_out, status, hist)
+        adaptive = (float(adaptive_tol), MAX_PERIOD) if adaptive_tol > 0.0 else ()  # cycles up to MAX_PERIOD
+        _K1.run_batch(coef, D, omega, *head, *_outputs(raw, raw.stats[:, 0]), *adaptive, table=table)
 
 
 class MeshBackend(Backend):
@@ -326,35 +284,16 @@ class MeshBackend(Backend):
         accurate mode takes every element's contact branch again from the state at each (sub-)step's start."""
         return True
 
-    def run(
-        self,
-        models,
-        packed,
-        nsteps,
-        state0,
-        transient,
-        record,
-        mode,
-        accurate,
-        *,
-        record_poincare=True,
-        hist_len=0,
-        adaptive_tol=0.0,
-        tangent0=None,
-        watch=None,
-        tangents=None,
-    ) -> RawRun:
-        from . import _kernel_ndof as K  # imported by the first mesh-vector run: a pair never needs it
-
+    def tangent_count(self, mode: str, d: int, tangents: int | None) -> int:
+        """The leading ``tangents`` only, when asked (a continued tangent basis is refused)."""
         if mode == "continue":
             raise ModelError("tangent0: continuing a tangent basis is not available for mesh-vector systems")
-        P, d = len(models), models[0].state_dim
-        E = len(models[0].elements)
-        lyapunov = mode == "lyapunov"
-        k = d if (not lyapunov or tangents is None) else max(1, min(int(tangents), d))
-        poincare, end_state, tan_log, tan_out, status, hist = _buffers(
-            P, d, record, record_poincare, lyapunov, hist_len, k
-        )
+        return d if tangents is None else max(1, min(int(tangents), d))
+
+    def kernel(self, models, packed, head, raw, adaptive_tol) -> None:
+        from . import _kernel_ndof as K  # imported by the first mesh-vector run: a pair never needs it
+
+        P, d, k = raw.tangent.shape
         basis = rigid = None
         if k < d:  # leading exponents: a fixed generic orthonormal start, modulo the rigid-body motions
             R = np.asarray(models[0].rigid_basis(), dtype=float)
@@ -365,32 +304,13 @@ class MeshBackend(Backend):
             b0 = leading_basis(d, k)
             b0 = np.linalg.qr(b0 - rigid @ (rigid.T @ b0))[0]
             basis = np.broadcast_to(b0, (P, d, k))
-        stats = np.zeros((P, E, K.NSTAT))
         tper = np.array([m.sampling_period for m in models], dtype=float)
-        tan = {"none": K.TAN_NONE, "lyapunov": K.TAN_LYAPUNOV, "monodromy": K.TAN_MONODROMY}[mode]
-        if watch is not None:  # every recorded row is written by the kernel (NaN after a divergence)
-            poincare.fill(np.nan)
-            watch(poincare)
-        K.run_batch(
-            packed,
-            tper,
-            nsteps,
-            state0,
-            int(transient),
-            int(record),
-            int(tan),
-            bool(accurate),
-            poincare,
-            end_state,
-            stats,
-            tan_log,
-            tan_out,
-            status,
-            hist,
-            tangent0=basis,
-            rigid=rigid,
-        )
-        return RawRun(poincare, end_state, stats, tan_log, tan_out, status, hist)
+        K.run_batch(packed, tper, *head, *_outputs(raw, raw.stats), tangent0=basis, rigid=rigid)
+
+
+def _outputs(raw: RawRun, stats: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The output arrays of a kernel's ``run_batch``, in its order, with ``stats`` as that kernel takes them."""
+    return raw.poincare, raw.end_state, stats, raw.tan_log, raw.tangent, raw.status, raw.hist
 
 
 def tangent_work(models: Sequence[Any], tangents: int | None = None) -> float:

@@ -95,37 +95,29 @@ class Workload:
         return out
 
 
-def _w1() -> Workload:
-    return Workload(
+#: The standard workloads by name.
+WORKLOADS: dict[str, Callable[[], Workload]] = {
+    "W1": lambda: Workload(
         "W1",
         "bifurcation: 200 ω in [0.5, 1.5], 300 + 200 periods, Poincaré points",
         tuple(np.linspace(0.5, 1.5, 200)),
         IntegrationOptions(dtau=BENCH_DTAU, transient=300, periods=200),
-    )
-
-
-def _w2() -> Workload:
-    return Workload(
+    ),
+    "W2": lambda: Workload(
         "W2",
         "trajectory: ω = 1.2, 10,000 periods, Poincaré points",
         (1.2,),
         IntegrationOptions(dtau=BENCH_DTAU, transient=0, periods=10_000),
-    )
-
-
-def _w3() -> Workload:
-    return Workload(
+    ),
+    "W3": lambda: Workload(
         "W3",
         "Lyapunov: 50 ω in [0.5, 1.5], 300 + 2000 periods, tangent vectors, both exponents",
         tuple(np.linspace(0.5, 1.5, 50)),
         IntegrationOptions(dtau=BENCH_DTAU, transient=300, periods=2000),
         lyapunov=True,
         record_poincare=False,
-    )
-
-
-#: The standard workloads by name.
-WORKLOADS: dict[str, Callable[[], Workload]] = {"W1": _w1, "W2": _w2, "W3": _w3}
+    ),
+}
 
 
 def workload(name: str) -> Workload:
@@ -276,14 +268,10 @@ def run_benchmarks(
     """
     import numba
 
-    from .integrate import set_threads
+    from .integrate import using_threads
 
-    if threads is not None and threads < 1:
-        raise ModelError(f"threads: must be >= 1, got {threads}")
-    ws = [workload(n) for n in names]
-    old = numba.get_num_threads()
-    try:
-        set_threads(threads)
+    with using_threads(threads):  # numba's setting is restored afterwards
+        ws = [workload(n) for n in names]
         used = numba.get_num_threads()
         count = [0]
         total = len(ws) * (repeats + 1)
@@ -293,6 +281,4 @@ def run_benchmarks(
             progress(count[0], total)
 
         results = {w.name: time_workload(w, repeats, ran=None if progress is None else ran) for w in ws}
-    finally:
-        numba.set_num_threads(old)
     return {"workloads": results, "threads": used, "repeats": repeats, "machine": machine_info()}

@@ -212,8 +212,7 @@ def _wrap(ctx: _Ctx, section: str, err: ModelError, keymap: Mapping[str, str] | 
     key = _key_of_message(msg)
     key = (keymap or {}).get(key, key)
     key = re.sub(r"\d+$", "", key) if key not in _SCHEMA.get(section, {}) else key
-    line = ctx.line_of(section, key)
-    return ModelError(f"{ctx.source}: " + (f"line {line}: " if line else "") + f"[{section}] {msg}")
+    return ModelError(ctx.head(ctx.line_of(section, key)) + f"[{section}] {msg}")
 
 
 # ---------------------------------------------------------------------------- loaded config
@@ -313,13 +312,12 @@ class LoadedConfig:
             out["torque"] = float(torque)
             out["torque2"] = None
         # a speed or torque given here is no longer the configuration's assumed operating point
-        dropped = {k for k in ("rpm", "torque", "torque2") if k in out}
-        assumptions = tuple(a for a in self.assumptions if a.name not in dropped)
+        assumptions = tuple(a for a in self.assumptions if a.name not in out)
         # notes on how the configuration's own speed or torque came about no longer hold
         stale = (("pinion speed", "no [operating] rpm") if rpm is not None else ()) + (
             ("pinion torque T1", "no [operating] torque", "[mesh] fp =") if torque is not None else ()
         )
-        notes = [n for n in self.notes if not n.startswith(stale)] if stale else list(self.notes)
+        notes = [n for n in self.notes if not n.startswith(stale)]  # (no prefix: every note kept)
         if rpm is not None:
             notes.append(f"pinion speed {float(rpm):.6g} rpm given for this run sets ω = {changes['omega']:.6g}")
         if torque is not None:
@@ -361,13 +359,15 @@ class LoadedConfig:
                     f"the model's κ1 = {k_model:.4g} is {k_model / k_geo:.3g} × the κ1 = {k_geo:.4g} "
                     "the contact ratios imply"
                 )
-        s["source"] = self.source
-        s["title"] = self.title
-        s["backlash_reading"] = self.backlash_reading
-        s["assumed"] = self.assumed
-        s["assumptions"] = [a.to_dict() for a in self.assumptions]
-        s["notes"] = list(s.get("notes", [])) + list(self.notes) + iso_notes
-        s["model"] = self.model.to_dict()
+        s.update(
+            source=self.source,
+            title=self.title,
+            backlash_reading=self.backlash_reading,
+            assumed=self.assumed,
+            assumptions=[a.to_dict() for a in self.assumptions],
+            notes=list(s.get("notes", [])) + list(self.notes) + iso_notes,
+            model=self.model.to_dict(),
+        )
         return s
 
 
@@ -436,21 +436,19 @@ def _load_text(text: str, source: str) -> LoadedConfig:
             continue
         allowed = ", ".join([f"[{s}]" for s in _SCHEMA] + list(_TOP_LEVEL_TEXT))
         if isinstance(val, dict):
-            line = ctx.line_of(key, "")
             raise ConfigError(
-                f"{source}: "
-                + (f"line {line}: " if line else "")
+                ctx.head(ctx.line_of(key, ""))
                 + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}"
             )
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
-    exc = _read_section(ctx, data, "excitation")[0] if "excitation" in data else {}
-    data, orders = _pop_orders(ctx, data)
+    exc = _read_section(ctx, data, "excitation")[0]  # {} without [excitation]
+    data, orders = _pop_orders(data)
     cfg = _load_sections(ctx, {k: v for k, v in data.items() if k != "excitation"})
     cfg = _with_excitation(ctx, cfg, exc) if exc else cfg
     return _with_orders(ctx, cfg, orders) if orders is not None else cfg
 
 
-def _pop_orders(ctx: _Ctx, data: dict[str, Any]) -> tuple[dict[str, Any], Any]:
+def _pop_orders(data: dict[str, Any]) -> tuple[dict[str, Any], Any]:
     """``data`` without ``[model] torque_orders``, and that key's value (None when absent)."""
     mo = data.get("model")
     if not isinstance(mo, dict) or "torque_orders" not in mo:
@@ -521,7 +519,6 @@ def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> Loade
 
 
 def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
-    source = ctx.source
     data, kappa_geometry = _kappa_word(ctx, data)
     if "gear_pair" not in data:
         if kappa_geometry:
@@ -537,10 +534,7 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
 
     missing = [k for k in _REQUIRED_PAIR if k not in gp]
     if missing:
-        line = ctx.line_of("gear_pair", "")
-        raise ConfigError(
-            f"{source}: " + (f"line {line}: " if line else "") + f"[gear_pair] missing key(s) {', '.join(missing)}"
-        )
+        raise ConfigError(ctx.head(ctx.line_of("gear_pair", "")) + f"[gear_pair] missing key(s) {', '.join(missing)}")
 
     # ---- the ISO 10300-1 inputs and the way to k0
     k0_method = gp.pop("k0_method", None)
@@ -679,10 +673,8 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
         notes.append(f"pinion speed {rpm_final:.6g} rpm follows from ω = {model.omega:g}")
 
     assumptions = list(pair.assumptions) + iso_assumptions
-    for key, src in iso_declared.items():
-        v = iso_in.get(key, k0_method)
-        assumptions.append(Assumption(key, v, _SCHEMA["gear_pair"][key].kind.unit or "", src))
     for section, declared, values in (
+        ("gear_pair", iso_declared, {**iso_in, "k0_method": k0_method}),
         ("operating", op_assumed, op),
         ("mesh", mesh_assumed, mesh_given),
         ("model", mo_assumed, mo),
@@ -694,7 +686,7 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
             assumptions.append(Assumption(f"model.{key}" if section == "model" else key, v, unit, src))
 
     return LoadedConfig(
-        source=source,
+        source=ctx.source,
         title=str(title),
         pair=pair,
         mesh=harmonics,

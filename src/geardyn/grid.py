@@ -500,7 +500,7 @@ class Grid:
         """
         from .pairpack import steps_per_period
 
-        return np.asarray(steps_per_period(self.omegas(base) / (base.period_multiple() or 1), dtau), dtype=np.int64)
+        return steps_per_period(self.omegas(base) / (base.period_multiple() or 1), dtau)
 
     def cost_slices(self, costs: np.ndarray, target: float, min_points: int = 1, min_chunks: int = 1) -> list[slice]:
         """Consecutive slices whose summed ``costs`` are about ``target`` each.

@@ -314,7 +314,7 @@ class PairInputs:
             phys = operating_overrides(
                 self.scales(), rpm=rpm, torque=torque, omega=values.get("omega"), fp=values.get("fp")
             )
-            values = {**values, "omega": phys.get("omega", values.get("omega")), "fp": phys.get("fp", values.get("fp"))}
+            values = {**values, **phys}
         for dest, param in by_dest.items():
             if values.get(dest) is not None:
                 m = m.with_param(param, values[dest])

@@ -339,13 +339,9 @@ class BatchResult:
         return self.element_fractions(self.reference)
 
 
-def _state_array(
-    state0: Sequence[float] | np.ndarray | None, P: int, d: int = STATE_DIM, coords: str = "(u0, v0)"
-) -> np.ndarray:
+def _state_array(state0: Sequence[float] | np.ndarray, P: int, d: int, coords: str) -> np.ndarray:
     """The (P, d) initial states of a batch from one state (d,) or one per point (P, d), checked;
     ``coords`` names the state's coordinates in the messages."""
-    if state0 is None:
-        return np.zeros((P, d))
     s = np.asarray(state0, dtype=float)
     if s.shape == (d,):
         s = np.broadcast_to(s, (P, d))
@@ -354,14 +350,6 @@ def _state_array(
     if not np.all(np.isfinite(s)):
         raise ModelError(f"initial state {coords}: must be finite")
     return np.ascontiguousarray(s, dtype=float)
-
-
-def _states(models: Batch, state0: Any) -> np.ndarray:
-    """The initial states of a batch: given ones checked, or each system's :meth:`initial_state`."""
-    backend = models.backend
-    if state0 is None:
-        return backend.initial_states(models)
-    return _state_array(state0, len(models), models.state_dim, backend.coords)
 
 
 def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
@@ -382,9 +370,14 @@ def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
     return np.ascontiguousarray(arr, dtype=np.int64)
 
 
-def _prepare(models: Sequence[Any], options: IntegrationOptions, steps: int | Sequence[int] | np.ndarray | None = None):
-    """The models as a :class:`~geardyn.system.Batch`, their backend, packed arrays and steps per sampling
-    period."""
+def _prepare(
+    models: Sequence[Any],
+    options: IntegrationOptions,
+    steps: int | Sequence[int] | np.ndarray | None,
+    state0: Any,
+) -> tuple:
+    """The models as a :class:`~geardyn.system.Batch` (packed), their steps per sampling period and initial states
+    (given ones checked, or each system's :meth:`initial_state`)."""
     models = as_batch(models)
     if not len(models):
         raise ModelError("empty parameter grid: no model to integrate")
@@ -392,13 +385,15 @@ def _prepare(models: Sequence[Any], options: IntegrationOptions, steps: int | Se
     for e in models[0].elements:  # the door refuses a law the kernel has no branch for
         if e.law.code not in backend.laws:
             raise ModelError(f"element {e.name!r}: law {e.law.name}: the {backend.name} kernel does not implement it")
-    packed = models.packed()
+    models.packed()  # a batch packs once (its arrays are kept)
     if steps is None:
         models.check_step(options)
         nsteps = models.natural_steps(options.dtau)
     else:
         nsteps = _steps_array(steps, len(models))
-    return models, backend, packed, nsteps
+    if state0 is None:
+        return models, nsteps, backend.initial_states(models)
+    return models, nsteps, _state_array(state0, len(models), models.state_dim, backend.coords)
 
 
 #: Seconds between two looks at a running kernel's output by :func:`integrate_batch` with ``progress``.
@@ -407,8 +402,6 @@ PROGRESS_POLL = 0.25
 
 def _run(
     models: Batch,
-    backend: Any,
-    packed: Any,
     nsteps: np.ndarray,
     state0: np.ndarray,
     transient: int,
@@ -416,19 +409,20 @@ def _run(
     mode: str,
     accurate: bool,
     *,
-    record_poincare: bool = True,
-    hist_len: int = 0,
     threads: int | None = None,
     adaptive: bool = False,
-    tangent0: np.ndarray | None = None,
     progress: Callable[[int, int], None] | None = None,
-    tangents: int | None = None,
+    record_poincare: bool = True,
+    **kw: Any,
 ) -> RawRun:
+    """The batch's run by its backend (``kw``: ``hist_len``, ``tangent0``, ``tangents`` of :meth:`Backend.run
+    <geardyn.backend.Backend.run>`), followed with ``progress``."""
     if not accurate and getattr(models[0], "evaluation", "series") == "table":
         raise ModelError(
             'evaluation "table": the table is evaluated as given in the accurate mode only '
             "(--accurate, IntegrationOptions(accurate=True)); or evaluate its series"
         )
+    backend, packed = models.backend, models.packed()
 
     def call(start: np.ndarray, periods: int, watch: Any = None, *, piece: bool = False) -> RawRun:
         """The batch from ``start`` through ``periods`` transient periods and the record (``piece``: the
@@ -447,11 +441,9 @@ def _run(
                 mode,
                 accurate,
                 record_poincare=record_poincare,
-                hist_len=hist_len,
                 adaptive_tol=IntegrationOptions.ADAPTIVE_TOL if adaptive else 0.0,
-                tangent0=tangent0,
-                tangents=tangents,
                 watch=watch,
+                **kw,
             )
 
     if progress is None:
@@ -566,8 +558,7 @@ def integrate_batch(
     >>> res.poincare.shape, res.ok.tolist()
     ((2, 4, 2), [True, True])
     """
-    models, backend, packed, nsteps = _prepare(models, options, steps)
-    s0 = _states(models, state0)
+    models, nsteps, s0 = _prepare(models, options, steps, state0)
     mode = "lyapunov" if lyapunov else ("monodromy" if monodromy else "none")
     if tangent0 is not None:
         if not lyapunov:
@@ -577,8 +568,6 @@ def integrate_batch(
         mode = "continue"
     raw = _run(
         models,
-        backend,
-        packed,
         nsteps,
         s0,
         options.transient,
@@ -695,17 +684,14 @@ def trajectory(
     >>> tr.poincare.shape  # the Poincaré points (u, u') of the 4 recorded periods
     (4, 2)
     """
-    models, backend, packed, nsteps = _prepare([model], options, steps)
+    models, nsteps, s0 = _prepare([model], options, steps, state0)
     hp = int(min(max(history_periods, 1), options.periods))
     N = int(nsteps[0])
     K = hp * N + 1
     if history_steps is not None and 1 <= int(history_steps) < hp * N and int(model.state_dim) > 2:
         K = int(history_steps) + 1
-    s0 = _states(models, state0)
     raw = _run(
         models,
-        backend,
-        packed,
         nsteps,
         s0,
         options.transient,
@@ -778,7 +764,6 @@ def period_map(
     ((1, 2), (2, 2), True)
     """
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=int(n), accurate=accurate)
-    models, backend, packed, nsteps = _prepare([model], opts, steps)
-    s0 = _states(models, state)
-    raw = _run(models, backend, packed, nsteps, s0, 0, int(n), "monodromy", accurate, threads=threads)
+    models, nsteps, s0 = _prepare([model], opts, steps, state)
+    raw = _run(models, nsteps, s0, 0, int(n), "monodromy", accurate, threads=threads)
     return raw.poincare[0], raw.tangent[0], raw.stats[0], bool(raw.status[0] == ST_OK)

@@ -55,203 +55,211 @@ def _v(long_name: str, units: str = _ONE, flags: Mapping[int, str] | None = None
     return Variable(units, long_name, flags, text)
 
 
+def _table(entries: Mapping[str, Any]) -> dict[str, Variable]:
+    """The Variables of a registry table whose entries are written as a Variable, a long name alone
+    (non-dimensional) or (long name, units)."""
+    return {k: v if isinstance(v, Variable) else _v(v) if isinstance(v, str) else _v(*v) for k, v in entries.items()}
+
+
 #: Every variable and coordinate geardyn writes, by name (kinds that mean something else by a name
 #: override it in :data:`KIND_VARIABLES`).  :func:`annotate` writes their attributes.
-VARIABLES: dict[str, Variable] = {
-    # time histories and spectra
-    "tau": _v("non-dimensional time τ = ω_n t"),
-    "u": _v("dynamic transmission error u (non-dimensional)"),
-    "v": _v("velocity du/dτ (non-dimensional)"),
-    "poincare_u": _v("Poincaré section u at θ ≡ 0"),
-    "poincare_v": _v("Poincaré section du/dτ at θ ≡ 0"),
-    "order": _v("order of the mesh frequency"),
-    "spectrum": _v("single-sided amplitude spectrum of u"),
-    "section": _v("index of the recorded Poincaré point"),
-    # steady-response measures and classes
-    "amplitude": _v("half peak-to-peak displacement"),
-    "rms": _v("RMS of u about its mean"),
-    "mean": _v("mean displacement"),
-    "u_min": _v("smallest displacement"),
-    "u_max": _v("largest displacement"),
-    "period": _v("period of the Poincaré sequence (0 not periodic, -1 diverged)"),
-    "impact": _v("impact state (0 none, 1 single-sided, 2 double-sided, -1 unknown)", flags=IMPACT_LABELS),
-    "motion": _v(
-        "motion class (-1 diverged, 0 unresolved, 1 periodic, 2 quasi-periodic, 3 chaotic)", flags=MOTION_LABELS
-    ),
-    "fraction_drive": _v("time fraction in drive-side contact"),
-    "fraction_separation": _v("time fraction in separation"),
-    "fraction_back": _v("time fraction in back-side contact"),
-    "status": _v("point status (0 ok, 1 diverged)", flags=_STATUS_FLAGS),
-    "lle": _v("largest Lyapunov exponent", "1/τ"),
-    "lle_err": _v("standard error of the largest Lyapunov exponent (block statistics)", "1/τ"),
-    "lambda2": _v("second Lyapunov exponent", "1/τ"),
-    "loops": _v("closed curves of a quasi-periodic Poincaré section (0 otherwise)"),
-    "settled": _v("settling passes run for the point before classification (0: periodic after the transient)"),
-    "settle_ratio": _v("contraction of the Poincaré sequence onto a cycle over the record (1: stationary)"),
-    "curve_dim": _v("correlation dimension of the Poincaré section of a non-periodic point (1: closed curves)"),
-    # sweeps
-    "restarted": _v("1 where a continuation restarted from the initial state after a diverged point"),
-    "start_state": _v("initial state of the point ((u, u') for the pair, (q̃, q̃') for a system)"),
-    "end_state": _v("final state of the point (the start of the next continuation point)"),
-    "state": _v("state coordinate ((u, u') for the pair, (q̃, q̃') for a system)"),
-    "sweep": _v("sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)", text=True),
-    # model parameters: their long names and units come from the registry (geardyn.params, see variable())
-    # Lyapunov spectrum
-    "log_r": _v("log of the Gram–Schmidt diagonal per forcing period"),
-    "running": _v("running Lyapunov exponent estimate", "1/τ"),
-    "exponents": _v("Lyapunov exponents", "1/τ"),
-    "uncertainty": _v("standard error of the exponents (block statistics)", "1/τ"),
-    "exponent": _v("exponent index (1 largest)"),
-    # basins
-    "u0": _v("initial displacement u0 at θ = 0"),
-    "v0": _v("initial velocity u0' at θ = 0"),
-    "attractor": _v("attractor reached (index into attractor_index; -1 diverged)"),
-    "attractor_period": _v("period of the attractor (0 not periodic)"),
-    "attractor_motion": _v("motion class of the attractor"),
-    "attractor_fraction": _v("fraction of the grid in the attractor's basin"),
-    "attractor_amplitude": _v("half peak-to-peak displacement on the attractor"),
-    "attractor_u": _v("Poincaré points u of the attractor (its cycle)"),
-    "attractor_v": _v("Poincaré points u' of the attractor (its cycle)"),
-    "attractor_index": _v("attractor number (0: largest basin)"),
-    "cycle_point": _v("index of a Poincaré point of the attractor"),
-    # periodic orbits and continuation
-    "multiplier_re": _v("Floquet multiplier, real part"),
-    "multiplier_im": _v("Floquet multiplier, imaginary part"),
-    "floquet_exponent": _v("Floquet exponent ln|μ|/(nT)", "1/τ"),
-    "monodromy": _v("monodromy matrix (Jacobian of the n-period map)"),
-    "multiplier": _v("multiplier index (largest modulus first)"),
-    "row": _v("row of the monodromy matrix"),
-    "col": _v("column of the monodromy matrix"),
-    "branch": _v("branch index"),
-    "stable": _v("orbit stable (1) or unstable (0)"),
-    "point": _v("index of the branch point"),
-    "bifurcation": _v("index of the bifurcation"),
-    "bifurcation_type": _v("bifurcation type", text=True),
-    "bifurcation_period": _v("period of the branch the bifurcation lies on"),
-    "bifurcation_branch": _v("branch index of the bifurcation"),
-    "bifurcation_u": _v("orbit u at θ = 0 at the bifurcation"),
-    "bifurcation_v": _v("orbit du/dτ at θ = 0 at the bifurcation"),
-    "bifurcation_amplitude": _v("orbit amplitude at the bifurcation"),
-    "bifurcation_detail": _v("which multiplier or boundary", text=True),
-    # stability boundaries
-    "xi0_critical": _v("ξ0 below which the period-n response loses stability"),
-    "xi0_critical_linear": _v("ξ0 above which the linear contact model (D = 0, unforced) is stable"),
-    "xi0_paper": _v("paper's condition ½√(1 − κ1²)"),
-    # physical units (geardyn.analysis.physical.add_physical)
-    "rpm": _v("pinion speed", "rpm"),
-    "mesh_frequency_Hz": _v("mesh frequency", "Hz"),
-    "torque_N_m": _v("pinion torque (balanced)", "N·m"),
-    "lle_per_s": _v("largest Lyapunov exponent per second", "1/s"),
-    "time_s": _v("time", "s"),
-    "dte_um": _v("dynamic transmission error u_n", "µm"),
-    "mesh_force": _v("mesh force F_n/(k0 b_c)"),
-    "mesh_force_N": _v("dynamic mesh force F_n", "N"),
-    "frequency_Hz": _v("frequency", "Hz"),
-    "spectrum_um": _v("amplitude spectrum of the dynamic transmission error", "µm"),
-}
+VARIABLES: dict[str, Variable] = _table(
+    {
+        # time histories and spectra
+        "tau": "non-dimensional time τ = ω_n t",
+        "u": "dynamic transmission error u (non-dimensional)",
+        "v": "velocity du/dτ (non-dimensional)",
+        "poincare_u": "Poincaré section u at θ ≡ 0",
+        "poincare_v": "Poincaré section du/dτ at θ ≡ 0",
+        "order": "order of the mesh frequency",
+        "spectrum": "single-sided amplitude spectrum of u",
+        "section": "index of the recorded Poincaré point",
+        # steady-response measures and classes
+        "amplitude": "half peak-to-peak displacement",
+        "rms": "RMS of u about its mean",
+        "mean": "mean displacement",
+        "u_min": "smallest displacement",
+        "u_max": "largest displacement",
+        "period": "period of the Poincaré sequence (0 not periodic, -1 diverged)",
+        "impact": _v("impact state (0 none, 1 single-sided, 2 double-sided, -1 unknown)", flags=IMPACT_LABELS),
+        "motion": _v(
+            "motion class (-1 diverged, 0 unresolved, 1 periodic, 2 quasi-periodic, 3 chaotic)", flags=MOTION_LABELS
+        ),
+        "fraction_drive": "time fraction in drive-side contact",
+        "fraction_separation": "time fraction in separation",
+        "fraction_back": "time fraction in back-side contact",
+        "status": _v("point status (0 ok, 1 diverged)", flags=_STATUS_FLAGS),
+        "lle": ("largest Lyapunov exponent", "1/τ"),
+        "lle_err": ("standard error of the largest Lyapunov exponent (block statistics)", "1/τ"),
+        "lambda2": ("second Lyapunov exponent", "1/τ"),
+        "loops": "closed curves of a quasi-periodic Poincaré section (0 otherwise)",
+        "settled": "settling passes run for the point before classification (0: periodic after the transient)",
+        "settle_ratio": "contraction of the Poincaré sequence onto a cycle over the record (1: stationary)",
+        "curve_dim": "correlation dimension of the Poincaré section of a non-periodic point (1: closed curves)",
+        # sweeps
+        "restarted": "1 where a continuation restarted from the initial state after a diverged point",
+        "start_state": "initial state of the point ((u, u') for the pair, (q̃, q̃') for a system)",
+        "end_state": "final state of the point (the start of the next continuation point)",
+        "state": "state coordinate ((u, u') for the pair, (q̃, q̃') for a system)",
+        "sweep": _v(
+            "sweep direction (up: increasing parameter, down: decreasing, fixed: same initial state)", text=True
+        ),
+        # model parameters: their long names and units come from the registry (geardyn.params, see variable())
+        # Lyapunov spectrum
+        "log_r": "log of the Gram–Schmidt diagonal per forcing period",
+        "running": ("running Lyapunov exponent estimate", "1/τ"),
+        "exponents": ("Lyapunov exponents", "1/τ"),
+        "uncertainty": ("standard error of the exponents (block statistics)", "1/τ"),
+        "exponent": "exponent index (1 largest)",
+        # basins
+        "u0": "initial displacement u0 at θ = 0",
+        "v0": "initial velocity u0' at θ = 0",
+        "attractor": "attractor reached (index into attractor_index; -1 diverged)",
+        "attractor_period": "period of the attractor (0 not periodic)",
+        "attractor_motion": "motion class of the attractor",
+        "attractor_fraction": "fraction of the grid in the attractor's basin",
+        "attractor_amplitude": "half peak-to-peak displacement on the attractor",
+        "attractor_u": "Poincaré points u of the attractor (its cycle)",
+        "attractor_v": "Poincaré points u' of the attractor (its cycle)",
+        "attractor_index": "attractor number (0: largest basin)",
+        "cycle_point": "index of a Poincaré point of the attractor",
+        # periodic orbits and continuation
+        "multiplier_re": "Floquet multiplier, real part",
+        "multiplier_im": "Floquet multiplier, imaginary part",
+        "floquet_exponent": ("Floquet exponent ln|μ|/(nT)", "1/τ"),
+        "monodromy": "monodromy matrix (Jacobian of the n-period map)",
+        "multiplier": "multiplier index (largest modulus first)",
+        "row": "row of the monodromy matrix",
+        "col": "column of the monodromy matrix",
+        "branch": "branch index",
+        "stable": "orbit stable (1) or unstable (0)",
+        "point": "index of the branch point",
+        "bifurcation": "index of the bifurcation",
+        "bifurcation_type": _v("bifurcation type", text=True),
+        "bifurcation_period": "period of the branch the bifurcation lies on",
+        "bifurcation_branch": "branch index of the bifurcation",
+        "bifurcation_u": "orbit u at θ = 0 at the bifurcation",
+        "bifurcation_v": "orbit du/dτ at θ = 0 at the bifurcation",
+        "bifurcation_amplitude": "orbit amplitude at the bifurcation",
+        "bifurcation_detail": _v("which multiplier or boundary", text=True),
+        # stability boundaries
+        "xi0_critical": "ξ0 below which the period-n response loses stability",
+        "xi0_critical_linear": "ξ0 above which the linear contact model (D = 0, unforced) is stable",
+        "xi0_paper": "paper's condition ½√(1 − κ1²)",
+        # physical units (geardyn.analysis.physical.add_physical)
+        "rpm": ("pinion speed", "rpm"),
+        "mesh_frequency_Hz": ("mesh frequency", "Hz"),
+        "torque_N_m": ("pinion torque (balanced)", "N·m"),
+        "lle_per_s": ("largest Lyapunov exponent per second", "1/s"),
+        "time_s": ("time", "s"),
+        "dte_um": ("dynamic transmission error u_n", "µm"),
+        "mesh_force": "mesh force F_n/(k0 b_c)",
+        "mesh_force_N": ("dynamic mesh force F_n", "N"),
+        "frequency_Hz": ("frequency", "Hz"),
+        "spectrum_um": ("amplitude spectrum of the dynamic transmission error", "µm"),
+    }
+)
 
-_ORBIT_SECTION = _v("index of the section point along the orbit")
-_FORCING_PERIOD = _v("index of the recorded forcing period")
+_ORBIT_SECTION = "index of the section point along the orbit"
+_FORCING_PERIOD = "index of the recorded forcing period"
 
 #: What a name means in one kind of result where it differs from :data:`VARIABLES`.
 KIND_VARIABLES: dict[str, dict[str, Variable]] = {
-    "simulate": {"section": _FORCING_PERIOD},
-    "lyapunov": {"section": _FORCING_PERIOD},
-    "orbit": {"section": _ORBIT_SECTION},
-    "continuation": {
-        "section": _ORBIT_SECTION,
-        "amplitude": _v("half peak-to-peak displacement of the orbit"),
-        "period": _v("period of the orbit (forcing periods)"),
-        "u": _v("orbit displacement u at θ = 0"),
-        "v": _v("orbit velocity du/dτ at θ = 0"),
-        "poincare_u": _v("section points u of the orbit (θ ≡ 0)"),
-        "poincare_v": _v("section points du/dτ of the orbit (θ ≡ 0)"),
-        "status": _v("point status (0 ok)", flags=_STATUS_FLAGS),
-    },
-    "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
-    "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
-    "mathieu_boundary": {"xi0_critical": _v("ξ0 above which the linear contact model is stable")},
-    "runup": {
-        "order_amplitude": _v("order-tracked DTE amplitude |u_l| over a speed block"),
-        "order_amplitude_um": _v("order-tracked DTE amplitude over a speed block", "µm"),
-        "amplitude": _v("half peak-to-peak displacement over a speed block"),
-        "amplitude_um": _v("half peak-to-peak DTE over a speed block", "µm"),
-        "dynamic_factor": _v("dynamic factor max F_n / F_p over a speed block"),
-        "omega": _v("mesh frequency ω = ω_e/ω_n of a speed block"),
-        "tau": _v("non-dimensional time τ = ω_n t at the middle of a speed block"),
-        "time_s": _v("time at the middle of a speed block", "s"),
-    },
-    "rattle": {
-        "impact": _v("index of the impact"),
-        "impact_time": _v("time τ of an impact (start of a contact)"),
-        "impact_flank": _v("flank of an impact", flags={1: "drive", -1: "back"}),
-        "impact_velocity": _v("relative velocity du/dτ at an impact"),
-    },
-    "rattle_map": {
-        "amplitude_scale": _v("scale of the torque orders' amplitudes"),
-        "impacts_drive": _v("drive-flank impacts per forcing cycle"),
-        "impacts_back": _v("back-flank impacts per forcing cycle"),
-        "impact_velocity_max": _v("largest relative impact velocity |du/dτ|"),
-        "impact_velocity_max_m_s": _v("largest relative impact velocity", "m/s"),
-        "rattle_index": _v("rattle index: impact kinetic-energy loss per cycle (k b_c²)"),
-        "rattle_index_J": _v("rattle index: impact kinetic-energy loss per cycle", "J"),
-        "status": _v("point status (0 ok, 1 diverged)"),
-    },
-    "hb": {
-        "coefficients": _v("Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n"),
-        "coefficient": _v("index of the Fourier coefficient"),
-        "dof": _v("coordinate whose Fourier coefficients these are (u for the pair, q̃ for a system)", text=True),
-        "stable": _v("solution stable (1) or unstable (0) by Hill's multipliers"),
-    },
+    kind: _table(table)
+    for kind, table in {
+        "simulate": {"section": _FORCING_PERIOD},
+        "lyapunov": {"section": _FORCING_PERIOD},
+        "orbit": {"section": _ORBIT_SECTION},
+        "continuation": {
+            "section": _ORBIT_SECTION,
+            "amplitude": "half peak-to-peak displacement of the orbit",
+            "period": "period of the orbit (forcing periods)",
+            "u": "orbit displacement u at θ = 0",
+            "v": "orbit velocity du/dτ at θ = 0",
+            "poincare_u": "section points u of the orbit (θ ≡ 0)",
+            "poincare_v": "section points du/dτ of the orbit (θ ≡ 0)",
+            "status": _v("point status (0 ok)", flags=_STATUS_FLAGS),
+        },
+        "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
+        "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
+        "mathieu_boundary": {"xi0_critical": "ξ0 above which the linear contact model is stable"},
+        "runup": {
+            "order_amplitude": "order-tracked DTE amplitude |u_l| over a speed block",
+            "order_amplitude_um": ("order-tracked DTE amplitude over a speed block", "µm"),
+            "amplitude": "half peak-to-peak displacement over a speed block",
+            "amplitude_um": ("half peak-to-peak DTE over a speed block", "µm"),
+            "dynamic_factor": "dynamic factor max F_n / F_p over a speed block",
+            "omega": "mesh frequency ω = ω_e/ω_n of a speed block",
+            "tau": "non-dimensional time τ = ω_n t at the middle of a speed block",
+            "time_s": ("time at the middle of a speed block", "s"),
+        },
+        "rattle": {
+            "impact": "index of the impact",
+            "impact_time": "time τ of an impact (start of a contact)",
+            "impact_flank": _v("flank of an impact", flags={1: "drive", -1: "back"}),
+            "impact_velocity": "relative velocity du/dτ at an impact",
+        },
+        "rattle_map": {
+            "amplitude_scale": "scale of the torque orders' amplitudes",
+            "impacts_drive": "drive-flank impacts per forcing cycle",
+            "impacts_back": "back-flank impacts per forcing cycle",
+            "impact_velocity_max": "largest relative impact velocity |du/dτ|",
+            "impact_velocity_max_m_s": ("largest relative impact velocity", "m/s"),
+            "rattle_index": "rattle index: impact kinetic-energy loss per cycle (k b_c²)",
+            "rattle_index_J": ("rattle index: impact kinetic-energy loss per cycle", "J"),
+            "status": "point status (0 ok, 1 diverged)",
+        },
+        "hb": {
+            "coefficients": "Fourier coefficients [a0, a1..aH, b1..bH] of u(φ), φ = ωτ/n",
+            "coefficient": "index of the Fourier coefficient",
+            "dof": _v("coordinate whose Fourier coefficients these are (u for the pair, q̃ for a system)", text=True),
+            "stable": "solution stable (1) or unstable (0) by Hill's multipliers",
+        },
+    }.items()
 }
 
 #: Metadata of the variables of the results of mesh-vector systems (entered in :data:`KIND_VARIABLES` for
 #: every ``system_*`` kind, so that :func:`annotate` fills them in).
-SYSTEM_VARIABLES: dict[str, Variable] = {
-    "element": _v("element (meshes, then clearances)"),
-    "mesh": _v("gear mesh"),
-    "coordinate": _v("state coordinate (q̃, then q̃')"),
-    "state": _v("state coordinate (q̃, then q̃')"),
-    "delta": _v("deflection δ of the element (DTE over b_c for a mesh)"),
-    "delta_rate": _v("rate dδ/dτ of the element"),
-    "u": _v("deflection δ of the reference mesh"),
-    "v": _v("rate dδ/dτ of the reference mesh"),
-    "mesh_force": _v("mesh force over k_ref b_c"),
-    "mesh_force_N": _v("dynamic mesh force", "N"),
-    "poincare": _v("Poincaré points of the full state at θ ≡ 0"),
-    "points": _v("section points of the orbit (full state)"),
-    "elastic": _v("elastic multiplier index (largest modulus first)"),
-    "elastic_re": _v("elastic Floquet multiplier, real part"),
-    "elastic_im": _v("elastic Floquet multiplier, imaginary part"),
-    "poincare_u": _v("Poincaré section δ of the reference mesh at θ ≡ 0"),
-    "poincare_v": _v("Poincaré section dδ/dτ of the reference mesh at θ ≡ 0"),
-    "poincare_coordinate": _v("Poincaré section of the chosen state coordinate"),
-    "mesh_u_min": _v("smallest deflection δ of the mesh"),
-    "mesh_u_max": _v("largest deflection δ of the mesh"),
-    "mesh_amplitude": _v("half peak-to-peak deflection δ of the mesh"),
-    "mesh_impact": _v("impact state of the mesh (0 none, 1 single-sided, 2 double-sided)"),
-    "mesh_mean": _v("mean deflection δ of the mesh"),
-    "mesh_rms": _v("RMS of δ of the mesh about its mean"),
-    "u0": _v("initial value of the first slice coordinate at θ = 0"),
-    "v0": _v("initial value of the second slice coordinate at θ = 0"),
-    "value": _v("continuation parameter value"),
-    "element_u_min": _v("smallest deflection δ of the element"),
-    "element_u_max": _v("largest deflection δ of the element"),
-    "bifurcation_value": _v("continuation parameter at the bifurcation"),
-    "element_mean": _v("mean deflection δ of the element"),
-    "element_rms": _v("RMS of δ of the element about its mean"),
-    "element_impact": _v("impact state of the element (0 none, 1 single-sided, 2 double-sided)"),
-}
+SYSTEM_VARIABLES: dict[str, Variable] = _table(
+    {
+        "element": "element (meshes, then clearances)",
+        "mesh": "gear mesh",
+        "coordinate": "state coordinate (q̃, then q̃')",
+        "state": "state coordinate (q̃, then q̃')",
+        "delta": "deflection δ of the element (DTE over b_c for a mesh)",
+        "delta_rate": "rate dδ/dτ of the element",
+        "u": "deflection δ of the reference mesh",
+        "v": "rate dδ/dτ of the reference mesh",
+        "mesh_force": "mesh force over k_ref b_c",
+        "mesh_force_N": ("dynamic mesh force", "N"),
+        "poincare": "Poincaré points of the full state at θ ≡ 0",
+        "points": "section points of the orbit (full state)",
+        "elastic": "elastic multiplier index (largest modulus first)",
+        "elastic_re": "elastic Floquet multiplier, real part",
+        "elastic_im": "elastic Floquet multiplier, imaginary part",
+        "poincare_u": "Poincaré section δ of the reference mesh at θ ≡ 0",
+        "poincare_v": "Poincaré section dδ/dτ of the reference mesh at θ ≡ 0",
+        "poincare_coordinate": "Poincaré section of the chosen state coordinate",
+        "mesh_u_min": "smallest deflection δ of the mesh",
+        "mesh_u_max": "largest deflection δ of the mesh",
+        "mesh_amplitude": "half peak-to-peak deflection δ of the mesh",
+        "mesh_impact": "impact state of the mesh (0 none, 1 single-sided, 2 double-sided)",
+        "mesh_mean": "mean deflection δ of the mesh",
+        "mesh_rms": "RMS of δ of the mesh about its mean",
+        "u0": "initial value of the first slice coordinate at θ = 0",
+        "v0": "initial value of the second slice coordinate at θ = 0",
+        "value": "continuation parameter value",
+        "element_u_min": "smallest deflection δ of the element",
+        "element_u_max": "largest deflection δ of the element",
+        "bifurcation_value": "continuation parameter at the bifurcation",
+        "element_mean": "mean deflection δ of the element",
+        "element_rms": "RMS of δ of the element about its mean",
+        "element_impact": "impact state of the element (0 none, 1 single-sided, 2 double-sided)",
+    }
+)
 #: The kinds the previous versions wrote for systems (``system_<analysis>``); their files stay readable.
-SYSTEM_KINDS = (
-    "system_simulate",
-    "system_lyapunov",
-    "system_orbit",
-    "system_bifurcation",
-    "system_response",
-    "system_map",
-    "system_basins",
-    "system_continuation",
+SYSTEM_KINDS = tuple(
+    f"system_{k}" for k in ("simulate", "lyapunov", "orbit", "bifurcation", "response", "map", "basins", "continuation")
 )
 for _k in SYSTEM_KINDS:
     KIND_VARIABLES.setdefault(_k, {}).update(SYSTEM_VARIABLES)
@@ -338,9 +346,7 @@ def json_attr(obj: Any) -> str:
     to_attrs = getattr(obj, "to_attrs", None)
     if callable(to_attrs):
         return to_attrs()
-    if is_dataclass(obj):
-        return json.dumps(asdict(obj), sort_keys=True, default=_default)
-    return json.dumps(obj, sort_keys=True, default=_default)
+    return json.dumps(asdict(obj) if is_dataclass(obj) else obj, sort_keys=True, default=_default)
 
 
 def _default(o: Any) -> Any:
@@ -505,19 +511,17 @@ def json_values(
     name = str(name if name is not None else getattr(da, "name", ""))
     vals = np.asarray(getattr(da, "values", da))
     meta = variable(name, kind)
+    flat = vals.ravel()
     if name == "motion":
         per = np.broadcast_to(np.asarray(period), vals.shape) if period is not None else np.full(vals.shape, None)
-        out = np.array(
-            [motion_label(int(c), None if p is None else int(p)) for c, p in zip(vals.ravel(), per.ravel())],
-            dtype=object,
-        ).reshape(vals.shape)
+        out = [motion_label(int(c), None if p is None else int(p)) for c, p in zip(flat, per.ravel())]
     elif meta is not None and meta.flags:
-        out = np.array([meta.flags.get(int(c), "unknown") for c in vals.ravel()], dtype=object).reshape(vals.shape)
+        out = [meta.flags.get(int(c), "unknown") for c in flat]
     elif name in ("period", "attractor_period"):
-        out = np.array([int(p) if p > 0 else None for p in vals.ravel()], dtype=object).reshape(vals.shape)
+        out = [int(p) if p > 0 else None for p in flat]
     else:
-        out = np.array([json_number(x) for x in vals.ravel()], dtype=object).reshape(vals.shape)
-    return out.tolist()
+        out = [json_number(x) for x in flat]
+    return np.array(out, dtype=object).reshape(vals.shape).tolist()
 
 
 def status_counts(ds: xr.Dataset) -> dict[str, int]:
@@ -551,11 +555,11 @@ def summary_json(ds: xr.Dataset, variables: Any = None) -> dict[str, Any]:
     dims = ds["status"].dims if "status" in ds.variables else ()
     if variables is None:
         variables = [str(k) for k, v in ds.data_vars.items() if v.dims == dims and dims]
-    period = ds["period"].values if "period" in ds.variables else None
-    points = {}
-    for k in variables:
-        per = period if k == "motion" and period is not None and ds["period"].shape == ds[k].shape else None
-        points[str(k)] = json_values(ds[k], kind, period=per)
+    period = ds["period"] if "period" in ds.variables else None
+    motion = period is not None and "motion" in ds.variables and period.shape == ds["motion"].shape
+    points = {
+        str(k): json_values(ds[k], kind, period=period.values if k == "motion" and motion else None) for k in variables
+    }
     return {
         "kind": kind,
         "model": json.loads(ds.attrs["model"]) if "model" in ds.attrs else None,
@@ -609,11 +613,8 @@ def _system_attrs(model: Any) -> dict[str, str]:
         "source": str(getattr(desc, "source", "") or "") or None,
         "elements": [{"name": e.name, "kind": e.kind, "gap": e.gap} for e in model.elements],
     }
-    sc = getattr(model, "scaling", None)
-    if sc is not None:  # the scales of the physical units (µm, N, rpm)
-        sysinfo.update(
-            b_c_um=sc.b_c_m * 1e6, force_scale_N=sc.force_scale_N, omega_n=sc.omega_n_rad_s, teeth=sc.z1 or None
-        )
+    sc = model.scaling  # the scales of the physical units (µm, N, rpm)
+    sysinfo.update(b_c_um=sc.b_c_m * 1e6, force_scale_N=sc.force_scale_N, omega_n=sc.omega_n_rad_s, teeth=sc.z1 or None)
     return {
         "system": json.dumps(sysinfo),
         "system_model": model.to_attrs(),

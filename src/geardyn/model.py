@@ -102,9 +102,8 @@ def series_change(obj: Any, attr: str, idx: int, value: float) -> dict[str, tupl
     seq[idx] = value
     changes = {attr: tuple(seq)}
     amp_name = FAMILIES[attr].amplitude
-    if amp_name is not None and len(getattr(obj, amp_name)) < len(seq):
-        amp = list(getattr(obj, amp_name))
-        changes[amp_name] = tuple(amp + [0.0] * (len(seq) - len(amp)))
+    if amp_name is not None and len(amp := getattr(obj, amp_name)) < len(seq):
+        changes[amp_name] = tuple(amp) + (0.0,) * (len(seq) - len(amp))
     return changes
 
 
@@ -434,8 +433,7 @@ class GearModel:
                     d[ph] = tuple(old) + (0.0,) * (n - len(old))
                 elif not any(old[n:]):
                     d[ph] = tuple(old[:n])
-        d.update(changes)
-        return GearModel(**d)
+        return GearModel(**{**d, **changes})
 
     # ------------------------------------------------------------------ parameters by name
     def get(self, name: str) -> float:
@@ -541,8 +539,7 @@ class GearModel:
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> GearModel:
         known = {f.name for f in fields(cls)}
-        unknown = set(d) - known
-        if unknown:
+        if unknown := set(d) - known:
             raise ModelError(f"unknown model field(s) {sorted(unknown)}; allowed: {sorted(known)}")
         return cls(**d)
 
@@ -630,6 +627,4 @@ class IntegrationOptions:
             raise ModelError(f"dtau: must be smaller than the forcing period T = 2π/ω = {T:.6g}, got {self.dtau!r}")
 
     def replace(self, **changes: Any) -> IntegrationOptions:
-        d = asdict(self)
-        d.update(changes)
-        return IntegrationOptions(**d)
+        return IntegrationOptions(**{**asdict(self), **changes})

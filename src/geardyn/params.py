@@ -320,9 +320,8 @@ class CliOption:
 
 def cli_options() -> tuple[CliOption, ...]:
     """The model options every analysis command takes, generated from :data:`FAMILIES`."""
-    out = []
-    for f in (FAMILIES[n] for n in LISTING_ORDER):
-        if f.flag is None:
-            continue
-        out.append(CliOption(f.flag, canonical_param(f.name + "1" if f.series else f.name), f.flag_help))
-    return tuple(out)
+    return tuple(
+        CliOption(f.flag, canonical_param(f.name + "1" if f.series else f.name), f.flag_help)
+        for f in (FAMILIES[n] for n in LISTING_ORDER)
+        if f.flag is not None
+    )

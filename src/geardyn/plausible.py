@@ -73,10 +73,6 @@ MAX_TABLE_BYTES = 64_000_000
 UNDERCUT_ADDENDUM = 1.0
 
 
-def _bad(cls: type[Exception], key: str, text: str) -> Exception:
-    return cls(f"{key}: {text}")
-
-
 def pair_geometry(
     *,
     z1: int,
@@ -118,44 +114,34 @@ def pair_geometry(
     a = math.degrees(alpha_n)
     lo, hi = ALPHA_N_DEG
     if not lo <= a <= hi:
-        raise _bad(
-            error,
-            "alpha_n",
-            f"normal pressure angle alpha_n = {a:.6g} deg is outside [{lo:g}, {hi:g}] deg of cut gears",
+        raise error(
+            f"alpha_n: normal pressure angle alpha_n = {a:.6g} deg is outside [{lo:g}, {hi:g}] deg of cut gears",
         )
     b = math.degrees(beta_m)
     if b > BETA_M_MAX_DEG:
-        raise _bad(error, "beta_m", f"mean spiral angle beta_m = {b:.6g} deg is above {BETA_M_MAX_DEG:g} deg")
+        raise error(f"beta_m: mean spiral angle beta_m = {b:.6g} deg is above {BETA_M_MAX_DEG:g} deg")
     lo, hi = MODULE_M
     if not lo <= m_mn <= hi:
-        raise _bad(
-            error, "m_mn", f"mean normal module m_mn = {m_mn * 1e3:.6g} mm is outside [{lo * 1e3:g}, {hi * 1e3:g}] mm"
-        )
+        raise error(f"m_mn: mean normal module m_mn = {m_mn * 1e3:.6g} mm is outside [{lo * 1e3:g}, {hi * 1e3:g}] mm")
     if j_n > BACKLASH_MAX_MODULES * m_mn:
-        raise _bad(
-            error,
-            "j_n",
-            f"normal backlash j_n = {j_n * 1e3:.6g} mm is above {BACKLASH_MAX_MODULES:g} x the module m_mn "
+        raise error(
+            f"j_n: normal backlash j_n = {j_n * 1e3:.6g} mm is above {BACKLASH_MAX_MODULES:g} x the module m_mn "
             f"({BACKLASH_MAX_MODULES * m_mn * 1e3:.6g} mm)",
         )
     pitch = [m_mn * z / (2.0 * math.cos(beta_m)) for z in (z1, z2)]
     flo, fhi = PITCH_RADIUS_FACTOR
     for key, r, rp in (("r1", r1, pitch[0]), ("r2", r2, pitch[1])):
         if r is not None and not flo * rp <= r <= fhi * rp:
-            raise _bad(
-                error,
-                key,
-                f"{key} = {r * 1e3:.6g} mm is outside [{flo:g}, {fhi:g}] x the mean pitch radius m_mn z/(2 cos beta_m) "
-                f"= {rp * 1e3:.6g} mm",
+            raise error(
+                f"{key}: {key} = {r * 1e3:.6g} mm is outside [{flo:g}, {fhi:g}] x the mean pitch radius "
+                f"m_mn z/(2 cos beta_m) = {rp * 1e3:.6g} mm",
             )
     if r1 is not None and r2 is not None:
         q = (r2 / r1) / (z2 / z1)
         qlo = math.cos(beta_m) * (1.0 - RADIUS_RATIO_TOL)
         if not qlo <= q <= 1.0 + RADIUS_RATIO_TOL:
-            raise _bad(
-                error,
-                "r2",
-                f"r2/r1 = {r2 / r1:.6g} against z2/z1 = {z2 / z1:.6g}: their quotient {q:.4g} is outside "
+            raise error(
+                f"r2: r2/r1 = {r2 / r1:.6g} against z2/z1 = {z2 / z1:.6g}: their quotient {q:.4g} is outside "
                 f"[{qlo:.4g}, {1.0 + RADIUS_RATIO_TOL:g}] (the pitch radii of a bevel pair are in the ratio of the "
                 f"teeth, a hypoid's by cos beta_m1/cos beta_m2 >= cos beta_m; tolerance {100 * RADIUS_RATIO_TOL:g} %)",
             )
@@ -163,11 +149,9 @@ def pair_geometry(
         r_m = (r1 if r1 is not None else pitch[0]) / math.sin(delta1)  # mean cone distance
         r_e = r_m + 0.5 * face_width
         if face_width > FACE_WIDTH_MAX_CONE * r_e:
-            raise _bad(
-                error,
-                "face_width",
-                f"face_width = {face_width * 1e3:.6g} mm is above {FACE_WIDTH_MAX_CONE:g} x the outer cone distance "
-                f"R_e = {r_e * 1e3:.6g} mm",
+            raise error(
+                f"face_width: face_width = {face_width * 1e3:.6g} mm is above {FACE_WIDTH_MAX_CONE:g} x the outer "
+                f"cone distance R_e = {r_e * 1e3:.6g} mm",
             )
 
 

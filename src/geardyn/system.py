@@ -498,8 +498,6 @@ class ModelList(Batch):
     def __getitem__(self, i: Any) -> Any:
         if isinstance(i, (int, np.integer)):
             return self.models[int(i)]
-        if isinstance(i, slice):
-            return ModelList(self.models[i])
         return ModelList([self.models[int(k)] for k in np.arange(len(self.models))[i]])
 
     def __repr__(self) -> str:

@@ -103,10 +103,6 @@ def _unit_of(name: str) -> str | None:
     return (m.group(1) or m.group(2)).strip().lower().replace("μ", "µ")
 
 
-def _fields(line: str) -> list[str]:
-    return [f for f in _SPLIT.split(line.strip()) if f]
-
-
 def _number(text: str) -> float | None:
     try:
         return float(text)
@@ -157,7 +153,7 @@ def read_te(
         text = raw.split("#", 1)[0].strip()
         if not text:
             continue
-        parts = _fields(text)
+        parts = [f for f in _SPLIT.split(text) if f]
         nums = [_number(f) for f in parts]
         if not rows and header_line == 0 and all(v is None for v in nums):
             if len(parts) < 2:

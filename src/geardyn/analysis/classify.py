@@ -348,20 +348,6 @@ def decay_hides_torus(decay: Any, band: Any) -> np.ndarray:
         return np.asarray((s > 0.0) & (s <= np.asarray(band, dtype=float)))
 
 
-def motion_class(
-    period: int,
-    lle: float,
-    lle_err: float,
-    ok: bool = True,
-    curve_dim: float = np.nan,
-    settle_ratio: float = np.nan,
-    quasi_allowed: bool = True,
-    decay: float = np.nan,
-) -> int:
-    """Scalar form of :func:`classify_motion`."""
-    return int(classify_motion(period, lle, lle_err, ok, curve_dim, settle_ratio, quasi_allowed, decay))
-
-
 def count_loops(points: np.ndarray, gap: float = LOOP_GAP) -> int:
     """Number of separate groups (closed curves or cycle points) in a Poincaré point set.
 

@@ -134,14 +134,11 @@ def crossings(tau: np.ndarray, u: np.ndarray, v: np.ndarray, D: float) -> dict[s
             out[key + "time"].append(tau[i] + s * h)
             out[key + "flank"].append(flank)
             out[key + "velocity"].append(vc)
-    res = {}
-    for prefix in ("", "rebound_"):
-        t = np.asarray(out[prefix + "time"], dtype=float)
-        order = np.argsort(t, kind="stable")
-        res[prefix + "time"] = t[order]
-        res[prefix + "flank"] = np.asarray(out[prefix + "flank"], dtype=np.int8)[order]
-        res[prefix + "velocity"] = np.asarray(out[prefix + "velocity"], dtype=float)[order]
-    return res
+    for prefix in ("", "rebound_"):  # in the order of time
+        order = np.argsort(np.asarray(out[prefix + "time"], dtype=float), kind="stable")
+        for k, dtype in (("time", float), ("flank", np.int8), ("velocity", float)):
+            out[prefix + k] = np.asarray(out[prefix + k], dtype=dtype)[order]
+    return out
 
 
 # ---------------------------------------------------------------------------- one point

@@ -47,7 +47,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
-from ..integrate import integrate_batch, start_state, trajectory
+from ..integrate import integrate_batch, trajectory
 from ..io import json_number
 from ..model import DEFAULT_DTAU, IntegrationOptions
 
@@ -279,7 +279,8 @@ def runup(
             )
     speeds, mids = _block_speeds(w0, w1, T, m)
     IntegrationOptions(dtau=dtau).check_for(max(w0, w1))
-    state0 = start_state(model, state0)
+    s = np.asarray(state0, dtype=float).ravel()  # a full state, or the reference element's (u0, u0')
+    state0 = model.initial_state(float(s[0]), float(s[1])) if s.size == 2 and model.state_dim != 2 else s
     start = integrate_batch(  # settle mesh periods rounded up to forcing periods, at the one-cycle model's step
         [model.with_param("omega", w0)],
         state0,

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from .._lazy import lazy_module
-from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, start_state, trajectory
+from ..integrate import ST_OK, BatchResult, Trajectory, integrate_batch, natural_steps, start_state, trajectory
 from ..io import annotate, json_number, result_attrs
 from ..model import IntegrationOptions
 from ..system import state_names
@@ -78,8 +78,6 @@ def history_budget(model: Any, options: IntegrationOptions, history_periods: int
     >>> history_budget(GearModel(), IntegrationOptions(), HISTORY_PERIODS)
     (None, None)
     """
-    from ..integrate import natural_steps
-
     if int(model.state_dim) <= 2:
         return None, None
     hp = int(min(max(history_periods, 1), options.periods))

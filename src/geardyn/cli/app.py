@@ -118,7 +118,7 @@ class _Commands(MutableMapping):  # type: ignore[type-arg]
         return iter(dict.fromkeys([*COMMANDS, *self._built]))
 
     def __len__(self) -> int:
-        return len(dict.fromkeys([*COMMANDS, *self._built]))
+        return sum(1 for _ in self)
 
     def __contains__(self, name: object) -> bool:
         return name in COMMANDS or name in self._built
@@ -169,11 +169,7 @@ def _direct(annotation: Any, value: Any) -> Any:
     (``0.8``, ``-2``, ``1e-3``) for a float or an int option, a value already of the option's type (a default),
     a string for a string option.  Else ``_direct`` itself (the caller then converts as typer does)."""
     if annotation is float:
-        if type(value) is float:
-            return value
-        if type(value) is int:
-            return float(value)
-        if type(value) is str and _FLOAT.fullmatch(value):
+        if type(value) in (float, int) or (type(value) is str and _FLOAT.fullmatch(value)):
             return float(value)
     elif annotation is int:
         if type(value) is int or (type(value) is str and _INT.fullmatch(value)):
@@ -285,21 +281,23 @@ def say_error(message: str) -> None:
     err_console.print(" ".join(str(message).split()), markup=False, highlight=False, soft_wrap=True)
 
 
-def fail(message: str) -> typer.Exit:
-    """Print one line naming the bad input and return the exit (code 2) to raise.
+def fail(message: str, code: int = 2) -> typer.Exit:
+    """Print one line naming the bad input (or the failure) and return the exit to raise.
 
     Parameters
     ----------
     message : str
         What is wrong, printed after ``error:`` on stderr.
+    code : int
+        The exit code: 2 for bad input (:data:`EXIT_USAGE`), 1 for a computation that failed.
 
     Returns
     -------
     typer.Exit
-        The exit with code 2, for the caller to ``raise``.
+        The exit with ``code``, for the caller to ``raise``.
     """
     say_error(f"error: {message}")
-    return typer.Exit(code=2)
+    return typer.Exit(code=code)
 
 
 def emit_json(obj: Any) -> None:
@@ -327,11 +325,6 @@ def emit_json(obj: Any) -> None:
     check_stop()
     sys.stdout.write(text)
     sys.stdout.flush()
-
-
-def is_stop(e: BaseException) -> bool:
-    """A sweep stopped from outside (Ctrl-C, a lost scheduler): not an input error, :func:`main` reports it."""
-    return isinstance(e, (SweepInterrupted, SweepFailed))
 
 
 #: Exit codes: success, a runtime or I/O failure, bad input or usage, interrupted by SIGINT / SIGTERM.
@@ -476,8 +469,9 @@ def _empty_path_option(args: list[str]) -> str | None:
             return None
         if a in PATH_OPTIONS and i + 1 < len(args) and not args[i + 1].strip():
             return a
-        if "=" in a and a.split("=", 1)[0] in PATH_OPTIONS and not a.split("=", 1)[1].strip():
-            return a.split("=", 1)[0]
+        name, eq, value = a.partition("=")
+        if eq and name in PATH_OPTIONS and not value.strip():
+            return name
     return None
 
 

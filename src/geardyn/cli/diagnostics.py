@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
-from rich.table import Table
 
 from ..errors import ModelError
 from .app import console
@@ -14,17 +13,17 @@ from .options import OUTPUT, Inputs, command, finish, option
 from .render import files, plain, table
 
 STIFFNESS_OPTIONS = [
-    option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
+    option("torque", float | None, None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
     option(
         "fault",
-        Optional[list[str]],
+        list[str] | None,
         None,
         "--fault",
         help="Add a fault: KIND:key=value,... e.g. crack:gear=0,tooth=0,depth=0.5 (repeatable; lengths in m).",
     ),
     option(
         "cycles",
-        Optional[int],
+        int | None,
         None,
         "--cycles",
         help="Mesh cycles computed (default: 1 healthy, z1 or z2 with faults on one gear, the hunting period "
@@ -33,7 +32,7 @@ STIFFNESS_OPTIONS = [
     option("points", int, 64, "--points", help="Mesh phases per mesh cycle."),
     option(
         "slices",
-        Optional[int],
+        int | None,
         None,
         "--slices",
         help="Slices across the face width (default 1 spur, 40 helical, crowned or with partial faults).",
@@ -41,7 +40,7 @@ STIFFNESS_OPTIONS = [
     option("harmonics", int, 8, "--harmonics", help="Fourier harmonics of the excitation's period listed."),
     option(
         "table",
-        Optional[Path],
+        Path | None,
         None,
         "--table",
         help="Also write the stiffness and STE table as .csv or .json (an --excitation file for the analyses).",
@@ -163,16 +162,16 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
 SIGNATURE_OPTIONS = [
     option(
         "rpm",
-        Optional[float],
+        float | None,
         None,
         "--rpm",
         help="Pinion speed (rpm; default the file's [signature] rpm, else 3000; with --system the system's "
         "operating point).",
     ),
-    option("revolutions", Optional[int], None, "--revolutions", help="Pinion revolutions recorded."),
+    option("revolutions", int | None, None, "--revolutions", help="Pinion revolutions recorded."),
     option(
         "fs",
-        Optional[float],
+        float | None,
         None,
         "--fs",
         help="Sampling rate (Hz; default 20 samples per mesh period and 2.5 per period of the highest mesh "
@@ -180,22 +179,22 @@ SIGNATURE_OPTIONS = [
         "natural frequency).",
     ),
     option(
-        "noise", Optional[float], None, "--noise", help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."
+        "noise", float | None, None, "--noise", help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."
     ),
     option(
         "sweep",
-        Optional[str],
+        str | None,
         None,
         "--sweep-depths",
         help="Crack depths d1,d2,... : indicators against the depth of the file's first crack (or a crack on "
         "pinion tooth 0).",
     ),
-    option("fault", Optional[list[str]], None, "--fault", help="Add a fault (as for stiffness)."),
-    option("torque", Optional[float], None, "--torque", help="Pinion torque (N·m) instead of the file's."),
+    option("fault", list[str] | None, None, "--fault", help="Add a fault (as for stiffness)."),
+    option("torque", float | None, None, "--torque", help="Pinion torque (N·m) instead of the file's."),
     option("points", int, 32, "--points", help="Mesh phases per mesh cycle of the excitation table."),
     option(
         "system",
-        Optional[list[Path]],
+        list[Path] | None,
         None,
         "--system",
         panel="Multi-DOF system",
@@ -206,7 +205,7 @@ SIGNATURE_OPTIONS = [
     ),
     option(
         "sensor",
-        Optional[str],
+        str | None,
         None,
         "--sensor",
         panel="Multi-DOF system",
@@ -215,7 +214,7 @@ SIGNATURE_OPTIONS = [
     ),
     option(
         "mesh",
-        Optional[str],
+        str | None,
         None,
         "--mesh",
         panel="Multi-DOF system",
@@ -237,12 +236,19 @@ def _depths(text: str) -> list[float]:
     return depths
 
 
-def _sweep_crack(case: Any, period: int) -> tuple[Any, list[Any], int]:
-    """The crack of a sweep (the case's first, else one on pinion tooth 0), the other faults and the period."""
+def _depth_sweep(inp: Inputs, case: Any, period: int, build: Any) -> tuple[list[float], Any]:
+    """The depths of ``--sweep-depths`` and ``make(depth)``: ``build(faults, period, name)`` with the sweep's crack
+    (the case's first, else one on pinion tooth 0) at that depth beside the other faults, over the period the
+    crack's gear needs."""
+    import dataclasses
+
     from ..tooth.faults import Crack
 
+    depths = _depths(inp.sweep)
     crack = next((f for f in case.faults if isinstance(f, Crack)), Crack(0, 0, 0.0))
-    return crack, [f for f in case.faults if f is not crack], max(period, _teeth(case)[crack.gear])
+    others = [f for f in case.faults if f is not crack]
+    period = max(period, _teeth(case)[crack.gear])
+    return depths, lambda d: build(others + [dataclasses.replace(crack, depth=d)], period, f"d{d:g}")
 
 
 def _period(cases: list[Any]) -> int:
@@ -270,10 +276,7 @@ def signature_cmd(
     tachometer, order spectrum, TSA per shaft, regular/residual/difference signals and the condition indicators;
     healthy beside faulty with two files; indicators against crack depth with --sweep-depths. With --system: the
     same for a bearing sensor (a translational DOF) of a multi-DOF system."""
-    import dataclasses
-    import json
-
-    from ..signature.run import combine, signature, signature_sweep
+    from ..signature.run import signature, signature_sweep
 
     files = list(files or [])
     if inp.system:
@@ -291,19 +294,21 @@ def signature_cmd(
     kw.update({key: float(first[key]) for key in ("backlash", "b_c", "xi0") if key in first})
     period = _period(cases)
     if inp.sweep:
-        depths = _depths(inp.sweep)
         case = cases[-1]
-        crack, others, period = _sweep_crack(case, period)
-
-        def make(d):
-            return _mesh(case, others + [dataclasses.replace(crack, depth=d)], period, inp.points)
-
+        depths, make = _depth_sweep(inp, case, period, lambda faults, p, _: _mesh(case, faults, p, inp.points))
         _finish_sweep(inp, signature_sweep(make, depths, rpm, **kw))
         return
-    runs = [signature(_mesh(c, c.faults, period, inp.points), rpm, label=c.name, **kw) for c in cases]
+    _finish_runs(inp, [signature(_mesh(c, c.faults, period, inp.points), rpm, label=c.name, **kw) for c in cases])
+
+
+def _finish_runs(inp: Inputs, runs: list[Any]) -> None:
+    """Report the signature of one run, or of two side by side."""
+    import json
+
+    from ..signature.run import combine
+
     ds = combine(runs) if len(runs) > 1 else runs[0]
-    summary = json.loads(ds.attrs["summary"])
-    finish(summary, inp.write(ds, "signature"), inp, _show_signature)
+    finish(json.loads(ds.attrs["summary"]), inp.write(ds, "signature"), inp, _show_signature)
 
 
 def _record(inp: Inputs, first: dict[str, Any]) -> dict[str, Any]:
@@ -347,12 +352,7 @@ def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
         f"{r0['excitation_cycles']} mesh cycles ({r0['harmonics']} harmonics)"
     )
     wheel = all("wheel" in r["indicators"] for r in s["runs"])
-    t = Table(
-        title="Condition indicators (TSA of the pinion | of the wheel)"
-        if wheel
-        else "Condition indicators (TSA of the pinion)"
-    )
-    t.add_column("indicator")
+    t = table("Condition indicators (TSA of the pinion" + (" | of the wheel)" if wheel else ")"), "indicator")
     for r in s["runs"]:
         t.add_column(r["label"], justify="right")
     for k in INDICATORS:
@@ -369,11 +369,9 @@ def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
 
 def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
     where = f" (sensor {s['sensor']})" if "sensor" in s else ""
-    t = Table(title=f"Indicators of the pinion's TSA against {s['size_name']} at {s['rpm']:.6g} rpm{where}")
-    t.add_column(s["size_name"], justify="right")
     names = ("kurtosis", "fm4", "na4", "m6a", "fm0", "energy_ratio")
-    for n in names:
-        t.add_column(n, justify="right")
+    title = f"Indicators of the pinion's TSA against {s['size_name']} at {s['rpm']:.6g} rpm{where}"
+    t = table(title, s["size_name"], *names, justify="right")
     for i, d in enumerate(s["sizes"]):
         t.add_row(f"{d:g}", *[f"{s['indicators'][n]['pinion'][i]:.4g}" for n in names])
     console.print(t)
@@ -383,11 +381,9 @@ def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
 def _system_signature(inp: Inputs, files: list[Path]) -> None:
     """``geardyn signature --system``: a bearing sensor of one or two systems, the system with the excitation of
     each tooth-pair file (or table) on a mesh, or over a crack-depth sweep of a tooth-pair file."""
-    import dataclasses
-    import json
     import tempfile
 
-    from ..signature.run import SIGNATURE_HARMONICS, combine
+    from ..signature.run import SIGNATURE_HARMONICS
     from ..signature.system import (
         check_sensor,
         default_sensor,
@@ -416,8 +412,8 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     systems = [s.with_param("omega", s.scaling.omega_from_rpm(rpm)) for s in systems]
     s0 = systems[0]
     mesh = inp.mesh
-    z1, z2, _ = mesh_shafts(systems[0], mesh)
-    dof = inp.sensor if inp.sensor is not None else default_sensor(systems[0], mesh)
+    z1, z2, _ = mesh_shafts(s0, mesh)
+    dof = inp.sensor if inp.sensor is not None else default_sensor(s0, mesh)
     for s in systems:
         check_sensor(s, dof)
         mesh_shafts(s, mesh)
@@ -446,20 +442,17 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
     H = None if desc_mesh.excitation_harmonics is not None else SIGNATURE_HARMONICS
     tmp = tempfile.TemporaryDirectory()
 
-    def excited(case, faults, name):
-        ms = _mesh(case, faults, period, inp.points)
-        path = write_table(table_of(ms), Path(tmp.name) / f"{name}.csv")
-        return with_excitation(s0, mesh, path, None if H is None else min(H, ms.stiffness.size // 2))
+    def on_mesh(path, n):  # the system with the table at ``path`` (n harmonics) as the mesh's excitation
+        return with_excitation(s0, mesh, path, None if H is None else min(H, n))
+
+    def excited(case, faults, p, name):
+        ms = _mesh(case, faults, p, inp.points)
+        return on_mesh(write_table(table_of(ms), Path(tmp.name) / f"{name}.csv"), ms.stiffness.size // 2)
 
     with tmp:
         if inp.sweep:
-            depths = _depths(inp.sweep)
             case = cases[tooth[-1]]
-            crack, others, period = _sweep_crack(case, period)
-
-            def make(d):
-                return excited(case, others + [dataclasses.replace(crack, depth=d)], f"d{d:g}")
-
+            depths, make = _depth_sweep(inp, case, period, lambda faults, p, name: excited(case, faults, p, name))
             ds = system_signature_sweep(make, depths, dof=dof, mesh=mesh, **kw)
             _finish_sweep(inp, ds, system=str(paths[0]), excitation=str(tooth[-1]))
             return
@@ -469,16 +462,13 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
                 if f in cases:
                     runs_in.append(
                         (
-                            excited(cases[f], cases[f].faults, f.stem),
+                            excited(cases[f], cases[f].faults, period, f.stem),
                             cases[f].name,
                             {"excitation": str(f), "faults": [fault_to_dict(x) for x in cases[f].faults]},
                         )
                     )
                 else:
-                    n = read_table(f).stiffness.size // 2
-                    runs_in.append(
-                        (with_excitation(s0, mesh, f, None if H is None else min(H, n)), f.stem, {"excitation": str(f)})
-                    )
+                    runs_in.append((on_mesh(f, read_table(f).stiffness.size // 2), f.stem, {"excitation": str(f)}))
         else:
             runs_in = [(s, p.stem, {"excitation": None}) for s, p in zip(systems, paths)]
         labels = [
@@ -491,6 +481,4 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
             )
             for i, ((s, _, keys), lab) in enumerate(zip(runs_in, labels))
         ]
-    ds = combine(runs) if len(runs) > 1 else runs[0]
-    summary = json.loads(ds.attrs["summary"])
-    finish(summary, inp.write(ds, "signature"), inp, _show_signature)
+    _finish_runs(inp, runs)

@@ -3,16 +3,14 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
 from ..errors import ModelError
 from .app import console
-from .options import OUTPUT, Inputs, command, finish, model_group, option
+from .options import JSON_ONLY, OUTPUT, Inputs, command, finish, model_group, option
 from .render import files, plain, table
-
-JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
 
 TE_OPTIONS = [
     option("teeth", str, ..., "--teeth", help="Teeth of pinion and gear, z1,z2 (e.g. 14,39)."),
@@ -26,20 +24,20 @@ TE_OPTIONS = [
     ),
     option(
         "x_unit",
-        Optional[str],
+        str | None,
         None,
         "--x-unit",
         help="Unit of the first column when the header does not state it: deg, rad, rev (angle) or s, ms, us (time).",
     ),
     option(
         "te_unit",
-        Optional[str],
+        str | None,
         None,
         "--te-unit",
         help="Unit of the TE column when the header does not state it: um, mm, nm, m.",
     ),
-    option("te_rpm", Optional[float], None, "--rpm", help="Pinion speed (rpm) of a time record."),
-    option("te_out", Optional[Path], None, "--out", help="Write the [mesh] section (TOML) to this file."),
+    option("te_rpm", float | None, None, "--rpm", help="Pinion speed (rpm) of a time record."),
+    option("te_out", Path | None, None, "--out", help="Write the [mesh] section (TOML) to this file."),
     *JSON_ONLY,
 ]
 
@@ -158,36 +156,34 @@ def attach_iso_kv(cfg: Any, model: Any, ds: Any, summary: dict[str, Any]) -> tup
 RUNUP_OPTIONS = [
     option(
         "ru_rpm_start",
-        Optional[float],
+        float | None,
         None,
         "--rpm-start",
         help="Pinion speed at the start of the ramp (rpm; with --system the reference mesh's pinion).",
     ),
     option(
         "ru_rpm_stop",
-        Optional[float],
+        float | None,
         None,
         "--rpm-stop",
         help="Pinion speed at the end of the ramp (rpm; below --rpm-start for a run-down).",
     ),
-    option("duration", Optional[float], None, "--duration", help="Duration of the ramp (s)."),
-    option(
-        "omega_start", Optional[float], None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."
-    ),
-    option("omega_stop", Optional[float], None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
-    option("param", Optional[str], None, "--param", help="The ramped parameter: omega only (with --start/--stop)."),
-    option("start", Optional[float], None, "--start", help="Start of the ramp as ω (as --omega-start)."),
-    option("stop", Optional[float], None, "--stop", help="End of the ramp as ω (as --omega-stop)."),
+    option("duration", float | None, None, "--duration", help="Duration of the ramp (s)."),
+    option("omega_start", float | None, None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."),
+    option("omega_stop", float | None, None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
+    option("param", str | None, None, "--param", help="The ramped parameter: omega only (with --start/--stop)."),
+    option("start", float | None, None, "--start", help="Start of the ramp as ω (as --omega-start)."),
+    option("stop", float | None, None, "--stop", help="End of the ramp as ω (as --omega-stop)."),
     option(
         "tau_duration",
-        Optional[float],
+        float | None,
         None,
         "--tau-duration",
         help="Duration of the ramp in τ (instead of --duration).",
     ),
     option(
         "cycles_per_block",
-        Optional[int],
+        int | None,
         None,
         "--cycles-per-block",
         help="Mesh cycles per constant-speed block (default: about 400 blocks); with an --excitation of P mesh cycles "
@@ -359,13 +355,8 @@ def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
     scale = next((x for x in um if x), 1.0)
     for i in range(0, s["blocks"], max(1, s["blocks"] // 10)):
         a1 = s["order_amplitude"][0][i]
-        t.add_row(
-            f"{s['rpm'][i]:.6g}",
-            f"{s['omega'][i]:.5g}",
-            "n/a" if a1 is None else f"{a1 * scale:.4g}",
-            "n/a" if s["amplitude_um"][i] is None else f"{s['amplitude_um'][i]:.4g}",
-            "n/a" if s["dynamic_factor"][i] is None else f"{s['dynamic_factor'][i]:.4g}",
-        )
+        cells = (None if a1 is None else a1 * scale, s["amplitude_um"][i], s["dynamic_factor"][i])
+        t.add_row(f"{s['rpm'][i]:.6g}", f"{s['omega'][i]:.5g}", *("n/a" if v is None else f"{v:.4g}" for v in cells))
     console.print(t)
     plain(f"gear pair: {s['pair']}")
     files(paths)

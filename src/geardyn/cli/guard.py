@@ -80,24 +80,10 @@ ASCII = {
     "±": "+-",
     "×": "x",
     "·": "*",
-    "−": "-",
-    "–": "-",
-    "—": "-",
     "→": "->",
     "←": "<-",
     "…": "...",
     "°": "deg",
-    "²": "^2",
-    "³": "^3",
-    "⁻": "^-",
-    "¹": "^1",
-    "⁰": "^0",
-    "⁴": "^4",
-    "⁵": "^5",
-    "⁶": "^6",
-    "⁷": "^7",
-    "⁸": "^8",
-    "⁹": "^9",
     "√": "sqrt",
     "∞": "inf",
     "‖": "||",
@@ -108,48 +94,14 @@ ASCII = {
     "•": "*",
     "✓": "ok",
     "✗": "x",
-    "│": "|",
-    "─": "-",
-    "━": "-",
-    "┃": "|",
-    "╭": "+",
-    "╮": "+",
-    "╰": "+",
-    "╯": "+",
-    "┏": "+",
-    "┓": "+",
-    "┗": "+",
-    "┛": "+",
-    "┡": "+",
-    "┩": "+",
-    "├": "+",
-    "┤": "+",
-    "┼": "+",
-    "┌": "+",
-    "┐": "+",
-    "└": "+",
-    "┘": "+",
-    "╇": "+",
-    "╈": "+",
-    "┳": "+",
-    "┻": "+",
-    "╋": "+",
-    "┬": "+",
-    "┴": "+",
     "█": "#",
     "▌": "#",
-    "▏": "|",
-    "⠋": "-",
-    "⠙": "\\",
-    "⠹": "|",
-    "⠸": "/",
-    "⠼": "-",
-    "⠴": "\\",
-    "⠦": "|",
-    "⠧": "/",
-    "⠇": "-",
-    "⠏": "\\",
     "\u00a0": " ",
+    **dict.fromkeys("╭╮╰╯┏┓┗┛┡┩├┤┼┌┐└┘╇╈┳┻╋┬┴", "+"),  # box drawing
+    **dict.fromkeys("−–—─━", "-"),
+    **dict.fromkeys("│┃▏", "|"),
+    **{c: "^" + d for c, d in zip("²³⁻¹⁰⁴⁵⁶⁷⁸⁹", "23-10456789")},  # superscripts
+    **dict(zip("⠋⠙⠹⠸⠼⠴⠦⠧⠇⠏", "-\\|/-\\|/-\\")),  # the frames of a spinner
 }
 ERROR_HANDLER = "geardyn-ascii"
 
@@ -198,7 +150,7 @@ def prepare_streams() -> None:
     every character writes ASCII fallbacks (see the module)."""
     for name, fd in (("stdout", 1), ("stderr", 2)):
         s = getattr(sys, name)
-        if s is None or (getattr(s, "fileno", None) is not None and _is_real(s) and not _fd_open(fd)):
+        if s is None or (_is_real(s) and not _fd_open(fd)):
             if not _fd_open(fd):
                 _null_onto(fd)
             setattr(sys, name, open(fd, "w", encoding="utf-8", closefd=False))

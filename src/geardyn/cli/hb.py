@@ -8,7 +8,7 @@ import typer
 
 from ..model import DEFAULT_DTAU
 from . import render
-from .app import EXIT_FAILURE, console, say_error
+from .app import EXIT_FAILURE, console, fail, say_error
 from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option
 from .ranges import OMEGA_RANGE, both_spellings
 
@@ -44,8 +44,6 @@ SHOOTING_RUN = [
 
 def show(s: dict[str, Any], paths: list[str]) -> None:
     """The branch and its bifurcations for people."""
-    from .render import table
-
     p = s["param"]
     vals = [b[p] for b in s["branch"]]
     n_st = sum(1 for b in s["branch"] if b["stable"])
@@ -54,7 +52,7 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
         f"(H = {s['harmonics']}, period {s['period']}, N = {s['samples']}; {n_st} stable); "
         f"converged: {s['converged']}; end: {s['end']}"
     )
-    t = table("Bifurcations", "type", p, "u_min", "u_max", "multipliers", "detail")
+    t = render.table("Bifurcations", "type", p, "u_min", "u_max", "multipliers", "detail")
     for b in s["bifurcations"]:
         mus = ", ".join("n/a" if m[0] is None else f"{complex(*m):.4f}" for m in b["multipliers"])
         t.add_row(b["type"], f"{b[p]:.6f}", f"{b['u_min']:.4f}", f"{b['u_max']:.4f}", mus, b["detail"])
@@ -227,8 +225,7 @@ def _check_result(res: Any, start: float) -> None:
             if not res.converged
             else f"no second point ({res.end}); try a smaller --ds-max or another --start"
         )
-        say_error(f"error: harmonic balance gave no branch: at {res.param} = {start:.6g}, {why}")
-        raise typer.Exit(code=EXIT_FAILURE)
+        raise fail(f"harmonic balance gave no branch: at {res.param} = {start:.6g}, {why}", EXIT_FAILURE)
     if res.end.startswith("max points"):
         say_error(
             f"warning: the branch stopped at {res.values.size} points (--max-points) at {res.param} = "

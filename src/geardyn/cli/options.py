@@ -21,21 +21,22 @@ import sys
 import typing
 from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import typer
 
 from .. import params
-from ..errors import GeardynError, ModelError
+from ..errors import GeardynError, ModelError, SweepFailed, SweepInterrupted
 from ..model import DEFAULT_DTAU, DEFAULT_PERIODS, DEFAULT_TRANSIENT, GearModel, IntegrationOptions
-from .app import GeardynCommand, app, emit_json, fail, is_stop
-from .output import check_budget, check_out, engine_keywords, out_paths
+from .app import GeardynCommand, app, emit_json, fail, say_error
+from .output import check_budget, check_out, engine_keywords, out_paths, write_released
 
 __all__ = [
     "CONFIG",
     "ENGINE",
     "EXCITATION",
     "FIGURE_OPTIONS",
+    "JSON_ONLY",
     "MODEL",
     "OUTPUT",
     "STATE",
@@ -61,7 +62,9 @@ ENGINE_PANEL = "Sweep engine"
 OUTPUT_PANEL = "Output"
 
 
-def option(dest: str, kind: Any, default: Any, *flags: str, help: str, panel: str | None = None) -> inspect.Parameter:
+def option(
+    dest: str, kind: Any, default: Any, *flags: str, help: str, panel: str | None = None, metavar: str | None = None
+) -> inspect.Parameter:
     """One keyword-only typer option as a signature parameter.
 
     Parameters
@@ -69,7 +72,7 @@ def option(dest: str, kind: Any, default: Any, *flags: str, help: str, panel: st
     dest : str
         The keyword the command function receives.
     kind : type
-        The option's type annotation (``float``, ``Optional[Path]``, ``bool`` for a flag ...).
+        The option's type annotation (``float``, ``Path | None``, ``bool`` for a flag ...).
     default : object
         The value when the option is not given.
     *flags : str
@@ -78,6 +81,8 @@ def option(dest: str, kind: Any, default: Any, *flags: str, help: str, panel: st
         The help text.
     panel : str, optional
         The ``--help`` panel it is listed in.
+    metavar : str, optional
+        The value's placeholder in ``--help`` (default: typer's).
 
     Returns
     -------
@@ -88,7 +93,7 @@ def option(dest: str, kind: Any, default: Any, *flags: str, help: str, panel: st
         dest,
         _P.KEYWORD_ONLY,
         default=default,
-        annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel)],
+        annotation=Annotated[kind, typer.Option(*flags, help=help, rich_help_panel=panel, metavar=metavar)],
     )
 
 
@@ -105,7 +110,7 @@ def _flags_take_no_value(p: inspect.Parameter) -> inspect.Parameter:
 CONFIG = [
     option(
         "config",
-        Optional[Path],
+        Path | None,
         None,
         "--config",
         panel=PHYSICAL_PANEL,
@@ -114,7 +119,7 @@ CONFIG = [
 ]
 RPM = option(
     "rpm",
-    Optional[float],
+    float | None,
     None,
     "--rpm",
     panel=PHYSICAL_PANEL,
@@ -123,39 +128,30 @@ RPM = option(
 )
 TORQUE = option(
     "torque",
-    Optional[float],
+    float | None,
     None,
     "--torque",
     panel=PHYSICAL_PANEL,
     help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config, else of a tooth-pair "
     "--excitation file).",
 )
-TORQUE_ORDER = _P(
+TORQUE_ORDER = option(
     "torque_order",
-    _P.KEYWORD_ONLY,
-    default=None,
-    annotation=Annotated[
-        Optional[list[str]],
-        typer.Option(
-            "--torque-order",
-            metavar="ORDER:AMPLITUDE[:PHASE]",
-            rich_help_panel=PHYSICAL_PANEL,
-            help=(
-                "A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic "
-                "of constant amplitude. With --config of a gear pair: ORDER of the pinion speed (frequency "
-                "ORDER/z1 of the mesh frequency), AMPLITUDE a pinion torque in N·m (the gear's torque steady). "
-                "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
-                "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp."
-            ),
-        ),
-    ],
+    list[str] | None,
+    None,
+    "--torque-order",
+    metavar="ORDER:AMPLITUDE[:PHASE]",
+    panel=PHYSICAL_PANEL,
+    help="A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic "
+    "of constant amplitude. With --config of a gear pair: ORDER of the pinion speed (frequency "
+    "ORDER/z1 of the mesh frequency), AMPLITUDE a pinion torque in N·m (the gear's torque steady). "
+    "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
+    "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp.",
 )
-EXCITATION = option(
-    "excitation", Optional[Path], None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP
-)
+EXCITATION = option("excitation", Path | None, None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
 EVALUATION = option(
     "excitation_evaluation",
-    Optional[str],
+    str | None,
     None,
     "--excitation-evaluation",
     panel=PHYSICAL_PANEL,
@@ -164,7 +160,7 @@ EVALUATION = option(
 RPM_RANGE = [
     option(
         "rpm_start",
-        Optional[float],
+        float | None,
         None,
         "--rpm-start",
         panel=PHYSICAL_PANEL,
@@ -172,7 +168,7 @@ RPM_RANGE = [
     ),
     option(
         "rpm_stop",
-        Optional[float],
+        float | None,
         None,
         "--rpm-stop",
         panel=PHYSICAL_PANEL,
@@ -199,7 +195,7 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     for o in params.cli_options():
         if o.param == "omega" and not omega:
             continue
-        group.append(option(o.dest, Optional[float], None, o.flag, help=o.help, panel=MODEL_PANEL))
+        group.append(option(o.dest, float | None, None, o.flag, help=o.help, panel=MODEL_PANEL))
     return group
 
 
@@ -296,7 +292,7 @@ ENGINE = [
     ),
     option(
         "scheduler",
-        Optional[str],
+        str | None,
         None,
         "--scheduler",
         panel=ENGINE_PANEL,
@@ -315,13 +311,15 @@ OUTPUT = [
     option("json_out", bool, False, "--json", help="Print a machine-readable summary on stdout.", panel=OUTPUT_PANEL),
     option(
         "out",
-        Optional[Path],
+        Path | None,
         None,
         "--out",
         help="Directory (or .nc file) for NetCDF data and figures.",
         panel=OUTPUT_PANEL,
     ),
 ]
+#: ``--json`` alone, of the commands that write no result file.
+JSON_ONLY = OUTPUT[:1]
 #: How figures are saved (with ``--out``; and by ``geardyn plot``).
 FIGURE_OPTIONS = [
     option(
@@ -338,20 +336,15 @@ OUTPUT += FIGURE_OPTIONS
 
 
 # ---------------------------------------------------------------- the physical front end
-def click_context() -> tuple[Any, Any]:
-    """The running command's click context (None outside a command) and click's ``ParameterSource``, of the click
-    typer runs on (its own vendored copy in newer typer)."""
+def _at_default(values: dict[str, Any]) -> tuple[set[str], str | None]:
+    """The options of ``values`` the user did not give (their source the default), from the running command's
+    click context (of the click typer runs on: its own vendored copy in newer typer), and the command's name; none
+    outside a command (every value counts as given)."""
     import importlib
 
     core = sys.modules[typer.Context.__mro__[1].__module__]
     ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
-    return ctx, core.ParameterSource
-
-
-def _at_default(values: dict[str, Any]) -> tuple[set[str], str | None]:
-    """The options of ``values`` the user did not give (their source the default), from the running command's
-    context, and the command's name; none outside a command (every value counts as given)."""
-    ctx, ParameterSource = click_context()
+    ParameterSource = core.ParameterSource
     if ctx is None:
         return set(), None
     out = set()
@@ -459,9 +452,7 @@ class Inputs:
                 at_default = {"transient_default": self._fixed_default("transient", DEFAULT_TRANSIENT)}
                 self._systems[key] = load_cli_system({**v, **dict(key), **at_default})
             return self._systems[key]
-        dests = {o.dest for o in params.cli_options()}
-        given = {k: v.get(k) for k in dests}
-        given.update(fixed)
+        given = {**{o.dest: v.get(o.dest) for o in params.cli_options()}, **fixed}
         return self.pair().model(rpm=v.get("rpm"), torque=v.get("torque"), torque_orders=v.get("torque_order"), **given)
 
     def pair(self) -> Any:
@@ -571,15 +562,13 @@ class Inputs:
             dtau,
             transient=given_t,
             periods=given_p,
-            default_transient=int(str(v.get("transient", DEFAULT_TRANSIENT)).strip()) if t_default else None,
+            default_transient=DEFAULT_TRANSIENT if t_default else None,
             default_periods=v.get("periods") if p_default else None,
             omegas=ws if ws.size else None,
         )
         # simulate classifies within the plan's budget; a sweep's points are classified by its --settle
         note = plan.note(classify=self._command == "simulate", per_point=ws.size > 1) if plan is not None else None
         if note is not None and self._new(note):
-            from .app import say_error
-
             if v.get("system") is None:  # a system's file note says the forcing period already
                 say_error(f"forcing period: {plan.cycles} mesh cycles; {plan.steps:,} RK4 steps each (dtau = {dtau:g})")
             for line in note.splitlines():
@@ -616,8 +605,6 @@ class Inputs:
             return t
         cycles = transient_cycles(t)
         if cycles is not None:
-            from .app import say_error
-
             n = cycles_to_periods(cycles, self.model())
             note = f"transient: {cycles} reference mesh cycles = {n} forcing periods"
             if not self.values.get("json_out") and self._new(note):
@@ -627,7 +614,6 @@ class Inputs:
             import numpy as np
 
             from ..analysis.settle import settle_periods
-            from .app import say_error
 
             ws = np.atleast_1d(np.asarray(omegas, dtype=float))
             s = settle_periods(self.model(), ws if ws.size else None)
@@ -788,8 +774,6 @@ class Inputs:
         out = self.values.get("out")
         if out is None:
             return []
-        from .output import write_released
-
         nc, figdir = out_paths(out, stem)
         if release:
             files = write_released(ds, nc, figdir, **self.figures())
@@ -821,7 +805,7 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
     *extra : object
         Further arguments of ``show``.
     """
-    pair = inp.__dict__.get("_pair")
+    pair = inp._pair
     if pair is not None and pair.summary() is not None:  # a tooth-pair excitation drives the scales: that pair
         summary["tooth_pair"] = pair.summary()
     if inp.json_out:
@@ -905,7 +889,7 @@ def param_option(what: str) -> Any:
     Returns
     -------
     typing.Annotated
-        ``Optional[str]`` with its ``typer.Option``.
+        ``str | None`` with its ``typer.Option``.
     """
     return Annotated[
         str | None,
@@ -965,21 +949,19 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
             import numpy as np
 
             inp = Inputs({n: kw.pop(n) for n in names})
-            try:  # a bad --format, --dpi or --out is refused before the computation, not after it
-                if "fig_format" in inp.values:
-                    inp.figures()
-                if inp.values.get("out") is not None:
-                    check_out(inp.values["out"], file_suffixes=OUT_FILES.get(name, (".nc",)))
-            except GeardynError as e:
-                raise fail(str(e)) from None
             # No floating-point warning reaches the user: an overflowing input is refused by the checks that
             # follow (a value that is not finite), a diverging point carries its status.
             with np.errstate(all="ignore"), warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
                 try:
+                    # a bad --format, --dpi or --out is refused before the computation, not after it
+                    if "fig_format" in inp.values:
+                        inp.figures()
+                    if inp.values.get("out") is not None:
+                        check_out(inp.values["out"], file_suffixes=OUT_FILES.get(name, (".nc",)))
                     return fn(inp, **kw)
                 except GeardynError as e:
-                    if is_stop(e):
+                    if isinstance(e, (SweepInterrupted, SweepFailed)):  # stopped from outside: main reports it
                         raise
                     raise fail(str(e)) from None
 

@@ -123,10 +123,6 @@ def check_budget(opts: Any, omegas: Any, points: int, *, cycles: int = 1, dofs: 
         )
 
 
-def _is_nc(out: Path) -> bool:
-    return out.suffix.lower() == ".nc"
-
-
 def check_out(out: Any, option: str = "out", *, file_suffixes: tuple[str, ...] = (".nc",)) -> Path:
     """Refuse an output path that cannot be written before anything is computed.
 
@@ -201,7 +197,7 @@ def out_paths(out: Path, stem: str) -> tuple[Path, Path]:
         The NetCDF file and the directory the figures go to.
     """
     out = Path(out)
-    if _is_nc(out):
+    if out.suffix.lower() == ".nc":
         return out, out.parent
     return out / f"{stem}.nc", out
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -101,7 +101,6 @@ def lyapunov(
     uncertainty from block statistics, and the motion class."""
     from .. import validate
     from ..analysis.lyapunov import lyapunov_spectrum
-    from ..analysis.physical import add_physical, physical_json
 
     model = inp.model()
     scales = inp.scales()
@@ -126,8 +125,15 @@ def lyapunov(
         )
     with inp.progress("lyapunov", "periods") as bar:
         res = lyapunov_spectrum(model, opts, inp.state0(), blocks=nb, progress=bar)
-    paths = inp.write(add_physical(res.to_dataset(), scales), "lyapunov") if inp.out is not None else []
-    finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, render.lyapunov)
+    _finish_point(inp, model, scales, res, "lyapunov", render.lyapunov)
+
+
+def _finish_point(inp: Inputs, model: Any, scales: Any, res: Any, stem: str, show: Any) -> None:
+    """Write the result of one point with its physical values (with ``--out``) and print its summary."""
+    from ..analysis.physical import add_physical, physical_json
+
+    paths = inp.write(add_physical(res.to_dataset(), scales), stem) if inp.out is not None else []
+    finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, show)
 
 
 @command("orbit", MODEL, STATE, integration(periods=None), OUTPUT)
@@ -136,7 +142,6 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
     section points, Floquet multipliers, stability, extremes and impact state."""
     from .. import validate
     from ..analysis.periodic import shoot
-    from ..analysis.physical import add_physical, physical_json
 
     model = inp.model()
     scales = inp.scales()
@@ -154,8 +159,7 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
             transient=opts.transient,
             progress=bar,
         )
-    paths = inp.write(add_physical(res.to_dataset(), scales), "orbit") if inp.out is not None else []
-    finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, render.orbit)
+    _finish_point(inp, model, scales, res, "orbit", render.orbit)
 
 
 CONTINUATION_RUN = integration(
@@ -214,8 +218,6 @@ def continuation(
     from .. import validate
     from ..analysis.periodic import continuation as run_continuation
     from ..analysis.physical import add_physical, physical_json
-    from ..io import write_netcdf
-    from .output import out_paths
 
     model = inp.model()
     scales = inp.scales()
@@ -247,26 +249,26 @@ def continuation(
             transient=opts.transient,
             progress=bar,
         )
-    sweep_ds = None
-    if inp.out is not None and nsw > 0:
-        from ..analysis.context import continuation_context
-
-        sweep_ds = continuation_context(
-            model,
-            name,
-            start_v,
-            stop_v,
-            num=nsw,
-            dtau=opts.dtau,
-            transient=opts.transient,
-            state0=state0,
-            progress=not inp.json_out,
-        )
     paths: list[str] = []
     if inp.out is not None:
-        from ..io import attach
+        from ..analysis.context import continuation_context
+        from ..io import attach, write_netcdf
         from ..plot.periodic import SWEEP_CONTEXT
+        from .output import out_paths
 
+        sweep_ds = None
+        if nsw > 0:
+            sweep_ds = continuation_context(
+                model,
+                name,
+                start_v,
+                stop_v,
+                num=nsw,
+                dtau=opts.dtau,
+                transient=opts.transient,
+                state0=state0,
+                progress=not inp.json_out,
+            )
         ds = add_physical(res.to_dataset(), scales)
         if sweep_ds is not None:
             sweep_ds = add_physical(sweep_ds, scales)

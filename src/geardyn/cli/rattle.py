@@ -100,17 +100,14 @@ def rattle(
     n = validate.integer("map_points", map_points, 0, 1000)
     if n:
         ns = validate.integer("scale_points", scale_points, 1, 1000)
-        smax = validate.number("scale_max", scale_max)
-        if not smax > 0:
-            raise ModelError(f"scale_max: must be > 0, got {scale_max!r}")
+        smax = validate.positive("scale_max", scale_max)
         if inp.rpm_start is not None or inp.rpm_stop is not None:
             if scales is None:
                 raise ModelError("rpm_start: a speed range in rpm needs --config of a gear pair or --system")
             if start is not None or stop is not None:
                 raise ModelError("start: give the map's speeds in rpm (--rpm-start/--rpm-stop) or in ω, not both")
-            sc = inp.scales() if inp.system is None else None
-            if sc is not None:
-                lo, hi = sweep_range(sc, inp.rpm_start, inp.rpm_stop, None, None, param="omega")
+            if inp.system is None:  # the configured pair's scales
+                lo, hi = sweep_range(scales, inp.rpm_start, inp.rpm_stop, None, None, param="omega")
             else:
                 if inp.rpm_start is None or inp.rpm_stop is None:
                     raise ModelError("rpm_stop: give both --rpm-start and --rpm-stop")
@@ -154,13 +151,8 @@ def _show(s: dict[str, Any], paths: list[str]) -> None:
     t = render.table("Rattle", "flank", "impacts / cycle", "impact velocity mean", "max", "m/s max")
     for name in ("drive", "back"):
         f = s["flanks"][name]
-        t.add_row(
-            name,
-            f"{f['impacts_per_cycle']:g}",
-            "—" if f["impact_velocity_mean"] is None else f"{f['impact_velocity_mean']:.4g}",
-            "—" if f["impact_velocity_max"] is None else f"{f['impact_velocity_max']:.4g}",
-            "—" if f.get("impact_velocity_max_m_s") is None else f"{f['impact_velocity_max_m_s']:.4g}",
-        )
+        speeds = [f.get(f"impact_velocity_{k}") for k in ("mean", "max", "max_m_s")]
+        t.add_row(name, f"{f['impacts_per_cycle']:g}", *("—" if v is None else f"{v:.4g}" for v in speeds))
     console.print(t)
     ri = f"rattle index (impact kinetic-energy loss per cycle): {s['rattle_index']:.4g} (k b_c²)"
     if s.get("rattle_index_J") is not None:

@@ -93,13 +93,13 @@ def meshes(s: dict[str, Any]) -> None:
     """
     rows = [{**m, "dynamic_factor": NO_STATIC_LOAD} if _no_load(m) else m for m in s.get("meshes") or []]
     cols = [(k, h) for k, h in MESH_COLUMNS if any(k in m and any(v is not None for v in _flat(m[k])) for m in rows)]
-    t = Table(
-        title=f"{len(rows)} mesh(es) of the system"
-        + (f", reference mesh {s['reference_mesh']}" if s.get("reference_mesh") else "")
+    # one row per quantity, one column per mesh (a sweep: the range over its points)
+    t = table(
+        f"{len(rows)} mesh(es) of the system"
+        + (f", reference mesh {s['reference_mesh']}" if s.get("reference_mesh") else ""),
+        "mesh",
+        *(m["name"] for m in rows),
     )
-    t.add_column("mesh")  # one row per quantity, one column per mesh (a sweep: the range over its points)
-    for m in rows:
-        t.add_column(m["name"])
     for k, h in cols:
         t.add_row(h, *(_cell(m.get(k)) for m in rows))
     console.print(t)
@@ -333,7 +333,10 @@ def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
     speed = f", {s['rpm']:.1f} rpm" if "rpm" in s else ""
     t = table(
         f"Attractors at ω = {s['omega']:g}{speed} ({n_u} × {n_v} initial states)",
-        *("label", "motion", "basin share", "amplitude"),
+        "label",
+        "motion",
+        "basin share",
+        "amplitude",
         *(("amplitude (µm)",) if speed else ()),
         "Poincaré points (u, u')",
     )
@@ -374,9 +377,9 @@ def claims(res: dict[str, Any]) -> None:
 
 def bench(res: dict[str, Any]) -> None:
     """Timings of ``geardyn bench``."""
-    t = Table(title=f"geardyn bench ({res['threads']} thread(s), minimum of {res['repeats']} runs)")
-    for col in ("workload", "wall (s)", "RK4 steps", "ns/step"):
-        t.add_column(col, justify="right" if col != "workload" else "left")
+    t = table(f"geardyn bench ({res['threads']} thread(s), minimum of {res['repeats']} runs)", "workload")
+    for col in ("wall (s)", "RK4 steps", "ns/step"):
+        t.add_column(col, justify="right")
     for name, r in res["workloads"].items():
         t.add_row(name, f"{r['wall_s']:.4f}", f"{r['steps']:,}", f"{r['ns_per_step']:.2f}")
     console.print(t)

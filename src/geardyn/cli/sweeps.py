@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Optional
+from typing import Annotated, Any
 
 import numpy as np
 import typer
@@ -132,11 +132,11 @@ def bifurcation(
 
 
 RESPONSE_RANGE = [
-    option("omega_start", Optional[float], None, "--omega-start", help="Lowest ω of the sweeps."),
-    option("omega_stop", Optional[float], None, "--omega-stop", help="Highest ω of the sweeps."),
-    option("param", Optional[str], None, "--param", help="The swept parameter: omega only (with --start/--stop)."),
-    option("start", Optional[float], None, "--start", help="Lowest ω of the sweeps (as --omega-start)."),
-    option("stop", Optional[float], None, "--stop", help="Highest ω of the sweeps (as --omega-stop)."),
+    option("omega_start", float | None, None, "--omega-start", help="Lowest ω of the sweeps."),
+    option("omega_stop", float | None, None, "--omega-stop", help="Highest ω of the sweeps."),
+    option("param", str | None, None, "--param", help="The swept parameter: omega only (with --start/--stop)."),
+    option("start", float | None, None, "--start", help="Lowest ω of the sweeps (as --omega-start)."),
+    option("stop", float | None, None, "--stop", help="Highest ω of the sweeps (as --omega-stop)."),
     *RPM_RANGE,
 ]
 
@@ -198,13 +198,13 @@ def response(
             **({"state0": inp.state0()} if inp.system is not None else {}),
         )
         if not np.isfinite(np.asarray(ds[measure].values, dtype=float)).any():  # no point resolved: nothing to show
-            from .app import EXIT_FAILURE, say_error
+            from .app import EXIT_FAILURE, fail
 
-            say_error(
-                f"error: harmonic balance resolved no point of the response from ω = {values[0]:.6g} to "
-                f"{values[-1]:.6g}; nothing written"
+            raise fail(
+                f"harmonic balance resolved no point of the response from ω = {values[0]:.6g} to "
+                f"{values[-1]:.6g}; nothing written",
+                EXIT_FAILURE,
             )
-            raise typer.Exit(code=EXIT_FAILURE)
     else:
         ds = frequency_response(
             model,
@@ -238,10 +238,10 @@ MAP_AXES = [
         "in pinion speed (rpm) / pinion torque (N·m) of the configured pair.",
     ),
     option("y", str, ..., "--y", help="Parameter along the vertical axis (e.g. xi0 or D), or rpm / torque."),
-    option("x_start", Optional[float], None, "--x-start", help="First x value (for x = omega also as --rpm-start)."),
-    option("x_stop", Optional[float], None, "--x-stop", help="Last x value (for x = omega also as --rpm-stop)."),
-    option("y_start", Optional[float], None, "--y-start", help="First y value (for y = omega also as --rpm-start)."),
-    option("y_stop", Optional[float], None, "--y-stop", help="Last y value (for y = omega also as --rpm-stop)."),
+    option("x_start", float | None, None, "--x-start", help="First x value (for x = omega also as --rpm-start)."),
+    option("x_stop", float | None, None, "--x-stop", help="Last x value (for x = omega also as --rpm-stop)."),
+    option("y_start", float | None, None, "--y-start", help="First y value (for y = omega also as --rpm-start)."),
+    option("y_stop", float | None, None, "--y-stop", help="Last y value (for y = omega also as --rpm-stop)."),
     *RPM_RANGE,
     option("x_num", int, 41, "--x-num", help="Number of x values."),
     option("y_num", int, 21, "--y-num", help="Number of y values."),

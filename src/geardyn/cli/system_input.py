@@ -239,14 +239,15 @@ def mesh_summary(
         ext = [b.extrema for b in result.branches if b.extrema is not None]
         ext = np.concatenate(ext) if ext else np.zeros((0, len(s.elements), 2))
         um = s.scaling.b_c_m * 1e6
+        amp = 0.5 * (ext[:, :, 1] - ext[:, :, 0])
         summary["meshes"] = [
             {
                 "name": e.name,
                 "backlash_um": e.gap * um,
                 "u_min": ext[:, i, 0].tolist(),
                 "u_max": ext[:, i, 1].tolist(),
-                "amplitude": (0.5 * (ext[:, i, 1] - ext[:, i, 0])).tolist(),
-                "dte_amplitude_um": (0.5 * (ext[:, i, 1] - ext[:, i, 0]) * um).tolist(),
+                "amplitude": amp[:, i].tolist(),
+                "dte_amplitude_um": (amp[:, i] * um).tolist(),
                 "impact": [IMPACT_LABELS[impact_state(float(lo), e.gap)] for lo in ext[:, i, 0]],
                 "dynamic_factor": None,
             }

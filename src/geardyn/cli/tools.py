@@ -4,16 +4,14 @@ from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated
 
 import typer
 
 from ..errors import GeardynError
 from . import render
 from .app import emit_json, err_console, fail
-from .options import CONFIG, FIGURE_OPTIONS, OUTPUT, RPM, TORQUE, Inputs, command, option
-
-JSON_ONLY = [p for p in OUTPUT if p.name == "json_out"]
+from .options import CONFIG, FIGURE_OPTIONS, JSON_ONLY, RPM, TORQUE, Inputs, command, option
 
 
 @command("geometry", CONFIG, [RPM, TORQUE], JSON_ONLY)
@@ -31,7 +29,7 @@ def geometry(inp: Inputs) -> None:
 
 
 PLOT_OPTIONS = [
-    option("out", Optional[Path], None, "--out", help="Directory for the figures (default: the file's directory)."),
+    option("out", Path | None, None, "--out", help="Directory for the figures (default: the file's directory)."),
     *FIGURE_OPTIONS,
     option(
         "physical",
@@ -140,7 +138,9 @@ def reproduce(
     import shlex
     from dataclasses import asdict
 
-    typed = _typed_options()
+    from .options import _at_default
+
+    typed = {"out", "workers"} - _at_default(dict.fromkeys(("out", "workers")))[0]  # (all of them outside a command)
     command = shlex.join(  # the command as typed: an option left at its default is not shown
         ["geardyn", "reproduce"]
         + ["--out", str(out)] * ("out" in typed)
@@ -163,17 +163,6 @@ def reproduce(
         )
         return
     render.claims(res)
-
-
-def _typed_options() -> set[str]:
-    """The parameters of the running command given on its command line (not left at their defaults); every
-    parameter when that cannot be told."""
-    from .options import click_context
-
-    ctx, source = click_context()
-    if ctx is None:
-        return {"out", "workers"}
-    return {n for n in ctx.params if ctx.get_parameter_source(n) == source.COMMANDLINE}
 
 
 #: Most timed runs of ``bench`` per workload (each workload takes about a second).

@@ -206,15 +206,17 @@ class SpiralBevelGearPair:
             elif default_source is not None:
                 assumed.append(Assumption(name, value, unit, default_source))
 
+        def pick(name: str, default: float | str, unit: str, source: str) -> float | str:
+            """The input ``name``, else ``default`` (noted as assumed, from ``source``)."""
+            given = getattr(self, name)
+            note(name, default if given is None else given, unit, None if given is not None else source)
+            return default if given is None else given
+
         r_pitch = [self.m_mn * z / (2.0 * math.cos(self.beta_m)) for z in (self.z1, self.z2)]
-        r1 = self.r1 if self.r1 is not None else r_pitch[0]
-        r2 = self.r2 if self.r2 is not None else r_pitch[1]
-        note("r1", r1, "m", None if self.r1 is not None else _SOURCE_R)
-        note("r2", r2, "m", None if self.r2 is not None else _SOURCE_R)
-        hand = self.hand or DEFAULT_HAND
-        note("hand", hand, "", None if self.hand is not None else _SOURCE_HAND)
-        side = self.drive_side or DEFAULT_DRIVE_SIDE
-        note("drive_side", side, "", None if self.drive_side is not None else _SOURCE_SIDE)
+        r1 = pick("r1", r_pitch[0], "m", _SOURCE_R)
+        r2 = pick("r2", r_pitch[1], "m", _SOURCE_R)
+        hand = pick("hand", DEFAULT_HAND, "", _SOURCE_HAND)
+        side = pick("drive_side", DEFAULT_DRIVE_SIDE, "", _SOURCE_SIDE)
         if self.face_width is not None:
             b = self.face_width
             note("face_width", b, "m", None)
@@ -230,16 +232,16 @@ class SpiralBevelGearPair:
             if self.c_gamma is not None:
                 note("c_gamma", self.c_gamma, "N/m^2", None)
         else:
-            c_gamma = self.c_gamma if self.c_gamma is not None else DEFAULT_C_GAMMA
-            note("c_gamma", c_gamma, "N/m^2", None if self.c_gamma is not None else _SOURCE_C_GAMMA)
+            c_gamma = pick("c_gamma", DEFAULT_C_GAMMA, "N/m^2", _SOURCE_C_GAMMA)
             k0 = b * c_gamma
             assumed.append(Assumption("k0", k0, "N/m", _SOURCE_K0))
         if self.c0 is not None:
-            xi0 = self.c0 / (2.0 * self._m_e_from(r1, r2) * math.sqrt(k0 / self._m_e_from(r1, r2)))
+            lam = math.cos(self.alpha_n) * math.cos(self.beta_m)
+            m_e = self._m_e_from(lam * r1, lam * r2)
+            xi0 = self.c0 / (2.0 * m_e * math.sqrt(k0 / m_e))
             note("c0", self.c0, "N*s/m", None)
         else:
-            xi0 = self.xi0 if self.xi0 is not None else DEFAULT_XI0
-            note("xi0", xi0, "", None if self.xi0 is not None else _SOURCE_XI0)
+            xi0 = pick("xi0", DEFAULT_XI0, "", _SOURCE_XI0)
         # values declared assumed that no branch above covered (e.g. z1 or I1)
         covered = {a.name for a in assumed}
         for n, src in self.assumed:
@@ -295,16 +297,13 @@ class SpiralBevelGearPair:
         """Directional radius of the gear R2 = n·(j2 × r2) (m); equals r2 cos α_n cos β_m."""
         return self._R[1]
 
-    def _m_e_from(self, r1: float, r2: float) -> float:
-        lam = math.cos(self.alpha_n) * math.cos(self.beta_m)
-        R1, R2 = lam * r1, lam * r2
+    def _m_e_from(self, R1: float, R2: float) -> float:
         return self.I1 * self.I2 / (self.I2 * R1**2 + self.I1 * R2**2)
 
     @property
     def m_e(self) -> float:
         """Equivalent mass m_e = I1 I2 / (I2 R1² + I1 R2²) (kg)."""
-        R1, R2 = self._R
-        return self.I1 * self.I2 / (self.I2 * R1**2 + self.I1 * R2**2)
+        return self._m_e_from(*self._R)
 
     @property
     def k0_mean(self) -> float:

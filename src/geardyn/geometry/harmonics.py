@@ -93,14 +93,11 @@ class MeshHarmonics:
             ``xi``, ``phi_c``, ``kappa``, ``phi_k``, ``eps``, ``phi_e``: the keyword arguments of
             :class:`~geardyn.model.GearModel` (ξ_k = c_k/(2 m_e ω_n), κ_r = k_r/k0, ε_l = e_l/b_c).
         """
-        xi = self.xi or tuple(c / (2.0 * m_e * omega_n) for c in self.c)
-        kappa = self.kappa or tuple(k / k0 for k in self.k)
-        eps = self.eps or tuple(e / b_c for e in self.e)
         return {
-            "xi": xi,
+            "xi": self.xi or tuple(c / (2.0 * m_e * omega_n) for c in self.c),
             "phi_c": self.phi_c,
-            "kappa": kappa,
+            "kappa": self.kappa or tuple(k / k0 for k in self.k),
             "phi_k": self.phi_k,
-            "eps": eps,
+            "eps": self.eps or tuple(e / b_c for e in self.e),
             "phi_e": self.phi_e,
         }

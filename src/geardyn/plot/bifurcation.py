@@ -138,19 +138,20 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     x = ds[name].values
     sweeps = [str(s) for s in ds["sweep"].values]
     axes, ax = ax, ax[0]  # (always several panels: the points and two bands per sweep)
+    discrete = is_discrete(x)
     for s in sweeps:
         pu = ds["poincare_u"].sel(sweep=s).values
-        xx = np.broadcast_to(x[:, None], pu.shape)
-        ax.plot(xx.ravel(), pu.ravel(), ",", color=SWEEP_COLORS.get(s, "k"), alpha=0.8)
+        xx, pu = np.broadcast_to(x[:, None], pu.shape).ravel(), pu.ravel()
+        ax.plot(xx, pu, ",", color=SWEEP_COLORS.get(s, "k"), alpha=0.8)
         ax.scatter(
-            xx.ravel(),
-            pu.ravel(),
-            s=12 if is_discrete(x) else POINT_SIZE,
+            xx,
+            pu,
+            s=12 if discrete else POINT_SIZE,
             color=SWEEP_COLORS.get(s, "k"),
             lw=0,
             label=f"sweep {s}" if len(sweeps) > 1 or s != "fixed" else "Poincaré points",
         )
-    if is_discrete(x) and name in ("D", "backlash", "b"):  # u = ±D at each setting, not a line joining them
+    if discrete and name in ("D", "backlash", "b"):  # u = ±D at each setting, not a line joining them
         lines = [ax.plot(x, sgn * x, "_", color="0.6", ms=14, mew=1.2, gid="contact")[0] for sgn in (1, -1)]
     else:
         lines = contact_lines(ax, ds, name, x, lw=0.7, ls="--")
@@ -158,19 +159,19 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
         lines[0].set_label(of_mesh("contact u = ±D", ds))
     ax.set_ylabel(of_mesh("Poincaré section u (θ ≡ 0)", ds))
     # where it covers the fewest Poincaré points (their dots enlarged in the legend on a dense grid)
-    ax.legend(loc="best", fontsize=8, markerscale=1 if is_discrete(x) else 8)
+    ax.legend(loc="best", fontsize=8, markerscale=1 if discrete else 8)
     mode = ds.attrs.get("mode", "")
     set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds, exclude=[name])
     rpm_axis(ax, ds, name)
-    k = 1
-    if _has_lle(ds):
+    k = 1 + _has_lle(ds)
+    if k == 2:
         ax2 = axes[1]
         if ax2 is not None:
             for s in sweeps:
                 lle = ds["lle"].sel(sweep=s).values
                 err = ds["lle_err"].sel(sweep=s).values if "lle_err" in ds else None
                 c = SWEEP_COLORS.get(s, "k")
-                if is_discrete(x):  # separate settings: markers with their ±3σ bars, nothing joining them
+                if discrete:  # separate settings: markers with their ±3σ bars, nothing joining them
                     ax2.errorbar(x, lle, yerr=None if err is None else 3 * err, fmt="o", color=c, ms=4, capsize=3)
                     continue
                 ax2.plot(x, lle, ".-", color=c, ms=3, lw=0.7)
@@ -178,7 +179,6 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
                     ax2.fill_between(x, lle - 3 * err, lle + 3 * err, color=c, alpha=0.15, lw=0)
             ax2.axhline(0.0, color="0.3", lw=0.7)
             ax2.set_ylabel("λ1 [1/τ]")
-        k = 2
     for s in sweeps:
         if axes[k] is not None:
             for a, var, colors, names in (

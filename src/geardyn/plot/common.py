@@ -466,9 +466,7 @@ def contact_lines(
     list of Artist
         The lines drawn (``gid`` ``"contact"``).
     """
-    style: dict[str, Any] = {"color": color, "lw": lw}
-    if ls is not None:
-        style["ls"] = ls
+    style = {"color": color, "lw": lw, **({} if ls is None else {"ls": ls})}
     if param is not None and x is not None and _canonical(param) == "D":
         d = np.sort(np.asarray(x, dtype=float))
         return [ax.plot(d, s * d, gid="contact", **style)[0] for s in (1, -1)]

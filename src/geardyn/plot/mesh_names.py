@@ -93,8 +93,7 @@ def reference_mesh(ds: xr.Dataset) -> str | None:
     -------
     str or None
     """
-    info = system_info(ds)
-    name = info.get("reference_mesh") if info else None
+    name = system_info(ds).get("reference_mesh")
     return str(name) if name else None
 
 

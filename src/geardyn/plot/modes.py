@@ -91,8 +91,7 @@ def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
         for f, _ in groups:
             if f > 0:
                 ax.axhline(f, color="0.6", lw=0.8, zorder=1)
-    labels = [str(x) for x in ds["line_label"].values]
-    for j, (slope, text) in enumerate(zip(ds["line_slope"].values, labels)):
+    for j, (slope, text) in enumerate(zip(ds["line_slope"].values, ds["line_label"].values)):
         x1 = min(hi, top / slope)
         ax.plot([lo, x1], [slope * lo, slope * x1], color=f"C{j}", lw=1.4, zorder=2, label=str(text))
     if ds.sizes.get("crossing", 0):

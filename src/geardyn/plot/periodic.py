@@ -211,6 +211,14 @@ def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any
 
 
 # ---------------------------------------------------------------------------- stability boundary
+def _strip(ax, x: np.ndarray, height: float, **style: Any) -> None:
+    """Markers at ``x`` on a strip at ``height`` (a fraction of the axes) over the ω axis, where a boundary has a
+    gap."""
+    ax.plot(
+        x, np.full(x.size, height), ls="none", clip_on=False, transform=ax.get_xaxis_transform(), gid="gap", **style
+    )
+
+
 def _stability_gaps(ax, om: np.ndarray, kinds: np.ndarray, crit: np.ndarray, xi0_low: Any) -> None:
     """Mark the ω where the full model has no boundary marker, on a strip above the ω axis: stable down to the
     end of the ξ0 scan (no boundary above it), or not decided (the start orbit not found or unstable, the
@@ -232,15 +240,7 @@ def _stability_gaps(ax, om: np.ndarray, kinds: np.ndarray, crit: np.ndarray, xi0
         (undecided, dict(marker="x", color="k", label="gap: stability not decided (" + "; ".join(why) + ")")),
     ):
         if sel.any():
-            ax.plot(
-                om[sel],
-                np.full(sel.sum(), 0.03),
-                ls="none",
-                clip_on=False,
-                transform=ax.get_xaxis_transform(),
-                gid="gap",
-                **style,
-            )
+            _strip(ax, om[sel], 0.03, **style)
 
 
 @plot_function("stability_comparison", (8, 5.5), tight=True)
@@ -282,17 +282,13 @@ def stability_figure(ds: xr.Dataset, ax: Any = None) -> None:
             )
         _stability_gaps(ax, om, kinds, crit, ds.attrs.get("xi0_low"))
     if linear is not None and np.any(np.isnan(ds[linear].values)):
-        sel = np.isnan(ds[linear].values)
-        ax.plot(
-            om[sel],
-            np.full(sel.sum(), 0.97),
-            ls="none",
+        _strip(
+            ax,
+            om[np.isnan(ds[linear].values)],
+            0.97,
             marker="^",
             color="C0",
             mfc="none",
-            clip_on=False,
-            transform=ax.get_xaxis_transform(),
-            gid="gap",
             label="gap in the linear boundary: still unstable at the top of its search, no boundary found",
         )
     paper = ds["xi0_paper"].values if "xi0_paper" in ds else ds.attrs.get("xi0_paper")

@@ -77,7 +77,7 @@ def time_history(ds: xr.Dataset, ax: Axes = None) -> None:
             a2.axhline(summ["static_force_N"] * 1e-3, color="k", ls="--", lw=0.8, label="static mesh\nforce F_p")
             a2.legend(**OUTSIDE_RIGHT)
         a2.set_ylabel(f"{F.attrs.get('long_name', 'mesh force')} [kN]")
-    (a2 if a2 is not None else a1).set_xlabel("time [ms]")
+    (a2 or a1).set_xlabel("time [ms]")
     title = f"{summ.get('rpm', float('nan')):.6g} rpm"
     if summ.get("dynamic_factor") is not None:
         title += f", dynamic factor {summ['dynamic_factor']:.3g}"
@@ -114,8 +114,12 @@ def rpm_curve_variable(ds: xr.Dataset) -> str | None:
     -------
     str or None
     """
-    kind = ds.attrs.get("geardyn_kind")
-    if kind == "simulate" or "rpm" not in ds.coords or ds["rpm"].ndim != 1 or _has_response_rpm(ds):
+    if (
+        ds.attrs.get("geardyn_kind") == "simulate"
+        or "rpm" not in ds.coords
+        or ds["rpm"].ndim != 1
+        or _has_response_rpm(ds)
+    ):
         return None
     for name in RPM_CURVE_VARIABLES:
         if name in ds.data_vars and ds["rpm"].dims[0] in ds[name].dims and ds[name].ndim <= 3:

@@ -86,8 +86,8 @@ def _no_solution(ax: Axes, x: np.ndarray, da: xr.DataArray) -> None:
     none = np.all(~np.isfinite(da.values), axis=0)
     half = 0.5 * np.diff(x)
     edges = np.concatenate([[x[0]], x[:-1] + half, [x[-1]]]) if x.size > 1 else np.array([x[0], x[0]])
-    first = True
-    for i in np.nonzero(none)[0]:
+    at = np.nonzero(none)[0]
+    for k, i in enumerate(at):
         ax.axvspan(
             edges[i],
             edges[i + 1],
@@ -96,10 +96,9 @@ def _no_solution(ax: Axes, x: np.ndarray, da: xr.DataArray) -> None:
             hatch="///",
             lw=0,
             zorder=0,
-            label="no stable period-n solution" if first else None,
+            label="no stable period-n solution" if k == 0 else None,
         )
-        first = False
-    if not first:
+    if at.size:
         ax.legend(fontsize=8, loc="best")
 
 

@@ -33,9 +33,8 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
     (of ``geardyn runup``; its attribute ``quasi_static`` (JSON) holds the steady response when it was computed)."""
     a0, a1, a2 = ax
     phys = "rpm" in ds.coords
-    x = ds["rpm"].values if phys else ds["omega"].values
+    x = ds["rpm" if phys else "omega"].values
     xlab = "pinion speed n1 [rpm]" if phys else "ω [1]"
-    amp_o = ds["order_amplitude_um"].values if "order_amplitude_um" in ds else ds["order_amplitude"].values
     unit = "µm" if "order_amplitude_um" in ds else "1"
     orders = ds["order"].values
     order = np.argsort(x)
@@ -57,6 +56,7 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
         a0.set_ylabel(f"order (mesh orders; sidebands at j/{int(ds.attrs.get('excitation_cycles', 1))})")
         a0.set_yticks(np.arange(1, int(np.ceil(ds["spectrum_order"].values.max())) + 1))
     else:
+        amp_o = ds["order_amplitude_um" if unit == "µm" else "order_amplitude"].values
         mesh = a0.pcolormesh(x[order], orders, amp_o[order].T, shading="nearest", cmap="viridis")
         a0.set_ylabel("mesh order")
         a0.set_yticks(orders)
@@ -77,7 +77,7 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
     ):
         if a is None:
             continue
-        y = ds[f"{var}_um"].values if (var == "amplitude" and unit == "µm") else ds[var].values
+        y = ds[f"{var}_um" if var == "amplitude" and unit == "µm" else var].values
         a.plot(x, y, "k-", lw=1.5, label=what)
         if qs is not None:
             for lab, (marker, colour) in SWEEP_STYLE.items():

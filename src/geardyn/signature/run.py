@@ -13,7 +13,7 @@ import xarray as xr
 
 from ..errors import ModelError
 from ..tooth.excitation import pair_model
-from ..tooth.mesh import MeshStiffness
+from ..tooth.mesh import MeshStiffness, faults_json
 from .acquire import Acquisition, acquire
 from .indicators import crest_factor, energy_ratio, fm0, fm4, kurtosis, m6a, m8a, na4, rms, sideband_level
 from .signals import order_spectrum, split_tsa, tsa
@@ -170,9 +170,8 @@ def signature(
     z1, z2 = geo.gears[0].teeth, geo.gears[1].teeth
     H = min(SIGNATURE_HARMONICS, ms.stiffness.size // 2) if harmonics is None else harmonics
     model, sc = pair_model(ms, rpm, b_c=b_c, backlash=backlash, xi0=xi0, harmonics=H)
-    g = math.gcd(z1, z2)
     if revolutions is None:
-        revolutions = max(10, 2 * z2 // g)
+        revolutions = max(10, 2 * z2 // math.gcd(z1, z2))
     top = H / ms.cycles
     if fs is None:
         fs = default_fs(rpm / 60.0 * z1, top)
@@ -194,7 +193,7 @@ def signature(
         "omega_n_rad_s": sc["omega_n"],
         "k0_N_per_m": sc["k0"],
         "indicators": ind,
-        "faults": [_fault(f) for f in ms.faults],
+        "faults": faults_json(ms.faults),
     }
     return labelled(ds, summary, label)
 
@@ -304,12 +303,6 @@ def combine(runs: Sequence[xr.Dataset]) -> xr.Dataset:
         summary=json.dumps({"runs": [json.loads(r.attrs["summary"])["runs"][0] for r in runs]}),
     )
     return ds
-
-
-def _fault(f: Any) -> dict[str, Any]:
-    from ..tooth.faults import fault_to_dict
-
-    return fault_to_dict(f)
 
 
 def signature_sweep(

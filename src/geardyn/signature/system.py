@@ -57,6 +57,11 @@ def _mesh(system: Any, mesh: str | None) -> Any:
     raise ModelError(f"mesh: {name!r} is not a mesh of the system; meshes: {', '.join(m.name for m in desc.meshes)}")
 
 
+def _mesh_frequency(system: Any, m: Any) -> float:
+    """The mesh frequency (Hz) of the system's mesh ``m``."""
+    return m.ratio * system.omega * system.scaling.omega_n_rad_s / (2.0 * math.pi)
+
+
 def _translations(system: Any) -> list[str]:
     """The system's translational DOFs (accelerometer positions)."""
     return [lab for lab in system.labels if lab.rsplit(".", 1)[-1] in _TRANSLATIONS]
@@ -281,7 +286,7 @@ def system_acquire(
     m = _mesh(system, mesh)
     z1, _z2, _body = mesh_shafts(system, mesh)
     i = list(system.labels).index(dof)
-    f_mesh = m.ratio * system.omega * sc.omega_n_rad_s / (2.0 * math.pi)
+    f_mesh = _mesh_frequency(system, m)
 
     def sensor(tr):
         v = tr.x[:, system.n + i]
@@ -360,7 +365,7 @@ def system_signature(
         )
     dof = default_sensor(system, mesh) if dof is None else dof
     m = _mesh(system, mesh)
-    f_mesh = m.ratio * system.omega * system.scaling.omega_n_rad_s / (2.0 * math.pi)
+    f_mesh = _mesh_frequency(system, m)
     if revolutions is None:
         revolutions = max(10, 2 * z2 // math.gcd(z1, z2))
     if fs is None:

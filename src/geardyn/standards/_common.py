@@ -37,6 +37,24 @@ class AssumedInput:
         return {"name": self.name, "value": self.value, "unit": self.unit, "source": self.source}
 
 
+def defaults(assumed: list[AssumedInput]) -> Any:
+    """``default(name, value, given, unit, source)``: ``given``, or when it is None ``value``, recorded in ``assumed``.
+
+    Parameters
+    ----------
+    assumed : list of AssumedInput
+        Where the defaults applied are recorded.
+    """
+
+    def default(name: str, value: Any, given: Any, unit: str, source: str) -> Any:
+        if given is None:
+            assumed.append(AssumedInput(name, value, unit, source))
+            return value
+        return given
+
+    return default
+
+
 def check_positive(name: str, value: Any, unit: str = "") -> float:
     """Return ``value`` as a float, or raise :class:`ModelError` unless it is finite and > 0.
 

@@ -55,7 +55,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from ..errors import ModelError
-from ._common import AssumedInput, check_angle, check_positive
+from ._common import AssumedInput, check_angle, check_positive, defaults
 from .iso6336 import dynamic_factor_method_b, low_load_factor
 from .stiffness import StiffnessHarmonics, mesh_stiffness_harmonics
 
@@ -344,12 +344,10 @@ def bevel_mesh(
     ISO 10300-1:2014, clause 6 and Annex A; ISO 23509:2016; ISO/TR 10300-30:2017.
     """
     assumed: list[AssumedInput] = []
+    default = defaults(assumed)
 
-    def default(name: str, value: Any, given: Any, unit: str, source: str) -> Any:
-        if given is None:
-            assumed.append(AssumedInput(name, value, unit, source))
-            return value
-        return given
+    def positive(name: str, value: float, given: float | None, unit: str, source: str) -> float:
+        return check_positive(name, default(name, value, given, unit, source), unit)
 
     if int(z1) != z1 or int(z2) != z2 or z1 < 5 or z2 < z1:
         raise ModelError(f"z1, z2: must be whole numbers of teeth with 5 <= z1 <= z2, got {z1!r}, {z2!r}")
@@ -393,40 +391,20 @@ def bevel_mesh(
     d1 = math.atan2(math.sin(Sigma), math.cos(Sigma) + u)
     delta1 = float(default("delta1", d1, delta1, "rad", "not given; tan delta1 = sin Sigma / (cos Sigma + z2/z1)"))
     delta2 = float(default("delta2", Sigma - delta1, delta2, "rad", "not given; delta2 = Sigma - delta1"))
-    d_m1 = check_positive(
-        "d_m1",
-        default("d_m1", z1 * m_mn / math.cos(beta_m1), d_m1, "m", "not given; d_m1 = z1 m_mn / cos beta_m1"),
-        "m",
-    )
-    d_m2 = check_positive(
-        "d_m2",
-        default("d_m2", z2 * m_mn / math.cos(beta_m2), d_m2, "m", "not given; d_m2 = z2 m_mn / cos beta_m2"),
-        "m",
-    )
+    d_m1 = positive("d_m1", z1 * m_mn / math.cos(beta_m1), d_m1, "m", "not given; d_m1 = z1 m_mn / cos beta_m1")
+    d_m2 = positive("d_m2", z2 * m_mn / math.cos(beta_m2), d_m2, "m", "not given; d_m2 = z2 m_mn / cos beta_m2")
     x = (
         float(default("x_hm1", 0.0, x_hm1, "", "not given; no profile shift"))
         if h_am1 is None or h_am2 is None
         else 0.0
     )
-    h_am1 = check_positive(
-        "h_am1", default("h_am1", m_mn * (1.0 + x), h_am1, "m", "not given; h_am1 = m_mn (1 + x_hm1)"), "m"
+    h_am1 = positive("h_am1", m_mn * (1.0 + x), h_am1, "m", "not given; h_am1 = m_mn (1 + x_hm1)")
+    h_am2 = positive("h_am2", m_mn * (1.0 - x), h_am2, "m", "not given; h_am2 = m_mn (1 - x_hm1)")
+    b2e = positive(
+        "b2_eff", DEFAULT_EFFECTIVE_FACE_WIDTH_RATIO * b, b2_eff, "m", "not given; b2,eff = 0.85 b (ISO 10300-1)"
     )
-    h_am2 = check_positive(
-        "h_am2", default("h_am2", m_mn * (1.0 - x), h_am2, "m", "not given; h_am2 = m_mn (1 - x_hm1)"), "m"
-    )
-    b2e = check_positive(
-        "b2_eff",
-        default(
-            "b2_eff", DEFAULT_EFFECTIVE_FACE_WIDTH_RATIO * b, b2_eff, "m", "not given; b2,eff = 0.85 b (ISO 10300-1)"
-        ),
-        "m",
-    )
-    rho = check_positive(
-        "density",
-        default("density", DEFAULT_DENSITY, density, "kg/m^3", "not given; steel (ISO/TR 10300-30)"),
-        "kg/m^3",
-    )
-    K_A = check_positive("K_A", default("K_A", 1.0, K_A, "", "not given; uniform load"))
+    rho = positive("density", DEFAULT_DENSITY, density, "kg/m^3", "not given; steel (ISO/TR 10300-30)")
+    K_A = positive("K_A", 1.0, K_A, "", "not given; uniform load")
 
     alpha_nD, alpha_nC, alpha_e = alpha_d + alpha_lim, alpha_d - alpha_lim, alpha_d
     d_v1, d_v2 = d_m1 / math.cos(delta1), d_m2 / math.cos(delta2)

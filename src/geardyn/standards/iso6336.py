@@ -39,7 +39,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from ..errors import ModelError
-from ._common import AssumedInput, check_angle, check_positive
+from ._common import AssumedInput, check_angle, check_positive, defaults
 
 __all__ = [
     "C_LOW_LOAD_LINE_LOAD",
@@ -78,16 +78,20 @@ def involute(alpha: float) -> float:
     return math.tan(alpha) - alpha
 
 
-def _inverse_involute(value: float) -> float:
-    """The angle whose involute is ``value`` (Newton iterations from a good start)."""
-    a = (3.0 * value) ** (1.0 / 3.0) if value > 0 else 0.0
+def _transverse(
+    alpha_n: float, beta: float, m_n: float, x1: float, x2: float, z1: float, z2: float
+) -> tuple[float, float, float, float]:
+    """Transverse pressure angle α_t, base helix angle β_b, transverse module m_t and working pressure angle α_wt
+    (inv α_wt = inv α_t + 2 tan α_n (x1 + x2)/(z1 + z2), by Newton iterations from a good start) of a pair."""
+    alpha_t = math.atan(math.tan(alpha_n) / math.cos(beta))
+    inv_wt = involute(alpha_t) + 2.0 * math.tan(alpha_n) * (x1 + x2) / (z1 + z2)
+    a = (3.0 * inv_wt) ** (1.0 / 3.0) if inv_wt > 0 else 0.0
     for _ in range(50):
-        f = math.tan(a) - a - value
-        step = f / (math.tan(a) ** 2)
+        step = (math.tan(a) - a - inv_wt) / (math.tan(a) ** 2)
         a -= step
         if abs(step) < 1e-15:
             break
-    return a
+    return alpha_t, math.asin(math.sin(beta) * math.cos(alpha_n)), m_n / math.cos(beta), a
 
 
 def low_load_factor(line_load: float | None) -> float:
@@ -327,13 +331,7 @@ def cylindrical_mesh(
     ISO 6336-1:2006, clauses 6 and 9.
     """
     assumed: list[AssumedInput] = []
-
-    def default(name, value, given, unit, source):
-        if given is None:
-            assumed.append(AssumedInput(name, value, unit, source))
-            return value
-        return given
-
+    default = defaults(assumed)
     if int(z1) != z1 or int(z2) != z2 or z1 < 5 or z2 < 5:
         raise ModelError(f"z1, z2: must be whole numbers of teeth >= 5, got {z1!r}, {z2!r}")
     m_n = check_positive("m_n", m_n, "m")
@@ -346,14 +344,10 @@ def cylindrical_mesh(
     h_fP = float(default("h_fP", 1.25, h_fP, "m_n", "not given; basic rack ISO 53 profile A"))
     K_A = float(default("K_A", 1.0, K_A, "", "not given; uniform load"))
 
-    alpha_t = math.atan(math.tan(alpha_n) / math.cos(beta))
-    beta_b = math.asin(math.sin(beta) * math.cos(alpha_n))
-    m_t = m_n / math.cos(beta)
+    alpha_t, beta_b, m_t, alpha_wt = _transverse(alpha_n, beta, m_n, x1, x2, z1, z2)
     d1, d2 = z1 * m_t, z2 * m_t
     d_b1, d_b2 = d1 * math.cos(alpha_t), d2 * math.cos(alpha_t)
     d_a1, d_a2 = d1 + 2.0 * m_n * (h_aP + x1), d2 + 2.0 * m_n * (h_aP + x2)
-    inv_wt = involute(alpha_t) + 2.0 * math.tan(alpha_n) * (x1 + x2) / (z1 + z2)
-    alpha_wt = _inverse_involute(inv_wt)
     a_w = 0.5 * (d1 + d2) * math.cos(alpha_t) / math.cos(alpha_wt)
     if d_a1 <= d_b1 or d_a2 <= d_b2:
         raise ModelError("tip diameters: the tip circle must lie outside the base circle")

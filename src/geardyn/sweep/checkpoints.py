@@ -195,12 +195,6 @@ def _load_chunk(directory: Path, index: int) -> dict[str, np.ndarray] | None:
     return out
 
 
-def _clear_chunks(directory: Path) -> None:
-    for p in directory.glob("chunk-*.npz"):
-        p.unlink(missing_ok=True)
-    _clear_temporaries(directory)
-
-
 def _clear_temporaries(directory: Path) -> None:
     """Remove temporary files left by a process killed in the middle of a write."""
     for p in directory.glob(".*.tmp"):
@@ -272,7 +266,9 @@ def prepare_checkpoint(directory: Path, chunks: Sequence[Any], resume: bool) -> 
         )
     _OPEN[str(directory)] = fp
     if not resume or not old:
-        _clear_chunks(directory)  # a fresh start, or chunks without a manifest: not trusted
+        for p in directory.glob("chunk-*.npz"):  # a fresh start, or chunks without a manifest: not trusted
+            p.unlink(missing_ok=True)
+        _clear_temporaries(directory)
         atomic_write_bytes(man, json.dumps({"fingerprint": fp, "chunks": len(chunks)}).encode())
         return set()
     done = {c.index for c in chunks if _chunk_path(directory, c.index).exists()}

@@ -197,6 +197,15 @@ def _stderr_console():
     return Console(stderr=True, soft_wrap=True)
 
 
+def _say(console: Any, text: str) -> None:
+    """One plain line on ``console``, flushed."""
+    console.print(text, markup=False, highlight=False)
+    try:
+        console.file.flush()
+    except (OSError, ValueError):  # a closed or broken stream: progress is not worth failing for
+        pass
+
+
 def print_summary(description: str, results: Sequence[dict[str, np.ndarray]]) -> None:
     """Print "<description>: N of M points diverged" on stderr (nothing for results without status)."""
     s = divergence_summary(results) if results else None
@@ -204,7 +213,7 @@ def print_summary(description: str, results: Sequence[dict[str, np.ndarray]]) ->
         return
     bad, total = s
     note = " (marked 'diverged', their data masked)" if bad else ""
-    _stderr_console().print(f"{description}: {bad} of {total} points diverged{note}", markup=False, highlight=False)
+    _say(_stderr_console(), f"{description}: {bad} of {total} points diverged{note}")
 
 
 # ------------------------------------------------------------------------------ bars
@@ -236,12 +245,7 @@ class _DelayedBar(ABC):
         if getattr(self, "_announced", False):
             return
         self._announced = True
-        console = _stderr_console()
-        console.print(f"compiling {what}, first run only", markup=False, highlight=False)
-        try:
-            console.file.flush()
-        except (OSError, ValueError):
-            pass
+        _say(_stderr_console(), f"compiling {what}, first run only")
 
     def _begin(self) -> None:
         if PROGRESS_DELAY > 0:
@@ -311,11 +315,7 @@ class _DelayedBar(ABC):
         if total and 0 < done < total:
             busy = max(0.0, sec - (_cache_guard.compile_seconds() - self._c0))
             text += f", ETA {_clock(busy * (total - done) / done)}"
-        self._plain.print(text, markup=False, highlight=False, soft_wrap=True)
-        try:
-            self._plain.file.flush()
-        except (OSError, ValueError):  # a closed or broken stream: progress is not worth failing for
-            pass
+        _say(self._plain, text)
 
     @abstractmethod
     def _numbers(self, done: float, total: float | None) -> str:

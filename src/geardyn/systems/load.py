@@ -561,10 +561,16 @@ def _body_speed(body: str, mesh_data: list, meshes: dict[str, Mesh]):
         m = meshes.get(name)
         if m is None:
             continue
-        for role, z in (("gear", t.get("z2")), ("pinion", t.get("z1", t.get("teeth")))):
-            z = z.get("value") if isinstance(z, dict) else z
-            if t.get(role) == body and isinstance(z, int) and not isinstance(z, bool) and z > 0:
-                return Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR) / z
+        teeth = {}
+        if t.get("pinion") is not None:
+            z1 = t.get("z1", t.get("teeth"))
+            teeth[t["pinion"]] = z1.get("value") if isinstance(z1, dict) else z1
+        if t.get("gear") is not None and t.get("z2") is not None:
+            z2 = t["z2"]
+            teeth[t["gear"]] = z2.get("value") if isinstance(z2, dict) else z2
+        z = teeth.get(body)
+        if isinstance(z, int) and not isinstance(z, bool) and z > 0:
+            return Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR) / z
     raise ModelError(
         f"load on {body}.theta: orders: the speed of body {body!r} is unknown: give the teeth of a mesh on it "
         "(teeth of the pinion of a spur mesh, z1/z2 of a bevel mesh)"

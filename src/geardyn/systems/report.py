@@ -142,12 +142,10 @@ def _mesh_entries(
 
 def _clearance_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
     M = len(model.meshes)
-    out = []
-    for c, name in enumerate(model.clearance_names):
-        e = M + c
-        span = _span(*_extremes(res, e, point), model.Dc[c])
-        out.append({"name": name, **span, "contact_fractions": _fractions(res, e, point)})
-    return out
+    return [
+        {"name": name, **_span(*_extremes(res, M + c, point), D), "contact_fractions": _fractions(res, M + c, point)}
+        for c, (name, D) in enumerate(zip(model.clearance_names, model.Dc))
+    ]
 
 
 def _extremes(res: Any, e: int, point: int) -> tuple[float, float]:
@@ -179,7 +177,7 @@ def _bearing_entries(model: Any, res: Any, point: int) -> list[dict[str, Any]]:
             entry[axis] = {
                 "min_um": _num(lo * bc_um),
                 "max_um": _num(hi * bc_um),
-                "fractions": {n: _num(float(v[point])) for n, v in res.law_fractions(e).items()},
+                "fractions": _fractions(res, e, point),
             }
         out.append(entry)
     return out

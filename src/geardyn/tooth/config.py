@@ -40,70 +40,79 @@ __all__ = ["FAULT_KEYS", "MESH_KEYS", "MOD_KEYS", "PAIR_KEYS", "SIGNATURE_KEYS",
 
 _MODULUS = _Kind("Young's modulus", "Pa", '"206 GPa"')
 _FREQUENCY = _Kind("frequency", "Hz", '"40 kHz"')
+#: A section's keys: name → (kind, old key with its unit in the name, factor of the old key's number to SI).
+_Keys = dict[str, tuple[_Key, str | None, float]]
+
+
+def _k(
+    kind: _Kind, old: str | None = None, factor: float = 1.0, series: bool = False
+) -> tuple[_Key, str | None, float]:
+    return _Key(kind, series), old, factor
+
 
 #: [tooth_pair] keys: (kind, old key with its unit in the name, factor of the old key's number to SI).
-PAIR_KEYS: dict[str, tuple[_Key, str | None, float]] = {
-    "name": (_Key(_TEXT), None, 1.0),
-    "z1": (_Key(_INT), None, 1.0),
-    "z2": (_Key(_INT), None, 1.0),
-    "z_virtual": (_Key(_NUMBER, series=True), None, 1.0),
-    "m_n": (_Key(_LENGTH), "m_n_mm", 1e-3),
-    "alpha_n": (_Key(_ANGLE), "alpha_n_deg", math.pi / 180.0),
-    "beta": (_Key(_ANGLE), "beta_deg", math.pi / 180.0),
-    "face_width": (_Key(_LENGTH), "face_width_mm", 1e-3),
-    "x1": (_Key(_NUMBER), None, 1.0),
-    "x2": (_Key(_NUMBER), None, 1.0),
-    "h_a": (_Key(_NUMBER), None, 1.0),
-    "h_f": (_Key(_NUMBER), None, 1.0),
-    "rack": (_Key(_choice(tuple(ISO53_RACKS))), None, 1.0),
-    "rho_f": (_Key(_NUMBER), None, 1.0),
-    "root": (_Key(_choice(("trochoid", "radial"))), None, 1.0),
-    "E": (_Key(_MODULUS), "E_GPa", 1e9),
-    "nu": (_Key(_NUMBER), None, 1.0),
-    "bore1": (_Key(_LENGTH), "bore1_mm", 1e-3),
-    "bore2": (_Key(_LENGTH), "bore2_mm", 1e-3),
-    "rim1": (_Key(_LENGTH), "rim1_mm", 1e-3),
-    "rim2": (_Key(_LENGTH), "rim2_mm", 1e-3),
-    "torque": (_Key(_TORQUE), "torque_Nm", 1.0),
+PAIR_KEYS: _Keys = {
+    "name": _k(_TEXT),
+    "z1": _k(_INT),
+    "z2": _k(_INT),
+    "z_virtual": _k(_NUMBER, series=True),
+    "m_n": _k(_LENGTH, "m_n_mm", 1e-3),
+    "alpha_n": _k(_ANGLE, "alpha_n_deg", math.pi / 180.0),
+    "beta": _k(_ANGLE, "beta_deg", math.pi / 180.0),
+    "face_width": _k(_LENGTH, "face_width_mm", 1e-3),
+    "x1": _k(_NUMBER),
+    "x2": _k(_NUMBER),
+    "h_a": _k(_NUMBER),
+    "h_f": _k(_NUMBER),
+    "rack": _k(_choice(tuple(ISO53_RACKS))),
+    "rho_f": _k(_NUMBER),
+    "root": _k(_choice(("trochoid", "radial"))),
+    "E": _k(_MODULUS, "E_GPa", 1e9),
+    "nu": _k(_NUMBER),
+    "bore1": _k(_LENGTH, "bore1_mm", 1e-3),
+    "bore2": _k(_LENGTH, "bore2_mm", 1e-3),
+    "rim1": _k(_LENGTH, "rim1_mm", 1e-3),
+    "rim2": _k(_LENGTH, "rim2_mm", 1e-3),
+    "torque": _k(_TORQUE, "torque_Nm"),
 }
 #: [modifications] keys.
-MOD_KEYS: dict[str, tuple[_Key, str | None, float]] = {
-    "tip_relief": (_Key(_LENGTH, series=True), "tip_relief_um", 1e-6),
-    "tip_length": (_Key(_LENGTH, series=True), "tip_length_mm", 1e-3),
-    "root_relief": (_Key(_LENGTH, series=True), "root_relief_um", 1e-6),
-    "root_length": (_Key(_LENGTH, series=True), "root_length_mm", 1e-3),
-    "shape": (_Key(_choice(("linear", "parabolic"))), None, 1.0),
-    "crowning": (_Key(_LENGTH), "crowning_um", 1e-6),
+MOD_KEYS: _Keys = {
+    "tip_relief": _k(_LENGTH, "tip_relief_um", 1e-6, series=True),
+    "tip_length": _k(_LENGTH, "tip_length_mm", 1e-3, series=True),
+    "root_relief": _k(_LENGTH, "root_relief_um", 1e-6, series=True),
+    "root_length": _k(_LENGTH, "root_length_mm", 1e-3, series=True),
+    "shape": _k(_choice(("linear", "parabolic"))),
+    "crowning": _k(_LENGTH, "crowning_um", 1e-6),
 }
 #: [mesh] keys.
-MESH_KEYS: dict[str, tuple[_Key, str | None, float]] = {
-    "cycles": (_Key(_INT), None, 1.0),
-    "points": (_Key(_INT), None, 1.0),
-    "slices": (_Key(_INT), None, 1.0),
+MESH_KEYS: _Keys = {
+    "cycles": _k(_INT),
+    "points": _k(_INT),
+    "slices": _k(_INT),
 }
 #: [signature] keys (``rpm`` also as a plain number in rpm).
-SIGNATURE_KEYS: dict[str, tuple[_Key, str | None, float]] = {
-    "rpm": (_Key(_SPEED), None, 1.0),
-    "revolutions": (_Key(_INT), None, 1.0),
-    "fs": (_Key(_FREQUENCY), "fs_Hz", 1.0),
-    "noise": (_Key(_NUMBER), None, 1.0),
-    "backlash": (_Key(_LENGTH), "backlash_um", 1e-6),
-    "b_c": (_Key(_LENGTH), "b_c_um", 1e-6),
-    "xi0": (_Key(_NUMBER), None, 1.0),
-    "seed": (_Key(_INT), None, 1.0),
+SIGNATURE_KEYS: _Keys = {
+    "rpm": _k(_SPEED),
+    "revolutions": _k(_INT),
+    "fs": _k(_FREQUENCY, "fs_Hz"),
+    "noise": _k(_NUMBER),
+    "backlash": _k(_LENGTH, "backlash_um", 1e-6),
+    "b_c": _k(_LENGTH, "b_c_um", 1e-6),
+    "xi0": _k(_NUMBER),
+    "seed": _k(_INT),
 }
 #: [[fault]] keys: lengths of spalls and wear with units (or in m as plain numbers; or with _mm / _um).
-FAULT_KEYS: dict[str, tuple[_Key, str | None, float]] = {
-    "kind": (_Key(_choice(("crack", "spall", "wear", "broken"))), None, 1.0),
-    "gear": (_Key(_INT), None, 1.0),
-    "tooth": (_Key(_INT), None, 1.0),
-    "depth": (_Key(_NUMBER), None, 1.0),
-    "angle_deg": (_Key(_NUMBER), None, 1.0),
-    "length": (_Key(_NUMBER), None, 1.0),
-    "at": (_Key(_NUMBER), None, 1.0),
-    "width": (_Key(_LENGTH), None, 1.0),
-    "y0": (_Key(_NUMBER), None, 1.0),
-    "remaining": (_Key(_NUMBER), None, 1.0),
+FAULT_KEYS: _Keys = {
+    "kind": _k(_choice(("crack", "spall", "wear", "broken"))),
+    "gear": _k(_INT),
+    "tooth": _k(_INT),
+    "depth": _k(_NUMBER),
+    "angle_deg": _k(_NUMBER),
+    "length": _k(_NUMBER),
+    "at": _k(_NUMBER),
+    "width": _k(_LENGTH),
+    "y0": _k(_NUMBER),
+    "remaining": _k(_NUMBER),
 }
 _FAULT_LENGTHS = {"spall": ("length", "width", "depth"), "wear": ("depth",)}
 #: Top-level text keys a tooth-pair file may hold beside its sections.
@@ -167,7 +176,7 @@ class ToothCase:
         )
 
 
-def _section(ctx: _Ctx, doc: dict[str, Any], name: str, keys: dict[str, tuple[_Key, str | None, float]]) -> dict:
+def _section(ctx: _Ctx, doc: dict[str, Any], name: str, keys: _Keys) -> dict:
     raw = doc.get(name, {})
     if not isinstance(raw, dict):
         raise ctx.error(name, "", "expected a table")
@@ -182,10 +191,9 @@ def _section(ctx: _Ctx, doc: dict[str, Any], name: str, keys: dict[str, tuple[_K
             new, factor = old[k]
             if new in raw:
                 raise ctx.error(name, k, f"given twice, as {new} and {k}; keep {new} (with its unit)")
-            spec = keys[new][0]
-            plain = _Key(_NUMBER, series=spec.series)
-            val, _ = _parse_value(ctx, name, k, plain, v)
-            out[new] = tuple(x * factor for x in val) if spec.series else val * factor
+            series = keys[new][0].series
+            val, _ = _parse_value(ctx, name, k, _Key(_NUMBER, series), v)
+            out[new] = tuple(x * factor for x in val) if series else val * factor
         else:
             spec = keys[k][0]
             if spec.kind is _SPEED and isinstance(v, (int, float)) and not isinstance(v, bool):
@@ -285,27 +293,11 @@ def load_case(path: str | Path) -> ToothCase:
     zv = tp.get("z_virtual")
     if zv is not None and len(zv) != 2:
         raise ctx.error("tooth_pair", "z_virtual", f"expected two numbers [z_v1, z_v2], got {len(zv)}")
-    try:
+    try:  # every other [tooth_pair] key is a keyword of pair_geometry, whose defaults are the file's
         geo = pair_geometry(
-            *(zv if zv else (tp["z1"], tp["z2"])),
-            tp["m_n"],
-            alpha_n=tp.get("alpha_n", math.radians(20.0)),
-            beta=tp.get("beta", 0.0),
-            face_width=tp["face_width"],
-            x1=tp.get("x1", 0.0),
-            x2=tp.get("x2", 0.0),
-            h_a=tp.get("h_a", 1.0),
-            h_f=tp.get("h_f"),
-            rack=tp.get("rack", "A"),
-            rho_f=tp.get("rho_f"),
-            root=tp.get("root", "trochoid"),
-            bore1=tp.get("bore1"),
-            bore2=tp.get("bore2"),
-            rim1=tp.get("rim1"),
-            rim2=tp.get("rim2"),
-            E=tp.get("E", 206e9),
-            nu=tp.get("nu", 0.3),
+            *(zv or (tp["z1"], tp["z2"])),
             teeth=(tp["z1"], tp["z2"]) if zv else None,
+            **{k: v for k, v in tp.items() if k not in ("name", "z1", "z2", "z_virtual", "torque")},
         )
     except (ModelError, TypeError) as exc:
         raise ctx.error("tooth_pair", None, str(exc), ModelError) from None

@@ -255,10 +255,10 @@ def tooth_compliance(
     blank = geo.gears[gear]
     d, h_l, a1 = load_point(sec, rho)
     w = sec.h + sec.h
+    i = sec.crack_start
     if crack_model not in ("fracture", "section"):
         raise ValueError(f"crack_model: 'fracture' or 'section', got {crack_model!r}")
     if crack_depth and crack_model == "section":
-        i = sec.crack_start
         h_c = float(sec.h[i])
         lost = np.clip(np.minimum(sec.h[i:], h_c) - (1.0 - crack_depth) * h_c, 0.0, None)
         w = w.copy()
@@ -269,7 +269,6 @@ def tooth_compliance(
     kf = fillet_compliance(a1, u_f, sec.r_f, sec.theta_f, blank.bore_radius, blank.E)
     kc = 0.0
     if crack_depth and crack_model == "fracture":
-        i = sec.crack_start
         kc = crack_compliance(crack_depth, float(sec.y[i]), float(sec.h[i]), d, h_l, a1, blank.E, sec.rho_F)
     return ToothCompliance(bending=kb, shear=ks, axial=ka, fillet=kf, crack=kc)
 

@@ -183,8 +183,7 @@ class Excitation:
     def _series(self, values: np.ndarray, harmonics: int | None) -> tuple[float, np.ndarray, np.ndarray]:
         if self.phase is None:
             return fourier_series(values)
-        H = self.default_harmonics(10**9) if harmonics is None else harmonics
-        return piecewise_series(self.phase / self.cycles, values, H)
+        return piecewise_series(self.phase / self.cycles, values, harmonics)
 
     def default_harmonics(self, cap: int) -> int:
         """⌊n/2⌋ for n distinct phases, at most ``cap``."""
@@ -198,16 +197,12 @@ class Excitation:
 
         ``harmonics`` (default all of the table's) is refused above ``cap`` (default MAX_HARMONICS·cycles)
         and above the table's ⌊N/2⌋."""
-        if self.phase is not None:
-            harmonics = (
-                self.default_harmonics(MAX_HARMONICS * self.cycles if cap is None else int(cap))
-                if harmonics is None
-                else harmonics
-            )
+        cap = MAX_HARMONICS * self.cycles if cap is None else int(cap)
+        if self.phase is not None and harmonics is None:
+            harmonics = self.default_harmonics(cap)
         k0, ka, kp = self._series(self.stiffness, harmonics)
         if k0 <= 0:
             raise ModelError("excitation: the mean stiffness must be > 0")
-        cap = MAX_HARMONICS * self.cycles if cap is None else int(cap)
         H = len(ka) if harmonics is None else int(harmonics)
         if H < 1 or H > len(ka):
             raise ModelError(f"excitation: harmonics must be 1 … {len(ka)} (the table's), got {H}")

@@ -242,7 +242,3 @@ class Modifications:
     @property
     def exponent(self) -> int:
         return 1 if self.shape == "linear" else 2
-
-    @property
-    def any(self) -> bool:
-        return any(self.tip_relief) or any(self.root_relief) or self.crowning > 0

@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from ..standards.iso6336 import _inverse_involute, involute
+from ..standards.iso6336 import _transverse, involute
 
 __all__ = ["ISO53_RACKS", "GearBlank", "PairGeometry", "Section", "pair_geometry", "trochoid"]
 
@@ -125,9 +125,12 @@ class Section:
 
     def half_angle(self, rho: np.ndarray) -> np.ndarray:
         """Half angle ψ(ρ) of the tooth at radius ρ (≥ r_b: involute; below: constant ψ_b)."""
-        rho = np.maximum(np.asarray(rho, dtype=float), self.r_b)
-        a = np.arccos(np.clip(self.r_b / rho, -1.0, 1.0))
-        return self.psi0 - (np.tan(a) - a)
+        return _half_angle(self.psi0, self.r_b, rho)
+
+
+def _half_angle(psi0: float, r_b: float, rho: np.ndarray) -> np.ndarray:
+    a = np.arccos(np.clip(r_b / np.maximum(np.asarray(rho, dtype=float), r_b), -1.0, 1.0))
+    return psi0 - (np.tan(a) - a)
 
 
 @dataclass(frozen=True)
@@ -250,15 +253,11 @@ def _section(
     r = 0.5 * z * m_t
     r_b = r * math.cos(alpha_t)
     psi0 = math.pi / (2 * z) + 2.0 * x * math.tan(alpha_t) / z + involute(alpha_t)
-
-    def inv_psi(rho):
-        a = np.arccos(np.clip(r_b / np.maximum(rho, r_b), -1.0, 1.0))
-        return psi0 - (np.tan(a) - a)
-
+    start, rho_F = 0, 0.0
     if root == "radial":
         rho = np.linspace(r_f, r_a, SECTION_POINTS)
-        psi = inv_psi(rho)
-        r_L, start = max(r_f, r_b), 0
+        psi = _half_angle(psi0, r_b, rho)
+        r_L = max(r_f, r_b)
     else:
         m_n = m_t if m_n is None else m_n
         # the rack in the transverse plane: heights in m_n, the tooth thickness in m_t
@@ -270,18 +269,17 @@ def _section(
         else:  # undercut: the fillet cuts into the involute above the base circle
             r_L = r_b
             over = rho_t > r_b
-            psi_t = np.where(over, np.minimum(psi_t, inv_psi(rho_t)), psi_t)
+            psi_t = np.where(over, np.minimum(psi_t, _half_angle(psi0, r_b, rho_t)), psi_t)
         top = float(rho_t[-1])
         rho_i = np.linspace(max(top, r_L), r_a, SECTION_POINTS)
-        rho = np.concatenate([rho_t, rho_i[1:] if rho_i[0] <= top else rho_i])
-        psi = np.concatenate([psi_t, inv_psi(rho_i[1:] if rho_i[0] <= top else rho_i)])
-        start = 0
+        rho_i = rho_i[1:] if rho_i[0] <= top else rho_i
+        rho = np.concatenate([rho_t, rho_i])
+        psi = np.concatenate([psi_t, _half_angle(psi0, r_b, rho_i)])
     if psi[-1] <= 0:
         raise ModelError(f"tooth of z = {z:g}: pointed (zero thickness below the tip circle); reduce x or h_a")
     y, h = rho * np.cos(psi), rho * np.sin(psi)
     if np.any(np.diff(y) <= 0):
         raise ModelError(f"tooth of z = {z:g}: the root fillet folds back on itself (rack tip radius too large)")
-    rho_F = 0.0
     if root != "radial":
         slope = -np.diff(h) / np.diff(y)  # the fillet's tangent against the centre line: tan of its angle
         crit = np.flatnonzero(slope <= math.tan(math.radians(30.0)))
@@ -415,45 +413,38 @@ def pair_geometry(
         )
     z1, z2 = float(z1), float(z2)
     n1, n2 = (int(round(z1)), int(round(z2))) if teeth is None else (int(teeth[0]), int(teeth[1]))
-    alpha_t = math.atan(math.tan(alpha_n) / math.cos(beta))
-    beta_b = math.asin(math.sin(beta) * math.cos(alpha_n))
-    m_t = m_n / math.cos(beta)
+    alpha_t, beta_b, m_t, alpha_wt = _transverse(alpha_n, beta, m_n, x1, x2, z1, z2)
     r = (0.5 * z1 * m_t, 0.5 * z2 * m_t)
     r_b = (r[0] * math.cos(alpha_t), r[1] * math.cos(alpha_t))
     r_a = (r[0] + m_n * (h_a + x1), r[1] + m_n * (h_a + x2))
     r_f = (r[0] - m_n * (h_f - x1), r[1] - m_n * (h_f - x2))
-    inv_wt = involute(alpha_t) + 2.0 * math.tan(alpha_n) * (x1 + x2) / (z1 + z2)
-    alpha_wt = _inverse_involute(inv_wt)
     a_w = (r[0] + r[1]) * math.cos(alpha_t) / math.cos(alpha_wt)
     T1T2 = a_w * math.sin(alpha_wt)
     s_E = math.sqrt(r_a[0] ** 2 - r_b[0] ** 2)
     s_A = T1T2 - math.sqrt(r_a[1] ** 2 - r_b[1] ** 2)
     p_bt = math.pi * m_t * math.cos(alpha_t)
-    for g, (rf, rim) in enumerate(zip(r_f, (rim1, rim2))):
+    bores = []
+    for g, (rf, rim, bore) in enumerate(zip(r_f, (rim1, rim2), (bore1, bore2))):
         if rim is not None:
-            if (bore1, bore2)[g] is not None:
+            if bore is not None:
                 raise ModelError(f"rim{g + 1}: give a rim thickness or a bore radius, not both")
             if not (math.isfinite(rim) and 0.0 < rim < rf):
                 raise ModelError(f"rim{g + 1}: rim thickness in (0, r_f = {rf:g} m), got {rim!r}")
-    bore1 = r_f[0] - rim1 if rim1 is not None else bore1
-    bore2 = r_f[1] - rim2 if rim2 is not None else bore2
+            bore = rf - rim
+        bores.append(0.5 * rf if bore is None else bore)
     if s_A < 0:
         raise ModelError("geometry: the wheel's tip reaches past the pinion's base circle (interference)")
     eps_alpha = (s_E - s_A) / p_bt
     if eps_alpha < 1.0:
         raise ModelError(f"geometry: transverse contact ratio {eps_alpha:.3f} < 1")
     eps_beta = face_width * math.sin(beta) / (math.pi * m_n)
-    gears = (
-        GearBlank(z1, x1, bore1 if bore1 is not None else 0.5 * r_f[0], E, nu, n1),
-        GearBlank(z2, x2, bore2 if bore2 is not None else 0.5 * r_f[1], E, nu, n2),
-    )
+    gears = tuple(GearBlank(z, x, b, E, nu, n) for z, x, b, n in zip((z1, z2), (x1, x2), bores, (n1, n2)))
     for g, rf in zip(gears, r_f):
         if not 0 < g.bore_radius < rf:
             raise ModelError(f"bore radius of z = {g.z:g}: must lie between 0 and the root radius {rf:g} m")
-    kw = {"h_fP": h_f, "rho_fP": rho_f, "root": root, "m_n": m_n}
-    sections = (
-        _section(z1, x1, m_t, alpha_t, r_f[0], r_a[0], **kw),
-        _section(z2, x2, m_t, alpha_t, r_f[1], r_a[1], **kw),
+    sections = tuple(
+        _section(z, x, m_t, alpha_t, rf, ra, h_fP=h_f, rho_fP=rho_f, root=root, m_n=m_n)
+        for z, x, rf, ra in zip((z1, z2), (x1, x2), r_f, r_a)
     )
     for g, sec in enumerate(sections):
         s_low = s_A if g == 0 else T1T2 - s_E

@@ -92,13 +92,7 @@ def default_cycles(z1: int, z2: int, faults: Sequence[Any]) -> int:
     int
     """
     gears = {f.gear for f in faults if not (isinstance(f, Wear) and f.tooth is None)}
-    if not gears:
-        return 1
-    if gears == {0}:
-        return z1
-    if gears == {1}:
-        return z2
-    return math.lcm(z1, z2)
+    return math.lcm(*(z for g, z in enumerate((z1, z2)) if g in gears))  # lcm() = 1
 
 
 @dataclass
@@ -305,20 +299,16 @@ def mesh_stiffness(
         raise ModelError(f"slices: a whole number of at least 1, got {slices!r}")
     partial = any(isinstance(f, Spall) or (isinstance(f, Crack) and f.length < 1.0) for f in faults)
     S = int(slices) if slices else (40 if (geo.beta > 0 or mods.crowning > 0 or partial) else 1)
-    J_est = int(math.ceil(geo.eps_alpha + geo.face_width * math.tan(geo.beta_b) / geo.p_bt)) + 1
-    M_est = P * int(points) if phases is None else int(np.size(phases))
-    need = _MESH_ARRAYS * 8.0 * M_est * J_est * S
-    budget(
-        f"memory of {M_est} phases x {J_est} pairs x {S} slices", need, MAX_MESH_BYTES, key="points x cycles x slices"
-    )
-    F = torque1 / geo.r_b[0]
     b = geo.face_width
     tanb = math.tan(geo.beta_b)
+    J = int(math.ceil(geo.eps_alpha + b * tanb / geo.p_bt)) + 1  # pairs that can be in contact at once
+    M_est = P * int(points) if phases is None else int(np.size(phases))
+    need = _MESH_ARRAYS * 8.0 * M_est * J * S
+    budget(f"memory of {M_est} phases x {J} pairs x {S} slices", need, MAX_MESH_BYTES, key="points x cycles x slices")
+    F = torque1 / geo.r_b[0]
     theta = np.arange(P * points) / points if phases is None else np.atleast_1d(np.asarray(phases, dtype=float))
     M = theta.size
     y = (np.arange(S) + 0.5) * b / S
-    span = geo.eps_alpha + b * tanb / geo.p_bt
-    J = int(math.ceil(span)) + 1
     base = np.floor(theta).astype(np.int64)
     m = base[:, None, None] - np.arange(J)[None, :, None]  # (M, J, 1) pair index
     s = geo.s_A + (theta[:, None, None] - m) * geo.p_bt - y[None, None, :] * tanb  # (M, J, S)
@@ -366,8 +356,7 @@ def mesh_stiffness(
     noload = np.where(kf > 0, ef, np.inf).min(axis=1)
     # a single healthy pair along the path, by term (for the record and the figure)
     sp = np.linspace(geo.s_A, geo.s_E, 201)
-    t1 = tooth_compliance(geo, 0, geo.contact_radius(0, sp))
-    t2 = tooth_compliance(geo, 1, geo.contact_radius(1, sp))
+    t1, t2 = (tooth_compliance(geo, g, geo.contact_radius(g, sp)) for g in (0, 1))
     comps = {"s": sp, "hertz": np.full_like(sp, ch)}
     for name in ("bending", "shear", "axial", "fillet"):
         comps[name] = getattr(t1, name) + getattr(t2, name)
@@ -377,7 +366,7 @@ def mesh_stiffness(
         force=F,
         phase=theta,
         stiffness=km,
-        stiffness_unmodified=k.reshape(M, -1).sum(1),
+        stiffness_unmodified=kf.sum(1),
         ste=delta,
         ste_noload=noload,
         ste_equivalent=delta - F / km,

@@ -36,42 +36,37 @@ def iso_beside(ms: MeshStiffness, torque1: float | None = None) -> dict[str, flo
     b = geo.face_width
     mean = float(np.mean(ms.stiffness_unmodified)) / b / 1e9
     c_single = float(np.max(ms.components["pair"])) / b / 1e9
-    if any(g.z != g.teeth for g in geo.gears):  # virtual cylindrical gears of a bevel pair: ISO 10300 applies
-        return {
-            "c_prime_iso": None,
-            "c_gamma_iso": None,
-            "C_F": None,
-            "single_pair_max": c_single,
-            "mesh_mean": mean,
-            "mesh_mean_over_c_gamma": None,
-            "single_max_over_c_prime": None,
-            "eps_alpha_iso": None,
-            "note": "virtual cylindrical gears: compare with geardyn geometry (ISO 10300-1)",
-        }
-    iso = cylindrical_mesh(
-        geo.gears[0].teeth,
-        geo.gears[1].teeth,
-        geo.m_n,
-        geo.alpha_n,
-        geo.beta,
-        geo.face_width,
-        x1=geo.gears[0].x,
-        x2=geo.gears[1].x,
-        h_aP=geo.h_a,
-        h_fP=geo.h_f,
-        torque1=torque1,
-    )
-    cg = iso.c_gamma_alpha if geo.beta == 0 else iso.c_gamma_beta
-    return {
-        "c_prime_iso": iso.c_prime / 1e9,
-        "c_gamma_iso": cg / 1e9,
-        "C_F": iso.C_F,
+    virtual = any(g.z != g.teeth for g in geo.gears)  # virtual cylindrical gears of a bevel pair: ISO 10300 applies
+    c1 = cg = C_F = eps = None
+    if not virtual:
+        iso = cylindrical_mesh(
+            geo.gears[0].teeth,
+            geo.gears[1].teeth,
+            geo.m_n,
+            geo.alpha_n,
+            geo.beta,
+            geo.face_width,
+            x1=geo.gears[0].x,
+            x2=geo.gears[1].x,
+            h_aP=geo.h_a,
+            h_fP=geo.h_f,
+            torque1=torque1,
+        )
+        c1, C_F, eps = iso.c_prime / 1e9, iso.C_F, iso.eps_alpha
+        cg = (iso.c_gamma_alpha if geo.beta == 0 else iso.c_gamma_beta) / 1e9
+    out = {
+        "c_prime_iso": c1,
+        "c_gamma_iso": cg,
+        "C_F": C_F,
         "single_pair_max": c_single,
         "mesh_mean": mean,
-        "mesh_mean_over_c_gamma": mean / (cg / 1e9),
-        "single_max_over_c_prime": c_single / (iso.c_prime / 1e9),
-        "eps_alpha_iso": iso.eps_alpha,
+        "mesh_mean_over_c_gamma": None if virtual else mean / cg,
+        "single_max_over_c_prime": None if virtual else c_single / c1,
+        "eps_alpha_iso": eps,
     }
+    if virtual:
+        out["note"] = "virtual cylindrical gears: compare with geardyn geometry (ISO 10300-1)"
+    return out
 
 
 def stiffness_summary(ms: MeshStiffness, harmonics: int = 8, torque1: float | None = None) -> dict[str, Any]:

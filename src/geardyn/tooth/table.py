@@ -209,7 +209,7 @@ def _read_table(path: str | Path, *, cycles: int | None = None, points: int | No
             with p.open(newline="", encoding="utf-8") as fh:
                 rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
             head = tuple(c.strip() for c in rows[0]) if rows else ()
-            if head[:2] != _CSV_HEADER[:2] or (len(head) > 2 and head[2] != _CSV_HEADER[2]) or len(head) > 3:
+            if head not in (_CSV_HEADER[:2], _CSV_HEADER):
                 raise ConfigError(
                     f"{where}: the header must be {','.join(_CSV_HEADER)} (ste_m optional), got {','.join(head)!r}"
                 )
@@ -235,19 +235,8 @@ def _read_table(path: str | Path, *, cycles: int | None = None, points: int | No
             return Excitation(k, e, P)
         if suffix == ".toml":
             from .config import load_case
-            from .mesh import mesh_stiffness
 
-            case = load_case(p)
-            ms = mesh_stiffness(
-                case.geometry,
-                case.torque,
-                faults=case.faults,
-                modifications=case.modifications,
-                cycles=cycles if cycles is not None else case.mesh.get("cycles"),
-                points=int(points if points is not None else case.mesh.get("points", 64)),
-                slices=case.mesh.get("slices"),
-            )
-            return table_of(ms)
+            return table_of(load_case(p).mesh_stiffness(cycles, points))
     except ConfigError:
         raise
     except (OSError, ValueError, TypeError, KeyError, ModelError) as exc:

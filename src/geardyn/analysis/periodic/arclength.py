@@ -326,13 +326,11 @@ class _Continuer:
         fa, fb = self._test_at(name, a, d), self._test_at(name, b, d)
 
         def trial(s: float, lo: float, hi: float) -> tuple[float, _Point, float] | None:
-            pt = self.correct(a.y + s * d, e, a.tangent, a.ev.steps)
-            if pt is None:  # fall back to bisection
-                s = 0.5 * (lo + hi)
-                pt = self.correct(a.y + s * d, e, a.tangent, a.ev.steps)
-                if pt is None:
-                    return None
-            return s, pt, self._test_at(name, pt, d)
+            for t in (s, 0.5 * (lo + hi)):  # the secant's point, else bisection
+                pt = self.correct(a.y + t * d, e, a.tangent, a.ev.steps)
+                if pt is not None:
+                    return t, pt, self._test_at(name, pt, d)
+            return None
 
         return illinois_on_chord(fa, fb, trial, a if abs(fa) <= abs(fb) else b, LOCATE_TOL, LOCATE_MAX_ITER, length=L)
 

@@ -91,9 +91,9 @@ def switch_at_period_doubling(
     e = np.real(V[:, k])
     e = e / np.linalg.norm(e)
     delta = SWITCH_PARAM_REL * abs(stop - start)
-    lo, hi = min(start, stop), max(start, stop)
+    lo, hi = sorted((start, stop))
     first = 1.0
-    if bif.stable_before is not None and bif.stable_after is not None and bif.stable_before != bif.stable_after:
+    if None not in (bif.stable_before, bif.stable_after) and bif.stable_before != bif.stable_after:
         # the side where the period-n orbit is unstable first
         first = (1.0 if stop >= start else -1.0) * (1.0 if bif.stable_before else -1.0)
     scale = 1.0 + float(np.linalg.norm(bif.state))

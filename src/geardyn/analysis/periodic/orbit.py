@@ -620,7 +620,7 @@ def shoot(
             model, n, state0, dtau=dtau, accurate=accurate, transient=transient, progress=progress
         )
         if x0 is None:
-            return _failed_orbit(model, n, start_state(model, state0), Status.DIVERGED, dtau, accurate, N)
+            return _failed_orbit(model, n, start_state(model, state0), dtau, accurate, N)
     else:
         x0 = np.asarray(guess, dtype=float)
         if x0.shape != (pmap.dim,) or not np.all(np.isfinite(x0)):
@@ -639,7 +639,7 @@ def shoot(
             if ev2.ok:
                 ev, its, res = ev2, its + its_a + its2, res + res_a + res2
     if not ev.ok:
-        return _failed_orbit(model, n, x0, Status.DIVERGED, dtau, accurate, N)
+        return _failed_orbit(model, n, x0, dtau, accurate, N)
     return _orbit_from_eval(pmap, ev, conv, status, its, res)
 
 
@@ -672,9 +672,8 @@ def _orbit_from_eval(
     )
 
 
-def _failed_orbit(
-    model: GearModel, n: int, x: np.ndarray, status: Status, dtau: float, accurate: bool, N: int
-) -> PeriodicOrbit:
+def _failed_orbit(model: GearModel, n: int, x: np.ndarray, dtau: float, accurate: bool, N: int) -> PeriodicOrbit:
+    """The orbit of a shooting whose simulation or Newton iteration diverged."""
     x = np.asarray(x, float)
     d = x.size
     return PeriodicOrbit(
@@ -684,7 +683,7 @@ def _failed_orbit(
         np.full((n, d), np.nan),
         np.full((d, d), np.nan),
         False,
-        status,
+        Status.DIVERGED,
         0,
         [math.inf],
         math.nan,
