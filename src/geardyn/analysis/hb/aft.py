@@ -165,17 +165,8 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
     D : float
         Half gap (>= 0).
     """
-    G, S, phis = dead_zone_kernel(
-        np.ascontiguousarray(a, dtype=float),
-        np.ascontiguousarray(K, dtype=complex),
-        float(D),
-        basis.cos_table,
-        basis.sin_table,
-        basis.H,
-        ROOT_MAX_ITER,
-        ROOT_TOL,
-    )
-    return DeadZoneTerms(G, S, phis)
+    a, K, cos_t = np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(K, dtype=complex), basis.cos_table
+    return DeadZoneTerms(*dead_zone_kernel(a, K, float(D), cos_t, basis.sin_table, basis.H, ROOT_MAX_ITER, ROOT_TOL))
 
 
 def sampled_terms(basis: HarmonicBasis, ds: list, rule, K: float, periods: int) -> tuple[list, dict]:
