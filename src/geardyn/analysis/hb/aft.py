@@ -101,8 +101,7 @@ class HarmonicBasis:
 
     def evaluate(self, a: np.ndarray, phi: np.ndarray, derivative: int = 0) -> np.ndarray:
         """u or its φ-derivative of order 0, 1 or 2 at arbitrary angles ``phi``."""
-        a = np.asarray(a, dtype=float)
-        H = self.H
+        a, H = np.asarray(a, dtype=float), self.H
         kk = np.arange(1, H + 1)
         arg = np.multiply.outer(np.asarray(phi, dtype=float), kk)
         c, s = np.cos(arg), np.sin(arg)

@@ -403,10 +403,8 @@ class _Tracer:
     """The equations with their test functions and step rules."""
 
     def __init__(self, eq: HBEquations, lo: float, hi: float, ps: float, conservative: bool):
-        self.s, self.lo, self.hi, self.ps = eq, lo, hi, ps
-        self.M = eq.basis.size
+        self.s, self.lo, self.hi, self.ps, self.conservative, self.M = eq, lo, hi, ps, conservative, eq.basis.size
         self.rules = PAIR_RULES if eq.form.scalar else SYSTEM_RULES  # (a scalar form: the pair's)
-        self.conservative = conservative
         # test function → (event type, detail) of :meth:`events`; the reference element's grazing is ``graze_*``
         ns = ("neimark-sacker", "complex pair through the unit circle")
         self.labels = {"turn": ("fold", "turning point: a multiplier through +1 (det(I − M) = 0)")}
@@ -451,8 +449,7 @@ class _Tracer:
             r = math.sqrt(R @ R)
             if r <= CORRECTOR_TOL * (1 + math.sqrt(y @ y)) and abs(g) <= 1e-12:
                 return self._finish(y, ref_t, it, aug, lu if normal is ref_t else None)
-            F[:-1] = R
-            F[-1] = g
+            F[:-1], F[-1] = R, g
             A[-1] = normal
             try:
                 if isinstance(A, SparseJacobian):

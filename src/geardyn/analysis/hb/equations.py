@@ -398,15 +398,12 @@ class HBEquations:
     def _core(self, x: np.ndarray, p: float | None, jacobian: bool):
         """R and the Jacobian (or None) with the gauge rows and columns of the rigid-body modes, ν, the parts R2, R1
         (dofs, M) of R = ν² R2 + ν R1 + R0 and every element's S series."""
-        pt = self._entry(p)
-        nu = self.nu(p)
-        Q = self._split(x)
+        pt, nu, Q = self._entry(p), self.nu(p), self._split(x)
         H, Hd = self.H, self.Hd
         R2 = -self._k2 * Q - pt.G2
         R1 = pt.form.B @ (Q @ self.D1.T)  # the φ-derivative of every row
         R0 = pt.form.A @ Q - pt.G0
-        Ss = {}
-        els = pt.form.elements
+        Ss, els = {}, pt.form.elements
         for e0, r in _units(pt.form):
             ds = [self._delta(pt, e, Q) for e in range(e0, e0 + r)]
             Gs, S = LAW_TERMS[els[e0].law](ds, els[e0 : e0 + r], self.dbasis, self.periods)
@@ -427,8 +424,7 @@ class HBEquations:
 
     def _jacobian(self, pt: _Point, nu: float, Ss: dict) -> np.ndarray | SparseJacobian:
         """Its blocks: every element's own (damping and S_ee), then the cross blocks S_ij of a law on several rows."""
-        H, M, nd = self.H, self.M, self.basis.dofs
-        f = pt.form
+        H, M, nd, f = self.H, self.M, self.basis.dofs, pt.form
         ops, mats = [], []
         for i, j in _couplings(f):
             T = toeplitz(Ss[i, j], H)

@@ -159,8 +159,7 @@ def spread(cf: np.ndarray, ratio: float, periods: int) -> np.ndarray:
     ModelError
         When a harmonic j r periods is not an integer (incommensurate mesh ratios).
     """
-    j = np.arange(cf.shape[0])
-    qf = j * ratio * periods
+    qf = np.arange(cf.shape[0]) * ratio * periods
     q = np.rint(qf).astype(int)
     if np.any(np.abs(qf - q) > HARMONIC_RTOL * np.maximum(1.0, qf)):
         raise ModelError(f"ratio: mesh ratio {ratio!r} times {periods} periods is not an integer harmonic")

@@ -21,6 +21,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+from scipy.linalg import block_diag
 
 from ...errors import ModelError
 from ...status import Status
@@ -125,7 +126,7 @@ def monodromy_floquet(
         D[e] = D[e + 1] = 0.0
     G = [g0 + nu * nu * g2 for g0, g2 in zip(form.G0, form.G2)]
     P = np.eye(n) if P is None else np.asarray(P, dtype=float)
-    ne, count = P.shape[1], 2 * P.shape[1]
+    count = 2 * P.shape[1]
     nan = np.full(count, complex(math.nan, math.nan))
     if count == 0:
         return NO_MULTIPLIERS
@@ -144,9 +145,7 @@ def monodromy_floquet(
         float(np.max(np.abs(np.linalg.eigvals(kmax)))), float(np.linalg.norm(cmax, 2)))  # fmt: skip
     rate = math.sqrt(krad) + crad
     hmax = STEP_ANGLE * nu / max(rate, 1e-12)  # in φ
-    Q = np.zeros((2 * n, count))
-    Q[:n, :ne] = P
-    Q[n:, ne:] = P
+    Q = block_diag(P, P)
     Dv = np.asarray(D, dtype=float)
     sp = (*_rows(np.logical_or(A != 0, B != 0)), *_rows(V != 0))  # the nonzeros the kernel sums over
 
@@ -184,12 +183,11 @@ def monodromy_floquet(
         return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
     Phi = again[1]
     T = 2.0 * math.pi / nu
-    trace = -form.mean_trace()
     mu = np.linalg.eigvals(Phi).astype(complex)
     mu = mu[np.argsort(-np.abs(mu), kind="stable")]
     with np.errstate(divide="ignore"):
         ex = np.log(mu) / T
-    ref = math.exp(-trace * T)
+    ref = math.exp(form.mean_trace() * T)
     liou = float(abs(np.prod(mu) / ref - 1.0))
     status = Status.OK if liou <= LIOUVILLE_TOL and closure <= CLOSURE_TOL else Status.UNRESOLVED
     return HillResult(ex, mu, np.zeros(count), liou, status)

@@ -212,8 +212,7 @@ def _solution(rd: HBEquations, seg: Segment, x: float) -> tuple[np.ndarray, Stat
     """The segment's solution at ω = x: Newton from its coefficients interpolated at x or, when that fails (too far
     from it), natural continuation from its nearest point in WALK_STEPS equal steps of ω (then four times as many),
     each Newton started from the previous solution."""
-    k = int(np.argmin(np.abs(seg.omega - x)))
-    ncoef = seg.coefficients.shape[1]
+    k, ncoef = int(np.argmin(np.abs(seg.omega - x))), seg.coefficients.shape[1]
     walks = [
         (seg.coefficients[k], np.linspace(float(seg.omega[k]), x, s + 1)[1:]) for s in (WALK_STEPS, 4 * WALK_STEPS)
     ]
@@ -401,7 +400,7 @@ def hb_response(
     num : int
         Grid points of the sweeps (the jumps and hysteresis bounds are exact, not on the grid).
     harmonics, period : int
-        H and n of the HB solutions (H default: :func:`~geardyn.analysis.hb.solve.default_harmonics`, 16 for a
+        H and n of the HB solutions (H default: :func:`~geardyn.analysis.hb.equations.default_harmonics`, 16 for a
         one-cycle model and for a system).
     measure : str
         Amplitude measure: one of :data:`MEASURES`.
