@@ -210,7 +210,16 @@ def identify_attractors(
             if new.periodic:
                 pts = pts[np.lexsort((pts[:, 1], pts[:, 0]))]
             atts.append(Attractor(new.period, new.motion, pts.copy(), sig))
-            info.append({"amplitude": float(rows["amplitude"][i]), "mean": float(rows["mean"][i]), "count": 0})
+            info.append(
+                {
+                    "period": new.period,
+                    "motion": new.motion,
+                    "points": atts[-1].points,
+                    "amplitude": float(rows["amplitude"][i]),
+                    "mean": float(rows["mean"][i]),
+                    "count": 0,
+                }
+            )
             found = len(atts) - 1
         raw[i] = found
         info[found]["count"] += 1
@@ -221,15 +230,4 @@ def identify_attractors(
     )
     renumber = {old: k for k, old in enumerate(key)}
     labels = np.array([renumber[r] if r >= 0 else -1 for r in raw], dtype=np.int64)
-    out = [
-        {
-            "period": atts[old].period,
-            "motion": atts[old].motion,
-            "points": atts[old].points,
-            "amplitude": info[old]["amplitude"],
-            "mean": info[old]["mean"],
-            "count": info[old]["count"],
-        }
-        for old in key
-    ]
-    return labels, out
+    return labels, [info[old] for old in key]

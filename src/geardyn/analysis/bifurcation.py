@@ -34,7 +34,7 @@ from ..sweep import Chunk, chunk_slices, run_chunks
 from ..sweep.progress import counts_points, tick
 from ..system import as_batch, element_names, state_names
 from .classify import SETTLE_PERIODS
-from .points import initial_state, run_slices, sweep_function
+from .points import concat_rows, initial_state, run_slices, sweep_function
 from .steady import classify_batch
 
 __all__ = [
@@ -198,8 +198,7 @@ def continuation_chunk(
         rows.append(out)
         state = out["end_state"][0].copy() if out["status"][0] == ST_OK else np.full(d, np.nan)
         tick(1)
-    merged = {k: np.concatenate([r[k] for r in rows], axis=0) for k in rows[0]}
-    return _rows(merged, starts, restarted, models)
+    return _rows(concat_rows(rows), starts, restarted, models)
 
 
 @counts_points(lambda args: len(args[2]))

@@ -519,11 +519,8 @@ def classify_points(
         by_length.setdefault(sec.shape, []).append(int(i))
         if sec.shape[0] >= 16:  # fewer points: NaN (see curve_dimension)
             curve_dim[i] = curve_dimension(sec)
-    for shape, idx in by_length.items():  # the settling ratio of sequences of one length at once
-        if len(shape) == 2:
-            ratio[idx] = settling_ratios(np.stack([np.asarray(sections[i]) for i in idx]))
-        else:
-            ratio[idx] = [settling_ratio(sections[i]) for i in idx]
+    for idx in by_length.values():  # the settling ratio of sequences of one length at once
+        ratio[idx] = settling_ratios(np.stack([np.asarray(sections[i]) for i in idx]))
     motion = classify_motion(period, lle, lle_err, ok, curve_dim, ratio, quasi_allowed, decay)
     loops = np.zeros(P, dtype=np.int64)
     for i in np.flatnonzero(motion == MOTION_QUASIPERIODIC):

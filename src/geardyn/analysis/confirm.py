@@ -204,8 +204,7 @@ def confirm_sweep(ds: xr.Dataset, model: Any, param: str, *, long_periods: int =
     x = ds[param].values
     motion = ds["motion"].values.astype(int)
     period = ds["period"].values.astype(int)
-    lle = ds["lle"].values.astype(float) if "lle" in ds else np.full(motion.shape, np.nan)
-    err = ds["lle_err"].values.astype(float) if "lle_err" in ds else np.full(motion.shape, np.nan)
+    lle, err = (ds[k].values.astype(float) if k in ds else np.full(motion.shape, np.nan) for k in ("lle", "lle_err"))
     new = {k: v.copy() for k, v in (("motion", motion), ("period", period), ("lle", lle), ("lle_err", err))}
     code = np.zeros(motion.shape, dtype=np.int64)
     pu, pv = ds["poincare_u"].values, ds["poincare_v"].values

@@ -116,13 +116,6 @@ def spectrum_from_log(
     return lam, err
 
 
-def running_estimate(log: np.ndarray, period: float) -> np.ndarray:
-    """Running (cumulative) exponent estimates after each period, shape (m, 2), per unit τ."""
-    a = np.asarray(log, dtype=float)
-    k = np.arange(1, a.shape[0] + 1)[:, None]
-    return np.cumsum(a, axis=0) / (k * period)
-
-
 def lyapunov_batch(
     models: Sequence[GearModel],
     state0: Sequence[float] | np.ndarray | None = None,
@@ -238,9 +231,9 @@ class LyapunovResult:
 
     def to_dataset(self) -> xr.Dataset:
         """Per-period logs and running estimates, with the final exponents as attributes."""
-        T = self.model.sampling_period
         m = self.log.shape[0]
-        run = running_estimate(self.log, T) if m else np.zeros((0, len(self.exponents)))
+        # the running (cumulative) estimates after each period, per unit τ
+        run = np.cumsum(self.log, axis=0) / (np.arange(1, m + 1)[:, None] * self.model.sampling_period)
         ds = xr.Dataset(
             {
                 "log_r": (("section", "exponent"), self.log),
@@ -315,27 +308,18 @@ def lyapunov_spectrum(
     res = out["result"]
     motion: dict[str, Any] = {}
     if classify:
-        from .classify import (
-            curve_dimension,
-            detect_period,
-            motion_class,
-            motion_label,
-            quasi_periodic_allowed,
-            settling_ratio,
-        )
-
-        ok = res.status[0] == ST_OK
-        pc = res.poincare[0]
-        n = detect_period(pc) if ok else -1
-        dim, ratio = (curve_dimension(pc), settling_ratio(pc)) if n == 0 else (np.nan, np.nan)
         from ..system import ModelList
+        from .classify import classify_points, detect_period, motion_label, quasi_periodic_allowed
         from .settle import decay_rates
 
-        decay = decay_rates(ModelList([model]), [0] if n == 0 and ok else [])[0]
-        code = motion_class(
-            n, out["exponents"][0, 0], out["uncertainty"][0, 0], ok, dim, ratio, quasi_periodic_allowed(model), decay
+        ok = res.status[0] == ST_OK
+        n = detect_period(res.poincare[0]) if ok else -1
+        lam, err = out["exponents"][:1, 0], out["uncertainty"][:1, 0]
+        decay = decay_rates(ModelList([model]), [0] if n == 0 else [])
+        code = classify_points(
+            np.array([n]), lam, err, np.array([ok]), res.poincare, quasi_periodic_allowed(model), decay
         )
-        motion = {"motion": motion_label(code, n), "period": n if n > 0 else None}
+        motion = {"motion": motion_label(int(code["motion"][0]), n), "period": n if n > 0 else None}
     return LyapunovResult(
         model,
         options,

@@ -394,7 +394,6 @@ def add_physical(ds: xr.Dataset, scales: Any = None, *, lazy: bool = False) -> x
             {
                 "jumps": json.loads(out.attrs["jumps"]),
                 "hysteresis": json.loads(out.attrs.get("hysteresis", "[]")),
-                "values": [],
             },
             sc,
             "omega",

@@ -123,7 +123,7 @@ def crossings(tau: np.ndarray, u: np.ndarray, v: np.ndarray, D: float) -> dict[s
         contacts (u crossing back into |u| <= D).
     """
     tau, u, v = (np.asarray(a, dtype=float) for a in (tau, u, v))
-    out = {k: [] for k in ("time", "flank", "velocity", "rebound_time", "rebound_flank", "rebound_velocity")}
+    out = {p + k: [] for p in ("", "rebound_") for k in ("time", "flank", "velocity")}
     for level, flank in ((D, 1), (-D, -1)):
         inside = (u > D) if flank > 0 else (u < -D)
         change = np.flatnonzero(inside[1:] != inside[:-1])
@@ -315,13 +315,10 @@ def rattle(
     model = _check(model)
     sc = _physical(scales)
     tr = trajectory(model, state0, options, history_periods=options.periods)
+    ok = np.all(np.isfinite(tr.x))
+    ev = crossings(*((tr.tau, tr.u, tr.v) if ok else ([],) * 3), model.D)  # a diverged run: no events
     M = int(model.period_multiple())
-    if not np.all(np.isfinite(tr.x)):
-        nan = np.array([])
-        ev = {k: nan for k in ("time", "flank", "velocity", "rebound_time", "rebound_flank", "rebound_velocity")}
-        return RattleResult(model, options, tr.tau, tr.u, tr.v, ev, options.periods, M, sc, "diverged")
-    ev = crossings(tr.tau, tr.u, tr.v, model.D)
-    return RattleResult(model, options, tr.tau, tr.u, tr.v, ev, options.periods, M, sc)
+    return RattleResult(model, options, tr.tau, tr.u, tr.v, ev, options.periods, M, sc, "ok" if ok else "diverged")
 
 
 # ---------------------------------------------------------------------------- the map
@@ -378,7 +375,6 @@ def rattle_map(
     shape = (om.size, sa.size)
     vals = {k: np.full(shape, np.nan) for k in ("impacts_drive", "impacts_back", "impact_velocity_max", "rattle_index")}
     status = np.zeros(shape, dtype=np.int8)
-    total, done = om.size * sa.size, 0
     for i, w in enumerate(om):
         for j, f in enumerate(sa):
             m = model.replace(omega=float(w), torque_orders=tuple((q, a * f, p) for q, a, p in model.torque_orders))
@@ -391,9 +387,8 @@ def rattle_map(
                 v = np.abs(r.events["velocity"])
                 vals["impact_velocity_max"][i, j] = float(v.max()) if v.size else 0.0
                 vals["rattle_index"][i, j] = r.rattle_index()
-            done += 1
             if progress is not None:
-                progress(done, total)
+                progress(i * sa.size + j + 1, om.size * sa.size)
     dims = ("omega", "amplitude_scale")
     ds = xr.Dataset({k: (dims, a) for k, a in vals.items()}, coords={"omega": om, "amplitude_scale": sa})
     ds["status"] = (dims, status)

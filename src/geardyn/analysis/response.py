@@ -203,11 +203,7 @@ def detect_jumps(
     """
     name = _param(ds)
     x = ds[name].values
-    amp_all = ds[measure].values
-    finite = amp_all[np.isfinite(amp_all)]
-    if finite.size == 0:
-        return []
-    scale = float(np.ptp(finite))
+    scale = _amplitude_range(ds, measure)
     if scale == 0.0:
         return []
     jumps = []
@@ -220,11 +216,8 @@ def detect_jumps(
         for i in range(d.size):
             if not np.isfinite(d[i]) or ad[i] < min_fraction * scale:
                 continue
-            before = ad[max(0, i - window) : i]
-            after = ad[i + 1 : i + 1 + window]
-            before = before[np.isfinite(before)]
-            after = after[np.isfinite(after)]
-            sides = [float(np.median(s)) for s in (before, after) if s.size]
+            near = (ad[max(0, i - window) : i], ad[i + 1 : i + 1 + window])  # the steps before and after
+            sides = [float(np.median(s[np.isfinite(s)])) for s in near if np.any(np.isfinite(s))]
             typical = max(sides) if sides else 0.0
             if ad[i] < ratio * typical:
                 continue
@@ -249,8 +242,8 @@ def _sweep_arrays(ds: xr.Dataset, lab: str) -> dict[str, np.ndarray]:
     return {k: s[k].values for k in ("status", "period", "motion", "amplitude", "mean", "poincare_u", "poincare_v")}
 
 
-def _amplitude_range(ds: xr.Dataset) -> float:
-    amp = ds["amplitude"].values
+def _amplitude_range(ds: xr.Dataset, measure: str = "amplitude") -> float:
+    amp = ds[measure].values
     return float(np.ptp(amp[np.isfinite(amp)])) if np.any(np.isfinite(amp)) else 0.0
 
 

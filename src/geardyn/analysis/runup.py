@@ -47,7 +47,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import ModelError
-from ..integrate import integrate_batch, trajectory
+from ..integrate import integrate_batch, start_state, trajectory
 from ..io import json_number
 from ..model import DEFAULT_DTAU, IntegrationOptions
 
@@ -279,7 +279,7 @@ def runup(
             )
     speeds, mids = _block_speeds(w0, w1, T, m)
     IntegrationOptions(dtau=dtau).check_for(max(w0, w1))
-    state0 = _state(model, state0)
+    state0 = start_state(model, state0)
     start = integrate_batch(  # settle mesh periods rounded up to forcing periods, at the one-cycle model's step
         [model.with_param("omega", w0)],
         state0,
@@ -295,11 +295,9 @@ def runup(
     spec = np.full((nb, (orders + 1) * P - 1), np.nan) if P > 1 else None
     diverged = not np.all(np.isfinite(state))
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=m // P, accurate=accurate)
-    if progress is not None:
-        progress(0, nb)
-    for b in range(nb):
-        if diverged:
-            break
+    report = progress or (lambda done, total: None)
+    report(0, nb)
+    for b in range(0 if diverged else nb):
         out = _block(model.with_param("omega", float(speeds[b])), state, opts, m, orders, spec is not None)
         if out is None:
             diverged = True
@@ -307,10 +305,8 @@ def runup(
         amp_o[b], amp[b], kdyn[b], state = out[:4]
         if spec is not None:
             spec[b] = out[4]
-        if progress is not None:
-            progress(b + 1, nb)
-    if progress is not None:
-        progress(nb, nb)
+        report(b + 1, nb)
+    report(nb, nb)
     return RunupResult(
         model=model,
         omega=speeds,
@@ -340,14 +336,6 @@ def _model_attrs(model: Any) -> dict[str, str]:
 
     a = result_attrs("runup", model, IntegrationOptions())
     return {k: a[k] for k in ("model", "system_model", "geardyn_system") if k in a}
-
-
-def _state(model: Any, state0: Any) -> np.ndarray:
-    """The full start state: ``state0`` itself, or the reference element's (u0, u0') of ``model.initial_state``."""
-    s = np.asarray(state0, dtype=float).ravel()
-    if s.size == 2 and model.state_dim != 2:
-        return model.initial_state(float(s[0]), float(s[1]))
-    return s
 
 
 def _block(mb: Any, state: np.ndarray, opts: IntegrationOptions, m: int, orders: int, spectrum: bool = False):

@@ -51,6 +51,8 @@ SPECTRUM_MAX_ORDER = 10.0
 #: bytes): a longer history keeps its last whole reference mesh cycles that fit (a long forcing period's
 #: :data:`HISTORY_PERIODS` would take hundreds of GB).
 HISTORY_BYTES = 256 * 2**20
+#: The reference element's measures of a steady response in its summary.
+_MEASURES = ("amplitude", "rms", "mean", "u_min", "u_max")
 
 
 def history_budget(model: Any, options: IntegrationOptions, history_periods: int) -> tuple[int | None, float | None]:
@@ -213,22 +215,15 @@ def classify_batch(
             out["poincare"][need] = r2.poincare[:, -n_rec:, :]
         out["end_state"][need] = r2.end_state
         l2, e2 = spectrum_from_log(r2.lyapunov_log, T[need], blocks=nb)
-        lam[need] = np.nan  # the leading exponent(s) only (CLASSIFY_TANGENTS; the pair: both)
-        err[need] = np.nan
-        lam[need, : l2.shape[1]] = l2
-        err[need, : e2.shape[1]] = e2
+        for a, new in ((lam, l2), (err, e2)):
+            a[need] = np.nan  # the leading exponent(s) only (CLASSIFY_TANGENTS; the pair: both)
+            a[need, : new.shape[1]] = new
         settled[need] += 1
         rounds += 1
-        again = []
-        for j, i in enumerate(need):
-            section[int(i)] = r2.poincare[j]
-            if s2["status"][j] != ST_OK or s2["period"][j] != 0:
-                continue
-            if l2[j, 0] > LLE_SIGMAS * e2[j, 0] + LLE_FLOOR:  # chaotic: nothing to settle
-                continue
-            if is_settling(r2.poincare[j]):
-                again.append(i)
-        need = np.asarray(again, dtype=np.int64)
+        section.update(zip(need.tolist(), r2.poincare))
+        chaotic = l2[:, 0] > LLE_SIGMAS * e2[:, 0] + LLE_FLOOR  # nothing to settle
+        again = (s2["status"] == ST_OK) & (s2["period"] == 0) & ~chaotic
+        need = np.array([i for j, i in enumerate(need) if again[j] and is_settling(r2.poincare[j])], dtype=np.int64)
     unsettled = np.zeros(P, dtype=bool)
     if rounds:  # still contracting onto a cycle when the passes ran out
         unsettled[need] = True
@@ -348,11 +343,7 @@ class SteadyState:
             "lle": s.get("lle"),
             "period": s["period"],
             "impact": s["impact"],
-            "amplitude": s["amplitude"],
-            "rms": s["rms"],
-            "mean": s["mean"],
-            "u_min": s["u_min"],
-            "u_max": s["u_max"],
+            **{k: s[k] for k in _MEASURES},
             "contact_fractions": s["contact_fractions"],
             "status": s["status"],
             **({"notes": s["notes"]} if s.get("notes") else {}),
@@ -369,24 +360,25 @@ class SteadyState:
             order, spec = amplitude_spectrum(t.u, self.history_cycles, closed=True)
         pc = self.poincare
         sec = m.element_series(pc, 0.0)[:, m.reference, :]  # the reference element's (δ, δ') (the pair's (u, u'))
-        data: dict[str, Any] = {
-            "u": ("tau", t.u),
-            "v": ("tau", t.v),
-            "poincare_u": ("section", sec[:, 0]),
-            "poincare_v": ("section", sec[:, 1]),
-            "spectrum": ("order", spec),
-        }
-        coords: dict[str, Any] = {"tau": t.tau, "section": np.arange(pc.shape[0]), "order": order}
-        # every element's δ, δ' and the full states, for every System (the pair's: its mesh's (u, u'))
-        data.update(
-            delta=(("tau", "element"), t.deltas[:, :, 0]),
-            delta_rate=(("tau", "element"), t.deltas[:, :, 1]),
-            poincare=(("section", "state"), pc),
-        )
-        coords.update(element=[e.name for e in m.elements], state=state_names(m, pc.shape[1]))
         ds = xr.Dataset(
-            data,
-            coords=coords,
+            {
+                "u": ("tau", t.u),
+                "v": ("tau", t.v),
+                "poincare_u": ("section", sec[:, 0]),
+                "poincare_v": ("section", sec[:, 1]),
+                "spectrum": ("order", spec),
+                # every element's δ, δ' and the full states, for every System (the pair's: its mesh's (u, u'))
+                "delta": (("tau", "element"), t.deltas[:, :, 0]),
+                "delta_rate": (("tau", "element"), t.deltas[:, :, 1]),
+                "poincare": (("section", "state"), pc),
+            },
+            coords={
+                "tau": t.tau,
+                "section": np.arange(pc.shape[0]),
+                "order": order,
+                "element": [e.name for e in m.elements],
+                "state": state_names(m, pc.shape[1]),
+            },
             attrs=result_attrs(
                 "simulate",
                 self.model,
@@ -397,10 +389,7 @@ class SteadyState:
                 **({} if self.history_cycles is None else {"history_cycles": f"{self.history_cycles:.6g}"}),
             ),
         )
-        return annotate(
-            ds,
-            names=[n for n in ("section", "element", "state", "delta", "delta_rate", "poincare") if n in ds.variables],
-        )
+        return annotate(ds, names=["section", "element", "state", "delta", "delta_rate", "poincare"])
 
 
 def _jsonable(d: dict[str, Any]) -> dict[str, Any]:
@@ -484,11 +473,7 @@ def simulate(
         "period": period * (model.period_multiple() or 1) if period > 0 else None,
         "motion": motion,
         "impact": IMPACT_LABELS[int(arr["impact"][0])],
-        "amplitude": f("amplitude"),
-        "rms": f("rms"),
-        "mean": f("mean"),
-        "u_min": f("u_min"),
-        "u_max": f("u_max"),
+        **{k: f(k) for k in _MEASURES},
         "contact_fractions": {name: f(f"fraction_{name}") for name in model.elements[model.reference].law.counters},
         "status": "ok" if ok else "diverged",
         "lle": None if cls is None else f("lle", cls),

@@ -70,7 +70,6 @@ neighbouring nodes is cut into ``elements_per_segment`` Timoshenko elements (:mo
 
 from __future__ import annotations
 
-import math
 from fractions import Fraction
 
 import numpy as np
@@ -79,7 +78,16 @@ from ..errors import ConfigError, ModelError
 from ..geometry import Assumption
 from ..systems.description import MESH_SERIES_KEYS, Connection, Mesh
 from ..systems.load import _SECTIONS as SYSTEM_SECTIONS
-from ..systems.load import _body, _element_line, check_top, described, excitation_table, mesh_damping, mesh_series
+from ..systems.load import (
+    _body,
+    _element_line,
+    check_top,
+    described,
+    excitation_table,
+    half_backlash,
+    mesh_damping,
+    mesh_series,
+)
 from ..systems.rolling import ROLLING_KEYS, read_rolling
 from .gear import Gear, disc_gyroscopic
 from .kinematics import DEFAULT_MAX_PERIOD, forcing_period, round_ratio, solve_speeds
@@ -175,7 +183,7 @@ def _blocks(ctx, data: dict, section: str, schema: dict) -> list:
     names = [b.element for b in out]
     for i, n in enumerate(names):
         if n in names[:i]:
-            raise ctx.config(section, i, "name", None, f"duplicate {section} name {n!r}; names must be unique")
+            raise ctx.config(section, f"duplicate {section} name {n!r}; names must be unique", i, "name")
     return out
 
 
@@ -227,28 +235,21 @@ def _build(ctx, data: dict) -> GearboxDescription:
             raise blk.merr("shaft", f"unknown shaft {sh!r}; shafts: {', '.join(shaft_names)}")
         helix = blk.get("helix_angle", default=0.0)
         try:
-            g = Gear(
+            g = Gear(  # a key not given takes the Gear's default
                 name=blk.element,
                 shaft=sh,
-                position=blk.get("position"),
-                teeth=blk.get("teeth"),
-                module=blk.get("module"),
-                face_width=blk.get("face_width"),
-                pressure_angle=blk.get("pressure_angle", default=math.radians(20.0)),
                 helix_angle=helix,
+                **{
+                    k: blk.get(k) for k in ("position", "teeth", "module", "face_width", "pressure_angle") if blk.has(k)
+                },
                 profile_shift=blk.get("profile_shift", default=0.0),
                 hand=blk.get("hand", default="right", assumed="not given: right hand" if helix > 0 else None),
-                mass=blk.get("mass"),
-                inertia=blk.get("inertia"),
-                diametral_inertia=blk.get("diametral_inertia"),
-                web_width=blk.get("web_width"),
-                rim_inner_diameter=blk.get("rim_inner_diameter"),
+                **{k: blk.get(k) for k in ("mass", "inertia", "diametral_inertia", "web_width", "rim_inner_diameter")},
             )
         except ModelError as e:
             raise blk.wrap(e) from None
-        for key, exact in (("reference_radius", g.reference_radius), ("base_radius", g.base_radius)):
-            if blk.has(key):
-                _check_radius(blk, key, blk.get(key), exact, g)
+        _check_radius(blk, "reference_radius", g.reference_radius, g)
+        _check_radius(blk, "base_radius", g.base_radius, g)
         gears[g.name] = g
 
     # kinematics, exact
@@ -271,7 +272,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
     try:
         speeds, senses = solve_speeds(shaft_names, pairs, pairs[ref_i][1], 1 if rot == "counterclockwise" else -1)
     except ModelError as e:
-        raise ctx.model("mesh", None, None, None, str(e)) from None
+        raise ctx.model("mesh", str(e)) from None
     zref = pairs[ref_i][3] * speeds[pairs[ref_i][1]]
     ratios = {nm: sp_z * speeds[sp] / zref for (nm, sp, _, sp_z, _) in pairs}
     body_speed: dict[str, Fraction] = {}
@@ -291,9 +292,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
             causes = ", ".join(f"{k} at {v}" for k, v in every.items() if v.denominator > 1)
             raise ctx.model(
                 "gearbox" if "gearbox" in data else "mesh",
-                None,
-                None,
-                None,
                 f"the forcing period (the meshes' hunting period) is {period} cycles of mesh {ref!r}, above the "
                 f"bound max_period = {bound} ({causes} of its frequency); raise [gearbox] "
                 "max_period or set round_ratios = true",
@@ -301,9 +299,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
         if order_ratios and forcing_period(order_ratios.values()) > bound:
             raise ctx.model(
                 "load",
-                None,
-                None,
-                None,
                 f"the torque orders alone repeat only after {forcing_period(order_ratios.values())} cycles of mesh "
                 f"{ref!r}, above max_period = {bound}; rounding changes mesh ratios, not orders: raise max_period",
             )
@@ -351,11 +346,11 @@ def _build(ctx, data: dict) -> GearboxDescription:
         K, M, G = shaft_matrices(ShaftMesh(tuple(pos_list), tuple(secs)), mat)
         K = 0.5 * (K + K.T)
         M = 0.5 * (M + M.T)
-        node_names, node_feats = [], []
+        node_names, node_feats, radii = [], [], []
         for k, p in enumerate(pos_list):
             here = next((items for q, items in feats[name].items() if abs(q - p) < 1e-9), [])
-            gear_here = [n for n in here if n in gears]
-            nn = (gear_here or here or [f"{name}_{k}"])[0]
+            gs = [gears[n] for n in here if n in gears]
+            nn = ([g.name for g in gs] or here or [f"{name}_{k}"])[0]
             if nn in body_names:
                 nn = f"{name}_{k}"
             body_names.add(nn)
@@ -364,18 +359,14 @@ def _build(ctx, data: dict) -> GearboxDescription:
             for q in feats[name]:
                 if abs(q - p) < 1e-9:
                     node_at[(name, q)] = nn
-        for k, nn in enumerate(node_names):
             blockm = np.diag(np.diag(M[6 * k : 6 * k + 6, 6 * k : 6 * k + 6])).copy()
-            for g in (gears[n] for n in node_feats[k] if n in gears):
+            for g in gs:
                 m, ip, idia = g.blank(mat.rho, _section_at(segs, g.position).outer)
                 blockm += np.diag([m, m, m, idia, idia, ip])
                 G[6 * k : 6 * k + 6, 6 * k : 6 * k + 6] += disc_gyroscopic(ip)
             bodies.append(NodeBody(nn, NODE_DOFS, mass_matrix=tuple(map(tuple, blockm))))
-        radii = []
-        for k in range(len(pos_list)):
-            gr = [gears[n].reference_radius for n in node_feats[k] if n in gears]
-            near = [secs[e].outer / 2 for e in (k - 1, k) if 0 <= e < len(secs)]
-            radii.append(max(gr) if gr else max(near))
+            # the node's radius: its gear's reference radius, else the shaft's outer radius beside it
+            radii.append(max([g.reference_radius for g in gs] or [s.outer / 2 for s in secs[max(k - 1, 0) : k + 1]]))
         dofs = tuple((nn, d) for nn in node_names for d in NODE_DOFS)
         conns.append(Connection(name, dofs, K, beta * K))
         shafts.append(
@@ -433,11 +424,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
     # meshes
     b_c = sysb.get("characteristic_length")
     if b_c is None:
-        blk = mblocks[ref_i]
-        jn = blk.get("backlash", default=0.0)
-        if not jn > 0:
-            raise blk.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
-        b_c = jn / 2.0
+        b_c = half_backlash(mblocks[ref_i], mblocks[ref_i].get("backlash", default=0.0))
     power = _drive_power(ctx, loads_raw, gears, speeds, body_speed)
     meshes = []
     for blk, (nm, sp, *_) in zip(mblocks, pairs):
@@ -491,9 +478,8 @@ def _build(ctx, data: dict) -> GearboxDescription:
 def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_default, shafts) -> Mesh:
     name = blk.element
     geo = pair_geometry_of(name, gp, gg)
-    for key, g, rb in (("base_radius1", gp, geo["rb1"]), ("base_radius2", gg, geo["rb2"])):
-        if blk.has(key):
-            _check_radius(blk, key, blk.get(key), rb, g)
+    _check_radius(blk, "base_radius1", geo["rb1"], gp)
+    _check_radius(blk, "base_radius2", geo["rb2"], gg)
     if blk.has("ratio"):
         given = blk.get("ratio")
         if rounded or abs(given - float(ratio)) > RATIO_RTOL * float(ratio):
@@ -506,9 +492,7 @@ def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_defau
     psi = blk.get("center_angle", default=0.0, assumed="not given: the line of centres from pinion to gear along +x")
     v1, v2 = mesh_vector(geo, psi, s1, s2, gp.hand)
     n1, n2 = node_at[where[gp.name]], node_at[where[gg.name]]
-    vector = tuple(((n1, d), float(c)) for d, c in zip(NODE_DOFS, v1) if c != 0.0) + tuple(
-        ((n2, d), float(c)) for d, c in zip(NODE_DOFS, v2) if c != 0.0
-    )
+    vector = tuple(((n, d), float(c)) for n, v in ((n1, v1), (n2, v2)) for d, c in zip(NODE_DOFS, v) if c != 0.0)
     backlash = blk.get("backlash", default=0.0, assumed="no backlash given: 0 (a linear mesh)")
     if blk.has("excitation"):
         if blk.has("stiffness"):

@@ -89,11 +89,7 @@ def forcing_period(ratios) -> int:
         The exact frequency ratios to the reference mesh frequency (anything :class:`~fractions.Fraction`
         accepts).
     """
-    p = 1
-    for r in ratios:
-        d = Fraction(r).denominator
-        p = p * d // math.gcd(p, d)
-    return p
+    return math.lcm(*(Fraction(r).denominator for r in ratios))
 
 
 def round_ratio(r: Fraction, denominator: int) -> Fraction:

@@ -174,9 +174,3 @@ class GearboxDescription(SystemDescription):
     def gearbox_summary(self) -> dict[str, Any]:
         """The shafts (nodes, positions, speeds) and the exact kinematics, for reports."""
         return {"shafts": [s.to_dict() for s in self.shafts], "kinematics": dict(self.kinematics)}
-
-    def shaft_of(self, node: str) -> ShaftModel | None:
-        for s in self.shafts:
-            if node in s.nodes:
-                return s
-        return None

@@ -133,11 +133,12 @@ def _section_at(segs, x: float) -> Section:
     return segs[i][1]
 
 
-def _check_radius(blk, key: str, given: float, exact: float, g: Gear) -> None:
-    if abs(given - exact) > RADIUS_RTOL * exact:
+def _check_radius(blk, key: str, exact: float, g: Gear) -> None:
+    """Refuse a radius ``key`` the table gives that is not the ``exact`` one of gear ``g``'s teeth."""
+    if blk.has(key) and abs(blk.get(key) - exact) > RADIUS_RTOL * exact:
         raise blk.merr(
             key,
-            f"{given * 1e3:.6g} mm given, but {g.teeth} teeth of module {g.module * 1e3:g} mm "
+            f"{blk.get(key) * 1e3:.6g} mm given, but {g.teeth} teeth of module {g.module * 1e3:g} mm "
             f"(helix {math.degrees(g.helix_angle):g} deg) give {exact * 1e3:.6g} mm",
         )
 
@@ -221,8 +222,7 @@ def _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap, zref
         blk = _load_block(ctx, i, t)
         blk.need("torque")
         target, n = _load_target(blk, gears, node_at, where, speeds, body_speed, rmap)
-        raw = t["torque"]
-        T = None if raw == "balance" else blk.get("torque", "torque")
+        T = None if t["torque"] == "balance" else blk.get("torque", "torque")
         out.append((target, n, T, blk, _orders(blk)))
     free = [x for x in out if x[2] is None]
     if len(free) > 1:

@@ -270,9 +270,7 @@ def shaft_matrices(mesh: ShaftMesh, material: Material = STEEL) -> tuple[np.ndar
     Gy = np.zeros_like(K)
     for e, sec in enumerate(mesh.sections):
         L = mesh.nodes[e + 1] - mesh.nodes[e]
-        k, m, g = element_matrices(L, sec, material)
         sl = slice(6 * e, 6 * e + 12)
-        K[sl, sl] += k
-        M[sl, sl] += m
-        Gy[sl, sl] += g
+        for A, a in zip((K, M, Gy), element_matrices(L, sec, material)):
+            A[sl, sl] += a
     return K, M, Gy

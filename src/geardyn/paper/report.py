@@ -12,7 +12,7 @@ from __future__ import annotations
 import base64
 import html
 import json
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -52,6 +52,11 @@ class RunInfo:
     changes: list[str] = field(default_factory=list)
 
     @property
+    def name(self) -> str:
+        """What the run is called (:data:`RUN_NAMES`; the kind itself for the full run)."""
+        return RUN_NAMES.get(self.kind, self.kind)
+
+    @property
     def reduced(self) -> bool:
         """Whether the run is not the full reproduction."""
         return self.kind != "full"
@@ -81,7 +86,7 @@ class RunInfo:
             else "settings that differ from the full reproduction"
         )
         return (
-            f"{RUN_NAMES.get(self.kind, self.kind).capitalize()}: {what} ({len(self.changes)} settings, {where})"
+            f"{self.name.capitalize()}: {what} ({len(self.changes)} settings, {where})"
             ". Its verdicts and totals may differ from the full run's (geardyn reproduce without --quick)."
         )
 
@@ -164,9 +169,8 @@ def _md_escape_cell(s: str) -> str:
 
 
 def _md_table(rows: Sequence[Sequence[str]]) -> list[str]:
-    out = ["| " + " | ".join(_md_escape_cell(h) for h in rows[0]) + " |", "|" + "---|" * len(rows[0])]
-    out += ["| " + " | ".join(_md_escape_cell(x) for x in row) + " |" for row in rows[1:]]
-    return out + [""]
+    lines = ["| " + " | ".join(_md_escape_cell(x) for x in row) + " |" for row in rows]
+    return [lines[0], "|" + "---|" * len(rows[0]), *lines[1:], ""]
 
 
 #: The summary's "we find" is cut at the first sentence end after this many characters at most.
@@ -188,6 +192,21 @@ def _verdict_text(c: Finding) -> str:
     return f"{c.verdict}: {c.reading}" if c.reading and c.verdict == "reproduced under a reading" else c.verdict
 
 
+def verdict_counts(claims: Iterable[Finding]) -> str:
+    """``"4 reproduced, 7 reproduced under a reading, 15 contradicted, 0 not testable"``: the claims of each verdict.
+
+    Parameters
+    ----------
+    claims : iterable of Finding
+
+    Returns
+    -------
+    str
+    """
+    verdicts = [c.verdict for c in claims]
+    return ", ".join(f"{verdicts.count(v)} {v}" for v in VERDICTS)
+
+
 def totals_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
     """``"Totals (26 claims): 4 reproduced, 7 reproduced under a reading, 15 contradicted, 0 not testable."``;
     for a run that is not the full reproduction ``"Totals of this quick run (26 claims): … (may differ
@@ -203,13 +222,9 @@ def totals_text(claims: Sequence[Finding], run: RunInfo | None = None) -> str:
     -------
     str
     """
-    counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
-    text = ", ".join(f"{n} {v}" for v, n in counts.items())
+    text = verdict_counts(claims)
     if run is not None and run.reduced:
-        return (
-            f"Totals of this {RUN_NAMES.get(run.kind, run.kind)} ({len(claims)} claims): {text} "
-            "(may differ from the full run)."
-        )
+        return f"Totals of this {run.name} ({len(claims)} claims): {text} (may differ from the full run)."
     return f"Totals ({len(claims)} claims): {text}."
 
 
@@ -266,14 +281,9 @@ def one_reading_totals(claims: Sequence[Finding]) -> dict[str, Any]:
         ``groups``: group name → (reading, claims holding, claims).
     """
     ids = {c.id: c for c in claims}
-    groups: list[tuple[str, list[Finding]]] = []
-    seen: set[str] = set()
-    for name, members in CLAIM_GROUPS.items():
-        group = [ids[m] for m in members if m in ids]
-        if group:
-            groups.append((name, group))
-            seen |= {c.id for c in group}
-    groups += [(c.id, [c]) for c in claims if c.id not in seen]
+    groups = [(name, g) for name, members in CLAIM_GROUPS.items() if (g := [ids[m] for m in members if m in ids])]
+    grouped = {m for members in CLAIM_GROUPS.values() for m in members}
+    groups += [(c.id, [c]) for c in claims if c.id not in grouped]
     out: dict[str, Any] = {
         "reproduced": 0,
         "reproduced under the group's reading": 0,
@@ -300,7 +310,7 @@ def one_reading_text(claims: Sequence[Finding], run: RunInfo | None = None) -> s
     t = one_reading_totals(claims)
     counts = ", ".join(f"{t[k]} {k}" for k in ("reproduced", "reproduced under the group's reading", "not reproduced"))
     counts += f", {t['not testable']} not testable"
-    where = f" of this {RUN_NAMES.get(run.kind, run.kind)}" if run is not None and run.reduced else ""
+    where = f" of this {run.name}" if run is not None and run.reduced else ""
     head = f"Totals{where} under one reading per table or study ({len(claims)} claims, {len(t['groups'])} groups)"
     return f"{head}: {counts}."
 
@@ -342,12 +352,17 @@ def is_figure(path: str) -> bool:
     return path.startswith("figures/") and path.endswith(".png")
 
 
-def _evidence_groups(evidence: Sequence[str], labels: Mapping[str, str]) -> list[tuple[str, list[tuple[str, str]]]]:
-    """Evidence grouped by Dataset: (label, [(kind, path)]) in first-cited order."""
+def _evidence(
+    evidence: Sequence[str], labels: Mapping[str, str], link: Callable[[str, str], str], text: Callable[[str], str]
+) -> str:
+    """Evidence grouped by Dataset in first-cited order, each as its label (``text``) and links (``link(kind,
+    path)``): ``"label (figure, data); label (data)"``."""
     groups: dict[str, list[tuple[str, str]]] = {}
     for p in dict.fromkeys(evidence):
         groups.setdefault(dataset_of(p), []).append(("figure" if is_figure(p) else "data", p))
-    return [(labels.get(n, n), items) for n, items in groups.items()]
+    return "; ".join(
+        f"{text(labels.get(n, n))} (" + ", ".join(link(k, p) for k, p in items) + ")" for n, items in groups.items()
+    )
 
 
 def _anchor(path: str) -> str:
@@ -412,10 +427,7 @@ def render_markdown(
         if s.table:
             out += _md_table(s.table)
         for c in s.claims:
-            ev = "; ".join(
-                f"{lab} (" + ", ".join(f"[{k}]({p})" for k, p in items) + ")"
-                for lab, items in _evidence_groups(c.evidence, labels)
-            )
+            ev = _evidence(c.evidence, labels, lambda k, p: f"[{k}]({p})", str)
             out += [
                 f"**{c.id}** ({c.source}). *Paper:* {c.statement}",
                 "",
@@ -432,7 +444,7 @@ def render_markdown(
 
 
 def _title(title: str, run: RunInfo | None) -> str:
-    return f"{title} ({RUN_NAMES.get(run.kind, run.kind)})" if run is not None and run.reduced else title
+    return f"{title} ({run.name})" if run is not None and run.reduced else title
 
 
 _CSS = """
@@ -455,12 +467,7 @@ code{background:#f2f2f2;padding:0 3px}
 
 
 def _vclass(v: str) -> str:
-    return {
-        "reproduced": "v-reproduced",
-        "reproduced under a reading": "v-reading",
-        "contradicted": "v-contradicted",
-        "not testable": "v-untestable",
-    }[v]
+    return "v-" + {"reproduced under a reading": "reading", "not testable": "untestable"}.get(v, v)
 
 
 def _html_table(rows: Sequence[Sequence[str]], cls: str = "") -> str:
@@ -554,10 +561,7 @@ def render_html(
         if s.table:
             out.append(_html_table(s.table))
         for c in s.claims:
-            ev = "; ".join(
-                f"{e(lab)} (" + ", ".join(link(k, p) for k, p in items) + ")"
-                for lab, items in _evidence_groups(c.evidence, labels)
-            )
+            ev = _evidence(c.evidence, labels, link, e)
             out.append(
                 f"<div class='claim' id='{e(c.id)}'><b>{e(c.id)}</b> ({e(c.source)})<br><i>Paper:</i> {e(c.statement)}"
                 f"<br><i>geardyn:</i> {e(c.computed)}<br><i>Verdict:</i> <span class='{_vclass(c.verdict)}'>"
@@ -606,13 +610,12 @@ def write_report(
     """
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
-    claims = [asdict(c) for s in sections for c in s.claims]
+    every = [c for s in sections for c in s.claims]
     paths = {"md": d / "report.md", "html": d / "report.html", "claims": d / "claims.json"}
     atomic_write_bytes(paths["md"], render_markdown(title, intro, sections, labels, run).encode())
     atomic_write_bytes(paths["html"], render_html(title, intro, sections, d, labels, run).encode())
-    atomic_write_bytes(paths["claims"], json.dumps(claims, indent=2, default=str).encode())
+    atomic_write_bytes(paths["claims"], json.dumps([asdict(c) for c in every], indent=2, default=str).encode())
     if run is not None:
-        every = [c for s in sections for c in s.claims]
         meta = {
             "run": asdict(run),
             "totals_one_reading": one_reading_text(every, run),

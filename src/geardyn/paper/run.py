@@ -296,7 +296,7 @@ def run(
         log("data and figures")
         figures = write_outputs(ctx)
     finally:
-        if own and executor is not None:
+        if own:
             executor.shutdown(wait=True)
     link_figures(sections, figures)
     t_total = time.perf_counter() - t0  # what the command reports: the studies, their data and figures

@@ -27,6 +27,9 @@ FIGURE_REF = "figure:"
 #: What a run is (:meth:`Settings.run_kind`): the full reproduction, ``--quick``, or other settings.
 RUN_FULL, RUN_QUICK, RUN_CHANGED = "full", "quick", "changed"
 
+#: The (ξ0, ξ1, D) of a frequency response of the jump study.
+ResponseKey = tuple[float, float, float]
+
 #: What each setting is, as a reduced run's report lists what it changed (``workers`` changes no result).
 SETTING_TEXT = {
     "omega_damping": "ω of the damping and backlash studies",
@@ -143,15 +146,15 @@ class Settings:
     response_num: int = 91
     response_transient: int = 120
     response_periods: int = 100
-    xi0_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.05, 0.25), (0.1, 0.05, 0.25), (0.15, 0.05, 0.25))
-    xi1_set: tuple[tuple[float, float, float], ...] = ((0.08, 0.03, 0.25), (0.08, 0.05, 0.25), (0.08, 0.08, 0.25))
-    d_set: tuple[tuple[float, float, float], ...] = (
+    xi0_set: tuple[ResponseKey, ...] = ((0.08, 0.05, 0.25), (0.1, 0.05, 0.25), (0.15, 0.05, 0.25))
+    xi1_set: tuple[ResponseKey, ...] = ((0.08, 0.03, 0.25), (0.08, 0.05, 0.25), (0.08, 0.08, 0.25))
+    d_set: tuple[ResponseKey, ...] = (
         (0.08, 0.05, 0.1),
         (0.08, 0.05, 0.25),
         (0.08, 0.05, 0.35),
         (0.08, 0.05, 0.75),
     )
-    alt_set: tuple[tuple[float, float, float], ...] = ()
+    alt_set: tuple[ResponseKey, ...] = ()
     stability_omegas: tuple[float, ...] = tuple(np.round(np.arange(0.4, 2.41, 0.1), 3))
     continuation_omega: tuple[float, float] = (0.5, 0.7)
     continuation_sweep_num: int = 101
@@ -160,7 +163,7 @@ class Settings:
     workers: int = 2
 
     @property
-    def response_sets(self) -> list[tuple[float, float, float]]:
+    def response_sets(self) -> list[ResponseKey]:
         """Every (ξ0, ξ1, D) of the jump study, each once, in the order of the sets."""
         return list(dict.fromkeys(self.xi0_set + self.xi1_set + self.d_set + self.alt_set))
 
@@ -242,7 +245,7 @@ class Settings:
 
 
 #: The model's parameters as the report names them, in the order it gives them.
-_SYMBOLS = (("omega", "ω"), ("xi0", "ξ0"), ("xi1", "ξ1"), ("D", "D"), ("fp", "f_p"), ("kappa1", "κ1"), ("eps1", "ε1"))
+SYMBOLS = {"omega": "ω", "xi0": "ξ0", "xi1": "ξ1", "D": "D", "fp": "f_p", "kappa1": "κ1", "eps1": "ε1"}
 
 
 def model_text(model: GearModel, *, skip: Sequence[str] = (), only: Sequence[str] | None = None) -> str:
@@ -260,17 +263,8 @@ def model_text(model: GearModel, *, skip: Sequence[str] = (), only: Sequence[str
     -------
     str
     """
-    values = {
-        "omega": model.omega,
-        "xi0": model.xi0,
-        "xi1": model.xi[0] if model.xi else 0.0,
-        "D": model.D,
-        "fp": model.fp,
-        "kappa1": model.kappa[0] if model.kappa else 0.0,
-        "eps1": model.eps[0] if model.eps else 0.0,
-    }
-    names = ("omega", "xi0", "xi1", "D") if only is None else tuple(only)
-    return ", ".join(f"{sym} = {values[k]:g}" for k, sym in _SYMBOLS if k in names and k not in skip)
+    only = ("omega", "xi0", "xi1", "D") if only is None else only
+    return ", ".join(f"{sym} = {model.get(k):g}" for k, sym in SYMBOLS.items() if k in only and k not in skip)
 
 
 @dataclass
@@ -310,7 +304,7 @@ class Context:
         """The Table 1 model at the ω of the damping and backlash studies."""
         return TABLE1_MODEL.replace(omega=self.settings.omega_damping)
 
-    def model_at(self, key: tuple[float, float, float]) -> GearModel:
+    def model_at(self, key: ResponseKey) -> GearModel:
         """The base model (:attr:`base`) at one (ξ0, ξ1, D) of the jump study's sets.
 
         Parameters

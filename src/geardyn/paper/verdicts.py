@@ -66,6 +66,8 @@ __all__ = [
     "jump_type_at",
     "length_fraction",
     "section_spread",
+    "strictly_monotone",
+    "yes_no",
 ]
 
 #: Fraction of a claim's parameter interval (by length) where it must hold to hold.
@@ -153,7 +155,7 @@ def combine(both_ok: bool, either_ok: bool) -> str:
     -------
     str
     """
-    return "reproduced" if both_ok else "contradicted"
+    return parts(both_ok)
 
 
 def elsewhere(verdict: str, holds_elsewhere: bool) -> str:
@@ -186,7 +188,7 @@ def of_claims(verdicts: Sequence[str]) -> str:
     -------
     str
     """
-    return "reproduced" if verdicts and all(v == "reproduced" for v in verdicts) else "contradicted"
+    return parts(*(v == "reproduced" for v in verdicts))
 
 
 def length_fraction(
@@ -281,11 +283,39 @@ def fluctuation_trend(values: Sequence[float], decreasing: bool) -> tuple[bool, 
         return False, "not measured at every setting"
     if float(v.max()) < FLUCT_MIN:
         return False, f"no fluctuation at these settings (largest {float(v.max()):.1e} < {FLUCT_MIN:g})"
+    ok = strictly_monotone(v, decreasing)
+    return ok, ("strictly " if ok else "not strictly ") + ("decreasing" if decreasing else "increasing")
+
+
+def strictly_monotone(values: Sequence[float], decreasing: bool) -> bool:
+    """Whether at least two values, all finite, strictly decrease (``decreasing``) or strictly increase.
+
+    Parameters
+    ----------
+    values : sequence of float
+    decreasing : bool
+
+    Returns
+    -------
+    bool
+    """
+    v = np.asarray(values, dtype=float)
     d = np.diff(v)
-    ok = bool(np.all(d < 0) if decreasing else np.all(d > 0))
-    return ok, ("strictly " + ("decreasing" if decreasing else "increasing")) if ok else (
-        "not strictly " + ("decreasing" if decreasing else "increasing")
-    )
+    return bool(v.size >= 2 and np.all(np.isfinite(v)) and np.all(d < 0 if decreasing else d > 0))
+
+
+def yes_no(ok: bool) -> str:
+    """``"yes"`` or ``"no"``, as the report's tables and texts answer.
+
+    Parameters
+    ----------
+    ok : bool
+
+    Returns
+    -------
+    str
+    """
+    return "yes" if ok else "no"
 
 
 def distinct_text(values: Sequence[float], decimals: int = 3) -> list[str]:
@@ -330,10 +360,10 @@ def jump_type_at(jumps: Sequence[Mapping[str, object]], omega: float, tol: float
         when jumps of both directions are equally near (neither direction is then shown).
     """
     near = [
-        (abs(float(j["omega"]) - omega), str(j["direction"]))
-        for j in jumps  # type: ignore[arg-type]
-        if abs(float(j["omega"]) - omega) <= tol + 1e-12
-    ]  # type: ignore[arg-type]
+        (d, str(j["direction"]))
+        for j in jumps
+        if (d := abs(float(j["omega"]) - omega)) <= tol + 1e-12  # type: ignore[arg-type]
+    ]
     if not near:
         return "none"
     dmin = min(d for d, _ in near)
@@ -552,7 +582,7 @@ def match_fraction(
     """
     x = ds[param].values
     m, n, l = motion_fields(ds)
-    ok = np.array([pred(int(m[i]), int(n[i]), int(l[i])) for i in range(x.size)], dtype=bool)
+    ok = np.array([pred(int(a), int(b), int(c)) for a, b, c in zip(m, n, l)], dtype=bool)
     frac, _ = length_fraction(x, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
     sel = ((x > lo) if lo_open else (x >= lo - 1e-12)) & ((x < hi) if hi_open else (x <= hi + 1e-12))
     return frac, int(sel.sum())
@@ -597,8 +627,4 @@ def runs_text(runs: Sequence[tuple[float, float, str]], fmt: str = "{:.3g}") -> 
     -------
     str
     """
-    parts = []
-    for a, b, d in runs:
-        rng = fmt.format(a) if a == b else f"{fmt.format(a)}–{fmt.format(b)}"
-        parts.append(f"{rng}: {d}")
-    return "; ".join(parts)
+    return "; ".join(f"{fmt.format(a)}{'' if a == b else '–' + fmt.format(b)}: {d}" for a, b, d in runs)

@@ -37,10 +37,15 @@ def basin_figure(ds: xr.Dataset, ax: Axes = None) -> None:
     )
     handles = []
     for k in range(A):
-        u = ds["attractor_u"].values[k]
-        v = ds["attractor_v"].values[k]
-        pc = POINT_COLORS[k % len(POINT_COLORS)]
-        ax.plot(u, v, "o", ms=6, mfc=pc, mec="w", mew=1.0)
+        ax.plot(
+            ds["attractor_u"].values[k],
+            ds["attractor_v"].values[k],
+            "o",
+            ms=6,
+            mfc=POINT_COLORS[k % len(POINT_COLORS)],
+            mec="w",
+            mew=1.0,
+        )
         per = int(ds["attractor_period"].values[k])
         name = motion_label(int(ds["attractor_motion"].values[k]), per)
         frac = float(ds["attractor_fraction"].values[k])

@@ -11,7 +11,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from ..analysis.classify import IMPACT_LABELS, MOTION_LABELS
-from .common import contact_lines, label, of_mesh, plot_function, rpm_axis, set_title, symbol
+from .common import cell_edges, contact_lines, label, of_mesh, plot_function, rpm_axis, set_title, symbol
 
 __all__ = ["IMPACT_COLORS", "MOTION_COLORS", "POINT_SIZE", "SWEEP_COLORS", "category_band", "diagram", "diagram_panels"]
 
@@ -73,8 +73,7 @@ def category_band(ax, x: np.ndarray, codes: np.ndarray, colors: dict[int, str], 
         for xi, k in zip(x, idx[0], strict=True):
             mesh = ax.bar(xi, 1.0, width=2 * half, bottom=0.0, color=cmap(int(k)), lw=0)
     else:
-        edges = np.concatenate([[x[0] - 0.5 * (x[1] - x[0])], 0.5 * (x[1:] + x[:-1]), [x[-1] + 0.5 * (x[-1] - x[-2])]])
-        mesh = ax.pcolormesh(edges, [0, 1], idx, cmap=cmap, vmin=-0.5, vmax=len(keys) - 0.5, shading="flat")
+        mesh = ax.pcolormesh(cell_edges(x), [0, 1], idx, cmap=cmap, vmin=-0.5, vmax=len(keys) - 0.5, shading="flat")
     ax.set_yticks([])
     ax.set_ylabel(title, rotation=0, ha="right", va="center", fontsize=8)
     present = sorted({int(c) for c in codes})
@@ -138,8 +137,7 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     name = _param(ds)
     x = ds[name].values
     sweeps = [str(s) for s in ds["sweep"].values]
-    axes = ax if isinstance(ax, list) else [ax]
-    ax = axes[0]
+    axes, ax = ax, ax[0]  # (always several panels: the points and two bands per sweep)
     for s in sweeps:
         pu = ds["poincare_u"].sel(sweep=s).values
         xx = np.broadcast_to(x[:, None], pu.shape)

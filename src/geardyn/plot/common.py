@@ -67,6 +67,8 @@ NAN_COLOR = "#8c8c8c"
 NAN_HATCH = "///"
 #: Largest number of components of a spectrum drawn as stems (more: one line, :func:`log_stems`).
 STEM_MAX = 80
+#: Legend outside the axes, right of the curves it names (a time history's).
+OUTSIDE_RIGHT = dict(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
 #: Offsets (points) tried in turn for a label beside its anchor, the first free of other labels is taken.
 LABEL_OFFSETS = tuple((dx, dy) for dy in (0, 11, -11, 22, -22, 33, -33, 44, -44) for dx in (5, -5))
 
@@ -158,28 +160,13 @@ def panels(ax: Any, n: int, figsize: tuple[float, float], **subplots: Any) -> tu
     """
     if ax is None:
         fig = new_figure(figsize=figsize)
-        kw = {"nrows": n, "ncols": 1, "squeeze": False}
-        kw.update(subplots)
-        axes = list(np.asarray(fig.subplots(**kw)).ravel())
-        return fig, axes, True
+        return fig, list(fig.subplots(**{"nrows": n, "ncols": 1, "squeeze": False, **subplots}).ravel()), True
     if isinstance(ax, Axes):
         return ax.figure, [ax] + [None] * (n - 1), False
     axes = list(np.asarray(ax, dtype=object).ravel())
     if len(axes) != n or not all(isinstance(a, Axes) for a in axes):
         raise PlotError(f"ax: this figure has {n} panels; give one Axes (main panel) or {n} Axes, got {len(axes)}")
     return axes[0].figure, axes, False
-
-
-def snapshot(axes: Sequence[Axes | None]) -> dict[int, set[Artist]]:
-    """The children of each Axes now, to find later what a function added (see :func:`result`)."""
-    return {id(a): set(a.get_children()) for a in axes if a is not None}
-
-
-def result(fig: Figure, axes: Sequence[Axes | None], before: dict[int, set[Artist]]) -> PlotArtists:
-    """The :class:`PlotArtists` of what was drawn into ``axes`` since the :func:`snapshot` ``before``."""
-    drawn = [a for a in axes if a is not None]
-    artists = [c for a in drawn for c in a.get_children() if c not in before.get(id(a), set())]
-    return PlotArtists(fig, drawn, artists)
 
 
 def label(da: xr.DataArray, fallback: str | None = None) -> str:
@@ -227,13 +214,11 @@ def save(fig: Any, path: str | Path, *, close: bool = True, dpi: int = DPI) -> P
     Path
         ``path``.
     """
-    import io
-
     from ..atomic import atomic_write_bytes
 
     figure = fig.figure if isinstance(fig, PlotArtists) else fig
     path = Path(path)
-    buf = io.BytesIO()  # drawn in memory, then written atomically: no truncated figure on a full disk
+    buf = _io.BytesIO()  # drawn in memory, then written atomically: no truncated figure on a full disk
     figure.savefig(buf, dpi=dpi, bbox_inches="tight", format=path.suffix.lstrip(".").lower() or "png")
     atomic_write_bytes(path, buf.getbuffer())
     if close and getattr(figure.canvas, "manager", None) is not None and "matplotlib.pyplot" in sys.modules:
@@ -554,6 +539,14 @@ def branch_lines(
         i0 = i
 
 
+def cell_edges(x: np.ndarray, half: float = 0.005) -> np.ndarray:
+    """Edges of cells centred on the ascending values ``x``: midway between neighbours, the end cells as wide as
+    their neighbours' (``half`` either side of a single value)."""
+    if x.size < 2:
+        return np.array([x[0] - half, x[0] + half])
+    return np.concatenate([[x[0] - (x[1] - x[0]) / 2], 0.5 * (x[1:] + x[:-1]), [x[-1] + (x[-1] - x[-2]) / 2]])
+
+
 def _renderer(fig: Figure) -> Any:
     get = getattr(fig.canvas, "get_renderer", None)
     return get() if get is not None else fig._get_renderer()
@@ -616,10 +609,6 @@ _RETURNS = "Returns\n-------\nPlotArtists\n    The figure, its Axes and the arti
 ONE_AXES = "ax : matplotlib.axes.Axes, optional\n    Where to draw; a new figure if omitted."
 
 
-def _doc(text: str) -> str:
-    return textwrap.dedent(text).strip("\n")
-
-
 def plot_function(
     kind: str,
     figsize: Any,
@@ -678,15 +667,16 @@ def plot_function(
             )
             if new and adjust:
                 fig.subplots_adjust(**adjust)
-            before = snapshot(axes)
+            drawn = [a for a in axes if a is not None]
+            before = [set(a.get_children()) for a in drawn]  # to return what fn adds
             bound.arguments["ax"] = axes[0] if count == 1 else axes
             fn(*bound.args, **bound.kwargs)
             if new and tight:
                 fig.tight_layout()
-            return result(fig, axes, before)
+            return PlotArtists(fig, drawn, [c for a, b in zip(drawn, before) for c in a.get_children() if c not in b])
 
         sections = ["Parameters", "----------", "ds : xarray.Dataset", f"    A ``{kind}`` result."]
-        sections += [_doc(t) for t in (params, ax_doc) if t]
+        sections += [textwrap.dedent(t).strip("\n") for t in (params, ax_doc) if t]
         plot.__doc__ = inspect.cleandoc(fn.__doc__ or "") + "\n\n" + "\n".join(sections) + "\n\n" + _RETURNS
         return plot
 

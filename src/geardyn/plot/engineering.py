@@ -9,10 +9,9 @@ import numpy as np
 import xarray as xr
 
 from .common import plot_function
+from .response import SWEEP_STYLE
 
 __all__ = ["has_iso_kv", "kv_overlay"]
-
-_SWEEP_STYLE = {"up": ("^", "C0"), "down": ("v", "C3")}
 
 
 def has_iso_kv(ds: xr.Dataset) -> bool:
@@ -53,7 +52,7 @@ def kv_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     )
     ax.plot(rpm, np.array(b["K_v"], dtype=float), "k-", lw=2.0, label="ISO K_v (Method B)")  # None: nan
     for lab, vals in b["simulated"].items():
-        marker, colour = _SWEEP_STYLE.get(lab, ("o", "C1"))
+        marker, colour = SWEEP_STYLE.get(lab, ("o", "C1"))
         ax.plot(
             rpm, np.array(vals, dtype=float), marker=marker, color=colour, ms=4, lw=1.0, label=f"simulated, sweep {lab}"
         )

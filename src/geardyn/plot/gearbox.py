@@ -60,16 +60,13 @@ def mode_shapes(ds: xr.Dataset, ax: Axes = None) -> None:
     elements = [str(e) for e in ds["element"].values]
     energy = ds["energy_fraction"].values
     r = ds["node_radius"].values
+    radius = np.array([float(np.max(r[shaft_of == k])) for k in shaft_of])
     for a, i in zip(ax, _elastic(ds)):
         if a is None:
             continue
-        col = shape[:, i]
-        lat = np.array([np.hypot(col[index[f"{n}.x"]], col[index[f"{n}.y"]]) for n in nodes])
-        radius = np.array([float(np.max(r[shaft_of == k])) for k in shaft_of])
-        tor = np.array([col[index[f"{n}.theta"]] for n in nodes]) * radius
-        axial = np.array([col[index[f"{n}.z"]] for n in nodes])
-        scale = max(float(np.max(np.abs(lat))), float(np.max(np.abs(tor))), float(np.max(np.abs(axial))), 1e-300)
-        lat, tor, axial = lat / scale, tor / scale, axial / scale
+        x, y, theta, z = (shape[[index[f"{n}.{c}"] for n in nodes], i] for c in ("x", "y", "theta", "z"))
+        curves = np.array([np.hypot(x, y), theta * radius, z])
+        lat, tor, axial = curves / max(float(np.max(np.abs(curves))), 1e-300)
         for j, s in enumerate(names):
             sel = shaft_of == j
             a.plot(pos[sel], lat[sel], "-o", ms=3, color=f"C{j}", lw=1.3, label=f"{s}: lateral")

@@ -88,7 +88,6 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
     u_max with ±D."""
     if shooting is None:
         shooting = attached(ds, SHOOTING_CONTEXT)
-    axes = ax
     param = str(ds.attrs["param"])
     model = json.loads(ds.attrs["model"])
     D = float(model.get("D", 0.0))
@@ -97,7 +96,7 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
     stable = ds["stable"].values.astype(bool) & ok
     bifs = json.loads(ds.attrs.get("bifurcations", "[]"))
     H, n = int(ds.attrs.get("harmonics", 0)), int(ds.attrs.get("period", 1))
-    for a, what in zip(axes, ("amplitude", "extremes")):
+    for a, what in zip(ax, ("amplitude", "extremes")):
         if a is None:
             continue
         seen: set[str] = set()
@@ -125,14 +124,14 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
                 seen.add("unresolved")
         _events(a, bifs, param, what, seen)
         a.grid(alpha=0.3)
-    axes[0].set_ylabel(label(ds["amplitude"]))
-    if axes[1] is not None:
+    ax[0].set_ylabel(label(ds["amplitude"]))
+    if ax[1] is not None:
         if D > 0:
             for s in (D, -D):
-                axes[1].axhline(s, color="0.5", lw=0.8, ls=":")
-        axes[1].set_ylabel(of_mesh("u_min, u_max", ds) + " (dotted: ±D)")
-    [a for a in axes if a is not None][-1].set_xlabel(label(ds[param], param))
-    axes[0].legend(fontsize=7, ncol=2, loc="best")
+                ax[1].axhline(s, color="0.5", lw=0.8, ls=":")
+        ax[1].set_ylabel(of_mesh("u_min, u_max", ds) + " (dotted: ±D)")
+    [a for a in ax if a is not None][-1].set_xlabel(label(ds[param], param))
+    ax[0].legend(fontsize=7, ncol=2, loc="best")
     fixed = ", ".join(f"{k} = {model[k]:g}" for k in ("xi0", "fp", "D") if k != param and k in model)
     over = " over the shooting branch" if shooting is not None else ""
-    axes[0].set_title(f"Harmonic balance in {param}, period {n} ({fixed}){over}")
+    ax[0].set_title(f"Harmonic balance in {param}, period {n} ({fixed}){over}")

@@ -24,12 +24,11 @@ __all__ = ["convergence"]
 )
 def convergence(ds: xr.Dataset, ax: Any = None) -> None:
     """Running λ1, λ2 estimates with the final values ±3σ; the dashed line is −2ξ0 − λ1 for comparison with λ2."""
-    axes = ax
     run = ds["running"].values
     k = np.arange(1, run.shape[0] + 1)
     lam = ds["exponents"].values
     err = ds["uncertainty"].values
-    for i, a in enumerate(axes):
+    for i, a in enumerate(ax):
         if a is None:
             continue
         a.plot(k, run[:, i], lw=0.9, color=f"C{i}")
@@ -40,12 +39,12 @@ def convergence(ds: xr.Dataset, ax: Any = None) -> None:
         a.set_ylabel(f"λ{i + 1} [1/τ]")
         a.set_xscale("log")
     m = model_of(ds)
-    if np.isfinite(lam[0]) and axes[1] is not None and "xi0" in m:  # the pair's λ1 + λ2 = −2ξ0
-        axes[1].axhline(-2 * m["xi0"] - lam[0], color="C3", lw=0.7, ls="--", label="−2ξ0 − λ1")
-        axes[1].legend(fontsize=8)
-    [a for a in axes if a is not None][-1].set_xlabel("recorded forcing periods")
+    if np.isfinite(lam[0]) and ax[1] is not None and "xi0" in m:  # the pair's λ1 + λ2 = −2ξ0
+        ax[1].axhline(-2 * m["xi0"] - lam[0], color="C3", lw=0.7, ls="--", label="−2ξ0 − λ1")
+        ax[1].legend(fontsize=8)
+    [a for a in ax if a is not None][-1].set_xlabel("recorded forcing periods")
     set_title(
-        axes[0],
+        ax[0],
         f"Lyapunov exponents: λ1 = {lam[0]:.5g} ± {err[0]:.2g}, λ2 = {lam[1]:.5g} ± {err[1]:.2g}  (band: ±3σ)",
         ds,
     )

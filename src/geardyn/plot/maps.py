@@ -40,9 +40,8 @@ MOTION_CATEGORIES = [
 ]
 
 
-def _motion_index(motion: np.ndarray, period: np.ndarray) -> np.ndarray:
+def _motion_index(m: np.ndarray, p: np.ndarray) -> np.ndarray:
     names = [n for n, _ in MOTION_CATEGORIES]
-    m, p = motion, period
     out = names.index(MOTION_LABELS[MOTION_UNRESOLVED])
     for code in (MOTION_DIVERGED, MOTION_QUASIPERIODIC, MOTION_CHAOTIC):
         out = np.where(m == code, names.index(MOTION_LABELS[code]), out)

@@ -125,10 +125,11 @@ def _draw_branches(ax, ds: xr.Dataset, param: str, what: str) -> None:
         n = int(ds["period"].values[sel[0]])
         x = x_all[sel]
         stable = ds["stable"].values[sel].astype(bool)
-        if what == "amplitude":
-            ys = [ds["amplitude"].values[sel]]
-        else:
-            ys = [ds["poincare_u"].values[sel, k] for k in range(n)]
+        ys = (
+            [ds["amplitude"].values[sel]]
+            if what == "amplitude"
+            else [ds["poincare_u"].values[sel, k] for k in range(n)]
+        )
         branch_lines(ax, x, ys, stable, f"period-{n} ", seen_labels, (1.6, 1.1), color=_colour(n), zorder=3)
 
 
@@ -147,21 +148,13 @@ def _draw_sweep(ax, sweep: xr.Dataset, param: str, what: str) -> None:
 
 
 def _draw_bifurcations(ax, ds: xr.Dataset, param: str, what: str) -> None:
-    if ds.sizes.get("bifurcation", 0) == 0:
-        return
     seen = set()
-    for i in range(ds.sizes["bifurcation"]):
+    for i in range(ds.sizes.get("bifurcation", 0)):
         typ = str(ds["bifurcation_type"].values[i])
         st = BIFURCATION_STYLE.get(typ, dict(marker="P", color="k", label=typ))
-        x = float(ds[f"bifurcation_{param}"].values[i])
-        y = (
-            float(ds["bifurcation_amplitude"].values[i])
-            if what == "amplitude"
-            else float(ds["bifurcation_u"].values[i])
-        )
         ax.plot(
-            [x],
-            [y],
+            [float(ds[f"bifurcation_{param}"].values[i])],
+            [float(ds["bifurcation_amplitude" if what == "amplitude" else "bifurcation_u"].values[i])],
             ls="none",
             marker=st["marker"],
             color=st["color"],
@@ -302,12 +295,9 @@ def stability_figure(ds: xr.Dataset, ax: Any = None) -> None:
             gid="gap",
             label="gap in the linear boundary: still unstable at the top of its search, no boundary found",
         )
-    paper = None
-    if "xi0_paper" in ds:
-        paper = float(ds["xi0_paper"].values)
-    elif "xi0_paper" in ds.attrs:
-        paper = float(ds.attrs["xi0_paper"])
+    paper = ds["xi0_paper"].values if "xi0_paper" in ds else ds.attrs.get("xi0_paper")
     if paper is not None:
+        paper = float(paper)
         ax.axhline(paper, color="C3", ls="--", label=f"paper's condition ½√(1 − κ1²) = {paper:.4f}")
     ax.set_xlabel("mesh frequency ω")
     ax.set_ylabel("critical mean damping ratio ξ0")

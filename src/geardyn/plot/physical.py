@@ -16,9 +16,9 @@ from matplotlib.axes import Axes
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
 
-from .common import label, log_stems, of_mesh, plot_function, set_title, symbol
+from .common import OUTSIDE_RIGHT, label, log_stems, of_mesh, plot_function, set_title, symbol
 from .response import draw_response
-from .simulate import OUTSIDE_RIGHT, TIME_PERIODS_SHOWN, last_periods
+from .simulate import TIME_PERIODS_SHOWN, last_periods
 
 __all__ = [
     "RPM_CURVE_VARIABLES",

@@ -143,7 +143,40 @@ register("response", FigureSpec("response_iso_kv", engineering.kv_overlay, when=
 register("runup", FigureSpec("runup", runup.runup_figure))
 register("modes", FigureSpec("campbell", modes.campbell, when=modes.has_campbell))
 register("modes", FigureSpec("mode_shapes", gearbox.mode_shapes, when=gearbox.has_shafts))
-systems.register_all(register, FigureSpec, bifurcation, response, maps, basins)
+# the figures only a system's results have, each where the Dataset holds what it draws
+register(  # beside the reference mesh's time history where there are several elements
+    "simulate",
+    FigureSpec("element_deflections", systems.element_deflections, when=lambda ds: ds.sizes.get("element", 0) > 1),
+)
+register(
+    "lyapunov",
+    FigureSpec("lyapunov_spectrum", systems.lyapunov_spectrum, when=lambda ds: ds.sizes.get("exponent", 0) > 2),
+)
+register("orbit", FigureSpec("multipliers", systems.multipliers, when=_has("points")))
+for _k in ("bifurcation", "response"):
+    register(_k, FigureSpec("mesh_amplitudes", systems.mesh_amplitudes, when=_has("element_u_min")))
+# the kinds earlier versions wrote for systems
+register(
+    "system_simulate",
+    FigureSpec("element_deflections", systems.element_deflections),
+    FigureSpec("phase_portrait", systems.reference_phase),
+)
+register("system_lyapunov", FigureSpec("lyapunov_spectrum", systems.lyapunov_spectrum))
+register("system_orbit", FigureSpec("multipliers", systems.multipliers))
+register(
+    "system_bifurcation",
+    FigureSpec("bifurcation", bifurcation.diagram),
+    FigureSpec("mesh_amplitudes", systems.mesh_amplitudes),
+)
+register(
+    "system_response",
+    FigureSpec("response", response.response),
+    FigureSpec("mesh_amplitudes", systems.mesh_amplitudes),
+)
+# (their sweeps are laid out along the reference mesh: the 1-DOF figures draw them)
+register("system_map", *FIGURES["map"][:3])
+register("system_basins", *FIGURES["basins"])
+register("system_continuation", FigureSpec("continuation", systems.continuation_branches))
 register(
     "stiffness", FigureSpec("stiffness", tooth.stiffness_figure), FigureSpec("compliance", tooth.compliance_figure)
 )

@@ -9,7 +9,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import parameter_text, place_labels, plot_function, set_title, symbol
+from .common import cell_edges, parameter_text, place_labels, plot_function, set_title, symbol
 
 __all__ = ["CURVE_STYLES", "curve_style", "end_labels", "formula_fit", "readings_map", "response_overlay", "search_map"]
 
@@ -68,13 +68,12 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
     (ξ0, b) on shared axes (a result of the reproduction report)."""
     A0, dA, beta = (float(ds.attrs[k]) for k in ("A0", "dA", "beta"))
     w, xi0, b, a = (ds[k].values for k in ("omega", "xi0", "b_mm", "amplitude"))
-    groups = _formula_groups(ds)
-    axes = list(ax) if isinstance(ax, (list, tuple)) else [ax]
-    one = len(axes) == 1 or all(x is None for x in axes[1:])
+    axes = ax if isinstance(ax, list) else [ax]
+    one = not any(axes[1:])  # one Axes for every curve (the other panels not drawn)
     ww = np.linspace(w.min(), w.max(), 300)
     ends = []
-    for i, (x0, bb) in enumerate(groups):
-        target = axes[0] if one else axes[i]
+    for i, (x0, bb) in enumerate(_formula_groups(ds)):
+        target = axes[0 if one else i]
         st = curve_style(i)
         sel = (xi0 == x0) & (b == bb)
         order = np.argsort(w[sel])
@@ -95,25 +94,22 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
         else:
             target.set_title(name, fontsize=9, color=st["color"])
             target.grid(alpha=0.3)
-    drawn = [x for x in axes if x is not None]
-    if one:
-        place_labels(drawn[0], ends)
-        drawn[0].set_xlabel("mesh frequency ω = ω_e/ω_n")
-        drawn[0].set_ylabel("amplitude (half peak-to-peak of u) [b_c]")
-    else:
-        drawn[0].legend(fontsize=7, loc="upper left")
-        cols = drawn[0].get_gridspec().ncols if drawn[0].get_gridspec() is not None else 1
-        for k, x in enumerate(drawn):
-            if k >= len(drawn) - cols:
-                x.set_xlabel("ω = ω_e/ω_n")
-            if k % cols == 0:
-                x.set_ylabel("amplitude (½ p-p of u) [b_c]")
     head = f"Amplitude formula fit: R² = {float(ds.attrs['r2']):.3f} (markers: computed, lines: fit)"
-    params = parameter_text(ds, exclude=["omega", "xi0", "D"])
     if one:
-        set_title(drawn[0], head, ds, exclude=["omega", "xi0", "D"])
-    else:
-        drawn[0].figure.suptitle(f"{head}\n{params}" if params else head, fontsize=10)
+        place_labels(axes[0], ends)
+        axes[0].set_xlabel("mesh frequency ω = ω_e/ω_n")
+        axes[0].set_ylabel("amplitude (half peak-to-peak of u) [b_c]")
+        set_title(axes[0], head, ds, exclude=["omega", "xi0", "D"])
+        return
+    axes[0].legend(fontsize=7, loc="upper left")
+    cols = axes[0].get_gridspec().ncols if axes[0].get_gridspec() is not None else 1
+    for k, x in enumerate(axes):
+        if k >= len(axes) - cols:
+            x.set_xlabel("ω = ω_e/ω_n")
+        if k % cols == 0:
+            x.set_ylabel("amplitude (½ p-p of u) [b_c]")
+    params = parameter_text(ds, exclude=["omega", "xi0", "D"])
+    axes[0].figure.suptitle(f"{head}\n{params}" if params else head, fontsize=10)
 
 
 def _search_size(ds: xr.Dataset) -> tuple[float, float]:
@@ -175,10 +171,7 @@ def readings_map(ds: xr.Dataset, ax: Axes = None) -> None:
     (a result of the reproduction report); the default ω dashed."""
     f = ds["hold_fraction"].values
     w = ds["omega"].values
-    mid = 0.5 * (w[1:] + w[:-1])
-    half = float(w[1] - w[0]) / 2 if w.size > 1 else 0.005
-    edges = np.concatenate([[w[0] - half], mid, [w[-1] + (float(w[-1] - w[-2]) / 2 if w.size > 1 else half)]])
-    im = ax.pcolormesh(edges, np.arange(f.shape[0] + 1) - 0.5, f, vmin=0, vmax=1, cmap="viridis")
+    im = ax.pcolormesh(cell_edges(w), np.arange(f.shape[0] + 1) - 0.5, f, vmin=0, vmax=1, cmap="viridis")
     ax.set_yticks(range(f.shape[0]), [str(c) for c in ds["claim"].values])
     ax.axvline(float(ds.attrs.get("default_omega", 1.0)), color="w", ls="--", lw=0.8)
     ax.set_xlabel("mesh frequency ω = ω_e/ω_n (dashed: the default reading)")
@@ -251,20 +244,22 @@ def _case_text(param: str, value: float) -> str:
     return text + f" (b = {2 * value:g} mm)" if param == "D" else text
 
 
+def _up_jumps(ds: xr.Dataset) -> list[list[dict]]:
+    """The upward jumps of each response's up sweep."""
+    return [
+        [j for j in js if j["sweep"] == "up" and j["direction"] == "up"]
+        for js in json.loads(ds.attrs.get("jumps", "[]"))
+    ]
+
+
 def _has_up_jump(ds: xr.Dataset) -> bool:
-    return any(
-        j["sweep"] == "up" and j["direction"] == "up" for js in json.loads(ds.attrs.get("jumps", "[]")) for j in js
-    )
-
-
-def _overlay_panels(ds: xr.Dataset) -> int:
-    return 3 if _has_up_jump(ds) else 2
+    return any(_up_jumps(ds))
 
 
 @plot_function(
     "response_overlay",
     lambda ds: (11, 10.5 if _has_up_jump(ds) else 7.5),
-    n=_overlay_panels,
+    n=lambda ds: 3 if _has_up_jump(ds) else 2,
     subplots=lambda ds: {"height_ratios": (2.2, 1.3, 1) if _has_up_jump(ds) else (2.2, 1)},
     tight=True,
     ax_doc="""
@@ -279,16 +274,14 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     upward jump of each starred (and zoomed on in a panel of its own); the ω the paper names dotted and
     its Table 4 amplitudes as crosses; below, the fluctuation (spread of the Poincaré points of the up
     sweep) on the same ω axis (a result of the reproduction report)."""
-    axes = list(ax) if isinstance(ax, (list, tuple)) else [ax]
-    amp_ax, zoom, fl_ax = (
-        (axes + [None, None])[:3] if len(axes) == 3 else (axes[0], None, axes[1] if len(axes) > 1 else None)
-    )
+    amp_ax, zoom, fl_ax = ax if len(ax) == 3 else (ax[0], None, ax[1])
+    both = [t for t in (amp_ax, zoom) if t is not None]
     if fl_ax is not None:
         fl_ax.sharex(amp_ax)
     param = str(ds.attrs["param"])
     w = ds["omega"].values
     values = ds["value"].values
-    jumps = json.loads(ds.attrs.get("jumps", "[]"))
+    jumps = _up_jumps(ds)
     marks = json.loads(ds.attrs.get("marks", "[]"))
     table4 = json.loads(ds.attrs.get("table4", "[]"))
     ends = []
@@ -297,12 +290,11 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     for i, v in enumerate(values):
         st = curve_style(i)
         every = (i * step // max(len(values), 1), step)  # markers of the curves staggered, not on top of each other
-        up, down = (ds["amplitude"].values[i, k] for k in (0, 1))
-        js = [j for j in (jumps[i] if i < len(jumps) else []) if j["sweep"] == "up" and j["direction"] == "up"]
+        up, down = ds["amplitude"].values[i]
+        js = jumps[i] if i < len(jumps) else []
         firsts.append(min(js, key=lambda j: j["omega"]) if js else None)
-        for target, full in ((amp_ax, True), (zoom, False)):
-            if target is None:
-                continue
+        for target in both:
+            full = target is amp_ax
             # the down sweep under the up sweep, its open markers larger: a ring round the up sweep's where they agree
             target.plot(
                 w,
@@ -337,21 +329,20 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
                 label=_case_text(param, float(v)),
             )
     for i, j in enumerate(firsts):
-        for target in (amp_ax, zoom):
-            if j is not None and target is not None:
-                target.plot(
-                    [j["omega"]],
-                    [j["amplitude_to"]],
-                    ls="none",
-                    marker="*",
-                    ms=13,
-                    color=curve_style(i)["color"],
-                    mec="k",
-                    mew=0.6,
-                    zorder=5,
-                    gid="jump",
-                    label="_nolegend_",
-                )
+        for target in both if j is not None else ():
+            target.plot(
+                [j["omega"]],
+                [j["amplitude_to"]],
+                ls="none",
+                marker="*",
+                ms=13,
+                color=curve_style(i)["color"],
+                mec="k",
+                mew=0.6,
+                zorder=5,
+                gid="jump",
+                label="_nolegend_",
+            )
     for case, omega, A, cid in table4:
         amp_ax.plot(
             [omega],
@@ -367,12 +358,10 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
             label="_nolegend_",
         )
         amp_ax.annotate(cid, (omega, A), xytext=(4, -9), textcoords="offset points", fontsize=6.5)
-    for target in (amp_ax, zoom, fl_ax):
-        if target is None:
-            continue
+    for target in both + ([fl_ax] if fl_ax is not None else []):
         for omega, _ in marks:
             target.axvline(omega, color="0.35", ls=":", lw=1.0, gid="mark", zorder=0)
-    if zoom is not None and any(j is not None for j in firsts):
+    if zoom is not None and any(firsts):
         _zoom_on_jumps(zoom, w, ds["amplitude"].values, [j for j in firsts if j is not None])
     for k, (omega, _) in enumerate(marks):  # staggered: the names of close ω do not overlap
         amp_ax.annotate(

@@ -14,6 +14,7 @@ import xarray as xr
 from matplotlib.colors import LogNorm
 
 from .common import plot_function
+from .response import SWEEP_STYLE
 
 __all__ = ["runup_figure"]
 
@@ -30,7 +31,7 @@ __all__ = ["runup_figure"]
 def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Order map of the DTE and the run-up amplitude and dynamic factor against speed, with the steady response
     (of ``geardyn runup``; its attribute ``quasi_static`` (JSON) holds the steady response when it was computed)."""
-    axes = ax
+    a0, a1, a2 = ax
     phys = "rpm" in ds.coords
     x = ds["rpm"].values if phys else ds["omega"].values
     xlab = "pinion speed n1 [rpm]" if phys else "ω [1]"
@@ -38,7 +39,6 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
     unit = "µm" if "order_amplitude_um" in ds else "1"
     orders = ds["order"].values
     order = np.argsort(x)
-    a0 = axes[0]
     if "spectrum" in ds:  # an excitation of P mesh cycles: every order j/P, the shaft-order sidebands too
         scale = 1.0e6 * float(json.loads(ds.attrs.get("physical_scales", "{}")).get("b_c_m", np.nan))
         spec = ds["spectrum"].values * (scale if unit == "µm" and np.isfinite(scale) else 1.0)
@@ -71,7 +71,6 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
         fontsize=10,
     )
     qs = json.loads(ds.attrs.get("quasi_static", "null") or "null")
-    a1, a2 = axes[1], axes[2]
     for a, var, ylab in (
         (a1, "amplitude", f"DTE half peak-to-peak [{unit}]"),
         (a2, "dynamic_factor", "dynamic factor max F_n/F_p [1]"),
@@ -81,7 +80,7 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
         y = ds[f"{var}_um"].values if (var == "amplitude" and unit == "µm") else ds[var].values
         a.plot(x, y, "k-", lw=1.5, label=what)
         if qs is not None:
-            for lab, marker, colour in (("up", "^", "C0"), ("down", "v", "C3")):
+            for lab, (marker, colour) in SWEEP_STYLE.items():
                 if var in qs.get(lab, ()):
                     a.plot(
                         qs["x"],

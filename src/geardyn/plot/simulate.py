@@ -8,14 +8,12 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import contact_lines, label, log_stems, model_of, of_mesh, plot_function, set_title
+from .common import OUTSIDE_RIGHT, contact_lines, label, log_stems, model_of, of_mesh, plot_function, set_title
 
 __all__ = ["TIME_PERIODS_SHOWN", "last_periods", "phase_portrait", "spectrum", "time_history"]
 
 #: Periods of the time history drawn (the Dataset may hold more, for the spectrum).
 TIME_PERIODS_SHOWN = 8
-#: Where the legend of a time history goes: outside the axes, right of the curve it names.
-OUTSIDE_RIGHT = dict(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
 
 
 def last_periods(ds: xr.Dataset) -> tuple[np.ndarray, float]:

@@ -4,8 +4,8 @@ A system's result is of the command's one kind (``simulate``, ``bifurcation``, .
 along the reference element plus per-element variables, so its main figures are the pair's; this module adds
 what only systems have — every element's deflection, all 2n Lyapunov exponents, all Floquet multipliers, the
 amplitude of each mesh along a sweep — each drawn when the Dataset holds it, and keeps the figures of the
-``system_*`` kinds that earlier versions wrote (their files stay readable: ``geardyn plot`` redraws them).
-:func:`register_all` enters them in the figure registry (:mod:`.registry`).
+``system_*`` kinds that earlier versions wrote (their files stay readable: ``geardyn plot`` redraws them);
+:mod:`.registry` enters them in the figure registry.
 """
 
 from __future__ import annotations
@@ -23,7 +23,6 @@ __all__ = [
     "multipliers",
     "mesh_amplitudes",
     "continuation_branches",
-    "register_all",
 ]
 
 
@@ -139,55 +138,3 @@ def continuation_branches(ds: xr.Dataset, ax: Axes = None) -> None:
         of_mesh("amplitude of δ (the reference mesh)", ds),
         legend=dict(fontsize=7),
     )
-
-
-def register_all(register, FigureSpec, bifurcation, response, maps, basins) -> None:
-    """Enter the system kinds and their figures in the registry (called once by :mod:`.registry`).
-
-    Parameters
-    ----------
-    register : callable
-        :func:`geardyn.plot.registry.register`.
-    FigureSpec : type
-        :class:`geardyn.plot.registry.FigureSpec`.
-    bifurcation, response, maps, basins : module
-        The 1-DOF plot modules whose figures draw the system sweeps (laid out along the reference mesh).
-    """
-
-    def has(name):
-        return lambda ds: name in ds
-
-    register(  # beside the reference mesh's time history where there are several elements
-        "simulate",
-        FigureSpec("element_deflections", element_deflections, when=lambda ds: ds.sizes.get("element", 0) > 1),
-    )
-    register(
-        "lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum, when=lambda ds: ds.sizes.get("exponent", 0) > 2)
-    )
-    register("orbit", FigureSpec("multipliers", multipliers, when=has("points")))
-    for kind in ("bifurcation", "response"):
-        register(kind, FigureSpec("mesh_amplitudes", mesh_amplitudes, when=has("element_u_min")))
-    # the kinds earlier versions wrote for systems
-    register(
-        "system_simulate",
-        FigureSpec("element_deflections", element_deflections),
-        FigureSpec("phase_portrait", reference_phase),
-    )
-    register("system_lyapunov", FigureSpec("lyapunov_spectrum", lyapunov_spectrum))
-    register("system_orbit", FigureSpec("multipliers", multipliers))
-    register(
-        "system_bifurcation",
-        FigureSpec("bifurcation", bifurcation.diagram),
-        FigureSpec("mesh_amplitudes", mesh_amplitudes),
-    )
-    register(
-        "system_response", FigureSpec("response", response.response), FigureSpec("mesh_amplitudes", mesh_amplitudes)
-    )
-    register(
-        "system_map",
-        FigureSpec("map_motion", maps.motion_map),
-        FigureSpec("map_impact", maps.impact_map),
-        FigureSpec("map_amplitude", maps.continuous_map, kwargs={"var": "amplitude"}),
-    )
-    register("system_basins", FigureSpec("basins", basins.basin_figure))
-    register("system_continuation", FigureSpec("continuation", continuation_branches))

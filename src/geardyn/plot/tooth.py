@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .common import PlotArtists, panels, plot_function, result, snapshot
+from .common import OUTSIDE_RIGHT, plot_function
 
 #: Documentation of ``ax`` for a figure of several panels.
 _PANELS = """
@@ -47,7 +47,7 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> None:
         )
     a0.axhline(s["k_mean_N_per_um"], color="C2", lw=1.0, ls="-.", label=f"mean {s['k_mean_N_per_um']:.4g} N/µm")
     a0.set_ylabel("mesh stiffness [N/µm]")
-    a0.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the curve: no segment hidden
+    a0.legend(**OUTSIDE_RIGHT)  # beside the curve: no segment hidden
     faults = ", ".join(f"{f['kind']} g{f['gear']}t{f.get('tooth')}" for f in s["faults"]) or "healthy"
     a0.set_title(
         f"z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, b = {bw:g} mm, ε_α = {s['eps_alpha']:.3f}, "
@@ -59,29 +59,28 @@ def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> None:
         if np.nanmax(np.abs(ds["ste_noload"].values)) > 0:
             a1.plot(ph, ds["ste_noload"], "C1--", lw=1.0, label="no-load TE (modifications, faults)")
         a1.set_ylabel("STE [µm]")
-        a1.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        a1.legend(**OUTSIDE_RIGHT)
     if a2 is not None:
         for j in range(ds.sizes["pair"]):
             a2.plot(ph, ds["load_share"].isel(pair=j), lw=1.0, label=f"pair m = ⌊θ⌋ − {j}")
         a2.set_ylabel("load share [1]")
-        a2.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        a2.legend(**OUTSIDE_RIGHT)
     (a2 or a0).set_xlabel("mesh phase θ [mesh cycles]")
 
 
 @plot_function("stiffness", (7.5, 4.5))
 def compliance_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """A healthy pair's compliances by term (per unit face width) along the path of contact."""
-    a = ax
     x = ds["path"].values
     terms = {"hertz": "C0", "bending": "C1", "shear": "C2", "axial": "C4", "fillet": "C3"}
     for k, c in terms.items():
-        a.plot(x, ds[f"compliance_{k}"], color=c, lw=1.2, label=k)
+        ax.plot(x, ds[f"compliance_{k}"], color=c, lw=1.2, label=k)
     total = sum(ds[f"compliance_{k}"].values for k in terms)
-    a.plot(x, total, "k-", lw=1.8, label="total (1/single-pair stiffness per width)")
-    a.set_xlabel("contact position from A [base pitches]")
-    a.set_ylabel("compliance per unit width [mm·µm/N]")
-    a.set_title("one tooth pair: potential-energy terms (pinion + wheel)", fontsize=10)
-    a.legend(fontsize=8)
+    ax.plot(x, total, "k-", lw=1.8, label="total (1/single-pair stiffness per width)")
+    ax.set_xlabel("contact position from A [base pitches]")
+    ax.set_ylabel("compliance per unit width [mm·µm/N]")
+    ax.set_title("one tooth pair: potential-energy terms (pinion + wheel)", fontsize=10)
+    ax.legend(fontsize=8)
 
 
 def _runs(ds: xr.Dataset) -> list[tuple[str, dict]]:
@@ -89,24 +88,18 @@ def _runs(ds: xr.Dataset) -> list[tuple[str, dict]]:
     return [(str(r), s[i]) for i, r in enumerate(ds["run"].values)]
 
 
-def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Order spectrum of each run with the mesh orders and their pinion and wheel shaft-order sidebands labelled.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``signature`` result (one or more runs).
-    ax : Axes or sequence of Axes, optional
-        Where to draw (as many Axes as panels); a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
+@plot_function(
+    "signature",
+    lambda ds: (9.0, 3.2 * ds.sizes["run"] + 0.8),
+    n=lambda ds: ds.sizes["run"],
+    subplots={"sharex": True},
+    ax_doc=_PANELS,
+)
+def order_spectrum(ds: xr.Dataset, ax: Any = None) -> None:
+    """Order spectrum of each run (one panel per run) with the mesh orders and their pinion and wheel shaft-order
+    sidebands labelled."""
     runs = _runs(ds)
-    fig, axes, _ = panels(ax, len(runs), (9.0, 3.2 * len(runs) + 0.8), sharex=True)
-    before = snapshot(axes)
+    axes = ax if isinstance(ax, list) else [ax]
     order = ds["order"].values
     for a, (name, s) in zip(axes, runs):
         if a is None:
@@ -137,7 +130,6 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         a.set_ylabel("amplitude [m/s²]")
         a.set_ylim(top * 1e-5, top * 5)
     [a for a in axes if a is not None][-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
-    return result(fig, axes, before)
 
 
 @plot_function("signature", (9.0, 10.5), n=4, adjust={"hspace": 0.4}, ax_doc=_PANELS)
@@ -203,27 +195,20 @@ def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> None:
         a.set_xlabel(ds["size"].attrs.get("long_name", "fault size"))
 
 
-def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
-    """Tooth compliance along the contact path, geardyn against finite elements, with the FE mesh levels.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A ``tooth_fe`` result (``benchmarks/tooth_fe.py``).
-    ax : Axes or sequence of Axes, optional
-        Where to draw (one Axes per tooth); a new figure if omitted.
-
-    Returns
-    -------
-    PlotArtists
-        The figure, its Axes and the artists drawn.
-    """
-    n = ds.sizes["tooth"]
-    fig, axes, new = panels(ax, n, (10.0, 2.9 * ((n + 1) // 2) + 0.6), nrows=(n + 1) // 2, ncols=2)
-    if new:
-        fig.subplots_adjust(hspace=0.5)
-    before = snapshot(axes)
-    for a, t in zip(axes, ds["tooth"].values):
+@plot_function(
+    "tooth_fe",
+    lambda ds: (10.0, 2.9 * ((ds.sizes["tooth"] + 1) // 2) + 0.6),
+    n=lambda ds: ds.sizes["tooth"],
+    subplots=lambda ds: {"nrows": (ds.sizes["tooth"] + 1) // 2, "ncols": 2},
+    adjust={"hspace": 0.5},
+    ax_doc="""
+               ax : Axes or sequence of Axes, optional
+                   Where to draw (one Axes per tooth); a new figure if omitted.""",
+)
+def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> None:
+    """Tooth compliance along the contact path, geardyn against finite elements, with the FE mesh levels (a
+    result of ``benchmarks/tooth_fe.py``)."""
+    for a, t in zip(ax if isinstance(ax, list) else [ax], ds["tooth"].values):
         if a is None:
             continue
         r = ds["radius"].sel(tooth=t).values
@@ -234,18 +219,16 @@ def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> PlotArtists:
         a.set_ylabel("compliance [1e-12 m²/N]", fontsize=8)
         a.set_xlabel("contact radius [mm]", fontsize=8)
         a.legend(fontsize=6)
-    return result(fig, axes, before)
 
 
 @plot_function("tooth_fe", (7.5, 4.5))
 def fe_crack_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Compliance of the cracked pinion tooth over the healthy one along its contact, geardyn against FE."""
-    a = ax
     x = ds["point"].values + 1
     for i, c in enumerate(ds["crack"].values):
-        a.plot(x, ds["crack_ratio_geardyn"].sel(crack=c), "-o", color=f"C{i}", ms=3, label=f"{c} geardyn")
-        a.plot(x, ds["crack_ratio_fe"].sel(crack=c), "--s", color=f"C{i}", ms=3, label=f"{c} FE")
-    a.set_xlabel("load point along the pinion's contact (1: start of contact, 7: tip)")
-    a.set_ylabel("compliance, cracked / healthy")
-    a.set_title("root crack at the fillet's 30° point: potential energy against finite elements", fontsize=9)
-    a.legend(fontsize=6, ncol=2)
+        ax.plot(x, ds["crack_ratio_geardyn"].sel(crack=c), "-o", color=f"C{i}", ms=3, label=f"{c} geardyn")
+        ax.plot(x, ds["crack_ratio_fe"].sel(crack=c), "--s", color=f"C{i}", ms=3, label=f"{c} FE")
+    ax.set_xlabel("load point along the pinion's contact (1: start of contact, 7: tip)")
+    ax.set_ylabel("compliance, cracked / healthy")
+    ax.set_title("root crack at the fillet's 30° point: potential energy against finite elements", fontsize=9)
+    ax.legend(fontsize=6, ncol=2)

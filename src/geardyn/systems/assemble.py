@@ -87,12 +87,11 @@ from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry.scales import Scales
 from ..model import Boundary, series_change
-from ..pairpack import stiffness_minimum
 from ..params import MAX_HARMONICS, canonical_param, slot
 from ..system import Element
 from . import elements as _el
 from .balance import check_balance
-from .description import Mesh, SystemDescription
+from .description import Mesh, SystemDescription, check_kappa
 from .rolling import BearingND
 
 __all__ = ["MeshND", "SystemArrays", "SystemModel", "assemble"]
@@ -148,10 +147,7 @@ class MeshND:
             raise ModelError(f"{who}: stiffness and ratio must be > 0")
         if self.D < 0:
             raise ModelError(f"{who}.D: must be >= 0, got {self.D!r}")
-        if sum(abs(x) for x in self.kappa) >= 1.0 and not (
-            self.cycles > 1 and stiffness_minimum(self.kappa, self.phi_k) > 0.0
-        ):
-            raise ModelError(f"{who}.kappa: sum of |kappa_r| must be < 1 so the mesh stiffness stays positive")
+        check_kappa(f"{who}.kappa", self.kappa, self.phi_k, self.cycles)
 
     @property
     def n_harmonics(self) -> int:
@@ -333,11 +329,15 @@ class SystemModel:
 
     def __post_init__(self) -> None:
         n = len(self.labels)
-        for name, shape in (("Mi", (n, n)), ("Kb", (n, n)), ("Cb", (n, n)), ("V", (len(self.meshes), n)), ("F", (n,))):
+
+        def shaped(name: str, shape: tuple) -> None:
             a = _ro(getattr(self, name))
             if a.shape != shape:
                 raise ModelError(f"{name}: expected shape {shape}, got {a.shape}")
             object.__setattr__(self, name, a)
+
+        for name, shape in (("Mi", (n, n)), ("Kb", (n, n)), ("Cb", (n, n)), ("V", (len(self.meshes), n)), ("F", (n,))):
+            shaped(name, shape)
         nc = len(self.clearance_names)
         object.__setattr__(self, "Vc", _ro(np.reshape(self.Vc, (nc, n))))
         object.__setattr__(self, "bearings", tuple(self.bearings))
@@ -357,10 +357,7 @@ class SystemModel:
             raise ModelError("gyro: give it together with damping_static (the damping without it)")
         for name in ("gyro", "damping_static"):
             if getattr(self, name) is not None:
-                a = _ro(getattr(self, name))
-                if a.shape != (n, n):
-                    raise ModelError(f"{name}: expected shape {(n, n)}, got {a.shape}")
-                object.__setattr__(self, name, a)
+                shaped(name, (n, n))
 
     # ------------------------------------------------------------------ the system protocol
     @property
@@ -390,10 +387,8 @@ class SystemModel:
             f = Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR)
             if abs(float(f) - m.ratio) > RATIO_RTOL * m.ratio:
                 return None
-            p = p * f.denominator // math.gcd(p, f.denominator)
-        for r, _, _ in self.orders:
-            p = p * r.denominator // math.gcd(p, r.denominator)
-        return p
+            p = math.lcm(p, f.denominator)
+        return math.lcm(p, *(r.denominator for r, _, _ in self.orders))
 
     @property
     def forcing_period(self) -> float:
@@ -427,15 +422,23 @@ class SystemModel:
             raise ModelError(f"{attr}: not a mesh parameter")
         return attr, idx
 
+    def _clearance(self, name: str) -> int | None:
+        """The index of the clearance a parameter ``<name>.D`` belongs to (None if it is none)."""
+        elem, p = self._split(name)
+        if elem not in self.clearance_names:
+            return None
+        if p != "D":
+            raise ModelError(f"{name}: a clearance has only the parameter D")
+        return self.clearance_names.index(elem)
+
     def get(self, name: str) -> float:
         """Value of a parameter by name (see the class docstring); missing harmonics are 0."""
         if name == "omega":
             return self.omega
+        c = self._clearance(name)
+        if c is not None:
+            return self.Dc[c]
         elem, p = self._split(name)
-        if elem in self.clearance_names:
-            if p != "D":
-                raise ModelError(f"{name}: a clearance has only the parameter D")
-            return self.Dc[self.clearance_names.index(elem)]
         b = self._bearing(elem, p)
         if b is not None:
             return getattr(b, p)
@@ -452,13 +455,10 @@ class SystemModel:
             if self.gyro is not None:  # the gyroscopic damping follows the speed
                 return replace(self, omega=value, Cb=self.damping_static + float(value) * self.gyro)
             return replace(self, omega=value)
+        c = self._clearance(name)
+        if c is not None:
+            return replace(self, Dc=(*self.Dc[:c], value, *self.Dc[c + 1 :]))
         elem, p = self._split(name)
-        if elem in self.clearance_names:
-            if p != "D":
-                raise ModelError(f"{name}: a clearance has only the parameter D")
-            Dc = list(self.Dc)
-            Dc[self.clearance_names.index(elem)] = value
-            return replace(self, Dc=tuple(Dc))
         b = self._bearing(elem, p)
         if b is not None:
             new_b = replace(b, **{p: value})
@@ -634,12 +634,10 @@ class SystemModel:
                 len(s.orders),
             )
 
-        for s in systems[1:]:
-            if key(s) != key(s0):
-                raise ModelError(
-                    "pack: every system of a batch must have the same DOFs, meshes, clearances, bearings and torque "
-                    "orders"
-                )
+        if any(key(s) != key(s0) for s in systems[1:]):
+            raise ModelError(
+                "pack: every system of a batch must have the same DOFs, meshes, clearances, bearings and torque orders"
+            )
         H = max(s.n_harmonics for s in systems)
         each = [s.arrays(H) for s in systems]
         return SystemArrays(
@@ -685,15 +683,9 @@ class SystemModel:
         d["meshes"] = tuple(MeshND(**m) for m in d["meshes"])
         d["labels"] = tuple(d["labels"])
         d["clearance_names"] = tuple(d["clearance_names"])
-        n = len(d["labels"])
-        d["Vc"] = np.reshape(np.array(d["Vc"], dtype=float), (len(d["clearance_names"]), n))
         d["orders"] = tuple((Fraction(*r), _ro(F), float(ph)) for r, F, ph in d.get("orders", ()))
         if "bearings" in d:
             d["bearings"] = tuple(BearingND(**b) for b in d["bearings"])
-            d["Vb"] = np.reshape(np.array(d["Vb"], dtype=float), (2 * len(d["bearings"]), n))
-        for key in ("gyro", "damping_static"):
-            if key in d:
-                d[key] = np.array(d[key], dtype=float)
         return cls(**d)
 
 
@@ -787,9 +779,10 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     idx = desc.index()
     orders = []
     for ld in desc.loads:
+        j = idx[(ld.body, ld.dof)]
         for k, amp, ph in ld.orders:
             vec = np.zeros(desc.n)
-            vec[idx[(ld.body, ld.dof)]] = s[idx[(ld.body, ld.dof)]] * amp / den
+            vec[j] = s[j] * amp / den
             orders.append((k * ld.speed, _ro(vec), float(ph)))
     meshes = tuple(_mesh_nd(desc, m, k_ref, m_ref, b_c) for m in desc.meshes)
     cl = desc.clearances
@@ -803,27 +796,22 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         K, cl_ = br.nondimensional(b_c, k_ref)
         bearings.append(
             BearingND(
-                name=rb.name,
-                kind=br.kind,
-                elements=br.elements,
-                K=K,
-                exponent=float(br.exponent),
-                clearance=cl_,
-                cx=rb.cx * omega_n / k_ref,
-                cy=rb.cy * omega_n / k_ref,
-                ratio=float(rb.ratio),
-                phase=rb.phase,
+                rb.name,
+                br.kind,
+                br.elements,
+                K,
+                float(br.exponent),
+                cl_,
+                rb.cx * omega_n / k_ref,
+                rb.cy * omega_n / k_ref,
+                float(rb.ratio),
+                rb.phase,
             )
         )
         Vb.append(s * rb.vectors(idx) / b_c)
     Vb = np.concatenate(Vb) if Vb else np.zeros((0, desc.n))
     if omega is None:
-        if desc.omega is not None:
-            omega = desc.omega
-        elif desc.rpm is not None:
-            omega = scaling.omega_from_rpm(desc.rpm)
-        else:
-            omega = 1.0
+        omega = desc.omega or (scaling.omega_from_rpm(desc.rpm) if desc.rpm is not None else 1.0)
     gyro = static = None
     G = desc.gyroscopic_matrix() if hasattr(desc, "gyroscopic_matrix") else None
     if G is not None:  # Ω G with Ω = ω ω_n / z the reference shaft's speed (rad/s)

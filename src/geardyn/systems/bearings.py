@@ -107,8 +107,9 @@ class RollingBearing:
         if not (math.isfinite(c) and c >= 0):
             raise ModelError(f"bearing clearance: must be >= 0, got {c!r}")
         object.__setattr__(self, "clearance", c)
-        n = (BALL_EXPONENT if self.kind == "ball" else ROLLER_EXPONENT) if self.exponent is None else self.exponent
-        n = float(n)
+        n = float(
+            (BALL_EXPONENT if self.kind == "ball" else ROLLER_EXPONENT) if self.exponent is None else self.exponent
+        )
         if not (math.isfinite(n) and 1.0 <= n <= 3.0):
             raise ModelError(f"bearing exponent: must be in [1, 3], got {n!r}")
         object.__setattr__(self, "exponent", n)

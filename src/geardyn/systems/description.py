@@ -70,10 +70,13 @@ def _finite(what: str, value, unit: str = "") -> float:
     return x
 
 
-def _positive(kappa: tuple[float, ...], phi_k: tuple[float, ...]) -> bool:
+def check_kappa(what: str, kappa: tuple[float, ...], phi_k: tuple[float, ...], cycles: int) -> None:
+    """Refuse stiffness harmonics that can make the mesh stiffness non-positive: Σ|κ_r| >= 1, unless the series
+    is a table's over P > 1 mesh cycles whose certified minimum (:func:`geardyn.pairpack.stiffness_minimum`) is > 0."""
     from ..pairpack import stiffness_minimum
 
-    return stiffness_minimum(kappa, phi_k) > 0.0
+    if sum(abs(x) for x in kappa) >= 1.0 and not (cycles > 1 and stiffness_minimum(kappa, phi_k) > 0.0):
+        raise ModelError(f"{what}: sum of |kappa_r| must be < 1 so the mesh stiffness stays positive")
 
 
 def _series(what: str, values: Iterable) -> tuple[float, ...]:
@@ -338,8 +341,7 @@ class Mesh(_AlongVector):
         if isinstance(P, bool) or not isinstance(P, (int, float, np.integer)) or not float(P).is_integer() or P < 1:
             raise ModelError(f"{who}: cycles: must be an integer >= 1, got {P!r}")
         set_(self, "cycles", int(P))
-        if sum(abs(x) for x in self.kappa) >= 1.0 and not (self.cycles > 1 and _positive(self.kappa, self.phi_k)):
-            raise ModelError(f"{who}: kappa: sum of |kappa_r| must be < 1 so the mesh stiffness stays positive")
+        check_kappa(f"{who}: kappa", self.kappa, self.phi_k, self.cycles)
         if self.teeth is not None:
             t = self.teeth
             if isinstance(t, bool) or not float(t).is_integer() or t < 1:
@@ -605,13 +607,8 @@ class SystemDescription:
 
     def bearing_matrices(self) -> tuple[np.ndarray, np.ndarray]:
         """K_b, C_b: the sum over the linear connections (n × n, SI)."""
-        K = np.zeros((self.n, self.n))
-        C = np.zeros((self.n, self.n))
-        for c in self.connections:
-            k, d = self.connection_matrices(c)
-            K += k
-            C += d
-        return K, C
+        kc = [self.connection_matrices(c) for c in self.connections]
+        return tuple(sum((m[i] for m in kc), np.zeros((self.n, self.n))) for i in (0, 1))
 
     def load_vector(self) -> np.ndarray:
         """F (n,): the mean loads (SI)."""

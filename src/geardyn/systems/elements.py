@@ -128,7 +128,7 @@ def mean_trace(model: Any) -> float:
         tr += 2.0 * m.xi0 * float(model.V[i] @ Mi @ model.V[i])  # harmonics average to 0
     for i, c in enumerate(model.cc):
         tr += c * float(model.Vc[i] @ Mi @ model.Vc[i])
-    for b, br in enumerate(getattr(model, "bearings", ())):
+    for b, br in enumerate(model.bearings):
         tr += br.cx * float(model.Vb[2 * b] @ Mi @ model.Vb[2 * b]) + br.cy * float(
             model.Vb[2 * b + 1] @ Mi @ model.Vb[2 * b + 1]
         )

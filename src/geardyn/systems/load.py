@@ -201,14 +201,16 @@ class _Ctx(cv._Ctx):
                 return i + 1
         return None
 
-    def config(self, section, index, key, element, problem) -> ConfigError:
-        return self.error(section, key, problem, ConfigError, index=index, element=element, fallback=True)
+    def config(self, section, problem, index=None, key=None, element=None, cls=ConfigError) -> ConfigError:
+        """A file problem placed on its line: at ``key`` of block ``index`` of ``section``, else at the block."""
+        return self.error(section, key, problem, cls, index=index, element=element, fallback=True)
 
-    def model(self, section, index, key, element, problem) -> ModelError:
-        return self.error(section, key, problem, ModelError, index=index, element=element, fallback=True)
+    def model(self, section, problem, index=None, key=None, element=None) -> ModelError:
+        """A bad value placed on its line, as :meth:`config`."""
+        return self.config(section, problem, index, key, element, ModelError)
 
 
-def _strip(msg: str, element: str | None) -> tuple[str | None, str]:
+def _strip(msg: str) -> tuple[str | None, str]:
     """Split a ModelError message "kind 'name': key: problem" into (key, problem)."""
     m = re.match(r"^(?:body|connection|clearance|mesh|load on \S+) ?(?:'[^']*')?: (.*)$", msg)
     rest = m.group(1) if m else msg
@@ -231,20 +233,16 @@ class _Block:
             if key not in schema:
                 raise self.cerr(key, f"unknown key; allowed: {', '.join(schema)}")
 
-    @property
-    def label(self) -> str:
-        return self.element or self.section
-
     def cerr(self, key, problem) -> ConfigError:
-        return self.ctx.config(self.section, self.index, key, self.element, problem)
+        return self.ctx.config(self.section, problem, self.index, key, self.element)
 
     def merr(self, key, problem) -> ModelError:
-        return self.ctx.model(self.section, self.index, key, self.element, problem)
+        return self.ctx.model(self.section, problem, self.index, key, self.element)
 
     def wrap(self, err: ModelError) -> ModelError:
         if str(err).startswith(f"{self.ctx.source}: "):  # already placed in the file
             return err
-        key, problem = _strip(str(err), self.element)
+        key, problem = _strip(str(err))
         key = key if key in self.data else None
         return self.merr(key, problem)
 
@@ -269,13 +267,10 @@ class _Block:
         kind = kind or self.schema[key]
         base = kind.rstrip("*")
         unit = _K[base].unit or "" if base in _K else ""
+        raw = self.data.get(key)
         if key not in self.data:
-            if assumed is not None:
-                shown = default if not isinstance(default, tuple) else list(default)
-                self.ctx.assume(Assumption(f"{self.label}.{key}", shown, unit, assumed))
-            return default
-        raw = self.data[key]
-        if base in _K:
+            value, src = default, assumed
+        elif base in _K:
             spec = _Key(_K[base], kind.endswith("*"))
             value, src = cv._parse_value(self.ctx, self.section, key, spec, raw, **self._where(key, base))
         elif isinstance(raw, dict) and kind != "table":
@@ -286,7 +281,7 @@ class _Block:
             value, src = self._parse(key, kind, raw), None
         if src:
             shown = list(value) if isinstance(value, tuple) else value
-            self.ctx.assume(Assumption(f"{self.label}.{key}", shown, unit, src))
+            self.ctx.assume(Assumption(f"{self.element or self.section}.{key}", shown, unit, src))
         return value
 
     def _parse(self, key: str, kind: str, raw: Any) -> Any:
@@ -330,8 +325,7 @@ def _body(ctx: _Ctx, i: int, data: dict) -> Body:
 def _dof_ref(blk: _Block, key: str, text: str) -> tuple[str, str]:
     if not isinstance(text, str) or text.count(".") != 1:
         raise blk.cerr(key, f"a DOF is written 'body.dof' (e.g. 'pinion.x'), got {text!r}")
-    b, d = text.split(".")
-    return b, d
+    return tuple(text.split("."))
 
 
 def springs(blk: _Block, dofs: tuple[str, ...]) -> tuple[dict[str, float], dict[str, float]]:
@@ -396,11 +390,19 @@ def _connection(ctx: _Ctx, i: int, data: dict):
         raise blk.wrap(e) from None
 
 
+def _mesh_block(ctx: _Ctx, i: int, data: Any) -> _Block:
+    """A ``[[mesh]]`` table's block: the keys of every mesh and those of its type."""
+    d = data if isinstance(data, dict) else {}
+    name = d.get("name") if isinstance(d.get("name"), str) else f"mesh{i + 1}"
+    return _Block(
+        ctx, "mesh", i, data, _MESH_COMMON | {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(d.get("type"), {}), name
+    )
+
+
 def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | None) -> Mesh:
-    name = data.get("name") if isinstance(data.get("name"), str) else f"mesh{i + 1}"
     typ = data.get("type", "vector")
-    extra = {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {})
-    blk = _Block(ctx, "mesh", i, data, _MESH_COMMON | extra, name)
+    blk = _mesh_block(ctx, i, data)
+    name = blk.element
     if typ not in ("vector", "spur", "bevel"):
         raise blk.cerr("type", f"must be 'vector', 'spur' or 'bevel', got {typ!r}")
     if not (blk.has("stiffness") or blk.has("excitation")):
@@ -559,16 +561,10 @@ def _body_speed(body: str, mesh_data: list, meshes: dict[str, Mesh]):
         m = meshes.get(name)
         if m is None:
             continue
-        teeth = {}
-        if t.get("pinion") is not None:
-            z1 = t.get("z1", t.get("teeth"))
-            teeth[t["pinion"]] = z1.get("value") if isinstance(z1, dict) else z1
-        if t.get("gear") is not None and t.get("z2") is not None:
-            z2 = t["z2"]
-            teeth[t["gear"]] = z2.get("value") if isinstance(z2, dict) else z2
-        z = teeth.get(body)
-        if isinstance(z, int) and not isinstance(z, bool) and z > 0:
-            return Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR) / z
+        for role, z in (("gear", t.get("z2")), ("pinion", t.get("z1", t.get("teeth")))):
+            z = z.get("value") if isinstance(z, dict) else z
+            if t.get(role) == body and isinstance(z, int) and not isinstance(z, bool) and z > 0:
+                return Fraction(m.ratio).limit_denominator(MAX_RATIO_DENOMINATOR) / z
     raise ModelError(
         f"load on {body}.theta: orders: the speed of body {body!r} is unknown: give the teeth of a mesh on it "
         "(teeth of the pinion of a spur mesh, z1/z2 of a bevel mesh)"
@@ -640,7 +636,7 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
         for sec in [sections] if sections else ["connection", "mesh"]:
             for i, tbl in enumerate(data.get(sec, []) or []):
                 if isinstance(tbl, dict) and tbl.get("name", f"{sec}{i + 1}") == name:
-                    key, problem = _strip(rest, None)
+                    key, problem = _strip(rest)
                     key = key if key in tbl else None
                     um = re.search(r"unknown body '([^']*)'", rest)
                     if um and key is None:
@@ -650,10 +646,10 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
                     if key is None and "name" in tbl:  # point at the element's name
                         ln = ctx.line(sec, i, "name")
                         return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
-                    return ctx.model(sec, i, key, name, problem if key else rest)
+                    return ctx.model(sec, problem if key else rest, i, key, name)
     m = re.match(r"^(reference|characteristic_length): (.*)$", msg)
     if m:
-        return ctx.model("system", None, m.group(1), None, m.group(2))
+        return ctx.model("system", m.group(2), key=m.group(1))
     return ModelError(f"{ctx.source}: {msg}")
 
 
@@ -663,7 +659,7 @@ def check_top(ctx: _Ctx, data: dict, sections: dict, arrays: tuple[str, ...], ge
     for key, val in data.items():
         if key in _TOP_TEXT:
             if not isinstance(val, str):
-                raise ctx.config(None, None, None, None, f"{key}: expected a string")
+                raise ctx.config(None, f"{key}: expected a string")
         elif key in arrays:
             if not isinstance(val, list):
                 at = "" if gearbox else f"line {ctx.line(key, None, None) or '?'}: "
@@ -712,31 +708,12 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
     if b_c is None:  # half the reference mesh's backlash, read first so that eps can be converted
         names = [t.get("name", f"mesh{i + 1}") if isinstance(t, dict) else None for i, t in enumerate(mesh_data)]
         if ref is not None and ref not in names:
-            raise ctx.model(
-                "system", None, "reference", None, f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}"
-            )
+            raise ctx.model("system", f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}", key="reference")
         j = names.index(ref) if ref is not None else 0
-        typ = mesh_data[j].get("type") if isinstance(mesh_data[j], dict) else None
-        rb = _Block(
-            ctx,
-            "mesh",
-            j,
-            mesh_data[j],
-            _MESH_COMMON | {"spur": _MESH_SPUR, "bevel": _MESH_BEVEL}.get(typ, {}),
-            names[j],
-        )
-        jn = (
-            rb._parse(
-                "backlash",
-                "length",
-                rb.data["backlash"]["value"] if isinstance(rb.data.get("backlash"), dict) else rb.data["backlash"],
-            )
-            if rb.has("backlash")
-            else 0.0
-        )
-        if not jn > 0:
-            raise rb.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
-        b_c = jn / 2.0
+        rb = _mesh_block(ctx, j, mesh_data[j])
+        raw = rb.data.get("backlash")
+        raw = raw["value"] if isinstance(raw, dict) else raw
+        b_c = half_backlash(rb, rb._parse("backlash", "length", raw) if rb.has("backlash") else 0.0)
     meshes = [_mesh(ctx, i, t, bmap, b_c) for i, t in enumerate(mesh_data)]
     _unique(ctx, "mesh", [m.name for m in meshes])
     _unique(ctx, "connection", [getattr(c, "name", None) for c in conns + clears])
@@ -758,6 +735,13 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
         )
     except ModelError as e:
         raise _element_line(ctx, data, e) from None
+
+
+def half_backlash(blk: _Block, jn: float) -> float:
+    """The default characteristic length: half the reference mesh's backlash ``jn`` (refused when it is 0)."""
+    if not jn > 0:
+        raise blk.merr("backlash", 'is 0: give [system] characteristic_length (e.g. "1 um") to scale lengths')
+    return jn / 2.0
 
 
 def described(ctx: _Ctx, data: dict, sysb: _Block, opb: _Block, ref: str | None) -> dict[str, Any]:
@@ -787,9 +771,7 @@ def _unique(ctx: _Ctx, section: str, names: list) -> None:
     for i, n in enumerate(names):
         if n is not None and n in seen:
             at = f"line {ctx.line(section, seen[n], 'name')}"
-            raise ctx.config(
-                section, i, "name", None, f"duplicate {section} name {n!r} (also at {at}); names must be unique"
-            )
+            raise ctx.config(section, f"duplicate {section} name {n!r} (also at {at}); names must be unique", i, "name")
         seen[n] = i
 
 

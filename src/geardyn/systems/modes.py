@@ -147,11 +147,10 @@ def _element_stiffness(desc: SystemDescription, clearances: str) -> tuple[list[s
         names.append(m.name)
         meshes.append(m.name)
         mats.append(m.stiffness * np.outer(v, v))
-    rolling = getattr(desc, "rolling_bearings", ())
-    if rolling:  # linearised about the static deflection under the mean loads
+    if desc.rolling_bearings:  # linearised about the static deflection under the mean loads
         from .rolling import static_bearing_stiffness
 
-        for b, kb in zip(rolling, static_bearing_stiffness(desc, np.sum(mats, axis=0))):
+        for b, kb in zip(desc.rolling_bearings, static_bearing_stiffness(desc, np.sum(mats, axis=0))):
             names.append(b.name)
             mats.append(kb)
     return names, mats, meshes
@@ -180,7 +179,7 @@ def modes_budget(desc: SystemDescription, clearances: str = "contact") -> float:
     """
     n = len(desc.labels)
     elements = len(desc.connections) + len(desc.meshes) + (len(desc.clearances) if clearances == "contact" else 0)
-    return _budget(n, elements + len(getattr(desc, "rolling_bearings", ())))
+    return _budget(n, elements + len(desc.rolling_bearings))
 
 
 def _budget(n: int, elements: int) -> float:
@@ -277,10 +276,7 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: fl
     order = np.argsort(f, kind="stable")
     f, w2, phi, rigid = f[order], w2[order], phi[:, order], rigid[order]
     # a sign convention: the largest component of each shape is positive
-    for i in range(phi.shape[1]):
-        k = int(np.argmax(np.abs(phi[:, i])))
-        if phi[k, i] < 0:
-            phi[:, i] = -phi[:, i]
+    phi = phi * np.where(phi[np.argmax(np.abs(phi), axis=0), np.arange(phi.shape[1])] < 0, -1.0, 1.0)
     return ModalResult(desc.labels, f, w2, phi, rigid, tuple(names), tuple(meshes), _energy(phi, mats, rigid))
 
 
@@ -535,16 +531,13 @@ def campbell(
         W = np.array([w for _, _, w in solved])
     lines, crossings = [], []
     for n, (h, pairs) in enumerate(sorted(harmonics.items())):
-        label = _line_label(pairs, names)
         slope = h * per_x
         lines.append(
             {
-                "label": label,
+                "label": _line_label(pairs, names),
                 "harmonic": h,
                 "hz_per_x": slope,
-                "order": pairs[0][1],
-                "mesh": pairs[0][0],
-                "meshes": [p[0] for p in pairs],
+                **_line(pairs),
                 "orders": [p[1] for p in pairs],
             }
         )
@@ -595,10 +588,6 @@ CROSSING_XTOL = 1e-10
 WHIRL_NONE = 1e-3
 
 
-def _whirl_word(w: float) -> str:
-    return "forward" if w > WHIRL_NONE else "backward" if w < -WHIRL_NONE else "none"
-
-
 def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slope: float, line: int, pairs) -> list:
     """The crossings of the line ``f = slope x`` with each elastic branch: bracketed on the grid, started from
     the branch's cubic spline and solved on the branch itself by Newton steps with the spline's slope (bisection
@@ -636,9 +625,15 @@ def _branch_crossings(spinning: _Spinning, grid: np.ndarray, F: np.ndarray, slop
                     x = x_new if gx != 0 else x
                     break
                 x = x_new
-            _, _, w = spinning.at(x)
-            out.append(_crossing(x, [int(i) + 1], pairs, line, slope * x, rpm=x, whirl=_whirl_word(float(w[i]))))
+            w = float(spinning.at(x)[2][i])
+            word = "forward" if w > WHIRL_NONE else "backward" if w < -WHIRL_NONE else "none"
+            out.append(_crossing(x, [int(i) + 1], pairs, line, slope * x, rpm=x, whirl=word))
     return out
+
+
+def _line(pairs) -> dict[str, Any]:
+    """The first (mesh, order) of a line's ``pairs`` and its meshes."""
+    return {"order": pairs[0][1], "mesh": pairs[0][0], "meshes": [p[0] for p in pairs]}
 
 
 def _crossing(x: float, modes: list[int], pairs, line: int, f: float, **more: Any) -> dict[str, Any]:
@@ -647,9 +642,7 @@ def _crossing(x: float, modes: list[int], pairs, line: int, f: float, **more: An
         "x": x,
         "mode": modes[0],
         "modes": modes,
-        "order": pairs[0][1],
-        "mesh": pairs[0][0],
-        "meshes": [p[0] for p in pairs],
+        **_line(pairs),
         "line": line,
         "frequency_hz": f,
         **more,

@@ -47,7 +47,7 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     for i, m in enumerate(model.meshes):
         Kt += m.k * np.outer(model.V[i], model.V[i])
         rhs += m.k * m.D * model.V[i]
-    if getattr(model, "bearings", ()):  # rolling bearings: the nonlinear static problem, cage at θ = 0
+    if model.bearings:  # rolling bearings: the nonlinear static problem, cage at θ = 0
         from .rolling import static_deflection
 
         items = [
@@ -221,7 +221,7 @@ def report(
     }
     if res is not None:
         out["clearances"] = _clearance_entries(model, res, point)
-        if getattr(model, "bearings", ()):
+        if model.bearings:
             out["bearings"] = _bearing_entries(model, res, point)
     return out
 

@@ -344,7 +344,7 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
     round_to : callable
         Fraction of the exact ball-pass ratio (a float): how the format keeps the forcing periodic.
     """
-    typ = blk.get("type", "text")
+    typ = blk.get("type")
     if typ not in ("ball", "roller"):
         raise blk.cerr("type", f"must be 'ball' or 'roller' for a rolling bearing, got {typ!r}")
     missing = [
@@ -354,7 +354,7 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
     ]
     if missing:
         raise blk.cerr(None, f"a {typ} bearing needs {', '.join(missing)}")
-    n = blk.get("exponent", "number", default=None)
+    n = blk.get("exponent")
     try:
         n_ = float(n) if n is not None else (1.5 if typ == "ball" else 10.0 / 9.0)
         raw = blk.data["load_deflection"]
@@ -367,8 +367,8 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
         raise blk.merr("load_deflection", str(e)) from None
     if src:
         blk.ctx.assume(f"{blk.element}.load_deflection", K, f"N/m^{n_:.6g}", str(src))
-    db = blk.get("element_diameter", "length")
-    c = blk.get("radial_clearance", "length")
+    db = blk.get("element_diameter")
+    c = blk.get("radial_clearance")
     if db > 0 and c > MAX_CLEARANCE_FRACTION * db:
         raise blk.merr(
             "radial_clearance",
@@ -378,10 +378,10 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
     try:
         br = RollingBearing(
             typ,
-            blk.get("elements", "int"),
-            blk.get("pitch_diameter", "length"),
+            blk.get("elements"),
+            blk.get("pitch_diameter"),
             db,
-            blk.get("contact_angle", "angle", default=0.0),
+            blk.get("contact_angle", default=0.0),
             c,
             K,
             n,
@@ -409,9 +409,9 @@ def read_rolling(blk, body: str, body2: str | None, speed: Fraction, round_to) -
             br,
             ratio,
             body2,
-            blk.get("cx", "damping", default=0.0),
-            blk.get("cy", "damping", default=0.0),
-            blk.get("phase", "phase", default=0.0),
+            blk.get("cx", default=0.0),
+            blk.get("cy", default=0.0),
+            blk.get("phase", default=0.0),
         )
     except ModelError as e:
         raise blk.merr(None, str(e).split(": ", 1)[-1]) from None

@@ -118,8 +118,8 @@ def cylindrical_mesh_vector(
     else:  # the mirror image about the line of centres
         nt = np.array([math.sin(alpha_t + center_angle), -math.cos(alpha_t + center_angle)])
     ax = (1.0 if hand == "right" else -1.0) * math.sin(beta_b)
-    n = np.array([math.cos(beta_b) * nt[0], math.cos(beta_b) * nt[1], ax])
     cb = math.cos(beta_b)
+    n = np.array([cb * nt[0], cb * nt[1], ax])
     return pair_vector(n, base_radius1 * cb, base_radius2 * cb, dofs1, dofs2, body1, body2)
 
 

@@ -37,47 +37,13 @@ evaluation asks :mod:`geardyn.integrate` for one thread for that call only.
 
 from __future__ import annotations
 
-from .arclength import (
-    CORRECTOR_MAX_ITER,
-    CORRECTOR_STEP_TOL,
-    CORRECTOR_TOL,
-    DS_INIT,
-    DS_MAX,
-    DS_MIN,
-    LOCATE_MAX_ITER,
-    LOCATE_TOL,
-    MAX_BRANCH_POINTS,
-    MAX_TANGENT_TURN_DEG,
-    NOISE_PARAM_REL,
-    continue_branch,
-)
+from .arclength import continue_branch
 from .branch import BIFURCATION_TYPES, Bifurcation, Branch
-from .continuation import (
-    DEFAULT_MAX_PERIOD,
-    SWITCH_AMPLITUDES,
-    SWITCH_PARAM_REL,
-    ContinuationResult,
-    continuation,
-    switch_at_period_doubling,
-)
-from .floquet import INSTABILITY_TYPES, REAL_MULTIPLIER_TOL, Floquet, floquet
-from .map import FD_REL_STEP, MapEvaluation, PeriodMap
-from .orbit import (
-    GUESS_RECORD_PER_PERIOD,
-    GUESS_TRANSIENT,
-    NEWTON_MIN_DAMPING,
-    SAME_POINT_TOL,
-    SHOOT_MAX_ITER,
-    SHOOT_TOL,
-    PeriodicOrbit,
-    guess_from_simulation,
-    orbit_extrema,
-    orbit_status_label,
-    shoot,
-)
+from .continuation import ContinuationResult, continuation, switch_at_period_doubling
+from .floquet import INSTABILITY_TYPES, Floquet, floquet
+from .map import MapEvaluation, PeriodMap
+from .orbit import PeriodicOrbit, guess_from_simulation, orbit_extrema, orbit_status_label, shoot
 from .stability import (
-    XI0_SCAN_HIGH,
-    XI0_SCAN_LOW,
     compare_stability_condition,
     mathieu_boundary,
     paper_stability_condition,

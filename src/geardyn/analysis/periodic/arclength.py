@@ -33,10 +33,10 @@ import numpy as np
 
 from ...model import ModelError, canonical_param
 from ..secant import illinois_on_chord
-from .branch import Bifurcation, Branch
+from .branch import STABILITY_LOSSES, Bifurcation, Branch
 from .floquet import REAL_MULTIPLIER_TOL
 from .map import MapEvaluation, PeriodMap
-from .orbit import PeriodicOrbit, _map_extrema, _minimal_period, _trajectory_extrema, elastic_basis
+from .orbit import PeriodicOrbit, _minimal_period, _trajectory_extrema, elastic_basis
 
 __all__ = ["continue_branch", "element_extrema", "MAX_BRANCH_POINTS", "DS_MAX", "DS_INIT", "DS_MIN"]
 
@@ -73,6 +73,14 @@ NOISE_PARAM_REL = 1.0e-3
 #: branch when |P^{n/2}x − x| at both ends is at most this many times the step's change in x
 #: (the separation passes through zero inside the step rather than turning by more than 90°).
 MERGE_STEP_FACTOR = 10.0
+#: The grazing test functions of every element: key, extreme (0: u_min, 1: u_max), sign s of the test
+#: function extreme − s·D, and what the event is.
+_GRAZING = (
+    ("graze_min_plus", 0, 1.0, "u_min = +D (drive-side contact loss)"),
+    ("graze_min_minus", 0, -1.0, "u_min = −D (back-side contact)"),
+    ("graze_max_plus", 1, 1.0, "u_max = +D (drive-side contact)"),
+    ("graze_max_minus", 1, -1.0, "u_max = −D"),
+)
 
 
 class _Family:
@@ -83,7 +91,6 @@ class _Family:
         self.param = canonical_param(param)
         self.n = pmap.n
         self.dim = pmap.dim
-        self.dtau = pmap.dtau
         self.accurate = pmap.accurate
         self._maps: dict[float, PeriodMap] = {}
         model = pmap.model
@@ -106,7 +113,7 @@ class _Family:
 
     def gaps_at(self, p: float) -> list[float]:
         """The half gaps of the elements at parameter p."""
-        return [e.gap for e in self.model_at(p).elements]
+        return [e.gap for e in self.map_at(p).model.elements]
 
     def map_at(self, p: float) -> PeriodMap:
         p = float(p)
@@ -117,24 +124,9 @@ class _Family:
             m = self._maps[p] = self.base.with_param(self.param, p)
         return m
 
-    def model_at(self, p: float):
-        return self.map_at(p).model
-
     def steps(self, p: float) -> int:
         """ceil(T/Δτ) at parameter p."""
         return self.map_at(p).natural_steps
-
-    def evaluate(self, x: np.ndarray, p: float, N: int) -> MapEvaluation:
-        return self.map_at(p).with_steps(N).evaluate(x)
-
-    def dG_dp(self, x: np.ndarray, p: float, N: int) -> np.ndarray | None:
-        """∂P^n/∂p at fixed x and fixed N (None where it cannot be formed)."""
-        g = self.map_at(p).with_steps(N).param_derivative(x, self.param)
-        return g if np.all(np.isfinite(g)) else None
-
-    def extrema(self, x: np.ndarray, p: float, N: int) -> np.ndarray:
-        """(elements, 2): every element's extremes of δ over the orbit from x (Hermite-refined)."""
-        return element_extrema(self.map_at(p).with_steps(N), x)
 
 
 def element_extrema(pmap: PeriodMap, x: np.ndarray) -> np.ndarray:
@@ -150,17 +142,7 @@ def element_extrema(pmap: PeriodMap, x: np.ndarray) -> np.ndarray:
     ndarray (elements, 2)
         NaN if the trajectory diverged.
     """
-    m = pmap.model
-    if len(m.elements) == 1:
-        return np.array([_map_extrema(pmap, x)])
-    return _trajectory_extrema(pmap.trajectory(x), len(m.elements), pmap.step)
-
-
-def _axis(dim: int) -> np.ndarray:
-    """The unit vector along the parameter in y = (x, p/ps)."""
-    e = np.zeros(dim + 1)
-    e[-1] = 1.0
-    return e
+    return _trajectory_extrema(pmap.trajectory(x), len(pmap.model.elements), pmap.step)
 
 
 @dataclass
@@ -186,13 +168,6 @@ class _Point:
         return self.ev.monodromy
 
 
-def _null_vector(Ja: np.ndarray) -> np.ndarray:
-    """Unit null vector of a d×(d+1) matrix (last right singular vector)."""
-    _, _, vt = np.linalg.svd(Ja)
-    t = vt[-1]
-    return t / np.linalg.norm(t)
-
-
 class _Continuer:
     """Pseudo-arclength continuation of one branch with event detection."""
 
@@ -211,11 +186,9 @@ class _Continuer:
     ):
         self.prob = prob
         self.lo, self.hi = lo, hi
-        self.span = span
         self.ps = span  # parameter scale: the continuation works in (u, u', p/ps)
         self.ds_max = ds_max if ds_max is not None else DS_MAX
         self.ds = min(ds if ds is not None else DS_INIT, self.ds_max)
-        self.ds_min = DS_MIN
         self.max_points = max_points
         self.locate = locate
         self.detect = detect
@@ -225,17 +198,19 @@ class _Continuer:
         self.on_point: Callable[[float], None] | None = None  # told the parameter of every new branch point
 
     # -------------------------------------------------------------- building blocks
+    def _jacobian(self, ev: MapEvaluation, Gq: np.ndarray, *rows: np.ndarray) -> np.ndarray:
+        """[M − I, ∂G/∂q] with ``rows`` below it, then the rigid-body gauge rows (none for the pair)."""
+        return np.vstack([np.hstack([ev.monodromy - np.eye(self.prob.dim), Gq[:, None]]), *rows, self.prob.gauge])
+
     def _finish_point(
         self, ev: MapEvaluation, p: float, Gq: np.ndarray, t_ref: np.ndarray | None, iters: int
     ) -> _Point:
         prob = self.prob
-        J = np.hstack([ev.monodromy - np.eye(prob.dim), Gq[:, None]])
-        if prob.gauge.shape[0]:
-            J = np.vstack([J, prob.gauge])
-        t = _null_vector(J)
+        _, _, vt = np.linalg.svd(self._jacobian(ev, Gq))  # the unit null vector: the last right singular vector
+        t = vt[-1] / np.linalg.norm(vt[-1])
         if t_ref is not None and float(t @ t_ref) < 0:
             t = -t
-        ext = prob.extrema(ev.x, p, ev.steps)
+        ext = element_extrema(prob.map_at(p).with_steps(ev.steps), ev.x)
         y = np.append(ev.x, p / self.ps)
         return _Point(y, ev, p, t, ext, prob.reference, iters)
 
@@ -255,36 +230,26 @@ class _Continuer:
             Gq = None
             for it in range(CORRECTOR_MAX_ITER + 1):
                 p = float(y[-1] * ps)
-                ev = prob.evaluate(y[:-1], p, N)
+                pmap = prob.map_at(p).with_steps(N)
+                ev = pmap.evaluate(y[:-1])
                 if not ev.ok:
                     return None
                 G = ev.residual
-                r = float(np.linalg.norm(G))
-                if r <= CORRECTOR_TOL * (1.0 + float(np.linalg.norm(y[:-1]))) and last_dy <= CORRECTOR_STEP_TOL:
-                    Gp = prob.dG_dp(y[:-1], p, N)
-                    if Gp is None:
-                        return None
-                    return self._finish_point(ev, p, Gp * ps, t_ref, it)
-                if it == CORRECTOR_MAX_ITER:
+                done = float(np.linalg.norm(G)) <= CORRECTOR_TOL * (1.0 + float(np.linalg.norm(y[:-1])))
+                done = done and last_dy <= CORRECTOR_STEP_TOL
+                if not done and it == CORRECTOR_MAX_ITER:
                     return None
-                if Gq is None:
-                    Gp = prob.dG_dp(y[:-1], p, N)
-                    if Gp is None:
+                if done or Gq is None:
+                    Gp = pmap.param_derivative(y[:-1], prob.param)  # ∂P^n/∂p at fixed x and N
+                    if not np.all(np.isfinite(Gp)):
                         return None
                     Gq = Gp * ps
-                d = prob.dim
-                J = np.zeros((d + 1, d + 1))
-                J[:d, :d] = ev.monodromy - np.eye(d)
-                J[:d, d] = Gq
-                J[d, :] = normal
-                F = np.concatenate([G, [float(normal @ (y - y0))]])
-                try:
-                    if prob.gauge.shape[0]:  # rigid-body modes: the gauge rows make the system full rank
-                        dy = np.linalg.lstsq(
-                            np.vstack([J, prob.gauge]), -np.concatenate([F, prob.gauge @ (y - y0)]), rcond=None
-                        )[0]
-                    else:
-                        dy = np.linalg.solve(J, -F)
+                    if done:
+                        return self._finish_point(ev, p, Gq, t_ref, it)
+                J = self._jacobian(ev, Gq, normal)
+                F = np.concatenate([G, [float(normal @ (y - y0))], prob.gauge @ (y - y0)])
+                try:  # rigid-body modes: the gauge rows make the system full rank (least squares)
+                    dy = np.linalg.lstsq(J, -F, rcond=None)[0] if prob.gauge.shape[0] else np.linalg.solve(J, -F)
                 except np.linalg.LinAlgError:
                     return None
                 y = y + dy
@@ -310,7 +275,7 @@ class _Continuer:
         frac = (bound - a.p) / (p - a.p) if p != a.p else 1.0
         y0 = a.y + frac * (y - a.y)
         y0[-1] = bound / self.ps
-        return self.correct(y0, _axis(self.prob.dim), a.tangent, self.prob.steps(bound))
+        return self.correct(y0, np.eye(self.prob.dim + 1)[-1], a.tangent, self.prob.steps(bound))  # normal: p
 
     # -------------------------------------------------------------- test functions
     def _separation(self, pt: _Point) -> np.ndarray | None:
@@ -322,28 +287,25 @@ class _Continuer:
 
     def _tests(self, pt: _Point, gaps: list[float]) -> dict[str, float]:
         M = self.prob.elastic(pt.M)
+        out = {"turn": float(pt.tangent[-1])}
         if M.shape == (2, 2):
             tr, det = float(np.trace(M)), float(np.linalg.det(M))
-            out = {"turn": float(pt.tangent[-1]), "det_m_i": 1.0 - tr + det, "pd": 1.0 + tr + det, "ns": det - 1.0}
+            out.update(det_m_i=1.0 - tr + det, pd=1.0 + tr + det, ns=det - 1.0)
         else:  # det(I − M), det(I + M) and Π_{i<j} (μ_i μ_j − 1): zero at +1, −1 and a pair on the unit circle
             eye = np.eye(M.shape[0])
             mu = np.linalg.eigvals(M)
             prods = (mu[:, None] * mu[None, :])[np.triu_indices(mu.size, 1)]
-            out = {
-                "turn": float(pt.tangent[-1]),
-                "det_m_i": float(np.linalg.det(eye - M)),
-                "pd": float(np.linalg.det(eye + M)),
-                "ns": float(np.real(np.prod(prods - 1.0))),
-            }
+            out.update(
+                det_m_i=float(np.linalg.det(eye - M)),
+                pd=float(np.linalg.det(eye + M)),
+                ns=float(np.real(np.prod(prods - 1.0))),
+            )
         for e, D in enumerate(gaps):  # grazing of every element (the reference element's keys unqualified)
             if D <= 0.0:
                 continue
             tag = "" if e == pt.ref else f":{self.prob.names[e]}"
-            lo, hi = float(pt.ext[e, 0]), float(pt.ext[e, 1])
-            out["graze_min_plus" + tag] = lo - D
-            out["graze_min_minus" + tag] = lo + D
-            out["graze_max_plus" + tag] = hi - D
-            out["graze_max_minus" + tag] = hi + D
+            for key, side, sign, _ in _GRAZING:
+                out[key + tag] = float(pt.ext[e, side]) - sign * D
         sep = self._separation(pt)
         if sep is not None and self._merge_w is not None:
             out["merge"] = float(sep @ self._merge_w)
@@ -353,9 +315,6 @@ class _Continuer:
         if name == "turn":
             t = pt.tangent if float(pt.tangent @ chord) >= 0 else -pt.tangent
             return float(t[-1])
-        if name == "merge":
-            sep = self._separation(pt)
-            return float(sep @ self._merge_w) if sep is not None and self._merge_w is not None else math.nan
         return self._tests(pt, self.prob.gaps_at(pt.p))[name]
 
     def locate_event(self, a: _Point, b: _Point, name: str) -> tuple[_Point, bool]:
@@ -399,14 +358,9 @@ class _Continuer:
         # it by the period doubling of the period-n/2 branch it belongs to.
         s_merge = math.inf
         sep_b = self._separation(b)
-        if (
-            sign_change("merge")
-            and sep_a is not None
-            and sep_b is not None
-            and (
-                float(np.linalg.norm(sep_a)) + float(np.linalg.norm(sep_b))
-                <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
-            )
+        if sign_change("merge") and (  # (both separations exist: the merge test is there)
+            float(np.linalg.norm(sep_a)) + float(np.linalg.norm(sep_b))
+            <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
         ):
             fa, fb = ta["merge"], tb["merge"]
             sig = fa / (fa - fb)
@@ -451,12 +405,7 @@ class _Continuer:
         for e, name in enumerate(self.prob.names):
             tag = "" if e == a.ref else f":{name}"
             of = "" if e == a.ref else f" of {name}"
-            for k, lab in (
-                ("graze_min_plus", "u_min = +D (drive-side contact loss)"),
-                ("graze_min_minus", "u_min = −D (back-side contact)"),
-                ("graze_max_plus", "u_max = +D (drive-side contact)"),
-                ("graze_max_minus", "u_max = −D"),
-            ):
+            for k, _, _, lab in _GRAZING:
                 if sign_change(k + tag):
                     checks.append((k + tag, "grazing", lab + of))
         for key, typ, detail in checks:
@@ -467,10 +416,8 @@ class _Continuer:
             mu = self.prob.multipliers(pt.M)
             if typ == "neimark-sacker" and np.all(np.abs(mu.imag) <= REAL_MULTIPLIER_TOL * np.abs(mu)):
                 continue  # a real pair with product 1 (neutral saddle), not a bifurcation
-            if typ == "fold":
-                pts = np.vstack([pt.ev.points])
-                if self.prob.n > 1 and _minimal_period(pts, self.prob.n) < self.prob.n:
-                    typ, detail = "merge", "the branch meets the period-n/2 branch (its period doubling)"
+            if typ == "fold" and self.prob.n > 1 and _minimal_period(pt.ev.points, self.prob.n) < self.prob.n:
+                typ, detail = "merge", "the branch meets the period-n/2 branch (its period doubling)"
             s = float(chord @ (pt.y - a.y))
             if s >= s_merge:
                 continue
@@ -504,22 +451,20 @@ class _Continuer:
         if self.on_point is not None:
             self.on_point(pt.p)
 
-    def run(
-        self, first: _Point, direction: float, branch_index: int, prefix: list[_Point] | None = None
-    ) -> tuple[list[_Point], list[Bifurcation], str]:
+    def run(self, first: _Point, direction: float, branch_index: int) -> tuple[list[_Point], list[Bifurcation], str]:
         """Continue from ``first`` with the parameter initially moving in ``direction`` (+1/−1)."""
-        t = first.tangent if first.tangent[-1] * direction >= 0 else -first.tangent
-        first.tangent = t
-        pts = list(prefix or []) + [first]
+        if first.tangent[-1] * direction < 0:
+            first.tangent = -first.tangent
+        pts = [first]
         bifs: list[Bifurcation] = []
         ds = self.ds
         end = "max points"
-        lo = self.lo - 1e-12 * self.span
-        hi = self.hi + 1e-12 * self.span
+        lo = self.lo - 1e-12 * self.ps
+        hi = self.hi + 1e-12 * self.ps
         while len(pts) < self.max_points:
             a = pts[-1]
             new = None
-            at_bound = False
+            outside = False
             while new is None:
                 y_pred = a.y + ds * a.tangent
                 p_pred = float(y_pred[-1] * self.ps)
@@ -528,45 +473,28 @@ class _Continuer:
                     # D < 0) while the branch runs mainly along the parameter: land on the bound directly
                     landed = self.land(a, y_pred, p_pred, hi)
                     if landed is not None and float(landed.tangent @ a.tangent) >= self.cos_max_turn:
-                        new = landed
-                        at_bound = True
+                        new, outside = landed, True
                         break
                 cand = self.correct(y_pred, a.tangent, a.tangent)
-                if cand is not None and float(cand.tangent @ a.tangent) >= self.cos_max_turn:
-                    new = cand
-                    break
-                if cand is not None and ds <= 4 * self.ds_min:
+                if cand is not None and (float(cand.tangent @ a.tangent) >= self.cos_max_turn or ds <= 4 * DS_MIN):
                     new = cand
                     break
                 ds *= DS_SHRINK
-                if ds < self.ds_min:
+                if ds < DS_MIN:
                     return pts, bifs, "step size underflow (no convergence)"
-            if not at_bound:
+            if not outside:
                 new = self.correct_natural(new, a.tangent)
-            p = new.p
-            outside = at_bound or p < lo or p > hi
-            if outside and not at_bound:
-                new = self.land(a, new.y, p, hi) or new  # interpolated to the bound and landed on it exactly
+                if new.p < lo or new.p > hi:  # interpolated to the bound and landed on it exactly
+                    new, outside = self.land(a, new.y, new.p, hi) or new, True
             if outside:
                 end = "reached the end of the parameter interval"
-            if self.detect:
-                evs = self.detect_events(a, new, branch_index)
-                stop_here = None
-                for _s, bif, bpt in evs:
-                    if bif.type == "merge":
-                        bifs.append(bif)
-                        return pts, bifs, "merged into the period-n/2 branch at its period doubling"
-                    bifs.append(bif)
-                    if (
-                        self.stop_on_instability
-                        and bif.type in ("fold", "period-doubling", "neimark-sacker", "branch-point")
-                        and bif.stable_before
-                    ):
-                        stop_here = bpt
-                        break
-                if stop_here is not None:
-                    pts.append(stop_here)
-                    self._report(stop_here)
+            for _s, bif, bpt in self.detect_events(a, new, branch_index) if self.detect else ():
+                bifs.append(bif)
+                if bif.type == "merge":
+                    return pts, bifs, "merged into the period-n/2 branch at its period doubling"
+                if self.stop_on_instability and bif.type in STABILITY_LOSSES and bif.stable_before:
+                    pts.append(bpt)
+                    self._report(bpt)
                     return pts, bifs, "stopped at the first loss of stability"
             pts.append(new)
             self._report(new)
@@ -575,7 +503,7 @@ class _Continuer:
             if new.iters <= FAST_CORRECTOR_ITERS:
                 ds = min(ds * DS_GROW, self.ds_max)
             elif new.iters >= SLOW_CORRECTOR_ITERS:
-                ds = max(ds * DS_SHRINK, self.ds_min)
+                ds = max(ds * DS_SHRINK, DS_MIN)
         return pts, bifs, end
 
 
@@ -661,8 +589,7 @@ def continue_branch(
     cont = _Continuer(prob, lo, hi, span, ds, ds_max, max_points, locate, detect, stop_on_instability)
     if direction is None:
         direction = 1.0 if stop >= p0 else -1.0
-    N = prob.steps(p0)
-    first = cont.correct(np.append(orbit.state, p0 / cont.ps), _axis(prob.dim), None, N)
+    first = cont.correct(np.append(orbit.state, p0 / cont.ps), np.eye(prob.dim + 1)[-1], None, prob.steps(p0))
     if first is None:
         raise ModelError("continuation: the starting orbit could not be corrected at the start value")
     total = abs(float(stop) - float(p0))

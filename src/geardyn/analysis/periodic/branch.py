@@ -13,6 +13,8 @@ __all__ = ["Bifurcation", "Branch", "BIFURCATION_TYPES"]
 
 #: Bifurcation (event) types reported by :func:`~geardyn.analysis.periodic.continuation`.
 BIFURCATION_TYPES = ("fold", "period-doubling", "neimark-sacker", "grazing", "branch-point")
+#: The events at which a stable orbit can lose its stability.
+STABILITY_LOSSES = ("fold", "period-doubling", "neimark-sacker", "branch-point")
 
 
 @dataclass

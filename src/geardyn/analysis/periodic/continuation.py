@@ -8,7 +8,6 @@ events and writes the ``continuation --json`` summary and the NetCDF Dataset.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -18,6 +17,7 @@ import xarray as xr
 
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError, canonical_param
 from ...status import Status
+from ...validate import number
 from .arclength import MAX_BRANCH_POINTS, continue_branch, element_extrema
 from .branch import Bifurcation, Branch
 from .floquet import pairs
@@ -30,7 +30,6 @@ from .orbit import (
     _minimal_period,
     _newton,
     _orbit_from_eval,
-    newton_step_for,
     shoot,
 )
 
@@ -109,7 +108,9 @@ def switch_at_period_doubling(
         for a in SWITCH_AMPLITUDES:
             for s_e in (1.0, -1.0):
                 x0 = bif.state + s_e * a * scale * e
-                ev, conv, its, res, _status = _newton(pmap, x0, SHOOT_TOL, SHOOT_MAX_ITER, newton_step_for(model))
+                ev, conv, its, res, _status = _newton(
+                    pmap, x0, SHOOT_TOL, SHOOT_MAX_ITER, bool(model.rigid_basis().shape[1])
+                )
                 if not conv:
                     continue
                 if _minimal_period(ev.points, n2) == n2:
@@ -207,68 +208,58 @@ class ContinuationResult:
         ``section`` (section points, NaN-padded to the longest period), ``bifurcation``."""
         from ...io import annotate, result_attrs
 
-        nmax = max([b.n for b in self.branches] + [1])
-        rows = []
-        m = self.model
-        for b in self.branches:
-            K = len(b)
-            pu = np.full((K, nmax), np.nan)
-            pv = np.full((K, nmax), np.nan)
-            sec = m.element_series(b.points, 0.0)[..., m.reference, :]  # the reference element's (δ, δ')
-            pu[:, : b.n] = sec[..., 0]
-            pv[:, : b.n] = sec[..., 1]
-            mu = b.multipliers
-            # the reference element's (δ, δ') at θ = 0 (the 1-DOF model's state (u, u')) are the variables u and v
-            rows.append(
-                dict(
-                    value=b.values,
-                    branch=np.full(K, b.index),
-                    period=np.full(K, b.n),
-                    u0=sec[:, 0, 0],
-                    v0=sec[:, 0, 1],
-                    amplitude=b.amplitude,
-                    u_min=b.u_min,
-                    u_max=b.u_max,
-                    stable=b.stable.astype(np.int8),
-                    mre=mu.real,
-                    mim=mu.imag,
-                    pu=pu,
-                    pv=pv,
+        m, P, bifs, brs = self.model, self.param, self.bifurcations, self.branches
+        nmax = max([b.n for b in brs] + [1])
+        dim = brs[0].multipliers.shape[1] if brs else m.state_dim
+        n_points = sum(len(b) for b in brs)
+        # the reference element's (δ, δ') at the section points, NaN-padded to nmax (at θ = 0, the 1-DOF model's
+        # state (u, u'), the variables u and v)
+        sec = np.concatenate(
+            [
+                np.pad(
+                    m.element_series(b.points, 0.0)[..., m.reference, :],
+                    ((0, 0), (0, nmax - b.n), (0, 0)),
+                    constant_values=np.nan,
                 )
-            )
+                for b in brs
+            ]
+            or [np.zeros((0, nmax, 2))]
+        )
+        mu = np.concatenate([b.multipliers for b in brs] or [np.zeros((0, dim))])
 
-        def cat(k: str) -> np.ndarray:
-            return np.concatenate([r[k] for r in rows]) if rows else np.zeros(0)
+        def cat(k: str, dtype: Any = float) -> tuple[str, np.ndarray]:  # a branch attribute at every point
+            return "point", np.concatenate(
+                [np.broadcast_to(getattr(b, k), len(b)) for b in brs] or [np.zeros(0)]
+            ).astype(dtype)
 
-        P = self.param
-        bifs = self.bifurcations
-        dim = self.branches[0].multipliers.shape[1] if self.branches else self.model.state_dim
-        n_points = sum(len(b) for b in self.branches)
+        def col(k: str, dtype: Any = float) -> tuple[str, np.ndarray]:  # an attribute of every event
+            return "bifurcation", np.array([getattr(b, k) for b in bifs], dtype=dtype)
+
         bsec = np.array([m.element_series(b.state, 0.0)[m.reference] for b in bifs], dtype=float).reshape(-1, 2)
         ds = xr.Dataset(
             {
-                P: ("point", cat("value")),
-                "branch": ("point", cat("branch").astype(np.int64)),
-                "period": ("point", cat("period").astype(np.int64)),
-                "u": ("point", cat("u0")),
-                "v": ("point", cat("v0")),
-                "amplitude": ("point", cat("amplitude")),
-                "u_min": ("point", cat("u_min")),
-                "u_max": ("point", cat("u_max")),
-                "stable": ("point", cat("stable").astype(np.int8)),
-                "multiplier_re": (("point", "multiplier"), cat("mre").reshape(-1, dim)),
-                "multiplier_im": (("point", "multiplier"), cat("mim").reshape(-1, dim)),
-                "poincare_u": (("point", "section"), cat("pu").reshape(-1, nmax)),
-                "poincare_v": (("point", "section"), cat("pv").reshape(-1, nmax)),
+                P: cat("values"),
+                "branch": cat("index", np.int64),
+                "period": cat("n", np.int64),
+                "u": ("point", sec[:, 0, 0]),
+                "v": ("point", sec[:, 0, 1]),
+                "amplitude": cat("amplitude"),
+                "u_min": cat("u_min"),
+                "u_max": cat("u_max"),
+                "stable": cat("stable", np.int8),
+                "multiplier_re": (("point", "multiplier"), mu.real),
+                "multiplier_im": (("point", "multiplier"), mu.imag),
+                "poincare_u": (("point", "section"), sec[..., 0]),
+                "poincare_v": (("point", "section"), sec[..., 1]),
                 "status": ("point", np.zeros(n_points, dtype=np.int64)),
-                "bifurcation_type": ("bifurcation", np.array([b.type for b in bifs], dtype=object)),
-                f"bifurcation_{P}": ("bifurcation", np.array([b.value for b in bifs], dtype=float)),
-                "bifurcation_period": ("bifurcation", np.array([b.n for b in bifs], dtype=np.int64)),
-                "bifurcation_branch": ("bifurcation", np.array([b.branch for b in bifs], dtype=np.int64)),
+                "bifurcation_type": col("type", object),
+                f"bifurcation_{P}": col("value"),
+                "bifurcation_period": col("n", np.int64),
+                "bifurcation_branch": col("branch", np.int64),
                 "bifurcation_u": ("bifurcation", bsec[:, 0]),
                 "bifurcation_v": ("bifurcation", bsec[:, 1]),
-                "bifurcation_amplitude": ("bifurcation", np.array([b.amplitude for b in bifs], dtype=float)),
-                "bifurcation_detail": ("bifurcation", np.array([b.detail for b in bifs], dtype=object)),
+                "bifurcation_amplitude": col("amplitude"),
+                "bifurcation_detail": col("detail", object),
             },
             coords={
                 "point": np.arange(n_points),
@@ -385,9 +376,8 @@ def continuation(
     [('grazing', 0.565)]
     """
     param = canonical_param(param)
-    for name, val in (("start", start), ("stop", stop)):
-        if not math.isfinite(float(val)):
-            raise ModelError(f"{name}: must be a finite number, got {val!r}")
+    number("start", start)
+    number("stop", stop)
     if start == stop:
         raise ModelError("stop: must differ from start")
     if max_period < n:
@@ -407,21 +397,23 @@ def continuation(
     if orbit.minimal_period < n:
         notes.append(f"the starting orbit has minimal period {orbit.minimal_period} < {n}")
     span_done = _SpanProgress(progress)
-    branches = [
-        continue_branch(
+
+    def trace(orbit: PeriodicOrbit, stop: float, **kw: Any) -> Branch:
+        return continue_branch(
             orbit,
             param,
             stop,
-            start_bound=start,
-            index=0,
             ds=ds,
             ds_max=ds_max,
             max_points=max_points,
             locate=locate,
             progress=span_done.branch(),
+            **kw,
         )
-    ]
+
+    branches = [trace(orbit, stop, start_bound=start, index=0)]
     span = abs(stop - start)
+    lo, hi = sorted((start, stop))
     if switch:
         queue = [0]
         seen: list[tuple[int, float, np.ndarray]] = []  # (period, value, state) of merge points / sources
@@ -448,21 +440,8 @@ def continuation(
                     continue
                 p_new = new.model.get(param)
                 away = 1.0 if p_new >= b.value else -1.0
-                far, near = (max(start, stop), min(start, stop)) if away > 0 else (min(start, stop), max(start, stop))
-                nb = continue_branch(
-                    new,
-                    param,
-                    far,
-                    start_bound=near,
-                    index=len(branches),
-                    ds=ds,
-                    ds_max=ds_max,
-                    max_points=max_points,
-                    locate=locate,
-                    origin=b,
-                    direction=away,
-                    progress=span_done.branch(),
-                )
+                far, near = (hi, lo) if away > 0 else (lo, hi)
+                nb = trace(new, far, start_bound=near, index=len(branches), origin=b, direction=away)
                 # the period-doubling point (the period-n orbit traversed twice) at the head of the switched
                 # branch, so that the period-2n branch is drawn from where it is born
                 _add_point(nb, b, model, dtau, accurate, end=False)

@@ -107,14 +107,6 @@ def _hermite_extrema(u: np.ndarray, v: np.ndarray, h: float) -> tuple[float, flo
     return min(cand_min), max(cand_max)
 
 
-def _map_extrema(pmap: PeriodMap, state: np.ndarray) -> tuple[float, float]:
-    """Extremes of u over one iteration of ``pmap`` from ``state`` (Hermite-refined)."""
-    _tau, u, v = pmap.history(state)
-    if not np.all(np.isfinite(u)):
-        return math.nan, math.nan
-    return _hermite_extrema(u, v, pmap.step)
-
-
 def orbit_extrema(
     model: GearModel,
     state: Sequence[float],
@@ -149,7 +141,9 @@ def orbit_extrema(
     (u_min, u_max) : tuple of float
         NaN if the trajectory diverged.
     """
-    return _map_extrema(PeriodMap(model, n, dtau=dtau, accurate=accurate, steps=steps), state)
+    pmap = PeriodMap(model, n, dtau=dtau, accurate=accurate, steps=steps)
+    lo, hi = _trajectory_extrema(pmap.trajectory(state), len(model.elements), pmap.step)[model.reference]
+    return float(lo), float(hi)
 
 
 def _trajectory_extrema(tr: Any, elements: int, h: float) -> np.ndarray:
@@ -421,25 +415,23 @@ class PeriodicOrbit:
                 summary=self.to_json(),
             ),
         )
+        names = [
+            "multiplier_re",
+            "multiplier_im",
+            "floquet_exponent",
+            "monodromy",
+            "section",
+            "multiplier",
+            "row",
+            "col",
+        ]
         if d != 2:  # a system: the full section states
             from ...system import state_names
 
             ds["points"] = (("section", "state"), np.asarray(self.points, float))
             ds = ds.assign_coords(state=state_names(m, d))
-        annotate(
-            ds,
-            names=[n for n in ("points", "state") if n in ds.variables]
-            + [
-                "multiplier_re",
-                "multiplier_im",
-                "floquet_exponent",
-                "monodromy",
-                "section",
-                "multiplier",
-                "row",
-                "col",
-            ],
-        )
+            names += ["points", "state"]
+        annotate(ds, names=names)
         ds.attrs["status"] = self.status_label
         return ds
 
@@ -494,65 +486,36 @@ def guess_from_simulation(
     return pts[len(d) - 1 - k].copy()
 
 
-def newton_step(A: np.ndarray, G: np.ndarray) -> np.ndarray:
+def newton_step(A: np.ndarray, G: np.ndarray, rigid: bool = False) -> np.ndarray:
     """The Newton step dx of A dx = −G (least squares where A is singular).
 
     Parameters
     ----------
     A : ndarray (d, d)
     G : ndarray (d,)
+    rigid : bool
+        The system has rigid-body modes (``model.rigid_basis()`` not empty): the minimum-norm step.  A free
+        rigid-body mode makes monodromy − I singular (a rigid rotation of a whole solution is again a
+        solution), and the minimum-norm step leaves it where it is.
 
     Returns
     -------
     ndarray (d,)
     """
+    if rigid:
+        return np.linalg.lstsq(A, -G, rcond=1e-10)[0]
     try:
         return np.linalg.solve(A, -G)
     except np.linalg.LinAlgError:
         return np.linalg.lstsq(A, -G, rcond=None)[0]
 
 
-def least_squares_step(A: np.ndarray, G: np.ndarray) -> np.ndarray:
-    """The minimum-norm Newton step of A dx = −G: a free rigid-body mode makes monodromy − I singular (a
-    rigid rotation of a whole solution is again a solution), and the minimum-norm step leaves it where it is.
-
-    Parameters
-    ----------
-    A : ndarray (d, d)
-    G : ndarray (d,)
-
-    Returns
-    -------
-    ndarray (d,)
-    """
-    return np.linalg.lstsq(A, -G, rcond=1e-10)[0]
-
-
-def newton_step_for(model: Any) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-    """The Newton step for the period map of ``model``: :func:`least_squares_step` when it has rigid-body
-    modes (``model.rigid_basis()`` not empty), else :func:`newton_step`.
-
-    Parameters
-    ----------
-    model : System
-
-    Returns
-    -------
-    callable
-    """
-    return least_squares_step if model.rigid_basis().shape[1] else newton_step
-
-
 def _newton(
-    pmap: PeriodMap,
-    x0: np.ndarray,
-    tol: float,
-    max_iter: int,
-    step: Callable[[np.ndarray, np.ndarray], np.ndarray] = newton_step,
+    pmap: PeriodMap, x0: np.ndarray, tol: float, max_iter: int, rigid: bool = False
 ) -> tuple[MapEvaluation, bool, int, list[float], Status]:
     """Damped Newton on P^n(x) − x = 0 for one map (fixed parameters and steps per period).
 
-    ``step(A, G)`` solves A dx = −G for the step (A = monodromy − I, G the residual).
+    The step is :func:`newton_step` (the minimum-norm one with ``rigid``: the system has rigid-body modes).
     Returns (last evaluation, converged, iterations, residuals, status)."""
     ev = pmap.evaluate(x0)
     if not ev.ok:
@@ -565,7 +528,7 @@ def _newton(
             return ev, True, it, res, Status.OK
         if it == max_iter:
             break
-        dx = step(ev.monodromy - eye, ev.residual)
+        dx = newton_step(ev.monodromy - eye, ev.residual, rigid)
         lam = 1.0
         new = None
         while lam >= NEWTON_MIN_DAMPING:
@@ -651,7 +614,7 @@ def shoot(
     IntegrationOptions(dtau=dtau).check_for(model.omega)
     pmap = PeriodMap(model, n, dtau=dtau, accurate=accurate)
     N = pmap.steps
-    step = newton_step_for(model)
+    rigid = bool(model.rigid_basis().shape[1])  # rigid-body modes: the minimum-norm Newton step
     if guess is None:
         x0 = guess_from_simulation(
             model, n, state0, dtau=dtau, accurate=accurate, transient=transient, progress=progress
@@ -663,16 +626,16 @@ def shoot(
         if x0.shape != (pmap.dim,) or not np.all(np.isfinite(x0)):
             what = "two finite numbers u,v" if pmap.dim == 2 else f"{pmap.dim} finite numbers (the full state)"
             raise ModelError(f"guess: expected {what}, got {guess!r}")
-    ev, conv, its, res, status = _newton(pmap, x0, tol, max_iter, step)
+    ev, conv, its, res, status = _newton(pmap, x0, tol, max_iter, rigid)
     if not conv and not accurate:
         # The default-mode map has a kink wherever an RK4 stage crosses ±D, which can stall the
         # damped iteration far from the orbit.  The accurate-mode map is smooth there and its orbit
         # lies within the discretisation error of the default-mode one: get close with it, then
         # finish in the default mode (quadratic convergence).
         acc = PeriodMap(model, n, dtau=dtau, accurate=True, steps=N)
-        ev_a, conv_a, its_a, res_a, _st = _newton(acc, x0, tol, max_iter, step)
+        ev_a, conv_a, its_a, res_a, _st = _newton(acc, x0, tol, max_iter, rigid)
         if conv_a:
-            ev2, conv, its2, res2, status = _newton(pmap, ev_a.x, tol, max_iter, step)
+            ev2, conv, its2, res2, status = _newton(pmap, ev_a.x, tol, max_iter, rigid)
             if ev2.ok:
                 ev, its, res = ev2, its + its_a + its2, res + res_a + res2
     if not ev.ok:

@@ -20,6 +20,7 @@ import xarray as xr
 from ...io import annotate, result_attrs
 from ...model import DEFAULT_DTAU, GearModel, ModelError
 from .arclength import continue_branch
+from .branch import STABILITY_LOSSES
 from .map import PeriodMap
 from .orbit import shoot
 
@@ -135,11 +136,7 @@ def stability_boundary(
             kinds[i] = "start orbit not found" if not orb.converged else "start orbit unstable"
             continue
         br = continue_branch(orb, "xi0", xi0_low, start_bound=xi0_high, stop_on_instability=True)
-        lost = [
-            b
-            for b in br.bifurcations
-            if b.type in ("fold", "period-doubling", "neimark-sacker", "branch-point") and b.stable_before
-        ]
+        lost = [b for b in br.bifurcations if b.type in STABILITY_LOSSES and b.stable_before]
         if lost:
             crit[i] = lost[0].value
             kinds[i] = lost[0].type
@@ -266,16 +263,10 @@ def compare_stability_condition(
     ds["xi0_critical_linear"] = ("omega", lin["xi0_critical"].values)
     ds["xi0_paper"] = xr.DataArray(paper)
 
-    def argmax(a: np.ndarray) -> tuple[float | None, float | None]:
-        if not np.any(np.isfinite(a)):
-            return None, None
-        i = int(np.nanargmax(a))
-        return float(a[i]), float(om[i])
-
-    mx, wmx = argmax(nl["xi0_critical"].values)
-    ml, wml = argmax(lin["xi0_critical"].values)
     ds.attrs["xi0_paper"] = str(paper)
-    for key, v in (("", mx), ("_at_omega", wmx), ("_linear", ml), ("_linear_at_omega", wml)):
-        ds.attrs["max_xi0_critical" + key] = "null" if v is None else str(v)
+    for key, crit in (("", nl["xi0_critical"].values), ("_linear", lin["xi0_critical"].values)):
+        i = int(np.nanargmax(crit)) if np.any(np.isfinite(crit)) else None  # the largest critical value and its ω
+        for k, v in ((key, crit), (key + "_at_omega", om)):
+            ds.attrs["max_xi0_critical" + k] = "null" if i is None else str(float(v[i]))
     ds.attrs["geardyn_kind"] = "stability_comparison"
     return annotate(ds, names=["xi0_critical_linear", "xi0_paper"])

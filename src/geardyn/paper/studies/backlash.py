@@ -14,7 +14,7 @@ from ...analysis.confirm import confirm_sweep
 from ..claims import CLAIMS, claim_ids
 from ..report import Section
 from ..settings import Context, model_text
-from ..verdicts import count_text, describe_motion, motion_fields, motion_rule, parts
+from ..verdicts import count_text, describe_motion, motion_fields, motion_rule, parts, yes_no
 from .readings import lle_sign_holds
 
 __all__ = ["study_backlash"]
@@ -78,8 +78,8 @@ def study_backlash(ctx: Context) -> Section:
         claims.append(
             r.judge(
                 f"at ω = {s.omega_damping:g}: {desc}, λ1 = {lle[i]:+.4f} ± {err[i]:.1e} (claimed {sign}); "
-                f"parts holding: {count_text(ok_state + ok_sign, 2, '')}; motion: {'yes' if ok_state else 'no'}, "
-                f"exponent sign: {'yes' if ok_sign else 'no'}.",
+                f"parts holding: {count_text(ok_state + ok_sign, 2, '')}; motion: {yes_no(ok_state)}, "
+                f"exponent sign: {yes_no(ok_sign)}.",
                 parts(ok_state, ok_sign),
                 ev,
             )

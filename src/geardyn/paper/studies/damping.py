@@ -10,41 +10,30 @@ also shown over :attr:`Settings.xi0_zoom`, where its structure lies.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from ...analysis.classify import MOTION_CHAOTIC
 from ...analysis.confirm import confirm_sweep
-from ..claims import CLAIMS, Claim
+from ..claims import CLAIMS
 from ..report import Finding, Section
-from ..settings import Context, model_text
+from ..settings import SYMBOLS, Context, model_text
 from ..table1 import TABLE1
 from ..verdicts import (
     MATCH_REPRODUCED,
-    MotionTest,
     count_text,
-    match_fraction,
     motion_fields,
     motion_rule,
     motion_runs,
     of_claims,
     parts,
-    range_of,
     runs_text,
     verdict_of,
+    yes_no,
 )
+from .readings import BIF_NEAR, HIGH_CHAOS_FROM, LOW_CHAOS_BELOW, bif_points, range_match
 
-__all__ = ["RangeTest", "judge_ranges", "study_xi0", "study_xi1"]
-
-#: XI0-BIF: the chaos below this ξ0 ends at the first bifurcation point ...
-LOW_CHAOS_BELOW = 0.3
-#: ... and chaos from this ξ0 on is the return to chaos at the second.
-HIGH_CHAOS_FROM = 0.5
-#: XI0-BIF: largest distances (in ξ0) of the computed points from the paper's first and second point.
-BIF_NEAR = (0.02, 0.1)
+__all__ = ["judge_ranges", "study_xi0", "study_xi1"]
 
 _WORDS = (
     "'quasi-n-periodic' = a period-n orbit (by F1 no quasi-periodic torus exists for ξ0 > 0); 'chaotic' = "
@@ -53,60 +42,7 @@ _WORDS = (
 )
 
 
-@dataclass(frozen=True)
-class RangeTest:
-    """A claim of a motion over a parameter range (a row of Table 2), ready to test on a grid.
-
-    Parameters
-    ----------
-    claim : Claim
-        The claim; its numbers give ``param``, the range and the ``motion`` word.
-    lo, hi : float
-        The range (±inf for an end the paper leaves open).
-    lo_open, hi_open : bool
-        Whether the ends are excluded.
-    pred : callable
-        The motion test (:func:`geardyn.paper.verdicts.motion_rule`).
-    what : str
-        The test in words, for the report.
-    """
-
-    claim: Claim
-    lo: float
-    hi: float
-    lo_open: bool
-    hi_open: bool
-    pred: MotionTest
-    what: str
-
-    @classmethod
-    def of(cls, claim: Claim, **bounds: Any) -> RangeTest:
-        """The test of ``claim``; ``bounds`` (``hi=…, hi_open=…``) close an end the paper leaves open.
-
-        Parameters
-        ----------
-        claim : Claim
-        **bounds
-            Overrides of ``lo``, ``hi``, ``lo_open``, ``hi_open``.
-
-        Returns
-        -------
-        RangeTest
-        """
-        lo, hi, lo_open, hi_open = range_of({**claim.numbers, **bounds})
-        return cls(claim, lo, hi, lo_open, hi_open, *motion_rule(claim.numbers["motion"]))
-
-    @property
-    def param(self) -> str:
-        """The swept parameter of the claim."""
-        return str(self.claim.numbers["param"])
-
-    def fraction(self, ds: xr.Dataset) -> tuple[float, int]:
-        """Matching fraction and number of grid points in the range (:func:`match_fraction`)."""
-        return match_fraction(ds, self.param, self.lo, self.hi, self.pred, lo_open=self.lo_open, hi_open=self.hi_open)
-
-
-def judge_ranges(ctx: Context, ds: xr.Dataset, rows: Sequence[RangeTest], evidence: list[str]) -> list[Finding]:
+def judge_ranges(ctx: Context, ds: xr.Dataset, cids: Sequence[str], evidence: list[str]) -> list[Finding]:
     """Judge range claims at the default reading by the fraction of each interval's length where they hold.
 
     The other readings (ω, phases) are tried by the readings study (:mod:`geardyn.paper.studies.readings`).
@@ -116,8 +52,9 @@ def judge_ranges(ctx: Context, ds: xr.Dataset, rows: Sequence[RangeTest], eviden
     ctx : Context
     ds : xarray.Dataset
         The bifurcation diagram at the default ω (labels re-examined by :func:`geardyn.analysis.confirm.confirm_sweep`).
-    rows : sequence of RangeTest
-        The claims, all over the same parameter.
+    cids : sequence of str
+        The claims (rows of Table 2), all over the same parameter; their intervals are
+        :func:`geardyn.paper.studies.readings.claim_range`.
     evidence : list of str
         Evidence of every claim.
 
@@ -127,20 +64,17 @@ def judge_ranges(ctx: Context, ds: xr.Dataset, rows: Sequence[RangeTest], eviden
     """
     w0 = ctx.settings.omega_damping
     claims = []
-    for r in rows:
-        f, npts = r.fraction(ds)
+    for cid in cids:
+        f, npts = range_match(ds, cid)
+        what = motion_rule(CLAIMS[cid].numbers["motion"])[1]
         text = (
-            f"at ω = {w0:g}: {r.what} over {100 * f:.0f} % of the interval's length ({npts} grid points in it; "
+            f"at ω = {w0:g}: {what} over {100 * f:.0f} % of the interval's length ({npts} grid points in it; "
             f"holds from {100 * MATCH_REPRODUCED:.0f} %)."
             if np.isfinite(f)
             else f"at ω = {w0:g}: no grid point in the interval."
         )
-        claims.append(r.claim.judge(text, verdict_of(f), evidence))
+        claims.append(CLAIMS[cid].judge(text, verdict_of(f), evidence))
     return claims
-
-
-#: The report's symbols for the swept damping parameters.
-SYMBOL = {"xi0": "ξ0", "xi1": "ξ1", "D": "D", "omega": "ω"}
 
 
 def _diagram(ctx: Context, param: str, grid: Sequence[float]) -> tuple[xr.Dataset, list[str]]:
@@ -151,7 +85,7 @@ def _diagram(ctx: Context, param: str, grid: Sequence[float]) -> tuple[xr.Datase
         long_periods=ctx.settings.confirm_periods,
     )
     name = f"{param}_bifurcation"
-    label = f"bifurcation diagram over {SYMBOL[param]} ({model_text(ctx.base, skip=(param,))})"
+    label = f"bifurcation diagram over {SYMBOLS[param]} ({model_text(ctx.base, skip=(param,))})"
     return ds, [ctx.save(name, ds, label), ctx.figure(name)]
 
 
@@ -172,19 +106,9 @@ def study_xi0(ctx: Context) -> Section:
     ctx.log("ξ0 bifurcation diagram")
     ds, ev = _diagram(ctx, "xi0", s.xi0_grid)
     first, second = CLAIMS["XI0-BIF"].numbers["points"]
-    # Table 2 leaves ξ0 > 0.1 open above; the text ends that motion at the second bifurcation point
-    rows = [
-        RangeTest.of(CLAIMS["T2-1"]),
-        RangeTest.of(CLAIMS["T2-2"]),
-        RangeTest.of(CLAIMS["T2-3"], hi=second, hi_open=True),
-    ]
-    claims = judge_ranges(ctx, ds, rows, ev)
-    x = ds["xi0"].values
-    m, _, _ = motion_fields(ds)
-    chaotic = x[m == MOTION_CHAOTIC]
-    low = chaotic < LOW_CHAOS_BELOW
-    last_low_chaos = float(chaotic[low].max()) if np.any(low) else float("nan")
-    high_chaos = chaotic[chaotic >= HIGH_CHAOS_FROM]
+    # Table 2 leaves ξ0 > 0.1 open above; the text ends that motion at the second bifurcation point (claim_range)
+    claims = judge_ranges(ctx, ds, ["T2-1", "T2-2", "T2-3"], ev)
+    last_low_chaos, high_chaos, first_ok, second_ok = bif_points(ds["xi0"].values, motion_fields(ds)[0])
     text = (
         f"at ω = {s.omega_damping:g}: largest chaotic ξ0 below {LOW_CHAOS_BELOW:g} is {last_low_chaos:.3g}"
         if np.isfinite(last_low_chaos)
@@ -195,11 +119,9 @@ def study_xi0(ctx: Context) -> Section:
         if high_chaos.size
         else f"; no chaos for ξ0 ≥ {HIGH_CHAOS_FROM:g} (the high-damping response is periodic)"
     )
-    first_ok = bool(np.isfinite(last_low_chaos) and abs(last_low_chaos - first) <= BIF_NEAR[0])
-    second_ok = bool(np.any(np.abs(high_chaos - second) <= BIF_NEAR[1]))
     text += (
         f". Bifurcation points found: {count_text(first_ok + second_ok, 2, '')}; within ±{BIF_NEAR[0]:g} "
-        f"of ξ0 = {first:g}: {_yes(first_ok)}, within ±{BIF_NEAR[1]:g} of ξ0 = {second:g}: {_yes(second_ok)}"
+        f"of ξ0 = {first:g}: {yes_no(first_ok)}, within ±{BIF_NEAR[1]:g} of ξ0 = {second:g}: {yes_no(second_ok)}"
     )
     text += f". Motion along ξ0: {runs_text(motion_runs(ds, 'xi0'))}."
     claims.append(CLAIMS["XI0-BIF"].judge(text, parts(first_ok, second_ok), ev))
@@ -243,10 +165,6 @@ def study_xi0(ctx: Context) -> Section:
     )
 
 
-def _yes(ok: bool) -> str:
-    return "yes" if ok else "no"
-
-
 def study_xi1(ctx: Context) -> Section:
     """Table 2 rows 4–5 and the text: ξ1 drives quasi-periodic motion into chaos (XI1-CHAOS).
 
@@ -263,8 +181,7 @@ def study_xi1(ctx: Context) -> Section:
     s = ctx.settings
     ctx.log("ξ1 bifurcation diagram")
     ds, ev = _diagram(ctx, "xi1", s.xi1_grid)
-    rows = [RangeTest.of(CLAIMS["T2-4"]), RangeTest.of(CLAIMS["T2-5"])]
-    claims = judge_ranges(ctx, ds, rows, ev)
+    claims = judge_ranges(ctx, ds, ["T2-4", "T2-5"], ev)
     ends = [c.verdict for c in claims]
     claims.append(
         CLAIMS["XI1-CHAOS"].judge(

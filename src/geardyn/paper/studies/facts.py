@@ -24,6 +24,7 @@ from ...io import json_attr
 from ...model import IntegrationOptions
 from ..report import Section
 from ..settings import Context
+from ..verdicts import yes_no
 
 __all__ = ["F1_TEXT", "F2_TEXT", "F2_D", "f1_check", "f2_check", "study_facts"]
 
@@ -165,30 +166,28 @@ def study_facts(ctx: Context) -> list[Section]:
     free = ~f2["back"]
     amp_free = f2["amplitude"][free]
     spread = float(np.ptp(amp_free)) if amp_free.size else float("nan")
-    table = [["ξ0", "ω", "φ_c1", "det of the period-map Jacobian", "exp(−4πξ0/ω)", "relative difference"]]
-    for r in f1:
-        table.append(
-            [
-                f"{r['xi0']:g}",
-                f"{r['omega']:g}",
-                f"{r['phi_c1']:.3g}",
-                f"{r['det']:.10f}",
-                f"{r['theory']:.10f}",
-                f"{r['rel']:.1e}",
-            ]
-        )
-    t2 = [["D", "amplitude", "u_max − D", "u_min", "impact", "back flank touched"]]
-    for i, d in enumerate(f2["D"]):
-        t2.append(
-            [
-                f"{d:g}",
-                f"{f2['amplitude'][i]:.12f}",
-                f"{f2['u_max_rel'][i]:.12f}",
-                f"{f2['u_min'][i]:.4f}",
-                IMPACT_LABELS[int(f2["impact"][i])],
-                "yes" if f2["back"][i] else "no",
-            ]
-        )
+    table = [["ξ0", "ω", "φ_c1", "det of the period-map Jacobian", "exp(−4πξ0/ω)", "relative difference"]] + [
+        [
+            f"{r['xi0']:g}",
+            f"{r['omega']:g}",
+            f"{r['phi_c1']:.3g}",
+            f"{r['det']:.10f}",
+            f"{r['theory']:.10f}",
+            f"{r['rel']:.1e}",
+        ]
+        for r in f1
+    ]
+    t2 = [["D", "amplitude", "u_max − D", "u_min", "impact", "back flank touched"]] + [
+        [
+            f"{d:g}",
+            f"{f2['amplitude'][i]:.12f}",
+            f"{f2['u_max_rel'][i]:.12f}",
+            f"{f2['u_min'][i]:.4f}",
+            IMPACT_LABELS[int(f2["impact"][i])],
+            yes_no(f2["back"][i]),
+        ]
+        for i, d in enumerate(f2["D"])
+    ]
     text = [
         F1_TEXT,
         f"F1 checked: at {len(f1)} points on attractors (periodic and chaotic, several ξ0, ω and φ_c1) the determinant "

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 import xarray as xr
 
@@ -13,7 +15,7 @@ from ..table1 import TABLE1
 from ..verdicts import FORMULA_R2_PARTLY, FORMULA_R2_REPRODUCED, combine
 from .jumps import JumpData
 
-__all__ = ["FORMULA_R2_PARTLY", "FORMULA_R2_REPRODUCED", "fit_formula", "study_formula"]
+__all__ = ["FORMULA_R2_PARTLY", "FORMULA_R2_REPRODUCED", "fit_formula", "fit_responses", "study_formula"]
 
 
 def fit_formula(omega: np.ndarray, xi0: np.ndarray, b: np.ndarray, A: np.ndarray) -> dict[str, float]:
@@ -48,6 +50,31 @@ def fit_formula(omega: np.ndarray, xi0: np.ndarray, b: np.ndarray, A: np.ndarray
     }
 
 
+def fit_responses(
+    curves: Iterable[tuple[float, float, float, np.ndarray, np.ndarray]],
+) -> tuple[np.ndarray, dict[str, float]]:
+    """The formula fitted (:func:`fit_formula`) to the amplitude curves at the Table 1 ξ1.
+
+    Parameters
+    ----------
+    curves : iterable of (float, float, float, ndarray, ndarray)
+        ξ0, ξ1, backlash b (mm), ω grid and amplitude of each curve; those at another ξ1 are left out.
+
+    Returns
+    -------
+    (ndarray, dict)
+        The points fitted (ω, ξ0, b, A per row) and the fit.
+    """
+    data = np.vstack(
+        [
+            np.column_stack([w, np.full_like(w, xi0), np.full_like(w, b), a])
+            for xi0, xi1, b, w, a in curves
+            if xi1 == TABLE1["xi1"]
+        ]
+    )
+    return data, fit_formula(data[:, 0], data[:, 1], data[:, 2], data[:, 3])
+
+
 def study_formula(ctx: Context, jd: JumpData) -> Section:
     """The amplitude formula (FORMULA), fitted to the up sweeps of the jump study at the Table 1 ξ1.
 
@@ -63,15 +90,10 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
     Section
         The FORMULA claim, with the fitted coefficients and R².
     """
-    rows = []
-    for (xi0, xi1, D), ds in jd.responses.items():
-        if xi1 != TABLE1["xi1"]:
-            continue
-        x = ds["omega"].values
-        a = ds["amplitude"].sel(sweep="up").values
-        rows.append(np.column_stack([x, np.full_like(x, xi0), np.full_like(x, 2 * D), a]))
-    data = np.vstack(rows)
-    fit = fit_formula(data[:, 0], data[:, 1], data[:, 2], data[:, 3])
+    data, fit = fit_responses(
+        (xi0, xi1, 2 * D, ds["omega"].values, ds["amplitude"].sel(sweep="up").values)
+        for (xi0, xi1, D), ds in jd.responses.items()
+    )
     ds = xr.Dataset(
         {
             "amplitude": ("point", data[:, 3]),

@@ -18,9 +18,19 @@ import xarray as xr
 from ...analysis.response import frequency_response
 from ..claims import CLAIMS, claim_ids
 from ..report import Finding, Section
-from ..settings import Context, model_text
+from ..settings import SYMBOLS, Context, ResponseKey, model_text
 from ..table1 import TABLE1
-from ..verdicts import count_text, distinct_text, fluctuation_trend, jump_holds, jump_type_at, parts, section_spread
+from ..verdicts import (
+    count_text,
+    distinct_text,
+    fluctuation_trend,
+    jump_holds,
+    jump_type_at,
+    parts,
+    section_spread,
+    strictly_monotone,
+    yes_no,
+)
 
 __all__ = [
     "JUMP_NEAR",
@@ -106,6 +116,23 @@ def first_up_jump(ds: xr.Dataset | list[dict[str, Any]], above: float = LOW_OMEG
     return min(js, key=lambda j: j["omega"]) if js else None
 
 
+def after_jump(jumps: list[dict[str, Any]]) -> float:
+    """Where the fluctuation "after the first jump" is measured from: :data:`FLUCT_AFTER` above the first upward
+    jump (:func:`first_up_jump`), or above :data:`LOW_OMEGA` when there is none.
+
+    Parameters
+    ----------
+    jumps : list of dict
+        The jumps of a response (:func:`jumps_of`).
+
+    Returns
+    -------
+    float
+    """
+    j = first_up_jump(jumps)
+    return (j["omega"] if j else LOW_OMEGA) + FLUCT_AFTER
+
+
 def fluctuation(ds: xr.Dataset, after: float) -> float:
     """Mean spread of the Poincaré points (:func:`geardyn.paper.verdicts.section_spread`) over the up sweep above
     ``after``.
@@ -152,18 +179,21 @@ class JumpData:
     overlays : dict
         Claim id → the figure references of the overlays it compares responses on
         (:func:`save_overlays`).
+    overlay_figures : list of (str, str)
+        The overlays' figure references with their captions, for the jump study's section.
     """
 
-    responses: dict[tuple[float, float, float], xr.Dataset]
-    evidence: dict[tuple[float, float, float], list[str]]
+    responses: dict[ResponseKey, xr.Dataset]
+    evidence: dict[ResponseKey, list[str]]
     overlays: dict[str, list[str]] = field(default_factory=dict)
+    overlay_figures: list[tuple[str, str]] = field(default_factory=list)
 
     def with_overlays(self, claims: Sequence[Finding]) -> None:
         """Put the overlays each claim compares responses on first in its evidence (in place)."""
         for c in claims:
             c.evidence = list(dict.fromkeys(self.overlays.get(c.id, []) + list(c.evidence)))
 
-    def ev(self, *keys: tuple[float, float, float]) -> list[str]:
+    def ev(self, *keys: ResponseKey) -> list[str]:
         """The evidence of the responses at ``keys``, in order."""
         return list(dict.fromkeys(e for k in keys for e in self.evidence[k]))
 
@@ -182,8 +212,8 @@ def compute_responses(ctx: Context) -> JumpData:
         Every response with its evidence.
     """
     s = ctx.settings
-    out: dict[tuple[float, float, float], xr.Dataset] = {}
-    ev: dict[tuple[float, float, float], list[str]] = {}
+    out: dict[ResponseKey, xr.Dataset] = {}
+    ev: dict[ResponseKey, list[str]] = {}
     for key in s.response_sets:
         xi0, xi1, D = key
         ctx.log(f"frequency response ξ0 = {xi0:g}, ξ1 = {xi1:g}, D = {D:g}")
@@ -220,7 +250,7 @@ def overlay_key(param: str) -> str:
     return f"responses_over_{param}"
 
 
-def response_overlay(jd: JumpData, keys: Sequence[tuple[float, float, float]], param: str) -> xr.Dataset:
+def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> xr.Dataset:
     """The frequency responses at ``keys`` (one parameter varied) on one ω grid, for one figure that
     compares them (kind ``response_overlay``): amplitude of both sweeps, fluctuation of the up sweep,
     each response's jumps and hysteresis, and the ω and amplitudes the paper's claims name.
@@ -243,7 +273,7 @@ def response_overlay(jd: JumpData, keys: Sequence[tuple[float, float, float]], p
         ``hysteresis`` (a list per case), ``marks`` (the claimed ω: [ω, text]) and ``table4`` (the
         paper's Table 4 amplitudes at these responses: [case, ω, A, text]).
     """
-    index = {"xi0": 0, "xi1": 1, "D": 2}[param]
+    index = ("xi0", "xi1", "D").index(param)
     first = jd.responses[keys[0]]
     omega = first["omega"].values
     amp = np.stack([jd.responses[k]["amplitude"].sel(sweep=["up", "down"]).values for k in keys])
@@ -261,7 +291,6 @@ def response_overlay(jd: JumpData, keys: Sequence[tuple[float, float, float]], p
         for i, k in enumerate(keys):
             if k == (xi0, TABLE1["xi1"], b / 2):
                 table4.append([i, omega4, A, cid])
-    model = dict(json.loads(first.attrs["model"]))
     return xr.Dataset(
         {
             "amplitude": (("case", "sweep", "omega"), amp),
@@ -272,7 +301,7 @@ def response_overlay(jd: JumpData, keys: Sequence[tuple[float, float, float]], p
         attrs={
             "geardyn_kind": "response_overlay",
             "param": param,
-            "model": json.dumps(model),
+            "model": first.attrs["model"],
             "jumps": json.dumps([jumps_of(jd.responses[k]) for k in keys]),
             "hysteresis": json.dumps([hysteresis_of(jd.responses[k]) for k in keys]),
             "marks": json.dumps(marks),
@@ -308,26 +337,26 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
         rel = ctx.save(
             name,
             response_overlay(jd, keys, param),
-            f"frequency responses at {_SYMBOL[param]} = {values} overlaid ({fixed})",
+            f"frequency responses at {SYMBOLS[param]} = {values} overlaid ({fixed})",
         )
         for cid in cids + ("JUMP-LOW",):
             out.setdefault(cid, []).extend([ctx.figure(name), rel])
+        up = any(j["sweep"] == "up" and j["direction"] == "up" for k in keys for j in jumps_of(jd.responses[k]))
+        jd.overlay_figures.append(
+            (
+                ctx.figure(name),
+                f"Overlay of the up and down sweeps at {SYMBOLS[param]} = {values} ({fixed}): amplitude (top; up sweep "
+                "thick with small filled markers, down sweep thin with large open markers, first upward jump "
+                f"starred{', zoomed on in the middle panel' if up else ''}) and "
+                "fluctuation, the spread of the Poincaré points of the up sweep (bottom); the ω the paper names "
+                "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.",
+            )
+        )
     return out
 
 
-_SYMBOL = {"xi0": "ξ0", "xi1": "ξ1", "D": "D"}
-
-
-def _key_text(key: tuple[float, float, float]) -> str:
+def _key_text(key: ResponseKey) -> str:
     return f"ξ0 = {key[0]:g}, ξ1 = {key[1]:g}, D = {key[2]:g}"
-
-
-def _monotone(values: Sequence[float], decreasing: bool) -> bool:
-    v = np.asarray(values, dtype=float)
-    if v.size < 2 or not np.all(np.isfinite(v)):
-        return False
-    d = np.diff(v)
-    return bool(np.all(d < 0) if decreasing else np.all(d > 0))
 
 
 def study_jumps(ctx: Context, jd: JumpData) -> Section:
@@ -373,32 +402,28 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     )
 
     above = CLAIMS["JUMP-XI0"].numbers["omega"]
-    for cid, keys, lab, dec in (("JUMP-XI0", s.xi0_set, "ξ0", True), ("JUMP-XI1", s.xi1_set, "ξ1", False)):
-        vals = [k[0] if lab == "ξ0" else k[1] for k in keys]
+    for cid, keys, lab, i, dec in (("JUMP-XI0", s.xi0_set, "ξ0", 0, True), ("JUMP-XI1", s.xi1_set, "ξ1", 1, False)):
         locs = [first_up_jump(R[k]) for k in keys]
         sizes = [j["size"] if j else float("nan") for j in locs]
         txt = f"first upward jump above ω = {above:g} (up sweep): " + ", ".join(
-            f"{lab} = {v:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none")
-            for v, sz, j in zip(vals, sizes, locs)
+            f"{lab} = {k[i]:g}: " + (f"size {sz:.3f} at ω = {j['omega']:.3f}" if j else "none")
+            for k, sz, j in zip(keys, sizes, locs)
         )
-        ok = _monotone(sizes, dec)
+        ok = strictly_monotone(sizes, dec)
         n_found = sum(j is not None for j in locs)
         exists = n_found == len(locs)
         claims.append(
             CLAIMS[cid].judge(
                 txt + f"; parts holding: {count_text(exists + ok, 2, '')}; an upward jump in each response: "
-                f"{'yes' if exists else 'no'} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} "
+                f"{yes_no(exists)} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} "
                 "with "
-                f"{lab}: {'yes' if ok else 'no'}.",
+                f"{lab}: {yes_no(ok)}.",
                 parts(exists, ok),
                 jd.ev(*keys),
             )
         )
 
-    fl0, fl1 = (
-        [fluctuation(R[k], (first_up_jump(R[k]) or {"omega": LOW_OMEGA})["omega"] + FLUCT_AFTER) for k in keys]
-        for keys in (s.xi0_set, s.xi1_set)
-    )
+    fl0, fl1 = ([fluctuation(R[k], after_jump(jumps_of(R[k]))) for k in keys] for keys in (s.xi0_set, s.xi1_set))
     (ok0, why0), (ok1, why1) = fluctuation_trend(fl0, True), fluctuation_trend(fl1, False)
     claims.append(
         CLAIMS["JUMP-FLUCT"].judge(
@@ -452,24 +477,6 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
 
     jd.with_overlays(claims)
 
-    def zoomed(keys: Sequence[tuple[float, float, float]]) -> str:
-        up = any(j["sweep"] == "up" and j["direction"] == "up" for k in keys for j in jumps_of(R[k]))
-        return ", zoomed on in the middle panel" if up else ""
-
-    overlays = [
-        (
-            ctx.figure(overlay_key(p)),
-            f"Overlay of the up and down sweeps at {_SYMBOL[p]} = "
-            + ", ".join(f"{k[i]:g}" for k in getattr(s, attr))
-            + f" ({model_text(ctx.model_at(getattr(s, attr)[0]), skip=('omega', p))}): amplitude (top; up sweep "
-            "thick with small filled markers, down sweep thin with large open markers, first upward jump "
-            f"starred{zoomed(getattr(s, attr))}) and "
-            "fluctuation, the spread of the Poincaré points of the up sweep (bottom); the ω the paper names "
-            "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.",
-        )
-        for p, i, attr, _ in OVERLAYS
-        if len(getattr(s, attr)) >= 2
-    ]
     return Section(
         "Jumps and fluctuations of the amplitude-frequency response",
         [
@@ -482,7 +489,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = "
             f"{base_xi0:g} unless varied."
         ],
-        overlays
+        jd.overlay_figures
         + [
             (
                 jd.evidence[k][1],
@@ -494,6 +501,16 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         claims,
         table,
     )
+
+
+def _read_at(ds: xr.Dataset, omega: float) -> tuple[float, float, float, list[str]]:
+    """A response read at the grid ω nearest ``omega``: that ω, the up and down amplitudes there, and the
+    directions of the jumps within :data:`TABLE4_NEAR` of ``omega``."""
+    x = ds["omega"].values
+    k = int(np.argmin(np.abs(x - omega)))
+    amp = ds["amplitude"]
+    kinds = sorted({j["direction"] + "ward" for j in jumps_of(ds) if abs(j["omega"] - omega) <= TABLE4_NEAR})
+    return x[k], float(amp.sel(sweep="up").values[k]), float(amp.sel(sweep="down").values[k]), kinds
 
 
 def study_table4(ctx: Context, jd: JumpData) -> Section:
@@ -519,31 +536,21 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         key = (xi0, TABLE1["xi1"], b / 2)
         alt = (xi0, TABLE1["xi1"], b)
         ds = R[key]
-        x = ds["omega"].values
-        k = int(np.argmin(np.abs(x - omega)))
-        a_up = float(ds["amplitude"].sel(sweep="up").values[k])
-        a_dn = float(ds["amplitude"].sel(sweep="down").values[k])
-        js = [j for j in jumps_of(ds) if abs(j["omega"] - omega) <= TABLE4_NEAR]
-        kinds = sorted({j["direction"] + "ward" for j in js})
+        w, a_up, a_dn, kinds = _read_at(ds, omega)
         kind_ok = jump_holds(jumps_of(ds), omega, kind, TABLE4_NEAR)
         amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
         v = parts(amp_ok, kind_ok)
         txt = (
-            f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {x[k]:.3f}; jumps within "
+            f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {w:.3f}; jumps within "
             f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: "
             f"{jump_type_at(jumps_of(ds), omega, TABLE4_NEAR)}); parts holding: {count_text(amp_ok + kind_ok, 2, '')}; "
-            f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {'yes' if amp_ok else 'no'}, jump type "
-            f"'{kind}': {'yes' if kind_ok else 'no'}"
+            f"amplitude {A:g} within {100 * TABLE4_AMP_REL:.0f} %: {yes_no(amp_ok)}, jump type "
+            f"'{kind}': {yes_no(kind_ok)}"
         )
         ev = list(jd.evidence[key])
         if alt in R:
-            da = R[alt]
-            ka = int(np.argmin(np.abs(da["omega"].values - omega)))
-            ja = sorted({j["direction"] + "ward" for j in jumps_of(da) if abs(j["omega"] - omega) <= TABLE4_NEAR})
-            txt += (
-                f". Read as D = b = {b:g}: A = {float(da['amplitude'].sel(sweep='up').values[ka]):.3f} (up), "
-                f"jumps: {', '.join(ja) or 'none'}"
-            )
+            _, a_alt, _, ja = _read_at(R[alt], omega)
+            txt += f". Read as D = b = {b:g}: A = {a_alt:.3f} (up), jumps: {', '.join(ja) or 'none'}"
             ev += jd.evidence[alt]
         claims.append(CLAIMS[cid].judge(txt + ".", v, ev))
         table.append(

@@ -15,7 +15,7 @@ The jump claims are judged on lockstep frequency responses (:mod:`geardyn.paper.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -30,9 +30,14 @@ from ..readings import BACKLASH_READINGS, DEFAULT_BACKLASH, Reading, phase_pairs
 from ..report import Finding
 from ..settings import Context
 from ..table1 import TABLE1
-from ..verdicts import MATCH_REPRODUCED, length_fraction, motion_rule, range_of
+from ..verdicts import MATCH_REPRODUCED, length_fraction, match_fraction, motion_rule, range_of, yes_no
 
 __all__ = ["ReadingRow", "ScreenData", "damping_readings", "intervals_text", "run_screen"]
+
+#: How a confirmation is judged: its results (a variable per point) → (holds, result).
+Judge = Callable[[dict[str, np.ndarray]], tuple[bool, str]]
+#: A candidate reading on the screen: (ω, phase pair, backlash reading).
+Candidate = tuple[float, tuple[float, float], str]
 
 #: ξ0 probes of the screen and the claims they test: (ξ0, claim ids).
 XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
@@ -47,8 +52,12 @@ XI1_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = ((0.01, ("T2-4", "XI1-CH
 TABLE3_B: tuple[float, ...] = tuple(CLAIMS[c].numbers["b"] for c in claim_ids("T3-"))
 #: All 16 phase pairs for the damping claims (False: each phase varied alone, 7 pairs, as for the others).
 FULL_PHASES = False
-#: XI0-BIF: the return to chaos is sought from this ξ0 on.
+#: XI0-BIF: the chaos below this ξ0 ends at the first bifurcation point ...
+LOW_CHAOS_BELOW = 0.3
+#: ... and chaos from this ξ0 on is the return to chaos at the second.
 HIGH_CHAOS_FROM = 0.5
+#: XI0-BIF: largest distances (in ξ0) of the computed points from the paper's first and second point.
+BIF_NEAR = (0.02, 0.1)
 #: Candidates confirmed per claim: as many as fit in this many points (a point of Table 3 is one, a range
 #: claim its interval's grid), at least one and at most VERIFY_MAX.
 VERIFY_POINTS = 60
@@ -220,7 +229,7 @@ def _pred(cid: str) -> Callable[[int, int], bool]:
     return lambda m, n: bool(f(int(m), int(n), 0))
 
 
-def _order(cands: list[tuple[float, tuple[float, float], str]]) -> list[tuple[float, tuple[float, float], str]]:
+def _order(cands: list[Candidate]) -> list[Candidate]:
     """Candidates nearest the default first: default phases and backlash reading, then ω nearest 1."""
     return sorted(cands, key=lambda c: (c[1] != (0.0, 0.0), c[2] not in ("", DEFAULT_BACKLASH), abs(c[0] - 1.0)))
 
@@ -233,7 +242,7 @@ class Verification:
     reading: Reading
     param: str
     values: list[float]
-    judge: Callable[[dict[str, np.ndarray]], tuple[bool, str]]
+    judge: Judge
     start: int = 0
 
 
@@ -243,6 +252,26 @@ def claim_range(cid: str) -> tuple[float, float, bool, bool]:
     if cid == "T2-3":
         hi, hi_open = CLAIMS["XI0-BIF"].numbers["points"][1], True
     return lo, hi, lo_open, hi_open
+
+
+def range_match(ds: xr.Dataset, cid: str) -> tuple[float, int]:
+    """A range claim on a diagram: the fraction of its interval's length (:func:`claim_range`) where its motion
+    holds, and the number of grid points in the interval (:func:`geardyn.paper.verdicts.match_fraction`).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A bifurcation diagram over the claim's parameter.
+    cid : str
+        A row of Table 2.
+
+    Returns
+    -------
+    (float, int)
+    """
+    lo, hi, lo_open, hi_open = claim_range(cid)
+    pred = motion_rule(CLAIMS[cid].numbers["motion"])[0]
+    return match_fraction(ds, str(CLAIMS[cid].numbers["param"]), lo, hi, pred, lo_open=lo_open, hi_open=hi_open)
 
 
 def in_range(cid: str, grid: Sequence[float]) -> list[float]:
@@ -256,7 +285,7 @@ def in_range(cid: str, grid: Sequence[float]) -> list[float]:
     return [float(v) for v in x[a : b + 1]]
 
 
-def _range_judge(cid: str, param: str, values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def _range_judge(cid: str, values: Sequence[float]) -> Judge:
     lo, hi, lo_open, hi_open = claim_range(cid)
     pred = _pred(cid)
 
@@ -268,17 +297,40 @@ def _range_judge(cid: str, param: str, values: Sequence[float]) -> Callable[[dic
     return judge
 
 
-def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def bif_points(x: Sequence[float], motion: Sequence[int]) -> tuple[float, np.ndarray, bool, bool]:
+    """The bifurcation points of XI0-BIF on a grid of ξ0: the last chaos below :data:`LOW_CHAOS_BELOW`, the chaos
+    from :data:`HIGH_CHAOS_FROM` on, and whether each lies within :data:`BIF_NEAR` of the paper's point.
+
+    Parameters
+    ----------
+    x : sequence of float
+        The ξ0 grid.
+    motion : sequence of int
+        The motion code at each point.
+
+    Returns
+    -------
+    (float, ndarray, bool, bool)
+        The largest chaotic ξ0 below :data:`LOW_CHAOS_BELOW` (NaN: none), the chaotic ξ0 from
+        :data:`HIGH_CHAOS_FROM` on, and whether the first and the second point are found.
+    """
     first, second = CLAIMS["XI0-BIF"].numbers["points"]
-    x = np.asarray(values)
+    ch = np.asarray(x)[np.asarray(motion) == MOTION_CHAOTIC]
+    low = ch[ch < LOW_CHAOS_BELOW]
+    last = float(low.max()) if low.size else float("nan")
+    high = ch[ch >= HIGH_CHAOS_FROM]
+    return (
+        last,
+        high,
+        bool(np.isfinite(last) and abs(last - first) <= BIF_NEAR[0]),
+        bool(np.any(np.abs(high - second) <= BIF_NEAR[1])),
+    )
+
+
+def _xi0_bif_judge(values: Sequence[float]) -> Judge:
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
-        ch = x[np.asarray(r["motion"]) == MOTION_CHAOTIC]
-        low = ch[ch < 0.3]
-        last = float(low.max()) if low.size else float("nan")
-        high = ch[ch >= HIGH_CHAOS_FROM]
-        ok1 = bool(np.isfinite(last) and abs(last - first) <= 0.02)
-        ok2 = bool(np.any(np.abs(high - second) <= 0.1))
+        last, high, ok1, ok2 = bif_points(values, r["motion"])
         return ok1 and ok2, (f"last low chaos at ξ0 = {last:.3g}" if np.isfinite(last) else "no low chaos") + (
             f", chaos again at ξ0 = {high.min():.3g}" if high.size else ", no chaos at high ξ0"
         )
@@ -286,7 +338,7 @@ def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]],
     return judge
 
 
-def _t3_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def _t3_judge(cid: str) -> Judge:
     pred, word = _pred(cid), CLAIMS[cid].numbers["lyapunov"]
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
@@ -295,10 +347,51 @@ def _t3_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
         lab = f"period-{n}" if m == MOTION_PERIODIC else {MOTION_CHAOTIC: "chaotic"}.get(m, "unresolved")
         return (
             ok_m and ok_s,
-            f"{lab}, λ1 = {lam:+.4f} ± {err:.1e} (motion {'yes' if ok_m else 'no'}, sign {'yes' if ok_s else 'no'})",
+            f"{lab}, λ1 = {lam:+.4f} ± {err:.1e} (motion {yes_no(ok_m)}, sign {yes_no(ok_s)})",
         )
 
     return judge
+
+
+@dataclass
+class _Screened:
+    """The readings tables of the screened claims as they are built: rows, candidates and where each holds."""
+
+    omegas: np.ndarray
+    rows: dict[str, list[ReadingRow]] = field(default_factory=dict)
+    cands: dict[str, list[Candidate]] = field(default_factory=dict)
+    okmap: dict[str, list[np.ndarray]] = field(default_factory=dict)  # claim -> per reading family, ok over ω
+
+    def add(
+        self,
+        cid: str,
+        label: str,
+        what: str,
+        ok: np.ndarray,
+        pair: tuple[float, float],
+        key: str,
+        holds: str = "screen",
+    ) -> None:
+        """One reading family of a claim: where over ω the screen holds (its ω are candidates)."""
+        ws = self.omegas[ok]
+        self.okmap.setdefault(cid, []).append(ok)
+        self.rows.setdefault(cid, []).append(ReadingRow(label, f"{what} {at_omegas(ws)}", holds))
+        self.cands.setdefault(cid, []).extend((float(w), pair, key) for w in ws)
+
+
+def _verification(cid: str, rd: Reading, grids: dict[str, list[float]]) -> Verification:
+    """The full computation that confirms a claim under a reading: its points and its judge."""
+    if cid.startswith("T3-"):
+        return Verification(cid, rd, "D", [rd.D(CLAIMS[cid].numbers["b"])], _t3_judge(cid))
+    if cid.startswith("BL-"):
+        return Verification(cid, rd, "D", [rd.D(b) for b in TABLE3_B], _bl_judge(cid))
+    if cid == "XI1-CHAOS":
+        return Verification(cid, rd, "xi1", grids["xi1"], _xi1_chaos_judge(grids["xi1"]))
+    if cid == "XI0-BIF":
+        return Verification(cid, rd, "xi0", grids["xi0"], _xi0_bif_judge(grids["xi0"]))
+    param = str(CLAIMS[cid].numbers["param"])  # a range claim: the grid over its interval
+    grid = in_range(cid, grids[param])
+    return Verification(cid, rd, param, grid, _range_judge(cid, grid))
 
 
 def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding]) -> dict[str, Any]:
@@ -318,63 +411,55 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     """
     s = ctx.settings
     W = data.omegas
-    xi0_grid = [float(v) for v in s.xi0_grid]
-    xi1_grid = [float(v) for v in s.xi1_grid]
-    rows: dict[str, list[ReadingRow]] = {}
-    cands: dict[str, list[tuple[float, tuple[float, float], str]]] = {}
-    okmap: dict[str, list[np.ndarray]] = {}  # claim -> per reading family, where the screen holds over ω
+    grids = {"xi0": [float(v) for v in s.xi0_grid], "xi1": [float(v) for v in s.xi1_grid]}
+    tab = _Screened(W)
     # Table 2, XI0-BIF, XI1-CHAOS: per phase pair, the ω where every probe of the claim holds
     for probes, var in ((XI0_PROBES, data.xi0), (XI1_PROBES, data.xi1)):
-        cids = sorted({c for _, cs in probes for c in cs}, key=list(CLAIMS).index)
-        for cid in cids:
-            rows[cid], cands[cid] = [], []
+        for cid in sorted({c for _, cs in probes for c in cs}, key=list(CLAIMS).index):
             for j, pair in enumerate(data.pairs_full):
                 ok = np.ones(W.size, dtype=bool)
                 for i, (_, cs) in enumerate(probes):
-                    if cid not in cs:
-                        continue
-                    word = _probe_word(cid, i, probes)
-                    ok &= np.array([word(m, n) for m, n in zip(var["motion"][i, j], var["period"][i, j])])
-                ws = W[ok]
-                okmap.setdefault(cid, []).append(ok)
-                rows[cid].append(
-                    ReadingRow(
-                        f"φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}",
-                        f"probes hold {at_omegas(ws)}",
-                        "screen",
-                    )
-                )
-                cands[cid] += [(float(w), pair, "") for w in ws]
-    # Table 3: per backlash reading and phase pair, the ω where the row's motion holds on the screen
-    for k, cid in enumerate(claim_ids("T3-")):
-        rows[cid], cands[cid] = [], []
-        pred = _pred(cid)
-        for r, key in enumerate(BACKLASH_READINGS):
-            for j, pair in enumerate(data.pairs_one):
-                m, n = data.bl["motion"][r, k, j], data.bl["period"][r, k, j]
-                ok = np.array([pred(a, b) for a, b in zip(m, n)])
+                    if cid in cs:
+                        word = _probe_word(cid, cs)
+                        ok &= np.array([word(m, n) for m, n in zip(var["motion"][i, j], var["period"][i, j])])
+                tab.add(cid, Reading(*pair).text, "probes hold", ok, pair, "")
+    # Table 3 (the ω where each row's motion holds), BL-IMPACT, BL-AMP and their joint test with the Table 3
+    # sequence (F2), per backlash reading and phase pair
+    n_joint = n_seq = 0
+    for r, key in enumerate(BACKLASH_READINGS):
+        for j, pair in enumerate(data.pairs_one):
+            lab = _bl_reading(key, pair)
+            seq = np.ones(W.size, dtype=bool)
+            for k, cid in enumerate(claim_ids("T3-")):
+                pred, n = _pred(cid), data.bl["period"][r, k, j]
+                ok = np.array([pred(a, b) for a, b in zip(data.bl["motion"][r, k, j], n)])
+                seq &= ok
                 if CLAIMS[cid].numbers["lyapunov"] == "near zero":  # near a change of motion: λ1 can be near zero
                     edge = np.zeros_like(ok)
                     edge[1:] |= n[1:] != n[:-1]
                     edge[:-1] |= n[1:] != n[:-1]
-                    ok &= edge
-                ws = W[ok]
-                okmap.setdefault(cid, []).append(ok)
-                rows[cid].append(
-                    ReadingRow(
-                        _bl_reading(key, pair),
-                        f"motion holds {at_omegas(ws)}",
-                        "screen",
-                    )
-                )
-                cands[cid] += [(float(w), pair, key) for w in ws]
-    # BL-IMPACT, BL-AMP and their joint test with the Table 3 sequence (F2)
-    joint = _backlash_rows(data, rows, cands, okmap)
-    ids = [c for c in CLAIMS if c in okmap]
+                    ok = ok & edge
+                tab.add(cid, lab, "motion holds", ok, pair, key)
+            ok_imp = np.all(data.bl["impact"][r, :, j, :] == SINGLE_SIDED, axis=0)
+            ok_amp = np.all(np.diff(data.bl["amplitude"][r, :, j, :], axis=0) > 0, axis=0)
+            n_joint += int(np.sum(seq & ok_imp))
+            n_seq += int(np.sum(seq))
+            for cid, ok, what in (
+                ("BL-IMPACT", ok_imp, "single-sided at all three b"),
+                ("BL-AMP", ok_amp, "amplitude grows with b"),
+            ):
+                tab.add(cid, lab, what, ok, pair, key, yes_no(ok.any()))
+    joint = (
+        f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided "
+        f"impacts hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not "
+        "depend on D)"
+    )
+    rows, cands = tab.rows, tab.cands
+    ids = [c for c in CLAIMS if c in tab.okmap]
     ctx.save(
         "readings_damping",
         xr.Dataset(
-            {"hold_fraction": (("claim", "omega"), np.array([np.mean(okmap[c], axis=0) for c in ids]))},
+            {"hold_fraction": (("claim", "omega"), np.array([np.mean(tab.okmap[c], axis=0) for c in ids]))},
             coords={"claim": ids, "omega": W},
             attrs={"geardyn_kind": "readings_map", "model": json_attr(ctx.base), "default_omega": s.omega_damping},
         ),
@@ -390,78 +475,65 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     # confirm the candidates nearest the default of every claim that fails at the default reading
     ver: list[Verification] = []
     for cid, cs in cands.items():
-        if findings[cid].verdict == "reproduced":
-            continue
-        if cid.startswith("T3-"):
-            n_pts = 1
-        elif cid.startswith("BL-"):
-            n_pts = len(TABLE3_B)
-        elif cid in ("XI0-BIF", "XI1-CHAOS"):
-            n_pts = len(xi0_grid if cid == "XI0-BIF" else xi1_grid)
-        else:
-            param = str(CLAIMS[cid].numbers["param"])
-            n_pts = len(in_range(cid, xi0_grid if param == "xi0" else xi1_grid))
-        for w, pair, key in _order(cs)[: max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]:
-            rd = Reading(pair[0], pair[1], key, w)
-            if cid.startswith("T3-"):
-                b = CLAIMS[cid].numbers["b"]
-                ver.append(Verification(cid, rd, "D", [rd.D(b)], _t3_judge(cid)))
-            elif cid.startswith("BL-"):
-                ver.append(Verification(cid, rd, "D", [rd.D(b) for b in TABLE3_B], _bl_judge(cid)))
-            elif cid == "XI1-CHAOS":
-                ver.append(Verification(cid, rd, "xi1", xi1_grid, _xi1_chaos_judge(xi1_grid)))
-            elif cid == "XI0-BIF":
-                ver.append(Verification(cid, rd, "xi0", xi0_grid, _xi0_bif_judge(xi0_grid)))
-            else:  # a range claim: the grid over its interval
-                param = str(CLAIMS[cid].numbers["param"])
-                grid = in_range(cid, xi0_grid if param == "xi0" else xi1_grid)
-                ver.append(Verification(cid, rd, param, grid, _range_judge(cid, param, grid)))
+        if findings[cid].verdict != "reproduced":
+            n_pts = len(_verification(cid, Reading(), grids).values)
+            ver += [
+                _verification(cid, Reading(pair[0], pair[1], key, w), grids)
+                for w, pair, key in _order(cs)[: max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]
+            ]
     # the readings that agree best with Tables 2 and 3 on the screen, computed in full for the tables
     best2, best3 = _best_t2(data), _best_t3(data)
-    for cid in claim_ids("T2-"):
-        param = str(CLAIMS[cid].numbers["param"])
-        grid = in_range(cid, xi0_grid if param == "xi0" else xi1_grid)
-        ver.append(Verification("TAB:" + cid, best2, param, grid, _range_judge(cid, param, grid)))
-    for cid in claim_ids("T3-"):
-        ver.append(Verification("TAB:" + cid, best3, "D", [best3.D(CLAIMS[cid].numbers["b"])], _t3_judge(cid)))
+    ver += [
+        replace(_verification(cid, best, grids), cid="TAB:" + cid)
+        for prefix, best in (("T2-", best2), ("T3-", best3))
+        for cid in claim_ids(prefix)
+    ]
     results = _verify(ctx, ver)
     tables = {v.cid[4:]: (v.reading, ok, txt) for v, (ok, txt) in zip(ver, results) if v.cid.startswith("TAB:")}
     for v, (ok, txt) in zip(ver, results):
-        if v.cid.startswith("TAB:"):
-            continue
-        rows[v.cid].append(ReadingRow(v.reading.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed"))
+        if not v.cid.startswith("TAB:"):
+            rows[v.cid].append(
+                ReadingRow(v.reading.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed")
+            )
     for cid, rs in rows.items():
         f = findings[cid]
         head = ReadingRow(
             "default: ω = 1, φ_c1 = 0, φ_k1 = 0" + (", D = b/(2 mm)" if cid.startswith(("T3", "BL")) else ""),
             "see the study (full computation)",
-            "yes" if f.verdict == "reproduced" else "no",
+            yes_no(f.verdict == "reproduced"),
         )
         f.readings = [["reading", "result", "holds"]] + [[r.reading, r.result, r.holds] for r in [head] + rs]
-        if f.verdict != "reproduced":
-            ok = [v for v, (o, _) in zip(ver, results) if o and v.cid == cid]
-            ok += [v for v, (o, _) in zip(ver, results) if o and v.cid == "TAB:" + cid]
-            if ok:
-                f.verdict, f.reading = "reproduced under a reading", ok[0].reading.text
-                f.deciding = (
-                    f"holds under {ok[0].reading.text} ({ok[0].reading.changes() or 'default'}), confirmed by a "
-                    f"full computation; fails at the default reading"
-                )
-            else:
-                tried = sum(1 for r in rs if r.holds == "screen")
-                n_c = len(cands.get(cid, []))
-                n_v = sum(v.cid == cid for v in ver)
-                f.deciding = (
-                    f"fails at the default reading; the screen of {tried} reading families × {W.size} ω gives "
-                    f"{n_c} candidate readings"
-                    + (f", and the {n_v} nearest the default fail in a full computation" if n_v else "")
-                    + joint.get(cid, "")
-                )
-                if "quasi" in str(CLAIMS[cid].numbers.get("motion", "")):
-                    f.deciding += "; by F1 its 'quasi-n-periodic' can only be period-n, which is what was tested"
-        else:
+        if f.verdict == "reproduced":
             f.deciding = "holds at the default reading (full computation)"
+            continue
+        # the claim's own confirmations come first in ``ver``, then those of the tables
+        ok = [v for v, (o, _) in zip(ver, results) if o and v.cid in (cid, "TAB:" + cid)]
+        if ok:
+            f.verdict, f.reading = "reproduced under a reading", ok[0].reading.text
+            f.deciding = (
+                f"holds under {ok[0].reading.text} ({ok[0].reading.changes() or 'default'}), confirmed by a "
+                f"full computation; fails at the default reading"
+            )
+        else:
+            tried = sum(1 for r in rs if r.holds == "screen")
+            n_v = sum(v.cid == cid for v in ver)
+            f.deciding = (
+                f"fails at the default reading; the screen of {tried} reading families × {W.size} ω gives "
+                f"{len(cands.get(cid, []))} candidate readings"
+                + (f", and the {n_v} nearest the default fail in a full computation" if n_v else "")
+                + (joint if cid in ("BL-IMPACT", "T3-1", "T3-2", "T3-3") else "")
+            )
+            if "quasi" in str(CLAIMS[cid].numbers.get("motion", "")):
+                f.deciding += "; by F1 its 'quasi-n-periodic' can only be period-n, which is what was tested"
     return {"rows": rows, "tables": tables, "best2": best2, "best3": best3}
+
+
+def _best(data: ScreenData, score: np.ndarray, pairs: list[tuple[float, float]], keys: Sequence[str]) -> Reading:
+    """The reading of highest ``score`` (backlash reading, phase pair, ω) on the screen (ties: nearest the default)."""
+    score = np.reshape(score, (len(keys), len(pairs), data.omegas.size))
+    cands = [(float(data.omegas[w]), pairs[j], keys[r]) for r, j, w in zip(*np.nonzero(score == score.max()))]
+    w, pair, key = _order(cands)[0]
+    return Reading(pair[0], pair[1], key, w)
 
 
 def _best_t2(data: ScreenData) -> Reading:
@@ -470,20 +542,14 @@ def _best_t2(data: ScreenData) -> Reading:
     for probes, var in ((XI0_PROBES[:3], data.xi0), (XI1_PROBES, data.xi1)):
         for i, (_, cs) in enumerate(probes):
             score += np.vectorize(_pred(cs[0]))(var["motion"][i], var["period"][i])
-    cands = [(float(data.omegas[w]), data.pairs_full[j], "") for j, w in zip(*np.nonzero(score == score.max()))]
-    w, pair, _ = _order(cands)[0]
-    return Reading(pair[0], pair[1], "", w)
+    return _best(data, score, data.pairs_full, ("",))
 
 
 def _best_t3(data: ScreenData) -> Reading:
     """The (backlash reading, phases, ω) where most Table 3 rows hold on the screen (ties: nearest the default)."""
-    preds = [_pred(c) for c in claim_ids("T3-")]
     m, n = data.bl["motion"], data.bl["period"]
-    score = sum(np.vectorize(p)(m[:, k], n[:, k]) for k, p in enumerate(preds))
-    keys = list(BACKLASH_READINGS)
-    cands = [(float(data.omegas[w]), data.pairs_one[j], keys[r]) for r, j, w in zip(*np.nonzero(score == score.max()))]
-    w, pair, key = _order(cands)[0]
-    return Reading(pair[0], pair[1], key, w)
+    score = sum(np.vectorize(_pred(c))(m[:, k], n[:, k]) for k, c in enumerate(claim_ids("T3-")))
+    return _best(data, score, data.pairs_one, list(BACKLASH_READINGS))
 
 
 def _bl_reading(key: str, pair: tuple[float, float]) -> str:
@@ -491,18 +557,13 @@ def _bl_reading(key: str, pair: tuple[float, float]) -> str:
     return f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
 
 
-def _probe_word(cid: str, i: int, probes: Sequence[tuple[float, tuple[str, ...]]]) -> Callable[[int, int], bool]:
-    """The motion a probe must show for a claim: its own motion, or (for the sequences) the row it stands for."""
-    val = probes[i][0]
-    if cid == "XI0-BIF":
-        row = {0.05: "T2-1", 0.08: "T2-2", 0.2: "T2-3", 0.9: "T2-1"}[val]
-        return _pred(row)
-    if cid == "XI1-CHAOS":
-        return _pred("T2-4" if val < 0.03 else "T2-5")
-    return _pred(cid)
+def _probe_word(cid: str, cs: Sequence[str]) -> Callable[[int, int], bool]:
+    """The motion a probe (testing the claims ``cs``) must show for a claim: its own motion, or for the sequences
+    that of the Table 2 row the probe stands for (the probe of chaos again at high ξ0: row 1's)."""
+    return _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
 
 
-def _bl_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+def _bl_judge(cid: str) -> Judge:
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
         if cid == "BL-IMPACT":
@@ -514,8 +575,8 @@ def _bl_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
     return judge
 
 
-def _xi1_chaos_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
-    low, high = _range_judge("T2-4", "xi1", values), _range_judge("T2-5", "xi1", values)
+def _xi1_chaos_judge(values: Sequence[float]) -> Judge:
+    low, high = _range_judge("T2-4", values), _range_judge("T2-5", values)
 
     def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
         (a, ta), (b, tb) = low(r), high(r)
@@ -524,81 +585,24 @@ def _xi1_chaos_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]
     return judge
 
 
-def _backlash_rows(
-    data: ScreenData,
-    rows: dict[str, list[ReadingRow]],
-    cands: dict[str, list[tuple[float, tuple[float, float], str]]],
-    okmap: dict[str, list[np.ndarray]],
-) -> dict[str, str]:
-    """BL-IMPACT and BL-AMP rows, and the joint test with the Table 3 sequence (by F2 it cannot hold)."""
-    W = data.omegas
-    preds = [_pred(c) for c in claim_ids("T3-")]
-    rows["BL-IMPACT"], rows["BL-AMP"] = [], []
-    cands["BL-IMPACT"], cands["BL-AMP"] = [], []
-    n_joint = n_seq = 0
-    for r, key in enumerate(BACKLASH_READINGS):
-        for j, pair in enumerate(data.pairs_one):
-            imp = data.bl["impact"][r, :, j, :]  # (b, ω)
-            amp = data.bl["amplitude"][r, :, j, :]
-            ok_imp = np.all(imp == SINGLE_SIDED, axis=0)
-            ok_amp = np.all(np.diff(amp, axis=0) > 0, axis=0)
-            seq = np.all(
-                [
-                    [p(m, n) for m, n in zip(data.bl["motion"][r, k, j], data.bl["period"][r, k, j])]
-                    for k, p in enumerate(preds)
-                ],
-                axis=0,
-            )
-            n_joint += int(np.sum(seq & ok_imp))
-            n_seq += int(np.sum(seq))
-            lab = _bl_reading(key, pair)
-            okmap.setdefault("BL-IMPACT", []).append(ok_imp)
-            okmap.setdefault("BL-AMP", []).append(ok_amp)
-            cands["BL-IMPACT"] += [(float(w), pair, key) for w in W[ok_imp]]
-            cands["BL-AMP"] += [(float(w), pair, key) for w in W[ok_amp]]
-            rows["BL-IMPACT"].append(
-                ReadingRow(lab, f"single-sided at all three b {at_omegas(W[ok_imp])}", "yes" if ok_imp.any() else "no")
-            )
-            rows["BL-AMP"].append(
-                ReadingRow(lab, f"amplitude grows with b {at_omegas(W[ok_amp])}", "yes" if ok_amp.any() else "no")
-            )
-    note = (
-        f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided "
-        f"impacts hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not "
-        "depend on D)"
-    )
-    return {c: note for c in ("BL-IMPACT", "T3-1", "T3-2", "T3-3")}
-
-
 def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]:
     """Every confirmation in one call of the sweep engine, doubtful labels re-examined (F1)."""
     if not ver:
         return []
     s = ctx.settings
-    rows = []
+    rows, single = [], []
     for v in ver:
         v.start = len(rows)
-        for x in v.values:
-            p = {
-                "omega": v.reading.omega,
-                "phi_c1": v.reading.phi_c,
-                "phi_k1": v.reading.phi_k,
-                "xi0": TABLE1["xi0"],
-                "xi1": TABLE1["xi1"],
-                "D": 1.0,
-            }
-            p[v.param] = x
-            rows.append([p[n] for n in NAMES])
+        p = {"omega": v.reading.omega, "phi_c1": v.reading.phi_c, "phi_k1": v.reading.phi_k, **TABLE1, "D": 1.0}
+        rows += [[{**p, v.param: x}[n] for n in NAMES] for x in v.values]
+        single += [v.param == "D"] * len(v.values)
     pts = np.asarray(rows, dtype=float)
     ctx.log(f"readings confirmation: {pts.shape[0]} points")
     # ranges as the default-reading diagrams are computed; single points (Table 3) with long exponent runs
-    single = np.zeros(len(rows), dtype=bool)
-    for v in ver:
-        single[v.start : v.start + len(v.values)] = v.param == "D"
     r: dict[str, list[Any]] = {}
     for sel, opts, lyap in (
-        (~single, s.options, False),
-        (single, IntegrationOptions(transient=s.transient, periods=max(s.periods, 2 * s.settle)), True),
+        (~np.array(single), s.options, False),
+        (np.array(single), IntegrationOptions(transient=s.transient, periods=max(s.periods, 2 * s.settle)), True),
     ):
         idx = np.flatnonzero(sel)
         if idx.size == 0:

@@ -21,28 +21,30 @@ from ...io import json_attr
 from ..claims import CLAIMS, claim_ids
 from ..readings import BACKLASH_READINGS, Reading, lockstep_responses, phase_pairs, response_jumps
 from ..report import Finding
-from ..settings import Context
+from ..settings import Context, ResponseKey
 from ..table1 import TABLE1
-from ..verdicts import FORMULA_R2_REPRODUCED, distinct_text, fluctuation_trend, jump_holds, jump_type_at
-from .formula import fit_formula
-from .jumps import FLUCT_AFTER, JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR, _monotone, first_up_jump
+from ..verdicts import (
+    FORMULA_R2_REPRODUCED,
+    distinct_text,
+    fluctuation_trend,
+    jump_holds,
+    jump_type_at,
+    strictly_monotone,
+    yes_no,
+)
+from .formula import fit_responses
+from .jumps import JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR, after_jump, first_up_jump
 
 __all__ = ["JUMP_KEYS", "JumpReadings", "jump_readings", "run_lockstep"]
 
-#: The responses of each reading: (ξ0, ξ1, b in mm).
-JUMP_KEYS: tuple[tuple[float, float, float], ...] = (
-    (0.08, 0.05, 0.5),
-    (0.1, 0.05, 0.5),
-    (0.15, 0.05, 0.5),
-    (0.08, 0.03, 0.5),
-    (0.08, 0.08, 0.5),
-    (0.08, 0.05, 0.2),
-    (0.08, 0.05, 0.7),
-    (0.08, 0.05, 1.5),
-)
+#: A claim's test under reading i of the lockstep responses: (holds, result).
+Test = Callable[[int], tuple[bool, str]]
+
 XI0_KEYS = ((0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5))
 XI1_KEYS = ((0.08, 0.03, 0.5), (0.08, 0.05, 0.5), (0.08, 0.08, 0.5))
 B_KEYS = ((0.08, 0.05, 0.2), (0.08, 0.05, 0.5), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
+#: The responses of each reading: (ξ0, ξ1, b in mm), those with ξ0, ξ1 and b varied, each once.
+JUMP_KEYS: tuple[ResponseKey, ...] = tuple(dict.fromkeys(XI0_KEYS + XI1_KEYS + B_KEYS))
 
 
 def _claim_keys() -> dict[str, set[int]]:
@@ -94,7 +96,7 @@ class JumpReadings:
     spread: np.ndarray
     jumps: list[list[list[dict[str, Any]]]]  # [reading][key] -> jumps
 
-    def key(self, k: tuple[float, float, float]) -> int:
+    def key(self, k: ResponseKey) -> int:
         return JUMP_KEYS.index(k)
 
 
@@ -165,37 +167,31 @@ def run_lockstep(
 
 
 def _fluct(jr: JumpReadings, i: int, k: int) -> float:
-    j = first_up_jump(jr.jumps[i][k])
-    after = (j["omega"] if j else LOW_OMEGA) + FLUCT_AFTER
-    sel = jr.omega > after
-    v = jr.spread[i, k, 0, sel]
+    v = jr.spread[i, k, 0, jr.omega > after_jump(jr.jumps[i][k])]
     return float(np.nanmean(v)) if v.size else float("nan")
 
 
-def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
+def _tests(jr: JumpReadings) -> dict[str, Test]:
     """Claim id → the test of the claim under reading i: (holds, result)."""
     K = jr.key
     W = jr.omega
 
     def low(i: int) -> tuple[bool, str]:
-        bad = []
-        for k in range(len(JUMP_KEYS)):
-            js = [j for j in jr.jumps[i][k] if j["omega"] < LOW_OMEGA]
-            a = jr.amplitude[i, k]
+        sel, bad = W < LOW_OMEGA, 0
+        for js, a in zip(jr.jumps[i], jr.amplitude[i]):
             rng = float(np.nanmax(a) - np.nanmin(a)) or 1.0
-            sel = W < LOW_OMEGA
-            dis = bool(np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * rng))
-            if js or dis:
-                bad.append(k)
-        return not bad, f"steady below ω = {LOW_OMEGA:g} in {len(JUMP_KEYS) - len(bad)} of {len(JUMP_KEYS)} responses"
+            bad += any(j["omega"] < LOW_OMEGA for j in js) or bool(
+                np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * rng)
+            )
+        return not bad, f"steady below ω = {LOW_OMEGA:g} in {len(JUMP_KEYS) - bad} of {len(JUMP_KEYS)} responses"
 
-    def sizes(keys, decreasing: bool, lab: str, pos: int) -> Callable[[int], tuple[bool, str]]:
+    def sizes(keys, decreasing: bool, lab: str, pos: int) -> Test:
         def t(i: int) -> tuple[bool, str]:
             js = [first_up_jump(jr.jumps[i][K(k)]) for k in keys]
             if not all(js):
                 return False, f"an upward jump above ω = {LOW_OMEGA:g} in {sum(map(bool, js))} of {len(js)} responses"
             sz = [j["size"] for j in js]  # type: ignore[index]
-            ok = _monotone(sz, decreasing)
+            ok = strictly_monotone(sz, decreasing)
             return ok, "sizes " + ", ".join(f"{lab} = {k[pos]:g}: {v}" for k, v in zip(keys, distinct_text(sz)))
 
         return t
@@ -219,7 +215,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
         ok = all(j is not None and abs(j["omega"] - at) <= JUMP_NEAR for j in js)
         return ok, "first upward jumps at ω = " + ", ".join(f"{j['omega']:.3f}" if j else "–" for j in js)
 
-    def located(cid: str) -> Callable[[int], tuple[bool, str]]:
+    def located(cid: str) -> Test:
         b, w, d = (CLAIMS[cid].numbers[k] for k in ("b", "omega", "direction"))
         k = K((0.08, TABLE1["xi1"], b))
 
@@ -231,7 +227,7 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
 
         return t
 
-    def table4(cid: str) -> Callable[[int], tuple[bool, str]]:
+    def table4(cid: str) -> Test:
         w, x0, b, A, kind = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A", "jump"))
         k = K((x0, TABLE1["xi1"], b))
         g = int(np.argmin(np.abs(W - w)))
@@ -246,15 +242,8 @@ def _tests(jr: JumpReadings) -> dict[str, Callable[[int], tuple[bool, str]]]:
         return t
 
     def formula(i: int) -> tuple[bool, str]:
-        rows = []
-        rd = jr.readings[i]
-        for k, (x0, x1, b) in enumerate(JUMP_KEYS):
-            if x1 != TABLE1["xi1"]:
-                continue
-            rows.append(np.column_stack([W, np.full_like(W, x0), np.full_like(W, b), jr.amplitude[i, k, 0]]))
-        d = np.vstack(rows)
-        fit = fit_formula(d[:, 0], d[:, 1], d[:, 2], d[:, 3])
-        return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({rd.backlash})"
+        _, fit = fit_responses((*key, W, jr.amplitude[i, k, 0]) for k, key in enumerate(JUMP_KEYS))
+        return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({jr.readings[i].backlash})"
 
     tests = {
         "JUMP-LOW": low,
@@ -293,24 +282,20 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
     """
     out = {}
     need: dict[str, list[int]] = {}
+    i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
     for cid, test in _tests(jr).items():
         res = [test(i) for i in range(len(jr.readings))]
         out[cid] = res
         f = findings[cid]
         f.evidence.append(ctx.datasets["readings_responses"])
         f.readings = [["reading", "result", "holds"]] + [
-            [rd.text + (" (default)" if rd.is_default else ""), txt, "yes" if ok else "no"]
+            [rd.text + (" (default)" if rd.is_default else ""), txt, yes_no(ok)]
             for rd, (ok, txt) in zip(jr.readings, res)
         ]
-        i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
         # at the default reading the study's full responses decide; the lockstep rows are the other readings
-        full_default = f.verdict == "reproduced"
         holding = [i for i, (ok, _) in enumerate(res) if ok and i != i_def]
-        if full_default:
-            f.verdict, f.deciding = (
-                "reproduced",
-                f"holds at the default reading (full responses); lockstep: {res[i_def][1]}",
-            )
+        if f.verdict == "reproduced":
+            f.deciding = f"holds at the default reading (full responses); lockstep: {res[i_def][1]}"
         elif holding:
             need[cid] = holding[: CONFIRM_SINGLE if len(CLAIM_KEYS[cid]) <= 2 else 1]
             f.deciding = f"{len(holding)} of {len(res) - 1} other readings hold in the lockstep responses"

@@ -5,8 +5,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ..readings import BACKLASH_READINGS, PHASES, phase_text
-from ..report import VERDICTS, Finding, Section
+from ..report import Finding, Section, verdict_counts
 from ..settings import Context
+from ..verdicts import yes_no
 
 __all__ = ["fixed_readings", "readings_section"]
 
@@ -27,7 +28,7 @@ def fixed_readings(findings: Mapping[str, Finding]) -> None:
             [
                 "the paper's κ1 = 0.2 (no phase, backlash or ω enters the closed form)",
                 f.computed,
-                "yes" if f.verdict == "reproduced" else "no",
+                yes_no(f.verdict == "reproduced"),
             ],
         ]
         f.deciding = f.deciding or (
@@ -73,8 +74,7 @@ def readings_section(ctx: Context, findings: Mapping[str, Finding]) -> Section:
         rows = f.readings[1:]
         hold = sum(r[2] in ("yes", "confirmed") for r in rows)
         table.append([cid, str(len(rows)), str(hold), f.verdict, f.reading or "–"])
-    counts = {v: sum(f.verdict == v for f in findings.values()) for v in VERDICTS}
-    text.append("Verdicts: " + ", ".join(f"{n} {v}" for v, n in counts.items()) + ".")
+    text.append("Verdicts: " + verdict_counts(findings.values()) + ".")
     figs = []
     if "readings_damping" in ctx.datasets:
         w0, w1 = ctx.settings.readings_omegas[0], ctx.settings.readings_omegas[-1]

@@ -187,18 +187,15 @@ def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
         f"{s.continuation_omega[1]:g}] ({model_text(ctx.model_at(key), skip=('omega',))})",
     )
     bifs = (
-        [
-            {"type": str(t), "omega": float(w)}
-            for t, w in zip(branch["bifurcation_type"].values, branch["bifurcation_omega"].values)
-        ]
+        [(str(t), float(w)) for t, w in zip(branch["bifurcation_type"].values, branch["bifurcation_omega"].values)]
         if "bifurcation" in branch.dims
         else []
     )
-    folds = sorted(b["omega"] for b in bifs if b["type"] == "fold")
+    folds = sorted(w for t, w in bifs if t == "fold")
     hyst = hysteresis_of(jd.responses[key])
     first = [h for h in hyst if h[1] >= s.continuation_omega[0] and h[0] <= s.continuation_omega[1]]
     events = (
-        (", ".join(f"{b['type']} at ω = {b['omega']:.4f}" for b in bifs) + ".")
+        (", ".join(f"{t} at ω = {w:.4f}" for t, w in bifs) + ".")
         if bifs
         else "no fold, period doubling or other event on this interval."
     )

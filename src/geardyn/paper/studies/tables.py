@@ -11,8 +11,8 @@ import numpy as np
 from ..claims import CLAIMS, claim_ids
 from ..report import Section
 from ..settings import Context
-from ..verdicts import describe_motion, length_fraction, motion_fields, motion_rule, motion_runs, range_of, runs_text
-from .readings import claim_range
+from ..verdicts import describe_motion, motion_fields, motion_runs, range_of, runs_text, yes_no
+from .readings import claim_range, range_match
 from .readings_jumps import JumpReadings
 
 __all__ = ["study_tables"]
@@ -33,13 +33,10 @@ def _default_t2(ctx: Context, cid: str) -> str:
     ds = ctx.pending.get(f"{param}_bifurcation")
     if ds is None:
         return "–"
-    lo, hi, lo_open, hi_open = claim_range(cid)
-    pred, _ = motion_rule(CLAIMS[cid].numbers["motion"])
+    lo, hi, _, _ = claim_range(cid)
+    frac, _ = range_match(ds, cid)
     x = ds[param].values
-    m, n, l = motion_fields(ds)
-    ok = [pred(int(a), int(b), int(c)) for a, b, c in zip(m, n, l)]
-    frac, _ = length_fraction(x, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
-    inside = (x >= max(lo, x.min()) - 1e-12) & (x <= min(hi, x.max()) + 1e-12)
+    inside = (x >= lo - 1e-12) & (x <= hi + 1e-12)
     sub = ds.isel({param: np.flatnonzero(inside)}) if inside.any() else ds
     return f"{100 * frac:.0f} % of the length; {runs_text(motion_runs(sub, param))}"
 
@@ -94,7 +91,7 @@ def study_tables(
                 CLAIMS[cid].numbers["motion"],
                 _default_t2(ctx, cid),
                 txt_b,
-                f"{'yes' if ok_d else 'no'} / {'yes' if ok_b else 'no'}",
+                f"{yes_no(ok_d)} / {yes_no(ok_b)}",
             ]
         )
     pts = ctx.pending.get("backlash_table3")
@@ -117,7 +114,7 @@ def study_tables(
         else:
             dtxt = "–"
         _, ok_b, txt_b = tabs.get(cid, (None, False, "–"))
-        t3.append([f"{nb['b']:g}", nb["motion"], nb["lyapunov"], dtxt, txt_b, "yes" if ok_b else "no"])
+        t3.append([f"{nb['b']:g}", nb["motion"], nb["lyapunov"], dtxt, txt_b, yes_no(ok_b)])
     i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
     t4ids = claim_ids("T4-")
     score = [sum(jres[c][i][0] for c in t4ids) for i in range(len(jr.readings))]
@@ -147,7 +144,7 @@ def study_tables(
                 nb["jump"],
                 td,
                 tb,
-                f"{'yes' if okd else 'no'} / {'yes' if okb else 'no'}",
+                f"{yes_no(okd)} / {yes_no(okb)}",
             ]
         )
     if findings is not None:
