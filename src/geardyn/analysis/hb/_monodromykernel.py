@@ -187,40 +187,49 @@ def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, inv_nu, vy, bq, bx, xs):
 
 
 @njit(cache=True)
-def _state_step(h, x, out, kv, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages):
-    """One locked RK4 step of the state from ``x`` into ``out`` (``kv``: the four stages' rates, then a work row);
-    c0, c1, c2: the series at the step's start, middle and end; the four stages' states into ``stages`` (for the
-    bearings' stiffness of the tangent step)."""
-    cs, tmp = (c0, c1, c1, c2), kv[4]
-    for i in range(4):
-        if i:
-            f = (0.5 if i < 3 else 1.0) * h
-            for r in range(x.shape[0]):
-                tmp[r] = x[r] + f * kv[i - 1, r]
-        src = x if i == 0 else tmp
-        stages[i] = src
-        _state_rhs(src, kv[i], A, B, W, V, sp, cs[i], D, reg, inv_nu, nu, bq, bx)
-    for r in range(x.shape[0]):
-        out[r] = x[r] + h / 6.0 * (kv[0, r] + 2.0 * kv[1, r] + 2.0 * kv[2, r] + kv[3, r])
+def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages):
+    """One locked RK4 step of the state from ``x`` into ``out``; c0, c1, c2: the series at the step's start,
+    middle and end; the four stages' states into ``stages`` (for the bearings' stiffness of the tangent step)."""
+    n2 = x.shape[0]
+    stages[0] = x
+    _state_rhs(x, k1, A, B, W, V, sp, c0, D, reg, inv_nu, nu, bq, bx)
+    for r in range(n2):
+        tmp[r] = x[r] + 0.5 * h * k1[r]
+    stages[1] = tmp
+    _state_rhs(tmp, k2, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
+    for r in range(n2):
+        tmp[r] = x[r] + 0.5 * h * k2[r]
+    stages[2] = tmp
+    _state_rhs(tmp, k3, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
+    for r in range(n2):
+        tmp[r] = x[r] + h * k3[r]
+    stages[3] = tmp
+    _state_rhs(tmp, k4, A, B, W, V, sp, c2, D, reg, inv_nu, nu, bq, bx)
+    for r in range(n2):
+        out[r] = x[r] + h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r])
 
 
 @njit(cache=True)
-def _tangent_step(h, Y, kv, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
-    """One locked RK4 step of the fundamental matrix, in place (``kv`` as for :func:`_state_step`; the dead zones'
-    stiffness does not depend on the state inside a region; the bearings' is taken at the ``stages`` of the state's
-    step)."""
+def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
+    """One locked RK4 step of the fundamental matrix, in place (the dead zones' stiffness does not depend on the
+    state inside a region; the bearings' is taken at the ``stages`` of the state's step)."""
     n2, m = Y.shape
-    cs, tmp = (c0, c1, c1, c2), kv[4]
-    for i in range(4):
-        if i:
-            f = (0.5 if i < 3 else 1.0) * h
-            for r in range(n2):
-                for j in range(m):
-                    tmp[r, j] = Y[r, j] + f * kv[i - 1, r, j]
-        _tangent_rhs(Y if i == 0 else tmp, kv[i], A, B, W, V, sp, cs[i], reg, inv_nu, vy, bq, bx, stages[i])
+    _tangent_rhs(Y, k1, A, B, W, V, sp, c0, reg, inv_nu, vy, bq, bx, stages[0])
     for r in range(n2):
         for j in range(m):
-            Y[r, j] += h / 6.0 * (kv[0, r, j] + 2.0 * kv[1, r, j] + 2.0 * kv[2, r, j] + kv[3, r, j])
+            tmp[r, j] = Y[r, j] + 0.5 * h * k1[r, j]
+    _tangent_rhs(tmp, k2, A, B, W, V, sp, c1, reg, inv_nu, vy, bq, bx, stages[1])
+    for r in range(n2):
+        for j in range(m):
+            tmp[r, j] = Y[r, j] + 0.5 * h * k2[r, j]
+    _tangent_rhs(tmp, k3, A, B, W, V, sp, c1, reg, inv_nu, vy, bq, bx, stages[2])
+    for r in range(n2):
+        for j in range(m):
+            tmp[r, j] = Y[r, j] + h * k3[r, j]
+    _tangent_rhs(tmp, k4, A, B, W, V, sp, c2, reg, inv_nu, vy, bq, bx, stages[3])
+    for r in range(n2):
+        for j in range(m):
+            Y[r, j] += h / 6.0 * (k1[r, j] + 2.0 * k2[r, j] + 2.0 * k3[r, j] + k4[r, j])
 
 
 @njit(cache=True)
@@ -230,7 +239,8 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
     n2, m, ne, inv_nu = x.shape[0], Y.shape[1], W.shape[0], 1.0 / nu
     sv, kv, cv = np.empty((7, n2)), np.empty((5, n2, m)), np.empty((5, 6, max(A.shape[0], ne)))
     stages = np.empty((4, n2))
-    xe, xt = sv[5], sv[6]
+    s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
+    k1, k2, k3, k4, tmp = kv[0], kv[1], kv[2], kv[3], kv[4]
     c0, c1, c2, t1, t2 = cv[0], cv[1], cv[2], cv[3], cv[4]
     vy = np.empty((7, m))
     trig = np.empty((2, 1 + max(Cz.shape[1], Kz.shape[1], Ez.shape[1], Gz.shape[1]) // 2))
@@ -246,7 +256,7 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
         _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
         _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
         _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
-        _state_step(h, x, xe, sv, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
+        _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
         for r in range(n2):
             if not math.isfinite(xe[r]):
                 return -1, switches
@@ -268,7 +278,9 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                     c = 0.5 * (a + b)
                 _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1, trig)
                 _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t2, trig)
-                _state_step(c, x, xt, sv, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu, bq, bx, stages)
+                _state_step(
+                    c, x, xt, s1, s2, s3, s4, st, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu, bq, bx, stages
+                )
                 fc = _deflection(xt, e, V, sp[2], sp[3], t2) - level
                 if fc == 0.0 or b - a <= tol * (1.0 + phi):
                     break
@@ -288,9 +300,12 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
             if first >= 0:
                 _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
                 _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
-                _state_step(hs, x, xe, sv, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
-            _tangent_step(hs, Y, kv, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
-            x[:] = xe
+                _state_step(
+                    hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages
+                )
+            _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
+            for r in range(n2):
+                x[r] = xe[r]
             phi += hs  # (h when no element changed region)
             steps += 1
         if first >= 0:

@@ -79,9 +79,7 @@ class HarmonicBasis:
         H = int(self.H)
         if H < 1:
             raise ValueError(f"harmonics: must be >= 1, got {self.H!r}")
-        self.H = H
-        if not self.N:
-            self.N = time_samples(H)
+        self.H, self.N = H, self.N or time_samples(H)
         if self.N < 2 * H + 2:
             raise ValueError(f"samples: need N > 2H + 1 = {2 * H + 1}, got {self.N}")
         self.k = np.arange(-H, H + 1)

@@ -436,9 +436,7 @@ class _Tracer:
     def correct(self, y0: np.ndarray, normal: np.ndarray, ref_t: np.ndarray) -> _Pt | None:
         """The point of the branch in the hyperplane through ``y0`` normal to ``normal`` (Newton; a sparse Jacobian's
         factors are kept while the residual falls by CHORD_RATE an iteration), or None."""
-        y = y0.copy()
-        F = np.empty(self.M + 1)
-        lu, r_last = None, math.inf
+        y, F, lu, r_last = y0.copy(), np.empty(self.M + 1), None, math.inf
         for it in range(CORRECTOR_MAX_ITER):
             try:
                 self.s._entry(self.p(y))  # (a ModelError: not a valid value of the parameter)
@@ -512,12 +510,11 @@ class _Tracer:
         if key is None or key.startswith("graze"):
             p = self.p(pt.y)
             gaps = [el.gap if el.rule is None else 0.0 for el in self.s._entry(p).form.elements]  # (a bearing: smooth)
-            ref = self.s.reference
             ext = self.s.element_extremes(pt.y[:-1], p) if len(gaps) > 1 else np.array([[pt.u_min, pt.u_max]])
             for e, D in enumerate(gaps):
                 if D <= 0:
                     continue
-                pre = "graze" if e == ref else f"graze{e}"
+                pre = "graze" if e == self.s.reference else f"graze{e}"
                 for side, v in (("min", ext[e, 0]), ("max", ext[e, 1])):
                     out[f"{pre}_{side}_plus"], out[f"{pre}_{side}_minus"] = v - D, v + D
         return out

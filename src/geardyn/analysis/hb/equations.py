@@ -365,9 +365,8 @@ class HBEquations:
                 f"{self.param}: the STE reaches harmonic {self._ste_harmonics(f)} of ν, above the {self.Hd} this "
                 f"harmonic balance was set up with"
             )
-        cut = self.hbasis.to_real
         E = tuple(self.dbasis.to_real(centred(e.E, self.Hd)) for e in f.elements)
-        G0, G2 = (np.array([cut(centred(g, self.H)) for g in G]) for G in (f.G0, f.G2))
+        G0, G2 = (np.array([self.hbasis.to_real(centred(g, self.H)) for g in G]) for G in (f.G0, f.G2))
         return _Point(m, f, E, G0, G2, self._pattern(f) if f.dofs > SPARSE_DOFS else None)
 
     def nu(self, p: float | None = None) -> float:
@@ -507,14 +506,12 @@ class HBEquations:
             lam = 1.0
             while lam >= NEWTON_MIN_DAMPING:
                 trial = a + lam * da
-                if not np.all(np.isfinite(trial)) or np.linalg.norm(trial) > DIVERGED_NORM:
-                    lam *= 0.5
-                    continue
-                Rt, Jt = self.residual(trial, p)
-                rt = float(np.linalg.norm(Rt))
-                if rt < (1.0 - 1e-4 * lam) * r:
-                    a, R, J, r = trial, Rt, Jt, rt
-                    break
+                if np.all(np.isfinite(trial)) and np.linalg.norm(trial) <= DIVERGED_NORM:
+                    Rt, Jt = self.residual(trial, p)
+                    rt = float(np.linalg.norm(Rt))
+                    if rt < (1.0 - 1e-4 * lam) * r:
+                        a, R, J, r = trial, Rt, Jt, rt
+                        break
                 lam *= 0.5
             else:
                 return a, Status.NOT_CONVERGED, it + 1, r

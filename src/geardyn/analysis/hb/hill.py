@@ -181,8 +181,7 @@ def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float
         2(n − r) exponents and multipliers (largest modulus first), their centroids, Liouville's error and
         the status.
     """
-    M = 2 * H + 1
-    ne = P.shape[1]
+    M, ne = 2 * H + 1, P.shape[1]
     count = 2 * ne
     if ne == 0:
         return NO_MULTIPLIERS

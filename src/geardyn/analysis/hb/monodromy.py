@@ -21,7 +21,6 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from scipy.linalg import block_diag
 
 from ...errors import ModelError
 from ...status import Status
@@ -145,7 +144,9 @@ def monodromy_floquet(
         float(np.max(np.abs(np.linalg.eigvals(kmax)))), float(np.linalg.norm(cmax, 2)))  # fmt: skip
     rate = math.sqrt(krad) + crad
     hmax = STEP_ANGLE * nu / max(rate, 1e-12)  # in φ
-    Q = block_diag(P, P)
+    Q = np.zeros((2 * n, count))  # diag(P, P) (scipy's block_diag costs 30 times this)
+    Q[:n, : count // 2] = P
+    Q[n:, count // 2 :] = P
     Dv = np.asarray(D, dtype=float)
     sp = (*_rows(np.logical_or(A != 0, B != 0)), *_rows(V != 0))  # the nonzeros the kernel sums over
 

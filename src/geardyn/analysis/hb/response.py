@@ -74,12 +74,10 @@ def _event_between(res: HBContinuation, i: int, j: int) -> HBBifurcation | None:
     chord = float(np.linalg.norm(aj - ai))
     best, dbest = None, math.inf
     for b in res.bifurcations:
-        if b.type not in STABILITY_EVENTS or b.coefficients.size < ai.size:
-            continue
-        bc = b.coefficients[: ai.size]  # a system's event also carries the gauge multipliers
-        d = float(np.linalg.norm(bc - ai) + np.linalg.norm(bc - aj))
-        if d < dbest:
-            best, dbest = b, d
+        if b.type in STABILITY_EVENTS and b.coefficients.size >= ai.size:
+            bc = b.coefficients[: ai.size]  # a system's event also carries the gauge multipliers
+            d = float(np.linalg.norm(bc - ai) + np.linalg.norm(bc - aj))
+            best, dbest = (b, d) if d < dbest else (best, dbest)
     return best if dbest <= 1.5 * chord + 1e-12 else None
 
 
