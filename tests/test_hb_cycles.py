@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from geardyn.analysis.hb import hb_continuation, hb_solve
+from geardyn.analysis.hb.equations import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
 from geardyn.analysis.hb.response import response_from_branch
-from geardyn.analysis.hb.solve import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
 from geardyn.analysis.periodic.orbit import shoot
 from geardyn.errors import ModelError
 from geardyn.model import GearModel

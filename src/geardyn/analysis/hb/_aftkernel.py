@@ -1,12 +1,11 @@
 """Compiled loops of the AFT dead-zone evaluation (see :mod:`.aft` for the method).
 
 The functions here are the scalar loops behind :func:`~geardyn.analysis.hb.aft.dead_zone_terms` and
-:func:`~geardyn.analysis.hb.aft.signal_extrema`: sampling u on the time grid, locating the contact
-switches by safeguarded Newton, the closed-form interval integrals of the contact indicator and
-the convolutions with the stiffness series, the residual with its Jacobian, ∂R/∂ω and the forcing
-series, and the real ↔ complex coefficient maps of :class:`~geardyn.analysis.hb.aft.HarmonicBasis`.
-``tests/test_hb_aft_reference.py`` holds the same method in vectorised NumPy and checks that the two
-agree to rounding.
+:func:`~geardyn.analysis.hb.aft.signal_extrema`: sampling u on the time grid, locating the contact switches by
+safeguarded Newton, the closed-form interval integrals of the contact indicator and the convolutions with the stiffness
+series, the residual with its Jacobian, ∂R/∂ω and the forcing series, and the real ↔ complex coefficient maps of
+:class:`~geardyn.analysis.hb.aft.HarmonicBasis`.  ``tests/test_hb_aft_reference.py`` holds the same method in vectorised
+NumPy and checks that the two agree to rounding.
 """
 
 from __future__ import annotations
@@ -27,9 +26,7 @@ _install_cache()  # the cache follows this directory's sources (see geardyn._cac
 @njit(cache=True)
 def _value(a, H, x):
     """u, u_φ and u_φφ at the angle x."""
-    u = a[0]
-    d1 = 0.0
-    d2 = 0.0
+    u, d1, d2 = a[0], 0.0, 0.0
     for k in range(1, H + 1):
         c, s = math.cos(k * x), math.sin(k * x)
         u += a[k] * c + a[H + k] * s
@@ -77,10 +74,8 @@ def _samples(a, H, cos_t, sin_t):
 @njit(cache=True)
 def _crossing(a, H, level, lo, hi, max_iter, tol):
     """Root of u = level in [lo, hi] (sign change assumed): Newton kept in the bracket, else bisection."""
-    flo = _value(a, H, lo)[0] - level
-    fhi = _value(a, H, hi)[0] - level
+    flo, fhi, x = _value(a, H, lo)[0] - level, _value(a, H, hi)[0] - level, 0.5 * (lo + hi)
     den = fhi - flo
-    x = 0.5 * (lo + hi)
     if den != 0.0:
         xi = lo - flo * (hi - lo) / den
         if math.isfinite(xi) and xi > lo and xi < hi:
@@ -121,18 +116,12 @@ def _convolved(K, x, t0, n):
 @njit(cache=True)
 def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
     """G (2H + 1), S (4H + 1) and the switch angles of K(θ) f(u; D) for real coefficients ``a``."""
-    N = cos_t.shape[0]
-    L = (K.shape[0] - 1) // 2
-    M = 2 * H + 1
-    c = to_complex(a, H)
-    u = _samples(a, H, cos_t, sin_t)
+    N, L, M = cos_t.shape[0], (K.shape[0] - 1) // 2, 2 * H + 1
+    c, u = to_complex(a, H), _samples(a, H, cos_t, sin_t)
     state = np.empty(N, dtype=np.int64)
     for j in range(N):
         state[j] = 1 if u[j] > D else (-1 if u[j] < -D else 0)
-    h = 2.0 * math.pi / N
-    nev = 0
-    ev_phi = np.empty(2 * N)
-    ev_new = np.empty(2 * N, dtype=np.int64)
+    h, nev, ev_phi, ev_new = 2.0 * math.pi / N, 0, np.empty(2 * N), np.empty(2 * N, dtype=np.int64)
     if D > 0.0:
         for side in (1, -1):
             for j in range(N):
@@ -145,14 +134,11 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
                 ev_new[nev] = side if (_value(a, H, x)[1] > 0) == (side > 0) else 0  # the state just after it
                 nev += 1
     Q = 2 * H + L
-    chi = np.zeros(2 * Q + 1, dtype=np.complex128)
-    sig = np.zeros(2 * Q + 1, dtype=np.complex128)
-    phis = np.empty(nev)
+    chi, sig, phis = np.zeros(2 * Q + 1, dtype=np.complex128), np.zeros(2 * Q + 1, dtype=np.complex128), np.empty(nev)
     if nev > 0:
         order = np.argsort(ev_phi[:nev])
         phis, news = ev_phi[order], ev_new[order]
-        prev = news[nev - 1]
-        start = 0.0
+        prev, start = news[nev - 1], 0.0
         for i in range(nev + 1):
             end = phis[i] if i < nev else 2.0 * math.pi
             if prev != 0:
@@ -166,8 +152,7 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
                     chi[qi] += v
                     sig[qi] += sv * v
             if i < nev:
-                start = phis[i]
-                prev = news[i]
+                start, prev = phis[i], news[i]
     else:
         s = 1 if D == 0.0 else state[0]
         if s != 0:
@@ -185,11 +170,8 @@ def dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol):
 def extrema_kernel(a, H, cos_t, sin_t, max_iter):
     """(u_min, u_max, φ_min, φ_max) with Newton on u_φ = 0 from the extreme samples."""
     u = _samples(a, H, cos_t, sin_t)
-    N = u.shape[0]
+    N, jmin, jmax, out = u.shape[0], np.argmin(u), np.argmax(u), np.empty(4)
     h = 2.0 * math.pi / N
-    jmin = np.argmin(u)
-    jmax = np.argmax(u)
-    out = np.empty(4)
     for w, j in enumerate((jmin, jmax)):
         x = 2.0 * math.pi * j / N
         lo, hi = x - h, x + h
@@ -247,8 +229,7 @@ def residual_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, jac)
     M = 2 * H + 1
     G, S, _phis = dead_zone_kernel(a, K, D, cos_t, sin_t, H, max_iter, tol)
     Fh = centred(G0, H) + nu * nu * centred(G2, H)
-    c = to_complex(a, H)
-    Lc = (C.shape[0] - 1) // 2
+    c, Lc = to_complex(a, H), (C.shape[0] - 1) // 2
     TcOm = np.zeros((M, M), dtype=np.complex128)
     for r in range(M):
         for l in range(M):
@@ -279,8 +260,7 @@ def bordered_nu_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, s
     for the caller)."""
     M = 2 * H + 1
     R, J = residual_kernel(a, nu, C, K, G0, G2, D, cos_t, sin_t, H, max_iter, tol, True)
-    c = to_complex(a, H)
-    k = np.arange(-H, H + 1)
+    c, k = to_complex(a, H), np.arange(-H, H + 1)
     dC = _convolved(1j * k * c, C, (C.shape[0] - 1) // 2, M)  # the damping's C (ik c)
     dRc = -2.0 * nu * k**2 * c + dC - 2.0 * nu * centred(G2, H)
     A = np.zeros((M + 1, M + 1))

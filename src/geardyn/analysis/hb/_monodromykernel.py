@@ -4,12 +4,12 @@
 
     q'' = G(φ) − A q − B q' − Σ_e W[e] (C_e(φ) δ_e' + K_e(φ) f(δ_e; D_e)),   δ_e = V[e]·q − E_e(φ),
 
-and the columns Y of a fundamental matrix of its variational equation (the stiffness K_e χ_e, χ_e = 1 in
-contact) from φ = 0 to 2π (d/dτ = ν d/dφ) with the classic RK4.  Each step runs with every element locked
-to the contact region (drive contact, gap, back contact) it is in at the step's start, so the vector
-field is smooth on the step; a step at whose end an element is in another region is shortened to end on
-the boundary (the step length found by an Illinois iteration on the locked step), so RK4 keeps its
-fourth order through the contact switches.  All series are centred complex coefficients in φ.
+and the columns Y of a fundamental matrix of its variational equation (the stiffness K_e χ_e, χ_e = 1 in contact)
+from φ = 0 to 2π (d/dτ = ν d/dφ) with the classic RK4.  Each step runs with every element locked to the contact region
+(drive contact, gap, back contact) it is in at the step's start, so the vector field is smooth on the step; a step at
+whose end an element is in another region is shortened to end on the boundary (the step length found by an Illinois
+iteration on the locked step), so RK4 keeps its fourth order through the contact switches.  All series are centred
+complex coefficients in φ.
 
 A rolling bearing (``bq``: the N-DOF kernel's parameter rows, :data:`geardyn._kernel_ndof.core.BQ_Z` …, its cage
 radians per radian of φ in ``BQ_RHO``; ``bx``: its x row, the y row next) is smooth: its two rows carry no series of
@@ -86,8 +86,7 @@ def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, out, trig):
 @njit(cache=True)
 def _bearing_rows(x, V, vp, vi, e, off):
     """(δ_x, δ_y) of the bearing whose x row is e, from x[off:] (off = nd: their rates)."""
-    dx = 0.0
-    dy = 0.0
+    dx, dy = 0.0, 0.0
     for q in range(vp[e], vp[e + 1]):
         dx += V[e, vi[q]] * x[off + vi[q]]
     for q in range(vp[e + 1], vp[e + 2]):
@@ -97,9 +96,7 @@ def _bearing_rows(x, V, vp, vi, e, off):
 
 @njit(cache=True)
 def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
-    nd = A.shape[0]
-    ne = W.shape[0]
-    rp, ri, vp, vi = sp
+    nd, ne, (rp, ri, vp, vi) = A.shape[0], W.shape[0], sp
     for r in range(nd):
         out[r] = x[nd + r] * inv_nu
         acc = cf[0, r]
@@ -135,10 +132,7 @@ def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
 def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, inv_nu, vy, bq, bx, xs):
     """The rows in the order of the dense sums over the nonzeros only (``sp``: the union pattern of A and B and
     the pattern of V, row pointers and columns), so that the sums are those of the dense loops bit for bit."""
-    nd = A.shape[0]
-    m = Y.shape[1]
-    ne = W.shape[0]
-    rp, ri, vp, vi = sp
+    nd, m, ne, (rp, ri, vp, vi) = A.shape[0], Y.shape[1], W.shape[0], sp
     acc, b = vy[1], vy[2]
     for r in range(nd):
         acc[:] = 0.0
@@ -242,10 +236,7 @@ def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, in
 def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol, bq, bx):
     """Advance the state ``x`` (2n) and the columns ``Y`` (2n, m) in place over φ ∈ [0, 2π]; returns
     (steps, switches) taken, or (−1, switches) if the state stopped being finite."""
-    n2 = x.shape[0]
-    m = Y.shape[1]
-    ne = W.shape[0]
-    inv_nu = 1.0 / nu
+    n2, m, ne, inv_nu = x.shape[0], Y.shape[1], W.shape[0], 1.0 / nu
     sv, kv, cv = np.empty((7, n2)), np.empty((5, n2, m)), np.empty((5, 6, max(A.shape[0], ne)))
     stages = np.empty((4, n2))
     s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
@@ -257,10 +248,7 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
     _coefficients(0.0, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
     for e in range(ne):
         reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], c0), D[e])
-    end = 2.0 * math.pi
-    phi = 0.0
-    steps = 0
-    switches = 0
+    end, phi, steps, switches = 2.0 * math.pi, 0.0, 0, 0
     while phi < end:
         h = min(hmax, end - phi)
         if end - (phi + h) < 1e-12 * end:
@@ -273,9 +261,7 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
             if not math.isfinite(xe[r]):
                 return -1, switches
         # the earliest element whose region changed: the step is cut at its boundary
-        first = -1
-        hs = h
-        level_first = 0.0
+        first, hs, level_first = -1, h, 0.0
         for e in range(ne):
             if D[e] == 0.0:
                 continue
@@ -283,16 +269,9 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
             if _region(d1, D[e]) == reg[e]:
                 continue
             d0 = _deflection(x, e, V, sp[2], sp[3], c0)
-            if reg[e] == 1:
-                level = D[e]
-            elif reg[e] == -1:
-                level = -D[e]
-            else:
-                level = D[e] if d1 > D[e] else -D[e]
-            a, fa = 0.0, d0 - level
-            b, fb = h, d1 - level
-            side = 0
-            c = b
+            level = reg[e] * D[e] if reg[e] != 0 else (D[e] if d1 > D[e] else -D[e])
+            a, fa, b, fb = 0.0, d0 - level, h, d1 - level
+            side, c = 0, b
             for _it in range(SWITCH_MAX_ITER):
                 c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
                 if not (a < c < b):
@@ -316,28 +295,23 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                         fa *= 0.5
                     side = 1
             if c < hs:
-                hs = c
-                first = e
-                level_first = level
-        if first >= 0 and hs <= 1e-13 * end:  # on the boundary already: only the region changes
-            reg[first] = 0 if reg[first] != 0 else (1 if level_first > 0.0 else -1)
-            switches += 1
-            if switches > MAX_SWITCHES:
-                return -1, switches
-            continue
-        if first >= 0:
-            _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
-            _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
-            _state_step(hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
-        _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
-        for r in range(n2):
-            x[r] = xe[r]
+                first, hs, level_first = e, c, level
+        if first < 0 or hs > 1e-13 * end:  # (else on the boundary already: only the region changes)
+            if first >= 0:
+                _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
+                _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
+                _state_step(
+                    hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages
+                )
+            _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
+            for r in range(n2):
+                x[r] = xe[r]
+            phi += hs  # (h when no element changed region)
+            steps += 1
         if first >= 0:
             # the element crossed its boundary: into the gap from a contact, or into the contact at that level
             reg[first] = 0 if reg[first] != 0 else (1 if level_first > 0.0 else -1)
             switches += 1
             if switches > MAX_SWITCHES:
                 return -1, switches
-        phi = phi + hs if first >= 0 else phi + h
-        steps += 1
     return steps, switches

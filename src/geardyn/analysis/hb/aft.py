@@ -79,9 +79,7 @@ class HarmonicBasis:
         H = int(self.H)
         if H < 1:
             raise ValueError(f"harmonics: must be >= 1, got {self.H!r}")
-        self.H = H
-        if not self.N:
-            self.N = time_samples(H)
+        self.H, self.N = H, self.N or time_samples(H)
         if self.N < 2 * H + 2:
             raise ValueError(f"samples: need N > 2H + 1 = {2 * H + 1}, got {self.N}")
         self.k = np.arange(-H, H + 1)
@@ -101,8 +99,7 @@ class HarmonicBasis:
 
     def evaluate(self, a: np.ndarray, phi: np.ndarray, derivative: int = 0) -> np.ndarray:
         """u or its φ-derivative of order 0, 1 or 2 at arbitrary angles ``phi``."""
-        a = np.asarray(a, dtype=float)
-        H = self.H
+        a, H = np.asarray(a, dtype=float), self.H
         kk = np.arange(1, H + 1)
         arg = np.multiply.outer(np.asarray(phi, dtype=float), kk)
         c, s = np.cos(arg), np.sin(arg)
@@ -165,17 +162,8 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
     D : float
         Half gap (>= 0).
     """
-    G, S, phis = dead_zone_kernel(
-        np.ascontiguousarray(a, dtype=float),
-        np.ascontiguousarray(K, dtype=complex),
-        float(D),
-        basis.cos_table,
-        basis.sin_table,
-        basis.H,
-        ROOT_MAX_ITER,
-        ROOT_TOL,
-    )
-    return DeadZoneTerms(G, S, phis)
+    a, K, cos_t = np.ascontiguousarray(a, dtype=float), np.ascontiguousarray(K, dtype=complex), basis.cos_table
+    return DeadZoneTerms(*dead_zone_kernel(a, K, float(D), cos_t, basis.sin_table, basis.H, ROOT_MAX_ITER, ROOT_TOL))
 
 
 def sampled_terms(basis: HarmonicBasis, ds: list, rule, K: float, periods: int) -> tuple[list, dict]:

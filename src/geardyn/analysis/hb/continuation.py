@@ -5,7 +5,7 @@ coordinate's coefficients, then the gauge multipliers) and the parameter scaled 
 Predictor: a step ds along the unit tangent (null vector of [∂R/∂x, ∂R/∂p], oriented by the previous one);
 corrector: Newton on R = 0 in the hyperplane normal to the tangent through the predicted point.  The step grows
 after fast corrections and shrinks after slow or failed ones, large turns of the tangent and large moves of the
-multipliers.
+multipliers (:class:`_StepRules`, ``docs/hb.md`` "Continuation and events").
 
 Events between consecutive points are detected by sign changes of test functions and located by a
 safeguarded secant along the chord (each trial corrected onto the branch):
@@ -19,8 +19,6 @@ safeguarded secant along the chord (each trial corrected onto the branch):
 * ``grazing`` — δ_min or δ_max of an element with a gap crosses ±D (the reference element's u_min, u_max).
 
 Points whose multipliers are unresolved carry ``Status.UNRESOLVED`` and take no part in the multiplier tests.
-
-The step follows the multipliers (:class:`_StepRules`, ``docs/hb.md`` "Continuation and events").
 
 References
 ----------
@@ -47,6 +45,7 @@ from ..periodic.arclength import _span_reporter
 from ..secant import illinois_on_chord
 from .damping import require_decidable
 from .equations import HBEquations, SparseJacobian, single_thread_blas, solve
+from .form import mean
 from .hill import HillResult
 from .solve import hb_solve
 
@@ -111,11 +110,6 @@ SYSTEM_RULES = _StepRules(True, 0.01, 0.2)
 DS_MAX, SYSTEM_DS_MAX = PAIR_RULES.ds_max, SYSTEM_RULES.ds_max
 
 
-def step_rules(eq: HBEquations) -> _StepRules:
-    """:data:`PAIR_RULES` for a scalar form, else :data:`SYSTEM_RULES`."""
-    return PAIR_RULES if eq.form.scalar else SYSTEM_RULES
-
-
 @dataclass(eq=False)
 class _Pt:
     """A corrected branch point; its tangent and stability are computed when first asked for (a point whose step is
@@ -168,15 +162,9 @@ class HBBifurcation:
     coefficients: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0))
 
     def to_json(self) -> dict[str, Any]:
-        return {
-            "type": self.type,
-            "value": self.value,
-            "u_min": self.u_min,
-            "u_max": self.u_max,
-            "multipliers": [[float(m.real), float(m.imag)] for m in self.multipliers],
-            "detail": self.detail,
-            "located": self.located,
-        }
+        out = {"type": self.type, "value": self.value, "u_min": self.u_min, "u_max": self.u_max}
+        out["multipliers"] = [[float(m.real), float(m.imag)] for m in self.multipliers]
+        return {**out, "detail": self.detail, "located": self.located}
 
 
 @dataclass
@@ -272,9 +260,7 @@ class HBContinuation:
 
     @property
     def converged(self) -> bool:
-        return bool(self.values.size) and bool(
-            np.all(self.status != int(Status.NOT_CONVERGED)) and np.all(self.status != int(Status.DIVERGED))
-        )
+        return bool(self.values.size) and not np.isin(self.status, (Status.NOT_CONVERGED, Status.DIVERGED)).any()
 
     def of_type(self, typ: str) -> list[HBBifurcation]:
         return [b for b in self.bifurcations if b.type == typ]
@@ -293,9 +279,8 @@ class HBContinuation:
 
         attrs = result_attrs(kind, self.model, options, **extra)
         ref = json.loads(attrs["model"])
-        el = self.model.hb_form().elements[self.reference]
         ref.setdefault("D", self.gaps[self.reference])
-        ref.setdefault("xi0", 0.5 * float(el.C[(len(el.C) - 1) // 2].real))
+        ref.setdefault("xi0", 0.5 * mean(self.model.hb_form().elements[self.reference].C))
         attrs["model"] = json.dumps(ref)
         return attrs
 
@@ -310,35 +295,19 @@ class HBContinuation:
         def num(x: float) -> float | None:
             return float(x) if np.isfinite(x) else None
 
-        pts = [
-            {
-                self.param: float(v),
-                "amplitude": num(0.5 * (hi - lo)),
-                "u_min": num(lo),
-                "u_max": num(hi),
-                "stable": bool(st) if int(s) == int(Status.OK) else None,
-                "status": Status(int(s)).label,
-                "multipliers": [[num(m.real), num(m.imag)] for m in mu],
-            }
-            for v, lo, hi, st, s, mu in zip(
-                self.values, self.u_min, self.u_max, self.stable, self.status, self.multipliers
-            )
-        ]
-        bifs = self.bifurcations_json()
+        pts, cols = [], (self.values, self.u_min, self.u_max, self.stable, self.status, self.multipliers)
+        for v, lo, hi, st, s, mu in zip(*cols):
+            pt = {self.param: float(v), "amplitude": num(0.5 * (hi - lo)), "u_min": num(lo), "u_max": num(hi)}
+            pt.update(stable=bool(st) if int(s) == int(Status.OK) else None, status=Status(int(s)).label)
+            pts.append({**pt, "multipliers": [[num(m.real), num(m.imag)] for m in mu]})
         rows: dict[str, list[dict[str, Any]]] = {"mesh": [], "clearance": []}
-        m = 0
         for e, (nm, kind) in enumerate(zip(self.elements, self.kinds)):
             lo, hi = self.element_u_min[:, e], self.element_u_max[:, e]
-            row = {
-                "name": nm,
-                "u_min": [num(v) for v in lo],
-                "u_max": [num(v) for v in hi],
-                "amplitude": [num(0.5 * (b - a)) for a, b in zip(lo, hi)],
-                "impact": [IMPACT_LABELS[impact_state(v, self.gaps[e])] if np.isfinite(v) else None for v in lo],
-            }
-            if kind == "mesh":
-                row["dynamic_factor"] = [num(v) for v in self.dynamic_factor[:, m]]
-                m += 1
+            row = {"name": nm, "u_min": [num(v) for v in lo], "u_max": [num(v) for v in hi]}
+            row["amplitude"] = [num(0.5 * (b - a)) for a, b in zip(lo, hi)]
+            row["impact"] = [IMPACT_LABELS[impact_state(v, self.gaps[e])] if np.isfinite(v) else None for v in lo]
+            if kind == "mesh":  # (the mesh's column: the meshes before it)
+                row["dynamic_factor"] = [num(v) for v in self.dynamic_factor[:, self.kinds[:e].count("mesh")]]
             rows.setdefault(kind, []).append(row)
         notes = [
             f"{2 * self.rigid} Floquet multipliers equal to 1 belong to the {self.rigid} rigid-body mode(s) and are "
@@ -350,24 +319,12 @@ class HBContinuation:
                 f"|μ| <= 1 + {NEUTRAL_TOL:g} (neutrally stable); folds and period doublings are located by det(I − M) "
                 "and det(I + M), no Neimark–Sacker test is made"
             )
-        return {
-            "param": self.param,
-            "branch": pts,
-            "bifurcations": bifs,
-            "harmonics": self.harmonics,
-            "period": self.period,
-            "samples": self.samples,
-            "converged": self.converged,
-            "end": self.end,
-            "meshes": rows["mesh"],
-            "clearances": rows["clearance"],
-            **({"bearings": rows["bearing"]} if "bearing" in rows else {}),
-            "labels": list(self.labels),
-            "reference_mesh": self.elements[self.reference],
-            "rigid_body_modes": self.rigid,
-            "conservative": self.conservative,
-            "notes": notes,
-        }
+        out = dict(param=self.param, branch=pts, bifurcations=self.bifurcations_json(), harmonics=self.harmonics)
+        out.update(period=self.period, samples=self.samples, converged=self.converged, end=self.end)
+        out.update(meshes=rows["mesh"], clearances=rows["clearance"])
+        out.update({"bearings": rows["bearing"]} if "bearing" in rows else {})
+        out.update(labels=list(self.labels), reference_mesh=self.elements[self.reference], rigid_body_modes=self.rigid)
+        return {**out, "conservative": self.conservative, "notes": notes}
 
     def to_dataset(self):
         """The branch as an :class:`xarray.Dataset` over ``point`` (kind ``hb``): the reference element's values,
@@ -446,10 +403,8 @@ class _Tracer:
     """The equations with their test functions and step rules."""
 
     def __init__(self, eq: HBEquations, lo: float, hi: float, ps: float, conservative: bool):
-        self.s, self.lo, self.hi, self.ps = eq, lo, hi, ps
-        self.M = eq.basis.size
-        self.rules = step_rules(eq)
-        self.conservative = conservative
+        self.s, self.lo, self.hi, self.ps, self.conservative, self.M = eq, lo, hi, ps, conservative, eq.basis.size
+        self.rules = PAIR_RULES if eq.form.scalar else SYSTEM_RULES  # (a scalar form: the pair's)
         # test function → (event type, detail) of :meth:`events`; the reference element's grazing is ``graze_*``
         ns = ("neimark-sacker", "complex pair through the unit circle")
         self.labels = {"turn": ("fold", "turning point: a multiplier through +1 (det(I − M) = 0)")}
@@ -466,9 +421,7 @@ class _Tracer:
         """R and [[∂R/∂x, ∂R/∂(p/p_s)], [0]] at ``y``."""
         return self.s.bordered(y[:-1], self.p(y), self.ps)
 
-    def tangent(
-        self, y: np.ndarray, ref: np.ndarray, aug: tuple[np.ndarray, np.ndarray] | None = None, lu: Any = None
-    ) -> np.ndarray:
+    def tangent(self, y: np.ndarray, ref: np.ndarray, aug: tuple | None = None, lu: Any = None) -> np.ndarray:
         """Unit null vector of [∂R/∂x, ∂R/∂p] at ``y`` oriented like ``ref`` (``aug``: :meth:`_aug` at ``y``,
         if already evaluated; its matrix is overwritten; ``lu``: a sparse Jacobian's factors at a nearby point
         bordered by ``ref`` itself, the corrector's last, used as in a chord step)."""
@@ -483,12 +436,10 @@ class _Tracer:
     def correct(self, y0: np.ndarray, normal: np.ndarray, ref_t: np.ndarray) -> _Pt | None:
         """The point of the branch in the hyperplane through ``y0`` normal to ``normal`` (Newton; a sparse Jacobian's
         factors are kept while the residual falls by CHORD_RATE an iteration), or None."""
-        y = y0.copy()
-        F = np.empty(self.M + 1)
-        lu, r_last = None, math.inf
+        y, F, lu, r_last = y0.copy(), np.empty(self.M + 1), None, math.inf
         for it in range(CORRECTOR_MAX_ITER):
             try:
-                self.s.check(self.p(y))
+                self.s._entry(self.p(y))  # (a ModelError: not a valid value of the parameter)
             except ModelError:
                 return None
             aug = R, A = self._aug(y)
@@ -496,8 +447,7 @@ class _Tracer:
             r = math.sqrt(R @ R)
             if r <= CORRECTOR_TOL * (1 + math.sqrt(y @ y)) and abs(g) <= 1e-12:
                 return self._finish(y, ref_t, it, aug, lu if normal is ref_t else None)
-            F[:-1] = R
-            F[-1] = g
+            F[:-1], F[-1] = R, g
             A[-1] = normal
             try:
                 if isinstance(A, SparseJacobian):
@@ -514,14 +464,7 @@ class _Tracer:
                 return self._finish(y, ref_t, it + 1, None, lu if normal is ref_t else None)
         return None
 
-    def _finish(
-        self,
-        y: np.ndarray,
-        ref_t: np.ndarray,
-        iters: int,
-        aug: tuple[np.ndarray, np.ndarray] | None = None,
-        lu: Any = None,
-    ) -> _Pt:
+    def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int, aug: tuple | None = None, lu: Any = None) -> _Pt:
         a, p = y[:-1], self.p(y)
         umin, umax = self.s.extremes(a, p)
         return _Pt(y, lambda: self.tangent(y, ref_t, aug, lu), umin, umax, lambda: self.s.stability(a, p), iters)
@@ -567,12 +510,11 @@ class _Tracer:
         if key is None or key.startswith("graze"):
             p = self.p(pt.y)
             gaps = [el.gap if el.rule is None else 0.0 for el in self.s._entry(p).form.elements]  # (a bearing: smooth)
-            ref = self.s.reference
             ext = self.s.element_extremes(pt.y[:-1], p) if len(gaps) > 1 else np.array([[pt.u_min, pt.u_max]])
             for e, D in enumerate(gaps):
                 if D <= 0:
                     continue
-                pre = "graze" if e == ref else f"graze{e}"
+                pre = "graze" if e == self.s.reference else f"graze{e}"
                 for side, v in (("min", ext[e, 0]), ("max", ext[e, 1])):
                     out[f"{pre}_{side}_plus"], out[f"{pre}_{side}_minus"] = v - D, v + D
         return out
@@ -610,6 +552,49 @@ class _Tracer:
                 out.append((float((pt.y - a.y) @ d), bif))
         out.sort(key=lambda e: e[0])
         return [b for _s, b in out]
+
+    # ---------------------------------------------------------------- the branch
+    def trace(self, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float, max_points: int, on_point=None) -> tuple:
+        """The pseudo-arclength loop from the solution ``y`` (unknowns, then p/p_s), the first tangent oriented like
+        ``ref``, steps ``ds`` up to ``ds_max``, at most ``max_points``; ``on_point`` gets each point's parameter.
+        Returns (points, bifurcations, end)."""
+        lo, hi = self.lo, self.hi
+        with single_thread_blas():
+            pts, bifs, h = [self._finish(y, ref, 0)], [], float(ds)
+            end = (
+                f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
+                f"a larger ds_max)"
+            )
+            while len(pts) < max_points:
+                cur, nxt, dmu = pts[-1], None, 0.0
+                while h >= DS_MIN:
+                    nxt = self.correct(cur.y + h * cur.t, cur.t, cur.t)
+                    if nxt is not None:
+                        if math.degrees(math.acos(float(np.clip(nxt.t @ cur.t, -1, 1)))) <= MAX_TURN_DEG:
+                            dmu = self.multiplier_step(cur.hill, nxt.hill)
+                            if dmu <= MAX_MULTIPLIER_STEP and (
+                                h <= NEAR_CRITICAL_DS * ds_max or not self.near_critical(nxt.hill)
+                            ):
+                                break
+                    nxt = None
+                    h *= 0.5
+                if nxt is None:
+                    end = "corrector failed (step below DS_MIN)"
+                    break
+                bifs.extend(self.events(cur, nxt))
+                pts.append(nxt)
+                if on_point is not None:
+                    on_point(self.p(nxt.y))
+                # (the multipliers move about linearly in the step: aim below the refusal limit)
+                aim = h * MULTIPLIER_STEP_TARGET / dmu if dmu > 0.0 else math.inf
+                h = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5), aim)
+                if self.near_critical(nxt.hill):
+                    h = min(h, NEAR_CRITICAL_DS * ds_max)
+                if not lo <= self.p(nxt.y) <= hi:
+                    end = "reached the end of the interval"
+                    bifs = [b for b in bifs if lo <= b.value <= hi]
+                    break
+        return pts, bifs, end
 
 
 def hb_continuation(
@@ -691,18 +676,11 @@ def hb_continuation(
     if progress is not None:
         progress(0.0, abs(stop - start))
     eq = HBEquations(model, harmonics, period, param=param, samples=samples, floquet=floquet)
-    ds_max = step_rules(eq).ds_max if ds_max is None else float(ds_max)
     sol = hb_solve(m0, eq.H, period, guess, samples=eq.N, stability=False, state0=state0)
     f, N0 = eq.form, eq.basis.size - eq.basis.rigid
-    common = dict(
-        elements=eq.elements,
-        kinds=tuple(e.kind for e in f.elements),
-        gaps=tuple(e.gap for e in f.elements),
-        rigid=eq.basis.rigid,
-        reference=eq.reference,
-        labels=f.labels,
-        conservative=conservative,
-        equations=eq,
+    common = dict(elements=eq.elements, kinds=tuple(e.kind for e in f.elements), gaps=tuple(e.gap for e in f.elements))
+    common.update(
+        rigid=eq.basis.rigid, reference=eq.reference, labels=f.labels, conservative=conservative, equations=eq
     )
     if not sol.converged:  # one point, the start that failed
         ext = np.full((1, len(f.elements), 2), math.nan)
@@ -716,7 +694,7 @@ def hb_continuation(
         y = np.concatenate([sol.unknowns, [start / ps]])
         ref = np.zeros(eq.basis.size + 1)
         ref[-1] = 1.0 if stop > start else -1.0
-        pts, bifs, end = _trace_branch(tr, y, ref, ds, ds_max, max_points, report)
+        pts, bifs, end = tr.trace(y, ref, ds, tr.rules.ds_max if ds_max is None else float(ds_max), max_points, report)
         vals = np.array([tr.p(q.y) for q in pts])
         if len(f.elements) == 1:  # the reference element's extremes are the points' own
             ext = np.array([[[q.u_min, q.u_max]] for q in pts])
@@ -726,68 +704,3 @@ def hb_continuation(
                 [q.hill.multipliers for q in pts], [int(q.hill.status) for q in pts]]  # fmt: skip
     return HBContinuation(model, param, eq.H, eq.n, eq.N, *map(np.array, cols), bifs, end,
                           element_u_min=ext[:, :, 0], element_u_max=ext[:, :, 1], **common)  # fmt: skip
-
-
-def _max_points_end(max_points: int) -> str:
-    """The ``end`` of a branch stopped by the point limit."""
-    return (
-        f"max points: stopped at {max_points} points before the end of the interval (allow more points, or "
-        f"a larger ds_max)"
-    )
-
-
-def _trace_branch(
-    tr: _Tracer,
-    y: np.ndarray,
-    ref: np.ndarray,
-    ds: float,
-    ds_max: float,
-    max_points: int,
-    on_point: Callable[[float], None] | None = None,
-) -> tuple[list[_Pt], list[HBBifurcation], str]:
-    """The pseudo-arclength loop from the solution ``y`` (unknowns, then p/p_s), the first tangent oriented like
-    ``ref``, steps ``ds`` up to ``ds_max``, at most ``max_points``; ``on_point`` gets each point's parameter.
-    Returns (points, bifurcations, end)."""
-    lo, hi = tr.lo, tr.hi
-    with single_thread_blas():
-        first = tr._finish(y, ref, 0)
-        pts = [first]
-        bifs: list[HBBifurcation] = []
-        h = float(ds)
-        end = _max_points_end(max_points)
-        while len(pts) < max_points:
-            cur = pts[-1]
-            nxt = None
-            dmu = 0.0
-            while h >= DS_MIN:
-                yp = cur.y + h * cur.t
-                nxt = tr.correct(yp, cur.t, cur.t)
-                if nxt is not None:
-                    cosang = float(np.clip(nxt.t @ cur.t, -1, 1))
-                    if math.degrees(math.acos(cosang)) <= MAX_TURN_DEG:
-                        dmu = tr.multiplier_step(cur.hill, nxt.hill)
-                        if dmu <= MAX_MULTIPLIER_STEP and (
-                            h <= NEAR_CRITICAL_DS * ds_max or not tr.near_critical(nxt.hill)
-                        ):
-                            break
-                nxt = None
-                h *= 0.5
-            if nxt is None:
-                end = "corrector failed (step below DS_MIN)"
-                break
-            bifs.extend(tr.events(cur, nxt))
-            pts.append(nxt)
-            if on_point is not None:
-                on_point(tr.p(nxt.y))
-            h_next = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5))
-            if dmu > 0.0:  # the multipliers move about linearly in the step: aim below the refusal limit
-                h_next = min(h_next, h * MULTIPLIER_STEP_TARGET / dmu)
-            h = h_next
-            if tr.near_critical(nxt.hill):
-                h = min(h, NEAR_CRITICAL_DS * ds_max)
-            p = tr.p(nxt.y)
-            if p > hi or p < lo:
-                end = "reached the end of the interval"
-                bifs = [b for b in bifs if lo <= b.value <= hi]
-                break
-    return pts, bifs, end

@@ -105,8 +105,7 @@ def undamped_modes(model: Any) -> list[float]:
     scale = max(float(np.max(np.abs(lam))), 1e-300)
     ctol = RTOL * max(float(np.max(np.abs(C))), 1e-300)
     hz = form.hz if math.isfinite(form.hz) else 1.0
-    out: list[float] = []
-    i = 0
+    out, i = [], 0
     while i < lam.size:
         j = i + 1
         while j < lam.size and lam[j] - lam[i] <= RTOL * scale:

@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from contextlib import contextmanager
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -98,11 +97,9 @@ PERMC_SPEC = "MMD_AT_PLUS_A"
 SPECIALISE = True
 
 
-@contextmanager
-def single_thread_blas() -> Iterator[None]:
-    """Limit the BLAS of NumPy and SciPy to one thread inside the block: the matrices are small and many."""
-    with threadpool_limits(limits=1, user_api="blas"):
-        yield
+def single_thread_blas() -> threadpool_limits:
+    """Limit the BLAS of NumPy and SciPy to one thread inside a ``with`` block: the matrices are small and many."""
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _slots(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple:
@@ -291,10 +288,9 @@ class HBEquations:
         self.floquet = _check_floquet(floquet)
         form = self.form = model.hb_form(self.n)
         self.periods = form.periods
-        H = self.H
-        self.M = M = 2 * H + 1
-        R = form.rigid
-        nd, r = form.dofs, R.shape[1]
+        H, R, nd = self.H, form.rigid, form.dofs
+        M = self.M = 2 * H + 1
+        r = R.shape[1]
         self.elastic = np.linalg.svd(R.T)[2][r:].T if r else np.eye(nd)  # orthonormal complement (n, n − r)
         self.basis = Layout(nd * M + r, nd, r)
         left = np.linalg.inv(form.Mi) @ R
@@ -312,9 +308,7 @@ class HBEquations:
         self._ik = 1j * np.arange(-H, H + 1)
         self._d1 = np.nonzero(self.D1)
         self._ikd = 1j * np.arange(-self.Hd, self.Hd + 1)
-        self.reference = form.reference
-        self._scalar = form.scalar
-        self._cache: dict[float | None, _Point] = {}
+        self.reference, self._scalar, self._cache = form.reference, form.scalar, {}
 
     @property
     def scalar(self) -> bool:
@@ -337,10 +331,6 @@ class HBEquations:
         """The system at parameter value ``p`` (the base system when ``p`` is None)."""
         m = self._entry(p).model
         return self.base.with_param(self.param, float(p)) if m is None else m
-
-    def check(self, p: float) -> None:
-        """Raise :class:`ModelError` when ``p`` is not a valid value of the parameter."""
-        self._entry(p)
 
     def _pattern(self, f: HBForm) -> tuple:
         """The entries of the sparse Jacobian in the order :meth:`_jacobian` makes them: the blocks of I⊗D₂, A⊗I,
@@ -375,10 +365,8 @@ class HBEquations:
                 f"{self.param}: the STE reaches harmonic {self._ste_harmonics(f)} of ν, above the {self.Hd} this "
                 f"harmonic balance was set up with"
             )
-        cut = self.hbasis.to_real
         E = tuple(self.dbasis.to_real(centred(e.E, self.Hd)) for e in f.elements)
-        G0 = np.array([cut(centred(g, self.H)) for g in f.G0])
-        G2 = np.array([cut(centred(g, self.H)) for g in f.G2])
+        G0, G2 = (np.array([self.hbasis.to_real(centred(g, self.H)) for g in G]) for G in (f.G0, f.G2))
         return _Point(m, f, E, G0, G2, self._pattern(f) if f.dofs > SPARSE_DOFS else None)
 
     def nu(self, p: float | None = None) -> float:
@@ -409,15 +397,12 @@ class HBEquations:
     def _core(self, x: np.ndarray, p: float | None, jacobian: bool):
         """R and the Jacobian (or None) with the gauge rows and columns of the rigid-body modes, ν, the parts R2, R1
         (dofs, M) of R = ν² R2 + ν R1 + R0 and every element's S series."""
-        pt = self._entry(p)
-        nu = self.nu(p)
-        Q = self._split(x)
+        pt, nu, Q = self._entry(p), self.nu(p), self._split(x)
         H, Hd = self.H, self.Hd
         R2 = -self._k2 * Q - pt.G2
         R1 = pt.form.B @ (Q @ self.D1.T)  # the φ-derivative of every row
         R0 = pt.form.A @ Q - pt.G0
-        Ss = {}
-        els = pt.form.elements
+        Ss, els = {}, pt.form.elements
         for e0, r in _units(pt.form):
             ds = [self._delta(pt, e, Q) for e in range(e0, e0 + r)]
             Gs, S = LAW_TERMS[els[e0].law](ds, els[e0 : e0 + r], self.dbasis, self.periods)
@@ -438,8 +423,7 @@ class HBEquations:
 
     def _jacobian(self, pt: _Point, nu: float, Ss: dict) -> np.ndarray | SparseJacobian:
         """Its blocks: every element's own (damping and S_ee), then the cross blocks S_ij of a law on several rows."""
-        H, M, nd = self.H, self.M, self.basis.dofs
-        f = pt.form
+        H, M, nd, f = self.H, self.M, self.basis.dofs, pt.form
         ops, mats = [], []
         for i, j in _couplings(f):
             T = toeplitz(Ss[i, j], H)
@@ -522,14 +506,12 @@ class HBEquations:
             lam = 1.0
             while lam >= NEWTON_MIN_DAMPING:
                 trial = a + lam * da
-                if not np.all(np.isfinite(trial)) or np.linalg.norm(trial) > DIVERGED_NORM:
-                    lam *= 0.5
-                    continue
-                Rt, Jt = self.residual(trial, p)
-                rt = float(np.linalg.norm(Rt))
-                if rt < (1.0 - 1e-4 * lam) * r:
-                    a, R, J, r = trial, Rt, Jt, rt
-                    break
+                if np.all(np.isfinite(trial)) and np.linalg.norm(trial) <= DIVERGED_NORM:
+                    Rt, Jt = self.residual(trial, p)
+                    rt = float(np.linalg.norm(Rt))
+                    if rt < (1.0 - 1e-4 * lam) * r:
+                        a, R, J, r = trial, Rt, Jt, rt
+                        break
                 lam *= 0.5
             else:
                 return a, Status.NOT_CONVERGED, it + 1, r
@@ -539,8 +521,7 @@ class HBEquations:
     def stability(self, x: np.ndarray, p: float | None = None) -> HillResult:
         """The elastic Floquet multipliers of the solution ``x`` (rigid-body modes left out): from the monodromy
         matrix of one period started on it (:mod:`.monodromy`) or by Hill's method (:mod:`.hill`)."""
-        pt = self._entry(p)
-        f, nu = pt.form, self.nu(p)
+        f, nu = self._entry(p).form, self.nu(p)
         if self.floquet == "hill":
             nd, M = self.basis.dofs, self.M
             J = np.asarray(self._core(x, p, True)[1])[: nd * M, : nd * M]
@@ -567,29 +548,24 @@ class HBEquations:
     def dynamic_factors(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
         """Largest mesh force C δ' + K f(δ) over the period (from FORCE_OVERSAMPLE·N samples) over the static
         force, per mesh element (NaN where the static force is 0 or unknown)."""
-        pt = self._entry(p)
-        nu, Ns = self.nu(p), FORCE_OVERSAMPLE * self.N
-        out = []
-        for e, el in enumerate(pt.form.elements):
-            if el.kind != "mesh":
-                continue
-            c = self.dbasis.to_complex(self.deflection(x, e, p))
-            u, v = _samples(c, Ns), _samples(nu * self._ikd * c, Ns)
-            fm = float(np.max(_samples(el.C, Ns) * v + _samples(el.K, Ns) * (u - np.clip(u, -el.gap, el.gap))))
-            s = el.static_force
-            out.append(fm / s if s > 0 and math.isfinite(fm) else math.nan)
+        nu, Ns, out = self.nu(p), FORCE_OVERSAMPLE * self.N, []
+        for e, el in enumerate(self._entry(p).form.elements):
+            if el.kind == "mesh":
+                c = self.dbasis.to_complex(self.deflection(x, e, p))
+                u, v = _samples(c, Ns), _samples(nu * self._ikd * c, Ns)
+                fm = float(np.max(_samples(el.C, Ns) * v + _samples(el.K, Ns) * (u - np.clip(u, -el.gap, el.gap))))
+                s = el.static_force
+                out.append(fm / s if s > 0 and math.isfinite(fm) else math.nan)
         return np.array(out)
 
     def state(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
         """(q, q') at θ = 0, comparable with a shooting orbit's state (up to the rigid-body position)."""
-        Q = self._split(x)
-        H = self.H
+        Q, H = self._split(x), self.H
         return np.concatenate([Q[:, 0] + Q[:, 1 : H + 1].sum(axis=1), self.nu(p) * (Q[:, H + 1 :] @ self._k)])
 
     def project(self, Q: np.ndarray) -> np.ndarray:
         """Coefficients with the rigid-body part removed (the gauge Rᵀa_0 = 0, no rigid momentum elsewhere)."""
-        Q = np.array(Q, dtype=float)
-        R = self.form.rigid
+        Q, R = np.array(Q, dtype=float), self.form.rigid
         if R.shape[1] == 0:
             return Q
         Mt = np.linalg.inv(self.form.Mi)
@@ -608,8 +584,7 @@ class HBEquations:
         at their mean stiffness and damping, clearances closed only without gap): K̄ a_0 = F̃ + Σ k_m D_m V_m and
         (K̄ − (νk)²M̃ + iνk C̄) ĉ_k = M̃ Ĝ_k + Σ_m V_m (k_m + iνk c_m) Ê_m,k; a rolling bearing at its static
         deflection (:func:`geardyn.systems.rolling.static_deflection`, a_0) and its tangent stiffness there (in K̄)."""
-        pt = self._entry(p)
-        f = pt.form
+        f = self._entry(p).form
         Mt = np.linalg.inv(f.Mi)
         Kt, Ct = Mt @ f.A, Mt @ f.B
         H, nu, nd = self.H, self.nu(p), f.dofs

@@ -129,14 +129,8 @@ class HBForm:
         if self.dofs != 1 or len(self.elements) != 1 or self.rigid.shape[1]:
             return False
         e = self.elements[0]
-        return (
-            e.law == "dead_zone"
-            and float(e.V[0]) == 1.0
-            and float(e.W[0]) == 1.0
-            and not np.any(e.E)
-            and not np.any(self.A)
-            and not np.any(self.B)
-        )
+        linear = np.any(e.E) or np.any(self.A) or np.any(self.B)
+        return e.law == "dead_zone" and float(e.V[0]) == float(e.W[0]) == 1.0 and not linear
 
     def mean_trace(self) -> float:
         """Mean over the period of the trace of the first-order Jacobian: −tr B − Σ_e (V_e·W_e) C̄_e."""
@@ -165,8 +159,7 @@ def spread(cf: np.ndarray, ratio: float, periods: int) -> np.ndarray:
     ModelError
         When a harmonic j r periods is not an integer (incommensurate mesh ratios).
     """
-    j = np.arange(cf.shape[0])
-    qf = j * ratio * periods
+    qf = np.arange(cf.shape[0]) * ratio * periods
     q = np.rint(qf).astype(int)
     if np.any(np.abs(qf - q) > HARMONIC_RTOL * np.maximum(1.0, qf)):
         raise ModelError(f"ratio: mesh ratio {ratio!r} times {periods} periods is not an integer harmonic")
@@ -201,22 +194,10 @@ def pair_form(model: Any, period: int = 1) -> HBForm:
         sts[j * s] = (n * s * j) ** 2 * e * np.array([math.cos(ph), -math.sin(ph)])
     G2 = spread(sts, 1, n)[None, :]
     G0 = spread(model.replace(eps=(), phi_e=()).coefficients(cf.shape[1] - 1)[2], 1, n)[None, :]  # f_p, torque orders
-    one, law = np.ones(1), model.elements[0].law.name
+    one, law, z = np.ones(1), model.elements[0].law.name, np.zeros((1, 1))
     el = FormElement("mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp), law)
-    return HBForm(
-        M * n,
-        M,
-        np.eye(1),
-        np.zeros((1, 1)),
-        np.zeros((1, 1)),
-        G0,
-        G2,
-        (el,),
-        np.zeros((1, 0)),
-        0,
-        n * (int(model.n_harmonics) + 2),
-        ("u",),
-    )
+    span = n * (int(model.n_harmonics) + 2)
+    return HBForm(M * n, M, np.eye(1), z, z, G0, G2, (el,), np.zeros((1, 0)), 0, span, ("u",))
 
 
 def _system_loads(model: Any, Mi: np.ndarray, periods: int) -> np.ndarray:
@@ -284,19 +265,8 @@ def system_form(model: Any, period: int = 1) -> HBForm:
             add(nm, "bearing", model.Vb[2 * b + k], c, br.K, br.clearance)
     names = [m.name for m in model.meshes]
     mh = max([m.n_harmonics * m.ratio for m in model.meshes] + [float(r) for r, _, _ in model.orders], default=0.0)
-    G0 = _system_loads(model, Mi, periods)
-    return HBForm(
-        periods,
-        1,
-        Mi,
-        Mi @ np.asarray(model.Kb, dtype=float),
-        Mi @ np.asarray(model.Cb, dtype=float),
-        G0,
-        np.zeros_like(G0),
-        tuple(els),
-        rigid_modes(model),
-        names.index(model.scaling.reference) if model.scaling.reference in names else 0,
-        periods * (int(math.ceil(mh)) + 2),
-        tuple(model.labels),
-        model.scaling.omega_n_rad_s / (2.0 * math.pi),
-    )
+    G0, ref = _system_loads(model, Mi, periods), model.scaling.reference
+    K, C = (Mi @ np.asarray(x, dtype=float) for x in (model.Kb, model.Cb))
+    i, span = names.index(ref) if ref in names else 0, periods * (int(math.ceil(mh)) + 2)
+    hz, G2 = model.scaling.omega_n_rad_s / (2.0 * math.pi), np.zeros_like(G0)
+    return HBForm(periods, 1, Mi, K, C, G0, G2, tuple(els), rigid_modes(model), i, span, tuple(model.labels), hz)

@@ -90,6 +90,10 @@ class HillResult:
         return float(np.max(np.abs(self.multipliers)))
 
 
+#: The result of a system without elastic modes (every coordinate rigid).
+NO_MULTIPLIERS = HillResult(np.zeros(0, complex), np.zeros(0, complex), np.zeros(0), 0.0, Status.OK)
+
+
 def hill_floquet(c_hat: np.ndarray, s_hat: np.ndarray, nu: float, H: int) -> HillResult:
     """Floquet exponents and multipliers of y'' + c(τ)y' + s(τ)y = 0 by Hill's method.
 
@@ -155,11 +159,6 @@ def _is_copy(c: int, chosen: list[int], lam: np.ndarray, mu: np.ndarray, y: np.n
     return False
 
 
-def _nan_result(count: int, status: Status) -> HillResult:
-    nan = np.full(count, complex(math.nan, math.nan))
-    return HillResult(nan, nan, np.full(count, math.nan), math.nan, status)
-
-
 def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float, H: int, trace: float) -> HillResult:
     """Elastic Floquet exponents and multipliers of y'' + 𝒞(τ)y' + 𝒦(τ)y = 0 by Hill's method.
 
@@ -182,47 +181,39 @@ def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float
         2(n − r) exponents and multipliers (largest modulus first), their centroids, Liouville's error and
         the status.
     """
-    M = 2 * H + 1
-    ne = P.shape[1]
+    M, ne = 2 * H + 1, P.shape[1]
     count = 2 * ne
     if ne == 0:
-        e = np.zeros(0, dtype=complex)
-        return HillResult(e, e, np.zeros(0), 0.0, Status.OK)
+        return NO_MULTIPLIERS
     if not (np.all(np.isfinite(K0)) and np.all(np.isfinite(K1))):
-        return _nan_result(count, Status.DIVERGED)
+        nan = np.full(count, complex(math.nan, math.nan))
+        return HillResult(nan, nan, np.full(count, math.nan), math.nan, Status.DIVERGED)
     if ne < P.shape[0] or not np.array_equal(P, np.eye(ne)):
         K0, K1 = _restrict(K0, P, M), _restrict(K1, P, M)
     size = ne * M
-    A = np.zeros((2 * size, 2 * size))
-    A[:size, size:] = np.eye(size)
-    A[size:, :size] = -K0
-    A[size:, size:] = -K1
+    A = np.block([[np.zeros((size, size)), np.eye(size)], [-K0, -K1]])
     lam, Vr = np.linalg.eig(A)
     W = _to_complex(H)
     y = np.einsum("km,imc->ikc", W, Vr[:size].reshape(ne, M, -1))  # complex harmonics (DOF, k, vector)
-    # the centroid from the real coefficients, as hill.py does: |c_k|² + |c_−k|² = (|a_k|² + |b_k|²)/2, so that a
-    # conjugate pair (conjugate eigenvectors) has exactly one centroid and keeps LAPACK's order
+    # the centroid from the real coefficients: |c_k|² + |c_−k|² = (|a_k|² + |b_k|²)/2, so that a conjugate pair
+    # (conjugate eigenvectors) has exactly one centroid and keeps LAPACK's order
     w = (np.abs(Vr[:size]) ** 2).reshape(ne, M, -1).sum(axis=0)
     kk = np.concatenate([np.arange(H + 1), np.arange(1, H + 1)]).astype(float)
-    half = np.full(M, 0.5)
-    half[0] = 1.0
+    half = np.where(np.arange(M) == 0, 1.0, 0.5)
     with np.errstate(invalid="ignore", divide="ignore"):
         cent = ((half * kk) @ w) / (half @ w)
     cent = np.where(np.isfinite(cent), cent, np.inf)
     order = np.argsort(cent, kind="mergesort")
     T = 2.0 * math.pi / nu
-    mu_all = np.exp(lam * T)
-    ref = math.exp(-trace * T)
-    chosen: list[int] = []
-    pos = 0
+    mu_all, ref, chosen, pos = np.exp(lam * T), math.exp(-trace * T), [], 0
     for pos, c in enumerate(order):  # noqa: B007 (pos is read after the loop)
         if len(chosen) == count - 1:
             break
         if not _is_copy(int(c), chosen, lam, mu_all, y, nu):
             chosen.append(int(c))
-    # the last exponent as hill.py's second: among the next PARTNER_CANDIDATES most central eigenvalues (copies
-    # of those accepted left out; if all are copies, the next one that is not), the one closest to Liouville's
-    # partner exp(−∫ tr 𝒞 dτ) / Π μ of those accepted — for one DOF the rule of hill.py
+    # the last exponent: among the next PARTNER_CANDIDATES most central eigenvalues (copies of those accepted left
+    # out; if all are copies, the next one that is not), the one closest to Liouville's partner exp(−∫ tr 𝒞 dτ) / Π μ
+    # of those accepted
     after = [int(c) for c in order[pos:] if int(c) not in chosen]
     rest = [c for c in after[:PARTNER_CANDIDATES] if not _is_copy(c, chosen, lam, mu_all, y, nu)]
     if not rest:
@@ -232,9 +223,8 @@ def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float
     rest_a = np.array(rest)
     chosen.append(int(rest_a[int(np.argmin(np.abs(mu_all[rest_a] - partner)))]))
     idx = np.array(chosen)
+    idx = idx[np.argsort(-np.abs(mu_all[idx]), kind="stable")]
     ex, mu, cc = lam[idx], mu_all[idx], cent[idx]
-    srt = np.argsort(-np.abs(mu), kind="stable")
-    ex, mu, cc = ex[srt], mu[srt], cc[srt]
     liou = float(abs(np.prod(mu) / ref - 1.0))
     ok = bool(np.all(cc <= CENTROID_FRACTION * H) and liou <= LIOUVILLE_TOL)
     return HillResult(ex, mu, cc, liou, Status.OK if ok else Status.UNRESOLVED)

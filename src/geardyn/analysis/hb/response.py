@@ -55,14 +55,6 @@ class Segment:
     amplitude: np.ndarray
     ends: tuple[HBBifurcation | None, HBBifurcation | None]
 
-    @property
-    def lo(self) -> float:
-        return float(self.omega[0])
-
-    @property
-    def hi(self) -> float:
-        return float(self.omega[-1])
-
     def guess(self, w: float) -> np.ndarray:
         """Coefficients interpolated linearly in ω."""
         if self.omega.size == 1:
@@ -82,12 +74,10 @@ def _event_between(res: HBContinuation, i: int, j: int) -> HBBifurcation | None:
     chord = float(np.linalg.norm(aj - ai))
     best, dbest = None, math.inf
     for b in res.bifurcations:
-        if b.type not in STABILITY_EVENTS or b.coefficients.size < ai.size:
-            continue
-        bc = b.coefficients[: ai.size]  # a system's event also carries the gauge multipliers
-        d = float(np.linalg.norm(bc - ai) + np.linalg.norm(bc - aj))
-        if d < dbest:
-            best, dbest = b, d
+        if b.type in STABILITY_EVENTS and b.coefficients.size >= ai.size:
+            bc = b.coefficients[: ai.size]  # a system's event also carries the gauge multipliers
+            d = float(np.linalg.norm(bc - ai) + np.linalg.norm(bc - aj))
+            best, dbest = (b, d) if d < dbest else (best, dbest)
     return best if dbest <= 1.5 * chord + 1e-12 else None
 
 
@@ -171,7 +161,7 @@ def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, lis
     out = {}
     for lab, d in (("up", 1.0), ("down", -1.0)):
         # in the sweep's coordinate d·ω, increasing along the sweep: every segment spans [a, b)
-        span = {s.index: sorted((d * s.lo, d * s.hi)) for s in segments}
+        span = {s.index: sorted((d * float(s.omega[0]), d * float(s.omega[-1]))) for s in segments}
         x, stop = sorted((d * lo, d * hi))
 
         def ahead(x: float, exclude: int | None = None) -> list[Segment]:
@@ -216,24 +206,17 @@ def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
     return None
 
 
-def _newton(eq: HBEquations, guess: np.ndarray, w: float) -> tuple[np.ndarray, Status]:
-    """Newton at ω = w from a segment's coefficients (the gauge multipliers appended)."""
-    a, st, _its, _r = eq.newton(eq.unknowns(guess), w)
-    return a, st
-
-
 def _solution(rd: HBEquations, seg: Segment, x: float) -> tuple[np.ndarray, Status]:
     """The segment's solution at ω = x: Newton from its coefficients interpolated at x or, when that fails (too far
     from it), natural continuation from its nearest point in WALK_STEPS equal steps of ω (then four times as many),
     each Newton started from the previous solution."""
-    k = int(np.argmin(np.abs(seg.omega - x)))
-    ncoef = seg.coefficients.shape[1]
+    k, ncoef = int(np.argmin(np.abs(seg.omega - x))), seg.coefficients.shape[1]
     walks = [
         (seg.coefficients[k], np.linspace(float(seg.omega[k]), x, s + 1)[1:]) for s in (WALK_STEPS, 4 * WALK_STEPS)
     ]
     for a, ws in [(seg.guess(x), [x]), *walks]:
         for w in ws:
-            a, st = _newton(rd, a[:ncoef], float(w))
+            a, st = rd.newton(rd.unknowns(a[:ncoef]), float(w))[:2]  # (the gauge multipliers appended)
             if st is not Status.OK:
                 break
         if st is Status.OK:
@@ -249,15 +232,10 @@ def _measures(basis: Any, a: np.ndarray) -> dict[str, float]:
 
 
 def _minimal_period(pu: np.ndarray, pv: np.ndarray, n: int) -> int:
-    scale = 1.0 + float(np.max(np.abs(np.concatenate([pu, pv]))))
-    for d in range(1, n + 1):
-        if (
-            n % d == 0
-            and np.all(np.abs(np.roll(pu, -d) - pu) <= 1e-8 * scale)
-            and np.all(np.abs(np.roll(pv, -d) - pv) <= 1e-8 * scale)
-        ):
-            return d
-    return n
+    p = np.array([pu, pv])
+    scale = 1.0 + float(np.max(np.abs(p)))
+    periods = (d for d in range(1, n + 1) if n % d == 0 and np.all(np.abs(np.roll(p, -d, 1) - p) <= 1e-8 * scale))
+    return next(periods, n)
 
 
 def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "amplitude"):
@@ -352,19 +330,12 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 before, after = w[d * w <= d * x], w[d * w > d * x]
                 g_from = float(before[np.argmax(d * before)]) if before.size else x
                 g_to = float(after[np.argmin(d * after)]) if after.size else x
-                jumps.append(
-                    {
-                        "omega": x,
-                        "direction": "up" if m_to > m_from else "down",
-                        "size": abs(m_to - m_from),
-                        "sweep": lab,
-                        "omega_from": g_from,
-                        "omega_to": g_to,
-                        "amplitude_from": m_from,
-                        "amplitude_to": m_to,
-                    }
-                )
-    hyst = _hysteresis(paths)
+                jump = {"omega": x, "direction": "up" if m_to > m_from else "down", "size": abs(m_to - m_from)}
+                jump.update(sweep=lab, omega_from=g_from, omega_to=g_to, amplitude_from=m_from, amplitude_to=m_to)
+                jumps.append(jump)
+    attrs = dict(param="omega", mode="harmonic balance", sweep="both", method="hb", measure=measure)
+    attrs.update(jumps=json.dumps(jumps), hysteresis=json.dumps(_hysteresis(paths)))
+    bif = json.dumps(res.bifurcations_json())
     motion = np.where(status == int(Status.OK), MOTION_PERIODIC, MOTION_UNRESOLVED).astype(np.int64)
     sw, ss = ("sweep", "omega"), ("sweep", "omega", "section")
     ds = xr.Dataset(
@@ -380,16 +351,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
         },
         coords={"sweep": ["up", "down"], "omega": w, "section": np.arange(n)},
         attrs=res.attrs(
-            "response",
-            {"method": "hb", "harmonics": H, "period": n, "samples": res.samples},
-            param="omega",
-            mode="harmonic balance",
-            sweep="both",
-            method="hb",
-            measure=measure,
-            jumps=json.dumps(jumps),
-            hysteresis=json.dumps(hyst),
-            bifurcations=json.dumps(res.bifurcations_json()),
+            "response", {"method": "hb", "harmonics": H, "period": n, "samples": res.samples}, **attrs, bifurcations=bif
         ),
     )
     return annotate(ds)
@@ -436,7 +398,7 @@ def hb_response(
     num : int
         Grid points of the sweeps (the jumps and hysteresis bounds are exact, not on the grid).
     harmonics, period : int
-        H and n of the HB solutions (H default: :func:`~geardyn.analysis.hb.solve.default_harmonics`, 16 for a
+        H and n of the HB solutions (H default: :func:`~geardyn.analysis.hb.equations.default_harmonics`, 16 for a
         one-cycle model and for a system).
     measure : str
         Amplitude measure: one of :data:`MEASURES`.

@@ -14,18 +14,10 @@ import numpy as np
 
 from ...errors import ModelError
 from ...status import Status
-from .equations import (
-    DEFAULT_HARMONICS,
-    MAX_DEFAULT_HARMONICS,
-    NEWTON_MAX_ITER,
-    NEWTON_TOL,
-    HBEquations,
-    default_harmonics,
-    single_thread_blas,
-)
+from .equations import NEWTON_MAX_ITER, NEWTON_TOL, HBEquations, single_thread_blas
 from .hill import HillResult
 
-__all__ = ["HBSolution", "hb_solve", "default_harmonics", "DEFAULT_HARMONICS", "MAX_DEFAULT_HARMONICS", "NEWTON_TOL"]
+__all__ = ["HBSolution", "hb_solve"]
 
 
 @dataclass
