@@ -9,7 +9,9 @@ from φ = 0 to 2π (d/dτ = ν d/dφ) with the classic RK4.  Each step runs with
 (drive contact, gap, back contact) it is in at the step's start, so the vector field is smooth on the step; a step at
 whose end an element is in another region is shortened to end on the boundary (the step length found by an Illinois
 iteration on the locked step), so RK4 keeps its fourth order through the contact switches.  All series are centred
-complex coefficients in φ.
+complex coefficients in φ.  The columns take each RK4 stage row by row (:func:`_tangent_stage`: the stage's rates go
+straight into the stages' sum and the next stage's columns), padded with zero columns to whole SIMD vectors; the
+series at a step's end are the next step's start.
 
 A rolling bearing (``bq``: the N-DOF kernel's parameter rows, :data:`geardyn._kernel_ndof.core.BQ_Z` …, its cage
 radians per radian of φ in ``BQ_RHO``; ``bx``: its x row, the y row next) is smooth: its two rows carry no series of
@@ -31,6 +33,8 @@ from ..._kernel_ndof.core import BQ_CX, BQ_CY, BQ_RHO, bearing_force, bearing_sl
 __all__ = ["monodromy_kernel"]
 
 SWITCH_MAX_ITER = 60
+#: The columns are padded to a multiple of this (the widest SIMD vector of doubles).
+LANES = 8
 #: More contact switches than this in one period: the integration is abandoned (chattering on a boundary).
 MAX_SWITCHES = 100_000
 
@@ -39,12 +43,12 @@ _install_cache()  # the cache follows this directory's sources (see geardyn._cac
 
 
 @njit(cache=True)
-def _series(z, L, trig):
-    """Value of the real trigonometric polynomial with centred complex coefficients z[0 … 2L] at the φ of
+def _series(Z, i, L, trig):
+    """Value of the real trigonometric polynomial with centred complex coefficients Z[i, 0 … 2L] at the φ of
     ``trig`` (cos kφ, sin kφ in its rows)."""
-    v = z[L].real
+    v = Z[i, L].real
     for k in range(1, L + 1):
-        c = z[L + k]
+        c = Z[i, L + k]
         v += 2.0 * (c.real * trig[0, k] - c.imag * trig[1, k])
     return v
 
@@ -75,12 +79,12 @@ def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, out, trig):
     for b in range(bq.shape[0]):
         out[5, b] = bq[b, BQ_RHO] * phi
     for r in range(Gz.shape[0]):
-        out[0, r] = _series(Gz[r], Lg[r], trig)
+        out[0, r] = _series(Gz, r, Lg[r], trig)
     for e in range(Cz.shape[0]):
-        out[1, e] = _series(Cz[e], Lc[e], trig)
-        out[2, e] = _series(Kz[e], Lk[e], trig)
-        out[3, e] = _series(Ez[e], Le[e], trig)
-        out[4, e] = _series(dEz[e], Le[e], trig)
+        out[1, e] = _series(Cz, e, Lc[e], trig)
+        out[2, e] = _series(Kz, e, Lk[e], trig)
+        out[3, e] = _series(Ez, e, Le[e], trig)
+        out[4, e] = _series(dEz, e, Le[e], trig)
 
 
 @njit(cache=True)
@@ -96,7 +100,7 @@ def _bearing_rows(x, V, vp, vi, e, off):
 
 @njit(cache=True)
 def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
-    nd, ne, (rp, ri, vp, vi) = A.shape[0], W.shape[0], sp
+    nd, ne, (rp, ri, vp, vi, wp, wi) = A.shape[0], W.shape[0], sp[:6]
     for r in range(nd):
         out[r] = x[nd + r] * inv_nu
         acc = cf[0, r]
@@ -115,7 +119,8 @@ def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
         if reg[e] != 0:
             f = d - reg[e] * D[e] if D[e] > 0.0 else d
         force = cf[1, e] * dv + cf[2, e] * f
-        for r in range(nd):
+        for q in range(wp[e], wp[e + 1]):
+            r = wi[q]
             out[nd + r] -= W[e, r] * force
     for b in range(bq.shape[0]):
         e = bx[b]
@@ -129,61 +134,100 @@ def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
 
 
 @njit(cache=True)
-def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, inv_nu, vy, bq, bx, xs):
-    """The rows in the order of the dense sums over the nonzeros only (``sp``: the union pattern of A and B and
-    the pattern of V, row pointers and columns), so that the sums are those of the dense loops bit for bit."""
-    nd, m, ne, (rp, ri, vp, vi) = A.shape[0], Y.shape[1], W.shape[0], sp
-    acc, b = vy[1], vy[2]
-    for r in range(nd):
-        acc[:] = 0.0
-        for q in range(rp[r], rp[r + 1]):
-            s = ri[q]
-            ar, br = A[r, s], B[r, s]
-            for j in range(m):
-                acc[j] += ar * Y[s, j] + br * Y[nd + s, j]
-        for j in range(m):
-            out[r, j] = Y[nd + r, j] * inv_nu
-            out[nd + r, j] = -acc[j]
+def _tangent_stage(Yc, Y, Yn, Yx, fe, A, B, W, V, sp, cf, reg, inv_nu, cw, ca, mode, bq, bx, xs, o):
+    """One RK4 stage of the columns, row by row: the rates k of the stage's columns ``Yc`` (the velocity rows over
+    ν above, the accelerations below) go into the stages' sum ``Yn`` (mode 0: Yn = Y + cw k; 1: Yn += cw k; 2: the
+    step's end, Y = Yn + cw k) and the next stage's columns Yx = Y + ca k.  ``fe``: each element's force of the
+    columns, k_e V_e·q + c_e V_e·q' (a bearing's two rows: its 2×2 stiffness at the stage's state ``xs`` and its
+    dampers); ``sp``: the nonzeros of A and B by rows, of V by elements, and of W by rows (the elements acting on
+    each row)."""
+    nd, m, ne, (rp, ri, vp, vi, _, _, tp, ti) = A.shape[0], Y.shape[1], W.shape[0], sp
     for e in range(ne):
         c = cf[1, e]
         k = cf[2, e] if reg[e] != 0 else 0.0
-        acc[:] = 0.0
-        b[:] = 0.0
+        f = fe[e]
+        f[:] = 0.0
+        o[:] = 0.0
         for q in range(vp[e], vp[e + 1]):
             s = vi[q]
             v = V[e, s]
+            ys, yv = Yc[s], Yc[nd + s]
             for j in range(m):
-                acc[j] += v * Y[s, j]
-                b[j] += v * Y[nd + s, j]
+                o[j] += v * ys[j]
+                f[j] += v * yv[j]
         for j in range(m):
-            vy[0, j] = k * acc[j] + c * b[j]
-        for r in range(nd):
-            w = W[e, r]
-            if w != 0.0:
-                for j in range(m):
-                    out[nd + r, j] -= w * vy[0, j]
+            f[j] = k * o[j] + c * f[j]
     for b in range(bq.shape[0]):  # the bearing's 2×2 stiffness at the stage's state xs, its dampers cx, cy
         e = bx[b]
         dx, dy = _bearing_rows(xs, V, vp, vi, e, 0)
         kxx, kxy, kyy = bearing_slopes(dx, dy, cf[5, b], bq, b)
-        vy[3:] = 0.0
-        for k in range(2):
-            for q in range(vp[e + k], vp[e + k + 1]):
-                s = vi[q]
-                v = V[e + k, s]
-                for j in range(m):
-                    vy[3 + k, j] += v * Y[s, j]
-                    vy[5 + k, j] += v * Y[nd + s, j]
-        for r in range(nd):
-            wx, wy = W[e, r], W[e + 1, r]
-            if wx != 0.0 or wy != 0.0:
-                for j in range(m):
-                    fx = kxx * vy[3, j] + kxy * vy[4, j] + bq[b, BQ_CX] * vy[5, j]
-                    fy = kxy * vy[3, j] + kyy * vy[4, j] + bq[b, BQ_CY] * vy[6, j]
-                    out[nd + r, j] -= wx * fx + wy * fy
-    for r in range(nd):
+        fx, fy = fe[e], fe[e + 1]
+        fx[:] = 0.0
+        fy[:] = 0.0
+        o[:] = 0.0
+        for q in range(vp[e], vp[e + 1]):  # fx: the x row's deflections, fy: its rates (for now)
+            s = vi[q]
+            v = V[e, s]
+            for j in range(m):
+                fx[j] += v * Yc[s, j]
+                fy[j] += v * Yc[nd + s, j]
         for j in range(m):
-            out[nd + r, j] *= inv_nu
+            o[j] = fx[j]
+            fx[j] = kxx * o[j] + bq[b, BQ_CX] * fy[j]
+            fy[j] = kxy * o[j]
+        o[:] = 0.0
+        for q in range(vp[e + 1], vp[e + 2]):
+            s = vi[q]
+            v = V[e + 1, s]
+            ys, yv = Yc[s], Yc[nd + s]
+            for j in range(m):
+                o[j] += v * ys[j]
+        for j in range(m):
+            fx[j] += kxy * o[j]
+            fy[j] += kyy * o[j]
+        o[:] = 0.0
+        for q in range(vp[e + 1], vp[e + 2]):
+            s = vi[q]
+            v = V[e + 1, s]
+            for j in range(m):
+                o[j] += v * Yc[nd + s, j]
+        for j in range(m):
+            fy[j] += bq[b, BQ_CY] * o[j]
+    for r in range(nd):
+        o[:] = 0.0
+        for q in range(rp[r], rp[r + 1]):
+            s = ri[q]
+            ar, br = A[r, s], B[r, s]
+            ys, yv = Yc[s], Yc[nd + s]
+            for j in range(m):
+                o[j] -= ar * ys[j] + br * yv[j]
+        for q in range(tp[r], tp[r + 1]):
+            e = ti[q]
+            w = W[e, r]
+            f = fe[e]
+            for j in range(m):
+                o[j] -= w * f[j]
+        yq, yv, nq, nv, cv = Y[r], Y[nd + r], Yn[r], Yn[nd + r], Yc[nd + r]
+        if mode == 2:
+            for j in range(m):
+                yq[j] = nq[j] + cw * (cv[j] * inv_nu)
+                yv[j] = nv[j] + cw * (o[j] * inv_nu)
+            continue
+        xq, xv = Yx[r], Yx[nd + r]
+        if mode == 0:
+            for j in range(m):
+                kq, kv = cv[j] * inv_nu, o[j] * inv_nu
+                nq[j] = yq[j] + cw * kq
+                nv[j] = yv[j] + cw * kv
+                xq[j] = yq[j] + ca * kq
+                xv[j] = yv[j] + ca * kv
+        else:
+            for j in range(m):
+                kq, kv = cv[j] * inv_nu, o[j] * inv_nu
+                nq[j] += cw * kq
+                nv[j] += cw * kv
+                xq[j] = yq[j] + ca * kq
+                xv[j] = yv[j] + ca * kv
 
 
 @njit(cache=True)
@@ -191,45 +235,37 @@ def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, r
     """One locked RK4 step of the state from ``x`` into ``out``; c0, c1, c2: the series at the step's start,
     middle and end; the four stages' states into ``stages`` (for the bearings' stiffness of the tangent step)."""
     n2 = x.shape[0]
-    stages[0] = x
+    nb = bq.shape[0]
+    if nb:
+        stages[0] = x
     _state_rhs(x, k1, A, B, W, V, sp, c0, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k1[r]
-    stages[1] = tmp
+    if nb:
+        stages[1] = tmp
     _state_rhs(tmp, k2, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k2[r]
-    stages[2] = tmp
+    if nb:
+        stages[2] = tmp
     _state_rhs(tmp, k3, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + h * k3[r]
-    stages[3] = tmp
+    if nb:
+        stages[3] = tmp
     _state_rhs(tmp, k4, A, B, W, V, sp, c2, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         out[r] = x[r] + h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r])
 
 
 @njit(cache=True)
-def _tangent_step(h, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
+def _tangent_step(h, Y, Yn, Sa, Sb, fe, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, o, bq, bx, stages):
     """One locked RK4 step of the fundamental matrix, in place (the dead zones' stiffness does not depend on the
     state inside a region; the bearings' is taken at the ``stages`` of the state's step)."""
-    n2, m = Y.shape
-    _tangent_rhs(Y, k1, A, B, W, V, sp, c0, reg, inv_nu, vy, bq, bx, stages[0])
-    for r in range(n2):
-        for j in range(m):
-            tmp[r, j] = Y[r, j] + 0.5 * h * k1[r, j]
-    _tangent_rhs(tmp, k2, A, B, W, V, sp, c1, reg, inv_nu, vy, bq, bx, stages[1])
-    for r in range(n2):
-        for j in range(m):
-            tmp[r, j] = Y[r, j] + 0.5 * h * k2[r, j]
-    _tangent_rhs(tmp, k3, A, B, W, V, sp, c1, reg, inv_nu, vy, bq, bx, stages[2])
-    for r in range(n2):
-        for j in range(m):
-            tmp[r, j] = Y[r, j] + h * k3[r, j]
-    _tangent_rhs(tmp, k4, A, B, W, V, sp, c2, reg, inv_nu, vy, bq, bx, stages[3])
-    for r in range(n2):
-        for j in range(m):
-            Y[r, j] += h / 6.0 * (k1[r, j] + 2.0 * k2[r, j] + 2.0 * k3[r, j] + k4[r, j])
+    _tangent_stage(Y, Y, Yn, Sa, fe, A, B, W, V, sp, c0, reg, inv_nu, h / 6.0, 0.5 * h, 0, bq, bx, stages[0], o)
+    _tangent_stage(Sa, Y, Yn, Sb, fe, A, B, W, V, sp, c1, reg, inv_nu, h / 3.0, 0.5 * h, 1, bq, bx, stages[1], o)
+    _tangent_stage(Sb, Y, Yn, Sa, fe, A, B, W, V, sp, c1, reg, inv_nu, h / 3.0, h, 1, bq, bx, stages[2], o)
+    _tangent_stage(Sa, Y, Yn, Sb, fe, A, B, W, V, sp, c2, reg, inv_nu, h / 6.0, 0.0, 2, bq, bx, stages[3], o)
 
 
 @njit(cache=True)
@@ -237,23 +273,25 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
     """Advance the state ``x`` (2n) and the columns ``Y`` (2n, m) in place over φ ∈ [0, 2π]; returns
     (steps, switches) taken, or (−1, switches) if the state stopped being finite."""
     n2, m, ne, inv_nu = x.shape[0], Y.shape[1], W.shape[0], 1.0 / nu
-    sv, kv, cv = np.empty((7, n2)), np.empty((5, n2, m)), np.empty((5, 6, max(A.shape[0], ne)))
+    mp = -(-m // LANES) * LANES  # the columns padded with zeros to whole vectors (no remainder loops)
+    Yp = np.zeros((4, n2, mp))  # the columns, the stages' sum and two stages' columns
+    Yp[0, :, :m] = Y
+    sv, cv, fe, o = np.empty((7, n2)), np.empty((5, 6, max(A.shape[0], ne))), np.empty((ne, mp)), np.empty(mp)
     stages = np.empty((4, n2))
     s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
-    k1, k2, k3, k4, tmp = kv[0], kv[1], kv[2], kv[3], kv[4]
     c0, c1, c2, t1, t2 = cv[0], cv[1], cv[2], cv[3], cv[4]
-    vy = np.empty((7, m))
     trig = np.empty((2, 1 + max(Cz.shape[1], Kz.shape[1], Ez.shape[1], Gz.shape[1]) // 2))
     reg = np.empty(ne, dtype=np.int64)
     _coefficients(0.0, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
     for e in range(ne):
         reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], c0), D[e])
-    end, phi, steps, switches = 2.0 * math.pi, 0.0, 0, 0
+    end, phi, steps, switches, start_known = 2.0 * math.pi, 0.0, 0, 0, False
     while phi < end:
         h = min(hmax, end - phi)
         if end - (phi + h) < 1e-12 * end:
             h = end - phi
-        _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
+        if not start_known:  # (else the last step's end)
+            _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
         _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
         _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
         _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
@@ -303,15 +341,20 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 _state_step(
                     hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages
                 )
-            _tangent_step(hs, Y, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages)
+            _tangent_step(
+                hs, Yp[0], Yp[1], Yp[2], Yp[3], fe, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, o, bq, bx, stages
+            )
             for r in range(n2):
                 x[r] = xe[r]
             phi += hs  # (h when no element changed region)
             steps += 1
+            c0, c2 = c2, c0
+        start_known = first < 0 or hs > 1e-13 * end
         if first >= 0:
             # the element crossed its boundary: into the gap from a contact, or into the contact at that level
             reg[first] = 0 if reg[first] != 0 else (1 if level_first > 0.0 else -1)
             switches += 1
             if switches > MAX_SWITCHES:
                 return -1, switches
+    Y[:] = Yp[0, :, :m]
     return steps, switches

@@ -148,7 +148,7 @@ def monodromy_floquet(
     Q[:n, : count // 2] = P
     Q[n:, count // 2 :] = P
     Dv = np.asarray(D, dtype=float)
-    sp = (*_rows(np.logical_or(A != 0, B != 0)), *_rows(V != 0))  # the nonzeros the kernel sums over
+    sp = (*_rows(np.logical_or(A != 0, B != 0)), *_rows(V != 0), *_rows(W != 0), *_rows(W.T != 0))  # (kernel)
 
     def period(start: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray] | None:
         """(end state, QᵀΦQ) of the period from ``start`` in steps of at most ``h``, or None if it could not be
