@@ -269,23 +269,26 @@ def _tangent_step(h, Y, Yn, Sa, Sb, fe, A, B, W, V, sp, c0, c1, c2, reg, inv_nu,
 
 
 @njit(cache=True)
-def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol, bq, bx):
+def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol, bq, bx, stride):
     """Advance the state ``x`` (2n) and the columns ``Y`` (2n, m) in place over φ ∈ [0, 2π]; returns
-    (steps, switches) taken, or (−1, switches) if the state stopped being finite."""
+    (steps, switches) taken, or (−1, switches) if the state stopped being finite.  The columns take one RK4 step
+    per ``stride`` steps of the state (a step ends early at a contact switch; ``stride`` > 1 without rolling
+    bearings only: their stiffness needs the state's stages)."""
     n2, m, ne, inv_nu = x.shape[0], Y.shape[1], W.shape[0], 1.0 / nu
     mp = -(-m // LANES) * LANES  # the columns padded with zeros to whole vectors (no remainder loops)
     Yp = np.zeros((4, n2, mp))  # the columns, the stages' sum and two stages' columns
     Yp[0, :, :m] = Y
-    sv, cv, fe, o = np.empty((7, n2)), np.empty((5, 6, max(A.shape[0], ne))), np.empty((ne, mp)), np.empty(mp)
+    sv, cv, fe, o = np.empty((7, n2)), np.empty((6, 6, max(A.shape[0], ne))), np.empty((ne, mp)), np.empty(mp)
     stages = np.empty((4, n2))
     s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
-    c0, c1, c2, t1, t2 = cv[0], cv[1], cv[2], cv[3], cv[4]
+    c0, c1, c2, t1, t2, tc = cv[0], cv[1], cv[2], cv[3], cv[4], cv[5]  # tc: the columns' step start
     trig = np.empty((2, 1 + max(Cz.shape[1], Kz.shape[1], Ez.shape[1], Gz.shape[1]) // 2))
     reg = np.empty(ne, dtype=np.int64)
     _coefficients(0.0, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
     for e in range(ne):
         reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], c0), D[e])
-    end, phi, steps, switches, start_known = 2.0 * math.pi, 0.0, 0, 0, False
+    tc[:] = c0
+    end, phi, steps, switches, start_known, tphi, pending = 2.0 * math.pi, 0.0, 0, 0, False, 0.0, 0
     while phi < end:
         h = min(hmax, end - phi)
         if end - (phi + h) < 1e-12 * end:
@@ -341,15 +344,28 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 _state_step(
                     hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages
                 )
-            _tangent_step(
-                hs, Yp[0], Yp[1], Yp[2], Yp[3], fe, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, o, bq, bx, stages
-            )
+            if stride == 1:
+                _tangent_step(
+                    hs, Yp[0], Yp[1], Yp[2], Yp[3], fe, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, o, bq, bx, stages
+                )
             for r in range(n2):
                 x[r] = xe[r]
             phi += hs  # (h when no element changed region)
             steps += 1
+            pending += 1
             c0, c2 = c2, c0
         start_known = first < 0 or hs > 1e-13 * end
+        if stride > 1 and pending > 0 and (pending == stride or first >= 0 or phi >= end):
+            # the columns' step over the state's last steps, before any region changes (c0: the series at φ)
+            hc = phi - tphi
+            _coefficients(tphi + 0.5 * hc, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1, trig)
+            _tangent_step(
+                hc, Yp[0], Yp[1], Yp[2], Yp[3], fe, A, B, W, V, sp, tc, t1, c0, reg, inv_nu, o, bq, bx, stages
+            )
+            tc[:] = c0
+            tphi, pending = phi, 0
+        elif stride == 1:
+            pending = 0
         if first >= 0:
             # the element crossed its boundary: into the gap from a contact, or into the contact at that level
             reg[first] = 0 if reg[first] != 0 else (1 if level_first > 0.0 else -1)
