@@ -357,9 +357,9 @@ class HBEquations:
     def _pattern(self, f: HBForm) -> tuple:
         """The entries of the lifted sparse Jacobian (:class:`SparseJacobian`) in the order :meth:`_jacobian` makes
         their values: the blocks of I⊗D₂, A⊗I, B⊗D₁ at the nonzeros of the DOF matrix, the gauge columns and rows,
-        then the auxiliary unknowns' blocks: W_e ⊗ I, V_eᵀ ⊗ I, the two −I and every coupling's op_ij; with the
-        constant values of the auxiliary blocks.  (The compressed-column slots of the plain and of the bordered
-        matrix, the x unknowns n, the z unknowns, the constant values.)"""
+        then the auxiliary unknowns' blocks: W_e ⊗ I, V_eᵀ ⊗ I, the two −I and every coupling's op_ij.  (The
+        compressed-column slots of the plain and of the bordered matrix, the x unknowns n, the z unknowns, the
+        values of I⊗diag(k²), A⊗I and B⊗D₁, and those of the gauge's and the auxiliary blocks, which are fixed.)"""
         M, N0, els = self.M, f.dofs * self.M, f.elements
         c, (di, dj), (ei, ej) = np.arange(M), self._d1, np.divmod(np.arange(M * M), M)
         parts = [_kron_index(np.eye(f.dofs), c, c, M), _kron_index(f.A, c, c, M), _kron_index(f.B, di, dj, M)]
@@ -367,7 +367,12 @@ class HBEquations:
         parts += [(gi, N0 + gk), (N0 + hk, hi)]
         n, nz = self.basis.size, len(els) * M
         const = [np.repeat(el.W[el.W != 0], M) for el in els] + [np.repeat(el.V[el.V != 0], M) for el in els]
-        const = np.concatenate([*const, -np.ones(2 * nz)])
+        const = [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)], *const, -np.ones(2 * nz)]
+        linear = (
+            _kron_values(np.eye(f.dofs), self._k2),
+            _kron_values(f.A, np.ones(M)),
+            _kron_values(f.B, self.D1[di, dj]),
+        )
 
         def lifted(k: int) -> tuple:  # the auxiliaries after the k unknowns x (and p): z at k, y at k + nz
             aux = [(_kron_index(el.W[:, None], c, c, M)[0], k + nz + e * M + np.tile(c, np.count_nonzero(el.W)))
@@ -382,7 +387,7 @@ class HBEquations:
         brows, bcols = lifted(n + 1)
         full = np.arange(n + 1)
         border = np.concatenate([brows, full[:-1], np.full(n + 1, n)]), np.concatenate([bcols, np.full(n, n), full])
-        return _slots(rows, cols, n + 2 * nz), _slots(*border, n + 1 + 2 * nz), n, nz, const
+        return _slots(rows, cols, n + 2 * nz), _slots(*border, n + 1 + 2 * nz), n, nz, linear, np.concatenate(const)
 
     def _entry(self, p: float | None) -> _Point:
         key = None if (p is None or self.param is None) else float(p)
@@ -468,10 +473,8 @@ class HBEquations:
             T = toeplitz(Ss[i, j], H)
             ops.append(real_operator_kernel(T + nu * toeplitz(f.elements[i].C, H) * self._ik if i == j else T, H))
         if pt.pattern is not None:
-            v = [_kron_values(np.eye(nd), -(nu**2) * self._k2), _kron_values(f.A, np.ones(M))]
-            v += [_kron_values(nu * f.B, self.D1[self._d1])]
-            v += [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)], pt.pattern[4]]
-            return SparseJacobian(pt.pattern, np.concatenate(v + [op.ravel() for op in ops]))
+            (k2, a, b), const = pt.pattern[4:]
+            return SparseJacobian(pt.pattern, np.concatenate([-(nu**2) * k2, a, nu * b, const, *map(np.ravel, ops)]))
         J = np.kron(np.eye(nd), np.diag(-(nu**2) * self._k2)) + np.kron(f.A, np.eye(M)) + nu * np.kron(f.B, self.D1)
         for (i, j), op in zip(_couplings(f), ops):
             J += np.kron(np.outer(f.elements[i].W, f.elements[j].V), op)
