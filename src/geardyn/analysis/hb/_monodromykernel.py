@@ -9,8 +9,8 @@ from φ = 0 to 2π (d/dτ = ν d/dφ) with the classic RK4.  Each step runs with
 (drive contact, gap, back contact) it is in at the step's start, so the vector field is smooth on the step; a step at
 whose end an element is in another region is shortened to end on the boundary (the step length found by an Illinois
 iteration on the locked step), so RK4 keeps its fourth order through the contact switches.  All series are centred
-complex coefficients in φ.  The columns take each RK4 stage row by row (:func:`_tangent_stage`: the stage's rates go
-straight into the stages' sum and the next stage's columns), padded with zero columns to whole SIMD vectors; the
+complex coefficients in φ.  Each RK4 stage's rates of the columns go straight into the stages' sum and the next
+stage's columns (:func:`_tangent_step`); 8 or more columns are padded with zero columns to whole SIMD vectors; the
 series at a step's end are the next step's start.
 
 A rolling bearing (``bq``: the N-DOF kernel's parameter rows, :data:`geardyn._kernel_ndof.core.BQ_Z` …, its cage
@@ -100,7 +100,7 @@ def _bearing_rows(x, V, vp, vi, e, off):
 
 @njit(cache=True)
 def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
-    nd, ne, (rp, ri, vp, vi, wp, wi) = A.shape[0], W.shape[0], sp[:6]
+    nd, ne, (rp, ri, vp, vi, wp, wi) = A.shape[0], W.shape[0], sp
     for r in range(nd):
         out[r] = x[nd + r] * inv_nu
         acc = cf[0, r]
@@ -134,100 +134,59 @@ def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
 
 
 @njit(cache=True)
-def _tangent_stage(Yc, Y, Yn, Yx, fe, A, B, W, V, sp, cf, reg, inv_nu, cw, ca, mode, bq, bx, xs, o):
-    """One RK4 stage of the columns, row by row: the rates k of the stage's columns ``Yc`` (the velocity rows over
-    ν above, the accelerations below) go into the stages' sum ``Yn`` (mode 0: Yn = Y + cw k; 1: Yn += cw k; 2: the
-    step's end, Y = Yn + cw k) and the next stage's columns Yx = Y + ca k.  ``fe``: each element's force of the
-    columns, k_e V_e·q + c_e V_e·q' (a bearing's two rows: its 2×2 stiffness at the stage's state ``xs`` and its
-    dampers); ``sp``: the nonzeros of A and B by rows, of V by elements, and of W by rows (the elements acting on
-    each row)."""
-    nd, m, ne, (rp, ri, vp, vi, _, _, tp, ti) = A.shape[0], Y.shape[1], W.shape[0], sp
-    for e in range(ne):
-        c = cf[1, e]
-        k = cf[2, e] if reg[e] != 0 else 0.0
-        f = fe[e]
-        f[:] = 0.0
-        o[:] = 0.0
-        for q in range(vp[e], vp[e + 1]):
-            s = vi[q]
-            v = V[e, s]
-            ys, yv = Yc[s], Yc[nd + s]
-            for j in range(m):
-                o[j] += v * ys[j]
-                f[j] += v * yv[j]
-        for j in range(m):
-            f[j] = k * o[j] + c * f[j]
-    for b in range(bq.shape[0]):  # the bearing's 2×2 stiffness at the stage's state xs, its dampers cx, cy
-        e = bx[b]
-        dx, dy = _bearing_rows(xs, V, vp, vi, e, 0)
-        kxx, kxy, kyy = bearing_slopes(dx, dy, cf[5, b], bq, b)
-        fx, fy = fe[e], fe[e + 1]
-        fx[:] = 0.0
-        fy[:] = 0.0
-        o[:] = 0.0
-        for q in range(vp[e], vp[e + 1]):  # fx: the x row's deflections, fy: its rates (for now)
-            s = vi[q]
-            v = V[e, s]
-            for j in range(m):
-                fx[j] += v * Yc[s, j]
-                fy[j] += v * Yc[nd + s, j]
-        for j in range(m):
-            o[j] = fx[j]
-            fx[j] = kxx * o[j] + bq[b, BQ_CX] * fy[j]
-            fy[j] = kxy * o[j]
-        o[:] = 0.0
-        for q in range(vp[e + 1], vp[e + 2]):
-            s = vi[q]
-            v = V[e + 1, s]
-            ys, yv = Yc[s], Yc[nd + s]
-            for j in range(m):
-                o[j] += v * ys[j]
-        for j in range(m):
-            fx[j] += kxy * o[j]
-            fy[j] += kyy * o[j]
-        o[:] = 0.0
-        for q in range(vp[e + 1], vp[e + 2]):
-            s = vi[q]
-            v = V[e + 1, s]
-            for j in range(m):
-                o[j] += v * Yc[nd + s, j]
-        for j in range(m):
-            fy[j] += bq[b, BQ_CY] * o[j]
+def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, vy, bq, bx, xs):
+    """ν times the rate of the columns' velocity rows into out[:nd] (their position rows' rate is the velocity
+    rows over ν), summed over the nonzeros only (``sp``: the union pattern of A and B, the patterns of V and W)."""
+    nd, m, ne, (rp, ri, vp, vi, wp, wi) = A.shape[0], Y.shape[1], W.shape[0], sp
+    acc, b = vy[1], vy[2]
     for r in range(nd):
+        o = out[r]
         o[:] = 0.0
         for q in range(rp[r], rp[r + 1]):
             s = ri[q]
             ar, br = A[r, s], B[r, s]
-            ys, yv = Yc[s], Yc[nd + s]
+            ys, yv = Y[s], Y[nd + s]
             for j in range(m):
                 o[j] -= ar * ys[j] + br * yv[j]
-        for q in range(tp[r], tp[r + 1]):
-            e = ti[q]
+    for e in range(ne):
+        c = cf[1, e]
+        k = cf[2, e] if reg[e] != 0 else 0.0
+        acc[:] = 0.0
+        b[:] = 0.0
+        for q in range(vp[e], vp[e + 1]):
+            s = vi[q]
+            v = V[e, s]
+            ys, yv = Y[s], Y[nd + s]
+            for j in range(m):
+                acc[j] += v * ys[j]
+                b[j] += v * yv[j]
+        for j in range(m):
+            acc[j] = k * acc[j] + c * b[j]
+        for q in range(wp[e], wp[e + 1]):
+            r = wi[q]
             w = W[e, r]
-            f = fe[e]
+            o = out[r]
             for j in range(m):
-                o[j] -= w * f[j]
-        yq, yv, nq, nv, cv = Y[r], Y[nd + r], Yn[r], Yn[nd + r], Yc[nd + r]
-        if mode == 2:
-            for j in range(m):
-                yq[j] = nq[j] + cw * (cv[j] * inv_nu)
-                yv[j] = nv[j] + cw * (o[j] * inv_nu)
-            continue
-        xq, xv = Yx[r], Yx[nd + r]
-        if mode == 0:
-            for j in range(m):
-                kq, kv = cv[j] * inv_nu, o[j] * inv_nu
-                nq[j] = yq[j] + cw * kq
-                nv[j] = yv[j] + cw * kv
-                xq[j] = yq[j] + ca * kq
-                xv[j] = yv[j] + ca * kv
-        else:
-            for j in range(m):
-                kq, kv = cv[j] * inv_nu, o[j] * inv_nu
-                nq[j] += cw * kq
-                nv[j] += cw * kv
-                xq[j] = yq[j] + ca * kq
-                xv[j] = yv[j] + ca * kv
+                o[j] -= w * acc[j]
+    for b in range(bq.shape[0]):  # the bearing's 2×2 stiffness at the stage's state xs, its dampers cx, cy
+        e = bx[b]
+        dx, dy = _bearing_rows(xs, V, vp, vi, e, 0)
+        kxx, kxy, kyy = bearing_slopes(dx, dy, cf[5, b], bq, b)
+        vy[3:] = 0.0
+        for k in range(2):
+            for q in range(vp[e + k], vp[e + k + 1]):
+                s = vi[q]
+                v = V[e + k, s]
+                for j in range(m):
+                    vy[3 + k, j] += v * Y[s, j]
+                    vy[5 + k, j] += v * Y[nd + s, j]
+        for r in range(nd):
+            wx, wy = W[e, r], W[e + 1, r]
+            if wx != 0.0 or wy != 0.0:
+                for j in range(m):
+                    fx = kxx * vy[3, j] + kxy * vy[4, j] + bq[b, BQ_CX] * vy[5, j]
+                    fy = kxy * vy[3, j] + kyy * vy[4, j] + bq[b, BQ_CY] * vy[6, j]
+                    out[r, j] -= wx * fx + wy * fy
 
 
 @njit(cache=True)
@@ -259,13 +218,38 @@ def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, r
 
 
 @njit(cache=True)
-def _tangent_step(h, Y, Yn, Sa, Sb, fe, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, o, bq, bx, stages):
+def _tangent_step(h, Y, Yn, Ys, F, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
     """One locked RK4 step of the fundamental matrix, in place (the dead zones' stiffness does not depend on the
-    state inside a region; the bearings' is taken at the ``stages`` of the state's step)."""
-    _tangent_stage(Y, Y, Yn, Sa, fe, A, B, W, V, sp, c0, reg, inv_nu, h / 6.0, 0.5 * h, 0, bq, bx, stages[0], o)
-    _tangent_stage(Sa, Y, Yn, Sb, fe, A, B, W, V, sp, c1, reg, inv_nu, h / 3.0, 0.5 * h, 1, bq, bx, stages[1], o)
-    _tangent_stage(Sb, Y, Yn, Sa, fe, A, B, W, V, sp, c1, reg, inv_nu, h / 3.0, h, 1, bq, bx, stages[2], o)
-    _tangent_stage(Sa, Y, Yn, Sb, fe, A, B, W, V, sp, c2, reg, inv_nu, h / 6.0, 0.0, 2, bq, bx, stages[3], o)
+    state inside a region; the bearings' is taken at the ``stages`` of the state's step): the stages' sum is
+    accumulated in ``Yn`` as each stage's rate is known, the next stage's columns in ``Ys``."""
+    n2, m = Y.shape
+    nd = n2 // 2
+    _tangent_rhs(Y, F, A, B, W, V, sp, c0, reg, vy, bq, bx, stages[0])
+    for r in range(nd):
+        yq, yv, nq, nv, sq, sv, f = Y[r], Y[nd + r], Yn[r], Yn[nd + r], Ys[r], Ys[nd + r], F[r]
+        for j in range(m):
+            kq, kv = yv[j] * inv_nu, f[j] * inv_nu
+            nq[j] = yq[j] + h / 6.0 * kq
+            nv[j] = yv[j] + h / 6.0 * kv
+            sq[j] = yq[j] + 0.5 * h * kq
+            sv[j] = yv[j] + 0.5 * h * kv
+    for stage in range(1, 3):
+        _tangent_rhs(Ys, F, A, B, W, V, sp, c1, reg, vy, bq, bx, stages[stage])
+        a = 0.5 * h if stage == 1 else h
+        for r in range(nd):
+            yq, yv, nq, nv, sq, sv, f = Y[r], Y[nd + r], Yn[r], Yn[nd + r], Ys[r], Ys[nd + r], F[r]
+            for j in range(m):
+                kq, kv = sv[j] * inv_nu, f[j] * inv_nu
+                nq[j] += h / 3.0 * kq
+                nv[j] += h / 3.0 * kv
+                sq[j] = yq[j] + a * kq
+                sv[j] = yv[j] + a * kv
+    _tangent_rhs(Ys, F, A, B, W, V, sp, c2, reg, vy, bq, bx, stages[3])
+    for r in range(nd):
+        yq, yv, nq, nv, sv, f = Y[r], Y[nd + r], Yn[r], Yn[nd + r], Ys[nd + r], F[r]
+        for j in range(m):
+            yq[j] = nq[j] + h / 6.0 * (sv[j] * inv_nu)
+            yv[j] = nv[j] + h / 6.0 * (f[j] * inv_nu)
 
 
 @njit(cache=True)
@@ -275,10 +259,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
     per ``stride`` steps of the state (a step ends early at a contact switch; ``stride`` > 1 without rolling
     bearings only: their stiffness needs the state's stages)."""
     n2, m, ne, inv_nu = x.shape[0], Y.shape[1], W.shape[0], 1.0 / nu
-    mp = -(-m // LANES) * LANES  # the columns padded with zeros to whole vectors (no remainder loops)
+    mp = m if m < LANES else -(-m // LANES) * LANES  # the columns padded with zeros to whole vectors (no remainder)
     Yp = np.zeros((4, n2, mp))  # the columns, the stages' sum and two stages' columns
     Yp[0, :, :m] = Y
-    sv, cv, fe, o = np.empty((7, n2)), np.empty((6, 6, max(A.shape[0], ne))), np.empty((ne, mp)), np.empty(mp)
+    sv, cv, vy = np.empty((7, n2)), np.empty((6, 6, max(A.shape[0], ne))), np.empty((7, mp))
     stages = np.empty((4, n2))
     s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
     c0, c1, c2, t1, t2, tc = cv[0], cv[1], cv[2], cv[3], cv[4], cv[5]  # tc: the columns' step start
@@ -346,7 +330,7 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 )
             if stride == 1:
                 _tangent_step(
-                    hs, Yp[0], Yp[1], Yp[2], Yp[3], fe, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, o, bq, bx, stages
+                    hs, Yp[0], Yp[1], Yp[2], Yp[3], A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages
                 )
             for r in range(n2):
                 x[r] = xe[r]
@@ -359,9 +343,7 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
             # the columns' step over the state's last steps, before any region changes (c0: the series at φ)
             hc = phi - tphi
             _coefficients(tphi + 0.5 * hc, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1, trig)
-            _tangent_step(
-                hc, Yp[0], Yp[1], Yp[2], Yp[3], fe, A, B, W, V, sp, tc, t1, c0, reg, inv_nu, o, bq, bx, stages
-            )
+            _tangent_step(hc, Yp[0], Yp[1], Yp[2], Yp[3], A, B, W, V, sp, tc, t1, c0, reg, inv_nu, vy, bq, bx, stages)
             tc[:] = c0
             tphi, pending = phi, 0
         elif stride == 1:
