@@ -194,24 +194,19 @@ def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, r
     """One locked RK4 step of the state from ``x`` into ``out``; c0, c1, c2: the series at the step's start,
     middle and end; the four stages' states into ``stages`` (for the bearings' stiffness of the tangent step)."""
     n2 = x.shape[0]
-    nb = bq.shape[0]
-    if nb:
-        stages[0] = x
+    stages[0] = x
     _state_rhs(x, k1, A, B, W, V, sp, c0, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k1[r]
-    if nb:
-        stages[1] = tmp
+    stages[1] = tmp
     _state_rhs(tmp, k2, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k2[r]
-    if nb:
-        stages[2] = tmp
+    stages[2] = tmp
     _state_rhs(tmp, k3, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         tmp[r] = x[r] + h * k3[r]
-    if nb:
-        stages[3] = tmp
+    stages[3] = tmp
     _state_rhs(tmp, k4, A, B, W, V, sp, c2, D, reg, inv_nu, nu, bq, bx)
     for r in range(n2):
         out[r] = x[r] + h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r])

@@ -6,8 +6,8 @@ The equation of the form (:mod:`.form`) is integrated over the response period f
 (:func:`~._monodromykernel.monodromy_kernel`: classic RK4 with every element locked to its contact region on a step,
 the steps cut at the contact switches located on the trajectory, steps of at most :data:`STEP_ANGLE`/ρ in τ,
 ρ = √ρ(K) + ‖C‖₂ of the largest stiffness and damping, a bound of the fastest rate of the linearised motion).  The
-period is integrated twice: from the HB state (in steps :data:`FIRST_STEP_FACTOR` times longer, or for many columns
-a step of the fundamental matrix per :data:`FIRST_STRIDE` of the state's), then from the state corrected by one
+period is integrated twice: from the HB state (a step of the fundamental matrix per :data:`FIRST_STRIDE` of the
+state's), then from the state corrected by one
 Newton step of shooting on the elastic part, x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (skipped when it is more than
 :data:`REFINE_GAIN` times the gap it closes, next to a fold). The multipliers are the eigenvalues of QᵀΦQ, Q =
 diag(P, P) an orthonormal basis of the complement of the rigid-body modes, so the rigid modes' multipliers 1 are
@@ -30,9 +30,7 @@ from .hill import LIOUVILLE_TOL, NO_MULTIPLIERS, HillResult
 
 __all__ = [
     "CLOSURE_TOL",
-    "FIRST_STEP_FACTOR",
     "FIRST_STRIDE",
-    "STRIDE_COLUMNS",
     "FLOQUET_METHODS",
     "REFINE_GAIN",
     "STEP_ANGLE",
@@ -55,13 +53,10 @@ CLOSURE_TOL = 1e-2
 #: step is more than REFINE_GAIN times the closure gap (QᵀΦQ − I nearly singular: a multiplier within about
 #: 1/REFINE_GAIN of 1, next to a fold, where the step would leave for another orbit).
 REFINE_GAIN = 20.0
-#: The first period, which only gives the Newton step, is integrated in steps this many times longer ...
-FIRST_STEP_FACTOR = 2.0
-#: ... or, with at least STRIDE_COLUMNS columns (where they are most of the work) and no rolling bearing (whose
-#: stiffness needs the state's stages), the state in the second period's steps (the Newton step then aims at the
-#: orbit the second period integrates) and the fundamental matrix in steps of FIRST_STRIDE of them.
+#: The first period, which only gives the Newton step, takes the state in the second period's steps (the step aims
+#: at the orbit the second period integrates) and the fundamental matrix in steps of this many of them (1 with a
+#: rolling bearing, whose stiffness needs the state's stages).
 FIRST_STRIDE = 4
-STRIDE_COLUMNS = 8
 
 
 def _check_floquet(floquet: str) -> str:
@@ -155,43 +150,18 @@ def monodromy_floquet(
     Q = np.zeros((2 * n, count))  # diag(P, P) (scipy's block_diag costs 30 times this)
     Q[:n, : count // 2] = P
     Q[n:, count // 2 :] = P
-    Dv = np.asarray(D, dtype=float)
     sp = (*_rows(np.logical_or(A != 0, B != 0)), *_rows(V != 0), *_rows(W != 0))  # the nonzeros the kernel sums
+    args = (A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, np.asarray(D, dtype=float), hmax, float(nu))
 
-    def period(start: np.ndarray, stride: int = 1, factor: float = 1.0) -> tuple[np.ndarray, np.ndarray] | None:
-        """(end state, QᵀΦQ) of the period from ``start`` in steps ``factor`` times the longest (a step of Φ per
-        ``stride`` of the state's), or None if it could not be integrated."""
+    def period(start: np.ndarray, stride: int = 1) -> tuple[np.ndarray, np.ndarray] | None:
+        """(end state, QᵀΦQ) of the period from ``start`` (a step of Φ per ``stride`` of the state's), or None if
+        it could not be integrated."""
         xe, Y = start.copy(), Q.copy()
-        steps, _switches = monodromy_kernel(
-            xe,
-            Y,
-            A,
-            B,
-            W,
-            V,
-            sp,
-            Cz,
-            Lc,
-            Kz,
-            Lk,
-            Ez,
-            dEz,
-            Le,
-            Gz,
-            Lg,
-            Dv,
-            factor * hmax,
-            float(nu),
-            SWITCH_TOL,
-            bq,
-            bx,
-            stride,
-        )
+        steps, _switches = monodromy_kernel(xe, Y, *args, SWITCH_TOL, bq, bx, stride)
         Phi = Q.T @ Y
         return None if steps < 0 or not (np.all(np.isfinite(Phi)) and np.all(np.isfinite(xe))) else (xe, Phi)
 
-    strided = count >= STRIDE_COLUMNS and not bx.size
-    first = period(x_start, FIRST_STRIDE) if strided else period(x_start, 1, FIRST_STEP_FACTOR)
+    first = period(x_start, 1 if bx.size else FIRST_STRIDE)
     if first is None:
         return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
     x, Phi = first
