@@ -89,10 +89,11 @@ FORCE_OVERSAMPLE = 4
 SPARSE_DOFS = 8
 #: SuperLU's pivot threshold: a diagonal pivot is kept while at least this times the column's largest entry.
 PIVOT_THRESH = 0.01
-#: SuperLU's column ordering: minimum degree on the structure of Aᵀ + A (on the 48-DOF chain's bordered Jacobian
-#: at H = 16, 1 586 unknowns, 220 000 entries in L + U and 9.8 ms a factorisation against COLAMD's 307 000 and 12.6
-#: ms; the matrix's pattern is nearly symmetric).
-PERMC_SPEC = "MMD_AT_PLUS_A"
+#: SuperLU's column ordering of the lifted matrix (:class:`SparseJacobian`): COLAMD (on the 48-DOF chain's bordered
+#: Jacobian at H = 16 at ω = 0.75: 2 114 unknowns, 19 600 entries, 76 500 in L + U and 2.5 ms a factorisation, against
+#: 67 600 and 4.8 ms with minimum degree on Aᵀ + A, whose ordering costs more; J itself, 1 586 unknowns and 248 000
+#: entries, took 301 000 and 8.2 ms).  Pivot thresholds 0 and 0.01 pivot alike there; 0.1 and 1 fill more.
+PERMC_SPEC = "COLAMD"
 #: Use the compiled kernels of a scalar form (``benchmarks/hb_speed.py --general`` switches them off).
 SPECIALISE = True
 
@@ -110,10 +111,21 @@ def _slots(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple:
 
 
 class SparseJacobian:
-    """A Jacobian assembled sparse (forms of more than :data:`SPARSE_DOFS` coordinates): its values at the entries
-    of ``pattern`` (:meth:`HBEquations._pattern`: the matrix's, then the bordered one's), a dense last column
-    ``col`` and row (``A[-1] = row``) when bordered; solved by SuperLU (:data:`PERMC_SPEC` ordering, threshold
-    pivoting, one step of iterative refinement).  ``numpy.asarray`` gives it dense."""
+    """A Jacobian assembled sparse (forms of more than :data:`SPARSE_DOFS` coordinates) and solved *lifted*.
+
+    The Jacobian J = L + Σ_(i,j) (W_i V_jᵀ) ⊗ op_ij (L: the linear parts and the gauge rows and columns) is held as
+    the values at the entries of ``pattern`` (:meth:`HBEquations._pattern`) of the lifted matrix, with the
+    auxiliary unknowns z_j = (V_jᵀ ⊗ I) x (every element's deflection coefficients) and y_i = Σ_j op_ij z_j::
+
+        [ L    0   U ] [x]   [b]
+        [ Vᵀ  −I   0 ] [z] = [0]        U: the columns W_i ⊗ I,  Vᵀ: the rows V_jᵀ ⊗ I,  Op: the blocks op_ij,
+        [ 0   Op  −I ] [y]   [0]
+
+    whose Schur complement onto x is J: the same solution, with each element's dense M×M operator stored once
+    instead of once per pair of its coordinates.  Bordered (a dense last column ``col`` and row, ``A[-1] = row``)
+    the border lies on the x rows and columns only.  SuperLU (:data:`PERMC_SPEC` ordering, pivot threshold
+    :data:`PIVOT_THRESH`, one step of iterative refinement) factorises the lifted matrix; :meth:`tocsc` and
+    ``numpy.asarray`` give J itself."""
 
     def __init__(self, pattern: tuple, values: np.ndarray, col: np.ndarray | None = None):
         self.pattern, self.values, self.col = pattern, values, col
@@ -122,32 +134,42 @@ class SparseJacobian:
     def __setitem__(self, index: int, row: np.ndarray) -> None:
         self.row[:] = row
 
-    def tocsc(self) -> sparse.csc_matrix:
+    def lifted(self) -> sparse.csc_matrix:
+        """The lifted matrix (the class docstring), bordered when :attr:`col` is given."""
         (slot, indices, indptr, n), v = self.pattern[self.col is not None], self.values
         v = v if self.col is None else np.concatenate([v, self.col, self.row])
-        m = sparse.csc_matrix((np.bincount(slot, v, indices.size), indices, indptr), (n, n), copy=True)
-        m.eliminate_zeros()  # (in the copy: the pattern's arrays are kept)
-        return m
+        return sparse.csc_matrix((np.bincount(slot, v, indices.size), indices, indptr), (n, n))
+
+    def tocsc(self) -> sparse.csc_matrix:
+        """J (bordered when :attr:`col` is given): the Schur complement L + U Op Vᵀ of the lifted matrix."""
+        m, k = self.lifted(), self.pattern[2] + (self.col is not None)
+        z = k + self.pattern[3]
+        J = (m[:k, :k] + m[:k, z:] @ (m[z:, k:z] @ m[k:z, :k])).tocsc()
+        J.eliminate_zeros()
+        return J
 
     def __array__(self, dtype: Any = None, copy: Any = None) -> np.ndarray:
         return self.tocsc().toarray()
 
     def solve(self, b: np.ndarray, lu: Any = None) -> np.ndarray:
-        """x with A x = b; ``lu``: the factors of another matrix of the same pattern to use instead of factorising
-        this one (a chord step: x = LU⁻¹b refined once with this matrix's residual).  The factors used are left in
-        :attr:`lu` (None after the least-squares answer of a matrix that is not finite)."""
-        m = self.tocsc()
+        """x with A x = b (the x part of the lifted system's solution with right-hand side [b, 0, 0]); ``lu``: the
+        factors of another lifted matrix of the same pattern to use instead of factorising this one (a chord step:
+        LU⁻¹ refined once with this matrix's residual).  The factors used are left in :attr:`lu` (None after the
+        least-squares answer of a matrix that is not finite)."""
+        m = self.lifted()
         self.lu = None
         if not np.all(np.isfinite(m.data)):
-            return np.linalg.lstsq(m.toarray(), b, rcond=None)[0]
+            return np.linalg.lstsq(np.asarray(self), b, rcond=None)[0]
         if lu is None:
             try:
                 lu = splu(m, permc_spec=PERMC_SPEC, diag_pivot_thresh=PIVOT_THRESH)
             except RuntimeError as err:  # "Factor is exactly singular"
                 raise np.linalg.LinAlgError(str(err)) from None
         self.lu = lu
-        x = lu.solve(b)
-        return x + lu.solve(b - m @ x)
+        rhs = np.zeros(m.shape[0])
+        rhs[: b.size] = b
+        x = lu.solve(rhs)
+        return (x + lu.solve(rhs - m @ x))[: b.size]
 
 
 def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -> np.ndarray:
@@ -333,17 +355,39 @@ class HBEquations:
         return self.base.with_param(self.param, float(p)) if m is None else m
 
     def _pattern(self, f: HBForm) -> tuple:
-        """The entries of the sparse Jacobian in the order :meth:`_jacobian` makes them: the blocks of I⊗D₂, A⊗I,
-        B⊗D₁ and (W_e V_eᵀ)⊗op_e at the nonzeros of the DOF matrix, then the gauge columns and rows."""
-        M, N0 = self.M, f.dofs * self.M
+        """The entries of the lifted sparse Jacobian (:class:`SparseJacobian`) in the order :meth:`_jacobian` makes
+        their values: the blocks of I⊗D₂, A⊗I, B⊗D₁ at the nonzeros of the DOF matrix, the gauge columns and rows,
+        then the auxiliary unknowns' blocks: W_e ⊗ I, V_eᵀ ⊗ I, the two −I and every coupling's op_ij.  (The
+        compressed-column slots of the plain and of the bordered matrix, the x unknowns n, the z unknowns, the
+        values of I⊗diag(k²), A⊗I and B⊗D₁, and those of the gauge's and the auxiliary blocks, which are fixed.)"""
+        M, N0, els = self.M, f.dofs * self.M, f.elements
         c, (di, dj), (ei, ej) = np.arange(M), self._d1, np.divmod(np.arange(M * M), M)
         parts = [_kron_index(np.eye(f.dofs), c, c, M), _kron_index(f.A, c, c, M), _kron_index(f.B, di, dj, M)]
-        parts += [_kron_index(np.outer(f.elements[i].W, f.elements[j].V), ei, ej, M) for i, j in _couplings(f)]
         (gi, gk), (hi, hk) = np.nonzero(self.left), np.nonzero(self.gauge)
-        rows, cols = (np.concatenate(x) for x in zip(*parts, (gi, N0 + gk), (N0 + hk, hi)))
-        n, full = self.basis.size, np.arange(self.basis.size + 1)
-        border = np.concatenate([rows, full[:-1], np.full(n + 1, n)]), np.concatenate([cols, np.full(n, n), full])
-        return _slots(rows, cols, n), _slots(*border, n + 1)
+        parts += [(gi, N0 + gk), (N0 + hk, hi)]
+        n, nz = self.basis.size, len(els) * M
+        const = [np.repeat(el.W[el.W != 0], M) for el in els] + [np.repeat(el.V[el.V != 0], M) for el in els]
+        const = [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)], *const, -np.ones(2 * nz)]
+        linear = (
+            _kron_values(np.eye(f.dofs), self._k2),
+            _kron_values(f.A, np.ones(M)),
+            _kron_values(f.B, self.D1[di, dj]),
+        )
+
+        def lifted(k: int) -> tuple:  # the auxiliaries after the k unknowns x (and p): z at k, y at k + nz
+            aux = [(_kron_index(el.W[:, None], c, c, M)[0], k + nz + e * M + np.tile(c, np.count_nonzero(el.W)))
+                   for e, el in enumerate(els)]  # fmt: skip
+            aux += [(k + e * M + np.tile(c, np.count_nonzero(el.V)), _kron_index(el.V[:, None], c, c, M)[0])
+                    for e, el in enumerate(els)]  # fmt: skip
+            aux += [(k + np.arange(nz),) * 2, (k + nz + np.arange(nz),) * 2]
+            aux += [(k + nz + i * M + ei, k + j * M + ej) for i, j in _couplings(f)]
+            return [np.concatenate(x) for x in zip(*parts, *aux)]
+
+        rows, cols = lifted(n)
+        brows, bcols = lifted(n + 1)
+        full = np.arange(n + 1)
+        border = np.concatenate([brows, full[:-1], np.full(n + 1, n)]), np.concatenate([bcols, np.full(n, n), full])
+        return _slots(rows, cols, n + 2 * nz), _slots(*border, n + 1 + 2 * nz), n, nz, linear, np.concatenate(const)
 
     def _entry(self, p: float | None) -> _Point:
         key = None if (p is None or self.param is None) else float(p)
@@ -424,20 +468,16 @@ class HBEquations:
     def _jacobian(self, pt: _Point, nu: float, Ss: dict) -> np.ndarray | SparseJacobian:
         """Its blocks: every element's own (damping and S_ee), then the cross blocks S_ij of a law on several rows."""
         H, M, nd, f = self.H, self.M, self.basis.dofs, pt.form
-        ops, mats = [], []
+        ops = []
         for i, j in _couplings(f):
             T = toeplitz(Ss[i, j], H)
             ops.append(real_operator_kernel(T + nu * toeplitz(f.elements[i].C, H) * self._ik if i == j else T, H))
-            mats.append(np.outer(f.elements[i].W, f.elements[j].V))
         if pt.pattern is not None:
-            v = [_kron_values(np.eye(nd), -(nu**2) * self._k2), _kron_values(f.A, np.ones(M))]
-            v += [_kron_values(nu * f.B, self.D1[self._d1])]
-            v += [_kron_values(m, op.ravel()) for m, op in zip(mats, ops)]
-            v += [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)]]
-            return SparseJacobian(pt.pattern, np.concatenate(v))
+            (k2, a, b), const = pt.pattern[4:]
+            return SparseJacobian(pt.pattern, np.concatenate([-(nu**2) * k2, a, nu * b, const, *map(np.ravel, ops)]))
         J = np.kron(np.eye(nd), np.diag(-(nu**2) * self._k2)) + np.kron(f.A, np.eye(M)) + nu * np.kron(f.B, self.D1)
-        for m, op in zip(mats, ops):
-            J += np.kron(m, op)
+        for (i, j), op in zip(_couplings(f), ops):
+            J += np.kron(np.outer(f.elements[i].W, f.elements[j].V), op)
         return J
 
     def residual(self, x: np.ndarray, p: float | None = None, jacobian: bool = True):
