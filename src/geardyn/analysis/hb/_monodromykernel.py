@@ -44,8 +44,7 @@ _install_cache()  # the cache follows this directory's sources (see geardyn._cac
 
 @njit(cache=True)
 def _series(Z, i, L, trig):
-    """Value of the real trigonometric polynomial with centred complex coefficients Z[i, 0 … 2L] at the φ of
-    ``trig`` (cos kφ, sin kφ in its rows)."""
+    """The real trigonometric polynomial of centred coefficients Z[i, 0 … 2L] at the φ of ``trig`` (cos kφ, sin kφ)."""
     v = Z[i, L].real
     for k in range(1, L + 1):
         c = Z[i, L + k]
@@ -214,9 +213,8 @@ def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, r
 
 @njit(cache=True)
 def _tangent_step(h, Y, Yn, Ys, F, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
-    """One locked RK4 step of the fundamental matrix, in place (the dead zones' stiffness does not depend on the
-    state inside a region; the bearings' is taken at the ``stages`` of the state's step): the stages' sum is
-    accumulated in ``Yn`` as each stage's rate is known, the next stage's columns in ``Ys``."""
+    """One locked RK4 step of the fundamental matrix, in place (a bearing's stiffness at the state's ``stages``): the
+    stages' sum accumulated in ``Yn`` as each stage's rate is known, the next stage's columns in ``Ys``."""
     n2, m = Y.shape
     nd = n2 // 2
     _tangent_rhs(Y, F, A, B, W, V, sp, c0, reg, vy, bq, bx, stages[0])
@@ -249,10 +247,9 @@ def _tangent_step(h, Y, Yn, Ys, F, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, 
 
 @njit(cache=True)
 def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, D, hmax, nu, tol, bq, bx, stride):
-    """Advance the state ``x`` (2n) and the columns ``Y`` (2n, m) in place over φ ∈ [0, 2π]; returns
-    (steps, switches) taken, or (−1, switches) if the state stopped being finite.  The columns take one RK4 step
-    per ``stride`` steps of the state (a step ends early at a contact switch; ``stride`` > 1 without rolling
-    bearings only: their stiffness needs the state's stages)."""
+    """Advance the state ``x`` (2n) and the columns ``Y`` (2n, m) in place over φ ∈ [0, 2π], the columns a step per
+    ``stride`` of the state's, ending early at a contact switch (``stride`` > 1 without rolling bearings only);
+    returns (steps, switches) taken, or (−1, switches) if the state stopped being finite."""
     n2, m, ne, inv_nu = x.shape[0], Y.shape[1], W.shape[0], 1.0 / nu
     mp = m if m < LANES else -(-m // LANES) * LANES  # the columns padded with zeros to whole vectors (no remainder)
     Yp = np.zeros((4, n2, mp))  # the columns, the stages' sum and two stages' columns
@@ -341,8 +338,6 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
             _tangent_step(hc, Yp[0], Yp[1], Yp[2], Yp[3], A, B, W, V, sp, tc, t1, c0, reg, inv_nu, vy, bq, bx, stages)
             tc[:] = c0
             tphi, pending = phi, 0
-        elif stride == 1:
-            pending = 0
         if first >= 0:
             # the element crossed its boundary: into the gap from a contact, or into the contact at that level
             reg[first] = 0 if reg[first] != 0 else (1 if level_first > 0.0 else -1)

@@ -492,7 +492,6 @@ class _Tracer:
         near_pair = not self.conservative and np.any(np.abs(np.sqrt(np.abs(_pairs(mu))) - 1.0) < self.rules.band)
         return bool(near_pair or np.any(np.abs(mu + 1.0) < NEAR_CRITICAL))
 
-    # ---------------------------------------------------------------- tests and events
     def tests(self, pt: _Pt, chord: np.ndarray | None = None, key: str | None = None) -> dict[str, float]:
         """Test functions at ``pt`` (the tangent oriented along ``chord``): all of them, or only ``key``'s kind
         (then the multipliers are computed only for the multiplier tests)."""
@@ -553,7 +552,6 @@ class _Tracer:
         out.sort(key=lambda e: e[0])
         return [b for _s, b in out]
 
-    # ---------------------------------------------------------------- the branch
     def trace(self, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float, max_points: int, on_point=None) -> tuple:
         """The pseudo-arclength loop from the solution ``y`` (unknowns, then p/p_s), the first tangent oriented like
         ``ref``, steps ``ds`` up to ``ds_max``, at most ``max_points``; ``on_point`` gets each point's parameter.

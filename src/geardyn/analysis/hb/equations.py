@@ -89,10 +89,8 @@ FORCE_OVERSAMPLE = 4
 SPARSE_DOFS = 8
 #: SuperLU's pivot threshold: a diagonal pivot is kept while at least this times the column's largest entry.
 PIVOT_THRESH = 0.01
-#: SuperLU's column ordering of the lifted matrix (:class:`SparseJacobian`): COLAMD (on the 48-DOF chain's bordered
-#: Jacobian at H = 16 at ω = 0.75: 2 114 unknowns, 19 600 entries, 76 500 in L + U and 2.5 ms a factorisation, against
-#: 67 600 and 4.8 ms with minimum degree on Aᵀ + A, whose ordering costs more; J itself, 1 586 unknowns and 248 000
-#: entries, took 301 000 and 8.2 ms).  Pivot thresholds 0 and 0.01 pivot alike there; 0.1 and 1 fill more.
+#: SuperLU's column ordering of the lifted matrix (:class:`SparseJacobian`; the 48-DOF chain's at H = 16, ω = 0.75:
+#: 76 500 entries in L + U, 2.5 ms a factorisation, against 4.8 ms with MMD_AT_PLUS_A and 8.2 ms for J itself).
 PERMC_SPEC = "COLAMD"
 #: Use the compiled kernels of a scalar form (``benchmarks/hb_speed.py --general`` switches them off).
 SPECIALISE = True
@@ -111,21 +109,17 @@ def _slots(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple:
 
 
 class SparseJacobian:
-    """A Jacobian assembled sparse (forms of more than :data:`SPARSE_DOFS` coordinates) and solved *lifted*.
-
-    The Jacobian J = L + Σ_(i,j) (W_i V_jᵀ) ⊗ op_ij (L: the linear parts and the gauge rows and columns) is held as
-    the values at the entries of ``pattern`` (:meth:`HBEquations._pattern`) of the lifted matrix, with the
-    auxiliary unknowns z_j = (V_jᵀ ⊗ I) x (every element's deflection coefficients) and y_i = Σ_j op_ij z_j::
+    """A Jacobian J = L + Σ_(i,j) (W_i V_jᵀ) ⊗ op_ij of more than :data:`SPARSE_DOFS` coordinates (L: the linear
+    parts, the gauge rows and columns) held as the values at ``pattern`` (:meth:`HBEquations._pattern`) of the lifted
+    matrix of the unknowns z_j = (V_jᵀ ⊗ I) x (every element's deflection) and y_i = Σ_j op_ij z_j::
 
         [ L    0   U ] [x]   [b]
         [ Vᵀ  −I   0 ] [z] = [0]        U: the columns W_i ⊗ I,  Vᵀ: the rows V_jᵀ ⊗ I,  Op: the blocks op_ij,
         [ 0   Op  −I ] [y]   [0]
 
-    whose Schur complement onto x is J: the same solution, with each element's dense M×M operator stored once
-    instead of once per pair of its coordinates.  Bordered (a dense last column ``col`` and row, ``A[-1] = row``)
-    the border lies on the x rows and columns only.  SuperLU (:data:`PERMC_SPEC` ordering, pivot threshold
-    :data:`PIVOT_THRESH`, one step of iterative refinement) factorises the lifted matrix; :meth:`tocsc` and
-    ``numpy.asarray`` give J itself."""
+    whose Schur complement onto x is J (each element's dense M×M operator stored once, not once per pair of its
+    coordinates).  A border (last column ``col`` and row, ``A[-1] = row``) lies on x only.  SuperLU factorises it
+    (:data:`PERMC_SPEC`, :data:`PIVOT_THRESH`, one refinement step); :meth:`tocsc` and ``numpy.asarray`` give J."""
 
     def __init__(self, pattern: tuple, values: np.ndarray, col: np.ndarray | None = None):
         self.pattern, self.values, self.col = pattern, values, col
@@ -152,10 +146,9 @@ class SparseJacobian:
         return self.tocsc().toarray()
 
     def solve(self, b: np.ndarray, lu: Any = None) -> np.ndarray:
-        """x with A x = b (the x part of the lifted system's solution with right-hand side [b, 0, 0]); ``lu``: the
-        factors of another lifted matrix of the same pattern to use instead of factorising this one (a chord step:
-        LU⁻¹ refined once with this matrix's residual).  The factors used are left in :attr:`lu` (None after the
-        least-squares answer of a matrix that is not finite)."""
+        """x with A x = b (the lifted system's with [b, 0, 0]); ``lu``: another lifted matrix's factors of this pattern,
+        used instead (a chord step, refined once with this matrix's residual); the factors used are left in :attr:`lu`
+        (None after the least-squares answer of a matrix that is not finite)."""
         m = self.lifted()
         self.lu = None
         if not np.all(np.isfinite(m.data)):
@@ -342,7 +335,6 @@ class HBEquations:
         """Element names (the form's order: meshes, then clearances)."""
         return tuple(e.name for e in self.form.elements)
 
-    # ------------------------------------------------------------------ the system at one parameter value
     @staticmethod
     def _ste_harmonics(form: HBForm) -> int:
         """Largest harmonic of φ with a nonzero coefficient in the elements' E series."""
@@ -355,11 +347,9 @@ class HBEquations:
         return self.base.with_param(self.param, float(p)) if m is None else m
 
     def _pattern(self, f: HBForm) -> tuple:
-        """The entries of the lifted sparse Jacobian (:class:`SparseJacobian`) in the order :meth:`_jacobian` makes
-        their values: the blocks of I⊗D₂, A⊗I, B⊗D₁ at the nonzeros of the DOF matrix, the gauge columns and rows,
-        then the auxiliary unknowns' blocks: W_e ⊗ I, V_eᵀ ⊗ I, the two −I and every coupling's op_ij.  (The
-        compressed-column slots of the plain and of the bordered matrix, the x unknowns n, the z unknowns, the
-        values of I⊗diag(k²), A⊗I and B⊗D₁, and those of the gauge's and the auxiliary blocks, which are fixed.)"""
+        """The lifted Jacobian's entries (:class:`SparseJacobian`) in :meth:`_jacobian`'s order: I⊗D₂, A⊗I, B⊗D₁, the
+        gauge, W_e ⊗ I, V_eᵀ ⊗ I, the two −I, every op_ij; as (plain and bordered slots, n, the z unknowns, the values
+        of I⊗diag(k²), A⊗I and B⊗D₁, the fixed values of the gauge's and auxiliary blocks)."""
         M, N0, els = self.M, f.dofs * self.M, f.elements
         c, (di, dj), (ei, ej) = np.arange(M), self._d1, np.divmod(np.arange(M * M), M)
         parts = [_kron_index(np.eye(f.dofs), c, c, M), _kron_index(f.A, c, c, M), _kron_index(f.B, di, dj, M)]
@@ -368,10 +358,8 @@ class HBEquations:
         n, nz = self.basis.size, len(els) * M
         const = [np.repeat(el.W[el.W != 0], M) for el in els] + [np.repeat(el.V[el.V != 0], M) for el in els]
         const = [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)], *const, -np.ones(2 * nz)]
-        linear = (
-            _kron_values(np.eye(f.dofs), self._k2),
-            _kron_values(f.A, np.ones(M)),
-            _kron_values(f.B, self.D1[di, dj]),
+        linear = tuple(
+            _kron_values(*mv) for mv in ((np.eye(f.dofs), self._k2), (f.A, np.ones(M)), (f.B, self.D1[di, dj]))
         )
 
         def lifted(k: int) -> tuple:  # the auxiliaries after the k unknowns x (and p): z at k, y at k + nz
@@ -419,7 +407,6 @@ class HBEquations:
             return float(p) / self.periods
         return self.model_at(p).omega / self.periods
 
-    # ------------------------------------------------------------------ evaluation
     def _split(self, x: np.ndarray) -> np.ndarray:
         return np.asarray(x, dtype=float)[: self.basis.dofs * self.M].reshape(self.basis.dofs, self.M)
 
@@ -557,7 +544,6 @@ class HBEquations:
                 return a, Status.NOT_CONVERGED, it + 1, r
         return a, Status.NOT_CONVERGED, max_iter, r
 
-    # ------------------------------------------------------------------ stability
     def stability(self, x: np.ndarray, p: float | None = None) -> HillResult:
         """The elastic Floquet multipliers of the solution ``x`` (rigid-body modes left out): from the monodromy
         matrix of one period started on it (:mod:`.monodromy`) or by Hill's method (:mod:`.hill`)."""
@@ -576,7 +562,6 @@ class HBEquations:
             stiff = {e: float(np.abs(Ss[e, e]).sum() + np.abs(Ss[e + 1, e + 1]).sum()) for e in bearing_rows(f)[1]}
         return monodromy_floquet(f, nu, self.state(x, p), self.elastic, stiff)
 
-    # ------------------------------------------------------------------ measures
     def extremes(self, x: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:
         """(δ_min, δ_max) over the period of element ``e`` (default the reference element)."""
         return signal_extrema(self.dbasis, self.deflection(x, self.reference if e is None else e, p))[:2]
@@ -618,7 +603,6 @@ class HBEquations:
         """The unknown vector of coefficients Q (dofs, 2H + 1), gauge multipliers zero."""
         return np.concatenate([np.asarray(Q, dtype=float).ravel(), np.zeros(self.basis.rigid)])
 
-    # ------------------------------------------------------------------ start guesses
     def linear_guess(self, p: float | None = None) -> np.ndarray:
         """Coefficients (dofs, 2H + 1) of the linearised, permanently meshing response (meshes in drive contact
         at their mean stiffness and damping, clearances closed only without gap): K̄ a_0 = F̃ + Σ k_m D_m V_m and

@@ -53,9 +53,8 @@ CLOSURE_TOL = 1e-2
 #: step is more than REFINE_GAIN times the closure gap (QᵀΦQ − I nearly singular: a multiplier within about
 #: 1/REFINE_GAIN of 1, next to a fold, where the step would leave for another orbit).
 REFINE_GAIN = 20.0
-#: The first period, which only gives the Newton step, takes the state in the second period's steps (the step aims
-#: at the orbit the second period integrates) and the fundamental matrix in steps of this many of them (1 with a
-#: rolling bearing, whose stiffness needs the state's stages).
+#: The first period (the Newton step's) takes the state in the second period's steps, so the step aims at the orbit
+#: the second one integrates, and Φ in steps of this many of them (1 with a rolling bearing: it needs the stages).
 FIRST_STRIDE = 4
 
 
@@ -85,11 +84,9 @@ def bearing_rows(form: Any) -> tuple[np.ndarray, np.ndarray]:
     …; the cage's radians per radian of φ in ``BQ_RHO``) and the index of each one's x row."""
     els = form.elements
     bx = [e for e, el in enumerate(els) if el.law == "rolling_bearing" and el.name.endswith(".x")]
-    rows = []
-    for e in bx:
-        Z, n, c, ratio, phase = els[e].rule.params()
-        rho = ratio / Z * form.periods
-        rows.append([Z, els[e].K[0].real, n, c, els[e].C[0].real, els[e + 1].C[0].real, rho, phase])
+    rows = [(e, *els[e].rule.params()) for e in bx]  # (e, Z, n, c, ratio, phase)
+    rows = [[Z, els[e].K[0].real, n, c, els[e].C[0].real, els[e + 1].C[0].real, r / Z * form.periods, ph]
+            for e, Z, n, c, r, ph in rows]  # fmt: skip
     return np.reshape(np.array(rows, dtype=float), (len(bx), 8)), np.array(bx, dtype=np.int64)
 
 
@@ -165,9 +162,8 @@ def monodromy_floquet(
     if first is None:
         return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
     x, Phi = first
-    # one Newton step of shooting on the elastic part: the period is started again from the corrected state
-    # (the HB state's error moves the switch instants, and with them the multipliers, to first order); without
-    # it (a step more than REFINE_GAIN times the gap) the first period again, at the full accuracy
+    # one Newton step of shooting on the elastic part (the HB state's error moves the switch instants, and with them
+    # the multipliers, to first order); without it (a step over REFINE_GAIN times the gap) the HB state again
     gap = Q.T @ (x - x_start)
     closure = float(np.linalg.norm(gap)) / (1.0 + float(np.linalg.norm(Q.T @ x_start)))
     start = x_start
