@@ -288,8 +288,8 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
             d0 = _deflection(x, e, V, sp[2], sp[3], c0)
             level = reg[e] * D[e] if reg[e] != 0 else (D[e] if d1 > D[e] else -D[e])
             a, fa, b, fb = 0.0, d0 - level, h, d1 - level
-            side, c = 0, b
-            for _it in range(SWITCH_MAX_ITER):
+            side, c = 0, (b if (fa > 0.0) != (fb > 0.0) else 0.0)  # (no bracket: on or past its boundary already)
+            for _it in range(SWITCH_MAX_ITER if c > 0.0 else 0):
                 c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
                 if not (a < c < b):
                     c = 0.5 * (a + b)
