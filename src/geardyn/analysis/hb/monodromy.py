@@ -5,14 +5,14 @@ The equation of the form (:mod:`.form`) is integrated over the response period f
 φ = 0 together with the columns of a fundamental matrix of its variational equation
 (:func:`~._monodromykernel.monodromy_kernel`: classic RK4 with every element locked to its contact region on a step,
 the steps cut at the contact switches located on the trajectory, steps of at most :data:`STEP_ANGLE`/ρ in τ,
-ρ = √ρ(K) + ‖C‖₂ of the largest stiffness and damping, a bound of the fastest rate of the linearised motion).  The
-period is integrated twice: from the HB state (a step of the fundamental matrix per :data:`FIRST_STRIDE` of the
-state's), then from the state corrected by one
-Newton step of shooting on the elastic part, x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (skipped when it is more than
-:data:`REFINE_GAIN` times the gap it closes, next to a fold). The multipliers are the eigenvalues of QᵀΦQ, Q =
-diag(P, P) an orthonormal basis of the complement of the rigid-body modes, so the rigid modes' multipliers 1 are
-left out; the exponents their principal logarithms over T. ``UNRESOLVED`` when Liouville's formula fails by more
-than :data:`~.hill.LIOUVILLE_TOL` or the first period does not return to within :data:`CLOSURE_TOL` of its start.
+ρ = √ρ(K) + ‖C‖₂ of the largest stiffness and damping, a bound of the fastest rate of the linearised motion). The
+period is integrated twice: from the HB state (the state in the second period's steps, the fundamental matrix a step
+per :data:`FIRST_STRIDE` of them), then from the state corrected by one Newton step of shooting on the elastic part,
+x₀ + Q (QᵀΦQ − I)⁻¹ Qᵀ(x₀ − x(T)) (skipped when it is more than :data:`REFINE_GAIN` times the gap it closes, next to a
+fold). The multipliers are the eigenvalues of QᵀΦQ, Q = diag(P, P) an orthonormal basis of the complement of the
+rigid-body modes, so the rigid modes' multipliers 1 are left out; the exponents their principal logarithms over T.
+``UNRESOLVED`` when Liouville's formula fails by more than :data:`~.hill.LIOUVILLE_TOL` or the first period does not
+return to within :data:`CLOSURE_TOL` of its start.
 """
 
 from __future__ import annotations
