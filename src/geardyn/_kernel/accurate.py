@@ -176,16 +176,17 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent, xb, kb, ks):
 
     ``xb, kb, ks``: the table segment K += kb + ks (θ − xb) the step lies in (0, 0, 0 for a series model)."""
     t_done = 0.0
-    for _ in range(MAX_SPLITS):
+    for split in range(MAX_SPLITS + 1):
         H = h - t_done
         if H <= 0.0:
             break
         th = theta0 + omega * t_done
         un, vn = _rk4_locked(cf, th, omega, u, v, H, D, r, xb, kb, ks)
-        # earliest exit from region r along the dense (Hermite) output of this sub-step
+        # earliest exit from region r along the dense (Hermite) output of this sub-step (after the split budget:
+        # none, the step finishes in the current region)
         x_in = 0.0
         x_out = -1.0
-        for i in range(1, HERMITE_SAMPLES + 1):
+        for i in range(1, HERMITE_SAMPLES + 1 if split < MAX_SPLITS else 1):
             x = i / HERMITE_SAMPLES
             ux = un if i == HERMITE_SAMPLES else _hermite(u, v, un, vn, H, x)
             if _outside(ux, D, r):
@@ -233,15 +234,6 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent, xb, kb, ks):
             r = 1 if b > 0.0 else -1
         else:
             r = 0
-    # remaining length after the split budget: finish in the current region
-    H = h - t_done
-    if H > 0.0:
-        th = theta0 + omega * t_done
-        un, vn = _rk4_locked(cf, th, omega, u, v, H, D, r, xb, kb, ks)
-        if tangent:
-            _tangent_locked(cf, th, omega, H, r, Y, xb, kb, ks)
-        u = un
-        v = vn
     return u, v, r
 
 

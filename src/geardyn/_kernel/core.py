@@ -104,9 +104,9 @@ def _half_step_rotation(N):
 
 
 @njit(inline="always")
-def _series1(a0, a1, b1, c, s):
-    """a0 + a1 cos θ + b1 sin θ, accumulated term by term (as :func:`_series_acc`)."""
-    return _fma(b1, s, _fma(a1, c, a0))
+def _series1(a, c, s):
+    """a0 + a1 cos θ + b1 sin θ of a = (a0, a1, b1), accumulated term by term (as :func:`_series_acc`)."""
+    return _fma(a[2], s, _fma(a[1], c, a[0]))
 
 
 @njit(inline="always")

@@ -40,6 +40,19 @@ from .core import (
 )
 
 
+@njit(inline="always")
+def _first_harmonic(cf, i):
+    """(a0, a1, b1) of series i (0 when there is no first harmonic)."""
+    H1 = cf.shape[1]
+    return cf[i, 0, 0], cf[i, 1, 0] if H1 > 1 else 0.0, cf[i, 1, 1] if H1 > 1 else 0.0
+
+
+@njit(inline="always")
+def _series3(cf1, c, s):
+    """C, K, F at the angle (c, s) from their first-harmonic coefficients ``cf1`` (:func:`_first_harmonic`)."""
+    return _series1(cf1[0], c, s), _series1(cf1[1], c, s), _series1(cf1[2], c, s)
+
+
 @njit(nogil=True)
 def _point_scalar(
     p,
@@ -76,19 +89,8 @@ def _point_scalar(
     hh = 0.5 * h
     h6 = h / 6.0
     cm1, sa = _half_step_rotation(N)
-    H1 = cf.shape[1]
-    fast = H1 <= 2
-    ca0 = cf[0, 0, 0]
-    ka0 = cf[1, 0, 0]
-    fa0 = cf[2, 0, 0]
-    ca1 = cb1 = ka1 = kb1 = fa1 = fb1 = 0.0
-    if H1 > 1:
-        ca1 = cf[0, 1, 0]
-        cb1 = cf[0, 1, 1]
-        ka1 = cf[1, 1, 0]
-        kb1 = cf[1, 1, 1]
-        fa1 = cf[2, 1, 0]
-        fb1 = cf[2, 1, 1]
+    fast = cf.shape[1] <= 2
+    cf1 = (_first_harmonic(cf, 0), _first_harmonic(cf, 1), _first_harmonic(cf, 2))
     tdrv, tbck, dtan = _thresholds(D)
     y00 = 1.0
     y10 = 0.0
@@ -133,15 +135,9 @@ def _point_scalar(
             c1, s1 = _rot_small(c, s, cm1, sa)
             c2, s2 = _rot_small(c1, s1, cm1, sa)
             if fast:
-                C0 = _series1(ca0, ca1, cb1, c, s)
-                K0 = _series1(ka0, ka1, kb1, c, s)
-                F0 = _series1(fa0, fa1, fb1, c, s)
-                C1 = _series1(ca0, ca1, cb1, c1, s1)
-                K1 = _series1(ka0, ka1, kb1, c1, s1)
-                F1 = _series1(fa0, fa1, fb1, c1, s1)
-                C2 = _series1(ca0, ca1, cb1, c2, s2)
-                K2 = _series1(ka0, ka1, kb1, c2, s2)
-                F2 = _series1(fa0, fa1, fb1, c2, s2)
+                C0, K0, F0 = _series3(cf1, c, s)
+                C1, K1, F1 = _series3(cf1, c1, s1)
+                C2, K2, F2 = _series3(cf1, c2, s2)
             else:
                 C0, K0, F0 = _coef_seq(cf, c, s)
                 C1, K1, F1 = _coef_seq(cf, c1, s1)
