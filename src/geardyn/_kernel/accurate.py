@@ -298,9 +298,7 @@ def _point_accurate(
     if tangent == TAN_CONTINUE:  # the orthonormal basis a previous block ended with
         Y[:, :] = tan_out[p]
         tangent = TAN_LYAPUNOV
-    n_hist = hist.shape[1]
-    hist_periods = (n_hist - 1) // N if n_hist > 0 else 0
-    hist_first = n_transient + n_record - hist_periods
+    hist_first = n_transient + n_record - (hist.shape[1] - 1) // N  # (after the last period without a history)
     hi = 0
     st = stats[p]
     st[:] = 0.0
@@ -313,7 +311,7 @@ def _point_accurate(
     for per in range(n_total):
         rec = per >= n_transient
         tan_on = tangent != TAN_NONE and rec
-        if n_hist > 0 and per == hist_first:
+        if per == hist_first:
             hist[p, 0, 0] = u
             hist[p, 0, 1] = v
             hi = 1

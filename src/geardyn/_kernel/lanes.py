@@ -328,11 +328,8 @@ def _lane_reset_stats(S, l):
 
 @njit(nogil=True)
 def _lane_reset_tangent(S, l):
-    L = LANES
-    S[F_Y00 * L + l] = 1.0
-    S[F_Y10 * L + l] = 0.0
-    S[F_Y01 * L + l] = 0.0
-    S[F_Y11 * L + l] = 1.0
+    for i in range(4):  # the identity: Y00, Y10, Y01, Y11
+        S[(F_Y00 + i) * LANES + l] = 1.0 if i % 3 == 0 else 0.0
 
 
 @njit(nogil=True)
@@ -343,74 +340,30 @@ def _lane_idle(S, CF, ls, l):
     ls[:, l] = 0
     ls[0, l] = -1
     ls[2, l] = _BIG
-    for f in range(NFIELDS):
-        S[f * L + l] = 0.0
+    S[l::L] = 0.0
+    CF[l::L] = 0.0
     S[F_C * L + l] = 1.0
-    for i in range(CF.shape[0] // L):
-        CF[i * L + l] = 0.0
     _lane_reset_tangent(S, l)
-
-
-@njit(nogil=True)
-def _lane_move(S, CF, src, dst):
-    """Copy every field of lane src to lane dst."""
-    L = LANES
-    for f in range(NFIELDS):
-        S[f * L + dst] = S[f * L + src]
-    for i in range(CF.shape[0] // L):
-        CF[i * L + dst] = CF[i * L + src]
 
 
 @njit(nogil=True)
 def _lane_load(S, CF, l, cf, D, omega, N, u, v):
     L = LANES
-    T = 2.0 * math.pi / omega
-    h = T / N
+    h = 2.0 * math.pi / omega / N
     cm1, sa = _half_step_rotation(N)
-    S[F_U * L + l] = u
-    S[F_V * L + l] = v
-    S[F_C * L + l] = 1.0
-    S[F_S * L + l] = 0.0
-    S[F_CM1 * L + l] = cm1
-    S[F_SA * L + l] = sa
-    S[F_H * L + l] = h
-    S[F_HH * L + l] = 0.5 * h
-    S[F_H6 * L + l] = h / 6.0
+    for f, x in enumerate((u, v, 1.0, 0.0, cm1, sa, h, 0.5 * h, h / 6.0)):  # the fields U … H6
+        S[(F_U + f) * L + l] = x
     H1 = cf.shape[1]
     for i in range(3):  # the fields A0, A1, B1 of C, K and F
         S[(F_CA0 + 3 * i) * L + l] = cf[i, 0, 0]
         S[(F_CA1 + 3 * i) * L + l] = cf[i, 1, 0] if H1 > 1 else 0.0
         S[(F_CB1 + 3 * i) * L + l] = cf[i, 1, 1] if H1 > 1 else 0.0
-    if CF.shape[0] > 0:
-        for i in range(3):
-            for j in range(H1):
-                for q in range(2):
-                    CF[((i * H1 + j) * 2 + q) * L + l] = cf[i, j, q]
-    t1, t2, t3 = _thresholds(D)
-    S[F_D * L + l] = D
-    S[F_DRV * L + l] = t1
-    S[F_BCK * L + l] = t2
-    S[F_DTAN * L + l] = t3
+    if CF.shape[0] > 0:  # all coefficients: (i, j, q) at CF[((i * H1 + j) * 2 + q) * L + l]
+        CF[l::L] = cf.ravel()
+    for f, x in enumerate((D,) + _thresholds(D)):  # the fields D, DRV, BCK, DTAN
+        S[(F_D + f) * L + l] = x
     _lane_reset_stats(S, l)
     _lane_reset_tangent(S, l)
-
-
-@njit(nogil=True)
-def _lane_stats_out(S, l, stats, p, n):
-    L = LANES
-    _write_stats(
-        stats,
-        p,
-        n,
-        S[F_UMIN * L + l],
-        S[F_UMAX * L + l],
-        S[F_VMIN * L + l],
-        S[F_VMAX * L + l],
-        S[F_USUM * L + l],
-        S[F_USQ * L + l],
-        S[F_NDRV * L + l],
-        S[F_NBCK * L + l],
-    )
 
 
 @njit(nogil=True, cache=True)
@@ -473,13 +426,10 @@ def _lanes_worker(
                     break
                 p = order[i]
                 _lane_load(S, CF, l, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1])
-                pid[l] = p
-                kstep[l] = 0
+                pid[l] = p  # (step, periods done and cycle: 0 since the lane went idle)
                 nst[l] = nsteps[p]
-                per[l] = 0
                 tend[l] = n_transient
                 rlen[l] = n_record
-                cyc[l] = 0
                 if adaptive:
                     _adapt_reset(ring, streak, l, state0[p, 0], state0[p, 1])
                 active += 1
@@ -492,7 +442,8 @@ def _lanes_worker(
             for l in range(L):
                 if pid[l] >= 0:
                     if l != dst:
-                        _lane_move(S, CF, l, dst)
+                        S[dst::L] = S[l::L]  # every field of the lane
+                        CF[dst::L] = CF[l::L]
                         ls[:, dst] = ls[:, l]
                         if adaptive:
                             ring[dst] = ring[l]
@@ -533,7 +484,7 @@ def _lanes_worker(
                 _diverged(p, poincare, end_state, status)
                 if done <= tend[l]:  # (diverged in its transient: no statistics)
                     _lane_reset_stats(S, l)
-                _lane_stats_out(S, l, stats, p, N * max(done - tend[l], 0))
+                _write_stats(stats, p, N * max(done - tend[l], 0), S[F_UMIN * L + l :: L])
                 _lane_idle(S, CF, ls, l)
                 active -= 1
                 continue
@@ -556,16 +507,17 @@ def _lanes_worker(
                     cbuf[l, j, 0] = u
                     cbuf[l, j, 1] = v
                     if j + 1 == n_record % rlen[l]:
-                        for i in range(NSNAP):  # core._adapt_snapshot: the fields UMIN … NBCK, in order
-                            snap[l, i] = S[(F_UMIN + i) * L + l]
+                        snap[l] = S[F_UMIN * L + l :: L][:NSNAP]  # the fields UMIN … NBCK, in order
                 if tangent == TAN_LYAPUNOV:
-                    a1, b1, a2, b2, l1, l2 = _gs(S[F_Y00 * L + l], S[F_Y10 * L + l], S[F_Y01 * L + l], S[F_Y11 * L + l])
-                    S[F_Y00 * L + l] = a1
-                    S[F_Y10 * L + l] = b1
-                    S[F_Y01 * L + l] = a2
-                    S[F_Y11 * L + l] = b2
-                    tan_log[p, j, 0] = l1
-                    tan_log[p, j, 1] = l2
+                    y = (S[F_Y00 * L + l], S[F_Y10 * L + l], S[F_Y01 * L + l], S[F_Y11 * L + l])
+                    (
+                        S[F_Y00 * L + l],
+                        S[F_Y10 * L + l],
+                        S[F_Y01 * L + l],
+                        S[F_Y11 * L + l],
+                        tan_log[p, j, 0],
+                        tan_log[p, j, 1],
+                    ) = _gs(*y)
             else:
                 # a transient period ended: discard what the chunks accumulated for this lane
                 _lane_reset_stats(S, l)
@@ -573,14 +525,12 @@ def _lanes_worker(
             if done == te + rlen[l]:
                 end_state[p, 0] = u
                 end_state[p, 1] = v
-                _lane_stats_out(S, l, stats, p, N * n_record)
+                _write_stats(stats, p, N * n_record, S[F_UMIN * L + l :: L])
                 if rlen[l] < n_record:
                     _adapt_finish(p, l, rlen[l], n_record, N, cbuf, snap, poincare, end_state, stats)
                 if tangent != TAN_NONE:
-                    tan_out[p, 0, 0] = S[F_Y00 * L + l]
-                    tan_out[p, 1, 0] = S[F_Y10 * L + l]
-                    tan_out[p, 0, 1] = S[F_Y01 * L + l]
-                    tan_out[p, 1, 1] = S[F_Y11 * L + l]
+                    for i in range(4):  # Y00, Y10, Y01, Y11
+                        tan_out[p, i % 2, i // 2] = S[(F_Y00 + i) * L + l]
                 status[p] = ST_OK
                 _lane_idle(S, CF, ls, l)
                 active -= 1

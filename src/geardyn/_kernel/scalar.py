@@ -23,7 +23,6 @@ from .core import (
     _adapt_check,
     _adapt_finish,
     _adapt_reset,
-    _adapt_snapshot,
     _coef_seq,
     _diverged,
     _fetch_add,
@@ -110,9 +109,7 @@ def _point_scalar(
     usq = 0.0
     ndrv = 0.0
     nbck = 0.0
-    n_hist = hist.shape[1]
-    hist_periods = (n_hist - 1) // N if n_hist > 0 else 0
-    hist_first = n_transient + n_record - hist_periods
+    hist_first = n_transient + n_record - (hist.shape[1] - 1) // N  # (after the last period without a history)
     hi = 0
     adaptive = adapt_tol > 0.0 and streak.shape[1] > 1
     tend = n_transient
@@ -125,7 +122,7 @@ def _point_scalar(
         per += 1
         rec = per >= tend
         tan_on = tangent != TAN_NONE and rec
-        if n_hist > 0 and per == hist_first:
+        if per == hist_first:
             hist[p, 0, 0] = u
             hist[p, 0, 1] = v
             hi = 1
@@ -170,7 +167,7 @@ def _point_scalar(
         if not (abs(u) < DIVERGENCE_BOUND and abs(v) < DIVERGENCE_BOUND):
             _diverged(p, poincare, end_state, status)
             nrec = N * (per + 1 - tend) if rec else 0
-            _write_stats(stats, p, nrec, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+            _write_stats(stats, p, nrec, (umin, umax, vmin, vmax, usum, usq, ndrv, nbck))
             return
         if adaptive and cyc == 0 and per + 1 < tend:
             nc = _adapt_check(ring, streak, 0, per + 1, u, v, adapt_tol)
@@ -188,14 +185,12 @@ def _point_scalar(
                 cbuf[0, j, 0] = u
                 cbuf[0, j, 1] = v
                 if j + 1 == n_record % rlen:
-                    _adapt_snapshot(snap, 0, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+                    snap[0] = np.array([umin, umax, vmin, vmax, usum, usq, ndrv, nbck])
             if tangent == TAN_LYAPUNOV:
-                y00, y10, y01, y11, l1, l2 = _gs(y00, y10, y01, y11)
-                tan_log[p, j, 0] = l1
-                tan_log[p, j, 1] = l2
+                y00, y10, y01, y11, tan_log[p, j, 0], tan_log[p, j, 1] = _gs(y00, y10, y01, y11)
     end_state[p, 0] = u
     end_state[p, 1] = v
-    _write_stats(stats, p, N * n_record, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+    _write_stats(stats, p, N * n_record, (umin, umax, vmin, vmax, usum, usq, ndrv, nbck))
     if rlen < n_record:
         _adapt_finish(p, 0, rlen, n_record, N, cbuf, snap, poincare, end_state, stats)
     if tangent != TAN_NONE:
