@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...analysis.response import frequency_response
-from ..claims import CLAIMS, claim_ids
+from ..claims import CLAIMS, TABLE4, claim_ids
 from ..report import Finding, Section
 from ..settings import SYMBOLS, Context, ResponseKey, model_text
 from ..table1 import TABLE1
@@ -285,12 +285,12 @@ def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> x
             if cid == "JUMP-057" or any(k[2] == n["b"] / 2 for k in keys):
                 what = "jumps" if cid == "JUMP-057" else f"{n['direction']}ward jump at b = {n['b']:g} mm"
                 marks.append([n["omega"], f"ω = {n['omega']:g}: {what} (paper)"])
-    table4 = []
-    for cid in claim_ids("T4-"):
-        omega4, xi0, b, A = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A"))
-        for i, k in enumerate(keys):
-            if k == (xi0, TABLE1["xi1"], b / 2):
-                table4.append([i, omega4, A, cid])
+    table4 = [
+        [i, omega4, A, cid]
+        for cid, (omega4, xi0, b, A, _) in zip(claim_ids("T4-"), TABLE4)
+        for i, k in enumerate(keys)
+        if k == (xi0, TABLE1["xi1"], b / 2)
+    ]
     return xr.Dataset(
         {
             "amplitude": (("case", "sweep", "omega"), amp),
@@ -531,10 +531,8 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
     R = jd.responses
     claims = []
     table = [["ω", "ξ0", "b", "paper A", "paper jump", "geardyn A (up / down)", f"jumps within ±{TABLE4_NEAR:g}"]]
-    for cid in claim_ids("T4-"):
-        omega, xi0, b, A, kind = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A", "jump"))
-        key = (xi0, TABLE1["xi1"], b / 2)
-        alt = (xi0, TABLE1["xi1"], b)
+    for cid, (omega, xi0, b, A, kind) in zip(claim_ids("T4-"), TABLE4):
+        key, alt = (xi0, TABLE1["xi1"], b / 2), (xi0, TABLE1["xi1"], b)
         ds = R[key]
         w, a_up, a_dn, kinds = _read_at(ds, omega)
         kind_ok = jump_holds(jumps_of(ds), omega, kind, TABLE4_NEAR)

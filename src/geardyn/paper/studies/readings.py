@@ -48,8 +48,6 @@ XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
 XI1_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = ((0.01, ("T2-4", "XI1-CHAOS")), (0.08, ("T2-5", "XI1-CHAOS")))
 #: The backlash values of Table 3 (mm).
 TABLE3_B: tuple[float, ...] = tuple(CLAIMS[c].numbers["b"] for c in claim_ids("T3-"))
-#: All 16 phase pairs for the damping claims (False: each phase varied alone, 7 pairs, as for the others).
-FULL_PHASES = False
 #: XI0-BIF: the chaos below this ξ0 ends at the first bifurcation point ...
 LOW_CHAOS_BELOW = 0.3
 #: ... and chaos from this ξ0 on is the return to chaos at the second.
@@ -104,16 +102,11 @@ def intervals_text(ws: Sequence[float], step: float = 0.01) -> str:
     -------
     str
     """
-    w = sorted(float(x) for x in ws)
-    if not w:
+    w = np.sort(np.asarray(ws, dtype=float))
+    if not w.size:
         return "none"
-    runs = [[w[0], w[0]]]
-    for x in w[1:]:
-        if x - runs[-1][1] <= step * 1.5:
-            runs[-1][1] = x
-        else:
-            runs.append([x, x])
-    return ", ".join(f"{a:.2f}" if a == b else f"{a:.2f}–{b:.2f}" for a, b in runs)
+    runs = np.split(w, np.flatnonzero(np.diff(w) > step * 1.5) + 1)
+    return ", ".join(f"{r[0]:.2f}" if r[0] == r[-1] else f"{r[0]:.2f}–{r[-1]:.2f}" for r in runs)
 
 
 @dataclass
@@ -124,9 +117,8 @@ class ScreenData:
     ----------
     omegas : ndarray
         The ω grid.
-    pairs_full, pairs_one : list of (float, float)
-        The phase pairs of the damping claims (:data:`FULL_PHASES`) and of the backlash claims (each phase varied
-        alone).
+    pairs : list of (float, float)
+        The phase pairs (each phase varied alone, :func:`geardyn.paper.readings.phase_pairs`).
     xi0, xi1 : dict of ndarray
         Per variable, (probe, phase pair, ω) for the ξ0 and ξ1 probes.
     bl : dict of ndarray
@@ -134,8 +126,7 @@ class ScreenData:
     """
 
     omegas: np.ndarray
-    pairs_full: list[tuple[float, float]]
-    pairs_one: list[tuple[float, float]]
+    pairs: list[tuple[float, float]]
     xi0: dict[str, np.ndarray] = field(default_factory=dict)  # var -> (probe, pair, ω)
     xi1: dict[str, np.ndarray] = field(default_factory=dict)
     bl: dict[str, np.ndarray] = field(default_factory=dict)  # var -> (reading, b, pair, ω)
@@ -157,28 +148,24 @@ def run_screen(ctx: Context) -> ScreenData:
     """
     s = ctx.settings
     W = np.asarray(s.readings_omegas, dtype=float)
-    full, one = phase_pairs(FULL_PHASES), phase_pairs(False)
+    pairs = phase_pairs(False)
     xi1_t, xi0_t = TABLE1["xi1"], TABLE1["xi0"]
-    rows = []
-    for x0, _ in XI0_PROBES:
-        rows += [[w, a, b, x0, xi1_t, 1.0] for (a, b) in full for w in W]
-    for x1, _ in XI1_PROBES:
-        rows += [[w, a, b, xi0_t, x1, 1.0] for (a, b) in full for w in W]
-    for scale in BACKLASH_READINGS.values():
-        for bmm in TABLE3_B:
-            rows += [[w, a, b, xi0_t, xi1_t, bmm / scale] for (a, b) in one for w in W]
-    pts = np.asarray(rows, dtype=float)
+    probes = (
+        [(x0, xi1_t, 1.0) for x0, _ in XI0_PROBES]
+        + [(xi0_t, x1, 1.0) for x1, _ in XI1_PROBES]
+        + [(xi0_t, xi1_t, bmm / scale) for scale in BACKLASH_READINGS.values() for bmm in TABLE3_B]
+    )
+    pts = np.asarray([[w, a, b, *p] for p in probes for (a, b) in pairs for w in W], dtype=float)
     ctx.log(f"readings screen: {pts.shape[0]} points")
     r = screen(ctx.base, NAMES, pts, s.readings_options, s.readings_settle, ctx.executor)
-    nW, nf, no = W.size, len(full), len(one)
-    a = len(XI0_PROBES) * nf * nW
-    b = a + len(XI1_PROBES) * nf * nW
+    n = len(pairs) * W.size
+    a, b = len(XI0_PROBES) * n, (len(XI0_PROBES) + len(XI1_PROBES)) * n
     keep = ("motion", "period", "lle", "amplitude", "impact", "u_min")
-    data = ScreenData(W, full, one)
+    data = ScreenData(W, pairs)
     for k in keep:
-        data.xi0[k] = r[k][:a].reshape(len(XI0_PROBES), nf, nW)
-        data.xi1[k] = r[k][a:b].reshape(len(XI1_PROBES), nf, nW)
-        data.bl[k] = r[k][b:].reshape(len(BACKLASH_READINGS), len(TABLE3_B), no, nW)
+        data.xi0[k] = r[k][:a].reshape(-1, len(pairs), W.size)
+        data.xi1[k] = r[k][a:b].reshape(-1, len(pairs), W.size)
+        data.bl[k] = r[k][b:].reshape(len(BACKLASH_READINGS), -1, len(pairs), W.size)
     ctx.save(
         "readings_screen",
         xr.Dataset(
@@ -364,7 +351,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     """
     s = ctx.settings
     W = data.omegas
-    grids = {"xi0": [float(v) for v in s.xi0_grid], "xi1": [float(v) for v in s.xi1_grid]}
+    grids = {p: [float(v) for v in getattr(s, p + "_grid")] for p in ("xi0", "xi1")}
     # per claim: the readings table's rows ([reading, result, holds]; holds "yes", "no", "screen" where the screen
     # shows candidates only, "confirmed" or "not confirmed" for a full computation at a candidate), the candidates
     # and, per reading family, where over ω the screen holds
@@ -381,7 +368,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     # Table 2, XI0-BIF, XI1-CHAOS: per phase pair, the ω where every probe of the claim holds
     for probes, var in ((XI0_PROBES, data.xi0), (XI1_PROBES, data.xi1)):
         for cid in sorted({c for _, cs in probes for c in cs}, key=list(CLAIMS).index):
-            for j, pair in enumerate(data.pairs_full):
+            for j, pair in enumerate(data.pairs):
                 ok = np.ones(W.size, dtype=bool)
                 for i, (_, cs) in enumerate(probes):
                     if cid in cs:
@@ -392,7 +379,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     # sequence (F2), per backlash reading and phase pair
     n_joint = n_seq = 0
     for r, key in enumerate(BACKLASH_READINGS):
-        for j, pair in enumerate(data.pairs_one):
+        for j, pair in enumerate(data.pairs):
             lab = _bl_reading(key, pair)
             seq = np.ones(W.size, dtype=bool)
             for k, cid in enumerate(claim_ids("T3-")):
@@ -400,10 +387,8 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 ok = np.array([pred(a, b) for a, b in zip(data.bl["motion"][r, k, j], n)])
                 seq &= ok
                 if CLAIMS[cid].numbers["lyapunov"] == "near zero":  # near a change of motion: λ1 can be near zero
-                    edge = np.zeros_like(ok)
-                    edge[1:] |= n[1:] != n[:-1]
-                    edge[:-1] |= n[1:] != n[:-1]
-                    ok = ok & edge
+                    d = n[1:] != n[:-1]
+                    ok = ok & (np.r_[False, d] | np.r_[d, False])
                 add(cid, lab, "motion holds", ok, pair, key)
             ok_imp = np.all(data.bl["impact"][r, :, j, :] == SINGLE_SIDED, axis=0)
             ok_amp = np.all(np.diff(data.bl["amplitude"][r, :, j, :], axis=0) > 0, axis=0)
@@ -505,18 +490,18 @@ def _best(data: ScreenData, score: np.ndarray, pairs: list[tuple[float, float]],
 
 def _best_t2(data: ScreenData) -> Reading:
     """The (ω, phases) where most Table 2 rows hold on the screen (ties: nearest the default)."""
-    score = np.zeros((len(data.pairs_full), data.omegas.size))
+    score = np.zeros((len(data.pairs), data.omegas.size))
     for probes, var in ((XI0_PROBES[:3], data.xi0), (XI1_PROBES, data.xi1)):
         for i, (_, cs) in enumerate(probes):
             score += np.vectorize(_pred(cs[0]))(var["motion"][i], var["period"][i])
-    return _best(data, score, data.pairs_full, ("",))
+    return _best(data, score, data.pairs, ("",))
 
 
 def _best_t3(data: ScreenData) -> Reading:
     """The (backlash reading, phases, ω) where most Table 3 rows hold on the screen (ties: nearest the default)."""
     m, n = data.bl["motion"], data.bl["period"]
     score = sum(np.vectorize(_pred(c))(m[:, k], n[:, k]) for k, c in enumerate(claim_ids("T3-")))
-    return _best(data, score, data.pairs_one, list(BACKLASH_READINGS))
+    return _best(data, score, data.pairs, list(BACKLASH_READINGS))
 
 
 def _bl_reading(key: str, pair: tuple[float, float]) -> str:
