@@ -12,7 +12,7 @@ from ..claims import CLAIMS
 from ..report import Section
 from ..settings import Context
 from ..table1 import TABLE1
-from ..verdicts import FORMULA_R2_PARTLY, FORMULA_R2_REPRODUCED, combine
+from ..verdicts import FORMULA_R2_PARTLY, FORMULA_R2_REPRODUCED, parts
 from .jumps import JumpData
 
 __all__ = ["FORMULA_R2_PARTLY", "FORMULA_R2_REPRODUCED", "fit_formula", "fit_responses", "study_formula"]
@@ -111,13 +111,12 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
     where = f"ξ1 = {TABLE1['xi1']:g}; (ξ0, b in mm) = " + ", ".join(f"({x:g}, {b:g})" for x, b in groups)
     rel = ctx.save("formula_fit", ds, f"formula fit to the up sweeps ({where})")
     r2 = fit["r2"]
-    v = combine(r2 >= FORMULA_R2_REPRODUCED, r2 >= FORMULA_R2_PARTLY)
     ev = [rel, ctx.figure("formula_fit")]
     c = CLAIMS["FORMULA"].judge(
         f"least-squares fit to {fit['n']} computed amplitudes (up sweeps, ξ1 = {TABLE1['xi1']:g}, b = 2D mm): "
         f"A0 = {fit['A0']:.3f}, ΔA = {fit['dA']:.3f}, β = {fit['beta']:.3f} per mm²; R² = {r2:.3f}, "
         f"RMS error {fit['rmse']:.3f} (holds from R² ≥ {FORMULA_R2_REPRODUCED:g}).",
-        v,
+        parts(r2 >= FORMULA_R2_REPRODUCED),
         ev,
     )
     return Section(

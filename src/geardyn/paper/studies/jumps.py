@@ -470,7 +470,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             CLAIMS[cid].judge(
                 f"b = {b:g} read as D = b/2 (the default reading): {txt} (the nearest jump must be "
                 f"{direction}ward; the opposite jump fails).",
-                "reproduced" if ok else "contradicted",
+                parts(ok),
                 jd.ev(*keys),
             )
         )
