@@ -189,8 +189,8 @@ def read_te(
         kind, scale = "time", TIME_UNITS[xu]
     else:
         raise bad(where, f"first-column unit {xu!r} is neither an angle (deg, rad, rev) nor a time (s, ms, us)")
-    x = np.array([r[1] for r in rows]) * scale
-    te = np.array([r[2] for r in rows]) * LENGTH_UNITS[tu]
+    _, x, te = np.array(rows).T
+    x, te = x * scale, te * LENGTH_UNITS[tu]
     big = ~(np.abs(te) <= MAX_TE_UM)
     if np.any(big):
         k = int(np.argmax(big))
@@ -427,7 +427,7 @@ def analyse_te(signal: TESignal, z1: int, z2: int, *, harmonics: int = 3, shaft_
         if o["kind"] != "mesh":
             part_side += c * a[:, 1 + 2 * i] + s * a[:, 2 + 2 * i]
     rms_all = float(np.sqrt(np.mean(part_all**2)))
-    dev = float(np.sqrt(np.mean((y - y.mean()) ** 2)))
+    dev = float(np.std(y))
     return TEAnalysis(
         z1=z1,
         z2=z2,

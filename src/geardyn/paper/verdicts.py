@@ -423,15 +423,11 @@ def describe_motion(motion: int, period: int, loops: int) -> str:
     -------
     str
     """
-    if motion == MOTION_PERIODIC:
-        return f"period-{period}"
-    if motion == MOTION_QUASIPERIODIC:
-        return f"quasi-periodic ({loops} loop{'s' if loops != 1 else ''})"
-    if motion == MOTION_CHAOTIC:
-        return "chaotic"
-    if motion < 0:
-        return "diverged"
-    return "unresolved"
+    return {
+        MOTION_PERIODIC: f"period-{period}",
+        MOTION_QUASIPERIODIC: f"quasi-periodic ({loops} loop{'s' if loops != 1 else ''})",
+        MOTION_CHAOTIC: "chaotic",
+    }.get(motion, "diverged" if motion < 0 else "unresolved")
 
 
 def quasi_n(n: int) -> MotionTest:

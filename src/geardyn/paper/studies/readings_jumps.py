@@ -263,16 +263,11 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
                 f"fails at the default reading and under all {len(res) - 1} other readings; lockstep default: "
                 f"{res[i_def][1]}"
             )
-    if need:
-        _confirm(ctx, jr, need, findings)
-    return out
-
-
-def _confirm(ctx: Context, jr: JumpReadings, need: dict[str, list[int]], findings: dict[str, Finding]) -> None:
-    """Recompute the responses under the candidate readings with the study's periods; set the verdicts."""
-    s = ctx.settings
+    if not need:
+        return out
+    # recompute the responses under the candidate readings with the study's periods; set the verdicts
     uniq = sorted({i for c in need.values() for i in c})
-    opts = s.response_options
+    opts = ctx.settings.response_options
     keys = [set().union(*(CLAIM_KEYS[c] for c, idx in need.items() if u in idx)) for u in uniq]
     sub = run_lockstep(ctx, [jr.readings[i] for i in uniq], opts, name="readings_responses_confirmed", keys=keys)
     longer = f"{opts.transient} transient and {opts.periods} recorded periods per point"
@@ -298,3 +293,4 @@ def _confirm(ctx: Context, jr: JumpReadings, need: dict[str, list[int]], finding
                 f"responses show it fail with {longer} ({'; '.join(tried)}); {f.deciding}"
             )
         f.evidence.append(ctx.datasets["readings_responses_confirmed"])
+    return out
