@@ -34,8 +34,6 @@ from ..verdicts import MATCH_REPRODUCED, length_fraction, match_fraction, motion
 
 __all__ = ["ScreenData", "damping_readings", "intervals_text", "run_screen"]
 
-#: A candidate reading on the screen: (ω, phase pair, backlash reading).
-Candidate = tuple[float, tuple[float, float], str]
 
 #: ξ0 probes of the screen and the claims they test: (ξ0, claim ids).
 XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
@@ -194,9 +192,12 @@ def _pred(cid: str) -> Callable[[int, int], bool]:
     return lambda m, n: bool(f(int(m), int(n), 0))
 
 
-def _order(cands: list[Candidate]) -> list[Candidate]:
-    """Candidates nearest the default first: default phases and backlash reading, then ω nearest 1."""
-    return sorted(cands, key=lambda c: (c[1] != (0.0, 0.0), c[2] not in ("", DEFAULT_BACKLASH), abs(c[0] - 1.0)))
+def _order(cands: list[Reading]) -> list[Reading]:
+    """Candidate readings nearest the default first: default phases and backlash reading, then ω nearest 1."""
+    return sorted(
+        cands,
+        key=lambda r: ((r.phi_c, r.phi_k) != (0.0, 0.0), r.backlash not in ("", DEFAULT_BACKLASH), abs(r.omega - 1.0)),
+    )
 
 
 @dataclass
@@ -356,14 +357,14 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     # shows candidates only, "confirmed" or "not confirmed" for a full computation at a candidate), the candidates
     # and, per reading family, where over ω the screen holds
     rows: dict[str, list[list[str]]] = {}
-    cands: dict[str, list[Candidate]] = {}
+    cands: dict[str, list[Reading]] = {}
     okmap: dict[str, list[np.ndarray]] = {}
 
     def add(cid: str, label: str, what: str, ok: np.ndarray, pair: tuple[float, float], key: str, holds="screen"):
         ws = W[ok]
         okmap.setdefault(cid, []).append(ok)
         rows.setdefault(cid, []).append([label, f"{what} {at_omegas(ws)}", holds])
-        cands.setdefault(cid, []).extend((float(w), pair, key) for w in ws)
+        cands.setdefault(cid, []).extend(Reading(*pair, key, float(w)) for w in ws)
 
     # Table 2, XI0-BIF, XI1-CHAOS: per phase pair, the ω where every probe of the claim holds
     for probes, var in ((XI0_PROBES, data.xi0), (XI1_PROBES, data.xi1)):
@@ -427,8 +428,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
         if findings[cid].verdict != "reproduced":
             n_pts = len(_verification(cid, Reading(), grids).values)
             ver += [
-                _verification(cid, Reading(pair[0], pair[1], key, w), grids)
-                for w, pair, key in _order(cs)[: max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]
+                _verification(cid, rd, grids) for rd in _order(cs)[: max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]
             ]
     # the readings that agree best with Tables 2 and 3 on the screen, computed in full for the tables
     best2, best3 = _best_t2(data), _best_t3(data)
@@ -483,9 +483,9 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
 def _best(data: ScreenData, score: np.ndarray, pairs: list[tuple[float, float]], keys: Sequence[str]) -> Reading:
     """The reading of highest ``score`` (backlash reading, phase pair, ω) on the screen (ties: nearest the default)."""
     score = np.reshape(score, (len(keys), len(pairs), data.omegas.size))
-    cands = [(float(data.omegas[w]), pairs[j], keys[r]) for r, j, w in zip(*np.nonzero(score == score.max()))]
-    w, pair, key = _order(cands)[0]
-    return Reading(pair[0], pair[1], key, w)
+    return _order(
+        [Reading(*pairs[j], keys[r], float(data.omegas[w])) for r, j, w in zip(*np.nonzero(score == score.max()))]
+    )[0]
 
 
 def _best_t2(data: ScreenData) -> Reading:
