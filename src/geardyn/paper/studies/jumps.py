@@ -215,8 +215,7 @@ def compute_responses(ctx: Context) -> JumpData:
     out: dict[ResponseKey, xr.Dataset] = {}
     ev: dict[ResponseKey, list[str]] = {}
     for key in s.response_sets:
-        xi0, xi1, D = key
-        ctx.log(f"frequency response ξ0 = {xi0:g}, ξ1 = {xi1:g}, D = {D:g}")
+        ctx.log(f"frequency response {_key_text(key)}")
         model = ctx.model_at(key)
         ds = frequency_response(
             model,
@@ -243,11 +242,6 @@ OVERLAYS = (
     ("xi1", 1, "xi1_set", ("JUMP-XI1", "JUMP-FLUCT")),
     ("D", 2, "d_set", ("JUMP-057", "JUMP-082", "JUMP-095", "T4-4", "T4-5")),
 )
-
-
-def overlay_key(param: str) -> str:
-    """The name of the saved overlay of the responses with ``param`` varied."""
-    return f"responses_over_{param}"
 
 
 def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> xr.Dataset:
@@ -331,7 +325,7 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
         keys = list(getattr(s, attr))
         if len(keys) < 2:
             continue
-        name = overlay_key(param)
+        name = f"responses_over_{param}"
         fixed = model_text(ctx.model_at(keys[0]), skip=("omega", param))
         values = ", ".join(f"{k[index]:g}" for k in keys)
         rel = ctx.save(
@@ -377,19 +371,18 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     R = jd.responses
     claims: list[Finding] = []
     table = [["ξ0", "ξ1", "D", "jumps (ω, direction, size, sweep)", "hysteresis intervals"]]
-    for (xi0, xi1, D), ds in R.items():
+    for key, ds in R.items():
         js = (
             "; ".join(f"{j['omega']:.3f} {j['direction']} {j['size']:.3f} ({j['sweep']})" for j in jumps_of(ds))
             or "none"
         )
         hs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in hysteresis_of(ds)) or "none"  # as the jumps
-        table.append([f"{xi0:g}", f"{xi1:g}", f"{D:g}", js, hs])
+        table.append([*(f"{v:g}" for v in key), js, hs])
 
     # steady below ω = 0.5
     low = [(k, j) for k, ds in R.items() for j in jumps_of(ds) if j["omega"] < LOW_OMEGA]
     low_h = [(k, h) for k, ds in R.items() for h in hysteresis_of(ds) if h[0] < LOW_OMEGA]
-    unsteady = {k for k, _ in low} | {k for k, _ in low_h}
-    n_steady = len(R) - len(unsteady)
+    n_steady = len(R) - len({k for k, _ in low + low_h})
     claims.append(
         CLAIMS["JUMP-LOW"].judge(
             f"over {len(R)} responses (ξ0, ξ1, D varied): {len(low)} jumps and {len(low_h)} hysteresis intervals below "
@@ -537,7 +530,6 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         w, a_up, a_dn, kinds = _read_at(ds, omega)
         kind_ok = jump_holds(jumps_of(ds), omega, kind, TABLE4_NEAR)
         amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
-        v = parts(amp_ok, kind_ok)
         txt = (
             f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {w:.3f}; jumps within "
             f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: "
@@ -550,7 +542,7 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
             _, a_alt, _, ja = _read_at(R[alt], omega)
             txt += f". Read as D = b = {b:g}: A = {a_alt:.3f} (up), jumps: {', '.join(ja) or 'none'}"
             ev += jd.evidence[alt]
-        claims.append(CLAIMS[cid].judge(txt + ".", v, ev))
+        claims.append(CLAIMS[cid].judge(txt + ".", parts(amp_ok, kind_ok), ev))
         table.append(
             [f"{omega:g}", f"{xi0:g}", f"{b:g}", f"{A:g}", kind, f"{a_up:.3f} / {a_dn:.3f}", ", ".join(kinds) or "none"]
         )
