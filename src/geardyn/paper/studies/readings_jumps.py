@@ -92,9 +92,6 @@ class JumpReadings:
     spread: np.ndarray
     jumps: list[list[list[dict[str, Any]]]]  # [reading][key] -> jumps
 
-    def key(self, k: ResponseKey) -> int:
-        return JUMP_KEYS.index(k)
-
 
 def run_lockstep(
     ctx: Context,
@@ -168,7 +165,7 @@ def _fluct(jr: JumpReadings, i: int, k: int) -> float:
 
 def _test(jr: JumpReadings, cid: str, i: int) -> tuple[bool, str]:
     """Claim ``cid`` under reading i of the lockstep responses: (holds, result)."""
-    K, W, js, n = jr.key, jr.omega, jr.jumps[i], CLAIMS[cid].numbers
+    K, W, js, n = JUMP_KEYS.index, jr.omega, jr.jumps[i], CLAIMS[cid].numbers
     if cid == "JUMP-LOW":
         sel, bad = W < LOW_OMEGA, 0
         for jk, a in zip(js, jr.amplitude[i]):
