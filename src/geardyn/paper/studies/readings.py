@@ -373,7 +373,9 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 ok = np.ones(W.size, dtype=bool)
                 for i, (_, cs) in enumerate(probes):
                     if cid in cs:
-                        word = _probe_word(cid, cs)
+                        # the motion the probe must show for the claim: its own, or for the sequences that of the
+                        # Table 2 row the probe stands for (the probe of chaos again at high ξ0: row 1's)
+                        word = _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
                         ok &= np.array([word(m, n) for m, n in zip(var["motion"][i, j], var["period"][i, j])])
                 add(cid, Reading(*pair).text, "probes hold", ok, pair, "")
     # Table 3 (the ω where each row's motion holds), BL-IMPACT, BL-AMP and their joint test with the Table 3
@@ -381,7 +383,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     n_joint = n_seq = 0
     for r, key in enumerate(BACKLASH_READINGS):
         for j, pair in enumerate(data.pairs):
-            lab = _bl_reading(key, pair)
+            lab = f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
             seq = np.ones(W.size, dtype=bool)
             for k, cid in enumerate(claim_ids("T3-")):
                 pred, n = _pred(cid), data.bl["period"][r, k, j]
@@ -459,11 +461,11 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
             f.deciding = "holds at the default reading (full computation)"
             continue
         # the claim's own confirmations come first in ``ver``, then those of the tables
-        ok = [v for v, (o, _) in zip(ver, results) if o and v.cid in (cid, "TAB:" + cid)]
-        if ok:
-            f.verdict, f.reading = "reproduced under a reading", ok[0].reading.text
+        rd = next((v.reading for v, (o, _) in zip(ver, results) if o and v.cid in (cid, "TAB:" + cid)), None)
+        if rd:
+            f.verdict, f.reading = "reproduced under a reading", rd.text
             f.deciding = (
-                f"holds under {ok[0].reading.text} ({ok[0].reading.changes() or 'default'}), confirmed by a "
+                f"holds under {rd.text} ({rd.changes() or 'default'}), confirmed by a "
                 f"full computation; fails at the default reading"
             )
         else:
@@ -502,17 +504,6 @@ def _best_t3(data: ScreenData) -> Reading:
     m, n = data.bl["motion"], data.bl["period"]
     score = sum(np.vectorize(_pred(c))(m[:, k], n[:, k]) for k, c in enumerate(claim_ids("T3-")))
     return _best(data, score, data.pairs, list(BACKLASH_READINGS))
-
-
-def _bl_reading(key: str, pair: tuple[float, float]) -> str:
-    """A backlash reading with a phase pair, as its table row names it."""
-    return f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
-
-
-def _probe_word(cid: str, cs: Sequence[str]) -> Callable[[int, int], bool]:
-    """The motion a probe (testing the claims ``cs``) must show for a claim: its own motion, or for the sequences
-    that of the Table 2 row the probe stands for (the probe of chaos again at high ξ0: row 1's)."""
-    return _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
 
 
 def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]:
