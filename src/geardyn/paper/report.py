@@ -342,11 +342,6 @@ def dataset_of(path: str) -> str:
     return path
 
 
-def is_figure(path: str) -> bool:
-    """Whether a report path is a drawn figure (a PNG under ``figures/``)."""
-    return path.startswith("figures/") and path.endswith(".png")
-
-
 def _evidence(
     evidence: Sequence[str], labels: Mapping[str, str], link: Callable[[str, str], str], text: Callable[[str], str]
 ) -> str:
@@ -354,7 +349,8 @@ def _evidence(
     path)``): ``"label (figure, data); label (data)"``."""
     groups: dict[str, list[tuple[str, str]]] = {}
     for p in dict.fromkeys(evidence):
-        groups.setdefault(dataset_of(p), []).append(("figure" if is_figure(p) else "data", p))
+        kind = "figure" if p.startswith("figures/") and p.endswith(".png") else "data"  # a drawn figure: a PNG
+        groups.setdefault(dataset_of(p), []).append((kind, p))
     return "; ".join(
         f"{text(labels.get(n, n))} (" + ", ".join(link(k, p) for k, p in items) + ")" for n, items in groups.items()
     )

@@ -81,11 +81,6 @@ def lle_sign_holds(word: str, lle: float, err: float) -> bool:
     return {"negative": lle < -band, "near zero": abs(lle) <= max(band, LLE_NEAR), "positive": lle > band}[word]
 
 
-def at_omegas(ws: Sequence[float]) -> str:
-    """``"at ω = 0.62–0.71, 1.20"``, or ``"at no ω of the grid"``."""
-    return f"at ω = {intervals_text(ws)}" if len(ws) else "at no ω of the grid"
-
-
 def intervals_text(ws: Sequence[float], step: float = 0.01) -> str:
     """Grid values as runs: ``"0.62–0.71, 1.20"`` (``"none"`` when empty).
 
@@ -363,7 +358,8 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     def add(cid: str, label: str, what: str, ok: np.ndarray, pair: tuple[float, float], key: str, holds="screen"):
         ws = W[ok]
         okmap.setdefault(cid, []).append(ok)
-        rows.setdefault(cid, []).append([label, f"{what} {at_omegas(ws)}", holds])
+        where = f"at ω = {intervals_text(ws)}" if len(ws) else "at no ω of the grid"
+        rows.setdefault(cid, []).append([label, f"{what} {where}", holds])
         cands.setdefault(cid, []).extend(Reading(*pair, key, float(w)) for w in ws)
 
     # Table 2, XI0-BIF, XI1-CHAOS: per phase pair, the ω where every probe of the claim holds
