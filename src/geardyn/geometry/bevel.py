@@ -131,11 +131,9 @@ class SpiralBevelGearPair:
         if jn < 0:
             raise ModelError(f"j_n: normal backlash must be >= 0 m, got {jn:g} m")
         set_(self, "j_n", jn)
-        for name in ("I1", "I2"):
-            set_(self, name, _positive(name, getattr(self, name), "kg*m^2"))
-        for name, unit in (("r1", "m"), ("r2", "m"), ("face_width", "m"), ("c_gamma", "N/m^2"), ("k0", "N/m")):
-            if getattr(self, name) is not None:
-                set_(self, name, _positive(name, getattr(self, name), unit))
+        for name in ("I1", "I2", "r1", "r2", "face_width", "c_gamma", "k0"):  # the inertias required, the rest optional
+            if getattr(self, name) is not None or name[0] == "I":
+                set_(self, name, _positive(name, getattr(self, name), _UNITS[name]))
         for name, unit in (("xi0", ""), ("c0", "N*s/m")):
             v = getattr(self, name)
             if v is not None:

@@ -359,19 +359,8 @@ def bevel_mesh(
     a = float(default("offset", 0.0, offset, "m", "not given; no hypoid offset (spiral bevel pair)"))
     hypoid = a != 0.0
     if hypoid:
-        missing = [
-            n
-            for n, v in (
-                ("beta_m2", beta_m2),
-                ("d_m1", d_m1),
-                ("d_m2", d_m2),
-                ("delta1", delta1),
-                ("delta2", delta2),
-                ("zeta_mp", zeta_mp),
-                ("zeta_m", zeta_m),
-            )
-            if v is None
-        ]
+        given = locals()
+        missing = [n for n in ("beta_m2", "d_m1", "d_m2", "delta1", "delta2", "zeta_mp", "zeta_m") if given[n] is None]
         if missing:
             raise ModelError(
                 "hypoid pair (offset != 0): give the ISO 23509 mean-point data "
