@@ -466,18 +466,12 @@ class GearModel:
         c[0, 0, 0] = 2.0 * self.xi0
         c[1, 0, 0] = 1.0
         c[2, 0, 0] = self.fp
-        wf = self.omega if self.cycles == 1 else self.omega / self.cycles
-        w2 = wf**2
-        series = (
-            (0, self.xi, self.phi_c, lambda j: 2.0),
-            (1, self.kappa, self.phi_k, lambda j: 1.0),
-            (2, self.eps, self.phi_e, lambda j: w2 * j * j),
-        )
-        for i, amps, phases, scale in series:
-            for j0, (a, ph) in enumerate(zip(amps, phases)):
-                j = j0 + 1
-                c[i, j * s, 0] = scale(j) * a * math.cos(ph)
-                c[i, j * s, 1] = -scale(j) * a * math.sin(ph)
+        w2 = (self.omega if self.cycles == 1 else self.omega / self.cycles) ** 2
+        for i, (amps, phases) in enumerate(((self.xi, self.phi_c), (self.kappa, self.phi_k), (self.eps, self.phi_e))):
+            for j, (a, ph) in enumerate(zip(amps, phases), 1):
+                scale = (2.0, 1.0, w2 * j * j)[i]  # 2ξ, κ, ω²j²ε
+                c[i, j * s, 0] = scale * a * math.cos(ph)
+                c[i, j * s, 1] = -scale * a * math.sin(ph)
         for q, a, ph in self.torque_orders:
             idx = int(q * M)
             c[2, idx, 0] += a * math.cos(ph)
