@@ -214,7 +214,7 @@ def link_figures(sections: Sequence[Section], figures: Mapping[str, Sequence[str
     def resolve(ref: str) -> str:
         if not ref.startswith(FIGURE_REF):
             return ref
-        name = ref[len(FIGURE_REF) :]
+        name = ref.removeprefix(FIGURE_REF)
         if not figures.get(name):
             raise PlotError(f"no figure was drawn for {name!r}, which the report refers to")
         return figures[name][0]

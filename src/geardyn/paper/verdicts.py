@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping, Sequence
+from itertools import groupby
 
 import numpy as np
 import xarray as xr
@@ -598,16 +599,10 @@ def motion_runs(ds: xr.Dataset, param: str) -> list[tuple[float, float, str]]:
     -------
     list of (float, float, str)
     """
-    x = ds[param].values
-    m, n, l = motion_fields(ds)
-    runs: list[tuple[float, float, str]] = []
-    for i in range(x.size):
-        d = describe_motion(int(m[i]), int(n[i]), int(l[i]))
-        if runs and runs[-1][2] == d:
-            runs[-1] = (runs[-1][0], float(x[i]), d)
-        else:
-            runs.append((float(x[i]), float(x[i]), d))
-    return runs
+    pts = [
+        (float(v), describe_motion(int(a), int(b), int(c))) for v, a, b, c in zip(ds[param].values, *motion_fields(ds))
+    ]
+    return [(g[0][0], g[-1][0], d) for d, run in groupby(pts, key=lambda p: p[1]) for g in [list(run)]]
 
 
 def runs_text(runs: Sequence[tuple[float, float, str]], fmt: str = "{:.3g}") -> str:
