@@ -528,30 +528,21 @@ def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]
                 col = r.setdefault(k, [None] * len(rows))
                 for i, x in zip(idx, val):
                     col[i] = x
-    out = []
-    for v in ver:
-        sub = {
-            k: np.array(r[k][v.start : v.start + len(v.values)])
-            for k in ("motion", "period", "lle", "lle_err", "impact", "amplitude")
-        }
-        for i in range(len(v.values)):
-            g = v.start + i
-            m, n, lam = int(r["motion"][g]), int(r["period"][g]), float(r["lle"][g])
-            if needs_confirmation(m, n, lam):
-                model = ctx.base
-                for name, x in zip(NAMES, pts[g]):
-                    model = model.with_param(name, float(x))
-                c = confirm_point(
-                    model,
-                    r["end"][g],
-                    r["poincare"][g],
-                    m,
-                    n,
-                    lam,
-                    float(r["lle_err"][g]),
-                    long_periods=s.confirm_periods,
-                )
-                for k in ("motion", "period", "lle", "lle_err"):
-                    sub[k][i] = c[k]
-        out.append(_judge(v.cid.removeprefix("TAB:"), v.values, sub))
-    return out
+    for g, row in enumerate(pts):
+        m, n, lam = int(r["motion"][g]), int(r["period"][g]), float(r["lle"][g])
+        if needs_confirmation(m, n, lam):
+            model = ctx.base
+            for name, x in zip(NAMES, row):
+                model = model.with_param(name, float(x))
+            c = confirm_point(
+                model, r["end"][g], r["poincare"][g], m, n, lam, float(r["lle_err"][g]), long_periods=s.confirm_periods
+            )
+            for k in ("motion", "period", "lle", "lle_err"):
+                r[k][g] = c[k]
+    keys = ("motion", "period", "lle", "lle_err", "impact", "amplitude")
+    return [
+        _judge(
+            v.cid.removeprefix("TAB:"), v.values, {k: np.array(r[k][v.start : v.start + len(v.values)]) for k in keys}
+        )
+        for v in ver
+    ]
