@@ -151,14 +151,12 @@ def run_screen(ctx: Context) -> ScreenData:
     pts = np.asarray([[w, a, b, *p] for p in probes for (a, b) in pairs for w in W], dtype=float)
     ctx.log(f"readings screen: {pts.shape[0]} points")
     r = screen(ctx.base, NAMES, pts, s.readings_options, s.readings_settle, ctx.executor)
-    n = len(pairs) * W.size
-    a, b = len(XI0_PROBES) * n, (len(XI0_PROBES) + len(XI1_PROBES)) * n
+    a, b = len(XI0_PROBES), len(XI0_PROBES) + len(XI1_PROBES)
     keep = ("motion", "period", "lle", "amplitude", "impact", "u_min")
     data = ScreenData(W, pairs)
     for k in keep:
-        data.xi0[k] = r[k][:a].reshape(-1, len(pairs), W.size)
-        data.xi1[k] = r[k][a:b].reshape(-1, len(pairs), W.size)
-        data.bl[k] = r[k][b:].reshape(len(BACKLASH_READINGS), -1, len(pairs), W.size)
+        v = r[k].reshape(len(probes), len(pairs), W.size)
+        data.xi0[k], data.xi1[k], data.bl[k] = v[:a], v[a:b], v[b:].reshape(len(BACKLASH_READINGS), -1, *v.shape[1:])
     ctx.save(
         "readings_screen",
         xr.Dataset(
@@ -478,28 +476,29 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     return {"tables": tables, "best2": best2, "best3": best3}
 
 
-def _best(data: ScreenData, score: np.ndarray, pairs: list[tuple[float, float]], keys: Sequence[str]) -> Reading:
+def _best(data: ScreenData, score: np.ndarray, keys: Sequence[str]) -> Reading:
     """The reading of highest ``score`` (backlash reading, phase pair, ω) on the screen (ties: nearest the default)."""
-    score = np.reshape(score, (len(keys), len(pairs), data.omegas.size))
+    score = np.reshape(score, (len(keys), len(data.pairs), data.omegas.size))
     return _order(
-        [Reading(*pairs[j], keys[r], float(data.omegas[w])) for r, j, w in zip(*np.nonzero(score == score.max()))]
+        [Reading(*data.pairs[j], keys[r], float(data.omegas[w])) for r, j, w in zip(*np.nonzero(score == score.max()))]
     )[0]
 
 
 def _best_t2(data: ScreenData) -> Reading:
     """The (ω, phases) where most Table 2 rows hold on the screen (ties: nearest the default)."""
-    score = np.zeros((len(data.pairs), data.omegas.size))
-    for probes, var in ((XI0_PROBES[:3], data.xi0), (XI1_PROBES, data.xi1)):
-        for i, (_, cs) in enumerate(probes):
-            score += np.vectorize(_pred(cs[0]))(var["motion"][i], var["period"][i])
-    return _best(data, score, data.pairs, ("",))
+    score = sum(
+        np.vectorize(_pred(cs[0]))(var["motion"][i], var["period"][i])
+        for probes, var in ((XI0_PROBES[:3], data.xi0), (XI1_PROBES, data.xi1))
+        for i, (_, cs) in enumerate(probes)
+    )
+    return _best(data, score, ("",))
 
 
 def _best_t3(data: ScreenData) -> Reading:
     """The (backlash reading, phases, ω) where most Table 3 rows hold on the screen (ties: nearest the default)."""
     m, n = data.bl["motion"], data.bl["period"]
     score = sum(np.vectorize(_pred(c))(m[:, k], n[:, k]) for k, c in enumerate(claim_ids("T3-")))
-    return _best(data, score, data.pairs, list(BACKLASH_READINGS))
+    return _best(data, score, list(BACKLASH_READINGS))
 
 
 def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]:
