@@ -364,13 +364,17 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     for probes, var in ((XI0_PROBES, data.xi0), (XI1_PROBES, data.xi1)):
         for cid in sorted({c for _, cs in probes for c in cs}, key=list(CLAIMS).index):
             for j, pair in enumerate(data.pairs):
-                ok = np.ones(W.size, dtype=bool)
-                for i, (_, cs) in enumerate(probes):
-                    if cid in cs:
-                        # the motion the probe must show for the claim: its own, or for the sequences that of the
-                        # Table 2 row the probe stands for (the probe of chaos again at high ξ0: row 1's)
-                        word = _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
-                        ok &= np.array([word(m, n) for m, n in zip(var["motion"][i, j], var["period"][i, j])])
+                # each probe of the claim must show its motion: the claim's own, or for the sequences that of the
+                # Table 2 row the probe stands for (the probe of chaos again at high ξ0: row 1's)
+                ok = np.logical_and.reduce(
+                    [
+                        np.vectorize(
+                            _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
+                        )(var["motion"][i, j], var["period"][i, j])
+                        for i, (_, cs) in enumerate(probes)
+                        if cid in cs
+                    ]
+                )
                 add(cid, Reading(*pair).text, "probes hold", ok, pair, "")
     # Table 3 (the ω where each row's motion holds), BL-IMPACT, BL-AMP and their joint test with the Table 3
     # sequence (F2), per backlash reading and phase pair
@@ -380,8 +384,8 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
             lab = f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
             seq = np.ones(W.size, dtype=bool)
             for k, cid in enumerate(claim_ids("T3-")):
-                pred, n = _pred(cid), data.bl["period"][r, k, j]
-                ok = np.array([pred(a, b) for a, b in zip(data.bl["motion"][r, k, j], n)])
+                n = data.bl["period"][r, k, j]
+                ok = np.vectorize(_pred(cid))(data.bl["motion"][r, k, j], n)
                 seq &= ok
                 if CLAIMS[cid].numbers["lyapunov"] == "near zero":  # near a change of motion: λ1 can be near zero
                     d = n[1:] != n[:-1]
