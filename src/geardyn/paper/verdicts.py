@@ -579,7 +579,7 @@ def match_fraction(
     """
     x = ds[param].values
     m, n, l = motion_fields(ds)
-    ok = np.array([pred(int(a), int(b), int(c)) for a, b, c in zip(m, n, l)], dtype=bool)
+    ok = np.vectorize(pred, otypes=[bool])(m, n, l)
     frac, _ = length_fraction(x, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
     sel = ((x > lo) if lo_open else (x >= lo - 1e-12)) & ((x < hi) if hi_open else (x <= hi + 1e-12))
     return frac, int(sel.sum())

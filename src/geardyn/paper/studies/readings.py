@@ -298,10 +298,8 @@ def _judge(cid: str, x: Sequence[float], r: dict[str, np.ndarray]) -> tuple[bool
             f", chaos again at ξ0 = {high.min():.3g}" if high.size else ", no chaos at high ξ0"
         )
     lo, hi, lo_open, hi_open = claim_range(cid)  # a range claim
-    pred = _pred(cid)
-    frac, _ = length_fraction(
-        x, [pred(m, n) for m, n in zip(r["motion"], r["period"])], lo, hi, lo_open=lo_open, hi_open=hi_open
-    )
+    ok = np.vectorize(_pred(cid), otypes=[bool])(r["motion"], r["period"])
+    frac, _ = length_fraction(x, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
     return bool(frac >= MATCH_REPRODUCED), f"{100 * frac:.0f} % of the interval's length"
 
 
