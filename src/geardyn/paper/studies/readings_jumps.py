@@ -121,7 +121,7 @@ def run_lockstep(
     s = ctx.settings
     if readings is None:
         readings = [Reading(a, b, key) for key in BACKLASH_READINGS for (a, b) in phase_pairs(False)]
-    options = s.readings_response_options if options is None else options
+    options = options or s.readings_response_options
     nR, nK = len(readings), len(JUMP_KEYS)
     pairs = [(i, k) for i in range(nR) for k in range(nK) if keys is None or k in keys[i]]
     pts = np.array(
@@ -139,10 +139,7 @@ def run_lockstep(
     ctx.save(
         name,
         xr.Dataset(
-            {
-                "amplitude": (("reading", "key", "sweep", "omega"), amp),
-                "spread": (("reading", "key", "sweep", "omega"), spread),
-            },
+            {k: (("reading", "key", "sweep", "omega"), v) for k, v in (("amplitude", amp), ("spread", spread))},
             coords={
                 "reading": [rd.text for rd in readings],
                 "key": [f"ξ0 = {a:g}, ξ1 = {b:g}, b = {c:g} mm" for a, b, c in JUMP_KEYS],
@@ -167,12 +164,12 @@ def _test(jr: JumpReadings, cid: str, i: int) -> tuple[bool, str]:
     """Claim ``cid`` under reading i of the lockstep responses: (holds, result)."""
     K, W, js, n = JUMP_KEYS.index, jr.omega, jr.jumps[i], CLAIMS[cid].numbers
     if cid == "JUMP-LOW":
-        sel, bad = W < LOW_OMEGA, 0
-        for jk, a in zip(js, jr.amplitude[i]):
-            rng = float(np.nanmax(a) - np.nanmin(a)) or 1.0
-            bad += any(j["omega"] < LOW_OMEGA for j in jk) or bool(
-                np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * rng)
-            )
+        sel = W < LOW_OMEGA
+        bad = sum(
+            any(j["omega"] < LOW_OMEGA for j in jk)
+            or bool(np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * (float(np.nanmax(a) - np.nanmin(a)) or 1.0)))
+            for jk, a in zip(js, jr.amplitude[i])
+        )
         return not bad, f"steady below ω = {LOW_OMEGA:g} in {len(JUMP_KEYS) - bad} of {len(JUMP_KEYS)} responses"
     if cid in ("JUMP-XI0", "JUMP-XI1"):
         keys, lab, pos = (XI0_KEYS, "ξ0", 0) if cid == "JUMP-XI0" else (XI1_KEYS, "ξ1", 1)
