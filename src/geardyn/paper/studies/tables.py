@@ -10,7 +10,7 @@ import numpy as np
 
 from ..claims import CLAIMS, TABLE4, claim_ids
 from ..report import Section
-from ..settings import Context
+from ..settings import SYMBOLS, Context
 from ..verdicts import describe_motion, motion_fields, motion_runs, range_of, runs_text, yes_no
 from .readings import claim_range, range_match
 from .readings_jumps import JumpReadings
@@ -20,7 +20,7 @@ __all__ = ["study_tables"]
 
 def _range_text(cid: str) -> str:
     lo, hi, lo_open, hi_open = range_of(CLAIMS[cid].numbers)
-    sym = {"xi0": "ξ0", "xi1": "ξ1"}[str(CLAIMS[cid].numbers["param"])]
+    sym = SYMBOLS[str(CLAIMS[cid].numbers["param"])]
     if np.isinf(lo):
         return f"{sym} {'<' if hi_open else '≤'} {hi:g}"
     if np.isinf(hi):
