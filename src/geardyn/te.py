@@ -172,7 +172,7 @@ def read_te(
             raise bad(i, f"not a finite number: {text[:60]!r}")
         if len(rows) >= MAX_TE_ROWS:
             raise bad(i, f"more than {MAX_TE_ROWS} samples; at most {MAX_TE_ROWS} are read (resample the record)")
-        rows.append((i, nums[0], nums[1]))
+        rows.append((i, *nums))
     if not rows:
         raise bad(max(len(lines), 1), "no numeric rows (angle or time, TE) in the file")
     if len(rows) < 16:

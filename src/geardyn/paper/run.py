@@ -316,10 +316,9 @@ def run(
         labels=ctx.labels,
         run=info,
     )
-    claims = [c for s in sections for c in s.claims]
     return {
         "paths": {k: str(v) for k, v in paths.items()},
-        "claims": claims,
+        "claims": [c for s in sections for c in s.claims],
         "run": info,
         "seconds": t_total,
     }

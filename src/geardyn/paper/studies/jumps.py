@@ -219,8 +219,7 @@ def compute_responses(ctx: Context) -> JumpData:
         model = ctx.model_at(key)
         ds = frequency_response(
             model,
-            s.response_omega[0],
-            s.response_omega[1],
+            *s.response_omega,
             s.response_num,
             options=s.response_options,
             settle_periods=s.settle,

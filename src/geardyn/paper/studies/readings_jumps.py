@@ -127,7 +127,7 @@ def run_lockstep(
     pts = np.array(
         [[readings[i].phi_c, readings[i].phi_k, *JUMP_KEYS[k][:2], readings[i].D(JUMP_KEYS[k][2])] for i, k in pairs]
     )
-    W = np.round(np.linspace(s.response_omega[0], s.response_omega[1], s.response_num), 6)
+    W = np.round(np.linspace(*s.response_omega, s.response_num), 6)
     ctx.log(f"readings responses: {pts.shape[0]} up/down sweeps of {W.size} ω each")
     r = lockstep_responses(ctx.base, ("phi_c1", "phi_k1", "xi0", "xi1", "D"), pts, W, options, ctx.executor)
     amp, spread = np.full((2, nR, nK, 2, W.size), np.nan)

@@ -192,8 +192,11 @@ def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
         else []
     )
     folds = sorted(w for t, w in bifs if t == "fold")
-    hyst = hysteresis_of(jd.responses[key])
-    first = [h for h in hyst if h[1] >= s.continuation_omega[0] and h[0] <= s.continuation_omega[1]]
+    first = [
+        h
+        for h in hysteresis_of(jd.responses[key])
+        if h[1] >= s.continuation_omega[0] and h[0] <= s.continuation_omega[1]
+    ]
     events = (
         (", ".join(f"{t} at ω = {w:.4f}" for t, w in bifs) + ".")
         if bifs
