@@ -202,6 +202,7 @@ class Verification:
     param: str
     values: list[float]
     start: int = 0
+    table: bool = False  # computed for the table of the claim's rows (under the best reading), not for the claim
 
 
 def claim_range(cid: str) -> tuple[float, float, bool, bool]:
@@ -431,15 +432,15 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     # the readings that agree best with Tables 2 and 3 on the screen, computed in full for the tables
     best2, best3 = _best_t2(data), _best_t3(data)
     ver += [
-        replace(_verification(cid, best, grids), cid="TAB:" + cid)
+        replace(_verification(cid, best, grids), table=True)
         for prefix, best in (("T2-", best2), ("T3-", best3))
         for cid in claim_ids(prefix)
     ]
     results = _verify(ctx, ver)
     tables = {}
     for v, (ok, txt) in zip(ver, results):
-        if v.cid.startswith("TAB:"):
-            tables[v.cid[4:]] = (v.reading, ok, txt)
+        if v.table:
+            tables[v.cid] = (v.reading, ok, txt)
         else:
             rows[v.cid].append([v.reading.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed"])
     for cid, rs in rows.items():
@@ -457,7 +458,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
             f.deciding = "holds at the default reading (full computation)"
             continue
         # the claim's own confirmations come first in ``ver``, then those of the tables
-        rd = next((v.reading for v, (o, _) in zip(ver, results) if o and v.cid in (cid, "TAB:" + cid)), None)
+        rd = next((v.reading for v, (o, _) in zip(ver, results) if o and v.cid == cid), None)
         if rd:
             f.verdict, f.reading = "reproduced under a reading", rd.text
             f.deciding = (
@@ -466,7 +467,7 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
             )
         else:
             tried = sum(r[2] == "screen" for r in rs)
-            n_v = sum(v.cid == cid for v in ver)
+            n_v = sum(v.cid == cid and not v.table for v in ver)
             f.deciding = (
                 f"fails at the default reading; the screen of {tried} reading families × {W.size} ω gives "
                 f"{len(cands.get(cid, []))} candidate readings"
@@ -541,9 +542,4 @@ def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]
             for k in ("motion", "period", "lle", "lle_err"):
                 r[k][g] = c[k]
     keys = ("motion", "period", "lle", "lle_err", "impact", "amplitude")
-    return [
-        _judge(
-            v.cid.removeprefix("TAB:"), v.values, {k: np.array(r[k][v.start : v.start + len(v.values)]) for k in keys}
-        )
-        for v in ver
-    ]
+    return [_judge(v.cid, v.values, {k: np.array(r[k][v.start : v.start + len(v.values)]) for k in keys}) for v in ver]
