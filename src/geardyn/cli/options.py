@@ -76,7 +76,8 @@ def option(
     default : object
         The value when the option is not given.
     *flags : str
-        The option's flags, e.g. ``"--dtau"``.
+        The option's flags, e.g. ``"--dtau"``; none: typer's, ``--`` and ``dest`` with ``-`` for ``_`` (an
+        on/off flag of type ``bool`` names its flags).
     help : str
         The help text.
     panel : str, optional
@@ -99,9 +100,8 @@ def option(
 
 def _flags_take_no_value(p: inspect.Parameter) -> inspect.Parameter:
     """An on/off flag is shown without a value placeholder (it takes none)."""
-    meta = getattr(p.annotation, "__metadata__", ())
-    if typing.get_origin(p.annotation) is Annotated and p.annotation.__origin__ is bool:
-        for info in meta:
+    if getattr(p.annotation, "__origin__", None) is bool:  # Annotated[bool, typer.Option(...)]
+        for info in p.annotation.__metadata__:
             if getattr(info, "metavar", "unset") is None:
                 info.metavar = ""
     return p
@@ -112,7 +112,6 @@ CONFIG = [
         "config",
         Path | None,
         None,
-        "--config",
         panel=PHYSICAL_PANEL,
         help="TOML file with the gear pair, mesh and operating point (default: the paper's Table 1).",
     )
@@ -121,7 +120,6 @@ RPM = option(
     "rpm",
     float | None,
     None,
-    "--rpm",
     panel=PHYSICAL_PANEL,
     help="Pinion speed in rpm (sets ω for the gear pair of --config, else of a tooth-pair --excitation file; "
     "default pair: the paper's Table 1, k0 = 2000 N/µm assumed).",
@@ -130,7 +128,6 @@ TORQUE = option(
     "torque",
     float | None,
     None,
-    "--torque",
     panel=PHYSICAL_PANEL,
     help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config, else of a tooth-pair "
     "--excitation file).",
@@ -139,7 +136,6 @@ TORQUE_ORDER = option(
     "torque_order",
     list[str] | None,
     None,
-    "--torque-order",
     metavar="ORDER:AMPLITUDE[:PHASE]",
     panel=PHYSICAL_PANEL,
     help="A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic "
@@ -148,12 +144,11 @@ TORQUE_ORDER = option(
     "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
     "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp.",
 )
-EXCITATION = option("excitation", Path | None, None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
+EXCITATION = option("excitation", Path | None, None, panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
 EVALUATION = option(
     "excitation_evaluation",
     str | None,
     None,
-    "--excitation-evaluation",
     panel=PHYSICAL_PANEL,
     help="series (default) or table: with --accurate, the table as given, piecewise linear with its jumps.",
 )
@@ -162,7 +157,6 @@ RPM_RANGE = [
         "rpm_start",
         float | None,
         None,
-        "--rpm-start",
         panel=PHYSICAL_PANEL,
         help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop).",
     ),
@@ -170,7 +164,6 @@ RPM_RANGE = [
         "rpm_stop",
         float | None,
         None,
-        "--rpm-stop",
         panel=PHYSICAL_PANEL,
         help="End of an ω sweep given as pinion speed in rpm (with --rpm-start).",
     ),
@@ -191,18 +184,25 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     -------
     list of inspect.Parameter
     """
-    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE, TORQUE_ORDER]
-    for o in params.cli_options():
-        if o.param == "omega" and not omega:
-            continue
-        group.append(option(o.dest, float | None, None, o.flag, help=o.help, panel=MODEL_PANEL))
-    return group
+    return [
+        *CONFIG,
+        EXCITATION,
+        EVALUATION,
+        *([RPM] if rpm else []),
+        TORQUE,
+        TORQUE_ORDER,
+        *(
+            option(o.dest, float | None, None, o.flag, help=o.help, panel=MODEL_PANEL)
+            for o in params.cli_options()
+            if omega or o.param != "omega"
+        ),
+    ]
 
 
 MODEL = model_group()
 STATE = [
-    option("u0", float, 0.0, "--u0", help="Initial displacement u at θ = 0.", panel=RUN_PANEL),
-    option("v0", float, 0.0, "--v0", help="Initial velocity u' at θ = 0.", panel=RUN_PANEL),
+    option("u0", float, 0.0, help="Initial displacement u at θ = 0.", panel=RUN_PANEL),
+    option("v0", float, 0.0, help="Initial velocity u' at θ = 0.", panel=RUN_PANEL),
 ]
 ACCURATE_HELP = "Split steps at the contact crossings u = ±D (4th order through contact loss)."
 
@@ -243,14 +243,11 @@ def integration(
     list of inspect.Parameter
     """
     group = [
-        option(
-            "dtau", float, DEFAULT_DTAU, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).", panel=RUN_PANEL
-        ),
+        option("dtau", float, DEFAULT_DTAU, help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).", panel=RUN_PANEL),
         option(
             "transient",
             str,
             str(DEFAULT_TRANSIENT),
-            "--transient",
             help="Forcing periods discarded before recording; or N followed by 'cycles' (e.g. 3000cycles): N "
             "reference mesh cycles, rounded up to whole forcing periods; or auto: as many as the least damped mode "
             "of the linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md). Not "
@@ -260,12 +257,8 @@ def integration(
         ),
     ]
     if periods is not None:
-        group.append(option("periods", int, periods, "--periods", help=periods_help, panel=RUN_PANEL))
-    group.append(
-        accurate
-        if accurate is not None
-        else option("accurate", bool, False, "--accurate", help=ACCURATE_HELP, panel=RUN_PANEL)
-    )
+        group.append(option("periods", int, periods, help=periods_help, panel=RUN_PANEL))
+    group.append(accurate or option("accurate", bool, False, "--accurate", help=ACCURATE_HELP, panel=RUN_PANEL))
     if adaptive:
         group.append(option("adaptive", bool, False, "--adaptive", help=ADAPTIVE_HELP, panel=RUN_PANEL))
     return group
@@ -276,7 +269,6 @@ ENGINE = [
         "workers",
         int,
         1,
-        "--workers",
         panel=ENGINE_PANEL,
         help="Chunks of a sweep integrated at once, on threads of this process (1: one at a time on every "
         "kernel thread; N: N at a time on 1/N of them each).",
@@ -294,7 +286,6 @@ ENGINE = [
         "scheduler",
         str | None,
         None,
-        "--scheduler",
         panel=ENGINE_PANEL,
         help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed).",
     ),
@@ -313,7 +304,6 @@ OUTPUT = [
         "out",
         Path | None,
         None,
-        "--out",
         help="Directory (or .nc file) for NetCDF data and figures.",
         panel=OUTPUT_PANEL,
     ),
@@ -330,7 +320,7 @@ FIGURE_OPTIONS = [
         panel=OUTPUT_PANEL,
         help="File formats of the figures, comma-separated: png, pdf, svg (e.g. png,pdf).",
     ),
-    option("dpi", int, 120, "--dpi", panel=OUTPUT_PANEL, help="Resolution of PNG figures (dots per inch)."),
+    option("dpi", int, 120, panel=OUTPUT_PANEL, help="Resolution of PNG figures (dots per inch)."),
 ]
 OUTPUT += FIGURE_OPTIONS
 
@@ -344,18 +334,10 @@ def _at_default(values: dict[str, Any]) -> tuple[set[str], str | None]:
 
     core = sys.modules[typer.Context.__mro__[1].__module__]
     ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
-    ParameterSource = core.ParameterSource
     if ctx is None:
         return set(), None
-    out = set()
-    for name in values:
-        try:
-            src = ctx.get_parameter_source(name)
-        except Exception:  # noqa: BLE001 - a name the context does not know counts as given
-            src = None
-        if src in (ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP):
-            out.add(name)
-    return out, ctx.info_name
+    at_default = (core.ParameterSource.DEFAULT, core.ParameterSource.DEFAULT_MAP)  # a name it does not know: given
+    return {name for name in values if ctx.get_parameter_source(name) in at_default}, ctx.info_name
 
 
 def build_model(
@@ -438,12 +420,12 @@ class Inputs:
             For an invalid value or a conflicting ``--rpm`` / ``--torque``.
         """
         v = self.values
-        if v.get("system") is not None and v.get("torque_order"):
-            raise ModelError(
-                "--torque-order: applies to the pair; with --system write orders = [{order, amplitude, phase}] "
-                "on a drive or load of the system file"
-            )
         if v.get("system") is not None:  # the system of the file, the options applied to its reference mesh
+            if v.get("torque_order"):
+                raise ModelError(
+                    "--torque-order: applies to the pair; with --system write orders = [{order, amplitude, phase}] "
+                    "on a drive or load of the system file"
+                )
             key = tuple(sorted((k, x) for k, x in fixed.items() if x is not None))
             if key not in self._systems:  # one system (and one read of its file) per set of fixed values
                 from .system_input import load_cli_system
@@ -801,7 +783,8 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
     inp : Inputs
         The command's inputs (``--json`` decides the form).
     show : callable
-        ``show(summary, paths, *extra)``, the table renderer (:mod:`geardyn.cli.render`).
+        ``show(summary, *extra)``, the table renderer (:mod:`geardyn.cli.render`); the files written are
+        listed after it.
     *extra : object
         Further arguments of ``show``.
     """
@@ -812,11 +795,12 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
         summary["files"] = paths
         emit_json(summary)
         return
-    if "meshes" in summary:  # a system: its meshes first
-        from .render import meshes
+    from .render import files, meshes
 
+    if "meshes" in summary:  # a system: its meshes first
         meshes(summary)
-    show(summary, paths, *extra)
+    show(summary, *extra)
+    files(paths)
 
 
 def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
@@ -893,9 +877,7 @@ def param_option(what: str) -> Any:
     """
     return Annotated[
         str | None,
-        typer.Option(
-            "--param", help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop)."
-        ),
+        typer.Option(help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop)."),
     ]
 
 
@@ -903,7 +885,7 @@ def param_option(what: str) -> Any:
 ContinuationParamOpt = param_option("Continuation parameter")
 #: ``--stop`` of a continuation (HB or shooting).
 StopOpt = Annotated[
-    float | None, typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")
+    float | None, typer.Option(help="Parameter value where the continuation ends (may lie below --start).")
 ]
 
 

@@ -39,7 +39,6 @@ SYSTEM = [
 CoordsOpt = Annotated[
     str | None,
     typer.Option(
-        "--coords",
         rich_help_panel=SYSTEM_PANEL,
         help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
         "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').",
@@ -59,7 +58,6 @@ SYSTEM_COMMANDS = (
     "hb",
     "runup",
 )
-_NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
 
 
 def load_cli_system(values: dict[str, Any]):
@@ -96,7 +94,7 @@ def load_cli_system(values: dict[str, Any]):
         s = s.with_param("omega", float(values["omega"]))
     for o in params.cli_options():
         v = values.get(o.dest)
-        if v is not None and o.dest not in _NOT_MODEL and o.param not in ("omega", "fp"):
+        if v is not None and o.param not in ("omega", "fp"):  # (set above; fp comes from the loads)
             s = s.with_param(o.param, float(v))
     _forcing_period_note(s, values)
     _unsettled_note(s, values)
@@ -112,13 +110,9 @@ def _unsettled_note(s: Any, values: dict[str, Any]) -> None:
     p = s.period_multiple()
     if p is None or values.get("transient") is None or values.get("json_out"):
         return
-    if values.get("transient_default") and p > 1:  # the long-run plan settles by the physics (Inputs.long_run)
-        return
-    n = _periods_given({"transient": values["transient"]}, p)
-    if n <= 0:
-        return
-    note = unsettled_note(s, n)
-    if note:
+    # the transient alone; none at a default with a long-run plan, which settles by the physics (Inputs.long_run)
+    n = _periods_given({**values, "periods": 0}, p)
+    if n > 0 and (note := unsettled_note(s, n)):
         say_error(note)
 
 
