@@ -413,12 +413,9 @@ def _invoke(argv: list[str] | None) -> int:
         else:
             say_error(str(e))
         return EXIT_INTERRUPTED
-    except SweepFailed as e:
+    except GeardynError as e:  # a sweep that failed (1), else bad input (2)
         say_error(f"error: {e}")
-        return EXIT_FAILURE
-    except GeardynError as e:
-        say_error(f"error: {e}")
-        return EXIT_USAGE
+        return EXIT_FAILURE if isinstance(e, SweepFailed) else EXIT_USAGE
     except (typer.Abort, KeyboardInterrupt):
         if not STOP.event.is_set():
             say_error("interrupted")

@@ -13,17 +13,15 @@ from .options import OUTPUT, Inputs, command, finish, option
 from .render import plain, table
 
 STIFFNESS_OPTIONS = [
-    option("torque", float | None, None, help="Pinion torque (N·m) instead of the file's torque_Nm."),
+    option("torque", float | None, help="Pinion torque (N·m) instead of the file's torque_Nm."),
     option(
         "fault",
         list[str] | None,
-        None,
         help="Add a fault: KIND:key=value,... e.g. crack:gear=0,tooth=0,depth=0.5 (repeatable; lengths in m).",
     ),
     option(
         "cycles",
         int | None,
-        None,
         help="Mesh cycles computed (default: 1 healthy, z1 or z2 with faults on one gear, the hunting period "
         "lcm(z1, z2) with faults on both).",
     ),
@@ -31,14 +29,12 @@ STIFFNESS_OPTIONS = [
     option(
         "slices",
         int | None,
-        None,
         help="Slices across the face width (default 1 spur, 40 helical, crowned or with partial faults).",
     ),
     option("harmonics", int, 8, help="Fourier harmonics of the excitation's period listed."),
     option(
         "table",
         Path | None,
-        None,
         help="Also write the stiffness and STE table as .csv or .json (an --excitation file for the analyses).",
     ),
     *OUTPUT,
@@ -158,20 +154,18 @@ SIGNATURE_OPTIONS = [
     option(
         "rpm",
         float | None,
-        None,
         help="Pinion speed (rpm; default the file's [signature] rpm, else 3000; with --system the system's "
         "operating point).",
     ),
-    option("revolutions", int | None, None, help="Pinion revolutions recorded."),
+    option("revolutions", int | None, help="Pinion revolutions recorded."),
     option(
         "fs",
         float | None,
-        None,
         help="Sampling rate (Hz; default 20 samples per mesh period and 2.5 per period of the highest mesh "
         "harmonic the model holds; with --system 20 per mesh period and 5 per period of the system's highest "
         "natural frequency).",
     ),
-    option("noise", float | None, None, help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."),
+    option("noise", float | None, help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."),
     option(
         "sweep",
         str | None,
@@ -180,13 +174,12 @@ SIGNATURE_OPTIONS = [
         help="Crack depths d1,d2,... : indicators against the depth of the file's first crack (or a crack on "
         "pinion tooth 0).",
     ),
-    option("fault", list[str] | None, None, help="Add a fault (as for stiffness)."),
-    option("torque", float | None, None, help="Pinion torque (N·m) instead of the file's."),
+    option("fault", list[str] | None, help="Add a fault (as for stiffness)."),
+    option("torque", float | None, help="Pinion torque (N·m) instead of the file's."),
     option("points", int, 32, help="Mesh phases per mesh cycle of the excitation table."),
     option(
         "system",
         list[Path] | None,
-        None,
         panel="Multi-DOF system",
         help="A system file (examples/systems): the signature of a bearing sensor, a translational DOF. Once: "
         "the tooth-pair files (or excitation tables) become its mesh's excitation, one run each (none: the "
@@ -196,7 +189,6 @@ SIGNATURE_OPTIONS = [
     option(
         "sensor",
         str | None,
-        None,
         panel="Multi-DOF system",
         help="With --system: the sensor, a translational DOF body.x|y|z (default the translation of the mesh's "
         "pinion most nearly along its line of action).",
@@ -204,7 +196,6 @@ SIGNATURE_OPTIONS = [
     option(
         "mesh",
         str | None,
-        None,
         panel="Multi-DOF system",
         help="With --system: the mesh that takes the files' excitation and whose pinion and wheel are analysed "
         "(default the reference mesh).",
@@ -452,14 +443,16 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
             else (on_mesh(f, read_table(f).stiffness.size // 2), f.stem, {"excitation": str(f)})
             for f in files
         ] or [(s, p.stem, {"excitation": None}) for s, p in zip(systems, paths)]
-        labels = [
-            lab if [r[1] for r in runs_in].count(lab) == 1 else f"{lab} ({i + 1})"
-            for i, (_, lab, _) in enumerate(runs_in)
-        ]
+        labels = [r[1] for r in runs_in]  # a label given twice is numbered
         runs = [
             system_signature(
-                s, dof, mesh=mesh, label=lab, **kw, extra={"system": str(paths[min(i, len(paths) - 1)]), **keys}
+                s,
+                dof,
+                mesh=mesh,
+                label=lab if labels.count(lab) == 1 else f"{lab} ({i + 1})",
+                **kw,
+                extra={"system": str(paths[min(i, len(paths) - 1)]), **keys},
             )
-            for i, ((s, _, keys), lab) in enumerate(zip(runs_in, labels))
+            for i, (s, lab, keys) in enumerate(runs_in)
         ]
     _finish_runs(inp, runs)

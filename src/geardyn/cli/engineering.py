@@ -24,13 +24,11 @@ TE_OPTIONS = [
     option(
         "x_unit",
         str | None,
-        None,
         help="Unit of the first column when the header does not state it: deg, rad, rev (angle) or s, ms, us (time).",
     ),
     option(
         "te_unit",
         str | None,
-        None,
         help="Unit of the TE column when the header does not state it: um, mm, nm, m.",
     ),
     option("te_rpm", float | None, None, "--rpm", help="Pinion speed (rpm) of a time record."),
@@ -160,22 +158,20 @@ RUNUP_OPTIONS = [
         "--rpm-stop",
         help="Pinion speed at the end of the ramp (rpm; below --rpm-start for a run-down).",
     ),
-    option("duration", float | None, None, help="Duration of the ramp (s)."),
-    option("omega_start", float | None, None, help="Start of the ramp as ω (instead of --rpm-start)."),
-    option("omega_stop", float | None, None, help="End of the ramp as ω (instead of --rpm-stop)."),
-    option("param", str | None, None, help="The ramped parameter: omega only (with --start/--stop)."),
-    option("start", float | None, None, help="Start of the ramp as ω (as --omega-start)."),
-    option("stop", float | None, None, help="End of the ramp as ω (as --omega-stop)."),
+    option("duration", float | None, help="Duration of the ramp (s)."),
+    option("omega_start", float | None, help="Start of the ramp as ω (instead of --rpm-start)."),
+    option("omega_stop", float | None, help="End of the ramp as ω (instead of --rpm-stop)."),
+    option("param", str | None, help="The ramped parameter: omega only (with --start/--stop)."),
+    option("start", float | None, help="Start of the ramp as ω (as --omega-start)."),
+    option("stop", float | None, help="End of the ramp as ω (as --omega-stop)."),
     option(
         "tau_duration",
         float | None,
-        None,
         help="Duration of the ramp in τ (instead of --duration).",
     ),
     option(
         "cycles_per_block",
         int | None,
-        None,
         help="Mesh cycles per constant-speed block (default: about 400 blocks); with an --excitation of P mesh cycles "
         "(or a system whose forcing period is P reference mesh cycles) a multiple of P (blocks of whole forcing "
         "periods).",
@@ -195,6 +191,8 @@ RUNUP_OPTIONS = [
 
 
 def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
+    """ω at the start and at the end of the ramp, its duration in τ and the scales, checked (the RK4 steps of the
+    ramp within the bound)."""
     from .ranges import omega_only
 
     scales = inp.scales()
@@ -223,11 +221,7 @@ def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
         T = float(scales.tau_from_s(inp.duration))
     else:
         T = float(inp.tau_duration)
-    return float(w0), float(w1), T, scales
-
-
-def _check_ramp_steps(inp: Inputs, w0: float, w1: float, T: float) -> None:
-    """Refuse, before computing, a step or a ramp whose RK4 steps cannot be counted or exceed the bound."""
+    # refused before computing: a step or a ramp whose RK4 steps cannot be counted or exceed the bound
     import math
 
     from .. import validate
@@ -244,6 +238,7 @@ def _check_ramp_steps(inp: Inputs, w0: float, w1: float, T: float) -> None:
             f"{_human_time(steps * TRAJECTORY_STEP_SECONDS)} of computing; the budget is "
             f"{_human_time(budget)} (GEARDYN_TIME_BUDGET seconds): a shorter ramp or a larger dtau"
         )
+    return float(w0), float(w1), T, scales
 
 
 @command("runup", RUNUP_OPTIONS, model_group(omega=False, rpm=False), OUTPUT)
@@ -260,7 +255,6 @@ def runup_cmd(inp: Inputs) -> None:
 
     model = inp.model()
     w0, w1, T, sc = _ramp(inp)
-    _check_ramp_steps(inp, w0, w1, T)
     nq = validate.integer("num", inp.qs_num, 0, 2001)
     orders = validate.integer("orders", inp.orders, 1, 50)
     with inp.progress("runup", "blocks") as bar:

@@ -56,8 +56,7 @@ def show(s: dict[str, Any]) -> None:
         mus = ", ".join("n/a" if m[0] is None else f"{complex(*m):.4f}" for m in b["multipliers"])
         t.add_row(b["type"], f"{b[p]:.6f}", f"{b['u_min']:.4f}", f"{b['u_max']:.4f}", mus, b["detail"])
     console.print(t)
-    sh = s.get("shooting")
-    if sh:
+    if sh := s.get("shooting"):
         render.plain("shooting: " + ", ".join(f"{b['type']} {b[p]:.6f}" for b in sh["bifurcations"]))
 
 

@@ -40,6 +40,9 @@ __all__ = [
     "MODEL",
     "OUTPUT",
     "STATE",
+    "SYSTEM",
+    "SYSTEM_COMMANDS",
+    "CoordsOpt",
     "Inputs",
     "build_model",
     "choice",
@@ -63,7 +66,13 @@ OUTPUT_PANEL = "Output"
 
 
 def option(
-    dest: str, kind: Any, default: Any, *flags: str, help: str, panel: str | None = None, metavar: str | None = None
+    dest: str,
+    kind: Any,
+    default: Any = None,
+    *flags: str,
+    help: str,
+    panel: str | None = None,
+    metavar: str | None = None,
 ) -> inspect.Parameter:
     """One keyword-only typer option as a signature parameter.
 
@@ -74,7 +83,7 @@ def option(
     kind : type
         The option's type annotation (``float``, ``Path | None``, ``bool`` for a flag ...).
     default : object
-        The value when the option is not given.
+        The value when the option is not given (default None).
     *flags : str
         The option's flags, e.g. ``"--dtau"``; none: typer's, ``--`` and ``dest`` with ``-`` for ``_`` (an
         on/off flag of type ``bool`` names its flags).
@@ -111,7 +120,6 @@ CONFIG = [
     option(
         "config",
         Path | None,
-        None,
         panel=PHYSICAL_PANEL,
         help="TOML file with the gear pair, mesh and operating point (default: the paper's Table 1).",
     )
@@ -119,7 +127,6 @@ CONFIG = [
 RPM = option(
     "rpm",
     float | None,
-    None,
     panel=PHYSICAL_PANEL,
     help="Pinion speed in rpm (sets ω for the gear pair of --config, else of a tooth-pair --excitation file; "
     "default pair: the paper's Table 1, k0 = 2000 N/µm assumed).",
@@ -127,7 +134,6 @@ RPM = option(
 TORQUE = option(
     "torque",
     float | None,
-    None,
     panel=PHYSICAL_PANEL,
     help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config, else of a tooth-pair "
     "--excitation file).",
@@ -135,7 +141,6 @@ TORQUE = option(
 TORQUE_ORDER = option(
     "torque_order",
     list[str] | None,
-    None,
     metavar="ORDER:AMPLITUDE[:PHASE]",
     panel=PHYSICAL_PANEL,
     help="A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic "
@@ -144,11 +149,10 @@ TORQUE_ORDER = option(
     "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
     "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp.",
 )
-EXCITATION = option("excitation", Path | None, None, panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
+EXCITATION = option("excitation", Path | None, panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
 EVALUATION = option(
     "excitation_evaluation",
     str | None,
-    None,
     panel=PHYSICAL_PANEL,
     help="series (default) or table: with --accurate, the table as given, piecewise linear with its jumps.",
 )
@@ -156,14 +160,12 @@ RPM_RANGE = [
     option(
         "rpm_start",
         float | None,
-        None,
         panel=PHYSICAL_PANEL,
         help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop).",
     ),
     option(
         "rpm_stop",
         float | None,
-        None,
         panel=PHYSICAL_PANEL,
         help="End of an ω sweep given as pinion speed in rpm (with --rpm-start).",
     ),
@@ -285,7 +287,6 @@ ENGINE = [
     option(
         "scheduler",
         str | None,
-        None,
         panel=ENGINE_PANEL,
         help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed).",
     ),
@@ -303,7 +304,6 @@ OUTPUT = [
     option(
         "out",
         Path | None,
-        None,
         help="Directory (or .nc file) for NetCDF data and figures.",
         panel=OUTPUT_PANEL,
     ),
@@ -323,6 +323,39 @@ FIGURE_OPTIONS = [
     option("dpi", int, 120, panel=OUTPUT_PANEL, help="Resolution of PNG figures (dots per inch)."),
 ]
 OUTPUT += FIGURE_OPTIONS
+SYSTEM_PANEL = "Multi-DOF system"
+#: ``--system``, taken by the commands of :data:`SYSTEM_COMMANDS` (:mod:`geardyn.cli.system_input`).
+SYSTEM = [
+    option(
+        "system",
+        Path | None,
+        panel=SYSTEM_PANEL,
+        help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis "
+        "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
+    )
+]
+#: ``basins --coords``: the two state coordinates of a system's slice.
+CoordsOpt = Annotated[
+    str | None,
+    typer.Option(
+        rich_help_panel=SYSTEM_PANEL,
+        help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
+        "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').",
+    ),
+]
+#: Commands that take ``--system``.
+SYSTEM_COMMANDS = (
+    "simulate",
+    "lyapunov",
+    "orbit",
+    "continuation",
+    "bifurcation",
+    "response",
+    "map",
+    "basins",
+    "hb",
+    "runup",
+)
 
 
 # ---------------------------------------------------------------- the physical front end
@@ -914,8 +947,6 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         hints = typing.get_type_hints(fn, include_extras=True)
-        from .system_input import SYSTEM, SYSTEM_COMMANDS
-
         groups_ = groups + ((SYSTEM,) if name in SYSTEM_COMMANDS else ())
         own = [
             p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)

@@ -248,7 +248,7 @@ def continuation(
         from ..plot.periodic import SWEEP_CONTEXT
         from .output import out_paths
 
-        sweep_ds = None
+        ds = add_physical(res.to_dataset(), scales)
         if nsw > 0:
             sweep_ds = continuation_context(
                 model,
@@ -261,12 +261,10 @@ def continuation(
                 state0=state0,
                 progress=not inp.json_out,
             )
-        ds = add_physical(res.to_dataset(), scales)
-        if sweep_ds is not None:
             sweep_ds = add_physical(sweep_ds, scales)
             ds = attach(ds, SWEEP_CONTEXT, sweep_ds)  # the file redraws the figure with its sweep
         paths = inp.write(ds, "continuation")
-        if sweep_ds is not None:  # beside the result's file, listed after it
+        if nsw > 0:  # beside the result's file, listed after it
             nc = out_paths(inp.out, "continuation")[0]
             paths.insert(1, str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
     finish(

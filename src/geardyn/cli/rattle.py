@@ -9,8 +9,7 @@ import typer
 
 from ..errors import ModelError
 from .app import console
-from .options import MODEL, OUTPUT, RPM_RANGE, Inputs, command, finish, option
-from .system_input import SYSTEM
+from .options import MODEL, OUTPUT, RPM_RANGE, SYSTEM, Inputs, command, finish, option
 
 RUN_PANEL = "Integration"
 #: Defaults of a rattle run: the free flight is lightly damped and the forcing period long, so a short transient

@@ -15,6 +15,7 @@ from .options import (
     OUTPUT,
     RPM_RANGE,
     STATE,
+    CoordsOpt,
     Inputs,
     choice,
     command,
@@ -26,7 +27,6 @@ from .options import (
     sweep_range,
 )
 from .ranges import OMEGA_RANGE, both_spellings, omega_only
-from .system_input import CoordsOpt
 
 ModeOpt = Annotated[
     str,
@@ -129,11 +129,11 @@ def bifurcation(
 
 
 RESPONSE_RANGE = [
-    option("omega_start", float | None, None, help="Lowest ω of the sweeps."),
-    option("omega_stop", float | None, None, help="Highest ω of the sweeps."),
-    option("param", str | None, None, help="The swept parameter: omega only (with --start/--stop)."),
-    option("start", float | None, None, help="Lowest ω of the sweeps (as --omega-start)."),
-    option("stop", float | None, None, help="Highest ω of the sweeps (as --omega-stop)."),
+    option("omega_start", float | None, help="Lowest ω of the sweeps."),
+    option("omega_stop", float | None, help="Highest ω of the sweeps."),
+    option("param", str | None, help="The swept parameter: omega only (with --start/--stop)."),
+    option("start", float | None, help="Lowest ω of the sweeps (as --omega-start)."),
+    option("stop", float | None, help="Highest ω of the sweeps (as --omega-stop)."),
     *RPM_RANGE,
 ]
 
@@ -231,10 +231,10 @@ MAP_AXES = [
         "in pinion speed (rpm) / pinion torque (N·m) of the configured pair.",
     ),
     option("y", str, ..., help="Parameter along the vertical axis (e.g. xi0 or D), or rpm / torque."),
-    option("x_start", float | None, None, help="First x value (for x = omega also as --rpm-start)."),
-    option("x_stop", float | None, None, help="Last x value (for x = omega also as --rpm-stop)."),
-    option("y_start", float | None, None, help="First y value (for y = omega also as --rpm-start)."),
-    option("y_stop", float | None, None, help="Last y value (for y = omega also as --rpm-stop)."),
+    option("x_start", float | None, help="First x value (for x = omega also as --rpm-start)."),
+    option("x_stop", float | None, help="Last x value (for x = omega also as --rpm-stop)."),
+    option("y_start", float | None, help="First y value (for y = omega also as --rpm-start)."),
+    option("y_stop", float | None, help="Last y value (for y = omega also as --rpm-stop)."),
     *RPM_RANGE,
     option("x_num", int, 41, help="Number of x values."),
     option("y_num", int, 21, help="Number of y values."),

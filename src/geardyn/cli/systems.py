@@ -53,18 +53,17 @@ def _render(summary: dict[str, Any]) -> None:
             "each speed (branches, forward and backward whirl)"
         )
     if camp and camp["crossings"]:
-        rpm = camp["x"] == "rpm"
         gyro = bool(camp.get("gyroscopic"))
-        cols = ["pinion speed (rpm)" if rpm else "mesh frequency (Hz)", "frequency (Hz)", "modes", "line"]
-        x = table("Campbell crossings", *cols, *(["whirl"] if gyro else []))
+        x_col = "pinion speed (rpm)" if camp["x"] == "rpm" else "mesh frequency (Hz)"
+        x = table("Campbell crossings", x_col, "frequency (Hz)", "modes", "line", *(["whirl"] if gyro else []))
         for cr in camp["crossings"]:
-            row = [
+            x.add_row(
                 f"{cr['x']:.6g}",
                 f"{cr['frequency_hz']:.6g}",
                 ", ".join(map(str, cr["modes"])),
                 camp["lines"][cr["line"]]["label"],
-            ]
-            x.add_row(*(row + ([cr["whirl"]] if gyro else [])))
+                *([cr["whirl"]] if gyro else []),
+            )
         c.print(x)
 
 

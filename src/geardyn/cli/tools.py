@@ -29,7 +29,7 @@ def geometry(inp: Inputs) -> None:
 
 
 PLOT_OPTIONS = [
-    option("out", Path | None, None, help="Directory for the figures (default: the file's directory)."),
+    option("out", Path | None, help="Directory for the figures (default: the file's directory)."),
     *FIGURE_OPTIONS,
     option(
         "physical",
