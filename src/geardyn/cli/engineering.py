@@ -304,16 +304,11 @@ def runup_cmd(inp: Inputs) -> None:
                 model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate, progress=bar
             )
         x_rpm = [float(v) for v in sc.rpm_from_omega(np.array(qs["x"]))]
+        plot_qs = {"x": x_rpm}
         for lab in ("up", "down"):
             qs[lab]["amplitude_um"] = [None if v is None else v * um for v in qs[lab]["amplitude"]]
+            plot_qs[lab] = {"amplitude": qs[lab]["amplitude_um"], "dynamic_factor": qs[lab]["dynamic_factor"]}
         summary["quasi_static"] = {**qs, "rpm": x_rpm}
-        plot_qs = {
-            "x": x_rpm,
-            **{
-                lab: {"amplitude": qs[lab]["amplitude_um"], "dynamic_factor": qs[lab]["dynamic_factor"]}
-                for lab in ("up", "down")
-            },
-        }
         ds.attrs["quasi_static"] = json.dumps(plot_qs)
     finish(summary, inp.write(ds, "runup"), inp, _show_runup)
 

@@ -228,10 +228,8 @@ def _finite(o: Any, where: str, bad: list[str]) -> Any:
         return None
     import numpy as np
 
-    if isinstance(o, np.ndarray):
+    if isinstance(o, (np.ndarray, np.generic)):  # (a NumPy scalar's tolist is its item)
         return _finite(o.tolist(), where, bad)
-    if isinstance(o, np.generic):
-        return _finite(o.item(), where, bad)
     if isinstance(o, (set, frozenset)):
         return _finite(sorted(o, key=str), where, bad)
     if hasattr(o, "__fspath__"):

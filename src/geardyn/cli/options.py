@@ -107,15 +107,6 @@ def option(
     )
 
 
-def _flags_take_no_value(p: inspect.Parameter) -> inspect.Parameter:
-    """An on/off flag is shown without a value placeholder (it takes none)."""
-    if getattr(p.annotation, "__origin__", None) is bool:  # Annotated[bool, typer.Option(...)]
-        for info in p.annotation.__metadata__:
-            if getattr(info, "metavar", "unset") is None:
-                info.metavar = ""
-    return p
-
-
 CONFIG = [
     option(
         "config",
@@ -953,7 +944,6 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
             for p in list(inspect.signature(fn).parameters.values())[1:]
         ]
         shared = [p for g in groups_ for p in g]
-        names = [p.name for p in shared]
 
         @functools.wraps(fn)
         def wrapper(**kw: Any) -> Any:
@@ -961,7 +951,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
             import numpy as np
 
-            inp = Inputs({n: kw.pop(n) for n in names})
+            inp = Inputs({p.name: kw.pop(p.name) for p in shared})
             # No floating-point warning reaches the user: an overflowing input is refused by the checks that
             # follow (a value that is not finite), a diverging point carries its status.
             with np.errstate(all="ignore"), warnings.catch_warnings():
@@ -978,7 +968,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
                         raise
                     raise fail(str(e)) from None
 
-        every = [_flags_take_no_value(p) for p in own + shared]
+        every = own + shared
         wrapper.__signature__ = inspect.Signature(every)  # type: ignore[attr-defined]
         wrapper.__annotations__ = {p.name: p.annotation for p in every}
         del wrapper.__wrapped__

@@ -89,9 +89,7 @@ def rattle(
     opts = inp.options(model.forcing_omega)
     res = run_rattle(model, opts, (0.0, 0.0), scales=scales)
     summary = res.to_json()
-    paths: list[str] = []
-    if inp.out is not None:
-        paths += inp.write(res.to_dataset(), "rattle")
+    paths = inp.write(res.to_dataset(), "rattle")
     n = validate.integer("map_points", map_points, 0, 1000)
     if n:
         ns = validate.integer("scale_points", scale_points, 1, 1000)
