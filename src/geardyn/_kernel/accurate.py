@@ -53,9 +53,12 @@ NODE_TOL = 1.0e-10
 
 
 # ----------------------------------------------------------------------------- coefficients
-@njit(inline="always")
-def _coef(cf, c1, s1):
-    """Evaluate C, K, F at the angle θ whose cosine and sine are c1, s1 (accurate mode)."""
+@njit(nogil=True)
+def _coef_at(cf, theta, xb, kb, ks):
+    """C, K, F at θ (accurate mode: cos θ, sin θ and their multiples by rotation), K plus the table segment
+    kb + ks (θ − xb) (all three 0 for a series model)."""
+    c1 = math.cos(theta)
+    s1 = math.sin(theta)
     C = cf[0, 0, 0]
     K = cf[1, 0, 0]
     F = cf[2, 0, 0]
@@ -68,13 +71,6 @@ def _coef(cf, c1, s1):
         t = ck * c1 - sk * s1
         sk = sk * c1 + ck * s1
         ck = t
-    return C, K, F
-
-
-@njit(nogil=True)
-def _coef_at(cf, theta, xb, kb, ks):
-    """C, K, F at θ, K plus the table segment kb + ks (θ − xb) (all three 0 for a series model)."""
-    C, K, F = _coef(cf, math.cos(theta), math.sin(theta))
     return C, K + (kb + ks * (theta - xb)), F
 
 
