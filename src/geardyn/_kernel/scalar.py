@@ -91,15 +91,9 @@ def _point_scalar(
     fast = cf.shape[1] <= 2
     cf1 = (_first_harmonic(cf, 0), _first_harmonic(cf, 1), _first_harmonic(cf, 2))
     tdrv, tbck, dtan = _thresholds(D)
-    y00 = 1.0
-    y10 = 0.0
-    y01 = 0.0
-    y11 = 1.0
+    y00, y10, y01, y11 = 1.0, 0.0, 0.0, 1.0
     if tangent == TAN_CONTINUE:  # the orthonormal basis a previous block ended with
-        y00 = tan_out[p, 0, 0]
-        y10 = tan_out[p, 1, 0]
-        y01 = tan_out[p, 0, 1]
-        y11 = tan_out[p, 1, 1]
+        y00, y10, y01, y11 = tan_out[p, 0, 0], tan_out[p, 1, 0], tan_out[p, 0, 1], tan_out[p, 1, 1]
         tangent = TAN_LYAPUNOV
     umin = np.inf
     umax = -np.inf

@@ -169,10 +169,8 @@ def _vector_chunk(kind_sin, mode, V, width, L, fields):
                     st(f, op(ld(f), x))
                 st("USUM", builder.fadd(ld("USUM"), un))
                 st("USQ", fma(un, un, ld("USQ")))
-                drive = builder.select(builder.fcmp_ordered(">", un, ld("DRV")), ONE, ZERO)
-                back = builder.select(builder.fcmp_ordered("<", un, ld("BCK")), ONE, ZERO)
-                st("NDRV", builder.fadd(ld("NDRV"), drive))
-                st("NBCK", builder.fadd(ld("NBCK"), back))
+                for f, op, t in (("NDRV", ">", "DRV"), ("NBCK", "<", "BCK")):  # drive u > DRV, back u < BCK
+                    st(f, builder.fadd(ld(f), builder.select(builder.fcmp_ordered(op, un, ld(t)), ONE, ZERO)))
             st("U", un)
             st("V", vn)
             st("C", c2)
