@@ -591,23 +591,14 @@ class SystemModel:
         H = self.n_harmonics if n_harmonics is None else n_harmonics
         c = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
         return SystemArrays(
-            Mi=c(self.Mi),
-            Kb=c(self.Kb),
-            Cb=c(self.Cb),
-            V=c(self.V),
+            **{f: c(getattr(self, f)) for f in ("Mi", "Kb", "Cb", "V", "F", "Vc", "kc", "cc", "Dc", "Vb")},
             coef=c(np.stack([m.coefficients(H) for m in self.meshes])),
             D=c([m.D for m in self.meshes]),
             ratio=c([m.ratio for m in self.meshes]),
-            F=c(self.F),
-            Vc=c(self.Vc),
-            kc=c(self.kc),
-            cc=c(self.cc),
-            Dc=c(self.Dc),
             omega=np.float64(self.omega),
             Fo=c(np.reshape([F for _, F, _ in self.orders], (len(self.orders), self.n))),
             ro=c([float(r) for r, _, _ in self.orders]),
             po=c([ph for _, _, ph in self.orders]),
-            Vb=c(self.Vb),
             bq=c(np.reshape([b.row() for b in self.bearings], (len(self.bearings), 8))),
         )
 

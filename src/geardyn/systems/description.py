@@ -351,6 +351,7 @@ class Mesh(_AlongVector):
     def _from_table(self, who: str) -> None:
         from ..errors import ConfigError
         from ..params import MAX_HARMONICS
+        from ..tooth.excitation import spread_harmonics
         from ..tooth.table import read_table
 
         given = [k for k in ("kappa", "phi_k", "e", "phi_e") if getattr(self, k)]
@@ -374,10 +375,7 @@ class Mesh(_AlongVector):
         name = "xi" if self.xi is not None else "c"
         damp = getattr(self, name) or ()
         if P > 1 and damp:
-            d, ph = [0.0] * (P * len(damp)), [0.0] * (P * len(damp))
-            for k, a in enumerate(damp, start=1):
-                d[k * P - 1], ph[k * P - 1] = a, (self.phi_c[k - 1] if k <= len(self.phi_c) else 0.0)
-            vals.update({name: tuple(d), "phi_c": tuple(ph)})
+            vals[name], vals["phi_c"] = spread_harmonics(damp, self.phi_c, P)
         for k, v in vals.items():
             object.__setattr__(self, k, v)
 

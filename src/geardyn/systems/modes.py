@@ -116,17 +116,21 @@ class ModalResult:
 
     def degenerate_groups(self, rtol: float = DEGENERATE_RTOL) -> list[list[int]]:
         """Indices of modes sharing one non-zero frequency (within ``rtol``), groups of two or more."""
-        groups: list[list[int]] = []
-        f = self.frequencies_hz
-        i = 0
-        while i < len(f):
-            j = i + 1
-            while j < len(f) and f[i] > 0 and abs(f[j] - f[i]) <= rtol * f[i]:
-                j += 1
-            if j - i > 1:
-                groups.append(list(range(i, j)))
-            i = j
-        return groups
+        return [g for g in _groups(self.frequencies_hz, rtol) if len(g) > 1]
+
+
+def _groups(f: np.ndarray, rtol: float = DEGENERATE_RTOL) -> list[list[int]]:
+    """Indices of the modes of each frequency, ascending: one non-zero frequency (within ``rtol``) a group, each
+    rigid-body mode its own."""
+    groups: list[list[int]] = []
+    i = 0
+    while i < len(f):
+        j = i + 1
+        while j < len(f) and f[i] > 0 and abs(f[j] - f[i]) <= rtol * f[i]:
+            j += 1
+        groups.append(list(range(i, j)))
+        i = j
+    return groups
 
 
 def _element_stiffness(desc: SystemDescription, clearances: str) -> tuple[list[str], list[np.ndarray], list[str]]:
@@ -327,13 +331,12 @@ def gyroscopic_eigen(
     A[n:, :n] = -np.diag(w)
     A[n:, n:] = -spin * Ge
     H = -1j * A  # A z = iω z: the Hermitian -iA has the eigenvalues ω, in ± pairs (0 for a rigid-body mode)
-    if not vectors:
-        lam = np.sort(scipy.linalg.eigh(H, eigvals_only=True))[n:]
-        return np.where(lam <= math.sqrt(RIGID_RTOL) * max(float(lam[-1]), 1e-300), 0.0, lam), None
-    lam, Z = scipy.linalg.eigh(H)
+    lam, Z = scipy.linalg.eigh(H) if vectors else (scipy.linalg.eigh(H, eigvals_only=True), None)
     pos = np.argsort(lam)[n:]  # the n largest: the positive ones and half the zeros
     wk = lam[pos]
     zero = wk <= math.sqrt(RIGID_RTOL) * max(float(wk[-1]), 1e-300)
+    if not vectors:
+        return np.where(zero, 0.0, wk), None
     out = np.zeros((shapes.shape[0], n), dtype=complex)
     nr = int(np.sum(zero))
     out[:, :nr] = shapes[:, np.flatnonzero(omega2 <= 0.0)[:nr]] if nr else out[:, :0]
@@ -418,15 +421,8 @@ def _whirl(desc: SystemDescription, v: np.ndarray, pairs=None) -> np.ndarray:
 
 def _frequency_groups(res: ModalResult) -> list[tuple[float, list[int]]]:
     """The distinct non-zero natural frequencies with the numbers (from 1) of the modes at each."""
-    degenerate = {g[0]: g for g in res.degenerate_groups()}
-    out, i = [], 0
     f = res.frequencies_hz
-    while i < len(f):
-        g = degenerate.get(i, [i])
-        if f[i] > 0:
-            out.append((float(f[i]), [k + 1 for k in g]))
-        i = g[-1] + 1
-    return out
+    return [(float(f[g[0]]), [k + 1 for k in g]) for g in _groups(f) if f[g[0]] > 0]
 
 
 def _line_label(pairs: list[tuple[str, int]], meshes: Sequence[str]) -> str:
