@@ -54,7 +54,7 @@ class NodeBody(Body):
         if mm.shape != (6, 6) or not np.all(np.isfinite(mm)) or np.any(np.diag(mm) <= 0):
             raise ModelError(f"shaft node {self.name!r}: mass matrix must be 6x6, finite, with a positive diagonal")
         object.__setattr__(self, "dofs", NODE_DOFS)
-        object.__setattr__(self, "mass_matrix", tuple(tuple(float(v) for v in row) for row in mm))
+        object.__setattr__(self, "mass_matrix", tuple(map(tuple, mm.tolist())))
 
 
 @dataclass(frozen=True, eq=False)

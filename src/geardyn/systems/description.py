@@ -122,7 +122,7 @@ class Body:
             # reorder to canonical order
             order = [list(dofs).index(d) for d in self.dofs]
             mm = mm[np.ix_(order, order)]
-            object.__setattr__(self, "mass_matrix", tuple(tuple(float(v) for v in row) for row in mm))
+            object.__setattr__(self, "mass_matrix", tuple(map(tuple, mm.tolist())))
             return
         has_t = any(d != "theta" for d in self.dofs)
         for attr, needed, unit in (("mass", has_t, "kg"), ("inertia", "theta" in self.dofs, "kg*m^2")):
@@ -153,7 +153,7 @@ def _matrix(who: str, what: str, values, n: int) -> tuple[tuple[float, ...], ...
         raise ModelError(f"{who}: {what}: must be finite")
     if not np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * max(1.0, float(np.abs(a).max()))):
         raise ModelError(f"{who}: {what}: must be symmetric")
-    return tuple(tuple(float(v) for v in row) for row in a)
+    return tuple(map(tuple, a.tolist()))
 
 
 @dataclass(frozen=True)
@@ -211,6 +211,12 @@ class _AlongVector:
         """The DOFs of the vector, in its order."""
         return tuple(d for d, _ in self.vector)
 
+    def _set_vector(self, who: str) -> tuple:
+        """Store the vector with its names as text and its coefficients checked finite, and return it."""
+        vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
+        object.__setattr__(self, "vector", vec)
+        return vec
+
 
 @dataclass(frozen=True)
 @attributes
@@ -235,10 +241,8 @@ class Clearance(_AlongVector):
 
     def __post_init__(self) -> None:
         who = f"clearance {self.name!r}"
-        vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
-        if not vec:
+        if not self._set_vector(who):
             raise ModelError(f"{who}: vector: must act on at least one DOF")
-        object.__setattr__(self, "vector", vec)
         k = _finite(f"{who}: stiffness", self.stiffness)
         g = _finite(f"{who}: clearance", self.gap)
         c = _finite(f"{who}: damping", self.damping)
@@ -302,10 +306,8 @@ class Mesh(_AlongVector):
         set_ = object.__setattr__
         if self.excitation is not None:
             self._from_table(who)
-        vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
-        if not any(c != 0 for _, c in vec):
+        if not any(c != 0 for _, c in self._set_vector(who)):
             raise ModelError(f"{who}: vector: the mesh vector must not be zero")
-        set_(self, "vector", vec)
         k = _finite(f"{who}: stiffness", self.stiffness, "N/m")
         if k <= 0:
             raise ModelError(f"{who}: stiffness: must be > 0 N/m, got {k:g} N/m")

@@ -285,9 +285,6 @@ class _Block:
         return value
 
     def _parse(self, key: str, kind: str, raw: Any) -> Any:
-        if kind.endswith("*"):
-            items = raw if isinstance(raw, list) else [raw]
-            return tuple(self._scalar(key, kind[:-1], r, i + 1) for i, r in enumerate(items))
         if kind == "list":
             if not isinstance(raw, list) or not all(isinstance(x, str) for x in raw):
                 raise self.cerr(key, f"expected a list of strings, got {raw!r}")

@@ -396,15 +396,14 @@ def _whirl_pairs(desc: SystemDescription) -> tuple[np.ndarray, np.ndarray, np.nd
     """Row indices a, b, the factors of (a, b) and the senses of the whirl pairs (x, y) and r (ry, −rx) of every
     shaft node (the module docstring)."""
     idx = desc.index()
-    ia, ib, fa, fb, sense = [], [], [], [], []
-    for s in getattr(desc, "shafts", ()):
-        for node, r in zip(s.nodes, s.radii):
-            ia += [idx[(node, "x")], idx[(node, "ry")]]
-            ib += [idx[(node, "y")], idx[(node, "rx")]]
-            fa += [1.0, r]
-            fb += [1.0, -r]
-            sense += [s.sense, s.sense]
-    return np.array(ia, dtype=int), np.array(ib, dtype=int), np.array(fa), np.array(fb), np.array(sense, float)
+    rows = [
+        (idx[(node, a)], idx[(node, b)], fa, fb, s.sense)
+        for s in getattr(desc, "shafts", ())
+        for node, r in zip(s.nodes, s.radii)
+        for a, b, fa, fb in (("x", "y", 1.0, 1.0), ("ry", "rx", r, -r))
+    ]
+    ia, ib, fa, fb, sense = np.array(rows, dtype=float).reshape(-1, 5).T
+    return ia.astype(int), ib.astype(int), fa, fb, sense
 
 
 def _whirl(desc: SystemDescription, v: np.ndarray, pairs=None) -> np.ndarray:
