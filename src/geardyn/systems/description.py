@@ -120,7 +120,7 @@ class Body:
             if not np.all(np.isfinite(mm)) or not np.allclose(mm, mm.T, rtol=1e-12, atol=0.0):
                 raise ModelError(f"{who}: mass_matrix: must be finite and symmetric")
             # reorder to canonical order
-            order = [list(dofs).index(d) for d in self.dofs]
+            order = [dofs.index(d) for d in self.dofs]
             mm = mm[np.ix_(order, order)]
             object.__setattr__(self, "mass_matrix", tuple(map(tuple, mm.tolist())))
             return

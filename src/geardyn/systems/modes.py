@@ -418,12 +418,6 @@ def _whirl(desc: SystemDescription, v: np.ndarray, pairs=None) -> np.ndarray:
     return np.where(ok, num / np.where(ok, den, 1.0), 0.0)
 
 
-def _frequency_groups(res: ModalResult) -> list[tuple[float, list[int]]]:
-    """The distinct non-zero natural frequencies with the numbers (from 1) of the modes at each."""
-    f = res.frequencies_hz
-    return [(float(f[g[0]]), [k + 1 for k in g]) for g in _groups(f) if f[g[0]] > 0]
-
-
 def _line_label(pairs: list[tuple[str, int]], meshes: Sequence[str]) -> str:
     """ "order 2", or "order 2 of m1 = order 1 of m2" when the line is not every mesh's order."""
     by_order: dict[int, list[str]] = {}
@@ -493,7 +487,8 @@ def campbell(
     if not orders or any(k < 1 for k in orders):
         raise ModelError(f"orders: must be integers >= 1, got {orders!r}")
     res = result or modal_analysis(desc)
-    groups = _frequency_groups(res)
+    fr = res.frequencies_hz  # the distinct non-zero natural frequencies with the numbers (from 1) of their modes
+    groups = [(float(fr[g[0]]), [k + 1 for k in g]) for g in _groups(fr) if fr[g[0]] > 0]
     z = desc.reference_mesh.teeth
     per_x = z / 60.0 if z is not None else 1.0  # reference mesh frequency (Hz) per unit of x
     harmonics: dict[float, list[tuple[str, int]]] = {}
