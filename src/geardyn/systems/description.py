@@ -618,10 +618,10 @@ class SystemDescription:
             F[idx[(ld.body, ld.dof)]] += ld.value
         return F
 
-    def mesh_mass(self, mesh: Mesh, how: str | None = None) -> float:
-        """Equivalent mass m_e = 1/(vᵀ M⁻¹ v) of a mesh (kg); ``how`` as :attr:`equivalent_mass`."""
+    def mesh_mass(self, mesh: Mesh) -> float:
+        """Equivalent mass m_e = 1/(vᵀ M⁻¹ v) of a mesh (kg), taken as :attr:`equivalent_mass` says."""
         v = self.vector(mesh)
-        if (how or self.equivalent_mass) == "rotational":
+        if self.equivalent_mass == "rotational":
             rot = np.array([d == "theta" for _, d in self.dof_list])
             if np.any(v[rot] != 0):
                 v = np.where(rot, v, 0.0)
