@@ -343,7 +343,7 @@ class SystemModel:
         object.__setattr__(self, "bearings", tuple(self.bearings))
         object.__setattr__(self, "Vb", _ro(np.reshape(self.Vb, (2 * len(self.bearings), n))))
         for name in ("kc", "cc", "Dc"):
-            v = tuple(float(x) for x in getattr(self, name))
+            v = tuple(map(float, getattr(self, name)))
             if len(v) != nc:
                 raise ModelError(f"{name}: expected {nc} values, got {len(v)}")
             object.__setattr__(self, name, v)
@@ -722,7 +722,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         k_ref,
         m_ref,
         b_c,
-        tuple(float(x) for x in s),
+        tuple(map(float, s)),
         ref.teeth,
         D=ref.backlash / 2.0 / b_c,
         title=desc.title or "system",

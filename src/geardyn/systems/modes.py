@@ -562,7 +562,7 @@ def campbell(
     if spinning is not None:
         out["gyroscopic"] = True
         out["branches"] = {
-            "rpm": [float(x) for x in grid],
+            "rpm": list(map(float, grid)),
             "frequencies_hz": F.tolist(),
             "whirl": W.tolist(),
         }
@@ -685,7 +685,7 @@ def modes_report(
         "title": desc.title,
         "source": desc.source,
         "dofs": list(res.labels),
-        "frequencies_hz": [float(x) for x in res.frequencies_hz],
+        "frequencies_hz": list(map(float, res.frequencies_hz)),
         "rigid": [bool(x) for x in res.rigid],
         "modes": modes,
         "energy_fractions": [
