@@ -496,15 +496,12 @@ def campbell(
         for k in orders:
             key = float(f"{k * m.ratio:.12g}")
             harmonics.setdefault(key, []).append((m.name, k))
-    if z is not None:
-        lo, hi = (float(x) for x in rpm_range)
-        what = "rpm_range"
-    elif mesh_hz_range is not None:
-        lo, hi = (float(x) for x in mesh_hz_range)
-        what = "mesh_hz_range"
+    what, given = ("rpm_range", rpm_range) if z is not None else ("mesh_hz_range", mesh_hz_range)
+    if z is not None or given is not None:
+        lo, hi = (float(x) for x in given)
     else:
         top = max((f for f, _ in groups), default=1.0)
-        lo, hi, what = 0.0, float(f"{1.2 * top / min(harmonics):.2g}"), "mesh_hz_range"
+        lo, hi = 0.0, float(f"{1.2 * top / min(harmonics):.2g}")
     if not (0 <= lo < hi and math.isfinite(hi)):
         raise ModelError(f"{what}: must be 0 <= low < high, got {(lo, hi)!r}")
     names = [m.name for m in desc.meshes]
