@@ -187,6 +187,6 @@ def tooth_excitation(
         "kappa": tuple(map(float, s["kappa"])),
         "phi_k": tuple(map(float, s["phi_k"])),
         "e": tuple(float(x) * cb for x in s.get("eps", ())),
-        "phi_e": tuple(float(x) for x in s.get("phi_e", ())),
+        "phi_e": tuple(map(float, s.get("phi_e", ()))),
         "contact_ratio": float(pg.eps_alpha + pg.eps_beta),
     }

@@ -431,9 +431,7 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                     g,
                     d1,
                     d2,
-                    pressure_angle=blk.get("pressure_angle"),
-                    base_radius1=blk.get("base_radius1"),
-                    base_radius2=blk.get("base_radius2"),
+                    **{k: blk.get(k) for k in ("pressure_angle", "base_radius1", "base_radius2")},
                     helix_angle=helix,
                     center_angle=blk.get(
                         "center_angle",
