@@ -77,10 +77,11 @@ def _material(blk) -> Material:
     extra = set(tbl) - {"E", "nu", "rho"}
     if extra:
         raise blk.cerr("material", f"unknown key {sorted(extra)[0]!r}; allowed: E, nu, rho")
+    kinds = {"E": "pressure", "nu": "number", "rho": "density"}  # a key not given: steel's (Material's default)
+    values = {k: blk._scalar("material", kinds[k], tbl[k]) for k in kinds if k in tbl}  # (placed errors pass)
     try:
-        kinds = {"E": "pressure", "nu": "number", "rho": "density"}  # a key not given: steel's (Material's default)
-        return Material(**{k: blk._scalar("material", kinds[k], tbl[k]) for k in kinds if k in tbl})
-    except ModelError as e:
+        return Material(**values)
+    except ModelError as e:  # Material's own bounds, placed here
         raise blk.merr("material", str(e).split(": ", 1)[-1]) from None
 
 
