@@ -137,7 +137,7 @@ def _branches(ax: Axes, ds: xr.Dataset, top: float) -> None:
     F = ds["branch_frequency_Hz"].values
     W = ds["branch_whirl"].values
     styles = {1: ("0.1", "solid", 1.0), -1: ("0.1", (0, (4, 2)), 1.0), 0: ("0.6", "solid", 0.7)}
-    segs: dict[int, list] = {1: [], -1: [], 0: []}
+    segs: dict[int, list] = {k: [] for k in styles}
     for j in range(F.shape[1]):
         if F[0, j] <= 0 or np.min(F[:, j]) > top:
             continue
