@@ -8,21 +8,11 @@ __all__ = ["IN_B_C", "subscripts"]
 
 
 #: Non-dimensional displacements (u = u_n / b_c): their axes carry the unit b_c.
-IN_B_C = (
-    "u",
-    "poincare_u",
-    "amplitude",
-    "rms",
-    "mean",
-    "u_min",
-    "u_max",
-    "amplitude_up",
-    "amplitude_down",
-    "delta",
-    "element_u_min",
-    "element_u_max",
-    "element_mean",
-    "element_rms",
+IN_B_C = tuple(
+    (
+        "u poincare_u amplitude rms mean u_min u_max amplitude_up "
+        "amplitude_down delta element_u_min element_u_max element_mean element_rms"
+    ).split()
 )
 _SUB = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
 

@@ -15,9 +15,9 @@ from .common import label, plot_function, set_title, speed_text
 __all__ = ["BASIN_COLORS", "POINT_COLORS", "basin_figure"]
 
 #: Basin colours (attractor 0, 1, …; cycled), diverged in black.
-BASIN_COLORS = ["#9ecae1", "#fdae6b", "#a1d99b", "#bcbddc", "#fc9272", "#fdd0a2", "#c7e9c0", "#dadaeb"]
+BASIN_COLORS = "#9ecae1 #fdae6b #a1d99b #bcbddc #fc9272 #fdd0a2 #c7e9c0 #dadaeb".split()
 #: Marker colours of the attractors' Poincaré points.
-POINT_COLORS = ["#08519c", "#a63603", "#006d2c", "#54278f", "#a50f15", "#7f2704", "#00441b", "#3f007d"]
+POINT_COLORS = "#08519c #a63603 #006d2c #54278f #a50f15 #7f2704 #00441b #3f007d".split()
 
 
 @plot_function("basins", (7, 6))
@@ -52,7 +52,7 @@ def basin_figure(ds: xr.Dataset, ax: Axes = None) -> None:
         amp = float(ds["attractor_amplitude"].values[k])
         handles.append(
             Patch(
-                color=BASIN_COLORS[k % len(BASIN_COLORS)],
+                color=colors[k + 1],
                 label=f"{k}: {name}, amplitude {amp:.3g}, basin {100 * frac:.1f} %",
             )
         )

@@ -25,10 +25,6 @@ SWEEP_COLORS = {"fixed": "k", "up": "C0", "down": "C3"}
 POINT_SIZE = 0.6
 
 
-def _param(ds: xr.Dataset) -> str:
-    return str(ds.attrs.get("param", [d for d in ds["motion"].dims if d != "sweep"][0]))
-
-
 #: A sweep of at most this many values, or of unequal steps, is a set of separate settings (Table 3's three
 #: backlash values): drawn as separate cells and markers, not joined by bands and lines.
 DISCRETE_MAX = 12
@@ -112,20 +108,17 @@ def diagram_panels(ds: xr.Dataset) -> int:
     return 1 + int(_has_lle(ds)) + 2 * ds.sizes["sweep"]
 
 
-def _diagram_size(ds: xr.Dataset) -> tuple[float, float]:
-    return 9, 5.5 + (1.6 if _has_lle(ds) else 0) + 0.5 * ds.sizes["sweep"]
-
-
-def _diagram_layout(ds: xr.Dataset) -> dict:
-    ratios = [5] + ([2] if _has_lle(ds) else []) + [0.35] * (2 * ds.sizes["sweep"])
-    return {"sharex": True, "gridspec_kw": {"height_ratios": ratios, "hspace": 0.08}}
-
-
 @plot_function(
     "bifurcation`` or ``response",
-    _diagram_size,
+    lambda ds: (9, 5.5 + (1.6 if _has_lle(ds) else 0) + 0.5 * ds.sizes["sweep"]),
     n=diagram_panels,
-    subplots=_diagram_layout,
+    subplots=lambda ds: {
+        "sharex": True,
+        "gridspec_kw": {
+            "height_ratios": [5] + ([2] if _has_lle(ds) else []) + [0.35] * (2 * ds.sizes["sweep"]),
+            "hspace": 0.08,
+        },
+    },
     ax_doc="""
                ax : matplotlib.axes.Axes or sequence of Axes, optional
                    One Axes: the Poincaré points only; :func:`diagram_panels` Axes: every panel (points, λ1
@@ -134,7 +127,7 @@ def _diagram_layout(ds: xr.Dataset) -> dict:
 def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     """The bifurcation figure of a ``bifurcation`` (or ``response``) Dataset, with the contact boundaries
     u = ±D (following D when D is the swept parameter)."""
-    name = _param(ds)
+    name = str(ds.attrs.get("param", [d for d in ds["motion"].dims if d != "sweep"][0]))
     x = ds[name].values
     sweeps = [str(s) for s in ds["sweep"].values]
     axes, ax = ax, ax[0]  # (always several panels: the points and two bands per sweep)
@@ -164,21 +157,20 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     set_title(ax, f"Bifurcation diagram over {symbol(name)}" + (f" ({mode} mode)" if mode else ""), ds, exclude=[name])
     rpm_axis(ax, ds, name)
     k = 1 + _has_lle(ds)
-    if k == 2:
-        ax2 = axes[1]
-        if ax2 is not None:
-            for s in sweeps:
-                lle = ds["lle"].sel(sweep=s).values
-                err = ds["lle_err"].sel(sweep=s).values if "lle_err" in ds else None
-                c = SWEEP_COLORS.get(s, "k")
-                if discrete:  # separate settings: markers with their ±3σ bars, nothing joining them
-                    ax2.errorbar(x, lle, yerr=None if err is None else 3 * err, fmt="o", color=c, ms=4, capsize=3)
-                    continue
-                ax2.plot(x, lle, ".-", color=c, ms=3, lw=0.7)
-                if err is not None:
-                    ax2.fill_between(x, lle - 3 * err, lle + 3 * err, color=c, alpha=0.15, lw=0)
-            ax2.axhline(0.0, color="0.3", lw=0.7)
-            ax2.set_ylabel("λ1 [1/τ]")
+    ax2 = axes[1] if k == 2 else None
+    if ax2 is not None:
+        for s in sweeps:
+            lle = ds["lle"].sel(sweep=s).values
+            err = ds["lle_err"].sel(sweep=s).values if "lle_err" in ds else None
+            c = SWEEP_COLORS.get(s, "k")
+            if discrete:  # separate settings: markers with their ±3σ bars, nothing joining them
+                ax2.errorbar(x, lle, yerr=None if err is None else 3 * err, fmt="o", color=c, ms=4, capsize=3)
+                continue
+            ax2.plot(x, lle, ".-", color=c, ms=3, lw=0.7)
+            if err is not None:
+                ax2.fill_between(x, lle - 3 * err, lle + 3 * err, color=c, alpha=0.15, lw=0)
+        ax2.axhline(0.0, color="0.3", lw=0.7)
+        ax2.set_ylabel("λ1 [1/τ]")
     for s in sweeps:
         if axes[k] is not None:
             for a, var, colors, names in (

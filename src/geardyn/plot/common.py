@@ -30,7 +30,7 @@ from matplotlib.figure import Figure
 from .._docfill import RESULT, parameters
 from ..errors import GeardynError, PlotError
 from ..params import FAMILIES, LISTING_ORDER, canonical_param, slot
-from .mesh_names import MESH_VARIABLES, json_attr, mesh_labels, of_mesh, reference_mesh, system_info
+from .mesh_names import MESH_VARIABLES, json_attr, json_list, mesh_labels, of_mesh, reference_mesh, system_info
 
 __all__ = [
     "DPI",
@@ -40,6 +40,8 @@ __all__ = [
     "PlotArtists",
     "cells",
     "contact_lines",
+    "json_attr",
+    "json_list",
     "label",
     "log_stems",
     "mesh_labels",
@@ -537,17 +539,25 @@ def branch_lines(
         i0 = i
 
 
+def spread(y: np.ndarray, gap: float, top: float) -> np.ndarray:
+    """Positions as close to ``y`` (ascending) as possible, at least ``gap`` apart, within [0, top] (labels moved
+    apart along an axis)."""
+    out = np.array(y, dtype=float)
+    for i in range(1, len(out)):
+        out[i] = max(out[i], out[i - 1] + gap)
+    if len(out) and out[-1] > top:
+        out[-1] = top
+        for i in range(len(out) - 2, -1, -1):
+            out[i] = min(out[i], out[i + 1] - gap)
+    return out
+
+
 def cell_edges(x: np.ndarray, half: float = 0.005) -> np.ndarray:
     """Edges of cells centred on the ascending values ``x``: midway between neighbours, the end cells as wide as
     their neighbours' (``half`` either side of a single value)."""
     if x.size < 2:
         return np.array([x[0] - half, x[0] + half])
     return np.concatenate([[x[0] - (x[1] - x[0]) / 2], 0.5 * (x[1:] + x[:-1]), [x[-1] + (x[-1] - x[-2]) / 2]])
-
-
-def _renderer(fig: Figure) -> Any:
-    get = getattr(fig.canvas, "get_renderer", None)
-    return get() if get is not None else fig._get_renderer()
 
 
 def place_labels(
@@ -577,7 +587,8 @@ def place_labels(
         The labels.
     """
     ax.get_xlim(), ax.get_ylim()  # settle the autoscaled limits before measuring
-    renderer = _renderer(ax.figure)
+    get = getattr(ax.figure.canvas, "get_renderer", None)
+    renderer = get() if get is not None else ax.figure._get_renderer()
     taken = [a.get_window_extent(renderer) for a in avoid]
     out = []
     for x, y, s, colour in labels:

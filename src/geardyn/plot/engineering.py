@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from .common import plot_function
+from .common import json_attr, plot_function
 from .response import SWEEP_STYLE
 
 __all__ = ["has_iso_kv", "kv_overlay"]
@@ -33,7 +32,7 @@ def has_iso_kv(ds: xr.Dataset) -> bool:
 def kv_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     """Simulated dynamic factor per sweep and ISO K_v (Method B) against pinion speed, sectors shaded (a response
     with the ``iso_kv`` attribute: ``geardyn response`` of a pair with ISO inputs)."""
-    b = json.loads(ds.attrs["iso_kv"])
+    b = json_attr(ds, "iso_kv")
     rpm = np.asarray(b["rpm"], dtype=float)
     n_e1 = b["resonance_speed_rpm"]
     bounds = b["sector_bounds_rpm"]

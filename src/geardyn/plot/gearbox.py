@@ -9,13 +9,11 @@ title of a panel names the mode, its frequency and the elements holding most of 
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import plot_function
+from .common import json_list, plot_function
 
 __all__ = ["has_shafts", "mode_shapes", "SHAPE_PANELS"]
 
@@ -34,11 +32,6 @@ def has_shafts(ds: xr.Dataset) -> bool:
     return "node_position" in ds and ds.sizes.get("node", 0) > 0
 
 
-def _elastic(ds: xr.Dataset) -> list[int]:
-    rigid = ds["rigid"].values
-    return [i for i in range(ds.sizes["mode"]) if not rigid[i]][:SHAPE_PANELS]
-
-
 @plot_function(
     "modes",
     (12, 7.5),
@@ -52,8 +45,8 @@ def mode_shapes(ds: xr.Dataset, ax: Axes = None) -> None:
     """Deflection along each shaft of the lowest elastic modes: lateral (solid), torsional (dashed), axial (dotted)."""
     dofs = [str(d) for d in ds["dof"].values]
     index = {d: k for k, d in enumerate(dofs)}
-    nodes = json.loads(ds.attrs["nodes"])
-    names = json.loads(ds.attrs["shafts"])
+    nodes = json_list(ds, "nodes")
+    names = json_list(ds, "shafts")
     shaft_of = np.asarray(ds["node_shaft"].values, dtype=int)
     pos = ds["node_position"].values * 1e3
     shape = ds["shape"].values
@@ -61,17 +54,18 @@ def mode_shapes(ds: xr.Dataset, ax: Axes = None) -> None:
     energy = ds["energy_fraction"].values
     r = ds["node_radius"].values
     radius = np.array([float(np.max(r[shaft_of == k])) for k in shaft_of])
-    for a, i in zip(ax, _elastic(ds)):
+    for a, i in zip(ax, [i for i, rigid in enumerate(ds["rigid"].values) if not rigid][:SHAPE_PANELS]):
         if a is None:
             continue
         x, y, theta, z = (shape[[index[f"{n}.{c}"] for n in nodes], i] for c in ("x", "y", "theta", "z"))
         curves = np.array([np.hypot(x, y), theta * radius, z])
-        lat, tor, axial = curves / max(float(np.max(np.abs(curves))), 1e-300)
+        curves = curves / max(float(np.max(np.abs(curves))), 1e-300)
         for j, s in enumerate(names):
             sel = shaft_of == j
-            a.plot(pos[sel], lat[sel], "-o", ms=3, color=f"C{j}", lw=1.3, label=f"{s}: lateral")
-            a.plot(pos[sel], tor[sel], "--", color=f"C{j}", lw=1.0, label=f"{s}: torsion r θ")
-            a.plot(pos[sel], axial[sel], ":", color=f"C{j}", lw=1.2, label=f"{s}: axial")
+            for y, fmt, lw, what in zip(
+                curves, ("-o", "--", ":"), (1.3, 1.0, 1.2), ("lateral", "torsion r θ", "axial")
+            ):
+                a.plot(pos[sel], y[sel], fmt, ms=3, color=f"C{j}", lw=lw, label=f"{s}: {what}")
         a.axhline(0.0, color="0.7", lw=0.6)
         top = np.argsort(energy[i])[::-1][:2]
         held = ", ".join(f"{elements[k]} {energy[i, k]:.0%}" for k in top)

@@ -4,14 +4,13 @@ the shooting branch of the same parameter overlaid.  Datasets in, figures out; n
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import branch_lines, label, of_mesh, plot_function
+from .common import branch_lines, json_attr, json_list, label, model_of, of_mesh, plot_function
 
 __all__ = ["HB_STYLE", "SHOOTING_CONTEXT", "SHOOTING_STYLE", "hb_figure"]
 
@@ -56,7 +55,7 @@ def _shooting_curves(shooting: xr.Dataset, ds: xr.Dataset, param: str) -> dict[s
     keys = ("stable", "branch", "amplitude")
     if param in shooting:
         return {"x": shooting[param].values, **{k: shooting[k].values for k in keys + ("u_min", "u_max")}}
-    ref = json.loads(ds.attrs.get("summary", "{}")).get("reference_mesh")
+    ref = json_attr(ds, "summary").get("reference_mesh")
     names = [str(v) for v in shooting["element"].values]
     e = names.index(ref) if ref in names else 0
     return {
@@ -89,12 +88,12 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
     if shooting is None:
         shooting = attached(ds, SHOOTING_CONTEXT)
     param = str(ds.attrs["param"])
-    model = json.loads(ds.attrs["model"])
+    model = model_of(ds)
     D = float(model.get("D", 0.0))
     x = ds[param].values
     ok = ds["status"].values == 0
     stable = ds["stable"].values.astype(bool) & ok
-    bifs = json.loads(ds.attrs.get("bifurcations", "[]"))
+    bifs = json_list(ds, "bifurcations")
     H, n = int(ds.attrs.get("harmonics", 0)), int(ds.attrs.get("period", 1))
     for a, what in zip(ax, ("amplitude", "extremes")):
         if a is None:

@@ -16,7 +16,7 @@ import re
 
 import xarray as xr
 
-__all__ = ["MESH_VARIABLES", "mesh_labels", "of_mesh", "reference_mesh", "system_info"]
+__all__ = ["MESH_VARIABLES", "json_list", "mesh_labels", "of_mesh", "reference_mesh", "system_info"]
 
 
 def system_info(ds: xr.Dataset) -> dict:
@@ -42,40 +42,31 @@ def json_attr(ds: xr.Dataset, name: str) -> dict:
         return {}
 
 
+def json_list(ds: xr.Dataset, name: str) -> list:
+    """The JSON list of attribute ``name`` of a result (jumps, marks, intervals …), ``[]`` when it has none.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A geardyn result.
+    name : str
+        The attribute.
+
+    Returns
+    -------
+    list
+    """
+    return json.loads(ds.attrs.get(name, "[]"))
+
+
 #: Variables of a result that are values of its reference mesh (a system's figures name the mesh in their labels),
 #: with their copies in µm (``<name>_um``).
 MESH_VARIABLES = frozenset(
-    {
-        "u",
-        "v",
-        "poincare_u",
-        "poincare_v",
-        "amplitude",
-        "rms",
-        "mean",
-        "u_min",
-        "u_max",
-        "spectrum",
-        "start_u",
-        "start_v",
-        "end_u",
-        "end_v",
-        "bifurcation_u",
-        "bifurcation_v",
-        "bifurcation_amplitude",
-        "attractor_u",
-        "attractor_v",
-        "attractor_amplitude",
-        "dte_um",
-        "mesh_force",
-        "mesh_force_N",
-        "spectrum_um",
-        "omega",
-        "rpm",
-        "mesh_frequency_Hz",
-        "order_amplitude",
-        "dynamic_factor",
-    }
+    (
+        "u v poincare_u poincare_v amplitude rms mean u_min u_max spectrum start_u start_v end_u end_v "
+        "bifurcation_u bifurcation_v bifurcation_amplitude attractor_u attractor_v attractor_amplitude dte_um "
+        "mesh_force mesh_force_N spectrum_um omega rpm mesh_frequency_Hz order_amplitude dynamic_factor"
+    ).split()
 )
 #: The symbol of a reference-mesh quantity in a label, after which the mesh is named ("u of mesh 'bevel'").
 _MESH_SYMBOL = re.compile(r"(?<![\w/'])(u_n|du/dτ|dδ/dτ|u|δ)(?![\w/'])")

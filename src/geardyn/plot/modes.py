@@ -12,13 +12,11 @@ frequency at the top speed.
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import plot_function
+from .common import json_list, plot_function, spread
 
 __all__ = ["campbell", "has_campbell"]
 
@@ -59,23 +57,11 @@ def frequency_lines(ds: xr.Dataset, values: np.ndarray | None = None) -> list[tu
     return out
 
 
-def _spread(y: np.ndarray, gap: float, top: float) -> np.ndarray:
-    """Positions as close to ``y`` (ascending) as possible, at least ``gap`` apart, within [0, top]."""
-    out = np.array(y, dtype=float)
-    for i in range(1, len(out)):
-        out[i] = max(out[i], out[i - 1] + gap)
-    if len(out) and out[-1] > top:
-        out[-1] = top
-        for i in range(len(out) - 2, -1, -1):
-            out[i] = min(out[i], out[i + 1] - gap)
-    return out
-
-
 @plot_function("modes", (8, 5.6))
 def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
     """Campbell diagram: the natural frequencies (labelled with their mode numbers), the mesh-order lines and
     their crossings against pinion speed (or the mesh frequency when the file gives no tooth count)."""
-    lo, hi = json.loads(ds.attrs["campbell_x_range"])
+    lo, hi = json_list(ds, "campbell_x_range")
     branches = "branch_frequency_Hz" in ds
     groups = frequency_lines(ds, ds["branch_frequency_Hz"].values[-1] if branches else None)
     fmax = max(f for f, _ in groups)
@@ -113,7 +99,7 @@ def campbell(ds: xr.Dataset, ax: Axes = None) -> None:
     # mode labels in a column right of the axes, spread so that they do not overlap
     height_pt = ax.get_window_extent().height * 72.0 / ax.figure.dpi
     ys = np.array([f / top for f, _ in groups])
-    placed = _spread(ys, LABEL_GAP_PT / max(height_pt, 1.0), 1.0)
+    placed = spread(ys, LABEL_GAP_PT / max(height_pt, 1.0), 1.0)
     for (f, modes), y in zip(groups, placed):
         num = ", ".join(map(str, modes))
         text = f"{'mode' if len(modes) == 1 else 'modes'} {num}: " + (f"{f:.5g} Hz" if f > 0 else "rigid body")
@@ -151,7 +137,7 @@ def _branches(ax: Axes, ds: xr.Dataset, top: float) -> None:
     F = ds["branch_frequency_Hz"].values
     W = ds["branch_whirl"].values
     styles = {1: ("0.1", "solid", 1.0), -1: ("0.1", (0, (4, 2)), 1.0), 0: ("0.6", "solid", 0.7)}
-    segs: dict[int, list] = {1: [], -1: [], 0: []}
+    segs: dict[int, list] = {k: [] for k in styles}
     for j in range(F.shape[1]):
         if F[0, j] <= 0 or np.min(F[:, j]) > top:
             continue

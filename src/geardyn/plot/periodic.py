@@ -4,14 +4,13 @@ numerics here."""
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import branch_lines, contact_lines, label, model_of, plot_function, rpm_axis, set_title, symbol
+from .common import branch_lines, contact_lines, json_attr, label, model_of, plot_function, rpm_axis, set_title, symbol
 
 __all__ = [
     "BIFURCATION_STYLE",
@@ -39,10 +38,6 @@ SWEEP_SECTION_SHOWN = 16
 SWEEP_CONTEXT = "sweep"
 
 
-def _colour(n: int) -> str:
-    return PERIOD_COLOURS.get(int(n), "C5")
-
-
 # ------------------------------------------------------------------------------------- orbit
 @plot_function(
     "orbit",
@@ -60,7 +55,7 @@ def orbit_figure(ds: xr.Dataset, ax: Any = None) -> None:
     multipliers against the unit circle."""
     m = model_of(ds)
     D = float(m["D"])
-    summary = json.loads(ds.attrs.get("summary", "{}"))
+    summary = json_attr(ds, "summary")
     axes = ax
     ax = axes[0]
     if D > 0:
@@ -99,14 +94,10 @@ def _multipliers(ax, ds: xr.Dataset, summary: dict) -> None:
     ax.plot(np.cos(th), np.sin(th), color="0.5", lw=0.8)
     ax.axhline(0, color="0.8", lw=0.6)
     ax.axvline(0, color="0.8", lw=0.6)
-    ax.plot(ds["multiplier_re"].values, ds["multiplier_im"].values, "x", color="C3", ms=9, mew=2)
+    re, im = ds["multiplier_re"].values, ds["multiplier_im"].values
+    ax.plot(re, im, "x", color="C3", ms=9, mew=2)
     ax.set_aspect("equal")
-    r = max(
-        1.1,
-        float(np.nanmax(np.hypot(ds["multiplier_re"].values, ds["multiplier_im"].values))) * 1.1
-        if np.any(np.isfinite(ds["multiplier_re"].values))
-        else 1.1,
-    )
+    r = max(1.1, float(np.nanmax(np.hypot(re, im))) * 1.1 if np.any(np.isfinite(re)) else 1.1)
     ax.set_xlim(-r, r)
     ax.set_ylim(-r, r)
     ax.set_xlabel("Re μ")
@@ -130,7 +121,9 @@ def _draw_branches(ax, ds: xr.Dataset, param: str, what: str) -> None:
             if what == "amplitude"
             else [ds["poincare_u"].values[sel, k] for k in range(n)]
         )
-        branch_lines(ax, x, ys, stable, f"period-{n} ", seen_labels, (1.6, 1.1), color=_colour(n), zorder=3)
+        branch_lines(
+            ax, x, ys, stable, f"period-{n} ", seen_labels, (1.6, 1.1), color=PERIOD_COLOURS.get(n, "C5"), zorder=3
+        )
 
 
 def _draw_sweep(ax, sweep: xr.Dataset, param: str, what: str) -> None:
@@ -139,12 +132,11 @@ def _draw_sweep(ax, sweep: xr.Dataset, param: str, what: str) -> None:
     for lab in sweep["sweep"].values:
         st = styles.get(str(lab), dict(marker=".", color="0.5", ms=3))
         s = sweep.sel(sweep=lab)
-        if what == "amplitude":
-            ax.plot(x, s["amplitude"].values, ls="none", label=f"simulation, sweep {lab}", zorder=2, **st)
-        else:
-            pu = s["poincare_u"].values[:, -SWEEP_SECTION_SHOWN:]
-            xx = np.repeat(x[:, None], pu.shape[1], axis=1)
-            ax.plot(xx.ravel(), pu.ravel(), ls="none", label=f"simulation, sweep {lab}", zorder=2, **st)
+        xs, ys = x, s["amplitude"].values
+        if what != "amplitude":
+            ys = s["poincare_u"].values[:, -SWEEP_SECTION_SHOWN:]
+            xs = np.repeat(x[:, None], ys.shape[1], axis=1).ravel()
+        ax.plot(xs, ys.ravel(), ls="none", label=f"simulation, sweep {lab}", zorder=2, **st)
 
 
 def _draw_bifurcations(ax, ds: xr.Dataset, param: str, what: str) -> None:

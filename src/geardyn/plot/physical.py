@@ -7,7 +7,6 @@ and ``long_name`` attributes.
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
@@ -16,7 +15,7 @@ from matplotlib.axes import Axes
 from matplotlib.cm import ScalarMappable
 from matplotlib.colors import Normalize
 
-from .common import OUTSIDE_RIGHT, label, log_stems, of_mesh, plot_function, set_title, symbol
+from .common import OUTSIDE_RIGHT, json_attr, json_list, label, log_stems, of_mesh, plot_function, set_title, symbol
 from .response import draw_response
 from .simulate import TIME_PERIODS_SHOWN, last_periods
 
@@ -42,8 +41,7 @@ MAX_CURVES = 32
 def _pair_title(ax: Axes, text: str, ds: xr.Dataset, *args: Any, **kwargs: Any) -> Any:
     """:func:`~geardyn.plot.common.set_title` with the gear pair whose scales the physical values were drawn with
     (a result rescaled with ``geardyn plot --physical --config`` names the pair it was rescaled to)."""
-    sc = json.loads(ds.attrs.get("physical_scales", "{}") or "{}")
-    name = sc.get("title") if isinstance(sc, dict) else None
+    name = json_attr(ds, "physical_scales").get("title")
     return set_title(ax, f"{text} — {name}" if name else text, ds, *args, **kwargs)
 
 
@@ -63,7 +61,7 @@ def time_history(ds: xr.Dataset, ax: Axes = None) -> None:
     keep, _ = last_periods(ds)
     t_ms = ds["time_s"].values[keep] * 1e3
     dte = ds["dte_um"]
-    summ = json.loads(ds.attrs.get("physical_summary", "{}"))
+    summ = json_attr(ds, "physical_summary")
     b = summ.get("backlash_um")
     if b:
         a1.axhspan(-b, b, color="0.9", label="separation\n(inside the backlash)")
@@ -211,19 +209,19 @@ def response_rpm(ds: xr.Dataset, ax: Axes = None) -> None:
     da = ds[name]
     w = ds["omega"].values
     rpm = ds["rpm"].values
-    hy = json.loads(ds.attrs.get("hysteresis_rpm", "[]"))
+    hy = json_list(ds, "hysteresis_rpm")
     jumps = [
         (j["rpm"], j["amplitude_from_um"], j["amplitude_to_um"], j["sweep"], f"{j['rpm']:.0f} rpm")
-        for j in json.loads(ds.attrs.get("jumps_physical", "[]"))
+        for j in json_list(ds, "jumps_physical")
     ]
     scale = float(rpm[-1] / w[-1])
-    co = [[a * scale, b * scale] for a, b in json.loads(ds.attrs.get("coexistence", "[]"))]
+    co = [[a * scale, b * scale] for a, b in json_list(ds, "coexistence")]
     draw_response(ax, rpm, da, hy, jumps, min_width=1e-3 * float(np.ptp(rpm)), coexistence=co)
     ax.set_xlabel(label(ds["rpm"]))
     ax.set_ylabel(label(da))
     sec = ax.secondary_xaxis("top", functions=(lambda r: r / scale, lambda x: x * scale))
     sec.set_xlabel(of_mesh("ω = ω_e/ω_n", ds))
-    sc = json.loads(ds.attrs.get("physical_scales", "{}"))
+    sc = json_attr(ds, "physical_scales")
     k0 = sc.get("k0_N_per_m")
     k0_text = f" (k0 = {k0 * 1e-6:.4g} N/µm{', assumed' if 'k0' in sc.get('assumed', []) else ''})" if k0 else ""
     _pair_title(

@@ -7,7 +7,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import cells, plot_function
+from .common import cells, json_attr, model_of, plot_function
 
 __all__ = ["rattle_history", "rattle_map_figure"]
 
@@ -18,9 +18,8 @@ _DRIVE, _BACK = "#d62728", "#1f77b4"
 def rattle_history(ds: xr.Dataset, ax: Axes = None) -> None:
     """u over the recorded cycles, the backlash ±D shaded, the impacts on the drive (+D) and back (−D) flanks
     marked."""
-    import json
 
-    D = float(json.loads(ds.attrs["model"])["D"])
+    D = float(model_of(ds)["D"])
     tau, u = ds["tau"].values, ds["u"].values
     ax.axhspan(-D, D, color="0.92", lw=0, label="backlash |u| ≤ D")
     ax.plot(tau, u, color="0.2", lw=0.8, label="u")
@@ -33,7 +32,7 @@ def rattle_history(ds: xr.Dataset, ax: Axes = None) -> None:
             )
     ax.set_xlabel("non-dimensional time τ")
     ax.set_ylabel("relative displacement u (b_c)")
-    s = json.loads(ds.attrs.get("summary", "{}"))
+    s = json_attr(ds, "summary")
     per = s.get("flanks", {})
     ax.set_title(
         "Rattle: "

@@ -11,7 +11,6 @@ sweep under a continuation) is attached to the Dataset (:func:`geardyn.io.attach
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -35,12 +34,11 @@ from . import (
     reproduce,
     response,
     runup,
-    signature_system,
     simulate,
     systems,
     tooth,
 )
-from .common import DPI, save
+from .common import DPI, json_attr, save
 from .hb import hb_figure
 
 __all__ = ["FIGURES", "PHYSICAL_FIGURES", "FigureSpec", "draw", "figures_for", "register", "save_figures"]
@@ -70,10 +68,6 @@ class FigureSpec:
         return self.draw(ds, ax=ax, **dict(self.kwargs))
 
 
-def _orbit_converged(ds: xr.Dataset) -> bool:
-    return bool(json.loads(ds.attrs.get("summary", "{}")).get("converged", True))
-
-
 _STABILITY = (FigureSpec("stability_boundary", periodic.stability_figure),)
 
 #: The figures of each kind of result, in the order they are drawn.
@@ -93,7 +87,11 @@ FIGURES: dict[str, tuple[FigureSpec, ...]] = {
         FigureSpec("map_lle", maps.continuous_map, when=bifurcation._has_lle, kwargs={"var": "lle"}),
     ),
     "basins": (FigureSpec("basins", basins.basin_figure),),
-    "orbit": (FigureSpec("orbit", periodic.orbit_figure, when=_orbit_converged),),
+    "orbit": (
+        FigureSpec(
+            "orbit", periodic.orbit_figure, when=lambda ds: bool(json_attr(ds, "summary").get("converged", True))
+        ),
+    ),
     "continuation": (FigureSpec("continuation", periodic.continuation_figure),),
     "hb": (FigureSpec("hb", hb_figure),),
     "stability_boundary": _STABILITY,
@@ -110,17 +108,18 @@ def _has(*names: str) -> Callable[[xr.Dataset], bool]:
     return lambda ds: set(names) <= set(ds.variables)
 
 
-def _rpm_curve_of(name: str) -> Callable[[xr.Dataset], bool]:
-    return lambda ds: physical.rpm_curve_variable(ds) == name
-
-
 #: Figures in physical units, drawn for a result of any kind that carries the variables they need.
 PHYSICAL_FIGURES: tuple[FigureSpec, ...] = (
     FigureSpec("physical_time_history", physical.time_history, when=_has("time_s", "dte_um", "mesh_force_N")),
     FigureSpec("spectrum_hz", physical.spectrum_hz, when=_has("frequency_Hz", "spectrum_um")),
     FigureSpec("response_rpm", physical.response_rpm, when=physical._has_response_rpm),
     *(
-        FigureSpec(f"{name}_vs_rpm", physical.rpm_curve, when=_rpm_curve_of(name), kwargs={"name": name})
+        FigureSpec(
+            f"{name}_vs_rpm",
+            physical.rpm_curve,
+            when=lambda ds, name=name: physical.rpm_curve_variable(ds) == name,
+            kwargs={"name": name},
+        )
         for name in physical.RPM_CURVE_VARIABLES
     ),
 )
@@ -183,8 +182,7 @@ register(
 register(
     "signature",
     FigureSpec("order_spectrum", tooth.order_spectrum),
-    FigureSpec("signature", tooth.signature_signals, when=lambda ds: not signature_system.is_system(ds)),
-    FigureSpec("signature", signature_system.system_signals, when=signature_system.is_system),
+    FigureSpec("signature", tooth.signature_signals),
 )
 register("signature_sweep", FigureSpec("indicators", tooth.indicator_sweep))
 register(

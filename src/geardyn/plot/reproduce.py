@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import cell_edges, parameter_text, place_labels, plot_function, set_title, symbol
+from .common import cell_edges, json_list, parameter_text, place_labels, plot_function, set_title, spread, symbol
 
 __all__ = ["CURVE_STYLES", "curve_style", "end_labels", "formula_fit", "readings_map", "response_overlay", "search_map"]
 
@@ -46,14 +45,9 @@ def _formula_grid(ds: xr.Dataset) -> tuple[int, int]:
     return -(-n // cols), cols
 
 
-def _formula_size(ds: xr.Dataset) -> tuple[float, float]:
-    rows, cols = _formula_grid(ds)
-    return 1.2 + 3.3 * cols, 1.4 + 2.6 * rows
-
-
 @plot_function(
     "formula_fit",
-    _formula_size,
+    lambda ds: (1.2 + 3.3 * _formula_grid(ds)[1], 1.4 + 2.6 * _formula_grid(ds)[0]),
     n=lambda ds: len(_formula_groups(ds)),
     subplots=lambda ds: dict(zip(("nrows", "ncols"), _formula_grid(ds)), sharex=True, sharey=True),
     tight=True,
@@ -112,13 +106,9 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
     axes[0].figure.suptitle(f"{head}\n{params}" if params else head, fontsize=10)
 
 
-def _search_size(ds: xr.Dataset) -> tuple[float, float]:
-    return 7, 0.6 + 0.45 * ds["match_fraction"].shape[1] + 1.5
-
-
 @plot_function(
     "search",
-    _search_size,
+    lambda ds: (7, 0.6 + 0.45 * ds["match_fraction"].shape[1] + 1.5),
     ax_doc="""
                ax : matplotlib.axes.Axes, optional
                    Where to draw; a new figure if omitted (the colour bar is added beside it).""",
@@ -138,30 +128,17 @@ def search_map(ds: xr.Dataset, ax: Axes = None) -> None:
     ax.set_xticks(range(frac.shape[0]), [f"{w:g}" for w in ds["omega"].values])
     ax.set_yticks(range(frac.shape[1]), [str(c) for c in ds["claim"].values])
     ax.set_xlabel("ω searched")
-    for i in range(frac.shape[0]):
-        for j in range(frac.shape[1]):
-            if np.isfinite(frac[i, j]):
-                ax.text(
-                    i,
-                    j,
-                    f"{frac[i, j]:.0%}",
-                    ha="center",
-                    va="center",
-                    fontsize=7,
-                    color="w" if frac[i, j] < 0.6 else "k",
-                )
+    for (i, j), f in np.ndenumerate(frac):
+        if np.isfinite(f):
+            ax.text(i, j, f"{f:.0%}", ha="center", va="center", fontsize=7, color="w" if f < 0.6 else "k")
     ax.figure.colorbar(im, ax=ax, label="fraction of grid points matching the claim")
     param = str(ds.attrs.get("param"))
     set_title(ax, f"Where the claims over {symbol(param)} hold", ds, exclude=["omega", param])
 
 
-def _readings_size(ds: xr.Dataset) -> tuple[float, float]:
-    return 9, 1.6 + 0.32 * ds["hold_fraction"].shape[0]
-
-
 @plot_function(
     "readings_map",
-    _readings_size,
+    lambda ds: (9, 1.6 + 0.32 * ds["hold_fraction"].shape[0]),
     ax_doc="""
                ax : matplotlib.axes.Axes, optional
                    Where to draw; a new figure if omitted (the colour bar is added beside it).""",
@@ -219,11 +196,7 @@ def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float =
     lo, hi = ax.get_ylim()
     d = gap * (hi - lo)
     order = sorted(range(len(ends)), key=lambda k: ends[k][1])
-    placed: dict[int, float] = {}
-    last = -np.inf
-    for k in order:
-        y = max(float(ends[k][1]), last + d)
-        placed[k] = last = y
+    placed = dict(zip(order, spread([float(ends[k][1]) for k in order], d, np.inf)))
     return [
         ax.annotate(
             text,
@@ -246,10 +219,7 @@ def _case_text(param: str, value: float) -> str:
 
 def _up_jumps(ds: xr.Dataset) -> list[list[dict]]:
     """The upward jumps of each response's up sweep."""
-    return [
-        [j for j in js if j["sweep"] == "up" and j["direction"] == "up"]
-        for js in json.loads(ds.attrs.get("jumps", "[]"))
-    ]
+    return [[j for j in js if j["sweep"] == "up" and j["direction"] == "up"] for js in json_list(ds, "jumps")]
 
 
 def _has_up_jump(ds: xr.Dataset) -> bool:
@@ -282,8 +252,8 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
     w = ds["omega"].values
     values = ds["value"].values
     jumps = _up_jumps(ds)
-    marks = json.loads(ds.attrs.get("marks", "[]"))
-    table4 = json.loads(ds.attrs.get("table4", "[]"))
+    marks = json_list(ds, "marks")
+    table4 = json_list(ds, "table4")
     ends = []
     step = max(1, w.size // MARKERS_PER_CURVE)
     firsts = []

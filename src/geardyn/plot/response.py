@@ -3,14 +3,13 @@ hysteresis intervals shaded.  Drawn from the Dataset only (jumps and intervals a
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 
 import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
-from .common import label, place_labels, plot_function, rpm_axis, set_title, symbol, system_info
+from .common import json_list, label, place_labels, plot_function, rpm_axis, set_title, symbol, system_info
 
 __all__ = ["SWEEP_STYLE", "draw_response", "response"]
 
@@ -107,11 +106,11 @@ def response(ds: xr.Dataset, ax: Axes = None) -> None:
     """The response measure against the swept parameter for both sweeps, with jumps and hysteresis intervals."""
     name = str(ds.attrs.get("param", "omega"))
     measure = str(ds.attrs.get("measure", "amplitude"))
-    hy = json.loads(ds.attrs.get("hysteresis", "[]"))
-    co = json.loads(ds.attrs.get("coexistence", "[]"))
+    hy = json_list(ds, "hysteresis")
+    co = json_list(ds, "coexistence")
     jumps = [
         (j[name], j["amplitude_from"], j["amplitude_to"], j["sweep"], f"{symbol(name)} = {j[name]:.4g}")
-        for j in json.loads(ds.attrs.get("jumps", "[]"))
+        for j in json_list(ds, "jumps")
     ]
     x = ds[name].values
     draw_response(ax, x, ds[measure], hy, jumps, coexistence=co)

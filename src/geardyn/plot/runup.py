@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.colors import LogNorm
 
-from .common import plot_function
+from .common import json_attr, plot_function
 from .response import SWEEP_STYLE
 
 __all__ = ["runup_figure"]
@@ -39,7 +39,7 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
     orders = ds["order"].values
     order = np.argsort(x)
     if "spectrum" in ds:  # an excitation of P mesh cycles: every order j/P, the shaft-order sidebands too
-        scale = 1.0e6 * float(json.loads(ds.attrs.get("physical_scales", "{}")).get("b_c_m", np.nan))
+        scale = 1.0e6 * float(json_attr(ds, "physical_scales").get("b_c_m", np.nan))
         spec = ds["spectrum"].values * (scale if unit == "µm" and np.isfinite(scale) else 1.0)
         unit = unit if unit != "µm" or np.isfinite(scale) else "1"
         positive = spec[np.isfinite(spec) & (spec > 0)]

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from .common import OUTSIDE_RIGHT, plot_function
+from .common import OUTSIDE_RIGHT, json_attr, plot_function
 
 #: Documentation of ``ax`` for a figure of several panels.
 _PANELS = """
@@ -29,7 +28,7 @@ __all__ = [
 @plot_function("stiffness", (11.0, 8.0), n=3, subplots={"sharex": True}, adjust={"right": 0.7}, ax_doc=_PANELS)
 def stiffness_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Mesh stiffness, STE and load shares over the mesh phase of a ``stiffness`` result (``geardyn stiffness``)."""
-    s = json.loads(ds.attrs["summary"])
+    s = json_attr(ds, "summary")
     ph = ds["phase"].values
     a0, a1, a2 = ax
     a0.plot(ph, ds["mesh_stiffness"], "k-", lw=1.2, label="k_m (loaded pairs)")
@@ -84,7 +83,7 @@ def compliance_figure(ds: xr.Dataset, ax: Any = None) -> None:
 
 
 def _runs(ds: xr.Dataset) -> list[tuple[str, dict]]:
-    s = json.loads(ds.attrs["summary"])["runs"]
+    s = json_attr(ds, "summary")["runs"]
     return [(str(r), s[i]) for i, r in enumerate(ds["run"].values)]
 
 
@@ -134,7 +133,8 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> None:
 
 @plot_function("signature", (9.0, 10.5), n=4, adjust={"hspace": 0.4}, ax_doc=_PANELS)
 def signature_signals(ds: xr.Dataset, ax: Any = None) -> None:
-    """Record with tachometer, pinion TSA, residual and difference signals of each run."""
+    """Record with tachometer (of the sensor, for a system), pinion TSA, residual and difference signals of each
+    run."""
     a0, a1, a2, a3 = ax
     for i, (name, s) in enumerate(_runs(ds)):
         c = f"C{i}"
@@ -148,19 +148,17 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> None:
         ind = s["indicators"]["pinion"]
         if a1 is None:
             continue
-        a1.plot(ang, ds["tsa_pinion"].sel(run=name), color=c, lw=0.9, label=name)
-        a2.plot(ang, ds["residual"].sel(run=name), color=c, lw=0.9, label=name)
-        a3.plot(
-            ang,
-            ds["difference"].sel(run=name),
-            color=c,
-            lw=0.9,
-            label=f"{name}: FM4 {ind['fm4']:.3g}, NA4 {ind['na4']:.3g}, M6A {ind['m6a']:.3g}",
-        )
+        text = f"{name}: FM4 {ind['fm4']:.3g}, NA4 {ind['na4']:.3g}, M6A {ind['m6a']:.3g}"
+        for a, var, lab in ((a1, "tsa_pinion", name), (a2, "residual", name), (a3, "difference", text)):
+            a.plot(ang, ds[var].sel(run=name), color=c, lw=0.9, label=lab)
     a0.set_xlabel("time [ms]")
     a0.set_ylabel("relative accel. along LoA [m/s²]")
-    a0.set_title(
-        "relative acceleration of the two gears along the line of action (no bearing sensor), sampled with a "
+    r0 = json_attr(ds, "summary")["runs"][0]
+    a0.set_title(  # a system's record is that of a sensor (its runs name it)
+        f"acceleration of the sensor {r0['sensor']} (mesh {r0['mesh']!r}), sampled with a once-per-revolution "
+        "tachometer on its pinion"
+        if "sensor" in r0
+        else "relative acceleration of the two gears along the line of action (no bearing sensor), sampled with a "
         "once-per-revolution tachometer",
         fontsize=9,
     )
@@ -182,7 +180,7 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> None:
 )
 def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> None:
     """Condition indicators of pinion and wheel against the fault size."""
-    names = ("kurtosis", "fm4", "na4", "m6a", "fm0", "energy_ratio", "sideband_level", "crest_factor")
+    names = "kurtosis fm4 na4 m6a fm0 energy_ratio sideband_level crest_factor".split()
     x = ds["size"].values
     for a, n in zip(ax, names):
         if a is None:

@@ -28,7 +28,7 @@ from ..model import GearModel, IntegrationOptions
 from ..plausible import budget
 from ..series import series_values
 
-__all__ = ["Acquisition", "acquire", "acceleration", "check_record", "record_system", "sampled"]
+__all__ = ["Acquisition", "acquire", "acceleration", "check_record", "record_system"]
 
 
 @dataclass(frozen=True)
@@ -186,7 +186,17 @@ def record_system(
     t_sim, a = sensor(tr)
     if not np.all(np.isfinite(a)):
         raise ModelError("signature: the simulation diverged")
-    return sampled(t_sim, a, rpm=rpm, revolutions=revolutions, fs=fs, noise=noise, seed=seed, z1=z1, z2=z2)
+    # sampled at fs (cubic spline through the simulated points), with noise and the tachometer's pulse (5 V
+    # Gaussian, 4 samples wide) at the pinion's zero angle
+    t = np.arange(int(math.floor(revolutions * 60.0 / rpm * fs)) + 1) / fs
+    sig = CubicSpline(t_sim, a)(t)
+    if noise > 0:
+        sig = sig + noise * np.sqrt(np.mean(sig**2)) * np.random.default_rng(seed).normal(size=sig.size)
+    phi = 2.0 * math.pi * rpm / 60.0 * t
+    wrapped = np.mod(phi + math.pi, 2.0 * math.pi) - math.pi
+    sigma = 4.0 * 2.0 * math.pi * rpm / 60.0 / fs
+    tach = 5.0 * np.exp(-0.5 * (wrapped / sigma) ** 2)
+    return Acquisition(time=t, accel=sig, tach=tach, fs=float(fs), rpm=rpm, z1=z1, z2=z2)
 
 
 def acquire(
@@ -238,52 +248,3 @@ def acquire(
         settle=settle,
         state0=(model.fp, 0.0),
     )
-
-
-def sampled(
-    t_sim: np.ndarray,
-    accel: np.ndarray,
-    *,
-    rpm: float,
-    revolutions: int,
-    fs: float,
-    noise: float,
-    seed: int,
-    z1: int,
-    z2: int,
-) -> Acquisition:
-    """A simulated acceleration sampled like a data acquisition: ``revolutions`` pinion revolutions at ``fs``
-    (cubic-spline interpolation of the simulated points), optional white noise at ``noise`` times its RMS, and a
-    once-per-revolution tachometer pulse (5 V Gaussian, 4 samples wide) at the pinion's zero angle.
-
-    Parameters
-    ----------
-    t_sim, accel : ndarray
-        Simulated times (s) and accelerations (m/s²).
-    rpm : float
-        Pinion speed.
-    revolutions : int
-        Pinion revolutions recorded.
-    fs : float
-        Sampling rate (Hz).
-    noise : float
-        Noise RMS relative to the signal's RMS (0: none).
-    seed : int
-        Seed of the noise.
-    z1, z2 : int
-        Tooth counts of the pinion and the gear.
-
-    Returns
-    -------
-    Acquisition
-    """
-    duration = revolutions * 60.0 / rpm
-    t = np.arange(int(math.floor(duration * fs)) + 1) / fs
-    sig = CubicSpline(t_sim, accel)(t)
-    if noise > 0:
-        sig = sig + noise * np.sqrt(np.mean(sig**2)) * np.random.default_rng(seed).normal(size=sig.size)
-    phi = 2.0 * math.pi * rpm / 60.0 * t
-    wrapped = np.mod(phi + math.pi, 2.0 * math.pi) - math.pi
-    sigma = 4.0 * 2.0 * math.pi * rpm / 60.0 / fs
-    tach = 5.0 * np.exp(-0.5 * (wrapped / sigma) ** 2)
-    return Acquisition(time=t, accel=sig, tach=tach, fs=float(fs), rpm=rpm, z1=z1, z2=z2)

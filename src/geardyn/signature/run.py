@@ -36,7 +36,7 @@ __all__ = [
 #: Harmonics of the excitation's period a signature run keeps by default (the full table: ``harmonics=``).
 SIGNATURE_HARMONICS = 64
 #: The indicators reported, in order.
-INDICATORS = ("rms", "crest_factor", "kurtosis", "fm0", "fm4", "na4", "m6a", "m8a", "sideband_level", "energy_ratio")
+INDICATORS = tuple("rms crest_factor kurtosis fm0 fm4 na4 m6a m8a sideband_level energy_ratio".split())
 
 
 def indicators(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, float]:
@@ -58,18 +58,20 @@ def indicators(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, floa
     """
     p = split_tsa(avg, z, shaft_orders)
     x = avg - avg.mean()
-    return {
-        "rms": rms(x),
-        "crest_factor": crest_factor(x),
-        "kurtosis": kurtosis(x),
-        "fm0": fm0(avg, p["mesh_amplitudes"]),
-        "fm4": fm4(p["difference"]),
-        "na4": na4(p["residual"]),
-        "m6a": m6a(p["difference"]),
-        "m8a": m8a(p["difference"]),
-        "sideband_level": sideband_level(avg, p["sidebands"]),
-        "energy_ratio": energy_ratio(p["difference"], p["regular"]),
-    }
+    d = p["difference"]
+    values = (
+        rms(x),
+        crest_factor(x),
+        kurtosis(x),
+        fm0(avg, p["mesh_amplitudes"]),
+        fm4(d),
+        na4(p["residual"]),
+        m6a(d),
+        m8a(d),
+        sideband_level(avg, p["sidebands"]),
+        energy_ratio(d, p["regular"]),
+    )
+    return dict(zip(INDICATORS, values))  # in the order of INDICATORS
 
 
 def per_rev(z: int, top_order: float = 0.0) -> int:
@@ -246,9 +248,7 @@ def record(
             "tach": ("time", acq.tach[:keep], {"units": "V", "long_name": "tachometer (pinion, once per revolution)"}),
             "order_amplitude": ("order", amp[top], {"units": "m/s^2", "long_name": "order spectrum amplitude"}),
             "tsa_pinion": ("angle_pinion", t1, {"units": "m/s^2", "long_name": "TSA of the pinion"}),
-            "regular": ("angle_pinion", p1["regular"], {"units": "m/s^2"}),
-            "residual": ("angle_pinion", p1["residual"], {"units": "m/s^2"}),
-            "difference": ("angle_pinion", p1["difference"], {"units": "m/s^2"}),
+            **{k: ("angle_pinion", p1[k], {"units": "m/s^2"}) for k in ("regular", "residual", "difference")},
         },
         coords={
             "time": ("time", acq.time[:keep], {"units": "s"}),
@@ -342,22 +342,18 @@ def signature_sweep(
         ``geardyn_kind = "signature_sweep"``: one variable per indicator over (``size``, ``shaft``).
     """
 
-    def run(size: float) -> xr.Dataset:
-        return signature(
-            make(size),
-            rpm,
-            revolutions=revolutions,
-            fs=fs,
-            noise=noise,
-            seed=seed,
-            harmonics=harmonics,
-            b_c=b_c,
-            backlash=backlash,
-            xi0=xi0,
-            dtau=dtau,
-        )
-
-    return sweep_runs(run, sizes, name, lambda last: {"rpm": rpm})
+    kw = dict(
+        revolutions=revolutions,
+        fs=fs,
+        noise=noise,
+        seed=seed,
+        harmonics=harmonics,
+        b_c=b_c,
+        backlash=backlash,
+        xi0=xi0,
+        dtau=dtau,
+    )
+    return sweep_runs(lambda size: signature(make(size), rpm, **kw), sizes, name, lambda last: {"rpm": rpm})
 
 
 def sweep_runs(

@@ -149,12 +149,10 @@ def split_tsa(avg: np.ndarray, z: int, shaft_orders: int = 2) -> dict[str, np.nd
     side = np.concatenate([mesh - 1, mesh + 1])
     side = side[(side > 0) & (side < X.size)]
 
-    def keep(idx):
-        Y = np.zeros_like(X)
-        Y[idx] = X[idx]
-        return np.fft.irfft(Y, N)
-
-    regular = keep(np.unique(np.concatenate([shaft, mesh, side])))
+    kept = np.unique(np.concatenate([shaft, mesh, side]))
+    Y = np.zeros_like(X)
+    Y[kept] = X[kept]
+    regular = np.fft.irfft(Y, N)
     Xr = X.copy()
     Xr[np.concatenate([[0], shaft, mesh])] = 0.0
     amp = 2.0 * np.abs(X) / N

@@ -31,7 +31,7 @@ import xarray as xr
 from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
-from .acquire import Acquisition, record_system
+from .acquire import record_system
 
 __all__ = [
     "check_sensor",
@@ -39,7 +39,6 @@ __all__ = [
     "default_sensor",
     "mesh_shafts",
     "settle_time",
-    "system_acquire",
     "system_signature",
     "system_signature_sweep",
     "with_excitation",
@@ -55,11 +54,6 @@ def _mesh(system: Any, mesh: str | None) -> Any:
         if m.name == name:
             return m
     raise ModelError(f"mesh: {name!r} is not a mesh of the system; meshes: {', '.join(m.name for m in desc.meshes)}")
-
-
-def _mesh_frequency(system: Any, m: Any) -> float:
-    """The mesh frequency (Hz) of the system's mesh ``m``."""
-    return m.ratio * system.omega * system.scaling.omega_n_rad_s / (2.0 * math.pi)
 
 
 def _translations(system: Any) -> list[str]:
@@ -239,80 +233,6 @@ def settle_time(system: Any, decays: float = 10.0, least: float = 300.0) -> floa
     return max(least, decays / decay)
 
 
-def system_acquire(
-    system: Any,
-    dof: str,
-    revolutions: int,
-    fs: float,
-    *,
-    mesh: str | None = None,
-    z2: int | None = None,
-    noise: float = 0.0,
-    seed: int = 0,
-    dtau: float = 0.01,
-    settle: float | None = None,
-) -> Acquisition:
-    """A system with its sensor, the acceleration of one translational DOF, through the one acquisition
-    :func:`geardyn.signature.acquire.record_system`.
-
-    Parameters
-    ----------
-    system : SystemModel
-        The system.
-    dof : str
-        The sensor, ``"body.x"`` (a translation: x, y or z).
-    revolutions : int
-        Pinion revolutions recorded.
-    fs : float
-        Sampling rate (Hz); at least 8 samples per mesh period.
-    mesh : str, optional
-        The mesh whose pinion carries the tachometer (default the reference mesh; its ``teeth`` and ``ratio``
-        give the pinion speed).
-    z2 : int, optional
-        The wheel's teeth (for its TSA).
-    noise, seed : float, int
-        Gaussian noise RMS as a share of the signal's RMS, and its seed.
-    dtau : float
-        RK4 step target.
-    settle : float, optional
-        The non-dimensional time discarded first (default :func:`settle_time`).
-
-    Returns
-    -------
-    Acquisition
-    """
-    sc = system.scaling
-    check_sensor(system, dof)
-    m = _mesh(system, mesh)
-    z1, _z2, _body = mesh_shafts(system, mesh)
-    i = list(system.labels).index(dof)
-    f_mesh = _mesh_frequency(system, m)
-
-    def sensor(tr):
-        v = tr.x[:, system.n + i]
-        t_sim = (tr.tau - tr.tau[0]) / sc.omega_n_rad_s
-        if not np.all(np.isfinite(v)):
-            return t_sim, v
-        return t_sim, CubicSpline(t_sim, v).derivative()(t_sim) * sc.dof_scales[
-            i
-        ] * sc.omega_n_rad_s  # d²q/dt² = s ω_n d(q̃′)/dt
-
-    return record_system(
-        system,
-        sensor,
-        tau_per_rev=z1 * system.period / m.ratio,
-        rpm=60.0 * f_mesh / z1,
-        z1=z1,
-        z2=int(z2 or z1),
-        revolutions=revolutions,
-        fs=fs,
-        noise=noise,
-        seed=seed,
-        dtau=dtau,
-        settle=settle_time(system) if settle is None else settle,
-    )
-
-
 def system_signature(
     system: Any,
     dof: str | None = None,
@@ -356,21 +276,45 @@ def system_signature(
     """
     from .run import labelled, record
 
+    m = _mesh(system, mesh)
     z1, zv, _body = mesh_shafts(system, mesh)
     z2 = zv if z2 is None else int(z2)
     if z2 is None:
         raise ModelError(
-            f"mesh {_mesh(system, mesh).name!r}: the wheel's teeth are not known (the mesh vector has no "
+            f"mesh {m.name!r}: the wheel's teeth are not known (the mesh vector has no "
             f"rotation of both gears): give them (z2, or a tooth-pair file)"
         )
     dof = default_sensor(system, mesh) if dof is None else dof
-    m = _mesh(system, mesh)
-    f_mesh = _mesh_frequency(system, m)
+    sc = system.scaling
+    f_mesh = m.ratio * system.omega * sc.omega_n_rad_s / (2.0 * math.pi)
     if revolutions is None:
         revolutions = max(10, 2 * z2 // math.gcd(z1, z2))
     if fs is None:
         fs = default_rate(system, f_mesh)
-    acq = system_acquire(system, dof, revolutions, fs, mesh=mesh, z2=z2, noise=noise, seed=seed, dtau=dtau)
+    check_sensor(system, dof)
+    i = list(system.labels).index(dof)
+
+    def sensor(tr):  # the sensor's acceleration, d²q/dt² = s ω_n d(q̃′)/dt
+        v = tr.x[:, system.n + i]
+        t_sim = (tr.tau - tr.tau[0]) / sc.omega_n_rad_s
+        if not np.all(np.isfinite(v)):
+            return t_sim, v
+        return t_sim, CubicSpline(t_sim, v).derivative()(t_sim) * sc.dof_scales[i] * sc.omega_n_rad_s
+
+    acq = record_system(
+        system,
+        sensor,
+        tau_per_rev=z1 * system.period / m.ratio,
+        rpm=60.0 * f_mesh / z1,
+        z1=z1,
+        z2=int(z2 or z1),
+        revolutions=revolutions,
+        fs=fs,
+        noise=noise,
+        seed=seed,
+        dtau=dtau,
+        settle=settle_time(system),
+    )
     sm = system.mesh(m.name)
     ds, ind = record(acq, z2, f"acceleration of {dof}", sm.n_harmonics / sm.cycles)
     summary = {
@@ -434,13 +378,10 @@ def system_signature_sweep(
     """
     from .run import sweep_runs
 
-    def run(size: float) -> xr.Dataset:
-        system = make(size)
-        sensor = default_sensor(system, mesh) if dof is None else dof
-        return system_signature(
-            system, sensor, mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise, seed=seed, dtau=dtau
-        )
-
+    kw = dict(mesh=mesh, revolutions=revolutions, fs=fs, z2=z2, noise=noise, seed=seed, dtau=dtau)
     return sweep_runs(
-        run, sizes, name, lambda last: {"rpm": last["rpm"], "sensor": last["sensor"], "mesh": last["mesh"]}
+        lambda size: system_signature(make(size), dof, **kw),
+        sizes,
+        name,
+        lambda last: {"rpm": last["rpm"], "sensor": last["sensor"], "mesh": last["mesh"]},
     )
