@@ -134,10 +134,7 @@ class HBForm:
 
     def mean_trace(self) -> float:
         """Mean over the period of the trace of the first-order Jacobian: −tr B − Σ_e (V_e·W_e) C̄_e."""
-        tr = float(np.trace(self.B))
-        for e in self.elements:
-            tr += float(e.V @ e.W) * mean(e.C)
-        return -tr
+        return -sum((float(e.V @ e.W) * mean(e.C) for e in self.elements), float(np.trace(self.B)))
 
 
 def mean(z: np.ndarray) -> float:

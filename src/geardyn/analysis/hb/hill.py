@@ -148,15 +148,13 @@ def _overlap(ya: np.ndarray, yc: np.ndarray, m: int) -> float:
 
 def _is_copy(c: int, chosen: list[int], lam: np.ndarray, mu: np.ndarray, y: np.ndarray, nu: float) -> bool:
     """Whether eigenvalue c is a copy λ_a + imν (m ≠ 0) of an accepted exponent a (see the module docstring)."""
-    for a in chosen:
-        m = int(round(float((lam[c] - lam[a]).imag) / nu))
-        if (
-            m != 0
-            and abs(mu[c] - mu[a]) <= COPY_TOL * max(1.0, abs(mu[a]))
-            and _overlap(y[:, :, a], y[:, :, c], m) >= COPY_OVERLAP
-        ):
-            return True
-    return False
+    shifts = ((a, int(round(float((lam[c] - lam[a]).imag) / nu))) for a in chosen)
+    return any(
+        m != 0
+        and abs(mu[c] - mu[a]) <= COPY_TOL * max(1.0, abs(mu[a]))
+        and _overlap(y[:, :, a], y[:, :, c], m) >= COPY_OVERLAP
+        for a, m in shifts
+    )
 
 
 def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float, H: int, trace: float) -> HillResult:
@@ -218,7 +216,7 @@ def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float
     rest = [c for c in after[:PARTNER_CANDIDATES] if not _is_copy(c, chosen, lam, mu_all, y, nu)]
     if not rest:
         rest = [c for c in after if not _is_copy(c, chosen, lam, mu_all, y, nu)][:1] or after[:1]
-    prod = complex(np.prod(mu_all[chosen])) if chosen else 1.0
+    prod = complex(np.prod(mu_all[chosen]))  # (at least one taken: the first is never a copy)
     partner = ref / prod if prod != 0 else complex(math.inf)
     rest_a = np.array(rest)
     chosen.append(int(rest_a[int(np.argmin(np.abs(mu_all[rest_a] - partner)))]))

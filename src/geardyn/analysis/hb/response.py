@@ -123,14 +123,11 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     st = decided_stability(res)
     P = res.values.size
     resolved = res.status == int(Status.OK)
-    runs = []
+    runs, dv = [], np.diff(res.values)
+    turns = np.flatnonzero(dv[:-1] * dv[1:] < 0) + 1  # split where the branch turns in ω (a stable segment does not)
     for i, j in _runs(st):
-        k0 = i  # split where the branch turns in ω (a stable segment does not, generically)
-        for k in range(i + 1, j):
-            if (res.values[k] - res.values[k - 1]) * (res.values[k + 1] - res.values[k]) < 0:
-                runs.append((k0, k))
-                k0 = k
-        runs.append((k0, j))
+        cuts = [i, *turns[(turns > i) & (turns < j)].tolist(), j]
+        runs += zip(cuts, cuts[1:])
     out = []
     for i0, i1 in runs:
         w = list(res.values[i0 : i1 + 1])
@@ -172,28 +169,21 @@ def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, lis
         cands = ahead(x)
         cur = (min if d > 0 else max)(cands, key=lambda s: s.index) if cands else None
         while x < stop:
-            if cur is None:
+            if cur is None:  # on no segment until the next one starts
                 e = min([a for a, _ in span.values() if x < a < stop], default=stop)
-                pieces.append((d * x, d * e, None))
-                x = e
-                cands = [s for s in ahead(x) if span[s.index][0] == x]  # the segment that starts here
-                cur = cands[0] if cands else None
-                continue
-            e = min(span[cur.index][1], stop)
-            pieces.append((d * x, d * e, cur.index))
-            x = e
-            if x == stop:
-                break
-            end = cur.ends[1] if d > 0 else cur.ends[0]
-            if end is None or end.type != "fold":
-                # a period doubling or torus: the attractor goes on nearby, not period-n; no located event (the
-                # branch's end, or a change of stability that was not located): where it goes is not known, and a
+                nxt = next((s for s in ahead(e) if span[s.index][0] == e), None)
+            else:  # to the segment's end, then a jump to the segment beyond it with the nearest amplitude
+                e, end = min(span[cur.index][1], stop), cur.ends[d > 0]
+                amp = cur.amplitude_at(d * e)
+                # after a period doubling or torus the attractor goes on nearby, not period-n; after no located event
+                # (the branch's end, or a change of stability that was not located) where it goes is not known: a
                 # jump is placed only at a fold
-                cur = None
-                continue
-            amp = cur.amplitude_at(d * x)
-            cands = ahead(x, cur.index)
-            cur = min(cands, key=lambda s: abs(s.amplitude_at(d * x) - amp)) if cands else None
+                fold = end is not None and end.type == "fold"
+                nxt = min(
+                    ahead(e, cur.index) if fold else [], key=lambda s: abs(s.amplitude_at(d * e) - amp), default=None
+                )
+            pieces.append((d * x, d * e, None if cur is None else cur.index))
+            x, cur = e, nxt
         out[lab] = pieces
     return out
 
@@ -314,25 +304,21 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 period[r, k] = _minimal_period(pu[r, k], pv[r, k], n)
                 impact[r, k] = impact_state(vals["u_min"], D)
         jumps = []
-        for lab in ("up", "down"):
+        for lab, d in (("up", 1.0), ("down", -1.0)):  # (d: the sweep's direction)
             pieces = paths[lab]
-            for (_a0, b0, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
-                if s0 is None or s1 is None:
-                    continue
-                x = float(b0)
-                end = segs[s0].coefficients[-1] if lab == "up" else segs[s0].coefficients[0]
-                a_to, st = solve(s1, x)
+            for (_a0, x, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
+                a_to, st = (None, None) if s0 is None or s1 is None else solve(s1, x)
                 if st is not Status.OK:
                     continue
-                m_from = _measures(basis, rd.deflection(end, rd.reference, x))[measure]
-                m_to = _measures(basis, rd.deflection(a_to, rd.reference, x))[measure]
-                d = 1.0 if lab == "up" else -1.0  # the grid points on either side, in the sweep's direction
-                before, after = w[d * w <= d * x], w[d * w > d * x]
+                end = segs[s0].coefficients[-1 if d > 0 else 0]
+                m_from, m_to = (_measures(basis, rd.deflection(a, rd.reference, x))[measure] for a in (end, a_to))
+                before, after = w[d * w <= d * x], w[d * w > d * x]  # the grid points on either side
                 g_from = float(before[np.argmax(d * before)]) if before.size else x
                 g_to = float(after[np.argmin(d * after)]) if after.size else x
-                jump = {"omega": x, "direction": "up" if m_to > m_from else "down", "size": abs(m_to - m_from)}
-                jump.update(sweep=lab, omega_from=g_from, omega_to=g_to, amplitude_from=m_from, amplitude_to=m_to)
-                jumps.append(jump)
+                jumps.append(
+                    dict(omega=x, direction="up" if m_to > m_from else "down", size=abs(m_to - m_from), sweep=lab,
+                         omega_from=g_from, omega_to=g_to, amplitude_from=m_from, amplitude_to=m_to)
+                )  # fmt: skip
     attrs = dict(param="omega", mode="harmonic balance", sweep="both", method="hb", measure=measure)
     attrs.update(jumps=json.dumps(jumps), hysteresis=json.dumps(_hysteresis(paths)))
     bif = json.dumps(res.bifurcations_json())
