@@ -333,12 +333,7 @@ class HBContinuation:
         summary = self.to_json()
         attrs = self.attrs(
             KIND,
-            param=self.param,
-            harmonics=self.harmonics,
-            period=self.period,
-            samples=self.samples,
-            end=self.end,
-            rigid_body_modes=self.rigid,
+            **{k: summary[k] for k in ("param", "harmonics", "period", "samples", "end", "rigid_body_modes")},
             coefficient_layout="[a0, a1..aH, b1..bH] per coordinate of q(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
             "φ = ωτ/(n p)",
             bifurcations=json.dumps(summary["bifurcations"]),
@@ -531,15 +526,8 @@ class _Tracer:
                 same = [q for q in found if abs(self.tests(q[0], d, key).get(key, math.inf)) <= zero]
                 pt, ok = same[0] if same else self.locate(a, b, key, ta[key], tb[key])
                 found.append((pt, ok))
-                bif = HBBifurcation(
-                    typ,
-                    self.p(pt.y),
-                    *map(float, pt.ext[self.s.reference]),
-                    pt.hill.multipliers.copy(),
-                    detail,
-                    ok,
-                    pt.y[:-1].copy(),
-                )
+                u = map(float, pt.ext[self.s.reference])
+                bif = HBBifurcation(typ, self.p(pt.y), *u, pt.hill.multipliers.copy(), detail, ok, pt.y[:-1].copy())
                 out.append((float((pt.y - a.y) @ d), bif))
         out.sort(key=lambda e: e[0])
         return [b for _s, b in out]
@@ -686,28 +674,7 @@ def hb_continuation(
                 [int(q.hill.status) for q in pts]]  # fmt: skip
     vals, coef, mu, status = map(np.array, cols)
     u_min, u_max, r, els = ext[:, :, 0], ext[:, :, 1], eq.reference, f.elements
-    return HBContinuation(
-        model,
-        param,
-        eq.H,
-        eq.n,
-        eq.N,
-        vals,
-        coef,
-        u_min[:, r],
-        u_max[:, r],
-        mu,
-        status,
-        bifs,
-        end,
-        eq.elements,
-        tuple(e.kind for e in els),
-        tuple(e.gap for e in els),
-        u_min,
-        u_max,
-        eq,
-        eq.basis.rigid,
-        r,
-        f.labels,
-        conservative,
-    )  # fmt: skip (the fields in their order)
+    # (the fields in their order)
+    return HBContinuation(model, param, eq.H, eq.n, eq.N, vals, coef, u_min[:, r], u_max[:, r], mu, status, bifs, end,
+                          eq.elements, tuple(e.kind for e in els), tuple(e.gap for e in els), u_min, u_max, eq,
+                          eq.basis.rigid, r, f.labels, conservative)  # fmt: skip

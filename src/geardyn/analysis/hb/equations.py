@@ -349,16 +349,14 @@ class HBEquations:
         of I⊗diag(k²), A⊗I and B⊗D₁, the fixed values of the gauge's and auxiliary blocks)."""
         M, N0, els = self.M, f.dofs * self.M, f.elements
         c, (di, dj), (ei, ej) = np.arange(M), np.nonzero(self.D1), np.divmod(np.arange(M * M), M)
-        parts = [_kron_index(np.eye(f.dofs), c, c, M), _kron_index(f.A, c, c, M), _kron_index(f.B, di, dj, M)]
+        lin = ((np.eye(f.dofs), c, c, self._k2), (f.A, c, c, np.ones(M)), (f.B, di, dj, self.D1[di, dj]))
+        parts = [_kron_index(m, bi, bj, M) for m, bi, bj, _ in lin]
         (gi, gk), (hi, hk) = np.nonzero(self.left), np.nonzero(self.gauge)
         parts += [(gi, N0 + gk), (N0 + hk, hi)]
         n, nz = self.basis.size, len(els) * M
         const = [np.repeat(v[v != 0], M) for v in [el.W for el in els] + [el.V for el in els]]
         const = [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)], *const, -np.ones(2 * nz)]
-        linear = tuple(  # the values of m ⊗ block at _kron_index's entries (block: the values at (bi, bj))
-            (m[np.nonzero(m)][:, None] * b).ravel()
-            for m, b in ((np.eye(f.dofs), self._k2), (f.A, np.ones(M)), (f.B, self.D1[di, dj]))
-        )
+        linear = tuple((m[np.nonzero(m)][:, None] * b).ravel() for m, _, _, b in lin)  # (m ⊗ b at those entries)
 
         def block(v: np.ndarray, at: int) -> tuple:  # the entries of v ⊗ I: rows of x, columns of the auxiliary at
             i = np.flatnonzero(v)

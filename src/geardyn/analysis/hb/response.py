@@ -43,6 +43,8 @@ STABILITY_EVENTS = ("fold", "period-doubling", "neimark-sacker")
 #: Steps of ω in which a grid point is reached from the nearest branch point when Newton from the interpolated
 #: coefficients fails.
 WALK_STEPS = 8
+#: A sweep's path: its pieces (ω_a, ω_b, the stable segment's index or None), in sweep order.
+Pieces = list[tuple[float, float, int | None]]
 
 
 @dataclass
@@ -151,7 +153,7 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     return out
 
 
-def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list[tuple[float, float, int | None]]]:
+def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, Pieces]:
     """``{"up": [...], "down": [...]}``: the pieces (ω_a, ω_b, segment index or None) the sweeps over [lo, hi]
     follow, in sweep order; consecutive pieces on two segments are a jump at their common end, a piece with None
     has no stable solution."""
@@ -165,7 +167,7 @@ def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, lis
             """Segments that continue from x in the sweep direction."""
             return [s for s in segments if s.index != exclude and span[s.index][0] <= x < span[s.index][1]]
 
-        pieces: list[tuple[float, float, int | None]] = []
+        pieces: Pieces = []
         cands = ahead(x)
         cur = (min if d > 0 else max)(cands, key=lambda s: s.index) if cands else None
         while x < stop:
@@ -188,7 +190,7 @@ def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, lis
     return out
 
 
-def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
+def _on(pieces: Pieces, w: float) -> int | None:
     """The segment a sweep is on at ω = w (the first piece containing it, in sweep order)."""
     for a, b, s in pieces:
         if min(a, b) <= w <= max(a, b):
@@ -276,7 +278,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     phis = 2.0 * np.pi * np.arange(n) / n
     shape = (2, w.size)
     f = {k: np.full(shape, np.nan) for k in MEASURES}
-    pu, pv = np.full(shape + (n,), np.nan), np.full(shape + (n,), np.nan)
+    pu, pv = np.full((2, *shape, n), np.nan)
     period = np.zeros(shape, dtype=np.int64)
     impact = np.full(shape, -1, dtype=np.int64)
     status = np.full(shape, int(Status.UNRESOLVED), dtype=np.int64)
@@ -343,7 +345,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     return annotate(ds)
 
 
-def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list[list[float]]:
+def _hysteresis(paths: dict[str, Pieces]) -> list[list[float]]:
     """Maximal ω intervals where the sweeps are on different stable segments, or one on a stable segment and
     the other on none (then its attractor is not that period-n solution either)."""
     cuts = sorted({float(v) for lab in paths for a, b, _s in paths[lab] for v in (a, b)})
