@@ -523,14 +523,13 @@ class _Tracer:
         for key, (typ, detail) in self.labels.items():
             if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
                 zero = SHARED_REL_TOL * abs(tb[key] - ta[key])  # the root within the bracket of a location
-                same = [q for q in found if abs(self.tests(q[0], d, key).get(key, math.inf)) <= zero]
-                pt, ok = same[0] if same else self.locate(a, b, key, ta[key], tb[key])
+                same = (q for q in found if abs(self.tests(q[0], d, key).get(key, math.inf)) <= zero)
+                pt, ok = next(same, None) or self.locate(a, b, key, ta[key], tb[key])
                 found.append((pt, ok))
                 u = map(float, pt.ext[self.s.reference])
                 bif = HBBifurcation(typ, self.p(pt.y), *u, pt.hill.multipliers.copy(), detail, ok, pt.y[:-1].copy())
                 out.append((float((pt.y - a.y) @ d), bif))
-        out.sort(key=lambda e: e[0])
-        return [b for _s, b in out]
+        return [b for _s, b in sorted(out, key=lambda e: e[0])]
 
     def trace(self, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float, max_points: int, on_point=None) -> tuple:
         """The pseudo-arclength loop from the solution ``y`` (unknowns, then p/p_s), the first tangent oriented like
@@ -648,8 +647,7 @@ def hb_continuation(
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise ModelError("start, stop: must be finite and different")
     m0 = model.with_param(param, start)
-    model.with_param(param, stop)
-    conservative = require_decidable(model, param, start, stop)
+    conservative = require_decidable(model, param, start, stop)  # (stop checked there too)
     report = None if progress is None else _span_reporter(progress, start, stop)  # the one of shooting's branches
     if progress is not None:
         progress(0.0, abs(stop - start))

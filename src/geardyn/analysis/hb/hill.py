@@ -148,13 +148,15 @@ def _overlap(ya: np.ndarray, yc: np.ndarray, m: int) -> float:
 
 def _is_copy(c: int, chosen: list[int], lam: np.ndarray, mu: np.ndarray, y: np.ndarray, nu: float) -> bool:
     """Whether eigenvalue c is a copy λ_a + imν (m ≠ 0) of an accepted exponent a (see the module docstring)."""
-    shifts = ((a, int(round(float((lam[c] - lam[a]).imag) / nu))) for a in chosen)
-    return any(
-        m != 0
-        and abs(mu[c] - mu[a]) <= COPY_TOL * max(1.0, abs(mu[a]))
-        and _overlap(y[:, :, a], y[:, :, c], m) >= COPY_OVERLAP
-        for a, m in shifts
-    )
+    for a in chosen:
+        m = int(round(float((lam[c] - lam[a]).imag) / nu))
+        if (
+            m != 0
+            and abs(mu[c] - mu[a]) <= COPY_TOL * max(1.0, abs(mu[a]))
+            and _overlap(y[:, :, a], y[:, :, c], m) >= COPY_OVERLAP
+        ):
+            return True
+    return False
 
 
 def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float, H: int, trace: float) -> HillResult:

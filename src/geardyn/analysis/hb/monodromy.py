@@ -84,9 +84,9 @@ def bearing_rows(form: Any) -> tuple[np.ndarray, np.ndarray]:
     …; the cage's radians per radian of φ in ``BQ_RHO``) and the index of each one's x row."""
     els = form.elements
     bx = [e for e, el in enumerate(els) if el.law == "rolling_bearing" and el.name.endswith(".x")]
-    rows = [(e, *els[e].rule.params()) for e in bx]  # (e, Z, n, c, ratio, phase)
+    # (the rule's parameters: Z, n, c, ratio, phase)
     rows = [[Z, els[e].K[0].real, n, c, els[e].C[0].real, els[e + 1].C[0].real, r / Z * form.periods, ph]
-            for e, Z, n, c, r, ph in rows]  # fmt: skip
+            for e in bx for Z, n, c, r, ph in [els[e].rule.params()]]  # fmt: skip
     return np.reshape(np.array(rows, dtype=float), (len(bx), 8)), np.array(bx, dtype=np.int64)
 
 

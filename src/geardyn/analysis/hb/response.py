@@ -279,9 +279,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     shape = (2, w.size)
     f = {k: np.full(shape, np.nan) for k in MEASURES}
     pu, pv = np.full((2, *shape, n), np.nan)
-    period = np.zeros(shape, dtype=np.int64)
-    impact = np.full(shape, -1, dtype=np.int64)
-    status = np.full(shape, int(Status.UNRESOLVED), dtype=np.int64)
+    period, impact, status = (np.full(shape, v, dtype=np.int64) for v in (0, -1, int(Status.UNRESOLVED)))
 
     @functools.cache
     def solve(s: int, x: float) -> tuple[np.ndarray, Status]:  # (each point once: the sweeps and jumps share it)
