@@ -166,13 +166,14 @@ def dead_zone_terms(basis: HarmonicBasis, a: np.ndarray, K: np.ndarray, D: float
     return DeadZoneTerms(*dead_zone_kernel(a, K, float(D), cos_t, basis.sin_table, basis.H, ROOT_MAX_ITER, ROOT_TOL))
 
 
-def sampled_terms(basis: HarmonicBasis, ds: list, rule, K: float, periods: int) -> tuple[list, dict]:
+def sampled_terms(basis: HarmonicBasis, ds: list, rule, K: float, periods: int) -> tuple[np.ndarray, np.ndarray]:
     """AFT of a law of several rows evaluated on the time grid (a rolling bearing's, C¹: no switch to locate).
 
     The rows' deflections are sampled at the N angles φ_j, the law (``rule.force``, ``rule.stiffness``: the System's
     own, :class:`~geardyn.system.RollingBearingLaw`) evaluated there at the base angle θ_j = periods·φ_j, and the
     samples of K f_i and K ∂f_i/∂δ_j transformed: G_i (2H + 1 coefficients) and S_ij (4H + 1, ``toeplitz(S_ij, H)``
-    the exact derivative of the sampled G_i in δ_j, since 2H < N/2).
+    the exact derivative of the sampled G_i in δ_j, since 2H < N/2), returned as arrays G (rows, 2H + 1) and
+    S (rows, rows, 4H + 1).
 
     Parameters
     ----------
@@ -191,8 +192,7 @@ def sampled_terms(basis: HarmonicBasis, ds: list, rule, K: float, periods: int) 
     theta = periods * basis.phi
     G = np.fft.fft(K * rule.force(X, theta), axis=0)[np.arange(-H, H + 1) % N] / N
     S = np.fft.fft(K * rule.stiffness(X, theta), axis=0)[np.arange(-2 * H, 2 * H + 1) % N] / N
-    r = len(ds)
-    return [G[:, i] for i in range(r)], {(i, j): S[:, i, j] for i in range(r) for j in range(r)}
+    return G.T, S.transpose(1, 2, 0)
 
 
 def signal_extrema(basis: HarmonicBasis, a: np.ndarray) -> tuple[float, float, float, float]:

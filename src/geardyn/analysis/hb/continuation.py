@@ -44,7 +44,7 @@ from ...status import Status, flag_attrs
 from ..periodic.arclength import _span_reporter
 from ..secant import illinois_on_chord
 from .damping import require_decidable
-from .equations import HBEquations, SparseJacobian, single_thread_blas, solve
+from .equations import HBEquations, single_thread_blas, solve
 from .form import mean
 from .hill import HillResult
 from .solve import hb_solve
@@ -118,8 +118,7 @@ class _Pt:
 
     y: np.ndarray
     tangent: Callable[[], np.ndarray]
-    u_min: float
-    u_max: float
+    ext: np.ndarray  # (elements, 2): every element's δ_min, δ_max
     stability: Callable[[], HillResult]
     iters: int = 0
 
@@ -245,10 +244,9 @@ class HBContinuation:
         the point did not converge), computed when first asked for."""
         eq, P = self.equations, self.values.size
         out = np.full((P, sum(k == "mesh" for k in self.kinds)), math.nan)
-        g = np.zeros(self.rigid)
         for i, (c, v, s) in enumerate(zip(self.coefficients, self.values, self.status)):
             if eq is not None and int(s) in (int(Status.OK), int(Status.UNRESOLVED)):
-                out[i] = eq.dynamic_factors(np.concatenate([c, g]), float(v))
+                out[i] = eq.dynamic_factors(c, float(v))  # (the coefficients alone: no gauge multipliers needed)
         return out
 
     @property
@@ -267,10 +265,7 @@ class HBContinuation:
 
     def bifurcations_json(self) -> list[dict[str, Any]]:
         """The bifurcations as :meth:`to_json` gives them (the parameter under its own name)."""
-        return [
-            {"type": b.type, self.param: float(b.value), **{k: v for k, v in b.to_json().items() if k != "type"}}
-            for b in self.bifurcations
-        ]
+        return [{"type": b.type, self.param: float(b.value), **b.to_json()} for b in self.bifurcations]
 
     def attrs(self, kind: str, options: Any = None, **extra: Any) -> dict[str, str]:
         """The global attributes of a result of this branch (:func:`~geardyn.io.result_attrs`), ``model`` with the
@@ -303,11 +298,11 @@ class HBContinuation:
         rows: dict[str, list[dict[str, Any]]] = {"mesh": [], "clearance": []}
         for e, (nm, kind) in enumerate(zip(self.elements, self.kinds)):
             lo, hi = self.element_u_min[:, e], self.element_u_max[:, e]
-            row = {"name": nm, "u_min": [num(v) for v in lo], "u_max": [num(v) for v in hi]}
-            row["amplitude"] = [num(0.5 * (b - a)) for a, b in zip(lo, hi)]
+            row = {"name": nm, "u_min": list(map(num, lo)), "u_max": list(map(num, hi))}
+            row["amplitude"] = list(map(num, 0.5 * (hi - lo)))
             row["impact"] = [IMPACT_LABELS[impact_state(v, self.gaps[e])] if np.isfinite(v) else None for v in lo]
             if kind == "mesh":  # (the mesh's column: the meshes before it)
-                row["dynamic_factor"] = [num(v) for v in self.dynamic_factor[:, self.kinds[:e].count("mesh")]]
+                row["dynamic_factor"] = list(map(num, self.dynamic_factor[:, self.kinds[:e].count("mesh")]))
             rows.setdefault(kind, []).append(row)
         notes = [
             f"{2 * self.rigid} Floquet multipliers equal to 1 belong to the {self.rigid} rigid-body mode(s) and are "
@@ -338,12 +333,7 @@ class HBContinuation:
         summary = self.to_json()
         attrs = self.attrs(
             KIND,
-            param=self.param,
-            harmonics=self.harmonics,
-            period=self.period,
-            samples=self.samples,
-            end=self.end,
-            rigid_body_modes=self.rigid,
+            **{k: summary[k] for k in ("param", "harmonics", "period", "samples", "end", "rigid_body_modes")},
             coefficient_layout="[a0, a1..aH, b1..bH] per coordinate of q(φ) = a0 + Σ a_k cos kφ + b_k sin kφ, "
             "φ = ωτ/(n p)",
             bifurcations=json.dumps(summary["bifurcations"]),
@@ -353,15 +343,12 @@ class HBContinuation:
         ds = xr.Dataset(
             {
                 self.param: ("point", self.values),
-                "u_min": ("point", self.u_min),
-                "u_max": ("point", self.u_max),
-                "amplitude": ("point", self.amplitude),
+                **{k: ("point", getattr(self, k)) for k in ("u_min", "u_max", "amplitude")},
                 "stable": ("point", self.stable.astype(np.int8)),
                 "multiplier_re": (pm, self.multipliers.real),
                 "multiplier_im": (pm, self.multipliers.imag),
                 "coefficients": (("point", "dof", "coefficient"), self.coefficients.reshape(P, nd, -1)),
-                "element_u_min": (el, self.element_u_min),
-                "element_u_max": (el, self.element_u_max),
+                **{k: (el, getattr(self, k)) for k in ("element_u_min", "element_u_max")},
                 "status": ("point", self.status.astype(np.int64)),
             },
             coords={
@@ -410,8 +397,9 @@ class _Tracer:
         self.labels = {"turn": ("fold", "turning point: a multiplier through +1 (det(I − M) = 0)")}
         self.labels.update(pd=("period-doubling", "real multiplier through −1"), ns=ns)
         self.labels.update({f"ns{k}": ns for k in range(2, eq.basis.dofs - eq.basis.rigid + 1)})
-        for e, nm in enumerate(eq.elements):
-            pre, who = ("graze", "") if e == eq.reference else (f"graze{e}", f"{nm}: ")
+        self.graze = ["graze" if e == eq.reference else f"graze{e}" for e in range(len(eq.elements))]
+        for pre, nm in zip(self.graze, eq.elements):
+            who = "" if pre == "graze" else f"{nm}: "
             self.labels.update({f"{pre}_{k}": ("grazing", f"{who}{v}") for k, v in _SIDES.items()})
 
     def p(self, y: np.ndarray) -> float:
@@ -429,7 +417,7 @@ class _Tracer:
         A[-1] = ref
         rhs = np.zeros(self.M + 1)
         rhs[-1] = 1.0
-        t = A.solve(rhs, lu) if isinstance(A, SparseJacobian) else solve(A, rhs, robust=True)
+        t = solve(A, rhs, robust=True, lu=lu)
         t /= np.linalg.norm(t)
         return t if t @ ref >= 0 else -t
 
@@ -450,13 +438,10 @@ class _Tracer:
             F[:-1], F[-1] = R, g
             A[-1] = normal
             try:
-                if isinstance(A, SparseJacobian):
-                    dy = A.solve(-F, lu if r <= CHORD_RATE * r_last else None)
-                    lu, r_last = A.lu, r
-                else:
-                    dy = solve(A, -F)
+                dy = solve(A, -F, lu=lu if r <= CHORD_RATE * r_last else None)
             except np.linalg.LinAlgError:
                 return None
+            lu, r_last = getattr(A, "lu", None), r
             y = y + dy
             if not np.all(np.isfinite(y)):
                 return None
@@ -466,8 +451,8 @@ class _Tracer:
 
     def _finish(self, y: np.ndarray, ref_t: np.ndarray, iters: int, aug: tuple | None = None, lu: Any = None) -> _Pt:
         a, p = y[:-1], self.p(y)
-        umin, umax = self.s.extremes(a, p)
-        return _Pt(y, lambda: self.tangent(y, ref_t, aug, lu), umin, umax, lambda: self.s.stability(a, p), iters)
+        ext = self.s.element_extremes(a, p)
+        return _Pt(y, lambda: self.tangent(y, ref_t, aug, lu), ext, lambda: self.s.stability(a, p), iters)
 
     def multiplier_step(self, a: HillResult, b: HillResult) -> float:
         """How far the multipliers moved between two resolved points (0 if either is not): their positions (the
@@ -509,12 +494,8 @@ class _Tracer:
         if key is None or key.startswith("graze"):
             p = self.p(pt.y)
             gaps = [el.gap if el.rule is None else 0.0 for el in self.s._entry(p).form.elements]  # (a bearing: smooth)
-            ext = self.s.element_extremes(pt.y[:-1], p) if len(gaps) > 1 else np.array([[pt.u_min, pt.u_max]])
-            for e, D in enumerate(gaps):
-                if D <= 0:
-                    continue
-                pre = "graze" if e == self.s.reference else f"graze{e}"
-                for side, v in (("min", ext[e, 0]), ("max", ext[e, 1])):
+            for pre, D, ext in zip(self.graze, gaps, pt.ext):
+                for side, v in zip(("min", "max"), ext if D > 0 else ()):
                     out[f"{pre}_{side}_plus"], out[f"{pre}_{side}_minus"] = v - D, v + D
         return out
 
@@ -542,15 +523,13 @@ class _Tracer:
         for key, (typ, detail) in self.labels.items():
             if key in ta and key in tb and (ta[key] > 0) != (tb[key] > 0):
                 zero = SHARED_REL_TOL * abs(tb[key] - ta[key])  # the root within the bracket of a location
-                same = [q for q in found if abs(self.tests(q[0], d, key).get(key, math.inf)) <= zero]
-                pt, ok = same[0] if same else self.locate(a, b, key, ta[key], tb[key])
+                same = (q for q in found if abs(self.tests(q[0], d, key).get(key, math.inf)) <= zero)
+                pt, ok = next(same, None) or self.locate(a, b, key, ta[key], tb[key])
                 found.append((pt, ok))
-                bif = HBBifurcation(
-                    typ, self.p(pt.y), pt.u_min, pt.u_max, pt.hill.multipliers.copy(), detail, ok, pt.y[:-1].copy()
-                )
+                u = map(float, pt.ext[self.s.reference])
+                bif = HBBifurcation(typ, self.p(pt.y), *u, pt.hill.multipliers.copy(), detail, ok, pt.y[:-1].copy())
                 out.append((float((pt.y - a.y) @ d), bif))
-        out.sort(key=lambda e: e[0])
-        return [b for _s, b in out]
+        return [b for _s, b in sorted(out, key=lambda e: e[0])]
 
     def trace(self, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float, max_points: int, on_point=None) -> tuple:
         """The pseudo-arclength loop from the solution ``y`` (unknowns, then p/p_s), the first tangent oriented like
@@ -668,22 +647,17 @@ def hb_continuation(
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
         raise ModelError("start, stop: must be finite and different")
     m0 = model.with_param(param, start)
-    model.with_param(param, stop)
-    conservative = require_decidable(model, param, start, stop)
+    conservative = require_decidable(model, param, start, stop)  # (stop checked there too)
     report = None if progress is None else _span_reporter(progress, start, stop)  # the one of shooting's branches
     if progress is not None:
         progress(0.0, abs(stop - start))
     eq = HBEquations(model, harmonics, period, param=param, samples=samples, floquet=floquet)
     sol = hb_solve(m0, eq.H, period, guess, samples=eq.N, stability=False, state0=state0)
     f, N0 = eq.form, eq.basis.size - eq.basis.rigid
-    common = dict(elements=eq.elements, kinds=tuple(e.kind for e in f.elements), gaps=tuple(e.gap for e in f.elements))
-    common.update(
-        rigid=eq.basis.rigid, reference=eq.reference, labels=f.labels, conservative=conservative, equations=eq
-    )
     if not sol.converged:  # one point, the start that failed
         ext = np.full((1, len(f.elements), 2), math.nan)
         mu = np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan))
-        cols = [[start], sol.unknowns[None, :N0], [math.nan], [math.nan], mu, [int(sol.status)]]
+        cols = [[start], sol.unknowns[None, :N0], mu, [int(sol.status)]]
         bifs, end = [], f"start: {sol.status.label}"
     else:
         lo, hi = sorted((start, stop))
@@ -693,12 +667,12 @@ def hb_continuation(
         ref = np.zeros(eq.basis.size + 1)
         ref[-1] = 1.0 if stop > start else -1.0
         pts, bifs, end = tr.trace(y, ref, ds, tr.rules.ds_max if ds_max is None else float(ds_max), max_points, report)
-        vals = np.array([tr.p(q.y) for q in pts])
-        if len(f.elements) == 1:  # the reference element's extremes are the points' own
-            ext = np.array([[[q.u_min, q.u_max]] for q in pts])
-        else:
-            ext = np.array([eq.element_extremes(q.y[:-1], v) for q, v in zip(pts, vals)])
-        cols = [vals, [q.y[:N0] for q in pts], [q.u_min for q in pts], [q.u_max for q in pts],
-                [q.hill.multipliers for q in pts], [int(q.hill.status) for q in pts]]  # fmt: skip
-    return HBContinuation(model, param, eq.H, eq.n, eq.N, *map(np.array, cols), bifs, end,
-                          element_u_min=ext[:, :, 0], element_u_max=ext[:, :, 1], **common)  # fmt: skip
+        ext = np.array([q.ext for q in pts])
+        cols = [[tr.p(q.y) for q in pts], [q.y[:N0] for q in pts], [q.hill.multipliers for q in pts],
+                [int(q.hill.status) for q in pts]]  # fmt: skip
+    vals, coef, mu, status = map(np.array, cols)
+    u_min, u_max, r, els = ext[:, :, 0], ext[:, :, 1], eq.reference, f.elements
+    # (the fields in their order)
+    return HBContinuation(model, param, eq.H, eq.n, eq.N, vals, coef, u_min[:, r], u_max[:, r], mu, status, bifs, end,
+                          eq.elements, tuple(e.kind for e in els), tuple(e.gap for e in els), u_min, u_max, eq,
+                          eq.basis.rigid, r, f.labels, conservative)  # fmt: skip

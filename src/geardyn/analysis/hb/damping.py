@@ -36,7 +36,8 @@ def _modes(form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Mt = np.linalg.inv(form.Mi)
     K, C = Mt @ form.A, Mt @ form.B
     for e in form.elements:
-        K, C = K + mean(e.K) * np.outer(e.V, e.V), C + mean(e.C) * np.outer(e.V, e.V)
+        vv = np.outer(e.V, e.V)
+        K, C = K + mean(e.K) * vv, C + mean(e.C) * vv
     lam, phi = eigh(0.5 * (K + K.T), 0.5 * (Mt + Mt.T))
     return lam, phi, 0.5 * (C + C.T)
 

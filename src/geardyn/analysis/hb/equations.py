@@ -62,7 +62,7 @@ from .aft import (
     time_samples,
     toeplitz,
 )
-from .form import LAWS, FormElement, HBForm, mean
+from .form import LAWS, HBForm, mean
 from .hill import HillResult, system_hill_floquet
 from .monodromy import _check_floquet, bearing_rows, monodromy_floquet
 
@@ -165,9 +165,9 @@ class SparseJacobian:
         return (x + lu.solve(rhs - m @ x))[: b.size]
 
 
-def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -> np.ndarray:
+def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False, lu: Any = None) -> np.ndarray:
     """x with A x = b by LAPACK ``dgesv`` (``numpy.linalg.solve`` costs ten times the factorisation here), or a
-    :class:`SparseJacobian`'s SuperLU.
+    :class:`SparseJacobian`'s SuperLU (always robust).
 
     Parameters
     ----------
@@ -175,6 +175,9 @@ def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -
     b : ndarray (m,)
     robust : bool
         When True, a dense A that is not finite gives the least-squares answer instead of an error.
+    lu : optional
+        A sparse A's factors of a nearby matrix of the same pattern, used as in a chord step
+        (:meth:`SparseJacobian.solve`).
 
     Raises
     ------
@@ -182,7 +185,7 @@ def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -
         When A is exactly singular.
     """
     if isinstance(A, SparseJacobian):
-        return A.solve(b)
+        return A.solve(b, lu)
     if robust and not np.all(np.isfinite(A)):  # the least-squares answer of a matrix that is not finite
         return np.linalg.lstsq(A, b, rcond=None)[0]
     _lu, _piv, x, info = dgesv(A, b)
@@ -191,20 +194,15 @@ def solve(A: np.ndarray | SparseJacobian, b: np.ndarray, robust: bool = False) -
     return x
 
 
-def dead_zone(ds: list[np.ndarray], els: tuple[FormElement, ...], basis: HarmonicBasis, periods: int) -> tuple:
-    """The dead zone's K f(δ; D) projected on ``basis`` and the series S of K f'(δ) (:func:`.aft.dead_zone_terms`)."""
-    G, S, _ = dead_zone_terms(basis, ds[0], els[0].K, els[0].gap)
-    return [G], {(0, 0): S}
-
-
-def sampled(ds: list[np.ndarray], els: tuple[FormElement, ...], basis: HarmonicBasis, periods: int) -> tuple:
-    """A law sampled on the time grid (its ``rule``, :func:`.aft.sampled_terms`), acting on its rows jointly."""
-    return sampled_terms(basis, ds, els[0].rule, float(els[0].K[0].real), periods)
-
-
 #: Element law → the projections G_i of its rows' forces K f_i(δ) and the series S_ij of K ∂f_i/∂δ_j (local row
-#: indices), whose Toeplitz matrices are the Jacobian's blocks: a new law is one such function (its rows: ``LAWS``).
-LAW_TERMS = {"dead_zone": dead_zone, "rolling_bearing": sampled}
+#: indices; any shapes that reshape to (rows, 2Hd + 1) and (rows, rows, 4Hd + 1)), whose Toeplitz matrices are the
+#: Jacobian's blocks, of its rows' deflections ``ds`` and elements ``els``: a new law is one such function (its rows:
+#: ``LAWS``).  The dead zone's K f(δ; D) and the series S of K f'(δ)
+#: (:func:`.aft.dead_zone_terms`); a law sampled on the time grid (its ``rule``, :func:`.aft.sampled_terms`).
+LAW_TERMS = {
+    "dead_zone": lambda ds, els, basis, periods: dead_zone_terms(basis, ds[0], els[0].K, els[0].gap)[:2],
+    "rolling_bearing": lambda ds, els, basis, periods: sampled_terms(basis, ds, els[0].rule, els[0].K[0].real, periods),
+}
 
 
 def default_harmonics(model: Any, period: int = 1) -> int:
@@ -321,7 +319,6 @@ class HBEquations:
         self.D1, i = np.zeros((M, M)), np.arange(1, H + 1)
         self.D1[i, H + i], self.D1[H + i, i] = kk, -kk
         self._ik = 1j * np.arange(-H, H + 1)
-        self._d1 = np.nonzero(self.D1)
         self._ikd = 1j * np.arange(-self.Hd, self.Hd + 1)
         self.reference, self._scalar, self._cache = form.reference, form.scalar, {}
 
@@ -338,8 +335,8 @@ class HBEquations:
     @staticmethod
     def _ste_harmonics(form: HBForm) -> int:
         """Largest harmonic of φ with a nonzero coefficient in the elements' E series."""
-        hs = [np.abs(np.flatnonzero(np.abs(e.E) > 0) - (len(e.E) - 1) // 2) for e in form.elements]
-        return max((int(h.max(initial=0)) for h in hs), default=0)
+        hs = (np.abs(np.flatnonzero(e.E) - (len(e.E) - 1) // 2).max(initial=0) for e in form.elements)
+        return int(max(hs, default=0))
 
     def model_at(self, p: float | None = None) -> Any:
         """The system at parameter value ``p`` (the base system when ``p`` is None)."""
@@ -351,22 +348,23 @@ class HBEquations:
         gauge, W_e ⊗ I, V_eᵀ ⊗ I, the two −I, every op_ij; as (plain and bordered slots, n, the z unknowns, the values
         of I⊗diag(k²), A⊗I and B⊗D₁, the fixed values of the gauge's and auxiliary blocks)."""
         M, N0, els = self.M, f.dofs * self.M, f.elements
-        c, (di, dj), (ei, ej) = np.arange(M), self._d1, np.divmod(np.arange(M * M), M)
-        parts = [_kron_index(np.eye(f.dofs), c, c, M), _kron_index(f.A, c, c, M), _kron_index(f.B, di, dj, M)]
+        c, (di, dj), (ei, ej) = np.arange(M), np.nonzero(self.D1), np.divmod(np.arange(M * M), M)
+        lin = ((np.eye(f.dofs), c, c, self._k2), (f.A, c, c, np.ones(M)), (f.B, di, dj, self.D1[di, dj]))
+        parts = [_kron_index(m, bi, bj, M) for m, bi, bj, _ in lin]
         (gi, gk), (hi, hk) = np.nonzero(self.left), np.nonzero(self.gauge)
         parts += [(gi, N0 + gk), (N0 + hk, hi)]
         n, nz = self.basis.size, len(els) * M
-        const = [np.repeat(el.W[el.W != 0], M) for el in els] + [np.repeat(el.V[el.V != 0], M) for el in els]
+        const = [np.repeat(v[v != 0], M) for v in [el.W for el in els] + [el.V for el in els]]
         const = [self.left[np.nonzero(self.left)], self.gauge[np.nonzero(self.gauge)], *const, -np.ones(2 * nz)]
-        linear = tuple(
-            _kron_values(*mv) for mv in ((np.eye(f.dofs), self._k2), (f.A, np.ones(M)), (f.B, self.D1[di, dj]))
-        )
+        linear = tuple((m[np.nonzero(m)][:, None] * b).ravel() for m, _, _, b in lin)  # (m ⊗ b at those entries)
+
+        def block(v: np.ndarray, at: int) -> tuple:  # the entries of v ⊗ I: rows of x, columns of the auxiliary at
+            i = np.flatnonzero(v)
+            return (i[:, None] * M + c).ravel(), at + np.tile(c, i.size)
 
         def lifted(k: int) -> tuple:  # the auxiliaries after the k unknowns x (and p): z at k, y at k + nz
-            aux = [(_kron_index(el.W[:, None], c, c, M)[0], k + nz + e * M + np.tile(c, np.count_nonzero(el.W)))
-                   for e, el in enumerate(els)]  # fmt: skip
-            aux += [(k + e * M + np.tile(c, np.count_nonzero(el.V)), _kron_index(el.V[:, None], c, c, M)[0])
-                    for e, el in enumerate(els)]  # fmt: skip
+            aux = [block(el.W, k + nz + e * M) for e, el in enumerate(els)]
+            aux += [block(el.V, k + e * M)[::-1] for e, el in enumerate(els)]
             aux += [(k + np.arange(nz),) * 2, (k + nz + np.arange(nz),) * 2]
             aux += [(k + nz + i * M + ei, k + j * M + ej) for i, j in _couplings(f)]
             return [np.concatenate(x) for x in zip(*parts, *aux)]
@@ -392,9 +390,9 @@ class HBEquations:
             return self._entry(None)._replace(model=None)
         m = self.base if key is None else self.base.with_param(self.param, key)
         f = self.form if key is None else m.hb_form(self.n)
-        if self._ste_harmonics(f) > self.Hd:
+        if (h := self._ste_harmonics(f)) > self.Hd:
             raise ModelError(
-                f"{self.param}: the STE reaches harmonic {self._ste_harmonics(f)} of ν, above the {self.Hd} this "
+                f"{self.param}: the STE reaches harmonic {h} of ν, above the {self.Hd} this "
                 f"harmonic balance was set up with"
             )
         E = tuple(self.dbasis.to_real(centred(e.E, self.Hd)) for e in f.elements)
@@ -403,9 +401,7 @@ class HBEquations:
 
     def nu(self, p: float | None = None) -> float:
         """ν = ω/periods at ``p``."""
-        if p is not None and self.param == "omega":
-            return float(p) / self.periods
-        return self.model_at(p).omega / self.periods
+        return (float(p) if p is not None and self.param == "omega" else self.model_at(p).omega) / self.periods
 
     def _split(self, x: np.ndarray) -> np.ndarray:
         return np.asarray(x, dtype=float)[: self.basis.dofs * self.M].reshape(self.basis.dofs, self.M)
@@ -437,12 +433,13 @@ class HBEquations:
         for e0, r in _units(pt.form):
             ds = [self._delta(pt, e, Q) for e in range(e0, e0 + r)]
             Gs, S = LAW_TERMS[els[e0].law](ds, els[e0 : e0 + r], self.dbasis, self.periods)
-            for el, d, G in zip(els[e0 : e0 + r], ds, Gs):
+            S = np.reshape(S, (r, r, -1))
+            for el, d, G in zip(els[e0 : e0 + r], ds, np.reshape(Gs, (r, -1))):
                 Lc = (len(el.C) - 1) // 2
                 damp = np.convolve(el.C, self._ikd * self.dbasis.to_complex(d))[Lc + Hd - H : Lc + Hd + H + 1]
                 R1 += np.outer(el.W, self.hbasis.to_real(damp))
                 R0 += np.outer(el.W, self.hbasis.to_real(G[Hd - H : Hd + H + 1]))
-            Ss.update({(e0 + i, e0 + j): v for (i, j), v in S.items()})
+            Ss.update({(e0 + i, e0 + j): S[i, j] for i in range(r) for j in range(r)})
         J = self._jacobian(pt, nu, Ss) if jacobian else None
         N0, r = self.basis.size - self.basis.rigid, self.basis.rigid
         R = (nu * nu * R2 + nu * R1 + R0).ravel()
@@ -483,13 +480,14 @@ class HBEquations:
             raise ModelError("dR_dp: the system has no continuation parameter")
         if self.param != "omega":
             d = FD_REL_STEP * max(1.0, abs(p))
-            vals = []
-            for q in (p + d, p - d):
+
+            def at(q: float) -> tuple:  # (a value outside the parameter's range: p itself, a one-sided difference)
                 try:
-                    vals.append((q, self.residual(x, q, jacobian=False)[0]))
+                    return q, self.residual(x, q, jacobian=False)[0]
                 except ModelError:
-                    vals.append((p, self.residual(x, p, jacobian=False)[0]))
-            (q1, r1), (q2, r2) = vals
+                    return p, self.residual(x, p, jacobian=False)[0]
+
+            (q1, r1), (q2, r2) = at(p + d), at(p - d)
             return (r1 - r2) / (q1 - q2)
         A = self.bordered(x, p)[1]
         return A.col if isinstance(A, SparseJacobian) else A[:-1, -1]
@@ -556,19 +554,16 @@ class HBEquations:
                 Cop += np.kron(np.outer(el.W, el.V), real_operator_kernel(toeplitz(el.C, self.H), self.H))
             K1 = 2.0 * nu * np.kron(np.eye(nd), self.D1) + Cop
             return system_hill_floquet(J, K1, self.elastic, nu, self.H, -f.mean_trace())
-        stiff = None
-        if any(el.rule is not None for el in f.elements):  # a bound of a sampled law's stiffness: its trace's
-            Ss = self._core(x, p, False)[4]
-            stiff = {e: float(np.abs(Ss[e, e]).sum() + np.abs(Ss[e + 1, e + 1]).sum()) for e in bearing_rows(f)[1]}
+        bx = bearing_rows(f)[1]  # a bound of a sampled law's stiffness: its trace's
+        Ss = self._core(x, p, False)[4] if bx.size else {}
+        stiff = {e: float(np.abs(Ss[e, e]).sum() + np.abs(Ss[e + 1, e + 1]).sum()) for e in bx}
         return monodromy_floquet(f, nu, self.state(x, p), self.elastic, stiff)
-
-    def extremes(self, x: np.ndarray, p: float | None = None, e: int | None = None) -> tuple[float, float]:
-        """(δ_min, δ_max) over the period of element ``e`` (default the reference element)."""
-        return signal_extrema(self.dbasis, self.deflection(x, self.reference if e is None else e, p))[:2]
 
     def element_extremes(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
         """(elements, 2): δ_min, δ_max of every element."""
-        return np.array([self.extremes(x, p, e) for e in range(len(self.form.elements))])
+        return np.array(
+            [signal_extrema(self.dbasis, self.deflection(x, e, p))[:2] for e in range(len(self.form.elements))]
+        )
 
     def dynamic_factors(self, x: np.ndarray, p: float | None = None) -> np.ndarray:
         """Largest mesh force C δ' + K f(δ) over the period (from FORCE_OVERSAMPLE·N samples) over the static
@@ -683,11 +678,6 @@ def _kron_index(m: np.ndarray, bi: np.ndarray, bj: np.ndarray, M: int) -> tuple[
     """Rows and columns of the entries (bi, bj) of an M×M block at each nonzero of ``m`` (of m ⊗ block)."""
     i, j = np.nonzero(m)
     return (i[:, None] * M + bi).ravel(), (j[:, None] * M + bj).ravel()
-
-
-def _kron_values(m: np.ndarray, block: np.ndarray) -> np.ndarray:
-    """The values of m ⊗ block at :func:`_kron_index`'s entries (``block``: the values at (bi, bj))."""
-    return (m[np.nonzero(m)][:, None] * block).ravel()
 
 
 def _samples(z: np.ndarray, Ns: int) -> np.ndarray:

@@ -134,10 +134,7 @@ class HBForm:
 
     def mean_trace(self) -> float:
         """Mean over the period of the trace of the first-order Jacobian: −tr B − Σ_e (V_e·W_e) C̄_e."""
-        tr = float(np.trace(self.B))
-        for e in self.elements:
-            tr += float(e.V @ e.W) * mean(e.C)
-        return -tr
+        return -sum((float(e.V @ e.W) * mean(e.C) for e in self.elements), float(np.trace(self.B)))
 
 
 def mean(z: np.ndarray) -> float:
@@ -188,16 +185,15 @@ def pair_form(model: Any, period: int = 1) -> HBForm:
     n, M = int(period), int(model.period_multiple())  # the series are harmonics of the forcing frequency ω/M
     s = M // int(model.cycles)  # harmonic j of the mesh series is harmonic j·s of ω/M
     cf = model.coefficients()
-    C, K = spread(cf[0], 1, n), spread(cf[1], 1, n)
     sts = np.zeros_like(cf[2])  # the STE's inertial load per ν²: its (ω/P)² is (n s ν)²
     for j, (e, ph) in enumerate(zip(model.eps, model.phi_e), start=1):
         sts[j * s] = (n * s * j) ** 2 * e * np.array([math.cos(ph), -math.sin(ph)])
-    G2 = spread(sts, 1, n)[None, :]
-    G0 = spread(model.replace(eps=(), phi_e=()).coefficients(cf.shape[1] - 1)[2], 1, n)[None, :]  # f_p, torque orders
+    loads = model.replace(eps=(), phi_e=()).coefficients(cf.shape[1] - 1)[2]  # f_p, torque orders
+    C, K, G2, G0 = (spread(x, 1, n) for x in (cf[0], cf[1], sts, loads))
     one, law, z = np.ones(1), model.elements[0].law.name, np.zeros((1, 1))
     el = FormElement("mesh", "mesh", one, one, C, K, np.zeros(1, complex), float(model.D), float(model.fp), law)
     span = n * (int(model.n_harmonics) + 2)
-    return HBForm(M * n, M, np.eye(1), z, z, G0, G2, (el,), np.zeros((1, 0)), 0, span, ("u",))
+    return HBForm(M * n, M, np.eye(1), z, z, G0[None], G2[None], (el,), np.zeros((1, 0)), 0, span, ("u",))
 
 
 def _system_loads(model: Any, Mi: np.ndarray, periods: int) -> np.ndarray:

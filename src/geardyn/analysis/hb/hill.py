@@ -218,7 +218,7 @@ def system_hill_floquet(K0: np.ndarray, K1: np.ndarray, P: np.ndarray, nu: float
     rest = [c for c in after[:PARTNER_CANDIDATES] if not _is_copy(c, chosen, lam, mu_all, y, nu)]
     if not rest:
         rest = [c for c in after if not _is_copy(c, chosen, lam, mu_all, y, nu)][:1] or after[:1]
-    prod = complex(np.prod(mu_all[chosen])) if chosen else 1.0
+    prod = complex(np.prod(mu_all[chosen]))  # (at least one taken: the first is never a copy)
     partner = ref / prod if prod != 0 else complex(math.inf)
     rest_a = np.array(rest)
     chosen.append(int(rest_a[int(np.argmin(np.abs(mu_all[rest_a] - partner)))]))

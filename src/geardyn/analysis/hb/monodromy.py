@@ -84,9 +84,9 @@ def bearing_rows(form: Any) -> tuple[np.ndarray, np.ndarray]:
     …; the cage's radians per radian of φ in ``BQ_RHO``) and the index of each one's x row."""
     els = form.elements
     bx = [e for e, el in enumerate(els) if el.law == "rolling_bearing" and el.name.endswith(".x")]
-    rows = [(e, *els[e].rule.params()) for e in bx]  # (e, Z, n, c, ratio, phase)
+    # (the rule's parameters: Z, n, c, ratio, phase)
     rows = [[Z, els[e].K[0].real, n, c, els[e].C[0].real, els[e + 1].C[0].real, r / Z * form.periods, ph]
-            for e, Z, n, c, r, ph in rows]  # fmt: skip
+            for e in bx for Z, n, c, r, ph in [els[e].rule.params()]]  # fmt: skip
     return np.reshape(np.array(rows, dtype=float), (len(bx), 8)), np.array(bx, dtype=np.int64)
 
 
@@ -119,7 +119,7 @@ def monodromy_floquet(
     A, B = (np.ascontiguousarray(z, dtype=float) for z in (form.A, form.B))
     W, V = (np.array([getattr(e, k) for e in els], dtype=float).reshape(len(els), n) for k in "WV")
     bq, bx = bearing_rows(form)
-    C, K, E, D = [e.C for e in els], [e.K for e in els], [e.E for e in els], [e.gap for e in els]
+    C, K, E, D = ([getattr(e, k) for e in els] for k in ("C", "K", "E", "gap"))
     for e in bx:  # its rows are the kernel's law: no series of their own, no switch
         C[e] = C[e + 1] = K[e] = K[e + 1] = np.zeros(1, complex)
         D[e] = D[e + 1] = 0.0
@@ -127,26 +127,25 @@ def monodromy_floquet(
     P = np.eye(n) if P is None else np.asarray(P, dtype=float)
     count = 2 * P.shape[1]
     nan = np.full(count, complex(math.nan, math.nan))
+    diverged = HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
     if count == 0:
         return NO_MULTIPLIERS
     (Cz, Lc), (Kz, Lk), (Ez, Le), (Gz, Lg) = map(_pack, (C, K, E, G))
     dEz = Ez * (1j * (np.arange(Ez.shape[1])[None, :] - Le[:, None]))
     x_start = np.array(x0, dtype=float)
     if not (math.isfinite(nu) and nu > 0 and all(np.all(np.isfinite(z)) for z in (Cz, Kz, Ez, Gz, x_start))):
-        return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
+        return diverged
     kb, cb = np.abs(Kz).sum(axis=1), np.abs(Cz).sum(axis=1)
     for i, e in enumerate(bx):
         kb[e] = kb[e + 1] = (stiff or {}).get(e, 0.0)
         cb[e], cb[e + 1] = bq[i, 4:6]
-    kmax = A + (kb[:, None] * W).T @ V  # the largest stiffness and damping (bounds)
-    cmax = B + (cb[:, None] * W).T @ V
+    kmax, cmax = (X + (b[:, None] * W).T @ V for X, b in ((A, kb), (B, cb)))  # the largest stiffness, damping (bounds)
     krad, crad = (abs(float(kmax[0, 0])), abs(float(cmax[0, 0]))) if n == 1 else (
         float(np.max(np.abs(np.linalg.eigvals(kmax)))), float(np.linalg.norm(cmax, 2)))  # fmt: skip
     rate = math.sqrt(krad) + crad
     hmax = STEP_ANGLE * nu / max(rate, 1e-12)  # in φ
     Q = np.zeros((2 * n, count))  # diag(P, P) (scipy's block_diag costs 30 times this)
-    Q[:n, : count // 2] = P
-    Q[n:, count // 2 :] = P
+    Q[:n, : count // 2] = Q[n:, count // 2 :] = P
     sp = (*_rows(np.logical_or(A != 0, B != 0)), *_rows(V != 0), *_rows(W != 0))  # the nonzeros the kernel sums
     args = (A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, np.asarray(D, dtype=float), hmax, float(nu))
 
@@ -160,7 +159,7 @@ def monodromy_floquet(
 
     first = period(x_start, 1 if bx.size else FIRST_STRIDE)
     if first is None:
-        return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
+        return diverged
     x, Phi = first
     # one Newton step of shooting on the elastic part (the HB state's error moves the switch instants, and with them
     # the multipliers, to first order); without it (a step over REFINE_GAIN times the gap) the HB state again
@@ -178,7 +177,7 @@ def monodromy_floquet(
     if again is None and start is not x_start:
         again = period(x_start)
     if again is None:
-        return HillResult(nan, nan, np.zeros(count), math.nan, Status.DIVERGED)
+        return diverged
     Phi = again[1]
     T = 2.0 * math.pi / nu
     mu = np.linalg.eigvals(Phi).astype(complex)

@@ -43,6 +43,8 @@ STABILITY_EVENTS = ("fold", "period-doubling", "neimark-sacker")
 #: Steps of ω in which a grid point is reached from the nearest branch point when Newton from the interpolated
 #: coefficients fails.
 WALK_STEPS = 8
+#: A sweep's path: its pieces (ω_a, ω_b, the stable segment's index or None), in sweep order.
+Pieces = list[tuple[float, float, int | None]]
 
 
 @dataclass
@@ -123,14 +125,11 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     st = decided_stability(res)
     P = res.values.size
     resolved = res.status == int(Status.OK)
-    runs = []
+    runs, dv = [], np.diff(res.values)
+    turns = np.flatnonzero(dv[:-1] * dv[1:] < 0) + 1  # split where the branch turns in ω (a stable segment does not)
     for i, j in _runs(st):
-        k0 = i  # split where the branch turns in ω (a stable segment does not, generically)
-        for k in range(i + 1, j):
-            if (res.values[k] - res.values[k - 1]) * (res.values[k + 1] - res.values[k]) < 0:
-                runs.append((k0, k))
-                k0 = k
-        runs.append((k0, j))
+        cuts = [i, *turns[(turns > i) & (turns < j)].tolist(), j]
+        runs += zip(cuts, cuts[1:])
     out = []
     for i0, i1 in runs:
         w = list(res.values[i0 : i1 + 1])
@@ -154,7 +153,7 @@ def stable_segments(res: HBContinuation) -> list[Segment]:
     return out
 
 
-def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, list[tuple[float, float, int | None]]]:
+def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, Pieces]:
     """``{"up": [...], "down": [...]}``: the pieces (ω_a, ω_b, segment index or None) the sweeps over [lo, hi]
     follow, in sweep order; consecutive pieces on two segments are a jump at their common end, a piece with None
     has no stable solution."""
@@ -168,37 +167,30 @@ def _sweep_paths(segments: list[Segment], lo: float, hi: float) -> dict[str, lis
             """Segments that continue from x in the sweep direction."""
             return [s for s in segments if s.index != exclude and span[s.index][0] <= x < span[s.index][1]]
 
-        pieces: list[tuple[float, float, int | None]] = []
+        pieces: Pieces = []
         cands = ahead(x)
         cur = (min if d > 0 else max)(cands, key=lambda s: s.index) if cands else None
         while x < stop:
-            if cur is None:
+            if cur is None:  # on no segment until the next one starts
                 e = min([a for a, _ in span.values() if x < a < stop], default=stop)
-                pieces.append((d * x, d * e, None))
-                x = e
-                cands = [s for s in ahead(x) if span[s.index][0] == x]  # the segment that starts here
-                cur = cands[0] if cands else None
-                continue
-            e = min(span[cur.index][1], stop)
-            pieces.append((d * x, d * e, cur.index))
-            x = e
-            if x == stop:
-                break
-            end = cur.ends[1] if d > 0 else cur.ends[0]
-            if end is None or end.type != "fold":
-                # a period doubling or torus: the attractor goes on nearby, not period-n; no located event (the
-                # branch's end, or a change of stability that was not located): where it goes is not known, and a
+                nxt = next((s for s in ahead(e) if span[s.index][0] == e), None)
+            else:  # to the segment's end, then a jump to the segment beyond it with the nearest amplitude
+                e, end = min(span[cur.index][1], stop), cur.ends[d > 0]
+                amp = cur.amplitude_at(d * e)
+                # after a period doubling or torus the attractor goes on nearby, not period-n; after no located event
+                # (the branch's end, or a change of stability that was not located) where it goes is not known: a
                 # jump is placed only at a fold
-                cur = None
-                continue
-            amp = cur.amplitude_at(d * x)
-            cands = ahead(x, cur.index)
-            cur = min(cands, key=lambda s: abs(s.amplitude_at(d * x) - amp)) if cands else None
+                fold = end is not None and end.type == "fold"
+                nxt = min(
+                    ahead(e, cur.index) if fold else [], key=lambda s: abs(s.amplitude_at(d * e) - amp), default=None
+                )
+            pieces.append((d * x, d * e, None if cur is None else cur.index))
+            x, cur = e, nxt
         out[lab] = pieces
     return out
 
 
-def _on(pieces: list[tuple[float, float, int | None]], w: float) -> int | None:
+def _on(pieces: Pieces, w: float) -> int | None:
     """The segment a sweep is on at ω = w (the first piece containing it, in sweep order)."""
     for a, b, s in pieces:
         if min(a, b) <= w <= max(a, b):
@@ -286,10 +278,8 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     phis = 2.0 * np.pi * np.arange(n) / n
     shape = (2, w.size)
     f = {k: np.full(shape, np.nan) for k in MEASURES}
-    pu, pv = np.full(shape + (n,), np.nan), np.full(shape + (n,), np.nan)
-    period = np.zeros(shape, dtype=np.int64)
-    impact = np.full(shape, -1, dtype=np.int64)
-    status = np.full(shape, int(Status.UNRESOLVED), dtype=np.int64)
+    pu, pv = np.full((2, *shape, n), np.nan)
+    period, impact, status = (np.full(shape, v, dtype=np.int64) for v in (0, -1, int(Status.UNRESOLVED)))
 
     @functools.cache
     def solve(s: int, x: float) -> tuple[np.ndarray, Status]:  # (each point once: the sweeps and jumps share it)
@@ -314,25 +304,21 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
                 period[r, k] = _minimal_period(pu[r, k], pv[r, k], n)
                 impact[r, k] = impact_state(vals["u_min"], D)
         jumps = []
-        for lab in ("up", "down"):
+        for lab, d in (("up", 1.0), ("down", -1.0)):  # (d: the sweep's direction)
             pieces = paths[lab]
-            for (_a0, b0, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
-                if s0 is None or s1 is None:
-                    continue
-                x = float(b0)
-                end = segs[s0].coefficients[-1] if lab == "up" else segs[s0].coefficients[0]
-                a_to, st = solve(s1, x)
+            for (_a0, x, s0), (_a1, _b1, s1) in zip(pieces, pieces[1:]):
+                a_to, st = (None, None) if s0 is None or s1 is None else solve(s1, x)
                 if st is not Status.OK:
                     continue
-                m_from = _measures(basis, rd.deflection(end, rd.reference, x))[measure]
-                m_to = _measures(basis, rd.deflection(a_to, rd.reference, x))[measure]
-                d = 1.0 if lab == "up" else -1.0  # the grid points on either side, in the sweep's direction
-                before, after = w[d * w <= d * x], w[d * w > d * x]
+                end = segs[s0].coefficients[-1 if d > 0 else 0]
+                m_from, m_to = (_measures(basis, rd.deflection(a, rd.reference, x))[measure] for a in (end, a_to))
+                before, after = w[d * w <= d * x], w[d * w > d * x]  # the grid points on either side
                 g_from = float(before[np.argmax(d * before)]) if before.size else x
                 g_to = float(after[np.argmin(d * after)]) if after.size else x
-                jump = {"omega": x, "direction": "up" if m_to > m_from else "down", "size": abs(m_to - m_from)}
-                jump.update(sweep=lab, omega_from=g_from, omega_to=g_to, amplitude_from=m_from, amplitude_to=m_to)
-                jumps.append(jump)
+                jumps.append(
+                    dict(omega=x, direction="up" if m_to > m_from else "down", size=abs(m_to - m_from), sweep=lab,
+                         omega_from=g_from, omega_to=g_to, amplitude_from=m_from, amplitude_to=m_to)
+                )  # fmt: skip
     attrs = dict(param="omega", mode="harmonic balance", sweep="both", method="hb", measure=measure)
     attrs.update(jumps=json.dumps(jumps), hysteresis=json.dumps(_hysteresis(paths)))
     bif = json.dumps(res.bifurcations_json())
@@ -357,7 +343,7 @@ def response_from_branch(res: HBContinuation, omegas: Any, measure: str = "ampli
     return annotate(ds)
 
 
-def _hysteresis(paths: dict[str, list[tuple[float, float, int | None]]]) -> list[list[float]]:
+def _hysteresis(paths: dict[str, Pieces]) -> list[list[float]]:
     """Maximal ω intervals where the sweeps are on different stable segments, or one on a stable segment and
     the other on none (then its attractor is not that period-n solution either)."""
     cuts = sorted({float(v) for lab in paths for a, b, _s in paths[lab] for v in (a, b)})

@@ -189,8 +189,8 @@ def hb_solve(
         Q = Q[0] if eq.basis.dofs == 1 else Q
         sol = HBSolution(model, eq.H, eq.n, eq.N, Q, status, its, r, equations=eq, unknowns=x, rigid=eq.basis.rigid)
         if status is Status.OK:
-            sol.u_min, sol.u_max = eq.extremes(x)
             sol.element_extremes = eq.element_extremes(x)
+            sol.u_min, sol.u_max = map(float, sol.element_extremes[eq.reference])
             if stability:
                 sol.hill = eq.stability(x)
     return sol
