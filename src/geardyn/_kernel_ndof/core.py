@@ -106,21 +106,14 @@ def coef_at(coef, ratio, theta, out):
     H = coef.shape[2] - 1
     for m in range(M):
         ph = ratio[m] * theta
-        c0 = coef[m, 0, 0, 0]
-        k0 = coef[m, 1, 0, 0]
-        e0 = coef[m, 2, 0, 0]
-        ed = 0.0
+        out[m, :3] = coef[m, :3, 0, 0]
+        out[m, 3] = 0.0
         for j in range(1, H + 1):
             cj = math.cos(j * ph)
             sj = math.sin(j * ph)
-            c0 += coef[m, 0, j, 0] * cj + coef[m, 0, j, 1] * sj
-            k0 += coef[m, 1, j, 0] * cj + coef[m, 1, j, 1] * sj
-            e0 += coef[m, 2, j, 0] * cj + coef[m, 2, j, 1] * sj
-            ed += j * ratio[m] * (coef[m, 2, j, 1] * cj - coef[m, 2, j, 0] * sj)
-        out[m, 0] = c0
-        out[m, 1] = k0
-        out[m, 2] = e0
-        out[m, 3] = ed
+            for c in range(3):
+                out[m, c] += coef[m, c, j, 0] * cj + coef[m, c, j, 1] * sj
+            out[m, 3] += j * ratio[m] * (coef[m, 2, j, 1] * cj - coef[m, 2, j, 0] * sj)
     for b in range(M, out.shape[0]):  # rolling bearings: the cage angle ρ_b θ
         out[b, 0] = ratio[b] * theta
 
@@ -136,16 +129,22 @@ def _element_force(e, d, dv, cf, el, mode):
     return cc[c] * dv + kc[c] * _flock(d, Dc[c], mode[e])
 
 
-@njit(nogil=True, inline="always")
-def _row(ep, ej, Ev, x, vo, e):
-    """(V[e]·q̃, V[e]·q̃') of element row e; q̃ = x[0:n], q̃' = x[vo:vo+n]."""
-    d = 0.0
-    dv = 0.0
+@njit(nogil=True)
+def _row(ep, ej, Ev, q, v, vo, e, d, dv):
+    """(d + V[e]·q̃, dv + V[e]·q̃') of element row e, the terms added one by one in order; q̃ = q[0:n],
+    q̃' = v[vo:vo+n]."""
     for k in range(ep[e], ep[e + 1]):
         j = ej[k]
-        d += Ev[k] * x[j]
-        dv += Ev[k] * x[vo + j]
+        d += Ev[k] * q[j]
+        dv += Ev[k] * v[vo + j]
     return d, dv
+
+
+@njit(nogil=True)
+def _sub_row(wp, wi, Wv, out, o, e, s):
+    """out[o + i] −= W[e, i] s over the nonzeros of force row e."""
+    for k in range(wp[e], wp[e + 1]):
+        out[o + wi[k]] -= Wv[k] * s
 
 
 @njit(nogil=True, inline="always")
@@ -206,8 +205,8 @@ def _bearing_slots(sp, el, cf, q, vo, gk, gc):
     e0 = M + el[4].shape[0]
     for b in range(bq.shape[0]):
         ex = e0 + 2 * b
-        dx, vx = _row(ep, ej, Ev, q, vo, ex)
-        dy, vy = _row(ep, ej, Ev, q, vo, ex + 1)
+        dx, _vx = _row(ep, ej, Ev, q, q, vo, ex, 0.0, 0.0)
+        dy, _vy = _row(ep, ej, Ev, q, q, vo, ex + 1, 0.0, 0.0)
         kxx, kxy, kyy = bearing_slopes(dx, dy, cf[M + b, 0], bq, b)
         gk[ex] = kxx
         gk[ex + 1] = kyy
@@ -228,18 +227,8 @@ def _bearing_forces(sp, el, cf, q, v, s):
     e0 = M + el[4].shape[0]
     for b in range(bq.shape[0]):
         ex = e0 + 2 * b
-        dx = 0.0
-        vx = 0.0
-        for k in range(ep[ex], ep[ex + 1]):
-            j = ej[k]
-            dx += Ev[k] * q[j]
-            vx += Ev[k] * v[j]
-        dy = 0.0
-        vy = 0.0
-        for k in range(ep[ex + 1], ep[ex + 2]):
-            j = ej[k]
-            dy += Ev[k] * q[j]
-            vy += Ev[k] * v[j]
+        dx, vx = _row(ep, ej, Ev, q, v, 0, ex, 0.0, 0.0)
+        dy, vy = _row(ep, ej, Ev, q, v, 0, ex + 1, 0.0, 0.0)
         sx, sy = bearing_force(dx, dy, vx, vy, cf[M + b, 0], bq, b)
         s[ex] = sx
         s[ex + 1] = sy
@@ -262,26 +251,17 @@ def field(x, cf, sp, el, omega, mode, out):
     bq = el[5]
     e0 = M + el[4].shape[0]
     for e in range(e0):
-        d = 0.0
-        dv = 0.0
-        for k in range(ep[e], ep[e + 1]):
-            j = ej[k]
-            d += Ev[k] * x[j]
-            dv += Ev[k] * x[n + j]
+        d, dv = _row(ep, ej, Ev, x, x, n, e, 0.0, 0.0)
         if e < M:
             dv -= omega * cf[e, 3]
-        s = _element_force(e, d, dv, cf, el, mode)
-        for k in range(wp[e], wp[e + 1]):
-            out[n + wi[k]] -= Wv[k] * s
+        _sub_row(wp, wi, Wv, out, n, e, _element_force(e, d, dv, cf, el, mode))
     for b in range(bq.shape[0]):
         ex = e0 + 2 * b
-        dx, vx = _row(ep, ej, Ev, x, n, ex)
-        dy, vy = _row(ep, ej, Ev, x, n, ex + 1)
+        dx, vx = _row(ep, ej, Ev, x, x, n, ex, 0.0, 0.0)
+        dy, vy = _row(ep, ej, Ev, x, x, n, ex + 1, 0.0, 0.0)
         sx, sy = bearing_force(dx, dy, vx, vy, cf[M + b, 0], bq, b)
-        for k in range(wp[ex], wp[ex + 1]):
-            out[n + wi[k]] -= Wv[k] * sx
-        for k in range(wp[ex + 1], wp[ex + 2]):
-            out[n + wi[k]] -= Wv[k] * sy
+        _sub_row(wp, wi, Wv, out, n, ex, sx)
+        _sub_row(wp, wi, Wv, out, n, ex + 1, sy)
 
 
 @njit(nogil=True)
@@ -291,9 +271,7 @@ def slopes(x, cf, sp, el, mode, gk, gc):
     M, D, kc, cc, Dc = el[0], el[1], el[2], el[3], el[4]
     e0 = M + Dc.shape[0]
     for e in range(e0):
-        d = -cf[e, 2] if e < M else 0.0
-        for k in range(ep[e], ep[e + 1]):
-            d += Ev[k] * x[ej[k]]
+        d, _dv = _row(ep, ej, Ev, x, x, 0, e, -cf[e, 2] if e < M else 0.0, 0.0)
         if e < M:
             gk[e] = cf[e, 1] * _slope(d, D[e], mode[e])
             gc[e] = cf[e, 0]
@@ -355,44 +333,25 @@ def tan_free(Y, sp, gk, gc, out):
     B2 = gk.shape[0] - E  # two cross slots per bearing
     e0 = E - B2
     for c in range(Y.shape[1]):
+        y = Y[:, c]
+        o = out[:, c]
         for i in range(n):
-            out[i, c] = Y[n + i, c]
+            o[i] = y[n + i]
         for i in range(n):
             acc = 0.0
             for k in range(abp[i], abp[i + 1]):
                 j = abj[k]
-                acc += Av[k] * Y[j, c] + Bv[k] * Y[n + j, c]
-            out[n + i, c] = -acc
+                acc += Av[k] * y[j] + Bv[k] * y[n + j]
+            o[n + i] = -acc
         for e in range(e0):
-            pq = 0.0
-            pv = 0.0
-            for k in range(ep[e], ep[e + 1]):
-                j = ej[k]
-                pq += Ev[k] * Y[j, c]
-                pv += Ev[k] * Y[n + j, c]
-            t = gk[e] * pq + gc[e] * pv
-            for k in range(wp[e], wp[e + 1]):
-                out[n + wi[k], c] -= Wv[k] * t
+            pq, pv = _row(ep, ej, Ev, y, y, n, e, 0.0, 0.0)
+            _sub_row(wp, wi, Wv, o, n, e, gk[e] * pq + gc[e] * pv)
         for b in range(B2 // 2):
             ex = e0 + 2 * b
-            qx = 0.0
-            vx = 0.0
-            for k in range(ep[ex], ep[ex + 1]):
-                j = ej[k]
-                qx += Ev[k] * Y[j, c]
-                vx += Ev[k] * Y[n + j, c]
-            qy = 0.0
-            vy = 0.0
-            for k in range(ep[ex + 1], ep[ex + 2]):
-                j = ej[k]
-                qy += Ev[k] * Y[j, c]
-                vy += Ev[k] * Y[n + j, c]
-            tx = gk[ex] * qx + gk[E + 2 * b] * qy + gc[ex] * vx
-            ty = gk[ex + 1] * qy + gk[E + 2 * b + 1] * qx + gc[ex + 1] * vy
-            for k in range(wp[ex], wp[ex + 1]):
-                out[n + wi[k], c] -= Wv[k] * tx
-            for k in range(wp[ex + 1], wp[ex + 2]):
-                out[n + wi[k], c] -= Wv[k] * ty
+            qx, vx = _row(ep, ej, Ev, y, y, n, ex, 0.0, 0.0)
+            qy, vy = _row(ep, ej, Ev, y, y, n, ex + 1, 0.0, 0.0)
+            _sub_row(wp, wi, Wv, o, n, ex, gk[ex] * qx + gk[E + 2 * b] * qy + gc[ex] * vx)
+            _sub_row(wp, wi, Wv, o, n, ex + 1, gk[ex + 1] * qy + gk[E + 2 * b + 1] * qx + gc[ex + 1] * vy)
 
 
 @njit(nogil=True)
@@ -430,17 +389,9 @@ def element_values(q, v, vo, cf, sp, el, omega, out):
     M = el[0]
     for e in range(ep.shape[0] - 1):
         if e < M:
-            d = -cf[e, 2]
-            dv = -omega * cf[e, 3]
+            out[e, 0], out[e, 1] = _row(ep, ej, Ev, q, v, vo, e, -cf[e, 2], -omega * cf[e, 3])
         else:
-            d = 0.0
-            dv = 0.0
-        for k in range(ep[e], ep[e + 1]):
-            j = ej[k]
-            d += Ev[k] * q[j]
-            dv += Ev[k] * v[vo + j]
-        out[e, 0] = d
-        out[e, 1] = dv
+            out[e, 0], out[e, 1] = _row(ep, ej, Ev, q, v, vo, e, 0.0, 0.0)
 
 
 @njit(nogil=True, inline="always")

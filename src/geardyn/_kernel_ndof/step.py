@@ -31,6 +31,7 @@ from numba import njit
 from .core import (
     _bearing_forces,
     _bearing_slots,
+    _row,
     coef_at,
     element_values,
     field,
@@ -54,7 +55,9 @@ CROSSING_TOL = 1e-13
 @njit(nogil=True, inline="always")
 def load_at(dst, ld, r):
     """dst[0:n] = gb + Σ_o ct[r, o] go[o] of ``ld = (gb, go, ct)``: the load at the time of row r of ct; without
-    orders nothing is written."""
+    orders nothing is written (``ld`` None: the caller compiles without the refill)."""
+    if ld is None:
+        return
     gb, go, ct = ld
     O = go.shape[0]
     if O == 0:
@@ -73,69 +76,55 @@ def order_cosines(ro, po, theta, ct, r):
         ct[r, o] = math.cos(ro[o] * theta + po[o])
 
 
+@njit(nogil=True, inline="always")
+def _rk4_update(Y, wt, h6):
+    """Y += h6 (K1 + 2 K2 + 2 K3 + K4) of the tangent columns' stages wt[0:4]."""
+    for i in range(Y.shape[0]):
+        for k in range(Y.shape[1]):
+            Y[i, k] += h6 * (wt[0][i, k] + 2.0 * wt[1][i, k] + 2.0 * wt[2][i, k] + wt[3][i, k])
+
+
 @njit(nogil=True)
-def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt, Gq, Gv, ld, r):
+def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jw, ld, r):
     """Advance x (and the columns Y when ``tangent``) by one RK4 step of length h, in place.
 
     wk : (6, 2n) workspace (k1..k4, stage state, start state); wt : (5, 2n, k) tangent workspace;
-    gk, gc : (elements,) workspace (the element slopes); jt the Jacobian's pattern, Gq, Gv its values (workspace);
+    gk, gc : (elements,) workspace (the element slopes); ``jw = (jt, Gq, Gv)`` the Jacobian's pattern and its
+    values (workspace);
     ``ld`` the loads (module docstring), rows r, r + 1, r + 2 of its table at the start, midpoint and end.
+    Stage st (0 … 3) is taken at x + c k_st (c = 0, h/2, h/2, h; stage 0 at x itself) with the coefficients
+    cf0, cf1, cf1, cf2; the load is written before stages 0, 1 and 3 only (stage 2 shares stage 1's time).
     """
+    jt, Gq, Gv = jw
     d = x.shape[0]
-    hh = 0.5 * h
     h6 = h / 6.0
-    k1 = wk[0]
-    k2 = wk[1]
-    k3 = wk[2]
-    k4 = wk[3]
     xs = wk[4]
-    g = sp[10]
-    load_at(g, ld, r)
-    field(x, cf0, sp, el, omega, mode, k1)
+    Ys = wt[4]
+    cfs = (cf0, cf1, cf1, cf2)
+    for st in range(4):
+        c = (0.0, 0.5 * h, 0.5 * h, h)[st]
+        if st != 2:
+            load_at(sp[10], ld, r + (st + 1) // 2)
+        xi = x
+        if st > 0:
+            for i in range(d):
+                xs[i] = x[i] + c * wk[st - 1][i]
+            xi = xs
+        field(xi, cfs[st], sp, el, omega, mode, wk[st])
+        if tangent:
+            slopes(xi, cfs[st], sp, el, mode, gk, gc)
+            jac_values(sp, jt, gk, gc, Gq, Gv)
+            Yi = Y
+            if st > 0:
+                for i in range(d):
+                    for k in range(Y.shape[1]):
+                        Ys[i, k] = Y[i, k] + c * wt[st - 1][i, k]
+                Yi = Ys
+            tan_field(Yi, jt, Gq, Gv, wt[st])
     if tangent:
-        slopes(x, cf0, sp, el, mode, gk, gc)
-        jac_values(sp, jt, gk, gc, Gq, Gv)
-        tan_field(Y, jt, Gq, Gv, wt[0])
+        _rk4_update(Y, wt, h6)
     for i in range(d):
-        xs[i] = x[i] + hh * k1[i]
-    load_at(g, ld, r + 1)
-    field(xs, cf1, sp, el, omega, mode, k2)
-    if tangent:
-        slopes(xs, cf1, sp, el, mode, gk, gc)
-        jac_values(sp, jt, gk, gc, Gq, Gv)
-        Ys = wt[4]
-        for i in range(d):
-            for c in range(Y.shape[1]):
-                Ys[i, c] = Y[i, c] + hh * wt[0][i, c]
-        tan_field(Ys, jt, Gq, Gv, wt[1])
-    for i in range(d):
-        xs[i] = x[i] + hh * k2[i]
-    field(xs, cf1, sp, el, omega, mode, k3)
-    if tangent:
-        slopes(xs, cf1, sp, el, mode, gk, gc)
-        jac_values(sp, jt, gk, gc, Gq, Gv)
-        Ys = wt[4]
-        for i in range(d):
-            for c in range(Y.shape[1]):
-                Ys[i, c] = Y[i, c] + hh * wt[1][i, c]
-        tan_field(Ys, jt, Gq, Gv, wt[2])
-    for i in range(d):
-        xs[i] = x[i] + h * k3[i]
-    load_at(g, ld, r + 2)
-    field(xs, cf2, sp, el, omega, mode, k4)
-    if tangent:
-        slopes(xs, cf2, sp, el, mode, gk, gc)
-        jac_values(sp, jt, gk, gc, Gq, Gv)
-        Ys = wt[4]
-        for i in range(d):
-            for c in range(Y.shape[1]):
-                Ys[i, c] = Y[i, c] + h * wt[2][i, c]
-        tan_field(Ys, jt, Gq, Gv, wt[3])
-        for i in range(d):
-            for c in range(Y.shape[1]):
-                Y[i, c] += h6 * (wt[0][i, c] + 2.0 * wt[1][i, c] + 2.0 * wt[2][i, c] + wt[3][i, c])
-    for i in range(d):
-        x[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        x[i] += h6 * (wk[0][i] + 2.0 * wk[1][i] + 2.0 * wk[2][i] + wk[3][i])
 
 
 # ----------------------------------------------------------------------------- accurate mode
@@ -168,137 +157,78 @@ def _gfun(d, D, m):
 
 
 @njit(nogil=True)
-def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds):
-    """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``lds = (ld, ro, po)``
-    the loads (their table ct the rows of this step's three times)."""
-    for i in range(x0.shape[0]):
-        xo[i] = x0[i]
-    coef_at(coef, ratio, omega * t, cfa[0])
-    coef_at(coef, ratio, omega * (t + 0.5 * s), cfa[1])
-    coef_at(coef, ratio, omega * (t + s), cfa[2])
+def _locked(x0, t, s, xo, tangent, ac):
+    """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``ac`` the accurate mode's
+    arrays (:func:`accurate_step`), its loads' table ct the rows of this step's three times."""
+    coef, ratio, omega, sp, el, mode, cfa, _ev, _gaps, wk, wt, gk, gc, jw, Y, _Ys, lds = ac
+    xo[:] = x0
     ld, ro, po = lds
-    ct = ld[2]
-    order_cosines(ro, po, omega * t, ct, 0)
-    order_cosines(ro, po, omega * (t + 0.5 * s), ct, 1)
-    order_cosines(ro, po, omega * (t + s), ct, 2)
-    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt[0], jt[1], jt[2], ld, 0)
+    for k in range(3):  # the start, midpoint and end: t + 0, t + s/2, t + s
+        tk = t + 0.5 * k * s
+        coef_at(coef, ratio, omega * tk, cfa[k])
+        order_cosines(ro, po, omega * tk, ld[2], k)
+    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jw, ld, 0)
 
 
 @njit(nogil=True)
-def _worst(x, t, coef, ratio, omega, sp, el, gaps, mode, cfa, ev):
-    """Smallest locked-branch distance over the elements at state x, time t, and its element."""
+def _values(x, t, ac):
+    """(δ, δ') of every element at state x, time t into ac's ``ev`` (the coefficients into cfa[3])."""
+    coef, ratio, omega, sp, el, _mode, cfa, ev = ac[:8]
     coef_at(coef, ratio, omega * t, cfa[3])
     element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
-    best = np.inf
-    who = -1
-    for e in range(ev.shape[0]):
-        gv = _gfun(ev[e, 0], gaps[e], mode[e])
-        if gv < best:
-            best = gv
-            who = e
-    return best, who
+    return ev
 
 
 @njit(nogil=True)
-def accurate_step(
-    x,
-    t,
-    h,
-    coef,
-    ratio,
-    omega,
-    sp,
-    el,
-    gaps,
-    mode,
-    xo,
-    cfa,
-    wk,
-    wt,
-    gk,
-    gc,
-    jt,
-    tangent,
-    Y,
-    Ysave,
-    ev,
-    lds,
-):
+def _worst(x, t, ac):
+    """Smallest locked-branch distance over the elements at state x, time t."""
+    ev = _values(x, t, ac)
+    best = np.inf
+    for e in range(ev.shape[0]):
+        gv = _gfun(ev[e, 0], ac[8][e], ac[5][e])
+        if gv < best:
+            best = gv
+    return best
+
+
+@njit(nogil=True)
+def accurate_step(x, t, h, xo, tangent, ac):
     """Advance x (and Y) by one step of length h split at every contact-boundary crossing.
 
-    ``jt`` is (the Jacobian's pattern, its values Gq, Gv) of :func:`rk4`; ``lds`` the loads of :func:`_locked`."""
-    d = x.shape[0]
+    ``ac = (coef, ratio, omega, sp, el, mode, cfa, ev, gaps, wk, wt, gk, gc, jw, Y, Ysave, lds)``: the point's
+    coefficients, the element modes and workspaces, ``jw`` (the Jacobian's pattern, its values Gq, Gv) of
+    :func:`rk4`, the tangent columns Y (and a copy), ``lds = (ld, ro, po)`` the loads."""
+    Y = ac[14]
+    Ysave = ac[15]
+    wk5 = ac[9][5]
     rem = h
     tt = t
-    for _split in range(MAX_SPLITS):
-        coef_at(coef, ratio, omega * tt, cfa[3])
-        element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
-        _regions(ev, gaps, mode)
+    for split in range(MAX_SPLITS + 1):
+        _regions(_values(x, tt, ac), ac[8], ac[5])
         if tangent:
-            for i in range(d):
-                for c in range(Y.shape[1]):
-                    Ysave[i, c] = Y[i, c]
-        _locked(
-            x,
-            tt,
-            rem,
-            coef,
-            ratio,
-            omega,
-            sp,
-            el,
-            mode,
-            xo,
-            cfa,
-            wk,
-            wt,
-            gk,
-            gc,
-            jt,
-            tangent,
-            Y,
-            lds,
-        )
-        gend, _w = _worst(xo, tt + rem, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+            Ysave[:, :] = Y
+        _locked(x, tt, rem, xo, tangent, ac)
+        if split == MAX_SPLITS:  # split limit reached: the step finished unsplit
+            x[:] = xo
+            return
         hi = rem
-        ghi = gend
-        if gend >= 0.0:
+        ghi = _worst(xo, tt + rem, ac)
+        if ghi >= 0.0:
             # a crossing out and back inside the sub-step: check a few locked sub-lengths
             for k in range(1, HERMITE_SAMPLES + 1):
                 sk = rem * k / (HERMITE_SAMPLES + 1)
-                _locked(
-                    x,
-                    tt,
-                    sk,
-                    coef,
-                    ratio,
-                    omega,
-                    sp,
-                    el,
-                    mode,
-                    wk[5],
-                    cfa,
-                    wk,
-                    wt,
-                    gk,
-                    gc,
-                    jt,
-                    False,
-                    Y,
-                    lds,
-                )
-                gsk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+                _locked(x, tt, sk, wk5, False, ac)
+                gsk = _worst(wk5, tt + sk, ac)
                 if gsk < 0.0:
                     hi = sk
                     ghi = gsk
                     break
         if ghi >= 0.0:
-            for i in range(d):
-                x[i] = xo[i]
+            x[:] = xo
             return
         # bracket [lo, hi] with g(lo) >= 0 > g(hi): Illinois
         lo = 0.0
-        glo, _w = _worst(x, tt, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+        glo = _worst(x, tt, ac)
         if glo < 0.0:
             glo = 0.0
         side = 0
@@ -308,28 +238,8 @@ def accurate_step(
             s = hi - ghi * (hi - lo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
             if not (s > lo and s < hi):
                 s = 0.5 * (lo + hi)
-            _locked(
-                x,
-                tt,
-                s,
-                coef,
-                ratio,
-                omega,
-                sp,
-                el,
-                mode,
-                wk[5],
-                cfa,
-                wk,
-                wt,
-                gk,
-                gc,
-                jt,
-                False,
-                Y,
-                lds,
-            )
-            gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+            _locked(x, tt, s, wk5, False, ac)
+            gs = _worst(wk5, tt + s, ac)
             if gs == 0.0:
                 lo = s
                 hi = s
@@ -348,43 +258,13 @@ def accurate_step(
                 side = -1
         s = hi
         if tangent:
-            for i in range(d):
-                for c in range(Y.shape[1]):
-                    Y[i, c] = Ysave[i, c]
-        _locked(
-            x,
-            tt,
-            s,
-            coef,
-            ratio,
-            omega,
-            sp,
-            el,
-            mode,
-            xo,
-            cfa,
-            wk,
-            wt,
-            gk,
-            gc,
-            jt,
-            tangent,
-            Y,
-            lds,
-        )
-        for i in range(d):
-            x[i] = xo[i]
+            Y[:, :] = Ysave
+        _locked(x, tt, s, xo, tangent, ac)
+        x[:] = xo
         tt += s
         rem -= s
         if rem <= 0.0:
             return
-    # split limit reached: finish the step unsplit
-    coef_at(coef, ratio, omega * tt, cfa[3])
-    element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
-    _regions(ev, gaps, mode)
-    _locked(x, tt, rem, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds)
-    for i in range(d):
-        x[i] = xo[i]
 
 
 # ----------------------------------------------------------------------------- plain step (padded layout)
@@ -410,17 +290,10 @@ def aligned_zeros(rows, cols):
 def pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP):
     """Copy point p's block-sparse matrices into the aligned buffers AT, BT (diagonals, LANE_BLOCK), WT, gP; the
     tuple of the plain step's block arrays."""
-    nc = bcj.shape[0]
-    ne = bej.shape[0]
-    for k in range(nc):
-        for r in range(LANE_BLOCK):
-            AT[k, r] = ATs[p, k, r]
-            BT[k, r] = BTs[p, k, r]
-    for k in range(ne):
-        for r in range(LANE_BLOCK):
-            WT[k, r] = WTs[p, k, r]
-    for i in range(gP.shape[0]):
-        gP[i] = gPs[p, i]
+    AT[: bcj.shape[0]] = ATs[p]
+    BT[: bcj.shape[0]] = BTs[p]
+    WT[: bej.shape[0]] = WTs[p]
+    gP[:] = gPs[p]
     return (bcp, bcj, AT, BT, bep, bej, WT, gP)
 
 
@@ -453,6 +326,8 @@ def element_table(tab, M, kc, cc, D, Dc, omega, TB, Dp):
     C = Dc.shape[0]
     TB[:, :, :] = 0.0
     Dp[:] = 0.0
+    Dp[:M] = D
+    Dp[M : M + C] = Dc
     for i in range(TB.shape[0]):
         for e in range(M):
             for c in range(4):
@@ -462,10 +337,6 @@ def element_table(tab, M, kc, cc, D, Dc, omega, TB, Dp):
         for c in range(C):
             TB[i, 0, M + c] = cc[c]
             TB[i, 1, M + c] = kc[c]
-    for e in range(M):
-        Dp[e] = D[e]
-    for c in range(C):
-        Dp[M + c] = Dc[c]
 
 
 @njit(nogil=True, inline="always")
@@ -482,50 +353,37 @@ def values_vec(q, v, r, ef, sp, el, ev, evs):
         ev[e, 0] = evs[0, e]
         ev[e, 1] = evs[1, e]
     for e in range(e1, ep.shape[0] - 1):
-        d = 0.0
-        dv = 0.0
-        for k in range(ep[e], ep[e + 1]):
-            j = ej[k]
-            d += Ev[k] * q[j]
-            dv += Ev[k] * v[j]
-        ev[e, 0] = d
-        ev[e, 1] = dv
+        ev[e, 0], ev[e, 1] = _row(ep, ej, Ev, q, v, 0, e, 0.0, 0.0)
 
 
 @njit(nogil=True, inline="always")
-def forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear):
+def forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear, T):
     """The element forces s[e] of :func:`.core.field` (default mode; the same numbers) at (q̃, q̃') = (q[0:n],
     v[0:n]), coefficients from row r of the table: the meshes and clearances L at a time
     (:func:`.simd.forces_group`; ``ef = (EI, EV, TB, Dp)``); then the rolling bearings' unless ``bear`` is None.
     A system without bearings is given None, so that its step compiles without the bearings' code: even untaken,
-    that code made the plain step 3.5 times slower on a 48-DOF chain."""
+    that code made the plain step 3.5 times slower on a 48-DOF chain.  With tangent columns ``T = (Y, wt, gk, gc,
+    sw)`` (None: the forces only) also the element slopes gk, gc of :func:`.core.slopes` (the same numbers): the
+    meshes' and clearances' by :func:`.simd.forces_slopes_group` through ``sw = (gkv, gcv)`` ((groups·L,) each),
+    then the bearings'."""
     EI, EV, TB, Dp = ef
     for G in range(EI.shape[0]):
-        forces_group(EI, EV, q, v, TB, r, Dp, omega, s, G)
+        if T is None:
+            forces_group(EI, EV, q, v, TB, r, Dp, omega, s, G)
+        else:
+            forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, T[4][0], T[4][1], G)
+    if T is not None:
+        e1 = el[0] + el[4].shape[0]
+        T[2][:e1] = T[4][0][:e1]
+        T[3][:e1] = T[4][1][:e1]
     if bear is not None:
         _bearing_forces(sp, el, tab[r], q, v, s)
+        if T is not None:
+            _bearing_slots(sp, el, tab[r], q, 0, T[2], T[3])
 
 
 @njit(nogil=True, inline="always")
-def forces_slopes_vec(q, v, tab, r, ef, sw, sp, el, omega, s, gk, gc, bear):
-    """:func:`forces_vec` and the element slopes gk, gc of :func:`.core.slopes` (default mode; the same numbers) at
-    the same state, the meshes and clearances L at a time
-    (:func:`.simd.forces_slopes_group`, their slopes through ``sw = (gkv, gcv)``, (groups·L,) each); then the
-    rolling bearings' forces and slopes unless ``bear`` is None."""
-    EI, EV, TB, Dp = ef
-    gkv, gcv = sw
-    for G in range(EI.shape[0]):
-        forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, gkv, gcv, G)
-    for e in range(el[0] + el[4].shape[0]):
-        gk[e] = gkv[e]
-        gc[e] = gcv[e]
-    if bear is not None:
-        _bearing_forces(sp, el, tab[r], q, v, s)
-        _bearing_slots(sp, el, tab[r], q, 0, gk, gc)
-
-
-@njit(nogil=True, inline="always")
-def _stages(R, blk, s, q, v, q0, v0, c, k, qn, vn):
+def _stages(blk, s, q, v, q0, v0, c, k, qn, vn):
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):
         stage_block(
@@ -584,33 +442,6 @@ def _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3):
 
 
 @njit(nogil=True, inline="always")
-def rk4_plain(R, s, h, tab, j, blk, sp, el, omega, ld, bear, ef):
-    """One default-mode RK4 step without tangents (the hot loop) on the padded state R[0], R[1].
-
-    R : the rows of :func:`state_rows` (NP values each, NP a multiple of LANE_BLOCK, the padding zero);
-    s : (elements,) workspace; ``blk`` the point's block-sparse arrays (:func:`pad_point`), ``ef`` its element
-    groups (:func:`forces_vec`).  Coefficients (and the loads ``ld``, into blk's gP) from the table rows 2j..2j+2;
-    the arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see
-    :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows and groups of elements.
-    """
-    hh = 0.5 * h
-    h6 = h / 6.0
-    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
-    gP = blk[7]
-    load_at(gP, ld, 2 * j)
-    forces_vec(q, v, tab, 2 * j, ef, sp, el, omega, s, bear)
-    _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
-    load_at(gP, ld, 2 * j + 1)
-    forces_vec(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
-    _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    forces_vec(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
-    _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
-    load_at(gP, ld, 2 * j + 2)
-    forces_vec(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear)
-    _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
-
-
-@njit(nogil=True, inline="always")
 def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
     """Ys = Y + c Kp (c = 0: Y itself), then Kout = J Ys."""
     if c == 0.0:
@@ -622,30 +453,43 @@ def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
     tan_free(Ys, sp, gk, gc, Kout)
 
 
-@njit(nogil=True)
-def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear, ef, sw):
-    """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
-    the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state; the
-    element forces and slopes by groups (:func:`forces_slopes_vec`)."""
+@njit(nogil=True, inline="always")
+def _forces(q, v, tab, r, ef, sp, el, omega, s, bear, T, c, kp, ko):
+    """A stage's element forces (and slopes, :func:`forces_vec`); with tangent columns ``T = (Y, wt, gk, gc, sw)``
+    (None: the step compiles without them) also wt[ko] = J (Y + c wt[kp])."""
+    forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear, T)
+    if T is not None:
+        Y, wt, gk, gc, sw = T
+        _tan_stage(Y, wt[4], c, wt[kp], sp, gk, gc, wt[ko])
+
+
+@njit(nogil=True, inline="always")
+def rk4_plain(R, s, h, tab, j, blk, sp, el, omega, ld, bear, ef, T):
+    """One default-mode RK4 step (the hot loop) on the padded state R[0], R[1], with a few tangent columns
+    ``T = (Y, wt, gk, gc, sw)`` (Y (2n, k)) advanced by RK4 alongside, or None: without tangents.
+
+    R : the rows of :func:`state_rows` (NP values each, NP a multiple of LANE_BLOCK, the padding zero);
+    s : (elements,) workspace; ``blk`` the point's block-sparse arrays (:func:`pad_point`), ``ef`` its element
+    groups (:func:`forces_vec`).  Coefficients (and the loads ``ld``, into blk's gP) from the table rows 2j..2j+2;
+    the arithmetic is :func:`rk4` with :func:`field`'s, operation by operation (see
+    :mod:`geardyn._kernel_ndof.simd`), vectorised over blocks of rows and groups of elements.  The state is the
+    same bit for bit with tangents or without; their Jacobian-vector products are formed from the sparse rows
+    (:func:`.core.tan_free`) at each stage's state, the element slopes by groups (:func:`forces_vec`).
+    """
     hh = 0.5 * h
     h6 = h / 6.0
     q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    forces_slopes_vec(q, v, tab, 2 * j, ef, sw, sp, el, omega, s, gk, gc, bear)
-    _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
-    _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
+    _forces(q, v, tab, 2 * j, ef, sp, el, omega, s, bear, T, 0.0, 0, 0)
+    _stages(blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    forces_slopes_vec(q2, v2, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
-    _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
-    _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    forces_slopes_vec(q3, v3, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
-    _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
-    _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    _forces(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear, T, hh, 0, 1)
+    _stages(blk, s, q2, v2, q, v, hh, k2, q3, v3)
+    _forces(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear, T, hh, 1, 2)
+    _stages(blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    forces_slopes_vec(q4, v4, tab, 2 * j + 2, ef, sw, sp, el, omega, s, gk, gc, bear)
-    _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
+    _forces(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear, T, h, 2, 3)
     _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
-    for i in range(Y.shape[0]):
-        for k in range(Y.shape[1]):
-            Y[i, k] += h6 * (wt[0][i, k] + 2.0 * wt[1][i, k] + 2.0 * wt[2][i, k] + wt[3][i, k])
+    if T is not None:
+        _rk4_update(T[0], T[1], h6)
