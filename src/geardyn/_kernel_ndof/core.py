@@ -106,7 +106,8 @@ def coef_at(coef, ratio, theta, out):
     H = coef.shape[2] - 1
     for m in range(M):
         ph = ratio[m] * theta
-        out[m, :3] = coef[m, :3, 0, 0]
+        for c in range(3):
+            out[m, c] = coef[m, c, 0, 0]
         out[m, 3] = 0.0
         for j in range(1, H + 1):
             cj = math.cos(j * ph)

@@ -157,11 +157,18 @@ def _gfun(d, D, m):
 
 
 @njit(nogil=True)
+def _copy(dst, src):
+    """dst = src, element by element (arrays of one shape, any layout)."""
+    for i, v in np.ndenumerate(src):
+        dst[i] = v
+
+
+@njit(nogil=True)
 def _locked(x0, t, s, xo, tangent, ac):
     """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``ac`` the accurate mode's
     arrays (:func:`accurate_step`), its loads' table ct the rows of this step's three times."""
     coef, ratio, omega, sp, el, mode, cfa, _ev, _gaps, wk, wt, gk, gc, jw, Y, _Ys, lds = ac
-    xo[:] = x0
+    _copy(xo, x0)
     ld, ro, po = lds
     for k in range(3):  # the start, midpoint and end: t + 0, t + s/2, t + s
         tk = t + 0.5 * k * s
@@ -206,10 +213,10 @@ def accurate_step(x, t, h, xo, tangent, ac):
     for split in range(MAX_SPLITS + 1):
         _regions(_values(x, tt, ac), ac[8], ac[5])
         if tangent:
-            Ysave[:, :] = Y
+            _copy(Ysave, Y)
         _locked(x, tt, rem, xo, tangent, ac)
         if split == MAX_SPLITS:  # split limit reached: the step finished unsplit
-            x[:] = xo
+            _copy(x, xo)
             return
         hi = rem
         ghi = _worst(xo, tt + rem, ac)
@@ -224,7 +231,7 @@ def accurate_step(x, t, h, xo, tangent, ac):
                     ghi = gsk
                     break
         if ghi >= 0.0:
-            x[:] = xo
+            _copy(x, xo)
             return
         # bracket [lo, hi] with g(lo) >= 0 > g(hi): Illinois
         lo = 0.0
@@ -258,9 +265,9 @@ def accurate_step(x, t, h, xo, tangent, ac):
                 side = -1
         s = hi
         if tangent:
-            Y[:, :] = Ysave
+            _copy(Y, Ysave)
         _locked(x, tt, s, xo, tangent, ac)
-        x[:] = xo
+        _copy(x, xo)
         tt += s
         rem -= s
         if rem <= 0.0:
@@ -290,10 +297,10 @@ def aligned_zeros(rows, cols):
 def pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP):
     """Copy point p's block-sparse matrices into the aligned buffers AT, BT (diagonals, LANE_BLOCK), WT, gP; the
     tuple of the plain step's block arrays."""
-    AT[: bcj.shape[0]] = ATs[p]
-    BT[: bcj.shape[0]] = BTs[p]
-    WT[: bej.shape[0]] = WTs[p]
-    gP[:] = gPs[p]
+    _copy(AT[: bcj.shape[0]], ATs[p])
+    _copy(BT[: bcj.shape[0]], BTs[p])
+    _copy(WT[: bej.shape[0]], WTs[p])
+    _copy(gP, gPs[p])
     return (bcp, bcj, AT, BT, bep, bej, WT, gP)
 
 
@@ -326,8 +333,8 @@ def element_table(tab, M, kc, cc, D, Dc, omega, TB, Dp):
     C = Dc.shape[0]
     TB[:, :, :] = 0.0
     Dp[:] = 0.0
-    Dp[:M] = D
-    Dp[M : M + C] = Dc
+    _copy(Dp[:M], D)
+    _copy(Dp[M : M + C], Dc)
     for i in range(TB.shape[0]):
         for e in range(M):
             for c in range(4):
@@ -373,9 +380,9 @@ def forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear, T):
         else:
             forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, T[4][0], T[4][1], G)
     if T is not None:
-        e1 = el[0] + el[4].shape[0]
-        T[2][:e1] = T[4][0][:e1]
-        T[3][:e1] = T[4][1][:e1]
+        for e in range(el[0] + el[4].shape[0]):
+            T[2][e] = T[4][0][e]
+            T[3][e] = T[4][1][e]
     if bear is not None:
         _bearing_forces(sp, el, tab[r], q, v, s)
         if T is not None:
@@ -441,7 +448,7 @@ def _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3):
         )
 
 
-@njit(nogil=True, inline="always")
+@njit(nogil=True)
 def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
     """Ys = Y + c Kp (c = 0: Y itself), then Kout = J Ys."""
     if c == 0.0:

@@ -40,6 +40,7 @@ from .step import (
     XQ,
     XROWS,
     XV,
+    _copy,
     _values,
     accurate_step,
     aligned_zeros,
@@ -58,8 +59,9 @@ def _store_hist(hist, p, s, q, v, vo):
     """History sample s (if s >= 0) of point p: (q̃, q̃') = (q[0:n], v[vo:vo+n])."""
     if s >= 0:
         n = hist.shape[2] // 2
-        hist[p, s, :n] = q[:n]
-        hist[p, s, n:] = v[vo : vo + n]
+        for i in range(n):
+            hist[p, s, i] = q[i]
+            hist[p, s, n + i] = v[vo + i]
 
 
 @njit(nogil=True)
@@ -234,7 +236,7 @@ def ndof_worker(
         Tf = tperiod[p]
         h = Tf / N
         om = omega[p]
-        gw[:] = g[p]
+        _copy(gw, g[p])
         sp = (abp, abj, Av[p], Bv[p], ep, ej, Ev[p], wp, wi, Wv[p], gw)
         el = (M, D[p], kc[p], cc[p], Dc[p], bq[p])
         jt = (gp, gj, Ag[p], Bg[p], cp, ce, cw, cv)
@@ -243,8 +245,8 @@ def ndof_worker(
         if dense:
             pad_dense(Ad[p], Bd[p], g[p], Wd[p], Wcd[p], ATd, BTd, gP, WTd)
         gaps = np.zeros(E)
-        gaps[:M] = D[p]
-        gaps[M : M + C] = Dc[p]
+        _copy(gaps[:M], D[p])
+        _copy(gaps[M : M + C], Dc[p])
         # the accurate mode splits no step at a bearing (its force is C¹ at contact): a gap 0 never switches
         agaps = gaps.copy()
         for b in range(NB):
@@ -282,9 +284,9 @@ def ndof_worker(
             Ysave,
             ((g[p], go[p], ocs), ro[p], po[p]),
         )
-        x[:] = state0[p]
+        _copy(x, state0[p])
         st[:, :] = 0.0
-        Y[:, :ktan] = tangent0[p]
+        _copy(Y[:, :ktan], tangent0[p])
         bad = False
         total = n_transient + n_record
         hstart = total * N - (hl - 1)
@@ -364,18 +366,18 @@ def ndof_worker(
             if rec:
                 r = per - n_transient
                 if poincare.shape[1] > 0:
-                    poincare[p, r] = x
+                    _copy(poincare[p, r], x)
                 if tangent == TAN_LYAPUNOV:
                     _quotient(Y, rigid)
                     gram_schmidt(Y, logs)
-                    tan_log[p, r] = logs[:ktan]
-        stats[p] = st
+                    _copy(tan_log[p, r], logs[:ktan])
+        _copy(stats[p], st)
         if bad:
             status[p] = ST_DIVERGED
             poincare[p] = np.nan
             end_state[p] = np.nan
         else:
             status[p] = ST_OK
-            end_state[p] = x
+            _copy(end_state[p], x)
         if tangent != TAN_NONE:
-            tan_out[p] = Y[:, :ktan]
+            _copy(tan_out[p], Y[:, :ktan])
