@@ -130,7 +130,7 @@ def _element_force(e, d, dv, cf, el, mode):
     return cc[c] * dv + kc[c] * _flock(d, Dc[c], mode[e])
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def _row(ep, ej, Ev, q, v, vo, e, d, dv):
     """(d + V[e]·q̃, dv + V[e]·q̃') of element row e, the terms added one by one in order; q̃ = q[0:n],
     q̃' = v[vo:vo+n]."""
@@ -141,7 +141,7 @@ def _row(ep, ej, Ev, q, v, vo, e, d, dv):
     return d, dv
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def _sub_row(wp, wi, Wv, out, o, e, s):
     """out[o + i] −= W[e, i] s over the nonzeros of force row e."""
     for k in range(wp[e], wp[e + 1]):

@@ -49,6 +49,7 @@ from .step import (
     pad_point,
     rk4,
     rk4_plain,
+    rk4_plain_tan,
     state_rows,
     values_vec,
 )
@@ -81,12 +82,15 @@ def _quotient(Y, R):
 def _period_sparse(R, pc, blk, sp, el, ld, bear, ef, evs, T):
     """N plain steps on the padded state R (:func:`.step.state_rows`), ``pc = (sf, h, tab, N, om, rec, st, ev,
     gaps, hist, p, b0)`` (statistics when ``rec``, ``evs`` their workspace; history samples b0 + j); the loads
-    ``ld``; the element groups ``ef``; a few tangent columns ``T`` (None: none, :func:`.step.rk4_plain`)."""
+    ``ld``; the element groups ``ef``; a few tangent columns ``T`` (:func:`.step.rk4_plain_tan`; None: none)."""
     sf, h, tab, N, om, rec, st, ev, gaps, hist, p, b0 = pc
     q = R[0]
     v = R[1]
     for j in range(N):
-        rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef, T)
+        if T is None:
+            rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef)
+        else:
+            rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef, T)
         if rec:
             if T is None:
                 values_vec(q, v, 2 * j + 2, ef, sp, el, ev, evs)
