@@ -191,11 +191,6 @@ def _clock(sec: float) -> str:
     return f"{sec // 3600}:{sec // 60 % 60:02d}:{sec % 60:02d}"
 
 
-def _pct(done: float, total: float | None) -> str:
-    """ " (30%)" of a plain progress line ("" without a total)."""
-    return f" ({100.0 * done / total:.0f}%)" if total else ""
-
-
 def _stderr_console():
     from rich.console import Console
 
@@ -261,19 +256,6 @@ class _DelayedBar(ABC):
     @abstractmethod
     def _columns(self) -> list:
         """The rich columns of the bar."""
-
-    def _bar(self, *middle: Any) -> list:
-        """The columns of a bar: its description, the bar, ``middle``, the elapsed time and the ETA."""
-        from rich.progress import BarColumn, TextColumn, TimeRemainingColumn
-
-        return [
-            TextColumn("{task.description}"),
-            BarColumn(),
-            *middle,
-            self._elapsed(),
-            TextColumn("ETA"),
-            TimeRemainingColumn(),
-        ]
 
     def _elapsed(self) -> Any:
         """A column with the time since the computation began (the bar itself appears later)."""
@@ -447,16 +429,25 @@ class Progress(_DelayedBar):
                 _SINK = self._sink_before
 
     def _columns(self) -> list:
-        from rich.progress import MofNCompleteColumn, TextColumn
+        from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeRemainingColumn
 
-        return self._bar(MofNCompleteColumn(), TextColumn(self._unit))
+        return [
+            TextColumn("{task.description}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TextColumn(self._unit),
+            self._elapsed(),
+            TextColumn("ETA"),
+            TimeRemainingColumn(),
+        ]
 
     def _current(self) -> tuple[int, int]:
         live = self._ticks + sum(int(c.get_obj().value) for c in self._counters) if self.counts_points else 0
         return min(self._total, self._base + max(self._finished, live)), self._total
 
     def _numbers(self, done: float, total: float | None) -> str:
-        return f"{int(done)}/{int(total or 0)} {self._unit}{_pct(done, total)}"
+        pct = f" ({100.0 * done / total:.0f}%)" if total else ""
+        return f"{int(done)}/{int(total or 0)} {self._unit}{pct}"
 
     def _tick(self, n: int) -> None:
         with self._lock:
@@ -497,7 +488,7 @@ class _TaskBar(_DelayedBar):
         self._begin()
 
     def _columns(self) -> list:
-        from rich.progress import SpinnerColumn, TaskProgressColumn, TextColumn
+        from rich.progress import BarColumn, SpinnerColumn, TaskProgressColumn, TextColumn, TimeRemainingColumn
 
         if self._indeterminate:
             return [
@@ -506,7 +497,15 @@ class _TaskBar(_DelayedBar):
                 TextColumn("{task.fields[requested]}"),
                 self._elapsed(),
             ]
-        return self._bar(TaskProgressColumn(), TextColumn("{task.fields[numbers]}"))
+        return [
+            TextColumn("{task.description}"),
+            BarColumn(),
+            TaskProgressColumn(),
+            TextColumn("{task.fields[numbers]}"),
+            self._elapsed(),
+            TextColumn("ETA"),
+            TimeRemainingColumn(),
+        ]
 
     def _fields(self) -> dict[str, Any]:
         t, f = self._total, self._fmt
@@ -525,7 +524,8 @@ class _TaskBar(_DelayedBar):
             return ("done" if total else "running") + (f" ({req})" if req else "")
         if total is None:
             return "starting"
-        return f"{self._fields()['numbers']}{_pct(done, total)}"
+        pct = f" ({100.0 * done / total:.0f}%)" if total else ""
+        return f"{self._fields()['numbers']}{pct}"
 
     def update(self, done: float, total: float) -> None:
         with self._lock:
