@@ -106,15 +106,21 @@ def coef_at(coef, ratio, theta, out):
     H = coef.shape[2] - 1
     for m in range(M):
         ph = ratio[m] * theta
-        for c in range(3):
-            out[m, c] = coef[m, c, 0, 0]
-        out[m, 3] = 0.0
+        c0 = coef[m, 0, 0, 0]
+        k0 = coef[m, 1, 0, 0]
+        e0 = coef[m, 2, 0, 0]
+        ed = 0.0
         for j in range(1, H + 1):
             cj = math.cos(j * ph)
             sj = math.sin(j * ph)
-            for c in range(3):
-                out[m, c] += coef[m, c, j, 0] * cj + coef[m, c, j, 1] * sj
-            out[m, 3] += j * ratio[m] * (coef[m, 2, j, 1] * cj - coef[m, 2, j, 0] * sj)
+            c0 += coef[m, 0, j, 0] * cj + coef[m, 0, j, 1] * sj
+            k0 += coef[m, 1, j, 0] * cj + coef[m, 1, j, 1] * sj
+            e0 += coef[m, 2, j, 0] * cj + coef[m, 2, j, 1] * sj
+            ed += j * ratio[m] * (coef[m, 2, j, 1] * cj - coef[m, 2, j, 0] * sj)
+        out[m, 0] = c0
+        out[m, 1] = k0
+        out[m, 2] = e0
+        out[m, 3] = ed
     for b in range(M, out.shape[0]):  # rolling bearings: the cage angle ρ_b θ
         out[b, 0] = ratio[b] * theta
 
@@ -334,25 +340,44 @@ def tan_free(Y, sp, gk, gc, out):
     B2 = gk.shape[0] - E  # two cross slots per bearing
     e0 = E - B2
     for c in range(Y.shape[1]):
-        y = Y[:, c]
-        o = out[:, c]
         for i in range(n):
-            o[i] = y[n + i]
+            out[i, c] = Y[n + i, c]
         for i in range(n):
             acc = 0.0
             for k in range(abp[i], abp[i + 1]):
                 j = abj[k]
-                acc += Av[k] * y[j] + Bv[k] * y[n + j]
-            o[n + i] = -acc
+                acc += Av[k] * Y[j, c] + Bv[k] * Y[n + j, c]
+            out[n + i, c] = -acc
         for e in range(e0):
-            pq, pv = _row(ep, ej, Ev, y, y, n, e, 0.0, 0.0)
-            _sub_row(wp, wi, Wv, o, n, e, gk[e] * pq + gc[e] * pv)
+            pq = 0.0
+            pv = 0.0
+            for k in range(ep[e], ep[e + 1]):
+                j = ej[k]
+                pq += Ev[k] * Y[j, c]
+                pv += Ev[k] * Y[n + j, c]
+            t = gk[e] * pq + gc[e] * pv
+            for k in range(wp[e], wp[e + 1]):
+                out[n + wi[k], c] -= Wv[k] * t
         for b in range(B2 // 2):
             ex = e0 + 2 * b
-            qx, vx = _row(ep, ej, Ev, y, y, n, ex, 0.0, 0.0)
-            qy, vy = _row(ep, ej, Ev, y, y, n, ex + 1, 0.0, 0.0)
-            _sub_row(wp, wi, Wv, o, n, ex, gk[ex] * qx + gk[E + 2 * b] * qy + gc[ex] * vx)
-            _sub_row(wp, wi, Wv, o, n, ex + 1, gk[ex + 1] * qy + gk[E + 2 * b + 1] * qx + gc[ex + 1] * vy)
+            qx = 0.0
+            vx = 0.0
+            for k in range(ep[ex], ep[ex + 1]):
+                j = ej[k]
+                qx += Ev[k] * Y[j, c]
+                vx += Ev[k] * Y[n + j, c]
+            qy = 0.0
+            vy = 0.0
+            for k in range(ep[ex + 1], ep[ex + 2]):
+                j = ej[k]
+                qy += Ev[k] * Y[j, c]
+                vy += Ev[k] * Y[n + j, c]
+            tx = gk[ex] * qx + gk[E + 2 * b] * qy + gc[ex] * vx
+            ty = gk[ex + 1] * qy + gk[E + 2 * b + 1] * qx + gc[ex + 1] * vy
+            for k in range(wp[ex], wp[ex + 1]):
+                out[n + wi[k], c] -= Wv[k] * tx
+            for k in range(wp[ex + 1], wp[ex + 2]):
+                out[n + wi[k], c] -= Wv[k] * ty
 
 
 @njit(nogil=True)

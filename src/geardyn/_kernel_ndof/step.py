@@ -76,14 +76,6 @@ def order_cosines(ro, po, theta, ct, r):
         ct[r, o] = math.cos(ro[o] * theta + po[o])
 
 
-@njit(nogil=True, inline="always")
-def _rk4_update(Y, wt, h6):
-    """Y += h6 (K1 + 2 K2 + 2 K3 + K4) of the tangent columns' stages wt[0:4]."""
-    for i in range(Y.shape[0]):
-        for k in range(Y.shape[1]):
-            Y[i, k] += h6 * (wt[0][i, k] + 2.0 * wt[1][i, k] + 2.0 * wt[2][i, k] + wt[3][i, k])
-
-
 @njit(nogil=True)
 def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jw, ld, r):
     """Advance x (and the columns Y when ``tangent``) by one RK4 step of length h, in place.
@@ -92,39 +84,63 @@ def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jw
     gk, gc : (elements,) workspace (the element slopes); ``jw = (jt, Gq, Gv)`` the Jacobian's pattern and its
     values (workspace);
     ``ld`` the loads (module docstring), rows r, r + 1, r + 2 of its table at the start, midpoint and end.
-    Stage st (0 … 3) is taken at x + c k_st (c = 0, h/2, h/2, h; stage 0 at x itself) with the coefficients
-    cf0, cf1, cf1, cf2; the load is written before stages 0, 1 and 3 only (stage 2 shares stage 1's time).
     """
     jt, Gq, Gv = jw
     d = x.shape[0]
+    hh = 0.5 * h
     h6 = h / 6.0
+    k1 = wk[0]
+    k2 = wk[1]
+    k3 = wk[2]
+    k4 = wk[3]
     xs = wk[4]
-    Ys = wt[4]
-    cfs = (cf0, cf1, cf1, cf2)
-    for st in range(4):
-        c = (0.0, 0.5 * h, 0.5 * h, h)[st]
-        if st != 2:
-            load_at(sp[10], ld, r + (st + 1) // 2)
-        xi = x
-        if st > 0:
-            for i in range(d):
-                xs[i] = x[i] + c * wk[st - 1][i]
-            xi = xs
-        field(xi, cfs[st], sp, el, omega, mode, wk[st])
-        if tangent:
-            slopes(xi, cfs[st], sp, el, mode, gk, gc)
-            jac_values(sp, jt, gk, gc, Gq, Gv)
-            Yi = Y
-            if st > 0:
-                for i in range(d):
-                    for k in range(Y.shape[1]):
-                        Ys[i, k] = Y[i, k] + c * wt[st - 1][i, k]
-                Yi = Ys
-            tan_field(Yi, jt, Gq, Gv, wt[st])
+    g = sp[10]
+    load_at(g, ld, r)
+    field(x, cf0, sp, el, omega, mode, k1)
     if tangent:
-        _rk4_update(Y, wt, h6)
+        slopes(x, cf0, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        tan_field(Y, jt, Gq, Gv, wt[0])
     for i in range(d):
-        x[i] += h6 * (wk[0][i] + 2.0 * wk[1][i] + 2.0 * wk[2][i] + wk[3][i])
+        xs[i] = x[i] + hh * k1[i]
+    load_at(g, ld, r + 1)
+    field(xs, cf1, sp, el, omega, mode, k2)
+    if tangent:
+        slopes(xs, cf1, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + hh * wt[0][i, c]
+        tan_field(Ys, jt, Gq, Gv, wt[1])
+    for i in range(d):
+        xs[i] = x[i] + hh * k2[i]
+    field(xs, cf1, sp, el, omega, mode, k3)
+    if tangent:
+        slopes(xs, cf1, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + hh * wt[1][i, c]
+        tan_field(Ys, jt, Gq, Gv, wt[2])
+    for i in range(d):
+        xs[i] = x[i] + h * k3[i]
+    load_at(g, ld, r + 2)
+    field(xs, cf2, sp, el, omega, mode, k4)
+    if tangent:
+        slopes(xs, cf2, sp, el, mode, gk, gc)
+        jac_values(sp, jt, gk, gc, Gq, Gv)
+        Ys = wt[4]
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Ys[i, c] = Y[i, c] + h * wt[2][i, c]
+        tan_field(Ys, jt, Gq, Gv, wt[3])
+        for i in range(d):
+            for c in range(Y.shape[1]):
+                Y[i, c] += h6 * (wt[0][i, c] + 2.0 * wt[1][i, c] + 2.0 * wt[2][i, c] + wt[3][i, c])
+    for i in range(d):
+        x[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
 
 # ----------------------------------------------------------------------------- accurate mode
@@ -163,12 +179,19 @@ def _copy(dst, src):
         dst[i] = v
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
+def _xcopy(x, xo):
+    for i in range(x.shape[0]):
+        x[i] = xo[i]
+
+
+@njit(nogil=True, inline="always")
 def _locked(x0, t, s, xo, tangent, ac):
     """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``ac`` the accurate mode's
     arrays (:func:`accurate_step`), its loads' table ct the rows of this step's three times."""
     coef, ratio, omega, sp, el, mode, cfa, _ev, _gaps, wk, wt, gk, gc, jw, Y, _Ys, lds = ac
-    _copy(xo, x0)
+    for i in range(x0.shape[0]):
+        xo[i] = x0[i]
     ld, ro, po = lds
     for k in range(3):  # the start, midpoint and end: t + 0, t + s/2, t + s
         tk = t + 0.5 * k * s
@@ -177,7 +200,7 @@ def _locked(x0, t, s, xo, tangent, ac):
     rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jw, ld, 0)
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def _values(x, t, ac):
     """(δ, δ') of every element at state x, time t into ac's ``ev`` (the coefficients into cfa[3])."""
     coef, ratio, omega, sp, el, _mode, cfa, ev = ac[:8]
@@ -186,7 +209,7 @@ def _values(x, t, ac):
     return ev
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def _worst(x, t, ac):
     """Smallest locked-branch distance over the elements at state x, time t."""
     ev = _values(x, t, ac)
@@ -216,7 +239,7 @@ def accurate_step(x, t, h, xo, tangent, ac):
             _copy(Ysave, Y)
         _locked(x, tt, rem, xo, tangent, ac)
         if split == MAX_SPLITS:  # split limit reached: the step finished unsplit
-            _copy(x, xo)
+            _xcopy(x, xo)
             return
         hi = rem
         ghi = _worst(xo, tt + rem, ac)
@@ -231,7 +254,7 @@ def accurate_step(x, t, h, xo, tangent, ac):
                     ghi = gsk
                     break
         if ghi >= 0.0:
-            _copy(x, xo)
+            _xcopy(x, xo)
             return
         # bracket [lo, hi] with g(lo) >= 0 > g(hi): Illinois
         lo = 0.0
@@ -267,7 +290,7 @@ def accurate_step(x, t, h, xo, tangent, ac):
         if tangent:
             _copy(Y, Ysave)
         _locked(x, tt, s, xo, tangent, ac)
-        _copy(x, xo)
+        _xcopy(x, xo)
         tt += s
         rem -= s
         if rem <= 0.0:
@@ -364,29 +387,17 @@ def values_vec(q, v, r, ef, sp, el, ev, evs):
 
 
 @njit(nogil=True, inline="always")
-def forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear, T):
+def forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear):
     """The element forces s[e] of :func:`.core.field` (default mode; the same numbers) at (q̃, q̃') = (q[0:n],
     v[0:n]), coefficients from row r of the table: the meshes and clearances L at a time
     (:func:`.simd.forces_group`; ``ef = (EI, EV, TB, Dp)``); then the rolling bearings' unless ``bear`` is None.
     A system without bearings is given None, so that its step compiles without the bearings' code: even untaken,
-    that code made the plain step 3.5 times slower on a 48-DOF chain.  With tangent columns ``T = (Y, wt, gk, gc,
-    sw)`` (None: the forces only) also the element slopes gk, gc of :func:`.core.slopes` (the same numbers): the
-    meshes' and clearances' by :func:`.simd.forces_slopes_group` through ``sw = (gkv, gcv)`` ((groups·L,) each),
-    then the bearings'."""
+    that code made the plain step 3.5 times slower on a 48-DOF chain."""
     EI, EV, TB, Dp = ef
     for G in range(EI.shape[0]):
-        if T is None:
-            forces_group(EI, EV, q, v, TB, r, Dp, omega, s, G)
-        else:
-            forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, T[4][0], T[4][1], G)
-    if T is not None:
-        for e in range(el[0] + el[4].shape[0]):
-            T[2][e] = T[4][0][e]
-            T[3][e] = T[4][1][e]
+        forces_group(EI, EV, q, v, TB, r, Dp, omega, s, G)
     if bear is not None:
         _bearing_forces(sp, el, tab[r], q, v, s)
-        if T is not None:
-            _bearing_slots(sp, el, tab[r], q, 0, T[2], T[3])
 
 
 @njit(nogil=True, inline="always")
@@ -463,19 +474,19 @@ def rk4_plain(R, s, h, tab, j, blk, sp, el, omega, ld, bear, ef):
     q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    forces_vec(q, v, tab, 2 * j, ef, sp, el, omega, s, bear, None)
+    forces_vec(q, v, tab, 2 * j, ef, sp, el, omega, s, bear)
     _stages(blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    forces_vec(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear, None)
+    forces_vec(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
     _stages(blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    forces_vec(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear, None)
+    forces_vec(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
     _stages(blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    forces_vec(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear, None)
+    forces_vec(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear)
     _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
 
 
-@njit(nogil=True)
+@njit(nogil=True, inline="always")
 def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
     """Ys = Y + c Kp (c = 0: Y itself), then Kout = J Ys."""
     if c == 0.0:
@@ -488,33 +499,47 @@ def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
 
 
 @njit(nogil=True, inline="always")
-def _forces(q, v, tab, r, ef, sp, el, omega, s, bear, T, c, kp, ko):
-    """A stage's element forces and slopes (:func:`forces_vec`) and, of the tangent columns ``T = (Y, wt, gk, gc,
-    sw)``, wt[ko] = J (Y + c wt[kp])."""
-    forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear, T)
-    Y, wt, gk, gc, sw = T
-    _tan_stage(Y, wt[4], c, wt[kp], sp, gk, gc, wt[ko])
+def forces_slopes_vec(q, v, tab, r, ef, sw, sp, el, omega, s, gk, gc, bear):
+    """:func:`forces_vec` and the element slopes gk, gc of :func:`.core.slopes` (default mode; the same numbers) at
+    the same state, the meshes and clearances L at a time
+    (:func:`.simd.forces_slopes_group`, their slopes through ``sw = (gkv, gcv)``, (groups·L,) each); then the
+    rolling bearings' forces and slopes unless ``bear`` is None."""
+    EI, EV, TB, Dp = ef
+    gkv, gcv = sw
+    for G in range(EI.shape[0]):
+        forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, gkv, gcv, G)
+    for e in range(el[0] + el[4].shape[0]):
+        gk[e] = gkv[e]
+        gc[e] = gcv[e]
+    if bear is not None:
+        _bearing_forces(sp, el, tab[r], q, v, s)
+        _bearing_slots(sp, el, tab[r], q, 0, gk, gc)
 
 
-@njit(nogil=True, inline="always")
-def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, ld, bear, ef, T):
-    """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns ``T = (Y, wt, gk, gc, sw)`` (Y (2n, k))
-    advanced by RK4 alongside, the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at
-    each stage's state; the element forces and slopes by groups (:func:`forces_vec`).  (The step without tangents
-    is written apart: through this one's stages it ran 3 % slower on a 48-DOF chain.)"""
+@njit(nogil=True)
+def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear, ef, sw):
+    """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
+    the Jacobian-vector products formed from the sparse rows (:func:`.core.tan_free`) at each stage's state; the
+    element forces and slopes by groups (:func:`forces_slopes_vec`)."""
     hh = 0.5 * h
     h6 = h / 6.0
     q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = R
     gP = blk[7]
     load_at(gP, ld, 2 * j)
-    _forces(q, v, tab, 2 * j, ef, sp, el, omega, s, bear, T, 0.0, 0, 0)
+    forces_slopes_vec(q, v, tab, 2 * j, ef, sw, sp, el, omega, s, gk, gc, bear)
+    _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
     _stages(blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
-    _forces(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear, T, hh, 0, 1)
+    forces_slopes_vec(q2, v2, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
+    _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
     _stages(blk, s, q2, v2, q, v, hh, k2, q3, v3)
-    _forces(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear, T, hh, 1, 2)
+    forces_slopes_vec(q3, v3, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
+    _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
     _stages(blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
-    _forces(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear, T, h, 2, 3)
+    forces_slopes_vec(q4, v4, tab, 2 * j + 2, ef, sw, sp, el, omega, s, gk, gc, bear)
+    _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])
     _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
-    _rk4_update(T[0], T[1], h6)
+    for i in range(Y.shape[0]):
+        for k in range(Y.shape[1]):
+            Y[i, k] += h6 * (wt[0][i, k] + 2.0 * wt[1][i, k] + 2.0 * wt[2][i, k] + wt[3][i, k])

@@ -90,7 +90,8 @@ def _period_sparse(R, pc, blk, sp, el, ld, bear, ef, evs, T):
         if T is None:
             rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef)
         else:
-            rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef, T)
+            Y, wt, gk, gc, sw = T
+            rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear, ef, sw)
         if rec:
             if T is None:
                 values_vec(q, v, 2 * j + 2, ef, sp, el, ev, evs)
