@@ -179,86 +179,138 @@ def _copy(dst, src):
         dst[i] = v
 
 
-@njit(nogil=True, inline="always")
-def _xcopy(x, xo):
-    for i in range(x.shape[0]):
-        x[i] = xo[i]
-
-
-@njit(nogil=True, inline="always")
-def _locked(x0, t, s, xo, tangent, ac):
-    """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``ac`` the accurate mode's
-    arrays (:func:`accurate_step`), its loads' table ct the rows of this step's three times."""
-    coef, ratio, omega, sp, el, mode, cfa, _ev, _gaps, wk, wt, gk, gc, jw, Y, _Ys, lds = ac
+@njit(nogil=True)
+def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds):
+    """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``lds = (ld, ro, po)``
+    the loads (their table ct the rows of this step's three times)."""
     for i in range(x0.shape[0]):
         xo[i] = x0[i]
+    coef_at(coef, ratio, omega * t, cfa[0])
+    coef_at(coef, ratio, omega * (t + 0.5 * s), cfa[1])
+    coef_at(coef, ratio, omega * (t + s), cfa[2])
     ld, ro, po = lds
-    for k in range(3):  # the start, midpoint and end: t + 0, t + s/2, t + s
-        tk = t + 0.5 * k * s
-        coef_at(coef, ratio, omega * tk, cfa[k])
-        order_cosines(ro, po, omega * tk, ld[2], k)
-    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jw, ld, 0)
-
-
-@njit(nogil=True, inline="always")
-def _values(x, t, ac):
-    """(δ, δ') of every element at state x, time t into ac's ``ev`` (the coefficients into cfa[3])."""
-    coef, ratio, omega, sp, el, _mode, cfa, ev = ac[:8]
-    coef_at(coef, ratio, omega * t, cfa[3])
-    element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
-    return ev
-
-
-@njit(nogil=True, inline="always")
-def _worst(x, t, ac):
-    """Smallest locked-branch distance over the elements at state x, time t."""
-    ev = _values(x, t, ac)
-    best = np.inf
-    for e in range(ev.shape[0]):
-        gv = _gfun(ev[e, 0], ac[8][e], ac[5][e])
-        if gv < best:
-            best = gv
-    return best
+    ct = ld[2]
+    order_cosines(ro, po, omega * t, ct, 0)
+    order_cosines(ro, po, omega * (t + 0.5 * s), ct, 1)
+    order_cosines(ro, po, omega * (t + s), ct, 2)
+    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt, ld, 0)
 
 
 @njit(nogil=True)
-def accurate_step(x, t, h, xo, tangent, ac):
+def _worst(x, t, coef, ratio, omega, sp, el, gaps, mode, cfa, ev):
+    """Smallest locked-branch distance over the elements at state x, time t, and its element."""
+    coef_at(coef, ratio, omega * t, cfa[3])
+    element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
+    best = np.inf
+    who = -1
+    for e in range(ev.shape[0]):
+        gv = _gfun(ev[e, 0], gaps[e], mode[e])
+        if gv < best:
+            best = gv
+            who = e
+    return best, who
+
+
+@njit(nogil=True)
+def accurate_step(
+    x,
+    t,
+    h,
+    coef,
+    ratio,
+    omega,
+    sp,
+    el,
+    gaps,
+    mode,
+    xo,
+    cfa,
+    wk,
+    wt,
+    gk,
+    gc,
+    jt,
+    tangent,
+    Y,
+    Ysave,
+    ev,
+    lds,
+):
     """Advance x (and Y) by one step of length h split at every contact-boundary crossing.
 
-    ``ac = (coef, ratio, omega, sp, el, mode, cfa, ev, gaps, wk, wt, gk, gc, jw, Y, Ysave, lds)``: the point's
-    coefficients, the element modes and workspaces, ``jw`` (the Jacobian's pattern, its values Gq, Gv) of
-    :func:`rk4`, the tangent columns Y (and a copy), ``lds = (ld, ro, po)`` the loads."""
-    Y = ac[14]
-    Ysave = ac[15]
-    wk5 = ac[9][5]
+    ``jt`` is (the Jacobian's pattern, its values Gq, Gv) of :func:`rk4`; ``lds`` the loads of :func:`_locked`."""
+    d = x.shape[0]
     rem = h
     tt = t
-    for split in range(MAX_SPLITS + 1):
-        _regions(_values(x, tt, ac), ac[8], ac[5])
+    for _split in range(MAX_SPLITS):
+        coef_at(coef, ratio, omega * tt, cfa[3])
+        element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
+        _regions(ev, gaps, mode)
         if tangent:
-            _copy(Ysave, Y)
-        _locked(x, tt, rem, xo, tangent, ac)
-        if split == MAX_SPLITS:  # split limit reached: the step finished unsplit
-            _xcopy(x, xo)
-            return
+            for i in range(d):
+                for c in range(Y.shape[1]):
+                    Ysave[i, c] = Y[i, c]
+        _locked(
+            x,
+            tt,
+            rem,
+            coef,
+            ratio,
+            omega,
+            sp,
+            el,
+            mode,
+            xo,
+            cfa,
+            wk,
+            wt,
+            gk,
+            gc,
+            jt,
+            tangent,
+            Y,
+            lds,
+        )
+        gend, _w = _worst(xo, tt + rem, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
         hi = rem
-        ghi = _worst(xo, tt + rem, ac)
-        if ghi >= 0.0:
+        ghi = gend
+        if gend >= 0.0:
             # a crossing out and back inside the sub-step: check a few locked sub-lengths
             for k in range(1, HERMITE_SAMPLES + 1):
                 sk = rem * k / (HERMITE_SAMPLES + 1)
-                _locked(x, tt, sk, wk5, False, ac)
-                gsk = _worst(wk5, tt + sk, ac)
+                _locked(
+                    x,
+                    tt,
+                    sk,
+                    coef,
+                    ratio,
+                    omega,
+                    sp,
+                    el,
+                    mode,
+                    wk[5],
+                    cfa,
+                    wk,
+                    wt,
+                    gk,
+                    gc,
+                    jt,
+                    False,
+                    Y,
+                    lds,
+                )
+                gsk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
                 if gsk < 0.0:
                     hi = sk
                     ghi = gsk
                     break
         if ghi >= 0.0:
-            _xcopy(x, xo)
+            for i in range(d):
+                x[i] = xo[i]
             return
         # bracket [lo, hi] with g(lo) >= 0 > g(hi): Illinois
         lo = 0.0
-        glo = _worst(x, tt, ac)
+        glo, _w = _worst(x, tt, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
         if glo < 0.0:
             glo = 0.0
         side = 0
@@ -268,8 +320,28 @@ def accurate_step(x, t, h, xo, tangent, ac):
             s = hi - ghi * (hi - lo) / (ghi - glo) if ghi != glo else 0.5 * (lo + hi)
             if not (s > lo and s < hi):
                 s = 0.5 * (lo + hi)
-            _locked(x, tt, s, wk5, False, ac)
-            gs = _worst(wk5, tt + s, ac)
+            _locked(
+                x,
+                tt,
+                s,
+                coef,
+                ratio,
+                omega,
+                sp,
+                el,
+                mode,
+                wk[5],
+                cfa,
+                wk,
+                wt,
+                gk,
+                gc,
+                jt,
+                False,
+                Y,
+                lds,
+            )
+            gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
             if gs == 0.0:
                 lo = s
                 hi = s
@@ -288,13 +360,43 @@ def accurate_step(x, t, h, xo, tangent, ac):
                 side = -1
         s = hi
         if tangent:
-            _copy(Y, Ysave)
-        _locked(x, tt, s, xo, tangent, ac)
-        _xcopy(x, xo)
+            for i in range(d):
+                for c in range(Y.shape[1]):
+                    Y[i, c] = Ysave[i, c]
+        _locked(
+            x,
+            tt,
+            s,
+            coef,
+            ratio,
+            omega,
+            sp,
+            el,
+            mode,
+            xo,
+            cfa,
+            wk,
+            wt,
+            gk,
+            gc,
+            jt,
+            tangent,
+            Y,
+            lds,
+        )
+        for i in range(d):
+            x[i] = xo[i]
         tt += s
         rem -= s
         if rem <= 0.0:
             return
+    # split limit reached: finish the step unsplit
+    coef_at(coef, ratio, omega * tt, cfa[3])
+    element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
+    _regions(ev, gaps, mode)
+    _locked(x, tt, rem, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds)
+    for i in range(d):
+        x[i] = xo[i]
 
 
 # ----------------------------------------------------------------------------- plain step (padded layout)

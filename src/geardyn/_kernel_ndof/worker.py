@@ -41,7 +41,6 @@ from .step import (
     XROWS,
     XV,
     _copy,
-    _values,
     accurate_step,
     aligned_zeros,
     element_table,
@@ -269,26 +268,7 @@ def ndof_worker(
             element_table(tab, M, kc[p], cc[p], D[p], Dc[p], om, TB, Dp)
         ef = (EI, EVs[p], TB, Dp)
         ld = (g[p], go[p], otab)  # the loads at the table's times (module docstring of .step)
-        # the accurate mode's arrays (.step.accurate_step), its loads' table at a step's three times
-        ac = (
-            coef[p],
-            ratio[p],
-            om,
-            sp,
-            el,
-            mode,
-            cfa,
-            ev,
-            agaps,
-            wk,
-            wt,
-            gk,
-            gc,
-            jw,
-            Y,
-            Ysave,
-            ((g[p], go[p], ocs), ro[p], po[p]),
-        )
+        lds = ((g[p], go[p], ocs), ro[p], po[p])  # the accurate mode's
         _copy(x, state0[p])
         st[:, :] = 0.0
         _copy(Y[:, :ktan], tangent0[p])
@@ -335,7 +315,30 @@ def ndof_worker(
             else:
                 for j in range(N):
                     if accurate:
-                        accurate_step(x, j * h, h, xo, tan_on, ac)
+                        accurate_step(
+                            x,
+                            j * h,
+                            h,
+                            coef[p],
+                            ratio[p],
+                            om,
+                            sp,
+                            el,
+                            agaps,
+                            mode,
+                            xo,
+                            cfa,
+                            wk,
+                            wt,
+                            gk,
+                            gc,
+                            jw,
+                            tan_on,
+                            Y,
+                            Ysave,
+                            ev,
+                            lds,
+                        )
                     else:
                         rk4(
                             x,
@@ -359,7 +362,8 @@ def ndof_worker(
                         )
                     if rec:
                         if accurate:
-                            _values(x, (j + 1) * h, ac)
+                            coef_at(coef[p], ratio[p], om * ((j + 1) * h), cfa[3])
+                            element_values(x, x, n, cfa[3], sp, el, om, ev)
                         else:
                             element_values(x, x, n, tab[2 * j + 2], sp, el, om, ev)
                         accumulate(st, ev, gaps)
