@@ -137,21 +137,15 @@ def _element_force(e, d, dv, cf, el, mode):
 
 
 @njit(nogil=True, inline="always")
-def _row(ep, ej, Ev, q, v, vo, e, d, dv):
-    """(d + V[e]·q̃, dv + V[e]·q̃') of element row e, the terms added one by one in order; q̃ = q[0:n],
-    q̃' = v[vo:vo+n]."""
+def _row(ep, ej, Ev, x, vo, e):
+    """(V[e]·q̃, V[e]·q̃') of element row e; q̃ = x[0:n], q̃' = x[vo:vo+n]."""
+    d = 0.0
+    dv = 0.0
     for k in range(ep[e], ep[e + 1]):
         j = ej[k]
-        d += Ev[k] * q[j]
-        dv += Ev[k] * v[vo + j]
+        d += Ev[k] * x[j]
+        dv += Ev[k] * x[vo + j]
     return d, dv
-
-
-@njit(nogil=True, inline="always")
-def _sub_row(wp, wi, Wv, out, o, e, s):
-    """out[o + i] −= W[e, i] s over the nonzeros of force row e."""
-    for k in range(wp[e], wp[e + 1]):
-        out[o + wi[k]] -= Wv[k] * s
 
 
 @njit(nogil=True, inline="always")
@@ -212,8 +206,8 @@ def _bearing_slots(sp, el, cf, q, vo, gk, gc):
     e0 = M + el[4].shape[0]
     for b in range(bq.shape[0]):
         ex = e0 + 2 * b
-        dx, _vx = _row(ep, ej, Ev, q, q, vo, ex, 0.0, 0.0)
-        dy, _vy = _row(ep, ej, Ev, q, q, vo, ex + 1, 0.0, 0.0)
+        dx, vx = _row(ep, ej, Ev, q, vo, ex)
+        dy, vy = _row(ep, ej, Ev, q, vo, ex + 1)
         kxx, kxy, kyy = bearing_slopes(dx, dy, cf[M + b, 0], bq, b)
         gk[ex] = kxx
         gk[ex + 1] = kyy
@@ -234,8 +228,18 @@ def _bearing_forces(sp, el, cf, q, v, s):
     e0 = M + el[4].shape[0]
     for b in range(bq.shape[0]):
         ex = e0 + 2 * b
-        dx, vx = _row(ep, ej, Ev, q, v, 0, ex, 0.0, 0.0)
-        dy, vy = _row(ep, ej, Ev, q, v, 0, ex + 1, 0.0, 0.0)
+        dx = 0.0
+        vx = 0.0
+        for k in range(ep[ex], ep[ex + 1]):
+            j = ej[k]
+            dx += Ev[k] * q[j]
+            vx += Ev[k] * v[j]
+        dy = 0.0
+        vy = 0.0
+        for k in range(ep[ex + 1], ep[ex + 2]):
+            j = ej[k]
+            dy += Ev[k] * q[j]
+            vy += Ev[k] * v[j]
         sx, sy = bearing_force(dx, dy, vx, vy, cf[M + b, 0], bq, b)
         s[ex] = sx
         s[ex + 1] = sy
@@ -258,17 +262,26 @@ def field(x, cf, sp, el, omega, mode, out):
     bq = el[5]
     e0 = M + el[4].shape[0]
     for e in range(e0):
-        d, dv = _row(ep, ej, Ev, x, x, n, e, 0.0, 0.0)
+        d = 0.0
+        dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * x[j]
+            dv += Ev[k] * x[n + j]
         if e < M:
             dv -= omega * cf[e, 3]
-        _sub_row(wp, wi, Wv, out, n, e, _element_force(e, d, dv, cf, el, mode))
+        s = _element_force(e, d, dv, cf, el, mode)
+        for k in range(wp[e], wp[e + 1]):
+            out[n + wi[k]] -= Wv[k] * s
     for b in range(bq.shape[0]):
         ex = e0 + 2 * b
-        dx, vx = _row(ep, ej, Ev, x, x, n, ex, 0.0, 0.0)
-        dy, vy = _row(ep, ej, Ev, x, x, n, ex + 1, 0.0, 0.0)
+        dx, vx = _row(ep, ej, Ev, x, n, ex)
+        dy, vy = _row(ep, ej, Ev, x, n, ex + 1)
         sx, sy = bearing_force(dx, dy, vx, vy, cf[M + b, 0], bq, b)
-        _sub_row(wp, wi, Wv, out, n, ex, sx)
-        _sub_row(wp, wi, Wv, out, n, ex + 1, sy)
+        for k in range(wp[ex], wp[ex + 1]):
+            out[n + wi[k]] -= Wv[k] * sx
+        for k in range(wp[ex + 1], wp[ex + 2]):
+            out[n + wi[k]] -= Wv[k] * sy
 
 
 @njit(nogil=True)
@@ -278,7 +291,9 @@ def slopes(x, cf, sp, el, mode, gk, gc):
     M, D, kc, cc, Dc = el[0], el[1], el[2], el[3], el[4]
     e0 = M + Dc.shape[0]
     for e in range(e0):
-        d, _dv = _row(ep, ej, Ev, x, x, 0, e, -cf[e, 2] if e < M else 0.0, 0.0)
+        d = -cf[e, 2] if e < M else 0.0
+        for k in range(ep[e], ep[e + 1]):
+            d += Ev[k] * x[ej[k]]
         if e < M:
             gk[e] = cf[e, 1] * _slope(d, D[e], mode[e])
             gc[e] = cf[e, 0]
@@ -415,9 +430,17 @@ def element_values(q, v, vo, cf, sp, el, omega, out):
     M = el[0]
     for e in range(ep.shape[0] - 1):
         if e < M:
-            out[e, 0], out[e, 1] = _row(ep, ej, Ev, q, v, vo, e, -cf[e, 2], -omega * cf[e, 3])
+            d = -cf[e, 2]
+            dv = -omega * cf[e, 3]
         else:
-            out[e, 0], out[e, 1] = _row(ep, ej, Ev, q, v, vo, e, 0.0, 0.0)
+            d = 0.0
+            dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * q[j]
+            dv += Ev[k] * v[vo + j]
+        out[e, 0] = d
+        out[e, 1] = dv
 
 
 @njit(nogil=True, inline="always")

@@ -31,7 +31,6 @@ from numba import njit
 from .core import (
     _bearing_forces,
     _bearing_slots,
-    _row,
     coef_at,
     element_values,
     field,
@@ -485,7 +484,14 @@ def values_vec(q, v, r, ef, sp, el, ev, evs):
         ev[e, 0] = evs[0, e]
         ev[e, 1] = evs[1, e]
     for e in range(e1, ep.shape[0] - 1):
-        ev[e, 0], ev[e, 1] = _row(ep, ej, Ev, q, v, 0, e, 0.0, 0.0)
+        d = 0.0
+        dv = 0.0
+        for k in range(ep[e], ep[e + 1]):
+            j = ej[k]
+            d += Ev[k] * q[j]
+            dv += Ev[k] * v[j]
+        ev[e, 0] = d
+        ev[e, 1] = dv
 
 
 @njit(nogil=True, inline="always")
