@@ -150,18 +150,7 @@ def sparse_arrays(arrays):
     allp = allp[:, np.lexsort((allp[1], allp[0]))]
     cp = np.zeros(gj.shape[0] + 1, dtype=np.int64)
     cp[1:] = np.cumsum(np.bincount(allp[0], minlength=gj.shape[0]))
-    ce, cw, cv = allp[1], allp[2], allp[3]
-    i64 = np.int64
-    jt = (
-        gp,
-        gj,
-        c(A[:, rows_g, gj]),
-        c(B[:, rows_g, gj]),
-        cp,
-        c(ce, dtype=i64),
-        c(cw, dtype=i64),
-        c(cv, dtype=i64),
-    )
+    jt = (gp, gj, c(A[:, rows_g, gj]), c(B[:, rows_g, gj]), cp, *c(allp[1:], dtype=np.int64))
     sp = (
         abp,
         abj,
@@ -194,8 +183,7 @@ def sparse_arrays(arrays):
     ci = ri + bcj[:, None]  # its column
     inside = (ri < n) & (ci >= 0) & (ci < n)
     rr, cc_ = np.where(inside, ri, 0), np.where(inside, ci, 0)
-    ATs = c(np.where(inside[None], A[:, rr, cc_], 0.0))
-    BTs = c(np.where(inside[None], B[:, rr, cc_], 0.0))
+    ATs, BTs = (c(np.where(inside[None], X[:, rr, cc_], 0.0)) for X in (A, B))
     margin = int(L * -(-int(np.max(np.abs(bcj), initial=0)) // L))
     Wp = np.zeros((P, ew.shape[0], NP))
     Wp[:, :, :n] = E_W
@@ -307,12 +295,9 @@ def run_batch(
     # one block of rows: the dense plain step (see .worker); rolling bearings take the sparse one
     dense = blk[7].shape[1] == LANE_BLOCK and NB == 0
     ratio = np.ascontiguousarray(np.concatenate([a.ratio, a.bq[:, :, BQ_RHO]], axis=1)) if NB else a.ratio
-    if dense:
-        A, B, W, _g, Wc = derived(arrays)
-        Vd, Vcd = a.V, a.Vc
-    else:
-        A = B = np.zeros((P, 0, 0))
-        W = Wc = Vd = Vcd = np.zeros((P, 0, 0))
+    z = np.zeros((P, 0, 0))
+    A, B, W, _g, Wc = derived(arrays) if dense else (z,) * 5
+    Vd, Vcd = (a.V, a.Vc) if dense else (z, z)
 
     def job():
         ndof_worker(

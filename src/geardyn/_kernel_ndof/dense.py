@@ -13,10 +13,8 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from .core import _fz
-from .simd import LANE_BLOCK, _finish_final, _finish_stage, _ptr, _rows, _splat, _vload, _vty
-from .step import load_at
-
-XQ, XV, XK1, XK2, XK3, XQ2, XV2, XQ3, XV3, XQ4, XV4 = range(11)
+from .simd import LANE_BLOCK, _block, _finish_final, _finish_stage, _ptr, _rows, _splat, _vload, _vty
+from .step import load_at, state_rows
 
 
 def _accel_dense(context, builder, tys, vals, i0):
@@ -43,76 +41,48 @@ def _accel_dense(context, builder, tys, vals, i0):
 @intrinsic
 def dense_stage_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0):
     """Rows i0 … i0+LANE_BLOCK−1 of one stage at (q, v): k = acceleration, qn = q0 + c v, vn = v0 + c k."""
-    sig = types.void(AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0)
-
-    def codegen(context, builder, signature, args):
-        t = signature.args
-        acc = _accel_dense(context, builder, t[:7], args[:7], args[13])
-        _finish_stage(context, builder, t, args, 0, acc)
-        return context.get_dummy_value()
-
-    return sig, codegen
+    return _block(types.void(AT, BT, gP, WT, s, q, v, q0, v0, c, k, qn, vn, i0), _accel_dense, 7, _finish_stage)
 
 
 @intrinsic
 def dense_final_block(typingctx, AT, BT, gP, WT, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0):
     """Rows i0 … of the last stage at (q, v) = (q4, v4), then the RK4 update of (q0, v0) in place."""
     sig = types.void(AT, BT, gP, WT, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0)
+    return _block(sig, _accel_dense, 7, _finish_final)
 
-    def codegen(context, builder, signature, args):
-        t = signature.args
-        k4 = _accel_dense(context, builder, t[:7], args[:7], args[15])
-        _finish_final(context, builder, t, args, 0, k4)
-        return context.get_dummy_value()
 
-    return sig, codegen
+@njit(nogil=True, inline="always")
+def _dots(V, m, q, v, vo, d, dv):
+    """(d + Σ_j V[m, j] q[j], dv + Σ_j V[m, j] v[vo + j]), the terms added one by one in order."""
+    for j in range(V.shape[1]):
+        d += V[m, j] * q[j]
+        dv += V[m, j] * v[vo + j]
+    return d, dv
 
 
 @njit(nogil=True, inline="always")
 def forces_dense(q, v, tab, r, V, D, Vc, kc, cc, Dc, omega, s):
     """Element forces s[e] of :func:`field` (default mode) at (q̃, q̃') = (q[0:n], v[0:n]), coefficients
     from row r of a table (T, meshes, 4); meshes, then clearances, in :func:`field`'s arithmetic."""
-    n = V.shape[1]
     M = V.shape[0]
     for m in range(M):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += V[m, j] * q[j]
-            dv += V[m, j] * v[j]
+        d, dv = _dots(V, m, q, v, 0, 0.0, 0.0)
         d -= tab[r, m, 2]
         dv -= omega * tab[r, m, 3]
         s[m] = tab[r, m, 0] * dv + tab[r, m, 1] * _fz(d, D[m])
     for c in range(Vc.shape[0]):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += Vc[c, j] * q[j]
-            dv += Vc[c, j] * v[j]
+        d, dv = _dots(Vc, c, q, v, 0, 0.0, 0.0)
         s[M + c] = cc[c] * dv + kc[c] * _fz(d, Dc[c])
 
 
 @njit(nogil=True, inline="always")
 def element_values_dense(q, v, vo, cf, V, Vc, omega, out):
     """δ, δ' of every element (meshes then clearances) into out[e, 0:2]; q̃ = q[0:n], q̃' = v[vo:vo+n]."""
-    n = V.shape[1]
     M = V.shape[0]
     for m in range(M):
-        d = -cf[m, 2]
-        dv = -omega * cf[m, 3]
-        for j in range(n):
-            d += V[m, j] * q[j]
-            dv += V[m, j] * v[vo + j]
-        out[m, 0] = d
-        out[m, 1] = dv
+        out[m, 0], out[m, 1] = _dots(V, m, q, v, vo, -cf[m, 2], -omega * cf[m, 3])
     for c in range(Vc.shape[0]):
-        d = 0.0
-        dv = 0.0
-        for j in range(n):
-            d += Vc[c, j] * q[j]
-            dv += Vc[c, j] * v[vo + j]
-        out[M + c, 0] = d
-        out[M + c, 1] = dv
+        out[M + c, 0], out[M + c, 1] = _dots(Vc, c, q, v, vo, 0.0, 0.0)
 
 
 @njit(nogil=True)
@@ -132,45 +102,32 @@ def pad_dense(A, B, g, W, Wc, AT, BT, gP, WT):
 
 
 @njit(nogil=True, inline="always")
-def rk4_plain_dense(X, s, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, omega, ld):
+def rk4_plain_dense(X, s, h, tab, j, dm, omega, ld):
     """One default-mode RK4 step without tangents (the hot loop) on the padded state X[XQ], X[XV].
 
-    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace.
+    X : (XROWS, NP) workspace, NP a multiple of LANE_BLOCK, its padding zero; s : (elements,) workspace;
+    ``dm = (AT, BT, gP, WT, V, D, Vc, kc, cc, Dc)`` the point's padded matrices (:func:`pad_dense`) and elements.
     Coefficients (and the loads ``ld`` into gP, :func:`geardyn._kernel_ndof.step.load_at`; None without torque
     orders: the step then compiles without the refill) from the table rows 2j..2j+2; the arithmetic is
     :func:`rk4` with :func:`field`'s, operation by operation (see :mod:`geardyn._kernel_ndof.simd`), vectorised
     over blocks of rows.
     """
+    AT, BT, gP, WT, V, D, Vc, kc, cc, Dc = dm
     hh = 0.5 * h
     h6 = h / 6.0
-    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = (
-        X[XQ],
-        X[XV],
-        X[XK1],
-        X[XK2],
-        X[XK3],
-        X[XQ2],
-        X[XV2],
-        X[XQ3],
-        X[XV3],
-        X[XQ4],
-        X[XV4],
-    )
-    if ld is not None:  # None: no torque orders, compiled without the refill
-        load_at(gP, ld, 2 * j)
+    q, v, k1, k2, k3, q2, v2, q3, v3, q4, v4 = state_rows(X, 0, X.shape[1])
+    load_at(gP, ld, 2 * j)
     forces_dense(q, v, tab, 2 * j, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         dense_stage_block(AT, BT, gP, WT, s, q, v, q, v, hh, k1, q2, v2, b)
-    if ld is not None:  # None: no torque orders, compiled without the refill
-        load_at(gP, ld, 2 * j + 1)
+    load_at(gP, ld, 2 * j + 1)
     forces_dense(q2, v2, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         dense_stage_block(AT, BT, gP, WT, s, q2, v2, q, v, hh, k2, q3, v3, b)
     forces_dense(q3, v3, tab, 2 * j + 1, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         dense_stage_block(AT, BT, gP, WT, s, q3, v3, q, v, h, k3, q4, v4, b)
-    if ld is not None:  # None: no torque orders, compiled without the refill
-        load_at(gP, ld, 2 * j + 2)
+    load_at(gP, ld, 2 * j + 2)
     forces_dense(q4, v4, tab, 2 * j + 2, V, D, Vc, kc, cc, Dc, omega, s)
     for b in range(0, X.shape[1], LANE_BLOCK):
         dense_final_block(AT, BT, gP, WT, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3, b)

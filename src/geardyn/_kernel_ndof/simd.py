@@ -103,10 +103,23 @@ def _accel(context, builder, tys, vals, i0):
 NACC = 13
 
 
+def _block(sig, accel, nacc, finish):
+    """The (signature, codegen) of a block's intrinsic: the acceleration ``accel`` from its first ``nacc`` arguments
+    (:func:`_accel`, or the dense one), then ``finish`` (:func:`_finish_stage` or :func:`_finish_final`); the block's
+    first row i0 is the last argument."""
+
+    def codegen(context, builder, signature, args):
+        t = signature.args
+        finish(context, builder, t, args, nacc - 7, accel(context, builder, t[:nacc], args[:nacc], args[-1]))
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
 def _finish_stage(context, builder, t, args, b, acc):
     """Store a stage's acceleration ``acc`` into k, and qn = q0 + c q', vn = v0 + c k (the arguments (q', q0, v0,
     c, k, qn, vn, i0) at 6 + b … 13 + b: b = 0 for the dense stage, the sparse one's extra arguments before)."""
-    i0v = args[13 + b]
+    i0v = args[-1]
     cv = _splat(builder, args[9 + b])
 
     def ld(a):
@@ -124,7 +137,7 @@ def _finish_stage(context, builder, t, args, b, acc):
 def _finish_final(context, builder, t, args, b, k4):
     """The RK4 update of (q0, v0) from the last stage's acceleration ``k4`` (the arguments (q4, v4, q0, v0, h6, k1,
     k2, k3, v2, v3, i0) at 5 + b … 15 + b, as :func:`_finish_stage`)."""
-    i0v = args[15 + b]
+    i0v = args[-1]
 
     def ld(a):
         return _vload(context, builder, t[a + b], args[a + b], [i0v])
@@ -147,30 +160,14 @@ def _finish_final(context, builder, t, args, b, k4):
 def stage_block(typingctx, AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, c, k, qn, vn, i0):
     """Rows i0 … i0+LANE_BLOCK−1 of one stage at (q, v): k = acceleration, qn = q0 + c v, vn = v0 + c k."""
     sig = types.void(AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, c, k, qn, vn, i0)
-
-    def codegen(context, builder, signature, args):
-        t = signature.args
-        b = NACC - 7  # the arguments below are those of the dense version, shifted by b
-        acc = _accel(context, builder, t[:NACC], args[:NACC], args[13 + b])
-        _finish_stage(context, builder, t, args, b, acc)
-        return context.get_dummy_value()
-
-    return sig, codegen
+    return _block(sig, _accel, NACC, _finish_stage)  # the arguments after NACC: the dense version's after 7
 
 
 @intrinsic
 def final_block(typingctx, AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0):
     """Rows i0 … of the last stage at (q, v) = (q4, v4), then the RK4 update of (q0, v0) in place."""
     sig = types.void(AT, BT, cj, lo, hi, gP, WT, ej, elo, ehi, s, q, v, q0, v0, h6, k1, k2, k3, v2, v3, i0)
-
-    def codegen(context, builder, signature, args):
-        t = signature.args
-        b = NACC - 7
-        k4 = _accel(context, builder, t[:NACC], args[:NACC], args[15 + b])
-        _finish_final(context, builder, t, args, b, k4)
-        return context.get_dummy_value()
-
-    return sig, codegen
+    return _block(sig, _accel, NACC, _finish_final)
 
 
 def _gather(builder, base, idx):
@@ -217,17 +214,23 @@ def _group_sums(context, builder, tys, vals, d0, v0):
     return builder.load(dacc), builder.load(vacc)
 
 
-def _group_forces(context, builder, tys, vals):
-    """(first lane's index, δ, D, s) of an element group: the force of :func:`forces_group`."""
-    tEI, tEV, tq, tv, tTB, _tr, tD, _tom, tg = tys
-    EIv, EVv, qv, vv, TBv, rv, Dv, om, gv = vals
+def _group_head(context, builder, tTB, TBv, rv, gv):
+    """(first lane's index g0 = G·L of group G = ``gv``, and ``tb(c)``: the vector TB[r, c, g0 : g0 + L])."""
     g0 = builder.mul(gv, ir.Constant(gv.type, LANE_BLOCK))
-    z = ir.Constant(_vty(), [0.0] * LANE_BLOCK)
-    d, dv = _group_sums(context, builder, (tEI, tEV, tq, tv, tg), (EIv, EVv, qv, vv, gv), z, z)
 
     def tb(c):
         return _vload(context, builder, tTB, TBv, [rv, ir.Constant(rv.type, c), g0])
 
+    return g0, tb
+
+
+def _group_forces(context, builder, tys, vals):
+    """(first lane's index, δ, D, s) of an element group: the force of :func:`forces_group`."""
+    tEI, tEV, tq, tv, tTB, _tr, tD, _tom, tg = tys
+    EIv, EVv, qv, vv, TBv, rv, Dv, om, gv = vals
+    g0, tb = _group_head(context, builder, tTB, TBv, rv, gv)
+    z = ir.Constant(_vty(), [0.0] * LANE_BLOCK)
+    d, dv = _group_sums(context, builder, (tEI, tEV, tq, tv, tg), (EIv, EVv, qv, vv, gv), z, z)
     d = builder.fsub(d, tb(2))
     dv = builder.fsub(dv, builder.fmul(_splat(builder, om), tb(3)))
     D = _vload(context, builder, tD, Dv, [g0])
@@ -287,11 +290,7 @@ def values_group(typingctx, EI, EV, q, v, TB, r, out, g):
     def codegen(context, builder, signature, args):
         tEI, tEV, tq, tv, tTB, _tr, to, tg = signature.args
         EIv, EVv, qv, vv, TBv, rv, ov, gv = args
-        g0 = builder.mul(gv, ir.Constant(gv.type, LANE_BLOCK))
-
-        def tb(c):
-            return _vload(context, builder, tTB, TBv, [rv, ir.Constant(rv.type, c), g0])
-
+        g0, tb = _group_head(context, builder, tTB, TBv, rv, gv)
         d, dv = _group_sums(context, builder, (tEI, tEV, tq, tv, tg), (EIv, EVv, qv, vv, gv), tb(4), tb(5))
         _vstore(context, builder, to, ov, [ir.Constant(g0.type, 0), g0], d)
         _vstore(context, builder, to, ov, [ir.Constant(g0.type, 1), g0], dv)

@@ -54,7 +54,9 @@ CROSSING_TOL = 1e-13
 @njit(nogil=True, inline="always")
 def load_at(dst, ld, r):
     """dst[0:n] = gb + Σ_o ct[r, o] go[o] of ``ld = (gb, go, ct)``: the load at the time of row r of ct; without
-    orders nothing is written."""
+    orders nothing is written (``ld`` None: the caller compiles without the refill)."""
+    if ld is None:
+        return
     gb, go, ct = ld
     O = go.shape[0]
     if O == 0:
@@ -74,13 +76,15 @@ def order_cosines(ro, po, theta, ct, r):
 
 
 @njit(nogil=True)
-def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt, Gq, Gv, ld, r):
+def rk4(x, h, cf0, cf1, cf2, sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jw, ld, r):
     """Advance x (and the columns Y when ``tangent``) by one RK4 step of length h, in place.
 
     wk : (6, 2n) workspace (k1..k4, stage state, start state); wt : (5, 2n, k) tangent workspace;
-    gk, gc : (elements,) workspace (the element slopes); jt the Jacobian's pattern, Gq, Gv its values (workspace);
+    gk, gc : (elements,) workspace (the element slopes); ``jw = (jt, Gq, Gv)`` the Jacobian's pattern and its
+    values (workspace);
     ``ld`` the loads (module docstring), rows r, r + 1, r + 2 of its table at the start, midpoint and end.
     """
+    jt, Gq, Gv = jw
     d = x.shape[0]
     hh = 0.5 * h
     h6 = h / 6.0
@@ -168,6 +172,13 @@ def _gfun(d, D, m):
 
 
 @njit(nogil=True)
+def _copy(dst, src):
+    """dst = src, element by element (arrays of one shape, any layout)."""
+    for i, v in np.ndenumerate(src):
+        dst[i] = v
+
+
+@njit(nogil=True)
 def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc, jt, tangent, Y, lds):
     """xo = locked RK4 step of length s from x0 at time t (Y advanced when ``tangent``); ``lds = (ld, ro, po)``
     the loads (their table ct the rows of this step's three times)."""
@@ -181,7 +192,7 @@ def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc,
     order_cosines(ro, po, omega * t, ct, 0)
     order_cosines(ro, po, omega * (t + 0.5 * s), ct, 1)
     order_cosines(ro, po, omega * (t + s), ct, 2)
-    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt[0], jt[1], jt[2], ld, 0)
+    rk4(xo, s, cfa[0], cfa[1], cfa[2], sp, el, omega, mode, tangent, Y, wk, wt, gk, gc, jt, ld, 0)
 
 
 @njit(nogil=True)
@@ -410,17 +421,10 @@ def aligned_zeros(rows, cols):
 def pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP):
     """Copy point p's block-sparse matrices into the aligned buffers AT, BT (diagonals, LANE_BLOCK), WT, gP; the
     tuple of the plain step's block arrays."""
-    nc = bcj.shape[0]
-    ne = bej.shape[0]
-    for k in range(nc):
-        for r in range(LANE_BLOCK):
-            AT[k, r] = ATs[p, k, r]
-            BT[k, r] = BTs[p, k, r]
-    for k in range(ne):
-        for r in range(LANE_BLOCK):
-            WT[k, r] = WTs[p, k, r]
-    for i in range(gP.shape[0]):
-        gP[i] = gPs[p, i]
+    _copy(AT[: bcj.shape[0]], ATs[p])
+    _copy(BT[: bcj.shape[0]], BTs[p])
+    _copy(WT[: bej.shape[0]], WTs[p])
+    _copy(gP, gPs[p])
     return (bcp, bcj, AT, BT, bep, bej, WT, gP)
 
 
@@ -453,6 +457,8 @@ def element_table(tab, M, kc, cc, D, Dc, omega, TB, Dp):
     C = Dc.shape[0]
     TB[:, :, :] = 0.0
     Dp[:] = 0.0
+    _copy(Dp[:M], D)
+    _copy(Dp[M : M + C], Dc)
     for i in range(TB.shape[0]):
         for e in range(M):
             for c in range(4):
@@ -462,10 +468,6 @@ def element_table(tab, M, kc, cc, D, Dc, omega, TB, Dp):
         for c in range(C):
             TB[i, 0, M + c] = cc[c]
             TB[i, 1, M + c] = kc[c]
-    for e in range(M):
-        Dp[e] = D[e]
-    for c in range(C):
-        Dp[M + c] = Dc[c]
 
 
 @njit(nogil=True, inline="always")
@@ -507,25 +509,7 @@ def forces_vec(q, v, tab, r, ef, sp, el, omega, s, bear):
 
 
 @njit(nogil=True, inline="always")
-def forces_slopes_vec(q, v, tab, r, ef, sw, sp, el, omega, s, gk, gc, bear):
-    """:func:`forces_vec` and the element slopes gk, gc of :func:`.core.slopes` (default mode; the same numbers) at
-    the same state, the meshes and clearances L at a time
-    (:func:`.simd.forces_slopes_group`, their slopes through ``sw = (gkv, gcv)``, (groups·L,) each); then the
-    rolling bearings' forces and slopes unless ``bear`` is None."""
-    EI, EV, TB, Dp = ef
-    gkv, gcv = sw
-    for G in range(EI.shape[0]):
-        forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, gkv, gcv, G)
-    for e in range(el[0] + el[4].shape[0]):
-        gk[e] = gkv[e]
-        gc[e] = gcv[e]
-    if bear is not None:
-        _bearing_forces(sp, el, tab[r], q, v, s)
-        _bearing_slots(sp, el, tab[r], q, 0, gk, gc)
-
-
-@njit(nogil=True, inline="always")
-def _stages(R, blk, s, q, v, q0, v0, c, k, qn, vn):
+def _stages(blk, s, q, v, q0, v0, c, k, qn, vn):
     bcp, bcj, AT, BT, bep, bej, WT, gP = blk
     for b in range(bcp.shape[0] - 1):
         stage_block(
@@ -599,12 +583,12 @@ def rk4_plain(R, s, h, tab, j, blk, sp, el, omega, ld, bear, ef):
     gP = blk[7]
     load_at(gP, ld, 2 * j)
     forces_vec(q, v, tab, 2 * j, ef, sp, el, omega, s, bear)
-    _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
+    _stages(blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
     forces_vec(q2, v2, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
-    _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
+    _stages(blk, s, q2, v2, q, v, hh, k2, q3, v3)
     forces_vec(q3, v3, tab, 2 * j + 1, ef, sp, el, omega, s, bear)
-    _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    _stages(blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
     forces_vec(q4, v4, tab, 2 * j + 2, ef, sp, el, omega, s, bear)
     _final(blk, s, q4, v4, q, v, h6, k1, k2, k3, v2, v3)
@@ -622,6 +606,24 @@ def _tan_stage(Y, Ys, c, Kp, sp, gk, gc, Kout):
     tan_free(Ys, sp, gk, gc, Kout)
 
 
+@njit(nogil=True, inline="always")
+def forces_slopes_vec(q, v, tab, r, ef, sw, sp, el, omega, s, gk, gc, bear):
+    """:func:`forces_vec` and the element slopes gk, gc of :func:`.core.slopes` (default mode; the same numbers) at
+    the same state, the meshes and clearances L at a time
+    (:func:`.simd.forces_slopes_group`, their slopes through ``sw = (gkv, gcv)``, (groups·L,) each); then the
+    rolling bearings' forces and slopes unless ``bear`` is None."""
+    EI, EV, TB, Dp = ef
+    gkv, gcv = sw
+    for G in range(EI.shape[0]):
+        forces_slopes_group(EI, EV, q, v, TB, r, Dp, omega, s, gkv, gcv, G)
+    for e in range(el[0] + el[4].shape[0]):
+        gk[e] = gkv[e]
+        gc[e] = gcv[e]
+    if bear is not None:
+        _bearing_forces(sp, el, tab[r], q, v, s)
+        _bearing_slots(sp, el, tab[r], q, 0, gk, gc)
+
+
 @njit(nogil=True)
 def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear, ef, sw):
     """:func:`rk4_plain` (the state, bit for bit) with a few tangent columns Y (2n, k) advanced by RK4 alongside,
@@ -634,14 +636,14 @@ def rk4_plain_tan(R, s, h, tab, j, blk, sp, el, omega, Y, wt, gk, gc, ld, bear, 
     load_at(gP, ld, 2 * j)
     forces_slopes_vec(q, v, tab, 2 * j, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], 0.0, wt[0], sp, gk, gc, wt[0])
-    _stages(R, blk, s, q, v, q, v, hh, k1, q2, v2)
+    _stages(blk, s, q, v, q, v, hh, k1, q2, v2)
     load_at(gP, ld, 2 * j + 1)
     forces_slopes_vec(q2, v2, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], hh, wt[0], sp, gk, gc, wt[1])
-    _stages(R, blk, s, q2, v2, q, v, hh, k2, q3, v3)
+    _stages(blk, s, q2, v2, q, v, hh, k2, q3, v3)
     forces_slopes_vec(q3, v3, tab, 2 * j + 1, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], hh, wt[1], sp, gk, gc, wt[2])
-    _stages(R, blk, s, q3, v3, q, v, h, k3, q4, v4)
+    _stages(blk, s, q3, v3, q, v, h, k3, q4, v4)
     load_at(gP, ld, 2 * j + 2)
     forces_slopes_vec(q4, v4, tab, 2 * j + 2, ef, sw, sp, el, omega, s, gk, gc, bear)
     _tan_stage(Y, wt[4], h, wt[2], sp, gk, gc, wt[3])

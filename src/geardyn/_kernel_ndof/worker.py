@@ -40,6 +40,7 @@ from .step import (
     XQ,
     XROWS,
     XV,
+    _copy,
     accurate_step,
     aligned_zeros,
     element_table,
@@ -77,43 +78,39 @@ def _quotient(Y, R):
 
 
 @njit(nogil=True)
-def _period_sparse(R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, bear, ef):
-    """N plain steps on the padded state R (:func:`.step.state_rows`; statistics when ``rec``, ``evs`` their
-    workspace; history samples b0 + j; the loads ``ld``; the element groups ``ef``)."""
+def _period_sparse(R, pc, blk, sp, el, ld, bear, ef, evs, T):
+    """N plain steps on the padded state R (:func:`.step.state_rows`), ``pc = (sf, h, tab, N, om, rec, st, ev,
+    gaps, hist, p, b0)`` (statistics when ``rec``, ``evs`` their workspace; history samples b0 + j); the loads
+    ``ld``; the element groups ``ef``; a few tangent columns ``T`` (:func:`.step.rk4_plain_tan`; None: none)."""
+    sf, h, tab, N, om, rec, st, ev, gaps, hist, p, b0 = pc
     q = R[0]
     v = R[1]
     for j in range(N):
-        rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef)
+        if T is None:
+            rk4_plain(R, sf, h, tab, j, blk, sp, el, om, ld, bear, ef)
+        else:
+            Y, wt, gk, gc, sw = T
+            rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear, ef, sw)
         if rec:
-            values_vec(q, v, 2 * j + 2, ef, sp, el, ev, evs)
+            if T is None:
+                values_vec(q, v, 2 * j + 2, ef, sp, el, ev, evs)
+            else:
+                element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
             accumulate(st, ev, gaps)
         if hist.shape[1] > 0:
             _store_hist(hist, p, b0 + j, q, v, 0)
 
 
 @njit(nogil=True)
-def _period_tan(R, sf, h, tab, N, blk, sp, el, om, Y, wt, gk, gc, rec, st, ev, gaps, hist, p, b0, ld, bear, ef, sw):
-    """:func:`_period_sparse` with a few tangent columns Y."""
-    q = R[0]
-    v = R[1]
-    for j in range(N):
-        rk4_plain_tan(R, sf, h, tab, j, blk, sp, el, om, Y, wt, gk, gc, ld, bear, ef, sw)
-        if rec:
-            element_values(q, v, 0, tab[2 * j + 2], sp, el, om, ev)
-            accumulate(st, ev, gaps)
-        if hist.shape[1] > 0:
-            _store_hist(hist, p, b0 + j, q, v, 0)
-
-
-@njit(nogil=True)
-def _period_dense(X, sf, h, tab, N, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om, rec, st, ev, gaps, hist, p, b0, ld):
-    """:func:`_period_sparse` on dense matrices (:mod:`.dense`)."""
+def _period_dense(X, pc, dm, ld):
+    """:func:`_period_sparse` on dense matrices ``dm`` (:func:`.dense.rk4_plain_dense`)."""
+    sf, h, tab, N, om, rec, st, ev, gaps, hist, p, b0 = pc
     q = X[XQ]
     v = X[XV]
     for j in range(N):
-        rk4_plain_dense(X, sf, h, tab, j, AT, BT, gP, WT, V, D, Vc, kc, cc, Dc, om, ld)
+        rk4_plain_dense(X, sf, h, tab, j, dm, om, ld)
         if rec:
-            element_values_dense(q, v, 0, tab[2 * j + 2], V, Vc, om, ev)
+            element_values_dense(q, v, 0, tab[2 * j + 2], dm[4], dm[6], om, ev)
             accumulate(st, ev, gaps)
         if hist.shape[1] > 0:
             _store_hist(hist, p, b0 + j, q, v, 0)
@@ -243,8 +240,7 @@ def ndof_worker(
         Tf = tperiod[p]
         h = Tf / N
         om = omega[p]
-        for i in range(n):
-            gw[i] = g[p, i]
+        _copy(gw, g[p])
         sp = (abp, abj, Av[p], Bv[p], ep, ej, Ev[p], wp, wi, Wv[p], gw)
         el = (M, D[p], kc[p], cc[p], Dc[p], bq[p])
         jt = (gp, gj, Ag[p], Bg[p], cp, ce, cw, cv)
@@ -252,18 +248,13 @@ def ndof_worker(
         blk = pad_point(p, bcp, bcj, ATs, BTs, bep, bej, WTs, gPs, AT, BT, WT, gP)
         if dense:
             pad_dense(Ad[p], Bd[p], g[p], Wd[p], Wcd[p], ATd, BTd, gP, WTd)
-        gaps = np.empty(E)
-        for m in range(M):
-            gaps[m] = D[p, m]
-        for c in range(C):
-            gaps[M + c] = Dc[p, c]
+        gaps = np.zeros(E)
+        _copy(gaps[:M], D[p])
+        _copy(gaps[M : M + C], Dc[p])
         # the accurate mode splits no step at a bearing (its force is C¹ at contact): a gap 0 never switches
         agaps = gaps.copy()
         for b in range(NB):
-            gaps[M + C + 2 * b] = bq[p, b, 3]
-            gaps[M + C + 2 * b + 1] = bq[p, b, 3]
-            agaps[M + C + 2 * b] = 0.0
-            agaps[M + C + 2 * b + 1] = 0.0
+            gaps[M + C + 2 * b : M + C + 2 * b + 2] = bq[p, b, 3]
         tab = np.empty((0, M + NB, 4))
         TB = np.empty((0, 6, EP))
         otab = ocs
@@ -278,161 +269,49 @@ def ndof_worker(
         ef = (EI, EVs[p], TB, Dp)
         ld = (g[p], go[p], otab)  # the loads at the table's times (module docstring of .step)
         lds = ((g[p], go[p], ocs), ro[p], po[p])  # the accurate mode's
-        for i in range(d):
-            x[i] = state0[p, i]
+        _copy(x, state0[p])
         st[:, :] = 0.0
-        for i in range(d):
-            for c in range(ktan):
-                Y[i, c] = tangent0[p, i, c]
+        _copy(Y[:, :ktan], tangent0[p])
         bad = False
         total = n_transient + n_record
         hstart = total * N - (hl - 1)
         if hl > 0:
-            for i in range(d):
-                hist[p, 0, i] = x[i] if hstart == 0 else 0.0
+            hist[p, 0] = 0.0
+            if hstart == 0:
+                hist[p, 0] = x
         for per in range(total):
             rec = per >= n_transient
             tan_on = rec and ktan > 0
             if not accurate and (not tan_on or ktan < d):
                 # the plain step on the padded state (padding zero); a few tangent columns alongside
-                b0 = per * N + 1 - hstart
-                if dense and not tan_on:
-                    X[:, :] = 0.0
-                    qd = X[XQ]
-                    vd = X[XV]
-                    for i in range(n):
-                        qd[i] = x[i]
-                        vd[i] = x[n + i]
+                pc = (sf, h, tab, N, om, rec, st, ev, gaps, hist, p, per * N + 1 - hstart)
+                dn = dense and not tan_on
+                Z = X if dn else Xs
+                z0 = 0 if dn else margin
+                Z[:, :] = 0.0
+                for i in range(n):
+                    Z[XQ, z0 + i] = x[i]
+                    Z[XV, z0 + i] = x[n + i]
+                if dn:
+                    dm = (ATd, BTd, gP, WTd, Vd[p], D[p], Vcd[p], kc[p], cc[p], Dc[p])
                     if O > 0:
-                        _period_dense(
-                            X,
-                            sf,
-                            h,
-                            tab,
-                            N,
-                            ATd,
-                            BTd,
-                            gP,
-                            WTd,
-                            Vd[p],
-                            D[p],
-                            Vcd[p],
-                            kc[p],
-                            cc[p],
-                            Dc[p],
-                            om,
-                            rec,
-                            st,
-                            ev,
-                            gaps,
-                            hist,
-                            p,
-                            b0,
-                            ld,
-                        )
+                        _period_dense(X, pc, dm, ld)
                     else:  # no orders: the step compiled without the load's refill
-                        _period_dense(
-                            X,
-                            sf,
-                            h,
-                            tab,
-                            N,
-                            ATd,
-                            BTd,
-                            gP,
-                            WTd,
-                            Vd[p],
-                            D[p],
-                            Vcd[p],
-                            kc[p],
-                            cc[p],
-                            Dc[p],
-                            om,
-                            rec,
-                            st,
-                            ev,
-                            gaps,
-                            hist,
-                            p,
-                            b0,
-                            None,
-                        )
-                    for i in range(n):
-                        x[i] = qd[i]
-                        x[n + i] = vd[i]
+                        _period_dense(X, pc, dm, None)
                 else:
-                    Xs[:, :] = 0.0
-                    q = R[0]
-                    v = R[1]
-                    for i in range(n):
-                        q[i] = x[i]
-                        v[i] = x[n + i]
                     # bearings: the step compiled with their code; without, given None, compiled without it (.core)
+                    T = (Y, wt, gk, gc, sw)
                     if tan_on and NB > 0:
-                        _period_tan(
-                            R,
-                            sf,
-                            h,
-                            tab,
-                            N,
-                            blk,
-                            sp,
-                            el,
-                            om,
-                            Y,
-                            wt,
-                            gk,
-                            gc,
-                            rec,
-                            st,
-                            ev,
-                            gaps,
-                            hist,
-                            p,
-                            b0,
-                            ld,
-                            bq,
-                            ef,
-                            sw,
-                        )
+                        _period_sparse(R, pc, blk, sp, el, ld, bq, ef, evs, T)
                     elif tan_on:
-                        _period_tan(
-                            R,
-                            sf,
-                            h,
-                            tab,
-                            N,
-                            blk,
-                            sp,
-                            el,
-                            om,
-                            Y,
-                            wt,
-                            gk,
-                            gc,
-                            rec,
-                            st,
-                            ev,
-                            gaps,
-                            hist,
-                            p,
-                            b0,
-                            ld,
-                            None,
-                            ef,
-                            sw,
-                        )
+                        _period_sparse(R, pc, blk, sp, el, ld, None, ef, evs, T)
                     elif NB > 0:
-                        _period_sparse(
-                            R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, bq, ef
-                        )
+                        _period_sparse(R, pc, blk, sp, el, ld, bq, ef, evs, None)
                     else:
-                        _period_sparse(
-                            R, sf, h, tab, N, blk, sp, el, om, rec, st, ev, evs, gaps, hist, p, b0, ld, None, ef
-                        )
-                    for i in range(n):
-                        x[i] = q[i]
-                        x[n + i] = v[i]
+                        _period_sparse(R, pc, blk, sp, el, ld, None, ef, evs, None)
+                for i in range(n):
+                    x[i] = Z[XQ, z0 + i]
+                    x[n + i] = Z[XV, z0 + i]
             else:
                 for j in range(N):
                     if accurate:
@@ -477,9 +356,7 @@ def ndof_worker(
                             wt,
                             gk,
                             gc,
-                            jt,
-                            Gq,
-                            Gv,
+                            jw,
                             ld,
                             2 * j,
                         )
@@ -498,28 +375,18 @@ def ndof_worker(
             if rec:
                 r = per - n_transient
                 if poincare.shape[1] > 0:
-                    for i in range(d):
-                        poincare[p, r, i] = x[i]
+                    _copy(poincare[p, r], x)
                 if tangent == TAN_LYAPUNOV:
                     _quotient(Y, rigid)
                     gram_schmidt(Y, logs)
-                    for i in range(ktan):
-                        tan_log[p, r, i] = logs[i]
-        for e in range(E):
-            for s in range(NSTAT):
-                stats[p, e, s] = st[e, s]
+                    _copy(tan_log[p, r], logs[:ktan])
+        _copy(stats[p], st)
         if bad:
             status[p] = ST_DIVERGED
-            for r in range(poincare.shape[1]):
-                for i in range(d):
-                    poincare[p, r, i] = np.nan
-            for i in range(d):
-                end_state[p, i] = np.nan
+            poincare[p] = np.nan
+            end_state[p] = np.nan
         else:
             status[p] = ST_OK
-            for i in range(d):
-                end_state[p, i] = x[i]
+            _copy(end_state[p], x)
         if tangent != TAN_NONE:
-            for i in range(d):
-                for c in range(ktan):
-                    tan_out[p, i, c] = Y[i, c]
+            _copy(tan_out[p], Y[:, :ktan])

@@ -324,35 +324,34 @@ def _alive(pid: int) -> bool:
 
 
 @contextmanager
-def _sigint_ignored() -> Iterator[None]:
+def _sigint_handled(handler) -> Iterator[None]:
+    """SIGINT goes to ``handler`` while the block runs (main thread only: elsewhere nothing changes)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.signal(signal.SIGINT, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
+def _sigint_ignored():
     """Ignore SIGINT while worker processes are started, so that they inherit SIG_IGN.
 
     Local worker processes must not receive the terminal's Ctrl-C (it goes to the whole
     foreground process group); a spawned process inherits an ignored signal, so it ignores
     SIGINT from its first instruction.  Only possible in the main thread.
     """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, old)
+    return _sigint_handled(signal.SIG_IGN)
 
 
 @contextmanager
 def _sigint_deferred() -> Iterator[None]:
     """Hold a Ctrl-C back until the block is done, then raise it (main thread only)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
     caught: list[int] = []
-    old = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
-    try:
+    with _sigint_handled(lambda signum, frame: caught.append(signum)):
         yield
-    finally:
-        signal.signal(signal.SIGINT, old)
     if caught:
         raise KeyboardInterrupt
 
