@@ -325,3 +325,22 @@ def test_a_gearbox_simulation_settles_on_its_static_deflection(tmp_path):
     spread = r.element_u_max()[0] - r.element_u_min()[0]
     assert np.allclose(means, static, rtol=1e-6), (means, static)
     assert np.all(spread < 1e-6 * np.abs(static))
+
+
+@pytest.mark.parametrize(
+    "material, bound",
+    [
+        ('rho = "-7850 kg/m^3"', "must be >= 0 (a negative density"),
+        ('E = "-3 GPa"', "must be >= 0 (a negative pressure"),
+        ('E = "0 GPa"', "E must be > 0 Pa"),
+        ("nu = 0.7", "nu must be in (-1, 0.5)"),
+    ],
+)
+def test_a_shaft_material_out_of_bounds_is_refused_naming_its_place_once(tmp_path, material, bound):
+    text = _file(tmp_path).read_text().replace('name = "in"\n', f'name = "in"\nmaterial = {{ {material} }}\n', 1)
+    path = tmp_path / "m.toml"
+    path.write_text(text)
+    with pytest.raises(ModelError) as err:
+        load_description(path)
+    message = str(err.value)
+    assert bound in message and message.count("[[shaft]] 'in' material") == 1 and message.count("line ") == 1

@@ -378,25 +378,18 @@ def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any, **wher
     ``where`` (``index``, ``element``, ``nonnegative``) as :func:`_parse_scalar`."""
     assumed = None
     if isinstance(raw, dict):
-        extra = set(raw) - {"value", "assumed"}
-        if "value" not in raw or extra:
-            raise ctx.error(
-                section,
-                key,
-                "an inline table must have the keys 'value' and optionally 'assumed' "
-                f'(e.g. {{ value = {spec.kind.example}, assumed = "typical value" }}), got keys {sorted(raw)}',
-                index=where.get("index"),
-                element=where.get("element"),
-            )
         assumed = raw.get("assumed")
-        if assumed is not None and (not isinstance(assumed, str) or not assumed.strip()):
-            raise ctx.error(
-                section,
-                key,
-                "'assumed' must be a non-empty string giving the source or reason",
-                index=where.get("index"),
-                element=where.get("element"),
+        if "value" not in raw or set(raw) - {"value", "assumed"}:
+            problem = (
+                "an inline table must have the keys 'value' and optionally 'assumed' "
+                f'(e.g. {{ value = {spec.kind.example}, assumed = "typical value" }}), got keys {sorted(raw)}'
             )
+        elif assumed is not None and (not isinstance(assumed, str) or not assumed.strip()):
+            problem = "'assumed' must be a non-empty string giving the source or reason"
+        else:
+            problem = None
+        if problem:
+            raise ctx.error(section, key, problem, index=where.get("index"), element=where.get("element"))
         raw = raw["value"]
     if spec.series:
         if not isinstance(raw, list):

@@ -27,7 +27,6 @@ __all__ = [
     "result_of",
     "RESULT",
     "SUMMARY",
-    "PATHS",
 ]
 
 T = TypeVar("T")
@@ -42,9 +41,6 @@ RESULT = """ds : xarray.Dataset
 #: ``s`` of a function printing or writing a command's summary.
 SUMMARY = """s : dict
     The command's JSON summary."""
-#: ``paths`` of a function that lists the files a command wrote.
-PATHS = """paths : list of str
-    The files written (listed after the table)."""
 
 
 def fill(*entries: str) -> Callable[[T], T]:

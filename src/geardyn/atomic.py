@@ -55,10 +55,12 @@ def remove_stale(path: str | Path) -> list[Path]:
     list of Path
         The files removed.
     """
+    import glob
+
     path = Path(path)
     removed = []
     try:
-        candidates = list(path.parent.glob(f".{_glob_escape(path.name)}.*.tmp"))
+        candidates = list(path.parent.glob(f".{glob.escape(path.name)}.*.tmp"))
     except OSError:
         return removed
     with _LOCK:
@@ -72,10 +74,6 @@ def remove_stale(path: str | Path) -> list[Path]:
         except OSError:
             pass
     return removed
-
-
-def _glob_escape(name: str) -> str:
-    return "".join(f"[{c}]" if c in "*?[]" else c for c in name)
 
 
 def _temp_beside(path: Path) -> str:

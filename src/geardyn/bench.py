@@ -18,6 +18,7 @@ These are the workloads of the C reference in ``benchmarks/``; compare the two o
 
 from __future__ import annotations
 
+import itertools
 import os
 import platform
 import time
@@ -273,12 +274,7 @@ def run_benchmarks(
     with using_threads(threads):  # numba's setting is restored afterwards
         ws = [workload(n) for n in names]
         used = numba.get_num_threads()
-        count = [0]
-        total = len(ws) * (repeats + 1)
-
-        def ran() -> None:
-            count[0] += 1
-            progress(count[0], total)
-
-        results = {w.name: time_workload(w, repeats, ran=None if progress is None else ran) for w in ws}
+        done, total = itertools.count(1), len(ws) * (repeats + 1)
+        ran = None if progress is None else lambda: progress(next(done), total)
+        results = {w.name: time_workload(w, repeats, ran=ran) for w in ws}
     return {"workloads": results, "threads": used, "repeats": repeats, "machine": machine_info()}

@@ -207,10 +207,9 @@ def _key_of_message(msg: str) -> str:
     return msg.split(":", 1)[0].strip()
 
 
-def _wrap(ctx: _Ctx, section: str, err: ModelError, keymap: Mapping[str, str] | None = None) -> ModelError:
+def _wrap(ctx: _Ctx, section: str, err: ModelError) -> ModelError:
     msg = str(err)
     key = _key_of_message(msg)
-    key = (keymap or {}).get(key, key)
     key = re.sub(r"\d+$", "", key) if key not in _SCHEMA.get(section, {}) else key
     return ModelError(ctx.head(ctx.line_of(section, key)) + f"[{section}] {msg}")
 

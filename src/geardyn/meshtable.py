@@ -147,20 +147,19 @@ def kernel_table(table: Sequence[Any], cycles: int) -> np.ndarray:
     phase, k, e = (np.asarray(c, dtype=float) for c in table)
     if e.size == 0:
         e = np.zeros_like(k)
-    theta = 2.0 * math.pi * phase / cycles
+    theta = math.tau * phase / cycles
     x, kl, kr = node_values(theta, k)
     _, el, er = node_values(theta, e)
-    keep = np.zeros(x.size, dtype=bool)  # the breakpoints: a jump or a kink of k or e (and the first node)
-    keep[0] = True
+    keep = np.arange(x.size) == 0  # the breakpoints: a jump or a kink of k or e (and the first node)
     for lv, rv in ((kl, kr), (el, er)):
         tol = 1e-13 * max(float(np.max(np.abs(rv))), float(np.max(np.abs(lv))), 1e-300)
-        sl = segments(x, lv, rv, 2.0 * math.pi)
+        sl = segments(x, lv, rv, math.tau)
         kink = np.abs(sl - np.roll(sl, 1)) > 1e-12 * (np.abs(sl) + np.abs(np.roll(sl, 1))) + tol
         keep |= (np.abs(rv - lv) > tol) | kink
-    x, kl, kr, el, er = x[keep], kl[keep], kr[keep], el[keep], er[keep]
-    rows = np.column_stack([x, kl, kr, el, er, segments(x, kl, kr, 2.0 * math.pi), segments(x, el, er, 2.0 * math.pi)])
+    x, kl, kr, el, er = (v[keep] for v in (x, kl, kr, el, er))
+    rows = np.column_stack([x, kl, kr, el, er, segments(x, kl, kr, math.tau), segments(x, el, er, math.tau)])
     wrap = rows[:1].copy()
-    wrap[0, 0] += 2.0 * math.pi
+    wrap[0, 0] += math.tau
     return np.ascontiguousarray(np.vstack([rows, wrap]))
 
 
@@ -181,8 +180,8 @@ def table_values(table: Sequence[Any], cycles: int, theta: np.ndarray) -> tuple[
     (K, e) : ndarray
     """
     rows = kernel_table(table, cycles)
-    x = np.mod(np.asarray(theta, dtype=float), 2.0 * math.pi)
+    x = np.mod(np.asarray(theta, dtype=float), math.tau)
     j = np.searchsorted(rows[:-1, 0], x, side="right") - 1  # −1: before the first node, the wrap segment
-    base = np.where(j < 0, rows[-2, 0] - 2.0 * math.pi, rows[j, 0])
+    base = np.where(j < 0, rows[-2, 0] - math.tau, rows[j, 0])
     r = rows[:-1][j]  # j = −1: the last node
     return r[..., 2] + r[..., 5] * (x - base), r[..., 4] + r[..., 6] * (x - base)

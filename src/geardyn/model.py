@@ -234,12 +234,12 @@ class GearModel:
             raise ModelError(f"omega: too small, the forcing period 2π/ω is not finite (got {self.omega!r})")
         if self.D < 0:
             raise ModelError(f"D (backlash): must be >= 0 (0 means no backlash), got {self.D!r}")
-        for amp, ph, label in (("xi", "phi_c", "xi"), ("kappa", "phi_k", "kappa"), ("eps", "phi_e", "eps")):
-            a = _as_tuple(label, getattr(self, amp), self.cycles)
+        for amp, ph in (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e")):
+            a = _as_tuple(amp, getattr(self, amp), self.cycles)
             p = _as_tuple(ph, getattr(self, ph), self.cycles)
             if len(p) > len(a) or 0 < len(p) < len(a):
                 raise ModelError(
-                    f"{ph}: {len(p)} phases given for {len(a)} {label} harmonics; give one phase per harmonic, "
+                    f"{ph}: {len(p)} phases given for {len(a)} {amp} harmonics; give one phase per harmonic, "
                     "or none (all 0)"
                 )
             set_(self, amp, a)
@@ -285,10 +285,10 @@ class GearModel:
         For tools written for one-cycle models (the 1-DOF harmonic balance): its ω is the forcing frequency
         ω/P, so a value of ``omega`` there is P times smaller than the mesh frequency.
         """
+        M = self.period_multiple()
+        if M == 1:
+            return self
         if self.torque_orders:
-            M = self.period_multiple()
-            if M == 1:
-                return self
             s = M // self.cycles
             spread = {}
             for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
@@ -297,7 +297,7 @@ class GearModel:
                 spread[k] = tuple(row)
             orders = tuple((q * M, a, p) for q, a, p in self.torque_orders)
             return self.replace(omega=self.forcing_omega, cycles=1, torque_orders=orders, **spread)
-        return self if self.cycles == 1 else self.replace(omega=self.forcing_omega, cycles=1)
+        return self.replace(omega=self.forcing_omega, cycles=1)
 
     @property
     def n_harmonics(self) -> int:
@@ -466,18 +466,12 @@ class GearModel:
         c[0, 0, 0] = 2.0 * self.xi0
         c[1, 0, 0] = 1.0
         c[2, 0, 0] = self.fp
-        wf = self.omega if self.cycles == 1 else self.omega / self.cycles
-        w2 = wf**2
-        series = (
-            (0, self.xi, self.phi_c, lambda j: 2.0),
-            (1, self.kappa, self.phi_k, lambda j: 1.0),
-            (2, self.eps, self.phi_e, lambda j: w2 * j * j),
-        )
-        for i, amps, phases, scale in series:
-            for j0, (a, ph) in enumerate(zip(amps, phases)):
-                j = j0 + 1
-                c[i, j * s, 0] = scale(j) * a * math.cos(ph)
-                c[i, j * s, 1] = -scale(j) * a * math.sin(ph)
+        w2 = (self.omega if self.cycles == 1 else self.omega / self.cycles) ** 2
+        for i, (amps, phases) in enumerate(((self.xi, self.phi_c), (self.kappa, self.phi_k), (self.eps, self.phi_e))):
+            for j, (a, ph) in enumerate(zip(amps, phases), 1):
+                scale = (2.0, 1.0, w2 * j * j)[i]  # 2ξ, κ, ω²j²ε
+                c[i, j * s, 0] = scale * a * math.cos(ph)
+                c[i, j * s, 1] = -scale * a * math.sin(ph)
         for q, a, ph in self.torque_orders:
             idx = int(q * M)
             c[2, idx, 0] += a * math.cos(ph)

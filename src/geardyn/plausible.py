@@ -85,7 +85,6 @@ def pair_geometry(
     r2: float | None = None,
     face_width: float | None = None,
     delta1: float | None = None,
-    error: type[Exception] = ModelError,
 ) -> None:
     """The plausibility rules of a bevel pair's geometry (SI units, angles in rad).
 
@@ -101,8 +100,6 @@ def pair_geometry(
         Given face width (m).
     delta1 : float, optional
         Pinion pitch cone angle (rad), for the face width against the cone distance.
-    error : type
-        The error raised.
 
     Raises
     ------
@@ -114,17 +111,19 @@ def pair_geometry(
     a = math.degrees(alpha_n)
     lo, hi = ALPHA_N_DEG
     if not lo <= a <= hi:
-        raise error(
+        raise ModelError(
             f"alpha_n: normal pressure angle alpha_n = {a:.6g} deg is outside [{lo:g}, {hi:g}] deg of cut gears",
         )
     b = math.degrees(beta_m)
     if b > BETA_M_MAX_DEG:
-        raise error(f"beta_m: mean spiral angle beta_m = {b:.6g} deg is above {BETA_M_MAX_DEG:g} deg")
+        raise ModelError(f"beta_m: mean spiral angle beta_m = {b:.6g} deg is above {BETA_M_MAX_DEG:g} deg")
     lo, hi = MODULE_M
     if not lo <= m_mn <= hi:
-        raise error(f"m_mn: mean normal module m_mn = {m_mn * 1e3:.6g} mm is outside [{lo * 1e3:g}, {hi * 1e3:g}] mm")
+        raise ModelError(
+            f"m_mn: mean normal module m_mn = {m_mn * 1e3:.6g} mm is outside [{lo * 1e3:g}, {hi * 1e3:g}] mm"
+        )
     if j_n > BACKLASH_MAX_MODULES * m_mn:
-        raise error(
+        raise ModelError(
             f"j_n: normal backlash j_n = {j_n * 1e3:.6g} mm is above {BACKLASH_MAX_MODULES:g} x the module m_mn "
             f"({BACKLASH_MAX_MODULES * m_mn * 1e3:.6g} mm)",
         )
@@ -132,7 +131,7 @@ def pair_geometry(
     flo, fhi = PITCH_RADIUS_FACTOR
     for key, r, rp in (("r1", r1, pitch[0]), ("r2", r2, pitch[1])):
         if r is not None and not flo * rp <= r <= fhi * rp:
-            raise error(
+            raise ModelError(
                 f"{key}: {key} = {r * 1e3:.6g} mm is outside [{flo:g}, {fhi:g}] x the mean pitch radius "
                 f"m_mn z/(2 cos beta_m) = {rp * 1e3:.6g} mm",
             )
@@ -140,7 +139,7 @@ def pair_geometry(
         q = (r2 / r1) / (z2 / z1)
         qlo = math.cos(beta_m) * (1.0 - RADIUS_RATIO_TOL)
         if not qlo <= q <= 1.0 + RADIUS_RATIO_TOL:
-            raise error(
+            raise ModelError(
                 f"r2: r2/r1 = {r2 / r1:.6g} against z2/z1 = {z2 / z1:.6g}: their quotient {q:.4g} is outside "
                 f"[{qlo:.4g}, {1.0 + RADIUS_RATIO_TOL:g}] (the pitch radii of a bevel pair are in the ratio of the "
                 f"teeth, a hypoid's by cos beta_m1/cos beta_m2 >= cos beta_m; tolerance {100 * RADIUS_RATIO_TOL:g} %)",
@@ -149,7 +148,7 @@ def pair_geometry(
         r_m = (r1 if r1 is not None else pitch[0]) / math.sin(delta1)  # mean cone distance
         r_e = r_m + 0.5 * face_width
         if face_width > FACE_WIDTH_MAX_CONE * r_e:
-            raise error(
+            raise ModelError(
                 f"face_width: face_width = {face_width * 1e3:.6g} mm is above {FACE_WIDTH_MAX_CONE:g} x the outer "
                 f"cone distance R_e = {r_e * 1e3:.6g} mm",
             )

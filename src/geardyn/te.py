@@ -54,8 +54,8 @@ ANGLE_UNITS = {
     "degree": math.pi / 180.0,
     "degrees": math.pi / 180.0,
     "rad": 1.0,
-    "rev": 2.0 * math.pi,
-    "turn": 2.0 * math.pi,
+    "rev": math.tau,
+    "turn": math.tau,
 }
 #: ... or time (to s).
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
@@ -172,7 +172,7 @@ def read_te(
             raise bad(i, f"not a finite number: {text[:60]!r}")
         if len(rows) >= MAX_TE_ROWS:
             raise bad(i, f"more than {MAX_TE_ROWS} samples; at most {MAX_TE_ROWS} are read (resample the record)")
-        rows.append((i, nums[0], nums[1]))
+        rows.append((i, *nums))
     if not rows:
         raise bad(max(len(lines), 1), "no numeric rows (angle or time, TE) in the file")
     if len(rows) < 16:
@@ -189,8 +189,8 @@ def read_te(
         kind, scale = "time", TIME_UNITS[xu]
     else:
         raise bad(where, f"first-column unit {xu!r} is neither an angle (deg, rad, rev) nor a time (s, ms, us)")
-    x = np.array([r[1] for r in rows]) * scale
-    te = np.array([r[2] for r in rows]) * LENGTH_UNITS[tu]
+    _, x, te = np.array(rows).T
+    x, te = x * scale, te * LENGTH_UNITS[tu]
     big = ~(np.abs(te) <= MAX_TE_UM)
     if np.any(big):
         k = int(np.argmax(big))
@@ -373,7 +373,7 @@ def analyse_te(signal: TESignal, z1: int, z2: int, *, harmonics: int = 3, shaft_
             f"harmonic {harmonics} needs more than 2 samples per cycle (a smaller --rpm, a denser "
             f"record or fewer --harmonics)"
         )
-    revs = float(phi[-1] / (2.0 * math.pi))
+    revs = float(phi[-1] / (math.tau))
     if revs * z1 < 1.0:
         raise ConfigError(f"{src}: the record covers {revs * z1:.3g} mesh cycles: at least one is needed")
     gear_ok = revs >= z2 / z1
@@ -421,14 +421,13 @@ def analyse_te(signal: TESignal, z1: int, z2: int, *, harmonics: int = 3, shaft_
     part_all = a[:, 1:] @ coef[1:]
     for i, o in enumerate(uniq):
         c, s = coef[1 + 2 * i], coef[2 + 2 * i]
-        amp = float(math.hypot(c, s))
-        ph = float(math.atan2(-s, c))  # c cos + s sin = A cos(x + ph)
-        row = {**o, "amplitude_um": amp, "phase_rad": ph}
+        # c cos + s sin = A cos(x + ph)
+        row = {**o, "amplitude_um": float(math.hypot(c, s)), "phase_rad": float(math.atan2(-s, c))}
         (rows_mesh if o["kind"] == "mesh" else rows_side).append(row)
         if o["kind"] != "mesh":
             part_side += c * a[:, 1 + 2 * i] + s * a[:, 2 + 2 * i]
     rms_all = float(np.sqrt(np.mean(part_all**2)))
-    dev = float(np.sqrt(np.mean((y - y.mean()) ** 2)))
+    dev = float(np.std(y))
     return TEAnalysis(
         z1=z1,
         z2=z2,

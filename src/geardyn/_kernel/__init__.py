@@ -279,7 +279,7 @@ def run_batch(
     -----
     ``n_threads()`` workers take the points from a queue ordered by decreasing cost; with at
     least ``LANE_MIN_POINTS`` points per worker they run them in lock-step lanes (default mode, no
-    history), otherwise one at a time.  Each point's results are the same bits whichever way and
+    history, at least one period), otherwise one at a time.  Each point's results are the same bits whichever way and
     wherever it is run.
     """
     P = coef.shape[0]
@@ -302,7 +302,8 @@ def run_batch(
     nw = min(n_threads(), P) if total >= THREAD_MIN_STEPS else 1
     order = _queue_order(nsteps)
     counter = np.zeros(1, dtype=np.int64)
-    lanes = not scalar_only and tangent != TAN_CONTINUE and P >= LANE_MIN_POINTS * nw
+    # (no periods: each point's results are its start state, written one at a time)
+    lanes = not scalar_only and tangent != TAN_CONTINUE and n_transient + n_record > 0 and P >= LANE_MIN_POINTS * nw
     # the workers' shared arguments, between each worker's own leading and trailing ones
     mid = (order, counter, coef, D, omega, nsteps, state0, n_transient, n_record, tangent)
     mid += (poincare, end_state, stats, tan_log, tan_out, status)

@@ -53,9 +53,12 @@ NODE_TOL = 1.0e-10
 
 
 # ----------------------------------------------------------------------------- coefficients
-@njit(inline="always")
-def _coef(cf, c1, s1):
-    """Evaluate C, K, F at the angle θ whose cosine and sine are c1, s1 (accurate mode)."""
+@njit(nogil=True)
+def _coef_at(cf, theta, xb, kb, ks):
+    """C, K, F at θ (accurate mode: cos θ, sin θ and their multiples by rotation), K plus the table segment
+    kb + ks (θ − xb) (all three 0 for a series model)."""
+    c1 = math.cos(theta)
+    s1 = math.sin(theta)
     C = cf[0, 0, 0]
     K = cf[1, 0, 0]
     F = cf[2, 0, 0]
@@ -68,13 +71,6 @@ def _coef(cf, c1, s1):
         t = ck * c1 - sk * s1
         sk = sk * c1 + ck * s1
         ck = t
-    return C, K, F
-
-
-@njit(nogil=True)
-def _coef_at(cf, theta, xb, kb, ks):
-    """C, K, F at θ, K plus the table segment kb + ks (θ − xb) (all three 0 for a series model)."""
-    C, K, F = _coef(cf, math.cos(theta), math.sin(theta))
     return C, K + (kb + ks * (theta - xb)), F
 
 
@@ -176,16 +172,17 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent, xb, kb, ks):
 
     ``xb, kb, ks``: the table segment K += kb + ks (θ − xb) the step lies in (0, 0, 0 for a series model)."""
     t_done = 0.0
-    for _ in range(MAX_SPLITS):
+    for split in range(MAX_SPLITS + 1):
         H = h - t_done
         if H <= 0.0:
             break
         th = theta0 + omega * t_done
         un, vn = _rk4_locked(cf, th, omega, u, v, H, D, r, xb, kb, ks)
-        # earliest exit from region r along the dense (Hermite) output of this sub-step
+        # earliest exit from region r along the dense (Hermite) output of this sub-step (after the split budget:
+        # none, the step finishes in the current region)
         x_in = 0.0
         x_out = -1.0
-        for i in range(1, HERMITE_SAMPLES + 1):
+        for i in range(1, HERMITE_SAMPLES + 1 if split < MAX_SPLITS else 1):
             x = i / HERMITE_SAMPLES
             ux = un if i == HERMITE_SAMPLES else _hermite(u, v, un, vn, H, x)
             if _outside(ux, D, r):
@@ -233,15 +230,6 @@ def _step_accurate(cf, theta0, omega, h, u, v, D, r, Y, tangent, xb, kb, ks):
             r = 1 if b > 0.0 else -1
         else:
             r = 0
-    # remaining length after the split budget: finish in the current region
-    H = h - t_done
-    if H > 0.0:
-        th = theta0 + omega * t_done
-        un, vn = _rk4_locked(cf, th, omega, u, v, H, D, r, xb, kb, ks)
-        if tangent:
-            _tangent_locked(cf, th, omega, H, r, Y, xb, kb, ks)
-        u = un
-        v = vn
     return u, v, r
 
 
@@ -306,9 +294,7 @@ def _point_accurate(
     if tangent == TAN_CONTINUE:  # the orthonormal basis a previous block ended with
         Y[:, :] = tan_out[p]
         tangent = TAN_LYAPUNOV
-    n_hist = hist.shape[1]
-    hist_periods = (n_hist - 1) // N if n_hist > 0 else 0
-    hist_first = n_transient + n_record - hist_periods
+    hist_first = n_transient + n_record - (hist.shape[1] - 1) // N  # (after the last period without a history)
     hi = 0
     st = stats[p]
     st[:] = 0.0
@@ -321,7 +307,7 @@ def _point_accurate(
     for per in range(n_total):
         rec = per >= n_transient
         tan_on = tangent != TAN_NONE and rec
-        if n_hist > 0 and per == hist_first:
+        if per == hist_first:
             hist[p, 0, 0] = u
             hist[p, 0, 1] = v
             hi = 1

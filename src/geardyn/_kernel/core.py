@@ -21,6 +21,10 @@ from numba.extending import intrinsic
 # every step end).
 S_UMIN, S_UMAX, S_USUM, S_USQ, S_VMIN, S_VMAX, S_NDRIVE, S_NSEP, S_NBACK, S_N = range(10)
 NSTAT = 10
+#: Fields of a statistics snapshot (the workers' accumulators, the adaptive transient's snapshot): u min, u max,
+#: u' min, u' max, Σu, Σu², drive and back-side counts; their indices in the statistics.
+SNAP_STATS = (S_UMIN, S_UMAX, S_VMIN, S_VMAX, S_USUM, S_USQ, S_NDRIVE, S_NBACK)
+NSNAP = 8
 
 #: Tangent modes.  ``TAN_CONTINUE`` is ``TAN_LYAPUNOV`` starting from the basis given in ``tan_out`` (a run
 #: continued in blocks of periods; one point at a time).
@@ -104,9 +108,9 @@ def _half_step_rotation(N):
 
 
 @njit(inline="always")
-def _series1(a0, a1, b1, c, s):
-    """a0 + a1 cos θ + b1 sin θ, accumulated term by term (as :func:`_series_acc`)."""
-    return _fma(b1, s, _fma(a1, c, a0))
+def _series1(a, c, s):
+    """a0 + a1 cos θ + b1 sin θ of a = (a0, a1, b1), accumulated term by term (as :func:`_series_acc`)."""
+    return _fma(a[2], s, _fma(a[1], c, a[0]))
 
 
 @njit(inline="always")
@@ -208,40 +212,26 @@ def _thresholds(D):
 @njit(nogil=True)
 def _diverged(p, poincare, end_state, status):
     status[p] = ST_DIVERGED
-    for j in range(poincare.shape[1]):
-        poincare[p, j, 0] = np.nan
-        poincare[p, j, 1] = np.nan
-    end_state[p, 0] = np.nan
-    end_state[p, 1] = np.nan
+    poincare[p] = np.nan
+    end_state[p] = np.nan
 
 
 @njit(nogil=True)
-def _write_stats(stats, p, n, umin, umax, vmin, vmax, usum, usq, ndrv, nbck):
-    stats[p, S_UMIN] = umin
-    stats[p, S_UMAX] = umax
-    stats[p, S_VMIN] = vmin
-    stats[p, S_VMAX] = vmax
-    stats[p, S_USUM] = usum
-    stats[p, S_USQ] = usq
-    stats[p, S_NDRIVE] = ndrv
-    stats[p, S_NBACK] = nbck
-    stats[p, S_NSEP] = n - ndrv - nbck
+def _write_stats(stats, p, n, st):
+    """Point p's statistics over n samples from the snapshot fields ``st`` (:data:`SNAP_STATS`, in their order)."""
+    for i in range(NSNAP):
+        stats[p, SNAP_STATS[i]] = st[i]
+    stats[p, S_NSEP] = n - st[6] - st[7]
     stats[p, S_N] = n
 
 
 # ----------------------------------------------------------------------------- adaptive transient
-#: Fields of a statistics snapshot (adaptive transient): u min, u max, u' min, u' max, Σu, Σu², drive and
-#: back-side counts.
-NSNAP = 8
-
-
 @njit(nogil=True)
 def _adapt_reset(ring, streak, l, u, v):
     """Start the convergence test of slot ``l`` at the initial state P_0 = (u, v)."""
     ring[l, 0, 0] = u
     ring[l, 0, 1] = v
-    for n in range(streak.shape[1]):
-        streak[l, n] = 0
+    streak[l] = 0
 
 
 @njit(nogil=True)
@@ -278,18 +268,6 @@ def _adapt_check(ring, streak, l, k, u, v, tol):
 
 
 @njit(nogil=True)
-def _adapt_snapshot(snap, l, umin, umax, vmin, vmax, usum, usq, ndrv, nbck):
-    snap[l, 0] = umin
-    snap[l, 1] = umax
-    snap[l, 2] = vmin
-    snap[l, 3] = vmax
-    snap[l, 4] = usum
-    snap[l, 5] = usq
-    snap[l, 6] = ndrv
-    snap[l, 7] = nbck
-
-
-@njit(nogil=True)
 def _adapt_finish(p, l, n, n_record, N, cbuf, snap, poincare, end_state, stats):
     """Results of a point that recorded one cycle of n periods in place of ``n_record`` periods.
 
@@ -299,31 +277,12 @@ def _adapt_finish(p, l, n, n_record, N, cbuf, snap, poincare, end_state, stats):
     n_record % n recorded periods (extremes: those of the cycle).
     """
     for j in range(poincare.shape[1]):
-        poincare[p, j, 0] = cbuf[l, j % n, 0]
-        poincare[p, j, 1] = cbuf[l, j % n, 1]
-    end_state[p, 0] = cbuf[l, (n_record - 1) % n, 0]
-    end_state[p, 1] = cbuf[l, (n_record - 1) % n, 1]
+        poincare[p, j] = cbuf[l, j % n]
+    end_state[p] = cbuf[l, (n_record - 1) % n]
     q = float(n_record // n)
-    r = n_record % n
-    usum = q * stats[p, S_USUM]
-    usq = q * stats[p, S_USQ]
-    ndrv = q * stats[p, S_NDRIVE]
-    nbck = q * stats[p, S_NBACK]
-    if r > 0:
-        usum += snap[l, 4]
-        usq += snap[l, 5]
-        ndrv += snap[l, 6]
-        nbck += snap[l, 7]
-    _write_stats(
-        stats,
-        p,
-        N * n_record,
-        stats[p, S_UMIN],
-        stats[p, S_UMAX],
-        stats[p, S_VMIN],
-        stats[p, S_VMAX],
-        usum,
-        usq,
-        ndrv,
-        nbck,
-    )
+    for i in range(4, NSNAP):  # Σu, Σu² and the counts
+        stats[p, SNAP_STATS[i]] *= q
+        if n_record % n > 0:
+            stats[p, SNAP_STATS[i]] += snap[l, i]
+    stats[p, S_N] = N * n_record
+    stats[p, S_NSEP] = stats[p, S_N] - stats[p, S_NDRIVE] - stats[p, S_NBACK]

@@ -34,7 +34,6 @@ from .core import (
     _adapt_check,
     _adapt_finish,
     _adapt_reset,
-    _adapt_snapshot,
     _diverged,
     _fetch_add,
     _fma,
@@ -44,7 +43,6 @@ from .core import (
     _rk4_tan,
     _rot,
     _rot_small,
-    _series1,
     _series_acc,
     _slope,
     _thresholds,
@@ -126,6 +124,49 @@ _BIG = 1 << 62
 
 
 # ----------------------------------------------------------------------------- lane chunk kernels
+@njit(inline="always")
+def _series_lane(S, l, c, s, with_sin):
+    """C, K, F of lane l (first harmonic) at the angle (c, s): ``core._series1``, the sine terms left out
+    without them (fma(0, s, x) == x)."""
+    L = LANES
+    C = _fma(S[F_CA1 * L + l], c, S[F_CA0 * L + l])
+    K = _fma(S[F_KA1 * L + l], c, S[F_KA0 * L + l])
+    F = _fma(S[F_FA1 * L + l], c, S[F_FA0 * L + l])
+    if with_sin:
+        C = _fma(S[F_CB1 * L + l], s, C)
+        K = _fma(S[F_KB1 * L + l], s, K)
+        F = _fma(S[F_FB1 * L + l], s, F)
+    return C, K, F
+
+
+@njit(inline="always")
+def _angle_start(S, CF, l, H1, x, p, c, s):
+    """The general chunk's start at one angle (c, s) of lane l: the series (fields x, x + 1, x + 2: C, K, F) at
+    their constant terms, the harmonic's angle (fields p, p + 1: cos jθ, sin jθ) at j = 1."""
+    L = LANES
+    S[p * L + l] = c
+    S[(p + 1) * L + l] = s
+    S[x * L + l] = CF[l]
+    S[(x + 1) * L + l] = CF[(2 * H1) * L + l]
+    S[(x + 2) * L + l] = CF[(4 * H1) * L + l]
+
+
+@njit(inline="always")
+def _angle_term(S, l, cfj, x, p, r):
+    """Add the terms of harmonic j (``cfj``: its cosine and sine coefficients of C, K and F) at one angle of lane l
+    (fields as in :func:`_angle_start`), then rotate the harmonic's angle by the angle (fields r, r + 1)."""
+    L = LANES
+    ac, bc, ak, bk, af, bf = cfj
+    ck = S[p * L + l]
+    sk = S[(p + 1) * L + l]
+    S[x * L + l] = _series_acc(S[x * L + l], ac, bc, ck, sk)
+    S[(x + 1) * L + l] = _series_acc(S[(x + 1) * L + l], ak, bk, ck, sk)
+    S[(x + 2) * L + l] = _series_acc(S[(x + 2) * L + l], af, bf, ck, sk)
+    ck, sk = _rot(ck, sk, S[r * L + l], S[(r + 1) * L + l])
+    S[p * L + l] = ck
+    S[(p + 1) * L + l] = sk
+
+
 def _make_chunk(kind, mode):
     """Build the chunk kernel advancing all lanes by m steps for one (kind, mode)."""
     L = LANES
@@ -151,21 +192,9 @@ def _make_chunk(kind, mode):
                         S[F_R1S * L + l] = s1
                         S[F_R2C * L + l] = c2
                         S[F_R2S * L + l] = s2
-                        S[F_P0C * L + l] = c0
-                        S[F_P0S * L + l] = s0
-                        S[F_P1C * L + l] = c1
-                        S[F_P1S * L + l] = s1
-                        S[F_P2C * L + l] = c2
-                        S[F_P2S * L + l] = s2
-                        S[F_XC0 * L + l] = CF[0 * L + l]
-                        S[F_XK0 * L + l] = CF[(2 * H1) * L + l]
-                        S[F_XF0 * L + l] = CF[(4 * H1) * L + l]
-                        S[F_XC1 * L + l] = CF[0 * L + l]
-                        S[F_XK1 * L + l] = CF[(2 * H1) * L + l]
-                        S[F_XF1 * L + l] = CF[(4 * H1) * L + l]
-                        S[F_XC2 * L + l] = CF[0 * L + l]
-                        S[F_XK2 * L + l] = CF[(2 * H1) * L + l]
-                        S[F_XF2 * L + l] = CF[(4 * H1) * L + l]
+                        _angle_start(S, CF, l, H1, F_XC0, F_P0C, c0, s0)
+                        _angle_start(S, CF, l, H1, F_XC1, F_P1C, c1, s1)
+                        _angle_start(S, CF, l, H1, F_XC2, F_P2C, c2, s2)
                 for j in range(1, H1):
                     oc = (2 * j) * L
                     ok = (2 * (H1 + j)) * L
@@ -173,39 +202,10 @@ def _make_chunk(kind, mode):
                     for g in range(ng):
                         for k in range(GROUP):
                             l = g * GROUP + k
-                            ac = CF[oc + l]
-                            bc = CF[oc + L + l]
-                            ak = CF[ok + l]
-                            bk = CF[ok + L + l]
-                            af = CF[of + l]
-                            bf = CF[of + L + l]
-                            # angle 0
-                            ck = S[F_P0C * L + l]
-                            sk = S[F_P0S * L + l]
-                            S[F_XC0 * L + l] = _series_acc(S[F_XC0 * L + l], ac, bc, ck, sk)
-                            S[F_XK0 * L + l] = _series_acc(S[F_XK0 * L + l], ak, bk, ck, sk)
-                            S[F_XF0 * L + l] = _series_acc(S[F_XF0 * L + l], af, bf, ck, sk)
-                            ck, sk = _rot(ck, sk, S[F_C * L + l], S[F_S * L + l])
-                            S[F_P0C * L + l] = ck
-                            S[F_P0S * L + l] = sk
-                            # angle 1 (midpoint)
-                            ck = S[F_P1C * L + l]
-                            sk = S[F_P1S * L + l]
-                            S[F_XC1 * L + l] = _series_acc(S[F_XC1 * L + l], ac, bc, ck, sk)
-                            S[F_XK1 * L + l] = _series_acc(S[F_XK1 * L + l], ak, bk, ck, sk)
-                            S[F_XF1 * L + l] = _series_acc(S[F_XF1 * L + l], af, bf, ck, sk)
-                            ck, sk = _rot(ck, sk, S[F_R1C * L + l], S[F_R1S * L + l])
-                            S[F_P1C * L + l] = ck
-                            S[F_P1S * L + l] = sk
-                            # angle 2 (step end)
-                            ck = S[F_P2C * L + l]
-                            sk = S[F_P2S * L + l]
-                            S[F_XC2 * L + l] = _series_acc(S[F_XC2 * L + l], ac, bc, ck, sk)
-                            S[F_XK2 * L + l] = _series_acc(S[F_XK2 * L + l], ak, bk, ck, sk)
-                            S[F_XF2 * L + l] = _series_acc(S[F_XF2 * L + l], af, bf, ck, sk)
-                            ck, sk = _rot(ck, sk, S[F_R2C * L + l], S[F_R2S * L + l])
-                            S[F_P2C * L + l] = ck
-                            S[F_P2S * L + l] = sk
+                            cfj = (CF[oc + l], CF[oc + L + l], CF[ok + l], CF[ok + L + l], CF[of + l], CF[of + L + l])
+                            _angle_term(S, l, cfj, F_XC0, F_P0C, F_C)  # angle 0 (step start)
+                            _angle_term(S, l, cfj, F_XC1, F_P1C, F_R1C)  # angle 1 (midpoint)
+                            _angle_term(S, l, cfj, F_XC2, F_P2C, F_R2C)  # angle 2 (step end)
             for g in range(ng):
                 for k in range(GROUP):
                     l = g * GROUP + k
@@ -228,36 +228,9 @@ def _make_chunk(kind, mode):
                         s0 = S[F_S * L + l]
                         c1, s1 = _rot_small(c0, s0, cm1, sa)
                         c2, s2 = _rot_small(c1, s1, cm1, sa)
-                        a0 = S[F_CA0 * L + l]
-                        a1 = S[F_CA1 * L + l]
-                        k0 = S[F_KA0 * L + l]
-                        k1 = S[F_KA1 * L + l]
-                        f0 = S[F_FA0 * L + l]
-                        f1 = S[F_FA1 * L + l]
-                        if with_sin:
-                            b1 = S[F_CB1 * L + l]
-                            kb = S[F_KB1 * L + l]
-                            fb = S[F_FB1 * L + l]
-                            C0 = _series1(a0, a1, b1, c0, s0)
-                            K0 = _series1(k0, k1, kb, c0, s0)
-                            F0 = _series1(f0, f1, fb, c0, s0)
-                            C1 = _series1(a0, a1, b1, c1, s1)
-                            K1 = _series1(k0, k1, kb, c1, s1)
-                            F1 = _series1(f0, f1, fb, c1, s1)
-                            C2 = _series1(a0, a1, b1, c2, s2)
-                            K2 = _series1(k0, k1, kb, c2, s2)
-                            F2 = _series1(f0, f1, fb, c2, s2)
-                        else:
-                            # the sine coefficients are exactly zero: fma(0, s, x) == x
-                            C0 = _fma(a1, c0, a0)
-                            K0 = _fma(k1, c0, k0)
-                            F0 = _fma(f1, c0, f0)
-                            C1 = _fma(a1, c1, a0)
-                            K1 = _fma(k1, c1, k0)
-                            F1 = _fma(f1, c1, f0)
-                            C2 = _fma(a1, c2, a0)
-                            K2 = _fma(k1, c2, k0)
-                            F2 = _fma(f1, c2, f0)
+                        C0, K0, F0 = _series_lane(S, l, c0, s0, with_sin)
+                        C1, K1, F1 = _series_lane(S, l, c1, s1, with_sin)
+                        C2, K2, F2 = _series_lane(S, l, c2, s2, with_sin)
                     h = S[F_H * L + l]
                     hh = S[F_HH * L + l]
                     h6 = S[F_H6 * L + l]
@@ -333,21 +306,6 @@ def _chunk_impl(token, mode, S, CF, m, H1, ng):
     return impl
 
 
-def _is_general(token):
-    """True for the token of the general (any number of harmonics) kind."""
-
-
-@overload(_is_general)
-def _is_general_impl(token):
-    general = token.dtype == types.int32
-
-    @own_name(token.dtype, token.ndim)
-    def impl(token):
-        return general
-
-    return impl
-
-
 # ----------------------------------------------------------------------------- lane scheduler
 #: Byte alignment of the lane arrays (a cache line: no SIMD load or store straddles two lines).
 ALIGN_BYTES = 64
@@ -364,111 +322,48 @@ def _aligned_zeros(n):
 
 @njit(nogil=True)
 def _lane_reset_stats(S, l):
-    L = LANES
-    S[F_UMIN * L + l] = np.inf
-    S[F_UMAX * L + l] = -np.inf
-    S[F_VMIN * L + l] = np.inf
-    S[F_VMAX * L + l] = -np.inf
-    S[F_USUM * L + l] = 0.0
-    S[F_USQ * L + l] = 0.0
-    S[F_NDRV * L + l] = 0.0
-    S[F_NBCK * L + l] = 0.0
+    for i in range(NSNAP):  # the fields UMIN … NBCK: u min, u max, u' min, u' max, Σu, Σu², the counts
+        S[(F_UMIN + i) * LANES + l] = (np.inf if i % 2 == 0 else -np.inf) if i < 4 else 0.0
 
 
 @njit(nogil=True)
 def _lane_reset_tangent(S, l):
-    L = LANES
-    S[F_Y00 * L + l] = 1.0
-    S[F_Y10 * L + l] = 0.0
-    S[F_Y01 * L + l] = 0.0
-    S[F_Y11 * L + l] = 1.0
+    for i in range(4):  # the identity: Y00, Y10, Y01, Y11
+        S[(F_Y00 + i) * LANES + l] = 1.0 if i % 3 == 0 else 0.0
 
 
 @njit(nogil=True)
-def _lane_idle(S, CF, l):
-    """An idle lane: all zeros, no rotation: it computes zeros and never ends a period."""
+def _lane_idle(S, CF, ls, l):
+    """An idle lane: no point (``ls``: the worker's lane integers), all zeros, no rotation: it computes zeros and
+    never ends a period (``_BIG`` steps per period)."""
     L = LANES
-    for f in range(NFIELDS):
-        S[f * L + l] = 0.0
+    ls[:, l] = 0
+    ls[0, l] = -1
+    ls[2, l] = _BIG
+    S[l::L] = 0.0
+    CF[l::L] = 0.0
     S[F_C * L + l] = 1.0
-    for i in range(CF.shape[0] // L):
-        CF[i * L + l] = 0.0
     _lane_reset_tangent(S, l)
-
-
-@njit(nogil=True)
-def _lane_move(S, CF, src, dst):
-    """Copy every field of lane src to lane dst."""
-    L = LANES
-    for f in range(NFIELDS):
-        S[f * L + dst] = S[f * L + src]
-    for i in range(CF.shape[0] // L):
-        CF[i * L + dst] = CF[i * L + src]
 
 
 @njit(nogil=True)
 def _lane_load(S, CF, l, cf, D, omega, N, u, v):
     L = LANES
-    T = 2.0 * math.pi / omega
-    h = T / N
+    h = 2.0 * math.pi / omega / N
     cm1, sa = _half_step_rotation(N)
-    S[F_U * L + l] = u
-    S[F_V * L + l] = v
-    S[F_C * L + l] = 1.0
-    S[F_S * L + l] = 0.0
-    S[F_CM1 * L + l] = cm1
-    S[F_SA * L + l] = sa
-    S[F_H * L + l] = h
-    S[F_HH * L + l] = 0.5 * h
-    S[F_H6 * L + l] = h / 6.0
+    for f, x in enumerate((u, v, 1.0, 0.0, cm1, sa, h, 0.5 * h, h / 6.0)):  # the fields U … H6
+        S[(F_U + f) * L + l] = x
     H1 = cf.shape[1]
-    S[F_CA0 * L + l] = cf[0, 0, 0]
-    S[F_KA0 * L + l] = cf[1, 0, 0]
-    S[F_FA0 * L + l] = cf[2, 0, 0]
-    if H1 > 1:
-        S[F_CA1 * L + l] = cf[0, 1, 0]
-        S[F_CB1 * L + l] = cf[0, 1, 1]
-        S[F_KA1 * L + l] = cf[1, 1, 0]
-        S[F_KB1 * L + l] = cf[1, 1, 1]
-        S[F_FA1 * L + l] = cf[2, 1, 0]
-        S[F_FB1 * L + l] = cf[2, 1, 1]
-    else:
-        S[F_CA1 * L + l] = 0.0
-        S[F_CB1 * L + l] = 0.0
-        S[F_KA1 * L + l] = 0.0
-        S[F_KB1 * L + l] = 0.0
-        S[F_FA1 * L + l] = 0.0
-        S[F_FB1 * L + l] = 0.0
-    if CF.shape[0] > 0:
-        for i in range(3):
-            for j in range(H1):
-                for q in range(2):
-                    CF[((i * H1 + j) * 2 + q) * L + l] = cf[i, j, q]
-    t1, t2, t3 = _thresholds(D)
-    S[F_D * L + l] = D
-    S[F_DRV * L + l] = t1
-    S[F_BCK * L + l] = t2
-    S[F_DTAN * L + l] = t3
+    for i in range(3):  # the fields A0, A1, B1 of C, K and F
+        S[(F_CA0 + 3 * i) * L + l] = cf[i, 0, 0]
+        S[(F_CA1 + 3 * i) * L + l] = cf[i, 1, 0] if H1 > 1 else 0.0
+        S[(F_CB1 + 3 * i) * L + l] = cf[i, 1, 1] if H1 > 1 else 0.0
+    if CF.shape[0] > 0:  # all coefficients: (i, j, q) at CF[((i * H1 + j) * 2 + q) * L + l]
+        CF[l::L] = cf.ravel()
+    for f, x in enumerate((D,) + _thresholds(D)):  # the fields D, DRV, BCK, DTAN
+        S[(F_D + f) * L + l] = x
     _lane_reset_stats(S, l)
     _lane_reset_tangent(S, l)
-
-
-@njit(nogil=True)
-def _lane_stats_out(S, l, stats, p, n):
-    L = LANES
-    _write_stats(
-        stats,
-        p,
-        n,
-        S[F_UMIN * L + l],
-        S[F_UMAX * L + l],
-        S[F_VMIN * L + l],
-        S[F_VMAX * L + l],
-        S[F_USUM * L + l],
-        S[F_USQ * L + l],
-        S[F_NDRV * L + l],
-        S[F_NBCK * L + l],
-    )
 
 
 @njit(nogil=True, cache=True)
@@ -502,22 +397,17 @@ def _lanes_worker(
     ``max_period``): each lane has its own transient length ``tend`` and recorded length ``rlen``,
     and a converged lane is freed (and refilled) as soon as it has recorded its cycle.
     """
-    general = _is_general(token)
     L = LANES
     P = order.shape[0]
     H1 = coef.shape[2]
-    n_total = n_transient + n_record
     S = _aligned_zeros(NFIELDS * L)
-    CF = _aligned_zeros(3 * H1 * 2 * L if general else 0)
-    pid = np.full(L, -1, dtype=np.int64)
-    kstep = np.zeros(L, dtype=np.int64)
-    nst = np.full(L, _BIG, dtype=np.int64)
-    per = np.zeros(L, dtype=np.int64)
+    CF = _aligned_zeros(3 * H1 * 2 * L if H1 > 2 else 0)  # the general kind's coefficients (see _lanes_kind)
+    # per lane: its point (-1: idle), step in the period, steps per period, periods done, transient and
+    # recorded periods, cycle found (rows of one array, so that a lane moves as one column)
+    ls = np.zeros((7, L), dtype=np.int64)
+    pid, kstep, nst, per, tend, rlen, cyc = ls[0], ls[1], ls[2], ls[3], ls[4], ls[5], ls[6]
     adaptive = adapt_tol > 0.0 and max_period > 0
     mp = max_period if adaptive else 0
-    tend = np.full(L, n_transient, dtype=np.int64)
-    rlen = np.full(L, n_record, dtype=np.int64)
-    cyc = np.zeros(L, dtype=np.int64)
     ring = np.zeros((L, 2 * mp + 1, 2))
     streak = np.zeros((L, mp + 1), dtype=np.int64)
     cbuf = np.zeros((L, max(mp, 1), 2))
@@ -525,7 +415,7 @@ def _lanes_worker(
     exhausted = False
     active = 0
     for l in range(L):
-        _lane_idle(S, CF, l)
+        _lane_idle(S, CF, ls, l)
     while True:
         # fill idle lanes from the queue
         for l in range(L):
@@ -535,25 +425,11 @@ def _lanes_worker(
                     exhausted = True
                     break
                 p = order[i]
-                if n_total == 0:
-                    end_state[p, 0] = state0[p, 0]
-                    end_state[p, 1] = state0[p, 1]
-                    _write_stats(stats, p, 0, np.inf, -np.inf, np.inf, -np.inf, 0.0, 0.0, 0.0, 0.0)
-                    if tangent != TAN_NONE:
-                        tan_out[p, 0, 0] = 1.0
-                        tan_out[p, 1, 0] = 0.0
-                        tan_out[p, 0, 1] = 0.0
-                        tan_out[p, 1, 1] = 1.0
-                    status[p] = ST_OK
-                    continue
                 _lane_load(S, CF, l, coef[p], D[p], omega[p], nsteps[p], state0[p, 0], state0[p, 1])
-                pid[l] = p
-                kstep[l] = 0
+                pid[l] = p  # (step, periods done and cycle: 0 since the lane went idle)
                 nst[l] = nsteps[p]
-                per[l] = 0
                 tend[l] = n_transient
                 rlen[l] = n_record
-                cyc[l] = 0
                 if adaptive:
                     _adapt_reset(ring, streak, l, state0[p, 0], state0[p, 1])
                 active += 1
@@ -566,23 +442,15 @@ def _lanes_worker(
             for l in range(L):
                 if pid[l] >= 0:
                     if l != dst:
-                        _lane_move(S, CF, l, dst)
-                        pid[dst] = pid[l]
-                        kstep[dst] = kstep[l]
-                        nst[dst] = nst[l]
-                        per[dst] = per[l]
-                        tend[dst] = tend[l]
-                        rlen[dst] = rlen[l]
-                        cyc[dst] = cyc[l]
+                        S[dst::L] = S[l::L]  # every field of the lane
+                        CF[dst::L] = CF[l::L]
+                        ls[:, dst] = ls[:, l]
                         if adaptive:
                             ring[dst] = ring[l]
                             streak[dst] = streak[l]
                             cbuf[dst] = cbuf[l]
                             snap[dst] = snap[l]
-                        pid[l] = -1
-                        kstep[l] = 0
-                        nst[l] = _BIG
-                        _lane_idle(S, CF, l)
+                        _lane_idle(S, CF, ls, l)
                     dst += 1
             ng = (active + GROUP - 1) // GROUP
         m = nst[0] - kstep[0]  # (not the literal _BIG: keeps the chunk kernels' m an int64)
@@ -614,13 +482,10 @@ def _lanes_worker(
             N = nst[l]
             if not (abs(u) < DIVERGENCE_BOUND and abs(v) < DIVERGENCE_BOUND):
                 _diverged(p, poincare, end_state, status)
-                if done > tend[l]:
-                    _lane_stats_out(S, l, stats, p, N * (done - tend[l]))
-                else:
-                    _write_stats(stats, p, 0, np.inf, -np.inf, np.inf, -np.inf, 0.0, 0.0, 0.0, 0.0)
-                pid[l] = -1
-                nst[l] = _BIG
-                _lane_idle(S, CF, l)
+                if done <= tend[l]:  # (diverged in its transient: no statistics)
+                    _lane_reset_stats(S, l)
+                _write_stats(stats, p, N * max(done - tend[l], 0), S[F_UMIN * L + l :: L])
+                _lane_idle(S, CF, ls, l)
                 active -= 1
                 continue
             if adaptive and cyc[l] == 0 and done < tend[l]:
@@ -642,26 +507,17 @@ def _lanes_worker(
                     cbuf[l, j, 0] = u
                     cbuf[l, j, 1] = v
                     if j + 1 == n_record % rlen[l]:
-                        _adapt_snapshot(
-                            snap,
-                            l,
-                            S[F_UMIN * L + l],
-                            S[F_UMAX * L + l],
-                            S[F_VMIN * L + l],
-                            S[F_VMAX * L + l],
-                            S[F_USUM * L + l],
-                            S[F_USQ * L + l],
-                            S[F_NDRV * L + l],
-                            S[F_NBCK * L + l],
-                        )
+                        snap[l] = S[F_UMIN * L + l :: L][:NSNAP]  # the fields UMIN … NBCK, in order
                 if tangent == TAN_LYAPUNOV:
-                    a1, b1, a2, b2, l1, l2 = _gs(S[F_Y00 * L + l], S[F_Y10 * L + l], S[F_Y01 * L + l], S[F_Y11 * L + l])
-                    S[F_Y00 * L + l] = a1
-                    S[F_Y10 * L + l] = b1
-                    S[F_Y01 * L + l] = a2
-                    S[F_Y11 * L + l] = b2
-                    tan_log[p, j, 0] = l1
-                    tan_log[p, j, 1] = l2
+                    y = (S[F_Y00 * L + l], S[F_Y10 * L + l], S[F_Y01 * L + l], S[F_Y11 * L + l])
+                    (
+                        S[F_Y00 * L + l],
+                        S[F_Y10 * L + l],
+                        S[F_Y01 * L + l],
+                        S[F_Y11 * L + l],
+                        tan_log[p, j, 0],
+                        tan_log[p, j, 1],
+                    ) = _gs(*y)
             else:
                 # a transient period ended: discard what the chunks accumulated for this lane
                 _lane_reset_stats(S, l)
@@ -669,18 +525,14 @@ def _lanes_worker(
             if done == te + rlen[l]:
                 end_state[p, 0] = u
                 end_state[p, 1] = v
-                _lane_stats_out(S, l, stats, p, N * n_record)
+                _write_stats(stats, p, N * n_record, S[F_UMIN * L + l :: L])
                 if rlen[l] < n_record:
                     _adapt_finish(p, l, rlen[l], n_record, N, cbuf, snap, poincare, end_state, stats)
                 if tangent != TAN_NONE:
-                    tan_out[p, 0, 0] = S[F_Y00 * L + l]
-                    tan_out[p, 1, 0] = S[F_Y10 * L + l]
-                    tan_out[p, 0, 1] = S[F_Y01 * L + l]
-                    tan_out[p, 1, 1] = S[F_Y11 * L + l]
+                    for i in range(4):  # Y00, Y10, Y01, Y11
+                        tan_out[p, i % 2, i // 2] = S[(F_Y00 + i) * L + l]
                 status[p] = ST_OK
-                pid[l] = -1
-                nst[l] = _BIG
-                _lane_idle(S, CF, l)
+                _lane_idle(S, CF, ls, l)
                 active -= 1
 
 

@@ -23,7 +23,6 @@ from .core import (
     _adapt_check,
     _adapt_finish,
     _adapt_reset,
-    _adapt_snapshot,
     _coef_seq,
     _diverged,
     _fetch_add,
@@ -38,6 +37,19 @@ from .core import (
     _thresholds,
     _write_stats,
 )
+
+
+@njit(inline="always")
+def _first_harmonic(cf, i):
+    """(a0, a1, b1) of series i (0 when there is no first harmonic)."""
+    H1 = cf.shape[1]
+    return cf[i, 0, 0], cf[i, 1, 0] if H1 > 1 else 0.0, cf[i, 1, 1] if H1 > 1 else 0.0
+
+
+@njit(inline="always")
+def _series3(cf1, c, s):
+    """C, K, F at the angle (c, s) from their first-harmonic coefficients ``cf1`` (:func:`_first_harmonic`)."""
+    return _series1(cf1[0], c, s), _series1(cf1[1], c, s), _series1(cf1[2], c, s)
 
 
 @njit(nogil=True)
@@ -76,29 +88,12 @@ def _point_scalar(
     hh = 0.5 * h
     h6 = h / 6.0
     cm1, sa = _half_step_rotation(N)
-    H1 = cf.shape[1]
-    fast = H1 <= 2
-    ca0 = cf[0, 0, 0]
-    ka0 = cf[1, 0, 0]
-    fa0 = cf[2, 0, 0]
-    ca1 = cb1 = ka1 = kb1 = fa1 = fb1 = 0.0
-    if H1 > 1:
-        ca1 = cf[0, 1, 0]
-        cb1 = cf[0, 1, 1]
-        ka1 = cf[1, 1, 0]
-        kb1 = cf[1, 1, 1]
-        fa1 = cf[2, 1, 0]
-        fb1 = cf[2, 1, 1]
+    fast = cf.shape[1] <= 2
+    cf1 = (_first_harmonic(cf, 0), _first_harmonic(cf, 1), _first_harmonic(cf, 2))
     tdrv, tbck, dtan = _thresholds(D)
-    y00 = 1.0
-    y10 = 0.0
-    y01 = 0.0
-    y11 = 1.0
+    y00, y10, y01, y11 = 1.0, 0.0, 0.0, 1.0
     if tangent == TAN_CONTINUE:  # the orthonormal basis a previous block ended with
-        y00 = tan_out[p, 0, 0]
-        y10 = tan_out[p, 1, 0]
-        y01 = tan_out[p, 0, 1]
-        y11 = tan_out[p, 1, 1]
+        y00, y10, y01, y11 = tan_out[p, 0, 0], tan_out[p, 1, 0], tan_out[p, 0, 1], tan_out[p, 1, 1]
         tangent = TAN_LYAPUNOV
     umin = np.inf
     umax = -np.inf
@@ -108,9 +103,7 @@ def _point_scalar(
     usq = 0.0
     ndrv = 0.0
     nbck = 0.0
-    n_hist = hist.shape[1]
-    hist_periods = (n_hist - 1) // N if n_hist > 0 else 0
-    hist_first = n_transient + n_record - hist_periods
+    hist_first = n_transient + n_record - (hist.shape[1] - 1) // N  # (after the last period without a history)
     hi = 0
     adaptive = adapt_tol > 0.0 and streak.shape[1] > 1
     tend = n_transient
@@ -123,7 +116,7 @@ def _point_scalar(
         per += 1
         rec = per >= tend
         tan_on = tangent != TAN_NONE and rec
-        if n_hist > 0 and per == hist_first:
+        if per == hist_first:
             hist[p, 0, 0] = u
             hist[p, 0, 1] = v
             hi = 1
@@ -133,15 +126,9 @@ def _point_scalar(
             c1, s1 = _rot_small(c, s, cm1, sa)
             c2, s2 = _rot_small(c1, s1, cm1, sa)
             if fast:
-                C0 = _series1(ca0, ca1, cb1, c, s)
-                K0 = _series1(ka0, ka1, kb1, c, s)
-                F0 = _series1(fa0, fa1, fb1, c, s)
-                C1 = _series1(ca0, ca1, cb1, c1, s1)
-                K1 = _series1(ka0, ka1, kb1, c1, s1)
-                F1 = _series1(fa0, fa1, fb1, c1, s1)
-                C2 = _series1(ca0, ca1, cb1, c2, s2)
-                K2 = _series1(ka0, ka1, kb1, c2, s2)
-                F2 = _series1(fa0, fa1, fb1, c2, s2)
+                C0, K0, F0 = _series3(cf1, c, s)
+                C1, K1, F1 = _series3(cf1, c1, s1)
+                C2, K2, F2 = _series3(cf1, c2, s2)
             else:
                 C0, K0, F0 = _coef_seq(cf, c, s)
                 C1, K1, F1 = _coef_seq(cf, c1, s1)
@@ -174,7 +161,7 @@ def _point_scalar(
         if not (abs(u) < DIVERGENCE_BOUND and abs(v) < DIVERGENCE_BOUND):
             _diverged(p, poincare, end_state, status)
             nrec = N * (per + 1 - tend) if rec else 0
-            _write_stats(stats, p, nrec, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+            _write_stats(stats, p, nrec, (umin, umax, vmin, vmax, usum, usq, ndrv, nbck))
             return
         if adaptive and cyc == 0 and per + 1 < tend:
             nc = _adapt_check(ring, streak, 0, per + 1, u, v, adapt_tol)
@@ -192,14 +179,12 @@ def _point_scalar(
                 cbuf[0, j, 0] = u
                 cbuf[0, j, 1] = v
                 if j + 1 == n_record % rlen:
-                    _adapt_snapshot(snap, 0, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+                    snap[0] = np.array([umin, umax, vmin, vmax, usum, usq, ndrv, nbck])
             if tangent == TAN_LYAPUNOV:
-                y00, y10, y01, y11, l1, l2 = _gs(y00, y10, y01, y11)
-                tan_log[p, j, 0] = l1
-                tan_log[p, j, 1] = l2
+                y00, y10, y01, y11, tan_log[p, j, 0], tan_log[p, j, 1] = _gs(y00, y10, y01, y11)
     end_state[p, 0] = u
     end_state[p, 1] = v
-    _write_stats(stats, p, N * n_record, umin, umax, vmin, vmax, usum, usq, ndrv, nbck)
+    _write_stats(stats, p, N * n_record, (umin, umax, vmin, vmax, usum, usq, ndrv, nbck))
     if rlen < n_record:
         _adapt_finish(p, 0, rlen, n_record, N, cbuf, snap, poincare, end_state, stats)
     if tangent != TAN_NONE:

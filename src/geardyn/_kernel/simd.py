@@ -108,27 +108,27 @@ def _vector_chunk(kind_sin, mode, V, width, L, fields):
             sn = builder.fadd(s, fma(cm1, s, builder.fmul(c, sa)))
             return cn, sn
 
-        def series(a0, a1, b1, c, s):  # core._series1, or fma(a1, c, a0) without sine terms
+        def series(c, s, a0, a1, b1=None):  # core._series1, or fma(a1, c, a0) without sine terms
             x = fma(a1, c, a0)
             return fma(b1, s, x) if kind_sin else x
 
         def slope(K, u, dtan):  # core._slope
             return builder.select(builder.fcmp_ordered(">", builder.call(fabs_fn, [u]), dtan), K, ZERO)
 
-        def rk4_tan(a, b, h, hh, h6, C0, C1, C2, g1, g2, g3, g4):  # core._rk4_tan
-            kb1 = fma(neg(g1), a, neg(builder.fmul(C0, b)))
-            a2 = fma(hh, b, a)
-            b2 = fma(hh, kb1, b)
-            kb2 = fma(neg(g2), a2, neg(builder.fmul(C1, b2)))
-            a3 = fma(hh, b2, a)
-            b3 = fma(hh, kb2, b)
-            kb3 = fma(neg(g3), a3, neg(builder.fmul(C1, b3)))
-            a4 = fma(h, b3, a)
-            b4 = fma(h, kb3, b)
-            kb4 = fma(neg(g4), a4, neg(builder.fmul(C2, b4)))
-            an = fma(h6, builder.fadd(fma(TWO, b3, fma(TWO, b2, b)), b4), a)
-            bn = fma(h6, builder.fadd(fma(TWO, kb3, fma(TWO, kb2, kb1)), kb4), b)
-            return an, bn
+        def rk4(x, y, h, hh, h6, rate):  # core._rk4 (rate: core._acc) and core._rk4_tan; rate(j, ...) at stage j
+            k1 = rate(0, x, y)
+            x2 = fma(hh, y, x)
+            y2 = fma(hh, k1, y)
+            k2 = rate(1, x2, y2)
+            x3 = fma(hh, y2, x)
+            y3 = fma(hh, k2, y)
+            k3 = rate(2, x3, y3)
+            x4 = fma(h, y3, x)
+            y4 = fma(h, k3, y)
+            k4 = rate(3, x4, y4)
+            xn = fma(h6, builder.fadd(fma(TWO, y3, fma(TWO, y2, y)), y4), x)
+            yn = fma(h6, builder.fadd(fma(TWO, k3, fma(TWO, k2, k1)), k4), y)
+            return xn, yn, (x, x2, x3, x4)
 
         def step(l0):
             """One RK4 step of the block at lane l0: fields loaded from S, results stored to S."""
@@ -144,61 +144,33 @@ def _vector_chunk(kind_sin, mode, V, width, L, fields):
             c0, s0 = ld("C"), ld("S")
             c1, s1 = rot_small(c0, s0, cm1, sa)
             c2, s2 = rot_small(c1, s1, cm1, sa)
-            ca0, ca1, ka0, ka1, fa0, fa1 = (ld(f) for f in ("CA0", "CA1", "KA0", "KA1", "FA0", "FA1"))
-            if kind_sin:
-                cb1, kb1_, fb1 = ld("CB1"), ld("KB1"), ld("FB1")
-            else:
-                cb1 = kb1_ = fb1 = None
-            C0 = series(ca0, ca1, cb1, c0, s0)
-            K0 = series(ka0, ka1, kb1_, c0, s0)
-            F0 = series(fa0, fa1, fb1, c0, s0)
-            C1 = series(ca0, ca1, cb1, c1, s1)
-            K1 = series(ka0, ka1, kb1_, c1, s1)
-            F1 = series(fa0, fa1, fb1, c1, s1)
-            C2 = series(ca0, ca1, cb1, c2, s2)
-            K2 = series(ka0, ka1, kb1_, c2, s2)
-            F2 = series(fa0, fa1, fb1, c2, s2)
+            cf = [[ld(f + t) for t in ("A0", "A1", "B1")[: 3 if kind_sin else 2]] for f in "CKF"]
+            # (C, K, F) at the stages j = 0 … 3: the step's start, the midpoint twice, the end
+            ckf = [[series(c, s, *x) for x in cf] for c, s in ((c0, s0), (c1, s1), (c2, s2))]
+            ckf.insert(1, ckf[1])
             h = ld("H")
             hh = ld("HH")
             h6 = ld("H6")
             D = ld("D")
-            u, v = ld("U"), ld("V")
-            # core._rk4
-            k1 = acc(u, v, C0, K0, F0, D)
-            u2 = fma(hh, v, u)
-            v2 = fma(hh, k1, v)
-            k2 = acc(u2, v2, C1, K1, F1, D)
-            u3 = fma(hh, v2, u)
-            v3 = fma(hh, k2, v)
-            k3 = acc(u3, v3, C1, K1, F1, D)
-            u4 = fma(h, v3, u)
-            v4 = fma(h, k3, v)
-            k4 = acc(u4, v4, C2, K2, F2, D)
-            un = fma(h6, builder.fadd(fma(TWO, v3, fma(TWO, v2, v)), v4), u)
-            vn = fma(h6, builder.fadd(fma(TWO, k3, fma(TWO, k2, k1)), k4), v)
+            un, vn, us = rk4(ld("U"), ld("V"), h, hh, h6, lambda j, u, v: acc(u, v, *ckf[j], D))
             if with_tan:
                 dtan = ld("DTAN")
-                g1 = slope(K0, u, dtan)
-                g2 = slope(K1, u2, dtan)
-                g3 = slope(K1, u3, dtan)
-                g4 = slope(K2, u4, dtan)
-                y00, y10 = rk4_tan(ld("Y00"), ld("Y10"), h, hh, h6, C0, C1, C2, g1, g2, g3, g4)
-                y01, y11 = rk4_tan(ld("Y01"), ld("Y11"), h, hh, h6, C0, C1, C2, g1, g2, g3, g4)
-                st("Y00", y00)
-                st("Y10", y10)
-                st("Y01", y01)
-                st("Y11", y11)
+                g = [slope(ckf[j][1], us[j], dtan) for j in range(4)]
+
+                def rate(j, a, b):  # core._rk4_tan's stage rate
+                    return fma(neg(g[j]), a, neg(builder.fmul(ckf[j][0], b)))
+
+                for col in ("0", "1"):
+                    yp, yv, _ = rk4(ld("Y0" + col), ld("Y1" + col), h, hh, h6, rate)
+                    st("Y0" + col, yp)
+                    st("Y1" + col, yv)
             if with_stats:
-                st("UMIN", vmin(ld("UMIN"), un))
-                st("UMAX", vmax(ld("UMAX"), un))
-                st("VMIN", vmin(ld("VMIN"), vn))
-                st("VMAX", vmax(ld("VMAX"), vn))
+                for f, op, x in (("UMIN", vmin, un), ("UMAX", vmax, un), ("VMIN", vmin, vn), ("VMAX", vmax, vn)):
+                    st(f, op(ld(f), x))
                 st("USUM", builder.fadd(ld("USUM"), un))
                 st("USQ", fma(un, un, ld("USQ")))
-                drive = builder.select(builder.fcmp_ordered(">", un, ld("DRV")), ONE, ZERO)
-                back = builder.select(builder.fcmp_ordered("<", un, ld("BCK")), ONE, ZERO)
-                st("NDRV", builder.fadd(ld("NDRV"), drive))
-                st("NBCK", builder.fadd(ld("NBCK"), back))
+                for f, op, t in (("NDRV", ">", "DRV"), ("NBCK", "<", "BCK")):  # drive u > DRV, back u < BCK
+                    st(f, builder.fadd(ld(f), builder.select(builder.fcmp_ordered(op, un, ld(t)), ONE, ZERO)))
             st("U", un)
             st("V", vn)
             st("C", c2)

@@ -41,8 +41,10 @@ LINE_LENGTH = 120
 
 
 def _quoted(text: str) -> str:
-    """``text`` as a double-quoted Python literal (as ``ruff format`` writes it)."""
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+    """``text`` as a double-quoted Python literal (as ``ruff format`` writes it: JSON's escapes of a help text)."""
+    import json
+
+    return json.dumps(text, ensure_ascii=False)
 
 
 def _pieces(help_: str) -> list[str]:

@@ -38,9 +38,9 @@ EXIT_INTERRUPTED = 130
 
 
 class _HelpScreen:
-    """What every help screen shares, built here once: ``--help`` shows no value placeholder (it takes none),
-    and help texts are shown as written (a ``[mesh]`` is text, not Rich markup).  Also what every command's
-    parsing shares: its options are converted by :func:`_direct_values`."""
+    """What every help screen shares, built here once: ``--help`` and every on/off flag show no value placeholder
+    (they take none), and help texts are shown as written (a ``[mesh]`` is text, not Rich markup).  Also what every
+    command's parsing shares: its options are converted by :func:`_direct_values`."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)  # type: ignore[call-arg]
@@ -48,6 +48,8 @@ class _HelpScreen:
         for p in self.params:  # type: ignore[attr-defined]
             if getattr(p, "param_type_name", "") == "argument" and p.name:
                 p._usage_display_name = _usage_name(p)  # FILE, [FILE] optional, not typer's {file}
+            elif getattr(p, "is_flag", False) and p.metavar is None:
+                p.metavar = ""
 
     def get_help_option(self, ctx: Any) -> Any:
         opt = super().get_help_option(ctx)  # type: ignore[misc]
@@ -264,7 +266,7 @@ def _version(value: bool) -> None:
 @app.callback()
 def _root(
     version: bool = typer.Option(
-        False, "--version", help="Print the version and exit.", callback=_version, is_eager=True, metavar=""
+        False, "--version", help="Print the version and exit.", callback=_version, is_eager=True
     ),
 ) -> None:
     """geardyn: simulate and analyse the nonlinear dynamics of a gear pair with backlash."""
@@ -413,12 +415,9 @@ def _invoke(argv: list[str] | None) -> int:
         else:
             say_error(str(e))
         return EXIT_INTERRUPTED
-    except SweepFailed as e:
+    except GeardynError as e:  # a sweep that failed (1), else bad input (2)
         say_error(f"error: {e}")
-        return EXIT_FAILURE
-    except GeardynError as e:
-        say_error(f"error: {e}")
-        return EXIT_USAGE
+        return EXIT_FAILURE if isinstance(e, SweepFailed) else EXIT_USAGE
     except (typer.Abort, KeyboardInterrupt):
         if not STOP.event.is_set():
             say_error("interrupted")

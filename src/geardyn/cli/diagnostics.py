@@ -10,39 +10,31 @@ import typer
 from ..errors import ModelError
 from .app import console
 from .options import OUTPUT, Inputs, command, finish, option
-from .render import files, plain, table
+from .render import plain, table
 
 STIFFNESS_OPTIONS = [
-    option("torque", float | None, None, "--torque", help="Pinion torque (N·m) instead of the file's torque_Nm."),
+    option("torque", float | None, help="Pinion torque (N·m) instead of the file's torque_Nm."),
     option(
         "fault",
         list[str] | None,
-        None,
-        "--fault",
         help="Add a fault: KIND:key=value,... e.g. crack:gear=0,tooth=0,depth=0.5 (repeatable; lengths in m).",
     ),
     option(
         "cycles",
         int | None,
-        None,
-        "--cycles",
         help="Mesh cycles computed (default: 1 healthy, z1 or z2 with faults on one gear, the hunting period "
         "lcm(z1, z2) with faults on both).",
     ),
-    option("points", int, 64, "--points", help="Mesh phases per mesh cycle."),
+    option("points", int, 64, help="Mesh phases per mesh cycle."),
     option(
         "slices",
         int | None,
-        None,
-        "--slices",
         help="Slices across the face width (default 1 spur, 40 helical, crowned or with partial faults).",
     ),
-    option("harmonics", int, 8, "--harmonics", help="Fourier harmonics of the excitation's period listed."),
+    option("harmonics", int, 8, help="Fourier harmonics of the excitation's period listed."),
     option(
         "table",
         Path | None,
-        None,
-        "--table",
         help="Also write the stiffness and STE table as .csv or .json (an --excitation file for the analyses).",
     ),
     *OUTPUT,
@@ -116,7 +108,7 @@ def stiffness_cmd(
     finish(summary, paths, inp, _show_stiffness)
 
 
-def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
+def _show_stiffness(s: dict[str, Any]) -> None:
     iso = s["iso6336"]
     plain(
         f"{s['name']}: z = {s['z1']}/{s['z2']}, m_n = {s['m_n_mm']:g} mm, β = {s['beta_deg']:g}°, "
@@ -156,31 +148,24 @@ def _show_stiffness(s: dict[str, Any], paths: list[str]) -> None:
     for o, k, pk, e, pe in zip(s["harmonic_order_of_mesh"], s["kappa"], s["phi_k"], s["ste_harmonics_um"], s["phi_e"]):
         h.add_row(f"{o:.4g}", f"{k:.5g}", f"{pk:.4g}", f"{e:.4g}", f"{pe:.4g}")
     console.print(h)
-    files(paths)
 
 
 SIGNATURE_OPTIONS = [
     option(
         "rpm",
         float | None,
-        None,
-        "--rpm",
         help="Pinion speed (rpm; default the file's [signature] rpm, else 3000; with --system the system's "
         "operating point).",
     ),
-    option("revolutions", int | None, None, "--revolutions", help="Pinion revolutions recorded."),
+    option("revolutions", int | None, help="Pinion revolutions recorded."),
     option(
         "fs",
         float | None,
-        None,
-        "--fs",
         help="Sampling rate (Hz; default 20 samples per mesh period and 2.5 per period of the highest mesh "
         "harmonic the model holds; with --system 20 per mesh period and 5 per period of the system's highest "
         "natural frequency).",
     ),
-    option(
-        "noise", float | None, None, "--noise", help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."
-    ),
+    option("noise", float | None, help="Measurement noise as a share of the signal RMS (0.02; 0 to 1)."),
     option(
         "sweep",
         str | None,
@@ -189,14 +174,12 @@ SIGNATURE_OPTIONS = [
         help="Crack depths d1,d2,... : indicators against the depth of the file's first crack (or a crack on "
         "pinion tooth 0).",
     ),
-    option("fault", list[str] | None, None, "--fault", help="Add a fault (as for stiffness)."),
-    option("torque", float | None, None, "--torque", help="Pinion torque (N·m) instead of the file's."),
-    option("points", int, 32, "--points", help="Mesh phases per mesh cycle of the excitation table."),
+    option("fault", list[str] | None, help="Add a fault (as for stiffness)."),
+    option("torque", float | None, help="Pinion torque (N·m) instead of the file's."),
+    option("points", int, 32, help="Mesh phases per mesh cycle of the excitation table."),
     option(
         "system",
         list[Path] | None,
-        None,
-        "--system",
         panel="Multi-DOF system",
         help="A system file (examples/systems): the signature of a bearing sensor, a translational DOF. Once: "
         "the tooth-pair files (or excitation tables) become its mesh's excitation, one run each (none: the "
@@ -206,8 +189,6 @@ SIGNATURE_OPTIONS = [
     option(
         "sensor",
         str | None,
-        None,
-        "--sensor",
         panel="Multi-DOF system",
         help="With --system: the sensor, a translational DOF body.x|y|z (default the translation of the mesh's "
         "pinion most nearly along its line of action).",
@@ -215,8 +196,6 @@ SIGNATURE_OPTIONS = [
     option(
         "mesh",
         str | None,
-        None,
-        "--mesh",
         panel="Multi-DOF system",
         help="With --system: the mesh that takes the files' excitation and whose pinion and wheel are analysed "
         "(default the reference mesh).",
@@ -341,7 +320,7 @@ def _finish_sweep(inp: Inputs, ds: Any, **keys: str) -> None:
     finish(summary, inp.write(ds, "signature_sweep"), inp, _show_sweep)
 
 
-def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
+def _show_signature(s: dict[str, Any]) -> None:
     from ..signature.run import INDICATORS
 
     r0 = s["runs"][0]
@@ -364,10 +343,9 @@ def _show_signature(s: dict[str, Any], paths: list[str]) -> None:
             ],
         )
     console.print(t)
-    files(paths)
 
 
-def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
+def _show_sweep(s: dict[str, Any]) -> None:
     where = f" (sensor {s['sensor']})" if "sensor" in s else ""
     names = ("kurtosis", "fm4", "na4", "m6a", "fm0", "energy_ratio")
     title = f"Indicators of the pinion's TSA against {s['size_name']} at {s['rpm']:.6g} rpm{where}"
@@ -375,7 +353,6 @@ def _show_sweep(s: dict[str, Any], paths: list[str]) -> None:
     for i, d in enumerate(s["sizes"]):
         t.add_row(f"{d:g}", *[f"{s['indicators'][n]['pinion'][i]:.4g}" for n in names])
     console.print(t)
-    files(paths)
 
 
 def _system_signature(inp: Inputs, files: list[Path]) -> None:
@@ -456,29 +433,26 @@ def _system_signature(inp: Inputs, files: list[Path]) -> None:
             ds = system_signature_sweep(make, depths, dof=dof, mesh=mesh, **kw)
             _finish_sweep(inp, ds, system=str(paths[0]), excitation=str(tooth[-1]))
             return
-        runs_in = []  # (system, label, summary keys)
-        if files:
-            for f in files:
-                if f in cases:
-                    runs_in.append(
-                        (
-                            excited(cases[f], cases[f].faults, period, f.stem),
-                            cases[f].name,
-                            {"excitation": str(f), "faults": [fault_to_dict(x) for x in cases[f].faults]},
-                        )
-                    )
-                else:
-                    runs_in.append((on_mesh(f, read_table(f).stiffness.size // 2), f.stem, {"excitation": str(f)}))
-        else:
-            runs_in = [(s, p.stem, {"excitation": None}) for s, p in zip(systems, paths)]
-        labels = [
-            lab if [r[1] for r in runs_in].count(lab) == 1 else f"{lab} ({i + 1})"
-            for i, (_, lab, _) in enumerate(runs_in)
-        ]
+        runs_in = [  # (system, label, summary keys)
+            (
+                excited(cases[f], cases[f].faults, period, f.stem),
+                cases[f].name,
+                {"excitation": str(f), "faults": [fault_to_dict(x) for x in cases[f].faults]},
+            )
+            if f in cases
+            else (on_mesh(f, read_table(f).stiffness.size // 2), f.stem, {"excitation": str(f)})
+            for f in files
+        ] or [(s, p.stem, {"excitation": None}) for s, p in zip(systems, paths)]
+        labels = [r[1] for r in runs_in]  # a label given twice is numbered
         runs = [
             system_signature(
-                s, dof, mesh=mesh, label=lab, **kw, extra={"system": str(paths[min(i, len(paths) - 1)]), **keys}
+                s,
+                dof,
+                mesh=mesh,
+                label=lab if labels.count(lab) == 1 else f"{lab} ({i + 1})",
+                **kw,
+                extra={"system": str(paths[min(i, len(paths) - 1)]), **keys},
             )
-            for i, ((s, _, keys), lab) in enumerate(zip(runs_in, labels))
+            for i, (s, lab, keys) in enumerate(runs_in)
         ]
     _finish_runs(inp, runs)

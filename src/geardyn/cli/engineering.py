@@ -10,30 +10,25 @@ import typer
 from ..errors import ModelError
 from .app import console
 from .options import JSON_ONLY, OUTPUT, Inputs, command, finish, model_group, option
-from .render import files, plain, table
+from .render import plain, table
 
 TE_OPTIONS = [
-    option("teeth", str, ..., "--teeth", help="Teeth of pinion and gear, z1,z2 (e.g. 14,39)."),
-    option("harmonics", int, 3, "--harmonics", help="Mesh harmonics fitted (orders l z1, l = 1 … L)."),
+    option("teeth", str, ..., help="Teeth of pinion and gear, z1,z2 (e.g. 14,39)."),
+    option("harmonics", int, 3, help="Mesh harmonics fitted (orders l z1, l = 1 … L)."),
     option(
         "shaft_orders",
         int,
         2,
-        "--shaft-orders",
         help="Shaft orders j fitted for each shaft, alone and as sidebands l z1 ± j (pinion), l z1 ± j z1/z2 (gear).",
     ),
     option(
         "x_unit",
         str | None,
-        None,
-        "--x-unit",
         help="Unit of the first column when the header does not state it: deg, rad, rev (angle) or s, ms, us (time).",
     ),
     option(
         "te_unit",
         str | None,
-        None,
-        "--te-unit",
         help="Unit of the TE column when the header does not state it: um, mm, nm, m.",
     ),
     option("te_rpm", float | None, None, "--rpm", help="Pinion speed (rpm) of a time record."),
@@ -76,19 +71,15 @@ def te(
     sig = read_te(file, x_unit=inp.x_unit, te_unit=inp.te_unit, rpm=inp.te_rpm)
     res = analyse_te(sig, z1, z2, harmonics=inp.harmonics, shaft_orders=inp.shaft_orders)
     section = mesh_section(res)
-    summary = res.to_json()
-    summary["abscissa"] = sig.abscissa
-    summary["mesh_section"] = section
-    paths = []
+    summary = {**res.to_json(), "abscissa": sig.abscissa, "mesh_section": section}
     if inp.te_out is not None:
         from ..atomic import atomic_write_bytes
 
         atomic_write_bytes(inp.te_out, section.encode("utf-8"))
-        paths.append(str(inp.te_out))
-    finish(summary, paths, inp, _show_te)
+    finish(summary, [str(inp.te_out)] * (inp.te_out is not None), inp, _show_te)
 
 
-def _show_te(s: dict[str, Any], paths: list[str]) -> None:
+def _show_te(s: dict[str, Any]) -> None:
     t = table(
         f"Mesh harmonics of {s['source']} (z1 = {s['z1']}, z2 = {s['z2']})",
         "l",
@@ -121,7 +112,6 @@ def _show_te(s: dict[str, Any], paths: list[str]) -> None:
     ]
     plain(*lines)
     console.print(s["mesh_section"], markup=False, highlight=False, soft_wrap=True)
-    files(paths)
 
 
 def attach_iso_kv(cfg: Any, model: Any, ds: Any, summary: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
@@ -168,37 +158,32 @@ RUNUP_OPTIONS = [
         "--rpm-stop",
         help="Pinion speed at the end of the ramp (rpm; below --rpm-start for a run-down).",
     ),
-    option("duration", float | None, None, "--duration", help="Duration of the ramp (s)."),
-    option("omega_start", float | None, None, "--omega-start", help="Start of the ramp as ω (instead of --rpm-start)."),
-    option("omega_stop", float | None, None, "--omega-stop", help="End of the ramp as ω (instead of --rpm-stop)."),
-    option("param", str | None, None, "--param", help="The ramped parameter: omega only (with --start/--stop)."),
-    option("start", float | None, None, "--start", help="Start of the ramp as ω (as --omega-start)."),
-    option("stop", float | None, None, "--stop", help="End of the ramp as ω (as --omega-stop)."),
+    option("duration", float | None, help="Duration of the ramp (s)."),
+    option("omega_start", float | None, help="Start of the ramp as ω (instead of --rpm-start)."),
+    option("omega_stop", float | None, help="End of the ramp as ω (instead of --rpm-stop)."),
+    option("param", str | None, help="The ramped parameter: omega only (with --start/--stop)."),
+    option("start", float | None, help="Start of the ramp as ω (as --omega-start)."),
+    option("stop", float | None, help="End of the ramp as ω (as --omega-stop)."),
     option(
         "tau_duration",
         float | None,
-        None,
-        "--tau-duration",
         help="Duration of the ramp in τ (instead of --duration).",
     ),
     option(
         "cycles_per_block",
         int | None,
-        None,
-        "--cycles-per-block",
         help="Mesh cycles per constant-speed block (default: about 400 blocks); with an --excitation of P mesh cycles "
         "(or a system whose forcing period is P reference mesh cycles) a multiple of P (blocks of whole forcing "
         "periods).",
     ),
-    option("orders", int, 3, "--orders", help="Mesh orders tracked."),
+    option("orders", int, 3, help="Mesh orders tracked."),
     option("qs_num", int, 21, "--num", help="Speeds of the quasi-static (steady) response beside the ramp (0: none)."),
-    option("dtau", float, 0.05, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ) in every block."),
+    option("dtau", float, 0.05, help="Target RK4 step Δτ; the step is T/ceil(T/Δτ) in every block."),
     option("accurate", bool, False, "--accurate", help="Split steps at the contact crossings u = ±D."),
     option(
         "settle",
         int,
         200,
-        "--settle",
         help="Mesh periods at the start speed before the ramp (from --u0, --v0 = 0; "
         "whole forcing periods with an --excitation of several cycles).",
     ),
@@ -206,6 +191,8 @@ RUNUP_OPTIONS = [
 
 
 def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
+    """ω at the start and at the end of the ramp, its duration in τ and the scales, checked (the RK4 steps of the
+    ramp within the bound)."""
     from .ranges import omega_only
 
     scales = inp.scales()
@@ -234,11 +221,7 @@ def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
         T = float(scales.tau_from_s(inp.duration))
     else:
         T = float(inp.tau_duration)
-    return float(w0), float(w1), T, scales
-
-
-def _check_ramp_steps(inp: Inputs, w0: float, w1: float, T: float) -> None:
-    """Refuse, before computing, a step or a ramp whose RK4 steps cannot be counted or exceed the bound."""
+    # refused before computing: a step or a ramp whose RK4 steps cannot be counted or exceed the bound
     import math
 
     from .. import validate
@@ -255,6 +238,7 @@ def _check_ramp_steps(inp: Inputs, w0: float, w1: float, T: float) -> None:
             f"{_human_time(steps * TRAJECTORY_STEP_SECONDS)} of computing; the budget is "
             f"{_human_time(budget)} (GEARDYN_TIME_BUDGET seconds): a shorter ramp or a larger dtau"
         )
+    return float(w0), float(w1), T, scales
 
 
 @command("runup", RUNUP_OPTIONS, model_group(omega=False, rpm=False), OUTPUT)
@@ -271,7 +255,6 @@ def runup_cmd(inp: Inputs) -> None:
 
     model = inp.model()
     w0, w1, T, sc = _ramp(inp)
-    _check_ramp_steps(inp, w0, w1, T)
     nq = validate.integer("num", inp.qs_num, 0, 2001)
     orders = validate.integer("orders", inp.orders, 1, 50)
     with inp.progress("runup", "blocks") as bar:
@@ -321,21 +304,16 @@ def runup_cmd(inp: Inputs) -> None:
                 model, np.linspace(lo, hi, nq), orders=orders, dtau=inp.dtau, accurate=inp.accurate, progress=bar
             )
         x_rpm = [float(v) for v in sc.rpm_from_omega(np.array(qs["x"]))]
+        plot_qs = {"x": x_rpm}
         for lab in ("up", "down"):
             qs[lab]["amplitude_um"] = [None if v is None else v * um for v in qs[lab]["amplitude"]]
+            plot_qs[lab] = {"amplitude": qs[lab]["amplitude_um"], "dynamic_factor": qs[lab]["dynamic_factor"]}
         summary["quasi_static"] = {**qs, "rpm": x_rpm}
-        plot_qs = {
-            "x": x_rpm,
-            **{
-                lab: {"amplitude": qs[lab]["amplitude_um"], "dynamic_factor": qs[lab]["dynamic_factor"]}
-                for lab in ("up", "down")
-            },
-        }
         ds.attrs["quasi_static"] = json.dumps(plot_qs)
     finish(summary, inp.write(ds, "runup"), inp, _show_runup)
 
 
-def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
+def _show_runup(s: dict[str, Any]) -> None:
     what = "run-up" if s["omega_stop"] > s["omega_start"] else "run-down"
     plain(
         f"{what}: {s['rpm'][0]:.6g} → {s['rpm'][-1]:.6g} rpm in {s['duration_s']:.4g} s "
@@ -359,4 +337,3 @@ def _show_runup(s: dict[str, Any], paths: list[str]) -> None:
         t.add_row(f"{s['rpm'][i]:.6g}", f"{s['omega'][i]:.5g}", *("n/a" if v is None else f"{v:.4g}" for v in cells))
     console.print(t)
     plain(f"gear pair: {s['pair']}")
-    files(paths)

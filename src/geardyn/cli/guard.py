@@ -228,10 +228,8 @@ def _finite(o: Any, where: str, bad: list[str]) -> Any:
         return None
     import numpy as np
 
-    if isinstance(o, np.ndarray):
+    if isinstance(o, (np.ndarray, np.generic)):  # (a NumPy scalar's tolist is its item)
         return _finite(o.tolist(), where, bad)
-    if isinstance(o, np.generic):
-        return _finite(o.item(), where, bad)
     if isinstance(o, (set, frozenset)):
         return _finite(sorted(o, key=str), where, bad)
     if hasattr(o, "__fspath__"):
@@ -308,18 +306,15 @@ def _leave(code: int, message: str) -> None:
     except Exception:  # noqa: BLE001  (leaving anyway)
         pass
     _stop_children()
-    try:
-        err = sys.stderr
-        if err is not None:
-            if err.isatty():
-                err.write("\x1b[?25h")  # a progress display hides the cursor: show it again
-            err.write(" ".join(message.split()) + "\n")
-            err.flush()
+    try:  # (a stream that is None or closed: nothing written)
+        if sys.stderr.isatty():
+            sys.stderr.write("\x1b[?25h")  # a progress display hides the cursor: show it again
+        sys.stderr.write(" ".join(message.split()) + "\n")
+        sys.stderr.flush()
     except Exception:  # noqa: BLE001
         pass
     try:
-        if sys.stdout is not None:
-            sys.stdout.flush()
+        sys.stdout.flush()
     except Exception:  # noqa: BLE001
         pass
     os._exit(code)
@@ -407,12 +402,9 @@ def run_guarded(body: Callable[[], int]) -> int:
         STOP.signum = signum
         STOP.event.set()
 
-    previous = {s: signal.getsignal(s) for s in SIGNAL_EXIT}
-    for s in SIGNAL_EXIT:
-        signal.signal(s, handler)
+    previous = {s: signal.signal(s, handler) for s in SIGNAL_EXIT}  # (signal.signal returns the handler it replaces)
     if hasattr(signal, "SIGXFSZ"):  # a file-size limit makes a write fail (EFBIG) instead of killing the process
-        previous[signal.SIGXFSZ] = signal.getsignal(signal.SIGXFSZ)
-        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        previous[signal.SIGXFSZ] = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     try:
         worker.start()
         while worker.is_alive() and STOP.signum is None:

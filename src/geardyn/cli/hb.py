@@ -26,7 +26,6 @@ SHOOTING_RUN = [
         "dtau",
         float,
         DEFAULT_DTAU,
-        "--dtau",
         panel="Integration",
         help="RK4 step Δτ of the shooting of --compare-shooting (T/ceil(T/Δτ)); HB does not integrate.",
     ),
@@ -42,7 +41,7 @@ SHOOTING_RUN = [
 ]
 
 
-def show(s: dict[str, Any], paths: list[str]) -> None:
+def show(s: dict[str, Any]) -> None:
     """The branch and its bifurcations for people."""
     p = s["param"]
     vals = [b[p] for b in s["branch"]]
@@ -57,10 +56,8 @@ def show(s: dict[str, Any], paths: list[str]) -> None:
         mus = ", ".join("n/a" if m[0] is None else f"{complex(*m):.4f}" for m in b["multipliers"])
         t.add_row(b["type"], f"{b[p]:.6f}", f"{b['u_min']:.4f}", f"{b['u_max']:.4f}", mus, b["detail"])
     console.print(t)
-    sh = s.get("shooting")
-    if sh:
+    if sh := s.get("shooting"):
         render.plain("shooting: " + ", ".join(f"{b['type']} {b[p]:.6f}" for b in sh["bifurcations"]))
-    render.files(paths)
 
 
 @command("hb", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
@@ -70,7 +67,6 @@ def hb(
     start: Annotated[
         float | None,
         typer.Option(
-            "--start",
             help="Parameter value where the branch starts (the first solution from the attractor reached by "
             "simulation from rest there).",
         ),
@@ -79,7 +75,6 @@ def hb(
     harmonics: Annotated[
         int | None,
         typer.Option(
-            "--harmonics",
             help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an "
             "forcing period of P mesh cycles (harmonics of ω/(P n): an --excitation of several cycles, torque orders, "
             "a system's mesh ratios or rolling bearings) the larger of 16·P and n times the excitation's harmonics, "
@@ -88,9 +83,7 @@ def hb(
     ] = None,
     period: Annotated[
         int,
-        typer.Option(
-            "--period", help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n)."
-        ),
+        typer.Option(help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n)."),
     ] = 1,
     compare_shooting: Annotated[
         bool,
@@ -103,7 +96,6 @@ def hb(
     ds_max: Annotated[
         float | None,
         typer.Option(
-            "--ds-max",
             help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02 for the pair, 0.2 for a "
             "--system).",
         ),
@@ -111,7 +103,6 @@ def hb(
     floquet: Annotated[
         str,
         typer.Option(
-            "--floquet",
             help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, "
             "refined by a Newton step; the default) or 'hill' (Hill's method).",
         ),
@@ -119,7 +110,6 @@ def hb(
     max_points: Annotated[
         int,
         typer.Option(
-            "--max-points",
             help="Largest number of branch points; a branch that reaches it before --stop ends there with a warning.",
         ),
     ] = 3000,

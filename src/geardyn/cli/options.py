@@ -40,6 +40,9 @@ __all__ = [
     "MODEL",
     "OUTPUT",
     "STATE",
+    "SYSTEM",
+    "SYSTEM_COMMANDS",
+    "CoordsOpt",
     "Inputs",
     "build_model",
     "choice",
@@ -63,7 +66,13 @@ OUTPUT_PANEL = "Output"
 
 
 def option(
-    dest: str, kind: Any, default: Any, *flags: str, help: str, panel: str | None = None, metavar: str | None = None
+    dest: str,
+    kind: Any,
+    default: Any = None,
+    *flags: str,
+    help: str,
+    panel: str | None = None,
+    metavar: str | None = None,
 ) -> inspect.Parameter:
     """One keyword-only typer option as a signature parameter.
 
@@ -74,9 +83,10 @@ def option(
     kind : type
         The option's type annotation (``float``, ``Path | None``, ``bool`` for a flag ...).
     default : object
-        The value when the option is not given.
+        The value when the option is not given (default None).
     *flags : str
-        The option's flags, e.g. ``"--dtau"``.
+        The option's flags, e.g. ``"--dtau"``; none: typer's, ``--`` and ``dest`` with ``-`` for ``_`` (an
+        on/off flag of type ``bool`` names its flags).
     help : str
         The help text.
     panel : str, optional
@@ -97,22 +107,10 @@ def option(
     )
 
 
-def _flags_take_no_value(p: inspect.Parameter) -> inspect.Parameter:
-    """An on/off flag is shown without a value placeholder (it takes none)."""
-    meta = getattr(p.annotation, "__metadata__", ())
-    if typing.get_origin(p.annotation) is Annotated and p.annotation.__origin__ is bool:
-        for info in meta:
-            if getattr(info, "metavar", "unset") is None:
-                info.metavar = ""
-    return p
-
-
 CONFIG = [
     option(
         "config",
         Path | None,
-        None,
-        "--config",
         panel=PHYSICAL_PANEL,
         help="TOML file with the gear pair, mesh and operating point (default: the paper's Table 1).",
     )
@@ -120,8 +118,6 @@ CONFIG = [
 RPM = option(
     "rpm",
     float | None,
-    None,
-    "--rpm",
     panel=PHYSICAL_PANEL,
     help="Pinion speed in rpm (sets ω for the gear pair of --config, else of a tooth-pair --excitation file; "
     "default pair: the paper's Table 1, k0 = 2000 N/µm assumed).",
@@ -129,8 +125,6 @@ RPM = option(
 TORQUE = option(
     "torque",
     float | None,
-    None,
-    "--torque",
     panel=PHYSICAL_PANEL,
     help="Pinion torque in N·m, balanced (sets f_p for the gear pair of --config, else of a tooth-pair "
     "--excitation file).",
@@ -138,8 +132,6 @@ TORQUE = option(
 TORQUE_ORDER = option(
     "torque_order",
     list[str] | None,
-    None,
-    "--torque-order",
     metavar="ORDER:AMPLITUDE[:PHASE]",
     panel=PHYSICAL_PANEL,
     help="A torque order ORDER:AMPLITUDE[:PHASE] (repeatable; PHASE in rad, default 0): a load harmonic "
@@ -148,12 +140,10 @@ TORQUE_ORDER = option(
     "Otherwise (no --config, or a non-dimensional configuration): ORDER of the mesh frequency "
     "(e.g. 2 or 1/2), AMPLITUDE non-dimensional like --fp.",
 )
-EXCITATION = option("excitation", Path | None, None, "--excitation", panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
+EXCITATION = option("excitation", Path | None, panel=PHYSICAL_PANEL, help=params.EXCITATION_HELP)
 EVALUATION = option(
     "excitation_evaluation",
     str | None,
-    None,
-    "--excitation-evaluation",
     panel=PHYSICAL_PANEL,
     help="series (default) or table: with --accurate, the table as given, piecewise linear with its jumps.",
 )
@@ -161,16 +151,12 @@ RPM_RANGE = [
     option(
         "rpm_start",
         float | None,
-        None,
-        "--rpm-start",
         panel=PHYSICAL_PANEL,
         help="Start of an ω sweep given as pinion speed in rpm (with --rpm-stop).",
     ),
     option(
         "rpm_stop",
         float | None,
-        None,
-        "--rpm-stop",
         panel=PHYSICAL_PANEL,
         help="End of an ω sweep given as pinion speed in rpm (with --rpm-start).",
     ),
@@ -191,18 +177,25 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
     -------
     list of inspect.Parameter
     """
-    group = list(CONFIG) + [EXCITATION, EVALUATION] + ([RPM] if rpm else []) + [TORQUE, TORQUE_ORDER]
-    for o in params.cli_options():
-        if o.param == "omega" and not omega:
-            continue
-        group.append(option(o.dest, float | None, None, o.flag, help=o.help, panel=MODEL_PANEL))
-    return group
+    return [
+        *CONFIG,
+        EXCITATION,
+        EVALUATION,
+        *([RPM] if rpm else []),
+        TORQUE,
+        TORQUE_ORDER,
+        *(
+            option(o.dest, float | None, None, o.flag, help=o.help, panel=MODEL_PANEL)
+            for o in params.cli_options()
+            if omega or o.param != "omega"
+        ),
+    ]
 
 
 MODEL = model_group()
 STATE = [
-    option("u0", float, 0.0, "--u0", help="Initial displacement u at θ = 0.", panel=RUN_PANEL),
-    option("v0", float, 0.0, "--v0", help="Initial velocity u' at θ = 0.", panel=RUN_PANEL),
+    option("u0", float, 0.0, help="Initial displacement u at θ = 0.", panel=RUN_PANEL),
+    option("v0", float, 0.0, help="Initial velocity u' at θ = 0.", panel=RUN_PANEL),
 ]
 ACCURATE_HELP = "Split steps at the contact crossings u = ±D (4th order through contact loss)."
 
@@ -243,14 +236,11 @@ def integration(
     list of inspect.Parameter
     """
     group = [
-        option(
-            "dtau", float, DEFAULT_DTAU, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).", panel=RUN_PANEL
-        ),
+        option("dtau", float, DEFAULT_DTAU, help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).", panel=RUN_PANEL),
         option(
             "transient",
             str,
             str(DEFAULT_TRANSIENT),
-            "--transient",
             help="Forcing periods discarded before recording; or N followed by 'cycles' (e.g. 3000cycles): N "
             "reference mesh cycles, rounded up to whole forcing periods; or auto: as many as the least damped mode "
             "of the linearised system takes to decay by e^-12 (at least 4, at most 20000; docs/analysis.md). Not "
@@ -260,12 +250,8 @@ def integration(
         ),
     ]
     if periods is not None:
-        group.append(option("periods", int, periods, "--periods", help=periods_help, panel=RUN_PANEL))
-    group.append(
-        accurate
-        if accurate is not None
-        else option("accurate", bool, False, "--accurate", help=ACCURATE_HELP, panel=RUN_PANEL)
-    )
+        group.append(option("periods", int, periods, help=periods_help, panel=RUN_PANEL))
+    group.append(accurate or option("accurate", bool, False, "--accurate", help=ACCURATE_HELP, panel=RUN_PANEL))
     if adaptive:
         group.append(option("adaptive", bool, False, "--adaptive", help=ADAPTIVE_HELP, panel=RUN_PANEL))
     return group
@@ -276,7 +262,6 @@ ENGINE = [
         "workers",
         int,
         1,
-        "--workers",
         panel=ENGINE_PANEL,
         help="Chunks of a sweep integrated at once, on threads of this process (1: one at a time on every "
         "kernel thread; N: N at a time on 1/N of them each).",
@@ -293,8 +278,6 @@ ENGINE = [
     option(
         "scheduler",
         str | None,
-        None,
-        "--scheduler",
         panel=ENGINE_PANEL,
         help="Run the sweep on a running Dask scheduler, tcp://HOST:PORT (workers need geardyn installed).",
     ),
@@ -312,8 +295,6 @@ OUTPUT = [
     option(
         "out",
         Path | None,
-        None,
-        "--out",
         help="Directory (or .nc file) for NetCDF data and figures.",
         panel=OUTPUT_PANEL,
     ),
@@ -330,9 +311,42 @@ FIGURE_OPTIONS = [
         panel=OUTPUT_PANEL,
         help="File formats of the figures, comma-separated: png, pdf, svg (e.g. png,pdf).",
     ),
-    option("dpi", int, 120, "--dpi", panel=OUTPUT_PANEL, help="Resolution of PNG figures (dots per inch)."),
+    option("dpi", int, 120, panel=OUTPUT_PANEL, help="Resolution of PNG figures (dots per inch)."),
 ]
 OUTPUT += FIGURE_OPTIONS
+SYSTEM_PANEL = "Multi-DOF system"
+#: ``--system``, taken by the commands of :data:`SYSTEM_COMMANDS` (:mod:`geardyn.cli.system_input`).
+SYSTEM = [
+    option(
+        "system",
+        Path | None,
+        panel=SYSTEM_PANEL,
+        help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis "
+        "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
+    )
+]
+#: ``basins --coords``: the two state coordinates of a system's slice.
+CoordsOpt = Annotated[
+    str | None,
+    typer.Option(
+        rich_help_panel=SYSTEM_PANEL,
+        help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
+        "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').",
+    ),
+]
+#: Commands that take ``--system``.
+SYSTEM_COMMANDS = (
+    "simulate",
+    "lyapunov",
+    "orbit",
+    "continuation",
+    "bifurcation",
+    "response",
+    "map",
+    "basins",
+    "hb",
+    "runup",
+)
 
 
 # ---------------------------------------------------------------- the physical front end
@@ -344,18 +358,10 @@ def _at_default(values: dict[str, Any]) -> tuple[set[str], str | None]:
 
     core = sys.modules[typer.Context.__mro__[1].__module__]
     ctx = importlib.import_module(core.__name__.rsplit(".", 1)[0] + ".globals").get_current_context(silent=True)
-    ParameterSource = core.ParameterSource
     if ctx is None:
         return set(), None
-    out = set()
-    for name in values:
-        try:
-            src = ctx.get_parameter_source(name)
-        except Exception:  # noqa: BLE001 - a name the context does not know counts as given
-            src = None
-        if src in (ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP):
-            out.add(name)
-    return out, ctx.info_name
+    at_default = (core.ParameterSource.DEFAULT, core.ParameterSource.DEFAULT_MAP)  # a name it does not know: given
+    return {name for name in values if ctx.get_parameter_source(name) in at_default}, ctx.info_name
 
 
 def build_model(
@@ -438,12 +444,12 @@ class Inputs:
             For an invalid value or a conflicting ``--rpm`` / ``--torque``.
         """
         v = self.values
-        if v.get("system") is not None and v.get("torque_order"):
-            raise ModelError(
-                "--torque-order: applies to the pair; with --system write orders = [{order, amplitude, phase}] "
-                "on a drive or load of the system file"
-            )
         if v.get("system") is not None:  # the system of the file, the options applied to its reference mesh
+            if v.get("torque_order"):
+                raise ModelError(
+                    "--torque-order: applies to the pair; with --system write orders = [{order, amplitude, phase}] "
+                    "on a drive or load of the system file"
+                )
             key = tuple(sorted((k, x) for k, x in fixed.items() if x is not None))
             if key not in self._systems:  # one system (and one read of its file) per set of fixed values
                 from .system_input import load_cli_system
@@ -801,7 +807,8 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
     inp : Inputs
         The command's inputs (``--json`` decides the form).
     show : callable
-        ``show(summary, paths, *extra)``, the table renderer (:mod:`geardyn.cli.render`).
+        ``show(summary, *extra)``, the table renderer (:mod:`geardyn.cli.render`); the files written are
+        listed after it.
     *extra : object
         Further arguments of ``show``.
     """
@@ -812,11 +819,12 @@ def finish(summary: dict[str, Any], paths: list[str], inp: Inputs, show: Any, *e
         summary["files"] = paths
         emit_json(summary)
         return
-    if "meshes" in summary:  # a system: its meshes first
-        from .render import meshes
+    from .render import files, meshes
 
+    if "meshes" in summary:  # a system: its meshes first
         meshes(summary)
-    show(summary, paths, *extra)
+    show(summary, *extra)
+    files(paths)
 
 
 def choice(name: str, value: str, allowed: tuple[str, ...]) -> str:
@@ -893,9 +901,7 @@ def param_option(what: str) -> Any:
     """
     return Annotated[
         str | None,
-        typer.Option(
-            "--param", help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop)."
-        ),
+        typer.Option(help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop)."),
     ]
 
 
@@ -903,7 +909,7 @@ def param_option(what: str) -> Any:
 ContinuationParamOpt = param_option("Continuation parameter")
 #: ``--stop`` of a continuation (HB or shooting).
 StopOpt = Annotated[
-    float | None, typer.Option("--stop", help="Parameter value where the continuation ends (may lie below --start).")
+    float | None, typer.Option(help="Parameter value where the continuation ends (may lie below --start).")
 ]
 
 
@@ -932,15 +938,12 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         hints = typing.get_type_hints(fn, include_extras=True)
-        from .system_input import SYSTEM, SYSTEM_COMMANDS
-
         groups_ = groups + ((SYSTEM,) if name in SYSTEM_COMMANDS else ())
         own = [
             p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)
             for p in list(inspect.signature(fn).parameters.values())[1:]
         ]
         shared = [p for g in groups_ for p in g]
-        names = [p.name for p in shared]
 
         @functools.wraps(fn)
         def wrapper(**kw: Any) -> Any:
@@ -948,7 +951,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
             import numpy as np
 
-            inp = Inputs({n: kw.pop(n) for n in names})
+            inp = Inputs({p.name: kw.pop(p.name) for p in shared})
             # No floating-point warning reaches the user: an overflowing input is refused by the checks that
             # follow (a value that is not finite), a diverging point carries its status.
             with np.errstate(all="ignore"), warnings.catch_warnings():
@@ -965,7 +968,7 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
                         raise
                     raise fail(str(e)) from None
 
-        every = [_flags_take_no_value(p) for p in own + shared]
+        every = own + shared
         wrapper.__signature__ = inspect.Signature(every)  # type: ignore[attr-defined]
         wrapper.__annotations__ = {p.name: p.annotation for p in every}
         del wrapper.__wrapped__

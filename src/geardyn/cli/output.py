@@ -92,7 +92,7 @@ def check_budget(opts: Any, omegas: Any, points: int, *, cycles: int = 1, dofs: 
             f"periods: {points} point(s) × {pe} recorded periods need about {need / 1e9:.3g} GB of memory; "
             f"at most {have / 1e9:.3g} GB (half this machine's memory): fewer points or --periods"
         )
-    ws = np.asarray(list(omegas) if not isinstance(omegas, np.ndarray) else omegas, dtype=float).ravel()
+    ws = np.asarray(omegas, dtype=float).ravel()
     ws = ws[np.isfinite(ws) & (ws > 0)]
     if not ws.size:
         return

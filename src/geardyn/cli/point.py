@@ -23,13 +23,10 @@ from .options import (
 )
 from .ranges import OMEGA_RANGE, both_spellings
 
-PeriodOpt = Annotated[
-    int, typer.Option("--period", help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")
-]
+PeriodOpt = Annotated[int, typer.Option(help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
 GuessOpt = Annotated[
     str | None,
     typer.Option(
-        "--guess",
         help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state "
         "reached by simulating --transient periods from --u0, --v0).",
     ),
@@ -95,7 +92,7 @@ LYAPUNOV_RUN = integration(periods=2000, periods_help="Forcing periods over whic
 @command("lyapunov", MODEL, STATE, LYAPUNOV_RUN, OUTPUT)
 def lyapunov(
     inp: Inputs,
-    blocks: Annotated[int, typer.Option("--blocks", help="Blocks of the block-statistics uncertainty (>= 2).")] = 20,
+    blocks: Annotated[int, typer.Option(help="Blocks of the block-statistics uncertainty (>= 2).")] = 20,
 ) -> None:
     """Both Lyapunov exponents (per unit τ) by the Benettin method with Gram–Schmidt each period, with their
     uncertainty from block statistics, and the motion class."""
@@ -183,9 +180,7 @@ def continuation(
     param: ContinuationParamOpt = None,
     start: Annotated[
         float | None,
-        typer.Option(
-            "--start", help="Parameter value where the branch starts (the first orbit is found there by shooting)."
-        ),
+        typer.Option(help="Parameter value where the branch starts (the first orbit is found there by shooting)."),
     ] = None,
     stop: StopOpt = None,
     period: PeriodOpt = 1,
@@ -196,20 +191,17 @@ def continuation(
             "--switch/--no-switch", help="Switch at period doublings onto the period-2n branch and continue it."
         ),
     ] = True,
-    max_period: Annotated[int, typer.Option("--max-period", help="Largest period reached by branch switching.")] = 4,
+    max_period: Annotated[int, typer.Option(help="Largest period reached by branch switching.")] = 4,
     ds_max: Annotated[
         float | None,
         typer.Option(
-            "--ds-max",
             help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the "
             "interval).",
         ),
     ] = None,
     sweep_num: Annotated[
         int,
-        typer.Option(
-            "--sweep-num", help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none)."
-        ),
+        typer.Option(help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none)."),
     ] = CONTINUATION_SWEEP_NUM,
 ) -> None:
     """Pseudo-arclength continuation of periodic orbits in any parameter: stable and unstable branches, folds,
@@ -256,7 +248,7 @@ def continuation(
         from ..plot.periodic import SWEEP_CONTEXT
         from .output import out_paths
 
-        sweep_ds = None
+        ds = add_physical(res.to_dataset(), scales)
         if nsw > 0:
             sweep_ds = continuation_context(
                 model,
@@ -269,12 +261,10 @@ def continuation(
                 state0=state0,
                 progress=not inp.json_out,
             )
-        ds = add_physical(res.to_dataset(), scales)
-        if sweep_ds is not None:
             sweep_ds = add_physical(sweep_ds, scales)
             ds = attach(ds, SWEEP_CONTEXT, sweep_ds)  # the file redraws the figure with its sweep
         paths = inp.write(ds, "continuation")
-        if sweep_ds is not None:  # beside the result's file, listed after it
+        if nsw > 0:  # beside the result's file, listed after it
             nc = out_paths(inp.out, "continuation")[0]
             paths.insert(1, str(write_netcdf(sweep_ds, nc.with_name(nc.stem + "_sweep.nc"))))
     finish(

@@ -12,8 +12,8 @@ __all__ = ["OMEGA_RANGE", "both_spellings", "omega_only"]
 
 #: The other spelling of a sweep over ω, accepted by the commands that take --param/--start/--stop.
 OMEGA_RANGE = [
-    option("omega_start", float | None, None, "--omega-start", help="First ω (as --param omega --start)."),
-    option("omega_stop", float | None, None, "--omega-stop", help="Last ω (as --param omega --stop)."),
+    option("omega_start", float | None, help="First ω (as --param omega --start)."),
+    option("omega_stop", float | None, help="Last ω (as --param omega --stop)."),
 ]
 
 

@@ -9,16 +9,15 @@ import typer
 
 from ..errors import ModelError
 from .app import console
-from .options import MODEL, OUTPUT, RPM_RANGE, Inputs, command, finish, option
-from .system_input import SYSTEM
+from .options import MODEL, OUTPUT, RPM_RANGE, SYSTEM, Inputs, command, finish, option
 
 RUN_PANEL = "Integration"
 #: Defaults of a rattle run: the free flight is lightly damped and the forcing period long, so a short transient
 #: in forcing periods and a coarser step than the pair's (the contact oscillation still has ~300 steps).
 RATTLE_RUN = [
-    option("dtau", float, 0.02, "--dtau", help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).", panel=RUN_PANEL),
-    option("transient", int, 30, "--transient", help="Forcing periods discarded before recording.", panel=RUN_PANEL),
-    option("periods", int, 10, "--periods", help="Forcing periods (cycles) recorded.", panel=RUN_PANEL),
+    option("dtau", float, 0.02, help="Target RK4 step Δτ; the step is T/ceil(T/Δτ).", panel=RUN_PANEL),
+    option("transient", int, 30, help="Forcing periods discarded before recording.", panel=RUN_PANEL),
+    option("periods", int, 10, help="Forcing periods (cycles) recorded.", panel=RUN_PANEL),
     option(
         "accurate",
         bool,
@@ -47,28 +46,24 @@ def rattle(
     map_points: Annotated[
         int,
         typer.Option(
-            "--map-points",
             rich_help_panel=MAP_PANEL,
             help="Speeds of the rattle map (0: no map): from --rpm-start to --rpm-stop, or --start to --stop in ω "
             "(default 0.5 to 2 times the model's ω).",
         ),
     ] = 0,
     start: Annotated[
-        float | None, typer.Option("--start", rich_help_panel=MAP_PANEL, help="First mesh frequency ω of the map.")
+        float | None, typer.Option(rich_help_panel=MAP_PANEL, help="First mesh frequency ω of the map.")
     ] = None,
     stop: Annotated[
-        float | None, typer.Option("--stop", rich_help_panel=MAP_PANEL, help="Last mesh frequency ω of the map.")
+        float | None, typer.Option(rich_help_panel=MAP_PANEL, help="Last mesh frequency ω of the map.")
     ] = None,
     scale_max: Annotated[
         float,
-        typer.Option(
-            "--scale-max", rich_help_panel=MAP_PANEL, help="Largest scale of the torque orders' amplitudes on the map."
-        ),
+        typer.Option(rich_help_panel=MAP_PANEL, help="Largest scale of the torque orders' amplitudes on the map."),
     ] = 2.0,
     scale_points: Annotated[
         int,
         typer.Option(
-            "--scale-points",
             rich_help_panel=MAP_PANEL,
             help="Amplitude scales of the map: scale_max/n, 2 scale_max/n, … scale_max.",
         ),
@@ -94,9 +89,7 @@ def rattle(
     opts = inp.options(model.forcing_omega)
     res = run_rattle(model, opts, (0.0, 0.0), scales=scales)
     summary = res.to_json()
-    paths: list[str] = []
-    if inp.out is not None:
-        paths += inp.write(res.to_dataset(), "rattle")
+    paths = inp.write(res.to_dataset(), "rattle")
     n = validate.integer("map_points", map_points, 0, 1000)
     if n:
         ns = validate.integer("scale_points", scale_points, 1, 1000)
@@ -131,12 +124,11 @@ def rattle(
         }
         if "rpm" in ds.coords:
             summary["map"]["rpm"] = ds["rpm"].values.tolist()
-        if inp.out is not None:
-            paths += inp.write(ds, "rattle_map")
+        paths += inp.write(ds, "rattle_map")
     finish(summary, paths, inp, _show)
 
 
-def _show(s: dict[str, Any], paths: list[str]) -> None:
+def _show(s: dict[str, Any]) -> None:
     from . import render
 
     render.plain(
@@ -146,7 +138,6 @@ def _show(s: dict[str, Any], paths: list[str]) -> None:
     )
     if s.get("status") != "ok":
         render.plain(f"status: {s.get('status')}")
-        render.files(paths)
         return
     t = render.table("Rattle", "flank", "impacts / cycle", "impact velocity mean", "max", "m/s max")
     for name in ("drive", "back"):
@@ -158,4 +149,3 @@ def _show(s: dict[str, Any], paths: list[str]) -> None:
     if s.get("rattle_index_J") is not None:
         ri += f" = {s['rattle_index_J']:.4g} J"
     render.plain(ri)
-    render.files(paths)

@@ -8,13 +8,13 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
-from .._docfill import PATHS, SUMMARY, parameters
+from .._docfill import SUMMARY, parameters
 from .app import console
 
 __all__ = ["continuation", "files", "intervals", "meshes", "orbit", "simulate"]
 
 
-_summary_doc = parameters(SUMMARY, PATHS)
+_summary_doc = parameters(SUMMARY)
 
 
 def _num(x: Any) -> str:
@@ -133,7 +133,7 @@ def files(paths: list[str]) -> None:
 
 
 @_summary_doc
-def simulate(s: dict[str, Any], paths: list[str]) -> None:
+def simulate(s: dict[str, Any]) -> None:
     """The steady response of ``geardyn simulate``."""
     t = Table(title=f"Steady response at ω = {s['omega']:g}", show_header=False)
     t.add_row("motion", s["motion"])
@@ -182,7 +182,6 @@ def simulate(s: dict[str, Any], paths: list[str]) -> None:
     if "pair" in s:
         plain(f"gear pair: {s['pair']}")
     plain(*(f"note: {n}" for n in s.get("notes", [])))  # a long forcing period's classification budget, its history
-    files(paths)
 
 
 def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> None:
@@ -206,7 +205,7 @@ def geometry(summary: dict[str, Any], rows: list[tuple[str, str, str, str]]) -> 
 
 
 @_summary_doc
-def orbit(s: dict[str, Any], paths: list[str]) -> None:
+def orbit(s: dict[str, Any]) -> None:
     """A shot periodic orbit with its Floquet multipliers."""
     t = Table(title=f"Period-{s['requested_period']} orbit at ω = {s['omega']:g}", show_header=False)
     t.add_row(
@@ -228,11 +227,10 @@ def orbit(s: dict[str, Any], paths: list[str]) -> None:
         for k in ("u_min", "u_max", "amplitude"):
             t.add_row(f"{k} (µm)", _num(s.get(f"{k}_um")))
     console.print(t)
-    files(paths)
 
 
 @_summary_doc
-def continuation(s: dict[str, Any], paths: list[str]) -> None:
+def continuation(s: dict[str, Any]) -> None:
     """Branches and bifurcations of a continuation."""
     p = s["param"]
     t = table(f"Branches in {p} from {s['start']:g} to {s['stop']:g}", "branch", "period", "points", "from", "end")
@@ -248,10 +246,9 @@ def continuation(s: dict[str, Any], paths: list[str]) -> None:
         )
     console.print(t)
     plain(*(f"note: {n}" for n in s.get("notes", [])))
-    files(paths)
 
 
-def lyapunov(s: dict[str, Any], paths: list[str]) -> None:
+def lyapunov(s: dict[str, Any]) -> None:
     """Both exponents with their uncertainty and the Liouville check."""
 
     def fmt(x: Any) -> str:
@@ -268,11 +265,10 @@ def lyapunov(s: dict[str, Any], paths: list[str]) -> None:
     else:  # a system: the sum equals the mean trace of the Jacobian
         console.print(f"  λ1 + … + λ{n} = {fmt(s['sum'])}   (mean trace of the Jacobian = {s['expected_sum']:+.6f})")
     console.print(f"  motion: {s['motion']}")
-    files(paths)
 
 
 @_summary_doc
-def intervals(s: dict[str, Any], paths: list[str]) -> None:
+def intervals(s: dict[str, Any]) -> None:
     """Motion intervals of a bifurcation diagram, per sweep."""
     iv = s["intervals"]
     groups = iv if isinstance(iv, dict) else {s["sweep"]: iv}
@@ -294,10 +290,9 @@ def intervals(s: dict[str, Any], paths: list[str]) -> None:
             cells = [f"{r['from']:.6g}", f"{r['to']:.6g}"] + ([speed(r["from"]), speed(r["to"])] if rpm else [])
             t.add_row(*cells, str(r["points"]), r["motion"])
         console.print(t)
-    files(paths)
 
 
-def response(s: dict[str, Any], paths: list[str]) -> None:
+def response(s: dict[str, Any]) -> None:
     """Jumps and hysteresis intervals of a frequency response."""
     t = table("Jumps", "sweep", "ω (midpoint)", "from → to", "direction", "size", "pinion speed (rpm)", "size (µm)")
     for j in s["jumps"]:
@@ -318,17 +313,15 @@ def response(s: dict[str, Any], paths: list[str]) -> None:
         co = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in s["coexistence"])
         plain(f"coexistence (the sweeps end on different attractors, no jump at a bound): ω {co}")
     plain(f"gear pair: {s['physical']['pair']}")
-    files(paths)
 
 
-def parameter_map(s: dict[str, Any], paths: list[str]) -> None:
+def parameter_map(s: dict[str, Any]) -> None:
     """Counts of a 2-D parameter map."""
     counts = ", ".join(f"{k}: {v}" for k, v in s["motion_counts"].items())
     console.print(f"map of {s['y']} × {s['x']}: {len(s['y_values'])} × {len(s['x_values'])} points; {counts}")
-    files(paths)
 
 
-def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
+def basins(s: dict[str, Any], n_u: int, n_v: int) -> None:
     """The attractors of a basin computation and their basin shares."""
     speed = f", {s['rpm']:.1f} rpm" if "rpm" in s else ""
     t = table(
@@ -348,7 +341,6 @@ def basins(s: dict[str, Any], paths: list[str], n_u: int, n_v: int) -> None:
     console.print(t)
     if s["diverged_fraction"] > 0:
         console.print(f"diverged: {100 * s['diverged_fraction']:.1f} % of the initial states")
-    files(paths)
 
 
 def claims(res: dict[str, Any]) -> None:

@@ -15,6 +15,7 @@ from .options import (
     OUTPUT,
     RPM_RANGE,
     STATE,
+    CoordsOpt,
     Inputs,
     choice,
     command,
@@ -26,15 +27,12 @@ from .options import (
     sweep_range,
 )
 from .ranges import OMEGA_RANGE, both_spellings, omega_only
-from .system_input import CoordsOpt
 
 ModeOpt = Annotated[
     str,
-    typer.Option("--mode", help="fixed: every point from (u0, v0); continue: each point from the previous end state."),
+    typer.Option(help="fixed: every point from (u0, v0); continue: each point from the previous end state."),
 ]
-SweepDirOpt = Annotated[
-    str, typer.Option("--sweep", help="Continuation direction: up (increasing), down (decreasing) or both.")
-]
+SweepDirOpt = Annotated[str, typer.Option(help="Continuation direction: up (increasing), down (decreasing) or both.")]
 LyapunovFlagOpt = Annotated[
     bool,
     typer.Option(
@@ -45,7 +43,6 @@ LyapunovFlagOpt = Annotated[
 SettleOpt = Annotated[
     int | None,
     typer.Option(
-        "--settle",
         help="Further forcing periods (with exponents) for points not periodic after the transient, before "
         "classification, a pass of up to 4 (0: none). Default 1000; for a forcing period of P > 1 mesh cycles "
         "max(16, ceil(1000/P)).",
@@ -55,7 +52,6 @@ SettleOpt = Annotated[
 ChunkOpt = Annotated[
     int | None,
     typer.Option(
-        "--chunk-size",
         help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 1 s of work each).",
     ),
 ]
@@ -80,9 +76,9 @@ def _engine(inp: Inputs, stem: str, model: Any, settle: int | None, chunk_size: 
 def bifurcation(
     inp: Inputs,
     param: ParamOpt = None,
-    start: Annotated[float | None, typer.Option("--start", help="First parameter value.")] = None,
-    stop: Annotated[float | None, typer.Option("--stop", help="Last parameter value.")] = None,
-    num: Annotated[int, typer.Option("--num", help="Number of parameter values.")] = 101,
+    start: Annotated[float | None, typer.Option(help="First parameter value.")] = None,
+    stop: Annotated[float | None, typer.Option(help="Last parameter value.")] = None,
+    num: Annotated[int, typer.Option(help="Number of parameter values.")] = 101,
     mode: ModeOpt = "fixed",
     sweep: SweepDirOpt = "up",
     lyap: LyapunovFlagOpt = False,
@@ -101,10 +97,11 @@ def bifurcation(
     param, start, stop = both_spellings(param, start, stop, inp.omega_start, inp.omega_stop)
     name, start, stop = inp.param_range(param, start, stop)
     name, values = validate.axis(name, start, stop, num)
+    runs = 2 if sweep == "both" else 1
     # the budgets first: building a grid of 10^8 models alone takes minutes
-    inp.options(omegas=values if name == "omega" else [model.omega], points=values.size * (2 if sweep == "both" else 1))
+    inp.options(omegas=values if name == "omega" else [model.omega], points=values.size * runs)
     models = validate.grid(model, [(name, values)])
-    opts = inp.options(omegas=[m.omega for m in models], points=len(models) * (2 if sweep == "both" else 1))
+    opts = inp.options(omegas=[m.omega for m in models], points=len(models) * runs)
     if lyap:
         validate.exponents_computable(model, [m.omega for m in models])
     choice("mode", mode, MODES)
@@ -132,11 +129,11 @@ def bifurcation(
 
 
 RESPONSE_RANGE = [
-    option("omega_start", float | None, None, "--omega-start", help="Lowest ω of the sweeps."),
-    option("omega_stop", float | None, None, "--omega-stop", help="Highest ω of the sweeps."),
-    option("param", str | None, None, "--param", help="The swept parameter: omega only (with --start/--stop)."),
-    option("start", float | None, None, "--start", help="Lowest ω of the sweeps (as --omega-start)."),
-    option("stop", float | None, None, "--stop", help="Highest ω of the sweeps (as --omega-stop)."),
+    option("omega_start", float | None, help="Lowest ω of the sweeps."),
+    option("omega_stop", float | None, help="Highest ω of the sweeps."),
+    option("param", str | None, help="The swept parameter: omega only (with --start/--stop)."),
+    option("start", float | None, help="Lowest ω of the sweeps (as --omega-start)."),
+    option("stop", float | None, help="Highest ω of the sweeps (as --omega-stop)."),
     *RPM_RANGE,
 ]
 
@@ -146,19 +143,16 @@ RESPONSE_RANGE = [
 )
 def response(
     inp: Inputs,
-    num: Annotated[
-        int, typer.Option("--num", help="Number of ω values (the jumps are located to within one step).")
-    ] = 71,
+    num: Annotated[int, typer.Option(help="Number of ω values (the jumps are located to within one step).")] = 71,
     measure: Annotated[
         str,
-        typer.Option("--measure", help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean."),
+        typer.Option(help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean."),
     ] = "amplitude",
     lyap: LyapunovFlagOpt = False,
     settle: SettleOpt = None,
     method: Annotated[
         str,
         typer.Option(
-            "--method",
             help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16; for an "
             "--excitation of P mesh cycles at least 16·P harmonics of ω/P) with Floquet stability, jumps at the exact "
             "folds (integration and engine options unused).",
@@ -233,18 +227,17 @@ MAP_AXES = [
         "x",
         str,
         ...,
-        "--x",
         help="Parameter along the horizontal axis (e.g. omega), or rpm / torque for a range "
         "in pinion speed (rpm) / pinion torque (N·m) of the configured pair.",
     ),
-    option("y", str, ..., "--y", help="Parameter along the vertical axis (e.g. xi0 or D), or rpm / torque."),
-    option("x_start", float | None, None, "--x-start", help="First x value (for x = omega also as --rpm-start)."),
-    option("x_stop", float | None, None, "--x-stop", help="Last x value (for x = omega also as --rpm-stop)."),
-    option("y_start", float | None, None, "--y-start", help="First y value (for y = omega also as --rpm-start)."),
-    option("y_stop", float | None, None, "--y-stop", help="Last y value (for y = omega also as --rpm-stop)."),
+    option("y", str, ..., help="Parameter along the vertical axis (e.g. xi0 or D), or rpm / torque."),
+    option("x_start", float | None, help="First x value (for x = omega also as --rpm-start)."),
+    option("x_stop", float | None, help="Last x value (for x = omega also as --rpm-stop)."),
+    option("y_start", float | None, help="First y value (for y = omega also as --rpm-start)."),
+    option("y_stop", float | None, help="Last y value (for y = omega also as --rpm-stop)."),
     *RPM_RANGE,
-    option("x_num", int, 41, "--x-num", help="Number of x values."),
-    option("y_num", int, 21, "--y-num", help="Number of y values."),
+    option("x_num", int, 41, help="Number of x values."),
+    option("y_num", int, 21, help="Number of y values."),
 ]
 
 
@@ -266,8 +259,6 @@ def parameter_map(
 
     model = inp.model()
     scales = inp.scales()
-    x, y = inp.x, inp.y
-    x_start, x_stop, y_start, y_stop = inp.x_start, inp.x_stop, inp.y_start, inp.y_stop
     # an axis in physical units: pinion speed (rpm) for ω, pinion torque (N·m, balanced) for f_p
     physical = {"rpm": ("omega", scales.omega_from_rpm), "torque": ("fp", scales.fp_from_torque)}
 
@@ -281,8 +272,8 @@ def parameter_map(
             float(convert(validate.number(f"{name} stop", b))),
         )
 
-    x, x_start, x_stop = in_model_units(x, x_start, x_stop)
-    y, y_start, y_stop = in_model_units(y, y_start, y_stop)
+    x, x_start, x_stop = in_model_units(inp.x, inp.x_start, inp.x_stop)
+    y, y_start, y_stop = in_model_units(inp.y, inp.y_start, inp.y_stop)
     if inp.rpm_start is not None or inp.rpm_stop is not None:
         if canonical_param(y) == "omega":
             y_start, y_stop = sweep_range(inp, y_start, y_stop, "omega")
@@ -349,14 +340,14 @@ BASIN_RUN = integration(
 @command("basins", MODEL, BASIN_RUN, ENGINE, OUTPUT)
 def basins(
     inp: Inputs,
-    u_min: Annotated[float, typer.Option("--u-min", help="Smallest initial displacement u0.")] = -3.0,
-    u_max: Annotated[float, typer.Option("--u-max", help="Largest initial displacement u0.")] = 3.0,
-    v_min: Annotated[float, typer.Option("--v-min", help="Smallest initial velocity v0.")] = -3.0,
-    v_max: Annotated[float, typer.Option("--v-max", help="Largest initial velocity v0.")] = 3.0,
-    nu: Annotated[int, typer.Option("--nu", help="Grid points along u0.")] = 41,
-    nv: Annotated[int, typer.Option("--nv", help="Grid points along v0.")] = 41,
+    u_min: Annotated[float, typer.Option(help="Smallest initial displacement u0.")] = -3.0,
+    u_max: Annotated[float, typer.Option(help="Largest initial displacement u0.")] = 3.0,
+    v_min: Annotated[float, typer.Option(help="Smallest initial velocity v0.")] = -3.0,
+    v_max: Annotated[float, typer.Option(help="Largest initial velocity v0.")] = 3.0,
+    nu: Annotated[int, typer.Option(help="Grid points along u0.")] = 41,
+    nv: Annotated[int, typer.Option(help="Grid points along v0.")] = 41,
     settle: SettleOpt = None,
-    chunk_size: Annotated[int, typer.Option("--chunk-size", help="Initial states per chunk.")] = 64,
+    chunk_size: Annotated[int, typer.Option(help="Initial states per chunk.")] = 64,
     coords: CoordsOpt = None,
 ) -> None:
     """Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it reaches

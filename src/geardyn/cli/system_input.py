@@ -1,6 +1,7 @@
-"""``--system FILE``: the option group that gives the commands a multi-DOF system (``examples/systems/*.toml``).
+"""``--system FILE``: what the option gives the commands, a multi-DOF system (``examples/systems/*.toml``).
 
-:data:`SYSTEM` is the option group of the commands of :data:`SYSTEM_COMMANDS`; with ``--system`` their
+:data:`geardyn.cli.options.SYSTEM` is the option group of the commands of
+:data:`geardyn.cli.options.SYSTEM_COMMANDS`; with ``--system`` their
 :meth:`~geardyn.cli.options.Inputs.model` is the system of the file (:func:`load_cli_system`: ``--omega`` /
 ``--rpm`` and the model options applied to its reference mesh), and the command runs its own analysis on it;
 the summary adds ``meshes`` (:func:`mesh_summary`), printed as one more table (:func:`geardyn.cli.render.meshes`).
@@ -8,58 +9,11 @@ the summary adds ``meshes`` (:func:`mesh_summary`), printed as one more table (:
 
 from __future__ import annotations
 
-import inspect
-from pathlib import Path
-from typing import Annotated, Any
-
-import typer
+from typing import Any
 
 from ..errors import ModelError
 
-__all__ = ["SYSTEM", "SYSTEM_COMMANDS", "CoordsOpt", "load_cli_system", "coordinates", "mesh_summary"]
-
-SYSTEM_PANEL = "Multi-DOF system"
-SYSTEM = [
-    inspect.Parameter(
-        "system",
-        inspect.Parameter.KEYWORD_ONLY,
-        default=None,
-        annotation=Annotated[
-            Path | None,
-            typer.Option(
-                "--system",
-                rich_help_panel=SYSTEM_PANEL,
-                help="TOML file of a multi-DOF system (bodies, bearings, meshes; see examples/systems): the analysis "
-                "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
-            ),
-        ],
-    )
-]
-#: ``basins --coords``: the two state coordinates of a system's slice.
-CoordsOpt = Annotated[
-    str | None,
-    typer.Option(
-        "--coords",
-        rich_help_panel=SYSTEM_PANEL,
-        help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
-        "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').",
-    ),
-]
-
-#: Commands that take ``--system``.
-SYSTEM_COMMANDS = (
-    "simulate",
-    "lyapunov",
-    "orbit",
-    "continuation",
-    "bifurcation",
-    "response",
-    "map",
-    "basins",
-    "hb",
-    "runup",
-)
-_NOT_MODEL = {"config", "rpm", "torque", "omega", "fp"}
+__all__ = ["load_cli_system", "coordinates", "mesh_summary"]
 
 
 def load_cli_system(values: dict[str, Any]):
@@ -96,7 +50,7 @@ def load_cli_system(values: dict[str, Any]):
         s = s.with_param("omega", float(values["omega"]))
     for o in params.cli_options():
         v = values.get(o.dest)
-        if v is not None and o.dest not in _NOT_MODEL and o.param not in ("omega", "fp"):
+        if v is not None and o.param not in ("omega", "fp"):  # (set above; fp comes from the loads)
             s = s.with_param(o.param, float(v))
     _forcing_period_note(s, values)
     _unsettled_note(s, values)
@@ -112,13 +66,9 @@ def _unsettled_note(s: Any, values: dict[str, Any]) -> None:
     p = s.period_multiple()
     if p is None or values.get("transient") is None or values.get("json_out"):
         return
-    if values.get("transient_default") and p > 1:  # the long-run plan settles by the physics (Inputs.long_run)
-        return
-    n = _periods_given({"transient": values["transient"]}, p)
-    if n <= 0:
-        return
-    note = unsettled_note(s, n)
-    if note:
+    # the transient alone; none at a default with a long-run plan, which settles by the physics (Inputs.long_run)
+    n = _periods_given({**values, "periods": 0}, p)
+    if n > 0 and (note := unsettled_note(s, n)):
         say_error(note)
 
 

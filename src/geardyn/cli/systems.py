@@ -21,10 +21,10 @@ def _orders(text: str) -> tuple[int, ...]:
     return vals
 
 
-def _render(summary: dict[str, Any], paths: list[str]) -> None:
+def _render(summary: dict[str, Any]) -> None:
 
     from .render import console as c
-    from .render import files, plain, table
+    from .render import plain, table
 
     t = table(
         f"modes — {summary.get('title') or ''}", "mode", "frequency (Hz)", "mesh-dominated", "largest strain energy"
@@ -53,43 +53,34 @@ def _render(summary: dict[str, Any], paths: list[str]) -> None:
             "each speed (branches, forward and backward whirl)"
         )
     if camp and camp["crossings"]:
-        rpm = camp["x"] == "rpm"
         gyro = bool(camp.get("gyroscopic"))
-        cols = ["pinion speed (rpm)" if rpm else "mesh frequency (Hz)", "frequency (Hz)", "modes", "line"]
-        x = table("Campbell crossings", *cols, *(["whirl"] if gyro else []))
+        x_col = "pinion speed (rpm)" if camp["x"] == "rpm" else "mesh frequency (Hz)"
+        x = table("Campbell crossings", x_col, "frequency (Hz)", "modes", "line", *(["whirl"] if gyro else []))
         for cr in camp["crossings"]:
-            row = [
+            x.add_row(
                 f"{cr['x']:.6g}",
                 f"{cr['frequency_hz']:.6g}",
                 ", ".join(map(str, cr["modes"])),
                 camp["lines"][cr["line"]]["label"],
-            ]
-            x.add_row(*(row + ([cr["whirl"]] if gyro else [])))
+                *([cr["whirl"]] if gyro else []),
+            )
         c.print(x)
-    files(paths)
 
 
 @command("modes", OUTPUT)
 def modes(
     inp: Inputs,
-    system: Annotated[Path, typer.Option("--system", help="TOML file of the multi-DOF system.")],
-    rpm_max: Annotated[
-        float, typer.Option("--rpm-max", help="Upper end of the Campbell diagram's speed range (rpm).")
-    ] = 10000.0,
+    system: Annotated[Path, typer.Option(help="TOML file of the multi-DOF system.")],
+    rpm_max: Annotated[float, typer.Option(help="Upper end of the Campbell diagram's speed range (rpm).")] = 10000.0,
     hz_max: Annotated[
         float | None,
         typer.Option(
-            "--hz-max",
             help="Upper end of the reference mesh frequency (Hz) of a Campbell diagram drawn against it (a "
             "reference mesh without teeth); default 1.2 times where the lowest order meets the highest mode.",
         ),
     ] = None,
-    orders: Annotated[
-        str, typer.Option("--orders", help="Mesh orders of the Campbell diagram, e.g. '1,2,3'.")
-    ] = "1,2,3",
-    clearances: Annotated[
-        str, typer.Option("--clearances", help="Clearance elements 'contact' (stiffness on) or 'open'.")
-    ] = "contact",
+    orders: Annotated[str, typer.Option(help="Mesh orders of the Campbell diagram, e.g. '1,2,3'.")] = "1,2,3",
+    clearances: Annotated[str, typer.Option(help="Clearance elements 'contact' (stiffness on) or 'open'.")] = "contact",
 ) -> None:
     """Natural frequencies (Hz, ascending; modes numbered from 1, rigid-body modes 0 Hz), M-orthonormal mode
     shapes and modal strain-energy fractions per element at mean mesh stiffness, and the Campbell diagram with

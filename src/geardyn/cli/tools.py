@@ -29,7 +29,7 @@ def geometry(inp: Inputs) -> None:
 
 
 PLOT_OPTIONS = [
-    option("out", Path | None, None, "--out", help="Directory for the figures (default: the file's directory)."),
+    option("out", Path | None, help="Directory for the figures (default: the file's directory)."),
     *FIGURE_OPTIONS,
     option(
         "physical",
@@ -112,7 +112,7 @@ def _check_attributes(file: Path, ds) -> None:
 def reproduce(
     inp: Inputs,
     out: Annotated[
-        Path, typer.Option("--out", help="Directory for report.html, report.md, claims.json, figures and data.")
+        Path, typer.Option(help="Directory for report.html, report.md, claims.json, figures and data.")
     ] = Path("results"),
     quick: Annotated[
         bool,
@@ -124,7 +124,7 @@ def reproduce(
             ),
         ),
     ] = False,
-    workers: Annotated[int, typer.Option("--workers", help="Worker processes for the sweeps.")] = 2,
+    workers: Annotated[int, typer.Option(help="Worker processes for the sweeps.")] = 2,
 ) -> None:
     """Run every study of the paper on its Table 1 pair and write a report judging each claim."""
     from .. import validate
@@ -172,11 +172,9 @@ MAX_REPEATS = 100
 @command("bench", JSON_ONLY)
 def bench(
     inp: Inputs,
-    workload: Annotated[
-        str, typer.Option("--workload", help="W1 (bifurcation), W2 (trajectory), W3 (Lyapunov) or all.")
-    ] = "all",
-    threads: Annotated[int | None, typer.Option("--threads", help="Kernel threads (default: all cores).")] = None,
-    repeats: Annotated[int, typer.Option("--repeats", help="Timed runs per workload; the minimum is reported.")] = 5,
+    workload: Annotated[str, typer.Option(help="W1 (bifurcation), W2 (trajectory), W3 (Lyapunov) or all.")] = "all",
+    threads: Annotated[int | None, typer.Option(help="Kernel threads (default: all cores).")] = None,
+    repeats: Annotated[int, typer.Option(help="Timed runs per workload; the minimum is reported.")] = 5,
 ) -> None:
     """Time the integrator on the standard workloads (in-process, after JIT warm-up, minimum of the runs)."""
     from ..bench import WORKLOADS, run_benchmarks

@@ -240,9 +240,10 @@ def _build(ctx, data: dict) -> GearboxDescription:
                 shaft=sh,
                 helix_angle=helix,
                 **{
-                    k: blk.get(k) for k in ("position", "teeth", "module", "face_width", "pressure_angle") if blk.has(k)
+                    k: blk.get(k)
+                    for k in ("position", "teeth", "module", "face_width", "pressure_angle", "profile_shift")
+                    if blk.has(k)
                 },
-                profile_shift=blk.get("profile_shift", default=0.0),
                 hand=blk.get("hand", default="right", assumed="not given: right hand" if helix > 0 else None),
                 **{k: blk.get(k) for k in ("mass", "inertia", "diametral_inertia", "web_width", "rim_inner_diameter")},
             )
@@ -419,7 +420,6 @@ def _build(ctx, data: dict) -> GearboxDescription:
             raise blk.merr("body", f"body {b!r} has no theta DOF to couple")
         k, c = blk.get("ktheta"), blk.get("ctheta", default=0.0)
         conns.append(Connection.along(blk.element, {(node, "theta"): 1.0, (b, "theta"): -1.0}, k, c))
-        body_speed[b] = speeds[where[blk.element][0]]
 
     # meshes
     b_c = sysb.get("characteristic_length")

@@ -184,9 +184,9 @@ def tooth_excitation(
     cb = math.cos(geo["beta_b"])
     return {
         "stiffness": float(s["k0"]) / cb**2,
-        "kappa": tuple(float(x) for x in s["kappa"]),
-        "phi_k": tuple(float(x) for x in s["phi_k"]),
+        "kappa": tuple(map(float, s["kappa"])),
+        "phi_k": tuple(map(float, s["phi_k"])),
         "e": tuple(float(x) * cb for x in s.get("eps", ())),
-        "phi_e": tuple(float(x) for x in s.get("phi_e", ())),
+        "phi_e": tuple(map(float, s.get("phi_e", ()))),
         "contact_ratio": float(pg.eps_alpha + pg.eps_beta),
     }

@@ -54,7 +54,7 @@ class NodeBody(Body):
         if mm.shape != (6, 6) or not np.all(np.isfinite(mm)) or np.any(np.diag(mm) <= 0):
             raise ModelError(f"shaft node {self.name!r}: mass matrix must be 6x6, finite, with a positive diagonal")
         object.__setattr__(self, "dofs", NODE_DOFS)
-        object.__setattr__(self, "mass_matrix", tuple(tuple(float(v) for v in row) for row in mm))
+        object.__setattr__(self, "mass_matrix", tuple(map(tuple, mm.tolist())))
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,14 +146,17 @@ class GearboxDescription(SystemDescription):
     #: Whether the shafts' gyroscopic terms enter (``[gearbox] gyroscopic``).
     gyroscopic: bool = field(default=False, compare=False)
 
-    def mass_matrix(self) -> np.ndarray:
-        """M (SI): the bodies' blocks plus the off-diagonal part of each shaft's consistent mass matrix."""
-        M = super().mass_matrix()
+    def _over_shafts(self, M: np.ndarray, part) -> np.ndarray:
+        """``M`` plus ``part(s)`` of every shaft s scattered onto its nodes' DOFs."""
         idx = self.index()
         for s in self.shafts:
             ii = [idx[(n, d)] for n in s.nodes for d in NODE_DOFS]
-            M[np.ix_(ii, ii)] += s.M - np.diag(np.diag(s.M))
+            M[np.ix_(ii, ii)] += part(s)
         return M
+
+    def mass_matrix(self) -> np.ndarray:
+        """M (SI): the bodies' blocks plus the off-diagonal part of each shaft's consistent mass matrix."""
+        return self._over_shafts(super().mass_matrix(), lambda s: s.M - np.diag(np.diag(s.M)))
 
     def gyroscopic_matrix(self) -> np.ndarray | None:
         """Σ_s σ_s n_s G_s (SI) over the system's DOFs, or None when the gyroscopic terms are off.
@@ -164,12 +167,7 @@ class GearboxDescription(SystemDescription):
         """
         if not self.gyroscopic:
             return None
-        G = np.zeros((self.n, self.n))
-        idx = self.index()
-        for s in self.shafts:
-            ii = [idx[(n, d)] for n in s.nodes for d in NODE_DOFS]
-            G[np.ix_(ii, ii)] += (s.sense * float(s.speed)) * s.G
-        return G
+        return self._over_shafts(np.zeros((self.n, self.n)), lambda s: (s.sense * float(s.speed)) * s.G)
 
     def gearbox_summary(self) -> dict[str, Any]:
         """The shafts (nodes, positions, speeds) and the exact kinematics, for reports."""

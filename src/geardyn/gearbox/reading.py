@@ -77,13 +77,11 @@ def _material(blk) -> Material:
     extra = set(tbl) - {"E", "nu", "rho"}
     if extra:
         raise blk.cerr("material", f"unknown key {sorted(extra)[0]!r}; allowed: E, nu, rho")
+    kinds = {"E": "pressure", "nu": "number", "rho": "density"}  # a key not given: steel's (Material's default)
+    values = {k: blk._scalar("material", kinds[k], tbl[k]) for k in kinds if k in tbl}  # (placed errors pass)
     try:
-        return Material(
-            E=blk._scalar("material", "pressure", tbl["E"]) if "E" in tbl else STEEL.E,
-            nu=blk._scalar("material", "number", tbl["nu"]) if "nu" in tbl else STEEL.nu,
-            rho=blk._scalar("material", "density", tbl["rho"]) if "rho" in tbl else STEEL.rho,
-        )
-    except ModelError as e:
+        return Material(**values)
+    except ModelError as e:  # Material's own bounds, placed here
         raise blk.merr("material", str(e).split(": ", 1)[-1]) from None
 
 
@@ -96,9 +94,9 @@ def _segments(blk) -> list[tuple[float, Section]]:
         extra = set(s) - {"length", "outer", "inner"}
         if extra or "length" not in s or "outer" not in s:
             raise blk.cerr("segments", f"segment {k}: needs length and outer (inner optional), got keys {sorted(s)}")
-        length = blk._scalar("segments", "length", s["length"], k)
-        outer = blk._scalar("segments", "length", s["outer"], k)
-        inner = blk._scalar("segments", "length", s.get("inner", "0 m"), k)
+        length, outer, inner = (
+            blk._scalar("segments", "length", s.get(x, "0 m"), k) for x in ("length", "outer", "inner")
+        )
         if not length > 0:
             raise blk.merr("segments", f"segment {k}: length must be > 0, got {s['length']!r}")
         try:

@@ -131,11 +131,9 @@ class SpiralBevelGearPair:
         if jn < 0:
             raise ModelError(f"j_n: normal backlash must be >= 0 m, got {jn:g} m")
         set_(self, "j_n", jn)
-        for name in ("I1", "I2"):
-            set_(self, name, _positive(name, getattr(self, name), "kg*m^2"))
-        for name, unit in (("r1", "m"), ("r2", "m"), ("face_width", "m"), ("c_gamma", "N/m^2"), ("k0", "N/m")):
-            if getattr(self, name) is not None:
-                set_(self, name, _positive(name, getattr(self, name), unit))
+        for name in ("I1", "I2", "r1", "r2", "face_width", "c_gamma", "k0"):  # the inertias required, the rest optional
+            if getattr(self, name) is not None or name[0] == "I":
+                set_(self, name, _positive(name, getattr(self, name), _UNITS[name]))
         for name, unit in (("xi0", ""), ("c0", "N*s/m")):
             v = getattr(self, name)
             if v is not None:
@@ -206,8 +204,8 @@ class SpiralBevelGearPair:
             elif default_source is not None:
                 assumed.append(Assumption(name, value, unit, default_source))
 
-        def pick(name: str, default: float | str, unit: str, source: str) -> float | str:
-            """The input ``name``, else ``default`` (noted as assumed, from ``source``)."""
+        def pick(name: str, default: float | str, unit: str, source: str | None) -> float | str:
+            """The input ``name``, else ``default`` (noted as assumed, from ``source`` when one is given)."""
             given = getattr(self, name)
             note(name, default if given is None else given, unit, None if given is not None else source)
             return default if given is None else given
@@ -217,14 +215,9 @@ class SpiralBevelGearPair:
         r2 = pick("r2", r_pitch[1], "m", _SOURCE_R)
         hand = pick("hand", DEFAULT_HAND, "", _SOURCE_HAND)
         side = pick("drive_side", DEFAULT_DRIVE_SIDE, "", _SOURCE_SIDE)
-        if self.face_width is not None:
-            b = self.face_width
-            note("face_width", b, "m", None)
-        else:
-            r_m = r1 / math.sin(self.delta1)
-            f = FACE_WIDTH_TO_OUTER_CONE_DISTANCE
-            b = f * r_m / (1.0 - 0.5 * f)
-            note("face_width", b, "m", _SOURCE_FACE_WIDTH if self.k0 is None else None)
+        f = FACE_WIDTH_TO_OUTER_CONE_DISTANCE  # b = f R_e, R_e = R_m + b/2, R_m = r1/sin δ1
+        src_b = _SOURCE_FACE_WIDTH if self.k0 is None else None  # with k0 given, b only places the force components
+        b = pick("face_width", f * (r1 / math.sin(self.delta1)) / (1.0 - 0.5 * f), "m", src_b)
         if self.k0 is not None:
             k0 = self.k0
             c_gamma = float("nan")

@@ -14,11 +14,15 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import asdict, dataclass, field
+from functools import partial
 from typing import Any
 
 import numpy as np
 
 from ..errors import ModelError
+
+#: An array-like as a float array (every conversion takes scalars or arrays).
+_floats = partial(np.asarray, dtype=float)
 
 __all__ = ["Scales", "PhysicalScales", "SCALES_ATTR"]
 
@@ -349,48 +353,48 @@ class Scales:
         """
         if not self.z1:
             raise ModelError(f"mesh {self.reference!r}: teeth: needed to convert a speed in rpm to ω; give ω (--omega)")
-        return 2.0 * np.pi * self.z1 * np.asarray(rpm, dtype=float) / 60.0 / self.omega_n_rad_s
+        return 2.0 * np.pi * self.z1 * _floats(rpm) / 60.0 / self.omega_n_rad_s
 
     def rpm_from_omega(self, omega: Any) -> Any:
         """Pinion speed (rpm) from ω (NaN without the pinion's teeth)."""
         if not self.z1:
-            return np.asarray(omega, dtype=float) * np.nan
-        return np.asarray(omega, dtype=float) * self.omega_n_rad_s * 60.0 / (2.0 * np.pi * self.z1)
+            return _floats(omega) * np.nan
+        return _floats(omega) * self.omega_n_rad_s * 60.0 / (2.0 * np.pi * self.z1)
 
     def hz_from_omega(self, omega: Any) -> Any:
         """Frequency (Hz) of a non-dimensional angular frequency (in units of ω_n), e.g. the mesh frequency ω."""
-        return np.asarray(omega, dtype=float) * self.omega_n_rad_s / (2.0 * np.pi)
+        return _floats(omega) * self.omega_n_rad_s / (2.0 * np.pi)
 
     # ------------------------------------------------------------------ time
     def tau_from_s(self, t: Any) -> Any:
         """Non-dimensional time τ = ω_n t from seconds."""
-        return np.asarray(t, dtype=float) * self.omega_n_rad_s
+        return _floats(t) * self.omega_n_rad_s
 
     def s_from_tau(self, tau: Any) -> Any:
         """Seconds from non-dimensional time τ = ω_n t."""
-        return np.asarray(tau, dtype=float) / self.omega_n_rad_s
+        return _floats(tau) / self.omega_n_rad_s
 
     def per_s_from_per_tau(self, rate: Any) -> Any:
         """A rate per second (e.g. a Lyapunov exponent in 1/s) from a rate per unit τ."""
-        return np.asarray(rate, dtype=float) * self.omega_n_rad_s
+        return _floats(rate) * self.omega_n_rad_s
 
     # ------------------------------------------------------------------ length
     def u_from_um(self, x: Any) -> Any:
         """Non-dimensional displacement from micrometres."""
-        return np.asarray(x, dtype=float) * 1e-6 / self.b_c_m
+        return _floats(x) * 1e-6 / self.b_c_m
 
     def um_from_u(self, u: Any) -> Any:
         """Micrometres from a non-dimensional displacement u (u_n = u b_c)."""
-        return np.asarray(u, dtype=float) * self.b_c_m * 1e6
+        return _floats(u) * self.b_c_m * 1e6
 
     # ------------------------------------------------------------------ force and load
     def force_from_N(self, F: Any) -> Any:
         """Non-dimensional force F/(k0 b_c) from newtons (e.g. f_p from the static force F_p)."""
-        return np.asarray(F, dtype=float) / self.force_scale_N
+        return _floats(F) / self.force_scale_N
 
     def N_from_force(self, f: Any) -> Any:
         """Newtons from a non-dimensional force (F = f k0 b_c), e.g. the mesh force."""
-        return np.asarray(f, dtype=float) * self.force_scale_N
+        return _floats(f) * self.force_scale_N
 
     def fp_from_torque(self, torque: Any) -> Any:
         """f_p = T1/(R1 k0 b_c) from the pinion torque T1 (N·m), balanced torques (F_p = T1/R1).
@@ -405,37 +409,37 @@ class Scales:
         """
         if self.R1_m is None:
             raise ModelError(f"torque: {self.title} has no single pinion torque; give the loads in its file")
-        return np.asarray(torque, dtype=float) / self.R1_m / self.force_scale_N
+        return _floats(torque) / self.R1_m / self.force_scale_N
 
     def torque_from_fp(self, fp: Any) -> Any:
         """Pinion torque T1 (N·m) giving f_p with balanced torques: T1 = f_p k0 b_c R1 (NaN without R1)."""
         if self.R1_m is None:
-            return np.asarray(fp, dtype=float) * np.nan
-        return np.asarray(fp, dtype=float) * self.force_scale_N * self.R1_m
+            return _floats(fp) * np.nan
+        return _floats(fp) * self.force_scale_N * self.R1_m
 
     @staticmethod
     def dynamic_factor(max_force: Any, static_force: Any) -> Any:
         """The dynamic factor max F / F_static of a force over its static value (NaN where that is not > 0)."""
-        f, s0 = np.asarray(max_force, dtype=float), np.asarray(static_force, dtype=float)
+        f, s0 = _floats(max_force), _floats(static_force)
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(s0 > 0, f / np.where(s0 > 0, s0, 1.0), np.nan)
 
     # ------------------------------------------------------------------ mesh coefficients
     def xi_from_c(self, c: Any) -> Any:
         """Damping ratio ξ = c/(2 m_e ω_n) from a damping coefficient (N·s/m)."""
-        return np.asarray(c, dtype=float) / (2.0 * self.m_e_kg * self.omega_n_rad_s)
+        return _floats(c) / (2.0 * self.m_e_kg * self.omega_n_rad_s)
 
     def c_from_xi(self, xi: Any) -> Any:
         """Damping coefficient (N·s/m) from a damping ratio."""
-        return np.asarray(xi, dtype=float) * 2.0 * self.m_e_kg * self.omega_n_rad_s
+        return _floats(xi) * 2.0 * self.m_e_kg * self.omega_n_rad_s
 
     def kappa_from_k(self, k: Any) -> Any:
         """Stiffness ratio κ = k/k0 from a stiffness (N/m)."""
-        return np.asarray(k, dtype=float) / self.k0_N_per_m
+        return _floats(k) / self.k0_N_per_m
 
     def k_from_kappa(self, kappa: Any) -> Any:
         """Stiffness (N/m) from a stiffness ratio."""
-        return np.asarray(kappa, dtype=float) * self.k0_N_per_m
+        return _floats(kappa) * self.k0_N_per_m
 
     # ------------------------------------------------------------------ a model's operating point
     def operating_point(self, model: Any) -> dict[str, float | None]:

@@ -140,33 +140,41 @@ def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str, str, str]]:
         hits = [n for n in names if n in src]
         return f"assumed ({', '.join(hits)})" if hits else ""
 
-    def fmt(x: Any, spec: str = ".6g") -> str:
-        return "—" if x is None else format(x, spec)
+    def rows_of(*specs: tuple) -> list[tuple[str, str, str, str]]:
+        """Rows of (quantity, key, scale, unit, assumed names...): the value times the scale (``—`` when missing),
+        angles to 4 decimals, the note naming the assumed inputs among the names."""
+        return [
+            (label, "—" if (x := summary[key]) is None else format(x * scale, ".4f" if key[-4:] == "_deg" else ".6g"))
+            + (unit, note(*names))
+            for label, key, scale, unit, *names in specs
+        ]
 
-    rows = [
-        ("teeth z1 / z2", f"{summary['z1']} / {summary['z2']}", "", ""),
-        ("pitch cone angle δ1", fmt(summary["delta1_deg"], ".4f"), "deg", ""),
-        ("pitch cone angle δ2", fmt(summary["delta2_deg"], ".4f"), "deg", ""),
-        ("mesh point to pinion axis r1", fmt(summary["r1_m"] * 1e3), "mm", note("r1")),
-        ("mesh point to gear axis r2", fmt(summary["r2_m"] * 1e3), "mm", note("r2")),
-        ("directional radius R1", fmt(summary["R1_m"] * 1e3), "mm", "n·(j1 × r1)"),
-        ("directional radius R2", fmt(summary["R2_m"] * 1e3), "mm", "n·(j2 × r2)"),
-        ("equivalent mass m_e", fmt(summary["m_e_kg"]), "kg", ""),
-        ("face width b", fmt(summary["face_width_m"] * 1e3), "mm", note("face_width")),
-    ]
-    if summary.get("c_gamma_N_per_m2") is not None:
-        rows.append(
-            ("stiffness per face width c_γ", fmt(summary["c_gamma_N_per_m2"] * 1e-9), "N/(mm·µm)", note("c_gamma"))
-        )
+    rows = [("teeth z1 / z2", f"{summary['z1']} / {summary['z2']}", "", "")] + rows_of(
+        ("pitch cone angle δ1", "delta1_deg", 1, "deg"),
+        ("pitch cone angle δ2", "delta2_deg", 1, "deg"),
+        ("mesh point to pinion axis r1", "r1_m", 1e3, "mm", "r1"),
+        ("mesh point to gear axis r2", "r2_m", 1e3, "mm", "r2"),
+    )
     rows += [
-        ("mean mesh stiffness k0", fmt(summary["k0_N_per_m"] * 1e-6), "N/µm", note("k0")),
-        ("natural frequency ω_n", fmt(summary["omega_n_rad_s"]), "rad/s", ""),
-        ("natural frequency f_n", fmt(summary["f_n_Hz"]), "Hz", ""),
-        ("mean damping ratio ξ0", fmt(summary["xi0"]), "", note("xi0", "c0")),
-        ("mean damping c0", fmt(summary["c0_N_s_per_m"]), "N·s/m", note("c0", "xi0")),
-        ("half backlash b_n", fmt(summary["b_n_m"] * 1e3), "mm", note("j_n")),
-        ("characteristic length b_c", fmt(None if summary["b_c_m"] is None else summary["b_c_m"] * 1e3), "mm", ""),
-        ("non-dimensional backlash D", fmt(summary["D"]), "", ""),
+        (f"directional radius R{i}", format(summary[f"R{i}_m"] * 1e3, ".6g"), "mm", f"n·(j{i} × r{i})") for i in "12"
+    ]
+    rows += rows_of(
+        ("equivalent mass m_e", "m_e_kg", 1, "kg"),
+        ("face width b", "face_width_m", 1e3, "mm", "face_width"),
+    )
+    if summary.get("c_gamma_N_per_m2") is not None:
+        rows += rows_of(("stiffness per face width c_γ", "c_gamma_N_per_m2", 1e-9, "N/(mm·µm)", "c_gamma"))
+    rows += rows_of(
+        ("mean mesh stiffness k0", "k0_N_per_m", 1e-6, "N/µm", "k0"),
+        ("natural frequency ω_n", "omega_n_rad_s", 1, "rad/s"),
+        ("natural frequency f_n", "f_n_Hz", 1, "Hz"),
+        ("mean damping ratio ξ0", "xi0", 1, "", "xi0", "c0"),
+        ("mean damping c0", "c0_N_s_per_m", 1, "N·s/m", "c0", "xi0"),
+        ("half backlash b_n", "b_n_m", 1e3, "mm", "j_n"),
+        ("characteristic length b_c", "b_c_m", 1e3, "mm"),
+        ("non-dimensional backlash D", "D", 1, ""),
+    )
+    rows += [
         (
             "pinion hand / loaded flank",
             f"{summary['pinion_hand']} / {summary['pinion_drive_flank']}",
@@ -176,29 +184,28 @@ def summary_rows(summary: dict[str, Any]) -> list[tuple[str, str, str, str]]:
         ("pinion rotation (viewed from back)", summary["pinion_rotation_from_back"], "", "from hand and flank"),
     ]
     if "rpm" in summary:
-        rows += [
-            ("pinion speed n1", fmt(summary["rpm"]), "rpm", note("rpm")),
-            ("mesh frequency", fmt(summary["mesh_frequency_Hz"]), "Hz", ""),
-            ("frequency ratio ω", fmt(summary["omega"]), "", ""),
-        ]
+        rows += rows_of(
+            ("pinion speed n1", "rpm", 1, "rpm", "rpm"),
+            ("mesh frequency", "mesh_frequency_Hz", 1, "Hz"),
+            ("frequency ratio ω", "omega", 1, ""),
+        )
     if summary.get("F_p_N") is not None:
-        rows += [
-            ("pinion torque T1", fmt(summary["T1_N_m"]), "N·m", note("torque")),
-            ("gear torque T2", fmt(summary["T2_N_m"]), "N·m", note("torque2")),
-            ("static mesh force F_p", fmt(summary["F_p_N"]), "N", ""),
-        ]
-        if "fp" in summary:
-            rows.append(("non-dimensional load f_p", fmt(summary["fp"]), "", ""))
+        rows += rows_of(
+            ("pinion torque T1", "T1_N_m", 1, "N·m", "torque"),
+            ("gear torque T2", "T2_N_m", 1, "N·m", "torque2"),
+            ("static mesh force F_p", "F_p_N", 1, "N"),
+            *([("non-dimensional load f_p", "fp", 1, "")] if "fp" in summary else []),
+        )
         comp = summary["mesh_force_components_N"]
-        for g in ("pinion", "gear"):
-            rows.append(
-                (
-                    f"{g} force axial / radial",
-                    f"{comp[g]['axial']:.5g} / {comp[g]['radial']:.5g}",
-                    "N",
-                    "> 0: away from apex / towards axis",
-                )
+        rows += [
+            (
+                f"{g} force axial / radial",
+                f"{comp[g]['axial']:.5g} / {comp[g]['radial']:.5g}",
+                "N",
+                "> 0: away from apex / towards axis",
             )
+            for g in ("pinion", "gear")
+        ]
     if summary.get("contact_ratio_alpha") is not None:
         rows += iso_rows(summary)
     return rows

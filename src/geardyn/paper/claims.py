@@ -21,7 +21,7 @@ from typing import Any
 
 from .report import Finding
 
-__all__ = ["CLAIMS", "Claim", "TABLE3", "TABLE4", "claim_ids"]
+__all__ = ["CLAIMS", "Claim", "TABLE3", "TABLE4", "TABLE_COLUMNS", "claim_ids"]
 
 
 @dataclass(frozen=True)
@@ -75,31 +75,29 @@ class Claim:
         return Finding(self.id, self.source, self.statement, computed, verdict, list(evidence))
 
 
-def _table2(row: int, statement: str, **numbers: Any) -> Claim:
-    return Claim(f"T2-{row}", f"Table 2, row {row}", statement, numbers)
+#: The columns of Tables 3 and 4: the names of the numbers of their rows' claims, in the tables' order.
+TABLE_COLUMNS: Mapping[int, tuple[str, ...]] = MappingProxyType(
+    {3: ("b", "D", "motion", "amplitude", "lyapunov"), 4: ("omega", "xi0", "b", "A", "jump")}
+)
 
 
-def _table3(row: int, b: float, D: float, motion: str, amplitude: str, lyapunov: str, statement: str) -> Claim:
+def _row(table: int, row: int, statement: str, *values: Any, **numbers: Any) -> Claim:
+    """Row ``row`` of Table ``table``: its numbers by name, or as values in the order of :data:`TABLE_COLUMNS`."""
     return Claim(
-        f"T3-{row}",
-        f"Table 3, row {row}",
+        f"T{table}-{row}",
+        f"Table {table}, row {row}",
         statement,
-        {"b": b, "D": D, "motion": motion, "amplitude": amplitude, "lyapunov": lyapunov},
-    )
-
-
-def _table4(row: int, omega: float, xi0: float, b: float, A: float, jump: str, statement: str) -> Claim:
-    return Claim(
-        f"T4-{row}", f"Table 4, row {row}", statement, {"omega": omega, "xi0": xi0, "b": b, "A": A, "jump": jump}
+        dict(zip(TABLE_COLUMNS.get(table, ()), values), **numbers),
     )
 
 
 _LIST: tuple[Claim, ...] = (
     # Table 2: dynamic states against the damping ratios
-    _table2(
-        1, "ξ0 < 0.064: chaotic motion (high nonlinearity).", param="xi0", hi=0.064, hi_open=True, motion="chaotic"
+    _row(
+        2, 1, "ξ0 < 0.064: chaotic motion (high nonlinearity).", param="xi0", hi=0.064, hi_open=True, motion="chaotic"
     ),
-    _table2(
+    _row(
+        2,
         2,
         "0.064 ≤ ξ0 ≤ 0.1: quasi-4-periodic motion (medium nonlinearity).",
         param="xi0",
@@ -107,7 +105,8 @@ _LIST: tuple[Claim, ...] = (
         hi=0.1,
         motion="quasi-4-periodic",
     ),
-    _table2(
+    _row(
+        2,
         3,
         "ξ0 > 0.1: quasi-2-periodic motion (low nonlinearity).",
         param="xi0",
@@ -115,7 +114,8 @@ _LIST: tuple[Claim, ...] = (
         lo_open=True,
         motion="quasi-2-periodic",
     ),
-    _table2(
+    _row(
+        2,
         4,
         "ξ1 < 0.03: quasi-periodic motion (low nonlinearity).",
         param="xi1",
@@ -123,7 +123,7 @@ _LIST: tuple[Claim, ...] = (
         hi_open=True,
         motion="quasi-periodic",
     ),
-    _table2(5, "ξ1 ≥ 0.05: chaotic motion (high nonlinearity).", param="xi1", lo=0.05, motion="chaotic"),
+    _row(2, 5, "ξ1 ≥ 0.05: chaotic motion (high nonlinearity).", param="xi1", lo=0.05, motion="chaotic"),
     Claim(
         "XI0-BIF",
         "text, damping study",
@@ -138,32 +138,35 @@ _LIST: tuple[Claim, ...] = (
         {"param": "xi1"},
     ),
     # Table 3 and the backlash text
-    _table3(
+    _row(
+        3,
         1,
+        "b = 0.2 mm (D = 0.1): quasi-1-periodic motion, negative Lyapunov exponent.",
         0.2,
         0.1,
         "quasi-1-periodic",
         "increasing",
         "negative",
-        "b = 0.2 mm (D = 0.1): quasi-1-periodic motion, negative Lyapunov exponent.",
     ),
-    _table3(
+    _row(
+        3,
         2,
+        "b = 0.7 mm (D = 0.35): quasi-2-periodic motion, Lyapunov exponent near zero.",
         0.7,
         0.35,
         "quasi-2-periodic",
         "moderate",
         "near zero",
-        "b = 0.7 mm (D = 0.35): quasi-2-periodic motion, Lyapunov exponent near zero.",
     ),
-    _table3(
+    _row(
         3,
+        3,
+        "b = 1.5 mm (D = 0.75): chaotic motion, positive Lyapunov exponent.",
         1.5,
         0.75,
         "chaotic",
         "high",
         "positive",
-        "b = 1.5 mm (D = 0.75): chaotic motion, positive Lyapunov exponent.",
     ),
     Claim(
         "BL-IMPACT",
@@ -203,11 +206,11 @@ _LIST: tuple[Claim, ...] = (
         {"b": 1.5, "omega": 0.95, "direction": "up"},
     ),
     # Table 4: amplitude and jump type at five operating points
-    _table4(1, 0.4, 0.08, 0.5, 0.15, "none", "ω = 0.4, ξ0 = 0.08, b = 0.5: amplitude 0.15, no jump."),
-    _table4(2, 0.6, 0.08, 0.5, 0.45, "upward", "ω = 0.6, ξ0 = 0.08, b = 0.5: amplitude 0.45, upward jump."),
-    _table4(3, 0.6, 0.15, 0.5, 0.30, "upward", "ω = 0.6, ξ0 = 0.15, b = 0.5: amplitude 0.30, upward jump."),
-    _table4(4, 0.8, 0.08, 0.5, 0.25, "downward", "ω = 0.8, ξ0 = 0.08, b = 0.5: amplitude 0.25, downward jump."),
-    _table4(5, 0.9, 0.08, 1.5, 0.60, "upward", "ω = 0.9, ξ0 = 0.08, b = 1.5: amplitude 0.60, upward jump."),
+    _row(4, 1, "ω = 0.4, ξ0 = 0.08, b = 0.5: amplitude 0.15, no jump.", 0.4, 0.08, 0.5, 0.15, "none"),
+    _row(4, 2, "ω = 0.6, ξ0 = 0.08, b = 0.5: amplitude 0.45, upward jump.", 0.6, 0.08, 0.5, 0.45, "upward"),
+    _row(4, 3, "ω = 0.6, ξ0 = 0.15, b = 0.5: amplitude 0.30, upward jump.", 0.6, 0.15, 0.5, 0.30, "upward"),
+    _row(4, 4, "ω = 0.8, ξ0 = 0.08, b = 0.5: amplitude 0.25, downward jump.", 0.8, 0.08, 0.5, 0.25, "downward"),
+    _row(4, 5, "ω = 0.9, ξ0 = 0.08, b = 1.5: amplitude 0.60, upward jump.", 0.9, 0.08, 1.5, 0.60, "upward"),
     # The amplitude formula and the stability condition
     Claim("FORMULA", "amplitude formula", "A(ω, ξ0, b) = A0 + ΔA sin(πω) e^(−ξ0 ω) + β b² describes the amplitude."),
     Claim("STABILITY", "stability condition", "The Hopf bifurcation condition reduces to ξ0 = ½√(1 − κ1²)."),
@@ -234,10 +237,10 @@ def claim_ids(prefix: str) -> list[str]:
 
 #: Table 3 as rows: b (mm), D, dynamic state, amplitude trend, Lyapunov exponent (from the T3 claims).
 TABLE3: tuple[tuple[float, float, str, str, str], ...] = tuple(
-    tuple(CLAIMS[c].numbers[k] for k in ("b", "D", "motion", "amplitude", "lyapunov")) for c in claim_ids("T3-")
+    tuple(CLAIMS[c].numbers[k] for k in TABLE_COLUMNS[3]) for c in claim_ids("T3-")
 )
 
 #: Table 4 as rows: ω, ξ0, b (mm), amplitude A, jump type (from the T4 claims).
 TABLE4: tuple[tuple[float, float, float, float, str], ...] = tuple(
-    tuple(CLAIMS[c].numbers[k] for k in ("omega", "xi0", "b", "A", "jump")) for c in claim_ids("T4-")
+    tuple(CLAIMS[c].numbers[k] for k in TABLE_COLUMNS[4]) for c in claim_ids("T4-")
 )

@@ -27,7 +27,6 @@ import xarray as xr
 from ..analysis.bifurcation import grid_chunk
 from ..analysis.points import run_slices
 from ..analysis.response import detect_jumps
-from ..analysis.steady import summarize_batch
 from ..grid import Grid, point_models
 from ..integrate import integrate_batch
 from ..model import GearModel, IntegrationOptions
@@ -113,12 +112,7 @@ class Reading:
     @property
     def is_default(self) -> bool:
         """Phases 0, the default backlash reading (or none) and ω = 1 (or none)."""
-        return (
-            self.phi_c == 0
-            and self.phi_k == 0
-            and self.backlash in ("", DEFAULT_BACKLASH)
-            and (math.isnan(self.omega) or abs(self.omega - 1.0) < 1e-9)
-        )
+        return not self.changes()
 
     def D(self, b_mm: float) -> float:
         """D of a backlash b (mm) under this reading."""
@@ -234,26 +228,22 @@ def lockstep_chunk(
     Returns
     -------
     dict of ndarray
-        ``amplitude``, ``spread`` (:func:`geardyn.paper.verdicts.section_spread`), ``period``,
-        ``u_min``: each (R, 2, n), sweep 0 up and 1 down, in ascending ω.
+        ``amplitude`` (half peak-to-peak) and ``spread`` (:func:`geardyn.paper.verdicts.section_spread`): each
+        (R, 2, n), sweep 0 up and 1 down, in ascending ω.
     """
     pts = np.asarray(points, dtype=float).reshape(-1, len(names))
     R, n = pts.shape[0], len(omegas)
-    out = {k: np.full((R, 2, n), np.nan) for k in ("amplitude", "spread", "u_min")}
-    out["period"] = np.zeros((R, 2, n), dtype=np.int64)
+    out = {k: np.full((R, 2, n), np.nan) for k in ("amplitude", "spread")}
     full = tuple(names) + ("omega",)
     for s, order in enumerate((np.arange(n), np.arange(n)[::-1])):
         state = np.zeros((R, 2))
         for i in order:
-            bad = ~np.all(np.isfinite(state), axis=1)
-            state[bad] = 0.0
-            pm = point_models(base, full, np.column_stack([pts, np.full(R, omegas[i])]))
-            res = integrate_batch(pm, state, options)
-            summ = summarize_batch(res)
-            for k in ("amplitude", "u_min", "period"):
-                out[k][:, s, i] = summ[k]
-            pc = res.poincare
-            out["spread"][:, s, i] = [section_spread(pc[r]) for r in range(R)]
+            state[~np.all(np.isfinite(state), axis=1)] = 0.0
+            res = integrate_batch(
+                point_models(base, full, np.column_stack([pts, np.full(R, omegas[i])])), state, options
+            )
+            out["amplitude"][:, s, i] = res.amplitude
+            out["spread"][:, s, i] = [section_spread(p) for p in res.poincare]
             state = res.end_state.copy()
     return {k: v.reshape(R, -1) for k, v in out.items()}
 
@@ -265,9 +255,8 @@ def lockstep_responses(
     omegas: Sequence[float],
     options: IntegrationOptions,
     executor: Any = None,
-    chunk: int | None = None,
 ) -> dict[str, np.ndarray]:
-    """:func:`lockstep_chunk` over many readings, cut into chunks of ``chunk`` readings for the sweep engine.
+    """:func:`lockstep_chunk` over many readings, cut into four chunks for the sweep engine (large kernel batches).
 
     Parameters
     ----------
@@ -276,17 +265,15 @@ def lockstep_responses(
     omegas : sequence of float
         The ω grid (sorted here).
     executor : concurrent.futures.Executor, optional
-    chunk : int, optional
-        Readings per chunk (default: the readings in four chunks, for large kernel batches).
 
     Returns
     -------
     dict of ndarray
-        ``amplitude``, ``spread``, ``period``, ``u_min`` (R, 2, n) and ``omega`` (n,).
+        ``amplitude``, ``spread`` (R, 2, n) and ``omega`` (n,).
     """
     pts = np.asarray(points, dtype=float).reshape(-1, len(names))
     w = np.sort(np.asarray(omegas, dtype=float))
-    chunk = max(1, -(-pts.shape[0] // 4)) if chunk is None else int(chunk)
+    chunk = max(1, -(-pts.shape[0] // 4))
     chunks = [
         Chunk(i, lockstep_chunk, (base, tuple(names), pts[a : a + chunk], w, options))
         for i, a in enumerate(range(0, pts.shape[0], chunk))

@@ -238,6 +238,8 @@ CLAIM_GROUPS: dict[str, tuple[str, ...]] = {
     "Table 4": ("T4-1", "T4-2", "T4-3", "T4-4", "T4-5"),
 }
 DEFAULT_READING = "the default reading"
+#: The counts of :func:`one_reading_totals`, in the order the totals give them.
+ONE_READING_COUNTS = ("reproduced", "reproduced under the group's reading", "not reproduced", "not testable")
 
 
 def one_reading(claims: Sequence[Finding]) -> tuple[str, list[bool]]:
@@ -284,13 +286,7 @@ def one_reading_totals(claims: Sequence[Finding]) -> dict[str, Any]:
     groups = [(name, g) for name, members in CLAIM_GROUPS.items() if (g := [ids[m] for m in members if m in ids])]
     grouped = {m for members in CLAIM_GROUPS.values() for m in members}
     groups += [(c.id, [c]) for c in claims if c.id not in grouped]
-    out: dict[str, Any] = {
-        "reproduced": 0,
-        "reproduced under the group's reading": 0,
-        "not reproduced": 0,
-        "not testable": 0,
-        "groups": {},
-    }
+    out: dict[str, Any] = {**dict.fromkeys(ONE_READING_COUNTS, 0), "groups": {}}
     for name, group in groups:
         reading, holds = one_reading(group)
         for c, h in zip(group, holds, strict=True):
@@ -308,8 +304,7 @@ def one_reading_text(claims: Sequence[Finding], run: RunInfo | None = None) -> s
     """``"Totals under one reading per table or study (26 claims, 10 groups): …"``, said before the per-claim
     totals (:func:`totals_text`)."""
     t = one_reading_totals(claims)
-    counts = ", ".join(f"{t[k]} {k}" for k in ("reproduced", "reproduced under the group's reading", "not reproduced"))
-    counts += f", {t['not testable']} not testable"
+    counts = ", ".join(f"{t[k]} {k}" for k in ONE_READING_COUNTS)
     where = f" of this {run.name}" if run is not None and run.reduced else ""
     head = f"Totals{where} under one reading per table or study ({len(claims)} claims, {len(t['groups'])} groups)"
     return f"{head}: {counts}."
@@ -347,11 +342,6 @@ def dataset_of(path: str) -> str:
     return path
 
 
-def is_figure(path: str) -> bool:
-    """Whether a report path is a drawn figure (a PNG under ``figures/``)."""
-    return path.startswith("figures/") and path.endswith(".png")
-
-
 def _evidence(
     evidence: Sequence[str], labels: Mapping[str, str], link: Callable[[str, str], str], text: Callable[[str], str]
 ) -> str:
@@ -359,7 +349,8 @@ def _evidence(
     path)``): ``"label (figure, data); label (data)"``."""
     groups: dict[str, list[tuple[str, str]]] = {}
     for p in dict.fromkeys(evidence):
-        groups.setdefault(dataset_of(p), []).append(("figure" if is_figure(p) else "data", p))
+        kind = "figure" if p.startswith("figures/") and p.endswith(".png") else "data"  # a drawn figure: a PNG
+        groups.setdefault(dataset_of(p), []).append((kind, p))
     return "; ".join(
         f"{text(labels.get(n, n))} (" + ", ".join(link(k, p) for k, p in items) + ")" for n, items in groups.items()
     )

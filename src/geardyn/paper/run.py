@@ -214,7 +214,7 @@ def link_figures(sections: Sequence[Section], figures: Mapping[str, Sequence[str
     def resolve(ref: str) -> str:
         if not ref.startswith(FIGURE_REF):
             return ref
-        name = ref[len(FIGURE_REF) :]
+        name = ref.removeprefix(FIGURE_REF)
         if not figures.get(name):
             raise PlotError(f"no figure was drawn for {name!r}, which the report refers to")
         return figures[name][0]
@@ -316,10 +316,9 @@ def run(
         labels=ctx.labels,
         run=info,
     )
-    claims = [c for s in sections for c in s.claims]
     return {
         "paths": {k: str(v) for k, v in paths.items()},
-        "claims": claims,
+        "claims": [c for s in sections for c in s.claims],
         "run": info,
         "seconds": t_total,
     }

@@ -65,11 +65,10 @@ SETTING_TEXT = {
 def _setting_value(name: str, value: Any) -> str:
     """A setting's value in a few words: a number, an interval, a grid by its size and ends, a set of responses."""
     if name.endswith(("_grid", "_omegas")):
-        pts = ", ".join(f"{v:g}" for v in value)
         return (
             f"{len(value)} points over [{min(value):g}, {max(value):g}]"
             if len(value) > 3
-            else f"{len(value)} points ({pts})"
+            else f"{len(value)} points ({', '.join(f'{v:g}' for v in value)})"
         )
     if name.endswith("_set"):
         return f"{len(value)} responses"

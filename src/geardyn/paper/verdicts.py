@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping, Sequence
+from itertools import groupby
 
 import numpy as np
 import xarray as xr
@@ -423,15 +424,11 @@ def describe_motion(motion: int, period: int, loops: int) -> str:
     -------
     str
     """
-    if motion == MOTION_PERIODIC:
-        return f"period-{period}"
-    if motion == MOTION_QUASIPERIODIC:
-        return f"quasi-periodic ({loops} loop{'s' if loops != 1 else ''})"
-    if motion == MOTION_CHAOTIC:
-        return "chaotic"
-    if motion < 0:
-        return "diverged"
-    return "unresolved"
+    return {
+        MOTION_PERIODIC: f"period-{period}",
+        MOTION_QUASIPERIODIC: f"quasi-periodic ({loops} loop{'s' if loops != 1 else ''})",
+        MOTION_CHAOTIC: "chaotic",
+    }.get(motion, "diverged" if motion < 0 else "unresolved")
 
 
 def quasi_n(n: int) -> MotionTest:
@@ -582,7 +579,7 @@ def match_fraction(
     """
     x = ds[param].values
     m, n, l = motion_fields(ds)
-    ok = np.array([pred(int(a), int(b), int(c)) for a, b, c in zip(m, n, l)], dtype=bool)
+    ok = np.vectorize(pred, otypes=[bool])(m, n, l)
     frac, _ = length_fraction(x, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
     sel = ((x > lo) if lo_open else (x >= lo - 1e-12)) & ((x < hi) if hi_open else (x <= hi + 1e-12))
     return frac, int(sel.sum())
@@ -602,16 +599,10 @@ def motion_runs(ds: xr.Dataset, param: str) -> list[tuple[float, float, str]]:
     -------
     list of (float, float, str)
     """
-    x = ds[param].values
-    m, n, l = motion_fields(ds)
-    runs: list[tuple[float, float, str]] = []
-    for i in range(x.size):
-        d = describe_motion(int(m[i]), int(n[i]), int(l[i]))
-        if runs and runs[-1][2] == d:
-            runs[-1] = (runs[-1][0], float(x[i]), d)
-        else:
-            runs.append((float(x[i]), float(x[i]), d))
-    return runs
+    pts = [
+        (float(v), describe_motion(int(a), int(b), int(c))) for v, a, b, c in zip(ds[param].values, *motion_fields(ds))
+    ]
+    return [(g[0][0], g[-1][0], d) for d, run in groupby(pts, key=lambda p: p[1]) for g in [list(run)]]
 
 
 def runs_text(runs: Sequence[tuple[float, float, str]], fmt: str = "{:.3g}") -> str:

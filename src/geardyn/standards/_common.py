@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 from ..errors import ModelError
@@ -96,3 +96,9 @@ def check_angle(name: str, value: Any, lo_deg: float, hi_deg: float) -> float:
     if not (lo_deg <= d < hi_deg):
         raise ModelError(f"{name}: must be in [{lo_deg:g}, {hi_deg:g}) deg, got {value!r} rad")
     return x
+
+
+def from_fields(cls: type, values: Any) -> Any:
+    """The dataclass ``cls`` from the entries of ``values`` named as its fields (the locals of the function that
+    computed them)."""
+    return cls(**{f.name: values[f.name] for f in fields(cls)})

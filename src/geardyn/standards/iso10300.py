@@ -55,7 +55,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from ..errors import ModelError
-from ._common import AssumedInput, check_angle, check_positive, defaults
+from ._common import AssumedInput, check_angle, check_positive, defaults, from_fields
 from .iso6336 import dynamic_factor_method_b, low_load_factor
 from .stiffness import StiffnessHarmonics, mesh_stiffness_harmonics
 
@@ -359,19 +359,8 @@ def bevel_mesh(
     a = float(default("offset", 0.0, offset, "m", "not given; no hypoid offset (spiral bevel pair)"))
     hypoid = a != 0.0
     if hypoid:
-        missing = [
-            n
-            for n, v in (
-                ("beta_m2", beta_m2),
-                ("d_m1", d_m1),
-                ("d_m2", d_m2),
-                ("delta1", delta1),
-                ("delta2", delta2),
-                ("zeta_mp", zeta_mp),
-                ("zeta_m", zeta_m),
-            )
-            if v is None
-        ]
+        given = locals()
+        missing = [n for n in ("beta_m2", "d_m1", "d_m2", "delta1", "delta2", "zeta_mp", "zeta_m") if given[n] is None]
         if missing:
             raise ModelError(
                 "hypoid pair (offset != 0): give the ISO 23509 mean-point data "
@@ -400,7 +389,7 @@ def bevel_mesh(
     )
     h_am1 = positive("h_am1", m_mn * (1.0 + x), h_am1, "m", "not given; h_am1 = m_mn (1 + x_hm1)")
     h_am2 = positive("h_am2", m_mn * (1.0 - x), h_am2, "m", "not given; h_am2 = m_mn (1 - x_hm1)")
-    b2e = positive(
+    b2_eff = positive(
         "b2_eff", DEFAULT_EFFECTIVE_FACE_WIDTH_RATIO * b, b2_eff, "m", "not given; b2,eff = 0.85 b (ISO 10300-1)"
     )
     rho = positive("density", DEFAULT_DENSITY, density, "kg/m^3", "not given; steel (ISO/TR 10300-30)")
@@ -417,22 +406,22 @@ def bevel_mesh(
     d_vb1, d_vb2 = d_v1 * math.cos(alpha_vet), d_v2 * math.cos(alpha_vet)
     d_va1, d_va2 = d_v1 + 2.0 * h_am1, d_v2 + 2.0 * h_am2
     p_vet = math.pi * m_mn * math.cos(alpha_vet) / math.cos(beta_v)
-    g_va = 0.5 * (
+    g_valpha = 0.5 * (
         (math.sqrt(d_va1**2 - d_vb1**2) - d_v1 * math.sin(alpha_vet))
         + (math.sqrt(d_va2**2 - d_vb2**2) - d_v2 * math.sin(alpha_vet))
     )
-    eps_va = g_va / p_vet
-    if not eps_va > 1.0:
+    eps_valpha = g_valpha / p_vet
+    if not eps_valpha > 1.0:
         raise ModelError(
-            f"transverse contact ratio of the virtual gears eps_va = {eps_va:.4g} must be > 1 (ISO 10300-1)"
+            f"transverse contact ratio of the virtual gears eps_va = {eps_valpha:.4g} must be > 1 (ISO 10300-1)"
         )
     th_mp = math.atan(math.sin(delta2) * math.tan(zeta_m))
     gamma_p = th_mp - 0.5 * zeta_mp
     t = math.tan(0.5 * zeta_mp)
-    b_v_eff = (b2e / math.cos(0.5 * zeta_mp) - g_va * math.cos(alpha_vet) * t) / (1.0 - math.tan(gamma_p) * t)
-    b_v = b * b_v_eff / b2e
-    eps_vb = b_v_eff * math.sin(beta_v) / (math.pi * m_mn)
-    eps_vg = eps_va + eps_vb
+    b_v_eff = (b2_eff / math.cos(0.5 * zeta_mp) - g_valpha * math.cos(alpha_vet) * t) / (1.0 - math.tan(gamma_p) * t)
+    b_v = b * b_v_eff / b2_eff
+    eps_vbeta = b_v_eff * math.sin(beta_v) / (math.pi * m_mn)
+    eps_vgamma = eps_valpha + eps_vbeta
 
     F_mt1 = F_vmt = None
     if torque1 is None:
@@ -464,52 +453,11 @@ def bevel_mesh(
             )
         )
         B = b_v_eff * (fpt - y_a) * c_prime / (F_vmt * K_A)
-        K_v, sector, K = dynamic_factor_method_b(N, B, eps_vg, n_sub=0.75, n_main=1.25)
+        K_v, sector, K = dynamic_factor_method_b(N, B, eps_vgamma, n_sub=0.75, n_main=1.25)
     else:
         need = [n for n, v in (("torque1", torque1), ("speed1", speed1), ("f_pt", f_pt)) if v is None]
         assumed.append(AssumedInput("K_v", "not computed", "", "needs " + ", ".join(need)))
 
-    return BevelMesh(
-        u=u,
-        delta1=delta1,
-        delta2=delta2,
-        d_m1=d_m1,
-        d_m2=d_m2,
-        alpha_nD=alpha_nD,
-        alpha_nC=alpha_nC,
-        alpha_e=alpha_e,
-        d_v1=d_v1,
-        d_v2=d_v2,
-        a_v=0.5 * (d_v1 + d_v2),
-        d_va1=d_va1,
-        d_va2=d_va2,
-        d_vb1=d_vb1,
-        d_vb2=d_vb2,
-        beta_v=beta_v,
-        beta_vb=beta_vb,
-        alpha_vet=alpha_vet,
-        m_vt=m_vt,
-        z_v1=d_v1 / m_vt,
-        z_v2=d_v2 / m_vt,
-        p_vet=p_vet,
-        g_valpha=g_va,
-        eps_valpha=eps_va,
-        b2_eff=b2e,
-        b_v_eff=b_v_eff,
-        b_v=b_v,
-        eps_vbeta=eps_vb,
-        eps_vgamma=eps_vg,
-        C_F=C_F,
-        c_prime=c_prime,
-        c_gamma=c_gamma,
-        m_red=m_red,
-        omega_E1=omega_E1,
-        F_mt1=F_mt1,
-        F_vmt=F_vmt,
-        N=N,
-        K=K,
-        K_v=K_v,
-        sector=sector,
-        kappa=mesh_stiffness_harmonics(eps_va, eps_vb, n_harmonics),
-        assumed=tuple(assumed),
-    )
+    a_v, z_v1, z_v2 = 0.5 * (d_v1 + d_v2), d_v1 / m_vt, d_v2 / m_vt
+    kappa, assumed = mesh_stiffness_harmonics(eps_valpha, eps_vbeta, n_harmonics), tuple(assumed)
+    return from_fields(BevelMesh, locals())

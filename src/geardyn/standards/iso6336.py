@@ -39,7 +39,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from ..errors import ModelError
-from ._common import AssumedInput, check_angle, check_positive, defaults
+from ._common import AssumedInput, check_angle, check_positive, defaults, from_fields
 
 __all__ = [
     "C_LOW_LOAD_LINE_LOAD",
@@ -365,31 +365,10 @@ def cylindrical_mesh(
         C_F = low_load_factor(K_A * F_t / b)
     zn1 = z1 / (math.cos(beta_b) ** 2 * math.cos(beta))
     zn2 = z2 / (math.cos(beta_b) ** 2 * math.cos(beta))
-    c_th = single_stiffness_theoretical(zn1, zn2, x1, x2)
+    c_prime_th = single_stiffness_theoretical(zn1, zn2, x1, x2)
     C_M, C_R = 0.8, 1.0
     C_B = (1.0 + 0.5 * (1.2 - h_fP)) * (1.0 - 0.02 * (20.0 - math.degrees(alpha_n)))
-    c_prime = c_th * C_M * C_R * C_B * math.cos(beta) * C_F
-    c_ga = c_prime * (0.75 * eps_alpha + 0.25)
-    return CylindricalMesh(
-        d1=d1,
-        d2=d2,
-        d_a1=d_a1,
-        d_a2=d_a2,
-        d_b1=d_b1,
-        d_b2=d_b2,
-        a_w=a_w,
-        alpha_t=alpha_t,
-        alpha_wt=alpha_wt,
-        beta_b=beta_b,
-        p_bt=p_bt,
-        g_alpha=g_alpha,
-        eps_alpha=eps_alpha,
-        eps_beta=eps_beta,
-        eps_gamma=eps_gamma,
-        C_F=C_F,
-        c_prime_th=c_th,
-        c_prime=c_prime,
-        c_gamma_alpha=c_ga,
-        c_gamma_beta=0.85 * c_ga,
-        assumed=tuple(assumed),
-    )
+    c_prime = c_prime_th * C_M * C_R * C_B * math.cos(beta) * C_F
+    c_gamma_alpha = c_prime * (0.75 * eps_alpha + 0.25)
+    c_gamma_beta, assumed = 0.85 * c_gamma_alpha, tuple(assumed)
+    return from_fields(CylindricalMesh, locals())

@@ -343,7 +343,7 @@ class SystemModel:
         object.__setattr__(self, "bearings", tuple(self.bearings))
         object.__setattr__(self, "Vb", _ro(np.reshape(self.Vb, (2 * len(self.bearings), n))))
         for name in ("kc", "cc", "Dc"):
-            v = tuple(float(x) for x in getattr(self, name))
+            v = tuple(map(float, getattr(self, name)))
             if len(v) != nc:
                 raise ModelError(f"{name}: expected {nc} values, got {len(v)}")
             object.__setattr__(self, name, v)
@@ -405,69 +405,50 @@ class SystemModel:
                 return m
         raise ModelError(f"unknown mesh {name!r}; meshes: {', '.join(m.name for m in self.meshes)}")
 
-    def _split(self, name: str) -> tuple[str, str]:
+    def _where(self, name: str) -> tuple[Any, str, int | None]:
+        """Where parameter ``name`` is held: the object (this system for ω and the clearances' gaps, else a mesh or
+        a rolling bearing), its attribute and the index in that series (None for a single value); an unqualified
+        mesh parameter is the reference mesh's."""
+        if name == "omega":
+            return self, "omega", None
         if not isinstance(name, str):
             raise ModelError(f"unknown parameter {name!r}")
-        if "." in name:
-            elem, p = name.rsplit(".", 1)
-        else:
-            elem, p = self.scaling.reference, name
-        return elem, p
-
-    def _mesh_slot(self, p: str) -> tuple[str, int | None]:
+        elem, p = name.rsplit(".", 1) if "." in name else (self.scaling.reference, name)
+        if elem in self.clearance_names:
+            if p != "D":
+                raise ModelError(f"{name}: a clearance has only the parameter D")
+            return self, "Dc", self.clearance_names.index(elem)
+        b = next((x for x in self.bearings if x.name == elem), None)
+        if b is not None:
+            if p not in _BEARING_PARAMS:
+                raise ModelError(f"{elem}.{p}: a rolling bearing's parameters are {', '.join(_BEARING_PARAMS)}")
+            return b, p, None
+        m = self.mesh(elem)
         if p in _MESH_PARAMS:
-            return p, None
+            return m, p, None
         attr, idx = slot(canonical_param(p))
         if attr in ("omega", "fp"):
             raise ModelError(f"{attr}: not a mesh parameter")
-        return attr, idx
-
-    def _clearance(self, name: str) -> int | None:
-        """The index of the clearance a parameter ``<name>.D`` belongs to (None if it is none)."""
-        elem, p = self._split(name)
-        if elem not in self.clearance_names:
-            return None
-        if p != "D":
-            raise ModelError(f"{name}: a clearance has only the parameter D")
-        return self.clearance_names.index(elem)
+        return m, attr, idx
 
     def get(self, name: str) -> float:
         """Value of a parameter by name (see the class docstring); missing harmonics are 0."""
-        if name == "omega":
-            return self.omega
-        c = self._clearance(name)
-        if c is not None:
-            return self.Dc[c]
-        elem, p = self._split(name)
-        b = self._bearing(elem, p)
-        if b is not None:
-            return getattr(b, p)
-        m = self.mesh(elem)
-        attr, idx = self._mesh_slot(p)
-        if idx is None:
-            return getattr(m, attr)
-        seq = getattr(m, attr)
-        return seq[idx] if idx < len(seq) else 0.0
+        obj, attr, idx = self._where(name)
+        v = getattr(obj, attr)
+        return v if idx is None else v[idx] if idx < len(v) else 0.0
 
     def with_param(self, name: str, value: float) -> SystemModel:
         """Copy with one parameter changed (validated anew)."""
-        if name == "omega":
+        obj, attr, idx = self._where(name)
+        if obj is self and attr == "Dc":
+            return replace(self, Dc=(*self.Dc[:idx], value, *self.Dc[idx + 1 :]))
+        if obj is self:
             if self.gyro is not None:  # the gyroscopic damping follows the speed
                 return replace(self, omega=value, Cb=self.damping_static + float(value) * self.gyro)
             return replace(self, omega=value)
-        c = self._clearance(name)
-        if c is not None:
-            return replace(self, Dc=(*self.Dc[:c], value, *self.Dc[c + 1 :]))
-        elem, p = self._split(name)
-        b = self._bearing(elem, p)
-        if b is not None:
-            new_b = replace(b, **{p: value})
-            return replace(self, bearings=tuple(new_b if x.name == b.name else x for x in self.bearings))
-        m = self.mesh(elem)
-        attr, idx = self._mesh_slot(p)
-        new = replace(m, **({attr: value} if idx is None else series_change(m, attr, idx, value)))
-        meshes = tuple(new if x.name == m.name else x for x in self.meshes)
-        return replace(self, meshes=meshes)
+        new = replace(obj, **({attr: value} if idx is None else series_change(obj, attr, idx, value)))
+        field = "bearings" if isinstance(obj, BearingND) else "meshes"
+        return replace(self, **{field: tuple(new if x.name == obj.name else x for x in getattr(self, field))})
 
     def parameters(self) -> dict[str, float]:
         """Every parameter by its qualified name."""
@@ -484,13 +465,6 @@ class SystemModel:
             for p in _BEARING_PARAMS:
                 out[f"{b.name}.{p}"] = getattr(b, p)
         return out
-
-    def _bearing(self, elem: str, p: str) -> BearingND | None:
-        """The rolling bearing ``elem`` (None if it is none), refusing a parameter it does not have."""
-        b = next((x for x in self.bearings if x.name == elem), None)
-        if b is not None and p not in _BEARING_PARAMS:
-            raise ModelError(f"{elem}.{p}: a rolling bearing's parameters are {', '.join(_BEARING_PARAMS)}")
-        return b
 
     def contact_boundaries(self) -> tuple[Boundary, ...]:
         """One boundary per mesh and per clearance: ``vector·x = ±gap`` with vector = (V[m], 0…0).
@@ -521,10 +495,7 @@ class SystemModel:
         )
         for b in self.bearings:
             law = RollingBearingLaw(b.elements, b.exponent, b.clearance, b.ratio, b.phase)
-            out += (
-                Element(f"{b.name}.x", b.clearance, "bearing", law),
-                Element(f"{b.name}.y", b.clearance, "bearing", law),
-            )
+            out += tuple(Element(f"{b.name}.{a}", b.clearance, "bearing", law) for a in "xy")
         return out
 
     @property
@@ -591,23 +562,14 @@ class SystemModel:
         H = self.n_harmonics if n_harmonics is None else n_harmonics
         c = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
         return SystemArrays(
-            Mi=c(self.Mi),
-            Kb=c(self.Kb),
-            Cb=c(self.Cb),
-            V=c(self.V),
+            **{f: c(getattr(self, f)) for f in ("Mi", "Kb", "Cb", "V", "F", "Vc", "kc", "cc", "Dc", "Vb")},
             coef=c(np.stack([m.coefficients(H) for m in self.meshes])),
             D=c([m.D for m in self.meshes]),
             ratio=c([m.ratio for m in self.meshes]),
-            F=c(self.F),
-            Vc=c(self.Vc),
-            kc=c(self.kc),
-            cc=c(self.cc),
-            Dc=c(self.Dc),
             omega=np.float64(self.omega),
             Fo=c(np.reshape([F for _, F, _ in self.orders], (len(self.orders), self.n))),
             ro=c([float(r) for r, _, _ in self.orders]),
             po=c([ph for _, _, ph in self.orders]),
-            Vb=c(self.Vb),
             bq=c(np.reshape([b.row() for b in self.bearings], (len(self.bearings), 8))),
         )
 
@@ -709,18 +671,18 @@ def _mesh_nd(desc: SystemDescription, m: Mesh, k_ref: float, m_ref: float, b_c: 
         xi0 = (m.xi0 or 0.0) * own
         xi = tuple(x * own for x in (m.xi or ()))
     return MeshND(
-        name=m.name,
-        k=m.stiffness / k_ref,
-        xi0=xi0,
-        xi=xi,
-        phi_c=m.phi_c,
-        kappa=m.kappa,
-        phi_k=m.phi_k,
-        eps=tuple(e / b_c for e in m.e),
-        phi_e=m.phi_e,
-        D=m.backlash / 2.0 / b_c,
-        ratio=m.ratio if m.cycles == 1 else m.ratio / m.cycles,
-        cycles=m.cycles,
+        m.name,
+        m.stiffness / k_ref,
+        xi0,
+        xi,
+        m.phi_c,
+        m.kappa,
+        m.phi_k,
+        tuple(e / b_c for e in m.e),
+        m.phi_e,
+        m.backlash / 2.0 / b_c,
+        m.ratio / m.cycles,
+        m.cycles,
     )
 
 
@@ -760,7 +722,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         k_ref,
         m_ref,
         b_c,
-        tuple(float(x) for x in s),
+        tuple(map(float, s)),
         ref.teeth,
         D=ref.backlash / 2.0 / b_c,
         title=desc.title or "system",
@@ -787,9 +749,6 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
     meshes = tuple(_mesh_nd(desc, m, k_ref, m_ref, b_c) for m in desc.meshes)
     cl = desc.clearances
     Vc = np.array([s * desc.vector(c) / b_c for c in cl]).reshape(len(cl), desc.n)
-    kc = tuple(c.stiffness / k_ref for c in cl)
-    cc = tuple(c.damping * omega_n / k_ref for c in cl)
-    Dc = tuple(c.gap / b_c for c in cl)
     bearings, Vb = [], []
     for rb in desc.rolling_bearings:
         br = rb.bearing
@@ -820,26 +779,26 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
         gyro = S @ G @ S * omega_n**2 / (den * ref.teeth)
         static, Cbt = Cbt, Cbt + float(omega) * gyro
     model = SystemModel(
-        labels=desc.labels,
-        Mi=Mi,
-        Kb=Kbt,
-        Cb=Cbt,
-        V=V,
-        meshes=meshes,
-        F=F,
-        omega=omega,
-        scaling=scaling,
-        clearance_names=tuple(c.name for c in cl),
-        Vc=Vc,
-        kc=kc,
-        cc=cc,
-        Dc=Dc,
-        description=desc,
-        orders=tuple(orders),
-        bearings=tuple(bearings),
-        Vb=Vb,
-        gyro=gyro,
-        damping_static=static,
+        desc.labels,
+        Mi,
+        Kbt,
+        Cbt,
+        V,
+        meshes,
+        F,
+        omega,
+        scaling,
+        tuple(c.name for c in cl),
+        Vc,
+        tuple(c.stiffness / k_ref for c in cl),
+        tuple(c.damping * omega_n / k_ref for c in cl),
+        tuple(c.gap / b_c for c in cl),
+        desc,
+        tuple(orders),
+        tuple(bearings),
+        Vb,
+        gyro,
+        static,
     )
     check_balance(model, desc)  # loads on a free rigid-body motion: refused, the balancing load named
     return model

@@ -61,10 +61,9 @@ def mean_stiffness(model: Any) -> np.ndarray:
     return Kt
 
 
-def _pick(phi: np.ndarray, M: np.ndarray, loaded: np.ndarray, rotation: np.ndarray) -> list[int]:
+def _pick(phi: np.ndarray, share: np.ndarray, loaded: np.ndarray, rotation: np.ndarray) -> list[int]:
     """r DOFs on which r loads can balance the r motions ``phi`` (SI, (n, r)): unloaded rotations first, then
-    unloaded translations, then the loaded ones, each group by its share of the kinetic energy."""
-    share = np.einsum("ij,ij->i", phi, M @ phi)
+    unloaded translations, then the loaded ones, each group by its ``share`` of the kinetic energy."""
     order = sorted(range(phi.shape[0]), key=lambda j: (bool(loaded[j]), not bool(rotation[j]), -share[j]))
     out: list[int] = []
     for j in order:
@@ -103,7 +102,7 @@ def check_balance(model: Any, desc: Any) -> None:
     rotation = np.array([d == "theta" for _, d in desc.dof_list])
     share = np.einsum("ij,ij->i", phi, M @ phi)
     moving = share > SHARE_TOL * float(np.max(share))
-    J = _pick(phi, M, F != 0, rotation)
+    J = _pick(phi, share, F != 0, rotation)
     T = np.linalg.lstsq(phi[J].T, -(phi.T @ F), rcond=None)[0]
     bodies = list(dict.fromkeys(labels[i].rsplit(".", 1)[0] for i in np.nonzero(moving)[0]))
     kind = "rotation" if np.any(rotation[moving]) else "motion"

@@ -120,9 +120,9 @@ class Body:
             if not np.all(np.isfinite(mm)) or not np.allclose(mm, mm.T, rtol=1e-12, atol=0.0):
                 raise ModelError(f"{who}: mass_matrix: must be finite and symmetric")
             # reorder to canonical order
-            order = [list(dofs).index(d) for d in self.dofs]
+            order = [dofs.index(d) for d in self.dofs]
             mm = mm[np.ix_(order, order)]
-            object.__setattr__(self, "mass_matrix", tuple(tuple(float(v) for v in row) for row in mm))
+            object.__setattr__(self, "mass_matrix", tuple(map(tuple, mm.tolist())))
             return
         has_t = any(d != "theta" for d in self.dofs)
         for attr, needed, unit in (("mass", has_t, "kg"), ("inertia", "theta" in self.dofs, "kg*m^2")):
@@ -153,7 +153,7 @@ def _matrix(who: str, what: str, values, n: int) -> tuple[tuple[float, ...], ...
         raise ModelError(f"{who}: {what}: must be finite")
     if not np.allclose(a, a.T, rtol=1e-12, atol=1e-12 * max(1.0, float(np.abs(a).max()))):
         raise ModelError(f"{who}: {what}: must be symmetric")
-    return tuple(tuple(float(v) for v in row) for row in a)
+    return tuple(map(tuple, a.tolist()))
 
 
 @dataclass(frozen=True)
@@ -211,6 +211,12 @@ class _AlongVector:
         """The DOFs of the vector, in its order."""
         return tuple(d for d, _ in self.vector)
 
+    def _set_vector(self, who: str) -> tuple:
+        """Store the vector with its names as text and its coefficients checked finite, and return it."""
+        vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
+        object.__setattr__(self, "vector", vec)
+        return vec
+
 
 @dataclass(frozen=True)
 @attributes
@@ -235,10 +241,8 @@ class Clearance(_AlongVector):
 
     def __post_init__(self) -> None:
         who = f"clearance {self.name!r}"
-        vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
-        if not vec:
+        if not self._set_vector(who):
             raise ModelError(f"{who}: vector: must act on at least one DOF")
-        object.__setattr__(self, "vector", vec)
         k = _finite(f"{who}: stiffness", self.stiffness)
         g = _finite(f"{who}: clearance", self.gap)
         c = _finite(f"{who}: damping", self.damping)
@@ -302,10 +306,8 @@ class Mesh(_AlongVector):
         set_ = object.__setattr__
         if self.excitation is not None:
             self._from_table(who)
-        vec = tuple(((str(b), str(d)), _finite(f"{who}: vector", c)) for (b, d), c in self.vector)
-        if not any(c != 0 for _, c in vec):
+        if not any(c != 0 for _, c in self._set_vector(who)):
             raise ModelError(f"{who}: vector: the mesh vector must not be zero")
-        set_(self, "vector", vec)
         k = _finite(f"{who}: stiffness", self.stiffness, "N/m")
         if k <= 0:
             raise ModelError(f"{who}: stiffness: must be > 0 N/m, got {k:g} N/m")
@@ -351,6 +353,7 @@ class Mesh(_AlongVector):
     def _from_table(self, who: str) -> None:
         from ..errors import ConfigError
         from ..params import MAX_HARMONICS
+        from ..tooth.excitation import spread_harmonics
         from ..tooth.table import read_table
 
         given = [k for k in ("kappa", "phi_k", "e", "phi_e") if getattr(self, k)]
@@ -374,10 +377,7 @@ class Mesh(_AlongVector):
         name = "xi" if self.xi is not None else "c"
         damp = getattr(self, name) or ()
         if P > 1 and damp:
-            d, ph = [0.0] * (P * len(damp)), [0.0] * (P * len(damp))
-            for k, a in enumerate(damp, start=1):
-                d[k * P - 1], ph[k * P - 1] = a, (self.phi_c[k - 1] if k <= len(self.phi_c) else 0.0)
-            vals.update({name: tuple(d), "phi_c": tuple(ph)})
+            vals[name], vals["phi_c"] = spread_harmonics(damp, self.phi_c, P)
         for k, v in vals.items():
             object.__setattr__(self, k, v)
 
@@ -618,10 +618,10 @@ class SystemDescription:
             F[idx[(ld.body, ld.dof)]] += ld.value
         return F
 
-    def mesh_mass(self, mesh: Mesh, how: str | None = None) -> float:
-        """Equivalent mass m_e = 1/(vᵀ M⁻¹ v) of a mesh (kg); ``how`` as :attr:`equivalent_mass`."""
+    def mesh_mass(self, mesh: Mesh) -> float:
+        """Equivalent mass m_e = 1/(vᵀ M⁻¹ v) of a mesh (kg), taken as :attr:`equivalent_mass` says."""
         v = self.vector(mesh)
-        if (how or self.equivalent_mass) == "rotational":
+        if self.equivalent_mass == "rotational":
             rot = np.array([d == "theta" for _, d in self.dof_list])
             if np.any(v[rot] != 0):
                 v = np.where(rot, v, 0.0)

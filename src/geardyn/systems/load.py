@@ -285,9 +285,6 @@ class _Block:
         return value
 
     def _parse(self, key: str, kind: str, raw: Any) -> Any:
-        if kind.endswith("*"):
-            items = raw if isinstance(raw, list) else [raw]
-            return tuple(self._scalar(key, kind[:-1], r, i + 1) for i, r in enumerate(items))
         if kind == "list":
             if not isinstance(raw, list) or not all(isinstance(x, str) for x in raw):
                 raise self.cerr(key, f"expected a list of strings, got {raw!r}")
@@ -434,9 +431,7 @@ def _mesh(ctx: _Ctx, i: int, data: dict, bodies: dict[str, Body], b_c: float | N
                     g,
                     d1,
                     d2,
-                    pressure_angle=blk.get("pressure_angle"),
-                    base_radius1=blk.get("base_radius1"),
-                    base_radius2=blk.get("base_radius2"),
+                    **{k: blk.get(k) for k in ("pressure_angle", "base_radius1", "base_radius2")},
                     helix_angle=helix,
                     center_angle=blk.get(
                         "center_angle",

@@ -116,17 +116,21 @@ class ModalResult:
 
     def degenerate_groups(self, rtol: float = DEGENERATE_RTOL) -> list[list[int]]:
         """Indices of modes sharing one non-zero frequency (within ``rtol``), groups of two or more."""
-        groups: list[list[int]] = []
-        f = self.frequencies_hz
-        i = 0
-        while i < len(f):
-            j = i + 1
-            while j < len(f) and f[i] > 0 and abs(f[j] - f[i]) <= rtol * f[i]:
-                j += 1
-            if j - i > 1:
-                groups.append(list(range(i, j)))
-            i = j
-        return groups
+        return [g for g in _groups(self.frequencies_hz, rtol) if len(g) > 1]
+
+
+def _groups(f: np.ndarray, rtol: float = DEGENERATE_RTOL) -> list[list[int]]:
+    """Indices of the modes of each frequency, ascending: one non-zero frequency (within ``rtol``) a group, each
+    rigid-body mode its own."""
+    groups: list[list[int]] = []
+    i = 0
+    while i < len(f):
+        j = i + 1
+        while j < len(f) and f[i] > 0 and abs(f[j] - f[i]) <= rtol * f[i]:
+            j += 1
+        groups.append(list(range(i, j)))
+        i = j
+    return groups
 
 
 def _element_stiffness(desc: SystemDescription, clearances: str) -> tuple[list[str], list[np.ndarray], list[str]]:
@@ -327,13 +331,12 @@ def gyroscopic_eigen(
     A[n:, :n] = -np.diag(w)
     A[n:, n:] = -spin * Ge
     H = -1j * A  # A z = iω z: the Hermitian -iA has the eigenvalues ω, in ± pairs (0 for a rigid-body mode)
-    if not vectors:
-        lam = np.sort(scipy.linalg.eigh(H, eigvals_only=True))[n:]
-        return np.where(lam <= math.sqrt(RIGID_RTOL) * max(float(lam[-1]), 1e-300), 0.0, lam), None
-    lam, Z = scipy.linalg.eigh(H)
+    lam, Z = scipy.linalg.eigh(H) if vectors else (scipy.linalg.eigh(H, eigvals_only=True), None)
     pos = np.argsort(lam)[n:]  # the n largest: the positive ones and half the zeros
     wk = lam[pos]
     zero = wk <= math.sqrt(RIGID_RTOL) * max(float(wk[-1]), 1e-300)
+    if not vectors:
+        return np.where(zero, 0.0, wk), None
     out = np.zeros((shapes.shape[0], n), dtype=complex)
     nr = int(np.sum(zero))
     out[:, :nr] = shapes[:, np.flatnonzero(omega2 <= 0.0)[:nr]] if nr else out[:, :0]
@@ -393,15 +396,14 @@ def _whirl_pairs(desc: SystemDescription) -> tuple[np.ndarray, np.ndarray, np.nd
     """Row indices a, b, the factors of (a, b) and the senses of the whirl pairs (x, y) and r (ry, −rx) of every
     shaft node (the module docstring)."""
     idx = desc.index()
-    ia, ib, fa, fb, sense = [], [], [], [], []
-    for s in getattr(desc, "shafts", ()):
-        for node, r in zip(s.nodes, s.radii):
-            ia += [idx[(node, "x")], idx[(node, "ry")]]
-            ib += [idx[(node, "y")], idx[(node, "rx")]]
-            fa += [1.0, r]
-            fb += [1.0, -r]
-            sense += [s.sense, s.sense]
-    return np.array(ia, dtype=int), np.array(ib, dtype=int), np.array(fa), np.array(fb), np.array(sense, float)
+    rows = [
+        (idx[(node, a)], idx[(node, b)], fa, fb, s.sense)
+        for s in getattr(desc, "shafts", ())
+        for node, r in zip(s.nodes, s.radii)
+        for a, b, fa, fb in (("x", "y", 1.0, 1.0), ("ry", "rx", r, -r))
+    ]
+    ia, ib, fa, fb, sense = np.array(rows, dtype=float).reshape(-1, 5).T
+    return ia.astype(int), ib.astype(int), fa, fb, sense
 
 
 def _whirl(desc: SystemDescription, v: np.ndarray, pairs=None) -> np.ndarray:
@@ -414,19 +416,6 @@ def _whirl(desc: SystemDescription, v: np.ndarray, pairs=None) -> np.ndarray:
     total = np.sum(np.abs(v) ** 2, axis=0)
     ok = (den > WHIRL_FLOOR * total) & (den > 0)
     return np.where(ok, num / np.where(ok, den, 1.0), 0.0)
-
-
-def _frequency_groups(res: ModalResult) -> list[tuple[float, list[int]]]:
-    """The distinct non-zero natural frequencies with the numbers (from 1) of the modes at each."""
-    degenerate = {g[0]: g for g in res.degenerate_groups()}
-    out, i = [], 0
-    f = res.frequencies_hz
-    while i < len(f):
-        g = degenerate.get(i, [i])
-        if f[i] > 0:
-            out.append((float(f[i]), [k + 1 for k in g]))
-        i = g[-1] + 1
-    return out
 
 
 def _line_label(pairs: list[tuple[str, int]], meshes: Sequence[str]) -> str:
@@ -498,7 +487,8 @@ def campbell(
     if not orders or any(k < 1 for k in orders):
         raise ModelError(f"orders: must be integers >= 1, got {orders!r}")
     res = result or modal_analysis(desc)
-    groups = _frequency_groups(res)
+    fr = res.frequencies_hz  # the distinct non-zero natural frequencies with the numbers (from 1) of their modes
+    groups = [(float(fr[g[0]]), [k + 1 for k in g]) for g in _groups(fr) if fr[g[0]] > 0]
     z = desc.reference_mesh.teeth
     per_x = z / 60.0 if z is not None else 1.0  # reference mesh frequency (Hz) per unit of x
     harmonics: dict[float, list[tuple[str, int]]] = {}
@@ -506,15 +496,12 @@ def campbell(
         for k in orders:
             key = float(f"{k * m.ratio:.12g}")
             harmonics.setdefault(key, []).append((m.name, k))
-    if z is not None:
-        lo, hi = (float(x) for x in rpm_range)
-        what = "rpm_range"
-    elif mesh_hz_range is not None:
-        lo, hi = (float(x) for x in mesh_hz_range)
-        what = "mesh_hz_range"
+    what, given = ("rpm_range", rpm_range) if z is not None else ("mesh_hz_range", mesh_hz_range)
+    if z is not None or given is not None:
+        lo, hi = (float(x) for x in given)
     else:
         top = max((f for f, _ in groups), default=1.0)
-        lo, hi, what = 0.0, float(f"{1.2 * top / min(harmonics):.2g}"), "mesh_hz_range"
+        lo, hi = 0.0, float(f"{1.2 * top / min(harmonics):.2g}")
     if not (0 <= lo < hi and math.isfinite(hi)):
         raise ModelError(f"{what}: must be 0 <= low < high, got {(lo, hi)!r}")
     names = [m.name for m in desc.meshes]
@@ -572,7 +559,7 @@ def campbell(
     if spinning is not None:
         out["gyroscopic"] = True
         out["branches"] = {
-            "rpm": [float(x) for x in grid],
+            "rpm": list(map(float, grid)),
             "frequencies_hz": F.tolist(),
             "whirl": W.tolist(),
         }
@@ -695,7 +682,7 @@ def modes_report(
         "title": desc.title,
         "source": desc.source,
         "dofs": list(res.labels),
-        "frequencies_hz": [float(x) for x in res.frequencies_hz],
+        "frequencies_hz": list(map(float, res.frequencies_hz)),
         "rigid": [bool(x) for x in res.rigid],
         "modes": modes,
         "energy_fractions": [

@@ -310,12 +310,4 @@ def load_case(path: str | Path) -> ToothCase:
         check_plausible(geo, float(tp["torque"]), mods, faults)
     except ModelError as exc:
         raise ctx.error(None, None, str(exc), ModelError) from None
-    return ToothCase(
-        name=str(tp.get("name", Path(path).stem)),
-        geometry=geo,
-        torque=float(tp["torque"]),
-        modifications=mods,
-        faults=faults,
-        mesh=mesh,
-        signature=sig,
-    )
+    return ToothCase(str(tp.get("name", Path(path).stem)), geo, float(tp["torque"]), mods, faults, mesh, sig)

@@ -261,12 +261,17 @@ def excitation_model(
         e = () if exc.ste is None else tuple(exc.ste / b_c)
         changes.update(evaluation=evaluation, table=(tuple(exc.nodes()), tuple(exc.stiffness / s["k0"]), e))
     if P != 1 and base.xi:
-        xi = [0.0] * (P * len(base.xi))
-        ph = [0.0] * (P * len(base.xi))
-        for k, (a, p) in enumerate(zip(base.xi, base.phi_c), start=1):
-            xi[k * P - 1], ph[k * P - 1] = a, p
-        changes.update(xi=tuple(xi), phi_c=tuple(ph))
+        changes["xi"], changes["phi_c"] = spread_harmonics(base.xi, base.phi_c, P)
     return base.replace(**changes)
+
+
+def spread_harmonics(amps, phases, P: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Harmonic k of the mesh frequency as member k·P of a series over P mesh cycles: (amplitudes, phases),
+    a phase not given 0."""
+    a, ph = [0.0] * (P * len(amps)), [0.0] * (P * len(amps))
+    for k, x in enumerate(amps):
+        a[k * P + P - 1], ph[k * P + P - 1] = x, phases[k] if k < len(phases) else 0.0
+    return tuple(a), tuple(ph)
 
 
 def pair_model(

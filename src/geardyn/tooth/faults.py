@@ -228,7 +228,7 @@ class Modifications:
         if self.shape not in ("linear", "parabolic"):
             raise ModelError(f"modifications: shape must be 'linear' or 'parabolic', got {self.shape!r}")
         for name in ("tip_relief", "tip_length", "root_relief", "root_length"):
-            v = tuple(float(x) for x in getattr(self, name))
+            v = tuple(map(float, getattr(self, name)))
             if len(v) != 2 or min(v) < 0:
                 raise ModelError(f"modifications: {name} takes two values >= 0 (pinion, wheel), got {v!r}")
             object.__setattr__(self, name, v)

@@ -285,18 +285,7 @@ def _section(
         crit = np.flatnonzero(slope <= math.tan(math.radians(30.0)))
         start = int(crit[0]) if crit.size else 0
         rho_F = _curvature_radius(y[: rho_t.size], h[: rho_t.size], min(start, rho_t.size - 2))
-    return Section(
-        y=y,
-        h=h,
-        r_f=r_f,
-        r_b=r_b,
-        r_a=r_a,
-        theta_f=float(psi[0]),
-        psi0=psi0,
-        crack_start=start,
-        r_L=float(r_L),
-        rho_F=rho_F,
-    )
+    return Section(y, h, r_f, r_b, r_a, float(psi[0]), psi0, start, float(r_L), rho_F)
 
 
 def _curvature_radius(x: np.ndarray, y: np.ndarray, i: int) -> float:
@@ -455,27 +444,27 @@ def pair_geometry(
                 f"root interference); use a profile shift"
             )
     return PairGeometry(
-        gears=gears,
-        m_n=m_n,
-        alpha_n=alpha_n,
-        beta=beta,
-        face_width=face_width,
-        h_a=h_a,
-        h_f=h_f,
-        m_t=m_t,
-        alpha_t=alpha_t,
-        alpha_wt=alpha_wt,
-        beta_b=beta_b,
-        a_w=a_w,
-        r=r,
-        r_b=r_b,
-        r_a=r_a,
-        r_f=r_f,
-        p_bt=p_bt,
-        T1T2=T1T2,
-        s_A=s_A,
-        s_E=s_E,
-        eps_alpha=eps_alpha,
-        eps_beta=eps_beta,
-        sections=sections,
+        gears,
+        m_n,
+        alpha_n,
+        beta,
+        face_width,
+        h_a,
+        h_f,
+        m_t,
+        alpha_t,
+        alpha_wt,
+        beta_b,
+        a_w,
+        r,
+        r_b,
+        r_a,
+        r_f,
+        p_bt,
+        T1T2,
+        s_A,
+        s_E,
+        eps_alpha,
+        eps_beta,
+        sections,
     )

@@ -362,21 +362,7 @@ def mesh_stiffness(
         comps[name] = getattr(t1, name) + getattr(t2, name)
     comps["pair"] = b * math.cos(geo.beta_b) / (t1.total + t2.total + ch)
     return MeshStiffness(
-        geometry=geo,
-        force=F,
-        phase=theta,
-        stiffness=km,
-        stiffness_unmodified=kf.sum(1),
-        ste=delta,
-        ste_noload=noload,
-        ste_equivalent=delta - F / km,
-        share=share,
-        pairs_in_contact=pairs,
-        cycles=P,
-        slices=S,
-        faults=tuple(faults),
-        modifications=mods,
-        components=comps,
+        geo, F, theta, km, kf.sum(1), delta, noload, delta - F / km, share, pairs, P, S, tuple(faults), mods, comps
     )
 
 

@@ -89,16 +89,17 @@ def stiffness_summary(ms: MeshStiffness, harmonics: int = 8, torque1: float | No
     k0, ka, kp = fourier_series(ms.stiffness)
     _, ea, ep = fourier_series(ms.ste_equivalent)
     H = min(harmonics, len(ka))
+    g1, g2 = geo.gears
     return {
-        "z1": geo.gears[0].teeth,
-        "z2": geo.gears[1].teeth,
-        "z_shape": [geo.gears[0].z, geo.gears[1].z],
+        "z1": g1.teeth,
+        "z2": g2.teeth,
+        "z_shape": [g1.z, g2.z],
         "m_n_mm": geo.m_n * 1e3,
         "alpha_n_deg": math.degrees(geo.alpha_n),
         "beta_deg": math.degrees(geo.beta),
         "face_width_mm": geo.face_width * 1e3,
-        "x1": geo.gears[0].x,
-        "x2": geo.gears[1].x,
+        "x1": g1.x,
+        "x2": g2.x,
         "eps_alpha": geo.eps_alpha,
         "eps_beta": geo.eps_beta,
         "force_N": ms.force,
@@ -111,10 +112,10 @@ def stiffness_summary(ms: MeshStiffness, harmonics: int = 8, torque1: float | No
         "ste_mean_um": float(np.mean(ms.ste)) * 1e6,
         "ste_peak_to_peak_um": float(np.ptp(ms.ste)) * 1e6,
         "harmonic_order_of_mesh": [(j + 1) / ms.cycles for j in range(H)],
-        "kappa": [float(a / k0) for a in ka[:H]],
-        "phi_k": [float(p) for p in kp[:H]],
-        "ste_harmonics_um": [float(a * 1e6) for a in ea[:H]],
-        "phi_e": [float(p) for p in ep[:H]],
+        "kappa": (ka[:H] / k0).tolist(),
+        "phi_k": kp[:H].tolist(),
+        "ste_harmonics_um": (ea[:H] * 1e6).tolist(),
+        "phi_e": ep[:H].tolist(),
         "kappa_abs_sum_all": float(np.sum(ka) / k0),
         "iso6336": iso_beside(ms, torque1),
         "faults": faults_json(ms.faults),

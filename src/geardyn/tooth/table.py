@@ -213,7 +213,7 @@ def _read_table(path: str | Path, *, cycles: int | None = None, points: int | No
                 raise ConfigError(
                     f"{where}: the header must be {','.join(_CSV_HEADER)} (ste_m optional), got {','.join(head)!r}"
                 )
-            a = np.array([[float(x) for x in r] for r in rows[1:]], dtype=float)
+            a = np.array([list(map(float, r)) for r in rows[1:]], dtype=float)
             if a.ndim != 2 or a.shape[1] != len(head):
                 raise ConfigError(f"{where}: every row needs {len(head)} numbers")
             return _phased(where, a[:, 0], a[:, 1], a[:, 2] if a.shape[1] == 3 else None)
@@ -271,11 +271,11 @@ def write_table(exc: Excitation, path: str | Path, name: str = "") -> Path:
         d = {
             "name": name,
             "cycles": exc.cycles,
-            "phase_cycles": [float(x) for x in phase],
-            "stiffness_N_per_m": [float(x) for x in exc.stiffness],
+            "phase_cycles": list(map(float, phase)),
+            "stiffness_N_per_m": list(map(float, exc.stiffness)),
         }
         if exc.ste is not None:
-            d["ste_m"] = [float(x) for x in exc.ste]
+            d["ste_m"] = list(map(float, exc.ste))
         p.write_text(json.dumps(d) + "\n", encoding="utf-8")
     else:
         raise ModelError(f"table: {p}: write .csv or .json")

@@ -48,9 +48,11 @@ def to_complex(a, H):
 
 
 @njit(cache=True)
-def to_real(z, H):
-    """Real coefficient vector of the complex coefficients ``z`` of a real signal (imaginary residue dropped)."""
-    out = np.empty(2 * H + 1)
+def to_real(z, H, out=None):
+    """Real coefficient vector of the complex coefficients ``z`` of a real signal (imaginary residue dropped), into
+    ``out`` when given."""
+    if out is None:
+        out = np.empty(2 * H + 1)
     out[0] = z[H].real
     for k in range(1, H + 1):
         pos, neg = z[H + k], z[H - k]
@@ -204,11 +206,7 @@ def real_operator_kernel(A, H):
             AW[r, H + k] = 0.5j * (Nn - P)
     out = np.empty((M, M))
     for col in range(M):
-        out[0, col] = AW[H, col].real
-        for k in range(1, H + 1):
-            Pr, Nr = AW[H + k, col], AW[H - k, col]
-            out[k, col] = (Pr + Nr).real
-            out[H + k, col] = (1j * (Pr - Nr)).real
+        to_real(AW[:, col], H, out[:, col])
     return out
 
 

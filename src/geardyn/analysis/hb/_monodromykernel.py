@@ -69,9 +69,10 @@ def _deflection(x, e, V, vp, vi, cf):
 
 
 @njit(cache=True)
-def _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, out, trig):
+def _coefficients(phi, series, out, trig):
     """The series at φ: out[0, :nd] = G, out[1, :ne] = C, out[2] = K, out[3] = E, out[4] = dE/dφ, out[5, b] the
-    cage angle of bearing b (``trig``: room for cos kφ and sin kφ up to the longest series)."""
+    cage angle of bearing b (``series``: the kernel's; ``trig``: room for cos kφ and sin kφ up to the longest one)."""
+    Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq = series
     for k in range(1, trig.shape[1]):
         trig[0, k] = math.cos(k * phi)
         trig[1, k] = math.sin(k * phi)
@@ -98,7 +99,8 @@ def _bearing_rows(x, V, vp, vi, e, off):
 
 
 @njit(cache=True)
-def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
+def _state_rhs(x, out, system, cf, reg):
+    A, B, W, V, sp, D, inv_nu, nu, bq, bx = system
     nd, ne, (rp, ri, vp, vi, wp, wi) = A.shape[0], W.shape[0], sp
     for r in range(nd):
         out[r] = x[nd + r] * inv_nu
@@ -133,9 +135,10 @@ def _state_rhs(x, out, A, B, W, V, sp, cf, D, reg, inv_nu, nu, bq, bx):
 
 
 @njit(cache=True)
-def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, vy, bq, bx, xs):
+def _tangent_rhs(Y, out, system, cf, reg, vy, xs):
     """ν times the rate of the columns' velocity rows into out[:nd] (their position rows' rate is the velocity
     rows over ν), summed over the nonzeros only (``sp``: the union pattern of A and B, the patterns of V and W)."""
+    A, B, W, V, sp, _D, _inv_nu, _nu, bq, bx = system
     nd, m, ne, (rp, ri, vp, vi, wp, wi) = A.shape[0], Y.shape[1], W.shape[0], sp
     acc, b = vy[1], vy[2]
     for r in range(nd):
@@ -189,35 +192,36 @@ def _tangent_rhs(Y, out, A, B, W, V, sp, cf, reg, vy, bq, bx, xs):
 
 
 @njit(cache=True)
-def _state_step(h, x, out, k1, k2, k3, k4, tmp, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages):
-    """One locked RK4 step of the state from ``x`` into ``out``; c0, c1, c2: the series at the step's start,
-    middle and end; the four stages' states into ``stages`` (for the bearings' stiffness of the tangent step)."""
-    n2 = x.shape[0]
+def _state_step(h, x, out, sv, system, c0, c1, c2, reg, stages):
+    """One locked RK4 step of the state from ``x`` into ``out`` (sv[:5]: room); c0, c1, c2: the series at the step's
+    start, middle and end; the stages' states into ``stages`` (for the bearings' stiffness of the tangent step)."""
+    n2, (k1, k2, k3, k4, tmp) = x.shape[0], (sv[0], sv[1], sv[2], sv[3], sv[4])
     stages[0] = x
-    _state_rhs(x, k1, A, B, W, V, sp, c0, D, reg, inv_nu, nu, bq, bx)
+    _state_rhs(x, k1, system, c0, reg)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k1[r]
     stages[1] = tmp
-    _state_rhs(tmp, k2, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
+    _state_rhs(tmp, k2, system, c1, reg)
     for r in range(n2):
         tmp[r] = x[r] + 0.5 * h * k2[r]
     stages[2] = tmp
-    _state_rhs(tmp, k3, A, B, W, V, sp, c1, D, reg, inv_nu, nu, bq, bx)
+    _state_rhs(tmp, k3, system, c1, reg)
     for r in range(n2):
         tmp[r] = x[r] + h * k3[r]
     stages[3] = tmp
-    _state_rhs(tmp, k4, A, B, W, V, sp, c2, D, reg, inv_nu, nu, bq, bx)
+    _state_rhs(tmp, k4, system, c2, reg)
     for r in range(n2):
         out[r] = x[r] + h / 6.0 * (k1[r] + 2.0 * k2[r] + 2.0 * k3[r] + k4[r])
 
 
 @njit(cache=True)
-def _tangent_step(h, Y, Yn, Ys, F, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages):
-    """One locked RK4 step of the fundamental matrix, in place (a bearing's stiffness at the state's ``stages``): the
-    stages' sum accumulated in ``Yn`` as each stage's rate is known, the next stage's columns in ``Ys``."""
+def _tangent_step(h, Yp, system, c0, c1, c2, reg, vy, stages):
+    """One locked RK4 step of the fundamental matrix Yp[0] in place (a bearing's stiffness at the state's ``stages``):
+    the stages' sum accumulated in ``Yn`` as each stage's rate is known, the next stage's columns in ``Ys``."""
+    (Y, Yn, Ys, F), inv_nu = (Yp[0], Yp[1], Yp[2], Yp[3]), system[6]
     n2, m = Y.shape
     nd = n2 // 2
-    _tangent_rhs(Y, F, A, B, W, V, sp, c0, reg, vy, bq, bx, stages[0])
+    _tangent_rhs(Y, F, system, c0, reg, vy, stages[0])
     for r in range(nd):
         yq, yv, nq, nv, sq, sv, f = Y[r], Y[nd + r], Yn[r], Yn[nd + r], Ys[r], Ys[nd + r], F[r]
         for j in range(m):
@@ -227,7 +231,7 @@ def _tangent_step(h, Y, Yn, Ys, F, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, 
             sq[j] = yq[j] + 0.5 * h * kq
             sv[j] = yv[j] + 0.5 * h * kv
     for stage in range(1, 3):
-        _tangent_rhs(Ys, F, A, B, W, V, sp, c1, reg, vy, bq, bx, stages[stage])
+        _tangent_rhs(Ys, F, system, c1, reg, vy, stages[stage])
         a = 0.5 * h if stage == 1 else h
         for r in range(nd):
             yq, yv, nq, nv, sq, sv, f = Y[r], Y[nd + r], Yn[r], Yn[nd + r], Ys[r], Ys[nd + r], F[r]
@@ -237,7 +241,7 @@ def _tangent_step(h, Y, Yn, Ys, F, A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, 
                 nv[j] += h / 3.0 * kv
                 sq[j] = yq[j] + a * kq
                 sv[j] = yv[j] + a * kv
-    _tangent_rhs(Ys, F, A, B, W, V, sp, c2, reg, vy, bq, bx, stages[3])
+    _tangent_rhs(Ys, F, system, c2, reg, vy, stages[3])
     for r in range(nd):
         yq, yv, nq, nv, sv, f = Y[r], Y[nd + r], Yn[r], Yn[nd + r], Ys[nd + r], F[r]
         for j in range(m):
@@ -256,11 +260,12 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
     Yp[0, :, :m] = Y
     sv, cv, vy = np.empty((7, n2)), np.empty((6, 6, max(A.shape[0], ne))), np.empty((7, mp))
     stages = np.empty((4, n2))
-    s1, s2, s3, s4, st, xe, xt = sv[0], sv[1], sv[2], sv[3], sv[4], sv[5], sv[6]
+    xe, xt = sv[5], sv[6]  # (sv[:5]: the state step's room)
+    series, system = (Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq), (A, B, W, V, sp, D, inv_nu, nu, bq, bx)
     c0, c1, c2, t1, t2, tc = cv[0], cv[1], cv[2], cv[3], cv[4], cv[5]  # tc: the columns' step start
     trig = np.empty((2, 1 + max(Cz.shape[1], Kz.shape[1], Ez.shape[1], Gz.shape[1]) // 2))
     reg = np.empty(ne, dtype=np.int64)
-    _coefficients(0.0, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
+    _coefficients(0.0, series, c0, trig)
     for e in range(ne):
         reg[e] = _region(_deflection(x, e, V, sp[2], sp[3], c0), D[e])
     tc[:] = c0
@@ -270,10 +275,10 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
         if end - (phi + h) < 1e-12 * end:
             h = end - phi
         if not start_known:  # (else the last step's end)
-            _coefficients(phi, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c0, trig)
-        _coefficients(phi + 0.5 * h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
-        _coefficients(phi + h, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
-        _state_step(h, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages)
+            _coefficients(phi, series, c0, trig)
+        _coefficients(phi + 0.5 * h, series, c1, trig)
+        _coefficients(phi + h, series, c2, trig)
+        _state_step(h, x, xe, sv, system, c0, c1, c2, reg, stages)
         for r in range(n2):
             if not math.isfinite(xe[r]):
                 return -1, switches
@@ -293,11 +298,9 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
                 if not (a < c < b):
                     c = 0.5 * (a + b)
-                _coefficients(phi + 0.5 * c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1, trig)
-                _coefficients(phi + c, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t2, trig)
-                _state_step(
-                    c, x, xt, s1, s2, s3, s4, st, A, B, W, V, sp, c0, t1, t2, D, reg, inv_nu, nu, bq, bx, stages
-                )
+                _coefficients(phi + 0.5 * c, series, t1, trig)
+                _coefficients(phi + c, series, t2, trig)
+                _state_step(c, x, xt, sv, system, c0, t1, t2, reg, stages)
                 fc = _deflection(xt, e, V, sp[2], sp[3], t2) - level
                 if fc == 0.0 or b - a <= tol * (1.0 + phi):
                     break
@@ -315,15 +318,11 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
                 first, hs, level_first = e, c, level
         if first < 0 or hs > 1e-13 * end:  # (else on the boundary already: only the region changes)
             if first >= 0:
-                _coefficients(phi + 0.5 * hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c1, trig)
-                _coefficients(phi + hs, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, c2, trig)
-                _state_step(
-                    hs, x, xe, s1, s2, s3, s4, st, A, B, W, V, sp, c0, c1, c2, D, reg, inv_nu, nu, bq, bx, stages
-                )
+                _coefficients(phi + 0.5 * hs, series, c1, trig)
+                _coefficients(phi + hs, series, c2, trig)
+                _state_step(hs, x, xe, sv, system, c0, c1, c2, reg, stages)
             if stride == 1:
-                _tangent_step(
-                    hs, Yp[0], Yp[1], Yp[2], Yp[3], A, B, W, V, sp, c0, c1, c2, reg, inv_nu, vy, bq, bx, stages
-                )
+                _tangent_step(hs, Yp, system, c0, c1, c2, reg, vy, stages)
             for r in range(n2):
                 x[r] = xe[r]
             phi += hs  # (h when no element changed region)
@@ -334,8 +333,8 @@ def monodromy_kernel(x, Y, A, B, W, V, sp, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, 
         if stride > 1 and pending > 0 and (pending == stride or first >= 0 or phi >= end):
             # the columns' step over the state's last steps, before any region changes (c0: the series at φ)
             hc = phi - tphi
-            _coefficients(tphi + 0.5 * hc, Cz, Lc, Kz, Lk, Ez, dEz, Le, Gz, Lg, bq, t1, trig)
-            _tangent_step(hc, Yp[0], Yp[1], Yp[2], Yp[3], A, B, W, V, sp, tc, t1, c0, reg, inv_nu, vy, bq, bx, stages)
+            _coefficients(tphi + 0.5 * hc, series, t1, trig)
+            _tangent_step(hc, Yp, system, tc, t1, c0, reg, vy, stages)
             tc[:] = c0
             tphi, pending = phi, 0
         if first >= 0:

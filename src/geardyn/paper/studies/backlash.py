@@ -11,7 +11,7 @@ import numpy as np
 
 from ...analysis.classify import IMPACT_LABELS
 from ...analysis.confirm import confirm_sweep
-from ..claims import CLAIMS, claim_ids
+from ..claims import CLAIMS, TABLE3, claim_ids
 from ..report import Section
 from ..settings import Context, model_text
 from ..verdicts import count_text, describe_motion, motion_fields, motion_rule, parts, yes_no
@@ -35,10 +35,7 @@ def study_backlash(ctx: Context) -> Section:
     """
     s = ctx.settings
     ctx.log("backlash study")
-    rows = [CLAIMS[c] for c in claim_ids("T3-")]
-    bs = [r.numbers["b"] for r in rows]
-    Ds = [r.numbers["D"] for r in rows]
-    preds = [motion_rule(r.numbers["motion"])[0] for r in rows]
+    Ds = [row[1] for row in TABLE3]
     where = model_text(ctx.base, skip=("D",))
     ds = ctx.bifurcation(ctx.base, "D", s.d_grid, lyapunov=True)
     rel = ctx.save("backlash_bifurcation", ds, f"bifurcation diagram over D ({where})")
@@ -53,30 +50,26 @@ def study_backlash(ctx: Context) -> Section:
     rel_pts = ctx.save("backlash_table3", pts, f"the Table 3 points D = {', '.join(f'{d:g}' for d in Ds)} ({where})")
     ev = [rel_pts, rel, ctx.figure("backlash_bifurcation"), ctx.figure("backlash_table3")]
     m, n, l = motion_fields(pts)
-    lle = pts["lle"].isel(sweep=0).values
-    err = pts["lle_err"].isel(sweep=0).values
-    amp = pts["amplitude"].isel(sweep=0).values
-    imp = pts["impact"].isel(sweep=0).values.astype(int)
+    lle, err, amp, imp = (pts[k].isel(sweep=0).values for k in ("lle", "lle_err", "amplitude", "impact"))
     claims = []
     table = [["b (mm)", "D", "paper", "geardyn motion", "λ1 (1/τ)", "amplitude", "impact"]]
-    for i, r in enumerate(rows):
+    for i, (cid, (b, D, motion, _, sign)) in enumerate(zip(claim_ids("T3-"), TABLE3)):
         desc = describe_motion(int(m[i]), int(n[i]), int(l[i]))
-        sign = r.numbers["lyapunov"]
         table.append(
             [
-                f"{bs[i]:g}",
-                f"{Ds[i]:g}",
-                r.numbers["motion"],
+                f"{b:g}",
+                f"{D:g}",
+                motion,
                 desc,
                 f"{lle[i]:+.4f} ± {err[i]:.1e}",
                 f"{amp[i]:.3f}",
                 IMPACT_LABELS[int(imp[i])],
             ]
         )
-        ok_state = preds[i](int(m[i]), int(n[i]), int(l[i]))
+        ok_state = motion_rule(motion)[0](int(m[i]), int(n[i]), int(l[i]))
         ok_sign = bool(lle_sign_holds(sign, lle[i], err[i]))
         claims.append(
-            r.judge(
+            CLAIMS[cid].judge(
                 f"at ω = {s.omega_damping:g}: {desc}, λ1 = {lle[i]:+.4f} ± {err[i]:.1e} (claimed {sign}); "
                 f"parts holding: {count_text(ok_state + ok_sign, 2, '')}; motion: {yes_no(ok_state)}, "
                 f"exponent sign: {yes_no(ok_sign)}.",
@@ -84,7 +77,7 @@ def study_backlash(ctx: Context) -> Section:
                 ev,
             )
         )
-    nD = len(rows)
+    nD = len(Ds)
     claimed_impact = CLAIMS["BL-IMPACT"].numbers["impact"]
     n_single = sum(IMPACT_LABELS[int(x)] == claimed_impact for x in imp)
     text = (
@@ -92,18 +85,19 @@ def study_backlash(ctx: Context) -> Section:
         + ", ".join(f"{IMPACT_LABELS[int(x)]} (D = {d:g})" for x, d in zip(imp, Ds))
         + f"; {claimed_impact} at {count_text(n_single, nD, 'backlash values')}"
     )
-    claims.append(CLAIMS["BL-IMPACT"].judge(text + ".", "reproduced" if n_single == nD else "contradicted", ev))
+    claims.append(CLAIMS["BL-IMPACT"].judge(text + ".", parts(n_single == nD), ev))
     grows = bool(np.all(np.diff(amp) > 0))
     text = (
         f"at ω = {s.omega_damping:g}: amplitudes "
         + ", ".join(f"{a:.3f}" for a in amp)
         + f" for D = {', '.join(f'{d:g}' for d in Ds)} ({'growing' if grows else 'not growing'} with D)"
     )
-    claims.append(CLAIMS["BL-AMP"].judge(text + ".", "reproduced" if grows else "contradicted", ev))
+    claims.append(CLAIMS["BL-AMP"].judge(text + ".", parts(grows), ev))
     return Section(
         "Backlash (Table 3)",
         [
-            f"The paper pairs b = {', '.join(f'{b:g}' for b in bs)} mm with D = {', '.join(f'{d:g}' for d in Ds)}, "
+            f"The paper pairs b = {', '.join(f'{row[0]:g}' for row in TABLE3)} mm with "
+            f"D = {', '.join(f'{d:g}' for d in Ds)}, "
             "i.e. D = b/(2 mm) with f_p and ε1 fixed (a fixed length scale b_c = 1 mm, not b_c = b_n); this study "
             "uses "
             f"that reading at ω = {s.omega_damping:g}. Amplitude = half peak-to-peak of u over the recorded periods."

@@ -12,7 +12,7 @@ from ..claims import CLAIMS
 from ..report import Section
 from ..settings import Context
 from ..table1 import TABLE1
-from ..verdicts import FORMULA_R2_PARTLY, FORMULA_R2_REPRODUCED, combine
+from ..verdicts import FORMULA_R2_PARTLY, FORMULA_R2_REPRODUCED, parts
 from .jumps import JumpData
 
 __all__ = ["FORMULA_R2_PARTLY", "FORMULA_R2_REPRODUCED", "fit_formula", "fit_responses", "study_formula"]
@@ -35,10 +35,10 @@ def fit_formula(omega: np.ndarray, xi0: np.ndarray, b: np.ndarray, A: np.ndarray
     """
     X = np.column_stack([np.ones_like(omega), np.sin(np.pi * omega) * np.exp(-xi0 * omega), b**2])
     ok = np.all(np.isfinite(X), axis=1) & np.isfinite(A)
-    coef, *_ = np.linalg.lstsq(X[ok], A[ok], rcond=None)
-    pred = X[ok] @ coef
-    res = A[ok] - pred
-    ss_tot = float(np.sum((A[ok] - A[ok].mean()) ** 2))
+    X, A = X[ok], A[ok]
+    coef, *_ = np.linalg.lstsq(X, A, rcond=None)
+    res = A - X @ coef
+    ss_tot = float(np.sum((A - A.mean()) ** 2))
     r2 = 1.0 - float(np.sum(res**2)) / ss_tot if ss_tot > 0 else float("nan")
     return {
         "A0": float(coef[0]),
@@ -72,7 +72,7 @@ def fit_responses(
             if xi1 == TABLE1["xi1"]
         ]
     )
-    return data, fit_formula(data[:, 0], data[:, 1], data[:, 2], data[:, 3])
+    return data, fit_formula(*data.T)
 
 
 def study_formula(ctx: Context, jd: JumpData) -> Section:
@@ -94,12 +94,13 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
         (xi0, xi1, 2 * D, ds["omega"].values, ds["amplitude"].sel(sweep="up").values)
         for (xi0, xi1, D), ds in jd.responses.items()
     )
+    omega, xi0, b_mm, amp = data.T
     ds = xr.Dataset(
         {
-            "amplitude": ("point", data[:, 3]),
-            "omega": ("point", data[:, 0]),
-            "xi0": ("point", data[:, 1]),
-            "b_mm": ("point", data[:, 2]),
+            "amplitude": ("point", amp),
+            "omega": ("point", omega),
+            "xi0": ("point", xi0),
+            "b_mm": ("point", b_mm),
         },
         attrs={
             "geardyn_kind": "formula_fit",
@@ -107,17 +108,16 @@ def study_formula(ctx: Context, jd: JumpData) -> Section:
             **{k: str(v) for k, v in fit.items()},
         },
     )
-    groups = sorted({(float(x), float(b)) for x, b in zip(data[:, 1], data[:, 2])})
+    groups = sorted({(float(x), float(b)) for x, b in zip(xi0, b_mm)})
     where = f"ξ1 = {TABLE1['xi1']:g}; (ξ0, b in mm) = " + ", ".join(f"({x:g}, {b:g})" for x, b in groups)
     rel = ctx.save("formula_fit", ds, f"formula fit to the up sweeps ({where})")
     r2 = fit["r2"]
-    v = combine(r2 >= FORMULA_R2_REPRODUCED, r2 >= FORMULA_R2_PARTLY)
     ev = [rel, ctx.figure("formula_fit")]
     c = CLAIMS["FORMULA"].judge(
         f"least-squares fit to {fit['n']} computed amplitudes (up sweeps, ξ1 = {TABLE1['xi1']:g}, b = 2D mm): "
         f"A0 = {fit['A0']:.3f}, ΔA = {fit['dA']:.3f}, β = {fit['beta']:.3f} per mm²; R² = {r2:.3f}, "
         f"RMS error {fit['rmse']:.3f} (holds from R² ≥ {FORMULA_R2_REPRODUCED:g}).",
-        v,
+        parts(r2 >= FORMULA_R2_REPRODUCED),
         ev,
     )
     return Section(

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...analysis.response import frequency_response
-from ..claims import CLAIMS, claim_ids
+from ..claims import CLAIMS, TABLE4, claim_ids
 from ..report import Finding, Section
 from ..settings import SYMBOLS, Context, ResponseKey, model_text
 from ..table1 import TABLE1
@@ -215,13 +215,11 @@ def compute_responses(ctx: Context) -> JumpData:
     out: dict[ResponseKey, xr.Dataset] = {}
     ev: dict[ResponseKey, list[str]] = {}
     for key in s.response_sets:
-        xi0, xi1, D = key
-        ctx.log(f"frequency response ξ0 = {xi0:g}, ξ1 = {xi1:g}, D = {D:g}")
+        ctx.log(f"frequency response {_key_text(key)}")
         model = ctx.model_at(key)
         ds = frequency_response(
             model,
-            s.response_omega[0],
-            s.response_omega[1],
+            *s.response_omega,
             s.response_num,
             options=s.response_options,
             settle_periods=s.settle,
@@ -243,11 +241,6 @@ OVERLAYS = (
     ("xi1", 1, "xi1_set", ("JUMP-XI1", "JUMP-FLUCT")),
     ("D", 2, "d_set", ("JUMP-057", "JUMP-082", "JUMP-095", "T4-4", "T4-5")),
 )
-
-
-def overlay_key(param: str) -> str:
-    """The name of the saved overlay of the responses with ``param`` varied."""
-    return f"responses_over_{param}"
 
 
 def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> xr.Dataset:
@@ -285,12 +278,12 @@ def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> x
             if cid == "JUMP-057" or any(k[2] == n["b"] / 2 for k in keys):
                 what = "jumps" if cid == "JUMP-057" else f"{n['direction']}ward jump at b = {n['b']:g} mm"
                 marks.append([n["omega"], f"ω = {n['omega']:g}: {what} (paper)"])
-    table4 = []
-    for cid in claim_ids("T4-"):
-        omega4, xi0, b, A = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A"))
-        for i, k in enumerate(keys):
-            if k == (xi0, TABLE1["xi1"], b / 2):
-                table4.append([i, omega4, A, cid])
+    table4 = [
+        [i, omega4, A, cid]
+        for cid, (omega4, xi0, b, A, _) in zip(claim_ids("T4-"), TABLE4)
+        for i, k in enumerate(keys)
+        if k == (xi0, TABLE1["xi1"], b / 2)
+    ]
     return xr.Dataset(
         {
             "amplitude": (("case", "sweep", "omega"), amp),
@@ -331,7 +324,7 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
         keys = list(getattr(s, attr))
         if len(keys) < 2:
             continue
-        name = overlay_key(param)
+        name = f"responses_over_{param}"
         fixed = model_text(ctx.model_at(keys[0]), skip=("omega", param))
         values = ", ".join(f"{k[index]:g}" for k in keys)
         rel = ctx.save(
@@ -377,19 +370,18 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
     R = jd.responses
     claims: list[Finding] = []
     table = [["ξ0", "ξ1", "D", "jumps (ω, direction, size, sweep)", "hysteresis intervals"]]
-    for (xi0, xi1, D), ds in R.items():
+    for key, ds in R.items():
         js = (
             "; ".join(f"{j['omega']:.3f} {j['direction']} {j['size']:.3f} ({j['sweep']})" for j in jumps_of(ds))
             or "none"
         )
         hs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in hysteresis_of(ds)) or "none"  # as the jumps
-        table.append([f"{xi0:g}", f"{xi1:g}", f"{D:g}", js, hs])
+        table.append([*(f"{v:g}" for v in key), js, hs])
 
     # steady below ω = 0.5
     low = [(k, j) for k, ds in R.items() for j in jumps_of(ds) if j["omega"] < LOW_OMEGA]
     low_h = [(k, h) for k, ds in R.items() for h in hysteresis_of(ds) if h[0] < LOW_OMEGA]
-    unsteady = {k for k, _ in low} | {k for k, _ in low_h}
-    n_steady = len(R) - len(unsteady)
+    n_steady = len(R) - len({k for k, _ in low + low_h})
     claims.append(
         CLAIMS["JUMP-LOW"].judge(
             f"over {len(R)} responses (ξ0, ξ1, D varied): {len(low)} jumps and {len(low_h)} hysteresis intervals below "
@@ -470,7 +462,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             CLAIMS[cid].judge(
                 f"b = {b:g} read as D = b/2 (the default reading): {txt} (the nearest jump must be "
                 f"{direction}ward; the opposite jump fails).",
-                "reproduced" if ok else "contradicted",
+                parts(ok),
                 jd.ev(*keys),
             )
         )
@@ -531,15 +523,12 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
     R = jd.responses
     claims = []
     table = [["ω", "ξ0", "b", "paper A", "paper jump", "geardyn A (up / down)", f"jumps within ±{TABLE4_NEAR:g}"]]
-    for cid in claim_ids("T4-"):
-        omega, xi0, b, A, kind = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A", "jump"))
-        key = (xi0, TABLE1["xi1"], b / 2)
-        alt = (xi0, TABLE1["xi1"], b)
+    for cid, (omega, xi0, b, A, kind) in zip(claim_ids("T4-"), TABLE4):
+        key, alt = (xi0, TABLE1["xi1"], b / 2), (xi0, TABLE1["xi1"], b)
         ds = R[key]
         w, a_up, a_dn, kinds = _read_at(ds, omega)
         kind_ok = jump_holds(jumps_of(ds), omega, kind, TABLE4_NEAR)
         amp_ok = any(abs(a - A) <= TABLE4_AMP_REL * A for a in (a_up, a_dn))
-        v = parts(amp_ok, kind_ok)
         txt = (
             f"D = {b / 2:g} (b/2): A = {a_up:.3f} (up) / {a_dn:.3f} (down) at ω = {w:.3f}; jumps within "
             f"±{TABLE4_NEAR:g}: {', '.join(kinds) or 'none'} (nearest: "
@@ -552,7 +541,7 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
             _, a_alt, _, ja = _read_at(R[alt], omega)
             txt += f". Read as D = b = {b:g}: A = {a_alt:.3f} (up), jumps: {', '.join(ja) or 'none'}"
             ev += jd.evidence[alt]
-        claims.append(CLAIMS[cid].judge(txt + ".", v, ev))
+        claims.append(CLAIMS[cid].judge(txt + ".", parts(amp_ok, kind_ok), ev))
         table.append(
             [f"{omega:g}", f"{xi0:g}", f"{b:g}", f"{A:g}", kind, f"{a_up:.3f} / {a_dn:.3f}", ", ".join(kinds) or "none"]
         )

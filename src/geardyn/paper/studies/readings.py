@@ -32,12 +32,8 @@ from ..settings import Context
 from ..table1 import TABLE1
 from ..verdicts import MATCH_REPRODUCED, length_fraction, match_fraction, motion_rule, range_of, yes_no
 
-__all__ = ["ReadingRow", "ScreenData", "damping_readings", "intervals_text", "run_screen"]
+__all__ = ["ScreenData", "damping_readings", "intervals_text", "run_screen"]
 
-#: How a confirmation is judged: its results (a variable per point) → (holds, result).
-Judge = Callable[[dict[str, np.ndarray]], tuple[bool, str]]
-#: A candidate reading on the screen: (ω, phase pair, backlash reading).
-Candidate = tuple[float, tuple[float, float], str]
 
 #: ξ0 probes of the screen and the claims they test: (ξ0, claim ids).
 XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
@@ -50,8 +46,6 @@ XI0_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = (
 XI1_PROBES: tuple[tuple[float, tuple[str, ...]], ...] = ((0.01, ("T2-4", "XI1-CHAOS")), (0.08, ("T2-5", "XI1-CHAOS")))
 #: The backlash values of Table 3 (mm).
 TABLE3_B: tuple[float, ...] = tuple(CLAIMS[c].numbers["b"] for c in claim_ids("T3-"))
-#: All 16 phase pairs for the damping claims (False: each phase varied alone, 7 pairs, as for the others).
-FULL_PHASES = False
 #: XI0-BIF: the chaos below this ξ0 ends at the first bifurcation point ...
 LOW_CHAOS_BELOW = 0.3
 #: ... and chaos from this ξ0 on is the return to chaos at the second.
@@ -87,11 +81,6 @@ def lle_sign_holds(word: str, lle: float, err: float) -> bool:
     return {"negative": lle < -band, "near zero": abs(lle) <= max(band, LLE_NEAR), "positive": lle > band}[word]
 
 
-def at_omegas(ws: Sequence[float]) -> str:
-    """``"at ω = 0.62–0.71, 1.20"``, or ``"at no ω of the grid"``."""
-    return f"at ω = {intervals_text(ws)}" if len(ws) else "at no ω of the grid"
-
-
 def intervals_text(ws: Sequence[float], step: float = 0.01) -> str:
     """Grid values as runs: ``"0.62–0.71, 1.20"`` (``"none"`` when empty).
 
@@ -106,36 +95,11 @@ def intervals_text(ws: Sequence[float], step: float = 0.01) -> str:
     -------
     str
     """
-    w = sorted(float(x) for x in ws)
-    if not w:
+    w = np.sort(np.asarray(ws, dtype=float))
+    if not w.size:
         return "none"
-    runs = [[w[0], w[0]]]
-    for x in w[1:]:
-        if x - runs[-1][1] <= step * 1.5:
-            runs[-1][1] = x
-        else:
-            runs.append([x, x])
-    return ", ".join(f"{a:.2f}" if a == b else f"{a:.2f}–{b:.2f}" for a, b in runs)
-
-
-@dataclass
-class ReadingRow:
-    """One row of a claim's readings table: a reading (or a family of them) and the result.
-
-    Parameters
-    ----------
-    reading : str
-        The reading, or the family of readings (a phase pair over the ω grid).
-    result : str
-        The claim's result under it.
-    holds : str
-        ``"yes"``, ``"no"``, ``"screen"`` (where the screen shows candidates only), ``"confirmed"`` or
-        ``"not confirmed"`` (a full computation at a candidate).
-    """
-
-    reading: str
-    result: str
-    holds: str  # "yes", "no", "screen" (candidates only), "confirmed", "not confirmed"
+    runs = np.split(w, np.flatnonzero(np.diff(w) > step * 1.5) + 1)
+    return ", ".join(f"{r[0]:.2f}" if r[0] == r[-1] else f"{r[0]:.2f}–{r[-1]:.2f}" for r in runs)
 
 
 @dataclass
@@ -146,9 +110,8 @@ class ScreenData:
     ----------
     omegas : ndarray
         The ω grid.
-    pairs_full, pairs_one : list of (float, float)
-        The phase pairs of the damping claims (:data:`FULL_PHASES`) and of the backlash claims (each phase varied
-        alone).
+    pairs : list of (float, float)
+        The phase pairs (each phase varied alone, :func:`geardyn.paper.readings.phase_pairs`).
     xi0, xi1 : dict of ndarray
         Per variable, (probe, phase pair, ω) for the ξ0 and ξ1 probes.
     bl : dict of ndarray
@@ -156,8 +119,7 @@ class ScreenData:
     """
 
     omegas: np.ndarray
-    pairs_full: list[tuple[float, float]]
-    pairs_one: list[tuple[float, float]]
+    pairs: list[tuple[float, float]]
     xi0: dict[str, np.ndarray] = field(default_factory=dict)  # var -> (probe, pair, ω)
     xi1: dict[str, np.ndarray] = field(default_factory=dict)
     bl: dict[str, np.ndarray] = field(default_factory=dict)  # var -> (reading, b, pair, ω)
@@ -179,28 +141,22 @@ def run_screen(ctx: Context) -> ScreenData:
     """
     s = ctx.settings
     W = np.asarray(s.readings_omegas, dtype=float)
-    full, one = phase_pairs(FULL_PHASES), phase_pairs(False)
+    pairs = phase_pairs(False)
     xi1_t, xi0_t = TABLE1["xi1"], TABLE1["xi0"]
-    rows = []
-    for x0, _ in XI0_PROBES:
-        rows += [[w, a, b, x0, xi1_t, 1.0] for (a, b) in full for w in W]
-    for x1, _ in XI1_PROBES:
-        rows += [[w, a, b, xi0_t, x1, 1.0] for (a, b) in full for w in W]
-    for scale in BACKLASH_READINGS.values():
-        for bmm in TABLE3_B:
-            rows += [[w, a, b, xi0_t, xi1_t, bmm / scale] for (a, b) in one for w in W]
-    pts = np.asarray(rows, dtype=float)
+    probes = (
+        [(x0, xi1_t, 1.0) for x0, _ in XI0_PROBES]
+        + [(xi0_t, x1, 1.0) for x1, _ in XI1_PROBES]
+        + [(xi0_t, xi1_t, bmm / scale) for scale in BACKLASH_READINGS.values() for bmm in TABLE3_B]
+    )
+    pts = np.asarray([[w, a, b, *p] for p in probes for (a, b) in pairs for w in W], dtype=float)
     ctx.log(f"readings screen: {pts.shape[0]} points")
     r = screen(ctx.base, NAMES, pts, s.readings_options, s.readings_settle, ctx.executor)
-    nW, nf, no = W.size, len(full), len(one)
-    a = len(XI0_PROBES) * nf * nW
-    b = a + len(XI1_PROBES) * nf * nW
+    a, b = len(XI0_PROBES), len(XI0_PROBES) + len(XI1_PROBES)
     keep = ("motion", "period", "lle", "amplitude", "impact", "u_min")
-    data = ScreenData(W, full, one)
+    data = ScreenData(W, pairs)
     for k in keep:
-        data.xi0[k] = r[k][:a].reshape(len(XI0_PROBES), nf, nW)
-        data.xi1[k] = r[k][a:b].reshape(len(XI1_PROBES), nf, nW)
-        data.bl[k] = r[k][b:].reshape(len(BACKLASH_READINGS), len(TABLE3_B), no, nW)
+        v = r[k].reshape(len(probes), len(pairs), W.size)
+        data.xi0[k], data.xi1[k], data.bl[k] = v[:a], v[a:b], v[b:].reshape(len(BACKLASH_READINGS), -1, *v.shape[1:])
     ctx.save(
         "readings_screen",
         xr.Dataset(
@@ -229,21 +185,24 @@ def _pred(cid: str) -> Callable[[int, int], bool]:
     return lambda m, n: bool(f(int(m), int(n), 0))
 
 
-def _order(cands: list[Candidate]) -> list[Candidate]:
-    """Candidates nearest the default first: default phases and backlash reading, then ω nearest 1."""
-    return sorted(cands, key=lambda c: (c[1] != (0.0, 0.0), c[2] not in ("", DEFAULT_BACKLASH), abs(c[0] - 1.0)))
+def _order(cands: list[Reading]) -> list[Reading]:
+    """Candidate readings nearest the default first: default phases and backlash reading, then ω nearest 1."""
+    return sorted(
+        cands,
+        key=lambda r: ((r.phi_c, r.phi_k) != (0.0, 0.0), r.backlash not in ("", DEFAULT_BACKLASH), abs(r.omega - 1.0)),
+    )
 
 
 @dataclass
 class Verification:
-    """A candidate reading confirmed by a full computation: the points and how to judge them."""
+    """A candidate reading confirmed by a full computation: the points (:func:`_judge` judges them)."""
 
     cid: str
     reading: Reading
     param: str
     values: list[float]
-    judge: Judge
     start: int = 0
+    table: bool = False  # computed for the table of the claim's rows (under the best reading), not for the claim
 
 
 def claim_range(cid: str) -> tuple[float, float, bool, bool]:
@@ -279,22 +238,9 @@ def in_range(cid: str, grid: Sequence[float]) -> list[float]:
     lo, hi, _, _ = claim_range(cid)
     x = np.asarray(grid, dtype=float)
     idx = np.flatnonzero((x >= lo) & (x <= hi))
-    if idx.size == 0:
-        return [float(v) for v in x]
-    a, b = max(int(idx[0]) - 1, 0), min(int(idx[-1]) + 1, x.size - 1)
-    return [float(v) for v in x[a : b + 1]]
-
-
-def _range_judge(cid: str, values: Sequence[float]) -> Judge:
-    lo, hi, lo_open, hi_open = claim_range(cid)
-    pred = _pred(cid)
-
-    def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
-        ok = [pred(m, n) for m, n in zip(r["motion"], r["period"])]
-        frac, _ = length_fraction(values, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
-        return bool(frac >= MATCH_REPRODUCED), f"{100 * frac:.0f} % of the interval's length"
-
-    return judge
+    if idx.size:
+        x = x[max(idx[0] - 1, 0) : idx[-1] + 2]
+    return [float(v) for v in x]
 
 
 def bif_points(x: Sequence[float], motion: Sequence[int]) -> tuple[float, np.ndarray, bool, bool]:
@@ -327,71 +273,57 @@ def bif_points(x: Sequence[float], motion: Sequence[int]) -> tuple[float, np.nda
     )
 
 
-def _xi0_bif_judge(values: Sequence[float]) -> Judge:
-
-    def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
-        last, high, ok1, ok2 = bif_points(values, r["motion"])
-        return ok1 and ok2, (f"last low chaos at ξ0 = {last:.3g}" if np.isfinite(last) else "no low chaos") + (
-            f", chaos again at ξ0 = {high.min():.3g}" if high.size else ", no chaos at high ξ0"
-        )
-
-    return judge
-
-
-def _t3_judge(cid: str) -> Judge:
-    pred, word = _pred(cid), CLAIMS[cid].numbers["lyapunov"]
-
-    def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
+def _judge(cid: str, x: Sequence[float], r: dict[str, np.ndarray]) -> tuple[bool, str]:
+    """A confirmation of claim ``cid`` at the values ``x`` of its parameter, judged from its results (a
+    variable per point): (holds, result)."""
+    if cid.startswith("T3-"):
         m, n, lam, err = int(r["motion"][0]), int(r["period"][0]), float(r["lle"][0]), float(r["lle_err"][0])
-        ok_m, ok_s = pred(m, n), lle_sign_holds(word, lam, err)
+        ok_m, ok_s = _pred(cid)(m, n), lle_sign_holds(CLAIMS[cid].numbers["lyapunov"], lam, err)
         lab = f"period-{n}" if m == MOTION_PERIODIC else {MOTION_CHAOTIC: "chaotic"}.get(m, "unresolved")
         return (
             ok_m and ok_s,
             f"{lab}, λ1 = {lam:+.4f} ± {err:.1e} (motion {yes_no(ok_m)}, sign {yes_no(ok_s)})",
         )
+    if cid == "BL-IMPACT":
+        imp = [IMPACT_LABELS[int(i)] for i in r["impact"]]
+        return all(int(i) == SINGLE_SIDED for i in r["impact"]), "impacts " + ", ".join(imp)
+    if cid == "BL-AMP":
+        a = np.asarray(r["amplitude"], dtype=float)
+        return bool(np.all(np.diff(a) > 0)), "amplitudes " + ", ".join(f"{v:.3f}" for v in a)
+    if cid == "XI1-CHAOS":
+        (a, ta), (b, tb) = _judge("T2-4", x, r), _judge("T2-5", x, r)
+        return a and b, f"regular at low ξ1: {ta}; chaotic at high ξ1: {tb}"
+    if cid == "XI0-BIF":
+        last, high, ok1, ok2 = bif_points(x, r["motion"])
+        return ok1 and ok2, (f"last low chaos at ξ0 = {last:.3g}" if np.isfinite(last) else "no low chaos") + (
+            f", chaos again at ξ0 = {high.min():.3g}" if high.size else ", no chaos at high ξ0"
+        )
+    lo, hi, lo_open, hi_open = claim_range(cid)  # a range claim
+    ok = np.vectorize(_pred(cid), otypes=[bool])(r["motion"], r["period"])
+    frac, _ = length_fraction(x, ok, lo, hi, lo_open=lo_open, hi_open=hi_open)
+    return bool(frac >= MATCH_REPRODUCED), f"{100 * frac:.0f} % of the interval's length"
 
-    return judge
+
+def _t3_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+    """:func:`_judge` of a row of Table 3, as a function of the results."""
+    return lambda r: _judge(cid, (), r)
 
 
-@dataclass
-class _Screened:
-    """The readings tables of the screened claims as they are built: rows, candidates and where each holds."""
-
-    omegas: np.ndarray
-    rows: dict[str, list[ReadingRow]] = field(default_factory=dict)
-    cands: dict[str, list[Candidate]] = field(default_factory=dict)
-    okmap: dict[str, list[np.ndarray]] = field(default_factory=dict)  # claim -> per reading family, ok over ω
-
-    def add(
-        self,
-        cid: str,
-        label: str,
-        what: str,
-        ok: np.ndarray,
-        pair: tuple[float, float],
-        key: str,
-        holds: str = "screen",
-    ) -> None:
-        """One reading family of a claim: where over ω the screen holds (its ω are candidates)."""
-        ws = self.omegas[ok]
-        self.okmap.setdefault(cid, []).append(ok)
-        self.rows.setdefault(cid, []).append(ReadingRow(label, f"{what} {at_omegas(ws)}", holds))
-        self.cands.setdefault(cid, []).extend((float(w), pair, key) for w in ws)
+def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
+    """:func:`_judge` of XI0-BIF on the grid ``values``, as a function of the results."""
+    return lambda r: _judge("XI0-BIF", values, r)
 
 
 def _verification(cid: str, rd: Reading, grids: dict[str, list[float]]) -> Verification:
-    """The full computation that confirms a claim under a reading: its points and its judge."""
+    """The full computation that confirms a claim under a reading: its points."""
     if cid.startswith("T3-"):
-        return Verification(cid, rd, "D", [rd.D(CLAIMS[cid].numbers["b"])], _t3_judge(cid))
+        return Verification(cid, rd, "D", [rd.D(CLAIMS[cid].numbers["b"])])
     if cid.startswith("BL-"):
-        return Verification(cid, rd, "D", [rd.D(b) for b in TABLE3_B], _bl_judge(cid))
-    if cid == "XI1-CHAOS":
-        return Verification(cid, rd, "xi1", grids["xi1"], _xi1_chaos_judge(grids["xi1"]))
-    if cid == "XI0-BIF":
-        return Verification(cid, rd, "xi0", grids["xi0"], _xi0_bif_judge(grids["xi0"]))
-    param = str(CLAIMS[cid].numbers["param"])  # a range claim: the grid over its interval
-    grid = in_range(cid, grids[param])
-    return Verification(cid, rd, param, grid, _range_judge(cid, grid))
+        return Verification(cid, rd, "D", [rd.D(b) for b in TABLE3_B])
+    param = str(CLAIMS[cid].numbers["param"])  # XI0-BIF, XI1-CHAOS: the whole grid; a range claim: its interval
+    return Verification(
+        cid, rd, param, grids[param] if cid in ("XI0-BIF", "XI1-CHAOS") else in_range(cid, grids[param])
+    )
 
 
 def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding]) -> dict[str, Any]:
@@ -407,39 +339,57 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
     Returns
     -------
     dict
-        ``tables`` (claim id → rows), ``best`` (Table 2 and 3 readings with their confirmed results).
+        ``tables`` (claim id → (reading, holds, result) of the Table 2 and 3 rows under ``best2`` and ``best3``,
+        the readings that agree best with the tables on the screen).
     """
     s = ctx.settings
     W = data.omegas
-    grids = {"xi0": [float(v) for v in s.xi0_grid], "xi1": [float(v) for v in s.xi1_grid]}
-    tab = _Screened(W)
+    grids = {p: [float(v) for v in getattr(s, p + "_grid")] for p in ("xi0", "xi1")}
+    # per claim: the readings table's rows ([reading, result, holds]; holds "yes", "no", "screen" where the screen
+    # shows candidates only, "confirmed" or "not confirmed" for a full computation at a candidate), the candidates
+    # and, per reading family, where over ω the screen holds
+    rows: dict[str, list[list[str]]] = {}
+    cands: dict[str, list[Reading]] = {}
+    okmap: dict[str, list[np.ndarray]] = {}
+
+    def add(cid: str, label: str, what: str, ok: np.ndarray, pair: tuple[float, float], key: str, holds="screen"):
+        ws = W[ok]
+        okmap.setdefault(cid, []).append(ok)
+        where = f"at ω = {intervals_text(ws)}" if len(ws) else "at no ω of the grid"
+        rows.setdefault(cid, []).append([label, f"{what} {where}", holds])
+        cands.setdefault(cid, []).extend(Reading(*pair, key, float(w)) for w in ws)
+
     # Table 2, XI0-BIF, XI1-CHAOS: per phase pair, the ω where every probe of the claim holds
     for probes, var in ((XI0_PROBES, data.xi0), (XI1_PROBES, data.xi1)):
         for cid in sorted({c for _, cs in probes for c in cs}, key=list(CLAIMS).index):
-            for j, pair in enumerate(data.pairs_full):
-                ok = np.ones(W.size, dtype=bool)
-                for i, (_, cs) in enumerate(probes):
-                    if cid in cs:
-                        word = _probe_word(cid, cs)
-                        ok &= np.array([word(m, n) for m, n in zip(var["motion"][i, j], var["period"][i, j])])
-                tab.add(cid, Reading(*pair).text, "probes hold", ok, pair, "")
+            for j, pair in enumerate(data.pairs):
+                # each probe of the claim must show its motion: the claim's own, or for the sequences that of the
+                # Table 2 row the probe stands for (the probe of chaos again at high ξ0: row 1's)
+                ok = np.logical_and.reduce(
+                    [
+                        np.vectorize(
+                            _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
+                        )(var["motion"][i, j], var["period"][i, j])
+                        for i, (_, cs) in enumerate(probes)
+                        if cid in cs
+                    ]
+                )
+                add(cid, Reading(*pair).text, "probes hold", ok, pair, "")
     # Table 3 (the ω where each row's motion holds), BL-IMPACT, BL-AMP and their joint test with the Table 3
     # sequence (F2), per backlash reading and phase pair
     n_joint = n_seq = 0
     for r, key in enumerate(BACKLASH_READINGS):
-        for j, pair in enumerate(data.pairs_one):
-            lab = _bl_reading(key, pair)
+        for j, pair in enumerate(data.pairs):
+            lab = f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
             seq = np.ones(W.size, dtype=bool)
             for k, cid in enumerate(claim_ids("T3-")):
-                pred, n = _pred(cid), data.bl["period"][r, k, j]
-                ok = np.array([pred(a, b) for a, b in zip(data.bl["motion"][r, k, j], n)])
+                n = data.bl["period"][r, k, j]
+                ok = np.vectorize(_pred(cid))(data.bl["motion"][r, k, j], n)
                 seq &= ok
                 if CLAIMS[cid].numbers["lyapunov"] == "near zero":  # near a change of motion: λ1 can be near zero
-                    edge = np.zeros_like(ok)
-                    edge[1:] |= n[1:] != n[:-1]
-                    edge[:-1] |= n[1:] != n[:-1]
-                    ok = ok & edge
-                tab.add(cid, lab, "motion holds", ok, pair, key)
+                    d = n[1:] != n[:-1]
+                    ok = ok & (np.r_[False, d] | np.r_[d, False])
+                add(cid, lab, "motion holds", ok, pair, key)
             ok_imp = np.all(data.bl["impact"][r, :, j, :] == SINGLE_SIDED, axis=0)
             ok_amp = np.all(np.diff(data.bl["amplitude"][r, :, j, :], axis=0) > 0, axis=0)
             n_joint += int(np.sum(seq & ok_imp))
@@ -448,18 +398,17 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 ("BL-IMPACT", ok_imp, "single-sided at all three b"),
                 ("BL-AMP", ok_amp, "amplitude grows with b"),
             ):
-                tab.add(cid, lab, what, ok, pair, key, yes_no(ok.any()))
+                add(cid, lab, what, ok, pair, key, yes_no(ok.any()))
     joint = (
         f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided "
         f"impacts hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not "
         "depend on D)"
     )
-    rows, cands = tab.rows, tab.cands
-    ids = [c for c in CLAIMS if c in tab.okmap]
+    ids = [c for c in CLAIMS if c in okmap]
     ctx.save(
         "readings_damping",
         xr.Dataset(
-            {"hold_fraction": (("claim", "omega"), np.array([np.mean(tab.okmap[c], axis=0) for c in ids]))},
+            {"hold_fraction": (("claim", "omega"), np.array([np.mean(okmap[c], axis=0) for c in ids]))},
             coords={"claim": ids, "omega": W},
             attrs={"geardyn_kind": "readings_map", "model": json_attr(ctx.base), "default_omega": s.omega_damping},
         ),
@@ -478,45 +427,47 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
         if findings[cid].verdict != "reproduced":
             n_pts = len(_verification(cid, Reading(), grids).values)
             ver += [
-                _verification(cid, Reading(pair[0], pair[1], key, w), grids)
-                for w, pair, key in _order(cs)[: max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]
+                _verification(cid, rd, grids) for rd in _order(cs)[: max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]
             ]
     # the readings that agree best with Tables 2 and 3 on the screen, computed in full for the tables
     best2, best3 = _best_t2(data), _best_t3(data)
     ver += [
-        replace(_verification(cid, best, grids), cid="TAB:" + cid)
+        replace(_verification(cid, best, grids), table=True)
         for prefix, best in (("T2-", best2), ("T3-", best3))
         for cid in claim_ids(prefix)
     ]
     results = _verify(ctx, ver)
-    tables = {v.cid[4:]: (v.reading, ok, txt) for v, (ok, txt) in zip(ver, results) if v.cid.startswith("TAB:")}
+    tables = {}
     for v, (ok, txt) in zip(ver, results):
-        if not v.cid.startswith("TAB:"):
-            rows[v.cid].append(
-                ReadingRow(v.reading.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed")
-            )
+        if v.table:
+            tables[v.cid] = (v.reading, ok, txt)
+        else:
+            rows[v.cid].append([v.reading.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed"])
     for cid, rs in rows.items():
         f = findings[cid]
-        head = ReadingRow(
-            "default: ω = 1, φ_c1 = 0, φ_k1 = 0" + (", D = b/(2 mm)" if cid.startswith(("T3", "BL")) else ""),
-            "see the study (full computation)",
-            yes_no(f.verdict == "reproduced"),
-        )
-        f.readings = [["reading", "result", "holds"]] + [[r.reading, r.result, r.holds] for r in [head] + rs]
+        f.readings = [
+            ["reading", "result", "holds"],
+            [
+                "default: ω = 1, φ_c1 = 0, φ_k1 = 0" + (", D = b/(2 mm)" if cid.startswith(("T3", "BL")) else ""),
+                "see the study (full computation)",
+                yes_no(f.verdict == "reproduced"),
+            ],
+            *rs,
+        ]
         if f.verdict == "reproduced":
             f.deciding = "holds at the default reading (full computation)"
             continue
         # the claim's own confirmations come first in ``ver``, then those of the tables
-        ok = [v for v, (o, _) in zip(ver, results) if o and v.cid in (cid, "TAB:" + cid)]
-        if ok:
-            f.verdict, f.reading = "reproduced under a reading", ok[0].reading.text
+        rd = next((v.reading for v, (o, _) in zip(ver, results) if o and v.cid == cid), None)
+        if rd:
+            f.verdict, f.reading = "reproduced under a reading", rd.text
             f.deciding = (
-                f"holds under {ok[0].reading.text} ({ok[0].reading.changes() or 'default'}), confirmed by a "
+                f"holds under {rd.text} ({rd.changes() or 'default'}), confirmed by a "
                 f"full computation; fails at the default reading"
             )
         else:
-            tried = sum(1 for r in rs if r.holds == "screen")
-            n_v = sum(v.cid == cid for v in ver)
+            tried = sum(r[2] == "screen" for r in rs)
+            n_v = sum(v.cid == cid and not v.table for v in ver)
             f.deciding = (
                 f"fails at the default reading; the screen of {tried} reading families × {W.size} ω gives "
                 f"{len(cands.get(cid, []))} candidate readings"
@@ -525,64 +476,32 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
             )
             if "quasi" in str(CLAIMS[cid].numbers.get("motion", "")):
                 f.deciding += "; by F1 its 'quasi-n-periodic' can only be period-n, which is what was tested"
-    return {"rows": rows, "tables": tables, "best2": best2, "best3": best3}
+    return {"tables": tables, "best2": best2, "best3": best3}
 
 
-def _best(data: ScreenData, score: np.ndarray, pairs: list[tuple[float, float]], keys: Sequence[str]) -> Reading:
+def _best(data: ScreenData, score: np.ndarray, keys: Sequence[str]) -> Reading:
     """The reading of highest ``score`` (backlash reading, phase pair, ω) on the screen (ties: nearest the default)."""
-    score = np.reshape(score, (len(keys), len(pairs), data.omegas.size))
-    cands = [(float(data.omegas[w]), pairs[j], keys[r]) for r, j, w in zip(*np.nonzero(score == score.max()))]
-    w, pair, key = _order(cands)[0]
-    return Reading(pair[0], pair[1], key, w)
+    score = np.reshape(score, (len(keys), len(data.pairs), data.omegas.size))
+    return _order(
+        [Reading(*data.pairs[j], keys[r], float(data.omegas[w])) for r, j, w in zip(*np.nonzero(score == score.max()))]
+    )[0]
 
 
 def _best_t2(data: ScreenData) -> Reading:
     """The (ω, phases) where most Table 2 rows hold on the screen (ties: nearest the default)."""
-    score = np.zeros((len(data.pairs_full), data.omegas.size))
-    for probes, var in ((XI0_PROBES[:3], data.xi0), (XI1_PROBES, data.xi1)):
-        for i, (_, cs) in enumerate(probes):
-            score += np.vectorize(_pred(cs[0]))(var["motion"][i], var["period"][i])
-    return _best(data, score, data.pairs_full, ("",))
+    score = sum(
+        np.vectorize(_pred(cs[0]))(var["motion"][i], var["period"][i])
+        for probes, var in ((XI0_PROBES[:3], data.xi0), (XI1_PROBES, data.xi1))
+        for i, (_, cs) in enumerate(probes)
+    )
+    return _best(data, score, ("",))
 
 
 def _best_t3(data: ScreenData) -> Reading:
     """The (backlash reading, phases, ω) where most Table 3 rows hold on the screen (ties: nearest the default)."""
     m, n = data.bl["motion"], data.bl["period"]
     score = sum(np.vectorize(_pred(c))(m[:, k], n[:, k]) for k, c in enumerate(claim_ids("T3-")))
-    return _best(data, score, data.pairs_one, list(BACKLASH_READINGS))
-
-
-def _bl_reading(key: str, pair: tuple[float, float]) -> str:
-    """A backlash reading with a phase pair, as its table row names it."""
-    return f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
-
-
-def _probe_word(cid: str, cs: Sequence[str]) -> Callable[[int, int], bool]:
-    """The motion a probe (testing the claims ``cs``) must show for a claim: its own motion, or for the sequences
-    that of the Table 2 row the probe stands for (the probe of chaos again at high ξ0: row 1's)."""
-    return _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
-
-
-def _bl_judge(cid: str) -> Judge:
-
-    def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
-        if cid == "BL-IMPACT":
-            imp = [IMPACT_LABELS[int(i)] for i in r["impact"]]
-            return all(int(i) == SINGLE_SIDED for i in r["impact"]), "impacts " + ", ".join(imp)
-        a = np.asarray(r["amplitude"], dtype=float)
-        return bool(np.all(np.diff(a) > 0)), "amplitudes " + ", ".join(f"{v:.3f}" for v in a)
-
-    return judge
-
-
-def _xi1_chaos_judge(values: Sequence[float]) -> Judge:
-    low, high = _range_judge("T2-4", values), _range_judge("T2-5", values)
-
-    def judge(r: dict[str, np.ndarray]) -> tuple[bool, str]:
-        (a, ta), (b, tb) = low(r), high(r)
-        return a and b, f"regular at low ξ1: {ta}; chaotic at high ξ1: {tb}"
-
-    return judge
+    return _best(data, score, list(BACKLASH_READINGS))
 
 
 def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]:
@@ -590,49 +509,37 @@ def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]
     if not ver:
         return []
     s = ctx.settings
-    rows, single = [], []
+    rows, is_single = [], []
     for v in ver:
         v.start = len(rows)
         p = {"omega": v.reading.omega, "phi_c1": v.reading.phi_c, "phi_k1": v.reading.phi_k, **TABLE1, "D": 1.0}
         rows += [[{**p, v.param: x}[n] for n in NAMES] for x in v.values]
-        single += [v.param == "D"] * len(v.values)
+        is_single += [v.param == "D"] * len(v.values)
     pts = np.asarray(rows, dtype=float)
     ctx.log(f"readings confirmation: {pts.shape[0]} points")
     # ranges as the default-reading diagrams are computed; single points (Table 3) with long exponent runs
     r: dict[str, list[Any]] = {}
+    single = np.array(is_single)
     for sel, opts, lyap in (
-        (~np.array(single), s.options, False),
-        (np.array(single), IntegrationOptions(transient=s.transient, periods=max(s.periods, 2 * s.settle)), True),
+        (~single, s.options, False),
+        (single, IntegrationOptions(transient=s.transient, periods=max(s.periods, 2 * s.settle)), True),
     ):
         idx = np.flatnonzero(sel)
-        if idx.size == 0:
-            continue
-        part = screen(ctx.base, NAMES, pts[idx], opts, s.settle, ctx.executor, lyapunov=lyap)
-        for k, val in part.items():
-            r.setdefault(k, [None] * len(rows))
-            for j, i in enumerate(idx):
-                r[k][i] = val[j]
-    out = []
-    for v in ver:
-        sl = slice(v.start, v.start + len(v.values))
-        sub = {k: np.array(r[k][sl]) for k in ("motion", "period", "lle", "lle_err", "impact", "amplitude")}
-        for i in range(len(v.values)):
-            g = v.start + i
-            if needs_confirmation(int(r["motion"][g]), int(r["period"][g]), float(r["lle"][g])):
-                model = ctx.base
-                for n, val in zip(NAMES, pts[g]):
-                    model = model.with_param(n, float(val))
-                c = confirm_point(
-                    model,
-                    r["end"][g],
-                    r["poincare"][g],
-                    int(r["motion"][g]),
-                    int(r["period"][g]),
-                    float(r["lle"][g]),
-                    float(r["lle_err"][g]),
-                    long_periods=s.confirm_periods,
-                )
-                for k in ("motion", "period", "lle", "lle_err"):
-                    sub[k][i] = c[k]
-        out.append(v.judge(sub))
-    return out
+        if idx.size:
+            for k, val in screen(ctx.base, NAMES, pts[idx], opts, s.settle, ctx.executor, lyapunov=lyap).items():
+                col = r.setdefault(k, [None] * len(rows))
+                for i, x in zip(idx, val):
+                    col[i] = x
+    for g, row in enumerate(pts):
+        m, n, lam = int(r["motion"][g]), int(r["period"][g]), float(r["lle"][g])
+        if needs_confirmation(m, n, lam):
+            model = ctx.base
+            for name, x in zip(NAMES, row):
+                model = model.with_param(name, float(x))
+            c = confirm_point(
+                model, r["end"][g], r["poincare"][g], m, n, lam, float(r["lle_err"][g]), long_periods=s.confirm_periods
+            )
+            for k in ("motion", "period", "lle", "lle_err"):
+                r[k][g] = c[k]
+    keys = ("motion", "period", "lle", "lle_err", "impact", "amplitude")
+    return [_judge(v.cid, v.values, {k: np.array(r[k][v.start : v.start + len(v.values)]) for k in keys}) for v in ver]

@@ -10,7 +10,6 @@ reading (phases 0, D = b/(2 mm)) first.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,9 +36,6 @@ from .jumps import JUMP_NEAR, LOW_OMEGA, TABLE4_AMP_REL, TABLE4_NEAR, after_jump
 
 __all__ = ["JUMP_KEYS", "JumpReadings", "jump_readings", "run_lockstep"]
 
-#: A claim's test under reading i of the lockstep responses: (holds, result).
-Test = Callable[[int], tuple[bool, str]]
-
 XI0_KEYS = ((0.08, 0.05, 0.5), (0.1, 0.05, 0.5), (0.15, 0.05, 0.5))
 XI1_KEYS = ((0.08, 0.03, 0.5), (0.08, 0.05, 0.5), (0.08, 0.08, 0.5))
 B_KEYS = ((0.08, 0.05, 0.2), (0.08, 0.05, 0.5), (0.08, 0.05, 0.7), (0.08, 0.05, 1.5))
@@ -48,21 +44,21 @@ JUMP_KEYS: tuple[ResponseKey, ...] = tuple(dict.fromkeys(XI0_KEYS + XI1_KEYS + B
 
 
 def _claim_keys() -> dict[str, set[int]]:
-    ix = JUMP_KEYS.index
     xi1 = TABLE1["xi1"]
+
+    def ix(*keys: ResponseKey) -> set[int]:
+        return {JUMP_KEYS.index(k) for k in keys}
+
     out = {
         "JUMP-LOW": set(range(len(JUMP_KEYS))),
-        "JUMP-XI0": {ix(k) for k in XI0_KEYS},
-        "JUMP-XI1": {ix(k) for k in XI1_KEYS},
-        "JUMP-FLUCT": {ix(k) for k in XI0_KEYS + XI1_KEYS},
-        "JUMP-057": {ix(k) for k in B_KEYS},
+        "JUMP-XI0": ix(*XI0_KEYS),
+        "JUMP-XI1": ix(*XI1_KEYS),
+        "JUMP-FLUCT": ix(*XI0_KEYS, *XI1_KEYS),
+        "JUMP-057": ix(*B_KEYS),
         "FORMULA": {i for i, k in enumerate(JUMP_KEYS) if k[1] == xi1},
     }
-    for cid in ("JUMP-082", "JUMP-095"):
-        out[cid] = {ix((0.08, xi1, CLAIMS[cid].numbers["b"]))}
-    for cid in claim_ids("T4-"):
-        n = CLAIMS[cid].numbers
-        out[cid] = {ix((n["xi0"], xi1, n["b"]))}
+    for cid in ("JUMP-082", "JUMP-095", *claim_ids("T4-")):
+        out[cid] = ix((CLAIMS[cid].numbers.get("xi0", 0.08), xi1, CLAIMS[cid].numbers["b"]))
     return out
 
 
@@ -96,9 +92,6 @@ class JumpReadings:
     spread: np.ndarray
     jumps: list[list[list[dict[str, Any]]]]  # [reading][key] -> jumps
 
-    def key(self, k: ResponseKey) -> int:
-        return JUMP_KEYS.index(k)
-
 
 def run_lockstep(
     ctx: Context,
@@ -128,29 +121,25 @@ def run_lockstep(
     s = ctx.settings
     if readings is None:
         readings = [Reading(a, b, key) for key in BACKLASH_READINGS for (a, b) in phase_pairs(False)]
-    options = s.readings_response_options if options is None else options
+    options = options or s.readings_response_options
     nR, nK = len(readings), len(JUMP_KEYS)
     pairs = [(i, k) for i in range(nR) for k in range(nK) if keys is None or k in keys[i]]
     pts = np.array(
         [[readings[i].phi_c, readings[i].phi_k, *JUMP_KEYS[k][:2], readings[i].D(JUMP_KEYS[k][2])] for i, k in pairs]
     )
-    W = np.round(np.linspace(s.response_omega[0], s.response_omega[1], s.response_num), 6)
+    W = np.round(np.linspace(*s.response_omega, s.response_num), 6)
     ctx.log(f"readings responses: {pts.shape[0]} up/down sweeps of {W.size} ω each")
     r = lockstep_responses(ctx.base, ("phi_c1", "phi_k1", "xi0", "xi1", "D"), pts, W, options, ctx.executor)
-    amp = np.full((nR, nK, 2, W.size), np.nan)
-    spread = np.full((nR, nK, 2, W.size), np.nan)
-    for j, (i, k) in enumerate(pairs):
-        amp[i, k], spread[i, k] = r["amplitude"][j], r["spread"][j]
+    amp, spread = np.full((2, nR, nK, 2, W.size), np.nan)
+    ii, kk = np.array(pairs).T
+    amp[ii, kk], spread[ii, kk] = r["amplitude"], r["spread"]
     jumps = [
         [response_jumps(W, amp[i, k]) if np.isfinite(amp[i, k]).any() else [] for k in range(nK)] for i in range(nR)
     ]
     ctx.save(
         name,
         xr.Dataset(
-            {
-                "amplitude": (("reading", "key", "sweep", "omega"), amp),
-                "spread": (("reading", "key", "sweep", "omega"), spread),
-            },
+            {k: (("reading", "key", "sweep", "omega"), v) for k, v in (("amplitude", amp), ("spread", spread))},
             coords={
                 "reading": [rd.text for rd in readings],
                 "key": [f"ξ0 = {a:g}, ξ1 = {b:g}, b = {c:g} mm" for a, b, c in JUMP_KEYS],
@@ -171,32 +160,27 @@ def _fluct(jr: JumpReadings, i: int, k: int) -> float:
     return float(np.nanmean(v)) if v.size else float("nan")
 
 
-def _tests(jr: JumpReadings) -> dict[str, Test]:
-    """Claim id → the test of the claim under reading i: (holds, result)."""
-    K = jr.key
-    W = jr.omega
-
-    def low(i: int) -> tuple[bool, str]:
-        sel, bad = W < LOW_OMEGA, 0
-        for js, a in zip(jr.jumps[i], jr.amplitude[i]):
-            rng = float(np.nanmax(a) - np.nanmin(a)) or 1.0
-            bad += any(j["omega"] < LOW_OMEGA for j in js) or bool(
-                np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * rng)
-            )
+def _test(jr: JumpReadings, cid: str, i: int) -> tuple[bool, str]:
+    """Claim ``cid`` under reading i of the lockstep responses: (holds, result)."""
+    K, W, js, n = JUMP_KEYS.index, jr.omega, jr.jumps[i], CLAIMS[cid].numbers
+    if cid == "JUMP-LOW":
+        sel = W < LOW_OMEGA
+        bad = sum(
+            any(j["omega"] < LOW_OMEGA for j in jk)
+            or bool(np.any(np.abs(a[0, sel] - a[1, sel]) > LOW_DISAGREE * (float(np.nanmax(a) - np.nanmin(a)) or 1.0)))
+            for jk, a in zip(js, jr.amplitude[i])
+        )
         return not bad, f"steady below ω = {LOW_OMEGA:g} in {len(JUMP_KEYS) - bad} of {len(JUMP_KEYS)} responses"
-
-    def sizes(keys, decreasing: bool, lab: str, pos: int) -> Test:
-        def t(i: int) -> tuple[bool, str]:
-            js = [first_up_jump(jr.jumps[i][K(k)]) for k in keys]
-            if not all(js):
-                return False, f"an upward jump above ω = {LOW_OMEGA:g} in {sum(map(bool, js))} of {len(js)} responses"
-            sz = [j["size"] for j in js]  # type: ignore[index]
-            ok = strictly_monotone(sz, decreasing)
-            return ok, "sizes " + ", ".join(f"{lab} = {k[pos]:g}: {v}" for k, v in zip(keys, distinct_text(sz)))
-
-        return t
-
-    def fluct(i: int) -> tuple[bool, str]:
+    if cid in ("JUMP-XI0", "JUMP-XI1"):
+        keys, lab, pos = (XI0_KEYS, "ξ0", 0) if cid == "JUMP-XI0" else (XI1_KEYS, "ξ1", 1)
+        first = [first_up_jump(js[K(k)]) for k in keys]
+        if not all(first):
+            return False, f"an upward jump above ω = {LOW_OMEGA:g} in {sum(map(bool, first))} of {len(first)} responses"
+        sz = [j["size"] for j in first]  # type: ignore[index]
+        return strictly_monotone(sz, pos == 0), "sizes " + ", ".join(
+            f"{lab} = {k[pos]:g}: {v}" for k, v in zip(keys, distinct_text(sz))
+        )
+    if cid == "JUMP-FLUCT":
         f0 = [_fluct(jr, i, K(k)) for k in XI0_KEYS]
         f1 = [_fluct(jr, i, K(k)) for k in XI1_KEYS]
         ok0, why0 = fluctuation_trend(f0, True)
@@ -208,56 +192,24 @@ def _tests(jr: JumpReadings) -> dict[str, Test]:
             + ", ".join(distinct_text(f1))
             + f" ({why1})"
         )
-
-    def at057(i: int) -> tuple[bool, str]:
-        at = CLAIMS["JUMP-057"].numbers["omega"]
-        js = [first_up_jump(jr.jumps[i][K(k)]) for k in B_KEYS]
-        ok = all(j is not None and abs(j["omega"] - at) <= JUMP_NEAR for j in js)
-        return ok, "first upward jumps at ω = " + ", ".join(f"{j['omega']:.3f}" if j else "–" for j in js)
-
-    def located(cid: str) -> Test:
-        b, w, d = (CLAIMS[cid].numbers[k] for k in ("b", "omega", "direction"))
-        k = K((0.08, TABLE1["xi1"], b))
-
-        def t(i: int) -> tuple[bool, str]:
-            js = jr.jumps[i][k]
-            return jump_holds(
-                js, w, d, JUMP_NEAR
-            ), f"jump at ω = {w:g} ± {JUMP_NEAR:g}: {jump_type_at(js, w, JUMP_NEAR)}"
-
-        return t
-
-    def table4(cid: str) -> Test:
-        w, x0, b, A, kind = (CLAIMS[cid].numbers[k] for k in ("omega", "xi0", "b", "A", "jump"))
-        k = K((x0, TABLE1["xi1"], b))
-        g = int(np.argmin(np.abs(W - w)))
-
-        def t(i: int) -> tuple[bool, str]:
-            a = jr.amplitude[i, k, :, g]
-            ok_a = bool(np.any(np.abs(a - A) <= TABLE4_AMP_REL * A))
-            typ = jump_type_at(jr.jumps[i][k], w, TABLE4_NEAR)
-            ok_j = jump_holds(jr.jumps[i][k], w, kind, TABLE4_NEAR)
-            return ok_a and ok_j, f"A = {a[0]:.3f} / {a[1]:.3f} (up / down), jump: {typ}"
-
-        return t
-
-    def formula(i: int) -> tuple[bool, str]:
+    if cid == "JUMP-057":
+        first = [first_up_jump(js[K(k)]) for k in B_KEYS]
+        ok = all(j is not None and abs(j["omega"] - n["omega"]) <= JUMP_NEAR for j in first)
+        return ok, "first upward jumps at ω = " + ", ".join(f"{j['omega']:.3f}" if j else "–" for j in first)
+    if cid == "FORMULA":
         _, fit = fit_responses((*key, W, jr.amplitude[i, k, 0]) for k, key in enumerate(JUMP_KEYS))
         return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({jr.readings[i].backlash})"
-
-    tests = {
-        "JUMP-LOW": low,
-        "JUMP-XI0": sizes(XI0_KEYS, True, "ξ0", 0),
-        "JUMP-XI1": sizes(XI1_KEYS, False, "ξ1", 1),
-        "JUMP-FLUCT": fluct,
-        "JUMP-057": at057,
-        "JUMP-082": located("JUMP-082"),
-        "JUMP-095": located("JUMP-095"),
-        "FORMULA": formula,
-    }
-    for cid in claim_ids("T4-"):
-        tests[cid] = table4(cid)
-    return tests
+    w = n["omega"]  # JUMP-082, JUMP-095 and Table 4: a jump (and an amplitude) at ω on one response
+    k = K((n.get("xi0", 0.08), TABLE1["xi1"], n["b"]))
+    jk = js[k]
+    if cid.startswith("JUMP-"):
+        return jump_holds(
+            jk, w, n["direction"], JUMP_NEAR
+        ), f"jump at ω = {w:g} ± {JUMP_NEAR:g}: {jump_type_at(jk, w, JUMP_NEAR)}"
+    a = jr.amplitude[i, k, :, int(np.argmin(np.abs(W - w)))]
+    ok_a = bool(np.any(np.abs(a - n["A"]) <= TABLE4_AMP_REL * n["A"]))
+    ok_j = jump_holds(jk, w, n["jump"], TABLE4_NEAR)
+    return ok_a and ok_j, f"A = {a[0]:.3f} / {a[1]:.3f} (up / down), jump: {jump_type_at(jk, w, TABLE4_NEAR)}"
 
 
 def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) -> dict[str, list[tuple[bool, str]]]:
@@ -283,8 +235,8 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
     out = {}
     need: dict[str, list[int]] = {}
     i_def = next(i for i, rd in enumerate(jr.readings) if rd.is_default)
-    for cid, test in _tests(jr).items():
-        res = [test(i) for i in range(len(jr.readings))]
+    for cid in CLAIM_KEYS:
+        res = [_test(jr, cid, i) for i in range(len(jr.readings))]
         out[cid] = res
         f = findings[cid]
         f.evidence.append(ctx.datasets["readings_responses"])
@@ -305,25 +257,19 @@ def jump_readings(ctx: Context, jr: JumpReadings, findings: dict[str, Finding]) 
                 f"fails at the default reading and under all {len(res) - 1} other readings; lockstep default: "
                 f"{res[i_def][1]}"
             )
-    if need:
-        _confirm(ctx, jr, need, findings)
-    return out
-
-
-def _confirm(ctx: Context, jr: JumpReadings, need: dict[str, list[int]], findings: dict[str, Finding]) -> None:
-    """Recompute the responses under the candidate readings with the study's periods; set the verdicts."""
-    s = ctx.settings
+    if not need:
+        return out
+    # recompute the responses under the candidate readings with the study's periods; set the verdicts
     uniq = sorted({i for c in need.values() for i in c})
-    opts = s.response_options
+    opts = ctx.settings.response_options
     keys = [set().union(*(CLAIM_KEYS[c] for c, idx in need.items() if u in idx)) for u in uniq]
     sub = run_lockstep(ctx, [jr.readings[i] for i in uniq], opts, name="readings_responses_confirmed", keys=keys)
-    tests = _tests(sub)
     longer = f"{opts.transient} transient and {opts.periods} recorded periods per point"
     for cid, idx in need.items():
         f = findings[cid]
         tried = []
         for i in idx:
-            ok, txt = tests[cid](uniq.index(i))
+            ok, txt = _test(sub, cid, uniq.index(i))
             rd = jr.readings[i]
             f.readings.append([rd.text + " (confirmation)", txt, "confirmed" if ok else "not confirmed"])
             tried.append(f"{rd.text}: {txt}")
@@ -341,3 +287,4 @@ def _confirm(ctx: Context, jr: JumpReadings, need: dict[str, list[int]], finding
                 f"responses show it fail with {longer} ({'; '.join(tried)}); {f.deciding}"
             )
         f.evidence.append(ctx.datasets["readings_responses_confirmed"])
+    return out

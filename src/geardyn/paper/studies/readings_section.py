@@ -77,12 +77,11 @@ def readings_section(ctx: Context, findings: Mapping[str, Finding]) -> Section:
     text.append("Verdicts: " + verdict_counts(findings.values()) + ".")
     figs = []
     if "readings_damping" in ctx.datasets:
-        w0, w1 = ctx.settings.readings_omegas[0], ctx.settings.readings_omegas[-1]
         figs.append(
             (
                 ctx.figure("readings_damping"),
                 f"Fraction of the readings where each damping and backlash claim holds on the screen, over ω ∈ "
-                f"[{w0:.2f}, {w1:.2f}] (step 0.01; ξ0 = 0.1, ξ1 = 0.05 unless the claim varies them); the "
+                f"[{w[0]:.2f}, {w[-1]:.2f}] (step 0.01; ξ0 = 0.1, ξ1 = 0.05 unless the claim varies them); the "
                 "candidates nearest the default are then confirmed in full",
             )
         )

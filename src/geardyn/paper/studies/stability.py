@@ -15,7 +15,7 @@ from ..claims import CLAIMS
 from ..report import Section
 from ..settings import Context, model_text
 from ..table1 import TABLE1
-from ..verdicts import STABILITY_REL
+from ..verdicts import STABILITY_REL, parts
 from .jumps import JumpData, hysteresis_of
 
 __all__ = ["STABILITY_REL", "gaps_text", "jump_continuation", "study_orbits", "study_stability"]
@@ -54,7 +54,7 @@ def study_stability(ctx: Context) -> Section:
         f"[{min(s.stability_omegas):g}, {max(s.stability_omegas):g}] gives critical ξ0 up to {mxv:.4f} "
         f"(at ω = {ds.attrs.get('max_xi0_critical_at_omega')}) for the period-1 response of the full model and up to "
         f"{mlv:.4f} (at ω = {ds.attrs.get('max_xi0_critical_linear_at_omega')}) for the linear contact model.",
-        "reproduced" if close else "contradicted",
+        parts(close),
         ev,
     )
     return Section(
@@ -192,8 +192,11 @@ def study_orbits(ctx: Context, branch: xr.Dataset, jd: JumpData) -> Section:
         else []
     )
     folds = sorted(w for t, w in bifs if t == "fold")
-    hyst = hysteresis_of(jd.responses[key])
-    first = [h for h in hyst if h[1] >= s.continuation_omega[0] and h[0] <= s.continuation_omega[1]]
+    first = [
+        h
+        for h in hysteresis_of(jd.responses[key])
+        if h[1] >= s.continuation_omega[0] and h[0] <= s.continuation_omega[1]
+    ]
     events = (
         (", ".join(f"{t} at ω = {w:.4f}" for t, w in bifs) + ".")
         if bifs

@@ -8,9 +8,9 @@ from typing import Any
 
 import numpy as np
 
-from ..claims import CLAIMS, claim_ids
+from ..claims import CLAIMS, TABLE4, claim_ids
 from ..report import Section
-from ..settings import Context
+from ..settings import SYMBOLS, Context
 from ..verdicts import describe_motion, motion_fields, motion_runs, range_of, runs_text, yes_no
 from .readings import claim_range, range_match
 from .readings_jumps import JumpReadings
@@ -20,7 +20,7 @@ __all__ = ["study_tables"]
 
 def _range_text(cid: str) -> str:
     lo, hi, lo_open, hi_open = range_of(CLAIMS[cid].numbers)
-    sym = {"xi0": "ξ0", "xi1": "ξ1"}[str(CLAIMS[cid].numbers["param"])]
+    sym = SYMBOLS[str(CLAIMS[cid].numbers["param"])]
     if np.isinf(lo):
         return f"{sym} {'<' if hi_open else '≤'} {hi:g}"
     if np.isinf(hi):
@@ -83,7 +83,6 @@ def study_tables(
     ]
     for i, cid in enumerate(claim_ids("T2-"), start=1):
         _, ok_b, txt_b = tabs.get(cid, (None, False, "–"))
-        ok_d = default_holds.get(cid, False)
         t2.append(
             [
                 str(i),
@@ -91,7 +90,7 @@ def study_tables(
                 CLAIMS[cid].numbers["motion"],
                 _default_t2(ctx, cid),
                 txt_b,
-                f"{yes_no(ok_d)} / {yes_no(ok_b)}",
+                f"{yes_no(default_holds.get(cid, False))} / {yes_no(ok_b)}",
             ]
         )
     pts = ctx.pending.get("backlash_table3")
@@ -132,27 +131,12 @@ def study_tables(
             "holds (default / best)",
         ]
     ]
-    for cid in t4ids:
-        nb = CLAIMS[cid].numbers
+    for cid, row in zip(t4ids, TABLE4):
         (okd, td), (okb, tb) = jres[cid][i_def], jres[cid][i_best]
-        t4.append(
-            [
-                f"{nb['omega']:g}",
-                f"{nb['xi0']:g}",
-                f"{nb['b']:g}",
-                f"{nb['A']:g}",
-                nb["jump"],
-                td,
-                tb,
-                f"{yes_no(okd)} / {yes_no(okb)}",
-            ]
-        )
+        t4.append([*(f"{v:g}" for v in row[:4]), row[4], td, tb, f"{yes_no(okd)} / {yes_no(okb)}"])
     if findings is not None:
-        for ids, best, holds in (
-            (claim_ids("T2-"), best2, [r[-1].endswith("yes") for r in t2[1:]]),
-            (claim_ids("T3-"), best3, [r[-1] == "yes" for r in t3[1:]]),
-            (t4ids, best4, [r[-1].endswith("yes") for r in t4[1:]]),
-        ):
+        for ids, best, tab in ((claim_ids("T2-"), best2, t2), (claim_ids("T3-"), best3, t3), (t4ids, best4, t4)):
+            holds = [r[-1].endswith("yes") for r in tab[1:]]  # the best reading's column: "yes" or ".. / yes"
             for cid, h in zip(ids, holds, strict=False):
                 if cid in findings:
                     findings[cid].table_reading, findings[cid].table_holds = best.text, bool(h)
