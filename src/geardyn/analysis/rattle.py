@@ -226,12 +226,14 @@ class RattleResult:
         per = {}
         for name, flank in (("drive", 1), ("back", -1)):
             vin, vout = self._flank(flank)
-            d = {"impacts_per_cycle": float(vin.size / self.cycles)}
-            velocities = (("impact_velocity_mean", vin, np.mean), ("impact_velocity_max", vin, np.max))
-            for k, a, f in velocities + (("rebound_velocity_mean", vout, np.mean),):
-                d[k] = float(f(a)) if a.size else None
+            d = {
+                "impacts_per_cycle": float(vin.size / self.cycles),
+                "impact_velocity_mean": float(vin.mean()) if vin.size else None,
+                "impact_velocity_max": float(vin.max()) if vin.size else None,
+                "rebound_velocity_mean": float(vout.mean()) if vout.size else None,
+            }
             if sc is not None:
-                for k in list(d)[1:]:
+                for k in ("impact_velocity_mean", "impact_velocity_max", "rebound_velocity_mean"):
                     d[k + "_m_s"] = None if d[k] is None else d[k] * (sc.b_c_m * sc.omega_n_rad_s)
             per[name] = d
         out["flanks"] = per
