@@ -28,11 +28,11 @@ from ..io import json_values
 from ..model import IntegrationOptions, ModelError
 from ..sweep import DEFAULT_CHUNK_POINTS
 from ..sweep.progress import counts_points
-from ..system import element_names, state_names
+from ..system import state_names
 from .attractors import CLOUD_POINTS, CYCLE_TOL, NONPERIODIC_TOL, identify_attractors
 from .bifurcation import ELEMENT_VARIABLES, fixed_chunk
 from .classify import MAX_PERIOD
-from .points import result_dataset, run_slices, sweep_function
+from .points import grid_variables, result_dataset, run_slices, sweep_function
 
 __all__ = [
     "basins",
@@ -195,21 +195,14 @@ def basins(
         "basins",
     )
     labels, atts = identify_attractors(rows)
-    shape = grid.shape
-    dims = grid.names
     A = len(atts)
     width = max([a["points"].shape[0] for a in atts], default=1)
     auv = np.full((A, width, 2), np.nan)
     for k, a in enumerate(atts):
         auv[k, : a["points"].shape[0]] = a["points"][:, :2]
-    total = float(labels.size)
-    data = {"attractor": (dims, labels.reshape(shape))}
-    data.update({k: (dims, rows[k].reshape(shape)) for k in ("period", "motion", "impact", "amplitude", "status")})
-    extra: dict[str, Any] = {}
-    for k in ELEMENT_VARIABLES:  # a system's per-element variables
-        if k in rows:
-            data[k] = (dims + ("element",), rows[k].reshape(shape + rows[k].shape[1:]))
-            extra["element"] = element_names(model, rows[k].shape[1])
+        a["fraction"] = a["count"] / labels.size
+    keep = ("attractor", "period", "motion", "impact", "amplitude", "status", *ELEMENT_VARIABLES)
+    data, extra = grid_variables({**rows, "attractor": labels}, keep, grid.names, grid.shape, model)
     extra_attrs = {}
     if full is not None:
         names = state_names(model, model.state_dim)
@@ -218,16 +211,10 @@ def basins(
             if coordinates is not None
             else ["δ (reference element)", "δ' (reference element)"]
         )
-    data.update(
-        {
-            "attractor_period": ("attractor_index", np.array([a["period"] for a in atts], dtype=np.int64)),
-            "attractor_motion": ("attractor_index", np.array([a["motion"] for a in atts], dtype=np.int64)),
-            "attractor_fraction": ("attractor_index", np.array([a["count"] / total for a in atts])),
-            "attractor_amplitude": ("attractor_index", np.array([a["amplitude"] for a in atts])),
-            "attractor_u": (("attractor_index", "cycle_point"), auv[..., 0]),
-            "attractor_v": (("attractor_index", "cycle_point"), auv[..., 1]),
-        }
-    )
+    for k, dtype in (("period", np.int64), ("motion", np.int64), ("fraction", float), ("amplitude", float)):
+        data["attractor_" + k] = ("attractor_index", np.array([a[k] for a in atts], dtype=dtype))
+    for k, c in (("u", 0), ("v", 1)):
+        data["attractor_" + k] = (("attractor_index", "cycle_point"), auv[..., c])
     coords = {"v0": v0, "u0": u0, "attractor_index": np.arange(A), "cycle_point": np.arange(width), **extra}
     return result_dataset(
         data,

@@ -97,21 +97,14 @@ ELEMENT_VARIABLES = {
 }
 
 
-def _rows(
-    out: dict[str, np.ndarray],
-    start: np.ndarray,
-    restarted: np.ndarray | None = None,
-    models: Sequence[Any] | None = None,
-) -> dict[str, np.ndarray]:
+def _rows(out: dict[str, np.ndarray], start: np.ndarray, models: Any) -> dict[str, np.ndarray]:
     """Chunk result: one row per point (plain arrays only, for checkpoint files); the Poincaré points are the
     reference element's (δ, δ'), the start and end states the full states."""
     n = out["period"].shape[0]
-    r = {k: np.asarray(out[k], dtype=t) for k, t in _SCALARS.items() if k in out}
-    r.update({k: np.asarray(v, dtype=float) for k, v in out.items() if k.startswith(FRACTION) and k not in r})
-    r.update({k: np.asarray(out[k], dtype=t) for k, t in ELEMENT_VARIABLES.items() if k in out})
-    r["restarted"] = np.zeros(n, np.int64) if restarted is None else restarted.astype(np.int64)
-    pc = np.asarray(out["poincare"], dtype=float)
-    r["poincare"] = pc if models is None else as_batch(models).reference_section(pc)
+    types = {**_SCALARS, **{k: float for k in out if k.startswith(FRACTION)}, **ELEMENT_VARIABLES}
+    r = {k: np.asarray(out[k], dtype=t) for k, t in types.items() if k in out}
+    r["restarted"] = np.zeros(n, np.int64)
+    r["poincare"] = models.reference_section(np.asarray(out["poincare"], dtype=float))
     r["start"] = np.asarray(start, dtype=float).reshape(n, -1)
     r["end"] = np.asarray(out["end_state"], dtype=float)
     return r
@@ -149,7 +142,7 @@ def fixed_chunk(
     models = as_batch(models)
     s0 = np.broadcast_to(np.asarray(state0, dtype=float), (len(models), models.state_dim)).copy()
     res = integrate_batch(models, s0, options, lyapunov=lyapunov)
-    out = _rows(classify_batch(res, settle_periods=settle_periods), s0, models=models)
+    out = _rows(classify_batch(res, settle_periods=settle_periods), s0, models)
     tick(len(models))
     return out
 
@@ -186,19 +179,14 @@ def continuation_chunk(
     s0 = np.asarray(state0, dtype=float).reshape(d)
     state = s0.copy()
     rows = []
-    starts = np.zeros((len(models), d))
     restarted = np.zeros(len(models), np.int64)
     for i, m in enumerate(models):
         if not np.all(np.isfinite(state)):
             state = s0.copy()
             restarted[i] = 1
-        starts[i] = state
-        res = integrate_batch([m], state, options, lyapunov=lyapunov)
-        out = classify_batch(res, settle_periods=settle_periods)
-        rows.append(out)
-        state = out["end_state"][0].copy() if out["status"][0] == ST_OK else np.full(d, np.nan)
-        tick(1)
-    return _rows(concat_rows(rows), starts, restarted, models)
+        rows.append(fixed_chunk([m], state, options, lyapunov, settle_periods))  # one point from ``state``
+        state = rows[-1]["end"][0].copy() if rows[-1]["status"][0] == ST_OK else np.full(d, np.nan)
+    return concat_rows(rows) | {"restarted": restarted}
 
 
 @counts_points(lambda args: len(args[2]))

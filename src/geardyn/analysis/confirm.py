@@ -31,8 +31,6 @@ import xarray as xr
 from ..integrate import integrate_batch
 from ..model import IntegrationOptions
 from .classify import (
-    LLE_FLOOR,
-    LLE_SIGMAS,
     MOTION_CHAOTIC,
     MOTION_PERIODIC,
     MOTION_QUASIPERIODIC,
@@ -164,7 +162,7 @@ def confirm_point(
     if int(c["period"][0]) > 0:
         out.update(motion=MOTION_PERIODIC, period=int(c["period"][0]))
         return out
-    if np.isfinite(lam) and lam > LLE_SIGMAS * (err if np.isfinite(err) else 0.0) + LLE_FLOOR:
+    if int(c["motion"][0]) == MOTION_CHAOTIC:  # λ1 significantly positive
         out.update(motion=MOTION_CHAOTIC, period=0)
         return out
     last = np.asarray(c["poincare"][0], dtype=float)

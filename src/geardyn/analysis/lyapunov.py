@@ -109,8 +109,7 @@ def spectrum_from_log(
     lam = np.take_along_axis(lam, order, axis=1)
     err = np.take_along_axis(err, order, axis=1)
     bad = ~np.all(np.isfinite(kept), axis=(1, 2))
-    lam[bad] = np.nan
-    err[bad] = np.nan
+    lam[bad] = err[bad] = np.nan
     if single:
         return lam[0], err[0]
     return lam, err
@@ -161,8 +160,7 @@ def _spectra(res: BatchResult, blocks: int) -> dict[str, Any]:
     T = res.models.sampling_periods()
     lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=blocks)
     bad = res.status != ST_OK
-    lam[bad] = np.nan
-    err[bad] = np.nan
+    lam[bad] = err[bad] = np.nan
     return {"exponents": lam, "uncertainty": err, "status": res.status.copy(), "result": res}
 
 

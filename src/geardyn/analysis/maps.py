@@ -20,10 +20,9 @@ from ..grid import Grid, build_models, param_name
 from ..io import json_values
 from ..model import ModelError
 from ..sweep import chunk_slices
-from ..system import element_names
 from .bifurcation import ELEMENT_VARIABLES, MODES, grid_chunk
 from .classify import MOTION_LABELS
-from .points import initial_state, result_dataset, run_slices, sweep_function
+from .points import grid_variables, initial_state, result_dataset, run_slices, sweep_function
 
 __all__ = ["parameter_map", "map_json", "MAP_VARIABLES"]
 
@@ -110,35 +109,24 @@ def parameter_map(
     # validate without building the whole grid: every value of each axis, and the four corners (the only
     # constraint that couples two parameters, Σ|κ_r| < 1, is largest at a corner); the step must be
     # smaller than the shortest forcing period, i.e. that of the largest ω
-    for v in xv:
-        model.with_param(xn, float(v))
-    for v in yv:
-        model.with_param(yn, float(v))
-    corners = build_models(
-        model, grid.names, np.array([[yv[0], xv[0]], [yv[0], xv[-1]], [yv[-1], xv[0]], [yv[-1], xv[-1]]])
-    )
+    for name, axis in ((xn, xv), (yn, yv)):
+        for v in axis:
+            model.with_param(name, float(v))
+    corners = build_models(model, grid.names, np.array([[y, x] for y in yv[[0, -1]] for x in xv[[0, -1]]]))
     options.check_for(max(m.omega for m in corners))
     s0t = initial_state(model, state0)
-    common = (s0t, options, lyapunov, settle_periods)
-    description = f"map {yn} × {xn}"
     cont = mode != "fixed"  # one continuation row per chunk, x increasing
     cat = run_slices(
         grid_chunk,
-        lambda sl: (model, grid.names, grid.points(sl)) + common + (cont, _KEEP),
+        lambda sl: (model, grid.names, grid.points(sl), s0t, options, lyapunov, settle_periods, cont, _KEEP),
         grid.slices(xv.size) if cont else chunk_slices(grid, model, options, engine, lyapunov=lyapunov),
         engine,
-        description,
+        f"map {yn} × {xn}",
     )
-    shape = (yv.size, xv.size)
-    coords: dict[str, Any] = {yn: yv, xn: xv}
-    data = {}
-    for k, v in cat.items():  # a system's per-element variables over the element dimension
-        data[k] = ((yn, xn, "element"), v.reshape(shape + v.shape[1:])) if v.ndim > 1 else ((yn, xn), v.reshape(shape))
-        if v.ndim > 1:
-            coords["element"] = element_names(model, v.shape[1])
+    data, coords = grid_variables(cat, _KEEP, (yn, xn), (yv.size, xv.size), model)
     return result_dataset(
         data,
-        coords,
+        {yn: yv, xn: xv, **coords},
         "map",
         model,
         options,

@@ -158,14 +158,6 @@ def spectrum_peaks(
     ]
 
 
-def _num(x: Any) -> float | None:
-    try:
-        x = float(x)
-    except (TypeError, ValueError):
-        return None
-    return x if np.isfinite(x) else None
-
-
 def _set(ds: xr.Dataset, name: str, dims: Any, data: Any, coord: bool = False, meta: Variable | None = None) -> None:
     """Add a float variable (or coordinate) with its registry attributes (or those of ``meta``)."""
     from ._converted import Converted
@@ -298,8 +290,8 @@ def _simulate_summary(
         ("dte_min_um", "u_min"),
         ("dte_max_um", "u_max"),
     ):
-        x = _num(summ.get(nd))
-        out[key] = float(sc.um_from_u(x)) if x is not None else None
+        x = summ.get(nd)  # None where not finite (the JSON summary)
+        out[key] = None if x is None or not np.isfinite(x) else float(sc.um_from_u(float(x)))
     out["backlash_um"] = float(sc.um_from_u(model.D))
     out["spectrum_peaks"] = spectrum_peaks(order, spectrum, sc, model.omega) if ok else []
     out["history_periods"] = history_periods or None

@@ -21,6 +21,7 @@ from .._docfill import attributes
 from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions, ModelError
 from ..sweep import Chunk, SweepOptions, run_chunks
+from ..system import element_names
 from .classify import SETTLE_PERIODS
 
 __all__ = [
@@ -32,6 +33,7 @@ __all__ = [
     "RowSink",
     "run_slices",
     "result_dataset",
+    "grid_variables",
 ]
 
 
@@ -352,3 +354,36 @@ def result_dataset(
     """
     ds = xr.Dataset(dict(data), coords=dict(coords), attrs=result_attrs(kind, model, options, **extra))
     return annotate(ds)
+
+
+def grid_variables(
+    rows: Mapping[str, np.ndarray], keys: Sequence[str], dims: tuple[str, ...], shape: tuple[int, ...], model: Any
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The variables of a sweep's Dataset from its rows: each of ``keys`` that ``rows`` holds, reshaped onto ``dims``.
+
+    Parameters
+    ----------
+    rows : mapping of ndarray
+        One row per grid point in the grid's flat order (a system's per-element variables (P, elements)).
+    keys : sequence of str
+        The variables kept, in this order.
+    dims, shape : tuple
+        The grid's dimensions and their sizes.
+    model : System
+        The base model: names the ``element`` coordinate.
+
+    Returns
+    -------
+    data, coords : dict
+        ``name -> (dims, values)``, a per-element variable over ``dims + ("element",)``; and the ``element``
+        coordinate when there is such a variable.
+    """
+    data: dict[str, Any] = {}
+    coords: dict[str, Any] = {}
+    for k in keys:
+        if k in rows:
+            v = rows[k]
+            data[k] = (dims + ("element",) if v.ndim > 1 else dims, v.reshape(shape + v.shape[1:]))
+            if v.ndim > 1:
+                coords["element"] = element_names(model, v.shape[-1])
+    return data, coords

@@ -243,7 +243,7 @@ class RattleResult:
         out["rattle_index_definition"] = "impact kinetic-energy loss per cycle, sum of (v_in^2 - v_out^2)/2 / cycles"
         if sc is not None:
             energy = sc.k0_N_per_m * sc.b_c_m**2
-            out["rattle_index_J"] = self.rattle_index() * energy
+            out["rattle_index_J"] = out["rattle_index"] * energy
             out["impact_energy_J"] = out["impact_energy"] * energy
             out["scales"] = _scales_dict(sc)
             if sc.z1:

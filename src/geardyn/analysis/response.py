@@ -209,8 +209,8 @@ def detect_jumps(
     jumps = []
     for lab in [str(s) for s in ds["sweep"].values]:
         a = ds[measure].sel(sweep=lab).values
-        order = np.arange(x.size) if lab != "down" else np.arange(x.size)[::-1]
-        xs, As = x[order], a[order]
+        step = -1 if lab == "down" else 1
+        xs, As = x[::step], a[::step]
         d = np.diff(As)
         ad = np.abs(d)
         for i in range(d.size):
@@ -258,13 +258,8 @@ def _same(
 ) -> bool | None:
     if int(sa["status"][k]) != 0 or int(sb["status"][k]) != 0:
         return None
-    return _same_attractor(
-        _attractor(sa, k),
-        _attractor(sb, k),
-        tol=tol,
-        signature_tol=nonperiodic_tol * max(amp_range, 1e-12),
-        match_motion=False,
-    )
+    sig_tol = nonperiodic_tol * max(amp_range, 1e-12)
+    return _same_attractor(_attractor(sa, k), _attractor(sb, k), tol=tol, signature_tol=sig_tol, match_motion=False)
 
 
 def same_attractor(
@@ -451,8 +446,6 @@ def response_json(ds: xr.Dataset) -> dict[str, Any]:
         pl = point_labels(ds, lab)
         out[lab] = {
             measure: json_values(ds[measure].sel(sweep=lab)),
-            "motion": pl["motion"],
-            "impact": pl["impact"],
-            "period": pl["period"],
+            **{k: pl[k] for k in ("motion", "impact", "period")},
         }
     return out

@@ -160,10 +160,7 @@ class RunupResult:
             "ramp_rate_per_tau": self.ramp_rate,
             "cycles_per_block": self.cycles,
             "blocks": int(self.omega.size),
-            "omega": lst(self.omega),
-            "tau": lst(self.tau),
-            "amplitude": lst(self.amplitude),
-            "dynamic_factor": lst(self.dynamic_factor),
+            **{k: lst(getattr(self, k)) for k in ("omega", "tau", "amplitude", "dynamic_factor")},
             "order_amplitude": [lst(a) for a in self.order_amplitude.T],
             "diverged": self.diverged,
         }
@@ -411,15 +408,11 @@ def steady_response(
                 progress(done, 2 * w.size)
             state = model.initial_state() if r is None else r[3]
 
-        def col(k: int, j: int | None = None) -> list[float | None]:
-            vals = []
-            for i in range(w.size):
-                r = rows[i]
-                x = None if r is None else (r[k][j] if j is not None else r[k])
-                vals.append(None if x is None or not np.isfinite(x) else float(x))
-            return vals
+        def col(k: int) -> list[float | None]:  # the first order of the order amplitudes
+            x = [np.nan if rows[i] is None else np.ravel(rows[i][k])[0] for i in range(w.size)]
+            return [float(v) if np.isfinite(v) else None for v in x]
 
-        out[lab] = {"order_amplitude": col(0, 0), "amplitude": col(1), "dynamic_factor": col(2)}
+        out[lab] = {"order_amplitude": col(0), "amplitude": col(1), "dynamic_factor": col(2)}
     return out
 
 

@@ -374,10 +374,9 @@ def classify_budget(model: Any) -> tuple[int, int]:
     """
     from .classify import SETTLE_PERIODS, SETTLE_ROUNDS
 
-    p = model.period_multiple()
-    if not p or int(p) <= 1:
+    p = int(model.period_multiple() or 1)
+    if p <= 1:
         return SETTLE_PERIODS, SETTLE_ROUNDS
-    p = int(p)
     n = max(CLASSIFY_SECTION, -(-SETTLE_PERIODS // p))
     return n, max(1, CLASSIFY_CYCLES // (n * p))
 
@@ -490,10 +489,9 @@ def long_run(
     from ..integrate import natural_steps
     from ..model import DEFAULT_PERIODS, DEFAULT_TRANSIENT
 
-    p = model.period_multiple()
-    if not p or int(p) <= 1:
+    p = int(model.period_multiple() or 1)
+    if p <= 1:
         return None
-    p = int(p)
     dt = DEFAULT_TRANSIENT if default_transient is None else int(default_transient)
     dp = DEFAULT_PERIODS if default_periods is None else int(default_periods)
     if transient is not None:

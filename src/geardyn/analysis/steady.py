@@ -190,7 +190,7 @@ def classify_batch(
     if res.lyapunov_log is not None and res.lyapunov_log.shape[1] > 0:
         lam, err = spectrum_from_log(res.lyapunov_log, T, blocks=nb)
     settled = np.zeros(P, dtype=np.int64)
-    section: dict[int, np.ndarray] = {}
+    sections = list(out["poincare"])  # the section of point i: that of its last settling pass, else its recorded one
     need = np.flatnonzero((out["status"] == ST_OK) & (out["period"] == 0))
     n_rec = res.poincare.shape[1]
     max_rounds = int(rounds)
@@ -218,7 +218,8 @@ def classify_batch(
             a[need, : new.shape[1]] = new
         settled[need] += 1
         rounds += 1
-        section.update(zip(need.tolist(), r2.poincare))
+        for i, sec in zip(need, r2.poincare):
+            sections[i] = sec
         chaotic = l2[:, 0] > LLE_SIGMAS * e2[:, 0] + LLE_FLOOR  # nothing to settle
         again = (s2["status"] == ST_OK) & (s2["period"] == 0) & ~chaotic
         need = np.array([i for j, i in enumerate(need) if again[j] and is_settling(r2.poincare[j])], dtype=np.int64)
@@ -226,9 +227,7 @@ def classify_batch(
     if rounds:  # still contracting onto a cycle when the passes ran out
         unsettled[need] = True
     bad = out["status"] != ST_OK
-    lam[bad] = np.nan
-    err[bad] = np.nan
-    sections = _Sections(section, out["poincare"])
+    lam[bad] = err[bad] = np.nan
     allowed = quasi_periodic_allowed_batch(models)
     with np.errstate(invalid="ignore"):  # a neutral λ1 where a torus is allowed: is it the slowest mode's decay?
         neutral = ~bad & (out["period"] == 0) & allowed & (np.abs(lam[:, 0]) <= LLE_SIGMAS * err[:, 0] + LLE_FLOOR)
@@ -246,19 +245,6 @@ def classify_batch(
         unsettled=unsettled,
     )
     return out
-
-
-class _Sections:
-    """The Poincaré section of point i: that of its last settling pass, else its recorded points."""
-
-    def __init__(self, settled: dict[int, np.ndarray], recorded: np.ndarray) -> None:
-        self.settled, self.recorded = settled, recorded
-
-    def __len__(self) -> int:
-        return int(self.recorded.shape[0])
-
-    def __getitem__(self, i: int) -> np.ndarray:
-        return self.settled.get(int(i), self.recorded[i])
 
 
 def amplitude_spectrum(u: np.ndarray, periods: float, closed: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -474,8 +460,7 @@ def simulate(
         **{k: f(k) for k in _MEASURES},
         "contact_fractions": {name: f(f"fraction_{name}") for name in model.elements[model.reference].law.counters},
         "status": "ok" if ok else "diverged",
-        "lle": None if cls is None else f("lle", cls),
-        "lle_err": None if cls is None else f("lle_err", cls),
+        **{k: None if cls is None else f(k, cls) for k in ("lle", "lle_err")},
     }
     P = int(model.period_multiple() or 1)
     notes = []

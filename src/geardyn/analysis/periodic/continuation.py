@@ -153,10 +153,7 @@ class ContinuationResult:
     def bifurcations(self) -> list[Bifurcation]:
         """All events, excluding a period-2n branch's return to the period-n branch (already listed as
         that branch's period doubling), sorted by branch then parameter."""
-        out = []
-        for b in self.branches:
-            out.extend(x for x in b.bifurcations if x.type != "merge")
-        return out
+        return [x for b in self.branches for x in b.bifurcations if x.type != "merge"]
 
     def of_type(self, typ: str, n: int | None = None) -> list[Bifurcation]:
         """The events of type ``typ`` (on branches of period ``n`` if given)."""
@@ -380,8 +377,7 @@ def continuation(
     number("stop", stop)
     if start == stop:
         raise ModelError("stop: must differ from start")
-    if max_period < n:
-        max_period = n
+    max_period = max(max_period, n)
     m0 = model.with_param(param, start)
     model.with_param(param, stop)  # validates the far end too
     IntegrationOptions(dtau=dtau).check_for(m0.omega)

@@ -385,7 +385,7 @@ class PeriodicOrbit:
         """Section points, multipliers, monodromy and the time history over the orbit's n periods."""
         from ...io import annotate, result_attrs
 
-        tau, u, v = self.history() if self.converged else (np.zeros(0), np.zeros(0), np.zeros(0))
+        tau, u, v = self.history() if self.converged else (np.zeros(0),) * 3
         fl = self.floquet
         d = len(self.state)
         m = self.model
@@ -620,7 +620,7 @@ def shoot(
             model, n, state0, dtau=dtau, accurate=accurate, transient=transient, progress=progress
         )
         if x0 is None:
-            return _failed_orbit(model, n, start_state(model, state0), dtau, accurate, N)
+            return _failed_orbit(pmap, start_state(model, state0))
     else:
         x0 = np.asarray(guess, dtype=float)
         if x0.shape != (pmap.dim,) or not np.all(np.isfinite(x0)):
@@ -639,7 +639,7 @@ def shoot(
             if ev2.ok:
                 ev, its, res = ev2, its + its_a + its2, res + res_a + res2
     if not ev.ok:
-        return _failed_orbit(model, n, x0, dtau, accurate, N)
+        return _failed_orbit(pmap, x0)
     return _orbit_from_eval(pmap, ev, conv, status, its, res)
 
 
@@ -672,15 +672,15 @@ def _orbit_from_eval(
     )
 
 
-def _failed_orbit(model: GearModel, n: int, x: np.ndarray, dtau: float, accurate: bool, N: int) -> PeriodicOrbit:
-    """The orbit of a shooting whose simulation or Newton iteration diverged."""
+def _failed_orbit(pmap: PeriodMap, x: np.ndarray) -> PeriodicOrbit:
+    """The orbit of a shooting with ``pmap`` whose simulation or Newton iteration diverged."""
     x = np.asarray(x, float)
     d = x.size
     return PeriodicOrbit(
-        model,
-        n,
+        pmap.model,
+        pmap.n,
         x,
-        np.full((n, d), np.nan),
+        np.full((pmap.n, d), np.nan),
         np.full((d, d), np.nan),
         False,
         Status.DIVERGED,
@@ -688,7 +688,7 @@ def _failed_orbit(model: GearModel, n: int, x: np.ndarray, dtau: float, accurate
         [math.inf],
         math.nan,
         math.nan,
-        dtau,
-        accurate,
-        N,
+        pmap.dtau,
+        pmap.accurate,
+        pmap.steps,
     )
