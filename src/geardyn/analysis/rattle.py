@@ -32,6 +32,7 @@ file of two gears on their rotations (the usual idle-rattle model) into its pair
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -39,9 +40,14 @@ from typing import Any
 
 import numpy as np
 
+from .._lazy import lazy_module
 from ..errors import ModelError
 from ..integrate import trajectory
+from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions
+from ..torque_orders import to_dicts
+
+xr = lazy_module("xarray")
 
 __all__ = ["RattleResult", "crossings", "pair_of_system", "rattle", "rattle_map"]
 
@@ -206,8 +212,6 @@ class RattleResult:
 
     def to_json(self) -> dict[str, Any]:
         """The summary (``geardyn rattle --json``)."""
-        from ..torque_orders import to_dicts
-
         out: dict[str, Any] = {
             "omega": self.model.omega,
             "status": self.status,
@@ -227,7 +231,7 @@ class RattleResult:
         for name, flank in (("drive", 1), ("back", -1)):
             vin, vout = self._flank(flank)
             d = {
-                "impacts_per_cycle": float(vin.size / self.cycles),
+                "impacts_per_cycle": self.impacts_per_cycle(flank),
                 "impact_velocity_mean": float(vin.mean()) if vin.size else None,
                 "impact_velocity_max": float(vin.max()) if vin.size else None,
                 "rebound_velocity_mean": float(vout.mean()) if vout.size else None,
@@ -254,10 +258,6 @@ class RattleResult:
     def to_dataset(self) -> Any:
         """Dataset of kind ``rattle``: the history u, u' over τ (every k-th step, at most :data:`HISTORY_SAMPLES`
         samples) and every impact (located on the full history)."""
-        import xarray as xr
-
-        from ..io import annotate, result_attrs
-
         e = self.events
         k = max(1, -(-self.tau.size // HISTORY_SAMPLES))
         ds = xr.Dataset(
@@ -270,8 +270,6 @@ class RattleResult:
             },
             coords={"tau": self.tau[::k], "impact": np.arange(e["time"].size)},
         )
-        import json
-
         ds.attrs.update(result_attrs("rattle", self.model, self.options, summary=json.dumps(self.to_json())))
         return annotate(ds, "rattle")
 
@@ -353,10 +351,6 @@ def rattle_map(
         Kind ``rattle_map``: ``impacts_drive``, ``impacts_back`` (per cycle), ``impact_velocity_max``,
         ``rattle_index`` over (``omega``, ``amplitude_scale``), and ``status`` (0 ok, 1 diverged).
     """
-    import xarray as xr
-
-    from ..io import annotate, result_attrs
-
     model = _check(model)
     if not model.torque_orders:
         raise ModelError("torque_orders: a rattle map scales the torque orders' amplitudes; the model has none")
@@ -394,10 +388,6 @@ def rattle_map(
         ds["rattle_index_J"] = ds["rattle_index"] * (sc.k0_N_per_m * sc.b_c_m**2)
         if sc.z1:
             ds = ds.assign_coords(rpm=("omega", sc.rpm_from_omega(om)))
-    import json
-
-    from ..torque_orders import to_dicts
-
     extra = {"torque_orders": json.dumps(to_dicts(model.torque_orders))}
     if sc is not None:
         extra["rattle_scales"] = json.dumps(_scales_dict(sc))

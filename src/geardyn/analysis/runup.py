@@ -48,7 +48,7 @@ import xarray as xr
 
 from ..errors import ModelError
 from ..integrate import integrate_batch, trajectory
-from ..io import json_number
+from ..io import json_values
 from ..model import DEFAULT_DTAU, IntegrationOptions
 
 __all__ = ["MAX_BLOCKS", "RunupResult", "block_error", "runup", "steady_response"]
@@ -149,10 +149,6 @@ class RunupResult:
 
     def to_json(self) -> dict[str, Any]:
         """JSON summary (lists per block)."""
-
-        def lst(a: np.ndarray) -> list[float | None]:
-            return [json_number(x) for x in np.asarray(a, dtype=float).ravel()]
-
         out = {
             "omega_start": self.omega_start,
             "omega_stop": self.omega_stop,
@@ -160,14 +156,14 @@ class RunupResult:
             "ramp_rate_per_tau": self.ramp_rate,
             "cycles_per_block": self.cycles,
             "blocks": int(self.omega.size),
-            **{k: lst(getattr(self, k)) for k in ("omega", "tau", "amplitude", "dynamic_factor")},
-            "order_amplitude": [lst(a) for a in self.order_amplitude.T],
+            **{k: json_values(getattr(self, k)) for k in ("omega", "tau", "amplitude", "dynamic_factor")},
+            "order_amplitude": json_values(self.order_amplitude.T),
             "diverged": self.diverged,
         }
         if self.spectrum is not None:
             out["excitation_cycles"] = int(self.model.period_multiple() or 1)
-            out["spectrum_orders"] = lst(self.spectrum_orders)
-            out["spectrum"] = [lst(a) for a in self.spectrum.T]
+            out["spectrum_orders"] = json_values(self.spectrum_orders)
+            out["spectrum"] = json_values(self.spectrum.T)
         return out
 
 
@@ -409,8 +405,9 @@ def steady_response(
             state = model.initial_state() if r is None else r[3]
 
         def col(k: int) -> list[float | None]:  # the first order of the order amplitudes
-            x = [np.nan if rows[i] is None else np.ravel(rows[i][k])[0] for i in range(w.size)]
-            return [float(v) if np.isfinite(v) else None for v in x]
+            return json_values(
+                np.array([np.nan if rows[i] is None else np.ravel(rows[i][k])[0] for i in range(w.size)])
+            )
 
         out[lab] = {"order_amplitude": col(0), "amplitude": col(1), "dynamic_factor": col(2)}
     return out
