@@ -27,13 +27,14 @@ from .classify import (
     MOTION_UNRESOLVED,
     SETTLE_PERIODS,
     SETTLE_ROUNDS,
+    SETTLING_RATIO,
     classify_points,
     detect_periods,
     impact_states,
-    is_settling,
     motion_label,
     period_label,
     quasi_periodic_allowed_batch,
+    settling_ratios,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
 from .settle import classify_budget, decay_rates
@@ -153,7 +154,8 @@ def classify_batch(
     settle_periods : int
         Points whose Poincaré sequence is not periodic are integrated this many further periods
         from their end state with the tangent equations (repeated, up to
-        :data:`~geardyn.analysis.classify.SETTLE_ROUNDS` passes, while :func:`~geardyn.analysis.classify.is_settling`);
+        :data:`~geardyn.analysis.classify.SETTLE_ROUNDS` passes, while the sequence still contracts onto a cycle,
+        :func:`~geardyn.analysis.classify.settling_ratio` <= :data:`~geardyn.analysis.classify.SETTLING_RATIO`);
         their period, amplitudes, Poincaré points, end state and exponents are then those of the last pass
         (0: no such pass; the motion of a non-periodic point without exponents is then 'unresolved').
     blocks : int, optional
@@ -222,7 +224,7 @@ def classify_batch(
             sections[i] = sec
         chaotic = l2[:, 0] > LLE_SIGMAS * e2[:, 0] + LLE_FLOOR  # nothing to settle
         again = (s2["status"] == ST_OK) & (s2["period"] == 0) & ~chaotic
-        need = np.array([i for j, i in enumerate(need) if again[j] and is_settling(r2.poincare[j])], dtype=np.int64)
+        need = need[again & (settling_ratios(r2.poincare) <= SETTLING_RATIO)]  # still contracting onto a cycle
     unsettled = np.zeros(P, dtype=bool)
     if rounds:  # still contracting onto a cycle when the passes ran out
         unsettled[need] = True
