@@ -407,8 +407,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         claims.append(
             CLAIMS[cid].judge(
                 txt + f"; parts holding: {count_text(exists + ok, 2, '')}; an upward jump in each response: "
-                f"{yes_no(exists)} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} "
-                "with "
+                f"{yes_no(exists)} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} with "
                 f"{lab}: {yes_no(ok)}.",
                 parts(exists, ok),
                 jd.ev(*keys),
@@ -475,8 +474,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             f"Up and down sweeps over ω ∈ [{s.response_omega[0]:g}, {s.response_omega[1]:g}] ({s.response_num} points, "
             f"each starting from the previous end state, {s.response_options.transient} transient and "
             f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step "
-            "of the "
-            "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
+            "of the amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
             "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm), the default "
             f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = "
             f"{base_xi0:g} unless varied."
@@ -551,8 +549,7 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         [
             f"Read from the frequency responses of the jump study at the grid ω nearest each row. Amplitude counts as "
             f"matching within {100 * TABLE4_AMP_REL:.0f} % (either sweep); the jump type when a jump of that "
-            "direction lies "
-            f"within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."
+            f"direction lies within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."
         ],
         [],
         claims,

@@ -398,9 +398,8 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
             ):
                 add(cid, lab, what, ok, pair, key, yes_no(ok.any()))
     joint = (
-        f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided "
-        f"impacts hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not "
-        "depend on D)"
+        f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided impacts "
+        f"hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not depend on D)"
     )
     ids = [c for c in CLAIMS if c in okmap]
     ctx.save(
