@@ -181,16 +181,10 @@ def _test(jr: JumpReadings, cid: str, i: int) -> tuple[bool, str]:
             f"{lab} = {k[pos]:g}: {v}" for k, v in zip(keys, distinct_text(sz))
         )
     if cid == "JUMP-FLUCT":
-        f0 = [_fluct(jr, i, K(k)) for k in XI0_KEYS]
-        f1 = [_fluct(jr, i, K(k)) for k in XI1_KEYS]
-        ok0, why0 = fluctuation_trend(f0, True)
-        ok1, why1 = fluctuation_trend(f1, False)
+        f0, f1 = ([_fluct(jr, i, K(k)) for k in keys] for keys in (XI0_KEYS, XI1_KEYS))
+        (ok0, why0), (ok1, why1) = fluctuation_trend(f0, True), fluctuation_trend(f1, False)
         return ok0 and ok1, (
-            "spread over ξ0 "
-            + ", ".join(distinct_text(f0))
-            + f" ({why0}); over ξ1 "
-            + ", ".join(distinct_text(f1))
-            + f" ({why1})"
+            f"spread over ξ0 {', '.join(distinct_text(f0))} ({why0}); over ξ1 {', '.join(distinct_text(f1))} ({why1})"
         )
     if cid == "JUMP-057":
         first = [first_up_jump(js[K(k)]) for k in B_KEYS]
