@@ -374,27 +374,24 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
                 add(cid, Reading(*pair).text, "probes hold", ok, pair, "")
     # Table 3 (the ω where each row's motion holds), BL-IMPACT, BL-AMP and their joint test with the Table 3
     # sequence (F2), per backlash reading and phase pair
-    n_joint = n_seq = 0
     row_holds = _t3_holds(data)
+    seq = row_holds.all(axis=1)  # (backlash reading, phase pair, ω)
+    ok_imp = np.all(data.bl["impact"] == SINGLE_SIDED, axis=1)
+    ok_amp = np.all(np.diff(data.bl["amplitude"], axis=1) > 0, axis=1)
+    n_joint, n_seq = int(np.sum(seq & ok_imp)), int(np.sum(seq))
     for r, key in enumerate(BACKLASH_READINGS):
         for j, pair in enumerate(data.pairs):
             lab = f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
-            seq = np.ones(W.size, dtype=bool)
             for k, cid in enumerate(claim_ids("T3-")):
-                n = data.bl["period"][r, k, j]
                 ok = row_holds[r, k, j]
-                seq &= ok
                 if CLAIMS[cid].numbers["lyapunov"] == "near zero":  # near a change of motion: λ1 can be near zero
+                    n = data.bl["period"][r, k, j]
                     d = n[1:] != n[:-1]
                     ok = ok & (np.r_[False, d] | np.r_[d, False])
                 add(cid, lab, "motion holds", ok, pair, key)
-            ok_imp = np.all(data.bl["impact"][r, :, j, :] == SINGLE_SIDED, axis=0)
-            ok_amp = np.all(np.diff(data.bl["amplitude"][r, :, j, :], axis=0) > 0, axis=0)
-            n_joint += int(np.sum(seq & ok_imp))
-            n_seq += int(np.sum(seq))
             for cid, ok, what in (
-                ("BL-IMPACT", ok_imp, "single-sided at all three b"),
-                ("BL-AMP", ok_amp, "amplitude grows with b"),
+                ("BL-IMPACT", ok_imp[r, j], "single-sided at all three b"),
+                ("BL-AMP", ok_amp[r, j], "amplitude grows with b"),
             ):
                 add(cid, lab, what, ok, pair, key, yes_no(ok.any()))
     joint = (
