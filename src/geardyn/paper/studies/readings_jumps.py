@@ -194,7 +194,7 @@ def _test(jr: JumpReadings, cid: str, i: int) -> tuple[bool, str]:
         _, fit = fit_responses((*key, W, jr.amplitude[i, k, 0]) for k, key in enumerate(JUMP_KEYS))
         return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({jr.readings[i].backlash})"
     w = n["omega"]  # JUMP-082, JUMP-095 and Table 4: a jump (and an amplitude) at ω on one response
-    k = K((n.get("xi0", 0.08), TABLE1["xi1"], n["b"]))
+    (k,) = CLAIM_KEYS[cid]
     jk = js[k]
     if cid.startswith("JUMP-"):
         return jump_holds(
