@@ -29,7 +29,7 @@ import numpy as np
 from ._docfill import attributes
 from .errors import ModelError
 from .meshtable import EVALUATIONS, check_table, table_values
-from .pairpack import MAX_KAPPA_SUM, pack_models, stiffness_minimum
+from .pairpack import MAX_KAPPA_SUM, SERIES, SERIES_FIELDS, pack_models, stiffness_minimum
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
 from .series import series_values
 from .system import Element
@@ -234,7 +234,7 @@ class GearModel:
             raise ModelError(f"omega: too small, the forcing period 2π/ω is not finite (got {self.omega!r})")
         if self.D < 0:
             raise ModelError(f"D (backlash): must be >= 0 (0 means no backlash), got {self.D!r}")
-        for amp, ph in (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e")):
+        for amp, ph in SERIES:
             a = _as_tuple(amp, getattr(self, amp), self.cycles)
             p = _as_tuple(ph, getattr(self, ph), self.cycles)
             if len(p) > len(a) or 0 < len(p) < len(a):
@@ -291,7 +291,7 @@ class GearModel:
         if self.torque_orders:
             s = M // self.cycles
             spread = {}
-            for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
+            for k in SERIES_FIELDS:
                 row = [0.0] * (s * len(getattr(self, k)))
                 row[s - 1 :: s] = getattr(self, k)
                 spread[k] = tuple(row)
@@ -424,7 +424,7 @@ class GearModel:
         padded for its amplitudes, not given for the new ones.
         """
         d = {f.name: getattr(self, f.name) for f in fields(self)}
-        for amp, ph in (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e")):
+        for amp, ph in SERIES:
             if amp in changes and ph not in changes:
                 v = changes[amp]
                 n = 0 if v is None else 1 if np.isscalar(v) else len(v)
@@ -467,8 +467,8 @@ class GearModel:
         c[1, 0, 0] = 1.0
         c[2, 0, 0] = self.fp
         w2 = (self.omega if self.cycles == 1 else self.omega / self.cycles) ** 2
-        for i, (amps, phases) in enumerate(((self.xi, self.phi_c), (self.kappa, self.phi_k), (self.eps, self.phi_e))):
-            for j, (a, ph) in enumerate(zip(amps, phases), 1):
+        for i, (amp, phase) in enumerate(SERIES):
+            for j, (a, ph) in enumerate(zip(getattr(self, amp), getattr(self, phase)), 1):
                 scale = (2.0, 1.0, w2 * j * j)[i]  # 2ξ, κ, ω²j²ε
                 c[i, j * s, 0] = scale * a * math.cos(ph)
                 c[i, j * s, 1] = -scale * a * math.sin(ph)

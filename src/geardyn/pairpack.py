@@ -24,11 +24,19 @@ from .system import Batch, build_models
 __all__ = [
     "MAX_KAPPA_SUM",
     "PointModels",
+    "SERIES",
+    "SERIES_FIELDS",
     "pack_models",
     "pack_points",
     "stiffness_minimum",
     "steps_per_period",
 ]
+
+#: The harmonic series of the model, each amplitude field with its phase field (ξ_k with φ_ck, κ_r with φ_kr,
+#: ε_l with φ_el), in the order of the coefficient functions C, K, F.
+SERIES = (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e"))
+#: Their fields, amplitudes and phases, in that order.
+SERIES_FIELDS = tuple(field for pair in SERIES for field in pair)
 
 #: Largest Σ|κ_r| accepted: the mesh stiffness 1 + Σ κ_r cos(...) must stay positive.
 MAX_KAPPA_SUM = 1.0
@@ -190,7 +198,7 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
     H = proto.n_harmonics
     # the fields of every point, in the structure of the first (series zero-padded as with_param pads them)
     val = {k: np.full(P, float(getattr(base, k))) for k in ("omega", "xi0", "fp", "D")}
-    for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
+    for k in SERIES_FIELDS:
         row = np.zeros(len(getattr(proto, k)))
         row[: len(getattr(base, k))] = getattr(base, k)
         val[k] = np.tile(row, (P, 1)).reshape(P, row.size)
@@ -227,7 +235,7 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
         coef[:, 0, 0, 0] = 2.0 * val["xi0"]
         coef[:, 1, 0, 0] = 1.0
         coef[:, 2, 0, 0] = val["fp"]
-        for i, amp, ph in ((0, "xi", "phi_c"), (1, "kappa", "phi_k"), (2, "eps", "phi_e")):
+        for i, (amp, ph) in enumerate(SERIES):
             for j0 in range(val[amp].shape[1]):
                 j = j0 + 1
                 scale = 2.0 if i == 0 else (1.0 if i == 1 else w2 * j * j)
@@ -309,9 +317,6 @@ class PointModels(Batch):
     def sampling_periods(self) -> np.ndarray:
         """Forcing periods 2π/(ω/P) of the points."""
         return 2.0 * math.pi / self.omega
-
-    def natural_steps(self, dtau: float) -> np.ndarray:
-        return steps_per_period(self.omega, dtau)
 
     def check_step(self, options: Any) -> None:
         too_long = options.dtau >= 2.0 * math.pi / self.omega
