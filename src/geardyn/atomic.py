@@ -158,12 +158,6 @@ def _drop(tmp: str | None) -> None:
         pass
 
 
-def _write_all(tmp: str, data: bytes | memoryview) -> None:
-    with open(tmp, "wb") as f:
-        f.write(data)
-        f.flush()
-
-
 def atomic_write_bytes(path: str | Path, data: bytes | memoryview) -> Path:
     """Write ``data`` to ``path`` atomically (temporary file in the same folder, fsync, rename).
 
@@ -179,7 +173,7 @@ def atomic_write_bytes(path: str | Path, data: bytes | memoryview) -> Path:
     Path
         ``path``.
     """
-    return atomic_write(path, lambda tmp: _write_all(tmp, data))
+    return atomic_write(path, lambda tmp: Path(tmp).write_bytes(data))
 
 
 def write_netcdf_bytes(fill: Callable[[Any], None]) -> memoryview:

@@ -46,7 +46,7 @@ from .backend import (
     ST_OK,
     RawRun,
 )
-from .model import IntegrationOptions, ModelError
+from .model import IntegrationOptions, ModelError, _whole_number
 from .system import LAW_COUNTERS, Batch, as_batch
 
 __all__ = [
@@ -108,11 +108,7 @@ def natural_steps(model: Any, dtau: float) -> int:
 def _thread_count(n: int) -> int:
     import numba
 
-    try:
-        whole = not isinstance(n, bool) and float(n).is_integer()
-    except (TypeError, ValueError, OverflowError):
-        whole = False
-    if not whole:
+    if not _whole_number(n):
         raise ModelError(f"threads: must be an integer >= 1, got {n!r}")
     if n < 1:
         raise ModelError(f"threads: must be >= 1, got {n}")

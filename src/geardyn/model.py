@@ -94,6 +94,15 @@ def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: A
     return x
 
 
+def _whole_number(value: Any, at_least: float = -math.inf) -> bool:
+    """Whether ``value`` is a whole number >= ``at_least`` (a float such as 3.0 included; a bool, a string, NaN or
+    ±inf not)."""
+    try:
+        return not isinstance(value, bool) and float(value).is_integer() and value >= at_least
+    except (TypeError, ValueError, OverflowError):
+        return False
+
+
 def series_change(obj: Any, attr: str, idx: int, value: float) -> dict[str, tuple[float, ...]]:
     """The changes that set member ``idx`` of the series ``attr`` of ``obj`` (a model or a mesh) to ``value``: the
     series extended by zeros, and for a phase of a harmonic not yet present that harmonic with amplitude 0."""
@@ -600,11 +609,7 @@ class IntegrationOptions:
         object.__setattr__(self, "dtau", dt)
         for name, lo in (("transient", 0), ("periods", 1)):
             v = getattr(self, name)
-            try:
-                ok = not isinstance(v, bool) and float(v).is_integer() and v >= lo
-            except (TypeError, ValueError, OverflowError):
-                ok = False
-            if not ok:
+            if not _whole_number(v, lo):
                 raise ModelError(f"{name}: must be an integer >= {lo}, got {v!r}")
             object.__setattr__(self, name, int(v))
         object.__setattr__(self, "accurate", bool(self.accurate))
