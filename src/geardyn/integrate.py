@@ -59,16 +59,12 @@ __all__ = [
     "using_threads",
     "state_dim",
     "natural_steps",
-    "STATE_DIM",
     "forcing_period",
     "start_state",
     "ST_OK",
     "ST_DIVERGED",
     "DIVERGENCE_BOUND",
 ]
-
-#: Dimension of the state the kernel integrates: (u, u') of the 1-DOF model.
-STATE_DIM = 2
 
 
 def state_dim(model: Any) -> int:
@@ -82,7 +78,7 @@ def state_dim(model: Any) -> int:
     Returns
     -------
     int
-        ``model.state_dim`` (:data:`STATE_DIM` = 2, (u, u'), for the 1-DOF model; 2n for a system).
+        ``model.state_dim`` (2, (u, u'), for the 1-DOF model; 2n for a system).
     """
     return int(model.state_dim)
 
@@ -357,7 +353,6 @@ def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
         raise ModelError(f"steps: expected an integer or {P} integers, got shape {arr.shape}")
     if (
         arr.dtype.kind not in "iuf"
-        or arr.dtype == bool
         or not np.all(np.isfinite(arr))
         or not np.all(arr == np.round(arr))
         or np.any(arr < 1)

@@ -232,7 +232,7 @@ class GearModel:
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         P = self.cycles
-        if isinstance(P, (bool, np.bool_)) or not isinstance(P, numbers.Real) or not float(P).is_integer() or P < 1:
+        if not isinstance(P, numbers.Real) or not _whole_number(P, 1):
             raise ModelError(f"cycles: the mesh cycles of a forcing period must be an integer >= 1, got {P!r}")
         set_(self, "cycles", int(P))
         for name in ("omega", "xi0", "fp", "D"):
@@ -297,16 +297,14 @@ class GearModel:
         M = self.period_multiple()
         if M == 1:
             return self
-        if self.torque_orders:
-            s = M // self.cycles
-            spread = {}
-            for k in SERIES_FIELDS:
-                row = [0.0] * (s * len(getattr(self, k)))
-                row[s - 1 :: s] = getattr(self, k)
-                spread[k] = tuple(row)
-            orders = tuple((q * M, a, p) for q, a, p in self.torque_orders)
-            return self.replace(omega=self.forcing_omega, cycles=1, torque_orders=orders, **spread)
-        return self.replace(omega=self.forcing_omega, cycles=1)
+        s = M // self.cycles  # series harmonic j (of ω/P) is harmonic j·s of ω/M (s = 1 without torque orders)
+        spread = {}
+        for k in SERIES_FIELDS:
+            row = [0.0] * (s * len(getattr(self, k)))
+            row[s - 1 :: s] = getattr(self, k)
+            spread[k] = tuple(row)
+        orders = tuple((q * M, a, p) for q, a, p in self.torque_orders)
+        return self.replace(omega=self.forcing_omega, cycles=1, torque_orders=orders, **spread)
 
     @property
     def n_harmonics(self) -> int:
@@ -475,7 +473,7 @@ class GearModel:
         c[0, 0, 0] = 2.0 * self.xi0
         c[1, 0, 0] = 1.0
         c[2, 0, 0] = self.fp
-        w2 = (self.omega if self.cycles == 1 else self.omega / self.cycles) ** 2
+        w2 = (self.omega / self.cycles) ** 2
         for i, (amp, phase) in enumerate(SERIES):
             for j, (a, ph) in enumerate(zip(getattr(self, amp), getattr(self, phase)), 1):
                 scale = (2.0, 1.0, w2 * j * j)[i]  # 2ξ, κ, ω²j²ε

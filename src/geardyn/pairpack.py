@@ -215,14 +215,13 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
             ksum = np.zeros(P)
             for r in range(val["kappa"].shape[1]):
                 ksum = ksum + np.abs(val["kappa"][:, r])
+            cert = False
             if base.cycles > 1 and np.any(ksum >= MAX_KAPPA_SUM):  # the model's certified minimum, per distinct row
                 rows = np.hstack([val["kappa"], val["phi_k"]])
                 uniq, inv = np.unique(rows, axis=0, return_inverse=True)
                 H0 = val["kappa"].shape[1]
                 cert = np.array([stiffness_minimum(r[:H0], r[H0:]) > 0.0 for r in uniq])[inv.ravel()]
-                ok &= (ksum < MAX_KAPPA_SUM) | cert
-            else:
-                ok &= ksum < MAX_KAPPA_SUM
+            ok &= (ksum < MAX_KAPPA_SUM) | cert
     if not np.all(ok):
         bad = int(np.argmin(ok))
         build_models(base, names, pts[bad : bad + 1])  # raises the model's own error
