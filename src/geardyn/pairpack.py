@@ -201,7 +201,7 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
     for k in SERIES_FIELDS:
         row = np.zeros(len(getattr(proto, k)))
         row[: len(getattr(base, k))] = getattr(base, k)
-        val[k] = np.tile(row, (P, 1)).reshape(P, row.size)
+        val[k] = np.tile(row, (P, 1))
     ok = np.ones(P, dtype=bool)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         for j, p in enumerate(names):  # validated after every assignment, as each with_param validates its model
@@ -235,11 +235,10 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
         coef[:, 1, 0, 0] = 1.0
         coef[:, 2, 0, 0] = val["fp"]
         for i, (amp, ph) in enumerate(SERIES):
-            for j0 in range(val[amp].shape[1]):
-                j = j0 + 1
-                scale = 2.0 if i == 0 else (1.0 if i == 1 else w2 * j * j)
-                a = val[amp][:, j0]
-                phase = val[ph][:, j0]
+            for j in range(1, val[amp].shape[1] + 1):
+                scale = (2.0, 1.0, w2 * j * j)[i]  # 2ξ, κ, ω²j²ε, as GearModel.coefficients
+                a = val[amp][:, j - 1]
+                phase = val[ph][:, j - 1]
                 coef[:, i, j, 0] = scale * a * _per_value(math.cos, phase)
                 coef[:, i, j, 1] = -scale * a * _per_value(math.sin, phase)
     return np.ascontiguousarray(coef), val["D"].copy(), val["omega"].copy()
