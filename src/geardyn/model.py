@@ -17,6 +17,7 @@ name (:data:`PARAMETER_HELP` lists them): ``omega``, ``xi0``, ``xi1``…, ``kapp
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import numbers
@@ -430,17 +431,16 @@ class GearModel:
         harmonic count (or cut to it where the phases cut off are all zero): the phases a model holds were
         padded for its amplitudes, not given for the new ones.
         """
-        d = {f.name: getattr(self, f.name) for f in fields(self)}
         for amp, ph in SERIES:
             if amp in changes and ph not in changes:
                 v = changes[amp]
                 n = 0 if v is None else 1 if np.isscalar(v) else len(v)
-                old = d[ph]
+                old = getattr(self, ph)
                 if n >= len(old):
-                    d[ph] = tuple(old) + (0.0,) * (n - len(old))
+                    changes[ph] = old + (0.0,) * (n - len(old))
                 elif not any(old[n:]):
-                    d[ph] = tuple(old[:n])
-        return GearModel(**{**d, **changes})
+                    changes[ph] = old[:n]
+        return dataclasses.replace(self, **changes)
 
     # ------------------------------------------------------------------ parameters by name
     def get(self, name: str) -> float:
@@ -624,4 +624,4 @@ class IntegrationOptions:
             raise ModelError(f"dtau: must be smaller than the forcing period T = 2π/ω = {T:.6g}, got {self.dtau!r}")
 
     def replace(self, **changes: Any) -> IntegrationOptions:
-        return IntegrationOptions(**{**asdict(self), **changes})
+        return dataclasses.replace(self, **changes)
