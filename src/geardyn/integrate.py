@@ -395,10 +395,8 @@ def _run(
     models: Batch,
     nsteps: np.ndarray,
     state0: np.ndarray,
-    transient: int,
-    record: int,
+    options: IntegrationOptions,
     mode: str,
-    accurate: bool,
     *,
     threads: int | None = None,
     adaptive: bool = False,
@@ -406,8 +404,10 @@ def _run(
     record_poincare: bool = True,
     **kw: Any,
 ) -> RawRun:
-    """The batch's run by its backend (``kw``: ``hist_len``, ``tangent0``, ``tangents`` of :meth:`Backend.run
+    """The batch's run by its backend through ``options.transient`` and ``options.periods`` periods in ``mode``
+    (``adaptive``: the adaptive transient; ``kw``: ``hist_len``, ``tangent0``, ``tangents`` of :meth:`Backend.run
     <geardyn.backend.Backend.run>`), followed with ``progress``."""
+    accurate = options.accurate
     if not accurate and getattr(models[0], "evaluation", "series") == "table":
         raise ModelError(
             'evaluation "table": the table is evaluated as given in the accurate mode only '
@@ -428,7 +428,7 @@ def _run(
                 nsteps,
                 start,
                 periods,
-                record,
+                options.periods,
                 mode,
                 accurate,
                 record_poincare=record_poincare,
@@ -438,15 +438,15 @@ def _run(
             )
 
     if progress is None:
-        return call(state0, transient)
+        return call(state0, options.transient)
     from .backend import run_followed
 
     return run_followed(
         call,
         nsteps,
         state0,
-        int(transient),
-        int(record),
+        options.transient,
+        options.periods,
         progress,
         pieces=not adaptive and backend.restarts_exactly(accurate),
         rows=record_poincare,
@@ -561,10 +561,8 @@ def integrate_batch(
         models,
         nsteps,
         s0,
-        options.transient,
-        options.periods,
+        options,
         mode,
-        options.accurate,
         record_poincare=record_poincare,
         threads=threads,
         adaptive=options.adaptive,
@@ -685,10 +683,8 @@ def trajectory(
         models,
         nsteps,
         s0,
-        options.transient,
-        options.periods,
+        options,
         "none",
-        options.accurate,
         hist_len=K,
         threads=threads,
         progress=progress,
@@ -756,5 +752,5 @@ def period_map(
     """
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=int(n), accurate=accurate)
     models, nsteps, s0 = _prepare([model], opts, steps, state)
-    raw = _run(models, nsteps, s0, 0, int(n), "monodromy", accurate, threads=threads)
+    raw = _run(models, nsteps, s0, opts, "monodromy", threads=threads)
     return raw.poincare[0], raw.tangent[0], raw.stats[0], bool(raw.status[0] == ST_OK)
