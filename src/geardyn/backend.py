@@ -175,7 +175,7 @@ class Backend(abc.ABC):
 
     def initial_states(self, models: Sequence[Any]) -> np.ndarray:
         """The (P, d) default initial states: each system's ``initial_state()``."""
-        return np.ascontiguousarray(np.stack([m.initial_state() for m in models]))
+        return np.stack([m.initial_state() for m in models])
 
     def restarts_exactly(self, accurate: bool) -> bool:
         """Whether a transient run from a period's end state continues it bit for bit (see the module docstring)."""

@@ -286,8 +286,7 @@ class GearModel:
     def forcing_omega(self) -> float:
         """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1); with torque
         orders ω/M, M the mesh cycles of the forcing period (:meth:`period_multiple`)."""
-        M = self.period_multiple()
-        return self.omega if M == 1 else self.omega / M
+        return self.omega / self.period_multiple()
 
     def forcing_model(self) -> GearModel:
         """The same equation with one forcing period as its unit: frequency ω/P, ``cycles`` 1 (itself when P = 1).
@@ -311,7 +310,7 @@ class GearModel:
     def n_harmonics(self) -> int:
         """Largest number of harmonics among the damping, stiffness and STE series (with torque orders: the
         highest harmonic of the forcing frequency ω/M that any series or order reaches)."""
-        n = max(len(self.xi), len(self.kappa), len(self.eps), 0)
+        n = max(len(self.xi), len(self.kappa), len(self.eps))
         if self.torque_orders:
             M = self.period_multiple()
             return max(n * (M // self.cycles), max(int(q * M) for q, _, _ in self.torque_orders))

@@ -227,8 +227,7 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
         build_models(base, names, pts[bad : bad + 1])  # raises the model's own error
         raise ModelError(f"point {bad}: refused by the model")  # pragma: no cover - the checks above are the model's
     coef = np.zeros((P, 3, H + 1, 2))
-    if base.cycles != 1:  # the series are harmonics of the forcing frequency ω/P
-        val["omega"] = val["omega"] / base.cycles
+    val["omega"] = val["omega"] / base.cycles  # the series are harmonics of the forcing frequency ω/P
     w2 = _per_value(_square, val["omega"])
     with np.errstate(over="ignore", invalid="ignore"):  # a value so large that it overflows: the point diverges
         coef[:, 0, 0, 0] = 2.0 * val["xi0"]
@@ -241,7 +240,7 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
                 phase = val[ph][:, j - 1]
                 coef[:, i, j, 0] = scale * a * _per_value(math.cos, phase)
                 coef[:, i, j, 1] = -scale * a * _per_value(math.sin, phase)
-    return np.ascontiguousarray(coef), val["D"].copy(), val["omega"].copy()
+    return np.ascontiguousarray(coef), val["D"], val["omega"]
 
 
 class PointModels(Batch):
