@@ -36,10 +36,7 @@ def discard_temporaries() -> None:
         pending = list(_PENDING)
         _PENDING.clear()
     for tmp in pending:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        _drop(tmp)
 
 
 def remove_stale(path: str | Path) -> list[Path]:

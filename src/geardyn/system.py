@@ -463,13 +463,12 @@ class Batch(Sequence):
 
     def mean_traces(self) -> np.ndarray:
         """The mean trace of the Jacobian of every point (P,): the sum of its Lyapunov exponents."""
-        return np.array([float(self[i].mean_trace()) for i in range(len(self))])
+        return np.array([float(m.mean_trace()) for m in self])
 
     def reference_section(self, poincare: np.ndarray) -> np.ndarray:
         """The reference element's (δ, δ') at Poincaré points (P, n, d) of the batch: (P, n, 2)."""
         out = np.empty(poincare.shape[:2] + (2,))
-        for i in range(len(self)):
-            m = self[i]
+        for i, m in enumerate(self):
             out[i] = m.element_series(poincare[i], 0.0)[:, m.reference, :]
         return out
 
