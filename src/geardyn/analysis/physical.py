@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from .._lazy import lazy_module
-from ..io import PHYSICAL_SUFFIX, VARIABLES, Variable, model_from_attrs, physical_long_name
+from ..io import PHYSICAL_SUFFIX, VARIABLES, Variable, json_attr, model_from_attrs, physical_long_name
 from ..model import GearModel
 from ..series import series_values
 from ..units import SCALES_ATTR, PhysicalScales, scales_of
@@ -239,7 +239,6 @@ def steady_physical(res: Any, scales: Any = None) -> dict[str, Any]:
     dict
         The keys of :func:`simulate_physical`.
     """
-    from ..io import json_attr
     from .steady import _jsonable, amplitude_spectrum
 
     t = res.traj

@@ -48,7 +48,7 @@ import xarray as xr
 
 from ..errors import ModelError
 from ..integrate import integrate_batch, trajectory
-from ..io import json_values
+from ..io import annotate, json_values, result_attrs
 from ..model import DEFAULT_DTAU, IntegrationOptions
 
 __all__ = ["MAX_BLOCKS", "RunupResult", "block_error", "runup", "steady_response"]
@@ -120,8 +120,6 @@ class RunupResult:
     def to_dataset(self) -> xr.Dataset:
         """The result as a Dataset of kind ``runup`` (dims ``block`` and ``order``)."""
         orders = np.arange(1, self.order_amplitude.shape[1] + 1)
-        from ..io import annotate
-
         ds = xr.Dataset(
             {
                 "order_amplitude": (("block", "order"), self.order_amplitude),
@@ -144,8 +142,7 @@ class RunupResult:
             ds["spectrum"] = (("block", "spectrum_order"), self.spectrum)
             ds = ds.assign_coords(spectrum_order=("spectrum_order", self.spectrum_orders))
             ds.attrs["excitation_cycles"] = int(self.model.period_multiple() or 1)
-        annotate(ds)
-        return ds
+        return annotate(ds)
 
     def to_json(self) -> dict[str, Any]:
         """JSON summary (lists per block)."""
@@ -326,8 +323,6 @@ def _steps(omega: float, dtau: float, P: int) -> int | None:
 
 def _model_attrs(model: Any) -> dict[str, str]:
     """The model as a run-up result stores it: the pair's ``model``, a system's ``system_model`` (its backend's)."""
-    from ..io import result_attrs
-
     a = result_attrs("runup", model, IntegrationOptions())
     return {k: a[k] for k in ("model", "system_model", "geardyn_system") if k in a}
 
