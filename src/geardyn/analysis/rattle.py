@@ -130,12 +130,12 @@ def crossings(tau: np.ndarray, u: np.ndarray, v: np.ndarray, D: float) -> dict[s
     """
     tau, u, v = (np.asarray(a, dtype=float) for a in (tau, u, v))
     out = {p + k: [] for p in ("", "rebound_") for k in ("time", "flank", "velocity")}
-    for level, flank in ((D, 1), (-D, -1)):
-        inside = (u > D) if flank > 0 else (u < -D)
+    for flank in (1, -1):  # u > D on the drive flank, u < -D on the back
+        inside = flank * u > D
         change = np.flatnonzero(inside[1:] != inside[:-1])
         for i in change:
             h = tau[i + 1] - tau[i]
-            s, vc = _locate(level, u[i], v[i], u[i + 1], v[i + 1], h)
+            s, vc = _locate(flank * D, u[i], v[i], u[i + 1], v[i + 1], h)
             key = "" if inside[i + 1] else "rebound_"
             out[key + "time"].append(tau[i] + s * h)
             out[key + "flank"].append(flank)
@@ -366,20 +366,19 @@ def rattle_map(
     shape = (om.size, sa.size)
     vals = {k: np.full(shape, np.nan) for k in ("impacts_drive", "impacts_back", "impact_velocity_max", "rattle_index")}
     status = np.zeros(shape, dtype=np.int8)
-    for i, w in enumerate(om):
-        for j, f in enumerate(sa):
-            m = model.replace(omega=float(w), torque_orders=tuple((q, a * f, p) for q, a, p in model.torque_orders))
-            r = rattle(m, options, scales=sc)
-            if r.status != "ok":
-                status[i, j] = 1
-            else:
-                vals["impacts_drive"][i, j] = r.impacts_per_cycle(1)
-                vals["impacts_back"][i, j] = r.impacts_per_cycle(-1)
-                v = np.abs(r.events["velocity"])
-                vals["impact_velocity_max"][i, j] = float(v.max()) if v.size else 0.0
-                vals["rattle_index"][i, j] = r.rattle_index()
-            if progress is not None:
-                progress(i * sa.size + j + 1, om.size * sa.size)
+    for done, (i, j) in enumerate(np.ndindex(shape), 1):
+        orders = tuple((q, a * sa[j], p) for q, a, p in model.torque_orders)
+        r = rattle(model.replace(omega=float(om[i]), torque_orders=orders), options, scales=sc)
+        if r.status != "ok":
+            status[i, j] = 1
+        else:
+            vals["impacts_drive"][i, j] = r.impacts_per_cycle(1)
+            vals["impacts_back"][i, j] = r.impacts_per_cycle(-1)
+            v = np.abs(r.events["velocity"])
+            vals["impact_velocity_max"][i, j] = float(v.max()) if v.size else 0.0
+            vals["rattle_index"][i, j] = r.rattle_index()
+        if progress is not None:
+            progress(done, om.size * sa.size)
     dims = ("omega", "amplitude_scale")
     ds = xr.Dataset({k: (dims, a) for k, a in vals.items()}, coords={"omega": om, "amplitude_scale": sa})
     ds["status"] = (dims, status)
