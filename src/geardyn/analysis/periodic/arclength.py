@@ -195,7 +195,7 @@ class _Continuer:
         self.stop_on_instability = stop_on_instability
         self.cos_max_turn = math.cos(math.radians(MAX_TANGENT_TURN_DEG))
         self._merge_w: np.ndarray | None = None
-        self.on_point: Callable[[float], None] | None = None  # told the parameter of every new branch point
+        self.on_point: Callable[[float], None] = lambda p: None  # told the parameter of every new branch point
 
     # -------------------------------------------------------------- building blocks
     def _jacobian(self, ev: MapEvaluation, Gq: np.ndarray, *rows: np.ndarray) -> np.ndarray:
@@ -445,10 +445,6 @@ class _Continuer:
         return events
 
     # -------------------------------------------------------------- the loop
-    def _report(self, pt: _Point) -> None:
-        if self.on_point is not None:
-            self.on_point(pt.p)
-
     def run(self, first: _Point, direction: float, branch_index: int) -> tuple[list[_Point], list[Bifurcation], str]:
         """Continue from ``first`` with the parameter initially moving in ``direction`` (+1/−1)."""
         if first.tangent[-1] * direction < 0:
@@ -492,10 +488,10 @@ class _Continuer:
                     return pts, bifs, "merged into the period-n/2 branch at its period doubling"
                 if self.stop_on_instability and bif.type in STABILITY_LOSSES and bif.stable_before:
                     pts.append(bpt)
-                    self._report(bpt)
+                    self.on_point(bpt.p)
                     return pts, bifs, "stopped at the first loss of stability"
             pts.append(new)
-            self._report(new)
+            self.on_point(new.p)
             if outside:
                 return pts, bifs, end
             if new.iters <= FAST_CORRECTOR_ITERS:
@@ -591,9 +587,7 @@ def continue_branch(
     if first is None:
         raise ModelError("continuation: the starting orbit could not be corrected at the start value")
     total = abs(float(stop) - float(p0))
-    if progress is not None:
-        cont.on_point = _span_reporter(progress, float(p0), float(stop))
-        progress(0.0, total)
+    cont.on_point = _span_reporter(progress, float(p0), float(stop))
     pts, bifs, end = cont.run(first, direction, index)
     if progress is not None:
         progress(total, total)
@@ -620,9 +614,13 @@ def continue_branch(
     )
 
 
-def _span_reporter(progress: Callable[[float, float], None], p0: float, stop: float) -> Callable[[float], None]:
-    """A branch point's parameter → ``progress(farthest distance from p0 towards stop, |stop − p0|)`` when it grows."""
+def _span_reporter(progress: Callable[[float, float], None] | None, p0: float, stop: float) -> Callable[[float], None]:
+    """A branch point's parameter → ``progress(farthest distance from p0 towards stop, |stop − p0|)`` when it grows
+    (nothing without ``progress``); ``progress(0, |stop − p0|)`` is reported at once."""
     total = abs(stop - p0)
+    if progress is None:
+        return lambda p: None
+    progress(0.0, total)
     sign = 1.0 if stop >= p0 else -1.0
     farthest = [0.0]
 
