@@ -42,6 +42,7 @@ from ...errors import ModelError
 from ...grid import param_name
 from ...status import Status, flag_attrs
 from ..periodic.arclength import _span_reporter
+from ..periodic.floquet import pairs
 from ..secant import illinois_on_chord
 from .damping import require_decidable
 from .equations import HBEquations, single_thread_blas, solve
@@ -162,7 +163,7 @@ class HBBifurcation:
 
     def to_json(self) -> dict[str, Any]:
         out = {"type": self.type, "value": self.value, "u_min": self.u_min, "u_max": self.u_max}
-        out["multipliers"] = [[float(m.real), float(m.imag)] for m in self.multipliers]
+        out["multipliers"] = pairs(self.multipliers)
         return {**out, "detail": self.detail, "located": self.located}
 
 

@@ -34,7 +34,7 @@ import numpy as np
 from ...model import ModelError, canonical_param
 from ..secant import illinois_on_chord
 from .branch import STABILITY_LOSSES, Bifurcation, Branch
-from .floquet import REAL_MULTIPLIER_TOL
+from .floquet import REAL_MULTIPLIER_TOL, largest_first
 from .map import MapEvaluation, PeriodMap
 from .orbit import PeriodicOrbit, _minimal_period, _trajectory_extrema, elastic_basis
 
@@ -108,8 +108,7 @@ class _Family:
 
     def multipliers(self, M: np.ndarray) -> np.ndarray:
         """The multipliers of the elastic monodromy, largest modulus first."""
-        mu = np.linalg.eigvals(self.elastic(M))
-        return mu[np.argsort(-np.abs(mu), kind="stable")]
+        return largest_first(np.linalg.eigvals(self.elastic(M)))
 
     def gaps_at(self, p: float) -> list[float]:
         """The half gaps of the elements at parameter p."""
@@ -452,7 +451,6 @@ class _Continuer:
         pts = [first]
         bifs: list[Bifurcation] = []
         ds = self.ds
-        end = "max points"
         lo = self.lo - 1e-12 * self.ps
         hi = self.hi + 1e-12 * self.ps
         while len(pts) < self.max_points:
@@ -480,8 +478,6 @@ class _Continuer:
                 new = self.correct_natural(new, a.tangent)
                 if new.p < lo or new.p > hi:  # interpolated to the bound and landed on it exactly
                     new, outside = self.land(a, new.y, new.p, hi) or new, True
-            if outside:
-                end = "reached the end of the parameter interval"
             for _s, bif, bpt in self.detect_events(a, new, branch_index) if self.detect else ():
                 bifs.append(bif)
                 if bif.type == "merge":
@@ -493,12 +489,12 @@ class _Continuer:
             pts.append(new)
             self.on_point(new.p)
             if outside:
-                return pts, bifs, end
+                return pts, bifs, "reached the end of the parameter interval"
             if new.iters <= FAST_CORRECTOR_ITERS:
                 ds = min(ds * DS_GROW, self.ds_max)
             elif new.iters >= SLOW_CORRECTOR_ITERS:
                 ds = max(ds * DS_SHRINK, DS_MIN)
-        return pts, bifs, end
+        return pts, bifs, "max points"
 
 
 def continue_branch(

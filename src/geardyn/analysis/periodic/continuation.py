@@ -408,11 +408,8 @@ def continuation(
     span = abs(stop - start)
     lo, hi = sorted((start, stop))
     if switch:
-        queue = [0]
         seen: list[tuple[int, float, np.ndarray]] = []  # (period, value, state) of merge points / sources
-        while queue:
-            bi = queue.pop(0)
-            br = branches[bi]
+        for br in branches:  # (the branches switched to are appended, and visited in turn)
             if 2 * br.n > max_period:
                 continue
             for b in br.bifurcations:
@@ -444,7 +441,6 @@ def continuation(
                 for mb in nb.bifurcations:
                     if mb.type == "merge":
                         seen.append((nb.n, mb.value, mb.state.copy()))
-                queue.append(nb.index)
     return ContinuationResult(model, param, float(start), float(stop), branches, dtau, accurate, notes)
 
 

@@ -22,7 +22,7 @@ from ...labels import IMPACT_LABELS, impact_state
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError
 from ...status import Status
 from ...system import require_periodic
-from .floquet import Floquet, floquet, pairs
+from .floquet import Floquet, floquet, largest_first, pairs
 from .map import MAP_THREADS, MapEvaluation, PeriodMap
 
 __all__ = [
@@ -195,7 +195,7 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
         mu = np.linalg.eigvals(M)
     else:
         mu, r = np.linalg.eigvals(Uc.T @ M @ Uc), (M.shape[0] - Uc.shape[1]) // 2
-    return mu[np.argsort(-np.abs(mu), kind="stable")], r
+    return largest_first(mu), r
 
 
 def _minimal_period(points: np.ndarray, n: int) -> int:
