@@ -337,13 +337,13 @@ class _Continuer:
         """Events between consecutive branch points a and b, located; sorted along the branch."""
         D = self.prob.gaps_at(a.p)
         sep_a = self._separation(a)
-        self._merge_w = None
-        if sep_a is not None and float(np.linalg.norm(sep_a)) > 0.0:
-            self._merge_w = sep_a / float(np.linalg.norm(sep_a))
+        norm_a = 0.0 if sep_a is None else float(np.linalg.norm(sep_a))
+        self._merge_w = sep_a / norm_a if norm_a > 0.0 else None
         ta, tb = self._tests(a, D), self._tests(b, D)
         d = b.y - a.y
+        L = float(np.linalg.norm(d))
         events = []
-        chord = d / max(float(np.linalg.norm(d)), 1e-300)
+        chord = d / max(L, 1e-300)
 
         def sign_change(k: str) -> bool:
             return k in ta and k in tb and np.isfinite(ta[k]) and np.isfinite(tb[k]) and (ta[k] > 0) != (tb[k] > 0)
@@ -356,13 +356,12 @@ class _Continuer:
         s_merge = math.inf
         sep_b = self._separation(b)
         if sign_change("merge") and (  # (both separations exist: the merge test is there)
-            float(np.linalg.norm(sep_a)) + float(np.linalg.norm(sep_b))
-            <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
+            norm_a + float(np.linalg.norm(sep_b)) <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
         ):
             fa, fb = ta["merge"], tb["merge"]
             sig = fa / (fa - fb)
             mu = self.prob.multipliers(a.M + sig * (b.M - a.M))
-            s_merge = sig * float(np.linalg.norm(d))
+            s_merge = sig * L
             x_m = a.ev.x + sig * (b.ev.x - a.ev.x)
             events.append(
                 (
