@@ -241,7 +241,7 @@ def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
     return float(w0), float(w1), T, scales
 
 
-@command("runup", RUNUP_OPTIONS, model_group(omega=False, rpm=False), OUTPUT)
+@command("runup", RUNUP_OPTIONS, model_group(omega=False), OUTPUT)
 def runup_cmd(inp: Inputs) -> None:
     """Run-up / run-down through a linear speed ramp: order-tracked DTE, amplitude and dynamic factor against
     speed, beside the quasi-static (steady) response swept up and down; with --system those of the reference
