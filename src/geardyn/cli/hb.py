@@ -14,12 +14,13 @@ from .options import (
     OUTPUT,
     RPM_RANGE,
     STATE,
+    SYSTEM,
     Inputs,
     command,
     finish,
     option,
 )
-from .ranges import OMEGA_RANGE, both_spellings
+from .ranges import OMEGA_RANGE, given_range
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 
@@ -122,7 +123,7 @@ HB_OPTIONS = [
 ]
 
 
-@command("hb", HB_OPTIONS, OMEGA_RANGE, RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
+@command("hb", HB_OPTIONS, OMEGA_RANGE, RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT, SYSTEM)
 def hb(inp: Inputs) -> None:
     """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of
     period-n responses continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker
@@ -137,7 +138,7 @@ def hb(inp: Inputs) -> None:
     from ..analysis.hb.equations import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
     from ..analysis.physical import add_physical, physical_json
 
-    param, start, stop = both_spellings(inp.param, inp.start, inp.stop, inp.omega_start, inp.omega_stop)
+    param, start, stop = given_range(inp)
     n = validate.integer("period", inp.period, 1, MAX_PERIOD)
     mp = validate.integer("max-points", inp.max_points, 2, MAX_POINTS_LIMIT)
     model = inp.model()

@@ -41,7 +41,6 @@ __all__ = [
     "OUTPUT",
     "STATE",
     "SYSTEM",
-    "SYSTEM_COMMANDS",
     "Inputs",
     "build_model",
     "choice",
@@ -312,7 +311,7 @@ FIGURE_OPTIONS = [
 ]
 OUTPUT += FIGURE_OPTIONS
 SYSTEM_PANEL = "Multi-DOF system"
-#: ``--system``, taken by the commands of :data:`SYSTEM_COMMANDS` (:mod:`geardyn.cli.system_input`).
+#: ``--system``, taken by the commands that run on a multi-DOF system (:mod:`geardyn.cli.system_input`).
 SYSTEM = [
     option(
         "system",
@@ -322,19 +321,6 @@ SYSTEM = [
         "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
     )
 ]
-#: Commands that take ``--system``.
-SYSTEM_COMMANDS = (
-    "simulate",
-    "lyapunov",
-    "orbit",
-    "continuation",
-    "bifurcation",
-    "response",
-    "map",
-    "basins",
-    "hb",
-    "runup",
-)
 
 
 # ---------------------------------------------------------------- the physical front end
@@ -904,7 +890,7 @@ CONTINUATION_STOP = option(
 OUT_FILES = {"plot": (), "modes": (".png", ".pdf", ".svg")}
 
 
-def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+def command(name: str, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register ``fn(inp, **own_options)`` as a command that also takes the options of ``groups``.
 
     The command receives an :class:`Inputs` of the groups' values and its own options as keywords;
@@ -912,8 +898,8 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
     Parameters
     ----------
-    name : str or None
-        The command's name (None: the function's name).
+    name : str
+        The command's name.
     *groups : list of inspect.Parameter
         Shared option groups (:data:`MODEL`, :data:`ENGINE`, :func:`integration` ...).
 
@@ -925,12 +911,11 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         hints = typing.get_type_hints(fn, include_extras=True)
-        groups_ = groups + ((SYSTEM,) if name in SYSTEM_COMMANDS else ())
         own = [
             p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)
             for p in list(inspect.signature(fn).parameters.values())[1:]
         ]
-        shared = [p for g in groups_ for p in g]
+        shared = [p for g in groups for p in g]
 
         @functools.wraps(fn)
         def wrapper(**kw: Any) -> Any:

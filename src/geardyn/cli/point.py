@@ -15,13 +15,14 @@ from .options import (
     OUTPUT,
     RPM_RANGE,
     STATE,
+    SYSTEM,
     Inputs,
     command,
     finish,
     integration,
     option,
 )
-from .ranges import OMEGA_RANGE, both_spellings
+from .ranges import OMEGA_RANGE, given_range
 
 PERIOD = option("period", int, 1, help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")
 GUESS = option(
@@ -58,7 +59,7 @@ NO_CLASSIFY = option(
 )
 
 
-@command("simulate", [NO_CLASSIFY], MODEL, STATE, integration(), OUTPUT)
+@command("simulate", [NO_CLASSIFY], MODEL, STATE, integration(), OUTPUT, SYSTEM)
 def simulate(inp: Inputs) -> None:
     """Integrate one operating point and report its steady response (Poincaré points, period, impact, amplitudes),
     with physical values for the configured gear pair: pinion speed, dynamic transmission error (µm), dynamic mesh
@@ -91,7 +92,7 @@ LYAPUNOV_RUN = integration(periods=2000, periods_help="Forcing periods over whic
 BLOCKS = option("blocks", int, 20, help="Blocks of the block-statistics uncertainty (>= 2).")
 
 
-@command("lyapunov", [BLOCKS], MODEL, STATE, LYAPUNOV_RUN, OUTPUT)
+@command("lyapunov", [BLOCKS], MODEL, STATE, LYAPUNOV_RUN, OUTPUT, SYSTEM)
 def lyapunov(inp: Inputs) -> None:
     """Both Lyapunov exponents (per unit τ) by the Benettin method with Gram–Schmidt each period, with their
     uncertainty from block statistics, and the motion class."""
@@ -132,7 +133,7 @@ def _finish_point(inp: Inputs, model: Any, scales: Any, res: Any, stem: str, sho
     finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, show)
 
 
-@command("orbit", [PERIOD, GUESS], MODEL, STATE, integration(periods=None), OUTPUT)
+@command("orbit", [PERIOD, GUESS], MODEL, STATE, integration(periods=None), OUTPUT, SYSTEM)
 def orbit(inp: Inputs) -> None:
     """Find a period-n orbit by shooting (Newton on the n-period map, Jacobian = monodromy matrix) and report its
     section points, Floquet multipliers, stability, extremes and impact state."""
@@ -206,7 +207,7 @@ CONTINUATION_OPTIONS = [
 ]
 
 
-@command("continuation", CONTINUATION_OPTIONS, OMEGA_RANGE, RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT)
+@command("continuation", CONTINUATION_OPTIONS, OMEGA_RANGE, RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT, SYSTEM)
 def continuation(inp: Inputs) -> None:
     """Pseudo-arclength continuation of periodic orbits in any parameter: stable and unstable branches, folds,
     period doublings (with branch switching), Neimark–Sacker points and grazing; with --out the figure shows the
@@ -217,8 +218,7 @@ def continuation(inp: Inputs) -> None:
 
     model = inp.model()
     scales = inp.scales()
-    param, start, stop = both_spellings(inp.param, inp.start, inp.stop, inp.omega_start, inp.omega_stop)
-    name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
+    name, start_v, stop_v = inp.param_range(*given_range(inp), what="continuation")
     opts = inp.options(model.with_param(name, start_v).omega, periods=1)
     opts.check_for(model.with_param(name, stop_v).omega)
     n = validate.integer("period", inp.period, 1, 1024)

@@ -14,6 +14,7 @@ from .options import (
     OUTPUT,
     RPM_RANGE,
     STATE,
+    SYSTEM,
     SYSTEM_PANEL,
     Inputs,
     choice,
@@ -25,7 +26,7 @@ from .options import (
     param_option,
     sweep_range,
 )
-from .ranges import OMEGA_RANGE, both_spellings, omega_only
+from .ranges import OMEGA_RANGE, given_range
 
 MODE = option(
     "mode",
@@ -91,6 +92,7 @@ BIFURCATION_OPTIONS = [
     integration(adaptive=True),
     ENGINE,
     OUTPUT,
+    SYSTEM,
 )
 def bifurcation(inp: Inputs) -> None:
     """Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and amplitudes
@@ -102,8 +104,7 @@ def bifurcation(inp: Inputs) -> None:
 
     model = inp.model()
     scales = inp.scales()
-    param, start, stop = both_spellings(inp.param, inp.start, inp.stop, inp.omega_start, inp.omega_stop)
-    name, start, stop = inp.param_range(param, start, stop)
+    name, start, stop = inp.param_range(*given_range(inp))
     name, values = validate.axis(name, start, stop, inp.num)
     mode, sweep = inp.mode, inp.sweep
     runs = 2 if sweep == "both" else 1
@@ -175,6 +176,7 @@ RESPONSE_OPTIONS = [
     integration(adaptive=True),
     ENGINE,
     OUTPUT,
+    SYSTEM,
 )
 def response(inp: Inputs) -> None:
     """Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)
@@ -186,7 +188,7 @@ def response(inp: Inputs) -> None:
 
     model = inp.model()
     scales = inp.scales()
-    _, w0, w1 = omega_only(inp)
+    _, w0, w1 = given_range(inp, "omega")
     omega_start, omega_stop = sweep_range(inp, w0, w1)
     if omega_start is None or omega_stop is None:
         raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
@@ -260,7 +262,9 @@ MAP_AXES = [
 ]
 
 
-@command("map", [MODE, LYAPUNOV, SETTLE, CHUNK], MAP_AXES, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
+@command(
+    "map", [MODE, LYAPUNOV, SETTLE, CHUNK], MAP_AXES, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT, SYSTEM
+)
 def parameter_map(inp: Inputs) -> None:
     """2-D parameter map (e.g. ω × ξ0, ω × D) of motion class, impact state, amplitude and largest exponent."""
     from .. import validate
@@ -369,7 +373,7 @@ BASIN_GRID = [
 ]
 
 
-@command("basins", BASIN_GRID, MODEL, BASIN_RUN, ENGINE, OUTPUT)
+@command("basins", BASIN_GRID, MODEL, BASIN_RUN, ENGINE, OUTPUT, SYSTEM)
 def basins(inp: Inputs) -> None:
     """Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it reaches
     (attractors identified by their Poincaré cycles)."""

@@ -1,10 +1,10 @@
 """``--system FILE``: what the option gives the commands, a multi-DOF system (``examples/systems/*.toml``).
 
-:data:`geardyn.cli.options.SYSTEM` is the option group of the commands of
-:data:`geardyn.cli.options.SYSTEM_COMMANDS`; with ``--system`` their
-:meth:`~geardyn.cli.options.Inputs.model` is the system of the file (:func:`load_cli_system`: ``--omega`` /
-``--rpm`` and the model options applied to its reference mesh), and the command runs its own analysis on it;
-the summary adds ``meshes`` (:func:`mesh_summary`), printed as one more table (:func:`geardyn.cli.render.meshes`).
+:data:`geardyn.cli.options.SYSTEM` is the option group of the commands that run on a multi-DOF system; with
+``--system`` their :meth:`~geardyn.cli.options.Inputs.model` is the system of the file (:func:`load_cli_system`:
+``--omega`` / ``--rpm`` and the model options applied to its reference mesh), and the command runs its own analysis
+on it; the summary adds ``meshes`` (:func:`mesh_summary`), printed as one more table
+(:func:`geardyn.cli.render.meshes`).
 """
 
 from __future__ import annotations
