@@ -46,11 +46,9 @@ def load_cli_system(values: dict[str, Any]):
         raise ModelError("rpm: give --rpm or --omega, not both")
     if values.get("rpm") is not None:
         s = s.with_param("omega", s.scaling.omega_from_rpm(float(values["rpm"])))
-    if values.get("omega") is not None:
-        s = s.with_param("omega", float(values["omega"]))
-    for o in params.cli_options():
+    for o in params.cli_options():  # --omega first, as the registry lists it (--fp is refused above)
         v = values.get(o.dest)
-        if v is not None and o.param not in ("omega", "fp"):  # (set above; fp comes from the loads)
+        if v is not None:
             s = s.with_param(o.param, float(v))
     _forcing_period_note(s, values)
     _unsettled_note(s, values)
