@@ -109,8 +109,12 @@ class RunupResult:
         """The mesh orders j/P of :attr:`spectrum` (empty when it is None)."""
         if self.spectrum is None:
             return np.zeros(0)
-        P = int(self.model.period_multiple() or 1)
-        return np.arange(1, self.spectrum.shape[1] + 1) / P
+        return np.arange(1, self.spectrum.shape[1] + 1) / self.excitation_cycles
+
+    @property
+    def excitation_cycles(self) -> int:
+        """P, the mesh cycles of the model's forcing period (its excitation's and torque orders')."""
+        return int(self.model.period_multiple() or 1)
 
     @property
     def ramp_rate(self) -> float:
@@ -141,7 +145,7 @@ class RunupResult:
         if self.spectrum is not None:
             ds["spectrum"] = (("block", "spectrum_order"), self.spectrum)
             ds = ds.assign_coords(spectrum_order=("spectrum_order", self.spectrum_orders))
-            ds.attrs["excitation_cycles"] = int(self.model.period_multiple() or 1)
+            ds.attrs["excitation_cycles"] = self.excitation_cycles
         return annotate(ds)
 
     def to_json(self) -> dict[str, Any]:
@@ -158,7 +162,7 @@ class RunupResult:
             "diverged": self.diverged,
         }
         if self.spectrum is not None:
-            out["excitation_cycles"] = int(self.model.period_multiple() or 1)
+            out["excitation_cycles"] = self.excitation_cycles
             out["spectrum_orders"] = json_values(self.spectrum_orders)
             out["spectrum"] = json_values(self.spectrum.T)
         return out

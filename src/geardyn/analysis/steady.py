@@ -449,8 +449,9 @@ def simulate(
     def f(key: str, d: dict[str, np.ndarray] = arr) -> float | None:
         return json_number(d[key][0])
 
+    P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period
     summary = {
-        "period": period * (model.period_multiple() or 1) if period > 0 else None,
+        "period": period * P if period > 0 else None,
         "motion": motion,
         "impact": IMPACT_LABELS[int(arr["impact"][0])],
         **{k: f(k) for k in _MEASURES},
@@ -458,7 +459,6 @@ def simulate(
         "status": "ok" if ok else "diverged",
         **{k: None if cls is None else f(k, cls) for k in ("lle", "lle_err")},
     }
-    P = int(model.period_multiple() or 1)
     notes = []
     if cls is not None and P > 1 and summary["motion"] == motion_label(MOTION_UNRESOLVED, 0):
         passes = int(cls["settled"][0])
