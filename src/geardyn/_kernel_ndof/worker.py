@@ -11,11 +11,15 @@ stage, :func:`geardyn._kernel_ndof.step.load_at`).  Periods without tangents in 
 mode run the plain step (:func:`geardyn._kernel_ndof.step.rk4_plain`) on the padded state (with a margin of
 zeros either side for the blocks' diagonals), copied from and back to the state at the period's start and end; its
 element forces and statistics take the period's coefficients transposed into element groups
-(:func:`geardyn._kernel_ndof.step.element_table`).  The stroboscopic samples are exact:
-h = T_f/N with T_f the forcing period.
+(:func:`geardyn._kernel_ndof.step.element_table`).  A thread keeps the tables of the last point it tabulated and
+uses them again for a point whose table inputs are the same bit for bit (:func:`_same_table`: the points of a basin
+grid, or other initial states of one model), so they are the numbers a new tabulation would give.  The stroboscopic
+samples are exact: h = T_f/N with T_f the forcing period.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
@@ -62,6 +66,35 @@ def _store_hist(hist, p, s, q, v, vo):
         for i in range(n):
             hist[p, s, i] = q[i]
             hist[p, s, n + i] = v[vo + i]
+
+
+@njit(nogil=True, inline="always")
+def _same(x, y):
+    """x and y are the same number bit for bit (a zero's sign counted; a NaN never the same)."""
+    return x == y and math.copysign(1.0, x) == math.copysign(1.0, y)
+
+
+@njit(nogil=True)
+def _same_rows(a, p, q):
+    """Rows p and q of ``a`` hold the same numbers bit for bit (a zero's sign counted; a NaN never the same)."""
+    for x, y in zip(a[p].flat, a[q].flat):
+        if not _same(x, y):
+            return False
+    return True
+
+
+@njit(nogil=True)
+def _same_table(p, q, coef, ratio, omega, tperiod, nsteps, ro, po, kc, cc, D, Dc):
+    """Points p and q have the same inputs of the default mode's tables (module docstring): the coefficient rows,
+    the ratios, ω, the step h = T_f/N, the orders' rates and phases, the clearances' kc, cc and the gaps D, Dc;
+    the tables of q then serve p as they are (the same numbers as tabulating them again)."""
+    if nsteps[p] != nsteps[q] or not (_same(omega[p], omega[q]) and _same(tperiod[p], tperiod[q])):
+        return False
+    if not (_same_rows(ratio, p, q) and _same_rows(ro, p, q) and _same_rows(po, p, q)):
+        return False
+    if not (_same_rows(kc, p, q) and _same_rows(cc, p, q) and _same_rows(D, p, q) and _same_rows(Dc, p, q)):
+        return False
+    return _same_rows(coef, p, q)
 
 
 @njit(nogil=True)
@@ -231,6 +264,10 @@ def ndof_worker(
     O = go.shape[1]
     gw = np.empty(n)  # the load g(θ) the full step's stages read (sp's g)
     ocs = np.empty((3, O))  # the accurate mode's cos(r_o θ + φ_o) at a step's three times
+    tab = np.empty((0, M + NB, 4))
+    TB = np.empty((0, 6, EP))
+    otab = ocs
+    last = -1  # the point whose inputs the tables tab, otab, TB, Dp hold (-1: none yet)
     while True:
         k = _fetch_add(counter, 1)
         if k >= P:
@@ -255,10 +292,11 @@ def ndof_worker(
         agaps = gaps.copy()
         for b in range(NB):
             gaps[M + C + 2 * b : M + C + 2 * b + 2] = bq[p, b, 3]
-        tab = np.empty((0, M + NB, 4))
-        TB = np.empty((0, 6, EP))
-        otab = ocs
-        if not accurate:
+        if accurate:
+            tab = np.empty((0, M + NB, 4))
+            TB = np.empty((0, 6, EP))
+            otab = ocs
+        elif last < 0 or not _same_table(p, last, coef, ratio, omega, tperiod, nsteps, ro, po, kc, cc, D, Dc):
             tab = np.empty((2 * N + 1, M + NB, 4))
             otab = np.empty((2 * N + 1, O))
             for i in range(2 * N + 1):
@@ -266,6 +304,7 @@ def ndof_worker(
                 order_cosines(ro[p], po[p], om * (0.5 * h * i), otab, i)
             TB = np.empty((2 * N + 1, 6, EP))
             element_table(tab, M, kc[p], cc[p], D[p], Dc[p], om, TB, Dp)
+            last = p
         ef = (EI, EVs[p], TB, Dp)
         ld = (g[p], go[p], otab)  # the loads at the table's times (module docstring of .step)
         lds = ((g[p], go[p], ocs), ro[p], po[p])  # the accurate mode's
