@@ -212,14 +212,19 @@ def build_description(ctx, data: dict) -> GearboxDescription:
 
 def _build(ctx, data: dict) -> GearboxDescription:
     check_top(ctx, data, _SECTIONS, _ARRAYS, gearbox=True)
-    sysb = Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
-    opb = Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
-    gbb = Block(ctx, "gearbox", None, data.get("gearbox", {}), _SECTIONS["gearbox"], None)
-    sblocks = _blocks(ctx, data, "shaft", _SHAFT)
-    gblocks = _blocks(ctx, data, "gear", _GEAR)
-    mblocks = _blocks(ctx, data, "mesh", _MESH)
-    bblocks = _blocks(ctx, data, "bearing", _BEARING)
-    cblocks = _blocks(ctx, data, "coupling", _COUPLING)
+    sysb, opb, gbb = (
+        Block(ctx, s, None, data.get(s, {}), _SECTIONS[s], None) for s in ("system", "operating", "gearbox")
+    )
+    sblocks, gblocks, mblocks, bblocks, cblocks = (
+        _blocks(ctx, data, section, schema)
+        for section, schema in (
+            ("shaft", _SHAFT),
+            ("gear", _GEAR),
+            ("mesh", _MESH),
+            ("bearing", _BEARING),
+            ("coupling", _COUPLING),
+        )
+    )
     if not mblocks:
         raise ConfigError(f"{ctx.source}: no [[mesh]]: a gearbox needs at least one mesh")
     rigid = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []) or [])]
@@ -249,8 +254,8 @@ def _build(ctx, data: dict) -> GearboxDescription:
             )
         except ModelError as e:
             raise blk.wrap(e) from None
-        _check_radius(blk, "reference_radius", g.reference_radius, g)
-        _check_radius(blk, "base_radius", g.base_radius, g)
+        for key in ("reference_radius", "base_radius"):
+            _check_radius(blk, key, getattr(g, key), g)
         gears[g.name] = g
 
     # kinematics, exact

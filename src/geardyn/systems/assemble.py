@@ -748,7 +748,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
             orders.append((k * ld.speed, _ro(vec), float(ph)))
     meshes = tuple(_mesh_nd(desc, m, k_ref, m_ref, b_c) for m in desc.meshes)
     cl = desc.clearances
-    Vc = np.array([s * desc.vector(c) / b_c for c in cl]).reshape(len(cl), desc.n)
+    Vc = [s * desc.vector(c) / b_c for c in cl]  # (clearances, n), shaped by SystemModel
     bearings, Vb = [], []
     for rb in desc.rolling_bearings:
         br = rb.bearing
@@ -767,12 +767,11 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
                 rb.phase,
             )
         )
-        Vb.append(s * rb.vectors(idx) / b_c)
-    Vb = np.concatenate(Vb) if Vb else np.zeros((0, desc.n))
+        Vb.append(s * rb.vectors(idx) / b_c)  # its x and y rows, stacked by SystemModel
     if omega is None:
         omega = desc.omega or (scaling.omega_from_rpm(desc.rpm) if desc.rpm is not None else 1.0)
     gyro = static = None
-    G = desc.gyroscopic_matrix() if hasattr(desc, "gyroscopic_matrix") else None
+    G = desc.gyroscopic_matrix()
     if G is not None:  # Ω G with Ω = ω ω_n / z the reference shaft's speed (rad/s)
         if ref.teeth is None:
             raise ModelError(f"gyroscopic: the reference mesh {ref.name!r} needs teeth to give the shaft speed")

@@ -70,6 +70,15 @@ def _finite(what: str, value, unit: str = "") -> float:
     return x
 
 
+def _bounded(what: str, value, unit: str = "", strict: bool = True) -> float:
+    """``value`` checked finite and > 0 (``strict``) or >= 0, the error naming ``what`` and the unit."""
+    x = _finite(what, value, unit)
+    if x < 0 or (strict and x == 0):
+        u = f" {unit}" if unit else ""
+        raise ModelError(f"{what}: must be {'>' if strict else '>='} 0{u}, got {x:g}{u}")
+    return x
+
+
 def check_kappa(what: str, kappa: tuple[float, ...], phi_k: tuple[float, ...], cycles: int) -> None:
     """Refuse stiffness harmonics that can make the mesh stiffness non-positive: Σ|κ_r| >= 1, unless the series
     is a table's over P > 1 mesh cycles whose certified minimum (:func:`geardyn.pairpack.stiffness_minimum`) is > 0."""
@@ -133,10 +142,7 @@ class Body:
                         f"{who}: {attr}: missing (needed for its {'translations' if attr == 'mass' else 'rotation'})"
                     )
                 continue
-            v = _finite(f"{who}: {attr}", v, unit)
-            if v <= 0:
-                raise ModelError(f"{who}: {attr}: must be > 0 {unit}, got {v:g} {unit}")
-            object.__setattr__(self, attr, v)
+            object.__setattr__(self, attr, _bounded(f"{who}: {attr}", v, unit))
 
     def matrix(self) -> np.ndarray:
         """The body's mass matrix over its DOFs (SI)."""
@@ -243,17 +249,8 @@ class Clearance(_AlongVector):
         who = f"clearance {self.name!r}"
         if not self._set_vector(who):
             raise ModelError(f"{who}: vector: must act on at least one DOF")
-        k = _finite(f"{who}: stiffness", self.stiffness)
-        g = _finite(f"{who}: clearance", self.gap)
-        c = _finite(f"{who}: damping", self.damping)
-        if k <= 0:
-            raise ModelError(f"{who}: stiffness: must be > 0, got {k:g}")
-        if g < 0:
-            raise ModelError(f"{who}: clearance: must be >= 0, got {g:g}")
-        if c < 0:
-            raise ModelError(f"{who}: damping: must be >= 0, got {c:g}")
-        for a, v in (("stiffness", k), ("gap", g), ("damping", c)):
-            object.__setattr__(self, a, v)
+        for attr, key in (("stiffness", "stiffness"), ("gap", "clearance"), ("damping", "damping")):
+            object.__setattr__(self, attr, _bounded(f"{who}: {key}", getattr(self, attr), strict=attr == "stiffness"))
 
 
 @dataclass(frozen=True)
@@ -308,14 +305,8 @@ class Mesh(_AlongVector):
             self._from_table(who)
         if not any(c != 0 for _, c in self._set_vector(who)):
             raise ModelError(f"{who}: vector: the mesh vector must not be zero")
-        k = _finite(f"{who}: stiffness", self.stiffness, "N/m")
-        if k <= 0:
-            raise ModelError(f"{who}: stiffness: must be > 0 N/m, got {k:g} N/m")
-        set_(self, "stiffness", k)
-        b = _finite(f"{who}: backlash", self.backlash, "m")
-        if b < 0:
-            raise ModelError(f"{who}: backlash: must be >= 0 m, got {b:g} m")
-        set_(self, "backlash", b)
+        set_(self, "stiffness", _bounded(f"{who}: stiffness", self.stiffness, "N/m"))
+        set_(self, "backlash", _bounded(f"{who}: backlash", self.backlash, "m", strict=False))
         r = _finite(f"{who}: ratio", self.ratio)
         if r <= 0:
             raise ModelError(f"{who}: ratio: the mesh-frequency ratio must be > 0, got {r:g}")
@@ -604,6 +595,11 @@ class SystemDescription:
         for d, c in element.vector:
             v[idx[d]] += c
         return v
+
+    def gyroscopic_matrix(self) -> np.ndarray | None:
+        """The gyroscopic matrix G (SI): None here, a gearbox's shafts give one
+        (:meth:`geardyn.gearbox.model.GearboxDescription.gyroscopic_matrix`)."""
+        return None
 
     def bearing_matrices(self) -> tuple[np.ndarray, np.ndarray]:
         """K_b, C_b: the sum over the linear connections (n × n, SI)."""

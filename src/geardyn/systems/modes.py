@@ -138,19 +138,13 @@ def _element_stiffness(desc: SystemDescription, clearances: str) -> tuple[list[s
     for c in desc.connections:
         names.append(c.name)
         mats.append(desc.connection_matrices(c)[0])
-    if clearances == "contact":
-        for c in desc.clearances:
-            w = desc.vector(c)
-            names.append(c.name)
-            mats.append(c.stiffness * np.outer(w, w))
-    elif clearances != "open":
+    if clearances not in ("contact", "open"):
         raise ModelError(f"clearances: must be 'contact' or 'open', got {clearances!r}")
-    meshes = []
-    for m in desc.meshes:
-        v = desc.vector(m)
-        names.append(m.name)
-        meshes.append(m.name)
-        mats.append(m.stiffness * np.outer(v, v))
+    for e in (*(desc.clearances if clearances == "contact" else ()), *desc.meshes):  # k w wᵀ along the vector
+        w = desc.vector(e)
+        names.append(e.name)
+        mats.append(e.stiffness * np.outer(w, w))
+    meshes = [m.name for m in desc.meshes]
     if desc.rolling_bearings:  # linearised about the static deflection under the mean loads
         from .rolling import static_bearing_stiffness
 
@@ -258,7 +252,7 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: fl
     mode types of a planetary gear, which this analysis reproduces).
     """
     modes_budget(desc, clearances)
-    G = desc.gyroscopic_matrix() if rpm is not None and hasattr(desc, "gyroscopic_matrix") else None
+    G = desc.gyroscopic_matrix() if rpm is not None else None
     if G is not None:
         if not (math.isfinite(rpm) and rpm >= 0):
             raise ModelError(f"rpm: must be >= 0, got {rpm!r}")
@@ -505,7 +499,7 @@ def campbell(
     if not (0 <= lo < hi and math.isfinite(hi)):
         raise ModelError(f"{what}: must be 0 <= low < high, got {(lo, hi)!r}")
     names = [m.name for m in desc.meshes]
-    G = desc.gyroscopic_matrix() if hasattr(desc, "gyroscopic_matrix") else None
+    G = desc.gyroscopic_matrix()
     spinning = _Spinning(desc, clearances, G) if G is not None and z is not None else None
     if spinning is not None:
         n_sp = BRANCH_SPEEDS if speeds is None else int(speeds)
