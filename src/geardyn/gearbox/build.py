@@ -139,6 +139,9 @@ _GEAR = {
     "reference_radius": "length",
     "base_radius": "length",
 }
+#: The keys of a ``[[gear]]`` that are not :class:`Gear` fields given as they are: checked against the teeth or
+#: read with a default.
+_GEAR_CHECKED = ("name", "shaft", "helix_angle", "hand", "reference_radius", "base_radius")
 _MESH = (
     {"name": "text", "pinion": "text", "gear": "text", "center_angle": "angle", "stiffness": "stiffness"}
     | {"torque": "torque", "harmonics": "int"}
@@ -244,13 +247,8 @@ def _build(ctx, data: dict) -> GearboxDescription:
                 name=blk.element,
                 shaft=sh,
                 helix_angle=helix,
-                **{
-                    k: blk.get(k)
-                    for k in ("position", "teeth", "module", "face_width", "pressure_angle", "profile_shift")
-                    if blk.has(k)
-                },
+                **{k: blk.get(k) for k in _GEAR if blk.has(k) and k not in _GEAR_CHECKED},
                 hand=blk.get("hand", default="right", assumed="not given: right hand" if helix > 0 else None),
-                **{k: blk.get(k) for k in ("mass", "inertia", "diametral_inertia", "web_width", "rim_inner_diameter")},
             )
         except ModelError as e:
             raise blk.wrap(e) from None

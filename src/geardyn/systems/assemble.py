@@ -237,6 +237,8 @@ def _ro(a) -> np.ndarray:
 
 
 _MESH_PARAMS = ("k", "xi0", "D", "ratio")
+#: What :meth:`SystemModel.to_attrs` always stores, in this order.
+_ATTRS = ("labels", "Mi", "Kb", "Cb", "V", "meshes", "F", "omega", "scaling", "clearance_names", "Vc", "kc", "cc", "Dc")
 #: A rolling bearing's parameters by name (``<bearing>.clearance`` …; non-dimensional, :class:`BearingND`).
 _BEARING_PARAMS = ("clearance", "K", "cx", "cy")
 
@@ -614,26 +616,15 @@ class SystemModel:
         import json
         from dataclasses import asdict
 
-        d = {
-            "labels": list(self.labels),
-            **{k: getattr(self, k).tolist() for k in ("Mi", "Kb", "Cb", "V")},
-            "meshes": [asdict(m) for m in self.meshes],
-            "F": self.F.tolist(),
-            "omega": self.omega,
-            "scaling": asdict(self.scaling),
-            "clearance_names": list(self.clearance_names),
-            "Vc": self.Vc.tolist(),
-            **{k: list(getattr(self, k)) for k in ("kc", "cc", "Dc")},
-        }
+        d = {k: getattr(self, k) for k in _ATTRS}
         if self.orders:  # [numerator, denominator] of the ratio, the load vector, the phase
-            d["orders"] = [[[r.numerator, r.denominator], F.tolist(), ph] for r, F, ph in self.orders]
+            d["orders"] = [[[r.numerator, r.denominator], F, ph] for r, F, ph in self.orders]
         if self.bearings:
-            d["bearings"] = [asdict(b) for b in self.bearings]
-            d["Vb"] = self.Vb.tolist()
+            d |= {"bearings": self.bearings, "Vb": self.Vb}
         if self.gyro is not None:
-            d["gyro"] = self.gyro.tolist()
-            d["damping_static"] = self.damping_static.tolist()
-        return json.dumps(d)
+            d |= {"gyro": self.gyro, "damping_static": self.damping_static}
+        # arrays as nested lists, the meshes, scales and bearings (dataclasses) as dicts
+        return json.dumps(d, default=lambda o: o.tolist() if isinstance(o, np.ndarray) else asdict(o))
 
     @classmethod
     def from_attrs(cls, text: str) -> SystemModel:

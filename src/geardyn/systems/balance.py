@@ -55,9 +55,9 @@ def mean_stiffness(model: Any) -> np.ndarray:
         Kt += m.k * np.outer(model.V[i], model.V[i])
     for i, k in enumerate(model.kc):
         Kt += k * np.outer(model.Vc[i], model.Vc[i])
-    Vb = model.Vb
     for b, br in enumerate(model.bearings):  # a rolling bearing holds its body's x and y
-        Kt += br.K * (np.outer(Vb[2 * b], Vb[2 * b]) + np.outer(Vb[2 * b + 1], Vb[2 * b + 1]))
+        x, y = model.Vb[2 * b : 2 * b + 2]
+        Kt += br.K * (np.outer(x, x) + np.outer(y, y))
     return Kt
 
 

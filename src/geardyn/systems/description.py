@@ -79,6 +79,14 @@ def _bounded(what: str, value, unit: str = "", strict: bool = True) -> float:
     return x
 
 
+def whole_count(what: str, value) -> int:
+    """``value`` as an integer >= 1 (a whole float too), else the error naming ``what``."""
+    whole = isinstance(value, (int, float, np.integer)) and not isinstance(value, bool) and float(value).is_integer()
+    if not whole or value < 1:
+        raise ModelError(f"{what}: must be an integer >= 1, got {value!r}")
+    return int(value)
+
+
 def check_kappa(what: str, kappa: tuple[float, ...], phi_k: tuple[float, ...], cycles: int) -> None:
     """Refuse stiffness harmonics that can make the mesh stiffness non-positive: Σ|κ_r| >= 1, unless the series
     is a table's over P > 1 mesh cycles whose certified minimum (:func:`geardyn.pairpack.stiffness_minimum`) is > 0."""
@@ -315,31 +323,22 @@ class Mesh(_AlongVector):
             raise ModelError(f"{who}: damping: give ratios (xi0, xi) or coefficients (c0, c), not both")
         for name in ("kappa", "phi_k", "phi_c", "e", "phi_e"):
             set_(self, name, _series(f"{who}: {name}", getattr(self, name)))
-        for name in ("xi", "c"):
+        for name, check in (("xi", _series), ("c", _series), ("xi0", _finite), ("c0", _finite)):
             if getattr(self, name) is not None:
-                set_(self, name, _series(f"{who}: {name}", getattr(self, name)))
-        for name in ("xi0", "c0"):
-            if getattr(self, name) is not None:
-                set_(self, name, _finite(f"{who}: {name}", getattr(self, name)))
+                set_(self, name, check(f"{who}: {name}", getattr(self, name)))
         damping = self.xi if self.xi is not None else (self.c or ())
         for amp, a, ph in (("kappa", self.kappa, "phi_k"), ("e", self.e, "phi_e"), ("damping", damping, "phi_c")):
             p = getattr(self, ph)
-            if len(p) > len(a) or 0 < len(p) < len(a):
+            if len(p) not in (0, len(a)):
                 raise ModelError(
                     f"{who}: {ph}: {len(p)} phases for {len(a)} {amp} harmonics; give one phase per harmonic, "
                     "or none (all 0)"
                 )
             set_(self, ph, p + (0.0,) * (len(a) - len(p)))
-        P = self.cycles
-        if isinstance(P, bool) or not isinstance(P, (int, float, np.integer)) or not float(P).is_integer() or P < 1:
-            raise ModelError(f"{who}: cycles: must be an integer >= 1, got {P!r}")
-        set_(self, "cycles", int(P))
+        set_(self, "cycles", whole_count(f"{who}: cycles", self.cycles))
         check_kappa(f"{who}: kappa", self.kappa, self.phi_k, self.cycles)
         if self.teeth is not None:
-            t = self.teeth
-            if isinstance(t, bool) or not float(t).is_integer() or t < 1:
-                raise ModelError(f"{who}: teeth: must be an integer >= 1, got {t!r}")
-            set_(self, "teeth", int(t))
+            set_(self, "teeth", whole_count(f"{who}: teeth", self.teeth))
 
     def _from_table(self, who: str) -> None:
         from ..errors import ConfigError

@@ -129,7 +129,6 @@ def mean_trace(model: Any) -> float:
     for i, c in enumerate(model.cc):
         tr += c * float(model.Vc[i] @ Mi @ model.Vc[i])
     for b, br in enumerate(model.bearings):
-        tr += br.cx * float(model.Vb[2 * b] @ Mi @ model.Vb[2 * b]) + br.cy * float(
-            model.Vb[2 * b + 1] @ Mi @ model.Vb[2 * b + 1]
-        )
+        x, y = model.Vb[2 * b : 2 * b + 2]
+        tr += br.cx * float(x @ Mi @ x) + br.cy * float(y @ Mi @ y)
     return -tr
