@@ -474,12 +474,8 @@ class SystemModel:
         A mesh's switching surface is ``V[m]·q̃ − E_m(θ) = ±D[m]``; with a static transmission error
         it moves with θ (the ``vector`` gives the state part, E_m is in the coefficients).
         """
-        zero = (0.0,) * self.n
-        out = [Boundary(m.name, tuple(self.V[i]) + zero, m.D) for i, m in enumerate(self.meshes)]
-        out += [
-            Boundary(nm, tuple(self.Vc[i]) + zero, d) for i, (nm, d) in enumerate(zip(self.clearance_names, self.Dc))
-        ]
-        return tuple(out)
+        zero = (0.0,) * self.n  # the elements' first rows: the meshes' V, then the clearances' Vc
+        return tuple(Boundary(e.name, tuple(v) + zero, e.gap) for e, v in zip(self.elements, (*self.V, *self.Vc)))
 
     # ------------------------------------------------------------------ the System contract
     @property
