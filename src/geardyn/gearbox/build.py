@@ -363,7 +363,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
             for q in feats[name]:
                 if abs(q - p) < 1e-9:
                     node_at[(name, q)] = nn
-            blockm = np.diag(np.diag(M[6 * k : 6 * k + 6, 6 * k : 6 * k + 6])).copy()
+            blockm = np.diag(np.diag(M[6 * k : 6 * k + 6, 6 * k : 6 * k + 6]))
             for g in gs:
                 m, ip, idia = g.blank(mat.rho, _section_at(segs, g.position).outer)
                 blockm += np.diag([m, m, m, idia, idia, ip])

@@ -746,11 +746,11 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
                 br.kind,
                 br.elements,
                 K,
-                float(br.exponent),
+                br.exponent,
                 cl_,
                 rb.cx * omega_n / k_ref,
                 rb.cy * omega_n / k_ref,
-                float(rb.ratio),
+                rb.ratio,
                 rb.phase,
             )
         )

@@ -88,7 +88,7 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
     elements = list(report["energy_fractions"][0]) if report["energy_fractions"] else []
     n = len(modes)
     data: dict[str, Any] = {
-        "frequency_Hz": ("mode", np.array(report["frequencies_hz"], dtype=float)),
+        "frequency_Hz": _col("mode", modes, "frequency_hz"),
         "rigid": _col("mode", modes, "rigid", np.int8),
         "mesh_dominated": _col("mode", modes, "mesh_dominated", np.int8),
         "shape": (("dof", "mode"), np.array([[m["shape"][d] for m in modes] for d in dofs], dtype=float)),
