@@ -112,7 +112,7 @@ def _mesh_entries(
     contact = mesh_forces(model, tau, deltas, False) if force is not None and res is not None else None
     out = []
     for i, m in enumerate(model.meshes):
-        lo, hi = (float(extrema[i, 0]), float(extrema[i, 1])) if extrema is not None else _extremes(res, i, point)
+        lo, hi = map(float, extrema[i]) if extrema is not None else _extremes(res, i, point)
         e: dict[str, Any] = {"name": m.name, "backlash_um": _num(m.D * um), **_span(lo, hi, m.D)}
         if res is not None:
             e.update(
@@ -247,7 +247,7 @@ def result_meshes(ds: Any) -> list[dict[str, Any]]:
     info = json.loads(ds.attrs["system"])
     um = float(info.get("b_c_um") or float("nan"))
     els = info.get("elements") or [{"name": n, "kind": "mesh", "gap": float("nan")} for n in info["meshes"]]
-    dims = [d for d in ds["amplitude"].dims]
+    dims = ds["amplitude"].dims
     two = "sweep" in ds.dims and ds.sizes["sweep"] > 1
 
     def values(a: np.ndarray, f: Any) -> Any:
