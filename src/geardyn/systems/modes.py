@@ -668,7 +668,7 @@ def modes_report(
             "frequency_hz": float(res.frequencies_hz[i]),
             "rigid": bool(res.rigid[i]),
             "mesh_dominated": bool(dom[i]) and not bool(res.rigid[i]),
-            "shape": {lab: float(res.shapes[k, i]) for k, lab in enumerate(res.labels)},
+            "shape": dict(zip(res.labels, map(float, res.shapes[:, i]))),
         }
         for i in range(len(res.frequencies_hz))
     ]
@@ -679,9 +679,7 @@ def modes_report(
         "frequencies_hz": list(map(float, res.frequencies_hz)),
         "rigid": [bool(x) for x in res.rigid],
         "modes": modes,
-        "energy_fractions": [
-            {e: float(res.energy[i, j]) for j, e in enumerate(res.elements)} for i in range(len(modes))
-        ],
+        "energy_fractions": [dict(zip(res.elements, map(float, row))) for row in res.energy],
         "degenerate": [[i + 1 for i in g] for g in res.degenerate_groups()],
         "assumed": [a.to_dict() for a in desc.assumptions],
     }

@@ -44,9 +44,9 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     """
     Kt = np.array(model.Kb, dtype=float)
     rhs = np.array(model.F, dtype=float)
-    for i, m in enumerate(model.meshes):
-        Kt += m.k * np.outer(model.V[i], model.V[i])
-        rhs += m.k * m.D * model.V[i]
+    for m, v in zip(model.meshes, model.V):
+        Kt += m.k * np.outer(v, v)
+        rhs += m.k * m.D * v
     if model.bearings:  # rolling bearings: the nonlinear static problem, cage at θ = 0
         from .rolling import static_deflection
 
@@ -57,7 +57,7 @@ def static_mesh_forces(model: Any) -> np.ndarray:
         q = static_deflection(Kt, rhs, items)[0]
     else:
         q = np.linalg.lstsq(Kt, rhs, rcond=1e-12)[0]
-    f = np.array([m.k * (model.V[i] @ q - m.D) for i, m in enumerate(model.meshes)])
+    f = np.array([m.k * (v @ q - m.D) for m, v in zip(model.meshes, model.V)])
     scale = max([1.0, float(np.max(np.abs(model.F), initial=0.0))] + [m.k * max(m.D, 1.0) for m in model.meshes])
     f[np.abs(f) <= 1e-9 * scale] = 0.0
     return f
