@@ -279,10 +279,9 @@ def _build(ctx, data: dict) -> GearboxDescription:
         raise ctx.model("mesh", str(e)) from None
     zref = pairs[ref_i][3] * speeds[pairs[ref_i][1]]
     ratios = {nm: sp_z * speeds[sp] / zref for (nm, sp, _, sp_z, _) in pairs}
-    body_speed: dict[str, Fraction] = {}
-    for blk in cblocks:
-        if blk.has("body") and blk.has("shaft") and blk.get("shaft") in speeds:
-            body_speed[blk.get("body")] = speeds[blk.get("shaft")]
+    body_speed: dict[str, Fraction] = {  # a body coupled to a shaft turns with it
+        blk.get("body"): speeds[blk.get("shaft")] for blk in cblocks if blk.has("body") and blk.get("shaft") in speeds
+    }
     loads_raw = list(enumerate(data.get("load", []) or []))
     order_ratios = _order_ratios(ctx, loads_raw, gears, speeds, body_speed, zref)
     bound = gbb.get("max_period", default=DEFAULT_MAX_PERIOD)
