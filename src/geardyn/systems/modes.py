@@ -333,7 +333,7 @@ def gyroscopic_eigen(
         return np.where(zero, 0.0, wk), None
     out = np.zeros((shapes.shape[0], n), dtype=complex)
     nr = int(np.sum(zero))
-    out[:, :nr] = shapes[:, np.flatnonzero(omega2 <= 0.0)[:nr]] if nr else out[:, :0]
+    out[:, :nr] = shapes[:, np.flatnonzero(omega2 <= 0.0)[:nr]]
     el = pos[~zero]
     eta = Z[n:, el] / (1j * lam[el])  # η' = iω η
     eta = eta / np.sqrt(np.sum(np.abs(eta) ** 2, axis=0))  # Φ is M-orthonormal: φᴴ M φ = |η|²
