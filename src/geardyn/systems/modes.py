@@ -259,7 +259,7 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: fl
         return _gyroscopic_modes(desc, clearances, float(rpm), G)
     M = desc.mass_matrix()
     names, mats, meshes = _element_stiffness(desc, clearances)
-    K = np.sum(mats, axis=0) if mats else np.zeros_like(M)
+    K = np.sum(mats, axis=0)  # every system has a mesh
     K = 0.5 * (K + K.T)
     w2, phi = scipy.linalg.eigh(K, M)
     scale = max(float(np.max(np.abs(w2))), 1e-300)

@@ -89,7 +89,7 @@ def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray, viscous: bool =
         d = deltas[:, i, 0]
         f = Kk * (d - np.clip(d, -m.D, m.D))
         out.append(C * deltas[:, i, 1] + f if viscous else f)
-    return np.stack(out, axis=1) if out else np.zeros((th.size, 0))
+    return np.stack(out, axis=1)  # a system has at least one mesh
 
 
 def _fractions(res: Any, e: int, point: int) -> dict[str, float | None]:
