@@ -32,6 +32,7 @@ import numpy as np
 from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry import Assumption
+from ..model import _whole_number
 
 __all__ = ["DOFS", "MESH_SERIES_KEYS", "Dof", "Body", "Clearance", "Connection", "Load", "Mesh", "SystemDescription"]
 
@@ -81,8 +82,7 @@ def _bounded(what: str, value, unit: str = "", strict: bool = True) -> float:
 
 def whole_count(what: str, value) -> int:
     """``value`` as an integer >= 1 (a whole float too), else the error naming ``what``."""
-    whole = isinstance(value, (int, float, np.integer)) and not isinstance(value, bool) and float(value).is_integer()
-    if not whole or value < 1:
+    if not _whole_number(value, 1):
         raise ModelError(f"{what}: must be an integer >= 1, got {value!r}")
     return int(value)
 
