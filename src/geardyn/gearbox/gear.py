@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from ..systems.description import whole_count
+from ..validate import integer
 
 __all__ = ["Gear", "disk", "disc_gyroscopic"]
 
@@ -136,7 +136,7 @@ class Gear:
 
     def __post_init__(self) -> None:
         who = f"gear {self.name!r}"
-        whole_count(f"{who}: teeth", self.teeth)
+        integer(f"{who}: teeth", self.teeth, 1)
         for key in ("module", "face_width"):
             v = getattr(self, key)
             if not (math.isfinite(v) and v > 0):

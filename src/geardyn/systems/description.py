@@ -32,7 +32,7 @@ import numpy as np
 from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry import Assumption
-from ..model import _whole_number
+from ..validate import integer
 
 __all__ = ["DOFS", "MESH_SERIES_KEYS", "Dof", "Body", "Clearance", "Connection", "Load", "Mesh", "SystemDescription"]
 
@@ -78,13 +78,6 @@ def _bounded(what: str, value, unit: str = "", strict: bool = True) -> float:
         u = f" {unit}" if unit else ""
         raise ModelError(f"{what}: must be {'>' if strict else '>='} 0{u}, got {x:g}{u}")
     return x
-
-
-def whole_count(what: str, value) -> int:
-    """``value`` as an integer >= 1 (a whole float too), else the error naming ``what``."""
-    if not _whole_number(value, 1):
-        raise ModelError(f"{what}: must be an integer >= 1, got {value!r}")
-    return int(value)
 
 
 def check_kappa(what: str, kappa: tuple[float, ...], phi_k: tuple[float, ...], cycles: int) -> None:
@@ -335,10 +328,10 @@ class Mesh(_AlongVector):
                     "or none (all 0)"
                 )
             set_(self, ph, p + (0.0,) * (len(a) - len(p)))
-        set_(self, "cycles", whole_count(f"{who}: cycles", self.cycles))
+        set_(self, "cycles", integer(f"{who}: cycles", self.cycles, 1))
         check_kappa(f"{who}: kappa", self.kappa, self.phi_k, self.cycles)
         if self.teeth is not None:
-            set_(self, "teeth", whole_count(f"{who}: teeth", self.teeth))
+            set_(self, "teeth", integer(f"{who}: teeth", self.teeth, 1))
 
     def _from_table(self, who: str) -> None:
         from ..errors import ConfigError
