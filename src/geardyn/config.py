@@ -73,7 +73,7 @@ from ._config_values import (
     _choice,
     _Ctx,
     _Key,
-    _parse_scalar,
+    _order_tables,
     _parse_value,
     parse_quantity,
     parse_toml,
@@ -442,7 +442,7 @@ def _load_text(text: str, source: str) -> LoadedConfig:
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
     exc = _read_section(ctx, data, "excitation")[0]  # {} without [excitation]
     data, orders = _pop_orders(data)
-    cfg = _load_sections(ctx, {k: v for k, v in data.items() if k != "excitation"})
+    cfg = _load_sections(ctx, data)
     cfg = _with_excitation(ctx, cfg, exc) if exc else cfg
     return _with_orders(ctx, cfg, orders) if orders is not None else cfg
 
@@ -458,33 +458,24 @@ def _pop_orders(data: dict[str, Any]) -> tuple[dict[str, Any], Any]:
 def _with_orders(ctx: _Ctx, cfg: LoadedConfig, raw: Any) -> LoadedConfig:
     """``cfg`` with ``[model] torque_orders`` (:mod:`geardyn.torque_orders`): with a gear pair, orders of the
     pinion's speed and amplitudes of a pinion torque (N·m); without one, mesh orders and non-dimensional amplitudes."""
-    from .torque_orders import order_fraction
-
     if not isinstance(raw, list) or not all(isinstance(e, dict) for e in raw):
         raise ctx.error("model", "torque_orders", "expected a list of tables {order, amplitude, phase}")
     physical = cfg.pair is not None
-    out = []
-    for i, entry in enumerate(raw):
-        unknown = set(entry) - {"order", "amplitude", "phase"}
-        if unknown or "order" not in entry or "amplitude" not in entry:
-            raise ctx.error("model", "torque_orders", f"element {i}: keys order, amplitude and optionally phase")
-        try:
-            q = order_fraction(entry["order"], f"element {i}: order")
-        except ModelError as e:
-            raise ctx.error("model", "torque_orders", str(e), ModelError) from None
-        kind = _TORQUE if physical else _NUMBER
-        a = _parse_scalar(ctx, "model", "torque_orders", kind, entry["amplitude"], i)
-        ph = _parse_scalar(ctx, "model", "torque_orders", _PHASE, entry.get("phase", 0.0), i)
-        if physical:
-            q = q / cfg.pair.z1
-            a = cfg.pair.fp_from_torques(a, 0.0, cfg.b_c)
-        out.append((q, a, ph))
+    out = _order_tables(ctx, "model", "torque_orders", raw, _TORQUE if physical else _NUMBER, _PHASE, 0)
+    if physical:
+        out = pinion_orders(cfg, out)
     try:
         model = cfg.model.replace(torque_orders=cfg.model.torque_orders + tuple(out))
     except ModelError as e:
         raise ctx.error("model", "torque_orders", str(e), ModelError) from None
     what = "orders of the pinion speed, pinion torque amplitudes" if physical else "mesh orders"
     return replace(cfg, model=model, notes=cfg.notes + (f"[model] torque_orders: {len(out)} {what}",))
+
+
+def pinion_orders(cfg: LoadedConfig, orders: list[tuple[Any, float, float]]) -> list[tuple[Any, float, float]]:
+    """Torque orders of the pinion's speed with amplitudes of a pinion torque (N·m) as the model's: orders of the
+    mesh frequency (k/z1) and non-dimensional amplitudes (the torque on the pinion alone, T2 = 0)."""
+    return [(q / cfg.pair.z1, cfg.pair.fp_from_torques(a, 0.0, cfg.b_c), p) for q, a, p in orders]
 
 
 def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> LoadedConfig:

@@ -323,9 +323,10 @@ class PairInputs:
 
             given = [parse_cli(t) for t in torque_orders]
             cfg = self.loaded
-            pair = cfg.pair if cfg is not None else None
-            if pair is not None:
-                given = [(q / pair.z1, pair.fp_from_torques(a, 0.0, cfg.b_c), p) for q, a, p in given]
+            if cfg is not None and cfg.pair is not None:
+                from .config import pinion_orders
+
+                given = pinion_orders(cfg, given)
             m = m.replace(torque_orders=m.torque_orders + tuple(given))
         return m
 

@@ -520,26 +520,13 @@ def mesh_damping(blk: _Block) -> dict[str, Any]:
 
 def _orders(blk: _Block) -> tuple:
     """``orders = [{ order = 2, amplitude = "40 N*m", phase = "0 deg" }, ...]`` of a load: (k, N·m, rad) tuples."""
-    from ..torque_orders import order_fraction
-
     if not blk.has("orders"):
         return ()
     raw = blk.data["orders"]
     if not isinstance(raw, list) or not raw or not all(isinstance(e, dict) for e in raw):
         raise blk.cerr("orders", 'expected a list of tables { order = 2, amplitude = "40 N*m", phase = "0 deg" }')
-    out = []
-    for i, e in enumerate(raw):
-        unknown = set(e) - {"order", "amplitude", "phase"}
-        if unknown or "order" not in e or "amplitude" not in e:
-            raise blk.cerr("orders", f"element {i + 1}: keys order, amplitude and optionally phase")
-        try:
-            k = order_fraction(e["order"], f"element {i + 1}: order")
-        except ModelError as err:
-            raise blk.merr("orders", str(err)) from None
-        a = blk._scalar("orders", "torque", e["amplitude"], i + 1)
-        ph = blk._scalar("orders", "angle", e["phase"], i + 1) if "phase" in e else 0.0
-        out.append((k, a, ph))
-    return tuple(out)
+    where = {"index": blk.index, "element": blk.element}
+    return tuple(cv._order_tables(blk.ctx, blk.section, "orders", raw, cv._TORQUE, cv._ANGLE, 1, **where))
 
 
 def _body_speed(body: str, mesh_data: list, meshes: dict[str, Mesh]):
@@ -640,12 +627,9 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
                     key, problem = _strip(rest)
                     key = key if key in tbl else None
                     um = re.search(r"unknown body '([^']*)'", rest)
-                    if um and key is None:
-                        ln = ctx.line_containing(sec, i, um.group(1))
-                        if ln:
-                            return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
-                    if key is None and "name" in tbl:  # point at the element's name
-                        ln = ctx.line(sec, i, "name")
+                    ln = ctx.line_containing(sec, i, um.group(1)) if um and key is None else None
+                    if key is None and (ln or "name" in tbl):  # the line of the unknown body, else of the name
+                        ln = ln or ctx.line(sec, i, "name")
                         return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
                     return ctx.model(sec, problem if key else rest, i, key, name)
     m = re.match(r"^(reference|characteristic_length): (.*)$", msg)
@@ -690,8 +674,7 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
     SystemDescription
     """
     check_top(ctx, data, _SECTIONS, _ARRAYS)
-    sysb = _Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
-    opb = _Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
+    sysb, opb = (_Block(ctx, s, None, data.get(s, {}), keys, None) for s, keys in _SECTIONS.items())
     bodies = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []))]
     if not bodies:
         raise ConfigError(f"{ctx.source}: no [[body]]: a system needs bodies")
