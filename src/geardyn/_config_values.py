@@ -196,7 +196,7 @@ class _Ctx:
         for i, text in enumerate(self.lines, start=1):
             m = _HEADER.match(text)
             if m:
-                if inside and start is not None and section is not None:
+                if inside and section is not None:  # (the end of the section's table)
                     break
                 if m.group(2) == section:
                     count += 1
@@ -395,7 +395,7 @@ def _order_tables(
 
     out = []
     for i, entry in enumerate(entries, start=first):
-        if set(entry) - {"order", "amplitude", "phase"} or "order" not in entry or "amplitude" not in entry:
+        if not {"order", "amplitude"} <= set(entry) <= {"order", "amplitude", "phase"}:
             raise ctx.error(section, key, f"element {i}: keys order, amplitude and optionally phase", **where)
         try:
             q = order_fraction(entry["order"], f"element {i}: order")

@@ -210,9 +210,7 @@ class PairInputs:
         -------
         PhysicalScales
         """
-        if self.loaded is None:
-            return self.tooth.scales
-        return self.loaded.scales
+        return self.tooth.scales if self.loaded is None else self.loaded.scales
 
     @cached_property
     def _table(self) -> Any:

@@ -133,8 +133,7 @@ def normalise(orders: Any) -> tuple[TorqueOrder, ...]:
     for i, entry in enumerate(orders):
         who = f"torque_orders[{i}]"
         if isinstance(entry, dict):
-            unknown = set(entry) - {"order", "amplitude", "phase"}
-            if unknown or "order" not in entry or "amplitude" not in entry:
+            if not {"order", "amplitude"} <= set(entry) <= {"order", "amplitude", "phase"}:
                 raise ModelError(f"{who}: keys order, amplitude and optionally phase, got {sorted(entry)}")
             q, a, p = entry["order"], entry["amplitude"], entry.get("phase", 0.0)
         else:
