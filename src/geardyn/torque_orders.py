@@ -68,9 +68,9 @@ def order_fraction(value: Any, name: str = "torque_orders.order") -> Fraction:
     ModelError
         For anything else, zero, a negative or non-finite order.
     """
-    if isinstance(value, bool):
-        raise ModelError(f"{name}: expected a positive number or a fraction 'a/b', got {value!r}")
     try:
+        if isinstance(value, bool):
+            raise TypeError  # (true and false are no orders)
         if isinstance(value, Fraction):
             q = value
         elif isinstance(value, int):
@@ -93,9 +93,9 @@ def order_fraction(value: Any, name: str = "torque_orders.order") -> Fraction:
 
 
 def _finite(name: str, value: Any) -> float:
-    if isinstance(value, bool):
-        raise ModelError(f"{name}: expected a finite number, got {value!r}")
     try:
+        if isinstance(value, bool):
+            raise TypeError  # (true and false are no numbers here)
         x = float(value)
     except (TypeError, ValueError, OverflowError):
         raise ModelError(f"{name}: expected a finite number, got {value!r}") from None

@@ -338,12 +338,10 @@ def _vector(blk: _Block, table: dict, translational: bool) -> dict[tuple[str, st
         for d, raw in comps.items():
             if d not in DOFS:
                 raise blk.cerr("vector", f"body {body!r}: unknown DOF {d!r}; allowed: {', '.join(DOFS)}")
-            if d == "theta" and translational:
-                out[(body, d)] = blk._scalar("vector", "length", raw)
-            elif d != "theta" and not translational:
+            if d != "theta" and not translational:
                 raise blk.cerr("vector", f"body {body!r}: a torsional element has rotation entries only")
-            else:
-                out[(body, d)] = blk._scalar("vector", "number", raw)
+            # a translational element's rotation entry is a lever arm (a length); every other entry a number
+            out[(body, d)] = blk._scalar("vector", "length" if d == "theta" and translational else "number", raw)
     return out
 
 
