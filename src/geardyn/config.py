@@ -295,35 +295,29 @@ class LoadedConfig:
         torque : float, optional
             Pinion torque T1 (N·m), balanced; sets f_p.
         """
-        changes: dict[str, Any] = {}
-        out: dict[str, Any] = {}
         if self.pair is None and (rpm is not None or torque is not None):
             raise ConfigError(
                 f"{self.source}: no [gear_pair], so a pinion speed or torque has no meaning; give ω and f_p instead"
             )
-        sc = self.scales
+        changes: dict[str, Any] = {}
+        out: dict[str, Any] = {}
+        notes = list(self.notes)  # the notes on how the configuration's own speed or torque came about go
         if rpm is not None:
             self.pair.mesh_frequency(rpm)  # validates rpm > 0
-            changes["omega"] = float(sc.omega_from_rpm(rpm))
+            changes["omega"] = float(self.scales.omega_from_rpm(rpm))
             out["rpm"] = float(rpm)
-        if torque is not None:
-            changes["fp"] = self.pair.fp_from_torques(torque, None, self.b_c)
-            out["torque"] = float(torque)
-            out["torque2"] = None
-        # a speed or torque given here is no longer the configuration's assumed operating point
-        assumptions = tuple(a for a in self.assumptions if a.name not in out)
-        # notes on how the configuration's own speed or torque came about no longer hold
-        stale = (("pinion speed", "no [operating] rpm") if rpm is not None else ()) + (
-            ("pinion torque T1", "no [operating] torque", "[mesh] fp =") if torque is not None else ()
-        )
-        notes = [n for n in self.notes if not n.startswith(stale)]  # (no prefix: every note kept)
-        if rpm is not None:
+            notes = [n for n in notes if not n.startswith(("pinion speed", "no [operating] rpm"))]
             notes.append(f"pinion speed {float(rpm):.6g} rpm given for this run sets ω = {changes['omega']:.6g}")
         if torque is not None:
+            changes["fp"] = self.pair.fp_from_torques(torque, None, self.b_c)
+            out.update(torque=float(torque), torque2=None)
+            notes = [n for n in notes if not n.startswith(("pinion torque T1", "no [operating] torque", "[mesh] fp ="))]
             notes.append(
                 f"pinion torque T1 = {float(torque):.6g} N·m given for this run sets f_p = {changes['fp']:.6g}"
                 " (balanced torques)"
             )
+        # a speed or torque given here is no longer the configuration's assumed operating point
+        assumptions = tuple(a for a in self.assumptions if a.name not in out)
         return replace(self, model=self.model.replace(**changes), assumptions=assumptions, notes=tuple(notes), **out)
 
     def geometry_summary(self) -> dict[str, Any]:
