@@ -215,10 +215,6 @@ class _Ctx:
         """The start of a message about line ``ln`` (None: the file only): ``SOURCE: line N: ``."""
         return f"{self.source}: " + (f"line {ln}: " if ln else "")
 
-    def line_of(self, section: str | None, key: str) -> int | None:
-        """The line of ``key`` in the table ``section`` (its header's for ``key = ""``), or None."""
-        return self.line(section, None, key or None, fallback=False)
-
     def error(
         self,
         section: str | None,

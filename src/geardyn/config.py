@@ -211,7 +211,7 @@ def _wrap(ctx: _Ctx, section: str, err: ModelError) -> ModelError:
     msg = str(err)
     key = _key_of_message(msg)
     key = re.sub(r"\d+$", "", key) if key not in _SCHEMA.get(section, {}) else key
-    return ModelError(ctx.head(ctx.line_of(section, key)) + f"[{section}] {msg}")
+    return ModelError(ctx.head(ctx.line(section, None, key or None, fallback=False)) + f"[{section}] {msg}")
 
 
 # ---------------------------------------------------------------------------- loaded config
@@ -430,7 +430,7 @@ def _load_text(text: str, source: str) -> LoadedConfig:
         allowed = ", ".join([f"[{s}]" for s in _SCHEMA] + list(_TOP_LEVEL_TEXT))
         if isinstance(val, dict):
             raise ConfigError(
-                ctx.head(ctx.line_of(key, ""))
+                ctx.head(ctx.line(key, fallback=False))
                 + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}"
             )
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
@@ -518,7 +518,9 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
 
     missing = [k for k in _REQUIRED_PAIR if k not in gp]
     if missing:
-        raise ConfigError(ctx.head(ctx.line_of("gear_pair", "")) + f"[gear_pair] missing key(s) {', '.join(missing)}")
+        raise ConfigError(
+            ctx.head(ctx.line("gear_pair", fallback=False)) + f"[gear_pair] missing key(s) {', '.join(missing)}"
+        )
 
     # ---- the ISO 10300-1 inputs and the way to k0
     k0_method = gp.pop("k0_method", None)
