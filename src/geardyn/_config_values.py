@@ -286,7 +286,7 @@ def _parse_scalar(
             raise bad(f"expected a string, got {raw!r}")
         return raw
     if kind.label.startswith("one of"):
-        if not isinstance(raw, str) or kind.label.find(repr(raw)) < 0:
+        if not isinstance(raw, str) or repr(raw) not in kind.label:
             raise bad(f"expected {kind.label}, got {raw!r}")
         return raw
     if isinstance(raw, (bool, dict, list)):

@@ -173,7 +173,7 @@ def period_multiple(orders: tuple[TorqueOrder, ...], cycles: int = 1) -> int:
     """
     M = int(cycles)
     for q, _, _ in orders:
-        M = M * q.denominator // math.gcd(M, q.denominator)
+        M = math.lcm(M, q.denominator)
         if M > MAX_ORDER_PERIOD:
             raise ModelError(
                 f"torque_orders: order {q} of the mesh frequency makes the forcing period {M} mesh cycles, "
