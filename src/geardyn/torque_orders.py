@@ -16,9 +16,10 @@ A pinion torque fluctuation ΔT of a physical pair enters as the force of a torq
 mesh point times the equivalent mass (:meth:`geardyn.geometry.SpiralBevelGearPair.fp_from_torques` with
 T2 = 0), made non-dimensional like f_p.
 
-This module holds the parsing of the three ways an order is written (the model's tuples, a configuration's
-``{order, amplitude, phase}`` tables, the command line's ``ORDER:AMPLITUDE[:PHASE]``) and the arithmetic of
-the period.
+This module holds the grammar of an order (:func:`order_fraction`), the parsing of the model's tuples and of the
+command line's ``ORDER:AMPLITUDE[:PHASE]``, and the arithmetic of the period; the ``{order, amplitude, phase}``
+tables of a configuration or a system file are read, with their units, by the one reader of file values
+(:mod:`geardyn._config_values`).
 """
 
 from __future__ import annotations

@@ -215,9 +215,7 @@ def _strip(msg: str) -> tuple[str | None, str]:
     m = re.match(r"^(?:body|connection|clearance|mesh|load on \S+) ?(?:'[^']*')?: (.*)$", msg)
     rest = m.group(1) if m else msg
     km = re.match(r"^([A-Za-z_][\w]*): (.*)$", rest)
-    if km:
-        return km.group(1), km.group(2)
-    return None, rest
+    return km.groups() if km else (None, rest)
 
 
 class _Block:
