@@ -381,16 +381,16 @@ def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any, **wher
 
 
 def _order_tables(
-    ctx: _Ctx, section: str, key: str, entries: list, amplitude: _Kind, phase: _Kind, first: int, **where: Any
+    ctx: _Ctx, section: str, key: str, entries: list, amplitude: _Kind, phase: _Kind, **where: Any
 ) -> list[tuple[Any, float, float]]:
     """The torque orders written as tables ``{ order = 2, amplitude = "40 N*m", phase = "0 deg" }`` at ``key``
     (:mod:`geardyn.torque_orders`): (order as a Fraction, amplitude and phase of the kinds ``amplitude`` and
-    ``phase``, the phase 0 when not given); messages count the tables from ``first``, ``where`` (``index``,
-    ``element``) places them."""
+    ``phase``, the phase 0 when not given); messages count the tables from 1, as a series' elements; ``where``
+    (``index``, ``element``) places them."""
     from .torque_orders import order_fraction
 
     out = []
-    for i, entry in enumerate(entries, start=first):
+    for i, entry in enumerate(entries, start=1):
         if not {"order", "amplitude"} <= set(entry) <= {"order", "amplitude", "phase"}:
             raise ctx.error(section, key, f"element {i}: keys order, amplitude and optionally phase", **where)
         try:

@@ -455,7 +455,7 @@ def _with_orders(ctx: _Ctx, cfg: LoadedConfig, raw: Any) -> LoadedConfig:
     if not isinstance(raw, list) or not all(isinstance(e, dict) for e in raw):
         raise ctx.error("model", "torque_orders", "expected a list of tables {order, amplitude, phase}")
     physical = cfg.pair is not None
-    out = _order_tables(ctx, "model", "torque_orders", raw, _TORQUE if physical else _NUMBER, _PHASE, 0)
+    out = _order_tables(ctx, "model", "torque_orders", raw, _TORQUE if physical else _NUMBER, _PHASE)
     if physical:
         out = pinion_orders(cfg, out)
     try:

@@ -272,15 +272,22 @@ class _Block:
             spec = _Key(_K[base], kind.endswith("*"))
             value, src = cv._parse_value(self.ctx, self.section, key, spec, raw, **self._where(key, base))
         elif isinstance(raw, dict) and kind != "table":
-            value, src = self._parse(key, kind, raw.get("value")), raw.get("assumed")
-            if set(raw) - {"value", "assumed"} or "value" not in raw:
-                raise self.cerr(key, "an inline table must have the keys 'value' and optionally 'assumed'")
+            value, src = self._parse(key, kind, self.inline_value(key)), raw.get("assumed")
         else:
             value, src = self._parse(key, kind, raw), None
         if src:
             shown = list(value) if isinstance(value, tuple) else value
             self.ctx.assume(Assumption(f"{self.element or self.section}.{key}", shown, unit, src))
         return value
+
+    def inline_value(self, key: str) -> Any:
+        """The value of ``key`` as written: the ``value`` of an inline table ``{ value = ..., assumed = ... }``."""
+        raw = self.data.get(key)
+        if not isinstance(raw, dict):
+            return raw
+        if set(raw) - {"value", "assumed"} or "value" not in raw:
+            raise self.cerr(key, "an inline table must have the keys 'value' and optionally 'assumed'")
+        return raw["value"]
 
     def _parse(self, key: str, kind: str, raw: Any) -> Any:
         if kind == "list":
@@ -522,7 +529,7 @@ def _orders(blk: _Block) -> tuple:
     if not isinstance(raw, list) or not raw or not all(isinstance(e, dict) for e in raw):
         raise blk.cerr("orders", 'expected a list of tables { order = 2, amplitude = "40 N*m", phase = "0 deg" }')
     where = {"index": blk.index, "element": blk.element}
-    return tuple(cv._order_tables(blk.ctx, blk.section, "orders", raw, cv._TORQUE, cv._ANGLE, 1, **where))
+    return tuple(cv._order_tables(blk.ctx, blk.section, "orders", raw, cv._TORQUE, cv._ANGLE, **where))
 
 
 def _body_speed(body: str, mesh_data: list, meshes: dict[str, Mesh]):
@@ -691,9 +698,9 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
             raise ctx.model("system", f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}", key="reference")
         j = names.index(ref) if ref is not None else 0
         rb = _mesh_block(ctx, j, mesh_data[j])
-        raw = rb.data.get("backlash")
-        raw = raw["value"] if isinstance(raw, dict) else raw
-        b_c = half_backlash(rb, rb._parse("backlash", "length", raw) if rb.has("backlash") else 0.0)
+        b_c = half_backlash(
+            rb, rb._parse("backlash", "length", rb.inline_value("backlash")) if rb.has("backlash") else 0.0
+        )
     meshes = [_mesh(ctx, i, t, bmap, b_c) for i, t in enumerate(mesh_data)]
     _unique(ctx, "mesh", [m.name for m in meshes])
     _unique(ctx, "connection", [getattr(c, "name", None) for c in conns + clears])
