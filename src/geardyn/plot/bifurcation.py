@@ -11,7 +11,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from ..analysis.classify import IMPACT_LABELS, MOTION_LABELS
-from .common import cell_edges, contact_lines, label, of_mesh, plot_function, rpm_axis, set_title, symbol
+from .common import cell_edges, contact_lines, equal_steps, label, of_mesh, plot_function, rpm_axis, set_title, symbol
 
 __all__ = ["IMPACT_COLORS", "MOTION_COLORS", "POINT_SIZE", "SWEEP_COLORS", "category_band", "diagram", "diagram_panels"]
 
@@ -33,10 +33,7 @@ DISCRETE_MAX = 12
 def is_discrete(x: np.ndarray) -> bool:
     """Whether the values of a sweep are separate settings rather than a grid (few, or unequally spaced)."""
     x = np.asarray(x, dtype=float)
-    if x.size <= 1:
-        return True
-    d = np.diff(x)
-    return x.size <= DISCRETE_MAX or not np.allclose(d, d[0], rtol=1e-6, atol=0.0)
+    return x.size <= DISCRETE_MAX or not equal_steps(x)
 
 
 def category_band(ax, x: np.ndarray, codes: np.ndarray, colors: dict[int, str], names: dict[int, str], title: str):
@@ -181,4 +178,4 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
                     a, x, ds[var].sel(sweep=s).values, colors, names, f"{var} ({s})" if len(sweeps) > 1 else var
                 )
         k += 2
-    [a for a in axes if a is not None][-1].set_xlabel(label(ds[name], name))
+    [a for a in axes if a is not None][-1].set_xlabel(label(ds[name]))

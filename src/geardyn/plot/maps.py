@@ -60,8 +60,8 @@ def _axes_names(ds: xr.Dataset) -> tuple[str, str]:
 
 def _labels(ax: Axes, ds: xr.Dataset, title: str) -> None:
     xn, yn = _axes_names(ds)
-    ax.set_xlabel(label(ds[xn], xn))
-    ax.set_ylabel(label(ds[yn], yn))
+    ax.set_xlabel(label(ds[xn]))
+    ax.set_ylabel(label(ds[yn]))
     set_title(ax, title, ds, exclude=[xn, yn])
 
 
@@ -138,5 +138,5 @@ def continuous_map(ds: xr.Dataset, var: str = "amplitude", ax: Axes = None) -> N
             fontsize=8,
             frameon=False,
         )
-    ax.figure.colorbar(im, ax=ax, label=label(ds[var], var))
+    ax.figure.colorbar(im, ax=ax, label=label(ds[var]))
     _labels(ax, ds, ds[var].attrs.get("long_name", var))

@@ -98,9 +98,8 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> None:
     """Order spectrum of each run (one panel per run) with the mesh orders and their pinion and wheel shaft-order
     sidebands labelled."""
     runs = _runs(ds)
-    axes = ax if isinstance(ax, list) else [ax]
     order = ds["order"].values
-    for a, (name, s) in zip(axes, runs):
+    for a, (name, s) in zip(ax, runs):
         if a is None:
             continue
         amp = ds["order_amplitude"].sel(run=name).values
@@ -128,7 +127,7 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> None:
         )
         a.set_ylabel("amplitude [m/s²]")
         a.set_ylim(top * 1e-5, top * 5)
-    [a for a in axes if a is not None][-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
+    [a for a in ax if a is not None][-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
 
 
 @plot_function("signature", (9.0, 10.5), n=4, adjust={"hspace": 0.4}, ax_doc=_PANELS)
@@ -206,7 +205,7 @@ def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> None:
 def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Tooth compliance along the contact path, geardyn against finite elements, with the FE mesh levels (a
     result of ``benchmarks/tooth_fe.py``)."""
-    for a, t in zip(ax if isinstance(ax, list) else [ax], ds["tooth"].values):
+    for a, t in zip(ax, ds["tooth"].values):
         if a is None:
             continue
         r = ds["radius"].sel(tooth=t).values
