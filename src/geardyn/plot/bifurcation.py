@@ -132,12 +132,13 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     for s in sweeps:
         pu = ds["poincare_u"].sel(sweep=s).values
         xx, pu = np.broadcast_to(x[:, None], pu.shape).ravel(), pu.ravel()
-        ax.plot(xx, pu, ",", color=SWEEP_COLORS.get(s, "k"), alpha=0.8)
+        c = SWEEP_COLORS.get(s, "k")
+        ax.plot(xx, pu, ",", color=c, alpha=0.8)
         ax.scatter(
             xx,
             pu,
             s=12 if discrete else POINT_SIZE,
-            color=SWEEP_COLORS.get(s, "k"),
+            color=c,
             lw=0,
             label=f"sweep {s}" if len(sweeps) > 1 or s != "fixed" else "Poincaré points",
         )

@@ -228,17 +228,6 @@ def record(
     t1 = tsa(acq, N)
     p1 = split_tsa(t1, z1)
     ind = {"pinion": indicators(t1, z1)}
-    if z2:
-        try:
-            N2 = per_rev(z2, top_order)
-            t2 = tsa(acq, N2, z1 / z2)
-        except ModelError:
-            revs = int(round(acq.time[-1] * rpm / 60.0))
-            raise ModelError(
-                f"revolutions: {revs} pinion revolutions hold no whole revolution of the wheel "
-                f"(z2/z1 = {z2}/{z1}); record at least {math.ceil(z2 / z1) + 2}"
-            ) from None
-        ind["wheel"] = indicators(t2, z2)
     keep = min(acq.time.size, int(3 * 60.0 / rpm * acq.fs))
     top = orders <= 3.5 * z1
     ds = xr.Dataset(
@@ -256,6 +245,16 @@ def record(
         },
     )
     if z2:
+        try:
+            N2 = per_rev(z2, top_order)
+            t2 = tsa(acq, N2, z1 / z2)
+        except ModelError:
+            revs = int(round(acq.time[-1] * rpm / 60.0))
+            raise ModelError(
+                f"revolutions: {revs} pinion revolutions hold no whole revolution of the wheel "
+                f"(z2/z1 = {z2}/{z1}); record at least {math.ceil(z2 / z1) + 2}"
+            ) from None
+        ind["wheel"] = indicators(t2, z2)
         ds["tsa_wheel"] = xr.DataArray(
             t2, dims="angle_wheel", attrs={"units": "m/s^2", "long_name": "TSA of the wheel"}
         )
