@@ -23,9 +23,7 @@ from geardyn.paper.settings import model_text
 from geardyn.paper.table1 import TABLE1_MODEL
 from geardyn.paper.verdicts import (
     VERDICT_RULES,
-    combine,
     count_text,
-    elsewhere,
     of_claims,
     parts,
     verdict_of,
@@ -166,10 +164,6 @@ def test_verdict_kinds_and_the_combining_rules():
     # every part of a claim is required: one part holding is not enough
     assert parts(False, False) == "contradicted" and parts(True, False) == "contradicted"
     assert parts(True, True) == "reproduced" and parts(True, True, False, False, False) == "contradicted"
-    assert combine(False, True) == "contradicted" and combine(True, True) == "reproduced"
-    assert elsewhere("contradicted", True) == "reproduced under a reading"
-    assert elsewhere("contradicted", False) == "contradicted"
-    assert elsewhere("reproduced", True) == "reproduced"
     assert of_claims(["reproduced", "reproduced"]) == "reproduced"
     assert of_claims(["reproduced", "contradicted"]) == "contradicted"
     assert count_text(0, 4, "backlash values") == "0 of 4 backlash values (0 %)"

@@ -10,7 +10,7 @@ from geardyn.analysis.classify import MOTION_CHAOTIC, MOTION_PERIODIC
 from geardyn.paper.claims import CLAIMS
 from geardyn.paper.readings import BACKLASH_READINGS, Reading, phase_pairs
 from geardyn.paper.studies.jumps import fluctuation
-from geardyn.paper.studies.readings import _t3_judge, _xi0_bif_judge, intervals_text, lle_sign_holds
+from geardyn.paper.studies.readings import _judge, intervals_text, lle_sign_holds
 from geardyn.paper.verdicts import (
     FLUCT_MIN,
     MATCH_REPRODUCED,
@@ -117,11 +117,16 @@ def _point(motion, period, lle, err):
 
 
 def test_both_parts_of_a_motion_and_exponent_claim_are_required():
-    t32 = _t3_judge("T3-2")  # quasi-2-periodic (period-2) and λ1 near zero
+    def t32(r):  # quasi-2-periodic (period-2) and λ1 near zero
+        return _judge("T3-2", (), r)
+
     assert t32(_point(MOTION_PERIODIC, 2, 0.002, 1e-4))[0]
     assert not t32(_point(MOTION_PERIODIC, 2, -0.08, 1e-4))[0]  # the motion alone
     assert not t32(_point(MOTION_CHAOTIC, 0, 0.002, 1e-4))[0]  # the exponent alone
-    t33 = _t3_judge("T3-3")
+
+    def t33(r):
+        return _judge("T3-3", (), r)
+
     assert t33(_point(MOTION_CHAOTIC, 0, 0.03, 1e-3))[0] and not t33(_point(MOTION_CHAOTIC, 0, 0.002, 1e-3))[0]
     assert lle_sign_holds("negative", -0.1, 1e-6) and not lle_sign_holds("negative", -0.002, 1e-3)
     assert not lle_sign_holds("positive", float("nan"), 0.0)
@@ -129,7 +134,10 @@ def test_both_parts_of_a_motion_and_exponent_claim_are_required():
 
 def test_both_bifurcation_points_are_required():
     x = [0.02, 0.04, 0.06, 0.08, 0.2, 0.5, 0.8, 0.9]
-    judge = _xi0_bif_judge(x)
+
+    def judge(r):
+        return _judge("XI0-BIF", x, r)
+
     C, P = MOTION_CHAOTIC, MOTION_PERIODIC
     both = {"motion": np.array([C, C, C, P, P, P, C, C]), "period": np.array([0, 0, 0, 4, 2, 2, 0, 0])}
     assert judge(both)[0]

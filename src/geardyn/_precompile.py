@@ -47,12 +47,7 @@ def _run(argv: list[str]) -> tuple[int, float]:
     code = 0
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
         try:
-            old = sys.argv
-            sys.argv = ["geardyn", *argv]
-            try:
-                code = int(main() or 0)
-            finally:
-                sys.argv = old
+            code = int(main(argv) or 0)
         except SystemExit as exc:  # the CLI exits with the command's code
             code = exc.code if isinstance(exc.code, int) else 1
         except Exception:  # noqa: BLE001  (a failed command costs only its compile at first use)

@@ -36,10 +36,7 @@ def discard_temporaries() -> None:
         pending = list(_PENDING)
         _PENDING.clear()
     for tmp in pending:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        _drop(tmp)
 
 
 def remove_stale(path: str | Path) -> list[Path]:
@@ -158,12 +155,6 @@ def _drop(tmp: str | None) -> None:
         pass
 
 
-def _write_all(tmp: str, data: bytes | memoryview) -> None:
-    with open(tmp, "wb") as f:
-        f.write(data)
-        f.flush()
-
-
 def atomic_write_bytes(path: str | Path, data: bytes | memoryview) -> Path:
     """Write ``data`` to ``path`` atomically (temporary file in the same folder, fsync, rename).
 
@@ -179,7 +170,7 @@ def atomic_write_bytes(path: str | Path, data: bytes | memoryview) -> Path:
     Path
         ``path``.
     """
-    return atomic_write(path, lambda tmp: _write_all(tmp, data))
+    return atomic_write(path, lambda tmp: Path(tmp).write_bytes(data))
 
 
 def write_netcdf_bytes(fill: Callable[[Any], None]) -> memoryview:

@@ -14,9 +14,8 @@ The contract
     The :class:`~geardyn.system.Batch` of a grid's parameter points: a :class:`~geardyn.system.ModelList` of
     their systems, or the pair's :class:`~geardyn.pairpack.PointModels` packed straight from the array.
     :func:`geardyn.system.as_batch` makes a list of systems a batch; every analysis hands batches to
-    :mod:`geardyn.integrate` and asks them (sampling periods, gaps, reference section) what it needs.
-``natural_steps(models, packed, dtau)``
-    N = ceil(T_f/Δτ) RK4 steps per sampling period for each point.
+    :mod:`geardyn.integrate` and asks them (sampling periods, steps per period N = ceil(T_f/Δτ), gaps, reference
+    section) what it needs.
 ``run(models, packed, nsteps, state0, transient, record, mode, accurate, ...)``
     Integrate ``transient`` sampling periods, then record ``record``; ``mode`` is one of :data:`MODES`:
     ``"none"``, ``"lyapunov"`` (Gram–Schmidt logs per recorded period), ``"monodromy"`` (the raw tangent
@@ -73,7 +72,7 @@ from ._kernel import (  # the statistics' indices, statuses and bound: the same 
 )
 from .errors import ModelError
 from .labels import MAX_PERIOD
-from .pairpack import PointModels, steps_per_period
+from .pairpack import PointModels
 from .system import Batch, ModelList, build_models
 
 __all__ = [
@@ -174,14 +173,9 @@ class Backend(abc.ABC):
         """
         return ModelList(build_models(base, names, points))
 
-    def natural_steps(self, models: Sequence[Any], packed: Any, dtau: float) -> np.ndarray:
-        """RK4 steps per sampling period N = ceil(T_f/Δτ) of every point (int64, (P,))."""
-        T = np.array([m.sampling_period for m in models], dtype=float)
-        return np.ceil(T / dtau).astype(np.int64)
-
     def initial_states(self, models: Sequence[Any]) -> np.ndarray:
         """The (P, d) default initial states: each system's ``initial_state()``."""
-        return np.ascontiguousarray(np.stack([m.initial_state() for m in models]))
+        return np.stack([m.initial_state() for m in models])
 
     def restarts_exactly(self, accurate: bool) -> bool:
         """Whether a transient run from a period's end state continues it bit for bit (see the module docstring)."""
@@ -251,9 +245,6 @@ class PairBackend(Backend):
 
     def initial_states(self, models: Sequence[Any]) -> np.ndarray:
         return np.zeros((len(models), 2))  # every pair's initial_state() is (0, 0)
-
-    def natural_steps(self, models: Sequence[Any], packed: Any, dtau: float) -> np.ndarray:
-        return steps_per_period(packed[2], dtau)
 
     def restarts_exactly(self, accurate: bool) -> bool:
         """The default mode carries (u, u') only (the rotation is re-seeded at every period's start, tangents and
@@ -337,7 +328,7 @@ def tangent_work(models: Sequence[Any], tangents: int | None = None) -> float:
     sp, jt, blk = K.sparse_arrays(arrays)
     n = int(sp[10].shape[1])
     d = 2 * n
-    k = d if tangents is None else max(1, min(int(tangents), d))
+    k = MESH.tangent_count("lyapunov", d, tangents)
     ne, nab, nw = int(sp[5].shape[0]), int(sp[1].shape[0]), int(sp[8].shape[0])
     ng, nct = int(jt[1].shape[0]), int(jt[5].shape[0])
     plain = 4 * (K.plain_cost(blk) + 2 * ne) + ne

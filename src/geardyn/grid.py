@@ -42,10 +42,6 @@ __all__ = [
 #: Docstring entries of the functions and classes that build the models of parameter points.
 _BASE = """base : System
     The model every point starts from (a :class:`GearModel` or a system)."""
-_NAMES = """names : sequence of str
-    Parameter names, one per column of ``points``."""
-_POINTS = """points : ndarray (P, len(names))
-    The parameter values of each point."""
 
 #: The kinds of grid.
 GRID_KINDS = ("range", "product", "curve", "states")
@@ -149,7 +145,7 @@ def _axis_values(name: str, values: Sequence[float] | np.ndarray, unique: bool) 
     return a
 
 
-@fill(_BASE, _NAMES, _POINTS)
+@fill(_BASE)
 def point_models(base: Any, names: Sequence[str], points: np.ndarray) -> Batch:
     """The :class:`~geardyn.system.Batch` of parameter points that ``base``'s backend supplies
     (:meth:`geardyn.backend.Backend.points`): the pair's points packed straight from the array, bit for bit the
@@ -157,7 +153,11 @@ def point_models(base: Any, names: Sequence[str], points: np.ndarray) -> Batch:
 
     Parameters
     ----------
-    {{base, names, points}}
+    {{base}}
+    names : sequence of str
+        Parameter names, one per column of ``points``.
+    points : ndarray (P, len(names))
+        The parameter values of each point.
 
     Returns
     -------

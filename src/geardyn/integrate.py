@@ -46,7 +46,7 @@ from .backend import (
     ST_OK,
     RawRun,
 )
-from .model import IntegrationOptions, ModelError
+from .model import IntegrationOptions, ModelError, _whole_number
 from .system import LAW_COUNTERS, Batch, as_batch
 
 __all__ = [
@@ -59,16 +59,12 @@ __all__ = [
     "using_threads",
     "state_dim",
     "natural_steps",
-    "STATE_DIM",
     "forcing_period",
     "start_state",
     "ST_OK",
     "ST_DIVERGED",
     "DIVERGENCE_BOUND",
 ]
-
-#: Dimension of the state the kernel integrates: (u, u') of the 1-DOF model.
-STATE_DIM = 2
 
 
 def state_dim(model: Any) -> int:
@@ -82,7 +78,7 @@ def state_dim(model: Any) -> int:
     Returns
     -------
     int
-        ``model.state_dim`` (:data:`STATE_DIM` = 2, (u, u'), for the 1-DOF model; 2n for a system).
+        ``model.state_dim`` (2, (u, u'), for the 1-DOF model; 2n for a system).
     """
     return int(model.state_dim)
 
@@ -108,11 +104,7 @@ def natural_steps(model: Any, dtau: float) -> int:
 def _thread_count(n: int) -> int:
     import numba
 
-    try:
-        whole = not isinstance(n, bool) and float(n).is_integer()
-    except (TypeError, ValueError, OverflowError):
-        whole = False
-    if not whole:
+    if not _whole_number(n):
         raise ModelError(f"threads: must be an integer >= 1, got {n!r}")
     if n < 1:
         raise ModelError(f"threads: must be >= 1, got {n}")
@@ -361,7 +353,6 @@ def _steps_array(steps: int | Sequence[int] | np.ndarray, P: int) -> np.ndarray:
         raise ModelError(f"steps: expected an integer or {P} integers, got shape {arr.shape}")
     if (
         arr.dtype.kind not in "iuf"
-        or arr.dtype == bool
         or not np.all(np.isfinite(arr))
         or not np.all(arr == np.round(arr))
         or np.any(arr < 1)
@@ -404,10 +395,8 @@ def _run(
     models: Batch,
     nsteps: np.ndarray,
     state0: np.ndarray,
-    transient: int,
-    record: int,
+    options: IntegrationOptions,
     mode: str,
-    accurate: bool,
     *,
     threads: int | None = None,
     adaptive: bool = False,
@@ -415,8 +404,10 @@ def _run(
     record_poincare: bool = True,
     **kw: Any,
 ) -> RawRun:
-    """The batch's run by its backend (``kw``: ``hist_len``, ``tangent0``, ``tangents`` of :meth:`Backend.run
+    """The batch's run by its backend through ``options.transient`` and ``options.periods`` periods in ``mode``
+    (``adaptive``: the adaptive transient; ``kw``: ``hist_len``, ``tangent0``, ``tangents`` of :meth:`Backend.run
     <geardyn.backend.Backend.run>`), followed with ``progress``."""
+    accurate = options.accurate
     if not accurate and getattr(models[0], "evaluation", "series") == "table":
         raise ModelError(
             'evaluation "table": the table is evaluated as given in the accurate mode only '
@@ -437,7 +428,7 @@ def _run(
                 nsteps,
                 start,
                 periods,
-                record,
+                options.periods,
                 mode,
                 accurate,
                 record_poincare=record_poincare,
@@ -447,15 +438,15 @@ def _run(
             )
 
     if progress is None:
-        return call(state0, transient)
+        return call(state0, options.transient)
     from .backend import run_followed
 
     return run_followed(
         call,
         nsteps,
         state0,
-        int(transient),
-        int(record),
+        options.transient,
+        options.periods,
         progress,
         pieces=not adaptive and backend.restarts_exactly(accurate),
         rows=record_poincare,
@@ -570,10 +561,8 @@ def integrate_batch(
         models,
         nsteps,
         s0,
-        options.transient,
-        options.periods,
+        options,
         mode,
-        options.accurate,
         record_poincare=record_poincare,
         threads=threads,
         adaptive=options.adaptive,
@@ -694,10 +683,8 @@ def trajectory(
         models,
         nsteps,
         s0,
-        options.transient,
-        options.periods,
+        options,
         "none",
-        options.accurate,
         hist_len=K,
         threads=threads,
         progress=progress,
@@ -765,5 +752,5 @@ def period_map(
     """
     opts = IntegrationOptions(dtau=dtau, transient=0, periods=int(n), accurate=accurate)
     models, nsteps, s0 = _prepare([model], opts, steps, state)
-    raw = _run(models, nsteps, s0, 0, int(n), "monodromy", accurate, threads=threads)
+    raw = _run(models, nsteps, s0, opts, "monodromy", threads=threads)
     return raw.poincare[0], raw.tangent[0], raw.stats[0], bool(raw.status[0] == ST_OK)

@@ -162,6 +162,7 @@ VARIABLES: dict[str, Variable] = _table(
 
 _ORBIT_SECTION = "index of the section point along the orbit"
 _FORCING_PERIOD = "index of the recorded forcing period"
+_BOUNDARY_TYPE = {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)}
 
 #: What a name means in one kind of result where it differs from :data:`VARIABLES`.
 KIND_VARIABLES: dict[str, dict[str, Variable]] = {
@@ -180,8 +181,8 @@ KIND_VARIABLES: dict[str, dict[str, Variable]] = {
             "poincare_v": "section points du/dτ of the orbit (θ ≡ 0)",
             "status": _v("point status (0 ok)", flags=_STATUS_FLAGS),
         },
-        "stability_boundary": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
-        "stability_comparison": {"bifurcation_type": _v("bifurcation at the stability boundary", text=True)},
+        "stability_boundary": _BOUNDARY_TYPE,
+        "stability_comparison": _BOUNDARY_TYPE,
         "mathieu_boundary": {"xi0_critical": "ξ0 above which the linear contact model is stable"},
         "runup": {
             "order_amplitude": "order-tracked DTE amplitude |u_l| over a speed block",

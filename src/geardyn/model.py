@@ -17,6 +17,7 @@ name (:data:`PARAMETER_HELP` lists them): ``omega``, ``xi0``, ``xi1``…, ``kapp
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import numbers
@@ -29,7 +30,7 @@ import numpy as np
 from ._docfill import attributes
 from .errors import ModelError
 from .meshtable import EVALUATIONS, check_table, table_values
-from .pairpack import MAX_KAPPA_SUM, pack_models, stiffness_minimum
+from .pairpack import MAX_KAPPA_SUM, SERIES, SERIES_FIELDS, pack_models, stiffness_minimum
 from .params import FAMILIES, MAX_HARMONICS, PARAMETER_HELP, canonical_param, slot
 from .series import series_values
 from .system import Element
@@ -92,6 +93,15 @@ def _check_finite(name: str, value: Any, *, real_only: bool = False, describe: A
     if not math.isfinite(x):
         raise ModelError(f"{name}: must be a finite number, got {describe(value)}")
     return x
+
+
+def _whole_number(value: Any, at_least: float = -math.inf) -> bool:
+    """Whether ``value`` is a whole number >= ``at_least`` (a float such as 3.0 included; a bool, a string, NaN or
+    ±inf not)."""
+    try:
+        return not isinstance(value, bool) and float(value).is_integer() and value >= at_least
+    except (TypeError, ValueError, OverflowError):
+        return False
 
 
 def series_change(obj: Any, attr: str, idx: int, value: float) -> dict[str, tuple[float, ...]]:
@@ -223,7 +233,7 @@ class GearModel:
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         P = self.cycles
-        if isinstance(P, (bool, np.bool_)) or not isinstance(P, numbers.Real) or not float(P).is_integer() or P < 1:
+        if not isinstance(P, numbers.Real) or not _whole_number(P, 1):
             raise ModelError(f"cycles: the mesh cycles of a forcing period must be an integer >= 1, got {P!r}")
         set_(self, "cycles", int(P))
         for name in ("omega", "xi0", "fp", "D"):
@@ -234,7 +244,7 @@ class GearModel:
             raise ModelError(f"omega: too small, the forcing period 2π/ω is not finite (got {self.omega!r})")
         if self.D < 0:
             raise ModelError(f"D (backlash): must be >= 0 (0 means no backlash), got {self.D!r}")
-        for amp, ph in (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e")):
+        for amp, ph in SERIES:
             a = _as_tuple(amp, getattr(self, amp), self.cycles)
             p = _as_tuple(ph, getattr(self, ph), self.cycles)
             if len(p) > len(a) or 0 < len(p) < len(a):
@@ -276,8 +286,7 @@ class GearModel:
     def forcing_omega(self) -> float:
         """The forcing frequency ω/P whose harmonics the series are (ω itself when ``cycles`` is 1); with torque
         orders ω/M, M the mesh cycles of the forcing period (:meth:`period_multiple`)."""
-        M = self.period_multiple()
-        return self.omega if M == 1 else self.omega / M
+        return self.omega / self.period_multiple()
 
     def forcing_model(self) -> GearModel:
         """The same equation with one forcing period as its unit: frequency ω/P, ``cycles`` 1 (itself when P = 1).
@@ -288,22 +297,20 @@ class GearModel:
         M = self.period_multiple()
         if M == 1:
             return self
-        if self.torque_orders:
-            s = M // self.cycles
-            spread = {}
-            for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
-                row = [0.0] * (s * len(getattr(self, k)))
-                row[s - 1 :: s] = getattr(self, k)
-                spread[k] = tuple(row)
-            orders = tuple((q * M, a, p) for q, a, p in self.torque_orders)
-            return self.replace(omega=self.forcing_omega, cycles=1, torque_orders=orders, **spread)
-        return self.replace(omega=self.forcing_omega, cycles=1)
+        s = M // self.cycles  # series harmonic j (of ω/P) is harmonic j·s of ω/M (s = 1 without torque orders)
+        spread = {}
+        for k in SERIES_FIELDS:
+            row = [0.0] * (s * len(getattr(self, k)))
+            row[s - 1 :: s] = getattr(self, k)
+            spread[k] = tuple(row)
+        orders = tuple((q * M, a, p) for q, a, p in self.torque_orders)
+        return self.replace(omega=self.forcing_omega, cycles=1, torque_orders=orders, **spread)
 
     @property
     def n_harmonics(self) -> int:
         """Largest number of harmonics among the damping, stiffness and STE series (with torque orders: the
         highest harmonic of the forcing frequency ω/M that any series or order reaches)."""
-        n = max(len(self.xi), len(self.kappa), len(self.eps), 0)
+        n = max(len(self.xi), len(self.kappa), len(self.eps))
         if self.torque_orders:
             M = self.period_multiple()
             return max(n * (M // self.cycles), max(int(q * M) for q, _, _ in self.torque_orders))
@@ -423,17 +430,16 @@ class GearModel:
         harmonic count (or cut to it where the phases cut off are all zero): the phases a model holds were
         padded for its amplitudes, not given for the new ones.
         """
-        d = {f.name: getattr(self, f.name) for f in fields(self)}
-        for amp, ph in (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e")):
+        for amp, ph in SERIES:
             if amp in changes and ph not in changes:
                 v = changes[amp]
                 n = 0 if v is None else 1 if np.isscalar(v) else len(v)
-                old = d[ph]
+                old = getattr(self, ph)
                 if n >= len(old):
-                    d[ph] = tuple(old) + (0.0,) * (n - len(old))
+                    changes[ph] = old + (0.0,) * (n - len(old))
                 elif not any(old[n:]):
-                    d[ph] = tuple(old[:n])
-        return GearModel(**{**d, **changes})
+                    changes[ph] = old[:n]
+        return dataclasses.replace(self, **changes)
 
     # ------------------------------------------------------------------ parameters by name
     def get(self, name: str) -> float:
@@ -466,9 +472,9 @@ class GearModel:
         c[0, 0, 0] = 2.0 * self.xi0
         c[1, 0, 0] = 1.0
         c[2, 0, 0] = self.fp
-        w2 = (self.omega if self.cycles == 1 else self.omega / self.cycles) ** 2
-        for i, (amps, phases) in enumerate(((self.xi, self.phi_c), (self.kappa, self.phi_k), (self.eps, self.phi_e))):
-            for j, (a, ph) in enumerate(zip(amps, phases), 1):
+        w2 = (self.omega / self.cycles) ** 2
+        for i, (amp, phase) in enumerate(SERIES):
+            for j, (a, ph) in enumerate(zip(getattr(self, amp), getattr(self, phase)), 1):
                 scale = (2.0, 1.0, w2 * j * j)[i]  # 2ξ, κ, ω²j²ε
                 c[i, j * s, 0] = scale * a * math.cos(ph)
                 c[i, j * s, 1] = -scale * a * math.sin(ph)
@@ -600,11 +606,7 @@ class IntegrationOptions:
         object.__setattr__(self, "dtau", dt)
         for name, lo in (("transient", 0), ("periods", 1)):
             v = getattr(self, name)
-            try:
-                ok = not isinstance(v, bool) and float(v).is_integer() and v >= lo
-            except (TypeError, ValueError, OverflowError):
-                ok = False
-            if not ok:
+            if not _whole_number(v, lo):
                 raise ModelError(f"{name}: must be an integer >= {lo}, got {v!r}")
             object.__setattr__(self, name, int(v))
         object.__setattr__(self, "accurate", bool(self.accurate))
@@ -621,4 +623,4 @@ class IntegrationOptions:
             raise ModelError(f"dtau: must be smaller than the forcing period T = 2π/ω = {T:.6g}, got {self.dtau!r}")
 
     def replace(self, **changes: Any) -> IntegrationOptions:
-        return IntegrationOptions(**{**asdict(self), **changes})
+        return dataclasses.replace(self, **changes)

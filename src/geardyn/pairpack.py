@@ -24,11 +24,19 @@ from .system import Batch, build_models
 __all__ = [
     "MAX_KAPPA_SUM",
     "PointModels",
+    "SERIES",
+    "SERIES_FIELDS",
     "pack_models",
     "pack_points",
     "stiffness_minimum",
     "steps_per_period",
 ]
+
+#: The harmonic series of the model, each amplitude field with its phase field (ξ_k with φ_ck, κ_r with φ_kr,
+#: ε_l with φ_el), in the order of the coefficient functions C, K, F.
+SERIES = (("xi", "phi_c"), ("kappa", "phi_k"), ("eps", "phi_e"))
+#: Their fields, amplitudes and phases, in that order.
+SERIES_FIELDS = tuple(field for pair in SERIES for field in pair)
 
 #: Largest Σ|κ_r| accepted: the mesh stiffness 1 + Σ κ_r cos(...) must stay positive.
 MAX_KAPPA_SUM = 1.0
@@ -190,10 +198,10 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
     H = proto.n_harmonics
     # the fields of every point, in the structure of the first (series zero-padded as with_param pads them)
     val = {k: np.full(P, float(getattr(base, k))) for k in ("omega", "xi0", "fp", "D")}
-    for k in ("xi", "phi_c", "kappa", "phi_k", "eps", "phi_e"):
+    for k in SERIES_FIELDS:
         row = np.zeros(len(getattr(proto, k)))
         row[: len(getattr(base, k))] = getattr(base, k)
-        val[k] = np.tile(row, (P, 1)).reshape(P, row.size)
+        val[k] = np.tile(row, (P, 1))
     ok = np.ones(P, dtype=bool)
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         for j, p in enumerate(names):  # validated after every assignment, as each with_param validates its model
@@ -207,35 +215,32 @@ def pack_points(base: Any, names: Sequence[str], points: np.ndarray) -> tuple[np
             ksum = np.zeros(P)
             for r in range(val["kappa"].shape[1]):
                 ksum = ksum + np.abs(val["kappa"][:, r])
+            cert = False
             if base.cycles > 1 and np.any(ksum >= MAX_KAPPA_SUM):  # the model's certified minimum, per distinct row
                 rows = np.hstack([val["kappa"], val["phi_k"]])
                 uniq, inv = np.unique(rows, axis=0, return_inverse=True)
                 H0 = val["kappa"].shape[1]
                 cert = np.array([stiffness_minimum(r[:H0], r[H0:]) > 0.0 for r in uniq])[inv.ravel()]
-                ok &= (ksum < MAX_KAPPA_SUM) | cert
-            else:
-                ok &= ksum < MAX_KAPPA_SUM
+            ok &= (ksum < MAX_KAPPA_SUM) | cert
     if not np.all(ok):
         bad = int(np.argmin(ok))
         build_models(base, names, pts[bad : bad + 1])  # raises the model's own error
         raise ModelError(f"point {bad}: refused by the model")  # pragma: no cover - the checks above are the model's
     coef = np.zeros((P, 3, H + 1, 2))
-    if base.cycles != 1:  # the series are harmonics of the forcing frequency ω/P
-        val["omega"] = val["omega"] / base.cycles
+    val["omega"] = val["omega"] / base.cycles  # the series are harmonics of the forcing frequency ω/P
     w2 = _per_value(_square, val["omega"])
     with np.errstate(over="ignore", invalid="ignore"):  # a value so large that it overflows: the point diverges
         coef[:, 0, 0, 0] = 2.0 * val["xi0"]
         coef[:, 1, 0, 0] = 1.0
         coef[:, 2, 0, 0] = val["fp"]
-        for i, amp, ph in ((0, "xi", "phi_c"), (1, "kappa", "phi_k"), (2, "eps", "phi_e")):
-            for j0 in range(val[amp].shape[1]):
-                j = j0 + 1
-                scale = 2.0 if i == 0 else (1.0 if i == 1 else w2 * j * j)
-                a = val[amp][:, j0]
-                phase = val[ph][:, j0]
+        for i, (amp, ph) in enumerate(SERIES):
+            for j in range(1, val[amp].shape[1] + 1):
+                scale = (2.0, 1.0, w2 * j * j)[i]  # 2ξ, κ, ω²j²ε, as GearModel.coefficients
+                a = val[amp][:, j - 1]
+                phase = val[ph][:, j - 1]
                 coef[:, i, j, 0] = scale * a * _per_value(math.cos, phase)
                 coef[:, i, j, 1] = -scale * a * _per_value(math.sin, phase)
-    return np.ascontiguousarray(coef), val["D"].copy(), val["omega"].copy()
+    return np.ascontiguousarray(coef), val["D"], val["omega"]
 
 
 class PointModels(Batch):
@@ -309,9 +314,6 @@ class PointModels(Batch):
     def sampling_periods(self) -> np.ndarray:
         """Forcing periods 2π/(ω/P) of the points."""
         return 2.0 * math.pi / self.omega
-
-    def natural_steps(self, dtau: float) -> np.ndarray:
-        return steps_per_period(self.omega, dtau)
 
     def check_step(self, options: Any) -> None:
         too_long = options.dtau >= 2.0 * math.pi / self.omega

@@ -157,6 +157,12 @@ class Law(abc.ABC):
         """The index into :attr:`counters` a sample of δ counts in."""
 
 
+def _side(delta: np.ndarray | float, clearance: float) -> np.ndarray:
+    """The counter of a sample of δ against a symmetric clearance c: 0 for δ > c, 2 for δ < −c, else 1."""
+    d = np.asarray(delta, dtype=float)
+    return np.where(d > clearance, 0, np.where(d < -clearance, 2, 1))
+
+
 @dataclass(frozen=True)
 class DeadZone(Law):
     """The dead zone (backlash, clearance) of half gap D: f(δ) = δ − clamp(δ, −D, D).
@@ -195,8 +201,7 @@ class DeadZone(Law):
         return (-float(self.gap), float(self.gap))
 
     def counter(self, delta: np.ndarray | float) -> np.ndarray:
-        d = np.asarray(delta, dtype=float)
-        return np.where(d > self.gap, 0, np.where(d < -self.gap, 2, 1))
+        return _side(delta, self.gap)
 
 
 @dataclass(frozen=True)
@@ -250,31 +255,28 @@ class RollingBearingLaw(Law):
         """The cage angle ψ at base angles θ (rad)."""
         return self.ratio / self.elements * np.asarray(theta, dtype=float) + self.phase
 
+    def _bearing_args(self, delta: np.ndarray | float, theta: np.ndarray | float) -> tuple:
+        """The arguments of :mod:`geardyn.systems.bearings`' functions at δ = (δ_x, δ_y) (..., 2) and θ (unit K)."""
+        d = np.asarray(delta, dtype=float)
+        return d[..., 0], d[..., 1], self.cage_angle(theta), self.elements, 1.0, self.exponent, self.clearance
+
     def force(self, delta: np.ndarray | float, theta: np.ndarray | float = 0.0) -> np.ndarray:
         """The rows' forces (..., 2) at deflections δ = (δ_x, δ_y) (..., 2) and base angle θ (unit K)."""
         from .systems.bearings import bearing_forces
 
-        d = np.asarray(delta, dtype=float)
-        fx, fy = bearing_forces(
-            d[..., 0], d[..., 1], self.cage_angle(theta), self.elements, 1.0, self.exponent, self.clearance
-        )
-        return -np.stack([fx, fy], axis=-1)
+        return -np.stack(bearing_forces(*self._bearing_args(delta, theta)), axis=-1)
 
     def stiffness(self, delta: np.ndarray | float, theta: np.ndarray | float = 0.0) -> np.ndarray:
         """The tangent stiffness (..., 2, 2) at δ = (δ_x, δ_y) (..., 2) and θ (unit K)."""
         from .systems.bearings import bearing_stiffness
 
-        d = np.asarray(delta, dtype=float)
-        return bearing_stiffness(
-            d[..., 0], d[..., 1], self.cage_angle(theta), self.elements, 1.0, self.exponent, self.clearance
-        )
+        return bearing_stiffness(*self._bearing_args(delta, theta))
 
     def surfaces(self) -> tuple[float, ...]:
         return ()
 
     def counter(self, delta: np.ndarray | float) -> np.ndarray:
-        d = np.asarray(delta, dtype=float)
-        return np.where(d > self.clearance, 0, np.where(d < -self.clearance, 2, 1))
+        return _side(delta, self.clearance)
 
 
 @dataclass(frozen=True)
@@ -438,9 +440,9 @@ class Batch(Sequence):
     def sampling_periods(self) -> np.ndarray:
         """The sampling period T_f of every point (P,)."""
 
-    @abc.abstractmethod
     def natural_steps(self, dtau: float) -> np.ndarray:
         """RK4 steps per sampling period N = ceil(T_f/Δτ) of every point (int64, (P,))."""
+        return np.ceil(self.sampling_periods() / dtau).astype(np.int64)
 
     @abc.abstractmethod
     def check_step(self, options: Any) -> None:
@@ -461,13 +463,12 @@ class Batch(Sequence):
 
     def mean_traces(self) -> np.ndarray:
         """The mean trace of the Jacobian of every point (P,): the sum of its Lyapunov exponents."""
-        return np.array([float(self[i].mean_trace()) for i in range(len(self))])
+        return np.array([float(m.mean_trace()) for m in self])
 
     def reference_section(self, poincare: np.ndarray) -> np.ndarray:
         """The reference element's (δ, δ') at Poincaré points (P, n, d) of the batch: (P, n, 2)."""
         out = np.empty(poincare.shape[:2] + (2,))
-        for i in range(len(self)):
-            m = self[i]
+        for i, m in enumerate(self):
             out[i] = m.element_series(poincare[i], 0.0)[:, m.reference, :]
         return out
 
@@ -518,9 +519,6 @@ class ModelList(Batch):
 
     def sampling_periods(self) -> np.ndarray:
         return np.array([m.sampling_period for m in self.models], dtype=float)
-
-    def natural_steps(self, dtau: float) -> np.ndarray:
-        return self.backend.natural_steps(self.models, self.packed(), dtau)
 
     def check_step(self, options: Any) -> None:
         for m in self.models:

@@ -369,9 +369,8 @@ def analyse_te(signal: TESignal, z1: int, z2: int, *, harmonics: int = 3, shaft_
     if not (math.isfinite(step) and step * z1 * harmonics < math.pi):
         what = f" at {signal.rpm:g} rpm" if signal.rpm is not None else ""
         raise ConfigError(
-            f"{src}: the samples{what} are {step * z1 / (2 * math.pi):.3g} mesh cycles apart: mesh "
-            f"harmonic {harmonics} needs more than 2 samples per cycle (a smaller --rpm, a denser "
-            f"record or fewer --harmonics)"
+            f"{src}: the samples{what} are {step * z1 / (2 * math.pi):.3g} mesh cycles apart: mesh harmonic "
+            f"{harmonics} needs more than 2 samples per cycle (a smaller --rpm, a denser record or fewer --harmonics)"
         )
     revs = float(phi[-1] / (math.tau))
     if revs * z1 < 1.0:

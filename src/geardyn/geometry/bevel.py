@@ -151,18 +151,8 @@ class SpiralBevelGearPair:
             )
         from ..plausible import pair_geometry
 
-        pair_geometry(
-            z1=self.z1,
-            z2=self.z2,
-            m_mn=self.m_mn,
-            beta_m=self.beta_m,
-            alpha_n=self.alpha_n,
-            j_n=self.j_n,
-            r1=self.r1,
-            r2=self.r2,
-            face_width=self.face_width,
-            delta1=self.delta1,
-        )
+        checked = ("z1", "z2", "m_mn", "beta_m", "alpha_n", "j_n", "r1", "r2", "face_width", "delta1")
+        pair_geometry(**{n: getattr(self, n) for n in checked})
         assumed = tuple((str(n), str(s)) for n, s in (self.assumed or ()))
         known = {f.name for f in fields(self)} - {"name", "assumed"}
         for n, _ in assumed:

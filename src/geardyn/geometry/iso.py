@@ -172,28 +172,26 @@ def iso_summary(
         Every key of :meth:`BevelMesh.to_json` except ``assumed`` (which becomes ``iso_assumed``),
         ``k0_iso_N_per_m``, ``k0_method``, ``k0_N_per_m_used`` and ``iso_notes``.
     """
-    j = mesh.to_json()
-    out = {k: v for k, v in j.items() if k != "assumed"}
-    k_iso = iso_k0(mesh, c_gamma_given if k0_method == "iso" else None)
-    out["k0_iso_N_per_m"] = k_iso
-    out["k0_method"] = k0_method
-    out["iso_assumed"] = j["assumed"]
+    out = mesh.to_json()
+    assumed = out.pop("assumed")
+    kap = ", ".join(f"{k:.4g}" for k in mesh.kappa.kappa)
     notes = [
         f"ISO 10300-1: k0 = c_γ b_v,eff = {mesh.c_gamma * 1e-9:.4g} N/(mm·µm) × {mesh.b_v_eff * 1e3:.5g} mm"
-        f" = {iso_k0(mesh) * 1e-6:.5g} N/µm; the model uses k0 = {k0_used * 1e-6:.5g} N/µm ({k0_method})"
-    ]
-    kap = ", ".join(f"{k:.4g}" for k in mesh.kappa.kappa)
-    notes.append(
+        f" = {iso_k0(mesh) * 1e-6:.5g} N/µm; the model uses k0 = {k0_used * 1e-6:.5g} N/µm ({k0_method})",
         f"contact ratios ε_vα = {mesh.eps_valpha:.4g}, ε_vβ = {mesh.eps_vbeta:.4g} imply κ_r = {kap} "
-        '(geardyn.standards.stiffness; [mesh] kappa = "geometry" uses them)'
-    )
+        '(geardyn.standards.stiffness; [mesh] kappa = "geometry" uses them)',
+    ]
     if hypoid:
         notes.append(
             "hypoid pair: the ISO data include the offset; the torsional model is its zero-offset "
             "equivalent (pitch cones from the ratio, directional radii from r1, r2)"
         )
-    out["iso_notes"] = notes
-    return out
+    return out | {
+        "k0_iso_N_per_m": iso_k0(mesh, c_gamma_given if k0_method == "iso" else None),
+        "k0_method": k0_method,
+        "iso_assumed": assumed,
+        "iso_notes": notes,
+    }
 
 
 def iso_rows(s: Mapping[str, Any]) -> list[tuple[str, str, str, str]]:

@@ -403,15 +403,11 @@ def render_markdown(
         "",
         "Per claim, each under its own nearest reading: " + totals_text(claims, run),
         "",
-        "| " + " | ".join(SUMMARY_COLUMNS) + " |",
-        "|" + "---|" * len(SUMMARY_COLUMNS),
     ]
-    for c in claims:
-        out.append(
-            f"| {c.id} | {_md_escape_cell(c.source)} | {_md_escape_cell(c.statement)} | "
-            f"{_md_escape_cell(found_text(c))} | **{_verdict_text(c)}** | {_md_escape_cell(c.deciding)} |"
-        )
-    out.append("")
+    out += _md_table(
+        [SUMMARY_COLUMNS]
+        + [[c.id, c.source, c.statement, found_text(c), f"**{_verdict_text(c)}**", c.deciding] for c in claims]
+    )
     for s in sections:
         out += [f"## {s.title}", ""]
         out += [p + "\n" for p in s.paragraphs]

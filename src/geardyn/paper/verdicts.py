@@ -5,14 +5,13 @@ every study applies them through the functions of this module:
 
 - a claim of a motion over a parameter interval: the fraction of the interval's *length* where it
   holds (:func:`length_fraction`, :func:`match_fraction`), reproduced from :data:`MATCH_REPRODUCED`;
-- a claim with several parts: every part required (:func:`parts`, :func:`combine`, :func:`of_claims`);
+- a claim with several parts: every part required (:func:`parts`, :func:`of_claims`);
 - fluctuation trends measured as fluctuation (:func:`section_spread`, :func:`fluctuation_trend`);
 - jumps by direction and location, the opposite jump failing (:func:`jump_type_at`, :func:`jump_holds`);
-- a claim that fails at the default reading but holds under another: :func:`elsewhere`;
 - single-number claims: the formula fit (:data:`FORMULA_R2_REPRODUCED`) and the stability
   condition (:data:`STABILITY_REL`).
 
-The verdict kinds are :data:`KINDS`; the readings tried for each claim come from
+The verdict kinds are :data:`VERDICTS`; the readings tried for each claim come from
 :mod:`geardyn.paper.readings`.
 
 :func:`motion_rule` maps the paper's words for motions onto geardyn's classification, once for
@@ -32,9 +31,6 @@ from .._docfill import parameters
 from ..analysis.classify import MOTION_CHAOTIC, MOTION_PERIODIC, MOTION_QUASIPERIODIC
 from .report import VERDICTS
 
-#: The four verdict kinds, strongest first (the same as :data:`VERDICTS`).
-KINDS = VERDICTS
-
 __all__ = [
     "FORMULA_R2_PARTLY",
     "FORMULA_R2_REPRODUCED",
@@ -44,9 +40,7 @@ __all__ = [
     "STABILITY_REL",
     "VERDICTS",
     "VERDICT_RULES",
-    "combine",
     "count_text",
-    "elsewhere",
     "of_claims",
     "parts",
     "describe_motion",
@@ -61,7 +55,6 @@ __all__ = [
     "runs_text",
     "verdict_of",
     "FLUCT_MIN",
-    "KINDS",
     "fluctuation_trend",
     "jump_holds",
     "jump_type_at",
@@ -124,7 +117,7 @@ def verdict_of(fraction: float) -> str:
     -------
     str
         ``"reproduced"`` from :data:`MATCH_REPRODUCED` on, else ``"contradicted"`` (a reading may
-        still reproduce it: :func:`elsewhere`).
+        still reproduce it: :mod:`geardyn.paper.studies.readings`).
     """
     return "reproduced" if fraction >= MATCH_REPRODUCED else "contradicted"
 
@@ -142,39 +135,6 @@ def parts(*holds: bool) -> str:
     str
     """
     return "reproduced" if holds and all(map(bool, holds)) else "contradicted"
-
-
-def combine(both_ok: bool, either_ok: bool) -> str:
-    """The verdict of a claim with two parts: reproduced only when both hold (``either_ok`` is not enough).
-
-    Parameters
-    ----------
-    both_ok, either_ok : bool
-        Whether all parts hold, and whether at least one does (kept for the callers' signature).
-
-    Returns
-    -------
-    str
-    """
-    return parts(both_ok)
-
-
-def elsewhere(verdict: str, holds_elsewhere: bool) -> str:
-    """A claim that fails at the default reading but holds in full under another one is reproduced under
-    that reading; any other verdict stands.
-
-    Parameters
-    ----------
-    verdict : str
-        The verdict at the default reading.
-    holds_elsewhere : bool
-        Whether the claim holds in full under another reading (confirmed there).
-
-    Returns
-    -------
-    str
-    """
-    return "reproduced under a reading" if verdict == "contradicted" and holds_elsewhere else verdict
 
 
 def of_claims(verdicts: Sequence[str]) -> str:

@@ -435,8 +435,7 @@ def bevel_mesh(
         C_F = low_load_factor(F_vmt * K_A / b_v_eff)
     c_prime, c_gamma = C_PRIME_BEVEL * C_F, C_GAMMA_BEVEL * C_F
     alpha_mean = 0.5 * (alpha_nD + alpha_nC)
-    m1 = math.pi / 8.0 * rho * d_v1**2 / math.cos(alpha_mean) ** 2
-    m2 = math.pi / 8.0 * rho * d_v2**2 / math.cos(alpha_mean) ** 2
+    m1, m2 = (math.pi / 8.0 * rho * d**2 / math.cos(alpha_mean) ** 2 for d in (d_v1, d_v2))
     m_red = m1 * m2 / (m1 + m2)
     omega_E1 = math.sqrt(c_gamma / m_red) / z1  # pinion speed whose mesh frequency z1 omega1 is sqrt(c/m)
 

@@ -359,17 +359,12 @@ class CheckpointStore:
         self._queue.put((index, result))
 
     def _write_queued(self) -> None:
-        while True:
-            item = self._queue.get()
+        while (item := self._queue.get()) is not None:
             try:
-                if item is None:
-                    return
                 if self._error is None:
                     self.save(*item)
             except BaseException as e:  # reported by flush()
                 self._error = e
-            finally:
-                self._queue.task_done()
 
     def flush(self) -> None:
         """Wait until every chunk queued by :meth:`save_later` is written; stop the writer thread.

@@ -160,8 +160,7 @@ def concat_results(results: Sequence[dict[str, np.ndarray]]) -> dict[str, np.nda
     """
     if not results:
         raise ModelError("empty parameter grid: no chunk results to assemble")
-    keys = results[0].keys()
-    return {k: np.concatenate([r[k] for r in results], axis=0) for k in keys}
+    return {k: np.concatenate([r[k] for r in results], axis=0) for k in results[0]}
 
 
 def run_chunks(

@@ -197,7 +197,7 @@ def run_on_threads(workers: int, todo: Sequence, finished: Finished) -> None:
 
     _return_large_blocks()
     threads = max(1, int(numba.get_num_threads()))
-    per_chunk = threads if workers == 1 else max(1, threads // workers)
+    per_chunk = max(1, threads // workers)
     at_once = min(PIPELINE if workers == 1 else workers, len(todo))
     pool = ThreadPoolExecutor(
         max_workers=max(1, at_once), thread_name_prefix="geardyn-chunk", initializer=set_threads, initargs=(per_chunk,)

@@ -98,8 +98,7 @@ def study_backlash(ctx: Context) -> Section:
         [
             f"The paper pairs b = {', '.join(f'{row[0]:g}' for row in TABLE3)} mm with "
             f"D = {', '.join(f'{d:g}' for d in Ds)}, "
-            "i.e. D = b/(2 mm) with f_p and ε1 fixed (a fixed length scale b_c = 1 mm, not b_c = b_n); this study "
-            "uses "
+            "i.e. D = b/(2 mm) with f_p and ε1 fixed (a fixed length scale b_c = 1 mm, not b_c = b_n); this study uses "
             f"that reading at ω = {s.omega_damping:g}. Amplitude = half peak-to-peak of u over the recorded periods."
         ],
         [

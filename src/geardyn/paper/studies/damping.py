@@ -155,9 +155,8 @@ def study_xi0(ctx: Context) -> Section:
         [
             f"Bifurcation diagram over ξ0 at ω = {s.omega_damping:g} (the paper does not state ω; see Settings), every "
             f"point from u = u' = 0, {s.transient} transient and {s.periods} recorded periods, exponents on every "
-            "point. "
-            f"The grid is fine over ξ0 ∈ [{lo:g}, {hi:g}], where the motions change, and coarse above; the diagram is "
-            f"shown whole and over that interval.",
+            f"point. The grid is fine over ξ0 ∈ [{lo:g}, {hi:g}], where the motions change, and coarse above; the "
+            f"diagram is shown whole and over that interval.",
             "Mapping of the paper's words: " + _WORDS,
         ],
         figures,
@@ -186,8 +185,7 @@ def study_xi1(ctx: Context) -> Section:
     claims.append(
         CLAIMS["XI1-CHAOS"].judge(
             f"at ω = {s.omega_damping:g}, motion along ξ1: {runs_text(motion_runs(ds, 'xi1'))}. The sequence's ends "
-            "are "
-            f"Table 2 rows 4 and 5: regular at low ξ1 (T2-4) {ends[0]}, chaotic at high ξ1 (T2-5) {ends[1]}.",
+            f"are Table 2 rows 4 and 5: regular at low ξ1 (T2-4) {ends[0]}, chaotic at high ξ1 (T2-5) {ends[1]}.",
             of_claims(ends),
             ev,
         )

@@ -197,9 +197,8 @@ def study_facts(ctx: Context) -> list[Section]:
     text2 = [
         F2_TEXT,
         f"F2 checked at ω = {F2_OMEGA:g} (Table 1 otherwise), each D from (u, u') = (D, 0): the {int(free.sum())} "
-        f"responses that never touch the back flank (D = {', '.join(f'{d:g}' for d in f2['D'][free])}) have the "
-        f"same amplitude to {spread:.1e}; those that do (D = {', '.join(f'{d:g}' for d in f2['D'][~free]) or '–'}) "
-        "differ.",
+        f"responses that never touch the back flank (D = {', '.join(f'{d:g}' for d in f2['D'][free])}) have the same "
+        f"amplitude to {spread:.1e}; those that do (D = {', '.join(f'{d:g}' for d in f2['D'][~free]) or '–'}) differ.",
     ]
     return [
         Section("F1: the period map contracts every area", text, [], [], table),

@@ -212,8 +212,7 @@ def compute_responses(ctx: Context) -> JumpData:
         Every response with its evidence.
     """
     s = ctx.settings
-    out: dict[ResponseKey, xr.Dataset] = {}
-    ev: dict[ResponseKey, list[str]] = {}
+    jd = JumpData({}, {})
     for key in s.response_sets:
         ctx.log(f"frequency response {_key_text(key)}")
         model = ctx.model_at(key)
@@ -227,10 +226,8 @@ def compute_responses(ctx: Context) -> JumpData:
         )
         name = response_key(*key)
         rel = ctx.save(name, ds, f"frequency response at {model_text(model, skip=('omega',))}")
-        out[key] = ds
-        ev[key] = [rel, ctx.figure(name)]
-    jd = JumpData(out, ev)
-    jd.overlays = save_overlays(ctx, jd)
+        jd.responses[key], jd.evidence[key] = ds, [rel, ctx.figure(name)]
+    save_overlays(ctx, jd)
     return jd
 
 
@@ -303,23 +300,19 @@ def response_overlay(jd: JumpData, keys: Sequence[ResponseKey], param: str) -> x
     )
 
 
-def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
-    """Save the overlay of each comparison of the jump study (:data:`OVERLAYS`) and return, per claim,
-    the overlay figures it compares responses on.
+def save_overlays(ctx: Context, jd: JumpData) -> None:
+    """Save the overlay of each comparison of the jump study (:data:`OVERLAYS`) and note them in ``jd``: per
+    claim in :attr:`JumpData.overlays` the figure reference (:meth:`Context.figure`) and data path of each
+    overlay it compares responses on (in the order of :data:`OVERLAYS`), and their captions in
+    :attr:`JumpData.overlay_figures`.
 
     Parameters
     ----------
     ctx : Context
     jd : JumpData
-
-    Returns
-    -------
-    dict
-        Claim id → the figure reference (:meth:`Context.figure`) and data path of each overlay, in the
-        order of :data:`OVERLAYS`.
+        Changed in place.
     """
     s = ctx.settings
-    out: dict[str, list[str]] = {}
     for param, index, attr, cids in OVERLAYS:
         keys = list(getattr(s, attr))
         if len(keys) < 2:
@@ -333,7 +326,7 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
             f"frequency responses at {SYMBOLS[param]} = {values} overlaid ({fixed})",
         )
         for cid in cids + ("JUMP-LOW",):
-            out.setdefault(cid, []).extend([ctx.figure(name), rel])
+            jd.overlays.setdefault(cid, []).extend([ctx.figure(name), rel])
         up = any(j["sweep"] == "up" and j["direction"] == "up" for k in keys for j in jumps_of(jd.responses[k]))
         jd.overlay_figures.append(
             (
@@ -345,7 +338,6 @@ def save_overlays(ctx: Context, jd: JumpData) -> dict[str, list[str]]:
                 "dotted, the paper's Table 4 amplitudes at these responses as black-edged crosses.",
             )
         )
-    return out
 
 
 def _key_text(key: ResponseKey) -> str:
@@ -407,8 +399,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
         claims.append(
             CLAIMS[cid].judge(
                 txt + f"; parts holding: {count_text(exists + ok, 2, '')}; an upward jump in each response: "
-                f"{yes_no(exists)} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} "
-                "with "
+                f"{yes_no(exists)} ({n_found} of {len(locs)}), sizes {'decrease' if dec else 'increase'} with "
                 f"{lab}: {yes_no(ok)}.",
                 parts(exists, ok),
                 jd.ev(*keys),
@@ -475,8 +466,7 @@ def study_jumps(ctx: Context, jd: JumpData) -> Section:
             f"Up and down sweeps over ω ∈ [{s.response_omega[0]:g}, {s.response_omega[1]:g}] ({s.response_num} points, "
             f"each starting from the previous end state, {s.response_options.transient} transient and "
             f"{s.response_options.periods} recorded periods). Amplitude = half peak-to-peak of u. A jump is a step "
-            "of the "
-            "amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
+            "of the amplitude of at least 10 % of the response's range and 5 times the neighbouring step changes (see "
             "geardyn.analysis.response). The paper's 'b' is read as in its Table 3 (D = b/2, b in mm), the default "
             f"reading; the other readings are in each claim's readings table. ξ1 = {TABLE1['xi1']:g} and ξ0 = "
             f"{base_xi0:g} unless varied."
@@ -551,8 +541,7 @@ def study_table4(ctx: Context, jd: JumpData) -> Section:
         [
             f"Read from the frequency responses of the jump study at the grid ω nearest each row. Amplitude counts as "
             f"matching within {100 * TABLE4_AMP_REL:.0f} % (either sweep); the jump type when a jump of that "
-            "direction lies "
-            f"within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."
+            f"direction lies within ±{TABLE4_NEAR:g} in ω ('none': no jump there)."
         ],
         [],
         claims,

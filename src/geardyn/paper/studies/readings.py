@@ -185,6 +185,22 @@ def _pred(cid: str) -> Callable[[int, int], bool]:
     return lambda m, n: bool(f(int(m), int(n), 0))
 
 
+def _probe_holds(data: ScreenData) -> list[tuple[tuple[str, ...], np.ndarray]]:
+    """Per probe of the screen, the claims it tests and where (phase pair, ω) it shows the motion of the Table 2
+    row it stands for (the probe of chaos again at high ξ0: row 1's)."""
+    return [
+        (cs, np.vectorize(_pred(cs[0] if cs[0].startswith("T2-") else "T2-1"))(var["motion"][i], var["period"][i]))
+        for probes, var in ((XI0_PROBES, data.xi0), (XI1_PROBES, data.xi1))
+        for i, (_, cs) in enumerate(probes)
+    ]
+
+
+def _t3_holds(data: ScreenData) -> np.ndarray:
+    """Where (backlash reading, row, phase pair, ω) each Table 3 row's motion holds on the screen."""
+    m, n = data.bl["motion"], data.bl["period"]
+    return np.stack([np.vectorize(_pred(c))(m[:, k], n[:, k]) for k, c in enumerate(claim_ids("T3-"))], axis=1)
+
+
 def _order(cands: list[Reading]) -> list[Reading]:
     """Candidate readings nearest the default first: default phases and backlash reading, then ω nearest 1."""
     return sorted(
@@ -304,16 +320,6 @@ def _judge(cid: str, x: Sequence[float], r: dict[str, np.ndarray]) -> tuple[bool
     return bool(frac >= MATCH_REPRODUCED), f"{100 * frac:.0f} % of the interval's length"
 
 
-def _t3_judge(cid: str) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
-    """:func:`_judge` of a row of Table 3, as a function of the results."""
-    return lambda r: _judge(cid, (), r)
-
-
-def _xi0_bif_judge(values: Sequence[float]) -> Callable[[dict[str, np.ndarray]], tuple[bool, str]]:
-    """:func:`_judge` of XI0-BIF on the grid ``values``, as a function of the results."""
-    return lambda r: _judge("XI0-BIF", values, r)
-
-
 def _verification(cid: str, rd: Reading, grids: dict[str, list[float]]) -> Verification:
     """The full computation that confirms a claim under a reading: its points."""
     if cid.startswith("T3-"):
@@ -360,49 +366,37 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
         cands.setdefault(cid, []).extend(Reading(*pair, key, float(w)) for w in ws)
 
     # Table 2, XI0-BIF, XI1-CHAOS: per phase pair, the ω where every probe of the claim holds
-    for probes, var in ((XI0_PROBES, data.xi0), (XI1_PROBES, data.xi1)):
+    probe_holds = _probe_holds(data)
+    for probes in (XI0_PROBES, XI1_PROBES):
         for cid in sorted({c for _, cs in probes for c in cs}, key=list(CLAIMS).index):
             for j, pair in enumerate(data.pairs):
-                # each probe of the claim must show its motion: the claim's own, or for the sequences that of the
-                # Table 2 row the probe stands for (the probe of chaos again at high ξ0: row 1's)
-                ok = np.logical_and.reduce(
-                    [
-                        np.vectorize(
-                            _pred(cid if cid.startswith("T2-") else cs[0] if cs[0].startswith("T2-") else "T2-1")
-                        )(var["motion"][i, j], var["period"][i, j])
-                        for i, (_, cs) in enumerate(probes)
-                        if cid in cs
-                    ]
-                )
+                ok = np.logical_and.reduce([h[j] for cs, h in probe_holds if cid in cs])
                 add(cid, Reading(*pair).text, "probes hold", ok, pair, "")
     # Table 3 (the ω where each row's motion holds), BL-IMPACT, BL-AMP and their joint test with the Table 3
     # sequence (F2), per backlash reading and phase pair
-    n_joint = n_seq = 0
+    row_holds = _t3_holds(data)
+    seq = row_holds.all(axis=1)  # (backlash reading, phase pair, ω)
+    ok_imp = np.all(data.bl["impact"] == SINGLE_SIDED, axis=1)
+    ok_amp = np.all(np.diff(data.bl["amplitude"], axis=1) > 0, axis=1)
+    n_joint, n_seq = int(np.sum(seq & ok_imp)), int(np.sum(seq))
     for r, key in enumerate(BACKLASH_READINGS):
         for j, pair in enumerate(data.pairs):
             lab = f"D = b/({BACKLASH_READINGS[key]:g} mm), φ_c1 = {phase_text(pair[0])}, φ_k1 = {phase_text(pair[1])}"
-            seq = np.ones(W.size, dtype=bool)
             for k, cid in enumerate(claim_ids("T3-")):
-                n = data.bl["period"][r, k, j]
-                ok = np.vectorize(_pred(cid))(data.bl["motion"][r, k, j], n)
-                seq &= ok
+                ok = row_holds[r, k, j]
                 if CLAIMS[cid].numbers["lyapunov"] == "near zero":  # near a change of motion: λ1 can be near zero
+                    n = data.bl["period"][r, k, j]
                     d = n[1:] != n[:-1]
                     ok = ok & (np.r_[False, d] | np.r_[d, False])
                 add(cid, lab, "motion holds", ok, pair, key)
-            ok_imp = np.all(data.bl["impact"][r, :, j, :] == SINGLE_SIDED, axis=0)
-            ok_amp = np.all(np.diff(data.bl["amplitude"][r, :, j, :], axis=0) > 0, axis=0)
-            n_joint += int(np.sum(seq & ok_imp))
-            n_seq += int(np.sum(seq))
             for cid, ok, what in (
-                ("BL-IMPACT", ok_imp, "single-sided at all three b"),
-                ("BL-AMP", ok_amp, "amplitude grows with b"),
+                ("BL-IMPACT", ok_imp[r, j], "single-sided at all three b"),
+                ("BL-AMP", ok_amp[r, j], "amplitude grows with b"),
             ):
                 add(cid, lab, what, ok, pair, key, yes_no(ok.any()))
     joint = (
-        f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided "
-        f"impacts hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not "
-        "depend on D)"
+        f"; jointly with the Table 3 motion sequence (screen: {n_seq} readings show the sequence) single-sided impacts "
+        f"hold at {n_joint} of them, as F2 requires (without back-flank contact the response does not depend on D)"
     )
     ids = [c for c in CLAIMS if c in okmap]
     ctx.save(
@@ -429,8 +423,10 @@ def damping_readings(ctx: Context, data: ScreenData, findings: dict[str, Finding
             ver += [
                 _verification(cid, rd, grids) for rd in _order(cs)[: max(1, min(VERIFY_MAX, VERIFY_POINTS // n_pts))]
             ]
-    # the readings that agree best with Tables 2 and 3 on the screen, computed in full for the tables
-    best2, best3 = _best_t2(data), _best_t3(data)
+    # the readings where most rows of Tables 2 and 3 hold on the screen (ties: nearest the default), computed in
+    # full for the tables
+    best2 = _best(data, sum(h for cs, h in probe_holds if cs[0].startswith("T2-")), ("",))
+    best3 = _best(data, row_holds.sum(axis=1), list(BACKLASH_READINGS))
     ver += [
         replace(_verification(cid, best, grids), table=True)
         for prefix, best in (("T2-", best2), ("T3-", best3))
@@ -485,23 +481,6 @@ def _best(data: ScreenData, score: np.ndarray, keys: Sequence[str]) -> Reading:
     return _order(
         [Reading(*data.pairs[j], keys[r], float(data.omegas[w])) for r, j, w in zip(*np.nonzero(score == score.max()))]
     )[0]
-
-
-def _best_t2(data: ScreenData) -> Reading:
-    """The (ω, phases) where most Table 2 rows hold on the screen (ties: nearest the default)."""
-    score = sum(
-        np.vectorize(_pred(cs[0]))(var["motion"][i], var["period"][i])
-        for probes, var in ((XI0_PROBES[:3], data.xi0), (XI1_PROBES, data.xi1))
-        for i, (_, cs) in enumerate(probes)
-    )
-    return _best(data, score, ("",))
-
-
-def _best_t3(data: ScreenData) -> Reading:
-    """The (backlash reading, phases, ω) where most Table 3 rows hold on the screen (ties: nearest the default)."""
-    m, n = data.bl["motion"], data.bl["period"]
-    score = sum(np.vectorize(_pred(c))(m[:, k], n[:, k]) for k, c in enumerate(claim_ids("T3-")))
-    return _best(data, score, list(BACKLASH_READINGS))
 
 
 def _verify(ctx: Context, ver: Sequence[Verification]) -> list[tuple[bool, str]]:

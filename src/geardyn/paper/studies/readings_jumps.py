@@ -181,16 +181,10 @@ def _test(jr: JumpReadings, cid: str, i: int) -> tuple[bool, str]:
             f"{lab} = {k[pos]:g}: {v}" for k, v in zip(keys, distinct_text(sz))
         )
     if cid == "JUMP-FLUCT":
-        f0 = [_fluct(jr, i, K(k)) for k in XI0_KEYS]
-        f1 = [_fluct(jr, i, K(k)) for k in XI1_KEYS]
-        ok0, why0 = fluctuation_trend(f0, True)
-        ok1, why1 = fluctuation_trend(f1, False)
+        f0, f1 = ([_fluct(jr, i, K(k)) for k in keys] for keys in (XI0_KEYS, XI1_KEYS))
+        (ok0, why0), (ok1, why1) = fluctuation_trend(f0, True), fluctuation_trend(f1, False)
         return ok0 and ok1, (
-            "spread over ξ0 "
-            + ", ".join(distinct_text(f0))
-            + f" ({why0}); over ξ1 "
-            + ", ".join(distinct_text(f1))
-            + f" ({why1})"
+            f"spread over ξ0 {', '.join(distinct_text(f0))} ({why0}); over ξ1 {', '.join(distinct_text(f1))} ({why1})"
         )
     if cid == "JUMP-057":
         first = [first_up_jump(js[K(k)]) for k in B_KEYS]
@@ -200,7 +194,7 @@ def _test(jr: JumpReadings, cid: str, i: int) -> tuple[bool, str]:
         _, fit = fit_responses((*key, W, jr.amplitude[i, k, 0]) for k, key in enumerate(JUMP_KEYS))
         return fit["r2"] >= FORMULA_R2_REPRODUCED, f"R² = {fit['r2']:.3f} ({jr.readings[i].backlash})"
     w = n["omega"]  # JUMP-082, JUMP-095 and Table 4: a jump (and an amplitude) at ω on one response
-    k = K((n.get("xi0", 0.08), TABLE1["xi1"], n["b"]))
+    (k,) = CLAIM_KEYS[cid]
     jk = js[k]
     if cid.startswith("JUMP-"):
         return jump_holds(

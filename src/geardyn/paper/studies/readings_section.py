@@ -59,8 +59,7 @@ def readings_section(ctx: Context, findings: Mapping[str, Finding]) -> Section:
         "(each varied alone: 7 pairs), D = "
         + ", ".join(f"b/({v:g} mm)" for v in BACKLASH_READINGS.values())
         + f", and ω over [{w[0]:.2f}, {w[-1]:.2f}] in steps of 0.01 (the jump claims over the responses' ω grid of "
-        "step "
-        f"{(s.response_omega[1] - s.response_omega[0]) / (s.response_num - 1):.2g}).",
+        f"step {(s.response_omega[1] - s.response_omega[0]) / (s.response_num - 1):.2g}).",
         f"The damping and backlash readings are screened in one sweep ({s.readings_transient} transient and "
         f"{s.readings_periods} recorded periods per point, exponents for the points not periodic); the candidates "
         "nearest the default are confirmed by a full computation under the rule applied at the default reading "

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from ..claims import CLAIMS, TABLE4, claim_ids
-from ..report import Section
+from ..report import Finding, Section
 from ..settings import SYMBOLS, Context
 from ..verdicts import describe_motion, motion_fields, motion_runs, range_of, runs_text, yes_no
 from .readings import claim_range, range_match
@@ -47,7 +47,7 @@ def study_tables(
     jr: JumpReadings,
     jres: dict[str, list[tuple[bool, str]]],
     default_holds: dict[str, bool],
-    findings: dict[str, Any] | None = None,
+    findings: dict[str, Finding],
 ) -> list[Section]:
     """Tables 2, 3 and 4 of the paper beside geardyn's under the default and the best-agreeing reading.
 
@@ -62,8 +62,8 @@ def study_tables(
         :func:`geardyn.paper.studies.readings_jumps.jump_readings`'s result.
     default_holds : dict
         Claim id → whether it holds at the default reading.
-    findings : dict, optional
-        By claim id: each table row's deciding line gets how the table fares under one reading.
+    findings : dict
+        By claim id (changed in place): each table row's deciding line gets how the table fares under one reading.
 
     Returns
     -------
@@ -134,53 +134,26 @@ def study_tables(
     for cid, row in zip(t4ids, TABLE4):
         (okd, td), (okb, tb) = jres[cid][i_def], jres[cid][i_best]
         t4.append([*(f"{v:g}" for v in row[:4]), row[4], td, tb, f"{yes_no(okd)} / {yes_no(okb)}"])
-    if findings is not None:
-        for ids, best, tab in ((claim_ids("T2-"), best2, t2), (claim_ids("T3-"), best3, t3), (t4ids, best4, t4)):
-            holds = [r[-1].endswith("yes") for r in tab[1:]]  # the best reading's column: "yes" or ".. / yes"
-            for cid, h in zip(ids, holds, strict=False):
-                if cid in findings:
-                    findings[cid].table_reading, findings[cid].table_holds = best.text, bool(h)
-                    findings[cid].deciding += (
-                        f"; under one reading for the whole table, the best ({best.text}) holds "
-                        f"{sum(holds)} of {len(holds)} rows"
-                    )
+    for ids, best, tab in ((claim_ids("T2-"), best2, t2), (claim_ids("T3-"), best3, t3), (t4ids, best4, t4)):
+        holds = [r[-1].endswith("yes") for r in tab[1:]]  # the best reading's column: "yes" or ".. / yes"
+        for cid, h in zip(ids, holds, strict=True):
+            f = findings[cid]
+            f.table_reading, f.table_holds = best.text, h
+            f.deciding += (
+                f"; under one reading for the whole table, the best ({best.text}) holds "
+                f"{sum(holds)} of {len(holds)} rows"
+            )
+    texts = (
+        "The paper's Table 2 beside geardyn's diagrams over ξ0 and ξ1: at the default reading (the study's full "
+        "diagrams) and at the (ω, phases) where most rows hold on the screen, recomputed in full on the same grids. "
+        "A row holds when its motion covers at least 80 % of its interval's length.",
+        "The paper's Table 3 beside geardyn's points: at the default reading and at the (ω, phases, backlash "
+        "reading) where most rows hold on the screen, recomputed with long exponent runs. A row holds when both the "
+        "motion and the sign of λ1 hold.",
+        "The paper's Table 4 beside the lockstep frequency responses at the default reading and at the reading "
+        f"where most rows hold ({score[i_best]} of {len(t4ids)}). A row holds when the amplitude (up or down sweep) "
+        "is within 25 % and the nearest jump within ±0.05 has the claimed direction (none for 'none').",
+    )
     return [
-        Section(
-            "Table 2 recomputed",
-            [
-                "The paper's Table 2 beside geardyn's diagrams over ξ0 and ξ1: at the default reading (the study's "
-                "full "
-                "diagrams) and at the (ω, phases) where most rows hold on the screen, recomputed in full on the same "
-                "grids. "
-                "A row holds when its motion covers at least 80 % of its interval's length."
-            ],
-            [],
-            [],
-            t2,
-        ),
-        Section(
-            "Table 3 recomputed",
-            [
-                "The paper's Table 3 beside geardyn's points: at the default reading and at the (ω, phases, backlash "
-                "reading) where most rows hold on the screen, recomputed with long exponent runs. A row holds when "
-                "both the "
-                "motion and the sign of λ1 hold."
-            ],
-            [],
-            [],
-            t3,
-        ),
-        Section(
-            "Table 4 recomputed",
-            [
-                "The paper's Table 4 beside the lockstep frequency responses at the default reading and at the "
-                "reading "
-                f"where most rows hold ({score[i_best]} of {len(t4ids)}). A row holds when the amplitude (up or down "
-                "sweep) "
-                "is within 25 % and the nearest jump within ±0.05 has the claimed direction (none for 'none')."
-            ],
-            [],
-            [],
-            t4,
-        ),
+        Section(f"Table {n} recomputed", [text], [], [], tab) for n, text, tab in zip((2, 3, 4), texts, (t2, t3, t4))
     ]
