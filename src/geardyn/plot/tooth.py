@@ -135,15 +135,14 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> None:
     """Record with tachometer (of the sensor, for a system), pinion TSA, residual and difference signals of each
     run."""
     a0, a1, a2, a3 = ax
+    t, ang = ds["time"].values * 1e3, ds["angle_pinion"].values
     for i, (name, s) in enumerate(_runs(ds)):
         c = f"C{i}"
-        t = ds["time"].values * 1e3
         a0.plot(t, ds["accel"].sel(run=name), color=c, lw=0.6, label=name)
         if i == 0:
             tach = ds["tach"].sel(run=name).values
             scale = float(np.nanmax(np.abs(ds["accel"].values))) / 5.0
             a0.plot(t, tach * scale, color="0.5", lw=0.8, label="tachometer (scaled)")
-        ang = ds["angle_pinion"].values
         ind = s["indicators"]["pinion"]
         if a1 is None:
             continue
