@@ -466,11 +466,10 @@ def contact_lines(
     param: str | None = None,
     x: np.ndarray | None = None,
     *,
-    color: str = "0.6",
     lw: float = 0.8,
     ls: str | None = None,
 ) -> list[Artist]:
-    """The contact boundaries u = ±D of a figure over ``x``: horizontal lines at the model's D, or, when the
+    """The contact boundaries u = ±D of a figure over ``x`` in grey: horizontal lines at the model's D, or, when the
     swept parameter ``param`` is D itself, the lines u = ±D following the plotted D (nothing where D = 0).
 
     Parameters
@@ -483,8 +482,6 @@ def contact_lines(
         The parameter on the horizontal axis.
     x : ndarray, optional
         Its plotted values (used when ``param`` is D).
-    color : str
-        Line colour.
     lw : float
         Line width.
     ls : str, optional
@@ -495,7 +492,7 @@ def contact_lines(
     list of Artist
         The lines drawn (``gid`` ``"contact"``).
     """
-    style = {"color": color, "lw": lw, **({} if ls is None else {"ls": ls})}
+    style = {"color": "0.6", "lw": lw, **({} if ls is None else {"ls": ls})}
     if param is not None and x is not None and _canonical(param) == "D":
         d = np.sort(np.asarray(x, dtype=float))
         return [ax.plot(d, s * d, gid="contact", **style)[0] for s in (1, -1)]
@@ -609,10 +606,8 @@ def place_labels(
     ax: Axes,
     labels: Sequence[tuple[float, float, str, str]],
     avoid: Sequence[Artist] = (),
-    *,
-    fontsize: float | str = 7,
 ) -> list[Artist]:
-    """Labels beside anchor points, each at the first of :data:`LABEL_OFFSETS` where its box overlaps
+    """Labels (font size 7) beside anchor points, each at the first of :data:`LABEL_OFFSETS` where its box overlaps
     neither an earlier label nor an artist of ``avoid`` (arrows, say).
 
     Parameters
@@ -623,8 +618,6 @@ def place_labels(
         Anchor in data coordinates, text and colour of each label.
     avoid : sequence of Artist
         Artists the labels must not cover.
-    fontsize : float or str
-        Font size of the labels.
 
     Returns
     -------
@@ -645,7 +638,7 @@ def place_labels(
                 color=colour,
                 ha="left" if dx > 0 else "right",
                 va="center",
-                fontsize=fontsize,
+                fontsize=7,
             )
             box = t.get_window_extent(renderer)
             if not any(box.overlaps(b) for b in taken) or (dx, dy) == LABEL_OFFSETS[-1]:

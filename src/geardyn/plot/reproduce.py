@@ -147,8 +147,9 @@ def _zoom_on_jumps(zoom: Axes, w: np.ndarray, amp: np.ndarray, firsts: list[dict
     zoom.grid(alpha=0.3)
 
 
-def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float = 0.05) -> list:
-    """Label curves at their right ends, to the right, moved apart vertically so that no two overlap.
+def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]]) -> list:
+    """Label curves at their right ends, to the right, moved apart vertically so that no two overlap (at least 5 % of
+    the height of the axes apart).
 
     Parameters
     ----------
@@ -156,15 +157,13 @@ def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float =
         Where to draw (its y limits should be final).
     ends : list of (x, y, text, colour)
         The end point of each curve and its label.
-    gap : float
-        Least distance between two labels, as a fraction of the height of the axes.
 
     Returns
     -------
     list of matplotlib.text.Annotation
     """
     lo, hi = ax.get_ylim()
-    d = gap * (hi - lo)
+    d = 0.05 * (hi - lo)
     order = sorted(range(len(ends)), key=lambda k: ends[k][1])
     placed = dict(zip(order, spread([float(ends[k][1]) for k in order], d, np.inf)))
     return [
