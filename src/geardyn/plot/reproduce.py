@@ -1,4 +1,4 @@
-"""Figures of the reproduction report that no other result kind has: formula fit, ω search."""
+"""Figures of the reproduction report that no other result kind has: formula fit, readings map, response overlay."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from matplotlib.axes import Axes
 
 from .common import cell_edges, json_list, parameter_text, place_labels, plot_function, set_title, spread, symbol
 
-__all__ = ["CURVE_STYLES", "curve_style", "end_labels", "formula_fit", "readings_map", "response_overlay", "search_map"]
+__all__ = ["CURVE_STYLES", "curve_style", "end_labels", "formula_fit", "readings_map", "response_overlay"]
 
 
 #: Line style and marker of the i-th curve of a figure that compares several (cycled): curves stay
@@ -62,7 +62,7 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
     (ξ0, b) on shared axes (a result of the reproduction report)."""
     A0, dA, beta = (float(ds.attrs[k]) for k in ("A0", "dA", "beta"))
     w, xi0, b, a = (ds[k].values for k in ("omega", "xi0", "b_mm", "amplitude"))
-    axes = ax if isinstance(ax, list) else [ax]
+    axes = ax
     one = not any(axes[1:])  # one Axes for every curve (the other panels not drawn)
     ww = np.linspace(w.min(), w.max(), 300)
     ends = []
@@ -107,36 +107,6 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
 
 
 @plot_function(
-    "search",
-    lambda ds: (7, 0.6 + 0.45 * ds["match_fraction"].shape[1] + 1.5),
-    ax_doc="""
-               ax : matplotlib.axes.Axes, optional
-                   Where to draw; a new figure if omitted (the colour bar is added beside it).""",
-)
-def search_map(ds: xr.Dataset, ax: Axes = None) -> None:
-    """Fraction of grid points matching each claim, for each searched ω (a result of the reproduction report)."""
-    frac = ds["match_fraction"].values
-    im = ax.imshow(
-        frac.T,
-        aspect="auto",
-        origin="lower",
-        vmin=0,
-        vmax=1,
-        cmap="viridis",
-        extent=(-0.5, frac.shape[0] - 0.5, -0.5, frac.shape[1] - 0.5),
-    )
-    ax.set_xticks(range(frac.shape[0]), [f"{w:g}" for w in ds["omega"].values])
-    ax.set_yticks(range(frac.shape[1]), [str(c) for c in ds["claim"].values])
-    ax.set_xlabel("ω searched")
-    for (i, j), f in np.ndenumerate(frac):
-        if np.isfinite(f):
-            ax.text(i, j, f"{f:.0%}", ha="center", va="center", fontsize=7, color="w" if f < 0.6 else "k")
-    ax.figure.colorbar(im, ax=ax, label="fraction of grid points matching the claim")
-    param = str(ds.attrs.get("param"))
-    set_title(ax, f"Where the claims over {symbol(param)} hold", ds, exclude=["omega", param])
-
-
-@plot_function(
     "readings_map",
     lambda ds: (9, 1.6 + 0.32 * ds["hold_fraction"].shape[0]),
     ax_doc="""
@@ -177,8 +147,9 @@ def _zoom_on_jumps(zoom: Axes, w: np.ndarray, amp: np.ndarray, firsts: list[dict
     zoom.grid(alpha=0.3)
 
 
-def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float = 0.05) -> list:
-    """Label curves at their right ends, to the right, moved apart vertically so that no two overlap.
+def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]]) -> list:
+    """Label curves at their right ends, to the right, moved apart vertically so that no two overlap (at least 5 % of
+    the height of the axes apart).
 
     Parameters
     ----------
@@ -186,15 +157,13 @@ def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float =
         Where to draw (its y limits should be final).
     ends : list of (x, y, text, colour)
         The end point of each curve and its label.
-    gap : float
-        Least distance between two labels, as a fraction of the height of the axes.
 
     Returns
     -------
     list of matplotlib.text.Annotation
     """
     lo, hi = ax.get_ylim()
-    d = gap * (hi - lo)
+    d = 0.05 * (hi - lo)
     order = sorted(range(len(ends)), key=lambda k: ends[k][1])
     placed = dict(zip(order, spread([float(ends[k][1]) for k in order], d, np.inf)))
     return [
@@ -261,6 +230,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
         st = curve_style(i)
         every = (i * step // max(len(values), 1), step)  # markers of the curves staggered, not on top of each other
         up, down = ds["amplitude"].values[i]
+        case = _case_text(param, float(v))
         js = jumps[i] if i < len(jumps) else []
         firsts.append(min(js, key=lambda j: j["omega"]) if js else None)
         for target in both:
@@ -285,7 +255,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
                 lw=1.4,
                 markevery=every if full else None,
                 gid="up",
-                label=_case_text(param, float(v)) if full else None,
+                label=case if full else None,
             )
         ends.append((w[-1], up[-1], f"{symbol(param)} = {float(v):g}", st["color"]))
         if fl_ax is not None:
@@ -296,7 +266,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
                 ms=3.5,
                 lw=1.2,
                 markevery=every,
-                label=_case_text(param, float(v)),
+                label=case,
             )
     for i, j in enumerate(firsts):
         for target in both if j is not None else ():
