@@ -250,6 +250,11 @@ def _synthetic():
         coords={"claim": ["T2-1", "T3-2"], "omega": [0.9, 1.0, 1.1]},
         attrs={"geardyn_kind": "readings_map", "default_omega": 1.0},
     )
+    search = xr.Dataset(
+        {"match_fraction": (("omega", "claim"), [[0.2, 1.0], [0.5, np.nan], [0.9, 0.0]])},
+        coords={"omega": om, "claim": ["T2-1", "T2-2"]},
+        attrs={"geardyn_kind": "search", "param": "xi1"},
+    )
     from test_reproduce_figures import overlay
 
     return {
@@ -257,6 +262,7 @@ def _synthetic():
         "mathieu_boundary": mathieu,
         "stability_boundary": boundary,
         "formula_fit": fit,
+        "search": search,
         "readings_map": readings,
         "response_overlay": overlay(),
         **_tooth_synthetic(),

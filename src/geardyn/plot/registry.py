@@ -98,6 +98,7 @@ FIGURES: dict[str, tuple[FigureSpec, ...]] = {
     "mathieu_boundary": _STABILITY,
     "stability_comparison": _STABILITY,
     "formula_fit": (FigureSpec("formula_fit", reproduce.formula_fit),),
+    "search": (FigureSpec("search", reproduce.search_map),),
     "readings_map": (FigureSpec("readings", reproduce.readings_map),),
     "response_overlay": (FigureSpec("response_overlay", reproduce.response_overlay),),
 }

@@ -1,4 +1,4 @@
-"""Figures of the reproduction report that no other result kind has: formula fit, readings map, response overlay."""
+"""Figures of the reproduction report that no other result kind has: formula fit, ω search."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from matplotlib.axes import Axes
 
 from .common import cell_edges, json_list, parameter_text, place_labels, plot_function, set_title, spread, symbol
 
-__all__ = ["CURVE_STYLES", "curve_style", "end_labels", "formula_fit", "readings_map", "response_overlay"]
+__all__ = ["CURVE_STYLES", "curve_style", "end_labels", "formula_fit", "readings_map", "response_overlay", "search_map"]
 
 
 #: Line style and marker of the i-th curve of a figure that compares several (cycled): curves stay
@@ -107,6 +107,43 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
 
 
 @plot_function(
+    "search",
+    lambda ds: (7, 0.6 + 0.45 * ds["match_fraction"].shape[1] + 1.5),
+    ax_doc="""
+               ax : matplotlib.axes.Axes, optional
+                   Where to draw; a new figure if omitted (the colour bar is added beside it).""",
+)
+def search_map(ds: xr.Dataset, ax: Axes = None) -> None:
+    """Fraction of grid points matching each claim, for each searched ω (a result of the reproduction report)."""
+    frac = ds["match_fraction"].values
+    im = ax.imshow(
+        frac.T,
+        aspect="auto",
+        origin="lower",
+        vmin=0,
+        vmax=1,
+        cmap="viridis",
+        extent=(-0.5, frac.shape[0] - 0.5, -0.5, frac.shape[1] - 0.5),
+    )
+    ax.set_xticks(range(frac.shape[0]), [f"{w:g}" for w in ds["omega"].values])
+    ax.set_xlabel("ω searched")
+    for (i, j), f in np.ndenumerate(frac):
+        if np.isfinite(f):
+            ax.text(i, j, f"{f:.0%}", ha="center", va="center", fontsize=7, color="w" if f < 0.6 else "k")
+    param = str(ds.attrs.get("param"))
+    _claims(
+        ax, ds, im, "grid points matching the claim", f"Where the claims over {symbol(param)} hold", ["omega", param]
+    )
+
+
+def _claims(ax: Axes, ds: xr.Dataset, im: Any, share: str, title: str, exclude: list[str]) -> None:
+    """The claims named on the y axis, the colour bar of the fraction of ``share`` and the title of a claims map."""
+    ax.set_yticks(range(ds.sizes["claim"]), [str(c) for c in ds["claim"].values])
+    ax.figure.colorbar(im, ax=ax, label=f"fraction of {share}")
+    set_title(ax, title, ds, exclude=exclude)
+
+
+@plot_function(
     "readings_map",
     lambda ds: (9, 1.6 + 0.32 * ds["hold_fraction"].shape[0]),
     ax_doc="""
@@ -119,11 +156,10 @@ def readings_map(ds: xr.Dataset, ax: Axes = None) -> None:
     f = ds["hold_fraction"].values
     w = ds["omega"].values
     im = ax.pcolormesh(cell_edges(w), np.arange(f.shape[0] + 1) - 0.5, f, vmin=0, vmax=1, cmap="viridis")
-    ax.set_yticks(range(f.shape[0]), [str(c) for c in ds["claim"].values])
     ax.axvline(float(ds.attrs.get("default_omega", 1.0)), color="w", ls="--", lw=0.8)
     ax.set_xlabel("mesh frequency ω = ω_e/ω_n (dashed: the default reading)")
-    ax.figure.colorbar(im, ax=ax, label="fraction of the readings holding")
-    set_title(ax, "Where each claim holds on the screen of readings", ds, exclude=["omega", "xi0", "xi1", "D"])
+    title = "Where each claim holds on the screen of readings"
+    _claims(ax, ds, im, "the readings holding", title, ["omega", "xi0", "xi1", "D"])
 
 
 #: Markers drawn per curve of an overlay (every k-th point; the lines join every point).
