@@ -42,6 +42,7 @@ from ...errors import ModelError
 from ...grid import param_name
 from ...status import Status, flag_attrs
 from ..periodic.arclength import _span_reporter
+from ..periodic.floquet import pairs
 from ..secant import illinois_on_chord
 from .damping import require_decidable
 from .equations import HBEquations, single_thread_blas, solve
@@ -162,7 +163,7 @@ class HBBifurcation:
 
     def to_json(self) -> dict[str, Any]:
         out = {"type": self.type, "value": self.value, "u_min": self.u_min, "u_max": self.u_max}
-        out["multipliers"] = [[float(m.real), float(m.imag)] for m in self.multipliers]
+        out["multipliers"] = pairs(self.multipliers)
         return {**out, "detail": self.detail, "located": self.located}
 
 
@@ -285,24 +286,27 @@ class HBContinuation:
         per element (``meshes``, ``clearances``, a rolling bearing's x and y rows in ``bearings``: ``name`` and per
         point ``u_min``, ``u_max``, ``amplitude``, ``impact``, a mesh's ``dynamic_factor``), ``labels``,
         ``reference_mesh``, ``rigid_body_modes``, ``conservative`` and ``notes``."""
+        from ...io import json_number
         from ..classify import IMPACT_LABELS, impact_state
-
-        def num(x: float) -> float | None:
-            return float(x) if np.isfinite(x) else None
 
         pts, cols = [], (self.values, self.u_min, self.u_max, self.stable, self.status, self.multipliers)
         for v, lo, hi, st, s, mu in zip(*cols):
-            pt = {self.param: float(v), "amplitude": num(0.5 * (hi - lo)), "u_min": num(lo), "u_max": num(hi)}
+            pt = {
+                self.param: float(v),
+                "amplitude": json_number(0.5 * (hi - lo)),
+                "u_min": json_number(lo),
+                "u_max": json_number(hi),
+            }
             pt.update(stable=bool(st) if int(s) == int(Status.OK) else None, status=Status(int(s)).label)
-            pts.append({**pt, "multipliers": [[num(m.real), num(m.imag)] for m in mu]})
+            pts.append({**pt, "multipliers": [[json_number(m.real), json_number(m.imag)] for m in mu]})
         rows: dict[str, list[dict[str, Any]]] = {"mesh": [], "clearance": []}
         for e, (nm, kind) in enumerate(zip(self.elements, self.kinds)):
             lo, hi = self.element_u_min[:, e], self.element_u_max[:, e]
-            row = {"name": nm, "u_min": list(map(num, lo)), "u_max": list(map(num, hi))}
-            row["amplitude"] = list(map(num, 0.5 * (hi - lo)))
+            row = {"name": nm, "u_min": list(map(json_number, lo)), "u_max": list(map(json_number, hi))}
+            row["amplitude"] = list(map(json_number, 0.5 * (hi - lo)))
             row["impact"] = [IMPACT_LABELS[impact_state(v, self.gaps[e])] if np.isfinite(v) else None for v in lo]
             if kind == "mesh":  # (the mesh's column: the meshes before it)
-                row["dynamic_factor"] = list(map(num, self.dynamic_factor[:, self.kinds[:e].count("mesh")]))
+                row["dynamic_factor"] = list(map(json_number, self.dynamic_factor[:, self.kinds[:e].count("mesh")]))
             rows.setdefault(kind, []).append(row)
         notes = [
             f"{2 * self.rigid} Floquet multipliers equal to 1 belong to the {self.rigid} rigid-body mode(s) and are "
@@ -531,7 +535,7 @@ class _Tracer:
                 out.append((float((pt.y - a.y) @ d), bif))
         return [b for _s, b in sorted(out, key=lambda e: e[0])]
 
-    def trace(self, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float, max_points: int, on_point=None) -> tuple:
+    def trace(self, y: np.ndarray, ref: np.ndarray, ds: float, ds_max: float, max_points: int, on_point) -> tuple:
         """The pseudo-arclength loop from the solution ``y`` (unknowns, then p/p_s), the first tangent oriented like
         ``ref``, steps ``ds`` up to ``ds_max``, at most ``max_points``; ``on_point`` gets each point's parameter.
         Returns (points, bifurcations, end)."""
@@ -560,8 +564,7 @@ class _Tracer:
                     break
                 bifs.extend(self.events(cur, nxt))
                 pts.append(nxt)
-                if on_point is not None:
-                    on_point(self.p(nxt.y))
+                on_point(self.p(nxt.y))
                 # (the multipliers move about linearly in the step: aim below the refusal limit)
                 aim = h * MULTIPLIER_STEP_TARGET / dmu if dmu > 0.0 else math.inf
                 h = min(ds_max, h * (1.5 if nxt.iters <= 3 else 1.0 if nxt.iters <= 6 else 0.5), aim)
@@ -648,16 +651,13 @@ def hb_continuation(
         raise ModelError("start, stop: must be finite and different")
     m0 = model.with_param(param, start)
     conservative = require_decidable(model, param, start, stop)  # (stop checked there too)
-    report = None if progress is None else _span_reporter(progress, start, stop)  # the one of shooting's branches
-    if progress is not None:
-        progress(0.0, abs(stop - start))
+    report = _span_reporter(progress, start, stop)  # the one of shooting's branches
     eq = HBEquations(model, harmonics, period, param=param, samples=samples, floquet=floquet)
     sol = hb_solve(m0, eq.H, period, guess, samples=eq.N, stability=False, state0=state0)
     f, N0 = eq.form, eq.basis.size - eq.basis.rigid
     if not sol.converged:  # one point, the start that failed
         ext = np.full((1, len(f.elements), 2), math.nan)
-        mu = np.full((1, 2 * (f.dofs - eq.basis.rigid)), complex(math.nan, math.nan))
-        cols = [[start], sol.unknowns[None, :N0], mu, [int(sol.status)]]
+        cols = [[start], sol.unknowns[None, :N0], [sol.multipliers], [int(sol.status)]]  # (the multipliers NaN)
         bifs, end = [], f"start: {sol.status.label}"
     else:
         lo, hi = sorted((start, stop))

@@ -612,14 +612,14 @@ class HBEquations:
         rhs0 = (Mt @ G[:, L]).real
         meshes, items = [], []
         for e, el in enumerate(f.elements):
-            k0, c0 = mean(el.K), mean(el.C)
+            k0, c0, vv = mean(el.K), mean(el.C), np.outer(el.V, el.V)
             if el.rule is not None:  # a rolling bearing: its dampers, and its stiffness at the static deflection
-                Ct = Ct + c0 * np.outer(el.V, el.V)
+                Ct = Ct + c0 * vv
                 if el.name.endswith(".x"):
                     Z, n, cl, _, phase = el.rule.params()
                     items.append((np.array([el.V, f.elements[e + 1].V]), int(Z), k0, n, cl, phase))
             elif el.kind == "mesh" or el.gap <= 0:
-                Kt, Ct = Kt + k0 * np.outer(el.V, el.V), Ct + c0 * np.outer(el.V, el.V)
+                Kt, Ct = Kt + k0 * vv, Ct + c0 * vv
                 rhs0 = rhs0 + k0 * el.gap * el.V
             if el.kind == "mesh":
                 meshes.append((el, k0, c0, centred(el.E, self.Hd)))

@@ -25,6 +25,7 @@ import numpy as np
 
 from ...errors import ModelError
 from ...status import Status
+from ..periodic.floquet import largest_first
 from ._monodromykernel import monodromy_kernel
 from .hill import LIOUVILLE_TOL, NO_MULTIPLIERS, HillResult
 
@@ -180,8 +181,7 @@ def monodromy_floquet(
         return diverged
     Phi = again[1]
     T = 2.0 * math.pi / nu
-    mu = np.linalg.eigvals(Phi).astype(complex)
-    mu = mu[np.argsort(-np.abs(mu), kind="stable")]
+    mu = largest_first(np.linalg.eigvals(Phi).astype(complex))
     with np.errstate(divide="ignore"):
         ex = np.log(mu) / T
     ref = math.exp(form.mean_trace() * T)

@@ -34,7 +34,7 @@ import numpy as np
 from ...model import ModelError, canonical_param
 from ..secant import illinois_on_chord
 from .branch import STABILITY_LOSSES, Bifurcation, Branch
-from .floquet import REAL_MULTIPLIER_TOL
+from .floquet import REAL_MULTIPLIER_TOL, largest_first
 from .map import MapEvaluation, PeriodMap
 from .orbit import PeriodicOrbit, _minimal_period, _trajectory_extrema, elastic_basis
 
@@ -108,8 +108,7 @@ class _Family:
 
     def multipliers(self, M: np.ndarray) -> np.ndarray:
         """The multipliers of the elastic monodromy, largest modulus first."""
-        mu = np.linalg.eigvals(self.elastic(M))
-        return mu[np.argsort(-np.abs(mu), kind="stable")]
+        return largest_first(np.linalg.eigvals(self.elastic(M)))
 
     def gaps_at(self, p: float) -> list[float]:
         """The half gaps of the elements at parameter p."""
@@ -195,7 +194,7 @@ class _Continuer:
         self.stop_on_instability = stop_on_instability
         self.cos_max_turn = math.cos(math.radians(MAX_TANGENT_TURN_DEG))
         self._merge_w: np.ndarray | None = None
-        self.on_point: Callable[[float], None] | None = None  # told the parameter of every new branch point
+        self.on_point: Callable[[float], None] = lambda p: None  # told the parameter of every new branch point
 
     # -------------------------------------------------------------- building blocks
     def _jacobian(self, ev: MapEvaluation, Gq: np.ndarray, *rows: np.ndarray) -> np.ndarray:
@@ -338,13 +337,13 @@ class _Continuer:
         """Events between consecutive branch points a and b, located; sorted along the branch."""
         D = self.prob.gaps_at(a.p)
         sep_a = self._separation(a)
-        self._merge_w = None
-        if sep_a is not None and float(np.linalg.norm(sep_a)) > 0.0:
-            self._merge_w = sep_a / float(np.linalg.norm(sep_a))
+        norm_a = 0.0 if sep_a is None else float(np.linalg.norm(sep_a))
+        self._merge_w = sep_a / norm_a if norm_a > 0.0 else None
         ta, tb = self._tests(a, D), self._tests(b, D)
         d = b.y - a.y
+        L = float(np.linalg.norm(d))
         events = []
-        chord = d / max(float(np.linalg.norm(d)), 1e-300)
+        chord = d / max(L, 1e-300)
 
         def sign_change(k: str) -> bool:
             return k in ta and k in tb and np.isfinite(ta[k]) and np.isfinite(tb[k]) and (ta[k] > 0) != (tb[k] > 0)
@@ -357,13 +356,12 @@ class _Continuer:
         s_merge = math.inf
         sep_b = self._separation(b)
         if sign_change("merge") and (  # (both separations exist: the merge test is there)
-            float(np.linalg.norm(sep_a)) + float(np.linalg.norm(sep_b))
-            <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
+            norm_a + float(np.linalg.norm(sep_b)) <= MERGE_STEP_FACTOR * float(np.linalg.norm(b.ev.x - a.ev.x))
         ):
             fa, fb = ta["merge"], tb["merge"]
             sig = fa / (fa - fb)
             mu = self.prob.multipliers(a.M + sig * (b.M - a.M))
-            s_merge = sig * float(np.linalg.norm(d))
+            s_merge = sig * L
             x_m = a.ev.x + sig * (b.ev.x - a.ev.x)
             events.append(
                 (
@@ -445,10 +443,6 @@ class _Continuer:
         return events
 
     # -------------------------------------------------------------- the loop
-    def _report(self, pt: _Point) -> None:
-        if self.on_point is not None:
-            self.on_point(pt.p)
-
     def run(self, first: _Point, direction: float, branch_index: int) -> tuple[list[_Point], list[Bifurcation], str]:
         """Continue from ``first`` with the parameter initially moving in ``direction`` (+1/−1)."""
         if first.tangent[-1] * direction < 0:
@@ -456,7 +450,6 @@ class _Continuer:
         pts = [first]
         bifs: list[Bifurcation] = []
         ds = self.ds
-        end = "max points"
         lo = self.lo - 1e-12 * self.ps
         hi = self.hi + 1e-12 * self.ps
         while len(pts) < self.max_points:
@@ -484,25 +477,23 @@ class _Continuer:
                 new = self.correct_natural(new, a.tangent)
                 if new.p < lo or new.p > hi:  # interpolated to the bound and landed on it exactly
                     new, outside = self.land(a, new.y, new.p, hi) or new, True
-            if outside:
-                end = "reached the end of the parameter interval"
             for _s, bif, bpt in self.detect_events(a, new, branch_index) if self.detect else ():
                 bifs.append(bif)
                 if bif.type == "merge":
                     return pts, bifs, "merged into the period-n/2 branch at its period doubling"
                 if self.stop_on_instability and bif.type in STABILITY_LOSSES and bif.stable_before:
                     pts.append(bpt)
-                    self._report(bpt)
+                    self.on_point(bpt.p)
                     return pts, bifs, "stopped at the first loss of stability"
             pts.append(new)
-            self._report(new)
+            self.on_point(new.p)
             if outside:
-                return pts, bifs, end
+                return pts, bifs, "reached the end of the parameter interval"
             if new.iters <= FAST_CORRECTOR_ITERS:
                 ds = min(ds * DS_GROW, self.ds_max)
             elif new.iters >= SLOW_CORRECTOR_ITERS:
                 ds = max(ds * DS_SHRINK, DS_MIN)
-        return pts, bifs, end
+        return pts, bifs, "max points"
 
 
 def continue_branch(
@@ -591,9 +582,7 @@ def continue_branch(
     if first is None:
         raise ModelError("continuation: the starting orbit could not be corrected at the start value")
     total = abs(float(stop) - float(p0))
-    if progress is not None:
-        cont.on_point = _span_reporter(progress, float(p0), float(stop))
-        progress(0.0, total)
+    cont.on_point = _span_reporter(progress, float(p0), float(stop))
     pts, bifs, end = cont.run(first, direction, index)
     if progress is not None:
         progress(total, total)
@@ -620,9 +609,13 @@ def continue_branch(
     )
 
 
-def _span_reporter(progress: Callable[[float, float], None], p0: float, stop: float) -> Callable[[float], None]:
-    """A branch point's parameter → ``progress(farthest distance from p0 towards stop, |stop − p0|)`` when it grows."""
+def _span_reporter(progress: Callable[[float, float], None] | None, p0: float, stop: float) -> Callable[[float], None]:
+    """A branch point's parameter → ``progress(farthest distance from p0 towards stop, |stop − p0|)`` when it grows
+    (nothing without ``progress``); ``progress(0, |stop − p0|)`` is reported at once."""
     total = abs(stop - p0)
+    if progress is None:
+        return lambda p: None
+    progress(0.0, total)
     sign = 1.0 if stop >= p0 else -1.0
     farthest = [0.0]
 

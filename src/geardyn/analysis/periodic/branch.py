@@ -86,7 +86,7 @@ class Bifurcation:
             self.param: float(self.value),
             "period": int(self.n),
             "branch": int(self.branch),
-            "state": [float(s) for s in self.state],
+            "state": self.state.tolist(),
             "amplitude": float(self.amplitude),
             "u_min": float(self.u_min),
             "u_max": float(self.u_max),

@@ -174,7 +174,7 @@ class ContinuationResult:
                         "multipliers": pairs(mu[i]),
                         "period": int(br.n),
                         "branch": int(br.index),
-                        "state": [float(s) for s in br.states[i]],
+                        "state": br.states[i].tolist(),
                         "u_min": float(br.u_min[i]),
                         "u_max": float(br.u_max[i]),
                     }
@@ -207,7 +207,7 @@ class ContinuationResult:
 
         m, P, bifs, brs = self.model, self.param, self.bifurcations, self.branches
         nmax = max([b.n for b in brs] + [1])
-        dim = brs[0].multipliers.shape[1] if brs else m.state_dim
+        dim = brs[0].multipliers.shape[1]  # (a run has its primary branch, of one point at least)
         n_points = sum(len(b) for b in brs)
         # the reference element's (δ, δ') at the section points, NaN-padded to nmax (at θ = 0, the 1-DOF model's
         # state (u, u'), the variables u and v)
@@ -220,14 +220,11 @@ class ContinuationResult:
                 )
                 for b in brs
             ]
-            or [np.zeros((0, nmax, 2))]
         )
-        mu = np.concatenate([b.multipliers for b in brs] or [np.zeros((0, dim))])
+        mu = np.concatenate([b.multipliers for b in brs])
 
         def cat(k: str, dtype: Any = float) -> tuple[str, np.ndarray]:  # a branch attribute at every point
-            return "point", np.concatenate(
-                [np.broadcast_to(getattr(b, k), len(b)) for b in brs] or [np.zeros(0)]
-            ).astype(dtype)
+            return "point", np.concatenate([np.broadcast_to(getattr(b, k), len(b)) for b in brs]).astype(dtype)
 
         def col(k: str, dtype: Any = float) -> tuple[str, np.ndarray]:  # an attribute of every event
             return "bifurcation", np.array([getattr(b, k) for b in bifs], dtype=dtype)
@@ -411,11 +408,8 @@ def continuation(
     span = abs(stop - start)
     lo, hi = sorted((start, stop))
     if switch:
-        queue = [0]
         seen: list[tuple[int, float, np.ndarray]] = []  # (period, value, state) of merge points / sources
-        while queue:
-            bi = queue.pop(0)
-            br = branches[bi]
+        for br in branches:  # (the branches switched to are appended, and visited in turn)
             if 2 * br.n > max_period:
                 continue
             for b in br.bifurcations:
@@ -447,7 +441,6 @@ def continuation(
                 for mb in nb.bifurcations:
                     if mb.type == "merge":
                         seen.append((nb.n, mb.value, mb.state.copy()))
-                queue.append(nb.index)
     return ContinuationResult(model, param, float(start), float(stop), branches, dtau, accurate, notes)
 
 
@@ -514,9 +507,8 @@ def _add_point(
         "u_min": [b.u_min],
         "u_max": [b.u_max],
         "steps": [pmap.steps],
+        "extrema": element_extrema(pmap, b.state)[None],
     }
-    if br.extrema is not None:
-        new["extrema"] = element_extrema(pmap, b.state)[None]
     for k, v in new.items():
         old = getattr(br, k)
         setattr(br, k, np.concatenate([old, v] if end else [v, old]))

@@ -75,6 +75,11 @@ class Floquet:
         return pairs(self.multipliers)
 
 
+def largest_first(mu: np.ndarray) -> np.ndarray:
+    """The multipliers ``mu`` by decreasing modulus (equal moduli in their order)."""
+    return mu[np.argsort(-np.abs(mu), kind="stable")]
+
+
 def pairs(mu: np.ndarray) -> list[list[float]]:
     """Complex multipliers as JSON pairs [re, im]."""
     return [[float(m.real), float(m.imag)] for m in mu]
@@ -108,11 +113,10 @@ def floquet(monodromy: np.ndarray, n: int, period: float) -> Floquet:
         d = M.shape[0] if M.ndim == 2 else 2
         nan = np.array([complex(math.nan, 0.0)] * d)
         return Floquet(nan, np.full(d, math.nan), False, "repeller", math.nan, math.nan)
-    mu = np.linalg.eigvals(M).astype(complex)
-    mu = mu[np.argsort(-np.abs(mu), kind="stable")]
-    with np.errstate(divide="ignore"):
-        expo = np.log(np.abs(mu)) / (n * period)
+    mu = largest_first(np.linalg.eigvals(M).astype(complex))
     mod = np.abs(mu)
+    with np.errstate(divide="ignore"):
+        expo = np.log(mod) / (n * period)
     out = mod > 1.0
     stable = bool(not np.any(out))
     is_real = np.abs(mu.imag) <= REAL_MULTIPLIER_TOL * np.maximum(mod, 1e-300)

@@ -309,9 +309,8 @@ class PeriodMap:
                 continue
         if len(values) < 2:
             return nan
-        if values[0] == p + d and values[1] == p - d:
-            models, values = models[:2], values[:2]
-        res = integrate_batch(models, x, self._options(), steps=self._steps, threads=MAP_THREADS)
+        # p ± δ where both are valid, else the valid one and p
+        res = integrate_batch(models[:2], x, self._options(), steps=self._steps, threads=MAP_THREADS)
         if not np.all(res.ok):
             return nan
         ends = res.poincare[:, -1, :]

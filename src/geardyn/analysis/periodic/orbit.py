@@ -22,7 +22,7 @@ from ...labels import IMPACT_LABELS, impact_state
 from ...model import DEFAULT_DTAU, GearModel, IntegrationOptions, ModelError
 from ...status import Status
 from ...system import require_periodic
-from .floquet import Floquet, floquet, pairs
+from .floquet import Floquet, floquet, largest_first, pairs
 from .map import MAP_THREADS, MapEvaluation, PeriodMap
 
 __all__ = [
@@ -75,36 +75,22 @@ def orbit_status_label(status: Status) -> str:
 
 def _hermite_extrema(u: np.ndarray, v: np.ndarray, h: float) -> tuple[float, float]:
     """Min and max of the piecewise cubic Hermite interpolant through (u_k, u'_k) sampled every h."""
-    u0, u1, v0, v1 = u[:-1], u[1:], v[:-1], v[1:]
-    cand_min = [float(np.min(u))]
-    cand_max = [float(np.max(u))]
-    idx = np.nonzero(v0 * v1 <= 0.0)[0]
-    if idx.size:
-        a0, a1, b0, b1 = u0[idx], u1[idx], h * v0[idx], h * v1[idx]
-        # u(x) = (2x³−3x²+1)a0 + (x³−2x²+x)b0 + (−2x³+3x²)a1 + (x³−x²)b1; u'(x) = A x² + B x + C
-        A = 6 * a0 + 3 * b0 - 6 * a1 + 3 * b1
-        B = -6 * a0 - 4 * b0 + 6 * a1 - 2 * b1
-        C = b0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            disc = np.sqrt(np.maximum(B * B - 4 * A * C, 0.0))
-            quad = np.abs(A) > 1e-14 * (np.abs(B) + np.abs(C) + 1e-300)
-            r1 = np.where(quad, (-B + disc) / (2 * A), -C / B)
-            r2 = np.where(quad, (-B - disc) / (2 * A), -C / B)
-        for r in (r1, r2):
-            ok = np.isfinite(r) & (r >= 0.0) & (r <= 1.0)
-            if not np.any(ok):
-                continue
-            x = r[ok]
-            x2, x3 = x * x, x * x * x
-            val = (
-                (2 * x3 - 3 * x2 + 1) * a0[ok]
-                + (x3 - 2 * x2 + x) * b0[ok]
-                + (-2 * x3 + 3 * x2) * a1[ok]
-                + (x3 - x2) * b1[ok]
-            )
-            cand_min.append(float(np.min(val)))
-            cand_max.append(float(np.max(val)))
-    return min(cand_min), max(cand_max)
+    idx = np.nonzero(v[:-1] * v[1:] <= 0.0)[0]
+    a0, a1, b0, b1 = u[idx], u[idx + 1], h * v[idx], h * v[idx + 1]
+    # u(x) = (2x³−3x²+1)a0 + (x³−2x²+x)b0 + (−2x³+3x²)a1 + (x³−x²)b1; u'(x) = A x² + B x + C
+    A = 6 * a0 + 3 * b0 - 6 * a1 + 3 * b1
+    B = -6 * a0 - 4 * b0 + 6 * a1 - 2 * b1
+    C = b0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = np.sqrt(np.maximum(B * B - 4 * A * C, 0.0))
+        quad = np.abs(A) > 1e-14 * (np.abs(B) + np.abs(C) + 1e-300)
+        r = np.where(quad, np.stack([-B + disc, -B - disc]) / (2 * A), -C / B)  # both roots of every step
+    ok = np.isfinite(r) & (r >= 0.0) & (r <= 1.0)
+    x = r[ok]
+    a0, b0, a1, b1 = (np.broadcast_to(c, r.shape)[ok] for c in (a0, b0, a1, b1))
+    x2, x3 = x * x, x * x * x
+    val = (2 * x3 - 3 * x2 + 1) * a0 + (x3 - 2 * x2 + x) * b0 + (-2 * x3 + 3 * x2) * a1 + (x3 - x2) * b1
+    return float(np.min(val, initial=np.min(u))), float(np.max(val, initial=np.max(u)))
 
 
 def orbit_extrema(
@@ -209,7 +195,7 @@ def elastic_multipliers(model: Any, monodromy: np.ndarray) -> tuple[np.ndarray, 
         mu = np.linalg.eigvals(M)
     else:
         mu, r = np.linalg.eigvals(Uc.T @ M @ Uc), (M.shape[0] - Uc.shape[1]) // 2
-    return mu[np.argsort(-np.abs(mu), kind="stable")], r
+    return largest_first(mu), r
 
 
 def _minimal_period(points: np.ndarray, n: int) -> int:
@@ -351,7 +337,7 @@ class PeriodicOrbit:
 
         return {
             "omega": self.model.omega,
-            "state": [float(s) for s in self.state],
+            "state": self.state.tolist(),
             "points": self.points.tolist(),
             "period": self.minimal_period * (self.model.period_multiple() or 1) if self.converged else None,
             "requested_period": self.n,
@@ -651,7 +637,7 @@ def _orbit_from_eval(
     m = pmap.model
     tr = pmap.trajectory(ev.x)
     ext = _trajectory_extrema(tr, len(m.elements), pmap.step)
-    umin, umax = (float(ext[m.reference, 0]), float(ext[m.reference, 1]))
+    umin, umax = map(float, ext[m.reference])
     extra = m.report(tau=tr.tau, deltas=tr.deltas, extrema=ext)
     return PeriodicOrbit(
         m,
