@@ -141,6 +141,39 @@ class Dop853Flow:
                 t = t1
         return x
 
+    def jacobian(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """∂q''/∂q and ∂q''/∂q' at (t, x): the slope of the dead zone is 1 in contact, 0 in separation."""
+        d, _dv, cf = self.deflection(t, x)
+        k = cf[:, 1] * (np.abs(d) > self.D)
+        return -self.A - (self.W.T * k) @ self.V, -self.B - (self.W.T * cf[:, 0]) @ self.V
+
+    def variational(self, x0: np.ndarray) -> np.ndarray:
+        """∂x(T)/∂x(0) by DOP853 on the state and its variational equation together (no saltation at a crossing:
+        the field is continuous there), stopped and restarted at every crossing like the flow."""
+        n, d = self.n, 2 * self.n
+
+        def field(t, z):
+            x, Phi = z[:d], z[d:].reshape(d, d)
+            Jq, Jv = self.jacobian(t, x)
+            return np.concatenate([self.field(t, x), Phi[n:].ravel(), (Jq @ Phi[:n] + Jv @ Phi[n:]).ravel()])
+
+        events = []
+        for ev in self.events:
+            e = lambda t, z, ev=ev: ev(t, z[:d])  # noqa: E731
+            e.terminal = True
+            events.append(e)
+        t, z, T = 0.0, np.concatenate([x0, np.eye(d).ravel()]), self.T
+        opts = dict(method="DOP853", rtol=self.rtol, atol=self.atol)
+        while t < T:
+            r = solve_ivp(field, (t, T), z, events=events, **opts)
+            assert r.success
+            t, z = r.t[-1], r.y[:, -1]
+            if r.status == 1 and t < T:
+                t1 = min(t + 1e-9, T)
+                z = solve_ivp(field, (t, t1), z, **opts).y[:, -1]
+                t = t1
+        return z[d:].reshape(d, d)
+
     def monodromy(self, x0: np.ndarray, eps: float) -> np.ndarray:
         """∂x(T)/∂x(0) by central differences of relative step eps."""
         M = np.empty((x0.size, x0.size))
@@ -177,26 +210,41 @@ def test_chain_multipliers_do_not_move_with_the_step_or_the_start_bits(chain2):
 def test_pair_multipliers_are_dop853s(pair):
     """The paper's pair as two rotating bodies at ω = 0.75: a period-1 orbit that crosses δ = D twice a period and
     stays 0.82 (above) and 0.87 (below, from −D) away from the boundaries at its extremes: no grazing.  The accurate
-    map's elastic multipliers (Δτ = 0.002) against DOP853's monodromy (rtol 1e-12, central differences of relative
-    step 1e-5: their rounding error about 1e-12/1e-5 = 1e-7, their truncation error below the 7e-7 measured with
-    step 1e-4).  Measured 1.2e-8; asserted 1e-6."""
+    map's elastic multipliers (Δτ = 0.002) against DOP853 (rtol 1e-12): the monodromy by central differences of the
+    flow (relative step 1e-5: their rounding error about 1e-12/1e-5 = 1e-7, their truncation error below the 7e-7
+    measured with step 1e-4), measured 1.2e-8, asserted 1e-6; and by the variational equation integrated with the
+    flow, measured 7.2e-12, asserted 1e-9 (the two references agree: the flow needs no saltation matrix)."""
     orbit = shoot(pair, 1, guess=PAIR_GUESS, dtau=0.002, accurate=True)
     assert orbit.converged
     x = orbit.state
     flow = Dop853Flow(pair)
     assert np.abs(flow(x) - x).max() < 1e-8  # the same orbit for the reference
-    mu_ref, _ = elastic_multipliers(pair, flow.monodromy(x, 1e-5))
+    mu_fd, _ = elastic_multipliers(pair, flow.monodromy(x, 1e-5))
+    mu_var, _ = elastic_multipliers(pair, flow.variational(x))
     mu, _ = elastic_multipliers(pair, PeriodMap(pair, 1, dtau=0.002, accurate=True).jacobian(x))
-    assert mu.size == mu_ref.size == 2
-    assert _distance(mu, mu_ref) < 1e-6
+    assert mu.size == mu_fd.size == mu_var.size == 2
+    assert _distance(mu, mu_fd) < 1e-6
+    assert _distance(mu, mu_var) < 1e-9
+
+
+def test_chain_multipliers_are_dop853s_variational(chain2):
+    """The 2-stage chain's orbit (CHAIN2_ORBIT; the two meshes cross within 1e-8 of each other, inside one step):
+    the accurate map's elastic multipliers (Δτ = 0.002 and 0.0005) against DOP853's variational equation (rtol
+    1e-12).  Measured 5.5e-12 and 9e-13; asserted 1e-9.  Before an element left on its boundary by a split was kept
+    out of the next crossing search: 1.1e-4 and 4.8e-5."""
+    flow = Dop853Flow(chain2)
+    mu_ref, _ = elastic_multipliers(chain2, flow.variational(CHAIN2_ORBIT))
+    for dtau in (0.002, 0.0005):
+        mu, _ = elastic_multipliers(chain2, PeriodMap(chain2, 1, dtau=dtau, accurate=True).jacobian(CHAIN2_ORBIT))
+        assert _distance(mu, mu_ref) < 1e-9
 
 
 @pytest.mark.slow
-def test_chain_multipliers_are_dop853s(chain2):
+def test_chain_multipliers_are_dop853s_finite_differences(chain2):
     """The 2-stage chain's orbit (CHAIN2_ORBIT): the accurate map's elastic multipliers (Δτ = 0.002 and 0.0005)
-    against DOP853's monodromy (rtol 1e-12, central differences of relative step 1e-5).  Measured 2.7e-7 at both
-    steps (the reference's own error: 1.9e-8 … 2.7e-7 between steps 1e-4 and 1e-5 on the 1-stage chain); asserted
-    1e-6.  Before the fix of the accurate step 1.1e-4 at Δτ = 0.002 and 4.8e-5 at Δτ = 0.0005."""
+    against DOP853's monodromy by central differences of the flow (rtol 1e-12, relative step 1e-5).  Measured
+    2.7e-7 at both steps (the differences' own error: the variational equation's monodromy is 1e-11 from the map);
+    asserted 1e-6.  Before the fix of the accurate step 1.1e-4 at Δτ = 0.002 and 4.8e-5 at Δτ = 0.0005."""
     flow = Dop853Flow(chain2)
     assert np.abs(flow(CHAIN2_ORBIT) - CHAIN2_ORBIT).max() < 1e-8
     mu_ref, _ = elastic_multipliers(chain2, flow.monodromy(CHAIN2_ORBIT, 1e-5))
