@@ -86,8 +86,9 @@ def test_chain_hb_is_the_simulated_orbit(chain, sparse_solution):
 def test_chain_multipliers_are_the_period_maps(chain):
     """The elastic Floquet multipliers of the monodromy kernel (its sums over the nonzeros) against the period
     map's monodromy (Δτ = 0.002, accurate mode) at the simulated point, at ω = 0.62 where every mesh stays in
-    contact.  Measured 3e-9; asserted 1e-6.  (Where meshes leave contact, as at ω = 0.75 here, the period map's
-    multipliers move by up to 3e-3 with the start state, measured; the monodromy's by 2e-13: docs/hb.md.)"""
+    contact.  Measured 3e-9; asserted 1e-6.  (Where meshes leave contact, as at ω = 0.75 here, both move by at most
+    6e-12 under a 1e-13 relative change of the start and agree to 6e-9: docs/hb.md,
+    tests/test_periodmap_accurate.py.)"""
     model = chain.with_param("omega", 0.62)
     sol = hb_solve(model, 16)
     assert sol.converged and sol.hill.status is Status.OK and sol.u_min > model.meshes[0].D

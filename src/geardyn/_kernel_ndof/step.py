@@ -196,13 +196,16 @@ def _locked(x0, t, s, coef, ratio, omega, sp, el, mode, xo, cfa, wk, wt, gk, gc,
 
 
 @njit(nogil=True)
-def _worst(x, t, coef, ratio, omega, sp, el, gaps, mode, cfa, ev):
-    """Smallest locked-branch distance over the elements at state x, time t, and its element."""
+def _worst(x, t, coef, ratio, omega, sp, el, gaps, mode, cfa, ev, g0):
+    """Smallest locked-branch distance at state x, time t, over the elements off their boundary at the sub-step's
+    start (``g0[e] > 0``: their distance there), and its element."""
     coef_at(coef, ratio, omega * t, cfa[3])
     element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
     best = np.inf
     who = -1
     for e in range(ev.shape[0]):
+        if g0[e] <= 0.0:
+            continue
         gv = _gfun(ev[e, 0], gaps[e], mode[e])
         if gv < best:
             best = gv
@@ -233,11 +236,19 @@ def accurate_step(
     Y,
     Ysave,
     ev,
+    g0,
     lds,
 ):
     """Advance x (and Y) by one step of length h split at every contact-boundary crossing.
 
-    ``jt`` is (the Jacobian's pattern, its values Gq, Gv) of :func:`rk4`; ``lds`` the loads of :func:`_locked`."""
+    ``jt`` is (the Jacobian's pattern, its values Gq, Gv) of :func:`rk4`; ``lds`` the loads of :func:`_locked`;
+    ``g0`` (elements,) workspace: each element's locked-branch distance at the sub-step's start.
+
+    An element found exactly on its boundary at a sub-step's start (the previous split put it there, or it sits
+    there to rounding) is locked to the branch it moves into and takes no part in that sub-step's search: its
+    distance, zero at the start, would otherwise make s = 0 a root of the smallest distance, and the search, its
+    secant degenerate there, could end on a split of rounding length that advances nothing; repeated up to
+    MAX_SPLITS times, the step was then finished unsplit, past the crossing of another element inside it."""
     d = x.shape[0]
     rem = h
     tt = t
@@ -245,6 +256,8 @@ def accurate_step(
         coef_at(coef, ratio, omega * tt, cfa[3])
         element_values(x, x, sp[10].shape[0], cfa[3], sp, el, omega, ev)
         _regions(ev, gaps, mode)
+        for e in range(ev.shape[0]):
+            g0[e] = _gfun(ev[e, 0], gaps[e], mode[e])
         if tangent:
             for i in range(d):
                 for c in range(Y.shape[1]):
@@ -270,7 +283,7 @@ def accurate_step(
             Y,
             lds,
         )
-        gend, _w = _worst(xo, tt + rem, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+        gend, _w = _worst(xo, tt + rem, coef, ratio, omega, sp, el, gaps, mode, cfa, ev, g0)
         hi = rem
         ghi = gend
         if gend >= 0.0:
@@ -298,7 +311,7 @@ def accurate_step(
                     Y,
                     lds,
                 )
-                gsk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+                gsk, _w = _worst(wk[5], tt + sk, coef, ratio, omega, sp, el, gaps, mode, cfa, ev, g0)
                 if gsk < 0.0:
                     hi = sk
                     ghi = gsk
@@ -309,7 +322,7 @@ def accurate_step(
             return
         # bracket [lo, hi] with g(lo) >= 0 > g(hi): Illinois
         lo = 0.0
-        glo, _w = _worst(x, tt, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+        glo, _w = _worst(x, tt, coef, ratio, omega, sp, el, gaps, mode, cfa, ev, g0)
         if glo < 0.0:
             glo = 0.0
         side = 0
@@ -340,7 +353,7 @@ def accurate_step(
                 Y,
                 lds,
             )
-            gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, sp, el, gaps, mode, cfa, ev)
+            gs, _w = _worst(wk[5], tt + s, coef, ratio, omega, sp, el, gaps, mode, cfa, ev, g0)
             if gs == 0.0:
                 lo = s
                 hi = s

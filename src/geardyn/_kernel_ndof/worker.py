@@ -238,6 +238,7 @@ def ndof_worker(
     gk = np.empty(max(E + 2 * NB, 1))  # a slope per element row, then two cross slots per bearing (.core)
     gc = np.empty(max(E + 2 * NB, 1))
     ev = np.empty((E, 2))
+    g0 = np.empty(E)  # the accurate step's distances at a sub-step's start
     cfa = np.empty((4, M + NB, 4))
     mode = np.full(E, LOCK_FREE, dtype=np.int64)
     logs = np.empty(max(ktan, 1))
@@ -376,6 +377,7 @@ def ndof_worker(
                             Y,
                             Ysave,
                             ev,
+                            g0,
                             lds,
                         )
                     else:
