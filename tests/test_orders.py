@@ -210,6 +210,12 @@ def test_config_orders_refused_in_one_line(tmp_path):
     p.write_text("[mesh]\nfp = 0.2\n[model]\ntorque_orders = [{order = 2, amplitude = 0.1, speed = 3}]\n")
     with pytest.raises(GeardynError, match="torque_orders"):
         load_config(p)
+    # the tables are counted from 1, as a series' elements and a system file's orders are
+    p.write_text(
+        "[mesh]\nfp = 0.2\n[model]\ntorque_orders = [{order = 2, amplitude = 0.1}, {order = -1, amplitude = 0.1}]\n"
+    )
+    with pytest.raises(GeardynError, match="torque_orders: element 2: order: must be > 0"):
+        load_config(p)
 
 
 # ---------------------------------------------------------------- the command line

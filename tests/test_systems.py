@@ -236,6 +236,13 @@ BAD = {
         "'mesh'",
     ),
     "TOML syntax": (_MIN.replace('name = "mesh"', 'name = "mesh'), ConfigError, 'name = "mesh', "TOML"),
+    # the reference mesh's backlash is read first (the characteristic length): a KeyError escaped there before
+    "inline table without its value": (
+        _MIN.replace('backlash = "0.1 mm"', 'backlash = { assumed = "typical" }'),
+        ConfigError,
+        "backlash",
+        "inline table must have the keys 'value'",
+    ),
     "phases for fewer harmonics": (
         _MIN.replace('stiffness = "1e8 N/m"', 'stiffness = "1e8 N/m"\nkappa = [0.2, 0.1]\nphi_k = ["0 deg"]'),
         ModelError,

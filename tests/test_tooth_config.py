@@ -114,3 +114,12 @@ def test_wear_deeper_than_the_tooth_is_refused(tmp_path):
     text = NEW + '[[fault]]\nkind = "wear"\ngear = 1\ndepth = "1 m"\n'
     with pytest.raises(ModelError, match="depth"):
         _case(tmp_path, text)
+
+
+@pytest.mark.parametrize("kind", ['["crack"]', "{ crack = 1 }", "3"])
+def test_a_fault_kind_that_is_not_a_name_is_refused_in_one_line(tmp_path, kind):
+    # a list or a table here raised a TypeError (an unhashable kind looked up among the fault kinds)
+    text = NEW + f"[[fault]]\nkind = {kind}\ngear = 1\ndepth = 0.5\n"
+    with pytest.raises(ModelError, match="kind must be one of crack, spall, wear, broken") as e:
+        _case(tmp_path, text)
+    assert "\n" not in str(e.value)

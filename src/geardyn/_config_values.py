@@ -103,15 +103,13 @@ def check_quantity(text: str) -> None:
             raise ValueError(f"unexpected {text[pos:].strip()[:10]!r}")
         tokens.append((m.lastgroup, m.group(m.lastgroup)))
         pos = m.end()
-    i = 0
-    if tokens and tokens[0][0] == "num":
-        i = 1
+    i = 1 if tokens and tokens[0][0] == "num" else 0  # (the leading number)
     depth = 0
     expect_unit = True  # a unit name or "(" must come next (or the end, after the number alone)
     last = None
     while i < len(tokens):
         kind, tok = tokens[i]
-        if kind == "name" or kind == "open":
+        if kind in ("name", "open"):
             if not expect_unit and last not in ("name", "close", "exp", "num"):
                 raise ValueError(f"unexpected {tok!r}")
             if kind == "open":
@@ -168,8 +166,7 @@ def parse_quantity(text: str, unit: str) -> float:
     unit : str
         Target unit understood by pint, e.g. ``"m"``.
     """
-    q = quantity(text)
-    return float(q.to(unit).magnitude)
+    return float(quantity(text).to(unit).magnitude)
 
 
 # ---------------------------------------------------------------------------- error context
@@ -199,7 +196,7 @@ class _Ctx:
         for i, text in enumerate(self.lines, start=1):
             m = _HEADER.match(text)
             if m:
-                if inside and start is not None and section is not None:
+                if inside and section is not None:  # (the end of the section's table)
                     break
                 if m.group(2) == section:
                     count += 1
@@ -218,27 +215,6 @@ class _Ctx:
         """The start of a message about line ``ln`` (None: the file only): ``SOURCE: line N: ``."""
         return f"{self.source}: " + (f"line {ln}: " if ln else "")
 
-    def line_of(self, section: str | None, key: str) -> int | None:
-        """The line of ``key`` in the table ``section`` (its header's for ``key = ""``), or None."""
-        return self.line(section, None, key or None, fallback=False)
-
-    def where(
-        self,
-        section: str | None,
-        key: str | None,
-        *,
-        index: int | None = None,
-        element: str | None = None,
-        fallback: bool = False,
-    ) -> str:
-        """The message prefix of a place: ``SOURCE: line N: [section] key: `` (as much as is known)."""
-        head = self.head(self.line(section, index, key or None, fallback=fallback or index is not None))
-        if section is None:
-            return head + (f"{_shown(key)}: " if key else "")
-        sec = f"[[{_shown(section)}]]" if index is not None else f"[{_shown(section)}]"
-        sec += f" {element!r}" if element else ""
-        return head + sec + (f" {_shown(key)}: " if key else ": ")
-
     def error(
         self,
         section: str | None,
@@ -250,8 +226,14 @@ class _Ctx:
         element: str | None = None,
         fallback: bool = False,
     ) -> GeardynError:
-        """The error ``cls`` (a file problem by default) with the file, line, section and key in its message."""
-        return cls(self.where(section, key, index=index, element=element, fallback=fallback) + problem)
+        """The error ``cls`` (a file problem by default) with the file, line, section and key in its message:
+        ``SOURCE: line N: [section] key: problem`` (as much of the place as is known)."""
+        head = self.head(self.line(section, index, key or None, fallback=fallback or index is not None))
+        if section is None:
+            return cls(head + (f"{_shown(key)}: " if key else "") + problem)
+        sec = f"[[{_shown(section)}]]" if index is not None else f"[{_shown(section)}]"
+        sec += f" {element!r}" if element else ""
+        return cls(head + sec + (f" {_shown(key)}: " if key else ": ") + problem)
 
 
 #: Largest integer a configuration value may hold (tooth counts and the like are far below it).
@@ -304,15 +286,15 @@ def _parse_scalar(
             raise bad(f"expected a string, got {raw!r}")
         return raw
     if kind.label.startswith("one of"):
-        if not isinstance(raw, str) or kind.label.find(repr(raw)) < 0:
+        if not isinstance(raw, str) or repr(raw) not in kind.label:
             raise bad(f"expected {kind.label}, got {raw!r}")
         return raw
-    if isinstance(raw, bool) or isinstance(raw, (dict, list)):
+    if isinstance(raw, (bool, dict, list)):
         raise bad(f"expected a {kind.label} (e.g. {kind.example}), got {raw!r}")
     if kind is _INT:
         if isinstance(raw, float) and raw.is_integer():
             raw = int(raw)
-        if not isinstance(raw, int) or isinstance(raw, bool):
+        if not isinstance(raw, int):  # (a bool is refused above)
             raise bad(f"expected an integer, got {_clip(raw)}")
         if abs(raw) > MAX_INTEGER:
             raise bad(f"must be at most {MAX_INTEGER} in size, got {_clip(raw)}")
@@ -394,10 +376,31 @@ def _parse_value(ctx: _Ctx, section: str, key: str, spec: _Key, raw: Any, **wher
     if spec.series:
         if not isinstance(raw, list):
             raw = [raw]
-        if not raw:
-            return (), assumed
         return tuple(_parse_scalar(ctx, section, key, spec.kind, r, i + 1, **where) for i, r in enumerate(raw)), assumed
     return _parse_scalar(ctx, section, key, spec.kind, raw, **where), assumed
+
+
+def _order_tables(
+    ctx: _Ctx, section: str, key: str, entries: list, amplitude: _Kind, phase: _Kind, **where: Any
+) -> list[tuple[Any, float, float]]:
+    """The torque orders written as tables ``{ order = 2, amplitude = "40 N*m", phase = "0 deg" }`` at ``key``
+    (:mod:`geardyn.torque_orders`): (order as a Fraction, amplitude and phase of the kinds ``amplitude`` and
+    ``phase``, the phase 0 when not given); messages count the tables from 1, as a series' elements; ``where``
+    (``index``, ``element``) places them."""
+    from .torque_orders import order_fraction
+
+    out = []
+    for i, entry in enumerate(entries, start=1):
+        if not {"order", "amplitude"} <= set(entry) <= {"order", "amplitude", "phase"}:
+            raise ctx.error(section, key, f"element {i}: keys order, amplitude and optionally phase", **where)
+        try:
+            q = order_fraction(entry["order"], f"element {i}: order")
+        except ModelError as e:
+            raise ctx.error(section, key, str(e), ModelError, **where) from None
+        a = _parse_scalar(ctx, section, key, amplitude, entry["amplitude"], i, **where)
+        ph = _parse_scalar(ctx, section, key, phase, entry["phase"], i, **where) if "phase" in entry else 0.0
+        out.append((q, a, ph))
+    return out
 
 
 def regular_file_size(source: str, what: str) -> int:
@@ -475,10 +478,8 @@ def parse_toml(text: str, source: str) -> dict[str, Any]:
     ConfigError
         ``SOURCE: line N: TOML syntax error: … (column C)`` for a syntax error.
     """
-    if text.startswith("\ufeff"):
-        text = text[1:]
     try:
-        data = tomllib.loads(text)
+        data = tomllib.loads(text.removeprefix("\ufeff"))
     except RecursionError:
         raise ConfigError(
             f"{source}: TOML syntax error: arrays or tables nested more than {MAX_TOML_NESTING} deep"

@@ -174,17 +174,14 @@ def time_workload(
     if repeats < 1:
         raise ModelError(f"repeats: must be >= 1, got {repeats}")
     models = w.models()
-    if warmup:
-        w.run(models)
-        if ran is not None:
-            ran()
     times = []
-    for _ in range(repeats):
+    for _ in range(int(warmup) + repeats):  # the warm-up's time is dropped below
         t0 = time.perf_counter()
         w.run(models)
         times.append(time.perf_counter() - t0)
         if ran is not None:
             ran()
+    times = times[int(warmup) :]
     wall = min(times)
     steps = w.steps
     return {

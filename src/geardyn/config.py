@@ -73,7 +73,7 @@ from ._config_values import (
     _choice,
     _Ctx,
     _Key,
-    _parse_scalar,
+    _order_tables,
     _parse_value,
     parse_quantity,
     parse_toml,
@@ -211,7 +211,7 @@ def _wrap(ctx: _Ctx, section: str, err: ModelError) -> ModelError:
     msg = str(err)
     key = _key_of_message(msg)
     key = re.sub(r"\d+$", "", key) if key not in _SCHEMA.get(section, {}) else key
-    return ModelError(ctx.head(ctx.line_of(section, key)) + f"[{section}] {msg}")
+    return ModelError(ctx.head(ctx.line(section, None, key or None, fallback=False)) + f"[{section}] {msg}")
 
 
 # ---------------------------------------------------------------------------- loaded config
@@ -295,35 +295,29 @@ class LoadedConfig:
         torque : float, optional
             Pinion torque T1 (N·m), balanced; sets f_p.
         """
-        changes: dict[str, Any] = {}
-        out: dict[str, Any] = {}
         if self.pair is None and (rpm is not None or torque is not None):
             raise ConfigError(
                 f"{self.source}: no [gear_pair], so a pinion speed or torque has no meaning; give ω and f_p instead"
             )
-        sc = self.scales
+        changes: dict[str, Any] = {}
+        out: dict[str, Any] = {}
+        notes = list(self.notes)  # the notes on how the configuration's own speed or torque came about go
         if rpm is not None:
             self.pair.mesh_frequency(rpm)  # validates rpm > 0
-            changes["omega"] = float(sc.omega_from_rpm(rpm))
+            changes["omega"] = float(self.scales.omega_from_rpm(rpm))
             out["rpm"] = float(rpm)
-        if torque is not None:
-            changes["fp"] = self.pair.fp_from_torques(torque, None, self.b_c)
-            out["torque"] = float(torque)
-            out["torque2"] = None
-        # a speed or torque given here is no longer the configuration's assumed operating point
-        assumptions = tuple(a for a in self.assumptions if a.name not in out)
-        # notes on how the configuration's own speed or torque came about no longer hold
-        stale = (("pinion speed", "no [operating] rpm") if rpm is not None else ()) + (
-            ("pinion torque T1", "no [operating] torque", "[mesh] fp =") if torque is not None else ()
-        )
-        notes = [n for n in self.notes if not n.startswith(stale)]  # (no prefix: every note kept)
-        if rpm is not None:
+            notes = [n for n in notes if not n.startswith(("pinion speed", "no [operating] rpm"))]
             notes.append(f"pinion speed {float(rpm):.6g} rpm given for this run sets ω = {changes['omega']:.6g}")
         if torque is not None:
+            changes["fp"] = self.pair.fp_from_torques(torque, None, self.b_c)
+            out.update(torque=float(torque), torque2=None)
+            notes = [n for n in notes if not n.startswith(("pinion torque T1", "no [operating] torque", "[mesh] fp ="))]
             notes.append(
                 f"pinion torque T1 = {float(torque):.6g} N·m given for this run sets f_p = {changes['fp']:.6g}"
                 " (balanced torques)"
             )
+        # a speed or torque given here is no longer the configuration's assumed operating point
+        assumptions = tuple(a for a in self.assumptions if a.name not in out)
         return replace(self, model=self.model.replace(**changes), assumptions=assumptions, notes=tuple(notes), **out)
 
     def geometry_summary(self) -> dict[str, Any]:
@@ -436,13 +430,13 @@ def _load_text(text: str, source: str) -> LoadedConfig:
         allowed = ", ".join([f"[{s}]" for s in _SCHEMA] + list(_TOP_LEVEL_TEXT))
         if isinstance(val, dict):
             raise ConfigError(
-                ctx.head(ctx.line_of(key, ""))
+                ctx.head(ctx.line(key, fallback=False))
                 + f"unknown section or key {key!r} (a section [{key}]); allowed: {allowed}"
             )
         raise ConfigError(f"{source}: unknown section or key {key!r}; allowed: {allowed}")
     exc = _read_section(ctx, data, "excitation")[0]  # {} without [excitation]
     data, orders = _pop_orders(data)
-    cfg = _load_sections(ctx, {k: v for k, v in data.items() if k != "excitation"})
+    cfg = _load_sections(ctx, data)
     cfg = _with_excitation(ctx, cfg, exc) if exc else cfg
     return _with_orders(ctx, cfg, orders) if orders is not None else cfg
 
@@ -458,33 +452,24 @@ def _pop_orders(data: dict[str, Any]) -> tuple[dict[str, Any], Any]:
 def _with_orders(ctx: _Ctx, cfg: LoadedConfig, raw: Any) -> LoadedConfig:
     """``cfg`` with ``[model] torque_orders`` (:mod:`geardyn.torque_orders`): with a gear pair, orders of the
     pinion's speed and amplitudes of a pinion torque (N·m); without one, mesh orders and non-dimensional amplitudes."""
-    from .torque_orders import order_fraction
-
     if not isinstance(raw, list) or not all(isinstance(e, dict) for e in raw):
         raise ctx.error("model", "torque_orders", "expected a list of tables {order, amplitude, phase}")
     physical = cfg.pair is not None
-    out = []
-    for i, entry in enumerate(raw):
-        unknown = set(entry) - {"order", "amplitude", "phase"}
-        if unknown or "order" not in entry or "amplitude" not in entry:
-            raise ctx.error("model", "torque_orders", f"element {i}: keys order, amplitude and optionally phase")
-        try:
-            q = order_fraction(entry["order"], f"element {i}: order")
-        except ModelError as e:
-            raise ctx.error("model", "torque_orders", str(e), ModelError) from None
-        kind = _TORQUE if physical else _NUMBER
-        a = _parse_scalar(ctx, "model", "torque_orders", kind, entry["amplitude"], i)
-        ph = _parse_scalar(ctx, "model", "torque_orders", _PHASE, entry.get("phase", 0.0), i)
-        if physical:
-            q = q / cfg.pair.z1
-            a = cfg.pair.fp_from_torques(a, 0.0, cfg.b_c)
-        out.append((q, a, ph))
+    out = _order_tables(ctx, "model", "torque_orders", raw, _TORQUE if physical else _NUMBER, _PHASE)
+    if physical:
+        out = pinion_orders(cfg, out)
     try:
         model = cfg.model.replace(torque_orders=cfg.model.torque_orders + tuple(out))
     except ModelError as e:
         raise ctx.error("model", "torque_orders", str(e), ModelError) from None
     what = "orders of the pinion speed, pinion torque amplitudes" if physical else "mesh orders"
     return replace(cfg, model=model, notes=cfg.notes + (f"[model] torque_orders: {len(out)} {what}",))
+
+
+def pinion_orders(cfg: LoadedConfig, orders: list[tuple[Any, float, float]]) -> list[tuple[Any, float, float]]:
+    """Torque orders of the pinion's speed with amplitudes of a pinion torque (N·m) as the model's: orders of the
+    mesh frequency (k/z1) and non-dimensional amplitudes (the torque on the pinion alone, T2 = 0)."""
+    return [(q / cfg.pair.z1, cfg.pair.fp_from_torques(a, 0.0, cfg.b_c), p) for q, a, p in orders]
 
 
 def _with_excitation(ctx: _Ctx, cfg: LoadedConfig, exc: dict[str, Any]) -> LoadedConfig:
@@ -533,7 +518,9 @@ def _load_sections(ctx: _Ctx, data: dict[str, Any]) -> LoadedConfig:
 
     missing = [k for k in _REQUIRED_PAIR if k not in gp]
     if missing:
-        raise ConfigError(ctx.head(ctx.line_of("gear_pair", "")) + f"[gear_pair] missing key(s) {', '.join(missing)}")
+        raise ConfigError(
+            ctx.head(ctx.line("gear_pair", fallback=False)) + f"[gear_pair] missing key(s) {', '.join(missing)}"
+        )
 
     # ---- the ISO 10300-1 inputs and the way to k0
     k0_method = gp.pop("k0_method", None)

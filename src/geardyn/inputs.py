@@ -210,9 +210,7 @@ class PairInputs:
         -------
         PhysicalScales
         """
-        if self.loaded is None:
-            return self.tooth.scales
-        return self.loaded.scales
+        return self.tooth.scales if self.loaded is None else self.loaded.scales
 
     @cached_property
     def _table(self) -> Any:
@@ -323,9 +321,10 @@ class PairInputs:
 
             given = [parse_cli(t) for t in torque_orders]
             cfg = self.loaded
-            pair = cfg.pair if cfg is not None else None
-            if pair is not None:
-                given = [(q / pair.z1, pair.fp_from_torques(a, 0.0, cfg.b_c), p) for q, a, p in given]
+            if cfg is not None and cfg.pair is not None:
+                from .config import pinion_orders
+
+                given = pinion_orders(cfg, given)
             m = m.replace(torque_orders=m.torque_orders + tuple(given))
         return m
 

@@ -182,8 +182,7 @@ def _help_entry(f: Family) -> str:
     text = f.long_name.replace("{k}", k)
     if f.amplitude is not None:
         return text + " (rad)"
-    extra = {"xi": f" ({k} = 1, 2, …)", "kappa": f" ({k} = 1, 2, …)", "eps": " (alias fe = eps1)"}[f.name]
-    return text + extra
+    return text + (" (alias fe = eps1)" if f.name == "eps" else f" ({k} = 1, 2, …)")  # xi, kappa: the index
 
 
 #: The order in which parameters are listed to people (help texts, CLI options).

@@ -16,9 +16,10 @@ A pinion torque fluctuation ΔT of a physical pair enters as the force of a torq
 mesh point times the equivalent mass (:meth:`geardyn.geometry.SpiralBevelGearPair.fp_from_torques` with
 T2 = 0), made non-dimensional like f_p.
 
-This module holds the parsing of the three ways an order is written (the model's tuples, a configuration's
-``{order, amplitude, phase}`` tables, the command line's ``ORDER:AMPLITUDE[:PHASE]``) and the arithmetic of
-the period.
+This module holds the grammar of an order (:func:`order_fraction`), the parsing of the model's tuples and of the
+command line's ``ORDER:AMPLITUDE[:PHASE]``, and the arithmetic of the period; the ``{order, amplitude, phase}``
+tables of a configuration or a system file are read, with their units, by the one reader of file values
+(:mod:`geardyn._config_values`).
 """
 
 from __future__ import annotations
@@ -68,9 +69,9 @@ def order_fraction(value: Any, name: str = "torque_orders.order") -> Fraction:
     ModelError
         For anything else, zero, a negative or non-finite order.
     """
-    if isinstance(value, bool):
-        raise ModelError(f"{name}: expected a positive number or a fraction 'a/b', got {value!r}")
     try:
+        if isinstance(value, bool):
+            raise TypeError  # (true and false are no orders)
         if isinstance(value, Fraction):
             q = value
         elif isinstance(value, int):
@@ -93,9 +94,9 @@ def order_fraction(value: Any, name: str = "torque_orders.order") -> Fraction:
 
 
 def _finite(name: str, value: Any) -> float:
-    if isinstance(value, bool):
-        raise ModelError(f"{name}: expected a finite number, got {value!r}")
     try:
+        if isinstance(value, bool):
+            raise TypeError  # (true and false are no numbers here)
         x = float(value)
     except (TypeError, ValueError, OverflowError):
         raise ModelError(f"{name}: expected a finite number, got {value!r}") from None
@@ -133,8 +134,7 @@ def normalise(orders: Any) -> tuple[TorqueOrder, ...]:
     for i, entry in enumerate(orders):
         who = f"torque_orders[{i}]"
         if isinstance(entry, dict):
-            unknown = set(entry) - {"order", "amplitude", "phase"}
-            if unknown or "order" not in entry or "amplitude" not in entry:
+            if not {"order", "amplitude"} <= set(entry) <= {"order", "amplitude", "phase"}:
                 raise ModelError(f"{who}: keys order, amplitude and optionally phase, got {sorted(entry)}")
             q, a, p = entry["order"], entry["amplitude"], entry.get("phase", 0.0)
         else:
@@ -174,7 +174,7 @@ def period_multiple(orders: tuple[TorqueOrder, ...], cycles: int = 1) -> int:
     """
     M = int(cycles)
     for q, _, _ in orders:
-        M = M * q.denominator // math.gcd(M, q.denominator)
+        M = math.lcm(M, q.denominator)
         if M > MAX_ORDER_PERIOD:
             raise ModelError(
                 f"torque_orders: order {q} of the mesh frequency makes the forcing period {M} mesh cycles, "

@@ -391,7 +391,7 @@ def figure_formats(value: Any) -> tuple[str, ...]:
     items = value.split(",") if isinstance(value, str) else list(value)
     names = tuple(dict.fromkeys(str(v).strip().lower().lstrip(".") for v in items))
     bad = [n for n in names if n not in FIGURE_FORMATS]
-    if not names or bad or "" in names:
+    if not names or bad:  # (an empty name is one of the bad)
         raise ModelError(f"format: expected {', '.join(FIGURE_FORMATS)} (comma-separated), got {value!r}")
     return names
 
@@ -473,9 +473,7 @@ def scheduler(address: Any) -> str | None:
     """
     if address is None:
         return None
-    if not isinstance(address, str) or not address.strip():
-        raise ModelError(f"scheduler: expected an address like tcp://HOST:PORT, got {_describe(address)}")
-    a = address.strip()
+    a = address.strip() if isinstance(address, str) else ""  # (an empty address matches nothing)
     m = _SCHEDULER.match(a)
     if m is None or (m.group(3) is not None and not 0 < int(m.group(3)) < 65536):
         raise ModelError(f"scheduler: expected an address like tcp://HOST:PORT, got {_describe(address)}")

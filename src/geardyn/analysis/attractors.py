@@ -195,7 +195,7 @@ def identify_attractors(
     P = rows["period"].shape[0]
     raw = np.full(P, -1, dtype=np.int64)
     atts: list[Attractor] = []
-    info: list[dict[str, Any]] = []
+    counts: list[int] = []
     amps = rows["amplitude"][np.isfinite(rows["amplitude"])]
     amp_scale = max(float(np.max(amps)) if amps.size else 0.0, 1e-12)
     sig_tol = nonperiodic_tol * amp_scale
@@ -210,24 +210,26 @@ def identify_attractors(
             if new.periodic:
                 pts = pts[np.lexsort((pts[:, 1], pts[:, 0]))]
             atts.append(Attractor(new.period, new.motion, pts.copy(), sig))
-            info.append(
-                {
-                    "period": new.period,
-                    "motion": new.motion,
-                    "points": atts[-1].points,
-                    "amplitude": float(rows["amplitude"][i]),
-                    "mean": float(rows["mean"][i]),
-                    "count": 0,
-                }
-            )
+            counts.append(0)
             found = len(atts) - 1
         raw[i] = found
-        info[found]["count"] += 1
+        counts[found] += 1
     # number by basin size (ties: periodic first, then by period and first cycle point)
     key = sorted(
         range(len(atts)),
-        key=lambda a: (-info[a]["count"], atts[a].period == 0, atts[a].period, float(atts[a].points[0, 0])),
+        key=lambda a: (-counts[a], atts[a].period == 0, atts[a].period, float(atts[a].points[0, 0])),
     )
     renumber = {old: k for k, old in enumerate(key)}
     labels = np.array([renumber[r] if r >= 0 else -1 for r in raw], dtype=np.int64)
+    info = [
+        {
+            "period": a.period,
+            "motion": a.motion,
+            "points": a.points,
+            "amplitude": float(a.signature[0]),
+            "mean": float(a.signature[1]),
+            "count": n,
+        }
+        for a, n in zip(atts, counts)
+    ]
     return labels, [info[old] for old in key]

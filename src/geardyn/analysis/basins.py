@@ -54,13 +54,12 @@ def basin_chunk(model, states, options, settle_periods):
     """Chunk function: one model, many initial states (one row per state; the points are reported to the
     sweep's progress bar by :func:`~geardyn.analysis.bifurcation.fixed_chunk`)."""
     r = fixed_chunk([model] * len(states), np.asarray(states, dtype=float), options, False, settle_periods)
-    keep = min(r["poincare"].shape[1], max(MAX_PERIOD, CLOUD_POINTS))
     return {
         k: r[k]
         for k in ("period", "motion", "impact", "status", "amplitude", "mean", "u_min", "u_max", "lle")
         + tuple(ELEMENT_VARIABLES)
         if k in r
-    } | {"poincare": r["poincare"][:, -keep:, :]}
+    } | {"poincare": r["poincare"][:, -max(MAX_PERIOD, CLOUD_POINTS) :, :]}  # the latest points
 
 
 def coordinate_index(model: Any, name: str) -> int:

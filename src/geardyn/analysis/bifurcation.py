@@ -27,14 +27,14 @@ import xarray as xr
 from .._docfill import parameters, result_of
 from ..grid import Grid, build_models, linspace_values, param_name, point_models
 from ..integrate import ST_OK, integrate_batch
-from ..io import annotate, json_values, result_attrs
+from ..io import json_values
 from ..model import GearModel, IntegrationOptions, ModelError
 from ..params import FAMILIES, slot
 from ..sweep import Chunk, chunk_slices, run_chunks
 from ..sweep.progress import counts_points, tick
-from ..system import as_batch, element_names, state_names
+from ..system import as_batch, state_names
 from .classify import SETTLE_PERIODS
-from .points import concat_rows, initial_state, run_slices, sweep_function
+from .points import concat_rows, grid_variables, initial_state, result_dataset, run_slices, sweep_function
 from .steady import classify_batch
 
 __all__ = [
@@ -42,11 +42,9 @@ __all__ = [
     "SWEEPS",
     "bifurcation",
     "sweep_values",
-    "sweep_summary",
     "fixed_chunk",
     "continuation_chunk",
     "grid_chunk",
-    "points_dataset",
     "bifurcation_json",
     "class_intervals",
 ]
@@ -341,68 +339,36 @@ def bifurcation(
         ]
         results = run_chunks(chunks, engine, description=label)
         per_sweep = [r if lab == "up" else {k: v[::-1] for k, v in r.items()} for lab, r in zip(labels, results)]
-    ds = points_dataset(name, vals, labels, per_sweep, model)
-    ds.attrs.update(
-        result_attrs(
-            "bifurcation",
-            model,
-            options,
-            param=name,
-            mode=mode,
-            sweep=sweep,
-            state0=list(s0t),
-            lyapunov=bool(lyapunov),
-            settle_periods=int(settle_periods),
-        )
+    dims, shape = ("sweep", name), (len(labels), vals.size)
+    rows = concat_rows(per_sweep)  # the sweeps one after the other: reshaped to (sweep, point)
+    fractions = sorted(k for k in rows if k.startswith(FRACTION) and k not in _SCALARS)
+    data, _ = grid_variables(rows, [*_SCALARS, *fractions], dims, shape, model)
+    pc = rows["poincare"].reshape(shape + rows["poincare"].shape[1:])
+    data.update(poincare_u=(dims + ("section",), pc[..., 0]), poincare_v=(dims + ("section",), pc[..., 1]))
+    for k in ("start", "end"):  # the full states, (u, u') for the pair
+        data[f"{k}_state"] = (dims + ("state",), rows[k].reshape(shape + (-1,)))
+    elements, element_coord = grid_variables(rows, list(ELEMENT_VARIABLES), dims, shape, model)
+    data.update(elements)
+    coords = {
+        "sweep": list(labels),
+        name: np.asarray(vals, float),
+        "section": np.arange(pc.shape[2]),
+        "state": state_names(model, rows["start"].shape[-1]),
+        **element_coord,
+    }
+    return result_dataset(
+        data,
+        coords,
+        "bifurcation",
+        model,
+        options,
+        param=name,
+        mode=mode,
+        sweep=sweep,
+        state0=list(s0t),
+        lyapunov=bool(lyapunov),
+        settle_periods=int(settle_periods),
     )
-    return ds
-
-
-def points_dataset(
-    name: str, values: np.ndarray, labels: Sequence[str], per_sweep: Sequence[dict[str, np.ndarray]], model: Any = None
-) -> xr.Dataset:
-    """Assemble per-sweep row dicts (ascending ``values``) into the bifurcation Dataset.
-
-    Parameters
-    ----------
-    name : str
-        The swept parameter (the name of the dimension).
-    values : ndarray
-        Its values, ascending.
-    labels : sequence of str
-        The sweep labels (``fixed``, or ``up``/``down``).
-    per_sweep : sequence of dict of ndarray
-        The rows of each sweep (chunk results joined), in the order of ``values``.
-    model : System, optional
-        The base model: names the ``element`` and ``state`` coordinates.
-
-    Returns
-    -------
-    xarray.Dataset
-        Annotated from the variable registry; without global attributes.
-    """
-    dims = ("sweep", name)
-
-    def stack(k: str) -> np.ndarray:
-        return np.stack([r[k] for r in per_sweep])
-
-    data: dict[str, Any] = {}
-    for k in list(_SCALARS) + sorted(k for k in per_sweep[0] if k.startswith(FRACTION) and k not in _SCALARS):
-        if k in per_sweep[0]:
-            data[k] = (dims, stack(k))
-    pc = stack("poincare")
-    data["poincare_u"] = (dims + ("section",), pc[..., 0])
-    data["poincare_v"] = (dims + ("section",), pc[..., 1])
-    coords: dict[str, Any] = {"sweep": list(labels), name: np.asarray(values, float), "section": np.arange(pc.shape[2])}
-    st, en = stack("start"), stack("end")  # the full states, (u, u') for the pair
-    data.update(start_state=(dims + ("state",), st), end_state=(dims + ("state",), en))
-    coords["state"] = state_names(model, st.shape[-1])
-    for k in ELEMENT_VARIABLES:
-        if k in per_sweep[0]:
-            data[k] = (dims + ("element",), stack(k))
-            coords["element"] = element_names(model, data[k][1].shape[-1])
-    ds = xr.Dataset(data, coords=coords)
-    return annotate(ds)
 
 
 def point_labels(ds: xr.Dataset, sweep: str) -> dict[str, list[Any]]:
@@ -471,44 +437,21 @@ def bifurcation_json(ds: xr.Dataset) -> dict[str, Any]:
         ``param``, ``values``, ``mode``, ``sweep``, the per-point entries and ``intervals``
         (:func:`class_intervals`).
     """
-    out, per_sweep = sweep_summary(ds, lambda x: [float(v) for v in x])
-    per = {str(lab): point_labels(ds, str(lab)) for lab in ds["sweep"].values}
+    param = str(ds.attrs["param"])
+    labels = [str(x) for x in ds["sweep"].values]
+    one = len(labels) == 1
+    per = {lab: point_labels(ds, lab) for lab in labels}
+
+    def per_sweep(f: Callable[[str], Any]) -> Any:  # one sweep's entry, or a dict of them
+        return f(labels[0]) if one else {lab: f(lab) for lab in labels}
+
+    out = {
+        "param": param,
+        "values": [float(v) for v in ds[param].values],
+        "mode": ds.attrs.get("mode"),
+        "sweep": labels[0] if one else labels,
+    }
     for key in ("period", "motion", "impact", "lle", "amplitude", "status"):
         out[key] = per_sweep(lambda lab: per[lab][key])
     out["intervals"] = per_sweep(lambda lab: class_intervals(ds, lab))
     return out
-
-
-def sweep_summary(
-    ds: xr.Dataset, values: Callable[[np.ndarray], list[Any]]
-) -> tuple[dict[str, Any], Callable[[Callable[[str], Any]], Any]]:
-    """The head of a one-parameter sweep's JSON summary and the way its per-point entries go in.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A sweep over ``ds.attrs["param"]`` with a ``sweep`` axis (a bifurcation or system sweep).
-    values : callable
-        Turns the grid values into their JSON list.
-
-    Returns
-    -------
-    head : dict
-        ``param``, ``values``, ``mode`` and ``sweep`` (the one label, or the list of labels).
-    per_sweep : callable
-        ``per_sweep(f)`` is ``f(label)`` with one sweep, else the dict ``{label: f(label)}``.
-    """
-    param = str(ds.attrs["param"])
-    labels = [str(x) for x in ds["sweep"].values]
-    one = len(labels) == 1
-    head = {
-        "param": param,
-        "values": values(ds[param].values),
-        "mode": ds.attrs.get("mode"),
-        "sweep": labels[0] if one else labels,
-    }
-
-    def per_sweep(f: Callable[[str], Any]) -> Any:
-        return f(labels[0]) if one else {lab: f(lab) for lab in labels}
-
-    return head, per_sweep

@@ -28,7 +28,8 @@ This module only classifies what has been integrated; it never integrates.  A no
 point is integrated for :data:`SETTLE_PERIODS` further periods with the tangent equations
 before it is classified (:func:`geardyn.analysis.steady.classify_batch`): slowly settling orbits
 near a bifurcation then show their period, and λ1 gets a small uncertainty; while the sequence is
-still contracting onto a cycle (:func:`is_settling`), up to :data:`SETTLE_ROUNDS` such passes run.
+still contracting onto a cycle (:func:`settling_ratio` <= :data:`SETTLING_RATIO`), up to :data:`SETTLE_ROUNDS`
+such passes run.
 """
 
 from __future__ import annotations
@@ -70,6 +71,11 @@ PERIOD_WINDOW = 0.5
 CONVERGING_RATIO = 0.8
 
 
+def _lag_distances(points: np.ndarray, n: int) -> np.ndarray:
+    """max over the coordinates of |P_{i+n} − P_i| for every i of a sequence (or a batch of them, (..., m, d))."""
+    return np.max(np.abs(points[..., n:, :] - points[..., :-n, :]), axis=-1)
+
+
 def converging_to_divisor(points: np.ndarray, n: int, window: int) -> bool:
     """True when the last ``window`` points of a sequence found periodic with period ``n`` are still
     converging onto a cycle of a proper divisor of ``n`` (:data:`CONVERGING_RATIO`).
@@ -92,7 +98,7 @@ def converging_to_divisor(points: np.ndarray, n: int, window: int) -> bool:
         half = w // 2
         if half < max(2, m):
             continue
-        d = np.max(np.abs(pts[m_pts - w :] - pts[m_pts - w - m : m_pts - m]).reshape(w, -1), axis=1)
+        d = _lag_distances(pts[m_pts - w - m :], m)
         early, late = float(np.median(d[:half])), float(np.median(d[-half:]))
         if early > 0.0 and late <= CONVERGING_RATIO * early:
             return True
@@ -153,8 +159,7 @@ def detect_periods(points: np.ndarray, max_period: int = MAX_PERIOD, tol: float 
         w = min(window, m - n)
         if w < max(2, n) or todo.size == 0:  # need every point of the cycle compared at least once
             break
-        sub = pts[todo]
-        d = np.max(np.abs(sub[:, m - w :] - sub[:, m - w - n : m - n]).reshape(todo.size, -1), axis=1)
+        d = np.max(_lag_distances(pts[todo, m - w - n :], n), axis=1)
         hit = d <= tol * scale[todo]
         found = todo[hit]
         if n > 1 and found.size:  # still converging onto a cycle of a divisor of n: not yet periodic
@@ -201,7 +206,7 @@ SETTLE_PERIODS = 1000
 #: (single-linkage), see :func:`count_loops`.
 LOOP_GAP = 0.05
 #: At most this many settling passes of SETTLE_PERIODS each; another pass runs only while the
-#: Poincaré sequence is still contracting onto a cycle (see :func:`is_settling`).
+#: Poincaré sequence is still contracting onto a cycle (see :data:`SETTLING_RATIO`).
 SETTLE_ROUNDS = 4
 #: The sequence is still settling when its distance to the best cycle shrank by this factor or
 #: more between the first and the last quarter of a pass.
@@ -441,7 +446,7 @@ def settling_ratios(points: np.ndarray, max_period: int = MAX_PERIOD) -> np.ndar
     best_late = np.full(B, np.inf)
     best_early = np.full(B, np.nan)
     for n in range(1, min(max_period, m - 2 * q) + 1):
-        d = np.max(np.abs(pts[:, n:] - pts[:, :-n]), axis=2)
+        d = _lag_distances(pts, n)
         late = np.median(d[:, -q:], axis=1)
         better = late < best_late
         best_late = np.where(better, late, best_late)
@@ -449,12 +454,6 @@ def settling_ratios(points: np.ndarray, max_period: int = MAX_PERIOD) -> np.ndar
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = best_late / best_early
     return np.where(good & (best_early > 0.0), ratio, np.nan)
-
-
-def is_settling(points: np.ndarray, max_period: int = MAX_PERIOD, ratio: float = SETTLING_RATIO) -> bool:
-    """True while a Poincaré sequence still contracts onto a cycle (:func:`settling_ratio` <= ``ratio``)."""
-    r = settling_ratio(points, max_period)
-    return bool(np.isfinite(r) and r <= ratio)
 
 
 def classify_points(

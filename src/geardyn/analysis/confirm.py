@@ -203,27 +203,20 @@ def confirm_sweep(ds: xr.Dataset, model: Any, param: str, *, long_periods: int =
     motion = ds["motion"].values.astype(int)
     period = ds["period"].values.astype(int)
     lle, err = (ds[k].values.astype(float) if k in ds else np.full(motion.shape, np.nan) for k in ("lle", "lle_err"))
-    new = {k: v.copy() for k, v in (("motion", motion), ("period", period), ("lle", lle), ("lle_err", err))}
+    sweep = {"motion": motion, "period": period, "lle": lle, "lle_err": err}  # the sweep's label of each point
+    new = {k: v.copy() for k, v in sweep.items()}
     code = np.zeros(motion.shape, dtype=np.int64)
     pu, pv = ds["poincare_u"].values, ds["poincare_v"].values
     end = ds["end_state"].values
-    for s in range(motion.shape[0]):
-        for i in range(x.size):
-            if not needs_confirmation(motion[s, i], period[s, i], lle[s, i]):
-                continue
-            r = confirm_point(
-                model.with_param(param, float(x[i])),
-                end[s, i],
-                np.column_stack([pu[s, i], pv[s, i]]),
-                motion[s, i],
-                period[s, i],
-                lle[s, i],
-                err[s, i],
-                long_periods=long_periods,
-            )
-            for k in new:
-                new[k][s, i] = r[k]
-            code[s, i] = r["confirmed"]
+    for s, i in np.ndindex(motion.shape):
+        if not needs_confirmation(motion[s, i], period[s, i], lle[s, i]):
+            continue
+        point = model.with_param(param, float(x[i]))
+        section = np.column_stack([pu[s, i], pv[s, i]])
+        r = confirm_point(point, end[s, i], section, *(v[s, i] for v in sweep.values()), long_periods=long_periods)
+        for k in new:
+            new[k][s, i] = r[k]
+        code[s, i] = r["confirmed"]
     dims = ds["motion"].dims
     out["motion_sweep"] = (dims, motion)
     out["period_sweep"] = (dims, period)

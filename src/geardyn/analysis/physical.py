@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from .._lazy import lazy_module
-from ..io import PHYSICAL_SUFFIX, VARIABLES, Variable, model_from_attrs, physical_long_name
+from ..io import PHYSICAL_SUFFIX, VARIABLES, Variable, json_attr, model_from_attrs, physical_long_name
 from ..model import GearModel
 from ..series import series_values
 from ..units import SCALES_ATTR, PhysicalScales, scales_of
@@ -239,7 +239,6 @@ def steady_physical(res: Any, scales: Any = None) -> dict[str, Any]:
     dict
         The keys of :func:`simulate_physical`.
     """
-    from ..io import json_attr
     from .steady import _jsonable, amplitude_spectrum
 
     t = res.traj
@@ -467,17 +466,18 @@ def _walk(d: dict[str, Any], sc: PhysicalScales, param: str | None) -> dict[str,
             out[f"{k}_um"] = _convert(v, sc.um_from_u)
         elif k in JSON_RATE_KEYS and f"{k}_per_s" not in d:
             out[f"{k}_per_s"] = _convert(v, sc.per_s_from_per_tau)
-    for axis in ("x", "y"):  # 2-D maps: an ω axis gains its speeds
-        if d.get(axis) == "omega" and isinstance(d.get(f"{axis}_values"), list) and f"{axis}_values_rpm" not in d:
-            out[f"{axis}_values_rpm"] = _convert(d[f"{axis}_values"], sc.rpm_from_omega)
+    # the values of ω that gain their speeds: a 2-D map's ω axis, a sweep's over ω (key, its copy, its type)
+    speeds = [(f"{axis}_values", f"{axis}_values_rpm", list) for axis in ("x", "y") if d.get(axis) == "omega"]
     if param == "omega":
-        if isinstance(d.get("values"), list) and "values_rpm" not in d:
-            out["values_rpm"] = _convert(d["values"], sc.rpm_from_omega)
-        for k in ("start", "stop"):
-            if isinstance(d.get(k), (int, float)) and f"rpm_{k}" not in d:
-                out[f"rpm_{k}"] = _convert(d[k], sc.rpm_from_omega)
-        if isinstance(d.get("hysteresis"), list) and "hysteresis_rpm" not in d:
-            out["hysteresis_rpm"] = _convert(d["hysteresis"], sc.rpm_from_omega)
+        speeds += [
+            ("values", "values_rpm", list),
+            ("start", "rpm_start", (int, float)),
+            ("stop", "rpm_stop", (int, float)),
+            ("hysteresis", "hysteresis_rpm", list),
+        ]
+    for key, copy, kind in speeds:
+        if isinstance(d.get(key), kind) and copy not in d:
+            out[copy] = _convert(d[key], sc.rpm_from_omega)
     return out
 
 

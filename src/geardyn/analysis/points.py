@@ -321,8 +321,7 @@ def run_slices(
         When the sweep cannot run (see :func:`geardyn.sweep.run_chunks`).
     """
     chunks = [Chunk(i, function, args_of(sl)) for i, sl in enumerate(slices)]
-    sizes = [len(range(sl.start or 0, sl.stop)) for sl in slices]
-    sink = RowSink(np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(int) if sizes else [], int(sum(sizes)))
+    sink = RowSink([sl.start or 0 for sl in slices], slices[-1].stop if slices else 0)  # each chunk's rows in place
     run_chunks(chunks, engine, description=description, sink=sink)
     return sink.result()
 

@@ -32,6 +32,7 @@ file of two gears on their rotations (the usual idle-rattle model) into its pair
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -39,9 +40,14 @@ from typing import Any
 
 import numpy as np
 
+from .._lazy import lazy_module
 from ..errors import ModelError
 from ..integrate import trajectory
+from ..io import annotate, result_attrs
 from ..model import GearModel, IntegrationOptions
+from ..torque_orders import to_dicts
+
+xr = lazy_module("xarray")
 
 __all__ = ["RattleResult", "crossings", "pair_of_system", "rattle", "rattle_map"]
 
@@ -124,12 +130,12 @@ def crossings(tau: np.ndarray, u: np.ndarray, v: np.ndarray, D: float) -> dict[s
     """
     tau, u, v = (np.asarray(a, dtype=float) for a in (tau, u, v))
     out = {p + k: [] for p in ("", "rebound_") for k in ("time", "flank", "velocity")}
-    for level, flank in ((D, 1), (-D, -1)):
-        inside = (u > D) if flank > 0 else (u < -D)
+    for flank in (1, -1):  # u > D on the drive flank, u < -D on the back
+        inside = flank * u > D
         change = np.flatnonzero(inside[1:] != inside[:-1])
         for i in change:
             h = tau[i + 1] - tau[i]
-            s, vc = _locate(level, u[i], v[i], u[i + 1], v[i + 1], h)
+            s, vc = _locate(flank * D, u[i], v[i], u[i + 1], v[i + 1], h)
             key = "" if inside[i + 1] else "rebound_"
             out[key + "time"].append(tau[i] + s * h)
             out[key + "flank"].append(flank)
@@ -206,8 +212,6 @@ class RattleResult:
 
     def to_json(self) -> dict[str, Any]:
         """The summary (``geardyn rattle --json``)."""
-        from ..torque_orders import to_dicts
-
         out: dict[str, Any] = {
             "omega": self.model.omega,
             "status": self.status,
@@ -227,7 +231,7 @@ class RattleResult:
         for name, flank in (("drive", 1), ("back", -1)):
             vin, vout = self._flank(flank)
             d = {
-                "impacts_per_cycle": float(vin.size / self.cycles),
+                "impacts_per_cycle": self.impacts_per_cycle(flank),
                 "impact_velocity_mean": float(vin.mean()) if vin.size else None,
                 "impact_velocity_max": float(vin.max()) if vin.size else None,
                 "rebound_velocity_mean": float(vout.mean()) if vout.size else None,
@@ -254,10 +258,6 @@ class RattleResult:
     def to_dataset(self) -> Any:
         """Dataset of kind ``rattle``: the history u, u' over τ (every k-th step, at most :data:`HISTORY_SAMPLES`
         samples) and every impact (located on the full history)."""
-        import xarray as xr
-
-        from ..io import annotate, result_attrs
-
         e = self.events
         k = max(1, -(-self.tau.size // HISTORY_SAMPLES))
         ds = xr.Dataset(
@@ -270,8 +270,6 @@ class RattleResult:
             },
             coords={"tau": self.tau[::k], "impact": np.arange(e["time"].size)},
         )
-        import json
-
         ds.attrs.update(result_attrs("rattle", self.model, self.options, summary=json.dumps(self.to_json())))
         return annotate(ds, "rattle")
 
@@ -353,10 +351,6 @@ def rattle_map(
         Kind ``rattle_map``: ``impacts_drive``, ``impacts_back`` (per cycle), ``impact_velocity_max``,
         ``rattle_index`` over (``omega``, ``amplitude_scale``), and ``status`` (0 ok, 1 diverged).
     """
-    import xarray as xr
-
-    from ..io import annotate, result_attrs
-
     model = _check(model)
     if not model.torque_orders:
         raise ModelError("torque_orders: a rattle map scales the torque orders' amplitudes; the model has none")
@@ -372,20 +366,19 @@ def rattle_map(
     shape = (om.size, sa.size)
     vals = {k: np.full(shape, np.nan) for k in ("impacts_drive", "impacts_back", "impact_velocity_max", "rattle_index")}
     status = np.zeros(shape, dtype=np.int8)
-    for i, w in enumerate(om):
-        for j, f in enumerate(sa):
-            m = model.replace(omega=float(w), torque_orders=tuple((q, a * f, p) for q, a, p in model.torque_orders))
-            r = rattle(m, options, scales=sc)
-            if r.status != "ok":
-                status[i, j] = 1
-            else:
-                vals["impacts_drive"][i, j] = r.impacts_per_cycle(1)
-                vals["impacts_back"][i, j] = r.impacts_per_cycle(-1)
-                v = np.abs(r.events["velocity"])
-                vals["impact_velocity_max"][i, j] = float(v.max()) if v.size else 0.0
-                vals["rattle_index"][i, j] = r.rattle_index()
-            if progress is not None:
-                progress(i * sa.size + j + 1, om.size * sa.size)
+    for done, (i, j) in enumerate(np.ndindex(shape), 1):
+        orders = tuple((q, a * sa[j], p) for q, a, p in model.torque_orders)
+        r = rattle(model.replace(omega=float(om[i]), torque_orders=orders), options, scales=sc)
+        if r.status != "ok":
+            status[i, j] = 1
+        else:
+            vals["impacts_drive"][i, j] = r.impacts_per_cycle(1)
+            vals["impacts_back"][i, j] = r.impacts_per_cycle(-1)
+            v = np.abs(r.events["velocity"])
+            vals["impact_velocity_max"][i, j] = float(v.max()) if v.size else 0.0
+            vals["rattle_index"][i, j] = r.rattle_index()
+        if progress is not None:
+            progress(done, om.size * sa.size)
     dims = ("omega", "amplitude_scale")
     ds = xr.Dataset({k: (dims, a) for k, a in vals.items()}, coords={"omega": om, "amplitude_scale": sa})
     ds["status"] = (dims, status)
@@ -394,10 +387,6 @@ def rattle_map(
         ds["rattle_index_J"] = ds["rattle_index"] * (sc.k0_N_per_m * sc.b_c_m**2)
         if sc.z1:
             ds = ds.assign_coords(rpm=("omega", sc.rpm_from_omega(om)))
-    import json
-
-    from ..torque_orders import to_dicts
-
     extra = {"torque_orders": json.dumps(to_dicts(model.torque_orders))}
     if sc is not None:
         extra["rattle_scales"] = json.dumps(_scales_dict(sc))

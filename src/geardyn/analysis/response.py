@@ -236,30 +236,30 @@ def detect_jumps(
     return jumps
 
 
-def _sweep_arrays(ds: xr.Dataset, lab: str) -> dict[str, np.ndarray]:
-    """The per-point arrays of one sweep that the attractor comparison needs (extracted once)."""
-    s = ds.sel(sweep=lab)
-    return {k: s[k].values for k in ("status", "period", "motion", "amplitude", "mean", "poincare_u", "poincare_v")}
-
-
 def _amplitude_range(ds: xr.Dataset, measure: str = "amplitude") -> float:
     amp = ds[measure].values
     return float(np.ptp(amp[np.isfinite(amp)])) if np.any(np.isfinite(amp)) else 0.0
 
 
-def _attractor(s: dict[str, np.ndarray], k: int) -> Attractor:
-    """The attractor reached at grid index ``k`` of one sweep (its cycle, or its amplitude and mean)."""
-    section = np.column_stack([s["poincare_u"][k], s["poincare_v"][k]])
-    return attractor_of(s["period"][k], s["motion"][k], section, np.array([s["amplitude"][k], s["mean"][k]]))
+def _attractors(ds: xr.Dataset, lab: str) -> list[Attractor | None]:
+    """The attractor each point of one sweep reached: its cycle, or its amplitude and mean (None: diverged)."""
+    s = {k: ds[k].sel(sweep=lab).values for k in ("status", "period", "motion", "amplitude", "mean")}
+    section = np.stack([ds[k].sel(sweep=lab).values for k in ("poincare_u", "poincare_v")], axis=-1)
+    return [
+        attractor_of(s["period"][k], s["motion"][k], section[k], np.array([s["amplitude"][k], s["mean"][k]]))
+        if int(s["status"][k]) == 0
+        else None
+        for k in range(section.shape[0])
+    ]
 
 
 def _same(
-    sa: dict[str, np.ndarray], sb: dict[str, np.ndarray], k: int, amp_range: float, tol: float, nonperiodic_tol: float
+    a: Attractor | None, b: Attractor | None, amp_range: float, tol: float, nonperiodic_tol: float
 ) -> bool | None:
-    if int(sa["status"][k]) != 0 or int(sb["status"][k]) != 0:
+    if a is None or b is None:
         return None
     sig_tol = nonperiodic_tol * max(amp_range, 1e-12)
-    return _same_attractor(_attractor(sa, k), _attractor(sb, k), tol=tol, signature_tol=sig_tol, match_motion=False)
+    return _same_attractor(a, b, tol=tol, signature_tol=sig_tol, match_motion=False)
 
 
 def same_attractor(
@@ -296,14 +296,16 @@ def same_attractor(
     bool or None
         None where either point diverged.
     """
-    return _same(_sweep_arrays(ds, a), _sweep_arrays(ds, b), k, _amplitude_range(ds), tol, nonperiodic_tol)
+    return _same(_attractors(ds, a)[k], _attractors(ds, b)[k], _amplitude_range(ds), tol, nonperiodic_tol)
 
 
 def _disagreeing_runs(ds: xr.Dataset, a: str, b: str) -> list[tuple[int, int]]:
     """Maximal runs (first, last grid index) where sweeps ``a`` and ``b`` end on different attractors."""
-    x = ds[_param(ds)].values
-    sa, sb, rng = _sweep_arrays(ds, a), _sweep_arrays(ds, b), _amplitude_range(ds)
-    differ = [_same(sa, sb, k, rng, ATTRACTOR_TOL, NONPERIODIC_TOL) is False for k in range(x.size)]
+    rng = _amplitude_range(ds)
+    differ = [
+        _same(p, q, rng, ATTRACTOR_TOL, NONPERIODIC_TOL) is False
+        for p, q in zip(_attractors(ds, a), _attractors(ds, b))
+    ]
     edges = np.diff(np.concatenate([[0], np.asarray(differ, dtype=int), [0]]))
     return [(int(k), int(j) - 1) for k, j in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1))]
 

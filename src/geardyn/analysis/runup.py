@@ -48,7 +48,7 @@ import xarray as xr
 
 from ..errors import ModelError
 from ..integrate import integrate_batch, trajectory
-from ..io import json_number
+from ..io import annotate, json_values, result_attrs
 from ..model import DEFAULT_DTAU, IntegrationOptions
 
 __all__ = ["MAX_BLOCKS", "RunupResult", "block_error", "runup", "steady_response"]
@@ -109,8 +109,12 @@ class RunupResult:
         """The mesh orders j/P of :attr:`spectrum` (empty when it is None)."""
         if self.spectrum is None:
             return np.zeros(0)
-        P = int(self.model.period_multiple() or 1)
-        return np.arange(1, self.spectrum.shape[1] + 1) / P
+        return np.arange(1, self.spectrum.shape[1] + 1) / self.excitation_cycles
+
+    @property
+    def excitation_cycles(self) -> int:
+        """P, the mesh cycles of the model's forcing period (its excitation's and torque orders')."""
+        return int(self.model.period_multiple() or 1)
 
     @property
     def ramp_rate(self) -> float:
@@ -120,8 +124,6 @@ class RunupResult:
     def to_dataset(self) -> xr.Dataset:
         """The result as a Dataset of kind ``runup`` (dims ``block`` and ``order``)."""
         orders = np.arange(1, self.order_amplitude.shape[1] + 1)
-        from ..io import annotate
-
         ds = xr.Dataset(
             {
                 "order_amplitude": (("block", "order"), self.order_amplitude),
@@ -143,16 +145,11 @@ class RunupResult:
         if self.spectrum is not None:
             ds["spectrum"] = (("block", "spectrum_order"), self.spectrum)
             ds = ds.assign_coords(spectrum_order=("spectrum_order", self.spectrum_orders))
-            ds.attrs["excitation_cycles"] = int(self.model.period_multiple() or 1)
-        annotate(ds)
-        return ds
+            ds.attrs["excitation_cycles"] = self.excitation_cycles
+        return annotate(ds)
 
     def to_json(self) -> dict[str, Any]:
         """JSON summary (lists per block)."""
-
-        def lst(a: np.ndarray) -> list[float | None]:
-            return [json_number(x) for x in np.asarray(a, dtype=float).ravel()]
-
         out = {
             "omega_start": self.omega_start,
             "omega_stop": self.omega_stop,
@@ -160,14 +157,14 @@ class RunupResult:
             "ramp_rate_per_tau": self.ramp_rate,
             "cycles_per_block": self.cycles,
             "blocks": int(self.omega.size),
-            **{k: lst(getattr(self, k)) for k in ("omega", "tau", "amplitude", "dynamic_factor")},
-            "order_amplitude": [lst(a) for a in self.order_amplitude.T],
+            **{k: json_values(getattr(self, k)) for k in ("omega", "tau", "amplitude", "dynamic_factor")},
+            "order_amplitude": json_values(self.order_amplitude.T),
             "diverged": self.diverged,
         }
         if self.spectrum is not None:
-            out["excitation_cycles"] = int(self.model.period_multiple() or 1)
-            out["spectrum_orders"] = lst(self.spectrum_orders)
-            out["spectrum"] = [lst(a) for a in self.spectrum.T]
+            out["excitation_cycles"] = self.excitation_cycles
+            out["spectrum_orders"] = json_values(self.spectrum_orders)
+            out["spectrum"] = json_values(self.spectrum.T)
         return out
 
 
@@ -330,8 +327,6 @@ def _steps(omega: float, dtau: float, P: int) -> int | None:
 
 def _model_attrs(model: Any) -> dict[str, str]:
     """The model as a run-up result stores it: the pair's ``model``, a system's ``system_model`` (its backend's)."""
-    from ..io import result_attrs
-
     a = result_attrs("runup", model, IntegrationOptions())
     return {k: a[k] for k in ("model", "system_model", "geardyn_system") if k in a}
 
@@ -409,8 +404,9 @@ def steady_response(
             state = model.initial_state() if r is None else r[3]
 
         def col(k: int) -> list[float | None]:  # the first order of the order amplitudes
-            x = [np.nan if rows[i] is None else np.ravel(rows[i][k])[0] for i in range(w.size)]
-            return [float(v) if np.isfinite(v) else None for v in x]
+            return json_values(
+                np.array([np.nan if rows[i] is None else np.ravel(rows[i][k])[0] for i in range(w.size)])
+            )
 
         out[lab] = {"order_amplitude": col(0), "amplitude": col(1), "dynamic_factor": col(2)}
     return out

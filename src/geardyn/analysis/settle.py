@@ -105,8 +105,8 @@ def _mean_matrices(model: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         Mi = np.asarray(model.Mi, dtype=float)
         K = np.array(model.Kb, dtype=float)
         C = np.array(model.Cb, dtype=float)
-        meshes = [(model.V[i], m.k, 2.0 * m.xi0) for i, m in enumerate(model.meshes)]
-        for v, k, c in meshes + [(model.Vc[i], k, c) for i, (k, c) in enumerate(zip(model.kc, model.cc))]:
+        meshes = [(v, m.k, 2.0 * m.xi0) for v, m in zip(model.V, model.meshes)]
+        for v, k, c in meshes + list(zip(model.Vc, model.kc, model.cc)):
             vv = np.outer(v, v)
             K += k * vv
             C += c * vv

@@ -27,13 +27,14 @@ from .classify import (
     MOTION_UNRESOLVED,
     SETTLE_PERIODS,
     SETTLE_ROUNDS,
+    SETTLING_RATIO,
     classify_points,
     detect_periods,
     impact_states,
-    is_settling,
     motion_label,
     period_label,
     quasi_periodic_allowed_batch,
+    settling_ratios,
 )
 from .lyapunov import DEFAULT_BLOCKS, spectrum_from_log
 from .settle import classify_budget, decay_rates
@@ -153,7 +154,8 @@ def classify_batch(
     settle_periods : int
         Points whose Poincaré sequence is not periodic are integrated this many further periods
         from their end state with the tangent equations (repeated, up to
-        :data:`~geardyn.analysis.classify.SETTLE_ROUNDS` passes, while :func:`~geardyn.analysis.classify.is_settling`);
+        :data:`~geardyn.analysis.classify.SETTLE_ROUNDS` passes, while the sequence still contracts onto a cycle,
+        :func:`~geardyn.analysis.classify.settling_ratio` <= :data:`~geardyn.analysis.classify.SETTLING_RATIO`);
         their period, amplitudes, Poincaré points, end state and exponents are then those of the last pass
         (0: no such pass; the motion of a non-periodic point without exponents is then 'unresolved').
     blocks : int, optional
@@ -222,7 +224,7 @@ def classify_batch(
             sections[i] = sec
         chaotic = l2[:, 0] > LLE_SIGMAS * e2[:, 0] + LLE_FLOOR  # nothing to settle
         again = (s2["status"] == ST_OK) & (s2["period"] == 0) & ~chaotic
-        need = np.array([i for j, i in enumerate(need) if again[j] and is_settling(r2.poincare[j])], dtype=np.int64)
+        need = need[again & (settling_ratios(r2.poincare) <= SETTLING_RATIO)]  # still contracting onto a cycle
     unsettled = np.zeros(P, dtype=bool)
     if rounds:  # still contracting onto a cycle when the passes ran out
         unsettled[need] = True
@@ -323,13 +325,7 @@ class SteadyState:
             "omega": self.model.omega,
             "poincare": pc.tolist(),
             **state,
-            "motion": s["motion"],
-            "lle": s.get("lle"),
-            "period": s["period"],
-            "impact": s["impact"],
-            **{k: s[k] for k in _MEASURES},
-            "contact_fractions": s["contact_fractions"],
-            "status": s["status"],
+            **{k: s.get(k) for k in ("motion", "lle", "period", "impact", *_MEASURES, "contact_fractions", "status")},
             **({"notes": s["notes"]} if s.get("notes") else {}),
             **self.extra,
         }
@@ -453,8 +449,9 @@ def simulate(
     def f(key: str, d: dict[str, np.ndarray] = arr) -> float | None:
         return json_number(d[key][0])
 
+    P = int(model.period_multiple() or 1)  # mesh cycles of the forcing period
     summary = {
-        "period": period * (model.period_multiple() or 1) if period > 0 else None,
+        "period": period * P if period > 0 else None,
         "motion": motion,
         "impact": IMPACT_LABELS[int(arr["impact"][0])],
         **{k: f(k) for k in _MEASURES},
@@ -462,7 +459,6 @@ def simulate(
         "status": "ok" if ok else "diverged",
         **{k: None if cls is None else f(k, cls) for k in ("lle", "lle_err")},
     }
-    P = int(model.period_multiple() or 1)
     notes = []
     if cls is not None and P > 1 and summary["motion"] == motion_label(MOTION_UNRESOLVED, 0):
         passes = int(cls["settled"][0])

@@ -29,7 +29,7 @@ def table() -> dict[str, tuple[str, str]]:
 
     app = load_all()
     group = typer.main.get_command(app)
-    names = [info.name or typer.main.get_command_name(info.callback.__name__) for info in app.registered_commands]
+    names = [info.name for info in app.registered_commands]  # every command is registered by its name
     return {
         name: (group.commands[name].callback.__module__.rsplit(".", 1)[1], group.commands[name].help or "")
         for name in names

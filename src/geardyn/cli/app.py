@@ -143,7 +143,7 @@ class GeardynGroup(_HelpScreen, TyperGroup):
 
         import_module(f"{__package__}.{COMMANDS[name][0]}")
         for info in app.registered_commands:
-            if (info.name or typer.main.get_command_name(info.callback.__name__)) == name:
+            if info.name == name:  # every command is registered by its name (geardyn.cli.options.command)
                 return typer.main.get_command_from_info(
                     info, pretty_exceptions_short=app.pretty_exceptions_short, rich_markup_mode=self.rich_markup_mode
                 )

@@ -85,7 +85,8 @@ def stiffness_cmd(
 
     case = _case(file, inp)
     cycles = inp.cycles if inp.cycles is not None else case.mesh.get("cycles")
-    n = (cycles or default_cycles(*_teeth(case), case.faults)) * int(case.mesh.get("points", inp.points))
+    points = int(case.mesh.get("points", inp.points))
+    n = (cycles or default_cycles(*_teeth(case), case.faults)) * points
     if not 1 <= inp.harmonics <= n // 2:
         raise ModelError(f"harmonics: from 1 to {n // 2} (half the {n} phases computed), got {inp.harmonics}")
     ms = mesh_stiffness(
@@ -94,7 +95,7 @@ def stiffness_cmd(
         faults=case.faults,
         modifications=case.modifications,
         cycles=cycles,
-        points=int(case.mesh.get("points", inp.points)),
+        points=points,
         slices=inp.slices if inp.slices is not None else case.mesh.get("slices"),
     )
     summary = stiffness_summary(ms, harmonics=inp.harmonics)

@@ -9,7 +9,7 @@ import typer
 
 from ..errors import ModelError
 from .app import console
-from .options import JSON_ONLY, OUTPUT, Inputs, command, finish, model_group, option
+from .options import JSON_ONLY, OUTPUT, SYSTEM, Inputs, command, finish, model_group, option
 from .render import plain, table
 
 TE_OPTIONS = [
@@ -193,10 +193,10 @@ RUNUP_OPTIONS = [
 def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
     """ω at the start and at the end of the ramp, its duration in τ and the scales, checked (the RK4 steps of the
     ramp within the bound)."""
-    from .ranges import omega_only
+    from .ranges import given_range
 
     scales = inp.scales()
-    _, omega_start, omega_stop = omega_only(inp)
+    _, omega_start, omega_stop = given_range(inp, "omega")
     given_rpm = inp.ru_rpm_start is not None or inp.ru_rpm_stop is not None
     given_w = omega_start is not None or omega_stop is not None
     if given_rpm == given_w:
@@ -241,7 +241,7 @@ def _ramp(inp: Inputs) -> tuple[float, float, float, Any]:
     return float(w0), float(w1), T, scales
 
 
-@command("runup", RUNUP_OPTIONS, model_group(omega=False, rpm=False), OUTPUT)
+@command("runup", RUNUP_OPTIONS, model_group(omega=False), OUTPUT, SYSTEM)
 def runup_cmd(inp: Inputs) -> None:
     """Run-up / run-down through a linear speed ramp: order-tracked DTE, amplitude and dynamic factor against
     speed, beside the quasi-static (steady) response swept up and down; with --system those of the reference

@@ -242,13 +242,12 @@ class _Stop:
     """The signal that asked the command to stop (None while running)."""
 
     def __init__(self) -> None:
-        self.signum: int | None = None
-        self.message: str | None = None
         self.event = threading.Event()
+        self.reset()
 
     def reset(self) -> None:
-        self.signum = None
-        self.message = None
+        self.signum: int | None = None
+        self.message: str | None = None
         self.event.clear()
 
 

@@ -2,15 +2,25 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
-
-import typer
+from typing import Any
 
 from ..model import DEFAULT_DTAU
 from . import render
 from .app import EXIT_FAILURE, console, fail, say_error
-from .options import MODEL, OUTPUT, RPM_RANGE, STATE, ContinuationParamOpt, Inputs, StopOpt, command, finish, option
-from .ranges import OMEGA_RANGE, both_spellings
+from .options import (
+    CONTINUATION_PARAM,
+    CONTINUATION_STOP,
+    MODEL,
+    OUTPUT,
+    RPM_RANGE,
+    STATE,
+    SYSTEM,
+    Inputs,
+    command,
+    finish,
+    option,
+)
+from .ranges import OMEGA_RANGE, given_range
 
 __all__ = ["MAX_HARMONICS", "MAX_PERIOD"]
 
@@ -60,60 +70,61 @@ def show(s: dict[str, Any]) -> None:
         render.plain("shooting: " + ", ".join(f"{b['type']} {b[p]:.6f}" for b in sh["bifurcations"]))
 
 
-@command("hb", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT)
-def hb(
-    inp: Inputs,
-    param: ContinuationParamOpt = None,
-    start: Annotated[
+HB_OPTIONS = [
+    CONTINUATION_PARAM,
+    option(
+        "start",
         float | None,
-        typer.Option(
-            help="Parameter value where the branch starts (the first solution from the attractor reached by "
-            "simulation from rest there).",
-        ),
-    ] = None,
-    stop: StopOpt = None,
-    harmonics: Annotated[
+        help="Parameter value where the branch starts (the first solution from the attractor reached by "
+        "simulation from rest there).",
+    ),
+    CONTINUATION_STOP,
+    option(
+        "harmonics",
         int | None,
-        typer.Option(
-            help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an "
-            "forcing period of P mesh cycles (harmonics of ω/(P n): an --excitation of several cycles, torque orders, "
-            "a system's mesh ratios or rolling bearings) the larger of 16·P and n times the excitation's harmonics, "
-            "at most 1024; below P·n the mesh frequency is not resolved (a warning says so).",
-        ),
-    ] = None,
-    period: Annotated[
+        help="H: harmonics of ω/n retained (see docs/hb.md for the accuracy at each H); default 16, and for an "
+        "forcing period of P mesh cycles (harmonics of ω/(P n): an --excitation of several cycles, torque orders, "
+        "a system's mesh ratios or rolling bearings) the larger of 16·P and n times the excitation's harmonics, "
+        "at most 1024; below P·n the mesh frequency is not resolved (a warning says so).",
+    ),
+    option(
+        "period",
         int,
-        typer.Option(help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n)."),
-    ] = 1,
-    compare_shooting: Annotated[
+        1,
+        help="n: period of the response in forcing periods (n > 1: subharmonic, harmonics of ω/n).",
+    ),
+    option(
+        "compare_shooting",
         bool,
-        typer.Option(
-            "--compare-shooting",
-            help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in "
-            "the JSON.",
-        ),
-    ] = False,
-    ds_max: Annotated[
+        False,
+        "--compare-shooting",
+        help="Also continue the branch by shooting (period map) and overlay it on the figure; its bifurcations in "
+        "the JSON.",
+    ),
+    option(
+        "ds_max",
         float | None,
-        typer.Option(
-            help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02 for the pair, 0.2 for a "
-            "--system).",
-        ),
-    ] = None,
-    floquet: Annotated[
+        help="Largest arclength step in (coefficients, p/|stop - start|) (default 0.02 for the pair, 0.2 for a "
+        "--system).",
+    ),
+    option(
+        "floquet",
         str,
-        typer.Option(
-            help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, "
-            "refined by a Newton step; the default) or 'hill' (Hill's method).",
-        ),
-    ] = "monodromy",
-    max_points: Annotated[
+        "monodromy",
+        help="How the Floquet multipliers are computed: 'monodromy' (one period integrated from the solution, "
+        "refined by a Newton step; the default) or 'hill' (Hill's method).",
+    ),
+    option(
+        "max_points",
         int,
-        typer.Option(
-            help="Largest number of branch points; a branch that reaches it before --stop ends there with a warning.",
-        ),
-    ] = 3000,
-) -> None:
+        3000,
+        help="Largest number of branch points; a branch that reaches it before --stop ends there with a warning.",
+    ),
+]
+
+
+@command("hb", HB_OPTIONS, OMEGA_RANGE, RPM_RANGE, MODEL, STATE, SHOOTING_RUN, OUTPUT, SYSTEM)
+def hb(inp: Inputs) -> None:
     """Harmonic balance (AFT, exact dead-zone switches) with Floquet stability (monodromy or Hill): a branch of
     period-n responses continued in any parameter through its folds, with folds, period doublings, Neimark–Sacker
     points and grazing located; with --out the figure shows it stable solid and unstable dashed (over the shooting
@@ -127,22 +138,22 @@ def hb(
     from ..analysis.hb.equations import DEFAULT_HARMONICS, MAX_DEFAULT_HARMONICS, default_harmonics
     from ..analysis.physical import add_physical, physical_json
 
-    param, start, stop = both_spellings(param, start, stop, inp.omega_start, inp.omega_stop)  # either spelling
-    n = validate.integer("period", period, 1, MAX_PERIOD)
-    mp = validate.integer("max-points", max_points, 2, MAX_POINTS_LIMIT)
+    param, start, stop = given_range(inp)
+    n = validate.integer("period", inp.period, 1, MAX_PERIOD)
+    mp = validate.integer("max-points", inp.max_points, 2, MAX_POINTS_LIMIT)
     model = inp.model()
     P = model.hb_form(n).periods // n  # a forcing period of P mesh cycles: harmonics of ω/(P n)
-    if harmonics is None:
+    if inp.harmonics is None:
         H = default_harmonics(model, n)
     else:
-        H = validate.integer("harmonics", harmonics, 1, MAX_DEFAULT_HARMONICS if P > 1 else MAX_HARMONICS)
+        H = validate.integer("harmonics", inp.harmonics, 1, MAX_DEFAULT_HARMONICS if P > 1 else MAX_HARMONICS)
         if 1 < P and H < P * n:
             say_error(
                 f"warning: --harmonics {H} stops below the mesh frequency (harmonic {P * n} of ω/{P * n}: the forcing "
                 f"period spans {P} mesh cycles), so the mesh stiffness's variation is not in the balance; the default "
                 f"takes {P}·{DEFAULT_HARMONICS}"
             )
-    dsm = None if ds_max is None else validate.positive("ds-max", ds_max)
+    dsm = None if inp.ds_max is None else validate.positive("ds-max", inp.ds_max)
     scales = inp.scales()
     name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
     free = undamped_modes(model) if model.mean_trace() != 0 else []
@@ -163,14 +174,14 @@ def hb(
             period=n,
             ds_max=dsm,
             state0=inp.state0(),
-            floquet=floquet,
+            floquet=inp.floquet,
             max_points=mp,
             progress=bar,
         )
     _check_result(res, start_v)
     summary = physical_json(res.to_json(), model, scales, param=name)
     shoot_ds = None
-    if compare_shooting:
+    if inp.compare_shooting:
         from ..analysis.periodic import continuation as shooting
 
         ws = [model.with_param(name, v).omega for v in (start_v, stop_v)]

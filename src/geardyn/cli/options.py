@@ -41,8 +41,6 @@ __all__ = [
     "OUTPUT",
     "STATE",
     "SYSTEM",
-    "SYSTEM_COMMANDS",
-    "CoordsOpt",
     "Inputs",
     "build_model",
     "choice",
@@ -53,8 +51,8 @@ __all__ = [
     "model_group",
     "option",
     "param_option",
-    "ContinuationParamOpt",
-    "StopOpt",
+    "CONTINUATION_PARAM",
+    "CONTINUATION_STOP",
 ]
 
 _P = inspect.Parameter
@@ -163,15 +161,13 @@ RPM_RANGE = [
 ]
 
 
-def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Parameter]:
+def model_group(*, omega: bool = True) -> list[inspect.Parameter]:
     """``--config``, the operating point and one option per registry family (see :func:`geardyn.params.cli_options`).
 
     Parameters
     ----------
     omega : bool
-        Include ``--omega``; ``False`` for commands that sweep ω themselves.
-    rpm : bool
-        Include ``--rpm``; likewise.
+        Include ``--omega`` and ``--rpm``; ``False`` for commands that sweep ω themselves.
 
     Returns
     -------
@@ -181,7 +177,7 @@ def model_group(*, omega: bool = True, rpm: bool = True) -> list[inspect.Paramet
         *CONFIG,
         EXCITATION,
         EVALUATION,
-        *([RPM] if rpm else []),
+        *([RPM] if omega else []),
         TORQUE,
         TORQUE_ORDER,
         *(
@@ -315,7 +311,7 @@ FIGURE_OPTIONS = [
 ]
 OUTPUT += FIGURE_OPTIONS
 SYSTEM_PANEL = "Multi-DOF system"
-#: ``--system``, taken by the commands of :data:`SYSTEM_COMMANDS` (:mod:`geardyn.cli.system_input`).
+#: ``--system``, taken by the commands that run on a multi-DOF system (:mod:`geardyn.cli.system_input`).
 SYSTEM = [
     option(
         "system",
@@ -325,28 +321,6 @@ SYSTEM = [
         "runs on it, and the JSON summary adds one entry per mesh under 'meshes'.",
     )
 ]
-#: ``basins --coords``: the two state coordinates of a system's slice.
-CoordsOpt = Annotated[
-    str | None,
-    typer.Option(
-        rich_help_panel=SYSTEM_PANEL,
-        help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
-        "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').",
-    ),
-]
-#: Commands that take ``--system``.
-SYSTEM_COMMANDS = (
-    "simulate",
-    "lyapunov",
-    "orbit",
-    "continuation",
-    "bifurcation",
-    "response",
-    "map",
-    "basins",
-    "hb",
-    "runup",
-)
 
 
 # ---------------------------------------------------------------- the physical front end
@@ -885,8 +859,8 @@ def sweep_range(
     return convert(inp.scales(), inp.rpm_start, inp.rpm_stop, start, stop, param=param)
 
 
-def param_option(what: str) -> Any:
-    """The ``--param`` option type of a command that varies one model parameter, the names it takes listed
+def param_option(what: str) -> inspect.Parameter:
+    """The ``--param`` option of a command that varies one model parameter, the names it takes listed
     from the parameter registry (:func:`geardyn.params.parameter_names`).
 
     Parameters
@@ -896,28 +870,27 @@ def param_option(what: str) -> Any:
 
     Returns
     -------
-    typing.Annotated
-        ``str | None`` with its ``typer.Option``.
+    inspect.Parameter
+        ``--param``, a ``str | None`` option (see :func:`option`).
     """
-    return Annotated[
-        str | None,
-        typer.Option(help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop)."),
-    ]
+    return option(
+        "param", str | None, help=f"{what}: {params.parameter_names()} (default omega with --rpm-start/--rpm-stop)."
+    )
 
 
 #: ``--param`` of a continuation (HB or shooting).
-ContinuationParamOpt = param_option("Continuation parameter")
+CONTINUATION_PARAM = param_option("Continuation parameter")
 #: ``--stop`` of a continuation (HB or shooting).
-StopOpt = Annotated[
-    float | None, typer.Option(help="Parameter value where the continuation ends (may lie below --start).")
-]
+CONTINUATION_STOP = option(
+    "stop", float | None, help="Parameter value where the continuation ends (may lie below --start)."
+)
 
 
 #: Suffixes that make a command's ``--out`` a file name (else a directory); the NetCDF commands: ``.nc``.
 OUT_FILES = {"plot": (), "modes": (".png", ".pdf", ".svg")}
 
 
-def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+def command(name: str, *groups: list[inspect.Parameter]) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Register ``fn(inp, **own_options)`` as a command that also takes the options of ``groups``.
 
     The command receives an :class:`Inputs` of the groups' values and its own options as keywords;
@@ -925,8 +898,8 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
     Parameters
     ----------
-    name : str or None
-        The command's name (None: the function's name).
+    name : str
+        The command's name.
     *groups : list of inspect.Parameter
         Shared option groups (:data:`MODEL`, :data:`ENGINE`, :func:`integration` ...).
 
@@ -938,12 +911,11 @@ def command(name: str | None, *groups: list[inspect.Parameter]) -> Callable[[Cal
 
     def deco(fn: Callable[..., Any]) -> Callable[..., Any]:
         hints = typing.get_type_hints(fn, include_extras=True)
-        groups_ = groups + ((SYSTEM,) if name in SYSTEM_COMMANDS else ())
         own = [
             p.replace(annotation=hints.get(p.name, p.annotation), kind=_P.KEYWORD_ONLY)
             for p in list(inspect.signature(fn).parameters.values())[1:]
         ]
-        shared = [p for g in groups_ for p in g]
+        shared = [p for g in groups for p in g]
 
         @functools.wraps(fn)
         def wrapper(**kw: Any) -> Any:

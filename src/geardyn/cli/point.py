@@ -2,35 +2,35 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Any
 
 import typer
 
 from ..errors import ModelError
 from . import render
 from .options import (
+    CONTINUATION_PARAM,
+    CONTINUATION_STOP,
     MODEL,
     OUTPUT,
     RPM_RANGE,
     STATE,
-    ContinuationParamOpt,
+    SYSTEM,
     Inputs,
-    StopOpt,
     command,
     finish,
     integration,
     option,
 )
-from .ranges import OMEGA_RANGE, both_spellings
+from .ranges import OMEGA_RANGE, given_range
 
-PeriodOpt = Annotated[int, typer.Option(help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")]
-GuessOpt = Annotated[
+PERIOD = option("period", int, 1, help="Period n of the orbit in forcing periods (Newton solves P^n(x) = x).")
+GUESS = option(
+    "guess",
     str | None,
-    typer.Option(
-        help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state "
-        "reached by simulating --transient periods from --u0, --v0).",
-    ),
-]
+    help="Shooting guess 'u,v' at θ = 0 (with --system the full state, comma-separated; default: the state "
+    "reached by simulating --transient periods from --u0, --v0).",
+)
 #: Points of the brute-force up/down sweep drawn under a continuation figure (:mod:`geardyn.analysis.context`).
 CONTINUATION_SWEEP_NUM = 101
 
@@ -49,18 +49,18 @@ def parse_guess(text: str | None, d: int = 2) -> tuple[float, ...] | None:
     return vals
 
 
-@command("simulate", MODEL, STATE, integration(), OUTPUT)
-def simulate(
-    inp: Inputs,
-    no_classify: Annotated[
-        bool,
-        typer.Option(
-            "--no-classify",
-            help="Report a response that is not periodic as it is (motion 'not periodic'), without the further "
-            "periods the motion class integrates with the leading tangent vector (chaos, quasi-periodic).",
-        ),
-    ] = False,
-) -> None:
+NO_CLASSIFY = option(
+    "no_classify",
+    bool,
+    False,
+    "--no-classify",
+    help="Report a response that is not periodic as it is (motion 'not periodic'), without the further "
+    "periods the motion class integrates with the leading tangent vector (chaos, quasi-periodic).",
+)
+
+
+@command("simulate", [NO_CLASSIFY], MODEL, STATE, integration(), OUTPUT, SYSTEM)
+def simulate(inp: Inputs) -> None:
     """Integrate one operating point and report its steady response (Poincaré points, period, impact, amplitudes),
     with physical values for the configured gear pair: pinion speed, dynamic transmission error (µm), dynamic mesh
     force (N), dynamic factor, spectrum peaks in Hz and mesh orders."""
@@ -70,7 +70,7 @@ def simulate(
     model = inp.model()
     opts = inp.options(model.omega)
     with inp.progress("simulate", "periods") as bar:
-        res = run_simulate(model, opts, inp.state0(), progress=bar, classify=not no_classify)
+        res = run_simulate(model, opts, inp.state0(), progress=bar, classify=not inp.no_classify)
     summary = res.to_json()
     if inp.system is not None:  # a system: the reference mesh's physical values and every mesh's
         summary = {**inp.system_summary(model, summary), **inp.scales().operating_point(model)}
@@ -89,11 +89,11 @@ def simulate(
 LYAPUNOV_RUN = integration(periods=2000, periods_help="Forcing periods over which the exponents are averaged.")
 
 
-@command("lyapunov", MODEL, STATE, LYAPUNOV_RUN, OUTPUT)
-def lyapunov(
-    inp: Inputs,
-    blocks: Annotated[int, typer.Option(help="Blocks of the block-statistics uncertainty (>= 2).")] = 20,
-) -> None:
+BLOCKS = option("blocks", int, 20, help="Blocks of the block-statistics uncertainty (>= 2).")
+
+
+@command("lyapunov", [BLOCKS], MODEL, STATE, LYAPUNOV_RUN, OUTPUT, SYSTEM)
+def lyapunov(inp: Inputs) -> None:
     """Both Lyapunov exponents (per unit τ) by the Benettin method with Gram–Schmidt each period, with their
     uncertainty from block statistics, and the motion class."""
     from .. import validate
@@ -103,7 +103,7 @@ def lyapunov(
     scales = inp.scales()
     opts = inp.options(model.omega)
     validate.exponents_computable(model, [model.omega])
-    nb = validate.integer("blocks", blocks, 2, validate.MAX_PERIODS)
+    nb = validate.integer("blocks", inp.blocks, 2, validate.MAX_PERIODS)
     if opts.periods < nb:
         raise ModelError(
             f"periods: {opts.periods} periods cannot be cut into --blocks {nb} blocks; give at least "
@@ -133,8 +133,8 @@ def _finish_point(inp: Inputs, model: Any, scales: Any, res: Any, stem: str, sho
     finish(inp.system_summary(model, physical_json(res.to_json(), model, scales)), paths, inp, show)
 
 
-@command("orbit", MODEL, STATE, integration(periods=None), OUTPUT)
-def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
+@command("orbit", [PERIOD, GUESS], MODEL, STATE, integration(periods=None), OUTPUT, SYSTEM)
+def orbit(inp: Inputs) -> None:
     """Find a period-n orbit by shooting (Newton on the n-period map, Jacobian = monodromy matrix) and report its
     section points, Floquet multipliers, stability, extremes and impact state."""
     from .. import validate
@@ -143,8 +143,8 @@ def orbit(inp: Inputs, period: PeriodOpt = 1, guess: GuessOpt = None) -> None:
     model = inp.model()
     scales = inp.scales()
     opts = inp.options(model.omega, periods=1)
-    n = validate.integer("period", period, 1, 1024)
-    g = parse_guess(guess, model.state_dim)
+    n = validate.integer("period", inp.period, 1, 1024)
+    g = parse_guess(inp.guess, model.state_dim)
     with inp.progress("orbit", "periods", on=g is None) as bar:
         res = shoot(
             model,
@@ -174,36 +174,41 @@ CONTINUATION_RUN = integration(
 )
 
 
-@command("continuation", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT)
-def continuation(
-    inp: Inputs,
-    param: ContinuationParamOpt = None,
-    start: Annotated[
+CONTINUATION_OPTIONS = [
+    CONTINUATION_PARAM,
+    option(
+        "start",
         float | None,
-        typer.Option(help="Parameter value where the branch starts (the first orbit is found there by shooting)."),
-    ] = None,
-    stop: StopOpt = None,
-    period: PeriodOpt = 1,
-    guess: GuessOpt = None,
-    switch: Annotated[
+        help="Parameter value where the branch starts (the first orbit is found there by shooting).",
+    ),
+    CONTINUATION_STOP,
+    PERIOD,
+    GUESS,
+    option(
+        "switch",
         bool,
-        typer.Option(
-            "--switch/--no-switch", help="Switch at period doublings onto the period-2n branch and continue it."
-        ),
-    ] = True,
-    max_period: Annotated[int, typer.Option(help="Largest period reached by branch switching.")] = 4,
-    ds_max: Annotated[
+        True,
+        "--switch/--no-switch",
+        help="Switch at period doublings onto the period-2n branch and continue it.",
+    ),
+    option("max_period", int, 4, help="Largest period reached by branch switching."),
+    option(
+        "ds_max",
         float | None,
-        typer.Option(
-            help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the "
-            "interval).",
-        ),
-    ] = None,
-    sweep_num: Annotated[
+        help="Largest arclength step in (u, u', p/|stop - start|) (default 0.01: at least 100 steps over the "
+        "interval).",
+    ),
+    option(
+        "sweep_num",
         int,
-        typer.Option(help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none)."),
-    ] = CONTINUATION_SWEEP_NUM,
-) -> None:
+        CONTINUATION_SWEEP_NUM,
+        help="Points of the brute-force up/down sweep drawn under the figure with --out (0: none).",
+    ),
+]
+
+
+@command("continuation", CONTINUATION_OPTIONS, OMEGA_RANGE, RPM_RANGE, MODEL, STATE, CONTINUATION_RUN, OUTPUT, SYSTEM)
+def continuation(inp: Inputs) -> None:
     """Pseudo-arclength continuation of periodic orbits in any parameter: stable and unstable branches, folds,
     period doublings (with branch switching), Neimark–Sacker points and grazing; with --out the figure shows the
     branches over the brute-force up/down sweep."""
@@ -213,16 +218,15 @@ def continuation(
 
     model = inp.model()
     scales = inp.scales()
-    param, start, stop = both_spellings(param, start, stop, inp.omega_start, inp.omega_stop)
-    name, start_v, stop_v = inp.param_range(param, start, stop, what="continuation")
+    name, start_v, stop_v = inp.param_range(*given_range(inp), what="continuation")
     opts = inp.options(model.with_param(name, start_v).omega, periods=1)
     opts.check_for(model.with_param(name, stop_v).omega)
-    n = validate.integer("period", period, 1, 1024)
-    mp = validate.integer("max-period", max_period, 1, 1024)
-    nsw = validate.integer("sweep-num", sweep_num, 0, 100_000)
-    if ds_max is not None:
-        validate.positive("ds-max", ds_max)
-    g = parse_guess(guess, model.state_dim)
+    n = validate.integer("period", inp.period, 1, 1024)
+    mp = validate.integer("max-period", inp.max_period, 1, 1024)
+    nsw = validate.integer("sweep-num", inp.sweep_num, 0, 100_000)
+    if inp.ds_max is not None:
+        validate.positive("ds-max", inp.ds_max)
+    g = parse_guess(inp.guess, model.state_dim)
     state0 = inp.state0()
     with inp.progress("continuation", param=name) as bar:
         res = run_continuation(
@@ -234,9 +238,9 @@ def continuation(
             g,
             dtau=opts.dtau,
             accurate=opts.accurate,
-            switch=switch,
+            switch=inp.switch,
             max_period=mp,
-            ds_max=ds_max,
+            ds_max=inp.ds_max,
             state0=state0,
             transient=opts.transient,
             progress=bar,

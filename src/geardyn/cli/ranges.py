@@ -8,7 +8,7 @@ from typing import Any
 from ..errors import ModelError
 from .options import option
 
-__all__ = ["OMEGA_RANGE", "both_spellings", "omega_only"]
+__all__ = ["OMEGA_RANGE", "both_spellings", "given_range"]
 
 #: The other spelling of a sweep over ω, accepted by the commands that take --param/--start/--stop.
 OMEGA_RANGE = [
@@ -62,18 +62,20 @@ def both_spellings(
     return param, start, stop
 
 
-def omega_only(inp: Any) -> tuple[str | None, float | None, float | None]:
-    """:func:`both_spellings` of a command that sweeps or ramps ω only, from its inputs.
+def given_range(inp: Any, only: str | None = None) -> tuple[str | None, float | None, float | None]:
+    """:func:`both_spellings` of a command's inputs.
 
     Parameters
     ----------
     inp : geardyn.cli.options.Inputs
         The command's inputs (``--param/--start/--stop`` and ``--omega-start/--omega-stop``).
+    only : str, optional
+        The one parameter the command sweeps or ramps (``"omega"`` for ``response`` and ``runup``), if any.
 
     Returns
     -------
     tuple
-        The parameter's name (None or ``"omega"``), its start and its stop.
+        The parameter's name (None when neither spelling names it), its start and its stop.
     """
     v = inp.values
-    return both_spellings(v.get("param"), v.get("start"), v.get("stop"), inp.omega_start, inp.omega_stop, "omega")
+    return both_spellings(v.get("param"), v.get("start"), v.get("stop"), inp.omega_start, inp.omega_stop, only)

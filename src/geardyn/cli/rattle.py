@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Any
 
 import numpy as np
-import typer
 
 from ..errors import ModelError
 from .app import console
@@ -28,6 +27,26 @@ RATTLE_RUN = [
     ),
 ]
 MAP_PANEL = "Rattle map"
+MAP_OPTIONS = [
+    option(
+        "map_points",
+        int,
+        0,
+        panel=MAP_PANEL,
+        help="Speeds of the rattle map (0: no map): from --rpm-start to --rpm-stop, or --start to --stop in ω "
+        "(default 0.5 to 2 times the model's ω).",
+    ),
+    option("start", float | None, panel=MAP_PANEL, help="First mesh frequency ω of the map."),
+    option("stop", float | None, panel=MAP_PANEL, help="Last mesh frequency ω of the map."),
+    option("scale_max", float, 2.0, panel=MAP_PANEL, help="Largest scale of the torque orders' amplitudes on the map."),
+    option(
+        "scale_points",
+        int,
+        4,
+        panel=MAP_PANEL,
+        help="Amplitude scales of the map: scale_max/n, 2 scale_max/n, … scale_max.",
+    ),
+]
 
 
 def _scales(inp: Inputs, model: Any) -> Any:
@@ -40,35 +59,8 @@ def _scales(inp: Inputs, model: Any) -> Any:
     return None if getattr(sc, "nondimensional", False) else sc
 
 
-@command("rattle", MODEL, SYSTEM, RATTLE_RUN, RPM_RANGE, OUTPUT)
-def rattle(
-    inp: Inputs,
-    map_points: Annotated[
-        int,
-        typer.Option(
-            rich_help_panel=MAP_PANEL,
-            help="Speeds of the rattle map (0: no map): from --rpm-start to --rpm-stop, or --start to --stop in ω "
-            "(default 0.5 to 2 times the model's ω).",
-        ),
-    ] = 0,
-    start: Annotated[
-        float | None, typer.Option(rich_help_panel=MAP_PANEL, help="First mesh frequency ω of the map.")
-    ] = None,
-    stop: Annotated[
-        float | None, typer.Option(rich_help_panel=MAP_PANEL, help="Last mesh frequency ω of the map.")
-    ] = None,
-    scale_max: Annotated[
-        float,
-        typer.Option(rich_help_panel=MAP_PANEL, help="Largest scale of the torque orders' amplitudes on the map."),
-    ] = 2.0,
-    scale_points: Annotated[
-        int,
-        typer.Option(
-            rich_help_panel=MAP_PANEL,
-            help="Amplitude scales of the map: scale_max/n, 2 scale_max/n, … scale_max.",
-        ),
-    ] = 4,
-) -> None:
+@command("rattle", MAP_OPTIONS, MODEL, SYSTEM, RATTLE_RUN, RPM_RANGE, OUTPUT)
+def rattle(inp: Inputs) -> None:
     """Gear rattle of an unloaded (loose) gear pair driven by torque orders (--torque-order, [model] torque_orders,
     or orders on a load of a --system file of two gears): impacts per cycle on the drive and back flanks, impact
     velocities, and the rattle index (impact kinetic-energy loss per cycle); with --map-points a rattle map over
@@ -90,10 +82,11 @@ def rattle(
     res = run_rattle(model, opts, (0.0, 0.0), scales=scales)
     summary = res.to_json()
     paths = inp.write(res.to_dataset(), "rattle")
-    n = validate.integer("map_points", map_points, 0, 1000)
+    n = validate.integer("map_points", inp.map_points, 0, 1000)
+    start, stop = inp.start, inp.stop
     if n:
-        ns = validate.integer("scale_points", scale_points, 1, 1000)
-        smax = validate.positive("scale_max", scale_max)
+        ns = validate.integer("scale_points", inp.scale_points, 1, 1000)
+        smax = validate.positive("scale_max", inp.scale_max)
         if inp.rpm_start is not None or inp.rpm_stop is not None:
             if scales is None:
                 raise ModelError("rpm_start: a speed range in rpm needs --config of a gear pair or --system")

@@ -36,11 +36,6 @@ def _no_load(d: dict[str, Any]) -> bool:
     )
 
 
-def _dynamic_factor(d: dict[str, Any]) -> str:
-    """The dynamic factor K_v = max mesh force / static mesh force of a summary, or why there is none."""
-    return NO_STATIC_LOAD if _no_load(d) else _num(d.get("dynamic_factor"))
-
-
 def _flat(x: Any) -> list[Any]:
     """The scalars of a summary entry: a value, or the values of its (nested) lists and dicts."""
     if isinstance(x, dict):
@@ -172,7 +167,7 @@ def simulate(s: dict[str, Any]) -> None:
             if k == "torque_N_m" and s.get(k) is None and "meshes" in s:
                 continue  # a system: its loads are in its file, the static force of each mesh in its table
             if k in s:
-                t.add_row(lab, _dynamic_factor(s) if k == "dynamic_factor" else _num(s[k]))
+                t.add_row(lab, NO_STATIC_LOAD if k == "dynamic_factor" and _no_load(s) else _num(s[k]))
         if peaks := s.get("spectrum_peaks") or []:
             t.add_row(
                 "largest spectral lines (order, Hz, µm)",

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Any
 
 import numpy as np
-import typer
 
 from ..errors import ModelError
 from . import render
@@ -15,7 +14,8 @@ from .options import (
     OUTPUT,
     RPM_RANGE,
     STATE,
-    CoordsOpt,
+    SYSTEM,
+    SYSTEM_PANEL,
     Inputs,
     choice,
     command,
@@ -26,36 +26,33 @@ from .options import (
     param_option,
     sweep_range,
 )
-from .ranges import OMEGA_RANGE, both_spellings, omega_only
+from .ranges import OMEGA_RANGE, given_range
 
-ModeOpt = Annotated[
+MODE = option(
+    "mode",
     str,
-    typer.Option(help="fixed: every point from (u0, v0); continue: each point from the previous end state."),
-]
-SweepDirOpt = Annotated[str, typer.Option(help="Continuation direction: up (increasing), down (decreasing) or both.")]
-LyapunovFlagOpt = Annotated[
+    "fixed",
+    help="fixed: every point from (u0, v0); continue: each point from the previous end state.",
+)
+LYAPUNOV = option(
+    "lyap",
     bool,
-    typer.Option(
-        "--lyapunov",
-        help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).",
-    ),
-]
-SettleOpt = Annotated[
+    False,
+    "--lyapunov",
+    help="Largest Lyapunov exponent for every point (otherwise only for non-periodic points, to classify them).",
+)
+SETTLE = option(
+    "settle",
     int | None,
-    typer.Option(
-        help="Further forcing periods (with exponents) for points not periodic after the transient, before "
-        "classification, a pass of up to 4 (0: none). Default 1000; for a forcing period of P > 1 mesh cycles "
-        "max(16, ceil(1000/P)).",
-        show_default=False,
-    ),
-]
-ChunkOpt = Annotated[
+    help="Further forcing periods (with exponents) for points not periodic after the transient, before "
+    "classification, a pass of up to 4 (0: none). Default 1000; for a forcing period of P > 1 mesh cycles "
+    "max(16, ceil(1000/P)).",
+)
+CHUNK = option(
+    "chunk_size",
     int | None,
-    typer.Option(
-        help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 1 s of work each).",
-    ),
-]
-ParamOpt = param_option("Swept parameter")
+    help="Points per chunk of a fixed-initial-state sweep (default: chunks of about 1 s of work each).",
+)
 
 
 def _engine(inp: Inputs, stem: str, model: Any, settle: int | None, chunk_size: int | None = None) -> dict[str, Any]:
@@ -72,19 +69,32 @@ def _engine(inp: Inputs, stem: str, model: Any, settle: int | None, chunk_size: 
     return kw
 
 
-@command("bifurcation", OMEGA_RANGE, RPM_RANGE, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
-def bifurcation(
-    inp: Inputs,
-    param: ParamOpt = None,
-    start: Annotated[float | None, typer.Option(help="First parameter value.")] = None,
-    stop: Annotated[float | None, typer.Option(help="Last parameter value.")] = None,
-    num: Annotated[int, typer.Option(help="Number of parameter values.")] = 101,
-    mode: ModeOpt = "fixed",
-    sweep: SweepDirOpt = "up",
-    lyap: LyapunovFlagOpt = False,
-    settle: SettleOpt = None,
-    chunk_size: ChunkOpt = None,
-) -> None:
+BIFURCATION_OPTIONS = [
+    param_option("Swept parameter"),
+    option("start", float | None, help="First parameter value."),
+    option("stop", float | None, help="Last parameter value."),
+    option("num", int, 101, help="Number of parameter values."),
+    MODE,
+    option("sweep", str, "up", help="Continuation direction: up (increasing), down (decreasing) or both."),
+    LYAPUNOV,
+    SETTLE,
+    CHUNK,
+]
+
+
+@command(
+    "bifurcation",
+    BIFURCATION_OPTIONS,
+    OMEGA_RANGE,
+    RPM_RANGE,
+    MODEL,
+    STATE,
+    integration(adaptive=True),
+    ENGINE,
+    OUTPUT,
+    SYSTEM,
+)
+def bifurcation(inp: Inputs) -> None:
     """Bifurcation diagram over any parameter: Poincaré points, period, motion class, impact state and amplitudes
     per point (and the largest Lyapunov exponent with --lyapunov); fixed initial state or continuation, up/down/both."""
     from .. import validate
@@ -94,15 +104,15 @@ def bifurcation(
 
     model = inp.model()
     scales = inp.scales()
-    param, start, stop = both_spellings(param, start, stop, inp.omega_start, inp.omega_stop)
-    name, start, stop = inp.param_range(param, start, stop)
-    name, values = validate.axis(name, start, stop, num)
+    name, start, stop = inp.param_range(*given_range(inp))
+    name, values = validate.axis(name, start, stop, inp.num)
+    mode, sweep = inp.mode, inp.sweep
     runs = 2 if sweep == "both" else 1
     # the budgets first: building a grid of 10^8 models alone takes minutes
     inp.options(omegas=values if name == "omega" else [model.omega], points=values.size * runs)
     models = validate.grid(model, [(name, values)])
     opts = inp.options(omegas=[m.omega for m in models], points=len(models) * runs)
-    if lyap:
+    if inp.lyap:
         validate.exponents_computable(model, [m.omega for m in models])
     choice("mode", mode, MODES)
     choice("sweep", sweep, SWEEPS)
@@ -111,7 +121,7 @@ def bifurcation(
             f"sweep: --sweep {sweep} applies to --mode continue; in fixed mode every point starts from "
             "(u0, v0), so the direction changes nothing"
         )
-    engine = _engine(inp, "bifurcation", model, settle, chunk_size)
+    engine = _engine(inp, "bifurcation", model, inp.settle, inp.chunk_size)
     ds = run_bifurcation(
         model,
         name,
@@ -120,7 +130,7 @@ def bifurcation(
         sweep=sweep,
         state0=inp.state0(),
         options=opts,
-        lyapunov=lyap,
+        lyapunov=inp.lyap,
         **engine,
     )
     ds = add_physical(ds, scales)
@@ -136,29 +146,39 @@ RESPONSE_RANGE = [
     option("stop", float | None, help="Highest ω of the sweeps (as --omega-stop)."),
     *RPM_RANGE,
 ]
+RESPONSE_OPTIONS = [
+    option("num", int, 71, help="Number of ω values (the jumps are located to within one step)."),
+    option(
+        "measure",
+        str,
+        "amplitude",
+        help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean.",
+    ),
+    LYAPUNOV,
+    SETTLE,
+    option(
+        "method",
+        str,
+        "sweep",
+        help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16; for an "
+        "--excitation of P mesh cycles at least 16·P harmonics of ω/P) with Floquet stability, jumps at the exact "
+        "folds (integration and engine options unused).",
+    ),
+]
 
 
 @command(
-    "response", RESPONSE_RANGE, model_group(omega=False, rpm=False), STATE, integration(adaptive=True), ENGINE, OUTPUT
+    "response",
+    RESPONSE_OPTIONS,
+    RESPONSE_RANGE,
+    model_group(omega=False),
+    STATE,
+    integration(adaptive=True),
+    ENGINE,
+    OUTPUT,
+    SYSTEM,
 )
-def response(
-    inp: Inputs,
-    num: Annotated[int, typer.Option(help="Number of ω values (the jumps are located to within one step).")] = 71,
-    measure: Annotated[
-        str,
-        typer.Option(help="Amplitude measure: amplitude (half peak-to-peak), rms, u_max, u_min or mean."),
-    ] = "amplitude",
-    lyap: LyapunovFlagOpt = False,
-    settle: SettleOpt = None,
-    method: Annotated[
-        str,
-        typer.Option(
-            help="sweep: brute-force sweeps by simulation; hb: read off one harmonic-balance branch (H = 16; for an "
-            "--excitation of P mesh cycles at least 16·P harmonics of ω/P) with Floquet stability, jumps at the exact "
-            "folds (integration and engine options unused).",
-        ),
-    ] = "sweep",
-) -> None:
+def response(inp: Inputs) -> None:
     """Amplitude-frequency response swept up and down with state continuation: jumps (ω, direction, size, sweep)
     and hysteresis intervals where the sweeps end on different attractors (or, with --method hb, from one
     harmonic-balance branch: jumps at its folds)."""
@@ -168,17 +188,18 @@ def response(
 
     model = inp.model()
     scales = inp.scales()
-    _, w0, w1 = omega_only(inp)
+    _, w0, w1 = given_range(inp, "omega")
     omega_start, omega_stop = sweep_range(inp, w0, w1)
     if omega_start is None or omega_stop is None:
         raise ModelError("omega_start: give the range as --omega-start/--omega-stop or as --rpm-start/--rpm-stop")
-    _, values = validate.axis("omega", omega_start, omega_stop, num)
+    _, values = validate.axis("omega", omega_start, omega_stop, inp.num)
+    measure, method = inp.measure, inp.method
     opts = inp.options(omegas=values, points=2 * values.size)
     validate.grid(model, [("omega", values)])
-    if lyap:
+    if inp.lyap:
         validate.exponents_computable(model, values)
     choice("measure", measure, MEASURES)
-    engine = _engine(inp, "response", model, settle)
+    engine = _engine(inp, "response", model, inp.settle)
     if choice("method", method, ("sweep", "hb")) == "hb":
         from ..analysis.hb import hb_response
 
@@ -208,7 +229,7 @@ def response(
             options=opts,
             state0=inp.state0(),
             measure=measure,
-            lyapunov=lyap,
+            lyapunov=inp.lyap,
             **engine,
         )
     ds = add_physical(ds, scales)
@@ -241,14 +262,10 @@ MAP_AXES = [
 ]
 
 
-@command("map", MAP_AXES, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT)
-def parameter_map(
-    inp: Inputs,
-    mode: ModeOpt = "fixed",
-    lyap: LyapunovFlagOpt = False,
-    settle: SettleOpt = None,
-    chunk_size: ChunkOpt = None,
-) -> None:
+@command(
+    "map", [MODE, LYAPUNOV, SETTLE, CHUNK], MAP_AXES, MODEL, STATE, integration(adaptive=True), ENGINE, OUTPUT, SYSTEM
+)
+def parameter_map(inp: Inputs) -> None:
     """2-D parameter map (e.g. ω × ξ0, ω × D) of motion class, impact state, amplitude and largest exponent."""
     from .. import validate
     from ..analysis.bifurcation import MODES
@@ -289,21 +306,21 @@ def parameter_map(
     inp.not_swept(xn, yn)
     axis_omegas = xv if xn == "omega" else yv if yn == "omega" else [model.omega]
     opts = inp.options(omegas=axis_omegas, points=xv.size * yv.size)
-    if lyap:
+    if inp.lyap:
         validate.exponents_computable(model, axis_omegas)
     validate.grid(model, [(yn, yv), (xn, xv)], opts)
-    choice("mode", mode, MODES)
-    engine = _engine(inp, "map", model, settle, chunk_size)
+    choice("mode", inp.mode, MODES)
+    engine = _engine(inp, "map", model, inp.settle, inp.chunk_size)
     ds = run_map(
         model,
         xn,
         xv,
         yn,
         yv,
-        mode=mode,
+        mode=inp.mode,
         state0=inp.state0(),
         options=opts,
-        lyapunov=lyap,
+        lyapunov=inp.lyap,
         **engine,
     )
     ds = add_physical(ds, scales, lazy=True)
@@ -337,19 +354,27 @@ BASIN_RUN = integration(
 )
 
 
-@command("basins", MODEL, BASIN_RUN, ENGINE, OUTPUT)
-def basins(
-    inp: Inputs,
-    u_min: Annotated[float, typer.Option(help="Smallest initial displacement u0.")] = -3.0,
-    u_max: Annotated[float, typer.Option(help="Largest initial displacement u0.")] = 3.0,
-    v_min: Annotated[float, typer.Option(help="Smallest initial velocity v0.")] = -3.0,
-    v_max: Annotated[float, typer.Option(help="Largest initial velocity v0.")] = 3.0,
-    nu: Annotated[int, typer.Option(help="Grid points along u0.")] = 41,
-    nv: Annotated[int, typer.Option(help="Grid points along v0.")] = 41,
-    settle: SettleOpt = None,
-    chunk_size: Annotated[int, typer.Option(help="Initial states per chunk.")] = 64,
-    coords: CoordsOpt = None,
-) -> None:
+BASIN_GRID = [
+    option("u_min", float, -3.0, help="Smallest initial displacement u0."),
+    option("u_max", float, 3.0, help="Largest initial displacement u0."),
+    option("v_min", float, -3.0, help="Smallest initial velocity v0."),
+    option("v_max", float, 3.0, help="Largest initial velocity v0."),
+    option("nu", int, 41, help="Grid points along u0."),
+    option("nv", int, 41, help="Grid points along v0."),
+    SETTLE,
+    option("chunk_size", int, 64, help="Initial states per chunk."),
+    option(
+        "coords",
+        str | None,
+        panel=SYSTEM_PANEL,
+        help="With --system: two state coordinates, DOF labels or 'label'' for a rate (e.g. x_p,x_p'): the axes of the "
+        "basins' slice (--u-min/--u-max, --v-min/--v-max; default the reference mesh's δ, δ').",
+    ),
+]
+
+
+@command("basins", BASIN_GRID, MODEL, BASIN_RUN, ENGINE, OUTPUT, SYSTEM)
+def basins(inp: Inputs) -> None:
     """Basins of attraction: a grid of initial states (u0, v0) at θ = 0, each labelled by the attractor it reaches
     (attractors identified by their Poincaré cycles)."""
     from .. import validate
@@ -359,17 +384,17 @@ def basins(
 
     model = inp.model()
     scales = inp.scales()
-    lo_u, hi_u = validate.number("u-min", u_min), validate.number("u-max", u_max)
-    lo_v, hi_v = validate.number("v-min", v_min), validate.number("v-max", v_max)
-    n_u, n_v = validate.integer("nu", nu, 1, 100_000), validate.integer("nv", nv, 1, 100_000)
+    lo_u, hi_u = validate.number("u-min", inp.u_min), validate.number("u-max", inp.u_max)
+    lo_v, hi_v = validate.number("v-min", inp.v_min), validate.number("v-max", inp.v_max)
+    n_u, n_v = validate.integer("nu", inp.nu, 1, 100_000), validate.integer("nv", inp.nv, 1, 100_000)
     opts = inp.options(model.omega, points=n_u * n_v)
-    engine = _engine(inp, "basins", model, settle, chunk_size)
+    engine = _engine(inp, "basins", model, inp.settle, inp.chunk_size)
     c = None
     if inp.system is not None:  # a slice of two state coordinates (default the reference mesh's δ, δ')
         from .system_input import coordinates
 
-        c = coordinates(model, coords, 2)
-    elif coords is not None:
+        c = coordinates(model, inp.coords, 2)
+    elif inp.coords is not None:
         raise ModelError(
             "coords: --coords picks the state coordinates of a --system's slice; the pair's basins are over (u0, v0)"
         )

@@ -1,10 +1,10 @@
 """``--system FILE``: what the option gives the commands, a multi-DOF system (``examples/systems/*.toml``).
 
-:data:`geardyn.cli.options.SYSTEM` is the option group of the commands of
-:data:`geardyn.cli.options.SYSTEM_COMMANDS`; with ``--system`` their
-:meth:`~geardyn.cli.options.Inputs.model` is the system of the file (:func:`load_cli_system`: ``--omega`` /
-``--rpm`` and the model options applied to its reference mesh), and the command runs its own analysis on it;
-the summary adds ``meshes`` (:func:`mesh_summary`), printed as one more table (:func:`geardyn.cli.render.meshes`).
+:data:`geardyn.cli.options.SYSTEM` is the option group of the commands that run on a multi-DOF system; with
+``--system`` their :meth:`~geardyn.cli.options.Inputs.model` is the system of the file (:func:`load_cli_system`:
+``--omega`` / ``--rpm`` and the model options applied to its reference mesh), and the command runs its own analysis
+on it; the summary adds ``meshes`` (:func:`mesh_summary`), printed as one more table
+(:func:`geardyn.cli.render.meshes`).
 """
 
 from __future__ import annotations
@@ -46,11 +46,9 @@ def load_cli_system(values: dict[str, Any]):
         raise ModelError("rpm: give --rpm or --omega, not both")
     if values.get("rpm") is not None:
         s = s.with_param("omega", s.scaling.omega_from_rpm(float(values["rpm"])))
-    if values.get("omega") is not None:
-        s = s.with_param("omega", float(values["omega"]))
-    for o in params.cli_options():
+    for o in params.cli_options():  # --omega first, as the registry lists it (--fp is refused above)
         v = values.get(o.dest)
-        if v is not None and o.param not in ("omega", "fp"):  # (set above; fp comes from the loads)
+        if v is not None:
             s = s.with_param(o.param, float(v))
     _forcing_period_note(s, values)
     _unsettled_note(s, values)

@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
-
-import typer
+from typing import Any
 
 from ..errors import ModelError
-from .options import OUTPUT, Inputs, command, finish
+from .options import OUTPUT, Inputs, choice, command, finish, option
 
 
 def _orders(text: str) -> tuple[int, ...]:
@@ -67,21 +65,22 @@ def _render(summary: dict[str, Any]) -> None:
         c.print(x)
 
 
-@command("modes", OUTPUT)
-def modes(
-    inp: Inputs,
-    system: Annotated[Path, typer.Option(help="TOML file of the multi-DOF system.")],
-    rpm_max: Annotated[float, typer.Option(help="Upper end of the Campbell diagram's speed range (rpm).")] = 10000.0,
-    hz_max: Annotated[
+MODES_OPTIONS = [
+    option("system", Path, ..., help="TOML file of the multi-DOF system."),
+    option("rpm_max", float, 10000.0, help="Upper end of the Campbell diagram's speed range (rpm)."),
+    option(
+        "hz_max",
         float | None,
-        typer.Option(
-            help="Upper end of the reference mesh frequency (Hz) of a Campbell diagram drawn against it (a "
-            "reference mesh without teeth); default 1.2 times where the lowest order meets the highest mode.",
-        ),
-    ] = None,
-    orders: Annotated[str, typer.Option(help="Mesh orders of the Campbell diagram, e.g. '1,2,3'.")] = "1,2,3",
-    clearances: Annotated[str, typer.Option(help="Clearance elements 'contact' (stiffness on) or 'open'.")] = "contact",
-) -> None:
+        help="Upper end of the reference mesh frequency (Hz) of a Campbell diagram drawn against it (a "
+        "reference mesh without teeth); default 1.2 times where the lowest order meets the highest mode.",
+    ),
+    option("orders", str, "1,2,3", help="Mesh orders of the Campbell diagram, e.g. '1,2,3'."),
+    option("clearances", str, "contact", help="Clearance elements 'contact' (stiffness on) or 'open'."),
+]
+
+
+@command("modes", MODES_OPTIONS, OUTPUT)
+def modes(inp: Inputs) -> None:
     """Natural frequencies (Hz, ascending; modes numbered from 1, rigid-body modes 0 Hz), M-orthonormal mode
     shapes and modal strain-energy fractions per element at mean mesh stiffness, and the Campbell diagram with
     the crossings of the mesh orders (against pinion speed, or against the mesh frequency when the reference
@@ -89,13 +88,13 @@ def modes(
     from .. import validate
     from ..systems import load_description, modes_report
     from ..systems.modes import modes_budget_of_file
-    from .options import choice
 
-    modes_budget_of_file(system)  # a system too large is refused before its file is loaded
-    desc = load_description(system)
-    hi = validate.positive("rpm-max", rpm_max)
-    hz = None if hz_max is None else (0.0, validate.positive("hz-max", hz_max))
-    rep = modes_report(desc, (0.0, hi), _orders(orders), choice("clearances", clearances, ("contact", "open")), hz)
+    modes_budget_of_file(inp.system)  # a system too large is refused before its file is loaded
+    desc = load_description(inp.system)
+    hi = validate.positive("rpm-max", inp.rpm_max)
+    hz = None if inp.hz_max is None else (0.0, validate.positive("hz-max", inp.hz_max))
+    clearances = choice("clearances", inp.clearances, ("contact", "open"))
+    rep = modes_report(desc, (0.0, hi), _orders(inp.orders), clearances, hz)
     paths: list[str] = []
     if inp.out is not None:
         from ..systems.modes_data import modes_dataset

@@ -116,11 +116,8 @@ def drive_side_from_rotation(hand: str, rotation: str) -> str:
     if rotation not in ROTATIONS:
         raise ModelError(f"pinion_rotation: must be one of {', '.join(ROTATIONS)}, got {rotation!r}")
     # j1 = s·h·a1 with s = -1 (concave) / +1 (convex), h = +1 (left) / -1 (right);
-    # j1 = +a1 is counterclockwise seen from the back.
-    h = 1 if hand == "left" else -1
-    ccw = 1 if rotation == "counterclockwise" else -1
-    s = ccw * h
-    return "convex" if s > 0 else "concave"
+    # j1 = +a1 is counterclockwise seen from the back: s = +1 when h and the sense of rotation agree.
+    return "convex" if (hand == "left") == (rotation == "counterclockwise") else "concave"
 
 
 class Assumption(AssumedInput):

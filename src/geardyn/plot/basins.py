@@ -59,6 +59,6 @@ def basin_figure(ds: xr.Dataset, ax: Axes = None) -> None:
     if np.any(lab < 0):
         handles.append(Patch(color="#000000", label=f"diverged {100 * np.mean(lab < 0):.1f} %"))
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=8, frameon=False)
-    ax.set_xlabel(label(ds["u0"], "u0"))
-    ax.set_ylabel(label(ds["v0"], "v0"))
+    ax.set_xlabel(label(ds["u0"]))
+    ax.set_ylabel(label(ds["v0"]))
     set_title(ax, f"Basins of attraction{speed_text(ds)} (dots: attractors' Poincaré points)", ds)

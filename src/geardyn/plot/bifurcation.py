@@ -11,7 +11,7 @@ from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from ..analysis.classify import IMPACT_LABELS, MOTION_LABELS
-from .common import cell_edges, contact_lines, label, of_mesh, plot_function, rpm_axis, set_title, symbol
+from .common import cell_edges, contact_lines, equal_steps, label, of_mesh, plot_function, rpm_axis, set_title, symbol
 
 __all__ = ["IMPACT_COLORS", "MOTION_COLORS", "POINT_SIZE", "SWEEP_COLORS", "category_band", "diagram", "diagram_panels"]
 
@@ -33,10 +33,7 @@ DISCRETE_MAX = 12
 def is_discrete(x: np.ndarray) -> bool:
     """Whether the values of a sweep are separate settings rather than a grid (few, or unequally spaced)."""
     x = np.asarray(x, dtype=float)
-    if x.size <= 1:
-        return True
-    d = np.diff(x)
-    return x.size <= DISCRETE_MAX or not np.allclose(d, d[0], rtol=1e-6, atol=0.0)
+    return x.size <= DISCRETE_MAX or not equal_steps(x)
 
 
 def category_band(ax, x: np.ndarray, codes: np.ndarray, colors: dict[int, str], names: dict[int, str], title: str):
@@ -135,12 +132,13 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
     for s in sweeps:
         pu = ds["poincare_u"].sel(sweep=s).values
         xx, pu = np.broadcast_to(x[:, None], pu.shape).ravel(), pu.ravel()
-        ax.plot(xx, pu, ",", color=SWEEP_COLORS.get(s, "k"), alpha=0.8)
+        c = SWEEP_COLORS.get(s, "k")
+        ax.plot(xx, pu, ",", color=c, alpha=0.8)
         ax.scatter(
             xx,
             pu,
             s=12 if discrete else POINT_SIZE,
-            color=SWEEP_COLORS.get(s, "k"),
+            color=c,
             lw=0,
             label=f"sweep {s}" if len(sweeps) > 1 or s != "fixed" else "Poincaré points",
         )
@@ -181,4 +179,4 @@ def diagram(ds: xr.Dataset, ax: Any = None) -> None:
                     a, x, ds[var].sel(sweep=s).values, colors, names, f"{var} ({s})" if len(sweeps) > 1 else var
                 )
         k += 2
-    [a for a in axes if a is not None][-1].set_xlabel(label(ds[name], name))
+    [a for a in axes if a is not None][-1].set_xlabel(label(ds[name]))

@@ -13,6 +13,7 @@ import functools
 import inspect
 import io as _io
 import math
+import re
 import sys
 import textwrap
 from collections.abc import Callable, Iterable, Sequence
@@ -171,6 +172,32 @@ def panels(ax: Any, n: int, figsize: tuple[float, float], **subplots: Any) -> tu
     return axes[0].figure, axes, False
 
 
+#: Non-dimensional displacements (u = u_n / b_c): their axes carry the unit b_c.
+IN_B_C = tuple(
+    (
+        "u poincare_u amplitude rms mean u_min u_max amplitude_up "
+        "amplitude_down delta element_u_min element_u_max element_mean element_rms"
+    ).split()
+)
+_SUB = str.maketrans("0123456789", "₀₁₂₃₄₅₆₇₈₉")
+
+
+def subscripts(text: str) -> str:
+    """``ξ_1`` → ``ξ₁``: an index written after an underscore as subscript digits (a figure shows no literal
+    underscore).
+
+    Parameters
+    ----------
+    text : str
+        A label.
+
+    Returns
+    -------
+    str
+    """
+    return re.sub(r"_\{?(\d+)\}?", lambda m: m.group(1).translate(_SUB), text)
+
+
 def label(da: xr.DataArray, fallback: str | None = None) -> str:
     """Axis label '<long_name> [units]' from a DataArray's attributes (no unit shown for "1").
 
@@ -185,8 +212,6 @@ def label(da: xr.DataArray, fallback: str | None = None) -> str:
     -------
     str
     """
-    from .axis_units import IN_B_C, subscripts
-
     name = subscripts(str(da.attrs.get("long_name", fallback or str(da.name))))
     units = da.attrs.get("units")
     if units == "1" and str(da.name) in IN_B_C:  # a displacement of the non-dimensional model: in units of b_c
@@ -299,6 +324,12 @@ def parameter_text(ds: xr.Dataset, exclude: Iterable[str] = ()) -> str:
     return ", ".join(parts)
 
 
+def equal_steps(x: np.ndarray) -> bool:
+    """Whether ``x`` holds at least two values, evenly spaced (steps equal to 1e-6 relative)."""
+    d = np.diff(x)
+    return x.size >= 2 and bool(np.allclose(d, d[0], rtol=1e-6, atol=0.0))
+
+
 def cells(
     ax: Axes,
     x: np.ndarray,
@@ -333,11 +364,7 @@ def cells(
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
     kw = {"cmap": cmap, "norm": norm, "vmin": vmin, "vmax": vmax}
 
-    def even(v: np.ndarray) -> bool:
-        d = np.diff(v)
-        return v.size >= 2 and bool(np.all(d > 0)) and bool(np.allclose(d, d[0], rtol=1e-6, atol=0.0))
-
-    if z.size >= IMAGE_CELLS and even(x) and even(y):
+    if z.size >= IMAGE_CELLS and equal_steps(x) and equal_steps(y) and x[1] > x[0] and y[1] > y[0]:
         dx, dy = (x[-1] - x[0]) / (x.size - 1), (y[-1] - y[0]) / (y.size - 1)
         return ax.imshow(
             z,
@@ -439,11 +466,10 @@ def contact_lines(
     param: str | None = None,
     x: np.ndarray | None = None,
     *,
-    color: str = "0.6",
     lw: float = 0.8,
     ls: str | None = None,
 ) -> list[Artist]:
-    """The contact boundaries u = ±D of a figure over ``x``: horizontal lines at the model's D, or, when the
+    """The contact boundaries u = ±D of a figure over ``x`` in grey: horizontal lines at the model's D, or, when the
     swept parameter ``param`` is D itself, the lines u = ±D following the plotted D (nothing where D = 0).
 
     Parameters
@@ -456,8 +482,6 @@ def contact_lines(
         The parameter on the horizontal axis.
     x : ndarray, optional
         Its plotted values (used when ``param`` is D).
-    color : str
-        Line colour.
     lw : float
         Line width.
     ls : str, optional
@@ -468,7 +492,7 @@ def contact_lines(
     list of Artist
         The lines drawn (``gid`` ``"contact"``).
     """
-    style = {"color": color, "lw": lw, **({} if ls is None else {"ls": ls})}
+    style = {"color": "0.6", "lw": lw, **({} if ls is None else {"ls": ls})}
     if param is not None and x is not None and _canonical(param) == "D":
         d = np.sort(np.asarray(x, dtype=float))
         return [ax.plot(d, s * d, gid="contact", **style)[0] for s in (1, -1)]
@@ -539,6 +563,24 @@ def branch_lines(
         i0 = i
 
 
+def bifurcation_marker(ax: Axes, x: float, y: float, marker: str, color: str, name: str, seen: set[str]) -> None:
+    """A located bifurcation as an open marker at (x, y), named ``name`` in the legend once per Axes (``seen`` holds
+    the names given)."""
+    ax.plot(
+        [x],
+        [y],
+        ls="none",
+        marker=marker,
+        color=color,
+        ms=7,
+        mfc="white",
+        mew=1.8,
+        zorder=5,
+        label=None if name in seen else name,
+    )
+    seen.add(name)
+
+
 def spread(y: np.ndarray, gap: float, top: float) -> np.ndarray:
     """Positions as close to ``y`` (ascending) as possible, at least ``gap`` apart, within [0, top] (labels moved
     apart along an axis)."""
@@ -564,10 +606,8 @@ def place_labels(
     ax: Axes,
     labels: Sequence[tuple[float, float, str, str]],
     avoid: Sequence[Artist] = (),
-    *,
-    fontsize: float | str = 7,
 ) -> list[Artist]:
-    """Labels beside anchor points, each at the first of :data:`LABEL_OFFSETS` where its box overlaps
+    """Labels (font size 7) beside anchor points, each at the first of :data:`LABEL_OFFSETS` where its box overlaps
     neither an earlier label nor an artist of ``avoid`` (arrows, say).
 
     Parameters
@@ -578,8 +618,6 @@ def place_labels(
         Anchor in data coordinates, text and colour of each label.
     avoid : sequence of Artist
         Artists the labels must not cover.
-    fontsize : float or str
-        Font size of the labels.
 
     Returns
     -------
@@ -587,8 +625,7 @@ def place_labels(
         The labels.
     """
     ax.get_xlim(), ax.get_ylim()  # settle the autoscaled limits before measuring
-    get = getattr(ax.figure.canvas, "get_renderer", None)
-    renderer = get() if get is not None else ax.figure._get_renderer()
+    renderer = ax.figure._get_renderer()  # the canvas's, or the one a saved figure would use
     taken = [a.get_window_extent(renderer) for a in avoid]
     out = []
     for x, y, s, colour in labels:
@@ -601,7 +638,7 @@ def place_labels(
                 color=colour,
                 ha="left" if dx > 0 else "right",
                 va="center",
-                fontsize=fontsize,
+                fontsize=7,
             )
             box = t.get_window_extent(renderer)
             if not any(box.overlaps(b) for b in taken) or (dx, dy) == LABEL_OFFSETS[-1]:
@@ -641,8 +678,8 @@ def plot_function(
     figsize : (float, float) or callable
         Size of a new figure, or ``figsize(ds)``.
     n : int or callable
-        Number of panels, or ``n(ds)``; ``fn`` receives one Axes when 1, else the list of panels
-        (``None`` where not drawn).
+        Number of panels, or ``n(ds)``; ``fn`` receives one Axes when ``n`` is 1, else the list of panels
+        (``None`` where not drawn; always the list when ``n`` is callable, even of one panel).
     subplots : dict or callable, optional
         Keywords of :meth:`~matplotlib.figure.Figure.subplots` for a new figure, or ``subplots(ds)``.
     ax_doc : str
@@ -665,20 +702,20 @@ def plot_function(
 
         @functools.wraps(fn)
         def plot(ds: xr.Dataset, *args: Any, **kwargs: Any) -> PlotArtists:
+            ds = mesh_labels(ds)  # a system's labels name its reference mesh
             bound = sig.bind(ds, *args, **kwargs)
             bound.apply_defaults()
-            first = next(iter(sig.parameters))
-            bound.arguments[first] = ds = mesh_labels(ds)  # a system's labels name its reference mesh
-            count = n(ds) if callable(n) else n
-            size = figsize(ds) if callable(figsize) else figsize
-            fig, axes, new = panels(
-                bound.arguments["ax"], count, size, **((subplots(ds) if callable(subplots) else subplots) or {})
-            )
+
+            def of_ds(value: Any) -> Any:  # a figure property, or a function of the Dataset giving it
+                return value(ds) if callable(value) else value
+
+            count = of_ds(n)
+            fig, axes, new = panels(bound.arguments["ax"], count, of_ds(figsize), **(of_ds(subplots) or {}))
             if new and adjust:
                 fig.subplots_adjust(**adjust)
             drawn = [a for a in axes if a is not None]
             before = [set(a.get_children()) for a in drawn]  # to return what fn adds
-            bound.arguments["ax"] = axes[0] if count == 1 else axes
+            bound.arguments["ax"] = axes if callable(n) or count > 1 else axes[0]
             fn(*bound.args, **bound.kwargs)
             if new and tight:
                 fig.tight_layout()

@@ -10,7 +10,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import branch_lines, json_attr, json_list, label, model_of, of_mesh, plot_function
+from .common import bifurcation_marker, branch_lines, json_attr, json_list, label, model_of, of_mesh, plot_function
 
 __all__ = ["HB_STYLE", "SHOOTING_CONTEXT", "SHOOTING_STYLE", "hb_figure"]
 
@@ -28,24 +28,12 @@ EVENT_MARKERS = {
 }
 
 
-def _events(ax, bifs: list[dict], param: str, what: str, seen: set[str]) -> None:
+def _events(ax, bifs: list[dict], param: str, names: list[str], seen: set[str]) -> None:
     for b in bifs:
         mk, c = EVENT_MARKERS.get(b["type"], ("P", "k"))
-        ys = [0.5 * (b["u_max"] - b["u_min"])] if what == "amplitude" else [b["u_min"], b["u_max"]]
+        ys = [0.5 * (b["u_max"] - b["u_min"])] if names == ["amplitude"] else [b[k] for k in names]
         for y in ys:
-            ax.plot(
-                [b[param]],
-                [y],
-                ls="none",
-                marker=mk,
-                color=c,
-                mfc="white",
-                mew=1.8,
-                ms=7,
-                zorder=5,
-                label=None if b["type"] in seen else b["type"],
-            )
-            seen.add(b["type"])
+            bifurcation_marker(ax, b[param], y, mk, c, b["type"], seen)
 
 
 def _shooting_curves(shooting: xr.Dataset, ds: xr.Dataset, param: str) -> dict[str, np.ndarray]:
@@ -95,18 +83,26 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
     stable = ds["stable"].values.astype(bool) & ok
     bifs = json_list(ds, "bifurcations")
     H, n = int(ds.attrs.get("harmonics", 0)), int(ds.attrs.get("period", 1))
-    for a, what in zip(ax, ("amplitude", "extremes")):
+    sc = _shooting_curves(shooting, ds, param) if shooting is not None and shooting.sizes.get("point", 0) else None
+    for a, names in zip(ax, (["amplitude"], ["u_min", "u_max"])):
         if a is None:
             continue
         seen: set[str] = set()
-        if shooting is not None and shooting.sizes.get("point", 0):
-            sc = _shooting_curves(shooting, ds, param)
+        if sc is not None:
             sst = sc["stable"].astype(bool)
             for b in np.unique(sc["branch"]):
                 sel = sc["branch"] == b
-                ys = [sc["amplitude"][sel]] if what == "amplitude" else [sc["u_min"][sel], sc["u_max"][sel]]
-                branch_lines(a, sc["x"][sel], ys, sst[sel], "shooting, ", seen, zorder=2, **SHOOTING_STYLE)
-        ys = [ds["amplitude"].values] if what == "amplitude" else [ds["u_min"].values, ds["u_max"].values]
+                branch_lines(
+                    a,
+                    sc["x"][sel],
+                    [sc[k][sel] for k in names],
+                    sst[sel],
+                    "shooting, ",
+                    seen,
+                    zorder=2,
+                    **SHOOTING_STYLE,
+                )
+        ys = [ds[k].values for k in names]
         branch_lines(a, x, ys, stable, f"HB (H = {H}), ", seen, zorder=3, **HB_STYLE)
         if np.any(~ok):
             for y in ys:
@@ -121,7 +117,7 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
                     label=None if "unresolved" in seen else "stability unresolved",
                 )
                 seen.add("unresolved")
-        _events(a, bifs, param, what, seen)
+        _events(a, bifs, param, names, seen)
         a.grid(alpha=0.3)
     ax[0].set_ylabel(label(ds["amplitude"]))
     if ax[1] is not None:
@@ -129,7 +125,7 @@ def hb_figure(ds: xr.Dataset, shooting: xr.Dataset | None = None, ax: Any = None
             for s in (D, -D):
                 ax[1].axhline(s, color="0.5", lw=0.8, ls=":")
         ax[1].set_ylabel(of_mesh("u_min, u_max", ds) + " (dotted: ±D)")
-    [a for a in ax if a is not None][-1].set_xlabel(label(ds[param], param))
+    [a for a in ax if a is not None][-1].set_xlabel(label(ds[param]))
     ax[0].legend(fontsize=7, ncol=2, loc="best")
     fixed = ", ".join(f"{k} = {model[k]:g}" for k in ("xi0", "fp", "D") if k != param and k in model)
     over = " over the shooting branch" if shooting is not None else ""

@@ -60,8 +60,8 @@ def _axes_names(ds: xr.Dataset) -> tuple[str, str]:
 
 def _labels(ax: Axes, ds: xr.Dataset, title: str) -> None:
     xn, yn = _axes_names(ds)
-    ax.set_xlabel(label(ds[xn], xn))
-    ax.set_ylabel(label(ds[yn], yn))
+    ax.set_xlabel(label(ds[xn]))
+    ax.set_ylabel(label(ds[yn]))
     set_title(ax, title, ds, exclude=[xn, yn])
 
 
@@ -111,13 +111,13 @@ def continuous_map(ds: xr.Dataset, var: str = "amplitude", ax: Axes = None) -> N
     without a value (NaN) are drawn hatched in :data:`~geardyn.plot.common.NAN_COLOR`, named in a legend."""
     xn, yn = _axes_names(ds)
     x, y, z = ds[xn].values, ds[yn].values, ds[var].values
+    missing = ~np.isfinite(z)
     if var == "lle":
-        finite = z[np.isfinite(z)]
+        finite = z[~missing]
         lim = max(float(np.max(np.abs(finite))) if finite.size else 1.0, 1e-6)
         im = cells(ax, x, y, z, cmap="RdBu_r", norm=TwoSlopeNorm(vcenter=0.0, vmin=-lim, vmax=lim))
     else:
         im = cells(ax, x, y, z, cmap="viridis")
-    missing = ~np.isfinite(z)
     if missing.any():
         ax.pcolor(
             x,
@@ -138,5 +138,5 @@ def continuous_map(ds: xr.Dataset, var: str = "amplitude", ax: Axes = None) -> N
             fontsize=8,
             frameon=False,
         )
-    ax.figure.colorbar(im, ax=ax, label=label(ds[var], var))
+    ax.figure.colorbar(im, ax=ax, label=label(ds[var]))
     _labels(ax, ds, ds[var].attrs.get("long_name", var))

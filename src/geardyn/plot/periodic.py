@@ -10,7 +10,18 @@ import numpy as np
 import xarray as xr
 
 from ..io import attached
-from .common import branch_lines, contact_lines, json_attr, label, model_of, plot_function, rpm_axis, set_title, symbol
+from .common import (
+    bifurcation_marker,
+    branch_lines,
+    contact_lines,
+    json_attr,
+    label,
+    model_of,
+    plot_function,
+    rpm_axis,
+    set_title,
+    symbol,
+)
 
 __all__ = [
     "BIFURCATION_STYLE",
@@ -63,7 +74,7 @@ def orbit_figure(ds: xr.Dataset, ax: Any = None) -> None:
     if ds["u"].size:
         ax.plot(ds["u"].values, ds["v"].values, lw=0.9, color="C0", label="orbit")
     ax.plot(ds["poincare_u"].values, ds["poincare_v"].values, "o", color="C3", ms=5, label="section points")
-    ax.set_xlabel(label(ds["u"], "u"))
+    ax.set_xlabel(label(ds["u"]))
     ax.set_ylabel(label(ds["v"], "du/dτ"))
     ax.legend(fontsize=8)
     ax.set_title("Phase portrait")
@@ -84,7 +95,7 @@ def _orbit_history(ax, ds: xr.Dataset, m: dict, D: float, summary: dict) -> None
         for k in range(ds.sizes["section"] + 1):
             ax.axvline(k * T, color="C3", lw=0.5, alpha=0.6)
     ax.set_xlabel(label(ds["tau"], "τ"))
-    ax.set_ylabel(label(ds["u"], "u"))
+    ax.set_ylabel(label(ds["u"]))
     per = summary.get("period")
     set_title(ax, f"Period-{per if per else '?'} orbit ({summary.get('impact', '')})", ds, fontsize=10)
 
@@ -140,23 +151,19 @@ def _draw_sweep(ax, sweep: xr.Dataset, param: str, what: str) -> None:
 
 
 def _draw_bifurcations(ax, ds: xr.Dataset, param: str, what: str) -> None:
-    seen = set()
+    seen: set[str] = set()
     for i in range(ds.sizes.get("bifurcation", 0)):
         typ = str(ds["bifurcation_type"].values[i])
         st = BIFURCATION_STYLE.get(typ, dict(marker="P", color="k", label=typ))
-        ax.plot(
-            [float(ds[f"bifurcation_{param}"].values[i])],
-            [float(ds["bifurcation_amplitude" if what == "amplitude" else "bifurcation_u"].values[i])],
-            ls="none",
-            marker=st["marker"],
-            color=st["color"],
-            ms=7,
-            mfc="white",
-            mew=1.8,
-            zorder=5,
-            label=None if typ in seen else st["label"],
+        bifurcation_marker(
+            ax,
+            float(ds[f"bifurcation_{param}"].values[i]),
+            float(ds["bifurcation_amplitude" if what == "amplitude" else "bifurcation_u"].values[i]),
+            st["marker"],
+            st["color"],
+            st["label"],
+            seen,
         )
-        seen.add(typ)
 
 
 @plot_function(
@@ -195,7 +202,7 @@ def continuation_figure(ds: xr.Dataset, sweep: xr.Dataset | None = None, ax: Any
         contact_lines(axes[1], ds, param, x)
         axes[1].set_ylabel(label(ds["poincare_u"]))
     axes[0].set_ylabel(label(ds["amplitude"]))
-    [a for a in axes if a is not None][-1].set_xlabel(label(ds[param], param))
+    [a for a in axes if a is not None][-1].set_xlabel(label(ds[param]))
     axes[0].legend(fontsize=7, ncol=2, loc="best")
     over = " over the brute-force up/down sweep" if sweep is not None else ""
     set_title(axes[0], f"Continuation in {symbol(param)}: periodic orbits{over}", ds, exclude=[param])

@@ -180,7 +180,7 @@ def rpm_curve(ds: xr.Dataset, name: str | None = None, ax: Axes = None) -> None:
             x, lines[:, i], ".-", ms=4, lw=0.8, color=colour, label=(lab or None) if count <= LEGEND_CURVES else None
         )
     if colour_by:
-        ax.figure.colorbar(mappable, ax=ax, label=label(ds[others[0]], others[0]))
+        ax.figure.colorbar(mappable, ax=ax, label=label(ds[others[0]]))
     elif count <= LEGEND_CURVES and ax.get_legend_handles_labels()[1]:
         ax.legend(fontsize=8, loc="best")
 

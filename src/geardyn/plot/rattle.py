@@ -50,12 +50,10 @@ def rattle_map_figure(ds: xr.Dataset, ax: list = None) -> None:
     xname = "rpm" if "rpm" in ds.coords else "omega"
     x = ds[xname].values
     y = ds["amplitude_scale"].values
-    physical = "rattle_index_J" in ds
     panels = (
-        (
-            "rattle_index_J" if physical else "rattle_index",
-            "rattle index (J per cycle)" if physical else "rattle index",
-        ),
+        ("rattle_index_J", "rattle index (J per cycle)")
+        if "rattle_index_J" in ds
+        else ("rattle_index", "rattle index"),
         ("impacts_drive", "drive-flank impacts per cycle"),
         ("impacts_back", "back-flank impacts per cycle"),
     )

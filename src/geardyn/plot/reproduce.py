@@ -62,7 +62,7 @@ def formula_fit(ds: xr.Dataset, ax: Any = None) -> None:
     (ξ0, b) on shared axes (a result of the reproduction report)."""
     A0, dA, beta = (float(ds.attrs[k]) for k in ("A0", "dA", "beta"))
     w, xi0, b, a = (ds[k].values for k in ("omega", "xi0", "b_mm", "amplitude"))
-    axes = ax if isinstance(ax, list) else [ax]
+    axes = ax
     one = not any(axes[1:])  # one Axes for every curve (the other panels not drawn)
     ww = np.linspace(w.min(), w.max(), 300)
     ends = []
@@ -126,14 +126,21 @@ def search_map(ds: xr.Dataset, ax: Axes = None) -> None:
         extent=(-0.5, frac.shape[0] - 0.5, -0.5, frac.shape[1] - 0.5),
     )
     ax.set_xticks(range(frac.shape[0]), [f"{w:g}" for w in ds["omega"].values])
-    ax.set_yticks(range(frac.shape[1]), [str(c) for c in ds["claim"].values])
     ax.set_xlabel("ω searched")
     for (i, j), f in np.ndenumerate(frac):
         if np.isfinite(f):
             ax.text(i, j, f"{f:.0%}", ha="center", va="center", fontsize=7, color="w" if f < 0.6 else "k")
-    ax.figure.colorbar(im, ax=ax, label="fraction of grid points matching the claim")
     param = str(ds.attrs.get("param"))
-    set_title(ax, f"Where the claims over {symbol(param)} hold", ds, exclude=["omega", param])
+    _claims(
+        ax, ds, im, "grid points matching the claim", f"Where the claims over {symbol(param)} hold", ["omega", param]
+    )
+
+
+def _claims(ax: Axes, ds: xr.Dataset, im: Any, share: str, title: str, exclude: list[str]) -> None:
+    """The claims named on the y axis, the colour bar of the fraction of ``share`` and the title of a claims map."""
+    ax.set_yticks(range(ds.sizes["claim"]), [str(c) for c in ds["claim"].values])
+    ax.figure.colorbar(im, ax=ax, label=f"fraction of {share}")
+    set_title(ax, title, ds, exclude=exclude)
 
 
 @plot_function(
@@ -149,11 +156,10 @@ def readings_map(ds: xr.Dataset, ax: Axes = None) -> None:
     f = ds["hold_fraction"].values
     w = ds["omega"].values
     im = ax.pcolormesh(cell_edges(w), np.arange(f.shape[0] + 1) - 0.5, f, vmin=0, vmax=1, cmap="viridis")
-    ax.set_yticks(range(f.shape[0]), [str(c) for c in ds["claim"].values])
     ax.axvline(float(ds.attrs.get("default_omega", 1.0)), color="w", ls="--", lw=0.8)
     ax.set_xlabel("mesh frequency ω = ω_e/ω_n (dashed: the default reading)")
-    ax.figure.colorbar(im, ax=ax, label="fraction of the readings holding")
-    set_title(ax, "Where each claim holds on the screen of readings", ds, exclude=["omega", "xi0", "xi1", "D"])
+    title = "Where each claim holds on the screen of readings"
+    _claims(ax, ds, im, "the readings holding", title, ["omega", "xi0", "xi1", "D"])
 
 
 #: Markers drawn per curve of an overlay (every k-th point; the lines join every point).
@@ -177,8 +183,9 @@ def _zoom_on_jumps(zoom: Axes, w: np.ndarray, amp: np.ndarray, firsts: list[dict
     zoom.grid(alpha=0.3)
 
 
-def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float = 0.05) -> list:
-    """Label curves at their right ends, to the right, moved apart vertically so that no two overlap.
+def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]]) -> list:
+    """Label curves at their right ends, to the right, moved apart vertically so that no two overlap (at least 5 % of
+    the height of the axes apart).
 
     Parameters
     ----------
@@ -186,15 +193,13 @@ def end_labels(ax: Axes, ends: list[tuple[float, float, str, str]], gap: float =
         Where to draw (its y limits should be final).
     ends : list of (x, y, text, colour)
         The end point of each curve and its label.
-    gap : float
-        Least distance between two labels, as a fraction of the height of the axes.
 
     Returns
     -------
     list of matplotlib.text.Annotation
     """
     lo, hi = ax.get_ylim()
-    d = gap * (hi - lo)
+    d = 0.05 * (hi - lo)
     order = sorted(range(len(ends)), key=lambda k: ends[k][1])
     placed = dict(zip(order, spread([float(ends[k][1]) for k in order], d, np.inf)))
     return [
@@ -261,6 +266,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
         st = curve_style(i)
         every = (i * step // max(len(values), 1), step)  # markers of the curves staggered, not on top of each other
         up, down = ds["amplitude"].values[i]
+        case = _case_text(param, float(v))
         js = jumps[i] if i < len(jumps) else []
         firsts.append(min(js, key=lambda j: j["omega"]) if js else None)
         for target in both:
@@ -285,7 +291,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
                 lw=1.4,
                 markevery=every if full else None,
                 gid="up",
-                label=_case_text(param, float(v)) if full else None,
+                label=case if full else None,
             )
         ends.append((w[-1], up[-1], f"{symbol(param)} = {float(v):g}", st["color"]))
         if fl_ax is not None:
@@ -296,7 +302,7 @@ def response_overlay(ds: xr.Dataset, ax: Any = None) -> None:
                 ms=3.5,
                 lw=1.2,
                 markevery=every,
-                label=_case_text(param, float(v)),
+                label=case,
             )
     for i, j in enumerate(firsts):
         for target in both if j is not None else ():

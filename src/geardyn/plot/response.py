@@ -119,8 +119,8 @@ def response(ds: xr.Dataset, ax: Axes = None) -> None:
     if x.size > 1:  # the requested range, also where no point has a value
         pad = 0.02 * float(x[-1] - x[0])
         ax.set_xlim(float(x[0]) - pad, float(x[-1]) + pad)
-    ax.set_xlabel(label(ds[name], name))
-    ax.set_ylabel(label(ds[measure], measure))
+    ax.set_xlabel(label(ds[name]))
+    ax.set_ylabel(label(ds[measure]))
     if system_info(ds):  # a system: its pinion speed on a top axis (the pair draws a figure against rpm)
         rpm_axis(ax, ds, name)
     shading = ("; grey: hysteresis" if hy else "") + ("; hatched: coexisting attractors" if co else "")

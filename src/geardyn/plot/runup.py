@@ -6,7 +6,6 @@ shaft-order sidebands around the mesh orders show.
 
 from __future__ import annotations
 
-import json
 from typing import Any
 
 import numpy as np
@@ -70,7 +69,7 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
         + ")",
         fontsize=10,
     )
-    qs = json.loads(ds.attrs.get("quasi_static", "null") or "null")
+    qs = json_attr(ds, "quasi_static")
     for a, var, ylab in (
         (a1, "amplitude", f"DTE half peak-to-peak [{unit}]"),
         (a2, "dynamic_factor", "dynamic factor max F_n/F_p [1]"),
@@ -79,18 +78,17 @@ def runup_figure(ds: xr.Dataset, ax: Any = None) -> None:
             continue
         y = ds[f"{var}_um" if var == "amplitude" and unit == "µm" else var].values
         a.plot(x, y, "k-", lw=1.5, label=what)
-        if qs is not None:
-            for lab, (marker, colour) in SWEEP_STYLE.items():
-                if var in qs.get(lab, ()):
-                    a.plot(
-                        qs["x"],
-                        np.array(qs[lab][var], dtype=float),  # None: nan
-                        marker=marker,
-                        ls="none",
-                        color=colour,
-                        ms=4,
-                        label=f"steady response, sweep {lab}",
-                    )
+        for lab, (marker, colour) in SWEEP_STYLE.items():
+            if var in qs.get(lab, ()):
+                a.plot(
+                    qs["x"],
+                    np.array(qs[lab][var], dtype=float),  # None: nan
+                    marker=marker,
+                    ls="none",
+                    color=colour,
+                    ms=4,
+                    label=f"steady response, sweep {lab}",
+                )
         a.set_ylabel(ylab)
         a.grid(True, alpha=0.3)
         a.legend(fontsize=7, loc="upper left")

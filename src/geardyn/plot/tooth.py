@@ -98,9 +98,8 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> None:
     """Order spectrum of each run (one panel per run) with the mesh orders and their pinion and wheel shaft-order
     sidebands labelled."""
     runs = _runs(ds)
-    axes = ax if isinstance(ax, list) else [ax]
     order = ds["order"].values
-    for a, (name, s) in zip(axes, runs):
+    for a, (name, s) in zip(ax, runs):
         if a is None:
             continue
         amp = ds["order_amplitude"].sel(run=name).values
@@ -128,7 +127,7 @@ def order_spectrum(ds: xr.Dataset, ax: Any = None) -> None:
         )
         a.set_ylabel("amplitude [m/s²]")
         a.set_ylim(top * 1e-5, top * 5)
-    [a for a in axes if a is not None][-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
+    [a for a in ax if a is not None][-1].set_xlabel(f"pinion order (mesh order k = k·{runs[0][1]['z1']})")
 
 
 @plot_function("signature", (9.0, 10.5), n=4, adjust={"hspace": 0.4}, ax_doc=_PANELS)
@@ -136,15 +135,14 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> None:
     """Record with tachometer (of the sensor, for a system), pinion TSA, residual and difference signals of each
     run."""
     a0, a1, a2, a3 = ax
+    t, ang = ds["time"].values * 1e3, ds["angle_pinion"].values
     for i, (name, s) in enumerate(_runs(ds)):
         c = f"C{i}"
-        t = ds["time"].values * 1e3
         a0.plot(t, ds["accel"].sel(run=name), color=c, lw=0.6, label=name)
         if i == 0:
             tach = ds["tach"].sel(run=name).values
             scale = float(np.nanmax(np.abs(ds["accel"].values))) / 5.0
             a0.plot(t, tach * scale, color="0.5", lw=0.8, label="tachometer (scaled)")
-        ang = ds["angle_pinion"].values
         ind = s["indicators"]["pinion"]
         if a1 is None:
             continue
@@ -206,7 +204,7 @@ def indicator_sweep(ds: xr.Dataset, ax: Any = None) -> None:
 def fe_compliance_figure(ds: xr.Dataset, ax: Any = None) -> None:
     """Tooth compliance along the contact path, geardyn against finite elements, with the FE mesh levels (a
     result of ``benchmarks/tooth_fe.py``)."""
-    for a, t in zip(ax if isinstance(ax, list) else [ax], ds["tooth"].values):
+    for a, t in zip(ax, ds["tooth"].values):
         if a is None:
             continue
         r = ds["radius"].sel(tooth=t).values

@@ -29,7 +29,6 @@ __all__ = [
     "record",
     "signature",
     "signature_sweep",
-    "sweep_dataset",
     "sweep_runs",
 ]
 
@@ -174,9 +173,9 @@ def signature(
     model, sc = pair_model(ms, rpm, b_c=b_c, backlash=backlash, xi0=xi0, harmonics=H)
     if revolutions is None:
         revolutions = max(10, 2 * z2 // math.gcd(z1, z2))
-    top = H / ms.cycles
+    top, f_mesh = H / ms.cycles, rpm / 60.0 * z1
     if fs is None:
-        fs = default_fs(rpm / 60.0 * z1, top)
+        fs = default_fs(f_mesh, top)
     acq = acquire(model, sc, revolutions, fs, noise=noise, seed=seed, dtau=dtau)
     ds, ind = record(acq, z2, "relative acceleration along the line of action", top)
     summary = {
@@ -186,7 +185,7 @@ def signature(
         "revolutions": int(revolutions),
         "z1": z1,
         "z2": z2,
-        "mesh_frequency_Hz": rpm / 60.0 * z1,
+        "mesh_frequency_Hz": f_mesh,
         "noise": noise,
         "excitation_cycles": ms.cycles,
         "harmonics": H,
@@ -229,17 +228,6 @@ def record(
     t1 = tsa(acq, N)
     p1 = split_tsa(t1, z1)
     ind = {"pinion": indicators(t1, z1)}
-    if z2:
-        try:
-            N2 = per_rev(z2, top_order)
-            t2 = tsa(acq, N2, z1 / z2)
-        except ModelError:
-            revs = int(round(acq.time[-1] * rpm / 60.0))
-            raise ModelError(
-                f"revolutions: {revs} pinion revolutions hold no whole revolution of the wheel "
-                f"(z2/z1 = {z2}/{z1}); record at least {math.ceil(z2 / z1) + 2}"
-            ) from None
-        ind["wheel"] = indicators(t2, z2)
     keep = min(acq.time.size, int(3 * 60.0 / rpm * acq.fs))
     top = orders <= 3.5 * z1
     ds = xr.Dataset(
@@ -257,6 +245,16 @@ def record(
         },
     )
     if z2:
+        try:
+            N2 = per_rev(z2, top_order)
+            t2 = tsa(acq, N2, z1 / z2)
+        except ModelError:
+            revs = int(round(acq.time[-1] * rpm / 60.0))
+            raise ModelError(
+                f"revolutions: {revs} pinion revolutions hold no whole revolution of the wheel "
+                f"(z2/z1 = {z2}/{z1}); record at least {math.ceil(z2 / z1) + 2}"
+            ) from None
+        ind["wheel"] = indicators(t2, z2)
         ds["tsa_wheel"] = xr.DataArray(
             t2, dims="angle_wheel", attrs={"units": "m/s^2", "long_name": "TSA of the wheel"}
         )
@@ -383,6 +381,8 @@ def sweep_runs(
     Returns
     -------
     xarray.Dataset
+        One variable per indicator over (``size``, ``shaft``); the summary holds ``size_name``, what ``extra`` adds
+        and ``sizes``.
     """
     rows, last = [], {}
     history: dict[str, list[np.ndarray]] = {"pinion": [], "wheel": []}
@@ -399,33 +399,12 @@ def sweep_runs(
             ind[shaft]["na4"] = na4(r, history[shaft])
             history[shaft].append(r)
         rows.append(ind)
-    return sweep_dataset(rows, sizes, {"size_name": name, **extra(last)})
-
-
-def sweep_dataset(
-    rows: Sequence[dict[str, dict[str, float]]], sizes: Sequence[float], summary: dict[str, Any]
-) -> xr.Dataset:
-    """A ``signature_sweep`` result from the indicators of each run.
-
-    Parameters
-    ----------
-    rows : sequence of dict
-        Per size: shaft → indicator → value (as a ``signature`` run's ``indicators``).
-    sizes : sequence of float
-        The fault sizes.
-    summary : dict
-        ``size_name``, ``rpm`` and what else the result's summary holds (``sizes`` is added).
-
-    Returns
-    -------
-    xarray.Dataset
-        One variable per indicator over (``size``, ``shaft``).
-    """
     shafts = [sh for sh in ("pinion", "wheel") if sh in rows[0]]
     a = np.array([[[r[sh][k] for k in INDICATORS] for sh in shafts] for r in rows])  # (size, shaft, indicator)
     ds = xr.Dataset(
         {k: (("size", "shaft"), a[:, :, i]) for i, k in enumerate(INDICATORS)},
-        coords={"size": ("size", np.asarray(sizes, dtype=float), {"long_name": summary["size_name"]}), "shaft": shafts},
+        coords={"size": ("size", np.asarray(sizes, dtype=float), {"long_name": name}), "shaft": shafts},
     )
-    ds.attrs.update(geardyn_kind="signature_sweep", summary=json.dumps({**summary, "sizes": [float(s) for s in sizes]}))
+    summary = {"size_name": name, **extra(last), "sizes": [float(s) for s in sizes]}
+    ds.attrs.update(geardyn_kind="signature_sweep", summary=json.dumps(summary))
     return ds

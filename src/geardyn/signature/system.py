@@ -331,7 +331,7 @@ def system_signature(
         "omega_model": sm.ratio * system.omega,
         "omega_mesh": m.ratio * system.omega,
         "omega": system.omega,
-        "omega_n_rad_s": system.scaling.omega_n_rad_s,
+        "omega_n_rad_s": sc.omega_n_rad_s,
         "k0_N_per_m": float(m.stiffness),
         "indicators": ind,
         "faults": [],

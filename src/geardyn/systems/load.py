@@ -215,9 +215,7 @@ def _strip(msg: str) -> tuple[str | None, str]:
     m = re.match(r"^(?:body|connection|clearance|mesh|load on \S+) ?(?:'[^']*')?: (.*)$", msg)
     rest = m.group(1) if m else msg
     km = re.match(r"^([A-Za-z_][\w]*): (.*)$", rest)
-    if km:
-        return km.group(1), km.group(2)
-    return None, rest
+    return km.groups() if km else (None, rest)
 
 
 class _Block:
@@ -274,15 +272,22 @@ class _Block:
             spec = _Key(_K[base], kind.endswith("*"))
             value, src = cv._parse_value(self.ctx, self.section, key, spec, raw, **self._where(key, base))
         elif isinstance(raw, dict) and kind != "table":
-            value, src = self._parse(key, kind, raw.get("value")), raw.get("assumed")
-            if set(raw) - {"value", "assumed"} or "value" not in raw:
-                raise self.cerr(key, "an inline table must have the keys 'value' and optionally 'assumed'")
+            value, src = self._parse(key, kind, self.inline_value(key)), raw.get("assumed")
         else:
             value, src = self._parse(key, kind, raw), None
         if src:
             shown = list(value) if isinstance(value, tuple) else value
             self.ctx.assume(Assumption(f"{self.element or self.section}.{key}", shown, unit, src))
         return value
+
+    def inline_value(self, key: str) -> Any:
+        """The value of ``key`` as written: the ``value`` of an inline table ``{ value = ..., assumed = ... }``."""
+        raw = self.data.get(key)
+        if not isinstance(raw, dict):
+            return raw
+        if set(raw) - {"value", "assumed"} or "value" not in raw:
+            raise self.cerr(key, "an inline table must have the keys 'value' and optionally 'assumed'")
+        return raw["value"]
 
     def _parse(self, key: str, kind: str, raw: Any) -> Any:
         if kind == "list":
@@ -338,12 +343,10 @@ def _vector(blk: _Block, table: dict, translational: bool) -> dict[tuple[str, st
         for d, raw in comps.items():
             if d not in DOFS:
                 raise blk.cerr("vector", f"body {body!r}: unknown DOF {d!r}; allowed: {', '.join(DOFS)}")
-            if d == "theta" and translational:
-                out[(body, d)] = blk._scalar("vector", "length", raw)
-            elif d != "theta" and not translational:
+            if d != "theta" and not translational:
                 raise blk.cerr("vector", f"body {body!r}: a torsional element has rotation entries only")
-            else:
-                out[(body, d)] = blk._scalar("vector", "number", raw)
+            # a translational element's rotation entry is a lever arm (a length); every other entry a number
+            out[(body, d)] = blk._scalar("vector", "length" if d == "theta" and translational else "number", raw)
     return out
 
 
@@ -520,26 +523,13 @@ def mesh_damping(blk: _Block) -> dict[str, Any]:
 
 def _orders(blk: _Block) -> tuple:
     """``orders = [{ order = 2, amplitude = "40 N*m", phase = "0 deg" }, ...]`` of a load: (k, N·m, rad) tuples."""
-    from ..torque_orders import order_fraction
-
     if not blk.has("orders"):
         return ()
     raw = blk.data["orders"]
     if not isinstance(raw, list) or not raw or not all(isinstance(e, dict) for e in raw):
         raise blk.cerr("orders", 'expected a list of tables { order = 2, amplitude = "40 N*m", phase = "0 deg" }')
-    out = []
-    for i, e in enumerate(raw):
-        unknown = set(e) - {"order", "amplitude", "phase"}
-        if unknown or "order" not in e or "amplitude" not in e:
-            raise blk.cerr("orders", f"element {i + 1}: keys order, amplitude and optionally phase")
-        try:
-            k = order_fraction(e["order"], f"element {i + 1}: order")
-        except ModelError as err:
-            raise blk.merr("orders", str(err)) from None
-        a = blk._scalar("orders", "torque", e["amplitude"], i + 1)
-        ph = blk._scalar("orders", "angle", e["phase"], i + 1) if "phase" in e else 0.0
-        out.append((k, a, ph))
-    return tuple(out)
+    where = {"index": blk.index, "element": blk.element}
+    return tuple(cv._order_tables(blk.ctx, blk.section, "orders", raw, cv._TORQUE, cv._ANGLE, **where))
 
 
 def _body_speed(body: str, mesh_data: list, meshes: dict[str, Mesh]):
@@ -640,12 +630,9 @@ def _element_line(ctx: _Ctx, data: dict, err: ModelError) -> ModelError:
                     key, problem = _strip(rest)
                     key = key if key in tbl else None
                     um = re.search(r"unknown body '([^']*)'", rest)
-                    if um and key is None:
-                        ln = ctx.line_containing(sec, i, um.group(1))
-                        if ln:
-                            return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
-                    if key is None and "name" in tbl:  # point at the element's name
-                        ln = ctx.line(sec, i, "name")
+                    ln = ctx.line_containing(sec, i, um.group(1)) if um and key is None else None
+                    if key is None and (ln or "name" in tbl):  # the line of the unknown body, else of the name
+                        ln = ln or ctx.line(sec, i, "name")
                         return ModelError(f"{ctx.source}: line {ln}: [[{sec}]] {name!r}: {rest}")
                     return ctx.model(sec, problem if key else rest, i, key, name)
     m = re.match(r"^(reference|characteristic_length): (.*)$", msg)
@@ -690,8 +677,7 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
     SystemDescription
     """
     check_top(ctx, data, _SECTIONS, _ARRAYS)
-    sysb = _Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
-    opb = _Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
+    sysb, opb = (_Block(ctx, s, None, data.get(s, {}), keys, None) for s, keys in _SECTIONS.items())
     bodies = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []))]
     if not bodies:
         raise ConfigError(f"{ctx.source}: no [[body]]: a system needs bodies")
@@ -712,9 +698,9 @@ def build(ctx: _Ctx, data: dict) -> SystemDescription:
             raise ctx.model("system", f"unknown mesh {ref!r}; meshes: {', '.join(map(str, names))}", key="reference")
         j = names.index(ref) if ref is not None else 0
         rb = _mesh_block(ctx, j, mesh_data[j])
-        raw = rb.data.get("backlash")
-        raw = raw["value"] if isinstance(raw, dict) else raw
-        b_c = half_backlash(rb, rb._parse("backlash", "length", raw) if rb.has("backlash") else 0.0)
+        b_c = half_backlash(
+            rb, rb._parse("backlash", "length", rb.inline_value("backlash")) if rb.has("backlash") else 0.0
+        )
     meshes = [_mesh(ctx, i, t, bmap, b_c) for i, t in enumerate(mesh_data)]
     _unique(ctx, "mesh", [m.name for m in meshes])
     _unique(ctx, "connection", [getattr(c, "name", None) for c in conns + clears])

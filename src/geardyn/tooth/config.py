@@ -181,10 +181,9 @@ def _section(ctx: _Ctx, doc: dict[str, Any], name: str, keys: _Keys) -> dict:
     if not isinstance(raw, dict):
         raise ctx.error(name, "", "expected a table")
     old = {o: (k, f) for k, (_, o, f) in keys.items() if o}
-    unknown = set(raw) - set(keys) - set(old)
+    unknown = sorted(set(raw) - set(keys) - set(old))
     if unknown:
-        k = sorted(unknown)[0]
-        raise ctx.error(name, k, f"unknown key; allowed: {', '.join(sorted(keys))}")
+        raise ctx.error(name, unknown[0], f"unknown key; allowed: {', '.join(sorted(keys))}")
     out: dict[str, Any] = {}
     for k, v in raw.items():
         if k in old:
@@ -216,17 +215,13 @@ def _fault(ctx: _Ctx, i: int, raw: Any) -> Any:
                 base, factor = k[: -len(suf)], f
         if base == "kind":
             d[base] = v
-        elif base in lengths:
-            if factor is not None or not isinstance(v, str):
-                val, _ = _parse_value(ctx, "fault", k, _Key(_NUMBER), v, **where)
-                d[base] = val * (factor or 1.0)
-            else:
-                d[base], _ = _parse_value(ctx, "fault", k, _Key(_LENGTH), v, **where)
+        elif base in lengths:  # a length with its unit, or a plain number in m (or in the unit of the key's suffix)
+            kind = _LENGTH if factor is None and isinstance(v, str) else _NUMBER
+            val, _ = _parse_value(ctx, "fault", k, _Key(kind), v, **where)
+            d[base] = val * (factor or 1.0)
         elif base in FAULT_KEYS and factor is None:
             spec = FAULT_KEYS[base][0]
-            spec = _Key(_NUMBER) if spec.kind is _LENGTH else spec
-            val, _ = _parse_value(ctx, "fault", k, spec, v, **where)
-            d[base] = int(val) if base in ("gear", "tooth") and float(val).is_integer() else val
+            d[base], _ = _parse_value(ctx, "fault", k, _Key(_NUMBER) if spec.kind is _LENGTH else spec, v, **where)
         else:
             raise ctx.error("fault", k, f"unknown key; allowed: {', '.join(sorted(FAULT_KEYS))}", **where)
     try:

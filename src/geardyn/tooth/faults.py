@@ -186,7 +186,7 @@ def fault_from_dict(d: dict[str, Any]) -> Any:
     """
     d = dict(d)
     kind = d.pop("kind", None)
-    if kind not in FAULT_KINDS:
+    if not isinstance(kind, str) or kind not in FAULT_KINDS:
         raise ModelError(f"fault: kind must be one of {', '.join(FAULT_KINDS)}, got {kind!r}")
     try:
         return FAULT_KINDS[kind](**d)
