@@ -139,6 +139,9 @@ _GEAR = {
     "reference_radius": "length",
     "base_radius": "length",
 }
+#: The keys of a ``[[gear]]`` that are not :class:`Gear` fields given as they are: checked against the teeth or
+#: read with a default.
+_GEAR_CHECKED = ("name", "shaft", "helix_angle", "hand", "reference_radius", "base_radius")
 _MESH = (
     {"name": "text", "pinion": "text", "gear": "text", "center_angle": "angle", "stiffness": "stiffness"}
     | {"torque": "torque", "harmonics": "int"}
@@ -212,14 +215,19 @@ def build_description(ctx, data: dict) -> GearboxDescription:
 
 def _build(ctx, data: dict) -> GearboxDescription:
     check_top(ctx, data, _SECTIONS, _ARRAYS, gearbox=True)
-    sysb = Block(ctx, "system", None, data.get("system", {}), _SECTIONS["system"], None)
-    opb = Block(ctx, "operating", None, data.get("operating", {}), _SECTIONS["operating"], None)
-    gbb = Block(ctx, "gearbox", None, data.get("gearbox", {}), _SECTIONS["gearbox"], None)
-    sblocks = _blocks(ctx, data, "shaft", _SHAFT)
-    gblocks = _blocks(ctx, data, "gear", _GEAR)
-    mblocks = _blocks(ctx, data, "mesh", _MESH)
-    bblocks = _blocks(ctx, data, "bearing", _BEARING)
-    cblocks = _blocks(ctx, data, "coupling", _COUPLING)
+    sysb, opb, gbb = (
+        Block(ctx, s, None, data.get(s, {}), _SECTIONS[s], None) for s in ("system", "operating", "gearbox")
+    )
+    sblocks, gblocks, mblocks, bblocks, cblocks = (
+        _blocks(ctx, data, section, schema)
+        for section, schema in (
+            ("shaft", _SHAFT),
+            ("gear", _GEAR),
+            ("mesh", _MESH),
+            ("bearing", _BEARING),
+            ("coupling", _COUPLING),
+        )
+    )
     if not mblocks:
         raise ConfigError(f"{ctx.source}: no [[mesh]]: a gearbox needs at least one mesh")
     rigid = [_body(ctx, i, t) for i, t in enumerate(data.get("body", []) or [])]
@@ -239,18 +247,13 @@ def _build(ctx, data: dict) -> GearboxDescription:
                 name=blk.element,
                 shaft=sh,
                 helix_angle=helix,
-                **{
-                    k: blk.get(k)
-                    for k in ("position", "teeth", "module", "face_width", "pressure_angle", "profile_shift")
-                    if blk.has(k)
-                },
+                **{k: blk.get(k) for k in _GEAR if blk.has(k) and k not in _GEAR_CHECKED},
                 hand=blk.get("hand", default="right", assumed="not given: right hand" if helix > 0 else None),
-                **{k: blk.get(k) for k in ("mass", "inertia", "diametral_inertia", "web_width", "rim_inner_diameter")},
             )
         except ModelError as e:
             raise blk.wrap(e) from None
-        _check_radius(blk, "reference_radius", g.reference_radius, g)
-        _check_radius(blk, "base_radius", g.base_radius, g)
+        for key in ("reference_radius", "base_radius"):
+            _check_radius(blk, key, getattr(g, key), g)
         gears[g.name] = g
 
     # kinematics, exact
@@ -276,10 +279,9 @@ def _build(ctx, data: dict) -> GearboxDescription:
         raise ctx.model("mesh", str(e)) from None
     zref = pairs[ref_i][3] * speeds[pairs[ref_i][1]]
     ratios = {nm: sp_z * speeds[sp] / zref for (nm, sp, _, sp_z, _) in pairs}
-    body_speed: dict[str, Fraction] = {}
-    for blk in cblocks:
-        if blk.has("body") and blk.has("shaft") and blk.get("shaft") in speeds:
-            body_speed[blk.get("body")] = speeds[blk.get("shaft")]
+    body_speed: dict[str, Fraction] = {  # a body coupled to a shaft turns with it
+        blk.get("body"): speeds[blk.get("shaft")] for blk in cblocks if blk.has("body") and blk.get("shaft") in speeds
+    }
     loads_raw = list(enumerate(data.get("load", []) or []))
     order_ratios = _order_ratios(ctx, loads_raw, gears, speeds, body_speed, zref)
     bound = gbb.get("max_period", default=DEFAULT_MAX_PERIOD)
@@ -360,7 +362,7 @@ def _build(ctx, data: dict) -> GearboxDescription:
             for q in feats[name]:
                 if abs(q - p) < 1e-9:
                     node_at[(name, q)] = nn
-            blockm = np.diag(np.diag(M[6 * k : 6 * k + 6, 6 * k : 6 * k + 6])).copy()
+            blockm = np.diag(np.diag(M[6 * k : 6 * k + 6, 6 * k : 6 * k + 6]))
             for g in gs:
                 m, ip, idia = g.blank(mat.rho, _section_at(segs, g.position).outer)
                 blockm += np.diag([m, m, m, idia, idia, ip])

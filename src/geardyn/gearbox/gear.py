@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
+from ..validate import integer
 
 __all__ = ["Gear", "disk", "disc_gyroscopic"]
 
@@ -135,8 +136,7 @@ class Gear:
 
     def __post_init__(self) -> None:
         who = f"gear {self.name!r}"
-        if isinstance(self.teeth, bool) or not float(self.teeth).is_integer() or self.teeth < 1:
-            raise ModelError(f"{who}: teeth: must be an integer >= 1, got {self.teeth!r}")
+        integer(f"{who}: teeth", self.teeth, 1)
         for key in ("module", "face_width"):
             v = getattr(self, key)
             if not (math.isfinite(v) and v > 0):

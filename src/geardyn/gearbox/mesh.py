@@ -33,13 +33,10 @@ import math
 import numpy as np
 
 from ..errors import ModelError
+from ..standards.iso6336 import involute
 from .gear import Gear
 
 __all__ = ["working_pressure_angle", "pair_geometry_of", "mesh_vector", "tooth_excitation"]
-
-
-def _inv(a: float) -> float:
-    return math.tan(a) - a
 
 
 def working_pressure_angle(g1: Gear, g2: Gear) -> float:
@@ -52,12 +49,12 @@ def working_pressure_angle(g1: Gear, g2: Gear) -> float:
         pressure and helix angles are used for the pair).
     """
     at = g1.transverse_pressure_angle
-    target = _inv(at) + 2.0 * math.tan(g1.pressure_angle) * (g1.profile_shift + g2.profile_shift) / (
+    target = involute(at) + 2.0 * math.tan(g1.pressure_angle) * (g1.profile_shift + g2.profile_shift) / (
         g1.teeth + g2.teeth
     )
     a = at
     for _ in range(60):
-        step = (_inv(a) - target) / math.tan(a) ** 2
+        step = (involute(a) - target) / math.tan(a) ** 2
         a -= step
         if abs(step) < 1e-16:
             break

@@ -173,43 +173,36 @@ def _load_target(blk, gears, node_at, where, speeds, body_speed, rmap):
     return b, body_speed[b]
 
 
+def _load_tables(ctx, loads_raw, gears, speeds, body_speed):
+    """Each ``[[load]]`` table (a table only), its block and the shaft speed of its gear or body (None when it is
+    unknown: refused with its message when the loads are read)."""
+    for i, t in loads_raw:
+        if isinstance(t, dict):
+            n = speeds[gears[t["gear"]].shaft] if t.get("gear") in gears else body_speed.get(t.get("body"))
+            yield t, _load_block(ctx, i, t), n
+
+
 def _drive_power(ctx, loads_raw, gears, speeds, body_speed) -> float:
     """Σ T n over the loads with a positive torque given (in N·m × the reference shaft's speed)."""
     p = 0.0
-    for i, t in loads_raw:
-        if not isinstance(t, dict):
-            continue
+    for t, blk, n in _load_tables(ctx, loads_raw, gears, speeds, body_speed):
         tq = t.get("torque")
         if tq == "balance" or tq is None:
             continue
-        blk = _load_block(ctx, i, t)
         T = blk._scalar("torque", "torque", tq)
-        n = _speed_of(t, gears, speeds, body_speed) if T > 0 else None
-        if n is not None:
+        if T > 0 and n is not None:
             p += T * float(n)
     return p
 
 
-def _speed_of(t: dict, gears, speeds, body_speed) -> Fraction | None:
-    """The shaft speed of a ``[[load]]``'s gear or body (None when it is unknown)."""
-    if "gear" in t and t["gear"] in gears:
-        return speeds[gears[t["gear"]].shaft]
-    return body_speed.get(t.get("body"))
-
-
 def _order_ratios(ctx, loads_raw, gears, speeds, body_speed, zref) -> dict[str, Fraction]:
     """The frequency of every torque order of the loads over the reference mesh frequency (exact)."""
-    out: dict[str, Fraction] = {}
-    for i, t in loads_raw:
-        if not isinstance(t, dict) or "orders" not in t:
-            continue
-        blk = _load_block(ctx, i, t)
-        n = _speed_of(t, gears, speeds, body_speed)
-        if n is None:
-            continue  # refused with its message when the loads are read
-        for k, _, _ in _orders(blk):
-            out[f"order {k} of {blk.element}"] = k * n / zref
-    return out
+    return {
+        f"order {k} of {blk.element}": k * n / zref
+        for t, blk, n in _load_tables(ctx, loads_raw, gears, speeds, body_speed)
+        if "orders" in t and n is not None
+        for k, _, _ in _orders(blk)
+    }
 
 
 def _loads(ctx, loads_raw, gears, node_at, where, speeds, body_speed, rmap, zref) -> list[Load]:

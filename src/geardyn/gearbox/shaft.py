@@ -232,7 +232,7 @@ def element_matrices(
         ii = [d, 6 + d]
         K[np.ix_(ii, ii)] += k * bar
         M[np.ix_(ii, ii)] += m * cons
-    Gy = (section.J / I) * (_TA.T @ Mr @ _TB - _TB.T @ Mr @ _TA) if rotary else np.zeros((12, 12))
+    Gy = (section.J / I) * (_TA.T @ Mr @ _TB - _TB.T @ Mr @ _TA)  # 0 without rotary inertia (Mr = 0)
     return K, M, Gy
 
 

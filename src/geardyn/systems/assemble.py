@@ -237,6 +237,8 @@ def _ro(a) -> np.ndarray:
 
 
 _MESH_PARAMS = ("k", "xi0", "D", "ratio")
+#: What :meth:`SystemModel.to_attrs` always stores, in this order.
+_ATTRS = ("labels", "Mi", "Kb", "Cb", "V", "meshes", "F", "omega", "scaling", "clearance_names", "Vc", "kc", "cc", "Dc")
 #: A rolling bearing's parameters by name (``<bearing>.clearance`` …; non-dimensional, :class:`BearingND`).
 _BEARING_PARAMS = ("clearance", "K", "cx", "cy")
 
@@ -472,12 +474,8 @@ class SystemModel:
         A mesh's switching surface is ``V[m]·q̃ − E_m(θ) = ±D[m]``; with a static transmission error
         it moves with θ (the ``vector`` gives the state part, E_m is in the coefficients).
         """
-        zero = (0.0,) * self.n
-        out = [Boundary(m.name, tuple(self.V[i]) + zero, m.D) for i, m in enumerate(self.meshes)]
-        out += [
-            Boundary(nm, tuple(self.Vc[i]) + zero, d) for i, (nm, d) in enumerate(zip(self.clearance_names, self.Dc))
-        ]
-        return tuple(out)
+        zero = (0.0,) * self.n  # the elements' first rows: the meshes' V, then the clearances' Vc
+        return tuple(Boundary(e.name, tuple(v) + zero, e.gap) for e, v in zip(self.elements, (*self.V, *self.Vc)))
 
     # ------------------------------------------------------------------ the System contract
     @property
@@ -614,26 +612,15 @@ class SystemModel:
         import json
         from dataclasses import asdict
 
-        d = {
-            "labels": list(self.labels),
-            **{k: getattr(self, k).tolist() for k in ("Mi", "Kb", "Cb", "V")},
-            "meshes": [asdict(m) for m in self.meshes],
-            "F": self.F.tolist(),
-            "omega": self.omega,
-            "scaling": asdict(self.scaling),
-            "clearance_names": list(self.clearance_names),
-            "Vc": self.Vc.tolist(),
-            **{k: list(getattr(self, k)) for k in ("kc", "cc", "Dc")},
-        }
+        d = {k: getattr(self, k) for k in _ATTRS}
         if self.orders:  # [numerator, denominator] of the ratio, the load vector, the phase
-            d["orders"] = [[[r.numerator, r.denominator], F.tolist(), ph] for r, F, ph in self.orders]
+            d["orders"] = [[[r.numerator, r.denominator], F, ph] for r, F, ph in self.orders]
         if self.bearings:
-            d["bearings"] = [asdict(b) for b in self.bearings]
-            d["Vb"] = self.Vb.tolist()
+            d |= {"bearings": self.bearings, "Vb": self.Vb}
         if self.gyro is not None:
-            d["gyro"] = self.gyro.tolist()
-            d["damping_static"] = self.damping_static.tolist()
-        return json.dumps(d)
+            d |= {"gyro": self.gyro, "damping_static": self.damping_static}
+        # arrays as nested lists, the meshes, scales and bearings (dataclasses) as dicts
+        return json.dumps(d, default=lambda o: o.tolist() if isinstance(o, np.ndarray) else asdict(o))
 
     @classmethod
     def from_attrs(cls, text: str) -> SystemModel:
@@ -748,7 +735,7 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
             orders.append((k * ld.speed, _ro(vec), float(ph)))
     meshes = tuple(_mesh_nd(desc, m, k_ref, m_ref, b_c) for m in desc.meshes)
     cl = desc.clearances
-    Vc = np.array([s * desc.vector(c) / b_c for c in cl]).reshape(len(cl), desc.n)
+    Vc = [s * desc.vector(c) / b_c for c in cl]  # (clearances, n), shaped by SystemModel
     bearings, Vb = [], []
     for rb in desc.rolling_bearings:
         br = rb.bearing
@@ -759,20 +746,19 @@ def assemble(desc: SystemDescription, omega: float | None = None) -> SystemModel
                 br.kind,
                 br.elements,
                 K,
-                float(br.exponent),
+                br.exponent,
                 cl_,
                 rb.cx * omega_n / k_ref,
                 rb.cy * omega_n / k_ref,
-                float(rb.ratio),
+                rb.ratio,
                 rb.phase,
             )
         )
-        Vb.append(s * rb.vectors(idx) / b_c)
-    Vb = np.concatenate(Vb) if Vb else np.zeros((0, desc.n))
+        Vb.append(s * rb.vectors(idx) / b_c)  # its x and y rows, stacked by SystemModel
     if omega is None:
         omega = desc.omega or (scaling.omega_from_rpm(desc.rpm) if desc.rpm is not None else 1.0)
     gyro = static = None
-    G = desc.gyroscopic_matrix() if hasattr(desc, "gyroscopic_matrix") else None
+    G = desc.gyroscopic_matrix()
     if G is not None:  # Ω G with Ω = ω ω_n / z the reference shaft's speed (rad/s)
         if ref.teeth is None:
             raise ModelError(f"gyroscopic: the reference mesh {ref.name!r} needs teeth to give the shaft speed")

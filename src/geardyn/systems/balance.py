@@ -51,13 +51,13 @@ def free_motions(Kt: np.ndarray) -> np.ndarray:
 def mean_stiffness(model: Any) -> np.ndarray:
     """K̃_b + Σ k_m V_m V_mᵀ + Σ kc Vc Vcᵀ (+ the rolling bearings' K̃ on their rows): the mean stiffness."""
     Kt = np.array(model.Kb, dtype=float)
-    for i, m in enumerate(model.meshes):
-        Kt += m.k * np.outer(model.V[i], model.V[i])
-    for i, k in enumerate(model.kc):
-        Kt += k * np.outer(model.Vc[i], model.Vc[i])
-    Vb = model.Vb
+    for m, v in zip(model.meshes, model.V):
+        Kt += m.k * np.outer(v, v)
+    for k, w in zip(model.kc, model.Vc):
+        Kt += k * np.outer(w, w)
     for b, br in enumerate(model.bearings):  # a rolling bearing holds its body's x and y
-        Kt += br.K * (np.outer(Vb[2 * b], Vb[2 * b]) + np.outer(Vb[2 * b + 1], Vb[2 * b + 1]))
+        x, y = model.Vb[2 * b : 2 * b + 2]
+        Kt += br.K * (np.outer(x, x) + np.outer(y, y))
     return Kt
 
 

@@ -32,6 +32,7 @@ import numpy as np
 from .._docfill import attributes
 from ..errors import ModelError
 from ..geometry import Assumption
+from ..validate import integer
 
 __all__ = ["DOFS", "MESH_SERIES_KEYS", "Dof", "Body", "Clearance", "Connection", "Load", "Mesh", "SystemDescription"]
 
@@ -67,6 +68,15 @@ def _finite(what: str, value, unit: str = "") -> float:
         raise ModelError(f"{what}: expected a number, got {value!r}") from None
     if not math.isfinite(x):
         raise ModelError(f"{what}: must be finite, got {value!r}" + (f" {unit}" if unit else ""))
+    return x
+
+
+def _bounded(what: str, value, unit: str = "", strict: bool = True) -> float:
+    """``value`` checked finite and > 0 (``strict``) or >= 0, the error naming ``what`` and the unit."""
+    x = _finite(what, value, unit)
+    if x < 0 or (strict and x == 0):
+        u = f" {unit}" if unit else ""
+        raise ModelError(f"{what}: must be {'>' if strict else '>='} 0{u}, got {x:g}{u}")
     return x
 
 
@@ -133,10 +143,7 @@ class Body:
                         f"{who}: {attr}: missing (needed for its {'translations' if attr == 'mass' else 'rotation'})"
                     )
                 continue
-            v = _finite(f"{who}: {attr}", v, unit)
-            if v <= 0:
-                raise ModelError(f"{who}: {attr}: must be > 0 {unit}, got {v:g} {unit}")
-            object.__setattr__(self, attr, v)
+            object.__setattr__(self, attr, _bounded(f"{who}: {attr}", v, unit))
 
     def matrix(self) -> np.ndarray:
         """The body's mass matrix over its DOFs (SI)."""
@@ -243,17 +250,8 @@ class Clearance(_AlongVector):
         who = f"clearance {self.name!r}"
         if not self._set_vector(who):
             raise ModelError(f"{who}: vector: must act on at least one DOF")
-        k = _finite(f"{who}: stiffness", self.stiffness)
-        g = _finite(f"{who}: clearance", self.gap)
-        c = _finite(f"{who}: damping", self.damping)
-        if k <= 0:
-            raise ModelError(f"{who}: stiffness: must be > 0, got {k:g}")
-        if g < 0:
-            raise ModelError(f"{who}: clearance: must be >= 0, got {g:g}")
-        if c < 0:
-            raise ModelError(f"{who}: damping: must be >= 0, got {c:g}")
-        for a, v in (("stiffness", k), ("gap", g), ("damping", c)):
-            object.__setattr__(self, a, v)
+        for attr, key in (("stiffness", "stiffness"), ("gap", "clearance"), ("damping", "damping")):
+            object.__setattr__(self, attr, _bounded(f"{who}: {key}", getattr(self, attr), strict=attr == "stiffness"))
 
 
 @dataclass(frozen=True)
@@ -308,14 +306,8 @@ class Mesh(_AlongVector):
             self._from_table(who)
         if not any(c != 0 for _, c in self._set_vector(who)):
             raise ModelError(f"{who}: vector: the mesh vector must not be zero")
-        k = _finite(f"{who}: stiffness", self.stiffness, "N/m")
-        if k <= 0:
-            raise ModelError(f"{who}: stiffness: must be > 0 N/m, got {k:g} N/m")
-        set_(self, "stiffness", k)
-        b = _finite(f"{who}: backlash", self.backlash, "m")
-        if b < 0:
-            raise ModelError(f"{who}: backlash: must be >= 0 m, got {b:g} m")
-        set_(self, "backlash", b)
+        set_(self, "stiffness", _bounded(f"{who}: stiffness", self.stiffness, "N/m"))
+        set_(self, "backlash", _bounded(f"{who}: backlash", self.backlash, "m", strict=False))
         r = _finite(f"{who}: ratio", self.ratio)
         if r <= 0:
             raise ModelError(f"{who}: ratio: the mesh-frequency ratio must be > 0, got {r:g}")
@@ -324,31 +316,22 @@ class Mesh(_AlongVector):
             raise ModelError(f"{who}: damping: give ratios (xi0, xi) or coefficients (c0, c), not both")
         for name in ("kappa", "phi_k", "phi_c", "e", "phi_e"):
             set_(self, name, _series(f"{who}: {name}", getattr(self, name)))
-        for name in ("xi", "c"):
+        for name, check in (("xi", _series), ("c", _series), ("xi0", _finite), ("c0", _finite)):
             if getattr(self, name) is not None:
-                set_(self, name, _series(f"{who}: {name}", getattr(self, name)))
-        for name in ("xi0", "c0"):
-            if getattr(self, name) is not None:
-                set_(self, name, _finite(f"{who}: {name}", getattr(self, name)))
+                set_(self, name, check(f"{who}: {name}", getattr(self, name)))
         damping = self.xi if self.xi is not None else (self.c or ())
         for amp, a, ph in (("kappa", self.kappa, "phi_k"), ("e", self.e, "phi_e"), ("damping", damping, "phi_c")):
             p = getattr(self, ph)
-            if len(p) > len(a) or 0 < len(p) < len(a):
+            if len(p) not in (0, len(a)):
                 raise ModelError(
                     f"{who}: {ph}: {len(p)} phases for {len(a)} {amp} harmonics; give one phase per harmonic, "
                     "or none (all 0)"
                 )
             set_(self, ph, p + (0.0,) * (len(a) - len(p)))
-        P = self.cycles
-        if isinstance(P, bool) or not isinstance(P, (int, float, np.integer)) or not float(P).is_integer() or P < 1:
-            raise ModelError(f"{who}: cycles: must be an integer >= 1, got {P!r}")
-        set_(self, "cycles", int(P))
+        set_(self, "cycles", integer(f"{who}: cycles", self.cycles, 1))
         check_kappa(f"{who}: kappa", self.kappa, self.phi_k, self.cycles)
         if self.teeth is not None:
-            t = self.teeth
-            if isinstance(t, bool) or not float(t).is_integer() or t < 1:
-                raise ModelError(f"{who}: teeth: must be an integer >= 1, got {t!r}")
-            set_(self, "teeth", int(t))
+            set_(self, "teeth", integer(f"{who}: teeth", self.teeth, 1))
 
     def _from_table(self, who: str) -> None:
         from ..errors import ConfigError
@@ -604,6 +587,11 @@ class SystemDescription:
         for d, c in element.vector:
             v[idx[d]] += c
         return v
+
+    def gyroscopic_matrix(self) -> np.ndarray | None:
+        """The gyroscopic matrix G (SI): None here, a gearbox's shafts give one
+        (:meth:`geardyn.gearbox.model.GearboxDescription.gyroscopic_matrix`)."""
+        return None
 
     def bearing_matrices(self) -> tuple[np.ndarray, np.ndarray]:
         """K_b, C_b: the sum over the linear connections (n × n, SI)."""

@@ -41,9 +41,9 @@ def element_series(model: Any, x: np.ndarray, tau: np.ndarray | float) -> np.nda
     q, v = x[..., :n], x[..., n:]
     theta = model.omega * np.asarray(tau, dtype=float)
     out = []
-    for i, m in enumerate(model.meshes):
+    for m, w in zip(model.meshes, model.V):
         E, Ed = series_values(m.coefficients(), theta, (2,), ratio=m.ratio, derivative=True)
-        out.append(np.stack([q @ model.V[i] - E, v @ model.V[i] - model.omega * Ed], axis=-1))
+        out.append(np.stack([q @ w - E, v @ w - model.omega * Ed], axis=-1))
     for w in (*model.Vc, *model.Vb):  # the clearances, the rolling bearings' x and y relative displacements
         out.append(np.stack([q @ w, v @ w], axis=-1))
     return np.stack(out, axis=-2)
@@ -124,12 +124,11 @@ def mean_trace(model: Any) -> float:
     """
     Mi = np.asarray(model.Mi)
     tr = float(np.trace(Mi @ model.Cb))
-    for i, m in enumerate(model.meshes):
-        tr += 2.0 * m.xi0 * float(model.V[i] @ Mi @ model.V[i])  # harmonics average to 0
-    for i, c in enumerate(model.cc):
-        tr += c * float(model.Vc[i] @ Mi @ model.Vc[i])
+    for m, v in zip(model.meshes, model.V):
+        tr += 2.0 * m.xi0 * float(v @ Mi @ v)  # harmonics average to 0
+    for c, w in zip(model.cc, model.Vc):
+        tr += c * float(w @ Mi @ w)
     for b, br in enumerate(model.bearings):
-        tr += br.cx * float(model.Vb[2 * b] @ Mi @ model.Vb[2 * b]) + br.cy * float(
-            model.Vb[2 * b + 1] @ Mi @ model.Vb[2 * b + 1]
-        )
+        x, y = model.Vb[2 * b : 2 * b + 2]
+        tr += br.cx * float(x @ Mi @ x) + br.cy * float(y @ Mi @ y)
     return -tr

@@ -138,19 +138,13 @@ def _element_stiffness(desc: SystemDescription, clearances: str) -> tuple[list[s
     for c in desc.connections:
         names.append(c.name)
         mats.append(desc.connection_matrices(c)[0])
-    if clearances == "contact":
-        for c in desc.clearances:
-            w = desc.vector(c)
-            names.append(c.name)
-            mats.append(c.stiffness * np.outer(w, w))
-    elif clearances != "open":
+    if clearances not in ("contact", "open"):
         raise ModelError(f"clearances: must be 'contact' or 'open', got {clearances!r}")
-    meshes = []
-    for m in desc.meshes:
-        v = desc.vector(m)
-        names.append(m.name)
-        meshes.append(m.name)
-        mats.append(m.stiffness * np.outer(v, v))
+    for e in (*(desc.clearances if clearances == "contact" else ()), *desc.meshes):  # k w wᵀ along the vector
+        w = desc.vector(e)
+        names.append(e.name)
+        mats.append(e.stiffness * np.outer(w, w))
+    meshes = [m.name for m in desc.meshes]
     if desc.rolling_bearings:  # linearised about the static deflection under the mean loads
         from .rolling import static_bearing_stiffness
 
@@ -258,14 +252,14 @@ def modal_analysis(desc: SystemDescription, clearances: str = "contact", rpm: fl
     mode types of a planetary gear, which this analysis reproduces).
     """
     modes_budget(desc, clearances)
-    G = desc.gyroscopic_matrix() if rpm is not None and hasattr(desc, "gyroscopic_matrix") else None
+    G = desc.gyroscopic_matrix() if rpm is not None else None
     if G is not None:
         if not (math.isfinite(rpm) and rpm >= 0):
             raise ModelError(f"rpm: must be >= 0, got {rpm!r}")
         return _gyroscopic_modes(desc, clearances, float(rpm), G)
     M = desc.mass_matrix()
     names, mats, meshes = _element_stiffness(desc, clearances)
-    K = np.sum(mats, axis=0) if mats else np.zeros_like(M)
+    K = np.sum(mats, axis=0)  # every system has a mesh
     K = 0.5 * (K + K.T)
     w2, phi = scipy.linalg.eigh(K, M)
     scale = max(float(np.max(np.abs(w2))), 1e-300)
@@ -339,7 +333,7 @@ def gyroscopic_eigen(
         return np.where(zero, 0.0, wk), None
     out = np.zeros((shapes.shape[0], n), dtype=complex)
     nr = int(np.sum(zero))
-    out[:, :nr] = shapes[:, np.flatnonzero(omega2 <= 0.0)[:nr]] if nr else out[:, :0]
+    out[:, :nr] = shapes[:, np.flatnonzero(omega2 <= 0.0)[:nr]]
     el = pos[~zero]
     eta = Z[n:, el] / (1j * lam[el])  # η' = iω η
     eta = eta / np.sqrt(np.sum(np.abs(eta) ** 2, axis=0))  # Φ is M-orthonormal: φᴴ M φ = |η|²
@@ -505,7 +499,7 @@ def campbell(
     if not (0 <= lo < hi and math.isfinite(hi)):
         raise ModelError(f"{what}: must be 0 <= low < high, got {(lo, hi)!r}")
     names = [m.name for m in desc.meshes]
-    G = desc.gyroscopic_matrix() if hasattr(desc, "gyroscopic_matrix") else None
+    G = desc.gyroscopic_matrix()
     spinning = _Spinning(desc, clearances, G) if G is not None and z is not None else None
     if spinning is not None:
         n_sp = BRANCH_SPEEDS if speeds is None else int(speeds)
@@ -674,7 +668,7 @@ def modes_report(
             "frequency_hz": float(res.frequencies_hz[i]),
             "rigid": bool(res.rigid[i]),
             "mesh_dominated": bool(dom[i]) and not bool(res.rigid[i]),
-            "shape": {lab: float(res.shapes[k, i]) for k, lab in enumerate(res.labels)},
+            "shape": dict(zip(res.labels, map(float, res.shapes[:, i]))),
         }
         for i in range(len(res.frequencies_hz))
     ]
@@ -685,9 +679,7 @@ def modes_report(
         "frequencies_hz": list(map(float, res.frequencies_hz)),
         "rigid": [bool(x) for x in res.rigid],
         "modes": modes,
-        "energy_fractions": [
-            {e: float(res.energy[i, j]) for j, e in enumerate(res.elements)} for i in range(len(modes))
-        ],
+        "energy_fractions": [dict(zip(res.elements, map(float, row))) for row in res.energy],
         "degenerate": [[i + 1 for i in g] for g in res.degenerate_groups()],
         "assumed": [a.to_dict() for a in desc.assumptions],
     }

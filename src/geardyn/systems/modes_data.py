@@ -88,7 +88,7 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
     elements = list(report["energy_fractions"][0]) if report["energy_fractions"] else []
     n = len(modes)
     data: dict[str, Any] = {
-        "frequency_Hz": ("mode", np.array(report["frequencies_hz"], dtype=float)),
+        "frequency_Hz": _col("mode", modes, "frequency_hz"),
         "rigid": _col("mode", modes, "rigid", np.int8),
         "mesh_dominated": _col("mode", modes, "mesh_dominated", np.int8),
         "shape": (("dof", "mode"), np.array([[m["shape"][d] for m in modes] for d in dofs], dtype=float)),
@@ -114,10 +114,10 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
     gb = report.get("gearbox")
     if gb:  # a gearbox: its shaft nodes (names in the attributes), for the deflection along each shaft
         shafts = [s["name"] for s in gb["shafts"]]
-        nodes = [(k, n) for k, s in enumerate(gb["shafts"]) for n in s["nodes"]]
-        data["node_shaft"] = ("node", np.array([k for k, _ in nodes], dtype=np.int64))
-        data["node_position"] = _col("node", [n for _, n in nodes], "position_m")
-        data["node_radius"] = _col("node", [n for _, n in nodes], "radius_m")
+        shaft_of, nodes = zip(*((k, n) for k, s in enumerate(gb["shafts"]) for n in s["nodes"]))
+        data["node_shaft"] = ("node", np.array(shaft_of, dtype=np.int64))
+        data["node_position"] = _col("node", nodes, "position_m")
+        data["node_radius"] = _col("node", nodes, "radius_m")
         codes = {v: k for k, v in MODES_VARIABLES["element_kind"].flags.items()}
         kinds: dict[str, int] = {}
         for m in modes[:1]:
@@ -125,7 +125,7 @@ def modes_dataset(report: dict[str, Any]) -> xr.Dataset:
                 kinds.update({name: codes[{"meshes": "mesh"}.get(group, group[:-1])] for name in members})
         data["element_kind"] = ("element", np.array([kinds.get(e, 0) for e in elements], dtype=np.int8))
         attrs["shafts"] = json.dumps(shafts)
-        attrs["nodes"] = json.dumps([n["name"] for _, n in nodes])
+        attrs["nodes"] = json.dumps([n["name"] for n in nodes])
     camp = report.get("campbell")
     if camp:
         lines, cr = camp["lines"], camp["crossings"]

@@ -44,9 +44,9 @@ def static_mesh_forces(model: Any) -> np.ndarray:
     """
     Kt = np.array(model.Kb, dtype=float)
     rhs = np.array(model.F, dtype=float)
-    for i, m in enumerate(model.meshes):
-        Kt += m.k * np.outer(model.V[i], model.V[i])
-        rhs += m.k * m.D * model.V[i]
+    for m, v in zip(model.meshes, model.V):
+        Kt += m.k * np.outer(v, v)
+        rhs += m.k * m.D * v
     if model.bearings:  # rolling bearings: the nonlinear static problem, cage at θ = 0
         from .rolling import static_deflection
 
@@ -57,7 +57,7 @@ def static_mesh_forces(model: Any) -> np.ndarray:
         q = static_deflection(Kt, rhs, items)[0]
     else:
         q = np.linalg.lstsq(Kt, rhs, rcond=1e-12)[0]
-    f = np.array([m.k * (model.V[i] @ q - m.D) for i, m in enumerate(model.meshes)])
+    f = np.array([m.k * (v @ q - m.D) for m, v in zip(model.meshes, model.V)])
     scale = max([1.0, float(np.max(np.abs(model.F), initial=0.0))] + [m.k * max(m.D, 1.0) for m in model.meshes])
     f[np.abs(f) <= 1e-9 * scale] = 0.0
     return f
@@ -89,7 +89,7 @@ def mesh_forces(model: Any, tau: np.ndarray, deltas: np.ndarray, viscous: bool =
         d = deltas[:, i, 0]
         f = Kk * (d - np.clip(d, -m.D, m.D))
         out.append(C * deltas[:, i, 1] + f if viscous else f)
-    return np.stack(out, axis=1) if out else np.zeros((th.size, 0))
+    return np.stack(out, axis=1)  # a system has at least one mesh
 
 
 def _fractions(res: Any, e: int, point: int) -> dict[str, float | None]:
@@ -112,7 +112,7 @@ def _mesh_entries(
     contact = mesh_forces(model, tau, deltas, False) if force is not None and res is not None else None
     out = []
     for i, m in enumerate(model.meshes):
-        lo, hi = (float(extrema[i, 0]), float(extrema[i, 1])) if extrema is not None else _extremes(res, i, point)
+        lo, hi = map(float, extrema[i]) if extrema is not None else _extremes(res, i, point)
         e: dict[str, Any] = {"name": m.name, "backlash_um": _num(m.D * um), **_span(lo, hi, m.D)}
         if res is not None:
             e.update(
@@ -247,7 +247,7 @@ def result_meshes(ds: Any) -> list[dict[str, Any]]:
     info = json.loads(ds.attrs["system"])
     um = float(info.get("b_c_um") or float("nan"))
     els = info.get("elements") or [{"name": n, "kind": "mesh", "gap": float("nan")} for n in info["meshes"]]
-    dims = [d for d in ds["amplitude"].dims]
+    dims = ds["amplitude"].dims
     two = "sweep" in ds.dims and ds.sizes["sweep"] > 1
 
     def values(a: np.ndarray, f: Any) -> Any:

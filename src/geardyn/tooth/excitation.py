@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from ..model import GearModel
+from ..model import GearModel, _whole_number
 from ..params import MAX_HARMONICS
 
 __all__ = ["Excitation", "excitation_model", "fourier_series", "pair_model", "piecewise_series", "series_table"]
@@ -161,7 +161,7 @@ class Excitation:
                 raise ModelError(f"excitation: {e.size} STE values for {k.size} stiffness values")
             object.__setattr__(self, "ste", e)
         P = self.cycles
-        if isinstance(P, bool) or not float(P).is_integer() or P < 1:
+        if not _whole_number(P, 1):
             raise ModelError(f"excitation: cycles must be an integer >= 1, got {P!r}")
         object.__setattr__(self, "cycles", int(P))
         if k.ndim != 1 or k.size < 2 or not np.all(np.isfinite(k)) or np.any(k <= 0):

@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from ..errors import ModelError
+from ..model import _whole_number
 
 __all__ = ["Broken", "Crack", "FAULT_KINDS", "Modifications", "Spall", "Wear", "fault_from_dict"]
 
@@ -34,7 +35,7 @@ __all__ = ["Broken", "Crack", "FAULT_KINDS", "Modifications", "Spall", "Wear", "
 def _check_tooth(kind: str, gear: int, tooth: int | None) -> None:
     if gear not in (0, 1):
         raise ModelError(f"{kind}: gear must be 0 (pinion) or 1 (wheel), got {gear!r}")
-    if tooth is not None and (int(tooth) != tooth or tooth < 0):
+    if tooth is not None and not _whole_number(tooth, 0):
         raise ModelError(f"{kind}: tooth must be a whole number >= 0, got {tooth!r}")
 
 

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
+from ..model import _whole_number
 from ..standards.iso6336 import _transverse, involute
 
 __all__ = ["ISO53_RACKS", "GearBlank", "PairGeometry", "Section", "pair_geometry", "trochoid"]
@@ -362,11 +363,11 @@ def pair_geometry(
     ModelError
         For non-physical inputs, a pointed tooth or a transverse contact ratio below 1.
     """
-    if teeth is None and (int(z1) != z1 or int(z2) != z2):
+    if teeth is None and not (_whole_number(z1) and _whole_number(z2)):
         raise ModelError(f"z1, z2: whole numbers of teeth, got {z1!r}, {z2!r} (virtual numbers need teeth=)")
     if z1 < 8 or z2 < 8:
         raise ModelError(f"z1, z2: at least 8 teeth, got {z1!r}, {z2!r}")
-    if teeth is not None and (len(teeth) != 2 or any(int(n) != n or n < 5 for n in teeth)):
+    if teeth is not None and (len(teeth) != 2 or not all(_whole_number(n, 5) for n in teeth)):
         raise ModelError(f"teeth: two whole numbers >= 5, got {teeth!r}")
     for name, v in (("m_n", m_n), ("face_width", face_width), ("E", E)):
         if not (math.isfinite(v) and v > 0):

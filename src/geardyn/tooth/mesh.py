@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
+from ..model import _whole_number
 from ..plausible import budget
 from .energy import hertz_compliance, tooth_compliance
 from .faults import Broken, Crack, Modifications, Spall, Wear, fault_to_dict
@@ -293,9 +294,9 @@ def mesh_stiffness(
     P = default_cycles(z1, z2, faults) if cycles is None else int(cycles)
     if P < 1:
         raise ModelError(f"cycles: at least 1, got {P}")
-    if int(points) != points or points < 4:
+    if not _whole_number(points, 4):
         raise ModelError(f"points: a whole number of at least 4 per mesh cycle, got {points!r}")
-    if slices is not None and (int(slices) != slices or slices < 1):
+    if slices is not None and not _whole_number(slices, 1):
         raise ModelError(f"slices: a whole number of at least 1, got {slices!r}")
     partial = any(isinstance(f, Spall) or (isinstance(f, Crack) and f.length < 1.0) for f in faults)
     S = int(slices) if slices else (40 if (geo.beta > 0 or mods.crowning > 0 or partial) else 1)

@@ -260,12 +260,11 @@ def write_table(exc: Excitation, path: str | Path, name: str = "") -> Path:
     Path
     """
     p = Path(path)
-    n = exc.stiffness.size
     phase = exc.nodes()
     if p.suffix.lower() == ".csv":
         cols = [phase, exc.stiffness] + ([exc.ste] if exc.ste is not None else [])
         head = _CSV_HEADER[: len(cols)]
-        lines = [",".join(head)] + [",".join(repr(float(c[i])) for c in cols) for i in range(n)]
+        lines = [",".join(head)] + [",".join(repr(float(v)) for v in row) for row in zip(*cols)]
         p.write_text("\n".join(lines) + "\n", encoding="utf-8")
     elif p.suffix.lower() == ".json":
         d = {
