@@ -190,7 +190,6 @@ MISTAKES = {
 }
 
 
-@pytest.mark.xfail(strict=True, reason="the fixes in gearbox/, systems/ (see the case) are not applied yet")
 @pytest.mark.parametrize("case", MISTAKES)
 def test_a_mistake_is_refused_in_one_line_naming_its_key(tmp_path, case):
     old, new, words = MISTAKES[case]
@@ -206,14 +205,12 @@ def test_a_mistake_is_refused_in_one_line_naming_its_key(tmp_path, case):
     assert "gear 'p2': gear 'p2'" not in line
 
 
-@pytest.mark.xfail(strict=True, reason="the fix in cli/system_input.py is not applied yet")
 def test_rpm_zero_on_a_system_names_rpm(tmp_path):
     line = _refused(["simulate", "--system", _file(tmp_path), "--rpm", "0", "--json"])
     assert line.startswith("error: rpm:") and "> 0" in line, line
     assert "np.float64" not in line
 
 
-@pytest.mark.xfail(strict=True, reason="the fix in cli/tools.py is not applied yet")
 def test_plot_physical_refuses_a_system_result(tmp_path):
     """--physical draws with a gear pair's scales (the paper's by default): on a system result these are another
     pair's rpm, µm and N, so it is refused and nothing is drawn."""
@@ -227,7 +224,6 @@ def test_plot_physical_refuses_a_system_result(tmp_path):
     assert not (tmp_path / "fig").exists()
 
 
-@pytest.mark.xfail(strict=True, reason="the fix in analysis/response.py (detect_jumps) is not applied yet")
 def test_three_points_of_a_smooth_response_show_no_jump():
     """A sweep of three speeds over a smooth rise (the reducer's stage-1 DTE at 2000, 3000 and 4000 rpm: 2.90,
     3.30, 3.26 µm, the same up and down): its one neighbouring step is no measure of a typical step, so the rise

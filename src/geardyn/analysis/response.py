@@ -217,6 +217,8 @@ def detect_jumps(
             if not np.isfinite(d[i]) or ad[i] < min_fraction * scale:
                 continue
             near = (ad[max(0, i - window) : i], ad[i + 1 : i + 1 + window])  # the steps before and after
+            if sum(int(np.isfinite(s).sum()) for s in near) < 2:  # one neighbouring step measures no typical step
+                continue
             sides = [float(np.median(s[np.isfinite(s)])) for s in near if np.any(np.isfinite(s))]
             typical = max(sides) if sides else 0.0
             if ad[i] < ratio * typical:

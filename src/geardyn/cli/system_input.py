@@ -45,6 +45,8 @@ def load_cli_system(values: dict[str, Any]):
     if values.get("rpm") is not None and values.get("omega") is not None:
         raise ModelError("rpm: give --rpm or --omega, not both")
     if values.get("rpm") is not None:
+        if not float(values["rpm"]) > 0:  # nan too
+            raise ModelError(f"rpm: pinion speed must be > 0 rpm, got {float(values['rpm']):g} rpm")
         s = s.with_param("omega", s.scaling.omega_from_rpm(float(values["rpm"])))
     for o in params.cli_options():  # --omega first, as the registry lists it (--fp is refused above)
         v = values.get(o.dest)

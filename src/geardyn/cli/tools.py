@@ -67,6 +67,12 @@ def plot_cmd(
         if inp.physical or inp.config is not None:
             from ..analysis.physical import add_physical
 
+            if "geardyn_system" in ds.attrs and ds.attrs["geardyn_system"] != "pair":
+                raise fail(
+                    f"--physical: {file} is a result of a system file, whose scales are its own; the gear pair of "
+                    "--config (the paper's Table 1 by default) would draw another pair's rpm, µm and N"
+                )
+
             ds = add_physical(ds, None if (inp.config is None and "physical_scales" in ds.attrs) else inp.scales())
         files = [str(p) for p in save_figures(ds, inp.out if inp.out is not None else file.parent, **inp.figures())]
     except GeardynError as e:

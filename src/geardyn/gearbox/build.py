@@ -496,6 +496,12 @@ def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_defau
     n1, n2 = node_at[where[gp.name]], node_at[where[gg.name]]
     vector = tuple(((n, d), float(c)) for n, v in ((n1, v1), (n2, v2)) for d, c in zip(NODE_DOFS, v) if c != 0.0)
     backlash = blk.get("backlash", default=0.0, assumed="no backlash given: 0 (a linear mesh)")
+    if backlash >= 0.5 * np.pi * gp.module:  # the normal tooth thickness at the reference circle
+        raise blk.merr(
+            "backlash",
+            f"{backlash * 1e3:g} mm is not below the tooth thickness π m_n/2 = {0.5e3 * np.pi * gp.module:.3g} mm "
+            '(a backlash is tens of µm: e.g. "0.08 mm")',
+        )
     if blk.has("excitation"):
         if blk.has("stiffness"):
             raise blk.cerr("excitation", "give the table or stiffness, not both")
@@ -509,7 +515,9 @@ def _mesh(blk, gp, gg, node_at, where, senses, ratio, rounded, b_c, torque_defau
         torque = blk.get("torque", default=torque_default)
         if torque is None:
             raise blk.cerr(
-                None, "the tooth model needs the pinion torque: give torque, a driving [[load]], or stiffness"
+                None,
+                "the tooth model needs the pinion torque: give torque, a driving [[load]] (a positive torque), "
+                "or stiffness",
             )
         if not blk.has("torque"):
             blk.ctx.assume(Assumption(f"{name}.torque", torque, "N*m", "the pinion torque of the drive loads"))

@@ -178,8 +178,11 @@ def _load_tables(ctx, loads_raw, gears, speeds, body_speed):
     unknown: refused with its message when the loads are read)."""
     for i, t in loads_raw:
         if isinstance(t, dict):
+            blk, b = _load_block(ctx, i, t), t.get("body")
+            if isinstance(b, str) and b in gears and b not in body_speed:
+                raise blk.merr("body", f"unknown body {b!r}: {b!r} is a gear; a torque on a gear is gear = {b!r}")
             n = speeds[gears[t["gear"]].shaft] if t.get("gear") in gears else body_speed.get(t.get("body"))
-            yield t, _load_block(ctx, i, t), n
+            yield t, blk, n
 
 
 def _drive_power(ctx, loads_raw, gears, speeds, body_speed) -> float:

@@ -319,6 +319,10 @@ class Mesh(_AlongVector):
         for name, check in (("xi", _series), ("c", _series), ("xi0", _finite), ("c0", _finite)):
             if getattr(self, name) is not None:
                 set_(self, name, check(f"{who}: {name}", getattr(self, name)))
+                if name in ("xi0", "c0") and getattr(self, name) < 0:
+                    raise ModelError(
+                        f"{who}: {name}: must be >= 0 (a negative damping feeds energy in), got {getattr(self, name):g}"
+                    )
         damping = self.xi if self.xi is not None else (self.c or ())
         for amp, a, ph in (("kappa", self.kappa, "phi_k"), ("e", self.e, "phi_e"), ("damping", damping, "phi_c")):
             p = getattr(self, ph)

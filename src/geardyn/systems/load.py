@@ -212,7 +212,7 @@ class _Ctx(cv._Ctx):
 
 def _strip(msg: str) -> tuple[str | None, str]:
     """Split a ModelError message "kind 'name': key: problem" into (key, problem)."""
-    m = re.match(r"^(?:body|connection|clearance|mesh|load on \S+) ?(?:'[^']*')?: (.*)$", msg)
+    m = re.match(r"^(?:body|connection|clearance|mesh|gear|load on \S+) ?(?:'[^']*')?: (.*)$", msg)
     rest = m.group(1) if m else msg
     km = re.match(r"^([A-Za-z_][\w]*): (.*)$", rest)
     return km.groups() if km else (None, rest)
@@ -241,7 +241,8 @@ class _Block:
         if str(err).startswith(f"{self.ctx.source}: "):  # already placed in the file
             return err
         key, problem = _strip(str(err))
-        key = key if key in self.data else None
+        if key is not None and key not in self.data:  # a key of another table (a gear's module): keep it in the text
+            key, problem = None, f"{key}: {problem}"
         return self.merr(key, problem)
 
     def has(self, key: str) -> bool:
