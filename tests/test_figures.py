@@ -487,3 +487,29 @@ def test_attach_round_trip_through_a_file(tmp_path):
     xr.testing.assert_equal(detach(back), main)
     with pytest.raises(ValueError):
         attach(main, "a__b", ctx)
+
+
+def test_time_history_draws_the_poincare_section_once_a_forcing_period():
+    """A half-order torque order makes the forcing repeat after P = 2 mesh cycles: the Poincaré section (the
+    red lines) is taken once every 2·2π/ω, not at every mesh period of the window (it was drawn at every one)."""
+    from fractions import Fraction
+
+    import matplotlib.pyplot as plt
+
+    from geardyn import GearModel, simulate
+    from geardyn.model import IntegrationOptions
+    from geardyn.plot.simulate import TIME_PERIODS_SHOWN, time_history
+
+    model = GearModel(omega=0.8, torque_orders=((Fraction(1, 2), 0.05, 0.0),))
+    assert model.period_multiple() == 2
+    ds = simulate(model, IntegrationOptions(transient=4, periods=6), classify=False).to_dataset()
+    fig, ax = plt.subplots()
+    try:
+        time_history(ds, ax=ax)
+        xs = sorted(line.get_xdata()[0] for line in ax.lines if line.get_color() == "C3")
+    finally:
+        plt.close(fig)
+    Tf = 2 * 2 * np.pi / 0.8
+    assert len(xs) == TIME_PERIODS_SHOWN // 2 + 1
+    assert np.allclose(np.diff(xs), Tf, rtol=1e-12)
+    assert xs[-1] == pytest.approx(float(ds["tau"][-1]), rel=1e-15)

@@ -12,12 +12,12 @@ from .common import OUTSIDE_RIGHT, contact_lines, label, log_stems, model_of, of
 
 __all__ = ["TIME_PERIODS_SHOWN", "last_periods", "phase_portrait", "spectrum", "time_history"]
 
-#: Periods of the time history drawn (the Dataset may hold more, for the spectrum).
+#: Mesh periods of the time history drawn (the Dataset may hold more, for the spectrum).
 TIME_PERIODS_SHOWN = 8
 
 
 def last_periods(ds: xr.Dataset) -> tuple[np.ndarray, float]:
-    """(mask of the samples in the last :data:`TIME_PERIODS_SHOWN` forcing periods, the period T).
+    """(mask of the samples in the last :data:`TIME_PERIODS_SHOWN` mesh periods, the mesh period T).
 
     Parameters
     ----------
@@ -29,7 +29,7 @@ def last_periods(ds: xr.Dataset) -> tuple[np.ndarray, float]:
     keep : ndarray of bool
         The samples shown.
     T : float
-        The forcing period 2π/ω.
+        The mesh period 2π/ω (the forcing period when the forcing repeats every mesh cycle).
     """
     T = 2 * np.pi / float(model_of(ds)["omega"])
     tau = ds["tau"].values
@@ -46,8 +46,11 @@ def time_history(ds: xr.Dataset, ax: Axes = None) -> None:
         ax.axhspan(-D, D, color="0.9", label="separation |u| ≤ D")
         contact_lines(ax, ds)
     ax.plot(tau[keep], ds["u"].values[keep], lw=1.0, color="C0", label=of_mesh("u", ds))
-    for k in range(TIME_PERIODS_SHOWN + 1):  # period boundaries: where the Poincaré section is taken
-        ax.axvline(tau[-1] - k * T, color="C3", lw=0.4, alpha=0.5)
+    # the Poincaré section is taken once a forcing period: P mesh periods of a system whose forcing repeats
+    # after P mesh cycles (ratios, torque orders, bearings), so a window of a few mesh periods may hold one line
+    Tf = float(ds.geardyn.model.sampling_period)
+    for k in range(int(TIME_PERIODS_SHOWN * T / Tf + 1e-9) + 1):
+        ax.axvline(tau[-1] - k * Tf, color="C3", lw=0.4, alpha=0.5)
     ax.set_xlabel(label(ds["tau"]))
     ax.set_ylabel("\n".join(textwrap.wrap(label(ds["u"]), 36)))  # a low panel: the label on two lines if long
     set_title(ax, "Time history (red lines: Poincaré section θ ≡ 0)", ds)
