@@ -499,3 +499,21 @@ def test_cli_errors_are_not_wrapped_on_narrow_terminals(monkeypatch):
     monkeypatch.setenv("COLUMNS", "40")
     code, out, err = run_cli(SIM + ["--omega", "-1", "--xi0", "0.1"])
     assert code == 2 and len(one_line(err)) > 40
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--dtau", "0"], "dtau: must be > 0 and smaller than the forcing period 2π/ω, got 0.0"),
+        (["--transient", "-1"], "transient: must be an integer >= 0 and <= 100000000, got -1"),
+        (["--periods", "0"], "periods: must be an integer >= 1 and <= 100000000, got 0"),
+        (["--transient", "-1", "--periods", "2"], "transient: must be an integer >= 0 and <= 100000000, got -1"),
+    ],
+)
+def test_impossible_counts_of_a_long_forcing_period_are_refused_before_any_note(args, message):
+    # the gearbox's forcing period spans 1472 mesh cycles: its notes (the forcing period, the long run's counts)
+    # were said first, built on the impossible count ("transient: -1 forcing periods (-1,472 mesh cycles)")
+    system = str(Path(__file__).resolve().parents[1] / "examples" / "gearbox" / "two_stage_helical.toml")
+    code, out, err = run_cli(["simulate", "--system", system, *args])
+    assert code == 2
+    assert err.strip().splitlines() == [f"error: {message}"], err

@@ -60,6 +60,8 @@ __all__ = [
 MAX_STEPS_PER_PERIOD = 10_000_000
 #: Largest number of transient or recorded periods.
 MAX_PERIODS = 100_000_000
+#: The bound of Δτ said when it is refused.
+DTAU_BOUND = " and smaller than the forcing period 2π/ω"
 #: Largest number of points of a sweep grid (product over its axes).
 MAX_GRID_POINTS = 100_000_000
 #: Largest number of local worker processes.
@@ -206,7 +208,7 @@ def options(
         For a value out of range, a step not below a forcing period, too many steps per period or
         too many steps per point (:data:`MAX_TOTAL_STEPS`).
     """
-    dt = positive("dtau", dtau, " and smaller than the forcing period 2π/ω")
+    dt = positive("dtau", dtau, DTAU_BOUND)
     tr = integer("transient", transient, 0, MAX_PERIODS)
     pe = integer("periods", periods, 1, MAX_PERIODS)
     if not isinstance(accurate, (bool, np.bool_)):

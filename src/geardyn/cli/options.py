@@ -533,10 +533,14 @@ class Inputs:
         from .. import validate
         from ..analysis.settle import long_run
 
-        dtau = validate.positive("dtau", v["dtau"])
+        dtau = validate.positive("dtau", v["dtau"], validate.DTAU_BOUND)
         ws = np.atleast_1d(np.asarray(omegas, dtype=float))
         given_t = None if t_default else self.transient(omegas)
         given_p = (periods if periods is not None else v.get("periods")) if not p_default else None
+        if given_t is not None:  # refused before the plan's note is said of it
+            validate.integer("transient", given_t, 0, validate.MAX_PERIODS)
+        if given_p is not None:
+            validate.integer("periods", given_p, 1, validate.MAX_PERIODS)
         plan = long_run(
             model,
             dtau,

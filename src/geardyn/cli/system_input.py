@@ -52,9 +52,27 @@ def load_cli_system(values: dict[str, Any]):
         v = values.get(o.dest)
         if v is not None:
             s = s.with_param(o.param, float(v))
+    check_counts(values)
     _forcing_period_note(s, values)
     _unsettled_note(s, values)
     return s
+
+
+def check_counts(values: dict[str, Any]) -> None:
+    """Refuse an impossible ``--dtau``, ``--periods`` or numeric ``--transient`` before the run's notes are said
+    (the one line of the refusal, not after a note built on the impossible count), with the messages of
+    :func:`geardyn.validate.options`."""
+    from .. import validate
+
+    if values.get("dtau") is not None:
+        validate.positive("dtau", values["dtau"], validate.DTAU_BOUND)
+    if values.get("periods") is not None:
+        validate.integer("periods", values["periods"], 1, validate.MAX_PERIODS)
+    t = values.get("transient")
+    if isinstance(t, str) and t.strip().lstrip("+-").isdigit():
+        validate.integer("transient", int(t), 0, validate.MAX_PERIODS)
+    elif isinstance(t, int):
+        validate.integer("transient", t, 0, validate.MAX_PERIODS)
 
 
 def _unsettled_note(s: Any, values: dict[str, Any]) -> None:
