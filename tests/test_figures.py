@@ -513,3 +513,25 @@ def test_time_history_draws_the_poincare_section_once_a_forcing_period():
     assert len(xs) == TIME_PERIODS_SHOWN // 2 + 1
     assert np.allclose(np.diff(xs), Tf, rtol=1e-12)
     assert xs[-1] == pytest.approx(float(ds["tau"][-1]), rel=1e-15)
+
+
+def test_signature_figure_names_a_systems_sensor_on_its_acceleration_axis():
+    """A system's record is that of a bearing sensor, not the pair's relative acceleration along the line of
+    action; its axis said the line of action for a sensor too."""
+    import matplotlib.pyplot as plt
+
+    from geardyn.plot.registry import draw
+
+    pair = _tooth_synthetic()["signature"]
+    summary = json.loads(pair.attrs["summary"])
+    summary["runs"][0].update(sensor="in_A.x", mesh="stage1")
+    system = pair.assign_attrs(summary=json.dumps(summary))
+    labels = {}
+    for name, ds in (("pair", pair), ("system", system)):
+        fig, axes = plt.subplots(4, 1)
+        try:
+            draw(ds, "signature", ax=axes)
+            labels[name] = axes[0].get_ylabel()
+        finally:
+            plt.close(fig)
+    assert labels == {"pair": "relative accel. along LoA [m/s²]", "system": "accel. of in_A.x [m/s²]"}

@@ -150,8 +150,8 @@ def signature_signals(ds: xr.Dataset, ax: Any = None) -> None:
         for a, var, lab in ((a1, "tsa_pinion", name), (a2, "residual", name), (a3, "difference", text)):
             a.plot(ang, ds[var].sel(run=name), color=c, lw=0.9, label=lab)
     a0.set_xlabel("time [ms]")
-    a0.set_ylabel("relative accel. along LoA [m/s²]")
     r0 = json_attr(ds, "summary")["runs"][0]
+    a0.set_ylabel(f"accel. of {r0['sensor']} [m/s²]" if "sensor" in r0 else "relative accel. along LoA [m/s²]")
     a0.set_title(  # a system's record is that of a sensor (its runs name it)
         f"acceleration of the sensor {r0['sensor']} (mesh {r0['mesh']!r}), sampled with a once-per-revolution "
         "tachometer on its pinion"
