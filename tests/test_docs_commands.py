@@ -162,6 +162,10 @@ QUOTED: dict[str, Run | str] = {
     ),
     "geardyn map --workers 2": _FRAGMENT,
     "geardyn bench --workload W1 --threads 2": _BENCH,
+    # the table of the shared coefficient table (its --system is in the table's head; tests/test_ndof_table_reuse.py
+    # checks the numbers bit for bit against each point run alone)
+    "geardyn basins --nu 1 --nv 1 --transient 0 --periods 2 --settle 0 --workers 1 --json": _BENCH,
+    "geardyn simulate --transient 1 --periods 2 --json": _BENCH,
     # quickstart.md (the numbers: test_quickstart_* below)
     "geardyn simulate --omega 0.8": AS_QUOTED,
     "geardyn simulate --omega 0.8 --json": AS_QUOTED,
