@@ -8,6 +8,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.axes import Axes
 
+from ..errors import ModelError
 from .common import OUTSIDE_RIGHT, contact_lines, label, log_stems, model_of, of_mesh, plot_function, set_title
 
 __all__ = ["TIME_PERIODS_SHOWN", "last_periods", "phase_portrait", "spectrum", "time_history"]
@@ -48,7 +49,10 @@ def time_history(ds: xr.Dataset, ax: Axes = None) -> None:
     ax.plot(tau[keep], ds["u"].values[keep], lw=1.0, color="C0", label=of_mesh("u", ds))
     # the Poincaré section is taken once a forcing period: P mesh periods of a system whose forcing repeats
     # after P mesh cycles (ratios, torque orders, bearings), so a window of a few mesh periods may hold one line
-    Tf = float(ds.geardyn.model.sampling_period)
+    try:
+        Tf = float(ds.geardyn.model.sampling_period)
+    except ModelError:  # a system result of an earlier geardyn stores no system: its mesh period, as it was drawn
+        Tf = T
     for k in range(int(TIME_PERIODS_SHOWN * T / Tf + 1e-9) + 1):
         ax.axvline(tau[-1] - k * Tf, color="C3", lw=0.4, alpha=0.5)
     ax.set_xlabel(label(ds["tau"]))
