@@ -41,6 +41,7 @@ __all__ = [
     "MAX_STEPS_PER_PERIOD",
     "axis",
     "chunk_points",
+    "counts",
     "dpi",
     "exponents_computable",
     "figure_formats",
@@ -60,8 +61,6 @@ __all__ = [
 MAX_STEPS_PER_PERIOD = 10_000_000
 #: Largest number of transient or recorded periods.
 MAX_PERIODS = 100_000_000
-#: The bound of Δτ said when it is refused.
-DTAU_BOUND = " and smaller than the forcing period 2π/ω"
 #: Largest number of points of a sweep grid (product over its axes).
 MAX_GRID_POINTS = 100_000_000
 #: Largest number of local worker processes.
@@ -172,6 +171,47 @@ def integer(name: str, value: Any, lo: int, hi: int | None = None) -> int:
     return n
 
 
+def counts(dtau: Any = None, transient: Any = None, periods: Any = None) -> tuple[Any, Any, Any]:
+    """The step and the period counts of a run, each checked when given: Δτ > 0, ``transient`` >= 0 and
+    ``periods`` >= 1 whole periods, at most :data:`MAX_PERIODS` each (the bounds of :func:`options`, for a caller
+    that has only some of them yet).
+
+    Parameters
+    ----------
+    dtau : float, optional
+        Target step Δτ.
+    transient : int, optional
+        Periods discarded.
+    periods : int, optional
+        Periods recorded.
+
+    Returns
+    -------
+    (float or None, int or None, int or None)
+        The values as ``float`` and ``int``; None where not given.
+
+    Raises
+    ------
+    ModelError
+        For a value out of range.
+
+    Examples
+    --------
+    >>> from geardyn import validate
+    >>> validate.counts(transient=3.0)
+    (None, 3, None)
+    >>> validate.counts(periods=0)
+    Traceback (most recent call last):
+    ...
+    geardyn.errors.ModelError: periods: must be an integer >= 1 and <= 100000000, got 0
+    """
+    return (
+        None if dtau is None else positive("dtau", dtau, " and smaller than the forcing period 2π/ω"),
+        None if transient is None else integer("transient", transient, 0, MAX_PERIODS),
+        None if periods is None else integer("periods", periods, 1, MAX_PERIODS),
+    )
+
+
 def options(
     dtau: Any = DEFAULT_DTAU,
     transient: Any = DEFAULT_TRANSIENT,
@@ -208,9 +248,7 @@ def options(
         For a value out of range, a step not below a forcing period, too many steps per period or
         too many steps per point (:data:`MAX_TOTAL_STEPS`).
     """
-    dt = positive("dtau", dtau, DTAU_BOUND)
-    tr = integer("transient", transient, 0, MAX_PERIODS)
-    pe = integer("periods", periods, 1, MAX_PERIODS)
+    dt, tr, pe = counts(dtau, transient, periods)
     if not isinstance(accurate, (bool, np.bool_)):
         raise ModelError(f"accurate: expected true or false, got {_describe(accurate)}")
     opts = IntegrationOptions(dtau=dt, transient=tr, periods=pe, accurate=bool(accurate))

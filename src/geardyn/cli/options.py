@@ -533,14 +533,11 @@ class Inputs:
         from .. import validate
         from ..analysis.settle import long_run
 
-        dtau = validate.positive("dtau", v["dtau"], validate.DTAU_BOUND)
+        dtau, _, _ = validate.counts(v["dtau"])
         ws = np.atleast_1d(np.asarray(omegas, dtype=float))
         given_t = None if t_default else self.transient(omegas)
         given_p = (periods if periods is not None else v.get("periods")) if not p_default else None
-        if given_t is not None:  # refused before the plan's note is said of it
-            validate.integer("transient", given_t, 0, validate.MAX_PERIODS)
-        if given_p is not None:
-            validate.integer("periods", given_p, 1, validate.MAX_PERIODS)
+        validate.counts(transient=given_t, periods=given_p)  # refused before the plan's note is said of them
         plan = long_run(
             model,
             dtau,

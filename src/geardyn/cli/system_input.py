@@ -64,15 +64,10 @@ def check_counts(values: dict[str, Any]) -> None:
     :func:`geardyn.validate.options`."""
     from .. import validate
 
-    if values.get("dtau") is not None:
-        validate.positive("dtau", values["dtau"], validate.DTAU_BOUND)
-    if values.get("periods") is not None:
-        validate.integer("periods", values["periods"], 1, validate.MAX_PERIODS)
     t = values.get("transient")
-    if isinstance(t, str) and t.strip().lstrip("+-").isdigit():
-        validate.integer("transient", int(t), 0, validate.MAX_PERIODS)
-    elif isinstance(t, int):
-        validate.integer("transient", t, 0, validate.MAX_PERIODS)
+    if isinstance(t, str):  # a count written as text; auto and Ncycles are read later
+        t = int(t) if t.strip().lstrip("+-").isdigit() else None
+    validate.counts(values.get("dtau"), t, values.get("periods"))
 
 
 def _unsettled_note(s: Any, values: dict[str, Any]) -> None:
